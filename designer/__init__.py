@@ -1,0 +1,27 @@
+"""caster-designer: optimal wheelchair caster design.
+
+Chooses trail T, wheel diameter d, groove width B and spindle friction
+damping c_f to minimise turning effort and threshold (door-sill) force with
+no shimmy below a target speed (Eq. 7 of the reference paper).
+"""
+from designer.errors import DesignerError, InfeasibleError, InputError, ProblemError, SolverError
+from designer.model import Conditions, Design, evaluate, performance
+from designer.problem import Problem, load_problem, problem_from_dict, problem_from_toml
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Conditions",
+    "Design",
+    "DesignerError",
+    "InfeasibleError",
+    "InputError",
+    "Problem",
+    "ProblemError",
+    "SolverError",
+    "evaluate",
+    "load_problem",
+    "performance",
+    "problem_from_dict",
+    "problem_from_toml",
+]

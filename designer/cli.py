@@ -1,0 +1,73 @@
+"""The ``designer`` command: one sub-command per module in :mod:`designer.commands`.
+
+Errors are printed as one line on stderr with a non-zero exit code per kind
+(see :mod:`designer.errors` and the README); ``--debug`` shows the traceback.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+import warnings
+
+from designer.errors import DesignerError
+
+COMMANDS = ["evaluate", "validate", "run", "pareto", "explore", "simulate", "calibrate"]
+"""Sub-command modules in designer.commands; each defines ``register(subparsers)``."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, exit 2, like every input error
+        self.exit(2, f"designer: error: {message}\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every available sub-command."""
+    parser = _Parser(prog="designer", description="Optimal wheelchair caster design (shimmy, turning, door sills).")
+    parser.add_argument("--debug", action="store_true", help="show the full traceback on errors")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name in COMMANDS:
+        try:
+            module = importlib.import_module(f"designer.commands.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name == f"designer.commands.{name}":
+                continue
+            raise
+        module.register(sub)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``designer`` console script; returns the exit code."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "command", None):
+        parser.print_help()
+        return 2
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        warnings.showwarning = _one_line_warning
+        try:
+            return int(args.func(args) or 0)
+        except DesignerError as exc:
+            if args.debug:
+                raise
+            print(f"designer: error: {exc}", file=sys.stderr)
+            return exc.exit_code
+        except KeyboardInterrupt:
+            print("designer: interrupted", file=sys.stderr)
+            return 130
+        except Exception as exc:  # a bug: still one line unless --debug
+            if args.debug:
+                raise
+            print(f"designer: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)",
+                  file=sys.stderr)
+            return 70
+
+
+def _one_line_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"designer: warning: {message}", file=sys.stderr)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,157 @@
+"""The caster model: one design, its operating conditions, and everything computed from them.
+
+:func:`performance` is the single place where the physics functions are
+combined; the solvers (CasADi, cvxpy, scipy, optuna), the checks and the
+reports all call it, so a formula is never written twice.
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from designer.data.paper import DISTURBANCE_ANGLE, INCH, SLIP_COEFFICIENT
+from designer.physics.geometry import swept_radius
+from designer.physics.inertia import InertiaModel, PowerLaw
+from designer.physics.shimmy import (
+    DynamicsParameters,
+    critical_shimmy_speed,
+    friction_damping_at_speed,
+    growth_rate,
+    shimmy_frequency,
+    third_order_coefficients,
+)
+from designer.physics.threshold import threshold_force_ratio
+from designer.physics.turning import DEFAULT_TURNING, TurningConstants, added_damper_moment, sliding_turning_moment
+
+VARIABLES = ("trail", "diameter", "groove", "damping")
+"""The design variables x = (T, d, B, c_f), in this order everywhere."""
+
+VARIABLE_INFO = {
+    "trail": ("T", "m", "trail: spindle axis to tyre contact"),
+    "diameter": ("d", "m", "wheel diameter"),
+    "groove": ("B", "m", "groove width = tread separation of Eq. 7"),
+    "damping": ("c_f", "N·m/rad", "spindle friction damping M_f/θ0"),
+}
+
+
+@dataclass(frozen=True)
+class Design:
+    """One caster design x = (T, d, B, c_f) in SI units.
+
+    Attributes
+    ----------
+    trail : T [m]
+    diameter : d [m]
+    groove : B [m] (0: single tread)
+    damping : c_f [N·m/rad] (bare fork 1.3)
+    """
+
+    trail: float
+    diameter: float
+    groove: float
+    damping: float
+
+    def as_array(self) -> np.ndarray:
+        """The design as a float array in :data:`VARIABLES` order."""
+        return np.array([self.trail, self.diameter, self.groove, self.damping], dtype=float)
+
+    @classmethod
+    def from_array(cls, x) -> "Design":
+        """Build from a sequence in :data:`VARIABLES` order."""
+        return cls(*(float(v) for v in np.asarray(x, dtype=float).ravel()[:4]))
+
+    def as_dict(self) -> dict[str, float]:
+        """``{name: value}`` in SI units."""
+        return {name: float(getattr(self, name)) for name in VARIABLES}
+
+    def describe(self) -> str:
+        """One line in inches (the industry's unit) and SI."""
+        return (
+            f"T = {self.trail / INCH:.3f} in, d = {self.diameter / INCH:.3f} in, "
+            f"B = {self.groove / INCH:.3f} in, c_f = {self.damping:.3f} N·m/rad"
+        )
+
+
+@dataclass(frozen=True)
+class Conditions:
+    """Fixed operating conditions and model constants of a caster.
+
+    Attributes
+    ----------
+    load : caster load L [N]
+    threshold_height : door-sill height h [m]
+    surface : "tile" | "carpet"
+    turning_mode : "chair" | "pivot"
+    disturbance_angle : design disturbance θ0 [rad] (20°, Appendix C)
+    slip_coefficient : K_s [N] (1250, Appendix C)
+    inertia : the I_w(d) model
+    turning : constants of the turning model (DESIGN §2.4)
+    dynamics : K, fork and bearing-block masses of the third-order model
+    """
+
+    load: float = 178.0
+    threshold_height: float = 0.5 * INCH
+    surface: str = "tile"
+    turning_mode: str = "chair"
+    disturbance_angle: float = DISTURBANCE_ANGLE
+    slip_coefficient: float = SLIP_COEFFICIENT
+    inertia: InertiaModel = field(default_factory=PowerLaw)
+    turning: TurningConstants = DEFAULT_TURNING
+    dynamics: DynamicsParameters = DynamicsParameters()
+
+    def replace(self, **changes) -> "Conditions":
+        """A copy with some fields changed."""
+        return dataclasses.replace(self, **changes)
+
+
+def performance(trail, diameter, groove, damping, conditions: Conditions) -> dict:
+    """Every performance quantity of the caster, as expressions of the design.
+
+    Works on floats, NumPy arrays (vectorised over many designs) and CasADi
+    symbols.  Keys and equations:
+
+    - ``inertia`` I_w(d) [kg·m²] (inertia model, DESIGN §2.2)
+    - ``critical_speed`` V_c [m/s] (Eq. 7)
+    - ``threshold_force_ratio`` P/L [-] (Eq. 4A)
+    - ``threshold_force`` P [N] (Eq. 4A)
+    - ``turning_moment`` M_turn + M_d [N·m] (DESIGN §2.4)
+    - ``turning_effort`` F_turn [N] (Eq. 9, moment / trail)
+    - ``swept_radius`` R_s [m] (T + d/2)
+    """
+    c = conditions
+    inertia = c.inertia(diameter)
+    ratio = threshold_force_ratio(diameter, c.threshold_height)
+    moment = sliding_turning_moment(c.load, groove, c.surface, c.turning_mode, c.turning) + added_damper_moment(
+        damping, c.disturbance_angle, c.turning
+    )
+    return {
+        "inertia": inertia,
+        "critical_speed": critical_shimmy_speed(trail, inertia, groove, damping, c.slip_coefficient),
+        "threshold_force_ratio": ratio,
+        "threshold_force": c.load * ratio,
+        "turning_moment": moment,
+        "turning_effort": moment / trail,
+        "swept_radius": swept_radius(trail, diameter),
+    }
+
+
+def evaluate(design: Design, conditions: Conditions = Conditions(), speed: float | None = None) -> dict:
+    """Analyse one caster: :func:`performance` as floats plus the third-order model.
+
+    Adds ``shimmy_frequency`` ω [rad/s] (Eq. 15B) and, when ``speed`` is given,
+    ``growth_rate`` μ [1/s] of the oscillatory mode at that speed (Eq. 12B,
+    friction damping converted with Eq. 6 and Eq. 4): negative means any
+    shimmy decays.
+    """
+    values = performance(design.trail, design.diameter, design.groove, design.damping, conditions)
+    out = {key: float(value) for key, value in values.items()}
+    out["shimmy_frequency"] = float(shimmy_frequency(design.trail, out["inertia"], conditions.dynamics))
+    if speed is not None:
+        c_d = friction_damping_at_speed(design.damping, design.trail, speed)
+        coeffs = third_order_coefficients(
+            design.trail, out["inertia"], design.groove, c_d, speed, conditions.slip_coefficient, conditions.dynamics
+        )
+        out["growth_rate"] = float(growth_rate(coeffs))
+    return out

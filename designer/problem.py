@@ -1,0 +1,562 @@
+"""Problem files (TOML) -> validated, immutable :class:`Problem` objects.
+
+Schema: DESIGN §4.1.  Every quantity is a number in SI units or a string with
+units ("2 in", "20 deg"); a design variable given one value instead of
+``{min, max}`` is fixed.  Everything is checked before any solve, and every
+error is one line naming the key, the value and the reason.
+"""
+from __future__ import annotations
+
+import dataclasses
+import difflib
+import hashlib
+import json
+import math
+import re
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from designer.data.paper import BARE_FORK_DAMPING, INCH, TABLE1
+from designer.errors import ProblemError
+from designer.model import VARIABLES, Conditions, Design
+from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
+from designer.physics.shimmy import DynamicsParameters
+from designer.physics.turning import MODES, SURFACES, TurningConstants
+from designer.units import InputError, parse_quantity
+
+DEFAULT_BOUNDS = {
+    "trail": (1.0 * INCH, 2.5 * INCH),
+    "diameter": (3.0 * INCH, 8.0 * INCH),
+    "groove": (0.0, 0.75 * INCH),
+    "damping": (BARE_FORK_DAMPING, 6.0),
+}
+"""Bounds used for a variable the problem file does not mention [SI]."""
+
+VARIABLE_DIMENSIONS = {"trail": "length", "diameter": "length", "groove": "length", "damping": "damping"}
+
+MODEL_RANGE = {
+    "trail": (0.0, 0.25),
+    "diameter": (0.0, 0.6),
+    "groove": (0.0, 0.1),
+    "damping": (0.0, 100.0),
+}
+"""Physically sensible ranges [SI] (exclusive low for trail, diameter): beyond
+them the paper's model does not apply, and a value there usually means inches
+were written as metres."""
+
+# Allowed keys per section: key -> dimension (or a type tag).
+SCHEMA: dict[str, dict[str, str]] = {
+    "": {"name": "str", "title": "str", "description": "str"},
+    "conditions": {"load": "force", "threshold_height": "length", "surface": "surface", "turning_mode": "mode"},
+    "shimmy": {
+        "target_speed": "speed",
+        "margin": "dimensionless",
+        "disturbance_angle": "angle",
+        "slip_coefficient": "force",
+    },
+    "inertia": {
+        "model": "str",
+        "coefficient": "float",
+        "exponent": "float",
+        "tyre_width": "length",
+        "density": "density",
+        "wheel": "str",
+        "wheels": "list",
+        "inertia": "inertia",
+    },
+    "variables": {name: "bound" for name in VARIABLES},
+    "constraints": {"swept_radius_max": "length"},
+    "objective": {"turning_effort": "float", "threshold_force": "float"},
+    "pareto": {"points": "int"},
+    "turning": {
+        "tile_moment_per_load": "length",
+        "carpet_factor": "dimensionless",
+        "groove_coefficient": "per_length",
+        "chair_factor": "dimensionless",
+        "pivot_factor": "dimensionless",
+        "bare_fork_damping": "damping",
+    },
+    "dynamics": {"frame_stiffness": "stiffness", "fork_mass": "mass", "bearing_block_mass": "mass"},
+    "choices": {"surface": "list", "turning_mode": "list", "wheel": "list"},
+}
+
+INERTIA_MODELS = ("table1-power-law", "disc", "catalog", "fixed")
+NAME_PATTERN = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
+
+
+@dataclass(frozen=True)
+class Bound:
+    """Bounds of one design variable [SI]; ``low == high`` means fixed."""
+
+    low: float
+    high: float
+
+    @property
+    def fixed(self) -> bool:
+        return self.low == self.high
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A validated caster design problem (immutable).
+
+    Attributes
+    ----------
+    name : identifier, safe as a folder name (results/<name>/)
+    title : one-line description for reports
+    conditions : load, sill, surface, turning mode and model constants
+    target_speed : V_target [m/s]; the constraint is V_c >= (1 + margin) V_target
+    margin : relative safety margin on the target speed [-]
+    bounds : {variable: Bound}, SI
+    swept_radius_max : optional limit on T + d/2 [m]
+    weights : (w_turn, w_threshold) of J = w_turn F_turn + w_threshold P
+    pareto_points : default number of points on the front
+    wheels : Table 1 wheels to choose from when the inertia model is a catalog
+    choices : categorical options for exploration {"surface": (...), ...}
+    description : free text (whose chair, why these numbers)
+    source : the file it was read from, if any
+    """
+
+    name: str
+    title: str
+    conditions: Conditions
+    target_speed: float
+    margin: float = 0.0
+    bounds: dict = field(default_factory=lambda: {k: Bound(*v) for k, v in DEFAULT_BOUNDS.items()})
+    swept_radius_max: float | None = None
+    weights: tuple[float, float] = (1.0, 1.0)
+    pareto_points: int = 41
+    wheels: tuple[str, ...] = ()
+    choices: dict = field(default_factory=dict)
+    description: str = ""
+    source: str | None = None
+
+    def __post_init__(self):
+        _validate(self, prefix=f"{self.source}: " if self.source else "")
+
+    @property
+    def required_speed(self) -> float:
+        """(1 + margin) · V_target [m/s]: what V_c must reach."""
+        return (1 + self.margin) * self.target_speed
+
+    def replace(self, **changes) -> "Problem":
+        """A validated copy with some fields changed (e.g. ``target_speed=3.0``)."""
+        return dataclasses.replace(self, **changes)
+
+    def lower(self) -> Design:
+        """Lower bounds as a :class:`Design`."""
+        return Design(*(self.bounds[v].low for v in VARIABLES))
+
+    def upper(self) -> Design:
+        """Upper bounds as a :class:`Design`."""
+        return Design(*(self.bounds[v].high for v in VARIABLES))
+
+    def variants(self) -> list["Problem"]:
+        """Continuous sub-problems: one per catalog wheel (diameter and I_w fixed), else [self]."""
+        if not self.wheels:
+            return [self]
+        out = []
+        for key in self.wheels:
+            model = Catalog.from_key(key)
+            d = model.fixed_diameter
+            bounds = dict(self.bounds)
+            bounds["diameter"] = Bound(d, d)
+            out.append(
+                dataclasses.replace(
+                    self, conditions=self.conditions.replace(inertia=model), bounds=bounds, wheels=()
+                )
+            )
+        return out
+
+    def digest(self) -> str:
+        """SHA-256 of the problem's canonical content (for report metadata)."""
+        return hashlib.sha256(json.dumps(self.to_dict(), sort_keys=True, default=str).encode()).hexdigest()[:16]
+
+    def to_dict(self) -> dict:
+        """Plain-data description of the problem in SI units."""
+        c = self.conditions
+        return {
+            "name": self.name,
+            "title": self.title,
+            "load": c.load,
+            "threshold_height": c.threshold_height,
+            "surface": c.surface,
+            "turning_mode": c.turning_mode,
+            "disturbance_angle": c.disturbance_angle,
+            "slip_coefficient": c.slip_coefficient,
+            "inertia": c.inertia.describe(),
+            "target_speed": self.target_speed,
+            "margin": self.margin,
+            "bounds": {k: [b.low, b.high] for k, b in self.bounds.items()},
+            "swept_radius_max": self.swept_radius_max,
+            "weights": list(self.weights),
+            "wheels": list(self.wheels),
+            "turning": {
+                "tile_moment_per_load": c.turning.tile_moment_per_load,
+                "carpet_factor": c.turning.carpet_factor,
+                "groove_coefficient": c.turning.groove_coefficient,
+                "mode_factors": c.turning.mode_factors,
+                "bare_fork_damping": c.turning.bare_fork_damping,
+            },
+        }
+
+
+def _validate(problem: Problem, prefix: str = "") -> None:
+    def fail(msg: str):
+        raise ProblemError(prefix + msg)
+
+    if not isinstance(problem.name, str) or not NAME_PATTERN.match(problem.name):
+        fail(
+            f"name = {problem.name!r}: must be 1–64 letters, digits, '-', '_' or '.', starting with a letter "
+            f"or digit (it names the results folder)"
+        )
+    if problem.target_speed <= 0:
+        fail(f"shimmy.target_speed = {problem.target_speed:g} m/s: must be positive")
+    if problem.margin < 0 or problem.margin > 10:
+        fail(f"shimmy.margin = {problem.margin:g}: must be between 0 and 10 (a fraction, 0.2 = 20 %)")
+    c = problem.conditions
+    if c.load <= 0:
+        fail(f"conditions.load = {c.load:g} N: must be positive")
+    if c.threshold_height <= 0:
+        fail(f"conditions.threshold_height = {c.threshold_height:g} m: must be positive")
+    if not 0 < c.disturbance_angle < math.pi / 2:
+        fail(f"shimmy.disturbance_angle = {c.disturbance_angle:g} rad: must be between 0 and 90 deg")
+    if c.slip_coefficient <= 0:
+        fail(f"shimmy.slip_coefficient = {c.slip_coefficient:g} N: must be positive")
+    if c.surface not in SURFACES:
+        fail(f"conditions.surface = {c.surface!r}: expected one of {', '.join(SURFACES)}")
+    if c.turning_mode not in MODES:
+        fail(f"conditions.turning_mode = {c.turning_mode!r}: expected one of {', '.join(MODES)}")
+    for name in VARIABLES:
+        if name not in problem.bounds:
+            fail(f"variables.{name}: missing bounds")
+        b = problem.bounds[name]
+        key = f"variables.{name}"
+        lo, hi = MODEL_RANGE[name]
+        for label, value in (("min", b.low), ("max", b.high)):
+            if not math.isfinite(value):
+                fail(f"{key}.{label} = {value}: must be finite")
+            if value < 0 or (value == 0 and name in ("trail", "diameter", "damping")):
+                fail(f"{key}.{label} = {value:g}: must be positive")
+            if value > hi:
+                fail(
+                    f"{key}.{label} = {value:g} {VARIABLE_UNITS[name]}: outside the model's range "
+                    f"(at most {hi:g}); were inches written as metres? write e.g. '2 in'"
+                )
+        if b.low > b.high:
+            fail(f"{key} = [{b.low:g}, {b.high:g}]: min is greater than max")
+    h = c.threshold_height
+    if not problem.wheels and problem.bounds["diameter"].low <= 2 * h:
+        fail(
+            f"variables.diameter.min = {problem.bounds['diameter'].low / INCH:.3g} in: must exceed twice the "
+            f"threshold height ({2 * h / INCH:.3g} in); a wheel with d <= 2h cannot climb the sill (Eq. 4A)"
+        )
+    for key in problem.wheels:
+        wheel = next((w for w in TABLE1 if w.key == key), None)
+        if wheel is None:
+            fail(f"inertia.wheels: unknown Table 1 wheel {key!r}; valid wheels are {', '.join(w.key for w in TABLE1)}")
+        if wheel.diameter <= 2 * h:
+            fail(f"inertia.wheels: wheel {key} (d = {wheel.diameter / INCH:.0f} in) cannot climb a "
+                 f"{h / INCH:.3g} in sill (d/h <= 2, Eq. 4A)")
+    c0 = c.turning.bare_fork_damping
+    if problem.bounds["damping"].low < c0 - 1e-12:
+        fail(
+            f"variables.damping.min = {problem.bounds['damping'].low:g} N·m/rad: below the bare fork's "
+            f"{c0:g} N·m/rad (Eq. 11C); set [turning] bare_fork_damping if your fork differs"
+        )
+    if problem.swept_radius_max is not None:
+        r = problem.swept_radius_max
+        if not r > 0:
+            fail(f"constraints.swept_radius_max = {r:g} m: must be positive")
+        smallest = problem.bounds["trail"].low + problem.bounds["diameter"].low / 2
+        if problem.wheels:
+            smallest = problem.bounds["trail"].low + min(Catalog.from_key(k).fixed_diameter for k in problem.wheels) / 2
+        if r < smallest:
+            fail(
+                f"constraints.swept_radius_max = {r / INCH:.3g} in: smaller than the smallest possible "
+                f"T + d/2 = {smallest / INCH:.3g} in; raise it or lower the trail/diameter minimum"
+            )
+    w = problem.weights
+    if len(w) != 2 or any((not math.isfinite(x)) or x < 0 for x in w) or sum(w) <= 0:
+        fail(f"objective = {list(w)}: weights must be finite, non-negative and not all zero")
+    if not isinstance(problem.pareto_points, int) or not 3 <= problem.pareto_points <= 2001:
+        fail(f"pareto.points = {problem.pareto_points!r}: must be an integer from 3 to 2001")
+
+
+VARIABLE_UNITS = {"trail": "m", "diameter": "m", "groove": "m", "damping": "N·m/rad"}
+
+
+# --------------------------------------------------------------------------- loading
+
+
+def load_problem(path) -> Problem:
+    """Read and validate a problem file (TOML, DESIGN §4.1).
+
+    Raises
+    ------
+    ProblemError
+        One line: the file, the key, the value and the reason (TOML syntax
+        errors with their line number).
+    """
+    path = Path(path)
+    if not path.exists():
+        raise ProblemError(f"{path}: no such problem file")
+    if path.is_dir():
+        raise ProblemError(f"{path}: is a folder, expected a .toml problem file")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ProblemError(f"{path}: cannot read it ({exc.__class__.__name__}: {exc})") from None
+    return problem_from_toml(text, source=str(path), default_name=path.stem)
+
+
+def problem_from_toml(text: str, source: str | None = None, default_name: str = "problem") -> Problem:
+    """Parse TOML text into a validated :class:`Problem` (see :func:`load_problem`)."""
+    prefix = f"{source}: " if source else ""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ProblemError(f"{prefix}TOML syntax error: {exc}") from None
+    return problem_from_dict(data, source=source, default_name=default_name)
+
+
+def problem_from_dict(data: dict, source: str | None = None, default_name: str = "problem") -> Problem:
+    """Build a validated :class:`Problem` from a dict with the problem-file schema."""
+    prefix = f"{source}: " if source else ""
+
+    def fail(msg: str):
+        raise ProblemError(prefix + msg)
+
+    if not isinstance(data, dict):
+        fail("a problem must be a table of sections")
+    _check_keys(data, prefix)
+
+    def section(name: str) -> dict:
+        value = data.get(name, {})
+        if not isinstance(value, dict):
+            fail(f"[{name}] must be a table, got {type(value).__name__}")
+        return value
+
+    def quantity(sec: str, key: str, dimension: str, default):
+        table = data if sec == "" else section(sec)
+        if key not in table:
+            return default
+        try:
+            return parse_quantity(table[key], dimension, f"{sec}.{key}" if sec else key)
+        except InputError as exc:
+            fail(str(exc))
+
+    def text_value(sec: str, key: str, default: str) -> str:
+        table = data if sec == "" else section(sec)
+        value = table.get(key, default)
+        if not isinstance(value, str):
+            fail(f"{(sec + '.') if sec else ''}{key} = {value!r}: expected a string")
+        return value
+
+    def number(sec: str, key: str, default: float) -> float:
+        table = section(sec)
+        value = table.get(key, default)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            fail(f"{sec}.{key} = {value!r}: expected a number")
+        if not math.isfinite(value):
+            fail(f"{sec}.{key} = {value!r}: must be finite")
+        return float(value)
+
+    name = text_value("", "name", default_name)
+    title = text_value("", "title", name)
+    description = text_value("", "description", "")
+
+    # turning constants and dynamics first: conditions need them
+    tdef = TurningConstants()
+    turning = TurningConstants(
+        tile_moment_per_load=quantity("turning", "tile_moment_per_load", "length", tdef.tile_moment_per_load),
+        carpet_factor=quantity("turning", "carpet_factor", "dimensionless", tdef.carpet_factor),
+        groove_coefficient=quantity("turning", "groove_coefficient", "per_length", tdef.groove_coefficient),
+        mode_factors={
+            "chair": quantity("turning", "chair_factor", "dimensionless", tdef.mode_factors["chair"]),
+            "pivot": quantity("turning", "pivot_factor", "dimensionless", tdef.mode_factors["pivot"]),
+        },
+        bare_fork_damping=quantity("turning", "bare_fork_damping", "damping", tdef.bare_fork_damping),
+    )
+    for key, value in (
+        ("tile_moment_per_load", turning.tile_moment_per_load),
+        ("carpet_factor", turning.carpet_factor),
+        ("chair_factor", turning.mode_factors["chair"]),
+        ("pivot_factor", turning.mode_factors["pivot"]),
+        ("bare_fork_damping", turning.bare_fork_damping),
+    ):
+        if value <= 0:
+            fail(f"turning.{key} = {value:g}: must be positive")
+    if turning.groove_coefficient < 0:
+        fail(f"turning.groove_coefficient = {turning.groove_coefficient:g} 1/m: must be non-negative")
+
+    ddef = DynamicsParameters()
+    dynamics = DynamicsParameters(
+        frame_stiffness=quantity("dynamics", "frame_stiffness", "stiffness", None),
+        fork_mass=quantity("dynamics", "fork_mass", "mass", ddef.fork_mass),
+        bearing_block_mass=quantity("dynamics", "bearing_block_mass", "mass", ddef.bearing_block_mass),
+    )
+    for key, value in (("frame_stiffness", dynamics.frame_stiffness), ("fork_mass", dynamics.fork_mass),
+                       ("bearing_block_mass", dynamics.bearing_block_mass)):
+        if value is not None and value <= 0:
+            fail(f"dynamics.{key} = {value:g}: must be positive")
+
+    inertia, wheels = _inertia(section("inertia"), quantity, fail)
+
+    conditions = Conditions(
+        load=quantity("conditions", "load", "force", 178.0),
+        threshold_height=quantity("conditions", "threshold_height", "length", 0.5 * INCH),
+        surface=text_value("conditions", "surface", "tile"),
+        turning_mode=text_value("conditions", "turning_mode", "chair"),
+        disturbance_angle=quantity("shimmy", "disturbance_angle", "angle", math.radians(20.0)),
+        slip_coefficient=quantity("shimmy", "slip_coefficient", "force", 1250.0),
+        inertia=inertia,
+        turning=turning,
+        dynamics=dynamics,
+    )
+    if "target_speed" not in section("shimmy"):
+        fail("shimmy.target_speed: missing; give the speed the caster must not shimmy below, e.g. '2.5 m/s'")
+
+    bounds = {}
+    variables = section("variables")
+    for var in VARIABLES:
+        if var not in variables:
+            lo, hi = DEFAULT_BOUNDS[var]
+            if var == "damping":
+                lo = turning.bare_fork_damping
+                hi = max(hi, lo)
+            bounds[var] = Bound(lo, hi)
+            continue
+        spec = variables[var]
+        dim = VARIABLE_DIMENSIONS[var]
+        if isinstance(spec, dict):
+            extra = set(spec) - {"min", "max"}
+            if extra:
+                fail(f"variables.{var}: unknown key {sorted(extra)[0]!r}; expected 'min' and 'max' or a single value")
+            if "min" not in spec or "max" not in spec:
+                missing = "min" if "min" not in spec else "max"
+                fail(f"variables.{var}.{missing}: missing; give both min and max, or a single value to fix it")
+            try:
+                lo = parse_quantity(spec["min"], dim, f"variables.{var}.min")
+                hi = parse_quantity(spec["max"], dim, f"variables.{var}.max")
+            except InputError as exc:
+                fail(str(exc))
+        else:
+            try:
+                lo = hi = parse_quantity(spec, dim, f"variables.{var}")
+            except InputError as exc:
+                fail(str(exc))
+        bounds[var] = Bound(lo, hi)
+    if wheels:
+        d_lo, d_hi = bounds["diameter"].low, bounds["diameter"].high
+        if "diameter" in variables:
+            kept = tuple(k for k in wheels if d_lo - 1e-9 <= Catalog.from_key(k).fixed_diameter <= d_hi + 1e-9)
+            if not kept:
+                fail(f"variables.diameter = [{d_lo / INCH:.3g}, {d_hi / INCH:.3g}] in: no catalog wheel in {list(wheels)} fits")
+            wheels = kept
+        diameters = [Catalog.from_key(k).fixed_diameter for k in wheels]
+        bounds["diameter"] = Bound(min(diameters), max(diameters))
+
+    objective = section("objective")
+    weights = (number("objective", "turning_effort", 1.0), number("objective", "threshold_force", 1.0))
+    points = section("pareto").get("points", 41)
+    if isinstance(points, bool) or not isinstance(points, int):
+        fail(f"pareto.points = {points!r}: expected an integer")
+    del objective
+
+    choices = {}
+    for key, allowed in (("surface", SURFACES), ("turning_mode", MODES), ("wheel", tuple(w.key for w in TABLE1))):
+        if key in section("choices"):
+            values = section("choices")[key]
+            if not isinstance(values, list) or not values or any(v not in allowed for v in values):
+                fail(f"choices.{key} = {values!r}: expected a non-empty list from {', '.join(allowed)}")
+            choices[key] = tuple(values)
+
+    return Problem(
+        name=name,
+        title=title,
+        description=description,
+        conditions=conditions,
+        target_speed=quantity("shimmy", "target_speed", "speed", None),
+        margin=quantity("shimmy", "margin", "dimensionless", 0.0),
+        bounds=bounds,
+        swept_radius_max=quantity("constraints", "swept_radius_max", "length", None),
+        weights=weights,
+        pareto_points=points,
+        wheels=wheels,
+        choices=choices,
+        source=source,
+    )
+
+
+def _inertia(table: dict, quantity, fail) -> tuple[InertiaModel, tuple[str, ...]]:
+    model = table.get("model", "table1-power-law")
+    if model not in INERTIA_MODELS:
+        fail(f"inertia.model = {model!r}: expected one of {', '.join(INERTIA_MODELS)}")
+    allowed = {
+        "table1-power-law": {"model", "coefficient", "exponent"},
+        "disc": {"model", "tyre_width", "density"},
+        "catalog": {"model", "wheel", "wheels"},
+        "fixed": {"model", "inertia"},
+    }[model]
+    extra = set(table) - allowed
+    if extra:
+        fail(f"inertia.{sorted(extra)[0]}: not used by inertia model {model!r} (it takes {', '.join(sorted(allowed - {'model'})) or 'nothing else'})")
+    if model == "table1-power-law":
+        coefficient = quantity("inertia", "coefficient", "dimensionless", None)
+        exponent = quantity("inertia", "exponent", "dimensionless", None)
+        if coefficient is not None and coefficient <= 0:
+            fail(f"inertia.coefficient = {coefficient:g}: must be positive")
+        if exponent is not None and not 0 < exponent < 10:
+            fail(f"inertia.exponent = {exponent:g}: must be between 0 and 10")
+        return PowerLaw(coefficient, exponent), ()
+    if model == "disc":
+        for key in ("tyre_width", "density"):
+            if key not in table:
+                fail(f"inertia.{key}: missing; the disc model needs tyre_width and density")
+        width = quantity("inertia", "tyre_width", "length", None)
+        density = quantity("inertia", "density", "density", None)
+        if width <= 0 or width > 0.2:
+            fail(f"inertia.tyre_width = {width:g} m: must be between 0 and 0.2 m")
+        if density <= 0 or density > 20000:
+            fail(f"inertia.density = {density:g} kg/m³: must be between 0 and 20000")
+        return Disc(width, density), ()
+    if model == "fixed":
+        if "inertia" not in table:
+            fail("inertia.inertia: missing; the fixed model needs the measured I_w, e.g. '0.00127 kg*m**2'")
+        value = quantity("inertia", "inertia", "inertia", None)
+        if not 0 < value < 0.1:
+            fail(f"inertia.inertia = {value:g} kg·m²: must be between 0 and 0.1 kg·m²")
+        return Fixed(value), ()
+    # catalog
+    if "wheel" in table and "wheels" in table:
+        fail("inertia: give either wheel = \"C\" or wheels = [\"A\", ...], not both")
+    keys = table.get("wheels", [table["wheel"]] if "wheel" in table else [w.key for w in TABLE1])
+    if isinstance(keys, str) or not isinstance(keys, list) or not keys:
+        fail(f"inertia.wheels = {keys!r}: expected a non-empty list of Table 1 letters")
+    valid = [w.key for w in TABLE1]
+    out = []
+    for key in keys:
+        if not isinstance(key, str) or key.strip().upper() not in valid:
+            fail(f"inertia.wheel = {key!r}: unknown Table 1 wheel; valid wheels are {', '.join(valid)}")
+        out.append(key.strip().upper())
+    return Catalog.from_key(out[0]), tuple(dict.fromkeys(out))
+
+
+def _check_keys(data: dict, prefix: str) -> None:
+    for key, value in data.items():
+        if key in SCHEMA[""]:
+            continue
+        if key not in SCHEMA:
+            raise ProblemError(prefix + f"unknown section or key {key!r}{_suggest(key, list(SCHEMA) + list(SCHEMA['']))}")
+        if not isinstance(value, dict):
+            raise ProblemError(prefix + f"[{key}] must be a table, got {value!r}")
+        for sub in value:
+            if sub not in SCHEMA[key]:
+                raise ProblemError(prefix + f"unknown key {key}.{sub}{_suggest(sub, list(SCHEMA[key]))}")
+
+
+def _suggest(word: str, options: list[str]) -> str:
+    match = difflib.get_close_matches(word, [o for o in options if o], n=1)
+    return f" (did you mean {match[0]!r}?)" if match else ""

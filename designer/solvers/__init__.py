@@ -1,0 +1,6 @@
+"""Solvers for caster design problems: one model, several tools.
+
+nlp          CasADi/IPOPT exact NLP, built once per problem, multi-start (primary)
+gp           cvxpy geometric programming: global certificate and duals
+scipy_check  SLSQP cross-check from the NLP optimum and random starts
+"""

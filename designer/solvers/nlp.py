@@ -1,0 +1,382 @@
+"""Exact NLP of a caster design problem with CasADi and IPOPT.
+
+The NLP is built once per (continuous) problem with every physical constant,
+the weights and the ε-bounds as CasADi parameters, so scalarised optima,
+ε-constraint Pareto points and sensitivities all reuse one solver.
+
+Variables are scaled by their upper bounds so IPOPT sees numbers near 1.
+Constraints (CasADi convention lbg <= g <= ubg):
+
+    shimmy     V_c / V_req − 1 >= 0                (Eq. 7)
+    threshold  (P − ε_P) / P_ref <= 0              (ε-constraint, Eq. 4A)
+    turning    (F_turn − ε_F) / F_ref <= 0         (ε-constraint, Eq. 9)
+    swept      (T + d/2) / R_max − 1 <= 0          (only with swept_radius_max)
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+
+from designer.errors import InfeasibleError, SolverError
+from designer.model import VARIABLES, Conditions, Design, performance
+from designer.physics.inertia import Catalog, Disc, Fixed, PowerLaw
+from designer.problem import Problem
+
+BIG = 1e9
+FEAS_TOL = 1e-7
+
+PARAMETER_INFO = {
+    "load": ("L", "N", "caster load"),
+    "threshold_height": ("h", "m", "door-sill height"),
+    "target_speed": ("V_target", "m/s", "speed without shimmy"),
+    "slip_coefficient": ("K_s", "N", "tyre slip coefficient"),
+    "disturbance_angle": ("θ0", "rad", "design disturbance angle"),
+    "tile_moment_per_load": ("k_tile", "m", "sliding turning moment per load on tile"),
+    "groove_coefficient": ("κ", "1/m", "groove penalty on turning moment"),
+    "bare_fork_damping": ("c_0", "N·m/rad", "bare-fork damping"),
+    "carpet_factor": ("k_carpet/k_tile", "-", "carpet over tile"),
+    "mode_factor": ("m_mode", "-", "turning-mode factor"),
+    "inertia_coefficient": ("C", "-", "inertia power-law coefficient"),
+    "inertia_exponent": ("n", "-", "inertia power-law exponent"),
+    "tyre_width": ("w", "m", "disc tyre width"),
+    "density": ("ρ", "kg/m³", "disc density"),
+    "wheel_inertia": ("I_w", "kg·m²", "measured wheel inertia"),
+    "swept_radius_max": ("R_max", "m", "swept-radius limit"),
+}
+"""Fixed parameters whose sensitivity d log J / d log p is reported."""
+
+
+@dataclass
+class NLPResult:
+    """One IPOPT solve.
+
+    Attributes
+    ----------
+    design : the optimum (SI)
+    success : IPOPT reported success and the point is feasible
+    status : IPOPT return status string
+    objective : J in newtons (weighted) at the optimum
+    lam_g, lam_x : multipliers (CasADi sign convention, scaled variables)
+    iterations : IPOPT iterations
+    seconds : wall time of the solve
+    """
+
+    design: Design
+    success: bool
+    status: str
+    objective: float
+    lam_g: np.ndarray
+    lam_x: np.ndarray
+    iterations: int
+    seconds: float
+    z: np.ndarray = field(repr=False, default=None)
+
+
+class CasterNLP:
+    """The exact NLP of one continuous problem, built once and solved many times.
+
+    Parameters
+    ----------
+    problem : Problem
+        A problem without catalog choices (use ``problem.variants()``).
+    ipopt_options : dict, optional
+        Extra IPOPT options.
+    """
+
+    def __init__(self, problem: Problem, ipopt_options: dict | None = None):
+        if problem.wheels:
+            raise ValueError("CasterNLP needs a continuous problem; iterate over problem.variants()")
+        t0 = time.perf_counter()
+        self.problem = problem
+        lo = problem.lower().as_array()
+        hi = problem.upper().as_array()
+        self.scale = np.maximum(hi, np.array([0.01, 0.05, 0.005, 1.0]))
+        self.lbz = lo / self.scale
+        self.ubz = hi / self.scale
+        self.param_names, self.param_values, conditions_sym, psym = self._symbolic_conditions(problem)
+        # control parameters: weights, ε bounds
+        w = ca.SX.sym("w", 2)
+        eps = ca.SX.sym("eps", 2)
+        z = ca.SX.sym("z", 4)
+        x = z * ca.DM(self.scale)
+        perf = performance(x[0], x[1], x[2], x[3], conditions_sym)
+        self._perf_function = ca.Function(
+            "perf", [z, psym], [perf["turning_effort"], perf["threshold_force"], perf["critical_speed"], perf["swept_radius"]]
+        )
+        # references for scaling, at the centre of the box
+        centre = (self.lbz + self.ubz) / 2
+        f_ref, p_ref, _, _ = (float(v) for v in self._perf_function(centre, self.param_values))
+        self.f_ref, self.p_ref = f_ref, p_ref
+        v_req = (1 + problem.margin) * psym[self.param_names.index("target_speed")]
+        objective = w[0] * perf["turning_effort"] / f_ref + w[1] * perf["threshold_force"] / p_ref
+        g = [perf["critical_speed"] / v_req - 1, (perf["threshold_force"] - eps[0]) / p_ref,
+             (perf["turning_effort"] - eps[1]) / f_ref]
+        self.constraint_names = ["shimmy", "threshold_cap", "turning_cap"]
+        if problem.swept_radius_max is not None:
+            r_max = psym[self.param_names.index("swept_radius_max")]
+            g.append(perf["swept_radius"] / r_max - 1)
+            self.constraint_names.append("swept_radius")
+        g = ca.vertcat(*g)
+        self.lbg = np.array([0.0] + [-np.inf] * (g.shape[0] - 1))
+        self.ubg = np.array([np.inf] + [0.0] * (g.shape[0] - 1))
+        p_all = ca.vertcat(psym, w, eps)
+        self.n_phys = psym.shape[0]
+        options = {
+            "ipopt.print_level": 0,
+            "print_time": False,
+            "ipopt.sb": "yes",
+            "ipopt.tol": 1e-10,
+            "ipopt.acceptable_tol": 1e-8,
+            "ipopt.constr_viol_tol": 1e-10,
+            "ipopt.bound_relax_factor": 0.0,
+            "ipopt.max_iter": 500,
+            "ipopt.mu_strategy": "adaptive",
+            "ipopt.hessian_approximation": "exact",
+            "error_on_fail": False,
+        }
+        options.update(ipopt_options or {})
+        self.solver = ca.nlpsol("caster", "ipopt", {"x": z, "p": p_all, "f": objective, "g": g}, options)
+        # Sensitivity of the Lagrangian with respect to the physical parameters.
+        lam_g = ca.SX.sym("lam_g", g.shape[0])
+        lagrangian = objective + ca.dot(lam_g, g)
+        self._dlag_dp = ca.Function("dL_dp", [z, p_all, lam_g], [ca.gradient(lagrangian, psym)])
+        self.build_seconds = time.perf_counter() - t0
+
+    # ----------------------------------------------------------------- parameters
+    @staticmethod
+    def _symbolic_conditions(problem: Problem):
+        """Replace every fixed constant of the conditions by a CasADi symbol."""
+        c = problem.conditions
+        names: list[str] = ["load", "threshold_height", "target_speed", "slip_coefficient", "disturbance_angle",
+                            "tile_moment_per_load", "groove_coefficient", "bare_fork_damping"]
+        values: list[float] = [c.load, c.threshold_height, problem.target_speed, c.slip_coefficient,
+                               c.disturbance_angle, c.turning.tile_moment_per_load, c.turning.groove_coefficient,
+                               c.turning.bare_fork_damping]
+        if c.surface == "carpet":
+            names.append("carpet_factor")
+            values.append(c.turning.carpet_factor)
+        names.append("mode_factor")
+        values.append(c.turning.mode_factor(c.turning_mode))
+        model = c.inertia
+        if isinstance(model, PowerLaw):
+            coef, expo = model.constants()
+            names += ["inertia_coefficient", "inertia_exponent"]
+            values += [coef, expo]
+        elif isinstance(model, Disc):
+            names += ["tyre_width", "density"]
+            values += [model.tyre_width, model.density]
+        elif isinstance(model, (Fixed, Catalog)):
+            names.append("wheel_inertia")
+            values.append(model.wheel.inertia if isinstance(model, Catalog) else model.inertia)
+        if problem.swept_radius_max is not None:
+            names.append("swept_radius_max")
+            values.append(problem.swept_radius_max)
+        p = ca.SX.sym("p", len(names))
+        s = {name: p[i] for i, name in enumerate(names)}
+        turning = dataclasses.replace(
+            c.turning,
+            tile_moment_per_load=s["tile_moment_per_load"],
+            groove_coefficient=s["groove_coefficient"],
+            bare_fork_damping=s["bare_fork_damping"],
+            carpet_factor=s.get("carpet_factor", c.turning.carpet_factor),
+            mode_factors={**c.turning.mode_factors, c.turning_mode: s["mode_factor"]},
+        )
+        if isinstance(model, PowerLaw):
+            inertia = PowerLaw(s["inertia_coefficient"], s["inertia_exponent"])
+        elif isinstance(model, Disc):
+            inertia = Disc(s["tyre_width"], s["density"])
+        else:
+            inertia = Fixed(s["wheel_inertia"])
+        conditions = c.replace(
+            load=s["load"], threshold_height=s["threshold_height"], slip_coefficient=s["slip_coefficient"],
+            disturbance_angle=s["disturbance_angle"], turning=turning, inertia=inertia,
+        )
+        return names, np.array(values, dtype=float), conditions, p
+
+    def parameter_vector(self, weights=(1.0, 1.0), threshold_cap=BIG, turning_cap=BIG, overrides=None) -> np.ndarray:
+        """Full parameter vector: physical values (optionally overridden), weights, ε caps."""
+        phys = self.param_values.copy()
+        for name, value in (overrides or {}).items():
+            phys[self.param_names.index(name)] = value
+        return np.concatenate([phys, np.asarray(weights, float), [threshold_cap, turning_cap]])
+
+    # ----------------------------------------------------------------- solving
+    def to_z(self, design) -> np.ndarray:
+        """Scaled variables of a design (clipped into the box)."""
+        arr = design.as_array() if isinstance(design, Design) else np.asarray(design, float)
+        return np.clip(arr / self.scale, self.lbz, self.ubz)
+
+    def solve(self, start, weights=(1.0, 1.0), threshold_cap=BIG, turning_cap=BIG, lam_g0=None, lam_x0=None,
+              overrides=None) -> NLPResult:
+        """One IPOPT solve from ``start`` (a Design or SI array)."""
+        p = self.parameter_vector(weights, threshold_cap, turning_cap, overrides)
+        args = dict(x0=self.to_z(start), p=p, lbx=self.lbz, ubx=self.ubz, lbg=self.lbg, ubg=self.ubg)
+        if lam_g0 is not None:
+            args["lam_g0"] = lam_g0
+        if lam_x0 is not None:
+            args["lam_x0"] = lam_x0
+        t0 = time.perf_counter()
+        sol = self.solver(**args)
+        seconds = time.perf_counter() - t0
+        stats = self.solver.stats()
+        z = np.asarray(sol["x"]).ravel()
+        design = Design.from_array(z * self.scale)
+        g = np.asarray(sol["g"]).ravel()
+        viol = max(float(np.max(self.lbg - g)), float(np.max(g - self.ubg)), 0.0)
+        success = bool(stats.get("success", False)) and viol <= 1e-6 and np.all(np.isfinite(z))
+        w = np.asarray(weights, float)
+        objective = self.weighted(design, w)
+        return NLPResult(design, success, str(stats.get("return_status")), objective,
+                         np.asarray(sol["lam_g"]).ravel(), np.asarray(sol["lam_x"]).ravel(),
+                         int(stats.get("iter_count", -1)), seconds, z)
+
+    def objectives(self, design: Design, overrides=None) -> tuple[float, float, float, float]:
+        """(F_turn [N], P [N], V_c [m/s], R_s [m]) of a design, through the same CasADi graph."""
+        phys = self.parameter_vector(overrides=overrides)[: self.n_phys]
+        return tuple(float(v) for v in self._perf_function(design.as_array() / self.scale, phys))
+
+    def weighted(self, design: Design, weights) -> float:
+        """J = w_turn F_turn + w_threshold P [N]."""
+        f, p, _, _ = self.objectives(design)
+        return float(weights[0] * f + weights[1] * p)
+
+    def sensitivities(self, result: NLPResult, weights=(1.0, 1.0), threshold_cap=BIG, turning_cap=BIG) -> dict:
+        """d log J / d log p at an optimum for every fixed parameter and active bound.
+
+        Envelope theorem: dJ*/dp = ∂L/∂p with L = f + λ_gᵀ g (the bounds on x do
+        not depend on p).  For an active variable bound b, dJ*/db = −λ_x/scale.
+        J is the objective actually minimised (weighted sum; F_turn on ε-points).
+        """
+        p = self.parameter_vector(weights, threshold_cap, turning_cap)
+        grad = np.asarray(self._dlag_dp(result.z, p, result.lam_g)).ravel()
+        f_scaled = float(weights[0] * self.objectives(result.design)[0] / self.f_ref
+                         + weights[1] * self.objectives(result.design)[1] / self.p_ref)
+        out = {}
+        if f_scaled <= 0:
+            return out
+        for i, name in enumerate(self.param_names):
+            out[name] = float(grad[i] * self.param_values[i] / f_scaled)
+        for i, var in enumerate(VARIABLES):
+            lam = result.lam_x[i]
+            if abs(lam) < 1e-9 or self.lbz[i] == self.ubz[i]:
+                continue
+            side = "max" if lam > 0 else "min"
+            bound = (self.ubz if lam > 0 else self.lbz)[i] * self.scale[i]
+            if bound == 0:
+                continue
+            out[f"{var}.{side}"] = float(-lam * bound / self.scale[i] / f_scaled)
+        return out
+
+
+# --------------------------------------------------------------------------- multi-start
+
+
+def sample_designs(problem: Problem, n: int = 1024, seed: int = 0) -> np.ndarray:
+    """A scrambled Sobol sample of the design box, shape (n, 4), SI units."""
+    from scipy.stats import qmc
+
+    lo = problem.lower().as_array()
+    hi = problem.upper().as_array()
+    unit = qmc.Sobol(d=4, scramble=True, seed=seed).random(n)
+    return lo + unit * (hi - lo)
+
+
+def evaluate_many(problem: Problem, x: np.ndarray) -> dict:
+    """Vectorised :func:`designer.model.performance` over an (N, 4) array of designs."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        return performance(x[:, 0], x[:, 1], x[:, 2], x[:, 3], problem.conditions)
+
+
+def violation(problem: Problem, values: dict) -> np.ndarray:
+    """Total relative constraint violation of evaluated designs (0 = feasible)."""
+    v = np.maximum(0.0, 1 - values["critical_speed"] / problem.required_speed)
+    if problem.swept_radius_max is not None:
+        v = v + np.maximum(0.0, values["swept_radius"] / problem.swept_radius_max - 1)
+    return v
+
+
+def best_starts(problem: Problem, weights, k: int = 4, n: int = 1024, threshold_cap: float = BIG,
+                seed: int = 0, samples: np.ndarray | None = None) -> list[np.ndarray]:
+    """The k best sample points by weighted objective among the (least) infeasible.
+
+    Also adds the corners of the two competing families (pure groove, pure damper)
+    at maximum trail, which is where the optima of this problem live.
+    """
+    x = sample_designs(problem, n, seed) if samples is None else samples
+    values = evaluate_many(problem, x)
+    viol = violation(problem, values) + np.maximum(0.0, values["threshold_force"] / threshold_cap - 1)
+    j = weights[0] * values["turning_effort"] + weights[1] * values["threshold_force"]
+    feasible = viol <= 0
+    order = np.argsort(j[feasible])[:k] if np.any(feasible) else np.array([], int)
+    starts = [x[feasible][i] for i in order]
+    if len(starts) < k:
+        starts += [x[i] for i in np.argsort(viol)[: k - len(starts)]]
+    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    mid_d = (lo[1] + hi[1]) / 2
+    starts.append(np.array([hi[0], mid_d, hi[2], lo[3]]))  # grooved family
+    starts.append(np.array([hi[0], mid_d, lo[2], hi[3]]))  # damped family
+    return starts
+
+
+# --------------------------------------------------------------------------- public API
+
+
+def solve_best(nlp: CasterNLP, starts, weights=(1.0, 1.0), threshold_cap=BIG, turning_cap=BIG) -> tuple[NLPResult | None, list[NLPResult]]:
+    """Solve from every start; return the best successful result and all results."""
+    results = [nlp.solve(s, weights, threshold_cap, turning_cap) for s in starts]
+    good = [r for r in results if r.success]
+    if not good:
+        return None, results
+    w = np.asarray(weights, float)
+    if w[0] == 0 or w[1] == 0:
+        # ε-type solve: objective is one of the two; rank by it
+        best = min(good, key=lambda r: nlp.weighted(r.design, w))
+    else:
+        best = min(good, key=lambda r: r.objective)
+    return best, results
+
+
+def max_critical_speed(problem: Problem) -> tuple[float, Design, list[str]]:
+    """Highest V_c reachable inside the bounds (and swept-radius limit), its design, active bounds.
+
+    Used to diagnose an infeasible target speed.  Solved with IPOPT from several starts.
+    """
+    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    scale = np.maximum(hi, np.array([0.01, 0.05, 0.005, 1.0]))
+    z = ca.SX.sym("z", 4)
+    x = z * ca.DM(scale)
+    perf = performance(x[0], x[1], x[2], x[3], problem.conditions)
+    g = []
+    if problem.swept_radius_max is not None:
+        g.append(perf["swept_radius"] / problem.swept_radius_max - 1)
+    nlp = {"x": z, "f": -perf["critical_speed"], "g": ca.vertcat(*g) if g else ca.SX(0, 1)}
+    solver = ca.nlpsol("vmax", "ipopt", nlp, {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
+                                                 "error_on_fail": False})
+    best = None
+    for start in sample_designs(problem, 16, seed=1):
+        sol = solver(x0=np.clip(start / scale, lo / scale, hi / scale), lbx=lo / scale, ubx=hi / scale,
+                     ubg=0 if g else [], lbg=-np.inf if g else [])
+        v = -float(sol["f"])
+        if best is None or v > best[0]:
+            best = (v, Design.from_array(np.asarray(sol["x"]).ravel() * scale))
+    v, design = best
+    active = []
+    arr = design.as_array()
+    for i, var in enumerate(VARIABLES):
+        if lo[i] == hi[i]:
+            continue
+        if abs(arr[i] - hi[i]) <= 1e-6 * max(1.0, abs(hi[i])):
+            active.append(f"variables.{var}.max")
+        elif abs(arr[i] - lo[i]) <= 1e-6 * max(1.0, abs(lo[i])):
+            active.append(f"variables.{var}.min")
+    if problem.swept_radius_max is not None and arr[0] + arr[1] / 2 >= problem.swept_radius_max * (1 - 1e-6):
+        active.append("constraints.swept_radius_max")
+    return v, design, active

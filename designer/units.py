@@ -1,0 +1,128 @@
+"""Quantities with units at the edges: parse user input into SI floats.
+
+Problem files and command-line options accept either plain numbers, taken as
+SI, or strings with units ("2 in", "50.8 mm", "20 deg", "1.3 N*m/rad").
+Inside the package every quantity is a float in SI units; pint is used only
+here, never in the model's hot paths.
+"""
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+from designer.errors import InputError
+
+#: Dimension name -> (pint unit the value is converted to, SI unit shown to users).
+DIMENSIONS: dict[str, tuple[str, str]] = {
+    "length": ("m", "m"),
+    "force": ("N", "N"),
+    "speed": ("m/s", "m/s"),
+    "angle": ("rad", "rad"),
+    "damping": ("N*m/rad", "N·m/rad"),
+    "inertia": ("kg*m**2", "kg·m²"),
+    "mass": ("kg", "kg"),
+    "density": ("kg/m**3", "kg/m³"),
+    "stiffness": ("N/m", "N/m"),
+    "per_length": ("1/m", "1/m"),
+    "moment": ("N*m", "N·m"),
+    "dimensionless": ("", "-"),
+}
+
+
+@lru_cache(maxsize=1)
+def _registry():
+    import pint
+
+    ureg = pint.UnitRegistry()
+    return ureg
+
+
+def parse_quantity(value, dimension: str, key: str = "value") -> float:
+    """Convert ``value`` to a float in SI units of ``dimension``.
+
+    Parameters
+    ----------
+    value : float | int | str
+        A number (taken as SI: metres, newtons, radians, ...) or a string with
+        units, e.g. ``"2 in"``, ``"20 deg"``, ``"1.3 N*m/rad"``.
+    dimension : str
+        One of :data:`DIMENSIONS` (``"length"``, ``"force"``, ...).
+    key : str
+        Name of the input, used in error messages.
+
+    Returns
+    -------
+    float
+        The value in SI units (angles in radians).
+
+    Raises
+    ------
+    InputError
+        One line naming ``key``, the value and the reason: not a number, NaN
+        or infinite, unknown unit, or a unit of the wrong dimension.
+    """
+    target, shown = DIMENSIONS[dimension]
+    if isinstance(value, bool):
+        raise InputError(f"{key} = {value!r}: expected a number or a quantity with units, got a boolean")
+    if isinstance(value, (int, float)):
+        number = float(value)
+    elif isinstance(value, str):
+        number = _parse_string(value, target, shown, dimension, key)
+    else:
+        raise InputError(
+            f"{key} = {value!r}: expected a number (SI, {shown}) or a string with units such as "
+            f"{_example(dimension)!r}"
+        )
+    if not math.isfinite(number):
+        raise InputError(f"{key} = {value!r}: must be a finite number")
+    return number
+
+
+def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) -> float:
+    import pint
+
+    ureg = _registry()
+    stripped = text.strip()
+    if not stripped:
+        raise InputError(f"{key} = {text!r}: empty string; give a number or e.g. {_example(dimension)!r}")
+    try:
+        quantity = ureg.Quantity(stripped)
+    except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError) as exc:
+        raise InputError(f"{key} = {text!r}: unknown unit ({exc})") from None
+    except Exception as exc:  # tokenizer errors, bad syntax
+        raise InputError(f"{key} = {text!r}: cannot read it as a quantity ({type(exc).__name__})") from None
+    if not isinstance(quantity, ureg.Quantity):
+        return float(quantity)
+    try:
+        magnitude = quantity.to(target).magnitude if target else quantity.to("dimensionless").magnitude
+    except pint.errors.DimensionalityError:
+        raise InputError(
+            f"{key} = {text!r}: wrong dimension, expected {dimension} ({shown}), "
+            f"e.g. {_example(dimension)!r}"
+        ) from None
+    try:
+        return float(magnitude)
+    except (TypeError, ValueError):
+        raise InputError(f"{key} = {text!r}: not a single number") from None
+
+
+def _example(dimension: str) -> str:
+    return {
+        "length": "2 in",
+        "force": "178 N",
+        "speed": "2.5 m/s",
+        "angle": "20 deg",
+        "damping": "1.3 N*m/rad",
+        "inertia": "0.00127 kg*m**2",
+        "mass": "0.5 kg",
+        "density": "1200 kg/m**3",
+        "stiffness": "10000 N/m",
+        "per_length": "7 1/m",
+        "moment": "0.45 N*m",
+        "dimensionless": "0.1",
+    }[dimension]
+
+
+def inches(metres):
+    """Convert metres to inches (for display only)."""
+    return metres / 0.0254
