@@ -1,0 +1,267 @@
+"""The scalarised optimum of a problem: solve, certify, explain.
+
+``optimise(problem)`` minimises J = w_turn F_turn + w_threshold P subject to
+V_c >= (1 + margin) V_target (Eq. 7), the bounds and the swept-radius limit.
+It solves the exact CasADi/IPOPT NLP from several starts (the best points of
+a vectorised Sobol sample of the box, the two design families' corners and
+the geometric program's answer), keeps the best, and cross-checks it with the
+cvxpy geometric program and scipy's SLSQP.  The returned :class:`Solution`
+prints the design, objectives, constraint margins, sensitivities and the
+solver agreement.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from designer.data.paper import INCH
+from designer.errors import InfeasibleError, SolverError
+from designer.model import VARIABLES, Design, evaluate
+from designer.problem import Problem
+from designer.solvers.nlp import PARAMETER_INFO, CasterNLP, best_starts, max_critical_speed, solve_best
+
+ACTIVE_TOL = 1e-6
+
+
+@dataclass
+class Solution:
+    """The optimum of a caster problem and everything an engineer asks about it.
+
+    Attributes
+    ----------
+    problem : the problem solved (for a catalog problem: the chosen wheel's variant)
+    design : optimal design (SI)
+    objectives : {"turning_effort": F_turn [N], "threshold_force": P [N], "weighted": J [N]}
+    critical_speed : V_c at the optimum [m/s] (Eq. 7)
+    constraints : {name: margin}, margin >= 0 feasible (shimmy in m/s, swept radius in m, bounds in SI)
+    active : names of the active constraints and bounds
+    sensitivities : {parameter: d log J / d log p} from the NLP multipliers
+    cross_check : {solver: J [N]} from every solver that was run
+    status : "optimal" or a solver status
+    wheel : chosen Table 1 wheel for a catalog problem, else None
+    timings : {"build": s, "solve": s, "cross_check": s}
+    """
+
+    problem: Problem
+    design: Design
+    objectives: dict
+    critical_speed: float
+    constraints: dict
+    active: list
+    sensitivities: dict
+    cross_check: dict = field(default_factory=dict)
+    gp: object | None = None
+    status: str = "optimal"
+    wheel: str | None = None
+    timings: dict = field(default_factory=dict)
+    starts: int = 0
+
+    def to_dict(self) -> dict:
+        """JSON-ready dict with the keys of ``designer run --json``."""
+        return {
+            "problem": self.problem.name,
+            "design": self.design.as_dict(),
+            "objectives": dict(self.objectives),
+            "critical_speed": self.critical_speed,
+            "required_speed": self.problem.required_speed,
+            "constraints": dict(self.constraints),
+            "active": list(self.active),
+            "sensitivities": dict(self.sensitivities),
+            "cross_check": dict(self.cross_check),
+            "status": self.status,
+            "wheel": self.wheel,
+            "timings": dict(self.timings),
+        }
+
+    def agreement(self) -> float:
+        """Largest relative difference of J between the solvers that ran."""
+        values = [v for v in self.cross_check.values() if v is not None and np.isfinite(v)]
+        if len(values) < 2:
+            return 0.0
+        ref = self.objectives["weighted"]
+        return float(max(abs(v - ref) for v in values) / abs(ref))
+
+    def __str__(self) -> str:
+        d = self.design
+        p = self.problem
+        lines = [f"Optimum of {p.name!r}: {p.title}", ""]
+        if self.wheel:
+            lines.append(f"  chosen wheel          Table 1 wheel {self.wheel}")
+        lines += [
+            f"  trail T               {d.trail / INCH:8.3f} in   {d.trail * 1000:8.2f} mm",
+            f"  diameter d            {d.diameter / INCH:8.3f} in   {d.diameter * 1000:8.2f} mm",
+            f"  groove B              {d.groove / INCH:8.3f} in   {d.groove * 1000:8.2f} mm",
+            f"  damping c_f           {d.damping:8.3f} N·m/rad",
+            "",
+            f"  turning effort        {self.objectives['turning_effort']:8.3f} N",
+            f"  threshold force       {self.objectives['threshold_force']:8.3f} N",
+            f"  weighted J            {self.objectives['weighted']:8.3f} N   (weights {p.weights[0]:g}, {p.weights[1]:g})",
+            f"  critical speed V_c    {self.critical_speed:8.3f} m/s (required {p.required_speed:.3f}; "
+            f"margin {self.critical_speed - p.required_speed:+.2e})",
+            "",
+            "  active constraints:   " + (", ".join(self.active) if self.active else "none"),
+            "",
+            "  sensitivities d log J / d log p (largest first):",
+        ]
+        ranked = sorted(self.sensitivities.items(), key=lambda kv: -abs(kv[1]))
+        for name, value in ranked[:8]:
+            desc = PARAMETER_INFO.get(name, ("", "", "bound"))[2]
+            lines.append(f"    {name:24s} {value:+8.4f}   {desc}")
+        lines += ["", "  solver agreement (J in N):"]
+        for solver, value in self.cross_check.items():
+            shown = "n/a" if value is None or not np.isfinite(value) else f"{value:.6f}"
+            lines.append(f"    {solver:24s} {shown}")
+        lines.append(f"    largest relative gap     {self.agreement():.1e}")
+        return "\n".join(lines)
+
+
+def constraint_margins(problem: Problem, design: Design, values: dict) -> tuple[dict, list]:
+    """Margins (>= 0 feasible) of every constraint and bound, and the active ones."""
+    margins = {"shimmy": values["critical_speed"] - problem.required_speed}
+    if problem.swept_radius_max is not None:
+        margins["swept_radius"] = problem.swept_radius_max - values["swept_radius"]
+    x = design.as_array()
+    for i, var in enumerate(VARIABLES):
+        b = problem.bounds[var]
+        if b.fixed:
+            continue
+        margins[f"{var}.min"] = x[i] - b.low
+        margins[f"{var}.max"] = b.high - x[i]
+    scale = {"shimmy": problem.required_speed, "swept_radius": problem.swept_radius_max or 1.0}
+    active = []
+    for name, margin in margins.items():
+        ref = scale.get(name, max(abs(problem.bounds[name.split(".")[0]].high), 1e-3) if "." in name else 1.0)
+        if abs(margin) <= ACTIVE_TOL * ref:
+            active.append(name)
+    return margins, active
+
+
+def optimise(problem: Problem, weights=None, cross_check: bool = True, samples: int = 1024) -> Solution:
+    """Minimise J = w_turn F_turn + w_threshold P of ``problem`` (DESIGN §2.5).
+
+    Parameters
+    ----------
+    problem : a :class:`~designer.problem.Problem` (catalog problems are
+        solved per wheel and the best wheel kept)
+    weights : (w_turn, w_threshold); default the problem's
+    cross_check : also solve with the cvxpy GP and scipy SLSQP and report J of each
+    samples : size of the Sobol sample used to choose NLP starts
+
+    Returns
+    -------
+    Solution
+
+    Raises
+    ------
+    InfeasibleError
+        The target speed is out of reach: the message gives the highest
+        reachable V_c, the design reaching it and the bounds to relax.
+    SolverError
+        IPOPT failed from every start although the problem is feasible.
+    """
+    w = tuple(float(v) for v in (problem.weights if weights is None else weights))
+    if len(w) != 2 or any(not np.isfinite(v) or v < 0 for v in w) or sum(w) <= 0:
+        from designer.errors import InputError
+
+        raise InputError(f"weights = {list(w)}: must be two finite, non-negative numbers, not both zero")
+    build = solve = 0.0
+    candidates = []
+    gp_results = {}
+    for variant in problem.variants():
+        nlp = CasterNLP(variant)
+        build += nlp.build_seconds
+        starts = best_starts(variant, w, n=samples)
+        gp = _gp(variant, w) if cross_check else None
+        if gp is not None:
+            starts.append(gp.design.as_array())
+        t0 = time.perf_counter()
+        best, results = solve_best(nlp, starts, w)
+        solve += time.perf_counter() - t0
+        if best is not None:
+            candidates.append((best.objective, variant, nlp, best, len(starts)))
+            gp_results[id(variant)] = gp
+    if not candidates:
+        raise _diagnose(problem)
+    j, variant, nlp, best, n_starts = min(candidates, key=lambda c: c[0])
+    design = best.design
+    values = evaluate(design, variant.conditions)
+    margins, active = constraint_margins(variant, design, values)
+    objectives = {
+        "turning_effort": values["turning_effort"],
+        "threshold_force": values["threshold_force"],
+        "weighted": w[0] * values["turning_effort"] + w[1] * values["threshold_force"],
+    }
+    sens = nlp.sensitivities(best, w)
+    checks = {"casadi-ipopt": objectives["weighted"]}
+    t0 = time.perf_counter()
+    gp = gp_results.get(id(variant))
+    if cross_check:
+        from designer.solvers.scipy_check import slsqp
+
+        # scipy on the chosen variant, from the NLP optimum and random starts
+        _, j_scipy = slsqp(variant, w, starts=[design])
+        checks["scipy-slsqp"] = j_scipy
+        if gp is not None:
+            checks["cvxpy-gp"] = _gp_polished(variant, gp, w)
+    wheel = variant.conditions.inertia.wheel.key if problem.wheels else None
+    return Solution(
+        problem=variant if problem.wheels else problem,
+        design=design,
+        objectives=objectives,
+        critical_speed=values["critical_speed"],
+        constraints=margins,
+        active=active,
+        sensitivities=sens,
+        cross_check=checks,
+        gp=gp,
+        wheel=wheel,
+        timings={"build": build, "solve": solve, "cross_check": time.perf_counter() - t0},
+        starts=n_starts,
+    )
+
+
+def _gp(problem: Problem, weights):
+    """The GP/SGP answer, or None if the GP module is unavailable or fails."""
+    try:
+        from designer.solvers import gp as gp_module
+    except ImportError:
+        return None
+    try:
+        return gp_module.solve_gp(problem, weights)
+    except Exception:  # the GP is a cross-check; its failure is reported, not fatal
+        return None
+
+
+def _gp_polished(problem: Problem, gp, weights) -> float:
+    from designer.solvers import gp as gp_module
+
+    try:
+        _, j = gp_module.polish(problem, gp, weights)
+        return float(j)
+    except Exception:
+        return float("nan")
+
+
+def _diagnose(problem: Problem) -> Exception:
+    """Explain why no feasible design was found."""
+    best = None
+    for variant in problem.variants():
+        v, design, active = max_critical_speed(variant)
+        if best is None or v > best[0]:
+            best = (v, design, active, variant)
+    v, design, active, variant = best
+    if v < problem.required_speed * (1 - 1e-6):
+        relax = ", ".join(active) if active else "the variable bounds"
+        wheel = f" with wheel {variant.conditions.inertia.wheel.key}" if problem.wheels else ""
+        return InfeasibleError(
+            f"target speed {problem.required_speed:.3g} m/s (shimmy.target_speed × (1 + margin)) is out of reach: "
+            f"the highest critical speed inside the bounds is {v:.3f} m/s{wheel} at {design.describe()}; "
+            f"relax {relax} or lower shimmy.target_speed",
+            best={"critical_speed": v, "design": design.as_dict(), "active": active},
+        )
+    return SolverError(
+        f"IPOPT found no optimum of {problem.name!r} from any start although V_c up to {v:.3f} m/s is reachable; "
+        f"run with --debug and report it"
+    )
