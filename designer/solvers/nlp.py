@@ -113,7 +113,8 @@ class CasterNLP:
         f_ref, p_ref, _, _ = (float(v) for v in self._perf_function(centre, self.param_values))
         self.f_ref, self.p_ref = f_ref, p_ref
         v_req = (1 + problem.margin) * psym[self.param_names.index("target_speed")]
-        objective = w[0] * perf["turning_effort"] / f_ref + w[1] * perf["threshold_force"] / p_ref
+        # J = w_turn F + w_thr P, divided by its value at the box centre so IPOPT sees O(1)
+        objective = (w[0] * perf["turning_effort"] + w[1] * perf["threshold_force"]) / (w[0] * f_ref + w[1] * p_ref)
         g = [perf["critical_speed"] / v_req - 1, (perf["threshold_force"] - eps[0]) / p_ref,
              (perf["turning_effort"] - eps[1]) / f_ref]
         self.constraint_names = ["shimmy", "threshold_cap", "turning_cap"]
@@ -254,8 +255,7 @@ class CasterNLP:
         """
         p = self.parameter_vector(weights, threshold_cap, turning_cap)
         grad = np.asarray(self._dlag_dp(result.z, p, result.lam_g)).ravel()
-        f_scaled = float(weights[0] * self.objectives(result.design)[0] / self.f_ref
-                         + weights[1] * self.objectives(result.design)[1] / self.p_ref)
+        f_scaled = self.weighted(result.design, weights) / (weights[0] * self.f_ref + weights[1] * self.p_ref)
         out = {}
         if f_scaled <= 0:
             return out

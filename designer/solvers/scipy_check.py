@@ -47,7 +47,7 @@ def slsqp(problem: Problem, weights=None, starts=(), random_starts: int = 5, see
 
     def objective(z):
         v = perf(z)
-        return float(w[0] * v["turning_effort"] / f_ref + w[1] * v["threshold_force"] / p_ref)
+        return float((w[0] * v["turning_effort"] + w[1] * v["threshold_force"]) / (w[0] * f_ref + w[1] * p_ref))
 
     cons = [{"type": "ineq", "fun": lambda z: float(perf(z)["critical_speed"]) / problem.required_speed - 1}]
     if problem.swept_radius_max is not None:

@@ -1,0 +1,123 @@
+"""Problem files: units at the edges, validation with one-line errors, shipped problems."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from designer.data.paper import INCH
+from designer.errors import InputError, ProblemError
+from designer.problem import load_problem, problem_from_dict, problem_from_toml
+from designer.units import parse_quantity
+
+from conftest import PROBLEMS
+
+
+@pytest.mark.parametrize(
+    "text, dimension, expected",
+    [("2 in", "length", 0.0508), ("50.8 mm", "length", 0.0508), ("20 deg", "angle", math.radians(20)),
+     ("1.3 N*m/rad", "damping", 1.3), ("178 N", "force", 178.0), ("0.5625 in", "length", 0.0142875),
+     ("40 lbf", "force", 177.929), ("2.5 m/s", "speed", 2.5), (0.05, "length", 0.05)],
+)
+def test_parse_quantity(text, dimension, expected):
+    """Numbers are SI; strings with units convert to SI."""
+    assert parse_quantity(text, dimension, "k") == pytest.approx(expected, rel=1e-4)
+
+
+@pytest.mark.parametrize(
+    "value, dimension, message",
+    [("2 kg", "length", "wrong dimension"), ("2 furlongz", "length", "unknown unit"), ("", "length", "empty"),
+     (float("nan"), "length", "finite"), (float("inf"), "force", "finite"), (True, "length", "boolean"),
+     ([1], "length", "expected a number")],
+)
+def test_parse_quantity_errors(value, dimension, message):
+    """Bad quantities raise InputError naming the key and the reason."""
+    with pytest.raises(InputError, match=message) as info:
+        parse_quantity(value, dimension, "variables.trail.max")
+    assert "variables.trail.max" in str(info.value)
+    assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("path", PROBLEMS, ids=[p.stem for p in PROBLEMS])
+def test_shipped_problems_load(path):
+    """Every shipped problem loads, names itself after its file and has a positive target speed."""
+    problem = load_problem(path)
+    assert problem.name == path.stem
+    assert problem.required_speed > 0
+    assert problem.description == "" or isinstance(problem.description, str)
+
+
+def test_indoor_manual_values():
+    """indoor-manual: inches converted to SI, 6 in swept radius, weights (1, 1)."""
+    p = load_problem(PROBLEMS[[x.stem for x in PROBLEMS].index("indoor-manual")])
+    assert p.bounds["trail"].high == pytest.approx(2.5 * INCH)
+    assert p.bounds["diameter"].low == pytest.approx(3 * INCH)
+    assert p.swept_radius_max == pytest.approx(6 * INCH)
+    assert p.conditions.disturbance_angle == pytest.approx(math.radians(20))
+    assert p.weights == (1.0, 1.0)
+
+
+def _base(**sections):
+    data = {"name": "t", "shimmy": {"target_speed": "2.5 m/s"}}
+    for key, value in sections.items():
+        data[key] = value
+    return data
+
+
+@pytest.mark.parametrize(
+    "data, message",
+    [
+        (_base(variables={"trail": {"min": "-1 in", "max": "2 in"}}), "variables.trail.min = -0.0254: must be positive"),
+        (_base(variables={"trail": {"min": "3 in", "max": "2 in"}}), "min is greater than max"),
+        (_base(variables={"diameter": {"min": "0.9 in", "max": "8 in"}}), "must exceed twice the threshold height"),
+        (_base(variables={"diameter": {"min": "3 m", "max": "8 m"}}), "outside the model's range"),
+        (_base(variables={"trail": {"min": "1 kg", "max": "2 in"}}), "wrong dimension"),
+        (_base(variables={"trail": {"min": "1 in"}}), "variables.trail.max: missing"),
+        (_base(variables={"damping": {"min": 1.0, "max": 3}}), "below the bare fork"),
+        (_base(conditions={"surface": "grass"}), "conditions.surface = 'grass'"),
+        (_base(conditions={"turning_mode": "spin"}), "conditions.turning_mode = 'spin'"),
+        (_base(conditions={"lod": "178 N"}), "did you mean 'load'"),
+        (_base(inertia={"model": "sphere"}), "inertia.model = 'sphere'"),
+        (_base(inertia={"model": "catalog", "wheel": "Z"}), "unknown Table 1 wheel"),
+        (_base(inertia={"model": "disc"}), "inertia.tyre_width: missing"),
+        (_base(objective={"turning_effort": 0, "threshold_force": 0}), "not all zero"),
+        (_base(objective={"turning_effort": -1}), "non-negative"),
+        (_base(pareto={"points": 1}), "pareto.points"),
+        (_base(constraints={"swept_radius_max": "1 in"}), "smaller than the smallest possible"),
+        ({"name": "t"}, "shimmy.target_speed: missing"),
+        ({"name": "../../x", "shimmy": {"target_speed": 2}}, "name = '../../x'"),
+        (_base(shimmy={"target_speed": "nan m/s"}), "finite"),
+        (_base(shimmy={"target_speed": -2}), "must be positive"),
+        (_base(extra={"a": 1}), "unknown section or key 'extra'"),
+    ],
+)
+def test_invalid_problems(data, message):
+    """Each invalid problem is rejected before any solve with one line naming the key, value and reason."""
+    with pytest.raises(ProblemError) as info:
+        problem_from_dict(data)
+    assert message in str(info.value)
+    assert "\n" not in str(info.value)
+
+
+def test_toml_syntax_error_has_line():
+    """A TOML syntax error reports its line number."""
+    with pytest.raises(ProblemError, match="line 2"):
+        problem_from_toml('name = "x"\n[shimmy\n', source="bad.toml")
+
+
+def test_fixed_variable_and_catalog_variants():
+    """A single value fixes a variable; a catalog problem has one variant per wheel with d fixed."""
+    p = problem_from_dict(_base(variables={"trail": "2 in"}, inertia={"model": "catalog", "wheels": ["A", "D"]}))
+    assert p.bounds["trail"].fixed and p.bounds["trail"].low == pytest.approx(0.0508)
+    variants = p.variants()
+    assert [v.conditions.inertia.wheel.key for v in variants] == ["A", "D"]
+    assert variants[1].bounds["diameter"].low == variants[1].bounds["diameter"].high == pytest.approx(0.2032)
+
+
+def test_problem_is_immutable_and_replace_validates():
+    """Problems are frozen; replace() re-validates (a negative target speed is rejected)."""
+    p = problem_from_dict(_base())
+    with pytest.raises(Exception):
+        p.target_speed = 3.0
+    with pytest.raises(ProblemError, match="target_speed"):
+        p.replace(target_speed=-1.0)
