@@ -154,7 +154,7 @@ class Front:
             return self.points[0]
         distance = np.abs(chord[0] * (f[:, 1] - a[1]) - chord[1] * (f[:, 0] - a[0])) / norm
         below = (f[:, 0] - a[0]) * chord[1] - (f[:, 1] - a[1]) * chord[0]
-        distance = np.where(below <= 0, distance, -distance)  # knee bulges toward the ideal
+        distance = np.where(below >= 0, distance, -distance)  # the knee bulges toward the ideal
         return self.points[int(np.argmax(distance))]
 
     def weighted_best(self, weights=None) -> FrontPoint | None:
@@ -189,7 +189,10 @@ class Front:
 
         Returns hypervolumes of both, IGD+ of ``other`` against this front, and
         ``dominated_fraction``: the share of ``other``'s points weakly dominated
-        by this front (1.0 means ``other`` lies entirely on or behind this one).
+        by one of this front's points (a discrete test: a point of ``other``
+        that falls between two of this front's points can be dominated by the
+        continuous front and still count as not dominated; see
+        :func:`designer.checks.front_checks` for the exact test).
         """
         ideal, nadir = self.ideal_nadir()
         mine = normalise(self.objectives(), ideal, nadir)
