@@ -264,13 +264,14 @@ def front_checks(front, tighter=None, tol: float = 1e-6) -> list[Check]:
     lo, hi = problem.lower(), problem.upper()
     offending = 0
     for x in pts:
-        margin = x.critical_speed - problem.required_speed
+        margin = x.margins.get("shimmy", x.critical_speed - problem.required_speed)
         if margin <= tol * problem.required_speed:
             continue
         bare = x.design.groove <= lo.groove + 1e-9 and x.design.damping <= lo.damping * (1 + 1e-9)
         if not bare:
             offending += 1
-    inactive = sum(1 for x in pts if x.critical_speed - problem.required_speed > tol * problem.required_speed)
+    inactive = sum(1 for x in pts if x.margins.get("shimmy", x.critical_speed - problem.required_speed)
+                   > tol * problem.required_speed)
     checks.append(Check("8b shimmy active", "the shimmy constraint is active wherever it can be",
                         "inactive only on bare-fork designs (no groove, no damper)",
                         f"{inactive} of {len(pts)} points inactive, {offending} of them with groove or damper",

@@ -12,7 +12,7 @@ import warnings
 
 from designer.errors import DesignerError
 
-COMMANDS = ["evaluate", "validate", "run", "pareto", "explore", "simulate", "calibrate"]
+COMMANDS = ["evaluate", "validate", "run", "pareto", "explore", "robust", "simulate", "calibrate"]
 """Sub-command modules in designer.commands; each defines ``register(subparsers)``."""
 
 

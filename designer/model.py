@@ -89,6 +89,8 @@ class Conditions:
     inertia : the I_w(d) model
     turning : constants of the turning model (DESIGN §2.4)
     dynamics : K, fork and bearing-block masses of the third-order model
+    uncertainty : optional :class:`designer.robust.Uncertainty`; then the shimmy
+        constraint uses the α-quantile of V_c instead of its nominal value
     """
 
     load: float = 178.0
@@ -100,6 +102,7 @@ class Conditions:
     inertia: InertiaModel = field(default_factory=PowerLaw)
     turning: TurningConstants = DEFAULT_TURNING
     dynamics: DynamicsParameters = DynamicsParameters()
+    uncertainty: object | None = None
 
     def replace(self, **changes) -> "Conditions":
         """A copy with some fields changed."""
@@ -119,16 +122,27 @@ def performance(trail, diameter, groove, damping, conditions: Conditions) -> dic
     - ``turning_moment`` M_turn + M_d [N·m] (DESIGN §2.4)
     - ``turning_effort`` F_turn [N] (Eq. 9, moment / trail)
     - ``swept_radius`` R_s [m] (T + d/2)
+    - ``design_speed`` [m/s]: the speed the shimmy constraint compares with V_req:
+      V_c itself, or its α-quantile when the conditions carry an uncertainty
+      (robust design, :func:`designer.robust.shimmy_speed_quantile`)
     """
     c = conditions
     inertia = c.inertia(diameter)
+    critical_speed = critical_shimmy_speed(trail, inertia, groove, damping, c.slip_coefficient)
+    if c.uncertainty is None:
+        design_speed = critical_speed
+    else:
+        from designer.robust import shimmy_speed_quantile
+
+        design_speed = shimmy_speed_quantile(trail, inertia, groove, damping, c.slip_coefficient, c.uncertainty)
     ratio = threshold_force_ratio(diameter, c.threshold_height)
     moment = sliding_turning_moment(c.load, groove, c.surface, c.turning_mode, c.turning) + added_damper_moment(
         damping, c.disturbance_angle, c.turning
     )
     return {
         "inertia": inertia,
-        "critical_speed": critical_shimmy_speed(trail, inertia, groove, damping, c.slip_coefficient),
+        "critical_speed": critical_speed,
+        "design_speed": design_speed,
         "threshold_force_ratio": ratio,
         "threshold_force": c.load * ratio,
         "turning_moment": moment,

@@ -83,6 +83,19 @@ class Solution:
         ref = self.objectives["weighted"]
         return float(max(abs(v - ref) for v in values) / abs(ref))
 
+    def _robust_lines(self) -> list[str]:
+        u = self.problem.conditions.uncertainty
+        if u is None:
+            return []
+        from designer.robust import shimmy_probability_mc
+
+        d = self.design
+        inertia = float(self.problem.conditions.inertia(d.diameter))
+        p, se = shimmy_probability_mc(d.trail, inertia, d.groove, d.damping, self.problem.conditions.slip_coefficient,
+                                      self.problem.required_speed, u)
+        return [f"  robust: P(V_c < {self.problem.required_speed:.3g} m/s) <= {u.probability:.1%} required "
+                f"(first order); Monte Carlo {p:.2%} ± {se:.2%} ({u.samples} samples, seed {u.seed})", ""]
+
     def __str__(self) -> str:
         d = self.design
         p = self.problem
@@ -99,8 +112,9 @@ class Solution:
             f"  threshold force       {self.objectives['threshold_force']:8.3f} N",
             f"  weighted J            {self.objectives['weighted']:8.3f} N   (weights {p.weights[0]:g}, {p.weights[1]:g})",
             f"  critical speed V_c    {self.critical_speed:8.3f} m/s (required {p.required_speed:.3f}; "
-            f"margin {self.critical_speed - p.required_speed:+.2e})",
+            f"margin {self.constraints['shimmy']:+.2e})",
             "",
+            *self._robust_lines(),
             "  active constraints:   " + (", ".join(self.active) if self.active else "none"),
             "",
             "  sensitivities d log J / d log p (largest first):",
@@ -119,7 +133,7 @@ class Solution:
 
 def constraint_margins(problem: Problem, design: Design, values: dict) -> tuple[dict, list]:
     """Margins (>= 0 feasible) of every constraint and bound, and the active ones."""
-    margins = {"shimmy": values["critical_speed"] - problem.required_speed}
+    margins = {"shimmy": values["design_speed"] - problem.required_speed}
     if problem.swept_radius_max is not None:
         margins["swept_radius"] = problem.swept_radius_max - values["swept_radius"]
     x = design.as_array()
@@ -223,7 +237,13 @@ def optimise(problem: Problem, weights=None, cross_check: bool = True, samples: 
 
 
 def _gp(problem: Problem, weights):
-    """The GP/SGP answer, or None if the GP module is unavailable or fails."""
+    """The GP/SGP answer, or None if the GP module is unavailable or fails.
+
+    Robust problems are not GP-compatible (the quantile constraint
+    V_c exp(−z σ_V(x)) is not a posynomial), so they get no GP cross-check.
+    """
+    if problem.conditions.uncertainty is not None:
+        return None
     try:
         from designer.solvers import gp as gp_module
     except ImportError:

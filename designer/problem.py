@@ -79,6 +79,8 @@ SCHEMA: dict[str, dict[str, str]] = {
     },
     "dynamics": {"frame_stiffness": "stiffness", "fork_mass": "mass", "bearing_block_mass": "mass"},
     "choices": {"surface": "list", "turning_mode": "list", "wheel": "list"},
+    "robust": {"probability": "float", "model_error": "float", "damping": "float", "slip_coefficient": "float",
+               "inertia": "float", "samples": "int", "seed": "int"},
 }
 
 INERTIA_MODELS = ("table1-power-law", "disc", "catalog", "fixed")
@@ -192,6 +194,7 @@ class Problem:
             "swept_radius_max": self.swept_radius_max,
             "weights": list(self.weights),
             "wheels": list(self.wheels),
+            "robust": None if c.uncertainty is None else dataclasses.asdict(c.uncertainty),
             "turning": {
                 "tile_moment_per_load": c.turning.tile_moment_per_load,
                 "carpet_factor": c.turning.carpet_factor,
@@ -404,7 +407,10 @@ def problem_from_dict(data: dict, source: str | None = None, default_name: str =
 
     inertia, wheels = _inertia(section("inertia"), quantity, fail)
 
+    uncertainty = _uncertainty(section("robust"), fail) if "robust" in data else None
+
     conditions = Conditions(
+        uncertainty=uncertainty,
         load=quantity("conditions", "load", "force", 178.0),
         threshold_height=quantity("conditions", "threshold_height", "length", 0.5 * INCH),
         surface=text_value("conditions", "surface", "tile"),
@@ -488,6 +494,30 @@ def problem_from_dict(data: dict, source: str | None = None, default_name: str =
         choices=choices,
         source=source,
     )
+
+
+def _uncertainty(table: dict, fail):
+    """Parse [robust]: the allowed probability of shimmy and the scatter (σ of the log) of each constant."""
+    from designer.robust import Uncertainty
+
+    defaults = Uncertainty()
+    values = {}
+    for key in ("probability", "model_error", "damping", "slip_coefficient", "inertia"):
+        value = table.get(key, getattr(defaults, key))
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            fail(f"robust.{key} = {value!r}: expected a finite number")
+        values[key] = float(value)
+    if not 0 < values["probability"] < 0.5:
+        fail(f"robust.probability = {values['probability']:g}: must be between 0 and 0.5 (e.g. 0.05 for 5 %)")
+    for key in ("model_error", "damping", "slip_coefficient", "inertia"):
+        if not 0 <= values[key] <= 2:
+            fail(f"robust.{key} = {values[key]:g}: the standard deviation of the log must be between 0 and 2")
+    for key, low in (("samples", 100), ("seed", 0)):
+        value = table.get(key, getattr(defaults, key))
+        if isinstance(value, bool) or not isinstance(value, int) or value < low:
+            fail(f"robust.{key} = {value!r}: expected an integer >= {low}")
+        values[key] = value
+    return Uncertainty(**values)
 
 
 def _inertia(table: dict, quantity, fail) -> tuple[InertiaModel, tuple[str, ...]]:

@@ -32,8 +32,28 @@ def critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient=SLIP
     Works on floats, NumPy arrays and CasADi symbols.  Check: Eq. 8 (T = 2 in,
     B = 0.0143 m, I_w = 0.00127, c_f = 1.3) gives 2.91 m/s.
     """
-    square = 4 * damping * trail**2 / (np.pi * inertia) + slip_coefficient * groove**2 * trail / (2 * inertia)
-    return np.sqrt(square)
+    friction, groove_term = critical_speed_terms(trail, inertia, groove, damping, slip_coefficient)
+    return np.sqrt(friction + groove_term)
+
+
+def critical_speed_terms(trail, inertia, groove, damping, slip_coefficient=SLIP_COEFFICIENT):
+    """The two terms of V_c² in Eq. 7 [m²/s²]: (friction damping, co-rotating groove).
+
+    4 c_f T² / (π I_w) and K_s B² T / (2 I_w); their shares tell how the
+    caster is stabilised and give the sensitivities of V_c.
+    """
+    return 4 * damping * trail**2 / (np.pi * inertia), slip_coefficient * groove**2 * trail / (2 * inertia)
+
+
+def critical_speed_log_sensitivities(trail, inertia, groove, damping, slip_coefficient=SLIP_COEFFICIENT) -> dict:
+    """Elasticities d log V_c / d log p of Eq. 7 for the uncertain constants [-].
+
+    With a = 4 c_f T²/(π I_w) and b = K_s B² T/(2 I_w), V_c² = a + b, so
+    d log V_c/d log c_f = a / (2(a+b)), d log V_c/d log K_s = b / (2(a+b)),
+    d log V_c/d log I_w = −1/2.  Works on floats, arrays and CasADi symbols.
+    """
+    a, b = critical_speed_terms(trail, inertia, groove, damping, slip_coefficient)
+    return {"damping": a / (2 * (a + b)), "slip_coefficient": b / (2 * (a + b)), "inertia": -0.5 + 0 * a}
 
 
 def critical_speed_hydraulic(trail, inertia, groove, hydraulic_damping, slip_coefficient=SLIP_COEFFICIENT):

@@ -115,7 +115,7 @@ class CasterNLP:
         v_req = (1 + problem.margin) * psym[self.param_names.index("target_speed")]
         # J = w_turn F + w_thr P, divided by its value at the box centre so IPOPT sees O(1)
         objective = (w[0] * perf["turning_effort"] + w[1] * perf["threshold_force"]) / (w[0] * f_ref + w[1] * p_ref)
-        g = [perf["critical_speed"] / v_req - 1, (perf["threshold_force"] - eps[0]) / p_ref,
+        g = [perf["design_speed"] / v_req - 1, (perf["threshold_force"] - eps[0]) / p_ref,
              (perf["turning_effort"] - eps[1]) / f_ref]
         self.constraint_names = ["shimmy", "threshold_cap", "turning_cap"]
         if problem.swept_radius_max is not None:
@@ -142,6 +142,10 @@ class CasterNLP:
         }
         options.update(ipopt_options or {})
         self.solver = ca.nlpsol("caster", "ipopt", {"x": z, "p": p_all, "f": objective, "g": g}, options)
+        # One block (objective, constraints) for batched solves of many independent NLPs (solve_many)
+        self._block = ca.Function("block", [z, p_all], [objective, g])
+        self._options = options
+        self._batch: dict = {}
         # Sensitivity of the Lagrangian with respect to the physical parameters.
         lam_g = ca.SX.sym("lam_g", g.shape[0])
         lagrangian = objective + ca.dot(lam_g, g)
@@ -236,6 +240,109 @@ class CasterNLP:
                          np.asarray(sol["lam_g"]).ravel(), np.asarray(sol["lam_x"]).ravel(),
                          int(stats.get("iter_count", -1)), seconds, z)
 
+    BATCH_SIZES = (4, 16, 64)
+    """Block counts of the batched solvers (built lazily, once each per problem)."""
+
+    WARM_OPTIONS = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-6,
+                    "ipopt.warm_start_bound_push": 1e-9, "ipopt.warm_start_mult_bound_push": 1e-9,
+                    "ipopt.warm_start_slack_bound_push": 1e-9, "ipopt.warm_start_slack_bound_frac": 1e-9,
+                    "ipopt.warm_start_bound_frac": 1e-9}
+    """IPOPT options of a warm batch: start from the given primal and dual point with a small barrier."""
+
+    def _batch_solver(self, size: int, warm: bool):
+        key = (size, warm)
+        if key not in self._batch:
+            t0 = time.perf_counter()
+            nz, npar = 4, self.n_phys + 4
+            zz = ca.SX.sym("Z", nz, size)
+            pp = ca.SX.sym("P", npar, size)
+            f, g = self._block.map(size)(zz, pp)
+            options = dict(self._options)
+            if warm:
+                options.update(self.WARM_OPTIONS)
+            solver = ca.nlpsol(f"caster_{size}", "ipopt",
+                               {"x": ca.vec(zz), "p": ca.vec(pp), "f": ca.sum2(f), "g": ca.vec(g)}, options)
+            self._batch[key] = (solver, self._perf_function.map(size))
+            self.build_seconds += time.perf_counter() - t0
+        return self._batch[key]
+
+    def solve_many(self, starts, weights=(1.0, 1.0), threshold_caps=BIG, turning_caps=BIG, lam_g0=None,
+                   lam_x0=None) -> list[NLPResult]:
+        """Solve K independent NLPs (one per start) in a few IPOPT calls.
+
+        The K problems are stacked into block-diagonal NLPs of
+        :data:`BATCH_SIZES` blocks (CasADi ``map``; a short last chunk is padded
+        with copies of its first block), which costs a fraction of K separate
+        calls.  Each block is exactly the NLP of :meth:`solve` with its own
+        start, weights and ε caps, so every block's optimum satisfies that
+        NLP's KKT conditions to IPOPT's tolerance.  With ``lam_g0``/``lam_x0``
+        (shape (K, m) and (K, 4)) the chunks are solved warm (primal-dual
+        start, small barrier parameter).  A chunk that IPOPT does not solve is
+        re-solved block by block with :meth:`solve`.
+
+        Parameters
+        ----------
+        starts : (K, 4) designs in SI units (or a list of Designs)
+        weights : (2,) or (K, 2) weights (w_turn, w_threshold)
+        threshold_caps, turning_caps : scalar or (K,) ε caps [N]
+        lam_g0, lam_x0 : optional multipliers to start from (CasADi convention)
+
+        Returns
+        -------
+        list of NLPResult, in the order of ``starts``; ``seconds`` is the
+        chunk's wall time shared equally by its blocks.
+        """
+        x = np.array([s.as_array() if isinstance(s, Design) else np.asarray(s, float) for s in starts],
+                     float).reshape(-1, 4)
+        k = len(x)
+        if k == 0:
+            return []
+        z0 = np.clip(x / self.scale, self.lbz, self.ubz)
+        w = np.broadcast_to(np.asarray(weights, float), (k, 2))
+        caps = np.column_stack([np.broadcast_to(np.asarray(threshold_caps, float), (k,)),
+                                np.broadcast_to(np.asarray(turning_caps, float), (k,))])
+        params = np.column_stack([np.tile(self.param_values, (k, 1)), w, caps])
+        warm = lam_g0 is not None and lam_x0 is not None
+        ng = len(self.lbg)
+        out: list[NLPResult] = []
+        i = 0
+        sizes = self.BATCH_SIZES
+        while i < k:
+            left = k - i
+            size = next((s for s in sizes if s >= left), sizes[-1])
+            take = min(size, left)
+            idx = np.arange(i, i + take)
+            idx = np.concatenate([idx, np.full(size - take, i)])
+            solver, perf = self._batch_solver(size, warm)
+            args = dict(x0=z0[idx].ravel(), p=params[idx].ravel(), lbx=np.tile(self.lbz, size),
+                        ubx=np.tile(self.ubz, size), lbg=np.tile(self.lbg, size), ubg=np.tile(self.ubg, size))
+            if warm:
+                args["lam_g0"] = np.asarray(lam_g0, float)[idx].ravel()
+                args["lam_x0"] = np.asarray(lam_x0, float)[idx].ravel()
+            t0 = time.perf_counter()
+            sol = solver(**args)
+            seconds = time.perf_counter() - t0
+            stats = solver.stats()
+            ok = bool(stats.get("success", False))
+            zs = np.asarray(sol["x"]).reshape(size, 4)
+            gs = np.asarray(sol["g"]).reshape(size, ng)
+            lg = np.asarray(sol["lam_g"]).reshape(size, ng)
+            lx = np.asarray(sol["lam_x"]).reshape(size, 4)
+            values = np.asarray(perf(zs.T, np.tile(self.param_values[:, None], (1, size))))
+            viol = np.maximum(np.max(self.lbg - gs, axis=1), np.max(gs - self.ubg, axis=1)).clip(min=0.0)
+            for j in range(take):
+                b = i + j
+                good = ok and viol[j] <= 1e-6 and bool(np.all(np.isfinite(zs[j])))
+                if not ok:
+                    out.append(self.solve(x[b], w[b], caps[b, 0], caps[b, 1]))
+                    continue
+                objective = float(w[b, 0] * values[0, j] + w[b, 1] * values[1, j])
+                out.append(NLPResult(Design.from_array(zs[j] * self.scale), good, str(stats.get("return_status")),
+                                     objective, lg[j].copy(), lx[j].copy(), int(stats.get("iter_count", -1)),
+                                     seconds / take, zs[j].copy()))
+            i += take
+        return out
+
     def objectives(self, design: Design, overrides=None) -> tuple[float, float, float, float]:
         """(F_turn [N], P [N], V_c [m/s], R_s [m]) of a design, through the same CasADi graph."""
         phys = self.parameter_vector(overrides=overrides)[: self.n_phys]
@@ -297,7 +404,7 @@ def evaluate_many(problem: Problem, x: np.ndarray) -> dict:
 
 def violation(problem: Problem, values: dict) -> np.ndarray:
     """Total relative constraint violation of evaluated designs (0 = feasible)."""
-    v = np.maximum(0.0, 1 - values["critical_speed"] / problem.required_speed)
+    v = np.maximum(0.0, 1 - values["design_speed"] / problem.required_speed)
     if problem.swept_radius_max is not None:
         v = v + np.maximum(0.0, values["swept_radius"] / problem.swept_radius_max - 1)
     return v
@@ -357,7 +464,7 @@ def max_critical_speed(problem: Problem) -> tuple[float, Design, list[str]]:
     g = []
     if problem.swept_radius_max is not None:
         g.append(perf["swept_radius"] / problem.swept_radius_max - 1)
-    nlp = {"x": z, "f": -perf["critical_speed"], "g": ca.vertcat(*g) if g else ca.SX(0, 1)}
+    nlp = {"x": z, "f": -perf["design_speed"], "g": ca.vertcat(*g) if g else ca.SX(0, 1)}
     solver = ca.nlpsol("vmax", "ipopt", nlp, {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
                                                  "error_on_fail": False})
     best = None

@@ -49,7 +49,7 @@ def slsqp(problem: Problem, weights=None, starts=(), random_starts: int = 5, see
         v = perf(z)
         return float((w[0] * v["turning_effort"] + w[1] * v["threshold_force"]) / (w[0] * f_ref + w[1] * p_ref))
 
-    cons = [{"type": "ineq", "fun": lambda z: float(perf(z)["critical_speed"]) / problem.required_speed - 1}]
+    cons = [{"type": "ineq", "fun": lambda z: float(perf(z)["design_speed"]) / problem.required_speed - 1}]
     if problem.swept_radius_max is not None:
         cons.append({"type": "ineq", "fun": lambda z: 1 - float(perf(z)["swept_radius"]) / problem.swept_radius_max})
     if threshold_cap is not None:
@@ -65,7 +65,7 @@ def slsqp(problem: Problem, weights=None, starts=(), random_starts: int = 5, see
                        options={"ftol": 1e-12, "maxiter": 500})
         z = np.clip(res.x, lo / scale, hi / scale)
         v = perf(z)
-        feasible = float(v["critical_speed"]) >= problem.required_speed * (1 - 1e-7)
+        feasible = float(v["design_speed"]) >= problem.required_speed * (1 - 1e-7)
         if problem.swept_radius_max is not None:
             feasible &= float(v["swept_radius"]) <= problem.swept_radius_max * (1 + 1e-7)
         if threshold_cap is not None:

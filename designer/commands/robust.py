@@ -1,0 +1,37 @@
+"""``designer robust PROBLEM``: nominal and robust fronts side by side (issue 7, robust design)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from designer.problem import load_problem
+
+
+def register(sub) -> None:
+    p = sub.add_parser("robust", help="compare the nominal and the robust (probabilistic shimmy) fronts",
+                       description="For a problem with a [robust] section: the front with V_c >= target and the front "
+                                   "with P(V_c < target) <= probability, the price of robustness, and a Monte Carlo "
+                                   "check of every robust point. Writes results/<name>/robust/ by default.")
+    p.add_argument("problem", help="problem file with a [robust] section, e.g. problems/indoor-manual-robust.toml")
+    p.add_argument("--points", type=int, default=21, help="points per front (default 21)")
+    p.add_argument("--out", default=None, help="output folder (default results/<name>/robust)")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from designer.errors import InputError
+    from designer.robust import write_robust_report
+
+    if args.points < 2 or args.points > 501:
+        raise InputError(f"--points {args.points}: must be between 2 and 501")
+    problem = load_problem(args.problem)
+    out = Path(args.out) if args.out else Path("results") / problem.name / "robust"
+    result = write_robust_report(problem, out, args.points)
+    extra = [r["extra_effort"] for r in result["rows"] if r["extra_effort"] == r["extra_effort"]]
+    probs = [r["probability_mc"] for r in result["rows"]]
+    print(f"robust front: {len(result['robust'])} points; nominal: {len(result['nominal'])} points")
+    if extra:
+        print(f"price of robustness: +{min(extra):.3f} to +{max(extra):.3f} N turning effort at equal threshold force")
+    print(f"Monte Carlo P(shimmy) on the robust front: {min(probs):.2%}–{max(probs):.2%} "
+          f"(target {result['uncertainty'].probability:.1%})")
+    print(f"report: {out / 'robust.md'}")
+    return 0
