@@ -6,13 +6,20 @@ no shimmy below a target speed (Eq. 7 of the reference paper).
 """
 from designer.errors import DesignerError, InfeasibleError, InputError, ProblemError, SolverError
 from designer.model import Conditions, Design, evaluate, performance
+from designer.optimise import Solution, optimise
+from designer.pareto import Front, FrontPoint, pareto_front
 from designer.problem import Problem, load_problem, problem_from_dict, problem_from_toml
+from designer.robust import Uncertainty
 
 __version__ = "0.1.0"
 
 __all__ = [
     "Conditions",
     "Design",
+    "Front",
+    "FrontPoint",
+    "Solution",
+    "Uncertainty",
     "DesignerError",
     "InfeasibleError",
     "InputError",
@@ -21,6 +28,8 @@ __all__ = [
     "SolverError",
     "evaluate",
     "load_problem",
+    "optimise",
+    "pareto_front",
     "performance",
     "problem_from_dict",
     "problem_from_toml",
