@@ -1,0 +1,464 @@
+"""The report's figures, drawn with matplotlib's object API on the Agg canvas.
+
+Each ``figure_*`` function takes the :class:`~designer.report.context.ReportData`
+of one report and returns a :class:`matplotlib.figure.Figure`.  They compute
+every curve through the model's own functions (:mod:`designer.physics`,
+:func:`designer.model.performance`); no equation is re-typed here.  Lengths
+are plotted in millimetres with inches on a secondary axis; only valid
+(successful) front points are drawn.
+
+Figures (name: what it redraws)
+-------------------------------
+front          the Pareto front F_turn vs P, knee and weighted optimum marked
+variables      the design variables T, d, B, c_f along the front
+trail          V_c vs trail for the Table 1 wheels (the paper's Fig. 14)
+inertia        V_c vs I_w at 2 in trail with the measured points (Fig. 15)
+threshold      P/L vs diameter, exact Eq. 4A and approximate Eq. 5A (Fig. 2A)
+groove_damper  groove against damper: turning effort needed to reach V_req
+"""
+from __future__ import annotations
+
+import io
+import warnings
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from designer.data.paper import (
+    BARE_FORK_DAMPING,
+    INCH,
+    SLIP_COEFFICIENT,
+    TABLE1,
+    TABLE1_STABLE_UP_TO,
+    TABLE1_TRAIL,
+    WALKING_SPEED,
+)
+from designer.model import performance
+from designer.physics.shimmy import critical_shimmy_speed
+from designer.physics.threshold import threshold_force_ratio, threshold_force_ratio_approx
+
+FIGURES = ("front", "variables", "trail", "inertia", "threshold", "groove_damper")
+"""Figure names in report order; ``figure_<name>`` draws each."""
+
+FAMILY_STYLE = {
+    "bare fork": ("#555555", "o"),
+    "groove": ("#1f77b4", "o"),
+    "damper": ("#d62728", "s"),
+    "groove+damper": ("#9467bd", "D"),
+}
+"""Colour and marker per design family (the mechanism that stops shimmy)."""
+
+MECHANISM_STYLE = {
+    "groove alone": ("#1f77b4", "-", "o"),
+    "damper alone": ("#d62728", "--", "s"),
+    "optimum mix": ("#2ca02c", ":", "D"),
+}
+MM = 1000.0
+WHEEL_COLOURS = ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d")
+
+
+def _mm_to_in(mm):
+    return np.asarray(mm, float) / (INCH * MM)
+
+
+def _in_to_mm(inches):
+    return np.asarray(inches, float) * INCH * MM
+
+
+def _inch_x(ax, label: str):
+    sec = ax.secondary_xaxis("top", functions=(_mm_to_in, _in_to_mm))
+    sec.set_xlabel(label)
+    return sec
+
+
+def _inch_y(ax, label: str):
+    sec = ax.secondary_yaxis("right", functions=(_mm_to_in, _in_to_mm))
+    sec.set_ylabel(label)
+    return sec
+
+
+def _new(width: float = 7.5, height: float = 4.8, **kw) -> Figure:
+    fig = Figure(figsize=(width, height), layout="constrained", **kw)
+    return fig
+
+
+def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
+    """The figure as PNG bytes (Agg renderer)."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi)
+    return buf.getvalue()
+
+
+# --------------------------------------------------------------------------- front
+
+
+def figure_front(data) -> Figure:
+    """Pareto front: turning effort F_turn [N] against threshold force P [N].
+
+    Points are coloured by design family; the knee and the weighted optimum
+    (J = w_turn F_turn + w_threshold P) are marked, with the line of constant
+    J through the optimum; the front for the tighter target (check 8c) is
+    drawn in grey when available.
+    """
+    front, problem = data.front, data.problem
+    fig = _new(7.5, 5.0)
+    ax = fig.add_subplot()
+    ax.set_xlabel("threshold (door-sill) force P [N]")
+    ax.set_ylabel("turning effort F_turn [N]")
+    ax.grid(True, alpha=0.3)
+    if data.tighter is not None and len(data.tighter.points):
+        t = data.tighter.objectives()
+        ax.plot(t[:, 1], t[:, 0], color="0.65", lw=1.5, ls="--", marker=".", ms=4,
+                label=f"tighter target V_target = {data.tighter.problem.target_speed:.2f} m/s (check 8c)")
+    f = front.objectives()
+    if len(f):
+        ax.plot(f[:, 1], f[:, 0], color="0.3", lw=1, zorder=1)
+        for family, (colour, marker) in FAMILY_STYLE.items():
+            sel = [i for i, p in enumerate(front.points) if p.family == family]
+            if sel:
+                ax.scatter(f[sel, 1], f[sel, 0], color=colour, marker=marker, s=28, zorder=3,
+                           label=f"front: {family}")
+        knee, best = front.knee(), front.weighted_best()
+        if best is not None:
+            w = np.asarray(problem.weights, float)
+            ax.scatter([best.threshold_force], [best.turning_effort], marker="*", s=320, facecolor="gold",
+                       edgecolor="black", zorder=5,
+                       label=f"weighted optimum (w = {w[0]:g}, {w[1]:g}): P {best.threshold_force:.1f} N, "
+                             f"F {best.turning_effort:.2f} N")
+            if len(f) > 1 and w[0] > 0:
+                j = float(w @ [best.turning_effort, best.threshold_force])
+                p_line = np.linspace(f[:, 1].min(), f[:, 1].max(), 2)
+                ax.plot(p_line, (j - w[1] * p_line) / w[0], color="goldenrod", lw=1, ls=":",
+                        label="constant J through the optimum")
+        if knee is not None and len(f) >= 3:
+            ax.scatter([knee.threshold_force], [knee.turning_effort], marker="o", s=180, facecolor="none",
+                       edgecolor="black", lw=2, zorder=6,
+                       label=f"knee: P {knee.threshold_force:.1f} N, F {knee.turning_effort:.2f} N")
+        # the diameter at the two ends, in inches
+        ends = [front.points[0], front.points[-1]] if len(f) > 1 else [front.points[0]]
+        # the ideal side (below-left) of the front is empty: label the ends there, with arrows
+        for p, where in zip(ends, (dict(xytext=(-25, -30), textcoords="offset points", ha="right"),
+                                   dict(xytext=(0.03, 0.42), textcoords="axes fraction", ha="left"))):
+            ax.annotate(f"d = {p.design.diameter / INCH:.2f} in\nT = {p.design.trail / INCH:.2f} in",
+                        (p.threshold_force, p.turning_effort), fontsize=8, color="0.25", va="top",
+                        arrowprops=dict(arrowstyle="-", color="0.5", lw=0.8), **where)
+        if len(f) == 1:
+            p = front.points[0]
+            ax.set_xlim(p.threshold_force * 0.9, p.threshold_force * 1.1)
+            ax.set_ylim(p.turning_effort * 0.8, p.turning_effort * 1.2)
+            ax.text(0.5, 0.08, "single-point front: " + data.degenerate_reason_short, transform=ax.transAxes,
+                    ha="center", fontsize=8.5, wrap=True, color="0.2")
+        else:
+            lo = min(f[:, 0].min(), *(data.tighter.objectives()[:, 0] if data.tighter is not None
+                                      and len(data.tighter.points) else [f[:, 0].min()]))
+            hi = max(f[:, 0].max(), *(data.tighter.objectives()[:, 0] if data.tighter is not None
+                                      and len(data.tighter.points) else [f[:, 0].max()]))
+            pad = 0.12 * (hi - lo if hi > lo else 1.0)
+            ax.set_ylim(lo - 2 * pad, hi + 2.2 * pad)
+    else:
+        ax.text(0.5, 0.5, "no valid point on the front", transform=ax.transAxes, ha="center")
+    ax.legend(fontsize=7.5, loc="upper right", framealpha=0.9)
+    ax.set_title(f"Pareto front: {problem.name} (V_c >= {problem.required_speed:.2f} m/s)", fontsize=10)
+    return fig
+
+
+# --------------------------------------------------------------------------- variables
+
+
+def figure_variables(data) -> Figure:
+    """The design variables T, d, B [mm, in] and c_f [N·m/rad] along the front, against P [N].
+
+    Dashed vertical lines mark family switches (front.gaps()).
+    """
+    front = data.front
+    fig = _new(8.5, 6.2)
+    axes = fig.subplots(2, 2, sharex=True)
+    x = np.array([p.threshold_force for p in front.points])
+    designs = front.designs()
+    panels = [
+        ("trail T [mm]", "T [in]", 0, MM, True),
+        ("wheel diameter d [mm]", "d [in]", 1, MM, True),
+        ("groove width B [mm]", "B [in]", 2, MM, True),
+        ("spindle damping c_f [N·m/rad]", None, 3, 1.0, False),
+    ]
+    bounds = [data.problem.bounds[k] for k in ("trail", "diameter", "groove", "damping")]
+    for ax, (label, inch_label, k, scale, inches) in zip(axes.ravel(), panels):
+        if len(x):
+            colours = [FAMILY_STYLE.get(p.family, ("k", "o"))[0] for p in front.points]
+            ax.plot(x, designs[:, k] * scale, color="0.35", lw=1)
+            ax.scatter(x, designs[:, k] * scale, c=colours, s=16, zorder=3)
+            for i, _ in data.gaps:
+                ax.axvline(0.5 * (x[i - 1] + x[i]), color="0.5", ls="--", lw=0.8)
+        b = bounds[k]
+        for v in ([b.low] if b.fixed else [b.low, b.high]):
+            ax.axhline(v * scale, color="#bb5500", lw=0.8, ls=":")
+        ax.set_ylabel(label)
+        ax.grid(True, alpha=0.3)
+        span = (b.high - b.low) * scale
+        pad = 0.08 * (span if span > 0 else max(abs(b.low * scale), 1e-3))
+        ax.set_ylim(b.low * scale - pad, b.high * scale + pad)
+        if inches:
+            _inch_y(ax, inch_label)
+    for ax in axes[1]:
+        ax.set_xlabel("threshold force P [N]")
+    if len(x) > 1:
+        axes[0, 0].invert_xaxis()  # shared: read left to right as P falls
+    handles = [axes[0, 0].scatter([], [], color=c, marker="o", s=16, label=f) for f, (c, _) in FAMILY_STYLE.items()
+               if any(p.family == f for p in front.points)]
+    handles.append(axes[0, 0].axhline(np.nan, color="#bb5500", lw=0.8, ls=":", label="bounds"))
+    fig.legend(handles=handles, loc="outside lower center", ncol=len(handles), fontsize=8)
+    note = " (single point)" if len(x) == 1 else "; P decreasing to the right, dashed: family switch"
+    fig.suptitle(f"Design variables along the front{note}", fontsize=10)
+    return fig
+
+
+# --------------------------------------------------------------------------- paper figures
+
+
+def figure_trail(data) -> Figure:
+    """V_c [m/s] vs trail T [mm, in] for the Table 1 wheels (Eq. 7, B = 0, bare fork c_f = 1.3): Fig. 14.
+
+    Measured critical speeds at 2 in trail (wheels C–G) are points in the
+    colour of their curve; wheels A and B, stable to 3.8 m/s on the
+    treadmill, are arrows at 3.8 m/s.
+    """
+    fig = _new(7.5, 5.0)
+    ax = fig.add_subplot()
+    trail = np.linspace(0.5, 3.0, 200) * INCH
+    stable_offset = iter((-1.0, 1.0, 0.0))  # side by side: A and B were both stable at 2 in
+    for w, colour in zip(TABLE1, WHEEL_COLOURS):
+        v = critical_shimmy_speed(trail, w.inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT)
+        ax.plot(trail * MM, v, color=colour, lw=1.4, label=f"{w.key} {w.name}, I_w {w.inertia * 1e3:.2f}e-3")
+        if w.critical_speed is not None:
+            ax.scatter([TABLE1_TRAIL * MM], [w.critical_speed], color=colour, edgecolor="black", s=40, zorder=4)
+        else:
+            x = TABLE1_TRAIL * MM + next(stable_offset)
+            ax.annotate("", (x, TABLE1_STABLE_UP_TO + 0.5), (x, TABLE1_STABLE_UP_TO),
+                        arrowprops=dict(arrowstyle="->", color=colour, lw=1.8))
+            ax.scatter([x], [TABLE1_STABLE_UP_TO], marker="_", s=60, color=colour, zorder=4)
+    ax.scatter([], [], color="white", edgecolor="black", s=40, label="measured at 2 in (Table 1)")
+    ax.annotate("A, B: stable to 3.8 m/s\n(treadmill limit)", (TABLE1_TRAIL * MM, TABLE1_STABLE_UP_TO),
+                textcoords="offset points", xytext=(8, -22), fontsize=8)
+    ax.axhline(WALKING_SPEED, color="0.4", ls=":", lw=1)
+    ax.text(trail[0] * MM + 1, WALKING_SPEED + 0.08, "walking speed 1 m/s", fontsize=8, color="0.3")
+    req = data.problem.required_speed
+    ax.axhline(req, color="black", ls="--", lw=1)
+    ax.text(trail[0] * MM + 1, req + 0.08, f"this problem's V_req = {req:.2f} m/s", fontsize=8)
+    ax.set_xlim(trail[0] * MM, trail[-1] * MM)
+    ax.set_ylim(0, 7)
+    ax.set_xlabel("trail T [mm]")
+    ax.set_ylabel("critical shimmy speed V_c [m/s]")
+    _inch_x(ax, "trail T [in]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7.5, loc="upper left", title="Table 1 wheel, I_w [kg·m²]", title_fontsize=8)
+    ax.set_title("V_c vs trail, Table 1 wheels, Eq. 7 (B = 0, c_f = 1.3 N·m/rad) (cf. paper Fig. 14)", fontsize=10)
+    return fig
+
+
+def figure_inertia(data) -> Figure:
+    """V_c [m/s] vs wheel inertia I_w [kg·m²] at 2 in trail (Eq. 7, B = 0, c_f = 1.3) with Table 1's measurements: Fig. 15."""
+    fig = _new(7.5, 5.0)
+    ax = fig.add_subplot()
+    inertia = np.linspace(0.1e-3, 3.8e-3, 300)
+    v = critical_shimmy_speed(TABLE1_TRAIL, inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT)
+    ax.plot(inertia * 1e3, v, color="#1f77b4", lw=1.6, label="Eq. 7, T = 2 in, B = 0, c_f = 1.3 N·m/rad")
+    # the problem's wheel family for comparison (its groove and damping at the optimum are not applied)
+    measured = [w for w in TABLE1 if w.critical_speed is not None]
+    ax.scatter([w.inertia * 1e3 for w in measured], [w.critical_speed for w in measured], color="#d62728",
+               edgecolor="black", s=45, zorder=4, label="measured critical speed (Table 1)")
+    for w in TABLE1:
+        if w.critical_speed is None:
+            ax.annotate("", (w.inertia * 1e3, TABLE1_STABLE_UP_TO + 0.6), (w.inertia * 1e3, TABLE1_STABLE_UP_TO),
+                        arrowprops=dict(arrowstyle="->", color="#d62728", lw=1.5))
+            ax.scatter([w.inertia * 1e3], [TABLE1_STABLE_UP_TO], marker="_", s=120, color="#d62728")
+            ax.annotate(w.key, (w.inertia * 1e3, TABLE1_STABLE_UP_TO), textcoords="offset points", xytext=(6, 4),
+                        fontsize=9, weight="bold")
+        else:
+            ax.annotate(w.key, (w.inertia * 1e3, w.critical_speed), textcoords="offset points", xytext=(6, 4),
+                        fontsize=9, weight="bold")
+    ax.plot([], [], color="#d62728", marker="$\\uparrow$", ls="none", ms=10,
+            label="A, B: no shimmy up to 3.8 m/s (treadmill limit)")
+    ax.axhline(WALKING_SPEED, color="0.4", ls=":", lw=1)
+    ax.text(2.2, WALKING_SPEED - 0.22, "walking speed 1 m/s", fontsize=8, color="0.3")
+    ax.set_xlim(0, 3.8)
+    ax.set_ylim(0, 7)
+    ax.set_xlabel("wheel moment of inertia about a diameter I_w [10⁻³ kg·m²]")
+    ax.set_ylabel("critical shimmy speed V_c [m/s]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8, loc="upper right")
+    ax.set_title("V_c vs wheel inertia at 2 in trail (cf. paper Fig. 15; letters: Table 1)", fontsize=10)
+    return fig
+
+
+def figure_threshold(data) -> Figure:
+    """P/L [-] vs wheel diameter d [mm, in]: exact Eq. 4A and approximate Eq. 5A, Fig. 2A.
+
+    Drawn for the problem's sill height h (and the paper's ½ in when h
+    differs); the right axis gives P [N] for the problem's load; the
+    diameter bounds are shaded and the front's diameters marked.
+    """
+    problem = data.problem
+    h = problem.conditions.threshold_height
+    load = problem.conditions.load
+    fig = _new(7.5, 5.0)
+    ax = fig.add_subplot()
+    d_hi = max(10 * INCH, problem.bounds["diameter"].high * 1.1)
+    d_lo = max(2.6 * h, 1 * INCH)
+    d = np.linspace(d_lo, d_hi, 400)
+    ax.plot(d * MM, threshold_force_ratio(d, h), color="#1f77b4", lw=1.8, label=f"exact, Eq. 4A (h = {h / INCH:.3g} in)")
+    ax.plot(d * MM, threshold_force_ratio_approx(d, h), color="#1f77b4", lw=1.2, ls="--",
+            label="approximate, Eq. 5A: 2 sqrt(h/d)")
+    if abs(h - 0.5 * INCH) > 1e-9:
+        d2 = d[d > 2.6 * 0.5 * INCH]
+        ax.plot(d2 * MM, threshold_force_ratio(d2, 0.5 * INCH), color="0.5", lw=1.2,
+                label="exact, paper's h = 0.5 in (Fig. 2A)")
+    b = problem.bounds["diameter"]
+    if b.fixed:
+        ax.axvline(b.low * MM, color="#ff7f0e", lw=1.2, label=f"fixed diameter {b.low / INCH:.3g} in")
+    else:
+        ax.axvspan(b.low * MM, b.high * MM, color="#ff7f0e", alpha=0.12, label="diameter bounds of the problem")
+    if len(data.front.points):
+        dd = np.array([p.design.diameter for p in data.front.points])
+        ax.scatter(dd * MM, threshold_force_ratio(dd, h), color="black", s=12, zorder=4, label="front designs")
+    ax.set_xlim(d_lo * MM, d_hi * MM)
+    ax.set_ylim(0, min(3.0, float(threshold_force_ratio(d_lo, h)) * 1.05))
+    ax.set_xlabel("wheel diameter d [mm]")
+    ax.set_ylabel("force per unit load P/L [-]")
+    _inch_x(ax, "wheel diameter d [in]")
+    sec = ax.secondary_yaxis("right", functions=(lambda r: r * load, lambda p: p / load))
+    sec.set_ylabel(f"threshold force P [N] at L = {load:.0f} N")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8, loc="upper right")
+    ax.set_title("Force per unit load to climb a sill vs diameter (cf. paper Fig. 2A)", fontsize=10)
+    return fig
+
+
+# --------------------------------------------------------------------------- groove vs damper
+
+
+def figure_groove_damper(data) -> Figure:
+    """Groove against damper for the problem's conditions.
+
+    Left: the least turning effort F_turn [N] that reaches V_req at each
+    diameter by the groove alone, the damper alone and the optimum mix
+    (exact NLP, trail free).  Right: at the weighted optimum's T and d, the
+    (B, c_f) plane with turning-effort contours [N] and iso-V_c lines [m/s];
+    the bold line is V_c = V_req, the star the optimum.
+    """
+    problem = data.problem
+    fig = _new(11.5, 5.0)
+    left, right = fig.subplots(1, 2, width_ratios=(1, 1.1))
+    rows = data.tradeoff
+    catalog = bool(problem.wheels)
+    xs = np.array([r.diameter for r in rows]) * MM
+    offsets = {m: o for m, o in zip(MECHANISM_STYLE, (-0.8, 0.0, 0.8))} if catalog else {m: 0 for m in MECHANISM_STYLE}
+    for mechanism, (colour, ls, marker) in MECHANISM_STYLE.items():
+        y = np.array([r.effort.get(mechanism) if r.effort.get(mechanism) is not None else np.nan for r in rows])
+        ok = np.isfinite(y)
+        if catalog or len(rows) == 1:
+            left.scatter(xs[ok] + offsets[mechanism], y[ok], color=colour, marker=marker, s=40, label=mechanism,
+                         zorder=3)
+        else:
+            left.plot(xs[ok], y[ok], color=colour, ls=ls, marker=marker, ms=4, lw=1.5, label=mechanism)
+        bad = ~ok
+        if np.any(bad):
+            left.scatter(xs[bad] + offsets[mechanism], np.full(bad.sum(), 0.0), color=colour, marker="x", s=40,
+                         clip_on=False, zorder=4)
+    if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
+        left.scatter([], [], color="0.3", marker="x", label="cannot reach V_req (plotted at 0)")
+    if catalog:
+        for r in rows:
+            left.annotate(r.wheel, (r.diameter * MM, 0), textcoords="offset points", xytext=(0, 4), ha="center",
+                          fontsize=8, color="0.3")
+    left.set_xlabel("wheel diameter d [mm]" + (" (Table 1 wheels, letters)" if catalog else ""))
+    bare = [r.diameter * MM for r in rows if r.designs.get("optimum mix") is not None
+            and _is_bare(problem, r.designs["optimum mix"])]
+    if bare and not catalog and len(rows) > 1:
+        step = (xs[-1] - xs[0]) / (len(xs) - 1) / 2
+        left.axvspan(min(bare) - step, max(bare) + step, color="0.85", alpha=0.5, lw=0)
+        left.text(0.5 * (min(bare) + max(bare)), 0.5, "trail alone suffices:\nno groove, no damper",
+                  ha="center", fontsize=8, color="0.3")
+    left.set_ylabel("least turning effort F_turn [N]")
+    _inch_x(left, "wheel diameter d [in]")
+    left.set_ylim(bottom=0)
+    if len(rows) == 1:
+        left.set_xlim(xs[0] - 15, xs[0] + 15)
+    left.grid(True, alpha=0.3)
+    left.legend(fontsize=8, loc="upper left")
+    left.set_title(f"Least turning effort reaching V_req = {problem.required_speed:.2f} m/s", fontsize=10)
+    _groove_damper_plane(right, data)
+    fig.suptitle(f"{problem.name}: groove against damper (trail free on the left, fixed on the right)", fontsize=10)
+    return fig
+
+
+def _groove_damper_plane(ax, data) -> None:
+    problem = data.problem
+    best = data.front.weighted_best()
+    if data.solution is not None:
+        design = data.solution.design
+        conditions = data.solution.problem.conditions
+    elif best is not None:
+        design = best.design
+        conditions = problem.conditions
+    else:
+        ax.text(0.5, 0.5, "no feasible design", transform=ax.transAxes, ha="center")
+        return
+    gb, cb = problem.bounds["groove"], problem.bounds["damping"]
+    g_hi = max(gb.high, design.groove * 1.2, 0.25 * INCH)
+    c_lo = min(cb.low, design.damping)
+    c_hi = max(cb.high, design.damping * 1.2, c_lo + 1.0)
+    g = np.linspace(0.0, g_hi, 161)
+    c = np.linspace(c_lo, c_hi, 161)
+    G, C = np.meshgrid(g, c)
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="inertia power law used at")
+        values = performance(design.trail, design.diameter, G, C, conditions)
+    f = values["turning_effort"]
+    v = values["critical_speed"]
+    filled = ax.contourf(G * MM, C, f, levels=14, cmap="Greens", alpha=0.85)
+    cbar = ax.figure.colorbar(filled, ax=ax, pad=0.02)
+    cbar.set_label("turning effort F_turn [N]")
+    lines = ax.contour(G * MM, C, v, levels=8, colors="0.25", linewidths=0.8)
+    ax.clabel(lines, fmt="%.1f m/s", fontsize=7)
+    req = problem.required_speed
+    if v.min() < req < v.max():
+        ax.contour(G * MM, C, v, levels=[req], colors="black", linewidths=2.2)
+    ax.plot([], [], color="black", lw=2.2, label=f"V_c = V_req = {req:.2f} m/s (stable above/right)")
+    ax.plot([], [], color="0.25", lw=0.8, label="iso-V_c lines [m/s]")
+    ax.add_patch(_rect(gb.low * MM, cb.low, (gb.high - gb.low) * MM, cb.high - cb.low))
+    ax.plot([], [], color="#bb5500", ls=":", label="bounds")
+    ax.scatter([design.groove * MM], [design.damping], marker="*", s=260, facecolor="gold", edgecolor="black",
+               zorder=5, clip_on=False, label="weighted optimum")
+    ax.set_xlim(0, g_hi * MM)
+    ax.set_ylim(c_lo, c_hi)
+    ax.set_xlabel("groove width B [mm]")
+    ax.set_ylabel("spindle friction damping c_f [N·m/rad]")
+    _inch_x(ax, "groove width B [in]")
+    ax.legend(fontsize=7.5, loc="upper right", framealpha=0.9)
+    ax.set_title(f"At the optimum's T = {design.trail / INCH:.2f} in, d = {design.diameter / INCH:.2f} in",
+                 fontsize=10)
+
+
+def _is_bare(problem, design) -> bool:
+    """No groove and no added damper beyond the lower bounds."""
+    return (design.groove <= problem.bounds["groove"].low + 1e-6 * INCH
+            and design.damping <= problem.bounds["damping"].low * (1 + 1e-6))
+
+
+def _rect(x, y, w, h):
+    from matplotlib.patches import Rectangle
+
+    return Rectangle((x, y), max(w, 1e-9), max(h, 1e-9), fill=False, ls=":", lw=1.2, edgecolor="#bb5500")
+
+
+def draw(name: str, data) -> Figure:
+    """Draw figure ``name`` (one of :data:`FIGURES`) for the report ``data``.
+
+    Looked up at call time, so each figure function can be replaced (tests).
+    """
+    import sys
+
+    return getattr(sys.modules[__name__], f"figure_{name}")(data)
+
+
+__all__ = ["FIGURES", "draw", "png_bytes"] + [f"figure_{n}" for n in FIGURES]

@@ -1,0 +1,591 @@
+"""Write a Pareto report folder: index.html, report.md, figures, front.csv/json, checks.json.
+
+The flow is top-down: :func:`write_report` gathers everything the report
+shows into a :class:`ReportData` (front, optimum, checks, groove/damper
+trade-off, run metadata), formats the tables once (SI and inches), draws
+the figures, renders the two jinja2 templates and writes all files into a
+temporary folder beside the target, which replaces the target by a rename
+only when everything is written.  An exception leaves no half report.
+"""
+from __future__ import annotations
+
+import base64
+import datetime as _dt
+import json
+import math
+import os
+import platform
+import shutil
+import tempfile
+import time
+import uuid
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from designer.data.paper import INCH
+from designer.errors import DesignerError, InputError
+from designer.report import figures as _figures
+
+LBF = 4.4482216152605
+"""One pound-force [N] (display only)."""
+MPH = 0.44704
+"""One mile per hour [m/s] (display only)."""
+PACKAGES = ("caster-designer", "numpy", "scipy", "casadi", "cvxpy", "optuna", "matplotlib", "jinja2")
+"""Distributions whose versions go into every report."""
+
+FIGURE_INFO = {
+    "front": ("Pareto front",
+              "Turning effort against threshold force on the exact front, coloured by the mechanism that stops "
+              "shimmy; the knee (circle) and the weighted optimum (star) are marked with the line of constant J "
+              "through it; grey dashes: the front for a 10 % higher target speed (check 8c)."),
+    "variables": ("Design variables along the front",
+                  "Trail, diameter and groove width (mm, inches on the right) and spindle damping along the front, "
+                  "as the threshold force falls; dotted lines are the bounds, dashed lines family switches."),
+    "trail": ("Critical speed vs trail (cf. paper Fig. 14)",
+              "Eq. 7 for each Table 1 wheel in the bare test fork (B = 0, c_f = 1.3 N·m/rad, K_s = 1250 N); "
+              "points: measured critical speeds at 2 in trail; arrows: wheels A and B, stable up to 3.8 m/s."),
+    "inertia": ("Critical speed vs wheel inertia (cf. paper Fig. 15)",
+                "Eq. 7 at 2 in trail, B = 0, c_f = 1.3 N·m/rad against Table 1's measured critical speeds "
+                "(letters); A and B did not shimmy up to the treadmill's 3.8 m/s."),
+    "threshold": ("Threshold force per unit load vs diameter (cf. paper Fig. 2A)",
+                  "Exact Eq. 4A and approximate Eq. 5A for this problem's sill height; right axis: P for this "
+                  "problem's load; shaded: the diameter bounds; dots: the diameters on the front."),
+    "groove_damper": ("Groove against damper",
+                      "Left: least turning effort reaching V_req at each diameter with the groove alone (bare fork), "
+                      "the damper alone (no groove) and the optimum mix, each solved exactly with the trail free. "
+                      "Right: at the weighted optimum's trail and diameter, turning-effort contours and iso-V_c "
+                      "lines in the (groove, damping) plane; bold: V_c = V_req."),
+}
+
+
+# --------------------------------------------------------------------------- formatting
+
+
+def fmt(value, spec: str = ".4g", unit: str = "") -> str:
+    """Format a number for a table; None, NaN and infinities become "n/a" (never "nan")."""
+    if value is None:
+        return "n/a"
+    if isinstance(value, (bool, np.bool_)):
+        return "yes" if value else "no"
+    if isinstance(value, (int, float, np.floating, np.integer)):
+        if not math.isfinite(float(value)):
+            return "n/a"
+        text = format(float(value), spec)
+        return f"{text} {unit}".rstrip()
+    return str(value)
+
+
+def length(value: float, digits: int = 2) -> tuple[str, str]:
+    """(millimetres, inches) strings of a length in metres."""
+    return fmt(value * 1000, f".{digits}f", "mm"), fmt(value / INCH, ".3f", "in")
+
+
+def _finite(value):
+    """JSON-safe copy: non-finite floats become None, numpy scalars plain Python."""
+    if isinstance(value, dict):
+        return {str(k): _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    if isinstance(value, (np.floating, float)):
+        return float(value) if math.isfinite(float(value)) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.bool_):
+        return bool(value)
+    if isinstance(value, np.ndarray):
+        return _finite(value.tolist())
+    return value
+
+
+# --------------------------------------------------------------------------- data
+
+
+@dataclass
+class ReportData:
+    """Everything one report shows (SI inside; formatting happens in :func:`build_context`).
+
+    Attributes
+    ----------
+    problem : the problem
+    front : its exact Pareto front (failed points in ``front.failed``)
+    tighter : front for V_target × 1.1 (check 8c), or None
+    solution : the weighted optimum (:func:`designer.optimise.optimise`), or None
+    solution_error : why the optimum is missing, if it is
+    paper_checks, front_checks : lists of :class:`designer.checks.Check`
+    tradeoff : rows of :func:`designer.report.tradeoff.groove_damper_tradeoff`
+    gaps : ``front.gaps()``
+    degenerate_reason : sentence explaining a front of fewer than two points, else ""
+    run : metadata (versions, digest, solver settings, date, wall time)
+    """
+
+    problem: object
+    front: object
+    tighter: object = None
+    solution: object = None
+    solution_error: str = ""
+    paper_checks: list = field(default_factory=list)
+    front_checks: list = field(default_factory=list)
+    tradeoff: list = field(default_factory=list)
+    gaps: list = field(default_factory=list)
+    degenerate_reason: str = ""
+    degenerate_reason_short: str = ""
+    run: dict = field(default_factory=dict)
+
+
+def versions() -> dict:
+    """Installed versions of :data:`PACKAGES` and Python."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {}
+    for name in PACKAGES:
+        try:
+            out[name] = version(name)
+        except PackageNotFoundError:
+            out[name] = None
+    out["python"] = platform.python_version()
+    return out
+
+
+def degenerate_reason(problem, front) -> tuple[str, str]:
+    """(sentence, short phrase) explaining why a front has fewer than two points; ("", "") otherwise."""
+    pts = front.points
+    if len(pts) >= 2:
+        return "", ""
+    if not pts:
+        return ("No design on the front: every point failed or the target speed is out of reach inside the bounds "
+                "(see the failed points).", "no feasible design")
+    p = pts[0]
+    if problem.wheels:
+        n = len(problem.wheels)
+        return (f"Catalog problem: each of the {n} Table 1 wheels offered ({', '.join(problem.wheels)}) gives its "
+                f"own front, and the wheels' fronts are merged keeping only non-dominated designs. Wheel {p.wheel} "
+                f"(d = {p.design.diameter / INCH:.3g} in) has the lowest threshold force of the catalog and also "
+                f"reaches V_req = {problem.required_speed:.2f} m/s with the least turning effort "
+                f"({p.turning_effort:.2f} N), so no other wheel is better in either objective (wheels that tie "
+                f"are kept once): the front is this single design.",
+                f"wheel {p.wheel} is best in both objectives")
+    if problem.bounds["diameter"].fixed:
+        return (f"The wheel diameter is fixed at {problem.bounds['diameter'].low / INCH:.3g} in, so the threshold "
+                f"force P = L·P/L(d/h) (Eq. 4A) is the same, {p.threshold_force:.2f} N, for every design: the two "
+                f"objectives do not conflict and the front is the single design of least turning effort.",
+                f"fixed diameter, P = {p.threshold_force:.1f} N for every design")
+    return ("One design is best in both objectives, so the front collapses to a single point.",
+            "one design is best in both objectives")
+
+
+# --------------------------------------------------------------------------- context (tables)
+
+
+def _check_row(c) -> dict:
+    return {"name": c.name, "claim": c.claim, "expected": fmt(c.expected), "got": fmt(c.got),
+            "passed": bool(c.passed), "detail": c.detail}
+
+
+def _design_cells(design) -> dict:
+    t_mm, t_in = length(design.trail)
+    d_mm, d_in = length(design.diameter)
+    b_mm, b_in = length(design.groove)
+    return {"T_mm": t_mm, "T_in": t_in, "d_mm": d_mm, "d_in": d_in, "B_mm": b_mm, "B_in": b_in,
+            "c_f": fmt(design.damping, ".3f", "N·m/rad")}
+
+
+def _problem_rows(problem) -> list[dict]:
+    c = problem.conditions
+    rows = [
+        ("name", "", problem.name, ""),
+        ("title", "", problem.title, ""),
+        ("caster load", "L", fmt(c.load, ".1f", "N"), fmt(c.load / LBF, ".1f", "lbf")),
+        ("threshold (sill) height", "h", *length(c.threshold_height)),
+        ("surface", "", c.surface, ""),
+        ("turning mode", "", c.turning_mode, f"m_mode = {c.turning.mode_factor(c.turning_mode):g}"),
+        ("target speed", "V_target", fmt(problem.target_speed, ".3f", "m/s"),
+         fmt(problem.target_speed / MPH, ".2f", "mph")),
+        ("safety margin", "", fmt(problem.margin * 100, ".1f", "%"), ""),
+        ("required critical speed", "V_req = (1 + margin) V_target", fmt(problem.required_speed, ".3f", "m/s"),
+         fmt(problem.required_speed / MPH, ".2f", "mph")),
+        ("design disturbance angle", "θ0", fmt(c.disturbance_angle, ".4f", "rad"),
+         fmt(math.degrees(c.disturbance_angle), ".1f", "deg")),
+        ("slip coefficient", "K_s", fmt(c.slip_coefficient, ".0f", "N"), ""),
+        ("inertia model", "I_w(d)", c.inertia.describe(), ""),
+    ]
+    for var, sym in (("trail", "T"), ("diameter", "d"), ("groove", "B")):
+        b = problem.bounds[var]
+        lo_mm, lo_in = length(b.low)
+        hi_mm, hi_in = length(b.high)
+        if b.fixed:
+            rows.append((f"{var} (fixed)", sym, lo_mm, lo_in))
+        else:
+            rows.append((f"{var} bounds", sym, f"{lo_mm} – {hi_mm}", f"{lo_in} – {hi_in}"))
+    b = problem.bounds["damping"]
+    rows.append(("damping (fixed)" if b.fixed else "damping bounds", "c_f",
+                 fmt(b.low, ".3g", "N·m/rad") if b.fixed else f"{fmt(b.low, '.3g')} – {fmt(b.high, '.3g', 'N·m/rad')}",
+                 ""))
+    if problem.swept_radius_max is not None:
+        rows.append(("swept radius limit", "R_s = T + d/2 <= R_max", *length(problem.swept_radius_max)))
+    else:
+        rows.append(("swept radius limit", "R_max", "none", ""))
+    if problem.wheels:
+        rows.append(("catalog wheels (Table 1)", "", ", ".join(problem.wheels), ""))
+    t = c.turning
+    rows += [
+        ("objective weights", "J = w_turn F_turn + w_threshold P", f"{problem.weights[0]:g}, {problem.weights[1]:g}", ""),
+        ("front points requested", "", str(problem.pareto_points), ""),
+        ("tile turning moment per load", "k_tile", fmt(t.tile_moment_per_load * 1000, ".2f", "mm"),
+         fmt(t.tile_moment_per_load / INCH, ".4f", "in")),
+        ("carpet factor", "k_carpet / k_tile", fmt(t.carpet_factor, ".3g"), ""),
+        ("groove coefficient", "κ", fmt(t.groove_coefficient, ".4g", "1/m"),
+         f"{t.groove_coefficient * 9 / 16 * INCH:.0%} per 9/16 in"),
+        ("bare-fork damping", "c_0", fmt(t.bare_fork_damping, ".3g", "N·m/rad"), "Eq. 11C"),
+        ("problem digest", "", problem.digest(), ""),
+        ("source file", "", str(problem.source or "(built in Python)"), ""),
+    ]
+    return [{"quantity": q, "symbol": s, "si": si, "other": other} for q, s, si, other in rows]
+
+
+def _model_rows(problem) -> list[dict]:
+    inertia = problem.conditions.inertia
+    note = ""
+    rng = inertia.data_range()
+    b = problem.bounds["diameter"]
+    if rng is not None and (b.low < rng[0] * 0.999 or b.high > rng[1] * 1.001):
+        note = (f" The fit rests on Table 1's {rng[0] / INCH:.0f}–{rng[1] / INCH:.0f} in wheels; this problem's "
+                f"diameters {b.low / INCH:.3g}–{b.high / INCH:.3g} in extrapolate it.")
+    rows = [
+        ("critical shimmy speed", "V_c = sqrt( 4 c_f T² / (π I_w) + K_s B² T / (2 I_w) )", "Eq. 7 (= Eq. 10C)"),
+        ("shimmy constraint", "V_c(T, d, B, c_f) >= V_req = (1 + margin) V_target", "DESIGN §2.5"),
+        ("wheel inertia", inertia.describe() + "." + note, "DESIGN §2.2, Table 1"),
+        ("threshold force", "P = L · 2 sqrt(d/h − 1) / (d/h − 2), valid for d/h > 2", "Eq. 4A (= Eq. 1)"),
+        ("threshold force, approximate (figure only)", "P/L ≈ 2 sqrt(h/d)", "Eq. 5A"),
+        ("sliding turning moment", "M_turn = m_mode · k_surface · L · (1 + κ B)", "DESIGN §2.4, Fig. 7"),
+        ("added damper moment", "M_d = (c_f − c_0) θ0", "DESIGN §2.4, Eq. 11C"),
+        ("turning effort", "F_turn = (M_turn + M_d) / T", "Eq. 9 (moment = F_c × trail)"),
+        ("swept radius", "R_s = T + d/2", "DESIGN §2.1"),
+    ]
+    return [{"quantity": q, "equation": e, "source": s} for q, e, s in rows]
+
+
+def _point_row(i, p, marks="") -> dict:
+    row = {"index": i, "P": fmt(p.threshold_force, ".3f"), "P_lbf": fmt(p.threshold_force / LBF, ".3f"),
+           "F": fmt(p.turning_effort, ".4f"), "F_lbf": fmt(p.turning_effort / LBF, ".4f"),
+           "V_c": fmt(p.critical_speed, ".3f"), "family": p.family, "wheel": p.wheel or "", "marks": marks,
+           "epsilon": fmt(p.epsilon, ".4g"), "status": p.status}
+    row.update(_design_cells(p.design))
+    row["c_f"] = fmt(p.design.damping, ".3f")
+    return row
+
+
+def _parameter_info(name: str) -> str:
+    try:
+        from designer.solvers.nlp import PARAMETER_INFO
+    except ImportError:  # pragma: no cover
+        return ""
+    info = PARAMETER_INFO.get(name)
+    if info:
+        return info[2]
+    if "." in name:
+        var, side = name.split(".", 1)
+        return f"{'upper' if side == 'max' else 'lower'} bound of {var}"
+    return name.replace("_", " ")
+
+
+def _tradeoff_rows(problem, rows) -> list[dict]:
+    """Table rows of the groove/damper trade-off; consecutive diameters where the trail alone suffices are merged."""
+    from designer.report.figures import _is_bare
+
+    out = []
+    for r in rows:
+        d_mm, d_in = length(r.diameter)
+        row = {"d_mm": d_mm, "d_in": d_in, "wheel": r.wheel or ""}
+        for key, mech in (("groove", "groove alone"), ("damper", "damper alone"), ("mix", "optimum mix")):
+            v = r.effort.get(mech)
+            row[key] = "cannot reach V_req" if v is None else fmt(v, ".3f", "N")
+        mix = r.designs.get("optimum mix")
+        bare = mix is not None and _is_bare(problem, mix) and not problem.wheels
+        if bare and out and out[-1].get("_bare") and out[-1]["mix"] == row["mix"]:
+            first = out[-1]["_first"]
+            out[-1].update(d_mm=f"{first[0]} – {d_mm}", d_in=f"{first[1]} – {d_in}")
+            out[-1]["mix"] = row["mix"]
+            continue
+        if bare:
+            row.update(_bare=True, _first=(d_mm, d_in))
+        out.append(row)
+    for row in out:
+        if row.pop("_bare", False):
+            row.pop("_first")
+            row["mix"] += " (trail alone suffices)"
+    return out
+
+
+def build_context(data: ReportData) -> dict:
+    """Every table of the report as display strings (SI and inches), shared by the HTML and Markdown templates."""
+    problem, front = data.problem, data.front
+    knee, best = front.knee(), front.weighted_best()
+    points = []
+    for i, p in enumerate(front.points):
+        marks = ", ".join(m for m, q in (("knee", knee), ("weighted optimum", best)) if q is p)
+        points.append(_point_row(i, p, marks))
+    failed = [_point_row(i, p) for i, p in enumerate(front.failed)]
+    indicators = []
+    if front.points:
+        ideal, nadir = front.ideal_nadir()
+        ref = front.reference_point()
+        hv = front.hypervolume()
+        w = np.asarray(problem.weights, float)
+        indicators = [
+            ("hypervolume (normalised)", fmt(hv, ".5f"),
+             "objectives normalised by (f − ideal)/(nadir − ideal) with this front's ideal and nadir; reference "
+             "point (1.1, 1.1) in normalised units" + ("; a single point in its own normalisation always gives "
+                                                       "1.1² = 1.21: no information" if len(front) == 1 else "")),
+            ("hypervolume reference point", f"F_turn {fmt(ref[0], '.4f', 'N')}, P {fmt(ref[1], '.3f', 'N')}",
+             "nadir + 10 % of the front's extent (1 N where the extent is zero)"),
+            ("ideal point", f"F_turn {fmt(ideal[0], '.4f', 'N')}, P {fmt(ideal[1], '.3f', 'N')}",
+             "best value of each objective on the front"),
+            ("nadir point", f"F_turn {fmt(nadir[0], '.4f', 'N')}, P {fmt(nadir[1], '.3f', 'N')}",
+             "worst value of each objective on the front"),
+            ("knee", f"point {front.points.index(knee)}: F_turn {fmt(knee.turning_effort, '.3f', 'N')}, "
+                     f"P {fmt(knee.threshold_force, '.2f', 'N')}; {knee.design.describe()}",
+             "farthest from the chord between the two ends, in normalised objectives"),
+            ("weighted optimum", f"point {front.points.index(best)}: F_turn {fmt(best.turning_effort, '.3f', 'N')}, "
+                                 f"P {fmt(best.threshold_force, '.2f', 'N')}, J = "
+                                 f"{fmt(float(w @ [best.turning_effort, best.threshold_force]), '.3f', 'N')}; "
+                                 f"{best.design.describe()}",
+             f"front point minimising J = {w[0]:g} F_turn + {w[1]:g} P"),
+        ]
+    indicators = [{"name": n, "value": v, "note": note} for n, v, note in indicators]
+    solution = None
+    if data.solution is not None:
+        s = data.solution
+        cross = [{"solver": k, "J": fmt(v, ".8f", "N")} for k, v in s.cross_check.items()]
+        missing = [k for k in ("casadi-ipopt", "cvxpy-gp", "scipy-slsqp") if k not in s.cross_check]
+        solution = {
+            "design": _design_cells(s.design),
+            "describe": s.design.describe(),
+            "wheel": s.wheel,
+            "F": fmt(s.objectives["turning_effort"], ".4f", "N"),
+            "P": fmt(s.objectives["threshold_force"], ".3f", "N"),
+            "J": fmt(s.objectives["weighted"], ".4f", "N"),
+            "V_c": fmt(s.critical_speed, ".4f", "m/s"),
+            "active": ", ".join(s.active) or "none",
+            "cross_check": cross,
+            "missing": ", ".join(missing),
+            "agreement": fmt(s.agreement(), ".1e"),
+            "sensitivities": [{"name": k, "value": fmt(v, "+.4f"), "what": _parameter_info(k)}
+                              for k, v in sorted(s.sensitivities.items(), key=lambda kv: -abs(kv[1]))[:8]],
+        }
+    tradeoff = _tradeoff_rows(problem, data.tradeoff)
+    figures = [{"name": n, "title": FIGURE_INFO[n][0], "caption": FIGURE_INFO[n][1], "file": f"figures/{n}.png"}
+               for n in _figures.FIGURES]
+    all_checks = data.paper_checks + data.front_checks
+    return {
+        "problem": problem,
+        "title": f"{problem.title} ({problem.name})",
+        "summary": _summary(data),
+        "degenerate": data.degenerate_reason,
+        "problem_rows": _problem_rows(problem),
+        "model_rows": _model_rows(problem),
+        "solution": solution,
+        "solution_error": data.solution_error,
+        "paper_checks": [_check_row(c) for c in data.paper_checks],
+        "front_checks": [_check_row(c) for c in data.front_checks],
+        "checks_passed": sum(bool(c.passed) for c in all_checks),
+        "checks_total": len(all_checks),
+        "points": points,
+        "catalog": bool(problem.wheels),
+        "failed": failed,
+        "gaps": [{"index": i, "what": what} for i, what in data.gaps],
+        "indicators": indicators,
+        "tradeoff": tradeoff,
+        "figures": figures,
+        "run": data.run,
+        "versions": ", ".join(f"{k} {v}" for k, v in data.run.get("versions", {}).items() if v),
+        "front_method": front.meta.get("method", ""),
+        "front_solver": front.meta.get("solver", ""),
+    }
+
+
+def _summary(data: ReportData) -> list[str]:
+    problem, front = data.problem, data.front
+    out = []
+    if front.points:
+        f = front.objectives()
+        d = front.designs()[:, 1]
+        out.append(f"{len(front)} valid points (of {front.meta.get('points_requested', len(front))} requested, "
+                   f"{len(front.failed)} failed): turning effort {f[:, 0].min():.2f}–{f[:, 0].max():.2f} N, threshold "
+                   f"force {f[:, 1].min():.1f}–{f[:, 1].max():.1f} N, wheel diameter {d.min() / INCH:.2f}–"
+                   f"{d.max() / INCH:.2f} in, all stable to V_req = {problem.required_speed:.2f} m/s.")
+    if data.solution is not None:
+        s = data.solution
+        wheel = f" (Table 1 wheel {s.wheel})" if s.wheel else ""
+        out.append(f"Weighted optimum{wheel}: {s.design.describe()}; F_turn {s.objectives['turning_effort']:.3f} N, "
+                   f"P {s.objectives['threshold_force']:.2f} N, V_c {s.critical_speed:.3f} m/s; solvers agree to "
+                   f"{s.agreement():.1e} (relative).")
+    checks = data.paper_checks + data.front_checks
+    failed = [c.name for c in checks if not c.passed]
+    out.append(f"Checks: {len(checks) - len(failed)} of {len(checks)} pass" +
+               (f"; failing: {', '.join(failed)}." if failed else "."))
+    return out
+
+
+# --------------------------------------------------------------------------- writing
+
+
+def _render(template: str, context: dict, autoescape: bool) -> str:
+    import jinja2
+
+    env = jinja2.Environment(loader=jinja2.PackageLoader("designer.report", "templates"),
+                             autoescape=autoescape, undefined=jinja2.StrictUndefined,
+                             trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
+    env.filters["md"] = _md_escape
+    return env.get_template(template).render(**context)
+
+
+def _md_escape(value) -> str:
+    """Text safe in a Markdown table cell: HTML metacharacters escaped, pipes and newlines neutralised."""
+    text = str(value)
+    text = text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    return text.replace("|", "\\|").replace("\r", " ").replace("\n", " ")
+
+
+def _front_json(data: ReportData) -> dict:
+    out = data.front.to_dict()
+    out["run"] = data.run
+    out["problem_digest"] = data.problem.digest()
+    out["problem_definition"] = data.problem.to_dict()
+    if data.solution is not None:
+        out["optimum"] = data.solution.to_dict()
+    if data.tighter is not None:
+        out["tighter_target"] = {"target_speed": data.tighter.problem.target_speed,
+                                 "points": data.tighter.rows()}
+    out["degenerate_reason"] = data.degenerate_reason or None
+    return _finite(out)
+
+
+def _write_all(folder: Path, data: ReportData, t0: float) -> None:
+    fig_dir = folder / "figures"
+    fig_dir.mkdir()
+    context = build_context(data)
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="inertia power law used at")
+        for item in context["figures"]:
+            fig = _figures.draw(item["name"], data)
+            png = _figures.png_bytes(fig)
+            (folder / item["file"]).write_bytes(png)
+            item["data_uri"] = "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+    data.front.to_csv(folder / "front.csv")
+    checks = [_finite(c.to_dict()) for c in data.paper_checks + data.front_checks]
+    (folder / "checks.json").write_text(json.dumps(checks, indent=2, ensure_ascii=False, allow_nan=False) + "\n",
+                                        encoding="utf-8")
+    data.run["report_seconds"] = time.perf_counter() - t0
+    if data.run.get("wall_seconds") is None:  # called from Python: the sum of the parts we know of
+        data.run["wall_seconds"] = sum(v for k, v in data.run.items()
+                                       if k.endswith("_seconds") and k != "wall_seconds" and v is not None)
+    context["run"] = data.run
+    (folder / "front.json").write_text(json.dumps(_front_json(data), indent=2, ensure_ascii=False,
+                                                  allow_nan=False) + "\n", encoding="utf-8")
+    (folder / "index.html").write_text(_render("index.html.j2", context, autoescape=True), encoding="utf-8")
+    (folder / "report.md").write_text(_render("report.md.j2", context, autoescape=False), encoding="utf-8")
+
+
+def _replace(tmp: Path, target: Path) -> None:
+    """Move the finished ``tmp`` folder to ``target`` by renames; an old ``target`` is removed only afterwards."""
+    old = None
+    if target.exists():
+        if not target.is_dir():
+            raise InputError(f"report folder {target}: exists and is not a folder")
+        old = target.with_name(f".{target.name}.old-{uuid.uuid4().hex[:8]}")
+        target.rename(old)
+    try:
+        tmp.rename(target)
+    except BaseException:
+        if old is not None:
+            old.rename(target)
+        raise
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+
+
+def write_report(problem, front, out_dir=None, solution=None, checks=None, tighter=None, *, tradeoff=None,
+                 run_meta: dict | None = None) -> Path:
+    """Write the Pareto report of ``problem`` into ``out_dir`` (default ``results/<problem name>/``).
+
+    Writes ``index.html`` (one self-contained file: figures as base64 PNG,
+    inline CSS, autoescaped), ``report.md`` with ``figures/*.png`` beside it,
+    ``front.csv``, ``front.json`` (front, indicators, run metadata) and
+    ``checks.json`` (every paper check and the check-8 results).  Everything
+    is written into a temporary folder beside the target and renamed into
+    place at the end, so an exception leaves no half report (and an existing
+    report untouched).
+
+    Parameters
+    ----------
+    problem : designer.problem.Problem
+    front : designer.pareto.Front of ``problem``
+    out_dir : str | Path, optional
+        The report folder itself; default ``results/<problem.name>``.
+    solution : designer.optimise.Solution, optional
+        The weighted optimum; computed with :func:`designer.optimise.optimise` if omitted.
+    checks : list of designer.checks.Check, optional
+        Default: :func:`designer.checks.paper_checks` + :func:`designer.checks.front_checks`.
+        Checks whose name starts with "8" are shown as front checks.
+    tighter : designer.pareto.Front, optional
+        Front for a higher target speed (check 8c; drawn on the front figure).
+    tradeoff : list, optional
+        Precomputed :func:`designer.report.tradeoff.groove_damper_tradeoff` rows.
+    run_meta : dict, optional
+        Extra run metadata (e.g. the command's wall time, solver settings) merged into ``front.json``.
+
+    Returns
+    -------
+    Path
+        The report folder.
+    """
+    from designer.checks import front_checks, paper_checks
+    from designer.report.tradeoff import groove_damper_tradeoff
+
+    t0 = time.perf_counter()
+    target = Path(out_dir) if out_dir is not None else Path("results") / problem.name
+    data = ReportData(problem=problem, front=front, tighter=tighter)
+    if solution is None and front.points:
+        from designer.optimise import optimise
+
+        try:
+            with warnings.catch_warnings():
+                warnings.filterwarnings("ignore", message="inertia power law used at")
+                solution = optimise(problem)
+        except DesignerError as exc:
+            data.solution_error = str(exc)
+    elif solution is None:
+        data.solution_error = "no valid point on the front"
+    data.solution = solution
+    if checks is None:
+        checks = paper_checks() + front_checks(front, tighter)
+    data.paper_checks = [c for c in checks if not c.name.startswith("8")]
+    data.front_checks = [c for c in checks if c.name.startswith("8")]
+    data.tradeoff = groove_damper_tradeoff(problem) if tradeoff is None else tradeoff
+    data.gaps = front.gaps()
+    data.degenerate_reason, data.degenerate_reason_short = degenerate_reason(problem, front)
+    data.run = {
+        "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "versions": versions(),
+        "problem_digest": problem.digest(),
+        "front_solver": {k: front.meta.get(k) for k in ("method", "solver", "points_requested", "points_valid",
+                                                         "points_failed", "nlp_solves")},
+        "front_seconds": front.meta.get("total_seconds"),
+        "optimum_seconds": sum(solution.timings.values()) if solution is not None else None,
+        "tighter_target_speed": tighter.problem.target_speed if tighter is not None else None,
+        "tighter_seconds": tighter.meta.get("total_seconds") if tighter is not None else None,
+    }
+    data.run.update(run_meta or {})
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
+    os.chmod(tmp, 0o755)  # mkdtemp makes it private; the report is an ordinary folder
+    try:
+        _write_all(tmp, data, t0)
+        _replace(tmp, target)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return target
