@@ -28,8 +28,8 @@ Storage (``storage=``)
     ``None`` / ``"memory"``: in-memory (one process);
     ``"sqlite:///path.db"`` (or a path ending ``.db``/``.sqlite``),
     ``"postgresql://user:password@host:5432/db"``, ``"mysql://…"``: optuna's
-    RDBStorage (with a heartbeat, so stale trials of a dead worker are failed
-    and retried);
+    RDBStorage (a client–server database gets a heartbeat, 10 s, grace 60 s, so
+    stale trials of a dead worker on another machine are failed and retried);
     ``"journal:///abs/path/study.log"`` (or a path ending ``.log``/``.journal``):
     optuna's JournalStorage with a file backend, the right choice for several
     processes on one machine.
@@ -381,6 +381,8 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
+            if not spec.remote:  # SQLite: one machine; --resume fails every RUNNING trial, no heartbeat needed
+                return optuna.storages.RDBStorage(spec.url)
             return optuna.storages.RDBStorage(
                 spec.url, engine_kwargs=engine_kwargs, heartbeat_interval=10, grace_period=60,
                 failed_trial_callback=optuna.storages.RetryFailedTrialCallback(max_retry=1))
@@ -569,7 +571,8 @@ def versions() -> dict:
 class _Evaluator:
     """The optuna objective: suggest, evaluate with the one model, set constraints."""
 
-    def __init__(self, problem: Problem, space: SearchSpace, budget: int):
+    def __init__(self, problem: Problem, space: SearchSpace, budget: int, shared: bool = True):
+        self.shared = shared  # several workers: check the budget by trial number (single: the callback stops)
         self.problem = problem
         self.space = space
         self.budget = budget
@@ -586,7 +589,7 @@ class _Evaluator:
         from optuna.trial import TrialState
 
         study = trial.study
-        ahead = sum(1 for t in study.get_trials(deepcopy=False, states=(
+        ahead = 0 if not self.shared else sum(1 for t in study.get_trials(deepcopy=False, states=(
             TrialState.WAITING, TrialState.RUNNING, TrialState.COMPLETE)) if t.number < trial.number)
         if ahead >= self.budget:
             trial.set_user_attr(SURPLUS_ATTR, True)
@@ -629,8 +632,12 @@ def _stopper(budget: int, evaluator: _Evaluator):
 
 
 def _run_worker(problem: Problem, storage: str | None, study_name: str, budget: int, seed: int | None,
-                operators: dict, storage_obj=None, on_trial=None) -> None:
-    """Run trials on one study until it holds ``budget`` COMPLETE trials (one process)."""
+                operators: dict, storage_obj=None, on_trial=None, check_budget: bool = True) -> None:
+    """Run trials on one study until it holds ``budget`` COMPLETE trials (one process).
+
+    ``check_budget``: other processes may work on the study, so each trial
+    checks by its number that fewer than ``budget`` trials precede it.
+    """
     import optuna
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
@@ -642,7 +649,7 @@ def _run_worker(problem: Problem, storage: str | None, study_name: str, budget: 
         study = optuna.load_study(study_name=study_name, storage=storage_obj, sampler=ops.sampler(seed))
         if _counts(study)[optuna.trial.TrialState.COMPLETE] >= budget:
             return
-        evaluator = _Evaluator(problem, search_space(problem), budget)
+        evaluator = _Evaluator(problem, search_space(problem), budget, shared=check_budget)
         evaluator.on_trial = on_trial
         study.optimize(evaluator, n_trials=None, callbacks=[_stopper(budget, evaluator)], gc_after_trial=False)
 
@@ -800,7 +807,8 @@ def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: 
                     bar.update(counts[TrialState.COMPLETE], tracker)
 
                 _run_worker(problem, spec.url, study_name, trials, base_seed, ops.as_dict(),
-                            storage_obj=storage_obj, on_trial=on_trial if progress else None)
+                            storage_obj=storage_obj, on_trial=on_trial if progress else None,
+                            check_budget=spec.remote or resume)
             else:
                 _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storage_obj, tracker, bar)
     except KeyboardInterrupt:
@@ -1047,7 +1055,7 @@ def _row(cat: tuple, number: int, x: np.ndarray, values: dict, refined: bool) ->
 
 def _refine(sub: Problem, cat: tuple, front: list, nlps: dict) -> list:
     """ε-constraint polish: min F_turn s.t. P <= P_candidate from each candidate (exact NLP of the category)."""
-    from designer.solvers.nlp import CasterNLP
+    from designer.solvers.nlp import BIG, CasterNLP
 
     if cat not in nlps:
         nlps[cat] = CasterNLP(sub)
@@ -1057,7 +1065,9 @@ def _refine(sub: Problem, cat: tuple, front: list, nlps: dict) -> list:
         start = Design(*(row[v] for v in VARIABLES))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            res = nlp.solve(start, weights=(1.0, 0.0), threshold_cap=row["threshold_force"])
+            # with d fixed (catalog wheel) P is a constant: a cap equal to it would be a degenerate constraint
+            cap = BIG if sub.bounds["diameter"].fixed else row["threshold_force"]
+            res = nlp.solve(start, weights=(1.0, 0.0), threshold_cap=cap)
         if not res.success:
             out.append(row)
             continue
