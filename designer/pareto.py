@@ -27,7 +27,7 @@ import numpy as np
 from designer.indicators import hypervolume_2d, igd_plus, nondominated, normalise
 from designer.model import VARIABLES, Design, evaluate
 from designer.problem import Problem
-from designer.solvers.nlp import BIG, CasterNLP, best_starts, solve_best
+from designer.solvers.nlp import BIG, CasterNLP, best_starts, evaluate_many, sample_designs, solve_best, violation
 
 REFERENCE_OFFSET = 0.1
 """Hypervolume reference point: 10 % beyond the nadir in normalised objectives, i.e. (1.1, 1.1)."""
@@ -270,43 +270,205 @@ def _family_starts(problem: Problem, design: Design) -> list[np.ndarray]:
     return [grooved, damped]
 
 
-def _solve_eps(nlp, problem, epsilon, previous, extra_starts=()):
-    """min F s.t. P <= ε from the previous point (warm) and the family starts; best success."""
-    results = []
-    if previous is not None:
-        results.append(nlp.solve(previous.design, (1.0, 0.0), epsilon, lam_g0=previous.lam_g, lam_x0=previous.lam_x))
-        starts = _family_starts(problem, previous.design)
-    else:
-        starts = []
-    starts += list(extra_starts)
-    for s in starts:
-        results.append(nlp.solve(s, (1.0, 0.0), epsilon))
-    good = [r for r in results if r.success]
-    if not good:
-        # retry from a fresh sample of the box
-        for s in best_starts(problem, (1.0, 0.0), k=4, threshold_cap=epsilon, seed=len(results)):
-            r = nlp.solve(s, (1.0, 0.0), epsilon)
-            results.append(r)
-            if r.success:
-                good.append(r)
-    if not good:
-        return None, results[0] if results else None
-    return min(good, key=lambda r: nlp.objectives(r.design)[0]), None
+def _sample(problem: Problem, n: int = 1024):
+    """A vectorised look at the box: Sobol designs, their F_turn, P and constraint violation (one model call)."""
+    x = sample_designs(problem, n, seed=0)
+    values = evaluate_many(problem, x)
+    return x, values["turning_effort"], values["threshold_force"], violation(problem, values)
 
 
-def _ends(nlp: CasterNLP, problem: Problem):
-    """Lexicographic ends: (min F, then min P) and (min P, then min F)."""
-    best_f, _ = solve_best(nlp, best_starts(problem, (1.0, 0.0)), (1.0, 0.0))
-    best_p, _ = solve_best(nlp, best_starts(problem, (0.0, 1.0)), (0.0, 1.0))
-    if best_f is None or best_p is None:
+def _sample_starts(sample, eps_values: np.ndarray) -> np.ndarray:
+    """For each ε: the sample design of least F_turn with P <= ε among the feasible (else the least violating)."""
+    x, f, p, viol = sample
+    eps = np.asarray(eps_values, float)[:, None]
+    ok = (viol[None, :] <= 0) & (p[None, :] <= eps)
+    score = np.where(ok, f[None, :], np.inf)
+    best = np.argmin(score, axis=1)
+    fallback = np.argmin(viol[None, :] + np.maximum(0.0, p[None, :] / eps - 1), axis=1)
+    return x[np.where(np.isfinite(score[np.arange(len(eps)), best]), best, fallback)]
+
+
+def _rank(nlp: CasterNLP, result) -> float:
+    return nlp.objectives(result.design)[0] if result is not None and result.success else np.inf
+
+
+def _ends(nlp: CasterNLP, problem: Problem, sample=None):
+    """Lexicographic ends: (min F, then min P) and (min P, then min F), each stage one batched solve."""
+    x = sample[0] if sample is not None else None
+    starts_f = best_starts(problem, (1.0, 0.0), samples=x)
+    starts_p = best_starts(problem, (0.0, 1.0), samples=x)
+    weights = np.array([(1.0, 0.0)] * len(starts_f) + [(0.0, 1.0)] * len(starts_p))
+    results = nlp.solve_many(starts_f + starts_p, weights)
+    good_f = [r for r in results[: len(starts_f)] if r.success]
+    good_p = [r for r in results[len(starts_f):] if r.success]
+    if not good_f or not good_p:
         return None, None
+    best_f = min(good_f, key=lambda r: nlp.objectives(r.design)[0])
+    best_p = min(good_p, key=lambda r: nlp.objectives(r.design)[1])
     f_min = nlp.objectives(best_f.design)[0]
     p_min = nlp.objectives(best_p.design)[1]
     # second stage: the other objective, the first capped at its optimum
-    end_a, _ = solve_best(nlp, [best_f.design], (0.0, 1.0), turning_cap=f_min * (1 + 1e-9))
-    end_b, _ = solve_best(nlp, [best_p.design] + _family_starts(problem, best_p.design), (1.0, 0.0),
-                          threshold_cap=p_min * (1 + 1e-9))
-    return end_a or best_f, end_b or best_p
+    starts = [best_f.design.as_array(), best_p.design.as_array()] + _family_starts(problem, best_p.design)
+    weights = np.array([(0.0, 1.0)] + [(1.0, 0.0)] * 3)
+    caps_p = np.array([BIG] + [p_min * (1 + 1e-9)] * 3)
+    caps_f = np.array([f_min * (1 + 1e-9)] + [BIG] * 3)
+    second = nlp.solve_many(starts, weights, caps_p, caps_f)
+    end_a = second[0] if second[0].success else best_f
+    good_b = [r for r in second[1:] if r.success]
+    end_b = min(good_b, key=lambda r: nlp.objectives(r.design)[0]) if good_b else best_p
+    return end_a, end_b
+
+
+class _Sweep:
+    """The interior ε-points of one pass, improved in batches until no start finds a better optimum.
+
+    ``best[i]`` is the best successful result at ``eps[i]`` so far (None: none yet).  Rounds:
+
+    1. the given starts (warm with multipliers when given): all points in one batched solve;
+    2. with ``families``: family restarts (:func:`_family_starts` of the point's optimum, cold) on a
+       coarse subset (every ``stride``-th point) and at every point whose family differs from a
+       neighbour's; from a point they improve, the points up to the next coarse point on each side
+       are re-solved warm from its new optimum;
+    3. switches: wherever neighbours belong to different families (a discontinuity of the front is
+       where the other family can win), each is re-solved warm from the other's optimum, and every
+       improvement is passed on to its neighbours, until a round improves nothing.
+    """
+
+    def __init__(self, nlp: CasterNLP, problem: Problem, eps: np.ndarray):
+        self.nlp, self.problem, self.eps = nlp, problem, np.asarray(eps, float)
+        self.k = len(self.eps)
+        self.best: list = [None] * self.k
+        self.first: list = [None] * self.k  # first result (kept to report a failure)
+        self.f = np.full(self.k, np.inf)
+        self.solves = 0
+        self.stride = max(1, self.k // 10)
+        self._tried: set = set()
+
+    def run(self, starts, lam_g=None, lam_x=None, families: bool = True, extra=None) -> None:
+        self._try(list(range(self.k)), starts, lam_g, lam_x)
+        if extra is not None:  # optional second start per point: (indices, starts, lam_g, lam_x)
+            self._try(*extra)
+        if families:
+            switch = self._switches()
+            idx, fam_starts = [], []
+            for i in sorted(set(range(0, self.k, self.stride)) | {self.k - 1} | switch):
+                if self.best[i] is not None:
+                    for s in _family_starts(self.problem, self.best[i].design):
+                        idx.append(i)
+                        fam_starts.append(s)
+            improved = self._try(idx, fam_starts)
+            self._propagate(improved, self.stride)
+        for _ in range(self.k):
+            pairs = [(i, j) for i in self._switches() for j in (i - 1, i + 1) if 0 <= j < self.k]
+            if not self._propagate_pairs(pairs):
+                break
+
+    def _family(self, i) -> str:
+        r = self.best[i]
+        return family_of(self.problem, r.design) if r is not None else ""
+
+    def _switches(self) -> set:
+        fam = [self._family(i) for i in range(self.k)]
+        out = set()
+        for i in range(self.k - 1):
+            if fam[i] != fam[i + 1]:
+                out |= {i, i + 1}
+        return out
+
+    def _propagate(self, sources, width) -> None:
+        pairs = [(i, j) for i in sorted(sources) for j in range(max(0, i - width), min(self.k, i + width + 1)) if j != i]
+        while pairs:
+            improved = self._propagate_pairs(pairs)
+            pairs = [(i, j) for i in sorted(improved) for j in (i - 1, i + 1) if 0 <= j < self.k]
+
+    def _propagate_pairs(self, pairs) -> set:
+        """Re-solve point j warm from point i's optimum for each new (i, j) pair; the improved points."""
+        idx, starts, lg, lx = [], [], [], []
+        for i, j in pairs:
+            source = self.best[i]
+            key = (j, id(source))
+            if source is None or key in self._tried or source is self.best[j]:
+                continue
+            self._tried.add(key)
+            idx.append(j)
+            starts.append(source.design.as_array())
+            lg.append(source.lam_g)
+            lx.append(source.lam_x)
+        return self._try(idx, starts, np.array(lg), np.array(lx)) if idx else set()
+
+    def _try(self, idx, starts, lam_g=None, lam_x=None) -> set:
+        if not len(idx):
+            return set()
+        warm = lam_g is not None and len(lam_g)
+        results = self.nlp.solve_many(starts, (1.0, 0.0), self.eps[idx],
+                                      lam_g0=lam_g if warm else None, lam_x0=lam_x if warm else None)
+        self.solves += len(idx)
+        ok = np.array([r.success for r in results])
+        f_all = np.full(len(results), np.inf)
+        if np.any(ok):
+            values = evaluate_many(self.problem, np.array([r.design.as_array() for r in results]))
+            f_all[ok] = values["turning_effort"][ok]
+        improved = set()
+        for i, r, f in zip(idx, results, f_all):
+            if self.first[i] is None:
+                self.first[i] = r
+            if f < self.f[i] - 1e-12 * max(1.0, abs(f)):
+                if self.best[i] is not None and f < self.f[i] * (1 - 1e-9):
+                    improved.add(i)
+                self.best[i], self.f[i] = r, f
+        return improved
+
+    def rescue(self) -> None:
+        """Points without a successful result: retry from a fresh sample of the box (as before)."""
+        for i in range(self.k):
+            if self.best[i] is not None:
+                continue
+            for s in best_starts(self.problem, (1.0, 0.0), k=4, threshold_cap=float(self.eps[i]), seed=3):
+                r = self.nlp.solve(s, (1.0, 0.0), float(self.eps[i]))
+                self.solves += 1
+                if r.success and (self.best[i] is None or _rank(self.nlp, r) < self.f[i]):
+                    self.best[i], self.f[i] = r, _rank(self.nlp, r)
+
+
+def _points(nlp: CasterNLP, problem: Problem, results, eps, wheel=None) -> list:
+    """FrontPoints of many results: one vectorised model call for all successful designs."""
+    from designer.optimise import constraint_margins
+
+    out = [None] * len(results)
+    ok = [i for i, r in enumerate(results) if r.success]
+    if ok:
+        designs = np.array([results[i].design.as_array() for i in ok])
+        values = evaluate_many(problem, designs)
+        for j, i in enumerate(ok):
+            r = results[i]
+            row = {key: float(np.asarray(v).ravel()[j]) if np.ndim(v) else float(v) for key, v in values.items()}
+            margins, _ = constraint_margins(problem, r.design, row)
+            multipliers = {name: float(lam) for name, lam in zip(nlp.constraint_names, r.lam_g)}
+            out[i] = FrontPoint(r.design, row["turning_effort"], row["threshold_force"], row["critical_speed"],
+                                margins, float(eps[i]), r.status, True, multipliers, family_of(problem, r.design),
+                                wheel)
+    for i, r in enumerate(results):
+        if out[i] is None:
+            out[i] = _point(nlp, problem, r, eps[i], wheel)
+    return out
+
+
+_NLP_CACHE: dict = {}
+_NLP_CACHE_SIZE = 32
+
+
+def _nlp(problem: Problem) -> CasterNLP:
+    """The problem's NLP, built once (keyed by the problem's full repr; the last 32 are kept)."""
+    key = repr(problem)
+    nlp = _NLP_CACHE.pop(key, None)
+    if nlp is None:
+        nlp = CasterNLP(problem)
+    else:
+        nlp.build_seconds = 0.0
+    _NLP_CACHE[key] = nlp
+    while len(_NLP_CACHE) > _NLP_CACHE_SIZE:
+        _NLP_CACHE.pop(next(iter(_NLP_CACHE)))
+    return nlp
 
 
 def pareto_front(problem: Problem, points: int | None = None, progress=None) -> Front:
@@ -335,15 +497,17 @@ def pareto_front(problem: Problem, points: int | None = None, progress=None) -> 
     variants = problem.variants()
     single_d = all(v.bounds["diameter"].fixed for v in variants)
     for k, variant in enumerate(variants):
-        nlp = CasterNLP(variant)
-        build += nlp.build_seconds
+        nlp = _nlp(variant)
         wheel = variant.conditions.inertia.wheel.key if problem.wheels else None
-        end_a, end_b = _ends(nlp, variant)
-        solves += 8
+        sample = _sample(variant)
+        end_a, end_b = _ends(nlp, variant, sample)
+        solves += 16
         if end_a is None:
+            build += nlp.build_seconds
             continue  # infeasible variant (e.g. a catalog wheel that cannot reach the target)
         if single_d:
-            all_points.append(_point(nlp, variant, end_b, BIG, wheel))
+            all_points += _points(nlp, variant, [end_b], [BIG], wheel)
+            build += nlp.build_seconds
             if progress:
                 progress(k + 1, len(variants))
             continue
@@ -351,18 +515,24 @@ def pareto_front(problem: Problem, points: int | None = None, progress=None) -> 
         p_b = nlp.objectives(end_b.design)[1]
         # pass 1: uniform in ε; pass 2: uniform in arc length of pass 1
         eps = np.linspace(p_a, p_b, n)
-        total = 2 * n
-        first, done = _sweep(nlp, variant, eps, end_a, end_b, wheel, progress, 0, total)
+        first, done = _sweep(nlp, variant, eps, end_a, end_b, sample)
         solves += done
-        good = [p for p in first if p.success]
+        if progress:
+            progress(n, 2 * n)
+        good = [r for r, e in zip(first, eps) if r.success]
         if len(good) >= 3:
-            eps2 = _respace(good, n)
-            second, done = _sweep(nlp, variant, eps2, end_a, end_b, wheel, progress, n, total)
+            objs = np.array([nlp.objectives(r.design)[:2] for r in good])
+            eps2 = _respace_objectives(objs, n)
+            second, done = _sweep(nlp, variant, eps2, end_a, end_b, sample, guide=(eps, first))
             solves += done
         else:
-            second = first
-        all_points += [p for p in second if p.success]
-        failed += [p for p in second if not p.success]
+            second, eps2 = first, eps
+        pts = _points(nlp, variant, second, eps2, wheel)
+        if progress:
+            progress(2 * n, 2 * n)
+        all_points += [p for p in pts if p.success]
+        failed += [p for p in pts if not p.success]
+        build += nlp.build_seconds
     valid = _clean(all_points)
     meta = {
         "points_requested": n,
@@ -371,35 +541,61 @@ def pareto_front(problem: Problem, points: int | None = None, progress=None) -> 
         "build_seconds": build,
         "total_seconds": time.perf_counter() - t0,
         "nlp_solves": solves,
-        "method": "ε-constraint on the CasADi/IPOPT NLP (min F_turn s.t. P <= ε), warm-started, "
-                  "arc-length re-spaced, family restarts",
+        "method": "ε-constraint on the CasADi/IPOPT NLP (min F_turn s.t. P <= ε), batched block-diagonal solves, "
+                  "warm-started from the neighbouring optimum, arc-length re-spaced, family restarts on a coarse "
+                  "subset and at family switches, propagated until no start improves",
         "solver": "ipopt (tol 1e-10, exact Hessian)",
     }
     return Front(problem, valid, failed, meta)
 
 
-def _sweep(nlp, problem, eps_values, end_a, end_b, wheel, progress, offset, total):
-    out = []
-    previous = end_a
-    solves = 0
-    for i, eps in enumerate(eps_values):
-        if i == 0:
-            result = end_a
-        elif i == len(eps_values) - 1:
-            result = end_b
+def _sweep(nlp, problem, eps_values, end_a, end_b, sample, guide=None):
+    """Results at every ε (ends given); ``guide`` = (ε, results) of an earlier pass to start from, warm."""
+    eps_values = np.asarray(eps_values, float)
+    inner = eps_values[1:-1]
+    sweep = _Sweep(nlp, problem, inner)
+    if len(inner):
+        if guide is None:
+            sweep.run(_sample_starts(sample, inner))
         else:
-            result, failure = _solve_eps(nlp, problem, float(eps), previous)
-            solves += 3
-            if result is None:
-                out.append(_point(nlp, problem, failure, eps, wheel))
-                if progress:
-                    progress(offset + i + 1, total)
-                continue
-        out.append(_point(nlp, problem, result, eps, wheel))
-        previous = result
-        if progress:
-            progress(offset + i + 1, total)
-    return out, solves
+            g_eps, g_res = guide
+            # the earlier pass's point just before in sweep order (ε decreasing), warm with its multipliers
+            pos = np.clip(np.searchsorted(-np.asarray(g_eps), -inner, side="right") - 1, 0, len(g_eps) - 1)
+            src, other, fam = [], [], {}
+
+            def family(r):
+                return fam.setdefault(id(r), family_of(problem, r.design))
+
+            for j in pos:
+                before = j
+                while before > 0 and not g_res[before].success:
+                    before -= 1
+                after = min(j + 1, len(g_res) - 1)
+                while after < len(g_res) - 1 and not g_res[after].success:
+                    after += 1
+                a = g_res[before] if g_res[before].success else end_a
+                b = g_res[after] if g_res[after].success else end_b
+                src.append(a)
+                other.append(b if family(a) != family(b) else None)
+            extra = [(i, r) for i, r in enumerate(other) if r is not None]
+            extra = ([i for i, _ in extra], np.array([r.design.as_array() for _, r in extra]).reshape(-1, 4),
+                     np.array([r.lam_g for _, r in extra]), np.array([r.lam_x for _, r in extra]))
+            sweep.run(np.array([r.design.as_array() for r in src]), np.array([r.lam_g for r in src]),
+                      np.array([r.lam_x for r in src]), families=False, extra=extra)
+        sweep.rescue()
+    results = [end_a] + [b if b is not None else f for b, f in zip(sweep.best, sweep.first)] + [end_b]
+    return results[: len(eps_values)] if len(eps_values) >= 2 else [end_a], sweep.solves
+
+
+def _respace_objectives(f: np.ndarray, n: int) -> np.ndarray:
+    """ε values evenly spaced by arc length along the normalised front with objectives ``f`` (F, P)."""
+    ideal, nadir = f.min(axis=0), f.max(axis=0)
+    g = normalise(f, ideal, nadir)
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(g, axis=0).T))])
+    if s[-1] <= 0:
+        return f[:, 1].copy()
+    targets = np.linspace(0, s[-1], n)
+    return np.interp(targets, s, f[:, 1])
 
 
 def _respace(points: list[FrontPoint], n: int) -> np.ndarray:

@@ -266,6 +266,19 @@ class CasterNLP:
             self.build_seconds += time.perf_counter() - t0
         return self._batch[key]
 
+    def _chunk(self, left: int) -> int:
+        """Size of the next chunk for ``left`` blocks: full large chunks, then the least padding."""
+        sizes = self.BATCH_SIZES
+        if left >= sizes[-1]:
+            return sizes[-1]
+        for small, large in zip(sizes, sizes[1:]):
+            if left <= small:
+                return small
+            if left <= large:
+                # one large padded chunk, unless two small ones cover it
+                return small if left <= 2 * small else large
+        return sizes[-1]
+
     def solve_many(self, starts, weights=(1.0, 1.0), threshold_caps=BIG, turning_caps=BIG, lam_g0=None,
                    lam_x0=None) -> list[NLPResult]:
         """Solve K independent NLPs (one per start) in a few IPOPT calls.
@@ -306,11 +319,9 @@ class CasterNLP:
         ng = len(self.lbg)
         out: list[NLPResult] = []
         i = 0
-        sizes = self.BATCH_SIZES
         while i < k:
-            left = k - i
-            size = next((s for s in sizes if s >= left), sizes[-1])
-            take = min(size, left)
+            size = self._chunk(k - i)
+            take = min(size, k - i)
             idx = np.arange(i, i + take)
             idx = np.concatenate([idx, np.full(size - take, i)])
             solver, perf = self._batch_solver(size, warm)
@@ -328,7 +339,7 @@ class CasterNLP:
             gs = np.asarray(sol["g"]).reshape(size, ng)
             lg = np.asarray(sol["lam_g"]).reshape(size, ng)
             lx = np.asarray(sol["lam_x"]).reshape(size, 4)
-            values = np.asarray(perf(zs.T, np.tile(self.param_values[:, None], (1, size))))
+            values = np.vstack([np.asarray(v).ravel() for v in perf(zs.T, np.tile(self.param_values[:, None], (1, size)))])
             viol = np.maximum(np.max(self.lbg - gs, axis=1), np.max(gs - self.ubg, axis=1)).clip(min=0.0)
             for j in range(take):
                 b = i + j
