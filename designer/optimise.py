@@ -69,11 +69,17 @@ class Solution:
             "constraints": dict(self.constraints),
             "active": list(self.active),
             "sensitivities": dict(self.sensitivities),
+            "gp_duals": self.gp_duals(),
             "cross_check": dict(self.cross_check),
             "status": self.status,
             "wheel": self.wheel,
             "timings": dict(self.timings),
         }
+
+    def gp_duals(self) -> dict:
+        """d log J / d log p from the geometric program's duals, where the GP defines them."""
+        duals = getattr(self.gp, "duals", None) or {}
+        return {k: float(v) for k, v in duals.items()}
 
     def agreement(self) -> float:
         """Largest relative difference of J between the solvers that ran."""
@@ -117,12 +123,14 @@ class Solution:
             *self._robust_lines(),
             "  active constraints:   " + (", ".join(self.active) if self.active else "none"),
             "",
-            "  sensitivities d log J / d log p (largest first):",
+            "  sensitivities d log J / d log p (largest first; NLP multipliers, GP duals beside):",
         ]
         ranked = sorted(self.sensitivities.items(), key=lambda kv: -abs(kv[1]))
-        for name, value in ranked[:8]:
+        duals = self.gp_duals()
+        for name, value in ranked[:10]:
             desc = PARAMETER_INFO.get(name, ("", "", "bound"))[2]
-            lines.append(f"    {name:24s} {value:+8.4f}   {desc}")
+            gp = f"{duals[name]:+8.4f}" if name in duals else "       –"
+            lines.append(f"    {name:24s} {value:+8.4f}  {gp}   {desc}")
         lines += ["", "  solver agreement (J in N):"]
         for solver, value in self.cross_check.items():
             shown = "n/a" if value is None or not np.isfinite(value) else f"{value:.6f}"
@@ -188,8 +196,8 @@ def optimise(problem: Problem, weights=None, cross_check: bool = True, samples: 
         build += nlp.build_seconds
         starts = best_starts(variant, w, n=samples)
         gp = _gp(variant, w) if cross_check else None
-        if gp is not None:
-            starts.append(gp.design.as_array())
+        if gp is not None:  # every family's GP answer is an NLP start (DESIGN §3)
+            starts += [d.as_array() for d in gp.designs.values()]
         t0 = time.perf_counter()
         best, results = solve_best(nlp, starts, w)
         solve += time.perf_counter() - t0
@@ -239,11 +247,9 @@ def optimise(problem: Problem, weights=None, cross_check: bool = True, samples: 
 def _gp(problem: Problem, weights):
     """The GP/SGP answer, or None if the GP module is unavailable or fails.
 
-    Robust problems are not GP-compatible (the quantile constraint
-    V_c exp(−z σ_V(x)) is not a posynomial), so they get no GP cross-check.
+    For robust problems the GP bounds the quantile constraint conservatively
+    (see ``designer.solvers.gp``); its polished answer is still a cross-check.
     """
-    if problem.conditions.uncertainty is not None:
-        return None
     try:
         from designer.solvers import gp as gp_module
     except ImportError:
