@@ -16,6 +16,7 @@ counted); dominated points are removed.
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import math
 import time
@@ -457,14 +458,29 @@ _NLP_CACHE: dict = {}
 _NLP_CACHE_SIZE = 32
 
 
+_NLP_PARAMETERS = ("load", "target_speed")
+"""Problem values that are CasADi parameters of the NLP: problems differing only in them share one NLP."""
+
+
 def _nlp(problem: Problem) -> CasterNLP:
-    """The problem's NLP, built once (keyed by the problem's full repr; the last 32 are kept)."""
-    key = repr(problem)
+    """The problem's NLP, built once and reused (the last 32 structures are kept).
+
+    Problems that differ only in caster load or target speed (e.g. a batch of chair configurations)
+    share one build: those values are parameters of the NLP and are set per problem.  The scaling
+    constants of the objective stay those of the first problem built (any O(1) scaling gives the
+    same optimum to IPOPT's tolerance).
+    """
+    fields = {f.name: getattr(problem, f.name) for f in dataclasses.fields(problem)
+              if f.name not in ("target_speed", "name", "title", "description", "source", "conditions")}
+    key = repr((fields, dataclasses.replace(problem.conditions, load=0.0)))
     nlp = _NLP_CACHE.pop(key, None)
     if nlp is None:
         nlp = CasterNLP(problem)
     else:
         nlp.build_seconds = 0.0
+        nlp.problem = problem
+        for name, value in (("load", problem.conditions.load), ("target_speed", problem.target_speed)):
+            nlp.param_values[nlp.param_names.index(name)] = value
     _NLP_CACHE[key] = nlp
     while len(_NLP_CACHE) > _NLP_CACHE_SIZE:
         _NLP_CACHE.pop(next(iter(_NLP_CACHE)))
