@@ -170,16 +170,36 @@ class Operators:
 
 
 class _Deduplicated:
-    """Child generation that redraws (up to 20 times) a child equal to an earlier trial."""
+    """Child generation that redraws (up to 20 times) a child equal to an earlier trial.
+
+    The parameter sets of finished trials are cached, so each child costs
+    O(running trials), not O(all trials).
+    """
 
     def __init__(self, inner):
         self.inner = inner
+        self._finished: set = set()
+        self._scanned = 0
 
-    def __call__(self, study, search_space, parent_population):
+    def _seen(self, study) -> set:
         from optuna.trial import TrialState
 
-        seen = {_params_key(t.params) for t in study.get_trials(deepcopy=False, states=(
-            TrialState.COMPLETE, TrialState.RUNNING, TrialState.WAITING))}
+        trials = study.get_trials(deepcopy=False)
+        pending = set()
+        contiguous = True
+        for t in trials[self._scanned:]:
+            if t.state.is_finished():
+                self._finished.add(_params_key(t.params))
+                if contiguous:
+                    self._scanned += 1
+            else:
+                contiguous = False
+                if t.state in (TrialState.RUNNING, TrialState.WAITING):
+                    pending.add(_params_key(t.params))
+        return self._finished | pending if pending else self._finished
+
+    def __call__(self, study, search_space, parent_population):
+        seen = self._seen(study)
         child = self.inner(study, search_space, parent_population)
         for _ in range(20):
             if len(child) < len(search_space) or _params_key(child) not in seen:

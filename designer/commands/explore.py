@@ -41,9 +41,14 @@ def run(args) -> int:
     if args.population is not None and args.population < 2:
         raise InputError(f"--population {args.population}: must be at least 2")
     problem = load_problem(args.problem)
-    result = explore(problem, trials=args.trials, seed=args.seed, storage=args.storage, study_name=args.study,
-                     workers=args.workers, resume=args.resume, refine=args.refine, operators=args.operators,
-                     population_size=args.population, compare=not args.no_compare, progress=not args.json)
+    try:
+        result = explore(problem, trials=args.trials, seed=args.seed, storage=args.storage, study_name=args.study,
+                         workers=args.workers, resume=args.resume, refine=args.refine, operators=args.operators,
+                         population_size=args.population, compare=not args.no_compare, progress=not args.json)
+    except KeyboardInterrupt as exc:
+        if str(exc):
+            eprint(f"designer: {exc}")
+        raise
     out = Path(args.out) if args.out else Path("results") / problem.name
     csv_path, json_path = result.write(out)
     for note in result.warnings:
