@@ -9,6 +9,7 @@ propagate to the one-line handler of :mod:`designer.cli`.
 from __future__ import annotations
 
 import time
+import warnings
 from pathlib import Path
 
 from designer.commands._common import eprint, print_json
@@ -59,11 +60,6 @@ def compute_and_write(problem, points=None, out=None, progress=None) -> dict:
     -------
     dict with the report folder, index.html path, counts, optimum and check results
     """
-    from designer.checks import front_checks, paper_checks
-    from designer.optimise import optimise
-    from designer.pareto import pareto_front
-    from designer.report import write_report
-
     t0 = time.perf_counter()
 
     def tracker(label):
@@ -76,20 +72,44 @@ def compute_and_write(problem, points=None, out=None, progress=None) -> dict:
 
         return update
 
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.filterwarnings("always", message="inertia power law used at")
+        summary = _compute(problem, points, out, tracker)
+    extrapolated = [w for w in caught if "inertia power law used at" in str(w.message)]
+    for w in caught:
+        if w not in extrapolated:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    if extrapolated:
+        b = problem.bounds["diameter"]
+        warnings.warn(f"{problem.name}: the Table 1 inertia fit (4–8 in) is extrapolated for diameters in "
+                      f"{b.low / 0.0254:.3g}–{b.high / 0.0254:.3g} in (the report says so in its model section)", UserWarning, stacklevel=2)
+    summary["seconds"] = time.perf_counter() - t0
+    return summary
+
+
+def _compute(problem, points, out, tracker) -> dict:
+    from designer.checks import front_checks, paper_checks
+    from designer.errors import DesignerError
+    from designer.optimise import optimise
+    from designer.pareto import pareto_front
+    from designer.report import write_report
+
+    t0 = time.perf_counter()
     front = pareto_front(problem, points, progress=tracker(f"{problem.name}: front"))
     tighter_problem = problem.replace(target_speed=problem.target_speed * TIGHTER_FACTOR)
     n_tight = max(5, (points or problem.pareto_points) // 2)
+    tighter_error = None
     try:
         tighter = pareto_front(tighter_problem, n_tight,
                                progress=tracker(f"{problem.name}: front at {tighter_problem.target_speed:.3g} m/s"))
-    except Exception:  # noqa: BLE001 - an unreachable tighter target only removes check 8c
-        tighter = None
+    except DesignerError as exc:  # an unreachable tighter target only removes check 8c
+        tighter, tighter_error = None, str(exc)
     solution = optimise(problem) if front.points else None
     checks = paper_checks() + front_checks(front, tighter)
     folder = write_report(problem, front, out, solution=solution, checks=checks, tighter=tighter,
                           run_meta={"command": "designer pareto", "points_option": points,
                                     "tighter_points": n_tight if tighter is not None else None,
-                                    "wall_seconds": None})
+                                    "tighter_error": tighter_error, "wall_seconds": None})
     wall = time.perf_counter() - t0
     failing = [c.name for c in checks if not c.passed]
     failing_front = [c.name for c in checks if not c.passed and c.name.startswith("8")]

@@ -23,6 +23,7 @@ import warnings
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.patches import Rectangle
 
 from designer.data.paper import (
     BARE_FORK_DAMPING,
@@ -109,7 +110,7 @@ def figure_front(data) -> Figure:
     if data.tighter is not None and len(data.tighter.points):
         t = data.tighter.objectives()
         ax.plot(t[:, 1], t[:, 0], color="0.65", lw=1.5, ls="--", marker=".", ms=4,
-                label=f"tighter target V_target = {data.tighter.problem.target_speed:.2f} m/s (check 8c)")
+                label=f"front for V_req = {data.tighter.problem.required_speed:.2f} m/s (V_target × 1.1, check 8c)")
     f = front.objectives()
     if len(f):
         ax.plot(f[:, 1], f[:, 0], color="0.3", lw=1, zorder=1)
@@ -119,14 +120,18 @@ def figure_front(data) -> Figure:
                 ax.scatter(f[sel, 1], f[sel, 0], color=colour, marker=marker, s=28, zorder=3,
                            label=f"front: {family}")
         knee, best = front.knee(), front.weighted_best()
+        if data.solution is not None:  # the exact optimum, not only the nearest front point
+            best_f = data.solution.objectives["turning_effort"]
+            best_p = data.solution.objectives["threshold_force"]
+        elif best is not None:
+            best_f, best_p = best.turning_effort, best.threshold_force
         if best is not None:
             w = np.asarray(problem.weights, float)
-            ax.scatter([best.threshold_force], [best.turning_effort], marker="*", s=320, facecolor="gold",
+            ax.scatter([best_p], [best_f], marker="*", s=320, facecolor="gold",
                        edgecolor="black", zorder=5,
-                       label=f"weighted optimum (w = {w[0]:g}, {w[1]:g}): P {best.threshold_force:.1f} N, "
-                             f"F {best.turning_effort:.2f} N")
+                       label=f"weighted optimum (w = {w[0]:g}, {w[1]:g}): P {best_p:.1f} N, F {best_f:.2f} N")
             if len(f) > 1 and w[0] > 0:
-                j = float(w @ [best.turning_effort, best.threshold_force])
+                j = float(w @ [best_f, best_p])
                 p_line = np.linspace(f[:, 1].min(), f[:, 1].max(), 2)
                 ax.plot(p_line, (j - w[1] * p_line) / w[0], color="goldenrod", lw=1, ls=":",
                         label="constant J through the optimum")
@@ -138,10 +143,12 @@ def figure_front(data) -> Figure:
         ends = [front.points[0], front.points[-1]] if len(f) > 1 else [front.points[0]]
         # the ideal side (below-left) of the front is empty: label the ends there, with arrows
         for p, where in zip(ends, (dict(xytext=(-25, -30), textcoords="offset points", ha="right"),
-                                   dict(xytext=(0.03, 0.42), textcoords="axes fraction", ha="left"))):
-            ax.annotate(f"d = {p.design.diameter / INCH:.2f} in\nT = {p.design.trail / INCH:.2f} in",
-                        (p.threshold_force, p.turning_effort), fontsize=8, color="0.25", va="top",
-                        arrowprops=dict(arrowstyle="-", color="0.5", lw=0.8), **where)
+                                   dict(xytext=(0.03, 0.05), textcoords="axes fraction", ha="left",
+                                        va="bottom"))):
+            ax.annotate(f"d = {p.design.diameter / INCH:.2f} in\nT = {p.design.trail / INCH:.2f} in\n"
+                        f"B = {p.design.groove / INCH:.2f} in",
+                        (p.threshold_force, p.turning_effort), fontsize=8, color="0.25",
+                        arrowprops=dict(arrowstyle="-", color="0.5", lw=0.8), **{"va": "top", **where})
         if len(f) == 1:
             p = front.points[0]
             ax.set_xlim(p.threshold_force * 0.9, p.threshold_force * 1.1)
@@ -171,7 +178,8 @@ def figure_variables(data) -> Figure:
     Dashed vertical lines mark family switches (front.gaps()).
     """
     front = data.front
-    fig = _new(8.5, 6.2)
+    fig = Figure(figsize=(8.5, 6.2))  # fixed margins: constrained layout misplaces labels with secondary axes here
+    fig.subplots_adjust(left=0.09, right=0.91, bottom=0.15, top=0.93, wspace=0.45, hspace=0.1)
     axes = fig.subplots(2, 2, sharex=True)
     x = np.array([p.threshold_force for p in front.points])
     designs = front.designs()
@@ -201,12 +209,13 @@ def figure_variables(data) -> Figure:
             _inch_y(ax, inch_label)
     for ax in axes[1]:
         ax.set_xlabel("threshold force P [N]")
+
     if len(x) > 1:
         axes[0, 0].invert_xaxis()  # shared: read left to right as P falls
     handles = [axes[0, 0].scatter([], [], color=c, marker="o", s=16, label=f) for f, (c, _) in FAMILY_STYLE.items()
                if any(p.family == f for p in front.points)]
     handles.append(axes[0, 0].axhline(np.nan, color="#bb5500", lw=0.8, ls=":", label="bounds"))
-    fig.legend(handles=handles, loc="outside lower center", ncol=len(handles), fontsize=8)
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8)
     note = " (single point)" if len(x) == 1 else "; P decreasing to the right, dashed: family switch"
     fig.suptitle(f"Design variables along the front{note}", fontsize=10)
     return fig
@@ -349,46 +358,70 @@ def figure_groove_damper(data) -> Figure:
     fig = _new(11.5, 5.0)
     left, right = fig.subplots(1, 2, width_ratios=(1, 1.1))
     rows = data.tradeoff
-    catalog = bool(problem.wheels)
-    xs = np.array([r.diameter for r in rows]) * MM
-    offsets = {m: o for m, o in zip(MECHANISM_STYLE, (-0.8, 0.0, 0.8))} if catalog else {m: 0 for m in MECHANISM_STYLE}
-    for mechanism, (colour, ls, marker) in MECHANISM_STYLE.items():
-        y = np.array([r.effort.get(mechanism) if r.effort.get(mechanism) is not None else np.nan for r in rows])
-        ok = np.isfinite(y)
-        if catalog or len(rows) == 1:
-            left.scatter(xs[ok] + offsets[mechanism], y[ok], color=colour, marker=marker, s=40, label=mechanism,
-                         zorder=3)
-        else:
-            left.plot(xs[ok], y[ok], color=colour, ls=ls, marker=marker, ms=4, lw=1.5, label=mechanism)
-        bad = ~ok
-        if np.any(bad):
-            left.scatter(xs[bad] + offsets[mechanism], np.full(bad.sum(), 0.0), color=colour, marker="x", s=40,
-                         clip_on=False, zorder=4)
-    if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
-        left.scatter([], [], color="0.3", marker="x", label="cannot reach V_req (plotted at 0)")
-    if catalog:
-        for r in rows:
-            left.annotate(r.wheel, (r.diameter * MM, 0), textcoords="offset points", xytext=(0, 4), ha="center",
-                          fontsize=8, color="0.3")
-    left.set_xlabel("wheel diameter d [mm]" + (" (Table 1 wheels, letters)" if catalog else ""))
-    bare = [r.diameter * MM for r in rows if r.designs.get("optimum mix") is not None
-            and _is_bare(problem, r.designs["optimum mix"])]
-    if bare and not catalog and len(rows) > 1:
-        step = (xs[-1] - xs[0]) / (len(xs) - 1) / 2
-        left.axvspan(min(bare) - step, max(bare) + step, color="0.85", alpha=0.5, lw=0)
-        left.text(0.5 * (min(bare) + max(bare)), 0.5, "trail alone suffices:\nno groove, no damper",
-                  ha="center", fontsize=8, color="0.3")
-    left.set_ylabel("least turning effort F_turn [N]")
-    _inch_x(left, "wheel diameter d [in]")
-    left.set_ylim(bottom=0)
-    if len(rows) == 1:
-        left.set_xlim(xs[0] - 15, xs[0] + 15)
+    if problem.wheels or len(rows) == 1:
+        _tradeoff_bars(left, problem, rows)
+    else:
+        _tradeoff_lines(left, problem, rows)
+    fixed = [name for name in ("groove", "damping") if problem.bounds[name].fixed]
+    if fixed:
+        left.text(0.02, 0.97, f"{' and '.join(fixed)} fixed by the problem", transform=left.transAxes,
+                  fontsize=8, color="0.3", va="top")
     left.grid(True, alpha=0.3)
-    left.legend(fontsize=8, loc="upper left")
+    left.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0, 0.93))
     left.set_title(f"Least turning effort reaching V_req = {problem.required_speed:.2f} m/s", fontsize=10)
     _groove_damper_plane(right, data)
     fig.suptitle(f"{problem.name}: groove against damper (trail free on the left, fixed on the right)", fontsize=10)
     return fig
+
+
+def _tradeoff_lines(left, problem, rows) -> None:
+    """Least F_turn vs diameter, one line per mechanism (continuous diameter)."""
+    xs = np.array([r.diameter for r in rows]) * MM
+    for mechanism, (colour, ls, marker) in MECHANISM_STYLE.items():
+        y = np.array([r.effort.get(mechanism) if r.effort.get(mechanism) is not None else np.nan for r in rows])
+        ok = np.isfinite(y)
+        left.plot(xs[ok], y[ok], color=colour, ls=ls, marker=marker, ms=4, lw=1.5, label=mechanism)
+        if np.any(~ok):
+            left.scatter(xs[~ok], np.zeros((~ok).sum()), color=colour, marker="x", s=40, clip_on=False, zorder=4)
+    if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
+        left.scatter([], [], color="0.3", marker="x", label="cannot reach V_req (plotted at 0)")
+    bare = [r.diameter * MM for r in rows if r.designs.get("optimum mix") is not None
+            and _is_bare(problem, r.designs["optimum mix"])]
+    if bare and len(rows) > 1:
+        step = (xs[-1] - xs[0]) / (len(xs) - 1) / 2
+        left.axvspan(min(bare) - step, max(bare) + step, color="0.85", alpha=0.5, lw=0)
+        left.text(0.5 * (min(bare) + max(bare)), 0.5, "trail alone suffices:\nno groove, no damper",
+                  ha="center", fontsize=8, color="0.3")
+    left.set_xlabel("wheel diameter d [mm]")
+    _inch_x(left, "wheel diameter d [in]")
+    left.set_ylim(bottom=0)
+
+
+def _tradeoff_bars(left, problem, rows) -> None:
+    """Grouped bars per wheel (catalog) or for the one fixed diameter."""
+    x = np.arange(len(rows))
+    width = 0.26
+    top = max([v for r in rows for v in r.effort.values() if v is not None] or [1.0])
+    for k, (mechanism, (colour, _, _)) in enumerate(MECHANISM_STYLE.items()):
+        y = [r.effort.get(mechanism) for r in rows]
+        pos = x + (k - 1) * width
+        left.bar([p for p, v in zip(pos, y) if v is not None], [v for v in y if v is not None], width * 0.95,
+                 color=colour)
+        left.add_patch(Rectangle((0, 0), 0, 0, color=colour, label=mechanism))  # legend entry even without bars
+        for p, v in zip(pos, y):
+            if v is None:
+                left.text(p, 0.02 * top, "×", ha="center", va="bottom", color=colour, fontsize=13, weight="bold")
+            else:
+                left.text(p, v + 0.01 * top, f"{v:.1f}", ha="center", va="bottom", fontsize=6.5, rotation=90)
+    if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
+        left.scatter([], [], color="0.3", marker="x", label="× cannot reach V_req")
+    labels = [(f"{r.wheel}\n" if r.wheel else "") + f"{r.diameter / INCH:.3g} in\n{r.diameter * MM:.0f} mm"
+              for r in rows]
+    left.set_xticks(x, labels, fontsize=8)
+    left.set_xlabel("Table 1 wheel, diameter d [in, mm]" if problem.wheels else "wheel diameter d (fixed) [in, mm]")
+    left.set_ylim(0, top * 1.35)
+    if len(rows) == 1:
+        left.set_xlim(-1, 1)
 
 
 def _groove_damper_plane(ax, data) -> None:
@@ -423,7 +456,12 @@ def _groove_damper_plane(ax, data) -> None:
     req = problem.required_speed
     if v.min() < req < v.max():
         ax.contour(G * MM, C, v, levels=[req], colors="black", linewidths=2.2)
-    ax.plot([], [], color="black", lw=2.2, label=f"V_c = V_req = {req:.2f} m/s (stable above/right)")
+    elif v.min() >= req:
+        ax.text(0.5, 0.12, "V_c > V_req everywhere in this plane:\nstable without groove or damper",
+                transform=ax.transAxes, ha="center", fontsize=8.5, bbox=dict(facecolor="white", alpha=0.8, lw=0))
+    robust = getattr(conditions, "uncertainty", None) is not None
+    ax.plot([], [], color="black", lw=2.2, label=f"V_c = V_req = {req:.2f} m/s (stable above/right)"
+            + ("\nnominal Eq. 7; the robust optimum keeps a margin" if robust else ""))
     ax.plot([], [], color="0.25", lw=0.8, label="iso-V_c lines [m/s]")
     ax.add_patch(_rect(gb.low * MM, cb.low, (gb.high - gb.low) * MM, cb.high - cb.low))
     ax.plot([], [], color="#bb5500", ls=":", label="bounds")
@@ -435,8 +473,10 @@ def _groove_damper_plane(ax, data) -> None:
     ax.set_ylabel("spindle friction damping c_f [N·m/rad]")
     _inch_x(ax, "groove width B [in]")
     ax.legend(fontsize=7.5, loc="upper right", framealpha=0.9)
-    ax.set_title(f"At the optimum's T = {design.trail / INCH:.2f} in, d = {design.diameter / INCH:.2f} in",
-                 fontsize=10)
+    title = f"At the optimum's T = {design.trail / INCH:.2f} in, d = {design.diameter / INCH:.2f} in"
+    if cb.fixed or gb.fixed:
+        title += " (beyond the problem's fixed values, for context)"
+    ax.set_title(title, fontsize=10 if not (cb.fixed or gb.fixed) else 9)
 
 
 def _is_bare(problem, design) -> bool:
@@ -446,8 +486,6 @@ def _is_bare(problem, design) -> bool:
 
 
 def _rect(x, y, w, h):
-    from matplotlib.patches import Rectangle
-
     return Rectangle((x, y), max(w, 1e-9), max(h, 1e-9), fill=False, ls=":", lw=1.2, edgecolor="#bb5500")
 
 

@@ -211,6 +211,12 @@ def _problem_rows(problem) -> list[dict]:
         ("slip coefficient", "K_s", fmt(c.slip_coefficient, ".0f", "N"), ""),
         ("inertia model", "I_w(d)", c.inertia.describe(), ""),
     ]
+    u = getattr(c, "uncertainty", None)
+    if u is not None:
+        rows.append(("robust design: allowed shimmy probability", "α = P(V_c,true < V_req)",
+                     fmt(u.probability * 100, ".3g", "%"),
+                     f"σ of log: model {u.model_error:g}, c_f {u.damping:g}, K_s {u.slip_coefficient:g}, "
+                     f"I_w {u.inertia:g}"))
     for var, sym in (("trail", "T"), ("diameter", "d"), ("groove", "B")):
         b = problem.bounds[var]
         lo_mm, lo_in = length(b.low)
@@ -256,6 +262,12 @@ def _model_rows(problem) -> list[dict]:
     rows = [
         ("critical shimmy speed", "V_c = sqrt( 4 c_f T² / (π I_w) + K_s B² T / (2 I_w) )", "Eq. 7 (= Eq. 10C)"),
         ("shimmy constraint", "V_c(T, d, B, c_f) >= V_req = (1 + margin) V_target", "DESIGN §2.5"),
+    ]
+    if getattr(problem.conditions, "uncertainty", None) is not None:
+        rows.append(("robust shimmy constraint (replaces the nominal one)",
+                     "V_c · exp(−z_(1−α) σ_V) >= V_req, σ_V² = σ_model² + Σ (∂log V_c/∂log p · σ_p)²",
+                     "first-order quantile, designer.robust"))
+    rows += [
         ("wheel inertia", inertia.describe() + "." + note, "DESIGN §2.2, Table 1"),
         ("threshold force", "P = L · 2 sqrt(d/h − 1) / (d/h − 2), valid for d/h > 2", "Eq. 4A (= Eq. 1)"),
         ("threshold force, approximate (figure only)", "P/L ≈ 2 sqrt(h/d)", "Eq. 5A"),
@@ -325,7 +337,7 @@ def build_context(data: ReportData) -> dict:
     knee, best = front.knee(), front.weighted_best()
     points = []
     for i, p in enumerate(front.points):
-        marks = ", ".join(m for m, q in (("knee", knee), ("weighted optimum", best)) if q is p)
+        marks = ", ".join(m for m, q in (("knee", knee), ("best J on the front", best)) if q is p)
         points.append(_point_row(i, p, marks))
     failed = [_point_row(i, p) for i, p in enumerate(front.failed)]
     indicators = []
@@ -348,11 +360,12 @@ def build_context(data: ReportData) -> dict:
             ("knee", f"point {front.points.index(knee)}: F_turn {fmt(knee.turning_effort, '.3f', 'N')}, "
                      f"P {fmt(knee.threshold_force, '.2f', 'N')}; {knee.design.describe()}",
              "farthest from the chord between the two ends, in normalised objectives"),
-            ("weighted optimum", f"point {front.points.index(best)}: F_turn {fmt(best.turning_effort, '.3f', 'N')}, "
+            ("best J on the front", f"point {front.points.index(best)}: F_turn {fmt(best.turning_effort, '.3f', 'N')}, "
                                  f"P {fmt(best.threshold_force, '.2f', 'N')}, J = "
                                  f"{fmt(float(w @ [best.turning_effort, best.threshold_force]), '.3f', 'N')}; "
                                  f"{best.design.describe()}",
-             f"front point minimising J = {w[0]:g} F_turn + {w[1]:g} P"),
+             f"front point minimising J = {w[0]:g} F_turn + {w[1]:g} P (the exact optimum is in the solver "
+             f"section)"),
         ]
     indicators = [{"name": n, "value": v, "note": note} for n, v, note in indicators]
     solution = None
