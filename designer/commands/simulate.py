@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import sys
 
 from designer.commands._common import eprint, print_json, quantity_option
 from designer.errors import InputError
@@ -88,7 +89,7 @@ def run(args) -> int:
 
     if args.report is not None:
         result = write_simulation_report(
-            args.report, progress=None if args.json else lambda i, n: eprint(f"\rcase {i}/{n}", end=""))
+            args.report, progress=None if args.json else lambda i, n: print(f"\rcase {i}/{n}", end="", file=sys.stderr, flush=True))
         if not args.json:
             eprint("")
         summary = result["summary"]
