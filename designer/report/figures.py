@@ -161,7 +161,7 @@ def figure_front(data) -> Figure:
             hi = max(f[:, 0].max(), *(data.tighter.objectives()[:, 0] if data.tighter is not None
                                       and len(data.tighter.points) else [f[:, 0].max()]))
             pad = 0.12 * (hi - lo if hi > lo else 1.0)
-            ax.set_ylim(lo - 2 * pad, hi + 2.2 * pad)
+            ax.set_ylim(lo - 3 * pad, hi + 2.2 * pad)
     else:
         ax.text(0.5, 0.5, "no valid point on the front", transform=ax.transAxes, ha="center")
     ax.legend(fontsize=7.5, loc="upper right", framealpha=0.9)

@@ -425,7 +425,7 @@ def _summary(data: ReportData) -> list[str]:
     if front.points:
         f = front.objectives()
         d = front.designs()[:, 1]
-        out.append(f"{len(front)} valid points (of {front.meta.get('points_requested', len(front))} requested, "
+        out.append(f"{len(front)} valid point{'s' if len(front) != 1 else ''} (of {front.meta.get('points_requested', len(front))} requested, "
                    f"{len(front.failed)} failed): turning effort {f[:, 0].min():.2f}–{f[:, 0].max():.2f} N, threshold "
                    f"force {f[:, 1].min():.1f}–{f[:, 1].max():.1f} N, wheel diameter {d.min() / INCH:.2f}–"
                    f"{d.max() / INCH:.2f} in, all stable to V_req = {problem.required_speed:.2f} m/s.")
