@@ -130,3 +130,24 @@ def test_failed_write_leaves_nothing(invacare, tmp_path, monkeypatch):
         write_report(problem, front, old)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["old"]
     assert (old / "index.html").read_text() == "previous report"
+
+
+def test_cli_exit_1_when_a_front_check_fails(tmp_path, monkeypatch, capsys):
+    """A failing check 8 gives exit 1, after the report is written (DESIGN §4.2)."""
+    import designer.checks as checks
+
+    real = checks.front_checks
+
+    def failing(front, tighter=None, **kw):
+        out = real(front, tighter, **kw)
+        out[0].passed = False
+        return out
+
+    monkeypatch.setattr(checks, "front_checks", failing)
+    out = tmp_path / "inv"
+    code = main(["pareto", str(ROOT / "problems" / "paper-invacare.toml"), "--out", str(out)])
+    assert code == 1
+    assert (out / "index.html").is_file()
+    assert "check failed on the front" in capsys.readouterr().err
+    verdicts = {c["name"]: c["passed"] for c in json.loads((out / "checks.json").read_text())}
+    assert verdicts["8a trade-off"] is False
