@@ -16,7 +16,7 @@ KINDS = {
 
 def register(sub) -> None:
     p = sub.add_parser("calibrate", help="fit turning, damping or slip constants to test data (CSV)",
-                       description="Fit a model constant to your own measurements, print it with its 95 %% "
+                       description="Fit a model constant to your own measurements, print it with its 95 % "
                                    "confidence interval, plot residuals (--plot) and write a TOML snippet for a "
                                    "problem file (--snippet). 'designer calibrate examples DIR' writes example CSVs.")
     kinds = p.add_subparsers(dest="kind", metavar="KIND", parser_class=type(p))
