@@ -1,0 +1,1 @@
+"""Benchmarks of caster-designer (not part of the test suite): ``python -m benchmarks.run [--quick]``."""
