@@ -183,6 +183,17 @@ def optimise(problem: Problem, weights=None, cross_check: bool = True, samples: 
     SolverError
         IPOPT failed from every start although the problem is feasible.
     """
+    import warnings
+
+    for message in problem.model_warnings():  # once, instead of once per evaluated design
+        warnings.warn(message, UserWarning, stacklevel=2)
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="inertia power law used at")
+        warnings.filterwarnings("ignore", message="Solution may be inaccurate")  # GP cross-check, polished below
+        return _optimise(problem, weights, cross_check, samples)
+
+
+def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Solution:
     w = tuple(float(v) for v in (problem.weights if weights is None else weights))
     if len(w) != 2 or any(not np.isfinite(v) or v < 0 for v in w) or sum(w) <= 0:
         from designer.errors import InputError

@@ -20,6 +20,7 @@ import dataclasses
 import json
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -505,6 +506,14 @@ def pareto_front(problem: Problem, points: int | None = None, progress=None) -> 
         from designer.errors import InputError
 
         raise InputError(f"points = {n}: a front needs at least 2 points")
+    for message in problem.model_warnings():  # once, instead of once per evaluated design
+        warnings.warn(message, UserWarning, stacklevel=2)
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="inertia power law used at")
+        return _pareto_front(problem, n, progress)
+
+
+def _pareto_front(problem: Problem, n: int, progress) -> Front:
     t0 = time.perf_counter()
     all_points: list[FrontPoint] = []
     failed: list[FrontPoint] = []

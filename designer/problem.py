@@ -171,6 +171,20 @@ class Problem:
             )
         return out
 
+    def model_warnings(self) -> list[str]:
+        """Where the problem leaves the data its model rests on (said once, not per evaluation)."""
+        out = []
+        model = self.conditions.inertia
+        data = model.data_range()
+        if data is not None and not self.wheels:
+            b = self.bounds["diameter"]
+            if b.low < data[0] * 0.999 or b.high > data[1] * 1.001:
+                out.append(
+                    f"{self.name}: the Table 1 inertia fit ({data[0] / INCH:.0f}–{data[1] / INCH:.0f} in) is "
+                    f"extrapolated for diameters in {b.low / INCH:.3g}–{b.high / INCH:.3g} in"
+                )
+        return out
+
     def digest(self) -> str:
         """SHA-256 of the problem's canonical content (for report metadata)."""
         return hashlib.sha256(json.dumps(self.to_dict(), sort_keys=True, default=str).encode()).hexdigest()[:16]
