@@ -67,6 +67,7 @@ from pathlib import Path
 
 import numpy as np
 
+from designer.jsonsafe import finite
 from designer.errors import InputError, StorageError
 from designer.indicators import hypervolume_2d, igd_plus, nondominated, normalise
 from designer.model import VARIABLES, Design
@@ -533,20 +534,8 @@ class ExploreResult:
                 lines.append(",".join(cells))
         csv_path, json_path = out / "explore.csv", out / "explore.json"
         _atomic_write_many({csv_path: "\n".join(lines) + "\n",
-                            json_path: json.dumps(_finite(self.to_dict()), indent=2) + "\n"})
+                            json_path: json.dumps(finite(self.to_dict()), indent=2) + "\n"})
         return csv_path, json_path
-
-
-def _finite(value):
-    if isinstance(value, float):
-        return value if math.isfinite(value) else None
-    if isinstance(value, dict):
-        return {k: _finite(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_finite(v) for v in value]
-    if isinstance(value, np.generic):
-        return _finite(value.item())
-    return value
 
 
 def _atomic_write_many(files: dict) -> None:

@@ -5,6 +5,7 @@ import json
 import math
 import sys
 
+from designer.jsonsafe import finite
 from designer.errors import InputError
 from designer.units import parse_quantity
 
@@ -38,22 +39,7 @@ def choice_option(value: str, allowed: tuple[str, ...], option: str) -> str:
 
 def print_json(data) -> None:
     """Print ``data`` as JSON; NaN and infinities become null."""
-    print(json.dumps(_clean(data), indent=2, sort_keys=False))
-
-
-def _clean(value):
-    if isinstance(value, float):
-        return value if math.isfinite(value) else None
-    if isinstance(value, dict):
-        return {k: _clean(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_clean(v) for v in value]
-    if hasattr(value, "item") and not isinstance(value, (str, bytes)):
-        try:
-            return _clean(value.item())
-        except (ValueError, AttributeError):
-            pass
-    return value
+    print(json.dumps(finite(data), indent=2, sort_keys=False))
 
 
 def eprint(*args) -> None:

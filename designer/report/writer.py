@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from designer.jsonsafe import finite
 from designer.data.paper import INCH
 from designer.errors import DesignerError, InputError
 from designer.report import figures as _figures
@@ -81,26 +82,6 @@ def fmt(value, spec: str = ".4g", unit: str = "") -> str:
 def length(value: float, digits: int = 2) -> tuple[str, str]:
     """(millimetres, inches) strings of a length in metres."""
     return fmt(value * 1000, f".{digits}f", "mm"), fmt(value / INCH, ".3f", "in")
-
-
-def _finite(value):
-    """JSON-safe copy: non-finite floats become None, numpy scalars plain Python."""
-    if isinstance(value, dict):
-        return {str(k): _finite(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_finite(v) for v in value]
-    if isinstance(value, (np.floating, float)):
-        return float(value) if math.isfinite(float(value)) else None
-    if isinstance(value, np.integer):
-        return int(value)
-    if isinstance(value, np.bool_):
-        return bool(value)
-    if isinstance(value, np.ndarray):
-        return _finite(value.tolist())
-    return value
-
-
-# --------------------------------------------------------------------------- data
 
 
 @dataclass
@@ -473,7 +454,7 @@ def _front_json(data: ReportData) -> dict:
         out["tighter_target"] = {"target_speed": data.tighter.problem.target_speed,
                                  "points": data.tighter.rows()}
     out["degenerate_reason"] = data.degenerate_reason or None
-    return _finite(out)
+    return finite(out)
 
 
 def _write_all(folder: Path, data: ReportData, t0: float) -> None:
@@ -488,7 +469,7 @@ def _write_all(folder: Path, data: ReportData, t0: float) -> None:
             (folder / item["file"]).write_bytes(png)
             item["data_uri"] = "data:image/png;base64," + base64.b64encode(png).decode("ascii")
     data.front.to_csv(folder / "front.csv")
-    checks = [_finite(c.to_dict()) for c in data.paper_checks + data.front_checks]
+    checks = [finite(c.to_dict()) for c in data.paper_checks + data.front_checks]
     (folder / "checks.json").write_text(json.dumps(checks, indent=2, ensure_ascii=False, allow_nan=False) + "\n",
                                         encoding="utf-8")
     data.run["report_seconds"] = time.perf_counter() - t0

@@ -1,0 +1,27 @@
+"""JSON-safe data: the one place that turns results into plain, finite JSON values."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+
+def finite(value):
+    """JSON-safe copy: non-finite floats become None, NumPy scalars and arrays plain Python.
+
+    Reports, ``--json`` output and exploration files all pass through this, so
+    no NaN or infinity ever reaches a file or a terminal as a number.
+    """
+    if isinstance(value, dict):
+        return {str(k): finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return finite(value.tolist())
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, (np.floating, float)):
+        return float(value) if math.isfinite(float(value)) else None
+    return value
