@@ -194,11 +194,10 @@ def optimise(problem: Problem, weights=None, cross_check: bool = True, samples: 
 
 
 def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Solution:
-    w = tuple(float(v) for v in (problem.weights if weights is None else weights))
-    if len(w) != 2 or any(not np.isfinite(v) or v < 0 for v in w) or sum(w) <= 0:
-        from designer.errors import InputError
+    from designer.errors import InputError
+    from designer.problem import check_weights
 
-        raise InputError(f"weights = {list(w)}: must be two finite, non-negative numbers, not both zero")
+    w = check_weights(problem.weights if weights is None else weights, "weights", error=InputError)
     build = solve = 0.0
     candidates = []
     gp_results = {}
