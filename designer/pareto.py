@@ -304,6 +304,7 @@ def _ends(nlp: CasterNLP, problem: Problem, sample=None):
     good_f = [r for r in results[: len(starts_f)] if r.success]
     good_p = [r for r in results[len(starts_f):] if r.success]
     if not good_f or not good_p:
+        nlp.end_statuses = sorted({r.status for r in results if not r.success})  # for the error message
         return None, None
     best_f = min(good_f, key=lambda r: nlp.objectives(r.design)[0])
     best_p = min(good_p, key=lambda r: nlp.objectives(r.design)[1])
@@ -520,6 +521,7 @@ def _pareto_front(problem: Problem, n: int, progress) -> Front:
     build = 0.0
     solves = 0
     variants = problem.variants()
+    end_statuses: set = set()
     single_d = all(v.bounds["diameter"].fixed for v in variants)
     for k, variant in enumerate(variants):
         nlp = _nlp(variant)
@@ -528,6 +530,7 @@ def _pareto_front(problem: Problem, n: int, progress) -> Front:
         end_a, end_b = _ends(nlp, variant, sample)
         solves += 16
         if end_a is None:
+            end_statuses.update(getattr(nlp, "end_statuses", ()))
             build += nlp.build_seconds
             continue  # infeasible variant (e.g. a catalog wheel that cannot reach the target)
         if single_d:
@@ -558,6 +561,16 @@ def _pareto_front(problem: Problem, n: int, progress) -> Front:
         all_points += [p for p in pts if p.success]
         failed += [p for p in pts if not p.success]
         build += nlp.build_seconds
+    if not all_points and not failed:
+        # no end of any front was found: an unreachable target gives an empty front (the report explains it),
+        # but IPOPT failing on a feasible problem must not pass for one
+        from designer.errors import SolverError
+        from designer.optimise import _diagnose
+
+        error = _diagnose(problem)
+        if isinstance(error, SolverError):
+            raise SolverError(f"Pareto front of {problem.name!r}: IPOPT found neither end of the front from any "
+                              f"start (IPOPT status: {', '.join(sorted(end_statuses)) or 'unknown'}); {error}")
     valid = _clean(all_points)
     meta = {
         "points_requested": n,
