@@ -126,6 +126,7 @@ def test_failed_write_leaves_nothing(invacare, tmp_path, monkeypatch):
     old = tmp_path / "old"
     old.mkdir()
     (old / "index.html").write_text("previous report")
+    (old / "front.json").write_text('{"problem": "old", "points": []}')  # a previous report of this tool
     with pytest.raises(RuntimeError):
         write_report(problem, front, old)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["old"]

@@ -31,6 +31,8 @@ def register(sub) -> None:
     p.add_argument("--all", action="store_true", help="regenerate the reports of every problem in problems/ "
                                                       "(or the folder given as PROBLEM)")
     p.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
+    p.add_argument("--force", action="store_true", help="replace the --out folder even if it is not a report of "
+                                                        "this tool")
     p.set_defaults(func=run)
 
 
@@ -46,7 +48,7 @@ def _progress():
     return progress
 
 
-def compute_and_write(problem, points=None, out=None, progress=None) -> dict:
+def compute_and_write(problem, points=None, out=None, progress=None, force=False) -> dict:
     """Front, optimum, tighter front, checks and report of ``problem``; returns a summary dict.
 
     Parameters
@@ -54,6 +56,7 @@ def compute_and_write(problem, points=None, out=None, progress=None) -> dict:
     problem : designer.problem.Problem
     points : number of front points (default the problem's)
     out : report folder (default ``results/<problem.name>``)
+    force : replace ``out`` even if it is not a report of this tool
     progress : optional rich Progress to show the sweeps on
 
     Returns
@@ -74,7 +77,7 @@ def compute_and_write(problem, points=None, out=None, progress=None) -> dict:
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.filterwarnings("always", message="inertia power law used at")
-        summary = _compute(problem, points, out, tracker)
+        summary = _compute(problem, points, out, tracker, force)
     extrapolated = [w for w in caught if "inertia power law used at" in str(w.message)]
     for w in caught:
         if w not in extrapolated:
@@ -87,7 +90,7 @@ def compute_and_write(problem, points=None, out=None, progress=None) -> dict:
     return summary
 
 
-def _compute(problem, points, out, tracker) -> dict:
+def _compute(problem, points, out, tracker, force=False) -> dict:
     from designer.checks import front_checks, paper_checks
     from designer.errors import DesignerError
     from designer.optimise import optimise
@@ -109,7 +112,7 @@ def _compute(problem, points, out, tracker) -> dict:
     folder = write_report(problem, front, out, solution=solution, checks=checks, tighter=tighter,
                           run_meta={"command": "designer pareto", "points_option": points,
                                     "tighter_points": n_tight if tighter is not None else None,
-                                    "tighter_error": tighter_error, "wall_seconds": None})
+                                    "tighter_error": tighter_error, "wall_seconds": None}, force=force)
     wall = time.perf_counter() - t0
     failing = [c.name for c in checks if not c.passed]
     failing_front = [c.name for c in checks if not c.passed and c.name.startswith("8")]
@@ -161,13 +164,17 @@ def run(args) -> int:
             raise InputError("designer pareto: give a PROBLEM file, or --all")
         problem = load_problem(args.problem)
         jobs = [(problem, Path(args.out) if args.out else None)]
+    from designer.report.writer import check_target
+
+    for problem, out in jobs:  # refuse a foreign --out folder before the work, not after
+        check_target(out if out is not None else Path("results") / problem.name, args.force)
     summaries = []
     progress = _progress()
     if progress is not None:
         progress.start()
     try:
         for problem, out in jobs:
-            summaries.append(compute_and_write(problem, args.points, out, progress))
+            summaries.append(compute_and_write(problem, args.points, out, progress, args.force))
             if not args.json:
                 _print_summary(summaries[-1])
     finally:

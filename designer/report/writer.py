@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import base64
 import datetime as _dt
+import errno
 import json
 import math
 import os
@@ -483,26 +484,77 @@ def _write_all(folder: Path, data: ReportData, t0: float) -> None:
     (folder / "report.md").write_text(_render("report.md.j2", context, autoescape=False), encoding="utf-8")
 
 
-def _replace(tmp: Path, target: Path) -> None:
-    """Move the finished ``tmp`` folder to ``target`` by renames; an old ``target`` is removed only afterwards."""
-    old = None
-    if target.exists():
-        if not target.is_dir():
-            raise InputError(f"report folder {target}: exists and is not a folder")
-        old = target.with_name(f".{target.name}.old-{uuid.uuid4().hex[:8]}")
-        target.rename(old)
+REPORT_MARKERS = ("index.html", "front.json")
+"""Files that make a folder a report of this tool (every report has them)."""
+
+
+def is_report(folder: Path) -> bool:
+    """True if ``folder`` is empty or a report written by this tool (index.html and a front.json of a front)."""
+    folder = Path(folder)
+    if not folder.is_dir():
+        return False
+    if not any(folder.iterdir()):
+        return True
+    if not all((folder / name).is_file() for name in REPORT_MARKERS):
+        return False
     try:
-        tmp.rename(target)
+        data = json.loads((folder / "front.json").read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError):
+        return False
+    return isinstance(data, dict) and "problem" in data and "points" in data
+
+
+def check_target(target: Path, force: bool = False) -> None:
+    """Refuse (InputError, exit 2) to replace ``target`` unless it is absent, a previous report, or ``force``."""
+    target = Path(target)
+    if target.is_symlink() or (target.exists() and not target.is_dir()):
+        raise InputError(f"report folder {target}: exists and is not a folder")
+    if target.exists() and not force and not is_report(target):
+        raise InputError(f"report folder {target}: exists and is not a report of this tool (no index.html and "
+                         f"front.json); choose another --out or pass --force to replace it")
+
+
+def _replace(tmp: Path, target: Path) -> None:
+    """Move the finished ``tmp`` folder to ``target`` by renames; an old ``target`` is removed only afterwards.
+
+    Another process writing the same report at once may rename its own folder into place between
+    our renames; then ours is retried, so the target ends as one complete report (the last one in),
+    never a mixture, and no moved-aside folder is left behind.
+    """
+    olds = []
+    try:
+        for _ in range(50):
+            if target.is_symlink() or (target.exists() and not target.is_dir()):
+                raise InputError(f"report folder {target}: exists and is not a folder")
+            if target.exists():
+                old = target.with_name(f".{target.name}.old-{uuid.uuid4().hex[:8]}")
+                try:
+                    target.rename(old)
+                except FileNotFoundError:  # another writer moved it aside first
+                    continue
+                olds.append(old)
+            try:
+                tmp.rename(target)
+                return
+            except OSError as exc:
+                if exc.errno not in (errno.ENOTEMPTY, errno.EEXIST):
+                    raise
+                # another writer's report landed in between: move it aside and retry
+        raise DesignerError(f"report folder {target}: other processes keep replacing it; try again")
     except BaseException:
-        if old is not None:
-            old.rename(target)
+        if olds and not target.exists():
+            try:
+                olds.pop().rename(target)
+            except OSError:
+                pass
         raise
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
+    finally:
+        for old in olds:
+            shutil.rmtree(old, ignore_errors=True)
 
 
 def write_report(problem, front, out_dir=None, solution=None, checks=None, tighter=None, *, tradeoff=None,
-                 run_meta: dict | None = None) -> Path:
+                 run_meta: dict | None = None, force: bool = False) -> Path:
     """Write the Pareto report of ``problem`` into ``out_dir`` (default ``results/<problem name>/``).
 
     Writes ``index.html`` (one self-contained file: figures as base64 PNG,
@@ -530,6 +582,9 @@ def write_report(problem, front, out_dir=None, solution=None, checks=None, tight
         Precomputed :func:`designer.report.tradeoff.groove_damper_tradeoff` rows.
     run_meta : dict, optional
         Extra run metadata (e.g. the command's wall time, solver settings) merged into ``front.json``.
+    force : bool
+        Replace ``out_dir`` even if it is a folder that is not a report of this tool
+        (by default such a folder is refused with :class:`~designer.errors.InputError`).
 
     Returns
     -------
@@ -541,6 +596,7 @@ def write_report(problem, front, out_dir=None, solution=None, checks=None, tight
 
     t0 = time.perf_counter()
     target = Path(out_dir) if out_dir is not None else Path("results") / problem.name
+    check_target(target, force)
     data = ReportData(problem=problem, front=front, tighter=tighter)
     if solution is None and front.points:
         from designer.optimise import optimise
