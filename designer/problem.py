@@ -14,6 +14,7 @@ import json
 import math
 import re
 import tomllib
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -44,6 +45,75 @@ MODEL_RANGE = {
 """Physically sensible ranges [SI] (exclusive low for trail, diameter): beyond
 them the paper's model does not apply, and a value there usually means inches
 were written as metres."""
+
+PHYSICAL_RANGE = {
+    "conditions.load": (1.0, 1e5, "N", "a caster load of 0.1 kg to 10 t; was it given in another unit?"),
+    "conditions.threshold_height": (1e-4, 0.3, "m", "a sill of 0.1 mm to 30 cm; were inches written as metres?"),
+    "shimmy.target_speed": (0.01, 100.0, "m/s", "plain numbers are m/s; was it given in km/h or mph?"),
+    "shimmy.slip_coefficient": (1.0, 1e6, "N", "the paper's tyres have 1250 N"),
+    "turning.tile_moment_per_load": (1e-6, 0.1, "m", "the paper's tile gives 0.005 m"),
+    "turning.carpet_factor": (1e-3, 100.0, "", "the paper's carpet is about 2"),
+    "turning.chair_factor": (1e-3, 100.0, "", "the paper's chair mode is 0.5"),
+    "turning.pivot_factor": (1e-3, 100.0, "", "the paper's pivot mode is 1"),
+    "turning.groove_coefficient": (0.0, 1e4, "1/m", "the paper's grooved tyre gives about 7 1/m"),
+    "constraints.swept_radius_max": (1e-3, 10.0, "m", "footrest clearances are a few inches"),
+}
+"""Ranges [SI] (inclusive) of the fixed quantities: outside them the model's numbers overflow or
+mean nothing, and a value there is almost always a unit mistake.  (low, high, unit, hint)."""
+
+INERTIA_RANGE = (1e-9, 10.0)
+"""Wheel moments of inertia [kg·m²] the model accepts at the diameter bounds (Table 1: 0.26e-3 to 4.6e-3)."""
+
+WEIGHT_RANGE = (1e-6, 1e6)
+"""The larger objective weight must lie in this range (weights are relative: scale them near 1)."""
+
+MAX_SAMPLES = 10_000_000
+"""Largest Monte Carlo sample of [robust] (memory grows with it)."""
+
+
+def check_range(key: str, value: float, prefix: str = "") -> None:
+    """Raise :class:`ProblemError` if ``value`` [SI] is outside :data:`PHYSICAL_RANGE` of ``key``.
+
+    Parameters
+    ----------
+    key : "section.key" of :data:`PHYSICAL_RANGE`
+    value : the value in SI units
+    prefix : text put before the message (the file name)
+    """
+    low, high, unit, hint = PHYSICAL_RANGE[key]
+    if not math.isfinite(value) or not low <= value <= high:
+        raise ProblemError(f"{prefix}{key} = {value:g} {unit}".rstrip() +
+                           f": outside the model's range {low:g} to {high:g} {unit}".rstrip() + f" ({hint})")
+
+
+def check_weights(weights, key: str = "objective", error=ProblemError) -> tuple[float, float]:
+    """Validate objective weights (w_turn, w_threshold); returns them as floats.
+
+    Raises ``error`` (default :class:`ProblemError`) unless there are two finite,
+    non-negative numbers whose larger lies in :data:`WEIGHT_RANGE`.
+    """
+    try:
+        w = tuple(float(v) for v in weights)
+    except (TypeError, ValueError, OverflowError):
+        raise error(f"{key} = {weights!r}: expected two numbers (w_turn, w_threshold)") from None
+    if len(w) != 2 or any((not math.isfinite(x)) or x < 0 for x in w) or sum(w) <= 0:
+        raise error(f"{key} = {list(weights)}: weights must be finite, non-negative and not all zero")
+    if not WEIGHT_RANGE[0] <= max(w) <= WEIGHT_RANGE[1]:
+        raise error(f"{key} = {list(w)}: the larger weight must be between {WEIGHT_RANGE[0]:g} and "
+                    f"{WEIGHT_RANGE[1]:g}; weights are relative, scale them to about 1")
+    return w
+
+
+def check_design(design, prefix: str = "", error=ProblemError) -> None:
+    """Raise ``error`` if a design's T, d, B or c_f [SI] is outside :data:`MODEL_RANGE`."""
+    for name in VARIABLES:
+        value = getattr(design, name)
+        lo, hi = MODEL_RANGE[name]
+        if not math.isfinite(value) or value < lo or (value == 0 and name in ("trail", "diameter")) or value > hi:
+            raise error(f"{prefix}{name} = {value:g} {VARIABLE_UNITS[name]}: outside the model's range "
+                        f"({'above' if name in ('trail', 'diameter') else 'from'} {lo:g} to {hi:g}); "
+                        f"were inches written as metres? write e.g. '2 in'")
+
 
 # Allowed keys per section: key -> dimension (or a type tag).
 SCHEMA: dict[str, dict[str, str]] = {
@@ -237,6 +307,16 @@ def _validate(problem: Problem, prefix: str = "") -> None:
         fail(f"conditions.load = {c.load:g} N: must be positive")
     if c.threshold_height <= 0:
         fail(f"conditions.threshold_height = {c.threshold_height:g} m: must be positive")
+    for key, value in (("conditions.load", c.load), ("conditions.threshold_height", c.threshold_height),
+                       ("shimmy.target_speed", problem.target_speed),
+                       ("shimmy.slip_coefficient", c.slip_coefficient),
+                       ("turning.tile_moment_per_load", c.turning.tile_moment_per_load),
+                       ("turning.carpet_factor", c.turning.carpet_factor),
+                       ("turning.chair_factor", c.turning.mode_factors["chair"]),
+                       ("turning.pivot_factor", c.turning.mode_factors["pivot"]),
+                       ("turning.groove_coefficient", c.turning.groove_coefficient)):
+        if value > 0 or key == "turning.groove_coefficient":
+            check_range(key, value, prefix)
     if not 0 < c.disturbance_angle < math.pi / 2:
         fail(f"shimmy.disturbance_angle = {c.disturbance_angle:g} rad: must be between 0 and 90 deg")
     if c.slip_coefficient <= 0:
@@ -286,6 +366,7 @@ def _validate(problem: Problem, prefix: str = "") -> None:
         r = problem.swept_radius_max
         if not r > 0:
             fail(f"constraints.swept_radius_max = {r:g} m: must be positive")
+        check_range("constraints.swept_radius_max", r, prefix)
         smallest = problem.bounds["trail"].low + problem.bounds["diameter"].low / 2
         if problem.wheels:
             smallest = problem.bounds["trail"].low + min(Catalog.from_key(k).fixed_diameter for k in problem.wheels) / 2
@@ -294,9 +375,19 @@ def _validate(problem: Problem, prefix: str = "") -> None:
                 f"constraints.swept_radius_max = {r / INCH:.3g} in: smaller than the smallest possible "
                 f"T + d/2 = {smallest / INCH:.3g} in; raise it or lower the trail/diameter minimum"
             )
-    w = problem.weights
-    if len(w) != 2 or any((not math.isfinite(x)) or x < 0 for x in w) or sum(w) <= 0:
-        fail(f"objective = {list(w)}: weights must be finite, non-negative and not all zero")
+    check_weights(problem.weights, prefix + "objective")
+    if not problem.wheels:
+        for label, d in (("min", problem.bounds["diameter"].low), ("max", problem.bounds["diameter"].high)):
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")  # extrapolation is reported where the model is used
+                    inertia = float(c.inertia(d))
+            except (OverflowError, ZeroDivisionError, ValueError):
+                inertia = math.nan
+            if not (math.isfinite(inertia) and INERTIA_RANGE[0] <= inertia <= INERTIA_RANGE[1]):
+                fail(f"inertia: I_w = {inertia:g} kg·m² at variables.diameter.{label} = {d:g} m "
+                     f"({c.inertia.describe()}): outside {INERTIA_RANGE[0]:g} to {INERTIA_RANGE[1]:g} kg·m²; "
+                     f"check the inertia model's constants and the diameter bounds")
     if not isinstance(problem.pareto_points, int) or not 3 <= problem.pareto_points <= 2001:
         fail(f"pareto.points = {problem.pareto_points!r}: must be an integer from 3 to 2001")
 
@@ -335,6 +426,8 @@ def problem_from_toml(text: str, source: str | None = None, default_name: str = 
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ProblemError(f"{prefix}TOML syntax error: {exc}") from None
+    except ValueError as exc:  # e.g. an integer literal of more than 4300 digits
+        raise ProblemError(f"{prefix}cannot read the file: {exc}") from None
     return problem_from_dict(data, source=source, default_name=default_name)
 
 
@@ -376,6 +469,8 @@ def problem_from_dict(data: dict, source: str | None = None, default_name: str =
         value = table.get(key, default)
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             fail(f"{sec}.{key} = {value!r}: expected a number")
+        if isinstance(value, int) and abs(value) > 1e300:
+            fail(f"{sec}.{key}: an integer of about {int(value.bit_length() * 0.30103)} digits is too large")
         if not math.isfinite(value):
             fail(f"{sec}.{key} = {value!r}: must be finite")
         return float(value)
@@ -518,7 +613,8 @@ def _uncertainty(table: dict, fail):
     values = {}
     for key in ("probability", "model_error", "damping", "slip_coefficient", "inertia"):
         value = table.get(key, getattr(defaults, key))
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or abs(value) > 1e300 \
+                or not math.isfinite(value):
             fail(f"robust.{key} = {value!r}: expected a finite number")
         values[key] = float(value)
     if not 0 < values["probability"] < 0.5:
@@ -526,10 +622,10 @@ def _uncertainty(table: dict, fail):
     for key in ("model_error", "damping", "slip_coefficient", "inertia"):
         if not 0 <= values[key] <= 2:
             fail(f"robust.{key} = {values[key]:g}: the standard deviation of the log must be between 0 and 2")
-    for key, low in (("samples", 100), ("seed", 0)):
+    for key, low, high in (("samples", 100, MAX_SAMPLES), ("seed", 0, 2**32 - 1)):
         value = table.get(key, getattr(defaults, key))
-        if isinstance(value, bool) or not isinstance(value, int) or value < low:
-            fail(f"robust.{key} = {value!r}: expected an integer >= {low}")
+        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+            fail(f"robust.{key} = {value!r}: expected an integer from {low} to {high}")
         values[key] = value
     return Uncertainty(**values)
 

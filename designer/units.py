@@ -8,9 +8,19 @@ here, never in the model's hot paths.
 from __future__ import annotations
 
 import math
+import re
 from functools import lru_cache
 
 from designer.errors import InputError
+
+MAX_TEXT = 100
+"""Longest quantity string accepted (characters)."""
+
+_ALLOWED = re.compile(r"^[0-9A-Za-z_\s.+\-*/^()%°·µμ²³]*$")
+"""Characters of a number with units; anything else (brackets, commas, quotes) is rejected before pint sees it."""
+
+_EXPONENT = re.compile(r"(\*\*|\^)\s*([-+]?\s*)([0-9.]+(?:[eE][-+]?[0-9]+)?|\(|[A-Za-z_])")
+"""An exponent operator and what follows it: a short number is fine, a bracket or a name is not."""
 
 #: Dimension name -> (pint unit the value is converted to, SI unit shown to users).
 DIMENSIONS: dict[str, tuple[str, str]] = {
@@ -65,7 +75,11 @@ def parse_quantity(value, dimension: str, key: str = "value") -> float:
     if isinstance(value, bool):
         raise InputError(f"{key} = {value!r}: expected a number or a quantity with units, got a boolean")
     if isinstance(value, (int, float)):
-        number = float(value)
+        try:
+            number = float(value)
+        except OverflowError:
+            raise InputError(f"{key}: an integer of about {int(value.bit_length() * 0.30103)} digits is too large") \
+                from None
     elif isinstance(value, str):
         number = _parse_string(value, target, shown, dimension, key)
     else:
@@ -85,14 +99,20 @@ def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) 
     stripped = text.strip()
     if not stripped:
         raise InputError(f"{key} = {text!r}: empty string; give a number or e.g. {_example(dimension)!r}")
+    _check_text(stripped, text, key, dimension)
     try:
         quantity = ureg.Quantity(stripped)
     except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError) as exc:
         raise InputError(f"{key} = {text!r}: unknown unit ({exc})") from None
+    except OverflowError:
+        raise InputError(f"{key} = {text!r}: the number is too large") from None
     except Exception as exc:  # tokenizer errors, bad syntax
         raise InputError(f"{key} = {text!r}: cannot read it as a quantity ({type(exc).__name__})") from None
     if not isinstance(quantity, ureg.Quantity):
-        return float(quantity)
+        try:
+            return float(quantity)
+        except OverflowError:
+            raise InputError(f"{key} = {text!r}: the number is too large") from None
     try:
         magnitude = quantity.to(target).magnitude if target else quantity.to("dimensionless").magnitude
     except pint.errors.DimensionalityError:
@@ -100,10 +120,37 @@ def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) 
             f"{key} = {text!r}: wrong dimension, expected {dimension} ({shown}), "
             f"e.g. {_example(dimension)!r}"
         ) from None
+    except OverflowError:
+        raise InputError(f"{key} = {text!r}: the number is too large") from None
     try:
         return float(magnitude)
+    except OverflowError:
+        raise InputError(f"{key} = {text!r}: the number is too large") from None
     except (TypeError, ValueError):
         raise InputError(f"{key} = {text!r}: not a single number") from None
+
+
+def _check_text(stripped: str, text: str, key: str, dimension: str) -> None:
+    """Reject strings that are not "a number and a unit" before pint evaluates them.
+
+    pint evaluates arithmetic, so ``"10**10**10 N"`` would compute a
+    ten-billion-digit integer (it never returns) and ``"[1,2] N"`` reads as
+    12 N; both are user mistakes, not quantities.
+    """
+    hint = f"give a number and a unit, e.g. {_example(dimension)!r}"
+    if len(stripped) > MAX_TEXT:
+        raise InputError(f"{key} = {text[:20]!r}...: too long ({len(stripped)} characters); {hint}")
+    if not _ALLOWED.match(stripped):
+        bad = next(ch for ch in stripped if not _ALLOWED.match(ch))
+        raise InputError(f"{key} = {text!r}: unexpected character {bad!r}; {hint}")
+    if not any(ch.isdigit() for ch in stripped) and not stripped.lower().lstrip("+-").startswith(("nan", "inf")):
+        raise InputError(f"{key} = {text!r}: a unit without a number; {hint}")
+    for match in _EXPONENT.finditer(stripped):
+        operand = match.group(3)
+        rest = stripped[match.end():].lstrip()
+        if operand == "(" or operand[0].isalpha() or operand[0] == "_" or len(operand) > 3 \
+                or rest.startswith(("**", "^")):
+            raise InputError(f"{key} = {text!r}: exponents must be small plain numbers such as m**2; {hint}")
 
 
 def _example(dimension: str) -> str:

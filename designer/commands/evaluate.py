@@ -7,6 +7,7 @@ from designer.errors import InputError
 from designer.model import Conditions, Design, evaluate
 from designer.physics.inertia import Fixed, PowerLaw
 from designer.physics.turning import MODES, SURFACES
+from designer.problem import INERTIA_RANGE, PHYSICAL_RANGE, check_design
 
 
 def register(sub) -> None:
@@ -42,12 +43,15 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
                                       ("--groove", design.groove, True), ("--damping", design.damping, True)):
         if value < 0 or (value == 0 and not allow_zero):
             raise InputError(f"{option} {value:g}: must be {'non-negative' if allow_zero else 'positive'}")
+    check_design(design, "--", error=InputError)
     load = quantity_option(args.load, "force", "--load")
     height = quantity_option(args.threshold_height, "length", "--threshold-height")
     if load <= 0:
         raise InputError(f"--load {args.load}: must be positive")
     if height <= 0:
         raise InputError(f"--threshold-height {args.threshold_height}: must be positive")
+    _in_range("--load", "conditions.load", load)
+    _in_range("--threshold-height", "conditions.threshold_height", height)
     if design.diameter <= 2 * height:
         raise InputError(
             f"--diameter {args.diameter}: must exceed twice the threshold height ({2 * height / INCH:.3g} in); "
@@ -56,8 +60,9 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
     inertia_model = PowerLaw()
     if args.inertia is not None:
         value = quantity_option(args.inertia, "inertia", "--inertia")
-        if value <= 0:
-            raise InputError(f"--inertia {args.inertia}: must be positive")
+        if not INERTIA_RANGE[0] <= value <= INERTIA_RANGE[1]:
+            raise InputError(f"--inertia {args.inertia}: must be between {INERTIA_RANGE[0]:g} and "
+                             f"{INERTIA_RANGE[1]:g} kg·m² (Table 1: 0.00026 to 0.0046)")
         inertia_model = Fixed(value)
     angle = quantity_option(args.disturbance_angle, "angle", "--disturbance-angle")
     if not 0 < angle < 1.5708:
@@ -65,6 +70,7 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
     slip = quantity_option(args.slip_coefficient, "force", "--slip-coefficient")
     if slip <= 0:
         raise InputError(f"--slip-coefficient {args.slip_coefficient}: must be positive")
+    _in_range("--slip-coefficient", "shimmy.slip_coefficient", slip)
     conditions = Conditions(
         load=load, threshold_height=height,
         surface=choice_option(args.surface, SURFACES, "--surface"),
@@ -74,6 +80,8 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
     speed = quantity_option(args.target_speed, "speed", "--target-speed")
     if speed is not None and speed <= 0:
         raise InputError(f"--target-speed {args.target_speed}: must be positive")
+    if speed is not None:
+        _in_range("--target-speed", "shimmy.target_speed", speed)
     import warnings
 
     with warnings.catch_warnings(record=True) as caught:
@@ -81,6 +89,13 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
         values = evaluate(design, conditions, speed)
     values["warnings"] = [str(w.message) for w in caught]
     return design, conditions, values, speed
+
+
+def _in_range(option: str, key: str, value: float) -> None:
+    """InputError naming ``option`` if ``value`` is outside the problem file's range for ``key``."""
+    low, high, unit, hint = PHYSICAL_RANGE[key]
+    if not low <= value <= high:
+        raise InputError(f"{option} {value:g} {unit}: outside the model's range {low:g} to {high:g} {unit} ({hint})")
 
 
 def run(args) -> int:

@@ -31,7 +31,9 @@ def parse_weights(text: str | None):
         raise InputError(f"--weights {text!r}: expected two numbers 'w_turn,w_threshold', e.g. 1,1") from None
     if len(values) != 2 or any(v < 0 or v != v or v in (float("inf"),) for v in values) or sum(values) <= 0:
         raise InputError(f"--weights {text!r}: expected two finite non-negative numbers, not both zero")
-    return values
+    from designer.problem import check_weights
+
+    return check_weights(values, "--weights", error=InputError)
 
 
 def run(args) -> int:
