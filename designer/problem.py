@@ -56,6 +56,7 @@ PHYSICAL_RANGE = {
     "turning.chair_factor": (1e-3, 100.0, "", "the paper's chair mode is 0.5"),
     "turning.pivot_factor": (1e-3, 100.0, "", "the paper's pivot mode is 1"),
     "turning.groove_coefficient": (0.0, 1e4, "1/m", "the paper's grooved tyre gives about 7 1/m"),
+    "turning.bare_fork_damping": (1e-3, 100.0, "N·m/rad", "the paper's bare fork has 1.3 N·m/rad"),
     "constraints.swept_radius_max": (1e-3, 10.0, "m", "footrest clearances are a few inches"),
 }
 """Ranges [SI] (inclusive) of the fixed quantities: outside them the model's numbers overflow or
@@ -314,7 +315,8 @@ def _validate(problem: Problem, prefix: str = "") -> None:
                        ("turning.carpet_factor", c.turning.carpet_factor),
                        ("turning.chair_factor", c.turning.mode_factors["chair"]),
                        ("turning.pivot_factor", c.turning.mode_factors["pivot"]),
-                       ("turning.groove_coefficient", c.turning.groove_coefficient)):
+                       ("turning.groove_coefficient", c.turning.groove_coefficient),
+                       ("turning.bare_fork_damping", c.turning.bare_fork_damping)):
         if value > 0 or key == "turning.groove_coefficient":
             check_range(key, value, prefix)
     if not 0 < c.disturbance_angle < math.pi / 2:
@@ -642,7 +644,7 @@ def _inertia(table: dict, quantity, fail) -> tuple[InertiaModel, tuple[str, ...]
     }[model]
     extra = set(table) - allowed
     if extra:
-        fail(f"inertia.{sorted(extra)[0]}: not used by inertia model {model!r} (it takes {', '.join(sorted(allowed - {'model'})) or 'nothing else'})")
+        fail(f"inertia.{_show_key(sorted(extra)[0])}: not used by inertia model {model!r} (it takes {', '.join(sorted(allowed - {'model'})) or 'nothing else'})")
     if model == "table1-power-law":
         coefficient = quantity("inertia", "coefficient", "dimensionless", None)
         exponent = quantity("inertia", "exponent", "dimensionless", None)
@@ -694,7 +696,12 @@ def _check_keys(data: dict, prefix: str) -> None:
             raise ProblemError(prefix + f"[{key}] must be a table, got {value!r}")
         for sub in value:
             if sub not in SCHEMA[key]:
-                raise ProblemError(prefix + f"unknown key {key}.{sub}{_suggest(sub, list(SCHEMA[key]))}")
+                raise ProblemError(prefix + f"unknown key {key}.{_show_key(sub)}{_suggest(sub, list(SCHEMA[key]))}")
+
+
+def _show_key(key) -> str:
+    """A key as written in messages: plain if it is a simple word, else quoted (keeps the message one line)."""
+    return key if isinstance(key, str) and re.fullmatch(r"[A-Za-z0-9_.-]+", key) else repr(key)
 
 
 def _suggest(word: str, options: list[str]) -> str:

@@ -43,8 +43,8 @@ def real(low, high):
 # valid ranges of the design variables and fixed parameters (SI)
 trail = real(1e-3, MODEL_RANGE["trail"][1])
 diameter = real(0.02, MODEL_RANGE["diameter"][1])
-groove = real(0.0, MODEL_RANGE["groove"][1])
-damping = real(0.0, MODEL_RANGE["damping"][1])
+groove = st.one_of(st.just(0.0), real(1e-6, MODEL_RANGE["groove"][1]))  # below a micron is a plain tread
+damping = st.one_of(st.just(0.0), real(1e-3, MODEL_RANGE["damping"][1]))  # problems require >= 1e-3 (bare fork)
 inertia = real(1e-6, 1.0)
 slip = real(10.0, 1e5)
 load = real(1.0, 1e4)
@@ -141,7 +141,7 @@ def valid_problem(draw):
     d_lo = draw(real(2.2 * h, 0.25))
     d_hi = draw(real(d_lo, 0.3))
     t_lo = draw(real(0.01, 0.05))
-    t_hi = draw(real(t_lo, 0.08))
+    t_hi = draw(st.one_of(st.just(t_lo), real(t_lo * 1.01, 0.1)))  # fixed, or a range wider than rounding
     b_hi = draw(real(0.0, 0.03))
     c_hi = draw(real(1.3, 10.0))
     data = {
@@ -153,7 +153,8 @@ def valid_problem(draw):
                        "turning_mode": draw(st.sampled_from(["chair", "pivot"]))},
         "shimmy": {"target_speed": draw(st.sampled_from([draw(real(0.5, 6.0)), "2.5 m/s", "5 mph"])),
                    "margin": draw(real(0.0, 0.5))},
-        "variables": {"trail": {"min": draw(length_text(t_lo)), "max": draw(length_text(t_hi))},
+        "variables": {"trail": draw(length_text(t_lo)) if t_hi == t_lo else
+                      {"min": draw(length_text(t_lo)), "max": draw(length_text(t_hi))},
                       "diameter": {"min": d_lo, "max": d_hi},
                       "groove": draw(st.sampled_from([{"min": 0.0, "max": b_hi}, b_hi])),
                       "damping": {"min": 1.3, "max": c_hi}},

@@ -66,6 +66,8 @@ BASE = 'name = "t"\n[shimmy]\ntarget_speed = "2.5 m/s"\n'
     (BASE + "[turning]\ngroove_coefficient = 1e308\n", "turning.groove_coefficient"),
     (BASE + "[robust]\nsamples = 1000000000000\n", "robust.samples"),                # memory blow-up
     (BASE + "[constraints]\nswept_radius_max = 1e308\n", "constraints.swept_radius_max"),
+    (BASE + '[conditions]\n"lo\\nad" = 1\n', "unknown key conditions.'lo\\nad'"),   # a newline broke the line
+    (BASE + "[turning]\nbare_fork_damping = 1e-320\n", "turning.bare_fork_damping"),
 ])
 def test_bad_problem_files_are_one_line_problem_errors(text, fragment):
     """Wrong types, absurd sizes, empty ranges and unit tricks end as one-line ProblemErrors (exit 3)
@@ -233,7 +235,10 @@ def test_pareto_marks_failed_points(monkeypatch):
     monkeypatch.setattr(CasterNLP, "solve", solve)
     monkeypatch.setattr(CasterNLP, "solve_many", solve_many)
     pareto._NLP_CACHE.clear()
-    front = pareto.pareto_front(problem, points=9)
+    try:
+        front = pareto.pareto_front(problem, points=9)
+    finally:
+        pareto._NLP_CACHE.clear()
     assert front.failed, "points in the band must be reported as failed"
     assert all(not f.success and f.status == "Restoration_Failed" and in_band(f.epsilon) for f in front.failed)
     assert all(q.success and not in_band(q.epsilon) for q in front.points)
@@ -257,7 +262,8 @@ def test_pareto_total_solver_failure_is_an_error(monkeypatch):
         with pytest.raises(SolverError) as info:
             pareto.pareto_front(load_problem(INDOOR), points=5)
     finally:
-        pareto._NLP_CACHE.clear()
+        monkeypatch.undo()
+        pareto._NLP_CACHE.clear()  # the crippled NLPs must not serve later tests
     assert "Maximum_Iterations_Exceeded" in str(info.value) and "\n" not in str(info.value)
     # an unreachable target is still an empty front (the report explains it), not a solver error
     infeasible = pareto.pareto_front(load_problem(INDOOR).replace(target_speed=40.0), points=5)
