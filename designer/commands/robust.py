@@ -10,10 +10,10 @@ def register(sub) -> None:
     p = sub.add_parser("robust", help="compare the nominal and the robust (probabilistic shimmy) fronts",
                        description="For a problem with a [robust] section: the front with V_c >= target and the front "
                                    "with P(V_c < target) <= probability, the price of robustness, and a Monte Carlo "
-                                   "check of every robust point. Writes results/<name>/robust/ by default.")
+                                   "check of every robust point. Writes results/robust/<name>/ by default.")
     p.add_argument("problem", help="problem file with a [robust] section, e.g. problems/indoor-manual-robust.toml")
     p.add_argument("--points", type=int, default=21, help="points per front (default 21)")
-    p.add_argument("--out", default=None, help="output folder (default results/<name>/robust)")
+    p.add_argument("--out", default=None, help="output folder (default results/robust/<name>)")
     p.set_defaults(func=run)
 
 
@@ -24,7 +24,7 @@ def run(args) -> int:
     if args.points < 2 or args.points > 501:
         raise InputError(f"--points {args.points}: must be between 2 and 501")
     problem = load_problem(args.problem)
-    out = Path(args.out) if args.out else Path("results") / problem.name / "robust"
+    out = Path(args.out) if args.out else Path("results") / "robust" / problem.name
     result = write_robust_report(problem, out, args.points)
     extra = [r["extra_effort"] for r in result["rows"] if r["extra_effort"] == r["extra_effort"]]
     probs = [r["probability_mc"] for r in result["rows"]]
