@@ -613,6 +613,11 @@ def _sweep(nlp, problem, eps_values, end_a, end_b, sample, guide=None):
                     after += 1
                 a = g_res[before] if g_res[before].success else end_a
                 b = g_res[after] if g_res[after].success else end_b
+                if before == 0 and 0 < after < len(g_res) - 1 and b.success:
+                    # the end's multipliers belong to its lexicographic solve (another objective): a warm
+                    # start from them takes ~25 iterations and would hold up the whole first batch, so the
+                    # next ε-point (~3 iterations) is the first start and the end, if needed, the second
+                    a, b = b, a
                 src.append(a)
                 other.append(b if family(a) != family(b) else None)
             extra = [(i, r) for i, r in enumerate(other) if r is not None]
