@@ -272,16 +272,34 @@ def _family_starts(problem: Problem, design: Design) -> list[np.ndarray]:
     return [grooved, damped]
 
 
+_SAMPLE_CACHE: dict = {}
+
+
 def _sample(problem: Problem, n: int = 1024):
-    """A vectorised look at the box: Sobol designs, their F_turn, P and constraint violation (one model call)."""
-    x = sample_designs(problem, n, seed=0)
-    values = evaluate_many(problem, x)
-    return x, values["turning_effort"], values["threshold_force"], violation(problem, values)
+    """A vectorised look at the box: Sobol designs, their F_turn, P and constraint violation (one model call).
+
+    Also the starts of the two lexicographic ends (:func:`best_starts` on the same designs).  Kept per
+    problem data (bounds, conditions, V_req, R_max; the last 32) like the NLPs: it is the same every call.
+    The arrays are read-only.
+    """
+    key = repr((n, problem.bounds, problem.conditions, problem.required_speed, problem.swept_radius_max))
+    entry = _SAMPLE_CACHE.pop(key, None)
+    if entry is None:
+        x = sample_designs(problem, n, seed=0)
+        values = evaluate_many(problem, x)
+        entry = (x, values["turning_effort"], values["threshold_force"], violation(problem, values),
+                 best_starts(problem, (1.0, 0.0), samples=x), best_starts(problem, (0.0, 1.0), samples=x))
+        for a in (*entry[:4], *entry[4], *entry[5]):
+            a.setflags(write=False)
+    _SAMPLE_CACHE[key] = entry
+    while len(_SAMPLE_CACHE) > _NLP_CACHE_SIZE:
+        _SAMPLE_CACHE.pop(next(iter(_SAMPLE_CACHE)))
+    return entry
 
 
 def _sample_starts(sample, eps_values: np.ndarray) -> np.ndarray:
     """For each ε: the sample design of least F_turn with P <= ε among the feasible (else the least violating)."""
-    x, f, p, viol = sample
+    x, f, p, viol = sample[:4]
     eps = np.asarray(eps_values, float)[:, None]
     ok = (viol[None, :] <= 0) & (p[None, :] <= eps)
     score = np.where(ok, f[None, :], np.inf)
@@ -296,9 +314,10 @@ def _rank(nlp: CasterNLP, result) -> float:
 
 def _ends(nlp: CasterNLP, problem: Problem, sample=None):
     """Lexicographic ends: (min F, then min P) and (min P, then min F), each stage one batched solve."""
-    x = sample[0] if sample is not None else None
-    starts_f = best_starts(problem, (1.0, 0.0), samples=x)
-    starts_p = best_starts(problem, (0.0, 1.0), samples=x)
+    if sample is not None:
+        starts_f, starts_p = sample[4], sample[5]
+    else:
+        starts_f, starts_p = best_starts(problem, (1.0, 0.0)), best_starts(problem, (0.0, 1.0))
     weights = np.array([(1.0, 0.0)] * len(starts_f) + [(0.0, 1.0)] * len(starts_p))
     results = nlp.solve_many(starts_f + starts_p, weights)
     good_f = [r for r in results[: len(starts_f)] if r.success]
@@ -306,10 +325,12 @@ def _ends(nlp: CasterNLP, problem: Problem, sample=None):
     if not good_f or not good_p:
         nlp.end_statuses = sorted({r.status for r in results if not r.success})  # for the error message
         return None, None
-    best_f = min(good_f, key=lambda r: nlp.objectives(r.design)[0])
-    best_p = min(good_p, key=lambda r: nlp.objectives(r.design)[1])
-    f_min = nlp.objectives(best_f.design)[0]
-    p_min = nlp.objectives(best_p.design)[1]
+    obj_f = nlp.objectives_many([r.design for r in good_f])
+    obj_p = nlp.objectives_many([r.design for r in good_p])
+    best_f = good_f[int(np.argmin(obj_f[:, 0]))]  # the first of equal minima, as min() would
+    best_p = good_p[int(np.argmin(obj_p[:, 1]))]
+    f_min = float(obj_f[:, 0].min())
+    p_min = float(obj_p[:, 1].min())
     # second stage: the other objective, the first capped at its optimum
     starts = [best_f.design.as_array(), best_p.design.as_array()] + _family_starts(problem, best_p.design)
     weights = np.array([(0.0, 1.0)] + [(1.0, 0.0)] * 3)
@@ -318,7 +339,7 @@ def _ends(nlp: CasterNLP, problem: Problem, sample=None):
     second = nlp.solve_many(starts, weights, caps_p, caps_f)
     end_a = second[0] if second[0].success else best_f
     good_b = [r for r in second[1:] if r.success]
-    end_b = min(good_b, key=lambda r: nlp.objectives(r.design)[0]) if good_b else best_p
+    end_b = good_b[int(np.argmin(nlp.objectives_many([r.design for r in good_b])[:, 0]))] if good_b else best_p
     return end_a, end_b
 
 
@@ -539,8 +560,7 @@ def _pareto_front(problem: Problem, n: int, progress) -> Front:
             if progress:
                 progress(k + 1, len(variants))
             continue
-        p_a = nlp.objectives(end_a.design)[1]
-        p_b = nlp.objectives(end_b.design)[1]
+        p_a, p_b = (float(v) for v in nlp.objectives_many([end_a.design, end_b.design])[:, 1])
         # pass 1: uniform in ε; pass 2: uniform in arc length of pass 1
         eps = np.linspace(p_a, p_b, n)
         first, done = _sweep(nlp, variant, eps, end_a, end_b, sample)
@@ -549,7 +569,7 @@ def _pareto_front(problem: Problem, n: int, progress) -> Front:
             progress(n, 2 * n)
         good = [r for r, e in zip(first, eps) if r.success]
         if len(good) >= 3:
-            objs = np.array([nlp.objectives(r.design)[:2] for r in good])
+            objs = nlp.objectives_many([r.design for r in good])[:, :2]
             eps2 = _respace_objectives(objs, n)
             second, done = _sweep(nlp, variant, eps2, end_a, end_b, sample, guide=(eps, first))
             solves += done

@@ -359,6 +359,18 @@ class CasterNLP:
         phys = self.parameter_vector(overrides=overrides)[: self.n_phys]
         return tuple(float(v) for v in self._perf_function(design.as_array() / self.scale, phys))
 
+    def objectives_many(self, designs) -> np.ndarray:
+        """(N, 4) array of (F_turn, P, V_c, R_s) of N designs (SI array or Designs), one call of the same graph.
+
+        Row i equals :meth:`objectives` of design i (the same CasADi function, evaluated column by column).
+        """
+        x = np.array([d.as_array() if isinstance(d, Design) else np.asarray(d, float) for d in designs],
+                     float).reshape(-1, 4)
+        if not len(x):
+            return np.zeros((0, 4))
+        out = self._perf_function((x / self.scale).T, self.param_values)
+        return np.vstack([np.asarray(v).reshape(-1) for v in out]).T
+
     def weighted(self, design: Design, weights) -> float:
         """J = w_turn F_turn + w_threshold P [N]."""
         f, p, _, _ = self.objectives(design)
