@@ -463,11 +463,13 @@ def _points(nlp: CasterNLP, problem: Problem, results, eps, wheel=None) -> list:
     if ok:
         designs = np.array([results[i].design.as_array() for i in ok])
         values = evaluate_many(problem, designs)
+        columns = {key: np.asarray(v, float).ravel().tolist() if np.ndim(v) else [float(v)] * len(ok)
+                   for key, v in values.items()}
         for j, i in enumerate(ok):
             r = results[i]
-            row = {key: float(np.asarray(v).ravel()[j]) if np.ndim(v) else float(v) for key, v in values.items()}
+            row = {key: column[j] for key, column in columns.items()}
             margins, _ = constraint_margins(problem, r.design, row)
-            multipliers = {name: float(lam) for name, lam in zip(nlp.constraint_names, r.lam_g)}
+            multipliers = dict(zip(nlp.constraint_names, np.asarray(r.lam_g, float).tolist()))
             out[i] = FrontPoint(r.design, row["turning_effort"], row["threshold_force"], row["critical_speed"],
                                 margins, float(eps[i]), r.status, True, multipliers, family_of(problem, r.design),
                                 wheel)

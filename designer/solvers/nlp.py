@@ -257,13 +257,21 @@ class CasterNLP:
             zz = ca.SX.sym("Z", nz, size)
             pp = ca.SX.sym("P", npar, size)
             f, g = self._block.map(size)(zz, pp)
-            options = dict(self._options)
+            options = dict(self._options, calc_lam_p=False)  # dL/dp of the batch is never used
             if warm:
                 options.update(self.WARM_OPTIONS)
             solver = ca.nlpsol(f"caster_{size}", "ipopt",
                                {"x": ca.vec(zz), "p": ca.vec(pp), "f": ca.sum2(f), "g": ca.vec(g)}, options)
             self._batch[key] = (solver, self._perf_function.map(size))
             self.build_seconds += time.perf_counter() - t0
+        return self._batch[key]
+
+    def _batch_bounds(self, size: int) -> dict:
+        """lbx, ubx, lbg, ubg of a batch of ``size`` blocks (tiled once per size)."""
+        key = ("bounds", size)
+        if key not in self._batch:
+            self._batch[key] = dict(lbx=np.tile(self.lbz, size), ubx=np.tile(self.ubz, size),
+                                    lbg=np.tile(self.lbg, size), ubg=np.tile(self.ubg, size))
         return self._batch[key]
 
     def _chunk(self, left: int) -> int:
@@ -325,8 +333,7 @@ class CasterNLP:
             idx = np.arange(i, i + take)
             idx = np.concatenate([idx, np.full(size - take, i)])
             solver, perf = self._batch_solver(size, warm)
-            args = dict(x0=z0[idx].ravel(), p=params[idx].ravel(), lbx=np.tile(self.lbz, size),
-                        ubx=np.tile(self.ubz, size), lbg=np.tile(self.lbg, size), ubg=np.tile(self.ubg, size))
+            args = dict(x0=z0[idx].ravel(), p=params[idx].ravel(), **self._batch_bounds(size))
             if warm:
                 args["lam_g0"] = np.asarray(lam_g0, float)[idx].ravel()
                 args["lam_x0"] = np.asarray(lam_x0, float)[idx].ravel()
