@@ -144,6 +144,8 @@ class CasterNLP:
         self.solver = ca.nlpsol("caster", "ipopt", {"x": z, "p": p_all, "f": objective, "g": g}, options)
         # One block (objective, constraints) for batched solves of many independent NLPs (solve_many)
         self._block = ca.Function("block", [z, p_all], [objective, g])
+        # Gradient of the objective and Jacobian of the constraints (multipliers of a known optimum)
+        self._kkt = ca.Function("kkt", [z, p_all], [ca.gradient(objective, z), ca.jacobian(g, z), g])
         self._options = options
         self._batch: dict = {}
         # Sensitivity of the Lagrangian with respect to the physical parameters.
@@ -360,6 +362,37 @@ class CasterNLP:
                                      seconds / take, zs[j].copy()))
             i += take
         return out
+
+    def multipliers_many(self, designs, weights=(1.0, 0.0), threshold_caps=BIG, turning_caps=BIG,
+                         tol: float = 1e-9) -> tuple[np.ndarray, np.ndarray]:
+        """KKT multipliers (lam_g (K, m), lam_x (K, 4), CasADi convention) of K designs taken as optima.
+
+        The active set is read off the designs (bounds and constraints within ``tol``, scaled), and the
+        multipliers solve ∇J + J_gᵀ λ_g + λ_x = 0 on it in least squares; a warm start of
+        :meth:`solve_many` from a known optimum and these multipliers needs only a few iterations.
+        """
+        x = np.array([d.as_array() if isinstance(d, Design) else np.asarray(d, float) for d in designs],
+                     float).reshape(-1, 4)
+        k, ng = len(x), len(self.lbg)
+        z = np.clip(x / self.scale, self.lbz, self.ubz)
+        w = np.broadcast_to(np.asarray(weights, float), (k, 2))
+        caps = np.column_stack([np.broadcast_to(np.asarray(threshold_caps, float), (k,)),
+                                np.broadcast_to(np.asarray(turning_caps, float), (k,))])
+        params = np.column_stack([np.tile(self.param_values, (k, 1)), w, caps])
+        grad, jac, g = self._kkt.map(k)(z.T, params.T)
+        grad = np.asarray(grad).T.reshape(k, 4)
+        jac = np.asarray(jac).reshape(ng, k, 4).transpose(1, 0, 2) if ng else np.zeros((k, 0, 4))
+        g = np.asarray(g).T.reshape(k, ng)
+        lam_g, lam_x = np.zeros((k, ng)), np.zeros((k, 4))
+        active_g = (np.abs(g - self.lbg) <= tol) | (np.abs(g - self.ubg) <= tol)
+        active_x = (np.abs(z - self.lbz) <= tol) | (np.abs(z - self.ubz) <= tol)
+        for i in range(k):
+            ag, ax = np.flatnonzero(active_g[i]), np.flatnonzero(active_x[i])
+            a = np.hstack([jac[i][ag].T, np.eye(4)[:, ax]])
+            if a.shape[1]:
+                sol = np.linalg.lstsq(a, -grad[i], rcond=None)[0]
+                lam_g[i, ag], lam_x[i, ax] = sol[: len(ag)], sol[len(ag):]
+        return lam_g, lam_x
 
     def objectives(self, design: Design, overrides=None) -> tuple[float, float, float, float]:
         """(F_turn [N], P [N], V_c [m/s], R_s [m]) of a design, through the same CasADi graph."""
