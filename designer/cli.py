@@ -65,8 +65,15 @@ def main(argv: list[str] | None = None) -> int:
             return 70
 
 
+_SHOWN: set[str] = set()
+
+
 def _one_line_warning(message, category, filename, lineno, file=None, line=None):
-    print(f"designer: warning: {message}", file=sys.stderr)
+    text = str(message).splitlines()[0] if str(message) else ""
+    if text in _SHOWN:  # each distinct warning once per command
+        return
+    _SHOWN.add(text)
+    print(f"designer: warning: {text}", file=sys.stderr)
 
 
 if __name__ == "__main__":  # pragma: no cover

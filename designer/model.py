@@ -38,7 +38,7 @@ VARIABLE_INFO = {
 
 @dataclass(frozen=True)
 class Design:
-    """One caster design x = (T, d, B, c_f) in SI units.
+    """One caster design x = (T, d, B, c_f) in SI units (strings with units are accepted and converted).
 
     Attributes
     ----------
@@ -52,6 +52,29 @@ class Design:
     diameter: float
     groove: float
     damping: float
+
+    def __post_init__(self):
+        # Units at the edge: strings such as "2 in" or "1.3 N*m/rad" are converted to SI here.
+        from designer.errors import InputError
+        from designer.units import parse_quantity
+
+        for name, dimension in (("trail", "length"), ("diameter", "length"), ("groove", "length"),
+                                ("damping", "damping")):
+            value = getattr(self, name)
+            if isinstance(value, str):
+                value = parse_quantity(value, dimension, name)
+            try:
+                value = float(value)
+            except (TypeError, ValueError):
+                raise InputError(f"{name} = {getattr(self, name)!r}: expected a number (SI) or a string with "
+                                 f"units such as '2 in'") from None
+            if not np.isfinite(value):
+                raise InputError(f"{name} = {value}: must be finite")
+            positive = name in ("trail", "diameter")
+            # a solver may return −1e-12 on a zero bound: tolerate round-off, not real negatives
+            if value < -1e-9 or (positive and value <= 0):
+                raise InputError(f"{name} = {value:g}: must be {'positive' if positive else 'non-negative'}")
+            object.__setattr__(self, name, value)
 
     def as_array(self) -> np.ndarray:
         """The design as a float array in :data:`VARIABLES` order."""
@@ -158,7 +181,14 @@ def evaluate(design: Design, conditions: Conditions = Conditions(), speed: float
     ``growth_rate`` μ [1/s] of the oscillatory mode at that speed (Eq. 12B,
     friction damping converted with Eq. 6 and Eq. 4): negative means any
     shimmy decays.
+
+    Raises InputError for a design outside the model's range (e.g. an 8 m
+    wheel: inches written as metres).
     """
+    from designer.errors import InputError
+    from designer.problem import check_design
+
+    check_design(design, error=InputError)  # an 8 m wheel is inches written as metres, not a caster
     values = performance(design.trail, design.diameter, design.groove, design.damping, conditions)
     out = {key: float(value) for key, value in values.items()}
     out["shimmy_frequency"] = float(shimmy_frequency(design.trail, out["inertia"], conditions.dynamics))

@@ -6,7 +6,7 @@ from designer.data.paper import INCH
 from designer.errors import InputError
 from designer.model import Conditions, Design, evaluate
 from designer.physics.inertia import Fixed, PowerLaw
-from designer.physics.turning import MODES, SURFACES
+from designer.physics.turning import DEFAULT_TURNING, MODES, SURFACES
 from designer.problem import INERTIA_RANGE, PHYSICAL_RANGE, check_design
 
 
@@ -33,17 +33,22 @@ def register(sub) -> None:
 
 def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
     """Parse the options and evaluate; InputError names the option on bad input."""
-    design = Design(
-        trail=quantity_option(args.trail, "length", "--trail"),
-        diameter=quantity_option(args.diameter, "length", "--diameter"),
-        groove=quantity_option(args.groove, "length", "--groove"),
-        damping=quantity_option(args.damping, "damping", "--damping"),
-    )
-    for option, value, allow_zero in (("--trail", design.trail, False), ("--diameter", design.diameter, False),
-                                      ("--groove", design.groove, True), ("--damping", design.damping, True)):
+    values = {
+        "trail": quantity_option(args.trail, "length", "--trail"),
+        "diameter": quantity_option(args.diameter, "length", "--diameter"),
+        "groove": quantity_option(args.groove, "length", "--groove"),
+        "damping": quantity_option(args.damping, "damping", "--damping"),
+    }
+    for name, allow_zero in (("trail", False), ("diameter", False), ("groove", True), ("damping", True)):
+        value = values[name]
         if value < 0 or (value == 0 and not allow_zero):
-            raise InputError(f"{option} {value:g}: must be {'non-negative' if allow_zero else 'positive'}")
+            raise InputError(f"--{name} {value:g}: must be {'non-negative' if allow_zero else 'positive'}")
+    design = Design(**values)
     check_design(design, "--", error=InputError)
+    c0 = DEFAULT_TURNING.bare_fork_damping
+    if design.damping < c0:
+        raise InputError(f"--damping {design.damping:g} N·m/rad: below the bare ball-bearing fork's {c0:g} N·m/rad "
+                         f"(Eq. 11C), the least spindle damping a caster has; the added damper moment would be negative")
     load = quantity_option(args.load, "force", "--load")
     height = quantity_option(args.threshold_height, "length", "--threshold-height")
     if load <= 0:

@@ -75,17 +75,18 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
 
         return update
 
+    for message in problem.model_warnings():  # once for the problem, not per sub-problem or evaluation
+        warnings.warn(message + " (the report says so in its model section)", UserWarning, stacklevel=2)
     with warnings.catch_warnings(record=True) as caught:
-        warnings.filterwarnings("always", message="inertia power law used at")
+        warnings.simplefilter("always")
         summary = _compute(problem, points, out, tracker, force)
-    extrapolated = [w for w in caught if "inertia power law used at" in str(w.message)]
+    seen = set()
     for w in caught:
-        if w not in extrapolated:
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    if extrapolated:
-        b = problem.bounds["diameter"]
-        warnings.warn(f"{problem.name}: the Table 1 inertia fit (4–8 in) is extrapolated for diameters in "
-                      f"{b.low / 0.0254:.3g}–{b.high / 0.0254:.3g} in (the report says so in its model section)", UserWarning, stacklevel=2)
+        text = str(w.message)
+        if "inertia power law used at" in text or "inertia fit" in text and "extrapolated" in text or text in seen:
+            continue
+        seen.add(text)
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     summary["seconds"] = time.perf_counter() - t0
     return summary
 
