@@ -655,7 +655,7 @@ def _sweep(nlp, problem, eps_values, end_a, end_b, sample, guide=None):
     return results[: len(eps_values)] if len(eps_values) >= 2 else [end_a], sweep.solves
 
 
-FAST_PATH = False
+FAST_PATH = True
 """Use the closed-form ε-optima (:mod:`designer.solvers.structured`) where they apply (False: the NLP sweep).
 
 Off by default for now: on indoor-manual the fast front finds a short damper segment the NLP sweep

@@ -45,7 +45,11 @@ def test_every_point_feasible_and_nondominated(fronts, name):
 
 
 def _brute_min_effort(problem, diameter, n=40):
-    """Dense grid over (T, B, c_f) at fixed d, then SLSQP polish (scipy only): min F_turn s.t. V_c, R_s."""
+    """Dense grid over (T, B, c_f) at fixed d, then SLSQP polish (scipy only): min F_turn s.t. V_c, R_s.
+
+    The polish starts from the best grid point overall and from the best on each family's face (no groove:
+    B = B_min; no added damper: c_f = c_min), because the two families are separate local optima and a
+    grid step in c_f can be coarser than a small damper needs."""
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
     t, b, c = np.meshgrid(np.linspace(lo[0], hi[0], n), np.linspace(lo[2], hi[2], n), np.linspace(lo[3], hi[3], n))
     t, b, c = t.ravel(), b.ravel(), c.ravel()
@@ -55,9 +59,21 @@ def _brute_min_effort(problem, diameter, n=40):
         ok &= v["swept_radius"] <= problem.swept_radius_max
     if not np.any(ok):
         return np.inf
-    i = np.argmin(np.where(ok, v["turning_effort"], np.inf))
-    z0 = np.array([t[i], b[i], c[i]])
     sc = np.array([hi[0], max(hi[2], 1e-3), hi[3]])
+    masked = np.where(ok, v["turning_effort"], np.inf)
+    starts = [np.argmin(masked)]
+    for face in (b <= lo[2], c <= lo[3]):
+        if np.any(ok & face):
+            starts.append(np.argmin(np.where(face, masked, np.inf)))
+    # each start also with the trail pushed to its limit (the grid's T step can miss the swept-radius bound)
+    t_max = min(hi[0], problem.swept_radius_max - diameter / 2) if problem.swept_radius_max else hi[0]
+    z0s = [np.array([t[i], b[i], c[i]]) for i in starts] + [np.array([t_max, b[i], c[i]]) for i in starts]
+    best = min(_polish(problem, diameter, z0, sc, lo, hi) for z0 in z0s)
+    return min(best, float(masked.min()))
+
+
+def _polish(problem, diameter, z0, sc, lo, hi):
+    """SLSQP from one start at fixed d; inf if it ends infeasible."""
 
     def perf(z):
         zz = z * sc
@@ -71,7 +87,9 @@ def _brute_min_effort(problem, diameter, n=40):
                    options={"ftol": 1e-12, "maxiter": 300})
     polished = perf(res.x)
     feasible = polished["critical_speed"] >= problem.required_speed * (1 - 1e-7)
-    return min(float(polished["turning_effort"]) if feasible else np.inf, float(v["turning_effort"][i]))
+    if problem.swept_radius_max:
+        feasible &= polished["swept_radius"] <= problem.swept_radius_max * (1 + 1e-7)
+    return float(polished["turning_effort"]) if feasible else np.inf
 
 
 @pytest.mark.parametrize("name", ["indoor-manual", "sports-court", "powered-chair"])
