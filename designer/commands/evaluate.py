@@ -148,7 +148,7 @@ def run(args) -> int:
         rows.append(("growth rate μ at that speed", f"{values['growth_rate']:+.3g} 1/s", "Eq. 12B"))
     for row in rows:
         table.add_row(*row)
-    Console().print(table)
+    Console(width=max(Console().width, 100)).print(table)
     for w in values["warnings"]:
         print(f"warning: {w}")
     return 0

@@ -64,7 +64,7 @@ def _print(result, csv_path, json_path) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    console = Console()
+    console = Console(width=max(Console().width, 120))
     ops = result.operators
     console.print(f"[bold]{result.problem.name}[/]: study {result.study_name!r} on {result.storage}, "
                   f"{result.trials} complete trials ({result.distinct} distinct, {result.feasible} feasible), "
@@ -100,7 +100,11 @@ def _print(result, csv_path, json_path) -> None:
         console.print("* refined by the NLP (ε-constraint at the candidate's P)")
     ref = result.reference_point
     c = result.comparison
-    if "hypervolume_ratio" in c:
+    if "hypervolume_ratio" in c and c.get("exact_points", 0) < 2:
+        best = "reaches" if c["igd_plus"] < 1e-6 else "does not reach"
+        console.print(f"The exact front is a single point (one design dominates every other): the explored front "
+                      f"{best} it (IGD+ {c['igd_plus']:.4g}, normalised); a hypervolume ratio says nothing here.")
+    elif "hypervolume_ratio" in c:
         console.print(f"Against the exact front ({c['exact_points']} points): HV {c['hypervolume_explored']:.4g} vs "
                       f"{c['hypervolume_exact']:.4g} N² (ratio {c['hypervolume_ratio']:.3f}; reference "
                       f"({ref[0]:.3f} N, {ref[1]:.2f} N) = exact nadir + 10 % of its extent); IGD+ "
