@@ -526,6 +526,10 @@ def pareto_front(problem: Problem, points: int | None = None, progress=None) -> 
     -------
     Front
     """
+    if points is not None and (isinstance(points, bool) or not isinstance(points, (int, np.integer))):
+        from designer.errors import InputError
+
+        raise InputError(f"points = {points!r}: expected a whole number of front points, e.g. 41")
     n = int(points or problem.pareto_points)
     if n < 2:
         from designer.errors import InputError

@@ -448,3 +448,13 @@ def test_internal_error_and_interrupt_codes_match_readme(monkeypatch, capsys):
 
     monkeypatch.setattr(evaluate, "analyse", interrupt)
     assert main(argv) == 130 and "interrupted" in rows[130]
+
+
+def test_pareto_front_points_must_be_whole_number():
+    """pareto_front(points="x") from Python raises the tool's InputError naming the value, not a raw ValueError."""
+    import designer
+    from designer.errors import InputError
+
+    problem = designer.load_problem(Path(__file__).resolve().parents[1] / "problems" / "paper-invacare.toml")
+    with pytest.raises(InputError, match="points = 'x'"):
+        designer.pareto_front(problem, points="x")
