@@ -13,6 +13,18 @@ from designer.robust import Uncertainty
 
 __version__ = "0.1.0"
 
+_LAZY = {"write_report": ("designer.report", "write_report"), "explore": ("designer.explore", "explore")}
+
+
+def __getattr__(name):
+    """``designer.write_report`` and ``designer.explore`` import matplotlib / optuna only when first used."""
+    if name in _LAZY:
+        import importlib
+
+        module, attr = _LAZY[name]
+        return getattr(importlib.import_module(module), attr)
+    raise AttributeError(f"module 'designer' has no attribute {name!r}")
+
 __all__ = [
     "Conditions",
     "Design",
@@ -27,10 +39,12 @@ __all__ = [
     "ProblemError",
     "SolverError",
     "evaluate",
+    "explore",
     "load_problem",
     "optimise",
     "pareto_front",
     "performance",
     "problem_from_dict",
     "problem_from_toml",
+    "write_report",
 ]

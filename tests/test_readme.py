@@ -25,3 +25,15 @@ def test_readme_python_example_runs():
         os.chdir(cwd)
     first = out.getvalue().splitlines()[0]
     assert abs(float(first) - 2.911) < 0.002
+
+
+def test_public_api_names():
+    """DESIGN §4.3: the loader, the design dataclass, optimise, pareto_front, explore and write_report come
+    from ``import designer`` (the last two imported lazily)."""
+    import designer
+
+    for name in ("load_problem", "Design", "Conditions", "evaluate", "performance", "optimise", "pareto_front",
+                 "explore", "write_report", "Uncertainty"):
+        assert callable(getattr(designer, name)), name
+    assert designer.write_report.__module__.startswith("designer.report")
+    assert designer.explore.__module__ == "designer.explore"
