@@ -18,7 +18,7 @@ import warnings
 import numpy as np
 
 import designer
-from designer.explore import Operators, _exact_front, explore
+from designer.exploration import Operators, _exact_front, explore
 
 
 def main() -> None:

@@ -10,7 +10,7 @@ import warnings
 from pathlib import Path
 
 import designer
-from designer.explore import explore
+from designer.exploration import explore
 
 
 def main() -> None:

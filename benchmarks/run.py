@@ -12,7 +12,7 @@ every method, on the shipped problems:
   model on the whole population (population 100; 100 and 300 generations;
   constraints V_c >= V_req and the swept radius as G <= 0);
 - optuna NSGA-II with its default operators and with the best operators of
-  issue 5 (``designer.explore.Operators.for_budget``);
+  issue 5 (``designer.exploration.Operators.for_budget``);
 - scipy SLSQP ε-constraint loop on the same ε grid as the exact 101-point
   front (warm-started from the previous point, finite-difference gradients);
 - a dense grid over the four variables, non-dominated filter;
@@ -244,10 +244,10 @@ def optuna_method(problem, trials: int, operators: str, repeats: int, quality: Q
             note = "optuna.samplers.NSGAIISampler defaults (population 50, uniform crossover)"
             return optuna.samplers.NSGAIISampler(seed=seed)
         try:
-            from designer.explore import Operators
+            from designer.exploration import Operators
 
             ops = Operators.for_budget(trials)
-            note = f"designer.explore.Operators.for_budget({trials}): {ops.as_dict()}"
+            note = f"designer.exploration.Operators.for_budget({trials}): {ops.as_dict()}"
             return ops.sampler(seed)
         except Exception as exc:  # explore not usable: SBX crossover, population ≈ √N
             from optuna.samplers.nsgaii import SBXCrossover

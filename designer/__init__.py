@@ -13,7 +13,7 @@ from designer.robust import Uncertainty
 
 __version__ = "0.1.0"
 
-_LAZY = {"write_report": ("designer.report", "write_report"), "explore": ("designer.explore", "explore")}
+_LAZY = {"write_report": ("designer.report", "write_report"), "explore": ("designer.exploration", "explore")}
 
 
 def __getattr__(name):
