@@ -344,7 +344,9 @@ def _validate(problem: Problem, prefix: str = "") -> None:
                     f"(at most {hi:g}); were inches written as metres? write e.g. '2 in'"
                 )
         if b.low > b.high:
-            fail(f"{key} = [{b.low:g}, {b.high:g}]: min is greater than max")
+            shown = (f" ({b.low / INCH:.4g} in > {b.high / INCH:.4g} in)" if VARIABLE_DIMENSIONS[name] == "length"
+                     else "")
+            fail(f"{key} = [{b.low:g}, {b.high:g}]: min is greater than max{shown}")
     h = c.threshold_height
     if not problem.wheels and problem.bounds["diameter"].low <= 2 * h:
         fail(

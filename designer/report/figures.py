@@ -367,6 +367,7 @@ def figure_groove_damper(data) -> Figure:
         left.text(0.02, 0.97, f"{' and '.join(fixed)} fixed by the problem", transform=left.transAxes,
                   fontsize=8, color="0.3", va="top")
     left.grid(True, alpha=0.3)
+    left.set_ylabel("least turning effort F_turn [N]")
     left.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0, 0.93))
     left.set_title(f"Least turning effort reaching V_req = {problem.required_speed:.2f} m/s", fontsize=10)
     _groove_damper_plane(right, data)
