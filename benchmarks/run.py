@@ -24,7 +24,8 @@ front; hypervolume with reference point (1.1, 1.1) in normalised units,
 reported as HV / HV_exact101; IGD+ against the exact 101-point front (same
 normalisation).  Only feasible, non-dominated points of a method count.
 
-Writes ``results.md``, ``results.json`` and ``scaling.png`` into ``--out``.
+Writes ``results.md``, ``results.json`` and ``scaling.png`` into ``--out`` (default ``benchmarks/`` for
+the full run, ``benchmarks/quick/`` for ``--quick``).
 """
 from __future__ import annotations
 
@@ -630,8 +631,13 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="smaller budgets and repeats (< 60 s)")
     parser.add_argument("--problems", nargs="+", default=list(PROBLEMS))
-    parser.add_argument("--out", default=str(Path(__file__).resolve().parent))
+    parser.add_argument("--out", default=None,
+                        help="output folder (default: benchmarks/ for a full run; benchmarks/quick/ for --quick, "
+                             "so a quick run never overwrites the committed full-run results)")
     args = parser.parse_args(argv)
+    if args.out is None:
+        here = Path(__file__).resolve().parent
+        args.out = str(here / "quick" if args.quick else here)
     warnings.simplefilter("ignore")
     cfg = QUICK if args.quick else FULL
     t_run = time.perf_counter()
