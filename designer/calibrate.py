@@ -350,14 +350,12 @@ def plot_fit(result: CalibrationResult, path) -> None:
     ax2.axhline(0, color="k", lw=0.8)
     ax2.plot(result.x, result.residuals, "o")
     ax2.set_xlabel(result.x_label)
-    ax2.set_ylabel("residual")
+    unit = result.y_label[result.y_label.rfind("["):] if "[" in result.y_label else ""
+    ax2.set_ylabel(f"residual {unit}".strip())
     fig.tight_layout()
-    try:
-        fig.savefig(path, dpi=100)
-    except OSError as exc:
-        raise InputError(f"--plot {path}: cannot write ({exc.strerror})") from None
-    finally:
-        plt.close(fig)
+    from designer.report.figures import save_figure
+
+    save_figure(fig, path, dpi=100)
 
 
 # ---------------------------------------------------------------------------

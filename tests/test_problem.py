@@ -40,11 +40,14 @@ def test_parse_quantity_errors(value, dimension, message):
 
 @pytest.mark.parametrize("path", PROBLEMS, ids=[p.stem for p in PROBLEMS])
 def test_shipped_problems_load(path):
-    """Every shipped problem loads, names itself after its file and has a positive target speed."""
+    """Every shipped problem loads, names itself after its file, has a positive target speed and a title,
+    and opens with a comment of at least three lines saying whose chair it models (issue 3)."""
     problem = load_problem(path)
     assert problem.name == path.stem
     assert problem.required_speed > 0
-    assert problem.description == "" or isinstance(problem.description, str)
+    assert problem.title and problem.title != problem.name
+    header = [line for line in path.read_text().splitlines()[:12] if line.startswith("#")]
+    assert len(header) >= 3
 
 
 def test_indoor_manual_values():

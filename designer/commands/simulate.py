@@ -163,9 +163,6 @@ def _plot(result, path, onset=None) -> None:
     ax.set_ylabel("caster angle θ [deg]")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    try:
-        fig.savefig(path, dpi=110)
-    except OSError as exc:
-        raise InputError(f"--plot {path}: cannot write ({exc.strerror})") from None
-    finally:
-        plt.close(fig)
+    from designer.report.figures import save_figure
+
+    save_figure(fig, path, dpi=110)

@@ -83,6 +83,20 @@ def _new(width: float = 7.5, height: float = 4.8, **kw) -> Figure:
     return fig
 
 
+def save_figure(fig, path, dpi: int = 110, option: str = "--plot") -> None:
+    """Save a figure to ``path`` and close it; an unwritable path is an InputError naming ``option``."""
+    import matplotlib.pyplot as plt
+
+    from designer.errors import InputError
+
+    try:
+        fig.savefig(path, dpi=dpi)
+    except OSError as exc:
+        raise InputError(f"{option} {path}: cannot write ({exc.strerror})") from None
+    finally:
+        plt.close(fig)
+
+
 def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
     """The figure as PNG bytes (Agg renderer)."""
     buf = io.BytesIO()
