@@ -1,0 +1,117 @@
+"""Issue 16: the brush tyre, its rolling limit, periodic orbits and their Floquet multipliers."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from designer.analysis.limit_cycles import (
+    caster_dynamics,
+    continue_orbits,
+    knock_safe_speed,
+    periodic_orbit,
+    simulate_knock,
+)
+from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING
+from designer.errors import InputError
+from designer.model import Conditions, Design
+from designer.physics.inertia import Fixed
+from designer.physics.tyre import TyreParameters, lateral_tyre_force
+
+I_C = 4 * BARE_FORK_DAMPING * APPENDIX_C_CASE.trail**2 / (math.pi * APPENDIX_C_CASE.critical_speed**2)
+COND_C = Conditions(inertia=Fixed(I_C))
+DESIGN_C = Design(trail=APPENDIX_C_CASE.trail, diameter=0.2, groove=0.0, damping=BARE_FORK_DAMPING)
+TODAY_ONSET_C = 2.4412   # designer.simulate.onset_speed(DESIGN_C, COND_C, rtol=0.002): bracket 2.4391-2.4433 m/s
+
+
+def test_brush_force_linear_then_saturates():
+    """Brush tyre: F = −C σ for small slip (0.1 % at σ = σ_sl/1000), exactly −μL from σ_sl = 3μL/C on,
+    continuous there, odd in σ, and linear for ever with saturation removed."""
+    tyre = TyreParameters()
+    s_sl = tyre.sliding_slip
+    assert s_sl == pytest.approx(3 * 0.7 * 178 / 1250)
+    small = 1e-3 * s_sl
+    assert lateral_tyre_force(small, tyre) == pytest.approx(-1250 * small, rel=1e-3)
+    assert lateral_tyre_force(s_sl, tyre) == pytest.approx(-0.7 * 178)
+    assert lateral_tyre_force(5 * s_sl, tyre) == pytest.approx(-0.7 * 178)
+    assert lateral_tyre_force(0.999999 * s_sl, tyre) == pytest.approx(-0.7 * 178, rel=1e-9)
+    grid = np.linspace(-2 * s_sl, 2 * s_sl, 41)
+    forces = lateral_tyre_force(grid, tyre)
+    assert np.allclose(forces, -forces[::-1])
+    assert np.all(np.diff(forces) <= 0)                       # never pushes with the slip
+    assert np.allclose(forces, [lateral_tyre_force(float(g), tyre) for g in grid])   # array = scalar path
+    assert lateral_tyre_force(5 * s_sl, tyre.replace(saturation=False)) == pytest.approx(-1250 * 5 * s_sl)
+
+
+def test_bad_tyre_parameter_is_input_error():
+    """A non-positive friction coefficient is rejected with a message naming it."""
+    with pytest.raises(InputError, match="friction_coefficient"):
+        TyreParameters(friction_coefficient=0.0)
+
+
+def test_tyre_model_reduces_to_todays_onset():
+    """Saturation removed and C × 30: the 20° knock on the Appendix C caster decays at 0.995 × today's
+    simulated onset (designer.simulate, 2.441 m/s) and grows at 1.005 ×: the onsets agree within 0.5 %."""
+    stiff = TyreParameters().rolling_limit(30.0)
+    below = simulate_knock(caster_dynamics(DESIGN_C, COND_C, 0.995 * TODAY_ONSET_C, stiff), 0.349, cycles=24)
+    above = simulate_knock(caster_dynamics(DESIGN_C, COND_C, 1.005 * TODAY_ONSET_C, stiff), 0.349, cycles=24)
+    assert not below.shimmy and below.reason == "rest"
+    assert above.shimmy and above.reason == "limit"
+
+
+def test_rolling_engine_matches_designer_simulate():
+    """The new event-driven integrator, rolling tyre: the same 20° knock decays at 0.998 × and grows at
+    1.002 × today's onset (same equations as designer.simulate, independent code)."""
+    sys = caster_dynamics(DESIGN_C, COND_C, 1.0, None)
+    assert not simulate_knock(sys.at(0.998 * TODAY_ONSET_C), 0.349).shimmy
+    assert simulate_knock(sys.at(1.002 * TODAY_ONSET_C), 0.349).shimmy
+
+
+def test_rolling_orbit_is_the_describing_function_threshold():
+    """Rolling tyre, A = 0.15 rad: the periodic orbit closes over one full period to 1e-6 rad, its speed is
+    within 10 % of Eq. 6 + 20B (V = 4 M_f T/(π ω I_w A)), it is unstable (a Floquet multiplier > 1), and
+    perturbed simulations leave it: 2 % larger grows past 0.3 rad, 2 % smaller comes to rest."""
+    sys = caster_dynamics(DESIGN_C, COND_C, 2.0, None)
+    orb = periodic_orbit(sys, 0.15)
+    m_f = BARE_FORK_DAMPING * COND_C.disturbance_angle
+    assert orb.speed == pytest.approx(4 * m_f * DESIGN_C.trail / (math.pi * 104.7 * I_C * 0.15), rel=0.10)
+    assert orb.closure < 1e-6
+    assert not orb.stable and np.max(np.abs(orb.multipliers)) > 1.05
+    at = sys.at(orb.speed)
+    from designer.analysis.limit_cycles import _extrema, _integrate
+
+    for factor, grows in ((1.02, True), (0.98, False)):
+        run = _integrate(at, orb.state * factor, 40 * orb.period, angle_limit=0.3)
+        assert (run.reason == "limit") is grows
+
+
+def test_saturating_tyre_has_a_stable_large_cycle():
+    """Brush tyre (C = 1250 N/rad, μ = 0.7, L = 178 N), Appendix C caster: following the orbits up in
+    amplitude from 0.4 rad, the unstable branch folds back and a stable orbit appears by 0.8 rad
+    (all Floquet multipliers inside the unit circle, closure < 1e-6 rad); a 5 % perturbed start returns
+    to within 1 % of its amplitude."""
+    sys = caster_dynamics(DESIGN_C, COND_C, 1.0, TyreParameters())
+    branch = continue_orbits(sys, np.geomspace(0.4, 0.8, 5))
+    assert not branch.orbits[0].stable
+    top = branch.orbits[-1]
+    assert top.amplitude == pytest.approx(0.8)
+    assert top.stable and np.max(np.abs(top.multipliers)) < 0.95
+    assert top.closure < 1e-6
+    speeds = [o.speed for o in branch.orbits]
+    assert min(speeds) < speeds[0] and min(speeds) < speeds[-1]      # the fold
+    from designer.analysis.limit_cycles import _extrema, _integrate
+
+    at = sys.at(top.speed)
+    run = _integrate(at, top.state * 1.05, 30 * top.period)
+    ext = _extrema(run.ends)
+    assert np.abs(ext[-1, 1]) == pytest.approx(top.amplitude, rel=0.01)
+
+
+def test_knock_safe_speed_below_eq7_for_double_knock():
+    """Knock-safe speed of the Appendix C caster: the 20° knock is safe up to today's onset (within 1 %),
+    a 40° knock only to about half of it (a fixed M_f resists a bigger knock less)."""
+    v1 = knock_safe_speed(DESIGN_C, COND_C)
+    v2 = knock_safe_speed(DESIGN_C, COND_C, angle=2 * COND_C.disturbance_angle)
+    assert v1 == pytest.approx(TODAY_ONSET_C, rel=0.01)
+    assert 0.4 * v1 < v2 < 0.75 * v1
