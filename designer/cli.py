@@ -12,7 +12,8 @@ import warnings
 
 from designer.errors import DesignerError
 
-COMMANDS = ["evaluate", "validate", "run", "pareto", "explore", "robust", "simulate", "calibrate"]
+COMMANDS = ["evaluate", "validate", "run", "pareto", "explore", "robust", "simulate", "calibrate",
+            "fleet"]
 """Sub-command modules in designer.commands; each defines ``register(subparsers)``."""
 
 
