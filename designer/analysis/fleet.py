@@ -691,15 +691,16 @@ def recommend_chairs(chairs: dict, stock: StockTable, problem) -> dict:
         no_cap = has & ~anywhere
     else:
         # knee, in the order of decreasing P (the front's order): a = largest P end, b = least P end
+        # (chairs without a front give inf − inf = NaN here; they are masked out below)
         fa, pa = fs[rows, last], ps[rows, last]
         fb, pb = fs[rows, first], ps[rows, first]
-        span_f = np.where(fb - fa > 0, fb - fa, 1.0)
-        span_p = np.where(pa - pb > 0, pa - pb, 1.0)
         with np.errstate(invalid="ignore"):
+            span_f = np.where(fb - fa > 0, fb - fa, 1.0)
+            span_p = np.where(pa - pb > 0, pa - pb, 1.0)
             nf = (fs - fa[:, None]) / span_f[:, None]
             np_ = (ps - pb[:, None]) / span_p[:, None]
-        a_f, a_p = 0.0, (pa - pb) / span_p  # normalised ends: a = (0, a_p), b = (b_f, 0)
-        b_f = (fb - fa) / span_f
+            a_f, a_p = 0.0, (pa - pb) / span_p  # normalised ends: a = (0, a_p), b = (b_f, 0)
+            b_f = (fb - fa) / span_f
         chord_f, chord_p = b_f - a_f, 0.0 - a_p
         norm = np.hypot(chord_f, chord_p)
         with np.errstate(invalid="ignore", divide="ignore"):
@@ -875,7 +876,7 @@ def fleet_recommendations(fleet: Fleet, problem, skus: int | None = None, k_max:
     start = time.perf_counter()
     stock = stock_table(problem)
     if skus is not None and skus > len(stock):
-        raise InputError(f"--skus {skus}: larger than the stock ({len(stock)} casters in {stock.note})")
+        raise InputError(f"--skus {skus}: larger than the stock ({len(stock)} casters); choose at most {len(stock)}")
     timings["stock"] = time.perf_counter() - start
 
     client, own = _client(scheduler)
