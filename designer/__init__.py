@@ -14,6 +14,7 @@ from designer.robust import Uncertainty
 __version__ = "0.1.0"
 
 _LAZY = {"write_report": ("designer.report", "write_report"), "explore": ("designer.exploration", "explore")}
+_LAZY["fleet"] = ("designer.analysis.fleet", "fleet")
 
 
 def __getattr__(name):

@@ -1059,3 +1059,28 @@ def fleet_data(result: FleetResult) -> dict:
         "timings": dict(result.timings),
         "scheduler": result.scheduler,
     }
+
+
+def fleet(chairs, problem=None, skus: int | None = None, scheduler=None, monte_carlo: bool = True,
+          k_max: int | None = None) -> FleetResult:
+    """``designer.fleet``: per-chair recommendations of a fleet and, with ``skus``, K part numbers.
+
+    Parameters
+    ----------
+    chairs : a FLEET.csv path or a :class:`Fleet` (e.g. ``example_fleet(1000)``)
+    problem : the base problem (a :class:`designer.problem.Problem` or a TOML path; default
+        ``problems/indoor-manual.toml``)
+    skus, scheduler, monte_carlo, k_max : as :func:`fleet_recommendations`
+
+    Returns
+    -------
+    FleetResult; ``fleet_data(result)`` gives the plain data of ``--json``.
+    """
+    from designer.problem import load_problem
+
+    if not isinstance(chairs, Fleet):
+        chairs = read_fleet(chairs)
+    if problem is None or isinstance(problem, (str, Path)):
+        problem = load_problem(problem or "problems/indoor-manual.toml")
+    return fleet_recommendations(chairs, problem, skus=skus, k_max=k_max, scheduler=scheduler,
+                                 monte_carlo=monte_carlo)
