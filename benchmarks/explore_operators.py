@@ -3,7 +3,7 @@
 Runs optuna's NSGA-II on a problem with optuna's default operators and with
 candidate configurations, several seeds each, and prints the mean of:
 distinct parameter sets, feasible trials, front size, hypervolume ratio
-against the exact front (:func:`designer.pareto.pareto_front`, its stated
+against the exact front (:func:`designer.analysis.pareto.pareto_front`, its stated
 reference point) and IGD+ (normalised by the exact front's ideal and nadir).
 
     python benchmarks/explore_operators.py problems/indoor-manual.toml --trials 500 2000 --seeds 3
@@ -18,7 +18,7 @@ import warnings
 import numpy as np
 
 import designer
-from designer.exploration import Operators, _exact_front, explore
+from designer.analysis.exploration import Operators, _exact_front, explore
 
 
 def main() -> None:

@@ -10,7 +10,7 @@ import warnings
 from pathlib import Path
 
 import designer
-from designer.exploration import explore
+from designer.analysis.exploration import explore
 
 
 def main() -> None:

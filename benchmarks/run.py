@@ -5,14 +5,14 @@
 One process, one run, the same model (:func:`designer.model.performance`) for
 every method, on the shipped problems:
 
-- this tool's exact ε-constraint front (:func:`designer.pareto.pareto_front`),
+- this tool's exact ε-constraint front (:func:`designer.analysis.pareto.pareto_front`),
   N = 25, 51, 101 points, cold (import measured once in a subprocess, plus
   NLP and solver builds) and warm (solvers built);
 - pymoo NSGA-II on a vectorised ``pymoo.core.problem.Problem`` that calls the
   model on the whole population (population 100; 100 and 300 generations;
   constraints V_c >= V_req and the swept radius as G <= 0);
 - optuna NSGA-II with its default operators and with the best operators of
-  issue 5 (``designer.exploration.Operators.for_budget``);
+  issue 5 (``designer.analysis.exploration.Operators.for_budget``);
 - scipy SLSQP ε-constraint loop on the same ε grid as the exact 101-point
   front (warm-started from the previous point, finite-difference gradients);
 - a dense grid over the four variables, non-dominated filter;
@@ -104,7 +104,7 @@ class Quality:
     """HV ratio and IGD+ against the exact 101-point front, on its normalisation."""
 
     def __init__(self, exact_objectives: np.ndarray):
-        from designer.indicators import hypervolume_2d, normalise
+        from designer.analysis.indicators import hypervolume_2d, normalise
 
         self.ideal = exact_objectives.min(axis=0)
         self.nadir = exact_objectives.max(axis=0)
@@ -112,7 +112,7 @@ class Quality:
         self.hv_exact = hypervolume_2d(self.exact, REFERENCE)
 
     def __call__(self, objectives: np.ndarray) -> dict:
-        from designer.indicators import hypervolume_2d, igd_plus, normalise
+        from designer.analysis.indicators import hypervolume_2d, igd_plus, normalise
 
         f = fast_nondominated(np.asarray(objectives, float).reshape(-1, 2))
         if len(f) == 0:
@@ -136,13 +136,13 @@ def median_quality(qs: list[dict]) -> dict:
 def import_seconds() -> float:
     """Import cost of the package and its solver stack, measured once in a fresh interpreter."""
     code = ("import time, warnings; warnings.simplefilter('ignore'); t = time.perf_counter(); "
-            "import designer, designer.pareto, designer.problem, casadi; print(time.perf_counter() - t)")
+            "import designer, designer.analysis.pareto, designer.problem, casadi; print(time.perf_counter() - t)")
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True)
     return float(out.stdout.strip().splitlines()[-1])
 
 
 def exact_method(problem, points: int, repeats: int, cold_repeats: int, import_s: float):
-    import designer.pareto as pareto
+    import designer.analysis.pareto as pareto
 
     def cold(_):
         pareto._NLP_CACHE.clear()
@@ -245,10 +245,10 @@ def optuna_method(problem, trials: int, operators: str, repeats: int, quality: Q
             note = "optuna.samplers.NSGAIISampler defaults (population 50, uniform crossover)"
             return optuna.samplers.NSGAIISampler(seed=seed)
         try:
-            from designer.exploration import Operators
+            from designer.analysis.exploration import Operators
 
             ops = Operators.for_budget(trials)
-            note = f"designer.exploration.Operators.for_budget({trials}): {ops.as_dict()}"
+            note = f"designer.analysis.exploration.Operators.for_budget({trials}): {ops.as_dict()}"
             return ops.sampler(seed)
         except Exception as exc:  # explore not usable: SBX crossover, population ≈ √N
             from optuna.samplers.nsgaii import SBXCrossover
@@ -366,7 +366,7 @@ def model_throughput(problem, n: int, repeats: int = 5) -> dict:
 
 
 def nlp_costs(problem, repeats: int = 20) -> dict:
-    from designer.pareto import _ends, _sample
+    from designer.analysis.pareto import _ends, _sample
     from designer.solvers.nlp import CasterNLP
 
     t0 = time.perf_counter()
@@ -419,7 +419,7 @@ def configurations(problem, count: int) -> list:
 
 
 def scaling(problems: dict, cfg: dict) -> dict:
-    import designer.pareto as pareto
+    import designer.analysis.pareto as pareto
 
     by_points = {}
     for name, problem in problems.items():
@@ -691,7 +691,7 @@ def main(argv=None) -> int:
             times, fronts = timed(lambda _: legacy(problem, n), cfg["legacy_repeats"])
             now = methods.get(f"exact front N={n}")
             old = fronts[-1]
-            from designer.indicators import hypervolume_2d, normalise
+            from designer.analysis.indicators import hypervolume_2d, normalise
 
             cur = exact[n][1]
             ideal, nadir = old.ideal_nadir()

@@ -3,49 +3,62 @@
 Chooses trail T, wheel diameter d, groove width B and spindle friction
 damping c_f to minimise turning effort and threshold (door-sill) force with
 no shimmy below a target speed (Eq. 7 of the reference paper).
+
+``import designer`` loads NumPy and the physics only; the solvers (CasADi,
+cvxpy), optuna, matplotlib and the rest load when a function that needs them
+is first used (the names below are resolved lazily).
 """
+from __future__ import annotations
+
+import importlib
+
 from designer.errors import DesignerError, InfeasibleError, InputError, ProblemError, SolverError
 from designer.model import Conditions, Design, evaluate, performance
-from designer.optimise import Solution, optimise
-from designer.pareto import Front, FrontPoint, pareto_front
-from designer.problem import Problem, load_problem, problem_from_dict, problem_from_toml
-from designer.robust import Uncertainty
+from designer.physics.uncertainty import Uncertainty
 
 __version__ = "0.1.0"
 
-_LAZY = {"write_report": ("designer.report", "write_report"), "explore": ("designer.exploration", "explore")}
-_LAZY["fleet"] = ("designer.analysis.fleet", "fleet")
+# name -> module that defines it; imported on first use (keeps `import designer` light).
+_LAZY = {
+    "Problem": "designer.problem",
+    "load_problem": "designer.problem",
+    "problem_from_dict": "designer.problem",
+    "problem_from_toml": "designer.problem",
+    "Solution": "designer.analysis.optimise",
+    "optimise": "designer.analysis.optimise",
+    "Front": "designer.analysis.pareto",
+    "FrontPoint": "designer.analysis.pareto",
+    "pareto_front": "designer.analysis.pareto",
+    "explore": "designer.analysis.exploration",
+    "write_report": "designer.report",
+    "fleet": "designer.analysis.fleet",
+}
 
 
-def __getattr__(name):
-    """``designer.write_report`` and ``designer.explore`` import matplotlib / optuna only when first used."""
-    if name in _LAZY:
-        import importlib
+def __getattr__(name: str):
+    """Resolve the lazily imported public names of :data:`_LAZY`."""
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'designer' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
 
-        module, attr = _LAZY[name]
-        return getattr(importlib.import_module(module), attr)
-    raise AttributeError(f"module 'designer' has no attribute {name!r}")
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = [
     "Conditions",
     "Design",
-    "Front",
-    "FrontPoint",
-    "Solution",
-    "Uncertainty",
     "DesignerError",
     "InfeasibleError",
     "InputError",
-    "Problem",
     "ProblemError",
     "SolverError",
+    "Uncertainty",
     "evaluate",
-    "explore",
-    "load_problem",
-    "optimise",
-    "pareto_front",
     "performance",
-    "problem_from_dict",
-    "problem_from_toml",
-    "write_report",
+    *_LAZY,
 ]

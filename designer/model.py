@@ -9,9 +9,12 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
+import math
+
 import numpy as np
 
 from designer.data.paper import DISTURBANCE_ANGLE, INCH, SLIP_COEFFICIENT
+from designer.errors import InputError
 from designer.physics.geometry import swept_radius
 from designer.physics.inertia import InertiaModel, PowerLaw
 from designer.physics.shimmy import (
@@ -24,6 +27,8 @@ from designer.physics.shimmy import (
 )
 from designer.physics.threshold import threshold_force_ratio
 from designer.physics.turning import DEFAULT_TURNING, TurningConstants, added_damper_moment, sliding_turning_moment
+from designer.physics.uncertainty import Uncertainty, shimmy_speed_quantile
+from designer.units import parse_quantity
 
 VARIABLES = ("trail", "diameter", "groove", "damping")
 """The design variables x = (T, d, B, c_f), in this order everywhere."""
@@ -34,6 +39,31 @@ VARIABLE_INFO = {
     "groove": ("B", "m", "groove width = tread separation of Eq. 7"),
     "damping": ("c_f", "N·m/rad", "spindle friction damping M_f/θ0"),
 }
+
+
+VARIABLE_UNITS = {"trail": "m", "diameter": "m", "groove": "m", "damping": "N·m/rad"}
+"""SI unit of each design variable."""
+
+MODEL_RANGE = {
+    "trail": (0.0, 0.25),
+    "diameter": (0.0, 0.6),
+    "groove": (0.0, 0.1),
+    "damping": (0.0, 100.0),
+}
+"""Physically sensible ranges [SI] (exclusive low for trail, diameter): beyond
+them the paper's model does not apply, and a value there usually means inches
+were written as metres."""
+
+
+def check_design(design, prefix: str = "", error=InputError) -> None:
+    """Raise ``error`` if a design's T, d, B or c_f [SI] is outside :data:`MODEL_RANGE`."""
+    for name in VARIABLES:
+        value = getattr(design, name)
+        lo, hi = MODEL_RANGE[name]
+        if not math.isfinite(value) or value < lo or (value == 0 and name in ("trail", "diameter")) or value > hi:
+            raise error(f"{prefix}{name} = {value:g} {VARIABLE_UNITS[name]}: outside the model's range "
+                        f"({'above' if name in ('trail', 'diameter') else 'from'} {lo:g} to {hi:g}); "
+                        f"were inches written as metres? write e.g. '2 in'")
 
 
 @dataclass(frozen=True)
@@ -55,8 +85,6 @@ class Design:
 
     def __post_init__(self):
         # Units at the edge: strings such as "2 in" or "1.3 N*m/rad" are converted to SI here.
-        from designer.errors import InputError
-        from designer.units import parse_quantity
 
         for name, dimension in (("trail", "length"), ("diameter", "length"), ("groove", "length"),
                                 ("damping", "damping")):
@@ -112,7 +140,7 @@ class Conditions:
     inertia : the I_w(d) model
     turning : constants of the turning model (DESIGN §2.4)
     dynamics : K, fork and bearing-block masses of the third-order model
-    uncertainty : optional :class:`designer.robust.Uncertainty`; then the shimmy
+    uncertainty : optional :class:`designer.analysis.robust.Uncertainty`; then the shimmy
         constraint uses the α-quantile of V_c instead of its nominal value
     """
 
@@ -125,7 +153,7 @@ class Conditions:
     inertia: InertiaModel = field(default_factory=PowerLaw)
     turning: TurningConstants = DEFAULT_TURNING
     dynamics: DynamicsParameters = DynamicsParameters()
-    uncertainty: object | None = None
+    uncertainty: Uncertainty | None = None
 
     def replace(self, **changes) -> "Conditions":
         """A copy with some fields changed."""
@@ -147,7 +175,7 @@ def performance(trail, diameter, groove, damping, conditions: Conditions) -> dic
     - ``swept_radius`` R_s [m] (T + d/2)
     - ``design_speed`` [m/s]: the speed the shimmy constraint compares with V_req:
       V_c itself, or its α-quantile when the conditions carry an uncertainty
-      (robust design, :func:`designer.robust.shimmy_speed_quantile`)
+      (robust design, :func:`designer.analysis.robust.shimmy_speed_quantile`)
     """
     c = conditions
     inertia = c.inertia(diameter)
@@ -155,8 +183,6 @@ def performance(trail, diameter, groove, damping, conditions: Conditions) -> dic
     if c.uncertainty is None:
         design_speed = critical_speed
     else:
-        from designer.robust import shimmy_speed_quantile
-
         design_speed = shimmy_speed_quantile(trail, inertia, groove, damping, c.slip_coefficient, c.uncertainty)
     ratio = threshold_force_ratio(diameter, c.threshold_height)
     moment = sliding_turning_moment(c.load, groove, c.surface, c.turning_mode, c.turning) + added_damper_moment(
@@ -185,9 +211,6 @@ def evaluate(design: Design, conditions: Conditions = Conditions(), speed: float
     Raises InputError for a design outside the model's range (e.g. an 8 m
     wheel: inches written as metres).
     """
-    from designer.errors import InputError
-    from designer.problem import check_design
-
     check_design(design, error=InputError)  # an 8 m wheel is inches written as metres, not a caster
     values = performance(design.trail, design.diameter, design.groove, design.damping, conditions)
     out = {key: float(value) for key, value in values.items()}

@@ -20,7 +20,7 @@ from pathlib import Path
 
 from designer.data.paper import BARE_FORK_DAMPING, INCH, TABLE1
 from designer.errors import ProblemError
-from designer.model import VARIABLES, Conditions, Design
+from designer.model import MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions, Design, check_design
 from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
 from designer.physics.shimmy import DynamicsParameters
 from designer.physics.turning import MODES, SURFACES, TurningConstants
@@ -35,16 +35,6 @@ DEFAULT_BOUNDS = {
 """Bounds used for a variable the problem file does not mention [SI]."""
 
 VARIABLE_DIMENSIONS = {"trail": "length", "diameter": "length", "groove": "length", "damping": "damping"}
-
-MODEL_RANGE = {
-    "trail": (0.0, 0.25),
-    "diameter": (0.0, 0.6),
-    "groove": (0.0, 0.1),
-    "damping": (0.0, 100.0),
-}
-"""Physically sensible ranges [SI] (exclusive low for trail, diameter): beyond
-them the paper's model does not apply, and a value there usually means inches
-were written as metres."""
 
 PHYSICAL_RANGE = {
     "conditions.load": (1.0, 1e5, "N", "a caster load of 0.1 kg to 10 t; was it given in another unit?"),
@@ -103,17 +93,6 @@ def check_weights(weights, key: str = "objective", error=ProblemError) -> tuple[
         raise error(f"{key} = {list(w)}: the larger weight must be between {WEIGHT_RANGE[0]:g} and "
                     f"{WEIGHT_RANGE[1]:g}; weights are relative, scale them to about 1")
     return w
-
-
-def check_design(design, prefix: str = "", error=ProblemError) -> None:
-    """Raise ``error`` if a design's T, d, B or c_f [SI] is outside :data:`MODEL_RANGE`."""
-    for name in VARIABLES:
-        value = getattr(design, name)
-        lo, hi = MODEL_RANGE[name]
-        if not math.isfinite(value) or value < lo or (value == 0 and name in ("trail", "diameter")) or value > hi:
-            raise error(f"{prefix}{name} = {value:g} {VARIABLE_UNITS[name]}: outside the model's range "
-                        f"({'above' if name in ('trail', 'diameter') else 'from'} {lo:g} to {hi:g}); "
-                        f"were inches written as metres? write e.g. '2 in'")
 
 
 # Allowed keys per section: key -> dimension (or a type tag).
@@ -396,10 +375,22 @@ def _validate(problem: Problem, prefix: str = "") -> None:
         fail(f"pareto.points = {problem.pareto_points!r}: must be an integer from 3 to 2001")
 
 
-VARIABLE_UNITS = {"trail": "m", "diameter": "m", "groove": "m", "damping": "N·m/rad"}
-
 
 # --------------------------------------------------------------------------- loading
+
+
+def problem_files(where="problems") -> list[Path]:
+    """The problem files in folder ``where`` (sorted), or ``[where]`` if it is a file.
+
+    Raises InputError if the folder holds no ``*.toml`` file.
+    """
+    path = Path(where)
+    if path.is_file():
+        return [path]
+    files = sorted(path.glob("*.toml"))
+    if not files:
+        raise InputError(f"{where}: no problem files (*.toml) found")
+    return files
 
 
 def load_problem(path) -> Problem:
@@ -611,7 +602,7 @@ def problem_from_dict(data: dict, source: str | None = None, default_name: str =
 
 def _uncertainty(table: dict, fail):
     """Parse [robust]: the allowed probability of shimmy and the scatter (σ of the log) of each constant."""
-    from designer.robust import Uncertainty
+    from designer.physics.uncertainty import Uncertainty
 
     defaults = Uncertainty()
     values = {}

@@ -7,7 +7,7 @@ import tomllib
 import numpy as np
 import pytest
 
-from designer.calibrate import EXAMPLES_DIR, calibrate_file, fit_damping, read_columns, write_examples
+from designer.analysis.calibrate import EXAMPLES_DIR, calibrate_file, fit_damping, read_columns, write_examples
 from designer.cli import main
 from designer.errors import InputError
 from designer.problem import SCHEMA

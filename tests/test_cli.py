@@ -73,7 +73,7 @@ def test_validate_passes(capsys):
 
 def test_validate_fails_loudly(monkeypatch, capsys):
     """A failing check makes validate exit 1 and print which check failed and by how much."""
-    import designer.checks as checks
+    import designer.analysis.checks as checks
 
     bad = checks.Check("x broken", "claim", 1.0, 2.0, False, "")
     monkeypatch.setattr("designer.commands.validate.paper_checks", lambda: [bad])

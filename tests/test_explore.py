@@ -17,7 +17,7 @@ from optuna.trial import TrialState
 
 import designer
 from designer.cli import main
-from designer.exploration import (CSV_COLUMNS, RETRY_ATTR, SURPLUS_ATTR, StorageError, explore, open_storage,
+from designer.analysis.exploration import (CSV_COLUMNS, RETRY_ATTR, SURPLUS_ATTR, StorageError, explore, open_storage,
                               parse_storage)
 from designer.solvers.nlp import CasterNLP, best_starts, solve_best
 

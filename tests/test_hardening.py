@@ -124,7 +124,7 @@ def test_run_absurd_weights_is_input_error(capsys):
     err = capsys.readouterr().err
     assert code == 2 and "weights are relative" in err and err.count("\n") == 1
     with pytest.raises(InputError, match="weights"):
-        from designer.optimise import optimise
+        from designer.analysis.optimise import optimise
 
         optimise(load_problem(INDOOR), weights=(0.0, 0.0), cross_check=False)
 
@@ -174,7 +174,7 @@ def test_nlp_reports_max_iter_and_nan_as_failures():
 
 def test_optimise_retries_other_starts(monkeypatch):
     """When some starts fail (restoration failure), the optimum comes from the others and is the same."""
-    from designer.optimise import optimise
+    from designer.analysis.optimise import optimise
 
     problem = load_problem(INDOOR)
     reference = optimise(problem, cross_check=False)
@@ -194,7 +194,7 @@ def test_optimise_retries_other_starts(monkeypatch):
 
 def test_optimise_raises_solver_error_when_every_start_fails(monkeypatch, capsys):
     """IPOPT failing from every start on a feasible problem: SolverError, one line, exit 5 from the CLI."""
-    from designer.optimise import optimise
+    from designer.analysis.optimise import optimise
 
     real = CasterNLP.solve
     monkeypatch.setattr(CasterNLP, "solve", lambda self, *a, **k: _failed(real(self, *a, **k)))
@@ -210,7 +210,7 @@ def test_optimise_raises_solver_error_when_every_start_fails(monkeypatch, capsys
 def test_pareto_marks_failed_points(monkeypatch):
     """ε-points whose solves all fail (any start, any retry) are kept in front.failed with their status,
     never in front.points, the indicators or the CSV; the rest of the front is unaffected."""
-    import designer.pareto as pareto
+    import designer.analysis.pareto as pareto
 
     problem = load_problem(INDOOR)
     pareto._NLP_CACHE.clear()
@@ -253,7 +253,7 @@ def test_pareto_marks_failed_points(monkeypatch):
 
 def test_pareto_total_solver_failure_is_an_error(monkeypatch):
     """IPOPT failing everywhere on a feasible problem used to give a silent empty front; now a SolverError."""
-    import designer.pareto as pareto
+    import designer.analysis.pareto as pareto
 
     real = pareto.CasterNLP
     monkeypatch.setattr(pareto, "CasterNLP", lambda problem: real(problem, ipopt_options={"ipopt.max_iter": 1}))
@@ -276,7 +276,7 @@ def test_pareto_total_solver_failure_is_an_error(monkeypatch):
 @pytest.fixture(scope="module")
 def invacare_front():
     """The paper's Invacare problem (fixed diameter, a one-point front): fast to compute."""
-    from designer.pareto import pareto_front
+    from designer.analysis.pareto import pareto_front
 
     problem = load_problem(INVACARE)
     return problem, pareto_front(problem)

@@ -6,7 +6,7 @@ import pytest
 
 from designer.errors import InfeasibleError
 from designer.model import evaluate
-from designer.optimise import optimise
+from designer.analysis.optimise import optimise
 from designer.problem import load_problem, problem_from_dict
 from designer.solvers.nlp import CasterNLP, best_starts, solve_best
 from designer.solvers.scipy_check import slsqp

@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize
 
-from designer.checks import front_checks
-from designer.indicators import hypervolume_2d, igd_plus, nondominated
+from designer.analysis.checks import front_checks
+from designer.analysis.indicators import hypervolume_2d, igd_plus, nondominated
 from designer.model import performance
-from designer.pareto import pareto_front
+from designer.analysis.pareto import pareto_front
 from designer.problem import load_problem
 
 from conftest import PROBLEMS
@@ -128,7 +128,7 @@ def test_hypervolume_against_dense_reference():
     """indoor-manual, 61 points: the exact front's hypervolume is within 0.1 % of (and not below) that of a
     brute-force reference (dense grid + SLSQP polish, scipy only) at the same threshold forces, on the same
     normalisation and reference point (1.1, 1.1)."""
-    from designer.indicators import normalise
+    from designer.analysis.indicators import normalise
 
     front = pareto_front(load_problem(BY_NAME["indoor-manual"]), points=61)
     problem = front.problem
@@ -158,7 +158,7 @@ def test_points_spread_along_front(fronts):
     has no discontinuity apart from the bare-fork → groove switch, which is reported)."""
     front = fronts["indoor-manual"]
     ideal, nadir = front.ideal_nadir()
-    from designer.indicators import normalise
+    from designer.analysis.indicators import normalise
 
     g = normalise(front.objectives(), ideal, nadir)
     steps = np.hypot(*np.diff(g, axis=0).T)
@@ -192,7 +192,7 @@ def test_front_csv_columns(fronts, tmp_path):
 def test_compare_tighter_front(fronts):
     """front.compare: a 10 % tighter target's front has a smaller hypervolume and positive IGD+; the exact
     test (re-solving the looser problem at each of its threshold forces) finds every point dominated."""
-    from designer.checks import dominated_by_problem
+    from designer.analysis.checks import dominated_by_problem
 
     front = fronts["sports-court"]
     tighter = pareto_front(front.problem.replace(target_speed=front.problem.target_speed * 1.1), points=11)

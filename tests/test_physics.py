@@ -5,6 +5,10 @@ import math
 import warnings
 
 import casadi as ca
+
+from designer.physics import enable_casadi
+
+enable_casadi()  # NumPy mode: the physics functions build CasADi expressions here, without the solvers
 import numpy as np
 import pytest
 

@@ -36,4 +36,4 @@ def test_public_api_names():
                  "explore", "write_report", "Uncertainty"):
         assert callable(getattr(designer, name)), name
     assert designer.write_report.__module__.startswith("designer.report")
-    assert designer.explore.__module__ == "designer.exploration"
+    assert designer.explore.__module__ == "designer.analysis.exploration"

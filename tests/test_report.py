@@ -12,8 +12,9 @@ import pytest
 
 from designer import load_problem
 from designer.cli import main
-from designer.pareto import pareto_front
-from designer.report import figures, write_report
+from designer.analysis.pareto import pareto_front
+from designer.plots import figures
+from designer.report import write_report
 
 ROOT = Path(__file__).resolve().parents[1]
 COMMITTED = ROOT / "results" / "indoor-manual"
@@ -60,7 +61,7 @@ def test_cli_writes_every_file(regenerated, capsys):
 def test_committed_results_are_current(regenerated):
     """results/indoor-manual matches a fresh run: front.csv objectives within 1e-5, the same check verdicts."""
     out, _ = regenerated
-    assert COMMITTED.is_dir(), "results/indoor-manual is missing: run python -m designer.report.regenerate"
+    assert COMMITTED.is_dir(), "results/indoor-manual is missing: run python -m designer.commands.regenerate"
     new, old = _read_csv(out / "front.csv"), _read_csv(COMMITTED / "front.csv")
     assert len(new) == len(old), "number of front points changed: regenerate results/"
     for column in ("turning_effort", "threshold_force"):
@@ -135,7 +136,7 @@ def test_failed_write_leaves_nothing(invacare, tmp_path, monkeypatch):
 
 def test_cli_exit_1_when_a_front_check_fails(tmp_path, monkeypatch, capsys):
     """A failing check 8 gives exit 1, after the report is written (DESIGN §4.2)."""
-    import designer.checks as checks
+    import designer.analysis.checks as checks
 
     real = checks.front_checks
 

@@ -4,13 +4,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from designer.checks import dominated_by_problem
+from designer.analysis.checks import dominated_by_problem
 from designer.errors import ProblemError
-from designer.optimise import optimise
-from designer.pareto import pareto_front
+from designer.analysis.optimise import optimise
+from designer.analysis.pareto import pareto_front
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities
 from designer.problem import load_problem, problem_from_dict
-from designer.robust import Uncertainty, shimmy_probability_first_order, shimmy_probability_mc
+from designer.physics.uncertainty import Uncertainty, shimmy_probability_first_order, shimmy_probability_mc
 
 from conftest import ROOT
 

@@ -1,4 +1,4 @@
-"""Time-domain shimmy simulation (designer.simulate) against the paper's Eq. 7, 12B, 15B, 29B."""
+"""Time-domain shimmy simulation (designer.analysis.simulate) against the paper's Eq. 7, 12B, 15B, 29B."""
 from __future__ import annotations
 
 import json
@@ -13,7 +13,7 @@ from designer.errors import InputError
 from designer.model import Conditions, Design
 from designer.physics.inertia import Fixed
 from designer.physics.shimmy import growth_rate, shimmy_frequency, third_order_coefficients
-from designer.simulate import onset_speed, simulate
+from designer.analysis.simulate import onset_speed, simulate
 
 # Appendix C caster (Fig. 1C): T = 2.5 in, I_w from V_c = 2.53 m/s via Eq. 7, bare fork.
 I_C = 4 * BARE_FORK_DAMPING * APPENDIX_C_CASE.trail**2 / (math.pi * APPENDIX_C_CASE.critical_speed**2)

@@ -5,7 +5,7 @@ import warnings
 import numpy as np
 import pytest
 
-from designer import pareto
+from designer.analysis import pareto
 from designer.problem import load_problem
 from designer.solvers import structured
 from designer.solvers.nlp import CasterNLP, best_starts, evaluate_many

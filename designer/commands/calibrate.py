@@ -43,7 +43,7 @@ def _missing_kind() -> int:
 
 
 def run(args) -> int:
-    from designer.calibrate import calibrate_file, plot_fit
+    from designer.analysis.calibrate import calibrate_file, plot_fit
 
     slip = 1250.0
     if args.kind == "damping":
@@ -84,7 +84,7 @@ def run(args) -> int:
 
 
 def run_examples(args) -> int:
-    from designer.calibrate import EXAMPLE_SEED, EXAMPLES_DIR, write_examples
+    from designer.analysis.calibrate import EXAMPLE_SEED, EXAMPLES_DIR, write_examples
 
     paths = write_examples(args.out or EXAMPLES_DIR, EXAMPLE_SEED if args.seed is None else args.seed)
     for kind, path in paths.items():

@@ -7,7 +7,8 @@ from designer.errors import InputError
 from designer.model import Conditions, Design, evaluate
 from designer.physics.inertia import Fixed, PowerLaw
 from designer.physics.turning import DEFAULT_TURNING, MODES, SURFACES
-from designer.problem import INERTIA_RANGE, PHYSICAL_RANGE, check_design
+from designer.model import check_design
+from designer.problem import INERTIA_RANGE, PHYSICAL_RANGE
 
 
 def register(sub) -> None:

@@ -35,7 +35,7 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from designer.exploration import explore
+    from designer.analysis.exploration import explore
     from designer.problem import load_problem
 
     if args.population is not None and args.population < 2:

@@ -92,10 +92,10 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
 
 
 def _compute(problem, points, out, tracker, force=False) -> dict:
-    from designer.checks import front_checks, paper_checks
+    from designer.analysis.checks import front_checks, paper_checks
     from designer.errors import DesignerError
-    from designer.optimise import optimise
-    from designer.pareto import pareto_front
+    from designer.analysis.optimise import optimise
+    from designer.analysis.pareto import pareto_front
     from designer.report import write_report
 
     t0 = time.perf_counter()
@@ -154,7 +154,7 @@ def run(args) -> int:
     if args.points is not None and args.points < 2:
         raise InputError(f"--points {args.points}: a front needs at least 2 points")
     if args.all:
-        from designer.report.regenerate import problem_files
+        from designer.problem import problem_files
 
         files = problem_files(args.problem or "problems")
         parent = Path(args.out or "results")

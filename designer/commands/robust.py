@@ -19,7 +19,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from designer.errors import InputError
-    from designer.robust import write_robust_report
+    from designer.analysis.robust import write_robust_report
 
     if args.points < 2 or args.points > 501:
         raise InputError(f"--points {args.points}: must be between 2 and 501")

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from designer.commands._common import eprint, print_json
 from designer.errors import InputError
-from designer.optimise import optimise
+from designer.analysis.optimise import optimise
 from designer.problem import load_problem
 
 

@@ -85,7 +85,7 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
 
 
 def run(args) -> int:
-    from designer.simulate import onset_speed, simulate, write_simulation_report
+    from designer.analysis.simulate import onset_speed, simulate, write_simulation_report
 
     if args.report is not None:
         result = write_simulation_report(
@@ -163,6 +163,6 @@ def _plot(result, path, onset=None) -> None:
     ax.set_ylabel("caster angle θ [deg]")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    from designer.report.figures import save_figure
+    from designer.plots.figures import save_figure
 
     save_figure(fig, path, dpi=110)

@@ -1,7 +1,7 @@
 """``designer validate``: the paper's checks of DESIGN §5 as a table; non-zero exit on failure."""
 from __future__ import annotations
 
-from designer.checks import paper_checks
+from designer.analysis.checks import paper_checks
 from designer.commands._common import print_json
 
 

@@ -12,13 +12,12 @@ inertia     I_w(d): Table 1 power law, thin disc, catalog wheel
 threshold   Eq. 1/4A exact, Eq. 5A approximate: force to climb a door sill
 turning     DESIGN §2.4, Eq. 9: turning effort at the caster spindle
 geometry    swept radius of the swivelling caster
-"""
-import casadi as _casadi
+uncertainty scatter of Eq. 7's constants: V_c quantile and Monte Carlo probability of shimmy
 
-try:  # type-preserving NumPy functions on CasADi values (casadi >= 3.7.2)
-    _casadi.GlobalOptions.setNumpyMode(1)
-except AttributeError:  # pragma: no cover - older casadi: legacy behaviour
-    pass
+CasADi is not imported here (``import designer`` stays light): the solvers call
+:func:`enable_casadi` when they build symbols.
+"""
+from designer.physics._checks import enable_casadi
 
 from designer.physics.geometry import swept_radius
 from designer.physics.inertia import (

@@ -6,11 +6,26 @@ import numpy as np
 from designer.errors import InputError
 
 
+def enable_casadi() -> None:
+    """Import CasADi and switch on its NumPy mode (``np.sqrt`` of a symbol is a CasADi expression).
+
+    Called by the solvers before they build symbols; CasADi is imported here, late, because
+    ``import designer`` must not pay for it.
+    """
+    import casadi  # heavy: loaded only when symbols are built
+
+    try:  # type-preserving NumPy functions on CasADi values (casadi >= 3.7.2)
+        casadi.GlobalOptions.setNumpyMode(1)
+    except AttributeError:  # pragma: no cover - older casadi: legacy behaviour
+        pass
+
+
 def is_symbolic(*values) -> bool:
     """True if any value is a CasADi SX or MX expression (not checkable numerically)."""
-    import casadi
-
-    return any(isinstance(v, (casadi.SX, casadi.MX)) for v in values)
+    symbolic = any(type(v).__module__.startswith("casadi") and type(v).__name__ in ("SX", "MX") for v in values)
+    if symbolic:
+        enable_casadi()
+    return symbolic
 
 
 def require_positive(name: str, value, allow_zero: bool = False) -> None:

@@ -29,7 +29,7 @@ import numpy as np
 from designer.jsonsafe import finite
 from designer.data.paper import INCH
 from designer.errors import DesignerError, InputError
-from designer.report import figures as _figures
+from designer.plots import figures as _figures
 
 LBF = 4.4482216152605
 """One pound-force [N] (display only)."""
@@ -94,10 +94,10 @@ class ReportData:
     problem : the problem
     front : its exact Pareto front (failed points in ``front.failed``)
     tighter : front for V_target × 1.1 (check 8c), or None
-    solution : the weighted optimum (:func:`designer.optimise.optimise`), or None
+    solution : the weighted optimum (:func:`designer.analysis.optimise.optimise`), or None
     solution_error : why the optimum is missing, if it is
-    paper_checks, front_checks : lists of :class:`designer.checks.Check`
-    tradeoff : rows of :func:`designer.report.tradeoff.groove_damper_tradeoff`
+    paper_checks, front_checks : lists of :class:`designer.analysis.checks.Check`
+    tradeoff : rows of :func:`designer.analysis.tradeoff.groove_damper_tradeoff`
     gaps : ``front.gaps()``
     degenerate_reason : sentence explaining a front of fewer than two points, else ""
     run : metadata (versions, digest, solver settings, date, wall time)
@@ -248,7 +248,7 @@ def _model_rows(problem) -> list[dict]:
     if getattr(problem.conditions, "uncertainty", None) is not None:
         rows.append(("robust shimmy constraint (replaces the nominal one)",
                      "V_c · exp(−z_(1−α) σ_V) >= V_req, σ_V² = σ_model² + Σ (∂log V_c/∂log p · σ_p)²",
-                     "first-order quantile, designer.robust"))
+                     "first-order quantile, designer.analysis.robust"))
     rows += [
         ("wheel inertia", inertia.describe() + "." + note, "DESIGN §2.2, Table 1"),
         ("threshold force", "P = L · 2 sqrt(d/h − 1) / (d/h − 2), valid for d/h > 2", "Eq. 4A (= Eq. 1)"),
@@ -300,7 +300,7 @@ def _parameter_info(name: str) -> str:
 
 def _tradeoff_rows(problem, rows) -> list[dict]:
     """Table rows of the groove/damper trade-off; consecutive diameters where the trail alone suffices are merged."""
-    from designer.report.figures import _is_bare
+    from designer.plots.figures import _is_bare
 
     out = []
     for r in rows:
@@ -595,18 +595,18 @@ def write_report(problem, front, out_dir=None, solution=None, checks=None, tight
     Parameters
     ----------
     problem : designer.problem.Problem
-    front : designer.pareto.Front of ``problem``
+    front : designer.analysis.pareto.Front of ``problem``
     out_dir : str | Path, optional
         The report folder itself; default ``results/<problem.name>``.
-    solution : designer.optimise.Solution, optional
-        The weighted optimum; computed with :func:`designer.optimise.optimise` if omitted.
-    checks : list of designer.checks.Check, optional
-        Default: :func:`designer.checks.paper_checks` + :func:`designer.checks.front_checks`.
+    solution : designer.analysis.optimise.Solution, optional
+        The weighted optimum; computed with :func:`designer.analysis.optimise.optimise` if omitted.
+    checks : list of designer.analysis.checks.Check, optional
+        Default: :func:`designer.analysis.checks.paper_checks` + :func:`designer.analysis.checks.front_checks`.
         Checks whose name starts with "8" are shown as front checks.
-    tighter : designer.pareto.Front, optional
+    tighter : designer.analysis.pareto.Front, optional
         Front for a higher target speed (check 8c; drawn on the front figure).
     tradeoff : list, optional
-        Precomputed :func:`designer.report.tradeoff.groove_damper_tradeoff` rows.
+        Precomputed :func:`designer.analysis.tradeoff.groove_damper_tradeoff` rows.
     run_meta : dict, optional
         Extra run metadata (e.g. the command's wall time, solver settings) merged into ``front.json``.
     force : bool
@@ -618,15 +618,15 @@ def write_report(problem, front, out_dir=None, solution=None, checks=None, tight
     Path
         The report folder.
     """
-    from designer.checks import front_checks, paper_checks
-    from designer.report.tradeoff import groove_damper_tradeoff
+    from designer.analysis.checks import front_checks, paper_checks
+    from designer.analysis.tradeoff import groove_damper_tradeoff
 
     t0 = time.perf_counter()
     target = Path(out_dir) if out_dir is not None else Path("results") / problem.name
     check_target(target, force)
     data = ReportData(problem=problem, front=front, tighter=tighter)
     if solution is None and front.points:
-        from designer.optimise import optimise
+        from designer.analysis.optimise import optimise
 
         try:
             with warnings.catch_warnings():

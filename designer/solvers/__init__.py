@@ -4,3 +4,7 @@ nlp          CasADi/IPOPT exact NLP, built once per problem, multi-start (primar
 gp           cvxpy geometric programming: global certificate and duals
 scipy_check  SLSQP cross-check from the NLP optimum and random starts
 """
+
+from designer.physics._checks import enable_casadi
+
+enable_casadi()  # the solvers build CasADi symbols from the physics functions

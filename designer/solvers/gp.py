@@ -212,7 +212,7 @@ class _Constants:
 def robust_speed_factor(problem: Problem, groove: bool) -> tuple[float, bool]:
     """Factor on V_req that makes the GP's shimmy constraint imply the robust one, and whether it is exact.
 
-    A problem with an uncertainty (``[robust]``, :mod:`designer.robust`)
+    A problem with an uncertainty (``[robust]``, :mod:`designer.analysis.robust`)
     requires V_c(x) exp(−z_{1−α} σ_V(x)) >= V_req, with σ_V² = σ_m² +
     (e_c σ_c)² + (e_K σ_K)² + (σ_I/2)² and elasticities e_c = a/(2(a+b)),
     e_K = b/(2(a+b)) of Eq. 7 (a the damping term, b the groove term).  σ_V

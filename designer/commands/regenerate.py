@@ -1,4 +1,4 @@
-"""Regenerate the committed reports of every shipped problem: ``python -m designer.report.regenerate``.
+"""Regenerate the committed reports of every shipped problem: ``python -m designer.commands.regenerate``.
 
 Runs ``designer pareto`` on each ``problems/*.toml`` and writes
 ``results/<problem>/``.  Equivalent to ``designer pareto --all``.  The exit
@@ -6,34 +6,23 @@ code is 1 if a check of any front fails (the reports are written anyway).
 
 Usage::
 
-    python -m designer.report.regenerate [PROBLEMS_DIR_OR_FILES ...] [--out results] [--points N]
+    python -m designer.commands.regenerate [PROBLEMS_DIR_OR_FILES ...] [--out results] [--points N]
 """
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
-from designer.errors import InputError
+from designer.cli import main as cli_main
+from designer.problem import problem_files
 
-
-def problem_files(where="problems") -> list[Path]:
-    """The problem files in folder ``where`` (sorted), or ``[where]`` if it is a file."""
-    path = Path(where)
-    if path.is_file():
-        return [path]
-    files = sorted(path.glob("*.toml"))
-    if not files:
-        raise InputError(f"{where}: no problem files (*.toml) found")
-    return files
+__all__ = ["main", "problem_files"]
 
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point: ``designer pareto --all`` on each folder (or file) given, default ``problems``."""
     import argparse
 
-    from designer.cli import main as cli_main
-
-    parser = argparse.ArgumentParser(prog="python -m designer.report.regenerate",
+    parser = argparse.ArgumentParser(prog="python -m designer.commands.regenerate",
                                      description="Regenerate results/<problem>/ for every shipped problem.")
     parser.add_argument("where", nargs="*", default=["problems"], help="problem folders or files (default problems)")
     parser.add_argument("--out", default="results", help="parent folder of the reports (default results)")

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from designer.indicators import hypervolume_2d, igd_plus, nondominated, normalise
+from designer.analysis.indicators import hypervolume_2d, igd_plus, nondominated, normalise
 from designer.model import VARIABLES, Design, evaluate
 from designer.problem import Problem
 from designer.solvers import structured
@@ -195,7 +195,7 @@ class Front:
         by one of this front's points (a discrete test: a point of ``other``
         that falls between two of this front's points can be dominated by the
         continuous front and still count as not dominated; see
-        :func:`designer.checks.front_checks` for the exact test).
+        :func:`designer.analysis.checks.front_checks` for the exact test).
         """
         ideal, nadir = self.ideal_nadir()
         mine = normalise(self.objectives(), ideal, nadir)
@@ -250,7 +250,7 @@ class Front:
 
 
 def _point(nlp: CasterNLP, problem: Problem, result, epsilon: float, wheel=None) -> FrontPoint:
-    from designer.optimise import constraint_margins
+    from designer.analysis.optimise import constraint_margins
 
     values = evaluate(result.design, problem.conditions) if result.success else None
     if values is None:
@@ -457,7 +457,7 @@ class _Sweep:
 
 def _points(nlp: CasterNLP, problem: Problem, results, eps, wheel=None) -> list:
     """FrontPoints of many results: one vectorised model call for all successful designs."""
-    from designer.optimise import constraint_margins
+    from designer.analysis.optimise import constraint_margins
 
     out = [None] * len(results)
     ok = [i for i, r in enumerate(results) if r.success]
@@ -594,7 +594,7 @@ def _pareto_front(problem: Problem, n: int, progress) -> Front:
         # no end of any front was found: an unreachable target gives an empty front (the report explains it),
         # but IPOPT failing on a feasible problem must not pass for one
         from designer.errors import SolverError
-        from designer.optimise import _diagnose
+        from designer.analysis.optimise import _diagnose
 
         error = _diagnose(problem)
         if isinstance(error, SolverError):

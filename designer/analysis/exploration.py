@@ -69,7 +69,7 @@ import numpy as np
 
 from designer.jsonsafe import finite
 from designer.errors import InputError, StorageError
-from designer.indicators import hypervolume_2d, igd_plus, nondominated, normalise
+from designer.analysis.indicators import hypervolume_2d, igd_plus, nondominated, normalise
 from designer.model import VARIABLES, Design
 from designer.problem import Bound, Problem
 from designer.solvers.nlp import evaluate_many, violation
@@ -730,7 +730,7 @@ def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: 
     population_size : int, optional
         Override the population size of the chosen operators.
     compare : bool
-        Compare with the exact front of :func:`designer.pareto.pareto_front` (HV and IGD+).
+        Compare with the exact front of :func:`designer.analysis.pareto.pareto_front` (HV and IGD+).
     progress : bool
         Show a progress bar on stderr (front size and hypervolume).
 
@@ -943,11 +943,11 @@ def _box_reference(problem: Problem) -> tuple[float, float]:
 
 
 def _exact_front(problem: Problem) -> dict | None:
-    """The exact front of :func:`designer.pareto.pareto_front`, or a note when it is unavailable."""
+    """The exact front of :func:`designer.analysis.pareto.pareto_front`, or a note when it is unavailable."""
     try:
-        from designer.pareto import pareto_front
+        from designer.analysis.pareto import pareto_front
     except ImportError:
-        return {"note": "designer.pareto is not available; no comparison with the exact front"}
+        return {"note": "designer.analysis.pareto is not available; no comparison with the exact front"}
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")

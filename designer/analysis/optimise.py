@@ -93,7 +93,7 @@ class Solution:
         u = self.problem.conditions.uncertainty
         if u is None:
             return []
-        from designer.robust import shimmy_probability_mc
+        from designer.physics.uncertainty import shimmy_probability_mc
 
         d = self.design
         inertia = float(self.problem.conditions.inertia(d.diameter))

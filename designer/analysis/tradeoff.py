@@ -7,7 +7,7 @@ effort F_turn [N] that reaches the required critical speed V_req (Eq. 7)
 - by the damper alone (groove held at its lower bound, usually B = 0),
 - by the optimum mix (both free),
 
-each solved exactly with :func:`designer.optimise.optimise` on the problem
+each solved exactly with :func:`designer.analysis.optimise.optimise` on the problem
 restricted to that diameter (the trail is free in every case).  Nothing here
 re-types an equation: the NLP and :func:`designer.model.performance` do the
 physics.
@@ -80,7 +80,7 @@ def groove_damper_tradeoff(problem: Problem, count: int = 25, samples: int = 128
     -------
     list of TradeoffRow, by increasing diameter
     """
-    from designer.optimise import optimise
+    from designer.analysis.optimise import optimise
 
     rows = []
     with warnings.catch_warnings():

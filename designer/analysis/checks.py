@@ -241,7 +241,7 @@ def front_checks(front, tighter=None, tol: float = 1e-6) -> list[Check]:
 
     Parameters
     ----------
-    front : designer.pareto.Front
+    front : designer.analysis.pareto.Front
     tighter : optional front of the same problem with a higher V_target
     """
     problem = front.problem
