@@ -886,8 +886,8 @@ def fleet_recommendations(fleet: Fleet, problem, skus: int | None = None, k_max:
         if client is None:
             results = [recommend_chairs(arrays, stock, problem) for _, arrays in parts]
         else:
-            stock_f = client.scatter(stock, broadcast=True)
-            problem_f = client.scatter(problem, broadcast=True)
+            stock_f = client.scatter(stock, broadcast=True, hash=False)
+            problem_f = client.scatter(problem, broadcast=True, hash=False)
             futures = [client.submit(_chunk_task, arrays, stock_f, problem_f, pure=False) for _, arrays in parts]
             results = client.gather(futures)
         chairs = {k: np.concatenate([r[k] for r in results]) for k in results[0]}
@@ -926,16 +926,23 @@ def _monte_carlo(client, stock, problem, choice, speeds, chunk):
     se = np.full(len(choice), np.nan)
     if not len(rows):
         return p, se
-    designs = np.stack([stock.trail, stock.diameter, stock.groove, stock.damping], axis=1)[choice[rows]]
-    inertia = stock.inertia[choice[rows]]
-    sp = np.asarray(speeds, float)[rows]
-    pieces = [(a, slice(a, a + chunk)) for a in range(0, len(rows), chunk)]
+    # The estimate is a deterministic function of (caster, speed) (its own fixed seed), so chairs that share
+    # both share one estimate: each distinct pair is sampled once.
+    pairs, inverse = np.unique(np.stack([choice[rows].astype(float), np.asarray(speeds, float)[rows]], axis=1),
+                               axis=0, return_inverse=True)
+    which = pairs[:, 0].astype(int)
+    designs = np.stack([stock.trail, stock.diameter, stock.groove, stock.damping], axis=1)[which]
+    inertia = stock.inertia[which]
+    sp = pairs[:, 1]
+    if client is not None:  # enough tasks to keep every worker busy
+        chunk = max(1, min(chunk, -(-len(sp) // (8 * max(1, len(client.scheduler_info().get("workers", {})))))))
+    pieces = [slice(a, a + chunk) for a in range(0, len(sp), chunk)]
     if client is None:
-        outs = [_mc_task(designs[s], inertia[s], sp[s], slip, u) for _, s in pieces]
+        outs = [_mc_task(designs[s], inertia[s], sp[s], slip, u) for s in pieces]
     else:
-        futures = [client.submit(_mc_task, designs[s], inertia[s], sp[s], slip, u, pure=False) for _, s in pieces]
+        futures = [client.submit(_mc_task, designs[s], inertia[s], sp[s], slip, u, pure=False) for s in pieces]
         outs = client.gather(futures)
-    both = np.concatenate(outs)
+    both = np.concatenate(outs)[np.ravel(inverse)]
     p[rows], se[rows] = both[:, 0], both[:, 1]
     return p, se
 
