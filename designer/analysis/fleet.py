@@ -662,18 +662,31 @@ def recommend_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     f, p, ok = ev["turning_effort"], ev["threshold_force"], ev["feasible"]
     n, s = f.shape
     fm = np.where(ok, f, np.inf)
-    pm = np.where(ok, p, np.inf)
-    # sort each chair's casters by P ascending, ties by F ascending (infeasible last)
-    order = np.lexsort((fm, pm), axis=-1)
-    fs = np.take_along_axis(fm, order, axis=1)
-    ps = np.take_along_axis(pm, order, axis=1)
+    rows = np.arange(n)
+    # P depends on the wheel diameter only (Eq. 4A), so casters of one diameter share P and only the
+    # least-F allowed one of each diameter can be on the front (ties: the lowest stock index).  Reduce
+    # to one candidate per diameter first: (chairs × diameters) instead of (chairs × casters).
+    _, group = np.unique(stock.diameter, return_inverse=True)
+    perm = np.argsort(group, kind="stable")
+    counts = np.bincount(group)
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    fperm = fm[:, perm]
+    gmin = np.minimum.reduceat(fperm, starts, axis=1)
+    position = np.where(fperm == np.repeat(gmin, counts, axis=1), np.arange(s), s)
+    gstock = perm[np.minimum(np.minimum.reduceat(position, starts, axis=1), s - 1)]
+    gp = np.where(np.isfinite(gmin), np.take_along_axis(p, gstock, axis=1), np.inf)
+    u = gmin.shape[1]
+    # sort each chair's candidates by P ascending, ties by F ascending (infeasible last)
+    order_g = np.lexsort((gmin, gp), axis=-1)
+    fs = np.take_along_axis(gmin, order_g, axis=1)
+    ps = np.take_along_axis(gp, order_g, axis=1)
+    order = np.take_along_axis(gstock, order_g, axis=1)  # stock index of each sorted candidate
     previous = np.concatenate([np.full((n, 1), np.inf), np.minimum.accumulate(fs, axis=1)[:, :-1]], axis=1)
     front = np.isfinite(fs) & (fs < previous)
     size = front.sum(axis=1)
     has = size > 0
-    rows = np.arange(n)
     first = np.argmax(front, axis=1)  # least P on the front
-    last = s - 1 - np.argmax(front[:, ::-1], axis=1)  # least F on the front (largest P)
+    last = u - 1 - np.argmax(front[:, ::-1], axis=1)  # least F on the front (largest P)
     easiest_sill = np.where(has, order[rows, first], -1)
     easiest_turn = np.where(has, order[rows, last], -1)
     w = np.asarray(problem.weights, float)
@@ -710,7 +723,7 @@ def recommend_chairs(chairs: dict, stock: StockTable, problem) -> dict:
         dist = np.where(front, dist, -np.inf)
         # argmax over the decreasing-P order picks the first maximum in that order, as the front's knee does
         rev = dist[:, ::-1]
-        knee = s - 1 - np.argmax(rev, axis=1)
+        knee = u - 1 - np.argmax(rev, axis=1)
         small = (size < 3) | (norm == 0)
         pick = np.where(small, last, knee)
         choice = np.where(has, order[rows, pick], -1)
