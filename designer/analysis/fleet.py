@@ -1045,7 +1045,9 @@ def fleet_data(result: FleetResult) -> dict:
             "turning_effort": ch["turning_effort"][ok], "threshold_force": ch["threshold_force"][ok]}
     if "shimmy_probability" in ch:
         dist["shimmy_probability"] = ch["shimmy_probability"][ok]
-    curve = [{"k": k, "regret": s.regret if s.status != "infeasible" else None, "status": s.status,
+    served_units = float(result.fleet.count[ok].sum()) or 1.0
+    curve = [{"k": k, "regret": s.regret if s.status != "infeasible" else None,
+              "mean_regret": s.regret / served_units if s.status != "infeasible" else None, "status": s.status,
               "lower_bound": s.lower_bound, "gap": s.gap, "seconds": s.seconds, "chosen": s.chosen}
              for k, s in sorted(result.curve.items())]
     w = tuple(float(x) for x in problem.weights)
@@ -1071,6 +1073,8 @@ def fleet_data(result: FleetResult) -> dict:
         "skus": result.sku_records(),
         "k": None if result.skus is None else result.skus.k,
         "regret": None if result.skus is None or result.skus.status == "infeasible" else result.skus.regret,
+        "mean_regret": None if result.skus is None or result.skus.status == "infeasible" else
+        result.skus.regret / served_units,
         "sku_status": None if result.skus is None else result.skus.status,
         "regret_curve": curve,
         "rows": rows,

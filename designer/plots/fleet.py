@@ -52,12 +52,12 @@ def figure_distributions(values: dict, alpha: float | None = None) -> Figure:
 
 
 def figure_regret(k: np.ndarray, regret: np.ndarray, chosen_k: int | None = None, unit: str = "N") -> Figure:
-    """Regret curve: count-weighted total regret against the number of part numbers K.
+    """Regret curve: the least mean regret per unit sold against the number of part numbers K.
 
     Parameters
     ----------
     k : K values
-    regret : least total regret for each K (NaN where no K casters serve every chair) [unit · chairs]
+    regret : least count-weighted mean regret for each K (NaN where no K casters serve every chair) [unit]
     chosen_k : the K asked for (marked)
     """
     fig = Figure(figsize=(6.5, 4.0))
@@ -73,7 +73,7 @@ def figure_regret(k: np.ndarray, regret: np.ndarray, chosen_k: int | None = None
         ax.plot([chosen_k], [regret[i]], "s", color="#d62728", ms=9, label=f"K = {chosen_k} (asked for)")
         ax.legend(fontsize=8)
     ax.set_xlabel("part numbers K")
-    ax.set_ylabel(f"total regret Σ count · (J − J_own best) [{unit}]")
+    ax.set_ylabel(f"mean regret per unit sold, J − J_own best [{unit}]")
     ax.set_title("What each added part number buys (exact K-median)", fontsize=10)
     ax.set_xticks(k)
     ax.grid(alpha=0.3)

@@ -51,7 +51,8 @@ def _figures(data: dict) -> dict:
     curve = data.get("regret_curve") or []
     if curve:
         figs["regret"] = figure_regret([c["k"] for c in curve],
-                                       [c["regret"] if c["regret"] is not None else float("nan") for c in curve],
+                                       [c["mean_regret"] if c["mean_regret"] is not None else float("nan")
+                                        for c in curve],
                                        data.get("k"))
     out = {}
     for name, fig in figs.items():
@@ -68,10 +69,12 @@ def markdown(data: dict) -> str:
     lines += ["", "![distributions](figures/distributions.png)", ""]
     if data.get("regret_curve"):
         lines += ["## Part numbers", "", "![regret curve](figures/regret.png)", ""]
-        lines += ["| K | total regret | status | solve [s] |", "|---:|---:|---|---:|"]
+        lines += ["| K | mean regret per unit [N] | total regret Σ count · regret [N] | status | solve [s] |",
+                  "|---:|---:|---:|---|---:|"]
         for c in data["regret_curve"]:
-            regret = "–" if c["regret"] is None else f"{c['regret']:.4g}"
-            lines.append(f"| {c['k']} | {regret} | {c['status']} | {c['seconds']:.2f} |")
+            regret = "–" if c["regret"] is None else f"{c['regret']:.6g}"
+            mean = "–" if c["mean_regret"] is None else f"{c['mean_regret']:.3f}"
+            lines.append(f"| {c['k']} | {mean} | {regret} | {c['status']} | {c['seconds']:.2f} |")
         lines += ["", "| SKU | trail [in] | diameter [in] | groove [in] | damping [N·m/rad] | chairs | units |",
                   "|---:|---:|---:|---:|---:|---:|---:|"]
         for s in data["skus"]:
@@ -109,8 +112,9 @@ def _summary(data: dict) -> list[str]:
             out.append(f"- K = {data['k']}: no {data['k']} stock casters serve every feasible chair "
                        f"({data['sku_status']}).")
         else:
-            out.append(f"- K = {data['k']} part numbers: total regret {data['regret']:.4g} N·units "
-                       f"({data['sku_status']}).")
+            out.append(f"- K = {data['k']} part numbers: each unit sold loses {data['mean_regret']:.3f} N of J on "
+                       f"average against its chair's own best stock caster (total {data['regret']:.6g} N·units, "
+                       f"{data['sku_status']}).")
     return out
 
 
