@@ -27,8 +27,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-EXACT_LIMIT = 2_000_000
-"""Largest number of feasible (chair, caster) pairs solved as an exact MIP; beyond it: heuristic + bound."""
+EXACT_LIMIT = 150_000
+"""Largest number of allowed (chair, caster) pairs solved as an exact MIP (about 3 000 chairs × 50 useful
+casters); beyond it: greedy + swap with a Lagrangian gap bound."""
 
 
 @dataclass
@@ -41,7 +42,8 @@ class KMedianSolution:
     chosen : stock indices of the K casters (sorted)
     assignment : per chair, the stock index it gets (-1 if none can serve it)
     regret : the count-weighted total regret Σ w_i r_i [objective units, N with weights (1, 1)]
-    status : "optimal", "heuristic" (with ``gap``), or "infeasible" (no K casters serve every chair)
+    status : "optimal" (MIP), "optimal-by-bound" (heuristic whose value the Lagrangian bound meets),
+        "heuristic" or "time limit" (with ``gap``), or "infeasible" (no K casters serve every chair)
     lower_bound : proven lower bound on the regret (= regret when optimal)
     gap : regret − lower_bound (0 when optimal)
     seconds : wall time of the solve [s]
@@ -115,7 +117,21 @@ def solve_kmedian(cost: np.ndarray, weights: np.ndarray, k: int, time_limit: flo
         return _finish(out, cols, chosen, best, sub, weights, "optimal", start, bound=None)
     pairs = int(np.isfinite(sub).sum())
     if pairs <= exact_limit:
-        return _milp(out, cols, sub, weights, k, time_limit, start)
+        out = _milp(out, cols, sub, weights, k, time_limit, start)
+        if out.status != "time limit":
+            return out
+        # HiGHS stopped early: keep the better of its incumbent and the heuristic, with the better bound
+        mip = out
+        out = _heuristic(KMedianSolution(k=k), cols, sub, weights, k, start)
+        if mip.regret < out.regret:
+            mip.lower_bound = max(mip.lower_bound, out.lower_bound)
+            out = mip
+        else:
+            out.lower_bound = max(out.lower_bound, mip.lower_bound if math.isfinite(mip.lower_bound) else 0.0)
+        out.status = "time limit"
+        out.gap = max(0.0, out.regret - out.lower_bound)
+        out.seconds = time.perf_counter() - start
+        return out
     return _heuristic(out, cols, sub, weights, k, start)
 
 
@@ -181,69 +197,103 @@ def _milp(out, cols, sub, weights, k, time_limit, start):
     return out
 
 
-def _heuristic(out, cols, sub, weights, k, start, iterations: int = 200):
+def _heuristic(out, cols, sub, weights, k, start, iterations: int = 400):
     """Greedy + 1-swap local search; gap to the Lagrangian bound (assignment constraints relaxed)."""
-    m, n = sub.shape
-    big = np.where(np.isfinite(sub), sub, np.inf)
+    chosen, value = greedy_swap(sub, weights, k)
+    if not math.isfinite(value):
+        out.status = "infeasible"
+        out.message = f"no {k} casters found that serve every chair (greedy cover)"
+        out.seconds = time.perf_counter() - start
+        return out
+    bound = lagrangian_bound(sub, weights, k, upper=value, iterations=iterations)
+    # a bound that meets the heuristic's value (to 1e-9) proves it optimal
+    status = "optimal-by-bound" if value - bound <= 1e-9 * max(1.0, abs(value)) else "heuristic"
+    return _finish(out, cols, chosen, _assign(sub, chosen), sub, weights, status, start, bound=bound)
+
+
+def greedy_swap(cost: np.ndarray, weights: np.ndarray, k: int, max_seconds: float = 120.0) -> tuple[np.ndarray, float]:
+    """Greedy K-median (cover the unserved weight first, then the least total), improved by 1-swaps.
+
+    Returns (chosen columns sorted, Σ w_i min_{j chosen} cost_ij); the value is +inf if the greedy cover
+    leaves a chair unserved.
+    """
+    start = time.perf_counter()
+    m, n = cost.shape
+    big = np.where(np.isfinite(cost), cost, np.inf)
+    allowed = np.isfinite(big)
+    finite_big = np.where(allowed, big, 0.0)
     chosen: list[int] = []
     current = np.full(m, np.inf)
     for _ in range(k):
-        with np.errstate(invalid="ignore"):
-            totals = np.array([np.dot(weights, np.minimum(current, big[:, j])) if j not in chosen else np.inf
-                               for j in range(n)])
-        # infinite totals (some chair still unserved): prefer the column serving the most unserved weight
-        if not np.isfinite(totals).any():
-            unserved = ~np.isfinite(current)
-            cover = np.array([np.dot(weights[unserved] + 1e-12, np.isfinite(big[unserved, j])) if j not in chosen
-                              else -1 for j in range(n)])
-            j = int(np.argmax(cover))
+        unserved = ~np.isfinite(current)
+        gain_cover = (weights[unserved] + 1e-9) @ allowed[unserved] if unserved.any() else np.zeros(n)
+        if unserved.any() and gain_cover.max() > 0:
+            gain_cover[chosen] = -1
+            j = int(np.argmax(gain_cover))
         else:
+            cand = np.minimum(current[:, None], big)
+            totals = weights @ np.where(np.isfinite(cand), cand, 0.0)
+            totals[chosen] = np.inf
             j = int(np.argmin(totals))
         chosen.append(j)
         current = np.minimum(current, big[:, j])
+    del finite_big
+
+    def total(cur):
+        return float(np.dot(weights, cur)) if np.all(np.isfinite(cur)) else math.inf
+
+    value = total(current)
     improved = True
-    while improved and time.perf_counter() - start < 300:
+    while improved and time.perf_counter() - start < max_seconds:
         improved = False
-        value = np.dot(weights, current)
         for pos in range(k):
             rest = [c for i, c in enumerate(chosen) if i != pos]
             base = big[:, rest].min(axis=1) if rest else np.full(m, np.inf)
             cand = np.minimum(base[:, None], big)
-            with np.errstate(invalid="ignore"):
-                totals = weights @ np.where(np.isfinite(cand), cand, 1e300)
+            served = np.isfinite(cand).all(axis=0)
+            totals = np.where(served, weights @ np.where(np.isfinite(cand), cand, 0.0), np.inf)
             totals[chosen] = np.inf
             j = int(np.argmin(totals))
-            if totals[j] < value * (1 - 1e-12) - 1e-12:
+            if totals[j] < value - 1e-12 * max(1.0, abs(value)):
                 chosen[pos] = j
                 current = cand[:, j]
-                value = np.dot(weights, current)
+                value = total(current)
                 improved = True
-    bound = _lagrangian_bound(big, weights, k, iterations)
-    best = _assign(sub, np.array(sorted(chosen)))
-    return _finish(out, cols, np.array(sorted(chosen)), best, sub, weights, "heuristic", start, bound=bound)
+    return np.array(sorted(chosen)), value
 
 
-def _lagrangian_bound(cost, weights, k, iterations):
-    """max over λ of Σλ_i + (sum of the k smallest ρ_j), ρ_j = Σ_i min(0, w_i c_ij − λ_i): a valid lower bound."""
+def lagrangian_bound(cost: np.ndarray, weights: np.ndarray, k: int, upper: float, iterations: int = 400) -> float:
+    """Lower bound on the K-median optimum by Lagrangian relaxation of "every chair served once".
+
+    L(λ) = Σ_i λ_i + (sum of the k smallest ρ_j), ρ_j = Σ_i min(0, w_i c_ij − λ_i), is a lower bound for
+    every λ; maximised by subgradient steps of Polyak's size θ (upper − L)/‖g‖² toward the heuristic
+    value ``upper`` (θ halves after 20 steps without progress).  Infinite costs never enter ρ.
+    """
     wc = np.where(np.isfinite(cost), weights[:, None] * cost, np.inf)
-    lam = np.min(wc, axis=1)  # start: each chair at its own best (regret 0) → bound 0
-    best = -np.inf
-    step = 1.0
+    lam = np.min(wc, axis=1)
+    best = 0.0
+    theta = 2.0
+    stall = 0
     for _ in range(iterations):
-        red = np.minimum(0.0, wc - lam[:, None])
+        with np.errstate(invalid="ignore"):
+            red = np.minimum(0.0, wc - lam[:, None])
         rho = red.sum(axis=0)
-        open_ = np.argsort(rho)[:k]
-        value = lam.sum() + rho[open_].sum()
-        best = max(best, value)
-        served = (red[:, open_] < 0).sum(axis=1)
-        g = 1.0 - served
+        open_ = np.argpartition(rho, k - 1)[:k] if k < len(rho) else np.arange(len(rho))
+        value = float(lam.sum() + rho[open_].sum())
+        if value > best + 1e-9 * max(1.0, abs(best)):
+            best, stall = value, 0
+        else:
+            stall += 1
+            if stall >= 20:
+                theta, stall = theta / 2, 0
+                if theta < 1e-4:
+                    break
+        g = 1.0 - (red[:, open_] < 0).sum(axis=1)
         norm = float(np.dot(g, g))
-        if norm == 0:
+        if norm == 0:  # λ is optimal: the relaxed solution serves every chair once
             break
-        scale = max(abs(value), 1e-9)
-        lam = lam + step * scale / norm * g
-        step *= 0.97
-    return max(0.0, best)
+        lam = lam + theta * max(upper - value, 1e-12 * max(1.0, abs(upper))) / norm * g
+    return max(0.0, min(best, upper))
 
 
 def brute_force_kmedian(cost: np.ndarray, weights: np.ndarray, k: int) -> tuple[float, tuple]:
