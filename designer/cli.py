@@ -10,7 +10,7 @@ import importlib
 import sys
 import warnings
 
-from designer.errors import DesignerError
+from designer.errors import DesignerError, interrupted, sigint_handler
 
 COMMANDS = ["evaluate", "validate", "run", "pareto", "explore", "robust", "simulate", "calibrate",
             "fleet"]
@@ -40,30 +40,41 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``designer`` console script; returns the exit code."""
-    parser = build_parser()
+    try:
+        parser = build_parser()  # imports the sub-commands: Ctrl-C may arrive here too
+    except KeyboardInterrupt:
+        print("designer: interrupted", file=sys.stderr)
+        return 130
     args = parser.parse_args(argv)
     if not getattr(args, "command", None):
         parser.print_help()
         return 2
-    with warnings.catch_warnings():
+    with warnings.catch_warnings(), sigint_handler():  # Ctrl-C: a flag checked after every solver call
         warnings.simplefilter("default")
         warnings.showwarning = _one_line_warning
         try:
             return int(args.func(args) or 0)
-        except DesignerError as exc:
-            if args.debug:
-                raise
-            print(f"designer: error: {exc}", file=sys.stderr)
-            return exc.exit_code
         except KeyboardInterrupt:
             print("designer: interrupted", file=sys.stderr)
             return 130
-        except Exception as exc:  # a bug: still one line unless --debug
-            if args.debug:
-                raise
-            print(f"designer: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)",
-                  file=sys.stderr)
-            return 70
+        except Exception as exc:
+            if interrupted():  # a solver turned the KeyboardInterrupt into its own error (CasADi: RuntimeError)
+                print("designer: interrupted", file=sys.stderr)
+                return 130
+            return _error(exc, args.debug)
+
+
+def _error(exc: Exception, debug: bool) -> int:
+    """Print ``exc`` on one line on stderr and return its exit code (re-raise it with --debug)."""
+    if debug:
+        raise exc
+    if isinstance(exc, DesignerError):
+        print(f"designer: error: {exc}", file=sys.stderr)
+        return exc.exit_code
+    # a bug: still one line unless --debug
+    print(f"designer: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)",
+          file=sys.stderr)
+    return 70
 
 
 _SHOWN: set[str] = set()

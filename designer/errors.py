@@ -1,7 +1,8 @@
 """The tool's own exceptions, one per kind of failure, each with an exit code.
 
 The command line prints ``str(error)`` on one line and exits with
-``error.exit_code``; the codes are documented in the README.
+``error.exit_code``; the codes are documented in the README.  Also the SIGINT
+flag checked after every solver call (:func:`check_interrupt`).
 """
 from __future__ import annotations
 
@@ -50,3 +51,64 @@ class StorageError(DesignerError):
     """An optuna storage URL is malformed or unreachable (exit 6)."""
 
     exit_code = 6
+
+
+class OutputError(DesignerError):
+    """The output folder cannot be written: read-only, or a path under a regular file (exit 7).
+
+    Checked before any computing, so no work is lost.
+    """
+
+    exit_code = 7
+
+
+# --------------------------------------------------------------------------- Ctrl-C through the solvers
+
+_INTERRUPTED = False
+
+
+def interrupted() -> bool:
+    """True once SIGINT arrived while :func:`sigint_handler` was installed."""
+    return _INTERRUPTED
+
+
+def check_interrupt() -> None:
+    """Raise KeyboardInterrupt if SIGINT arrived; called after every solver call.
+
+    CasADi (IPOPT), Clarabel and SLSQP run in C, C++ or Fortran: a KeyboardInterrupt raised by the
+    default handler while they run is caught inside CasADi (it logs ``KeyboardInterruptException``
+    and carries on with the next solve).  :func:`sigint_handler` records the signal in a flag as
+    well, and this function turns the flag back into KeyboardInterrupt once the solver returns.
+    """
+    if _INTERRUPTED:
+        raise KeyboardInterrupt
+
+
+def _on_sigint(signum, frame):  # the flag survives a KeyboardInterrupt swallowed by a C extension
+    global _INTERRUPTED
+    _INTERRUPTED = True
+    raise KeyboardInterrupt
+
+
+class sigint_handler:
+    """Context manager: install the flag-setting SIGINT handler (main thread only), restore on exit."""
+
+    def __enter__(self):
+        import signal
+        import threading
+
+        global _INTERRUPTED
+        _INTERRUPTED = False
+        self._previous = None
+        if threading.current_thread() is threading.main_thread():
+            self._previous = signal.signal(signal.SIGINT, _on_sigint)
+        return self
+
+    def __exit__(self, *exc):
+        import signal
+
+        global _INTERRUPTED
+        if self._previous is not None:
+            signal.signal(signal.SIGINT, self._previous)
+        _INTERRUPTED = False
+        return False

@@ -58,6 +58,9 @@ INERTIA_RANGE = (1e-9, 10.0)
 WEIGHT_RANGE = (1e-6, 1e6)
 """The larger objective weight must lie in this range (weights are relative: scale them near 1)."""
 
+POINTS_RANGE = (3, 2001)
+"""Allowed number of Pareto front points, in a problem file ([pareto] points) and on the command line (--points)."""
+
 MAX_SAMPLES = 10_000_000
 """Largest Monte Carlo sample of [robust] (memory grows with it)."""
 
@@ -371,8 +374,8 @@ def _validate(problem: Problem, prefix: str = "") -> None:
                 fail(f"inertia: I_w = {inertia:g} kg·m² at variables.diameter.{label} = {d:g} m "
                      f"({c.inertia.describe()}): outside {INERTIA_RANGE[0]:g} to {INERTIA_RANGE[1]:g} kg·m²; "
                      f"check the inertia model's constants and the diameter bounds")
-    if not isinstance(problem.pareto_points, int) or not 3 <= problem.pareto_points <= 2001:
-        fail(f"pareto.points = {problem.pareto_points!r}: must be an integer from 3 to 2001")
+    if not isinstance(problem.pareto_points, int) or not POINTS_RANGE[0] <= problem.pareto_points <= POINTS_RANGE[1]:
+        fail(f"pareto.points = {problem.pareto_points!r}: must be an integer from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}")
 
 
 

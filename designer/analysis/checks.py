@@ -8,7 +8,7 @@ Pareto front.  ``designer validate`` prints them; the reports embed them.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
@@ -39,9 +39,25 @@ reported, and no wheel may be off by more than 25 %."""
 TABLE1_MAX_TOLERANCE = 0.25
 
 
+REPRODUCED = "reproduced"
+"""Outcome: the code reproduces the paper's number or property within the stated tolerance."""
+WITHIN_SCATTER = "disagrees within the stated scatter"
+"""Outcome: the code disagrees with a measurement, but by less than the paper's own stated scatter."""
+FAILS = "fails"
+"""Outcome: the disagreement is outside the stated scatter (or an identity does not hold)."""
+NOT_APPLICABLE = "not applicable"
+"""Outcome: the check cannot be made on this problem (e.g. check 8c when the tighter target is out of reach)."""
+OUTCOMES = (REPRODUCED, WITHIN_SCATTER, FAILS, NOT_APPLICABLE)
+
+KINDS = ("paper", "identity", "front")
+"""paper: against the paper's measurements or stated results; identity: a number the paper measured and
+the model has built in (checks 3, 4, 5: they confirm the implementation, not the physics); front: check 8
+on a computed Pareto front."""
+
+
 @dataclass
 class Check:
-    """One check of the paper's trade-offs.
+    """One check of the paper's trade-offs (docs/checks.md).
 
     Attributes
     ----------
@@ -49,8 +65,11 @@ class Check:
     claim : what the paper says (its words or number)
     expected : the paper's number or property, as text or number
     got : what the code computes
-    passed : True if ``got`` agrees with ``expected`` within the stated tolerance
+    passed : False only when the outcome is :data:`FAILS`
     detail : the tolerance and any honest remark (e.g. per-wheel errors)
+    kind : "paper", "identity" or "front" (:data:`KINDS`)
+    outcome : one of :data:`OUTCOMES` (default: reproduced if ``passed`` else fails)
+    disagreements : one line per disagreement with the paper, with its size and direction
     """
 
     name: str
@@ -59,12 +78,44 @@ class Check:
     got: object
     passed: bool
     detail: str = ""
+    kind: str = "paper"
+    outcome: str = ""
+    disagreements: list = field(default_factory=list)
+
+    def __post_init__(self):
+        if not self.outcome:
+            self.outcome = REPRODUCED if self.passed else FAILS
+        if self.outcome not in OUTCOMES or self.kind not in KINDS:
+            raise ValueError(f"check {self.name}: outcome {self.outcome!r} / kind {self.kind!r} unknown")
+        self.passed = self.outcome != FAILS
 
     def to_dict(self) -> dict:
-        """JSON-ready dict: name, claim, expected, got, passed, detail."""
+        """JSON-ready dict: name, claim, expected, got, passed, detail, kind, outcome, disagreements."""
         d = asdict(self)
         d["passed"] = bool(d["passed"])
         return d
+
+
+def count_outcomes(checks) -> dict:
+    """Counts for a summary line: paper checks by outcome, identities, front checks by outcome."""
+    out = {"paper": {o: 0 for o in OUTCOMES}, "identity": {o: 0 for o in OUTCOMES},
+           "front": {o: 0 for o in OUTCOMES}}
+    for c in checks:
+        out[c.kind][c.outcome] += 1
+    return out
+
+
+def summary_line(checks) -> str:
+    """"n paper checks reproduced, k disagree within the stated scatter, f fail; m implementation identities hold"."""
+    n = count_outcomes(checks)
+    p, i = n["paper"], n["identity"]
+    text = (f"{p[REPRODUCED]} paper checks reproduced, {p[WITHIN_SCATTER]} disagree within the paper's stated "
+            f"scatter, {p[FAILS]} fail; {i[REPRODUCED]} of {sum(i.values())} implementation identities hold")
+    f = n["front"]
+    if sum(f.values()):
+        text += (f"; front checks: {f[REPRODUCED]} pass, {f[FAILS]} fail"
+                 + (f", {f[NOT_APPLICABLE]} not applicable" if f[NOT_APPLICABLE] else ""))
+    return text
 
 
 def _rel(a: float, b: float) -> float:
@@ -279,7 +330,16 @@ def front_checks(front, tighter=None, tol: float = 1e-6) -> list[Check]:
                         "inactive only on bare-fork designs (no groove, no damper)",
                         f"{inactive} of {len(pts)} points inactive, {offending} of them with groove or damper",
                         offending == 0, "a groove or damper that is not needed for V_c only adds turning effort"))
-    if tighter is not None:
+    if tighter is not None and not tighter.points:
+        speed = highest_critical_speed(tighter.problem)
+        checks.append(Check("8c tighter target", "tightening V_target moves the front outward",
+                            "every point of the tighter front weakly dominated by the looser front",
+                            f"not applicable: the tighter target is out of reach (highest V_c {speed:.3f} m/s "
+                            f"< {tighter.problem.required_speed:.3f} m/s required)", True,
+                            f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} "
+                            f"m/s: no design inside the bounds reaches it, so there is no tighter front to compare",
+                            kind="front", outcome=NOT_APPLICABLE))
+    elif tighter is not None:
         worse, total = dominated_by_problem(problem, tighter)
         cmp = front.compare(tighter)
         checks.append(Check("8c tighter target", "tightening V_target moves the front outward",
@@ -289,7 +349,16 @@ def front_checks(front, tighter=None, tol: float = 1e-6) -> list[Check]:
                             worse == 0 and total > 0,
                             f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} m/s; "
                             f"exact test: the looser problem's min F_turn at each tighter point's P"))
+    for c in checks:
+        c.kind = "front"
     return checks
+
+
+def highest_critical_speed(problem) -> float:
+    """Highest V_c [m/s] inside the bounds of ``problem`` (over its catalog wheels), by IPOPT (Eq. 7)."""
+    from designer.solvers.nlp import max_critical_speed
+
+    return max(max_critical_speed(v)[0] for v in problem.variants())
 
 
 def dominated_by_problem(problem, other_front, rel_tol: float = 1e-7) -> tuple[int, int]:

@@ -209,6 +209,11 @@ class _Deduplicated:
         return child
 
 
+MAX_TRIALS = 1_000_000
+"""Largest --trials: an optuna study keeps every trial in memory (about 2 kB each)."""
+MAX_WORKERS = 256
+"""Largest --workers (processes on this machine)."""
+
 def _params_key(params: dict) -> tuple:
     return tuple(sorted((k, round(v, 12) if isinstance(v, float) else v) for k, v in params.items()))
 
@@ -746,10 +751,10 @@ def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: 
     import optuna
     from optuna.trial import TrialState
 
-    if isinstance(trials, bool) or not isinstance(trials, int) or trials < 1:
-        raise InputError(f"--trials {trials!r}: must be a positive integer")
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise InputError(f"--workers {workers!r}: must be a positive integer")
+    if isinstance(trials, bool) or not isinstance(trials, int) or not 1 <= trials <= MAX_TRIALS:
+        raise InputError(f"--trials {trials!r}: must be a whole number from 1 to {MAX_TRIALS}")
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= MAX_WORKERS:
+        raise InputError(f"--workers {workers!r}: must be a whole number from 1 to {MAX_WORKERS}")
     spec = parse_storage(storage)
     if workers > 1 and not spec.shared:
         raise InputError(f"--workers {workers}: several processes need a shared storage; add --storage "

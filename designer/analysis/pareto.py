@@ -28,7 +28,7 @@ import numpy as np
 
 from designer.analysis.indicators import hypervolume_2d, igd_plus, nondominated, normalise
 from designer.model import VARIABLES, Design, evaluate
-from designer.problem import Problem
+from designer.problem import POINTS_RANGE, Problem
 from designer.solvers import structured
 from designer.solvers.nlp import BIG, CasterNLP, best_starts, evaluate_many, sample_designs, solve_best, violation
 
@@ -531,10 +531,10 @@ def pareto_front(problem: Problem, points: int | None = None, progress=None) -> 
 
         raise InputError(f"points = {points!r}: expected a whole number of front points, e.g. 41")
     n = int(points or problem.pareto_points)
-    if n < 2:
+    if not 2 <= n <= POINTS_RANGE[1]:  # memory grows with n × the 1024-design sample: bounded, never MemoryError
         from designer.errors import InputError
 
-        raise InputError(f"points = {n}: a front needs at least 2 points")
+        raise InputError(f"points = {n}: a front needs 2 to {POINTS_RANGE[1]} points")
     for message in problem.model_warnings():  # once, instead of once per evaluated design
         warnings.warn(message, UserWarning, stacklevel=2)
     with warnings.catch_warnings():

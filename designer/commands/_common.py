@@ -45,3 +45,33 @@ def print_json(data) -> None:
 def eprint(*args) -> None:
     """Print to stderr (progress and notes that must not pollute --json output)."""
     print(*args, file=sys.stderr)
+
+
+def check_output_folder(folder, option: str = "--out") -> None:
+    """Raise OutputError (exit 7) unless ``folder`` can be created and written; called before any computing.
+
+    The nearest existing ancestor must be a folder (not a regular file) in which a file can be made,
+    and ``folder`` itself, if it exists, must be writable too (tried by making and removing a
+    temporary folder: permission bits alone do not tell, e.g. for root or a read-only mount).
+    """
+    import os
+    import tempfile
+    from pathlib import Path
+
+    from designer.errors import OutputError
+
+    folder = Path(folder)
+    probe = folder
+    while not probe.exists() and not probe.is_symlink() and probe != probe.parent:
+        probe = probe.parent
+    if probe.exists() and not probe.is_dir():
+        what = "is" if probe == folder else f"lies under {probe}, which is"
+        raise OutputError(f"{option} {folder}: {what} a regular file, not a folder; choose another {option}")
+    places = [probe] + ([folder.parent] if probe == folder and folder.parent.is_dir() else [])
+    for place in places:
+        try:
+            tempfile.TemporaryDirectory(prefix=".designer-probe-", dir=place or ".").cleanup()
+        except OSError as exc:
+            reason = os.strerror(exc.errno) if exc.errno else str(exc)
+            raise OutputError(f"{option} {folder}: cannot write in {place or '.'} ({reason}); choose a writable "
+                              f"{option} folder") from None

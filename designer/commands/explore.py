@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from designer.commands._common import eprint, print_json
+from designer.commands._common import check_output_folder, eprint, print_json
 from designer.data.paper import INCH
 from designer.errors import InputError
 
@@ -41,6 +41,8 @@ def run(args) -> int:
     if args.population is not None and args.population < 2:
         raise InputError(f"--population {args.population}: must be at least 2")
     problem = load_problem(args.problem)
+    out = Path(args.out) if args.out else Path("results") / problem.name
+    check_output_folder(out)  # before the study, not after it
     try:
         result = explore(problem, trials=args.trials, seed=args.seed, storage=args.storage, study_name=args.study,
                          workers=args.workers, resume=args.resume, refine=args.refine, operators=args.operators,
@@ -49,7 +51,6 @@ def run(args) -> int:
         if str(exc):
             eprint(f"designer: {exc}")
         raise
-    out = Path(args.out) if args.out else Path("results") / problem.name
     csv_path, json_path = result.write(out)
     for note in result.warnings:
         eprint(f"designer: note: {note}")

@@ -12,7 +12,7 @@ import time
 import warnings
 from pathlib import Path
 
-from designer.commands._common import eprint, print_json
+from designer.commands._common import check_output_folder, eprint, print_json
 
 TIGHTER_FACTOR = 1.1
 """Check 8c tightens V_target by this factor."""
@@ -100,6 +100,10 @@ def _compute(problem, points, out, tracker, force=False) -> dict:
 
     t0 = time.perf_counter()
     front = pareto_front(problem, points, progress=tracker(f"{problem.name}: front"))
+    if not front.points and not front.failed:  # the problem itself is infeasible: `designer run`'s exit 4
+        from designer.optimise import _diagnose
+
+        raise _diagnose(problem)
     tighter_problem = problem.replace(target_speed=problem.target_speed * TIGHTER_FACTOR)
     n_tight = max(5, (points or problem.pareto_points) // 2)
     tighter_error = None
@@ -109,7 +113,10 @@ def _compute(problem, points, out, tracker, force=False) -> dict:
     except DesignerError as exc:  # an unreachable tighter target only removes check 8c
         tighter, tighter_error = None, str(exc)
     solution = optimise(problem) if front.points else None
-    checks = paper_checks() + front_checks(front, tighter)
+    checks = paper_checks() + front_checks(front, tighter)  # an empty tighter front: 8c not applicable
+    if tighter is not None and not tighter.points:
+        tighter_error = next(c.got for c in checks if c.name.startswith("8c"))
+        tighter = None
     folder = write_report(problem, front, out, solution=solution, checks=checks, tighter=tighter,
                           run_meta={"command": "designer pareto", "points_option": points,
                                     "tighter_points": n_tight if tighter is not None else None,
@@ -151,8 +158,11 @@ def run(args) -> int:
     from designer.errors import InputError
     from designer.problem import load_problem
 
-    if args.points is not None and args.points < 2:
-        raise InputError(f"--points {args.points}: a front needs at least 2 points")
+    from designer.problem import POINTS_RANGE
+
+    if args.points is not None and not POINTS_RANGE[0] <= args.points <= POINTS_RANGE[1]:
+        raise InputError(f"--points {args.points}: must be a whole number from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}, "
+                         f"as [pareto] points in a problem file")
     if args.all:
         from designer.problem import problem_files
 
@@ -167,8 +177,10 @@ def run(args) -> int:
         jobs = [(problem, Path(args.out) if args.out else None)]
     from designer.report.writer import check_target
 
-    for problem, out in jobs:  # refuse a foreign --out folder before the work, not after
-        check_target(out if out is not None else Path("results") / problem.name, args.force)
+    for problem, out in jobs:  # refuse a foreign or unwritable --out folder before the work, not after
+        target = out if out is not None else Path("results") / problem.name
+        check_output_folder(target)
+        check_target(target, args.force)
     summaries = []
     progress = _progress()
     if progress is not None:

@@ -25,6 +25,9 @@ def run(args) -> int:
         raise InputError(f"--points {args.points}: must be between 2 and 501")
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / "robust" / problem.name
+    from designer.commands._common import check_output_folder
+
+    check_output_folder(out)  # before the fronts, not after them
     result = write_robust_report(problem, out, args.points)
     extra = [r["extra_effort"] for r in result["rows"] if r["extra_effort"] == r["extra_effort"]]
     probs = [r["probability_mc"] for r in result["rows"]]

@@ -72,6 +72,7 @@ from dataclasses import dataclass, field
 import cvxpy as cp
 import numpy as np
 
+from designer.errors import check_interrupt
 from designer.model import Conditions, Design, performance
 from designer.physics.geometry import swept_radius
 from designer.physics.inertia import Catalog, Disc, Fixed, PowerLaw, disc_inertia, power_law_inertia
@@ -487,6 +488,12 @@ class _Family:
 
     def solve_once(self) -> tuple[str, dict | None, float]:
         self.solves += 1
+        try:
+            return self._solve_once()
+        finally:
+            check_interrupt()  # Clarabel runs in Rust: the SIGINT flag
+
+    def _solve_once(self) -> tuple[str, dict | None, float]:
         with warnings.catch_warnings():
             # "may be inaccurate": Clarabel stopped short of the tight tolerances above;
             # such a point is still checked against the exact model by the caller

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from designer.errors import InfeasibleError, SolverError
+from designer.errors import InfeasibleError, SolverError, check_interrupt
 from designer.model import VARIABLES, Conditions, Design, performance
 from designer.physics.inertia import Catalog, Disc, Fixed, PowerLaw
 from designer.problem import Problem
@@ -229,6 +229,7 @@ class CasterNLP:
             args["lam_x0"] = lam_x0
         t0 = time.perf_counter()
         sol = self.solver(**args)
+        check_interrupt()  # CasADi swallows KeyboardInterrupt: the SIGINT flag
         seconds = time.perf_counter() - t0
         stats = self.solver.stats()
         z = np.asarray(sol["x"]).ravel()
@@ -341,6 +342,7 @@ class CasterNLP:
                 args["lam_x0"] = np.asarray(lam_x0, float)[idx].ravel()
             t0 = time.perf_counter()
             sol = solver(**args)
+            check_interrupt()
             seconds = time.perf_counter() - t0
             stats = solver.stats()
             ok = bool(stats.get("success", False))
@@ -534,6 +536,7 @@ def max_critical_speed(problem: Problem) -> tuple[float, Design, list[str]]:
     for start in sample_designs(problem, 16, seed=1):
         sol = solver(x0=np.clip(start / scale, lo / scale, hi / scale), lbx=lo / scale, ubx=hi / scale,
                      ubg=0 if g else [], lbg=-np.inf if g else [])
+        check_interrupt()
         v = -float(sol["f"])
         if best is None or v > best[0]:
             best = (v, Design.from_array(np.asarray(sol["x"]).ravel() * scale))

@@ -11,6 +11,7 @@ import warnings
 import numpy as np
 from scipy.optimize import minimize
 
+from designer.errors import check_interrupt
 from designer.model import Design, performance
 from designer.problem import Problem
 
@@ -63,6 +64,7 @@ def slsqp(problem: Problem, weights=None, starts=(), random_starts: int = 5, see
         z0 = np.clip(start / scale, lo / scale, hi / scale)
         res = minimize(objective, z0, method="SLSQP", bounds=bounds, constraints=cons,
                        options={"ftol": 1e-12, "maxiter": 500})
+        check_interrupt()
         z = np.clip(res.x, lo / scale, hi / scale)
         v = perf(z)
         feasible = float(v["design_speed"]) >= problem.required_speed * (1 - 1e-7)
