@@ -224,12 +224,25 @@ class Problem:
             )
         return out
 
-    def model_warnings(self) -> list[str]:
-        """Where the problem leaves the data its model rests on (said once, not per evaluation)."""
+    def model_warnings(self, diameters=None) -> list[str]:
+        """Where the problem leaves the data its model rests on (said once, not per evaluation).
+
+        With ``diameters`` [m] (those of the designs the tool reports): a warning only if one of them
+        lies outside the inertia fit's data (Table 1, 4–8 in); without: if the diameter bounds do.
+        """
         out = []
         model = self.conditions.inertia
         data = model.data_range()
-        if data is not None and not self.wheels:
+        if data is not None and not self.wheels and diameters is not None:
+            outside = [float(d) for d in diameters if not data[0] * 0.999 <= float(d) <= data[1] * 1.001]
+            if outside:
+                out.append(
+                    f"{self.name}: a reported design uses d = {min(outside) / INCH:.3g}"
+                    + (f"–{max(outside) / INCH:.3g}" if max(outside) > min(outside) else "")
+                    + f" in, outside the Table 1 inertia fit ({data[0] / INCH:.0f}–{data[1] / INCH:.0f} in): "
+                    f"its I_w is extrapolated"
+                )
+        elif data is not None and not self.wheels:
             b = self.bounds["diameter"]
             if b.low < data[0] * 0.999 or b.high > data[1] * 1.001:
                 out.append(

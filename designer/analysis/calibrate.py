@@ -92,6 +92,12 @@ class CalibrationResult:
     notes: dict = field(default_factory=dict)
 
     @property
+    def y_unit(self) -> str:
+        """Unit of the ordinate (and of ``rms``), from ``y_label``'s brackets, e.g. "N·m" or "m/s"."""
+        label = self.y_label
+        return label[label.rindex("[") + 1: label.rindex("]")] if "[" in label and "]" in label else ""
+
+    @property
     def residuals(self) -> np.ndarray:
         """Measured − fitted [unit of y]."""
         return self.y - self.fitted
@@ -101,7 +107,8 @@ class CalibrationResult:
         return {
             "kind": self.kind, "name": self.name, "value": self.value, "unit": self.unit,
             "stderr": self.stderr, "interval": [self.interval[0], self.interval[1]], "confidence": 0.95,
-            "n": self.n, "rms_residual": self.rms, "equation": self.equation, **self.notes,
+            "n": self.n, "rms_residual": self.rms,
+            "rms_residual_unit": self.y_unit, "equation": self.equation, **self.notes,
         }
 
     def snippet(self) -> str:

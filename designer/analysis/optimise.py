@@ -42,6 +42,7 @@ class Solution:
     status : "optimal" or a solver status
     wheel : chosen Table 1 wheel for a catalog problem, else None
     timings : {"build": s, "solve": s, "cross_check": s}
+    weights : (w_turn, w_threshold) of the J that was minimised (``--weights`` or the problem's)
     """
 
     problem: Problem
@@ -57,6 +58,11 @@ class Solution:
     wheel: str | None = None
     timings: dict = field(default_factory=dict)
     starts: int = 0
+    weights: tuple = ()
+
+    def __post_init__(self):
+        if not self.weights:
+            self.weights = tuple(self.problem.weights)
 
     def to_dict(self) -> dict:
         """JSON-ready dict with the keys of ``designer run --json``."""
@@ -64,6 +70,7 @@ class Solution:
             "problem": self.problem.name,
             "design": self.design.as_dict(),
             "objectives": dict(self.objectives),
+            "weights": [float(w) for w in self.weights],
             "critical_speed": self.critical_speed,
             "required_speed": self.problem.required_speed,
             "constraints": dict(self.constraints),
@@ -116,7 +123,7 @@ class Solution:
             "",
             f"  turning effort        {self.objectives['turning_effort']:8.3f} N",
             f"  threshold force       {self.objectives['threshold_force']:8.3f} N",
-            f"  weighted J            {self.objectives['weighted']:8.3f} N   (weights {p.weights[0]:g}, {p.weights[1]:g})",
+            f"  weighted J            {self.objectives['weighted']:8.3f} N   (weights {self.weights[0]:g}, {self.weights[1]:g})",
             f"  critical speed V_c    {self.critical_speed:8.3f} m/s (required {p.required_speed:.3f}; "
             f"margin {self.constraints['shimmy']:+.2e})",
             "",
@@ -185,12 +192,14 @@ def optimise(problem: Problem, weights=None, cross_check: bool = True, samples: 
     """
     import warnings
 
-    for message in problem.model_warnings():  # once, instead of once per evaluated design
-        warnings.warn(message, UserWarning, stacklevel=2)
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="inertia power law used at")
         warnings.filterwarnings("ignore", message="Solution may be inaccurate")  # GP cross-check, polished below
-        return _optimise(problem, weights, cross_check, samples)
+        solution = _optimise(problem, weights, cross_check, samples)
+    # once, and only if the reported optimum uses an extrapolated diameter
+    for message in problem.model_warnings([solution.design.diameter]):
+        warnings.warn(message, UserWarning, stacklevel=2)
+    return solution
 
 
 def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Solution:
@@ -251,6 +260,7 @@ def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Sol
         wheel=wheel,
         timings={"build": build, "solve": solve, "cross_check": time.perf_counter() - t0},
         starts=n_starts,
+        weights=tuple(w),
     )
 
 

@@ -535,11 +535,13 @@ def pareto_front(problem: Problem, points: int | None = None, progress=None) -> 
         from designer.errors import InputError
 
         raise InputError(f"points = {n}: a front needs 2 to {POINTS_RANGE[1]} points")
-    for message in problem.model_warnings():  # once, instead of once per evaluated design
-        warnings.warn(message, UserWarning, stacklevel=2)
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="inertia power law used at")
-        return _pareto_front(problem, n, progress)
+        front = _pareto_front(problem, n, progress)
+    # once, and only if a front point uses an extrapolated diameter (not because the bounds reach there)
+    for message in problem.model_warnings([p.design.diameter for p in front.points]):
+        warnings.warn(message, UserWarning, stacklevel=2)
+    return front
 
 
 def _pareto_front(problem: Problem, n: int, progress) -> Front:

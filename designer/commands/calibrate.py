@@ -71,7 +71,7 @@ def run(args) -> int:
     lo, hi = result.interval
     print(f"{result.kind}: {result.name} = {result.value:.5g} {result.unit}  "
           f"(95 % CI {lo:.5g} to {hi:.5g}, standard error {result.stderr:.3g}, n = {result.n}, "
-          f"rms residual {result.rms:.3g}; {result.equation})")
+          f"rms residual {result.rms:.3g} {result.y_unit}; {result.equation})")
     for key, value in result.notes.items():
         print(f"  {key} = {value}")
     if args.plot:

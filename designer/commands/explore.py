@@ -63,6 +63,7 @@ def run(args) -> int:
 
 def _print(result, csv_path, json_path) -> None:
     from rich.console import Console
+    from rich.markup import escape
     from rich.table import Table
 
     console = Console(width=max(Console().width, 120))
@@ -79,7 +80,7 @@ def _print(result, csv_path, json_path) -> None:
     if len(result.category_fronts) > 1:
         table = Table(title="Front per category", title_justify="left")
         for col in ("category", "points", "F_turn range [N]", "P range [N]"):
-            table.add_column(col, justify="left" if col == "category" else "right")
+            table.add_column(escape(col), justify="left" if col == "category" else "right")
         for label, rows in result.category_fronts.items():
             if rows:
                 f = [r["turning_effort"] for r in rows]
@@ -90,7 +91,8 @@ def _print(result, csv_path, json_path) -> None:
         console.print(table)
     table = Table(title=f"Overall front ({len(result.front)} points)", title_justify="left")
     for col in cats + ["T [in]", "d [in]", "B [in]", "c_f [N·m/rad]", "F_turn [N]", "P [N]", "V_c [m/s]", "trial"]:
-        table.add_column(col, justify="right")
+        # escaped: rich reads "[in]" and "[m/s]" as markup tags and drops them (the units)
+        table.add_column(escape(col), justify="right")
     for r in result.front:
         table.add_row(*[str(r[c]) for c in cats], f"{r['trail'] / INCH:.3f}", f"{r['diameter'] / INCH:.3f}",
                       f"{r['groove'] / INCH:.3f}", f"{r['damping']:.3f}", f"{r['turning_effort']:.3f}",

@@ -75,8 +75,6 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
 
         return update
 
-    for message in problem.model_warnings():  # once for the problem, not per sub-problem or evaluation
-        warnings.warn(message + " (the report says so in its model section)", UserWarning, stacklevel=2)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         summary = _compute(problem, points, out, tracker, force)
@@ -87,6 +85,9 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
             continue
         seen.add(text)
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    # once for the problem, and only if a design the report shows (front point, optimum) is extrapolated
+    for message in problem.model_warnings(summary.pop("reported_diameters")):
+        warnings.warn(message + " (the report says so in its model section)", UserWarning, stacklevel=2)
     summary["seconds"] = time.perf_counter() - t0
     return summary
 
@@ -136,6 +137,8 @@ def _compute(problem, points, out, tracker, force=False) -> dict:
         "failing_checks": failing,
         "failing_front_checks": failing_front,
         "seconds": wall,
+        "reported_diameters": [p.design.diameter for p in front.points]
+        + ([solution.design.diameter] if solution is not None else []),
     }
 
 

@@ -1,6 +1,8 @@
 """``designer run PROBLEM``: the scalarised optimum with margins, sensitivities and solver agreement."""
 from __future__ import annotations
 
+import math
+
 from designer.commands._common import eprint, print_json
 from designer.errors import InputError
 from designer.analysis.optimise import optimise
@@ -29,8 +31,13 @@ def parse_weights(text: str | None):
         values = tuple(float(x) for x in parts)
     except ValueError:
         raise InputError(f"--weights {text!r}: expected two numbers 'w_turn,w_threshold', e.g. 1,1") from None
-    if len(values) != 2 or any(v < 0 or v != v or v in (float("inf"),) for v in values) or sum(values) <= 0:
-        raise InputError(f"--weights {text!r}: expected two finite non-negative numbers, not both zero")
+    if len(values) != 2:
+        raise InputError(f"--weights {text}: expected two numbers 'w_turn,w_threshold', e.g. 1,1; got {len(values)}")
+    for name, v in zip(("w_turn", "w_threshold"), values):
+        if not math.isfinite(v) or v < 0:
+            raise InputError(f"--weights {text}: {name} = {v:g} must be a finite non-negative number")
+    if sum(values) <= 0:
+        raise InputError(f"--weights {text}: the weights must not both be zero")
     from designer.problem import check_weights
 
     return check_weights(values, "--weights", error=InputError)

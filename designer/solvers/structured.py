@@ -27,6 +27,7 @@ import warnings
 import numpy as np
 
 from designer.model import performance
+from designer.physics.geometry import swept_radius
 from designer.physics.shimmy import critical_speed_terms
 
 
@@ -73,9 +74,9 @@ def designs_at_diameter(problem, d) -> tuple[np.ndarray, np.ndarray]:
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
     t = np.full(n, hi[0])
     if problem.swept_radius_max is not None:
-        base = np.column_stack([np.zeros(n), d, np.zeros(n), np.zeros(n)])
-        # R_s = T + d/2 is linear in T: T_max = R_max − R_s(0, d)
-        t = np.minimum(t, problem.swept_radius_max - np.asarray(_values(problem, base)["swept_radius"], float))
+        # R_s = T + d/2 is linear in T: T_max = R_max − R_s(0, d), from the geometry alone (the whole
+        # model at T = 0 would divide by zero in F_turn = M/T)
+        t = np.minimum(t, problem.swept_radius_max - np.asarray(swept_radius(0.0, d), float))
     ok = t >= lo[0] * (1 - 1e-12)
     t = np.maximum(t, lo[0])
     probe = np.column_stack([t, d, np.ones(n), np.ones(n)])
