@@ -55,15 +55,21 @@ them the paper's model does not apply, and a value there usually means inches
 were written as metres."""
 
 
-def check_design(design, prefix: str = "", error=InputError) -> None:
-    """Raise ``error`` if a design's T, d, B or c_f [SI] is outside :data:`MODEL_RANGE`."""
+def check_design(design, prefix: str = "", error=InputError, given: dict | None = None) -> None:
+    """Raise ``error`` if a design's T, d, B or c_f [SI] is outside :data:`MODEL_RANGE`.
+
+    ``given`` maps a variable to what the user wrote ("5in"): the message then gives the range in
+    that unit instead of asking whether inches were written as metres (:func:`designer.units.outside_range`).
+    """
+    from designer.units import outside_range
+
+    dimensions = {"trail": "length", "diameter": "length", "groove": "length", "damping": "damping"}
     for name in VARIABLES:
         value = getattr(design, name)
         lo, hi = MODEL_RANGE[name]
         if not math.isfinite(value) or value < lo or (value == 0 and name in ("trail", "diameter")) or value > hi:
-            raise error(f"{prefix}{name} = {value:g} {VARIABLE_UNITS[name]}: outside the model's range "
-                        f"({'above' if name in ('trail', 'diameter') else 'from'} {lo:g} to {hi:g}); "
-                        f"were inches written as metres? write e.g. '2 in'")
+            raise error(outside_range(f"{prefix}{name}", (given or {}).get(name, value), value, lo, hi,
+                                      dimensions[name]))
 
 
 @dataclass(frozen=True)

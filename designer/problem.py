@@ -24,7 +24,7 @@ from designer.model import MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions, D
 from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
 from designer.physics.shimmy import DynamicsParameters
 from designer.physics.turning import MODES, SURFACES, TurningConstants
-from designer.units import InputError, parse_quantity
+from designer.units import InputError, outside_range, parse_quantity
 
 DEFAULT_BOUNDS = {
     "trail": (1.0 * INCH, 2.5 * INCH),
@@ -568,11 +568,16 @@ def problem_from_dict(data: dict, source: str | None = None, default_name: str =
                 hi = parse_quantity(spec["max"], dim, f"variables.{var}.max")
             except InputError as exc:
                 fail(str(exc))
+            given = {f"variables.{var}.min": (spec["min"], lo), f"variables.{var}.max": (spec["max"], hi)}
         else:
             try:
                 lo = hi = parse_quantity(spec, dim, f"variables.{var}")
             except InputError as exc:
                 fail(str(exc))
+            given = {f"variables.{var}": (spec, lo)}
+        for key, (text, value) in given.items():  # said in the user's unit (validate() repeats it in SI)
+            if value > MODEL_RANGE[var][1]:
+                fail(outside_range(key, text, value, *MODEL_RANGE[var], dim))
         bounds[var] = Bound(lo, hi)
     if wheels:
         d_lo, d_hi = bounds["diameter"].low, bounds["diameter"].high

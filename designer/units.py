@@ -116,18 +116,80 @@ def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) 
     try:
         magnitude = quantity.to(target).magnitude if target else quantity.to("dimensionless").magnitude
     except pint.errors.DimensionalityError:
+        hint = _mass_for_force_hint(quantity, stripped, key) if dimension == "force" else ""
         raise InputError(
             f"{key} = {text!r}: wrong dimension, expected {dimension} ({shown}), "
-            f"e.g. {_example(dimension)!r}"
+            f"e.g. {_example(dimension)!r}{hint}"
         ) from None
     except OverflowError:
         raise InputError(f"{key} = {text!r}: the number is too large") from None
+    _check_kind(quantity, text, dimension, key)
     try:
         return float(magnitude)
     except OverflowError:
         raise InputError(f"{key} = {text!r}: the number is too large") from None
     except (TypeError, ValueError):
         raise InputError(f"{key} = {text!r}: not a single number") from None
+
+
+ANGLE_UNITS = frozenset({"radian", "degree", "turn", "revolution", "arcminute", "arcsecond", "gradian",
+                         "milliradian", "microradian"})
+"""pint unit names of angles: pint treats the radian as dimensionless, so "N*m" converts to "N*m/rad"
+silently; a damping must name the angle it is per."""
+
+
+def _check_kind(quantity, text: str, dimension: str, key: str) -> None:
+    """Reject what pint would convert although it is another quantity: a moment given for a damping
+    (N·m, no angle in the denominator), a mass given for a force (lb, kg)."""
+    units = dict(quantity.unit_items())
+    per_angle = any(name in ANGLE_UNITS and power < 0 for name, power in units.items())
+    if dimension == "damping" and not per_angle:
+        raise InputError(f"{key} = {text!r}: a moment (or energy), not a damping; a damping is a moment per "
+                         f"angle: write it per radian, e.g. {_example('damping')!r}")
+    if dimension == "moment" and per_angle:
+        raise InputError(f"{key} = {text!r}: a damping (moment per angle), not a moment; e.g. {_example('moment')!r}")
+
+
+def _mass_for_force_hint(quantity, text: str, key: str) -> str:
+    """A hint for a mass written where a force is expected ("40 lb" -> "40 lbf")."""
+    if quantity.dimensionality != _registry().kilogram.dimensionality:
+        return ""
+    units = dict(quantity.unit_items())
+    if any(name in ("pound", "avoirdupois_pound") for name in units):
+        suggestion = re.sub(r"\b(lbs|lb|pounds?)\b", "lbf", text)
+        return f"; lb is a mass (pound): for a force write {suggestion.strip()!r} (pound-force)"
+    return "; that is a mass: write a force, e.g. '40 lbf', '18 kgf' or '178 N'"
+
+
+def given_unit(value) -> str | None:
+    """The unit written in ``value`` ("5in" -> "in", "50.8 mm" -> "mm"); None for a plain number (SI)."""
+    if not isinstance(value, str):
+        return None
+    match = re.match(r"^\s*[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?\s*(.*?)\s*$", value)
+    unit = match.group(1) if match else ""
+    return unit or None
+
+
+def outside_range(key: str, given, value: float, low: float, high: float, dimension: str) -> str:
+    """One line: ``value`` [SI] is outside the model range [low, high] [SI], said in the user's unit.
+
+    A value written with a unit ("5in") gets the range in that unit; a plain number (read as SI)
+    gets the hint "were inches written as metres?" only for a length that would be in range in inches.
+    """
+    target, shown = DIMENSIONS[dimension]
+    unit = given_unit(given)
+    if unit is not None:
+        try:
+            factor = float(_registry().Quantity(1, unit).to(target or "dimensionless").magnitude)
+        except Exception:  # a unit pint read as part of an expression: fall back to SI
+            factor = 0.0
+        if factor > 0:
+            return (f"{key} = {given!r} ({value:g} {shown}): outside the model's range {low / factor:.3g} to "
+                    f"{high / factor:.3g} {unit} ({low:g} to {high:g} {shown})")
+    text = f"{key} = {value:g} {shown}: outside the model's range {low:g} to {high:g} {shown}"
+    if dimension == "length" and low <= value * 0.0254 <= high:
+        text += "; were inches written as metres? write e.g. '2 in'"
+    return text
 
 
 def _check_text(stripped: str, text: str, key: str, dimension: str) -> None:

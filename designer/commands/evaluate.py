@@ -45,7 +45,7 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
         if value < 0 or (value == 0 and not allow_zero):
             raise InputError(f"--{name} {value:g}: must be {'non-negative' if allow_zero else 'positive'}")
     design = Design(**values)
-    check_design(design, "--", error=InputError)
+    check_design(design, "--", error=InputError, given={name: getattr(args, name) for name in values})
     c0 = DEFAULT_TURNING.bare_fork_damping
     if design.damping < c0:
         raise InputError(f"--damping {design.damping:g} N·m/rad: below the bare ball-bearing fork's {c0:g} N·m/rad "

@@ -1,0 +1,62 @@
+"""Issue 12.3: units that pint converts but that mean another quantity, and range messages in the user's unit."""
+from __future__ import annotations
+
+import pytest
+
+from designer.cli import main
+from designer.errors import InputError, ProblemError
+from designer.problem import problem_from_toml
+from designer.units import parse_quantity
+
+EVAL = ["evaluate", "--trail", "2in", "--diameter", "8in", "--groove", "0", "--damping", "1.3"]
+
+
+@pytest.mark.parametrize("text", ["1.3 N*m", "1.3 J", "1.3 N m", "1.3 lbf*ft"])
+def test_moment_is_not_a_damping(text):
+    """A moment (no angle in the denominator) is refused for a damping; pint alone reads N·m as N·m/rad."""
+    with pytest.raises(InputError, match="a moment \\(or energy\\), not a damping; .* e.g. '1.3 N\\*m/rad'"):
+        parse_quantity(text, "damping", "--damping")
+
+
+@pytest.mark.parametrize("text, si", [("1.3 N*m/rad", 1.3), ("1.3 N*m/deg", 1.3 * 180 / 3.141592653589793),
+                                      (1.3, 1.3)])
+def test_damping_per_angle_accepted(text, si):
+    """Per radian, per degree, or a plain number (SI, N·m/rad) are dampings."""
+    assert parse_quantity(text, "damping", "--damping") == pytest.approx(si)
+
+
+def test_cli_damping_moment_rejected(capsys):
+    """`evaluate --damping "1.3 N*m"` is an input error naming the option and saying to use N*m/rad."""
+    assert main(EVAL[:-1] + ["1.3 N*m"]) == 2
+    assert "--damping = '1.3 N*m': a moment (or energy), not a damping" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("text, hint", [("40 lb", "'40 lbf'"), ("40 lbs", "'40 lbf'"), ("18 kg", "kgf")])
+def test_mass_for_force_hints_lbf(text, hint):
+    """'40 lb' is a mass: the error says to write lbf (pound-force), not only 'wrong dimension'."""
+    with pytest.raises(InputError) as info:
+        parse_quantity(text, "force", "conditions.load")
+    assert "wrong dimension" in str(info.value) and hint in str(info.value)
+
+
+def test_groove_in_inches_out_of_range_said_in_inches(capsys):
+    """--groove 5in is outside the model range, said in inches; no 'were inches written as metres?'."""
+    assert main(EVAL[:5] + ["--groove", "5in", "--damping", "1.3"]) == 2
+    err = capsys.readouterr().err
+    assert "--groove = '5in' (0.127 m): outside the model's range 0 to 3.94 in" in err
+    assert "were inches written as metres" not in err
+
+
+def test_groove_plain_number_still_hints_inches(capsys):
+    """A plain 0.5 (read as metres) for a groove keeps the hint: 0.5 in would be in range."""
+    assert main(EVAL[:5] + ["--groove", "0.5", "--damping", "1.3"]) == 2
+    assert "were inches written as metres?" in capsys.readouterr().err
+
+
+def test_problem_file_bound_in_inches_said_in_inches():
+    """In a problem file, groove max '5 in' gets the range in inches, not the metres hint."""
+    text = 'name = "x"\n[shimmy]\ntarget_speed = "2 m/s"\n[variables]\ngroove = { min = "0 in", max = "5 in" }\n'
+    with pytest.raises(ProblemError) as info:
+        problem_from_toml(text)
+    assert "variables.groove.max = '5 in' (0.127 m): outside the model's range 0 to 3.94 in" in str(info.value)
+    assert "were inches" not in str(info.value)
