@@ -541,9 +541,42 @@ def check_target(target: Path, force: bool = False) -> None:
                          f"front.json); choose another --out or pass --force to replace it")
 
 
+REPORT_OWNED = frozenset({"index.html", "report.md", "front.csv", "front.json", "checks.json", "figures"})
+"""Names a report replace owns besides those it writes: anything else in the folder (``designer explore``'s
+explore.csv and explore.json, the user's notes) is carried over into the new report folder."""
+
+
+def _link_or_copy(src, dst) -> None:
+    try:
+        os.link(src, dst)
+    except OSError:  # another file system, or one without hard links
+        shutil.copy2(src, dst)
+
+
+def _carry_over(old: Path, new: Path) -> None:
+    """Put into ``new`` what ``old`` holds and a report does not own, as hard links (else copies).
+
+    Links, not moves: if the replace fails afterwards, ``new`` is deleted and ``old`` still has everything.
+    """
+    for entry in old.iterdir():
+        if entry.name in REPORT_OWNED or entry.name.startswith(".") and ".tmp-" in entry.name:
+            continue
+        dest = new / entry.name
+        if dest.exists() or dest.is_symlink():  # the new report wrote it: it owns it
+            continue
+        if entry.is_symlink():
+            os.symlink(os.readlink(entry), dest)
+        elif entry.is_dir():
+            shutil.copytree(entry, dest, symlinks=True, copy_function=_link_or_copy)
+        else:
+            _link_or_copy(entry, dest)
+
+
 def _replace(tmp: Path, target: Path) -> None:
     """Move the finished ``tmp`` folder to ``target`` by renames; an old ``target`` is removed only afterwards.
 
+    Files of the old ``target`` that the report does not own (:data:`REPORT_OWNED`, e.g. explore.csv
+    and explore.json) are linked into ``tmp`` first, so the new folder has them from its first moment.
     Another process writing the same report at once may rename its own folder into place between
     our renames; then ours is retried, so the target ends as one complete report (the last one in),
     never a mixture, and no moved-aside folder is left behind.
@@ -554,6 +587,10 @@ def _replace(tmp: Path, target: Path) -> None:
             if target.is_symlink() or (target.exists() and not target.is_dir()):
                 raise InputError(f"report folder {target}: exists and is not a folder")
             if target.exists():
+                try:
+                    _carry_over(target, tmp)
+                except FileNotFoundError:  # another writer moved it aside meanwhile: retry
+                    continue
                 old = target.with_name(f".{target.name}.old-{uuid.uuid4().hex[:8]}")
                 try:
                     target.rename(old)
