@@ -184,8 +184,9 @@ def outside_range(key: str, given, value: float, low: float, high: float, dimens
         except Exception:  # a unit pint read as part of an expression: fall back to SI
             factor = 0.0
         if factor > 0:
-            return (f"{key} = {given!r} ({value:g} {shown}): outside the model's range {low / factor:.3g} to "
-                    f"{high / factor:.3g} {unit} ({low:g} to {high:g} {shown})")
+            si = "" if abs(factor - 1) < 1e-12 else f" ({value:g} {shown})"
+            return (f"{key} = {given!r}{si}: outside the model's range {low / factor:.3g} to "
+                    f"{high / factor:.3g} {unit}" + ("" if not si else f" ({low:g} to {high:g} {shown})"))
     text = f"{key} = {value:g} {shown}: outside the model's range {low:g} to {high:g} {shown}"
     if dimension == "length" and low <= value * 0.0254 <= high:
         text += "; were inches written as metres? write e.g. '2 in'"

@@ -97,7 +97,7 @@ def test_ordinary_quantities_still_parse(value):
 
 
 @pytest.mark.parametrize("args, fragment", [
-    (["--diameter", "3m"], "--diameter = 3 m: outside the model's range"),
+    (["--diameter", "3m"], "--diameter = '3m': outside the model's range 0 to 0.6 m"),
     (["--trail", "1e300"], "--trail = 1e+300 m"),              # was OverflowError, exit 70
     (["--groove", "1e300"], "--groove = 1e+300 m"),            # was OverflowError, exit 70
     (["--inertia", "1e-320"], "--inertia 1e-320"),            # printed V_c = inf
@@ -304,7 +304,8 @@ def test_interrupted_report_leaves_nothing(invacare_front, tmp_path, monkeypatch
 
 def test_out_refuses_a_foreign_folder_unless_force(invacare_front, tmp_path, capsys):
     """--out pointing at a folder that is not a report of this tool is refused (exit 2, before any work and
-    without touching it); --force replaces it; a previous report is replaced without --force."""
+    without touching it); --force writes the report into it, keeping its other files; a previous report is
+    replaced without --force."""
     from designer.report import write_report
 
     problem, front = invacare_front
@@ -321,7 +322,8 @@ def test_out_refuses_a_foreign_folder_unless_force(invacare_front, tmp_path, cap
     with pytest.raises(InputError, match="not a folder"):
         write_report(problem, front, tmp_path / "file")
     assert main(["pareto", str(INVACARE), "--out", str(mine), "--force"]) == 0
-    assert not (mine / "chapter1.tex").exists() and (mine / "index.html").is_file()
+    # the report owns only its own files: the foreign one is kept (issue 12.4)
+    assert (mine / "chapter1.tex").read_text() == "precious" and (mine / "index.html").is_file()
     assert main(["pareto", str(INVACARE), "--out", str(mine)]) == 0  # now a previous report
     assert sorted(p.name for p in tmp_path.iterdir()) == ["file", "thesis"]
 

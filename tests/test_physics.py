@@ -10,6 +10,7 @@ from designer.physics import enable_casadi
 
 enable_casadi()  # NumPy mode: the physics functions build CasADi expressions here, without the solvers
 import numpy as np
+from designer.checks import TABLE1_MAX_TOLERANCE
 import pytest
 
 from designer import physics as ph
@@ -32,9 +33,11 @@ def test_table1_predictions(key, expected):
     """Eq. 7 for each Table 1 wheel at 2 in trail, bare fork (c_f = 1.3), B = 0: pinned predictions [m/s]."""
     wheel = next(w for w in TABLE1 if w.key == key)
     v = ph.critical_shimmy_speed(2 * INCH, wheel.inertia, 0.0, 1.3)
-    assert v == pytest.approx(expected, abs=0.002)
-    if wheel.critical_speed is not None:  # the paper's scatter is about ±15 %; C is the worst at -16 %
-        assert abs(v - wheel.critical_speed) / wheel.critical_speed < 0.17
+    assert v == pytest.approx(expected, abs=0.002)  # the pinned values, to their printed 3 decimals
+    if wheel.critical_speed is not None:
+        # against the measurement: check 2's stated tolerances (docs/checks.md): the RMS over C–G within the
+        # paper's ±15 % scatter (tested in test_trust_checks), one wheel within ±25 % (C is at −16.4 %)
+        assert abs(v - wheel.critical_speed) / wheel.critical_speed <= TABLE1_MAX_TOLERANCE
 
 
 def test_table1_power_law_fit():

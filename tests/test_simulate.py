@@ -31,11 +31,17 @@ def test_decays_below_and_grows_above_eq7():
     assert above.grows and above.diverged and above.amplitude_ratio > 1.0
 
 
+ONSET_TOLERANCE = 0.075
+"""Simulated onset against Eq. 7: Eq. 7 takes c_f = M_f/θ_a with the shimmy amplitude θ_a of Eq. 29B,
+and V_c ∝ √c_f ∝ 1/√θ_a, so an amplitude within the ±15 % band (the paper's stated scatter, also the
+amplitude tolerance below) moves V_c by at most about half of it: 7.5 %."""
+
+
 def test_onset_matches_eq7_appendix_c_case():
-    """Simulated onset of the Appendix C caster is within 6 % of Eq. 7 (measured: −3.6 %), and the
-    amplitude after the transient at onset is within 15 % of Eq. 29B's θ0 V/(ωT)."""
+    """Simulated onset of the Appendix C caster is within 7.5 % of Eq. 7 (measured: −3.6 %; ONSET_TOLERANCE
+    says why), and the amplitude after the transient at onset is within the ±15 % scatter of Eq. 29B's θ0 V/(ωT)."""
     onset = onset_speed(DESIGN_C, COND_C, rtol=0.01, cycles=10)
-    assert abs(onset.relative_error) < 0.06
+    assert abs(onset.relative_error) < ONSET_TOLERANCE
     assert onset.amplitude_at_onset == pytest.approx(onset.predicted_amplitude, rel=0.15)
 
 
@@ -97,7 +103,7 @@ def test_bad_input_raises_input_error():
 
 def test_cli_json_keys(capsys):
     """`designer simulate --json --find-onset` prints amplitude_ratio, frequency, onset_speed and
-    critical_speed; onset within 6 % of the Eq. 7 value printed beside it."""
+    critical_speed; onset within ONSET_TOLERANCE (7.5 %) of the Eq. 7 value printed beside it."""
     code = main(["simulate", "--trail", "2.5in", "--speed", "2.0", "--inertia", f"{I_C}", "--find-onset",
                  "--duration", "0.8", "--json"])
     assert code == 0
@@ -105,7 +111,7 @@ def test_cli_json_keys(capsys):
     for key in ("amplitude_ratio", "frequency", "onset_speed", "critical_speed"):
         assert key in out
     assert out["grows"] is False
-    assert out["onset_speed"] == pytest.approx(out["critical_speed"], rel=0.06)
+    assert out["onset_speed"] == pytest.approx(out["critical_speed"], rel=ONSET_TOLERANCE)
 
 
 def test_cli_bad_option_one_line(capsys):
@@ -122,3 +128,17 @@ def test_cli_plot(tmp_path, capsys):
     assert main(["simulate", "--trail", "2.5in", "--speed", "2.6", "--inertia", f"{I_C}", "--duration", "0.5",
                  "--plot", str(path)]) == 0
     assert path.stat().st_size > 5000
+
+
+@pytest.mark.parametrize("w0", [3.0, -3.0])
+def test_initial_angular_velocity_sign_matters(w0):
+    """Eq. 24B start with θ'_i = ±3 rad/s: θ leaves θ_i in the direction of θ'_i at that rate (the first
+    output step's difference quotient within 5 %: θ''(0) = 0 by Eq. 24B leaves only (dt²/6) θ''' ≈ 2 %,
+    while a wrong sign of M_f in X(0) gives θ''(0) = ±2 M_f/I_w and about 20 %), and the first extremum is
+    a maximum above θ_i for θ'_i > 0, a minimum for θ'_i < 0."""
+    r = simulate(DESIGN_C, COND_C, 2.0, angular_velocity=w0, cycles=6)
+    assert r.angular_velocity == w0
+    slope = (r.theta[1] - r.theta[0]) / (r.t[1] - r.t[0])
+    assert slope == pytest.approx(w0, rel=0.05)
+    first = r.extrema[0, 1]
+    assert (first > r.angle) if w0 > 0 else (first < r.angle)

@@ -437,7 +437,7 @@ class _Sweep:
         for i, r, f in zip(idx, results, f_all):
             if self.first[i] is None:
                 self.first[i] = r
-            if f < self.f[i] - 1e-12 * max(1.0, abs(f)):
+            if np.isfinite(f) and f < self.f[i] - 1e-12 * max(1.0, abs(f)):  # a failed solve (inf) never improves
                 if self.best[i] is not None and f < self.f[i] * (1 - 1e-9):
                     improved.add(i)
                 self.best[i], self.f[i] = r, f

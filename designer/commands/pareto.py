@@ -31,8 +31,9 @@ def register(sub) -> None:
     p.add_argument("--all", action="store_true", help="regenerate the reports of every problem in problems/ "
                                                       "(or the folder given as PROBLEM)")
     p.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
-    p.add_argument("--force", action="store_true", help="replace the --out folder even if it is not a report of "
-                                                        "this tool")
+    p.add_argument("--force", action="store_true", help="write the report into the --out folder even if it is not "
+                                                        "a report of this tool (files the report does not own are "
+                                                        "kept)")
     p.set_defaults(func=run)
 
 

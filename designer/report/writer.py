@@ -163,7 +163,8 @@ def degenerate_reason(problem, front) -> tuple[str, str]:
 
 def _check_row(c) -> dict:
     return {"name": c.name, "claim": c.claim, "expected": fmt(c.expected), "got": fmt(c.got),
-            "passed": bool(c.passed), "detail": c.detail}
+            "passed": bool(c.passed), "detail": c.detail, "kind": c.kind, "outcome": c.outcome,
+            "disagreements": list(c.disagreements)}
 
 
 def _design_cells(design) -> dict:
@@ -386,6 +387,8 @@ def build_context(data: ReportData) -> dict:
     tradeoff = _tradeoff_rows(problem, data.tradeoff)
     figures = [{"name": n, "title": FIGURE_INFO[n][0], "caption": FIGURE_INFO[n][1], "file": f"figures/{n}.png"}
                for n in _figures.FIGURES]
+    from designer.checks import summary_line
+
     all_checks = data.paper_checks + data.front_checks
     return {
         "problem": problem,
@@ -396,8 +399,10 @@ def build_context(data: ReportData) -> dict:
         "model_rows": _model_rows(problem),
         "solution": solution,
         "solution_error": data.solution_error,
-        "paper_checks": [_check_row(c) for c in data.paper_checks],
+        "paper_checks": [_check_row(c) for c in data.paper_checks if c.kind != "identity"],
+        "identity_checks": [_check_row(c) for c in data.paper_checks if c.kind == "identity"],
         "front_checks": [_check_row(c) for c in data.front_checks],
+        "checks_summary": summary_line(all_checks),
         "checks_passed": sum(bool(c.passed) for c in all_checks),
         "checks_total": len(all_checks),
         "points": points,
@@ -538,7 +543,7 @@ def check_target(target: Path, force: bool = False) -> None:
         raise InputError(f"report folder {target}: exists and is not a folder")
     if target.exists() and not force and not is_report(target):
         raise InputError(f"report folder {target}: exists and is not a report of this tool (no index.html and "
-                         f"front.json); choose another --out or pass --force to replace it")
+                         f"front.json); choose another --out or pass --force to write the report into it")
 
 
 REPORT_OWNED = frozenset({"index.html", "report.md", "front.csv", "front.json", "checks.json", "figures"})

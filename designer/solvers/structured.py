@@ -67,8 +67,18 @@ def _values(problem, x):
         return performance(x[..., 0], x[..., 1], x[..., 2], x[..., 3], problem.conditions)
 
 
-def designs_at_diameter(problem, d) -> tuple[np.ndarray, np.ndarray]:
-    """Least-F_turn designs at given diameters (T, B, c_f optimal): ((N, 4) designs, feasible mask)."""
+CANDIDATES = ("groove from Eq. 7 at the least damping", "damping from Eq. 7 at the least groove",
+              "damping from Eq. 7 at the widest groove", "groove from Eq. 7 at the most damping")
+"""The ends of the shimmy constraint curve in (B, c_f) at a given (T, d), in the order compared: F_turn
+is concave along the curve, so its minimum is at one of them (docs/model.md)."""
+
+
+def designs_at_diameter(problem, d, candidates=None) -> tuple[np.ndarray, np.ndarray]:
+    """Least-F_turn designs at given diameters (T, B, c_f optimal): ((N, 4) designs, feasible mask).
+
+    ``candidates`` : indices into :data:`CANDIDATES` to compare (default all four; fewer only to
+    measure what one of them is worth).
+    """
     d = np.asarray(d, float).ravel()
     n = len(d)
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
@@ -94,6 +104,8 @@ def designs_at_diameter(problem, d) -> tuple[np.ndarray, np.ndarray]:
             (np.full(n, b_hi), c_at(b_hi)),
             (b_at(c_hi), np.full(n, c_hi)),
         ]
+    if candidates is not None:
+        cands = [cands[i] for i in candidates]
     tol = 1e-12
     xs, feas = [], []
     for bb, cc in cands:
@@ -102,7 +114,7 @@ def designs_at_diameter(problem, d) -> tuple[np.ndarray, np.ndarray]:
         f = (bb <= b_hi * (1 + tol) + tol) & (cc <= c_hi * (1 + tol))
         xs.append(np.column_stack([t, d, np.minimum(bb, b_hi), np.minimum(cc, c_hi)]))
         feas.append(f)
-    x = np.stack(xs)  # (4, N, 4)
+    x = np.stack(xs)  # (candidates, N, 4)
     cost = np.asarray(_values(problem, x)["turning_effort"], float)
     cost = np.where(np.stack(feas), cost, np.inf)
     best = np.argmin(cost, axis=0)
