@@ -144,7 +144,7 @@ class Conditions:
     disturbance_angle : design disturbance θ0 [rad] (20°, Appendix C)
     slip_coefficient : K_s [N] (1250, Appendix C)
     inertia : the I_w(d) model
-    turning : constants of the turning model (DESIGN §2.4)
+    turning : constants of the turning model (docs/model.md#turning-effort)
     dynamics : K, fork and bearing-block masses of the third-order model
     uncertainty : optional :class:`designer.analysis.robust.Uncertainty`; then the shimmy
         constraint uses the α-quantile of V_c instead of its nominal value
@@ -172,11 +172,11 @@ def performance(trail, diameter, groove, damping, conditions: Conditions) -> dic
     Works on floats, NumPy arrays (vectorised over many designs) and CasADi
     symbols.  Keys and equations:
 
-    - ``inertia`` I_w(d) [kg·m²] (inertia model, DESIGN §2.2)
+    - ``inertia`` I_w(d) [kg·m²] (inertia model, docs/model.md#wheel-inertia)
     - ``critical_speed`` V_c [m/s] (Eq. 7)
     - ``threshold_force_ratio`` P/L [-] (Eq. 4A)
     - ``threshold_force`` P [N] (Eq. 4A)
-    - ``turning_moment`` M_turn + M_d [N·m] (DESIGN §2.4)
+    - ``turning_moment`` M_turn + M_d [N·m] (docs/model.md#turning-effort)
     - ``turning_effort`` F_turn [N] (Eq. 9, moment / trail)
     - ``swept_radius`` R_s [m] (T + d/2)
     - ``design_speed`` [m/s]: the speed the shimmy constraint compares with V_req:

@@ -1,6 +1,6 @@
 """Problem files (TOML) -> validated, immutable :class:`Problem` objects.
 
-Schema: DESIGN §4.1.  Every quantity is a number in SI units or a string with
+Schema: docs/problem-file.md.  Every quantity is a number in SI units or a string with
 units ("2 in", "20 deg"); a design variable given one value instead of
 ``{min, max}`` is fixed.  Everything is checked before any solve, and every
 error is one line naming the key, the value and the reason.
@@ -410,7 +410,7 @@ def problem_files(where="problems") -> list[Path]:
 
 
 def load_problem(path) -> Problem:
-    """Read and validate a problem file (TOML, DESIGN §4.1).
+    """Read and validate a problem file (TOML, docs/problem-file.md).
 
     Raises
     ------

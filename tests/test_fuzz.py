@@ -1,7 +1,7 @@
 """Property-based fuzzing (hypothesis) of the physics and of problem files.
 
 The default budget keeps the whole file well under 30 s; set ``FUZZ_EXAMPLES=5000`` for a long run.
-Physics: no NaN/inf for valid inputs, the monotonicity claims of DESIGN §5.6 everywhere in range,
+Physics: no NaN/inf for valid inputs, the monotonicity claims of docs/checks.md#6-monotonicity everywhere in range,
 CasADi and NumPy agreeing.  Problem files: random valid files load and either solve or raise a
 :class:`~designer.errors.DesignerError`; random invalid files never raise anything else.
 """
@@ -59,7 +59,7 @@ REL = 1 + 1e-3  # a step that is surely larger than rounding
 @FUZZ
 @given(trail, inertia, groove, damping, slip)
 def test_critical_speed_finite_and_monotone(t, i_w, b, c_f, k_s):
-    """Eq. 7: V_c finite and positive; it rises with T, c_f and B and falls with I_w (DESIGN §5.6)."""
+    """Eq. 7: V_c finite and positive; it rises with T, c_f and B and falls with I_w (docs/checks.md#6-monotonicity)."""
     v = critical_shimmy_speed(t, i_w, b, c_f, k_s)
     assert math.isfinite(v) and v >= 0
     assume(v > 0)
@@ -77,7 +77,7 @@ def test_critical_speed_finite_and_monotone(t, i_w, b, c_f, k_s):
 @FUZZ
 @given(trail, diameter, groove, damping)
 def test_critical_speed_falls_with_diameter(t, d, b, c_f):
-    """With I_w(d) from the Table 1 power law, V_c falls as the wheel grows (DESIGN §5.6)."""
+    """With I_w(d) from the Table 1 power law, V_c falls as the wheel grows (docs/checks.md#6-monotonicity)."""
     assume(b > 0 or c_f > 0)
     model = PowerLaw()
     with warnings.catch_warnings():
@@ -100,7 +100,7 @@ def test_threshold_ratio_finite_and_falls_with_diameter(h, ratio):
 @FUZZ
 @given(trail, groove, damping, load, st.sampled_from(["tile", "carpet"]), st.sampled_from(["chair", "pivot"]))
 def test_turning_effort_monotone(t, b, c_f, l, surface, mode):
-    """F_turn finite and positive; falls with T, rises with B and with added damping c_f > c_0 (DESIGN §2.4)."""
+    """F_turn finite and positive; falls with T, rises with B and with added damping c_f > c_0 (docs/model.md#turning-effort)."""
     c_f = max(c_f, 1.3)
     f = turning_effort(t, b, c_f, l, surface, mode)
     assert math.isfinite(f) and f > 0

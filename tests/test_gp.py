@@ -1,4 +1,4 @@
-"""Tests of the geometric-programming solver (designer.solvers.gp, DESIGN §3 cvxpy paragraph)."""
+"""Tests of the geometric-programming solver (designer.solvers.gp, docs/model.md#solvers cvxpy paragraph)."""
 from __future__ import annotations
 
 import math

@@ -41,7 +41,7 @@ def test_table1_predictions(key, expected):
 
 
 def test_table1_power_law_fit():
-    """The least-squares fit to Table 1 gives n ≈ 3.50 and I_w(8 in) ≈ 1.873e-3 kg·m² (DESIGN §2.2)."""
+    """The least-squares fit to Table 1 gives n ≈ 3.50 and I_w(8 in) ≈ 1.873e-3 kg·m² (docs/model.md#wheel-inertia)."""
     c, n = ph.fit_table1_power_law()
     assert n == pytest.approx(3.50, abs=0.01)
     assert c * (8 * INCH) ** n == pytest.approx(1.873e-3, rel=2e-3)
@@ -59,7 +59,7 @@ def test_power_law_warns_outside_table1():
 
 
 def test_disc_reproduces_wheels_a_and_b():
-    """A thin disc m r²/4 reproduces Table 1 wheels A and B within 15 % (the unit note of DESIGN §2.2)."""
+    """A thin disc m r²/4 reproduces Table 1 wheels A and B within 15 % (the unit note of docs/model.md#wheel-inertia)."""
     for key in "AB":
         w = next(x for x in TABLE1 if x.key == key)
         thin = w.mass * (w.diameter / 2) ** 2 / 4
@@ -103,7 +103,7 @@ def test_threshold_series_matches_exact():
 
 
 def test_turning_worked_case():
-    """DESIGN §2.4 worked case: tile, chair, L = 178 N, T = 2 in, c_f = 1.3: 8.76 N ungrooved, 9.64 N with B = 9/16 in."""
+    """docs/model.md#turning-effort worked case: tile, chair, L = 178 N, T = 2 in, c_f = 1.3: 8.76 N ungrooved, 9.64 N with B = 9/16 in."""
     assert ph.turning_effort(2 * INCH, 0.0, 1.3, 178.0) == pytest.approx(8.76, abs=0.005)
     assert ph.turning_effort(2 * INCH, 9 / 16 * INCH, 1.3, 178.0) == pytest.approx(9.64, abs=0.005)
 

@@ -28,7 +28,7 @@ def test_readme_python_example_runs():
 
 
 def test_public_api_names():
-    """DESIGN §4.3: the loader, the design dataclass, optimise, pareto_front, explore and write_report come
+    """docs/commands.md#python-api: the loader, the design dataclass, optimise, pareto_front, explore and write_report come
     from ``import designer`` (the last two imported lazily)."""
     import designer
 

@@ -1,4 +1,4 @@
-"""Pareto reports (DESIGN §4.4): the committed results/ are reproducible, the HTML is
+"""Pareto reports (docs/commands.md#reports): the committed results/ are reproducible, the HTML is
 self-contained and escaped, writes are atomic, and ``designer pareto`` writes every file."""
 from __future__ import annotations
 
@@ -135,7 +135,7 @@ def test_failed_write_leaves_nothing(invacare, tmp_path, monkeypatch):
 
 
 def test_cli_exit_1_when_a_front_check_fails(tmp_path, monkeypatch, capsys):
-    """A failing check 8 gives exit 1, after the report is written (DESIGN §4.2)."""
+    """A failing check 8 gives exit 1, after the report is written (docs/commands.md)."""
     import designer.analysis.checks as checks
 
     real = checks.front_checks

@@ -4,7 +4,7 @@ Three fits, each the paper's own test:
 
 ``turning``  drill-press test of Fig. 7: sliding turning moment vs caster load,
              a line through the origin whose slope is the moment per unit load
-             k_surface [m] (``[turning] tile_moment_per_load``; DESIGN §2.4).
+             k_surface [m] (``[turning] tile_moment_per_load``; docs/model.md#turning-effort).
 ``damping``  Fig. 2C: measured critical shimmy speeds of casters of known trail,
              inertia (and groove) fitted with Eq. 7 / 10C for the lumped
              friction damping c_f = M_f/θ0 [N·m/rad] (Eq. 11C gives 1.3), K_s fixed.
@@ -221,7 +221,7 @@ def _through_origin(x, y):
 
 
 def fit_turning(load, moment, surface: str = "tile") -> CalibrationResult:
-    """Moment per unit load k_surface [m] from drill-press data (Fig. 7; DESIGN §2.4).
+    """Moment per unit load k_surface [m] from drill-press data (Fig. 7; docs/model.md#turning-effort).
 
     Least squares through the origin, M = k L (scipy ``curve_fit``), with a
     95 % Student-t interval.
@@ -376,7 +376,7 @@ def write_examples(out_dir=EXAMPLES_DIR, seed: int = EXAMPLE_SEED) -> dict[str, 
     """Generate the example CSVs from the model with stated noise.
 
     - ``turning_tile.csv``: loads 50–250 N (9 points), moment = 0.005 m × L
-      (DESIGN §2.4 k_tile) + normal noise σ = 0.03 N·m.
+      (docs/model.md#turning-effort k_tile) + normal noise σ = 0.03 N·m.
     - ``damping.csv``: Table 1 wheels C–G at trails 1.5, 2, 2.5 in, plus the
       Eq. 8 wheel (I_w = 0.00127) with B = 9/16 in; V_c from Eq. 7 with
       c_f = 1.3 N·m/rad, K_s = 1250 N, times (1 + ε), ε normal σ = 5 %.

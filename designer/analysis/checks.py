@@ -1,4 +1,4 @@
-"""The paper's trade-offs as executable checks (DESIGN §5).
+"""The paper's trade-offs as executable checks (docs/checks.md).
 
 Each check records the paper's claim (its words or number), what we compute,
 the error and pass/fail.  :func:`paper_checks` runs the checks that need no

@@ -1,4 +1,4 @@
-"""Multi-objective exploration with optuna (NSGA-II), DESIGN §3 and §4.2.
+"""Multi-objective exploration with optuna (NSGA-II), docs/model.md#solvers, docs/commands.md.
 
 ``explore(problem, trials=N)`` runs a two-objective optuna study (minimise
 turning effort F_turn [N] and threshold force P [N], Eq. 9 and Eq. 4A)

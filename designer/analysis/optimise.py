@@ -168,7 +168,7 @@ def constraint_margins(problem: Problem, design: Design, values: dict) -> tuple[
 
 
 def optimise(problem: Problem, weights=None, cross_check: bool = True, samples: int = 1024) -> Solution:
-    """Minimise J = w_turn F_turn + w_threshold P of ``problem`` (DESIGN §2.5).
+    """Minimise J = w_turn F_turn + w_threshold P of ``problem`` (docs/model.md#problems).
 
     Parameters
     ----------
@@ -215,7 +215,7 @@ def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Sol
         build += nlp.build_seconds
         starts = best_starts(variant, w, n=samples)
         gp = _gp(variant, w) if cross_check else None
-        if gp is not None:  # every family's GP answer is an NLP start (DESIGN §3)
+        if gp is not None:  # every family's GP answer is an NLP start (docs/model.md#solvers)
             starts += [d.as_array() for d in gp.designs.values()]
         t0 = time.perf_counter()
         best, results = solve_best(nlp, starts, w)

@@ -1,4 +1,4 @@
-"""``designer evaluate``: analyse one caster (DESIGN §4.2)."""
+"""``designer evaluate``: analyse one caster (docs/commands.md)."""
 from __future__ import annotations
 
 from designer.commands._common import choice_option, print_json, quantity_option
@@ -138,7 +138,7 @@ def run(args) -> int:
         ("critical shimmy speed V_c", f"{values['critical_speed']:.3f} m/s ({values['critical_speed'] * 2.23694:.2f} mph)", "Eq. 7"),
         ("threshold force ratio P/L", f"{values['threshold_force_ratio']:.4f}", "Eq. 4A"),
         ("threshold force P", f"{values['threshold_force']:.2f} N ({values['threshold_force'] / 4.44822:.2f} lbf)", "Eq. 4A"),
-        ("turning moment", f"{values['turning_moment']:.4f} N·m", "DESIGN §2.4, Fig. 7"),
+        ("turning moment", f"{values['turning_moment']:.4f} N·m", "docs/model.md#turning-effort, Fig. 7"),
         ("turning effort F_turn", f"{values['turning_effort']:.3f} N ({values['turning_effort'] / 4.44822:.3f} lbf)", "Eq. 9"),
         ("swept radius T + d/2", f"{values['swept_radius'] * 1000:.1f} mm ({values['swept_radius'] / INCH:.3f} in)", ""),
         ("shimmy frequency ω", f"{values['shimmy_frequency']:.1f} rad/s", "Eq. 15B"),

@@ -1,4 +1,4 @@
-"""``designer explore``: multi-objective exploration with optuna's NSGA-II (DESIGN §3, §4.2, issue 5)."""
+"""``designer explore``: multi-objective exploration with optuna's NSGA-II (docs/model.md#solvers, docs/commands.md, issue 5)."""
 from __future__ import annotations
 
 from pathlib import Path

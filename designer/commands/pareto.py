@@ -1,4 +1,4 @@
-"""``designer pareto PROBLEM``: exact Pareto front, checks and report (DESIGN §4.2, §4.4).
+"""``designer pareto PROBLEM``: exact Pareto front, checks and report (docs/commands.md, docs/commands.md#reports).
 
 Computes the front (ε-constraint on the NLP), the weighted optimum, the front
 for a 10 % higher target speed (check 8c), runs the paper checks and check 8,

@@ -1,7 +1,7 @@
 """Table 1 and the constants of the reference paper, with their sources.
 
 Units are SI.  Table 1's column "Moment of Inertia kg-m²" is printed in units
-of 1e-3 kg·m² (DESIGN §2.2): Eq. 8 uses I_w = 0.00127 kg·m² for a 7¾ in wheel,
+of 1e-3 kg·m² (docs/model.md#wheel-inertia): Eq. 8 uses I_w = 0.00127 kg·m² for a 7¾ in wheel,
 and a thin disc, m r²/4, reproduces wheels A and B only with that factor.
 The values below are therefore the printed numbers times 1e-3.
 """

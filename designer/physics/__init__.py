@@ -10,7 +10,7 @@ Modules
 shimmy      Eq. 5, 6/3C, 7/10C, 12B–20B: critical speed and the third-order model
 inertia     I_w(d): Table 1 power law, thin disc, catalog wheel
 threshold   Eq. 1/4A exact, Eq. 5A approximate: force to climb a door sill
-turning     DESIGN §2.4, Eq. 9: turning effort at the caster spindle
+turning     docs/model.md#turning-effort, Eq. 9: turning effort at the caster spindle
 geometry    swept radius of the swivelling caster
 uncertainty scatter of Eq. 7's constants: V_c quantile and Monte Carlo probability of shimmy
 

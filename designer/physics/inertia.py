@@ -28,7 +28,7 @@ def fit_table1_power_law() -> tuple[float, float]:
     """Least-squares fit of I_w = C d^n to the seven wheels of Table 1.
 
     The fit is linear in log space: log I_w = log C + n log d, over wheels A–G
-    (d in m, I_w in kg·m², Table 1's printed column × 1e-3, DESIGN §2.2).
+    (d in m, I_w in kg·m², Table 1's printed column × 1e-3, docs/model.md#wheel-inertia).
 
     Returns
     -------
@@ -74,7 +74,7 @@ def disc_mass(diameter, tyre_width, density):
 def disc_inertia(diameter, tyre_width, density):
     """Moment of inertia of a uniform disc about a diameter [kg·m²].
 
-    I_w = m (d²/16 + w²/12) with m = ρ π d² w / 4 (DESIGN §2.2; the thin-disc
+    I_w = m (d²/16 + w²/12) with m = ρ π d² w / 4 (docs/model.md#wheel-inertia; the thin-disc
     limit m r²/4 reproduces Table 1's wheels A and B).
     """
     mass = disc_mass(diameter, tyre_width, density)

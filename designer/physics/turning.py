@@ -1,6 +1,6 @@
 """Turning effort of a caster: sliding moment of the tyre plus spindle friction.
 
-Default model of DESIGN §2.4, calibrated to the paper's measurements
+Default model of docs/model.md#turning-effort, calibrated to the paper's measurements
 ("Turning resistance due to a grooved wheelchair caster wheel", Figs. 7–12):
 
 M_turn = m_mode · k_surface · L · (1 + κ B)      sliding turning moment [N·m]
@@ -71,7 +71,7 @@ DEFAULT_TURNING = TurningConstants()
 
 def sliding_turning_moment(load, groove, surface: str = "tile", mode: str = "chair",
                            constants: TurningConstants = DEFAULT_TURNING):
-    """Sliding turning moment of the tyre about the spindle [N·m] (DESIGN §2.4; Fig. 7).
+    """Sliding turning moment of the tyre about the spindle [N·m] (docs/model.md#turning-effort; Fig. 7).
 
     M_turn = m_mode · k_surface · L · (1 + κ B).
 
@@ -100,7 +100,7 @@ def added_damper_moment(damping, disturbance_angle=DISTURBANCE_ANGLE,
 
 def turning_effort(trail, groove, damping, load, surface: str = "tile", mode: str = "chair",
                    disturbance_angle=DISTURBANCE_ANGLE, constants: TurningConstants = DEFAULT_TURNING):
-    """Lateral force at the spindle to turn the caster, F_turn [N] (Eq. 9; DESIGN §2.4).
+    """Lateral force at the spindle to turn the caster, F_turn [N] (Eq. 9; docs/model.md#turning-effort).
 
     F_turn = (M_turn + M_d) / T.  Worked case (tile, chair, L = 178 N, T = 2 in,
     c_f = 1.3): B = 0 gives 8.76 N, B = 9/16 in gives 9.64 N.

@@ -1,4 +1,4 @@
-"""Pareto reports: pictures first, then tables (DESIGN §4.4).
+"""Pareto reports: pictures first, then tables (docs/commands.md#reports).
 
 :func:`write_report` writes ``results/<problem>/`` with ``index.html`` (one
 self-contained file), ``report.md`` + ``figures/``, ``front.csv``,

@@ -244,20 +244,20 @@ def _model_rows(problem) -> list[dict]:
                 f"diameters {b.low / INCH:.3g}–{b.high / INCH:.3g} in extrapolate it.")
     rows = [
         ("critical shimmy speed", "V_c = sqrt( 4 c_f T² / (π I_w) + K_s B² T / (2 I_w) )", "Eq. 7 (= Eq. 10C)"),
-        ("shimmy constraint", "V_c(T, d, B, c_f) >= V_req = (1 + margin) V_target", "DESIGN §2.5"),
+        ("shimmy constraint", "V_c(T, d, B, c_f) >= V_req = (1 + margin) V_target", "docs/model.md#problems"),
     ]
     if getattr(problem.conditions, "uncertainty", None) is not None:
         rows.append(("robust shimmy constraint (replaces the nominal one)",
                      "V_c · exp(−z_(1−α) σ_V) >= V_req, σ_V² = σ_model² + Σ (∂log V_c/∂log p · σ_p)²",
                      "first-order quantile, designer.analysis.robust"))
     rows += [
-        ("wheel inertia", inertia.describe() + "." + note, "DESIGN §2.2, Table 1"),
+        ("wheel inertia", inertia.describe() + "." + note, "docs/model.md#wheel-inertia, Table 1"),
         ("threshold force", "P = L · 2 sqrt(d/h − 1) / (d/h − 2), valid for d/h > 2", "Eq. 4A (= Eq. 1)"),
         ("threshold force, approximate (figure only)", "P/L ≈ 2 sqrt(h/d)", "Eq. 5A"),
-        ("sliding turning moment", "M_turn = m_mode · k_surface · L · (1 + κ B)", "DESIGN §2.4, Fig. 7"),
-        ("added damper moment", "M_d = (c_f − c_0) θ0", "DESIGN §2.4, Eq. 11C"),
+        ("sliding turning moment", "M_turn = m_mode · k_surface · L · (1 + κ B)", "docs/model.md#turning-effort, Fig. 7"),
+        ("added damper moment", "M_d = (c_f − c_0) θ0", "docs/model.md#turning-effort, Eq. 11C"),
         ("turning effort", "F_turn = (M_turn + M_d) / T", "Eq. 9 (moment = F_c × trail)"),
-        ("swept radius", "R_s = T + d/2", "DESIGN §2.1"),
+        ("swept radius", "R_s = T + d/2", "docs/model.md#shimmy"),
         ("assumption: dynamics", "linear, small-angle two-degree-of-freedom caster on a lateral frame spring; "
          "no tyre lateral slip of a single tread", "Appendix B"),
         ("assumption: friction damping", "Coulomb spindle friction M_f replaced by an equivalent viscous damper at "

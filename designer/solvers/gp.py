@@ -1,16 +1,16 @@
 """Geometric programming with cvxpy (``gp=True``): cross-check, global certificate, duals.
 
-DESIGN §3, cvxpy paragraph.  With the *added* damping c_d = c_f − c_0 as the
+docs/model.md#solvers, cvxpy paragraph.  With the *added* damping c_d = c_f − c_0 as the
 variable, every quantity of the model is a posynomial of the positive
 variables (T, d, B, c_d):
 
-- turning effort (DESIGN §2.4, Eq. 9)
+- turning effort (docs/model.md#turning-effort, Eq. 9)
   F_turn = (m_mode k_surface L (1 + κB) + c_d θ0) / T;
 - threshold force (Eq. 1 = Eq. 4A expanded in s = h/d)
   P = L · 2 s^½ Σ_{k<=N} c_k s^k, every c_k > 0 (truncated; it *under*-estimates
   the exact P by at most L·2 s^½ (2s)^(N+1)/(1 − 2s), and N is chosen so that
   this is below :data:`SERIES_TOLERANCE` relative over the diameter range);
-- wheel inertia (DESIGN §2.2): a monomial C d^n (power law), a posynomial
+- wheel inertia (docs/model.md#wheel-inertia): a monomial C d^n (power law), a posynomial
   (disc) or a constant (fixed / catalog wheel);
 - swept radius T + d/2 <= R_max.
 
@@ -293,7 +293,7 @@ def _is_zero(x) -> bool:
 
 
 def _inertia(diameter, model):
-    """I_w(d) through the physics functions: monomial, posynomial or constant (DESIGN §2.2)."""
+    """I_w(d) through the physics functions: monomial, posynomial or constant (docs/model.md#wheel-inertia)."""
     if isinstance(model, PowerLaw):
         c, n = model.constants()
         return power_law_inertia(diameter, c, n)
@@ -320,7 +320,7 @@ def gp_terms(trail, diameter, groove, added_damping, constants: _Constants, orde
     Returns
     -------
     dict with
-        ``turning_effort`` F_turn [N] (Eq. 9, DESIGN §2.4; calls
+        ``turning_effort`` F_turn [N] (Eq. 9, docs/model.md#turning-effort; calls
         :func:`sliding_turning_moment`; the added damper moment
         (c_f − c_0) θ0 of :func:`added_damper_moment` is c_d θ0);
         ``threshold_force`` P [N], Eq. 4A series to order N (underestimates);
@@ -696,7 +696,7 @@ def _last_solution_is(fam: _Family, values: dict) -> bool:
 
 def solve_gp(problem: Problem, weights=None, threshold_cap: float | None = None,
              max_iterations: int = MAX_ITERATIONS, record: list | None = None) -> GPResult:
-    """Minimise J = w_turn F_turn + w_threshold P by geometric programming (DESIGN §3).
+    """Minimise J = w_turn F_turn + w_threshold P by geometric programming (docs/model.md#solvers).
 
     Every family (bare fork, groove, damper, groove+damper, as the bounds
     allow) is solved: the bare fork as one exact GP (global optimum), the
