@@ -349,6 +349,8 @@ def parse_storage(storage: str | None) -> StorageSpec:
                 f"storage {_redact(text)!r}: unknown scheme {match.group(1)!r}; use sqlite:///file.db, "
                 f"postgresql://user:password@host/db or journal:///path/file.log")
         url = "postgresql" + text[len(match.group(1).split("+")[0]):] if scheme == "postgres" else text
+        if scheme == "postgres" or match.group(1).lower() == "postgresql":
+            url = _postgres_driver(url)
         return StorageSpec("rdb", url, _redact(url))
     lower = text.lower()
     if lower.endswith((".log", ".journal")):
@@ -360,6 +362,16 @@ def parse_storage(storage: str | None) -> StorageSpec:
         f"journal:///path/file.log (or a path ending .db or .log)")
 
 
+def _postgres_driver(url: str) -> str:
+    """``postgresql://`` with the driver that is installed: SQLAlchemy 2.1 reads it as psycopg (3), but the
+    README (and the `test` extra) install psycopg2-binary; an explicit ``postgresql+driver://`` is kept."""
+    import importlib.util
+
+    if importlib.util.find_spec("psycopg") is None and importlib.util.find_spec("psycopg2") is not None:
+        return "postgresql+psycopg2://" + url[len("postgresql://"):]
+    return url
+
+
 def _redact(url: str) -> str:
     return re.sub(r"(://[^:/@]+:)[^@]*@", r"\1***@", url)
 
@@ -368,6 +380,29 @@ def _one_line(exc: BaseException) -> str:
     text = str(exc).strip().splitlines()
     first = next((line.strip() for line in text if line.strip()), type(exc).__name__)
     return (first[:200] + "…") if len(first) > 200 else first
+
+
+HEARTBEAT_SECONDS = 10
+"""A worker on a remote (PostgreSQL/MySQL) study records a heartbeat this often (env DESIGNER_HEARTBEAT_SECONDS)."""
+GRACE_SECONDS = 60
+"""A RUNNING trial without a heartbeat for this long is failed and retried once (env DESIGNER_GRACE_SECONDS)."""
+
+
+def _heartbeat() -> tuple[int, int]:
+    """Heartbeat interval and grace period [s] of remote studies: the defaults, or the environment's."""
+    out = []
+    for name, default in (("DESIGNER_HEARTBEAT_SECONDS", HEARTBEAT_SECONDS), ("DESIGNER_GRACE_SECONDS", GRACE_SECONDS)):
+        text = os.environ.get(name, str(default))
+        try:
+            value = int(text)
+        except ValueError:
+            value = 0
+        if not 1 <= value <= 86400:
+            raise InputError(f"{name} = {text!r}: expected whole seconds from 1 to 86400")
+        out.append(value)
+    if out[1] <= out[0]:
+        raise InputError(f"DESIGNER_GRACE_SECONDS = {out[1]}: must exceed DESIGNER_HEARTBEAT_SECONDS = {out[0]}")
+    return out[0], out[1]
 
 
 def open_storage(spec: StorageSpec, break_lock: bool = False):
@@ -404,13 +439,14 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
     engine_kwargs = {}
     if spec.remote:
         engine_kwargs = {"connect_args": {"connect_timeout": 10}, "pool_pre_ping": True}
+        heartbeat, grace = _heartbeat()
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             if not spec.remote:  # SQLite: one machine; --resume fails every RUNNING trial, no heartbeat needed
                 return optuna.storages.RDBStorage(spec.url)
             return optuna.storages.RDBStorage(
-                spec.url, engine_kwargs=engine_kwargs, heartbeat_interval=10, grace_period=60,
+                spec.url, engine_kwargs=engine_kwargs, heartbeat_interval=heartbeat, grace_period=grace,
                 failed_trial_callback=optuna.storages.RetryFailedTrialCallback(max_retry=1))
     except ImportError as exc:
         raise StorageError(f"storage {spec.shown}: the database driver is not installed ({_one_line(exc)}); "
