@@ -10,7 +10,7 @@ from designer.physics import enable_casadi
 
 enable_casadi()  # NumPy mode: the physics functions build CasADi expressions here, without the solvers
 import numpy as np
-from designer.checks import TABLE1_MAX_TOLERANCE
+from designer.analysis.checks import TABLE1_MAX_TOLERANCE
 import pytest
 
 from designer import physics as ph

@@ -43,7 +43,7 @@ def _explore(url, out, seed, resume, env):
 def _trials(url):
     import optuna
 
-    from designer.exploration import parse_storage
+    from designer.analysis.exploration import parse_storage
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     try:  # the driver the designer picks (psycopg2 for a plain postgresql:// URL)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import designer.checks as ck
+import designer.analysis.checks as ck
 from designer.cli import main
 from designer.data.paper import INCH, TABLE1, TABLE1_STABLE_UP_TO
 from designer.physics.shimmy import critical_shimmy_speed, routh_hurwitz_critical_speed
@@ -121,7 +121,7 @@ def indoor():
 
 def _point(problem, x, f=None, margins=None):
     from designer.model import Design
-    from designer.pareto import FrontPoint, family_of
+    from designer.analysis.pareto import FrontPoint, family_of
     from designer.solvers.nlp import evaluate_many
 
     values = evaluate_many(problem, np.atleast_2d(x))
@@ -142,7 +142,7 @@ def _optimal_points(problem, eps):
 
 def test_8a_fails_on_a_diameter_reversal(indoor):
     """8a: a front whose diameter shrinks as P falls (the two points' P swapped) fails."""
-    from designer.pareto import Front
+    from designer.analysis.pareto import Front
 
     a, b = _optimal_points(indoor, [105.0, 120.0])  # b: smaller d, larger P
     assert ck.front_checks(Front(indoor, [b, a]))[0].outcome == ck.REPRODUCED
@@ -153,7 +153,7 @@ def test_8a_fails_on_a_diameter_reversal(indoor):
 
 def test_8b_fails_on_a_slack_shimmy_constraint_with_groove(indoor):
     """8b: a point with a groove and a damper whose V_c exceeds V_req (shimmy constraint slack) fails."""
-    from designer.pareto import Front
+    from designer.analysis.pareto import Front
 
     (p,) = _optimal_points(indoor, [110.0])
     x = p.design.as_array()
@@ -166,7 +166,7 @@ def test_8b_fails_on_a_slack_shimmy_constraint_with_groove(indoor):
 def test_8c_fails_when_tighter_front_beats_the_looser_by_1e_4(indoor):
     """8c: a 'tighter' front point 0.01 % cheaper to turn than the looser problem's optimum at its P is
     not dominated, so 8c fails (tolerance 1e-7 relative, IPOPT's converged precision); unperturbed it passes."""
-    from designer.pareto import Front
+    from designer.analysis.pareto import Front
 
     looser = Front(indoor, _optimal_points(indoor, [110.0]))
     (q,) = _optimal_points(indoor, [112.0])

@@ -44,7 +44,7 @@ def test_docs_cover_the_model_equations_and_checks():
         cited.update(re.findall(r"Eq\. (\d+[A-C]?)", path.read_text(encoding="utf-8")))
     missing = sorted(e for e in cited if not re.search(rf"Eq\. {e}\b", model))
     assert not missing, f"equations cited in designer/physics but not in docs/model.md: {missing}"
-    from designer.checks import paper_checks
+    from designer.analysis.checks import paper_checks
 
     checks = (ROOT / "docs" / "checks.md").read_text(encoding="utf-8")
     for c in paper_checks():

@@ -46,8 +46,8 @@ def test_front_checks_8c_not_applicable_when_tighter_front_empty(tmp_path):
     """An empty tighter front (V_target × 1.1 out of reach) gives check 8c 'not applicable' with the highest
     reachable V_c (2.384 m/s, Eq. 7 at T = 2.5 in, d = 7 in, B = 0, c_f = 1.3), not a reduction of an empty
     array (the old ValueError, exit 70)."""
-    from designer.checks import NOT_APPLICABLE, front_checks
-    from designer.pareto import pareto_front
+    from designer.analysis.checks import NOT_APPLICABLE, front_checks
+    from designer.analysis.pareto import pareto_front
     from designer.problem import load_problem
 
     problem = load_problem(_problem(tmp_path, "2.3 m/s"))
@@ -89,7 +89,7 @@ def test_pareto_points_bounded_like_problem_file(points, tmp_path, capsys):
 def test_pareto_front_api_rejects_huge_point_count():
     """pareto_front(points=100000) is refused with InputError before any memory is allocated."""
     from designer.errors import InputError
-    from designer.pareto import pareto_front
+    from designer.analysis.pareto import pareto_front
     from designer.problem import load_problem
 
     with pytest.raises(InputError, match="2 to 2001 points"):
@@ -156,7 +156,7 @@ def test_solver_call_raises_after_sigint_flag():
 
 SCRIPT = """
 import sys, time
-import designer.commands.pareto, designer.pareto, designer.solvers.nlp, designer.report.writer  # noqa: F401
+import designer.commands.pareto, designer.analysis.pareto, designer.solvers.nlp, designer.report.writer  # noqa: F401
 from designer.cli import main
 print("ready", flush=True)
 sys.exit(main(sys.argv[1:]))

@@ -51,7 +51,7 @@ def test_extrapolation_warning_only_for_reported_diameters():
 
 def test_optimise_inside_table1_does_not_warn():
     """indoor-manual's bounds reach 3 in, but its optimum is at d = 8 in: no extrapolation warning."""
-    from designer.optimise import optimise
+    from designer.analysis.optimise import optimise
     from designer.problem import load_problem
 
     with warnings.catch_warnings(record=True) as caught:

@@ -103,7 +103,7 @@ def _compute(problem, points, out, tracker, force=False) -> dict:
     t0 = time.perf_counter()
     front = pareto_front(problem, points, progress=tracker(f"{problem.name}: front"))
     if not front.points and not front.failed:  # the problem itself is infeasible: `designer run`'s exit 4
-        from designer.optimise import _diagnose
+        from designer.analysis.optimise import _diagnose
 
         raise _diagnose(problem)
     tighter_problem = problem.replace(target_speed=problem.target_speed * TIGHTER_FACTOR)

@@ -387,7 +387,7 @@ def build_context(data: ReportData) -> dict:
     tradeoff = _tradeoff_rows(problem, data.tradeoff)
     figures = [{"name": n, "title": FIGURE_INFO[n][0], "caption": FIGURE_INFO[n][1], "file": f"figures/{n}.png"}
                for n in _figures.FIGURES]
-    from designer.checks import summary_line
+    from designer.analysis.checks import summary_line
 
     all_checks = data.paper_checks + data.front_checks
     return {
