@@ -120,7 +120,8 @@ SCHEMA: dict[str, dict[str, str]] = {
     },
     "variables": {name: "bound" for name in VARIABLES},
     "constraints": {"swept_radius_max": "length"},
-    "objective": {"turning_effort": "float", "threshold_force": "float"},
+    "objective": {"turning_effort": "float", "threshold_force": "float", "max_threshold_force": "force",
+                  "max_turning_effort": "force"},
     "pareto": {"points": "int"},
     "turning": {
         "tile_moment_per_load": "length",
@@ -132,8 +133,9 @@ SCHEMA: dict[str, dict[str, str]] = {
     },
     "dynamics": {"frame_stiffness": "stiffness", "fork_mass": "mass", "bearing_block_mass": "mass"},
     "choices": {"surface": "list", "turning_mode": "list", "wheel": "list"},
-    "robust": {"probability": "float", "model_error": "float", "damping": "float", "slip_coefficient": "float",
-               "inertia": "float", "samples": "int", "seed": "int"},
+    "robust": {"enabled": "bool", "probability": "float", "model_error": "float", "model_error_dof": "int",
+               "damping": "float", "slip_coefficient": "float", "inertia": "float", "samples": "int", "seed": "int"},
+    "stock": {"diameters": "list", "grooves": "list", "trail_step": "length", "dampings": "list", "wheels": "list"},
 }
 
 INERTIA_MODELS = ("table1-power-law", "disc", "catalog", "fixed")
@@ -153,6 +155,67 @@ class Bound:
 
 
 @dataclass(frozen=True)
+class StockWheel:
+    """A wheel on offer ([stock].wheels): name, diameter [m], groove [m] (None: from [stock].grooves or
+    continuous) and measured I_w [kg·m²] (None: from the [inertia] model)."""
+
+    name: str
+    diameter: float
+    groove: float | None = None
+    inertia: float | None = None
+
+
+@dataclass(frozen=True)
+class Stock:
+    """The parts that can be built ([stock]); a variable left ``None`` stays continuous within its bounds.
+
+    Attributes
+    ----------
+    diameters : wheel diameters on offer [m] (I_w from the [inertia] model)
+    grooves : tyre groove widths on offer [m]
+    trail_step : fork-hole spacing [m]; the trails are variables.trail.min + k · step up to .max
+    trails : the fork holes [m] (from ``trail_step`` and the trail bounds)
+    dampings : spindle dampings on offer [N·m/rad] (bare bearing and friction washers)
+    wheels : a catalogue of named wheels (instead of diameters and grooves)
+    """
+
+    diameters: tuple[float, ...] | None = None
+    grooves: tuple[float, ...] | None = None
+    trail_step: float | None = None
+    trails: tuple[float, ...] | None = None
+    dampings: tuple[float, ...] | None = None
+    wheels: tuple[StockWheel, ...] | None = None
+
+    def describe(self) -> str:
+        """One line in inches and N·m/rad: what is on offer (``continuous`` where nothing is listed)."""
+        def inches(values):
+            return "continuous" if values is None else ", ".join(f"{v / INCH:g}" for v in values) + " in"
+
+        parts = []
+        if self.wheels is not None:
+            parts.append("wheels " + ", ".join(w.name for w in self.wheels))
+        else:
+            parts.append(f"diameters {inches(self.diameters)}")
+        if self.wheels is None or all(w.groove is None for w in self.wheels):
+            parts.append(f"grooves {inches(self.grooves)}")
+        parts.append("trails continuous" if self.trails is None else
+                     f"trails {self.trails[0] / INCH:g} to {self.trails[-1] / INCH:g} in every "
+                     f"{self.trail_step / INCH:g} in ({len(self.trails)} holes)")
+        parts.append("dampings continuous" if self.dampings is None else
+                     "dampings " + ", ".join(f"{v:g}" for v in self.dampings) + " N·m/rad")
+        return "; ".join(parts)
+
+    def to_dict(self) -> dict:
+        """Plain data in SI units."""
+        return {"diameters": None if self.diameters is None else list(self.diameters),
+                "grooves": None if self.grooves is None else list(self.grooves),
+                "trail_step": self.trail_step,
+                "trails": None if self.trails is None else list(self.trails),
+                "dampings": None if self.dampings is None else list(self.dampings),
+                "wheels": None if self.wheels is None else [dataclasses.asdict(w) for w in self.wheels]}
+
+
+@dataclass(frozen=True)
 class Problem:
     """A validated caster design problem (immutable).
 
@@ -168,6 +231,9 @@ class Problem:
     weights : (w_turn, w_threshold) of J = w_turn F_turn + w_threshold P
     pareto_points : default number of points on the front
     wheels : Table 1 wheels to choose from when the inertia model is a catalog
+    stock : the parts that can be built ([stock]), or None (every variable continuous)
+    max_threshold_force : cap on P [N]: the recommendation is the least F_turn within it
+    max_turning_effort : cap on F_turn [N]: the recommendation is the least P within it
     choices : categorical options for exploration {"surface": (...), ...}
     description : free text (whose chair, why these numbers)
     source : the file it was read from, if any
@@ -184,11 +250,26 @@ class Problem:
     pareto_points: int = 41
     wheels: tuple[str, ...] = ()
     choices: dict = field(default_factory=dict)
+    stock: Stock | None = None
+    max_threshold_force: float | None = None
+    max_turning_effort: float | None = None
     description: str = ""
     source: str | None = None
 
     def __post_init__(self):
         _validate(self, prefix=f"{self.source}: " if self.source else "")
+
+    @property
+    def risk(self):
+        """The risk bound in force: an :class:`~designer.physics.uncertainty.Uncertainty` (P(V_c,true <
+        (1 + margin) V_target) <= α), or None for the nominal Eq. 7 constraint (``[robust] enabled = false``)."""
+        return self.conditions.uncertainty
+
+    def nominal(self) -> "Problem":
+        """The same problem without the risk bound: V_c (Eq. 7) >= (1 + margin) V_target (``enabled = false``)."""
+        if self.conditions.uncertainty is None:
+            return self
+        return dataclasses.replace(self, conditions=self.conditions.replace(uncertainty=None))
 
     @property
     def required_speed(self) -> float:
@@ -275,6 +356,9 @@ class Problem:
             "weights": list(self.weights),
             "wheels": list(self.wheels),
             "robust": None if c.uncertainty is None else dataclasses.asdict(c.uncertainty),
+            "stock": None if self.stock is None else self.stock.to_dict(),
+            "max_threshold_force": self.max_threshold_force,
+            "max_turning_effort": self.max_turning_effort,
             "turning": {
                 "tile_moment_per_load": c.turning.tile_moment_per_load,
                 "carpet_factor": c.turning.carpet_factor,
@@ -527,7 +611,7 @@ def problem_from_dict(data: dict, source: str | None = None, default_name: str =
 
     inertia, wheels = _inertia(section("inertia"), quantity, fail)
 
-    uncertainty = _uncertainty(section("robust"), fail) if "robust" in data else None
+    uncertainty = _uncertainty(section("robust"), fail)  # on by default: no [robust] gives the default scatter
 
     conditions = Conditions(
         uncertainty=uncertainty,
@@ -591,6 +675,17 @@ def problem_from_dict(data: dict, source: str | None = None, default_name: str =
 
     objective = section("objective")
     weights = (number("objective", "turning_effort", 1.0), number("objective", "threshold_force", 1.0))
+    caps = {}
+    for key in ("max_threshold_force", "max_turning_effort"):
+        value = quantity("objective", key, "force", None)
+        if value is not None and not (math.isfinite(value) and 0 < value < 1e5):
+            fail(f"objective.{key} = {value:g} N: must be a positive force below 1e5 N")
+        caps[key] = value
+    if caps["max_threshold_force"] is not None and caps["max_turning_effort"] is not None:
+        fail("objective: give max_threshold_force or max_turning_effort, not both (the recommendation caps one "
+             "objective and minimises the other)")
+    stock = _stock(section("stock"), bounds, inertia, wheels, conditions.threshold_height, fail) \
+        if "stock" in data else None
     points = section("pareto").get("points", 41)
     if isinstance(points, bool) or not isinstance(points, int):
         fail(f"pareto.points = {points!r}: expected an integer")
@@ -617,14 +712,29 @@ def problem_from_dict(data: dict, source: str | None = None, default_name: str =
         pareto_points=points,
         wheels=wheels,
         choices=choices,
+        stock=stock,
+        max_threshold_force=caps["max_threshold_force"],
+        max_turning_effort=caps["max_turning_effort"],
         source=source,
     )
 
 
 def _uncertainty(table: dict, fail):
-    """Parse [robust]: the allowed probability of shimmy and the scatter (σ of the log) of each constant."""
+    """Parse [robust]: the risk bound α and the scatter (σ of the log) of each constant.
+
+    No section (or no key) gives the defaults of :class:`~designer.physics.uncertainty.Uncertainty`
+    (α = 0.05, Table 1's model error as a Student-t on 5 degrees of freedom); ``enabled = false`` gives
+    None: the nominal Eq. 7 constraint.
+    """
     from designer.physics.uncertainty import Uncertainty
 
+    enabled = table.get("enabled", True)
+    if not isinstance(enabled, bool):
+        fail(f"robust.enabled = {enabled!r}: expected true or false")
+    if not enabled:
+        extra = sorted(set(table) - {"enabled", "samples", "seed"})
+        if extra:
+            fail(f"robust.{extra[0]}: has no effect with enabled = false (the nominal problem has no risk bound)")
     defaults = Uncertainty()
     values = {}
     for key in ("probability", "model_error", "damping", "slip_coefficient", "inertia"):
@@ -638,12 +748,125 @@ def _uncertainty(table: dict, fail):
     for key in ("model_error", "damping", "slip_coefficient", "inertia"):
         if not 0 <= values[key] <= 2:
             fail(f"robust.{key} = {values[key]:g}: the standard deviation of the log must be between 0 and 2")
-    for key, low, high in (("samples", 100, MAX_SAMPLES), ("seed", 0, 2**32 - 1)):
+    for key, low, high in (("samples", 100, MAX_SAMPLES), ("seed", 0, 2**32 - 1), ("model_error_dof", 0, 1000)):
         value = table.get(key, getattr(defaults, key))
         if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-            fail(f"robust.{key} = {value!r}: expected an integer from {low} to {high}")
+            hint = " (0 = a normal model error)" if key == "model_error_dof" else ""
+            fail(f"robust.{key} = {value!r}: expected an integer from {low} to {high}{hint}")
         values[key] = value
+    if not enabled:
+        return None
     return Uncertainty(**values)
+
+
+def _stock_values(table: dict, key: str, dimension: str, variable: str, bounds: dict, fail) -> tuple[float, ...]:
+    """A [stock] list in SI, each value inside ``variable``'s bounds (deduplicated, sorted)."""
+    values = table[key]
+    if isinstance(values, (str, int, float)) or not isinstance(values, list):
+        fail(f"stock.{key} = {values!r}: expected a list, e.g. [\"4 in\", \"5 in\"]")
+    if not values:
+        fail(f"stock.{key} = []: empty; list at least one value, or leave the key out to keep {variable} continuous")
+    out = []
+    b = bounds[variable]
+    for i, raw in enumerate(values):
+        try:
+            v = parse_quantity(raw, dimension, f"stock.{key}[{i}]")
+        except InputError as exc:
+            fail(str(exc))
+        if not b.low * (1 - 1e-9) - 1e-12 <= v <= b.high * (1 + 1e-9) + 1e-12:
+            unit = VARIABLE_UNITS[variable]
+            shown = (f"{v / INCH:.4g} in outside variables.{variable} = [{b.low / INCH:.4g}, {b.high / INCH:.4g}] in"
+                     if dimension == "length" else
+                     f"{v:g} {unit} outside variables.{variable} = [{b.low:g}, {b.high:g}] {unit}")
+            fail(f"stock.{key}[{i}] = {raw!r}: {shown}; widen the bounds or drop the part")
+        out.append(min(max(v, b.low), b.high))
+    return tuple(sorted(set(out)))
+
+
+def _stock(table: dict, bounds: dict, inertia, catalog: tuple, sill: float, fail) -> Stock:
+    """Parse [stock] against the bounds and the inertia model (one-line errors, exit 3)."""
+    if not table:
+        fail("[stock] is empty; list diameters, grooves, trail_step or dampings (a key left out stays continuous)")
+    model = getattr(inertia, "name", "")
+    if "diameters" in table or "wheels" in table:
+        key = "diameters" if "diameters" in table else "wheels"
+        if catalog:
+            fail(f"stock.{key}: not allowed with [inertia] model = \"catalog\"; the wheel stock is "
+                 f"[inertia].wheels ({', '.join(catalog)})")
+        if model == "fixed" or isinstance(inertia, Fixed):
+            fail(f"stock.{key}: not allowed with [inertia] model = \"fixed\"; a fixed inertia is one measured "
+                 f"wheel, so the diameter is fixed (set variables.diameter to it)")
+    if "diameters" in table and "wheels" in table:
+        fail("stock: give diameters (and grooves) or wheels, not both")
+    diameters = _stock_values(table, "diameters", "length", "diameter", bounds, fail) if "diameters" in table else None
+    grooves = _stock_values(table, "grooves", "length", "groove", bounds, fail) if "grooves" in table else None
+    dampings = _stock_values(table, "dampings", "damping", "damping", bounds, fail) if "dampings" in table else None
+    trails = step = None
+    if "trail_step" in table:
+        try:
+            step = parse_quantity(table["trail_step"], "length", "stock.trail_step")
+        except InputError as exc:
+            fail(str(exc))
+        b = bounds["trail"]
+        span = b.high - b.low
+        if not step > 0 or not math.isfinite(step):
+            fail(f"stock.trail_step = {table['trail_step']!r}: must be a positive length, e.g. \"0.25 in\"")
+        if span <= 0:
+            fail(f"stock.trail_step = {table['trail_step']!r}: variables.trail is fixed at {b.low / INCH:.4g} in; "
+                 f"leave trail_step out")
+        if step > span * (1 + 1e-9):
+            fail(f"stock.trail_step = {step / INCH:.4g} in: larger than the trail range "
+                 f"{b.low / INCH:.4g} to {b.high / INCH:.4g} in ({span / INCH:.4g} in); use a smaller step")
+        count = int(math.floor(span / step + 1e-9)) + 1
+        if count > 10_000:
+            fail(f"stock.trail_step = {step / INCH:.4g} in: {count} fork holes; use a step of at least "
+                 f"{span / 10_000 / INCH:.3g} in")
+        trails = tuple(min(b.low + k * step, b.high) for k in range(count))
+    wheels = None
+    if "wheels" in table:
+        raw = table["wheels"]
+        if not isinstance(raw, list):
+            fail(f"stock.wheels = {raw!r}: expected a list of {{name, diameter, groove, inertia}} tables")
+        if not raw:
+            fail("stock.wheels = []: empty; list at least one wheel, or leave the key out")
+        out, names = [], set()
+        for i, w in enumerate(raw):
+            if not isinstance(w, dict):
+                fail(f"stock.wheels[{i}] = {w!r}: expected a table such as "
+                     f"{{ name = \"Frog 5\", diameter = \"5 in\", groove = \"0.25 in\" }}")
+            extra = sorted(set(w) - {"name", "diameter", "groove", "inertia"})
+            if extra:
+                fail(f"stock.wheels[{i}].{_show_key(extra[0])}: unknown key; expected name, diameter, groove, inertia")
+            for need in ("name", "diameter"):
+                if need not in w:
+                    fail(f"stock.wheels[{i}].{need}: missing")
+            name = w["name"]
+            if not isinstance(name, str) or not name.strip():
+                fail(f"stock.wheels[{i}].name = {name!r}: expected a non-empty string")
+            if name in names:
+                fail(f"stock.wheels[{i}].name = {name!r}: listed twice")
+            names.add(name)
+            d = _stock_values({"diameter": [w["diameter"]]}, "diameter", "length", "diameter", bounds, fail)[0]
+            g = (_stock_values({"groove": [w["groove"]]}, "groove", "length", "groove", bounds, fail)[0]
+                 if "groove" in w else None)
+            inertia_w = None
+            if "inertia" in w:
+                try:
+                    inertia_w = parse_quantity(w["inertia"], "inertia", f"stock.wheels[{i}].inertia")
+                except InputError as exc:
+                    fail(str(exc))
+                if not INERTIA_RANGE[0] <= inertia_w <= INERTIA_RANGE[1]:
+                    fail(f"stock.wheels[{i}].inertia = {inertia_w:g} kg·m²: outside {INERTIA_RANGE[0]:g} to "
+                         f"{INERTIA_RANGE[1]:g} kg·m²")
+            out.append(StockWheel(name.strip(), d, g, inertia_w))
+        given = [w.groove is not None for w in out]
+        if any(given) and not all(given):
+            fail("stock.wheels: give a groove for every wheel or for none (then [stock].grooves or continuous)")
+        if all(given) and grooves is not None:
+            fail("stock: the wheels give their grooves; leave stock.grooves out")
+        wheels = tuple(out)
+    return Stock(diameters=diameters, grooves=grooves, trail_step=step, trails=trails, dampings=dampings,
+                 wheels=wheels)
 
 
 def _inertia(table: dict, quantity, fail) -> tuple[InertiaModel, tuple[str, ...]]:

@@ -1,42 +1,78 @@
-"""Scatter of the shimmy model and the probability of shimmy (robust design).
+"""Scatter of the shimmy model and the probability of shimmy (the risk bound).
 
 Eq. 7 rests on fitted constants with scatter: M_f/θ0 = 1.3 is a fit to
 scattered data (Fig. 2C), Table 1 shows Eq. 7 within about ±15 % of the
 measured critical speeds (RMS 10.3 %), and K_s, I_w vary from tyre to tyre.
-Model each as an independent lognormal factor with a relative standard
-deviation σ (the standard deviation of its logarithm):
+The true critical speed is modelled as
 
-    V_c,true = V_c(x) · e^{ξ_m} · (elasticity-weighted factors of c_f, K_s, I_w)
+    log V_c,true = log V_c(x; c_f e^{ξ_c}, K_s e^{ξ_K}, I_w e^{ξ_I}) + σ_m t_ν
 
-To first order in the log factors (exact for the model error and I_w, whose
-elasticities are constant), log V_c is normal with standard deviation
+with ξ_p ~ N(0, σ_p²) independent (σ of the log of each constant) and the
+model error σ_m t_ν a Student-t with ν degrees of freedom and scale σ_m.
 
-    σ_V(x)² = σ_m² + Σ_p (∂log V_c/∂log p · σ_p)²
+Why Student-t: σ_m = 0.103 is the RMS error of Eq. 7 over the five Table 1
+wheels C–G, which were not used to fit Eq. 7 (its constants come from Fig. 2C
+and Appendix C), so the residuals have a known mean of zero and the RMS is an
+estimate of σ on ν = 5 degrees of freedom.  With the usual non-informative
+prior the predictive distribution of the next wheel's log error is then
+σ̂ t_5 (scale = the RMS): a 95 % quantile 2.015 σ̂ instead of 1.645 σ̂ for
+a normal.  ``model_error_dof = 0`` gives the normal model error.
 
-(elasticities from :func:`designer.physics.shimmy.critical_speed_log_sensitivities`),
-and the risk bound P(V_c,true < V_req) <= α becomes
+The deterministic bound.  log V_c,true − log V_c(x) is, to first order in
+the ξ_p, X = σ_m t_ν + σ_r Z with Z standard normal and
 
-    V_c(x) · exp(−z_{1−α} σ_V(x)) >= V_req,
+    σ_r(x)² = (e_c σ_c)² + (e_K σ_K)² + (σ_I/2)²
 
-smooth in x, so the NLP and the Pareto sweeps use it directly.
-:func:`shimmy_probability_mc` estimates the probability by vectorised Monte
-Carlo on the exact Eq. 7 with the sampled constants (seeded, reproducible).
+(elasticities e of Eq. 7, :func:`designer.physics.shimmy.critical_speed_log_sensitivities`).
+This is exact for I_w and the model error (log V_c is linear in their logs)
+and conservative for c_f and K_s: log V_c = ½ log(a e^{ξ_c} + b e^{ξ_K}) is
+convex in (ξ_c, ξ_K) (log-sum-exp), so it lies above its tangent plane and the
+true speed is never lower than the first-order one.  The risk bound
+P(V_c,true < V_req) <= α therefore holds when
 
-Only ``scipy.special`` is used (normal quantiles): ``scipy.stats`` costs
-0.7 s of import time and is not needed here.
+    V_q(x) = V_c(x) · exp(−Q_{1−α}(σ_m, σ_r(x))) >= V_req,
+
+Q the exact (1 − α)-quantile of X (a t-plus-normal convolution computed by
+quadrature once per (α, ν) and represented by a Chebyshev fit in the normal
+share s = σ_r²/(σ_m² + σ_r²), shifted up by its largest fit error so it never
+lies below the exact quantile).  V_q works on floats, NumPy arrays and CasADi
+symbols, so the NLP, the GP's bound and the stock screening use the same
+function.  (The simpler root-sum-square of the t and normal quantiles is up to
+0.7 % too small in Q for s ≈ 0.7: not conservative.)
+
+:func:`shimmy_probability_mc` samples exactly this distribution (Student-t
+model error, lognormal c_f, K_s, I_w) on the exact Eq. 7 with its own seed.
+
+Only ``scipy.special`` is used: ``scipy.stats`` costs 0.7 s of import time.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import ndtr, ndtri
+from scipy.special import ndtr, ndtri, stdtr, stdtrit
 
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities
 
 TABLE1_RMS_ERROR = 0.103
 """RMS relative error of Eq. 7 against Table 1 wheels C–G (computed in check 2: 10.3 %)."""
+
+TABLE1_DOF = 5
+"""Degrees of freedom of the model-error estimate: 5 wheels (C–G), zero mean known (Eq. 7 not fitted to them)."""
+
+MC_SEED = 20111
+"""Seed of the reported Monte Carlo estimate (separate from anything that ranks or screens designs)."""
+
+MC_SAMPLES = 50_000
+"""Least Monte Carlo sample of a reported P(shimmy) (SE 0.097 percentage points at 5 %)."""
+
+MC_TARGET_SE = 0.001
+"""Standard error [-] a reported P(shimmy) must reach: more samples are drawn until it does (0.1 pp)."""
+
+MC_MAX_SAMPLES = 4_000_000
+"""Largest Monte Carlo sample drawn to reach :data:`MC_TARGET_SE` (memory grows with it)."""
 
 
 @dataclass(frozen=True)
@@ -45,13 +81,14 @@ class Uncertainty:
 
     Attributes
     ----------
-    probability : α, the largest allowed probability that V_c < V_req [-]
-    model_error : σ of log(V_c,measured / V_c,Eq.7) [-]; default the Table 1 RMS error, 0.103
+    probability : α, the largest allowed probability that V_c,true < V_req [-]
+    model_error : scale σ_m of the model error log(V_c,measured / V_c,Eq.7) [-]; default the Table 1 RMS, 0.103
     damping : σ of log(M_f/θ0) [-] (scatter of the Eq. 11C fit)
     slip_coefficient : σ of log K_s [-]
     inertia : σ of log I_w [-] (wheel-to-wheel variation around the inertia model)
-    samples : Monte Carlo sample size for the check
-    seed : Monte Carlo seed (reproducible estimates)
+    model_error_dof : ν of the Student-t model error (5: Table 1 wheels C–G); 0 = normal
+    samples : least Monte Carlo sample of a reported probability (more are drawn for SE <= 0.1 pp)
+    seed : seed of the reported Monte Carlo estimate
     """
 
     probability: float = 0.05
@@ -59,56 +96,212 @@ class Uncertainty:
     damping: float = 0.10
     slip_coefficient: float = 0.20
     inertia: float = 0.10
-    samples: int = 20000
-    seed: int = 0
+    model_error_dof: int = TABLE1_DOF
+    samples: int = MC_SAMPLES
+    seed: int = MC_SEED
 
     @property
     def z(self) -> float:
-        """Standard normal quantile z_{1−α}."""
+        """Standard normal quantile z_{1−α} [-]."""
         return float(ndtri(1 - self.probability))
 
+    @property
+    def t(self) -> float:
+        """Quantile t_{ν,1−α} of the model error's Student-t (z_{1−α} when ν = 0) [-]."""
+        return self.z if not self.model_error_dof else float(stdtrit(self.model_error_dof, 1 - self.probability))
 
-def log_speed_std(trail, inertia, groove, damping, slip_coefficient, uncertainty: Uncertainty):
-    """σ_V: standard deviation of log V_c to first order in the log factors [-]."""
+    def describe(self) -> str:
+        """One line: α and the scatter (for reports and messages)."""
+        dist = f"Student-t ν = {self.model_error_dof}" if self.model_error_dof else "normal"
+        return (f"P(shimmy) <= {self.probability:.3g}; σ of the log: model error {self.model_error:g} ({dist}), "
+                f"M_f/θ0 {self.damping:g}, K_s {self.slip_coefficient:g}, I_w {self.inertia:g}")
+
+
+# --------------------------------------------------------------------------- t + normal quantile
+
+_NODES = 64
+
+
+@functools.lru_cache(maxsize=8)
+def _quadrature(dof: int):
+    from numpy.polynomial.hermite_e import hermegauss
+    from numpy.polynomial.legendre import leggauss
+
+    zn, zw = hermegauss(_NODES)
+    un, uw = leggauss(4 * _NODES)
+    u = (un + 1) / 2
+    return zn, zw / math.sqrt(2 * math.pi), stdtrit(dof, u), uw / 2
+
+
+def _sum_cdf(x, share, dof: int):
+    """P(√(1−s) t_ν + √s Z <= x) by quadrature (numeric arrays of equal shape) [-]."""
+    x = np.asarray(x, float)
+    s = np.asarray(share, float)
+    a, b = np.sqrt(1 - s), np.sqrt(s)
+    zn, zw, tn, tw = _quadrature(dof)
+    out = np.empty(np.broadcast(x, s).shape)
+    x, a, b, s = np.broadcast_arrays(x, a, b, s)
+    lo = s <= 0.5
+    if lo.any():  # integrate over Z: the t CDF is smooth in it
+        out[lo] = (zw * stdtr(dof, (x[lo, None] - b[lo, None] * zn) / a[lo, None])).sum(-1)
+    hi = ~lo
+    if hi.any():  # integrate over t (in probability space): the normal CDF is smooth in it
+        out[hi] = (tw * ndtr((x[hi, None] - a[hi, None] * tn) / b[hi, None])).sum(-1)
+    return out
+
+
+def exact_sum_quantile(share, probability: float, dof: int):
+    """(1 − α)-quantile of √(1−s) t_ν + √s Z, by quadrature and bisection [-] (numeric only).
+
+    The reference for :func:`log_speed_quantile`'s fit (and its tests).
+    """
+    s = np.atleast_1d(np.asarray(share, float))
+    level = 1 - probability
+    lo = np.full(s.shape, float(ndtri(level)) * 0.5)
+    hi = np.full(s.shape, float(stdtrit(dof, level)) + float(ndtri(level)))
+    for _ in range(48):
+        mid = (lo + hi) / 2
+        below = _sum_cdf(mid, s, dof) < level
+        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
+    return (lo + hi) / 2
+
+
+_DEGREE = 14
+
+
+@functools.lru_cache(maxsize=32)
+def _fit(probability: float, dof: int) -> tuple[np.ndarray, float]:
+    """Chebyshev coefficients (on s ∈ [0, 1]) of the quantile, shifted up by its fit error; and the shift."""
+    from numpy.polynomial import chebyshev as C
+
+    k = np.arange(_DEGREE + 1)
+    nodes = (np.cos(np.pi * (k + 0.5) / (_DEGREE + 1))[::-1] + 1) / 2
+    check = np.linspace(0, 1, 4 * _DEGREE + 1)
+    s = np.concatenate([nodes, check])
+    q = exact_sum_quantile(s, probability, dof)
+    q[s == 1.0] = float(ndtri(1 - probability))
+    coef = C.chebfit(2 * nodes - 1, q[: len(nodes)], _DEGREE)
+    error = q - C.chebval(2 * s - 1, coef)
+    shift = max(0.0, float(error.max())) + 1e-9
+    coef = coef.copy()
+    coef[0] += shift
+    return coef, shift
+
+
+def _clenshaw(coef: np.ndarray, x):
+    """Σ c_k T_k(x) by Clenshaw's recurrence (floats, arrays, CasADi symbols)."""
+    b1 = 0 * x
+    b2 = 0 * x
+    for c in coef[:0:-1]:
+        b1, b2 = 2 * x * b1 - b2 + float(c), b1
+    return x * b1 - b2 + float(coef[0])
+
+
+def log_speed_quantile(sigma_model, sigma_rest, uncertainty: Uncertainty):
+    """Q_{1−α}(σ_m t_ν + σ_r Z): how far log V_c must exceed log V_req for the risk bound [-].
+
+    Parameters
+    ----------
+    sigma_model : σ_m, scale of the Student-t model error [-] (a number)
+    sigma_rest : σ_r of the normal first-order rest [-] (float, array or CasADi symbol)
+    uncertainty : α and ν
+
+    Exact up to the fit, never below the exact quantile (the fit is shifted up by its error,
+    ≈1e-7).  Increasing in σ_r.  ν = 0 or σ_m = 0: the normal quantile z √(σ_m² + σ_r²).
+    """
+    u = uncertainty
+    sm = float(sigma_model)
+    if not u.model_error_dof or sm == 0:
+        return u.z * np.sqrt(sm**2 + sigma_rest**2)
+    total = sm**2 + sigma_rest**2
+    share = sigma_rest**2 / total
+    coef, _ = _fit(float(u.probability), int(u.model_error_dof))
+    return np.sqrt(total) * _clenshaw(coef, 2 * share - 1)
+
+
+def rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty: Uncertainty):
+    """σ_r: standard deviation of the first-order normal part of log V_c,true (c_f, K_s, I_w) [-]."""
     e = critical_speed_log_sensitivities(trail, inertia, groove, damping, slip_coefficient)
     u = uncertainty
-    variance = (u.model_error**2 + (e["damping"] * u.damping) ** 2 + (e["slip_coefficient"] * u.slip_coefficient) ** 2
+    variance = ((e["damping"] * u.damping) ** 2 + (e["slip_coefficient"] * u.slip_coefficient) ** 2
                 + (e["inertia"] * u.inertia) ** 2)
     return np.sqrt(variance)
 
 
-def shimmy_speed_quantile(trail, inertia, groove, damping, slip_coefficient, uncertainty: Uncertainty):
-    """The α-quantile of the true critical speed, V_c(x) exp(−z_{1−α} σ_V(x)) [m/s].
+def log_speed_std(trail, inertia, groove, damping, slip_coefficient, uncertainty: Uncertainty):
+    """Standard deviation of log V_c,true to first order [-] (the t part counted by its scale σ_m)."""
+    rest = rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty)
+    return np.sqrt(uncertainty.model_error**2 + rest**2)
 
-    The robust constraint is ``shimmy_speed_quantile >= V_req``: then
-    P(V_c,true < V_req) <= α to first order.  Works on floats, arrays and CasADi symbols.
+
+def shimmy_speed_quantile(trail, inertia, groove, damping, slip_coefficient, uncertainty: Uncertainty):
+    """The speed reached with probability 1 − α: V_q = V_c(x) exp(−Q_{1−α}(σ_m, σ_r(x))) [m/s].
+
+    Eq. 7 for V_c; the risk bound is ``V_q >= V_req`` and then P(V_c,true < V_req) <= α
+    (exact for model error and I_w, conservative for c_f and K_s: see the module text).
+    Works on floats, NumPy arrays and CasADi symbols.
     """
     v = critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient)
-    return v * np.exp(-uncertainty.z * log_speed_std(trail, inertia, groove, damping, slip_coefficient, uncertainty))
+    rest = rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty)
+    return v * np.exp(-log_speed_quantile(uncertainty.model_error, rest, uncertainty))
 
 
 def shimmy_probability_first_order(trail, inertia, groove, damping, slip_coefficient, speed,
                                    uncertainty: Uncertainty) -> float:
-    """First-order P(V_c,true < speed) = Φ((log speed − log V_c)/σ_V) [-]."""
+    """P(log V_c + σ_m t_ν + σ_r Z < log speed): the probability the deterministic bound controls [-]."""
+    u = uncertainty
     v = float(critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient))
-    sigma = float(log_speed_std(trail, inertia, groove, damping, slip_coefficient, uncertainty))
-    return float(ndtr((math.log(speed) - math.log(v)) / sigma))
+    rest = float(rest_log_std(trail, inertia, groove, damping, slip_coefficient, u))
+    gap = math.log(speed) - math.log(v)
+    total = math.sqrt(u.model_error**2 + rest**2)
+    if total == 0:
+        return float(gap > 0)
+    if not u.model_error_dof or u.model_error == 0:
+        return float(ndtr(gap / total))
+    return float(_sum_cdf(np.array([gap / total]), np.array([rest**2 / total**2]), int(u.model_error_dof))[0])
 
 
-def shimmy_probability_mc(trail, inertia, groove, damping, slip_coefficient, speed,
-                          uncertainty: Uncertainty) -> tuple[float, float]:
-    """Monte Carlo P(V_c,true < speed) on the exact Eq. 7 with sampled constants.
+def sample_log_factors(uncertainty: Uncertainty, n: int, rng) -> dict:
+    """``n`` draws of the log factors: model (σ_m t_ν), damping, slip, inertia (normal) [-]."""
+    u = uncertainty
+    if u.model_error_dof:
+        model = u.model_error * rng.standard_t(u.model_error_dof, n)
+    else:
+        model = rng.normal(0.0, u.model_error, n)
+    return {"model": model, "damping": rng.normal(0.0, u.damping, n),
+            "slip": rng.normal(0.0, u.slip_coefficient, n), "inertia": rng.normal(0.0, u.inertia, n)}
 
-    Samples lognormal factors of c_f, K_s, I_w and of the model error
-    (``uncertainty.samples`` draws, ``uncertainty.seed``), evaluates Eq. 7
-    vectorised, and returns (probability, its standard error).
+
+def shimmy_probability_mc(trail, inertia, groove, damping, slip_coefficient, speed, uncertainty: Uncertainty,
+                          samples: int | None = None, seed: int | None = None,
+                          target_se: float | None = MC_TARGET_SE) -> tuple[float, float]:
+    """Monte Carlo P(V_c,true < speed) on the exact Eq. 7 with sampled constants: (p, standard error) [-].
+
+    Samples the distribution the bound assumes (Student-t model error, lognormal c_f, K_s, I_w):
+    ``samples`` (default ``uncertainty.samples``) draws with ``seed`` (default ``uncertainty.seed``),
+    then more from the same stream until the standard error is at most ``target_se`` (0.1 percentage
+    point; None: no top-up), up to :data:`MC_MAX_SAMPLES`.  The design is one caster (floats).
     """
     u = uncertainty
-    rng = np.random.default_rng(u.seed)
-    n = u.samples
-    factors = {k: np.exp(rng.normal(0.0, s, n)) for k, s in
-               (("model", u.model_error), ("damping", u.damping), ("slip", u.slip_coefficient), ("inertia", u.inertia))}
-    v = critical_shimmy_speed(trail, inertia * factors["inertia"], groove, damping * factors["damping"],
-                              slip_coefficient * factors["slip"]) * factors["model"]
-    p = float(np.mean(v < speed))
-    return p, float(math.sqrt(max(p * (1 - p), 1e-12) / n))
+    n = int(u.samples if samples is None else samples)
+    rng = np.random.default_rng(u.seed if seed is None else seed)
+    hits = 0
+    drawn = 0
+    want = n
+    while True:
+        chunk = min(want - drawn, 1_000_000)
+        f = sample_log_factors(u, chunk, rng)
+        v = critical_shimmy_speed(trail, inertia * np.exp(f["inertia"]), groove, damping * np.exp(f["damping"]),
+                                  slip_coefficient * np.exp(f["slip"])) * np.exp(f["model"])
+        hits += int(np.count_nonzero(v < speed))
+        drawn += chunk
+        if drawn < want:
+            continue
+        p = hits / drawn
+        if target_se is None or drawn >= MC_MAX_SAMPLES:
+            break
+        needed = math.ceil(max(p * (1 - p), 1.0 / drawn) / target_se**2)
+        if needed <= drawn:
+            break
+        want = min(MC_MAX_SAMPLES, needed + needed // 50)
+    return p, float(math.sqrt(max(p * (1 - p), 1.0 / drawn) / drawn))

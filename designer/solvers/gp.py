@@ -214,7 +214,8 @@ def robust_speed_factor(problem: Problem, groove: bool) -> tuple[float, bool]:
     """Factor on V_req that makes the GP's shimmy constraint imply the robust one, and whether it is exact.
 
     A problem with an uncertainty (``[robust]``, :mod:`designer.analysis.robust`)
-    requires V_c(x) exp(−z_{1−α} σ_V(x)) >= V_req, with σ_V² = σ_m² +
+    requires V_c(x) exp(−Q_{1−α}(σ_m, σ_r(x))) >= V_req (Q the quantile of σ_m t_ν + σ_r Z,
+    :func:`designer.physics.uncertainty.log_speed_quantile`), with σ_r² =
     (e_c σ_c)² + (e_K σ_K)² + (σ_I/2)² and elasticities e_c = a/(2(a+b)),
     e_K = b/(2(a+b)) of Eq. 7 (a the damping term, b the groove term).  σ_V
     depends on x, which no GP can express, so the GP uses its largest value:
@@ -230,9 +231,11 @@ def robust_speed_factor(problem: Problem, groove: bool) -> tuple[float, bool]:
     u = getattr(problem.conditions, "uncertainty", None)
     if u is None:
         return 1.0, True
+    from designer.physics.uncertainty import log_speed_quantile
+
     e2 = (max(u.damping, u.slip_coefficient) if groove else u.damping) ** 2 / 4
-    sigma = math.sqrt(u.model_error**2 + e2 + u.inertia**2 / 4)
-    return math.exp(u.z * sigma), not groove or u.slip_coefficient <= u.damping
+    rest = math.sqrt(e2 + u.inertia**2 / 4)  # the quantile grows with the normal part: its largest value bounds it
+    return math.exp(float(log_speed_quantile(u.model_error, rest, u))), not groove or u.slip_coefficient <= u.damping
 
 
 def _constants(problem: Problem, params: dict, speed_factor: float = 1.0) -> _Constants:

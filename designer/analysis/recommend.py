@@ -1,0 +1,663 @@
+"""Build this caster: one safe, buildable recommendation, by a stated rule, with the front behind it.
+
+1. **The stock** (:func:`stock_candidates`): every combination of the parts of ``[stock]`` (fork holes,
+   wheels or diameters, groove profiles, friction washers); a variable the stock leaves out stays
+   continuous within its bounds, a fixed variable (or a catalogue wheel) is one part.
+2. **Deterministic screening** (:func:`risk_screen`): the risk bound V_q(x) >= (1 + margin) V_target,
+   V_q the speed reached with probability 1 − α (:func:`designer.physics.uncertainty.shimmy_speed_quantile`;
+   V_c of Eq. 7 itself with ``[robust] enabled = false``), the swept radius T + d/2 <= R_max and the sill
+   (d > 2h, Eq. 4A).  No random numbers: a tighter α can never make a caster look better.
+3. **The buildable front**: all-discrete stock is evaluated exactly (vectorised); with continuous
+   variables left, each stock combination's continuous rest is solved exactly (the NLP of
+   :mod:`designer.analysis.pareto`: one point when the diameter is stock, since then P is fixed; its
+   sub-front otherwise).  The non-dominated set in (F_turn, P) is kept.
+4. **The rule** (:func:`select_rows`, vectorised so ``designer fleet`` uses the same code): the knee of
+   the buildable front (the point farthest from the chord between its ends, objectives normalised to
+   the front's range, on the ideal side; fewer than three points: the easiest-to-turn end), or with
+   ``[objective] max_threshold_force`` / ``max_turning_effort`` the best on the other objective within
+   the cap.  Alternatives: the easiest to turn and the easiest over the sill.
+5. **Reported risk**: P(shimmy at V_target) by a separate Monte Carlo of the same distribution with its
+   own seed and SE <= 0.1 percentage point (:func:`designer.physics.uncertainty.shimmy_probability_mc`).
+"""
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from designer.data.paper import INCH
+from designer.errors import InfeasibleError
+from designer.model import VARIABLES, Design
+from designer.physics.geometry import swept_radius
+from designer.physics.inertia import Fixed
+from designer.physics.shimmy import critical_shimmy_speed
+from designer.physics.threshold import threshold_force_ratio
+from designer.physics.turning import added_damper_moment, sliding_turning_moment
+from designer.physics.uncertainty import Uncertainty, shimmy_probability_mc, shimmy_speed_quantile
+
+RULES = {
+    "knee": "knee of the buildable risk-bounded front",
+    "cap_threshold": "least turning effort with sill force <= {cap:.1f} N",
+    "cap_turning": "least sill force with turning effort <= {cap:.2f} N",
+    "end": "easiest-to-turn end of a buildable front of fewer than three points",
+}
+"""How the recommendation is chosen (the text of ``Recommendation.rule``)."""
+
+
+# --------------------------------------------------------------------------- the stock
+
+
+@dataclass
+class CandidateTable:
+    """Every stock combination as arrays (one entry per combination), SI; ``None`` = continuous.
+
+    Attributes
+    ----------
+    trail, diameter, groove, damping : the parts [m, m, m, N·m/rad], or None where the variable is continuous
+    inertia : I_w per combination [kg·m²] (None when the diameter is continuous)
+    wheel : wheel name per combination ("" for a plain diameter)
+    note : where the stock comes from
+    """
+
+    trail: np.ndarray | None
+    diameter: np.ndarray | None
+    groove: np.ndarray | None
+    damping: np.ndarray | None
+    inertia: np.ndarray | None
+    wheel: np.ndarray
+    note: str = ""
+
+    def __len__(self) -> int:
+        return len(self.wheel)
+
+    def get(self, key, default=None):
+        """Dict-style access (``table.get("trail")``)."""
+        return getattr(self, key, default)
+
+    @property
+    def discrete(self) -> bool:
+        """Every variable is a part (nothing left to solve continuously)."""
+        return all(getattr(self, k) is not None for k in VARIABLES)
+
+    def design(self, j: int) -> dict:
+        """Combination ``j`` as {trail, diameter, groove, damping} [SI] (None where continuous)."""
+        return {k: (None if getattr(self, k) is None else float(getattr(self, k)[j])) for k in VARIABLES}
+
+
+def _wheel_rows(problem, stock):
+    """Wheel choices: (diameter, inertia or None, groove or None, name) tuples, or None if d is continuous."""
+    from designer.physics.inertia import Catalog
+
+    c = problem.conditions
+    if problem.wheels:  # [inertia] model = "catalog": the wheels are Table 1's, with measured I_w
+        return [(Catalog.from_key(k).fixed_diameter, float(Catalog.from_key(k).wheel.inertia), None, k)
+                for k in problem.wheels]
+    if stock is not None and stock.wheels is not None:
+        return [(w.diameter, w.inertia, w.groove, w.name) for w in stock.wheels]
+    b = problem.bounds["diameter"]
+    if stock is not None and stock.diameters is not None:
+        values = stock.diameters
+    elif b.fixed:
+        values = (b.low,)
+    else:
+        return None
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="inertia power law used at")
+        return [(d, float(c.inertia(d)), None, "") for d in values]
+
+
+def _values(problem, stock, name: str, listed):
+    b = problem.bounds[name]
+    if listed is not None:
+        return tuple(listed)
+    if b.fixed:
+        return (b.low,)
+    return None
+
+
+def stock_candidates(problem, stock=None) -> CandidateTable:
+    """All stock combinations of ``problem`` (its ``[stock]``, or ``stock`` if given) as arrays.
+
+    Parameters
+    ----------
+    problem : the problem (bounds, inertia model, catalogue wheels)
+    stock : a :class:`designer.problem.Stock` to use instead of ``problem.stock``
+
+    Returns
+    -------
+    CandidateTable; a variable neither listed nor fixed is ``None`` (continuous within its bounds).
+    """
+    stock = problem.stock if stock is None else stock
+    wheels = _wheel_rows(problem, stock)
+    trails = _values(problem, stock, "trail", None if stock is None else stock.trails)
+    grooves = _values(problem, stock, "groove", None if stock is None else stock.grooves)
+    dampings = _values(problem, stock, "damping", None if stock is None else stock.dampings)
+    wheel_axis = wheels if wheels is not None else [(None, None, None, "")]
+    rows = []
+    for (d, inertia, g_w, name), t, g, c in itertools.product(
+            wheel_axis, trails or (None,), grooves or (None,), dampings or (None,)):
+        groove = g_w if g_w is not None else g  # a catalogue wheel's own groove (then stock.grooves is absent)
+        rows.append((t, d, groove, c, inertia, name))
+    rows = list(dict.fromkeys(rows))  # a wheel's own groove repeats once per listed groove
+
+    def column(i, continuous):
+        if continuous:
+            return None
+        return np.array([r[i] for r in rows], float)
+
+    grooves_continuous = grooves is None and (wheels is None or any(w[2] is None for w in wheel_axis))
+    inertia = None
+    if wheels is not None:
+        inertia = np.array([r[4] if r[4] is not None else np.nan for r in rows], float)
+        missing = np.isnan(inertia)
+        if missing.any():
+            with warnings.catch_warnings():
+                warnings.filterwarnings("ignore", message="inertia power law used at")
+                d = np.array([r[1] for r in rows], float)
+                inertia[missing] = np.asarray(problem.conditions.inertia(d[missing]), float) + 0 * d[missing]
+    note = ("the problem's [stock]" if problem.stock is not None and stock is problem.stock else
+            "the given stock" if stock is not None else "no [stock]: every variable that is not fixed is continuous")
+    return CandidateTable(trail=column(0, trails is None), diameter=column(1, wheels is None),
+                          groove=column(2, grooves_continuous), damping=column(3, dampings is None),
+                          inertia=inertia, wheel=np.array([r[5] for r in rows], dtype=object), note=note)
+
+
+# --------------------------------------------------------------------------- deterministic screening
+
+
+def risk_screen(design_speed, required_speed):
+    """The deterministic risk bound: V_q >= (1 + margin) V_target (element-wise, no tolerance) [bool]."""
+    return np.asarray(design_speed) >= np.asarray(required_speed)
+
+
+def confident_speed(trail, inertia, groove, damping, slip_coefficient, risk):
+    """The speed reached with probability 1 − α (V_q), or V_c of Eq. 7 when ``risk`` is None [m/s]."""
+    if risk is None:
+        return critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient)
+    return shimmy_speed_quantile(trail, inertia, groove, damping, slip_coefficient, risk)
+
+
+def objectives(problem, trail, diameter, groove, damping, load=None, threshold_height=None, surface=None,
+               turning_mode=None):
+    """Turning effort F_turn (Eq. 9 with the turning model) and sill force P (Eq. 4A) [N], vectorised.
+
+    Chair values (load, sill, surface, mode) default to the problem's; arrays broadcast.  P is +inf
+    where the wheel cannot climb the sill (d <= 2h).
+    """
+    c = problem.conditions
+    load = c.load if load is None else load
+    h = c.threshold_height if threshold_height is None else threshold_height
+    moment = sliding_turning_moment(load, groove, surface or c.surface, turning_mode or c.turning_mode, c.turning)
+    effort = (moment + added_damper_moment(damping, c.disturbance_angle, c.turning)) / trail
+    d = np.asarray(diameter, float)
+    climbs = d > 2 * np.asarray(h)
+    safe = np.where(climbs, d, 3 * np.asarray(h))
+    force = np.where(climbs, np.asarray(load) * threshold_force_ratio(safe, h), np.inf)
+    return effort, force
+
+
+@dataclass
+class ScreenedTable:
+    """:class:`CandidateTable` (all discrete) with every number of the screening, per combination."""
+
+    candidates: CandidateTable
+    critical_speed: np.ndarray
+    design_speed: np.ndarray
+    swept_radius: np.ndarray
+    turning_effort: np.ndarray
+    threshold_force: np.ndarray
+    feasible: np.ndarray
+    risk_ok: np.ndarray
+    radius_ok: np.ndarray
+
+
+def candidate_table(problem, stock=None) -> ScreenedTable:
+    """All-discrete stock of ``problem`` evaluated and screened (V_c, V_q, R_s, F_turn, P, feasible).
+
+    Raises ValueError if a variable is continuous (use :func:`recommend`, which solves the rest).
+    """
+    cand = stock_candidates(problem, stock)
+    if not cand.discrete:
+        raise ValueError("candidate_table needs every variable in the stock; a continuous one is solved by recommend()")
+    c = problem.conditions
+    v = critical_shimmy_speed(cand.trail, cand.inertia, cand.groove, cand.damping, c.slip_coefficient)
+    q = np.asarray(confident_speed(cand.trail, cand.inertia, cand.groove, cand.damping, c.slip_coefficient,
+                                   problem.risk), float)
+    r = swept_radius(cand.trail, cand.diameter)
+    f, p = objectives(problem, cand.trail, cand.diameter, cand.groove, cand.damping)
+    risk_ok = risk_screen(q, problem.required_speed)
+    radius_ok = (r <= problem.swept_radius_max * (1 + 1e-9)) if problem.swept_radius_max is not None \
+        else np.ones(len(cand), bool)
+    feasible = risk_ok & radius_ok & np.isfinite(p)
+    return ScreenedTable(cand, np.asarray(v, float), q, np.asarray(r, float), np.asarray(f, float) + 0 * q,
+                         np.asarray(p, float) + 0 * q, feasible, risk_ok, radius_ok)
+
+
+# --------------------------------------------------------------------------- the rule (vectorised)
+
+
+def select_rows(f: np.ndarray, p: np.ndarray, ok: np.ndarray, weights=(1.0, 1.0), cap_p=None, cap_f=None) -> dict:
+    """The buildable front of each row and the rule's choice, vectorised over rows (chairs).
+
+    Parameters
+    ----------
+    f, p : (rows, casters) turning effort and sill force [N]
+    ok : (rows, casters) feasible (risk bound, swept radius, sill)
+    weights : (w_turn, w_threshold) for ``best_j``
+    cap_p, cap_f : cap on P or on F_turn [N] (at most one): the rule is then the best on the other objective
+
+    Returns
+    -------
+    dict of (rows,) arrays: ``choice``, ``easiest_turn``, ``easiest_sill``, ``best_j`` (column indices, −1 if
+    the row has nothing feasible or nothing within the cap), ``front_size``, ``over_cap`` (a front exists but
+    no point is within the cap), and (rows, casters) ``front`` (membership of the buildable front).
+    """
+    f = np.atleast_2d(np.asarray(f, float))
+    p = np.atleast_2d(np.asarray(p, float))
+    ok = np.atleast_2d(np.asarray(ok, bool))
+    n, s = f.shape
+    fm = np.where(ok, f, np.inf)
+    pm = np.where(ok, p, np.inf)
+    # each row's casters by P ascending, ties by F ascending (infeasible last)
+    order = np.lexsort((fm, pm), axis=-1)
+    fs = np.take_along_axis(fm, order, axis=1)
+    ps = np.take_along_axis(pm, order, axis=1)
+    previous = np.concatenate([np.full((n, 1), np.inf), np.minimum.accumulate(fs, axis=1)[:, :-1]], axis=1)
+    front = np.isfinite(fs) & (fs < previous)
+    size = front.sum(axis=1)
+    has = size > 0
+    rows = np.arange(n)
+    first = np.argmax(front, axis=1)  # least P on the front
+    last = s - 1 - np.argmax(front[:, ::-1], axis=1)  # least F on the front (largest P)
+    easiest_sill = np.where(has, order[rows, first], -1)
+    easiest_turn = np.where(has, order[rows, last], -1)
+    w = np.asarray(weights, float)
+    with np.errstate(invalid="ignore"):
+        j = np.where(ok, w[0] * f + w[1] * p, np.inf)
+    best_j = np.where(has, np.argmin(j, axis=1), -1)
+    over_cap = np.zeros(n, bool)
+    if cap_p is not None or cap_f is not None:
+        within = front & ((ps <= cap_p * (1 + 1e-12)) if cap_p is not None else (fs <= cap_f * (1 + 1e-12)))
+        key = fs if cap_p is not None else ps
+        pick = np.argmin(np.where(within, key, np.inf), axis=1)
+        anywhere = within.any(axis=1)
+        choice = np.where(anywhere, order[rows, pick], -1)
+        over_cap = has & ~anywhere
+    else:
+        # knee in the front's order of decreasing P: a = largest-P end (least F), b = least-P end
+        fa, pa = fs[rows, last], ps[rows, last]
+        fb, pb = fs[rows, first], ps[rows, first]
+        with np.errstate(invalid="ignore"):
+            span_f = np.where(fb - fa > 0, fb - fa, 1.0)
+            span_p = np.where(pa - pb > 0, pa - pb, 1.0)
+            nf = (fs - fa[:, None]) / span_f[:, None]
+            np_ = (ps - pb[:, None]) / span_p[:, None]
+            a_p = (pa - pb) / span_p  # normalised ends: a = (0, a_p), b = (b_f, 0)
+            b_f = (fb - fa) / span_f
+        chord_f, chord_p = b_f, -a_p
+        norm = np.hypot(chord_f, chord_p)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            dist = np.abs(chord_f[:, None] * (np_ - a_p[:, None]) - chord_p[:, None] * nf) / norm[:, None]
+            below = nf * chord_p[:, None] - (np_ - a_p[:, None]) * chord_f[:, None]
+        dist = np.where(below >= 0, dist, -dist)
+        dist = np.where(front, dist, -np.inf)
+        # the first maximum in the decreasing-P order (as Front.knee)
+        knee = s - 1 - np.argmax(dist[:, ::-1], axis=1)
+        small = (size < 3) | ~(norm > 0)
+        pick = np.where(small, last, knee)
+        choice = np.where(has, order[rows, pick], -1)
+    member = np.zeros((n, s), bool)
+    np.put_along_axis(member, order, front, axis=1)
+    return {"choice": choice, "easiest_turn": easiest_turn, "easiest_sill": easiest_sill, "best_j": best_j,
+            "front_size": size, "over_cap": over_cap, "front": member}
+
+
+def rule_text(problem, front_size: int) -> str:
+    """The rule in words (what ``Recommendation.rule`` says)."""
+    if problem.max_threshold_force is not None:
+        return RULES["cap_threshold"].format(cap=problem.max_threshold_force)
+    if problem.max_turning_effort is not None:
+        return RULES["cap_turning"].format(cap=problem.max_turning_effort)
+    return RULES["knee"] if front_size >= 3 else RULES["end"]
+
+
+def weights_meaning(weights) -> str:
+    """What the weights of J = w_turn F_turn + w_threshold P mean, in one sentence."""
+    w_turn, w_threshold = (float(x) for x in weights)
+    if w_turn == 0:
+        return "J = P: the weights ignore turning effort"
+    return (f"J = {w_turn:g} F_turn + {w_threshold:g} P: 1 N of sill force is worth {w_threshold / w_turn:g} N "
+            f"of turning effort")
+
+
+# --------------------------------------------------------------------------- the recommendation
+
+
+@dataclass
+class Recommendation:
+    """One caster to build, its numbers, and the fronts behind it (SI units).
+
+    Attributes
+    ----------
+    design : the caster (trail, diameter, groove, damping)
+    turning_effort : F_turn [N] (Eq. 9 with the turning model)
+    threshold_force : P, force to climb the sill [N] (Eq. 4A)
+    critical_speed : V_c of Eq. 7 [m/s]
+    confident_speed : the speed reached with probability 1 − α, V_q [m/s]
+    shimmy_probability : P(V_c,true < V_target) by Monte Carlo (own seed) [-]
+    shimmy_probability_se : its standard error [-]
+    swept_radius : T + d/2 [m]
+    swept_radius_max : the footrest limit [m] (None: no limit)
+    rule : how it was chosen
+    alternatives : [easiest to turn, easiest over the sill] (the same record type; fewer if the front is short)
+    buildable : the buildable risk-bounded front (a :class:`designer.analysis.pareto.Front`)
+    front : the continuous risk-bounded front (computed on first access)
+    wheel : the wheel's name (catalogue) or None
+    inertia : I_w [kg·m²]
+    role : "recommended" | "easiest to turn" | "easiest over the sill"
+    note : what to know (e.g. a short front)
+    """
+
+    design: Design
+    turning_effort: float
+    threshold_force: float
+    critical_speed: float
+    confident_speed: float
+    shimmy_probability: float
+    shimmy_probability_se: float
+    swept_radius: float
+    swept_radius_max: float | None
+    rule: str
+    alternatives: list = field(default_factory=list)
+    buildable: object = None
+    wheel: str | None = None
+    inertia: float = math.nan
+    role: str = "recommended"
+    note: str = ""
+    target_speed: float = math.nan
+    required_speed: float = math.nan
+    alpha: float | None = None
+    mc_samples: int = 0
+    mc_seed: int = 0
+    weights: tuple = (1.0, 1.0)
+    problem: object = field(default=None, repr=False)
+    _front: object = field(default=None, repr=False)
+
+    @property
+    def front(self):
+        """The continuous risk-bounded front of the problem (:func:`designer.analysis.pareto.pareto_front`)."""
+        if self._front is None and self.problem is not None:
+            from designer.analysis.pareto import pareto_front
+
+            self._front = pareto_front(self.problem)
+        return self._front
+
+    def to_dict(self, alternatives: bool = False) -> dict:
+        """The JSON record of ``designer run --json`` (SI)."""
+        out = {"design": self.design.as_dict(), "turning_effort": self.turning_effort,
+               "threshold_force": self.threshold_force, "critical_speed": self.critical_speed,
+               "confident_speed": self.confident_speed, "shimmy_probability": self.shimmy_probability,
+               "shimmy_probability_se": self.shimmy_probability_se, "swept_radius": self.swept_radius,
+               "swept_radius_max": self.swept_radius_max, "rule": self.rule, "role": self.role,
+               "wheel": self.wheel}
+        if alternatives:
+            out["alternatives"] = [a.to_dict() for a in self.alternatives]
+        return out
+
+    def lines(self) -> list[str]:
+        """The caster as text lines (inches and SI)."""
+        d = self.design
+        risk = (f"P(shimmy at {self.target_speed:.3g} m/s) = {self.shimmy_probability:.2%} ± "
+                f"{self.shimmy_probability_se:.2%} (Monte Carlo, {self.mc_samples} samples, seed {self.mc_seed})")
+        radius = (f"{self.swept_radius / INCH:.3f} in (limit {self.swept_radius_max / INCH:.3f} in)"
+                  if self.swept_radius_max is not None else f"{self.swept_radius / INCH:.3f} in (no limit)")
+        level = f"{1 - self.alpha:.0%}" if self.alpha is not None else "95% (default scatter; no risk bound)"
+        return [
+            f"  trail T             {d.trail / INCH:8.3f} in   {d.trail * 1000:8.2f} mm",
+            f"  diameter d          {d.diameter / INCH:8.3f} in   {d.diameter * 1000:8.2f} mm"
+            + (f"   wheel {self.wheel}" if self.wheel else ""),
+            f"  groove B            {d.groove / INCH:8.3f} in   {d.groove * 1000:8.2f} mm",
+            f"  damping c_f         {d.damping:8.3f} N·m/rad",
+            f"  turning effort      {self.turning_effort:8.3f} N",
+            f"  sill force          {self.threshold_force:8.3f} N",
+            f"  V_c (Eq. 7)         {self.critical_speed:8.3f} m/s",
+            f"  speed reached with probability {level}: {self.confident_speed:.3f} m/s "
+            f"(required {self.required_speed:.3f})",
+            f"  {risk}",
+            f"  swept radius        {radius}",
+        ]
+
+    def __str__(self) -> str:
+        p = self.problem
+        head = [f"Build this caster for {p.name!r} ({self.rule}):" if p is not None else f"Build this ({self.rule}):"]
+        out = head + self.lines()
+        for alt in self.alternatives:
+            out += ["", f"Alternative: {alt.role}"] + alt.lines()
+        if self.note:
+            out += ["", f"Note: {self.note}"]
+        return "\n".join(out)
+
+    def __repr__(self) -> str:
+        d = self.design
+        return (f"Recommendation(T={d.trail / INCH:.3f} in, d={d.diameter / INCH:.3f} in, B={d.groove / INCH:.3f} in, "
+                f"c_f={d.damping:.3g} N·m/rad; F_turn={self.turning_effort:.3f} N, P={self.threshold_force:.2f} N, "
+                f"P(shimmy)={self.shimmy_probability:.2%}±{self.shimmy_probability_se:.2%}; {self.rule})")
+
+
+@dataclass
+class _Buildable:
+    """The buildable candidates before the rule: arrays over candidates (all feasible)."""
+
+    designs: np.ndarray  # (n, 4)
+    inertia: np.ndarray
+    wheel: np.ndarray
+    turning_effort: np.ndarray
+    threshold_force: np.ndarray
+    critical_speed: np.ndarray
+    design_speed: np.ndarray
+    swept_radius: np.ndarray
+
+
+def _discrete_buildable(problem) -> tuple[_Buildable, ScreenedTable]:
+    t = candidate_table(problem)
+    cand = t.candidates
+    k = t.feasible
+    designs = np.column_stack([cand.trail, cand.diameter, cand.groove, cand.damping])[k]
+    return _Buildable(designs, cand.inertia[k], cand.wheel[k], t.turning_effort[k], t.threshold_force[k],
+                      t.critical_speed[k], t.design_speed[k], t.swept_radius[k]), t
+
+
+def _sub_problem(problem, row: dict, inertia, wheel):
+    """The problem with one stock combination's parts fixed (the rest continuous)."""
+    from designer.problem import Bound
+
+    bounds = dict(problem.bounds)
+    for name, value in row.items():
+        if value is not None:
+            bounds[name] = Bound(value, value)
+    conditions = problem.conditions
+    if row["diameter"] is not None and inertia is not None and (wheel or problem.wheels):
+        conditions = conditions.replace(inertia=Fixed(float(inertia)))
+    return dataclasses.replace(problem, bounds=bounds, conditions=conditions, wheels=(), stock=None, source=None)
+
+
+def _continuous_buildable(problem) -> _Buildable:
+    """Each stock combination's continuous rest solved exactly (NLP), then pooled."""
+    from designer.analysis.pareto import pareto_front
+
+    cand = stock_candidates(problem)
+    rows = []
+    for j in range(len(cand)):
+        row = cand.design(j)
+        inertia = None if cand.inertia is None else float(cand.inertia[j])
+        sub = _sub_problem(problem, row, inertia, cand.wheel[j])
+        points = 2 if row["diameter"] is not None else min(21, problem.pareto_points)
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", UserWarning)
+                front = pareto_front(sub, points=points)
+        except InfeasibleError:
+            continue
+        for pt in front:
+            rows.append((pt.design.as_array(), float(sub.conditions.inertia(pt.design.diameter)), cand.wheel[j]))
+    if not rows:
+        empty = np.zeros(0)
+        return _Buildable(np.zeros((0, 4)), empty, np.zeros(0, dtype=object), empty, empty, empty, empty, empty)
+    x = np.array([r[0] for r in rows])
+    inertia = np.array([r[1] for r in rows])
+    c = problem.conditions
+    v = critical_shimmy_speed(x[:, 0], inertia, x[:, 2], x[:, 3], c.slip_coefficient)
+    q = np.asarray(confident_speed(x[:, 0], inertia, x[:, 2], x[:, 3], c.slip_coefficient, problem.risk), float)
+    f, p = objectives(problem, x[:, 0], x[:, 1], x[:, 2], x[:, 3])
+    r = swept_radius(x[:, 0], x[:, 1])
+    return _Buildable(x, inertia, np.array([r_[2] for r_ in rows], dtype=object), np.asarray(f, float),
+                      np.asarray(p, float), np.asarray(v, float), q, np.asarray(r, float))
+
+
+def _infeasible_message(problem, table: ScreenedTable | None) -> str:
+    """Exit-4 text: the closest stock combination and what to relax."""
+    risk = problem.risk
+    bound = (f"P(shimmy below {problem.required_speed:.3g} m/s) <= {risk.probability:g}" if risk is not None
+             else f"V_c >= {problem.required_speed:.3g} m/s")
+    if table is None or not len(table.candidates):
+        return (f"{problem.name}: no stock combination meets the risk bound {bound}; relax the stock "
+                f"(more groove, stronger friction washers, longer fork holes), robust.probability or "
+                f"shimmy.target_speed")
+    cand = table.candidates
+    ratio = table.design_speed / problem.required_speed
+    pool = np.flatnonzero(table.radius_ok & np.isfinite(table.threshold_force))
+    if not len(pool):
+        j = int(np.argmin(table.swept_radius))
+        return (f"{problem.name}: no stock combination fits the swept radius {problem.swept_radius_max / INCH:.3f} in; "
+                f"the smallest is {table.swept_radius[j] / INCH:.3f} in (T + d/2); relax "
+                f"constraints.swept_radius_max or stock smaller wheels or shorter fork holes")
+    j = int(pool[np.argmax(ratio[pool])])
+    d = cand.design(j)
+    relax = []
+    if d["groove"] >= cand.groove.max() * (1 - 1e-12) and problem.bounds["groove"].high > 0:
+        relax.append("a wider groove (stock.grooves)")
+    if d["damping"] >= cand.damping.max() * (1 - 1e-12):
+        relax.append("a stronger friction washer (stock.dampings)")
+    if d["trail"] >= cand.trail.max() * (1 - 1e-12):
+        relax.append("a longer fork (variables.trail.max)" if problem.swept_radius_max is None or
+                     table.swept_radius[j] < problem.swept_radius_max * (1 - 1e-9)
+                     else "a larger swept radius (constraints.swept_radius_max)")
+    relax.append("a smaller wheel (lighter: less inertia)" if d["diameter"] > cand.diameter.min() else
+                 "a lighter wheel")
+    relax.append(f"robust.probability (now {risk.probability:g})" if risk is not None else "shimmy.margin")
+    relax.append("shimmy.target_speed")
+    wheel = f" (wheel {cand.wheel[j]})" if cand.wheel[j] else ""
+    return (f"{problem.name}: no stock combination meets the risk bound {bound}; the closest is "
+            f"T = {d['trail'] / INCH:.3f} in, d = {d['diameter'] / INCH:.3f} in{wheel}, B = {d['groove'] / INCH:.3f} in, "
+            f"c_f = {d['damping']:.3g} N·m/rad, reaching {table.design_speed[j]:.3f} m/s with probability "
+            f"{1 - (risk.probability if risk is not None else 0):.0%} (needs {problem.required_speed:.3f}); relax: "
+            + ", ".join(relax))
+
+
+def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, seed=None) -> Recommendation:
+    u = problem.risk if problem.risk is not None else Uncertainty()
+    x = b.designs[i]
+    c = problem.conditions
+    p, se = shimmy_probability_mc(float(x[0]), float(b.inertia[i]), float(x[2]), float(x[3]), c.slip_coefficient,
+                                  problem.target_speed, u, samples=samples, seed=seed)
+    n = max(int(u.samples if samples is None else samples),
+            math.ceil(max(p * (1 - p), 1e-12) / 0.001**2) if p > 0 else 0)
+    q = b.design_speed[i] if problem.risk is not None else float(
+        shimmy_speed_quantile(x[0], b.inertia[i], x[2], x[3], c.slip_coefficient, u))
+    return Recommendation(
+        design=Design.from_array(x), turning_effort=float(b.turning_effort[i]),
+        threshold_force=float(b.threshold_force[i]), critical_speed=float(b.critical_speed[i]),
+        confident_speed=float(q), shimmy_probability=p, shimmy_probability_se=se,
+        swept_radius=float(b.swept_radius[i]), swept_radius_max=problem.swept_radius_max, rule=rule,
+        wheel=str(b.wheel[i]) or None, inertia=float(b.inertia[i]), role=role, target_speed=problem.target_speed,
+        required_speed=problem.required_speed, alpha=None if problem.risk is None else problem.risk.probability,
+        mc_samples=n, mc_seed=int(u.seed if seed is None else seed), weights=tuple(problem.weights), problem=problem)
+
+
+def _buildable_front(problem, b: _Buildable, member: np.ndarray):
+    """The buildable front as a :class:`designer.analysis.pareto.Front` (decreasing P)."""
+    from designer.analysis.pareto import Front, FrontPoint, family_of
+
+    idx = np.flatnonzero(member)
+    idx = idx[np.argsort(-b.threshold_force[idx], kind="stable")]
+    points = []
+    for i in idx:
+        d = Design.from_array(b.designs[i])
+        points.append(FrontPoint(d, float(b.turning_effort[i]), float(b.threshold_force[i]), float(b.critical_speed[i]),
+                                 {"shimmy": float(b.design_speed[i] - problem.required_speed)},
+                                 float(b.threshold_force[i]), "stock", True, {}, family_of(problem, d),
+                                 str(b.wheel[i]) or None))
+    return Front(problem, points, [], {"method": "exhaustive over the stock; continuous rest solved exactly",
+                                       "buildable": True})
+
+
+def recommend(problem, samples: int | None = None, seed: int | None = None) -> Recommendation:
+    """``designer.recommend``: the caster to build for ``problem``, by the problem's rule.
+
+    Parameters
+    ----------
+    problem : a :class:`designer.problem.Problem` or a path to a problem file
+    samples, seed : Monte Carlo sample (a minimum) and seed of the reported P(shimmy) (default the
+        problem's ``[robust]`` ones: 50 000, seed 20111)
+
+    Returns
+    -------
+    Recommendation (with two alternatives, the buildable front and, on access, the continuous front)
+
+    Raises
+    ------
+    InfeasibleError (exit 4)
+        No stock combination meets the risk bound (the message names the closest and what to relax),
+        or none is within the cap of ``[objective]``.
+    """
+    from pathlib import Path
+
+    if isinstance(problem, (str, Path)):
+        from designer.problem import load_problem
+
+        problem = load_problem(problem)
+    table = None
+    if stock_candidates(problem).discrete:
+        b, table = _discrete_buildable(problem)
+    else:
+        b = _continuous_buildable(problem)
+    if not len(b.turning_effort):
+        raise InfeasibleError(_infeasible_message(problem, table))
+    sel = select_rows(b.turning_effort[None, :], b.threshold_force[None, :], np.ones((1, len(b.turning_effort)), bool),
+                      problem.weights, problem.max_threshold_force, problem.max_turning_effort)
+    size = int(sel["front_size"][0])
+    choice = int(sel["choice"][0])
+    if choice < 0:
+        cap = (f"objective.max_threshold_force = {problem.max_threshold_force:.1f} N"
+               if problem.max_threshold_force is not None else
+               f"objective.max_turning_effort = {problem.max_turning_effort:.2f} N")
+        lo = int(sel["easiest_sill"][0]) if problem.max_threshold_force is not None else int(sel["easiest_turn"][0])
+        best = (f"the least sill force buildable is {b.threshold_force[lo]:.2f} N"
+                if problem.max_threshold_force is not None else
+                f"the least turning effort buildable is {b.turning_effort[lo]:.3f} N")
+        raise InfeasibleError(f"{problem.name}: no buildable caster within the risk bound meets {cap}; {best}; "
+                              f"raise the cap or widen the stock")
+    rule = rule_text(problem, size)
+    rec = _record(problem, b, choice, rule, "recommended", samples, seed)
+    rec.buildable = _buildable_front(problem, b, sel["front"][0])
+    alts = []
+    for key, role in (("easiest_turn", "easiest to turn"), ("easiest_sill", "easiest over the sill")):
+        i = int(sel[key][0])
+        if i >= 0:
+            alts.append(_record(problem, b, i, rule, role, samples, seed))
+    rec.alternatives = alts
+    notes = []
+    if size < 3:
+        notes.append(f"the buildable front has {size} point{'s' if size != 1 else ''}: "
+                     + ("the recommendation is its easiest-to-turn end" if size == 2 else
+                        "one caster is best on both objectives"))
+    if problem.risk is None:
+        notes.append(f"no risk bound ([robust] enabled = false): this caster shimmies at {problem.target_speed:.3g} m/s "
+                     f"with probability {rec.shimmy_probability:.1%} ± {rec.shimmy_probability_se:.1%} under the "
+                     f"default scatter")
+    rec.note = "; ".join(notes)
+    return rec
