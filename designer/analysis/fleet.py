@@ -514,9 +514,7 @@ def stock_table(problem) -> StockTable:
     be discrete: a part number is a design tuple.
     """
     stock = getattr(problem, "stock", None)
-    table = _from_recommend(problem) if stock is not None else None
-    if table is None:
-        table = _default_stock(problem)
+    table = _from_stock(problem) if stock is not None else _default_stock(problem)
     c = problem.conditions
     table.critical_speed = critical_shimmy_speed(table.trail, table.inertia, table.groove, table.damping,
                                                  c.slip_coefficient)
@@ -531,27 +529,54 @@ def stock_table(problem) -> StockTable:
     return table
 
 
-def _from_recommend(problem) -> StockTable | None:
-    """The stock enumeration of the recommendation module (issue "Build this caster"), when it exists."""
-    try:
-        from designer.analysis.recommend import stock_candidates
-    except ImportError:
-        return None
-    cand = stock_candidates(problem)
-    get = cand.get if isinstance(cand, dict) else (lambda k, d=None: getattr(cand, k, d))
-    for key in ("trail", "diameter", "groove", "damping"):
-        value = get(key)
-        if value is None or np.ndim(value) != 1:
-            raise ProblemError(f"{problem.source or problem.name}: [stock] leaves {key} continuous; a fleet's "
-                               f"part numbers are stock casters, so give every variable in [stock]")
-    trail = np.asarray(get("trail"), float)
-    diameter = np.asarray(get("diameter"), float)
-    inertia = get("inertia")
-    inertia = np.asarray(problem.conditions.inertia(diameter) if inertia is None else inertia, float)
-    wheel = get("wheel")
-    wheel = np.full(len(trail), "", dtype=object) if wheel is None else np.asarray(wheel, dtype=object)
-    return StockTable(trail=trail, diameter=diameter, groove=np.asarray(get("groove"), float),
-                      damping=np.asarray(get("damping"), float), inertia=inertia, wheel=wheel,
+def _from_stock(problem) -> StockTable:
+    """Every combination of the base problem's ``[stock]`` (``problem.stock``) as arrays.
+
+    Wheels come from ``stock.diameters`` (I_w from the inertia model), ``stock.wheels`` (I_w as measured,
+    else from the model; their own groove when given) or a catalogue problem's ``[inertia].wheels``;
+    trails from ``stock.trails`` (fork holes), grooves and dampings from their lists.  A variable that
+    is neither in the stock nor fixed by its bounds is an error: a part number is a design tuple.
+    """
+    from designer.physics.inertia import Catalog
+
+    st = problem.stock
+    b = problem.bounds
+    prefix = f"{problem.source or problem.name}: "
+
+    def discrete(values, name):
+        if values is not None:
+            return [float(v) for v in values]
+        if b[name].fixed:
+            return [b[name].low]
+        key = {"trail": "trail_step", "diameter": "diameters", "groove": "grooves", "damping": "dampings"}[name]
+        raise ProblemError(f"{prefix}stock.{key}: missing, so {name} stays continuous; a fleet's part numbers "
+                           f"are stock casters, so list every variable in [stock] (docs/fleet.md)")
+
+    wheels = []  # (name, diameter, inertia, groove or None)
+    if st.wheels is not None:
+        for w in st.wheels:
+            inertia = w.inertia if w.inertia is not None else float(problem.conditions.inertia(w.diameter))
+            wheels.append((w.name, w.diameter, inertia, w.groove))
+    elif problem.wheels:
+        for key in problem.wheels:
+            model = Catalog.from_key(key)
+            wheels.append((key, model.fixed_diameter, float(model(model.fixed_diameter)), None))
+    else:
+        for d in discrete(st.diameters, "diameter"):
+            wheels.append(("", d, float(problem.conditions.inertia(d)), None))
+    trails = discrete(st.trails, "trail")
+    dampings = discrete(st.dampings, "damping")
+    rows = []
+    for name, d, inertia, own_groove in wheels:
+        grooves = [own_groove] if own_groove is not None else discrete(st.grooves, "groove")
+        for t in trails:
+            for g in grooves:
+                for c in dampings:
+                    rows.append((t, d, g, c, inertia, name))
+    cols = list(zip(*rows))
+    return StockTable(trail=np.array(cols[0], float), diameter=np.array(cols[1], float),
+                      groove=np.array(cols[2], float), damping=np.array(cols[3], float),
+                      inertia=np.array(cols[4], float), wheel=np.array(cols[5], dtype=object),
                       note="the base problem's [stock]")
 
 
