@@ -304,3 +304,21 @@ def test_dask_local_cluster_gives_the_in_process_result(base):
     np.testing.assert_array_equal(remote.chairs["choice"], local.chairs["choice"])
     np.testing.assert_array_equal(remote.chairs["shimmy_probability"], local.chairs["shimmy_probability"])
     assert remote.scheduler and remote.scheduler.startswith("tcp://")
+
+
+def test_batched_monte_carlo_gives_the_numbers_of_the_shared_function(base):
+    """Chairs sharing a caster share one seeded draw; P(shimmy) and SE equal shimmy_probability_mc per chair
+    exactly (speeds spread so that some estimates need the function's top-up for SE <= 0.1 pp)."""
+    from designer.physics.uncertainty import shimmy_probability_mc
+
+    stock = fl.stock_table(base)
+    u = fl.mc_uncertainty(base)
+    j = int(np.argmin(np.abs(stock.design_speed - 2.5)))
+    speeds = np.sort(np.random.default_rng(3).uniform(0.5, 1.6, 12) * stock.critical_speed[j])
+    designs = np.tile([stock.trail[j], stock.diameter[j], stock.groove[j], stock.damping[j]], (12, 1))
+    got = fl._mc_task(designs, np.full(12, stock.inertia[j]), speeds, base.conditions.slip_coefficient, u)
+    for r in range(12):
+        want = shimmy_probability_mc(stock.trail[j], stock.inertia[j], stock.groove[j], stock.damping[j],
+                                     base.conditions.slip_coefficient, speeds[r], u)
+        assert tuple(got[r]) == want, r
+    assert got[0, 0] < 0.05 < got[-1, 0]  # both paths (shared draw, top-up) are exercised
