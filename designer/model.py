@@ -13,7 +13,8 @@ import math
 
 import numpy as np
 
-from designer.data.paper import DISTURBANCE_ANGLE, INCH, SLIP_COEFFICIENT
+from designer import parameters
+from designer.data.paper import INCH
 from designer.errors import InputError
 from designer.physics.geometry import swept_radius
 from designer.physics.inertia import InertiaModel, PowerLaw
@@ -28,31 +29,30 @@ from designer.physics.shimmy import (
 from designer.physics.threshold import threshold_force_ratio
 from designer.physics.turning import DEFAULT_TURNING, TurningConstants, added_damper_moment, sliding_turning_moment
 from designer.physics.uncertainty import Uncertainty, shimmy_speed_quantile
-from designer.units import parse_quantity
+from designer.units import outside_range, parse_quantity
 
-VARIABLES = ("trail", "diameter", "groove", "damping")
-"""The design variables x = (T, d, B, c_f), in this order everywhere."""
+VARIABLES = parameters.VARIABLES
+"""The design variables x = (T, d, B, c_f), in this order everywhere (from :mod:`designer.parameters`)."""
 
-VARIABLE_INFO = {
-    "trail": ("T", "m", "trail: spindle axis to tyre contact"),
-    "diameter": ("d", "m", "wheel diameter"),
-    "groove": ("B", "m", "groove width = tread separation of Eq. 7"),
-    "damping": ("c_f", "N·m/rad", "spindle friction damping M_f/θ0"),
-}
+VARIABLE_INFO = {p.name: (p.symbol, p.unit, p.description) for p in parameters.VARIABLE_TABLE}
+"""(symbol, SI unit, description) of each design variable."""
 
-
-VARIABLE_UNITS = {"trail": "m", "diameter": "m", "groove": "m", "damping": "N·m/rad"}
+VARIABLE_UNITS = {p.name: p.unit for p in parameters.VARIABLE_TABLE}
 """SI unit of each design variable."""
 
-MODEL_RANGE = {
-    "trail": (0.0, 0.25),
-    "diameter": (0.0, 0.6),
-    "groove": (0.0, 0.1),
-    "damping": (0.0, 100.0),
-}
+MODEL_RANGE = {p.name: p.range for p in parameters.VARIABLE_TABLE}
 """Physically sensible ranges [SI] (exclusive low for trail, diameter): beyond
 them the paper's model does not apply, and a value there usually means inches
 were written as metres."""
+
+
+FAMILIES = {
+    (False, False): "bare fork",
+    (True, False): "groove",
+    (False, True): "damper",
+    (True, True): "groove+damper",
+}
+"""Design family by (groove used, damper added): which mechanism stabilises the caster (Eq. 7)."""
 
 
 def check_design(design, prefix: str = "", error=InputError, given: dict | None = None) -> None:
@@ -61,15 +61,12 @@ def check_design(design, prefix: str = "", error=InputError, given: dict | None 
     ``given`` maps a variable to what the user wrote ("5in"): the message then gives the range in
     that unit instead of asking whether inches were written as metres (:func:`designer.units.outside_range`).
     """
-    from designer.units import outside_range
-
-    dimensions = {"trail": "length", "diameter": "length", "groove": "length", "damping": "damping"}
     for name in VARIABLES:
         value = getattr(design, name)
         lo, hi = MODEL_RANGE[name]
         if not math.isfinite(value) or value < lo or (value == 0 and name in ("trail", "diameter")) or value > hi:
             raise error(outside_range(f"{prefix}{name}", (given or {}).get(name, value), value, lo, hi,
-                                      dimensions[name]))
+                                      parameters.PARAMETERS[name].dimension))
 
 
 @dataclass(frozen=True)
@@ -150,12 +147,12 @@ class Conditions:
         constraint uses the α-quantile of V_c instead of its nominal value
     """
 
-    load: float = 178.0
-    threshold_height: float = 0.5 * INCH
+    load: float = parameters.default("load")
+    threshold_height: float = parameters.default("threshold_height")
     surface: str = "tile"
     turning_mode: str = "chair"
-    disturbance_angle: float = DISTURBANCE_ANGLE
-    slip_coefficient: float = SLIP_COEFFICIENT
+    disturbance_angle: float = parameters.default("disturbance_angle")
+    slip_coefficient: float = parameters.default("slip_coefficient")
     inertia: InertiaModel = field(default_factory=PowerLaw)
     turning: TurningConstants = DEFAULT_TURNING
     dynamics: DynamicsParameters = DynamicsParameters()

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from designer.data.paper import BARE_FORK_DAMPING, INCH, TABLE1
+from designer import parameters
 from designer.errors import ProblemError
 from designer.model import MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions, Design, check_design
 from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
@@ -26,31 +27,15 @@ from designer.physics.shimmy import DynamicsParameters
 from designer.physics.turning import MODES, SURFACES, TurningConstants
 from designer.units import InputError, outside_range, parse_quantity
 
-DEFAULT_BOUNDS = {
-    "trail": (1.0 * INCH, 2.5 * INCH),
-    "diameter": (3.0 * INCH, 8.0 * INCH),
-    "groove": (0.0, 0.75 * INCH),
-    "damping": (BARE_FORK_DAMPING, 6.0),
-}
-"""Bounds used for a variable the problem file does not mention [SI]."""
+DEFAULT_BOUNDS = {p.name: p.bounds for p in parameters.VARIABLE_TABLE}
+"""Bounds used for a variable the problem file does not mention [SI] (from :mod:`designer.parameters`)."""
 
-VARIABLE_DIMENSIONS = {"trail": "length", "diameter": "length", "groove": "length", "damping": "damping"}
+VARIABLE_DIMENSIONS = {p.name: p.dimension for p in parameters.VARIABLE_TABLE}
 
-PHYSICAL_RANGE = {
-    "conditions.load": (1.0, 1e5, "N", "a caster load of 0.1 kg to 10 t; was it given in another unit?"),
-    "conditions.threshold_height": (1e-4, 0.3, "m", "a sill of 0.1 mm to 30 cm; were inches written as metres?"),
-    "shimmy.target_speed": (0.01, 100.0, "m/s", "plain numbers are m/s; was it given in km/h or mph?"),
-    "shimmy.slip_coefficient": (1.0, 1e6, "N", "the paper's tyres have 1250 N"),
-    "turning.tile_moment_per_load": (1e-6, 0.1, "m", "the paper's tile gives 0.005 m"),
-    "turning.carpet_factor": (1e-3, 100.0, "", "the paper's carpet is about 2"),
-    "turning.chair_factor": (1e-3, 100.0, "", "the paper's chair mode is 0.5"),
-    "turning.pivot_factor": (1e-3, 100.0, "", "the paper's pivot mode is 1"),
-    "turning.groove_coefficient": (0.0, 1e4, "1/m", "the paper's grooved tyre gives about 7 1/m"),
-    "turning.bare_fork_damping": (1e-3, 100.0, "N·m/rad", "the paper's bare fork has 1.3 N·m/rad"),
-    "constraints.swept_radius_max": (1e-3, 10.0, "m", "footrest clearances are a few inches"),
-}
+PHYSICAL_RANGE = parameters.checked_ranges()
 """Ranges [SI] (inclusive) of the fixed quantities: outside them the model's numbers overflow or
-mean nothing, and a value there is almost always a unit mistake.  (low, high, unit, hint)."""
+mean nothing, and a value there is almost always a unit mistake.  (low, high, unit, hint), by
+problem-file key, from the entries of :mod:`designer.parameters` that have a hint."""
 
 INERTIA_RANGE = (1e-9, 10.0)
 """Wheel moments of inertia [kg·m²] the model accepts at the diameter bounds (Table 1: 0.26e-3 to 4.6e-3)."""
@@ -137,6 +122,11 @@ SCHEMA: dict[str, dict[str, str]] = {
                "damping": "float", "slip_coefficient": "float", "inertia": "float", "samples": "int", "seed": "int"},
     "stock": {"diameters": "list", "grooves": "list", "trail_step": "length", "dampings": "list", "wheels": "list"},
 }
+
+for _parameter in parameters.PARAMETERS.values():  # every key of the table is a key of the problem file
+    if _parameter.key and not _parameter.key.startswith("variables."):
+        _section, _key = _parameter.key.split(".", 1)
+        SCHEMA.setdefault(_section, {})[_key] = _parameter.dimension
 
 INERTIA_MODELS = ("table1-power-law", "disc", "catalog", "fixed")
 NAME_PATTERN = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
@@ -615,12 +605,12 @@ def problem_from_dict(data: dict, source: str | None = None, default_name: str =
 
     conditions = Conditions(
         uncertainty=uncertainty,
-        load=quantity("conditions", "load", "force", 178.0),
-        threshold_height=quantity("conditions", "threshold_height", "length", 0.5 * INCH),
+        load=quantity("conditions", "load", "force", parameters.default("load")),
+        threshold_height=quantity("conditions", "threshold_height", "length", parameters.default("threshold_height")),
         surface=text_value("conditions", "surface", "tile"),
         turning_mode=text_value("conditions", "turning_mode", "chair"),
-        disturbance_angle=quantity("shimmy", "disturbance_angle", "angle", math.radians(20.0)),
-        slip_coefficient=quantity("shimmy", "slip_coefficient", "force", 1250.0),
+        disturbance_angle=quantity("shimmy", "disturbance_angle", "angle", parameters.default("disturbance_angle")),
+        slip_coefficient=quantity("shimmy", "slip_coefficient", "force", parameters.default("slip_coefficient")),
         inertia=inertia,
         turning=turning,
         dynamics=dynamics,

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.analysis.indicators import hypervolume_2d, igd_plus, nondominated, normalise
-from designer.model import VARIABLES, Design, evaluate
+from designer.model import FAMILIES, VARIABLES, Design, evaluate
 from designer.problem import POINTS_RANGE, Problem
 from designer.solvers import structured
 from designer.solvers.nlp import BIG, CasterNLP, best_starts, evaluate_many, sample_designs, solve_best, violation
@@ -89,8 +89,7 @@ def family_of(problem: Problem, design: Design, tol: float = 1e-6) -> str:
     """Which mechanism stabilises the design: groove, added damper, both or neither."""
     grooved = design.groove > problem.bounds["groove"].low + tol * max(problem.bounds["groove"].high, 1e-3)
     damped = design.damping > problem.conditions.turning.bare_fork_damping * (1 + tol)
-    return {(False, False): "bare fork", (True, False): "groove", (False, True): "damper",
-            (True, True): "groove+damper"}[(grooved, damped)]
+    return FAMILIES[(grooved, damped)]
 
 
 @dataclass

@@ -97,6 +97,14 @@ class InertiaModel:
         """Diameters [m] over which the model rests on data (None: everywhere)."""
         return None
 
+    def parameters(self) -> dict:
+        """The model's constants, named as in :mod:`designer.parameters` (the solvers' parameters)."""
+        return {}
+
+    def with_parameters(self, values: dict) -> "InertiaModel":
+        """The same kind of model with the constants ``values`` (floats or CasADi symbols)."""
+        return self
+
 
 @dataclass(frozen=True)
 class PowerLaw(InertiaModel):
@@ -133,6 +141,13 @@ class PowerLaw(InertiaModel):
         diameters = [w.diameter for w in TABLE1]
         return (min(diameters), max(diameters))
 
+    def parameters(self) -> dict:
+        c, n = self.constants()
+        return {"inertia_coefficient": c, "inertia_exponent": n}
+
+    def with_parameters(self, values: dict) -> "PowerLaw":
+        return PowerLaw(values["inertia_coefficient"], values["inertia_exponent"])
+
     def describe(self) -> str:
         c, n = self.constants()
         return f"I_w = {c:.4g} d^{n:.3f} (least squares on Table 1, d in m, I_w in kg·m²)"
@@ -152,6 +167,12 @@ class Disc(InertiaModel):
 
     def __call__(self, diameter):
         return disc_inertia(diameter, self.tyre_width, self.density)
+
+    def parameters(self) -> dict:
+        return {"tyre_width": self.tyre_width, "density": self.density}
+
+    def with_parameters(self, values: dict) -> "Disc":
+        return Disc(values["tyre_width"], values["density"])
 
     def describe(self) -> str:
         return (
@@ -184,6 +205,12 @@ class Catalog(InertiaModel):
         # catalog fixes; keep the argument's type (0*d) for CasADi graphs.
         return self.wheel.inertia + 0 * diameter
 
+    def parameters(self) -> dict:
+        return {"wheel_inertia": self.wheel.inertia}
+
+    def with_parameters(self, values: dict) -> "InertiaModel":
+        return Fixed(values["wheel_inertia"])  # the measured I_w, now a parameter
+
     def describe(self) -> str:
         w = self.wheel
         return (
@@ -208,6 +235,12 @@ class Fixed(InertiaModel):
 
     def __call__(self, diameter):
         return self.inertia + 0 * diameter
+
+    def parameters(self) -> dict:
+        return {"wheel_inertia": self.inertia}
+
+    def with_parameters(self, values: dict) -> "Fixed":
+        return Fixed(values["wheel_inertia"])
 
     def describe(self) -> str:
         return f"measured wheel, I_w = {self.inertia:.4g} kg·m²"

@@ -72,8 +72,9 @@ from dataclasses import dataclass, field
 import cvxpy as cp
 import numpy as np
 
+from designer import parameters
 from designer.errors import check_interrupt
-from designer.model import Conditions, Design, performance
+from designer.model import FAMILIES, Conditions, Design, performance
 from designer.physics.geometry import swept_radius
 from designer.physics.inertia import Catalog, Disc, Fixed, PowerLaw, disc_inertia, power_law_inertia
 from designer.physics.threshold import (
@@ -98,14 +99,6 @@ BACKOFF = 1e-9
 """Relative back-off on V_req² in the GP, so that solver tolerance never makes V_c < V_req."""
 SOLVER_OPTIONS = {"tol_gap_abs": 1e-11, "tol_gap_rel": 1e-11, "tol_feas": 1e-11, "tol_ktratio": 1e-9}
 """Clarabel tolerances (tighter than its defaults)."""
-
-FAMILIES = {
-    (False, False): "bare fork",
-    (True, False): "groove",
-    (False, True): "damper",
-    (True, True): "groove+damper",
-}
-"""Family name by (groove free, added damping free)."""
 
 _OK = (cp.OPTIMAL, cp.OPTIMAL_INACCURATE)
 
@@ -169,36 +162,10 @@ class GPResult:
 
 
 def _parameters(problem: Problem) -> dict:
-    """The fixed parameters of a continuous problem, named as in ``nlp.PARAMETER_INFO``."""
-    c = problem.conditions
-    t = c.turning
-    out = {
-        "load": c.load,
-        "threshold_height": c.threshold_height,
-        "target_speed": problem.target_speed,
-        "slip_coefficient": c.slip_coefficient,
-        "disturbance_angle": c.disturbance_angle,
-        "tile_moment_per_load": t.tile_moment_per_load,
-        "groove_coefficient": t.groove_coefficient,
-        "bare_fork_damping": t.bare_fork_damping,
-    }
-    if c.surface == "carpet":
-        out["carpet_factor"] = t.carpet_factor
-    out["mode_factor"] = t.mode_factor(c.turning_mode)
-    model = c.inertia
-    if isinstance(model, PowerLaw):
-        out["inertia_coefficient"], out["inertia_exponent"] = model.constants()
-    elif isinstance(model, Disc):
-        out["tyre_width"], out["density"] = model.tyre_width, model.density
-    elif isinstance(model, Catalog):
-        out["wheel_inertia"] = model.wheel.inertia
-    elif isinstance(model, Fixed):
-        out["wheel_inertia"] = model.inertia
-    else:  # pragma: no cover - a new inertia model must be added here
-        raise TypeError(f"inertia model {type(model).__name__}: not expressible as a GP")
-    if problem.swept_radius_max is not None:
-        out["swept_radius_max"] = problem.swept_radius_max
-    return out
+    """The fixed parameters of a continuous problem, named as in :mod:`designer.parameters`."""
+    if not isinstance(problem.conditions.inertia, (PowerLaw, Disc, Catalog, Fixed)):  # pragma: no cover
+        raise TypeError(f"inertia model {type(problem.conditions.inertia).__name__}: not expressible as a GP")
+    return parameters.solver_values(problem)
 
 
 @dataclass(frozen=True)
@@ -240,27 +207,7 @@ def robust_speed_factor(problem: Problem, groove: bool) -> tuple[float, bool]:
 
 def _constants(problem: Problem, params: dict, speed_factor: float = 1.0) -> _Constants:
     """Conditions rebuilt from ``params`` (so a parameter can be perturbed)."""
-    c = problem.conditions
-    t = c.turning
-    turning = dataclasses.replace(
-        t,
-        tile_moment_per_load=params["tile_moment_per_load"],
-        groove_coefficient=params["groove_coefficient"],
-        bare_fork_damping=params["bare_fork_damping"],
-        carpet_factor=params.get("carpet_factor", t.carpet_factor),
-        mode_factors={**t.mode_factors, c.turning_mode: params["mode_factor"]},
-    )
-    if "inertia_coefficient" in params:
-        inertia = PowerLaw(params["inertia_coefficient"], params["inertia_exponent"])
-    elif "tyre_width" in params:
-        inertia = Disc(params["tyre_width"], params["density"])
-    else:
-        inertia = Fixed(params["wheel_inertia"])
-    conditions = c.replace(
-        load=params["load"], threshold_height=params["threshold_height"],
-        slip_coefficient=params["slip_coefficient"], disturbance_angle=params["disturbance_angle"],
-        turning=turning, inertia=inertia,
-    )
+    conditions = parameters.with_solver_values(problem, params)
     return _Constants(conditions, (1 + problem.margin) * params["target_speed"] * speed_factor,
                       params.get("swept_radius_max"))
 

@@ -14,7 +14,6 @@ Constraints (CasADi convention lbg <= g <= ubg):
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -22,33 +21,16 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
+from designer import parameters
 from designer.errors import InfeasibleError, SolverError, check_interrupt
 from designer.model import VARIABLES, Conditions, Design, performance
-from designer.physics.inertia import Catalog, Disc, Fixed, PowerLaw
 from designer.problem import Problem
 
 BIG = 1e9
 FEAS_TOL = 1e-7
 
-PARAMETER_INFO = {
-    "load": ("L", "N", "caster load"),
-    "threshold_height": ("h", "m", "door-sill height"),
-    "target_speed": ("V_target", "m/s", "speed without shimmy"),
-    "slip_coefficient": ("K_s", "N", "tyre slip coefficient"),
-    "disturbance_angle": ("θ0", "rad", "design disturbance angle"),
-    "tile_moment_per_load": ("k_tile", "m", "sliding turning moment per load on tile"),
-    "groove_coefficient": ("κ", "1/m", "groove penalty on turning moment"),
-    "bare_fork_damping": ("c_0", "N·m/rad", "bare-fork damping"),
-    "carpet_factor": ("k_carpet/k_tile", "-", "carpet over tile"),
-    "mode_factor": ("m_mode", "-", "turning-mode factor"),
-    "inertia_coefficient": ("C", "-", "inertia power-law coefficient"),
-    "inertia_exponent": ("n", "-", "inertia power-law exponent"),
-    "tyre_width": ("w", "m", "disc tyre width"),
-    "density": ("ρ", "kg/m³", "disc density"),
-    "wheel_inertia": ("I_w", "kg·m²", "measured wheel inertia"),
-    "swept_radius_max": ("R_max", "m", "swept-radius limit"),
-}
-"""Fixed parameters whose sensitivity d log J / d log p is reported."""
+PARAMETER_INFO = {p.name: (p.symbol, p.shown_unit, p.description) for p in parameters.SOLVER_PARAMETERS}
+"""Fixed parameters whose sensitivity d log J / d log p is reported (from :mod:`designer.parameters`)."""
 
 
 @dataclass
@@ -157,53 +139,12 @@ class CasterNLP:
     # ----------------------------------------------------------------- parameters
     @staticmethod
     def _symbolic_conditions(problem: Problem):
-        """Replace every fixed constant of the conditions by a CasADi symbol."""
-        c = problem.conditions
-        names: list[str] = ["load", "threshold_height", "target_speed", "slip_coefficient", "disturbance_angle",
-                            "tile_moment_per_load", "groove_coefficient", "bare_fork_damping"]
-        values: list[float] = [c.load, c.threshold_height, problem.target_speed, c.slip_coefficient,
-                               c.disturbance_angle, c.turning.tile_moment_per_load, c.turning.groove_coefficient,
-                               c.turning.bare_fork_damping]
-        if c.surface == "carpet":
-            names.append("carpet_factor")
-            values.append(c.turning.carpet_factor)
-        names.append("mode_factor")
-        values.append(c.turning.mode_factor(c.turning_mode))
-        model = c.inertia
-        if isinstance(model, PowerLaw):
-            coef, expo = model.constants()
-            names += ["inertia_coefficient", "inertia_exponent"]
-            values += [coef, expo]
-        elif isinstance(model, Disc):
-            names += ["tyre_width", "density"]
-            values += [model.tyre_width, model.density]
-        elif isinstance(model, (Fixed, Catalog)):
-            names.append("wheel_inertia")
-            values.append(model.wheel.inertia if isinstance(model, Catalog) else model.inertia)
-        if problem.swept_radius_max is not None:
-            names.append("swept_radius_max")
-            values.append(problem.swept_radius_max)
+        """Replace every fixed constant of the conditions by a CasADi symbol (:mod:`designer.parameters`)."""
+        values = parameters.solver_values(problem)
+        names = list(values)
         p = ca.SX.sym("p", len(names))
-        s = {name: p[i] for i, name in enumerate(names)}
-        turning = dataclasses.replace(
-            c.turning,
-            tile_moment_per_load=s["tile_moment_per_load"],
-            groove_coefficient=s["groove_coefficient"],
-            bare_fork_damping=s["bare_fork_damping"],
-            carpet_factor=s.get("carpet_factor", c.turning.carpet_factor),
-            mode_factors={**c.turning.mode_factors, c.turning_mode: s["mode_factor"]},
-        )
-        if isinstance(model, PowerLaw):
-            inertia = PowerLaw(s["inertia_coefficient"], s["inertia_exponent"])
-        elif isinstance(model, Disc):
-            inertia = Disc(s["tyre_width"], s["density"])
-        else:
-            inertia = Fixed(s["wheel_inertia"])
-        conditions = c.replace(
-            load=s["load"], threshold_height=s["threshold_height"], slip_coefficient=s["slip_coefficient"],
-            disturbance_angle=s["disturbance_angle"], turning=turning, inertia=inertia,
-        )
-        return names, np.array(values, dtype=float), conditions, p
+        conditions = parameters.with_solver_values(problem, {name: p[i] for i, name in enumerate(names)})
+        return names, np.array(list(values.values()), dtype=float), conditions, p
 
     def parameter_vector(self, weights=(1.0, 1.0), threshold_cap=BIG, turning_cap=BIG, overrides=None) -> np.ndarray:
         """Full parameter vector: physical values (optionally overridden), weights, ε caps."""

@@ -1,0 +1,296 @@
+"""The one table of design variables and model constants (in the spirit of GPkit's ``Variable``).
+
+Each entry says once: its name, symbol, SI unit, one-line description, default,
+allowed range, paper source, and where it lives (its problem-file key and its
+attribute path on a :class:`~designer.problem.Problem`).  Everything else reads
+this table:
+
+- the problem loader (schema keys and units, defaults, default bounds, the
+  ranges it checks: ``designer.problem``),
+- the model's ranges and variable order (``designer.model``),
+- the NLP and the GP parameter vectors and the names of their sensitivities
+  (:func:`solver_values`, :func:`with_solver_values`),
+- the sensitivity table, the report's problem table and ``docs/parameters.md``
+  (:func:`markdown_table`; ``write_docs`` writes it).
+
+To add a model constant, add one :class:`Parameter` below (with ``path`` if the
+solvers should treat it as a parameter with a sensitivity), and use it in the
+physics.  CONTRIBUTING.md walks through an example.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+from dataclasses import dataclass
+from typing import Any
+
+from designer.data.paper import BARE_FORK_DAMPING, DISTURBANCE_ANGLE, INCH, SLIP_COEFFICIENT
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One design variable or model constant.
+
+    Attributes
+    ----------
+    name : identifier in code, solver parameter vectors and sensitivity tables
+    symbol : the paper's symbol (T, d, K_s, θ0, ...)
+    unit : SI unit as printed ("" for dimensionless)
+    description : one line
+    default : value used when the problem file does not give one [SI] (None: none / computed)
+    range : allowed (low, high) [SI], inclusive, or None
+    source : paper equation, table or figure, or "our estimate"
+    key : problem-file key "section.key" (None: not in problem files)
+    dimension : the dimension :func:`designer.units.parse_quantity` checks for ``key``
+    hint : what a value outside ``range`` usually means; entries with a hint are
+        checked by the loader (``designer.problem.check_range``)
+    path : attribute path on a Problem for a fixed parameter of the NLP/GP (its
+        sensitivity d log J / d log p is reported); ``a.b[c]`` reads ``a.b[<value of c>]``
+        where ``c`` is a path of the conditions; ``conditions.inertia:x`` is the
+        inertia model's parameter ``x`` (see ``InertiaModel.parameters``)
+    when : (path, value): the solvers use the parameter only when the path has that value
+    bounds : default (min, max) of a design variable [SI]
+    """
+
+    name: str
+    symbol: str
+    unit: str
+    description: str
+    default: float | None
+    range: tuple[float, float] | None
+    source: str
+    key: str | None = None
+    dimension: str = "dimensionless"
+    hint: str = ""
+    path: str | None = None
+    when: tuple[str, str] | None = None
+    bounds: tuple[float, float] | None = None
+
+    @property
+    def shown_unit(self) -> str:
+        """The unit for tables: "-" when dimensionless."""
+        return self.unit or "-"
+
+
+# --------------------------------------------------------------------------- design variables x = (T, d, B, c_f)
+
+VARIABLE_TABLE: tuple[Parameter, ...] = (
+    Parameter("trail", "T", "m", "trail: spindle axis to tyre contact", None, (0.0, 0.25),
+              "Eq. 7, Eq. 9", key="variables.trail", dimension="length", bounds=(1.0 * INCH, 2.5 * INCH)),
+    Parameter("diameter", "d", "m", "wheel diameter", None, (0.0, 0.6),
+              "Eq. 4A, Table 1", key="variables.diameter", dimension="length", bounds=(3.0 * INCH, 8.0 * INCH)),
+    Parameter("groove", "B", "m", "groove width = tread separation of Eq. 7", None, (0.0, 0.1),
+              "Eq. 7, Eq. 8", key="variables.groove", dimension="length", bounds=(0.0, 0.75 * INCH)),
+    Parameter("damping", "c_f", "N·m/rad", "spindle friction damping M_f/θ0", None, (0.0, 100.0),
+              "Eq. 11C", key="variables.damping", dimension="damping", bounds=(BARE_FORK_DAMPING, 6.0)),
+)
+"""The design variables, in the order of x everywhere.  ``range`` is the model's range (exclusive
+low for trail and diameter): beyond it the paper's model does not apply, and a value there usually
+means inches were written as metres."""
+
+# --------------------------------------------------------------------------- model constants
+# The entries with a ``path`` are the solvers' fixed parameters, in the order of the NLP's parameter vector.
+
+CONSTANT_TABLE: tuple[Parameter, ...] = (
+    Parameter("load", "L", "N", "caster load", 178.0, (1.0, 1e5), "Table 1 (test load), Appendix C",
+              key="conditions.load", dimension="force",
+              hint="a caster load of 0.1 kg to 10 t; was it given in another unit?", path="conditions.load"),
+    Parameter("threshold_height", "h", "m", "door-sill height", 0.5 * INCH, (1e-4, 0.3), "Eq. 4A",
+              key="conditions.threshold_height", dimension="length",
+              hint="a sill of 0.1 mm to 30 cm; were inches written as metres?", path="conditions.threshold_height"),
+    Parameter("target_speed", "V_target", "m/s", "speed without shimmy", None, (0.01, 100.0), "Eq. 7",
+              key="shimmy.target_speed", dimension="speed",
+              hint="plain numbers are m/s; was it given in km/h or mph?", path="target_speed"),
+    Parameter("slip_coefficient", "K_s", "N", "tyre slip coefficient", SLIP_COEFFICIENT, (1.0, 1e6),
+              "Appendix C, Eq. 12C, Fig. 3C", key="shimmy.slip_coefficient", dimension="force",
+              hint="the paper's tyres have 1250 N", path="conditions.slip_coefficient"),
+    Parameter("disturbance_angle", "θ0", "rad", "design disturbance angle", DISTURBANCE_ANGLE,
+              (0.0, math.pi / 2), "Appendix C (rubber-hammer test)", key="shimmy.disturbance_angle",
+              dimension="angle", path="conditions.disturbance_angle"),
+    Parameter("tile_moment_per_load", "k_tile", "m", "sliding turning moment per load on tile", 0.005, (1e-6, 0.1),
+              "Fig. 7A", key="turning.tile_moment_per_load", dimension="length",
+              hint="the paper's tile gives 0.005 m", path="conditions.turning.tile_moment_per_load"),
+    Parameter("groove_coefficient", "κ", "1/m", "groove penalty on turning moment", 0.10 / (9 / 16 * INCH),
+              (0.0, 1e4), "Figs. 7–8 (+10 % for B = 9/16 in)", key="turning.groove_coefficient",
+              dimension="per_length", hint="the paper's grooved tyre gives about 7 1/m",
+              path="conditions.turning.groove_coefficient"),
+    Parameter("bare_fork_damping", "c_0", "N·m/rad", "bare-fork damping", BARE_FORK_DAMPING, (1e-3, 100.0),
+              "Appendix C, Eq. 11C", key="turning.bare_fork_damping", dimension="damping",
+              hint="the paper's bare fork has 1.3 N·m/rad", path="conditions.turning.bare_fork_damping"),
+    Parameter("carpet_factor", "k_carpet/k_tile", "", "carpet over tile", 2.0, (1e-3, 100.0),
+              "Fig. 7 (\"approximately double\")", key="turning.carpet_factor", hint="the paper's carpet is about 2",
+              path="conditions.turning.carpet_factor", when=("conditions.surface", "carpet")),
+    Parameter("mode_factor", "m_mode", "", "turning-mode factor", None, None, "Figs. 10–12",
+              path="conditions.turning.mode_factors[turning_mode]"),
+    Parameter("chair_factor", "m_chair", "", "turning a wheelchair in place over the drill-press moment", 0.5,
+              (1e-3, 100.0), "Figs. 10–12 (\"about 50 percent\")", key="turning.chair_factor",
+              hint="the paper's chair mode is 0.5"),
+    Parameter("pivot_factor", "m_pivot", "", "non-rolling wheel (drill press)", 1.0, (1e-3, 100.0), "Fig. 7A",
+              key="turning.pivot_factor", hint="the paper's pivot mode is 1"),
+    Parameter("inertia_coefficient", "C", "", "inertia power-law coefficient (d in m, I_w in kg·m²)", None, None,
+              "least squares on Table 1", key="inertia.coefficient", path="conditions.inertia:inertia_coefficient"),
+    Parameter("inertia_exponent", "n", "", "inertia power-law exponent", None, (0.0, 10.0),
+              "least squares on Table 1", key="inertia.exponent", path="conditions.inertia:inertia_exponent"),
+    Parameter("tyre_width", "w", "m", "disc tyre width", 0.025, (0.0, 0.2), "our estimate",
+              key="inertia.tyre_width", dimension="length", path="conditions.inertia:tyre_width"),
+    Parameter("density", "ρ", "kg/m³", "disc density", 1200.0, (0.0, 20000.0), "our estimate (polyurethane)",
+              key="inertia.density", dimension="density", path="conditions.inertia:density"),
+    Parameter("wheel_inertia", "I_w", "kg·m²", "measured wheel inertia", 0.00127, (0.0, 0.1),
+              "Eq. 8 (Invacare 7¾ in wheel)", key="inertia.inertia", dimension="inertia",
+              path="conditions.inertia:wheel_inertia"),
+    Parameter("swept_radius_max", "R_max", "m", "swept-radius limit", None, (1e-3, 10.0), "footrest clearance",
+              key="constraints.swept_radius_max", dimension="length",
+              hint="footrest clearances are a few inches", path="swept_radius_max"),
+    Parameter("margin", "m_V", "", "relative safety margin on the target speed", 0.0, (0.0, 10.0),
+              "Table 1 RMS scatter of Eq. 7 (10.3 %)", key="shimmy.margin"),
+    Parameter("frame_stiffness", "K", "N/m", "lateral frame stiffness at the bearing block", None, None,
+              "Eq. 15B, calibrated to ω = 104.7 rad/s (Eq. 7C)", key="dynamics.frame_stiffness",
+              dimension="stiffness"),
+    Parameter("fork_mass", "M_F", "kg", "fork mass", 0.3, None, "our estimate (steel fork)", key="dynamics.fork_mass",
+              dimension="mass"),
+    Parameter("bearing_block_mass", "M_1", "kg", "apparent bearing-block mass", 0.2, None,
+              "our estimate (housing)", key="dynamics.bearing_block_mass", dimension="mass"),
+)
+"""The model constants: fixed quantities of a problem."""
+
+PARAMETERS: dict[str, Parameter] = {p.name: p for p in VARIABLE_TABLE + CONSTANT_TABLE}
+"""Every entry by name."""
+
+VARIABLES: tuple[str, ...] = tuple(p.name for p in VARIABLE_TABLE)
+"""The design variables x = (T, d, B, c_f), in this order everywhere."""
+
+SOLVER_PARAMETERS: tuple[Parameter, ...] = tuple(p for p in CONSTANT_TABLE if p.path)
+"""The fixed parameters of the NLP and the GP, in parameter-vector order."""
+
+
+def default(name: str) -> Any:
+    """The default value [SI] of entry ``name``."""
+    return PARAMETERS[name].default
+
+
+def by_key(section: str) -> dict[str, Parameter]:
+    """The entries of one problem-file section, by key (``"turning"`` -> ``{"carpet_factor": ...}``)."""
+    return {p.key.split(".", 1)[1]: p for p in PARAMETERS.values() if p.key and p.key.split(".", 1)[0] == section}
+
+
+def checked_ranges() -> dict[str, tuple[float, float, str, str]]:
+    """``{"section.key": (low, high, unit, hint)}`` of the entries the loader range-checks (those with a hint)."""
+    return {p.key: (p.range[0], p.range[1], p.unit, p.hint) for p in CONSTANT_TABLE if p.key and p.range and p.hint}
+
+
+# --------------------------------------------------------------------------- solver parameter vectors
+
+_INDEX = re.compile(r"^(?P<attr>\w+)\[(?P<key>\w+)\]$")
+
+
+def _read(root: Any, path: str) -> Any:
+    """Follow ``path`` from ``root`` (attribute steps, ``a[b]`` dict steps, ``:x`` inertia parameter)."""
+    conditions = getattr(root, "conditions", root)
+    path, _, inertia_key = path.partition(":")
+    value = root
+    for step in path.split("."):
+        match = _INDEX.match(step)
+        if match:
+            value = getattr(value, match["attr"])[getattr(conditions, match["key"])]
+        else:
+            value = getattr(value, step)
+    if inertia_key:
+        return value.parameters().get(inertia_key)
+    return value
+
+
+def _write(obj: Any, steps: list[str], value: Any, conditions: Any) -> Any:
+    """A copy of dataclass ``obj`` with the attribute at ``steps`` replaced by ``value``."""
+    step = steps[0]
+    match = _INDEX.match(step)
+    if match:
+        mapping = dict(getattr(obj, match["attr"]))
+        mapping[getattr(conditions, match["key"])] = value
+        return dataclasses.replace(obj, **{match["attr"]: mapping})
+    if len(steps) == 1:
+        return dataclasses.replace(obj, **{step: value})
+    return dataclasses.replace(obj, **{step: _write(getattr(obj, step), steps[1:], value, conditions)})
+
+
+def solver_values(problem: Any) -> dict[str, float]:
+    """The fixed parameters of a continuous problem, by name, in :data:`SOLVER_PARAMETERS` order.
+
+    An entry is left out when its ``when`` condition does not hold, when its
+    value is None (no swept-radius limit), or when the inertia model does not
+    have it.
+    """
+    out: dict[str, float] = {}
+    for p in SOLVER_PARAMETERS:
+        assert p.path is not None
+        if p.when is not None and _read(problem, p.when[0]) != p.when[1]:
+            continue
+        value = _read(problem, p.path)
+        if value is not None:
+            out[p.name] = value
+    return out
+
+
+def with_solver_values(problem: Any, values: dict[str, Any]) -> Any:
+    """The problem's conditions with the parameters ``values`` (floats or CasADi symbols) put in.
+
+    Only ``conditions.*`` paths are written; the problem-level ones (target speed,
+    swept-radius limit) are the caller's to use.  The inertia model is rebuilt from its
+    parameters (a catalog wheel becomes a fixed inertia).
+    """
+    conditions = problem.conditions
+    inertia: dict[str, Any] = {}
+    for name, value in values.items():
+        path = PARAMETERS[name].path
+        if path is None or not path.startswith("conditions."):
+            continue
+        path, _, inertia_key = path.partition(":")
+        if inertia_key:
+            inertia[inertia_key] = value
+        else:
+            conditions = _write(conditions, path.split(".")[1:], value, problem.conditions)
+    if inertia:
+        conditions = dataclasses.replace(conditions, inertia=conditions.inertia.with_parameters(inertia))
+    return conditions
+
+
+# --------------------------------------------------------------------------- documentation
+
+
+def _number(value: float | None) -> str:
+    if value is None:
+        return "–"
+    return f"{value:.4g}"
+
+
+def markdown_table() -> str:
+    """The table as Markdown (``docs/parameters.md``; the report's and the docs' reference)."""
+    lines = [
+        "| name | symbol | unit | description | default | range | problem-file key | source |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for p in VARIABLE_TABLE + CONSTANT_TABLE:
+        default_text = (f"[{_number(p.bounds[0])}, {_number(p.bounds[1])}]" if p.bounds else _number(p.default))
+        range_text = f"{_number(p.range[0])} to {_number(p.range[1])}" if p.range else "–"
+        key = f"`{p.key}`" if p.key else "–"
+        lines.append(f"| {p.name} | {p.symbol} | {p.shown_unit} | {p.description} | {default_text} | "
+                     f"{range_text} | {key} | {p.source} |")
+    return "\n".join(lines) + "\n"
+
+
+DOC_HEADER = """# Parameters
+
+Generated from `designer/parameters.py` by `python -c "import designer.parameters as p; p.write_docs()"`
+(a test keeps the two equal).  Every value is in SI units; a problem file may write any of them
+with units (`"2 in"`, `"20 deg"`).  For a design variable, *default* is the default `{min, max}`
+and *range* the model's range.  The solvers report the sensitivity d log J / d log p of the
+optimum to each constant that has a solver parameter (see `designer.parameters.SOLVER_PARAMETERS`).
+
+"""
+
+
+def write_docs(path: str = "docs/parameters.md") -> None:
+    """Write the table to ``path`` (run from the repository root after changing an entry)."""
+    with open(path, "w", encoding="utf-8") as out:
+        out.write(DOC_HEADER + markdown_table())
