@@ -31,6 +31,7 @@ _LAZY = {
     "pareto_front": "designer.analysis.pareto",
     "explore": "designer.analysis.exploration",
     "write_report": "designer.report",
+    "report_data": "designer.pipeline",
     "fleet": "designer.analysis.fleet",
 }
 

@@ -286,8 +286,11 @@ def test_interrupted_report_leaves_nothing(invacare_front, tmp_path, monkeypatch
     """Ctrl-C while the report is written leaves no half folder, no temporary folder, and an old report intact."""
     from designer.report import writer
 
+    from designer.pipeline import report_data
+
     problem, front = invacare_front
-    previous = writer.write_report(problem, front, tmp_path / "r")
+    data = report_data(problem, front=front, with_tighter=False)
+    previous = writer.write_report(data, tmp_path / "r")
     before = (previous / "front.json").read_text()
 
     def interrupted(*args, **kwargs):
@@ -295,9 +298,9 @@ def test_interrupted_report_leaves_nothing(invacare_front, tmp_path, monkeypatch
 
     monkeypatch.setattr(writer, "_render", interrupted)
     with pytest.raises(KeyboardInterrupt):
-        writer.write_report(problem, front, tmp_path / "new")
+        writer.write_report(data, tmp_path / "new")
     with pytest.raises(KeyboardInterrupt):
-        writer.write_report(problem, front, tmp_path / "r")
+        writer.write_report(data, tmp_path / "r")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r"]
     assert (tmp_path / "r" / "front.json").read_text() == before
 
@@ -306,21 +309,23 @@ def test_out_refuses_a_foreign_folder_unless_force(invacare_front, tmp_path, cap
     """--out pointing at a folder that is not a report of this tool is refused (exit 2, before any work and
     without touching it); --force writes the report into it, keeping its other files; a previous report is
     replaced without --force."""
+    from designer.pipeline import report_data
     from designer.report import write_report
 
     problem, front = invacare_front
+    data = report_data(problem, front=front, with_tighter=False)
     mine = tmp_path / "thesis"
     mine.mkdir()
     (mine / "chapter1.tex").write_text("precious")
     with pytest.raises(InputError, match="not a report of this tool"):
-        write_report(problem, front, mine)
+        write_report(data, mine)
     assert main(["pareto", str(INVACARE), "--out", str(mine)]) == 2
     err = capsys.readouterr().err
     assert "--force" in err and err.count("\n") == 1
     assert (mine / "chapter1.tex").read_text() == "precious"
     (tmp_path / "file").write_text("x")
     with pytest.raises(InputError, match="not a folder"):
-        write_report(problem, front, tmp_path / "file")
+        write_report(data, tmp_path / "file")
     assert main(["pareto", str(INVACARE), "--out", str(mine), "--force"]) == 0
     # the report owns only its own files: the foreign one is kept (issue 12.4)
     assert (mine / "chapter1.tex").read_text() == "precious" and (mine / "index.html").is_file()

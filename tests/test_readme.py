@@ -33,7 +33,8 @@ def test_public_api_names():
     import designer
 
     for name in ("load_problem", "Design", "Conditions", "evaluate", "performance", "optimise", "pareto_front",
-                 "explore", "write_report", "Uncertainty"):
+                 "explore", "write_report", "report_data", "Uncertainty"):
         assert callable(getattr(designer, name)), name
     assert designer.write_report.__module__.startswith("designer.report")
+    assert designer.report_data.__module__ == "designer.pipeline"
     assert designer.explore.__module__ == "designer.analysis.exploration"

@@ -14,6 +14,7 @@ from designer import load_problem
 from designer.cli import main
 from designer.analysis.pareto import pareto_front
 from designer.plots import figures
+from designer.pipeline import report_data
 from designer.report import write_report
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -34,9 +35,9 @@ def regenerated(tmp_path_factory) -> tuple[Path, int]:
 
 @pytest.fixture(scope="module")
 def invacare():
-    """The single-point front of the paper's Invacare wheel (fixed diameter): fast to compute."""
+    """The report data of the paper's Invacare wheel (fixed diameter, single-point front): fast to compute."""
     problem = load_problem(ROOT / "problems" / "paper-invacare.toml")
-    return problem, pareto_front(problem)
+    return problem, report_data(problem)
 
 
 def _read_csv(path: Path) -> list[dict]:
@@ -93,9 +94,11 @@ def test_no_nan_anywhere(regenerated):
 
 def test_title_is_escaped(invacare, tmp_path):
     """User text is shown as text: a <script> title is escaped in index.html and report.md."""
-    problem, front = invacare
+    import dataclasses
+
+    problem, data = invacare
     evil = problem.replace(title='<script>alert("x")</script> & co')
-    folder = write_report(evil, front.__class__(evil, front.points, front.failed, front.meta), tmp_path / "r")
+    folder = write_report(dataclasses.replace(data, problem=evil), tmp_path / "r")
     html = (folder / "index.html").read_text()
     assert "<script>" not in html
     assert "&lt;script&gt;" in html
@@ -104,24 +107,24 @@ def test_title_is_escaped(invacare, tmp_path):
 
 def test_single_point_front_explained(invacare, tmp_path):
     """A fixed-diameter problem has a one-point front; the report says why and still has every figure."""
-    problem, front = invacare
-    assert len(front) == 1
-    folder = write_report(problem, front, tmp_path / "inv")
+    problem, data = invacare
+    assert len(data.front) == 1
+    folder = write_report(data, tmp_path / "inv")
     html = (folder / "index.html").read_text()
-    assert "Why the front is a single point" in html and "fixed at 7.75 in" in html
+    assert "Why the front is a single point" in html and "fixed at 7.750 in" in html
     assert all((folder / f).is_file() for f in FIGURES)
 
 
 def test_failed_write_leaves_nothing(invacare, tmp_path, monkeypatch):
     """An exception while writing leaves no report folder and no temporary folder; an old report stays intact."""
-    problem, front = invacare
+    problem, data = invacare
 
     def broken(data):
         raise RuntimeError("figure failed")
 
     monkeypatch.setattr(figures, "figure_threshold", broken)
     with pytest.raises(RuntimeError, match="figure failed"):
-        write_report(problem, front, tmp_path / "new")
+        write_report(data, tmp_path / "new")
     assert list(tmp_path.iterdir()) == []
     # an existing report is not touched by a failed rewrite
     old = tmp_path / "old"
@@ -129,7 +132,7 @@ def test_failed_write_leaves_nothing(invacare, tmp_path, monkeypatch):
     (old / "index.html").write_text("previous report")
     (old / "front.json").write_text('{"problem": "old", "points": []}')  # a previous report of this tool
     with pytest.raises(RuntimeError):
-        write_report(problem, front, old)
+        write_report(data, old)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["old"]
     assert (old / "index.html").read_text() == "previous report"
 

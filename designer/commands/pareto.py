@@ -1,8 +1,11 @@
 """``designer pareto PROBLEM``: exact Pareto front, checks and report (docs/commands.md, docs/commands.md#reports).
 
-Computes the front (ε-constraint on the NLP), the weighted optimum, the front
-for a 10 % higher target speed (check 8c), runs the paper checks and check 8,
-writes ``results/<problem>/`` and prints where to open it.  Exit 1 if a front
+Computes everything once with :func:`designer.pipeline.report_data` (the front,
+the front for a 10 % higher target speed for check 8c, the recommendation, the
+weighted optimum, the paper checks and check 8, the groove–damper table), hands
+it to :func:`designer.report.write_report`, which renders ``results/<problem>/``,
+and prints where to open it.  ``--cross-check`` adds the GP and SLSQP
+cross-check of the weighted optimum (about 1 s of CPU; off in the main job).  Exit 1 if a front
 check fails (after the report is written); errors of :mod:`designer.errors`
 propagate to the one-line handler of :mod:`designer.cli`.
 """
@@ -14,8 +17,7 @@ from pathlib import Path
 
 from designer.commands._common import check_output_folder, eprint, print_json
 
-TIGHTER_FACTOR = 1.1
-"""Check 8c tightens V_target by this factor."""
+from designer.pipeline import TIGHTER_FACTOR  # noqa: F401  (re-exported: check 8c's factor)
 
 
 def register(sub) -> None:
@@ -31,6 +33,9 @@ def register(sub) -> None:
     p.add_argument("--all", action="store_true", help="regenerate the reports of every problem in problems/ "
                                                       "(or the folder given as PROBLEM)")
     p.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
+    p.add_argument("--cross-check", action="store_true",
+                   help="also solve the weighted optimum with the geometric program (cvxpy) and SLSQP and report "
+                        "the agreement (about 1 s more)")
     p.add_argument("--force", action="store_true", help="write the report into the --out folder even if it is not "
                                                         "a report of this tool (files the report does not own are "
                                                         "kept)")
@@ -49,7 +54,7 @@ def _progress():
     return progress
 
 
-def compute_and_write(problem, points=None, out=None, progress=None, force=False) -> dict:
+def compute_and_write(problem, points=None, out=None, progress=None, force=False, cross_check=False) -> dict:
     """Front, optimum, tighter front, checks and report of ``problem``; returns a summary dict.
 
     Parameters
@@ -58,6 +63,7 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
     points : number of front points (default the problem's)
     out : report folder (default ``results/<problem.name>``)
     force : replace ``out`` even if it is not a report of this tool
+    cross_check : also run the GP/SLSQP cross-check of the weighted optimum
     progress : optional rich Progress to show the sweeps on
 
     Returns
@@ -78,7 +84,7 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        summary = _compute(problem, points, out, tracker, force)
+        summary = _compute(problem, points, out, tracker, force, cross_check)
     seen = set()
     for w in caught:
         text = str(w.message)
@@ -93,54 +99,46 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
     return summary
 
 
-def _compute(problem, points, out, tracker, force=False) -> dict:
-    from designer.analysis.checks import front_checks, paper_checks
-    from designer.errors import DesignerError
-    from designer.analysis.optimise import optimise
-    from designer.analysis.pareto import pareto_front
+def _compute(problem, points, out, tracker, force=False, cross_check=False) -> dict:
+    from designer.pipeline import report_data
     from designer.report import write_report
 
     t0 = time.perf_counter()
-    front = pareto_front(problem, points, progress=tracker(f"{problem.name}: front"))
-    if not front.points and not front.failed:  # the problem itself is infeasible: `designer run`'s exit 4
-        from designer.analysis.optimise import _diagnose
-
-        raise _diagnose(problem)
-    tighter_problem = problem.replace(target_speed=problem.target_speed * TIGHTER_FACTOR)
-    n_tight = max(5, (points or problem.pareto_points) // 2)
-    tighter_error = None
-    try:
-        tighter = pareto_front(tighter_problem, n_tight,
-                               progress=tracker(f"{problem.name}: front at {tighter_problem.target_speed:.3g} m/s"))
-    except DesignerError as exc:  # an unreachable tighter target only removes check 8c
-        tighter, tighter_error = None, str(exc)
-    solution = optimise(problem) if front.points else None
-    checks = paper_checks() + front_checks(front, tighter)  # an empty tighter front: 8c not applicable
-    if tighter is not None and not tighter.points:
-        tighter_error = next(c.got for c in checks if c.name.startswith("8c"))
-        tighter = None
-    folder = write_report(problem, front, out, solution=solution, checks=checks, tighter=tighter,
-                          run_meta={"command": "designer pareto", "points_option": points,
-                                    "tighter_points": n_tight if tighter is not None else None,
-                                    "tighter_error": tighter_error, "wall_seconds": None}, force=force)
+    data = report_data(problem, points, cross_check=cross_check, progress=tracker,
+                       run_meta={"command": "designer pareto", "points_option": points, "wall_seconds": None})
+    folder = write_report(data, out, force=force)
     wall = time.perf_counter() - t0
+    checks = data.checks
     failing = [c.name for c in checks if not c.passed]
     failing_front = [c.name for c in checks if not c.passed and c.name.startswith("8")]
+    rec = data.recommendation
     return {
         "problem": problem.name,
         "report": str(folder),
         "index_html": str(Path(folder) / "index.html"),
-        "points": len(front.points),
-        "failed_points": len(front.failed),
-        "optimum": solution.to_dict() if solution is not None else None,
+        "points": len(data.front.points),
+        "failed_points": len(data.front.failed),
+        "recommendation": _rec_dict(rec) if rec is not None else None,
+        "optimum": data.solution.to_dict() if data.solution is not None else None,
         "checks_passed": len(checks) - len(failing),
         "checks_total": len(checks),
         "failing_checks": failing,
         "failing_front_checks": failing_front,
         "seconds": wall,
-        "reported_diameters": [p.design.diameter for p in front.points]
-        + ([solution.design.diameter] if solution is not None else []),
+        "reported_diameters": [p.design.diameter for p in data.front.points]
+        + ([data.solution.design.diameter] if data.solution is not None else []),
     }
+
+
+def _rec_dict(rec) -> dict:
+    """The recommendation as the JSON shape of issue 11 (SI)."""
+    to_dict = getattr(rec, "to_dict", None)
+    if callable(to_dict):
+        return to_dict()
+    return {"design": rec.design.as_dict(), "turning_effort": rec.turning_effort,
+            "threshold_force": rec.threshold_force, "critical_speed": rec.critical_speed,
+            "shimmy_probability": rec.shimmy_probability, "shimmy_probability_se": rec.shimmy_probability_se,
+            "rule": rec.rule}
 
 
 def _print_summary(s: dict) -> None:
@@ -148,6 +146,12 @@ def _print_summary(s: dict) -> None:
           f"checks {s['checks_passed']}/{s['checks_total']} pass"
           + (f", FAILING: {', '.join(s['failing_checks'])}" if s["failing_checks"] else "")
           + f" [{s['seconds']:.1f} s]")
+    rec = s.get("recommendation")
+    if rec is not None:
+        d = rec["design"]
+        print(f"  build this: T = {d['trail'] / 0.0254:.3f} in, d = {d['diameter'] / 0.0254:.3f} in, "
+              f"B = {d['groove'] / 0.0254:.3f} in, c_f = {d['damping']:.3f} N·m/rad; "
+              f"F_turn {rec['turning_effort']:.3f} N, P {rec['threshold_force']:.2f} N ({rec['rule']})")
     opt = s["optimum"]
     if opt is not None:
         d = opt["design"]
@@ -191,7 +195,8 @@ def run(args) -> int:
         progress.start()
     try:
         for problem, out in jobs:
-            summaries.append(compute_and_write(problem, args.points, out, progress, args.force))
+            summaries.append(compute_and_write(problem, args.points, out, progress, args.force,
+                                                args.cross_check))
             if not args.json:
                 _print_summary(summaries[-1])
     finally:

@@ -1,27 +1,24 @@
-"""Write a Pareto report folder: index.html, report.md, figures, front.csv/json, checks.json.
+"""Render a Pareto report folder: index.html, report.md, figures, front.csv/json, checks.json.
 
-The flow is top-down: :func:`write_report` gathers everything the report
-shows into a :class:`ReportData` (front, optimum, checks, groove/damper
-trade-off, run metadata), formats the tables once (SI and inches), draws
-the figures, renders the two jinja2 templates and writes all files into a
-temporary folder beside the target, which replaces the target by a rename
-only when everything is written.  An exception leaves no half report.
+Render only: :func:`write_report` takes the :class:`designer.pipeline.ReportData` that
+:func:`designer.pipeline.report_data` computed (front, recommendation, optimum, checks,
+groove/damper table, run metadata), formats the tables once (SI and inches), draws the
+figures, renders the two jinja2 templates and writes all files into a temporary folder
+beside the target, which replaces the target by a rename only when everything is written.
+An exception leaves no half report.  Nothing here optimises, checks or sweeps.
 """
 from __future__ import annotations
 
 import base64
-import datetime as _dt
 import errno
 import json
 import math
 import os
-import platform
 import shutil
 import tempfile
 import time
 import uuid
 import warnings
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -29,14 +26,13 @@ import numpy as np
 from designer.jsonsafe import finite
 from designer.data.paper import INCH
 from designer.errors import DesignerError, InputError
+from designer.pipeline import ReportData
 from designer.plots import figures as _figures
 
 LBF = 4.4482216152605
 """One pound-force [N] (display only)."""
 MPH = 0.44704
 """One mile per hour [m/s] (display only)."""
-PACKAGES = ("caster-designer", "numpy", "scipy", "casadi", "cvxpy", "optuna", "matplotlib", "jinja2")
-"""Distributions whose versions go into every report."""
 
 FIGURE_INFO = {
     "front": ("Pareto front",
@@ -83,79 +79,6 @@ def fmt(value, spec: str = ".4g", unit: str = "") -> str:
 def length(value: float, digits: int = 2) -> tuple[str, str]:
     """(millimetres, inches) strings of a length in metres."""
     return fmt(value * 1000, f".{digits}f", "mm"), fmt(value / INCH, ".3f", "in")
-
-
-@dataclass
-class ReportData:
-    """Everything one report shows (SI inside; formatting happens in :func:`build_context`).
-
-    Attributes
-    ----------
-    problem : the problem
-    front : its exact Pareto front (failed points in ``front.failed``)
-    tighter : front for V_target × 1.1 (check 8c), or None
-    solution : the weighted optimum (:func:`designer.analysis.optimise.optimise`), or None
-    solution_error : why the optimum is missing, if it is
-    paper_checks, front_checks : lists of :class:`designer.analysis.checks.Check`
-    tradeoff : rows of :func:`designer.analysis.tradeoff.groove_damper_tradeoff`
-    gaps : ``front.gaps()``
-    degenerate_reason : sentence explaining a front of fewer than two points, else ""
-    run : metadata (versions, digest, solver settings, date, wall time)
-    """
-
-    problem: object
-    front: object
-    tighter: object = None
-    solution: object = None
-    solution_error: str = ""
-    paper_checks: list = field(default_factory=list)
-    front_checks: list = field(default_factory=list)
-    tradeoff: list = field(default_factory=list)
-    gaps: list = field(default_factory=list)
-    degenerate_reason: str = ""
-    degenerate_reason_short: str = ""
-    run: dict = field(default_factory=dict)
-
-
-def versions() -> dict:
-    """Installed versions of :data:`PACKAGES` and Python."""
-    from importlib.metadata import PackageNotFoundError, version
-
-    out = {}
-    for name in PACKAGES:
-        try:
-            out[name] = version(name)
-        except PackageNotFoundError:
-            out[name] = None
-    out["python"] = platform.python_version()
-    return out
-
-
-def degenerate_reason(problem, front) -> tuple[str, str]:
-    """(sentence, short phrase) explaining why a front has fewer than two points; ("", "") otherwise."""
-    pts = front.points
-    if len(pts) >= 2:
-        return "", ""
-    if not pts:
-        return ("No design on the front: every point failed or the target speed is out of reach inside the bounds "
-                "(see the failed points).", "no feasible design")
-    p = pts[0]
-    if problem.wheels:
-        n = len(problem.wheels)
-        return (f"Catalog problem: each of the {n} Table 1 wheels offered ({', '.join(problem.wheels)}) gives its "
-                f"own front, and the wheels' fronts are merged keeping only non-dominated designs. Wheel {p.wheel} "
-                f"(d = {p.design.diameter / INCH:.3g} in) has the lowest threshold force of the catalog and also "
-                f"reaches V_req = {problem.required_speed:.2f} m/s with the least turning effort "
-                f"({p.turning_effort:.2f} N), so no other wheel is better in either objective (wheels that tie "
-                f"are kept once): the front is this single design.",
-                f"wheel {p.wheel} is best in both objectives")
-    if problem.bounds["diameter"].fixed:
-        return (f"The wheel diameter is fixed at {problem.bounds['diameter'].low / INCH:.3g} in, so the threshold "
-                f"force P = L·P/L(d/h) (Eq. 4A) is the same, {p.threshold_force:.2f} N, for every design: the two "
-                f"objectives do not conflict and the front is the single design of least turning effort.",
-                f"fixed diameter, P = {p.threshold_force:.1f} N for every design")
-    return ("One design is best in both objectives, so the front collapses to a single point.",
-            "one design is best in both objectives")
 
 
 # --------------------------------------------------------------------------- context (tables)
@@ -494,6 +417,7 @@ def _write_all(folder: Path, data: ReportData, t0: float) -> None:
     fig_dir = folder / "figures"
     fig_dir.mkdir()
     context = build_context(data)
+    c0 = time.process_time()
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="inertia power law used at")
         for item in context["figures"]:
@@ -501,19 +425,21 @@ def _write_all(folder: Path, data: ReportData, t0: float) -> None:
             png = _figures.png_bytes(fig)
             (folder / item["file"]).write_bytes(png)
             item["data_uri"] = "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+    c1 = time.process_time()
     data.front.to_csv(folder / "front.csv")
     checks = [finite(c.to_dict()) for c in data.paper_checks + data.front_checks]
     (folder / "checks.json").write_text(json.dumps(checks, indent=2, ensure_ascii=False, allow_nan=False) + "\n",
                                         encoding="utf-8")
     data.run["report_seconds"] = time.perf_counter() - t0
     if data.run.get("wall_seconds") is None:  # called from Python: the sum of the parts we know of
-        data.run["wall_seconds"] = sum(v for k, v in data.run.items()
-                                       if k.endswith("_seconds") and k != "wall_seconds" and v is not None)
+        data.run["wall_seconds"] = data.run.get("compute_wall_seconds", 0.0) + data.run["report_seconds"]
+    data.run["render_cpu_seconds"] = {"figures": c1 - c0}
     context["run"] = data.run
     (folder / "front.json").write_text(json.dumps(_front_json(data), indent=2, ensure_ascii=False,
                                                   allow_nan=False) + "\n", encoding="utf-8")
     (folder / "index.html").write_text(_render("index.html.j2", context, autoescape=True), encoding="utf-8")
     (folder / "report.md").write_text(_render("report.md.j2", context, autoescape=False), encoding="utf-8")
+    data.run["render_cpu_seconds"]["writing"] = time.process_time() - c1
 
 
 REPORT_MARKERS = ("index.html", "front.json")
@@ -622,35 +548,24 @@ def _replace(tmp: Path, target: Path) -> None:
             shutil.rmtree(old, ignore_errors=True)
 
 
-def write_report(problem, front, out_dir=None, solution=None, checks=None, tighter=None, *, tradeoff=None,
-                 run_meta: dict | None = None, force: bool = False) -> Path:
-    """Write the Pareto report of ``problem`` into ``out_dir`` (default ``results/<problem name>/``).
+def write_report(data, out_dir=None, *, force: bool = False) -> Path:
+    """Render ``data`` (a :class:`designer.pipeline.ReportData`) into ``out_dir``; computes nothing.
 
     Writes ``index.html`` (one self-contained file: figures as base64 PNG,
-    inline CSS, autoescaped), ``report.md`` with ``figures/*.png`` beside it,
-    ``front.csv``, ``front.json`` (front, indicators, run metadata) and
-    ``checks.json`` (every paper check and the check-8 results).  Everything
-    is written into a temporary folder beside the target and renamed into
-    place at the end, so an exception leaves no half report (and an existing
-    report untouched).
+    the caster drawing as inline SVG, inline CSS, autoescaped), ``report.md``
+    with ``figures/*.png`` beside it, ``front.csv``, ``front.json`` (front,
+    recommendation, indicators, run metadata) and ``checks.json``.
+    Everything is written into a temporary folder beside the target and
+    renamed into place at the end, so an exception leaves no half report (and
+    an existing report untouched).  Files in the target that a report does not
+    write (e.g. ``explore.csv``) are kept.
 
     Parameters
     ----------
-    problem : designer.problem.Problem
-    front : designer.analysis.pareto.Front of ``problem``
+    data : designer.pipeline.ReportData
+        Build it with :func:`designer.pipeline.report_data` (``designer.report_data``).
     out_dir : str | Path, optional
-        The report folder itself; default ``results/<problem.name>``.
-    solution : designer.analysis.optimise.Solution, optional
-        The weighted optimum; computed with :func:`designer.analysis.optimise.optimise` if omitted.
-    checks : list of designer.analysis.checks.Check, optional
-        Default: :func:`designer.analysis.checks.paper_checks` + :func:`designer.analysis.checks.front_checks`.
-        Checks whose name starts with "8" are shown as front checks.
-    tighter : designer.analysis.pareto.Front, optional
-        Front for a higher target speed (check 8c; drawn on the front figure).
-    tradeoff : list, optional
-        Precomputed :func:`designer.analysis.tradeoff.groove_damper_tradeoff` rows.
-    run_meta : dict, optional
-        Extra run metadata (e.g. the command's wall time, solver settings) merged into ``front.json``.
+        The report folder itself; default ``results/<problem name>``.
     force : bool
         Replace ``out_dir`` even if it is a folder that is not a report of this tool
         (by default such a folder is refused with :class:`~designer.errors.InputError`).
@@ -660,44 +575,13 @@ def write_report(problem, front, out_dir=None, solution=None, checks=None, tight
     Path
         The report folder.
     """
-    from designer.analysis.checks import front_checks, paper_checks
-    from designer.analysis.tradeoff import groove_damper_tradeoff
-
+    if not isinstance(data, ReportData):
+        raise TypeError("write_report renders a ReportData; build one with designer.report_data(problem) "
+                        "(or designer.pipeline.report_data(problem, front=front))")
     t0 = time.perf_counter()
+    problem = data.problem
     target = Path(out_dir) if out_dir is not None else Path("results") / problem.name
     check_target(target, force)
-    data = ReportData(problem=problem, front=front, tighter=tighter)
-    if solution is None and front.points:
-        from designer.analysis.optimise import optimise
-
-        try:
-            with warnings.catch_warnings():
-                warnings.filterwarnings("ignore", message="inertia power law used at")
-                solution = optimise(problem)
-        except DesignerError as exc:
-            data.solution_error = str(exc)
-    elif solution is None:
-        data.solution_error = "no valid point on the front"
-    data.solution = solution
-    if checks is None:
-        checks = paper_checks() + front_checks(front, tighter)
-    data.paper_checks = [c for c in checks if not c.name.startswith("8")]
-    data.front_checks = [c for c in checks if c.name.startswith("8")]
-    data.tradeoff = groove_damper_tradeoff(problem) if tradeoff is None else tradeoff
-    data.gaps = front.gaps()
-    data.degenerate_reason, data.degenerate_reason_short = degenerate_reason(problem, front)
-    data.run = {
-        "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-        "versions": versions(),
-        "problem_digest": problem.digest(),
-        "front_solver": {k: front.meta.get(k) for k in ("method", "solver", "points_requested", "points_valid",
-                                                         "points_failed", "nlp_solves")},
-        "front_seconds": front.meta.get("total_seconds"),
-        "optimum_seconds": sum(solution.timings.values()) if solution is not None else None,
-        "tighter_target_speed": tighter.problem.target_speed if tighter is not None else None,
-        "tighter_seconds": tighter.meta.get("total_seconds") if tighter is not None else None,
-    }
-    data.run.update(run_meta or {})
     target.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
     os.chmod(tmp, 0o755)  # mkdtemp makes it private; the report is an ordinary folder

@@ -1,0 +1,259 @@
+"""Compute once: a problem becomes the data of its report (:class:`ReportData`).
+
+One function, :func:`report_data`, runs everything a Pareto report shows, in this order:
+
+1. the front the problem asks for (risk-bounded by default, nominal with ``[robust] enabled = false``);
+2. the front for V_target × 1.1 (check 8c);
+3. the recommendation (:func:`designer.analysis.recommend.recommend`, issue 11): the caster to build,
+   its two alternatives, the buildable and the continuous risk-bounded fronts;
+4. the weighted optimum J = w_turn F_turn + w_threshold P (NLP only; the GP and SLSQP cross-check only
+   with ``cross_check=True``, i.e. ``designer pareto --cross-check``);
+5. the paper checks and check 8 on the front;
+6. the groove–damper table, in closed form (:mod:`designer.analysis.tradeoff`);
+7. run metadata: versions, problem digest, CPU and wall seconds of every step.
+
+The CLI (``designer pareto``, ``--all``), the Python API (``designer.report_data``) and the studio call it
+and hand the result to :func:`designer.report.write_report`, which renders it and computes nothing.
+"""
+from __future__ import annotations
+
+import datetime as _dt
+import platform
+import time
+import warnings
+from dataclasses import dataclass, field
+
+from designer.data.paper import INCH
+from designer.errors import DesignerError
+
+TIGHTER_FACTOR = 1.1
+"""Check 8c tightens V_target by this factor."""
+PACKAGES = ("caster-designer", "numpy", "scipy", "casadi", "cvxpy", "optuna", "matplotlib", "jinja2")
+"""Distributions whose versions go into every report."""
+CROSS_CHECK_COMMAND = "designer pareto {problem} --cross-check"
+"""How to run the GP and SLSQP cross-check of the weighted optimum (kept out of the main job for speed)."""
+
+
+@dataclass
+class ReportData:
+    """Everything one Pareto report shows, computed; SI units throughout.
+
+    Attributes
+    ----------
+    problem : designer.problem.Problem
+    front : the exact front the problem asks for (failed points in ``front.failed``)
+    tighter : front for V_target × :data:`TIGHTER_FACTOR` (check 8c), or None
+    recommendation : the Recommendation (issue 11) or None; ``recommendation_error`` says why not
+    solution : the weighted optimum (:class:`designer.analysis.optimise.Solution`) or None
+    solution_error : why the optimum is missing, if it is
+    cross_checked : whether the GP/SLSQP cross-check ran (``--cross-check``)
+    paper_checks, front_checks : lists of :class:`designer.analysis.checks.Check`
+    tradeoff : rows of :func:`designer.analysis.tradeoff.groove_damper_tradeoff`
+    gaps : ``front.gaps()``
+    degenerate_reason, degenerate_reason_short : why a front has fewer than two points ("" otherwise)
+    run : metadata (date, versions, digest, solver settings, seconds per step)
+    """
+
+    problem: object
+    front: object
+    tighter: object = None
+    recommendation: object = None
+    recommendation_error: str = ""
+    solution: object = None
+    solution_error: str = ""
+    cross_checked: bool = False
+    paper_checks: list = field(default_factory=list)
+    front_checks: list = field(default_factory=list)
+    tradeoff: list = field(default_factory=list)
+    gaps: list = field(default_factory=list)
+    degenerate_reason: str = ""
+    degenerate_reason_short: str = ""
+    run: dict = field(default_factory=dict)
+
+    @property
+    def checks(self) -> list:
+        """Paper checks then front checks."""
+        return self.paper_checks + self.front_checks
+
+    @property
+    def cross_check_command(self) -> str:
+        """The command that runs the solver cross-check for this problem."""
+        source = getattr(self.problem, "source", None) or f"problems/{self.problem.name}.toml"
+        return CROSS_CHECK_COMMAND.format(problem=source)
+
+
+def versions() -> dict:
+    """Installed versions of :data:`PACKAGES` and Python."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {}
+    for name in PACKAGES:
+        try:
+            out[name] = version(name)
+        except PackageNotFoundError:
+            out[name] = None
+    out["python"] = platform.python_version()
+    return out
+
+
+def degenerate_reason(problem, front) -> tuple[str, str]:
+    """(sentence, short phrase) explaining why a front has fewer than two points; ("", "") otherwise."""
+    pts = front.points
+    if len(pts) >= 2:
+        return "", ""
+    if not pts:
+        return ("No design on the front: every point failed or the target speed is out of reach inside the bounds "
+                "(see the failed points).", "no feasible design")
+    p = pts[0]
+    if problem.wheels:
+        n = len(problem.wheels)
+        return (f"Catalog problem: each of the {n} Table 1 wheels offered ({', '.join(problem.wheels)}) gives its "
+                f"own front, and the wheels' fronts are merged keeping only non-dominated designs. Wheel {p.wheel} "
+                f"(d = {p.design.diameter / INCH:.3f} in) has the lowest threshold force of the catalog and also "
+                f"reaches V_req = {problem.required_speed:.2f} m/s with the least turning effort "
+                f"({p.turning_effort:.2f} N), so no other wheel is better in either objective (wheels that tie "
+                f"are kept once): the front is this single design.",
+                f"wheel {p.wheel} is best in both objectives")
+    if problem.bounds["diameter"].fixed:
+        return (f"The wheel diameter is fixed at {problem.bounds['diameter'].low / INCH:.3f} in, so the threshold "
+                f"force P = L·P/L(d/h) (Eq. 4A) is the same, {p.threshold_force:.2f} N, for every design: the two "
+                f"objectives do not conflict and the front is the single design of least turning effort.",
+                f"fixed diameter, P = {p.threshold_force:.1f} N for every design")
+    return ("One design is best in both objectives, so the front collapses to a single point.",
+            "one design is best in both objectives")
+
+
+class _Clock:
+    """CPU and wall seconds of named steps (``run["cpu"]`` and ``run["seconds"]``)."""
+
+    def __init__(self):
+        self.cpu: dict[str, float] = {}
+        self.wall: dict[str, float] = {}
+
+    def __call__(self, name: str):
+        clock = self
+
+        class _Step:
+            def __enter__(self):
+                self.c, self.w = time.process_time(), time.perf_counter()
+
+            def __exit__(self, *exc):
+                clock.cpu[name] = clock.cpu.get(name, 0.0) + time.process_time() - self.c
+                clock.wall[name] = clock.wall.get(name, 0.0) + time.perf_counter() - self.w
+                return False
+
+        return _Step()
+
+
+def _recommend(problem):
+    """The issue-11 recommendation of ``problem``: (Recommendation or None, reason when None)."""
+    try:
+        from designer.analysis import recommend as _rec  # issue 11: absent until that module lands
+    except ImportError:
+        return None, "the recommendation module (issue 11) is not installed"
+    try:
+        return _rec.recommend(problem), ""
+    except DesignerError as exc:
+        return None, str(exc)
+
+
+def report_data(problem, points: int | None = None, *, front=None, tighter=None, recommendation=None,
+                solution=None, checks=None, tradeoff=None, cross_check: bool = False, with_tighter: bool = True,
+                with_recommendation: bool = True, progress=None, run_meta: dict | None = None) -> ReportData:
+    """Compute everything the Pareto report of ``problem`` shows.
+
+    Parameters
+    ----------
+    problem : designer.problem.Problem
+    points : front points (default the problem's ``[pareto] points``)
+    front, tighter, recommendation, solution, checks, tradeoff : optional precomputed parts (then not recomputed)
+    cross_check : also run the GP and SLSQP cross-check of the weighted optimum (about 1 s of CPU)
+    with_tighter : compute the V_target × 1.1 front for check 8c
+    with_recommendation : compute the recommendation (issue 11)
+    progress : ``callable(label) -> callable(done, total) | None`` for the sweeps' progress bars
+    run_meta : extra metadata merged into ``run``
+
+    Returns
+    -------
+    ReportData
+    """
+    from designer.analysis.checks import front_checks, paper_checks  # analysis: loads casadi on first use
+    from designer.analysis.optimise import optimise
+    from designer.analysis.pareto import pareto_front
+    from designer.analysis.tradeoff import groove_damper_tradeoff
+
+    clock = _Clock()
+    wall0 = time.perf_counter()
+    track = progress or (lambda label: None)
+    tighter_error = None
+    n_tight = None
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="inertia power law used at")
+        warnings.filterwarnings("ignore", message=".*inertia fit.*extrapolated")
+        with clock("front"):
+            if front is None:
+                front = pareto_front(problem, points, progress=track(f"{problem.name}: front"))
+        if not front.points and not front.failed:  # the problem itself is infeasible: `designer run`'s exit 4
+            from designer.analysis.optimise import _diagnose
+
+            raise _diagnose(problem)
+        data = ReportData(problem=problem, front=front)
+        with clock("tighter"):
+            if tighter is None and with_tighter and checks is None:
+                tighter_problem = problem.replace(target_speed=problem.target_speed * TIGHTER_FACTOR)
+                n_tight = max(5, (points or problem.pareto_points) // 2)
+                try:
+                    tighter = pareto_front(tighter_problem, n_tight, progress=track(
+                        f"{problem.name}: front at {tighter_problem.target_speed:.3g} m/s"))
+                except DesignerError as exc:  # an unreachable tighter target only removes check 8c
+                    tighter, tighter_error = None, str(exc)
+        data.tighter = tighter
+        with clock("recommendation"):
+            if recommendation is None and with_recommendation:
+                recommendation, data.recommendation_error = _recommend(problem)
+            elif recommendation is None:
+                data.recommendation_error = "not computed"
+        data.recommendation = recommendation
+        with clock("optimum"):
+            if solution is None and front.points:
+                try:
+                    solution = optimise(problem, cross_check=cross_check)
+                except DesignerError as exc:
+                    data.solution_error = str(exc)
+            elif solution is None:
+                data.solution_error = "no valid point on the front"
+        data.solution = solution
+        data.cross_checked = bool(solution is not None and len(getattr(solution, "cross_check", {})) > 1)
+        with clock("checks"):
+            if checks is None:
+                checks = paper_checks() + front_checks(front, tighter)  # an empty tighter front: 8c not applicable
+        if tighter is not None and not tighter.points:
+            tighter_error = next((c.got for c in checks if c.name.startswith("8c")), "no point at the tighter target")
+            tighter = data.tighter = None
+        data.paper_checks = [c for c in checks if not c.name.startswith("8")]
+        data.front_checks = [c for c in checks if c.name.startswith("8")]
+        with clock("tradeoff"):
+            data.tradeoff = groove_damper_tradeoff(problem) if tradeoff is None else tradeoff
+    data.gaps = front.gaps()
+    data.degenerate_reason, data.degenerate_reason_short = degenerate_reason(problem, front)
+    data.run = {
+        "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "versions": versions(),
+        "problem_digest": problem.digest(),
+        "front_solver": {k: front.meta.get(k) for k in ("method", "solver", "points_requested", "points_valid",
+                                                         "points_failed", "nlp_solves")},
+        "front_seconds": front.meta.get("total_seconds"),
+        "optimum_seconds": sum(solution.timings.values()) if solution is not None else None,
+        "tighter_target_speed": tighter.problem.target_speed if tighter is not None else None,
+        "tighter_seconds": tighter.meta.get("total_seconds") if tighter is not None else None,
+        "tighter_points": n_tight if tighter is not None else None,
+        "tighter_error": tighter_error,
+        "cross_check": bool(cross_check),
+        "compute_cpu_seconds": dict(clock.cpu),
+        "compute_wall_seconds": time.perf_counter() - wall0,
+    }
+    data.run.update(run_meta or {})
+    return data
+
+
+__all__ = ["ReportData", "TIGHTER_FACTOR", "degenerate_reason", "report_data", "versions"]
