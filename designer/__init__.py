@@ -34,6 +34,7 @@ _LAZY = {
     "report_data": "designer.pipeline",
     "fleet": "designer.analysis.fleet",
 }
+_LAZY["fix"] = "designer.analysis.retrofit"  # issue 18: retrofit
 
 
 def __getattr__(name: str):

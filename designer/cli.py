@@ -16,6 +16,7 @@ from designer.errors import DesignerError, interrupted, sigint_handler
 COMMANDS = ["evaluate", "validate", "run", "pareto", "explore", "robust", "simulate", "calibrate",
             "fleet"]
 """Sub-command modules in designer.commands; each defines ``register(subparsers)``."""
+COMMANDS.append("fix")  # issue 18: retrofit
 
 
 class _Parser(argparse.ArgumentParser):
