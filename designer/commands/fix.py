@@ -75,7 +75,7 @@ def _print(result, problem) -> None:
 
     from designer.analysis.retrofit import describe_changes
 
-    console = Console(width=max(Console().width, 150), highlight=False)
+    console = Console(width=max(Console().width, 170), highlight=False)
     cur = result.current
     d = cur.design
     alpha = result.probability
