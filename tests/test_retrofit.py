@@ -22,7 +22,7 @@ from designer.model import Conditions, Design, evaluate
 from designer.physics.geometry import effective_trail, ground_trail
 from designer.physics.inertia import Fixed
 from designer.physics.uncertainty import Uncertainty, shimmy_probability_mc, shimmy_speed_quantile
-from designer.problem import Bound, load_problem
+from designer.problem import Bound, load_problem, problem_from_toml
 
 from conftest import ROOT
 
@@ -31,9 +31,23 @@ EQ8_INERTIA = 0.00127
 DEFAULT = ROOT / "problems" / "indoor-manual.toml"
 
 
+EXAMPLE_STOCK = """
+[stock]
+diameters = ["4 in", "5 in", "6 in", "8 in"]
+grooves = ["0 in", "0.25 in", "0.5625 in"]
+trail_step = "0.25 in"
+dampings = ["1.3 N*m/rad", "2 N*m/rad", "3 N*m/rad"]
+"""
+"""The example stock of the issue "Build this caster", used while the default problem lists none."""
+
+
 @pytest.fixture(scope="module")
 def problem():
-    return load_problem(DEFAULT)
+    """The default problem with its own [stock], or with the example stock when it has none."""
+    shipped = load_problem(DEFAULT)
+    if shipped.stock is not None:
+        return shipped
+    return problem_from_toml(DEFAULT.read_text() + EXAMPLE_STOCK, source=str(DEFAULT))
 
 
 @pytest.fixture(scope="module")
@@ -125,24 +139,18 @@ def test_five_degree_tilt_on_the_eq8_caster(problem):
 
 
 def stock_lists(problem) -> dict:
-    """The stock values per variable as the problem declares them (the provisional stock before [stock])."""
-    stock = getattr(problem, "stock", retrofit.PROVISIONAL_STOCK) if hasattr(problem, "stock") else \
-        retrofit.PROVISIONAL_STOCK
-
-    def get(key):
-        return stock.get(key) if isinstance(stock, dict) else getattr(stock, key, None)
-
+    """The stock values per variable, read from the problem's [stock] (fork holes from trail_step)."""
+    stock = problem.stock
     b = problem.bounds
-    trails = get("trails")
-    if trails is None:
-        step = get("trail_step")
-        trails = [b["trail"].low + k * step for k in range(int((b["trail"].high - b["trail"].low) / step + 1e-9) + 1)]
+    low, high, step = b["trail"].low, b["trail"].high, stock.trail_step
+    trails = [low + k * step for k in range(int((high - low) / step + 1e-9) + 1)]
+    assert np.allclose(trails, stock.trails, atol=1e-15)
 
-    def inside(values, name):
+    def inside(values, name):  # stock outside the bounds is not offered (docs/retrofit.md)
         return [float(v) for v in values if b[name].low * (1 - 1e-12) <= float(v) <= b[name].high * (1 + 1e-12)]
 
-    return {"damping": inside(get("dampings"), "damping"), "groove": inside(get("grooves"), "groove"),
-            "trail": inside(trails, "trail"), "diameter": inside(get("diameters"), "diameter")}
+    return {"damping": inside(stock.dampings, "damping"), "groove": inside(stock.grooves, "groove"),
+            "trail": inside(trails, "trail"), "diameter": inside(stock.diameters, "diameter")}
 
 
 def brute_force(problem, current: Design, inertia: float, bound: Uncertainty):
@@ -274,9 +282,19 @@ def test_calibrated_fixes_are_safe_and_uncalibrated_ones_are_not(problem, eq8):
 # --------------------------------------------------------------------------- command line
 
 
-def test_cli_json(capsys):
+def stocked_file(tmp_path):
+    """The default problem file, with the example stock when it lists none."""
+    text = DEFAULT.read_text()
+    if "[stock]" not in text:
+        text += EXAMPLE_STOCK
+    path = tmp_path / "indoor-manual.toml"
+    path.write_text(text)
+    return str(path)
+
+
+def test_cli_json(capsys, tmp_path):
     """designer fix --json: "current" and ranked "fixes" with the documented keys, SI designs, from/to changes."""
-    code = main(["fix", str(DEFAULT), "--current", EQ8, "--inertia", "0.00127", "--shimmied-at", "2.1m/s",
+    code = main(["fix", stocked_file(tmp_path), "--current", EQ8, "--inertia", "0.00127", "--shimmied-at", "2.1m/s",
                  "--stem-angle", "4deg", "--json", "--top", "3"])
     assert code == 0
     out = json.loads(capsys.readouterr().out)
@@ -293,9 +311,9 @@ def test_cli_json(capsys):
         assert all({"part", "from", "to"} <= set(c) for c in f["changes"])
 
 
-def test_cli_text(capsys):
+def test_cli_text(capsys, tmp_path):
     """The text output names the diagnosis, the rule and the ranked fixes with from -> to."""
-    assert main(["fix", str(DEFAULT), "--current", EQ8, "--inertia", "0.00127", "--top", "4"]) == 0
+    assert main(["fix", stocked_file(tmp_path), "--current", EQ8, "--inertia", "0.00127", "--top", "4"]) == 0
     text = capsys.readouterr().out
     assert "V_c (Eq. 7) = 2.392 m/s" in text and "Rule: fewest parts changed first" in text and "->" in text
 

@@ -53,23 +53,11 @@ ONSET_SCATTER = 0.05
 REPORT_SAMPLES = 50_000
 """Monte Carlo draws of the reported P(shimmy): SE <= 0.1 percentage point at 5 %."""
 
-REPORT_SEED = 18
-"""Seed of the reported Monte Carlo estimates (not the one of any ranking: ranking is deterministic)."""
-
 MAX_STEM_ANGLE = math.radians(30.0)
 """Largest stem tilt accepted [rad]: seat-angle and dump changes tilt the stem by a few degrees."""
 
 GRID_STEP = {"trail": INCH / 16, "diameter": INCH / 16, "groove": INCH / 16, "damping": 0.1}
 """Step of the candidate grid [SI] for a variable that ``[stock]`` leaves continuous."""
-
-PROVISIONAL_STOCK = {
-    "diameters": tuple(v * INCH for v in (4.0, 5.0, 6.0, 8.0)),
-    "grooves": (0.0, 0.25 * INCH, 0.5625 * INCH),
-    "trail_step": 0.25 * INCH,
-    "dampings": (1.3, 2.0, 3.0),
-}
-"""Stock used while the problem object has no ``stock`` attribute at all (before [stock] parsing
-exists): the example of the issue "Build this caster".  With ``Problem.stock`` present, it is used."""
 
 RULE = ("fewest parts changed first; within the same number of parts, the smallest loss "
         "w_turn·ΔF_turn + w_threshold·ΔP [N] (the problem's [objective] weights; a negative loss is a gain), "
@@ -384,17 +372,15 @@ class _Wheel:
     name: str | None
 
 
-def _stock_of(problem):
-    """The problem's stock: ``Problem.stock`` when the attribute exists, else :data:`PROVISIONAL_STOCK`."""
-    if not hasattr(problem, "stock"):
-        return dict(PROVISIONAL_STOCK)
+def _stock_of(problem) -> dict:
+    """The problem's ``[stock]`` as {key: values} (keys left out, or no [stock] at all: absent = continuous)."""
     stock = problem.stock
     if stock is None:
         return {}
     out = {}
     for key in ("diameters", "grooves", "trails", "dampings", "wheels", "trail_step"):
-        value = stock.get(key) if isinstance(stock, dict) else getattr(stock, key, None)
-        if value is not None and not (hasattr(value, "__len__") and len(value) == 0 and key != "trail_step"):
+        value = getattr(stock, key, None)
+        if value is not None:
             out[key] = value
     return out
 
@@ -407,57 +393,51 @@ def _grid(low: float, high: float, step: float) -> np.ndarray:
     return values
 
 
-def _field(entry, key):
-    return entry.get(key) if isinstance(entry, dict) else getattr(entry, key, None)
-
-
 def part_options(problem, current: Design, current_inertia: float) -> tuple[dict, dict]:
     """What each part can be changed to: the one place that decides the candidate values.
 
     Returns ``(options, sources)``.  ``options``: {"washer": array of c_f,
     "tyre": array of B, "fork hole": array of T, "wheel": list of _Wheel},
     without the current value (no change is not an option).  ``sources`` says
-    for each part where the values came from: ``[stock]`` (values that exist),
-    the provisional stock, or a grid over the problem's bounds (a key that
-    ``[stock]`` leaves out leaves that variable continuous; the grid steps of
-    :data:`GRID_STEP` stand in for it).
+    for each part where the values came from: ``[stock]`` (values that exist)
+    or a grid over the problem's bounds (a key that ``[stock]`` leaves out
+    leaves that variable continuous; the grid steps of :data:`GRID_STEP`
+    stand in for it).
 
-    A wheel from a ``diameters`` list takes I_w from the inertia model and
+    A wheel from ``[stock] diameters`` takes I_w from the inertia model and
     keeps the current tyre profile only when that profile is on offer
-    (``grooves``), otherwise it needs a tyre change too; a catalogue wheel
-    brings its own groove and I_w (from the inertia model where not measured).
-    A tyre change keeps the current wheel and its I_w.
+    (``grooves``), otherwise it needs a tyre change too.  A catalogue wheel
+    (``[stock] wheels``) brings its measured I_w (else the inertia model's)
+    and its own groove when it lists one (then it is never combined with a
+    tyre change); without one it takes a tyre like a ``diameters`` wheel.
+    A tyre change keeps the current wheel and its I_w; when every catalogue
+    wheel brings its own groove and no ``grooves`` are listed, tyres come
+    only with wheels.  With ``[inertia] model = "catalog"`` the wheels are the
+    problem's Table 1 wheels; a fixed inertia or diameter fixes the wheel.
     """
     stock = _stock_of(problem)
-    provisional = not hasattr(problem, "stock")
-    label = "provisional stock (issue 'Build this caster' example)" if provisional else "[stock]"
     bounds = problem.bounds
     sources: dict[str, str] = {}
 
     def listed(key: str, variable: str) -> np.ndarray:
+        b = bounds[variable]
         values = stock.get(key)
         if values is not None:
-            sources[variable] = label
-            b = bounds[variable]
-            values = np.array(sorted({float(_si(v, variable)) for v in values}))
+            sources[variable] = "[stock]"
+            values = np.array(sorted({float(v) for v in values}))
             return values[(values >= b.low * (1 - 1e-12)) & (values <= b.high * (1 + 1e-12))]  # within the bounds
-        b = bounds[variable]
-        sources[variable] = (f"grid over the bounds, step {_show(variable, GRID_STEP[variable])} "
-                             f"(no [stock] {key})")
+        sources[variable] = (f"continuous (no [stock] {key}): grid over the bounds every "
+                             f"{_show(variable, GRID_STEP[variable])}")
         return _grid(b.low, b.high, GRID_STEP[variable]) if b.high > b.low else np.array([b.low])
 
     def drop_current(values: np.ndarray, value: float) -> np.ndarray:
+        values = np.asarray(values, dtype=float)
         return values[np.abs(values - value) > 1e-9 * max(1.0, abs(value))]
 
     dampings = drop_current(listed("dampings", "damping"), current.damping)
     if "trails" in stock:
-        sources["trail"] = label
-        trails = np.array(sorted({float(_si(v, "trail")) for v in stock["trails"]}))
-    elif "trail_step" in stock:
-        sources["trail"] = label + " (fork holes every trail_step from variables.trail.min)"
-        b = bounds["trail"]
-        step = float(_si(stock["trail_step"], "trail"))
-        trails = b.low + step * np.arange(int(math.floor((b.high - b.low) / step + 1e-9)) + 1)
+        sources["trail"] = "[stock] (fork holes every trail_step from variables.trail.min)"
+        trails = np.array(sorted(float(v) for v in stock["trails"]))
     else:
         trails = listed("trails", "trail")
     trails = drop_current(trails, current.trail)
@@ -467,55 +447,47 @@ def part_options(problem, current: Design, current_inertia: float) -> tuple[dict
     catalogue = stock.get("wheels")
     groove_values = None
     if catalogue is not None:
-        sources["wheel"] = label + " catalogue"
+        sources["diameter"] = "[stock] wheels (catalogue)"
+        import warnings
+
         for entry in catalogue:
-            d = float(_si(_field(entry, "diameter"), "diameter"))
-            b = float(_si(_field(entry, "groove") or 0.0, "groove"))
-            i = _field(entry, "inertia")
-            i = float(model(d)) if i is None else float(_si(i, "inertia"))
-            wheels.append(_Wheel(d, b, i, str(_field(entry, "name") or f"{d / INCH:g} in")))
-        if "grooves" in stock:
-            groove_values = listed("grooves", "groove")
-        else:
-            sources["groove"] = "none on the current wheel (the catalogue's tyres come with their wheels)"
+            d = float(entry.diameter)
+            if entry.inertia is not None:
+                i = float(entry.inertia)
+            else:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")  # extrapolation of the inertia fit: docs/retrofit.md
+                    i = float(model(d))
+            wheels.append(_Wheel(d, math.nan if entry.groove is None else float(entry.groove), i, entry.name))
+        if "grooves" not in stock and all(w.groove is not None for w in catalogue):
+            sources["groove"] = "none on the current wheel (the catalogue's tyres come with its wheels)"
             groove_values = np.array([])
     elif problem.wheels:  # [inertia] model = "catalog": the Table 1 wheels of the problem
         from designer.physics.inertia import Catalog
 
-        sources["wheel"] = "the problem's Table 1 wheels ([inertia] wheels)"
+        sources["diameter"] = "the problem's Table 1 wheels ([inertia] wheels)"
         for key in problem.wheels:
             w = Catalog.from_key(key).wheel
-            wheels.append(_Wheel(w.diameter, math.nan, w.inertia, f"Table 1 {w.key} ({w.name})"))
+            wheels.append(_Wheel(w.diameter, math.nan, w.inertia, f"Table 1 {w.key}"))
     elif model.fixed_diameter is not None or getattr(model, "name", "") == "fixed" or bounds["diameter"].fixed:
-        sources["wheel"] = "none (the problem fixes the wheel: fixed inertia or diameter)"
+        sources["diameter"] = "none (the problem fixes the wheel: a fixed inertia or diameter)"
     else:
-        diameters = drop_current(listed("diameters", "diameter"), current.diameter)
+        diameters = listed("diameters", "diameter")
         import warnings
 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # extrapolation of the inertia fit is stated in docs/retrofit.md
             inertias = np.asarray(model(diameters), dtype=float) * np.ones_like(diameters)
-        wheels = [_Wheel(float(d), math.nan, float(i), None) for d, i in zip(diameters, inertias)]
+        wheels = [_Wheel(float(d), math.nan, float(i), None) for d, i in zip(diameters, inertias)
+                  if abs(d - current.diameter) > 1e-9]
     if groove_values is None:
         groove_values = listed("grooves", "groove")
     grooves = drop_current(groove_values, current.groove)
     options = {"washer": dampings, "tyre": grooves, "fork hole": trails, "wheel": wheels}
-    sources = {part: sources.get(PART_VARIABLE[part], "") for part in PARTS} | {
-        "tyre_on_new_wheel": ("any groove" if "grooves" not in stock and catalogue is None
-                              else "a groove on offer")}
-    # a new (non-catalogue) wheel keeps the current tyre profile only if that profile is on offer
-    sources["_groove_on_offer"] = ("grooves" not in stock and catalogue is None) or bool(
-        np.any(np.abs(np.asarray(groove_values, dtype=float) - current.groove) <= 1e-9))
+    # a new wheel without its own groove keeps the current tyre profile only if that profile is on offer
+    on_offer = "grooves" not in stock or bool(np.any(np.abs(groove_values - current.groove) <= 1e-9))
+    sources = {part: sources.get(PART_VARIABLE[part], "") for part in PARTS} | {"_groove_on_offer": on_offer}
     return options, sources
-
-
-def _si(value, variable: str) -> float:
-    if isinstance(value, str):
-        from designer.units import parse_quantity
-
-        return parse_quantity(value, "inertia" if variable == "inertia" else
-                              ("damping" if variable == "damping" else "length"), variable)
-    return float(value)
 
 
 # --------------------------------------------------------------------------- evaluation
@@ -538,7 +510,7 @@ class _Given(InertiaModel):
 
 def _risk_of(problem) -> tuple[Uncertainty | None, Uncertainty]:
     """(the bound's uncertainty or None for the nominal bound, the scatter for reporting P(shimmy))."""
-    risk = problem.risk if hasattr(problem, "risk") else (problem.conditions.uncertainty or Uncertainty())
+    risk = problem.risk
     return risk, (risk if risk is not None else Uncertainty())
 
 
@@ -547,7 +519,7 @@ def _calibrated(u: Uncertainty, scatter: float) -> Uncertainty:
     changes: dict = {"model_error": scatter}
     names = {f.name for f in dataclasses.fields(u)}
     if "model_error_dof" in names:
-        changes["model_error_dof"] = math.inf  # a stated σ, not one estimated from few wheels: normal
+        changes["model_error_dof"] = 0  # a stated σ, not one estimated from a few wheels: normal
     return dataclasses.replace(u, **changes)
 
 
@@ -586,7 +558,7 @@ def _mc(state_args, conditions, speed, factor, u: Uncertainty, samples: int, see
 
 def fix(problem, current, inertia: float | None = None, shimmied_at: float | None = None, stem_angle: float = 0.0,
         *, onset_scatter: float = ONSET_SCATTER, limit: int | None = None, samples: int | None = None,
-        seed: int = REPORT_SEED) -> FixResult:
+        seed: int | None = None) -> FixResult:
     """Diagnose a caster that shimmies and rank the smallest safe changes to it.
 
     Parameters
@@ -602,7 +574,8 @@ def fix(problem, current, inertia: float | None = None, shimmied_at: float | Non
         back; the effective trail is e + (d/2) sin φ (:func:`effective_trail`)
     onset_scatter : σ of log V_obs [-] (default 0.05)
     limit : keep the first ``limit`` fixes (None: all found)
-    samples, seed : Monte Carlo of the reported P(shimmy) (default max(50 000, [robust] samples), seed 18)
+    samples, seed : Monte Carlo of the reported P(shimmy) (default: the risk bound's, at least 50 000 draws
+        and more until the SE is 0.1 percentage point; its own seed, never one that ranks)
 
     Returns
     -------
@@ -632,6 +605,7 @@ def fix(problem, current, inertia: float | None = None, shimmied_at: float | Non
     inertia = float(inertia)
     bound, report_u = _risk_of(problem)
     samples = int(samples or max(REPORT_SAMPLES, report_u.samples))
+    seed = int(report_u.seed if seed is None else seed)
 
     base = {"trail": current.trail, "diameter": current.diameter, "groove": current.groove,
             "damping": current.damping, "inertia": inertia}
