@@ -14,7 +14,7 @@ import warnings
 from designer.errors import DesignerError, interrupted, sigint_handler
 
 COMMANDS = ["evaluate", "validate", "run", "pareto", "explore", "robust", "simulate", "calibrate",
-            "fleet"]
+            "fleet", "studio"]
 """Sub-command modules in designer.commands; each defines ``register(subparsers)``."""
 COMMANDS.append("fix")  # issue 18: retrofit
 

@@ -62,6 +62,12 @@ class OutputError(DesignerError):
     exit_code = 7
 
 
+class ServerError(DesignerError):
+    """``designer studio`` cannot listen: the port is in use or cannot be bound (exit 8)."""
+
+    exit_code = 8
+
+
 # --------------------------------------------------------------------------- Ctrl-C through the solvers
 
 _INTERRUPTED = False

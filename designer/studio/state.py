@@ -1,0 +1,370 @@
+"""The studio's state: control values <-> problem-file data <-> URL query <-> TOML.
+
+The studio never builds a :class:`~designer.problem.Problem` by hand.  Every
+control edits one key of the *problem-file data* (the dict that a TOML problem
+file parses to), and the result goes through
+:func:`designer.problem.problem_from_dict`, the loader ``designer run`` uses.
+So a bad value gives the CLI's one-line message, and "Save problem" writes
+that same dict as TOML, which ``designer run`` reads back to the same problem.
+
+No web framework is imported here: the module is tested on its own.
+"""
+from __future__ import annotations
+
+import copy
+import json
+import math
+import re
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from urllib.parse import parse_qsl, urlencode
+
+from designer.data.paper import INCH
+from designer.errors import DesignerError, ProblemError
+from designer.physics.uncertainty import Uncertainty
+from designer.units import parse_quantity
+
+DEFAULT_PROBLEM = "indoor-manual.toml"
+"""Problem the studio opens when none is given (the shipped default problem)."""
+
+
+@dataclass(frozen=True)
+class Control:
+    """One live control of the studio.
+
+    Attributes
+    ----------
+    key : short name, used in the URL and in element ids
+    label : what the page shows beside it
+    path : keys into the problem-file data, e.g. ("conditions", "load")
+    kind : "quantity" (text with units), "number", "choice", "slider", "list"
+    dimension : unit dimension of a quantity (designer.units.DIMENSIONS)
+    group : the panel it sits in
+    """
+
+    key: str
+    label: str
+    path: tuple[str, ...]
+    kind: str = "quantity"
+    dimension: str = ""
+    group: str = "use"
+    options: tuple = ()
+    optional: bool = False
+
+    @property
+    def dotted(self) -> str:
+        """The problem-file key, as the loader's messages name it ("conditions.load")."""
+        return ".".join(self.path)
+
+
+def _bounds_controls() -> list[Control]:
+    dims = {"trail": "length", "diameter": "length", "groove": "length", "damping": "damping"}
+    out = []
+    for name, dim in dims.items():
+        for end in ("min", "max"):
+            out.append(Control(f"{name}_{end}", f"{name} {end}", ("variables", name, end), "quantity", dim,
+                               "bounds"))
+    return out
+
+
+CONTROLS: list[Control] = [
+    Control("load", "load per caster", ("conditions", "load"), "quantity", "force"),
+    Control("sill", "sill height", ("conditions", "threshold_height"), "quantity", "length"),
+    Control("surface", "surface", ("conditions", "surface"), "choice", options=("tile", "carpet")),
+    Control("mode", "turning mode", ("conditions", "turning_mode"), "choice", options=("chair", "pivot")),
+    Control("target", "target speed [m/s]", ("shimmy", "target_speed"), "slider", "speed"),
+    Control("alpha", "risk α (allowed P(shimmy))", ("robust", "probability"), "number", group="risk"),
+    Control("s_model", "σ model error (log)", ("robust", "model_error"), "number", group="risk"),
+    Control("s_damping", "σ damping (log)", ("robust", "damping"), "number", group="risk"),
+    Control("s_slip", "σ slip coefficient (log)", ("robust", "slip_coefficient"), "number", group="risk"),
+    Control("s_inertia", "σ wheel inertia (log)", ("robust", "inertia"), "number", group="risk"),
+    *_bounds_controls(),
+    Control("swept", "swept radius max (empty: none)", ("constraints", "swept_radius_max"), "quantity", "length",
+            "bounds", optional=True),
+]
+"""Every control, in page order."""
+
+STOCK_CONTROLS = {
+    "diameters": ("stock diameters", "length"),
+    "grooves": ("stock grooves", "length"),
+    "dampings": ("stock dampings", "damping"),
+    "trail_step": ("trail step", "length"),
+    "wheels": ("stock wheels (Table 1 letters)", ""),
+}
+"""[stock] keys the studio offers when the problem schema has a [stock] section (issue 11)."""
+
+
+def stock_controls() -> list[Control]:
+    """Controls of the [stock] lists, if this version's problem schema has a [stock] section."""
+    from designer.problem import SCHEMA
+
+    keys = SCHEMA.get("stock", {})
+    out = []
+    for key, (label, dim) in STOCK_CONTROLS.items():
+        if key in keys:
+            kind = "list" if key.endswith("s") else "quantity"
+            out.append(Control(f"stock_{key}", label + (" (comma separated)" if kind == "list" else ""),
+                               ("stock", key), kind, dim, "stock", optional=True))
+    return out
+
+
+def all_controls() -> list[Control]:
+    """:data:`CONTROLS` plus the stock controls of this version."""
+    return CONTROLS + stock_controls()
+
+
+SLIDER = {"min": 0.5, "max": 6.0, "step": 0.1}
+"""Range of the target-speed slider [m/s] (the text box beside it takes any value)."""
+
+
+# --------------------------------------------------------------------------- reading a problem file
+
+
+def read_problem_data(path=None) -> tuple[dict, str]:
+    """The problem-file data of ``path`` (default: the shipped indoor-manual problem) and its name.
+
+    Raises ProblemError (the loader's one line) for a missing or broken file.
+    """
+    from designer.problem import load_problem
+
+    if path is None:
+        path = default_problem_path()
+    path = Path(path)
+    problem = load_problem(path)  # the CLI's checks and messages, before the page opens
+    data = tomllib.loads(path.read_text(encoding="utf-8"))
+    data.setdefault("name", problem.name)
+    return data, problem.name
+
+
+def default_problem_path() -> Path:
+    """problems/indoor-manual.toml of this checkout, else of the current folder."""
+    here = Path(__file__).resolve().parents[2] / "problems" / DEFAULT_PROBLEM
+    return here if here.exists() else Path("problems") / DEFAULT_PROBLEM
+
+
+def _show(value, dimension: str) -> str:
+    """A value of the problem file as the text box shows it (strings as written, SI numbers with their unit)."""
+    if isinstance(value, str):
+        return value
+    if dimension == "length":
+        return f"{value / INCH:.6g} in"
+    unit = {"force": "N", "damping": "N*m/rad", "speed": "m/s"}.get(dimension, "")
+    return f"{value:.6g} {unit}".strip()
+
+
+def get(data: dict, path: tuple[str, ...]):
+    """The value at ``path`` of nested dicts, or None."""
+    for key in path:
+        if not isinstance(data, dict) or key not in data:
+            return None
+        data = data[key]
+    return data
+
+
+def control_values(data: dict) -> dict:
+    """The value every control shows for problem-file ``data`` (defaults filled in as the loader would)."""
+    from designer.problem import DEFAULT_BOUNDS
+
+    defaults = Uncertainty()
+    out = {}
+    for c in all_controls():
+        value = get(data, c.path)
+        if c.path[0] == "variables":
+            spec = get(data, ("variables", c.path[1]))
+            if spec is not None and not isinstance(spec, dict):
+                value = spec  # a fixed variable: min = max
+            if value is None:
+                low, high = DEFAULT_BOUNDS[c.path[1]]
+                value = low if c.path[2] == "min" else high
+        if c.group == "risk" and value is None:
+            value = getattr(defaults, c.path[1])
+        if c.kind == "slider":
+            value = parse_quantity(value, "speed", c.dotted) if value is not None else 2.5
+            out[c.key] = round(float(value), 6)
+        elif c.kind == "number":
+            out[c.key] = float(value)
+        elif c.kind == "choice":
+            out[c.key] = value if value is not None else c.options[0]
+        elif c.kind == "list":
+            out[c.key] = "" if value is None else ", ".join(_show(v, c.dimension) for v in value)
+        else:
+            out[c.key] = "" if value is None else _show(value, c.dimension)
+    return out
+
+
+# --------------------------------------------------------------------------- controls -> problem
+
+
+class ControlError(DesignerError):
+    """A control's value is invalid; ``key`` names the control, the message is the CLI's line."""
+
+    exit_code = ProblemError.exit_code
+
+    def __init__(self, message: str, key: str | None):
+        super().__init__(message)
+        self.key = key
+
+
+def apply(data: dict, values: dict) -> dict:
+    """A copy of problem-file ``data`` with the control ``values`` written into it.
+
+    Raises ControlError (naming the control) for a value that is not even of the right type
+    (a number box holding text); units and ranges are left to the loader.
+    """
+    out = copy.deepcopy(data)
+    for c in all_controls():
+        if c.key not in values:
+            continue
+        value = values[c.key]
+        if c.kind == "slider":
+            value = _number(value, c)
+            value = f"{value:g} m/s"
+        elif c.kind == "number":
+            value = _number(value, c)
+        elif c.kind == "list":
+            text = "" if value is None else str(value).strip()
+            if not text:
+                _delete(out, c.path)
+                continue
+            value = [v.strip() for v in text.split(",") if v.strip()]
+        elif c.kind == "quantity":
+            text = "" if value is None else str(value).strip()
+            if not text:
+                if c.optional:
+                    _delete(out, c.path)
+                    continue
+                raise ControlError(f"{c.dotted}: empty; give a value with its unit, e.g. "
+                                   f"{_example(c.dimension)!r}", c.key)
+            value = text
+        _set(out, c.path, value)
+    return out
+
+
+def _example(dimension: str) -> str:
+    return {"length": "2 in", "force": "178 N", "damping": "1.3 N*m/rad", "speed": "2.5 m/s"}.get(dimension, "1")
+
+
+def _number(value, c: Control) -> float:
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ControlError(f"{c.dotted} = {value!r}: expected a number", c.key) from None
+    if not math.isfinite(number):
+        raise ControlError(f"{c.dotted} = {value!r}: must be finite", c.key)
+    return number
+
+
+def _set(data: dict, path: tuple[str, ...], value) -> None:
+    for key in path[:-1]:
+        nxt = data.get(key)
+        if not isinstance(nxt, dict):
+            nxt = {} if not (key in data and path[0] == "variables") else {"min": data[key], "max": data[key]}
+            data[key] = nxt
+        data = nxt
+    data[path[-1]] = value
+
+
+def _delete(data: dict, path: tuple[str, ...]) -> None:
+    parent = get(data, path[:-1]) if len(path) > 1 else data
+    if isinstance(parent, dict):
+        parent.pop(path[-1], None)
+
+
+def build_problem(data: dict, values: dict):
+    """Validate: control ``values`` over problem-file ``data`` -> (Problem, the data used).
+
+    Raises ControlError whose ``key`` is the control the loader's message names (None if no
+    single control is to blame), and whose text is the loader's one line.
+    """
+    from designer.problem import problem_from_dict
+
+    merged = apply(data, values)
+    try:
+        return problem_from_dict(merged), merged
+    except DesignerError as exc:
+        raise ControlError(str(exc), blame(str(exc))) from None
+
+
+def blame(message: str) -> str | None:
+    """The control whose key the one-line ``message`` names (longest match), or None."""
+    best, length = None, 0
+    for c in all_controls():
+        for candidate in (c.dotted, ".".join(c.path[:2])):
+            if re.search(rf"(^|[\s:]){re.escape(candidate)}\b", message) and len(candidate) > length:
+                if candidate == ".".join(c.path[:2]) and c.path[0] == "variables" and c.path[-1] != "min":
+                    continue  # "variables.trail = [..]" (min > max) goes beside the min box
+                best, length = c.key, len(candidate)
+    if best is None and "target" in message:
+        return "target"
+    return best
+
+
+# --------------------------------------------------------------------------- URL
+
+
+def to_query(values: dict, defaults: dict) -> str:
+    """The URL query ("?target=3&trail_min=1.5+in") of the controls that differ from ``defaults``."""
+    changed = [(k, _url_value(v)) for k, v in values.items() if k in defaults and v != defaults[k]]
+    return "?" + urlencode(changed) if changed else ""
+
+
+def _url_value(value) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def from_query(search: str | None, defaults: dict) -> dict:
+    """Control values from a URL query: ``defaults`` with the keys the query names (unknown keys ignored)."""
+    out = dict(defaults)
+    kinds = {c.key: c.kind for c in all_controls()}
+    for key, value in parse_qsl((search or "").lstrip("?"), keep_blank_values=True):
+        if key not in kinds:
+            continue
+        if kinds[key] in ("slider", "number"):
+            try:
+                out[key] = float(value)
+            except ValueError:
+                out[key] = value  # shown back as typed; the loader's message says what is wrong
+        else:
+            out[key] = value
+    return out
+
+
+# --------------------------------------------------------------------------- TOML
+
+
+def to_toml(data: dict) -> str:
+    """Problem-file data as TOML text (what "Save problem" writes; :func:`tomllib.loads` gives ``data`` back)."""
+    lines = []
+    for key, value in data.items():
+        if not isinstance(value, dict):
+            lines.append(f"{_bare(key)} = {_toml_value(value)}")
+    for key, value in data.items():
+        if isinstance(value, dict):
+            lines.append("")
+            lines.append(f"[{_bare(key)}]")
+            for sub, item in value.items():
+                lines.append(f"{_bare(sub)} = {_toml_value(item)}")
+    return "\n".join(lines).lstrip("\n") + "\n"
+
+
+def _bare(key: str) -> str:
+    return key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else json.dumps(key)
+
+
+def _toml_value(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise ValueError(f"cannot write {value!r} to TOML")
+        return repr(value)
+    if isinstance(value, str):
+        return json.dumps(value, ensure_ascii=False)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{ " + ", ".join(f"{_bare(k)} = {_toml_value(v)}" for k, v in value.items()) + " }"
+    raise ValueError(f"cannot write {type(value).__name__} to TOML")

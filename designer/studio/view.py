@@ -1,0 +1,272 @@
+"""What the studio shows, computed through the package's API (no web framework here).
+
+The studio is a thin view: the fronts come from :func:`designer.analysis.pareto.pareto_front`,
+the recommendation and the buildable front from :func:`designer.recommend` (issue 11), the
+fixes of "my caster" from :func:`designer.fix` (issue 18), a design's numbers from
+:func:`designer.model.evaluate` and :mod:`designer.physics.uncertainty`, θ(t) from
+:func:`designer.analysis.simulate.simulate`.  Nothing here re-states an equation.
+Where an analysis of another issue is not in this version yet, the view says so instead.
+"""
+from __future__ import annotations
+
+import importlib
+import math
+import time
+import warnings
+from collections import OrderedDict
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from designer.errors import DesignerError
+from designer.model import Design, evaluate, performance
+
+KNOCK_ANGLE = math.radians(20.0)
+"""Size of the knock of the card's θ(t) [rad] (20°, the paper's design disturbance, Appendix C)."""
+
+
+def _optional(module: str, name: str):
+    """``module.name`` if this version has it, else None (an analysis another issue adds)."""
+    try:
+        return getattr(importlib.import_module(module), name)
+    except (ImportError, AttributeError):
+        return None
+
+
+def risk_of(problem):
+    """The Uncertainty in force for ``problem`` (Problem.risk if this version has it), or None."""
+    if hasattr(type(problem), "risk"):
+        return problem.risk
+    return problem.conditions.uncertainty
+
+
+def without_risk(problem):
+    """The same problem with the nominal shimmy constraint (V_c >= V_req, no scatter)."""
+    return problem.replace(conditions=problem.conditions.replace(uncertainty=None))
+
+
+@dataclass
+class Fronts:
+    """Everything the chart and the recommendation panel draw for one problem.
+
+    Attributes
+    ----------
+    problem : the validated problem
+    continuous : nominal continuous front (Eq. 7 without scatter)
+    risk : continuous risk-bounded front (P(V_c,true < V_req) <= α), or None without risk
+    buildable : the buildable front (stock combinations; issue 11), or None
+    recommendation : designer.recommend's result, or None where this version has no recommend
+    seconds : wall time of the computation [s]
+    notes : what could not be computed and why (one line each)
+    """
+
+    problem: object
+    continuous: object
+    risk: object = None
+    buildable: object = None
+    recommendation: object = None
+    seconds: float = 0.0
+    notes: list = field(default_factory=list)
+
+
+def _quiet(func, *args, **kwargs):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the page states the model's range; warnings would go to the console
+        with np.errstate(all="ignore"):
+            return func(*args, **kwargs)
+
+
+_CACHE: OrderedDict = OrderedDict()
+_CACHE_SIZE = 32
+
+
+def compute_fronts(problem, key: str | None = None) -> Fronts:
+    """The continuous, risk-bounded and buildable fronts and the recommendation of ``problem``.
+
+    ``key`` (e.g. the canonical problem data) caches the result, so going back to a state is instant.
+    Raises the package's DesignerError (e.g. InfeasibleError naming the target to relax).
+    """
+    if key is not None and key in _CACHE:
+        _CACHE.move_to_end(key)
+        return _CACHE[key]
+    from designer.analysis.pareto import pareto_front  # casadi: loaded with the studio, not with `import designer`
+
+    t0 = time.perf_counter()
+    out = Fronts(problem=problem, continuous=None)
+    risk = risk_of(problem)
+    recommend = _optional("designer.analysis.recommend", "recommend")
+    if recommend is not None:
+        rec = _quiet(recommend, problem)
+        out.recommendation = rec
+        out.buildable = getattr(rec, "buildable", None)
+        out.risk = getattr(rec, "front", None) if risk is not None else None
+    else:
+        out.notes.append("recommendation and buildable front: designer.recommend (issue 11) is not in this version")
+    if risk is not None and out.risk is None:
+        out.risk = _quiet(pareto_front, problem)
+    nominal = without_risk(problem) if risk is not None else problem
+    out.continuous = _quiet(pareto_front, nominal)
+    out.seconds = time.perf_counter() - t0
+    if key is not None:
+        _CACHE[key] = out
+        while len(_CACHE) > _CACHE_SIZE:
+            _CACHE.popitem(last=False)
+    return out
+
+
+def front_points(front) -> list[dict]:
+    """Plain records of a front's points (design SI, F_turn, P, V_c) for the chart; [] for None."""
+    if front is None:
+        return []
+    points = getattr(front, "points", front)
+    out = []
+    for p in points:
+        design = getattr(p, "design", None)
+        if design is None:
+            continue
+        out.append({"design": design.as_dict(), "turning_effort": float(p.turning_effort),
+                    "threshold_force": float(p.threshold_force),
+                    "critical_speed": float(getattr(p, "critical_speed", float("nan"))),
+                    "family": getattr(p, "family", "") or "",
+                    "label": getattr(p, "label", None) or getattr(p, "wheel", None) or ""})
+    return out
+
+
+def recommendation_record(rec) -> dict | None:
+    """The recommendation's headline numbers as plain data (None without a recommendation)."""
+    if rec is None:
+        return None
+    keys = ("turning_effort", "threshold_force", "critical_speed", "confident_speed", "shimmy_probability",
+            "shimmy_probability_se", "swept_radius", "swept_radius_max", "rule")
+    out = {k: getattr(rec, k, None) for k in keys}
+    out["design"] = rec.design.as_dict()
+    out["alternatives"] = []
+    for alt in getattr(rec, "alternatives", None) or []:
+        out["alternatives"].append({"label": getattr(alt, "label", None) or getattr(alt, "rule", ""),
+                                    "design": alt.design.as_dict(), "turning_effort": alt.turning_effort,
+                                    "threshold_force": alt.threshold_force})
+    return out
+
+
+# --------------------------------------------------------------------------- one design: the card
+
+
+def design_numbers(problem, design: Design) -> dict:
+    """A design's numbers for ``problem``: objectives, V_c, ω, P(shimmy) at the target, the speed reached w.p. 1-α.
+
+    ``shimmy_probability`` is the Monte Carlo estimate of P(V_c,true < V_target) with the problem's scatter
+    (:func:`designer.physics.uncertainty.shimmy_probability_mc`); ``confident_speed`` is the α-quantile of
+    V_c,true (:func:`~designer.physics.uncertainty.shimmy_speed_quantile`), the speed reached without shimmy
+    with probability 1 − α.  Both are None when the problem has no risk.
+    """
+    from designer.physics import uncertainty as unc
+
+    conditions = problem.conditions
+    values = _quiet(evaluate, design, conditions, speed=problem.target_speed)
+    out = {k: float(values[k]) for k in ("turning_effort", "threshold_force", "critical_speed", "swept_radius",
+                                         "inertia", "shimmy_frequency") if k in values}
+    out["design"] = design.as_dict()
+    out["target_speed"] = problem.target_speed
+    out["swept_radius_max"] = problem.swept_radius_max
+    risk = risk_of(problem)
+    out["alpha"] = None if risk is None else risk.probability
+    out["shimmy_probability"] = out["shimmy_probability_se"] = out["confident_speed"] = None
+    if risk is not None:
+        args = (design.trail, out["inertia"], design.groove, design.damping, conditions.slip_coefficient)
+        p, se = _quiet(unc.shimmy_probability_mc, *args, problem.target_speed, risk)
+        out["shimmy_probability"], out["shimmy_probability_se"] = float(p), float(se)
+        out["confident_speed"] = float(_quiet(unc.shimmy_speed_quantile, *args, risk))
+    return out
+
+
+def speed_sweeps(problem, design: Design, n: int = 61) -> dict:
+    """V_c (and its α-quantile with risk) against trail and against diameter around ``design``.
+
+    Each sweep spans the problem's bounds of that variable (and ±50 % of the design's value if the
+    bounds are fixed), the other variables held at the design's values; evaluated vectorised by
+    :func:`designer.model.performance`.  Returns {"trail": {...}, "diameter": {...}} of arrays [SI].
+    """
+    conditions = problem.conditions
+    out = {}
+    for name in ("trail", "diameter"):
+        b = problem.bounds[name]
+        value = getattr(design, name)
+        lo, hi = (b.low, b.high) if b.high > b.low else (0.5 * value, 1.5 * value)
+        lo, hi = min(lo, value), max(hi, value)
+        if name == "diameter":
+            lo = max(lo, 2.05 * conditions.threshold_height)
+        x = np.linspace(lo, hi, n)
+        args = {k: np.full(n, getattr(design, k)) for k in ("trail", "diameter", "groove", "damping")}
+        args[name] = x
+        values = _quiet(performance, args["trail"], args["diameter"], args["groove"], args["damping"], conditions)
+        out[name] = {"x": x, "critical_speed": np.asarray(values["critical_speed"], float),
+                     "design_speed": np.asarray(values["design_speed"], float), "value": value}
+    return out
+
+
+def knock_response(problem, design: Design, angle: float = KNOCK_ANGLE) -> dict:
+    """θ(t) after a knock of ``angle`` [rad] at the target speed (:func:`designer.analysis.simulate.simulate`)."""
+    from designer.analysis.simulate import simulate  # scipy's integrator: loaded when a card opens
+
+    result = _quiet(simulate, design, problem.conditions, speed=problem.target_speed, angle=angle,
+                    samples_per_period=24)
+    return {"t": np.asarray(result.t), "theta": np.asarray(result.theta), "grows": bool(result.grows),
+            "diverged": bool(result.diverged), "growth_ratio": float(result.growth_ratio)}
+
+
+def drawing_svg(problem, design: Design) -> str | None:
+    """The caster drawn to scale as SVG text (:mod:`designer.plots.caster`), or None if this version lacks it."""
+    module = _optional("designer.plots", "caster")
+    if module is None:
+        return None
+    for name in ("caster_svg", "draw_caster_svg", "svg"):
+        func = getattr(module, name, None)
+        if func is not None:
+            try:
+                return _quiet(func, design)
+            except TypeError:
+                return _quiet(func, design, problem)
+    return None
+
+
+def card(problem, design: Design, with_simulation: bool = True) -> dict:
+    """Everything a point's card shows: numbers, sweeps, θ(t) and the drawing."""
+    out = {"numbers": design_numbers(problem, design), "sweeps": speed_sweeps(problem, design)}
+    out["knock"] = None
+    if with_simulation:
+        try:
+            out["knock"] = knock_response(problem, design)
+        except DesignerError as exc:
+            out["knock_error"] = str(exc)
+    out["svg"] = drawing_svg(problem, design)
+    return out
+
+
+# --------------------------------------------------------------------------- my caster
+
+
+def my_caster(problem, design: Design) -> dict:
+    """A caster the user has: its numbers and risk for ``problem`` and the ranked fixes of :func:`designer.fix`."""
+    out = {"numbers": design_numbers(problem, design), "fixes": None, "fix_note": None}
+    fix = _optional("designer.analysis.retrofit", "fix")
+    if fix is None:
+        out["fix_note"] = "ranked fixes: designer.fix (issue 18) is not in this version"
+        return out
+    result = _quiet(fix, problem, current=design)
+    rows = []
+    for item in getattr(result, "fixes", None) or []:
+        row = {}
+        for attr in ("rank", "label", "kind", "description", "action", "change", "cost", "turning_effort",
+                     "threshold_force", "critical_speed", "confident_speed", "shimmy_probability"):
+            value = getattr(item, attr, None)
+            if value is not None:
+                row[attr] = value if isinstance(value, (str, int)) else (
+                    float(value) if isinstance(value, (float, np.floating)) else str(value))
+        design_ = getattr(item, "design", None)
+        if design_ is not None:
+            row["design"] = design_.as_dict()
+        if not row:
+            row["description"] = str(item)
+        rows.append(row)
+    out["fixes"] = rows
+    return out
