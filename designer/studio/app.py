@@ -16,6 +16,7 @@ from pathlib import Path
 
 import dash
 from dash import ALL, Input, Output, State, ctx, dcc, html, no_update
+from dash.exceptions import PreventUpdate
 
 from designer.errors import DesignerError
 from designer.model import Design
@@ -227,6 +228,7 @@ def create_app(data: dict, name: str, out_dir: Path):
                     assets_ignore=".*")
     app.layout = build_layout(name, defaults)
     keys = [c.key for c in state.all_controls()]
+    latest = {"n": 0}  # the newest change wins: changes that queued behind a computation are skipped
 
     @app.callback(
         Output({"type": "ctl", "key": ALL}, "value"),
@@ -243,6 +245,8 @@ def create_app(data: dict, name: str, out_dir: Path):
         State("problem-data", "data"),
     )
     def update(search, values, mine, last):
+        latest["n"] += 1
+        generation = latest["n"]
         from_url = ctx.triggered_id in (None, "url")
         if from_url:
             current = state.from_query(search, defaults)
@@ -254,7 +258,10 @@ def create_app(data: dict, name: str, out_dir: Path):
         try:
             problem, merged = state.build_problem(data, current)
             canonical = json.dumps(merged, sort_keys=True)
-            fronts = view.compute_fronts(problem, key=canonical)
+            with view.LOCK:
+                if generation != latest["n"] and view.cached(canonical) is None:
+                    raise PreventUpdate  # a newer change is waiting: compute that one instead
+                fronts = view.compute_fronts(problem, key=canonical)
         except DesignerError as exc:
             key = getattr(exc, "key", None) or state.blame(str(exc))
             message = str(exc)

@@ -71,10 +71,17 @@ def serve(problem_path=None, port: int = 8050, host: str = HOST, open_browser: b
         import webbrowser
 
         threading.Timer(0.5, webbrowser.open, args=(url,)).start()
+    import signal
+
+    def _stop(_signum, _frame):  # `kill` stops it as cleanly as Ctrl-C
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGTERM, _stop)
     try:
-        server.serve_forever()
+        server.serve_forever()  # werkzeug's loop returns on Ctrl-C
     except KeyboardInterrupt:
-        print("designer studio: stopped", file=sys.stderr)
+        pass
     finally:
         server.server_close()
+    print("designer studio: stopped", file=sys.stderr)
     return 0

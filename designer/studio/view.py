@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import importlib
 import math
+import threading
 import time
 import warnings
 from collections import OrderedDict
@@ -69,8 +70,13 @@ class Fronts:
     notes: list = field(default_factory=list)
 
 
+LOCK = threading.RLock()
+"""One computation at a time: the web server answers requests in threads, and CasADi's solvers are not
+thread-safe (two fronts at once crash the process)."""
+
+
 def _quiet(func, *args, **kwargs):
-    with warnings.catch_warnings():
+    with LOCK, warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the page states the model's range; warnings would go to the console
         with np.errstate(all="ignore"):
             return func(*args, **kwargs)
@@ -86,6 +92,17 @@ def compute_fronts(problem, key: str | None = None) -> Fronts:
     ``key`` (e.g. the canonical problem data) caches the result, so going back to a state is instant.
     Raises the package's DesignerError (e.g. InfeasibleError naming the target to relax).
     """
+    with LOCK:
+        return _compute_fronts(problem, key)
+
+
+def cached(key: str):
+    """The fronts computed earlier for ``key``, or None."""
+    with LOCK:
+        return _CACHE.get(key)
+
+
+def _compute_fronts(problem, key):
     if key is not None and key in _CACHE:
         _CACHE.move_to_end(key)
         return _CACHE[key]
