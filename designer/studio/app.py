@@ -20,7 +20,9 @@ from dash.exceptions import PreventUpdate
 
 from designer.errors import DesignerError
 from designer.model import Design
-from designer.studio import figures, state, view
+import designer.studio.figures as figures
+import designer.studio.state as state
+import designer.studio.view as view
 
 INCH = 0.0254
 

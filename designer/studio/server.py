@@ -36,7 +36,8 @@ def make_server(problem_path=None, port: int = 8050, host: str = HOST, out_dir="
     from werkzeug.serving import WSGIRequestHandler
     from werkzeug.serving import make_server as _make_server  # Dash's web server, loaded with the studio
 
-    from designer.studio import state, view
+    import designer.studio.state as state
+    import designer.studio.view as view
     from designer.studio.app import create_app
 
     data, name = state.read_problem_data(problem_path)
