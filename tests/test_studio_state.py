@@ -100,3 +100,11 @@ def test_port_in_use_is_one_line_and_exit_8(capsys):
     err = capsys.readouterr().err.strip()
     assert code == 8
     assert err.count("\n") == 0 and f"--port {port}" in err and "in use" in err
+
+
+def test_two_bad_boxes_each_keep_their_message(base):
+    """min > max on trail and a load in parsecs: each control gets its own line (the loader stops at one)."""
+    data, values = base
+    errors = state.control_errors(data, {**values, "trail_min": "3 in", "load": "178 parsecs"}, values)
+    assert set(errors) == {"trail_min", "load"}
+    assert "min is greater than max" in errors["trail_min"] and "conditions.load" in errors["load"]

@@ -184,10 +184,10 @@ def card_panel(problem, design: Design, name: str):
     risk = view.risk_of(problem)
     parts.append(dcc.Graph(id="card-sweeps", figure=figures.sweeps_figure(
         data["sweeps"], problem.target_speed, None if risk is None else risk.probability),
-        config={"displaylogo": False}))
+        config={"displayModeBar": False}))
     if data.get("knock") is not None:
         parts.append(dcc.Graph(id="card-knock", figure=figures.knock_figure(data["knock"], problem.target_speed),
-                               config={"displaylogo": False}))
+                               config={"displayModeBar": False}))
     elif data.get("knock_error"):
         parts.append(html.Div(data["knock_error"], style=CSS["error"]))
     return parts
@@ -203,21 +203,23 @@ def fixes_panel(result: dict):
                     style={"fontSize": "13px"})
     if result["fixes"] is None:
         return [head, html.Div(result["fix_note"], style={"color": "#666", "fontSize": "12px"})]
+    summary = html.Div(result.get("summary") or "", id="fix-summary", style={"fontSize": "12px"})
     if not result["fixes"]:
-        return [head, html.Div("no fix needed or none found", id="fixes")]
+        return [head, summary, html.Div("no fix listed", id="fixes")]
     items = []
     for row in result["fixes"]:
         text = row.get("description") or row.get("action") or row.get("label") or row.get("change") or ""
         extra = []
-        for key, unit, spec in (("shimmy_probability", "", ".3f"), ("turning_effort", "N", ".3f"),
-                                ("threshold_force", "N", ".2f")):
+        if "shimmy_probability" in row:
+            extra.append(f"P(shimmy) {100 * row['shimmy_probability']:.2f} %")
+        if "confident_speed" in row:
+            extra.append(f"reaches {row['confident_speed']:.3f} m/s w.p. 1 − α")
+        for key, label, unit, spec in (("turning_effort", "F_turn", "N", ".3f"), ("threshold_force", "P", "N", ".2f")):
             if key in row:
-                extra.append(f"{key.replace('_', ' ')} {row[key]:{spec}} {unit}".strip())
-        if "design" in row:
-            extra.append(_design_text(row["design"]))
+                extra.append(f"{label} {row[key]:{spec}} {unit}")
         items.append(html.Li([html.B(str(text)), html.Span(" · " + "; ".join(extra) if extra else "")],
                              className="fix"))
-    return [head, html.H5("Ranked fixes", style={"margin": "4px 0"}), html.Ol(items, id="fixes")]
+    return [head, summary, html.H5("Ranked fixes", style={"margin": "4px 0"}), html.Ol(items, id="fixes")]
 
 
 # --------------------------------------------------------------------------- the app
@@ -266,12 +268,15 @@ def create_app(data: dict, name: str, out_dir: Path):
                 fronts = view.compute_fronts(problem, key=canonical)
         except DesignerError as exc:
             key = getattr(exc, "key", None) or state.blame(str(exc))
-            message = str(exc)
+            messages = state.control_errors(data, current, defaults)
+            if not messages:  # only the combination is wrong (e.g. a target out of reach)
+                messages = {key: str(exc)}
             general = ""
-            if key in keys:
-                errors[keys.index(key)] = message
-            else:
-                general = message
+            for k, message in messages.items():
+                if k in keys:
+                    errors[keys.index(k)] = message
+                else:
+                    general = message
             # the last valid chart stays; only the messages change
             return (values_out, errors, general, no_update, no_update, no_update,
                     no_update if from_url else state.to_query(current, defaults), no_update)

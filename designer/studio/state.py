@@ -286,6 +286,23 @@ def build_problem(data: dict, values: dict):
         raise ControlError(str(exc), blame(str(exc))) from None
 
 
+def control_errors(data: dict, values: dict, defaults: dict) -> dict:
+    """Every control's own message: each changed control tried alone over the defaults {key: one line}.
+
+    So two bad boxes both show their message (the loader stops at the first); cheap, the loader takes
+    about a millisecond.
+    """
+    out = {}
+    for key, value in values.items():
+        if key not in defaults or value == defaults[key]:
+            continue
+        try:
+            build_problem(data, {**defaults, key: value})
+        except ControlError as exc:
+            out[exc.key if exc.key is not None else key] = str(exc)
+    return out
+
+
 def blame(message: str) -> str | None:
     """The control whose key the one-line ``message`` names (longest match), or None."""
     best, length = None, 0

@@ -43,6 +43,8 @@ def risk_of(problem):
 
 def without_risk(problem):
     """The same problem with the nominal shimmy constraint (V_c >= V_req, no scatter)."""
+    if hasattr(problem, "nominal"):
+        return problem.nominal()
     return problem.replace(conditions=problem.conditions.replace(uncertainty=None))
 
 
@@ -159,7 +161,7 @@ def recommendation_record(rec) -> dict | None:
     out["design"] = rec.design.as_dict()
     out["alternatives"] = []
     for alt in getattr(rec, "alternatives", None) or []:
-        out["alternatives"].append({"label": getattr(alt, "label", None) or getattr(alt, "rule", ""),
+        out["alternatives"].append({"label": getattr(alt, "role", None) or getattr(alt, "rule", ""),
                                     "design": alt.design.as_dict(), "turning_effort": alt.turning_effort,
                                     "threshold_force": alt.threshold_force})
     return out
@@ -232,18 +234,12 @@ def knock_response(problem, design: Design, angle: float = KNOCK_ANGLE) -> dict:
 
 
 def drawing_svg(problem, design: Design) -> str | None:
-    """The caster drawn to scale as SVG text (:mod:`designer.plots.caster`), or None if this version lacks it."""
-    module = _optional("designer.plots", "caster")
-    if module is None:
+    """The caster drawn to scale as SVG text (:func:`designer.plots.caster.caster_svg`), None if this version lacks it."""
+    caster_svg = _optional("designer.plots.caster", "caster_svg")
+    if caster_svg is None:
         return None
-    for name in ("caster_svg", "draw_caster_svg", "svg"):
-        func = getattr(module, name, None)
-        if func is not None:
-            try:
-                return _quiet(func, design)
-            except TypeError:
-                return _quiet(func, design, problem)
-    return None
+    return _quiet(caster_svg, design.trail, design.diameter, design.groove, problem.conditions.threshold_height,
+                  problem.swept_radius_max)
 
 
 def card(problem, design: Design, with_simulation: bool = True) -> dict:
@@ -270,20 +266,24 @@ def my_caster(problem, design: Design) -> dict:
         out["fix_note"] = "ranked fixes: designer.fix (issue 18) is not in this version"
         return out
     result = _quiet(fix, problem, current=design)
+    out["summary"] = result.summary() if hasattr(result, "summary") else ""
+    current = getattr(result, "current", None)
+    if current is not None:  # the retrofit's own diagnosis of the caster as it is (same model)
+        out["meets_risk_bound"] = bool(getattr(current, "meets_risk_bound", False))
     rows = []
-    for item in getattr(result, "fixes", None) or []:
-        row = {}
-        for attr in ("rank", "label", "kind", "description", "action", "change", "cost", "turning_effort",
-                     "threshold_force", "critical_speed", "confident_speed", "shimmy_probability"):
+    for rank, item in enumerate(getattr(result, "fixes", None) or [], start=1):
+        changes = getattr(item, "changes", ()) or ()
+        row = {"rank": rank,
+               "description": "; ".join(c.describe() for c in changes) if changes else str(item),
+               "parts_changed": getattr(item, "parts_changed", len(changes))}
+        for attr in ("turning_effort", "threshold_force", "critical_speed", "confident_speed",
+                     "shimmy_probability"):
             value = getattr(item, attr, None)
-            if value is not None:
-                row[attr] = value if isinstance(value, (str, int)) else (
-                    float(value) if isinstance(value, (float, np.floating)) else str(value))
+            if value is not None and math.isfinite(float(value)):
+                row[attr] = float(value)
         design_ = getattr(item, "design", None)
         if design_ is not None:
             row["design"] = design_.as_dict()
-        if not row:
-            row["description"] = str(item)
         rows.append(row)
     out["fixes"] = rows
     return out
