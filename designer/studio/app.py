@@ -267,7 +267,10 @@ def create_app(data: dict, name: str, out_dir: Path):
                     raise PreventUpdate  # a newer change is waiting: compute that one instead
                 fronts = view.compute_fronts(problem, key=canonical)
         except DesignerError as exc:
-            key = getattr(exc, "key", None) or state.blame(str(exc))
+            key = getattr(exc, "key", None)
+            if key is None:  # the problem is valid but out of reach: say it beside the control just moved
+                moved = ctx.triggered_id.get("key") if isinstance(ctx.triggered_id, dict) else None
+                key = moved or state.blame(str(exc))
             messages = state.control_errors(data, current, defaults)
             if not messages:  # only the combination is wrong (e.g. a target out of reach)
                 messages = {key: str(exc)}
