@@ -219,7 +219,9 @@ def fixes_panel(result: dict):
                 extra.append(f"{label} {row[key]:{spec}} {unit}")
         items.append(html.Li([html.B(str(text)), html.Span(" · " + "; ".join(extra) if extra else "")],
                              className="fix"))
-    return [head, summary, html.H5("Ranked fixes", style={"margin": "4px 0"}), html.Ol(items, id="fixes")]
+    found = result.get("found") or len(items)
+    title = f"Ranked fixes ({len(items)} of {found} found)" if found > len(items) else "Ranked fixes"
+    return [head, summary, html.H5(title, style={"margin": "4px 0"}), html.Ol(items, id="fixes")]
 
 
 # --------------------------------------------------------------------------- the app

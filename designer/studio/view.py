@@ -22,6 +22,9 @@ import numpy as np
 from designer.errors import DesignerError
 from designer.model import Design, evaluate, performance
 
+FIX_LIMIT = 10
+"""Fixes listed for "my caster": the first ten of the ranking (designer.fix evaluates only those by Monte Carlo)."""
+
 KNOCK_ANGLE = math.radians(20.0)
 """Size of the knock of the card's θ(t) [rad] (20°, the paper's design disturbance, Appendix C)."""
 
@@ -265,7 +268,8 @@ def my_caster(problem, design: Design) -> dict:
     if fix is None:
         out["fix_note"] = "ranked fixes: designer.fix (issue 18) is not in this version"
         return out
-    result = _quiet(fix, problem, current=design)
+    result = _quiet(fix, problem, current=design, limit=FIX_LIMIT)
+    out["found"] = int(getattr(result, "found", 0) or 0)
     out["summary"] = result.summary() if hasattr(result, "summary") else ""
     current = getattr(result, "current", None)
     if current is not None:  # the retrofit's own diagnosis of the caster as it is (same model)
