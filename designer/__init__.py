@@ -33,6 +33,9 @@ _LAZY = {
     "write_report": "designer.report",
     "report_data": "designer.pipeline",
     "fleet": "designer.analysis.fleet",
+    "knock_safe_speed": "designer.analysis.limit_cycles",
+    "bifurcation_diagram": "designer.analysis.limit_cycles",
+    "TyreParameters": "designer.physics.tyre",
 }
 _LAZY["fix"] = "designer.analysis.retrofit"  # issue 18: retrofit
 

@@ -1,7 +1,7 @@
 """Shimmy beyond onset: knocks, periodic orbits, Floquet multipliers, knock-safe speed (issue 16).
 
 Two caster models, both with exact Coulomb spindle friction M_f sgn θ'
-(stick–slip handled by events, as ``designer.simulate``):
+(stick–slip handled by events, as ``designer.analysis.simulate``):
 
 ``rolling`` (``tyre=None``): the paper's Appendix B model, the tyre rolls
 without lateral slip (Eq. 6B).  State (X, θ, θ'):
@@ -190,7 +190,7 @@ def caster_dynamics(design: Design, conditions: Conditions = Conditions(), speed
 class _Run:
     t: list
     y: list
-    ends: list            # (t, θ, s) at the end of each slip phase
+    ends: list            # (t, θ, s, state) at the end of each slip phase
     state: np.ndarray
     time: float
     reason: str           # "end", "limit", "section", "rest"
@@ -272,7 +272,7 @@ def _integrate(sys: CasterDynamics, y0, t_end: float, stop_at_end_of: float | No
         y = np.array(sol.y_events[0][0], dtype=float)
         y[iw] = 0.0
         switches += 1
-        ends.append((t, float(y[ith]), s))
+        ends.append((t, float(y[ith]), s, y.copy()))
         if stop_at_end_of is not None and s == stop_at_end_of:
             return _Run(ts, ys, ends, y, t, "section", switches)
         new = decide(y)
@@ -290,7 +290,7 @@ def _integrate(sys: CasterDynamics, y0, t_end: float, stop_at_end_of: float | No
 def _extrema(ends) -> np.ndarray:
     """(t, θ) where θ reverses: the end of a slip phase followed by a slip of the other sign."""
     out = []
-    for k, (t, th, s) in enumerate(ends):
+    for k, (t, th, s, _y) in enumerate(ends):
         if k + 1 == len(ends) or ends[k + 1][2] != s:
             out.append((t, th))
     return np.asarray(out, dtype=float).reshape(-1, 2)
@@ -566,24 +566,7 @@ def periodic_orbit(sys: CasterDynamics, amplitude: float, guess: np.ndarray | No
     V = float(u[-1])
     at = sys.at(V)
     z = section(u)
-    # Floquet multipliers from DG at fixed V (central differences in the section coordinates)
-    zs = np.concatenate([[sys.trail * A], [V * A] if n == 3 else [], [A]])
-    DG = np.empty((n, n))
-    for j in range(n):
-        h = 1e-6 * zs[j]
-        zp, zm = z.copy(), z.copy()
-        zp[j] += h
-        zm[j] -= h
-        gp, _ = _half_map(at, zp)
-        gm, _ = _half_map(at, zm)
-        if gp is None or gm is None:
-            DG[:, j] = np.nan
-        else:
-            DG[:, j] = (gp - gm) / (2 * h)
-    mu = np.linalg.eigvals(DG) if np.all(np.isfinite(DG)) else np.full(n, np.nan + 0j)
-    multipliers = mu**2
-    full, period = _full_period(at, z)
-    closure = float(np.max(np.abs((full - z) * w))) if full is not None else math.nan
+    multipliers, closure, period = _floquet_and_closure(at, z)
     return PeriodicOrbit(amplitude=A, speed=V, state=np.append(z, 0.0), period=period, multipliers=multipliers,
                          stable=bool(np.all(np.abs(multipliers) < 1)), closure=closure,
                          residual=float(np.max(np.abs(r))), iterations=iterations)
@@ -666,9 +649,446 @@ def knock_safe_speed(design: Design, conditions: Conditions = Conditions(), angl
     angle : knock θ_i [rad]; default the design θ0 of the conditions (20°); the report also gives 2 θ0
     tyre : None for the paper's rolling tyre (Eq. 6B; the default, as for Eq. 7), else the brush tyre
     rtol : relative width of the bracket [-]
+
+    Returns 0.0 when the knock is sustained at every speed down to 1 % of Eq. 7's V_c (no safe speed).
     """
     theta = float(conditions.disturbance_angle if angle is None else angle)
     if not math.isfinite(theta) or not 0 < theta < math.pi / 2:
         raise InputError(f"angle = {angle!r}: knock angle must be between 0 and 90 deg (in rad)")
     sys = caster_dynamics(design, conditions, 1.0, tyre)
-    return float(knock_onset_speed(sys, theta, rtol=rtol).low)
+    try:
+        return float(knock_onset_speed(sys, theta, rtol=rtol).low)
+    except SolverError:
+        # not bracketed: a knock that is sustained even at a crawl has no safe speed
+        crawl = 0.01 * math.sqrt(4 * sys.friction_moment / theta * sys.trail**2 / (math.pi * sys.inertia)
+                                 + sys.groove_coefficient * sys.trail / sys.inertia)
+        if simulate_knock(sys.at(crawl), theta).shimmy:
+            return 0.0
+        raise
+
+
+def _floquet_and_closure(at: CasterDynamics, z: np.ndarray):
+    """Floquet multipliers (squared eigenvalues of DG), full-period closure [rad] and period [s] at z."""
+    n = at.size - 1
+    w = _weights(at)
+    A = abs(z[-1])
+    zs = np.concatenate([[at.trail * A], [at.speed * A] if n == 3 else [], [A]])
+    DG = np.empty((n, n))
+    for j in range(n):
+        h = 1e-6 * zs[j]
+        zp, zm = z.copy(), z.copy()
+        zp[j] += h
+        zm[j] -= h
+        gp, _ = _half_map(at, zp)
+        gm, _ = _half_map(at, zm)
+        if gp is None or gm is None:
+            DG[:, j] = np.nan
+        else:
+            DG[:, j] = (gp - gm) / (2 * h)
+    mu = np.linalg.eigvals(DG) if np.all(np.isfinite(DG)) else np.full(n, np.nan + 0j)
+    full, period = _full_period(at, z)
+    closure = float(np.max(np.abs((full - z) * w))) if full is not None else math.nan
+    return mu**2, closure, period
+
+
+def periodic_orbit_at_speed(sys: CasterDynamics, guess: np.ndarray, tol: float = 1e-9,
+                            max_iter: int = 25) -> PeriodicOrbit:
+    """Symmetric periodic orbit at the fixed speed of ``sys``: Newton on G(z) = z over the whole section state.
+
+    ``guess`` is a state at a maximum of θ (θ' = 0; its last entry is ignored), e.g. from a long simulation.
+    Used for the stable branch, swept in speed.  Raises SolverError when Newton fails (past a fold).
+    """
+    w = _weights(sys)
+    n = sys.size - 1
+    z = np.array(guess, dtype=float)[:n]
+
+    def residual(z):
+        g, _ = _half_map(sys, z)
+        return None if g is None else (g - z) * w
+
+    r = residual(z)
+    if r is None:
+        raise SolverError(f"periodic orbit at {sys.speed:.4g} m/s: the motion stops from the guess")
+    iterations = 0
+    while np.max(np.abs(r)) > tol:
+        if iterations >= max_iter:
+            raise SolverError(f"periodic orbit at {sys.speed:.4g} m/s: Newton did not converge "
+                              f"(residual {np.max(np.abs(r)):.2g} rad)")
+        iterations += 1
+        A = abs(z[-1])
+        zs = np.concatenate([[sys.trail * A], [sys.speed * A] if n == 3 else [], [A]])
+        J = np.empty((n, n))
+        for j in range(n):
+            h = 1e-7 * zs[j]
+            zp = z.copy()
+            zp[j] += h
+            rp = residual(zp)
+            if rp is None:
+                raise SolverError(f"periodic orbit at {sys.speed:.4g} m/s: map undefined near the guess")
+            J[:, j] = (rp - r) / h
+        try:
+            step = np.linalg.solve(J, -r)
+        except np.linalg.LinAlgError:
+            raise SolverError(f"periodic orbit at {sys.speed:.4g} m/s: singular Jacobian") from None
+        lam = 1.0
+        for _ in range(12):
+            trial = z + lam * step
+            rt = residual(trial)
+            if rt is not None and np.max(np.abs(rt)) < np.max(np.abs(r)):
+                z, r = trial, rt
+                break
+            lam /= 2
+        else:
+            raise SolverError(f"periodic orbit at {sys.speed:.4g} m/s: no descent step")
+    if z[-1] < 0:
+        z = -z
+    multipliers, closure, period = _floquet_and_closure(sys, z)
+    return PeriodicOrbit(amplitude=float(z[-1]), speed=sys.speed, state=np.append(z, 0.0), period=period,
+                         multipliers=multipliers, stable=bool(np.all(np.abs(multipliers) < 1)), closure=closure,
+                         residual=float(np.max(np.abs(r))), iterations=iterations)
+
+
+def stable_orbit(sys: CasterDynamics, angle: float = 0.6, cycles: float = 80.0,
+                 angle_limit: float = 6.0) -> PeriodicOrbit | None:
+    """Sustained shimmy at the speed of ``sys``: simulate a knock θ_i = ``angle`` [rad] for ``cycles`` periods,
+    then polish the last maximum into a periodic orbit (:func:`periodic_orbit_at_speed`).
+
+    Returns None if the knock decays (no stable cycle reached from it) or |θ| passes ``angle_limit``.
+    """
+    period = 2 * math.pi / sys.frequency
+    run = _integrate(sys, sys.knock_state(angle), cycles * period, angle_limit=angle_limit)
+    if run.reason != "end":
+        return None
+    maxima = [e for e in run.ends if e[2] > 0]
+    if not maxima:
+        return None
+    orb = periodic_orbit_at_speed(sys, maxima[-1][3])
+    return orb if orb.stable else None
+
+
+def speed_sweep(sys: CasterDynamics, speeds, start: PeriodicOrbit) -> Branch:
+    """Follow an orbit in speed (each Newton solve starts from the last orbit); stops at the first failure."""
+    branch = Branch()
+    z = start.state
+    for v in speeds:
+        try:
+            orb = periodic_orbit_at_speed(sys.at(v), z)
+        except SolverError:
+            branch.failed.append(float(v))
+            break
+        branch.orbits.append(orb)
+        z = orb.state
+    return branch
+
+
+# ---------------------------------------------------------------------------------------------------------
+# Studies: bifurcation diagram, Table 1, the (K, N) map
+
+def _branch_dicts(orbits) -> list[dict]:
+    return Branch(orbits=list(orbits)).pieces()
+
+
+def _find_stable(sys: CasterDynamics, angles=(0.6, 1.2, 0.3, 2.4)) -> PeriodicOrbit | None:
+    for a in angles:
+        try:
+            orb = stable_orbit(sys, angle=a, cycles=40.0)
+        except SolverError:
+            orb = None
+        if orb is not None:
+            return orb
+    return None
+
+
+def bifurcation_diagram(design: Design, conditions: Conditions = Conditions(),
+                        tyre: TyreParameters | None = TyreParameters(), speed_range: tuple[float, float] = (0.3, 4.0),
+                        reference_speed: float | None = None, points: int = 24, max_amplitude: float = 3.0,
+                        progress=None) -> dict:
+    """Periodic orbits against speed: amplitude of the unstable (knock threshold) and stable (sustained
+    shimmy) branches, with their Floquet multipliers.
+
+    The unstable branch is followed in amplitude (:func:`continue_orbits`) from the amplitude whose
+    describing-function speed is ``speed_range[1]`` up to ``max_amplitude`` or the first failures (round the
+    fold it turns stable); the stable branch is found by simulating large knocks at ``reference_speed``
+    (default Eq. 7's V_c) and followed in speed down to its fold and up to ``speed_range[1]``.
+
+    Parameters
+    ----------
+    design, conditions : the caster (M_f = c_f θ0)
+    tyre : the brush tyre (None: the paper's rolling tyre, which has no stable branch)
+    speed_range : (low, high) speeds of the diagram [m/s]
+    reference_speed : where the stable branch is first looked for [m/s]
+    points : amplitudes on the unstable branch
+    max_amplitude : largest amplitude followed [rad] (the small-angle model is not valid up there)
+
+    Returns
+    -------
+    dict
+        ``branches`` [{"kind": "stable" | "unstable", "speed": [m/s], "amplitude": [rad]}],
+        ``orbits`` (each orbit's speed, amplitude, period, multipliers, closure), ``fold_speed`` [m/s]
+        (lowest speed of a periodic orbit: below it every knock decays), ``eq7_critical_speed`` [m/s],
+        ``frequency`` (Eq. 15B) [rad/s], ``stable_at_reference`` (orbit dict or None), ``max_closure`` [rad].
+    """
+    lo, hi = (float(v) for v in speed_range)
+    if not 0 < lo < hi:
+        raise InputError(f"speed_range = {speed_range!r}: expected 0 < low < high [m/s]")
+    sys = caster_dynamics(design, conditions, hi, tyre)
+    inertia = sys.inertia
+    v7 = float(critical_shimmy_speed(design.trail, inertia, design.groove, design.damping,
+                                     conditions.slip_coefficient))
+    ref = v7 if reference_speed is None else float(reference_speed)
+    c_d_hi = inertia * hi / sys.trail - sys.groove_coefficient / hi
+    a_lo = 4 * sys.friction_moment / (math.pi * sys.frequency * c_d_hi) if c_d_hi > 0 else 0.01
+    amplitudes = np.geomspace(a_lo, max_amplitude, int(points))
+    unstable = continue_orbits(sys, amplitudes, progress=progress)
+    orbits = [o for o in unstable.orbits if lo * 0.5 <= o.speed <= hi * 1.5]
+    stable_ref = None
+    stable_orbits: list[PeriodicOrbit] = []
+    if tyre is not None:
+        stable_ref = _find_stable(sys.at(ref))
+        if stable_ref is not None:
+            down = speed_sweep(sys, np.geomspace(ref, lo, max(5, 2 * points // 3))[1:], stable_ref)
+            up = speed_sweep(sys, np.geomspace(ref, hi, max(4, points // 3))[1:], stable_ref)
+            stable_orbits = down.orbits[::-1] + [stable_ref] + up.orbits
+    # merge: amplitude branch (unstable part and the stable part near the fold) + the speed sweep
+    unstable_part = [o for o in orbits if not o.stable]
+    fold_part = [o for o in orbits if o.stable and (not stable_orbits or o.amplitude < stable_orbits[0].amplitude)]
+    stable_all = sorted(fold_part + stable_orbits, key=lambda o: o.amplitude)
+    branches = _branch_dicts(unstable_part) + _branch_dicts(stable_all)
+    every = unstable_part + stable_all
+    fold = min((o.speed for o in every), default=math.nan) if stable_orbits or fold_part else math.nan
+    return {
+        "design": design.as_dict(),
+        "model": "rolling" if tyre is None else "brush tyre",
+        "tyre": None if tyre is None else {"cornering_stiffness": tyre.cornering_stiffness,
+                                           "friction_coefficient": tyre.friction_coefficient, "load": tyre.load,
+                                           "wheel_mass": tyre.wheel_mass, "saturation": tyre.saturation},
+        "inertia": inertia,
+        "friction_moment": sys.friction_moment,
+        "frequency": sys.frequency,
+        "eq7_critical_speed": v7,
+        "disturbance_angle": float(conditions.disturbance_angle),
+        "branches": branches,
+        "orbits": [o.as_dict() for o in every],
+        "fold_speed": fold,
+        "reference_speed": ref,
+        "stable_at_reference": None if stable_ref is None else stable_ref.as_dict(),
+        "max_closure": max((o.closure for o in every), default=math.nan),
+        "failed_amplitudes": unstable.failed,
+    }
+
+
+def _stats(pred, meas) -> dict:
+    e = np.asarray(pred, float) / np.asarray(meas, float) - 1
+    return {"rms": float(np.sqrt(np.mean(e**2))), "bias": float(np.mean(e)), "max_abs": float(np.max(np.abs(e))),
+            "n": int(e.size)}
+
+
+def table1_comparison(conditions: Conditions = Conditions(), tyre: TyreParameters = TyreParameters(load=160.0),
+                      angle: float | None = None, rtol: float = 0.005, progress=None) -> dict:
+    """Table 1 (test fork, T = 2 in, bare fork c_f = 1.3, B = 0): measured onset, Eq. 7, the rolling
+    simulation (the paper's model, Coulomb friction) and the brush-tyre simulation, from the same knock.
+
+    Each wheel uses its own I_w and mass M_W (tyre model); the load is Table 1's 160 N.  Errors are
+    prediction/measured − 1 over wheels C–G; wheels A and B were stable up to 3.8 m/s, and a prediction
+    below that is flagged.
+
+    Returns
+    -------
+    dict
+        ``rows`` (per wheel: key, inertia, mass, measured, eq7, rolling_sim, tyre_sim (+ brackets),
+        flagged) and ``stats`` {eq7, rolling_sim, tyre_sim: {rms, bias, max_abs, n}}.
+    """
+    from designer.data.paper import TABLE1, TABLE1_STABLE_UP_TO, TABLE1_TRAIL
+    from designer.physics.inertia import Fixed
+
+    theta = float(conditions.disturbance_angle if angle is None else angle)
+    rows = []
+    for i, wheel in enumerate(TABLE1):
+        cond = conditions.replace(inertia=Fixed(wheel.inertia))
+        design = Design(trail=TABLE1_TRAIL, diameter=wheel.diameter, groove=0.0, damping=1.3)
+        v7 = float(critical_shimmy_speed(TABLE1_TRAIL, wheel.inertia, 0.0, 1.3 * conditions.disturbance_angle
+                                         / theta, conditions.slip_coefficient))
+        rolling = knock_onset_speed(caster_dynamics(design, cond, 1.0, None), theta, rtol=rtol)
+        wheel_tyre = tyre.replace(wheel_mass=wheel.mass)
+        slipping = knock_onset_speed(caster_dynamics(design, cond, 1.0, wheel_tyre), theta, rtol=rtol,
+                                     guess=rolling.speed)
+        predicted = {"eq7": v7, "rolling_sim": rolling.speed, "tyre_sim": slipping.speed}
+        flagged = [k for k, v in predicted.items() if wheel.critical_speed is None and v < TABLE1_STABLE_UP_TO]
+        rows.append({"wheel": wheel.key, "name": wheel.name, "inertia": wheel.inertia, "mass": wheel.mass,
+                     "measured": wheel.critical_speed, **predicted,
+                     "rolling_sim_bracket": [rolling.low, rolling.high],
+                     "tyre_sim_bracket": [slipping.low, slipping.high],
+                     "flagged_below_3.8": flagged})
+        if progress is not None:
+            progress(i + 1, len(TABLE1))
+    measured = [r for r in rows if r["measured"] is not None]
+    stats = {k: _stats([r[k] for r in measured], [r["measured"] for r in measured])
+             for k in ("eq7", "rolling_sim", "tyre_sim")}
+    return {"rows": rows, "stats": stats, "angle": theta, "trail": TABLE1_TRAIL, "load": tyre.load,
+            "tyre": {"cornering_stiffness": tyre.cornering_stiffness,
+                     "friction_coefficient": tyre.friction_coefficient}, "stable_up_to": TABLE1_STABLE_UP_TO}
+
+
+MAP_FACTORS = (0.25, 0.5, 1.0, 2.0, 4.0)
+"""Factors on the default frame stiffness K and lateral mass N of the (K, N) map [-]."""
+
+
+def stiffness_mass_map(casters: dict, conditions: Conditions = Conditions(), tyre: TyreParameters = TyreParameters(),
+                       factors=MAP_FACTORS, angle: float | None = None, rtol: float = 0.01, progress=None) -> dict:
+    """Onset and sustained amplitude over a grid of frame stiffness K and lateral mass N (issue 16).
+
+    For each caster and each (K, N) = (f_K K0, f_N N0): the knock onset with the rolling tyre and with the
+    brush tyre, and the stable shimmy amplitude (brush tyre) at the caster's measured critical speed.
+
+    Parameters
+    ----------
+    casters : {name: (design, inertia [kg·m²], wheel mass [kg], measured V_c [m/s])}
+    conditions : base conditions; K0, N0 from ``conditions.dynamics`` (N split 60/40 fork/bearing block)
+    factors : the grid factors for K and N
+    angle : knock θ_i [rad] (default θ0)
+
+    Returns
+    -------
+    dict
+        ``rows`` (caster, K, N, f_K, f_N, ω, rolling_onset, tyre_onset, stable_amplitude, eq7) and the
+        defaults ``K0``, ``N0``.
+    """
+    from designer.physics.inertia import Fixed
+    from designer.physics.shimmy import DynamicsParameters
+
+    K0, N0 = float(conditions.dynamics.stiffness), float(conditions.dynamics.lateral_mass)
+    theta = float(conditions.disturbance_angle if angle is None else angle)
+    rows = []
+    total = len(casters) * len(factors) ** 2
+    done = 0
+    for name, (design, inertia, mass, measured) in casters.items():
+        v7 = float(critical_shimmy_speed(design.trail, inertia, design.groove, design.damping,
+                                         conditions.slip_coefficient))
+        for fk in factors:
+            for fn in factors:
+                dyn = DynamicsParameters(frame_stiffness=K0 * fk, fork_mass=0.6 * N0 * fn,
+                                         bearing_block_mass=0.4 * N0 * fn)
+                cond = conditions.replace(inertia=Fixed(inertia), dynamics=dyn)
+                try:
+                    rolling = knock_onset_speed(caster_dynamics(design, cond, 1.0, None), theta, rtol=rtol).speed
+                except SolverError:
+                    rolling = math.nan
+                t = tyre.replace(wheel_mass=mass)
+                sys_t = caster_dynamics(design, cond, 1.0, t)
+                try:
+                    onset_t = knock_onset_speed(sys_t, theta, rtol=rtol,
+                                                guess=rolling if math.isfinite(rolling) else None).speed
+                except SolverError:
+                    onset_t = math.nan
+                orb = _find_stable(sys_t.at(measured))
+                rows.append({"caster": name, "K": K0 * fk, "N": N0 * fn, "K_factor": fk, "N_factor": fn,
+                             "frequency": sys_t.frequency, "eq7": v7, "measured": measured,
+                             "rolling_onset": rolling, "tyre_onset": onset_t,
+                             "stable_amplitude": math.nan if orb is None else orb.amplitude,
+                             "stable_max_multiplier": math.nan if orb is None
+                             else float(np.max(np.abs(orb.multipliers)))})
+                done += 1
+                if progress is not None:
+                    progress(done, total)
+    return {"rows": rows, "K0": K0, "N0": N0, "factors": list(factors), "angle": theta}
+
+
+def map_casters() -> dict:
+    """The three casters of the (K, N) map: Appendix C (T = 2.5 in) and Table 1 wheels C and G (T = 2 in)."""
+    from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING, TABLE1_TRAIL, table1_wheel
+
+    case = APPENDIX_C_CASE
+    i_c = 4 * BARE_FORK_DAMPING * case.trail**2 / (math.pi * case.critical_speed**2)
+    out = {"Appendix C": (Design(case.trail, 0.2, 0.0, BARE_FORK_DAMPING), i_c, 0.444, case.critical_speed)}
+    for key in ("C", "G"):
+        w = table1_wheel(key)
+        out[f"Table 1 {key}"] = (Design(TABLE1_TRAIL, w.diameter, 0.0, BARE_FORK_DAMPING), w.inertia, w.mass,
+                                 w.critical_speed)
+    return out
+
+
+def friction_sensitivity(design: Design, conditions: Conditions, speed: float,
+                         coefficients=(0.1, 0.15, 0.2, 0.3, 0.5, 0.7, 1.0),
+                         tyre: TyreParameters = TyreParameters()) -> list[dict]:
+    """Fold and stable shimmy amplitude for several tyre friction coefficients μ [-].
+
+    For each μ: the orbit branch followed in amplitude (0.03–3 rad); the fold (lowest speed of any orbit
+    [m/s] and its amplitude [rad], the smallest sustained shimmy) and the stable amplitude at ``speed``.
+    """
+    rows = []
+    for mu in coefficients:
+        sys = caster_dynamics(design, conditions, speed, tyre.replace(friction_coefficient=float(mu)))
+        branch = continue_orbits(sys, np.geomspace(0.03, 3.0, 26))
+        stable = [o for o in branch.orbits if o.stable]
+        fold = min(branch.orbits, key=lambda o: o.speed) if stable else None
+        orb = _find_stable(sys, angles=(0.6, 1.2, 0.3, 2.4, 0.15))
+        rows.append({"friction_coefficient": float(mu),
+                     "fold_speed": math.nan if fold is None else fold.speed,
+                     "fold_amplitude": math.nan if fold is None else fold.amplitude,
+                     "stable_amplitude": math.nan if orb is None else orb.amplitude,
+                     "max_abs_multiplier": math.nan if orb is None else float(np.max(np.abs(orb.multipliers))),
+                     "closure": math.nan if orb is None else orb.closure})
+    return rows
+
+
+def appendix_c_caster() -> tuple[Design, Conditions]:
+    """The caster of Appendix C / Fig. 1C: T = 2.5 in, bare fork, I_w from V_c = 2.53 m/s by Eq. 7 (B = 0)."""
+    from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING
+    from designer.physics.inertia import Fixed
+
+    case = APPENDIX_C_CASE
+    i_c = 4 * BARE_FORK_DAMPING * case.trail**2 / (math.pi * case.critical_speed**2)
+    return Design(case.trail, 0.2, 0.0, BARE_FORK_DAMPING), Conditions(inertia=Fixed(i_c))
+
+
+def limit_cycle_study(progress=None, quick: bool = False) -> dict:
+    """Everything the results/simulation limit-cycle report shows (issue 16); minutes of CPU.
+
+    Appendix C caster: bifurcation diagrams (brush tyre and rolling tyre), stable amplitude against the
+    measured 8° and its dependence on μ, knock-safe speeds (θ0, 2θ0); Table 1 comparison; (K, N) map.
+    ``quick`` uses a 3 × 3 map and fewer orbits (for checking the pipeline, not for results).
+    """
+    import time
+
+    from designer.data.paper import APPENDIX_C_CASE
+
+    def say(text):
+        if progress is not None:
+            progress(text)
+
+    t0 = time.perf_counter()
+    design, cond = appendix_c_caster()
+    say("bifurcation diagram (brush tyre)")
+    bif = bifurcation_diagram(design, cond, TyreParameters(), speed_range=(0.3, 4.0),
+                              reference_speed=APPENDIX_C_CASE.critical_speed, points=12 if quick else 28)
+    say("bifurcation diagram (rolling tyre)")
+    roll = bifurcation_diagram(design, cond, None, speed_range=(0.3, 4.0), points=8 if quick else 16,
+                               max_amplitude=1.5)
+    say("stable amplitude against μ")
+    fric = friction_sensitivity(design, cond, APPENDIX_C_CASE.critical_speed,
+                                (0.15, 0.7) if quick else (0.1, 0.15, 0.2, 0.3, 0.5, 0.7, 1.0))
+    say("knock-safe speeds")
+    theta0 = float(cond.disturbance_angle)
+    knock = {}
+    for label, tyre in (("rolling", None), ("brush", TyreParameters())):
+        for k in (1, 2):
+            knock[f"{label}_{k}theta0"] = knock_safe_speed(design, cond, angle=k * theta0, tyre=tyre)
+    say("rolling limit of the brush tyre")
+    factor = 30.0
+    from designer.analysis.simulate import onset_speed as _today_onset  # today's model, for the reduction check
+
+    today = _today_onset(design, cond, rtol=0.002)
+    limit = knock_onset_speed(caster_dynamics(design, cond, 1.0, TyreParameters().rolling_limit(factor)), theta0,
+                              rtol=0.002, guess=today.speed)
+    rolling_limit = {"factor": factor, "today": today.speed, "tyre_limit": limit.speed,
+                     "today_bracket": [today.low, today.high], "tyre_limit_bracket": [limit.low, limit.high]}
+    say("Table 1")
+    table = table1_comparison(rtol=0.01 if quick else 0.005)
+    say("(K, N) map")
+    kn = stiffness_mass_map(map_casters(), factors=(0.25, 1.0, 4.0) if quick else MAP_FACTORS,
+                            progress=None if progress is None else (lambda i, n: progress(f"map {i}/{n}")))
+    return {"bifurcation": bif, "rolling": roll, "friction": fric, "knock_safe": knock, "table1": table,
+            "rolling_limit": rolling_limit,
+            "map": kn, "measured": {"speed": APPENDIX_C_CASE.critical_speed,
+                                    "amplitude": APPENDIX_C_CASE.steady_amplitude},
+            "seconds": time.perf_counter() - t0, "quick": quick}

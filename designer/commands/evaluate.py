@@ -1,6 +1,8 @@
 """``designer evaluate``: analyse one caster (docs/commands.md)."""
 from __future__ import annotations
 
+import math
+
 from designer.commands._common import choice_option, print_json, quantity_option
 from designer.data.paper import INCH
 from designer.errors import InputError
@@ -29,6 +31,8 @@ def register(sub) -> None:
     p.add_argument("--slip-coefficient", default="1250 N", help="tyre slip coefficient K_s (default 1250 N)")
     p.add_argument("--inertia", default=None, help="override I_w [kg·m²] (default: Table 1 power law of d)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.add_argument("--knock-safe", action="store_true", help="also simulate the knock-safe speed for knocks of "
+                   "θ0 and 2 θ0 (Coulomb friction, rolling tyre; about 1-2 s)")
     p.set_defaults(func=run)
 
 
@@ -122,6 +126,13 @@ def run(args) -> int:
         out["shimmy_margin"] = values["critical_speed"] - speed
         out["stable_at_target"] = values["critical_speed"] >= speed
         out["growth_rate"] = values["growth_rate"]
+    if args.knock_safe:  # simulated, about 1-2 s: only on request
+        from designer.analysis.limit_cycles import knock_safe_speed
+
+        theta0 = conditions.disturbance_angle
+        out["knock_safe_speed"] = knock_safe_speed(design, conditions)
+        out["knock_safe_speed_double"] = knock_safe_speed(design, conditions, angle=2 * theta0) \
+            if 2 * theta0 < 1.5708 else None
     out["warnings"] = values["warnings"]
     if args.json:
         print_json(out)
@@ -143,6 +154,12 @@ def run(args) -> int:
         ("swept radius T + d/2", f"{values['swept_radius'] * 1000:.1f} mm ({values['swept_radius'] / INCH:.3f} in)", ""),
         ("shimmy frequency ω", f"{values['shimmy_frequency']:.1f} rad/s", "Eq. 15B"),
     ]
+    if args.knock_safe:  # beside V_c
+        double = out["knock_safe_speed_double"]
+        rows.insert(2, (f"knock-safe speed, {math.degrees(conditions.disturbance_angle):.0f}° / "
+                     f"{math.degrees(2 * conditions.disturbance_angle):.0f}° knock",
+                     f"{out['knock_safe_speed']:.3f} / " + ("n/a" if double is None else f"{double:.3f}") + " m/s",
+                     "simulated (App. B)"))
     if speed is not None:
         verdict = "stable" if values["critical_speed"] >= speed else "SHIMMIES"
         rows.append((f"at {speed:.2f} m/s", f"{verdict}, margin {values['critical_speed'] - speed:+.3f} m/s", "Eq. 7"))

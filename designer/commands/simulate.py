@@ -26,7 +26,7 @@ def register(sub) -> None:
     p.add_argument("--angular-velocity", default="0", help="initial θ'_i in rad/s (default 0)")
     p.add_argument("--disturbance-angle", default="20 deg",
                    help="design θ0 that defines M_f = c_f θ0 (default 20 deg, App. C)")
-    p.add_argument("--load", default="178 N", help="caster load L (recorded; the shimmy model does not use it)")
+    p.add_argument("--load", default="178 N", help="caster load L (used by the brush tyre of --bifurcation and --knock-safe --tyre; default 178 N)")
     p.add_argument("--inertia", default=None, help="wheel I_w in kg*m**2 (default: Table 1 power law of d)")
     p.add_argument("--slip-coefficient", default="1250 N", help="tyre slip coefficient K_s (default 1250 N)")
     p.add_argument("--duration", default=None, help="simulated time in s (default: transient + 24 periods)")
@@ -35,7 +35,112 @@ def register(sub) -> None:
     p.add_argument("--report", default=None, metavar="DIR",
                    help="regenerate the simulated-onset vs Eq. 7 report into DIR (e.g. results/simulation)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
+    _register_limit_cycles(p)
     p.set_defaults(func=run)
+
+
+def _register_limit_cycles(p) -> None:
+    """Options of issue 16: the brush tyre, the bifurcation diagram and the knock-safe speed."""
+    g = p.add_argument_group("beyond onset (brush tyre, periodic orbits, knock-safe speed)")
+    g.add_argument("--bifurcation", action="store_true",
+                   help="periodic orbits against speed (stable and unstable branches, brush tyre; the rolling "
+                        "tyre's branch beside it); --plot draws the diagram")
+    g.add_argument("--knock-safe", action="store_true",
+                   help="highest speed at which a knock of --angle decays (and of twice it)")
+    g.add_argument("--tyre", action="store_true", help="use the brush tyre for --knock-safe (default: the "
+                                                       "paper's rolling tyre, Eq. 6B)")
+    g.add_argument("--friction-coefficient", default="0.7", help="tyre-floor μ of the brush tyre (default 0.7)")
+    g.add_argument("--cornering-stiffness", default="1250", help="brush tyre C in N/rad (default K_s = 1250)")
+    g.add_argument("--wheel-mass", default="0.444 kg", help="wheel mass M_W for the brush tyre (default 0.444 kg)")
+    g.add_argument("--max-speed", default="4 m/s", help="upper speed of --bifurcation (default 4 m/s)")
+    g.add_argument("--points", default="24", help="orbits on the unstable branch of --bifurcation (default 24)")
+
+
+def _tyre(args):
+    from designer.physics.tyre import TyreParameters
+
+    values = {}
+    for option, text in (("--friction-coefficient", args.friction_coefficient),
+                         ("--cornering-stiffness", args.cornering_stiffness)):
+        try:
+            values[option] = float(text)
+        except ValueError:
+            raise InputError(f"{option} {text!r}: expected a number") from None
+        if not math.isfinite(values[option]) or values[option] <= 0:
+            raise InputError(f"{option} {text}: must be positive")
+    return TyreParameters(cornering_stiffness=values["--cornering-stiffness"],
+                          friction_coefficient=values["--friction-coefficient"],
+                          load=_positive("--load", args.load, "force"),
+                          wheel_mass=_positive("--wheel-mass", args.wheel_mass, "mass"))
+
+
+def _run_limit_cycles(args) -> int:
+    """--bifurcation / --knock-safe."""
+    from designer.analysis.limit_cycles import bifurcation_diagram, knock_safe_speed
+
+    if args.speed is None:
+        args.speed = "1 m/s"          # not used by these analyses
+    design, conditions, _speed, angle, _omega0, _duration = parse(args)
+    tyre = _tyre(args)
+    out: dict = {"design": design.as_dict(), "angle": angle}
+    if args.knock_safe:
+        used = tyre if args.tyre else None
+        out["knock_safe_speed"] = knock_safe_speed(design, conditions, angle=angle, tyre=used)
+        out["knock_safe_speed_double"] = knock_safe_speed(design, conditions, angle=2 * angle, tyre=used) \
+            if 2 * angle < math.pi / 2 else None
+        out["knock_safe_model"] = "brush tyre" if args.tyre else "rolling tyre (Eq. 6B)"
+    if args.bifurcation:
+        try:
+            points = int(args.points)
+        except ValueError:
+            raise InputError(f"--points {args.points!r}: expected an integer") from None
+        if not 3 <= points <= 200:
+            raise InputError(f"--points {points}: must be between 3 and 200")
+        top = _positive("--max-speed", args.max_speed, "speed")
+        bif = bifurcation_diagram(design, conditions, tyre, speed_range=(min(0.3, top / 4), top), points=points)
+        roll = bifurcation_diagram(design, conditions, None, speed_range=(min(0.3, top / 4), top),
+                                   points=max(3, points // 2), max_amplitude=1.5)
+        out.update({k: bif[k] for k in ("branches", "fold_speed", "eq7_critical_speed", "frequency", "orbits",
+                                        "stable_at_reference", "max_closure", "tyre")})
+        out["rolling_branches"] = roll["branches"]
+        if args.plot:
+            from designer.plots.simulation import bifurcation_axes
+            from designer.plots.figures import save_figure
+
+            if not str(args.plot).lower().endswith((".png", ".svg", ".pdf")):
+                raise InputError(f"--plot {args.plot}: expected a .png, .svg or .pdf file name")
+            ax = bifurcation_axes(bif["branches"], bif["eq7_critical_speed"],
+                                  angle / (bif["frequency"] * design.trail), roll["branches"], bif["fold_speed"],
+                                  speed_range=(min(0.3, top / 4), top), title=design.describe())
+            ax.figure.tight_layout()
+            save_figure(ax.figure, args.plot)
+            out["plot"] = args.plot
+    if args.json:
+        print_json(out)
+        return 0
+    print(f"Caster: {design.describe()}")
+    if args.knock_safe:
+        double = out["knock_safe_speed_double"]
+        print(f"knock-safe speed ({out['knock_safe_model']}): {out['knock_safe_speed']:.3f} m/s for a "
+              f"{math.degrees(angle):.0f}° knock" + (f", {double:.3f} m/s for {math.degrees(2 * angle):.0f}°"
+                                                    if double is not None else ""))
+    if args.bifurcation:
+        print(f"Eq. 7 V_c = {out['eq7_critical_speed']:.3f} m/s; brush tyre (μ = {tyre.friction_coefficient:g}, "
+              f"C = {tyre.cornering_stiffness:g} N/rad, L = {tyre.load:g} N):")
+        for b in out["branches"]:
+            print(f"  {b['kind']:8s} branch: V {min(b['speed']):.2f}–{max(b['speed']):.2f} m/s, amplitude "
+                  f"{min(b['amplitude']):.3f}–{max(b['amplitude']):.3f} rad ({len(b['speed'])} orbits)")
+        fold = out["fold_speed"]
+        print("  fold (lowest speed of sustained shimmy): " + (f"{fold:.2f} m/s" if math.isfinite(fold)
+                                                                else "none found"))
+        s = out["stable_at_reference"]
+        if s is not None:
+            print(f"  stable amplitude at {out['eq7_critical_speed']:.2f} m/s: {s['amplitude']:.3f} rad "
+                  f"({math.degrees(s['amplitude']):.1f}°), max |Floquet multiplier| {s['max_abs_multiplier']:.3f}")
+        print(f"  largest orbit closure error {out['max_closure']:.1e} rad")
+        if args.plot:
+            print(f"  plot: {args.plot}")
+    return 0
 
 
 def _positive(option, text, dimension, allow_zero=False):
@@ -87,11 +192,19 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
 def run(args) -> int:
     from designer.analysis.simulate import onset_speed, simulate, write_simulation_report
 
+    if (args.bifurcation or args.knock_safe) and args.report is None:
+        return _run_limit_cycles(args)
+
     if args.report is not None:
         result = write_simulation_report(
             args.report, progress=None if args.json else lambda i, n: print(f"\rcase {i}/{n}", end="", file=sys.stderr, flush=True))
         if not args.json:
             eprint("")
+        from designer.analysis.limit_cycles import limit_cycle_study
+        from designer.report.limit_cycles import write_limit_cycle_report
+
+        study = limit_cycle_study(progress=None if args.json else lambda text: eprint(f"limit cycles: {text}"))
+        written = write_limit_cycle_report(study, args.report)
         summary = result["summary"]
         if args.json:
             print_json({"report": args.report, "summary": summary})
@@ -99,6 +212,7 @@ def run(args) -> int:
             a = summary["all"]
             print(f"wrote {args.report}/report.md, onset.csv, onset.json, onset.png: {summary['cases']} cases, "
                   f"simulated onset vs Eq. 7 from {100 * a['min_error']:+.1f} % to {100 * a['max_error']:+.1f} %")
+            print(f"wrote {args.report}/{', '.join(written)} (shimmy beyond onset)")
         return 0
 
     design, conditions, speed, angle, omega0, duration = parse(args)
