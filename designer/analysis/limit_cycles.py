@@ -929,6 +929,35 @@ def table1_comparison(conditions: Conditions = Conditions(), tyre: TyreParameter
                      "friction_coefficient": tyre.friction_coefficient}, "stable_up_to": TABLE1_STABLE_UP_TO}
 
 
+def scanned_onset_speed(sys: CasterDynamics, angle: float, speeds, rtol: float = 0.01) -> dict:
+    """Lowest speed at which a knock θ_i [rad] is sustained, from a scan over ``speeds`` [m/s] then bisection.
+
+    Unlike :func:`knock_onset_speed` it does not assume one transition: the brush tyre on a stiff frame has
+    islands of shimmy in speed.  Islands narrower than the scan spacing can be missed.
+
+    Returns {"speed" [m/s] (NaN if sustained nowhere in the scan), "monotone" (sustained at every scanned
+    speed above the first), "below_scan" (sustained already at the lowest scanned speed), "evaluations"}.
+    """
+    speeds = [float(v) for v in speeds]
+    outcomes = [simulate_knock(sys.at(v), angle).shimmy for v in speeds]
+    n = len(speeds)
+    if not any(outcomes):
+        return {"speed": math.nan, "monotone": True, "below_scan": False, "evaluations": n}
+    k = outcomes.index(True)
+    monotone = all(outcomes[k:])
+    if k == 0:
+        return {"speed": speeds[0], "monotone": monotone, "below_scan": True, "evaluations": n}
+    low, high = speeds[k - 1], speeds[k]
+    while high / low - 1 > rtol:
+        mid = math.sqrt(low * high)
+        n += 1
+        if simulate_knock(sys.at(mid), angle).shimmy:
+            high = mid
+        else:
+            low = mid
+    return {"speed": math.sqrt(low * high), "monotone": monotone, "below_scan": False, "evaluations": n}
+
+
 MAP_FACTORS = (0.25, 0.5, 1.0, 2.0, 4.0)
 """Factors on the default frame stiffness K and lateral mass N of the (K, N) map [-]."""
 
@@ -937,8 +966,10 @@ def stiffness_mass_map(casters: dict, conditions: Conditions = Conditions(), tyr
                        factors=MAP_FACTORS, angle: float | None = None, rtol: float = 0.01, progress=None) -> dict:
     """Onset and sustained amplitude over a grid of frame stiffness K and lateral mass N (issue 16).
 
-    For each caster and each (K, N) = (f_K K0, f_N N0): the knock onset with the rolling tyre and with the
-    brush tyre, and the stable shimmy amplitude (brush tyre) at the caster's measured critical speed.
+    For each caster and each (K, N) = (f_K K0, f_N N0): the knock onset with the rolling tyre (bisection from
+    Eq. 7) and with the brush tyre (lowest sustained speed of a 13-speed scan over 0.2-4 × the measured V_c,
+    refined by bisection, :func:`scanned_onset_speed`), and the stable shimmy amplitude (brush tyre) at the
+    caster's measured critical speed.
 
     Parameters
     ----------
@@ -975,15 +1006,13 @@ def stiffness_mass_map(casters: dict, conditions: Conditions = Conditions(), tyr
                     rolling = math.nan
                 t = tyre.replace(wheel_mass=mass)
                 sys_t = caster_dynamics(design, cond, 1.0, t)
-                try:
-                    onset_t = knock_onset_speed(sys_t, theta, rtol=rtol,
-                                                guess=rolling if math.isfinite(rolling) else None).speed
-                except SolverError:
-                    onset_t = math.nan
+                scan = scanned_onset_speed(sys_t, theta, np.geomspace(0.2, 4.0, 13) * measured, rtol=rtol)
+                onset_t = scan["speed"]
                 orb = _find_stable(sys_t.at(measured))
                 rows.append({"caster": name, "K": K0 * fk, "N": N0 * fn, "K_factor": fk, "N_factor": fn,
                              "frequency": sys_t.frequency, "eq7": v7, "measured": measured,
-                             "rolling_onset": rolling, "tyre_onset": onset_t,
+                             "rolling_onset": rolling, "tyre_onset": onset_t, "tyre_onset_monotone": scan["monotone"],
+                             "tyre_onset_below_scan": scan["below_scan"],
                              "stable_amplitude": math.nan if orb is None else orb.amplitude,
                              "stable_max_multiplier": math.nan if orb is None
                              else float(np.max(np.abs(orb.multipliers)))})

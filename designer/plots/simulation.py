@@ -102,24 +102,38 @@ def table1_axes(wheels, measured, predictions: dict, stable_up_to: float | None 
     return ax
 
 
-def map_axes(k_factors, n_factors, values, title: str, unit: str, fmt: str = "{:.2f}", ax=None, cmap="viridis"):
+def map_axes(k_factors, n_factors, values, title: str, unit: str, fmt: str = "{:.2f}", ax=None, cmap="viridis",
+             center: float | None = None, marks=None):
     """A (K, N) map: ``values[i, j]`` at K factor ``k_factors[i]`` and N factor ``n_factors[j]``, annotated.
 
-    NaN cells are drawn grey and marked "none".
+    Colour: log scale; with ``center`` the ratio value/center on a diverging scale clipped to [1/2, 2].
+    NaN cells are drawn grey and marked "none"; cells where ``marks`` is True get a "*".
     """
     ax = _axes(ax, (4.5, 4))
     vals = np.asarray(values, float)
     masked = np.ma.masked_invalid(vals)
     import matplotlib.pyplot as plt  # heavy, only for figures
+    from matplotlib.colors import LogNorm
 
-    cm = plt.get_cmap(cmap).copy()
+    cm = plt.get_cmap("RdBu_r" if center is not None else cmap).copy()
     cm.set_bad("0.85")
-    im = ax.imshow(masked.T, origin="lower", cmap=cm, aspect="auto")
+    if center is not None:
+        im = ax.imshow(masked.T / center, origin="lower", cmap=cm, aspect="auto", norm=LogNorm(0.5, 2.0))
+        unit = f"{unit} / default cell ({fmt.format(center)})"
+    else:
+        finite = vals[np.isfinite(vals)]
+        norm = LogNorm(finite.min(), finite.max()) if finite.size and finite.min() > 0 else None
+        im = ax.imshow(masked.T, origin="lower", cmap=cm, aspect="auto", norm=norm)
     for i in range(vals.shape[0]):
         for j in range(vals.shape[1]):
             text = "none" if not np.isfinite(vals[i, j]) else fmt.format(vals[i, j])
-            ax.text(i, j, text, ha="center", va="center", fontsize=7,
-                    color="k" if not np.isfinite(vals[i, j]) or vals[i, j] > np.nanmean(vals) else "w")
+            if marks is not None and marks[i][j]:
+                text += "*"
+            if center is not None:
+                dark = np.isfinite(vals[i, j]) and abs(np.log2(vals[i, j] / center)) > 0.6
+            else:
+                dark = np.isfinite(vals[i, j]) and vals[i, j] < np.exp(np.nanmean(np.log(vals)))
+            ax.text(i, j, text, ha="center", va="center", fontsize=7, color="w" if dark else "k")
     ax.set_xticks(range(len(k_factors)), [f"{f:g}" for f in k_factors])
     ax.set_yticks(range(len(n_factors)), [f"{f:g}" for f in n_factors])
     ax.set_xlabel("frame stiffness K / K0")

@@ -124,13 +124,17 @@ def write_limit_cycle_report(study: dict, out_dir="results/simulation") -> list[
     fig, axes = _figure(len(casters), 3, (15, 4.2 * len(casters)))
     for i, name in enumerate(casters):
         measured = next(r["measured"] for r in kn["rows"] if r["caster"] == name)
+        default = {r_key: next(r[r_key] for r in kn["rows"] if r["caster"] == name and r["K_factor"] == 1.0
+                               and r["N_factor"] == 1.0) for r_key in ("rolling_onset", "tyre_onset")}
+        islands = _map_grid(kn["rows"], name, "tyre_onset_monotone", factors) == 0 \
+            if "tyre_onset_monotone" in kn["rows"][0] else None
         for j, (key, label, unit, fmt) in enumerate((
                 ("rolling_onset", "onset, rolling tyre", "m/s", "{:.2f}"),
-                ("tyre_onset", "onset, brush tyre", "m/s", "{:.2f}"),
+                ("tyre_onset", "onset, brush tyre (* islands in speed)", "m/s", "{:.2f}"),
                 ("stable_amplitude", f"stable amplitude at {measured:.2f} m/s, brush tyre", "rad", "{:.2f}"))):
             map_axes(factors, factors, _map_grid(kn["rows"], name, key, factors),
                      f"{name} (measured {measured:.2f} m/s): {label}", unit, fmt, ax=axes[i, j],
-                     cmap="magma" if key == "stable_amplitude" else "viridis")
+                     cmap="magma", center=default.get(key), marks=islands if key == "tyre_onset" else None)
     fig.suptitle(f"Unknowns mapped: K0 = {kn['K0']:.0f} N/m, N0 = {kn['N0']:.2f} kg (20° knock)", fontsize=11)
     fig.tight_layout()
     save_figure(fig, out / "stiffness_mass_map.png")
