@@ -163,3 +163,14 @@ def test_evaluate_knock_safe(capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["knock_safe_speed"] == pytest.approx(out["critical_speed"], rel=0.15)
     assert out["knock_safe_speed_double"] < 0.8 * out["knock_safe_speed"]
+
+
+def test_slow_creep_of_a_sliding_tyre_is_not_shimmy():
+    """Brush tyre at 0.8 m/s (below the 0.65-0.7 m/s fold's stable branch reach for a 20° knock): the knocked
+    tyre slides and the caster creeps back over many periods without oscillating; that is not sustained
+    shimmy (fewer than 3 reversals at the end), while at 2.7 m/s the same knock locks onto the stable cycle."""
+    sys = caster_dynamics(DESIGN_C, COND_C, 0.8, TyreParameters())
+    creep = simulate_knock(sys, 0.349)
+    assert not creep.shimmy and creep.reason == "end"
+    locked = simulate_knock(sys.at(2.7), 0.349)
+    assert locked.shimmy and locked.late_amplitude == pytest.approx(0.915, rel=0.02)
