@@ -36,6 +36,8 @@ _LAZY = {
     "knock_safe_speed": "designer.analysis.limit_cycles",
     "bifurcation_diagram": "designer.analysis.limit_cycles",
     "TyreParameters": "designer.physics.tyre",
+    "recommend": "designer.analysis.recommend",
+    "Recommendation": "designer.analysis.recommend",
 }
 _LAZY["fix"] = "designer.analysis.retrofit"  # issue 18: retrofit
 

@@ -103,7 +103,7 @@ def test_skus_larger_than_the_stock_is_exit_2(tmp_path, capsys, root):
     code = main(["fleet", str(path), "--skus", "10000", "--no-monte-carlo", "--problem",
                  str(root / "problems" / "indoor-manual.toml"), "--out", str(tmp_path / "out")])
     errors = [ln for ln in capsys.readouterr().err.splitlines() if ln.startswith("designer: error")]
-    assert code == 2 and len(errors) == 1 and "--skus 10000: larger than the stock (315 casters)" in errors[0]
+    assert code == 2 and len(errors) == 1 and "--skus 10000: larger than the stock (630 casters)" in errors[0]
 
 
 def test_example_fleet_stays_in_its_stated_ranges_and_reads_back(tmp_path):

@@ -42,6 +42,8 @@ from designer.physics.threshold import threshold_force_ratio
 from designer.physics.turning import MODES, SURFACES, added_damper_moment, sliding_turning_moment
 from designer.units import parse_quantity
 
+from designer.analysis.recommend import risk_screen, select_rows
+
 GRAVITY = 9.80665
 """Standard gravity g [m/s²] for load = m g front_fraction / 2."""
 
@@ -509,113 +511,53 @@ def _uncertainty_module():
 def stock_table(problem) -> StockTable:
     """All stock combinations of the base problem, with V_c, its quantile and the swept radius.
 
-    Uses ``problem.stock`` (the ``[stock]`` section) when the problem declares one; otherwise
-    :data:`DEFAULT_STOCK` within the problem's bounds (the table's ``note`` says so).  Every variable must
-    be discrete: a part number is a design tuple.
+    The enumeration is :func:`designer.analysis.recommend.stock_candidates` (the single owner): the
+    problem's ``[stock]`` when it declares one, otherwise :data:`DEFAULT_STOCK` within its bounds (the
+    table's ``note`` says so).  Every variable must be discrete: a part number is a design tuple.
     """
-    stock = getattr(problem, "stock", None)
-    table = _from_stock(problem) if stock is not None else _default_stock(problem)
+    from designer.analysis.recommend import confident_speed, stock_candidates
+
+    if getattr(problem, "stock", None) is not None:
+        cand = stock_candidates(problem)
+        note = "the base problem's [stock]"
+    else:
+        cand = stock_candidates(problem, _default_stock(problem))
+        note = "the base problem has no [stock]; default stock within its bounds (docs/fleet.md)"
+    stock_key = {"trail": "trail_step", "diameter": "diameters", "groove": "grooves", "damping": "dampings"}
+    for key in ("trail", "diameter", "groove", "damping"):
+        if cand.get(key) is None:
+            raise ProblemError(f"{problem.source or problem.name}: stock.{stock_key[key]}: missing, so {key} stays "
+                               f"continuous; a fleet's part numbers are stock casters, so list every variable in "
+                               f"[stock] (docs/fleet.md)")
+    table = StockTable(trail=cand.trail, diameter=cand.diameter, groove=cand.groove, damping=cand.damping,
+                       inertia=np.asarray(cand.inertia, float), wheel=np.asarray(cand.wheel, dtype=object), note=note)
     c = problem.conditions
     table.critical_speed = critical_shimmy_speed(table.trail, table.inertia, table.groove, table.damping,
                                                  c.slip_coefficient)
-    risk = risk_of(problem)
-    if risk is None:
-        table.design_speed = table.critical_speed
-    else:
-        quantile = _uncertainty_module().shimmy_speed_quantile
-        table.design_speed = np.asarray(quantile(table.trail, table.inertia, table.groove, table.damping,
-                                                 c.slip_coefficient, risk), float)
+    table.design_speed = np.asarray(confident_speed(table.trail, table.inertia, table.groove, table.damping,
+                                                    c.slip_coefficient, risk_of(problem)), float)
     table.swept_radius = swept_radius(table.trail, table.diameter)
     return table
 
 
-def _from_stock(problem) -> StockTable:
-    """Every combination of the base problem's ``[stock]`` (``problem.stock``) as arrays.
+def _default_stock(problem):
+    """:data:`DEFAULT_STOCK` within the problem's bounds, as a :class:`designer.problem.Stock`."""
+    from designer.problem import Stock
 
-    Wheels come from ``stock.diameters`` (I_w from the inertia model), ``stock.wheels`` (I_w as measured,
-    else from the model; their own groove when given) or a catalogue problem's ``[inertia].wheels``;
-    trails from ``stock.trails`` (fork holes), grooves and dampings from their lists.  A variable that
-    is neither in the stock nor fixed by its bounds is an error: a part number is a design tuple.
-    """
-    from designer.physics.inertia import Catalog
-
-    st = problem.stock
-    b = problem.bounds
-    prefix = f"{problem.source or problem.name}: "
-
-    def discrete(values, name):
-        if values is not None:
-            return [float(v) for v in values]
-        if b[name].fixed:
-            return [b[name].low]
-        key = {"trail": "trail_step", "diameter": "diameters", "groove": "grooves", "damping": "dampings"}[name]
-        raise ProblemError(f"{prefix}stock.{key}: missing, so {name} stays continuous; a fleet's part numbers "
-                           f"are stock casters, so list every variable in [stock] (docs/fleet.md)")
-
-    wheels = []  # (name, diameter, inertia, groove or None)
-    if st.wheels is not None:
-        for w in st.wheels:
-            inertia = w.inertia if w.inertia is not None else float(problem.conditions.inertia(w.diameter))
-            wheels.append((w.name, w.diameter, inertia, w.groove))
-    elif problem.wheels:
-        for key in problem.wheels:
-            model = Catalog.from_key(key)
-            wheels.append((key, model.fixed_diameter, float(model(model.fixed_diameter)), None))
-    else:
-        for d in discrete(st.diameters, "diameter"):
-            wheels.append(("", d, float(problem.conditions.inertia(d)), None))
-    trails = discrete(st.trails, "trail")
-    dampings = discrete(st.dampings, "damping")
-    rows = []
-    for name, d, inertia, own_groove in wheels:
-        grooves = [own_groove] if own_groove is not None else discrete(st.grooves, "groove")
-        for t in trails:
-            for g in grooves:
-                for c in dampings:
-                    rows.append((t, d, g, c, inertia, name))
-    cols = list(zip(*rows))
-    return StockTable(trail=np.array(cols[0], float), diameter=np.array(cols[1], float),
-                      groove=np.array(cols[2], float), damping=np.array(cols[3], float),
-                      inertia=np.array(cols[4], float), wheel=np.array(cols[5], dtype=object),
-                      note="the base problem's [stock]")
-
-
-def _default_stock(problem) -> StockTable:
     b = problem.bounds
 
     def within(values, name):
         lo, hi = b[name].low, b[name].high
         kept = [v for v in values if lo - 1e-12 <= v <= hi + 1e-12]
-        return kept or [lo]
+        return tuple(kept or [lo])
 
-    diameters = within([v * INCH for v in DEFAULT_STOCK["diameters"]], "diameter")
-    grooves = within([v * INCH for v in DEFAULT_STOCK["grooves"]], "groove")
-    dampings = within(DEFAULT_STOCK["dampings"], "damping")
     step = DEFAULT_STOCK["trail_step"] * INCH
     lo, hi = b["trail"].low, b["trail"].high
-    trails = list(lo + step * np.arange(int(math.floor((hi - lo) / step + 1e-9)) + 1))
-    grid = np.array(np.meshgrid(trails, diameters, grooves, dampings, indexing="ij")).reshape(4, -1)
-    if problem.wheels:  # a catalogue problem: its wheels, with their own inertia
-        from designer.physics.inertia import Catalog
-
-        rows, names, inertias = [], [], []
-        for key in problem.wheels:
-            model = Catalog.from_key(key)
-            for t in trails:
-                for g in grooves:
-                    for c in dampings:
-                        rows.append((t, model.fixed_diameter, g, c))
-                        names.append(key)
-                        inertias.append(float(model(model.fixed_diameter)))
-        grid = np.array(rows).T
-        inertia = np.array(inertias)
-        wheel = np.array(names, dtype=object)
-    else:
-        inertia = np.asarray(problem.conditions.inertia(grid[1]), float)
-        wheel = np.full(grid.shape[1], "", dtype=object)
-    return StockTable(trail=grid[0], diameter=grid[1], groove=grid[2], damping=grid[3], inertia=inertia,
-                      wheel=wheel, note="the base problem has no [stock]; default stock within its bounds "
-                      "(docs/fleet.md)")
+    trails = tuple(lo + step * np.arange(int(math.floor((hi - lo) / step + 1e-9)) + 1))
+    return Stock(diameters=None if problem.wheels or b["diameter"].fixed else
+                 within([v * INCH for v in DEFAULT_STOCK["diameters"]], "diameter"),
+                 grooves=within([v * INCH for v in DEFAULT_STOCK["grooves"]], "groove"), trail_step=step,
+                 trails=trails, dampings=within(DEFAULT_STOCK["dampings"], "damping"))
 
 
 # --------------------------------------------------------------------------- vectorised recommendation
@@ -659,7 +601,7 @@ def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     ratio = np.where(climbs, threshold_force_ratio(safe, height[:, None]), np.inf)
     force = load[:, None] * ratio[:, inverse]
     required = (1 + problem.margin) * np.asarray(chairs["target_speed"], float)
-    risk_ok = stock.design_speed[None, :] >= required[:, None]
+    risk_ok = risk_screen(stock.design_speed[None, :], required[:, None])
     radius_ok = stock.swept_radius[None, :] <= np.asarray(chairs["swept_radius_max"], float)[:, None] * (1 + 1e-9)
     sill_ok = climbs[:, inverse]
     return {"turning_effort": effort, "threshold_force": force, "feasible": risk_ok & radius_ok & sill_ok,
@@ -700,59 +642,19 @@ def recommend_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     position = np.where(fperm == np.repeat(gmin, counts, axis=1), np.arange(s), s)
     gstock = perm[np.minimum(np.minimum.reduceat(position, starts, axis=1), s - 1)]
     gp = np.where(np.isfinite(gmin), np.take_along_axis(p, gstock, axis=1), np.inf)
-    u = gmin.shape[1]
-    # sort each chair's candidates by P ascending, ties by F ascending (infeasible last)
-    order_g = np.lexsort((gmin, gp), axis=-1)
-    fs = np.take_along_axis(gmin, order_g, axis=1)
-    ps = np.take_along_axis(gp, order_g, axis=1)
-    order = np.take_along_axis(gstock, order_g, axis=1)  # stock index of each sorted candidate
-    previous = np.concatenate([np.full((n, 1), np.inf), np.minimum.accumulate(fs, axis=1)[:, :-1]], axis=1)
-    front = np.isfinite(fs) & (fs < previous)
-    size = front.sum(axis=1)
-    has = size > 0
-    first = np.argmax(front, axis=1)  # least P on the front
-    last = u - 1 - np.argmax(front[:, ::-1], axis=1)  # least F on the front (largest P)
-    easiest_sill = np.where(has, order[rows, first], -1)
-    easiest_turn = np.where(has, order[rows, last], -1)
     w = np.asarray(problem.weights, float)
     j = np.where(ok, w[0] * f + w[1] * p, np.inf)
-    best_j = np.where(has, np.argmin(j, axis=1), -1)
-
+    best_j = np.where(ok.any(axis=1), np.argmin(j, axis=1), -1)
     cap_p = getattr(problem, "max_threshold_force", None)
     cap_f = getattr(problem, "max_turning_effort", None)
-    if cap_p is not None or cap_f is not None:
-        within = front & ((ps <= cap_p * (1 + 1e-12)) if cap_p is not None else (fs <= cap_f * (1 + 1e-12)))
-        key = fs if cap_p is not None else ps
-        pick = np.argmin(np.where(within, key, np.inf), axis=1)
-        anywhere = within.any(axis=1)
-        choice = np.where(anywhere, order[rows, pick], -1)
-        no_cap = has & ~anywhere
-    else:
-        # knee, in the order of decreasing P (the front's order): a = largest P end, b = least P end
-        # (chairs without a front give inf − inf = NaN here; they are masked out below)
-        fa, pa = fs[rows, last], ps[rows, last]
-        fb, pb = fs[rows, first], ps[rows, first]
-        with np.errstate(invalid="ignore"):
-            span_f = np.where(fb - fa > 0, fb - fa, 1.0)
-            span_p = np.where(pa - pb > 0, pa - pb, 1.0)
-            nf = (fs - fa[:, None]) / span_f[:, None]
-            np_ = (ps - pb[:, None]) / span_p[:, None]
-            a_f, a_p = 0.0, (pa - pb) / span_p  # normalised ends: a = (0, a_p), b = (b_f, 0)
-            b_f = (fb - fa) / span_f
-        chord_f, chord_p = b_f - a_f, 0.0 - a_p
-        norm = np.hypot(chord_f, chord_p)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            dist = np.abs(chord_f[:, None] * (np_ - a_p[:, None]) - chord_p[:, None] * (nf - a_f)) / norm[:, None]
-            below = (nf - a_f) * chord_p[:, None] - (np_ - a_p[:, None]) * chord_f[:, None]
-        dist = np.where(below >= 0, dist, -dist)
-        dist = np.where(front, dist, -np.inf)
-        # argmax over the decreasing-P order picks the first maximum in that order, as the front's knee does
-        rev = dist[:, ::-1]
-        knee = u - 1 - np.argmax(rev, axis=1)
-        small = (size < 3) | (norm == 0)
-        pick = np.where(small, last, knee)
-        choice = np.where(has, order[rows, pick], -1)
-        no_cap = np.zeros(n, bool)
+    # the buildable front and the rule: designer.analysis.recommend.select_rows (the single owner of the rule)
+    sel = select_rows(gmin, gp, np.isfinite(gmin), problem.weights, cap_p, cap_f)
+
+    def stock_index(k):
+        return np.where(k >= 0, np.take_along_axis(gstock, np.maximum(k, 0)[:, None], axis=1)[:, 0], -1)
+
+    choice, easiest_turn, easiest_sill = (stock_index(sel[k]) for k in ("choice", "easiest_turn", "easiest_sill"))
+    size, no_cap = sel["front_size"], sel["over_cap"]
 
     sel = np.maximum(choice, 0)
     reason = np.full(n, "", dtype=object)

@@ -647,14 +647,14 @@ def recommend(problem, samples: int | None = None, seed: int | None = None) -> R
     alts = []
     for key, role in (("easiest_turn", "easiest to turn"), ("easiest_sill", "easiest over the sill")):
         i = int(sel[key][0])
-        if i >= 0:
+        if i >= 0 and i != choice:  # a short front: give what there is, not the same caster twice
             alts.append(_record(problem, b, i, rule, role, samples, seed))
     rec.alternatives = alts
     notes = []
     if size < 3:
         notes.append(f"the buildable front has {size} point{'s' if size != 1 else ''}: "
-                     + ("the recommendation is its easiest-to-turn end" if size == 2 else
-                        "one caster is best on both objectives"))
+                     + ("the recommendation is its easiest-to-turn end and the only alternative the other end"
+                        if size == 2 else "one stock caster is best on both objectives, so there is no alternative"))
     if problem.risk is None:
         notes.append(f"no risk bound ([robust] enabled = false): this caster shimmies at {problem.target_speed:.3g} m/s "
                      f"with probability {rec.shimmy_probability:.1%} ± {rec.shimmy_probability_se:.1%} under the "

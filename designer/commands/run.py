@@ -1,4 +1,5 @@
-"""``designer run PROBLEM``: the scalarised optimum with margins, sensitivities and solver agreement."""
+"""``designer run PROBLEM``: the caster to build (the recommendation, first), then the weighted optimum of the
+problem as posed with margins, sensitivities and solver agreement."""
 from __future__ import annotations
 
 import math
@@ -6,13 +7,16 @@ import math
 from designer.commands._common import eprint, print_json
 from designer.errors import InputError
 from designer.analysis.optimise import optimise
+from designer.analysis.recommend import recommend, weights_meaning
 from designer.problem import load_problem
 
 
 def register(sub) -> None:
-    p = sub.add_parser("run", help="solve a problem file for the weighted optimum",
-                       description="Minimise J = w_turn F_turn + w_threshold P subject to V_c >= target (Eq. 7): "
-                                   "multi-start IPOPT, cross-checked by a geometric program (cvxpy) and SLSQP.")
+    p = sub.add_parser("run", help="the caster to build for a problem file, and its weighted optimum",
+                       description="Recommend one buildable caster within the risk bound (knee of the buildable "
+                                   "front, or the cap of [objective]) with two alternatives; then minimise "
+                                   "J = w_turn F_turn + w_threshold P subject to the same bound: multi-start IPOPT, "
+                                   "cross-checked by a geometric program (cvxpy) and SLSQP.")
     p.add_argument("problem", help="problem file (TOML), e.g. problems/indoor-manual.toml")
     p.add_argument("--weights", default=None, help="w_turn,w_threshold (default: the problem's [objective])")
     p.add_argument("--target-speed", default=None, help="override shimmy.target_speed, e.g. 3m/s")
@@ -49,10 +53,24 @@ def run(args) -> int:
         from designer.commands._common import quantity_option
 
         problem = problem.replace(target_speed=quantity_option(args.target_speed, "speed", "--target-speed"))
-    solution = optimise(problem, parse_weights(args.weights), cross_check=not args.no_cross_check)
+    weights = parse_weights(args.weights)
+    rec = recommend(problem)  # exit 4 when no stock combination meets the risk bound
+    solution = optimise(problem, weights, cross_check=not args.no_cross_check)
+    used = [float(w) for w in (weights if weights is not None else problem.weights)]
     if args.json:
-        print_json(solution.to_dict())
+        data = solution.to_dict()
+        data["recommendation"] = rec.to_dict()
+        data["alternatives"] = [a.to_dict() for a in rec.alternatives]
+        data["weights"] = used
+        data["weights_meaning"] = weights_meaning(used)
+        if rec.note:
+            data["recommendation_note"] = rec.note
+        print_json(data)
     else:
+        print(rec)
+        print()
+        print(f"Weighted optimum of the problem as posed, continuous and "
+              f"{'risk-bounded' if problem.risk is not None else 'nominal'} ({weights_meaning(used)}):")
         print(solution)
     if args.verbose:
         t = solution.timings
