@@ -626,6 +626,11 @@ def recommend(problem, samples: int | None = None, seed: int | None = None) -> R
     else:
         b = _continuous_buildable(problem)
     if not len(b.turning_effort):
+        from designer.analysis.optimise import _diagnose
+
+        error = _diagnose(problem)  # out of reach of the whole box: that is the message, not the stock's
+        if isinstance(error, InfeasibleError):
+            raise error
         raise InfeasibleError(_infeasible_message(problem, table))
     sel = select_rows(b.turning_effort[None, :], b.threshold_force[None, :], np.ones((1, len(b.turning_effort)), bool),
                       problem.weights, problem.max_threshold_force, problem.max_turning_effort)
