@@ -44,8 +44,8 @@ def robust_solution():
 
 
 def test_robust_optimum_meets_probability(robust_solution):
-    """At the robust optimum the first-order probability of shimmy is 5 % and Monte Carlo agrees within
-    0.5 percentage points (measured: 5.1 %)."""
+    """At the robust optimum the first-order probability of shimmy is 5 % and the Monte Carlo of the same law
+    (Student-t model error; SE <= 0.1 pp) is at most 5 % + 2 SE: the bound is conservative (measured about 4.5 %)."""
     s = robust_solution
     c = s.problem.conditions
     inertia = float(c.inertia(s.design.diameter))
@@ -53,7 +53,7 @@ def test_robust_optimum_meets_probability(robust_solution):
             c.uncertainty)
     assert shimmy_probability_first_order(*args) == pytest.approx(0.05, abs=1e-6)
     p_mc, se = shimmy_probability_mc(*args)
-    assert abs(p_mc - 0.05) < 0.005 and se < 0.002
+    assert p_mc <= 0.05 + 2 * se and p_mc > 0.03 and se <= 0.001
     assert s.critical_speed > s.problem.required_speed * 1.15  # nominal V_c well above the target
     assert s.cross_check["scipy-slsqp"] == pytest.approx(s.objectives["weighted"], rel=1e-4)
     # the GP bounds the quantile conservatively; after the exact-model polish it agrees
@@ -98,4 +98,4 @@ def test_robust_command_writes_report(tmp_path, capsys):
     out = tmp_path / "robust"
     assert main(["robust", str(ROBUST), "--points", "7", "--out", str(out)]) == 0
     assert {p.name for p in out.iterdir()} == {"robust.md", "robust.json", "robust_fronts.png"}
-    assert "price of robustness" in capsys.readouterr().out
+    assert "price of safety" in capsys.readouterr().out

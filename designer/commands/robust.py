@@ -7,11 +7,11 @@ from designer.problem import load_problem
 
 
 def register(sub) -> None:
-    p = sub.add_parser("robust", help="compare the nominal and the robust (probabilistic shimmy) fronts",
-                       description="For a problem with a [robust] section: the front with V_c >= target and the front "
-                                   "with P(V_c < target) <= probability, the price of robustness, and a Monte Carlo "
-                                   "check of every robust point. Writes results/robust/<name>/ by default.")
-    p.add_argument("problem", help="problem file with a [robust] section, e.g. problems/indoor-manual-robust.toml")
+    p = sub.add_parser("robust", help="compare the nominal and the risk-bounded fronts: the price of safety",
+                       description="For any problem: the front with V_c >= target (Eq. 7 alone) and the front with "
+                                   "P(V_c < target) <= α (its risk bound, or the default one), the price of safety, "
+                                   "and a Monte Carlo check of every point. Writes results/robust/<name>/ by default.")
+    p.add_argument("problem", help="problem file, e.g. problems/indoor-manual-robust.toml")
     p.add_argument("--points", type=int, default=21, help="points per front (default 21)")
     p.add_argument("--out", default=None, help="output folder (default results/robust/<name>)")
     p.set_defaults(func=run)
@@ -31,10 +31,10 @@ def run(args) -> int:
     result = write_robust_report(problem, out, args.points)
     extra = [r["extra_effort"] for r in result["rows"] if r["extra_effort"] == r["extra_effort"]]
     probs = [r["probability_mc"] for r in result["rows"]]
-    print(f"robust front: {len(result['robust'])} points; nominal: {len(result['nominal'])} points")
+    print(f"risk-bounded front: {len(result['robust'])} points; nominal: {len(result['nominal'])} points")
     if extra:
-        print(f"price of robustness: +{min(extra):.3f} to +{max(extra):.3f} N turning effort at equal threshold force")
-    print(f"Monte Carlo P(shimmy) on the robust front: {min(probs):.2%}–{max(probs):.2%} "
+        print(f"price of safety: +{min(extra):.3f} to +{max(extra):.3f} N turning effort at equal threshold force")
+    print(f"Monte Carlo P(shimmy) on the risk-bounded front: {min(probs):.2%}–{max(probs):.2%} "
           f"(target {result['uncertainty'].probability:.1%})")
     print(f"report: {out / 'robust.md'}")
     return 0
