@@ -200,3 +200,17 @@ def test_designer_recommend_and_run_json(capsys):
             "rule"} <= set(r)
     assert out["weights"] == [1.0, 1.0]
     assert all(set(a) >= set(r) - {"role"} for a in out["alternatives"])
+
+
+def test_front_csv_gains_buildable_rows(recs, tmp_path):
+    """front.csv with the buildable front: its rows are added with buildable = true, the front's are false."""
+    import csv
+
+    from designer.analysis.pareto import Front
+
+    problem, rec = recs["indoor-manual"]
+    front = Front(problem, rec.buildable.points[:1], [], {})  # any front: the rows' origin is what is tested
+    front.to_csv(tmp_path / "front.csv", buildable=rec.buildable)
+    rows = list(csv.DictReader(open(tmp_path / "front.csv")))
+    assert [r["buildable"] for r in rows] == ["false"] + ["true"] * len(rec.buildable)
+    assert float(rows[1]["turning_effort"]) == pytest.approx(rec.buildable.points[0].turning_effort, rel=1e-9)

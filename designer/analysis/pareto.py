@@ -212,10 +212,17 @@ class Front:
         """One flat dict per valid point (SI units)."""
         return [p.row() for p in self.points]
 
-    def to_csv(self, path) -> None:
-        """Write the valid points: trail, diameter, groove, damping, turning_effort, threshold_force, critical_speed, …"""
+    def to_csv(self, path, buildable=None) -> None:
+        """Write the valid points: trail, diameter, groove, damping, turning_effort, threshold_force, critical_speed, …
+
+        ``buildable``: the buildable front (``Recommendation.buildable``, when the problem has ``[stock]``):
+        its points are added as rows and a column ``buildable`` says true for them, false for this front's.
+        """
         rows = self.rows()
         columns = list(VARIABLES) + ["turning_effort", "threshold_force", "critical_speed", "epsilon", "family", "status"]
+        if buildable is not None:
+            rows = [{**r, "buildable": "false"} for r in rows] + [{**r, "buildable": "true"} for r in buildable.rows()]
+            columns.append("buildable")
         extra = sorted({k for r in rows for k in r} - set(columns))
         with open(path, "w", newline="") as fh:
             writer = csv.DictWriter(fh, fieldnames=columns + extra)
