@@ -318,6 +318,23 @@ def test_cli_text(capsys, tmp_path):
     assert "V_c (Eq. 7) = 2.392 m/s" in text and "Rule: fewest parts changed first" in text and "->" in text
 
 
+def test_catalog_problem_takes_the_current_wheels_inertia(capsys):
+    """On a catalogue problem (Table 1 wheels) the current wheel's I_w is the matching wheel's measured one
+    (wheel C, 7 in); a diameter that is not in the catalogue, or shared by wheels D-G (8 in), needs --inertia:
+    one line, exit 2."""
+    from designer.data.paper import table1_wheel
+
+    catalog = ROOT / "problems" / "catalog-retrofit.toml"
+    wheel = table1_wheel("C")
+    r = fix(load_problem(catalog), Design("2 in", wheel.diameter, 0.0, 1.3), limit=3)
+    assert r.current.inertia == wheel.inertia
+    assert main(["fix", str(catalog), "--current", "T=1.5in,d=7.1in,B=0in,c=1.3"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "give its measured I_w with --inertia" in err
+    assert main(["fix", str(catalog), "--current", "T=1.5in,d=8in,B=0in,c=1.3"]) == 2
+    assert "4 wheels of d = 8 in (D, E, F, G)" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("args, fragment", [
     (["--current", "T=1.5in,d=7.75in,B=0.5625in"], "--current 'T=1.5in,d=7.75in,B=0.5625in': missing c"),
     (["--current", "T 1.5in"], "is not KEY=VALUE"),

@@ -597,11 +597,7 @@ def fix(problem, current, inertia: float | None = None, shimmied_at: float | Non
     _check_inputs(problem, current, inertia, shimmied_at, stem_angle, onset_scatter)
     conditions = problem.conditions
     if inertia is None:
-        import warnings
-
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            inertia = float(conditions.inertia(current.diameter))
+        inertia = _current_inertia(problem, current)
     inertia = float(inertia)
     bound, report_u = _risk_of(problem)
     samples = int(samples or max(REPORT_SAMPLES, report_u.samples))
@@ -671,6 +667,37 @@ def fix(problem, current, inertia: float | None = None, shimmied_at: float | Non
                             values["threshold_force"][j] - current_state.threshold_force)))
     result.fixes = fixes
     return result
+
+
+def _current_inertia(problem, current: Design) -> float:
+    """I_w of the current wheel when it was not measured: the problem's inertia model at its diameter.
+
+    A catalogue or fixed-inertia problem describes particular wheels: the current wheel must be one of
+    them (same diameter), else InputError asks for ``--inertia``.
+    """
+    import warnings
+
+    from designer.physics.inertia import Catalog
+
+    model = problem.conditions.inertia
+    wheels = [Catalog.from_key(k).wheel for k in problem.wheels]
+    if wheels or model.fixed_diameter is not None or getattr(model, "name", "") == "fixed":
+        same = [w for w in wheels or [getattr(model, "wheel", None)]
+                if w is not None and abs(w.diameter - current.diameter) <= 1e-6]
+        if len({w.inertia for w in same}) == 1:
+            return float(same[0].inertia)
+        if same:
+            raise InputError(f"inertia: the problem has {len(same)} wheels of d = {current.diameter / INCH:.4g} in "
+                             f"({', '.join(w.key for w in same)}) with different I_w; give the current wheel's "
+                             f"measured I_w with --inertia")
+        if getattr(model, "name", "") == "fixed" and problem.bounds["diameter"].fixed and \
+                abs(problem.bounds["diameter"].low - current.diameter) <= 1e-6:
+            return float(model(current.diameter))
+        raise InputError(f"inertia: the current wheel (d = {current.diameter / INCH:.4g} in) is not one of the "
+                         f"problem's wheels ({model.describe()}); give its measured I_w with --inertia")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # extrapolation of the inertia fit: docs/retrofit.md
+        return float(model(current.diameter))
 
 
 def _feasible(values: dict, v_req: float, r_max: float | None) -> np.ndarray:

@@ -81,8 +81,8 @@ def _print(result, problem) -> None:
     alpha = result.probability
     bound = (f"P(shimmy at {result.required_speed:.2f} m/s) <= {alpha:.0%}" if alpha is not None
              else f"V_c >= {result.required_speed:.2f} m/s (nominal: [robust] enabled = false)")
-    console.print(f"[bold]{problem.title}[/bold] ({problem.name}): risk bound {bound}; swept radius <= "
-                  + (_length(problem.swept_radius_max) if problem.swept_radius_max else "no limit"))
+    console.print(f"[bold]{problem.title}[/bold] ({problem.name}): risk bound {bound}; swept radius "
+                  + (f"<= {_length(problem.swept_radius_max)}" if problem.swept_radius_max else "not limited"))
     console.print(f"[bold]Current caster[/bold]: T = {_length(d.trail)}, d = {_length(d.diameter)}, "
                   f"B = {_length(d.groove)}, c_f = {d.damping:.3g} N·m/rad, I_w = {cur.inertia:.4g} kg·m²")
     if result.stem_angle:
