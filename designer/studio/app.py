@@ -217,8 +217,9 @@ def fixes_panel(result: dict):
         for key, label, unit, spec in (("turning_effort", "F_turn", "N", ".3f"), ("threshold_force", "P", "N", ".2f")):
             if key in row:
                 extra.append(f"{label} {row[key]:{spec}} {unit}")
-        items.append(html.Li([html.B(str(text)), html.Span(" · " + "; ".join(extra) if extra else "")],
-                             className="fix"))
+        items.append(html.Li([html.Span(str(text), style={"fontWeight": "600"}),
+                              html.Span(" · " + "; ".join(extra) if extra else "")],
+                             className="fix", style={"fontSize": "12px"}))
     found = result.get("found") or len(items)
     title = f"Ranked fixes ({len(items)} of {found} found)" if found > len(items) else "Ranked fixes"
     return [head, summary, html.H5(title, style={"margin": "4px 0"}), html.Ol(items, id="fixes")]
@@ -291,7 +292,7 @@ def create_app(data: dict, name: str, out_dir: Path):
         status = (f"{problem.name}: {len(fronts.continuous)} continuous, "
                   f"{0 if fronts.risk is None else len(fronts.risk)} risk-bounded, "
                   f"{0 if fronts.buildable is None else len(fronts.buildable)} buildable points; "
-                  f"computed in {1000 * fronts.seconds:.0f} ms")
+                  f"computed in {1000 * fronts.seconds:.0f} ms ({1000 * fronts.cpu_seconds:.0f} ms CPU)")
         query = state.to_query(current, defaults)
         return (values_out, errors, "", fig, recommendation_panel(fronts), status,
                 no_update if from_url and query == (search or "") else query, merged)

@@ -61,16 +61,9 @@ def front_figure(continuous: list, risk: list, buildable: list, recommendation: 
              "threshold_force": n["threshold_force"], "critical_speed": n["critical_speed"]}
         fig.add_trace(go.Scatter(x=[p["turning_effort"]], y=[p["threshold_force"]], mode="markers+text",
                                  name="my caster", meta="mine", text=[f"my caster {risk_text}"],
-                                 textposition="top center",
+                                 textposition="top left",
                                  marker={"color": COLOURS["mine"], "size": 14, "symbol": "x"},
                                  customdata=[_custom(p, "my caster")], hovertemplate=HOVER))
-        fixes = [f for f in (mine.get("fixes") or []) if "turning_effort" in f and "threshold_force" in f]
-        if fixes:
-            fig.add_trace(go.Scatter(
-                x=[f["turning_effort"] for f in fixes], y=[f["threshold_force"] for f in fixes],
-                mode="markers+text", name="fixes", meta="fix", text=[str(i + 1) for i in range(len(fixes))],
-                textposition="middle right", marker={"color": COLOURS["fix"], "size": 10, "symbol": "diamond"},
-                hovertemplate="fix %{text}: F_turn %{x:.3f} N, P %{y:.2f} N<extra></extra>"))
     fig.update_layout(
         title=title, xaxis_title="turning effort F_turn [N]", yaxis_title="threshold (sill) force P [N]",
         template="plotly_white", height=520, margin={"l": 60, "r": 20, "t": 40, "b": 50},

@@ -63,6 +63,7 @@ class Fronts:
     buildable : the buildable front (stock combinations; issue 11), or None
     recommendation : designer.recommend's result, or None where this version has no recommend
     seconds : wall time of the computation [s]
+    cpu_seconds : CPU time of the computing thread [s] (the wall time on an idle machine, about)
     notes : what could not be computed and why (one line each)
     """
 
@@ -72,6 +73,7 @@ class Fronts:
     buildable: object = None
     recommendation: object = None
     seconds: float = 0.0
+    cpu_seconds: float = 0.0
     notes: list = field(default_factory=list)
 
 
@@ -113,7 +115,7 @@ def _compute_fronts(problem, key):
         return _CACHE[key]
     from designer.analysis.pareto import pareto_front  # casadi: loaded with the studio, not with `import designer`
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.thread_time()
     out = Fronts(problem=problem, continuous=None)
     risk = risk_of(problem)
     recommend = _optional("designer.analysis.recommend", "recommend")
@@ -129,6 +131,7 @@ def _compute_fronts(problem, key):
     nominal = without_risk(problem) if risk is not None else problem
     out.continuous = _quiet(pareto_front, nominal)
     out.seconds = time.perf_counter() - t0
+    out.cpu_seconds = time.thread_time() - c0
     if key is not None:
         _CACHE[key] = out
         while len(_CACHE) > _CACHE_SIZE:
