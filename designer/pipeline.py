@@ -23,6 +23,8 @@ import time
 import warnings
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from designer.data.paper import INCH
 from designer.errors import DesignerError
 
@@ -44,6 +46,7 @@ class ReportData:
     front : the exact front the problem asks for (failed points in ``front.failed``)
     tighter : front for V_target × :data:`TIGHTER_FACTOR` (check 8c), or None
     recommendation : the Recommendation (issue 11) or None; ``recommendation_error`` says why not
+    price_of_stock : :func:`price_of_stock` of the recommendation against ``front``, or None
     solution : the weighted optimum (:class:`designer.analysis.optimise.Solution`) or None
     solution_error : why the optimum is missing, if it is
     cross_checked : whether the GP/SLSQP cross-check ran (``--cross-check``)
@@ -59,6 +62,7 @@ class ReportData:
     tighter: object = None
     recommendation: object = None
     recommendation_error: str = ""
+    price_of_stock: dict | None = None
     solution: object = None
     solution_error: str = ""
     cross_checked: bool = False
@@ -121,6 +125,27 @@ def degenerate_reason(problem, front) -> tuple[str, str]:
                 f"fixed diameter, P = {p.threshold_force:.1f} N for every design")
     return ("One design is best in both objectives, so the front collapses to a single point.",
             "one design is best in both objectives")
+
+
+def price_of_stock(front, recommendation) -> dict | None:
+    """Turning effort of the continuous front at the recommendation's sill force, against the recommendation's.
+
+    Linear interpolation between the two front points around P [N]; None when P is outside the front's range
+    or the front has fewer than two points.  Returns {threshold_force, turning_effort_buildable,
+    turning_effort_continuous, extra, relative} [N, N, N, N, -].
+    """
+    if recommendation is None or len(front.points) < 2:
+        return None
+    f = front.objectives()
+    order = np.argsort(f[:, 1])
+    p = float(recommendation.threshold_force)
+    lo, hi = float(f[order[0], 1]), float(f[order[-1], 1])
+    if not lo * (1 - 1e-9) <= p <= hi * (1 + 1e-9):
+        return None
+    cont = float(np.interp(p, f[order, 1], f[order, 0]))
+    built = float(recommendation.turning_effort)
+    return {"threshold_force": p, "turning_effort_buildable": built, "turning_effort_continuous": cont,
+            "extra": built - cont, "relative": (built - cont) / cont if cont > 0 else float("nan")}
 
 
 class _Clock:
@@ -214,6 +239,10 @@ def report_data(problem, points: int | None = None, *, front=None, tighter=None,
             elif recommendation is None:
                 data.recommendation_error = "not computed"
         data.recommendation = recommendation
+        if recommendation is not None:
+            if getattr(recommendation, "_front", False) is None:  # the continuous front is this report's front
+                recommendation._front = front
+            data.price_of_stock = price_of_stock(front, recommendation)
         with clock("optimum"):
             if solution is None and front.points:
                 try:
@@ -256,4 +285,4 @@ def report_data(problem, points: int | None = None, *, front=None, tighter=None,
     return data
 
 
-__all__ = ["ReportData", "TIGHTER_FACTOR", "degenerate_reason", "report_data", "versions"]
+__all__ = ["ReportData", "TIGHTER_FACTOR", "degenerate_reason", "price_of_stock", "report_data", "versions"]

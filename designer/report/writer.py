@@ -28,6 +28,8 @@ from designer.data.paper import INCH
 from designer.errors import DesignerError, InputError
 from designer.pipeline import ReportData
 from designer.plots import figures as _figures
+from designer.plots.caster import caster_svg
+from designer.report import text as _text
 
 LBF = 4.4482216152605
 """One pound-force [N] (display only)."""
@@ -250,6 +252,40 @@ def _tradeoff_rows(problem, rows) -> list[dict]:
     return out
 
 
+def _rec_row(rec) -> dict:
+    """One caster of the "Build this" table (display strings)."""
+    row = _design_cells(rec.design)
+    row.update(
+        role=rec.role, wheel=rec.wheel or "",
+        F=fmt(rec.turning_effort, ".3f", "N"), P=fmt(rec.threshold_force, ".2f", "N"),
+        V_c=fmt(rec.critical_speed, ".3f", "m/s"), V_q=fmt(rec.confident_speed, ".3f", "m/s"),
+        p_shimmy=f"{rec.shimmy_probability:.2%} ± {rec.shimmy_probability_se:.2%}",
+        R_s=_text.inches(rec.swept_radius)
+        + (f" (limit {_text.inches(rec.swept_radius_max)})" if rec.swept_radius_max is not None else " (no limit)"),
+    )
+    return row
+
+
+def _build_context(data: ReportData) -> dict:
+    """The first screen: the caster to build, its numbers, the drawing, the alternatives."""
+    rec = data.recommendation
+    if rec is None:
+        return {"available": False, "error": data.recommendation_error or "no recommendation"}
+    d = rec.design
+    level = f"{1 - rec.alpha:.0%}" if rec.alpha is not None else "95% (default scatter)"
+    return {
+        "available": True,
+        "lines": _text.build_lines(data),
+        "headline": f"Build this: {_text.caster_sentence(rec)}",
+        "rows": [_rec_row(rec)] + [_rec_row(a) for a in rec.alternatives],
+        "alternatives": len(rec.alternatives),
+        "level": level,
+        "svg": caster_svg(d.trail, d.diameter, d.groove, data.problem.conditions.threshold_height,
+                          rec.swept_radius_max, label=f"{data.problem.name}: the recommended caster to scale"),
+        "rule": rec.rule,
+    }
+
+
 def build_context(data: ReportData) -> dict:
     """Every table of the report as display strings (SI and inches), shared by the HTML and Markdown templates."""
     problem, front = data.problem, data.front
@@ -316,7 +352,8 @@ def build_context(data: ReportData) -> dict:
     return {
         "problem": problem,
         "title": f"{problem.title} ({problem.name})",
-        "summary": _summary(data),
+        "summary": _text.summary_lines(data),
+        "build": _build_context(data),
         "degenerate": data.degenerate_reason,
         "problem_rows": _problem_rows(problem),
         "model_rows": _model_rows(problem),
@@ -340,43 +377,6 @@ def build_context(data: ReportData) -> dict:
         "front_method": front.meta.get("method", ""),
         "front_solver": front.meta.get("solver", ""),
     }
-
-
-def _summary(data: ReportData) -> list[str]:
-    problem, front = data.problem, data.front
-    out = []
-    if front.points:
-        f = front.objectives()
-        d = front.designs()[:, 1]
-        out.append(f"{len(front)} valid point{'s' if len(front) != 1 else ''} (of {front.meta.get('points_requested', len(front))} requested, "
-                   f"{len(front.failed)} failed): turning effort {f[:, 0].min():.2f}–{f[:, 0].max():.2f} N, threshold "
-                   f"force {f[:, 1].min():.1f}–{f[:, 1].max():.1f} N, wheel diameter {d.min() / INCH:.2f}–"
-                   f"{d.max() / INCH:.2f} in, all stable to V_req = {problem.required_speed:.2f} m/s.")
-    if (front.points and problem.margin == 0 and getattr(problem.conditions, "uncertainty", None) is None):
-        out.append("No safety margin (shimmy.margin = 0): the constrained designs sit exactly at V_c = V_req by "
-                   "Eq. 7, which matched Table 1's measured critical speeds only to RMS 10.3 % (worst −16 %), and the "
-                   "time-domain simulation puts the onset up to 18 % below Eq. 7 for single-tread casters "
-                   "(results/simulation). Set shimmy.margin (e.g. 0.2) or a [robust] section "
-                   "(results/robust) before building a caster.")
-    if data.solution is not None:
-        s = data.solution
-        w = problem.weights
-        f_part, p_part = w[0] * s.objectives["turning_effort"], w[1] * s.objectives["threshold_force"]
-        if min(f_part, p_part) > 0 and max(f_part, p_part) > 5 * min(f_part, p_part):
-            big, small = ("threshold force", "turning effort") if p_part > f_part else ("turning effort", "threshold force")
-            out.append(f"The weights ({w[0]:g}, {w[1]:g}) add newtons to newtons: here the {big} term is "
-                       f"{max(f_part, p_part) / min(f_part, p_part):.0f}× the {small} term, so the weighted optimum "
-                       f"is essentially the least-{big} design. Scale the weights (e.g. w_turn ≈ P/F_turn) to balance "
-                       f"them, or pick a point from the front.")
-        wheel = f" (Table 1 wheel {s.wheel})" if s.wheel else ""
-        out.append(f"Weighted optimum{wheel}: {s.design.describe()}; F_turn {s.objectives['turning_effort']:.3f} N, "
-                   f"P {s.objectives['threshold_force']:.2f} N, V_c {s.critical_speed:.3f} m/s; solvers agree to "
-                   f"{s.agreement():.1e} (relative).")
-    checks = data.paper_checks + data.front_checks
-    failed = [c.name for c in checks if not c.passed]
-    out.append(f"Checks: {len(checks) - len(failed)} of {len(checks)} pass" +
-               (f"; failing: {', '.join(failed)}." if failed else "."))
-    return out
 
 
 # --------------------------------------------------------------------------- writing
@@ -406,11 +406,40 @@ def _front_json(data: ReportData) -> dict:
     out["problem_definition"] = data.problem.to_dict()
     if data.solution is not None:
         out["optimum"] = data.solution.to_dict()
+    if data.recommendation is not None:
+        rec = data.recommendation
+        out["recommendation"] = rec.to_dict()
+        out["alternatives"] = [a.to_dict() for a in rec.alternatives]
+        out["price_of_stock"] = data.price_of_stock
+    else:
+        out["recommendation"] = None
+        out["recommendation_error"] = data.recommendation_error
     if data.tighter is not None:
         out["tighter_target"] = {"target_speed": data.tighter.problem.target_speed,
                                  "points": data.tighter.rows()}
     out["degenerate_reason"] = data.degenerate_reason or None
     return finite(out)
+
+
+def _front_csv(path: Path, data: ReportData) -> None:
+    """front.csv: the front the problem asks for; with a recommendation, its buildable front as extra rows.
+
+    Column ``buildable`` is true for the buildable points (made of stock parts), false for the others.
+    """
+    import csv
+
+    rows = [dict(r, buildable="false") for r in data.front.rows()]
+    rec = data.recommendation
+    if rec is not None and getattr(rec, "buildable", None) is not None:
+        rows += [dict(r, buildable="true") for r in rec.buildable.rows()]
+    columns = ["trail", "diameter", "groove", "damping", "turning_effort", "threshold_force", "critical_speed",
+               "epsilon", "family", "status"]
+    extra = sorted({k for r in rows for k in r} - set(columns) - {"buildable"})
+    with open(path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=columns + extra + ["buildable"])
+        writer.writeheader()
+        for r in rows:
+            writer.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in r.items()})
 
 
 def _write_all(folder: Path, data: ReportData, t0: float) -> None:
@@ -426,7 +455,9 @@ def _write_all(folder: Path, data: ReportData, t0: float) -> None:
             (folder / item["file"]).write_bytes(png)
             item["data_uri"] = "data:image/png;base64," + base64.b64encode(png).decode("ascii")
     c1 = time.process_time()
-    data.front.to_csv(folder / "front.csv")
+    _front_csv(folder / "front.csv", data)
+    if context["build"]["available"]:
+        (folder / "figures" / "caster.svg").write_text(context["build"]["svg"] + "\n", encoding="utf-8")
     checks = [finite(c.to_dict()) for c in data.paper_checks + data.front_checks]
     (folder / "checks.json").write_text(json.dumps(checks, indent=2, ensure_ascii=False, allow_nan=False) + "\n",
                                         encoding="utf-8")

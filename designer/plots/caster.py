@@ -1,0 +1,216 @@
+"""The caster drawn to scale: side view (wheel, fork, trail, sill) and top view (swept circle, footrest limit).
+
+Two renderers of one geometry (:func:`caster_geometry`):
+
+- :func:`draw_caster` draws on matplotlib Axes (two Axes in, the same Axes out);
+- :func:`caster_svg` returns a small hand-built SVG string (no matplotlib: for reprs and the report's
+  first screen, where it costs nothing to draw).
+
+Geometry (all lengths [m], SI in, inches on the labels):
+
+- the swivel (stem) axis is vertical at x = 0; the wheel centre trails it by T at x = −T, height d/2
+  (the paper's trail, Fig. 1: the horizontal distance from the stem axis to the wheel's ground contact);
+- the caster rolls towards +x; the door sill, of height h, stands where the wheel touches its edge:
+  x_sill = −T + sqrt((d/2)² − (d/2 − h)²);
+- top view: the wheel sweeps a circle of radius R_s = T + d/2 about the stem axis (docs/model.md);
+  the footrest limit R_max, when the problem has one, is the dashed circle;
+- the tyre is drawn as two treads separated by the groove B (the tread separation of Eq. 7), each
+  :data:`TREAD` wide (illustrative: the model does not use the tread width).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from html import escape
+
+INCH = 0.0254
+TREAD = 0.25 * INCH
+"""Width of each tread in the drawing [m] (illustrative only)."""
+STEM = 1.5 * INCH
+"""Height of the stem above the fork crown in the drawing [m] (illustrative only)."""
+
+
+@dataclass(frozen=True)
+class CasterGeometry:
+    """Points of the drawing [m] (stem axis at x = 0, ground at y = 0, travel towards +x)."""
+
+    trail: float
+    diameter: float
+    groove: float
+    sill_height: float
+    swept_radius: float
+    swept_radius_max: float | None
+    axle: tuple[float, float]
+    sill_x: float
+    crown_y: float
+    stem_top: float
+    tyre_width: float
+
+
+def caster_geometry(trail: float, diameter: float, groove: float, sill_height: float,
+                    swept_radius_max: float | None = None) -> CasterGeometry:
+    """The drawing's geometry for trail T [m], diameter d [m], groove B [m], sill h [m] and R_max [m] or None."""
+    for name, value in (("trail", trail), ("diameter", diameter), ("groove", groove), ("sill_height", sill_height)):
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+            raise ValueError(f"{name} = {value!r}: must be a finite length >= 0 [m]")
+    if diameter <= 0:
+        raise ValueError(f"diameter = {diameter!r}: must be positive [m]")
+    r = diameter / 2
+    h = min(sill_height, r)
+    sill_x = -trail + math.sqrt(max(r * r - (r - h) ** 2, 0.0))
+    crown_y = diameter + 0.3 * INCH
+    return CasterGeometry(trail=trail, diameter=diameter, groove=groove, sill_height=sill_height,
+                          swept_radius=trail + r, swept_radius_max=swept_radius_max, axle=(-trail, r),
+                          sill_x=sill_x, crown_y=crown_y, stem_top=crown_y + STEM,
+                          tyre_width=groove + 2 * TREAD)
+
+
+def _inches(value: float) -> str:
+    return f"{value / INCH:.3f} in"
+
+
+def draw_caster(ax_side, ax_top, trail: float, diameter: float, groove: float, sill_height: float,
+                swept_radius_max: float | None = None, title: str | None = None):
+    """Draw the caster to scale on two matplotlib Axes; returns ``(ax_side, ax_top)``.
+
+    Parameters
+    ----------
+    ax_side, ax_top : matplotlib Axes for the side view and the top view (either may be None)
+    trail : T [m]; diameter : d [m]; groove : B [m] (tread separation); sill_height : h [m]
+    swept_radius_max : footrest limit R_max [m] on T + d/2, or None
+    title : optional title of the side view
+    """
+    from matplotlib.patches import Circle, Rectangle  # matplotlib: heavy, loaded only when drawing
+
+    g = caster_geometry(trail, diameter, groove, sill_height, swept_radius_max)
+    k = 1 / INCH  # draw in inches
+    ax, ay = g.axle
+    if ax_side is not None:
+        s = ax_side
+        s.axhline(0, color="0.3", lw=1)
+        s.add_patch(Rectangle((g.sill_x * k, 0), 1.2 * g.diameter * k, g.sill_height * k, color="0.75", lw=0))
+        s.add_patch(Circle((ax * k, ay * k), g.diameter / 2 * k, fill=False, lw=2.2, color="#1f4e79"))
+        s.add_patch(Circle((ax * k, ay * k), 0.08 * g.diameter * k, color="#1f4e79"))
+        s.plot([0, 0, ax * k, ax * k], [g.stem_top * k, g.crown_y * k, g.crown_y * k, ay * k], color="0.2", lw=3)
+        s.plot([0, 0], [-0.3, g.stem_top * k + 0.2], color="#c0392b", ls="-.", lw=1)
+        s.annotate("", (ax * k, -0.18), (0, -0.18), arrowprops=dict(arrowstyle="<->", lw=1))
+        s.text(ax * k / 2, -0.35, f"trail T = {_inches(g.trail)}", ha="center", va="top", fontsize=8)
+        s.text(ax * k, 0.27 * g.diameter * k, f"d = {_inches(g.diameter)}", ha="center", va="top", fontsize=8)
+        s.text((g.sill_x + 0.7 * g.diameter) * k - 0.05, g.sill_height * k + 0.05,
+               f"sill h = {_inches(g.sill_height)}", fontsize=8, va="bottom", ha="right")
+        s.text(0.1, g.stem_top * k, "swivel axis", color="#c0392b", fontsize=8, va="top")
+        s.set_aspect("equal")
+        s.set_xlim((ax - g.diameter * 0.65) * k, (g.sill_x + 0.7 * g.diameter) * k)
+        s.set_ylim(-0.8, g.stem_top * k + 0.4)
+        s.set_xlabel("side view [in] (rolls towards the right)")
+        if title:
+            s.set_title(title, fontsize=10)
+    if ax_top is not None:
+        t = ax_top
+        t.add_patch(Circle((0, 0), g.swept_radius * k, fill=False, color="#1f4e79", lw=1.5))
+        if g.swept_radius_max is not None:
+            t.add_patch(Circle((0, 0), g.swept_radius_max * k, fill=False, color="#c0392b", lw=1.2, ls="--"))
+        for y0 in (-g.tyre_width / 2, g.groove / 2):
+            t.add_patch(Rectangle(((ax - g.diameter / 2) * k, y0 * k), g.diameter * k, TREAD * k,
+                                  color="#1f4e79"))
+        t.plot([0, ax * k], [0, 0], color="0.2", lw=2)
+        t.plot([0], [0], "o", color="#c0392b")
+        text = f"swept radius R_s = T + d/2 = {_inches(g.swept_radius)}"
+        if g.swept_radius_max is not None:
+            text += f"\nfootrest limit R_max = {_inches(g.swept_radius_max)} (dashed)"
+        t.text(0, -(max(g.swept_radius, g.swept_radius_max or 0) * k + 0.25), text, ha="center", va="top",
+               fontsize=8)
+        lim = max(g.swept_radius, g.swept_radius_max or 0) * k * 1.1
+        t.set_aspect("equal")
+        t.set_xlim(-lim, lim)
+        t.set_ylim(-lim - 1.2, lim)
+        t.set_xlabel(f"top view [in] (groove B = {_inches(g.groove)})")
+    return ax_side, ax_top
+
+
+def caster_svg(trail: float, diameter: float, groove: float, sill_height: float,
+               swept_radius_max: float | None = None, scale: float = 28.0, label: str | None = None) -> str:
+    """The caster to scale as an SVG string: side view left, top view right.
+
+    ``scale`` is pixels per inch (the same in both views, so the drawing is to scale).  Text is escaped.
+    """
+    g = caster_geometry(trail, diameter, groove, sill_height, swept_radius_max)
+    s = scale / INCH  # px per metre
+    pad = 0.6 * INCH
+    ax, ay = g.axle
+    # side view box in metres: x from axle − 0.65 d to sill + 0.7 d; y from −0.8 in to stem top + pad
+    x0, x1 = ax - 0.65 * g.diameter, g.sill_x + 0.7 * g.diameter
+    y0, y1 = -0.8 * INCH, g.stem_top + pad
+    side_w, side_h = (x1 - x0) * s, (y1 - y0) * s
+    reach = max(g.swept_radius, g.swept_radius_max or 0.0) * 1.08
+    top_w = 2 * reach * s
+    top_h = 2 * reach * s
+    gap = 24
+    width = side_w + gap + top_w
+    text_h = 40
+    height = max(side_h, top_h) + text_h
+
+    def sx(x):  # side view: metres -> px
+        return (x - x0) * s
+
+    def sy(y):
+        return (y1 - y) * s
+
+    ox, oy = side_w + gap + top_w / 2, top_h / 2  # top view origin (stem axis)
+
+    def tx(x):
+        return ox + x * s
+
+    def ty(y):
+        return oy - y * s
+
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" class="caster-drawing" width="{width:.0f}" '
+           f'height="{height:.0f}" viewBox="0 0 {width:.1f} {height:.1f}" font-family="sans-serif" font-size="11">']
+    out.append(f"<title>{escape(label or 'caster drawn to scale')}</title>")
+    # side view
+    out.append(f'<line x1="0" y1="{sy(0):.1f}" x2="{side_w:.1f}" y2="{sy(0):.1f}" stroke="#555" stroke-width="1"/>')
+    out.append(f'<rect x="{sx(g.sill_x):.1f}" y="{sy(g.sill_height):.1f}" width="{(x1 - g.sill_x) * s:.1f}" '
+               f'height="{g.sill_height * s:.1f}" fill="#bbb"/>')
+    out.append(f'<circle cx="{sx(ax):.1f}" cy="{sy(ay):.1f}" r="{g.diameter / 2 * s:.1f}" fill="none" '
+               f'stroke="#1f4e79" stroke-width="3"/>')
+    out.append(f'<circle cx="{sx(ax):.1f}" cy="{sy(ay):.1f}" r="{0.08 * g.diameter * s:.1f}" fill="#1f4e79"/>')
+    out.append(f'<polyline points="{sx(0):.1f},{sy(g.stem_top):.1f} {sx(0):.1f},{sy(g.crown_y):.1f} '
+               f'{sx(ax):.1f},{sy(g.crown_y):.1f} {sx(ax):.1f},{sy(ay):.1f}" fill="none" stroke="#333" '
+               f'stroke-width="4"/>')
+    out.append(f'<line x1="{sx(0):.1f}" y1="{sy(y1 - pad / 2):.1f}" x2="{sx(0):.1f}" y2="{sy(-0.2 * INCH):.1f}" '
+               f'stroke="#c0392b" stroke-dasharray="6,3,2,3"/>')
+    ya = sy(-0.25 * INCH)
+    out.append(f'<line x1="{sx(ax):.1f}" y1="{ya:.1f}" x2="{sx(0):.1f}" y2="{ya:.1f}" stroke="#000" '
+               f'marker-start="url(#caster-arrow)" marker-end="url(#caster-arrow)"/>')
+    out.append(f'<text x="{sx(ax / 2):.1f}" y="{sy(-0.7 * INCH):.1f}" text-anchor="middle">'
+               f'trail T = {_inches(g.trail)}</text>')
+    out.append(f'<text x="{sx(ax):.1f}" y="{sy(0.22 * g.diameter):.1f}" text-anchor="middle">'
+               f'd = {_inches(g.diameter)}</text>')
+    out.append(f'<text x="{side_w - 2:.1f}" y="{sy(g.sill_height) - 4:.1f}" text-anchor="end">sill h = '
+               f'{_inches(g.sill_height)}</text>')
+    out.append(f'<text x="{sx(0) + 4:.1f}" y="{sy(g.stem_top) + 4:.1f}" fill="#c0392b">swivel axis</text>')
+    out.append(f'<text x="0" y="{max(side_h, top_h) + 16:.1f}">side view, rolling to the right</text>')
+    # top view
+    out.append(f'<circle cx="{ox:.1f}" cy="{oy:.1f}" r="{g.swept_radius * s:.1f}" fill="#eef4fb" '
+               f'stroke="#1f4e79" stroke-width="1.5"/>')
+    if g.swept_radius_max is not None:
+        out.append(f'<circle cx="{ox:.1f}" cy="{oy:.1f}" r="{g.swept_radius_max * s:.1f}" fill="none" '
+                   f'stroke="#c0392b" stroke-width="1.5" stroke-dasharray="6,4"/>')
+    for yy in (g.tyre_width / 2, -g.groove / 2):
+        out.append(f'<rect x="{tx(ax - g.diameter / 2):.1f}" y="{ty(yy):.1f}" width="{g.diameter * s:.1f}" '
+                   f'height="{TREAD * s:.1f}" fill="#1f4e79"/>')
+    out.append(f'<line x1="{tx(0):.1f}" y1="{ty(0):.1f}" x2="{tx(ax):.1f}" y2="{ty(0):.1f}" stroke="#333" '
+               f'stroke-width="2"/>')
+    out.append(f'<circle cx="{tx(0):.1f}" cy="{ty(0):.1f}" r="3" fill="#c0392b"/>')
+    lines = [f"top view: swept radius R_s = {_inches(g.swept_radius)}"]
+    if g.swept_radius_max is not None:
+        lines.append(f"footrest limit R_max = {_inches(g.swept_radius_max)} (dashed)")
+    for i, line in enumerate(lines):
+        out.append(f'<text x="{side_w + gap:.1f}" y="{max(side_h, top_h) + 16 + 14 * i:.1f}">{escape(line)}</text>')
+    out.insert(1, '<defs><marker id="caster-arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="6" markerHeight="6" '
+                  'orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10 z"/></marker></defs>')
+    out.append("</svg>")
+    return "\n".join(out)
+
+
+__all__ = ["CasterGeometry", "caster_geometry", "caster_svg", "draw_caster"]
