@@ -36,6 +36,7 @@ from designer.data.paper import (
 )
 from designer.model import performance
 from designer.physics.shimmy import critical_shimmy_speed
+from designer.plots.fronts import draw_fronts
 from designer.physics.threshold import threshold_force_ratio, threshold_force_ratio_approx
 
 FIGURES = ("front", "variables", "trail", "inertia", "threshold", "groove_damper")
@@ -132,27 +133,32 @@ def figure_front(data) -> Figure:
             sel = [i for i, p in enumerate(front.points) if p.family == family]
             if sel:
                 ax.scatter(f[sel, 1], f[sel, 0], color=colour, marker=marker, s=28, zorder=3,
-                           label=f"front: {family}")
+                           label=f"continuous front: {family}")
         knee, best = front.knee(), front.weighted_best()
-        if data.solution is not None:  # the exact optimum, not only the nearest front point
-            best_f = data.solution.objectives["turning_effort"]
-            best_p = data.solution.objectives["threshold_force"]
-        elif best is not None:
-            best_f, best_p = best.turning_effort, best.threshold_force
-        if best is not None:
-            w = np.asarray(problem.weights, float)
-            ax.scatter([best_p], [best_f], marker="*", s=320, facecolor="gold",
-                       edgecolor="black", zorder=5,
-                       label=f"weighted optimum (w = {w[0]:g}, {w[1]:g}): P {best_p:.1f} N, F {best_f:.2f} N")
-            if len(f) > 1 and w[0] > 0:
-                j = float(w @ [best_f, best_p])
-                p_line = np.linspace(f[:, 1].min(), f[:, 1].max(), 2)
-                ax.plot(p_line, (j - w[1] * p_line) / w[0], color="goldenrod", lw=1, ls=":",
-                        label="constant J through the optimum")
+        rec = getattr(data, "recommendation", None)
+        curves, marks = [], []
+        if rec is not None and getattr(rec, "buildable", None) is not None and len(rec.buildable.points):
+            b = rec.buildable.objectives()
+            curves.append({"threshold_force": b[:, 1], "turning_effort": b[:, 0], "kind": "buildable",
+                           "label": f"buildable front (stock parts): {len(b)} point{'s' if len(b) != 1 else ''}"})
+        if rec is not None:
+            marks.append({"threshold_force": rec.threshold_force, "turning_effort": rec.turning_effort,
+                          "kind": "recommended", "label": f"build this: P {rec.threshold_force:.1f} N, "
+                                                          f"F {rec.turning_effort:.2f} N"})
+            for alt in rec.alternatives:
+                marks.append({"threshold_force": alt.threshold_force, "turning_effort": alt.turning_effort,
+                              "kind": "alternative", "label": f"{alt.role}: P {alt.threshold_force:.1f} N, "
+                                                              f"F {alt.turning_effort:.2f} N"})
         if knee is not None and len(f) >= 3:
-            ax.scatter([knee.threshold_force], [knee.turning_effort], marker="o", s=180, facecolor="none",
-                       edgecolor="black", lw=2, zorder=6,
-                       label=f"knee: P {knee.threshold_force:.1f} N, F {knee.turning_effort:.2f} N")
+            marks.append({"threshold_force": knee.threshold_force, "turning_effort": knee.turning_effort,
+                          "kind": "knee", "label": f"knee of the continuous front: P {knee.threshold_force:.1f} N, "
+                                                   f"F {knee.turning_effort:.2f} N"})
+        if data.solution is not None:  # the exact optimum, not only the nearest front point
+            w = np.asarray(problem.weights, float)
+            marks.append({"threshold_force": data.solution.objectives["threshold_force"],
+                          "turning_effort": data.solution.objectives["turning_effort"], "kind": "weighted",
+                          "label": f"weighted optimum (w = {w[0]:g}, {w[1]:g}; not the recommendation)"})
+        draw_fronts(ax, curves, marks, legend=False)
         # the diameter at the two ends, in inches
         ends = [front.points[0], front.points[-1]] if len(f) > 1 else [front.points[0]]
         # the ideal side (below-left) of the front is empty: label the ends there, with arrows
@@ -179,7 +185,10 @@ def figure_front(data) -> Figure:
     else:
         ax.text(0.5, 0.5, "no valid point on the front", transform=ax.transAxes, ha="center")
     ax.legend(fontsize=7.5, loc="upper right", framealpha=0.9)
-    ax.set_title(f"Pareto front: {problem.name} (V_c >= {problem.required_speed:.2f} m/s)", fontsize=10)
+    risk = problem.conditions.uncertainty
+    bound = (f"P(V_c < {problem.required_speed:.2f} m/s) <= {risk.probability:.0%}" if risk is not None
+             else f"V_c >= {problem.required_speed:.2f} m/s")
+    ax.set_title(f"Pareto front: {problem.name} ({bound})", fontsize=10)
     return fig
 
 

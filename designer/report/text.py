@@ -85,8 +85,7 @@ def build_lines(data) -> list[str]:
     if rec is None:
         return []
     problem = data.problem
-    out = [f"Build {caster_sentence(rec)}.",
-           f"It turns with F_turn = {rec.turning_effort:.3f} N and climbs the {inches(problem.conditions.threshold_height)} "
+    out = [f"It turns with F_turn = {rec.turning_effort:.3f} N and climbs the {inches(problem.conditions.threshold_height)} "
            f"sill with P = {rec.threshold_force:.2f} N (chosen by the rule: {rec.rule}).",
            risk_sentence(rec), radius_sentence(rec),
            stock_sentence(data.price_of_stock, getattr(problem, "stock", None) is not None)]
@@ -127,9 +126,7 @@ def weights_line(problem, solution, front) -> str:
 
 def margin_line(problem, front) -> str:
     """For a nominal problem with no margin: how many front designs sit on V_c = V_req, and why that is thin."""
-    if not front.points or problem.margin != 0 or getattr(problem.conditions, "uncertainty", None) is not None:
-        return ""
-    if getattr(problem, "risk", None) is not None:
+    if not front.points or problem.margin != 0 or problem.conditions.uncertainty is not None:
         return ""
     v = np.array([p.critical_speed for p in front.points])
     on = int(np.sum(np.abs(v / problem.required_speed - 1) <= ACTIVE_REL))
@@ -149,8 +146,7 @@ def summary_lines(data) -> list[str]:
     if front.points:
         f = front.objectives()
         d = front.designs()[:, 1]
-        kind = "risk-bounded" if getattr(problem, "risk", None) is not None or \
-            getattr(problem.conditions, "uncertainty", None) is not None else "nominal"
+        kind = "risk-bounded" if problem.conditions.uncertainty is not None else "nominal"
         out.append(f"Continuous {kind} front: {len(front)} valid point{'s' if len(front) != 1 else ''} (of "
                    f"{front.meta.get('points_requested', len(front))} requested, {len(front.failed)} failed): turning "
                    f"effort {f[:, 0].min():.2f}–{f[:, 0].max():.2f} N, threshold force {f[:, 1].min():.1f}–"
