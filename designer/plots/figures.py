@@ -137,7 +137,8 @@ def figure_front(data) -> Figure:
         knee, best = front.knee(), front.weighted_best()
         rec = getattr(data, "recommendation", None)
         curves, marks = [], []
-        if rec is not None and getattr(rec, "buildable", None) is not None and len(rec.buildable.points):
+        stocked = getattr(problem, "stock", None) is not None  # without [stock] the buildable front is this one
+        if stocked and rec is not None and getattr(rec, "buildable", None) is not None and len(rec.buildable.points):
             b = rec.buildable.objectives()
             curves.append({"threshold_force": b[:, 1], "turning_effort": b[:, 0], "kind": "buildable",
                            "label": f"buildable front (stock parts): {len(b)} point{'s' if len(b) != 1 else ''}"})
