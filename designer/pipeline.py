@@ -130,8 +130,9 @@ def degenerate_reason(problem, front) -> tuple[str, str]:
 def price_of_stock(front, recommendation) -> dict | None:
     """Turning effort of the continuous front at the recommendation's sill force, against the recommendation's.
 
-    Linear interpolation between the two front points around P [N]; None when P is outside the front's range
-    or the front has fewer than two points.  Returns {threshold_force, turning_effort_buildable,
+    The continuous front read as the ε-constraint optimum min F_turn s.t. P <= P_rec: linear interpolation
+    between the two front points around P_rec [N], the front's least F_turn beyond its largest P; None when
+    P_rec is below the front's least P or the front has fewer than two points.  Returns {threshold_force, turning_effort_buildable,
     turning_effort_continuous, extra, relative} [N, N, N, N, -].
     """
     if recommendation is None or len(front.points) < 2:
@@ -139,8 +140,8 @@ def price_of_stock(front, recommendation) -> dict | None:
     f = front.objectives()
     order = np.argsort(f[:, 1])
     p = float(recommendation.threshold_force)
-    lo, hi = float(f[order[0], 1]), float(f[order[-1], 1])
-    if not lo * (1 - 1e-9) <= p <= hi * (1 + 1e-9):
+    lo = float(f[order[0], 1])
+    if p < lo * (1 - 1e-9):
         return None
     cont = float(np.interp(p, f[order, 1], f[order, 0]))
     built = float(recommendation.turning_effort)

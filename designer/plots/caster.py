@@ -129,17 +129,22 @@ def draw_caster(ax_side, ax_top, trail: float, diameter: float, groove: float, s
 
 
 def caster_svg(trail: float, diameter: float, groove: float, sill_height: float,
-               swept_radius_max: float | None = None, scale: float = 28.0, label: str | None = None) -> str:
+               swept_radius_max: float | None = None, scale: float | None = None, label: str | None = None) -> str:
     """The caster to scale as an SVG string: side view left, top view right.
 
-    ``scale`` is pixels per inch (the same in both views, so the drawing is to scale).  Text is escaped.
+    ``scale`` is pixels per inch, the same in both views so the drawing is to scale (default: the top view
+    about 320 px wide, 18–32 px/in).  Text is escaped.
     """
     g = caster_geometry(trail, diameter, groove, sill_height, swept_radius_max)
+    if scale is None:
+        reach_in = max(g.swept_radius, g.swept_radius_max or 0.0) / INCH
+        scale = min(32.0, max(18.0, 320.0 / (2.16 * reach_in)))
     s = scale / INCH  # px per metre
     pad = 0.6 * INCH
     ax, ay = g.axle
     # side view box in metres: x from axle − 0.65 d to sill + 0.7 d; y from −0.8 in to stem top + pad
-    x0, x1 = ax - 0.65 * g.diameter, g.sill_x + 0.7 * g.diameter
+    x0 = ax - 0.65 * g.diameter
+    x1 = max(g.sill_x + 0.7 * g.diameter, x0 + 320 / s)  # room for the labels: at least 320 px wide
     y0, y1 = -0.8 * INCH, g.stem_top + pad
     side_w, side_h = (x1 - x0) * s, (y1 - y0) * s
     reach = max(g.swept_radius, g.swept_radius_max or 0.0) * 1.08

@@ -281,7 +281,7 @@ def _build_context(data: ReportData) -> dict:
         "alternatives": len(rec.alternatives),
         "level": level,
         "svg": caster_svg(d.trail, d.diameter, d.groove, data.problem.conditions.threshold_height,
-                          rec.swept_radius_max, scale=20.0,
+                          rec.swept_radius_max,
                           label=f"{data.problem.name}: the recommended caster to scale"),
         "rule": rec.rule,
     }
