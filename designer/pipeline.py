@@ -128,25 +128,30 @@ def degenerate_reason(problem, front) -> tuple[str, str]:
 
 
 def price_of_stock(front, recommendation) -> dict | None:
-    """Turning effort of the continuous front at the recommendation's sill force, against the recommendation's.
+    """What building from stock costs against the continuous front, in each objective.
 
-    The continuous front read as the ε-constraint optimum min F_turn s.t. P <= P_rec: linear interpolation
-    between the two front points around P_rec [N], the front's least F_turn beyond its largest P; None when
-    P_rec is below the front's least P or the front has fewer than two points.  Returns {threshold_force, turning_effort_buildable,
-    turning_effort_continuous, extra, relative} [N, N, N, N, -].
+    ``extra`` [N]: the recommendation's F_turn minus the continuous front's at equal sill force, the front read
+    as the ε-constraint optimum min F_turn s.t. P <= P_rec (linear between the two points around P_rec; its
+    least F_turn beyond its largest P).  ``extra_threshold`` [N]: the recommendation's P minus the front's at
+    equal turning effort (min P s.t. F_turn <= F_rec; None when F_rec is below the front's least F_turn).
+    Returns None when P_rec is below the front's least P or the front has fewer than two points.
     """
     if recommendation is None or len(front.points) < 2:
         return None
     f = front.objectives()
-    order = np.argsort(f[:, 1])
     p = float(recommendation.threshold_force)
-    lo = float(f[order[0], 1])
-    if p < lo * (1 - 1e-9):
-        return None
-    cont = float(np.interp(p, f[order, 1], f[order, 0]))
     built = float(recommendation.turning_effort)
+    by_p = np.argsort(f[:, 1])
+    if p < float(f[by_p[0], 1]) * (1 - 1e-9):
+        return None
+    cont = float(np.interp(p, f[by_p, 1], f[by_p, 0]))
+    by_f = np.argsort(f[:, 0])
+    p_cont = None
+    if built >= float(f[by_f[0], 0]) * (1 - 1e-9):
+        p_cont = float(np.interp(built, f[by_f, 0], f[by_f, 1]))
     return {"threshold_force": p, "turning_effort_buildable": built, "turning_effort_continuous": cont,
-            "extra": built - cont, "relative": (built - cont) / cont if cont > 0 else float("nan")}
+            "extra": built - cont, "relative": (built - cont) / cont if cont > 0 else float("nan"),
+            "threshold_force_continuous": p_cont, "extra_threshold": None if p_cont is None else p - p_cont}
 
 
 class _Clock:

@@ -74,9 +74,17 @@ def stock_sentence(price: dict | None, has_stock: bool) -> str:
     if price is None:
         return ("The continuous front does not reach the recommendation's sill force, so the price of stock is not "
                 "read off here (see the front figure).")
-    return (f"Price of stock: at its sill force {price['threshold_force']:.1f} N the continuous risk-bounded front "
-            f"turns with {price['turning_effort_continuous']:.3f} N; building from stock parts costs "
-            f"{price['extra']:+.3f} N ({price['relative']:+.1%}) of turning effort.")
+    parts = []
+    if abs(price["extra"]) >= 5e-4:
+        parts.append(f"{price['extra']:+.3f} N ({price['relative']:+.1%}) of turning effort at its sill force "
+                     f"{price['threshold_force']:.1f} N (continuous front: {price['turning_effort_continuous']:.3f} N)")
+    extra_p = price.get("extra_threshold")
+    if extra_p is not None and abs(extra_p) >= 5e-3:
+        parts.append(f"{extra_p:+.2f} N of sill force at its turning effort {price['turning_effort_buildable']:.3f} N "
+                     f"(continuous front: {price['threshold_force_continuous']:.2f} N)")
+    if not parts:
+        return "Price of stock: none; this stock caster lies on the continuous risk-bounded front."
+    return "Price of stock, against the continuous risk-bounded front: " + "; ".join(parts) + "."
 
 
 def build_lines(data) -> list[str]:
