@@ -291,4 +291,42 @@ def report_data(problem, points: int | None = None, *, front=None, tighter=None,
     return data
 
 
-__all__ = ["ReportData", "TIGHTER_FACTOR", "degenerate_reason", "price_of_stock", "report_data", "versions"]
+@dataclass
+class RobustData:
+    """The price-of-safety comparison of one problem: nominal against risk-bounded fronts (SI).
+
+    Attributes
+    ----------
+    problem : the problem (with its risk bound)
+    nominal, robust : the nominal (Eq. 7) and risk-bounded fronts
+    rows : per risk-bounded point: P, F_turn robust and nominal (interpolated), extra, V_c, Monte Carlo P(shimmy)
+    compare : hypervolumes of the two fronts (``Front.compare``)
+    uncertainty : the :class:`~designer.physics.uncertainty.Uncertainty` of the bound
+    run : metadata (date, versions, digest, CPU seconds)
+    """
+
+    problem: object
+    nominal: object
+    robust: object
+    rows: list
+    compare: dict
+    uncertainty: object
+    run: dict = field(default_factory=dict)
+
+
+def robust_data(problem, points: int = 21) -> RobustData:
+    """Compute the price of safety of ``problem`` (:func:`designer.analysis.robust.robust_comparison`)."""
+    from designer.analysis.robust import robust_comparison  # analysis: loads casadi on first use
+
+    c0 = time.process_time()
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="inertia power law used at")
+        warnings.filterwarnings("ignore", message=".*inertia fit.*extrapolated")
+        result = robust_comparison(problem, points)
+    run = {"date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"), "versions": versions(),
+           "problem_digest": problem.digest(), "points": points, "compute_cpu_seconds": time.process_time() - c0}
+    return RobustData(problem, result["nominal"], result["robust"], result["rows"], result["compare"],
+                      result["uncertainty"], run)
+
+
+__all__ = ["ReportData", "RobustData", "robust_data", "TIGHTER_FACTOR", "degenerate_reason", "price_of_stock", "report_data", "versions"]

@@ -92,10 +92,11 @@ def test_robust_section_validation(robust, message):
 
 
 def test_robust_command_writes_report(tmp_path, capsys):
-    """designer robust writes robust.md/.json/.png and reports the price of robustness."""
+    """designer robust writes index.html, robust.md, robust.json and its figure, and reports the price of safety."""
     from designer.cli import main
 
     out = tmp_path / "robust"
     assert main(["robust", str(ROBUST), "--points", "7", "--out", str(out)]) == 0
-    assert {p.name for p in out.iterdir()} == {"robust.md", "robust.json", "robust_fronts.png"}
-    assert "price of safety" in capsys.readouterr().out
+    assert {p.name for p in out.iterdir()} == {"index.html", "robust.md", "robust.json", "figures"}
+    assert (out / "figures" / "robust_fronts.png").stat().st_size > 0
+    assert "price of robustness" in capsys.readouterr().out

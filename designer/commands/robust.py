@@ -19,7 +19,8 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from designer.errors import InputError
-    from designer.analysis.robust import write_robust_report
+    from designer.pipeline import robust_data
+    from designer.report.robust import write_robust_report
 
     if args.points < 2 or args.points > 501:
         raise InputError(f"--points {args.points}: must be between 2 and 501")
@@ -28,13 +29,16 @@ def run(args) -> int:
     from designer.commands._common import check_output_folder
 
     check_output_folder(out)  # before the fronts, not after them
-    result = write_robust_report(problem, out, args.points)
-    extra = [r["extra_effort"] for r in result["rows"] if r["extra_effort"] == r["extra_effort"]]
-    probs = [r["probability_mc"] for r in result["rows"]]
-    print(f"risk-bounded front: {len(result['robust'])} points; nominal: {len(result['nominal'])} points")
+    data = robust_data(problem, args.points)
+    write_robust_report(data, out)
+    extra = [r["extra_effort"] for r in data.rows if r["extra_effort"] == r["extra_effort"]]
+    probs = [r["probability_mc"] for r in data.rows]
+    print(f"risk-bounded front: {len(data.robust)} points; nominal: {len(data.nominal)} points")
     if extra:
-        print(f"price of safety: +{min(extra):.3f} to +{max(extra):.3f} N turning effort at equal threshold force")
-    print(f"Monte Carlo P(shimmy) on the risk-bounded front: {min(probs):.2%}–{max(probs):.2%} "
-          f"(target {result['uncertainty'].probability:.1%})")
-    print(f"report: {out / 'robust.md'}")
+        print(f"price of safety: {min(extra):+.3f} to {max(extra):+.3f} N turning effort at equal "
+              f"threshold force")
+    if probs:
+        print(f"Monte Carlo P(shimmy) on the risk-bounded front: {min(probs):.2%}–{max(probs):.2%} "
+              f"(target {data.uncertainty.probability:.1%})")
+    print(f"report: {(out / 'index.html').resolve()} (Markdown: {out / 'robust.md'})")
     return 0

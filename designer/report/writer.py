@@ -516,13 +516,13 @@ def _link_or_copy(src, dst) -> None:
         shutil.copy2(src, dst)
 
 
-def _carry_over(old: Path, new: Path) -> None:
+def _carry_over(old: Path, new: Path, owned=REPORT_OWNED) -> None:
     """Put into ``new`` what ``old`` holds and a report does not own, as hard links (else copies).
 
     Links, not moves: if the replace fails afterwards, ``new`` is deleted and ``old`` still has everything.
     """
     for entry in old.iterdir():
-        if entry.name in REPORT_OWNED or entry.name.startswith(".") and ".tmp-" in entry.name:
+        if entry.name in owned or entry.name.startswith(".") and ".tmp-" in entry.name:
             continue
         dest = new / entry.name
         if dest.exists() or dest.is_symlink():  # the new report wrote it: it owns it
@@ -535,7 +535,7 @@ def _carry_over(old: Path, new: Path) -> None:
             _link_or_copy(entry, dest)
 
 
-def _replace(tmp: Path, target: Path) -> None:
+def _replace(tmp: Path, target: Path, owned=REPORT_OWNED) -> None:
     """Move the finished ``tmp`` folder to ``target`` by renames; an old ``target`` is removed only afterwards.
 
     Files of the old ``target`` that the report does not own (:data:`REPORT_OWNED`, e.g. explore.csv
@@ -551,7 +551,7 @@ def _replace(tmp: Path, target: Path) -> None:
                 raise InputError(f"report folder {target}: exists and is not a folder")
             if target.exists():
                 try:
-                    _carry_over(target, tmp)
+                    _carry_over(target, tmp, owned)
                 except FileNotFoundError:  # another writer moved it aside meanwhile: retry
                     continue
                 old = target.with_name(f".{target.name}.old-{uuid.uuid4().hex[:8]}")

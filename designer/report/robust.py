@@ -1,0 +1,146 @@
+"""Render the price-of-safety report (``designer robust``): index.html, robust.md, robust.json, figures/.
+
+Render only: takes the :class:`designer.pipeline.RobustData` that :func:`designer.pipeline.robust_data`
+computed (nominal and risk-bounded fronts, Monte Carlo P(shimmy) per point) and writes the same look as
+the Pareto report (shared stylesheet), with one title used by the page and by its figure.
+"""
+from __future__ import annotations
+
+import base64
+import json
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from designer.jsonsafe import finite
+from designer.pipeline import RobustData
+from designer.report.writer import _render, _replace, fmt
+
+OWNED = frozenset({"index.html", "robust.md", "robust.json", "figures", "robust_fronts.png"})
+"""What a robust report owns in its folder (anything else there is kept on replace)."""
+FIGURE = "figures/robust_fronts.png"
+
+
+def title(data: RobustData) -> str:
+    """The report's title, also the title of its figure (one source, so they cannot disagree)."""
+    return f"Price of safety: {data.problem.name}, nominal against risk-bounded (α = {data.uncertainty.probability:.0%})"
+
+
+def figure(data: RobustData):
+    """The nominal front under the risk-bounded one (:func:`designer.plots.fronts.draw_fronts`): a Figure."""
+    from matplotlib.figure import Figure  # matplotlib: heavy, loaded only when a report is drawn
+
+    from designer.plots.fronts import draw_fronts
+
+    problem, u = data.problem, data.uncertainty
+    fn, fr = data.nominal.objectives(), data.robust.objectives()
+    fig = Figure(figsize=(7.5, 4.8), layout="constrained")
+    ax = fig.add_subplot()
+    curves = []
+    if len(fn):
+        curves.append({"threshold_force": fn[:, 1], "turning_effort": fn[:, 0], "kind": "nominal",
+                       "label": f"nominal: V_c >= {problem.required_speed:.2f} m/s (Eq. 7)"})
+    if len(fr):
+        curves.append({"threshold_force": fr[:, 1], "turning_effort": fr[:, 0], "kind": "risk-bounded",
+                       "label": f"risk-bounded: P(V_c < {problem.required_speed:.2f} m/s) <= {u.probability:.0%}"})
+    draw_fronts(ax, curves)
+    ax.set_title(title(data), fontsize=10)
+    return fig
+
+
+def sentences(data: RobustData) -> list[str]:
+    """The summary, each sentence generated from the data it states."""
+    u, rows, cmp = data.uncertainty, data.rows, data.compare
+    out = []
+    extra = np.array([r["extra_effort"] for r in rows], float)
+    extra = extra[np.isfinite(extra)]
+    if len(extra):
+        out.append(f"Price of safety: {extra.min():+.3f} to {extra.max():+.3f} N of turning effort at equal sill "
+                   f"force, over the {len(extra)} risk-bounded points where the nominal front reaches the same P.")
+    else:
+        out.append("The two fronts do not overlap in sill force, so the price of safety is not read at equal P here.")
+    hv_n, hv_r = cmp.get("hypervolume_self"), cmp.get("hypervolume_other")
+    if hv_n is not None and hv_r is not None and np.isfinite(hv_n) and np.isfinite(hv_r):
+        rel = "smaller than" if hv_r < hv_n else "not smaller than"
+        out.append(f"Hypervolume of the risk-bounded front {hv_r:.4f}, {rel} the nominal front's {hv_n:.4f} (the "
+                   f"nominal front's normalisation, reference (1.1, 1.1)).")
+    probs = np.array([r["probability_mc"] for r in rows], float)
+    ses = np.array([r["probability_mc_se"] for r in rows], float)
+    if len(probs):
+        worst = int(np.argmax(probs - 2 * ses))
+        ok = bool(np.all(probs <= u.probability + 2 * ses))
+        out.append(f"Monte Carlo P(shimmy below {data.problem.required_speed:.3g} m/s) on the risk-bounded front: "
+                   f"{probs.min():.2%} to {probs.max():.2%} (bound α = {u.probability:.1%}; "
+                   + ("every point within α + 2 SE" if ok else
+                      f"point {worst} is ABOVE α + 2 SE: {probs[worst]:.2%} ± {ses[worst]:.2%}") + ").")
+    nom = np.array([r["nominal_probability_mc"] for r in rows], float)
+    nom = nom[np.isfinite(nom)]
+    if len(nom):
+        out.append(f"The nominal designs at the same sill force shimmy with probability {nom.min():.0%} to "
+                   f"{nom.max():.0%}: they sit on V_c = V_req of Eq. 7, which the scatter of the model puts below "
+                   f"the target about as often as above it.")
+    return out
+
+
+def _rows(data: RobustData) -> list[dict]:
+    return [{"P": fmt(r["threshold_force"], ".2f"), "F_nominal": fmt(r["turning_effort_nominal"], ".3f"),
+             "F_robust": fmt(r["turning_effort_robust"], ".3f"), "extra": fmt(r["extra_effort"], "+.3f"),
+             "V_c": fmt(r["critical_speed"], ".3f"),
+             "p": f"{r['probability_mc']:.2%} ± {r['probability_mc_se']:.2%}",
+             "p_nominal": fmt(r["nominal_probability_mc"] * 100, ".1f", "%")} for r in data.rows]
+
+
+def _json(data: RobustData, page_title: str) -> dict:
+    u = data.uncertainty
+    fields = ("probability", "model_error", "damping", "slip_coefficient", "inertia", "samples", "seed")
+    return finite({"problem": data.problem.name, "title": page_title, "figure_title": page_title,
+                   "uncertainty": {k: getattr(u, k) for k in fields if hasattr(u, k)},
+                   "rows": data.rows, "compare": data.compare, "nominal_front": data.nominal.rows(),
+                   "robust_front": data.robust.rows(), "run": data.run})
+
+
+def write_robust_report(data: RobustData, out_dir) -> Path:
+    """Render ``data`` into ``out_dir``: index.html (self-contained), robust.md, robust.json, figures/.
+
+    Written into a temporary folder beside the target and renamed into place when complete; files in the
+    target that the report does not own (:data:`OWNED`) are kept.
+    """
+    from designer.plots.figures import png_bytes
+
+    if not isinstance(data, RobustData):
+        raise TypeError("write_robust_report renders a RobustData; build one with designer.pipeline.robust_data")
+    target = Path(out_dir)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
+    os.chmod(tmp, 0o755)  # mkdtemp makes it private; the report is an ordinary folder
+    try:
+        page_title = title(data)
+        (tmp / "figures").mkdir()
+        png = png_bytes(figure(data))
+        (tmp / FIGURE).write_bytes(png)
+        u = data.uncertainty
+        context = {
+            "title": page_title, "problem": data.problem, "run": data.run, "sentences": sentences(data),
+            "rows": _rows(data), "figure": FIGURE,
+            "figure_uri": "data:image/png;base64," + base64.b64encode(png).decode("ascii"),
+            "bound": (f"P(V_c,true < {data.problem.required_speed:.3g} m/s) <= {u.probability:.1%}, with the scatter "
+                      f"of the model (σ of the log): Eq. 7 model error {u.model_error:g}, M_f/θ0 {u.damping:g}, "
+                      f"K_s {u.slip_coefficient:g}, I_w {u.inertia:g}; Monte Carlo with {u.samples:,} samples, "
+                      f"seed {u.seed}"),
+            "versions": ", ".join(f"{k} {v}" for k, v in data.run.get("versions", {}).items() if v),
+        }
+        (tmp / "robust.json").write_text(json.dumps(_json(data, page_title), indent=2, ensure_ascii=False,
+                                                    allow_nan=False) + "\n", encoding="utf-8")
+        (tmp / "index.html").write_text(_render("robust.html.j2", context, autoescape=True), encoding="utf-8")
+        (tmp / "robust.md").write_text(_render("robust.md.j2", context, autoescape=False), encoding="utf-8")
+        _replace(tmp, target, OWNED)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return target
+
+
+__all__ = ["OWNED", "figure", "sentences", "title", "write_robust_report"]
