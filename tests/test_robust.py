@@ -99,4 +99,12 @@ def test_robust_command_writes_report(tmp_path, capsys):
     assert main(["robust", str(ROBUST), "--points", "7", "--out", str(out)]) == 0
     assert {p.name for p in out.iterdir()} == {"index.html", "robust.md", "robust.json", "figures"}
     assert (out / "figures" / "robust_fronts.png").stat().st_size > 0
-    assert "price of robustness" in capsys.readouterr().out
+    import json
+
+    data = json.loads((out / "robust.json").read_text())
+    html = (out / "index.html").read_text()
+    assert data["title"] == data["figure_title"] and f"<h1>{data['title']}</h1>" in html
+    assert (out / "robust.md").read_text().startswith(f"# {data['title']}")
+    extra = [r["extra_effort"] for r in data["rows"] if r["extra_effort"] is not None]
+    assert f"{min(extra):+.3f} to {max(extra):+.3f} N" in html  # the price-of-safety sentence states the rows
+    assert "price of safety" in capsys.readouterr().out

@@ -41,7 +41,8 @@ def robust_comparison(problem, points: int = 21) -> dict:
                                          problem.required_speed, u)
         p_nom = shimmy_probability_mc(*_nominal_design_args(nominal, point, cond), problem.required_speed, u)[0] \
             if len(nominal) else float("nan")
-        f_nominal = float(np.interp(point.threshold_force, fn[order, 1], fn[order, 0], left=np.nan, right=np.nan))
+        # the nominal front as min F_turn s.t. P <= P_point: beyond its largest P, its least F_turn
+        f_nominal = float(np.interp(point.threshold_force, fn[order, 1], fn[order, 0], left=np.nan))
         rows.append({
             "threshold_force": point.threshold_force,
             "turning_effort_robust": point.turning_effort,

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from designer.model import Design, performance
+from designer.physics.geometry import swept_radius
 from designer.problem import Bound, Problem
 from designer.solvers import structured
 
@@ -123,7 +124,7 @@ def designs_at_diameters(problem: Problem, d) -> tuple[np.ndarray, np.ndarray]:
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
     t = np.full(n, hi[0])
     if problem.swept_radius_max is not None:
-        t = np.minimum(t, problem.swept_radius_max - np.asarray(_values(problem, 0.0, d, 0.0, lo[3])["swept_radius"]))
+        t = np.minimum(t, problem.swept_radius_max - np.asarray(swept_radius(0.0, d), float))
     reach = t >= lo[0] * (1 - 1e-12)
     t = np.maximum(t, lo[0])
     grooves = np.unique(np.concatenate([[lo[2], hi[2]], np.linspace(lo[2], hi[2], GROOVE_GRID)]))

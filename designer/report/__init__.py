@@ -7,10 +7,11 @@ rebuilds the reports of every shipped problem in one command.
 
 Modules
 -------
-writer      gather the report's data, format tables, render, write safely
-(figures are drawn by :mod:`designer.plots`; the groove/damper trade-off is computed in
-:mod:`designer.analysis.tradeoff`)
+writer      format the tables of a :class:`designer.pipeline.ReportData`, render, write safely
+text        the sentences of the report, each generated from the data it states
+robust      the price-of-safety report (``designer robust``) from a :class:`designer.pipeline.RobustData`
+(the data are computed by :mod:`designer.pipeline`; figures are drawn by :mod:`designer.plots`)
 """
-from designer.report.writer import ReportData, build_context, write_report
+from designer.report.writer import ReportData, build_context, write_report  # ReportData: from designer.pipeline
 
 __all__ = ["ReportData", "build_context", "write_report"]
