@@ -29,7 +29,7 @@ from designer.errors import DesignerError, InputError
 from designer.pipeline import ReportData
 from designer.plots import figures as _figures
 from designer.plots.caster import caster_svg
-from designer.report import text as _text
+from designer.report.text import build_lines, caster_sentence, inches, summary_lines
 
 LBF = 4.4482216152605
 """One pound-force [N] (display only)."""
@@ -260,8 +260,8 @@ def _rec_row(rec) -> dict:
         F=fmt(rec.turning_effort, ".3f", "N"), P=fmt(rec.threshold_force, ".2f", "N"),
         V_c=fmt(rec.critical_speed, ".3f", "m/s"), V_q=fmt(rec.confident_speed, ".3f", "m/s"),
         p_shimmy=f"{rec.shimmy_probability:.2%} ± {rec.shimmy_probability_se:.2%}",
-        R_s=_text.inches(rec.swept_radius)
-        + (f" (limit {_text.inches(rec.swept_radius_max)})" if rec.swept_radius_max is not None else " (no limit)"),
+        R_s=inches(rec.swept_radius)
+        + (f" (limit {inches(rec.swept_radius_max)})" if rec.swept_radius_max is not None else " (no limit)"),
     )
     return row
 
@@ -275,8 +275,8 @@ def _build_context(data: ReportData) -> dict:
     level = f"{1 - rec.alpha:.0%}" if rec.alpha is not None else "95% (default scatter)"
     return {
         "available": True,
-        "lines": _text.build_lines(data),
-        "headline": f"Build this: {_text.caster_sentence(rec)}",
+        "lines": build_lines(data),
+        "headline": f"Build this: {caster_sentence(rec)}",
         "rows": [_rec_row(rec)] + [_rec_row(a) for a in rec.alternatives],
         "alternatives": len(rec.alternatives),
         "level": level,
@@ -353,7 +353,7 @@ def build_context(data: ReportData) -> dict:
     return {
         "problem": problem,
         "title": f"{problem.title} ({problem.name})",
-        "summary": _text.summary_lines(data),
+        "summary": summary_lines(data),
         "build": _build_context(data),
         "degenerate": data.degenerate_reason,
         "problem_rows": _problem_rows(problem),
