@@ -111,3 +111,18 @@ def test_cli_json_plot_snippet(capsys, tmp_path):
     assert out["interval"][0] < out["value"] < out["interval"][1]
     assert plot.stat().st_size > 5000
     assert "slip_coefficient" in tomllib.loads(snippet.read_text())["shimmy"]
+
+
+def test_cli_report_folder(capsys, tmp_path):
+    """`designer calibrate turning --report DIR` writes index.html (figure inline), report.md and calibration.json
+    whose summary states the fitted value and interval of the JSON."""
+    out = tmp_path / "cal"
+    code = main(["calibrate", "turning", str(EXAMPLES_DIR / "turning_tile.csv"), "--report", str(out), "--json"])
+    assert code == 0
+    data = json.loads((out / "calibration.json").read_text())
+    html = (out / "index.html").read_text()
+    lo, hi = data["interval"]
+    assert f"{data['value']:.5g}" in html and f"{lo:.5g} to {hi:.5g}" in html
+    assert "data:image/png;base64," in html and (out / "figures" / "fit.png").stat().st_size > 5000
+    assert (out / "report.md").read_text().startswith("# Calibration of ")
+    assert json.loads(capsys.readouterr().out)["report"] == str(out)

@@ -43,7 +43,6 @@ __all__ = [
     "fit_damping",
     "fit_slip",
     "calibrate_file",
-    "plot_fit",
     "write_examples",
     "EXAMPLES_DIR",
 ]
@@ -334,35 +333,6 @@ def calibrate_file(kind: str, path, slip_coefficient: float = SLIP_COEFFICIENT,
         d = read_columns(path, ("slip_ratio", "force_N"))
         return fit_slip(d["slip_ratio"], d["force_N"])
     raise InputError(f"calibration {kind!r}: expected turning, damping or slip")
-
-
-def plot_fit(result: CalibrationResult, path) -> None:
-    """Write the data, the fit and its residuals to an image file (PNG/SVG/PDF)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    if not str(path).lower().endswith((".png", ".svg", ".pdf")):
-        raise InputError(f"--plot {path}: expected a .png, .svg or .pdf file name")
-    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True, gridspec_kw={"height_ratios": [2, 1]})
-    order = np.argsort(result.x)
-    ax.plot(result.x, result.y, "o", label="data")
-    ax.plot(result.x[order], result.fitted[order], "-", label="fit")
-    lo, hi = result.interval
-    ax.set_title(f"{result.kind}: {result.name} = {result.value:.4g} {result.unit} "
-                 f"(95 % CI {lo:.4g}–{hi:.4g}), {result.equation}", fontsize=9)
-    ax.set_ylabel(result.y_label)
-    ax.legend()
-    ax2.axhline(0, color="k", lw=0.8)
-    ax2.plot(result.x, result.residuals, "o")
-    ax2.set_xlabel(result.x_label)
-    unit = result.y_label[result.y_label.rfind("["):] if "[" in result.y_label else ""
-    ax2.set_ylabel(f"residual {unit}".strip())
-    fig.tight_layout()
-    from designer.plots.figures import save_figure
-
-    save_figure(fig, path, dpi=100)
 
 
 # ---------------------------------------------------------------------------

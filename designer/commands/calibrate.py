@@ -17,13 +17,15 @@ KINDS = {
 def register(sub) -> None:
     p = sub.add_parser("calibrate", help="fit turning, damping or slip constants to test data (CSV)",
                        description="Fit a model constant to your own measurements, print it with its 95 % "
-                                   "confidence interval, plot residuals (--plot) and write a TOML snippet for a "
+                                   "confidence interval, plot residuals (--plot), write a report folder (--report) and write a TOML snippet for a "
                                    "problem file (--snippet). 'designer calibrate examples DIR' writes example CSVs.")
     kinds = p.add_subparsers(dest="kind", metavar="KIND", parser_class=type(p))
     for kind, text in KINDS.items():
         k = kinds.add_parser(kind, help=text, description=text)
         k.add_argument("data", help="CSV file with a header row")
         k.add_argument("--plot", default=None, metavar="FILE.png", help="write data, fit and residuals")
+        k.add_argument("--report", default=None, metavar="DIR",
+                       help="write a report folder: index.html, report.md, calibration.json, figures/fit.png")
         k.add_argument("--snippet", default=None, metavar="FILE.toml", help="write a problem-file TOML snippet")
         k.add_argument("--json", action="store_true", help="machine-readable output")
         if kind == "damping":
@@ -43,7 +45,8 @@ def _missing_kind() -> int:
 
 
 def run(args) -> int:
-    from designer.analysis.calibrate import calibrate_file, plot_fit
+    from designer.analysis.calibrate import calibrate_file
+    from designer.report.calibration import plot_fit, write_calibration_report
 
     slip = 1250.0
     if args.kind == "damping":
@@ -54,6 +57,8 @@ def run(args) -> int:
     result = calibrate_file(args.kind, args.data, slip_coefficient=slip, surface=surface)
     if args.plot:
         plot_fit(result, args.plot)
+    if args.report:
+        write_calibration_report(result, args.report, str(args.data))
     if args.snippet:
         try:
             Path(args.snippet).write_text(result.snippet())
@@ -63,6 +68,8 @@ def run(args) -> int:
     out["data"] = str(args.data)
     if args.plot:
         out["plot"] = args.plot
+    if args.report:
+        out["report"] = args.report
     if args.snippet:
         out["snippet"] = args.snippet
     if args.json:
@@ -76,6 +83,8 @@ def run(args) -> int:
         print(f"  {key} = {value}")
     if args.plot:
         print(f"  residual plot: {args.plot}")
+    if args.report:
+        print(f"  report: {(Path(args.report) / 'index.html').resolve()}")
     if args.snippet:
         print(f"  TOML snippet: {args.snippet}")
     else:

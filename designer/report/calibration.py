@@ -1,0 +1,88 @@
+"""Render a calibration: ``--plot FILE`` (the figure alone) and ``--report DIR`` (index.html + report.md + figure).
+
+Render only: takes the :class:`designer.analysis.calibrate.CalibrationResult` that the fit computed and writes
+it with the Pareto report's look (shared stylesheet); the figure is :func:`designer.plots.calibration.fit_figure`.
+"""
+from __future__ import annotations
+
+import base64
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+from designer.errors import InputError
+from designer.report.writer import _render, _replace, fmt
+
+OWNED = frozenset({"index.html", "report.md", "calibration.json", "figures"})
+"""What a calibration report owns in its folder (anything else there is kept on replace)."""
+FIGURE = "figures/fit.png"
+
+
+def plot_fit(result, path) -> None:
+    """Write the data, the fit and its residuals to an image file (PNG/SVG/PDF); a bad path is an InputError."""
+    from designer.plots.figures import save_figure
+
+    if not str(path).lower().endswith((".png", ".svg", ".pdf")):
+        raise InputError(f"--plot {path}: expected a .png, .svg or .pdf file name")
+    from designer.plots.calibration import fit_figure
+
+    save_figure(fit_figure(result), path, dpi=100)
+
+
+def title(result) -> str:
+    """The page title (also the figure's subject): what was fitted."""
+    return f"Calibration of {result.name} ({result.kind}, {result.equation})"
+
+
+def sentences(result, data_file: str) -> list[str]:
+    """The summary, generated from the fit."""
+    lo, hi = result.interval
+    out = [f"{result.name} = {result.value:.5g} {result.unit}, 95 % confidence interval {lo:.5g} to {hi:.5g} "
+           f"(standard error {result.stderr:.3g}) from n = {result.n} rows of {data_file}.",
+           f"RMS residual {result.rms:.3g} {result.y_unit}; the residual panel should show no trend."]
+    for key, value in result.notes.items():
+        out.append(f"Held fixed: {key} = {value}.")
+    return out
+
+
+def write_calibration_report(result, out_dir, data_file: str = "") -> Path:
+    """Write ``out_dir``/index.html (self-contained), report.md, calibration.json and figures/fit.png."""
+    import json
+
+    from designer.jsonsafe import finite
+    from designer.pipeline import versions
+    from designer.plots.calibration import fit_figure
+    from designer.plots.figures import png_bytes
+
+    target = Path(out_dir)
+    if target.exists() and not target.is_dir():
+        raise InputError(f"--report {target}: exists and is not a folder")
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
+    os.chmod(tmp, 0o755)  # mkdtemp makes it private; the report is an ordinary folder
+    try:
+        (tmp / "figures").mkdir()
+        png = png_bytes(fit_figure(result))
+        (tmp / FIGURE).write_bytes(png)
+        rows = [{"x": fmt(x, ".5g"), "y": fmt(y, ".5g"), "fitted": fmt(f, ".5g"), "residual": fmt(y - f, "+.3g")}
+                for x, y, f in zip(result.x, result.y, result.fitted)]
+        info = versions()
+        context = {"title": title(result), "sentences": sentences(result, data_file or "the data"), "rows": rows,
+                   "result": result, "figure": FIGURE, "snippet": result.snippet(),
+                   "figure_uri": "data:image/png;base64," + base64.b64encode(png).decode("ascii"),
+                   "versions": ", ".join(f"{k} {v}" for k, v in info.items() if v)}
+        out = result.as_dict()
+        out["data"] = data_file
+        (tmp / "calibration.json").write_text(json.dumps(finite(out), indent=2, ensure_ascii=False,
+                                                         allow_nan=False, default=float) + "\n", encoding="utf-8")
+        (tmp / "index.html").write_text(_render("calibration.html.j2", context, autoescape=True), encoding="utf-8")
+        (tmp / "report.md").write_text(_render("calibration.md.j2", context, autoescape=False), encoding="utf-8")
+        _replace(tmp, target, OWNED)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return target
+
+
+__all__ = ["OWNED", "plot_fit", "sentences", "title", "write_calibration_report"]
