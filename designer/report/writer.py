@@ -422,7 +422,7 @@ def _front_json(data: ReportData) -> dict:
 
 
 def _front_csv(path: Path, data: ReportData) -> None:
-    """front.csv: the front the problem asks for; with a recommendation, its buildable front as extra rows.
+    """front.csv: the front the problem asks for; with [stock], the buildable front as extra rows.
 
     Column ``buildable`` is true for the buildable points (made of stock parts), false for the others.
     """
@@ -430,7 +430,7 @@ def _front_csv(path: Path, data: ReportData) -> None:
 
     rows = [dict(r, buildable="false") for r in data.front.rows()]
     rec = data.recommendation
-    if rec is not None and getattr(rec, "buildable", None) is not None:
+    if getattr(data.problem, "stock", None) is not None and rec is not None and rec.buildable is not None:
         rows += [dict(r, buildable="true") for r in rec.buildable.rows()]
     columns = ["trail", "diameter", "groove", "damping", "turning_effort", "threshold_force", "critical_speed",
                "epsilon", "family", "status"]
