@@ -12,7 +12,7 @@ CURVE_STYLE = {
     "continuous": dict(color="#1f77b4", lw=1.6, ls="-", marker=None, ms=0, zorder=2),
     "nominal": dict(color="#7f7f7f", lw=1.4, ls="--", marker="o", ms=3, zorder=2),
     "risk-bounded": dict(color="#1f77b4", lw=1.6, ls="-", marker="s", ms=3, zorder=3),
-    "buildable": dict(color="black", lw=0.8, ls=":", marker="s", ms=6, zorder=4),
+    "buildable": dict(color="black", lw=0.8, ls=":", marker="s", ms=6, zorder=4, drawstyle="steps-post"),
     "reference": dict(color="0.65", lw=1.3, ls="--", marker=".", ms=4, zorder=1),
 }
 """Line style per kind of front."""

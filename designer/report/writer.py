@@ -422,24 +422,11 @@ def _front_json(data: ReportData) -> dict:
 
 
 def _front_csv(path: Path, data: ReportData) -> None:
-    """front.csv: the front the problem asks for; with [stock], the buildable front as extra rows.
-
-    Column ``buildable`` is true for the buildable points (made of stock parts), false for the others.
-    """
-    import csv
-
-    rows = [dict(r, buildable="false") for r in data.front.rows()]
+    """front.csv: the front the problem asks for; with [stock], the buildable front as extra rows
+    (column ``buildable`` true for them, false for the others: :meth:`Front.to_csv`)."""
     rec = data.recommendation
-    if getattr(data.problem, "stock", None) is not None and rec is not None and rec.buildable is not None:
-        rows += [dict(r, buildable="true") for r in rec.buildable.rows()]
-    columns = ["trail", "diameter", "groove", "damping", "turning_effort", "threshold_force", "critical_speed",
-               "epsilon", "family", "status"]
-    extra = sorted({k for r in rows for k in r} - set(columns) - {"buildable"})
-    with open(path, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=columns + extra + ["buildable"])
-        writer.writeheader()
-        for r in rows:
-            writer.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in r.items()})
+    stocked = getattr(data.problem, "stock", None) is not None and rec is not None
+    data.front.to_csv(path, buildable=rec.buildable if stocked else None)
 
 
 def _write_all(folder: Path, data: ReportData, t0: float) -> None:
