@@ -128,7 +128,8 @@ def test_build_sentences_state_the_data(stub):
     assert f"up to {rec.confident_speed:.3f} m/s" in joined and "within the bound α = 5%" in joined
     spare = (problem.swept_radius_max - rec.swept_radius) / INCH
     assert (f"{spare:.3f} in to spare" in joined) == (spare > 1e-9 / INCH)
-    assert "no [stock]" in joined  # indoor-manual on main declares none
+    assert text.stock_sentence(stub.price_of_stock, problem.stock is not None) in joined
+    assert "no [stock]" in text.stock_sentence(None, has_stock=False)
 
 
 def test_risk_sentence_flags_an_estimate_above_the_bound(stub):
