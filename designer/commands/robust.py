@@ -35,7 +35,8 @@ def run(args) -> int:
     probs = [r["probability_mc"] for r in data.rows]
     print(f"risk-bounded front: {len(data.robust)} points; nominal: {len(data.nominal)} points")
     if extra:
-        print(f"price of safety: {min(extra):+.3f} to {max(extra):+.3f} N turning effort at equal "
+        lo, hi = (0.0 if abs(v) < 5e-4 else v for v in (min(extra), max(extra)))  # no "-0.000"
+        print(f"price of safety: {lo:+.3f} to {hi:+.3f} N turning effort at equal "
               f"threshold force")
     if probs:
         print(f"Monte Carlo P(shimmy) on the risk-bounded front: {min(probs):.2%}–{max(probs):.2%} "

@@ -58,8 +58,10 @@ def sentences(data: RobustData) -> list[str]:
     extra = np.array([r["extra_effort"] for r in rows], float)
     extra = extra[np.isfinite(extra)]
     if len(extra):
-        out.append(f"Price of safety: {extra.min():+.3f} to {extra.max():+.3f} N of turning effort at equal sill "
-                   f"force, over the {len(extra)} risk-bounded points where the nominal front reaches the same P.")
+        lo, hi = (0.0 if abs(v) < 5e-4 else float(v) for v in (extra.min(), extra.max()))  # no "-0.000"
+        out.append(f"Price of safety: {lo:+.3f} to {hi:+.3f} N of turning effort at equal sill force, over "
+                   f"{len(extra)} risk-bounded points (the nominal front read as min F_turn s.t. P <= P_point: "
+                   f"beyond its largest P, its least turning effort).")
     else:
         out.append("The two fronts do not overlap in sill force, so the price of safety is not read at equal P here.")
     hv_n, hv_r = cmp.get("hypervolume_self"), cmp.get("hypervolume_other")
