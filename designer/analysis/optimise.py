@@ -106,8 +106,9 @@ class Solution:
         inertia = float(self.problem.conditions.inertia(d.diameter))
         p, se = shimmy_probability_mc(d.trail, inertia, d.groove, d.damping, self.problem.conditions.slip_coefficient,
                                       self.problem.required_speed, u)
-        return [f"  robust: P(V_c < {self.problem.required_speed:.3g} m/s) <= {u.probability:.1%} required "
-                f"(first order); Monte Carlo {p:.2%} ± {se:.2%} ({u.samples} samples, seed {u.seed})", ""]
+        return [f"  risk bound: P(V_c < {self.problem.required_speed:.3g} m/s) <= {u.probability:.1%} (exact quantile "
+                f"of the first-order law, t_{u.model_error_dof} model error); Monte Carlo {p:.2%} ± {se:.2%} "
+                f"(seed {u.seed}, at least {u.samples} samples, SE <= 0.1 pp)", ""]
 
     def __str__(self) -> str:
         d = self.design
