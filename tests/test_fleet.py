@@ -144,8 +144,10 @@ def _reference_choice(problem, stock, chair: dict) -> tuple[int, int]:
         if not front or f < front[-1][0]:
             front.append((f, p, j))
     front = front[::-1]  # decreasing threshold force, as Front
-    if len(front) < 3:
-        return front[0][2], len(front)
+    if len(front) < 3:  # no knee: the end with the least J = w F + w P (the easiest-to-turn end on a tie)
+        w = problem.weights
+        a, b = front[0], front[-1]
+        return (b if w[0] * b[0] + w[1] * b[1] < w[0] * a[0] + w[1] * a[1] else a)[2], len(front)
     o = np.array([[f, p] for f, p, _ in front])
     ideal, nadir = o.min(axis=0), o.max(axis=0)
     n = (o - ideal) / np.where(nadir > ideal, nadir - ideal, 1.0)

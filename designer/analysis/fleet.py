@@ -615,7 +615,7 @@ def recommend_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     For each chair: the feasible stock casters (:func:`evaluate_chairs`), their non-dominated set in
     (F_turn, P) (the buildable front), and the stock index chosen by the base problem's rule: the knee of
     the front (the point farthest from the chord between its two ends, in objectives normalised to the
-    front's range, toward the ideal point; with fewer than three points the easiest-to-turn end), or, with
+    front's range, toward the ideal point; with fewer than three points the end with the least J), or, with
     a cap on one objective, the best on the other within the cap.  Also the easiest-to-turn and
     easiest-over-the-sill ends and the least J = w_turn F_turn + w_threshold P (the regret baseline).
 

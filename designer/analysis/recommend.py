@@ -13,7 +13,7 @@
    sub-front otherwise).  The non-dominated set in (F_turn, P) is kept.
 4. **The rule** (:func:`select_rows`, vectorised so ``designer fleet`` uses the same code): the knee of
    the buildable front (the point farthest from the chord between its ends, objectives normalised to
-   the front's range, on the ideal side; fewer than three points: the easiest-to-turn end), or with
+   the front's range, on the ideal side; fewer than three points: the end with the least J = w_turn F + w_threshold P), or with
    ``[objective] max_threshold_force`` / ``max_turning_effort`` the best on the other objective within
    the cap.  Alternatives: the easiest to turn and the easiest over the sill.
 5. **Reported risk**: P(shimmy at V_target) by a separate Monte Carlo of the same distribution with its
@@ -43,7 +43,7 @@ RULES = {
     "knee": "knee of the buildable risk-bounded front",
     "cap_threshold": "least turning effort with sill force <= {cap:.1f} N",
     "cap_turning": "least sill force with turning effort <= {cap:.2f} N",
-    "end": "easiest-to-turn end of a buildable front of fewer than three points",
+    "end": "least J = {w0:g} F_turn + {w1:g} P of a buildable front of fewer than three points (no knee)",
 }
 """How the recommendation is chosen (the text of ``Recommendation.rule``)."""
 
@@ -308,7 +308,14 @@ def select_rows(f: np.ndarray, p: np.ndarray, ok: np.ndarray, weights=(1.0, 1.0)
         # the first maximum in the decreasing-P order (as Front.knee)
         knee = s - 1 - np.argmax(dist[:, ::-1], axis=1)
         small = (size < 3) | ~(norm > 0)
-        pick = np.where(small, last, knee)
+        # no knee on fewer than three points: the end with the least J = w_turn F + w_threshold P (the problem's
+        # weights, their stated meaning), the easiest-to-turn end on a tie
+        w_ = np.asarray(weights, float)
+        with np.errstate(invalid="ignore"):
+            j_last = w_[0] * fa + w_[1] * pa
+            j_first = w_[0] * fb + w_[1] * pb
+        end = np.where(j_first < j_last, first, last)
+        pick = np.where(small, end, knee)
         choice = np.where(has, order[rows, pick], -1)
     member = np.zeros((n, s), bool)
     np.put_along_axis(member, order, front, axis=1)
@@ -322,7 +329,7 @@ def rule_text(problem, front_size: int) -> str:
         return RULES["cap_threshold"].format(cap=problem.max_threshold_force)
     if problem.max_turning_effort is not None:
         return RULES["cap_turning"].format(cap=problem.max_turning_effort)
-    return RULES["knee"] if front_size >= 3 else RULES["end"]
+    return RULES["knee"] if front_size >= 3 else RULES["end"].format(w0=problem.weights[0], w1=problem.weights[1])
 
 
 def weights_meaning(weights) -> str:
@@ -658,7 +665,8 @@ def recommend(problem, samples: int | None = None, seed: int | None = None) -> R
     notes = []
     if size < 3:
         notes.append(f"the buildable front has {size} point{'s' if size != 1 else ''}: "
-                     + ("the recommendation is its easiest-to-turn end and the only alternative the other end"
+                     + ("the recommendation is the one with the least J (weights: "
+                        + weights_meaning(problem.weights) + ") and the only alternative the other end"
                         if size == 2 else "one stock caster is best on both objectives, so there is no alternative"))
     if problem.risk is None:
         notes.append(f"no risk bound ([robust] enabled = false): this caster shimmies at {problem.target_speed:.3g} m/s "
