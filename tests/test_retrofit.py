@@ -231,6 +231,17 @@ def test_fixes_are_ranked_and_safe(problem, eq8):
         assert f.cost_turning_effort == pytest.approx(f.turning_effort - eq8.current.turning_effort, abs=1e-12)
 
 
+def test_reported_probability_is_the_uncertainty_modules_estimate(problem, eq8):
+    """The fixes' P(shimmy) is computed for all fixes at once (vectorised), yet equals
+    shimmy_probability_mc of each caster with the same draws (seed and sample count), bit for bit."""
+    u = retrofit._risk_of(problem)[1]
+    for f in eq8.fixes[:5]:
+        p, se = shimmy_probability_mc(f.effective_trail, f.inertia, f.design.groove, f.design.damping,
+                                      problem.conditions.slip_coefficient, problem.target_speed, u,
+                                      samples=max(retrofit.REPORT_SAMPLES, u.samples), seed=u.seed)
+        assert (f.shimmy_probability, f.shimmy_probability_se) == (p, se)
+
+
 def test_no_single_part_fix_is_an_answer(problem):
     """With wheels limited to 7–8 in (only the 8 in wheel in stock, worse than the 7.75 in one), no single part
     fixes the Eq. 8 caster: the answer says so and gives the best two-part fix, which brute force confirms."""
