@@ -6,9 +6,12 @@ import collections
 import json
 import os
 import signal
+import shutil
 import subprocess
 import sys
+import tempfile
 import time
+from pathlib import Path
 
 import pytest
 
@@ -23,7 +26,11 @@ def postgres(tmp_path_factory):
     """A PostgreSQL server in a fresh data folder, stopped and removed after the module's tests."""
     import pgserver  # in the `test` extra: a missing install must fail here, not skip
 
-    data = tmp_path_factory.mktemp("pgdata")
+    # Not under pytest's basetemp: that is mode 0700, and as root pgserver runs the server as its own
+    # unprivileged user, which must be able to reach the data folder.
+    base = Path(tempfile.mkdtemp(prefix="designer-pg-"))
+    base.chmod(0o755)
+    data = base / "pgdata"
     t0 = time.perf_counter()
     server = pgserver.get_server(str(data), cleanup_mode="delete")
     server.started_seconds = time.perf_counter() - t0  # README: how long the server takes to start
@@ -31,6 +38,7 @@ def postgres(tmp_path_factory):
         yield server
     finally:
         server.cleanup()
+        shutil.rmtree(base, ignore_errors=True)
 
 
 def _explore(url, out, seed, resume, env):

@@ -116,7 +116,7 @@ def test_validate_exits_0_on_disagreement_within_scatter_and_1_on_failure(monkey
 def indoor():
     from designer.problem import load_problem
 
-    return load_problem(ROOT / "problems" / "indoor-manual.toml")
+    return load_problem(ROOT / "problems" / "indoor-manual.toml").nominal()
 
 
 def _point(problem, x, f=None, margins=None):

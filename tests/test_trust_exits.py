@@ -30,10 +30,12 @@ trail = {{ min = "1 in", max = "2.5 in" }}
 diameter = {{ min = "7 in", max = "8 in" }}
 groove = "0 in"
 damping = "1.3 N*m/rad"
+[robust]
+enabled = false
 [pareto]
 points = 5
 """
-"""d 7–8 in, no groove, no damper, trail <= 2.5 in: V_c reaches at most 2.384 m/s (T = 2.5 in, d = 7 in)."""
+"""Nominal Eq. 7 constraint (no risk bound): d 7–8 in, no groove, no damper, trail <= 2.5 in: V_c reaches at most 2.384 m/s (T = 2.5 in, d = 7 in)."""
 
 
 def _problem(tmp_path: Path, speed: str) -> Path:

@@ -50,14 +50,15 @@ def test_extrapolation_warning_only_for_reported_diameters():
 
 
 def test_optimise_inside_table1_does_not_warn():
-    """indoor-manual's bounds reach 3 in, but its optimum is at d = 8 in: no extrapolation warning."""
+    """indoor-manual's bounds reach 3 in, but its (risk-bounded) optimum lies inside Table 1's 4-8 in
+    (d = 7.72 in): no extrapolation warning."""
     from designer.analysis.optimise import optimise
     from designer.problem import load_problem
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         solution = optimise(load_problem(INDOOR), cross_check=False)
-    assert solution.design.diameter == pytest.approx(8 * 0.0254, rel=1e-6)
+    assert 4 * 0.0254 <= solution.design.diameter <= 8 * 0.0254 * (1 + 1e-9)
     assert not [w for w in caught if "extrapolated" in str(w.message)]
 
 

@@ -108,7 +108,7 @@ def test_front_checks_texts_and_single_point(tmp_path):
     from designer.analysis.pareto import Front
     from test_trust_checks import _optimal_points
 
-    problem = load_problem(ROOT / "problems" / "indoor-manual.toml")
+    problem = load_problem(ROOT / "problems" / "indoor-manual.toml").nominal()
     (p,) = _optimal_points(problem, [110.0])
     a, b = ck.front_checks(Front(problem, [p]))
     assert (a.name, a.got, a.outcome, a.kind) == ("8a trade-off", "1 point(s): nothing to compare", ck.REPRODUCED,
@@ -126,7 +126,7 @@ def test_structured_ends_match_nlp_ends(toml):
     designs with it, the least P; end B the least P (to 1e-7), then the least F_turn."""
     from designer.analysis.pareto import _ends
 
-    problem = (load_problem(ROOT / "problems" / "indoor-manual.toml") if toml == "indoor"
+    problem = (load_problem(ROOT / "problems" / "indoor-manual.toml").nominal() if toml == "indoor"
                else problem_from_toml(HEAVY))
     xa, xb = structured.structured_ends(problem)
     nlp = CasterNLP(problem)
@@ -141,7 +141,7 @@ def test_structured_ends_match_nlp_ends(toml):
 
 def test_structured_front_designs_on_the_curve():
     """Closed-form ε-optima: P = ε where the diameter is free (Eq. 4A inverted), feasible, on V_c = V_req."""
-    problem = load_problem(ROOT / "problems" / "indoor-manual.toml")
+    problem = load_problem(ROOT / "problems" / "indoor-manual.toml").nominal()
     eps = np.array([100.0, 110.0, 120.0])
     x, ok = structured.structured_front_designs(problem, eps)
     assert ok.all()
@@ -158,7 +158,7 @@ def test_structured_front_designs_on_the_curve():
 def test_designs_at_diameter_infeasible_when_trail_cannot_fit():
     """The swept-radius limit sets the trail: R_max = 5.5 in with a 7 in wheel leaves T = 2 in (feasible);
     R_max = 4.4 in leaves 0.9 in, below the 1 in minimum: infeasible, the design clipped to T = 1 in."""
-    base = load_problem(ROOT / "problems" / "indoor-manual.toml")
+    base = load_problem(ROOT / "problems" / "indoor-manual.toml").nominal()
     d = np.array([7 * INCH])
     x, ok = structured.designs_at_diameter(base.replace(swept_radius_max=5.5 * INCH), d)
     assert ok.tolist() == [True] and x[0, 0] == pytest.approx(2 * INCH)
