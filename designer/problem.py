@@ -798,13 +798,15 @@ def _stock(table: dict, bounds: dict, inertia, catalog: tuple, sill: float, fail
         except InputError as exc:
             fail(str(exc))
         b = bounds["trail"]
-        span = b.high - b.low
+        span = max(b.high - b.low, 0.0)  # inverted bounds are validate()'s one-line error, not the step's
         if not step > 0 or not math.isfinite(step):
             fail(f"stock.trail_step = {table['trail_step']!r}: must be a positive length, e.g. \"0.25 in\"")
-        if span <= 0:
+        if b.low > b.high:
+            pass  # inverted trail bounds: validate() names variables.trail (min greater than max)
+        elif span <= 0:
             fail(f"stock.trail_step = {table['trail_step']!r}: variables.trail is fixed at {b.low / INCH:.4g} in; "
                  f"leave trail_step out")
-        if step > span * (1 + 1e-9):
+        elif step > span * (1 + 1e-9):
             fail(f"stock.trail_step = {step / INCH:.4g} in: larger than the trail range "
                  f"{b.low / INCH:.4g} to {b.high / INCH:.4g} in ({span / INCH:.4g} in); use a smaller step")
         count = int(math.floor(span / step + 1e-9)) + 1
