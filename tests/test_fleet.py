@@ -180,23 +180,52 @@ def test_vectorised_recommendation_equals_a_scalar_loop(base, fleet1000):
     assert (rec["front_size"] >= 2).mean() > 0.5  # the front is not trivially one point
 
 
-def test_vectorised_recommendation_equals_designer_recommend(base, fleet1000):
+STOCK = """
+[stock]
+diameters = ["3 in", "4 in", "5 in", "6 in", "8 in"]
+grooves = ["0 in", "0.25 in", "0.5625 in"]
+trail_step = "0.25 in"
+dampings = ["1.3 N*m/rad", "2 N*m/rad", "3 N*m/rad"]
+"""
+
+
+@pytest.fixture(scope="module")
+def stocked(root):
+    """The default problem with a 315-caster [stock] (5 wheels × 3 grooves × 7 fork holes × 3 washers)."""
+    from designer.problem import problem_from_toml
+
+    text = (root / "problems" / "indoor-manual.toml").read_text()
+    text = "\n".join(ln for ln in text.splitlines() if not ln.startswith("[stock]")) if "[stock]" in text else text
+    return problem_from_toml(text + STOCK, default_name="indoor-manual-stock")
+
+
+def test_vectorised_recommendation_equals_designer_recommend(stocked, fleet1000):
     """The contract with issue 11: on 20 random chairs of a 1000-chair example fleet, the vectorised
-    recommendation is the design, turning effort and sill force of ``designer.recommend`` on the chair's
-    own problem (the base problem with the chair's load, sill, speed, clearance, surface, mode)."""
-    recommend = getattr(designer, "recommend", None) if "recommend" in getattr(designer, "_LAZY", {}) else None
-    if recommend is None:
-        pytest.skip("designer.recommend (issue 11) is not on this branch yet")
-    stock = fl.stock_table(base)
-    rec = fl.recommend_chairs(fleet1000.arrays(), stock, base)
-    rng = np.random.default_rng(20)
-    for i in rng.choice(len(fleet1000), 20, replace=False):
-        r = recommend(fleet1000.problem(base, i))
-        j = rec["choice"][i]
+    recommendation is the design, turning effort, sill force, front size and Monte Carlo P(shimmy) ± SE of
+    ``recommend`` on the chair's own problem (the base problem with the chair's load, sill, speed,
+    clearance, surface and turning mode), and the alternatives are its two ends."""
+    from designer.analysis.recommend import recommend
+
+    stock = fl.stock_table(stocked)
+    assert len(stock) == 315 and stock.note != fl._default_stock(stocked).note
+    picks = np.random.default_rng(20).choice(len(fleet1000), 20, replace=False)
+    sub = fleet1000.subset(picks)
+    res = fl.fleet_recommendations(sub, stocked, monte_carlo=True)
+    ch = res.chairs
+    for k in range(20):
+        r = recommend(sub.problem(stocked, k))
+        j = ch["choice"][k]
         assert j >= 0
         assert stock.design(j) == pytest.approx(r.design.as_dict(), rel=1e-12)
-        assert rec["turning_effort"][i] == pytest.approx(r.turning_effort, rel=1e-9)
-        assert rec["threshold_force"][i] == pytest.approx(r.threshold_force, rel=1e-9)
+        assert ch["turning_effort"][k] == pytest.approx(r.turning_effort, rel=1e-12)
+        assert ch["threshold_force"][k] == pytest.approx(r.threshold_force, rel=1e-12)
+        assert (ch["shimmy_probability"][k], ch["shimmy_probability_se"][k]) == \
+            (r.shimmy_probability, r.shimmy_probability_se)
+        assert ch["front_size"][k] == len(r.buildable)
+        ends = {a.role: a.design.as_dict() for a in r.alternatives}
+        assert stock.design(ch["easiest_turn"][k]) == pytest.approx(ends["easiest to turn"], rel=1e-12)
+        assert stock.design(ch["easiest_sill"][k]) == pytest.approx(ends["easiest over the sill"], rel=1e-12)
+    assert len(set(ch["choice"].tolist())) >= 2  # the 20 chairs do not all get one caster
 
 
 def _small_instance(base, chairs=60, candidates=12, seed=5):
