@@ -191,12 +191,11 @@ dampings = ["1.3 N*m/rad", "2 N*m/rad", "3 N*m/rad"]
 
 @pytest.fixture(scope="module")
 def stocked(root):
-    """The default problem with a 315-caster [stock] (5 wheels × 3 grooves × 7 fork holes × 3 washers)."""
+    """The default problem with its [stock] (or, if it has none, 5 wheels × 3 grooves × 7 fork holes × 3 washers)."""
     from designer.problem import problem_from_toml
 
     text = (root / "problems" / "indoor-manual.toml").read_text()
-    text = "\n".join(ln for ln in text.splitlines() if not ln.startswith("[stock]")) if "[stock]" in text else text
-    return problem_from_toml(text + STOCK, default_name="indoor-manual-stock")
+    return problem_from_toml(text if "[stock]" in text else text + STOCK, default_name="indoor-manual-stock")
 
 
 def test_vectorised_recommendation_equals_designer_recommend(stocked, fleet1000):
@@ -207,7 +206,7 @@ def test_vectorised_recommendation_equals_designer_recommend(stocked, fleet1000)
     from designer.analysis.recommend import recommend
 
     stock = fl.stock_table(stocked)
-    assert len(stock) == 315 and stock.note != fl._default_stock(stocked).note
+    assert len(stock) >= 315 and "[stock]" in stock.note and "default" not in stock.note
     picks = np.random.default_rng(20).choice(len(fleet1000), 20, replace=False)
     sub = fleet1000.subset(picks)
     res = fl.fleet_recommendations(sub, stocked, monte_carlo=True)
@@ -223,8 +222,10 @@ def test_vectorised_recommendation_equals_designer_recommend(stocked, fleet1000)
             (r.shimmy_probability, r.shimmy_probability_se)
         assert ch["front_size"][k] == len(r.buildable)
         ends = {a.role: a.design.as_dict() for a in r.alternatives}
-        assert stock.design(ch["easiest_turn"][k]) == pytest.approx(ends["easiest to turn"], rel=1e-12)
-        assert stock.design(ch["easiest_sill"][k]) == pytest.approx(ends["easiest over the sill"], rel=1e-12)
+        for role, key in (("easiest to turn", "easiest_turn"), ("easiest over the sill", "easiest_sill")):
+            # recommend() leaves out an alternative that repeats the recommendation
+            want = ends.get(role, r.design.as_dict())
+            assert stock.design(ch[key][k]) == pytest.approx(want, rel=1e-12), role
     assert len(set(ch["choice"].tolist())) >= 2  # the 20 chairs do not all get one caster
 
 
