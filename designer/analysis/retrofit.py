@@ -564,7 +564,7 @@ def _mc_many(trail, inertia, groove, damping, slip_coefficient, speed, u: Uncert
     f = sample_log_factors(u, samples, np.random.default_rng(seed))
     e_i, e_c, e_k, e_m = (np.exp(f[k])[None, :] for k in ("inertia", "damping", "slip", "model"))
     hits = np.empty(m)
-    step = max(1, 4_000_000 // samples)
+    step = max(1, 1_000_000 // samples)  # about 8 MB per array
     for a in range(0, m, step):
         b = slice(a, min(m, a + step))
         v = critical_shimmy_speed(np.asarray(trail)[b, None], np.asarray(inertia)[b, None] * e_i,
