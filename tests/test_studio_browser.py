@@ -138,6 +138,9 @@ def test_studio_in_chromium(studio):
     assert min(abs(shown - v) / v for v in api[:, 0]) < 5e-4  # a point of that front
     assert "%" in text(driver, "card-probability")
     assert driver.find_elements(By.ID, "card-sweeps")
+    if view._optional("designer.plots.caster", "caster_svg") is not None:  # the drawing to scale
+        drawing = driver.find_element(By.ID, "card-drawing")
+        assert drawing.tag_name == "img" and drawing.get_attribute("src").startswith("data:image/svg+xml")
 
     # my caster: 1 in trail, 8 in wheel, no groove, bare fork: V_c far below 3 m/s -> it shimmies
     for key, value in (("trail", "1 in"), ("diameter", "8 in"), ("groove", "0 in"), ("damping", "1.3")):
