@@ -464,7 +464,7 @@ def figure(results: dict, path: Path) -> None:
     first = next(iter(sc["by_points"].values()))
     t_ref = first[-1]["median_s"]
     ax.loglog([lo_n, hi_n], [t_ref * lo_n / hi_n, t_ref], "k:", lw=1, label="slope 1 (linear in N)")
-    for name, res in results["problems"].items():
+    for _name, res in results["problems"].items():
         for key, style in (("pymoo NSGA-II 300 gen", "--"), ("pymoo NSGA-II 100 gen", "-.")):
             if key in res["methods"]:
                 ax.axhline(res["methods"][key]["time"]["median_s"], ls=style, lw=0.8, color="grey")

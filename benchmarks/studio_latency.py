@@ -73,7 +73,7 @@ def main(argv=None) -> int:
             handle.send_keys(Keys.ARROW_LEFT)
         wait.until(lambda d: f"target={2.5 - 0.1 * (args.steps // 2):g}" in d.current_url)
         time.sleep(0.5)
-        for i in range(args.steps):
+        for _ in range(args.steps):
             before = driver.execute_script("return performance.now()")
             handle.send_keys(Keys.ARROW_RIGHT)
             wait.until(lambda d: any(t > before for t in d.execute_script("return window.__redraws")))

@@ -40,7 +40,7 @@ VARIABLE_INFO = {p.name: (p.symbol, p.unit, p.description) for p in parameters.V
 VARIABLE_UNITS = {p.name: p.unit for p in parameters.VARIABLE_TABLE}
 """SI unit of each design variable."""
 
-MODEL_RANGE = {p.name: p.range for p in parameters.VARIABLE_TABLE}
+MODEL_RANGE = parameters.MODEL_RANGE
 """Physically sensible ranges [SI] (exclusive low for trail, diameter): beyond
 them the paper's model does not apply, and a value there usually means inches
 were written as metres."""

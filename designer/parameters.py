@@ -165,6 +165,22 @@ SOLVER_PARAMETERS: tuple[Parameter, ...] = tuple(p for p in CONSTANT_TABLE if p.
 """The fixed parameters of the NLP and the GP, in parameter-vector order."""
 
 
+def _pairs(attribute: str) -> dict[str, tuple[float, float]]:
+    out: dict[str, tuple[float, float]] = {}
+    for p in VARIABLE_TABLE:
+        pair = getattr(p, attribute)
+        assert pair is not None, p.name
+        out[p.name] = pair
+    return out
+
+
+MODEL_RANGE: dict[str, tuple[float, float]] = _pairs("range")
+"""The model's range [SI] of each design variable (exclusive low for trail and diameter)."""
+
+DEFAULT_BOUNDS: dict[str, tuple[float, float]] = _pairs("bounds")
+"""The default (min, max) [SI] of each design variable."""
+
+
 def default(name: str) -> Any:
     """The default value [SI] of entry ``name``."""
     return PARAMETERS[name].default

@@ -188,6 +188,7 @@ def _recommend(problem):
         return None, str(exc)
 
 
+# long: the pipeline's steps in order (front, optimum, recommendation, checks, trade-off)
 def report_data(problem, points: int | None = None, *, front=None, tighter=None, recommendation=None,
                 solution=None, checks=None, tradeoff=None, cross_check: bool = False, with_tighter: bool = True,
                 with_recommendation: bool = True, progress=None, run_meta: dict | None = None) -> ReportData:

@@ -17,17 +17,18 @@ import tomllib
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, Callable, NoReturn
 
-from designer.data.paper import BARE_FORK_DAMPING, INCH, TABLE1
+from designer.data.paper import INCH, TABLE1
 from designer import parameters
 from designer.errors import ProblemError
-from designer.model import MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions, Design, check_design
+from designer.model import MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions, Design
 from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
 from designer.physics.shimmy import DynamicsParameters
 from designer.physics.turning import MODES, SURFACES, TurningConstants
 from designer.units import InputError, outside_range, parse_quantity
 
-DEFAULT_BOUNDS = {p.name: p.bounds for p in parameters.VARIABLE_TABLE}
+DEFAULT_BOUNDS = parameters.DEFAULT_BOUNDS
 """Bounds used for a variable the problem file does not mention [SI] (from :mod:`designer.parameters`)."""
 
 VARIABLE_DIMENSIONS = {p.name: p.dimension for p in parameters.VARIABLE_TABLE}
@@ -190,7 +191,7 @@ class Stock:
             parts.append(f"grooves {inches(self.grooves)}")
         parts.append("trails continuous" if self.trails is None else
                      f"trails {self.trails[0] / INCH:g} to {self.trails[-1] / INCH:g} in every "
-                     f"{self.trail_step / INCH:g} in ({len(self.trails)} holes)")
+                     f"{(self.trail_step or 0.0) / INCH:g} in ({len(self.trails)} holes)")
         parts.append("dampings continuous" if self.dampings is None else
                      "dampings " + ", ".join(f"{v:g}" for v in self.dampings) + " N·m/rad")
         return "; ".join(parts)
@@ -359,8 +360,8 @@ class Problem:
         }
 
 
-def _validate(problem: Problem, prefix: str = "") -> None:
-    def fail(msg: str):
+def _validate(problem: Problem, prefix: str = "") -> None:  # noqa: C901 - a flat list of independent checks, each one line
+    def fail(msg: str) -> NoReturn:
         raise ProblemError(prefix + msg)
 
     if not isinstance(problem.name, str) or not NAME_PATTERN.match(problem.name):
@@ -516,7 +517,7 @@ def problem_from_toml(text: str, source: str | None = None, default_name: str = 
     return problem_from_dict(data, source=source, default_name=default_name)
 
 
-def problem_from_dict(data: dict, source: str | None = None, default_name: str = "problem") -> Problem:
+def problem_from_dict(data: dict, source: str | None = None, default_name: str = "problem") -> Problem:  # noqa: C901 - reads the sections in order; each branch is one key's rule
     """Build a validated :class:`Problem` from a dict with the problem-file schema."""
     prefix = f"{source}: " if source else ""
 
@@ -726,7 +727,7 @@ def _uncertainty(table: dict, fail):
         if extra:
             fail(f"robust.{extra[0]}: has no effect with enabled = false (the nominal problem has no risk bound)")
     defaults = Uncertainty()
-    values = {}
+    values: dict[str, Any] = {}
     for key in ("probability", "model_error", "damping", "slip_coefficient", "inertia"):
         value = table.get(key, getattr(defaults, key))
         if isinstance(value, bool) or not isinstance(value, (int, float)) or abs(value) > 1e300 \
@@ -773,7 +774,8 @@ def _stock_values(table: dict, key: str, dimension: str, variable: str, bounds: 
     return tuple(sorted(set(out)))
 
 
-def _stock(table: dict, bounds: dict, inertia, catalog: tuple, sill: float, fail) -> Stock:
+def _stock(table: dict, bounds: dict, inertia, catalog: tuple, sill: float,  # noqa: C901 - one rule per [stock] key
+           fail: Callable[[str], NoReturn]) -> Stock:
     """Parse [stock] against the bounds and the inertia model (one-line errors, exit 3)."""
     if not table:
         fail("[stock] is empty; list diameters, grooves, trail_step or dampings (a key left out stays continuous)")
@@ -861,7 +863,7 @@ def _stock(table: dict, bounds: dict, inertia, catalog: tuple, sill: float, fail
                  wheels=wheels)
 
 
-def _inertia(table: dict, quantity, fail) -> tuple[InertiaModel, tuple[str, ...]]:
+def _inertia(table: dict, quantity, fail) -> tuple[InertiaModel, tuple[str, ...]]:  # noqa: C901 - one branch per model
     model = table.get("model", "table1-power-law")
     if model not in INERTIA_MODELS:
         fail(f"inertia.model = {model!r}: expected one of {', '.join(INERTIA_MODELS)}")

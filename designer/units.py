@@ -78,7 +78,7 @@ def parse_quantity(value, dimension: str, key: str = "value") -> float:
         try:
             number = float(value)
         except OverflowError:
-            raise InputError(f"{key}: an integer of about {int(value.bit_length() * 0.30103)} digits is too large") \
+            raise InputError(f"{key}: an integer of about {int(int(value).bit_length() * 0.30103)} digits is too large") \
                 from None
     elif isinstance(value, str):
         number = _parse_string(value, target, shown, dimension, key)

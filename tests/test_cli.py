@@ -9,7 +9,7 @@ import pytest
 
 from designer.cli import main
 
-from conftest import PROBLEMS, ROOT
+from conftest import ROOT
 
 EVAL = ["evaluate", "--trail", "2in", "--diameter", "7.75in", "--groove", "0.5625in", "--damping", "1.3"]
 

@@ -14,7 +14,6 @@ from designer.analysis import fleet as fl
 from designer.analysis.kmedian import brute_force_kmedian, solve_kmedian
 from designer.cli import main
 from designer.data.paper import INCH
-from designer.errors import ProblemError
 from designer.model import performance
 
 GOOD = """name,load_N,threshold_height_in,target_speed_m/s,swept_radius_max_in,surface,turning_mode,count

@@ -19,7 +19,7 @@ import designer.errors as errors_module
 from designer import load_problem
 from designer.cli import main
 from designer.errors import DesignerError, InputError, ProblemError, SolverError
-from designer.problem import problem_from_dict, problem_from_toml
+from designer.problem import problem_from_toml
 from designer.solvers.nlp import CasterNLP
 from designer.units import parse_quantity
 

@@ -80,7 +80,7 @@ def test_rolling_orbit_is_the_describing_function_threshold():
     assert orb.closure < 1e-6
     assert not orb.stable and np.max(np.abs(orb.multipliers)) > 1.05
     at = sys.at(orb.speed)
-    from designer.analysis.limit_cycles import _extrema, _integrate
+    from designer.analysis.limit_cycles import _integrate
 
     for factor, grows in ((1.02, True), (0.98, False)):
         run = _integrate(at, orb.state * factor, 40 * orb.period, angle_limit=0.3)

@@ -1,6 +1,7 @@
 """Problem files: units at the edges, validation with one-line errors, shipped problems."""
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import pytest
@@ -120,7 +121,7 @@ def test_fixed_variable_and_catalog_variants():
 def test_problem_is_immutable_and_replace_validates():
     """Problems are frozen; replace() re-validates (a negative target speed is rejected)."""
     p = problem_from_dict(_base())
-    with pytest.raises(Exception):
+    with pytest.raises(dataclasses.FrozenInstanceError):
         p.target_speed = 3.0
     with pytest.raises(ProblemError, match="target_speed"):
         p.replace(target_speed=-1.0)

@@ -12,7 +12,6 @@ import pytest
 
 from designer import load_problem
 from designer.cli import main
-from designer.analysis.pareto import pareto_front
 from designer.plots import figures
 from designer.pipeline import report_data
 from designer.report import write_report

@@ -18,7 +18,7 @@ from designer.analysis import retrofit
 from designer.analysis.retrofit import fix, parse_current
 from designer.cli import main
 from designer.data.paper import INCH
-from designer.model import Conditions, Design, evaluate
+from designer.model import Design, evaluate
 from designer.physics.geometry import effective_trail, ground_trail
 from designer.physics.inertia import Fixed
 from designer.physics.uncertainty import Uncertainty, shimmy_probability_mc, shimmy_speed_quantile

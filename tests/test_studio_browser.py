@@ -8,12 +8,10 @@ Skipped when Selenium, Dash or the system Chromium is missing (.ci/run installs 
 from __future__ import annotations
 
 import math
-import os
 import re
 import shutil
 import subprocess
 import sys
-import time
 import tomllib
 from pathlib import Path
 

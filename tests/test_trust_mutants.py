@@ -2,7 +2,6 @@
 (benchmarks/mutation.md): what each check reports, the closed-form ends, the swept-radius trail."""
 from __future__ import annotations
 
-import math
 
 import numpy as np
 import pytest

@@ -24,7 +24,6 @@ from designer.data.paper import (
 )
 from designer.physics.inertia import PowerLaw, fit_table1_power_law
 from designer.physics.shimmy import (
-    DynamicsParameters,
     critical_shimmy_speed,
     routh_hurwitz_critical_speed,
     critical_speed_hydraulic,
@@ -374,7 +373,7 @@ def front_checks(front, tighter=None, tol: float = 1e-6) -> list[Check]:
                             "d and F_turn non-decreasing as P falls", f"{bad_d} diameter and {bad_f} effort reversals in {len(pts)} points",
                             bad_d == 0 and bad_f == 0, f"d {d.min() / INCH:.2f}–{d.max() / INCH:.2f} in, F_turn {f.min():.3f}–{f.max():.3f} N"))
     # shimmy active wherever it can be: inactive only at the bare minimum-effort caster for that d
-    lo, hi = problem.lower(), problem.upper()
+    lo = problem.lower()
     offending = 0
     for x in pts:
         margin = x.margins.get("shimmy", x.critical_speed - problem.required_speed)

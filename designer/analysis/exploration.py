@@ -740,7 +740,7 @@ def _prepare_resume(study, spec: StorageSpec, search_space_names) -> list[str]:
     return notes
 
 
-def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: str | None = None,
+def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: str | None = None,  # noqa: C901 - one branch per option (storage, workers, resume, refine, compare)
             study_name: str | None = None, workers: int = 1, resume: bool = False, refine: bool = False,
             operators: str | Operators = "tuned", population_size: int | None = None, compare: bool = True,
             progress: bool = False) -> ExploreResult:

@@ -43,7 +43,7 @@ import numpy as np
 
 from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
-from designer.physics.shimmy import critical_shimmy_speed, shimmy_frequency
+from designer.physics.shimmy import critical_shimmy_speed
 from designer.physics.tyre import TyreParameters, lateral_tyre_force
 
 __all__ = [
@@ -197,7 +197,7 @@ class _Run:
     switches: int
 
 
-def _integrate(sys: CasterDynamics, y0, t_end: float, stop_at_end_of: float | None = None,
+def _integrate(sys: CasterDynamics, y0, t_end: float, stop_at_end_of: float | None = None,  # noqa: C901 - event-driven stick-slip integration: one branch per event
                angle_limit: float = math.inf, record: bool = False, max_step: float = math.inf,
                rtol: float = _RTOL, max_switches: int = 20_000) -> _Run:
     """Integrate from y0 until t_end, |θ| = angle_limit, or the end of a slip of sign ``stop_at_end_of``."""
@@ -491,6 +491,7 @@ def _describing_function_speed(sys: CasterDynamics, amplitude: float) -> float:
     return (c_d + math.sqrt(c_d**2 + 4 * a * sys.groove_coefficient)) / (2 * a)
 
 
+# long: Newton on the half-period map, its step control, Floquet multipliers and the closure check
 def periodic_orbit(sys: CasterDynamics, amplitude: float, guess: np.ndarray | None = None, tol: float = 1e-9,
                    max_iter: int = 25) -> PeriodicOrbit:
     """Symmetric periodic orbit of amplitude A: solve G(z) = z for the other section states and V.

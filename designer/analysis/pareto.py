@@ -17,12 +17,9 @@ from __future__ import annotations
 
 import csv
 import dataclasses
-import json
-import math
 import time
 import warnings
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
@@ -30,7 +27,7 @@ from designer.analysis.indicators import hypervolume_2d, igd_plus, nondominated,
 from designer.model import FAMILIES, VARIABLES, Design, evaluate
 from designer.problem import POINTS_RANGE, Problem
 from designer.solvers import structured
-from designer.solvers.nlp import BIG, CasterNLP, best_starts, evaluate_many, sample_designs, solve_best, violation
+from designer.solvers.nlp import BIG, CasterNLP, best_starts, evaluate_many, sample_designs, violation
 
 REFERENCE_OFFSET = 0.1
 """Hypervolume reference point: 10 % beyond the nadir in normalised objectives, i.e. (1.1, 1.1)."""

@@ -393,6 +393,7 @@ def _grid(low: float, high: float, step: float) -> np.ndarray:
     return values
 
 
+# long: the one place that decides every part's candidate values and their sources
 def part_options(problem, current: Design, current_inertia: float) -> tuple[dict, dict]:
     """What each part can be changed to: the one place that decides the candidate values.
 
@@ -585,6 +586,7 @@ def _mc(state_args, conditions, speed, factor, u: Uncertainty, samples: int, see
 # --------------------------------------------------------------------------- the analysis
 
 
+# long: diagnosis, candidates, ranking and the result record of one retrofit, in order
 def fix(problem, current, inertia: float | None = None, shimmied_at: float | None = None, stem_angle: float = 0.0,
         *, onset_scatter: float = ONSET_SCATTER, limit: int | None = None, samples: int | None = None,
         seed: int | None = None) -> FixResult:

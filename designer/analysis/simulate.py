@@ -162,7 +162,7 @@ def _check(name: str, value: float, allow_zero: bool = False) -> None:
         raise InputError(f"{name} = {value:g}: must be {'non-negative' if allow_zero else 'positive'}")
 
 
-def simulate(
+def simulate(  # noqa: C901 - input checks and the stick/slip event loop of one integration
     design: Design,
     conditions: Conditions = Conditions(),
     speed: float = 2.5,
@@ -426,6 +426,7 @@ class OnsetResult:
         return {k: (float(v) if not isinstance(v, int) else v) for k, v in self.__dict__.items()}
 
 
+# long: input checks, bracketing and bisection of the shimmy onset in one search
 def onset_speed(
     design: Design,
     conditions: Conditions = Conditions(),
@@ -697,7 +698,6 @@ def _plot_report(rows, traces, onset_c, path: Path) -> None:
     v7 = np.array([r["eq7_critical_speed"] for r in rows])
     vs = np.array([r["onset_speed"] for r in rows])
     err = 100 * np.array([r["relative_error"] for r in rows])
-    wtv = np.array([r["omega_T_over_V"] for r in rows])
     grooved = np.array([r["groove_in"] > 0 for r in rows])
     ang = np.array([r["angle_deg"] for r in rows])
     amp_s = np.array([r["amplitude_sim"] for r in rows])
@@ -727,7 +727,7 @@ def _plot_report(rows, traces, onset_c, path: Path) -> None:
     lo, hi = min(implied.min(), err.min()) - 2, max(implied.max(), err.max()) + 2
     ax.axhspan(-10, 10, color="0.9")
     ax.plot([lo, hi], [lo, hi], "k-", lw=1, label="error = (θ_a,29B / θ_a,sim)^½ − 1")
-    for g, colour, label in ((False, "tab:blue", "B = 0"), (True, "tab:orange", "B = 9/16 in")):
+    for g, colour, _label in ((False, "tab:blue", "B = 0"), (True, "tab:orange", "B = 9/16 in")):
         for a, m in markers.items():
             sel = (grooved == g) & np.isclose(ang, a)
             ax.scatter(implied[sel], err[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4)
@@ -770,6 +770,7 @@ def _pct(x) -> str:
     return f"{100 * x:+.1f} %"
 
 
+# long: the report's text, one line per statement
 def _report_markdown(rows, summary) -> str:
     s = summary
     ac = s["appendix_c"]

@@ -113,7 +113,7 @@ def write_limit_cycle_report(study: dict, out_dir="results/simulation") -> list[
                  f"{_pct(st['tyre_sim']['bias'])})": [r["tyre_sim"] for r in table["rows"]]},
                 stable_up_to=table["stable_up_to"], ax=axes[0, 0])
     axes[0, 0].set_title("Table 1: measured critical speed against Eq. 7 and the two simulations "
-                         f"(20° knock; RMS/bias over C–G)", fontsize=10)
+                         "(20° knock; RMS/bias over C–G)", fontsize=10)
     fig.tight_layout()
     save_figure(fig, out / "table1.png")
 
@@ -248,6 +248,7 @@ def _map_conclusions(kn) -> list[tuple]:
     return [("ul", lines)]
 
 
+# long: the report's text, one section after another
 def _text(study) -> list[tuple]:
     bif, roll, table, kn, fric = study["bifurcation"], study["rolling"], study["table1"], study["map"], \
         study["friction"]
@@ -290,7 +291,7 @@ def _text(study) -> list[tuple]:
     B.append(("img", "bifurcation.png", "bifurcation diagram"))
     unstable_near = min((o for o in bif["orbits"] if not o["stable"]),
                         key=lambda o: abs(o["speed"] - meas["speed"]), default=None)
-    lines = [f"Rolling tyre: only unstable orbits (every multiplier set has one outside the unit circle), "
+    lines = ["Rolling tyre: only unstable orbits (every multiplier set has one outside the unit circle), "
              "amplitude ∝ 1/V as the describing function says; above it a knock grows without bound.",
              f"Brush tyre: the unstable branch (knock threshold) folds at V = {_num(bif['fold_speed'], '.2f')} m/s "
              "into a stable branch (sustained shimmy). With Coulomb friction the rest state is always stable, so "

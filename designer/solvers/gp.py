@@ -63,7 +63,6 @@ Public API: :func:`solve_gp`, :class:`GPResult`, :func:`polish`,
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 import warnings
@@ -465,7 +464,7 @@ class _Family:
         """SGP starts: the corner that maximises the shimmy right side, and the geometric centre."""
         starts = []
         corner = {}
-        for k, var in self.variables.items():
+        for k in self.variables:
             lo, hi = self.box[k]
             lo = lo if lo > 0 else self.floor[k]
             corner[k] = lo if k == "diameter" else hi
@@ -491,7 +490,6 @@ class _Family:
                 record.append((self.problem, self.design(values)))
             return ("optimal" if values is not None else status), values, j, 1
         x0 = dict(start)
-        j0 = math.inf
         best = None
         for it in range(1, max_iterations + 1):
             self.condense(x0)
@@ -505,7 +503,7 @@ class _Family:
             step = max((abs(values[k] - x0[k]) / self.box[k][1] for k in values), default=0.0)
             if step <= STEP_TOLERANCE:
                 return "converged", values, j, it
-            x0, j0 = values, j
+            x0 = values
         return "max_iterations", best[0], best[1], max_iterations
 
     # ----------------------------------------------------------------- duals

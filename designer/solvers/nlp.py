@@ -14,7 +14,6 @@ Constraints (CasADi convention lbg <= g <= ubg):
 """
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
 
@@ -22,8 +21,8 @@ import casadi as ca
 import numpy as np
 
 from designer import parameters
-from designer.errors import InfeasibleError, SolverError, check_interrupt
-from designer.model import VARIABLES, Conditions, Design, performance
+from designer.errors import check_interrupt
+from designer.model import VARIABLES, Design, performance
 from designer.problem import Problem
 
 BIG = 1e9

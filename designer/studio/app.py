@@ -228,7 +228,7 @@ def fixes_panel(result: dict):
 # --------------------------------------------------------------------------- the app
 
 
-def create_app(data: dict, name: str, out_dir: Path):
+def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's callbacks are closures over its state, defined here together
     """The Dash app for problem-file ``data`` (dict) named ``name``; saves and reports go to ``out_dir``."""
     defaults = state.control_values(data)
     app = dash.Dash(__name__, title=f"studio · {name}", update_title=None, serve_locally=True,
