@@ -7,7 +7,7 @@ compares the nominal and the risk-bounded Pareto fronts of one problem.
 from __future__ import annotations
 
 import numpy as np
-from designer.physics.uncertainty import shimmy_probability_mc
+from designer.physics.uncertainty import Uncertainty, shimmy_probability_mc
 
 # --------------------------------------------------------------------------- nominal vs robust
 

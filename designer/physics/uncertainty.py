@@ -52,9 +52,35 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import ndtr, ndtri, stdtr, stdtrit
 
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities
+
+
+def _special():
+    # late import: scipy.special costs about 0.3 s of CPU, paid at the first quantile, not by `import designer`
+    import scipy.special
+
+    return scipy.special
+
+
+def ndtr(x):
+    """Standard normal CDF (scipy.special.ndtr, loaded on first use)."""
+    return _special().ndtr(x)
+
+
+def ndtri(p):
+    """Standard normal quantile (scipy.special.ndtri, loaded on first use)."""
+    return _special().ndtri(p)
+
+
+def stdtr(dof, t):
+    """Student-t CDF (scipy.special.stdtr, loaded on first use)."""
+    return _special().stdtr(dof, t)
+
+
+def stdtrit(dof, p):
+    """Student-t quantile (scipy.special.stdtrit, loaded on first use)."""
+    return _special().stdtrit(dof, p)
 
 TABLE1_RMS_ERROR = 0.103
 """RMS relative error of Eq. 7 against Table 1 wheels C–G (computed in check 2: 10.3 %)."""
