@@ -5,6 +5,8 @@ The command line prints ``str(error)`` on one line and exits with
 flag checked after every solver call (:func:`check_interrupt`).
 """
 from __future__ import annotations
+import signal
+import threading
 
 
 class DesignerError(Exception):
@@ -100,8 +102,6 @@ class sigint_handler:
     """Context manager: install the flag-setting SIGINT handler (main thread only), restore on exit."""
 
     def __enter__(self):
-        import signal
-        import threading
 
         global _INTERRUPTED
         _INTERRUPTED = False
@@ -111,7 +111,6 @@ class sigint_handler:
         return self
 
     def __exit__(self, *exc):
-        import signal
 
         global _INTERRUPTED
         if self._previous is not None:

@@ -27,6 +27,7 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import DesignerError
+from importlib.metadata import PackageNotFoundError, version
 
 TIGHTER_FACTOR = 1.1
 """Check 8c tightens V_target by this factor."""
@@ -88,7 +89,6 @@ class ReportData:
 
 def versions() -> dict:
     """Installed versions of :data:`PACKAGES` and Python."""
-    from importlib.metadata import PackageNotFoundError, version
 
     out = {}
     for name in PACKAGES:
@@ -212,6 +212,7 @@ def report_data(problem, points: int | None = None, *, front=None, tighter=None,
     from designer.analysis.checks import front_checks, paper_checks  # analysis: loads casadi on first use
     from designer.analysis.optimise import optimise
     from designer.analysis.pareto import pareto_front
+    # late import: loads casadi (via designer.analysis.tradeoff) only when this runs
     from designer.analysis.tradeoff import groove_damper_tradeoff
 
     clock = _Clock()

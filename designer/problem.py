@@ -27,6 +27,7 @@ from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLa
 from designer.physics.shimmy import DynamicsParameters
 from designer.physics.turning import MODES, SURFACES, TurningConstants
 from designer.units import InputError, outside_range, parse_quantity
+from designer.physics.uncertainty import Uncertainty
 
 DEFAULT_BOUNDS = parameters.DEFAULT_BOUNDS
 """Bounds used for a variable the problem file does not mention [SI] (from :mod:`designer.parameters`)."""
@@ -717,7 +718,6 @@ def _uncertainty(table: dict, fail):
     (α = 0.05, Table 1's model error as a Student-t on 5 degrees of freedom); ``enabled = false`` gives
     None: the nominal Eq. 7 constraint.
     """
-    from designer.physics.uncertainty import Uncertainty
 
     enabled = table.get("enabled", True)
     if not isinstance(enabled, bool):

@@ -41,6 +41,7 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
 
 @lru_cache(maxsize=1)
 def _registry():
+    # late import: pint costs about 0.3 s of CPU (and pulls in scipy, dask when installed); only strings with units need it
     import pint
 
     ureg = pint.UnitRegistry()
@@ -93,6 +94,7 @@ def parse_quantity(value, dimension: str, key: str = "value") -> float:
 
 
 def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) -> float:
+    # late import: pint costs about 0.3 s of CPU (and pulls in scipy, dask when installed); only strings with units need it
     import pint
 
     ureg = _registry()

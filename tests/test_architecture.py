@@ -148,7 +148,6 @@ def test_import_designer_is_light():
     assert out == "[]"
 
 
-@pytest.mark.xfail(strict=False, reason="in progress this round (issue 13): late imports are being moved up or explained")
 @pytest.mark.parametrize("path", [p for p in ALL_FILES if p.name != "__init__.py" or p.parent == PACKAGE],
                          ids=lambda p: str(p.relative_to(PACKAGE)))
 def test_late_imports_say_why(path):

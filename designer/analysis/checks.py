@@ -414,6 +414,7 @@ def front_checks(front, tighter=None, tol: float = 1e-6) -> list[Check]:
 
 def highest_critical_speed(problem) -> float:
     """Highest V_c [m/s] inside the bounds of ``problem`` (over its catalog wheels), by IPOPT (Eq. 7)."""
+    # late import: loads casadi (via designer.solvers.nlp) only when this runs
     from designer.solvers.nlp import max_critical_speed
 
     return max(max_critical_speed(v)[0] for v in problem.variants())
@@ -426,6 +427,7 @@ def dominated_by_problem(problem, other_front, rel_tol: float = 1e-7) -> tuple[i
     from q's design; q is dominated if the optimum's F_turn <= F_turn(q).
     Returns (number not dominated, number of points).
     """
+    # late import: loads casadi (via designer.solvers.nlp) only when this runs
     from designer.solvers.nlp import CasterNLP
 
     not_dominated = 0

@@ -67,12 +67,17 @@ from pathlib import Path
 
 import numpy as np
 
+import designer
 from designer.jsonsafe import finite
 from designer.errors import InputError, StorageError
 from designer.analysis.indicators import hypervolume_2d, igd_plus, nondominated, normalise
 from designer.model import VARIABLES, Design
 from designer.problem import Bound, Problem
 from designer.solvers.nlp import evaluate_many, violation
+from designer.physics.inertia import Catalog
+import importlib.util
+import casadi
+from designer.solvers.nlp import BIG, CasterNLP
 
 CATEGORICAL = ("wheel", "surface", "turning_mode")
 """Categorical dimensions, in this order in category labels and CSV columns."""
@@ -147,7 +152,9 @@ class Operators:
 
     def sampler(self, seed: int | None):
         """The configured :class:`optuna.samplers.NSGAIISampler`."""
+        # late import: loads optuna only when this runs
         import optuna
+        # late import: loads optuna only when this runs
         from optuna.samplers.nsgaii import PolynomialMutation, SBXCrossover, UniformCrossover
 
         crossover = SBXCrossover(eta=self.crossover_eta) if self.crossover == "sbx" else UniformCrossover()
@@ -156,7 +163,9 @@ class Operators:
                       mutation=mutation, mutation_prob=self.mutation_prob, seed=seed)
         if not self.deduplicate:
             return optuna.samplers.NSGAIISampler(**kwargs)
+        # late import: loads optuna only when this runs
         from optuna.samplers._lazy_random_state import LazyRandomState
+        # late import: loads optuna only when this runs
         from optuna.samplers.nsgaii._child_generation_strategy import NSGAIIChildGenerationStrategy
 
         rng = LazyRandomState(seed)
@@ -183,6 +192,7 @@ class _Deduplicated:
         self._scanned = 0
 
     def _seen(self, study) -> set:
+        # late import: loads optuna only when this runs
         from optuna.trial import TrialState
 
         trials = study.get_trials(deepcopy=False)
@@ -281,7 +291,6 @@ def category_label(category: tuple) -> str:
 
 def category_problem(problem: Problem, category: tuple) -> Problem:
     """The continuous sub-problem of one category (wheel: fixed d and I_w; surface; turning mode)."""
-    from designer.physics.inertia import Catalog
 
     values = dict(category)
     changes = {k: values[k] for k in ("surface", "turning_mode") if k in values}
@@ -365,7 +374,6 @@ def parse_storage(storage: str | None) -> StorageSpec:
 def _postgres_driver(url: str) -> str:
     """``postgresql://`` with the driver that is installed: SQLAlchemy 2.1 reads it as psycopg (3), but the
     README (and the `test` extra) install psycopg2-binary; an explicit ``postgresql+driver://`` is kept."""
-    import importlib.util
 
     if importlib.util.find_spec("psycopg") is None and importlib.util.find_spec("psycopg2") is not None:
         return "postgresql+psycopg2://" + url[len("postgresql://"):]
@@ -411,11 +419,13 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
     ``break_lock`` (resume of a journal file): remove a lock file left by a
     killed process instead of waiting out its grace period.
     """
+    # late import: loads optuna only when this runs
     import optuna
 
     if spec.kind == "memory":
         return optuna.storages.InMemoryStorage()
     if spec.kind == "journal":
+        # late import: loads optuna only when this runs
         from optuna.storages.journal import JournalFileBackend, JournalFileOpenLock, JournalStorage
 
         path = Path(spec.url)
@@ -606,10 +616,8 @@ def _umask() -> int:
 
 def versions() -> dict:
     """Versions of the designer, Python and the numerical libraries (for reports)."""
-    import casadi
+    # late import: loads optuna only when this runs
     import optuna
-
-    import designer
 
     return {"designer": designer.__version__, "python": platform.python_version(), "optuna": optuna.__version__,
             "numpy": np.__version__, "casadi": casadi.__version__}
@@ -635,7 +643,9 @@ class _Evaluator:
         return np.array([params.get(name, sub.bounds[name].low) for name in VARIABLES], float)
 
     def __call__(self, trial):
+        # late import: loads optuna only when this runs
         import optuna
+        # late import: loads optuna only when this runs
         from optuna.trial import TrialState
 
         study = trial.study
@@ -660,6 +670,7 @@ class _Evaluator:
 
 
 def _counts(study) -> dict:
+    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     out = {s: 0 for s in TrialState}
@@ -669,6 +680,7 @@ def _counts(study) -> dict:
 
 
 def _stopper(budget: int, evaluator: _Evaluator):
+    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     def callback(study, frozen):
@@ -688,6 +700,7 @@ def _run_worker(problem: Problem, storage: str | None, study_name: str, budget: 
     ``check_budget``: other processes may work on the study, so each trial
     checks by its number that fewer than ``budget`` trials precede it.
     """
+    # late import: loads optuna only when this runs
     import optuna
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
@@ -713,7 +726,9 @@ def _worker_entry(args) -> None:  # top level: picklable for multiprocessing
 
 def _prepare_resume(study, spec: StorageSpec, search_space_names) -> list[str]:
     """Fail stale RUNNING trials and re-enqueue failed ones once; returns notes."""
+    # late import: loads optuna only when this runs
     import optuna
+    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     notes = []
@@ -784,7 +799,9 @@ def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: 
     InputError
         Bad arguments (exit 2); StorageError for a bad or unreachable storage (exit 6).
     """
+    # late import: loads optuna only when this runs
     import optuna
+    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     if isinstance(trials, bool) or not isinstance(trials, int) or not 1 <= trials <= MAX_TRIALS:
@@ -877,8 +894,10 @@ def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: 
 
 
 def _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storage_obj, tracker, bar):
+    # late import: loads multiprocessing only when this runs
     import multiprocessing
 
+    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     ctx = multiprocessing.get_context("spawn")
@@ -887,6 +906,7 @@ def _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storag
     procs = [ctx.Process(target=_worker_entry, args=(a,), daemon=False) for a in args]
     for p in procs:
         p.start()
+    # late import: loads optuna only when this runs
     import optuna
 
     study = optuna.load_study(study_name=study_name, storage=storage_obj)
@@ -940,7 +960,9 @@ class _Progress:
 
     def __enter__(self):
         if self.enabled:
+            # late import: loads rich only when this runs
             from rich.console import Console
+            # late import: loads rich only when this runs
             from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, \
                 TimeRemainingColumn
 
@@ -985,7 +1007,7 @@ def _box_reference(problem: Problem) -> tuple[float, float]:
 
 def _exact_front(problem: Problem) -> dict | None:
     """The exact front of :func:`designer.analysis.pareto.pareto_front`, or a note when it is unavailable."""
-    try:
+    try:  # late import: the exact front loads casadi, only for this comparison
         from designer.analysis.pareto import pareto_front
     except ImportError:
         return {"note": "designer.analysis.pareto is not available; no comparison with the exact front"}
@@ -1105,7 +1127,6 @@ def _row(cat: tuple, number: int, x: np.ndarray, values: dict, refined: bool) ->
 
 def _refine(sub: Problem, cat: tuple, front: list, nlps: dict) -> list:
     """ε-constraint polish: min F_turn s.t. P <= P_candidate from each candidate (exact NLP of the category)."""
-    from designer.solvers.nlp import BIG, CasterNLP
 
     if cat not in nlps:
         nlps[cat] = CasterNLP(sub)

@@ -42,6 +42,10 @@ from designer.physics.turning import MODES, SURFACES, added_damper_moment, slidi
 from designer.units import parse_quantity
 
 from designer.analysis.recommend import risk_screen, select_rows
+from designer.analysis.recommend import confident_speed, stock_candidates
+from designer.problem import Stock
+from designer.analysis.kmedian import prune_candidates, solve_kmedian
+from designer.problem import load_problem
 
 GRAVITY = 9.80665
 """Standard gravity g [m/s²] for load = m g front_fraction / 2."""
@@ -514,7 +518,6 @@ def stock_table(problem) -> StockTable:
     problem's ``[stock]`` when it declares one, otherwise :data:`DEFAULT_STOCK` within its bounds (the
     table's ``note`` says so).  Every variable must be discrete: a part number is a design tuple.
     """
-    from designer.analysis.recommend import confident_speed, stock_candidates
 
     if getattr(problem, "stock", None) is not None:
         cand = stock_candidates(problem)
@@ -541,7 +544,6 @@ def stock_table(problem) -> StockTable:
 
 def _default_stock(problem):
     """:data:`DEFAULT_STOCK` within the problem's bounds, as a :class:`designer.problem.Stock`."""
-    from designer.problem import Stock
 
     b = problem.bounds
 
@@ -926,7 +928,6 @@ def choose_skus(result: FleetResult, k: int, k_max: int | None = None, time_limi
     breaks the chair's own risk bound, swept-radius limit or sill.  Infeasible chairs are left out (and
     reported per row).  Exact MIP (:mod:`designer.analysis.kmedian`).
     """
-    from designer.analysis.kmedian import prune_candidates, solve_kmedian
 
     fleet, stock, problem = result.fleet, result.stock, result.problem
     rows = np.flatnonzero(result.feasible)
@@ -1058,7 +1059,6 @@ def fleet(chairs, problem=None, skus: int | None = None, scheduler=None, monte_c
     -------
     FleetResult; ``fleet_data(result)`` gives the plain data of ``--json``.
     """
-    from designer.problem import load_problem
 
     if not isinstance(chairs, Fleet):
         chairs = read_fleet(chairs)

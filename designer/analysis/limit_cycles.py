@@ -45,6 +45,11 @@ from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
 from designer.physics.shimmy import critical_shimmy_speed
 from designer.physics.tyre import TyreParameters, lateral_tyre_force
+from designer.data.paper import TABLE1, TABLE1_STABLE_UP_TO, TABLE1_TRAIL
+from designer.physics.inertia import Fixed
+from designer.physics.shimmy import DynamicsParameters
+from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING, table1_wheel
+import time
 
 __all__ = [
     "CasterDynamics",
@@ -902,8 +907,6 @@ def table1_comparison(conditions: Conditions = Conditions(), tyre: TyreParameter
         ``rows`` (per wheel: key, inertia, mass, measured, eq7, rolling_sim, tyre_sim (+ brackets),
         flagged) and ``stats`` {eq7, rolling_sim, tyre_sim: {rms, bias, max_abs, n}}.
     """
-    from designer.data.paper import TABLE1, TABLE1_STABLE_UP_TO, TABLE1_TRAIL
-    from designer.physics.inertia import Fixed
 
     theta = float(conditions.disturbance_angle if angle is None else angle)
     rows = []
@@ -988,8 +991,6 @@ def stiffness_mass_map(casters: dict, conditions: Conditions = Conditions(), tyr
         ``rows`` (caster, K, N, f_K, f_N, ω, rolling_onset, tyre_onset, stable_amplitude, eq7) and the
         defaults ``K0``, ``N0``.
     """
-    from designer.physics.inertia import Fixed
-    from designer.physics.shimmy import DynamicsParameters
 
     K0, N0 = float(conditions.dynamics.stiffness), float(conditions.dynamics.lateral_mass)
     theta = float(conditions.disturbance_angle if angle is None else angle)
@@ -1028,7 +1029,6 @@ def stiffness_mass_map(casters: dict, conditions: Conditions = Conditions(), tyr
 
 def map_casters() -> dict:
     """The three casters of the (K, N) map: Appendix C (T = 2.5 in) and Table 1 wheels C and G (T = 2 in)."""
-    from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING, TABLE1_TRAIL, table1_wheel
 
     case = APPENDIX_C_CASE
     i_c = 4 * BARE_FORK_DAMPING * case.trail**2 / (math.pi * case.critical_speed**2)
@@ -1066,8 +1066,6 @@ def friction_sensitivity(design: Design, conditions: Conditions, speed: float,
 
 def appendix_c_caster() -> tuple[Design, Conditions]:
     """The caster of Appendix C / Fig. 1C: T = 2.5 in, bare fork, I_w from V_c = 2.53 m/s by Eq. 7 (B = 0)."""
-    from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING
-    from designer.physics.inertia import Fixed
 
     case = APPENDIX_C_CASE
     i_c = 4 * BARE_FORK_DAMPING * case.trail**2 / (math.pi * case.critical_speed**2)
@@ -1081,9 +1079,7 @@ def limit_cycle_study(progress=None, quick: bool = False) -> dict:
     measured 8° and its dependence on μ, knock-safe speeds (θ0, 2θ0); Table 1 comparison; (K, N) map.
     ``quick`` uses a 3 × 3 map and fewer orbits (for checking the pipeline, not for results).
     """
-    import time
 
-    from designer.data.paper import APPENDIX_C_CASE
 
     def say(text):
         if progress is not None:

@@ -21,6 +21,10 @@ from designer.errors import InfeasibleError, SolverError
 from designer.model import VARIABLES, Design, evaluate
 from designer.problem import Problem
 from designer.solvers.nlp import PARAMETER_INFO, CasterNLP, best_starts, max_critical_speed, solve_best
+import warnings
+from designer.errors import InputError
+from designer.problem import check_weights
+from designer.physics.uncertainty import shimmy_probability_mc
 
 ACTIVE_TOL = 1e-6
 
@@ -100,7 +104,6 @@ class Solution:
         u = self.problem.conditions.uncertainty
         if u is None:
             return []
-        from designer.physics.uncertainty import shimmy_probability_mc
 
         d = self.design
         inertia = float(self.problem.conditions.inertia(d.diameter))
@@ -191,7 +194,6 @@ def optimise(problem: Problem, weights=None, cross_check: bool = True, samples: 
     SolverError
         IPOPT failed from every start although the problem is feasible.
     """
-    import warnings
 
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="inertia power law used at")
@@ -204,8 +206,6 @@ def optimise(problem: Problem, weights=None, cross_check: bool = True, samples: 
 
 
 def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Solution:
-    from designer.errors import InputError
-    from designer.problem import check_weights
 
     w = check_weights(problem.weights if weights is None else weights, "weights", error=InputError)
     build = solve = 0.0
@@ -240,6 +240,7 @@ def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Sol
     t0 = time.perf_counter()
     gp = gp_results.get(id(variant))
     if cross_check:
+        # late import: loads scipy (via designer.solvers.scipy_check) only when this runs
         from designer.solvers.scipy_check import slsqp
 
         # scipy on the chosen variant, from the NLP optimum and random starts
@@ -271,7 +272,7 @@ def _gp(problem: Problem, weights):
     For robust problems the GP bounds the quantile constraint conservatively
     (see ``designer.solvers.gp``); its polished answer is still a cross-check.
     """
-    try:
+    try:  # late import: cvxpy (the GP cross-check) loads only when the cross-check runs
         from designer.solvers import gp as gp_module
     except ImportError:
         return None
@@ -282,7 +283,7 @@ def _gp(problem: Problem, weights):
 
 
 def _gp_polished(problem: Problem, gp, weights) -> float:
-    from designer.solvers import gp as gp_module
+    from designer.solvers import gp as gp_module  # late import: cvxpy (the GP cross-check) only when it runs
 
     try:
         _, j = gp_module.polish(problem, gp, weights)

@@ -28,6 +28,7 @@ from designer.model import FAMILIES, VARIABLES, Design, evaluate
 from designer.problem import POINTS_RANGE, Problem
 from designer.solvers import structured
 from designer.solvers.nlp import BIG, CasterNLP, best_starts, evaluate_many, sample_designs, violation
+from designer.errors import InputError
 
 REFERENCE_OFFSET = 0.1
 """Hypervolume reference point: 10 % beyond the nadir in normalised objectives, i.e. (1.1, 1.1)."""
@@ -253,6 +254,7 @@ class Front:
 
 
 def _point(nlp: CasterNLP, problem: Problem, result, epsilon: float, wheel=None) -> FrontPoint:
+    # late import: loads cvxpy, jinja2, scipy (via designer.analysis.optimise) only when this runs
     from designer.analysis.optimise import constraint_margins
 
     values = evaluate(result.design, problem.conditions) if result.success else None
@@ -460,6 +462,7 @@ class _Sweep:
 
 def _points(nlp: CasterNLP, problem: Problem, results, eps, wheel=None) -> list:
     """FrontPoints of many results: one vectorised model call for all successful designs."""
+    # late import: loads cvxpy, jinja2, scipy (via designer.analysis.optimise) only when this runs
     from designer.analysis.optimise import constraint_margins
 
     out = [None] * len(results)
@@ -530,13 +533,10 @@ def pareto_front(problem: Problem, points: int | None = None, progress=None) -> 
     Front
     """
     if points is not None and (isinstance(points, bool) or not isinstance(points, (int, np.integer))):
-        from designer.errors import InputError
 
         raise InputError(f"points = {points!r}: expected a whole number of front points, e.g. 41")
     n = int(points or problem.pareto_points)
     if not 2 <= n <= POINTS_RANGE[1]:  # memory grows with n × the 1024-design sample: bounded, never MemoryError
-        from designer.errors import InputError
-
         raise InputError(f"points = {n}: a front needs 2 to {POINTS_RANGE[1]} points")
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="inertia power law used at")

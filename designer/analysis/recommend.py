@@ -38,6 +38,10 @@ from designer.physics.shimmy import critical_shimmy_speed
 from designer.physics.threshold import threshold_force_ratio
 from designer.physics.turning import added_damper_moment, sliding_turning_moment
 from designer.physics.uncertainty import Uncertainty, shimmy_probability_mc, shimmy_speed_quantile
+from designer.physics.inertia import Catalog
+from designer.problem import Bound
+from pathlib import Path
+from designer.problem import load_problem
 
 RULES = {
     "knee": "knee of the buildable risk-bounded front",
@@ -90,7 +94,6 @@ class CandidateTable:
 
 def _wheel_rows(problem, stock):
     """Wheel choices: (diameter, inertia or None, groove or None, name) tuples, or None if d is continuous."""
-    from designer.physics.inertia import Catalog
 
     c = problem.conditions
     if problem.wheels:  # [inertia] model = "catalog": the wheels are Table 1's, with measured I_w
@@ -398,6 +401,7 @@ class Recommendation:
     def front(self):
         """The continuous risk-bounded front of the problem (:func:`designer.analysis.pareto.pareto_front`)."""
         if self._front is None and self.problem is not None:
+            # late import: loads casadi (via designer.analysis.pareto) only when this runs
             from designer.analysis.pareto import pareto_front
 
             self._front = pareto_front(self.problem)
@@ -480,7 +484,6 @@ def _discrete_buildable(problem) -> tuple[_Buildable, ScreenedTable]:
 
 def _sub_problem(problem, row: dict, inertia, wheel):
     """The problem with one stock combination's parts fixed (the rest continuous)."""
-    from designer.problem import Bound
 
     bounds = dict(problem.bounds)
     for name, value in row.items():
@@ -494,6 +497,7 @@ def _sub_problem(problem, row: dict, inertia, wheel):
 
 def _continuous_buildable(problem) -> _Buildable:
     """Each stock combination's continuous rest solved exactly (NLP), then pooled."""
+    # late import: loads casadi (via designer.analysis.pareto) only when this runs
     from designer.analysis.pareto import pareto_front
 
     cand = stock_candidates(problem)
@@ -587,6 +591,7 @@ def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, 
 
 def _buildable_front(problem, b: _Buildable, member: np.ndarray):
     """The buildable front as a :class:`designer.analysis.pareto.Front` (decreasing P)."""
+    # late import: loads casadi (via designer.analysis.pareto) only when this runs
     from designer.analysis.pareto import Front, FrontPoint, family_of
 
     idx = np.flatnonzero(member)
@@ -621,10 +626,8 @@ def recommend(problem, samples: int | None = None, seed: int | None = None) -> R
         No stock combination meets the risk bound (the message names the closest and what to relax),
         or none is within the cap of ``[objective]``.
     """
-    from pathlib import Path
 
     if isinstance(problem, (str, Path)):
-        from designer.problem import load_problem
 
         problem = load_problem(problem)
     table = None
@@ -633,6 +636,7 @@ def recommend(problem, samples: int | None = None, seed: int | None = None) -> R
     else:
         b = _continuous_buildable(problem)
     if not len(b.turning_effort):
+        # late import: loads casadi, cvxpy, jinja2, scipy (via designer.analysis.optimise) only when this runs
         from designer.analysis.optimise import _diagnose
 
         error = _diagnose(problem)  # out of reach of the whole box: that is the message, not the stock's

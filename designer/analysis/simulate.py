@@ -690,9 +690,11 @@ def _summarise(rows) -> dict:
 
 
 def _plot_report(rows, traces, onset_c, path: Path) -> None:
+    # late import: loads matplotlib only when this runs
     import matplotlib
 
     matplotlib.use("Agg")
+    # late import: loads matplotlib only when this runs
     import matplotlib.pyplot as plt
 
     v7 = np.array([r["eq7_critical_speed"] for r in rows])

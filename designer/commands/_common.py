@@ -7,6 +7,10 @@ import sys
 from designer.jsonsafe import finite
 from designer.errors import InputError
 from designer.units import parse_quantity
+import os
+import tempfile
+from pathlib import Path
+from designer.errors import OutputError
 
 
 def quantity_option(value: str | None, dimension: str, option: str, default=None):
@@ -53,11 +57,7 @@ def check_output_folder(folder, option: str = "--out") -> None:
     and ``folder`` itself, if it exists, must be writable too (tried by making and removing a
     temporary folder: permission bits alone do not tell, e.g. for root or a read-only mount).
     """
-    import os
-    import tempfile
-    from pathlib import Path
 
-    from designer.errors import OutputError
 
     folder = Path(folder)
     probe = folder

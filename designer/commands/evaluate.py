@@ -11,6 +11,7 @@ from designer.physics.inertia import Fixed, PowerLaw
 from designer.physics.turning import DEFAULT_TURNING, MODES, SURFACES
 from designer.model import check_design
 from designer.problem import INERTIA_RANGE, PHYSICAL_RANGE
+import warnings
 
 
 def register(sub) -> None:
@@ -92,7 +93,6 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
         raise InputError(f"--target-speed {args.target_speed}: must be positive")
     if speed is not None:
         _in_range("--target-speed", "shimmy.target_speed", speed)
-    import warnings
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -137,7 +137,9 @@ def run(args) -> int:
     if args.json:
         print_json(out)
         return 0
+    # late import: loads rich only when this runs
     from rich.console import Console
+    # late import: loads rich only when this runs
     from rich.table import Table
 
     table = Table(title=f"Caster: {design.describe()}", title_justify="left")

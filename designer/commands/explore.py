@@ -6,6 +6,7 @@ from pathlib import Path
 from designer.commands._common import check_output_folder, eprint, print_json
 from designer.data.paper import INCH
 from designer.errors import InputError
+from designer.problem import load_problem
 
 
 def register(sub) -> None:
@@ -35,8 +36,8 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
+    # late import: loads casadi (via designer.analysis.exploration) only when this runs
     from designer.analysis.exploration import explore
-    from designer.problem import load_problem
 
     if args.population is not None and args.population < 2:
         raise InputError(f"--population {args.population}: must be at least 2")
@@ -62,8 +63,11 @@ def run(args) -> int:
 
 
 def _print(result, csv_path, json_path) -> None:
+    # late import: loads rich only when this runs
     from rich.console import Console
+    # late import: loads rich only when this runs
     from rich.markup import escape
+    # late import: loads rich only when this runs
     from rich.table import Table
 
     console = Console(width=max(Console().width, 120))

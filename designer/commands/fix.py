@@ -5,6 +5,10 @@ import math
 
 from designer.commands._common import print_json, quantity_option
 from designer.data.paper import INCH
+from designer.analysis.retrofit import ONSET_SCATTER, fix, parse_current
+from designer.errors import InputError
+from designer.problem import load_problem
+from designer.analysis.retrofit import describe_changes
 
 
 def register(sub) -> None:
@@ -33,9 +37,6 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from designer.analysis.retrofit import ONSET_SCATTER, fix, parse_current
-    from designer.errors import InputError
-    from designer.problem import load_problem
 
     problem = load_problem(args.problem)
     current = parse_current(args.current)
@@ -69,11 +70,13 @@ def _length(value: float) -> str:
 
 
 def _print(result, problem) -> None:
+    # late import: loads rich only when this runs
     from rich.console import Console
+    # late import: loads rich only when this runs
     from rich.markup import escape
+    # late import: loads rich only when this runs
     from rich.table import Table
 
-    from designer.analysis.retrofit import describe_changes
 
     console = Console(width=max(Console().width, 170), highlight=False)
     cur = result.current

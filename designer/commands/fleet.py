@@ -7,6 +7,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from designer.commands._common import eprint, print_json
+from designer.analysis.fleet import EXAMPLE_RANGES, example_fleet, fleet_data, fleet_recommendations, read_fleet, write_fleet_csv
+from designer.errors import InputError
+from designer.problem import load_problem
 
 
 def register(sub) -> None:
@@ -34,16 +37,6 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from designer.analysis.fleet import (
-        EXAMPLE_RANGES,
-        example_fleet,
-        fleet_data,
-        fleet_recommendations,
-        read_fleet,
-        write_fleet_csv,
-    )
-    from designer.errors import InputError
-    from designer.problem import load_problem
 
     if args.example is not None:
         if args.fleet is not None:
@@ -74,6 +67,7 @@ def run(args) -> int:
                                    monte_carlo=not args.no_monte_carlo)
     data = fleet_data(result)
     out = Path(args.out) if args.out else Path("results") / "fleet" / Path(args.fleet).stem
+    # late import: loads matplotlib (via designer.report.fleet) only when this runs
     from designer.report.fleet import json_data, write_fleet_report
 
     write_fleet_report(data, out)

@@ -18,6 +18,11 @@ from pathlib import Path
 from designer.commands._common import check_output_folder, eprint, print_json
 
 from designer.pipeline import TIGHTER_FACTOR  # noqa: F401  (re-exported: check 8c's factor)
+from designer.pipeline import report_data
+from designer.errors import InputError
+from designer.problem import load_problem
+from designer.problem import POINTS_RANGE
+from designer.problem import problem_files
 
 
 def register(sub) -> None:
@@ -45,7 +50,9 @@ def register(sub) -> None:
 def _progress():
     """A transient rich progress bar on stderr, or None without rich."""
     try:
+        # late import: loads rich only when this runs
         from rich.console import Console
+        # late import: loads rich only when this runs
         from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
     except ImportError:  # pragma: no cover - rich is a dependency
         return None
@@ -100,7 +107,7 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
 
 
 def _compute(problem, points, out, tracker, force=False, cross_check=False) -> dict:
-    from designer.pipeline import report_data
+    # late import: loads matplotlib (via designer.report) only when this runs
     from designer.report import write_report
 
     t0 = time.perf_counter()
@@ -163,16 +170,12 @@ def _print_summary(s: dict) -> None:
 
 
 def run(args) -> int:
-    from designer.errors import InputError
-    from designer.problem import load_problem
 
-    from designer.problem import POINTS_RANGE
 
     if args.points is not None and not POINTS_RANGE[0] <= args.points <= POINTS_RANGE[1]:
         raise InputError(f"--points {args.points}: must be a whole number from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}, "
                          f"as [pareto] points in a problem file")
     if args.all:
-        from designer.problem import problem_files
 
         files = problem_files(args.problem or "problems")
         parent = Path(args.out or "results")
@@ -183,6 +186,7 @@ def run(args) -> int:
             raise InputError("designer pareto: give a PROBLEM file, or --all")
         problem = load_problem(args.problem)
         jobs = [(problem, Path(args.out) if args.out else None)]
+    # late import: loads matplotlib (via designer.report.writer) only when this runs
     from designer.report.writer import check_target
 
     for problem, out in jobs:  # refuse a foreign or unwritable --out folder before the work, not after

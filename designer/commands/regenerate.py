@@ -14,13 +14,13 @@ import sys
 
 from designer.cli import main as cli_main
 from designer.problem import problem_files
+import argparse
 
 __all__ = ["main", "problem_files"]
 
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point: ``designer pareto --all`` on each folder (or file) given, default ``problems``."""
-    import argparse
 
     parser = argparse.ArgumentParser(prog="python -m designer.commands.regenerate",
                                      description="Regenerate results/<problem>/ for every shipped problem.")

@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import math
 
-from designer.commands._common import eprint, print_json
+from designer.commands._common import eprint, print_json, quantity_option
 from designer.errors import InputError
-from designer.analysis.optimise import optimise
 from designer.analysis.recommend import recommend, weights_meaning
-from designer.problem import load_problem
+from designer.problem import check_weights, load_problem
 
 
 def register(sub) -> None:
@@ -42,7 +41,6 @@ def parse_weights(text: str | None):
             raise InputError(f"--weights {text}: {name} = {v:g} must be a finite non-negative number")
     if sum(values) <= 0:
         raise InputError(f"--weights {text}: the weights must not both be zero")
-    from designer.problem import check_weights
 
     return check_weights(values, "--weights", error=InputError)
 
@@ -50,10 +48,11 @@ def parse_weights(text: str | None):
 def run(args) -> int:
     problem = load_problem(args.problem)
     if args.target_speed is not None:
-        from designer.commands._common import quantity_option
-
         problem = problem.replace(target_speed=quantity_option(args.target_speed, "speed", "--target-speed"))
     weights = parse_weights(args.weights)
+    # late import: the optimiser loads casadi (and cvxpy for its cross-check); the CLI starts without them
+    from designer.analysis.optimise import optimise
+
     rec = recommend(problem)  # exit 4 when no stock combination meets the risk bound
     solution = optimise(problem, weights, cross_check=not args.no_cross_check)
     used = [float(w) for w in (weights if weights is not None else problem.weights)]

@@ -8,6 +8,12 @@ from designer.commands._common import eprint, print_json, quantity_option
 from designer.errors import InputError
 from designer.model import Conditions, Design
 from designer.physics.inertia import Fixed, PowerLaw
+from designer.physics.tyre import TyreParameters
+from designer.analysis.limit_cycles import bifurcation_diagram, knock_safe_speed
+import warnings
+import numpy as np
+from designer.analysis.limit_cycles import limit_cycle_study
+from designer.plots.simulation import bifurcation_axes
 
 
 def register(sub) -> None:
@@ -57,7 +63,6 @@ def _register_limit_cycles(p) -> None:
 
 
 def _tyre(args):
-    from designer.physics.tyre import TyreParameters
 
     values = {}
     for option, text in (("--friction-coefficient", args.friction_coefficient),
@@ -76,7 +81,6 @@ def _tyre(args):
 
 def _run_limit_cycles(args) -> int:
     """--bifurcation / --knock-safe."""
-    from designer.analysis.limit_cycles import bifurcation_diagram, knock_safe_speed
 
     if args.speed is None:
         args.speed = "1 m/s"          # not used by these analyses
@@ -104,7 +108,7 @@ def _run_limit_cycles(args) -> int:
                                         "stable_at_reference", "max_closure", "tyre")})
         out["rolling_branches"] = roll["branches"]
         if args.plot:
-            from designer.plots.simulation import bifurcation_axes
+            # late import: loads matplotlib (via designer.plots.figures) only when this runs
             from designer.plots.figures import save_figure
 
             if not str(args.plot).lower().endswith((".png", ".svg", ".pdf")):
@@ -190,6 +194,7 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
 
 
 def run(args) -> int:
+    # late import: loads scipy (via designer.analysis.simulate) only when this runs
     from designer.analysis.simulate import onset_speed, simulate, write_simulation_report
 
     if (args.bifurcation or args.knock_safe) and args.report is None:
@@ -200,7 +205,7 @@ def run(args) -> int:
             args.report, progress=None if args.json else lambda i, n: print(f"\rcase {i}/{n}", end="", file=sys.stderr, flush=True))
         if not args.json:
             eprint("")
-        from designer.analysis.limit_cycles import limit_cycle_study
+        # late import: loads matplotlib (via designer.report.limit_cycles) only when this runs
         from designer.report.limit_cycles import write_limit_cycle_report
 
         study = limit_cycle_study(progress=None if args.json else lambda text: eprint(f"limit cycles: {text}"))
@@ -216,7 +221,6 @@ def run(args) -> int:
         return 0
 
     design, conditions, speed, angle, omega0, duration = parse(args)
-    import warnings
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -254,11 +258,12 @@ def run(args) -> int:
 
 
 def _plot(result, path, onset=None) -> None:
+    # late import: loads matplotlib only when this runs
     import matplotlib
 
     matplotlib.use("Agg")
+    # late import: loads matplotlib only when this runs
     import matplotlib.pyplot as plt
-    import numpy as np
 
     if not str(path).lower().endswith((".png", ".svg", ".pdf")):
         raise InputError(f"--plot {path}: expected a .png, .svg or .pdf file name")
@@ -277,6 +282,7 @@ def _plot(result, path, onset=None) -> None:
     ax.set_ylabel("caster angle θ [deg]")
     ax.legend(fontsize=8)
     fig.tight_layout()
+    # late import: loads matplotlib (via designer.plots.figures) only when this runs
     from designer.plots.figures import save_figure
 
     save_figure(fig, path, dpi=110)

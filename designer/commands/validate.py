@@ -22,8 +22,11 @@ def run(args) -> int:
     if args.json:
         print_json([c.to_dict() for c in checks])
         return 1 if failed else 0
+    # late import: loads rich only when this runs
     from rich.console import Console
+    # late import: loads rich only when this runs
     from rich.markup import escape
+    # late import: loads rich only when this runs
     from rich.table import Table
 
     console = Console(width=160)

@@ -225,6 +225,7 @@ def routh_hurwitz_critical_speed(
     ``damping_kind="hydraulic"`` (damping = C_D) and Eq. 7 for ``"friction"``
     (damping = c_f, converted with :func:`friction_damping_at_speed`).
     """
+    # late import: loads scipy only when this runs
     from scipy.optimize import brentq
 
     def margin(speed):

@@ -49,6 +49,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from designer.data.paper import SLIP_COEFFICIENT
+from designer.errors import InputError
 
 TYRE_FRICTION_COEFFICIENT = 0.7
 """Tyre-floor friction coefficient μ [-] (vinyl tile); estimated from the paper's sliding turning moment,
@@ -81,7 +82,6 @@ class TyreParameters:
     saturation: bool = True
 
     def __post_init__(self):
-        from designer.errors import InputError
 
         for name in ("cornering_stiffness", "friction_coefficient", "load", "wheel_mass"):
             value = getattr(self, name)

@@ -54,6 +54,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities
+from numpy.polynomial.hermite_e import hermegauss
+from numpy.polynomial.legendre import leggauss
+from numpy.polynomial import chebyshev as C
 
 
 def _special():
@@ -150,8 +153,6 @@ _NODES = 64
 
 @functools.lru_cache(maxsize=8)
 def _quadrature(dof: int):
-    from numpy.polynomial.hermite_e import hermegauss
-    from numpy.polynomial.legendre import leggauss
 
     zn, zw = hermegauss(_NODES)
     un, uw = leggauss(4 * _NODES)
@@ -198,7 +199,6 @@ _DEGREE = 14
 @functools.lru_cache(maxsize=32)
 def _fit(probability: float, dof: int) -> tuple[np.ndarray, float]:
     """Chebyshev coefficients (on s ∈ [0, 1]) of the quantile, shifted up by its fit error; and the shift."""
-    from numpy.polynomial import chebyshev as C
 
     k = np.arange(_DEGREE + 1)
     nodes = (np.cos(np.pi * (k + 0.5) / (_DEGREE + 1))[::-1] + 1) / 2

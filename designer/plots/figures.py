@@ -38,6 +38,8 @@ from designer.model import performance
 from designer.physics.shimmy import critical_shimmy_speed
 from designer.plots.fronts import draw_fronts
 from designer.physics.threshold import threshold_force_ratio, threshold_force_ratio_approx
+from designer.errors import InputError
+import sys
 
 FIGURES = ("front", "variables", "trail", "inertia", "threshold", "groove_damper")
 """Figure names in report order; ``figure_<name>`` draws each."""
@@ -86,9 +88,9 @@ def _new(width: float = 7.5, height: float = 4.8, **kw) -> Figure:
 
 def save_figure(fig, path, dpi: int = 110, option: str = "--plot") -> None:
     """Save a figure to ``path`` and close it; an unwritable path is an InputError naming ``option``."""
+    # late import: loads matplotlib only when this runs
     import matplotlib.pyplot as plt
 
-    from designer.errors import InputError
 
     try:
         fig.savefig(path, dpi=dpi)
@@ -519,7 +521,6 @@ def draw(name: str, data) -> Figure:
 
     Looked up at call time, so each figure function can be replaced (tests).
     """
-    import sys
 
     return getattr(sys.modules[__name__], f"figure_{name}")(data)
 

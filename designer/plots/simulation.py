@@ -14,6 +14,7 @@ def _axes(ax, figsize=(7, 4.5)):
         import matplotlib  # heavy, only for figures
 
         matplotlib.use("Agg")
+        # late import: loads matplotlib only when this runs
         import matplotlib.pyplot as plt
 
         _, ax = plt.subplots(figsize=figsize)

@@ -14,6 +14,9 @@ from pathlib import Path
 import numpy as np
 
 from designer.jsonsafe import finite
+from designer.plots.simulation import bifurcation_axes, map_axes, table1_axes
+from designer.plots.figures import save_figure
+import re
 
 FILES = ("bifurcation.csv", "bifurcation.json", "bifurcation.png", "table1.csv", "table1.png",
          "stiffness_mass_map.csv", "stiffness_mass_map.png", "limit_cycles.md", "limit_cycles.html")
@@ -39,6 +42,7 @@ def _figure(nrows=1, ncols=1, figsize=(8, 5)):
     import matplotlib  # heavy, only for figures
 
     matplotlib.use("Agg")
+    # late import: loads matplotlib only when this runs
     import matplotlib.pyplot as plt
 
     return plt.subplots(nrows, ncols, figsize=figsize, squeeze=False)
@@ -68,8 +72,6 @@ def write_limit_cycle_report(study: dict, out_dir="results/simulation") -> list[
 
     Returns the names written.
     """
-    from designer.plots.simulation import bifurcation_axes, map_axes, table1_axes
-    from designer.plots.figures import save_figure
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -385,7 +387,6 @@ def _markdown(blocks) -> str:
 
 
 def _inline(text: str) -> str:
-    import re
 
     t = html.escape(text)
     t = re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", t)

@@ -83,6 +83,9 @@ from designer.physics.threshold import (
 )
 from designer.physics.turning import sliding_turning_moment
 from designer.problem import Problem
+from designer.physics.uncertainty import log_speed_quantile
+from designer.errors import InfeasibleError
+from designer.solvers.nlp import BIG, CasterNLP
 
 SERIES_TOLERANCE = 1e-9
 """Target bound on the relative truncation error of the P series over the diameter range [-]."""
@@ -197,7 +200,6 @@ def robust_speed_factor(problem: Problem, groove: bool) -> tuple[float, bool]:
     u = getattr(problem.conditions, "uncertainty", None)
     if u is None:
         return 1.0, True
-    from designer.physics.uncertainty import log_speed_quantile
 
     e2 = (max(u.damping, u.slip_coefficient) if groove else u.damping) ** 2 / 4
     rest = math.sqrt(e2 + u.inertia**2 / 4)  # the quantile grows with the normal part: its largest value bounds it
@@ -671,7 +673,6 @@ def solve_gp(problem: Problem, weights=None, threshold_cap: float | None = None,
     designer.errors.InfeasibleError
         No family of any variant has a feasible GP.
     """
-    from designer.errors import InfeasibleError
 
     t0 = time.perf_counter()
     w = tuple(float(v) for v in (problem.weights if weights is None else weights))
@@ -716,7 +717,6 @@ def gp_starts(problem: Problem, weights=None, threshold_cap: float | None = None
     feasible for the exact model); the default runs the SGP to convergence.
     Returns an empty list if no family is feasible.
     """
-    from designer.errors import InfeasibleError
 
     try:
         result = solve_gp(problem, weights, threshold_cap, max_iterations=max_iterations)
@@ -742,7 +742,6 @@ def polish(problem: Problem, gp_result: GPResult, weights=None, threshold_cap: f
     (design, J) : the better of the NLP optimum from the GP start and the GP
         design itself (always feasible), and its exact J [N].
     """
-    from designer.solvers.nlp import BIG, CasterNLP
 
     w = tuple(float(v) for v in (problem.weights if weights is None else weights))
     variant = gp_result.problem if gp_result.problem is not None else problem

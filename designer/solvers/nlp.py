@@ -24,6 +24,7 @@ from designer import parameters
 from designer.errors import check_interrupt
 from designer.model import VARIABLES, Design, performance
 from designer.problem import Problem
+import warnings
 
 BIG = 1e9
 FEAS_TOL = 1e-7
@@ -390,6 +391,7 @@ class CasterNLP:
 
 def sample_designs(problem: Problem, n: int = 1024, seed: int = 0) -> np.ndarray:
     """A scrambled Sobol sample of the design box, shape (n, 4), SI units."""
+    # late import: loads scipy only when this runs
     from scipy.stats import qmc
 
     lo = problem.lower().as_array()
@@ -400,7 +402,6 @@ def sample_designs(problem: Problem, n: int = 1024, seed: int = 0) -> np.ndarray
 
 def evaluate_many(problem: Problem, x: np.ndarray) -> dict:
     """Vectorised :func:`designer.model.performance` over an (N, 4) array of designs."""
-    import warnings
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)

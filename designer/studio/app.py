@@ -23,6 +23,8 @@ from designer.model import Design
 import designer.studio.figures as figures
 import designer.studio.state as state
 import designer.studio.view as view
+from designer.problem import problem_from_dict
+from designer.commands._common import quantity_option
 
 INCH = 0.0254
 
@@ -302,7 +304,6 @@ def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's 
     def open_card(click, merged):
         if not click or not merged:
             return no_update
-        from designer.problem import problem_from_dict
 
         point = click["points"][0]
         custom = point.get("customdata")
@@ -320,8 +321,6 @@ def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's 
                   State("mine-trail", "value"), State("mine-diameter", "value"), State("mine-groove", "value"),
                   State("mine-damping", "value"), State("problem-data", "data"), prevent_initial_call=True)
     def check_mine(_n, _a, _b, _c, _d, trail, diameter, groove, damping, merged):
-        from designer.commands._common import quantity_option
-        from designer.problem import problem_from_dict
 
         try:
             design = Design(quantity_option(str(trail), "length", "--trail"),
@@ -341,7 +340,6 @@ def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's 
     def save(_s, _r, merged):
         if not merged:
             return "nothing valid to save yet", no_update
-        from designer.problem import problem_from_dict
 
         out_dir.mkdir(parents=True, exist_ok=True)
         problem = problem_from_dict(merged)

@@ -7,6 +7,12 @@ import threading
 from pathlib import Path
 
 from designer.errors import ServerError
+import socket
+from werkzeug.serving import WSGIRequestHandler
+import designer.studio.view as view
+import json
+import signal
+import webbrowser
 
 HOST = "127.0.0.1"
 """The studio listens on the local machine only unless --host says otherwise."""
@@ -14,7 +20,6 @@ HOST = "127.0.0.1"
 
 def check_port(host: str, port: int) -> None:
     """Raise ServerError (one line, exit 8) if ``host:port`` cannot be bound, e.g. another server has it."""
-    import socket
 
     with socket.socket(socket.AF_INET6 if ":" in host else socket.AF_INET, socket.SOCK_STREAM) as probe:
         probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as werkzeug does
@@ -33,18 +38,16 @@ def make_server(problem_path=None, port: int = 8050, host: str = HOST, out_dir="
     Returns (werkzeug server, url).  Raises ProblemError for a bad problem file (before binding) and
     ServerError (exit 8) when the port is taken or cannot be bound.
     """
-    from werkzeug.serving import WSGIRequestHandler
     from werkzeug.serving import make_server as _make_server  # Dash's web server, loaded with the studio
 
     import designer.studio.state as state
-    import designer.studio.view as view
+    # late import: loads dash, plotly (via designer.studio.app) only when this runs
     from designer.studio.app import create_app
 
     data, name = state.read_problem_data(problem_path)
     check_port(host, int(port))  # before the solver warms up: a taken port is said at once
     app = create_app(data, name, Path(out_dir))
     problem, merged = state.build_problem(data, state.control_values(data))
-    import json
 
     try:  # warm the solver and the cache: the first page then draws at once
         view.compute_fronts(problem, key=json.dumps(merged, sort_keys=True))
@@ -69,10 +72,8 @@ def serve(problem_path=None, port: int = 8050, host: str = HOST, open_browser: b
     server, url = make_server(problem_path, port, host, out_dir)
     print(f"designer studio: serving {url} (Ctrl-C to stop)", flush=True)
     if open_browser:
-        import webbrowser
 
         threading.Timer(0.5, webbrowser.open, args=(url,)).start()
-    import signal
 
     def _stop(_signum, _frame):  # `kill` stops it as cleanly as Ctrl-C
         raise KeyboardInterrupt

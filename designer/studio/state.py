@@ -24,6 +24,10 @@ from designer.data.paper import INCH
 from designer.errors import DesignerError, ProblemError
 from designer.physics.uncertainty import Uncertainty
 from designer.units import parse_quantity
+from designer.problem import SCHEMA
+from designer.problem import load_problem
+from designer.problem import DEFAULT_BOUNDS
+from designer.problem import problem_from_dict
 
 DEFAULT_PROBLEM = "indoor-manual.toml"
 """Problem the studio opens when none is given (the shipped default problem)."""
@@ -97,7 +101,6 @@ STOCK_CONTROLS = {
 
 def stock_controls() -> list[Control]:
     """Controls of the [stock] lists, if this version's problem schema has a [stock] section."""
-    from designer.problem import SCHEMA
 
     keys = SCHEMA.get("stock", {})
     out = []
@@ -126,7 +129,6 @@ def read_problem_data(path=None) -> tuple[dict, str]:
 
     Raises ProblemError (the loader's one line) for a missing or broken file.
     """
-    from designer.problem import load_problem
 
     if path is None:
         path = default_problem_path()
@@ -164,7 +166,6 @@ def get(data: dict, path: tuple[str, ...]):
 
 def control_values(data: dict) -> dict:
     """The value every control shows for problem-file ``data`` (defaults filled in as the loader would)."""
-    from designer.problem import DEFAULT_BOUNDS
 
     defaults = Uncertainty()
     out = {}
@@ -277,7 +278,6 @@ def build_problem(data: dict, values: dict):
     Raises ControlError whose ``key`` is the control the loader's message names (None if no
     single control is to blame), and whose text is the loader's one line.
     """
-    from designer.problem import problem_from_dict
 
     merged = apply(data, values)
     try:

@@ -21,6 +21,7 @@ import numpy as np
 
 from designer.errors import DesignerError
 from designer.model import Design, evaluate, performance
+from designer.physics import uncertainty as unc
 
 FIX_LIMIT = 10
 """Fixes listed for "my caster": the first ten of the ranking (designer.fix evaluates only those by Monte Carlo)."""
@@ -184,7 +185,6 @@ def design_numbers(problem, design: Design) -> dict:
     V_c,true (:func:`~designer.physics.uncertainty.shimmy_speed_quantile`), the speed reached without shimmy
     with probability 1 − α.  Both are None when the problem has no risk.
     """
-    from designer.physics import uncertainty as unc
 
     conditions = problem.conditions
     values = _quiet(evaluate, design, conditions, speed=problem.target_speed)
