@@ -243,6 +243,7 @@ def candidate_table(problem, stock=None) -> ScreenedTable:
 # --------------------------------------------------------------------------- the rule (vectorised)
 
 
+# long: one vectorised pass over rows (screen, buildable front, knee rule, alternatives)
 def select_rows(f: np.ndarray, p: np.ndarray, ok: np.ndarray, weights=(1.0, 1.0), cap_p=None, cap_f=None) -> dict:
     """The buildable front of each row and the rule's choice, vectorised over rows (chairs).
 

@@ -40,6 +40,13 @@ from designer.model import Conditions, Design, check_design, performance
 from designer.physics.geometry import effective_trail, swept_radius
 from designer.physics.inertia import InertiaModel
 from designer.physics.uncertainty import MC_TARGET_SE, Uncertainty, shimmy_probability_mc, shimmy_speed_quantile
+from designer.units import parse_quantity
+from designer.physics.shimmy import critical_shimmy_speed
+from designer.physics.uncertainty import sample_log_factors
+import warnings
+from designer.physics.inertia import Catalog
+from designer.problem import INERTIA_RANGE
+from designer.problem import load_problem
 
 PARTS = ("washer", "tyre", "fork hole", "wheel")
 """The four parts a retrofit can change, in the order they are listed (cheapest first)."""
@@ -288,7 +295,6 @@ def parse_current(text: str, option: str = "--current") -> Design:
     Keys: T (trail), d (diameter), B (groove), c (damping, N·m/rad); values
     with units, plain numbers in SI.  InputError names the piece that fails.
     """
-    from designer.units import parse_quantity
 
     if not isinstance(text, str) or not text.strip():
         raise InputError(f"{option} {text!r}: expected T=..,d=..,B=..,c=.. (e.g. \"T=1.5in,d=7.75in,B=0.5625in,c=1.3\")")
@@ -332,7 +338,6 @@ def _check_inputs(problem, current: Design, inertia, shimmied_at, stem_angle, on
         raise InputError(f"current damping = {current.damping:g} N·m/rad: below the bare ball-bearing fork's "
                          f"{c0:g} N·m/rad (Eq. 11C), the least spindle damping a caster has")
     if inertia is not None:
-        from designer.problem import INERTIA_RANGE
 
         if not (isinstance(inertia, (int, float)) and math.isfinite(inertia)
                 and INERTIA_RANGE[0] <= inertia <= INERTIA_RANGE[1]):
@@ -449,7 +454,6 @@ def part_options(problem, current: Design, current_inertia: float) -> tuple[dict
     groove_values = None
     if catalogue is not None:
         sources["diameter"] = "[stock] wheels (catalogue)"
-        import warnings
 
         for entry in catalogue:
             d = float(entry.diameter)
@@ -474,7 +478,6 @@ def part_options(problem, current: Design, current_inertia: float) -> tuple[dict
         sources["diameter"] = "none (the problem fixes the wheel: a fixed inertia or diameter)"
     else:
         diameters = listed("diameters", "diameter")
-        import warnings
 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # extrapolation of the inertia fit is stated in docs/retrofit.md
@@ -556,8 +559,6 @@ def _mc_many(trail, inertia, groove, damping, slip_coefficient, speed, u: Uncert
     estimate equals that function's without its top-up; a caster whose SE is still above 0.1 percentage
     point is topped up one by one by the caller.
     """
-    from designer.physics.shimmy import critical_shimmy_speed
-    from designer.physics.uncertainty import sample_log_factors
 
     m = len(trail)
     if m == 0:
@@ -619,7 +620,6 @@ def fix(problem, current, inertia: float | None = None, shimmied_at: float | Non
     swept-radius limit.  Equations: Eq. 7 (V_c), Eq. 4A (P), Eq. 9 (F_turn).
     """
     if isinstance(problem, str) or hasattr(problem, "__fspath__"):
-        from designer.problem import load_problem
 
         problem = load_problem(problem)
     if isinstance(current, str):
@@ -712,9 +712,7 @@ def _current_inertia(problem, current: Design) -> float:
     A catalogue or fixed-inertia problem describes particular wheels: the current wheel must be one of
     them (same diameter), else InputError asks for ``--inertia``.
     """
-    import warnings
 
-    from designer.physics.inertia import Catalog
 
     model = problem.conditions.inertia
     wheels = [Catalog.from_key(k).wheel for k in problem.wheels]

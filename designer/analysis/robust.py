@@ -21,6 +21,7 @@ def robust_comparison(problem, points: int = 21) -> dict:
     SE, own seed) of every risk-bounded point and of the nominal point at the same sill force, and the
     price of safety: the extra turning effort at equal threshold force (interpolated on the nominal front).
     """
+    # late import: loads casadi (via designer.analysis.pareto) only when this runs
     from designer.analysis.pareto import pareto_front
 
     u = problem.risk if problem.risk is not None else Uncertainty()

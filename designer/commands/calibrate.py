@@ -45,7 +45,9 @@ def _missing_kind() -> int:
 
 
 def run(args) -> int:
+    # late import: loads scipy (via designer.analysis.calibrate) only when this runs
     from designer.analysis.calibrate import calibrate_file
+    # late import: loads matplotlib (via designer.report.calibration) only when this runs
     from designer.report.calibration import plot_fit, write_calibration_report
 
     slip = 1250.0
@@ -93,6 +95,7 @@ def run(args) -> int:
 
 
 def run_examples(args) -> int:
+    # late import: loads scipy (via designer.analysis.calibrate) only when this runs
     from designer.analysis.calibrate import EXAMPLE_SEED, EXAMPLES_DIR, write_examples
 
     paths = write_examples(args.out or EXAMPLES_DIR, EXAMPLE_SEED if args.seed is None else args.seed)

@@ -4,6 +4,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from designer.problem import load_problem
+from designer.errors import InputError
+from designer.pipeline import robust_data
+from designer.commands._common import check_output_folder
 
 
 def register(sub) -> None:
@@ -18,15 +21,13 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from designer.errors import InputError
-    from designer.pipeline import robust_data
+    # late import: loads matplotlib (via designer.report.robust) only when this runs
     from designer.report.robust import write_robust_report
 
     if args.points < 2 or args.points > 501:
         raise InputError(f"--points {args.points}: must be between 2 and 501")
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / "robust" / problem.name
-    from designer.commands._common import check_output_folder
 
     check_output_folder(out)  # before the fronts, not after them
     data = robust_data(problem, args.points)

@@ -128,6 +128,7 @@ def draw_caster(ax_side, ax_top, trail: float, diameter: float, groove: float, s
     return ax_side, ax_top
 
 
+# long: the drawing, one SVG element after another
 def caster_svg(trail: float, diameter: float, groove: float, sill_height: float,
                swept_radius_max: float | None = None, scale: float | None = None, label: str | None = None) -> str:
     """The caster to scale as an SVG string: side view left, top view right.

@@ -110,6 +110,7 @@ def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
 # --------------------------------------------------------------------------- front
 
 
+# long: one figure, its layers drawn in order (fronts, marks, annotations)
 def figure_front(data) -> Figure:
     """Pareto front: turning effort F_turn [N] against threshold force P [N].
 
@@ -136,7 +137,7 @@ def figure_front(data) -> Figure:
             if sel:
                 ax.scatter(f[sel, 1], f[sel, 0], color=colour, marker=marker, s=28, zorder=3,
                            label=f"continuous front: {family}")
-        knee, best = front.knee(), front.weighted_best()
+        knee = front.knee()
         rec = getattr(data, "recommendation", None)
         curves, marks = [], []
         stocked = getattr(problem, "stock", None) is not None  # without [stock] the buildable front is this one

@@ -13,6 +13,12 @@ from pathlib import Path
 
 from designer.errors import InputError
 from designer.report.writer import _render, _replace, fmt
+from designer.plots.figures import save_figure
+from designer.plots.calibration import fit_figure
+import json
+from designer.jsonsafe import finite
+from designer.pipeline import versions
+from designer.plots.figures import png_bytes
 
 OWNED = frozenset({"index.html", "report.md", "calibration.json", "figures"})
 """What a calibration report owns in its folder (anything else there is kept on replace)."""
@@ -21,11 +27,9 @@ FIGURE = "figures/fit.png"
 
 def plot_fit(result, path) -> None:
     """Write the data, the fit and its residuals to an image file (PNG/SVG/PDF); a bad path is an InputError."""
-    from designer.plots.figures import save_figure
 
     if not str(path).lower().endswith((".png", ".svg", ".pdf")):
         raise InputError(f"--plot {path}: expected a .png, .svg or .pdf file name")
-    from designer.plots.calibration import fit_figure
 
     save_figure(fit_figure(result), path, dpi=100)
 
@@ -48,12 +52,7 @@ def sentences(result, data_file: str) -> list[str]:
 
 def write_calibration_report(result, out_dir, data_file: str = "") -> Path:
     """Write ``out_dir``/index.html (self-contained), report.md, calibration.json and figures/fit.png."""
-    import json
 
-    from designer.jsonsafe import finite
-    from designer.pipeline import versions
-    from designer.plots.calibration import fit_figure
-    from designer.plots.figures import png_bytes
 
     target = Path(out_dir)
     if target.exists() and not target.is_dir():

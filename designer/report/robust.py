@@ -18,6 +18,7 @@ import numpy as np
 from designer.jsonsafe import finite
 from designer.pipeline import RobustData
 from designer.report.writer import _render, _replace, fmt
+from designer.plots.figures import png_bytes
 
 OWNED = frozenset({"index.html", "robust.md", "robust.json", "figures", "robust_fronts.png"})
 """What a robust report owns in its folder (anything else there is kept on replace)."""
@@ -123,7 +124,6 @@ def write_robust_report(data: RobustData, out_dir) -> Path:
     Written into a temporary folder beside the target and renamed into place when complete; files in the
     target that the report does not own (:data:`OWNED`) are kept.
     """
-    from designer.plots.figures import png_bytes
 
     if not isinstance(data, RobustData):
         raise TypeError("write_robust_report renders a RobustData; build one with designer.pipeline.robust_data")
@@ -136,7 +136,6 @@ def write_robust_report(data: RobustData, out_dir) -> Path:
         (tmp / "figures").mkdir()
         png = png_bytes(figure(data))
         (tmp / FIGURE).write_bytes(png)
-        u = data.uncertainty
         context = {
             "title": page_title, "problem": data.problem, "run": data.run, "sentences": sentences(data),
             "rows": _rows(data), "figure": FIGURE,

@@ -21,14 +21,16 @@ from pathlib import Path
 
 import numpy as np
 
+from designer import parameters
 from designer.jsonsafe import finite
 from designer.data.paper import INCH
-from designer.errors import DesignerError, InputError
 from designer.pipeline import ReportData
 from designer.report.files import REPORT_MARKERS, REPORT_OWNED, _carry_over, _replace, check_target, is_report  # noqa: F401
 from designer.plots import figures as _figures
 from designer.plots.caster import caster_svg
 from designer.report.text import build_lines, caster_sentence, inches, summary_lines
+from designer.plots.figures import _is_bare
+from designer.analysis.checks import summary_line
 
 LBF = 4.4482216152605
 """One pound-force [N] (display only)."""
@@ -210,13 +212,9 @@ def _point_row(i, p, marks="") -> dict:
 
 
 def _parameter_info(name: str) -> str:
-    try:
-        from designer.solvers.nlp import PARAMETER_INFO
-    except ImportError:  # pragma: no cover
-        return ""
-    info = PARAMETER_INFO.get(name)
+    info = parameters.PARAMETERS.get(name)  # the one parameter table (designer/parameters.py)
     if info:
-        return info[2]
+        return info.description
     if "." in name:
         var, side = name.split(".", 1)
         return f"{'upper' if side == 'max' else 'lower'} bound of {var}"
@@ -225,7 +223,6 @@ def _parameter_info(name: str) -> str:
 
 def _tradeoff_rows(problem, rows) -> list[dict]:
     """Table rows of the groove/damper trade-off; consecutive diameters where the trail alone suffices are merged."""
-    from designer.plots.figures import _is_bare
 
     out = []
     for r in rows:
@@ -286,6 +283,7 @@ def _build_context(data: ReportData) -> dict:
     }
 
 
+# long: one entry per template section
 def build_context(data: ReportData) -> dict:
     """Every table of the report as display strings (SI and inches), shared by the HTML and Markdown templates."""
     problem, front = data.problem, data.front
@@ -346,7 +344,6 @@ def build_context(data: ReportData) -> dict:
     tradeoff = _tradeoff_rows(problem, data.tradeoff)
     figures = [{"name": n, "title": FIGURE_INFO[n][0], "caption": FIGURE_INFO[n][1], "file": f"figures/{n}.png"}
                for n in _figures.FIGURES]
-    from designer.analysis.checks import summary_line
 
     all_checks = data.paper_checks + data.front_checks
     return {
@@ -383,6 +380,7 @@ def build_context(data: ReportData) -> dict:
 
 
 def _render(template: str, context: dict, autoescape: bool) -> str:
+    # late import: loads jinja2 only when this runs
     import jinja2
 
     env = jinja2.Environment(loader=jinja2.PackageLoader("designer.report", "templates"),
