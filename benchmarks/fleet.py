@@ -56,7 +56,6 @@ def main(argv=None) -> int:
     parser.add_argument("--out", default=None)
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")
-    import designer
     from designer.analysis import fleet as fl
 
     out = Path(args.out) if args.out else ROOT / "benchmarks" / ("quick" if args.quick else "")
