@@ -324,6 +324,36 @@ class Problem:
                 )
         return out
 
+    def __repr__(self) -> str:
+        """One line: name, required speed, load, sill, risk bound (the full record: :meth:`to_dict`)."""
+        c, u = self.conditions, self.conditions.uncertainty
+        risk = f"risk α = {u.probability:.3g}" if u is not None else "nominal V_c"
+        return (f"Problem({self.name!r}: V_target {self.target_speed:.3g} m/s, required {self.required_speed:.3g} m/s, "
+                f"load {c.load:.4g} N, sill {c.threshold_height * 1000:.3g} mm, {c.surface}, {risk}; "
+                f"{'stock' if self.stock is not None else 'continuous'})")
+
+    def _repr_html_(self) -> str:
+        """The problem as a compact HTML table with units (notebooks); no solver runs."""
+        from designer.reprs import html_table
+
+        c, u = self.conditions, self.conditions.uncertainty
+        rows = [("target speed V_target", f"{self.target_speed:.4g}", "m/s"),
+                ("required speed (1 + margin) V_target", f"{self.required_speed:.4g}", "m/s"),
+                ("load", f"{c.load:.4g}", "N"),
+                ("sill height", f"{c.threshold_height * 1000:.4g}", "mm"),
+                ("surface / turning", f"{c.surface} / {c.turning_mode}", ""),
+                ("risk bound α", f"{u.probability:.3g}" if u is not None else "off (nominal Eq. 7)", "")]
+        for v in VARIABLES:
+            b, unit = self.bounds[v], VARIABLE_UNITS.get(v, "")
+            if unit == "m":
+                rows.append((f"{v} bounds", f"{b.low * 1000:.4g} – {b.high * 1000:.4g}", "mm"))
+            else:
+                rows.append((f"{v} bounds", f"{b.low:.4g} – {b.high:.4g}", unit))
+        if self.swept_radius_max is not None:
+            rows.append(("swept radius max", f"{self.swept_radius_max * 1000:.4g}", "mm"))
+        rows.append(("weights (w_turn, w_threshold)", f"{self.weights[0]:g}, {self.weights[1]:g}", ""))
+        return html_table(f"Problem {self.name!r}", rows, caption=self.title)
+
     def digest(self) -> str:
         """SHA-256 of the problem's canonical content (for report metadata)."""
         return hashlib.sha256(json.dumps(self.to_dict(), sort_keys=True, default=str).encode()).hexdigest()[:16]

@@ -14,7 +14,8 @@ import pytest
 PACKAGE = Path(__file__).resolve().parents[1] / "designer"
 
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
-    ("ground", ("designer.errors", "designer.units", "designer.jsonsafe", "designer.data", "designer.parameters")),
+    ("ground", ("designer.errors", "designer.units", "designer.jsonsafe", "designer.data", "designer.parameters",
+                "designer.reprs")),
     ("physics", ("designer.physics",)),
     ("model", ("designer.model",)),
     ("problem", ("designer.problem", "designer.loader")),

@@ -100,6 +100,33 @@ class Solution:
         ref = self.objectives["weighted"]
         return float(max(abs(v - ref) for v in values) / abs(ref))
 
+    def __repr__(self) -> str:
+        """Two lines: the design (inches) and the objectives and V_c (the full account: ``print(solution)``)."""
+        d, o = self.design, self.objectives
+        return (f"Solution({self.problem.name!r}, {self.status}): T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in, "
+                f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad\n"
+                f"  F_turn {o['turning_effort']:.4g} N, P {o['threshold_force']:.4g} N, J {o['weighted']:.4g} N, "
+                f"V_c {self.critical_speed:.4g} m/s (required {self.problem.required_speed:.4g})")
+
+    def _repr_html_(self) -> str:
+        """The optimum as a compact HTML table with units (notebooks; no solver or Monte Carlo runs)."""
+        from designer.reprs import html_table
+
+        d, o = self.design, self.objectives
+        rows = ([("wheel (Table 1)", self.wheel, "")] if self.wheel else []) + [
+            ("trail T", f"{d.trail / INCH:.3f} ({d.trail * 1000:.2f} mm)", "in"),
+            ("diameter d", f"{d.diameter / INCH:.3f} ({d.diameter * 1000:.2f} mm)", "in"),
+            ("groove B", f"{d.groove / INCH:.3f} ({d.groove * 1000:.2f} mm)", "in"),
+            ("damping c_f", f"{d.damping:.4g}", "N·m/rad"),
+            ("turning effort F_turn", f"{o['turning_effort']:.4g}", "N"),
+            ("threshold force P", f"{o['threshold_force']:.4g}", "N"),
+            (f"weighted J ({self.weights[0]:g}, {self.weights[1]:g})", f"{o['weighted']:.4g}", "N"),
+            ("critical speed V_c", f"{self.critical_speed:.4g}", "m/s"),
+            ("required speed", f"{self.problem.required_speed:.4g}", "m/s"),
+            ("active", ", ".join(self.active) or "none", ""),
+            ("solver agreement (relative J gap)", f"{self.agreement():.1e}", "")]
+        return html_table(f"Optimum of {self.problem.name!r} ({self.status})", rows, caption=self.problem.title)
+
     def _robust_lines(self) -> list[str]:
         u = self.problem.conditions.uncertainty
         if u is None:

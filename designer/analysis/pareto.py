@@ -83,6 +83,10 @@ class FrontPoint:
         return out
 
 
+_UNIT_SUFFIX = {"trail": "m", "diameter": "m", "groove": "m", "damping": "N_m_per_rad"}
+"""SI unit written into the DataFrame column name of each design variable (``trail_m``, ...)."""
+
+
 def family_of(problem: Problem, design: Design, tol: float = 1e-6) -> str:
     """Which mechanism stabilises the design: groove, added damper, both or neither."""
     grooved = design.groove > problem.bounds["groove"].low + tol * max(problem.bounds["groove"].high, 1e-3)
@@ -205,6 +209,103 @@ class Front:
             "igd_plus_other": igd_plus(theirs, mine),
             "dominated_fraction": float(np.mean(dominated)) if dominated else float("nan"),
         }
+
+    def __repr__(self) -> str:
+        """One line: problem, number of points, objective ranges and the knee (no solver runs)."""
+        name = getattr(self.problem, "name", "?")
+        if not self.points:
+            return f"Front({name!r}: empty, {len(self.failed)} failed)"
+        (f0, p0), (f1, p1) = self.ideal_nadir()
+        k = self.knee()
+        return (f"Front({name!r}: {len(self.points)} points, F_turn {f0:.3g}–{f1:.3g} N, P {p0:.3g}–{p1:.3g} N, "
+                f"knee F_turn {k.turning_effort:.3g} N / P {k.threshold_force:.3g} N, "
+                f"hypervolume {self.hypervolume():.3f})")
+
+    def _repr_html_(self) -> str:
+        """A compact HTML table with units and an inline SVG of the curve P(F_turn) (notebooks; < 50 ms)."""
+        from designer.data.paper import INCH
+        from designer.reprs import html_table, svg_curve
+
+        name = getattr(self.problem, "name", "?")
+        if not self.points:
+            return html_table(f"Front {name!r}", [("points", "0", ""), ("failed", f"{len(self.failed)}", "")])
+        f = self.objectives()
+        (f0, p0), (f1, p1) = self.ideal_nadir()
+        k = self.knee()
+        d = k.design
+        rows = [("points (failed)", f"{len(self.points)} ({len(self.failed)})", ""),
+                ("turning effort F_turn", f"{f0:.4g} – {f1:.4g}", "N"),
+                ("threshold force P", f"{p0:.4g} – {p1:.4g}", "N"),
+                ("knee F_turn / P", f"{k.turning_effort:.4g} / {k.threshold_force:.4g}", "N"),
+                ("knee T / d / B", f"{d.trail / INCH:.3f} / {d.diameter / INCH:.3f} / {d.groove / INCH:.3f}", "in"),
+                ("knee c_f", f"{d.damping:.4g}", "N·m/rad"),
+                ("knee V_c", f"{k.critical_speed:.4g}", "m/s"),
+                ("families", ", ".join(dict.fromkeys(p.family for p in self.points if p.family)) or "–", ""),
+                ("normalised hypervolume", f"{self.hypervolume():.4f}", "")]
+        svg = svg_curve(f[:, 0], f[:, 1], "turning effort F_turn [N]", "threshold force P [N]",
+                        marks=[(k.turning_effort, k.threshold_force, "knee")])
+        return html_table(f"Pareto front {name!r}", rows, extra=svg)
+
+    def to_pandas(self, failed: bool = False):
+        """The points as a pandas DataFrame, one row per point, SI units in the column names.
+
+        Columns: ``trail_m``, ``diameter_m``, ``groove_m``, ``damping_N_m_per_rad``, ``turning_effort_N``,
+        ``threshold_force_N``, ``critical_speed_m_s``, ``epsilon_N``, ``family``, ``status``, ``success``,
+        ``wheel``, ``margin_<constraint>`` (units in ``df.attrs["units"]``) and ``lambda_<constraint>``
+        (multipliers).  ``failed=True`` adds the failed points with ``failed`` true.  Inverse:
+        :meth:`from_pandas`.
+        """
+        try:
+            import pandas as pd  # optional dependency: only this method needs it
+        except ImportError:
+            raise ImportError("Front.to_pandas needs pandas: pip install 'caster-designer[notebook]'") from None
+        points = [(p, False) for p in self.points] + ([(p, True) for p in self.failed] if failed else [])
+        margins = list(dict.fromkeys(m for p, _ in points for m in p.margins))
+        lambdas = list(dict.fromkeys(m for p, _ in points for m in p.multipliers))
+        records = []
+        for p, bad in points:
+            r = {f"{v}_{_UNIT_SUFFIX[v]}": getattr(p.design, v) for v in VARIABLES}
+            r.update(turning_effort_N=p.turning_effort, threshold_force_N=p.threshold_force,
+                     critical_speed_m_s=p.critical_speed, epsilon_N=p.epsilon, family=p.family, status=p.status,
+                     success=bool(p.success), wheel=p.wheel)
+            r.update({f"margin_{m}": p.margins.get(m, math.nan) for m in margins})
+            r.update({f"lambda_{m}": p.multipliers.get(m, math.nan) for m in lambdas})
+            if failed:
+                r["failed"] = bad
+            records.append(r)
+        columns = [f"{v}_{_UNIT_SUFFIX[v]}" for v in VARIABLES] + [
+            "turning_effort_N", "threshold_force_N", "critical_speed_m_s", "epsilon_N", "family", "status", "success",
+            "wheel"] + [f"margin_{m}" for m in margins] + [f"lambda_{m}" for m in lambdas] + (["failed"] if failed else [])
+        df = pd.DataFrame.from_records(records, columns=columns)
+        df.attrs["problem"] = getattr(self.problem, "name", None)
+        df.attrs["units"] = {**{c: c.rsplit("_", 1)[1] for c in columns[:4]}, "turning_effort_N": "N",
+                             "threshold_force_N": "N", "critical_speed_m_s": "m/s", "epsilon_N": "N",
+                             **{f"margin_{m}": "SI of the constraint (m/s shimmy, m lengths, N forces)" for m in margins},
+                             **{f"lambda_{m}": "CasADi multiplier" for m in lambdas}}
+        return df
+
+    @classmethod
+    def from_pandas(cls, df, problem: Problem) -> "Front":
+        """Rebuild a front from :meth:`to_pandas` output (rows with ``failed`` true go to ``.failed``).
+
+        NaN margins and multipliers are left out of the points' dicts (``to_pandas`` writes NaN where a point
+        lacks one).  ``meta`` is ``{"source": "pandas"}``.
+        """
+        points, failed = [], []
+        margin_cols = [c for c in df.columns if c.startswith("margin_")]
+        lambda_cols = [c for c in df.columns if c.startswith("lambda_")]
+        for r in df.to_dict("records"):
+            wheel = r.get("wheel")
+            point = FrontPoint(
+                design=Design(*(float(r[f"{v}_{_UNIT_SUFFIX[v]}"]) for v in VARIABLES)),
+                turning_effort=float(r["turning_effort_N"]), threshold_force=float(r["threshold_force_N"]),
+                critical_speed=float(r["critical_speed_m_s"]), epsilon=float(r["epsilon_N"]),
+                margins={c[7:]: float(r[c]) for c in margin_cols if not math.isnan(float(r[c]))},
+                multipliers={c[7:]: float(r[c]) for c in lambda_cols if not math.isnan(float(r[c]))},
+                status=str(r["status"]), success=bool(r["success"]), family=str(r["family"]),
+                wheel=wheel if isinstance(wheel, str) else None)
+            (failed if bool(r.get("failed", False)) else points).append(point)
+        return cls(problem=problem, points=points, failed=failed, meta={"source": "pandas"})
 
     def rows(self) -> list[dict]:
         """One flat dict per valid point (SI units)."""

@@ -454,10 +454,40 @@ class Recommendation:
         return "\n".join(out)
 
     def __repr__(self) -> str:
+        """Two lines: the caster (inches) and its numbers; the rule and alternatives: ``print(rec)``."""
         d = self.design
-        return (f"Recommendation(T={d.trail / INCH:.3f} in, d={d.diameter / INCH:.3f} in, B={d.groove / INCH:.3f} in, "
-                f"c_f={d.damping:.3g} N·m/rad; F_turn={self.turning_effort:.3f} N, P={self.threshold_force:.2f} N, "
-                f"P(shimmy)={self.shimmy_probability:.2%}±{self.shimmy_probability_se:.2%}; {self.rule})")
+        return (f"Recommendation({self.role}): T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in, "
+                f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad\n"
+                f"  F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, V_c {self.critical_speed:.4g} m/s, "
+                f"P(shimmy) {self.shimmy_probability:.2%} ± {self.shimmy_probability_se:.2%}")
+
+    def _repr_html_(self) -> str:
+        """The caster as a compact HTML table with units beside its drawing to scale (notebooks; no solver runs)."""
+        from designer.reprs import html_table
+
+        d = self.design
+        rows = ([("wheel", self.wheel, "")] if self.wheel else []) + [
+            ("trail T", f"{d.trail / INCH:.3f} ({d.trail * 1000:.2f} mm)", "in"),
+            ("diameter d", f"{d.diameter / INCH:.3f} ({d.diameter * 1000:.2f} mm)", "in"),
+            ("groove B", f"{d.groove / INCH:.3f} ({d.groove * 1000:.2f} mm)", "in"),
+            ("damping c_f", f"{d.damping:.4g}", "N·m/rad"),
+            ("turning effort F_turn", f"{self.turning_effort:.4g}", "N"),
+            ("sill force P", f"{self.threshold_force:.4g}", "N"),
+            ("critical speed V_c (Eq. 7)", f"{self.critical_speed:.4g}", "m/s"),
+            ("confident speed V_q", f"{self.confident_speed:.4g}", "m/s"),
+            ("required speed", f"{self.required_speed:.4g}", "m/s"),
+            ("P(shimmy) (Monte Carlo)", f"{self.shimmy_probability:.2%} ± {self.shimmy_probability_se:.2%}", ""),
+            ("swept radius (limit)", f"{self.swept_radius * 1000:.1f}"
+             + (f" ({self.swept_radius_max * 1000:.1f})" if self.swept_radius_max is not None else ""), "mm")]
+        drawing = ""
+        if self.problem is not None:
+            from designer.plots.caster import caster_svg
+
+            drawing = caster_svg(d.trail, d.diameter, d.groove, self.problem.conditions.threshold_height,
+                                 self.swept_radius_max, label=f"{self.role} caster")
+        title = f"Build this caster for {self.problem.name!r}" if self.problem is not None else "Build this caster"
+        return html_table(f"{title} ({self.role})", rows, caption=self.rule + (f" Note: {self.note}" if self.note else ""),
+                          extra=drawing)
 
 
 @dataclass

@@ -1,0 +1,78 @@
+"""Small HTML pieces for the notebook reprs (``_repr_html_``): a table with units and an inline SVG curve.
+
+Ground layer: plain strings in, a string out; no solver, no matplotlib, no designer import.  Every text is
+escaped.  Used by :class:`~designer.problem.Problem`, :class:`~designer.analysis.pareto.Front`,
+:class:`~designer.analysis.optimise.Solution` and :class:`~designer.analysis.recommend.Recommendation`.
+"""
+from __future__ import annotations
+
+import math
+from html import escape
+
+STYLE = ("border-collapse:collapse;font-size:12px;font-family:sans-serif;margin:2px 0",
+         "text-align:left;padding:1px 8px 1px 0;font-weight:normal;color:#555",
+         "text-align:right;padding:1px 4px;font-variant-numeric:tabular-nums",
+         "text-align:left;padding:1px 0 1px 4px;color:#555")
+"""Inline styles (table, label cell, value cell, unit cell): the repr must render without a stylesheet."""
+
+
+def html_table(title: str, rows, caption: str = "", extra: str = "") -> str:
+    """A compact HTML table: a bold title, rows of (label, value, unit), an optional caption and extra HTML.
+
+    ``value`` is shown as given (format numbers before); ``extra`` (e.g. an SVG) is placed beside the table
+    unescaped, so pass only strings built by this package.
+    """
+    table, th, td, unit = STYLE
+    body = "".join(f'<tr><th style="{th}">{escape(str(label))}</th><td style="{td}">{escape(str(value))}</td>'
+                   f'<td style="{unit}">{escape(str(u))}</td></tr>' for label, value, u in rows)
+    cap = f'<div style="font-size:11px;color:#555">{escape(caption)}</div>' if caption else ""
+    inner = (f'<div><div style="font-weight:bold;font-family:sans-serif;font-size:13px">{escape(title)}</div>'
+             f'<table style="{table}">{body}</table>{cap}</div>')
+    if extra:
+        return f'<div style="display:flex;gap:16px;align-items:flex-start">{inner}<div>{extra}</div></div>'
+    return f"<div>{inner}</div>"
+
+
+def svg_curve(x, y, xlabel: str, ylabel: str, marks=(), width: int = 240, height: int = 170) -> str:
+    """A small line plot as an SVG string: the points (x, y) joined in order, axis labels with units.
+
+    ``marks``: (x, y, label) points drawn as dots (e.g. the knee).  Non-finite points are dropped.
+    """
+    pts = [(float(a), float(b)) for a, b in zip(x, y) if math.isfinite(a) and math.isfinite(b)]
+    left, right, top, bottom = 42, 8, 8, 32
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
+           f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="10">',
+           f"<title>{escape(ylabel)} against {escape(xlabel)}</title>",
+           f'<rect x="{left}" y="{top}" width="{width - left - right}" height="{height - top - bottom}" '
+           f'fill="none" stroke="#999"/>']
+    if pts:
+        xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+        x0, x1 = min(xs), max(xs)
+        y0, y1 = min(ys), max(ys)
+        x0, x1 = (x0 - 0.5, x1 + 0.5) if x1 == x0 else (x0, x1)
+        y0, y1 = (y0 - 0.5, y1 + 0.5) if y1 == y0 else (y0, y1)
+
+        def px(a):
+            return left + 4 + (a - x0) / (x1 - x0) * (width - left - right - 8)
+
+        def py(b):
+            return height - bottom - 4 - (b - y0) / (y1 - y0) * (height - top - bottom - 8)
+
+        line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
+        out.append(f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.5"/>')
+        for a, b in pts:
+            out.append(f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="1.6" fill="#1f77b4"/>')
+        for a, b, label in marks:
+            out.append(f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="3.5" fill="#d62728">'
+                       f"<title>{escape(label)}</title></circle>")
+        out += [f'<text x="{left}" y="{height - bottom + 12}">{x0:.3g}</text>',
+                f'<text x="{width - right}" y="{height - bottom + 12}" text-anchor="end">{x1:.3g}</text>',
+                f'<text x="{left - 3}" y="{height - bottom}" text-anchor="end">{y0:.3g}</text>',
+                f'<text x="{left - 3}" y="{top + 9}" text-anchor="end">{y1:.3g}</text>']
+    out += [f'<text x="{(left + width - right) / 2:.0f}" y="{height - 4}" text-anchor="middle">{escape(xlabel)}</text>',
+            f'<text transform="translate(11,{(top + height - bottom) / 2:.0f}) rotate(-90)" '
+            f'text-anchor="middle">{escape(ylabel)}</text>', "</svg>"]
+    return "".join(out)
+
+
+__all__ = ["html_table", "svg_curve"]
