@@ -25,7 +25,7 @@ def html_table(title: str, rows, caption: str = "", extra: str = "") -> str:
     table, th, td, unit = STYLE
     body = "".join(f'<tr><th style="{th}">{escape(str(label))}</th><td style="{td}">{escape(str(value))}</td>'
                    f'<td style="{unit}">{escape(str(u))}</td></tr>' for label, value, u in rows)
-    cap = f'<div style="font-size:11px;color:#555">{escape(caption)}</div>' if caption else ""
+    cap = f'<div style="font-size:11px;color:#555;font-family:sans-serif;max-width:420px">{escape(caption)}</div>' if caption else ""
     inner = (f'<div><div style="font-weight:bold;font-family:sans-serif;font-size:13px">{escape(title)}</div>'
              f'<table style="{table}">{body}</table>{cap}</div>')
     if extra:
