@@ -22,6 +22,7 @@ from typing import Any, Callable, NoReturn
 from designer.data.paper import INCH, TABLE1
 from designer import parameters
 from designer.errors import ProblemError
+from designer.reprs import html_table
 from designer.model import MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions, Design
 from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
 from designer.physics.shimmy import DynamicsParameters
@@ -334,8 +335,6 @@ class Problem:
 
     def _repr_html_(self) -> str:
         """The problem as a compact HTML table with units (notebooks); no solver runs."""
-        from designer.reprs import html_table
-
         c, u = self.conditions, self.conditions.uncertainty
         rows = [("target speed V_target", f"{self.target_speed:.4g}", "m/s"),
                 ("required speed (1 + margin) V_target", f"{self.required_speed:.4g}", "m/s"),

@@ -20,6 +20,7 @@ from designer.data.paper import INCH
 from designer.errors import InfeasibleError, SolverError
 from designer.model import VARIABLES, Design, evaluate
 from designer.problem import Problem
+from designer.reprs import html_table
 from designer.solvers.nlp import PARAMETER_INFO, CasterNLP, best_starts, max_critical_speed, solve_best
 import warnings
 from designer.errors import InputError
@@ -110,8 +111,6 @@ class Solution:
 
     def _repr_html_(self) -> str:
         """The optimum as a compact HTML table with units (notebooks; no solver or Monte Carlo runs)."""
-        from designer.reprs import html_table
-
         d, o = self.design, self.objectives
         rows = ([("wheel (Table 1)", self.wheel, "")] if self.wheel else []) + [
             ("trail T", f"{d.trail / INCH:.3f} ({d.trail * 1000:.2f} mm)", "in"),

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import math
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -24,6 +25,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from designer.analysis.indicators import hypervolume_2d, igd_plus, nondominated, normalise
+from designer.data.paper import INCH
+from designer.reprs import html_table, svg_curve
 from designer.model import FAMILIES, VARIABLES, Design, evaluate
 from designer.problem import POINTS_RANGE, Problem
 from designer.solvers import structured
@@ -223,9 +226,6 @@ class Front:
 
     def _repr_html_(self) -> str:
         """A compact HTML table with units and an inline SVG of the curve P(F_turn) (notebooks; < 50 ms)."""
-        from designer.data.paper import INCH
-        from designer.reprs import html_table, svg_curve
-
         name = getattr(self.problem, "name", "?")
         if not self.points:
             return html_table(f"Front {name!r}", [("points", "0", ""), ("failed", f"{len(self.failed)}", "")])

@@ -38,6 +38,8 @@ from designer.physics.shimmy import critical_shimmy_speed
 from designer.physics.threshold import threshold_force_ratio
 from designer.physics.turning import added_damper_moment, sliding_turning_moment
 from designer.physics.uncertainty import Uncertainty, shimmy_probability_mc, shimmy_speed_quantile
+from designer.plots.caster import caster_svg
+from designer.reprs import html_table
 from designer.physics.inertia import Catalog
 from designer.problem import Bound
 from pathlib import Path
@@ -463,8 +465,6 @@ class Recommendation:
 
     def _repr_html_(self) -> str:
         """The caster as a compact HTML table with units beside its drawing to scale (notebooks; no solver runs)."""
-        from designer.reprs import html_table
-
         d = self.design
         rows = ([("wheel", self.wheel, "")] if self.wheel else []) + [
             ("trail T", f"{d.trail / INCH:.3f} ({d.trail * 1000:.2f} mm)", "in"),
@@ -481,8 +481,6 @@ class Recommendation:
              + (f" ({self.swept_radius_max * 1000:.1f})" if self.swept_radius_max is not None else ""), "mm")]
         drawing = ""
         if self.problem is not None:
-            from designer.plots.caster import caster_svg
-
             drawing = caster_svg(d.trail, d.diameter, d.groove, self.problem.conditions.threshold_height,
                                  self.swept_radius_max, label=f"{self.role} caster")
         title = f"Build this caster for {self.problem.name!r}" if self.problem is not None else "Build this caster"
