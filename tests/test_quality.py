@@ -18,7 +18,6 @@ MAX_FUNCTION_LINES = 80
 OVERSIZED = {
     "analysis/exploration.py": "storage, operators and runner in one file; split into analysis/exploration/ pending",
     "analysis/fleet.py": "reader, stock table, vectorised rule and K-median in one file; split pending",
-    "analysis/limit_cycles.py": "integrator, shooting and the studies in one file; split pending",
     "analysis/recommend.py": "stock enumeration, screening, the rule and the Recommendation record; split pending",
     "analysis/retrofit.py": "diagnosis, part options, ranking and the FixResult record; split pending",
     "analysis/pareto.py": "two sweep strategies (closed-form vertex path, NLP sweep) in one file; split pending",

@@ -1,0 +1,125 @@
+"""Knock onset and knock-safe speed: bisection in speed on simulated knocks (issue 16)."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from designer.analysis.limit_cycles.dynamics import CasterDynamics, caster_dynamics, simulate_knock
+from designer.errors import InputError, SolverError
+from designer.model import Conditions, Design
+from designer.physics.tyre import TyreParameters
+
+@dataclass
+class OnsetBracket:
+    """Knock onset by bisection: the knock decays at ``low`` and is sustained at ``high`` [m/s]."""
+
+    low: float
+    high: float
+    evaluations: int
+
+    @property
+    def speed(self) -> float:
+        """Geometric mean of the bracket [m/s]."""
+        return math.sqrt(self.low * self.high)
+
+
+def knock_onset_speed(sys: CasterDynamics, angle: float, angular_velocity: float = 0.0, rtol: float = 0.005,
+                      cycles: float = 30.0, guess: float | None = None) -> OnsetBracket:
+    """Lowest speed at which a knock θ_i is sustained (bisection in log V) [m/s].
+
+    The bracket starts at ``guess`` (default Eq. 7's V_c with c_f,eff = M_f/θ_i) × [0.8, 1.25], widened × 1.5
+    until it holds a decaying and a sustained speed; bisection stops when high/low − 1 < ``rtol``.
+    """
+    if guess is None:   # Eq. 7 with c_f,eff = M_f/θ_i
+        c_eff = sys.friction_moment / angle
+        guess = math.sqrt(4 * c_eff * sys.trail**2 / (math.pi * sys.inertia)
+                          + sys.groove_coefficient * sys.trail / sys.inertia)
+    n = 0
+    cache = {}
+
+    def sustained(v):
+        nonlocal n
+        if v not in cache:
+            n += 1
+            cache[v] = simulate_knock(sys.at(v), angle, angular_velocity, cycles).shimmy
+        return cache[v]
+
+    low, high = 0.8 * guess, 1.25 * guess
+    for _ in range(12):
+        if sustained(low):
+            high, low = low, low / 1.5
+        elif not sustained(high):
+            low, high = high, high * 1.5
+        else:
+            break
+    else:
+        raise SolverError(f"knock onset not bracketed between {low:.3g} and {high:.3g} m/s")
+    while high / low - 1 > rtol:
+        mid = math.sqrt(low * high)
+        if sustained(mid):
+            high = mid
+        else:
+            low = mid
+    return OnsetBracket(low, high, n)
+
+
+def knock_safe_speed(design: Design, conditions: Conditions = Conditions(), angle: float | None = None,
+                     tyre: TyreParameters | None = None, rtol: float = 0.005) -> float:
+    """Highest speed at which a knock of θ_i decays instead of growing into shimmy [m/s].
+
+    The low end of the knock-onset bracket (:func:`knock_onset_speed`, relative width ``rtol``): the knock
+    was simulated and seen to decay there.  Cost: about 8–10 time simulations (≈ 0.5–1 s of CPU with the
+    rolling tyre, a few seconds with the brush tyre), so reports compute it for a few designs only.
+
+    Parameters
+    ----------
+    design : T [m], d [m], B [m], c_f [N·m/rad]
+    conditions : K_s, θ0 (M_f = c_f θ0), inertia model, dynamics (K, N)
+    angle : knock θ_i [rad]; default the design θ0 of the conditions (20°); the report also gives 2 θ0
+    tyre : None for the paper's rolling tyre (Eq. 6B; the default, as for Eq. 7), else the brush tyre
+    rtol : relative width of the bracket [-]
+
+    Returns 0.0 when the knock is sustained at every speed down to 1 % of Eq. 7's V_c (no safe speed).
+    """
+    theta = float(conditions.disturbance_angle if angle is None else angle)
+    if not math.isfinite(theta) or not 0 < theta < math.pi / 2:
+        raise InputError(f"angle = {angle!r}: knock angle must be between 0 and 90 deg (in rad)")
+    sys = caster_dynamics(design, conditions, 1.0, tyre)
+    try:
+        return float(knock_onset_speed(sys, theta, rtol=rtol).low)
+    except SolverError:
+        # not bracketed: a knock that is sustained even at a crawl has no safe speed
+        crawl = 0.01 * math.sqrt(4 * sys.friction_moment / theta * sys.trail**2 / (math.pi * sys.inertia)
+                                 + sys.groove_coefficient * sys.trail / sys.inertia)
+        if simulate_knock(sys.at(crawl), theta).shimmy:
+            return 0.0
+        raise
+
+
+def scanned_onset_speed(sys: CasterDynamics, angle: float, speeds, rtol: float = 0.01) -> dict:
+    """Lowest speed at which a knock θ_i [rad] is sustained, from a scan over ``speeds`` [m/s] then bisection.
+
+    Unlike :func:`knock_onset_speed` it does not assume one transition: the brush tyre on a stiff frame has
+    islands of shimmy in speed.  Islands narrower than the scan spacing can be missed.
+
+    Returns {"speed" [m/s] (NaN if sustained nowhere in the scan), "monotone" (sustained at every scanned
+    speed above the first), "below_scan" (sustained already at the lowest scanned speed), "evaluations"}.
+    """
+    speeds = [float(v) for v in speeds]
+    outcomes = [simulate_knock(sys.at(v), angle).shimmy for v in speeds]
+    n = len(speeds)
+    if not any(outcomes):
+        return {"speed": math.nan, "monotone": True, "below_scan": False, "evaluations": n}
+    k = outcomes.index(True)
+    monotone = all(outcomes[k:])
+    if k == 0:
+        return {"speed": speeds[0], "monotone": monotone, "below_scan": True, "evaluations": n}
+    low, high = speeds[k - 1], speeds[k]
+    while high / low - 1 > rtol:
+        mid = math.sqrt(low * high)
+        n += 1
+        if simulate_knock(sys.at(mid), angle).shimmy:
+            high = mid
+        else:
+            low = mid
+    return {"speed": math.sqrt(low * high), "monotone": monotone, "below_scan": False, "evaluations": n}
