@@ -40,6 +40,8 @@ _LAZY = {
     "Recommendation": "designer.analysis.recommend",
 }
 _LAZY["fix"] = "designer.analysis.retrofit"  # issue 18: retrofit
+_LAZY["example_problem"] = "designer.examples"  # issue 17: shipped example problems (package data)
+_LAZY["example_names"] = "designer.examples"
 
 
 def __getattr__(name: str):
