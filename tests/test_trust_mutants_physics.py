@@ -1,0 +1,299 @@
+"""Issue 12.5, mutation testing, second round: tests for the mutants of ``designer/physics/`` that survived
+(benchmarks/mutation.md).  Each asserts a number from the paper or a hand calculation written out in the
+docstring, a property of the model, or an error message the user reads."""
+from __future__ import annotations
+
+import math
+import warnings
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from designer.data.paper import BARE_FORK_DAMPING, DISTURBANCE_ANGLE, INCH, TABLE1
+from designer.errors import InputError
+from designer.physics import enable_casadi
+from designer.physics import _checks, inertia, shimmy, threshold, turning
+
+enable_casadi()  # NumPy mode: np.sqrt of a CasADi symbol is a CasADi expression
+
+
+# --------------------------------------------------------------------------- threshold (Appendix A)
+
+
+def test_threshold_force_is_load_times_eq4a():
+    """Eq. 4A, P = L · 2√(d/h − 1)/(d/h − 2): an 8 in wheel on a ½ in sill (d/h = 16) with L = 178 N needs
+    178 × 2√15/14 = 98.48 N (hand calculation)."""
+    assert threshold.threshold_force(8 * INCH, 0.5 * INCH, 178.0) == pytest.approx(178 * 2 * math.sqrt(15) / 14,
+                                                                                  rel=1e-12)
+    assert threshold.threshold_force(8 * INCH, 0.5 * INCH, 178.0) == pytest.approx(98.484, abs=1e-3)
+
+
+@pytest.mark.parametrize("which", ["diameter", "height"])
+def test_threshold_ratio_accepts_one_symbolic_argument(which):
+    """The solvers pass a CasADi diameter with a numeric sill height (and the reverse must work too): the
+    numeric guard is skipped when either argument is a symbol, and the expression evaluates to Eq. 4A."""
+    x = ca.SX.sym("x")
+    d, h = (x, 0.5 * INCH) if which == "diameter" else (8 * INCH, x)
+    expr = threshold.threshold_force_ratio(d, h)
+    value = float(ca.Function("f", [x], [expr])(8 * INCH if which == "diameter" else 0.5 * INCH))
+    assert value == pytest.approx(2 * math.sqrt(15) / 14, rel=1e-12)
+
+
+def test_threshold_series_coefficients_by_hand():
+    """√(1 − s)/(1 − 2s) = 1 + 1.5 s + 2.875 s² + 5.6875 s³ + … (hand: √(1−s) = 1 − s/2 − s²/8 − s³/16,
+    times Σ (2s)^k): the first four coefficients exactly, for every truncation order."""
+    assert threshold.threshold_series_coefficients(3).tolist() == [1.0, 1.5, 2.875, 5.6875]
+    for order in range(0, 7):
+        c = threshold.threshold_series_coefficients(order)
+        assert len(c) == order + 1
+        assert c[: min(4, order + 1)].tolist() == [1.0, 1.5, 2.875, 5.6875][: order + 1]
+
+
+@pytest.mark.parametrize("s, order", [(0.1, 2), (0.05, 4), (0.25, 1), (0.3, 6)])
+def test_threshold_series_remainder_bound(s, order):
+    """The bound 2√s (2s)^(n+1)/(1 − 2s): at s = 0.1, n = 2 it is 2 × 0.31623 × 0.008 / 0.8 = 6.3246e-3 (hand);
+    it is never below the true truncation error of the series and at most (1 − 2s)^-1 × 2^(n+1) times it."""
+    bound = threshold.threshold_series_remainder_bound(s, order)
+    assert bound == pytest.approx(2 * math.sqrt(s) * (2 * s) ** (order + 1) / (1 - 2 * s), rel=1e-12)
+    if (s, order) == (0.1, 2):
+        assert bound == pytest.approx(6.3246e-3, rel=1e-4)
+    c = threshold.threshold_series_coefficients(order)
+    series = 2 * math.sqrt(s) * sum(ck * s**k for k, ck in enumerate(c))
+    exact = float(threshold.threshold_force_ratio(1.0, s))
+    error = exact - series
+    assert 0 < error <= bound
+    assert bound <= error * 2 ** (order + 1) / (1 - 2 * s)
+
+
+# --------------------------------------------------------------------------- shimmy (Eq. 7, Appendix B)
+
+
+def test_log_sensitivities_use_the_slip_coefficient():
+    """Elasticities of Eq. 7 with K_s = 2500 N (twice the paper's): a = 4 c_f T²/(π I_w), b = K_s B² T/(2 I_w),
+    e_c = a/(2(a+b)), e_K = b/(2(a+b)), e_I = −½; they match a finite-difference d log V_c / d log p."""
+    t, i, b, c, ks = 2 * INCH, 1.27e-3, 0.0143, 1.3, 2500.0
+    a_ = 4 * c * t**2 / (math.pi * i)
+    b_ = ks * b**2 * t / (2 * i)
+    e = shimmy.critical_speed_log_sensitivities(t, i, b, c, ks)
+    assert e["damping"] == pytest.approx(a_ / (2 * (a_ + b_)), rel=1e-12)
+    assert e["slip_coefficient"] == pytest.approx(b_ / (2 * (a_ + b_)), rel=1e-12)
+    assert e["inertia"] == -0.5
+    h = 1e-6
+
+    def dlog(**kw):
+        args = dict(trail=t, inertia=i, groove=b, damping=c, slip_coefficient=ks)
+        (name, factor), = kw.items()
+        args[name] *= factor
+        return math.log(shimmy.critical_shimmy_speed(**args))
+
+    base = dlog(damping=1.0)
+    assert (dlog(damping=1 + h) - base) / h == pytest.approx(e["damping"], rel=1e-4)
+    assert (dlog(slip_coefficient=1 + h) - base) / h == pytest.approx(e["slip_coefficient"], rel=1e-4)
+
+
+def _sorted(roots):
+    return sorted(np.asarray(roots), key=lambda z: (round(z.real, 6), round(z.imag, 6)))
+
+
+@pytest.mark.parametrize("position", range(4))
+def test_characteristic_roots_broadcast_one_array_coefficient(position):
+    """Any one of the four coefficients may be an array (a speed sweep changes a2 and a0, a trail sweep a3, a1):
+    the roots have shape (n, 3) and each row equals np.roots of that row's cubic."""
+    base = [1.0, 3.0, 4.0, 2.0]  # (s + 1)(s² + 2 s + 2): roots −1, −1 ± i
+    coeffs: list = list(base)
+    coeffs[position] = np.array([base[position], 2 * base[position]])
+    roots = shimmy.characteristic_roots(coeffs)
+    assert roots.shape == (2, 3)
+    for k in range(2):
+        row = [c[k] if np.ndim(c) else c for c in coeffs]
+        assert _sorted(roots[k]) == pytest.approx(_sorted(np.roots(row)), abs=1e-9)
+    single = shimmy.characteristic_roots(base)
+    assert single.shape == (3,)
+    assert _sorted(single) == pytest.approx(_sorted([-1 - 1j, -1, -1 + 1j]), abs=1e-9)
+
+
+def test_growth_rate_is_the_oscillatory_modes_real_part():
+    """μ of Eq. 16B is the real part of the complex pair, not of the real root: (s − 2)(s² + 2s + 2) has a real
+    root at +2 and the pair −1 ± i, so μ = −1; (s + 1)(s² − s + ½) has the pair ½ ± ½i (small imaginary part),
+    so μ = +½.  Scalars give a Python float, a batch an array with one μ per cubic."""
+    mu = shimmy.growth_rate((1.0, 0.0, -2.0, -4.0))  # (s − 2)(s² + 2 s + 2) = s³ − 2 s − 4
+    assert type(mu) is float and mu == pytest.approx(-1.0, abs=1e-12)
+    assert shimmy.growth_rate((1.0, 0.0, -0.5, 0.5)) == pytest.approx(0.5, abs=1e-12)
+    batch = shimmy.growth_rate((np.array([1.0, 1.0]), np.array([0.0, 0.0]), np.array([-2.0, -0.5]),
+                                np.array([-4.0, 0.5])))
+    assert isinstance(batch, np.ndarray) and batch == pytest.approx([-1.0, 0.5], abs=1e-12)
+
+
+def test_routh_hurwitz_default_kind_and_slip_coefficient():
+    """routh_hurwitz_critical_speed defaults to friction damping (Eq. 7) and uses the slip coefficient it is
+    given: with K_s = 2500 N it equals Eq. 7 with K_s = 2500 N (3.46 m/s for Eq. 8's caster, hand: V² =
+    4·1.3·0.0508²/(π·0.00127) + 2500·0.0143²·0.0508/(2·0.00127)), not Eq. 7 with the paper's 1250 N."""
+    t, i, b, c = 2 * INCH, 1.27e-3, 0.0143, 1.3
+    rh = shimmy.routh_hurwitz_critical_speed(t, i, b, c, slip_coefficient=2500.0)
+    by_hand = math.sqrt(4 * c * t**2 / (math.pi * i) + 2500 * b**2 * t / (2 * i))
+    assert rh == pytest.approx(by_hand, rel=1e-9)
+    assert shimmy.critical_shimmy_speed(t, i, b, c, 2500.0) == pytest.approx(by_hand, rel=1e-12)
+    assert shimmy.routh_hurwitz_critical_speed(t, i, b, c) == pytest.approx(shimmy.critical_shimmy_speed(t, i, b, c),
+                                                                            rel=1e-9)
+    with pytest.raises(ValueError, match=r"damping_kind = 'viscous': expected 'friction' or 'hydraulic'"):
+        shimmy.routh_hurwitz_critical_speed(t, i, b, c, "viscous")
+
+
+# --------------------------------------------------------------------------- argument guards
+
+
+def test_require_positive_messages():
+    """The one-line errors name the key and show the value: a scalar as itself, an array by its minimum."""
+    with pytest.raises(InputError, match=r"^load = -2\.5: must be positive$"):
+        _checks.require_positive("load", -2.5)
+    with pytest.raises(InputError, match=r"^load = 0: must be positive$"):
+        _checks.require_positive("load", 0)
+    with pytest.raises(InputError, match=r"^groove = array with min -3: must be non-negative$"):
+        _checks.require_positive("groove", np.array([1.0, -3.0, 0.0]), allow_zero=True)
+    with pytest.raises(InputError, match=r"^trail = nan: must be finite$"):
+        _checks.require_positive("trail", float("nan"))
+    _checks.require_positive("groove", np.array([0.0, 1.0]), allow_zero=True)  # zero allowed: no error
+
+
+# --------------------------------------------------------------------------- turning effort (Figs. 7-12)
+
+
+def test_turning_defaults_are_tile_and_chair():
+    """Default surface tile and mode chair: M_turn = 0.5 × 0.005 m × 178 N = 0.445 N·m (hand)."""
+    assert turning.sliding_turning_moment(178.0, 0.0) == pytest.approx(0.445, rel=1e-12)
+    assert turning.sliding_turning_moment(178.0, 0.0, "carpet", "pivot") == pytest.approx(1.78, rel=1e-12)
+
+
+def test_turning_effort_adds_the_damper_moment():
+    """F_turn = (M_turn + (c_f − c_0) θ0)/T: c_f = 3 N·m/rad, T = 2 in, L = 178 N, tile, chair gives
+    (0.445 + 1.7 × 0.34907)/0.0508 = 20.441 N (hand), and the damper's share grows with c_f."""
+    f = turning.turning_effort(2 * INCH, 0.0, 3.0, 178.0)
+    assert DISTURBANCE_ANGLE == pytest.approx(math.radians(20))
+    assert f == pytest.approx((0.445 + (3.0 - BARE_FORK_DAMPING) * DISTURBANCE_ANGLE) / (2 * INCH), rel=1e-12)
+    assert f == pytest.approx(20.441, abs=1e-3)
+
+
+def test_turning_effort_uses_the_constants_given():
+    """Calibrated constants (k_tile = 0.01 m, c_0 = 0.5) reach both terms: (0.5·0.01·100 + (2 − 0.5)·θ0)/T."""
+    k = turning.TurningConstants(tile_moment_per_load=0.01, bare_fork_damping=0.5)
+    f = turning.turning_effort(0.05, 0.0, 2.0, 100.0, constants=k)
+    assert f == pytest.approx((0.5 * 0.01 * 100 + 1.5 * DISTURBANCE_ANGLE) / 0.05, rel=1e-12)
+
+
+def test_turning_mode_error_and_hash():
+    """An unknown mode is a one-line error listing the modes; equal constants hash equal and different mode
+    factors hash apart (the constants are a cache key)."""
+    with pytest.raises(InputError, match=r"^turning_mode = 'sideways': expected one of chair, pivot$"):
+        turning.TurningConstants().mode_factor("sideways")
+    a, b = turning.TurningConstants(), turning.TurningConstants()
+    other = turning.TurningConstants(mode_factors={"chair": 0.6, "pivot": 1.0})
+    assert hash(a) == hash(b) and hash(a) != hash(other)
+
+
+# --------------------------------------------------------------------------- wheel inertia
+
+
+def test_power_law_inertia_partial_constants():
+    """I_w = C d^n with only one of C, n given: the other comes from the Table 1 fit (n ≈ 3.50)."""
+    c, n = inertia.fit_table1_power_law()
+    d = 0.15
+    assert inertia.power_law_inertia(d) == pytest.approx(c * d**n, rel=1e-12)
+    assert inertia.power_law_inertia(d, coefficient=2.0) == pytest.approx(2.0 * d**n, rel=1e-12)
+    assert inertia.power_law_inertia(d, exponent=3.0) == pytest.approx(c * d**3, rel=1e-12)
+    assert inertia.power_law_inertia(d, 2.0, 3.0) == pytest.approx(2.0 * d**3, rel=1e-12)
+    assert inertia.PowerLaw(coefficient=2.0).constants() == (2.0, n)
+    assert inertia.PowerLaw(exponent=3.0).constants() == (c, 3.0)
+    assert inertia.PowerLaw(2.0, 3.0)(d) == pytest.approx(2.0 * d**3, rel=1e-12)
+
+
+def test_power_law_warning_band_and_location():
+    """The extrapolation warning allows 0.1 % around Table 1's 4–8 in (no warning at 4 in − 0.05 %, 8 in + 0.05 %;
+    a warning at −0.2 % / +0.2 %), names the diameters in inches, and points at the caller's line."""
+    law = inertia.PowerLaw()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        law(np.array([4 * INCH * (1 - 5e-4), 8 * INCH * (1 + 5e-4)]))
+    for d in (4 * INCH * 0.998, 8 * INCH * 1.002):
+        with pytest.warns(UserWarning, match="outside Table 1's 4–8 in"):
+            law(d)
+    with pytest.warns(UserWarning) as record:
+        law(np.array([3 * INCH, 9 * INCH]))
+    assert "d = 3.00–9.00 in" in str(record[0].message)
+    assert record[0].filename == __file__
+
+
+def test_disc_model_by_hand_and_errors():
+    """Uniform disc, w = 30 mm, ρ = 1000 kg/m³, d = 0.2 m: m = 1000·π·0.04·0.03/4 = 0.94248 kg,
+    I_w = m (0.04/16 + 0.0009/12) = 2.4269e-3 kg·m² (hand); bad width or density is a one-line error."""
+    assert inertia.Disc(0.03, 1000.0)(0.2) == pytest.approx(0.94248 * 0.002575, rel=1e-5)
+    assert inertia.Disc().describe().endswith("w = 25.0 mm, ρ = 1200 kg/m³")
+    with pytest.raises(InputError, match=r"^inertia\.tyre_width = -1: must be positive$"):
+        inertia.Disc(tyre_width=-1)
+    with pytest.raises(InputError, match=r"^inertia\.density = 0: must be positive$"):
+        inertia.Disc(density=0)
+    with pytest.raises(InputError, match=r"^inertia\.inertia = 0: must be positive$"):
+        inertia.Fixed(0)
+
+
+def test_catalog_wheel_inertia_and_description():
+    """A Table 1 wheel gives its measured I_w whatever diameter is passed (wheel C: 1.07e-3 kg·m², 7 in,
+    0.444 kg); an unknown letter is a one-line error listing the letters."""
+    c = inertia.Catalog.from_key("c")
+    assert c(0.5) == TABLE1[2].inertia == pytest.approx(1.07e-3)
+    assert np.all(c(np.array([0.1, 0.2])) == TABLE1[2].inertia)
+    assert c.describe() == "Table 1 wheel C (E & J (Mod.)): d = 7 in, m = 0.444 kg, I_w = 0.00107 kg·m²"
+    with pytest.raises(InputError, match=r"^unknown Table 1 wheel 'Z': valid wheels are A, B, C, D, E, F, G$"):
+        inertia.Catalog.from_key("Z")
+
+
+# --------------------------------------------------------------------------- scatter and the risk bound
+
+
+def _by_hand_std(t, i, b, c, ks, u):
+    """σ of log V_c,true to first order, written out: a, b of Eq. 7, elasticities, root-sum-square."""
+    a_ = 4 * c * t**2 / (math.pi * i)
+    b_ = ks * b**2 * t / (2 * i)
+    e_c, e_k = a_ / (2 * (a_ + b_)), b_ / (2 * (a_ + b_))
+    rest = math.sqrt((e_c * u.damping) ** 2 + (e_k * u.slip_coefficient) ** 2 + (0.5 * u.inertia) ** 2)
+    return math.sqrt(a_ + b_), rest, math.sqrt(u.model_error**2 + rest**2)
+
+
+CASE = (2 * INCH, 1.27e-3, 0.0143, 3.0, 2000.0)  # Eq. 8's caster with a damper (c_f = 3) and K_s = 2000 N
+
+
+def test_log_speed_std_by_hand():
+    """σ = √(σ_m² + σ_r²), σ_r² = (e_c σ_c)² + (e_K σ_K)² + (σ_I/2)² with Eq. 7's elasticities, for a caster with
+    c_f = 3 N·m/rad and K_s = 2000 N (both enter the elasticities)."""
+    from designer.physics import uncertainty as un
+
+    u = un.Uncertainty()
+    v, rest, std = _by_hand_std(*CASE, u)
+    assert un.rest_log_std(*CASE, u) == pytest.approx(rest, rel=1e-12)
+    assert un.log_speed_std(*CASE, u) == pytest.approx(std, rel=1e-12)
+    assert std == pytest.approx(0.12781, abs=1e-5)
+
+
+def test_quantile_speed_and_probability_normal_case_by_hand():
+    """With a normal model error (ν = 0) the bound is closed-form: V_q = V_c exp(−z_{0.95} σ), z = 1.6449, and
+    P(shimmy at V) = Φ((log V − log V_c)/σ); both with K_s = 2000 N and c_f = 3 N·m/rad."""
+    from designer.physics import uncertainty as un
+
+    u = un.Uncertainty(model_error_dof=0)
+    v, _, std = _by_hand_std(*CASE, u)
+    assert un.shimmy_speed_quantile(*CASE, u) == pytest.approx(v * math.exp(-1.6448536269514722 * std), rel=1e-12)
+    p = 0.5 * (1 + math.erf((math.log(3.0) - math.log(v)) / std / math.sqrt(2)))
+    assert un.shimmy_probability_first_order(*CASE, 3.0, u) == pytest.approx(p, rel=1e-12)
+
+
+def test_monte_carlo_top_up_draws_what_the_target_needs():
+    """The top-up draws up to n = ⌈p(1−p)/SE²⌉ + 2 % from the first sample's p, no more: 1000 draws give p₁,
+    then exactly n draws in all when the final p keeps the standard error within the target (n from the SE)."""
+    from designer.physics import uncertainty as un
+
+    u = un.Uncertainty()
+    p1, _ = un.shimmy_probability_mc(*CASE, 3.0, u, samples=1000, target_se=None)
+    need = math.ceil(max(p1 * (1 - p1), 1e-3) / 0.005**2)
+    p, se = un.shimmy_probability_mc(*CASE, 3.0, u, samples=1000, target_se=0.005)
+    assert se <= 0.005
+    assert round(p * (1 - p) / se**2) == need + need // 50
