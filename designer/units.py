@@ -163,6 +163,31 @@ def _mass_for_force_hint(quantity, text: str, key: str) -> str:
     return "; that is a mass: write a force, e.g. '40 lbf', '18 kgf' or '178 N'"
 
 
+_GLUED = re.compile(r"^([-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?)\s*([A-Za-z].*)$")
+"""A number glued to its unit, e.g. ``2in``: a space is put between the two before pint sees it."""
+
+
+def parse_quantity_text(value: str | None, dimension: str, key: str, default: float | None = None) -> float | None:
+    """Parse a typed quantity ("2in", "2 in", "50.8 mm", a plain SI number) into an SI float.
+
+    The command-line options and the studio's text boxes read quantities with this; ``default`` is
+    returned for ``None`` (an option not given).  Errors as :func:`parse_quantity`, naming ``key``.
+    """
+    if value is None:
+        return default
+    text = value.strip()
+    try:
+        number = float(text)
+    except ValueError:
+        number = None
+    if number is not None:
+        return parse_quantity(number, dimension, key)
+    match = _GLUED.match(text)  # allow "2in" without a space
+    if match:
+        text = f"{match.group(1)} {match.group(2)}"
+    return parse_quantity(text, dimension, key)
+
+
 def given_unit(value) -> str | None:
     """The unit written in ``value`` ("5in" -> "in", "50.8 mm" -> "mm"); None for a plain number (SI)."""
     if not isinstance(value, str):

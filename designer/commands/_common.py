@@ -6,7 +6,7 @@ import sys
 
 from designer.jsonsafe import finite
 from designer.errors import InputError
-from designer.units import parse_quantity
+from designer.units import parse_quantity_text
 import os
 import tempfile
 from pathlib import Path
@@ -14,23 +14,8 @@ from designer.errors import OutputError
 
 
 def quantity_option(value: str | None, dimension: str, option: str, default=None):
-    """Parse a command-line quantity ("2in", "2 in", "50.8 mm", plain SI number)."""
-    if value is None:
-        return default
-    text = value.strip()
-    try:
-        number = float(text)
-    except ValueError:
-        number = None
-    if number is not None:
-        return parse_quantity(number, dimension, option)
-    # allow "2in" without a space
-    import re
-
-    match = re.match(r"^([-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?)\s*([A-Za-z].*)$", text)
-    if match:
-        text = f"{match.group(1)} {match.group(2)}"
-    return parse_quantity(text, dimension, option)
+    """Parse a command-line quantity ("2in", "2 in", "50.8 mm", plain SI number): :func:`designer.units.parse_quantity_text`."""
+    return parse_quantity_text(value, dimension, option, default)
 
 
 def choice_option(value: str, allowed: tuple[str, ...], option: str) -> str:

@@ -9,6 +9,7 @@ Modules
 -------
 writer      format the tables of a :class:`designer.pipeline.ReportData`, render, write safely
 text        the sentences of the report, each generated from the data it states
+build       compute_and_write: the pipeline's data, rendered, and a summary (``designer pareto``, the studio)
 robust      the price-of-safety report (``designer robust``) from a :class:`designer.pipeline.RobustData`
 (the data are computed by :mod:`designer.pipeline`; figures are drawn by :mod:`designer.plots`)
 """

@@ -24,7 +24,7 @@ import designer.studio.figures as figures
 import designer.studio.state as state
 import designer.studio.view as view
 from designer.problem import problem_from_dict
-from designer.commands._common import quantity_option
+from designer.units import parse_quantity_text as quantity_option
 
 INCH = 0.0254
 
@@ -349,7 +349,7 @@ def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's 
             path.write_text(text, encoding="utf-8")
             return html.Span([f"saved {path.resolve()} (run it: designer run {path})"], id="saved-path"), \
                 {"content": text, "filename": path.name}
-        from designer.commands.pareto import compute_and_write  # the same report as `designer pareto`
+        from designer.report.build import compute_and_write  # the same report as `designer pareto`; loads matplotlib
 
         try:
             summary = view._quiet(compute_and_write, problem, out=out_dir / problem.name)

@@ -1,0 +1,99 @@
+"""Compute and write a Pareto report in one call: what ``designer pareto`` and the studio's "Write report" run.
+
+:func:`compute_and_write` is the one place where the report layer calls the pipeline: it computes the
+report's data once (:func:`designer.pipeline.report_data`), hands them to :func:`designer.report.write_report`,
+which only renders, and returns a JSON-ready summary.  It lives here, below the entry layer, so that the
+CLI and the studio share it without one entry point importing another.
+"""
+from __future__ import annotations
+
+import time
+import warnings
+from pathlib import Path
+
+from designer.pipeline import report_data
+from designer.report.writer import write_report
+
+
+def compute_and_write(problem, points=None, out=None, progress=None, force=False, cross_check=False) -> dict:
+    """Front, optimum, tighter front, checks and report of ``problem``; returns a summary dict.
+
+    Parameters
+    ----------
+    problem : designer.problem.Problem
+    points : number of front points (default the problem's)
+    out : report folder (default ``results/<problem.name>``)
+    force : replace ``out`` even if it is not a report of this tool
+    cross_check : also run the GP/SLSQP cross-check of the weighted optimum
+    progress : optional rich Progress to show the sweeps on
+
+    Returns
+    -------
+    dict with the report folder, index.html path, counts, optimum and check results
+    """
+    t0 = time.perf_counter()
+
+    def tracker(label):
+        if progress is None:
+            return None
+        task = progress.add_task(label, total=None)
+
+        def update(done, total):
+            progress.update(task, completed=done, total=total)
+
+        return update
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        summary = _compute(problem, points, out, tracker, force, cross_check)
+    seen = set()
+    for w in caught:
+        text = str(w.message)
+        if "inertia power law used at" in text or "inertia fit" in text and "extrapolated" in text or text in seen:
+            continue
+        seen.add(text)
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    # once for the problem, and only if a design the report shows (front point, optimum) is extrapolated
+    for message in problem.model_warnings(summary.pop("reported_diameters")):
+        warnings.warn(message + " (the report says so in its model section)", UserWarning, stacklevel=2)
+    summary["seconds"] = time.perf_counter() - t0
+    return summary
+
+
+def _compute(problem, points, out, tracker, force=False, cross_check=False) -> dict:
+    t0 = time.perf_counter()
+    data = report_data(problem, points, cross_check=cross_check, progress=tracker,
+                       run_meta={"command": "designer pareto", "points_option": points, "wall_seconds": None})
+    folder = write_report(data, out, force=force)
+    wall = time.perf_counter() - t0
+    checks = data.checks
+    failing = [c.name for c in checks if not c.passed]
+    failing_front = [c.name for c in checks if not c.passed and c.name.startswith("8")]
+    rec = data.recommendation
+    return {
+        "problem": problem.name,
+        "report": str(folder),
+        "index_html": str(Path(folder) / "index.html"),
+        "points": len(data.front.points),
+        "failed_points": len(data.front.failed),
+        "recommendation": _rec_dict(rec) if rec is not None else None,
+        "optimum": data.solution.to_dict() if data.solution is not None else None,
+        "checks_passed": len(checks) - len(failing),
+        "checks_total": len(checks),
+        "failing_checks": failing,
+        "failing_front_checks": failing_front,
+        "seconds": wall,
+        "reported_diameters": [p.design.diameter for p in data.front.points]
+        + ([data.solution.design.diameter] if data.solution is not None else []),
+    }
+
+
+def _rec_dict(rec) -> dict:
+    """The recommendation as the JSON shape of issue 11 (SI)."""
+    to_dict = getattr(rec, "to_dict", None)
+    if callable(to_dict):
+        return to_dict()
+    return {"design": rec.design.as_dict(), "turning_effort": rec.turning_effort,
+            "threshold_force": rec.threshold_force, "critical_speed": rec.critical_speed,
+            "shimmy_probability": rec.shimmy_probability, "shimmy_probability_se": rec.shimmy_probability_se,
+            "rule": rec.rule}
