@@ -18,7 +18,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
                 "designer.reprs")),
     ("physics", ("designer.physics",)),
     ("model", ("designer.model",)),
-    ("problem", ("designer.problem", "designer.loader", "designer.examples")),
+    ("problem", ("designer.problem", "designer.examples")),
     ("plots", ("designer.plots",)),
     ("solvers", ("designer.solvers",)),
     ("analysis", ("designer.analysis",)),
