@@ -366,13 +366,14 @@ def model_throughput(problem, n: int, repeats: int = 5) -> dict:
 
 
 def nlp_costs(problem, repeats: int = 20) -> dict:
-    from designer.analysis.pareto import _ends, _sample
+    from designer.analysis.sweeps import box_sample, lexicographic_ends
     from designer.solvers.nlp import CasterNLP
 
     t0 = time.perf_counter()
     nlp = CasterNLP(problem)
     build = time.perf_counter() - t0
-    end_a, end_b = _ends(nlp, problem, _sample(problem))
+    ends = lexicographic_ends(nlp, problem, box_sample(problem))
+    end_a, end_b = ends.a, ends.b
     batch_build = nlp.build_seconds - build
     p_a, p_b = nlp.objectives(end_a.design)[1], nlp.objectives(end_b.design)[1]
     eps = 0.5 * (p_a + p_b)

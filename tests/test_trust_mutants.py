@@ -123,13 +123,14 @@ def test_front_checks_texts_and_single_point(tmp_path):
 def test_structured_ends_match_nlp_ends(toml):
     """The closed-form lexicographic ends equal IPOPT's: end A has the least F_turn (to 1e-7) and, among
     designs with it, the least P; end B the least P (to 1e-7), then the least F_turn."""
-    from designer.analysis.pareto import _ends
+    from designer.analysis.sweeps import lexicographic_ends
 
     problem = (load_problem(ROOT / "problems" / "indoor-manual.toml").nominal() if toml == "indoor"
                else problem_from_toml(HEAVY))
     xa, xb = structured.structured_ends(problem)
     nlp = CasterNLP(problem)
-    ra, rb = _ends(nlp, problem)
+    ends = lexicographic_ends(nlp, problem)
+    ra, rb = ends.a, ends.b
     (fa, pa, _, _), (fb, pb, _, _) = nlp.objectives_many([xa, xb])
     (na_f, na_p, _, _), (nb_f, nb_p, _, _) = nlp.objectives_many([ra.design, rb.design])
     assert fa == pytest.approx(na_f, rel=1e-7) and pa == pytest.approx(na_p, rel=1e-6)

@@ -14,6 +14,7 @@ Constraints (CasADi convention lbg <= g <= ubg):
 """
 from __future__ import annotations
 
+import copy
 import time
 from dataclasses import dataclass, field
 
@@ -137,6 +138,20 @@ class CasterNLP:
         self.build_seconds = time.perf_counter() - t0
 
     # ----------------------------------------------------------------- parameters
+    def for_problem(self, problem: Problem) -> "CasterNLP":
+        """This NLP for ``problem``, which may differ from the one it was built for only in parameter values.
+
+        A new object sharing the compiled solvers (and the lazily built batch solvers) with this one, with
+        ``problem`` and its own parameter vector (:func:`designer.parameters.solver_values`); this NLP is
+        not changed.  The caller guarantees that the structure (bounds, margin, swept-radius limit, models)
+        is the same; ``build_seconds`` of the new object starts at 0.
+        """
+        view = copy.copy(self)
+        view.problem = problem
+        view.param_values = np.array(list(parameters.solver_values(problem).values()), dtype=float)
+        view.build_seconds = 0.0
+        return view
+
     @staticmethod
     def _symbolic_conditions(problem: Problem):
         """Replace every fixed constant of the conditions by a CasADi symbol (:mod:`designer.parameters`)."""

@@ -146,7 +146,7 @@ def structured_ends(problem, rel: float = 1e-9, rounds: int = 9):
     End A: d_lo's optimum F*, then the largest d whose optimum keeps F_turn <= F*(1 + rel) (bisection:
     F*(d) is non-decreasing).  End B: the largest feasible diameter (bisection: feasibility shrinks
     with d) gives the least P; the end is the ε-optimum at ε = P_min (1 + rel).  ``rel`` is the
-    tolerance of the NLP's second lexicographic stage (:func:`designer.analysis.pareto._ends`).
+    tolerance of the NLP's second lexicographic stage (:func:`designer.analysis.sweeps.lexicographic_ends`).
     """
     if not applicable(problem):
         raise ValueError("the closed-form ends need a continuous, non-robust problem with a positive moment")
