@@ -4,6 +4,7 @@ docstring, a property of the model, or an error message the user reads."""
 from __future__ import annotations
 
 import math
+import re
 import warnings
 
 import casadi as ca
@@ -297,3 +298,71 @@ def test_monte_carlo_top_up_draws_what_the_target_needs():
     p, se = un.shimmy_probability_mc(*CASE, 3.0, u, samples=1000, target_se=0.005)
     assert se <= 0.005
     assert round(p * (1 - p) / se**2) == need + need // 50
+
+
+# --------------------------------------------------------------------------- brush tyre (issue 16)
+
+
+def _fiala(s, c=1250.0, mu=0.7, load=178.0):
+    """The brush force as Pacejka writes it (module docstring), independently of the code's (1 − (1 − r)³) form."""
+    if abs(s) >= 3 * mu * load / c:
+        return -mu * load * math.copysign(1.0, s)
+    return -c * s + c**2 * s * abs(s) / (3 * mu * load) - c**3 * s**3 / (27 * mu**2 * load**2)
+
+
+def test_tyre_defaults_friction_limit_and_sliding_slip():
+    """Defaults C = K_s = 1250 N/rad, μ = 0.7, L = 178 N, M_W = 0.444 kg: μL = 124.6 N and σ_sl = 3μL/C = 0.29904
+    (hand); rolling_limit drops the saturation and multiplies C (by 1000 unless told)."""
+    from designer.physics.tyre import TyreParameters
+
+    t = TyreParameters()
+    assert (t.cornering_stiffness, t.friction_coefficient, t.load, t.wheel_mass, t.saturation) == \
+        (1250.0, 0.7, 178.0, 0.444, True)
+    assert t.friction_limit == pytest.approx(124.6, rel=1e-12)
+    assert t.sliding_slip == pytest.approx(0.29904, rel=1e-12)
+    r = t.rolling_limit()
+    assert (r.saturation, r.cornering_stiffness, r.load) == (False, 1.25e6, 178.0)
+    assert t.rolling_limit(30.0).cornering_stiffness == 37500.0
+    assert t.replace(load=100.0).friction_limit == pytest.approx(70.0, rel=1e-12)
+
+
+@pytest.mark.parametrize("s", [0.0, 1e-4, 0.05, -0.05, 0.1495, -0.2, 0.29, 0.29904, 0.5, -3.0])
+def test_tyre_force_is_the_fiala_brush_force(s):
+    """Scalar and array paths give Pacejka's cubic −Cσ + C²σ|σ|/(3μL) − C³σ³/(27μ²L²) below σ_sl and −μL sgn σ
+    beyond; at σ = σ_sl/2 that is −(7/8) μL (hand: 1 − (1 − ½)³ = 7/8)."""
+    from designer.physics.tyre import TyreParameters, lateral_tyre_force
+
+    t = TyreParameters()
+    expected = _fiala(s)
+    assert lateral_tyre_force(s, t) == pytest.approx(expected, rel=1e-9, abs=1e-12)
+    assert lateral_tyre_force(np.array([s, -s]), t) == pytest.approx([expected, -expected], rel=1e-9, abs=1e-12)
+    half = t.sliding_slip / 2
+    assert lateral_tyre_force(half, t) == pytest.approx(-7 / 8 * 124.6, rel=1e-12)
+    assert lateral_tyre_force(-half, t) == pytest.approx(7 / 8 * 124.6, rel=1e-12)
+
+
+def test_tyre_force_other_parameters_and_linear():
+    """With C = 2000 N/rad, μ = 0.5, L = 300 N (σ_sl = 0.225) the force follows the same formula; without
+    saturation it is −Cσ at any slip, array or scalar."""
+    from designer.physics.tyre import TyreParameters, lateral_tyre_force
+
+    t = TyreParameters(cornering_stiffness=2000.0, friction_coefficient=0.5, load=300.0)
+    for s in (0.01, 0.1, -0.2, 0.3):
+        assert lateral_tyre_force(s, t) == pytest.approx(_fiala(s, 2000.0, 0.5, 300.0), rel=1e-9)
+    lin = t.replace(saturation=False)
+    assert lateral_tyre_force(0.3, lin) == pytest.approx(-600.0)
+    assert lateral_tyre_force(np.array([0.3, -1.0]), lin) == pytest.approx([-600.0, 2000.0])
+
+
+@pytest.mark.parametrize("name, value", [("cornering_stiffness", 0.0), ("friction_coefficient", -0.1),
+                                         ("load", float("inf")), ("wheel_mass", float("nan")), ("load", True),
+                                         ("wheel_mass", "1")])
+def test_tyre_parameter_errors(name, value):
+    """Each tyre parameter must be a positive finite number (not a bool, not a string); the one-line error names
+    the parameter and shows the value."""
+    from designer.physics.tyre import TyreParameters
+
+    with pytest.raises(InputError, match=rf"^tyre {name} = {re.escape(repr(value))}: must be a positive finite "
+                                         r"number$"):
+        TyreParameters(**{name: value})
+    assert getattr(TyreParameters(**{name: 2}), name) == 2  # an int is fine
