@@ -79,7 +79,10 @@ def knock_safe_speed(design: Design, conditions: Conditions = Conditions(), angl
     tyre : None for the paper's rolling tyre (Eq. 6B; the default, as for Eq. 7), else the brush tyre
     rtol : relative width of the bracket [-]
 
-    Returns 0.0 when the knock is sustained at every speed down to 1 % of Eq. 7's V_c (no safe speed).
+    Returns
+    -------
+    float
+        The speed [m/s]; 0.0 when the knock is sustained at every speed down to 1 % of Eq. 7's V_c (no safe speed).
     """
     theta = float(conditions.disturbance_angle if angle is None else angle)
     if not math.isfinite(theta) or not 0 < theta < math.pi / 2:
