@@ -341,3 +341,28 @@ def test_carpet_and_inertia_fit_tolerances():
     assert not ck.check_inertia_fit(fit(3.52)).passed
     assert not ck.check_inertia_fit(fit(3.5, 1.006)).passed
     assert ck.check_inertia_fit(fit(3.5, 1.004)).got == "n 3.5000, 1.8805e-03"
+
+
+def test_dominated_by_problem_compares_each_catalog_wheel_with_its_own_variant(indoor):
+    """8c's exact test on a catalog problem (wheels C, 7 in, and D, 8 in): a tighter point is compared only with
+    the looser problem's optimum for the same wheel (min F_turn at P <= P(q), from IPOPT).  A point 0.1 % dearer
+    than its wheel's optimum is dominated; one 0.1 % cheaper is not; wheel C's 7 in cannot meet D's P, and D's
+    optimum is dearer than C's, so comparing a point with the other wheel would change both answers."""
+    from designer.analysis.pareto import FrontPoint
+    from designer.solvers.nlp import CasterNLP
+
+    catalog = indoor.replace(wheels=("C", "D"))
+    opt = {}
+    for variant in catalog.variants():
+        nlp = CasterNLP(variant)
+        r = nlp.solve(variant.upper(), (1.0, 0.0), 1e9)
+        f, p, v, _ = nlp.objectives(r.design)
+        opt[variant.conditions.inertia.wheel.key] = (r.design, f, p, v)
+    assert opt["C"][2] > opt["D"][2] and opt["C"][1] < opt["D"][1]  # C: larger P, smaller F_turn
+
+    def q(key, factor):
+        design, f, p, v = opt[key]
+        return FrontPoint(design, f * factor, p, v, {"shimmy": 0.0}, p, "Solve_Succeeded", True, wheel=key)
+
+    tighter = _front(catalog, [q("C", 1.001), q("D", 1.001), q("D", 0.999)])
+    assert ck.dominated_by_problem(catalog, tighter) == (1, 3)
