@@ -38,7 +38,7 @@ from designer.physics.geometry import swept_radius
 from designer.physics.inertia import Fixed
 from designer.physics.shimmy import critical_shimmy_speed
 from designer.physics.uncertainty import Uncertainty, shimmy_probability_mc, shimmy_speed_quantile
-from designer.plots.caster import caster_svg
+from designer.plots.caster import caster_svg, plot_caster
 from designer.reprs import html_table
 from designer.problem import Bound
 from pathlib import Path
@@ -278,6 +278,21 @@ class Recommendation:
                 f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad\n"
                 f"  F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, V_c {self.critical_speed:.4g} m/s, "
                 f"P(shimmy) {self.shimmy_probability:.2%} ± {self.shimmy_probability_se:.2%}")
+
+    def draw(self, ax=None, sill_height: float | None = None):
+        """The recommended caster to scale: side view (wheel, fork, trail, sill) and top view (swept circle).
+
+        Returns ``(ax_side, ax_top)`` (matplotlib Axes; ``ax``: None for a new figure, one Axes for the side
+        view only, or a pair).  ``sill_height`` [m] defaults to the problem's threshold height h.  Same
+        geometry as the report's SVG drawing (:mod:`designer.plots.caster`).
+        """
+        d = self.design
+        h = sill_height if sill_height is not None else (
+            self.problem.conditions.threshold_height if self.problem is not None else 0.5 * INCH)
+        name = f" for {self.problem.name!r}" if self.problem is not None else ""
+        return plot_caster(d.trail, d.diameter, d.groove, h, self.swept_radius_max,
+                           title=f"{self.role} caster{name}: T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in",
+                           ax=ax)
 
     def _repr_html_(self) -> str:
         """The caster as a compact HTML table with units beside its drawing to scale (notebooks; no solver runs)."""

@@ -69,6 +69,7 @@ from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
 from designer.physics.inertia import Fixed
 from designer.physics.shimmy import critical_shimmy_speed, shimmy_frequency, steady_shimmy_amplitude
+from designer.plots.simulation import plot_knock
 
 __all__ = [
     "SimulationResult",
@@ -128,6 +129,16 @@ class SimulationResult:
     critical_speed: float
     switches: int
     extrema: np.ndarray = field(repr=False, default_factory=lambda: np.empty((0, 2)))
+
+    def plot(self, ax=None, onset_speed: float | None = None):
+        """θ(t) in degrees against time [s], with ± the Eq. 29B amplitude; returns the matplotlib Axes.
+
+        ``ax``: your Axes or None for a new figure; ``onset_speed`` [m/s] (e.g. from :func:`onset_speed`) is
+        added to the title.  Drawn by :func:`designer.plots.simulation.plot_knock` (as ``designer simulate
+        --plot``).
+        """
+        return plot_knock(self.t, self.theta, self.speed, self.grows, self.critical_speed, self.predicted_amplitude,
+                          onset_speed=onset_speed, ax=ax)
 
     def as_dict(self, with_trace: bool = False) -> dict:
         """Scalars (and optionally the trace) as plain Python types."""

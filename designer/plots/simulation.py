@@ -9,15 +9,46 @@ import math
 import numpy as np
 
 
-def _axes(ax, figsize=(7, 4.5)):
+def _axes(ax, figsize=(7, 4.5), **layout):
     if ax is None:
-        import matplotlib  # heavy, only for figures
-
-        matplotlib.use("Agg")
-        # late import: loads matplotlib only when this runs
+        # late import: loads matplotlib only when a figure is drawn (pyplot, so a notebook shows it; no
+        # backend is forced: matplotlib picks Agg by itself where there is no display)
         import matplotlib.pyplot as plt
 
-        _, ax = plt.subplots(figsize=figsize)
+        _, ax = plt.subplots(figsize=figsize, **layout)
+    return ax
+
+
+def plot_knock(t, theta, speed: float, grows: bool, critical_speed: float, predicted_amplitude: float,
+               onset_speed: float | None = None, ax=None):
+    """θ(t) after a knock: the caster angle [deg] against time [s]; returns the Axes.
+
+    Dashed red lines: ± the Eq. 29B amplitude θ_i V/(ωT); the title gives the speed V [m/s], whether the
+    shimmy grows, Eq. 7's V_c [m/s] and, when given, the simulated onset speed [m/s].  Used by
+    :meth:`SimulationResult.plot <designer.analysis.simulate.SimulationResult.plot>` and
+    ``designer simulate --plot``.
+
+    Parameters
+    ----------
+    t : times [s]; theta : caster angle θ [rad]
+    speed : V [m/s]; grows : the oscillation grows (shimmy)
+    critical_speed : Eq. 7 V_c [m/s]; predicted_amplitude : Eq. 29B amplitude [rad]
+    onset_speed : simulated onset speed [m/s] or None
+    ax : matplotlib Axes, or None for a new figure
+    """
+    ax = _axes(ax, (8, 3.5), layout="constrained")
+    ax.plot(t, np.degrees(theta), lw=1)
+    amp = math.degrees(predicted_amplitude)
+    ax.axhline(amp, color="tab:red", ls="--", lw=0.8, label=f"Eq. 29B amplitude ±{amp:.1f}°")
+    ax.axhline(-amp, color="tab:red", ls="--", lw=0.8)
+    ax.axhline(0, color="k", lw=0.5)
+    title = f"V = {speed:.2f} m/s: {'grows' if grows else 'decays'}; Eq. 7 V_c = {critical_speed:.2f} m/s"
+    if onset_speed is not None:
+        title += f", simulated onset {onset_speed:.2f} m/s"
+    ax.set_title(title, fontsize=10)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("caster angle θ [deg]")
+    ax.legend(fontsize=8)
     return ax
 
 
