@@ -152,10 +152,10 @@ def problem_from_dict(data: dict, source: str | None = None, default_name: str =
         fork_mass=quantity("dynamics", "fork_mass", "mass", ddef.fork_mass),
         bearing_block_mass=quantity("dynamics", "bearing_block_mass", "mass", ddef.bearing_block_mass),
     )
-    for key, value in (("frame_stiffness", dynamics.frame_stiffness), ("fork_mass", dynamics.fork_mass),
-                       ("bearing_block_mass", dynamics.bearing_block_mass)):
-        if value is not None and value <= 0:
-            fail(f"dynamics.{key} = {value:g}: must be positive")
+    for key, stated in (("frame_stiffness", dynamics.frame_stiffness), ("fork_mass", dynamics.fork_mass),
+                        ("bearing_block_mass", dynamics.bearing_block_mass)):
+        if stated is not None and stated <= 0:
+            fail(f"dynamics.{key} = {stated:g}: must be positive")
 
     inertia, wheels = _inertia(section("inertia"), quantity, fail)
 
