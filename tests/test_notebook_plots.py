@@ -132,3 +132,19 @@ def test_report_figures_draw_with_the_same_functions(front, monkeypatch):
     front.plot()
     front.plot_variables()
     assert called == ["plot_front", "plot_variables", "plot_front", "plot_variables"]
+
+
+def test_simulation_model_draws_nothing():
+    """analysis/simulate.py (the time-domain model) imports no matplotlib, not even late: its drawing lives in
+    plots/simulation.py and the validation study in analysis/simulation_study.py."""
+    import ast
+
+    from designer.analysis import simulate as module
+    from designer.analysis.simulation_study import write_simulation_report
+    from designer.plots.simulation import figure_onset_comparison
+
+    tree = ast.parse(open(module.__file__, encoding="utf-8").read())
+    names = [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
+    names += [n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
+    assert not [n for n in names if n.startswith("matplotlib")], names
+    assert callable(write_simulation_report) and callable(figure_onset_comparison)

@@ -194,7 +194,9 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
 
 def run(args) -> int:
     # late import: loads scipy (via designer.analysis.simulate) only when this runs
-    from designer.analysis.simulate import onset_speed, simulate, write_simulation_report
+    from designer.analysis.simulate import onset_speed, simulate
+    # late import: the validation study (scipy, matplotlib) only for --report
+    from designer.analysis.simulation_study import write_simulation_report
 
     if (args.bifurcation or args.knock_safe) and args.report is None:
         return _run_limit_cycles(args)
