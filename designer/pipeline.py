@@ -5,7 +5,8 @@ One function, :func:`report_data`, runs everything a Pareto report shows, in thi
 1. the front the problem asks for (risk-bounded by default, nominal with ``[robust] enabled = false``);
 2. the front for V_target × 1.1 (check 8c);
 3. the recommendation (:func:`designer.analysis.recommend.recommend`, issue 11): the caster to build,
-   its two alternatives, the buildable and the continuous risk-bounded fronts;
+   its two alternatives, the buildable and the continuous risk-bounded fronts; the knock-safe speeds of the
+   recommendation and its alternatives (knocks of θ0 and 2 θ0, simulated: issue 16);
 4. the weighted optimum J = w_turn F_turn + w_threshold P (NLP only; the GP and SLSQP cross-check only
    with ``cross_check=True``, i.e. ``designer pareto --cross-check``);
 5. the paper checks and check 8 on the front;
@@ -48,6 +49,9 @@ class ReportData:
     tighter : front for V_target × :data:`TIGHTER_FACTOR` (check 8c), or None
     recommendation : the Recommendation (issue 11) or None; ``recommendation_error`` says why not
     price_of_stock : :func:`price_of_stock` of the recommendation against ``front``, or None
+    knock_safe : per caster of the "Build this" card (recommendation, then its alternatives), the dict of
+        :func:`designer.analysis.limit_cycles.knock_safe_speeds` (``knock_safe_speed``,
+        ``knock_safe_speed_double`` [m/s]); empty without a recommendation
     solution : the weighted optimum (:class:`designer.analysis.optimise.Solution`) or None
     solution_error : why the optimum is missing, if it is
     cross_checked : whether the GP/SLSQP cross-check ran (``--cross-check``)
@@ -64,6 +68,7 @@ class ReportData:
     recommendation: object = None
     recommendation_error: str = ""
     price_of_stock: dict | None = None
+    knock_safe: list = field(default_factory=list)
     solution: object = None
     solution_error: str = ""
     cross_checked: bool = False
@@ -154,6 +159,15 @@ def price_of_stock(front, recommendation) -> dict | None:
             "threshold_force_continuous": p_cont, "extra_threshold": None if p_cont is None else p - p_cont}
 
 
+def card_knock_safe(problem, recommendation) -> list[dict]:
+    """Knock-safe speeds (θ0 and 2 θ0 knocks) of the recommendation and its alternatives, in card order [m/s]."""
+    # late import: the time-domain shimmy model (scipy's root finder) loads only when a card needs it
+    from designer.analysis.limit_cycles import knock_safe_speeds
+
+    designs = [recommendation.design] + [a.design for a in getattr(recommendation, "alternatives", None) or []]
+    return knock_safe_speeds(designs, problem.conditions)
+
+
 class _Clock:
     """CPU and wall seconds of named steps (``run["cpu"]`` and ``run["seconds"]``)."""
 
@@ -191,7 +205,8 @@ def _recommend(problem):
 # long: the pipeline's steps in order (front, optimum, recommendation, checks, trade-off)
 def report_data(problem, points: int | None = None, *, front=None, tighter=None, recommendation=None,
                 solution=None, checks=None, tradeoff=None, cross_check: bool = False, with_tighter: bool = True,
-                with_recommendation: bool = True, progress=None, run_meta: dict | None = None) -> ReportData:
+                with_recommendation: bool = True, with_knock_safe: bool = True, progress=None,
+                run_meta: dict | None = None) -> ReportData:
     """Compute everything the Pareto report of ``problem`` shows.
 
     Parameters
@@ -202,6 +217,8 @@ def report_data(problem, points: int | None = None, *, front=None, tighter=None,
     cross_check : also run the GP and SLSQP cross-check of the weighted optimum (about 1 s of CPU)
     with_tighter : compute the V_target × 1.1 front for check 8c
     with_recommendation : compute the recommendation (issue 11)
+    with_knock_safe : simulate the knock-safe speeds of the recommendation and its alternatives (about
+        0.05–0.1 s of CPU per caster)
     progress : ``callable(label) -> callable(done, total) | None`` for the sweeps' progress bars
     run_meta : extra metadata merged into ``run``
 
@@ -251,6 +268,9 @@ def report_data(problem, points: int | None = None, *, front=None, tighter=None,
             if getattr(recommendation, "_front", False) is None:  # the continuous front is this report's front
                 recommendation._front = front
             data.price_of_stock = price_of_stock(front, recommendation)
+            if with_knock_safe:
+                with clock("knock_safe"):
+                    data.knock_safe = card_knock_safe(problem, recommendation)
         with clock("optimum"):
             if solution is None and front.points:
                 try:
@@ -331,4 +351,5 @@ def robust_data(problem, points: int = 21) -> RobustData:
                       result["uncertainty"], run)
 
 
-__all__ = ["ReportData", "RobustData", "robust_data", "TIGHTER_FACTOR", "degenerate_reason", "price_of_stock", "report_data", "versions"]
+__all__ = ["ReportData", "RobustData", "robust_data", "TIGHTER_FACTOR", "card_knock_safe", "degenerate_reason",
+           "price_of_stock", "report_data", "versions"]

@@ -174,3 +174,46 @@ def test_slow_creep_of_a_sliding_tyre_is_not_shimmy():
     assert not creep.shimmy and creep.reason == "end"
     locked = simulate_knock(sys.at(2.7), 0.349)
     assert locked.shimmy and locked.late_amplitude == pytest.approx(0.915, rel=0.02)
+
+
+def test_closed_form_integration_matches_dop853():
+    """Rolling model: the closed-form stick/slip integration (exact=True) gives the same knock as DOP853 at
+    rtol 1e-10: same verdict and end, same number of reversals, early and late amplitudes to 1e-6 and the
+    reversals (time, θ) to 1e-6 where |θ| > 1e-6 θ_i (the last creep to rest is ill-conditioned in time), at
+    speeds below, just around and above the onset, for the 20° and the 40° knock."""
+    sys = caster_dynamics(DESIGN_C, COND_C, 1.0, None)
+    for angle in (0.349, 0.698):
+        for factor in (0.6, 0.9, 0.99, 1.01, 1.2, 2.0):
+            v = factor * TODAY_ONSET_C / (1.0 if angle < 0.5 else 1.35)
+            a = simulate_knock(sys.at(v), angle)
+            b = simulate_knock(sys.at(v), angle, exact=True)
+            assert (a.shimmy, a.reason, len(a.extrema)) == (b.shimmy, b.reason, len(b.extrema)), (angle, factor)
+            assert b.early_amplitude == pytest.approx(a.early_amplitude, rel=1e-6, abs=1e-12)
+            assert b.late_amplitude == pytest.approx(a.late_amplitude, rel=1e-6, abs=1e-12)
+            keep = np.abs(a.extrema[:, 1]) > 1e-6 * angle
+            np.testing.assert_allclose(b.extrema[keep], a.extrema[keep], rtol=1e-6, atol=1e-9)
+
+
+def test_fast_knock_safe_speed_matches_the_dop853_bisection():
+    """knock_safe_speed's fast path (closed-form knocks, bisection started at Eq. 7 × [0.96, 1.04]) agrees with
+    the DOP853 bisection from Eq. 7 × [0.8, 1.25] within the bisection's 0.5 % tolerance, for the Appendix C
+    caster and a grooved design of the default problem's front, knocks of θ0 and 2 θ0."""
+    grooved = Design(trail=0.0635, diameter=0.1778, groove=0.0127, damping=1.3)
+    for design, cond in ((DESIGN_C, COND_C), (grooved, Conditions())):
+        for angle in (0.349, 0.698):
+            slow = knock_safe_speed(design, cond, angle=angle, exact=False)
+            fast = knock_safe_speed(design, cond, angle=angle)
+            assert fast == pytest.approx(slow, rel=0.005)
+
+
+def test_knock_safe_speeds_for_the_card():
+    """knock_safe_speeds gives, per design, the θ0 and 2 θ0 knock-safe speeds [m/s] (the 2 θ0 one lower) and
+    the knock angle, for the card of the report and the studio."""
+    from designer.analysis.limit_cycles import knock_safe_speeds
+
+    rows = knock_safe_speeds([DESIGN_C], COND_C)
+    assert len(rows) == 1
+    row = rows[0]
+    assert row["knock_angle"] == pytest.approx(COND_C.disturbance_angle)
+    assert row["knock_safe_speed"] == pytest.approx(TODAY_ONSET_C, rel=0.006)
+    assert 0 < row["knock_safe_speed_double"] < 0.9 * row["knock_safe_speed"]

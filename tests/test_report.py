@@ -83,6 +83,20 @@ def test_html_is_self_contained(regenerated):
     assert all(src.startswith("data:image/png;base64,") for src in images)
 
 
+def test_main_job_computes_the_knock_safe_speeds_of_the_card(regenerated):
+    """`designer pareto` simulates the knock-safe speeds of the recommendation and its alternatives only
+    (θ0 and 2 θ0 knocks, m/s in front.json, the 2 θ0 one lower), times the step, and the card shows them."""
+    out, _ = regenerated
+    data = json.loads((out / "front.json").read_text())
+    rec = data["recommendation"]
+    assert 0 < rec["knock_safe_speed_double"] < rec["knock_safe_speed"]
+    assert rec["knock_safe_speed"] == pytest.approx(rec["critical_speed"], rel=0.05)
+    assert all("knock_safe_speed" in a for a in data["alternatives"])
+    assert "knock_safe_speed" not in data["points"][0]
+    assert data["run"]["compute_cpu_seconds"]["knock_safe"] > 0
+    assert f"{rec['knock_safe_speed']:.2f} / {rec['knock_safe_speed_double']:.2f} m/s" in (out / "report.md").read_text()
+
+
 def test_no_nan_anywhere(regenerated):
     """No NaN in a report: tables, Markdown, CSV and JSON."""
     out, _ = regenerated
@@ -118,7 +132,7 @@ def test_failed_write_leaves_nothing(invacare, tmp_path, monkeypatch):
     """An exception while writing leaves no report folder and no temporary folder; an old report stays intact."""
     problem, data = invacare
 
-    def broken(*args, **kwargs):
+    def broken(data):
         raise RuntimeError("figure failed")
 
     monkeypatch.setattr(figures, "figure_threshold", broken)

@@ -118,6 +118,31 @@ def test_first_screen_is_build_this(stub, tmp_path):
     assert len(front["alternatives"]) == 2
 
 
+def test_build_card_shows_the_knock_safe_speeds(stub, tmp_path):
+    """The "Build this" card shows each caster's knock-safe speeds (θ0 = 20° and 40° knocks, simulated) beside
+    V_c in HTML and Markdown, and front.json carries them with the recommendation and the alternatives [m/s];
+    the simulated θ0 value lies within 5 % of Eq. 7 (the model behind V_c) and the 40° one below it."""
+    from designer.model import evaluate
+    from designer.pipeline import card_knock_safe
+
+    knock = card_knock_safe(stub.problem, stub.recommendation)
+    assert len(knock) == 3
+    for row, caster in zip(knock, [stub.recommendation, *stub.recommendation.alternatives]):
+        v_c = float(evaluate(caster.design, stub.problem.conditions)["critical_speed"])
+        assert row["knock_safe_speed"] == pytest.approx(v_c, rel=0.05)
+        assert row["knock_safe_speed_double"] < row["knock_safe_speed"]
+    folder = write_report(dataclasses.replace(stub, knock_safe=knock), tmp_path / "knock")
+    html, md = (folder / "index.html").read_text(), (folder / "report.md").read_text()
+    for page in (html, md):
+        assert "knock-safe speed, 20° / 40° knock" in page
+        for row in knock:
+            assert f"{row['knock_safe_speed']:.2f} / {row['knock_safe_speed_double']:.2f} m/s" in page
+    front = json.loads((folder / "front.json").read_text())
+    assert front["recommendation"]["knock_safe_speed"] == pytest.approx(knock[0]["knock_safe_speed"])
+    assert [a["knock_safe_speed_double"] for a in front["alternatives"]] == pytest.approx(
+        [k["knock_safe_speed_double"] for k in knock[1:]])
+
+
 def test_build_sentences_state_the_data(stub):
     """Each "Build this" sentence carries the recommendation's own numbers (sizes, forces, risk, radius)."""
     rec, problem = stub.recommendation, stub.problem

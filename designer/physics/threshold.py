@@ -5,10 +5,9 @@ import numpy as np
 
 from designer.errors import InputError
 from designer.physics._checks import is_symbolic, require_positive
-from designer.physics._types import Array, Scalar
 
 
-def _check_ratio(diameter: Scalar, height: Scalar) -> None:
+def _check_ratio(diameter, height) -> None:
     if is_symbolic(diameter, height):
         return
     require_positive("diameter", diameter)
@@ -22,7 +21,7 @@ def _check_ratio(diameter: Scalar, height: Scalar) -> None:
         )
 
 
-def threshold_force_ratio(diameter: Scalar, height: Scalar) -> Scalar:
+def threshold_force_ratio(diameter, height):
     """Force per unit load to push a wheel over a sill, exact Eq. 1 = Eq. 4A [-].
 
     P/L = 2 sqrt(d/h − 1) / (d/h − 2), valid for d/h > 2 (InputError otherwise
@@ -38,7 +37,7 @@ def threshold_force_ratio(diameter: Scalar, height: Scalar) -> Scalar:
     return 2 * np.sqrt(ratio - 1) / (ratio - 2)
 
 
-def threshold_force_ratio_approx(diameter: Scalar, height: Scalar) -> Scalar:
+def threshold_force_ratio_approx(diameter, height):
     """Approximate force per unit load, Eq. 5A: P/L ≈ 2 sqrt(h/d) [-].
 
     Offered for comparison only; the exact Eq. 4A is always used in design.
@@ -48,12 +47,12 @@ def threshold_force_ratio_approx(diameter: Scalar, height: Scalar) -> Scalar:
     return 2 * np.sqrt(height / diameter)
 
 
-def threshold_force(diameter: Scalar, height: Scalar, load: Scalar) -> Scalar:
+def threshold_force(diameter, height, load):
     """Force P [N] to push a caster carrying ``load`` L [N] over a sill of height h, Eq. 4A."""
     return load * threshold_force_ratio(diameter, height)
 
 
-def threshold_series_coefficients(order: int) -> Array:
+def threshold_series_coefficients(order: int) -> np.ndarray:
     """Coefficients c_k of P/L = 2 s^½ Σ_k c_k s^k, s = h/d (Eq. 4A expanded).
 
     P/L = 2 sqrt(s) sqrt(1 − s) / (1 − 2s); the series of sqrt(1−s)/(1−2s) is
@@ -69,7 +68,7 @@ def threshold_series_coefficients(order: int) -> Array:
     return c
 
 
-def threshold_series_remainder_bound(s: Scalar, order: int) -> Scalar:
+def threshold_series_remainder_bound(s, order: int):
     """Upper bound on the truncation error of :func:`threshold_series_coefficients` [-].
 
     Every c_k <= 2^k, so the omitted terms sum to at most

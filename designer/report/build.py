@@ -76,7 +76,8 @@ def _compute(problem, points, out, tracker, force=False, cross_check=False) -> d
         "index_html": str(Path(folder) / "index.html"),
         "points": len(data.front.points),
         "failed_points": len(data.front.failed),
-        "recommendation": _rec_dict(rec) if rec is not None else None,
+        "recommendation": {**_rec_dict(rec), **(data.knock_safe[0] if data.knock_safe else {})}
+        if rec is not None else None,
         "optimum": data.solution.to_dict() if data.solution is not None else None,
         "checks_passed": len(checks) - len(failing),
         "checks_total": len(checks),

@@ -26,7 +26,7 @@ from designer.jsonsafe import finite
 from designer.data.paper import INCH
 from designer.pipeline import ReportData
 from designer.report.files import REPORT_MARKERS, REPORT_OWNED, _carry_over, _replace, check_target, is_report  # noqa: F401
-import designer.report.figures as _figures
+from designer.plots import figures as _figures
 from designer.plots.caster import caster_svg
 from designer.report.text import build_lines, caster_sentence, inches, summary_lines
 from designer.plots.figures import _is_bare
@@ -232,7 +232,7 @@ def _tradeoff_rows(problem, rows) -> list[dict]:
             v = r.effort.get(mech)
             row[key] = "cannot reach V_req" if v is None else fmt(v, ".3f", "N")
         mix = r.designs.get("optimum mix")
-        bare = mix is not None and _is_bare(problem.bounds, mix) and not problem.wheels
+        bare = mix is not None and _is_bare(problem, mix) and not problem.wheels
         if bare and out and out[-1].get("_bare") and out[-1]["mix"] == row["mix"]:
             first = out[-1]["_first"]
             out[-1].update(d_mm=f"{first[0]} – {d_mm}", d_in=f"{first[1]} – {d_in}")
@@ -248,13 +248,24 @@ def _tradeoff_rows(problem, rows) -> list[dict]:
     return out
 
 
-def _rec_row(rec) -> dict:
+def _knock_cell(knock: dict | None) -> str:
+    """Knock-safe speeds "θ0 / 2θ0 m/s" of one caster of the card ("–" where not computed)."""
+    if not knock:
+        return "–"
+    single, double = knock.get("knock_safe_speed"), knock.get("knock_safe_speed_double")
+    if single is None and double is None:
+        return "–"
+    return f"{fmt(single, '.2f')} / {fmt(double, '.2f')} m/s"
+
+
+def _rec_row(rec, knock: dict | None = None) -> dict:
     """One caster of the "Build this" table (display strings)."""
     row = _design_cells(rec.design)
     row.update(
         role=rec.role, wheel=rec.wheel or "",
         F=fmt(rec.turning_effort, ".3f", "N"), P=fmt(rec.threshold_force, ".2f", "N"),
         V_c=fmt(rec.critical_speed, ".3f", "m/s"), V_q=fmt(rec.confident_speed, ".3f", "m/s"),
+        V_knock=_knock_cell(knock),
         p_shimmy=f"{rec.shimmy_probability:.2%} ± {rec.shimmy_probability_se:.2%}",
         R_s=inches(rec.swept_radius)
         + (f" (limit {inches(rec.swept_radius_max)})" if rec.swept_radius_max is not None else " (no limit)"),
@@ -273,7 +284,15 @@ def _build_context(data: ReportData) -> dict:
         "available": True,
         "lines": build_lines(data),
         "headline": f"Build this: {caster_sentence(rec)}",
-        "rows": [_rec_row(rec)] + [_rec_row(a) for a in rec.alternatives],
+        "rows": [_rec_row(r, k) for r, k in zip([rec, *rec.alternatives],
+                                                 list(data.knock_safe) + [None] * (1 + len(rec.alternatives)))],
+        "knock_header": _knock_header(data),
+        "knock_note": ("Knock-safe speed: the highest speed at which a knock of that size dies out instead of "
+                       "growing into shimmy, simulated with the paper's time-domain model (Appendix B: rolling "
+                       "tyre, Coulomb friction; as designer evaluate --knock-safe), to "
+                       f"{100 * float((data.knock_safe or [{}])[0].get('knock_safe_rtol', 0.005)):.1f} %. "
+                       "V_c (Eq. 7) is the threshold for the design knock θ0; a bigger knock starts shimmy "
+                       "at a lower speed."),
         "alternatives": len(rec.alternatives),
         "level": level,
         "svg": caster_svg(d.trail, d.diameter, d.groove, data.problem.conditions.threshold_height,
@@ -281,6 +300,12 @@ def _build_context(data: ReportData) -> dict:
                           label=f"{data.problem.name}: the recommended caster to scale"),
         "rule": rec.rule,
     }
+
+
+def _knock_header(data: ReportData) -> str:
+    """Column title of the knock-safe speeds, with the knock angles in degrees."""
+    theta0 = math.degrees(float(data.problem.conditions.disturbance_angle))
+    return f"knock-safe speed, {theta0:.0f}° / {2 * theta0:.0f}° knock (simulated)"
 
 
 # long: one entry per template section
@@ -406,8 +431,9 @@ def _front_json(data: ReportData) -> dict:
         out["optimum"] = data.solution.to_dict()
     if data.recommendation is not None:
         rec = data.recommendation
-        out["recommendation"] = rec.to_dict()
-        out["alternatives"] = [a.to_dict() for a in rec.alternatives]
+        knock = list(data.knock_safe) + [{}] * (1 + len(rec.alternatives))
+        out["recommendation"] = {**rec.to_dict(), **knock[0]}
+        out["alternatives"] = [{**a.to_dict(), **k} for a, k in zip(rec.alternatives, knock[1:])]
         out["price_of_stock"] = data.price_of_stock
     else:
         out["recommendation"] = None

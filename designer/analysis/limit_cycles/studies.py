@@ -290,7 +290,7 @@ def limit_cycle_study(progress=None, quick: bool = False) -> dict:
     knock = {}
     for label, tyre in (("rolling", None), ("brush", TyreParameters())):
         for k in (1, 2):
-            knock[f"{label}_{k}theta0"] = knock_safe_speed(design, cond, angle=k * theta0, tyre=tyre)
+            knock[f"{label}_{k}theta0"] = knock_safe_speed(design, cond, angle=k * theta0, tyre=tyre, exact=False)
     say("rolling limit of the brush tyre")
     factor = 30.0
     from designer.analysis.simulate import onset_speed as _today_onset  # today's model, for the reduction check
