@@ -38,6 +38,7 @@ _LAZY = {
     "TyreParameters": "designer.physics.tyre",
     "recommend": "designer.analysis.recommend",
     "Recommendation": "designer.analysis.recommend",
+    "simulate": "designer.analysis.simulate",
 }
 _LAZY["fix"] = "designer.analysis.retrofit"  # issue 18: retrofit
 _LAZY["example_problem"] = "designer.examples"  # issue 17: shipped example problems (package data)

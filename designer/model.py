@@ -10,12 +10,15 @@ import dataclasses
 from dataclasses import dataclass, field
 
 import math
+from typing import Any, Mapping
 
 import numpy as np
+import numpy.typing as npt
 
 from designer import parameters
 from designer.data.paper import INCH
 from designer.errors import InputError
+from designer.physics._types import Scalar
 from designer.physics.geometry import swept_radius
 from designer.physics.inertia import InertiaModel, PowerLaw
 from designer.physics.shimmy import (
@@ -55,7 +58,8 @@ FAMILIES = {
 """Design family by (groove used, damper added): which mechanism stabilises the caster (Eq. 7)."""
 
 
-def check_design(design, prefix: str = "", error=InputError, given: dict | None = None) -> None:
+def check_design(design: Design, prefix: str = "", error: type[Exception] = InputError,
+                 given: Mapping[str, object] | None = None) -> None:
     """Raise ``error`` if a design's T, d, B or c_f [SI] is outside :data:`MODEL_RANGE`.
 
     ``given`` maps a variable to what the user wrote ("5in"): the message then gives the range in
@@ -86,7 +90,7 @@ class Design:
     groove: float
     damping: float
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         # Units at the edge: strings such as "2 in" or "1.3 N*m/rad" are converted to SI here.
 
         for name, dimension in (("trail", "length"), ("diameter", "length"), ("groove", "length"),
@@ -112,7 +116,7 @@ class Design:
         return np.array([self.trail, self.diameter, self.groove, self.damping], dtype=float)
 
     @classmethod
-    def from_array(cls, x) -> "Design":
+    def from_array(cls, x: npt.ArrayLike) -> "Design":
         """Build from a sequence in :data:`VARIABLES` order."""
         return cls(*(float(v) for v in np.asarray(x, dtype=float).ravel()[:4]))
 
@@ -158,12 +162,13 @@ class Conditions:
     dynamics: DynamicsParameters = DynamicsParameters()
     uncertainty: Uncertainty | None = None
 
-    def replace(self, **changes) -> "Conditions":
+    def replace(self, **changes: Any) -> "Conditions":
         """A copy with some fields changed."""
         return dataclasses.replace(self, **changes)
 
 
-def performance(trail, diameter, groove, damping, conditions: Conditions) -> dict:
+def performance(trail: Scalar, diameter: Scalar, groove: Scalar, damping: Scalar,
+                conditions: Conditions) -> dict[str, Scalar]:
     """Every performance quantity of the caster, as expressions of the design.
 
     Works on floats, NumPy arrays (vectorised over many designs) and CasADi
@@ -203,7 +208,7 @@ def performance(trail, diameter, groove, damping, conditions: Conditions) -> dic
     }
 
 
-def evaluate(design: Design, conditions: Conditions = Conditions(), speed: float | None = None) -> dict:
+def evaluate(design: Design, conditions: Conditions = Conditions(), speed: float | None = None) -> dict[str, float]:
     """Analyse one caster: :func:`performance` as floats plus the third-order model.
 
     Adds ``shimmy_frequency`` ω [rad/s] (Eq. 15B) and, when ``speed`` is given,

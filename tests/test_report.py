@@ -132,7 +132,7 @@ def test_failed_write_leaves_nothing(invacare, tmp_path, monkeypatch):
     """An exception while writing leaves no report folder and no temporary folder; an old report stays intact."""
     problem, data = invacare
 
-    def broken(data):
+    def broken(*args, **kwargs):
         raise RuntimeError("figure failed")
 
     monkeypatch.setattr(figures, "figure_threshold", broken)

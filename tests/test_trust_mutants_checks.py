@@ -3,6 +3,7 @@ the edges of their tolerances (``designer/analysis/checks.py``; benchmarks/mutat
 hand-made fronts (FrontPoint records with round numbers), so no optimisation runs."""
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 import designer.analysis.checks as ck
@@ -236,3 +237,132 @@ def test_8c_not_applicable_record(indoor):
                f"required)", "passed": True,
         "detail": "tighter target 30 m/s vs 2.5 m/s: no design inside the bounds reaches it, so there is no tighter "
                   "front to compare", "kind": "front", "outcome": ck.NOT_APPLICABLE, "disagreements": []}
+
+
+# --------------------------------------------------------------------------- check 6: the sampled box
+
+
+def _dented(var, lo, hi):
+    """Eq. 7 with a dent: inside [lo, hi] of one variable (T, B in inches; c_f; d in inches through I_w = C d^n)
+    V_c is multiplied by 1 ∓ 0.9 (x − lo)/(hi − lo), steeper than Eq. 7's own trend (|d log V_c/dx| <= 1/T for T,
+    <= 1/(2 c_f) for c_f, about 0.4 /in for d), so the trend reverses there."""
+    from designer.physics.inertia import PowerLaw
+    from designer.physics.shimmy import critical_shimmy_speed
+
+    c_fit, n_fit = PowerLaw().constants()
+
+    def model(t, i, b, c):
+        base = critical_shimmy_speed(t, i, b, c)
+        x = {"trail": t / INCH, "groove": b / INCH, "damping": c, "diameter": (i / c_fit) ** (1 / n_fit) / INCH}[var]
+        inside = (x >= lo) & (x <= hi)
+        sign = 1.0 if var == "diameter" else -1.0  # V_c falls with T, B, c_f / rises with d inside the dent
+        return base * np.where(inside, 1 + sign * 0.9 * (x - lo) / (hi - lo), 1.0)
+    return model
+
+
+@pytest.mark.parametrize("var, lo, hi, inside", [
+    ("trail", 1.0, 1.4, True), ("trail", 3.05, 3.9, False),
+    ("diameter", 4.0, 4.5, True), ("diameter", 8.05, 8.9, False),
+    ("groove", 0.0, 0.2, True), ("groove", 0.76, 1.5, False),
+    ("damping", 1.3, 2.0, True), ("damping", 6.05, 6.9, False),
+])
+def test_monotonicity_sample_covers_its_box(var, lo, hi, inside):
+    """Check 6 samples T 1–3 in, d 4–8 in, B 0–0.75 in, c_f 1.3–6 (its detail says so): a model whose trend reverses
+    at the low end of one range fails it; one that reverses just beyond the high end passes (outside the box)."""
+    c6 = ck.check_monotonic(_dented(var, lo, hi))
+    assert c6.passed is not inside
+    assert ("FAILS" in c6.got) is inside
+
+
+# --------------------------------------------------------------------------- check 7: the diameter grid
+
+
+def _dented_ratio(lo, hi):
+    """Eq. 4A with a dent: for lo <= d <= hi (inches) P/L is raised by up to 50 %, rising with d there."""
+    from designer.physics.threshold import threshold_force_ratio
+
+    def ratio(d, h):
+        x = np.asarray(d, float) / INCH
+        bump = np.where((x > lo) & (x < hi), 0.5 * (x - lo) / (hi - lo), 0.0)
+        return threshold_force_ratio(d, h) * (1 + bump)
+    return ratio
+
+
+@pytest.mark.parametrize("lo, hi, inside", [(3.0, 3.4, True), (8.05, 8.9, False)])
+def test_threshold_curve_grid_covers_3_to_8_in(lo, hi, inside):
+    """Check 7 examines P/L on 3–8 in: a curve rising between 3 and 3.4 in fails it (not decreasing, not convex);
+    one that rises only beyond 8 in passes."""
+    c7 = ck.check_threshold_curve(_dented_ratio(lo, hi))
+    assert c7.passed is not inside
+    assert ("decreasing False" in c7.detail) is inside
+
+
+def test_threshold_curve_flat_models():
+    """A flat P/L (no slope anywhere) gives slope ratio 0 (not inf, not a division by zero) and fails; one flat
+    only from 6 in on has an infinite slope ratio 4 in / 8 in and still fails (not decreasing)."""
+    from designer.physics.threshold import threshold_force_ratio
+
+    flat = ck.check_threshold_curve(lambda d, h: 1.0 + 0 * np.asarray(d, float))
+    assert not flat.passed
+    assert flat.got.endswith("slope ratio 4 in / 8 in 0.00") and "(ratio 0.00)" in flat.detail
+
+    def flat_after_6(d, h):
+        return threshold_force_ratio(np.minimum(np.asarray(d, float), 6 * INCH), h)
+
+    tail = ck.check_threshold_curve(flat_after_6)
+    assert not tail.passed
+    assert tail.got.endswith("slope ratio 4 in / 8 in inf") and "(ratio inf)" in tail.detail
+
+
+def test_disagreement_prints_bands_in_percent():
+    """The bands are printed as percentages of the fractions given: 0.9 and 1.0 give ±90 % and ±100 %."""
+    assert ck._disagreement("X", 1.5, 1.0, 0.9, 1.0).endswith("within the paper's ±90 % scatter")
+    assert ck._disagreement("X", 1.95, 1.0, 0.9, 1.0).endswith(
+        "outside the paper's ±90 % scatter, within the ±100 % allowed for one wheel")
+    assert ck._disagreement("X", 2.5, 1.0, 0.9, 1.0).endswith("outside the ±100 % allowed for one wheel")
+
+
+def test_carpet_and_inertia_fit_tolerances():
+    """Check 4 allows ±1 % around ×2 (2 × 0.5 %): ×2.009 passes, ×2.015 fails.  The inertia fit allows n ± 0.01 and
+    I_w(8 in) ± 0.5 %: (n 3.505, I_w on target) passes, n 3.52 fails, I_w(8 in) 0.6 % high fails."""
+    from designer.physics.turning import sliding_turning_moment
+
+    def carpet(factor):
+        def moment(load, groove, surface, mode):
+            return sliding_turning_moment(load, groove, "tile", mode) * (factor if surface == "carpet" else 1.0)
+        return moment
+
+    assert ck.check_carpet(carpet(2.009)).passed and not ck.check_carpet(carpet(2.015)).passed
+
+    def fit(n, scale=1.0):
+        return lambda: (1.873e-3 * scale / (8 * INCH) ** n, n)
+
+    assert ck.check_inertia_fit(fit(3.505)).passed
+    assert not ck.check_inertia_fit(fit(3.52)).passed
+    assert not ck.check_inertia_fit(fit(3.5, 1.006)).passed
+    assert ck.check_inertia_fit(fit(3.5, 1.004)).got == "n 3.5000, 1.8805e-03"
+
+
+def test_dominated_by_problem_compares_each_catalog_wheel_with_its_own_variant(indoor):
+    """8c's exact test on a catalog problem (wheels C, 7 in, and D, 8 in): a tighter point is compared only with
+    the looser problem's optimum for the same wheel (min F_turn at P <= P(q), from IPOPT).  A point 0.1 % dearer
+    than its wheel's optimum is dominated; one 0.1 % cheaper is not; wheel C's 7 in cannot meet D's P, and D's
+    optimum is dearer than C's, so comparing a point with the other wheel would change both answers."""
+    from designer.analysis.pareto import FrontPoint
+    from designer.solvers.nlp import CasterNLP
+
+    catalog = indoor.replace(wheels=("C", "D"))
+    opt = {}
+    for variant in catalog.variants():
+        nlp = CasterNLP(variant)
+        r = nlp.solve(variant.upper(), (1.0, 0.0), 1e9)
+        f, p, v, _ = nlp.objectives(r.design)
+        opt[variant.conditions.inertia.wheel.key] = (r.design, f, p, v)
+    assert opt["C"][2] > opt["D"][2] and opt["C"][1] < opt["D"][1]  # C: larger P, smaller F_turn
+
+    def q(key, factor):
+        design, f, p, v = opt[key]
+        return FrontPoint(design, f * factor, p, v, {"shimmy": 0.0}, p, "Solve_Succeeded", True, wheel=key)
+
+    tighter = _front(catalog, [q("C", 1.001), q("D", 1.001), q("D", 0.999)])
+    assert ck.dominated_by_problem(catalog, tighter) == (1, 3)

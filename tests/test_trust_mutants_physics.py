@@ -366,3 +366,74 @@ def test_tyre_parameter_errors(name, value):
                                          r"number$"):
         TyreParameters(**{name: value})
     assert getattr(TyreParameters(**{name: 2}), name) == 2  # an int is fine
+
+
+# --------------------------------------------------------------------------- tilted stem, descriptions, parameters
+
+
+def test_tilted_stem_trails_by_hand():
+    """e = 50 mm, R = 100 mm, φ = 5°: T_eff = e + R sin φ = 58.716 mm, t_g = T_eff / cos φ = 58.940 mm (hand:
+    sin 5° = 0.0871557, cos 5° = 0.9961947); φ = 0 gives e for both."""
+    from designer.physics.geometry import effective_trail, ground_trail
+
+    phi = math.radians(5)
+    assert effective_trail(0.05, 0.1, phi) == pytest.approx(0.05871557, rel=1e-7)
+    assert ground_trail(0.05, 0.1, phi) == pytest.approx(0.05871557 / 0.9961947, rel=1e-7)
+    assert effective_trail(0.05, 0.1, 0.0) == ground_trail(0.05, 0.1, 0.0) == 0.05
+
+
+@pytest.mark.parametrize("function", ["effective_trail", "ground_trail"])
+@pytest.mark.parametrize("position", range(3))
+def test_tilted_stem_switches_casadi_numpy_mode(function, position):
+    """Any one symbolic argument (e, R or φ) switches CasADi's NumPy mode on (mode 1) before np.sin/np.cos are
+    applied, so the legacy-mode FutureWarning never appears; the expression evaluates to the numeric trail."""
+    from designer.physics import geometry
+
+    x = ca.SX.sym("x")
+    args: list = [0.05, 0.1, math.radians(5)]
+    value = args[position]
+    args[position] = x
+    ca.GlobalOptions.setNumpyMode(0)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", FutureWarning)
+            expr = getattr(geometry, function)(*args)
+        assert ca.GlobalOptions.getNumpyMode() == 1
+    finally:
+        enable_casadi()
+    numeric = getattr(geometry, function)(0.05, 0.1, math.radians(5))
+    assert float(ca.Function("f", [x], [expr])(value)) == pytest.approx(numeric, rel=1e-12)
+
+
+def test_model_descriptions():
+    """The one-line descriptions shown in reports: the power law with the Table 1 fit (C 0.4925, n 3.496), the
+    scatter with a Student-t or a normal model error."""
+    from designer.physics.uncertainty import Uncertainty
+
+    assert inertia.PowerLaw().describe() == "I_w = 0.4925 d^3.496 (least squares on Table 1, d in m, I_w in kg·m²)"
+    assert inertia.PowerLaw(0.5, 3.0).describe().startswith("I_w = 0.5 d^3.000 ")
+    tail = "M_f/θ0 0.1, K_s 0.2, I_w 0.1"
+    assert Uncertainty().describe() == f"P(shimmy) <= 0.05; σ of the log: model error 0.103 (Student-t ν = 5), {tail}"
+    assert Uncertainty(model_error_dof=0).describe() == \
+        f"P(shimmy) <= 0.05; σ of the log: model error 0.103 (normal), {tail}"
+
+
+def test_inertia_model_parameters_round_trip():
+    """parameters() names the constants as designer.parameters does, and with_parameters() rebuilds the model from
+    them (the solvers' parameter path): a disc keeps width and density; a catalog wheel becomes a measured wheel
+    with the same I_w; a measured wheel keeps its I_w."""
+    from designer import parameters
+
+    disc = inertia.Disc(0.03, 1000.0)
+    assert disc.parameters() == {"tyre_width": 0.03, "density": 1000.0}
+    assert disc.with_parameters(disc.parameters()) == disc
+    assert disc.with_parameters({"tyre_width": 0.02, "density": 900.0}) == inertia.Disc(0.02, 900.0)
+    cat = inertia.Catalog.from_key("D")
+    assert cat.parameters() == {"wheel_inertia": TABLE1[3].inertia}
+    assert cat.with_parameters(cat.parameters()) == inertia.Fixed(TABLE1[3].inertia)
+    fixed = inertia.Fixed(2e-3)
+    assert fixed.parameters() == {"wheel_inertia": 2e-3}
+    assert fixed.with_parameters({"wheel_inertia": 3e-3}) == inertia.Fixed(3e-3)
+    for model in (disc, cat, fixed, inertia.PowerLaw()):
+        for name in model.parameters():
+            parameters.default(name)  # every name is a known parameter (KeyError otherwise)

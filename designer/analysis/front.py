@@ -231,6 +231,43 @@ class Front:
                         marks=[(k.turning_effort, k.threshold_force, "knee")])
         return html_table(f"Pareto front {name!r}", rows, extra=svg)
 
+    def plot(self, ax=None, color_by="family"):
+        """Draw the front, turning effort F_turn [N] against sill force P [N], knee circled; returns the Axes.
+
+        ``color_by``: "family" (the mechanism that stops shimmy), "trail", "diameter", "groove" [mm],
+        "damping" [N·m/rad], "critical_speed" [m/s] or None.  The report's front figure draws with the same
+        function (:func:`designer.plots.fronts.plot_front`).
+        """
+        # late import: loads matplotlib (via designer.plots.fronts) only when this runs
+        from designer.plots.fronts import draw_fronts, plot_front
+
+        f = self.objectives()
+        ax = plot_front(f[:, 0], f[:, 1], [p.family for p in self.points], ax=ax, color_by=color_by,
+                        designs=self.designs(), critical_speed=[p.critical_speed for p in self.points], legend=False)
+        knee = self.knee()
+        if knee is not None and len(self) >= 3:
+            draw_fronts(ax, [], [{"threshold_force": knee.threshold_force, "turning_effort": knee.turning_effort,
+                                  "kind": "knee", "label": f"knee: P {knee.threshold_force:.1f} N, "
+                                                           f"F {knee.turning_effort:.2f} N"}], legend=False)
+        if len(self):
+            ax.legend(fontsize=7.5, loc="upper right", framealpha=0.92)
+        ax.set_title(f"Pareto front: {getattr(self.problem, 'name', '?')}", fontsize=10)
+        return ax
+
+    def plot_variables(self, axes=None):
+        """The design variables T, d, B [mm, in] and c_f [N·m/rad] along the front against P [N].
+
+        Returns the 2 × 2 array of Axes (``axes``: your own 2 × 2 array sharing x, or None for a new figure).
+        The report's variables figure draws with the same function
+        (:func:`designer.plots.fronts.plot_variables`).
+        """
+        # late import: loads matplotlib (via designer.plots.fronts) only when this runs
+        from designer.plots.fronts import plot_variables
+
+        return plot_variables([p.threshold_force for p in self.points], self.designs(),
+                              [p.family for p in self.points],
+                              [self.problem.bounds[v] for v in VARIABLES], self.gaps(), axes=axes)
+
     def to_pandas(self, failed: bool = False):
         """The points as a pandas DataFrame, one row per point, SI units in the column names.
 

@@ -18,11 +18,13 @@
    the cap.  Alternatives: the easiest to turn and the easiest over the sill.
 5. **Reported risk**: P(shimmy at V_target) by a separate Monte Carlo of the same distribution with its
    own seed and SE <= 0.1 percentage point (:func:`designer.physics.uncertainty.shimmy_probability_mc`).
+
+Steps 1 and 2 live in :mod:`designer.analysis.recommend_stock` (re-exported here); this module holds the
+rule, the :class:`Recommendation` record and :func:`recommend`.
 """
 from __future__ import annotations
 
 import dataclasses
-import itertools
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -31,19 +33,21 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import InfeasibleError
-from designer.model import VARIABLES, Design
+from designer.model import Design
 from designer.physics.geometry import swept_radius
 from designer.physics.inertia import Fixed
 from designer.physics.shimmy import critical_shimmy_speed
-from designer.physics.threshold import threshold_force_ratio
-from designer.physics.turning import added_damper_moment, sliding_turning_moment
 from designer.physics.uncertainty import Uncertainty, shimmy_probability_mc, shimmy_speed_quantile
-from designer.plots.caster import caster_svg
+from designer.plots.caster import caster_svg, plot_caster
 from designer.reprs import html_table
-from designer.physics.inertia import Catalog
 from designer.problem import Bound
 from pathlib import Path
 from designer.problem import load_problem
+from designer.analysis.recommend_stock import (CandidateTable, ScreenedTable, candidate_table, confident_speed,
+                                               objectives, risk_screen, stock_candidates)
+
+__all__ = ["RULES", "CandidateTable", "Recommendation", "ScreenedTable", "candidate_table", "confident_speed",
+           "objectives", "recommend", "risk_screen", "rule_text", "select_rows", "stock_candidates", "weights_meaning"]
 
 RULES = {
     "knee": "knee of the buildable risk-bounded front",
@@ -52,194 +56,6 @@ RULES = {
     "end": "least J = {w0:g} F_turn + {w1:g} P of a buildable front of fewer than three points (no knee)",
 }
 """How the recommendation is chosen (the text of ``Recommendation.rule``)."""
-
-
-# --------------------------------------------------------------------------- the stock
-
-
-@dataclass
-class CandidateTable:
-    """Every stock combination as arrays (one entry per combination), SI; ``None`` = continuous.
-
-    Attributes
-    ----------
-    trail, diameter, groove, damping : the parts [m, m, m, N·m/rad], or None where the variable is continuous
-    inertia : I_w per combination [kg·m²] (None when the diameter is continuous)
-    wheel : wheel name per combination ("" for a plain diameter)
-    note : where the stock comes from
-    """
-
-    trail: np.ndarray | None
-    diameter: np.ndarray | None
-    groove: np.ndarray | None
-    damping: np.ndarray | None
-    inertia: np.ndarray | None
-    wheel: np.ndarray
-    note: str = ""
-
-    def __len__(self) -> int:
-        return len(self.wheel)
-
-    def get(self, key, default=None):
-        """Dict-style access (``table.get("trail")``)."""
-        return getattr(self, key, default)
-
-    @property
-    def discrete(self) -> bool:
-        """Every variable is a part (nothing left to solve continuously)."""
-        return all(getattr(self, k) is not None for k in VARIABLES)
-
-    def design(self, j: int) -> dict:
-        """Combination ``j`` as {trail, diameter, groove, damping} [SI] (None where continuous)."""
-        return {k: (None if getattr(self, k) is None else float(getattr(self, k)[j])) for k in VARIABLES}
-
-
-def _wheel_rows(problem, stock):
-    """Wheel choices: (diameter, inertia or None, groove or None, name) tuples, or None if d is continuous."""
-
-    c = problem.conditions
-    if problem.wheels:  # [inertia] model = "catalog": the wheels are Table 1's, with measured I_w
-        return [(Catalog.from_key(k).fixed_diameter, float(Catalog.from_key(k).wheel.inertia), None, k)
-                for k in problem.wheels]
-    if stock is not None and stock.wheels is not None:
-        return [(w.diameter, w.inertia, w.groove, w.name) for w in stock.wheels]
-    b = problem.bounds["diameter"]
-    if stock is not None and stock.diameters is not None:
-        values = stock.diameters
-    elif b.fixed:
-        values = (b.low,)
-    else:
-        return None
-    with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", message="inertia power law used at")
-        return [(d, float(c.inertia(d)), None, "") for d in values]
-
-
-def _values(problem, stock, name: str, listed):
-    b = problem.bounds[name]
-    if listed is not None:
-        return tuple(listed)
-    if b.fixed:
-        return (b.low,)
-    return None
-
-
-def stock_candidates(problem, stock=None) -> CandidateTable:
-    """All stock combinations of ``problem`` (its ``[stock]``, or ``stock`` if given) as arrays.
-
-    Parameters
-    ----------
-    problem : the problem (bounds, inertia model, catalogue wheels)
-    stock : a :class:`designer.problem.Stock` to use instead of ``problem.stock``
-
-    Returns
-    -------
-    CandidateTable; a variable neither listed nor fixed is ``None`` (continuous within its bounds).
-    """
-    stock = problem.stock if stock is None else stock
-    wheels = _wheel_rows(problem, stock)
-    trails = _values(problem, stock, "trail", None if stock is None else stock.trails)
-    grooves = _values(problem, stock, "groove", None if stock is None else stock.grooves)
-    dampings = _values(problem, stock, "damping", None if stock is None else stock.dampings)
-    wheel_axis = wheels if wheels is not None else [(None, None, None, "")]
-    rows = []
-    for (d, inertia, g_w, name), t, g, c in itertools.product(
-            wheel_axis, trails or (None,), grooves or (None,), dampings or (None,)):
-        groove = g_w if g_w is not None else g  # a catalogue wheel's own groove (then stock.grooves is absent)
-        rows.append((t, d, groove, c, inertia, name))
-    rows = list(dict.fromkeys(rows))  # a wheel's own groove repeats once per listed groove
-
-    def column(i, continuous):
-        if continuous:
-            return None
-        return np.array([r[i] for r in rows], float)
-
-    grooves_continuous = grooves is None and (wheels is None or any(w[2] is None for w in wheel_axis))
-    inertia = None
-    if wheels is not None:
-        inertia = np.array([r[4] if r[4] is not None else np.nan for r in rows], float)
-        missing = np.isnan(inertia)
-        if missing.any():
-            with warnings.catch_warnings():
-                warnings.filterwarnings("ignore", message="inertia power law used at")
-                d = np.array([r[1] for r in rows], float)
-                inertia[missing] = np.asarray(problem.conditions.inertia(d[missing]), float) + 0 * d[missing]
-    note = ("the problem's [stock]" if problem.stock is not None and stock is problem.stock else
-            "the given stock" if stock is not None else "no [stock]: every variable that is not fixed is continuous")
-    return CandidateTable(trail=column(0, trails is None), diameter=column(1, wheels is None),
-                          groove=column(2, grooves_continuous), damping=column(3, dampings is None),
-                          inertia=inertia, wheel=np.array([r[5] for r in rows], dtype=object), note=note)
-
-
-# --------------------------------------------------------------------------- deterministic screening
-
-
-def risk_screen(design_speed, required_speed):
-    """The deterministic risk bound: V_q >= (1 + margin) V_target (element-wise, no tolerance) [bool]."""
-    return np.asarray(design_speed) >= np.asarray(required_speed)
-
-
-def confident_speed(trail, inertia, groove, damping, slip_coefficient, risk):
-    """The speed reached with probability 1 − α (V_q), or V_c of Eq. 7 when ``risk`` is None [m/s]."""
-    if risk is None:
-        return critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient)
-    return shimmy_speed_quantile(trail, inertia, groove, damping, slip_coefficient, risk)
-
-
-def objectives(problem, trail, diameter, groove, damping, load=None, threshold_height=None, surface=None,
-               turning_mode=None):
-    """Turning effort F_turn (Eq. 9 with the turning model) and sill force P (Eq. 4A) [N], vectorised.
-
-    Chair values (load, sill, surface, mode) default to the problem's; arrays broadcast.  P is +inf
-    where the wheel cannot climb the sill (d <= 2h).
-    """
-    c = problem.conditions
-    load = c.load if load is None else load
-    h = c.threshold_height if threshold_height is None else threshold_height
-    moment = sliding_turning_moment(load, groove, surface or c.surface, turning_mode or c.turning_mode, c.turning)
-    effort = (moment + added_damper_moment(damping, c.disturbance_angle, c.turning)) / trail
-    d = np.asarray(diameter, float)
-    climbs = d > 2 * np.asarray(h)
-    safe = np.where(climbs, d, 3 * np.asarray(h))
-    force = np.where(climbs, np.asarray(load) * threshold_force_ratio(safe, h), np.inf)
-    return effort, force
-
-
-@dataclass
-class ScreenedTable:
-    """:class:`CandidateTable` (all discrete) with every number of the screening, per combination."""
-
-    candidates: CandidateTable
-    critical_speed: np.ndarray
-    design_speed: np.ndarray
-    swept_radius: np.ndarray
-    turning_effort: np.ndarray
-    threshold_force: np.ndarray
-    feasible: np.ndarray
-    risk_ok: np.ndarray
-    radius_ok: np.ndarray
-
-
-def candidate_table(problem, stock=None) -> ScreenedTable:
-    """All-discrete stock of ``problem`` evaluated and screened (V_c, V_q, R_s, F_turn, P, feasible).
-
-    Raises ValueError if a variable is continuous (use :func:`recommend`, which solves the rest).
-    """
-    cand = stock_candidates(problem, stock)
-    if not cand.discrete:
-        raise ValueError("candidate_table needs every variable in the stock; a continuous one is solved by recommend()")
-    c = problem.conditions
-    v = critical_shimmy_speed(cand.trail, cand.inertia, cand.groove, cand.damping, c.slip_coefficient)
-    q = np.asarray(confident_speed(cand.trail, cand.inertia, cand.groove, cand.damping, c.slip_coefficient,
-                                   problem.risk), float)
-    r = swept_radius(cand.trail, cand.diameter)
-    f, p = objectives(problem, cand.trail, cand.diameter, cand.groove, cand.damping)
-    risk_ok = risk_screen(q, problem.required_speed)
-    radius_ok = (r <= problem.swept_radius_max * (1 + 1e-9)) if problem.swept_radius_max is not None \
-        else np.ones(len(cand), bool)
-    feasible = risk_ok & radius_ok & np.isfinite(p)
-    return ScreenedTable(cand, np.asarray(v, float), q, np.asarray(r, float), np.asarray(f, float) + 0 * q,
-                         np.asarray(p, float) + 0 * q, feasible, risk_ok, radius_ok)
 
 
 # --------------------------------------------------------------------------- the rule (vectorised)
@@ -462,6 +278,21 @@ class Recommendation:
                 f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad\n"
                 f"  F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, V_c {self.critical_speed:.4g} m/s, "
                 f"P(shimmy) {self.shimmy_probability:.2%} ± {self.shimmy_probability_se:.2%}")
+
+    def draw(self, ax=None, sill_height: float | None = None):
+        """The recommended caster to scale: side view (wheel, fork, trail, sill) and top view (swept circle).
+
+        Returns ``(ax_side, ax_top)`` (matplotlib Axes; ``ax``: None for a new figure, one Axes for the side
+        view only, or a pair).  ``sill_height`` [m] defaults to the problem's threshold height h.  Same
+        geometry as the report's SVG drawing (:mod:`designer.plots.caster`).
+        """
+        d = self.design
+        h = sill_height if sill_height is not None else (
+            self.problem.conditions.threshold_height if self.problem is not None else 0.5 * INCH)
+        name = f" for {self.problem.name!r}" if self.problem is not None else ""
+        return plot_caster(d.trail, d.diameter, d.groove, h, self.swept_radius_max,
+                           title=f"{self.role} caster{name}: T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in",
+                           ax=ax)
 
     def _repr_html_(self) -> str:
         """The caster as a compact HTML table with units beside its drawing to scale (notebooks; no solver runs)."""

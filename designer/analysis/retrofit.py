@@ -23,11 +23,15 @@ what to change on the one that shimmies.  :func:`fix` answers with numbers:
 Everything is deterministic except the reported P(shimmy), a Monte Carlo
 estimate with its own seed (feasibility and ranking use the quantile).
 ``docs/retrofit.md`` has the derivations and the worked Eq. 8 example.
+
+Modules: :mod:`designer.analysis.retrofit_diagnosis` computes the numbers of a caster and of every
+candidate (V_c, the quantile, F_turn, P, the Monte Carlo, the calibration); :mod:`designer.analysis.retrofit_options`
+decides what each part can become and enumerates the combinations; this module holds the records, reads
+the input and ranks (:func:`fix`).
 """
 from __future__ import annotations
 
 import dataclasses
-import itertools
 import math
 import re
 from dataclasses import dataclass, field
@@ -36,23 +40,16 @@ import numpy as np
 
 from designer.data.paper import INCH, WALKING_SPEED
 from designer.errors import InputError
-from designer.model import Conditions, Design, check_design, performance
-from designer.physics.geometry import effective_trail, swept_radius
-from designer.physics.inertia import InertiaModel
-from designer.physics.uncertainty import MC_TARGET_SE, Uncertainty, shimmy_probability_mc, shimmy_speed_quantile
+from designer.model import Design, check_design
+from designer.physics.geometry import effective_trail
+from designer.physics.uncertainty import MC_TARGET_SE
 from designer.units import parse_quantity
-from designer.physics.shimmy import critical_shimmy_speed
-from designer.physics.uncertainty import sample_log_factors
-import warnings
-from designer.physics.inertia import Catalog
 from designer.problem import INERTIA_RANGE
 from designer.problem import load_problem
+from designer.analysis.retrofit_diagnosis import (_calibrated, _current_inertia, _evaluate, _feasible, _mc, _mc_many,
+                                                  _risk_of)
+from designer.analysis.retrofit_options import GRID_STEP, PART_VARIABLE, PARTS, _enumerate, _show, part_options
 
-PARTS = ("washer", "tyre", "fork hole", "wheel")
-"""The four parts a retrofit can change, in the order they are listed (cheapest first)."""
-
-PART_VARIABLE = {"washer": "damping", "tyre": "groove", "fork hole": "trail", "wheel": "diameter"}
-"""The design variable each part sets (a catalogue wheel also sets groove and I_w)."""
 
 ONSET_SCATTER = 0.05
 """σ of log V_obs [-]: a shimmy onset seen on a push or a ramp is known to about ±5 % (our estimate)."""
@@ -63,16 +60,12 @@ REPORT_SAMPLES = 50_000
 MAX_STEM_ANGLE = math.radians(30.0)
 """Largest stem tilt accepted [rad]: seat-angle and dump changes tilt the stem by a few degrees."""
 
-GRID_STEP = {"trail": INCH / 16, "diameter": INCH / 16, "groove": INCH / 16, "damping": 0.1}
-"""Step of the candidate grid [SI] for a variable that ``[stock]`` leaves continuous."""
 
 RULE = ("fewest parts changed first; within the same number of parts, the smallest loss "
         "w_turn·ΔF_turn + w_threshold·ΔP [N] (the problem's [objective] weights; a negative loss is a gain), "
         "ties broken by the smaller ΔF_turn, then the smaller ΔP, then the higher speed reached with "
         "probability 1 − α")
 """The ranking rule, as printed in every output."""
-
-_LENGTHS = ("trail", "diameter", "groove")
 
 
 # --------------------------------------------------------------------------- records
@@ -367,221 +360,7 @@ def _check_inputs(problem, current: Design, inertia, shimmied_at, stem_angle, on
 # --------------------------------------------------------------------------- candidates
 
 
-@dataclass(frozen=True)
-class _Wheel:
-    """A wheel on offer: diameter [m], groove [m] (NaN: takes any tyre), I_w [kg·m²], name."""
-
-    diameter: float
-    groove: float
-    inertia: float
-    name: str | None
-
-
-def _stock_of(problem) -> dict:
-    """The problem's ``[stock]`` as {key: values} (keys left out, or no [stock] at all: absent = continuous)."""
-    stock = problem.stock
-    if stock is None:
-        return {}
-    out = {}
-    for key in ("diameters", "grooves", "trails", "dampings", "wheels", "trail_step"):
-        value = getattr(stock, key, None)
-        if value is not None:
-            out[key] = value
-    return out
-
-
-def _grid(low: float, high: float, step: float) -> np.ndarray:
-    n = int(math.floor((high - low) / step + 1e-9))
-    values = low + step * np.arange(n + 1)
-    if high - values[-1] > 1e-12:
-        values = np.append(values, high)
-    return values
-
-
-# long: the one place that decides every part's candidate values and their sources
-def part_options(problem, current: Design, current_inertia: float) -> tuple[dict, dict]:
-    """What each part can be changed to: the one place that decides the candidate values.
-
-    Returns ``(options, sources)``.  ``options``: {"washer": array of c_f,
-    "tyre": array of B, "fork hole": array of T, "wheel": list of _Wheel},
-    without the current value (no change is not an option).  ``sources`` says
-    for each part where the values came from: ``[stock]`` (values that exist)
-    or a grid over the problem's bounds (a key that ``[stock]`` leaves out
-    leaves that variable continuous; the grid steps of :data:`GRID_STEP`
-    stand in for it).
-
-    A wheel from ``[stock] diameters`` takes I_w from the inertia model and
-    keeps the current tyre profile only when that profile is on offer
-    (``grooves``), otherwise it needs a tyre change too.  A catalogue wheel
-    (``[stock] wheels``) brings its measured I_w (else the inertia model's)
-    and its own groove when it lists one (then it is never combined with a
-    tyre change); without one it takes a tyre like a ``diameters`` wheel.
-    A tyre change keeps the current wheel and its I_w; when every catalogue
-    wheel brings its own groove and no ``grooves`` are listed, tyres come
-    only with wheels.  With ``[inertia] model = "catalog"`` the wheels are the
-    problem's Table 1 wheels; a fixed inertia or diameter fixes the wheel.
-    """
-    stock = _stock_of(problem)
-    bounds = problem.bounds
-    sources: dict[str, str] = {}
-
-    def listed(key: str, variable: str) -> np.ndarray:
-        b = bounds[variable]
-        values = stock.get(key)
-        if values is not None:
-            sources[variable] = "[stock]"
-            values = np.array(sorted({float(v) for v in values}))
-            return values[(values >= b.low * (1 - 1e-12)) & (values <= b.high * (1 + 1e-12))]  # within the bounds
-        sources[variable] = (f"continuous (no [stock] {key}): grid over the bounds every "
-                             f"{_show(variable, GRID_STEP[variable])}")
-        return _grid(b.low, b.high, GRID_STEP[variable]) if b.high > b.low else np.array([b.low])
-
-    def drop_current(values: np.ndarray, value: float) -> np.ndarray:
-        values = np.asarray(values, dtype=float)
-        return values[np.abs(values - value) > 1e-9 * max(1.0, abs(value))]
-
-    dampings = drop_current(listed("dampings", "damping"), current.damping)
-    if "trails" in stock:
-        sources["trail"] = "[stock] (fork holes every trail_step from variables.trail.min)"
-        trails = np.array(sorted(float(v) for v in stock["trails"]))
-    else:
-        trails = listed("trails", "trail")
-    trails = drop_current(trails, current.trail)
-
-    model: InertiaModel = problem.conditions.inertia
-    wheels: list[_Wheel] = []
-    catalogue = stock.get("wheels")
-    groove_values = None
-    if catalogue is not None:
-        sources["diameter"] = "[stock] wheels (catalogue)"
-
-        for entry in catalogue:
-            d = float(entry.diameter)
-            if entry.inertia is not None:
-                i = float(entry.inertia)
-            else:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")  # extrapolation of the inertia fit: docs/retrofit.md
-                    i = float(model(d))
-            wheels.append(_Wheel(d, math.nan if entry.groove is None else float(entry.groove), i, entry.name))
-        if "grooves" not in stock and all(w.groove is not None for w in catalogue):
-            sources["groove"] = "none on the current wheel (the catalogue's tyres come with its wheels)"
-            groove_values = np.array([])
-    elif problem.wheels:  # [inertia] model = "catalog": the Table 1 wheels of the problem
-        from designer.physics.inertia import Catalog
-
-        sources["diameter"] = "the problem's Table 1 wheels ([inertia] wheels)"
-        for key in problem.wheels:
-            w = Catalog.from_key(key).wheel
-            wheels.append(_Wheel(w.diameter, math.nan, w.inertia, f"Table 1 {w.key}"))
-    elif model.fixed_diameter is not None or getattr(model, "name", "") == "fixed" or bounds["diameter"].fixed:
-        sources["diameter"] = "none (the problem fixes the wheel: a fixed inertia or diameter)"
-    else:
-        diameters = listed("diameters", "diameter")
-
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # extrapolation of the inertia fit is stated in docs/retrofit.md
-            inertias = np.asarray(model(diameters), dtype=float) * np.ones_like(diameters)
-        wheels = [_Wheel(float(d), math.nan, float(i), None) for d, i in zip(diameters, inertias)
-                  if abs(d - current.diameter) > 1e-9]
-    if groove_values is None:
-        groove_values = listed("grooves", "groove")
-    grooves = drop_current(groove_values, current.groove)
-    options = {"washer": dampings, "tyre": grooves, "fork hole": trails, "wheel": wheels}
-    # a new wheel without its own groove keeps the current tyre profile only if that profile is on offer
-    on_offer = "grooves" not in stock or bool(np.any(np.abs(groove_values - current.groove) <= 1e-9))
-    sources = {part: sources.get(PART_VARIABLE[part], "") for part in PARTS} | {"_groove_on_offer": on_offer}
-    return options, sources
-
-
 # --------------------------------------------------------------------------- evaluation
-
-
-class _Given(InertiaModel):
-    """I_w given per candidate (arrays), whatever the diameter."""
-
-    name = "given"
-
-    def __init__(self, values):
-        self.values = values
-
-    def __call__(self, diameter):
-        return self.values + 0 * diameter
-
-    def describe(self) -> str:
-        return "I_w given per candidate"
-
-
-def _risk_of(problem) -> tuple[Uncertainty | None, Uncertainty]:
-    """(the bound's uncertainty or None for the nominal bound, the scatter for reporting P(shimmy))."""
-    risk = problem.risk
-    return risk, (risk if risk is not None else Uncertainty())
-
-
-def _calibrated(u: Uncertainty, scatter: float) -> Uncertainty:
-    """The risk model of one calibrated caster: the model error becomes the onset's scatter (normal)."""
-    changes: dict = {"model_error": scatter}
-    names = {f.name for f in dataclasses.fields(u)}
-    if "model_error_dof" in names:
-        changes["model_error_dof"] = 0  # a stated σ, not one estimated from a few wheels: normal
-    return dataclasses.replace(u, **changes)
-
-
-def _evaluate(arrays: dict, conditions: Conditions, stem_angle: float, factor: float,
-              bound: Uncertainty | None) -> dict:
-    """Vectorised numbers of candidates {trail, diameter, groove, damping, inertia} (arrays)."""
-    t, d, b, c, i = (np.asarray(arrays[k], dtype=float) for k in ("trail", "diameter", "groove", "damping", "inertia"))
-    t_eff = effective_trail(t, d / 2, stem_angle)
-    values = performance(t_eff, d, b, c, conditions.replace(inertia=_Given(i), uncertainty=None))
-    v = np.asarray(values["critical_speed"], dtype=float)
-    if bound is None:
-        confident = factor * v
-    else:
-        confident = factor * np.asarray(
-            shimmy_speed_quantile(t_eff, i, b, c, conditions.slip_coefficient, bound), dtype=float)
-    return {
-        "effective_trail": t_eff,
-        "critical_speed": v,
-        "calibrated_critical_speed": factor * v,
-        "confident_speed": confident,
-        "turning_effort": np.asarray(values["turning_effort"], dtype=float),
-        "threshold_force": np.asarray(values["threshold_force"], dtype=float),
-        "swept_radius": np.asarray(swept_radius(t, d), dtype=float),
-    }
-
-
-def _mc_many(trail, inertia, groove, damping, slip_coefficient, speed, u: Uncertainty, samples: int,
-             seed: int) -> tuple[np.ndarray, np.ndarray]:
-    """P(V_c,true < speed) and its SE for many casters at once [-].
-
-    The same ``samples`` draws of :func:`~designer.physics.uncertainty.sample_log_factors` with ``seed`` as
-    :func:`shimmy_probability_mc` takes first, applied to every caster (vectorised, in chunks), so each
-    estimate equals that function's without its top-up; a caster whose SE is still above 0.1 percentage
-    point is topped up one by one by the caller.
-    """
-
-    m = len(trail)
-    if m == 0:
-        return np.array([]), np.array([])
-    f = sample_log_factors(u, samples, np.random.default_rng(seed))
-    e_i, e_c, e_k, e_m = (np.exp(f[k])[None, :] for k in ("inertia", "damping", "slip", "model"))
-    hits = np.empty(m)
-    step = max(1, 1_000_000 // samples)  # about 8 MB per array
-    for a in range(0, m, step):
-        b = slice(a, min(m, a + step))
-        v = critical_shimmy_speed(np.asarray(trail)[b, None], np.asarray(inertia)[b, None] * e_i,
-                                  np.asarray(groove)[b, None], np.asarray(damping)[b, None] * e_c,
-                                  slip_coefficient * e_k) * e_m
-        hits[b] = np.count_nonzero(v < speed, axis=1)
-    p = hits / samples
-    return p, np.sqrt(np.maximum(p * (1 - p), 1.0 / samples) / samples)
-
-
-def _mc(state_args, conditions, speed, factor, u: Uncertainty, samples: int, seed: int) -> tuple[float, float]:
-    t_eff, inertia, groove, damping = state_args
-    u = dataclasses.replace(u, samples=samples, seed=seed)
-    p, se = shimmy_probability_mc(t_eff, inertia, groove, damping, conditions.slip_coefficient, speed / factor, u)
-    return float(p), float(se)
 
 
 # --------------------------------------------------------------------------- the analysis
@@ -706,95 +485,6 @@ def fix(problem, current, inertia: float | None = None, shimmied_at: float | Non
     return result
 
 
-def _current_inertia(problem, current: Design) -> float:
-    """I_w of the current wheel when it was not measured: the problem's inertia model at its diameter.
-
-    A catalogue or fixed-inertia problem describes particular wheels: the current wheel must be one of
-    them (same diameter), else InputError asks for ``--inertia``.
-    """
-
-
-    model = problem.conditions.inertia
-    wheels = [Catalog.from_key(k).wheel for k in problem.wheels]
-    if wheels or model.fixed_diameter is not None or getattr(model, "name", "") == "fixed":
-        same = [w for w in wheels or [getattr(model, "wheel", None)]
-                if w is not None and abs(w.diameter - current.diameter) <= 1e-6]
-        if len({w.inertia for w in same}) == 1:
-            return float(same[0].inertia)
-        if same:
-            raise InputError(f"inertia: the problem has {len(same)} wheels of d = {current.diameter / INCH:.4g} in "
-                             f"({', '.join(w.key for w in same)}) with different I_w; give the current wheel's "
-                             f"measured I_w with --inertia")
-        if getattr(model, "name", "") == "fixed" and problem.bounds["diameter"].fixed and \
-                abs(problem.bounds["diameter"].low - current.diameter) <= 1e-6:
-            return float(model(current.diameter))
-        raise InputError(f"inertia: the current wheel (d = {current.diameter / INCH:.4g} in) is not one of the "
-                         f"problem's wheels ({model.describe()}); give its measured I_w with --inertia")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # extrapolation of the inertia fit: docs/retrofit.md
-        return float(model(current.diameter))
-
-
-def _feasible(values: dict, v_req: float, r_max: float | None) -> np.ndarray:
-    ok = values["confident_speed"] >= v_req * (1 - 1e-12)
-    if r_max is not None:
-        ok &= values["swept_radius"] <= r_max * (1 + 1e-12)
-    return ok
-
-
-def _enumerate(options: dict, sources: dict, base: dict, max_parts: int, min_parts: int = 1) -> dict:
-    """Every combination of changed parts with min_parts..max_parts parts, as arrays (vectorised).
-
-    Keys: trail, diameter, groove, damping, inertia (SI), parts (count), order
-    (a stable index for ties), mask_<part> (bool: changed), wheel (index into
-    options["wheel"], −1: kept).
-    """
-    chunks = []
-    counter = 0
-    for k in range(min_parts, max_parts + 1):
-        for parts in itertools.combinations(PARTS, k):
-            sizes = [len(options[p]) for p in parts]
-            if 0 in sizes:
-                continue
-            grids = np.meshgrid(*[np.arange(s) for s in sizes], indexing="ij")
-            n = int(np.prod(sizes))
-            out = {key: np.full(n, float(base[key])) for key in ("trail", "diameter", "groove", "damping", "inertia")}
-            out["wheel"] = np.full(n, -1)
-            for part in PARTS:
-                out[f"mask_{part}"] = np.full(n, part in parts)
-            valid = np.ones(n, dtype=bool)
-            for part, grid in zip(parts, grids):
-                index = grid.ravel()
-                if part == "washer":
-                    out["damping"] = options["washer"][index]
-                elif part == "tyre":
-                    out["groove"] = options["tyre"][index]
-                elif part == "fork hole":
-                    out["trail"] = options["fork hole"][index]
-                else:
-                    wheels = options["wheel"]
-                    out["wheel"] = index
-                    out["diameter"] = np.array([wheels[i].diameter for i in index])
-                    out["inertia"] = np.array([wheels[i].inertia for i in index])
-                    own = np.array([wheels[i].groove for i in index])
-                    has_own = np.isfinite(own)
-                    if "tyre" in parts:
-                        valid &= ~has_own  # a catalogue wheel comes with its own tyre
-                    else:
-                        out["groove"] = np.where(has_own, own, out["groove"])
-                        if not sources["_groove_on_offer"]:
-                            valid &= has_own  # a stock wheel needs a stock tyre: the current profile is not on offer
-            out["parts"] = np.full(n, k)
-            out["order"] = counter + np.arange(n)
-            counter += n
-            chunks.append({key: value[valid] for key, value in out.items()})
-    if not chunks:
-        empty = {key: np.array([]) for key in ("trail", "diameter", "groove", "damping", "inertia")}
-        return empty | {"wheel": np.array([], dtype=int), "parts": np.array([], dtype=int),
-                        "order": np.array([], dtype=int)} | {f"mask_{p}": np.array([], dtype=bool) for p in PARTS}
-    return {key: np.concatenate([c[key] for c in chunks]) for key in chunks[0]}
-
-
 def _changes(current: Design, inertia: float, cands: dict, j: int, wheels: list) -> tuple[Change, ...]:
     out = []
     if cands["mask_washer"][j]:
@@ -832,15 +522,5 @@ def describe_changes(changes, sep: str = "; ", inertia: bool = True) -> str:
                     for part, items in by_part.items())
 
 
-def _show(variable: str, value: float) -> str:
-    if variable in _LENGTHS:
-        return f"{value / INCH:.4g} in"
-    if variable == "damping":
-        return f"{value:.3g} N·m/rad"
-    if variable == "inertia":
-        return f"{value:.3g} kg·m²"
-    return f"{value:g}"
-
-
 __all__ = ["fix", "describe_changes", "FixResult", "CasterState", "Change", "Calibration", "parse_current", "part_options", "RULE",
-           "PARTS"]
+           "PARTS", "PART_VARIABLE", "GRID_STEP", "ONSET_SCATTER", "REPORT_SAMPLES", "MAX_STEM_ANGLE"]

@@ -11,7 +11,6 @@ from designer.physics.inertia import Fixed, PowerLaw
 from designer.physics.tyre import TyreParameters
 from designer.analysis.limit_cycles import bifurcation_diagram, knock_safe_speed
 import warnings
-import numpy as np
 from designer.analysis.limit_cycles import limit_cycle_study
 from designer.plots.simulation import bifurcation_axes
 
@@ -195,7 +194,9 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
 
 def run(args) -> int:
     # late import: loads scipy (via designer.analysis.simulate) only when this runs
-    from designer.analysis.simulate import onset_speed, simulate, write_simulation_report
+    from designer.analysis.simulate import onset_speed, simulate
+    # late import: the validation study (scipy, matplotlib) only for --report
+    from designer.analysis.simulation_study import write_simulation_report
 
     if (args.bifurcation or args.knock_safe) and args.report is None:
         return _run_limit_cycles(args)
@@ -258,31 +259,10 @@ def run(args) -> int:
 
 
 def _plot(result, path, onset=None) -> None:
-    # late import: loads matplotlib only when this runs
-    import matplotlib
-
-    matplotlib.use("Agg")
-    # late import: loads matplotlib only when this runs
-    import matplotlib.pyplot as plt
-
     if not str(path).lower().endswith((".png", ".svg", ".pdf")):
         raise InputError(f"--plot {path}: expected a .png, .svg or .pdf file name")
-    fig, ax = plt.subplots(figsize=(8, 3.5))
-    ax.plot(result.t, np.degrees(result.theta), lw=1)
-    amp = math.degrees(result.predicted_amplitude)
-    ax.axhline(amp, color="tab:red", ls="--", lw=0.8, label=f"Eq. 29B amplitude ±{amp:.1f}°")
-    ax.axhline(-amp, color="tab:red", ls="--", lw=0.8)
-    ax.axhline(0, color="k", lw=0.5)
-    title = (f"V = {result.speed:.2f} m/s: {'grows' if result.grows else 'decays'}; Eq. 7 V_c = "
-             f"{result.critical_speed:.2f} m/s")
-    if onset is not None:
-        title += f", simulated onset {onset.speed:.2f} m/s"
-    ax.set_title(title, fontsize=10)
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("caster angle θ [deg]")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
+    ax = result.plot(onset_speed=onset.speed if onset is not None else None)
     # late import: loads matplotlib (via designer.plots.figures) only when this runs
     from designer.plots.figures import save_figure
 
-    save_figure(fig, path, dpi=110)
+    save_figure(ax.figure, path, dpi=110)

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from designer.errors import InputError
+from designer.physics._types import Scalar
 
 
 def enable_casadi() -> None:
@@ -20,7 +21,7 @@ def enable_casadi() -> None:
         pass
 
 
-def is_symbolic(*values) -> bool:
+def is_symbolic(*values: object) -> bool:
     """True if any value is a CasADi SX or MX expression (not checkable numerically)."""
     symbolic = any(type(v).__module__.startswith("casadi") and type(v).__name__ in ("SX", "MX") for v in values)
     if symbolic:
@@ -28,7 +29,7 @@ def is_symbolic(*values) -> bool:
     return symbolic
 
 
-def require_positive(name: str, value, allow_zero: bool = False) -> None:
+def require_positive(name: str, value: Scalar, allow_zero: bool = False) -> None:
     """Raise InputError if a numeric ``value`` is not > 0 (or >= 0) and finite."""
     if is_symbolic(value):
         return
@@ -41,7 +42,7 @@ def require_positive(name: str, value, allow_zero: bool = False) -> None:
         raise InputError(f"{name} = {_show(value)}: must be {sign}")
 
 
-def _show(value) -> str:
+def _show(value: Scalar) -> str:
     arr = np.asarray(value, dtype=float)
     if arr.ndim == 0:
         return f"{float(arr):g}"

@@ -11,9 +11,10 @@ from __future__ import annotations
 import numpy as np
 
 from designer.physics._checks import is_symbolic
+from designer.physics._types import Scalar
 
 
-def swept_radius(trail, diameter):
+def swept_radius(trail: Scalar, diameter: Scalar) -> Scalar:
     """Radius swept by the caster wheel about the spindle axis [m].
 
     R_s = T + d/2: the tyre's front edge reaches this far from the spindle when
@@ -33,7 +34,7 @@ def swept_radius(trail, diameter):
     return trail + diameter / 2
 
 
-def ground_trail(offset, radius, stem_angle):
+def ground_trail(offset: Scalar, radius: Scalar, stem_angle: Scalar) -> Scalar:
     """Trail along the floor of a caster whose stem is tilted by φ from vertical [m].
 
     t_g = (e + R sin φ) / cos φ
@@ -57,7 +58,7 @@ def ground_trail(offset, radius, stem_angle):
     return (offset + radius * np.sin(stem_angle)) / np.cos(stem_angle)
 
 
-def effective_trail(offset, radius, stem_angle):
+def effective_trail(offset: Scalar, radius: Scalar, stem_angle: Scalar) -> Scalar:
     """Effective trail of a tilted stem: the trail that enters Eq. 7 and the turning effort [m].
 
     T_eff = e + R sin φ  (= t_g cos φ, the bicycle's "normal" or mechanical trail)

@@ -15,12 +15,14 @@ import math
 import warnings
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any, Mapping
 
 import numpy as np
 
 from designer.data.paper import TABLE1, Wheel, table1_wheel
 from designer.errors import InputError
 from designer.physics._checks import is_symbolic, require_positive
+from designer.physics._types import Scalar
 
 
 @lru_cache(maxsize=1)
@@ -42,7 +44,7 @@ def fit_table1_power_law() -> tuple[float, float]:
     return float(math.exp(log_c)), float(n)
 
 
-def power_law_inertia(diameter, coefficient: float | None = None, exponent: float | None = None):
+def power_law_inertia(diameter: Scalar, coefficient: float | None = None, exponent: float | None = None) -> Scalar:
     """Wheel moment of inertia from the power law I_w = C d^n [kg·m²].
 
     Parameters
@@ -59,7 +61,7 @@ def power_law_inertia(diameter, coefficient: float | None = None, exponent: floa
     return coefficient * diameter**exponent
 
 
-def disc_mass(diameter, tyre_width, density):
+def disc_mass(diameter: Scalar, tyre_width: Scalar, density: Scalar) -> Scalar:
     """Mass of a uniform solid disc wheel m = ρ π d² w / 4 [kg].
 
     Parameters
@@ -71,7 +73,7 @@ def disc_mass(diameter, tyre_width, density):
     return density * np.pi * diameter**2 * tyre_width / 4
 
 
-def disc_inertia(diameter, tyre_width, density):
+def disc_inertia(diameter: Scalar, tyre_width: Scalar, density: Scalar) -> Scalar:
     """Moment of inertia of a uniform disc about a diameter [kg·m²].
 
     I_w = m (d²/16 + w²/12) with m = ρ π d² w / 4 (docs/model.md#wheel-inertia; the thin-disc
@@ -87,7 +89,7 @@ class InertiaModel:
     name = "abstract"
     fixed_diameter: float | None = None
 
-    def __call__(self, diameter):  # pragma: no cover - interface
+    def __call__(self, diameter: Scalar) -> Scalar:  # pragma: no cover - interface
         raise NotImplementedError
 
     def describe(self) -> str:  # pragma: no cover - interface
@@ -97,12 +99,12 @@ class InertiaModel:
         """Diameters [m] over which the model rests on data (None: everywhere)."""
         return None
 
-    def parameters(self) -> dict:
+    def parameters(self) -> dict[str, float]:
         """The model's constants, named as in :mod:`designer.parameters` (the solvers' parameters)."""
         return {}
 
-    def with_parameters(self, values: dict) -> "InertiaModel":
-        """The same kind of model with the constants ``values`` (floats or CasADi symbols)."""
+    def with_parameters(self, values: Mapping[str, Any]) -> "InertiaModel":
+        """The same kind of model with the constants ``values`` (floats or CasADi symbols: Any)."""
         return self
 
 
@@ -123,7 +125,7 @@ class PowerLaw(InertiaModel):
         c, n = fit_table1_power_law()
         return (c if self.coefficient is None else self.coefficient, n if self.exponent is None else self.exponent)
 
-    def __call__(self, diameter):
+    def __call__(self, diameter: Scalar) -> Scalar:
         c, n = self.constants()
         if not is_symbolic(diameter):
             low, high = self.data_range()
@@ -137,15 +139,15 @@ class PowerLaw(InertiaModel):
                 )
         return power_law_inertia(diameter, c, n)
 
-    def data_range(self):
+    def data_range(self) -> tuple[float, float]:
         diameters = [w.diameter for w in TABLE1]
         return (min(diameters), max(diameters))
 
-    def parameters(self) -> dict:
+    def parameters(self) -> dict[str, float]:
         c, n = self.constants()
         return {"inertia_coefficient": c, "inertia_exponent": n}
 
-    def with_parameters(self, values: dict) -> "PowerLaw":
+    def with_parameters(self, values: Mapping[str, Any]) -> "PowerLaw":
         return PowerLaw(values["inertia_coefficient"], values["inertia_exponent"])
 
     def describe(self) -> str:
@@ -161,17 +163,17 @@ class Disc(InertiaModel):
     density: float = 1200.0
     name = "disc"
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         require_positive("inertia.tyre_width", self.tyre_width)
         require_positive("inertia.density", self.density)
 
-    def __call__(self, diameter):
+    def __call__(self, diameter: Scalar) -> Scalar:
         return disc_inertia(diameter, self.tyre_width, self.density)
 
-    def parameters(self) -> dict:
+    def parameters(self) -> dict[str, float]:
         return {"tyre_width": self.tyre_width, "density": self.density}
 
-    def with_parameters(self, values: dict) -> "Disc":
+    def with_parameters(self, values: Mapping[str, Any]) -> "Disc":
         return Disc(values["tyre_width"], values["density"])
 
     def describe(self) -> str:
@@ -200,15 +202,15 @@ class Catalog(InertiaModel):
     def fixed_diameter(self) -> float:  # type: ignore[override]
         return self.wheel.diameter
 
-    def __call__(self, diameter):
+    def __call__(self, diameter: Scalar) -> Scalar:
         # Measured inertia: independent of the diameter argument, which the
         # catalog fixes; keep the argument's type (0*d) for CasADi graphs.
         return self.wheel.inertia + 0 * diameter
 
-    def parameters(self) -> dict:
+    def parameters(self) -> dict[str, float]:
         return {"wheel_inertia": self.wheel.inertia}
 
-    def with_parameters(self, values: dict) -> "InertiaModel":
+    def with_parameters(self, values: Mapping[str, Any]) -> "InertiaModel":
         return Fixed(values["wheel_inertia"])  # the measured I_w, now a parameter
 
     def describe(self) -> str:
@@ -230,16 +232,16 @@ class Fixed(InertiaModel):
     inertia: float = 0.00127
     name = "fixed"
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         require_positive("inertia.inertia", self.inertia)
 
-    def __call__(self, diameter):
+    def __call__(self, diameter: Scalar) -> Scalar:
         return self.inertia + 0 * diameter
 
-    def parameters(self) -> dict:
+    def parameters(self) -> dict[str, float]:
         return {"wheel_inertia": self.inertia}
 
-    def with_parameters(self, values: dict) -> "Fixed":
+    def with_parameters(self, values: Mapping[str, Any]) -> "Fixed":
         return Fixed(values["wheel_inertia"])
 
     def describe(self) -> str:

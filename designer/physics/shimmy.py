@@ -10,13 +10,20 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TypeAlias
 
 import numpy as np
+import numpy.typing as npt
 
 from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING, SLIP_COEFFICIENT
+from designer.physics._types import Array, Scalar
+
+Coefficients: TypeAlias = tuple[Scalar, Scalar, Scalar, Scalar]
+"""(a3, a2, a1, a0) of the caster equation, Eq. 12B."""
 
 
-def critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient=SLIP_COEFFICIENT):
+def critical_shimmy_speed(trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar,
+                          slip_coefficient: Scalar = SLIP_COEFFICIENT) -> Scalar:
     """Critical shimmy speed of a friction-damped caster, Eq. 7 (= Eq. 10C) [m/s].
 
     V_c = sqrt( 4 c_f T² / (π I_w) + K_s B² T / (2 I_w) )
@@ -36,7 +43,8 @@ def critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient=SLIP
     return np.sqrt(friction + groove_term)
 
 
-def critical_speed_terms(trail, inertia, groove, damping, slip_coefficient=SLIP_COEFFICIENT):
+def critical_speed_terms(trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar,
+                         slip_coefficient: Scalar = SLIP_COEFFICIENT) -> tuple[Scalar, Scalar]:
     """The two terms of V_c² in Eq. 7 [m²/s²]: (friction damping, co-rotating groove).
 
     4 c_f T² / (π I_w) and K_s B² T / (2 I_w); their shares tell how the
@@ -45,7 +53,8 @@ def critical_speed_terms(trail, inertia, groove, damping, slip_coefficient=SLIP_
     return 4 * damping * trail**2 / (np.pi * inertia), slip_coefficient * groove**2 * trail / (2 * inertia)
 
 
-def critical_speed_log_sensitivities(trail, inertia, groove, damping, slip_coefficient=SLIP_COEFFICIENT) -> dict:
+def critical_speed_log_sensitivities(trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar,
+                                     slip_coefficient: Scalar = SLIP_COEFFICIENT) -> dict[str, Scalar]:
     """Elasticities d log V_c / d log p of Eq. 7 for the uncertain constants [-].
 
     With a = 4 c_f T²/(π I_w) and b = K_s B² T/(2 I_w), V_c² = a + b, so
@@ -56,7 +65,8 @@ def critical_speed_log_sensitivities(trail, inertia, groove, damping, slip_coeff
     return {"damping": a / (2 * (a + b)), "slip_coefficient": b / (2 * (a + b)), "inertia": -0.5 + 0 * a}
 
 
-def critical_speed_hydraulic(trail, inertia, groove, hydraulic_damping, slip_coefficient=SLIP_COEFFICIENT):
+def critical_speed_hydraulic(trail: Scalar, inertia: Scalar, groove: Scalar, hydraulic_damping: Scalar,
+                             slip_coefficient: Scalar = SLIP_COEFFICIENT) -> Scalar:
     """Critical shimmy speed with a hydraulic spindle damper, Eq. 5, positive root [m/s].
 
     V_c² − (C_D T / I_w) V_c − K_s B² T / (2 I_w) = 0, so
@@ -71,7 +81,7 @@ def critical_speed_hydraulic(trail, inertia, groove, hydraulic_damping, slip_coe
     return (a + np.sqrt(a**2 + 2 * slip_coefficient * groove**2 * trail / inertia)) / 2
 
 
-def equivalent_hydraulic_damping(friction_moment, amplitude, frequency):
+def equivalent_hydraulic_damping(friction_moment: Scalar, amplitude: Scalar, frequency: Scalar) -> Scalar:
     """Hydraulic damping equivalent to a Coulomb friction moment, Eq. 6 = Eq. 3C [N·m·s/rad].
 
     C_D = 4 M_f / (π θ_a ω): equal work per cycle of sinusoidal motion.
@@ -85,7 +95,7 @@ def equivalent_hydraulic_damping(friction_moment, amplitude, frequency):
     return 4 * friction_moment / (np.pi * amplitude * frequency)
 
 
-def steady_shimmy_amplitude(speed, trail, frequency, disturbance_angle):
+def steady_shimmy_amplitude(speed: Scalar, trail: Scalar, frequency: Scalar, disturbance_angle: Scalar) -> Scalar:
     """Steady amplitude of shimmy at the threshold, Eq. 4 / Eq. 29B [rad].
 
     θ_a = θ0 V / (ω T): the amplitude left after the transient of Eq. 3 decays.
@@ -93,7 +103,7 @@ def steady_shimmy_amplitude(speed, trail, frequency, disturbance_angle):
     return disturbance_angle * speed / (frequency * trail)
 
 
-def friction_damping_at_speed(damping, trail, speed):
+def friction_damping_at_speed(damping: Scalar, trail: Scalar, speed: Scalar) -> Scalar:
     """Equivalent hydraulic damping of spindle friction at speed V [N·m·s/rad].
 
     Eq. 6 with the amplitude of Eq. 4 (θ_a = θ0 V/(ω T)) and c_f = M_f/θ0:
@@ -140,7 +150,7 @@ class DynamicsParameters:
         return case.frequency**2 * (inertia + self.lateral_mass * case.trail**2) / case.trail**2
 
 
-def shimmy_frequency(trail, inertia, dynamics: DynamicsParameters = DynamicsParameters()):
+def shimmy_frequency(trail: Scalar, inertia: Scalar, dynamics: DynamicsParameters = DynamicsParameters()) -> Scalar:
     """Natural (shimmy) frequency of the third-order model, Eq. 15B [rad/s].
 
     ω² = K T² / (I_w + N T²).
@@ -150,14 +160,14 @@ def shimmy_frequency(trail, inertia, dynamics: DynamicsParameters = DynamicsPara
 
 
 def third_order_coefficients(
-    trail,
-    inertia,
-    groove,
-    hydraulic_damping,
-    speed,
-    slip_coefficient=SLIP_COEFFICIENT,
+    trail: Scalar,
+    inertia: Scalar,
+    groove: Scalar,
+    hydraulic_damping: Scalar,
+    speed: Scalar,
+    slip_coefficient: Scalar = SLIP_COEFFICIENT,
     dynamics: DynamicsParameters = DynamicsParameters(),
-):
+) -> Coefficients:
     """Coefficients (a3, a2, a1, a0) of the caster equation, Eq. 12B.
 
     a3 θ''' + a2 θ'' + a1 θ' + a0 θ = 0 with
@@ -174,7 +184,7 @@ def third_order_coefficients(
     return a3, a2, a1, a0
 
 
-def routh_hurwitz_margin(coefficients):
+def routh_hurwitz_margin(coefficients: Coefficients) -> Scalar:
     """Routh–Hurwitz stability margin of a cubic, a2 a1 − a3 a0 (Eq. 19B, AB = C).
 
     With all coefficients positive the caster is stable (no shimmy) when the
@@ -184,7 +194,7 @@ def routh_hurwitz_margin(coefficients):
     return a2 * a1 - a3 * a0
 
 
-def characteristic_roots(coefficients) -> np.ndarray:
+def characteristic_roots(coefficients: Coefficients) -> npt.NDArray[np.complex128]:
     """Roots of a3 s³ + a2 s² + a1 s + a0 (Eq. 2 / Eq. 16B exponents λ, μ ± iω) [1/s].
 
     Numeric only (floats or 1-D arrays of coefficients); returns an array of
@@ -197,7 +207,7 @@ def characteristic_roots(coefficients) -> np.ndarray:
     return roots.reshape(shape + (3,))
 
 
-def growth_rate(coefficients) -> np.ndarray | float:
+def growth_rate(coefficients: Coefficients) -> Array | float:
     """Growth rate μ of the oscillatory mode (real part of μ ± iω), Eq. 16B [1/s].
 
     Positive: shimmy grows; negative: it decays; zero at the critical speed.
@@ -209,12 +219,12 @@ def growth_rate(coefficients) -> np.ndarray | float:
 
 
 def routh_hurwitz_critical_speed(
-    trail,
-    inertia,
-    groove,
-    damping,
+    trail: float,
+    inertia: float,
+    groove: float,
+    damping: float,
     damping_kind: str = "friction",
-    slip_coefficient=SLIP_COEFFICIENT,
+    slip_coefficient: float = SLIP_COEFFICIENT,
     dynamics: DynamicsParameters = DynamicsParameters(),
     speed_range: tuple[float, float] = (1e-3, 1e3),
 ) -> float:
@@ -228,7 +238,7 @@ def routh_hurwitz_critical_speed(
     # late import: loads scipy only when this runs
     from scipy.optimize import brentq
 
-    def margin(speed):
+    def margin(speed: float) -> float:
         if damping_kind == "friction":
             c_d = friction_damping_at_speed(damping, trail, speed)
         elif damping_kind == "hydraulic":
@@ -239,4 +249,4 @@ def routh_hurwitz_critical_speed(
         return float(routh_hurwitz_margin(coeffs))
 
     low, high = speed_range
-    return brentq(margin, low, high, xtol=1e-12, rtol=1e-12, maxiter=500)
+    return float(brentq(margin, low, high, xtol=1e-12, rtol=1e-12, maxiter=500))

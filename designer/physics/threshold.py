@@ -5,9 +5,10 @@ import numpy as np
 
 from designer.errors import InputError
 from designer.physics._checks import is_symbolic, require_positive
+from designer.physics._types import Array, Scalar
 
 
-def _check_ratio(diameter, height) -> None:
+def _check_ratio(diameter: Scalar, height: Scalar) -> None:
     if is_symbolic(diameter, height):
         return
     require_positive("diameter", diameter)
@@ -21,7 +22,7 @@ def _check_ratio(diameter, height) -> None:
         )
 
 
-def threshold_force_ratio(diameter, height):
+def threshold_force_ratio(diameter: Scalar, height: Scalar) -> Scalar:
     """Force per unit load to push a wheel over a sill, exact Eq. 1 = Eq. 4A [-].
 
     P/L = 2 sqrt(d/h − 1) / (d/h − 2), valid for d/h > 2 (InputError otherwise
@@ -37,7 +38,7 @@ def threshold_force_ratio(diameter, height):
     return 2 * np.sqrt(ratio - 1) / (ratio - 2)
 
 
-def threshold_force_ratio_approx(diameter, height):
+def threshold_force_ratio_approx(diameter: Scalar, height: Scalar) -> Scalar:
     """Approximate force per unit load, Eq. 5A: P/L ≈ 2 sqrt(h/d) [-].
 
     Offered for comparison only; the exact Eq. 4A is always used in design.
@@ -47,12 +48,12 @@ def threshold_force_ratio_approx(diameter, height):
     return 2 * np.sqrt(height / diameter)
 
 
-def threshold_force(diameter, height, load):
+def threshold_force(diameter: Scalar, height: Scalar, load: Scalar) -> Scalar:
     """Force P [N] to push a caster carrying ``load`` L [N] over a sill of height h, Eq. 4A."""
     return load * threshold_force_ratio(diameter, height)
 
 
-def threshold_series_coefficients(order: int) -> np.ndarray:
+def threshold_series_coefficients(order: int) -> Array:
     """Coefficients c_k of P/L = 2 s^½ Σ_k c_k s^k, s = h/d (Eq. 4A expanded).
 
     P/L = 2 sqrt(s) sqrt(1 − s) / (1 − 2s); the series of sqrt(1−s)/(1−2s) is
@@ -68,7 +69,7 @@ def threshold_series_coefficients(order: int) -> np.ndarray:
     return c
 
 
-def threshold_series_remainder_bound(s, order: int):
+def threshold_series_remainder_bound(s: Scalar, order: int) -> Scalar:
     """Upper bound on the truncation error of :func:`threshold_series_coefficients` [-].
 
     Every c_k <= 2^k, so the omitted terms sum to at most

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 from designer.data.paper import BARE_FORK_DAMPING, DISTURBANCE_ANGLE, INCH
 from designer.errors import InputError
+from designer.physics._types import Scalar
 
 SURFACES = ("tile", "carpet")
 MODES = ("chair", "pivot")
@@ -43,7 +44,7 @@ class TurningConstants:
     tile_moment_per_load: float = 0.005
     carpet_factor: float = 2.0
     groove_coefficient: float = 0.10 / (9 / 16 * INCH)
-    mode_factors: dict = field(default_factory=lambda: {"chair": 0.5, "pivot": 1.0})
+    mode_factors: dict[str, float] = field(default_factory=lambda: {"chair": 0.5, "pivot": 1.0})
     bare_fork_damping: float = BARE_FORK_DAMPING
 
     def surface_factor(self, surface: str) -> float:
@@ -61,7 +62,7 @@ class TurningConstants:
         except KeyError:
             raise InputError(f"turning_mode = {mode!r}: expected one of {', '.join(MODES)}") from None
 
-    def __hash__(self):
+    def __hash__(self) -> int:
         return hash((self.tile_moment_per_load, self.carpet_factor, self.groove_coefficient,
                      tuple(sorted(self.mode_factors.items())), self.bare_fork_damping))
 
@@ -69,8 +70,8 @@ class TurningConstants:
 DEFAULT_TURNING = TurningConstants()
 
 
-def sliding_turning_moment(load, groove, surface: str = "tile", mode: str = "chair",
-                           constants: TurningConstants = DEFAULT_TURNING):
+def sliding_turning_moment(load: Scalar, groove: Scalar, surface: str = "tile", mode: str = "chair",
+                           constants: TurningConstants = DEFAULT_TURNING) -> Scalar:
     """Sliding turning moment of the tyre about the spindle [N·m] (docs/model.md#turning-effort; Fig. 7).
 
     M_turn = m_mode · k_surface · L · (1 + κ B).
@@ -86,8 +87,8 @@ def sliding_turning_moment(load, groove, surface: str = "tile", mode: str = "cha
     return constants.mode_factor(mode) * k_surface * load * (1 + constants.groove_coefficient * groove)
 
 
-def added_damper_moment(damping, disturbance_angle=DISTURBANCE_ANGLE,
-                        constants: TurningConstants = DEFAULT_TURNING):
+def added_damper_moment(damping: Scalar, disturbance_angle: Scalar = DISTURBANCE_ANGLE,
+                        constants: TurningConstants = DEFAULT_TURNING) -> Scalar:
     """Spindle friction moment added by a damper, M_d = (c_f − c_0) θ0 [N·m].
 
     The paper: "increasing caster-spindle frictional damping also inhibits
@@ -98,8 +99,9 @@ def added_damper_moment(damping, disturbance_angle=DISTURBANCE_ANGLE,
     return (damping - constants.bare_fork_damping) * disturbance_angle
 
 
-def turning_effort(trail, groove, damping, load, surface: str = "tile", mode: str = "chair",
-                   disturbance_angle=DISTURBANCE_ANGLE, constants: TurningConstants = DEFAULT_TURNING):
+def turning_effort(trail: Scalar, groove: Scalar, damping: Scalar, load: Scalar, surface: str = "tile",
+                   mode: str = "chair", disturbance_angle: Scalar = DISTURBANCE_ANGLE,
+                   constants: TurningConstants = DEFAULT_TURNING) -> Scalar:
     """Lateral force at the spindle to turn the caster, F_turn [N] (Eq. 9; docs/model.md#turning-effort).
 
     F_turn = (M_turn + M_d) / T.  Worked case (tile, chair, L = 178 N, T = 2 in,

@@ -45,11 +45,13 @@ the ~0.6 m the chair travels in one shimmy period at 1.5-2.5 m/s.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
 from designer.data.paper import SLIP_COEFFICIENT
 from designer.errors import InputError
+from designer.physics._types import Array, Numeric
 
 TYRE_FRICTION_COEFFICIENT = 0.7
 """Tyre-floor friction coefficient μ [-] (vinyl tile); estimated from the paper's sliding turning moment,
@@ -81,7 +83,7 @@ class TyreParameters:
     wheel_mass: float = 0.444
     saturation: bool = True
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
 
         for name in ("cornering_stiffness", "friction_coefficient", "load", "wheel_mass"):
             value = getattr(self, name)
@@ -98,7 +100,7 @@ class TyreParameters:
         """σ_sl = 3 μ L / C [-]: slip at which the whole contact slides (brush model)."""
         return 3 * self.friction_limit / self.cornering_stiffness
 
-    def replace(self, **changes) -> "TyreParameters":
+    def replace(self, **changes: Any) -> "TyreParameters":
         """A copy with some fields changed."""
         return replace(self, **changes)
 
@@ -107,7 +109,7 @@ class TyreParameters:
         return replace(self, saturation=False, cornering_stiffness=self.cornering_stiffness * stiffness_factor)
 
 
-def lateral_tyre_force(slip, tyre: TyreParameters = TyreParameters()):
+def lateral_tyre_force(slip: Numeric, tyre: TyreParameters = TyreParameters()) -> Numeric:
     """Lateral floor force on the tyre, brush model [N] (module docstring; Pacejka §3.2.2).
 
     F = −C σ + C² σ|σ|/(3 μ L) − C³ σ³/(27 μ² L²) for |σ| < 3 μ L / C, −μ L sgn σ beyond;
@@ -126,12 +128,14 @@ def lateral_tyre_force(slip, tyre: TyreParameters = TyreParameters()):
     F_max = tyre.friction_limit
     s_sl = 3 * F_max / C
     if np.ndim(slip) == 0:
-        a = abs(slip)
+        sigma = float(slip)  # a float, a NumPy scalar or a 0-d array
+        a = abs(sigma)
         if a >= s_sl:
-            return -F_max if slip > 0 else F_max
+            return -F_max if sigma > 0 else F_max
         r = a / s_sl
         magnitude = F_max * (1 - (1 - r) ** 3)
-        return -magnitude if slip > 0 else magnitude
-    slip = np.asarray(slip, dtype=float)
-    r = np.minimum(np.abs(slip) / s_sl, 1.0)
-    return -np.sign(slip) * F_max * (1 - (1 - r) ** 3)
+        return -magnitude if sigma > 0 else magnitude
+    slips = np.asarray(slip, dtype=float)
+    ratio = np.minimum(np.abs(slips) / s_sl, 1.0)
+    force: Array = -np.sign(slips) * F_max * (1 - (1 - ratio) ** 3)
+    return force

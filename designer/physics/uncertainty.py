@@ -50,40 +50,49 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
+from types import ModuleType
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
+from designer.physics._types import Array, Numeric, Scalar
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities
 from numpy.polynomial.hermite_e import hermegauss
 from numpy.polynomial.legendre import leggauss
 from numpy.polynomial import chebyshev as C
 
 
-def _special():
+def _special() -> ModuleType:
     # late import: scipy.special costs about 0.3 s of CPU, paid at the first quantile, not by `import designer`
     import scipy.special
 
-    return scipy.special
+    module: ModuleType = scipy.special
+    return module
 
 
-def ndtr(x):
+def ndtr(x: Numeric) -> Numeric:
     """Standard normal CDF (scipy.special.ndtr, loaded on first use)."""
-    return _special().ndtr(x)
+    value: Numeric = _special().ndtr(x)
+    return value
 
 
-def ndtri(p):
+def ndtri(p: Numeric) -> Numeric:
     """Standard normal quantile (scipy.special.ndtri, loaded on first use)."""
-    return _special().ndtri(p)
+    value: Numeric = _special().ndtri(p)
+    return value
 
 
-def stdtr(dof, t):
+def stdtr(dof: int, t: Numeric) -> Numeric:
     """Student-t CDF (scipy.special.stdtr, loaded on first use)."""
-    return _special().stdtr(dof, t)
+    value: Numeric = _special().stdtr(dof, t)
+    return value
 
 
-def stdtrit(dof, p):
+def stdtrit(dof: int, p: Numeric) -> Numeric:
     """Student-t quantile (scipy.special.stdtrit, loaded on first use)."""
-    return _special().stdtrit(dof, p)
+    value: Numeric = _special().stdtrit(dof, p)
+    return value
 
 TABLE1_RMS_ERROR = 0.103
 """RMS relative error of Eq. 7 against Table 1 wheels C–G (computed in check 2: 10.3 %)."""
@@ -152,7 +161,7 @@ _NODES = 64
 
 
 @functools.lru_cache(maxsize=8)
-def _quadrature(dof: int):
+def _quadrature(dof: int) -> tuple[Array, Array, Numeric, Array]:
 
     zn, zw = hermegauss(_NODES)
     un, uw = leggauss(4 * _NODES)
@@ -160,7 +169,7 @@ def _quadrature(dof: int):
     return zn, zw / math.sqrt(2 * math.pi), stdtrit(dof, u), uw / 2
 
 
-def _sum_cdf(x, share, dof: int):
+def _sum_cdf(x: Numeric, share: Numeric, dof: int) -> Array:
     """P(√(1−s) t_ν + √s Z <= x) by quadrature (numeric arrays of equal shape) [-]."""
     x = np.asarray(x, float)
     s = np.asarray(share, float)
@@ -177,7 +186,7 @@ def _sum_cdf(x, share, dof: int):
     return out
 
 
-def exact_sum_quantile(share, probability: float, dof: int):
+def exact_sum_quantile(share: Numeric, probability: float, dof: int) -> Array:
     """(1 − α)-quantile of √(1−s) t_ν + √s Z, by quadrature and bisection [-] (numeric only).
 
     The reference for :func:`log_speed_quantile`'s fit (and its tests).
@@ -190,14 +199,15 @@ def exact_sum_quantile(share, probability: float, dof: int):
         mid = (lo + hi) / 2
         below = _sum_cdf(mid, s, dof) < level
         lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
-    return (lo + hi) / 2
+    quantile: Array = (lo + hi) / 2
+    return quantile
 
 
 _DEGREE = 14
 
 
 @functools.lru_cache(maxsize=32)
-def _fit(probability: float, dof: int) -> tuple[np.ndarray, float]:
+def _fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], float]:
     """Chebyshev coefficients (on s ∈ [0, 1]) of the quantile, shifted up by its fit error; and the shift."""
 
     k = np.arange(_DEGREE + 1)
@@ -214,7 +224,7 @@ def _fit(probability: float, dof: int) -> tuple[np.ndarray, float]:
     return coef, shift
 
 
-def _clenshaw(coef: np.ndarray, x):
+def _clenshaw(coef: npt.NDArray[np.floating[Any]], x: Scalar) -> Scalar:
     """Σ c_k T_k(x) by Clenshaw's recurrence (floats, arrays, CasADi symbols)."""
     b1 = 0 * x
     b2 = 0 * x
@@ -223,7 +233,7 @@ def _clenshaw(coef: np.ndarray, x):
     return x * b1 - b2 + float(coef[0])
 
 
-def log_speed_quantile(sigma_model, sigma_rest, uncertainty: Uncertainty):
+def log_speed_quantile(sigma_model: float, sigma_rest: Scalar, uncertainty: Uncertainty) -> Scalar:
     """Q_{1−α}(σ_m t_ν + σ_r Z): how far log V_c must exceed log V_req for the risk bound [-].
 
     Parameters
@@ -245,7 +255,8 @@ def log_speed_quantile(sigma_model, sigma_rest, uncertainty: Uncertainty):
     return np.sqrt(total) * _clenshaw(coef, 2 * share - 1)
 
 
-def rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty: Uncertainty):
+def rest_log_std(trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar,
+                 uncertainty: Uncertainty) -> Scalar:
     """σ_r: standard deviation of the first-order normal part of log V_c,true (c_f, K_s, I_w) [-]."""
     e = critical_speed_log_sensitivities(trail, inertia, groove, damping, slip_coefficient)
     u = uncertainty
@@ -254,13 +265,15 @@ def rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty:
     return np.sqrt(variance)
 
 
-def log_speed_std(trail, inertia, groove, damping, slip_coefficient, uncertainty: Uncertainty):
+def log_speed_std(trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar,
+                  uncertainty: Uncertainty) -> Scalar:
     """Standard deviation of log V_c,true to first order [-] (the t part counted by its scale σ_m)."""
     rest = rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty)
     return np.sqrt(uncertainty.model_error**2 + rest**2)
 
 
-def shimmy_speed_quantile(trail, inertia, groove, damping, slip_coefficient, uncertainty: Uncertainty):
+def shimmy_speed_quantile(trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar,
+                          uncertainty: Uncertainty) -> Scalar:
     """The speed reached with probability 1 − α: V_q = V_c(x) exp(−Q_{1−α}(σ_m, σ_r(x))) [m/s].
 
     Eq. 7 for V_c; the risk bound is ``V_q >= V_req`` and then P(V_c,true < V_req) <= α
@@ -272,8 +285,8 @@ def shimmy_speed_quantile(trail, inertia, groove, damping, slip_coefficient, unc
     return v * np.exp(-log_speed_quantile(uncertainty.model_error, rest, uncertainty))
 
 
-def shimmy_probability_first_order(trail, inertia, groove, damping, slip_coefficient, speed,
-                                   uncertainty: Uncertainty) -> float:
+def shimmy_probability_first_order(trail: float, inertia: float, groove: float, damping: float,
+                                   slip_coefficient: float, speed: float, uncertainty: Uncertainty) -> float:
     """P(log V_c + σ_m t_ν + σ_r Z < log speed): the probability the deterministic bound controls [-]."""
     u = uncertainty
     v = float(critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient))
@@ -287,7 +300,7 @@ def shimmy_probability_first_order(trail, inertia, groove, damping, slip_coeffic
     return float(_sum_cdf(np.array([gap / total]), np.array([rest**2 / total**2]), int(u.model_error_dof))[0])
 
 
-def sample_log_factors(uncertainty: Uncertainty, n: int, rng) -> dict:
+def sample_log_factors(uncertainty: Uncertainty, n: int, rng: np.random.Generator) -> dict[str, Array]:
     """``n`` draws of the log factors: model (σ_m t_ν), damping, slip, inertia (normal) [-]."""
     u = uncertainty
     if u.model_error_dof:
@@ -298,7 +311,8 @@ def sample_log_factors(uncertainty: Uncertainty, n: int, rng) -> dict:
             "slip": rng.normal(0.0, u.slip_coefficient, n), "inertia": rng.normal(0.0, u.inertia, n)}
 
 
-def shimmy_probability_mc(trail, inertia, groove, damping, slip_coefficient, speed, uncertainty: Uncertainty,
+def shimmy_probability_mc(trail: float, inertia: float, groove: float, damping: float, slip_coefficient: float,
+                          speed: float, uncertainty: Uncertainty,
                           samples: int | None = None, seed: int | None = None,
                           target_se: float | None = MC_TARGET_SE) -> tuple[float, float]:
     """Monte Carlo P(V_c,true < speed) on the exact Eq. 7 with sampled constants: (p, standard error) [-].

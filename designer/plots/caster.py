@@ -128,6 +128,22 @@ def draw_caster(ax_side, ax_top, trail: float, diameter: float, groove: float, s
     return ax_side, ax_top
 
 
+def plot_caster(trail: float, diameter: float, groove: float, sill_height: float,
+                swept_radius_max: float | None = None, title: str | None = None, ax=None):
+    """The caster to scale, side and top views (:func:`draw_caster`); returns ``(ax_side, ax_top)``.
+
+    ``ax``: None (a new figure with both views), one Axes (the side view only; ``ax_top`` is None) or a pair
+    of Axes.  Lengths [m] as :func:`draw_caster`.  Used by :meth:`Recommendation.draw`.
+    """
+    if ax is None:
+        # late import: loads matplotlib only when a figure is drawn
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots(1, 2, figsize=(9, 4.2), width_ratios=(1.25, 1), layout="constrained")
+    side, top = (ax, None) if not isinstance(ax, (tuple, list)) and getattr(ax, "ndim", 0) == 0 else tuple(ax)
+    return draw_caster(side, top, trail, diameter, groove, sill_height, swept_radius_max, title=title)
+
+
 # long: the drawing, one SVG element after another
 def caster_svg(trail: float, diameter: float, groove: float, sill_height: float,
                swept_radius_max: float | None = None, scale: float | None = None, label: str | None = None) -> str:

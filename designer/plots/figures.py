@@ -1,7 +1,11 @@
 """The report's figures, drawn with matplotlib's object API on the Agg canvas.
 
-Each ``figure_*`` function takes the :class:`~designer.report.context.ReportData`
-of one report and returns a :class:`matplotlib.figure.Figure`.  They compute
+Each ``figure_*`` function takes what it draws (arrays, plain records, the
+problem's bounds) and returns a :class:`matplotlib.figure.Figure`;
+:mod:`designer.report.figures` picks those arguments out of a report's data.
+The front and its design variables are drawn by the same functions as
+:meth:`Front.plot` and :meth:`Front.plot_variables`
+(:mod:`designer.plots.fronts`).  They compute
 every curve through the model's own functions (:mod:`designer.physics`,
 :func:`designer.model.performance`); no equation is re-typed here.  Lengths
 are plotted in millimetres with inches on a secondary axis; only valid
@@ -36,21 +40,12 @@ from designer.data.paper import (
 )
 from designer.model import performance
 from designer.physics.shimmy import critical_shimmy_speed
-from designer.plots.fronts import draw_fronts
+from designer.plots.fronts import FAMILY_STYLE, draw_fronts, plot_front, plot_variables  # noqa: F401  (FAMILY_STYLE: re-exported)
 from designer.physics.threshold import threshold_force_ratio, threshold_force_ratio_approx
 from designer.errors import InputError
-import sys
 
 FIGURES = ("front", "variables", "trail", "inertia", "threshold", "groove_damper")
 """Figure names in report order; ``figure_<name>`` draws each."""
-
-FAMILY_STYLE = {
-    "bare fork": ("#555555", "o"),
-    "groove": ("#1f77b4", "o"),
-    "damper": ("#d62728", "s"),
-    "groove+damper": ("#9467bd", "D"),
-}
-"""Colour and marker per design family (the mechanism that stops shimmy)."""
 
 MECHANISM_STYLE = {
     "groove alone": ("#1f77b4", "-", "o"),
@@ -72,12 +67,6 @@ def _in_to_mm(inches):
 def _inch_x(ax, label: str):
     sec = ax.secondary_xaxis("top", functions=(_mm_to_in, _in_to_mm))
     sec.set_xlabel(label)
-    return sec
-
-
-def _inch_y(ax, label: str):
-    sec = ax.secondary_yaxis("right", functions=(_mm_to_in, _in_to_mm))
-    sec.set_ylabel(label)
     return sec
 
 
@@ -110,149 +99,83 @@ def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
 # --------------------------------------------------------------------------- front
 
 
-# long: one figure, its layers drawn in order (fronts, marks, annotations)
-def figure_front(data) -> Figure:
-    """Pareto front: turning effort F_turn [N] against threshold force P [N].
+def figure_front(front: dict, title: str, tighter: dict | None = None, curves=(), marks=(), ends=(),
+                 note: str | None = None) -> Figure:
+    """Pareto front: turning effort F_turn [N] against threshold force P [N] (the report's front figure).
 
-    Points are coloured by design family; the knee and the weighted optimum
-    (J = w_turn F_turn + w_threshold P) are marked, with the line of constant
-    J through the optimum; the front for the tighter target (check 8c) is
-    drawn in grey when available.
+    The front is drawn by :func:`designer.plots.fronts.plot_front` (points coloured by design family, as
+    :meth:`Front.plot`), the other fronts and the marked designs by
+    :func:`designer.plots.fronts.draw_fronts`.
+
+    Parameters
+    ----------
+    front : ``{"turning_effort": [N], "threshold_force": [N], "family": [str]}``, one entry per point
+    title : the axes title
+    tighter : optional curve ``{"turning_effort": [N], "threshold_force": [N], "label": str}`` drawn in grey
+        (the front for the tighter target, check 8c)
+    curves, marks : further fronts and marked designs (:func:`~designer.plots.fronts.draw_fronts` records)
+    ends : up to two records ``{"turning_effort", "threshold_force" [N], "trail", "diameter", "groove" [m]}``
+        labelled with their sizes in inches (the two ends of the front)
+    note : text shown under a single-point front (why it is a single point)
     """
-    front, problem = data.front, data.problem
     fig = _new(7.5, 5.0)
     ax = fig.add_subplot()
     ax.set_xlabel("threshold (door-sill) force P [N]")
     ax.set_ylabel("turning effort F_turn [N]")
     ax.grid(True, alpha=0.3)
-    if data.tighter is not None and len(data.tighter.points):
-        t = data.tighter.objectives()
-        ax.plot(t[:, 1], t[:, 0], color="0.65", lw=1.5, ls="--", marker=".", ms=4,
-                label=f"front for V_req = {data.tighter.problem.required_speed:.2f} m/s (V_target × 1.1, check 8c)")
-    f = front.objectives()
+    if tighter is not None:
+        ax.plot(tighter["threshold_force"], tighter["turning_effort"], color="0.65", lw=1.5, ls="--", marker=".",
+                ms=4, label=tighter["label"])
+    f = np.asarray(front["turning_effort"], float)
+    p = np.asarray(front["threshold_force"], float)
+    plot_front(f, p, front["family"], ax=ax, legend=False)
     if len(f):
-        ax.plot(f[:, 1], f[:, 0], color="0.3", lw=1, zorder=1)
-        for family, (colour, marker) in FAMILY_STYLE.items():
-            sel = [i for i, p in enumerate(front.points) if p.family == family]
-            if sel:
-                ax.scatter(f[sel, 1], f[sel, 0], color=colour, marker=marker, s=28, zorder=3,
-                           label=f"continuous front: {family}")
-        knee = front.knee()
-        rec = getattr(data, "recommendation", None)
-        curves, marks = [], []
-        stocked = getattr(problem, "stock", None) is not None  # without [stock] the buildable front is this one
-        if stocked and rec is not None and getattr(rec, "buildable", None) is not None and len(rec.buildable.points):
-            b = rec.buildable.objectives()
-            curves.append({"threshold_force": b[:, 1], "turning_effort": b[:, 0], "kind": "buildable",
-                           "label": f"buildable front (stock parts): {len(b)} point{'s' if len(b) != 1 else ''}"})
-        if rec is not None:
-            marks.append({"threshold_force": rec.threshold_force, "turning_effort": rec.turning_effort,
-                          "kind": "recommended", "label": f"build this: P {rec.threshold_force:.1f} N, "
-                                                          f"F {rec.turning_effort:.2f} N"})
-            for alt in rec.alternatives:
-                marks.append({"threshold_force": alt.threshold_force, "turning_effort": alt.turning_effort,
-                              "kind": "alternative", "label": f"{alt.role}: P {alt.threshold_force:.1f} N, "
-                                                              f"F {alt.turning_effort:.2f} N"})
-        if knee is not None and len(f) >= 3:
-            marks.append({"threshold_force": knee.threshold_force, "turning_effort": knee.turning_effort,
-                          "kind": "knee", "label": f"knee of the continuous front: P {knee.threshold_force:.1f} N, "
-                                                   f"F {knee.turning_effort:.2f} N"})
-        if data.solution is not None:  # the exact optimum, not only the nearest front point
-            w = np.asarray(problem.weights, float)
-            marks.append({"threshold_force": data.solution.objectives["threshold_force"],
-                          "turning_effort": data.solution.objectives["turning_effort"], "kind": "weighted",
-                          "label": f"weighted optimum (w = {w[0]:g}, {w[1]:g}; not the recommendation)"})
         draw_fronts(ax, curves, marks, legend=False)
-        # the diameter at the two ends, in inches
-        ends = [front.points[0], front.points[-1]] if len(f) > 1 else [front.points[0]]
         # the ideal side (below-left) of the front is empty: label the ends there, with arrows
-        for p, where in zip(ends, (dict(xytext=(-25, -30), textcoords="offset points", ha="right"),
-                                   dict(xytext=(0.03, 0.05), textcoords="axes fraction", ha="left",
-                                        va="bottom"))):
-            ax.annotate(f"d = {p.design.diameter / INCH:.2f} in\nT = {p.design.trail / INCH:.2f} in\n"
-                        f"B = {p.design.groove / INCH:.2f} in",
-                        (p.threshold_force, p.turning_effort), fontsize=8, color="0.25",
+        for end, where in zip(ends, (dict(xytext=(-25, -30), textcoords="offset points", ha="right"),
+                                     dict(xytext=(0.03, 0.05), textcoords="axes fraction", ha="left",
+                                          va="bottom"))):
+            ax.annotate(f"d = {end['diameter'] / INCH:.2f} in\nT = {end['trail'] / INCH:.2f} in\n"
+                        f"B = {end['groove'] / INCH:.2f} in",
+                        (end["threshold_force"], end["turning_effort"]), fontsize=8, color="0.25",
                         arrowprops=dict(arrowstyle="-", color="0.5", lw=0.8), **{"va": "top", **where})
         if len(f) == 1:
-            p = front.points[0]
-            ax.set_xlim(p.threshold_force * 0.9, p.threshold_force * 1.1)
-            ax.set_ylim(p.turning_effort * 0.8, p.turning_effort * 1.2)
-            ax.text(0.5, 0.08, "single-point front: " + data.degenerate_reason_short, transform=ax.transAxes,
+            ax.set_xlim(p[0] * 0.9, p[0] * 1.1)
+            ax.set_ylim(f[0] * 0.8, f[0] * 1.2)
+            ax.text(0.5, 0.08, "single-point front: " + (note or ""), transform=ax.transAxes,
                     ha="center", fontsize=8.5, wrap=True, color="0.2")
         else:
-            lo = min(f[:, 0].min(), *(data.tighter.objectives()[:, 0] if data.tighter is not None
-                                      and len(data.tighter.points) else [f[:, 0].min()]))
-            hi = max(f[:, 0].max(), *(data.tighter.objectives()[:, 0] if data.tighter is not None
-                                      and len(data.tighter.points) else [f[:, 0].max()]))
+            t = np.asarray(tighter["turning_effort"], float) if tighter is not None else f
+            lo, hi = min(f.min(), t.min()), max(f.max(), t.max())
             pad = 0.12 * (hi - lo if hi > lo else 1.0)
             ax.set_ylim(lo - 3 * pad, hi + 2.2 * pad)
-    else:
-        ax.text(0.5, 0.5, "no valid point on the front", transform=ax.transAxes, ha="center")
     ax.legend(fontsize=7.5, loc="upper right", framealpha=0.9)
-    risk = problem.conditions.uncertainty
-    bound = (f"P(V_c < {problem.required_speed:.2f} m/s) <= {risk.probability:.0%}" if risk is not None
-             else f"V_c >= {problem.required_speed:.2f} m/s")
-    ax.set_title(f"Pareto front: {problem.name} ({bound})", fontsize=10)
+    ax.set_title(title, fontsize=10)
     return fig
 
 
 # --------------------------------------------------------------------------- variables
 
 
-def figure_variables(data) -> Figure:
+def figure_variables(threshold_force, designs, families, bounds, gaps=()) -> Figure:
     """The design variables T, d, B [mm, in] and c_f [N·m/rad] along the front, against P [N].
 
-    Dashed vertical lines mark family switches (front.gaps()).
+    Drawn by :func:`designer.plots.fronts.plot_variables` (as :meth:`Front.plot_variables`); arguments as
+    there.  Dashed vertical lines mark family switches (``gaps``).
     """
-    front = data.front
     fig = Figure(figsize=(8.5, 6.2))  # fixed margins: constrained layout misplaces labels with secondary axes here
     fig.subplots_adjust(left=0.09, right=0.91, bottom=0.15, top=0.93, wspace=0.45, hspace=0.1)
-    axes = fig.subplots(2, 2, sharex=True)
-    x = np.array([p.threshold_force for p in front.points])
-    designs = front.designs()
-    panels = [
-        ("trail T [mm]", "T [in]", 0, MM, True),
-        ("wheel diameter d [mm]", "d [in]", 1, MM, True),
-        ("groove width B [mm]", "B [in]", 2, MM, True),
-        ("spindle damping c_f [N·m/rad]", None, 3, 1.0, False),
-    ]
-    bounds = [data.problem.bounds[k] for k in ("trail", "diameter", "groove", "damping")]
-    for ax, (label, inch_label, k, scale, inches) in zip(axes.ravel(), panels):
-        if len(x):
-            colours = [FAMILY_STYLE.get(p.family, ("k", "o"))[0] for p in front.points]
-            ax.plot(x, designs[:, k] * scale, color="0.35", lw=1)
-            ax.scatter(x, designs[:, k] * scale, c=colours, s=16, zorder=3)
-            for i, _ in data.gaps:
-                ax.axvline(0.5 * (x[i - 1] + x[i]), color="0.5", ls="--", lw=0.8)
-        b = bounds[k]
-        for v in ([b.low] if b.fixed else [b.low, b.high]):
-            ax.axhline(v * scale, color="#bb5500", lw=0.8, ls=":")
-        ax.set_ylabel(label)
-        ax.grid(True, alpha=0.3)
-        span = (b.high - b.low) * scale
-        pad = 0.08 * (span if span > 0 else max(abs(b.low * scale), 1e-3))
-        ax.set_ylim(b.low * scale - pad, b.high * scale + pad)
-        if inches:
-            _inch_y(ax, inch_label)
-    for ax in axes[1]:
-        ax.set_xlabel("threshold force P [N]")
-
-    if len(x) > 1:
-        axes[0, 0].invert_xaxis()  # shared: read left to right as P falls
-    handles = [axes[0, 0].scatter([], [], color=c, marker="o", s=16, label=f) for f, (c, _) in FAMILY_STYLE.items()
-               if any(p.family == f for p in front.points)]
-    handles.append(axes[0, 0].axhline(np.nan, color="#bb5500", lw=0.8, ls=":", label="bounds"))
-    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8)
-    note = " (single point)" if len(x) == 1 else "; P decreasing to the right, dashed: family switch"
-    fig.suptitle(f"Design variables along the front{note}", fontsize=10)
+    plot_variables(threshold_force, designs, families, bounds, gaps, axes=fig.subplots(2, 2, sharex=True))
     return fig
 
 
 # --------------------------------------------------------------------------- paper figures
 
 
-def figure_trail(data) -> Figure:
+def figure_trail(required_speed: float) -> Figure:
     """V_c [m/s] vs trail T [mm, in] for the Table 1 wheels (Eq. 7, B = 0, bare fork c_f = 1.3): Fig. 14.
+
+    ``required_speed``: the problem's V_req [m/s], drawn as a dashed line.
 
     Measured critical speeds at 2 in trail (wheels C–G) are points in the
     colour of their curve; wheels A and B, stable to 3.8 m/s on the
@@ -277,7 +200,7 @@ def figure_trail(data) -> Figure:
                 textcoords="offset points", xytext=(8, -22), fontsize=8)
     ax.axhline(WALKING_SPEED, color="0.4", ls=":", lw=1)
     ax.text(trail[0] * MM + 1, WALKING_SPEED + 0.08, "walking speed 1 m/s", fontsize=8, color="0.3")
-    req = data.problem.required_speed
+    req = required_speed
     ax.axhline(req, color="black", ls="--", lw=1)
     ax.text(trail[0] * MM + 1, req + 0.08, f"this problem's V_req = {req:.2f} m/s", fontsize=8)
     ax.set_xlim(trail[0] * MM, trail[-1] * MM)
@@ -291,7 +214,7 @@ def figure_trail(data) -> Figure:
     return fig
 
 
-def figure_inertia(data) -> Figure:
+def figure_inertia() -> Figure:
     """V_c [m/s] vs wheel inertia I_w [kg·m²] at 2 in trail (Eq. 7, B = 0, c_f = 1.3) with Table 1's measurements: Fig. 15."""
     fig = _new(7.5, 5.0)
     ax = fig.add_subplot()
@@ -326,19 +249,17 @@ def figure_inertia(data) -> Figure:
     return fig
 
 
-def figure_threshold(data) -> Figure:
+def figure_threshold(sill_height: float, load: float, diameter_bounds, front_diameters=()) -> Figure:
     """P/L [-] vs wheel diameter d [mm, in]: exact Eq. 4A and approximate Eq. 5A, Fig. 2A.
 
-    Drawn for the problem's sill height h (and the paper's ½ in when h
-    differs); the right axis gives P [N] for the problem's load; the
-    diameter bounds are shaded and the front's diameters marked.
+    Drawn for the sill height h = ``sill_height`` [m] (and the paper's ½ in when h differs); the right axis
+    gives P [N] for the caster ``load`` L [N]; ``diameter_bounds`` (an object with ``low``, ``high`` [m] and
+    ``fixed``) are shaded and the ``front_diameters`` [m] marked.
     """
-    problem = data.problem
-    h = problem.conditions.threshold_height
-    load = problem.conditions.load
+    h = sill_height
     fig = _new(7.5, 5.0)
     ax = fig.add_subplot()
-    d_hi = max(10 * INCH, problem.bounds["diameter"].high * 1.1)
+    d_hi = max(10 * INCH, diameter_bounds.high * 1.1)
     d_lo = max(2.6 * h, 1 * INCH)
     d = np.linspace(d_lo, d_hi, 400)
     ax.plot(d * MM, threshold_force_ratio(d, h), color="#1f77b4", lw=1.8, label=f"exact, Eq. 4A (h = {h / INCH:.3g} in)")
@@ -348,13 +269,13 @@ def figure_threshold(data) -> Figure:
         d2 = d[d > 2.6 * 0.5 * INCH]
         ax.plot(d2 * MM, threshold_force_ratio(d2, 0.5 * INCH), color="0.5", lw=1.2,
                 label="exact, paper's h = 0.5 in (Fig. 2A)")
-    b = problem.bounds["diameter"]
+    b = diameter_bounds
     if b.fixed:
         ax.axvline(b.low * MM, color="#ff7f0e", lw=1.2, label=f"fixed diameter {b.low / INCH:.3g} in")
     else:
         ax.axvspan(b.low * MM, b.high * MM, color="#ff7f0e", alpha=0.12, label="diameter bounds of the problem")
-    if len(data.front.points):
-        dd = np.array([p.design.diameter for p in data.front.points])
+    if len(front_diameters):
+        dd = np.asarray(front_diameters, float)
         ax.scatter(dd * MM, threshold_force_ratio(dd, h), color="black", s=12, zorder=4, label="front designs")
     ax.set_xlim(d_lo * MM, d_hi * MM)
     ax.set_ylim(0, min(3.0, float(threshold_force_ratio(d_lo, h)) * 1.05))
@@ -372,37 +293,47 @@ def figure_threshold(data) -> Figure:
 # --------------------------------------------------------------------------- groove vs damper
 
 
-def figure_groove_damper(data) -> Figure:
+def figure_groove_damper(name: str, required_speed: float, bounds: dict, tradeoff, design=None, conditions=None,
+                         catalog: bool = False) -> Figure:
     """Groove against damper for the problem's conditions.
 
     Left: the least turning effort F_turn [N] that reaches V_req at each
     diameter by the groove alone, the damper alone and the optimum mix
-    (exact NLP, trail free).  Right: at the weighted optimum's T and d, the
-    (B, c_f) plane with turning-effort contours [N] and iso-V_c lines [m/s];
-    the bold line is V_c = V_req, the star the optimum.
+    (exact NLP, trail free: the ``tradeoff`` rows of
+    :func:`designer.analysis.tradeoff.groove_damper_tradeoff`).  Right: at the weighted optimum's T and d
+    (``design``, with its ``conditions``), the (B, c_f) plane with turning-effort contours [N] and iso-V_c
+    lines [m/s] (:func:`designer.model.performance`); the bold line is V_c = V_req, the star the optimum.
+
+    Parameters
+    ----------
+    name : the problem's name (title)
+    required_speed : V_req [m/s]
+    bounds : {"groove": Bound, "damping": Bound, ...} [SI] (objects with ``low``, ``high``, ``fixed``)
+    tradeoff : rows with ``diameter`` [m], ``wheel``, ``effort`` {mechanism: F_turn [N] or None}, ``designs``
+    design, conditions : the weighted optimum and its conditions, or None ("no feasible design")
+    catalog : the diameters are catalog wheels (grouped bars instead of lines)
     """
-    problem = data.problem
     fig = _new(11.5, 5.0)
     left, right = fig.subplots(1, 2, width_ratios=(1, 1.1))
-    rows = data.tradeoff
-    if problem.wheels or len(rows) == 1:
-        _tradeoff_bars(left, problem, rows)
+    rows = tradeoff
+    if catalog or len(rows) == 1:
+        _tradeoff_bars(left, catalog, rows)
     else:
-        _tradeoff_lines(left, problem, rows)
-    fixed = [name for name in ("groove", "damping") if problem.bounds[name].fixed]
+        _tradeoff_lines(left, bounds, rows)
+    fixed = [name for name in ("groove", "damping") if bounds[name].fixed]
     if fixed:
         left.text(0.02, 0.97, f"{' and '.join(fixed)} fixed by the problem", transform=left.transAxes,
                   fontsize=8, color="0.3", va="top")
     left.grid(True, alpha=0.3)
     left.set_ylabel("least turning effort F_turn [N]")
     left.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0, 0.93))
-    left.set_title(f"Least turning effort reaching V_req = {problem.required_speed:.2f} m/s", fontsize=10)
-    _groove_damper_plane(right, data)
-    fig.suptitle(f"{problem.name}: groove against damper (trail free on the left, fixed on the right)", fontsize=10)
+    left.set_title(f"Least turning effort reaching V_req = {required_speed:.2f} m/s", fontsize=10)
+    _groove_damper_plane(right, bounds, required_speed, design, conditions)
+    fig.suptitle(f"{name}: groove against damper (trail free on the left, fixed on the right)", fontsize=10)
     return fig
 
 
-def _tradeoff_lines(left, problem, rows) -> None:
+def _tradeoff_lines(left, bounds, rows) -> None:
     """Least F_turn vs diameter, one line per mechanism (continuous diameter)."""
     xs = np.array([r.diameter for r in rows]) * MM
     for mechanism, (colour, ls, marker) in MECHANISM_STYLE.items():
@@ -414,7 +345,7 @@ def _tradeoff_lines(left, problem, rows) -> None:
     if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
         left.scatter([], [], color="0.3", marker="x", label="cannot reach V_req (plotted at 0)")
     bare = [r.diameter * MM for r in rows if r.designs.get("optimum mix") is not None
-            and _is_bare(problem, r.designs["optimum mix"])]
+            and _is_bare(bounds, r.designs["optimum mix"])]
     if bare and len(rows) > 1:
         step = (xs[-1] - xs[0]) / (len(xs) - 1) / 2
         left.axvspan(min(bare) - step, max(bare) + step, color="0.85", alpha=0.5, lw=0)
@@ -425,7 +356,7 @@ def _tradeoff_lines(left, problem, rows) -> None:
     left.set_ylim(bottom=0)
 
 
-def _tradeoff_bars(left, problem, rows) -> None:
+def _tradeoff_bars(left, catalog, rows) -> None:
     """Grouped bars per wheel (catalog) or for the one fixed diameter."""
     x = np.arange(len(rows))
     width = 0.26
@@ -446,25 +377,17 @@ def _tradeoff_bars(left, problem, rows) -> None:
     labels = [(f"{r.wheel}\n" if r.wheel else "") + f"{r.diameter / INCH:.3g} in\n{r.diameter * MM:.0f} mm"
               for r in rows]
     left.set_xticks(x, labels, fontsize=8)
-    left.set_xlabel("Table 1 wheel, diameter d [in, mm]" if problem.wheels else "wheel diameter d (fixed) [in, mm]")
+    left.set_xlabel("Table 1 wheel, diameter d [in, mm]" if catalog else "wheel diameter d (fixed) [in, mm]")
     left.set_ylim(0, top * 1.35)
     if len(rows) == 1:
         left.set_xlim(-1, 1)
 
 
-def _groove_damper_plane(ax, data) -> None:
-    problem = data.problem
-    best = data.front.weighted_best()
-    if data.solution is not None:
-        design = data.solution.design
-        conditions = data.solution.problem.conditions
-    elif best is not None:
-        design = best.design
-        conditions = problem.conditions
-    else:
+def _groove_damper_plane(ax, bounds, req, design, conditions) -> None:
+    if design is None:
         ax.text(0.5, 0.5, "no feasible design", transform=ax.transAxes, ha="center")
         return
-    gb, cb = problem.bounds["groove"], problem.bounds["damping"]
+    gb, cb = bounds["groove"], bounds["damping"]
     g_hi = max(gb.high, design.groove * 1.2, 0.25 * INCH)
     c_lo = min(cb.low, design.damping)
     c_hi = max(cb.high, design.damping * 1.2, c_lo + 1.0)
@@ -481,7 +404,6 @@ def _groove_damper_plane(ax, data) -> None:
     cbar.set_label("turning effort F_turn [N]")
     lines = ax.contour(G * MM, C, v, levels=8, colors="0.25", linewidths=0.8)
     ax.clabel(lines, fmt="%.1f m/s", fontsize=7)
-    req = problem.required_speed
     if v.min() < req < v.max():
         ax.contour(G * MM, C, v, levels=[req], colors="black", linewidths=2.2)
     elif v.min() >= req:
@@ -507,23 +429,14 @@ def _groove_damper_plane(ax, data) -> None:
     ax.set_title(title, fontsize=10 if not (cb.fixed or gb.fixed) else 9)
 
 
-def _is_bare(problem, design) -> bool:
-    """No groove and no added damper beyond the lower bounds."""
-    return (design.groove <= problem.bounds["groove"].low + 1e-6 * INCH
-            and design.damping <= problem.bounds["damping"].low * (1 + 1e-6))
+def _is_bare(bounds, design) -> bool:
+    """No groove and no added damper beyond the lower bounds (``bounds``: the problem's, by variable name)."""
+    return (design.groove <= bounds["groove"].low + 1e-6 * INCH
+            and design.damping <= bounds["damping"].low * (1 + 1e-6))
 
 
 def _rect(x, y, w, h):
     return Rectangle((x, y), max(w, 1e-9), max(h, 1e-9), fill=False, ls=":", lw=1.2, edgecolor="#bb5500")
 
 
-def draw(name: str, data) -> Figure:
-    """Draw figure ``name`` (one of :data:`FIGURES`) for the report ``data``.
-
-    Looked up at call time, so each figure function can be replaced (tests).
-    """
-
-    return getattr(sys.modules[__name__], f"figure_{name}")(data)
-
-
-__all__ = ["FIGURES", "draw", "png_bytes"] + [f"figure_{n}" for n in FIGURES]
+__all__ = ["FIGURES", "png_bytes", "save_figure"] + [f"figure_{n}" for n in FIGURES]

@@ -23,6 +23,18 @@ MARK_STYLE = {
     "knee": dict(marker="o", s=170, facecolor="none", edgecolor="#1f77b4", lw=1.8, zorder=5),
 }
 """Marker style per kind of marked design."""
+FAMILY_STYLE = {
+    "bare fork": ("#555555", "o"),
+    "groove": ("#1f77b4", "o"),
+    "damper": ("#d62728", "s"),
+    "groove+damper": ("#9467bd", "D"),
+}
+"""Colour and marker per design family (the mechanism that stops shimmy)."""
+COLOR_BY = {"trail": ("trail T [mm]", 0, 1000.0), "diameter": ("wheel diameter d [mm]", 1, 1000.0),
+            "groove": ("groove width B [mm]", 2, 1000.0), "damping": ("spindle damping c_f [N·m/rad]", 3, 1.0)}
+"""``color_by`` choices of :func:`plot_front` besides "family", "critical_speed" and None: (label, design column,
+scale to the plotted unit)."""
+MM = 1000.0
 
 
 def draw_fronts(ax, curves, marks=(), legend: bool = True):
@@ -55,4 +67,155 @@ def draw_fronts(ax, curves, marks=(), legend: bool = True):
     return ax
 
 
-__all__ = ["CURVE_STYLE", "MARK_STYLE", "draw_fronts"]
+def new_axes(ax=None, figsize=(7.5, 5.0)):
+    """``ax``, or the Axes of a new figure of ``figsize`` [in] (pyplot, so a notebook shows it)."""
+    if ax is not None:
+        return ax
+    # late import: loads matplotlib only when a figure is drawn
+    import matplotlib.pyplot as plt
+
+    _, ax = plt.subplots(figsize=figsize, layout="constrained")
+    return ax
+
+
+def plot_front(turning_effort, threshold_force, families=None, ax=None, color_by="family", designs=None,
+               critical_speed=None, label: str = "continuous front", legend: bool = True):
+    """Draw one Pareto front: turning effort F_turn [N] against threshold force P [N]; returns the Axes.
+
+    The points are joined in order by a thin grey line (x = P, y = F_turn) and drawn as markers coloured by
+    ``color_by``: ``"family"`` (:data:`FAMILY_STYLE`, one legend entry per family), a design variable
+    (``"trail"``, ``"diameter"``, ``"groove"`` [mm] or ``"damping"`` [N·m/rad], with a colour bar),
+    ``"critical_speed"`` V_c [m/s], or None (one colour).  Used by :meth:`Front.plot` and by the report's
+    front figure (:func:`designer.plots.figures.figure_front`).
+
+    Parameters
+    ----------
+    turning_effort, threshold_force : arrays [N], one entry per point, in front order
+    families : design family per point (needed for ``color_by="family"``)
+    ax : matplotlib Axes, or None for a new figure
+    color_by : "family" | "trail" | "diameter" | "groove" | "damping" | "critical_speed" | None
+    designs : (n, 4) array of (T [m], d [m], B [m], c_f [N·m/rad]) (for a design variable ``color_by``)
+    critical_speed : array [m/s] (for ``color_by="critical_speed"``)
+    label : legend text before the family name
+    legend : draw the legend
+    """
+    ax = new_axes(ax)
+    f = np.asarray(turning_effort, float).reshape(-1)
+    p = np.asarray(threshold_force, float).reshape(-1)
+    if len(f) != len(p):
+        raise ValueError(f"turning_effort has {len(f)} points, threshold_force {len(p)}: must be equal")
+    ax.set_xlabel("threshold (door-sill) force P [N]")
+    ax.set_ylabel("turning effort F_turn [N]")
+    ax.grid(True, alpha=0.3)
+    if not len(f):
+        ax.text(0.5, 0.5, "no valid point on the front", transform=ax.transAxes, ha="center")
+        return ax
+    ax.plot(p, f, color="0.3", lw=1, zorder=1)
+    if color_by == "family":
+        fam = list(families) if families is not None else ["front"] * len(f)
+        for family in list(FAMILY_STYLE) + [x for x in dict.fromkeys(fam) if x not in FAMILY_STYLE]:
+            colour, marker = FAMILY_STYLE.get(family, ("#1f77b4", "o"))
+            sel = [i for i, x in enumerate(fam) if x == family]
+            if sel:
+                ax.scatter(p[sel], f[sel], color=colour, marker=marker, s=28, zorder=3, label=f"{label}: {family}")
+    elif color_by is None:
+        ax.scatter(p, f, color="#1f77b4", s=28, zorder=3, label=label)
+    else:
+        values, what = _colour_values(color_by, designs, critical_speed, len(f))
+        points = ax.scatter(p, f, c=values, cmap="viridis", s=28, zorder=3, label=label)
+        ax.figure.colorbar(points, ax=ax, label=what)
+    if legend:
+        ax.legend(fontsize=7.5, loc="upper right", framealpha=0.92)
+    return ax
+
+
+def _colour_values(color_by, designs, critical_speed, n):
+    """(values, colour-bar label) of a numeric ``color_by``."""
+    if color_by == "critical_speed":
+        if critical_speed is None:
+            raise ValueError("color_by='critical_speed' needs critical_speed")
+        return np.asarray(critical_speed, float).reshape(n), "critical shimmy speed V_c [m/s]"
+    if color_by not in COLOR_BY:
+        raise ValueError(f"color_by = {color_by!r}: expected 'family', None, 'critical_speed' or one of "
+                         f"{', '.join(repr(k) for k in COLOR_BY)}")
+    if designs is None:
+        raise ValueError(f"color_by={color_by!r} needs designs")
+    what, column, scale = COLOR_BY[color_by]
+    return np.asarray(designs, float).reshape(n, 4)[:, column] * scale, what
+
+
+INCH = 0.0254
+VARIABLE_PANELS = (("trail T [mm]", "T [in]", 0, MM, True), ("wheel diameter d [mm]", "d [in]", 1, MM, True),
+                   ("groove width B [mm]", "B [in]", 2, MM, True), ("spindle damping c_f [N·m/rad]", None, 3, 1.0, False))
+"""Panels of :func:`plot_variables`: (label, inch label, design column, scale, inch axis)."""
+
+
+def _mm_to_in(mm):
+    return np.asarray(mm, float) / (INCH * MM)
+
+
+def _in_to_mm(inches):
+    return np.asarray(inches, float) * INCH * MM
+
+
+# long: four panels, their bounds, family switches and the shared legend in one figure
+def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=None):
+    """The design variables along a front against its threshold force P [N]; returns the 2 × 2 array of Axes.
+
+    Panels: trail T, diameter d, groove B [mm, inches on the right] and spindle damping c_f [N·m/rad]; the
+    points are coloured by family (:data:`FAMILY_STYLE`), dotted lines are the bounds, dashed vertical lines
+    the family switches (``gaps``); the shared x axis runs with P decreasing to the right.  Used by
+    :meth:`Front.plot_variables` and the report's variables figure.
+
+    Parameters
+    ----------
+    threshold_force : array [N], one entry per point
+    designs : (n, 4) array of (T [m], d [m], B [m], c_f [N·m/rad])
+    families : design family per point
+    bounds : four (low, high) pairs or objects with ``low``/``high`` [SI], in the order T, d, B, c_f
+    gaps : (index of the point after the gap, description) pairs (:meth:`Front.gaps`)
+    axes : a 2 × 2 array of Axes sharing x, or None for a new figure
+    """
+    if axes is None:
+        # late import: loads matplotlib only when a figure is drawn
+        import matplotlib.pyplot as plt
+
+        fig = plt.figure(figsize=(8.5, 6.2))  # fixed margins: constrained layout misplaces the secondary axes
+        fig.subplots_adjust(left=0.09, right=0.91, bottom=0.15, top=0.93, wspace=0.45, hspace=0.1)
+        axes = fig.subplots(2, 2, sharex=True)
+    axes = np.asarray(axes)
+    fig = axes.flat[0].figure
+    x = np.asarray(threshold_force, float).reshape(-1)
+    designs = np.asarray(designs, float).reshape(-1, 4)
+    families = list(families)
+    for ax, (label, inch_label, k, scale, inches) in zip(axes.ravel(), VARIABLE_PANELS):
+        if len(x):
+            colours = [FAMILY_STYLE.get(f, ("k", "o"))[0] for f in families]
+            ax.plot(x, designs[:, k] * scale, color="0.35", lw=1)
+            ax.scatter(x, designs[:, k] * scale, c=colours, s=16, zorder=3)
+            for i, _ in gaps:
+                ax.axvline(0.5 * (x[i - 1] + x[i]), color="0.5", ls="--", lw=0.8)
+        low, high = (bounds[k].low, bounds[k].high) if hasattr(bounds[k], "low") else bounds[k]
+        for v in ([low] if low == high else [low, high]):
+            ax.axhline(v * scale, color="#bb5500", lw=0.8, ls=":")
+        ax.set_ylabel(label)
+        ax.grid(True, alpha=0.3)
+        span = (high - low) * scale
+        pad = 0.08 * (span if span > 0 else max(abs(low * scale), 1e-3))
+        ax.set_ylim(low * scale - pad, high * scale + pad)
+        if inches:
+            ax.secondary_yaxis("right", functions=(_mm_to_in, _in_to_mm)).set_ylabel(inch_label)
+    for ax in axes[-1]:
+        ax.set_xlabel("threshold force P [N]")
+    if len(x) > 1:
+        axes.flat[0].invert_xaxis()  # shared: read left to right as P falls
+    handles = [axes.flat[0].scatter([], [], color=c, marker="o", s=16, label=f) for f, (c, _) in FAMILY_STYLE.items()
+               if f in families]
+    handles.append(axes.flat[0].axhline(np.nan, color="#bb5500", lw=0.8, ls=":", label="bounds"))
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8)
+    note = " (single point)" if len(x) == 1 else "; P decreasing to the right, dashed: family switch"
+    fig.suptitle(f"Design variables along the front{note}", fontsize=10)
+    return axes
+
+
+__all__ = ["COLOR_BY", "CURVE_STYLE", "FAMILY_STYLE", "MARK_STYLE", "draw_fronts", "new_axes", "plot_front", "plot_variables"]

@@ -9,15 +9,46 @@ import math
 import numpy as np
 
 
-def _axes(ax, figsize=(7, 4.5)):
+def _axes(ax, figsize=(7, 4.5), **layout):
     if ax is None:
-        import matplotlib  # heavy, only for figures
-
-        matplotlib.use("Agg")
-        # late import: loads matplotlib only when this runs
+        # late import: loads matplotlib only when a figure is drawn (pyplot, so a notebook shows it; no
+        # backend is forced: matplotlib picks Agg by itself where there is no display)
         import matplotlib.pyplot as plt
 
-        _, ax = plt.subplots(figsize=figsize)
+        _, ax = plt.subplots(figsize=figsize, **layout)
+    return ax
+
+
+def plot_knock(t, theta, speed: float, grows: bool, critical_speed: float, predicted_amplitude: float,
+               onset_speed: float | None = None, ax=None):
+    """θ(t) after a knock: the caster angle [deg] against time [s]; returns the Axes.
+
+    Dashed red lines: ± the Eq. 29B amplitude θ_i V/(ωT); the title gives the speed V [m/s], whether the
+    shimmy grows, Eq. 7's V_c [m/s] and, when given, the simulated onset speed [m/s].  Used by
+    :meth:`SimulationResult.plot <designer.analysis.simulate.SimulationResult.plot>` and
+    ``designer simulate --plot``.
+
+    Parameters
+    ----------
+    t : times [s]; theta : caster angle θ [rad]
+    speed : V [m/s]; grows : the oscillation grows (shimmy)
+    critical_speed : Eq. 7 V_c [m/s]; predicted_amplitude : Eq. 29B amplitude [rad]
+    onset_speed : simulated onset speed [m/s] or None
+    ax : matplotlib Axes, or None for a new figure
+    """
+    ax = _axes(ax, (8, 3.5), layout="constrained")
+    ax.plot(t, np.degrees(theta), lw=1)
+    amp = math.degrees(predicted_amplitude)
+    ax.axhline(amp, color="tab:red", ls="--", lw=0.8, label=f"Eq. 29B amplitude ±{amp:.1f}°")
+    ax.axhline(-amp, color="tab:red", ls="--", lw=0.8)
+    ax.axhline(0, color="k", lw=0.5)
+    title = f"V = {speed:.2f} m/s: {'grows' if grows else 'decays'}; Eq. 7 V_c = {critical_speed:.2f} m/s"
+    if onset_speed is not None:
+        title += f", simulated onset {onset_speed:.2f} m/s"
+    ax.set_title(title, fontsize=10)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("caster angle θ [deg]")
+    ax.legend(fontsize=8)
     return ax
 
 
@@ -142,3 +173,93 @@ def map_axes(k_factors, n_factors, values, title: str, unit: str, fmt: str = "{:
     ax.set_title(title, fontsize=9)
     ax.figure.colorbar(im, ax=ax, label=unit, shrink=0.8)
     return ax
+
+
+# long: the four panels of one figure, each a few plotting calls
+def figure_onset_comparison(rows, traces, onset_c):
+    """The simulated-onset study against Eq. 7 (results/simulation/onset.png); returns the Figure.
+
+    (a) simulated onset vs Eq. 7 V_c [m/s]; (b) the onset error [%] against the error implied by Eq. 29B's
+    amplitude; (c) simulated amplitude vs Eq. 4/29B [rad]; (d) θ(t) [deg] of the Appendix C caster below,
+    at and above the onset.
+
+    Parameters
+    ----------
+    rows : the study's rows (``eq7_critical_speed``, ``onset_speed`` [m/s], ``relative_error``,
+        ``groove_in``, ``angle_deg``, ``amplitude_sim``, ``amplitude_eq29b`` [rad], ``amplitude_error``)
+    traces : {speed factor (0.9, 1.0, 1.1): a simulation result with ``t`` [s], ``theta`` [rad], ``speed``,
+        ``grows``}
+    onset_c : the Appendix C onset (``speed``, ``critical_speed`` [m/s])
+    """
+    # late import: loads matplotlib only when a figure is drawn
+    from matplotlib.figure import Figure
+
+    v7 = np.array([r["eq7_critical_speed"] for r in rows])
+    vs = np.array([r["onset_speed"] for r in rows])
+    err = 100 * np.array([r["relative_error"] for r in rows])
+    grooved = np.array([r["groove_in"] > 0 for r in rows])
+    ang = np.array([r["angle_deg"] for r in rows])
+    amp_s = np.array([r["amplitude_sim"] for r in rows])
+    amp_p = np.array([r["amplitude_eq29b"] for r in rows])
+    markers = {10.0: "v", 20.0: "o", 40.0: "^"}
+
+    fig = Figure(figsize=(12, 9.5))
+    axes = fig.subplots(2, 2)
+    ax = axes[0, 0]
+    lim = (0.8 * min(v7.min(), vs.min()), 1.2 * max(v7.max(), vs.max()))
+    xx = np.geomspace(*lim, 50)
+    ax.fill_between(xx, 0.9 * xx, 1.1 * xx, color="0.9", label="±10 %")
+    ax.plot(xx, xx, "k-", lw=1, label="simulated = Eq. 7")
+    for g, colour, label in ((False, "tab:blue", "B = 0"), (True, "tab:orange", "B = 9/16 in")):
+        for a, m in markers.items():
+            sel = (grooved == g) & np.isclose(ang, a)
+            ax.scatter(v7[sel], vs[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4,
+                       label=f"{label}, θ_i = {a:.0f}°")
+    ax.set_xscale("log"), ax.set_yscale("log")
+    ax.set_xlim(lim), ax.set_ylim(lim)
+    ax.set_xlabel("Eq. 7 critical speed V_c [m/s] (c_f,eff = M_f/θ_i)")
+    ax.set_ylabel("simulated onset speed [m/s]")
+    ax.set_title("(a) Coulomb-friction simulation vs Eq. 7")
+    ax.legend(fontsize=7, ncol=2, loc="upper left")
+
+    ax = axes[0, 1]
+    implied = 100 * ((1 + np.array([r["amplitude_error"] for r in rows])) ** -0.5 - 1)
+    lo, hi = min(implied.min(), err.min()) - 2, max(implied.max(), err.max()) + 2
+    ax.axhspan(-10, 10, color="0.9")
+    ax.plot([lo, hi], [lo, hi], "k-", lw=1, label="error = (θ_a,29B / θ_a,sim)^½ − 1")
+    for g, colour, _label in ((False, "tab:blue", "B = 0"), (True, "tab:orange", "B = 9/16 in")):
+        for a, m in markers.items():
+            sel = (grooved == g) & np.isclose(ang, a)
+            ax.scatter(implied[sel], err[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4)
+    ax.set_xlim(lo, hi), ax.set_ylim(lo, hi)
+    ax.set_xlabel("error implied by the amplitude of Eq. 29B: (θ_a,29B/θ_a,sim)^½ − 1 [%]")
+    ax.set_ylabel("onset error (simulated − Eq. 7)/Eq. 7 [%]")
+    ax.set_title("(b) Eq. 7's error comes from Eq. 29B's amplitude")
+    ax.legend(fontsize=8, loc="upper left")
+
+    ax = axes[1, 0]
+    top = 1.1 * max(amp_s.max(), amp_p.max())
+    ax.plot([0, top], [0, top], "k-", lw=1)
+    for g, colour in ((False, "tab:blue"), (True, "tab:orange")):
+        for a, m in markers.items():
+            sel = (grooved == g) & np.isclose(ang, a)
+            ax.scatter(amp_p[sel], amp_s[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4)
+    ax.set_xlim(0, top), ax.set_ylim(0, top)
+    ax.set_xlabel("Eq. 4 / 29B amplitude θ_i V/(ωT) at onset [rad]")
+    ax.set_ylabel("simulated amplitude after the transient [rad]")
+    ax.set_title("(c) shimmy amplitude at onset (blue B = 0, orange grooved)")
+
+    ax = axes[1, 1]
+    for f, colour in ((0.9, "tab:green"), (1.0, "tab:gray"), (1.1, "tab:red")):
+        r = traces[f]
+        ax.plot(r.t, np.degrees(r.theta), color=colour, lw=1,
+                label=f"V = {r.speed:.2f} m/s ({f:.1f} × onset): {'grows' if r.grows else 'decays'}")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("caster angle θ [deg]")
+    ax.set_title(f"(d) Appendix C caster (T = 2.5 in, θ_i = 20°): onset {onset_c.speed:.2f} m/s, "
+                 f"Eq. 7 {onset_c.critical_speed:.2f} m/s", fontsize=9)
+    ax.legend(fontsize=8, loc="lower right")
+    fig.suptitle("Time-domain shimmy with Coulomb spindle friction vs the describing-function Eq. 7", fontsize=12)
+    fig.tight_layout()
+    return fig

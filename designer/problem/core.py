@@ -12,7 +12,7 @@ import math
 import re
 import warnings
 from dataclasses import dataclass, field
-from typing import NoReturn
+from typing import Any, Iterable, NoReturn
 
 from designer.data.paper import INCH, TABLE1
 from designer import parameters
@@ -21,6 +21,7 @@ from designer.reprs import html_table
 from designer.model import MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions, Design
 from designer.physics.inertia import Catalog
 from designer.physics.turning import MODES, SURFACES
+from designer.physics.uncertainty import Uncertainty
 
 DEFAULT_BOUNDS = parameters.DEFAULT_BOUNDS
 """Bounds used for a variable the problem file does not mention [SI] (from :mod:`designer.parameters`)."""
@@ -60,7 +61,8 @@ def check_range(key: str, value: float, prefix: str = "") -> None:
                            f": outside the model's range {low:g} to {high:g} {unit}".rstrip() + f" ({hint})")
 
 
-def check_weights(weights, key: str = "objective", error=ProblemError) -> tuple[float, float]:
+def check_weights(weights: Iterable[float], key: str = "objective",
+                  error: type[Exception] = ProblemError) -> tuple[float, float]:
     """Validate objective weights (w_turn, w_threshold); returns them as floats.
 
     Raises ``error`` (default :class:`ProblemError`) unless there are two finite,
@@ -173,7 +175,7 @@ class Stock:
 
     def describe(self) -> str:
         """One line in inches and N·m/rad: what is on offer (``continuous`` where nothing is listed)."""
-        def inches(values):
+        def inches(values: tuple[float, ...] | None) -> str:
             return "continuous" if values is None else ", ".join(f"{v / INCH:g}" for v in values) + " in"
 
         parts = []
@@ -190,7 +192,7 @@ class Stock:
                      "dampings " + ", ".join(f"{v:g}" for v in self.dampings) + " N·m/rad")
         return "; ".join(parts)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """Plain data in SI units."""
         return {"diameters": None if self.diameters is None else list(self.diameters),
                 "grooves": None if self.grooves is None else list(self.grooves),
@@ -229,23 +231,23 @@ class Problem:
     conditions: Conditions
     target_speed: float
     margin: float = 0.0
-    bounds: dict = field(default_factory=lambda: {k: Bound(*v) for k, v in DEFAULT_BOUNDS.items()})
+    bounds: dict[str, Bound] = field(default_factory=lambda: {k: Bound(*v) for k, v in DEFAULT_BOUNDS.items()})
     swept_radius_max: float | None = None
     weights: tuple[float, float] = (1.0, 1.0)
     pareto_points: int = 41
     wheels: tuple[str, ...] = ()
-    choices: dict = field(default_factory=dict)
+    choices: dict[str, tuple[str, ...]] = field(default_factory=dict)
     stock: Stock | None = None
     max_threshold_force: float | None = None
     max_turning_effort: float | None = None
     description: str = ""
     source: str | None = None
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         _validate(self, prefix=f"{self.source}: " if self.source else "")
 
     @property
-    def risk(self):
+    def risk(self) -> Uncertainty | None:
         """The risk bound in force: an :class:`~designer.physics.uncertainty.Uncertainty` (P(V_c,true <
         (1 + margin) V_target) <= α), or None for the nominal Eq. 7 constraint (``[robust] enabled = false``)."""
         return self.conditions.uncertainty
@@ -261,7 +263,7 @@ class Problem:
         """(1 + margin) · V_target [m/s]: what V_c must reach."""
         return (1 + self.margin) * self.target_speed
 
-    def replace(self, **changes) -> "Problem":
+    def replace(self, **changes: Any) -> "Problem":
         """A validated copy with some fields changed (e.g. ``target_speed=3.0``)."""
         return dataclasses.replace(self, **changes)
 
@@ -290,7 +292,7 @@ class Problem:
             )
         return out
 
-    def model_warnings(self, diameters=None) -> list[str]:
+    def model_warnings(self, diameters: Iterable[float] | None = None) -> list[str]:
         """Where the problem leaves the data its model rests on (said once, not per evaluation).
 
         With ``diameters`` [m] (those of the designs the tool reports): a warning only if one of them
@@ -349,7 +351,7 @@ class Problem:
         """SHA-256 of the problem's canonical content (for report metadata)."""
         return hashlib.sha256(json.dumps(self.to_dict(), sort_keys=True, default=str).encode()).hexdigest()[:16]
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """Plain-data description of the problem in SI units."""
         c = self.conditions
         return {

@@ -11,7 +11,7 @@ import math
 import re
 import tomllib
 from pathlib import Path
-from typing import Any, Callable, NoReturn
+from typing import Any, Callable, NoReturn, TypeVar
 
 from designer.data.paper import INCH, TABLE1
 from designer import parameters
@@ -26,8 +26,11 @@ from designer.physics.uncertainty import Uncertainty
 from designer.problem.core import (DEFAULT_BOUNDS, INERTIA_MODELS, INERTIA_RANGE, MAX_SAMPLES, SCHEMA,
                                    VARIABLE_DIMENSIONS, Bound, Problem, Stock, StockWheel)
 
+_D = TypeVar("_D")
+"""The default of an optional quantity: a float, or None for 'not given'."""
 
-def problem_files(where="problems") -> list[Path]:
+
+def problem_files(where: str | Path = "problems") -> list[Path]:
     """The problem files in folder ``where`` (sorted), or ``[where]`` if it is a file.
 
     Raises InputError if the folder holds no ``*.toml`` file.
@@ -41,7 +44,7 @@ def problem_files(where="problems") -> list[Path]:
     return files
 
 
-def load_problem(path) -> Problem:
+def load_problem(path: str | Path) -> Problem:
     """Read and validate a problem file (TOML, docs/problem-file.md).
 
     Raises
@@ -74,24 +77,24 @@ def problem_from_toml(text: str, source: str | None = None, default_name: str = 
     return problem_from_dict(data, source=source, default_name=default_name)
 
 
-def problem_from_dict(data: dict, source: str | None = None, default_name: str = "problem") -> Problem:  # noqa: C901 - reads the sections in order; each branch is one key's rule
+def problem_from_dict(data: dict[str, Any], source: str | None = None, default_name: str = "problem") -> Problem:  # noqa: C901 - reads the sections in order; each branch is one key's rule
     """Build a validated :class:`Problem` from a dict with the problem-file schema."""
     prefix = f"{source}: " if source else ""
 
-    def fail(msg: str):
+    def fail(msg: str) -> NoReturn:
         raise ProblemError(prefix + msg)
 
     if not isinstance(data, dict):
         fail("a problem must be a table of sections")
     _check_keys(data, prefix)
 
-    def section(name: str) -> dict:
+    def section(name: str) -> dict[str, Any]:
         value = data.get(name, {})
         if not isinstance(value, dict):
             fail(f"[{name}] must be a table, got {type(value).__name__}")
         return value
 
-    def quantity(sec: str, key: str, dimension: str, default):
+    def quantity(sec: str, key: str, dimension: str, default: _D) -> float | _D:
         table = data if sec == "" else section(sec)
         if key not in table:
             return default
@@ -152,10 +155,10 @@ def problem_from_dict(data: dict, source: str | None = None, default_name: str =
         fork_mass=quantity("dynamics", "fork_mass", "mass", ddef.fork_mass),
         bearing_block_mass=quantity("dynamics", "bearing_block_mass", "mass", ddef.bearing_block_mass),
     )
-    for key, value in (("frame_stiffness", dynamics.frame_stiffness), ("fork_mass", dynamics.fork_mass),
-                       ("bearing_block_mass", dynamics.bearing_block_mass)):
-        if value is not None and value <= 0:
-            fail(f"dynamics.{key} = {value:g}: must be positive")
+    for key, stated in (("frame_stiffness", dynamics.frame_stiffness), ("fork_mass", dynamics.fork_mass),
+                        ("bearing_block_mass", dynamics.bearing_block_mass)):
+        if stated is not None and stated <= 0:
+            fail(f"dynamics.{key} = {stated:g}: must be positive")
 
     inertia, wheels = _inertia(section("inertia"), quantity, fail)
 
@@ -225,10 +228,10 @@ def problem_from_dict(data: dict, source: str | None = None, default_name: str =
     weights = (number("objective", "turning_effort", 1.0), number("objective", "threshold_force", 1.0))
     caps = {}
     for key in ("max_threshold_force", "max_turning_effort"):
-        value = quantity("objective", key, "force", None)
-        if value is not None and not (math.isfinite(value) and 0 < value < 1e5):
-            fail(f"objective.{key} = {value:g} N: must be a positive force below 1e5 N")
-        caps[key] = value
+        cap = quantity("objective", key, "force", None)
+        if cap is not None and not (math.isfinite(cap) and 0 < cap < 1e5):
+            fail(f"objective.{key} = {cap:g} N: must be a positive force below 1e5 N")
+        caps[key] = cap
     if caps["max_threshold_force"] is not None and caps["max_turning_effort"] is not None:
         fail("objective: give max_threshold_force or max_turning_effort, not both (the recommendation caps one "
              "objective and minimises the other)")
@@ -247,12 +250,14 @@ def problem_from_dict(data: dict, source: str | None = None, default_name: str =
                 fail(f"choices.{key} = {values!r}: expected a non-empty list from {', '.join(allowed)}")
             choices[key] = tuple(values)
 
+    target_speed = quantity("shimmy", "target_speed", "speed", None)
+    assert target_speed is not None  # the key is present (checked above)
     return Problem(
         name=name,
         title=title,
         description=description,
         conditions=conditions,
-        target_speed=quantity("shimmy", "target_speed", "speed", None),
+        target_speed=target_speed,
         margin=quantity("shimmy", "margin", "dimensionless", 0.0),
         bounds=bounds,
         swept_radius_max=quantity("constraints", "swept_radius_max", "length", None),
@@ -267,7 +272,7 @@ def problem_from_dict(data: dict, source: str | None = None, default_name: str =
     )
 
 
-def _uncertainty(table: dict, fail):
+def _uncertainty(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> Uncertainty | None:
     """Parse [robust]: the risk bound α and the scatter (σ of the log) of each constant.
 
     No section (or no key) gives the defaults of :class:`~designer.physics.uncertainty.Uncertainty`
@@ -306,7 +311,8 @@ def _uncertainty(table: dict, fail):
     return Uncertainty(**values)
 
 
-def _stock_values(table: dict, key: str, dimension: str, variable: str, bounds: dict, fail) -> tuple[float, ...]:
+def _stock_values(table: dict[str, Any], key: str, dimension: str, variable: str, bounds: dict[str, Bound],
+                  fail: Callable[[str], NoReturn]) -> tuple[float, ...]:
     """A [stock] list in SI, each value inside ``variable``'s bounds (deduplicated, sorted)."""
     values = table[key]
     if isinstance(values, (str, int, float)) or not isinstance(values, list):
@@ -330,7 +336,8 @@ def _stock_values(table: dict, key: str, dimension: str, variable: str, bounds: 
     return tuple(sorted(set(out)))
 
 
-def _stock(table: dict, bounds: dict, inertia, catalog: tuple, sill: float,  # noqa: C901 - one rule per [stock] key
+def _stock(table: dict[str, Any], bounds: dict[str, Bound], inertia: InertiaModel, catalog: tuple[str, ...],  # noqa: C901 - one rule per [stock] key
+           sill: float,
            fail: Callable[[str], NoReturn]) -> Stock:
     """Parse [stock] against the bounds and the inertia model (one-line errors, exit 3)."""
     if not table:
@@ -419,7 +426,8 @@ def _stock(table: dict, bounds: dict, inertia, catalog: tuple, sill: float,  # n
                  wheels=wheels)
 
 
-def _inertia(table: dict, quantity, fail) -> tuple[InertiaModel, tuple[str, ...]]:  # noqa: C901 - one branch per model
+def _inertia(table: dict[str, Any], quantity: Callable[[str, str, str, None], float | None],  # noqa: C901 - one branch per model
+             fail: Callable[[str], NoReturn]) -> tuple[InertiaModel, tuple[str, ...]]:
     model = table.get("model", "table1-power-law")
     if model not in INERTIA_MODELS:
         fail(f"inertia.model = {model!r}: expected one of {', '.join(INERTIA_MODELS)}")
@@ -446,6 +454,7 @@ def _inertia(table: dict, quantity, fail) -> tuple[InertiaModel, tuple[str, ...]
                 fail(f"inertia.{key}: missing; the disc model needs tyre_width and density")
         width = quantity("inertia", "tyre_width", "length", None)
         density = quantity("inertia", "density", "density", None)
+        assert width is not None and density is not None  # both keys are present (checked above)
         if width <= 0 or width > 0.2:
             fail(f"inertia.tyre_width = {width:g} m: must be between 0 and 0.2 m")
         if density <= 0 or density > 20000:
@@ -455,6 +464,7 @@ def _inertia(table: dict, quantity, fail) -> tuple[InertiaModel, tuple[str, ...]
         if "inertia" not in table:
             fail("inertia.inertia: missing; the fixed model needs the measured I_w, e.g. '0.00127 kg*m**2'")
         value = quantity("inertia", "inertia", "inertia", None)
+        assert value is not None  # the key is present (checked above)
         if not 0 < value < 0.1:
             fail(f"inertia.inertia = {value:g} kg·m²: must be between 0 and 0.1 kg·m²")
         return Fixed(value), ()
@@ -473,7 +483,7 @@ def _inertia(table: dict, quantity, fail) -> tuple[InertiaModel, tuple[str, ...]
     return Catalog.from_key(out[0]), tuple(dict.fromkeys(out))
 
 
-def _check_keys(data: dict, prefix: str) -> None:
+def _check_keys(data: dict[str, Any], prefix: str) -> None:
     for key, value in data.items():
         if key in SCHEMA[""]:
             continue
@@ -486,7 +496,7 @@ def _check_keys(data: dict, prefix: str) -> None:
                 raise ProblemError(prefix + f"unknown key {key}.{_show_key(sub)}{_suggest(sub, list(SCHEMA[key]))}")
 
 
-def _show_key(key) -> str:
+def _show_key(key: object) -> str:
     """A key as written in messages: plain if it is a simple word, else quoted (keeps the message one line)."""
     return key if isinstance(key, str) and re.fullmatch(r"[A-Za-z0-9_.-]+", key) else repr(key)
 

@@ -26,7 +26,7 @@ from designer.jsonsafe import finite
 from designer.data.paper import INCH
 from designer.pipeline import ReportData
 from designer.report.files import REPORT_MARKERS, REPORT_OWNED, _carry_over, _replace, check_target, is_report  # noqa: F401
-from designer.plots import figures as _figures
+import designer.report.figures as _figures
 from designer.plots.caster import caster_svg
 from designer.report.text import build_lines, caster_sentence, inches, summary_lines
 from designer.plots.figures import _is_bare
@@ -232,7 +232,7 @@ def _tradeoff_rows(problem, rows) -> list[dict]:
             v = r.effort.get(mech)
             row[key] = "cannot reach V_req" if v is None else fmt(v, ".3f", "N")
         mix = r.designs.get("optimum mix")
-        bare = mix is not None and _is_bare(problem, mix) and not problem.wheels
+        bare = mix is not None and _is_bare(problem.bounds, mix) and not problem.wheels
         if bare and out and out[-1].get("_bare") and out[-1]["mix"] == row["mix"]:
             first = out[-1]["_first"]
             out[-1].update(d_mm=f"{first[0]} – {d_mm}", d_in=f"{first[1]} – {d_in}")

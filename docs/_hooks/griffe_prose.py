@@ -2,7 +2,8 @@
 
 The docstrings use NumPy sections, but an entry is often ``name : prose with units`` (``trail : T [m]``)
 where NumPy puts a type after the colon.  This extension moves such prose (text with a space in it) to the
-entry's description, so it renders as text, not as a type; and it turns Sphinx roles
+entry's description, so it renders as text, not as a type (in Returns, ``Front with ...`` becomes the type
+``Front`` and its description); and it turns Sphinx roles
 (``:class:`~designer.problem.Problem```) into code spans (``Problem``), which Markdown would print raw.
 mkdocs.yml loads it (handlers.python.options.extensions).
 """
@@ -13,6 +14,9 @@ import re
 import griffe
 
 SECTIONS = {"parameters", "attributes", "other parameters", "keyword arguments", "args", "arguments"}
+RETURNS = {"returns", "yields"}
+ARTICLES = {"The", "A", "An", "One", "Each", "Every", "It", "This", "Its"}
+RETURN_PROSE = re.compile(r"^([A-Za-z_][\w.\[\]]*)\s+(\S.*)$")
 ENTRY = re.compile(r"^(\*{0,2}[A-Za-z_][\w]*(?:\s*,\s*\*{0,2}[A-Za-z_]\w*)*)\s+:\s+(.+)$")
 TYPE_LIKE = re.compile(r"^[\w.\[\]]+(?:\s*(?:\||or|,)\s*[\w.\[\]]+)*(?:,\s*optional)?$")
 ROLE = re.compile(r":(?:class|func|meth|attr|data|mod|obj|exc|ref):`(~?)([^`]+)`")
@@ -39,9 +43,13 @@ def rewrite(text: str) -> str:
             out.append(line)
             continue
         match = ENTRY.match(line) if section in SECTIONS else None
+        returned = RETURN_PROSE.match(line) if section in RETURNS and " : " not in line else None
+        if returned and returned.group(1) in ARTICLES:
+            returned = None
         if match and _is_prose(match.group(2)):
-            out.append(match.group(1))
-            out.append("    " + match.group(2))
+            out.extend([match.group(1), "    " + match.group(2)])
+        elif returned:  # "Front with ..." -> type Front, the rest its description
+            out.extend([returned.group(1), "    " + returned.group(2)])
         else:
             out.append(line)
     return "\n".join(out)

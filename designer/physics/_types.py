@@ -1,0 +1,19 @@
+"""Type aliases of the physics: its functions take floats, NumPy arrays and CasADi symbols alike."""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, TypeAlias, Union
+
+import numpy as np
+import numpy.typing as npt
+
+if TYPE_CHECKING:  # casadi is heavy (import designer must not load it): named for the type checker only
+    import casadi
+
+Array: TypeAlias = npt.NDArray[np.float64]
+"""A NumPy array of floats (SI units), broadcast element-wise."""
+
+Scalar: TypeAlias = Union[float, Array, "casadi.SX"]
+"""A quantity as the physics takes it: a float, an array of floats, or a CasADi SX symbol (the NLP's)."""
+
+Numeric: TypeAlias = Union[float, Array]
+"""A float or an array of floats: for the functions that are numeric only (no CasADi symbols)."""
