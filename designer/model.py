@@ -18,6 +18,7 @@ import numpy.typing as npt
 from designer import parameters
 from designer.data.paper import INCH
 from designer.errors import InputError
+from designer.reprs import html_table
 from designer.physics._types import Scalar
 from designer.physics.geometry import swept_radius
 from designer.physics.inertia import InertiaModel, PowerLaw
@@ -123,6 +124,22 @@ class Design:
     def as_dict(self) -> dict[str, float]:
         """``{name: value}`` in SI units."""
         return {name: float(getattr(self, name)) for name in VARIABLES}
+
+    def __repr__(self) -> str:
+        """Two lines: the SI constructor call and the sizes in inches (the industry's unit)."""
+        return (f"Design(trail={self.trail:.6g}, diameter={self.diameter:.6g}, groove={self.groove:.6g}, "
+                f"damping={self.damping:.6g})\n  T {self.trail / INCH:.3f} in, d {self.diameter / INCH:.3f} in, "
+                f"B {self.groove / INCH:.3f} in, c_f {self.damping:.4g} N·m/rad")
+
+    def _repr_html_(self) -> str:
+        """A compact HTML table: T, d, B in inches and mm, c_f [N·m/rad] and the swept radius (notebooks)."""
+        rows = [(f"{label} {sym}", f"{getattr(self, name) / INCH:.3f} ({getattr(self, name) * 1000:.2f} mm)", "in")
+                for label, sym, name in (("trail", "T", "trail"), ("diameter", "d", "diameter"),
+                                         ("groove", "B", "groove"))]
+        rs = float(swept_radius(self.trail, self.diameter))
+        rows += [("spindle damping c_f", f"{self.damping:.4g}", "N·m/rad"),
+                 ("swept radius T + d/2", f"{rs / INCH:.3f} ({rs * 1000:.2f} mm)", "in")]
+        return html_table("Caster design", rows)
 
     def describe(self) -> str:
         """One line in inches (the industry's unit) and SI."""

@@ -7,7 +7,9 @@ escaped.  Used by :class:`~designer.problem.Problem`, :class:`~designer.analysis
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from html import escape
+from typing import Any
 
 STYLE = ("border-collapse:collapse;font-size:12px;font-family:sans-serif;margin:2px 0",
          "text-align:left;padding:1px 8px 1px 0;font-weight:normal;color:#555",
@@ -16,7 +18,7 @@ STYLE = ("border-collapse:collapse;font-size:12px;font-family:sans-serif;margin:
 """Inline styles (table, label cell, value cell, unit cell): the repr must render without a stylesheet."""
 
 
-def html_table(title: str, rows, caption: str = "", extra: str = "") -> str:
+def html_table(title: str, rows: Iterable[tuple[Any, Any, Any]], caption: str = "", extra: str = "") -> str:
     """A compact HTML table: a bold title, rows of (label, value, unit), an optional caption and extra HTML.
 
     ``value`` is shown as given (format numbers before); ``extra`` (e.g. an SVG) is placed beside the table
@@ -33,7 +35,7 @@ def html_table(title: str, rows, caption: str = "", extra: str = "") -> str:
     return f"<div>{inner}</div>"
 
 
-def svg_curve(x, y, xlabel: str, ylabel: str, marks=(), width: int = 240, height: int = 170) -> str:
+def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: int = 240, height: int = 170) -> str:
     """A small line plot as an SVG string: the points (x, y) joined in order, axis labels with units.
 
     ``marks``: (x, y, label) points drawn as dots (e.g. the knee).  Non-finite points are dropped.
@@ -75,4 +77,70 @@ def svg_curve(x, y, xlabel: str, ylabel: str, marks=(), width: int = 240, height
     return "".join(out)
 
 
-__all__ = ["html_table", "svg_curve"]
+def svg_sparkline(x: Any, y: Any, xlabel: str, ylabel: str, band: float | None = None, width: int = 260,
+                  height: int = 120, max_points: int = 400) -> str:
+    """A small line (no dots) as an SVG string, e.g. θ(t): a zero line, optional ±``band`` dashed lines.
+
+    Long series are thinned to about ``max_points`` vertices (every k-th point, the last kept) so the repr
+    stays small; non-finite points are dropped.
+    """
+    pts = [(float(a), float(b)) for a, b in zip(x, y) if math.isfinite(a) and math.isfinite(b)]
+    step = max(1, math.ceil(len(pts) / max_points))
+    pts = pts[::step] + (pts[-1:] if pts and (len(pts) - 1) % step else [])
+    left, right, top, bottom = 38, 6, 6, 28
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
+           f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="10">',
+           f"<title>{escape(ylabel)} against {escape(xlabel)}</title>"]
+    if pts:
+        xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+        x0, x1 = min(xs), max(xs)
+        reach = max([abs(v) for v in ys] + ([abs(band)] if band is not None and math.isfinite(band) else []))
+        y0, y1 = (-reach, reach) if reach > 0 else (-1.0, 1.0)
+        x1 = x1 if x1 > x0 else x0 + 1.0
+
+        def px(a: float) -> float:
+            return left + (a - x0) / (x1 - x0) * (width - left - right)
+
+        def py(b: float) -> float:
+            return height - bottom - (b - y0) / (y1 - y0) * (height - top - bottom)
+
+        out.append(f'<line x1="{left}" y1="{py(0):.1f}" x2="{width - right}" y2="{py(0):.1f}" stroke="#999"/>')
+        if band is not None and math.isfinite(band):
+            for b in (band, -band):
+                out.append(f'<line x1="{left}" y1="{py(b):.1f}" x2="{width - right}" y2="{py(b):.1f}" '
+                           f'stroke="#d62728" stroke-dasharray="4 3"/>')
+        line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
+        out.append(f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.2"/>')
+        out += [f'<text x="{left}" y="{height - bottom + 12}">{x0:.3g}</text>',
+                f'<text x="{width - right}" y="{height - bottom + 12}" text-anchor="end">{x1:.3g}</text>',
+                f'<text x="{left - 3}" y="{height - bottom}" text-anchor="end">{y0:.3g}</text>',
+                f'<text x="{left - 3}" y="{top + 9}" text-anchor="end">{y1:.3g}</text>']
+    out += [f'<text x="{(left + width - right) / 2:.0f}" y="{height - 3}" text-anchor="middle">{escape(xlabel)}</text>',
+            f'<text transform="translate(11,{(top + height - bottom) / 2:.0f}) rotate(-90)" '
+            f'text-anchor="middle">{escape(ylabel)}</text>', "</svg>"]
+    return "".join(out)
+
+
+def require_pandas(what: str) -> Any:
+    """The pandas module, or an ImportError naming ``what`` needs it and how to install it (optional extra)."""
+    try:
+        import pandas  # optional dependency: only the to_pandas methods need it
+    except ImportError:
+        raise ImportError(f"{what} needs pandas: pip install 'caster-designer[notebook]'") from None
+    return pandas
+
+
+def dataframe(what: str, records: list[dict[str, Any]], columns: list[str], units: dict[str, str],
+              **attrs: Any) -> Any:
+    """A pandas DataFrame of ``records`` in ``columns`` order; ``df.attrs["units"]`` = ``units`` plus ``attrs``.
+
+    ``what`` names the caller in the message when pandas is missing (:func:`require_pandas`).
+    """
+    pd = require_pandas(what)
+    df = pd.DataFrame.from_records(records, columns=columns)
+    df.attrs.update(attrs)
+    df.attrs["units"] = dict(units)
+    return df
+
+
+__all__ = ["dataframe", "html_table", "require_pandas", "svg_curve", "svg_sparkline"]

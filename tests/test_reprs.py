@@ -1,5 +1,6 @@
-"""Notebook API (issue 17): short ``__repr__`` and ``_repr_html_`` of Problem, Front, Solution and Recommendation,
-and the Front <-> pandas round trip."""
+"""Notebook API (issue 17): short ``__repr__`` and ``_repr_html_`` of Problem, Design, Front, Solution,
+Recommendation, ExploreResult and the simulation result; data out (Front, Solution and fleet to pandas, the
+Front <-> pandas and front.csv round trips)."""
 from __future__ import annotations
 
 import math
@@ -224,3 +225,184 @@ def test_to_pandas_without_pandas_says_how_to_install(front, monkeypatch):
     monkeypatch.setattr(builtins, "__import__", no_pandas)
     with pytest.raises(ImportError, match=r"caster-designer\[notebook\]"):
         front.to_pandas()
+
+
+# --------------------------------------------------------------------------- Design, simulation, exploration
+
+
+def test_design_repr_and_html(rec):
+    """Design's repr is two lines < 300 chars (the SI constructor call, then inches); its HTML table parses and
+    gives T, d, B in inches and mm, c_f in N·m/rad and the swept radius."""
+    d = rec.design
+    text = repr(d)
+    _short(text)
+    assert text.startswith(f"Design(trail={d.trail:.6g}, diameter={d.diameter:.6g}")
+    assert f"T {d.trail / INCH:.3f} in" in text and f"c_f {d.damping:.4g} N·m/rad" in text
+    body, tags = parse(d._repr_html_())
+    assert f"{d.diameter / INCH:.3f} ({d.diameter * 1000:.2f} mm)" in body and "N·m/rad" in body
+    assert f"{(d.trail + d.diameter / 2) / INCH:.3f}" in body and "table" in tags
+
+
+@pytest.fixture(scope="module")
+def simulation(problem, rec):
+    from designer.analysis.simulate import simulate
+
+    return simulate(rec.design, problem.conditions, speed=problem.target_speed, cycles=6)
+
+
+def test_simulation_repr_is_short_with_headline_numbers(simulation):
+    """The simulation result's repr (the dataclass default printed every array) is < 300 chars, 1-3 lines, with
+    the speed [m/s], knock [°], verdict, amplitudes [rad] and Eq. 7 V_c [m/s]."""
+    text = repr(simulation)
+    _short(text)
+    for part in (f"V {simulation.speed:.3g} m/s", f"knock {math.degrees(simulation.angle):.3g}°",
+                 "decays" if not simulation.grows else "GROWS", f"Eq. 29B {simulation.predicted_amplitude:.3g} rad",
+                 f"Eq. 7 V_c {simulation.critical_speed:.4g} m/s", f"{len(simulation.t)} samples"):
+        assert part in text, (part, text)
+
+
+def test_simulation_html_has_table_and_theta_sparkline(simulation):
+    """The simulation's HTML parses, shows speed [m/s], amplitudes [rad] and V_c, and an SVG polyline of θ(t)
+    whose vertices span the trace (thinned to at most ~400)."""
+    html = simulation._repr_html_()
+    text, tags = parse(html)
+    assert f"{simulation.speed:.4g}" in text and "m/s" in text and "rad" in text
+    assert f"{simulation.critical_speed:.4g}" in text and f"{simulation.predicted_amplitude:.4g}" in text
+    assert "svg" in tags and "polyline" in tags
+    vertices = html.split('<polyline points="')[1].split('"')[0].split()
+    assert 10 < len(vertices) <= 402 and len(vertices) <= len(simulation.t)
+    assert len(html) < 20_000
+
+
+@pytest.fixture(scope="module")
+def explored(problem):
+    pytest.importorskip("optuna")
+    from designer.analysis.exploration import explore
+
+    return explore(problem, trials=24, seed=0, compare=False)
+
+
+def test_explore_result_repr_and_html(explored):
+    """ExploreResult's repr is < 300 chars with trials, front size, F_turn and P ranges [N] and the hypervolume
+    [N²]; its HTML parses, has the same numbers with units and the explored front as an SVG curve."""
+    text = repr(explored)
+    _short(text)
+    f = explored.objectives()
+    for part in (f"{explored.trials} trials", f"front of {len(explored.front)} points",
+                 f"F_turn {f[:, 0].min():.4g} – {f[:, 0].max():.4g} N", f"{explored.hypervolume:.4g} N²"):
+        assert part in text, (part, text)
+    html = explored._repr_html_()
+    body, tags = parse(html)
+    assert f"{f[:, 1].min():.4g} – {f[:, 1].max():.4g}" in body and "N²" in body
+    assert "polyline" in tags
+    assert len(html.split('<polyline points="')[1].split('"')[0].split()) == len(explored.front)
+
+
+# --------------------------------------------------------------------------- data out
+
+
+def test_solution_to_pandas_long_and_wide(solution):
+    """Solution.to_pandas(): one row per quantity with its unit (design in m, objectives in N, margins, active
+    flags); wide=True: one row whose columns match Front.to_pandas's, values equal to the solution's."""
+    pytest.importorskip("pandas")
+    df = solution.to_pandas()
+    row = df.set_index(["kind", "name"])
+    assert row.loc[("design", "trail"), "value"] == solution.design.trail
+    assert row.loc[("design", "trail"), "unit"] == "m" and row.loc[("objective", "weighted"), "unit"] == "N"
+    assert row.loc[("margin", "shimmy"), "unit"] == "m/s"
+    assert set(df[df.active]["name"]) == set(solution.active)
+    assert len(df[df.kind == "sensitivity"]) == len(solution.sensitivities)
+    wide = solution.to_pandas(wide=True)
+    assert len(wide) == 1 and wide.attrs["units"]["turning_effort_N"] == "N"
+    assert wide["threshold_force_N"][0] == solution.objectives["threshold_force"]
+    assert wide["critical_speed_m_s"][0] == solution.critical_speed
+
+
+def test_fleet_to_pandas_units_in_names(problem):
+    """The fleet result's to_pandas has one row per chair, SI units in the column names and attrs, and the
+    numbers of FleetResult.rows()."""
+    pytest.importorskip("pandas")
+    from designer.analysis.fleet import example_fleet, fleet
+
+    result = fleet(example_fleet(12), problem, skus=2, monte_carlo=False)
+    df = result.to_pandas()
+    rows = result.rows()
+    assert len(df) == len(rows) == 12
+    for col in ("trail_m", "diameter_m", "groove_m", "damping_N_m_per_rad", "turning_effort_N", "threshold_force_N",
+                "sku", "status"):
+        assert col in df.columns, col
+    assert df.attrs["units"]["damping_N_m_per_rad"] == "N·m/rad" and df.attrs["skus"] == 2
+    ok = [i for i, r in enumerate(rows) if r["status"] == "ok"]
+    assert ok and all(df["turning_effort_N"][i] == rows[i]["turning_effort"] for i in ok)
+
+
+def test_front_csv_round_trip(front, tmp_path):
+    """Front.to_csv -> Front.from_csv gives the same points (10 significant digits in the file) and, through
+    to_pandas, the same frame as the original front's (numbers to 1e-9)."""
+    pytest.importorskip("pandas")
+    path = tmp_path / "front.csv"
+    front.to_csv(path)
+    back = Front.from_csv(path, front.problem)
+    assert len(back) == len(front) and [p.family for p in back] == [p.family for p in front]
+    np.testing.assert_allclose(back.objectives(), front.objectives(), rtol=1e-9)
+    np.testing.assert_allclose(back.designs(), front.designs(), rtol=1e-9, atol=1e-15)
+    a, b = front.to_pandas(), back.to_pandas()
+    numeric = ["trail_m", "diameter_m", "groove_m", "damping_N_m_per_rad", "turning_effort_N", "threshold_force_N",
+               "critical_speed_m_s", "epsilon_N"]
+    np.testing.assert_allclose(b[numeric].to_numpy(), a[numeric].to_numpy(), rtol=1e-9, atol=1e-15)
+    again = Front.from_pandas(b, front.problem)
+    np.testing.assert_array_equal(again.objectives(), back.objectives())
+
+
+def test_front_from_report_csv_finds_its_problem():
+    """Front.from_csv on a report's front.csv finds the problem from the front.json beside it (a shipped
+    example, same digest) and gives the report's hypervolume; buildable=True reads the stock front's rows."""
+    import json
+
+    folder = ROOT / "results" / "catalog-retrofit"
+    saved = json.loads((folder / "front.json").read_text())
+    front = Front.from_csv(folder / "front.csv")
+    assert front.problem.name == "catalog-retrofit" and len(front) == len(saved["points"])
+    assert math.isclose(front.hypervolume(), saved["hypervolume"], rel_tol=1e-8)
+    rows = (folder / "front.csv").read_text().splitlines()[1:]
+    buildable = Front.from_csv(folder / "front.csv", buildable=True)
+    assert len(buildable) == sum(",true," in r for r in rows) and len(buildable) > 0
+
+
+def test_front_from_csv_without_a_problem_says_what_to_pass(front, tmp_path):
+    """A front.csv with no front.json beside it and no problem= is an InputError telling what to pass."""
+    from designer.errors import InputError
+
+    path = tmp_path / "front.csv"
+    front.to_csv(path)
+    with pytest.raises(InputError, match=r"problem = None: no front.json beside .* pass problem="):
+        Front.from_csv(path)
+    assert len(Front.from_csv(path, "indoor-manual")) == len(front)
+
+
+@pytest.mark.parametrize("method", ["solution", "fleet"])
+def test_data_out_without_pandas_says_how_to_install(method, solution, monkeypatch):
+    """Without pandas, Solution.to_pandas and FleetResult.to_pandas raise ImportError naming the method and the
+    pip command of the notebook extra."""
+    import builtins
+
+    from designer.analysis.fleet import FleetResult
+
+    real = builtins.__import__
+
+    def no_pandas(name, *args, **kwargs):
+        if name == "pandas" or name.startswith("pandas."):
+            raise ImportError("No module named 'pandas'")
+        return real(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_pandas)
+    if method == "solution":
+        call, name = solution.to_pandas, "Solution.to_pandas"
+    else:
+        result = FleetResult.__new__(FleetResult)
+        monkeypatch.setattr(FleetResult, "rows", lambda self: [])
+        monkeypatch.setattr(FleetResult, "sku_records", lambda self: [])
+        result.problem = solution.problem
+        call, name = result.to_pandas, "FleetResult.to_pandas"
+    with pytest.raises(ImportError, match=rf"{name} needs pandas: pip install 'caster-designer\[notebook\]'"):
+        call()

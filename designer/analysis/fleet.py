@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.errors import InputError
+from designer.reprs import dataframe
 
 from designer.analysis.kmedian import prune_candidates, solve_kmedian
 from designer.problem import load_problem
@@ -55,6 +56,15 @@ CHUNK = 5000
 
 
 # --------------------------------------------------------------------------- the whole fleet
+
+
+_FLEET_UNITS = {"trail": ("trail_m", "m"), "diameter": ("diameter_m", "m"), "groove": ("groove_m", "m"),
+                "damping": ("damping_N_m_per_rad", "N·m/rad"), "turning_effort": ("turning_effort_N", "N"),
+                "threshold_force": ("threshold_force_N", "N"), "shimmy_probability": ("shimmy_probability", "-"),
+                "shimmy_probability_se": ("shimmy_probability_se", "-"),
+                "sku_turning_effort": ("sku_turning_effort_N", "N"), "sku_threshold_force": ("sku_threshold_force_N", "N"),
+                "sku_shimmy_probability": ("sku_shimmy_probability", "-")}
+"""fleet.csv column -> (DataFrame column with its SI unit, unit) for :meth:`FleetResult.to_pandas`."""
 
 
 @dataclass
@@ -113,6 +123,22 @@ class FleetResult:
             row["status"] = "ok" if j >= 0 else str(ch["reason"][i])
             out.append(row)
         return out
+
+    def to_pandas(self):
+        """One row per chair, the columns of fleet.csv with SI units in their names (pandas: ``notebook`` extra).
+
+        Columns: ``name``, ``trail_m``, ``diameter_m``, ``groove_m``, ``damping_N_m_per_rad`` (the recommended
+        stock caster), ``turning_effort_N``, ``threshold_force_N``, ``shimmy_probability`` [-] and its
+        ``_se``, with ``--skus``: ``sku``, ``sku_turning_effort_N``, ``sku_threshold_force_N``,
+        ``sku_shimmy_probability``; ``status`` ("ok" or why the chair has no caster; its numbers are then
+        missing).  Units also in ``df.attrs["units"]``.
+        """
+        rows = self.rows()
+        columns = [_FLEET_UNITS.get(c, (c, ""))[0] for c in (rows[0] if rows else ["name", "status"])]
+        records = [{_FLEET_UNITS.get(k, (k, ""))[0]: v for k, v in r.items()} for r in rows]
+        units = {name: unit for name, unit in _FLEET_UNITS.values() if name in columns}
+        return dataframe("FleetResult.to_pandas", records, columns, units,
+                         problem=getattr(self.problem, "name", None), skus=len(self.sku_records()) or None)
 
     def sku_records(self) -> list[dict]:
         """``[{"id", "design", "chairs", "count"}]`` of the chosen part numbers."""

@@ -7,15 +7,19 @@ weighted best, gaps, comparison with another front, CSV/JSON/pandas, notebook re
 from __future__ import annotations
 
 import csv
+import json
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 from designer.analysis.indicators import hypervolume_2d, igd_plus, nondominated, normalise
 from designer.data.paper import INCH
+from designer.errors import InputError
 from designer.model import FAMILIES, VARIABLES, Design
-from designer.problem import Problem
+from designer.examples import example_names, example_problem
+from designer.problem import Problem, load_problem
 from designer.reprs import html_table, svg_curve
 
 REFERENCE_OFFSET = 0.1
@@ -329,6 +333,36 @@ class Front:
             (failed if bool(r.get("failed", False)) else points).append(point)
         return cls(problem=problem, points=points, failed=failed, meta={"source": "pandas"})
 
+    @classmethod
+    def from_csv(cls, path, problem=None, buildable: bool = False) -> "Front":
+        """Read a front written by :meth:`to_csv`, e.g. a report's ``front.csv`` (SI columns; no pandas needed).
+
+        Parameters
+        ----------
+        path : the CSV file
+        problem : a :class:`~designer.problem.Problem`, the path of a problem file, the name of a shipped
+            example (``designer.example_problem``), or None: the problem named in the ``front.json`` beside the
+            CSV, when it is a shipped example with the same digest
+        buildable : read the buildable front's rows (column ``buildable`` true) instead of the front's
+
+        The margins are not in the CSV (empty dicts); the multipliers are (``lambda_*`` columns).  ``meta`` is
+        ``{"source": path}``.
+        """
+        problem = _problem_for_csv(path, problem)
+        with open(path, newline="", encoding="utf-8") as fh:
+            records = list(csv.DictReader(fh))
+        points = []
+        for r in records:
+            if (r.get("buildable", "false") == "true") != buildable:
+                continue
+            points.append(FrontPoint(
+                design=Design(*(float(r[v]) for v in VARIABLES)), turning_effort=float(r["turning_effort"]),
+                threshold_force=float(r["threshold_force"]), critical_speed=float(r["critical_speed"]), margins={},
+                epsilon=float(r["epsilon"]), status=r["status"], success=True, family=r["family"],
+                multipliers={k[7:]: float(v) for k, v in r.items() if k.startswith("lambda_") and v not in ("", None)},
+                wheel=r.get("wheel") or None))
+        return cls(problem=problem, points=points, meta={"source": str(path)})
+
     def rows(self) -> list[dict]:
         """One flat dict per valid point (SI units)."""
         return [p.row() for p in self.points]
@@ -388,3 +422,23 @@ def clean(points: list[FrontPoint]) -> list[FrontPoint]:
 
 
 __all__ = ["REFERENCE_OFFSET", "Front", "FrontPoint", "clean", "family_of"]
+
+
+def _problem_for_csv(path, problem) -> Problem:
+    """The problem of :meth:`Front.from_csv`: as given, loaded from a file or example name, or found beside."""
+    if isinstance(problem, Problem):
+        return problem
+    if problem is not None:
+        text = str(problem)
+        return example_problem(text) if text in example_names() else load_problem(text)
+    beside = Path(path).with_name("front.json")
+    try:
+        info = json.loads(beside.read_text(encoding="utf-8"))
+        name, digest = info["problem"], info.get("problem_digest")
+    except (OSError, ValueError, KeyError):
+        raise InputError(f"Front.from_csv: problem = None: no front.json beside {path} names the problem; pass "
+                         "problem= (a Problem, a problem file or an example name)") from None
+    if name in example_names() and (digest is None or example_problem(name).digest() == digest):
+        return example_problem(name)
+    raise InputError(f"Front.from_csv: problem = None: {beside} names {name!r}, which is not a shipped example "
+                     "with the same digest; pass problem= (a Problem or its problem file)")

@@ -11,6 +11,7 @@ solver agreement.
 """
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -20,7 +21,7 @@ from designer.data.paper import INCH
 from designer.errors import InfeasibleError, SolverError
 from designer.model import VARIABLES, Design, evaluate
 from designer.problem import Problem
-from designer.reprs import html_table
+from designer.reprs import dataframe, html_table
 from designer.solvers.nlp import PARAMETER_INFO, CasterNLP, best_starts, max_critical_speed, solve_best
 import warnings
 from designer.errors import InputError
@@ -125,6 +126,46 @@ class Solution:
             ("active", ", ".join(self.active) or "none", ""),
             ("solver agreement (relative J gap)", f"{self.agreement():.1e}", "")]
         return html_table(f"Optimum of {self.problem.name!r} ({self.status})", rows, caption=self.problem.title)
+
+    def to_pandas(self, wide: bool = False):
+        """The optimum as a pandas DataFrame (pandas: the ``notebook`` extra).
+
+        Long form (default, like GPkit's solution table): one row per quantity with columns ``kind``
+        ("design", "objective", "performance", "margin", "sensitivity", "cross_check"), ``name``, ``value``,
+        ``unit`` and ``active`` (the constraint or bound is active).  Margins are >= 0 when met (shimmy in
+        m/s, lengths in m, damping in N·m/rad); sensitivities are d log J / d log p [-].  ``wide=True``: one
+        row with the columns of :meth:`Front.to_pandas <designer.analysis.front.Front.to_pandas>`
+        (``trail_m``, ..., ``turning_effort_N``, ``threshold_force_N``, ``critical_speed_m_s``) plus
+        ``weighted_N``, ``margin_<name>`` and ``sensitivity_<name>``; units in ``df.attrs["units"]``.
+        """
+        d, o = self.design, self.objectives
+        design = [(f"{v}_{u}", v, float(getattr(d, v)), u.replace("N_m_per_rad", "N·m/rad"))
+                  for v, u in (("trail", "m"), ("diameter", "m"), ("groove", "m"), ("damping", "N_m_per_rad"))]
+        attrs = {"problem": self.problem.name, "status": self.status, "weights": tuple(self.weights),
+                 "wheel": self.wheel}
+        if wide:
+            record = {col: value for col, _, value, _ in design}
+            record.update(turning_effort_N=o["turning_effort"], threshold_force_N=o["threshold_force"],
+                          weighted_N=o["weighted"], critical_speed_m_s=self.critical_speed)
+            units = {col: unit for col, _, _, unit in design}
+            units.update(turning_effort_N="N", threshold_force_N="N", weighted_N="N", critical_speed_m_s="m/s")
+            for name, value in self.constraints.items():
+                record[f"margin_{name}"], units[f"margin_{name}"] = float(value), _margin_unit(name)
+            for name, value in self.sensitivities.items():
+                record[f"sensitivity_{name}"], units[f"sensitivity_{name}"] = float(value), "-"
+            return dataframe("Solution.to_pandas", [record], list(record), units, **attrs)
+        rows = [("design", name, value, unit) for _, name, value, unit in design]
+        rows += [("objective", k, float(o[k]), "N") for k in ("turning_effort", "threshold_force", "weighted")]
+        rows += [("performance", "critical_speed", float(self.critical_speed), "m/s"),
+                 ("performance", "required_speed", float(self.problem.required_speed), "m/s")]
+        rows += [("margin", k, float(v), _margin_unit(k)) for k, v in self.constraints.items()]
+        rows += [("sensitivity", k, float(v), "-") for k, v in self.sensitivities.items()]
+        rows += [("cross_check", k, float(v) if v is not None else math.nan, "N") for k, v in self.cross_check.items()]
+        active = set(self.active)
+        records = [{"kind": kind, "name": name, "value": value, "unit": unit,
+                    "active": kind == "margin" and name in active} for kind, name, value, unit in rows]
+        return dataframe("Solution.to_pandas", records, ["kind", "name", "value", "unit", "active"],
+                         {"value": "the row's unit column"}, **attrs)
 
     def _robust_lines(self) -> list[str]:
         u = self.problem.conditions.uncertainty
@@ -339,3 +380,14 @@ def _diagnose(problem: Problem) -> Exception:
         f"IPOPT found no optimum of {problem.name!r} from any start although V_c up to {v:.3f} m/s is reachable; "
         f"run with --debug and report it"
     )
+
+
+def _margin_unit(name: str) -> str:
+    """SI unit of a constraint margin of :func:`constraint_margins` (shimmy m/s, lengths m, damping N·m/rad)."""
+    if name == "shimmy":
+        return "m/s"
+    if name.startswith("damping"):
+        return "N·m/rad"
+    if name.startswith("threshold"):
+        return "N"
+    return "m"

@@ -64,6 +64,7 @@ from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
 from designer.physics.shimmy import critical_shimmy_speed, shimmy_frequency, steady_shimmy_amplitude
 from designer.plots.simulation import plot_knock
+from designer.reprs import html_table, svg_sparkline
 
 __all__ = [
     "SimulationResult",
@@ -121,6 +122,38 @@ class SimulationResult:
     critical_speed: float
     switches: int
     extrema: np.ndarray = field(repr=False, default_factory=lambda: np.empty((0, 2)))
+
+    def __repr__(self) -> str:
+        """Two lines: speed, knock, verdict and amplitudes; frequency, Eq. 7 V_c and the trace length."""
+        verdict = "GROWS (shimmy)" if self.grows else "decays"
+        freq = f"{self.frequency:.4g}" if math.isfinite(self.frequency) else "n/a"
+        return (f"SimulationResult(V {self.speed:.3g} m/s, knock {math.degrees(self.angle):.3g}°: {verdict}; "
+                f"amplitude {self.early_amplitude:.3g} → {self.late_amplitude:.3g} rad, Eq. 29B "
+                f"{self.predicted_amplitude:.3g} rad)\n  ω {freq} rad/s (Eq. 15B {self.predicted_frequency:.4g}), "
+                f"Eq. 7 V_c {self.critical_speed:.4g} m/s, {len(self.t)} samples over {self._end():.3g} s")
+
+    def _end(self) -> float:
+        return float(self.t[-1]) if len(self.t) else 0.0
+
+    def _repr_html_(self) -> str:
+        """A compact HTML table with units beside a small SVG of θ(t) [deg] (notebooks; no integration runs)."""
+        deg = math.degrees
+        rows = [("speed V", f"{self.speed:.4g}", "m/s"),
+                ("knock θ_i (θ'_i)", f"{deg(self.angle):.3g}° ({self.angular_velocity:.3g} rad/s)", ""),
+                ("verdict", ("grows: shimmy" if self.grows else "decays") + (" (|θ| hit the limit)" if self.diverged else ""), ""),
+                ("amplitude after the transient", f"{self.early_amplitude:.4g} ({deg(self.early_amplitude):.3g}°)", "rad"),
+                ("amplitude at the end", f"{self.late_amplitude:.4g} ({deg(self.late_amplitude):.3g}°)", "rad"),
+                ("Eq. 4 / 29B amplitude θ_i V/(ωT)", f"{self.predicted_amplitude:.4g}", "rad"),
+                ("frequency (Eq. 15B)", (f"{self.frequency:.4g}" if math.isfinite(self.frequency) else "n/a")
+                 + f" ({self.predicted_frequency:.4g})", "rad/s"),
+                ("Eq. 7 V_c (c_f,eff = M_f/θ_i)", f"{self.critical_speed:.4g}", "m/s"),
+                ("friction moment M_f", f"{self.friction_moment:.4g}", "N·m"),
+                ("wheel inertia I_w", f"{self.inertia:.4g}", "kg·m²"),
+                ("trace", f"{len(self.t)} samples, {self._end():.3g}", "s")]
+        svg = svg_sparkline(self.t, np.degrees(self.theta), "time t [s]", "θ [deg]",
+                            band=deg(self.predicted_amplitude))
+        return html_table("Shimmy after a knock (Coulomb friction, App. B)", rows,
+                          caption="θ(t); dashed: ± the Eq. 29B amplitude", extra=svg)
 
     def plot(self, ax=None, onset_speed: float | None = None):
         """θ(t) in degrees against time [s], with ± the Eq. 29B amplitude; returns the matplotlib Axes.

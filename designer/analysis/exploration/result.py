@@ -15,6 +15,7 @@ from designer.jsonsafe import finite
 from designer.errors import InputError
 from designer.analysis.indicators import hypervolume_2d, igd_plus, normalise
 from designer.problem import Problem
+from designer.reprs import html_table, svg_curve
 from designer.solvers.nlp import evaluate_many
 import casadi
 from designer.analysis.exploration.operators import Operators, category_problem, search_space
@@ -86,6 +87,41 @@ class ExploreResult:
         if not self.front:
             return None
         return min(self.front, key=lambda r: w[0] * r["turning_effort"] + w[1] * r["threshold_force"])
+
+    def _ranges(self) -> tuple[str, str]:
+        f = self.objectives()
+        if not len(f):
+            return "–", "–"
+        return f"{f[:, 0].min():.4g} – {f[:, 0].max():.4g}", f"{f[:, 1].min():.4g} – {f[:, 1].max():.4g}"
+
+    def __repr__(self) -> str:
+        """Two lines: trials, front size and objective ranges [N]; hypervolume [N²] against the exact front's."""
+        f_range, p_range = self._ranges()
+        ratio = self.comparison.get("hypervolume_ratio")
+        versus = f" ({ratio:.3f} of the exact front's)" if isinstance(ratio, float) else ""
+        return (f"ExploreResult({self.problem.name!r}: {self.trials} trials, {self.feasible} feasible, "
+                f"front of {len(self.front)} points, F_turn {f_range} N, P {p_range} N)\n"
+                f"  hypervolume {self.hypervolume:.4g} N²{versus}, {self.seconds:.3g} s, seed {self.seed}")
+
+    def _repr_html_(self) -> str:
+        """A compact HTML table with units beside an SVG of the explored front (notebooks; no trial runs)."""
+        f_range, p_range = self._ranges()
+        c = self.comparison
+        rows = [("study (storage)", f"{self.study_name} ({self.storage})", ""),
+                ("trials: complete / run here", f"{self.trials} / {self.trials_run}", ""),
+                ("feasible / distinct", f"{self.feasible} / {self.distinct}", ""),
+                ("front points", f"{len(self.front)}", ""),
+                ("turning effort F_turn", f_range, "N"), ("threshold force P", p_range, "N"),
+                ("hypervolume", f"{self.hypervolume:.5g}", "N²")]
+        if "hypervolume_ratio" in c:
+            rows += [("hypervolume / exact front's", f"{c['hypervolume_ratio']:.4f}", ""),
+                     ("IGD+ to the exact front (normalised)", f"{c['igd_plus']:.4g}", "")]
+        rows += [("wall time (trials/s)", f"{self.seconds:.3g} ({self.trials_per_second:.3g})", "s"),
+                 ("seed, workers, NLP-refined", f"{self.seed}, {self.workers}, {'yes' if self.refined else 'no'}", "")]
+        f = self.objectives()
+        order = np.argsort(f[:, 1]) if len(f) else []
+        svg = svg_curve(f[order, 0], f[order, 1], "turning effort F_turn [N]", "threshold force P [N]") if len(f) else ""
+        return html_table(f"Explored front {self.problem.name!r} (NSGA-II)", rows, caption=c.get("note", ""), extra=svg)
 
     def to_dict(self) -> dict:
         """Plain data for explore.json (SI units)."""
