@@ -229,6 +229,7 @@ def test_disc_model_by_hand_and_errors():
     I_w = m (0.04/16 + 0.0009/12) = 2.4269e-3 kg·m² (hand); bad width or density is a one-line error."""
     assert inertia.Disc(0.03, 1000.0)(0.2) == pytest.approx(0.94248 * 0.002575, rel=1e-5)
     assert inertia.Disc().describe().endswith("w = 25.0 mm, ρ = 1200 kg/m³")
+    assert inertia.Disc(0.1, 950.0).describe().endswith("w = 100.0 mm, ρ = 950 kg/m³")
     with pytest.raises(InputError, match=r"^inertia\.tyre_width = -1: must be positive$"):
         inertia.Disc(tyre_width=-1)
     with pytest.raises(InputError, match=r"^inertia\.density = 0: must be positive$"):
