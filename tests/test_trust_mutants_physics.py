@@ -438,3 +438,17 @@ def test_inertia_model_parameters_round_trip():
     for model in (disc, cat, fixed, inertia.PowerLaw()):
         for name in model.parameters():
             parameters.default(name)  # every name is a known parameter (KeyError otherwise)
+
+
+def test_first_order_probability_without_scatter_is_a_step():
+    """With every σ zero the shimmy probability is a step: 0 at or below V_c (V = V_c exactly gives 0: the caster
+    shimmies only above V_c), 1 above (at 2 V_c, and just above V_c)."""
+    from designer.physics import uncertainty as un
+
+    u = un.Uncertainty(model_error=0.0, damping=0.0, slip_coefficient=0.0, inertia=0.0)
+    v = float(shimmy.critical_shimmy_speed(*CASE))
+    prob = un.shimmy_probability_first_order
+    assert prob(*CASE, v, u) == 0.0
+    assert prob(*CASE, 0.5 * v, u) == 0.0
+    assert prob(*CASE, 2 * v, u) == 1.0
+    assert prob(*CASE, 1.01 * v, u) == 1.0
