@@ -366,3 +366,45 @@ def test_dominated_by_problem_compares_each_catalog_wheel_with_its_own_variant(i
 
     tighter = _front(catalog, [q("C", 1.001), q("D", 1.001), q("D", 0.999)])
     assert ck.dominated_by_problem(catalog, tighter) == (1, 3)
+
+
+@pytest.mark.parametrize("lo, hi, inside", [(3.02, 3.08, True)])
+def test_threshold_curve_grid_step_is_a_twentieth_inch(lo, hi, inside):
+    """Check 7's grid has 101 points over 3–8 in (a step of 0.05 in): a rise 0.06 in wide is caught."""
+    assert ck.check_threshold_curve(_dented_ratio(lo, hi)).passed is not inside
+
+
+def test_threshold_curve_flat_last_step_is_not_decreasing():
+    """P/L flat from 7.949 in on: the last grid step (7.95 → 8 in) does not fall, so 'decreasing' fails, although
+    the curve stays convex and its slope ratio (0 at 8 in) is infinite."""
+    from designer.physics.threshold import threshold_force_ratio
+
+    c7 = ck.check_threshold_curve(lambda d, h: threshold_force_ratio(np.minimum(np.asarray(d, float), 7.949 * INCH), h))
+    assert not c7.passed and c7.detail.endswith("decreasing False, convex True")
+
+
+@pytest.mark.parametrize("a, ratio, passed", [(0.03, "2.74", True), (0.1, "1.89", False)])
+def test_threshold_curve_slope_ratio_limit(a, ratio, passed):
+    """P/L plus a linear a·(8 in − d)/in stays decreasing and convex but flattens the contrast between 4 and 8 in:
+    a = 0.03 gives slope ratio 2.74 (passes, >= 2), a = 0.1 gives 1.89 (fails)."""
+    from designer.physics.threshold import threshold_force_ratio
+
+    c7 = ck.check_threshold_curve(lambda d, h: threshold_force_ratio(d, h) + a * (8 * INCH - np.asarray(d, float)) / INCH)
+    assert c7.passed is passed and c7.got.endswith(f"slope ratio 4 in / 8 in {ratio}")
+
+
+def test_identity_checks_round_what_they_report():
+    """Checks 4 and 5 report the ratio rounded to 4 and 6 decimals: a carpet factor of 2.00004 reports 2.0, a trail
+    ratio of 0.50000004 reports 0.5 (and fails: the identity is exact to 1e-9)."""
+    from designer.physics.turning import sliding_turning_moment, turning_effort
+
+    def moment(load, groove, surface, mode):
+        return sliding_turning_moment(load, groove, "tile", mode) * (2.00004 if surface == "carpet" else 1.0)
+
+    assert ck.check_carpet(moment).got == 2.0
+
+    def effort(trail, groove, damping, load):
+        return turning_effort(trail, groove, damping, load) * (1.00000008 if trail > 2 * INCH else 1.0)
+
+    c5 = ck.check_trail_halves(effort)
+    assert c5.got == 0.5 and not c5.passed
