@@ -452,3 +452,19 @@ def test_first_order_probability_without_scatter_is_a_step():
     assert prob(*CASE, 0.5 * v, u) == 0.0
     assert prob(*CASE, 2 * v, u) == 1.0
     assert prob(*CASE, 1.01 * v, u) == 1.0
+
+
+@pytest.mark.parametrize("dof", [0, 5])
+def test_sampled_log_factors_have_the_stated_scatter(dof):
+    """sample_log_factors draws n values of each log factor, centred on 0, with σ_m = 0.103 for the model error
+    (normal for ν = 0; Student-t of scale 0.103, σ = 0.103·√(5/3) = 0.133, for ν = 5), and 0.10, 0.20, 0.10 for
+    c_f, K_s, I_w: 200 000 draws give means within 5 standard errors of 0 and σ within 2 %."""
+    from designer.physics import uncertainty as un
+
+    n = 200_000
+    f = un.sample_log_factors(un.Uncertainty(model_error_dof=dof), n, np.random.default_rng(1))
+    sigma = {"model": 0.103 * (math.sqrt(5 / 3) if dof else 1.0), "damping": 0.10, "slip": 0.20, "inertia": 0.10}
+    for key, s in sigma.items():
+        assert f[key].shape == (n,)
+        assert abs(f[key].mean()) < 5 * s / math.sqrt(n)
+        assert f[key].std() == pytest.approx(s, rel=0.02)
