@@ -25,6 +25,10 @@ EXPECTED = {
 }
 """Facts each page's output must show (regular expressions, multiline)."""
 
+FILES = {"run-a-problem.md": ["caster.png", "front.png", "my-report/index.html"], "compare-fronts.md": ["fronts.png"],
+         "calibrate.md": ["treadmill.csv"], "share-a-study.md": ["study.db"]}
+"""Files each page writes into its folder."""
+
 
 def python_blocks(page: Path) -> list[str]:
     return re.findall(r"^```python\n(.*?)^```", page.read_text(encoding="utf-8"), flags=re.S | re.M)
@@ -39,9 +43,12 @@ def test_every_howto_page_is_listed_and_has_code():
 
 @pytest.mark.parametrize("page", PAGES, ids=lambda p: p.stem)
 def test_howto_page_runs(page, tmp_path, monkeypatch):
-    """Every ```python block of the page runs in a fresh folder without error and prints the page's facts."""
+    """Every ```python block of the page runs in a fresh folder without error, prints the page's facts and
+    writes its files (figures, report, study)."""
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv("MPLBACKEND", "Agg")
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")  # a figure window would block; the pages save their figures to files
     namespace: dict = {"__name__": "__howto__"}
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
@@ -50,3 +57,5 @@ def test_howto_page_runs(page, tmp_path, monkeypatch):
     text = out.getvalue()
     for pattern in EXPECTED[page.name]:
         assert re.search(pattern, text, flags=re.M), f"{page.name}: no {pattern!r} in its output:\n{text[-2000:]}"
+    for name in FILES.get(page.name, []):
+        assert (tmp_path / name).stat().st_size > 0, f"{page.name} did not write {name}"
