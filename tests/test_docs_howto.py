@@ -1,4 +1,4 @@
-"""The how-to pages' Python runs as written (docs/how-to/*.md; examples in the docs are tests).
+"""The how-to pages' Python runs as written (docs/how-to/*.md and docs/index.md; examples in the docs are tests).
 
 Each page's ```python blocks run in order in one namespace, in an empty temporary folder (as a reader would
 paste them into a fresh session), and must not raise; a few printed facts are checked per page.
@@ -14,9 +14,10 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 HOWTO = ROOT / "docs" / "how-to"
-PAGES = sorted(HOWTO.glob("*.md"))
+PAGES = sorted(HOWTO.glob("*.md")) + [ROOT / "docs" / "index.md"]
 
 EXPECTED = {
+    "index.md": [r"trail T\s+\d\.\d{3} in"],
     "run-a-problem.md": [r"Problem\('indoor-manual'", r"trail T\s+\d\.\d{3} in", r"index\.html"],
     "compare-fronts.md": [r"hypervolume \d\.\d{3} \(2\.5 m/s\) vs \d\.\d{3} \(3 m/s\)", r"3\.0 m/s: knee"],
     "calibrate.md": [r"K_s = \d+ N \(95 % CI", r"slip_coefficient = \"", r"c_f = \d\.\d{3} N·m/rad"],
@@ -35,7 +36,8 @@ def python_blocks(page: Path) -> list[str]:
 
 
 def test_every_howto_page_is_listed_and_has_code():
-    """The five tasks of issue 17 each have a page with Python in it, and the test knows every page."""
+    """The five tasks of issue 17 each have a page with Python in it (the home page too), and the test knows
+    every page."""
     names = {p.name for p in PAGES}
     assert names == set(EXPECTED)
     assert all(python_blocks(p) for p in PAGES)
