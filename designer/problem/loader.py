@@ -77,180 +77,104 @@ def problem_from_toml(text: str, source: str | None = None, default_name: str = 
     return problem_from_dict(data, source=source, default_name=default_name)
 
 
-def problem_from_dict(data: dict[str, Any], source: str | None = None, default_name: str = "problem") -> Problem:  # noqa: C901 - reads the sections in order; each branch is one key's rule
-    """Build a validated :class:`Problem` from a dict with the problem-file schema."""
-    prefix = f"{source}: " if source else ""
+class _Reader:
+    """The problem-file dict with its one-line errors: each reader names the key, the value and the reason."""
 
-    def fail(msg: str) -> NoReturn:
-        raise ProblemError(prefix + msg)
+    def __init__(self, data: dict[str, Any], prefix: str) -> None:
+        self.data = data
+        self.prefix = prefix
 
-    if not isinstance(data, dict):
-        fail("a problem must be a table of sections")
-    _check_keys(data, prefix)
+    def fail(self, msg: str) -> NoReturn:
+        raise ProblemError(self.prefix + msg)
 
-    def section(name: str) -> dict[str, Any]:
-        value = data.get(name, {})
+    def section(self, name: str) -> dict[str, Any]:
+        value = self.data.get(name, {})
         if not isinstance(value, dict):
-            fail(f"[{name}] must be a table, got {type(value).__name__}")
+            self.fail(f"[{name}] must be a table, got {type(value).__name__}")
         return value
 
-    def quantity(sec: str, key: str, dimension: str, default: _D) -> float | _D:
-        table = data if sec == "" else section(sec)
+    def quantity(self, sec: str, key: str, dimension: str, default: _D) -> float | _D:
+        table = self.data if sec == "" else self.section(sec)
         if key not in table:
             return default
         try:
             return parse_quantity(table[key], dimension, f"{sec}.{key}" if sec else key)
         except InputError as exc:
-            fail(str(exc))
+            self.fail(str(exc))
 
-    def text_value(sec: str, key: str, default: str) -> str:
-        table = data if sec == "" else section(sec)
+    def text_value(self, sec: str, key: str, default: str) -> str:
+        table = self.data if sec == "" else self.section(sec)
         value = table.get(key, default)
         if not isinstance(value, str):
-            fail(f"{(sec + '.') if sec else ''}{key} = {value!r}: expected a string")
+            self.fail(f"{(sec + '.') if sec else ''}{key} = {value!r}: expected a string")
         return value
 
-    def number(sec: str, key: str, default: float) -> float:
-        table = section(sec)
+    def number(self, sec: str, key: str, default: float) -> float:
+        table = self.section(sec)
         value = table.get(key, default)
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            fail(f"{sec}.{key} = {value!r}: expected a number")
+            self.fail(f"{sec}.{key} = {value!r}: expected a number")
         if isinstance(value, int) and abs(value) > 1e300:
-            fail(f"{sec}.{key}: an integer of about {int(value.bit_length() * 0.30103)} digits is too large")
+            self.fail(f"{sec}.{key}: an integer of about {int(value.bit_length() * 0.30103)} digits is too large")
         if not math.isfinite(value):
-            fail(f"{sec}.{key} = {value!r}: must be finite")
+            self.fail(f"{sec}.{key} = {value!r}: must be finite")
         return float(value)
 
-    name = text_value("", "name", default_name)
-    title = text_value("", "title", name)
-    description = text_value("", "description", "")
+
+def problem_from_dict(data: dict[str, Any], source: str | None = None, default_name: str = "problem") -> Problem:
+    """Build a validated :class:`Problem` from a dict with the problem-file schema.
+
+    The sections are read in a fixed order (names, [turning], [dynamics], [inertia], [robust], the
+    conditions, [variables], [objective], [stock], [pareto], [choices], [shimmy]), so the first error
+    reported for a file with several is always the same.
+    """
+    prefix = f"{source}: " if source else ""
+    r = _Reader(data, prefix)
+    if not isinstance(data, dict):
+        r.fail("a problem must be a table of sections")
+    _check_keys(data, prefix)
+
+    name = r.text_value("", "name", default_name)
+    title = r.text_value("", "title", name)
+    description = r.text_value("", "description", "")
 
     # turning constants and dynamics first: conditions need them
-    tdef = TurningConstants()
-    turning = TurningConstants(
-        tile_moment_per_load=quantity("turning", "tile_moment_per_load", "length", tdef.tile_moment_per_load),
-        carpet_factor=quantity("turning", "carpet_factor", "dimensionless", tdef.carpet_factor),
-        groove_coefficient=quantity("turning", "groove_coefficient", "per_length", tdef.groove_coefficient),
-        mode_factors={
-            "chair": quantity("turning", "chair_factor", "dimensionless", tdef.mode_factors["chair"]),
-            "pivot": quantity("turning", "pivot_factor", "dimensionless", tdef.mode_factors["pivot"]),
-        },
-        bare_fork_damping=quantity("turning", "bare_fork_damping", "damping", tdef.bare_fork_damping),
-    )
-    for key, value in (
-        ("tile_moment_per_load", turning.tile_moment_per_load),
-        ("carpet_factor", turning.carpet_factor),
-        ("chair_factor", turning.mode_factors["chair"]),
-        ("pivot_factor", turning.mode_factors["pivot"]),
-        ("bare_fork_damping", turning.bare_fork_damping),
-    ):
-        if value <= 0:
-            fail(f"turning.{key} = {value:g}: must be positive")
-    if turning.groove_coefficient < 0:
-        fail(f"turning.groove_coefficient = {turning.groove_coefficient:g} 1/m: must be non-negative")
+    turning = _turning(r)
+    dynamics = _dynamics(r)
+    inertia, wheels = _inertia(r.section("inertia"), r.quantity, r.fail)
 
-    ddef = DynamicsParameters()
-    dynamics = DynamicsParameters(
-        frame_stiffness=quantity("dynamics", "frame_stiffness", "stiffness", None),
-        fork_mass=quantity("dynamics", "fork_mass", "mass", ddef.fork_mass),
-        bearing_block_mass=quantity("dynamics", "bearing_block_mass", "mass", ddef.bearing_block_mass),
-    )
-    for key, stated in (("frame_stiffness", dynamics.frame_stiffness), ("fork_mass", dynamics.fork_mass),
-                        ("bearing_block_mass", dynamics.bearing_block_mass)):
-        if stated is not None and stated <= 0:
-            fail(f"dynamics.{key} = {stated:g}: must be positive")
-
-    inertia, wheels = _inertia(section("inertia"), quantity, fail)
-
-    uncertainty = _uncertainty(section("robust"), fail)  # on by default: no [robust] gives the default scatter
+    uncertainty = _uncertainty(r.section("robust"), r.fail)  # on by default: no [robust] gives the default scatter
 
     conditions = Conditions(
         uncertainty=uncertainty,
-        load=quantity("conditions", "load", "force", parameters.default("load")),
-        threshold_height=quantity("conditions", "threshold_height", "length", parameters.default("threshold_height")),
-        surface=text_value("conditions", "surface", "tile"),
-        turning_mode=text_value("conditions", "turning_mode", "chair"),
-        disturbance_angle=quantity("shimmy", "disturbance_angle", "angle", parameters.default("disturbance_angle")),
-        slip_coefficient=quantity("shimmy", "slip_coefficient", "force", parameters.default("slip_coefficient")),
+        load=r.quantity("conditions", "load", "force", parameters.default("load")),
+        threshold_height=r.quantity("conditions", "threshold_height", "length", parameters.default("threshold_height")),
+        surface=r.text_value("conditions", "surface", "tile"),
+        turning_mode=r.text_value("conditions", "turning_mode", "chair"),
+        disturbance_angle=r.quantity("shimmy", "disturbance_angle", "angle", parameters.default("disturbance_angle")),
+        slip_coefficient=r.quantity("shimmy", "slip_coefficient", "force", parameters.default("slip_coefficient")),
         inertia=inertia,
         turning=turning,
         dynamics=dynamics,
     )
-    if "target_speed" not in section("shimmy"):
-        fail("shimmy.target_speed: missing; give the speed the caster must not shimmy below, e.g. '2.5 m/s'")
+    if "target_speed" not in r.section("shimmy"):
+        r.fail("shimmy.target_speed: missing; give the speed the caster must not shimmy below, e.g. '2.5 m/s'")
 
-    bounds = {}
-    variables = section("variables")
-    for var in VARIABLES:
-        if var not in variables:
-            lo, hi = DEFAULT_BOUNDS[var]
-            if var == "damping":
-                lo = turning.bare_fork_damping
-                hi = max(hi, lo)
-            bounds[var] = Bound(lo, hi)
-            continue
-        spec = variables[var]
-        dim = VARIABLE_DIMENSIONS[var]
-        if isinstance(spec, dict):
-            extra = set(spec) - {"min", "max"}
-            if extra:
-                fail(f"variables.{var}: unknown key {sorted(extra)[0]!r}; expected 'min' and 'max' or a single value")
-            if "min" not in spec or "max" not in spec:
-                missing = "min" if "min" not in spec else "max"
-                fail(f"variables.{var}.{missing}: missing; give both min and max, or a single value to fix it")
-            try:
-                lo = parse_quantity(spec["min"], dim, f"variables.{var}.min")
-                hi = parse_quantity(spec["max"], dim, f"variables.{var}.max")
-            except InputError as exc:
-                fail(str(exc))
-            given = {f"variables.{var}.min": (spec["min"], lo), f"variables.{var}.max": (spec["max"], hi)}
-        else:
-            try:
-                lo = hi = parse_quantity(spec, dim, f"variables.{var}")
-            except InputError as exc:
-                fail(str(exc))
-            given = {f"variables.{var}": (spec, lo)}
-        for key, (text, value) in given.items():  # said in the user's unit (validate() repeats it in SI)
-            if value > MODEL_RANGE[var][1]:
-                fail(outside_range(key, text, value, *MODEL_RANGE[var], dim))
-        bounds[var] = Bound(lo, hi)
+    bounds = _bounds(r, turning)
     if wheels:
-        d_lo, d_hi = bounds["diameter"].low, bounds["diameter"].high
-        if "diameter" in variables:
-            kept = tuple(k for k in wheels if d_lo - 1e-9 <= Catalog.from_key(k).fixed_diameter <= d_hi + 1e-9)
-            if not kept:
-                fail(f"variables.diameter = [{d_lo / INCH:.3g}, {d_hi / INCH:.3g}] in: no catalog wheel in {list(wheels)} fits")
-            wheels = kept
-        diameters = [Catalog.from_key(k).fixed_diameter for k in wheels]
-        bounds["diameter"] = Bound(min(diameters), max(diameters))
+        wheels = _catalog_within(r, bounds, wheels)
 
-    objective = section("objective")
-    weights = (number("objective", "turning_effort", 1.0), number("objective", "threshold_force", 1.0))
-    caps = {}
-    for key in ("max_threshold_force", "max_turning_effort"):
-        cap = quantity("objective", key, "force", None)
-        if cap is not None and not (math.isfinite(cap) and 0 < cap < 1e5):
-            fail(f"objective.{key} = {cap:g} N: must be a positive force below 1e5 N")
-        caps[key] = cap
-    if caps["max_threshold_force"] is not None and caps["max_turning_effort"] is not None:
-        fail("objective: give max_threshold_force or max_turning_effort, not both (the recommendation caps one "
-             "objective and minimises the other)")
-    stock = _stock(section("stock"), bounds, inertia, wheels, conditions.threshold_height, fail) \
+    weights = (r.number("objective", "turning_effort", 1.0), r.number("objective", "threshold_force", 1.0))
+    caps = _caps(r)
+    stock = _stock(r.section("stock"), bounds, inertia, wheels, conditions.threshold_height, r.fail) \
         if "stock" in data else None
-    points = section("pareto").get("points", 41)
+    points = r.section("pareto").get("points", 41)
     if isinstance(points, bool) or not isinstance(points, int):
-        fail(f"pareto.points = {points!r}: expected an integer")
-    del objective
+        r.fail(f"pareto.points = {points!r}: expected an integer")
 
-    choices = {}
-    for key, allowed in (("surface", SURFACES), ("turning_mode", MODES), ("wheel", tuple(w.key for w in TABLE1))):
-        if key in section("choices"):
-            values = section("choices")[key]
-            if not isinstance(values, list) or not values or any(v not in allowed for v in values):
-                fail(f"choices.{key} = {values!r}: expected a non-empty list from {', '.join(allowed)}")
-            choices[key] = tuple(values)
+    choices = _choices(r)
 
-    target_speed = quantity("shimmy", "target_speed", "speed", None)
+    target_speed = r.quantity("shimmy", "target_speed", "speed", None)
     assert target_speed is not None  # the key is present (checked above)
     return Problem(
         name=name,
@@ -258,9 +182,9 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
         description=description,
         conditions=conditions,
         target_speed=target_speed,
-        margin=quantity("shimmy", "margin", "dimensionless", 0.0),
+        margin=r.quantity("shimmy", "margin", "dimensionless", 0.0),
         bounds=bounds,
-        swept_radius_max=quantity("constraints", "swept_radius_max", "length", None),
+        swept_radius_max=r.quantity("constraints", "swept_radius_max", "length", None),
         weights=weights,
         pareto_points=points,
         wheels=wheels,
@@ -270,6 +194,131 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
         max_turning_effort=caps["max_turning_effort"],
         source=source,
     )
+
+
+def _turning(r: _Reader) -> TurningConstants:
+    """[turning]: the constants of the turning model (docs/model.md#turning-effort), each positive."""
+    tdef = TurningConstants()
+    turning = TurningConstants(
+        tile_moment_per_load=r.quantity("turning", "tile_moment_per_load", "length", tdef.tile_moment_per_load),
+        carpet_factor=r.quantity("turning", "carpet_factor", "dimensionless", tdef.carpet_factor),
+        groove_coefficient=r.quantity("turning", "groove_coefficient", "per_length", tdef.groove_coefficient),
+        mode_factors={
+            "chair": r.quantity("turning", "chair_factor", "dimensionless", tdef.mode_factors["chair"]),
+            "pivot": r.quantity("turning", "pivot_factor", "dimensionless", tdef.mode_factors["pivot"]),
+        },
+        bare_fork_damping=r.quantity("turning", "bare_fork_damping", "damping", tdef.bare_fork_damping),
+    )
+    for key, value in (
+        ("tile_moment_per_load", turning.tile_moment_per_load),
+        ("carpet_factor", turning.carpet_factor),
+        ("chair_factor", turning.mode_factors["chair"]),
+        ("pivot_factor", turning.mode_factors["pivot"]),
+        ("bare_fork_damping", turning.bare_fork_damping),
+    ):
+        if value <= 0:
+            r.fail(f"turning.{key} = {value:g}: must be positive")
+    if turning.groove_coefficient < 0:
+        r.fail(f"turning.groove_coefficient = {turning.groove_coefficient:g} 1/m: must be non-negative")
+    return turning
+
+
+def _dynamics(r: _Reader) -> DynamicsParameters:
+    """[dynamics]: frame stiffness and fork masses of the third-order model, each positive when given."""
+    ddef = DynamicsParameters()
+    dynamics = DynamicsParameters(
+        frame_stiffness=r.quantity("dynamics", "frame_stiffness", "stiffness", None),
+        fork_mass=r.quantity("dynamics", "fork_mass", "mass", ddef.fork_mass),
+        bearing_block_mass=r.quantity("dynamics", "bearing_block_mass", "mass", ddef.bearing_block_mass),
+    )
+    for key, stated in (("frame_stiffness", dynamics.frame_stiffness), ("fork_mass", dynamics.fork_mass),
+                        ("bearing_block_mass", dynamics.bearing_block_mass)):
+        if stated is not None and stated <= 0:
+            r.fail(f"dynamics.{key} = {stated:g}: must be positive")
+    return dynamics
+
+
+def _bounds(r: _Reader, turning: TurningConstants) -> dict[str, Bound]:
+    """[variables]: {min, max} or one value (fixed) per design variable; the defaults for the others."""
+    bounds = {}
+    variables = r.section("variables")
+    for var in VARIABLES:
+        if var not in variables:
+            lo, hi = DEFAULT_BOUNDS[var]
+            if var == "damping":
+                lo = turning.bare_fork_damping
+                hi = max(hi, lo)
+            bounds[var] = Bound(lo, hi)
+            continue
+        bounds[var] = _bound(r, var, variables[var])
+    return bounds
+
+
+def _bound(r: _Reader, var: str, spec: object) -> Bound:
+    """One ``variables.<var>``: a table {min, max} or a single value, in the model's range."""
+    dim = VARIABLE_DIMENSIONS[var]
+    if isinstance(spec, dict):
+        extra = set(spec) - {"min", "max"}
+        if extra:
+            r.fail(f"variables.{var}: unknown key {sorted(extra)[0]!r}; expected 'min' and 'max' or a single value")
+        if "min" not in spec or "max" not in spec:
+            missing = "min" if "min" not in spec else "max"
+            r.fail(f"variables.{var}.{missing}: missing; give both min and max, or a single value to fix it")
+        try:
+            lo = parse_quantity(spec["min"], dim, f"variables.{var}.min")
+            hi = parse_quantity(spec["max"], dim, f"variables.{var}.max")
+        except InputError as exc:
+            r.fail(str(exc))
+        given = {f"variables.{var}.min": (spec["min"], lo), f"variables.{var}.max": (spec["max"], hi)}
+    else:
+        try:
+            lo = hi = parse_quantity(spec, dim, f"variables.{var}")
+        except InputError as exc:
+            r.fail(str(exc))
+        given = {f"variables.{var}": (spec, lo)}
+    for key, (text, value) in given.items():  # said in the user's unit (validate() repeats it in SI)
+        if value > MODEL_RANGE[var][1]:
+            r.fail(outside_range(key, text, value, *MODEL_RANGE[var], dim))
+    return Bound(lo, hi)
+
+
+def _catalog_within(r: _Reader, bounds: dict[str, Bound], wheels: tuple[str, ...]) -> tuple[str, ...]:
+    """The catalog wheels within ``variables.diameter`` (when given); the diameter bounds become theirs."""
+    d_lo, d_hi = bounds["diameter"].low, bounds["diameter"].high
+    if "diameter" in r.section("variables"):
+        kept = tuple(k for k in wheels if d_lo - 1e-9 <= Catalog.from_key(k).fixed_diameter <= d_hi + 1e-9)
+        if not kept:
+            r.fail(f"variables.diameter = [{d_lo / INCH:.3g}, {d_hi / INCH:.3g}] in: no catalog wheel in {list(wheels)} fits")
+        wheels = kept
+    diameters = [Catalog.from_key(k).fixed_diameter for k in wheels]
+    bounds["diameter"] = Bound(min(diameters), max(diameters))
+    return wheels
+
+
+def _caps(r: _Reader) -> dict[str, float | None]:
+    """[objective] max_threshold_force or max_turning_effort [N]: at most one cap, a positive force."""
+    caps = {}
+    for key in ("max_threshold_force", "max_turning_effort"):
+        cap = r.quantity("objective", key, "force", None)
+        if cap is not None and not (math.isfinite(cap) and 0 < cap < 1e5):
+            r.fail(f"objective.{key} = {cap:g} N: must be a positive force below 1e5 N")
+        caps[key] = cap
+    if caps["max_threshold_force"] is not None and caps["max_turning_effort"] is not None:
+        r.fail("objective: give max_threshold_force or max_turning_effort, not both (the recommendation caps one "
+               "objective and minimises the other)")
+    return caps
+
+
+def _choices(r: _Reader) -> dict[str, tuple[str, ...]]:
+    """[choices]: the categorical options of an exploration (surface, turning mode, Table 1 wheel)."""
+    choices = {}
+    for key, allowed in (("surface", SURFACES), ("turning_mode", MODES), ("wheel", tuple(w.key for w in TABLE1))):
+        if key in r.section("choices"):
+            values = r.section("choices")[key]
+            if not isinstance(values, list) or not values or any(v not in allowed for v in values):
+                r.fail(f"choices.{key} = {values!r}: expected a non-empty list from {', '.join(allowed)}")
+            choices[key] = tuple(values)
+    return choices
 
 
 def _uncertainty(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> Uncertainty | None:

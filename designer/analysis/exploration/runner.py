@@ -164,7 +164,8 @@ def _prepare_resume(study, spec: StorageSpec, search_space_names) -> list[str]:
     return notes
 
 
-def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: str | None = None,  # noqa: C901 - one branch per option (storage, workers, resume, refine, compare)
+# long only by its docstring, which documents every option; the body is about 45 lines
+def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: str | None = None,
             study_name: str | None = None, workers: int = 1, resume: bool = False, refine: bool = False,
             operators: str | Operators = "tuned", population_size: int | None = None, compare: bool = True,
             progress: bool = False) -> ExploreResult:
@@ -213,16 +214,8 @@ def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: 
     # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
-    if isinstance(trials, bool) or not isinstance(trials, int) or not 1 <= trials <= MAX_TRIALS:
-        raise InputError(f"--trials {trials!r}: must be a whole number from 1 to {MAX_TRIALS}")
-    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= MAX_WORKERS:
-        raise InputError(f"--workers {workers!r}: must be a whole number from 1 to {MAX_WORKERS}")
     spec = parse_storage(storage)
-    if workers > 1 and not spec.shared:
-        raise InputError(f"--workers {workers}: several processes need a shared storage; add --storage "
-                         f"journal:///path/study.log (one machine) or sqlite:///study.db / postgresql://…")
-    if resume and not spec.shared:
-        raise InputError("--resume: an in-memory study cannot be resumed; use --storage journal:///path/study.log")
+    _check_arguments(trials, workers, resume, spec)
     space = search_space(problem)
     if not space.continuous and not space.categorical:
         raise InputError(f"{problem.name}: every variable is fixed; nothing to explore")
@@ -241,32 +234,10 @@ def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         if resume:
-            try:
-                study = optuna.load_study(study_name=study_name, storage=storage_obj)
-            except KeyError:
-                raise InputError(f"--resume: no study {study_name!r} in {spec.shown}") from None
-            except Exception as exc:  # noqa: BLE001
-                raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {_one_line(exc)}") from None
-            attrs = study.user_attrs
-            if attrs.get(ATTR_PREFIX + "problem_digest") not in (None, problem.digest()):
-                raise InputError(f"--resume: study {study_name!r} was run on a different problem "
-                                 f"({attrs.get(ATTR_PREFIX + 'problem_name')!r}); use another --study")
-            if ATTR_PREFIX + "operators" in attrs:
-                ops = Operators.from_dict(attrs[ATTR_PREFIX + "operators"])
+            study, ops = _load_for_resume(problem, study_name, spec, storage_obj, ops)
             notes += _prepare_resume(study, spec, space.names)
         else:
-            try:
-                study = optuna.create_study(study_name=study_name, storage=storage_obj,
-                                            directions=["minimize", "minimize"], load_if_exists=False)
-            except optuna.exceptions.DuplicatedStudyError:
-                raise InputError(f"--study {study_name}: a study of that name already exists in {spec.shown}; "
-                                 f"add --resume to continue it or choose another --study") from None
-            except Exception as exc:  # noqa: BLE001
-                raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {_one_line(exc)}") from None
-            for key, value in (("problem_name", problem.name), ("problem_digest", problem.digest()),
-                               ("trials", trials), ("seed", seed), ("operators", ops.as_dict()),
-                               ("space", space.as_dict())):
-                study.set_user_attr(ATTR_PREFIX + key, value)
+            study = _create(problem, study_name, spec, storage_obj, trials, seed, ops, space)
 
     existing = len(study.get_trials(deepcopy=False))
     base_seed = None if seed is None else seed + (existing if resume else 0)
@@ -274,22 +245,8 @@ def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: 
     tracker = _FrontTracker(reference)
     bar = _Progress(trials, enabled=progress, initial=complete_before)
     t0 = time.perf_counter()
-    try:
-        with bar:
-            if workers == 1:
-                def on_trial(study_, frozen, counts):
-                    if frozen.state == TrialState.COMPLETE and all(v <= 0 for v in frozen.constraints.values()):
-                        tracker.add(frozen.values)
-                    bar.update(counts[TrialState.COMPLETE], tracker)
-
-                _run_worker(problem, spec.url, study_name, trials, base_seed, ops.as_dict(),
-                            storage_obj=storage_obj, on_trial=on_trial if progress else None,
-                            check_budget=spec.remote or resume)
-            else:
-                _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storage_obj, tracker, bar)
-    except KeyboardInterrupt:
-        raise KeyboardInterrupt(f"interrupted; continue with --resume --storage {spec.shown} --study {study_name}") \
-            from None
+    _run_study(problem, spec, study_name, trials, base_seed, ops, workers, storage_obj, tracker, bar,
+               check_budget=spec.remote or resume, progress=progress)
     seconds = time.perf_counter() - t0
     complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
     if len(complete) < trials:
@@ -300,6 +257,84 @@ def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: 
     result.update(study_name=study_name, storage=spec.shown, seed=seed, trials=len(complete), seconds=seconds,
                   trials_run=len(complete) - complete_before, workers=workers, warnings=notes)
     return ExploreResult(problem=problem, **result)
+
+
+def _check_arguments(trials, workers, resume: bool, spec: StorageSpec) -> None:
+    """InputError for a budget or worker count out of range, or workers/resume without a shared storage."""
+    if isinstance(trials, bool) or not isinstance(trials, int) or not 1 <= trials <= MAX_TRIALS:
+        raise InputError(f"--trials {trials!r}: must be a whole number from 1 to {MAX_TRIALS}")
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= MAX_WORKERS:
+        raise InputError(f"--workers {workers!r}: must be a whole number from 1 to {MAX_WORKERS}")
+    if workers > 1 and not spec.shared:
+        raise InputError(f"--workers {workers}: several processes need a shared storage; add --storage "
+                         f"journal:///path/study.log (one machine) or sqlite:///study.db / postgresql://…")
+    if resume and not spec.shared:
+        raise InputError("--resume: an in-memory study cannot be resumed; use --storage journal:///path/study.log")
+
+
+def _load_for_resume(problem: Problem, study_name: str, spec: StorageSpec, storage_obj, ops: Operators):
+    """The study to resume and its operators (as first run); InputError if it is missing or of another problem."""
+    # late import: loads optuna only when this runs
+    import optuna
+
+    try:
+        study = optuna.load_study(study_name=study_name, storage=storage_obj)
+    except KeyError:
+        raise InputError(f"--resume: no study {study_name!r} in {spec.shown}") from None
+    except Exception as exc:  # noqa: BLE001
+        raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {_one_line(exc)}") from None
+    attrs = study.user_attrs
+    if attrs.get(ATTR_PREFIX + "problem_digest") not in (None, problem.digest()):
+        raise InputError(f"--resume: study {study_name!r} was run on a different problem "
+                         f"({attrs.get(ATTR_PREFIX + 'problem_name')!r}); use another --study")
+    if ATTR_PREFIX + "operators" in attrs:
+        ops = Operators.from_dict(attrs[ATTR_PREFIX + "operators"])
+    return study, ops
+
+
+def _create(problem: Problem, study_name: str, spec: StorageSpec, storage_obj, trials: int, seed: int | None,
+            ops: Operators, space: SearchSpace):
+    """A new two-objective study, labelled with the problem, budget, seed, operators and space."""
+    # late import: loads optuna only when this runs
+    import optuna
+
+    try:
+        study = optuna.create_study(study_name=study_name, storage=storage_obj,
+                                    directions=["minimize", "minimize"], load_if_exists=False)
+    except optuna.exceptions.DuplicatedStudyError:
+        raise InputError(f"--study {study_name}: a study of that name already exists in {spec.shown}; "
+                         f"add --resume to continue it or choose another --study") from None
+    except Exception as exc:  # noqa: BLE001
+        raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {_one_line(exc)}") from None
+    for key, value in (("problem_name", problem.name), ("problem_digest", problem.digest()),
+                       ("trials", trials), ("seed", seed), ("operators", ops.as_dict()),
+                       ("space", space.as_dict())):
+        study.set_user_attr(ATTR_PREFIX + key, value)
+    return study
+
+
+def _run_study(problem, spec: StorageSpec, study_name: str, trials: int, base_seed, ops: Operators, workers: int,
+               storage_obj, tracker, bar, check_budget: bool, progress: bool) -> None:
+    """Run the study to ``trials`` COMPLETE trials: in this process, or on a pool of ``workers`` processes."""
+    # late import: loads optuna only when this runs
+    from optuna.trial import TrialState
+
+    try:
+        with bar:
+            if workers == 1:
+                def on_trial(study_, frozen, counts):
+                    if frozen.state == TrialState.COMPLETE and all(v <= 0 for v in frozen.constraints.values()):
+                        tracker.add(frozen.values)
+                    bar.update(counts[TrialState.COMPLETE], tracker)
+
+                _run_worker(problem, spec.url, study_name, trials, base_seed, ops.as_dict(),
+                            storage_obj=storage_obj, on_trial=on_trial if progress else None,
+                            check_budget=check_budget)
+            else:
+                _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storage_obj, tracker, bar)
+    except KeyboardInterrupt:
+        raise KeyboardInterrupt(f"interrupted; continue with --resume --storage {spec.shown} --study {study_name}") \
+            from None
 
 
 def _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storage_obj, tracker, bar):
