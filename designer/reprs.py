@@ -12,9 +12,9 @@ from html import escape
 from typing import Any
 
 STYLE = ("border-collapse:collapse;font-size:12px;font-family:sans-serif;margin:2px 0",
-         "text-align:left;padding:1px 8px 1px 0;font-weight:normal;color:#555",
-         "text-align:right;padding:1px 4px;font-variant-numeric:tabular-nums",
-         "text-align:left;padding:1px 0 1px 4px;color:#555")
+         "text-align:left;padding:1px 8px 1px 0;font-weight:normal;color:#555;white-space:nowrap",
+         "text-align:right;padding:1px 4px;font-variant-numeric:tabular-nums;white-space:nowrap",
+         "text-align:left;padding:1px 0 1px 4px;color:#555;white-space:nowrap")
 """Inline styles (table, label cell, value cell, unit cell): the repr must render without a stylesheet."""
 
 
@@ -31,7 +31,8 @@ def html_table(title: str, rows: Iterable[tuple[Any, Any, Any]], caption: str = 
     inner = (f'<div><div style="font-weight:bold;font-family:sans-serif;font-size:13px">{escape(title)}</div>'
              f'<table style="{table}">{body}</table>{cap}</div>')
     if extra:
-        return f'<div style="display:flex;gap:16px;align-items:flex-start">{inner}<div>{extra}</div></div>'
+        return (f'<div style="display:flex;gap:16px;align-items:flex-start">'
+                f'<div style="flex:none">{inner}</div><div style="flex:none">{extra}</div></div>')
     return f"<div>{inner}</div>"
 
 

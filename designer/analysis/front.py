@@ -214,7 +214,7 @@ class Front:
                 f"hypervolume {self.hypervolume():.3f})")
 
     def _repr_html_(self) -> str:
-        """A compact HTML table with units and an inline SVG of the curve P(F_turn) (notebooks; < 50 ms)."""
+        """A compact HTML table with units and an inline SVG of the curve F_turn(P) (notebooks; < 50 ms)."""
         name = getattr(self.problem, "name", "?")
         if not self.points:
             return html_table(f"Front {name!r}", [("points", "0", ""), ("failed", f"{len(self.failed)}", "")])
@@ -231,8 +231,8 @@ class Front:
                 ("knee V_c", f"{k.critical_speed:.4g}", "m/s"),
                 ("families", ", ".join(dict.fromkeys(p.family for p in self.points if p.family)) or "–", ""),
                 ("normalised hypervolume", f"{self.hypervolume():.4f}", "")]
-        svg = svg_curve(f[:, 0], f[:, 1], "turning effort F_turn [N]", "threshold force P [N]",
-                        marks=[(k.turning_effort, k.threshold_force, "knee")])
+        svg = svg_curve(f[:, 1], f[:, 0], "threshold force P [N]", "turning effort F_turn [N]",
+                        marks=[(k.threshold_force, k.turning_effort, "knee")])  # axes as front.plot()
         return html_table(f"Pareto front {name!r}", rows, extra=svg)
 
     def plot(self, ax=None, color_by="family"):

@@ -313,7 +313,7 @@ class Recommendation:
         drawing = ""
         if self.problem is not None:
             drawing = caster_svg(d.trail, d.diameter, d.groove, self.problem.conditions.threshold_height,
-                                 self.swept_radius_max, label=f"{self.role} caster")
+                                 self.swept_radius_max, scale=17.0, label=f"{self.role} caster")
         title = f"Build this caster for {self.problem.name!r}" if self.problem is not None else "Build this caster"
         return html_table(f"{title} ({self.role})", rows, caption=self.rule + (f" Note: {self.note}" if self.note else ""),
                           extra=drawing)

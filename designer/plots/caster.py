@@ -204,8 +204,8 @@ def caster_svg(trail: float, diameter: float, groove: float, sill_height: float,
     ya = sy(-0.25 * INCH)
     out.append(f'<line x1="{sx(ax):.1f}" y1="{ya:.1f}" x2="{sx(0):.1f}" y2="{ya:.1f}" stroke="#000" '
                f'marker-start="url(#caster-arrow)" marker-end="url(#caster-arrow)"/>')
-    out.append(f'<text x="{sx(ax / 2):.1f}" y="{sy(-0.7 * INCH):.1f}" text-anchor="middle">'
-               f'trail T = {_inches(g.trail)}</text>')
+    out.append(f'<text x="{sx(ax / 2):.1f}" y="{max(ya + 14, sy(-0.7 * INCH)):.1f}" text-anchor="middle">'
+               f'trail T = {_inches(g.trail)}</text>')  # below the arrow at any scale
     out.append(f'<text x="{sx(ax):.1f}" y="{sy(0.22 * g.diameter):.1f}" text-anchor="middle">'
                f'd = {_inches(g.diameter)}</text>')
     out.append(f'<text x="{side_w - 2:.1f}" y="{sy(g.sill_height) - 4:.1f}" text-anchor="end">sill h = '

@@ -120,7 +120,7 @@ class ExploreResult:
                  ("seed, workers, NLP-refined", f"{self.seed}, {self.workers}, {'yes' if self.refined else 'no'}", "")]
         f = self.objectives()
         order = np.argsort(f[:, 1]) if len(f) else []
-        svg = svg_curve(f[order, 0], f[order, 1], "turning effort F_turn [N]", "threshold force P [N]") if len(f) else ""
+        svg = svg_curve(f[order, 1], f[order, 0], "threshold force P [N]", "turning effort F_turn [N]") if len(f) else ""
         return html_table(f"Explored front {self.problem.name!r} (NSGA-II)", rows, caption=c.get("note", ""), extra=svg)
 
     def to_dict(self) -> dict:
