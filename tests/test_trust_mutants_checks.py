@@ -408,3 +408,23 @@ def test_identity_checks_round_what_they_report():
 
     c5 = ck.check_trail_halves(effort)
     assert c5.got == 0.5 and not c5.passed
+
+
+def test_8c_record_on_a_dominated_tighter_front(indoor):
+    """8c word for word when the tighter front (one point, at P = 112 N) is dominated by the looser problem
+    (whose exact optimum at that P is the point itself): 1 of 1 dominated, the hypervolumes printed to 4 decimals,
+    the targets in the detail; a single dominated point is enough to pass."""
+    import re
+
+    from test_trust_checks import _optimal_points
+
+    looser = _front(indoor, _optimal_points(indoor, [110.0]))
+    tighter = _front(indoor, _optimal_points(indoor, [112.0]))
+    c8c = ck.front_checks(looser, tighter)[-1]
+    d = c8c.to_dict()
+    got = d.pop("got")
+    assert re.fullmatch(r"1 of 1 dominated; HV \d\.\d{4} vs \d\.\d{4} \(looser's normalisation\)", got), got
+    assert d == {"name": "8c tighter target", "claim": "tightening V_target moves the front outward",
+                 "expected": "every point of the tighter front weakly dominated by the looser front", "passed": True,
+                 "detail": "tighter target 2.5 m/s vs 2.5 m/s; exact test: the looser problem's min F_turn at each "
+                           "tighter point's P", "kind": "front", "outcome": ck.REPRODUCED, "disagreements": []}
