@@ -52,12 +52,13 @@ def test_applicable_on_validated_problems(indoor, changes, expected):
     dict(turning=TurningConstants(groove_coefficient=-1.0)),
     dict(disturbance_angle=0.0),
     dict(slip_coefficient=0.0),
-    dict(load=10.0, turning=TurningConstants(groove_coefficient=0.0, bare_fork_damping=3.0)),
+    dict(load=100.0, turning=TurningConstants(bare_fork_damping=3.0)),
 ])
 def test_applicable_guards_without_the_loader(indoor, changes):
     """The guards hold on their own, for values the loader refuses: a groove that lowers the moment, no
-    disturbance, no slip stiffness, or a negative turning moment at the box corner (L = 10 N, c_0 = 3 above
-    c_f,min = 1.3: M = 0.5·0.005·10 + (1.3 − 3)·0.349 < 0) each make the closed form inapplicable."""
+    disturbance, no slip stiffness, or a negative turning moment at the corner B = B_min, c_f = c_f,min (L = 100 N,
+    c_0 = 3 above c_f,min = 1.3: M = 0.5·0.005·100 + (1.3 − 3)·0.349 = −0.34 N·m < 0, although it is positive at
+    the other corners) each make the closed form inapplicable."""
     raw = _with_conditions(indoor, validated=False, **changes)
     assert not structured.applicable(raw)
     if "load" in changes:
@@ -128,3 +129,18 @@ def test_designs_use_the_problems_slip_coefficient(indoor):
     bare = (x[:, 2] <= 1e-12) & (x[:, 3] <= stiff.lower().damping * (1 + 1e-12))
     assert np.all(v >= stiff.required_speed * (1 - 1e-9))
     assert v[~bare] == pytest.approx(stiff.required_speed, rel=1e-9) and (~bare).any()
+
+
+class _Hump(Fixed):
+    """I_w = 1e-3 exp(−(d − 0.25 m)²/0.01): rising up to d = 0.25 m, falling beyond (outside the box)."""
+
+    def __call__(self, diameter):
+        return 1e-3 * np.exp(-((np.asarray(diameter, float) - 0.25) ** 2) / 0.01)
+
+
+def test_applicable_checks_inertia_only_inside_the_diameter_box(indoor):
+    """The closed form needs I_w non-decreasing over the box's diameters (3–8 in), not beyond: an inertia that
+    rises up to 0.25 m and falls after it is fine for a box ending at 8 in = 0.2032 m."""
+    problem = _with_conditions(indoor, validated=False, inertia=_Hump())
+    assert indoor.upper().diameter < 0.25
+    assert structured.applicable(problem)
