@@ -5,6 +5,7 @@ The command line prints ``str(error)`` on one line and exits with
 flag checked after every solver call (:func:`check_interrupt`).
 """
 from __future__ import annotations
+import os
 import signal
 import threading
 
@@ -73,6 +74,25 @@ class ServerError(DesignerError):
 # --------------------------------------------------------------------------- Ctrl-C through the solvers
 
 _INTERRUPTED = False
+
+
+def read_input_text(path: str | os.PathLike[str], kind: str, suffix: str, encoding: str = "utf-8") -> str:
+    """The text of an input file (a problem or fleet file), or ProblemError in one line naming the file.
+
+    ``kind`` names the file in the messages ("problem file"), ``suffix`` the expected extension (".toml"):
+    ``<path>: no such <kind>``, ``<path>: is a folder, expected a <suffix> <kind>``, or
+    ``<path>: cannot read it (<error>)``.
+    """
+    source = str(path)
+    if not os.path.exists(path):
+        raise ProblemError(f"{source}: no such {kind}")
+    if os.path.isdir(path):
+        raise ProblemError(f"{source}: is a folder, expected a {suffix} {kind}")
+    try:
+        with open(path, encoding=encoding) as f:
+            return f.read()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ProblemError(f"{source}: cannot read it ({exc.__class__.__name__}: {exc})") from None
 
 
 def interrupted() -> bool:

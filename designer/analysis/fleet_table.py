@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.data.paper import INCH
-from designer.errors import InputError, ProblemError
+from designer.errors import InputError, ProblemError, read_input_text
 from designer.physics.turning import MODES, SURFACES
 from designer.units import parse_quantity
 
@@ -179,20 +179,17 @@ def read_fleet(path, base=None) -> Fleet:
         empty cell, a value outside the model's range, an unknown surface or turning mode.
     """
     path = Path(path)
-    source = str(path)
-    if not path.exists():
-        raise ProblemError(f"{source}: no such fleet file")
-    if path.is_dir():
-        raise ProblemError(f"{source}: is a folder, expected a .csv fleet file")
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ProblemError(f"{source}: cannot read it ({exc.__class__.__name__}: {exc})") from None
-    return fleet_from_text(text, source=source)
+    text = read_input_text(path, "fleet file", ".csv", encoding="utf-8-sig")
+    return fleet_from_text(text, source=str(path))
 
 
-def fleet_from_text(text: str, source: str = "fleet") -> Fleet:  # noqa: C901 - one check per column and unit form, each with its own one-line error
-    """Parse CSV text into a validated :class:`Fleet` (see :func:`read_fleet`)."""
+def fleet_from_text(text: str, source: str = "fleet") -> Fleet:
+    """Parse CSV text into a validated :class:`Fleet` (see :func:`read_fleet`).
+
+    Checked in this order, the first failure raised as one line: the header (columns, units, required
+    columns), the row lengths, the names, the loads (or mass and front fraction), the sill, speed and
+    radius columns, the surface and turning mode, the counts.
+    """
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         raise ProblemError(f"{source}: empty file; expected a header line (name, load_N, threshold_height_in, ...)")
@@ -204,6 +201,35 @@ def fleet_from_text(text: str, source: str = "fleet") -> Fleet:  # noqa: C901 - 
     header, body = table[0], table[1:]
     if len(body) > MAX_CHAIRS:
         raise ProblemError(f"{source}: {len(body)} rows; at most {MAX_CHAIRS} chairs")
+    columns = _header_columns(header, source)
+    if not body:
+        raise ProblemError(f"{source}: no chairs (only a header)")
+
+    n = len(body)
+    width = len(header)
+    # physical line numbers (comments and blank lines skipped above)
+    physical = [i + 1 for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith("#")]
+    row_numbers = np.array(physical[1:1 + n] if len(physical) > n else range(2, n + 2))
+    for r, cells in enumerate(body):
+        if len(cells) != width:
+            raise ProblemError(f"{source}: row {row_numbers[r]}: {len(cells)} cells, the header has {width}")
+
+    t = _Table(source, columns, body, row_numbers)
+    names = t.names()
+    load = t.loads()
+    values = {name: t.numbers(name) for name in ("threshold_height", "target_speed", "swept_radius_max")}
+    for name, v in values.items():
+        t.check(name, v)
+    labels = {name: t.labels(name, allowed) for name, allowed in (("surface", SURFACES), ("turning_mode", MODES))}
+    count = t.counts() if "count" in columns else np.ones(n)
+    return Fleet(names=names, load=load, threshold_height=values["threshold_height"],
+                 target_speed=values["target_speed"], swept_radius_max=values["swept_radius_max"],
+                 surface=labels["surface"], turning_mode=labels["turning_mode"], count=count,
+                 rows=row_numbers, source=source)
+
+
+def _header_columns(header: list[str], source: str) -> dict[str, tuple[int, float, str | None]]:
+    """{column: (position, factor to SI, unit)} of the header; ProblemError for a repeated or missing column."""
     columns: dict[str, tuple[int, float, str | None]] = {}
     for pos, raw in enumerate(header):
         name, unit = _split_header(raw, source)
@@ -221,34 +247,37 @@ def fleet_from_text(text: str, source: str = "fleet") -> Fleet:  # noqa: C901 - 
                                f"(load = mass g front_fraction / 2 needs both)")
         raise ProblemError(f"{source}: missing column 'load'{_suggest_missing('load', heads)} "
                            f"(or give mass and front_fraction)")
-    if not body:
-        raise ProblemError(f"{source}: no chairs (only a header)")
+    return columns
 
-    n = len(body)
-    width = len(header)
-    # physical line numbers (comments and blank lines skipped above)
-    physical = [i + 1 for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith("#")]
-    row_numbers = np.array(physical[1:1 + n] if len(physical) > n else range(2, n + 2))
-    for r, cells in enumerate(body):
-        if len(cells) != width:
-            raise ProblemError(f"{source}: row {row_numbers[r]}: {len(cells)} cells, the header has {width}")
 
-    def column(name: str) -> list[str]:
-        pos = columns[name][0]
-        return [cells[pos].strip() for cells in body]
+class _Table:
+    """The rows of a fleet file under its header: each reader checks one column, with one-line errors."""
 
-    def numbers(name: str, optional: bool = False) -> np.ndarray:
-        pos, factor, _ = columns[name]
+    def __init__(self, source: str, columns: dict[str, tuple[int, float, str | None]], body: list[list[str]],
+                 row_numbers: np.ndarray) -> None:
+        self.source = source
+        self.columns = columns
+        self.body = body
+        self.row_numbers = row_numbers
+        self.n = len(body)
+
+    def column(self, name: str) -> list[str]:
+        pos = self.columns[name][0]
+        return [cells[pos].strip() for cells in self.body]
+
+    def numbers(self, name: str, optional: bool = False) -> np.ndarray:
+        source, row_numbers = self.source, self.row_numbers
+        pos, factor, unit = self.columns[name]
         dimension = COLUMNS[name]
-        out = np.empty(n)
-        for r, cells in enumerate(body):
+        out = np.empty(self.n)
+        for r, cells in enumerate(self.body):
             cell = cells[pos].strip()
             if cell == "":
                 if optional:
                     out[r] = np.nan
                     continue
                 raise ProblemError(f"{source}: row {row_numbers[r]}, column {name}: empty; give a number"
-                                   + (f" in {columns[name][2]}" if columns[name][2] else " (SI) or one with units"))
+                                   + (f" in {unit}" if unit else " (SI) or one with units"))
             try:
                 out[r] = float(cell) * factor
             except ValueError:
@@ -257,77 +286,80 @@ def fleet_from_text(text: str, source: str = "fleet") -> Fleet:  # noqa: C901 - 
                 raise ProblemError(f"{source}: row {row_numbers[r]}, column {name} = {cell!r}: must be finite")
         return out
 
-    def check(name: str, values: np.ndarray, skip=None) -> None:
+    def check(self, name: str, values: np.ndarray, skip=None) -> None:
         low, high, unit, hint = RANGES[name]
         bad = ~((values >= low) & (values <= high)) if name != "front_fraction" else ~((values > 0) & (values <= 1))
         if skip is not None:
             bad &= ~skip
         if bad.any():
             r = int(np.flatnonzero(bad)[0])
-            raise ProblemError(f"{source}: row {row_numbers[r]}, column {name} = {values[r]:g} {unit}".rstrip()
+            raise ProblemError(f"{self.source}: row {self.row_numbers[r]}, column {name} = {values[r]:g} {unit}".rstrip()
                                + f": outside the model's range {low:g} to {high:g} {unit}".rstrip() + f" ({hint})")
 
-    names = column("name")
-    seen: dict[str, int] = {}
-    for r, name in enumerate(names):
-        if not name:
-            raise ProblemError(f"{source}: row {row_numbers[r]}, column name: empty; every chair needs a name")
-        if name in seen:
-            raise ProblemError(f"{source}: row {row_numbers[r]}, column name = {name!r}: duplicate name "
-                               f"(first at row {row_numbers[seen[name]]})")
-        seen[name] = r
+    def names(self) -> list[str]:
+        """The chairs' names: each given, none repeated."""
+        names = self.column("name")
+        seen: dict[str, int] = {}
+        for r, name in enumerate(names):
+            if not name:
+                raise ProblemError(f"{self.source}: row {self.row_numbers[r]}, column name: empty; every chair "
+                                   f"needs a name")
+            if name in seen:
+                raise ProblemError(f"{self.source}: row {self.row_numbers[r]}, column name = {name!r}: duplicate "
+                                   f"name (first at row {self.row_numbers[seen[name]]})")
+            seen[name] = r
+        return names
 
-    load = numbers("load", optional=True) if "load" in columns else np.full(n, np.nan)
-    if "mass" in columns and "front_fraction" in columns:
-        mass = numbers("mass", optional=True)
-        fraction = numbers("front_fraction", optional=True)
-        for r in range(n):
-            given = (not math.isnan(load[r]), not math.isnan(mass[r]), not math.isnan(fraction[r]))
-            if given[0] and (given[1] or given[2]):
-                raise ProblemError(f"{source}: row {row_numbers[r]}, column load: give load or mass and "
-                                   f"front_fraction, not both")
-            if not given[0] and not (given[1] and given[2]):
-                col = "mass" if not given[1] else "front_fraction"
-                raise ProblemError(f"{source}: row {row_numbers[r]}, column {col}: empty; give load, or mass "
-                                   f"and front_fraction")
-        by_mass = np.isnan(load)
-        check("mass", mass, skip=~by_mass)
-        check("front_fraction", fraction, skip=~by_mass)
-        load = np.where(by_mass, mass * GRAVITY * fraction / 2, load)
-    else:
-        empty = np.flatnonzero(np.isnan(load))
-        if len(empty):
-            raise ProblemError(f"{source}: row {row_numbers[empty[0]]}, column load: empty; give a number"
-                               + (f" in {columns['load'][2]}" if columns["load"][2] else " (SI) or one with units"))
-    check("load", load)
-    values = {name: numbers(name) for name in ("threshold_height", "target_speed", "swept_radius_max")}
-    for name, v in values.items():
-        check(name, v)
-    labels = {}
-    for name, allowed in (("surface", SURFACES), ("turning_mode", MODES)):
-        cells = column(name)
+    def loads(self) -> np.ndarray:
+        """Caster load L [N] per chair: the load column, or m g front_fraction / 2 where that is given."""
+        source, row_numbers, columns, n = self.source, self.row_numbers, self.columns, self.n
+        load = self.numbers("load", optional=True) if "load" in columns else np.full(n, np.nan)
+        if "mass" in columns and "front_fraction" in columns:
+            mass = self.numbers("mass", optional=True)
+            fraction = self.numbers("front_fraction", optional=True)
+            for r in range(n):
+                given = (not math.isnan(load[r]), not math.isnan(mass[r]), not math.isnan(fraction[r]))
+                if given[0] and (given[1] or given[2]):
+                    raise ProblemError(f"{source}: row {row_numbers[r]}, column load: give load or mass and "
+                                       f"front_fraction, not both")
+                if not given[0] and not (given[1] and given[2]):
+                    col = "mass" if not given[1] else "front_fraction"
+                    raise ProblemError(f"{source}: row {row_numbers[r]}, column {col}: empty; give load, or mass "
+                                       f"and front_fraction")
+            by_mass = np.isnan(load)
+            self.check("mass", mass, skip=~by_mass)
+            self.check("front_fraction", fraction, skip=~by_mass)
+            load = np.where(by_mass, mass * GRAVITY * fraction / 2, load)
+        else:
+            empty = np.flatnonzero(np.isnan(load))
+            if len(empty):
+                raise ProblemError(f"{source}: row {row_numbers[empty[0]]}, column load: empty; give a number"
+                                   + (f" in {columns['load'][2]}" if columns["load"][2] else " (SI) or one with units"))
+        self.check("load", load)
+        return load
+
+    def labels(self, name: str, allowed: tuple[str, ...]) -> np.ndarray:
+        """A categorical column (surface, turning mode): every cell one of ``allowed``."""
+        cells = self.column(name)
         for r, cell in enumerate(cells):
             if cell not in allowed:
-                raise ProblemError(f"{source}: row {row_numbers[r]}, column {name} = {cell!r}: expected one of "
-                                   f"{', '.join(allowed)}{_suggest(cell, allowed)}")
-        labels[name] = np.array(cells, dtype=object)
-    if "count" in columns:
-        count = np.empty(n)
-        for r, cell in enumerate(column("count")):
+                raise ProblemError(f"{self.source}: row {self.row_numbers[r]}, column {name} = {cell!r}: expected "
+                                   f"one of {', '.join(allowed)}{_suggest(cell, allowed)}")
+        return np.array(cells, dtype=object)
+
+    def counts(self) -> np.ndarray:
+        """Units sold per chair: a whole number, 0 or more (an empty cell is 1)."""
+        count = np.empty(self.n)
+        for r, cell in enumerate(self.column("count")):
             try:
                 value = float(cell) if cell else 1.0
             except ValueError:
                 value = math.nan
             if not math.isfinite(value) or value < 0 or value != int(value) or value > 1e12:
-                raise ProblemError(f"{source}: row {row_numbers[r]}, column count = {cell!r}: expected a whole "
-                                   f"number of units sold, 0 or more")
+                raise ProblemError(f"{self.source}: row {self.row_numbers[r]}, column count = {cell!r}: expected a "
+                                   f"whole number of units sold, 0 or more")
             count[r] = value
-    else:
-        count = np.ones(n)
-    return Fleet(names=names, load=load, threshold_height=values["threshold_height"],
-                 target_speed=values["target_speed"], swept_radius_max=values["swept_radius_max"],
-                 surface=labels["surface"], turning_mode=labels["turning_mode"], count=count,
-                 rows=row_numbers, source=source)
+        return count
 
 
 def _suggest_missing(name: str, heads: list[str]) -> str:

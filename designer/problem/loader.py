@@ -15,7 +15,7 @@ from typing import Any, Callable, NoReturn, TypeVar
 
 from designer.data.paper import INCH, TABLE1
 from designer import parameters
-from designer.errors import ProblemError
+from designer.errors import ProblemError, read_input_text
 from designer.model import MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions
 from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
 from designer.physics.shimmy import DynamicsParameters
@@ -54,14 +54,7 @@ def load_problem(path: str | Path) -> Problem:
         errors with their line number).
     """
     path = Path(path)
-    if not path.exists():
-        raise ProblemError(f"{path}: no such problem file")
-    if path.is_dir():
-        raise ProblemError(f"{path}: is a folder, expected a .toml problem file")
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ProblemError(f"{path}: cannot read it ({exc.__class__.__name__}: {exc})") from None
+    text = read_input_text(path, "problem file", ".toml")
     return problem_from_toml(text, source=str(path), default_name=path.stem)
 
 
