@@ -320,7 +320,7 @@ def test_solution_to_pandas_long_and_wide(solution):
 
 def test_fleet_to_pandas_units_in_names(problem):
     """The fleet result's to_pandas has one row per chair, SI units in the column names and attrs, and the
-    numbers of FleetResult.rows()."""
+    numbers of FleetResult.rows(); its repr is short with the headline numbers and its HTML parses."""
     pytest.importorskip("pandas")
     from designer.analysis.fleet import example_fleet, fleet
 
@@ -334,6 +334,14 @@ def test_fleet_to_pandas_units_in_names(problem):
     assert df.attrs["units"]["damping_N_m_per_rad"] == "N·m/rad" and df.attrs["skus"] == 2
     ok = [i for i, r in enumerate(rows) if r["status"] == "ok"]
     assert ok and all(df["turning_effort_N"][i] == rows[i]["turning_effort"] for i in ok)
+    # its repr: short, with the chair count, the part numbers and the F_turn range in N; the HTML parses
+    text = repr(result)
+    _short(text)
+    f = df["turning_effort_N"].dropna()
+    assert "chairs (with a caster) 12" in text and "part numbers (SKUs) 2" in text
+    assert f"F_turn {f.min():.4g} – {f.max():.4g} N" in text
+    body, _ = parse(result._repr_html_())
+    assert f"{f.min():.4g} – {f.max():.4g}" in body and " N " in f" {body} "
 
 
 def test_front_csv_round_trip(front, tmp_path):

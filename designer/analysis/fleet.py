@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.errors import InputError
-from designer.reprs import dataframe
+from designer.reprs import dataframe, html_table
 
 from designer.analysis.kmedian import prune_candidates, solve_kmedian
 from designer.problem import load_problem
@@ -123,6 +123,32 @@ class FleetResult:
             row["status"] = "ok" if j >= 0 else str(ch["reason"][i])
             out.append(row)
         return out
+
+    def _summary(self) -> list[tuple[str, str, str]]:
+        ok = self.feasible
+        f, p = self.chairs["turning_effort"][ok], self.chairs["threshold_force"][ok]
+        rows = [("chairs (with a caster)", f"{len(self.fleet)} ({int(ok.sum())})", ""),
+                ("part numbers (SKUs)", f"{len(self.sku_records())}" if self.skus is not None else "not asked", "")]
+        if ok.any():
+            rows += [("turning effort F_turn: min – max (median)",
+                      f"{f.min():.4g} – {f.max():.4g} ({float(np.median(f)):.4g})", "N"),
+                     ("sill force P: min – max (median)", f"{p.min():.4g} – {p.max():.4g} ({float(np.median(p)):.4g})",
+                      "N")]
+        shimmy = self.chairs.get("shimmy_probability")
+        if shimmy is not None and ok.any():
+            rows.append(("largest P(shimmy)", f"{float(np.max(shimmy[ok])):.2%}", ""))
+        return rows
+
+    def __repr__(self) -> str:
+        """Two lines: chairs, part numbers and the ranges of F_turn and P [N] (``print(fleet_data(...))``: all)."""
+        head = ", ".join(f"{label.split(':')[0]} {value} {unit}".rstrip() for label, value, unit in self._summary()[:2])
+        rest = "; ".join(f"{label.split(':')[0]} {value.split(' (')[0]} {unit}".rstrip()
+                         for label, value, unit in self._summary()[2:])
+        return f"FleetResult({getattr(self.problem, 'name', '?')!r}: {head})" + (f"\n  {rest}" if rest else "")
+
+    def _repr_html_(self) -> str:
+        """A compact HTML table with units: chairs, part numbers, ranges of F_turn and P (notebooks)."""
+        return html_table(f"Fleet recommendations for {getattr(self.problem, 'name', '?')!r}", self._summary())
 
     def to_pandas(self):
         """One row per chair, the columns of fleet.csv with SI units in their names (pandas: ``notebook`` extra).
