@@ -274,6 +274,19 @@ def test_simulation_html_has_table_and_theta_sparkline(simulation):
     assert len(html) < 20_000
 
 
+def test_simulation_to_pandas_is_the_trace(simulation):
+    """The simulation's to_pandas has the trace with units in the names (t_s, theta_rad, theta_deg, lateral_m),
+    equal to the arrays, and the scalars (speed, verdict) in attrs."""
+    pytest.importorskip("pandas")
+    df = simulation.to_pandas()
+    np.testing.assert_array_equal(df["t_s"].to_numpy(), simulation.t)
+    np.testing.assert_array_equal(df["theta_rad"].to_numpy(), simulation.theta)
+    np.testing.assert_allclose(df["theta_deg"].to_numpy(), np.degrees(simulation.theta), rtol=1e-12)
+    np.testing.assert_array_equal(df["lateral_m"].to_numpy(), simulation.lateral)
+    assert df.attrs["speed"] == simulation.speed and df.attrs["grows"] == simulation.grows
+    assert df.attrs["units"]["theta_deg"] == "deg"
+
+
 @pytest.fixture(scope="module")
 def explored(problem):
     pytest.importorskip("optuna")

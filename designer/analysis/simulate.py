@@ -64,7 +64,7 @@ from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
 from designer.physics.shimmy import critical_shimmy_speed, shimmy_frequency, steady_shimmy_amplitude
 from designer.plots.simulation import plot_knock
-from designer.reprs import html_table, svg_sparkline
+from designer.reprs import dataframe, html_table, svg_sparkline
 
 __all__ = [
     "SimulationResult",
@@ -154,6 +154,15 @@ class SimulationResult:
                             band=deg(self.predicted_amplitude))
         return html_table("Shimmy after a knock (Coulomb friction, App. B)", rows,
                           caption="θ(t); dashed: ± the Eq. 29B amplitude", extra=svg)
+
+    def to_pandas(self):
+        """The trace as a pandas DataFrame (pandas: the ``notebook`` extra): columns ``t_s`` [s], ``theta_rad``
+        [rad], ``theta_deg`` [deg] and ``lateral_m`` (spindle displacement X [m]); the scalars of
+        :meth:`as_dict` in ``df.attrs``, units in ``df.attrs["units"]``."""
+        records = [{"t_s": float(t), "theta_rad": float(th), "theta_deg": math.degrees(th), "lateral_m": float(x)}
+                   for t, th, x in zip(self.t, self.theta, self.lateral)]
+        return dataframe("SimulationResult.to_pandas", records, ["t_s", "theta_rad", "theta_deg", "lateral_m"],
+                         {"t_s": "s", "theta_rad": "rad", "theta_deg": "deg", "lateral_m": "m"}, **self.as_dict())
 
     def plot(self, ax=None, onset_speed: float | None = None):
         """θ(t) in degrees against time [s], with ± the Eq. 29B amplitude; returns the matplotlib Axes.
