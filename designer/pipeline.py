@@ -164,8 +164,10 @@ def card_knock_safe(problem, recommendation) -> list[dict]:
     # late import: the time-domain shimmy model (scipy's root finder) loads only when a card needs it
     from designer.analysis.limit_cycles import knock_safe_speeds
 
-    designs = [recommendation.design] + [a.design for a in getattr(recommendation, "alternatives", None) or []]
-    return knock_safe_speeds(designs, problem.conditions)
+    casters = [recommendation, *(getattr(recommendation, "alternatives", None) or [])]
+    # each caster's own I_w (a catalogue or stock wheel's measured one): the I_w its V_c was computed with
+    return knock_safe_speeds([c.design for c in casters], problem.conditions,
+                             inertias=[getattr(c, "inertia", None) for c in casters])
 
 
 class _Clock:

@@ -143,6 +143,21 @@ def test_build_card_shows_the_knock_safe_speeds(stub, tmp_path):
         [k["knock_safe_speed_double"] for k in knock[1:]])
 
 
+def test_card_knock_safe_uses_each_wheels_inertia():
+    """Catalogue problem: each caster of the card is simulated with its own wheel's measured I_w (the one its
+    V_c used), not the problem's default wheel: the θ0 knock-safe speed lies within 5 % of each caster's V_c."""
+    from designer.analysis.recommend import recommend
+    from designer.pipeline import card_knock_safe
+
+    problem = load_problem(ROOT / "problems" / "catalog-retrofit.toml")
+    rec = recommend(problem)
+    casters = [rec, *rec.alternatives]
+    assert len({c.inertia for c in casters}) > 1 or casters[0].inertia != problem.conditions.inertia(
+        casters[0].design.diameter)
+    for caster, row in zip(casters, card_knock_safe(problem, rec)):
+        assert row["knock_safe_speed"] == pytest.approx(caster.critical_speed, rel=0.05)
+
+
 def test_build_sentences_state_the_data(stub):
     """Each "Build this" sentence carries the recommendation's own numbers (sizes, forces, risk, radius)."""
     rec, problem = stub.recommendation, stub.problem

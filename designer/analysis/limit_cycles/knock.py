@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from designer.analysis.limit_cycles.dynamics import CasterDynamics, caster_dynamics, simulate_knock
 from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
+from designer.physics.inertia import Fixed
 from designer.physics.tyre import TyreParameters
 
 FAST_BRACKET = (0.96, 1.04)
@@ -114,7 +115,8 @@ def knock_safe_speed(design: Design, conditions: Conditions = Conditions(), angl
         raise
 
 
-def knock_safe_speeds(designs, conditions: Conditions = Conditions(), rtol: float = 0.005) -> list[dict]:
+def knock_safe_speeds(designs, conditions: Conditions = Conditions(), rtol: float = 0.005,
+                      inertias=None) -> list[dict]:
     """Knock-safe speeds of a few designs (the recommendation card): knocks of θ0 and 2 θ0, rolling tyre.
 
     Each design costs two bisections of :func:`knock_safe_speed` with the closed-form integration (about
@@ -125,6 +127,8 @@ def knock_safe_speeds(designs, conditions: Conditions = Conditions(), rtol: floa
     designs : iterable of Design (T [m], d [m], B [m], c_f [N·m/rad])
     conditions : θ0 [rad] (``disturbance_angle``), K_s, inertia model, dynamics (K, N)
     rtol : relative width of the onset bracket [-]
+    inertias : optional I_w per design [kg·m²] (None entries: the conditions' inertia model), e.g. a
+        catalogue wheel's measured I_w, the one its V_c used
 
     Returns
     -------
@@ -134,15 +138,20 @@ def knock_safe_speeds(designs, conditions: Conditions = Conditions(), rtol: floa
         ``knock_angle`` θ0 [rad], ``knock_safe_rtol`` [-].
     """
     theta0 = float(conditions.disturbance_angle)
+    designs = list(designs)
+    inertias = [None] * len(designs) if inertias is None else list(inertias)
     out = []
-    for design in designs:
+    for design, inertia in zip(designs, inertias):
+        cond = conditions
+        if inertia is not None and math.isfinite(float(inertia)):
+            cond = conditions.replace(inertia=Fixed(float(inertia)))
         row: dict = {"knock_angle": theta0, "knock_safe_rtol": rtol}
         for key, factor in (("knock_safe_speed", 1.0), ("knock_safe_speed_double", 2.0)):
             row[key] = None
             if factor * theta0 >= math.pi / 2:
                 continue
             try:
-                row[key] = knock_safe_speed(design, conditions, angle=factor * theta0, rtol=rtol)
+                row[key] = knock_safe_speed(design, cond, angle=factor * theta0, rtol=rtol)
             except SolverError as exc:
                 row["knock_safe_error"] = str(exc)
         out.append(row)
