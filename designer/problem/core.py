@@ -12,7 +12,7 @@ import math
 import re
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Iterable, NoReturn
+from typing import Any, Callable, Iterable, NoReturn
 
 from designer.data.paper import INCH, TABLE1
 from designer import parameters
@@ -384,7 +384,8 @@ class Problem:
         }
 
 
-def _validate(problem: Problem, prefix: str = "") -> None:  # noqa: C901 - a flat list of independent checks, each one line
+def _validate(problem: Problem, prefix: str = "") -> None:
+    """Every check of a problem, in a fixed order; the first failure is raised as one ProblemError line."""
     def fail(msg: str) -> NoReturn:
         raise ProblemError(prefix + msg)
 
@@ -397,6 +398,21 @@ def _validate(problem: Problem, prefix: str = "") -> None:  # noqa: C901 - a fla
         fail(f"shimmy.target_speed = {problem.target_speed:g} m/s: must be positive")
     if problem.margin < 0 or problem.margin > 10:
         fail(f"shimmy.margin = {problem.margin:g}: must be between 0 and 10 (a fraction, 0.2 = 20 %)")
+    _validate_conditions(problem, prefix, fail)
+    for name in VARIABLES:
+        _validate_bound(problem, name, fail)
+    _validate_sill_and_fork(problem, fail)
+    if problem.swept_radius_max is not None:
+        _validate_swept_radius(problem, problem.swept_radius_max, prefix, fail)
+    check_weights(problem.weights, prefix + "objective")
+    if not problem.wheels:
+        _validate_inertia(problem, fail)
+    if not isinstance(problem.pareto_points, int) or not POINTS_RANGE[0] <= problem.pareto_points <= POINTS_RANGE[1]:
+        fail(f"pareto.points = {problem.pareto_points!r}: must be an integer from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}")
+
+
+def _validate_conditions(problem: Problem, prefix: str, fail: Callable[[str], NoReturn]) -> None:
+    """Load, sill, the constants of the model (in their ranges), the disturbance angle, surface and mode."""
     c = problem.conditions
     if c.load <= 0:
         fail(f"conditions.load = {c.load:g} N: must be positive")
@@ -421,26 +437,34 @@ def _validate(problem: Problem, prefix: str = "") -> None:  # noqa: C901 - a fla
         fail(f"conditions.surface = {c.surface!r}: expected one of {', '.join(SURFACES)}")
     if c.turning_mode not in MODES:
         fail(f"conditions.turning_mode = {c.turning_mode!r}: expected one of {', '.join(MODES)}")
-    for name in VARIABLES:
-        if name not in problem.bounds:
-            fail(f"variables.{name}: missing bounds")
-        b = problem.bounds[name]
-        key = f"variables.{name}"
-        lo, hi = MODEL_RANGE[name]
-        for label, value in (("min", b.low), ("max", b.high)):
-            if not math.isfinite(value):
-                fail(f"{key}.{label} = {value}: must be finite")
-            if value < 0 or (value == 0 and name in ("trail", "diameter", "damping")):
-                fail(f"{key}.{label} = {value:g}: must be positive")
-            if value > hi:
-                fail(
-                    f"{key}.{label} = {value:g} {VARIABLE_UNITS[name]}: outside the model's range "
-                    f"(at most {hi:g}); were inches written as metres? write e.g. '2 in'"
-                )
-        if b.low > b.high:
-            shown = (f" ({b.low / INCH:.4g} in > {b.high / INCH:.4g} in)" if VARIABLE_DIMENSIONS[name] == "length"
-                     else "")
-            fail(f"{key} = [{b.low:g}, {b.high:g}]: min is greater than max{shown}")
+
+
+def _validate_bound(problem: Problem, name: str, fail: Callable[[str], NoReturn]) -> None:
+    """``variables.<name>``: present, finite, positive (or >= 0), in the model's range, min <= max."""
+    if name not in problem.bounds:
+        fail(f"variables.{name}: missing bounds")
+    b = problem.bounds[name]
+    key = f"variables.{name}"
+    lo, hi = MODEL_RANGE[name]
+    for label, value in (("min", b.low), ("max", b.high)):
+        if not math.isfinite(value):
+            fail(f"{key}.{label} = {value}: must be finite")
+        if value < 0 or (value == 0 and name in ("trail", "diameter", "damping")):
+            fail(f"{key}.{label} = {value:g}: must be positive")
+        if value > hi:
+            fail(
+                f"{key}.{label} = {value:g} {VARIABLE_UNITS[name]}: outside the model's range "
+                f"(at most {hi:g}); were inches written as metres? write e.g. '2 in'"
+            )
+    if b.low > b.high:
+        shown = (f" ({b.low / INCH:.4g} in > {b.high / INCH:.4g} in)" if VARIABLE_DIMENSIONS[name] == "length"
+                 else "")
+        fail(f"{key} = [{b.low:g}, {b.high:g}]: min is greater than max{shown}")
+
+
+def _validate_sill_and_fork(problem: Problem, fail: Callable[[str], NoReturn]) -> None:
+    """Every wheel can climb the sill (d > 2h, Eq. 4A); the damping bound is not below the bare fork's."""
+    c = problem.conditions
     h = c.threshold_height
     if not problem.wheels and problem.bounds["diameter"].low <= 2 * h:
         fail(
@@ -460,31 +484,34 @@ def _validate(problem: Problem, prefix: str = "") -> None:  # noqa: C901 - a fla
             f"variables.damping.min = {problem.bounds['damping'].low:g} N·m/rad: below the bare fork's "
             f"{c0:g} N·m/rad (Eq. 11C); set [turning] bare_fork_damping if your fork differs"
         )
-    if problem.swept_radius_max is not None:
-        r = problem.swept_radius_max
-        if not r > 0:
-            fail(f"constraints.swept_radius_max = {r:g} m: must be positive")
-        check_range("constraints.swept_radius_max", r, prefix)
-        smallest = problem.bounds["trail"].low + problem.bounds["diameter"].low / 2
-        if problem.wheels:
-            smallest = problem.bounds["trail"].low + min(Catalog.from_key(k).fixed_diameter for k in problem.wheels) / 2
-        if r < smallest:
-            fail(
-                f"constraints.swept_radius_max = {r / INCH:.3g} in: smaller than the smallest possible "
-                f"T + d/2 = {smallest / INCH:.3g} in; raise it or lower the trail/diameter minimum"
-            )
-    check_weights(problem.weights, prefix + "objective")
-    if not problem.wheels:
-        for label, d in (("min", problem.bounds["diameter"].low), ("max", problem.bounds["diameter"].high)):
-            try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")  # extrapolation is reported where the model is used
-                    inertia = float(c.inertia(d))
-            except (OverflowError, ZeroDivisionError, ValueError):
-                inertia = math.nan
-            if not (math.isfinite(inertia) and INERTIA_RANGE[0] <= inertia <= INERTIA_RANGE[1]):
-                fail(f"inertia: I_w = {inertia:g} kg·m² at variables.diameter.{label} = {d:g} m "
-                     f"({c.inertia.describe()}): outside {INERTIA_RANGE[0]:g} to {INERTIA_RANGE[1]:g} kg·m²; "
-                     f"check the inertia model's constants and the diameter bounds")
-    if not isinstance(problem.pareto_points, int) or not POINTS_RANGE[0] <= problem.pareto_points <= POINTS_RANGE[1]:
-        fail(f"pareto.points = {problem.pareto_points!r}: must be an integer from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}")
+
+
+def _validate_swept_radius(problem: Problem, r: float, prefix: str, fail: Callable[[str], NoReturn]) -> None:
+    """``constraints.swept_radius_max``: positive, in range, and above the smallest T + d/2 of the bounds."""
+    if not r > 0:
+        fail(f"constraints.swept_radius_max = {r:g} m: must be positive")
+    check_range("constraints.swept_radius_max", r, prefix)
+    smallest = problem.bounds["trail"].low + problem.bounds["diameter"].low / 2
+    if problem.wheels:
+        smallest = problem.bounds["trail"].low + min(Catalog.from_key(k).fixed_diameter for k in problem.wheels) / 2
+    if r < smallest:
+        fail(
+            f"constraints.swept_radius_max = {r / INCH:.3g} in: smaller than the smallest possible "
+            f"T + d/2 = {smallest / INCH:.3g} in; raise it or lower the trail/diameter minimum"
+        )
+
+
+def _validate_inertia(problem: Problem, fail: Callable[[str], NoReturn]) -> None:
+    """I_w of the inertia model at both diameter bounds lies in :data:`INERTIA_RANGE`."""
+    c = problem.conditions
+    for label, d in (("min", problem.bounds["diameter"].low), ("max", problem.bounds["diameter"].high)):
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # extrapolation is reported where the model is used
+                inertia = float(c.inertia(d))
+        except (OverflowError, ZeroDivisionError, ValueError):
+            inertia = math.nan
+        if not (math.isfinite(inertia) and INERTIA_RANGE[0] <= inertia <= INERTIA_RANGE[1]):
+            fail(f"inertia: I_w = {inertia:g} kg·m² at variables.diameter.{label} = {d:g} m "
+                 f"({c.inertia.describe()}): outside {INERTIA_RANGE[0]:g} to {INERTIA_RANGE[1]:g} kg·m²; "
+                 f"check the inertia model's constants and the diameter bounds")
