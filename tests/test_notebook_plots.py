@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from designer.analysis.front import Front
 from designer.analysis.pareto import pareto_front
 from designer.analysis.recommend import recommend
 from designer.analysis.simulate import simulate
@@ -40,7 +41,7 @@ def rec(problem):
 
 def test_front_plot_line_is_the_front(front):
     """front.plot() returns Axes whose line runs through (P, F_turn) of every point in order, with one
-    marker per point over the family scatters, and the knee circled."""
+    marker per point over the family scatters, and the knee circled; a buildable front says so in its legend."""
     from matplotlib.axes import Axes
 
     ax = front.plot()
@@ -56,6 +57,9 @@ def test_front_plot_line_is_the_front(front):
     k = front.knee()
     assert len(knee) == 1 and tuple(knee[0].get_offsets()[0]) == (k.threshold_force, k.turning_effort)
     assert ax.get_xlabel() == "threshold (door-sill) force P [N]" and "[N]" in ax.get_ylabel()
+    buildable = Front(front.problem, front.points, meta={"buildable": True})  # as Recommendation.buildable
+    stock = [c.get_label() for c in buildable.plot().collections]
+    assert all(label.startswith(("buildable front: ", "knee")) for label in stock), stock
 
 
 def test_front_plot_color_by_a_variable(front):

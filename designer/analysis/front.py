@@ -247,7 +247,8 @@ class Front:
 
         f = self.objectives()
         ax = plot_front(f[:, 0], f[:, 1], [p.family for p in self.points], ax=ax, color_by=color_by,
-                        designs=self.designs(), critical_speed=[p.critical_speed for p in self.points], legend=False)
+                        designs=self.designs(), critical_speed=[p.critical_speed for p in self.points], legend=False,
+                        label="buildable front" if self.meta.get("buildable") else "continuous front")
         knee = self.knee()
         if knee is not None and len(self) >= 3:
             draw_fronts(ax, [], [{"threshold_force": knee.threshold_force, "turning_effort": knee.turning_effort,
