@@ -95,3 +95,17 @@ def test_card_shows_the_knock_safe_speeds():
     table = json.dumps(numbers_table(n, "card").to_plotly_json(), default=lambda o: o.to_plotly_json(),
                        ensure_ascii=False)
     assert "knock-safe speed, 20° / 40° knock" in table and f"{n['knock_safe_speed']:.3g} / " in table
+
+
+def test_recommendations_card_uses_its_wheels_inertia():
+    """Catalogue problem: the recommendation's card (the button under the recommendation) evaluates the
+    recommended wheel with its own measured I_w: V_c equals the recommendation's, the knock-safe speed is
+    within 5 % of it."""
+    from designer import load_problem
+    from designer.analysis.recommend import recommend
+
+    problem = load_problem(PROBLEM.parent / "catalog-retrofit.toml")
+    rec = recommend(problem)
+    n = view.card(problem, rec.design, inertia=rec.inertia)["numbers"]
+    assert n["critical_speed"] == pytest.approx(rec.critical_speed, rel=1e-9)
+    assert n["knock_safe_speed"] == pytest.approx(rec.critical_speed, rel=0.05)

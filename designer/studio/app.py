@@ -180,8 +180,8 @@ def numbers_table(n: dict, prefix: str):
                        for (k, v), key in zip(rows, keys)], style={"fontSize": "13px"})
 
 
-def card_panel(problem, design: Design, name: str):
-    data = view.card(problem, design)
+def card_panel(problem, design: Design, name: str, inertia: float | None = None):
+    data = view.card(problem, design, inertia=inertia)
     n = data["numbers"]
     parts = [html.H4(f"Card: {name}", id="card-title", style={"margin": "2px 0"}),
              html.Div(_design_text(n["design"]), style={"fontSize": "13px"})]
@@ -326,7 +326,7 @@ def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's 
                 rec = view.compute_fronts(problem, key=json.dumps(merged, sort_keys=True)).recommendation
                 if rec is None:
                     return html.Div("no recommendation for this problem", style=CSS["error"])
-                return card_panel(problem, rec.design, "recommendation")
+                return card_panel(problem, rec.design, "recommendation", getattr(rec, "inertia", None))
             if not click:
                 return no_update
             custom = click["points"][0].get("customdata")

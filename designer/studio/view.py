@@ -22,6 +22,7 @@ import numpy as np
 from designer.errors import DesignerError
 from designer.model import Design, evaluate, performance
 from designer.physics import uncertainty as unc
+from designer.physics.inertia import Fixed
 
 FIX_LIMIT = 100
 """Fixes listed for "my caster": the whole ranking up to this many (designer.fix evaluates each listed fix by
@@ -259,8 +260,14 @@ def drawing_svg(problem, design: Design) -> str | None:
                   problem.swept_radius_max)
 
 
-def card(problem, design: Design, with_simulation: bool = True) -> dict:
-    """Everything a point's card shows: numbers (with the knock-safe speeds), sweeps, θ(t) and the drawing."""
+def card(problem, design: Design, with_simulation: bool = True, inertia: float | None = None) -> dict:
+    """Everything a point's card shows: numbers (with the knock-safe speeds), sweeps, θ(t) and the drawing.
+
+    ``inertia`` [kg·m²]: the wheel's own I_w when it is known (a catalogue or stock wheel, e.g. the
+    recommendation's), else the problem's inertia model at the design's diameter.
+    """
+    if inertia is not None and math.isfinite(float(inertia)):
+        problem = problem.replace(conditions=problem.conditions.replace(inertia=Fixed(float(inertia))))
     out = {"numbers": design_numbers(problem, design), "sweeps": speed_sweeps(problem, design)}
     out["knock"] = None
     if with_simulation:
