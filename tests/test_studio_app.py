@@ -26,8 +26,11 @@ POINTS = 5
 def _callback(client, outputs: list[tuple[str, str]], inputs: list[tuple[str, str, object]], changed: str,
               states: list[tuple[str, str, object]]) -> dict:
     """POST one Dash callback as the page does; returns the response's outputs by component id."""
-    body = {"output": ".." + "...".join(f"{i}.{p}" for i, p in outputs) + "..",
-            "outputs": [{"id": i, "property": p} for i, p in outputs],
+    single = len(outputs) == 1
+    body = {"output": f"{outputs[0][0]}.{outputs[0][1]}" if single
+            else ".." + "...".join(f"{i}.{p}" for i, p in outputs) + "..",
+            "outputs": {"id": outputs[0][0], "property": outputs[0][1]} if single
+            else [{"id": i, "property": p} for i, p in outputs],
             "inputs": [{"id": i, "property": p, "value": v} for i, p, v in inputs],
             "changedPropIds": [changed],
             "state": [{"id": i, "property": p, "value": v} for i, p, v in states]}
@@ -109,3 +112,17 @@ def test_recommendations_card_uses_its_wheels_inertia():
     n = view.card(problem, rec.design, inertia=rec.inertia)["numbers"]
     assert n["critical_speed"] == pytest.approx(rec.critical_speed, rel=1e-9)
     assert n["knock_safe_speed"] == pytest.approx(rec.critical_speed, rel=0.05)
+
+
+def test_recommendations_card_button_opens_its_card(tmp_path):
+    """The button under the recommendation (its callback, over HTTP) opens the recommendation's card with the
+    knock-safe speed row beside V_c."""
+    data, name = state.read_problem_data(PROBLEM)
+    problem, merged = state.build_problem(data, state.control_values(data))
+    app = create_app(data, name, tmp_path)
+    reply = _callback(app.server.test_client(), [("card", "children")],
+                      [("front", "clickData", None), ("rec-card", "n_clicks", 1)], "rec-card.n_clicks",
+                      [("problem-data", "data", merged)])
+    text = json.dumps(reply["card"]["children"], ensure_ascii=False)
+    assert "Card: recommendation" in text and "knock-safe speed, 20° / 40° knock" in text
+    assert "card-knocksafe" in text
