@@ -10,10 +10,12 @@ import dataclasses
 from dataclasses import dataclass, field
 
 import math
-from typing import Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
-import numpy.typing as npt
+
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
 
 from designer import parameters
 from designer.data.paper import INCH

@@ -4,12 +4,12 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, TypeAlias, Union
 
 import numpy as np
-import numpy.typing as npt
 
-if TYPE_CHECKING:  # casadi is heavy (import designer must not load it): named for the type checker only
+if TYPE_CHECKING:  # casadi is heavy and numpy.typing not free: named for the type checker only
     import casadi
+    import numpy.typing as npt
 
-Array: TypeAlias = npt.NDArray[np.float64]
+Array: TypeAlias = "npt.NDArray[np.float64]"
 """A NumPy array of floats (SI units), broadcast element-wise."""
 
 Scalar: TypeAlias = Union[float, Array, "casadi.SX"]

@@ -51,10 +51,12 @@ import functools
 import math
 from dataclasses import dataclass
 from types import ModuleType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import numpy.typing as npt
+
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
 
 from designer.physics._types import Array, Numeric, Scalar
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities
