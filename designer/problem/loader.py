@@ -481,7 +481,7 @@ def _stock_wheel(i: int, w: object, names: set[str], bounds: dict[str, Bound],
                  f"{INERTIA_RANGE[1]:g} kg·m²")
     return StockWheel(name.strip(), d, g, inertia_w)
 
-def _inertia(table: dict[str, Any], quantity: Callable[[str, str, str, None], float | None],  # noqa: C901 - one branch per model
+def _inertia(table: dict[str, Any], quantity: Callable[[str, str, str, None], float | None],
              fail: Callable[[str], NoReturn]) -> tuple[InertiaModel, tuple[str, ...]]:
     model = table.get("model", "table1-power-law")
     if model not in INERTIA_MODELS:
@@ -523,7 +523,11 @@ def _inertia(table: dict[str, Any], quantity: Callable[[str, str, str, None], fl
         if not 0 < value < 0.1:
             fail(f"inertia.inertia = {value:g} kg·m²: must be between 0 and 0.1 kg·m²")
         return Fixed(value), ()
-    # catalog
+    return _catalog(table, fail)
+
+
+def _catalog(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> tuple[InertiaModel, tuple[str, ...]]:
+    """[inertia] model = "catalog": the Table 1 wheels named by ``wheel`` or ``wheels`` (default all of them)."""
     if "wheel" in table and "wheels" in table:
         fail("inertia: give either wheel = \"C\" or wheels = [\"A\", ...], not both")
     keys = table.get("wheels", [table["wheel"]] if "wheel" in table else [w.key for w in TABLE1])
