@@ -40,9 +40,9 @@ import numpy as np
 
 from designer.data.paper import INCH, WALKING_SPEED
 from designer.errors import InputError
-from designer.model import Design, check_design
+from designer.model import Conditions, Design, check_design
 from designer.physics.geometry import effective_trail
-from designer.physics.uncertainty import MC_TARGET_SE
+from designer.physics.uncertainty import MC_TARGET_SE, Uncertainty
 from designer.units import parse_quantity
 from designer.problem import INERTIA_RANGE
 from designer.problem import load_problem
@@ -366,7 +366,7 @@ def _check_inputs(problem, current: Design, inertia, shimmied_at, stem_angle, on
 # --------------------------------------------------------------------------- the analysis
 
 
-# long: diagnosis, candidates, ranking and the result record of one retrofit, in order
+# long by its docstring (every argument documented); the body: diagnosis, then _ranked fixes, then the records
 def fix(problem, current, inertia: float | None = None, shimmied_at: float | None = None, stem_angle: float = 0.0,
         *, onset_scatter: float = ONSET_SCATTER, limit: int | None = None, samples: int | None = None,
         seed: int | None = None) -> FixResult:
@@ -426,17 +426,62 @@ def fix(problem, current, inertia: float | None = None, shimmied_at: float | Non
             bound = _calibrated(bound, onset_scatter)
         report_u = _calibrated(report_u, onset_scatter)
     now = _evaluate({k: np.array([v]) for k, v in base.items()}, conditions, stem_angle, factor, bound)
-    v_req, v_target = problem.required_speed, problem.target_speed
-    r_max = problem.swept_radius_max
-    weights = problem.weights
+    setting = _Setting(conditions, stem_angle, factor, bound, report_u, samples, seed, problem.required_speed,
+                       problem.target_speed, problem.swept_radius_max, problem.weights)
 
-    def state(values, j, design, changes=(), cost=(0.0, 0.0), mc=None) -> CasterState:
-        ok = values["confident_speed"][j] >= v_req * (1 - 1e-12) and (
-            r_max is None or values["swept_radius"][j] <= r_max * (1 + 1e-12))
+    current_state = setting.state(now, 0, (current, inertia))
+    options, sources = part_options(problem, current, inertia)
+    stock_note = {part: sources[part] for part in PARTS}
+    scatter = {"bound": None if bound is None else dataclasses.asdict(bound),
+               "reported": dataclasses.asdict(report_u) | {"samples": samples, "seed": seed}}
+    result = FixResult(problem.name, problem.target_speed, setting.v_req,
+                       None if bound is None else bound.probability, stem_angle, calibration, current_state, [], 0,
+                       RULE, stock_note, scatter)
+    if current_state.meets_risk_bound:
+        return result
+
+    cands, values, chosen, result.found = _ranked(options, sources, base, setting, current_state, limit)
+    shared = _mc_many(values["effective_trail"][chosen], cands["inertia"][chosen], cands["groove"][chosen],
+                      cands["damping"][chosen], conditions.slip_coefficient, setting.v_target / factor, report_u,
+                      samples, seed)
+    fixes = []
+    for n, j in enumerate(chosen):
+        design = Design(float(cands["trail"][j]), float(cands["diameter"][j]), float(cands["groove"][j]),
+                        float(cands["damping"][j]))
+        changes = _changes(current, inertia, cands, j, options["wheel"])
+        fixes.append(setting.state(values, j, (design, float(cands["inertia"][j])), changes,
+                                   (values["turning_effort"][j] - current_state.turning_effort,
+                                    values["threshold_force"][j] - current_state.threshold_force),
+                                   (float(shared[0][n]), float(shared[1][n]))))
+    result.fixes = fixes
+    return result
+
+
+@dataclass(frozen=True)
+class _Setting:
+    """What every caster of one retrofit is judged with: the conditions, the risk model and the rule's numbers."""
+
+    conditions: Conditions
+    stem_angle: float
+    factor: float
+    bound: Uncertainty | None
+    report_u: Uncertainty
+    samples: int
+    seed: int
+    v_req: float
+    v_target: float
+    r_max: float | None
+    weights: tuple[float, float]
+
+    def state(self, values, j, design, changes=(), cost=(0.0, 0.0), mc=None) -> CasterState:
+        """Caster ``j`` of the evaluated ``values`` as a :class:`CasterState` (its P(shimmy) topped up if needed)."""
+        ok = values["confident_speed"][j] >= self.v_req * (1 - 1e-12) and (
+            self.r_max is None or values["swept_radius"][j] <= self.r_max * (1 + 1e-12))
         if mc is None or not mc[1] <= MC_TARGET_SE:  # one caster, or a shared draw too coarse for it: top up
             mc = _mc((values["effective_trail"][j], float(design[1]), design[0].groove, design[0].damping),
-                     conditions, v_target, factor, report_u, samples, seed)
+                     self.conditions, self.v_target, self.factor, self.report_u, self.samples, self.seed)
         p, se = mc
+        weights = self.weights
         return CasterState(design[0], float(design[1]), float(values["effective_trail"][j]),
                            float(values["turning_effort"][j]), float(values["threshold_force"][j]),
                            float(values["swept_radius"][j]), float(values["critical_speed"][j]),
@@ -444,45 +489,29 @@ def fix(problem, current, inertia: float | None = None, shimmied_at: float | Non
                            bool(ok), p, se, tuple(changes), float(cost[0]), float(cost[1]),
                            float(weights[0] * cost[0] + weights[1] * cost[1]))
 
-    current_state = state(now, 0, (current, inertia))
-    options, sources = part_options(problem, current, inertia)
-    stock_note = {part: sources[part] for part in PARTS}
-    scatter = {"bound": None if bound is None else dataclasses.asdict(bound),
-               "reported": dataclasses.asdict(report_u) | {"samples": samples, "seed": seed}}
-    result = FixResult(problem.name, problem.target_speed, v_req, None if bound is None else bound.probability,
-                       stem_angle, calibration, current_state, [], 0, RULE, stock_note, scatter)
-    if current_state.meets_risk_bound:
-        return result
 
+def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current_state: CasterState,
+            limit: int | None):
+    """The feasible fixes in the order of :data:`RULE`: (candidates, their values, chosen indices, how many found).
+
+    One- and two-part changes first; three- and four-part ones only when none of those is feasible.
+    """
+    s = setting
     cands = _enumerate(options, sources, base, max_parts=2)
-    values = _evaluate(cands, conditions, stem_angle, factor, bound)
-    feasible = _feasible(values, v_req, r_max)
+    values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound)
+    feasible = _feasible(values, s.v_req, s.r_max)
     if not np.any(feasible):
         cands = _enumerate(options, sources, base, max_parts=4, min_parts=3)
-        values = _evaluate(cands, conditions, stem_angle, factor, bound)
-        feasible = _feasible(values, v_req, r_max)
+        values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound)
+        feasible = _feasible(values, s.v_req, s.r_max)
     idx = np.flatnonzero(feasible)
     d_turn = values["turning_effort"][idx] - current_state.turning_effort
     d_force = values["threshold_force"][idx] - current_state.threshold_force
-    loss = weights[0] * d_turn + weights[1] * d_force
+    loss = s.weights[0] * d_turn + s.weights[1] * d_force
     order = np.lexsort((cands["order"][idx], -values["confident_speed"][idx], d_force, d_turn, np.round(loss, 12),
                         cands["parts"][idx]))
-    result.found = len(order)
     chosen = idx[order] if limit is None else idx[order][:limit]
-    shared = _mc_many(values["effective_trail"][chosen], cands["inertia"][chosen], cands["groove"][chosen],
-                      cands["damping"][chosen], conditions.slip_coefficient, v_target / factor, report_u, samples,
-                      seed)
-    fixes = []
-    for n, j in enumerate(chosen):
-        design = Design(float(cands["trail"][j]), float(cands["diameter"][j]), float(cands["groove"][j]),
-                        float(cands["damping"][j]))
-        changes = _changes(current, inertia, cands, j, options["wheel"])
-        fixes.append(state(values, j, (design, float(cands["inertia"][j])), changes,
-                           (values["turning_effort"][j] - current_state.turning_effort,
-                            values["threshold_force"][j] - current_state.threshold_force),
-                           (float(shared[0][n]), float(shared[1][n]))))
-    result.fixes = fixes
-    return result
+    return cands, values, chosen, len(order)
 
 
 def _changes(current: Design, inertia: float, cands: dict, j: int, wheels: list) -> tuple[Change, ...]:
