@@ -61,7 +61,6 @@ def _grid(low: float, high: float, step: float) -> np.ndarray:
     return values
 
 
-# long: the one place that decides every part's candidate values and their sources
 def part_options(problem, current: Design, current_inertia: float) -> tuple[dict, dict]:
     """What each part can be changed to: the one place that decides the candidate values.
 
@@ -85,33 +84,49 @@ def part_options(problem, current: Design, current_inertia: float) -> tuple[dict
     problem's Table 1 wheels; a fixed inertia or diameter fixes the wheel.
     """
     stock = _stock_of(problem)
-    bounds = problem.bounds
     sources: dict[str, str] = {}
-
-    def listed(key: str, variable: str) -> np.ndarray:
-        b = bounds[variable]
-        values = stock.get(key)
-        if values is not None:
-            sources[variable] = "[stock]"
-            values = np.array(sorted({float(v) for v in values}))
-            return values[(values >= b.low * (1 - 1e-12)) & (values <= b.high * (1 + 1e-12))]  # within the bounds
-        sources[variable] = (f"continuous (no [stock] {key}): grid over the bounds every "
-                             f"{_show(variable, GRID_STEP[variable])}")
-        return _grid(b.low, b.high, GRID_STEP[variable]) if b.high > b.low else np.array([b.low])
-
-    def drop_current(values: np.ndarray, value: float) -> np.ndarray:
-        values = np.asarray(values, dtype=float)
-        return values[np.abs(values - value) > 1e-9 * max(1.0, abs(value))]
-
-    dampings = drop_current(listed("dampings", "damping"), current.damping)
+    dampings = _drop_current(_listed(stock, problem.bounds, sources, "dampings", "damping"), current.damping)
     if "trails" in stock:
         sources["trail"] = "[stock] (fork holes every trail_step from variables.trail.min)"
         trails = np.array(sorted(float(v) for v in stock["trails"]))
     else:
-        trails = listed("trails", "trail")
-    trails = drop_current(trails, current.trail)
+        trails = _listed(stock, problem.bounds, sources, "trails", "trail")
+    trails = _drop_current(trails, current.trail)
+    wheels, groove_values = _wheel_options(problem, stock, current, sources)
+    if groove_values is None:
+        groove_values = _listed(stock, problem.bounds, sources, "grooves", "groove")
+    grooves = _drop_current(groove_values, current.groove)
+    options = {"washer": dampings, "tyre": grooves, "fork hole": trails, "wheel": wheels}
+    # a new wheel without its own groove keeps the current tyre profile only if that profile is on offer
+    on_offer = "grooves" not in stock or bool(np.any(np.abs(groove_values - current.groove) <= 1e-9))
+    sources = {part: sources.get(PART_VARIABLE[part], "") for part in PARTS} | {"_groove_on_offer": on_offer}
+    return options, sources
 
+
+def _listed(stock: dict, bounds: dict, sources: dict, key: str, variable: str) -> np.ndarray:
+    """The values of ``[stock] key`` within ``variable``'s bounds, else a grid over them; notes the source."""
+    b = bounds[variable]
+    values = stock.get(key)
+    if values is not None:
+        sources[variable] = "[stock]"
+        values = np.array(sorted({float(v) for v in values}))
+        return values[(values >= b.low * (1 - 1e-12)) & (values <= b.high * (1 + 1e-12))]  # within the bounds
+    sources[variable] = (f"continuous (no [stock] {key}): grid over the bounds every "
+                         f"{_show(variable, GRID_STEP[variable])}")
+    return _grid(b.low, b.high, GRID_STEP[variable]) if b.high > b.low else np.array([b.low])
+
+
+def _drop_current(values: np.ndarray, value: float) -> np.ndarray:
+    """``values`` without the current one (no change is not an option)."""
+    values = np.asarray(values, dtype=float)
+    return values[np.abs(values - value) > 1e-9 * max(1.0, abs(value))]
+
+
+def _wheel_options(problem, stock: dict, current: Design, sources: dict) -> tuple[list[_Wheel], np.ndarray | None]:
+    """The wheels on offer (catalogue, Table 1, none, or the stock diameters with the inertia model's I_w), and
+    the groove values when the catalogue's wheels bring every tyre (else None: the tyres are listed apart)."""
     model: InertiaModel = problem.conditions.inertia
+    bounds = problem.bounds
     wheels: list[_Wheel] = []
     catalogue = stock.get("wheels")
     groove_values = None
@@ -138,21 +153,14 @@ def part_options(problem, current: Design, current_inertia: float) -> tuple[dict
     elif model.fixed_diameter is not None or getattr(model, "name", "") == "fixed" or bounds["diameter"].fixed:
         sources["diameter"] = "none (the problem fixes the wheel: a fixed inertia or diameter)"
     else:
-        diameters = listed("diameters", "diameter")
+        diameters = _listed(stock, bounds, sources, "diameters", "diameter")
 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # extrapolation of the inertia fit is stated in docs/retrofit.md
             inertias = np.asarray(model(diameters), dtype=float) * np.ones_like(diameters)
         wheels = [_Wheel(float(d), math.nan, float(i), None) for d, i in zip(diameters, inertias)
                   if abs(d - current.diameter) > 1e-9]
-    if groove_values is None:
-        groove_values = listed("grooves", "groove")
-    grooves = drop_current(groove_values, current.groove)
-    options = {"washer": dampings, "tyre": grooves, "fork hole": trails, "wheel": wheels}
-    # a new wheel without its own groove keeps the current tyre profile only if that profile is on offer
-    on_offer = "grooves" not in stock or bool(np.any(np.abs(groove_values - current.groove) <= 1e-9))
-    sources = {part: sources.get(PART_VARIABLE[part], "") for part in PARTS} | {"_groove_on_offer": on_offer}
-    return options, sources
+    return wheels, groove_values
 
 
 def _enumerate(options: dict, sources: dict, base: dict, max_parts: int, min_parts: int = 1) -> dict:
