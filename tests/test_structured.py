@@ -247,3 +247,17 @@ def test_risk_closed_form_other_scatter(scatter):
             continue
         f = float(_f(problem, xi)[0])
         assert f <= ref * (1 + 1e-9) and f == pytest.approx(ref, rel=1e-6)
+
+
+def test_stored_sobol_sample_is_scipys():
+    """The default design sample read from designer/data (no scipy.stats import) is scipy's scrambled Sobol
+    sample, seed 0, bit for bit; other sizes and seeds come from scipy itself."""
+    from scipy.stats import qmc
+
+    from designer.solvers.nlp import sample_designs
+
+    problem = _problem("indoor-manual")
+    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    assert np.array_equal(sample_designs(problem), lo + qmc.Sobol(d=4, scramble=True, seed=0).random(1024) * (hi - lo))
+    assert np.array_equal(sample_designs(problem, 16, seed=1),
+                          lo + qmc.Sobol(d=4, scramble=True, seed=1).random(16) * (hi - lo))
