@@ -126,3 +126,21 @@ def test_recommendations_card_button_opens_its_card(tmp_path):
     text = json.dumps(reply["card"]["children"], ensure_ascii=False)
     assert "Card: recommendation" in text and "knock-safe speed, 20° / 40° knock" in text
     assert "card-knocksafe" in text
+
+
+def test_catalogue_points_carry_their_wheels_inertia():
+    """Catalogue problem: each buildable point of the chart carries its Table 1 wheel's measured I_w, and a card
+    opened with it shows the point's own V_c (not the default wheel's)."""
+    from designer import load_problem
+    from designer.analysis.recommend import recommend
+
+    problem = load_problem(PROBLEM.parent / "catalog-retrofit.toml")
+    rec = recommend(problem)
+    points = view.front_points(rec.buildable)
+    assert points and all(p["inertia"] is not None for p in points)
+    assert len({p["inertia"] for p in points}) == len({p["label"] for p in points})
+    for p in points:
+        design = Design(**p["design"])
+        card = view.card(problem, design, with_simulation=False, inertia=p["inertia"])
+        assert card["numbers"]["critical_speed"] == pytest.approx(p["critical_speed"], rel=1e-9)
+    assert view.recommendation_record(rec)["inertia"] == pytest.approx(rec.inertia)

@@ -332,7 +332,7 @@ def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's 
             custom = click["points"][0].get("customdata")
             if not custom:
                 return no_update
-            return card_panel(problem, Design(*custom[:4]), custom[4])
+            return card_panel(problem, Design(*custom[:4]), custom[4], custom[9] if len(custom) > 9 else None)
         except DesignerError as exc:
             return html.Div(str(exc), style=CSS["error"])
 

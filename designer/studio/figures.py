@@ -19,15 +19,15 @@ HOVER = ("<b>%{customdata[4]}</b><br>F_turn %{x:.3f} N<br>P %{y:.2f} N<br>V_c %{
 def _custom(p: dict, name: str) -> list:
     d = p["design"]
     return [d["trail"], d["diameter"], d["groove"], d["damping"], name, p.get("critical_speed", math.nan),
-            d["trail"] / INCH, d["diameter"] / INCH, d["groove"] / INCH]
+            d["trail"] / INCH, d["diameter"] / INCH, d["groove"] / INCH, p.get("inertia")]
 
 
 def front_figure(continuous: list, risk: list, buildable: list, recommendation: dict | None,
                  mine: dict | None = None, title: str = ""):
     """The trade-off chart: turning effort vs threshold force of every front, the recommendation, my caster.
 
-    Each point carries its design in ``customdata`` (T, d, B, c_f [SI], name, V_c, T, d, B [in]), which the
-    card callback reads on a click.
+    Each point carries its design in ``customdata`` (T, d, B, c_f [SI], name, V_c, T, d, B [in], the wheel's
+    own I_w [kg·m²] or None), which the card callback reads on a click.
     """
     import plotly.graph_objects as go  # the studio's dependency
 
@@ -47,7 +47,8 @@ def front_figure(continuous: list, risk: list, buildable: list, recommendation: 
     if recommendation is not None:
         rec = {"design": recommendation["design"], "turning_effort": recommendation["turning_effort"],
                "threshold_force": recommendation["threshold_force"],
-               "critical_speed": recommendation.get("critical_speed") or math.nan}
+               "critical_speed": recommendation.get("critical_speed") or math.nan,
+               "inertia": recommendation.get("inertia")}
         fig.add_trace(go.Scatter(x=[rec["turning_effort"]], y=[rec["threshold_force"]], mode="markers",
                                  name="recommendation", meta="recommendation",
                                  marker={"color": COLOURS["recommendation"], "size": 18, "symbol": "star",

@@ -22,7 +22,7 @@ import numpy as np
 from designer.errors import DesignerError
 from designer.model import Design, evaluate, performance
 from designer.physics import uncertainty as unc
-from designer.physics.inertia import Fixed
+from designer.physics.inertia import Catalog, Fixed
 
 FIX_LIMIT = 100
 """Fixes listed for "my caster": the whole ranking up to this many (designer.fix evaluates each listed fix by
@@ -143,11 +143,27 @@ def _compute_fronts(problem, key):
     return out
 
 
+def wheel_inertia(problem, wheel) -> float | None:
+    """The measured I_w [kg·m²] of a named wheel of ``problem`` (a Table 1 catalogue wheel or a ``[stock]``
+    wheel), None for an unnamed one (then the problem's inertia model at the diameter applies)."""
+    if problem is None or not wheel:
+        return None
+    if wheel in (getattr(problem, "wheels", None) or ()):
+        return float(Catalog.from_key(wheel).wheel.inertia)
+    stock = getattr(problem, "stock", None)
+    for w in (getattr(stock, "wheels", None) or ()):
+        if getattr(w, "name", None) == wheel and getattr(w, "inertia", None) is not None:
+            return float(w.inertia)
+    return None
+
+
 def front_points(front) -> list[dict]:
-    """Plain records of a front's points (design SI, F_turn, P, V_c) for the chart; [] for None."""
+    """Plain records of a front's points (design SI, F_turn, P, V_c, the wheel's own I_w or None) for the
+    chart; [] for None."""
     if front is None:
         return []
     points = getattr(front, "points", front)
+    problem = getattr(front, "problem", None)
     out = []
     for p in points:
         design = getattr(p, "design", None)
@@ -157,7 +173,8 @@ def front_points(front) -> list[dict]:
                     "threshold_force": float(p.threshold_force),
                     "critical_speed": float(getattr(p, "critical_speed", float("nan"))),
                     "family": getattr(p, "family", "") or "",
-                    "label": getattr(p, "label", None) or getattr(p, "wheel", None) or ""})
+                    "label": getattr(p, "label", None) or getattr(p, "wheel", None) or "",
+                    "inertia": wheel_inertia(problem, getattr(p, "wheel", None))})
     return out
 
 
@@ -169,6 +186,8 @@ def recommendation_record(rec) -> dict | None:
             "shimmy_probability_se", "swept_radius", "swept_radius_max", "rule")
     out = {k: getattr(rec, k, None) for k in keys}
     out["design"] = rec.design.as_dict()
+    inertia = getattr(rec, "inertia", None)
+    out["inertia"] = float(inertia) if inertia is not None and math.isfinite(float(inertia)) else None
     out["alternatives"] = []
     for alt in getattr(rec, "alternatives", None) or []:
         out["alternatives"].append({"label": getattr(alt, "role", None) or getattr(alt, "rule", ""),
