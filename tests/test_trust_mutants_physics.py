@@ -468,3 +468,47 @@ def test_sampled_log_factors_have_the_stated_scatter(dof):
         assert f[key].shape == (n,)
         assert abs(f[key].mean()) < 5 * s / math.sqrt(n)
         assert f[key].std() == pytest.approx(s, rel=0.02)
+
+
+def _mc_reference(u, speed, seed, chunks):
+    """P(V_c,true < speed) by the definition: draws of the log factors (in the given chunk sizes, from one stream),
+    Eq. 7 with the constants scaled by e^ξ, times e^{ξ_m}."""
+    from designer.physics import uncertainty as un
+
+    rng = np.random.default_rng(seed)
+    t, i, b, c, ks = CASE
+    hits = 0
+    for n in chunks:
+        f = un.sample_log_factors(u, n, rng)
+        v = shimmy.critical_shimmy_speed(t, i * np.exp(f["inertia"]), b, c * np.exp(f["damping"]),
+                                         ks * np.exp(f["slip"])) * np.exp(f["model"])
+        hits += int(np.count_nonzero(v < speed))
+    return hits / sum(chunks)
+
+
+def test_monte_carlo_is_the_definition_draw_for_draw():
+    """shimmy_probability_mc counts, draw for draw, the sampled casters whose V_c,true = V_c(I_w e^ξI, c_f e^ξc,
+    K_s e^ξK) e^ξm falls below the speed (K_s = 2000 N here, not the default): with its own seed, with a seed
+    given, and across the top-up (1000 draws, then up to n = ⌈p(1−p)/SE²⌉ + 2 %); SE = √(p(1−p)/n)."""
+    from designer.physics import uncertainty as un
+
+    u = un.Uncertainty()
+    p, se = un.shimmy_probability_mc(*CASE, 3.0, u, samples=1000, target_se=None)
+    assert p == _mc_reference(u, 3.0, u.seed, [1000]) and se == pytest.approx(math.sqrt(p * (1 - p) / 1000))
+    p7, _ = un.shimmy_probability_mc(*CASE, 3.0, u, samples=1000, seed=7, target_se=None)
+    assert p7 == _mc_reference(u, 3.0, 7, [1000]) and p7 != p
+    need = math.ceil(p * (1 - p) / 0.005**2)
+    want = need + need // 50
+    p2, se2 = un.shimmy_probability_mc(*CASE, 3.0, u, samples=1000, target_se=0.005)
+    assert p2 == _mc_reference(u, 3.0, u.seed, [1000, want - 1000])
+    assert se2 == pytest.approx(math.sqrt(p2 * (1 - p2) / want), rel=1e-12)
+
+
+def test_monte_carlo_with_no_hit_reports_one_over_n():
+    """No sampled caster shimmies at 0.5 m/s: p = 0, and the standard error is reported as 1/n (from max(p(1−p),
+    1/n)); 1000 draws already meet a 0.101 % target (⌈(1/1000)/0.00101²⌉ = 981 draws needed), so no more are
+    drawn and SE = 1/1000 exactly."""
+    from designer.physics import uncertainty as un
+
+    p, se = un.shimmy_probability_mc(*CASE, 0.5, un.Uncertainty(), samples=1000, target_se=0.00101)
+    assert p == 0.0 and se == pytest.approx(1e-3, rel=1e-12)
