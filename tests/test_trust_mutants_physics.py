@@ -512,3 +512,28 @@ def test_monte_carlo_with_no_hit_reports_one_over_n():
 
     p, se = un.shimmy_probability_mc(*CASE, 0.5, un.Uncertainty(), samples=1000, target_se=0.00101)
     assert p == 0.0 and se == pytest.approx(1e-3, rel=1e-12)
+
+
+def test_threshold_argument_errors_name_the_argument():
+    """Eq. 4A's guards name what is wrong: a negative diameter, a zero sill height."""
+    with pytest.raises(InputError, match=r"^diameter = -0\.1: must be positive$"):
+        threshold.threshold_force_ratio(-0.1, 0.0127)
+    with pytest.raises(InputError, match=r"^threshold height = 0: must be positive$"):
+        threshold.threshold_force_ratio(0.2, 0.0)
+
+
+def test_power_law_with_parameters_uses_both():
+    """with_parameters builds the power law from the given C and n (the robust solvers' parameters)."""
+    law = inertia.PowerLaw().with_parameters({"inertia_coefficient": 2.0, "inertia_exponent": 3.0})
+    assert law == inertia.PowerLaw(2.0, 3.0) and law.constants() == (2.0, 3.0)
+
+
+def test_risk_quantile_at_equal_scales():
+    """σ_r = σ_m puts the normal share at exactly ½ (Chebyshev argument 0): the fitted quantile is finite, within
+    2e-5 of the exact t-plus-normal quantile times √(σ_m² + σ_r²), and never below it."""
+    from designer.physics import uncertainty as un
+
+    u = un.Uncertainty()
+    q = float(un.log_speed_quantile(0.103, 0.103, u))
+    exact = float(un.exact_sum_quantile(0.5, u.probability, u.model_error_dof)[0]) * math.sqrt(2) * 0.103
+    assert math.isfinite(q) and exact <= q <= exact + 2e-5 * math.sqrt(2) * 0.103
