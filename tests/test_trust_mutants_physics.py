@@ -154,6 +154,8 @@ def test_require_positive_messages():
         _checks.require_positive("groove", np.array([1.0, -3.0, 0.0]), allow_zero=True)
     with pytest.raises(InputError, match=r"^trail = nan: must be finite$"):
         _checks.require_positive("trail", float("nan"))
+    with pytest.raises(InputError, match=r"^trail = inf: must be finite$"):
+        _checks.require_positive("trail", float("inf"))
     _checks.require_positive("groove", np.array([0.0, 1.0]), allow_zero=True)  # zero allowed: no error
 
 
