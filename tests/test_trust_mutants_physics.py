@@ -539,3 +539,10 @@ def test_risk_quantile_at_equal_scales():
     q = float(un.log_speed_quantile(0.103, 0.103, u))
     exact = float(un.exact_sum_quantile(0.5, u.probability, u.model_error_dof)[0]) * math.sqrt(2) * 0.103
     assert math.isfinite(q) and exact <= q <= exact + 2e-5 * math.sqrt(2) * 0.103
+
+
+def test_only_casadi_symbols_are_symbolic():
+    """is_symbolic is true for CasADi SX and MX expressions only: a numeric CasADi DM, floats and arrays are
+    checked numerically."""
+    assert _checks.is_symbolic(ca.SX.sym("x")) and _checks.is_symbolic(1.0, ca.MX.sym("y"))
+    assert not _checks.is_symbolic(ca.DM(1.0)) and not _checks.is_symbolic(1.0, np.ones(2))
