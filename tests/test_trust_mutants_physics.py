@@ -546,3 +546,11 @@ def test_only_casadi_symbols_are_symbolic():
     checked numerically."""
     assert _checks.is_symbolic(ca.SX.sym("x")) and _checks.is_symbolic(1.0, ca.MX.sym("y"))
     assert not _checks.is_symbolic(ca.DM(1.0)) and not _checks.is_symbolic(1.0, np.ones(2))
+
+
+def test_threshold_small_but_climbable_wheel():
+    """Eq. 4A holds for every d/h > 2: d/h = 2.5 gives P/L = 2√1.5/0.5 = 4.899 (hand); d/h = 2 is refused with the
+    ratio named."""
+    assert threshold.threshold_force_ratio(2.5, 1.0) == pytest.approx(2 * math.sqrt(1.5) / 0.5, rel=1e-12)
+    with pytest.raises(InputError, match=r"^diameter/threshold height = 2: the wheel must be more than twice the sill"):
+        threshold.threshold_force_ratio(2.0, 1.0)
