@@ -50,15 +50,17 @@ def table(results: dict[str, str], equivalent: dict[str, str]) -> str:
         row["total"] += 1
         if status != "killed" and name in equivalent:
             row["equivalent"] += 1
-            row[equivalent[name]] += 1
+            row["kind " + equivalent[name]] += 1
+    rows = dict(sorted(rows.items()))
     rows["**all**"] = sum(rows.values(), collections.Counter())
     lines = ["| module | total | killed | survived | no tests | timeout | not run | equivalent (ties) "
-             "| killed / (total − equivalent) |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "| (killed + timeout) / (total − equivalent) |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for module, r in rows.items():
         label = module if module.startswith("**") else f"`{module}`"
-        score = 100 * r["killed"] / max(1, r["total"] - r["equivalent"])
+        detected = r["killed"] + r["timeout"]  # a timeout is a mutant the tests stop (an endless loop): detected
+        score = 100 * detected / max(1, r["total"] - r["equivalent"])
         lines.append(f"| {label} | {r['total']} | {r['killed']} | {r['survived']} | {r['no tests']} | "
-                     f"{r['timeout']} | {r['not checked']} | {r['equivalent']} ({r['tie']}) | {score:.1f} % |")
+                     f"{r['timeout']} | {r['not checked']} | {r['equivalent']} ({r['kind tie']}) | {score:.1f} % |")
     return "\n".join(lines)
 
 
