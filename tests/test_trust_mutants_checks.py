@@ -414,6 +414,11 @@ def test_identity_checks_round_what_they_report():
     c5 = ck.check_trail_halves(effort)
     assert c5.got == 0.5 and not c5.passed
 
+    def effort_off(trail, groove, damping, load):  # ratio 0.5000004: 0.5 to 6 decimals, not to 7
+        return turning_effort(trail, groove, damping, load) * (1.0000008 if trail > 2 * INCH else 1.0)
+
+    assert ck.check_trail_halves(effort_off).got == 0.5
+
 
 def test_8c_record_on_a_dominated_tighter_front(indoor):
     """8c word for word when the tighter front (one point, at P = 112 N) is dominated by the looser problem
