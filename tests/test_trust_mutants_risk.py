@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq, minimize_scalar
 
+from designer.physics.turning import TurningConstants
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_terms
 from designer.physics.uncertainty import shimmy_speed_quantile
 from designer.problem import load_problem
@@ -20,9 +21,13 @@ from designer.solvers.nlp import evaluate_many
 from conftest import ROOT
 
 
-def _problem(name="indoor-manual", speed=None, **scatter):
-    """A shipped (risk-bounded) problem, its target speed and its risk bound's scatter optionally changed."""
+def _problem(name="indoor-manual", speed=None, groove_cost=1.0, **scatter):
+    """A shipped (risk-bounded) problem, its target speed, the groove's turning-moment coefficient (× groove_cost)
+    and its risk bound's scatter optionally changed."""
     p = load_problem(ROOT / "problems" / f"{name}.toml")
+    if groove_cost != 1.0:
+        kappa = p.conditions.turning.groove_coefficient * groove_cost
+        p = p.replace(conditions=p.conditions.replace(turning=TurningConstants(groove_coefficient=kappa)))
     if scatter:
         u = dataclasses.replace(p.risk, **scatter)
         p = p.replace(conditions=p.conditions.replace(uncertainty=u))
@@ -70,6 +75,7 @@ def _brute_best(p, t, d):
 
 
 CASES = [  # (problem, target speed, scatter): corner, curve ends on each edge, a curve missing the box
+    ("indoor-manual", 6.0, dict(groove_cost=50.0)),  # a costly groove: the far end of the curve (B_lo, c_f > c_lo) wins
     ("indoor-manual", None, {}),
     ("indoor-manual", 4.0, {}),
     ("indoor-manual", 6.0, {}),
