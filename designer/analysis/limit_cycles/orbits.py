@@ -89,6 +89,53 @@ def _describing_function_speed(sys: CasterDynamics, amplitude: float) -> float:
 
 
 # long: Newton on the half-period map, its step control, Floquet multipliers and the closure check
+def _damped_newton(residual, u: np.ndarray, r: np.ndarray, scales, tol: float, max_iter: int, what: str,
+                   flip_step: bool) -> tuple[np.ndarray, np.ndarray, int]:
+    """Newton's method with a forward-difference Jacobian and step halving, for the shooting maps below.
+
+    ``residual(u)`` is the weighted return-map residual [rad] or None where the map is undefined (the motion
+    stops); ``r`` is its value at ``u``; ``scales(u)`` gives the difference step of each unknown (times 1e-7).
+    With ``flip_step`` an undefined forward difference is retried backwards.  Returns the unknowns with
+    max |residual| <= ``tol``, that residual and the iteration count; raises SolverError naming ``what`` otherwise.
+    """
+    n = u.size
+    iterations = 0
+    while np.max(np.abs(r)) > tol:
+        if iterations >= max_iter:
+            raise SolverError(f"{what}: Newton did not converge "
+                              f"(residual {np.max(np.abs(r)):.2g} rad after {max_iter} iterations)")
+        iterations += 1
+        steps = scales(u)
+        J = np.empty((n, n))
+        for j in range(n):
+            h = 1e-7 * steps[j]
+            up = u.copy()
+            up[j] += h
+            rp = residual(up)
+            if rp is None and flip_step:
+                up[j] -= 2 * h
+                rp = residual(up)
+                h = -h
+            if rp is None:
+                raise SolverError(f"{what}: map undefined near the guess")
+            J[:, j] = (rp - r) / h
+        try:
+            step = np.linalg.solve(J, -r)
+        except np.linalg.LinAlgError:
+            raise SolverError(f"{what}: singular Jacobian") from None
+        lam = 1.0
+        for _ in range(12):
+            trial = u + lam * step
+            rt = residual(trial)
+            if rt is not None and np.max(np.abs(rt)) < np.max(np.abs(r)):
+                u, r = trial, rt
+                break
+            lam /= 2
+        else:
+            raise SolverError(f"{what}: no descent step (residual {np.max(np.abs(r)):.2g} rad)")
+    return u, r, iterations
+
+
 def periodic_orbit(sys: CasterDynamics, amplitude: float, guess: np.ndarray | None = None, tol: float = 1e-9,
                    max_iter: int = 25) -> PeriodicOrbit:
     """Symmetric periodic orbit of amplitude A: solve G(z) = z for the other section states and V.
@@ -130,40 +177,8 @@ def periodic_orbit(sys: CasterDynamics, amplitude: float, guess: np.ndarray | No
     r = residual(u)
     if r is None:
         raise SolverError(f"periodic orbit of amplitude {A:.4g} rad: the motion stops from the first guess")
-    iterations = 0
-    while np.max(np.abs(r)) > tol:
-        if iterations >= max_iter:
-            raise SolverError(f"periodic orbit of amplitude {A:.4g} rad: Newton did not converge "
-                              f"(residual {np.max(np.abs(r)):.2g} rad after {max_iter} iterations)")
-        iterations += 1
-        J = np.empty((n, n))
-        for j in range(n):
-            h = 1e-7 * scales[j]
-            up = u.copy()
-            up[j] += h
-            rp = residual(up)
-            if rp is None:
-                up[j] -= 2 * h
-                rp = residual(up)
-                if rp is None:
-                    raise SolverError(f"periodic orbit of amplitude {A:.4g} rad: map undefined near the guess")
-                h = -h
-            J[:, j] = (rp - r) / h
-        try:
-            step = np.linalg.solve(J, -r)
-        except np.linalg.LinAlgError:
-            raise SolverError(f"periodic orbit of amplitude {A:.4g} rad: singular Jacobian") from None
-        lam = 1.0
-        for _ in range(12):
-            trial = u + lam * step
-            rt = residual(trial)
-            if rt is not None and np.max(np.abs(rt)) < np.max(np.abs(r)):
-                u, r = trial, rt
-                break
-            lam /= 2
-        else:
-            raise SolverError(f"periodic orbit of amplitude {A:.4g} rad: no descent step "
-                              f"(residual {np.max(np.abs(r)):.2g} rad)")
+    what = f"periodic orbit of amplitude {A:.4g} rad"
+    u, r, iterations = _damped_newton(residual, u, r, lambda u: scales, tol, max_iter, what, flip_step=True)
     V = float(u[-1])
     at = sys.at(V)
     z = section(u)
@@ -274,37 +289,13 @@ def periodic_orbit_at_speed(sys: CasterDynamics, guess: np.ndarray, tol: float =
     r = residual(z)
     if r is None:
         raise SolverError(f"periodic orbit at {sys.speed:.4g} m/s: the motion stops from the guess")
-    iterations = 0
-    while np.max(np.abs(r)) > tol:
-        if iterations >= max_iter:
-            raise SolverError(f"periodic orbit at {sys.speed:.4g} m/s: Newton did not converge "
-                              f"(residual {np.max(np.abs(r)):.2g} rad)")
-        iterations += 1
+
+    def scales(z):
         A = abs(z[-1])
-        zs = np.concatenate([[sys.trail * A], [sys.speed * A] if n == 3 else [], [A]])
-        J = np.empty((n, n))
-        for j in range(n):
-            h = 1e-7 * zs[j]
-            zp = z.copy()
-            zp[j] += h
-            rp = residual(zp)
-            if rp is None:
-                raise SolverError(f"periodic orbit at {sys.speed:.4g} m/s: map undefined near the guess")
-            J[:, j] = (rp - r) / h
-        try:
-            step = np.linalg.solve(J, -r)
-        except np.linalg.LinAlgError:
-            raise SolverError(f"periodic orbit at {sys.speed:.4g} m/s: singular Jacobian") from None
-        lam = 1.0
-        for _ in range(12):
-            trial = z + lam * step
-            rt = residual(trial)
-            if rt is not None and np.max(np.abs(rt)) < np.max(np.abs(r)):
-                z, r = trial, rt
-                break
-            lam /= 2
-        else:
-            raise SolverError(f"periodic orbit at {sys.speed:.4g} m/s: no descent step")
+        return np.concatenate([[sys.trail * A], [sys.speed * A] if n == 3 else [], [A]])
+
+    what = f"periodic orbit at {sys.speed:.4g} m/s"
+    z, r, iterations = _damped_newton(residual, z, r, scales, tol, max_iter, what, flip_step=False)
     if z[-1] < 0:
         z = -z
     multipliers, closure, period = _floquet_and_closure(sys, z)
