@@ -29,7 +29,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from designer.model import Design, performance
-from designer.physics.geometry import swept_radius
 from designer.problem import Bound, Problem
 from designer.solvers import structured
 
@@ -122,11 +121,7 @@ def designs_at_diameters(problem: Problem, d) -> tuple[np.ndarray, np.ndarray]:
         return structured.designs_at_diameter(problem, d)
     n = len(d)
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
-    t = np.full(n, hi[0])
-    if problem.swept_radius_max is not None:
-        t = np.minimum(t, problem.swept_radius_max - np.asarray(swept_radius(0.0, d), float))
-    reach = t >= lo[0] * (1 - 1e-12)
-    t = np.maximum(t, lo[0])
+    t, reach = structured.largest_trail(problem, d)
     grooves = np.unique(np.concatenate([[lo[2], hi[2]], np.linspace(lo[2], hi[2], GROOVE_GRID)]))
     m = len(grooves)
     tt, dd = np.repeat(t, m), np.repeat(d, m)

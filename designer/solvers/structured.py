@@ -107,6 +107,24 @@ CANDIDATES = ("groove from Eq. 7 at the least damping", "damping from Eq. 7 at t
 is concave along the curve, so its minimum is at one of them (docs/model.md)."""
 
 
+def largest_trail(problem, d) -> tuple[np.ndarray, np.ndarray]:
+    """The largest admissible trail T [m] at each diameter ``d`` [m], and whether it reaches the trail's lower bound.
+
+    T is capped by its upper bound and by the swept-radius limit R_s = T + d/2 <= R_max (geometry,
+    docs/model.md#swept-radius); where the cap falls below the lower bound the diameter is infeasible (mask
+    False) and T is clipped up to the lower bound.
+    """
+    d = np.asarray(d, float).ravel()
+    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    t = np.full(len(d), hi[0])
+    if problem.swept_radius_max is not None:
+        # R_s = T + d/2 is linear in T: T_max = R_max − R_s(0, d), from the geometry alone (the whole
+        # model at T = 0 would divide by zero in F_turn = M/T)
+        t = np.minimum(t, problem.swept_radius_max - np.asarray(swept_radius(0.0, d), float))
+    ok = t >= lo[0] * (1 - 1e-12)
+    return np.maximum(t, lo[0]), ok
+
+
 def designs_at_diameter(problem, d, candidates=None, *, search: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """Least-F_turn designs at given diameters (T, B, c_f optimal): ((N, 4) designs, feasible mask).
 
@@ -117,13 +135,7 @@ def designs_at_diameter(problem, d, candidates=None, *, search: bool = True) -> 
     d = np.asarray(d, float).ravel()
     n = len(d)
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
-    t = np.full(n, hi[0])
-    if problem.swept_radius_max is not None:
-        # R_s = T + d/2 is linear in T: T_max = R_max − R_s(0, d), from the geometry alone (the whole
-        # model at T = 0 would divide by zero in F_turn = M/T)
-        t = np.minimum(t, problem.swept_radius_max - np.asarray(swept_radius(0.0, d), float))
-    ok = t >= lo[0] * (1 - 1e-12)
-    t = np.maximum(t, lo[0])
+    t, ok = largest_trail(problem, d)
     probe = np.column_stack([t, d, np.ones(n), np.ones(n)])
     inertia = np.asarray(_values(problem, probe)["inertia"], float) + 0 * d
     a, b = critical_speed_terms(t, inertia, 1.0, 1.0, problem.conditions.slip_coefficient)  # per unit c_f, B²
