@@ -36,6 +36,24 @@ def html_table(title: str, rows: Iterable[tuple[Any, Any, Any]], caption: str = 
     return f"<div>{inner}</div>"
 
 
+def _tick_labels(x0: float, x1: float, y0: float, y1: float, width: int, height: int, left: int, right: int,
+                 top: int, bottom: int) -> list[str]:
+    """The four end values of a small SVG plot's axes, at the corners of the plot box."""
+    return [f'<text x="{left}" y="{height - bottom + 12}">{x0:.3g}</text>',
+            f'<text x="{width - right}" y="{height - bottom + 12}" text-anchor="end">{x1:.3g}</text>',
+            f'<text x="{left - 3}" y="{height - bottom}" text-anchor="end">{y0:.3g}</text>',
+            f'<text x="{left - 3}" y="{top + 9}" text-anchor="end">{y1:.3g}</text>']
+
+
+def _axis_labels(xlabel: str, ylabel: str, width: int, height: int, left: int, right: int, top: int, bottom: int,
+                 xlabel_gap: int) -> list[str]:
+    """The x label under the box, the y label turned along the left edge, and the closing tag."""
+    return [f'<text x="{(left + width - right) / 2:.0f}" y="{height - xlabel_gap}" text-anchor="middle">'
+            f"{escape(xlabel)}</text>",
+            f'<text transform="translate(11,{(top + height - bottom) / 2:.0f}) rotate(-90)" '
+            f'text-anchor="middle">{escape(ylabel)}</text>', "</svg>"]
+
+
 def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: int = 240, height: int = 170) -> str:
     """A small line plot as an SVG string: the points (x, y) joined in order, axis labels with units.
 
@@ -68,13 +86,8 @@ def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: 
         for a, b, label in marks:
             out.append(f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="3.5" fill="#d62728">'
                        f"<title>{escape(label)}</title></circle>")
-        out += [f'<text x="{left}" y="{height - bottom + 12}">{x0:.3g}</text>',
-                f'<text x="{width - right}" y="{height - bottom + 12}" text-anchor="end">{x1:.3g}</text>',
-                f'<text x="{left - 3}" y="{height - bottom}" text-anchor="end">{y0:.3g}</text>',
-                f'<text x="{left - 3}" y="{top + 9}" text-anchor="end">{y1:.3g}</text>']
-    out += [f'<text x="{(left + width - right) / 2:.0f}" y="{height - 4}" text-anchor="middle">{escape(xlabel)}</text>',
-            f'<text transform="translate(11,{(top + height - bottom) / 2:.0f}) rotate(-90)" '
-            f'text-anchor="middle">{escape(ylabel)}</text>', "</svg>"]
+        out += _tick_labels(x0, x1, y0, y1, width, height, left, right, top, bottom)
+    out += _axis_labels(xlabel, ylabel, width, height, left, right, top, bottom, xlabel_gap=4)
     return "".join(out)
 
 
@@ -112,13 +125,8 @@ def svg_sparkline(x: Any, y: Any, xlabel: str, ylabel: str, band: float | None =
                            f'stroke="#d62728" stroke-dasharray="4 3"/>')
         line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
         out.append(f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.2"/>')
-        out += [f'<text x="{left}" y="{height - bottom + 12}">{x0:.3g}</text>',
-                f'<text x="{width - right}" y="{height - bottom + 12}" text-anchor="end">{x1:.3g}</text>',
-                f'<text x="{left - 3}" y="{height - bottom}" text-anchor="end">{y0:.3g}</text>',
-                f'<text x="{left - 3}" y="{top + 9}" text-anchor="end">{y1:.3g}</text>']
-    out += [f'<text x="{(left + width - right) / 2:.0f}" y="{height - 3}" text-anchor="middle">{escape(xlabel)}</text>',
-            f'<text transform="translate(11,{(top + height - bottom) / 2:.0f}) rotate(-90)" '
-            f'text-anchor="middle">{escape(ylabel)}</text>', "</svg>"]
+        out += _tick_labels(x0, x1, y0, y1, width, height, left, right, top, bottom)
+    out += _axis_labels(xlabel, ylabel, width, height, left, right, top, bottom, xlabel_gap=3)
     return "".join(out)
 
 
