@@ -47,14 +47,18 @@ def test_loader_and_model_read_the_table():
 @pytest.mark.parametrize("key", sorted(p.key for p in parameters.CONSTANT_TABLE
                                        if p.key and p.default is not None and p.key != "inertia.inertia"))
 def test_every_constant_key_loads_with_its_default(key):
-    """Writing a constant's default value in a problem file (in its SI unit) gives a valid problem."""
+    """Writing a constant's default value in a problem file (in its SI unit) gives a valid problem, equal to the
+    problem that leaves the key out (so the table's default is the loader's default)."""
     p = next(q for q in parameters.CONSTANT_TABLE if q.key == key)
     section, name = key.split(".", 1)
     data = {"shimmy": {"target_speed": "2.5 m/s"}}
     data.setdefault(section, {})[name] = f"{p.default!r} {p.unit}" if p.unit else p.default
     if section == "inertia" and name in ("tyre_width", "density"):
         data["inertia"].update(model="disc", tyre_width=0.025, density=1200.0)
-    problem_from_dict(data)
+    without = {s: {k: v for k, v in table.items() if k != name or s != section} for s, table in data.items()}
+    if section == "inertia" and name in ("tyre_width", "density"):
+        without["inertia"].update({name: {"tyre_width": 0.025, "density": 1200.0}[name]})
+    assert problem_from_dict(data) == problem_from_dict(without)
 
 
 def test_solver_parameters_of_a_default_problem():

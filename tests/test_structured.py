@@ -93,6 +93,8 @@ def _nlp_best(problem, eps, x_cf):
 
 @pytest.mark.parametrize("fixed", ["groove", "damping", "trail", "diameter"])
 def test_fixed_variables(fixed):
+    """A variable fixed by equal bounds keeps the closed form applicable and stays at its value on every front
+    design."""
     base = _problem("powered-chair")
     b = base.bounds[fixed]
     value = {"groove": b.low, "damping": b.high, "trail": 0.5 * (b.low + b.high), "diameter": 0.2}[fixed]
@@ -115,6 +117,8 @@ def test_fixed_variables(fixed):
 
 
 def test_infeasible_epsilon_and_target():
+    """An ε below the least sill force, ε <= 0 and an unreachable target speed give infeasible points (and no
+    front ends), not designs."""
     problem = _problem("indoor-manual")
     hi = problem.upper().as_array()
     p_min = evaluate_many(problem, hi[None, :])["threshold_force"][0]
