@@ -8,6 +8,7 @@ reference point) and IGD+ (normalised by the exact front's ideal and nadir).
 
     python benchmarks/explore_operators.py problems/indoor-manual.toml --trials 500 2000 --seeds 3
 """
+
 from __future__ import annotations
 
 import argparse
@@ -37,23 +38,38 @@ def main() -> None:
             base = Operators.for_budget(n)
             for pop in (20, 30, 50):
                 for eta_c in (2.0, 5.0, 15.0, 30.0):
-                    configs[f"sbx eta={eta_c:g} pop={pop}"] = dataclasses.replace(base, population_size=pop,
-                                                                                 crossover_eta=eta_c)
+                    configs[f"sbx eta={eta_c:g} pop={pop}"] = dataclasses.replace(
+                        base, population_size=pop, crossover_eta=eta_c
+                    )
             configs["tuned, no dedup"] = dataclasses.replace(base, deduplicate=False)
             configs["tuned, pm prob 0.5"] = dataclasses.replace(base, mutation_prob=0.5)
-            configs["optuna default pop 20"] = dataclasses.replace(Operators.for_budget(n, "optuna"), population_size=20)
+            configs["optuna default pop 20"] = dataclasses.replace(
+                Operators.for_budget(n, "optuna"), population_size=20
+            )
         print(f"\n{problem.name}: {n} trials, {args.seeds} seeds (mean ± sd)")
-        print(f"{'operators':28s} {'distinct':>9s} {'feasible':>9s} {'front':>6s} {'HV ratio':>14s} {'IGD+':>14s} {'trials/s':>9s}")
+        print(
+            f"{'operators':28s} {'distinct':>9s} {'feasible':>9s} {'front':>6s} {'HV ratio':>14s} {'IGD+':>14s} {'trials/s':>9s}"
+        )
         for name, ops in configs.items():
             rows = []
             for seed in range(args.seeds):
                 t0 = time.perf_counter()
                 r = explore(problem, trials=n, seed=seed, operators=ops)
-                rows.append((r.distinct, r.feasible, len(r.front), r.comparison["hypervolume_ratio"],
-                             r.comparison["igd_plus"], n / (time.perf_counter() - t0)))
+                rows.append(
+                    (
+                        r.distinct,
+                        r.feasible,
+                        len(r.front),
+                        r.comparison["hypervolume_ratio"],
+                        r.comparison["igd_plus"],
+                        n / (time.perf_counter() - t0),
+                    )
+                )
             a = np.array(rows, float)
             m, s = a.mean(axis=0), a.std(axis=0)
-            print(f"{name:28s} {m[0]:9.0f} {m[1]:9.0f} {m[2]:6.1f} {m[3]:7.3f} ± {s[3]:.3f} {m[4]:7.4f} ± {s[4]:.3f} {m[5]:9.0f}")
+            print(
+                f"{name:28s} {m[0]:9.0f} {m[1]:9.0f} {m[2]:6.1f} {m[3]:7.3f} ± {s[3]:.3f} {m[4]:7.4f} ± {s[4]:.3f} {m[5]:9.0f}"
+            )
 
 
 if __name__ == "__main__":

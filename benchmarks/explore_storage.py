@@ -1,7 +1,8 @@
 """Trials per second of ``designer explore`` by storage (in-memory, journal file, SQLite), one worker.
 
-    python benchmarks/explore_storage.py problems/indoor-manual.toml --trials 500 --dir /tmp
+python benchmarks/explore_storage.py problems/indoor-manual.toml --trials 500 --dir /tmp
 """
+
 from __future__ import annotations
 
 import argparse
@@ -23,8 +24,11 @@ def main() -> None:
     problem = designer.load_problem(args.problem)
     folder = Path(args.dir)
     stamp = int(time.time())
-    for label, url in (("in-memory", None), ("journal file", f"journal://{folder / f'bench-{stamp}.log'}"),
-                       ("SQLite", f"sqlite:///{folder / f'bench-{stamp}.db'}")):
+    for label, url in (
+        ("in-memory", None),
+        ("journal file", f"journal://{folder / f'bench-{stamp}.log'}"),
+        ("SQLite", f"sqlite:///{folder / f'bench-{stamp}.db'}"),
+    ):
         r = explore(problem, trials=args.trials, seed=0, storage=url, compare=False)
         print(f"{label:14s} {r.trials} trials in {r.seconds:6.2f} s = {r.trials_per_second:7.1f} trials/s", flush=True)
     for suffix in (".log", ".db", ".log.lock"):

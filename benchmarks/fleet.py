@@ -16,6 +16,7 @@ Measures, on example fleets of ``designer fleet --example`` and the base problem
 Writes ``fleet.md`` and ``fleet.json`` into ``--out`` (``benchmarks/`` for the full run, ``benchmarks/quick/``
 for ``--quick``).  Targets (issue): 10 000 chairs <= 5 s, 100 000 <= 60 s, >= 100x faster than the loop.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -70,15 +71,21 @@ def main(argv=None) -> int:
     repeats = 1 if args.quick else 3
     started = time.perf_counter()
     load0 = os.getloadavg()
-    res: dict = {"problem": "indoor-manual", "stock": len(fl.stock_table(base)), "inprocess": {}, "dask": {},
-                 "loop": {}, "monte_carlo": {}, "kmedian": {}}
+    res: dict = {
+        "problem": "indoor-manual",
+        "stock": len(fl.stock_table(base)),
+        "inprocess": {},
+        "dask": {},
+        "loop": {},
+        "monte_carlo": {},
+        "kmedian": {},
+    }
     fleets = {n: fl.example_fleet(n, seed=7) for n in sizes}
 
     for n in sizes:
         reps = 1 if n >= 100000 else repeats
         med, lo, hi, r = _time(lambda: fl.fleet_recommendations(fleets[n], base, monte_carlo=False), reps)
-        res["inprocess"][n] = {"median": med, "min": lo, "max": hi, "repeats": reps,
-                               "feasible": int(r.feasible.sum())}
+        res["inprocess"][n] = {"median": med, "min": lo, "max": hi, "repeats": reps, "feasible": int(r.feasible.sum())}
         print(f"in-process {n}: {med:.3f} s")
 
     # loop of designer.recommend over a subset, extrapolated
@@ -94,9 +101,12 @@ def main(argv=None) -> int:
         for i in pick:
             recommend(f.problem(base, int(i)))
         per = (time.perf_counter() - t) / subset
-        res["loop"] = {"chairs_timed": subset, "per_chair": per,
-                       "extrapolated": {n: per * n for n in sizes},
-                       "ratio": {n: per * n / res["inprocess"][n]["median"] for n in sizes}}
+        res["loop"] = {
+            "chairs_timed": subset,
+            "per_chair": per,
+            "extrapolated": {n: per * n for n in sizes},
+            "ratio": {n: per * n / res["inprocess"][n]["median"] for n in sizes},
+        }
         print(f"loop of designer.recommend: {per * 1000:.1f} ms per chair (over {subset} chairs)")
     else:
         res["loop"] = {"note": "designer.recommend is not available in this checkout"}
@@ -112,9 +122,15 @@ def main(argv=None) -> int:
     u = fl.mc_uncertainty(base)
     ok = r.chairs["choice"] >= 0
     distinct = len(np.unique(np.stack([r.chairs["choice"][ok], sub.target_speed[ok]], axis=1), axis=0))
-    res["monte_carlo"]["inprocess"] = {"chairs": mc_n, "distinct": distinct, "seconds": mc_in,
-                                       "per_chair": mc_in / mc_n, "per_estimate": mc_in / distinct,
-                                       "samples": u.samples, "max_se_pp": float(np.nanmax(se) * 100)}
+    res["monte_carlo"]["inprocess"] = {
+        "chairs": mc_n,
+        "distinct": distinct,
+        "seconds": mc_in,
+        "per_chair": mc_in / mc_n,
+        "per_estimate": mc_in / distinct,
+        "samples": u.samples,
+        "max_se_pp": float(np.nanmax(se) * 100),
+    }
     print(f"Monte Carlo in-process {mc_n}: {mc_in:.2f} s, max SE {np.nanmax(se) * 100:.3f} pp")
 
     from distributed import Client, LocalCluster
@@ -126,16 +142,21 @@ def main(argv=None) -> int:
     try:
         fl.fleet_recommendations(fleets[1000], base, scheduler=client, monte_carlo=False)  # warm-up
         for n in (1000, 10000):
-            med, lo, hi, _ = _time(lambda: fl.fleet_recommendations(fleets[n], base, scheduler=client,
-                                                                    monte_carlo=False), repeats)
+            med, lo, hi, _ = _time(
+                lambda: fl.fleet_recommendations(fleets[n], base, scheduler=client, monte_carlo=False), repeats
+            )
             res["dask"][n] = {"median": med, "min": lo, "max": hi, "repeats": repeats}
             print(f"dask 2 workers {n}: {med:.3f} s")
         t = time.perf_counter()
         p2, _ = fl._monte_carlo(client, r.stock, base, r.chairs["choice"], sub.target_speed, chunk=250)
         mc_d = time.perf_counter() - t
         assert np.array_equal(p, p2, equal_nan=True)
-        res["monte_carlo"]["dask"] = {"chairs": mc_n, "seconds": mc_d, "per_chair": mc_d / mc_n,
-                                      "speedup": mc_in / mc_d}
+        res["monte_carlo"]["dask"] = {
+            "chairs": mc_n,
+            "seconds": mc_d,
+            "per_chair": mc_d / mc_n,
+            "speedup": mc_in / mc_d,
+        }
         print(f"Monte Carlo dask {mc_n}: {mc_d:.2f} s")
     finally:
         client.close()
@@ -153,21 +174,38 @@ def main(argv=None) -> int:
     curve = {}
     for k, s in r.curve.items():
         h = solve_kmedian(cost, w, k, exact_limit=0)
-        curve[k] = {"regret": s.regret, "status": s.status, "seconds": s.seconds, "heuristic": h.regret,
-                    "bound": h.lower_bound, "heuristic_status": h.status, "heuristic_seconds": h.seconds}
-    res["kmedian"] = {"chairs": 1000, "seconds": time.perf_counter() - t, "candidates": r.candidates,
-                      "curve": curve}
+        curve[k] = {
+            "regret": s.regret,
+            "status": s.status,
+            "seconds": s.seconds,
+            "heuristic": h.regret,
+            "bound": h.lower_bound,
+            "heuristic_status": h.status,
+            "heuristic_seconds": h.seconds,
+        }
+    res["kmedian"] = {"chairs": 1000, "seconds": time.perf_counter() - t, "candidates": r.candidates, "curve": curve}
     r = fl.fleet_recommendations(fleets[10000], base, monte_carlo=False)
     t = time.perf_counter()
     fl.choose_skus(r, 3, k_max=k_max)
-    res["kmedian_10000"] = {"chairs": 10000, "seconds": time.perf_counter() - t, "candidates": r.candidates,
-                            "curve": {k: {"regret": s.regret, "status": s.status, "seconds": s.seconds,
-                                          "bound": s.lower_bound} for k, s in r.curve.items()}}
+    res["kmedian_10000"] = {
+        "chairs": 10000,
+        "seconds": time.perf_counter() - t,
+        "candidates": r.candidates,
+        "curve": {
+            k: {"regret": s.regret, "status": s.status, "seconds": s.seconds, "bound": s.lower_bound}
+            for k, s in r.curve.items()
+        },
+    }
     print(f"K-median curves: {res['kmedian']['seconds']:.1f} s, {res['kmedian_10000']['seconds']:.1f} s")
 
-    res["meta"] = {"date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-                   "machine": f"{platform.platform()}, {os.cpu_count()} CPUs", "load_start": load0,
-                   "load_end": os.getloadavg(), "wall": time.perf_counter() - started, "quick": args.quick}
+    res["meta"] = {
+        "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+        "machine": f"{platform.platform()}, {os.cpu_count()} CPUs",
+        "load_start": load0,
+        "load_end": os.getloadavg(),
+        "wall": time.perf_counter() - started,
+        "quick": args.quick,
+    }
     (out / "fleet.json").write_text(json.dumps(res, indent=1, default=float))
     (out / "fleet.md").write_text(_markdown(res))
     print(f"wrote {out / 'fleet.md'}")
@@ -176,14 +214,19 @@ def main(argv=None) -> int:
 
 def _markdown(res) -> str:
     m = res["meta"]
-    lines = ["# Fleet benchmark: per-chair recommendations (issue \"Product lines\")", "",
-             f"Generated by `python -m benchmarks.fleet` on {m['date']}, {m['machine']}; load average at start "
-             f"{[round(x, 2) for x in m['load_start']]}, at end {[round(x, 2) for x in m['load_end']]} (a shared "
-             f"machine: absolute times are noisy). Base problem {res['problem']}, {res['stock']} stock casters; "
-             f"example fleets (`designer fleet --example N`, seed 7).", "",
-             "## Vectorised recommendation (deterministic risk screening, front, rule)", "",
-             "| chairs | in-process [s] | 2-worker LocalCluster [s] | loop of designer.recommend [s] | ratio loop / in-process |",
-             "|---:|---:|---:|---:|---:|"]
+    lines = [
+        '# Fleet benchmark: per-chair recommendations (issue "Product lines")',
+        "",
+        f"Generated by `python -m benchmarks.fleet` on {m['date']}, {m['machine']}; load average at start "
+        f"{[round(x, 2) for x in m['load_start']]}, at end {[round(x, 2) for x in m['load_end']]} (a shared "
+        f"machine: absolute times are noisy). Base problem {res['problem']}, {res['stock']} stock casters; "
+        f"example fleets (`designer fleet --example N`, seed 7).",
+        "",
+        "## Vectorised recommendation (deterministic risk screening, front, rule)",
+        "",
+        "| chairs | in-process [s] | 2-worker LocalCluster [s] | loop of designer.recommend [s] | ratio loop / in-process |",
+        "|---:|---:|---:|---:|---:|",
+    ]
     loop = res["loop"]
     for n, v in res["inprocess"].items():
         d = res["dask"].get(n)
@@ -192,41 +235,61 @@ def _markdown(res) -> str:
         dask_cell = "–" if d is None else f"{d['median']:.3f}"
         ext_cell = "–" if ext is None else f"{ext:.0f} (extrapolated)"
         ratio_cell = "–" if ratio is None else f"{ratio:,.0f}x"
-        lines.append(f"| {n:,} | {v['median']:.3f} [{v['min']:.3f}–{v['max']:.3f}] | {dask_cell} | {ext_cell} | "
-                     f"{ratio_cell} |")
+        lines.append(
+            f"| {n:,} | {v['median']:.3f} [{v['min']:.3f}–{v['max']:.3f}] | {dask_cell} | {ext_cell} | {ratio_cell} |"
+        )
     lines.append("")
     if "per_chair" in loop:
-        lines.append(f"The loop was timed over {loop['chairs_timed']} random chairs of the 1 000-chair fleet "
-                     f"({loop['per_chair'] * 1000:.1f} ms per chair, after one warm-up call) and extrapolated "
-                     f"linearly to each fleet size.")
+        lines.append(
+            f"The loop was timed over {loop['chairs_timed']} random chairs of the 1 000-chair fleet "
+            f"({loop['per_chair'] * 1000:.1f} ms per chair, after one warm-up call) and extrapolated "
+            f"linearly to each fleet size."
+        )
     else:
         lines.append(f"Loop: {loop.get('note')}.")
     lines.append(f"LocalCluster start: {res['dask']['start']:.1f} s (not included above; a warm-up run first).")
     mc = res["monte_carlo"]
-    lines += ["", "## Reported Monte Carlo P(shimmy) per chair (timed apart)", "",
-              f"- In-process: {mc['inprocess']['chairs']} chairs in {mc['inprocess']['seconds']:.2f} s: "
-              f"{mc['inprocess']['distinct']} distinct (caster, V_target) pairs (speeds jittered so that no two "
-              f"chairs share one), "
-              f"{mc['inprocess']['per_estimate'] * 1000:.2f} ms per estimate of {mc['inprocess']['samples']} "
-              f"samples, largest SE {mc['inprocess']['max_se_pp']:.3f} pp: chairs that get the same caster share one "
-              f"seeded draw (docs/fleet.md), so 10 000 chairs take about "
-              f"{mc['inprocess']['per_estimate'] * 10000:.0f} s in-process."]
+    lines += [
+        "",
+        "## Reported Monte Carlo P(shimmy) per chair (timed apart)",
+        "",
+        f"- In-process: {mc['inprocess']['chairs']} chairs in {mc['inprocess']['seconds']:.2f} s: "
+        f"{mc['inprocess']['distinct']} distinct (caster, V_target) pairs (speeds jittered so that no two "
+        f"chairs share one), "
+        f"{mc['inprocess']['per_estimate'] * 1000:.2f} ms per estimate of {mc['inprocess']['samples']} "
+        f"samples, largest SE {mc['inprocess']['max_se_pp']:.3f} pp: chairs that get the same caster share one "
+        f"seeded draw (docs/fleet.md), so 10 000 chairs take about "
+        f"{mc['inprocess']['per_estimate'] * 10000:.0f} s in-process.",
+    ]
     if "dask" in mc:
-        lines.append(f"- 2-worker LocalCluster: {mc['dask']['seconds']:.2f} s for the same chairs "
-                     f"({mc['dask']['speedup']:.2f}x; identical numbers).")
+        lines.append(
+            f"- 2-worker LocalCluster: {mc['dask']['seconds']:.2f} s for the same chairs "
+            f"({mc['dask']['speedup']:.2f}x; identical numbers)."
+        )
     k = res["kmedian"]
-    lines += ["", "## K-median: exact MIP (scipy.optimize.milp / HiGHS) against greedy + swap, 1 000 chairs", "",
-              f"{k['candidates']} useful candidate casters after pruning. Regret = Σ count · (J − own best J) "
-              f"[N·units].", "",
-              "| K | MIP regret | status | MIP [s] | greedy + swap | Lagrangian bound | status | [s] |",
-              "|---:|---:|---|---:|---:|---:|---|---:|"]
+    lines += [
+        "",
+        "## K-median: exact MIP (scipy.optimize.milp / HiGHS) against greedy + swap, 1 000 chairs",
+        "",
+        f"{k['candidates']} useful candidate casters after pruning. Regret = Σ count · (J − own best J) [N·units].",
+        "",
+        "| K | MIP regret | status | MIP [s] | greedy + swap | Lagrangian bound | status | [s] |",
+        "|---:|---:|---|---:|---:|---:|---|---:|",
+    ]
     for kk, v in k["curve"].items():
-        lines.append(f"| {kk} | {v['regret']:.8g} | {v['status']} | {v['seconds']:.2f} | {v['heuristic']:.8g} | "
-                     f"{v['bound']:.8g} | {v['heuristic_status']} | {v['heuristic_seconds']:.2f} |")
+        lines.append(
+            f"| {kk} | {v['regret']:.8g} | {v['status']} | {v['seconds']:.2f} | {v['heuristic']:.8g} | "
+            f"{v['bound']:.8g} | {v['heuristic_status']} | {v['heuristic_seconds']:.2f} |"
+        )
     k = res["kmedian_10000"]
-    lines += ["", f"10 000 chairs ({k['candidates']} useful casters; beyond the MIP's size limit, so greedy + swap "
-              f"with the Lagrangian bound): regret curve in {k['seconds']:.1f} s.", "",
-              "| K | regret | bound | status | [s] |", "|---:|---:|---:|---|---:|"]
+    lines += [
+        "",
+        f"10 000 chairs ({k['candidates']} useful casters; beyond the MIP's size limit, so greedy + swap "
+        f"with the Lagrangian bound): regret curve in {k['seconds']:.1f} s.",
+        "",
+        "| K | regret | bound | status | [s] |",
+        "|---:|---:|---:|---|---:|",
+    ]
     for kk, v in k["curve"].items():
         lines.append(f"| {kk} | {v['regret']:.8g} | {v['bound']:.8g} | {v['status']} | {v['seconds']:.2f} |")
     return "\n".join(lines) + "\n"

@@ -8,6 +8,7 @@ Score = killed / (total − equivalent).  "equivalent" counts the mutants of ben
 were not killed, in two kinds: ``equivalent`` (cannot change any result) and ``tie`` (changes a comparison only when
 a computed float equals a tolerance exactly; listed apart so the stricter score can be read off too).
 """
+
 from __future__ import annotations
 
 import collections
@@ -53,14 +54,19 @@ def table(results: dict[str, str], equivalent: dict[str, str]) -> str:
             row["kind " + equivalent[name]] += 1
     rows = dict(sorted(rows.items()))
     rows["**all**"] = sum(rows.values(), collections.Counter())
-    lines = ["| module | total | killed | survived | no tests | timeout | not run | equivalent (ties) "
-             "| (killed + timeout) / (total − equivalent) |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    lines = [
+        "| module | total | killed | survived | no tests | timeout | not run | equivalent (ties) "
+        "| (killed + timeout) / (total − equivalent) |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
     for module, r in rows.items():
         label = module if module.startswith("**") else f"`{module}`"
         detected = r["killed"] + r["timeout"]  # a timeout is a mutant the tests stop (an endless loop): detected
         score = 100 * detected / max(1, r["total"] - r["equivalent"])
-        lines.append(f"| {label} | {r['total']} | {r['killed']} | {r['survived']} | {r['no tests']} | "
-                     f"{r['timeout']} | {r['not checked']} | {r['equivalent']} ({r['kind tie']}) | {score:.1f} % |")
+        lines.append(
+            f"| {label} | {r['total']} | {r['killed']} | {r['survived']} | {r['no tests']} | "
+            f"{r['timeout']} | {r['not checked']} | {r['equivalent']} ({r['kind tie']}) | {score:.1f} % |"
+        )
     return "\n".join(lines)
 
 

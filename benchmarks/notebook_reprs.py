@@ -7,6 +7,7 @@ median and the largest time [ms] and the length of the text [characters].  Write
 
     python benchmarks/notebook_reprs.py [--repeats 20]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -64,16 +65,29 @@ def main() -> None:
     for name, obj in objs.items():
         r = time_ms(lambda: repr(obj), args.repeats)
         h = time_ms(obj._repr_html_, args.repeats) if hasattr(obj, "_repr_html_") else None
-        rows.append({"object": name, "repr_ms": r[0], "repr_max_ms": r[1], "repr_chars": r[2],
-                     "html_ms": h[0] if h else None, "html_max_ms": h[1] if h else None,
-                     "html_chars": h[2] if h else None})
-    lines = ["# Notebook reprs: warm time (benchmarks/notebook_reprs.py)", "",
-             f"Median and largest of {args.repeats} calls after one warm call; goal: under 50 ms, no solver.", "",
-             "| object | repr [ms] (max) | repr [chars] | _repr_html_ [ms] (max) | HTML [chars] |",
-             "|---|---|---|---|---|"]
+        rows.append(
+            {
+                "object": name,
+                "repr_ms": r[0],
+                "repr_max_ms": r[1],
+                "repr_chars": r[2],
+                "html_ms": h[0] if h else None,
+                "html_max_ms": h[1] if h else None,
+                "html_chars": h[2] if h else None,
+            }
+        )
+    lines = [
+        "# Notebook reprs: warm time (benchmarks/notebook_reprs.py)",
+        "",
+        f"Median and largest of {args.repeats} calls after one warm call; goal: under 50 ms, no solver.",
+        "",
+        "| object | repr [ms] (max) | repr [chars] | _repr_html_ [ms] (max) | HTML [chars] |",
+        "|---|---|---|---|---|",
+    ]
     for r in rows:
-        html = (f"{r['html_ms']:.2f} ({r['html_max_ms']:.2f}) | {r['html_chars']}" if r["html_ms"] is not None
-                else "– | –")
+        html = (
+            f"{r['html_ms']:.2f} ({r['html_max_ms']:.2f}) | {r['html_chars']}" if r["html_ms"] is not None else "– | –"
+        )
         lines.append(f"| {r['object']} | {r['repr_ms']:.3f} ({r['repr_max_ms']:.3f}) | {r['repr_chars']} | {html} |")
     text = "\n".join(lines) + "\n"
     (HERE / "notebook_reprs.md").write_text(text, encoding="utf-8")

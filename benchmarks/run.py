@@ -27,6 +27,7 @@ normalisation).  Only feasible, non-dominated points of a method count.
 Writes ``results.md``, ``results.json`` and ``scaling.png`` into ``--out`` (default ``benchmarks/`` for
 the full run, ``benchmarks/quick/`` for ``--quick``).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -49,14 +50,42 @@ PROBLEMS = ("indoor-manual", "sports-court", "powered-chair")
 LEGACY_COMMIT = "085d726"
 REFERENCE = np.array([1.1, 1.1])
 
-FULL = dict(points=(25, 51, 101), exact_repeats=7, cold_repeats=5, ga_repeats=5, optuna_trials=(2000, 5000),
-            optuna_repeats=3, pymoo_generations=(100, 300), slsqp_repeats=5, grid=(41, 401, 31, 41), grid_repeats=3,
-            legacy_repeats=3, legacy_points=101, throughput_n=1_000_000, scaling_points=(11, 25, 51, 101, 201, 401),
-            scaling_configs=(1, 10, 100), scaling_repeats=3)
-QUICK = dict(points=(25, 51, 101), exact_repeats=3, cold_repeats=2, ga_repeats=1, optuna_trials=(300, 1000),
-             optuna_repeats=1, pymoo_generations=(100, 300), slsqp_repeats=1, grid=(21, 101, 16, 21), grid_repeats=1,
-             legacy_repeats=1, legacy_points=25, throughput_n=200_000, scaling_points=(11, 25, 51, 101),
-             scaling_configs=(1, 10), scaling_repeats=1)
+FULL = dict(
+    points=(25, 51, 101),
+    exact_repeats=7,
+    cold_repeats=5,
+    ga_repeats=5,
+    optuna_trials=(2000, 5000),
+    optuna_repeats=3,
+    pymoo_generations=(100, 300),
+    slsqp_repeats=5,
+    grid=(41, 401, 31, 41),
+    grid_repeats=3,
+    legacy_repeats=3,
+    legacy_points=101,
+    throughput_n=1_000_000,
+    scaling_points=(11, 25, 51, 101, 201, 401),
+    scaling_configs=(1, 10, 100),
+    scaling_repeats=3,
+)
+QUICK = dict(
+    points=(25, 51, 101),
+    exact_repeats=3,
+    cold_repeats=2,
+    ga_repeats=1,
+    optuna_trials=(300, 1000),
+    optuna_repeats=1,
+    pymoo_generations=(100, 300),
+    slsqp_repeats=1,
+    grid=(21, 101, 16, 21),
+    grid_repeats=1,
+    legacy_repeats=1,
+    legacy_points=25,
+    throughput_n=200_000,
+    scaling_points=(11, 25, 51, 101),
+    scaling_configs=(1, 10),
+    scaling_repeats=1,
+)
 
 
 # --------------------------------------------------------------------------- helpers
@@ -73,8 +102,12 @@ def timed(fn, repeats: int):
 
 
 def stats(times) -> dict:
-    return {"median_s": float(statistics.median(times)), "min_s": float(min(times)), "max_s": float(max(times)),
-            "repeats": len(times)}
+    return {
+        "median_s": float(statistics.median(times)),
+        "min_s": float(min(times)),
+        "max_s": float(max(times)),
+        "repeats": len(times),
+    }
 
 
 def fast_nondominated(f: np.ndarray) -> np.ndarray:
@@ -118,16 +151,21 @@ class Quality:
         if len(f) == 0:
             return {"hv_ratio": 0.0, "igd_plus": float("inf"), "front_points": 0}
         g = normalise(f, self.ideal, self.nadir)
-        return {"hv_ratio": hypervolume_2d(g, REFERENCE) / self.hv_exact, "igd_plus": igd_plus(g, self.exact),
-                "front_points": int(len(f))}
+        return {
+            "hv_ratio": hypervolume_2d(g, REFERENCE) / self.hv_exact,
+            "igd_plus": igd_plus(g, self.exact),
+            "front_points": int(len(f)),
+        }
 
 
 def median_quality(qs: list[dict]) -> dict:
-    return {"hv_ratio": float(np.median([q["hv_ratio"] for q in qs])),
-            "hv_ratio_min": float(np.min([q["hv_ratio"] for q in qs])),
-            "hv_ratio_max": float(np.max([q["hv_ratio"] for q in qs])),
-            "igd_plus": float(np.median([q["igd_plus"] for q in qs])),
-            "front_points": int(np.median([q["front_points"] for q in qs]))}
+    return {
+        "hv_ratio": float(np.median([q["hv_ratio"] for q in qs])),
+        "hv_ratio_min": float(np.min([q["hv_ratio"] for q in qs])),
+        "hv_ratio_max": float(np.max([q["hv_ratio"] for q in qs])),
+        "igd_plus": float(np.median([q["igd_plus"] for q in qs])),
+        "front_points": int(np.median([q["front_points"] for q in qs])),
+    }
 
 
 # --------------------------------------------------------------------------- methods
@@ -135,8 +173,10 @@ def median_quality(qs: list[dict]) -> dict:
 
 def import_seconds() -> float:
     """Import cost of the package and its solver stack, measured once in a fresh interpreter."""
-    code = ("import time, warnings; warnings.simplefilter('ignore'); t = time.perf_counter(); "
-            "import designer, designer.analysis.pareto, designer.problem, casadi; print(time.perf_counter() - t)")
+    code = (
+        "import time, warnings; warnings.simplefilter('ignore'); t = time.perf_counter(); "
+        "import designer, designer.analysis.pareto, designer.problem, casadi; print(time.perf_counter() - t)"
+    )
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True)
     return float(out.stdout.strip().splitlines()[-1])
 
@@ -154,8 +194,11 @@ def exact_method(problem, points: int, repeats: int, cold_repeats: int, import_s
     front = fronts[-1]
     return {
         "warm": stats(warm_times),
-        "cold": {**stats([t + import_s for t in cold_times]), "import_s": import_s,
-                 "build_and_solve_median_s": float(statistics.median(cold_times))},
+        "cold": {
+            **stats([t + import_s for t in cold_times]),
+            "import_s": import_s,
+            "build_and_solve_median_s": float(statistics.median(cold_times)),
+        },
         "nlp_solves": int(front.meta["nlp_solves"]),
         "model_evaluations": None,
         "ms_per_point_warm": 1e3 * statistics.median(warm_times) / points,
@@ -167,8 +210,12 @@ def exact_method(problem, points: int, repeats: int, cold_repeats: int, import_s
 def legacy_pareto():
     """``pareto_front`` of commit LEGACY_COMMIT (before this issue), loaded from git; None if unavailable."""
     try:
-        src = subprocess.run(["git", "-C", str(ROOT), "show", f"{LEGACY_COMMIT}:designer/pareto.py"],
-                             capture_output=True, text=True, check=True).stdout
+        src = subprocess.run(
+            ["git", "-C", str(ROOT), "show", f"{LEGACY_COMMIT}:designer/pareto.py"],
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout
     except (OSError, subprocess.CalledProcessError):
         return None
     name = "benchmarks._legacy_pareto"
@@ -214,8 +261,9 @@ def pymoo_method(problem, generations: int, repeats: int, quality: Quality):
 
     def run(seed):
         counter = [0]
-        res = minimize(PymooCaster(problem, counter), NSGA2(pop_size=100), ("n_gen", generations), seed=seed,
-                       verbose=False)
+        res = minimize(
+            PymooCaster(problem, counter), NSGA2(pop_size=100), ("n_gen", generations), seed=seed, verbose=False
+        )
         counts.append(counter[0])
         return res
 
@@ -308,12 +356,20 @@ def slsqp_method(problem, eps_values, repeats: int, quality: Quality):
         z = (lo + hi) / 2 / scale
         out = []
         for eps in eps_values:
-            cons = [{"type": "ineq", "fun": lambda z, e=eps: 1 - perf(z)["threshold_force"] / e},
-                    {"type": "ineq", "fun": lambda z: design_speed(perf(z)) / req - 1}]
+            cons = [
+                {"type": "ineq", "fun": lambda z, e=eps: 1 - perf(z)["threshold_force"] / e},
+                {"type": "ineq", "fun": lambda z: design_speed(perf(z)) / req - 1},
+            ]
             if problem.swept_radius_max is not None:
                 cons.append({"type": "ineq", "fun": lambda z: 1 - perf(z)["swept_radius"] / problem.swept_radius_max})
-            res = minimize(lambda z: perf(z)["turning_effort"], z, method="SLSQP", constraints=cons,
-                           bounds=list(zip(lo / scale, hi / scale)), options={"ftol": 1e-10, "maxiter": 200})
+            res = minimize(
+                lambda z: perf(z)["turning_effort"],
+                z,
+                method="SLSQP",
+                constraints=cons,
+                bounds=list(zip(lo / scale, hi / scale)),
+                options={"ftol": 1e-10, "maxiter": 200},
+            )
             x = res.x * scale
             v = performance(x[0], x[1], x[2], x[3], problem.conditions)
             ok = bool(feasible_mask(problem, {k: np.atleast_1d(val) for k, val in v.items()}, 1e-6)[0])
@@ -324,8 +380,13 @@ def slsqp_method(problem, eps_values, repeats: int, quality: Quality):
 
     times, results = timed(run, repeats)
     f, evals = results[-1]
-    return {"time": stats(times), "model_evaluations": int(evals), "solved": int(len(f)),
-            "of": int(len(eps_values)), **quality(f)}
+    return {
+        "time": stats(times),
+        "model_evaluations": int(evals),
+        "solved": int(len(f)),
+        "of": int(len(eps_values)),
+        **quality(f),
+    }
 
 
 def grid_front(problem, shape) -> tuple[np.ndarray, int]:
@@ -339,7 +400,7 @@ def grid_front(problem, shape) -> tuple[np.ndarray, int]:
     chunk = max(1, 2_000_000 // per_d)
     fronts, count = [], 0
     for start in range(0, len(axes[1]), chunk):
-        ds = axes[1][start:start + chunk]
+        ds = axes[1][start : start + chunk]
         x = np.column_stack([np.tile(t, len(ds)), np.repeat(ds, per_d), np.tile(b, len(ds)), np.tile(c, len(ds))])
         v = evaluate_many(problem, x)
         count += len(x)
@@ -381,8 +442,9 @@ def nlp_costs(problem, repeats: int = 20) -> dict:
     ref = nlp.solve(centre, (1.0, 0.0), eps)
     cold_t, cold_r = timed(lambda _: nlp.solve(centre, (1.0, 0.0), eps), repeats)
     eps2 = eps * (1 - 1e-3)
-    warm_t, warm_r = timed(lambda _: nlp.solve(ref.design, (1.0, 0.0), eps2, lam_g0=ref.lam_g, lam_x0=ref.lam_x),
-                           repeats)
+    warm_t, warm_r = timed(
+        lambda _: nlp.solve(ref.design, (1.0, 0.0), eps2, lam_g0=ref.lam_g, lam_x0=ref.lam_x), repeats
+    )
     k = 64
     eps_k = np.linspace(p_a, p_b, k + 2)[1:-1]
     starts = np.tile(centre, (k, 1))
@@ -397,8 +459,10 @@ def nlp_costs(problem, repeats: int = 20) -> dict:
         "single_cold": {**stats(cold_t), "iterations": cold_r[-1].iterations},
         "single_warm": {**stats(warm_t), "iterations": warm_r[-1].iterations},
         "batch64_cold_per_block": {**{k_: v / k if k_.endswith("_s") else v for k_, v in stats(bc_t).items()}},
-        "batch64_warm_per_block": {**{k_: v / k if k_.endswith("_s") else v for k_, v in stats(bw_t).items()},
-                                   "iterations": bw_r[-1][0].iterations},
+        "batch64_warm_per_block": {
+            **{k_: v / k if k_.endswith("_s") else v for k_, v in stats(bw_t).items()},
+            "iterations": bw_r[-1][0].iterations,
+        },
     }
 
 
@@ -414,8 +478,9 @@ def configurations(problem, count: int) -> list:
     for load in loads:
         for speed in speeds:
             if len(out) < count:
-                out.append(problem.replace(target_speed=float(speed),
-                                           conditions=problem.conditions.replace(load=float(load))))
+                out.append(
+                    problem.replace(target_speed=float(speed), conditions=problem.conditions.replace(load=float(load)))
+                )
     return out
 
 
@@ -428,8 +493,14 @@ def scaling(problems: dict, cfg: dict) -> dict:
         for n in cfg["scaling_points"]:
             pareto.pareto_front(problem, n)
             times, fronts = timed(lambda _: pareto.pareto_front(problem, n), cfg["scaling_repeats"])
-            rows.append({"points": n, **stats(times), "ms_per_point": 1e3 * statistics.median(times) / n,
-                         "nlp_solves": fronts[-1].meta["nlp_solves"]})
+            rows.append(
+                {
+                    "points": n,
+                    **stats(times),
+                    "ms_per_point": 1e3 * statistics.median(times) / n,
+                    "nlp_solves": fronts[-1].meta["nlp_solves"],
+                }
+            )
         by_points[name] = rows
     base = problems.get("indoor-manual") or next(iter(problems.values()))
     batch = []
@@ -440,9 +511,16 @@ def scaling(problems: dict, cfg: dict) -> dict:
         fronts = [pareto.pareto_front(p, 25) for p in configs]
         cold = time.perf_counter() - t0
         times, _ = timed(lambda _: [pareto.pareto_front(p, 25) for p in configs], cfg["scaling_repeats"])
-        batch.append({"configurations": count, "points_each": 25, "cold_s": cold, **stats(times),
-                      "ms_per_configuration": 1e3 * statistics.median(times) / count,
-                      "valid_points": int(sum(len(f) for f in fronts))})
+        batch.append(
+            {
+                "configurations": count,
+                "points_each": 25,
+                "cold_s": cold,
+                **stats(times),
+                "ms_per_configuration": 1e3 * statistics.median(times) / count,
+                "valid_points": int(sum(len(f) for f in fronts)),
+            }
+        )
     return {"by_points": by_points, "by_configurations": batch}
 
 
@@ -459,8 +537,11 @@ def figure(results: dict, path: Path) -> None:
         n = [r["points"] for r in rows]
         t = [r["median_s"] for r in rows]
         ax.loglog(n, t, "o-", label=f"exact front, {name}")
-    n = np.array([min(r["points"] for r in rows) for rows in sc["by_points"].values()] +
-                 [max(r["points"] for r in rows) for rows in sc["by_points"].values()], float)
+    n = np.array(
+        [min(r["points"] for r in rows) for rows in sc["by_points"].values()]
+        + [max(r["points"] for r in rows) for rows in sc["by_points"].values()],
+        float,
+    )
     lo_n, hi_n = n.min(), n.max()
     first = next(iter(sc["by_points"].values()))
     t_ref = first[-1]["median_s"]
@@ -470,8 +551,14 @@ def figure(results: dict, path: Path) -> None:
             if key in res["methods"]:
                 ax.axhline(res["methods"][key]["time"]["median_s"], ls=style, lw=0.8, color="grey")
         break
-    ax.text(lo_n, results["problems"][next(iter(results["problems"]))]["methods"]["pymoo NSGA-II 300 gen"]["time"]["median_s"] * 1.1,
-            "pymoo NSGA-II, 300 / 100 generations (first problem)", fontsize=8, color="grey")
+    ax.text(
+        lo_n,
+        results["problems"][next(iter(results["problems"]))]["methods"]["pymoo NSGA-II 300 gen"]["time"]["median_s"]
+        * 1.1,
+        "pymoo NSGA-II, 300 / 100 generations (first problem)",
+        fontsize=8,
+        color="grey",
+    )
     ax.set_xlabel("points on the front N")
     ax.set_ylabel("warm wall time [s] (median)")
     ax.set_title("Exact front: time vs number of points")
@@ -482,8 +569,7 @@ def figure(results: dict, path: Path) -> None:
     c = [r["configurations"] for r in rows]
     ax.loglog(c, [r["median_s"] for r in rows], "o-", label="warm (one NLP build shared)")
     ax.loglog(c, [r["cold_s"] for r in rows], "s--", label="cold (incl. the one build)")
-    ax.loglog([c[0], c[-1]], [rows[-1]["median_s"] * c[0] / c[-1], rows[-1]["median_s"]], "k:", lw=1,
-              label="slope 1")
+    ax.loglog([c[0], c[-1]], [rows[-1]["median_s"] * c[0] / c[-1], rows[-1]["median_s"]], "k:", lw=1, label="slope 1")
     ax.set_xlabel("chair configurations (load × target speed), 25-point front each")
     ax.set_ylabel("wall time [s]")
     ax.set_title("Batch of problems")
@@ -508,8 +594,9 @@ def versions() -> dict:
             out[pkg] = None
     try:
         out["caster-designer"] = md.version("caster-designer")
-        out["git"] = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
-                                    text=True).stdout.strip()
+        out["git"] = subprocess.run(
+            ["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True, text=True
+        ).stdout.strip()
     except Exception:
         pass
     return out
@@ -550,35 +637,50 @@ def markdown(results: dict) -> str:
         "",
     ]
     cfg = results["config"]
-    lines += [f"Repeats: exact warm {cfg['exact_repeats']}, exact cold {cfg['cold_repeats']}, pymoo "
-              f"{cfg['ga_repeats']}, optuna {cfg['optuna_repeats']} (the slowest; fewer repeats), SLSQP "
-              f"{cfg['slsqp_repeats']}, grid {cfg['grid_repeats']}, legacy front {cfg['legacy_repeats']}.", ""]
+    lines += [
+        f"Repeats: exact warm {cfg['exact_repeats']}, exact cold {cfg['cold_repeats']}, pymoo "
+        f"{cfg['ga_repeats']}, optuna {cfg['optuna_repeats']} (the slowest; fewer repeats), SLSQP "
+        f"{cfg['slsqp_repeats']}, grid {cfg['grid_repeats']}, legacy front {cfg['legacy_repeats']}.",
+        "",
+    ]
     for name, res in results["problems"].items():
-        lines += [f"## {name}", "", "| method | time | model evaluations / NLP solves | HV / HV_exact101 | IGD+ | points |",
-                  "|---|---|---|---|---|---|"]
+        lines += [
+            f"## {name}",
+            "",
+            "| method | time | model evaluations / NLP solves | HV / HV_exact101 | IGD+ | points |",
+            "|---|---|---|---|---|---|",
+        ]
         for method, r in res["methods"].items():
             t = r.get("time") or r.get("warm")
             evals = r.get("model_evaluations")
             ev = f"{evals:,}" if evals else f"{r['nlp_solves']} NLP solves"
-            lines.append(f"| {method} | {fmt_time(t)} | {ev} | {r['hv_ratio']:.5f} | {r['igd_plus']:.2e} | "
-                         f"{r.get('front_points', r.get('points', ''))} |")
+            lines.append(
+                f"| {method} | {fmt_time(t)} | {ev} | {r['hv_ratio']:.5f} | {r['igd_plus']:.2e} | "
+                f"{r.get('front_points', r.get('points', ''))} |"
+            )
             if "cold" in r:
                 lines.append(f"| ↳ same, cold | {fmt_time(r['cold'])} | | | | |")
         lines.append("")
         sp = res["speedup"]
-        lines += [f"Exact 101-point front (warm) vs NSGA-II: {sp['vs_pymoo_300']:.0f}× faster than pymoo 300 gen "
-                  f"(HV ratio {sp['pymoo_300_hv']:.4f}), {sp['vs_pymoo_100']:.0f}× faster than pymoo 100 gen "
-                  f"(HV ratio {sp['pymoo_100_hv']:.4f}), {sp['vs_optuna_best']:.0f}× faster than optuna with the "
-                  f"best operators at {sp['optuna_trials']} trials (HV ratio {sp['optuna_best_hv']:.4f}), "
-                  f"{sp['vs_optuna_default']:.0f}× faster than optuna's defaults (HV ratio "
-                  f"{sp['optuna_default_hv']:.4f}). Cold (import + build + solve) vs pymoo 300 gen: "
-                  f"{sp['cold_vs_pymoo_300']:.1f}×.", ""]
+        lines += [
+            f"Exact 101-point front (warm) vs NSGA-II: {sp['vs_pymoo_300']:.0f}× faster than pymoo 300 gen "
+            f"(HV ratio {sp['pymoo_300_hv']:.4f}), {sp['vs_pymoo_100']:.0f}× faster than pymoo 100 gen "
+            f"(HV ratio {sp['pymoo_100_hv']:.4f}), {sp['vs_optuna_best']:.0f}× faster than optuna with the "
+            f"best operators at {sp['optuna_trials']} trials (HV ratio {sp['optuna_best_hv']:.4f}), "
+            f"{sp['vs_optuna_default']:.0f}× faster than optuna's defaults (HV ratio "
+            f"{sp['optuna_default_hv']:.4f}). Cold (import + build + solve) vs pymoo 300 gen: "
+            f"{sp['cold_vs_pymoo_300']:.1f}×.",
+            "",
+        ]
         if res.get("legacy"):
             lg = res["legacy"]
-            lines += [f"Before / after this issue (exact front, {lg['points']} points, warm): "
-                      f"{lg['ms_per_point_before']:.2f} ms per point before (commit {LEGACY_COMMIT}, "
-                      f"{lg['nlp_solves_before']} IPOPT solves) → {lg['ms_per_point_after']:.2f} ms per point now "
-                      f"({lg['speedup']:.1f}×); hypervolume ratio now/before {lg['hv_now_over_before']:.8f}.", ""]
+            lines += [
+                f"Before / after this issue (exact front, {lg['points']} points, warm): "
+                f"{lg['ms_per_point_before']:.2f} ms per point before (commit {LEGACY_COMMIT}, "
+                f"{lg['nlp_solves_before']} IPOPT solves) → {lg['ms_per_point_after']:.2f} ms per point now "
+                f"({lg['speedup']:.1f}×); hypervolume ratio now/before {lg['hv_now_over_before']:.8f}.",
+                "",
+            ]
     th = results["throughput"]
     nc = results["nlp"]
     lines += [
@@ -607,21 +709,33 @@ def markdown(results: dict) -> str:
     for name, rows in results["scaling"]["by_points"].items():
         for r in rows:
             lines.append(f"| {name} | {r['points']} | {fmt_time(r)} | {r['ms_per_point']:.2f} | {r['nlp_solves']} |")
-    lines += ["", "A batch of chair configurations (indoor-manual, caster load 120–300 N × target speed "
-              "1.8–2.8 m/s), a 25-point front each, computed one after the other in one process; load and target "
-              "speed are parameters of the NLP, so all configurations share one build:", "",
-              "| configurations | cold (incl. build) | warm | ms / configuration | valid points |", "|---|---|---|---|---|"]
+    lines += [
+        "",
+        "A batch of chair configurations (indoor-manual, caster load 120–300 N × target speed "
+        "1.8–2.8 m/s), a 25-point front each, computed one after the other in one process; load and target "
+        "speed are parameters of the NLP, so all configurations share one build:",
+        "",
+        "| configurations | cold (incl. build) | warm | ms / configuration | valid points |",
+        "|---|---|---|---|---|",
+    ]
     for r in results["scaling"]["by_configurations"]:
-        lines.append(f"| {r['configurations']} | {r['cold_s']:.2f} s | {fmt_time(r)} | {r['ms_per_configuration']:.1f} "
-                     f"| {r['valid_points']} |")
-    lines += ["", "## What the exact front does (designer/pareto.py)", "",
-              "ε-constraint sweep (min F_turn s.t. P <= ε) on the CasADi/IPOPT NLP built once per problem. The "
-              "points of a pass are solved together as block-diagonal NLPs (CasADi `map`, 4/16/64 blocks per IPOPT "
-              "call), pass 1 from the best feasible point of a vectorised Sobol sample under each ε, pass 2 "
-              "(re-spaced by arc length) warm from the neighbouring pass-1 optimum with its multipliers "
-              "(`warm_start_init_point`, small μ). Discontinuities are still searched for: family restarts "
-              "(grooved / damped) on every tenth point and at every family switch, and at each switch the "
-              "neighbours are re-solved from each other's optimum until nothing improves.", ""]
+        lines.append(
+            f"| {r['configurations']} | {r['cold_s']:.2f} s | {fmt_time(r)} | {r['ms_per_configuration']:.1f} "
+            f"| {r['valid_points']} |"
+        )
+    lines += [
+        "",
+        "## What the exact front does (designer/pareto.py)",
+        "",
+        "ε-constraint sweep (min F_turn s.t. P <= ε) on the CasADi/IPOPT NLP built once per problem. The "
+        "points of a pass are solved together as block-diagonal NLPs (CasADi `map`, 4/16/64 blocks per IPOPT "
+        "call), pass 1 from the best feasible point of a vectorised Sobol sample under each ε, pass 2 "
+        "(re-spaced by arc length) warm from the neighbouring pass-1 optimum with its multipliers "
+        "(`warm_start_init_point`, small μ). Discontinuities are still searched for: family restarts "
+        "(grooved / damped) on every tenth point and at every family switch, and at each switch the "
+        "neighbours are re-solved from each other's optimum until nothing improves.",
+        "",
+    ]
     return "\n".join(lines)
 
 
@@ -632,9 +746,12 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="smaller budgets and repeats (< 60 s)")
     parser.add_argument("--problems", nargs="+", default=list(PROBLEMS))
-    parser.add_argument("--out", default=None,
-                        help="output folder (default: benchmarks/ for a full run; benchmarks/quick/ for --quick, "
-                             "so a quick run never overwrites the committed full-run results)")
+    parser.add_argument(
+        "--out",
+        default=None,
+        help="output folder (default: benchmarks/ for a full run; benchmarks/quick/ for --quick, "
+        "so a quick run never overwrites the committed full-run results)",
+    )
     args = parser.parse_args(argv)
     if args.out is None:
         here = Path(__file__).resolve().parent
@@ -663,12 +780,14 @@ def main(argv=None) -> int:
             methods[f"pymoo NSGA-II {g} gen"] = pymoo_method(problem, g, cfg["ga_repeats"], quality)
         for trials in cfg["optuna_trials"]:
             for ops, label in (("optuna", "defaults"), ("tuned", "best operators")):
-                methods[f"optuna NSGA-II {label} {trials}"] = optuna_method(problem, trials, ops,
-                                                                           cfg["optuna_repeats"], quality)
+                methods[f"optuna NSGA-II {label} {trials}"] = optuna_method(
+                    problem, trials, ops, cfg["optuna_repeats"], quality
+                )
         eps = np.array([p.threshold_force for p in ref_front])
         methods["scipy SLSQP ε-loop (101 ε)"] = slsqp_method(problem, eps, cfg["slsqp_repeats"], quality)
-        methods[f"dense grid {'×'.join(map(str, cfg['grid']))}"] = grid_method(problem, cfg["grid"],
-                                                                              cfg["grid_repeats"], quality)
+        methods[f"dense grid {'×'.join(map(str, cfg['grid']))}"] = grid_method(
+            problem, cfg["grid"], cfg["grid_repeats"], quality
+        )
         res = {"methods": methods}
         warm101 = methods["exact front N=101"]["warm"]["median_s"]
         cold101 = methods["exact front N=101"]["cold"]["median_s"]
@@ -698,40 +817,60 @@ def main(argv=None) -> int:
             ideal, nadir = old.ideal_nadir()
             hv_old = hypervolume_2d(normalise(old.objectives(), ideal, nadir), REFERENCE)
             hv_now = hypervolume_2d(normalise(cur.objectives(), ideal, nadir), REFERENCE)
-            res["legacy"] = {"points": n, **stats(times), "ms_per_point_before": 1e3 * statistics.median(times) / n,
-                             "ms_per_point_after": now["ms_per_point_warm"],
-                             "speedup": statistics.median(times) / now["warm"]["median_s"],
-                             "nlp_solves_before": old.meta["nlp_solves"], "hv_now_over_before": hv_now / hv_old}
+            res["legacy"] = {
+                "points": n,
+                **stats(times),
+                "ms_per_point_before": 1e3 * statistics.median(times) / n,
+                "ms_per_point_after": now["ms_per_point_warm"],
+                "speedup": statistics.median(times) / now["warm"]["median_s"],
+                "nlp_solves_before": old.meta["nlp_solves"],
+                "hv_now_over_before": hv_now / hv_old,
+            }
         results["problems"][name] = res
         for method, r in methods.items():
             t = r.get("time") or r.get("warm")
-            print(f"{name:14s} {method:38s} time {t['median_s'] * 1e3:10.1f} ms  HV ratio {r['hv_ratio']:.5f}  "
-                  f"IGD+ {r['igd_plus']:.2e}", flush=True)
+            print(
+                f"{name:14s} {method:38s} time {t['median_s'] * 1e3:10.1f} ms  HV ratio {r['hv_ratio']:.5f}  "
+                f"IGD+ {r['igd_plus']:.2e}",
+                flush=True,
+            )
         if "legacy" in res:
             lg = res["legacy"]
-            print(f"{name:14s} exact front before this issue (N={lg['points']}): {lg['ms_per_point_before']:.2f} ms/point "
-                  f"-> now {lg['ms_per_point_after']:.2f} ms/point ({lg['speedup']:.1f}x)", flush=True)
+            print(
+                f"{name:14s} exact front before this issue (N={lg['points']}): {lg['ms_per_point_before']:.2f} ms/point "
+                f"-> now {lg['ms_per_point_after']:.2f} ms/point ({lg['speedup']:.1f}x)",
+                flush=True,
+            )
     base = problems.get("indoor-manual") or next(iter(problems.values()))
     results["throughput"] = model_throughput(base, cfg["throughput_n"])
     results["nlp"] = nlp_costs(base)
     results["scaling"] = scaling(problems, cfg)
-    print(f"model throughput {results['throughput']['designs_per_second']:.3g} designs/s; one NLP solve cold "
-          f"{results['nlp']['single_cold']['median_s'] * 1e3:.2f} ms, warm {results['nlp']['single_warm']['median_s'] * 1e3:.2f} ms; "
-          f"batched per block cold {results['nlp']['batch64_cold_per_block']['median_s'] * 1e3:.3f} ms, warm "
-          f"{results['nlp']['batch64_warm_per_block']['median_s'] * 1e3:.3f} ms", flush=True)
+    print(
+        f"model throughput {results['throughput']['designs_per_second']:.3g} designs/s; one NLP solve cold "
+        f"{results['nlp']['single_cold']['median_s'] * 1e3:.2f} ms, warm {results['nlp']['single_warm']['median_s'] * 1e3:.2f} ms; "
+        f"batched per block cold {results['nlp']['batch64_cold_per_block']['median_s'] * 1e3:.3f} ms, warm "
+        f"{results['nlp']['batch64_warm_per_block']['median_s'] * 1e3:.3f} ms",
+        flush=True,
+    )
     results["run_seconds"] = time.perf_counter() - t_run
     results["date"] = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
-    results["machine"] = {"platform": platform.platform(), "machine": platform.machine(),
-                          "processor": platform.processor(), "cpu_count": os.cpu_count(),
-                          "load_start": [round(v, 2) for v in load_start] if load_start else None,
-                          "load_end": [round(v, 2) for v in os.getloadavg()] if load_start else None}
+    results["machine"] = {
+        "platform": platform.platform(),
+        "machine": platform.machine(),
+        "processor": platform.processor(),
+        "cpu_count": os.cpu_count(),
+        "load_start": [round(v, 2) for v in load_start] if load_start else None,
+        "load_end": [round(v, 2) for v in os.getloadavg()] if load_start else None,
+    }
     results["versions"] = versions()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "results.json").write_text(json.dumps(results, indent=2, default=float))
     figure(results, out / "scaling.png")
     (out / "results.md").write_text(markdown(results))
-    print(f"wrote {out / 'results.md'}, {out / 'results.json'}, {out / 'scaling.png'} in {results['run_seconds']:.0f} s")
+    print(
+        f"wrote {out / 'results.md'}, {out / 'results.json'}, {out / 'scaling.png'} in {results['run_seconds']:.0f} s"
+    )
     return 0
 
 

@@ -9,6 +9,7 @@ the key press to the chart's next ``plotly_afterplot`` event (the redraw with th
 the server's compute time from the status line.  Writes ``studio_latency.json`` and ``studio_latency.md``.
 Needs the ``studio`` extra and the system chromium + chromium-driver.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -81,9 +82,14 @@ def main(argv=None) -> int:
             status = driver.find_element(By.ID, "status").text
             compute = re.search(r"computed in (\d+) ms \((\d+) ms CPU\)", status)
             target = float(handle.get_attribute("aria-valuenow"))
-            rows.append({"target_speed": target, "redraw_ms": after - before,
-                         "compute_ms": float(compute.group(1)) if compute else None,
-                         "compute_cpu_ms": float(compute.group(2)) if compute else None})
+            rows.append(
+                {
+                    "target_speed": target,
+                    "redraw_ms": after - before,
+                    "compute_ms": float(compute.group(1)) if compute else None,
+                    "compute_cpu_ms": float(compute.group(2)) if compute else None,
+                }
+            )
             time.sleep(0.3)
     finally:
         driver.quit()
@@ -97,9 +103,14 @@ def main(argv=None) -> int:
         "machine": f"{platform.machine()}, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}",
         "problem": args.problem or "problems/indoor-manual.toml (default)",
         "steps": len(rows),
-        "startup_s": startup, "first_view_s": first_view,
-        "redraw_ms": {"median": statistics.median(redraw), "min": min(redraw), "max": max(redraw),
-                      "p90": sorted(redraw)[int(0.9 * (len(redraw) - 1))]},
+        "startup_s": startup,
+        "first_view_s": first_view,
+        "redraw_ms": {
+            "median": statistics.median(redraw),
+            "min": min(redraw),
+            "max": max(redraw),
+            "p90": sorted(redraw)[int(0.9 * (len(redraw) - 1))],
+        },
         "compute_ms": {"median": statistics.median(compute), "min": min(compute), "max": max(compute)},
         "compute_cpu_ms": {"median": statistics.median(cpu), "min": min(cpu), "max": max(cpu)},
         "rows": rows,
@@ -107,21 +118,31 @@ def main(argv=None) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "studio_latency.json").write_text(json.dumps(summary, indent=2))
-    md = [f"# Studio change-to-redraw latency ({summary['date']})", "",
-          f"Machine: {summary['machine']}. Problem: {summary['problem']}. "
-          f"{len(rows)} slider steps of 0.1 m/s, each to a new target (no cache hit).", "",
-          "| | median | min | p90 | max |", "|---|---:|---:|---:|---:|",
-          "| key press -> chart redrawn [ms] | {median:.0f} | {min:.0f} | {p90:.0f} | {max:.0f} |".format(
-              **summary["redraw_ms"]),
-          "| server: fronts + recommendation [ms] | {median:.0f} | {min:.0f} | | {max:.0f} |".format(
-              **summary["compute_ms"]),
-          "| server: CPU time of that computation [ms] | {median:.0f} | {min:.0f} | | {max:.0f} |".format(
-              **summary["compute_cpu_ms"]), "",
-          "On a shared machine the wall times include waiting for a core (see the load average); the CPU time "
-          "is about what the computation takes on an idle machine. Browser and network add the difference "
-          "between the first two rows.", "",
-          f"Start-up (command to URL, solver warmed): {startup:.1f} s; first view in the browser: "
-          f"{first_view:.1f} s.", ""]
+    md = [
+        f"# Studio change-to-redraw latency ({summary['date']})",
+        "",
+        f"Machine: {summary['machine']}. Problem: {summary['problem']}. "
+        f"{len(rows)} slider steps of 0.1 m/s, each to a new target (no cache hit).",
+        "",
+        "| | median | min | p90 | max |",
+        "|---|---:|---:|---:|---:|",
+        "| key press -> chart redrawn [ms] | {median:.0f} | {min:.0f} | {p90:.0f} | {max:.0f} |".format(
+            **summary["redraw_ms"]
+        ),
+        "| server: fronts + recommendation [ms] | {median:.0f} | {min:.0f} | | {max:.0f} |".format(
+            **summary["compute_ms"]
+        ),
+        "| server: CPU time of that computation [ms] | {median:.0f} | {min:.0f} | | {max:.0f} |".format(
+            **summary["compute_cpu_ms"]
+        ),
+        "",
+        "On a shared machine the wall times include waiting for a core (see the load average); the CPU time "
+        "is about what the computation takes on an idle machine. Browser and network add the difference "
+        "between the first two rows.",
+        "",
+        f"Start-up (command to URL, solver warmed): {startup:.1f} s; first view in the browser: {first_view:.1f} s.",
+        "",
+    ]
     (out / "studio_latency.md").write_text("\n".join(md))
     print("\n".join(md))
     return 0

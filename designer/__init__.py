@@ -8,6 +8,7 @@ no shimmy below a target speed (Eq. 7 of the reference paper).
 cvxpy), optuna, matplotlib and the rest load when a function that needs them
 is first used (the names below are resolved lazily).
 """
+
 from __future__ import annotations
 
 import importlib

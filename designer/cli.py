@@ -3,6 +3,7 @@
 Errors are printed as one line on stderr with a non-zero exit code per kind
 (see :mod:`designer.errors` and the README); ``--debug`` shows the traceback.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -13,8 +14,7 @@ import warnings
 
 from designer.errors import DesignerError, interrupted, sigint_handler
 
-COMMANDS = ["evaluate", "validate", "run", "pareto", "explore", "robust", "simulate", "calibrate",
-            "fleet", "studio"]
+COMMANDS = ["evaluate", "validate", "run", "pareto", "explore", "robust", "simulate", "calibrate", "fleet", "studio"]
 """Sub-command modules in designer.commands; each defines ``register(subparsers)``."""
 COMMANDS.append("fix")  # issue 18: retrofit
 
@@ -96,8 +96,9 @@ def _error(exc: Exception, debug: bool) -> int:
         print(f"designer: error: {exc}", file=sys.stderr)
         return exc.exit_code
     # a bug: still one line unless --debug
-    print(f"designer: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)",
-          file=sys.stderr)
+    print(
+        f"designer: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)", file=sys.stderr
+    )
     return 70
 
 

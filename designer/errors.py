@@ -4,6 +4,7 @@ The command line prints ``str(error)`` on one line and exits with
 ``error.exit_code``; the codes are documented in the README.  Also the SIGINT
 flag checked after every solver call (:func:`check_interrupt`).
 """
+
 from __future__ import annotations
 import os
 import signal

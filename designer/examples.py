@@ -4,6 +4,7 @@ The files in ``designer/data/problems/`` are copies of the repository's ``proble
 (``tests/test_examples.py`` keeps them byte-equal), shipped as package data so that a notebook
 or a script finds them from any working directory and from a non-editable install.
 """
+
 from __future__ import annotations
 
 from importlib import resources
@@ -33,8 +34,9 @@ def example_text(name: str) -> str:
     """
     names = example_names()
     if name not in names:
-        raise ProblemError(f"example_problem: name = {name!r}: no such example problem; "
-                           f"the shipped ones are {', '.join(names)}")
+        raise ProblemError(
+            f"example_problem: name = {name!r}: no such example problem; the shipped ones are {', '.join(names)}"
+        )
     return (_folder() / f"{name}.toml").read_text(encoding="utf-8")
 
 

@@ -1,4 +1,5 @@
 """JSON-safe data: the one place that turns results into plain, finite JSON values."""
+
 from __future__ import annotations
 
 import math

@@ -4,6 +4,7 @@
 combined; the solvers (CasADi, cvxpy, scipy, optuna), the checks and the
 reports all call it, so a formula is never written twice.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -61,8 +62,9 @@ FAMILIES = {
 """Design family by (groove used, damper added): which mechanism stabilises the caster (Eq. 7)."""
 
 
-def check_design(design: Design, prefix: str = "", error: type[Exception] = InputError,
-                 given: Mapping[str, object] | None = None) -> None:
+def check_design(
+    design: Design, prefix: str = "", error: type[Exception] = InputError, given: Mapping[str, object] | None = None
+) -> None:
     """Raise ``error`` if a design's T, d, B or c_f [SI] is outside :data:`MODEL_RANGE`.
 
     ``given`` maps a variable to what the user wrote ("5in"): the message then gives the range in
@@ -72,8 +74,16 @@ def check_design(design: Design, prefix: str = "", error: type[Exception] = Inpu
         value = getattr(design, name)
         lo, hi = MODEL_RANGE[name]
         if not math.isfinite(value) or value < lo or (value == 0 and name in ("trail", "diameter")) or value > hi:
-            raise error(outside_range(f"{prefix}{name}", (given or {}).get(name, value), value, lo, hi,
-                                      parameters.PARAMETERS[name].dimension))
+            raise error(
+                outside_range(
+                    f"{prefix}{name}",
+                    (given or {}).get(name, value),
+                    value,
+                    lo,
+                    hi,
+                    parameters.PARAMETERS[name].dimension,
+                )
+            )
 
 
 @dataclass(frozen=True)
@@ -96,16 +106,21 @@ class Design:
     def __post_init__(self) -> None:
         # Units at the edge: strings such as "2 in" or "1.3 N*m/rad" are converted to SI here.
 
-        for name, dimension in (("trail", "length"), ("diameter", "length"), ("groove", "length"),
-                                ("damping", "damping")):
+        for name, dimension in (
+            ("trail", "length"),
+            ("diameter", "length"),
+            ("groove", "length"),
+            ("damping", "damping"),
+        ):
             value = getattr(self, name)
             if isinstance(value, str):
                 value = parse_quantity(value, dimension, name)
             try:
                 value = float(value)
             except (TypeError, ValueError):
-                raise InputError(f"{name} = {getattr(self, name)!r}: expected a number (SI) or a string with "
-                                 f"units such as '2 in'") from None
+                raise InputError(
+                    f"{name} = {getattr(self, name)!r}: expected a number (SI) or a string with units such as '2 in'"
+                ) from None
             if not np.isfinite(value):
                 raise InputError(f"{name} = {value}: must be finite")
             positive = name in ("trail", "diameter")
@@ -129,18 +144,23 @@ class Design:
 
     def __repr__(self) -> str:
         """Two lines: the SI constructor call and the sizes in inches (the industry's unit)."""
-        return (f"Design(trail={self.trail:.6g}, diameter={self.diameter:.6g}, groove={self.groove:.6g}, "
-                f"damping={self.damping:.6g})\n  T {self.trail / INCH:.3f} in, d {self.diameter / INCH:.3f} in, "
-                f"B {self.groove / INCH:.3f} in, c_f {self.damping:.4g} N·m/rad")
+        return (
+            f"Design(trail={self.trail:.6g}, diameter={self.diameter:.6g}, groove={self.groove:.6g}, "
+            f"damping={self.damping:.6g})\n  T {self.trail / INCH:.3f} in, d {self.diameter / INCH:.3f} in, "
+            f"B {self.groove / INCH:.3f} in, c_f {self.damping:.4g} N·m/rad"
+        )
 
     def _repr_html_(self) -> str:
         """A compact HTML table: T, d, B in inches and mm, c_f [N·m/rad] and the swept radius (notebooks)."""
-        rows = [(f"{label} {sym}", f"{getattr(self, name) / INCH:.3f} ({getattr(self, name) * 1000:.2f} mm)", "in")
-                for label, sym, name in (("trail", "T", "trail"), ("diameter", "d", "diameter"),
-                                         ("groove", "B", "groove"))]
+        rows = [
+            (f"{label} {sym}", f"{getattr(self, name) / INCH:.3f} ({getattr(self, name) * 1000:.2f} mm)", "in")
+            for label, sym, name in (("trail", "T", "trail"), ("diameter", "d", "diameter"), ("groove", "B", "groove"))
+        ]
         rs = float(swept_radius(self.trail, self.diameter))
-        rows += [("spindle damping c_f", f"{self.damping:.4g}", "N·m/rad"),
-                 ("swept radius T + d/2", f"{rs / INCH:.3f} ({rs * 1000:.2f} mm)", "in")]
+        rows += [
+            ("spindle damping c_f", f"{self.damping:.4g}", "N·m/rad"),
+            ("swept radius T + d/2", f"{rs / INCH:.3f} ({rs * 1000:.2f} mm)", "in"),
+        ]
         return html_table("Caster design", rows)
 
     def describe(self) -> str:
@@ -186,8 +206,9 @@ class Conditions:
         return dataclasses.replace(self, **changes)
 
 
-def performance(trail: Scalar, diameter: Scalar, groove: Scalar, damping: Scalar,
-                conditions: Conditions) -> dict[str, Scalar]:
+def performance(
+    trail: Scalar, diameter: Scalar, groove: Scalar, damping: Scalar, conditions: Conditions
+) -> dict[str, Scalar]:
     """Every performance quantity of the caster, as expressions of the design.
 
     Works on floats, NumPy arrays (vectorised over many designs) and CasADi

@@ -76,6 +76,8 @@ class Parameter:
 
 # --------------------------------------------------------------------------- design variables x = (T, d, B, c_f)
 
+# a table, one parameter per line and read across: not reformatted
+# fmt: off
 VARIABLE_TABLE: tuple[Parameter, ...] = (
     Parameter("trail", "T", "m", "trail: spindle axis to tyre contact", None, (0.0, 0.25),
               "Eq. 7, Eq. 9", key="variables.trail", dimension="length", bounds=(1.0 * INCH, 2.5 * INCH)),
@@ -86,6 +88,7 @@ VARIABLE_TABLE: tuple[Parameter, ...] = (
     Parameter("damping", "c_f", "N·m/rad", "spindle friction damping M_f/θ0", None, (0.0, 100.0),
               "Eq. 11C", key="variables.damping", dimension="damping", bounds=(BARE_FORK_DAMPING, 6.0)),
 )
+# fmt: on
 """The design variables, in the order of x everywhere.  ``range`` is the model's range (exclusive
 low for trail and diameter): beyond it the paper's model does not apply, and a value there usually
 means inches were written as metres."""
@@ -93,6 +96,8 @@ means inches were written as metres."""
 # --------------------------------------------------------------------------- model constants
 # The entries with a ``path`` are the solvers' fixed parameters, in the order of the NLP's parameter vector.
 
+# a table, one parameter per line and read across: not reformatted
+# fmt: off
 CONSTANT_TABLE: tuple[Parameter, ...] = (
     Parameter("load", "L", "N", "caster load", 178.0, (1.0, 1e5), "Table 1 (test load), Appendix C",
               key="conditions.load", dimension="force",
@@ -153,6 +158,7 @@ CONSTANT_TABLE: tuple[Parameter, ...] = (
     Parameter("bearing_block_mass", "M_1", "kg", "apparent bearing-block mass", 0.2, None,
               "our estimate (housing)", key="dynamics.bearing_block_mass", dimension="mass"),
 )
+# fmt: on
 """The model constants: fixed quantities of a problem."""
 
 PARAMETERS: dict[str, Parameter] = {p.name: p for p in VARIABLE_TABLE + CONSTANT_TABLE}
@@ -287,11 +293,13 @@ def markdown_table() -> str:
         "| --- | --- | --- | --- | --- | --- | --- | --- |",
     ]
     for p in VARIABLE_TABLE + CONSTANT_TABLE:
-        default_text = (f"[{_number(p.bounds[0])}, {_number(p.bounds[1])}]" if p.bounds else _number(p.default))
+        default_text = f"[{_number(p.bounds[0])}, {_number(p.bounds[1])}]" if p.bounds else _number(p.default)
         range_text = f"{_number(p.range[0])} to {_number(p.range[1])}" if p.range else "–"
         key = f"`{p.key}`" if p.key else "–"
-        lines.append(f"| {p.name} | {p.symbol} | {p.shown_unit} | {p.description} | {default_text} | "
-                     f"{range_text} | {key} | {p.source} |")
+        lines.append(
+            f"| {p.name} | {p.symbol} | {p.shown_unit} | {p.description} | {default_text} | "
+            f"{range_text} | {key} | {p.source} |"
+        )
     return "\n".join(lines) + "\n"
 
 

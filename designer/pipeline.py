@@ -16,6 +16,7 @@ One function, :func:`report_data`, runs everything a Pareto report shows, in thi
 The CLI (``designer pareto``, ``--all``), the Python API (``designer.report_data``) and the studio call it
 and hand the result to :func:`designer.report.write_report`, which renders it and computes nothing.
 """
+
 from __future__ import annotations
 
 import datetime as _dt
@@ -111,25 +112,34 @@ def degenerate_reason(problem, front) -> tuple[str, str]:
     if len(pts) >= 2:
         return "", ""
     if not pts:
-        return ("No design on the front: every point failed or the target speed is out of reach inside the bounds "
-                "(see the failed points).", "no feasible design")
+        return (
+            "No design on the front: every point failed or the target speed is out of reach inside the bounds "
+            "(see the failed points).",
+            "no feasible design",
+        )
     p = pts[0]
     if problem.wheels:
         n = len(problem.wheels)
-        return (f"Catalog problem: each of the {n} Table 1 wheels offered ({', '.join(problem.wheels)}) gives its "
-                f"own front, and the wheels' fronts are merged keeping only non-dominated designs. Wheel {p.wheel} "
-                f"(d = {p.design.diameter / INCH:.3f} in) has the lowest threshold force of the catalog and also "
-                f"reaches V_req = {problem.required_speed:.2f} m/s with the least turning effort "
-                f"({p.turning_effort:.2f} N), so no other wheel is better in either objective (wheels that tie "
-                f"are kept once): the front is this single design.",
-                f"wheel {p.wheel} is best in both objectives")
+        return (
+            f"Catalog problem: each of the {n} Table 1 wheels offered ({', '.join(problem.wheels)}) gives its "
+            f"own front, and the wheels' fronts are merged keeping only non-dominated designs. Wheel {p.wheel} "
+            f"(d = {p.design.diameter / INCH:.3f} in) has the lowest threshold force of the catalog and also "
+            f"reaches V_req = {problem.required_speed:.2f} m/s with the least turning effort "
+            f"({p.turning_effort:.2f} N), so no other wheel is better in either objective (wheels that tie "
+            f"are kept once): the front is this single design.",
+            f"wheel {p.wheel} is best in both objectives",
+        )
     if problem.bounds["diameter"].fixed:
-        return (f"The wheel diameter is fixed at {problem.bounds['diameter'].low / INCH:.3f} in, so the threshold "
-                f"force P = L·P/L(d/h) (Eq. 4A) is the same, {p.threshold_force:.2f} N, for every design: the two "
-                f"objectives do not conflict and the front is the single design of least turning effort.",
-                f"fixed diameter, P = {p.threshold_force:.1f} N for every design")
-    return ("One design is best in both objectives, so the front collapses to a single point.",
-            "one design is best in both objectives")
+        return (
+            f"The wheel diameter is fixed at {problem.bounds['diameter'].low / INCH:.3f} in, so the threshold "
+            f"force P = L·P/L(d/h) (Eq. 4A) is the same, {p.threshold_force:.2f} N, for every design: the two "
+            f"objectives do not conflict and the front is the single design of least turning effort.",
+            f"fixed diameter, P = {p.threshold_force:.1f} N for every design",
+        )
+    return (
+        "One design is best in both objectives, so the front collapses to a single point.",
+        "one design is best in both objectives",
+    )
 
 
 def price_of_stock(front, recommendation) -> dict | None:
@@ -154,9 +164,15 @@ def price_of_stock(front, recommendation) -> dict | None:
     p_cont = None
     if built >= float(f[by_f[0], 0]) * (1 - 1e-9):
         p_cont = float(np.interp(built, f[by_f, 0], f[by_f, 1]))
-    return {"threshold_force": p, "turning_effort_buildable": built, "turning_effort_continuous": cont,
-            "extra": built - cont, "relative": (built - cont) / cont if cont > 0 else float("nan"),
-            "threshold_force_continuous": p_cont, "extra_threshold": None if p_cont is None else p - p_cont}
+    return {
+        "threshold_force": p,
+        "turning_effort_buildable": built,
+        "turning_effort_continuous": cont,
+        "extra": built - cont,
+        "relative": (built - cont) / cont if cont > 0 else float("nan"),
+        "threshold_force_continuous": p_cont,
+        "extra_threshold": None if p_cont is None else p - p_cont,
+    }
 
 
 def card_knock_safe(problem, recommendation) -> list[dict]:
@@ -166,8 +182,9 @@ def card_knock_safe(problem, recommendation) -> list[dict]:
 
     casters = [recommendation, *(getattr(recommendation, "alternatives", None) or [])]
     # each caster's own I_w (a catalogue or stock wheel's measured one): the I_w its V_c was computed with
-    return knock_safe_speeds([c.design for c in casters], problem.conditions,
-                             inertias=[getattr(c, "inertia", None) for c in casters])
+    return knock_safe_speeds(
+        [c.design for c in casters], problem.conditions, inertias=[getattr(c, "inertia", None) for c in casters]
+    )
 
 
 class _Clock:
@@ -205,10 +222,23 @@ def _recommend(problem):
 
 
 # long: the pipeline's steps in order (front, optimum, recommendation, checks, trade-off)
-def report_data(problem, points: int | None = None, *, front=None, tighter=None, recommendation=None,
-                solution=None, checks=None, tradeoff=None, cross_check: bool = False, with_tighter: bool = True,
-                with_recommendation: bool = True, with_knock_safe: bool = True, progress=None,
-                run_meta: dict | None = None) -> ReportData:
+def report_data(
+    problem,
+    points: int | None = None,
+    *,
+    front=None,
+    tighter=None,
+    recommendation=None,
+    solution=None,
+    checks=None,
+    tradeoff=None,
+    cross_check: bool = False,
+    with_tighter: bool = True,
+    with_recommendation: bool = True,
+    with_knock_safe: bool = True,
+    progress=None,
+    run_meta: dict | None = None,
+) -> ReportData:
     """Compute everything the Pareto report of ``problem`` shows.
 
     Parameters
@@ -231,6 +261,7 @@ def report_data(problem, points: int | None = None, *, front=None, tighter=None,
     from designer.analysis.checks import front_checks, paper_checks  # analysis: loads casadi on first use
     from designer.analysis.optimise import optimise
     from designer.analysis.pareto import pareto_front
+
     # late import: loads casadi (via designer.analysis.tradeoff) only when this runs
     from designer.analysis.tradeoff import groove_damper_tradeoff
 
@@ -255,8 +286,11 @@ def report_data(problem, points: int | None = None, *, front=None, tighter=None,
                 tighter_problem = problem.replace(target_speed=problem.target_speed * TIGHTER_FACTOR)
                 n_tight = max(5, (points or problem.pareto_points) // 2)
                 try:
-                    tighter = pareto_front(tighter_problem, n_tight, progress=track(
-                        f"{problem.name}: front at {tighter_problem.target_speed:.3g} m/s"))
+                    tighter = pareto_front(
+                        tighter_problem,
+                        n_tight,
+                        progress=track(f"{problem.name}: front at {tighter_problem.target_speed:.3g} m/s"),
+                    )
                 except DesignerError as exc:  # an unreachable tighter target only removes check 8c
                     tighter, tighter_error = None, str(exc)
         data.tighter = tighter
@@ -299,8 +333,10 @@ def report_data(problem, points: int | None = None, *, front=None, tighter=None,
         "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         "versions": versions(),
         "problem_digest": problem.digest(),
-        "front_solver": {k: front.meta.get(k) for k in ("method", "solver", "points_requested", "points_valid",
-                                                         "points_failed", "nlp_solves")},
+        "front_solver": {
+            k: front.meta.get(k)
+            for k in ("method", "solver", "points_requested", "points_valid", "points_failed", "nlp_solves")
+        },
         "front_seconds": front.meta.get("total_seconds"),
         "optimum_seconds": sum(solution.timings.values()) if solution is not None else None,
         "tighter_target_speed": tighter.problem.target_speed if tighter is not None else None,
@@ -347,11 +383,26 @@ def robust_data(problem, points: int = 21) -> RobustData:
         warnings.filterwarnings("ignore", message="inertia power law used at")
         warnings.filterwarnings("ignore", message=".*inertia fit.*extrapolated")
         result = robust_comparison(problem, points)
-    run = {"date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"), "versions": versions(),
-           "problem_digest": problem.digest(), "points": points, "compute_cpu_seconds": time.process_time() - c0}
-    return RobustData(problem, result["nominal"], result["robust"], result["rows"], result["compare"],
-                      result["uncertainty"], run)
+    run = {
+        "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "versions": versions(),
+        "problem_digest": problem.digest(),
+        "points": points,
+        "compute_cpu_seconds": time.process_time() - c0,
+    }
+    return RobustData(
+        problem, result["nominal"], result["robust"], result["rows"], result["compare"], result["uncertainty"], run
+    )
 
 
-__all__ = ["ReportData", "RobustData", "robust_data", "TIGHTER_FACTOR", "card_knock_safe", "degenerate_reason",
-           "price_of_stock", "report_data", "versions"]
+__all__ = [
+    "ReportData",
+    "RobustData",
+    "robust_data",
+    "TIGHTER_FACTOR",
+    "card_knock_safe",
+    "degenerate_reason",
+    "price_of_stock",
+    "report_data",
+    "versions",
+]

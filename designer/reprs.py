@@ -4,6 +4,7 @@ Ground layer: plain strings in, a string out; no solver, no matplotlib, no desig
 escaped.  Used by :class:`~designer.problem.Problem`, :class:`~designer.analysis.pareto.Front`,
 :class:`~designer.analysis.optimise.Solution` and :class:`~designer.analysis.recommend.Recommendation`.
 """
+
 from __future__ import annotations
 
 import math
@@ -11,10 +12,12 @@ from collections.abc import Iterable
 from html import escape
 from typing import Any
 
-STYLE = ("border-collapse:collapse;font-size:12px;font-family:sans-serif;margin:2px 0",
-         "text-align:left;padding:1px 8px 1px 0;font-weight:normal;color:#555;white-space:nowrap",
-         "text-align:right;padding:1px 4px;font-variant-numeric:tabular-nums;white-space:nowrap",
-         "text-align:left;padding:1px 0 1px 4px;color:#555;white-space:nowrap")
+STYLE = (
+    "border-collapse:collapse;font-size:12px;font-family:sans-serif;margin:2px 0",
+    "text-align:left;padding:1px 8px 1px 0;font-weight:normal;color:#555;white-space:nowrap",
+    "text-align:right;padding:1px 4px;font-variant-numeric:tabular-nums;white-space:nowrap",
+    "text-align:left;padding:1px 0 1px 4px;color:#555;white-space:nowrap",
+)
 """Inline styles (table, label cell, value cell, unit cell): the repr must render without a stylesheet."""
 
 
@@ -25,33 +28,51 @@ def html_table(title: str, rows: Iterable[tuple[Any, Any, Any]], caption: str = 
     unescaped, so pass only strings built by this package.
     """
     table, th, td, unit = STYLE
-    body = "".join(f'<tr><th style="{th}">{escape(str(label))}</th><td style="{td}">{escape(str(value))}</td>'
-                   f'<td style="{unit}">{escape(str(u))}</td></tr>' for label, value, u in rows)
-    cap = f'<div style="font-size:11px;color:#555;font-family:sans-serif;max-width:420px">{escape(caption)}</div>' if caption else ""
-    inner = (f'<div><div style="font-weight:bold;font-family:sans-serif;font-size:13px">{escape(title)}</div>'
-             f'<table style="{table}">{body}</table>{cap}</div>')
+    body = "".join(
+        f'<tr><th style="{th}">{escape(str(label))}</th><td style="{td}">{escape(str(value))}</td>'
+        f'<td style="{unit}">{escape(str(u))}</td></tr>'
+        for label, value, u in rows
+    )
+    cap = (
+        f'<div style="font-size:11px;color:#555;font-family:sans-serif;max-width:420px">{escape(caption)}</div>'
+        if caption
+        else ""
+    )
+    inner = (
+        f'<div><div style="font-weight:bold;font-family:sans-serif;font-size:13px">{escape(title)}</div>'
+        f'<table style="{table}">{body}</table>{cap}</div>'
+    )
     if extra:
-        return (f'<div style="display:flex;gap:16px;align-items:flex-start">'
-                f'<div style="flex:none">{inner}</div><div style="flex:none">{extra}</div></div>')
+        return (
+            f'<div style="display:flex;gap:16px;align-items:flex-start">'
+            f'<div style="flex:none">{inner}</div><div style="flex:none">{extra}</div></div>'
+        )
     return f"<div>{inner}</div>"
 
 
-def _tick_labels(x0: float, x1: float, y0: float, y1: float, width: int, height: int, left: int, right: int,
-                 top: int, bottom: int) -> list[str]:
+def _tick_labels(
+    x0: float, x1: float, y0: float, y1: float, width: int, height: int, left: int, right: int, top: int, bottom: int
+) -> list[str]:
     """The four end values of a small SVG plot's axes, at the corners of the plot box."""
-    return [f'<text x="{left}" y="{height - bottom + 12}">{x0:.3g}</text>',
-            f'<text x="{width - right}" y="{height - bottom + 12}" text-anchor="end">{x1:.3g}</text>',
-            f'<text x="{left - 3}" y="{height - bottom}" text-anchor="end">{y0:.3g}</text>',
-            f'<text x="{left - 3}" y="{top + 9}" text-anchor="end">{y1:.3g}</text>']
+    return [
+        f'<text x="{left}" y="{height - bottom + 12}">{x0:.3g}</text>',
+        f'<text x="{width - right}" y="{height - bottom + 12}" text-anchor="end">{x1:.3g}</text>',
+        f'<text x="{left - 3}" y="{height - bottom}" text-anchor="end">{y0:.3g}</text>',
+        f'<text x="{left - 3}" y="{top + 9}" text-anchor="end">{y1:.3g}</text>',
+    ]
 
 
-def _axis_labels(xlabel: str, ylabel: str, width: int, height: int, left: int, right: int, top: int, bottom: int,
-                 xlabel_gap: int) -> list[str]:
+def _axis_labels(
+    xlabel: str, ylabel: str, width: int, height: int, left: int, right: int, top: int, bottom: int, xlabel_gap: int
+) -> list[str]:
     """The x label under the box, the y label turned along the left edge, and the closing tag."""
-    return [f'<text x="{(left + width - right) / 2:.0f}" y="{height - xlabel_gap}" text-anchor="middle">'
-            f"{escape(xlabel)}</text>",
-            f'<text transform="translate(11,{(top + height - bottom) / 2:.0f}) rotate(-90)" '
-            f'text-anchor="middle">{escape(ylabel)}</text>', "</svg>"]
+    return [
+        f'<text x="{(left + width - right) / 2:.0f}" y="{height - xlabel_gap}" text-anchor="middle">'
+        f"{escape(xlabel)}</text>",
+        f'<text transform="translate(11,{(top + height - bottom) / 2:.0f}) rotate(-90)" '
+        f'text-anchor="middle">{escape(ylabel)}</text>',
+        "</svg>",
+    ]
 
 
 def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: int = 240, height: int = 170) -> str:
@@ -61,11 +82,13 @@ def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: 
     """
     pts = [(float(a), float(b)) for a, b in zip(x, y) if math.isfinite(a) and math.isfinite(b)]
     left, right, top, bottom = 42, 8, 8, 32
-    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
-           f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="10">',
-           f"<title>{escape(ylabel)} against {escape(xlabel)}</title>",
-           f'<rect x="{left}" y="{top}" width="{width - left - right}" height="{height - top - bottom}" '
-           f'fill="none" stroke="#999"/>']
+    out = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
+        f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="10">',
+        f"<title>{escape(ylabel)} against {escape(xlabel)}</title>",
+        f'<rect x="{left}" y="{top}" width="{width - left - right}" height="{height - top - bottom}" '
+        f'fill="none" stroke="#999"/>',
+    ]
     if pts:
         xs, ys = [p[0] for p in pts], [p[1] for p in pts]
         x0, x1 = min(xs), max(xs)
@@ -84,15 +107,25 @@ def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: 
         for a, b in pts:
             out.append(f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="1.6" fill="#1f77b4"/>')
         for a, b, label in marks:
-            out.append(f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="3.5" fill="#d62728">'
-                       f"<title>{escape(label)}</title></circle>")
+            out.append(
+                f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="3.5" fill="#d62728">'
+                f"<title>{escape(label)}</title></circle>"
+            )
         out += _tick_labels(x0, x1, y0, y1, width, height, left, right, top, bottom)
     out += _axis_labels(xlabel, ylabel, width, height, left, right, top, bottom, xlabel_gap=4)
     return "".join(out)
 
 
-def svg_sparkline(x: Any, y: Any, xlabel: str, ylabel: str, band: float | None = None, width: int = 260,
-                  height: int = 120, max_points: int = 400) -> str:
+def svg_sparkline(
+    x: Any,
+    y: Any,
+    xlabel: str,
+    ylabel: str,
+    band: float | None = None,
+    width: int = 260,
+    height: int = 120,
+    max_points: int = 400,
+) -> str:
     """A small line (no dots) as an SVG string, e.g. θ(t): a zero line, optional ±``band`` dashed lines.
 
     Long series are thinned to about ``max_points`` vertices (every k-th point, the last kept) so the repr
@@ -102,9 +135,11 @@ def svg_sparkline(x: Any, y: Any, xlabel: str, ylabel: str, band: float | None =
     step = max(1, math.ceil(len(pts) / max_points))
     pts = pts[::step] + (pts[-1:] if pts and (len(pts) - 1) % step else [])
     left, right, top, bottom = 38, 6, 6, 28
-    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
-           f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="10">',
-           f"<title>{escape(ylabel)} against {escape(xlabel)}</title>"]
+    out = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
+        f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="10">',
+        f"<title>{escape(ylabel)} against {escape(xlabel)}</title>",
+    ]
     if pts:
         xs, ys = [p[0] for p in pts], [p[1] for p in pts]
         x0, x1 = min(xs), max(xs)
@@ -121,8 +156,10 @@ def svg_sparkline(x: Any, y: Any, xlabel: str, ylabel: str, band: float | None =
         out.append(f'<line x1="{left}" y1="{py(0):.1f}" x2="{width - right}" y2="{py(0):.1f}" stroke="#999"/>')
         if band is not None and math.isfinite(band):
             for b in (band, -band):
-                out.append(f'<line x1="{left}" y1="{py(b):.1f}" x2="{width - right}" y2="{py(b):.1f}" '
-                           f'stroke="#d62728" stroke-dasharray="4 3"/>')
+                out.append(
+                    f'<line x1="{left}" y1="{py(b):.1f}" x2="{width - right}" y2="{py(b):.1f}" '
+                    f'stroke="#d62728" stroke-dasharray="4 3"/>'
+                )
         line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
         out.append(f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.2"/>')
         out += _tick_labels(x0, x1, y0, y1, width, height, left, right, top, bottom)
@@ -139,8 +176,7 @@ def require_pandas(what: str) -> Any:
     return pandas
 
 
-def dataframe(what: str, records: list[dict[str, Any]], columns: list[str], units: dict[str, str],
-              **attrs: Any) -> Any:
+def dataframe(what: str, records: list[dict[str, Any]], columns: list[str], units: dict[str, str], **attrs: Any) -> Any:
     """A pandas DataFrame of ``records`` in ``columns`` order; ``df.attrs["units"]`` = ``units`` plus ``attrs``.
 
     ``what`` names the caller in the message when pandas is missing (:func:`require_pandas`).

@@ -5,6 +5,7 @@ SI, or strings with units ("2 in", "50.8 mm", "20 deg", "1.3 N*m/rad").
 Inside the package every quantity is a float in SI units; pint is used only
 here, never in the model's hot paths.
 """
+
 from __future__ import annotations
 
 import math
@@ -79,14 +80,14 @@ def parse_quantity(value, dimension: str, key: str = "value") -> float:
         try:
             number = float(value)
         except OverflowError:
-            raise InputError(f"{key}: an integer of about {int(int(value).bit_length() * 0.30103)} digits is too large") \
-                from None
+            raise InputError(
+                f"{key}: an integer of about {int(int(value).bit_length() * 0.30103)} digits is too large"
+            ) from None
     elif isinstance(value, str):
         number = _parse_string(value, target, shown, dimension, key)
     else:
         raise InputError(
-            f"{key} = {value!r}: expected a number (SI, {shown}) or a string with units such as "
-            f"{_example(dimension)!r}"
+            f"{key} = {value!r}: expected a number (SI, {shown}) or a string with units such as {_example(dimension)!r}"
         )
     if not math.isfinite(number):
         raise InputError(f"{key} = {value!r}: must be a finite number")
@@ -120,8 +121,7 @@ def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) 
     except pint.errors.DimensionalityError:
         hint = _mass_for_force_hint(quantity, stripped, key) if dimension == "force" else ""
         raise InputError(
-            f"{key} = {text!r}: wrong dimension, expected {dimension} ({shown}), "
-            f"e.g. {_example(dimension)!r}{hint}"
+            f"{key} = {text!r}: wrong dimension, expected {dimension} ({shown}), e.g. {_example(dimension)!r}{hint}"
         ) from None
     except OverflowError:
         raise InputError(f"{key} = {text!r}: the number is too large") from None
@@ -134,8 +134,9 @@ def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) 
         raise InputError(f"{key} = {text!r}: not a single number") from None
 
 
-ANGLE_UNITS = frozenset({"radian", "degree", "turn", "revolution", "arcminute", "arcsecond", "gradian",
-                         "milliradian", "microradian"})
+ANGLE_UNITS = frozenset(
+    {"radian", "degree", "turn", "revolution", "arcminute", "arcsecond", "gradian", "milliradian", "microradian"}
+)
 """pint unit names of angles: pint treats the radian as dimensionless, so "N*m" converts to "N*m/rad"
 silently; a damping must name the angle it is per."""
 
@@ -146,8 +147,10 @@ def _check_kind(quantity, text: str, dimension: str, key: str) -> None:
     units = dict(quantity.unit_items())
     per_angle = any(name in ANGLE_UNITS and power < 0 for name, power in units.items())
     if dimension == "damping" and not per_angle:
-        raise InputError(f"{key} = {text!r}: a moment (or energy), not a damping; a damping is a moment per "
-                         f"angle: write it per radian, e.g. {_example('damping')!r}")
+        raise InputError(
+            f"{key} = {text!r}: a moment (or energy), not a damping; a damping is a moment per "
+            f"angle: write it per radian, e.g. {_example('damping')!r}"
+        )
     if dimension == "moment" and per_angle:
         raise InputError(f"{key} = {text!r}: a damping (moment per angle), not a moment; e.g. {_example('moment')!r}")
 
@@ -212,8 +215,10 @@ def outside_range(key: str, given, value: float, low: float, high: float, dimens
             factor = 0.0
         if factor > 0:
             si = "" if abs(factor - 1) < 1e-12 else f" ({value:g} {shown})"
-            return (f"{key} = {given!r}{si}: outside the model's range {low / factor:.3g} to "
-                    f"{high / factor:.3g} {unit}" + ("" if not si else f" ({low:g} to {high:g} {shown})"))
+            return (
+                f"{key} = {given!r}{si}: outside the model's range {low / factor:.3g} to "
+                f"{high / factor:.3g} {unit}" + ("" if not si else f" ({low:g} to {high:g} {shown})")
+            )
     text = f"{key} = {value:g} {shown}: outside the model's range {low:g} to {high:g} {shown}"
     if dimension == "length" and low <= value * 0.0254 <= high:
         text += "; were inches written as metres? write e.g. '2 in'"
@@ -237,9 +242,14 @@ def _check_text(stripped: str, text: str, key: str, dimension: str) -> None:
         raise InputError(f"{key} = {text!r}: a unit without a number; {hint}")
     for match in _EXPONENT.finditer(stripped):
         operand = match.group(3)
-        rest = stripped[match.end():].lstrip()
-        if operand == "(" or operand[0].isalpha() or operand[0] == "_" or len(operand) > 3 \
-                or rest.startswith(("**", "^")):
+        rest = stripped[match.end() :].lstrip()
+        if (
+            operand == "("
+            or operand[0].isalpha()
+            or operand[0] == "_"
+            or len(operand) > 3
+            or rest.startswith(("**", "^"))
+        ):
             raise InputError(f"{key} = {text!r}: exponents must be small plain numbers such as m**2; {hint}")
 
 

@@ -1,4 +1,5 @@
 """Shared fixtures: the shipped problems and a quiet warning filter."""
+
 from __future__ import annotations
 
 import warnings

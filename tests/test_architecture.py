@@ -3,6 +3,7 @@
 Every ``import`` in the package, including the ones inside functions, is read from the source (AST), so
 a late import cannot hide an upward arrow or a cycle.  CONTRIBUTING.md draws the same layers.
 """
+
 from __future__ import annotations
 
 import ast
@@ -14,8 +15,17 @@ import pytest
 PACKAGE = Path(__file__).resolve().parents[1] / "designer"
 
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
-    ("ground", ("designer.errors", "designer.units", "designer.jsonsafe", "designer.data", "designer.parameters",
-                "designer.reprs")),
+    (
+        "ground",
+        (
+            "designer.errors",
+            "designer.units",
+            "designer.jsonsafe",
+            "designer.data",
+            "designer.parameters",
+            "designer.reprs",
+        ),
+    ),
     ("physics", ("designer.physics",)),
     ("model", ("designer.model",)),
     ("problem", ("designer.problem", "designer.examples")),
@@ -28,8 +38,23 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
 ]
 """Lowest first.  A module may import its own layer and the layers below it, never one above."""
 
-HEAVY = ("casadi", "cvxpy", "optuna", "matplotlib", "scipy.stats", "pandas", "dask", "distributed", "dash",
-         "panel", "plotly", "pgserver", "psycopg2", "jinja2", "pymoo")
+HEAVY = (
+    "casadi",
+    "cvxpy",
+    "optuna",
+    "matplotlib",
+    "scipy.stats",
+    "pandas",
+    "dask",
+    "distributed",
+    "dash",
+    "panel",
+    "plotly",
+    "pgserver",
+    "psycopg2",
+    "jinja2",
+    "pymoo",
+)
 """Dependencies that ``import designer`` must not load: imported late, inside the functions that need them."""
 
 
@@ -61,7 +86,9 @@ def imports_of(path: Path) -> list[tuple[str, int, bool]]:
         elif isinstance(node, ast.ImportFrom):
             base = node.module or ""
             if node.level:
-                base = ".".join(package.split(".")[: len(package.split(".")) - node.level + 1] + ([base] if base else []))
+                base = ".".join(
+                    package.split(".")[: len(package.split(".")) - node.level + 1] + ([base] if base else [])
+                )
             names = [base] + [f"{base}.{alias.name}" for alias in node.names]
         for name in names:
             if name.startswith("designer.") and (name in ALL_MODULES or name == names[0]):
@@ -115,7 +142,7 @@ def test_no_import_cycle():
         colour[node] = 1
         for nxt in sorted(graph[node]):
             if colour.get(nxt) == 1:
-                cycles.append(" -> ".join(stack[stack.index(nxt):] + [nxt]) if nxt in stack else f"{node} -> {nxt}")
+                cycles.append(" -> ".join(stack[stack.index(nxt) :] + [nxt]) if nxt in stack else f"{node} -> {nxt}")
             elif colour.get(nxt) is None:
                 visit(nxt, stack + [nxt])
         colour[node] = 2
@@ -143,14 +170,16 @@ def test_import_designer_is_light():
     """``import designer`` loads NumPy and the physics only: none of the heavy dependencies."""
     import subprocess
 
-    code = ("import sys, designer; heavy = %r; "
-            "print(sorted(h for h in heavy if h in sys.modules))" % (HEAVY,))
+    code = "import sys, designer; heavy = %r; print(sorted(h for h in heavy if h in sys.modules))" % (HEAVY,)
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
     assert out == "[]"
 
 
-@pytest.mark.parametrize("path", [p for p in ALL_FILES if p.name != "__init__.py" or p.parent == PACKAGE],
-                         ids=lambda p: str(p.relative_to(PACKAGE)))
+@pytest.mark.parametrize(
+    "path",
+    [p for p in ALL_FILES if p.name != "__init__.py" or p.parent == PACKAGE],
+    ids=lambda p: str(p.relative_to(PACKAGE)),
+)
 def test_late_imports_say_why(path):
     """A function-local import is only for a heavy or optional dependency and says so in a comment."""
     lines = path.read_text(encoding="utf-8").splitlines()
@@ -161,7 +190,7 @@ def test_late_imports_say_why(path):
         if isinstance(node, (ast.Import, ast.ImportFrom)) and id(node) not in top:
             if isinstance(node, ast.ImportFrom) and node.module == "__future__":
                 continue
-            window = " ".join(lines[max(0, node.lineno - 3): node.lineno])
+            window = " ".join(lines[max(0, node.lineno - 3) : node.lineno])
             if "#" not in window:
                 unexplained.append(f"line {node.lineno}: {ast.unparse(node)}")
     assert unexplained == [], "late imports without a comment saying why"

@@ -1,4 +1,5 @@
 """Calibration of k_surface (Fig. 7), c_f (Eq. 7, Fig. 2C) and K_s (Eq. 12C, Fig. 3C) from CSV data."""
+
 from __future__ import annotations
 
 import json
@@ -76,14 +77,17 @@ def test_snippets_use_problem_keys(tmp_path):
     assert turning["turning"]["tile_moment_per_load"].endswith(" m")
 
 
-@pytest.mark.parametrize("text, message", [
-    ("load_N,moment\n1,2\n2,3\n3,4\n", "missing column 'moment_Nm'"),
-    ("load_N,moment_Nm\n1,2\n2,abc\n3,4\n", "row 3, column 'moment_Nm': 'abc' is not a number"),
-    ("load_N,moment_Nm\n1,2\n2,nan\n3,4\n", "row 3, column 'moment_Nm': 'nan' is not finite"),
-    ("load_N,moment_Nm\n1,2\n2,3\n", "2 data rows; the fit needs at least 3"),
-    ("load_N,moment_Nm\n1,2\n2,\n3,4\n", "row 3, column 'moment_Nm': empty cell"),
-    ("", "empty file"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("load_N,moment\n1,2\n2,3\n3,4\n", "missing column 'moment_Nm'"),
+        ("load_N,moment_Nm\n1,2\n2,abc\n3,4\n", "row 3, column 'moment_Nm': 'abc' is not a number"),
+        ("load_N,moment_Nm\n1,2\n2,nan\n3,4\n", "row 3, column 'moment_Nm': 'nan' is not finite"),
+        ("load_N,moment_Nm\n1,2\n2,3\n", "2 data rows; the fit needs at least 3"),
+        ("load_N,moment_Nm\n1,2\n2,\n3,4\n", "row 3, column 'moment_Nm': empty cell"),
+        ("", "empty file"),
+    ],
+)
 def test_bad_csv_one_line_error(tmp_path, text, message):
     """Bad CSVs raise one-line InputErrors naming the file, the column/row and the reason."""
     path = tmp_path / "data.csv"
@@ -104,8 +108,9 @@ def test_cli_json_plot_snippet(capsys, tmp_path):
     """`designer calibrate slip --json --plot --snippet` gives value and a 2-element interval, writes a
     PNG and a snippet with [shimmy] slip_coefficient."""
     plot, snippet = tmp_path / "res.png", tmp_path / "ks.toml"
-    code = main(["calibrate", "slip", str(EXAMPLES_DIR / "slip.csv"), "--json", "--plot", str(plot),
-                 "--snippet", str(snippet)])
+    code = main(
+        ["calibrate", "slip", str(EXAMPLES_DIR / "slip.csv"), "--json", "--plot", str(plot), "--snippet", str(snippet)]
+    )
     assert code == 0
     out = json.loads(capsys.readouterr().out)
     assert out["interval"][0] < out["value"] < out["interval"][1]

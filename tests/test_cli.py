@@ -1,4 +1,5 @@
 """The command line: evaluate, validate, run; one-line errors with the documented exit codes."""
+
 from __future__ import annotations
 
 import json
@@ -20,8 +21,16 @@ def test_evaluate_json_eq8(capsys):
     assert main(EVAL + ["--inertia", "0.00127", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["critical_speed"] == pytest.approx(2.9098, abs=1e-4)
-    for key in ("critical_speed", "inertia", "threshold_force_ratio", "threshold_force", "turning_moment",
-                "turning_effort", "swept_radius", "shimmy_frequency"):
+    for key in (
+        "critical_speed",
+        "inertia",
+        "threshold_force_ratio",
+        "threshold_force",
+        "turning_moment",
+        "turning_effort",
+        "swept_radius",
+        "shimmy_frequency",
+    ):
         assert key in out
     assert out["turning_effort"] == pytest.approx(9.636, abs=1e-3)
 

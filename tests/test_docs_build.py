@@ -1,5 +1,6 @@
 """The documentation site builds with `mkdocs build --strict` (README, CONTRIBUTING): a broken link, a
 reference to a name that no longer exists, or a docstring the API reference cannot parse fails the suite."""
+
 from __future__ import annotations
 
 import subprocess
@@ -17,8 +18,13 @@ ROOT = Path(__file__).resolve().parents[1]
 def test_mkdocs_build_strict(tmp_path):
     """`mkdocs build --strict` exits 0 without a warning, and the API pages hold the public names' docstrings."""
     site = tmp_path / "site"
-    run = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-q", "-d", str(site)],
-                         cwd=ROOT, capture_output=True, text=True, timeout=600)
+    run = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "-q", "-d", str(site)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert run.returncode == 0, f"mkdocs build --strict failed:\n{run.stdout}\n{run.stderr}"
     assert "WARNING" not in run.stderr, run.stderr
     front = (site / "api" / "front" / "index.html").read_text(encoding="utf-8")
@@ -34,11 +40,17 @@ def test_api_reference_covers_the_public_names():
     docs/api/, so a new public name does not go undocumented."""
     import designer
 
-    lines = {line.strip() for p in (ROOT / "docs" / "api").glob("*.md")
-             for line in p.read_text(encoding="utf-8").splitlines()}
+    lines = {
+        line.strip()
+        for p in (ROOT / "docs" / "api").glob("*.md")
+        for line in p.read_text(encoding="utf-8").splitlines()
+    }
     lazy = designer._LAZY
-    missing = [name for name in designer.__all__
-               if f"::: designer.{name}" not in lines and f"::: {lazy.get(name)}.{name}" not in lines]
+    missing = [
+        name
+        for name in designer.__all__
+        if f"::: designer.{name}" not in lines and f"::: {lazy.get(name)}.{name}" not in lines
+    ]
     assert missing == [], f"add `::: designer.NAME` for {missing} to a page of docs/api/"
 
 

@@ -3,6 +3,7 @@
 Each page's ```python blocks run in order in one namespace, in an empty temporary folder (as a reader would
 paste them into a fresh session), and must not raise; a few printed facts are checked per page.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -26,8 +27,12 @@ EXPECTED = {
 }
 """Facts each page's output must show (regular expressions, multiline)."""
 
-FILES = {"run-a-problem.md": ["caster.png", "front.png", "my-report/index.html"], "compare-fronts.md": ["fronts.png"],
-         "calibrate.md": ["treadmill.csv"], "share-a-study.md": ["study.db"]}
+FILES = {
+    "run-a-problem.md": ["caster.png", "front.png", "my-report/index.html"],
+    "compare-fronts.md": ["fronts.png"],
+    "calibrate.md": ["treadmill.csv"],
+    "share-a-study.md": ["study.db"],
+}
 """Files each page writes into its folder."""
 
 

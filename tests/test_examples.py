@@ -1,4 +1,5 @@
 """designer.example_problem: the repository's problems/*.toml shipped as package data (issue 17)."""
+
 from __future__ import annotations
 
 import dataclasses

@@ -1,4 +1,5 @@
 """Tests of ``designer explore`` (issue 5): optuna NSGA-II exploration, storages, budget, resume, refine."""
+
 from __future__ import annotations
 
 import json
@@ -16,8 +17,15 @@ from optuna.trial import TrialState
 
 import designer
 from designer.cli import main
-from designer.analysis.exploration import (CSV_COLUMNS, RETRY_ATTR, SURPLUS_ATTR, StorageError, explore, open_storage,
-                              parse_storage)
+from designer.analysis.exploration import (
+    CSV_COLUMNS,
+    RETRY_ATTR,
+    SURPLUS_ATTR,
+    StorageError,
+    explore,
+    open_storage,
+    parse_storage,
+)
 from designer.solvers.nlp import CasterNLP, best_starts, solve_best
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -67,8 +75,21 @@ def test_killed_run_resumes_to_exactly_n_trials(tmp_path):
     log = tmp_path / "study.log"
     url = f"journal://{log}"
     n = 400
-    cmd = [sys.executable, "-m", "designer.cli", "explore", str(INDOOR), "--trials", str(n), "--storage", url,
-           "--no-compare", "--json", "--out", str(tmp_path / "first")]
+    cmd = [
+        sys.executable,
+        "-m",
+        "designer.cli",
+        "explore",
+        str(INDOOR),
+        "--trials",
+        str(n),
+        "--storage",
+        url,
+        "--no-compare",
+        "--json",
+        "--out",
+        str(tmp_path / "first"),
+    ]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp_path)
     done = 0
     deadline = time.time() + 30
@@ -157,7 +178,7 @@ def test_front_is_feasible_and_constraints_reach_optuna():
         trial = _load(storage, "constraints").trials[0]
         assert set(trial.constraints) == {"shimmy", "swept_radius"}
     finally:
-        Path(storage[len("sqlite:///"):]).unlink(missing_ok=True)
+        Path(storage[len("sqlite:///") :]).unlink(missing_ok=True)
     assert result.front
     for row in result.front:
         assert row["critical_speed"] >= problem.required_speed * (1 - 1e-12)
@@ -175,8 +196,16 @@ def test_tuned_operators_beat_optuna_defaults():
     assert tuned.comparison["igd_plus"] < default.comparison["igd_plus"]
 
 
-@pytest.mark.parametrize("url", ["foo://bar", "sqlite:////no/such/folder/x.db", "journal:///no/such/folder/x.log",
-                                 "postgresql://user:secret@127.0.0.1:1/db", "not-a-url"])
+@pytest.mark.parametrize(
+    "url",
+    [
+        "foo://bar",
+        "sqlite:////no/such/folder/x.db",
+        "journal:///no/such/folder/x.log",
+        "postgresql://user:secret@127.0.0.1:1/db",
+        "not-a-url",
+    ],
+)
 def test_bad_storage_is_one_line_exit_6(url, capsys, tmp_path):
     """A malformed or unreachable storage gives exit code 6 and one line on stderr, no traceback, no password."""
     code = main(["explore", str(INDOOR), "--trials", "10", "--storage", url, "--out", str(tmp_path)])
@@ -199,15 +228,26 @@ def test_workers_need_shared_storage_and_resume_needs_study(capsys, tmp_path):
 def test_cli_writes_csv_and_json(tmp_path, capsys):
     """The CLI writes explore.csv (SI columns, category column, front flags) and explore.json (fronts per category,
     HV, IGD+, study, storage, seed, trials, versions) atomically: no temporary files left."""
-    code = main(["explore", str(CATALOG), "--trials", "150", "--seed", "2", "--refine", "--json", "--out", str(tmp_path)])
+    code = main(
+        ["explore", str(CATALOG), "--trials", "150", "--seed", "2", "--refine", "--json", "--out", str(tmp_path)]
+    )
     assert code == 0
     printed = json.loads(capsys.readouterr().out)
     header = (tmp_path / "explore.csv").read_text().splitlines()[0].split(",")
     assert tuple(header[:7]) == CSV_COLUMNS and "wheel" in header and "overall_front" in header
     data = json.loads((tmp_path / "explore.json").read_text())
     assert data == printed
-    for key in ("front", "category_fronts", "hypervolume", "comparison", "study", "storage", "seed", "trials",
-                "versions"):
+    for key in (
+        "front",
+        "category_fronts",
+        "hypervolume",
+        "comparison",
+        "study",
+        "storage",
+        "seed",
+        "trials",
+        "versions",
+    ):
         assert key in data
     assert data["trials"] == 150 and data["seed"] == 2 and data["storage"] == "memory"
     assert data["comparison"]["hypervolume_ratio"] == pytest.approx(1.0, abs=1e-6)

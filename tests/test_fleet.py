@@ -1,5 +1,6 @@
 """Product lines (`designer fleet`): the fleet table, the vectorised per-chair recommendation, the exact
 K-median of part numbers, and the Dask path on a 2-worker LocalCluster."""
+
 from __future__ import annotations
 
 import json
@@ -38,10 +39,12 @@ def test_units_in_header_and_cells_agree():
     cells = fl.fleet_from_text(
         "name,load,threshold_height,target_speed,swept_radius_max,surface,turning_mode,count\n"
         "a,178 N,0.5 in,2.5 m/s,6 in,tile,chair,10\n"
-        "b,200 N,6.35 mm,7.2 km/h,7 in,carpet,pivot,3\n")
+        "b,200 N,6.35 mm,7.2 km/h,7 in,carpet,pivot,3\n"
+    )
     brackets = fl.fleet_from_text(
         "name,load [lbf],threshold_height (mm),target_speed_mps,swept_radius_max [in],surface,turning_mode\n"
-        "a,40.0158,12.7,2.5,6,tile,chair\nb,44.9616,6.35,2.0,7,carpet,pivot\n")
+        "a,40.0158,12.7,2.5,6,tile,chair\nb,44.9616,6.35,2.0,7,carpet,pivot\n"
+    )
     for other in (cells, brackets):
         np.testing.assert_allclose(other.load, header.load, rtol=1e-5)
         np.testing.assert_allclose(other.threshold_height, [0.5 * INCH, 0.25 * INCH], rtol=1e-12)
@@ -55,25 +58,39 @@ def test_mass_and_front_fraction_give_the_load_per_caster():
     """A row may give mass and front_fraction instead of load: L = m g f / 2 (another row keeps its load)."""
     f = fl.fleet_from_text(
         "name,load_N,mass_kg,front_fraction,threshold_height_in,target_speed,swept_radius_max_in,surface,turning_mode\n"
-        "a,,100,0.4,0.5,2.5,6,tile,chair\nb,150,,,0.5,2.5,6,tile,chair\nc,,90,35 %,0.5,2.5,6,tile,chair\n")
+        "a,,100,0.4,0.5,2.5,6,tile,chair\nb,150,,,0.5,2.5,6,tile,chair\nc,,90,35 %,0.5,2.5,6,tile,chair\n"
+    )
     assert f.load[0] == pytest.approx(100 * 9.80665 * 0.4 / 2, rel=1e-12)
     assert f.load[1] == 150
     assert f.load[2] == pytest.approx(90 * 9.80665 * 0.35 / 2, rel=1e-12)
 
 
 BAD = [
-    ("name,load_N,threshold_heigth_in,target_speed,swept_radius_max_in,surface,turning_mode\n"
-     "a,178,0.5,2.5,6,tile,chair\n",
-     ["column 'threshold_heigth_in'", "did you mean 'threshold_height'"]),
-    ("name,load_N,target_speed,swept_radius_max_in,surface,turning_mode\na,178,2.5,6,tile,chair\n",
-     ["missing column 'threshold_height'"]),
-    ("name,lod_N,threshold_height_in,target_speed,swept_radius_max_in,surface,turning_mode\n"
-     "a,178,0.5,2.5,6,tile,chair\n", ["did you mean 'load'"]),
-    ("name,load_in,threshold_height_in,target_speed,swept_radius_max_in,surface,turning_mode\n"
-     "a,178,0.5,2.5,6,tile,chair\n", ["column load", "wrong dimension", "force"]),
+    (
+        "name,load_N,threshold_heigth_in,target_speed,swept_radius_max_in,surface,turning_mode\n"
+        "a,178,0.5,2.5,6,tile,chair\n",
+        ["column 'threshold_heigth_in'", "did you mean 'threshold_height'"],
+    ),
+    (
+        "name,load_N,target_speed,swept_radius_max_in,surface,turning_mode\na,178,2.5,6,tile,chair\n",
+        ["missing column 'threshold_height'"],
+    ),
+    (
+        "name,lod_N,threshold_height_in,target_speed,swept_radius_max_in,surface,turning_mode\n"
+        "a,178,0.5,2.5,6,tile,chair\n",
+        ["did you mean 'load'"],
+    ),
+    (
+        "name,load_in,threshold_height_in,target_speed,swept_radius_max_in,surface,turning_mode\n"
+        "a,178,0.5,2.5,6,tile,chair\n",
+        ["column load", "wrong dimension", "force"],
+    ),
     (GOOD.replace("a,178,0.5", "a,178 kg,0.5"), ["row 2, column load", "wrong dimension"]),
     (GOOD.replace("b,200", "a,200"), ["row 3, column name = 'a'", "duplicate", "first at row 2"]),
-    (GOOD.replace("a,178,0.5,2.5,6", "a,178,0.5,2.5,600"), ["row 2, column swept_radius_max", "outside the model's range"]),
+    (
+        GOOD.replace("a,178,0.5,2.5,6", "a,178,0.5,2.5,600"),
+        ["row 2, column swept_radius_max", "outside the model's range"],
+    ),
     (GOOD.replace("a,178,0.5", "a,,0.5"), ["row 2, column load", "empty"]),
     (GOOD.replace("carpet,pivot", "carpt,pivot"), ["row 3, column surface = 'carpt'", "did you mean 'carpet'"]),
     (GOOD.replace(",10\n", ",2.5\n"), ["row 2, column count"]),
@@ -99,8 +116,19 @@ def test_skus_larger_than_the_stock_is_exit_2(tmp_path, capsys, root):
     """--skus K above the number of stock casters: exit 2 naming the option and the stock size."""
     path = tmp_path / "fleet.csv"
     path.write_text(GOOD)
-    code = main(["fleet", str(path), "--skus", "10000", "--no-monte-carlo", "--problem",
-                 str(root / "problems" / "indoor-manual.toml"), "--out", str(tmp_path / "out")])
+    code = main(
+        [
+            "fleet",
+            str(path),
+            "--skus",
+            "10000",
+            "--no-monte-carlo",
+            "--problem",
+            str(root / "problems" / "indoor-manual.toml"),
+            "--out",
+            str(tmp_path / "out"),
+        ]
+    )
     errors = [ln for ln in capsys.readouterr().err.splitlines() if ln.startswith("designer: error")]
     assert code == 2 and len(errors) == 1 and "--skus 10000: larger than the stock (630 casters)" in errors[0]
 
@@ -123,8 +151,12 @@ def test_example_fleet_stays_in_its_stated_ranges_and_reads_back(tmp_path):
 
 def _reference_choice(problem, stock, chair: dict) -> tuple[int, int]:
     """Scalar reference for one chair: loop over the stock with model.performance, the front, the knee."""
-    c = problem.conditions.replace(load=chair["load"], threshold_height=chair["threshold_height"],
-                                   surface=chair["surface"], turning_mode=chair["turning_mode"])
+    c = problem.conditions.replace(
+        load=chair["load"],
+        threshold_height=chair["threshold_height"],
+        surface=chair["surface"],
+        turning_mode=chair["turning_mode"],
+    )
     pts = []
     for j in range(len(stock)):
         d = stock.design(j)
@@ -170,8 +202,12 @@ def test_vectorised_recommendation_equals_a_scalar_loop(base, fleet1000):
         assert rec["choice"][i] == j, (i, chair)
         assert rec["front_size"][i] == size
         if j >= 0:
-            c = base.conditions.replace(load=chair["load"], threshold_height=chair["threshold_height"],
-                                        surface=chair["surface"], turning_mode=chair["turning_mode"])
+            c = base.conditions.replace(
+                load=chair["load"],
+                threshold_height=chair["threshold_height"],
+                surface=chair["surface"],
+                turning_mode=chair["turning_mode"],
+            )
             d = stock.design(j)
             v = performance(d["trail"], d["diameter"], d["groove"], d["damping"], c)
             assert rec["turning_effort"][i] == pytest.approx(float(v["turning_effort"]), rel=1e-12)
@@ -217,8 +253,10 @@ def test_vectorised_recommendation_equals_designer_recommend(stocked, fleet1000)
         assert stock.design(j) == pytest.approx(r.design.as_dict(), rel=1e-12)
         assert ch["turning_effort"][k] == pytest.approx(r.turning_effort, rel=1e-12)
         assert ch["threshold_force"][k] == pytest.approx(r.threshold_force, rel=1e-12)
-        assert (ch["shimmy_probability"][k], ch["shimmy_probability_se"][k]) == \
-            (r.shimmy_probability, r.shimmy_probability_se)
+        assert (ch["shimmy_probability"][k], ch["shimmy_probability_se"][k]) == (
+            r.shimmy_probability,
+            r.shimmy_probability_se,
+        )
         assert ch["front_size"][k] == len(r.buildable)
         ends = {a.role: a.design.as_dict() for a in r.alternatives}
         for role, key in (("easiest to turn", "easiest_turn"), ("easiest over the sill", "easiest_sill")):
@@ -281,8 +319,21 @@ def test_fleet_cli_writes_csv_json_and_report(tmp_path, capsys, root):
     """`designer fleet F --skus 2 --json`: exit 0, fleet.csv with the issue's columns, JSON skus/regret/rows."""
     path = fl.write_fleet_csv(fl.example_fleet(60, seed=2), tmp_path / "f.csv")
     out = tmp_path / "out"
-    code = main(["fleet", str(path), "--skus", "2", "--k-max", "3", "--problem",
-                 str(root / "problems" / "indoor-manual.toml"), "--out", str(out), "--json"])
+    code = main(
+        [
+            "fleet",
+            str(path),
+            "--skus",
+            "2",
+            "--k-max",
+            "3",
+            "--problem",
+            str(root / "problems" / "indoor-manual.toml"),
+            "--out",
+            str(out),
+            "--json",
+        ]
+    )
     assert code == 0
     data = json.loads(capsys.readouterr().out)
     assert data["k"] == 2 and len(data["skus"]) == 2 and data["sku_status"] == "optimal"
@@ -293,9 +344,22 @@ def test_fleet_cli_writes_csv_json_and_report(tmp_path, capsys, root):
     assert regrets == sorted(regrets, reverse=True)
     assert data["weights"] == [1.0, 1.0] and "regret" in data
     header = (out / "fleet.csv").read_text().splitlines()[0].split(",")
-    assert header == ["name", "trail", "diameter", "groove", "damping", "turning_effort", "threshold_force",
-                      "shimmy_probability", "shimmy_probability_se", "sku", "sku_turning_effort",
-                      "sku_threshold_force", "sku_shimmy_probability", "status"]
+    assert header == [
+        "name",
+        "trail",
+        "diameter",
+        "groove",
+        "damping",
+        "turning_effort",
+        "threshold_force",
+        "shimmy_probability",
+        "shimmy_probability_se",
+        "sku",
+        "sku_turning_effort",
+        "sku_threshold_force",
+        "sku_shimmy_probability",
+        "status",
+    ]
     rows = data["rows"]
     assert len(rows) == 60
     for r in rows:
@@ -323,13 +387,16 @@ def test_dask_local_cluster_gives_the_in_process_result(base):
     """The same code path on a 2-worker LocalCluster (separate processes) gives identical choices and
     Monte Carlo numbers as in-process; what is shipped to workers holds no CasADi object."""
     import distributed  # in the `test` extra: this test never skips
+
     f = fl.example_fleet(300, seed=4)
     stock = fl.stock_table(base)
     payload = pickle.dumps((fl._split(f, 100)[0][1], stock, base))
     assert b"casadi" not in payload
     local = fl.fleet_recommendations(f, base, monte_carlo=True, chunk=100)
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+    with (
+        distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster,
+        distributed.Client(cluster) as client,
+    ):
         remote = fl.fleet_recommendations(f, base, scheduler=client, monte_carlo=True, chunk=100)
         assert len(client.scheduler_info()["workers"]) == 2
     np.testing.assert_array_equal(remote.chairs["choice"], local.chairs["choice"])
@@ -349,7 +416,14 @@ def test_batched_monte_carlo_gives_the_numbers_of_the_shared_function(base):
     designs = np.tile([stock.trail[j], stock.diameter[j], stock.groove[j], stock.damping[j]], (12, 1))
     got = fl._mc_task(designs, np.full(12, stock.inertia[j]), speeds, base.conditions.slip_coefficient, u)
     for r in range(12):
-        want = shimmy_probability_mc(stock.trail[j], stock.inertia[j], stock.groove[j], stock.damping[j],
-                                     base.conditions.slip_coefficient, speeds[r], u)
+        want = shimmy_probability_mc(
+            stock.trail[j],
+            stock.inertia[j],
+            stock.groove[j],
+            stock.damping[j],
+            base.conditions.slip_coefficient,
+            speeds[r],
+            u,
+        )
         assert tuple(got[r]) == want, r
     assert got[0, 0] < 0.05 < got[-1, 0]  # both paths (shared draw, top-up) are exercised

@@ -5,6 +5,7 @@ Physics: no NaN/inf for valid inputs, the monotonicity claims of docs/checks.md#
 CasADi and NumPy agreeing.  Problem files: random valid files load and either solve or raise a
 :class:`~designer.errors.DesignerError`; random invalid files never raise anything else.
 """
+
 from __future__ import annotations
 
 import math
@@ -36,8 +37,12 @@ EXAMPLES = int(os.environ.get("FUZZ_EXAMPLES", "60"))
 SOLVE_EXAMPLES = max(3, EXAMPLES // 20)
 """Problem files actually solved (each solve takes ~0.1–1 s)."""
 
-FUZZ = settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow],
-                derandomize=os.environ.get("FUZZ_EXAMPLES") is None)
+FUZZ = settings(
+    max_examples=EXAMPLES,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+    derandomize=os.environ.get("FUZZ_EXAMPLES") is None,
+)
 
 
 def real(low, high):
@@ -67,8 +72,10 @@ def test_critical_speed_finite_and_monotone(t, i_w, b, c_f, k_s):
     assert critical_shimmy_speed(t * REL, i_w, b, c_f, k_s) > v
     assert critical_shimmy_speed(t, i_w * REL, b, c_f, k_s) < v
     # weakly everywhere; strictly where the term is not lost in rounding (> 1e-9 of V_c²)
-    for bigger, share in ((critical_shimmy_speed(t, i_w, b, c_f * REL, k_s), friction),
-                          (critical_shimmy_speed(t, i_w, b * REL, c_f, k_s), grooved)):
+    for bigger, share in (
+        (critical_shimmy_speed(t, i_w, b, c_f * REL, k_s), friction),
+        (critical_shimmy_speed(t, i_w, b * REL, c_f, k_s), grooved),
+    ):
         assert bigger >= v
         if share > 1e-9 * (friction + grooved):
             assert bigger > v
@@ -151,17 +158,24 @@ def valid_problem(draw):
     data = {
         "name": draw(st.from_regex(r"\A[a-z0-9][a-z0-9_.-]{0,20}\Z")),
         "title": draw(st.text(max_size=40)),
-        "conditions": {"load": draw(st.sampled_from([draw(real(50, 1500)), "178 N", "40 lbf"])),
-                       "threshold_height": draw(length_text(h)),
-                       "surface": draw(st.sampled_from(["tile", "carpet"])),
-                       "turning_mode": draw(st.sampled_from(["chair", "pivot"]))},
-        "shimmy": {"target_speed": draw(st.sampled_from([draw(real(0.5, 6.0)), "2.5 m/s", "5 mph"])),
-                   "margin": draw(real(0.0, 0.5))},
-        "variables": {"trail": draw(length_text(t_lo)) if t_hi == t_lo else
-                      {"min": draw(length_text(t_lo)), "max": draw(length_text(t_hi))},
-                      "diameter": {"min": d_lo, "max": d_hi},
-                      "groove": draw(st.sampled_from([{"min": 0.0, "max": b_hi}, b_hi])),
-                      "damping": {"min": 1.3, "max": c_hi}},
+        "conditions": {
+            "load": draw(st.sampled_from([draw(real(50, 1500)), "178 N", "40 lbf"])),
+            "threshold_height": draw(length_text(h)),
+            "surface": draw(st.sampled_from(["tile", "carpet"])),
+            "turning_mode": draw(st.sampled_from(["chair", "pivot"])),
+        },
+        "shimmy": {
+            "target_speed": draw(st.sampled_from([draw(real(0.5, 6.0)), "2.5 m/s", "5 mph"])),
+            "margin": draw(real(0.0, 0.5)),
+        },
+        "variables": {
+            "trail": draw(length_text(t_lo))
+            if t_hi == t_lo
+            else {"min": draw(length_text(t_lo)), "max": draw(length_text(t_hi))},
+            "diameter": {"min": d_lo, "max": d_hi},
+            "groove": draw(st.sampled_from([{"min": 0.0, "max": b_hi}, b_hi])),
+            "damping": {"min": 1.3, "max": c_hi},
+        },
         "objective": {"turning_effort": draw(real(0.0, 10.0)), "threshold_force": draw(real(0.1, 10.0))},
     }
     if draw(st.booleans()):
@@ -173,8 +187,12 @@ def _within(values, low, high):
     return all(low <= v <= high for v in values)
 
 
-@settings(max_examples=SOLVE_EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow],
-          derandomize=os.environ.get("FUZZ_EXAMPLES") is None)
+@settings(
+    max_examples=SOLVE_EXAMPLES,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+    derandomize=os.environ.get("FUZZ_EXAMPLES") is None,
+)
 @given(valid_problem())
 def test_valid_problems_solve_or_raise_designer_error(data):
     """A random valid problem loads and its optimum is feasible and finite, or a DesignerError says why."""
@@ -209,23 +227,56 @@ def test_valid_problems_load(data):
 
 SECTIONS = [s for s in SCHEMA if s]
 KEYS = sorted({k for s in SCHEMA.values() for k in s})
-UNITS = ["in", "mm", "m", "N", "lbf", "kg", "deg", "rad", "m/s", "mph", "N*m/rad", "kg*m**2", "%", "furlong",
-         "s", "J", "1/m", "kg/m**3", "", "**", "^2", "(", ")", "[1,2]", "e999", "**9**9", "/0"]
+UNITS = [
+    "in",
+    "mm",
+    "m",
+    "N",
+    "lbf",
+    "kg",
+    "deg",
+    "rad",
+    "m/s",
+    "mph",
+    "N*m/rad",
+    "kg*m**2",
+    "%",
+    "furlong",
+    "s",
+    "J",
+    "1/m",
+    "kg/m**3",
+    "",
+    "**",
+    "^2",
+    "(",
+    ")",
+    "[1,2]",
+    "e999",
+    "**9**9",
+    "/0",
+]
 
 
 def weird_number():
-    return st.one_of(st.floats(), st.integers(-10**30, 10**30), st.integers(-10, 10).map(lambda e: 10.0**(30 * e)))
+    return st.one_of(st.floats(), st.integers(-(10**30), 10**30), st.integers(-10, 10).map(lambda e: 10.0 ** (30 * e)))
 
 
 def weird_value():
     scalar = st.one_of(
-        weird_number(), st.booleans(), st.text(max_size=12),
+        weird_number(),
+        st.booleans(),
+        st.text(max_size=12),
         st.builds(lambda n, u: f"{n} {u}", weird_number(), st.sampled_from(UNITS)),
         st.builds(lambda n, u: f"{n}{u}", st.integers(-5, 500), st.sampled_from(UNITS)),
     )
-    return st.recursive(scalar, lambda inner: st.one_of(st.lists(inner, max_size=3),
-                                                         st.dictionaries(st.sampled_from(["min", "max", "x"]), inner,
-                                                                         max_size=3)), max_leaves=6)
+    return st.recursive(
+        scalar,
+        lambda inner: st.one_of(
+            st.lists(inner, max_size=3), st.dictionaries(st.sampled_from(["min", "max", "x"]), inner, max_size=3)
+        ),
+        max_leaves=6,
+    )
 
 
 @st.composite
@@ -259,8 +310,13 @@ def test_invalid_problems_raise_only_designer_errors(data):
     except DesignerError as exc:
         assert "\n" not in str(exc)
         return
-    values = [problem.target_speed, problem.conditions.load, problem.conditions.threshold_height,
-              *problem.weights, *(x for b in problem.bounds.values() for x in (b.low, b.high))]
+    values = [
+        problem.target_speed,
+        problem.conditions.load,
+        problem.conditions.threshold_height,
+        *problem.weights,
+        *(x for b in problem.bounds.values() for x in (b.low, b.high)),
+    ]
     assert all(math.isfinite(v) for v in values)
     for var, b in problem.bounds.items():
         assert _within((b.low, b.high), MODEL_RANGE[var][0], MODEL_RANGE[var][1])
@@ -277,11 +333,43 @@ def test_random_toml_text(text):
 
 
 @FUZZ
-@given(st.lists(st.sampled_from(['name = "t"', "[shimmy]", "target_speed = 2.5", "[variables]", "[conditions]",
-                                 "trail = ", "load = ", '"2 in"', "1e400", "[1, 2]", "{min = 1, max = 2}",
-                                 "true", '"10**10**10 N"', "[objective]", "turning_effort = 0", "[pareto]",
-                                 "points = ", "nan", "inf", "-1", '"x"', "\n", "=", "[inertia]",
-                                 'model = "catalog"', 'wheels = ["Z"]', "[robust]", "samples = "]), max_size=25))
+@given(
+    st.lists(
+        st.sampled_from(
+            [
+                'name = "t"',
+                "[shimmy]",
+                "target_speed = 2.5",
+                "[variables]",
+                "[conditions]",
+                "trail = ",
+                "load = ",
+                '"2 in"',
+                "1e400",
+                "[1, 2]",
+                "{min = 1, max = 2}",
+                "true",
+                '"10**10**10 N"',
+                "[objective]",
+                "turning_effort = 0",
+                "[pareto]",
+                "points = ",
+                "nan",
+                "inf",
+                "-1",
+                '"x"',
+                "\n",
+                "=",
+                "[inertia]",
+                'model = "catalog"',
+                'wheels = ["Z"]',
+                "[robust]",
+                "samples = ",
+            ]
+        ),
+        max_size=25,
+    )
+)
 def test_random_toml_fragments(parts):
     """Problem files glued from plausible fragments load or fail with a ProblemError only."""
     text = "\n".join(parts)

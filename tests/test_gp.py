@@ -1,4 +1,5 @@
 """Tests of the geometric-programming solver (designer.solvers.gp, docs/model.md#solvers cvxpy paragraph)."""
+
 from __future__ import annotations
 
 import math
@@ -75,7 +76,9 @@ def test_polished_gp_agrees_with_nlp(name):
     assert abs(result.objective - j_nlp) <= (1e-2 if robust else 1e-6) * j_nlp, (result.objective, j_nlp)
     # the GP's own value is the truncated-series J: at most the exact J, and by less than the bound
     assert result.gp_objective <= result.objective * (1 + 1e-8)
-    assert result.objective - result.gp_objective <= result.truncation_error * result.objective + 1e-8 * result.objective
+    assert (
+        result.objective - result.gp_objective <= result.truncation_error * result.objective + 1e-8 * result.objective
+    )
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -107,8 +110,9 @@ def test_gp_terms_reproduce_model(name):
     s_max = max(v.conditions.threshold_height / v.bounds["diameter"].low for v in _problem(name).variants())
     consts = gp._constants(variant, gp._parameters(variant))
     d = result.design
-    terms = gp.gp_terms(d.trail, d.diameter, d.groove, d.damping - variant.conditions.turning.bare_fork_damping,
-                        consts, order, s_max)
+    terms = gp.gp_terms(
+        d.trail, d.diameter, d.groove, d.damping - variant.conditions.turning.bare_fork_damping, consts, order, s_max
+    )
     exact = _quiet_perf(d, variant.conditions)
     assert terms["turning_effort"] == pytest.approx(float(exact["turning_effort"]), rel=1e-12)
     assert terms["inertia"] == pytest.approx(float(exact["inertia"]), rel=1e-12)
@@ -122,8 +126,9 @@ def test_gp_terms_reproduce_model(name):
     assert terms["threshold_force"] + terms["threshold_remainder"] >= p_exact * (1 - 1e-15)  # conservative cap form
     # and the GP's optimal value is its objective built from these terms
     w = _problem(name).weights
-    assert result.gp_objective == pytest.approx(w[0] * terms["turning_effort"] + w[1] * terms["threshold_force"],
-                                                rel=1e-7)
+    assert result.gp_objective == pytest.approx(
+        w[0] * terms["turning_effort"] + w[1] * terms["threshold_force"], rel=1e-7
+    )
 
 
 def test_series_truncation_bound_holds_against_exact_eq_4a():

@@ -1,6 +1,7 @@
 """Hardening (issue 8): bad input ends as the tool's own one-line errors with the documented exit
 codes, solver failures are retried and reported, reports are written safely, and the README's
 error table matches :mod:`designer.errors`."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -32,43 +33,49 @@ BASE = 'name = "t"\n[shimmy]\ntarget_speed = "2.5 m/s"\n'
 # --------------------------------------------------------------------------- 1. one error style
 
 
-@pytest.mark.parametrize("text, fragment", [
-    (BASE + "[conditions]\nload = [1, 2]\n", "conditions.load = [1, 2]: expected a number"),
-    (BASE + '[pareto]\npoints = "x"\n', "pareto.points = 'x': expected an integer"),
-    (BASE + "[variables]\ntrail = {min = true, max = 2}\n", "variables.trail.min = True"),
-    ("title = 5\n" + BASE, "title = 5: expected a string"),
-    ('name = "t"\nshimmy = "fast"\n', "[shimmy] must be a table"),
-    ('name = "t"\nconditions = "x"\n[shimmy]\ntarget_speed = 2.5\n', "[conditions] must be a table"),
-    (BASE + '[variables]\ntrail = "1 m"\n', "outside the model's range"),       # fixed, out of range
-    (BASE + '[variables]\ndiameter = "3 m"\n', "outside the model's range"),    # a 3 m wheel
-    (BASE + "[objective]\nturning_effort = 0\nthreshold_force = 0\n", "not all zero"),
-    (BASE + "[objective]\nturning_effort = -1\nthreshold_force = -2\n", "non-negative"),
-    (BASE + "[objective]\nturning_effort = 1e308\nthreshold_force = 1e308\n", "weights are relative"),
-    (BASE + "[objective]\nturning_effort = 1" + "0" * 400 + "\n", "too large"),
-    (BASE + "[conditions]\nload = 1" + "0" * 5000 + "\n", "cannot read the file"),   # raw ValueError
-    (BASE + '[inertia]\nmodel = "catalog"\nwheel = "Z"\n', "unknown Table 1 wheel"),
-    (BASE + '[inertia]\nmodel = "catalog"\nwheels = []\n', "non-empty list"),
-    (BASE + '[inertia]\nmodel = "catalog"\nwheels = ["C"]\n[variables]\ndiameter = {min = "2 in", max = "3 in"}\n',
-     "no catalog wheel"),                                                          # empty range of wheels
-    (BASE + '[choices]\nsurface = []\n', "non-empty list"),
-    (BASE + '[variables]\ntrail = {min = "2 in", max = "1 in"}\n', "min is greater than max"),
-    (BASE + '[conditions]\nload = "[1,2] N"\n', "unexpected character '['"),     # pint read this as 12 N
-    (BASE + '[conditions]\nload = "N"\n', "a unit without a number"),           # pint read this as 1 N
-    (BASE + '[conditions]\nload = "10**10**10 N"\n', "exponents must be small"),  # pint never returned
-    (BASE + '[conditions]\nload = "2**9**9 N"\n', "exponents must be small"),     # raw OverflowError
-    (BASE + '[conditions]\nload = "10**999 N"\n', "too large"),                   # raw OverflowError
-    (BASE + "[conditions]\nload = 1e300\n", "conditions.load = 1e+300 N: outside the model's range"),
-    (BASE + "[conditions]\nthreshold_height = 1e-320\n", "conditions.threshold_height"),
-    ('name = "t"\n[shimmy]\ntarget_speed = 1e-320\n', "shimmy.target_speed"),    # was a SolverError later
-    (BASE + "slip_coefficient = 1e308\n", "shimmy.slip_coefficient"),
-    (BASE + "[inertia]\ncoefficient = 1e308\n", "I_w = "),                          # inertia overflow
-    (BASE + '[inertia]\nmodel = "fixed"\ninertia = 1e-320\n', "I_w = "),            # V_c = inf
-    (BASE + "[turning]\ngroove_coefficient = 1e308\n", "turning.groove_coefficient"),
-    (BASE + "[robust]\nsamples = 1000000000000\n", "robust.samples"),                # memory blow-up
-    (BASE + "[constraints]\nswept_radius_max = 1e308\n", "constraints.swept_radius_max"),
-    (BASE + '[conditions]\n"lo\\nad" = 1\n', "unknown key conditions.'lo\\nad'"),   # a newline broke the line
-    (BASE + "[turning]\nbare_fork_damping = 1e-320\n", "turning.bare_fork_damping"),
-])
+@pytest.mark.parametrize(
+    "text, fragment",
+    [
+        (BASE + "[conditions]\nload = [1, 2]\n", "conditions.load = [1, 2]: expected a number"),
+        (BASE + '[pareto]\npoints = "x"\n', "pareto.points = 'x': expected an integer"),
+        (BASE + "[variables]\ntrail = {min = true, max = 2}\n", "variables.trail.min = True"),
+        ("title = 5\n" + BASE, "title = 5: expected a string"),
+        ('name = "t"\nshimmy = "fast"\n', "[shimmy] must be a table"),
+        ('name = "t"\nconditions = "x"\n[shimmy]\ntarget_speed = 2.5\n', "[conditions] must be a table"),
+        (BASE + '[variables]\ntrail = "1 m"\n', "outside the model's range"),  # fixed, out of range
+        (BASE + '[variables]\ndiameter = "3 m"\n', "outside the model's range"),  # a 3 m wheel
+        (BASE + "[objective]\nturning_effort = 0\nthreshold_force = 0\n", "not all zero"),
+        (BASE + "[objective]\nturning_effort = -1\nthreshold_force = -2\n", "non-negative"),
+        (BASE + "[objective]\nturning_effort = 1e308\nthreshold_force = 1e308\n", "weights are relative"),
+        (BASE + "[objective]\nturning_effort = 1" + "0" * 400 + "\n", "too large"),
+        (BASE + "[conditions]\nload = 1" + "0" * 5000 + "\n", "cannot read the file"),  # raw ValueError
+        (BASE + '[inertia]\nmodel = "catalog"\nwheel = "Z"\n', "unknown Table 1 wheel"),
+        (BASE + '[inertia]\nmodel = "catalog"\nwheels = []\n', "non-empty list"),
+        (
+            BASE
+            + '[inertia]\nmodel = "catalog"\nwheels = ["C"]\n[variables]\ndiameter = {min = "2 in", max = "3 in"}\n',
+            "no catalog wheel",
+        ),  # empty range of wheels
+        (BASE + "[choices]\nsurface = []\n", "non-empty list"),
+        (BASE + '[variables]\ntrail = {min = "2 in", max = "1 in"}\n', "min is greater than max"),
+        (BASE + '[conditions]\nload = "[1,2] N"\n', "unexpected character '['"),  # pint read this as 12 N
+        (BASE + '[conditions]\nload = "N"\n', "a unit without a number"),  # pint read this as 1 N
+        (BASE + '[conditions]\nload = "10**10**10 N"\n', "exponents must be small"),  # pint never returned
+        (BASE + '[conditions]\nload = "2**9**9 N"\n', "exponents must be small"),  # raw OverflowError
+        (BASE + '[conditions]\nload = "10**999 N"\n', "too large"),  # raw OverflowError
+        (BASE + "[conditions]\nload = 1e300\n", "conditions.load = 1e+300 N: outside the model's range"),
+        (BASE + "[conditions]\nthreshold_height = 1e-320\n", "conditions.threshold_height"),
+        ('name = "t"\n[shimmy]\ntarget_speed = 1e-320\n', "shimmy.target_speed"),  # was a SolverError later
+        (BASE + "slip_coefficient = 1e308\n", "shimmy.slip_coefficient"),
+        (BASE + "[inertia]\ncoefficient = 1e308\n", "I_w = "),  # inertia overflow
+        (BASE + '[inertia]\nmodel = "fixed"\ninertia = 1e-320\n', "I_w = "),  # V_c = inf
+        (BASE + "[turning]\ngroove_coefficient = 1e308\n", "turning.groove_coefficient"),
+        (BASE + "[robust]\nsamples = 1000000000000\n", "robust.samples"),  # memory blow-up
+        (BASE + "[constraints]\nswept_radius_max = 1e308\n", "constraints.swept_radius_max"),
+        (BASE + '[conditions]\n"lo\\nad" = 1\n', "unknown key conditions.'lo\\nad'"),  # a newline broke the line
+        (BASE + "[turning]\nbare_fork_damping = 1e-320\n", "turning.bare_fork_damping"),
+    ],
+)
 def test_bad_problem_files_are_one_line_problem_errors(text, fragment):
     """Wrong types, absurd sizes, empty ranges and unit tricks end as one-line ProblemErrors (exit 3)
     naming the key, quickly (the exponent tower used to hang pint)."""
@@ -96,15 +103,18 @@ def test_ordinary_quantities_still_parse(value):
     assert np.isfinite(parse_quantity(value, dim, "k"))
 
 
-@pytest.mark.parametrize("args, fragment", [
-    (["--diameter", "3m"], "--diameter = '3m': outside the model's range 0 to 0.6 m"),
-    (["--trail", "1e300"], "--trail = 1e+300 m"),              # was OverflowError, exit 70
-    (["--groove", "1e300"], "--groove = 1e+300 m"),            # was OverflowError, exit 70
-    (["--inertia", "1e-320"], "--inertia 1e-320"),            # printed V_c = inf
-    (["--threshold-height", "1e-320"], "--threshold-height"),  # printed P = nan
-    (["--target-speed", "1e308"], "--target-speed"),          # was LinAlgError, exit 70
-    (["--trail", "[1,2]in"], "unexpected character '['"),
-])
+@pytest.mark.parametrize(
+    "args, fragment",
+    [
+        (["--diameter", "3m"], "--diameter = '3m': outside the model's range 0 to 0.6 m"),
+        (["--trail", "1e300"], "--trail = 1e+300 m"),  # was OverflowError, exit 70
+        (["--groove", "1e300"], "--groove = 1e+300 m"),  # was OverflowError, exit 70
+        (["--inertia", "1e-320"], "--inertia 1e-320"),  # printed V_c = inf
+        (["--threshold-height", "1e-320"], "--threshold-height"),  # printed P = nan
+        (["--target-speed", "1e308"], "--target-speed"),  # was LinAlgError, exit 70
+        (["--trail", "[1,2]in"], "unexpected character '['"),
+    ],
+)
 def test_evaluate_absurd_values_exit_2(args, fragment, capsys):
     """``designer evaluate`` with absurd sizes: one line on stderr, exit 2, nothing printed with NaN or inf."""
     base = {"--trail": "2in", "--diameter": "8in", "--groove": "0", "--damping": "1.3"}
@@ -138,8 +148,9 @@ def test_problem_error_one_line_and_debug_traceback(tmp_path, capsys):
     assert err.count("\n") == 1 and "conditions.load" in err and "Traceback" not in err
     with pytest.raises(ProblemError, match="conditions.load"):
         main(["--debug", "run", str(bad)])
-    proc = subprocess.run([sys.executable, "-m", "designer.cli", "--debug", "run", str(bad)],
-                          capture_output=True, text=True, timeout=120)
+    proc = subprocess.run(
+        [sys.executable, "-m", "designer.cli", "--debug", "run", str(bad)], capture_output=True, text=True, timeout=120
+    )
     assert proc.returncode != 0 and "Traceback (most recent call last)" in proc.stderr
     assert "designer.errors.ProblemError" in proc.stderr
 
@@ -383,9 +394,27 @@ def test_two_pareto_runs_on_one_out_folder(tmp_path):
     complete report (its front.json, CSV and HTML from the same run), with no temporary folder left."""
     out = tmp_path / "r"
     env = dict(os.environ, PYTHONWARNINGS="ignore")
-    procs = [subprocess.Popen([sys.executable, "-m", "designer.cli", "pareto", str(INVACARE), "--points", str(n),
-                               "--out", str(out), "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                              text=True, env=env) for n in (5, 7)]
+    procs = [
+        subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "designer.cli",
+                "pareto",
+                str(INVACARE),
+                "--points",
+                str(n),
+                "--out",
+                str(out),
+                "--json",
+            ],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            env=env,
+        )
+        for n in (5, 7)
+    ]
     results = [p.communicate(timeout=300) for p in procs]
     assert [p.returncode for p in procs] == [0, 0], [r[1][-500:] for r in results]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r"]
@@ -422,8 +451,11 @@ def test_readme_exit_codes_match_errors_module():
     """Every exit code in README's table matches designer/errors.py and every error kind is documented."""
     rows = _readme_table()
     assert rows, "the README has no exit-code table"
-    kinds = {cls.__name__: cls.exit_code for cls in vars(errors_module).values()
-             if isinstance(cls, type) and issubclass(cls, DesignerError) and cls is not DesignerError}
+    kinds = {
+        cls.__name__: cls.exit_code
+        for cls in vars(errors_module).values()
+        if isinstance(cls, type) and issubclass(cls, DesignerError) and cls is not DesignerError
+    }
     documented = {}
     for code, kind in rows.items():
         for name in re.findall(r"`(\w+Error)`", kind):

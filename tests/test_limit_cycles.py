@@ -1,4 +1,5 @@
 """Issue 16: the brush tyre, its rolling limit, periodic orbits and their Floquet multipliers."""
+
 from __future__ import annotations
 
 import json
@@ -23,7 +24,9 @@ from designer.physics.tyre import TyreParameters, lateral_tyre_force
 I_C = 4 * BARE_FORK_DAMPING * APPENDIX_C_CASE.trail**2 / (math.pi * APPENDIX_C_CASE.critical_speed**2)
 COND_C = Conditions(inertia=Fixed(I_C))
 DESIGN_C = Design(trail=APPENDIX_C_CASE.trail, diameter=0.2, groove=0.0, damping=BARE_FORK_DAMPING)
-TODAY_ONSET_C = 2.4412   # designer.analysis.simulate.onset_speed(DESIGN_C, COND_C, rtol=0.002): bracket 2.4391-2.4433 m/s
+TODAY_ONSET_C = (
+    2.4412  # designer.analysis.simulate.onset_speed(DESIGN_C, COND_C, rtol=0.002): bracket 2.4391-2.4433 m/s
+)
 
 
 def test_brush_force_linear_then_saturates():
@@ -40,8 +43,8 @@ def test_brush_force_linear_then_saturates():
     grid = np.linspace(-2 * s_sl, 2 * s_sl, 41)
     forces = lateral_tyre_force(grid, tyre)
     assert np.allclose(forces, -forces[::-1])
-    assert np.all(np.diff(forces) <= 0)                       # never pushes with the slip
-    assert np.allclose(forces, [lateral_tyre_force(float(g), tyre) for g in grid])   # array = scalar path
+    assert np.all(np.diff(forces) <= 0)  # never pushes with the slip
+    assert np.allclose(forces, [lateral_tyre_force(float(g), tyre) for g in grid])  # array = scalar path
     assert lateral_tyre_force(5 * s_sl, tyre.replace(saturation=False)) == pytest.approx(-1250 * 5 * s_sl)
 
 
@@ -100,7 +103,7 @@ def test_saturating_tyre_has_a_stable_large_cycle():
     assert top.stable and np.max(np.abs(top.multipliers)) < 0.95
     assert top.closure < 1e-6
     speeds = [o.speed for o in branch.orbits]
-    assert min(speeds) < speeds[0] and min(speeds) < speeds[-1]      # the fold
+    assert min(speeds) < speeds[0] and min(speeds) < speeds[-1]  # the fold
     from designer.analysis.limit_cycles import _extrema, _integrate
 
     at = sys.at(top.speed)
@@ -123,8 +126,9 @@ def test_cli_knock_safe_json(capsys):
     1/sqrt(θ_i): 82 %), and the 60° knock to less again."""
     from designer.cli import main
 
-    assert main(["simulate", "--trail", "2.5in", "--inertia", f"{I_C}", "--knock-safe", "--angle", "30deg",
-                 "--json"]) == 0
+    assert (
+        main(["simulate", "--trail", "2.5in", "--inertia", f"{I_C}", "--knock-safe", "--angle", "30deg", "--json"]) == 0
+    )
     out = json.loads(capsys.readouterr().out)
     assert 0.72 * TODAY_ONSET_C < out["knock_safe_speed"] < 0.90 * TODAY_ONSET_C
     assert 0 <= out["knock_safe_speed_double"] < 0.8 * out["knock_safe_speed"]
@@ -137,8 +141,24 @@ def test_cli_bifurcation_json(capsys):
     closes to 1e-6 rad."""
     from designer.cli import main
 
-    assert main(["simulate", "--trail", "2.5in", "--inertia", f"{I_C}", "--bifurcation", "--points", "6",
-                 "--max-speed", "3.5", "--json"]) == 0
+    assert (
+        main(
+            [
+                "simulate",
+                "--trail",
+                "2.5in",
+                "--inertia",
+                f"{I_C}",
+                "--bifurcation",
+                "--points",
+                "6",
+                "--max-speed",
+                "3.5",
+                "--json",
+            ]
+        )
+        == 0
+    )
     out = json.loads(capsys.readouterr().out)
     kinds = {b["kind"] for b in out["branches"]}
     assert kinds == {"stable", "unstable"}
@@ -158,8 +178,24 @@ def test_evaluate_knock_safe(capsys):
     and the 40° knock's is lower."""
     from designer.cli import main
 
-    assert main(["evaluate", "--trail", "2in", "--diameter", "8in", "--groove", "0", "--damping", "1.3",
-                 "--knock-safe", "--json"]) == 0
+    assert (
+        main(
+            [
+                "evaluate",
+                "--trail",
+                "2in",
+                "--diameter",
+                "8in",
+                "--groove",
+                "0",
+                "--damping",
+                "1.3",
+                "--knock-safe",
+                "--json",
+            ]
+        )
+        == 0
+    )
     out = json.loads(capsys.readouterr().out)
     assert out["knock_safe_speed"] == pytest.approx(out["critical_speed"], rel=0.15)
     assert out["knock_safe_speed_double"] < 0.8 * out["knock_safe_speed"]

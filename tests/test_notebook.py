@@ -4,6 +4,7 @@ The notebook is stored without outputs; nbclient executes it in a fresh kernel o
 cell error fails the test.  A few outputs are checked: the recommendation prints a trail in inches, the
 front and the simulation draw figures, the pandas cell shows the SI column names.
 """
+
 from __future__ import annotations
 
 import re
@@ -40,8 +41,9 @@ def test_notebook_is_stored_without_outputs():
 def test_notebook_runs_top_to_bottom():
     """Every cell runs without error in the notebook's folder; the outputs show the caster and the figures."""
     nb = nbformat.read(NOTEBOOK, as_version=4)
-    client = nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
-                                     resources={"metadata": {"path": str(NOTEBOOK.parent)}})
+    client = nbclient.NotebookClient(
+        nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(NOTEBOOK.parent)}}
+    )
     client.execute()  # raises CellExecutionError on the first failing cell
     cells = [c for c in nb.cells if c.cell_type == "code"]
 
@@ -53,7 +55,8 @@ def test_notebook_runs_top_to_bottom():
     assert "<table" in output_of("recommendation  # in Jupyter")
     assert "Front('indoor-manual': 15 points" in output_of("front = designer.pareto_front(problem, points=15)")
     assert "turning_effort_N" in output_of("front.to_pandas()")
-    assert re.search(r"knock 40 deg at 2\.5 m/s: (grows into shimmy|dies out)",
-                     output_of("simulate(recommendation.design"))
+    assert re.search(
+        r"knock 40 deg at 2\.5 m/s: (grows into shimmy|dies out)", output_of("simulate(recommendation.design")
+    )
     images = [c for c in cells if any("image/png" in out.get("data", {}) for out in c.outputs)]
     assert len(images) >= 3  # the front, the two fronts, the knock

@@ -1,6 +1,7 @@
 """Notebook plot methods (issue 17, part 3): front.plot, front.plot_variables, recommendation.draw and
 simulation.plot return matplotlib Axes that show the object's own numbers, and the report draws with the
 same functions."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -83,8 +84,12 @@ def test_front_plot_variables_panels(front):
     for ax, k, scale in zip(axes.ravel(), range(4), (1000, 1000, 1000, 1)):
         np.testing.assert_array_equal(ax.lines[0].get_xdata(), p)
         np.testing.assert_allclose(ax.lines[0].get_ydata(), front.designs()[:, k] * scale)
-    assert [ax.get_ylabel() for ax in axes.ravel()] == ["trail T [mm]", "wheel diameter d [mm]",
-                                                        "groove width B [mm]", "spindle damping c_f [N·m/rad]"]
+    assert [ax.get_ylabel() for ax in axes.ravel()] == [
+        "trail T [mm]",
+        "wheel diameter d [mm]",
+        "groove width B [mm]",
+        "spindle damping c_f [N·m/rad]",
+    ]
 
 
 def test_recommendation_draw_to_scale(rec):
@@ -126,13 +131,19 @@ def test_report_figures_draw_with_the_same_functions(front, monkeypatch):
         def spy(*args, _real=real, _name=name, **kwargs):
             called.append(_name)
             return _real(*args, **kwargs)
+
         monkeypatch.setattr(figures, name, spy)
         monkeypatch.setattr(fronts, name, spy)
     f = front.objectives()
-    figures.figure_front({"turning_effort": f[:, 0], "threshold_force": f[:, 1], "family": [p.family for p in front]},
-                         "title")
-    figures.figure_variables([p.threshold_force for p in front], front.designs(), [p.family for p in front],
-                             [front.problem.bounds[v] for v in ("trail", "diameter", "groove", "damping")])
+    figures.figure_front(
+        {"turning_effort": f[:, 0], "threshold_force": f[:, 1], "family": [p.family for p in front]}, "title"
+    )
+    figures.figure_variables(
+        [p.threshold_force for p in front],
+        front.designs(),
+        [p.family for p in front],
+        [front.problem.bounds[v] for v in ("trail", "diameter", "groove", "damping")],
+    )
     front.plot()
     front.plot_variables()
     assert called == ["plot_front", "plot_variables", "plot_front", "plot_variables"]

@@ -1,4 +1,5 @@
 """The scalarised optimum: agreement between solvers, global optimality, sensitivities, infeasibility."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -59,14 +60,20 @@ def test_catalog_picks_best_wheel(solutions):
 
 def _two_optima_problem():
     # 8 in wheel, 2.5 in trail fixed: reach 2.05 m/s by groove or by damper; min turning effort.
-    return problem_from_dict({
-        "name": "two-optima",
-        "robust": {"enabled": False},
-        "shimmy": {"target_speed": "2.05 m/s"},
-        "variables": {"trail": "2.5 in", "diameter": "8 in", "groove": {"min": 0, "max": "0.75 in"},
-                      "damping": {"min": 1.3, "max": 10}},
-        "objective": {"turning_effort": 1, "threshold_force": 0},
-    })
+    return problem_from_dict(
+        {
+            "name": "two-optima",
+            "robust": {"enabled": False},
+            "shimmy": {"target_speed": "2.05 m/s"},
+            "variables": {
+                "trail": "2.5 in",
+                "diameter": "8 in",
+                "groove": {"min": 0, "max": "0.75 in"},
+                "damping": {"min": 1.3, "max": 10},
+            },
+            "objective": {"turning_effort": 1, "threshold_force": 0},
+        }
+    )
 
 
 def test_two_local_optima_global_found():
@@ -88,8 +95,12 @@ def _two_dict():
         "name": "two-optima",
         "robust": {"enabled": False},
         "shimmy": {"target_speed": "2.05 m/s"},
-        "variables": {"trail": "2.5 in", "diameter": "8 in", "groove": {"min": 0, "max": "0.75 in"},
-                      "damping": {"min": 1.3, "max": 10}},
+        "variables": {
+            "trail": "2.5 in",
+            "diameter": "8 in",
+            "groove": {"min": 0, "max": "0.75 in"},
+            "damping": {"min": 1.3, "max": 10},
+        },
         "objective": {"turning_effort": 1, "threshold_force": 0},
     }
 
@@ -146,6 +157,13 @@ def test_unreachable_target_diagnosed():
 def test_solution_prints_table(solutions):
     """The Solution object prints design, objectives, active constraints, sensitivities and agreement."""
     text = str(solutions["indoor-manual"])
-    for fragment in ("trail T", "2.000 in", "critical speed V_c", "active constraints", "sensitivities",
-                     "scipy-slsqp", "largest relative gap"):
+    for fragment in (
+        "trail T",
+        "2.000 in",
+        "critical speed V_c",
+        "active constraints",
+        "sensitivities",
+        "scipy-slsqp",
+        "largest relative gap",
+    ):
         assert fragment in text

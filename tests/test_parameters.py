@@ -1,4 +1,5 @@
 """The one parameter table (designer/parameters.py) and the places that read it."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -44,8 +45,10 @@ def test_loader_and_model_read_the_table():
     assert PHYSICAL_RANGE["shimmy.slip_coefficient"] == (1.0, 1e6, "N", "the paper's tyres have 1250 N")
 
 
-@pytest.mark.parametrize("key", sorted(p.key for p in parameters.CONSTANT_TABLE
-                                       if p.key and p.default is not None and p.key != "inertia.inertia"))
+@pytest.mark.parametrize(
+    "key",
+    sorted(p.key for p in parameters.CONSTANT_TABLE if p.key and p.default is not None and p.key != "inertia.inertia"),
+)
 def test_every_constant_key_loads_with_its_default(key):
     """Writing a constant's default value in a problem file (in its SI unit) gives a valid problem, equal to the
     problem that leaves the key out (so the table's default is the loader's default)."""
@@ -65,12 +68,23 @@ def test_solver_parameters_of_a_default_problem():
     """The NLP/GP parameter vector: names in table order, values from the problem; carpet only on carpet."""
     problem = problem_from_dict(BASE)
     values = parameters.solver_values(problem)
-    assert list(values) == ["load", "threshold_height", "target_speed", "slip_coefficient", "disturbance_angle",
-                            "tile_moment_per_load", "groove_coefficient", "bare_fork_damping", "mode_factor",
-                            "inertia_coefficient", "inertia_exponent"]
+    assert list(values) == [
+        "load",
+        "threshold_height",
+        "target_speed",
+        "slip_coefficient",
+        "disturbance_angle",
+        "tile_moment_per_load",
+        "groove_coefficient",
+        "bare_fork_damping",
+        "mode_factor",
+        "inertia_coefficient",
+        "inertia_exponent",
+    ]
     assert values["target_speed"] == 2.5 and values["mode_factor"] == 0.5
-    carpet = problem_from_dict({**BASE, "conditions": {"surface": "carpet"},
-                                "constraints": {"swept_radius_max": "3.5 in"}})
+    carpet = problem_from_dict(
+        {**BASE, "conditions": {"surface": "carpet"}, "constraints": {"swept_radius_max": "3.5 in"}}
+    )
     assert {"carpet_factor", "swept_radius_max"} <= set(parameters.solver_values(carpet))
 
 

@@ -1,4 +1,5 @@
 """Exact Pareto fronts: feasibility, non-dominance, optimality against brute force, coverage, check 8."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -32,7 +33,9 @@ def test_every_point_feasible_and_nondominated(fronts, name):
     for variant_point in front:
         cond = problem.conditions
         if problem.wheels:
-            cond = [v for v in problem.variants() if v.conditions.inertia.wheel.key == variant_point.wheel][0].conditions
+            cond = [v for v in problem.variants() if v.conditions.inertia.wheel.key == variant_point.wheel][
+                0
+            ].conditions
         d = variant_point.design
         v = performance(d.trail, d.diameter, d.groove, d.damping, cond)
         assert v["critical_speed"] >= problem.required_speed * (1 - 1e-8)
@@ -82,9 +85,14 @@ def _polish(problem, diameter, z0, sc, lo, hi):
     cons = [{"type": "ineq", "fun": lambda z: perf(z)["design_speed"] / problem.required_speed - 1}]
     if problem.swept_radius_max:
         cons.append({"type": "ineq", "fun": lambda z: 1 - perf(z)["swept_radius"] / problem.swept_radius_max})
-    res = minimize(lambda z: perf(z)["turning_effort"], z0 / sc, method="SLSQP", constraints=cons,
-                   bounds=list(zip(np.array([lo[0], lo[2], lo[3]]) / sc, np.array([hi[0], hi[2], hi[3]]) / sc)),
-                   options={"ftol": 1e-12, "maxiter": 300})
+    res = minimize(
+        lambda z: perf(z)["turning_effort"],
+        z0 / sc,
+        method="SLSQP",
+        constraints=cons,
+        bounds=list(zip(np.array([lo[0], lo[2], lo[3]]) / sc, np.array([hi[0], hi[2], hi[3]]) / sc)),
+        options={"ftol": 1e-12, "maxiter": 300},
+    )
     polished = perf(res.x)
     feasible = polished["design_speed"] >= problem.required_speed * (1 - 1e-7)
     if problem.swept_radius_max:

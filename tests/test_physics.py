@@ -1,4 +1,5 @@
 """The paper's equations (designer.physics) against its published numbers."""
+
 from __future__ import annotations
 
 import math
@@ -149,13 +150,18 @@ def test_friction_equivalence_eq6():
     c_f, t, v, theta0 = 1.3, 0.0635, 2.53, 0.35
     theta_a = ph.steady_shimmy_amplitude(v, t, omega, theta0)
     assert ph.equivalent_hydraulic_damping(c_f * theta0, theta_a, omega) == pytest.approx(
-        ph.friction_damping_at_speed(c_f, t, v), rel=1e-12)
+        ph.friction_damping_at_speed(c_f, t, v), rel=1e-12
+    )
 
 
 @pytest.mark.parametrize(
     "trail, inertia, groove, damping",
-    [(2 * INCH, 1.27e-3, 0.0143, 1.3), (2.5 * INCH, 1.87e-3, 0.0, 2.0), (1 * INCH, 0.33e-3, 0.01, 4.0),
-     (3 * INCH, 3.42e-3, 0.019, 1.3)],
+    [
+        (2 * INCH, 1.27e-3, 0.0143, 1.3),
+        (2.5 * INCH, 1.87e-3, 0.0, 2.0),
+        (1 * INCH, 0.33e-3, 0.01, 4.0),
+        (3 * INCH, 3.42e-3, 0.019, 1.3),
+    ],
 )
 def test_routh_hurwitz_equals_eq20b(trail, inertia, groove, damping):
     """The RH threshold of the full third-order Eq. 12B equals Eq. 7 (friction) and Eq. 5 (hydraulic)."""

@@ -1,5 +1,6 @@
 """Issue 12.7: one optuna study shared by several `designer explore` processes on a real PostgreSQL
 server, started by the test itself (pgserver ships the server binaries and runs as root too)."""
+
 from __future__ import annotations
 
 import collections
@@ -42,9 +43,25 @@ def postgres(tmp_path_factory):
 
 
 def _explore(url, out, seed, resume, env):
-    cmd = [sys.executable, "-m", "designer.cli", "explore", str(ROOT / "problems" / "indoor-manual.toml"),
-           "--storage", url, "--study", STUDY, "--trials", str(TRIALS), "--seed", str(seed), "--no-compare",
-           "--json", "--out", str(out)] + (["--resume"] if resume else [])
+    cmd = [
+        sys.executable,
+        "-m",
+        "designer.cli",
+        "explore",
+        str(ROOT / "problems" / "indoor-manual.toml"),
+        "--storage",
+        url,
+        "--study",
+        STUDY,
+        "--trials",
+        str(TRIALS),
+        "--seed",
+        str(seed),
+        "--no-compare",
+        "--json",
+        "--out",
+        str(out),
+    ] + (["--resume"] if resume else [])
     return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
 
 

@@ -1,4 +1,5 @@
 """Problem files: units at the edges, validation with one-line errors, shipped problems."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -16,9 +17,17 @@ from conftest import PROBLEMS
 
 @pytest.mark.parametrize(
     "text, dimension, expected",
-    [("2 in", "length", 0.0508), ("50.8 mm", "length", 0.0508), ("20 deg", "angle", math.radians(20)),
-     ("1.3 N*m/rad", "damping", 1.3), ("178 N", "force", 178.0), ("0.5625 in", "length", 0.0142875),
-     ("40 lbf", "force", 177.929), ("2.5 m/s", "speed", 2.5), (0.05, "length", 0.05)],
+    [
+        ("2 in", "length", 0.0508),
+        ("50.8 mm", "length", 0.0508),
+        ("20 deg", "angle", math.radians(20)),
+        ("1.3 N*m/rad", "damping", 1.3),
+        ("178 N", "force", 178.0),
+        ("0.5625 in", "length", 0.0142875),
+        ("40 lbf", "force", 177.929),
+        ("2.5 m/s", "speed", 2.5),
+        (0.05, "length", 0.05),
+    ],
 )
 def test_parse_quantity(text, dimension, expected):
     """Numbers are SI; strings with units convert to SI."""
@@ -27,9 +36,15 @@ def test_parse_quantity(text, dimension, expected):
 
 @pytest.mark.parametrize(
     "value, dimension, message",
-    [("2 kg", "length", "wrong dimension"), ("2 furlongz", "length", "unknown unit"), ("", "length", "empty"),
-     (float("nan"), "length", "finite"), (float("inf"), "force", "finite"), (True, "length", "boolean"),
-     ([1], "length", "expected a number")],
+    [
+        ("2 kg", "length", "wrong dimension"),
+        ("2 furlongz", "length", "unknown unit"),
+        ("", "length", "empty"),
+        (float("nan"), "length", "finite"),
+        (float("inf"), "force", "finite"),
+        (True, "length", "boolean"),
+        ([1], "length", "expected a number"),
+    ],
 )
 def test_parse_quantity_errors(value, dimension, message):
     """Bad quantities raise InputError naming the key and the reason."""
@@ -71,7 +86,10 @@ def _base(**sections):
 @pytest.mark.parametrize(
     "data, message",
     [
-        (_base(variables={"trail": {"min": "-1 in", "max": "2 in"}}), "variables.trail.min = -0.0254: must be positive"),
+        (
+            _base(variables={"trail": {"min": "-1 in", "max": "2 in"}}),
+            "variables.trail.min = -0.0254: must be positive",
+        ),
         (_base(variables={"trail": {"min": "3 in", "max": "2 in"}}), "min is greater than max"),
         (_base(variables={"diameter": {"min": "0.9 in", "max": "8 in"}}), "must exceed twice the threshold height"),
         (_base(variables={"diameter": {"min": "3 m", "max": "8 m"}}), "outside the model's range"),

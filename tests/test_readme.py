@@ -1,4 +1,5 @@
 """The README's Python example runs as written (examples in the docs are tests)."""
+
 from __future__ import annotations
 
 import contextlib
@@ -32,8 +33,19 @@ def test_public_api_names():
     from ``import designer`` (the last two imported lazily)."""
     import designer
 
-    for name in ("load_problem", "Design", "Conditions", "evaluate", "performance", "optimise", "pareto_front",
-                 "explore", "write_report", "report_data", "Uncertainty"):
+    for name in (
+        "load_problem",
+        "Design",
+        "Conditions",
+        "evaluate",
+        "performance",
+        "optimise",
+        "pareto_front",
+        "explore",
+        "write_report",
+        "report_data",
+        "Uncertainty",
+    ):
         assert callable(getattr(designer, name)), name
     assert designer.write_report.__module__.startswith("designer.report")
     assert designer.report_data.__module__ == "designer.pipeline"

@@ -1,6 +1,7 @@
 """Build this caster: on every shipped problem the recommendation is stock, non-dominated among all stock
 combinations that meet the risk bound (brute force), and its Monte Carlo P(shimmy) is at most α + 2 SE; the rule's
 monotonicity in α and V_target; caps; exit 4; the JSON of `designer run`."""
+
 from __future__ import annotations
 
 import itertools
@@ -43,16 +44,24 @@ def _brute(problem) -> list[tuple[float, float, tuple, bool]]:
         return list(values) if values is not None else [b[name].low]
 
     if problem.wheels:
-        wheels = [(Catalog.from_key(k).fixed_diameter, problem.conditions.replace(inertia=Catalog.from_key(k)))
-                  for k in problem.wheels]
+        wheels = [
+            (Catalog.from_key(k).fixed_diameter, problem.conditions.replace(inertia=Catalog.from_key(k)))
+            for k in problem.wheels
+        ]
     elif s.wheels is not None:
-        wheels = [(w.diameter, problem.conditions if w.inertia is None else
-                   problem.conditions.replace(inertia=Fixed(w.inertia))) for w in s.wheels]
+        wheels = [
+            (
+                w.diameter,
+                problem.conditions if w.inertia is None else problem.conditions.replace(inertia=Fixed(w.inertia)),
+            )
+            for w in s.wheels
+        ]
     else:
         wheels = [(d, problem.conditions) for d in listed(s.diameters, "diameter")]
     out = []
-    for (d, cond), t, g, c in itertools.product(wheels, listed(s.trails, "trail"), listed(s.grooves, "groove"),
-                                                listed(s.dampings, "damping")):
+    for (d, cond), t, g, c in itertools.product(
+        wheels, listed(s.trails, "trail"), listed(s.grooves, "groove"), listed(s.dampings, "damping")
+    ):
         v = performance(t, d, g, c, cond)
         ok = float(v["design_speed"]) >= problem.required_speed and d > 2 * cond.threshold_height
         if problem.swept_radius_max is not None:
@@ -84,8 +93,9 @@ def test_recommendation_is_stock_and_nondominated(recs, name):
         f, p = match[0][0], match[0][1]
         assert r.turning_effort == pytest.approx(f, rel=1e-9) and r.threshold_force == pytest.approx(p, rel=1e-9)
         for g, q, _, _ in feasible:
-            assert not (g <= f * (1 - 1e-12) and q <= p * (1 + 1e-12)) and not (g <= f * (1 + 1e-12) and q < p * (1 - 1e-12)), \
-                (name, r.role, (g, q), (f, p))
+            assert not (g <= f * (1 - 1e-12) and q <= p * (1 + 1e-12)) and not (
+                g <= f * (1 + 1e-12) and q < p * (1 - 1e-12)
+            ), (name, r.role, (g, q), (f, p))
     # the buildable front is exactly the non-dominated feasible combinations
     pts = sorted({(round(c[0], 9), round(c[1], 9)) for c in feasible}, key=lambda t: (t[1], t[0]))
     front, best = [], math.inf
@@ -103,8 +113,17 @@ def test_monte_carlo_shimmy_probability_within_alpha(recs, name):
     problem, rec = recs[name]
     u = problem.risk
     d = rec.design
-    p, se = shimmy_probability_mc(d.trail, rec.inertia, d.groove, d.damping, problem.conditions.slip_coefficient,
-                                  problem.required_speed, u, samples=TEST_SAMPLES, seed=TEST_SEED)
+    p, se = shimmy_probability_mc(
+        d.trail,
+        rec.inertia,
+        d.groove,
+        d.damping,
+        problem.conditions.slip_coefficient,
+        problem.required_speed,
+        u,
+        samples=TEST_SAMPLES,
+        seed=TEST_SEED,
+    )
     assert p <= u.probability + 2 * se, (name, p, se)
     assert rec.shimmy_probability_se <= 0.001 + 1e-12 and rec.mc_seed != TEST_SEED
     assert rec.confident_speed >= problem.required_speed
@@ -115,8 +134,9 @@ def _indoor(**changes):
     return p.replace(**changes)
 
 
-@pytest.mark.parametrize("alphas, speeds", [((0.10, 0.05, 0.02, 0.01), (2.5,)), ((0.05,), (2.0, 2.5, 3.0, 3.5)),
-                                           ((0.2, 0.05), (2.2, 2.8))])
+@pytest.mark.parametrize(
+    "alphas, speeds", [((0.10, 0.05, 0.02, 0.01), (2.5,)), ((0.05,), (2.0, 2.5, 3.0, 3.5)), ((0.2, 0.05), (2.2, 2.8))]
+)
 def test_tighter_alpha_or_higher_target_never_better_on_both(alphas, speeds):
     """Property: a tighter α or a higher V_target never gives a recommendation that is easier to turn and
     easier over the sill at once (the feasible stock only shrinks and the choice is on the front)."""
@@ -124,8 +144,9 @@ def test_tighter_alpha_or_higher_target_never_better_on_both(alphas, speeds):
     results = {}
     for a in alphas:
         for v in speeds:
-            problem = base.replace(target_speed=v, conditions=base.conditions.replace(
-                uncertainty=Uncertainty(probability=a)))
+            problem = base.replace(
+                target_speed=v, conditions=base.conditions.replace(uncertainty=Uncertainty(probability=a))
+            )
             try:
                 results[(a, v)] = recommend(problem, samples=1000)
             except InfeasibleError:
@@ -192,12 +213,19 @@ def test_designer_recommend_and_run_json(capsys):
     path = ROOT / "problems" / "sports-court.toml"
     assert main(["run", str(path), "--json", "--no-cross-check"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert {"design", "objectives", "sensitivities", "cross_check", "recommendation", "alternatives",
-            "weights"} <= set(out)
+    assert {"design", "objectives", "sensitivities", "cross_check", "recommendation", "alternatives", "weights"} <= set(
+        out
+    )
     r = out["recommendation"]
     assert set(r["design"]) == {"trail", "diameter", "groove", "damping"}
-    assert {"turning_effort", "threshold_force", "critical_speed", "shimmy_probability", "shimmy_probability_se",
-            "rule"} <= set(r)
+    assert {
+        "turning_effort",
+        "threshold_force",
+        "critical_speed",
+        "shimmy_probability",
+        "shimmy_probability_se",
+        "rule",
+    } <= set(r)
     assert out["weights"] == [1.0, 1.0]
     assert all(set(a) >= set(r) - {"role"} for a in out["alternatives"])
 

@@ -1,5 +1,6 @@
 """Pareto reports (docs/commands.md#reports): the committed results/ are reproducible, the HTML is
 self-contained and escaped, writes are atomic, and ``designer pareto`` writes every file."""
+
 from __future__ import annotations
 
 import csv
@@ -94,7 +95,9 @@ def test_main_job_computes_the_knock_safe_speeds_of_the_card(regenerated):
     assert all("knock_safe_speed" in a for a in data["alternatives"])
     assert "knock_safe_speed" not in data["points"][0]
     assert data["run"]["compute_cpu_seconds"]["knock_safe"] > 0
-    assert f"{rec['knock_safe_speed']:.2f} / {rec['knock_safe_speed_double']:.2f} m/s" in (out / "report.md").read_text()
+    assert (
+        f"{rec['knock_safe_speed']:.2f} / {rec['knock_safe_speed_double']:.2f} m/s" in (out / "report.md").read_text()
+    )
 
 
 def test_no_nan_anywhere(regenerated):

@@ -1,6 +1,7 @@
 """Compute once, render purely (issue 13.2) and the first screen (issue 11.5): the pipeline computes, the
 report renders; every sentence of the first screen states the data it was generated from; the caster is
 drawn to scale; the groove-damper table from the closed form equals the NLP's."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -29,12 +30,28 @@ INDOOR = ROOT / "problems" / "indoor-manual.toml"
 def _record(problem, design, f, p, role="recommended", prob=0.031, se=0.0008, alpha=0.05, rule="test rule"):
     """A Recommendation-shaped record (the fields of COORD.md's interface) for rendering tests."""
     return SimpleNamespace(
-        design=design, turning_effort=f, threshold_force=p, critical_speed=3.1, confident_speed=2.61,
-        shimmy_probability=prob, shimmy_probability_se=se, swept_radius=design.trail + design.diameter / 2,
-        swept_radius_max=problem.swept_radius_max, rule=rule, role=role, wheel=None, alternatives=[],
-        buildable=None, note="", target_speed=problem.target_speed, required_speed=problem.required_speed,
-        alpha=alpha, mc_samples=50_000, mc_seed=20111,
-        to_dict=lambda: {"design": design.as_dict(), "turning_effort": f, "threshold_force": p, "role": role})
+        design=design,
+        turning_effort=f,
+        threshold_force=p,
+        critical_speed=3.1,
+        confident_speed=2.61,
+        shimmy_probability=prob,
+        shimmy_probability_se=se,
+        swept_radius=design.trail + design.diameter / 2,
+        swept_radius_max=problem.swept_radius_max,
+        rule=rule,
+        role=role,
+        wheel=None,
+        alternatives=[],
+        buildable=None,
+        note="",
+        target_speed=problem.target_speed,
+        required_speed=problem.required_speed,
+        alpha=alpha,
+        mc_samples=50_000,
+        mc_seed=20111,
+        to_dict=lambda: {"design": design.as_dict(), "turning_effort": f, "threshold_force": p, "role": role},
+    )
 
 
 @pytest.fixture(scope="module")
@@ -51,8 +68,10 @@ def stub(indoor_data):
     knee = front.knee()
     rec = _record(problem, knee.design, knee.turning_effort, knee.threshold_force)
     ends = (front.points[-1], front.points[0])
-    rec.alternatives = [_record(problem, q.design, q.turning_effort, q.threshold_force, role=role)
-                        for q, role in zip(ends, ("easiest to turn", "easiest over the sill"))]
+    rec.alternatives = [
+        _record(problem, q.design, q.turning_effort, q.threshold_force, role=role)
+        for q, role in zip(ends, ("easiest to turn", "easiest over the sill"))
+    ]
     return dataclasses.replace(indoor_data, recommendation=rec, price_of_stock=price_of_stock(front, rec))
 
 
@@ -66,9 +85,15 @@ def test_report_renders_only_report_data(indoor_data, tmp_path):
 
 def test_report_layer_calls_no_solver():
     """designer/report imports no optimiser, front sweep, check runner, trade-off or recommendation (render only)."""
-    forbidden = ("designer.analysis.optimise", "designer.analysis.tradeoff", "designer.analysis.pareto",
-                 "designer.analysis.robust", "designer.analysis.recommend", "designer.analysis.checks.paper_checks",
-                 "designer.analysis.checks.front_checks")
+    forbidden = (
+        "designer.analysis.optimise",
+        "designer.analysis.tradeoff",
+        "designer.analysis.pareto",
+        "designer.analysis.robust",
+        "designer.analysis.recommend",
+        "designer.analysis.checks.paper_checks",
+        "designer.analysis.checks.front_checks",
+    )
     import ast
 
     for path in (ROOT / "designer" / "report").rglob("*.py"):
@@ -108,7 +133,7 @@ def test_first_screen_is_build_this(stub, tmp_path):
     assert build < html.index('id="figures"') and build < html.index('<ul class="summary">')
     assert f"{d.diameter / INCH:.3f} in wheel" in html and f"{d.trail / INCH:.3f} in trail" in html
     assert html.index("<svg", build) < html.index('id="figures"')
-    table = html[html.index("<table>", build): html.index("</table>", build)]
+    table = html[html.index("<table>", build) : html.index("</table>", build)]
     assert table.count("<tr") == 4 and "easiest to turn" in table and "easiest over the sill" in table
     md = (folder / "report.md").read_text()
     assert md.index("## Build this") < md.index("## Figures")
@@ -140,7 +165,8 @@ def test_build_card_shows_the_knock_safe_speeds(stub, tmp_path):
     front = json.loads((folder / "front.json").read_text())
     assert front["recommendation"]["knock_safe_speed"] == pytest.approx(knock[0]["knock_safe_speed"])
     assert [a["knock_safe_speed_double"] for a in front["alternatives"]] == pytest.approx(
-        [k["knock_safe_speed_double"] for k in knock[1:]])
+        [k["knock_safe_speed_double"] for k in knock[1:]]
+    )
 
 
 def test_card_knock_safe_uses_each_wheels_inertia():
@@ -153,7 +179,8 @@ def test_card_knock_safe_uses_each_wheels_inertia():
     rec = recommend(problem)
     casters = [rec, *rec.alternatives]
     assert len({c.inertia for c in casters}) > 1 or casters[0].inertia != problem.conditions.inertia(
-        casters[0].design.diameter)
+        casters[0].design.diameter
+    )
     for caster, row in zip(casters, card_knock_safe(problem, rec)):
         assert row["knock_safe_speed"] == pytest.approx(caster.critical_speed, rel=0.05)
 

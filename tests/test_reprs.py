@@ -1,6 +1,7 @@
 """Notebook API (issue 17): short ``__repr__`` and ``_repr_html_`` of Problem, Design, Front, Solution,
 Recommendation, ExploreResult and the simulation result; data out (Front, Solution and fleet to pandas, the
 Front <-> pandas and front.csv round trips)."""
+
 from __future__ import annotations
 
 import math
@@ -88,8 +89,13 @@ def test_problem_repr_is_short_with_headline_numbers(problem):
     text = repr(problem)
     _short(text)
     c = problem.conditions
-    for part in (problem.name, f"{problem.target_speed:.3g} m/s", f"{problem.required_speed:.3g} m/s",
-                 f"{c.load:.4g} N", f"{c.threshold_height * 1000:.3g} mm"):
+    for part in (
+        problem.name,
+        f"{problem.target_speed:.3g} m/s",
+        f"{problem.required_speed:.3g} m/s",
+        f"{c.load:.4g} N",
+        f"{c.threshold_height * 1000:.3g} mm",
+    ):
         assert part in text, (part, text)
 
 
@@ -110,8 +116,13 @@ def test_front_repr_is_short_with_headline_numbers(front):
     _short(text)
     (f0, p0), (f1, p1) = front.ideal_nadir()
     k = front.knee()
-    for part in (f"{len(front)} points", f"F_turn {f0:.3g}–{f1:.3g} N", f"P {p0:.3g}–{p1:.3g} N",
-                 f"{k.turning_effort:.3g} N", f"{front.hypervolume():.3f}"):
+    for part in (
+        f"{len(front)} points",
+        f"F_turn {f0:.3g}–{f1:.3g} N",
+        f"P {p0:.3g}–{p1:.3g} N",
+        f"{k.turning_effort:.3g} N",
+        f"{front.hypervolume():.3f}",
+    ):
         assert part in text, (part, text)
 
 
@@ -135,8 +146,14 @@ def test_solution_repr_is_short_with_headline_numbers(solution):
     text = repr(solution)
     _short(text)
     d, o = solution.design, solution.objectives
-    for part in (f"T {d.trail / INCH:.3f} in", f"d {d.diameter / INCH:.3f} in", f"F_turn {o['turning_effort']:.4g} N",
-                 f"P {o['threshold_force']:.4g} N", f"J {o['weighted']:.4g} N", f"V_c {solution.critical_speed:.4g} m/s"):
+    for part in (
+        f"T {d.trail / INCH:.3f} in",
+        f"d {d.diameter / INCH:.3f} in",
+        f"F_turn {o['turning_effort']:.4g} N",
+        f"P {o['threshold_force']:.4g} N",
+        f"J {o['weighted']:.4g} N",
+        f"V_c {solution.critical_speed:.4g} m/s",
+    ):
         assert part in text, (part, text)
 
 
@@ -154,8 +171,13 @@ def test_recommendation_repr_is_short_with_headline_numbers(rec):
     text = repr(rec)
     _short(text)
     d = rec.design
-    for part in (f"T {d.trail / INCH:.3f} in", f"d {d.diameter / INCH:.3f} in", f"F_turn {rec.turning_effort:.4g} N",
-                 f"P {rec.threshold_force:.4g} N", f"{rec.shimmy_probability:.2%}"):
+    for part in (
+        f"T {d.trail / INCH:.3f} in",
+        f"d {d.diameter / INCH:.3f} in",
+        f"F_turn {rec.turning_effort:.4g} N",
+        f"P {rec.threshold_force:.4g} N",
+        f"{rec.shimmy_probability:.2%}",
+    ):
         assert part in text, (part, text)
 
 
@@ -178,8 +200,15 @@ def test_front_pandas_round_trip(front):
     pytest.importorskip("pandas")
     df = front.to_pandas()
     assert len(df) == len(front)
-    for col in ("trail_m", "diameter_m", "groove_m", "damping_N_m_per_rad", "turning_effort_N", "threshold_force_N",
-                "critical_speed_m_s"):
+    for col in (
+        "trail_m",
+        "diameter_m",
+        "groove_m",
+        "damping_N_m_per_rad",
+        "turning_effort_N",
+        "threshold_force_N",
+        "critical_speed_m_s",
+    ):
         assert col in df.columns
     assert df.attrs["units"]["turning_effort_N"] == "N" and df.attrs["problem"] == front.problem.name
     np.testing.assert_allclose(df["turning_effort_N"].to_numpy(), front.objectives()[:, 0], rtol=0, atol=0)
@@ -255,9 +284,14 @@ def test_simulation_repr_is_short_with_headline_numbers(simulation):
     the speed [m/s], knock [°], verdict, amplitudes [rad] and Eq. 7 V_c [m/s]."""
     text = repr(simulation)
     _short(text)
-    for part in (f"V {simulation.speed:.3g} m/s", f"knock {math.degrees(simulation.angle):.3g}°",
-                 "decays" if not simulation.grows else "GROWS", f"Eq. 29B {simulation.predicted_amplitude:.3g} rad",
-                 f"Eq. 7 V_c {simulation.critical_speed:.4g} m/s", f"{len(simulation.t)} samples"):
+    for part in (
+        f"V {simulation.speed:.3g} m/s",
+        f"knock {math.degrees(simulation.angle):.3g}°",
+        "decays" if not simulation.grows else "GROWS",
+        f"Eq. 29B {simulation.predicted_amplitude:.3g} rad",
+        f"Eq. 7 V_c {simulation.critical_speed:.4g} m/s",
+        f"{len(simulation.t)} samples",
+    ):
         assert part in text, (part, text)
 
 
@@ -301,8 +335,12 @@ def test_explore_result_repr_and_html(explored):
     text = repr(explored)
     _short(text)
     f = explored.objectives()
-    for part in (f"{explored.trials} trials", f"front of {len(explored.front)} points",
-                 f"F_turn {f[:, 0].min():.4g} – {f[:, 0].max():.4g} N", f"{explored.hypervolume:.4g} N²"):
+    for part in (
+        f"{explored.trials} trials",
+        f"front of {len(explored.front)} points",
+        f"F_turn {f[:, 0].min():.4g} – {f[:, 0].max():.4g} N",
+        f"{explored.hypervolume:.4g} N²",
+    ):
         assert part in text, (part, text)
     html = explored._repr_html_()
     body, tags = parse(html)
@@ -341,8 +379,16 @@ def test_fleet_to_pandas_units_in_names(problem):
     df = result.to_pandas()
     rows = result.rows()
     assert len(df) == len(rows) == 12
-    for col in ("trail_m", "diameter_m", "groove_m", "damping_N_m_per_rad", "turning_effort_N", "threshold_force_N",
-                "sku", "status"):
+    for col in (
+        "trail_m",
+        "diameter_m",
+        "groove_m",
+        "damping_N_m_per_rad",
+        "turning_effort_N",
+        "threshold_force_N",
+        "sku",
+        "status",
+    ):
         assert col in df.columns, col
     assert df.attrs["units"]["damping_N_m_per_rad"] == "N·m/rad" and df.attrs["skus"] == 2
     ok = [i for i, r in enumerate(rows) if r["status"] == "ok"]
@@ -368,8 +414,16 @@ def test_front_csv_round_trip(front, tmp_path):
     np.testing.assert_allclose(back.objectives(), front.objectives(), rtol=1e-9)
     np.testing.assert_allclose(back.designs(), front.designs(), rtol=1e-9, atol=1e-15)
     a, b = front.to_pandas(), back.to_pandas()
-    numeric = ["trail_m", "diameter_m", "groove_m", "damping_N_m_per_rad", "turning_effort_N", "threshold_force_N",
-               "critical_speed_m_s", "epsilon_N"]
+    numeric = [
+        "trail_m",
+        "diameter_m",
+        "groove_m",
+        "damping_N_m_per_rad",
+        "turning_effort_N",
+        "threshold_force_N",
+        "critical_speed_m_s",
+        "epsilon_N",
+    ]
     np.testing.assert_allclose(b[numeric].to_numpy(), a[numeric].to_numpy(), rtol=1e-9, atol=1e-15)
     again = Front.from_pandas(b, front.problem)
     np.testing.assert_array_equal(again.objectives(), back.objectives())

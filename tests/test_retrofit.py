@@ -4,6 +4,7 @@ The brute force here is written independently of designer/analysis/retrofit.py: 
 stock values of every single part and every pair of parts, each caster evaluated with designer.evaluate
 and the risk bound's quantile, then sorted by the rule the tool states.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -126,8 +127,9 @@ def test_five_degree_tilt_on_the_eq8_caster(problem):
     for degrees in (-5, 0, 5):
         r = fix(problem, EQ8, inertia=EQ8_INERTIA, stem_angle=math.radians(degrees), limit=0)
         values[degrees] = r.current
-    assert values[5].effective_trail - values[0].effective_trail == pytest.approx(3.875 * INCH * math.sin(
-        math.radians(5)), abs=1e-15)
+    assert values[5].effective_trail - values[0].effective_trail == pytest.approx(
+        3.875 * INCH * math.sin(math.radians(5)), abs=1e-15
+    )
     assert values[0].critical_speed == pytest.approx(2.392, abs=5e-4)
     assert values[5].critical_speed == pytest.approx(2.744, abs=5e-4)
     assert values[-5].critical_speed == pytest.approx(2.025, abs=5e-4)
@@ -149,8 +151,12 @@ def stock_lists(problem) -> dict:
     def inside(values, name):  # stock outside the bounds is not offered (docs/retrofit.md)
         return [float(v) for v in values if b[name].low * (1 - 1e-12) <= float(v) <= b[name].high * (1 + 1e-12)]
 
-    return {"damping": inside(stock.dampings, "damping"), "groove": inside(stock.grooves, "groove"),
-            "trail": inside(trails, "trail"), "diameter": inside(stock.diameters, "diameter")}
+    return {
+        "damping": inside(stock.dampings, "damping"),
+        "groove": inside(stock.grooves, "groove"),
+        "trail": inside(trails, "trail"),
+        "diameter": inside(stock.diameters, "diameter"),
+    }
 
 
 def brute_force(problem, current: Design, inertia: float, bound: Uncertainty):
@@ -180,8 +186,13 @@ def brute_force(problem, current: Design, inertia: float, bound: Uncertainty):
                 d_turn = out["turning_effort"] - base["turning_effort"]
                 d_force = out["threshold_force"] - base["threshold_force"]
                 loss = problem.weights[0] * d_turn + problem.weights[1] * d_force
-                rows.append(((k, round(loss, 9), round(d_turn, 9), round(d_force, 9), -q),
-                             {part_of[v] for v in variables}, design))
+                rows.append(
+                    (
+                        (k, round(loss, 9), round(d_turn, 9), round(d_force, 9), -q),
+                        {part_of[v] for v in variables},
+                        design,
+                    )
+                )
     rows.sort(key=lambda r: r[0])
     return rows
 
@@ -225,8 +236,9 @@ def test_fixes_are_ranked_and_safe(problem, eq8):
     for f in eq8.fixes:
         assert f.confident_speed >= problem.required_speed and f.swept_radius <= problem.swept_radius_max + 1e-12
         u = dataclasses.replace(bound, samples=40_000, seed=12345)
-        p, se = shimmy_probability_mc(f.effective_trail, f.inertia, f.design.groove, f.design.damping,
-                                      c.slip_coefficient, problem.target_speed, u)
+        p, se = shimmy_probability_mc(
+            f.effective_trail, f.inertia, f.design.groove, f.design.damping, c.slip_coefficient, problem.target_speed, u
+        )
         assert p <= bound.probability + 3 * max(se, 1e-4)
         assert f.cost_turning_effort == pytest.approx(f.turning_effort - eq8.current.turning_effort, abs=1e-12)
 
@@ -236,9 +248,17 @@ def test_reported_probability_is_the_uncertainty_modules_estimate(problem, eq8):
     shimmy_probability_mc of each caster with the same draws (seed and sample count), bit for bit."""
     u = retrofit._risk_of(problem)[1]
     for f in eq8.fixes[:5]:
-        p, se = shimmy_probability_mc(f.effective_trail, f.inertia, f.design.groove, f.design.damping,
-                                      problem.conditions.slip_coefficient, problem.target_speed, u,
-                                      samples=max(retrofit.REPORT_SAMPLES, u.samples), seed=u.seed)
+        p, se = shimmy_probability_mc(
+            f.effective_trail,
+            f.inertia,
+            f.design.groove,
+            f.design.damping,
+            problem.conditions.slip_coefficient,
+            problem.target_speed,
+            u,
+            samples=max(retrofit.REPORT_SAMPLES, u.samples),
+            seed=u.seed,
+        )
         assert (f.shimmy_probability, f.shimmy_probability_se) == (p, se)
 
 
@@ -273,11 +293,21 @@ def test_calibrated_fixes_are_safe_and_uncalibrated_ones_are_not(problem, eq8):
     c = problem.conditions
 
     def calibrated(f):
-        q = k * float(shimmy_speed_quantile(f.effective_trail, f.inertia, f.design.groove, f.design.damping,
-                                            c.slip_coefficient, bound))
+        q = k * float(
+            shimmy_speed_quantile(
+                f.effective_trail, f.inertia, f.design.groove, f.design.damping, c.slip_coefficient, bound
+            )
+        )
         u = dataclasses.replace(bound, samples=40_000, seed=777)
-        p, se = shimmy_probability_mc(f.effective_trail, f.inertia, f.design.groove, f.design.damping,
-                                      c.slip_coefficient, problem.target_speed / k, u)
+        p, se = shimmy_probability_mc(
+            f.effective_trail,
+            f.inertia,
+            f.design.groove,
+            f.design.damping,
+            c.slip_coefficient,
+            problem.target_speed / k,
+            u,
+        )
         return q, p, se
 
     for f in cal.fixes:
@@ -286,8 +316,9 @@ def test_calibrated_fixes_are_safe_and_uncalibrated_ones_are_not(problem, eq8):
     top = eq8.fixes[0]
     q, p, se = calibrated(top)
     assert q < problem.required_speed and p > bound.probability + 3 * se
-    assert not any(np.allclose(f.design.as_array(), top.design.as_array()) and f.inertia == top.inertia
-                   for f in cal.fixes)
+    assert not any(
+        np.allclose(f.design.as_array(), top.design.as_array()) and f.inertia == top.inertia for f in cal.fixes
+    )
 
 
 # --------------------------------------------------------------------------- command line
@@ -305,8 +336,23 @@ def stocked_file(tmp_path):
 
 def test_cli_json(capsys, tmp_path):
     """designer fix --json: "current" and ranked "fixes" with the documented keys, SI designs, from/to changes."""
-    code = main(["fix", stocked_file(tmp_path), "--current", EQ8, "--inertia", "0.00127", "--shimmied-at", "2.1m/s",
-                 "--stem-angle", "4deg", "--json", "--top", "3"])
+    code = main(
+        [
+            "fix",
+            stocked_file(tmp_path),
+            "--current",
+            EQ8,
+            "--inertia",
+            "0.00127",
+            "--shimmied-at",
+            "2.1m/s",
+            "--stem-angle",
+            "4deg",
+            "--json",
+            "--top",
+            "3",
+        ]
+    )
     assert code == 0
     out = json.loads(capsys.readouterr().out)
     for key in ("design", "objectives", "critical_speed", "shimmy_probability", "shimmy_probability_se"):
@@ -316,8 +362,15 @@ def test_cli_json(capsys, tmp_path):
     assert out["stem_angle"] == pytest.approx(math.radians(4))
     assert 1 <= len(out["fixes"]) <= 3
     for f in out["fixes"]:
-        for key in ("design", "changes", "turning_effort", "threshold_force", "critical_speed",
-                    "shimmy_probability", "shimmy_probability_se"):
+        for key in (
+            "design",
+            "changes",
+            "turning_effort",
+            "threshold_force",
+            "critical_speed",
+            "shimmy_probability",
+            "shimmy_probability_se",
+        ):
             assert key in f
         assert all({"part", "from", "to"} <= set(c) for c in f["changes"])
 
@@ -346,14 +399,17 @@ def test_catalog_problem_takes_the_current_wheels_inertia(capsys):
     assert "4 wheels of d = 8 in (D, E, F, G)" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("args, fragment", [
-    (["--current", "T=1.5in,d=7.75in,B=0.5625in"], "--current 'T=1.5in,d=7.75in,B=0.5625in': missing c"),
-    (["--current", "T 1.5in"], "is not KEY=VALUE"),
-    (["--current", "T=1.5in,d=7.75in,B=0.5625in,c=1.3,x=2"], "unknown key 'x'"),
-    (["--current", "T=1.5,d=7.75in,B=0.5625in,c=1.3"], "--current trail = 1.5 m: outside the model's range"),
-    (["--current", EQ8, "--shimmied-at", "0.8m/s"], "--shimmied-at = 0.8 m/s: below walking speed"),
-    (["--current", EQ8, "--stem-angle", "40deg"], "--stem-angle = 40 deg"),
-])
+@pytest.mark.parametrize(
+    "args, fragment",
+    [
+        (["--current", "T=1.5in,d=7.75in,B=0.5625in"], "--current 'T=1.5in,d=7.75in,B=0.5625in': missing c"),
+        (["--current", "T 1.5in"], "is not KEY=VALUE"),
+        (["--current", "T=1.5in,d=7.75in,B=0.5625in,c=1.3,x=2"], "unknown key 'x'"),
+        (["--current", "T=1.5,d=7.75in,B=0.5625in,c=1.3"], "--current trail = 1.5 m: outside the model's range"),
+        (["--current", EQ8, "--shimmied-at", "0.8m/s"], "--shimmied-at = 0.8 m/s: below walking speed"),
+        (["--current", EQ8, "--stem-angle", "40deg"], "--stem-angle = 40 deg"),
+    ],
+)
 def test_cli_bad_input_one_line_exit_2(capsys, args, fragment):
     """Unparsable --current, a design outside the model's range, an onset below walking speed, a stem tilted
     beyond 30°: one line naming the value, exit 2."""

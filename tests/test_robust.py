@@ -1,4 +1,5 @@
 """Robust design: probability of shimmy below the target, first order vs Monte Carlo, price of robustness."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -49,8 +50,15 @@ def test_robust_optimum_meets_probability(robust_solution):
     s = robust_solution
     c = s.problem.conditions
     inertia = float(c.inertia(s.design.diameter))
-    args = (s.design.trail, inertia, s.design.groove, s.design.damping, c.slip_coefficient, s.problem.required_speed,
-            c.uncertainty)
+    args = (
+        s.design.trail,
+        inertia,
+        s.design.groove,
+        s.design.damping,
+        c.slip_coefficient,
+        s.problem.required_speed,
+        c.uncertainty,
+    )
     assert shimmy_probability_first_order(*args) == pytest.approx(0.05, abs=1e-6)
     p_mc, se = shimmy_probability_mc(*args)
     assert p_mc <= 0.05 + 2 * se and p_mc > 0.03 and se <= 0.001
@@ -76,15 +84,27 @@ def test_zero_scatter_is_nominal():
     """With all scatter 0 except a tiny model error, the robust optimum tends to the nominal one."""
     base = {"name": "r", "shimmy": {"target_speed": 2.5}, "constraints": {"swept_radius_max": "6 in"}}
     nominal = optimise(problem_from_dict({**base, "robust": {"enabled": False}}), cross_check=False)
-    tiny = optimise(problem_from_dict({**base, "robust": {"probability": 0.05, "model_error": 1e-6, "damping": 0,
-                                                          "slip_coefficient": 0, "inertia": 0}}), cross_check=False)
+    tiny = optimise(
+        problem_from_dict(
+            {
+                **base,
+                "robust": {"probability": 0.05, "model_error": 1e-6, "damping": 0, "slip_coefficient": 0, "inertia": 0},
+            }
+        ),
+        cross_check=False,
+    )
     assert tiny.objectives["weighted"] == pytest.approx(nominal.objectives["weighted"], rel=1e-4)
 
 
-@pytest.mark.parametrize("robust, message", [({"probability": 0.7}, "robust.probability"),
-                                             ({"damping": -0.1}, "robust.damping"),
-                                             ({"samples": 10}, "robust.samples"),
-                                             ({"sigma": 1}, "unknown key robust.sigma")])
+@pytest.mark.parametrize(
+    "robust, message",
+    [
+        ({"probability": 0.7}, "robust.probability"),
+        ({"damping": -0.1}, "robust.damping"),
+        ({"samples": 10}, "robust.samples"),
+        ({"sigma": 1}, "unknown key robust.sigma"),
+    ],
+)
 def test_robust_section_validation(robust, message):
     """Bad [robust] entries are rejected with one line naming the key."""
     with pytest.raises(ProblemError, match=message):

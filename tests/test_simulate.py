@@ -1,4 +1,5 @@
 """Time-domain shimmy simulation (designer.analysis.simulate) against the paper's Eq. 7, 12B, 15B, 29B."""
+
 from __future__ import annotations
 
 import json
@@ -104,8 +105,21 @@ def test_bad_input_raises_input_error():
 def test_cli_json_keys(capsys):
     """`designer simulate --json --find-onset` prints amplitude_ratio, frequency, onset_speed and
     critical_speed; onset within ONSET_TOLERANCE (7.5 %) of the Eq. 7 value printed beside it."""
-    code = main(["simulate", "--trail", "2.5in", "--speed", "2.0", "--inertia", f"{I_C}", "--find-onset",
-                 "--duration", "0.8", "--json"])
+    code = main(
+        [
+            "simulate",
+            "--trail",
+            "2.5in",
+            "--speed",
+            "2.0",
+            "--inertia",
+            f"{I_C}",
+            "--find-onset",
+            "--duration",
+            "0.8",
+            "--json",
+        ]
+    )
     assert code == 0
     out = json.loads(capsys.readouterr().out)
     for key in ("amplitude_ratio", "frequency", "onset_speed", "critical_speed"):
@@ -125,8 +139,24 @@ def test_cli_bad_option_one_line(capsys):
 def test_cli_plot(tmp_path, capsys):
     """--plot writes a PNG of θ(t)."""
     path = tmp_path / "theta.png"
-    assert main(["simulate", "--trail", "2.5in", "--speed", "2.6", "--inertia", f"{I_C}", "--duration", "0.5",
-                 "--plot", str(path)]) == 0
+    assert (
+        main(
+            [
+                "simulate",
+                "--trail",
+                "2.5in",
+                "--speed",
+                "2.6",
+                "--inertia",
+                f"{I_C}",
+                "--duration",
+                "0.5",
+                "--plot",
+                str(path),
+            ]
+        )
+        == 0
+    )
     assert path.stat().st_size > 5000
 
 

@@ -1,4 +1,5 @@
 """Closed-form ε-optima (designer.solvers.structured) against the NLP front and the NLP itself."""
+
 import dataclasses
 import warnings
 
@@ -102,7 +103,8 @@ def test_fixed_variables(fixed):
     assert structured.applicable(problem)
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
     p_hi = evaluate_many(problem, np.array([[lo[0], lo[1], lo[2], lo[3]], [lo[0], hi[1], lo[2], lo[3]]]))[
-        "threshold_force"]
+        "threshold_force"
+    ]
     eps = np.linspace(p_hi[1], p_hi[0], 5)
     x, ok = structured.structured_front_designs(problem, eps)
     i = list(VARIABLES).index(fixed)
@@ -207,8 +209,9 @@ def test_risk_fast_front_is_the_closed_form(risk_fronts, name):
     for q in f_fast:
         assert not np.any((f_slow[:, 0] < q[0] * (1 - 1e-9)) & (f_slow[:, 1] <= q[1] * (1 + 1e-12)))
     ideal, nadir = slow.ideal_nadir()
-    assert fast.hypervolume(ideal=ideal, nadir=nadir) == pytest.approx(slow.hypervolume(ideal=ideal, nadir=nadir),
-                                                                       rel=1e-5)
+    assert fast.hypervolume(ideal=ideal, nadir=nadir) == pytest.approx(
+        slow.hypervolume(ideal=ideal, nadir=nadir), rel=1e-5
+    )
     assert fast.meta["nlp_solves"] < slow.meta["nlp_solves"]
 
 
@@ -233,8 +236,13 @@ def test_risk_bound_is_a_share_dependent_target():
     assert np.allclose(_f(flat, x_risk[ok_risk]), _f(tightened, x_nom[ok_nom]), rtol=1e-12, atol=0)
 
 
-@pytest.mark.parametrize("scatter", [dict(damping=0.3, slip_coefficient=0.05, probability=0.01, model_error_dof=0),
-                                     dict(damping=0.05, slip_coefficient=0.4, inertia=0.2, probability=0.2)])
+@pytest.mark.parametrize(
+    "scatter",
+    [
+        dict(damping=0.3, slip_coefficient=0.05, probability=0.01, model_error_dof=0),
+        dict(damping=0.05, slip_coefficient=0.4, inertia=0.2, probability=0.2),
+    ],
+)
 def test_risk_closed_form_other_scatter(scatter):
     """Other scatters (damper-heavy, groove-heavy uncertainty; normal model error; α 1 % and 20 %): the closed
     form equals the best of several direct NLP solves at five ε (1e-6), never worse by more than 1e-9."""
@@ -263,5 +271,6 @@ def test_stored_sobol_sample_is_scipys():
     problem = _problem("indoor-manual")
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
     assert np.array_equal(sample_designs(problem), lo + qmc.Sobol(d=4, scramble=True, seed=0).random(1024) * (hi - lo))
-    assert np.array_equal(sample_designs(problem, 16, seed=1),
-                          lo + qmc.Sobol(d=4, scramble=True, seed=1).random(16) * (hi - lo))
+    assert np.array_equal(
+        sample_designs(problem, 16, seed=1), lo + qmc.Sobol(d=4, scramble=True, seed=1).random(16) * (hi - lo)
+    )

@@ -2,6 +2,7 @@
 
 The browser session is tests/test_studio_browser.py; these check what needs no rendering, faster.
 """
+
 from __future__ import annotations
 
 import csv
@@ -23,17 +24,26 @@ POINTS = 5
 """Front points of the report test (the problem's [pareto] points): small, the test writes two reports."""
 
 
-def _callback(client, outputs: list[tuple[str, str]], inputs: list[tuple[str, str, object]], changed: str,
-              states: list[tuple[str, str, object]]) -> dict:
+def _callback(
+    client,
+    outputs: list[tuple[str, str]],
+    inputs: list[tuple[str, str, object]],
+    changed: str,
+    states: list[tuple[str, str, object]],
+) -> dict:
     """POST one Dash callback as the page does; returns the response's outputs by component id."""
     single = len(outputs) == 1
-    body = {"output": f"{outputs[0][0]}.{outputs[0][1]}" if single
-            else ".." + "...".join(f"{i}.{p}" for i, p in outputs) + "..",
-            "outputs": {"id": outputs[0][0], "property": outputs[0][1]} if single
-            else [{"id": i, "property": p} for i, p in outputs],
-            "inputs": [{"id": i, "property": p, "value": v} for i, p, v in inputs],
-            "changedPropIds": [changed],
-            "state": [{"id": i, "property": p, "value": v} for i, p, v in states]}
+    body = {
+        "output": f"{outputs[0][0]}.{outputs[0][1]}"
+        if single
+        else ".." + "...".join(f"{i}.{p}" for i, p in outputs) + "..",
+        "outputs": {"id": outputs[0][0], "property": outputs[0][1]}
+        if single
+        else [{"id": i, "property": p} for i, p in outputs],
+        "inputs": [{"id": i, "property": p, "value": v} for i, p, v in inputs],
+        "changedPropIds": [changed],
+        "state": [{"id": i, "property": p, "value": v} for i, p, v in states],
+    }
     response = client.post("/_dash-update-component", json=body)
     assert response.status_code == 200, response.data[:500]
     return json.loads(response.data)["response"]
@@ -41,21 +51,31 @@ def _callback(client, outputs: list[tuple[str, str]], inputs: list[tuple[str, st
 
 def _objectives(path: Path) -> list[tuple[str, ...]]:
     with open(path, newline="") as fh:
-        return [tuple(row[k] for k in ("trail", "diameter", "groove", "damping", "turning_effort",
-                                       "threshold_force", "buildable") if k in row) for row in csv.DictReader(fh)]
+        return [
+            tuple(
+                row[k]
+                for k in ("trail", "diameter", "groove", "damping", "turning_effort", "threshold_force", "buildable")
+                if k in row
+            )
+            for row in csv.DictReader(fh)
+        ]
 
 
 def test_write_report_is_designer_pareto(tmp_path):
-    """"Write report" (the button's callback, over HTTP) writes <out>/<name>/ with the files of a report, and its
+    """ "Write report" (the button's callback, over HTTP) writes <out>/<name>/ with the files of a report, and its
     front.csv is the one `designer pareto` writes for the same problem (the saved TOML): same rows, same numbers.
     A 5-point front keeps the two reports quick."""
     data, name = state.read_problem_data(PROBLEM)
     data = {**data, "pareto": {**data.get("pareto", {}), "points": POINTS}}
     problem, merged = state.build_problem(data, state.control_values(data))
     app = create_app(data, name, tmp_path / "studio")
-    reply = _callback(app.server.test_client(), [("save-result", "children"), ("download", "data")],
-                      [("save", "n_clicks", 0), ("report", "n_clicks", 1)], "report.n_clicks",
-                      [("problem-data", "data", merged)])
+    reply = _callback(
+        app.server.test_client(),
+        [("save-result", "children"), ("download", "data")],
+        [("save", "n_clicks", 0), ("report", "n_clicks", 1)],
+        "report.n_clicks",
+        [("problem-data", "data", merged)],
+    )
     written = tmp_path / "studio" / problem.name
     assert "report written" in json.dumps(reply["save-result"]) and (written / "index.html").is_file()
     toml = tmp_path / f"{problem.name}.toml"
@@ -66,16 +86,20 @@ def test_write_report_is_designer_pareto(tmp_path):
 
 
 def test_fixes_panel_says_when_the_list_is_cut():
-    """"My caster" lists the whole ranking when it is short ("all N found"); a ranking cut at FIX_LIMIT says it
+    """ "My caster" lists the whole ranking when it is short ("all N found"); a ranking cut at FIX_LIMIT says it
     is the top n of N and names the `designer fix` command that lists every fix."""
-    numbers = {"critical_speed": 0.75, "shimmy_probability": 1.0, "target_speed": 2.5, "turning_effort": 17.5,
-               "threshold_force": 98.5}
+    numbers = {
+        "critical_speed": 0.75,
+        "shimmy_probability": 1.0,
+        "target_speed": 2.5,
+        "turning_effort": 17.5,
+        "threshold_force": 98.5,
+    }
     rows = [{"rank": i + 1, "description": f"fix {i + 1}", "shimmy_probability": 0.01} for i in range(3)]
     text = json.dumps(fixes_panel({"numbers": numbers, "fixes": rows, "found": 3}), default=str)
     assert "all 3 found" in text and "designer fix" not in text
     command = 'designer fix out/p.toml --current "T=1in,d=8in,B=0in,c=1.3"'
-    text = json.dumps(fixes_panel({"numbers": numbers, "fixes": rows, "found": 250, "command": command}),
-                      default=str)
+    text = json.dumps(fixes_panel({"numbers": numbers, "fixes": rows, "found": 250, "command": command}), default=str)
     assert "top 3 of 250" in text and "designer fix out/p.toml" in text
 
 
@@ -95,8 +119,9 @@ def test_card_shows_the_knock_safe_speeds():
     n = view.card(problem, Design(0.0635, 0.1778, 0.0127, 1.3))["numbers"]
     assert 0 < n["knock_safe_speed_double"] < n["knock_safe_speed"]
     assert n["knock_safe_speed"] == pytest.approx(n["critical_speed"], rel=0.05)
-    table = json.dumps(numbers_table(n, "card").to_plotly_json(), default=lambda o: o.to_plotly_json(),
-                       ensure_ascii=False)
+    table = json.dumps(
+        numbers_table(n, "card").to_plotly_json(), default=lambda o: o.to_plotly_json(), ensure_ascii=False
+    )
     assert "knock-safe speed, 20° / 40° knock" in table and f"{n['knock_safe_speed']:.3g} / " in table
 
 
@@ -120,9 +145,13 @@ def test_recommendations_card_button_opens_its_card(tmp_path):
     data, name = state.read_problem_data(PROBLEM)
     problem, merged = state.build_problem(data, state.control_values(data))
     app = create_app(data, name, tmp_path)
-    reply = _callback(app.server.test_client(), [("card", "children")],
-                      [("front", "clickData", None), ("rec-card", "n_clicks", 1)], "rec-card.n_clicks",
-                      [("problem-data", "data", merged)])
+    reply = _callback(
+        app.server.test_client(),
+        [("card", "children")],
+        [("front", "clickData", None), ("rec-card", "n_clicks", 1)],
+        "rec-card.n_clicks",
+        [("problem-data", "data", merged)],
+    )
     text = json.dumps(reply["card"]["children"], ensure_ascii=False)
     assert "Card: recommendation" in text and "knock-safe speed, 20° / 40° knock" in text
     assert "card-knocksafe" in text

@@ -5,6 +5,7 @@ target speed, read the front and the recommendation and compare them with the AP
 click a point for its card, enter a shimmying caster for its risk and fixes, and enter min > max.
 Skipped when Selenium, Dash or the system Chromium is missing (.ci/run installs them).
 """
+
 from __future__ import annotations
 
 import math
@@ -37,8 +38,18 @@ WAIT = 60  # s: the machine is shared; a redraw takes well under a second when i
 
 def start_studio(cwd: Path):
     """`designer studio --port 0 --no-browser` in a subprocess; returns (process, url)."""
-    cmd = [sys.executable, "-m", "designer.cli", "studio", str(PROBLEM), "--port", "0", "--no-browser",
-           "--out", str(cwd / "out")]
+    cmd = [
+        sys.executable,
+        "-m",
+        "designer.cli",
+        "studio",
+        str(PROBLEM),
+        "--port",
+        "0",
+        "--no-browser",
+        "--out",
+        str(cwd / "out"),
+    ]
     proc = subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     line = proc.stdout.readline()
     match = re.search(r"(http://127\.0\.0\.1:\d+/)", line)
@@ -51,8 +62,13 @@ def start_studio(cwd: Path):
 def chrome():
     options = webdriver.ChromeOptions()
     options.binary_location = CHROMIUM
-    for arg in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--disable-gpu",
-                "--window-size=1500,1100"):
+    for arg in (
+        "--headless=new",
+        "--no-sandbox",
+        "--disable-dev-shm-usage",
+        "--disable-gpu",
+        "--window-size=1500,1100",
+    ):
         options.add_argument(arg)
     return webdriver.Chrome(options=options, service=webdriver.ChromeService(CHROMEDRIVER))
 
@@ -74,7 +90,8 @@ def traces(driver) -> dict:
     """The plotted traces of the front chart by their meta key: {key: (x, y)}."""
     data = driver.execute_script(
         "const g = document.querySelector('#front .js-plotly-plot');"
-        "return g && g.data ? g.data.map(t => [t.meta || '', Array.from(t.x), Array.from(t.y)]) : [];")
+        "return g && g.data ? g.data.map(t => [t.meta || '', Array.from(t.x), Array.from(t.y)]) : [];"
+    )
     return {key: (x, y) for key, x, y in data}
 
 
@@ -111,8 +128,9 @@ def test_studio_in_chromium(studio):
         handle.send_keys(Keys.ARROW_RIGHT)
     wait.until(lambda d: "target=3" in d.current_url)
     wait.until(lambda d: "risk" in traces(d) and traces(d)["risk"] != before)
-    values = state.from_query("?" + driver.current_url.split("?", 1)[1], state.control_values(
-        state.read_problem_data(PROBLEM)[0]))
+    values = state.from_query(
+        "?" + driver.current_url.split("?", 1)[1], state.control_values(state.read_problem_data(PROBLEM)[0])
+    )
     assert values["target"] == pytest.approx(3.0)
     fronts, rec = api_view(values)
     x, y = traces(driver)["risk"]
@@ -127,7 +145,8 @@ def test_studio_in_chromium(studio):
 
     # click a point of the risk-bounded front: its card opens with the same numbers
     points = driver.find_elements(By.CSS_SELECTOR, "#front .scatterlayer .trace")[1].find_elements(
-        By.CSS_SELECTOR, "path.point")
+        By.CSS_SELECTOR, "path.point"
+    )
     k = len(points) // 2
     ActionChains(driver).move_to_element(points[k]).pause(0.2).click().perform()
     wait.until(lambda d: text(d, "card-title").startswith("Card"))
@@ -165,8 +184,11 @@ def test_studio_in_chromium(studio):
     box = driver.find_element(By.CSS_SELECTOR, '[data-key="trail_min"] input')
     box.clear()
     box.send_keys("3 in", Keys.ENTER)
-    wait.until(lambda d: "min is greater than max" in d.find_element(
-        By.CSS_SELECTOR, '[data-key="trail_min"] .control-error').text)
+    wait.until(
+        lambda d: (
+            "min is greater than max" in d.find_element(By.CSS_SELECTOR, '[data-key="trail_min"] .control-error').text
+        )
+    )
     message = driver.find_element(By.CSS_SELECTOR, '[data-key="trail_min"] .control-error').text
     assert message.startswith("variables.trail") and "3 in > 2.5 in" in message
     assert traces(driver)["risk"] == shown_front

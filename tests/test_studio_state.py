@@ -1,4 +1,5 @@
 """The studio's state without a browser: controls -> problem loader, URL, TOML round trip, port in use."""
+
 from __future__ import annotations
 
 import json

@@ -1,5 +1,6 @@
 """Issue 12.5: every check can fail. Each is fed a perturbed model or front and must fail; check 2 has three
 outcomes; validate counts paper checks and implementation identities apart and exits 1 only on a failure."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -27,6 +28,7 @@ def _table1_model(factor=1.0, stable=5.0, overrides=None):
             return overrides[key]
         v = MEASURED[inertia]
         return stable if v is None else v * factor
+
     return model
 
 
@@ -64,20 +66,26 @@ def test_table1_a_b_far_below_stable_fails():
     assert ck.check_table1(_table1_model(overrides={"A": 2.5})).outcome == ck.FAILS
 
 
-@pytest.mark.parametrize("check, perturbed", [
-    (ck.check_eq8, {"critical_speed": lambda *a: 1.01 * critical_shimmy_speed(*a)}),
-    (ck.check_quadra, {"critical_speed": lambda *a: 0.6 * critical_shimmy_speed(*a)}),
-    (ck.check_monotonic, {"critical_speed": lambda t, i, b, c: critical_shimmy_speed(1 / t, i, b, c)}),
-    (ck.check_groove_turning, {"moment": lambda load, b, s, m: sliding_turning_moment(load, 1.2 * b, s, m)}),
-    (ck.check_groove_turning, {"effort": lambda t, b, c, load: turning_effort(t, 1.2 * b, c, load)}),
-    (ck.check_carpet, {"moment": lambda load, b, s, m: sliding_turning_moment(load, b, s, m) * (1.02 if s == "carpet" else 1)}),
-    (ck.check_trail_halves, {"effort": lambda t, b, c, load: turning_effort(t, b, c, load) * (t / INCH) ** 1e-6}),
-    (ck.check_threshold_curve, {"ratio": lambda d, h: 1.0 - d / (20 * INCH)}),
-    (ck.check_threshold_curve, {"ratio": lambda d, h: 1.05 * threshold_force_ratio(8 * INCH, h) + 0 * d}),
-    (ck.check_routh_hurwitz, {"routh_hurwitz": lambda *a: routh_hurwitz_critical_speed(*a) * (1 + 1e-6)}),
-    (ck.check_inertia_fit, {"fit": lambda: (ck.fit_table1_power_law()[0], 3.52)}),
-    (ck.check_inertia_fit, {"fit": lambda: (ck.fit_table1_power_law()[0] * 1.01, ck.fit_table1_power_law()[1])}),
-])
+@pytest.mark.parametrize(
+    "check, perturbed",
+    [
+        (ck.check_eq8, {"critical_speed": lambda *a: 1.01 * critical_shimmy_speed(*a)}),
+        (ck.check_quadra, {"critical_speed": lambda *a: 0.6 * critical_shimmy_speed(*a)}),
+        (ck.check_monotonic, {"critical_speed": lambda t, i, b, c: critical_shimmy_speed(1 / t, i, b, c)}),
+        (ck.check_groove_turning, {"moment": lambda load, b, s, m: sliding_turning_moment(load, 1.2 * b, s, m)}),
+        (ck.check_groove_turning, {"effort": lambda t, b, c, load: turning_effort(t, 1.2 * b, c, load)}),
+        (
+            ck.check_carpet,
+            {"moment": lambda load, b, s, m: sliding_turning_moment(load, b, s, m) * (1.02 if s == "carpet" else 1)},
+        ),
+        (ck.check_trail_halves, {"effort": lambda t, b, c, load: turning_effort(t, b, c, load) * (t / INCH) ** 1e-6}),
+        (ck.check_threshold_curve, {"ratio": lambda d, h: 1.0 - d / (20 * INCH)}),
+        (ck.check_threshold_curve, {"ratio": lambda d, h: 1.05 * threshold_force_ratio(8 * INCH, h) + 0 * d}),
+        (ck.check_routh_hurwitz, {"routh_hurwitz": lambda *a: routh_hurwitz_critical_speed(*a) * (1 + 1e-6)}),
+        (ck.check_inertia_fit, {"fit": lambda: (ck.fit_table1_power_law()[0], 3.52)}),
+        (ck.check_inertia_fit, {"fit": lambda: (ck.fit_table1_power_law()[0] * 1.01, ck.fit_table1_power_law()[1])}),
+    ],
+)
 def test_each_paper_check_fails_on_a_perturbed_model(check, perturbed):
     """Each check, fed a model perturbed just beyond its stated tolerance, fails (it can fail)."""
     assert check().outcome != ck.FAILS
@@ -89,8 +97,10 @@ def test_identities_are_counted_apart():
     """Checks 3, 4, 5 are implementation identities; the summary counts them apart from paper checks."""
     checks = ck.paper_checks()
     assert sorted(c.name.split()[0] for c in checks if c.kind == "identity") == ["3", "4", "5"]
-    assert ck.summary_line(checks) == ("6 paper checks reproduced, 1 disagree within the paper's stated scatter, "
-                                       "0 fail; 3 of 3 implementation identities hold")
+    assert ck.summary_line(checks) == (
+        "6 paper checks reproduced, 1 disagree within the paper's stated scatter, "
+        "0 fail; 3 of 3 implementation identities hold"
+    )
 
 
 def test_validate_exits_0_on_disagreement_within_scatter_and_1_on_failure(monkeypatch, capsys):
@@ -101,8 +111,10 @@ def test_validate_exits_0_on_disagreement_within_scatter_and_1_on_failure(monkey
     monkeypatch.setattr("designer.commands.validate.paper_checks", lambda: [within, ident])
     assert main(["validate"]) == 0
     out = capsys.readouterr().out
-    assert "0 paper checks reproduced, 1 disagree within the paper's stated scatter, 0 fail; 1 of 1 " \
-           "implementation identities hold" in out
+    assert (
+        "0 paper checks reproduced, 1 disagree within the paper's stated scatter, 0 fail; 1 of 1 "
+        "implementation identities hold" in out
+    )
     assert "disagrees: x: 10 %" in out
     bad = ck.Check("2 x", "claim", 1.0, 2.0, False, "")
     monkeypatch.setattr("designer.commands.validate.paper_checks", lambda: [bad, ident])
@@ -127,9 +139,17 @@ def _point(problem, x, f=None, margins=None):
     values = evaluate_many(problem, np.atleast_2d(x))
     design = Design.from_array(np.asarray(x, float))
     fv = float(values["turning_effort"][0]) if f is None else f
-    return FrontPoint(design, fv, float(values["threshold_force"][0]), float(values["critical_speed"][0]),
-                      margins if margins is not None else {"shimmy": 0.0}, 0.0, "Solve_Succeeded", True,
-                      family=family_of(problem, design))
+    return FrontPoint(
+        design,
+        fv,
+        float(values["threshold_force"][0]),
+        float(values["critical_speed"][0]),
+        margins if margins is not None else {"shimmy": 0.0},
+        0.0,
+        "Solve_Succeeded",
+        True,
+        family=family_of(problem, design),
+    )
 
 
 def _optimal_points(problem, eps):

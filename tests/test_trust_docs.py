@@ -1,5 +1,6 @@
 """Issue 12.6: the docs ship with the package's source; every problem-file key the loader accepts is
 documented, and code and report templates cite docs/, not an internal spec."""
+
 from __future__ import annotations
 
 import re
@@ -13,9 +14,12 @@ def test_every_loader_key_is_in_the_problem_file_reference():
     """Each key of designer.problem.SCHEMA appears in docs/problem-file.md as `section.key`
     (top-level keys as `key`); a key added to the loader without its documentation fails here."""
     text = (ROOT / "docs" / "problem-file.md").read_text(encoding="utf-8")
-    missing = [f"{section}.{key}" if section else key
-               for section, keys in SCHEMA.items() for key in keys
-               if f"`{section + '.' if section else ''}{key}`" not in text]
+    missing = [
+        f"{section}.{key}" if section else key
+        for section, keys in SCHEMA.items()
+        for key in keys
+        if f"`{section + '.' if section else ''}{key}`" not in text
+    ]
     assert not missing, f"undocumented problem-file keys: {missing}"
     for section in SCHEMA:
         if section:

@@ -1,5 +1,6 @@
 """Issue 12.1: crashes and exits a user could reach (check 8c out of reach, infeasible problem, Ctrl-C,
 unwritable output folder, unbounded --points)."""
+
 from __future__ import annotations
 
 import json
@@ -83,8 +84,12 @@ def test_pareto_cli_infeasible_problem_exit_4(tmp_path, capsys):
 @pytest.mark.parametrize("points", ["2", "100000", "-3"])
 def test_pareto_points_bounded_like_problem_file(points, tmp_path, capsys):
     """--points takes the problem file's range 3..2001 (100000 used to run 4 min and die of MemoryError)."""
-    assert main(["pareto", str(ROOT / "problems" / "indoor-manual.toml"), "--out", str(tmp_path / "r"),
-                 "--points", points]) == 2
+    assert (
+        main(
+            ["pareto", str(ROOT / "problems" / "indoor-manual.toml"), "--out", str(tmp_path / "r"), "--points", points]
+        )
+        == 2
+    )
     assert f"--points {points}: must be a whole number from 3 to 2001" in capsys.readouterr().err
 
 
@@ -100,8 +105,10 @@ def test_pareto_front_api_rejects_huge_point_count():
 
 def test_explore_trials_bounded(tmp_path, capsys):
     """explore --trials beyond 1 000 000 is an input error (exit 2), not an ever-growing in-memory study."""
-    assert main(["explore", str(ROOT / "problems" / "indoor-manual.toml"), "--trials", "10000000",
-                 "--out", str(tmp_path)]) == 2
+    assert (
+        main(["explore", str(ROOT / "problems" / "indoor-manual.toml"), "--trials", "10000000", "--out", str(tmp_path)])
+        == 2
+    )
     assert "--trials 10000000: must be a whole number from 1 to 1000000" in capsys.readouterr().err
 
 
@@ -129,14 +136,23 @@ def test_read_only_out_folder_exit_7(command, tmp_path):
     ro.mkdir()
     ro.chmod(0o555)
     try:
-        cmd = _drop_root_write_override() + [sys.executable, "-m", "designer.cli", command,
-                                             str(ROOT / "problems" / "indoor-manual.toml"), "--out", str(ro)]
+        cmd = _drop_root_write_override() + [
+            sys.executable,
+            "-m",
+            "designer.cli",
+            command,
+            str(ROOT / "problems" / "indoor-manual.toml"),
+            "--out",
+            str(ro),
+        ]
         proc = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     finally:
         ro.chmod(0o755)
     assert proc.returncode == 7, proc.stderr
-    assert proc.stderr.strip() == f"designer: error: --out {ro}: cannot write in {ro} (Permission denied); " \
-                                  f"choose a writable --out folder"
+    assert (
+        proc.stderr.strip() == f"designer: error: --out {ro}: cannot write in {ro} (Permission denied); "
+        f"choose a writable --out folder"
+    )
 
 
 def test_solver_call_raises_after_sigint_flag():
@@ -174,9 +190,13 @@ def test_sigint_exits_130_within_a_second_report_intact(delay, tmp_path):
     (out / "index.html").write_text("<p>previous</p>")
     (out / "front.json").write_text(json.dumps({"problem": "indoor-manual", "points": []}))
     before = {p.name: p.read_bytes() for p in out.iterdir()}
-    proc = subprocess.Popen([sys.executable, "-c", SCRIPT, "pareto", str(ROOT / "problems" / "indoor-manual.toml"),
-                             "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            cwd=tmp_path)
+    proc = subprocess.Popen(
+        [sys.executable, "-c", SCRIPT, "pareto", str(ROOT / "problems" / "indoor-manual.toml"), "--out", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=tmp_path,
+    )
     assert proc.stdout.readline().strip() == "ready"
     time.sleep(delay)
     assert proc.poll() is None

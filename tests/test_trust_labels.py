@@ -1,4 +1,5 @@
 """Issue 12.2: no numerical noise from the package, and labels that say what was used (weights, units)."""
+
 from __future__ import annotations
 
 import json
@@ -70,11 +71,14 @@ def test_run_weights_printed_and_recorded(capsys):
     assert json.loads(capsys.readouterr().out)["weights"] == [10.0, 1.0]
 
 
-@pytest.mark.parametrize("argv, fragment", [
-    (["--weights", "-1,1"], "--weights -1,1: w_turn = -1 must be a finite non-negative number"),
-    (["--weights=-1,1"], "--weights -1,1: w_turn = -1 must be a finite non-negative number"),
-    (["--weights", "1,-2"], "--weights 1,-2: w_threshold = -2 must be a finite non-negative number"),
-])
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["--weights", "-1,1"], "--weights -1,1: w_turn = -1 must be a finite non-negative number"),
+        (["--weights=-1,1"], "--weights -1,1: w_turn = -1 must be a finite non-negative number"),
+        (["--weights", "1,-2"], "--weights 1,-2: w_threshold = -2 must be a finite non-negative number"),
+    ],
+)
 def test_negative_weights_named(argv, fragment, capsys):
     """A negative weight is named with its value (argparse used to take '-1,1' for an option)."""
     assert main(["run", INDOOR] + argv) == 2

@@ -1,5 +1,6 @@
 """Issue 12.5, mutation testing: tests written against mutants that survived the first run
 (benchmarks/mutation.md): what each check reports, the closed-form ends, the swept-radius trail."""
+
 from __future__ import annotations
 
 
@@ -22,10 +23,16 @@ PINNED = {
     "3 groove +10 %": ("identity", "+10 % (chair and pivot)", "chair +10.0%, pivot +10.0%"),
     "4 carpet ×2": ("identity", 2.0, 2.0),
     "5 trail ×2": ("identity", 0.5, 0.5),
-    "6 monotonicity": ("paper", "V_c ↑ with T, c_f, B; ↓ with I_w, d",
-                       "trail ok, damping ok, groove ok, inertia ok, diameter ok"),
-    "7 P/L vs d": ("paper", "decreasing, convex; slope at 4 in >= 2 × slope at 8 in; P/L(3 in) >= 1.5 × P/L(6 in)",
-                   "P/L 3 in 1.118, 4 in 0.882, 6 in 0.663, 8 in 0.553; slope ratio 4 in / 8 in 3.98"),
+    "6 monotonicity": (
+        "paper",
+        "V_c ↑ with T, c_f, B; ↓ with I_w, d",
+        "trail ok, damping ok, groove ok, inertia ok, diameter ok",
+    ),
+    "7 P/L vs d": (
+        "paper",
+        "decreasing, convex; slope at 4 in >= 2 × slope at 8 in; P/L(3 in) >= 1.5 × P/L(6 in)",
+        "P/L 3 in 1.118, 4 in 0.882, 6 in 0.663, 8 in 0.553; slope ratio 4 in / 8 in 3.98",
+    ),
     "9 Routh–Hurwitz": ("paper", "relative difference < 1e-09", None),
     "10 Quadra": ("paper", "> 3.8 m/s", 6.089),
     "fit I_w(d)": ("paper", "n 3.50, 1.873e-3", None),
@@ -46,8 +53,17 @@ def test_paper_check_records_pinned():
         assert isinstance(c.claim, str) and len(c.claim) > 30, c.name
         assert isinstance(c.detail, str) and len(c.detail) > 30, c.name
         d = c.to_dict()
-        assert d == {"name": c.name, "claim": c.claim, "expected": c.expected, "got": c.got, "passed": True,
-                     "detail": c.detail, "kind": kind, "outcome": c.outcome, "disagreements": c.disagreements}
+        assert d == {
+            "name": c.name,
+            "claim": c.claim,
+            "expected": c.expected,
+            "got": c.got,
+            "passed": True,
+            "detail": c.detail,
+            "kind": kind,
+            "outcome": c.outcome,
+            "disagreements": c.disagreements,
+        }
     eq8, table1 = checks[0], checks[1]
     assert "error +0.04% (tolerance ±0.5%" in eq8.detail and "6.51 mph" in eq8.detail
     assert table1.detail.startswith("A: predicted 4.87 m/s, measured stable to 3.8; B: predicted 3.60 m/s")
@@ -95,8 +111,12 @@ def test_summary_counts_front_checks():
     f = ck.Check("8b x", "c", 1, 2, False, kind="front")
     text = ck.summary_line([a, b, f])
     assert text.endswith("; front checks: 1 pass, 1 fail, 1 not applicable")
-    assert ck.count_outcomes([a, b, f])["front"] == {ck.REPRODUCED: 1, ck.WITHIN_SCATTER: 0, ck.FAILS: 1,
-                                                       ck.NOT_APPLICABLE: 1}
+    assert ck.count_outcomes([a, b, f])["front"] == {
+        ck.REPRODUCED: 1,
+        ck.WITHIN_SCATTER: 0,
+        ck.FAILS: 1,
+        ck.NOT_APPLICABLE: 1,
+    }
     with pytest.raises(ValueError):
         ck.Check("x", "c", 1, 1, True, outcome="maybe")
 
@@ -110,10 +130,17 @@ def test_front_checks_texts_and_single_point(tmp_path):
     problem = load_problem(ROOT / "problems" / "indoor-manual.toml").nominal()
     (p,) = _optimal_points(problem, [110.0])
     a, b = ck.front_checks(Front(problem, [p]))
-    assert (a.name, a.got, a.outcome, a.kind) == ("8a trade-off", "1 point(s): nothing to compare", ck.REPRODUCED,
-                                                  "front")
-    assert (b.name, b.got, b.kind) == ("8b shimmy active", "0 of 1 points inactive, 0 of them with groove or damper",
-                                       "front")
+    assert (a.name, a.got, a.outcome, a.kind) == (
+        "8a trade-off",
+        "1 point(s): nothing to compare",
+        ck.REPRODUCED,
+        "front",
+    )
+    assert (b.name, b.got, b.kind) == (
+        "8b shimmy active",
+        "0 of 1 points inactive, 0 of them with groove or damper",
+        "front",
+    )
     looser = Front(problem, _optimal_points(problem, [105.0, 110.0, 120.0]))
     c8a = ck.front_checks(looser)[0]
     assert c8a.got == "0 diameter and 0 effort reversals in 3 points" and c8a.detail.startswith("d ")
@@ -125,8 +152,11 @@ def test_structured_ends_match_nlp_ends(toml):
     designs with it, the least P; end B the least P (to 1e-7), then the least F_turn."""
     from designer.analysis.sweeps import lexicographic_ends
 
-    problem = (load_problem(ROOT / "problems" / "indoor-manual.toml").nominal() if toml == "indoor"
-               else problem_from_toml(HEAVY))
+    problem = (
+        load_problem(ROOT / "problems" / "indoor-manual.toml").nominal()
+        if toml == "indoor"
+        else problem_from_toml(HEAVY)
+    )
     xa, xb = structured.structured_ends(problem)
     nlp = CasterNLP(problem)
     ends = lexicographic_ends(nlp, problem)

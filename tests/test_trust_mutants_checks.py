@@ -1,6 +1,7 @@
 """Issue 12.5, mutation testing, second round: what the paper checks and check 8 report, word for word, and
 the edges of their tolerances (``designer/analysis/checks.py``; benchmarks/mutation.md).  Check 8 is fed
 hand-made fronts (FrontPoint records with round numbers), so no optimisation runs."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -14,42 +15,59 @@ from conftest import ROOT
 CLAIMS_AND_DETAILS = {
     # the paper's words (claim) and the tolerance / remark (detail), as validate and the reports print them;
     # the numbers in the details are checked by hand in the docstring of test_paper_check_texts_pinned
-    "1 Eq. 8": ("B = 9/16 in, T = 2 in, I_w = 0.00127 kg·m², c_f = 1.3, K_s = 1250 N gives V_c = 2.91 m/s",
-                "error +0.04% (tolerance ±0.5%, the paper's rounding). The paper's '16.86 mph' is not 2.91 m/s "
-                "(6.51 mph); the m/s value is checked."),
-    "2 Table 1": ("Eq. 7 predicts the measured critical speeds of wheels C–G (2.39, 1.77, 1.46, 1.58, 1.20 m/s); "
-                  "A and B stable far above the 1 m/s walking speed",
-                  "A: predicted 4.87 m/s, measured stable to 3.8; B: predicted 3.60 m/s, measured stable to 3.8; "
-                  "C: predicted 2.00 vs measured 2.39 m/s (-16.4%); D: predicted 1.85 vs measured 1.77 m/s (+4.4%); "
-                  "E: predicted 1.63 vs measured 1.46 m/s (+11.9%); F: predicted 1.46 vs measured 1.58 m/s (-7.5%); "
-                  "G: predicted 1.12 vs measured 1.20 m/s (-6.9%). Tolerance: RMS <= 15% (the scatter of Fig. 2C), "
-                  "each wheel <= 25%, A and B >= 2 × walking speed."),
-    "3 groove +10 %": ("the grooved tyre needs 10 percent more turning effort than the ungrooved (drill press and "
-                       "chair tests)",
-                       "turning effort ratio at T = 2 in, tile: 1.1000; tolerance ±0.5%. The 10 % is the paper's "
-                       "measurement built into the turning model (κ), so this checks the implementation, not the "
-                       "physics"),
-    "4 carpet ×2": ("sliding friction turning moments for carpet are approximately double those on tile (Fig. 7)",
-                    "tolerance ±0.5%: the factor is the paper's measurement built into the model (carpet_factor), "
-                    "so this checks the implementation, not the physics"),
-    "5 trail ×2": ("doubling the trail length will decrease the effort by a factor of two",
-                   "F_turn at 1.25 in: 14.016 N, at 2.5 in: 7.008 N; F_turn = M/T is the model's definition, so "
-                   "this checks the implementation (to 1e-9)"),
-    "6 monotonicity": ("increasing the trail, decreasing the moment of inertia, increasing the damping and/or adding "
-                       "a groove will inhibit the onset of shimmy (Conclusion)",
-                       "2000 random designs, T 1–3 in, d 4–8 in, B 0–0.75 in, c_f 1.3–6"),
-    "7 P/L vs d": ("P/L increases rapidly for wheel diameters below 6 inches ... approaches a minimum asymptote "
-                   "toward 8 inches (Fig. 2A)",
-                   "h = 0.5 in, Eq. 4A. Mean drop per inch 4–6 in 0.109, 6–8 in 0.055 (ratio 1.99); decreasing True, "
-                   "convex True"),
-    "9 Routh–Hurwitz": ("applying the Hurwitz–Routh criterion to Eq. 12B gives Eq. 20B (and Eq. 7 with friction "
-                        "damping)",
-                        "4 parameter sets × (friction, hydraulic); K, N defaults of DynamicsParameters (ω = 104.7 "
-                        "rad/s at 2.5 in), which cancel in the threshold"),
-    "10 Quadra": ("the Quadra wheel ... sold in a fork with trail of 2.50 inches ... never shimmies (stable to 3.8 "
-                  "m/s)", "Eq. 7, wheel A, I_w = 1.80e-04 kg·m², B = 0, c_f = 1.3"),
-    "fit I_w(d)": ("least-squares fit of Table 1 (docs/model.md): n ≈ 3.50, I_w(8 in) ≈ 1.87e-3 kg·m²",
-                   "tolerance n ±0.01 (the two decimals quoted), I_w ±0.5 % (rounding of 1.87e-3)"),
+    "1 Eq. 8": (
+        "B = 9/16 in, T = 2 in, I_w = 0.00127 kg·m², c_f = 1.3, K_s = 1250 N gives V_c = 2.91 m/s",
+        "error +0.04% (tolerance ±0.5%, the paper's rounding). The paper's '16.86 mph' is not 2.91 m/s "
+        "(6.51 mph); the m/s value is checked.",
+    ),
+    "2 Table 1": (
+        "Eq. 7 predicts the measured critical speeds of wheels C–G (2.39, 1.77, 1.46, 1.58, 1.20 m/s); "
+        "A and B stable far above the 1 m/s walking speed",
+        "A: predicted 4.87 m/s, measured stable to 3.8; B: predicted 3.60 m/s, measured stable to 3.8; "
+        "C: predicted 2.00 vs measured 2.39 m/s (-16.4%); D: predicted 1.85 vs measured 1.77 m/s (+4.4%); "
+        "E: predicted 1.63 vs measured 1.46 m/s (+11.9%); F: predicted 1.46 vs measured 1.58 m/s (-7.5%); "
+        "G: predicted 1.12 vs measured 1.20 m/s (-6.9%). Tolerance: RMS <= 15% (the scatter of Fig. 2C), "
+        "each wheel <= 25%, A and B >= 2 × walking speed.",
+    ),
+    "3 groove +10 %": (
+        "the grooved tyre needs 10 percent more turning effort than the ungrooved (drill press and chair tests)",
+        "turning effort ratio at T = 2 in, tile: 1.1000; tolerance ±0.5%. The 10 % is the paper's "
+        "measurement built into the turning model (κ), so this checks the implementation, not the "
+        "physics",
+    ),
+    "4 carpet ×2": (
+        "sliding friction turning moments for carpet are approximately double those on tile (Fig. 7)",
+        "tolerance ±0.5%: the factor is the paper's measurement built into the model (carpet_factor), "
+        "so this checks the implementation, not the physics",
+    ),
+    "5 trail ×2": (
+        "doubling the trail length will decrease the effort by a factor of two",
+        "F_turn at 1.25 in: 14.016 N, at 2.5 in: 7.008 N; F_turn = M/T is the model's definition, so "
+        "this checks the implementation (to 1e-9)",
+    ),
+    "6 monotonicity": (
+        "increasing the trail, decreasing the moment of inertia, increasing the damping and/or adding "
+        "a groove will inhibit the onset of shimmy (Conclusion)",
+        "2000 random designs, T 1–3 in, d 4–8 in, B 0–0.75 in, c_f 1.3–6",
+    ),
+    "7 P/L vs d": (
+        "P/L increases rapidly for wheel diameters below 6 inches ... approaches a minimum asymptote "
+        "toward 8 inches (Fig. 2A)",
+        "h = 0.5 in, Eq. 4A. Mean drop per inch 4–6 in 0.109, 6–8 in 0.055 (ratio 1.99); decreasing True, convex True",
+    ),
+    "9 Routh–Hurwitz": (
+        "applying the Hurwitz–Routh criterion to Eq. 12B gives Eq. 20B (and Eq. 7 with friction damping)",
+        "4 parameter sets × (friction, hydraulic); K, N defaults of DynamicsParameters (ω = 104.7 "
+        "rad/s at 2.5 in), which cancel in the threshold",
+    ),
+    "10 Quadra": (
+        "the Quadra wheel ... sold in a fork with trail of 2.50 inches ... never shimmies (stable to 3.8 m/s)",
+        "Eq. 7, wheel A, I_w = 1.80e-04 kg·m², B = 0, c_f = 1.3",
+    ),
+    "fit I_w(d)": (
+        "least-squares fit of Table 1 (docs/model.md): n ≈ 3.50, I_w(8 in) ≈ 1.87e-3 kg·m²",
+        "tolerance n ±0.01 (the two decimals quoted), I_w ±0.5 % (rounding of 1.87e-3)",
+    ),
 }
 
 
@@ -80,8 +98,10 @@ def test_summary_line_without_front_checks_and_without_not_applicable():
     w = ck.Check("2 x", "c", 1, 1, True, outcome=ck.WITHIN_SCATTER)
     i = ck.Check("3 x", "c", 1, 1, True, kind="identity")
     text = ck.summary_line([p, w, i])
-    assert text == ("1 paper checks reproduced, 1 disagree within the paper's stated scatter, 0 fail; 1 of 1 "
-                    "implementation identities hold")
+    assert text == (
+        "1 paper checks reproduced, 1 disagree within the paper's stated scatter, 0 fail; 1 of 1 "
+        "implementation identities hold"
+    )
     a = ck.Check("8a x", "c", 1, 1, True, kind="front")
     assert ck.summary_line([p, w, i, a]) == text + "; front checks: 1 pass, 0 fail"
 
@@ -90,15 +110,19 @@ def test_disagreement_bands_and_direction():
     """The band of a disagreement: |e| <= 15 % within the scatter (15 % exactly is within), <= 25 % within the
     one-wheel allowance, beyond it outside; the direction is 'lower' for e < 0 and 'higher' for e >= 0."""
     assert ck._disagreement("X", 1.15, 1.0, 0.15, 0.25).endswith(
-        "disagrees by 15.0 % (predicted higher), within the paper's ±15 % scatter")
+        "disagrees by 15.0 % (predicted higher), within the paper's ±15 % scatter"
+    )
     assert ck._disagreement("X", 1.25, 1.0, 0.15, 0.25).endswith(
-        "(predicted higher), outside the paper's ±15 % scatter, within the ±25 % allowed for one wheel")
+        "(predicted higher), outside the paper's ±15 % scatter, within the ±25 % allowed for one wheel"
+    )
     assert ck._disagreement("X", 0.7, 1.0, 0.15, 0.25) == (
         "X: predicted 0.70 m/s against 1.00 m/s measured: disagrees by 30.0 % (predicted lower), outside the "
-        "±25 % allowed for one wheel")
+        "±25 % allowed for one wheel"
+    )
     assert ck._disagreement("X", 1.0, 1.0, 0.15, 0.25) == (
         "X: predicted 1.00 m/s against 1.00 m/s measured: disagrees by 0.0 % (predicted higher), within the "
-        "paper's ±15 % scatter")
+        "paper's ±15 % scatter"
+    )
     assert "outside the paper's ±10 % scatter, within the ±20 % allowed" in ck._disagreement("X", 1.12, 1.0, 0.1, 0.2)
 
 
@@ -111,8 +135,9 @@ def test_eq8_check_uses_the_case_slip_coefficient():
         return critical_shimmy_speed(t, i, b, c, ks)
 
     assert ck.check_eq8(model).outcome == ck.REPRODUCED
-    assert ck.check_table1(lambda t, i, b, c, ks=0.0: critical_shimmy_speed(t, i, b, c, ks)).outcome == \
-        ck.WITHIN_SCATTER
+    assert (
+        ck.check_table1(lambda t, i, b, c, ks=0.0: critical_shimmy_speed(t, i, b, c, ks)).outcome == ck.WITHIN_SCATTER
+    )
 
 
 def test_table1_a_and_b_bounds():
@@ -156,8 +181,16 @@ def _pt(d_in, p, f, groove=0.0, damping=1.3, v=2.5, margins=None):
     from designer.analysis.pareto import FrontPoint
     from designer.model import Design
 
-    return FrontPoint(Design(2 * INCH, d_in * INCH, groove * INCH, damping), f, p, v,
-                      {"shimmy": 0.0} if margins is None else margins, p, "Solve_Succeeded", True)
+    return FrontPoint(
+        Design(2 * INCH, d_in * INCH, groove * INCH, damping),
+        f,
+        p,
+        v,
+        {"shimmy": 0.0} if margins is None else margins,
+        p,
+        "Solve_Succeeded",
+        True,
+    )
 
 
 def _front(problem, points):
@@ -173,26 +206,42 @@ def test_8a_records_pinned(indoor):
     """8a word for word: one point has nothing to compare; three points d = 5, 6, 7 in with P falling and F_turn
     rising (9, 10, 11 N) pass, and the detail gives the ranges."""
     (one,) = [c for c in ck.front_checks(_front(indoor, [_pt(6, 110, 10)])) if c.name.startswith("8a")]
-    assert one.to_dict() == {"name": "8a trade-off", "claim": CLAIM_8A, "expected": "monotone",
-                             "got": "1 point(s): nothing to compare", "passed": True,
-                             "detail": "a front with fixed diameter or one dominant catalog wheel has a single point",
-                             "kind": "front", "outcome": ck.REPRODUCED, "disagreements": []}
+    assert one.to_dict() == {
+        "name": "8a trade-off",
+        "claim": CLAIM_8A,
+        "expected": "monotone",
+        "got": "1 point(s): nothing to compare",
+        "passed": True,
+        "detail": "a front with fixed diameter or one dominant catalog wheel has a single point",
+        "kind": "front",
+        "outcome": ck.REPRODUCED,
+        "disagreements": [],
+    }
     three = ck.front_checks(_front(indoor, [_pt(5, 120, 9), _pt(7, 100, 11), _pt(6, 110, 10)]))[0]
-    assert three.to_dict() == {"name": "8a trade-off", "claim": CLAIM_8A,
-                               "expected": "d and F_turn non-decreasing as P falls",
-                               "got": "0 diameter and 0 effort reversals in 3 points", "passed": True,
-                               "detail": "d 5.00–7.00 in, F_turn 9.000–11.000 N", "kind": "front",
-                               "outcome": ck.REPRODUCED, "disagreements": []}
+    assert three.to_dict() == {
+        "name": "8a trade-off",
+        "claim": CLAIM_8A,
+        "expected": "d and F_turn non-decreasing as P falls",
+        "got": "0 diameter and 0 effort reversals in 3 points",
+        "passed": True,
+        "detail": "d 5.00–7.00 in, F_turn 9.000–11.000 N",
+        "kind": "front",
+        "outcome": ck.REPRODUCED,
+        "disagreements": [],
+    }
 
 
-@pytest.mark.parametrize("points, got, passed", [
-    # equal diameters are no reversal; a diameter drop of 1 µm (5e-6 of d_max) is one (tolerance 1e-6 × d_max)
-    ([(6, 120, 9), (6, 110, 10)], "0 diameter and 0 effort reversals in 2 points", True),
-    ([(6, 120, 9), (6 - 1e-6 / INCH, 110, 10)], "1 diameter and 0 effort reversals in 2 points", False),
-    # an effort drop of 5e-7 N (below 1e-6 × F_max = 1e-5 N) is rounding, not a reversal; 1e-3 N is one
-    ([(5, 120, 10), (6, 110, 10 - 5e-7)], "0 diameter and 0 effort reversals in 2 points", True),
-    ([(5, 120, 10), (6, 110, 10 - 1e-3)], "0 diameter and 1 effort reversals in 2 points", False),
-])
+@pytest.mark.parametrize(
+    "points, got, passed",
+    [
+        # equal diameters are no reversal; a diameter drop of 1 µm (5e-6 of d_max) is one (tolerance 1e-6 × d_max)
+        ([(6, 120, 9), (6, 110, 10)], "0 diameter and 0 effort reversals in 2 points", True),
+        ([(6, 120, 9), (6 - 1e-6 / INCH, 110, 10)], "1 diameter and 0 effort reversals in 2 points", False),
+        # an effort drop of 5e-7 N (below 1e-6 × F_max = 1e-5 N) is rounding, not a reversal; 1e-3 N is one
+        ([(5, 120, 10), (6, 110, 10 - 5e-7)], "0 diameter and 0 effort reversals in 2 points", True),
+        ([(5, 120, 10), (6, 110, 10 - 1e-3)], "0 diameter and 1 effort reversals in 2 points", False),
+    ],
+)
 def test_8a_tolerances(indoor, points, got, passed):
     """8a counts a reversal only beyond 1e-6 of the largest diameter / effort, and fails on either kind."""
     c8a = ck.front_checks(_front(indoor, [_pt(*p) for p in points]))[0]
@@ -208,19 +257,25 @@ def test_8b_counts_inactive_points_and_offenders(indoor):
     with c_f = 1.95 (1.5 × the minimum) and no groove, offends; a point without a recorded margin is judged by
     V_c − V_req; a robust point (margin 0 on the quantile, V_c above V_req) is active."""
     pts = [
-        _pt(6, 130, 9, groove=0.5, margins={"shimmy": 0.0}, v=3.0),      # robust: active on its quantile
-        _pt(6, 125, 9, groove=0.5, margins={"shimmy": 1e-6}),            # active within tolerance
-        _pt(6, 120, 9, groove=0.5, margins={}, v=2.5),                   # no margin recorded: V_c = V_req, active
-        _pt(6, 115, 9, margins={"shimmy": 0.4}, v=2.9),                  # bare fork, inactive: allowed
-        _pt(6, 110, 9, groove=0.5, margins={"shimmy": 0.4}, v=2.9),      # groove, inactive: offends
-        _pt(6, 105, 9, damping=1.95, margins={}, v=2.9),                 # damper, inactive (from V_c): offends
+        _pt(6, 130, 9, groove=0.5, margins={"shimmy": 0.0}, v=3.0),  # robust: active on its quantile
+        _pt(6, 125, 9, groove=0.5, margins={"shimmy": 1e-6}),  # active within tolerance
+        _pt(6, 120, 9, groove=0.5, margins={}, v=2.5),  # no margin recorded: V_c = V_req, active
+        _pt(6, 115, 9, margins={"shimmy": 0.4}, v=2.9),  # bare fork, inactive: allowed
+        _pt(6, 110, 9, groove=0.5, margins={"shimmy": 0.4}, v=2.9),  # groove, inactive: offends
+        _pt(6, 105, 9, damping=1.95, margins={}, v=2.9),  # damper, inactive (from V_c): offends
     ]
     c8b = [c for c in ck.front_checks(_front(indoor, pts)) if c.name.startswith("8b")][0]
-    assert c8b.to_dict() == {"name": "8b shimmy active", "claim": CLAIM_8B,
-                             "expected": "inactive only on bare-fork designs (no groove, no damper)",
-                             "got": "3 of 6 points inactive, 2 of them with groove or damper", "passed": False,
-                             "detail": "a groove or damper that is not needed for V_c only adds turning effort",
-                             "kind": "front", "outcome": ck.FAILS, "disagreements": []}
+    assert c8b.to_dict() == {
+        "name": "8b shimmy active",
+        "claim": CLAIM_8B,
+        "expected": "inactive only on bare-fork designs (no groove, no damper)",
+        "got": "3 of 6 points inactive, 2 of them with groove or damper",
+        "passed": False,
+        "detail": "a groove or damper that is not needed for V_c only adds turning effort",
+        "kind": "front",
+        "outcome": ck.FAILS,
+        "disagreements": [],
+    }
     ok = [c for c in ck.front_checks(_front(indoor, pts[:4])) if c.name.startswith("8b")][0]
     assert (ok.got, ok.passed) == ("1 of 4 points inactive, 0 of them with groove or damper", True)
 
@@ -236,12 +291,18 @@ def test_8c_not_applicable_record(indoor):
     tighter = _front(indoor.replace(target_speed=30.0), [])
     c8c = ck.front_checks(_front(indoor, [_pt(6, 110, 10)]), tighter)[-1]
     assert c8c.to_dict() == {
-        "name": "8c tighter target", "claim": "tightening V_target moves the front outward",
+        "name": "8c tighter target",
+        "claim": "tightening V_target moves the front outward",
         "expected": "every point of the tighter front weakly dominated by the looser front",
         "got": f"not applicable: the tighter target is out of reach (highest V_c {v_max:.3f} m/s < 30.000 m/s "
-               f"required)", "passed": True,
+        f"required)",
+        "passed": True,
         "detail": "tighter target 30 m/s vs 2.5 m/s: no design inside the bounds reaches it, so there is no tighter "
-                  "front to compare", "kind": "front", "outcome": ck.NOT_APPLICABLE, "disagreements": []}
+        "front to compare",
+        "kind": "front",
+        "outcome": ck.NOT_APPLICABLE,
+        "disagreements": [],
+    }
 
 
 # --------------------------------------------------------------------------- check 6: the sampled box
@@ -262,15 +323,23 @@ def _dented(var, lo, hi):
         inside = (x >= lo) & (x <= hi)
         sign = 1.0 if var == "diameter" else -1.0  # V_c falls with T, B, c_f / rises with d inside the dent
         return base * np.where(inside, 1 + sign * 0.9 * (x - lo) / (hi - lo), 1.0)
+
     return model
 
 
-@pytest.mark.parametrize("var, lo, hi, inside", [
-    ("trail", 1.0, 1.4, True), ("trail", 3.05, 3.9, False),
-    ("diameter", 4.0, 4.5, True), ("diameter", 8.05, 8.9, False),
-    ("groove", 0.0, 0.2, True), ("groove", 0.76, 1.5, False),
-    ("damping", 1.3, 2.0, True), ("damping", 6.05, 6.9, False),
-])
+@pytest.mark.parametrize(
+    "var, lo, hi, inside",
+    [
+        ("trail", 1.0, 1.4, True),
+        ("trail", 3.05, 3.9, False),
+        ("diameter", 4.0, 4.5, True),
+        ("diameter", 8.05, 8.9, False),
+        ("groove", 0.0, 0.2, True),
+        ("groove", 0.76, 1.5, False),
+        ("damping", 1.3, 2.0, True),
+        ("damping", 6.05, 6.9, False),
+    ],
+)
 def test_monotonicity_sample_covers_its_box(var, lo, hi, inside):
     """Check 6 samples T 1–3 in, d 4–8 in, B 0–0.75 in, c_f 1.3–6 (its detail says so): a model whose trend reverses
     at the low end of one range fails it; one that reverses just beyond the high end passes (outside the box)."""
@@ -290,6 +359,7 @@ def _dented_ratio(lo, hi):
         x = np.asarray(d, float) / INCH
         bump = np.where((x > lo) & (x < hi), 0.5 * (x - lo) / (hi - lo), 0.0)
         return threshold_force_ratio(d, h) * (1 + bump)
+
     return ratio
 
 
@@ -323,7 +393,8 @@ def test_disagreement_prints_bands_in_percent():
     """The bands are printed as percentages of the fractions given: 0.9 and 1.0 give ±90 % and ±100 %."""
     assert ck._disagreement("X", 1.5, 1.0, 0.9, 1.0).endswith("within the paper's ±90 % scatter")
     assert ck._disagreement("X", 1.95, 1.0, 0.9, 1.0).endswith(
-        "outside the paper's ±90 % scatter, within the ±100 % allowed for one wheel")
+        "outside the paper's ±90 % scatter, within the ±100 % allowed for one wheel"
+    )
     assert ck._disagreement("X", 2.5, 1.0, 0.9, 1.0).endswith("outside the ±100 % allowed for one wheel")
 
 
@@ -335,6 +406,7 @@ def test_carpet_and_inertia_fit_tolerances():
     def carpet(factor):
         def moment(load, groove, surface, mode):
             return sliding_turning_moment(load, groove, "tile", mode) * (factor if surface == "carpet" else 1.0)
+
         return moment
 
     assert ck.check_carpet(carpet(2.009)).passed and not ck.check_carpet(carpet(2.012)).passed
@@ -394,7 +466,9 @@ def test_threshold_curve_slope_ratio_limit(a, ratio, passed):
     a = 0.03 gives slope ratio 2.74 (passes, >= 2), a = 0.1 gives 1.89 (fails)."""
     from designer.physics.threshold import threshold_force_ratio
 
-    c7 = ck.check_threshold_curve(lambda d, h: threshold_force_ratio(d, h) + a * (8 * INCH - np.asarray(d, float)) / INCH)
+    c7 = ck.check_threshold_curve(
+        lambda d, h: threshold_force_ratio(d, h) + a * (8 * INCH - np.asarray(d, float)) / INCH
+    )
     assert c7.passed is passed and c7.got.endswith(f"slope ratio 4 in / 8 in {ratio}")
 
 
@@ -434,7 +508,14 @@ def test_8c_record_on_a_dominated_tighter_front(indoor):
     d = c8c.to_dict()
     got = d.pop("got")
     assert re.fullmatch(r"1 of 1 dominated; HV \d\.\d{4} vs \d\.\d{4} \(looser's normalisation\)", got), got
-    assert d == {"name": "8c tighter target", "claim": "tightening V_target moves the front outward",
-                 "expected": "every point of the tighter front weakly dominated by the looser front", "passed": True,
-                 "detail": "tighter target 2.5 m/s vs 2.5 m/s; exact test: the looser problem's min F_turn at each "
-                           "tighter point's P", "kind": "front", "outcome": ck.REPRODUCED, "disagreements": []}
+    assert d == {
+        "name": "8c tighter target",
+        "claim": "tightening V_target moves the front outward",
+        "expected": "every point of the tighter front weakly dominated by the looser front",
+        "passed": True,
+        "detail": "tighter target 2.5 m/s vs 2.5 m/s; exact test: the looser problem's min F_turn at each "
+        "tighter point's P",
+        "kind": "front",
+        "outcome": ck.REPRODUCED,
+        "disagreements": [],
+    }

@@ -1,6 +1,7 @@
 """Issue 12.5, mutation testing, second round: tests for the mutants of ``designer/physics/`` that survived
 (benchmarks/mutation.md).  Each asserts a number from the paper or a hand calculation written out in the
 docstring, a property of the model, or an error message the user reads."""
+
 from __future__ import annotations
 
 import math
@@ -25,8 +26,9 @@ enable_casadi()  # NumPy mode: np.sqrt of a CasADi symbol is a CasADi expression
 def test_threshold_force_is_load_times_eq4a():
     """Eq. 4A, P = L · 2√(d/h − 1)/(d/h − 2): an 8 in wheel on a ½ in sill (d/h = 16) with L = 178 N needs
     178 × 2√15/14 = 98.48 N (hand calculation)."""
-    assert threshold.threshold_force(8 * INCH, 0.5 * INCH, 178.0) == pytest.approx(178 * 2 * math.sqrt(15) / 14,
-                                                                                  rel=1e-12)
+    assert threshold.threshold_force(8 * INCH, 0.5 * INCH, 178.0) == pytest.approx(
+        178 * 2 * math.sqrt(15) / 14, rel=1e-12
+    )
     assert threshold.threshold_force(8 * INCH, 0.5 * INCH, 178.0) == pytest.approx(98.484, abs=1e-3)
 
 
@@ -84,7 +86,7 @@ def test_log_sensitivities_use_the_slip_coefficient():
 
     def dlog(**kw):
         args = dict(trail=t, inertia=i, groove=b, damping=c, slip_coefficient=ks)
-        (name, factor), = kw.items()
+        ((name, factor),) = kw.items()
         args[name] *= factor
         return math.log(shimmy.critical_shimmy_speed(**args))
 
@@ -121,8 +123,9 @@ def test_growth_rate_is_the_oscillatory_modes_real_part():
     mu = shimmy.growth_rate((1.0, 0.0, -2.0, -4.0))  # (s − 2)(s² + 2 s + 2) = s³ − 2 s − 4
     assert type(mu) is float and mu == pytest.approx(-1.0, abs=1e-12)
     assert shimmy.growth_rate((1.0, 0.0, -0.5, 0.5)) == pytest.approx(0.5, abs=1e-12)
-    batch = shimmy.growth_rate((np.array([1.0, 1.0]), np.array([0.0, 0.0]), np.array([-2.0, -0.5]),
-                                np.array([-4.0, 0.5])))
+    batch = shimmy.growth_rate(
+        (np.array([1.0, 1.0]), np.array([0.0, 0.0]), np.array([-2.0, -0.5]), np.array([-4.0, 0.5]))
+    )
     assert isinstance(batch, np.ndarray) and batch == pytest.approx([-1.0, 0.5], abs=1e-12)
 
 
@@ -135,8 +138,9 @@ def test_routh_hurwitz_default_kind_and_slip_coefficient():
     by_hand = math.sqrt(4 * c * t**2 / (math.pi * i) + 2500 * b**2 * t / (2 * i))
     assert rh == pytest.approx(by_hand, rel=1e-9)
     assert shimmy.critical_shimmy_speed(t, i, b, c, 2500.0) == pytest.approx(by_hand, rel=1e-12)
-    assert shimmy.routh_hurwitz_critical_speed(t, i, b, c) == pytest.approx(shimmy.critical_shimmy_speed(t, i, b, c),
-                                                                            rel=1e-9)
+    assert shimmy.routh_hurwitz_critical_speed(t, i, b, c) == pytest.approx(
+        shimmy.critical_shimmy_speed(t, i, b, c), rel=1e-9
+    )
     with pytest.raises(ValueError, match=r"damping_kind = 'viscous': expected 'friction' or 'hydraulic'"):
         shimmy.routh_hurwitz_critical_speed(t, i, b, c, "viscous")
 
@@ -319,8 +323,13 @@ def test_tyre_defaults_friction_limit_and_sliding_slip():
     from designer.physics.tyre import TyreParameters
 
     t = TyreParameters()
-    assert (t.cornering_stiffness, t.friction_coefficient, t.load, t.wheel_mass, t.saturation) == \
-        (1250.0, 0.7, 178.0, 0.444, True)
+    assert (t.cornering_stiffness, t.friction_coefficient, t.load, t.wheel_mass, t.saturation) == (
+        1250.0,
+        0.7,
+        178.0,
+        0.444,
+        True,
+    )
     assert t.friction_limit == pytest.approx(124.6, rel=1e-12)
     assert t.sliding_slip == pytest.approx(0.29904, rel=1e-12)
     r = t.rolling_limit()
@@ -357,16 +366,27 @@ def test_tyre_force_other_parameters_and_linear():
     assert lateral_tyre_force(np.array([0.3, -1.0]), lin) == pytest.approx([-600.0, 2000.0])
 
 
-@pytest.mark.parametrize("name, value", [("cornering_stiffness", 0.0), ("friction_coefficient", -0.1),
-                                         ("load", float("inf")), ("wheel_mass", float("nan")), ("load", True),
-                                         ("wheel_mass", "1")])
+@pytest.mark.parametrize(
+    "name, value",
+    [
+        ("cornering_stiffness", 0.0),
+        ("friction_coefficient", -0.1),
+        ("load", float("inf")),
+        ("wheel_mass", float("nan")),
+        ("load", True),
+        ("wheel_mass", "1"),
+    ],
+)
 def test_tyre_parameter_errors(name, value):
     """Each tyre parameter must be a positive finite number (not a bool, not a string); the one-line error names
     the parameter and shows the value."""
     from designer.physics.tyre import TyreParameters
 
-    with pytest.raises(InputError, match=rf"^tyre {name} = {re.escape(repr(value))}: must be a positive finite "
-                                         r"number$"):
+    with pytest.raises(
+        InputError,
+        match=rf"^tyre {name} = {re.escape(repr(value))}: must be a positive finite "
+        r"number$",
+    ):
         TyreParameters(**{name: value})
     assert getattr(TyreParameters(**{name: 2}), name) == 2  # an int is fine
 
@@ -417,8 +437,10 @@ def test_model_descriptions():
     assert inertia.PowerLaw(0.5, 3.0).describe().startswith("I_w = 0.5 d^3.000 ")
     tail = "M_f/θ0 0.1, K_s 0.2, I_w 0.1"
     assert Uncertainty().describe() == f"P(shimmy) <= 0.05; σ of the log: model error 0.103 (Student-t ν = 5), {tail}"
-    assert Uncertainty(model_error_dof=0).describe() == \
-        f"P(shimmy) <= 0.05; σ of the log: model error 0.103 (normal), {tail}"
+    assert (
+        Uncertainty(model_error_dof=0).describe()
+        == f"P(shimmy) <= 0.05; σ of the log: model error 0.103 (normal), {tail}"
+    )
 
 
 def test_inertia_model_parameters_round_trip():
@@ -482,8 +504,9 @@ def _mc_reference(u, speed, seed, chunks):
     hits = 0
     for n in chunks:
         f = un.sample_log_factors(u, n, rng)
-        v = shimmy.critical_shimmy_speed(t, i * np.exp(f["inertia"]), b, c * np.exp(f["damping"]),
-                                         ks * np.exp(f["slip"])) * np.exp(f["model"])
+        v = shimmy.critical_shimmy_speed(
+            t, i * np.exp(f["inertia"]), b, c * np.exp(f["damping"]), ks * np.exp(f["slip"])
+        ) * np.exp(f["model"])
         hits += int(np.count_nonzero(v < speed))
     return hits / sum(chunks)
 

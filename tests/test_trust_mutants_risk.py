@@ -3,6 +3,7 @@
 :mod:`designer.physics` alone: the V_c quantile ratio of real designs, the box edges of the constraint curve by
 root finding, and the least F_turn at (T, d) by a brute-force search over the groove B (c_f from the risk bound
 by bisection).  Fast (no IPOPT), so in the mutmut test selection (benchmarks/mutation.md)."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -127,8 +128,14 @@ def test_risk_design_on_the_bound_unless_at_the_corner():
     assert np.allclose(v["design_speed"][~corner_ok], p.required_speed, rtol=1e-9, atol=0)
 
 
-@pytest.mark.parametrize("scatter", [{}, dict(damping=0.3, slip_coefficient=0.05, probability=0.01, model_error_dof=0),
-                                     dict(damping=0.05, slip_coefficient=0.4, inertia=0.2, probability=0.2)])
+@pytest.mark.parametrize(
+    "scatter",
+    [
+        {},
+        dict(damping=0.3, slip_coefficient=0.05, probability=0.01, model_error_dof=0),
+        dict(damping=0.05, slip_coefficient=0.4, inertia=0.2, probability=0.2),
+    ],
+)
 def test_log_gain_is_the_quantile_ratio_of_real_designs(scatter):
     """log G(s) = 2 log(V_c/V_q) for real designs (T, I_w, B, c_f, K_s from the shipped problem's box) at their
     friction share s = a/(a + b) (Eq. 7 terms): computed from physics.shimmy and physics.uncertainty, to 1e-12."""
@@ -170,8 +177,12 @@ def test_edge_shares_are_the_roots_of_the_edge_equations(scatter):
     need = 9.0
     s1, s2 = structured._edge_shares(u, need, a, b, box)
     for i in range(len(a)):
-        roots = [_edge_root(u, need, "c", a[i] * box[0][1] / need), _edge_root(u, need, "c", a[i] * box[1][1] / need),
-                 _edge_root(u, need, "b", b[i] * box[1][0] ** 2 / need), _edge_root(u, need, "b", b[i] * box[0][0] ** 2 / need)]
+        roots = [
+            _edge_root(u, need, "c", a[i] * box[0][1] / need),
+            _edge_root(u, need, "c", a[i] * box[1][1] / need),
+            _edge_root(u, need, "b", b[i] * box[1][0] ** 2 / need),
+            _edge_root(u, need, "b", b[i] * box[0][0] ** 2 / need),
+        ]
         assert s1[i] == pytest.approx(max(roots[0], roots[2]), abs=1e-12)
         assert s2[i] == pytest.approx(min(roots[1], roots[3]), abs=1e-12)
     assert np.any(s1 > s2) and np.any(s1 < s2)

@@ -1,6 +1,7 @@
 """Issue 12.5, mutation testing, second round: the closed-form ε-optima (``designer/solvers/structured.py``)
 where its guards and edges decide (benchmarks/mutation.md): when the closed form applies, what an ε out of
 reach gives, the trail limit reached exactly, and a slip coefficient other than the paper's."""
+
 from __future__ import annotations
 
 import copy
@@ -35,25 +36,31 @@ def _with_conditions(problem, validated=True, **changes):
     return raw
 
 
-@pytest.mark.parametrize("changes, expected", [
-    (dict(turning=TurningConstants(groove_coefficient=0.0)), True),   # a groove that costs nothing: still monotone
-    (dict(turning=TurningConstants(groove_coefficient=0.5)), True),
-    (dict(slip_coefficient=1.0), True),                               # the smallest K_s the loader accepts
-    (dict(inertia=Fixed(1.27e-3)), True),                             # I_w constant in d: non-decreasing
-    (dict(inertia=PowerLaw(1e-4, -1.0)), False),                      # I_w falling with d: d_lo not optimal
-])
+@pytest.mark.parametrize(
+    "changes, expected",
+    [
+        (dict(turning=TurningConstants(groove_coefficient=0.0)), True),  # a groove that costs nothing: still monotone
+        (dict(turning=TurningConstants(groove_coefficient=0.5)), True),
+        (dict(slip_coefficient=1.0), True),  # the smallest K_s the loader accepts
+        (dict(inertia=Fixed(1.27e-3)), True),  # I_w constant in d: non-decreasing
+        (dict(inertia=PowerLaw(1e-4, -1.0)), False),  # I_w falling with d: d_lo not optimal
+    ],
+)
 def test_applicable_on_validated_problems(indoor, changes, expected):
     """The closed form needs F_turn non-increasing in T, cost non-decreasing in B and c_f, I_w non-decreasing
     in d: a zero or small groove coefficient, K_s = 1 N and a constant I_w keep it; a falling I_w breaks it."""
     assert structured.applicable(_with_conditions(indoor, **changes)) is expected
 
 
-@pytest.mark.parametrize("changes", [
-    dict(turning=TurningConstants(groove_coefficient=-1.0)),
-    dict(disturbance_angle=0.0),
-    dict(slip_coefficient=0.0),
-    dict(load=100.0, turning=TurningConstants(bare_fork_damping=3.0)),
-])
+@pytest.mark.parametrize(
+    "changes",
+    [
+        dict(turning=TurningConstants(groove_coefficient=-1.0)),
+        dict(disturbance_angle=0.0),
+        dict(slip_coefficient=0.0),
+        dict(load=100.0, turning=TurningConstants(bare_fork_damping=3.0)),
+    ],
+)
 def test_applicable_guards_without_the_loader(indoor, changes):
     """The guards hold on their own, for values the loader refuses: a groove that lowers the moment, no
     disturbance, no slip stiffness, or a negative turning moment at the corner B = B_min, c_f = c_f,min (L = 100 N,
@@ -72,9 +79,13 @@ def test_applicable_moment_exactly_zero_is_not_positive(indoor):
     of sliding, (1.5 − 2.5) × 0.25 rad = −0.25 N·m of damper, both exact in binary) is not applicable."""
     from designer.problem import Bound
 
-    raw = _with_conditions(indoor, validated=False, load=64.0, disturbance_angle=0.25,
-                           turning=TurningConstants(tile_moment_per_load=0.0078125, groove_coefficient=0.0,
-                                                    bare_fork_damping=2.5))
+    raw = _with_conditions(
+        indoor,
+        validated=False,
+        load=64.0,
+        disturbance_angle=0.25,
+        turning=TurningConstants(tile_moment_per_load=0.0078125, groove_coefficient=0.0, bare_fork_damping=2.5),
+    )
     bounds = dict(raw.bounds)
     bounds["damping"] = Bound(1.5, 6.0)
     object.__setattr__(raw, "bounds", bounds)
@@ -92,8 +103,10 @@ def test_robust_problem_is_not_closed_form(indoor):
     assert structured.applicable(_with_conditions(indoor, uncertainty=Uncertainty()))
     robust = _with_conditions(indoor, uncertainty=Uncertainty(damping=2.0, slip_coefficient=2.0))
     assert not structured.applicable(robust)
-    why = (r" need a continuous problem with a positive moment \(and a risk bound whose quantile factor varies "
-           r"slowly with the friction share\)$")
+    why = (
+        r" need a continuous problem with a positive moment \(and a risk bound whose quantile factor varies "
+        r"slowly with the friction share\)$"
+    )
     with pytest.raises(ValueError, match="^the closed-form ε-optima" + why):
         structured.structured_front_designs(robust, [100.0])
     with pytest.raises(ValueError, match="^the closed-form ends" + why):

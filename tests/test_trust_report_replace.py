@@ -1,4 +1,5 @@
 """Issue 12.4: replacing a report keeps the files of the folder that the report does not own."""
+
 from __future__ import annotations
 
 import os

@@ -1,5 +1,6 @@
 """Issue 12.5: the closed-form candidate "damping at its maximum, groove from Eq. 7" is needed on a
 constructed problem, and the NLP agrees with it there."""
+
 from __future__ import annotations
 
 import numpy as np

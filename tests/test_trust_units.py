@@ -1,4 +1,5 @@
 """Issue 12.3: units that pint converts but that mean another quantity, and range messages in the user's unit."""
+
 from __future__ import annotations
 
 import pytest
@@ -18,8 +19,7 @@ def test_moment_is_not_a_damping(text):
         parse_quantity(text, "damping", "--damping")
 
 
-@pytest.mark.parametrize("text, si", [("1.3 N*m/rad", 1.3), ("1.3 N*m/deg", 1.3 * 180 / 3.141592653589793),
-                                      (1.3, 1.3)])
+@pytest.mark.parametrize("text, si", [("1.3 N*m/rad", 1.3), ("1.3 N*m/deg", 1.3 * 180 / 3.141592653589793), (1.3, 1.3)])
 def test_damping_per_angle_accepted(text, si):
     """Per radian, per degree, or a plain number (SI, N·m/rad) are dampings."""
     assert parse_quantity(text, "damping", "--damping") == pytest.approx(si)

@@ -1,4 +1,5 @@
 """The risk bound: Student-t model error, the exact t-plus-normal quantile, and the Monte Carlo of the same law."""
+
 from __future__ import annotations
 
 import numpy as np

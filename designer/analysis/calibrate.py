@@ -20,6 +20,7 @@ a missing file, a missing column, a non-numeric or non-finite cell, or too
 few rows gives one :class:`~designer.errors.InputError` line naming the file,
 the column or row, and the reason.
 """
+
 from __future__ import annotations
 
 import csv
@@ -94,7 +95,7 @@ class CalibrationResult:
     def y_unit(self) -> str:
         """Unit of the ordinate (and of ``rms``), from ``y_label``'s brackets, e.g. "N·m" or "m/s"."""
         label = self.y_label
-        return label[label.rindex("[") + 1: label.rindex("]")] if "[" in label and "]" in label else ""
+        return label[label.rindex("[") + 1 : label.rindex("]")] if "[" in label and "]" in label else ""
 
     @property
     def residuals(self) -> np.ndarray:
@@ -104,40 +105,56 @@ class CalibrationResult:
     def as_dict(self) -> dict:
         """Plain-Python summary: ``value`` and ``interval`` [low, high] (95 %) among others."""
         return {
-            "kind": self.kind, "name": self.name, "value": self.value, "unit": self.unit,
-            "stderr": self.stderr, "interval": [self.interval[0], self.interval[1]], "confidence": 0.95,
-            "n": self.n, "rms_residual": self.rms,
-            "rms_residual_unit": self.y_unit, "equation": self.equation, **self.notes,
+            "kind": self.kind,
+            "name": self.name,
+            "value": self.value,
+            "unit": self.unit,
+            "stderr": self.stderr,
+            "interval": [self.interval[0], self.interval[1]],
+            "confidence": 0.95,
+            "n": self.n,
+            "rms_residual": self.rms,
+            "rms_residual_unit": self.y_unit,
+            "equation": self.equation,
+            **self.notes,
         }
 
     def snippet(self) -> str:
         """A TOML snippet a problem file can include (keys of ``[turning]`` / ``[shimmy]``)."""
         lo, hi = self.interval
-        head = (f"# {self.kind} calibration: {self.name} = {self.value:.6g} {self.unit} "
-                f"(95 % CI {lo:.6g} to {hi:.6g}, n = {self.n}, {self.equation})\n")
+        head = (
+            f"# {self.kind} calibration: {self.name} = {self.value:.6g} {self.unit} "
+            f"(95 % CI {lo:.6g} to {hi:.6g}, n = {self.n}, {self.equation})\n"
+        )
         if self.kind == "turning":
             surface = self.notes.get("surface", "tile")
             if surface == "carpet":
                 factor = self.value / DEFAULT_TURNING.tile_moment_per_load
-                return (head + f"# carpet: k_carpet / k_tile(default {DEFAULT_TURNING.tile_moment_per_load:g} m)\n"
-                        f"[turning]\ncarpet_factor = {factor:.6g}\n")
+                return (
+                    head + f"# carpet: k_carpet / k_tile(default {DEFAULT_TURNING.tile_moment_per_load:g} m)\n"
+                    f"[turning]\ncarpet_factor = {factor:.6g}\n"
+                )
             return head + f'[turning]\ntile_moment_per_load = "{self.value:.6g} m"\n'
         if self.kind == "slip":
             return head + f'[shimmy]\nslip_coefficient = "{self.value:.6g} N"\n'
         if self.kind == "damping":
-            return (head + f"# K_s = {self.notes['slip_coefficient']:g} N held fixed.\n"
-                    "# c_f is a design variable: use it as the lower bound (bare fork) or fix it, e.g.\n"
-                    f'#   [variables]\n#   damping = {{ min = "{self.value:.6g} N*m/rad", max = "6 N*m/rad" }}\n'
-                    "# The turning model's bare-fork damping c_0 (Eq. 11C) is the same constant:\n"
-                    f'[turning]\nbare_fork_damping = "{self.value:.6g} N*m/rad"\n')
+            return (
+                head + f"# K_s = {self.notes['slip_coefficient']:g} N held fixed.\n"
+                "# c_f is a design variable: use it as the lower bound (bare fork) or fix it, e.g.\n"
+                f'#   [variables]\n#   damping = {{ min = "{self.value:.6g} N*m/rad", max = "6 N*m/rad" }}\n'
+                "# The turning model's bare-fork damping c_0 (Eq. 11C) is the same constant:\n"
+                f'[turning]\nbare_fork_damping = "{self.value:.6g} N*m/rad"\n'
+            )
         raise ValueError(self.kind)
 
 
 # ---------------------------------------------------------------------------
 # CSV input
 
-def read_columns(path, required: tuple[str, ...], optional: tuple[str, ...] = (),
-                 min_rows: int = MIN_ROWS) -> dict[str, np.ndarray]:
+
+def read_columns(
+    path, required: tuple[str, ...], optional: tuple[str, ...] = (), min_rows: int = MIN_ROWS
+) -> dict[str, np.ndarray]:
     """Read numeric columns of a CSV file with a header row.
 
     Parameters
@@ -175,8 +192,10 @@ def read_columns(path, required: tuple[str, ...], optional: tuple[str, ...] = ()
     header = [h.strip() for h in next(reader)]
     missing = [c for c in required if c not in header]
     if missing:
-        raise InputError(f"{p}: missing column {missing[0]!r}; found columns {', '.join(header) or '(none)'}; "
-                         f"expected {', '.join(required)}")
+        raise InputError(
+            f"{p}: missing column {missing[0]!r}; found columns {', '.join(header) or '(none)'}; "
+            f"expected {', '.join(required)}"
+        )
     wanted = list(required) + [c for c in optional if c in header]
     index = {c: header.index(c) for c in wanted}
     data: dict[str, list[float]] = {c: [] for c in wanted}
@@ -202,12 +221,15 @@ def _require(path, name, values, positive=True, allow_zero=False):
     bad = (values < 0) if allow_zero else (values <= 0)
     if positive and bad.any():
         row = int(np.argmax(bad)) + 2
-        raise InputError(f"{path}: row {row}, column {name!r}: {values[row - 2]:g} must be "
-                         f"{'non-negative' if allow_zero else 'positive'}")
+        raise InputError(
+            f"{path}: row {row}, column {name!r}: {values[row - 2]:g} must be "
+            f"{'non-negative' if allow_zero else 'positive'}"
+        )
 
 
 # ---------------------------------------------------------------------------
 # Fits
+
 
 def _interval(value, stderr, n):
     t = stats.t.ppf(0.975, max(n - 1, 1))
@@ -236,16 +258,27 @@ def fit_turning(load, moment, surface: str = "tile") -> CalibrationResult:
     k, se = _through_origin(x, y)
     fitted = k * x
     return CalibrationResult(
-        kind="turning", name="tile_moment_per_load" if surface == "tile" else "carpet_moment_per_load",
-        value=k, unit="m", stderr=se, interval=_interval(k, se, len(x)), n=len(x), x=x, y=y, fitted=fitted,
-        x_label="caster load L [N]", y_label="sliding turning moment [N·m]",
-        rms=float(np.sqrt(np.mean((y - fitted) ** 2))), equation="Fig. 7, M = k L",
+        kind="turning",
+        name="tile_moment_per_load" if surface == "tile" else "carpet_moment_per_load",
+        value=k,
+        unit="m",
+        stderr=se,
+        interval=_interval(k, se, len(x)),
+        n=len(x),
+        x=x,
+        y=y,
+        fitted=fitted,
+        x_label="caster load L [N]",
+        y_label="sliding turning moment [N·m]",
+        rms=float(np.sqrt(np.mean((y - fitted) ** 2))),
+        equation="Fig. 7, M = k L",
         notes={"surface": surface},
     )
 
 
-def fit_damping(trail, inertia, critical_speed, groove=None,
-                slip_coefficient: float = SLIP_COEFFICIENT) -> CalibrationResult:
+def fit_damping(
+    trail, inertia, critical_speed, groove=None, slip_coefficient: float = SLIP_COEFFICIENT
+) -> CalibrationResult:
     """Spindle friction damping c_f = M_f/θ0 [N·m/rad] from measured critical speeds (Fig. 2C).
 
     Fits V_c = Eq. 7 (``critical_shimmy_speed``) to the measured speeds by
@@ -276,12 +309,23 @@ def fit_damping(trail, inertia, critical_speed, groove=None,
     popt, pcov = curve_fit(log_model, np.arange(len(v)), np.log(v), p0=[guess], bounds=(1e-9, np.inf))
     c_f, se = float(popt[0]), float(math.sqrt(max(pcov[0, 0], 0.0)))
     fitted = model(None, c_f)
-    x = fitted   # measured against fitted: points on the line x = y agree
+    x = fitted  # measured against fitted: points on the line x = y agree
     return CalibrationResult(
-        kind="damping", name="damping", value=c_f, unit="N·m/rad", stderr=se, interval=_interval(c_f, se, len(v)),
-        n=len(v), x=x, y=v, fitted=fitted, x_label="Eq. 7 with the fitted c_f, V_c [m/s]",
-        y_label="measured critical speed V_c [m/s]", rms=float(np.sqrt(np.mean((v - fitted) ** 2))),
-        equation="Eq. 7 / 10C", notes={"slip_coefficient": float(slip_coefficient)},
+        kind="damping",
+        name="damping",
+        value=c_f,
+        unit="N·m/rad",
+        stderr=se,
+        interval=_interval(c_f, se, len(v)),
+        n=len(v),
+        x=x,
+        y=v,
+        fitted=fitted,
+        x_label="Eq. 7 with the fitted c_f, V_c [m/s]",
+        y_label="measured critical speed V_c [m/s]",
+        rms=float(np.sqrt(np.mean((v - fitted) ** 2))),
+        equation="Eq. 7 / 10C",
+        notes={"slip_coefficient": float(slip_coefficient)},
     )
 
 
@@ -300,14 +344,26 @@ def fit_slip(slip_ratio, force) -> CalibrationResult:
     k, se = _through_origin(x, y)
     fitted = k * x
     return CalibrationResult(
-        kind="slip", name="slip_coefficient", value=k, unit="N", stderr=se, interval=_interval(k, se, len(x)),
-        n=len(x), x=x, y=y, fitted=fitted, x_label="slip ratio ΔV/V [-]", y_label="tread force F_T [N]",
-        rms=float(np.sqrt(np.mean((y - fitted) ** 2))), equation="Eq. 12C, F_T = K_s ΔV/V",
+        kind="slip",
+        name="slip_coefficient",
+        value=k,
+        unit="N",
+        stderr=se,
+        interval=_interval(k, se, len(x)),
+        n=len(x),
+        x=x,
+        y=y,
+        fitted=fitted,
+        x_label="slip ratio ΔV/V [-]",
+        y_label="tread force F_T [N]",
+        rms=float(np.sqrt(np.mean((y - fitted) ** 2))),
+        equation="Eq. 12C, F_T = K_s ΔV/V",
     )
 
 
-def calibrate_file(kind: str, path, slip_coefficient: float = SLIP_COEFFICIENT,
-                   surface: str = "tile") -> CalibrationResult:
+def calibrate_file(
+    kind: str, path, slip_coefficient: float = SLIP_COEFFICIENT, surface: str = "tile"
+) -> CalibrationResult:
     """Read ``path`` (CSV) and run the ``kind`` fit ("turning", "damping" or "slip").
 
     Columns: turning ``load_N, moment_Nm``; damping ``trail_m, inertia_kgm2,
@@ -327,8 +383,9 @@ def calibrate_file(kind: str, path, slip_coefficient: float = SLIP_COEFFICIENT,
             _require(path, "groove_m", d["groove_m"], allow_zero=True)
         if not slip_coefficient > 0 or not math.isfinite(slip_coefficient):
             raise InputError(f"--slip-coefficient {slip_coefficient:g}: must be positive")
-        return fit_damping(d["trail_m"], d["inertia_kgm2"], d["critical_speed_mps"], d.get("groove_m"),
-                           slip_coefficient)
+        return fit_damping(
+            d["trail_m"], d["inertia_kgm2"], d["critical_speed_mps"], d.get("groove_m"), slip_coefficient
+        )
     if kind == "slip":
         d = read_columns(path, ("slip_ratio", "force_N"))
         return fit_slip(d["slip_ratio"], d["force_N"])
@@ -381,8 +438,11 @@ def write_examples(out_dir=EXAMPLES_DIR, seed: int = EXAMPLE_SEED) -> dict[str, 
     arr = np.array(rows)
     v = critical_shimmy_speed(arr[:, 0], arr[:, 1], arr[:, 2], 1.3, SLIP_COEFFICIENT)
     v = v * (1 + rng.normal(0, 0.05, v.size))
-    paths["damping"] = _write(out / "damping.csv", ("trail_m", "inertia_kgm2", "groove_m", "critical_speed_mps"),
-                              ((r[0], r[1], r[2], s) for r, s in zip(rows, v)))
+    paths["damping"] = _write(
+        out / "damping.csv",
+        ("trail_m", "inertia_kgm2", "groove_m", "critical_speed_mps"),
+        ((r[0], r[1], r[2], s) for r, s in zip(rows, v)),
+    )
 
     slip = np.linspace(0.005, 0.08, 10)
     force = SLIP_COEFFICIENT * slip + rng.normal(0, 4.0, slip.size)

@@ -5,6 +5,7 @@ the error and pass/fail.  :func:`paper_checks` runs the checks that need no
 optimisation (1–7, 9, 10); :func:`front_checks` runs check 8 on a computed
 Pareto front.  ``designer validate`` prints them; the reports embed them.
 """
+
 from __future__ import annotations
 
 import math
@@ -97,23 +98,25 @@ class Check:
 
 def count_outcomes(checks) -> dict:
     """Counts for a summary line: paper checks by outcome, identities, front checks by outcome."""
-    out = {"paper": {o: 0 for o in OUTCOMES}, "identity": {o: 0 for o in OUTCOMES},
-           "front": {o: 0 for o in OUTCOMES}}
+    out = {"paper": {o: 0 for o in OUTCOMES}, "identity": {o: 0 for o in OUTCOMES}, "front": {o: 0 for o in OUTCOMES}}
     for c in checks:
         out[c.kind][c.outcome] += 1
     return out
 
 
 def summary_line(checks) -> str:
-    """"n paper checks reproduced, k disagree within the stated scatter, f fail; m implementation identities hold"."""
+    """ "n paper checks reproduced, k disagree within the stated scatter, f fail; m implementation identities hold"."""
     n = count_outcomes(checks)
     p, i = n["paper"], n["identity"]
-    text = (f"{p[REPRODUCED]} paper checks reproduced, {p[WITHIN_SCATTER]} disagree within the paper's stated "
-            f"scatter, {p[FAILS]} fail; {i[REPRODUCED]} of {sum(i.values())} implementation identities hold")
+    text = (
+        f"{p[REPRODUCED]} paper checks reproduced, {p[WITHIN_SCATTER]} disagree within the paper's stated "
+        f"scatter, {p[FAILS]} fail; {i[REPRODUCED]} of {sum(i.values())} implementation identities hold"
+    )
     f = n["front"]
     if sum(f.values()):
-        text += (f"; front checks: {f[REPRODUCED]} pass, {f[FAILS]} fail"
-                 + (f", {f[NOT_APPLICABLE]} not applicable" if f[NOT_APPLICABLE] else ""))
+        text += f"; front checks: {f[REPRODUCED]} pass, {f[FAILS]} fail" + (
+            f", {f[NOT_APPLICABLE]} not applicable" if f[NOT_APPLICABLE] else ""
+        )
     return text
 
 
@@ -134,24 +137,31 @@ def _pct(x: float) -> str:
     return f"{100 * x:.1f} %"
 
 
-def _disagreement(name: str, predicted: float, measured: float, scatter: float, single: float,
-                  stable_bound: bool = False) -> str:
+def _disagreement(
+    name: str, predicted: float, measured: float, scatter: float, single: float, stable_bound: bool = False
+) -> str:
     """One line: size and direction of a disagreement with a measurement, and where it lies against the
     paper's scatter (``scatter``, the RMS band) and the band allowed for a single wheel (``single``)."""
     e = _rel(predicted, measured)
     if abs(e) <= scatter:
         where = f"within the paper's ±{100 * scatter:.0f} % scatter"
     elif abs(e) <= single:
-        where = (f"outside the paper's ±{100 * scatter:.0f} % scatter, within the ±{100 * single:.0f} % allowed "
-                 f"for one wheel")
+        where = (
+            f"outside the paper's ±{100 * scatter:.0f} % scatter, within the ±{100 * single:.0f} % allowed "
+            f"for one wheel"
+        )
     else:
         where = f"outside the ±{100 * single:.0f} % allowed for one wheel"
     if stable_bound:
-        return (f"{name}: predicted to shimmy at {predicted:.2f} m/s, below the {measured:.2f} m/s up to which it "
-                f"was measured stable: disagrees by at least {_pct(abs(e))}, {where}")
+        return (
+            f"{name}: predicted to shimmy at {predicted:.2f} m/s, below the {measured:.2f} m/s up to which it "
+            f"was measured stable: disagrees by at least {_pct(abs(e))}, {where}"
+        )
     direction = "lower" if e < 0 else "higher"
-    return (f"{name}: predicted {predicted:.2f} m/s against {measured:.2f} m/s measured: disagrees by "
-            f"{_pct(abs(e))} (predicted {direction}), {where}")
+    return (
+        f"{name}: predicted {predicted:.2f} m/s against {measured:.2f} m/s measured: disagrees by "
+        f"{_pct(abs(e))} (predicted {direction}), {where}"
+    )
 
 
 def check_eq8(critical_speed=critical_shimmy_speed) -> Check:
@@ -162,10 +172,15 @@ def check_eq8(critical_speed=critical_shimmy_speed) -> Check:
     c = EQ8_CASE
     v = float(critical_speed(c.trail, c.inertia, c.groove, c.damping, c.slip_coefficient))
     err = _rel(v, c.critical_speed)
-    return Check("1 Eq. 8", "B = 9/16 in, T = 2 in, I_w = 0.00127 kg·m², c_f = 1.3, K_s = 1250 N gives V_c = 2.91 m/s",
-                 c.critical_speed, round(v, 4), abs(err) <= EQ8_TOLERANCE,
-                 f"error {err:+.2%} (tolerance ±{EQ8_TOLERANCE:.1%}, the paper's rounding). The paper's '16.86 mph' "
-                 f"is not 2.91 m/s ({2.91 * 2.23694:.2f} mph); the m/s value is checked.")
+    return Check(
+        "1 Eq. 8",
+        "B = 9/16 in, T = 2 in, I_w = 0.00127 kg·m², c_f = 1.3, K_s = 1250 N gives V_c = 2.91 m/s",
+        c.critical_speed,
+        round(v, 4),
+        abs(err) <= EQ8_TOLERANCE,
+        f"error {err:+.2%} (tolerance ±{EQ8_TOLERANCE:.1%}, the paper's rounding). The paper's '16.86 mph' "
+        f"is not 2.91 m/s ({2.91 * 2.23694:.2f} mph); the m/s value is checked.",
+    )
 
 
 def check_table1(critical_speed=critical_shimmy_speed) -> Check:
@@ -184,52 +199,76 @@ def check_table1(critical_speed=critical_shimmy_speed) -> Check:
             predicted_ab.append(v)
             lines.append(f"{w.key}: predicted {v:.2f} m/s, measured stable to {TABLE1_STABLE_UP_TO:.1f}")
             if v < TABLE1_STABLE_UP_TO:  # measured stable up to 3.8 m/s: a prediction below disagrees
-                disagreements.append(_disagreement(w.key, v, TABLE1_STABLE_UP_TO, TABLE1_RMS_TOLERANCE,
-                                                   TABLE1_MAX_TOLERANCE, stable_bound=True))
+                disagreements.append(
+                    _disagreement(
+                        w.key, v, TABLE1_STABLE_UP_TO, TABLE1_RMS_TOLERANCE, TABLE1_MAX_TOLERANCE, stable_bound=True
+                    )
+                )
         else:
             e = _rel(v, w.critical_speed)
             errors.append(e)
             lines.append(f"{w.key}: predicted {v:.2f} vs measured {w.critical_speed:.2f} m/s ({e:+.1%})")
             if abs(e) > 0.01:
-                disagreements.append(_disagreement(w.key, v, w.critical_speed, TABLE1_RMS_TOLERANCE,
-                                                   TABLE1_MAX_TOLERANCE))
+                disagreements.append(
+                    _disagreement(w.key, v, w.critical_speed, TABLE1_RMS_TOLERANCE, TABLE1_MAX_TOLERANCE)
+                )
     rms = math.sqrt(float(np.mean(np.square(errors))))
     worst = max(abs(e) for e in errors)
     # A and B were measured stable up to 3.8 m/s; below 2 × walking speed would be a gross failure
     ab_ok = all(v >= 2 * WALKING_SPEED and _rel(v, TABLE1_STABLE_UP_TO) >= -TABLE1_MAX_TOLERANCE for v in predicted_ab)
     passed = rms <= TABLE1_RMS_TOLERANCE and worst <= TABLE1_MAX_TOLERANCE and ab_ok
     outcome = FAILS if not passed else (WITHIN_SCATTER if disagreements else REPRODUCED)
-    return Check("2 Table 1", "Eq. 7 predicts the measured critical speeds of wheels C–G (2.39, 1.77, 1.46, 1.58, "
-                 "1.20 m/s); A and B stable far above the 1 m/s walking speed",
-                 f"RMS error within the paper's ±{TABLE1_RMS_TOLERANCE:.0%} scatter; A, B > 2 m/s",
-                 f"RMS {rms:.1%}, worst {worst:.1%}",
-                 passed, "; ".join(lines) + f". Tolerance: RMS <= {TABLE1_RMS_TOLERANCE:.0%} (the scatter of Fig. 2C), "
-                 f"each wheel <= {TABLE1_MAX_TOLERANCE:.0%}, A and B >= 2 × walking speed.",
-                 outcome=outcome, disagreements=disagreements)
+    return Check(
+        "2 Table 1",
+        "Eq. 7 predicts the measured critical speeds of wheels C–G (2.39, 1.77, 1.46, 1.58, "
+        "1.20 m/s); A and B stable far above the 1 m/s walking speed",
+        f"RMS error within the paper's ±{TABLE1_RMS_TOLERANCE:.0%} scatter; A, B > 2 m/s",
+        f"RMS {rms:.1%}, worst {worst:.1%}",
+        passed,
+        "; ".join(lines) + f". Tolerance: RMS <= {TABLE1_RMS_TOLERANCE:.0%} (the scatter of Fig. 2C), "
+        f"each wheel <= {TABLE1_MAX_TOLERANCE:.0%}, A and B >= 2 × walking speed.",
+        outcome=outcome,
+        disagreements=disagreements,
+    )
 
 
 def check_groove_turning(moment=sliding_turning_moment, effort=turning_effort) -> Check:
     """Check 3 (implementation identity): a ½ in groove (B = 9/16 in) costs 10 % more turning moment, both modes."""
     b = 9 / 16 * INCH
-    ratios = {mode: float(moment(178.0, b, "tile", mode) / moment(178.0, 0.0, "tile", mode))
-              for mode in ("chair", "pivot")}
+    ratios = {
+        mode: float(moment(178.0, b, "tile", mode) / moment(178.0, 0.0, "tile", mode)) for mode in ("chair", "pivot")
+    }
     ratio = float(effort(2 * INCH, b, BARE_FORK_DAMPING, 178.0) / effort(2 * INCH, 0.0, BARE_FORK_DAMPING, 178.0))
     got = {k: round(v - 1, 4) for k, v in ratios.items()}
-    passed = all(abs(v - 1.10) <= IDENTITY_TOLERANCE for v in ratios.values()) and abs(ratio - 1.10) <= IDENTITY_TOLERANCE
-    return Check("3 groove +10 %", "the grooved tyre needs 10 percent more turning effort than the ungrooved (drill "
-                 "press and chair tests)", "+10 % (chair and pivot)", f"chair {got['chair']:+.1%}, pivot {got['pivot']:+.1%}",
-                 passed, f"turning effort ratio at T = 2 in, tile: {ratio:.4f}; tolerance ±{IDENTITY_TOLERANCE:.1%}. The "
-                 f"10 % is the paper's measurement built into the turning model (κ), so this checks the implementation, "
-                 f"not the physics", kind="identity")
+    passed = (
+        all(abs(v - 1.10) <= IDENTITY_TOLERANCE for v in ratios.values()) and abs(ratio - 1.10) <= IDENTITY_TOLERANCE
+    )
+    return Check(
+        "3 groove +10 %",
+        "the grooved tyre needs 10 percent more turning effort than the ungrooved (drill press and chair tests)",
+        "+10 % (chair and pivot)",
+        f"chair {got['chair']:+.1%}, pivot {got['pivot']:+.1%}",
+        passed,
+        f"turning effort ratio at T = 2 in, tile: {ratio:.4f}; tolerance ±{IDENTITY_TOLERANCE:.1%}. The "
+        f"10 % is the paper's measurement built into the turning model (κ), so this checks the implementation, "
+        f"not the physics",
+        kind="identity",
+    )
 
 
 def check_carpet(moment=sliding_turning_moment) -> Check:
     """Check 4 (implementation identity): carpet about doubles the sliding turning moment."""
     ratio = float(moment(178.0, 0.0, "carpet", "pivot") / moment(178.0, 0.0, "tile", "pivot"))
-    return Check("4 carpet ×2", "sliding friction turning moments for carpet are approximately double those on tile (Fig. 7)",
-                 2.0, round(ratio, 4), abs(ratio - 2.0) <= 2.0 * IDENTITY_TOLERANCE,
-                 f"tolerance ±{IDENTITY_TOLERANCE:.1%}: the factor is the paper's measurement built into the model "
-                 f"(carpet_factor), so this checks the implementation, not the physics", kind="identity")
+    return Check(
+        "4 carpet ×2",
+        "sliding friction turning moments for carpet are approximately double those on tile (Fig. 7)",
+        2.0,
+        round(ratio, 4),
+        abs(ratio - 2.0) <= 2.0 * IDENTITY_TOLERANCE,
+        f"tolerance ±{IDENTITY_TOLERANCE:.1%}: the factor is the paper's measurement built into the model "
+        f"(carpet_factor), so this checks the implementation, not the physics",
+        kind="identity",
+    )
 
 
 def check_trail_halves(effort=turning_effort) -> Check:
@@ -237,10 +276,16 @@ def check_trail_halves(effort=turning_effort) -> Check:
     f1 = float(effort(1.25 * INCH, 0.0, BARE_FORK_DAMPING, 178.0))
     f2 = float(effort(2.5 * INCH, 0.0, BARE_FORK_DAMPING, 178.0))
     ratio = f2 / f1
-    return Check("5 trail ×2", "doubling the trail length will decrease the effort by a factor of two",
-                 0.5, round(ratio, 6), abs(ratio - 0.5) <= 1e-9,
-                 f"F_turn at 1.25 in: {f1:.3f} N, at 2.5 in: {f2:.3f} N; F_turn = M/T is the model's definition, "
-                 f"so this checks the implementation (to 1e-9)", kind="identity")
+    return Check(
+        "5 trail ×2",
+        "doubling the trail length will decrease the effort by a factor of two",
+        0.5,
+        round(ratio, 6),
+        abs(ratio - 0.5) <= 1e-9,
+        f"F_turn at 1.25 in: {f1:.3f} N, at 2.5 in: {f2:.3f} N; F_turn = M/T is the model's definition, "
+        f"so this checks the implementation (to 1e-9)",
+        kind="identity",
+    )
 
 
 def check_monotonic(critical_speed=critical_shimmy_speed) -> Check:
@@ -263,10 +308,15 @@ def check_monotonic(critical_speed=critical_shimmy_speed) -> Check:
         "diameter": np.all(critical_speed(t, law.constants()[0] * (d * (1 + h)) ** law.constants()[1], b, c) < base),
     }
     got = ", ".join(f"{k} {'ok' if v else 'FAILS'}" for k, v in results.items())
-    return Check("6 monotonicity", "increasing the trail, decreasing the moment of inertia, increasing the damping "
-                 "and/or adding a groove will inhibit the onset of shimmy (Conclusion)",
-                 "V_c ↑ with T, c_f, B; ↓ with I_w, d", got, all(results.values()),
-                 f"{n} random designs, T 1–3 in, d 4–8 in, B 0–0.75 in, c_f 1.3–6")
+    return Check(
+        "6 monotonicity",
+        "increasing the trail, decreasing the moment of inertia, increasing the damping "
+        "and/or adding a groove will inhibit the onset of shimmy (Conclusion)",
+        "V_c ↑ with T, c_f, B; ↓ with I_w, d",
+        got,
+        all(results.values()),
+        f"{n} random designs, T 1–3 in, d 4–8 in, B 0–0.75 in, c_f 1.3–6",
+    )
 
 
 def check_threshold_curve(ratio=threshold_force_ratio) -> Check:
@@ -292,38 +342,57 @@ def check_threshold_curve(ratio=threshold_force_ratio) -> Check:
 
     s4, s8 = slope(4), slope(8)
     passed = decreasing and convex and ratio_of(s4, s8) >= 2 and r[3] >= 1.5 * r[6]
-    return Check("7 P/L vs d", "P/L increases rapidly for wheel diameters below 6 inches ... approaches a minimum "
-                 "asymptote toward 8 inches (Fig. 2A)",
-                 "decreasing, convex; slope at 4 in >= 2 × slope at 8 in; P/L(3 in) >= 1.5 × P/L(6 in)",
-                 f"P/L 3 in {r[3]:.3f}, 4 in {r[4]:.3f}, 6 in {r[6]:.3f}, 8 in {r[8]:.3f}; slope ratio 4 in / 8 in "
-                 f"{ratio_of(s4, s8):.2f}", passed,
-                 f"h = 0.5 in, Eq. 4A. Mean drop per inch 4–6 in {(r[4] - r[6]) / 2:.3f}, 6–8 in {(r[6] - r[8]) / 2:.3f} "
-                 f"(ratio {ratio_of(r[4] - r[6], r[6] - r[8]):.2f}); decreasing {decreasing}, convex {convex}")
+    return Check(
+        "7 P/L vs d",
+        "P/L increases rapidly for wheel diameters below 6 inches ... approaches a minimum "
+        "asymptote toward 8 inches (Fig. 2A)",
+        "decreasing, convex; slope at 4 in >= 2 × slope at 8 in; P/L(3 in) >= 1.5 × P/L(6 in)",
+        f"P/L 3 in {r[3]:.3f}, 4 in {r[4]:.3f}, 6 in {r[6]:.3f}, 8 in {r[8]:.3f}; slope ratio 4 in / 8 in "
+        f"{ratio_of(s4, s8):.2f}",
+        passed,
+        f"h = 0.5 in, Eq. 4A. Mean drop per inch 4–6 in {(r[4] - r[6]) / 2:.3f}, 6–8 in {(r[6] - r[8]) / 2:.3f} "
+        f"(ratio {ratio_of(r[4] - r[6], r[6] - r[8]):.2f}); decreasing {decreasing}, convex {convex}",
+    )
 
 
-def check_routh_hurwitz(routh_hurwitz=routh_hurwitz_critical_speed, friction=critical_shimmy_speed,
-                        hydraulic=critical_speed_hydraulic) -> Check:
+def check_routh_hurwitz(
+    routh_hurwitz=routh_hurwitz_critical_speed, friction=critical_shimmy_speed, hydraulic=critical_speed_hydraulic
+) -> Check:
     """Check 9: the third-order model's Routh–Hurwitz threshold equals Eq. 20B (Eq. 5 hydraulic, Eq. 7 friction)."""
-    cases = [(2 * INCH, 1.27e-3, 0.0143, 1.3), (2.5 * INCH, 1.87e-3, 0.0, 2.0), (1 * INCH, 0.33e-3, 0.01, 4.0),
-             (3 * INCH, 3.42e-3, 0.019, 1.3)]
+    cases = [
+        (2 * INCH, 1.27e-3, 0.0143, 1.3),
+        (2.5 * INCH, 1.87e-3, 0.0, 2.0),
+        (1 * INCH, 0.33e-3, 0.01, 4.0),
+        (3 * INCH, 3.42e-3, 0.019, 1.3),
+    ]
     worst = 0.0
     for t, i, b, c in cases:
         for kind, closed in (("friction", friction(t, i, b, c)), ("hydraulic", hydraulic(t, i, b, c))):
             rh = routh_hurwitz(t, i, b, c, kind)
             worst = max(worst, abs(rh - float(closed)) / float(closed))
-    return Check("9 Routh–Hurwitz", "applying the Hurwitz–Routh criterion to Eq. 12B gives Eq. 20B (and Eq. 7 with friction damping)",
-                 f"relative difference < {ROUTH_HURWITZ_TOLERANCE:g}", f"{worst:.1e}", worst < ROUTH_HURWITZ_TOLERANCE,
-                 f"{len(cases)} parameter sets × (friction, hydraulic); K, N defaults of DynamicsParameters "
-                 f"(ω = 104.7 rad/s at 2.5 in), which cancel in the threshold")
+    return Check(
+        "9 Routh–Hurwitz",
+        "applying the Hurwitz–Routh criterion to Eq. 12B gives Eq. 20B (and Eq. 7 with friction damping)",
+        f"relative difference < {ROUTH_HURWITZ_TOLERANCE:g}",
+        f"{worst:.1e}",
+        worst < ROUTH_HURWITZ_TOLERANCE,
+        f"{len(cases)} parameter sets × (friction, hydraulic); K, N defaults of DynamicsParameters "
+        f"(ω = 104.7 rad/s at 2.5 in), which cancel in the threshold",
+    )
 
 
 def check_quadra(critical_speed=critical_shimmy_speed) -> Check:
     """Check 10: the Quadra wheel (A) at 2.5 in trail does not shimmy below 3.8 m/s."""
     a = TABLE1[0]
     v = float(critical_speed(2.5 * INCH, a.inertia, 0.0, BARE_FORK_DAMPING))
-    return Check("10 Quadra", "the Quadra wheel ... sold in a fork with trail of 2.50 inches ... never shimmies "
-                 "(stable to 3.8 m/s)", "> 3.8 m/s", round(v, 3), v > TABLE1_STABLE_UP_TO,
-                 f"Eq. 7, wheel A, I_w = {a.inertia:.2e} kg·m², B = 0, c_f = 1.3")
+    return Check(
+        "10 Quadra",
+        "the Quadra wheel ... sold in a fork with trail of 2.50 inches ... never shimmies (stable to 3.8 m/s)",
+        "> 3.8 m/s",
+        round(v, 3),
+        v > TABLE1_STABLE_UP_TO,
+        f"Eq. 7, wheel A, I_w = {a.inertia:.2e} kg·m², B = 0, c_f = 1.3",
+    )
 
 
 def check_inertia_fit(fit=fit_table1_power_law) -> Check:
@@ -331,15 +400,30 @@ def check_inertia_fit(fit=fit_table1_power_law) -> Check:
     c, n = fit()
     i8 = c * (8 * INCH) ** n
     passed = abs(n - 3.50) < 0.01 and abs(i8 - 1.873e-3) / 1.873e-3 < 0.005
-    return Check("fit I_w(d)", "least-squares fit of Table 1 (docs/model.md): n ≈ 3.50, I_w(8 in) ≈ 1.87e-3 kg·m²",
-                 "n 3.50, 1.873e-3", f"n {n:.4f}, {i8:.4e}", passed, "tolerance n ±0.01 (the two decimals "
-                 "quoted), I_w ±0.5 % (rounding of 1.87e-3)")
+    return Check(
+        "fit I_w(d)",
+        "least-squares fit of Table 1 (docs/model.md): n ≈ 3.50, I_w(8 in) ≈ 1.87e-3 kg·m²",
+        "n 3.50, 1.873e-3",
+        f"n {n:.4f}, {i8:.4e}",
+        passed,
+        "tolerance n ±0.01 (the two decimals quoted), I_w ±0.5 % (rounding of 1.87e-3)",
+    )
 
 
 def paper_checks() -> list[Check]:
     """Run every check of docs/checks.md that needs no optimisation (1–7, 9, 10, and the inertia fit)."""
-    return [check_eq8(), check_table1(), check_groove_turning(), check_carpet(), check_trail_halves(),
-            check_monotonic(), check_threshold_curve(), check_routh_hurwitz(), check_quadra(), check_inertia_fit()]
+    return [
+        check_eq8(),
+        check_table1(),
+        check_groove_turning(),
+        check_carpet(),
+        check_trail_halves(),
+        check_monotonic(),
+        check_threshold_curve(),
+        check_routh_hurwitz(),
+        check_quadra(),
+        check_inertia_fit(),
+    ]
 
 
 # --------------------------------------------------------------------------- check 8 on fronts
@@ -357,9 +441,16 @@ def front_checks(front, tighter=None, tol: float = 1e-6) -> list[Check]:
     pts = front.points
     checks = []
     if len(pts) < 2:
-        checks.append(Check("8a trade-off", "along decreasing threshold force the diameter grows and the turning effort grows",
-                            "monotone", f"{len(pts)} point(s): nothing to compare", True,
-                            "a front with fixed diameter or one dominant catalog wheel has a single point"))
+        checks.append(
+            Check(
+                "8a trade-off",
+                "along decreasing threshold force the diameter grows and the turning effort grows",
+                "monotone",
+                f"{len(pts)} point(s): nothing to compare",
+                True,
+                "a front with fixed diameter or one dominant catalog wheel has a single point",
+            )
+        )
     else:
         p = np.array([x.threshold_force for x in pts])
         d = np.array([x.design.diameter for x in pts])
@@ -369,9 +460,16 @@ def front_checks(front, tighter=None, tol: float = 1e-6) -> list[Check]:
         df = np.diff(f[order])
         bad_d = int(np.sum(dd < -tol * d.max()))
         bad_f = int(np.sum(df < -tol * f.max()))
-        checks.append(Check("8a trade-off", "along decreasing threshold force the diameter grows and the turning effort grows",
-                            "d and F_turn non-decreasing as P falls", f"{bad_d} diameter and {bad_f} effort reversals in {len(pts)} points",
-                            bad_d == 0 and bad_f == 0, f"d {d.min() / INCH:.2f}–{d.max() / INCH:.2f} in, F_turn {f.min():.3f}–{f.max():.3f} N"))
+        checks.append(
+            Check(
+                "8a trade-off",
+                "along decreasing threshold force the diameter grows and the turning effort grows",
+                "d and F_turn non-decreasing as P falls",
+                f"{bad_d} diameter and {bad_f} effort reversals in {len(pts)} points",
+                bad_d == 0 and bad_f == 0,
+                f"d {d.min() / INCH:.2f}–{d.max() / INCH:.2f} in, F_turn {f.min():.3f}–{f.max():.3f} N",
+            )
+        )
     # shimmy active wherever it can be: inactive only at the bare minimum-effort caster for that d
     lo = problem.lower()
     offending = 0
@@ -382,31 +480,52 @@ def front_checks(front, tighter=None, tol: float = 1e-6) -> list[Check]:
         bare = x.design.groove <= lo.groove + 1e-9 and x.design.damping <= lo.damping * (1 + 1e-9)
         if not bare:
             offending += 1
-    inactive = sum(1 for x in pts if x.margins.get("shimmy", x.critical_speed - problem.required_speed)
-                   > tol * problem.required_speed)
-    checks.append(Check("8b shimmy active", "the shimmy constraint is active wherever it can be",
-                        "inactive only on bare-fork designs (no groove, no damper)",
-                        f"{inactive} of {len(pts)} points inactive, {offending} of them with groove or damper",
-                        offending == 0, "a groove or damper that is not needed for V_c only adds turning effort"))
+    inactive = sum(
+        1
+        for x in pts
+        if x.margins.get("shimmy", x.critical_speed - problem.required_speed) > tol * problem.required_speed
+    )
+    checks.append(
+        Check(
+            "8b shimmy active",
+            "the shimmy constraint is active wherever it can be",
+            "inactive only on bare-fork designs (no groove, no damper)",
+            f"{inactive} of {len(pts)} points inactive, {offending} of them with groove or damper",
+            offending == 0,
+            "a groove or damper that is not needed for V_c only adds turning effort",
+        )
+    )
     if tighter is not None and not tighter.points:
         speed = highest_critical_speed(tighter.problem)
-        checks.append(Check("8c tighter target", "tightening V_target moves the front outward",
-                            "every point of the tighter front weakly dominated by the looser front",
-                            f"not applicable: the tighter target is out of reach (highest V_c {speed:.3f} m/s "
-                            f"< {tighter.problem.required_speed:.3f} m/s required)", True,
-                            f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} "
-                            f"m/s: no design inside the bounds reaches it, so there is no tighter front to compare",
-                            kind="front", outcome=NOT_APPLICABLE))
+        checks.append(
+            Check(
+                "8c tighter target",
+                "tightening V_target moves the front outward",
+                "every point of the tighter front weakly dominated by the looser front",
+                f"not applicable: the tighter target is out of reach (highest V_c {speed:.3f} m/s "
+                f"< {tighter.problem.required_speed:.3f} m/s required)",
+                True,
+                f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} "
+                f"m/s: no design inside the bounds reaches it, so there is no tighter front to compare",
+                kind="front",
+                outcome=NOT_APPLICABLE,
+            )
+        )
     elif tighter is not None:
         worse, total = dominated_by_problem(problem, tighter)
         cmp = front.compare(tighter)
-        checks.append(Check("8c tighter target", "tightening V_target moves the front outward",
-                            "every point of the tighter front weakly dominated by the looser front",
-                            f"{total - worse} of {total} dominated; HV {cmp['hypervolume_self']:.4f} vs "
-                            f"{cmp['hypervolume_other']:.4f} (looser's normalisation)",
-                            worse == 0 and total > 0,
-                            f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} m/s; "
-                            f"exact test: the looser problem's min F_turn at each tighter point's P"))
+        checks.append(
+            Check(
+                "8c tighter target",
+                "tightening V_target moves the front outward",
+                "every point of the tighter front weakly dominated by the looser front",
+                f"{total - worse} of {total} dominated; HV {cmp['hypervolume_self']:.4f} vs "
+                f"{cmp['hypervolume_other']:.4f} (looser's normalisation)",
+                worse == 0 and total > 0,
+                f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} m/s; "
+                f"exact test: the looser problem's min F_turn at each tighter point's P",
+            )
+        )
     for c in checks:
         c.kind = "front"
     return checks

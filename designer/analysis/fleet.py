@@ -25,6 +25,7 @@ Modules: :mod:`designer.analysis.fleet_table` reads the fleet (FLEET.csv, exampl
 :mod:`designer.analysis.kmedian` the K-median program; this module runs them over a fleet
 (:func:`fleet_recommendations`, :func:`choose_skus`, :func:`fleet`) and re-exports their names.
 """
+
 from __future__ import annotations
 
 import math
@@ -40,16 +41,62 @@ from designer.reprs import dataframe, html_table
 
 from designer.analysis.kmedian import prune_candidates, solve_kmedian
 from designer.problem import load_problem
-from designer.analysis.fleet_table import (COLUMNS, EXAMPLE_RANGES, GRAVITY, MAX_CHAIRS, RANGES, REQUIRED,
-                                           UNIT_ALIASES, Fleet, example_fleet, fleet_from_text, read_fleet,
-                                           write_fleet_csv)
-from designer.analysis.fleet_rule import (DEFAULT_STOCK, RESULT_FIELDS, StockTable, _chunk_task, _mc_task, _split,
-                                          evaluate_chairs, mc_uncertainty, recommend_chairs, risk_of, stock_table)
+from designer.analysis.fleet_table import (
+    COLUMNS,
+    EXAMPLE_RANGES,
+    GRAVITY,
+    MAX_CHAIRS,
+    RANGES,
+    REQUIRED,
+    UNIT_ALIASES,
+    Fleet,
+    example_fleet,
+    fleet_from_text,
+    read_fleet,
+    write_fleet_csv,
+)
+from designer.analysis.fleet_rule import (
+    DEFAULT_STOCK,
+    RESULT_FIELDS,
+    StockTable,
+    _chunk_task,
+    _mc_task,
+    _split,
+    evaluate_chairs,
+    mc_uncertainty,
+    recommend_chairs,
+    risk_of,
+    stock_table,
+)
 
-__all__ = ["CHUNK", "COLUMNS", "DEFAULT_STOCK", "EXAMPLE_RANGES", "GRAVITY", "MAX_CHAIRS", "RANGES", "REQUIRED",
-           "RESULT_FIELDS", "UNIT_ALIASES", "Fleet", "FleetResult", "StockTable", "choose_skus", "evaluate_chairs",
-           "example_fleet", "fleet", "fleet_data", "fleet_from_text", "fleet_recommendations", "mc_uncertainty",
-           "read_fleet", "recommend_chairs", "risk_of", "stock_table", "write_fleet_csv"]
+__all__ = [
+    "CHUNK",
+    "COLUMNS",
+    "DEFAULT_STOCK",
+    "EXAMPLE_RANGES",
+    "GRAVITY",
+    "MAX_CHAIRS",
+    "RANGES",
+    "REQUIRED",
+    "RESULT_FIELDS",
+    "UNIT_ALIASES",
+    "Fleet",
+    "FleetResult",
+    "StockTable",
+    "choose_skus",
+    "evaluate_chairs",
+    "example_fleet",
+    "fleet",
+    "fleet_data",
+    "fleet_from_text",
+    "fleet_recommendations",
+    "mc_uncertainty",
+    "read_fleet",
+    "recommend_chairs",
+    "risk_of",
+    "stock_table",
+    "write_fleet_csv",
+]
 
 CHUNK = 5000
 """Chairs per chunk of vectorised work (bounds memory: chunk × casters × 8 bytes per array)."""
@@ -58,12 +105,19 @@ CHUNK = 5000
 # --------------------------------------------------------------------------- the whole fleet
 
 
-_FLEET_UNITS = {"trail": ("trail_m", "m"), "diameter": ("diameter_m", "m"), "groove": ("groove_m", "m"),
-                "damping": ("damping_N_m_per_rad", "N·m/rad"), "turning_effort": ("turning_effort_N", "N"),
-                "threshold_force": ("threshold_force_N", "N"), "shimmy_probability": ("shimmy_probability", "-"),
-                "shimmy_probability_se": ("shimmy_probability_se", "-"),
-                "sku_turning_effort": ("sku_turning_effort_N", "N"), "sku_threshold_force": ("sku_threshold_force_N", "N"),
-                "sku_shimmy_probability": ("sku_shimmy_probability", "-")}
+_FLEET_UNITS = {
+    "trail": ("trail_m", "m"),
+    "diameter": ("diameter_m", "m"),
+    "groove": ("groove_m", "m"),
+    "damping": ("damping_N_m_per_rad", "N·m/rad"),
+    "turning_effort": ("turning_effort_N", "N"),
+    "threshold_force": ("threshold_force_N", "N"),
+    "shimmy_probability": ("shimmy_probability", "-"),
+    "shimmy_probability_se": ("shimmy_probability_se", "-"),
+    "sku_turning_effort": ("sku_turning_effort_N", "N"),
+    "sku_threshold_force": ("sku_threshold_force_N", "N"),
+    "sku_shimmy_probability": ("sku_shimmy_probability", "-"),
+}
 """fleet.csv column -> (DataFrame column with its SI unit, unit) for :meth:`FleetResult.to_pandas`."""
 
 
@@ -116,8 +170,12 @@ class FleetResult:
             if sku is not None:
                 a = int(sku.assignment[position[i]]) if j >= 0 else -1
                 row["sku"] = sku_index.get(a) if a >= 0 else None
-                row["sku_turning_effort"] = float(self.regret_cost["turning_effort"][position[i], a]) if a >= 0 else None
-                row["sku_threshold_force"] = float(self.regret_cost["threshold_force"][position[i], a]) if a >= 0 else None
+                row["sku_turning_effort"] = (
+                    float(self.regret_cost["turning_effort"][position[i], a]) if a >= 0 else None
+                )
+                row["sku_threshold_force"] = (
+                    float(self.regret_cost["threshold_force"][position[i], a]) if a >= 0 else None
+                )
                 sp = ch.get("sku_shimmy_probability")
                 row["sku_shimmy_probability"] = None if sp is None or a < 0 else float(sp[i])
             row["status"] = "ok" if j >= 0 else str(ch["reason"][i])
@@ -127,13 +185,19 @@ class FleetResult:
     def _summary(self) -> list[tuple[str, str, str]]:
         ok = self.feasible
         f, p = self.chairs["turning_effort"][ok], self.chairs["threshold_force"][ok]
-        rows = [("chairs (with a caster)", f"{len(self.fleet)} ({int(ok.sum())})", ""),
-                ("part numbers (SKUs)", f"{len(self.sku_records())}" if self.skus is not None else "not asked", "")]
+        rows = [
+            ("chairs (with a caster)", f"{len(self.fleet)} ({int(ok.sum())})", ""),
+            ("part numbers (SKUs)", f"{len(self.sku_records())}" if self.skus is not None else "not asked", ""),
+        ]
         if ok.any():
-            rows += [("turning effort F_turn: min – max (median)",
-                      f"{f.min():.4g} – {f.max():.4g} ({float(np.median(f)):.4g})", "N"),
-                     ("sill force P: min – max (median)", f"{p.min():.4g} – {p.max():.4g} ({float(np.median(p)):.4g})",
-                      "N")]
+            rows += [
+                (
+                    "turning effort F_turn: min – max (median)",
+                    f"{f.min():.4g} – {f.max():.4g} ({float(np.median(f)):.4g})",
+                    "N",
+                ),
+                ("sill force P: min – max (median)", f"{p.min():.4g} – {p.max():.4g} ({float(np.median(p)):.4g})", "N"),
+            ]
         shimmy = self.chairs.get("shimmy_probability")
         if shimmy is not None and ok.any():
             rows.append(("largest P(shimmy)", f"{float(np.max(shimmy[ok])):.2%}", ""))
@@ -142,8 +206,10 @@ class FleetResult:
     def __repr__(self) -> str:
         """Two lines: chairs, part numbers and the ranges of F_turn and P [N] (``print(fleet_data(...))``: all)."""
         head = ", ".join(f"{label.split(':')[0]} {value} {unit}".rstrip() for label, value, unit in self._summary()[:2])
-        rest = "; ".join(f"{label.split(':')[0]} {value.split(' (')[0]} {unit}".rstrip()
-                         for label, value, unit in self._summary()[2:])
+        rest = "; ".join(
+            f"{label.split(':')[0]} {value.split(' (')[0]} {unit}".rstrip()
+            for label, value, unit in self._summary()[2:]
+        )
         return f"FleetResult({getattr(self.problem, 'name', '?')!r}: {head})" + (f"\n  {rest}" if rest else "")
 
     def _repr_html_(self) -> str:
@@ -163,8 +229,14 @@ class FleetResult:
         columns = [_FLEET_UNITS.get(c, (c, ""))[0] for c in (rows[0] if rows else ["name", "status"])]
         records = [{_FLEET_UNITS.get(k, (k, ""))[0]: v for k, v in r.items()} for r in rows]
         units = {name: unit for name, unit in _FLEET_UNITS.values() if name in columns}
-        return dataframe("FleetResult.to_pandas", records, columns, units,
-                         problem=getattr(self.problem, "name", None), skus=len(self.sku_records()) or None)
+        return dataframe(
+            "FleetResult.to_pandas",
+            records,
+            columns,
+            units,
+            problem=getattr(self.problem, "name", None),
+            skus=len(self.sku_records()) or None,
+        )
 
     def sku_records(self) -> list[dict]:
         """``[{"id", "design", "chairs", "count"}]`` of the chosen part numbers."""
@@ -174,14 +246,28 @@ class FleetResult:
         out = []
         for k, j in enumerate(self.skus.chosen):
             mine = feasible[self.skus.assignment == j]
-            out.append({"id": k + 1, "design": self.stock.design(j), "wheel": str(self.stock.wheel[j]) or None,
-                        "chairs": len(mine), "count": int(self.fleet.count[mine].sum())})
+            out.append(
+                {
+                    "id": k + 1,
+                    "design": self.stock.design(j),
+                    "wheel": str(self.stock.wheel[j]) or None,
+                    "chairs": len(mine),
+                    "count": int(self.fleet.count[mine].sum()),
+                }
+            )
         return out
 
 
-def fleet_recommendations(fleet: Fleet, problem, skus: int | None = None, k_max: int | None = None,
-                          scheduler=None, monte_carlo: bool = True, chunk: int = CHUNK,
-                          time_limit: float = 120.0) -> FleetResult:
+def fleet_recommendations(
+    fleet: Fleet,
+    problem,
+    skus: int | None = None,
+    k_max: int | None = None,
+    scheduler=None,
+    monte_carlo: bool = True,
+    chunk: int = CHUNK,
+    time_limit: float = 120.0,
+) -> FleetResult:
     """Recommend a caster for every chair of ``fleet`` and, with ``skus``, choose K part numbers.
 
     Parameters
@@ -223,13 +309,21 @@ def fleet_recommendations(fleet: Fleet, problem, skus: int | None = None, k_max:
             results = client.gather(futures)
         chairs = {k: np.concatenate([r[k] for r in results]) for k in results[0]}
         timings["recommend"] = time.perf_counter() - start
-        result = FleetResult(fleet=fleet, stock=stock, problem=problem, chairs=chairs, timings=timings,
-                             scheduler=None if client is None else str(getattr(client, "scheduler_info",
-                                                                                lambda: {})().get("address", "")))
+        result = FleetResult(
+            fleet=fleet,
+            stock=stock,
+            problem=problem,
+            chairs=chairs,
+            timings=timings,
+            scheduler=None
+            if client is None
+            else str(getattr(client, "scheduler_info", lambda: {})().get("address", "")),
+        )
         if monte_carlo:
             start = time.perf_counter()
             chairs["shimmy_probability"], chairs["shimmy_probability_se"] = _monte_carlo(
-                client, stock, problem, chairs["choice"], fleet.target_speed, chunk=max(50, chunk // 20))
+                client, stock, problem, chairs["choice"], fleet.target_speed, chunk=max(50, chunk // 20)
+            )
             timings["monte_carlo"] = time.perf_counter() - start
         if skus is not None:
             start = time.perf_counter()
@@ -239,8 +333,9 @@ def fleet_recommendations(fleet: Fleet, problem, skus: int | None = None, k_max:
                 start = time.perf_counter()
                 assigned = np.full(len(fleet), -1)
                 assigned[result.feasible] = result.skus.assignment
-                chairs["sku_shimmy_probability"], _ = _monte_carlo(client, stock, problem, assigned,
-                                                                   fleet.target_speed, chunk=max(50, chunk // 20))
+                chairs["sku_shimmy_probability"], _ = _monte_carlo(
+                    client, stock, problem, assigned, fleet.target_speed, chunk=max(50, chunk // 20)
+                )
                 timings["sku_monte_carlo"] = time.perf_counter() - start
     finally:
         if own:
@@ -259,8 +354,9 @@ def _monte_carlo(client, stock, problem, choice, speeds, chunk):
         return p, se
     # The estimate is a deterministic function of (caster, speed) (its own fixed seed), so chairs that share
     # both share one estimate: each distinct pair is sampled once.
-    pairs, inverse = np.unique(np.stack([choice[rows].astype(float), np.asarray(speeds, float)[rows]], axis=1),
-                               axis=0, return_inverse=True)
+    pairs, inverse = np.unique(
+        np.stack([choice[rows].astype(float), np.asarray(speeds, float)[rows]], axis=1), axis=0, return_inverse=True
+    )
     which = pairs[:, 0].astype(int)
     designs = np.stack([stock.trail, stock.diameter, stock.groove, stock.damping], axis=1)[which]
     inertia = stock.inertia[which]
@@ -291,7 +387,7 @@ def choose_skus(result: FleetResult, k: int, k_max: int | None = None, time_limi
     rows = np.flatnonzero(result.feasible)
     if not len(rows):
         raise InputError("--skus: no chair of the fleet has a feasible stock caster, nothing to choose")
-    parts = [rows[a:a + CHUNK] for a in range(0, len(rows), CHUNK)]
+    parts = [rows[a : a + CHUNK] for a in range(0, len(rows), CHUNK)]
     f_parts, p_parts, cost_parts = [], [], []
     w = np.asarray(problem.weights, float)
     for part in parts:
@@ -301,8 +397,11 @@ def choose_skus(result: FleetResult, k: int, k_max: int | None = None, time_limi
         f_parts.append(ev["turning_effort"])
         p_parts.append(ev["threshold_force"])
     cost = np.concatenate(cost_parts)
-    result.regret_cost = {"turning_effort": np.concatenate(f_parts), "threshold_force": np.concatenate(p_parts),
-                          "regret": cost}
+    result.regret_cost = {
+        "turning_effort": np.concatenate(f_parts),
+        "threshold_force": np.concatenate(p_parts),
+        "regret": cost,
+    }
     weights = fleet.count[rows]
     useful = len(prune_candidates(cost))
     k_max = max(k, 8) if k_max is None else max(k, k_max)
@@ -323,8 +422,9 @@ def _client(scheduler):
         # dask is optional (the `fleet` extra): imported only when a scheduler is asked for
         from distributed import Client, LocalCluster
     except ImportError:
-        raise InputError("--scheduler: needs dask[distributed]; install it with "
-                         "pip install 'caster-designer[fleet]'") from None
+        raise InputError(
+            "--scheduler: needs dask[distributed]; install it with pip install 'caster-designer[fleet]'"
+        ) from None
     if isinstance(scheduler, Client):
         return scheduler, False
     if scheduler == "local":
@@ -335,8 +435,10 @@ def _client(scheduler):
     try:
         return Client(scheduler, timeout="10s"), True
     except (OSError, TimeoutError) as exc:
-        raise InputError(f"--scheduler {scheduler}: cannot reach the scheduler ({type(exc).__name__}: {exc}); "
-                         f"start one with `dask scheduler` (docs/fleet.md)") from None
+        raise InputError(
+            f"--scheduler {scheduler}: cannot reach the scheduler ({type(exc).__name__}: {exc}); "
+            f"start one with `dask scheduler` (docs/fleet.md)"
+        ) from None
 
 
 def _close(client) -> None:
@@ -344,7 +446,6 @@ def _close(client) -> None:
     client.close()
     if cluster is not None:
         cluster.close()
-
 
 
 def fleet_data(result: FleetResult) -> dict:
@@ -357,16 +458,30 @@ def fleet_data(result: FleetResult) -> dict:
     ok = result.feasible
     rows = result.rows()
     choice = ch["choice"][ok]
-    dist = {"trail": result.stock.trail[choice], "diameter": result.stock.diameter[choice],
-            "groove": result.stock.groove[choice], "damping": result.stock.damping[choice],
-            "turning_effort": ch["turning_effort"][ok], "threshold_force": ch["threshold_force"][ok]}
+    dist = {
+        "trail": result.stock.trail[choice],
+        "diameter": result.stock.diameter[choice],
+        "groove": result.stock.groove[choice],
+        "damping": result.stock.damping[choice],
+        "turning_effort": ch["turning_effort"][ok],
+        "threshold_force": ch["threshold_force"][ok],
+    }
     if "shimmy_probability" in ch:
         dist["shimmy_probability"] = ch["shimmy_probability"][ok]
     served_units = float(result.fleet.count[ok].sum()) or 1.0
-    curve = [{"k": k, "regret": s.regret if s.status != "infeasible" else None,
-              "mean_regret": s.regret / served_units if s.status != "infeasible" else None, "status": s.status,
-              "lower_bound": s.lower_bound, "gap": s.gap, "seconds": s.seconds, "chosen": s.chosen}
-             for k, s in sorted(result.curve.items())]
+    curve = [
+        {
+            "k": k,
+            "regret": s.regret if s.status != "infeasible" else None,
+            "mean_regret": s.regret / served_units if s.status != "infeasible" else None,
+            "status": s.status,
+            "lower_bound": s.lower_bound,
+            "gap": s.gap,
+            "seconds": s.seconds,
+            "chosen": s.chosen,
+        }
+        for k, s in sorted(result.curve.items())
+    ]
     w = tuple(float(x) for x in problem.weights)
     return {
         "fleet": result.fleet.source,
@@ -376,22 +491,30 @@ def fleet_data(result: FleetResult) -> dict:
         "problem": problem.name,
         "weights": list(w),
         "objective": f"J = {w[0]:g} F_turn + {w[1]:g} P [N]: 1 N of sill force is worth "
-                     f"{(w[1] / w[0]) if w[0] else math.inf:g} N of turning effort",
+        f"{(w[1] / w[0]) if w[0] else math.inf:g} N of turning effort",
         "regret_definition": "regret of a chair = J with its assigned part number − the least J over the "
-                             "chair's own feasible stock (never negative); the part numbers minimise the "
-                             "count-weighted sum",
+        "chair's own feasible stock (never negative); the part numbers minimise the "
+        "count-weighted sum",
         "risk": None if risk is None else {"probability": risk.probability, "margin": problem.margin},
         "monte_carlo": {"samples": getattr(u, "samples", None), "seed": getattr(u, "seed", None)},
-        "rule": ("cap on sill force" if getattr(problem, "max_threshold_force", None) is not None else
-                 "cap on turning effort" if getattr(problem, "max_turning_effort", None) is not None else
-                 "knee of the buildable front"),
-        "stock": {"casters": len(result.stock), "note": result.stock.note,
-                  "useful_for_skus": getattr(result, "candidates", None)},
+        "rule": (
+            "cap on sill force"
+            if getattr(problem, "max_threshold_force", None) is not None
+            else "cap on turning effort"
+            if getattr(problem, "max_turning_effort", None) is not None
+            else "knee of the buildable front"
+        ),
+        "stock": {
+            "casters": len(result.stock),
+            "note": result.stock.note,
+            "useful_for_skus": getattr(result, "candidates", None),
+        },
         "skus": result.sku_records(),
         "k": None if result.skus is None else result.skus.k,
         "regret": None if result.skus is None or result.skus.status == "infeasible" else result.skus.regret,
-        "mean_regret": None if result.skus is None or result.skus.status == "infeasible" else
-        result.skus.regret / served_units,
+        "mean_regret": None
+        if result.skus is None or result.skus.status == "infeasible"
+        else result.skus.regret / served_units,
         "sku_status": None if result.skus is None else result.skus.status,
         "regret_curve": curve,
         "rows": rows,
@@ -402,8 +525,9 @@ def fleet_data(result: FleetResult) -> dict:
     }
 
 
-def fleet(chairs, problem=None, skus: int | None = None, scheduler=None, monte_carlo: bool = True,
-          k_max: int | None = None) -> FleetResult:
+def fleet(
+    chairs, problem=None, skus: int | None = None, scheduler=None, monte_carlo: bool = True, k_max: int | None = None
+) -> FleetResult:
     """``designer.fleet``: per-chair recommendations of a fleet and, with ``skus``, K part numbers.
 
     Parameters
@@ -422,5 +546,4 @@ def fleet(chairs, problem=None, skus: int | None = None, scheduler=None, monte_c
         chairs = read_fleet(chairs)
     if problem is None or isinstance(problem, (str, Path)):
         problem = load_problem(problem or "problems/indoor-manual.toml")
-    return fleet_recommendations(chairs, problem, skus=skus, k_max=k_max, scheduler=scheduler,
-                                 monte_carlo=monte_carlo)
+    return fleet_recommendations(chairs, problem, skus=skus, k_max=k_max, scheduler=scheduler, monte_carlo=monte_carlo)

@@ -5,6 +5,7 @@ V_c and its quantile (:func:`stock_table`), F_turn, P and feasibility of every c
 (:func:`evaluate_chairs`), the buildable front and the rule per chair (:func:`recommend_chairs`), and the
 Monte Carlo P(shimmy) of the chosen casters (:func:`_mc_task`).
 """
+
 from __future__ import annotations
 
 import math
@@ -62,8 +63,12 @@ class StockTable:
 
     def design(self, j: int) -> dict:
         """Stock caster ``j`` as {trail, diameter, groove, damping} [SI]."""
-        return {"trail": float(self.trail[j]), "diameter": float(self.diameter[j]), "groove": float(self.groove[j]),
-                "damping": float(self.damping[j])}
+        return {
+            "trail": float(self.trail[j]),
+            "diameter": float(self.diameter[j]),
+            "groove": float(self.groove[j]),
+            "damping": float(self.damping[j]),
+        }
 
 
 DEFAULT_STOCK = {
@@ -110,16 +115,28 @@ def stock_table(problem) -> StockTable:
     stock_key = {"trail": "trail_step", "diameter": "diameters", "groove": "grooves", "damping": "dampings"}
     for key in ("trail", "diameter", "groove", "damping"):
         if cand.get(key) is None:
-            raise ProblemError(f"{problem.source or problem.name}: stock.{stock_key[key]}: missing, so {key} stays "
-                               f"continuous; a fleet's part numbers are stock casters, so list every variable in "
-                               f"[stock] (docs/fleet.md)")
-    table = StockTable(trail=cand.trail, diameter=cand.diameter, groove=cand.groove, damping=cand.damping,
-                       inertia=np.asarray(cand.inertia, float), wheel=np.asarray(cand.wheel, dtype=object), note=note)
+            raise ProblemError(
+                f"{problem.source or problem.name}: stock.{stock_key[key]}: missing, so {key} stays "
+                f"continuous; a fleet's part numbers are stock casters, so list every variable in "
+                f"[stock] (docs/fleet.md)"
+            )
+    table = StockTable(
+        trail=cand.trail,
+        diameter=cand.diameter,
+        groove=cand.groove,
+        damping=cand.damping,
+        inertia=np.asarray(cand.inertia, float),
+        wheel=np.asarray(cand.wheel, dtype=object),
+        note=note,
+    )
     c = problem.conditions
-    table.critical_speed = critical_shimmy_speed(table.trail, table.inertia, table.groove, table.damping,
-                                                 c.slip_coefficient)
-    table.design_speed = np.asarray(confident_speed(table.trail, table.inertia, table.groove, table.damping,
-                                                    c.slip_coefficient, risk_of(problem)), float)
+    table.critical_speed = critical_shimmy_speed(
+        table.trail, table.inertia, table.groove, table.damping, c.slip_coefficient
+    )
+    table.design_speed = np.asarray(
+        confident_speed(table.trail, table.inertia, table.groove, table.damping, c.slip_coefficient, risk_of(problem)),
+        float,
+    )
     table.swept_radius = swept_radius(table.trail, table.diameter)
     return table
 
@@ -137,17 +154,31 @@ def _default_stock(problem):
     step = DEFAULT_STOCK["trail_step"] * INCH
     lo, hi = b["trail"].low, b["trail"].high
     trails = tuple(lo + step * np.arange(int(math.floor((hi - lo) / step + 1e-9)) + 1))
-    return Stock(diameters=None if problem.wheels or b["diameter"].fixed else
-                 within([v * INCH for v in DEFAULT_STOCK["diameters"]], "diameter"),
-                 grooves=within([v * INCH for v in DEFAULT_STOCK["grooves"]], "groove"), trail_step=step,
-                 trails=trails, dampings=within(DEFAULT_STOCK["dampings"], "damping"))
+    return Stock(
+        diameters=None
+        if problem.wheels or b["diameter"].fixed
+        else within([v * INCH for v in DEFAULT_STOCK["diameters"]], "diameter"),
+        grooves=within([v * INCH for v in DEFAULT_STOCK["grooves"]], "groove"),
+        trail_step=step,
+        trails=trails,
+        dampings=within(DEFAULT_STOCK["dampings"], "damping"),
+    )
 
 
 # --------------------------------------------------------------------------- vectorised recommendation
 
 
-RESULT_FIELDS = ("choice", "easiest_turn", "easiest_sill", "best_j", "front_size", "turning_effort",
-                 "threshold_force", "objective", "reason")
+RESULT_FIELDS = (
+    "choice",
+    "easiest_turn",
+    "easiest_sill",
+    "best_j",
+    "front_size",
+    "turning_effort",
+    "threshold_force",
+    "objective",
+    "reason",
+)
 
 
 def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
@@ -187,9 +218,15 @@ def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     risk_ok = risk_screen(stock.design_speed[None, :], required[:, None])
     radius_ok = stock.swept_radius[None, :] <= np.asarray(chairs["swept_radius_max"], float)[:, None] * (1 + 1e-9)
     sill_ok = climbs[:, inverse]
-    return {"turning_effort": effort, "threshold_force": force, "feasible": risk_ok & radius_ok & sill_ok,
-            "any_risk": risk_ok.any(axis=1), "any_radius": radius_ok.any(axis=1), "any_sill": sill_ok.any(axis=1),
-            "required": required}
+    return {
+        "turning_effort": effort,
+        "threshold_force": force,
+        "feasible": risk_ok & radius_ok & sill_ok,
+        "any_risk": risk_ok.any(axis=1),
+        "any_radius": radius_ok.any(axis=1),
+        "any_sill": sill_ok.any(axis=1),
+        "required": required,
+    }
 
 
 # long: the vectorised rule is one pass over chairs x stock (screen, front, knee, alternatives)
@@ -244,10 +281,17 @@ def recommend_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     reason = np.full(n, "", dtype=object)
     for i in np.flatnonzero(choice < 0):
         reason[i] = _reason(i, ev, stock, no_cap[i], cap_p, cap_f)
-    return {"choice": choice, "easiest_turn": easiest_turn, "easiest_sill": easiest_sill, "best_j": best_j,
-            "front_size": size, "turning_effort": np.where(choice >= 0, f[rows, sel], np.nan),
-            "threshold_force": np.where(choice >= 0, p[rows, sel], np.nan),
-            "objective": np.where(choice >= 0, j[rows, sel], np.nan), "reason": reason}
+    return {
+        "choice": choice,
+        "easiest_turn": easiest_turn,
+        "easiest_sill": easiest_sill,
+        "best_j": best_j,
+        "front_size": size,
+        "turning_effort": np.where(choice >= 0, f[rows, sel], np.nan),
+        "threshold_force": np.where(choice >= 0, p[rows, sel], np.nan),
+        "objective": np.where(choice >= 0, j[rows, sel], np.nan),
+        "reason": reason,
+    }
 
 
 def _reason(i, ev, stock, over_cap, cap_p, cap_f) -> str:
@@ -257,8 +301,10 @@ def _reason(i, ev, stock, over_cap, cap_p, cap_f) -> str:
         return f"infeasible: no buildable caster within the cap {cap}"
     missing = []
     if not ev["any_risk"][i]:
-        missing.append(f"risk bound (best confident speed {stock.design_speed.max():.2f} m/s < required "
-                       f"{ev['required'][i]:.2f} m/s)")
+        missing.append(
+            f"risk bound (best confident speed {stock.design_speed.max():.2f} m/s < required "
+            f"{ev['required'][i]:.2f} m/s)"
+        )
     if not ev["any_radius"][i]:
         missing.append(f"swept radius (smallest {stock.swept_radius.min() / INCH:.2f} in)")
     if not ev["any_sill"][i]:
@@ -275,7 +321,7 @@ def _chunk_task(chairs: dict, stock: StockTable, problem) -> dict:
 
 def _split(fleet: Fleet, chunk: int) -> list[tuple[int, dict]]:
     arrays = fleet.arrays()
-    return [(start, {k: v[start:start + chunk] for k, v in arrays.items()}) for start in range(0, len(fleet), chunk)]
+    return [(start, {k: v[start : start + chunk] for k, v in arrays.items()}) for start in range(0, len(fleet), chunk)]
 
 
 # --------------------------------------------------------------------------- Monte Carlo of the choice
@@ -307,8 +353,12 @@ def _mc_task(designs: np.ndarray, inertia: np.ndarray, speeds: np.ndarray, slip:
         if batch and stop - start > 1:
             n = int(uncertainty.samples)
             f = module.sample_log_factors(uncertainty, n, np.random.default_rng(uncertainty.seed))
-            v = np.sort(critical_shimmy_speed(t, i_w * np.exp(f["inertia"]), g, c * np.exp(f["damping"]),
-                                              slip * np.exp(f["slip"])) * np.exp(f["model"]))
+            v = np.sort(
+                critical_shimmy_speed(
+                    t, i_w * np.exp(f["inertia"]), g, c * np.exp(f["damping"]), slip * np.exp(f["slip"])
+                )
+                * np.exp(f["model"])
+            )
             hits = np.searchsorted(v, speeds[start:stop], side="left")
             p = hits / n
             var = np.maximum(p * (1 - p), 1.0 / n)

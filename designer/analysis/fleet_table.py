@@ -3,6 +3,7 @@
 Part of :mod:`designer.analysis.fleet` (which re-exports every name): the columns and their units, the
 model ranges per column, the reader and the writer of the example fleets.
 """
+
 from __future__ import annotations
 
 import csv
@@ -19,7 +20,6 @@ from designer.data.paper import INCH
 from designer.errors import InputError, ProblemError, read_input_text
 from designer.physics.turning import MODES, SURFACES
 from designer.units import parse_quantity
-
 
 
 GRAVITY = 9.80665
@@ -42,8 +42,16 @@ COLUMNS = {
 REQUIRED = ("name", "threshold_height", "target_speed", "swept_radius_max", "surface", "turning_mode")
 """Columns every fleet needs; plus ``load`` or both ``mass`` and ``front_fraction``."""
 
-UNIT_ALIASES = {"mps": "m/s", "m_s": "m/s", "kmh": "km/h", "kph": "km/h", "pct": "percent", "%": "percent",
-                "lb": "lbf", "lbs": "lbf"}
+UNIT_ALIASES = {
+    "mps": "m/s",
+    "m_s": "m/s",
+    "kmh": "km/h",
+    "kph": "km/h",
+    "pct": "percent",
+    "%": "percent",
+    "lb": "lbf",
+    "lbs": "lbf",
+}
 """Header unit spellings that pint does not read (``target_speed_mps``)."""
 
 RANGES = {
@@ -100,26 +108,46 @@ class Fleet:
         index = np.asarray(index)
         if index.dtype == bool:
             index = np.flatnonzero(index)
-        return Fleet(names=[self.names[i] for i in index], load=self.load[index],
-                     threshold_height=self.threshold_height[index], target_speed=self.target_speed[index],
-                     swept_radius_max=self.swept_radius_max[index], surface=self.surface[index],
-                     turning_mode=self.turning_mode[index], count=self.count[index],
-                     rows=None if self.rows is None else self.rows[index], source=self.source)
+        return Fleet(
+            names=[self.names[i] for i in index],
+            load=self.load[index],
+            threshold_height=self.threshold_height[index],
+            target_speed=self.target_speed[index],
+            swept_radius_max=self.swept_radius_max[index],
+            surface=self.surface[index],
+            turning_mode=self.turning_mode[index],
+            count=self.count[index],
+            rows=None if self.rows is None else self.rows[index],
+            source=self.source,
+        )
 
     def arrays(self) -> dict:
         """The per-chair numbers as plain arrays (what a worker needs; no names)."""
-        return {"load": self.load, "threshold_height": self.threshold_height, "target_speed": self.target_speed,
-                "swept_radius_max": self.swept_radius_max, "surface": self.surface,
-                "turning_mode": self.turning_mode}
+        return {
+            "load": self.load,
+            "threshold_height": self.threshold_height,
+            "target_speed": self.target_speed,
+            "swept_radius_max": self.swept_radius_max,
+            "surface": self.surface,
+            "turning_mode": self.turning_mode,
+        }
 
     def problem(self, base, i: int):
         """The base problem with chair ``i``'s conditions: what ``designer.recommend`` takes for one chair."""
-        conditions = base.conditions.replace(load=float(self.load[i]),
-                                             threshold_height=float(self.threshold_height[i]),
-                                             surface=str(self.surface[i]), turning_mode=str(self.turning_mode[i]))
+        conditions = base.conditions.replace(
+            load=float(self.load[i]),
+            threshold_height=float(self.threshold_height[i]),
+            surface=str(self.surface[i]),
+            turning_mode=str(self.turning_mode[i]),
+        )
         name = re.sub(r"[^A-Za-z0-9_.-]", "-", str(self.names[i]))[:64].lstrip("-_.") or "chair"
-        return base.replace(name=name, conditions=conditions, target_speed=float(self.target_speed[i]),
-                            swept_radius_max=float(self.swept_radius_max[i]), source=None)
+        return base.replace(
+            name=name,
+            conditions=conditions,
+            target_speed=float(self.target_speed[i]),
+            swept_radius_max=float(self.swept_radius_max[i]),
+            source=None,
+        )
 
 
 def _split_header(header: str, source: str) -> tuple[str, str | None]:
@@ -134,10 +162,12 @@ def _split_header(header: str, source: str) -> tuple[str, str | None]:
         return text, None
     for name in sorted(COLUMNS, key=len, reverse=True):
         if text.startswith(name + "_") and len(text) > len(name) + 1:
-            return name, text[len(name) + 1:]
+            return name, text[len(name) + 1 :]
     known = ", ".join(COLUMNS)
-    raise ProblemError(f"{source}: column {header!r}: unknown column{_suggest(text, list(COLUMNS))}; "
-                       f"expected {known} (a unit may follow: load_N, threshold_height_in)")
+    raise ProblemError(
+        f"{source}: column {header!r}: unknown column{_suggest(text, list(COLUMNS))}; "
+        f"expected {known} (a unit may follow: load_N, threshold_height_in)"
+    )
 
 
 def _suggest(word: str, options) -> str:
@@ -209,7 +239,7 @@ def fleet_from_text(text: str, source: str = "fleet") -> Fleet:
     width = len(header)
     # physical line numbers (comments and blank lines skipped above)
     physical = [i + 1 for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith("#")]
-    row_numbers = np.array(physical[1:1 + n] if len(physical) > n else range(2, n + 2))
+    row_numbers = np.array(physical[1 : 1 + n] if len(physical) > n else range(2, n + 2))
     for r, cells in enumerate(body):
         if len(cells) != width:
             raise ProblemError(f"{source}: row {row_numbers[r]}: {len(cells)} cells, the header has {width}")
@@ -222,10 +252,18 @@ def fleet_from_text(text: str, source: str = "fleet") -> Fleet:
         t.check(name, v)
     labels = {name: t.labels(name, allowed) for name, allowed in (("surface", SURFACES), ("turning_mode", MODES))}
     count = t.counts() if "count" in columns else np.ones(n)
-    return Fleet(names=names, load=load, threshold_height=values["threshold_height"],
-                 target_speed=values["target_speed"], swept_radius_max=values["swept_radius_max"],
-                 surface=labels["surface"], turning_mode=labels["turning_mode"], count=count,
-                 rows=row_numbers, source=source)
+    return Fleet(
+        names=names,
+        load=load,
+        threshold_height=values["threshold_height"],
+        target_speed=values["target_speed"],
+        swept_radius_max=values["swept_radius_max"],
+        surface=labels["surface"],
+        turning_mode=labels["turning_mode"],
+        count=count,
+        rows=row_numbers,
+        source=source,
+    )
 
 
 def _header_columns(header: list[str], source: str) -> dict[str, tuple[int, float, str | None]]:
@@ -243,18 +281,26 @@ def _header_columns(header: list[str], source: str) -> dict[str, tuple[int, floa
     if "load" not in columns and not ("mass" in columns and "front_fraction" in columns):
         if "mass" in columns or "front_fraction" in columns:
             missing = "front_fraction" if "mass" in columns else "mass"
-            raise ProblemError(f"{source}: missing column {missing!r}{_suggest_missing(missing, heads)} "
-                               f"(load = mass g front_fraction / 2 needs both)")
-        raise ProblemError(f"{source}: missing column 'load'{_suggest_missing('load', heads)} "
-                           f"(or give mass and front_fraction)")
+            raise ProblemError(
+                f"{source}: missing column {missing!r}{_suggest_missing(missing, heads)} "
+                f"(load = mass g front_fraction / 2 needs both)"
+            )
+        raise ProblemError(
+            f"{source}: missing column 'load'{_suggest_missing('load', heads)} (or give mass and front_fraction)"
+        )
     return columns
 
 
 class _Table:
     """The rows of a fleet file under its header: each reader checks one column, with one-line errors."""
 
-    def __init__(self, source: str, columns: dict[str, tuple[int, float, str | None]], body: list[list[str]],
-                 row_numbers: np.ndarray) -> None:
+    def __init__(
+        self,
+        source: str,
+        columns: dict[str, tuple[int, float, str | None]],
+        body: list[list[str]],
+        row_numbers: np.ndarray,
+    ) -> None:
         self.source = source
         self.columns = columns
         self.body = body
@@ -276,8 +322,10 @@ class _Table:
                 if optional:
                     out[r] = np.nan
                     continue
-                raise ProblemError(f"{source}: row {row_numbers[r]}, column {name}: empty; give a number"
-                                   + (f" in {unit}" if unit else " (SI) or one with units"))
+                raise ProblemError(
+                    f"{source}: row {row_numbers[r]}, column {name}: empty; give a number"
+                    + (f" in {unit}" if unit else " (SI) or one with units")
+                )
             try:
                 out[r] = float(cell) * factor
             except ValueError:
@@ -293,8 +341,11 @@ class _Table:
             bad &= ~skip
         if bad.any():
             r = int(np.flatnonzero(bad)[0])
-            raise ProblemError(f"{self.source}: row {self.row_numbers[r]}, column {name} = {values[r]:g} {unit}".rstrip()
-                               + f": outside the model's range {low:g} to {high:g} {unit}".rstrip() + f" ({hint})")
+            raise ProblemError(
+                f"{self.source}: row {self.row_numbers[r]}, column {name} = {values[r]:g} {unit}".rstrip()
+                + f": outside the model's range {low:g} to {high:g} {unit}".rstrip()
+                + f" ({hint})"
+            )
 
     def names(self) -> list[str]:
         """The chairs' names: each given, none repeated."""
@@ -302,11 +353,14 @@ class _Table:
         seen: dict[str, int] = {}
         for r, name in enumerate(names):
             if not name:
-                raise ProblemError(f"{self.source}: row {self.row_numbers[r]}, column name: empty; every chair "
-                                   f"needs a name")
+                raise ProblemError(
+                    f"{self.source}: row {self.row_numbers[r]}, column name: empty; every chair needs a name"
+                )
             if name in seen:
-                raise ProblemError(f"{self.source}: row {self.row_numbers[r]}, column name = {name!r}: duplicate "
-                                   f"name (first at row {self.row_numbers[seen[name]]})")
+                raise ProblemError(
+                    f"{self.source}: row {self.row_numbers[r]}, column name = {name!r}: duplicate "
+                    f"name (first at row {self.row_numbers[seen[name]]})"
+                )
             seen[name] = r
         return names
 
@@ -320,12 +374,14 @@ class _Table:
             for r in range(n):
                 given = (not math.isnan(load[r]), not math.isnan(mass[r]), not math.isnan(fraction[r]))
                 if given[0] and (given[1] or given[2]):
-                    raise ProblemError(f"{source}: row {row_numbers[r]}, column load: give load or mass and "
-                                       f"front_fraction, not both")
+                    raise ProblemError(
+                        f"{source}: row {row_numbers[r]}, column load: give load or mass and front_fraction, not both"
+                    )
                 if not given[0] and not (given[1] and given[2]):
                     col = "mass" if not given[1] else "front_fraction"
-                    raise ProblemError(f"{source}: row {row_numbers[r]}, column {col}: empty; give load, or mass "
-                                       f"and front_fraction")
+                    raise ProblemError(
+                        f"{source}: row {row_numbers[r]}, column {col}: empty; give load, or mass and front_fraction"
+                    )
             by_mass = np.isnan(load)
             self.check("mass", mass, skip=~by_mass)
             self.check("front_fraction", fraction, skip=~by_mass)
@@ -333,8 +389,10 @@ class _Table:
         else:
             empty = np.flatnonzero(np.isnan(load))
             if len(empty):
-                raise ProblemError(f"{source}: row {row_numbers[empty[0]]}, column load: empty; give a number"
-                                   + (f" in {columns['load'][2]}" if columns["load"][2] else " (SI) or one with units"))
+                raise ProblemError(
+                    f"{source}: row {row_numbers[empty[0]]}, column load: empty; give a number"
+                    + (f" in {columns['load'][2]}" if columns["load"][2] else " (SI) or one with units")
+                )
         self.check("load", load)
         return load
 
@@ -343,8 +401,10 @@ class _Table:
         cells = self.column(name)
         for r, cell in enumerate(cells):
             if cell not in allowed:
-                raise ProblemError(f"{self.source}: row {self.row_numbers[r]}, column {name} = {cell!r}: expected "
-                                   f"one of {', '.join(allowed)}{_suggest(cell, allowed)}")
+                raise ProblemError(
+                    f"{self.source}: row {self.row_numbers[r]}, column {name} = {cell!r}: expected "
+                    f"one of {', '.join(allowed)}{_suggest(cell, allowed)}"
+                )
         return np.array(cells, dtype=object)
 
     def counts(self) -> np.ndarray:
@@ -356,14 +416,16 @@ class _Table:
             except ValueError:
                 value = math.nan
             if not math.isfinite(value) or value < 0 or value != int(value) or value > 1e12:
-                raise ProblemError(f"{self.source}: row {self.row_numbers[r]}, column count = {cell!r}: expected a "
-                                   f"whole number of units sold, 0 or more")
+                raise ProblemError(
+                    f"{self.source}: row {self.row_numbers[r]}, column count = {cell!r}: expected a "
+                    f"whole number of units sold, 0 or more"
+                )
             count[r] = value
         return count
 
 
 def _suggest_missing(name: str, heads: list[str]) -> str:
-    """" (did you mean 'threshold_heigth_in'?)" when a header is a near miss of the expected ``name``."""
+    """ " (did you mean 'threshold_heigth_in'?)" when a header is a near miss of the expected ``name``."""
     scored = []
     for h in heads:
         stem = re.split(r"\s*[\[(]", h)[0]
@@ -395,16 +457,27 @@ def _cell_quantity(cell: str, dimension: str, key: str) -> float:
 
 
 EXAMPLE_RANGES = {
-    "load": ("120–300 N per caster", "assumption: the spread the product-line issue asks for; the paper's "
-             "slip and turning tests used 178 N (40 lb) per caster (Appendix C, Fig. 7), near the middle"),
-    "threshold_height": ("0.25–0.75 in", "0.5 in is the paper's case (Fig. 2A) and the US accessibility limit "
-                         "for door thresholds (2010 ADA Standards 404.2.5: 1/2 in, 3/4 in for existing "
-                         "sliding doors); 0.25 in is an assumption for floor transitions"),
-    "swept_radius_max": ("5–8 in", "assumption: footrest clearances of common manual chairs; the default "
-                         "problem uses 6 in"),
-    "target_speed": ("1.5–3.5 m/s", "assumption: above the paper's 1 m/s walking speed (where its E&J wheels "
-                     "were near their critical speed) up to a fast push or a ramp; the default problem uses "
-                     "2.5 m/s"),
+    "load": (
+        "120–300 N per caster",
+        "assumption: the spread the product-line issue asks for; the paper's "
+        "slip and turning tests used 178 N (40 lb) per caster (Appendix C, Fig. 7), near the middle",
+    ),
+    "threshold_height": (
+        "0.25–0.75 in",
+        "0.5 in is the paper's case (Fig. 2A) and the US accessibility limit "
+        "for door thresholds (2010 ADA Standards 404.2.5: 1/2 in, 3/4 in for existing "
+        "sliding doors); 0.25 in is an assumption for floor transitions",
+    ),
+    "swept_radius_max": (
+        "5–8 in",
+        "assumption: footrest clearances of common manual chairs; the default problem uses 6 in",
+    ),
+    "target_speed": (
+        "1.5–3.5 m/s",
+        "assumption: above the paper's 1 m/s walking speed (where its E&J wheels "
+        "were near their critical speed) up to a fast push or a ramp; the default problem uses "
+        "2.5 m/s",
+    ),
     "surface": ("70 % tile, 30 % carpet", "assumption"),
     "turning_mode": ("85 % chair, 15 % pivot", "assumption"),
     "count": ("10–2000 units sold, log-uniform", "assumption"),
@@ -431,18 +504,24 @@ def example_fleet(n: int, seed: int = 0) -> Fleet:
         surface=np.where(rng.random(n) < 0.7, "tile", "carpet").astype(object),
         turning_mode=np.where(rng.random(n) < 0.85, "chair", "pivot").astype(object),
         count=np.round(np.exp(rng.uniform(np.log(10), np.log(2000), n))),
-        rows=np.arange(2, n + 2), source=f"example-{n}")
+        rows=np.arange(2, n + 2),
+        source=f"example-{n}",
+    )
 
 
 def write_fleet_csv(fleet: Fleet, path) -> Path:
     """Write a fleet as FLEET.csv with units in the header (the format :func:`read_fleet` reads)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    lines = ["# Example fleet written by `designer fleet --example`; ranges and their sources: docs/fleet.md",
-             "name,load_N,threshold_height_in,target_speed_m/s,swept_radius_max_in,surface,turning_mode,count"]
+    lines = [
+        "# Example fleet written by `designer fleet --example`; ranges and their sources: docs/fleet.md",
+        "name,load_N,threshold_height_in,target_speed_m/s,swept_radius_max_in,surface,turning_mode,count",
+    ]
     for i in range(len(fleet)):
-        lines.append(f"{fleet.names[i]},{fleet.load[i]:.1f},{fleet.threshold_height[i] / INCH:.3f},"
-                     f"{fleet.target_speed[i]:.2f},{fleet.swept_radius_max[i] / INCH:.2f},{fleet.surface[i]},"
-                     f"{fleet.turning_mode[i]},{int(fleet.count[i])}")
+        lines.append(
+            f"{fleet.names[i]},{fleet.load[i]:.1f},{fleet.threshold_height[i] / INCH:.3f},"
+            f"{fleet.target_speed[i]:.2f},{fleet.swept_radius_max[i] / INCH:.2f},{fleet.surface[i]},"
+            f"{fleet.turning_mode[i]},{int(fleet.count[i])}"
+        )
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path

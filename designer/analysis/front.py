@@ -4,6 +4,7 @@ A front is computed by :func:`designer.analysis.pareto.pareto_front`; this modul
 points (SI units), the failed points, the run metadata, and what is read off them (hypervolume, knee,
 weighted best, gaps, comparison with another front, CSV/JSON/pandas, notebook reprs).  No solver runs here.
 """
+
 from __future__ import annotations
 
 import csv
@@ -209,9 +210,11 @@ class Front:
             return f"Front({name!r}: empty, {len(self.failed)} failed)"
         (f0, p0), (f1, p1) = self.ideal_nadir()
         k = self.knee()
-        return (f"Front({name!r}: {len(self.points)} points, F_turn {f0:.3g}–{f1:.3g} N, P {p0:.3g}–{p1:.3g} N, "
-                f"knee F_turn {k.turning_effort:.3g} N / P {k.threshold_force:.3g} N, "
-                f"hypervolume {self.hypervolume():.3f})")
+        return (
+            f"Front({name!r}: {len(self.points)} points, F_turn {f0:.3g}–{f1:.3g} N, P {p0:.3g}–{p1:.3g} N, "
+            f"knee F_turn {k.turning_effort:.3g} N / P {k.threshold_force:.3g} N, "
+            f"hypervolume {self.hypervolume():.3f})"
+        )
 
     def _repr_html_(self) -> str:
         """A compact HTML table with units and an inline SVG of the curve F_turn(P) (notebooks; < 50 ms)."""
@@ -222,17 +225,24 @@ class Front:
         (f0, p0), (f1, p1) = self.ideal_nadir()
         k = self.knee()
         d = k.design
-        rows = [("points (failed)", f"{len(self.points)} ({len(self.failed)})", ""),
-                ("turning effort F_turn", f"{f0:.4g} – {f1:.4g}", "N"),
-                ("threshold force P", f"{p0:.4g} – {p1:.4g}", "N"),
-                ("knee F_turn / P", f"{k.turning_effort:.4g} / {k.threshold_force:.4g}", "N"),
-                ("knee T / d / B", f"{d.trail / INCH:.3f} / {d.diameter / INCH:.3f} / {d.groove / INCH:.3f}", "in"),
-                ("knee c_f", f"{d.damping:.4g}", "N·m/rad"),
-                ("knee V_c", f"{k.critical_speed:.4g}", "m/s"),
-                ("families", ", ".join(dict.fromkeys(p.family for p in self.points if p.family)) or "–", ""),
-                ("normalised hypervolume", f"{self.hypervolume():.4f}", "")]
-        svg = svg_curve(f[:, 1], f[:, 0], "threshold force P [N]", "turning effort F_turn [N]",
-                        marks=[(k.threshold_force, k.turning_effort, "knee")])  # axes as front.plot()
+        rows = [
+            ("points (failed)", f"{len(self.points)} ({len(self.failed)})", ""),
+            ("turning effort F_turn", f"{f0:.4g} – {f1:.4g}", "N"),
+            ("threshold force P", f"{p0:.4g} – {p1:.4g}", "N"),
+            ("knee F_turn / P", f"{k.turning_effort:.4g} / {k.threshold_force:.4g}", "N"),
+            ("knee T / d / B", f"{d.trail / INCH:.3f} / {d.diameter / INCH:.3f} / {d.groove / INCH:.3f}", "in"),
+            ("knee c_f", f"{d.damping:.4g}", "N·m/rad"),
+            ("knee V_c", f"{k.critical_speed:.4g}", "m/s"),
+            ("families", ", ".join(dict.fromkeys(p.family for p in self.points if p.family)) or "–", ""),
+            ("normalised hypervolume", f"{self.hypervolume():.4f}", ""),
+        ]
+        svg = svg_curve(
+            f[:, 1],
+            f[:, 0],
+            "threshold force P [N]",
+            "turning effort F_turn [N]",
+            marks=[(k.threshold_force, k.turning_effort, "knee")],
+        )  # axes as front.plot()
         return html_table(f"Pareto front {name!r}", rows, extra=svg)
 
     def plot(self, ax=None, color_by="family"):
@@ -246,14 +256,32 @@ class Front:
         from designer.plots.fronts import draw_fronts, plot_front
 
         f = self.objectives()
-        ax = plot_front(f[:, 0], f[:, 1], [p.family for p in self.points], ax=ax, color_by=color_by,
-                        designs=self.designs(), critical_speed=[p.critical_speed for p in self.points], legend=False,
-                        label="buildable front" if self.meta.get("buildable") else "continuous front")
+        ax = plot_front(
+            f[:, 0],
+            f[:, 1],
+            [p.family for p in self.points],
+            ax=ax,
+            color_by=color_by,
+            designs=self.designs(),
+            critical_speed=[p.critical_speed for p in self.points],
+            legend=False,
+            label="buildable front" if self.meta.get("buildable") else "continuous front",
+        )
         knee = self.knee()
         if knee is not None and len(self) >= 3:
-            draw_fronts(ax, [], [{"threshold_force": knee.threshold_force, "turning_effort": knee.turning_effort,
-                                  "kind": "knee", "label": f"knee: P {knee.threshold_force:.1f} N, "
-                                                           f"F {knee.turning_effort:.2f} N"}], legend=False)
+            draw_fronts(
+                ax,
+                [],
+                [
+                    {
+                        "threshold_force": knee.threshold_force,
+                        "turning_effort": knee.turning_effort,
+                        "kind": "knee",
+                        "label": f"knee: P {knee.threshold_force:.1f} N, F {knee.turning_effort:.2f} N",
+                    }
+                ],
+                legend=False,
+            )
         if len(self):
             ax.legend(fontsize=7.5, loc="upper right", framealpha=0.92)
         ax.set_title(f"Pareto front: {getattr(self.problem, 'name', '?')}", fontsize=10)
@@ -269,9 +297,14 @@ class Front:
         # late import: loads matplotlib (via designer.plots.fronts) only when this runs
         from designer.plots.fronts import plot_variables
 
-        return plot_variables([p.threshold_force for p in self.points], self.designs(),
-                              [p.family for p in self.points],
-                              [self.problem.bounds[v] for v in VARIABLES], self.gaps(), axes=axes)
+        return plot_variables(
+            [p.threshold_force for p in self.points],
+            self.designs(),
+            [p.family for p in self.points],
+            [self.problem.bounds[v] for v in VARIABLES],
+            self.gaps(),
+            axes=axes,
+        )
 
     def to_pandas(self, failed: bool = False):
         """The points as a pandas DataFrame, one row per point, SI units in the column names.
@@ -292,23 +325,48 @@ class Front:
         records = []
         for p, bad in points:
             r = {f"{v}_{_UNIT_SUFFIX[v]}": getattr(p.design, v) for v in VARIABLES}
-            r.update(turning_effort_N=p.turning_effort, threshold_force_N=p.threshold_force,
-                     critical_speed_m_s=p.critical_speed, epsilon_N=p.epsilon, family=p.family, status=p.status,
-                     success=bool(p.success), wheel=p.wheel)
+            r.update(
+                turning_effort_N=p.turning_effort,
+                threshold_force_N=p.threshold_force,
+                critical_speed_m_s=p.critical_speed,
+                epsilon_N=p.epsilon,
+                family=p.family,
+                status=p.status,
+                success=bool(p.success),
+                wheel=p.wheel,
+            )
             r.update({f"margin_{m}": p.margins.get(m, math.nan) for m in margins})
             r.update({f"lambda_{m}": p.multipliers.get(m, math.nan) for m in lambdas})
             if failed:
                 r["failed"] = bad
             records.append(r)
-        columns = [f"{v}_{_UNIT_SUFFIX[v]}" for v in VARIABLES] + [
-            "turning_effort_N", "threshold_force_N", "critical_speed_m_s", "epsilon_N", "family", "status", "success",
-            "wheel"] + [f"margin_{m}" for m in margins] + [f"lambda_{m}" for m in lambdas] + (["failed"] if failed else [])
+        columns = (
+            [f"{v}_{_UNIT_SUFFIX[v]}" for v in VARIABLES]
+            + [
+                "turning_effort_N",
+                "threshold_force_N",
+                "critical_speed_m_s",
+                "epsilon_N",
+                "family",
+                "status",
+                "success",
+                "wheel",
+            ]
+            + [f"margin_{m}" for m in margins]
+            + [f"lambda_{m}" for m in lambdas]
+            + (["failed"] if failed else [])
+        )
         df = pd.DataFrame.from_records(records, columns=columns)
         df.attrs["problem"] = getattr(self.problem, "name", None)
-        df.attrs["units"] = {**{c: c.rsplit("_", 1)[1] for c in columns[:4]}, "turning_effort_N": "N",
-                             "threshold_force_N": "N", "critical_speed_m_s": "m/s", "epsilon_N": "N",
-                             **{f"margin_{m}": "SI of the constraint (m/s shimmy, m lengths, N forces)" for m in margins},
-                             **{f"lambda_{m}": "CasADi multiplier" for m in lambdas}}
+        df.attrs["units"] = {
+            **{c: c.rsplit("_", 1)[1] for c in columns[:4]},
+            "turning_effort_N": "N",
+            "threshold_force_N": "N",
+            "critical_speed_m_s": "m/s",
+            "epsilon_N": "N",
+            **{f"margin_{m}": "SI of the constraint (m/s shimmy, m lengths, N forces)" for m in margins},
+            **{f"lambda_{m}": "CasADi multiplier" for m in lambdas},
+        }
         return df
 
     @classmethod
@@ -325,12 +383,17 @@ class Front:
             wheel = r.get("wheel")
             point = FrontPoint(
                 design=Design(*(float(r[f"{v}_{_UNIT_SUFFIX[v]}"]) for v in VARIABLES)),
-                turning_effort=float(r["turning_effort_N"]), threshold_force=float(r["threshold_force_N"]),
-                critical_speed=float(r["critical_speed_m_s"]), epsilon=float(r["epsilon_N"]),
+                turning_effort=float(r["turning_effort_N"]),
+                threshold_force=float(r["threshold_force_N"]),
+                critical_speed=float(r["critical_speed_m_s"]),
+                epsilon=float(r["epsilon_N"]),
                 margins={c[7:]: float(r[c]) for c in margin_cols if not math.isnan(float(r[c]))},
                 multipliers={c[7:]: float(r[c]) for c in lambda_cols if not math.isnan(float(r[c]))},
-                status=str(r["status"]), success=bool(r["success"]), family=str(r["family"]),
-                wheel=wheel if isinstance(wheel, str) else None)
+                status=str(r["status"]),
+                success=bool(r["success"]),
+                family=str(r["family"]),
+                wheel=wheel if isinstance(wheel, str) else None,
+            )
             (failed if bool(r.get("failed", False)) else points).append(point)
         return cls(problem=problem, points=points, failed=failed, meta={"source": "pandas"})
 
@@ -356,12 +419,23 @@ class Front:
         for r in records:
             if (r.get("buildable", "false") == "true") != buildable:
                 continue
-            points.append(FrontPoint(
-                design=Design(*(float(r[v]) for v in VARIABLES)), turning_effort=float(r["turning_effort"]),
-                threshold_force=float(r["threshold_force"]), critical_speed=float(r["critical_speed"]), margins={},
-                epsilon=float(r["epsilon"]), status=r["status"], success=True, family=r["family"],
-                multipliers={k[7:]: float(v) for k, v in r.items() if k.startswith("lambda_") and v not in ("", None)},
-                wheel=r.get("wheel") or None))
+            points.append(
+                FrontPoint(
+                    design=Design(*(float(r[v]) for v in VARIABLES)),
+                    turning_effort=float(r["turning_effort"]),
+                    threshold_force=float(r["threshold_force"]),
+                    critical_speed=float(r["critical_speed"]),
+                    margins={},
+                    epsilon=float(r["epsilon"]),
+                    status=r["status"],
+                    success=True,
+                    family=r["family"],
+                    multipliers={
+                        k[7:]: float(v) for k, v in r.items() if k.startswith("lambda_") and v not in ("", None)
+                    },
+                    wheel=r.get("wheel") or None,
+                )
+            )
         return cls(problem=problem, points=points, meta={"source": str(path)})
 
     def rows(self) -> list[dict]:
@@ -375,7 +449,14 @@ class Front:
         its points are added as rows and a column ``buildable`` says true for them, false for this front's.
         """
         rows = self.rows()
-        columns = list(VARIABLES) + ["turning_effort", "threshold_force", "critical_speed", "epsilon", "family", "status"]
+        columns = list(VARIABLES) + [
+            "turning_effort",
+            "threshold_force",
+            "critical_speed",
+            "epsilon",
+            "family",
+            "status",
+        ]
         if buildable is not None:
             rows = [{**r, "buildable": "false"} for r in rows] + [{**r, "buildable": "true"} for r in buildable.rows()]
             columns.append("buildable")
@@ -437,9 +518,13 @@ def _problem_for_csv(path, problem) -> Problem:
         info = json.loads(beside.read_text(encoding="utf-8"))
         name, digest = info["problem"], info.get("problem_digest")
     except (OSError, ValueError, KeyError):
-        raise InputError(f"Front.from_csv: problem = None: no front.json beside {path} names the problem; pass "
-                         "problem= (a Problem, a problem file or an example name)") from None
+        raise InputError(
+            f"Front.from_csv: problem = None: no front.json beside {path} names the problem; pass "
+            "problem= (a Problem, a problem file or an example name)"
+        ) from None
     if name in example_names() and (digest is None or example_problem(name).digest() == digest):
         return example_problem(name)
-    raise InputError(f"Front.from_csv: problem = None: {beside} names {name!r}, which is not a shipped example "
-                     "with the same digest; pass problem= (a Problem or its problem file)")
+    raise InputError(
+        f"Front.from_csv: problem = None: {beside} names {name!r}, which is not a shipped example "
+        "with the same digest; pass problem= (a Problem or its problem file)"
+    )

@@ -3,6 +3,7 @@
 Every indicator states its reference: the hypervolume's reference point and
 normalisation are arguments, never hidden defaults.
 """
+
 from __future__ import annotations
 
 import numpy as np

@@ -18,6 +18,7 @@ feasible for no chair is dropped, and so is a caster j whose column is dominated
 worse, so the optimum is unchanged.  Beyond :data:`EXACT_LIMIT` feasible pairs, :func:`solve_kmedian`
 uses greedy selection plus swap local search and states the gap to a Lagrangian lower bound.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -86,8 +87,9 @@ def prune_candidates(cost: np.ndarray) -> np.ndarray:
     return idx[keep]
 
 
-def solve_kmedian(cost: np.ndarray, weights: np.ndarray, k: int, time_limit: float = 120.0,
-                  exact_limit: int = EXACT_LIMIT) -> KMedianSolution:
+def solve_kmedian(
+    cost: np.ndarray, weights: np.ndarray, k: int, time_limit: float = 120.0, exact_limit: int = EXACT_LIMIT
+) -> KMedianSolution:
     """Choose ``k`` columns of ``cost`` minimising Σ_i w_i min_{j chosen} cost_ij, every row served.
 
     Parameters
@@ -178,11 +180,19 @@ def _milp(out, cols, sub, weights, k, time_limit, start):
     a_link = coo_matrix((vals, (rows, colsx)), shape=(p, n + p))
     # Σ_j y_j = K
     a_k = csr_matrix((np.ones(n), (np.zeros(n, int), np.arange(n))), shape=(1, n + p))
-    constraints = [LinearConstraint(csr_matrix(a_assign), 1, 1), LinearConstraint(csr_matrix(a_link), -np.inf, 0),
-                   LinearConstraint(a_k, k, k)]
+    constraints = [
+        LinearConstraint(csr_matrix(a_assign), 1, 1),
+        LinearConstraint(csr_matrix(a_link), -np.inf, 0),
+        LinearConstraint(a_k, k, k),
+    ]
     integrality = np.concatenate([np.ones(n), np.zeros(p)])
-    res = milp(c, constraints=constraints, integrality=integrality, bounds=Bounds(0, 1),
-               options={"time_limit": time_limit, "mip_rel_gap": 0.0, "disp": False})
+    res = milp(
+        c,
+        constraints=constraints,
+        integrality=integrality,
+        bounds=Bounds(0, 1),
+        options={"time_limit": time_limit, "mip_rel_gap": 0.0, "disp": False},
+    )
     if res.x is None:
         out.status = "infeasible"
         out.message = f"no {k} casters serve every chair ({res.message})"
@@ -192,8 +202,17 @@ def _milp(out, cols, sub, weights, k, time_limit, start):
     best = _assign(sub, chosen)
     status = "optimal" if res.status == 0 else "time limit"
     bound = getattr(res, "mip_dual_bound", None)
-    out = _finish(out, cols, chosen, best, sub, weights, status, start,
-                  bound=None if status == "optimal" or bound is None else bound)
+    out = _finish(
+        out,
+        cols,
+        chosen,
+        best,
+        sub,
+        weights,
+        status,
+        start,
+        bound=None if status == "optimal" or bound is None else bound,
+    )
     out.message = res.message
     return out
 

@@ -9,6 +9,7 @@ cvxpy geometric program and scipy's SLSQP.  The returned :class:`Solution`
 prints the design, objectives, constraint margins, sensitivities and the
 solver agreement.
 """
+
 from __future__ import annotations
 
 import math
@@ -105,10 +106,12 @@ class Solution:
     def __repr__(self) -> str:
         """Two lines: the design (inches) and the objectives and V_c (the full account: ``print(solution)``)."""
         d, o = self.design, self.objectives
-        return (f"Solution({self.problem.name!r}, {self.status}): T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in, "
-                f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad\n"
-                f"  F_turn {o['turning_effort']:.4g} N, P {o['threshold_force']:.4g} N, J {o['weighted']:.4g} N, "
-                f"V_c {self.critical_speed:.4g} m/s (required {self.problem.required_speed:.4g})")
+        return (
+            f"Solution({self.problem.name!r}, {self.status}): T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in, "
+            f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad\n"
+            f"  F_turn {o['turning_effort']:.4g} N, P {o['threshold_force']:.4g} N, J {o['weighted']:.4g} N, "
+            f"V_c {self.critical_speed:.4g} m/s (required {self.problem.required_speed:.4g})"
+        )
 
     def _repr_html_(self) -> str:
         """The optimum as a compact HTML table with units (notebooks; no solver or Monte Carlo runs)."""
@@ -124,7 +127,8 @@ class Solution:
             ("critical speed V_c", f"{self.critical_speed:.4g}", "m/s"),
             ("required speed", f"{self.problem.required_speed:.4g}", "m/s"),
             ("active", ", ".join(self.active) or "none", ""),
-            ("solver agreement (relative J gap)", f"{self.agreement():.1e}", "")]
+            ("solver agreement (relative J gap)", f"{self.agreement():.1e}", ""),
+        ]
         return html_table(f"Optimum of {self.problem.name!r} ({self.status})", rows, caption=self.problem.title)
 
     def to_pandas(self, wide: bool = False):
@@ -139,14 +143,24 @@ class Solution:
         ``weighted_N``, ``margin_<name>`` and ``sensitivity_<name>``; units in ``df.attrs["units"]``.
         """
         d, o = self.design, self.objectives
-        design = [(f"{v}_{u}", v, float(getattr(d, v)), u.replace("N_m_per_rad", "N·m/rad"))
-                  for v, u in (("trail", "m"), ("diameter", "m"), ("groove", "m"), ("damping", "N_m_per_rad"))]
-        attrs = {"problem": self.problem.name, "status": self.status, "weights": tuple(self.weights),
-                 "wheel": self.wheel}
+        design = [
+            (f"{v}_{u}", v, float(getattr(d, v)), u.replace("N_m_per_rad", "N·m/rad"))
+            for v, u in (("trail", "m"), ("diameter", "m"), ("groove", "m"), ("damping", "N_m_per_rad"))
+        ]
+        attrs = {
+            "problem": self.problem.name,
+            "status": self.status,
+            "weights": tuple(self.weights),
+            "wheel": self.wheel,
+        }
         if wide:
             record = {col: value for col, _, value, _ in design}
-            record.update(turning_effort_N=o["turning_effort"], threshold_force_N=o["threshold_force"],
-                          weighted_N=o["weighted"], critical_speed_m_s=self.critical_speed)
+            record.update(
+                turning_effort_N=o["turning_effort"],
+                threshold_force_N=o["threshold_force"],
+                weighted_N=o["weighted"],
+                critical_speed_m_s=self.critical_speed,
+            )
             units = {col: unit for col, _, _, unit in design}
             units.update(turning_effort_N="N", threshold_force_N="N", weighted_N="N", critical_speed_m_s="m/s")
             for name, value in self.constraints.items():
@@ -156,16 +170,25 @@ class Solution:
             return dataframe("Solution.to_pandas", [record], list(record), units, **attrs)
         rows = [("design", name, value, unit) for _, name, value, unit in design]
         rows += [("objective", k, float(o[k]), "N") for k in ("turning_effort", "threshold_force", "weighted")]
-        rows += [("performance", "critical_speed", float(self.critical_speed), "m/s"),
-                 ("performance", "required_speed", float(self.problem.required_speed), "m/s")]
+        rows += [
+            ("performance", "critical_speed", float(self.critical_speed), "m/s"),
+            ("performance", "required_speed", float(self.problem.required_speed), "m/s"),
+        ]
         rows += [("margin", k, float(v), _margin_unit(k)) for k, v in self.constraints.items()]
         rows += [("sensitivity", k, float(v), "-") for k, v in self.sensitivities.items()]
         rows += [("cross_check", k, float(v) if v is not None else math.nan, "N") for k, v in self.cross_check.items()]
         active = set(self.active)
-        records = [{"kind": kind, "name": name, "value": value, "unit": unit,
-                    "active": kind == "margin" and name in active} for kind, name, value, unit in rows]
-        return dataframe("Solution.to_pandas", records, ["kind", "name", "value", "unit", "active"],
-                         {"value": "the row's unit column"}, **attrs)
+        records = [
+            {"kind": kind, "name": name, "value": value, "unit": unit, "active": kind == "margin" and name in active}
+            for kind, name, value, unit in rows
+        ]
+        return dataframe(
+            "Solution.to_pandas",
+            records,
+            ["kind", "name", "value", "unit", "active"],
+            {"value": "the row's unit column"},
+            **attrs,
+        )
 
     def _robust_lines(self) -> list[str]:
         u = self.problem.conditions.uncertainty
@@ -174,11 +197,21 @@ class Solution:
 
         d = self.design
         inertia = float(self.problem.conditions.inertia(d.diameter))
-        p, se = shimmy_probability_mc(d.trail, inertia, d.groove, d.damping, self.problem.conditions.slip_coefficient,
-                                      self.problem.required_speed, u)
-        return [f"  risk bound: P(V_c < {self.problem.required_speed:.3g} m/s) <= {u.probability:.1%} (exact quantile "
-                f"of the first-order law, t_{u.model_error_dof} model error); Monte Carlo {p:.2%} ± {se:.2%} "
-                f"(seed {u.seed}, at least {u.samples} samples, SE <= 0.1 pp)", ""]
+        p, se = shimmy_probability_mc(
+            d.trail,
+            inertia,
+            d.groove,
+            d.damping,
+            self.problem.conditions.slip_coefficient,
+            self.problem.required_speed,
+            u,
+        )
+        return [
+            f"  risk bound: P(V_c < {self.problem.required_speed:.3g} m/s) <= {u.probability:.1%} (exact quantile "
+            f"of the first-order law, t_{u.model_error_dof} model error); Monte Carlo {p:.2%} ± {se:.2%} "
+            f"(seed {u.seed}, at least {u.samples} samples, SE <= 0.1 pp)",
+            "",
+        ]
 
     def __str__(self) -> str:
         d = self.design

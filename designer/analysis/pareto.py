@@ -18,6 +18,7 @@ confirmed by the NLP where they apply (``strategy="auto"``), else the NLP sweep 
 family restarts; ``strategy="nlp"`` forces the NLP sweep (the cross-check in the tests).  The front itself
 (:class:`~designer.analysis.front.Front`) is data: :mod:`designer.analysis.front`.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -51,8 +52,19 @@ def _point(nlp: CasterNLP, problem: Problem, result, epsilon: float, wheel=None)
         f, p, v = values["turning_effort"], values["threshold_force"], values["critical_speed"]
         margins, _ = constraint_margins(problem, result.design, values)
     multipliers = {name: float(lam) for name, lam in zip(nlp.constraint_names, result.lam_g)}
-    return FrontPoint(result.design, float(f), float(p), float(v), margins, float(epsilon), result.status,
-                      result.success, multipliers, family_of(problem, result.design), wheel)
+    return FrontPoint(
+        result.design,
+        float(f),
+        float(p),
+        float(v),
+        margins,
+        float(epsilon),
+        result.status,
+        result.success,
+        multipliers,
+        family_of(problem, result.design),
+        wheel,
+    )
 
 
 def _points(nlp: CasterNLP, problem: Problem, results, eps, wheel=None) -> list:
@@ -62,16 +74,28 @@ def _points(nlp: CasterNLP, problem: Problem, results, eps, wheel=None) -> list:
     if ok:
         designs = np.array([results[i].design.as_array() for i in ok])
         values = evaluate_many(problem, designs)
-        columns = {key: np.asarray(v, float).ravel().tolist() if np.ndim(v) else [float(v)] * len(ok)
-                   for key, v in values.items()}
+        columns = {
+            key: np.asarray(v, float).ravel().tolist() if np.ndim(v) else [float(v)] * len(ok)
+            for key, v in values.items()
+        }
         for j, i in enumerate(ok):
             r = results[i]
             row = {key: column[j] for key, column in columns.items()}
             margins, _ = constraint_margins(problem, r.design, row)
             multipliers = dict(zip(nlp.constraint_names, np.asarray(r.lam_g, float).tolist()))
-            out[i] = FrontPoint(r.design, row["turning_effort"], row["threshold_force"], row["critical_speed"],
-                                margins, float(eps[i]), r.status, True, multipliers, family_of(problem, r.design),
-                                wheel)
+            out[i] = FrontPoint(
+                r.design,
+                row["turning_effort"],
+                row["threshold_force"],
+                row["critical_speed"],
+                margins,
+                float(eps[i]),
+                r.status,
+                True,
+                multipliers,
+                family_of(problem, r.design),
+                wheel,
+            )
     for i, r in enumerate(results):
         if out[i] is None:
             out[i] = _point(nlp, problem, r, eps[i], wheel)
@@ -90,8 +114,11 @@ def _nlp(problem: Problem) -> CasterNLP:
     constants of the objective stay those of the first problem built (any O(1) scaling gives the same
     optimum to IPOPT's tolerance).
     """
-    fields = {f.name: getattr(problem, f.name) for f in dataclasses.fields(problem)
-              if f.name not in ("target_speed", "name", "title", "description", "source", "conditions")}
+    fields = {
+        f.name: getattr(problem, f.name)
+        for f in dataclasses.fields(problem)
+        if f.name not in ("target_speed", "name", "title", "description", "source", "conditions")
+    }
     key = repr((fields, dataclasses.replace(problem.conditions, load=0.0)))
     base = _NLP_CACHE.pop(key, None)
     if base is None:
@@ -187,8 +214,10 @@ def _pareto_front(problem: Problem, n: int, progress, strategy: str) -> Front:
         # but IPOPT failing on a feasible problem must not pass for one
         error = _diagnose(problem)
         if isinstance(error, SolverError):
-            raise SolverError(f"Pareto front of {problem.name!r}: IPOPT found neither end of the front from any "
-                              f"start (IPOPT status: {', '.join(sorted(end_statuses)) or 'unknown'}); {error}")
+            raise SolverError(
+                f"Pareto front of {problem.name!r}: IPOPT found neither end of the front from any "
+                f"start (IPOPT status: {', '.join(sorted(end_statuses)) or 'unknown'}); {error}"
+            )
     valid = clean(all_points)
     meta = {
         "points_requested": n,

@@ -22,6 +22,7 @@
 Steps 1 and 2 live in :mod:`designer.analysis.recommend_stock` (re-exported here); this module holds the
 rule, the :class:`Recommendation` record and :func:`recommend`.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -43,11 +44,31 @@ from designer.reprs import html_table
 from designer.problem import Bound
 from pathlib import Path
 from designer.problem import load_problem
-from designer.analysis.recommend_stock import (CandidateTable, ScreenedTable, candidate_table, confident_speed,
-                                               objectives, risk_screen, stock_candidates)
+from designer.analysis.recommend_stock import (
+    CandidateTable,
+    ScreenedTable,
+    candidate_table,
+    confident_speed,
+    objectives,
+    risk_screen,
+    stock_candidates,
+)
 
-__all__ = ["RULES", "CandidateTable", "Recommendation", "ScreenedTable", "candidate_table", "confident_speed",
-           "objectives", "recommend", "risk_screen", "rule_text", "select_rows", "stock_candidates", "weights_meaning"]
+__all__ = [
+    "RULES",
+    "CandidateTable",
+    "Recommendation",
+    "ScreenedTable",
+    "candidate_table",
+    "confident_speed",
+    "objectives",
+    "recommend",
+    "risk_screen",
+    "rule_text",
+    "select_rows",
+    "stock_candidates",
+    "weights_meaning",
+]
 
 RULES = {
     "knee": "knee of the buildable risk-bounded front",
@@ -141,8 +162,15 @@ def select_rows(f: np.ndarray, p: np.ndarray, ok: np.ndarray, weights=(1.0, 1.0)
         choice = np.where(has, order[rows, pick], -1)
     member = np.zeros((n, s), bool)
     np.put_along_axis(member, order, front, axis=1)
-    return {"choice": choice, "easiest_turn": easiest_turn, "easiest_sill": easiest_sill, "best_j": best_j,
-            "front_size": size, "over_cap": over_cap, "front": member}
+    return {
+        "choice": choice,
+        "easiest_turn": easiest_turn,
+        "easiest_sill": easiest_sill,
+        "best_j": best_j,
+        "front_size": size,
+        "over_cap": over_cap,
+        "front": member,
+    }
 
 
 def rule_text(problem, front_size: int) -> str:
@@ -159,8 +187,10 @@ def weights_meaning(weights) -> str:
     w_turn, w_threshold = (float(x) for x in weights)
     if w_turn == 0:
         return "J = P: the weights ignore turning effort"
-    return (f"J = {w_turn:g} F_turn + {w_threshold:g} P: 1 N of sill force is worth {w_threshold / w_turn:g} N "
-            f"of turning effort")
+    return (
+        f"J = {w_turn:g} F_turn + {w_threshold:g} P: 1 N of sill force is worth {w_threshold / w_turn:g} N "
+        f"of turning effort"
+    )
 
 
 # --------------------------------------------------------------------------- the recommendation
@@ -228,12 +258,20 @@ class Recommendation:
 
     def to_dict(self, alternatives: bool = False) -> dict:
         """The JSON record of ``designer run --json`` (SI)."""
-        out = {"design": self.design.as_dict(), "turning_effort": self.turning_effort,
-               "threshold_force": self.threshold_force, "critical_speed": self.critical_speed,
-               "confident_speed": self.confident_speed, "shimmy_probability": self.shimmy_probability,
-               "shimmy_probability_se": self.shimmy_probability_se, "swept_radius": self.swept_radius,
-               "swept_radius_max": self.swept_radius_max, "rule": self.rule, "role": self.role,
-               "wheel": self.wheel}
+        out = {
+            "design": self.design.as_dict(),
+            "turning_effort": self.turning_effort,
+            "threshold_force": self.threshold_force,
+            "critical_speed": self.critical_speed,
+            "confident_speed": self.confident_speed,
+            "shimmy_probability": self.shimmy_probability,
+            "shimmy_probability_se": self.shimmy_probability_se,
+            "swept_radius": self.swept_radius,
+            "swept_radius_max": self.swept_radius_max,
+            "rule": self.rule,
+            "role": self.role,
+            "wheel": self.wheel,
+        }
         if alternatives:
             out["alternatives"] = [a.to_dict() for a in self.alternatives]
         return out
@@ -241,10 +279,15 @@ class Recommendation:
     def lines(self) -> list[str]:
         """The caster as text lines (inches and SI)."""
         d = self.design
-        risk = (f"P(shimmy at {self.target_speed:.3g} m/s) = {self.shimmy_probability:.2%} ± "
-                f"{self.shimmy_probability_se:.2%} (Monte Carlo, {self.mc_samples} samples, seed {self.mc_seed})")
-        radius = (f"{self.swept_radius / INCH:.3f} in (limit {self.swept_radius_max / INCH:.3f} in)"
-                  if self.swept_radius_max is not None else f"{self.swept_radius / INCH:.3f} in (no limit)")
+        risk = (
+            f"P(shimmy at {self.target_speed:.3g} m/s) = {self.shimmy_probability:.2%} ± "
+            f"{self.shimmy_probability_se:.2%} (Monte Carlo, {self.mc_samples} samples, seed {self.mc_seed})"
+        )
+        radius = (
+            f"{self.swept_radius / INCH:.3f} in (limit {self.swept_radius_max / INCH:.3f} in)"
+            if self.swept_radius_max is not None
+            else f"{self.swept_radius / INCH:.3f} in (no limit)"
+        )
         level = f"{1 - self.alpha:.0%}" if self.alpha is not None else "95% (default scatter; no risk bound)"
         return [
             f"  trail T             {d.trail / INCH:8.3f} in   {d.trail * 1000:8.2f} mm",
@@ -274,10 +317,12 @@ class Recommendation:
     def __repr__(self) -> str:
         """Two lines: the caster (inches) and its numbers; the rule and alternatives: ``print(rec)``."""
         d = self.design
-        return (f"Recommendation({self.role}): T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in, "
-                f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad\n"
-                f"  F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, V_c {self.critical_speed:.4g} m/s, "
-                f"P(shimmy) {self.shimmy_probability:.2%} ± {self.shimmy_probability_se:.2%}")
+        return (
+            f"Recommendation({self.role}): T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in, "
+            f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad\n"
+            f"  F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, V_c {self.critical_speed:.4g} m/s, "
+            f"P(shimmy) {self.shimmy_probability:.2%} ± {self.shimmy_probability_se:.2%}"
+        )
 
     def draw(self, ax=None, sill_height: float | None = None):
         """The recommended caster to scale: side view (wheel, fork, trail, sill) and top view (swept circle).
@@ -287,12 +332,21 @@ class Recommendation:
         geometry as the report's SVG drawing (:mod:`designer.plots.caster`).
         """
         d = self.design
-        h = sill_height if sill_height is not None else (
-            self.problem.conditions.threshold_height if self.problem is not None else 0.5 * INCH)
+        h = (
+            sill_height
+            if sill_height is not None
+            else (self.problem.conditions.threshold_height if self.problem is not None else 0.5 * INCH)
+        )
         name = f" for {self.problem.name!r}" if self.problem is not None else ""
-        return plot_caster(d.trail, d.diameter, d.groove, h, self.swept_radius_max,
-                           title=f"{self.role} caster{name}: T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in",
-                           ax=ax)
+        return plot_caster(
+            d.trail,
+            d.diameter,
+            d.groove,
+            h,
+            self.swept_radius_max,
+            title=f"{self.role} caster{name}: T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in",
+            ax=ax,
+        )
 
     def _repr_html_(self) -> str:
         """The caster as a compact HTML table with units beside its drawing to scale (notebooks; no solver runs)."""
@@ -308,15 +362,31 @@ class Recommendation:
             ("confident speed V_q", f"{self.confident_speed:.4g}", "m/s"),
             ("required speed", f"{self.required_speed:.4g}", "m/s"),
             ("P(shimmy) (Monte Carlo)", f"{self.shimmy_probability:.2%} ± {self.shimmy_probability_se:.2%}", ""),
-            ("swept radius (limit)", f"{self.swept_radius * 1000:.1f}"
-             + (f" ({self.swept_radius_max * 1000:.1f})" if self.swept_radius_max is not None else ""), "mm")]
+            (
+                "swept radius (limit)",
+                f"{self.swept_radius * 1000:.1f}"
+                + (f" ({self.swept_radius_max * 1000:.1f})" if self.swept_radius_max is not None else ""),
+                "mm",
+            ),
+        ]
         drawing = ""
         if self.problem is not None:
-            drawing = caster_svg(d.trail, d.diameter, d.groove, self.problem.conditions.threshold_height,
-                                 self.swept_radius_max, scale=17.0, label=f"{self.role} caster")
+            drawing = caster_svg(
+                d.trail,
+                d.diameter,
+                d.groove,
+                self.problem.conditions.threshold_height,
+                self.swept_radius_max,
+                scale=17.0,
+                label=f"{self.role} caster",
+            )
         title = f"Build this caster for {self.problem.name!r}" if self.problem is not None else "Build this caster"
-        return html_table(f"{title} ({self.role})", rows, caption=self.rule + (f" Note: {self.note}" if self.note else ""),
-                          extra=drawing)
+        return html_table(
+            f"{title} ({self.role})",
+            rows,
+            caption=self.rule + (f" Note: {self.note}" if self.note else ""),
+            extra=drawing,
+        )
 
 
 @dataclass
@@ -338,8 +408,16 @@ def _discrete_buildable(problem) -> tuple[_Buildable, ScreenedTable]:
     cand = t.candidates
     k = t.feasible
     designs = np.column_stack([cand.trail, cand.diameter, cand.groove, cand.damping])[k]
-    return _Buildable(designs, cand.inertia[k], cand.wheel[k], t.turning_effort[k], t.threshold_force[k],
-                      t.critical_speed[k], t.design_speed[k], t.swept_radius[k]), t
+    return _Buildable(
+        designs,
+        cand.inertia[k],
+        cand.wheel[k],
+        t.turning_effort[k],
+        t.threshold_force[k],
+        t.critical_speed[k],
+        t.design_speed[k],
+        t.swept_radius[k],
+    ), t
 
 
 def _sub_problem(problem, row: dict, inertia, wheel):
@@ -385,27 +463,42 @@ def _continuous_buildable(problem) -> _Buildable:
     q = np.asarray(confident_speed(x[:, 0], inertia, x[:, 2], x[:, 3], c.slip_coefficient, problem.risk), float)
     f, p = objectives(problem, x[:, 0], x[:, 1], x[:, 2], x[:, 3])
     r = swept_radius(x[:, 0], x[:, 1])
-    return _Buildable(x, inertia, np.array([r_[2] for r_ in rows], dtype=object), np.asarray(f, float),
-                      np.asarray(p, float), np.asarray(v, float), q, np.asarray(r, float))
+    return _Buildable(
+        x,
+        inertia,
+        np.array([r_[2] for r_ in rows], dtype=object),
+        np.asarray(f, float),
+        np.asarray(p, float),
+        np.asarray(v, float),
+        q,
+        np.asarray(r, float),
+    )
 
 
 def _infeasible_message(problem, table: ScreenedTable | None) -> str:
     """Exit-4 text: the closest stock combination and what to relax."""
     risk = problem.risk
-    bound = (f"P(shimmy below {problem.required_speed:.3g} m/s) <= {risk.probability:g}" if risk is not None
-             else f"V_c >= {problem.required_speed:.3g} m/s")
+    bound = (
+        f"P(shimmy below {problem.required_speed:.3g} m/s) <= {risk.probability:g}"
+        if risk is not None
+        else f"V_c >= {problem.required_speed:.3g} m/s"
+    )
     if table is None or not len(table.candidates):
-        return (f"{problem.name}: no stock combination meets the risk bound {bound}; relax the stock "
-                f"(more groove, stronger friction washers, longer fork holes), robust.probability or "
-                f"shimmy.target_speed")
+        return (
+            f"{problem.name}: no stock combination meets the risk bound {bound}; relax the stock "
+            f"(more groove, stronger friction washers, longer fork holes), robust.probability or "
+            f"shimmy.target_speed"
+        )
     cand = table.candidates
     ratio = table.design_speed / problem.required_speed
     pool = np.flatnonzero(table.radius_ok & np.isfinite(table.threshold_force))
     if not len(pool):
         j = int(np.argmin(table.swept_radius))
-        return (f"{problem.name}: no stock combination fits the swept radius {problem.swept_radius_max / INCH:.3f} in; "
-                f"the smallest is {table.swept_radius[j] / INCH:.3f} in (T + d/2); relax "
-                f"constraints.swept_radius_max or stock smaller wheels or shorter fork holes")
+        return (
+            f"{problem.name}: no stock combination fits the swept radius {problem.swept_radius_max / INCH:.3f} in; "
+            f"the smallest is {table.swept_radius[j] / INCH:.3f} in (T + d/2); relax "
+            f"constraints.swept_radius_max or stock smaller wheels or shorter fork holes"
+        )
     j = int(pool[np.argmax(ratio[pool])])
     d = cand.design(j)
     relax = []
@@ -414,39 +507,71 @@ def _infeasible_message(problem, table: ScreenedTable | None) -> str:
     if d["damping"] >= cand.damping.max() * (1 - 1e-12):
         relax.append("a stronger friction washer (stock.dampings)")
     if d["trail"] >= cand.trail.max() * (1 - 1e-12):
-        relax.append("a longer fork (variables.trail.max)" if problem.swept_radius_max is None or
-                     table.swept_radius[j] < problem.swept_radius_max * (1 - 1e-9)
-                     else "a larger swept radius (constraints.swept_radius_max)")
-    relax.append("a smaller wheel (lighter: less inertia)" if d["diameter"] > cand.diameter.min() else
-                 "a lighter wheel")
+        relax.append(
+            "a longer fork (variables.trail.max)"
+            if problem.swept_radius_max is None or table.swept_radius[j] < problem.swept_radius_max * (1 - 1e-9)
+            else "a larger swept radius (constraints.swept_radius_max)"
+        )
+    relax.append(
+        "a smaller wheel (lighter: less inertia)" if d["diameter"] > cand.diameter.min() else "a lighter wheel"
+    )
     relax.append(f"robust.probability (now {risk.probability:g})" if risk is not None else "shimmy.margin")
     relax.append("shimmy.target_speed")
     wheel = f" (wheel {cand.wheel[j]})" if cand.wheel[j] else ""
-    return (f"{problem.name}: no stock combination meets the risk bound {bound}; the closest is "
-            f"T = {d['trail'] / INCH:.3f} in, d = {d['diameter'] / INCH:.3f} in{wheel}, B = {d['groove'] / INCH:.3f} in, "
-            f"c_f = {d['damping']:.3g} N·m/rad, reaching {table.design_speed[j]:.3f} m/s with probability "
-            f"{1 - (risk.probability if risk is not None else 0):.0%} (needs {problem.required_speed:.3f}); relax: "
-            + ", ".join(relax))
+    return (
+        f"{problem.name}: no stock combination meets the risk bound {bound}; the closest is "
+        f"T = {d['trail'] / INCH:.3f} in, d = {d['diameter'] / INCH:.3f} in{wheel}, B = {d['groove'] / INCH:.3f} in, "
+        f"c_f = {d['damping']:.3g} N·m/rad, reaching {table.design_speed[j]:.3f} m/s with probability "
+        f"{1 - (risk.probability if risk is not None else 0):.0%} (needs {problem.required_speed:.3f}); relax: "
+        + ", ".join(relax)
+    )
 
 
 def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, seed=None) -> Recommendation:
     u = problem.risk if problem.risk is not None else Uncertainty()
     x = b.designs[i]
     c = problem.conditions
-    p, se = shimmy_probability_mc(float(x[0]), float(b.inertia[i]), float(x[2]), float(x[3]), c.slip_coefficient,
-                                  problem.target_speed, u, samples=samples, seed=seed)
-    n = max(int(u.samples if samples is None else samples),
-            math.ceil(max(p * (1 - p), 1e-12) / 0.001**2) if p > 0 else 0)
-    q = b.design_speed[i] if problem.risk is not None else float(
-        shimmy_speed_quantile(x[0], b.inertia[i], x[2], x[3], c.slip_coefficient, u))
+    p, se = shimmy_probability_mc(
+        float(x[0]),
+        float(b.inertia[i]),
+        float(x[2]),
+        float(x[3]),
+        c.slip_coefficient,
+        problem.target_speed,
+        u,
+        samples=samples,
+        seed=seed,
+    )
+    n = max(
+        int(u.samples if samples is None else samples), math.ceil(max(p * (1 - p), 1e-12) / 0.001**2) if p > 0 else 0
+    )
+    q = (
+        b.design_speed[i]
+        if problem.risk is not None
+        else float(shimmy_speed_quantile(x[0], b.inertia[i], x[2], x[3], c.slip_coefficient, u))
+    )
     return Recommendation(
-        design=Design.from_array(x), turning_effort=float(b.turning_effort[i]),
-        threshold_force=float(b.threshold_force[i]), critical_speed=float(b.critical_speed[i]),
-        confident_speed=float(q), shimmy_probability=p, shimmy_probability_se=se,
-        swept_radius=float(b.swept_radius[i]), swept_radius_max=problem.swept_radius_max, rule=rule,
-        wheel=str(b.wheel[i]) or None, inertia=float(b.inertia[i]), role=role, target_speed=problem.target_speed,
-        required_speed=problem.required_speed, alpha=None if problem.risk is None else problem.risk.probability,
-        mc_samples=n, mc_seed=int(u.seed if seed is None else seed), weights=tuple(problem.weights), problem=problem)
+        design=Design.from_array(x),
+        turning_effort=float(b.turning_effort[i]),
+        threshold_force=float(b.threshold_force[i]),
+        critical_speed=float(b.critical_speed[i]),
+        confident_speed=float(q),
+        shimmy_probability=p,
+        shimmy_probability_se=se,
+        swept_radius=float(b.swept_radius[i]),
+        swept_radius_max=problem.swept_radius_max,
+        rule=rule,
+        wheel=str(b.wheel[i]) or None,
+        inertia=float(b.inertia[i]),
+        role=role,
+        target_speed=problem.target_speed,
+        required_speed=problem.required_speed,
+        alpha=None if problem.risk is None else problem.risk.probability,
+        mc_samples=n,
+        mc_seed=int(u.seed if seed is None else seed),
+        weights=tuple(problem.weights),
+        problem=problem,
+    )
 
 
 def _buildable_front(problem, b: _Buildable, member: np.ndarray):
@@ -459,12 +584,24 @@ def _buildable_front(problem, b: _Buildable, member: np.ndarray):
     points = []
     for i in idx:
         d = Design.from_array(b.designs[i])
-        points.append(FrontPoint(d, float(b.turning_effort[i]), float(b.threshold_force[i]), float(b.critical_speed[i]),
-                                 {"shimmy": float(b.design_speed[i] - problem.required_speed)},
-                                 float(b.threshold_force[i]), "stock", True, {}, family_of(problem, d),
-                                 str(b.wheel[i]) or None))
-    return Front(problem, points, [], {"method": "exhaustive over the stock; continuous rest solved exactly",
-                                       "buildable": True})
+        points.append(
+            FrontPoint(
+                d,
+                float(b.turning_effort[i]),
+                float(b.threshold_force[i]),
+                float(b.critical_speed[i]),
+                {"shimmy": float(b.design_speed[i] - problem.required_speed)},
+                float(b.threshold_force[i]),
+                "stock",
+                True,
+                {},
+                family_of(problem, d),
+                str(b.wheel[i]) or None,
+            )
+        )
+    return Front(
+        problem, points, [], {"method": "exhaustive over the stock; continuous rest solved exactly", "buildable": True}
+    )
 
 
 def recommend(problem, samples: int | None = None, seed: int | None = None) -> Recommendation:
@@ -488,7 +625,6 @@ def recommend(problem, samples: int | None = None, seed: int | None = None) -> R
     """
 
     if isinstance(problem, (str, Path)):
-
         problem = load_problem(problem)
     table = None
     if stock_candidates(problem).discrete:
@@ -503,20 +639,32 @@ def recommend(problem, samples: int | None = None, seed: int | None = None) -> R
         if isinstance(error, InfeasibleError):
             raise error
         raise InfeasibleError(_infeasible_message(problem, table))
-    sel = select_rows(b.turning_effort[None, :], b.threshold_force[None, :], np.ones((1, len(b.turning_effort)), bool),
-                      problem.weights, problem.max_threshold_force, problem.max_turning_effort)
+    sel = select_rows(
+        b.turning_effort[None, :],
+        b.threshold_force[None, :],
+        np.ones((1, len(b.turning_effort)), bool),
+        problem.weights,
+        problem.max_threshold_force,
+        problem.max_turning_effort,
+    )
     size = int(sel["front_size"][0])
     choice = int(sel["choice"][0])
     if choice < 0:
-        cap = (f"objective.max_threshold_force = {problem.max_threshold_force:.1f} N"
-               if problem.max_threshold_force is not None else
-               f"objective.max_turning_effort = {problem.max_turning_effort:.2f} N")
+        cap = (
+            f"objective.max_threshold_force = {problem.max_threshold_force:.1f} N"
+            if problem.max_threshold_force is not None
+            else f"objective.max_turning_effort = {problem.max_turning_effort:.2f} N"
+        )
         lo = int(sel["easiest_sill"][0]) if problem.max_threshold_force is not None else int(sel["easiest_turn"][0])
-        best = (f"the least sill force buildable is {b.threshold_force[lo]:.2f} N"
-                if problem.max_threshold_force is not None else
-                f"the least turning effort buildable is {b.turning_effort[lo]:.3f} N")
-        raise InfeasibleError(f"{problem.name}: no buildable caster within the risk bound meets {cap}; {best}; "
-                              f"raise the cap or widen the stock")
+        best = (
+            f"the least sill force buildable is {b.threshold_force[lo]:.2f} N"
+            if problem.max_threshold_force is not None
+            else f"the least turning effort buildable is {b.turning_effort[lo]:.3f} N"
+        )
+        raise InfeasibleError(
+            f"{problem.name}: no buildable caster within the risk bound meets {cap}; {best}; "
+            f"raise the cap or widen the stock"
+        )
     rule = rule_text(problem, size)
     rec = _record(problem, b, choice, rule, "recommended", samples, seed)
     rec.buildable = _buildable_front(problem, b, sel["front"][0])
@@ -528,13 +676,21 @@ def recommend(problem, samples: int | None = None, seed: int | None = None) -> R
     rec.alternatives = alts
     notes = []
     if size < 3:
-        notes.append(f"the buildable front has {size} point{'s' if size != 1 else ''}: "
-                     + ("the recommendation is the one with the least J (weights: "
-                        + weights_meaning(problem.weights) + ") and the only alternative the other end"
-                        if size == 2 else "one stock caster is best on both objectives, so there is no alternative"))
+        notes.append(
+            f"the buildable front has {size} point{'s' if size != 1 else ''}: "
+            + (
+                "the recommendation is the one with the least J (weights: "
+                + weights_meaning(problem.weights)
+                + ") and the only alternative the other end"
+                if size == 2
+                else "one stock caster is best on both objectives, so there is no alternative"
+            )
+        )
     if problem.risk is None:
-        notes.append(f"no risk bound ([robust] enabled = false): this caster shimmies at {problem.target_speed:.3g} m/s "
-                     f"with probability {rec.shimmy_probability:.1%} ± {rec.shimmy_probability_se:.1%} under the "
-                     f"default scatter")
+        notes.append(
+            f"no risk bound ([robust] enabled = false): this caster shimmies at {problem.target_speed:.3g} m/s "
+            f"with probability {rec.shimmy_probability:.1%} ± {rec.shimmy_probability_se:.1%} under the "
+            f"default scatter"
+        )
     rec.note = "; ".join(notes)
     return rec

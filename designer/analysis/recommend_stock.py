@@ -6,6 +6,7 @@ the enumeration; ``designer fleet`` uses it too), the risk bound as a determinis
 (:func:`objectives`) and the screened table (:func:`candidate_table`).  Re-exported by
 :mod:`designer.analysis.recommend`.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -65,8 +66,10 @@ def _wheel_rows(problem, stock):
 
     c = problem.conditions
     if problem.wheels:  # [inertia] model = "catalog": the wheels are Table 1's, with measured I_w
-        return [(Catalog.from_key(k).fixed_diameter, float(Catalog.from_key(k).wheel.inertia), None, k)
-                for k in problem.wheels]
+        return [
+            (Catalog.from_key(k).fixed_diameter, float(Catalog.from_key(k).wheel.inertia), None, k)
+            for k in problem.wheels
+        ]
     if stock is not None and stock.wheels is not None:
         return [(w.diameter, w.inertia, w.groove, w.name) for w in stock.wheels]
     b = problem.bounds["diameter"]
@@ -110,7 +113,8 @@ def stock_candidates(problem, stock=None) -> CandidateTable:
     wheel_axis = wheels if wheels is not None else [(None, None, None, "")]
     rows = []
     for (d, inertia, g_w, name), t, g, c in itertools.product(
-            wheel_axis, trails or (None,), grooves or (None,), dampings or (None,)):
+        wheel_axis, trails or (None,), grooves or (None,), dampings or (None,)
+    ):
         groove = g_w if g_w is not None else g  # a catalogue wheel's own groove (then stock.grooves is absent)
         rows.append((t, d, groove, c, inertia, name))
     rows = list(dict.fromkeys(rows))  # a wheel's own groove repeats once per listed groove
@@ -130,11 +134,22 @@ def stock_candidates(problem, stock=None) -> CandidateTable:
                 warnings.filterwarnings("ignore", message="inertia power law used at")
                 d = np.array([r[1] for r in rows], float)
                 inertia[missing] = np.asarray(problem.conditions.inertia(d[missing]), float) + 0 * d[missing]
-    note = ("the problem's [stock]" if problem.stock is not None and stock is problem.stock else
-            "the given stock" if stock is not None else "no [stock]: every variable that is not fixed is continuous")
-    return CandidateTable(trail=column(0, trails is None), diameter=column(1, wheels is None),
-                          groove=column(2, grooves_continuous), damping=column(3, dampings is None),
-                          inertia=inertia, wheel=np.array([r[5] for r in rows], dtype=object), note=note)
+    note = (
+        "the problem's [stock]"
+        if problem.stock is not None and stock is problem.stock
+        else "the given stock"
+        if stock is not None
+        else "no [stock]: every variable that is not fixed is continuous"
+    )
+    return CandidateTable(
+        trail=column(0, trails is None),
+        diameter=column(1, wheels is None),
+        groove=column(2, grooves_continuous),
+        damping=column(3, dampings is None),
+        inertia=inertia,
+        wheel=np.array([r[5] for r in rows], dtype=object),
+        note=note,
+    )
 
 
 def risk_screen(design_speed, required_speed):
@@ -149,8 +164,9 @@ def confident_speed(trail, inertia, groove, damping, slip_coefficient, risk):
     return shimmy_speed_quantile(trail, inertia, groove, damping, slip_coefficient, risk)
 
 
-def objectives(problem, trail, diameter, groove, damping, load=None, threshold_height=None, surface=None,
-               turning_mode=None):
+def objectives(
+    problem, trail, diameter, groove, damping, load=None, threshold_height=None, surface=None, turning_mode=None
+):
     """Turning effort F_turn (Eq. 9 with the turning model) and sill force P (Eq. 4A) [N], vectorised.
 
     Chair values (load, sill, surface, mode) default to the problem's; arrays broadcast.  P is +inf
@@ -193,13 +209,26 @@ def candidate_table(problem, stock=None) -> ScreenedTable:
         raise ValueError("candidate_table needs every variable in the stock; a continuous one is solved by recommend()")
     c = problem.conditions
     v = critical_shimmy_speed(cand.trail, cand.inertia, cand.groove, cand.damping, c.slip_coefficient)
-    q = np.asarray(confident_speed(cand.trail, cand.inertia, cand.groove, cand.damping, c.slip_coefficient,
-                                   problem.risk), float)
+    q = np.asarray(
+        confident_speed(cand.trail, cand.inertia, cand.groove, cand.damping, c.slip_coefficient, problem.risk), float
+    )
     r = swept_radius(cand.trail, cand.diameter)
     f, p = objectives(problem, cand.trail, cand.diameter, cand.groove, cand.damping)
     risk_ok = risk_screen(q, problem.required_speed)
-    radius_ok = (r <= problem.swept_radius_max * (1 + 1e-9)) if problem.swept_radius_max is not None \
+    radius_ok = (
+        (r <= problem.swept_radius_max * (1 + 1e-9))
+        if problem.swept_radius_max is not None
         else np.ones(len(cand), bool)
+    )
     feasible = risk_ok & radius_ok & np.isfinite(p)
-    return ScreenedTable(cand, np.asarray(v, float), q, np.asarray(r, float), np.asarray(f, float) + 0 * q,
-                         np.asarray(p, float) + 0 * q, feasible, risk_ok, radius_ok)
+    return ScreenedTable(
+        cand,
+        np.asarray(v, float),
+        q,
+        np.asarray(r, float),
+        np.asarray(f, float) + 0 * q,
+        np.asarray(p, float) + 0 * q,
+        feasible,
+        risk_ok,
+        radius_ok,
+    )

@@ -29,6 +29,7 @@ candidate (V_c, the quantile, F_turn, P, the Monte Carlo, the calibration); :mod
 decides what each part can become and enumerates the combinations; this module holds the records, reads
 the input and ranks (:func:`fix`).
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -46,8 +47,15 @@ from designer.physics.uncertainty import MC_TARGET_SE, Uncertainty
 from designer.units import parse_quantity
 from designer.problem import INERTIA_RANGE
 from designer.problem import load_problem
-from designer.analysis.retrofit_diagnosis import (_calibrated, _current_inertia, _evaluate, _feasible, _mc, _mc_many,
-                                                  _risk_of)
+from designer.analysis.retrofit_diagnosis import (
+    _calibrated,
+    _current_inertia,
+    _evaluate,
+    _feasible,
+    _mc,
+    _mc_many,
+    _risk_of,
+)
 from designer.analysis.retrofit_options import GRID_STEP, PART_VARIABLE, PARTS, _enumerate, _show, part_options
 
 
@@ -61,10 +69,12 @@ MAX_STEM_ANGLE = math.radians(30.0)
 """Largest stem tilt accepted [rad]: seat-angle and dump changes tilt the stem by a few degrees."""
 
 
-RULE = ("fewest parts changed first; within the same number of parts, the smallest loss "
-        "w_turn·ΔF_turn + w_threshold·ΔP [N] (the problem's [objective] weights; a negative loss is a gain), "
-        "ties broken by the smaller ΔF_turn, then the smaller ΔP, then the higher speed reached with "
-        "probability 1 − α")
+RULE = (
+    "fewest parts changed first; within the same number of parts, the smallest loss "
+    "w_turn·ΔF_turn + w_threshold·ΔP [N] (the problem's [objective] weights; a negative loss is a gain), "
+    "ties broken by the smaller ΔF_turn, then the smaller ΔP, then the higher speed reached with "
+    "probability 1 − α"
+)
 """The ranking rule, as printed in every output."""
 
 
@@ -83,12 +93,19 @@ class Change:
 
     def describe(self) -> str:
         """``fork hole: trail 1.500 in -> 2.000 in``."""
-        return f"{self.part}: {self.variable} {_show(self.variable, self.before)} -> {_show(self.variable, self.after)}" \
+        return (
+            f"{self.part}: {self.variable} {_show(self.variable, self.before)} -> {_show(self.variable, self.after)}"
             + (f" ({self.name})" if self.name else "")
+        )
 
     def as_dict(self) -> dict:
-        out = {"part": self.part, "variable": self.variable, "from": self.before, "to": self.after,
-               "unit": _UNITS[self.variable]}
+        out = {
+            "part": self.part,
+            "variable": self.variable,
+            "from": self.before,
+            "to": self.after,
+            "unit": _UNITS[self.variable],
+        }
         if self.name:
             out["name"] = self.name
         return out
@@ -156,8 +173,11 @@ class CasterState:
         if self.changes:
             out["parts_changed"] = self.parts_changed
             out["changes"] = [c.as_dict() for c in self.changes]
-            out["cost"] = {"turning_effort": self.cost_turning_effort, "threshold_force": self.cost_threshold_force,
-                           "loss": self.loss}
+            out["cost"] = {
+                "turning_effort": self.cost_turning_effort,
+                "threshold_force": self.cost_threshold_force,
+                "loss": self.loss,
+            }
         return out
 
 
@@ -184,15 +204,22 @@ class Calibration:
         return self.observed_onset - self.predicted_onset
 
     def describe(self) -> str:
-        return (f"calibrated on the observed onset {self.observed_onset:.3f} m/s: Eq. 7 predicted "
-                f"{self.predicted_onset:.3f} m/s, so V_c moved by {self.shift:+.3f} m/s ({self.factor - 1:+.1%}); "
-                f"every fix is evaluated with Eq. 7 × k = {self.factor:.4f}; the population model error is "
-                f"replaced by the onset's own scatter (σ = {self.scatter:.3f} of the log, normal), the scatter of "
-                f"M_f/θ0, K_s and I_w is kept")
+        return (
+            f"calibrated on the observed onset {self.observed_onset:.3f} m/s: Eq. 7 predicted "
+            f"{self.predicted_onset:.3f} m/s, so V_c moved by {self.shift:+.3f} m/s ({self.factor - 1:+.1%}); "
+            f"every fix is evaluated with Eq. 7 × k = {self.factor:.4f}; the population model error is "
+            f"replaced by the onset's own scatter (σ = {self.scatter:.3f} of the log, normal), the scatter of "
+            f"M_f/θ0, K_s and I_w is kept"
+        )
 
     def as_dict(self) -> dict:
-        return {"observed_onset": self.observed_onset, "predicted_onset": self.predicted_onset,
-                "factor": self.factor, "shift": self.shift, "scatter": self.scatter}
+        return {
+            "observed_onset": self.observed_onset,
+            "predicted_onset": self.predicted_onset,
+            "factor": self.factor,
+            "shift": self.shift,
+            "scatter": self.scatter,
+        }
 
 
 @dataclass
@@ -243,11 +270,15 @@ class FixResult:
         if not self.fixes:
             return "No fix from the stock meets the risk bound and the swept-radius limit."
         best = self.fixes[0]
-        lead = "" if best.parts_changed == 1 else \
-            f"No single-part fix exists; the best {best.parts_changed}-part fix: "
-        return lead + describe_changes(best.changes) + (
-            f" (ΔF_turn {best.cost_turning_effort:+.2f} N, ΔP {best.cost_threshold_force:+.2f} N, "
-            f"P(shimmy) {best.shimmy_probability:.2%} ± {best.shimmy_probability_se:.2%})")
+        lead = "" if best.parts_changed == 1 else f"No single-part fix exists; the best {best.parts_changed}-part fix: "
+        return (
+            lead
+            + describe_changes(best.changes)
+            + (
+                f" (ΔF_turn {best.cost_turning_effort:+.2f} N, ΔP {best.cost_threshold_force:+.2f} N, "
+                f"P(shimmy) {best.shimmy_probability:.2%} ± {best.shimmy_probability_se:.2%})"
+            )
+        )
 
     def as_dict(self) -> dict:
         """JSON-ready: ``current``, ranked ``fixes`` and the assumptions, SI units."""
@@ -270,15 +301,27 @@ class FixResult:
         }
 
     def __repr__(self) -> str:
-        return (f"FixResult({self.problem!r}, current V_c {self.current.critical_speed:.3f} m/s, "
-                f"P(shimmy) {self.current.shimmy_probability:.1%}, {self.found} fixes; {self.summary()})")
+        return (
+            f"FixResult({self.problem!r}, current V_c {self.current.critical_speed:.3f} m/s, "
+            f"P(shimmy) {self.current.shimmy_probability:.1%}, {self.found} fixes; {self.summary()})"
+        )
 
 
 # --------------------------------------------------------------------------- input
 
 
-_KEYS = {"t": "trail", "trail": "trail", "d": "diameter", "diameter": "diameter", "b": "groove", "groove": "groove",
-         "c": "damping", "c_f": "damping", "cf": "damping", "damping": "damping"}
+_KEYS = {
+    "t": "trail",
+    "trail": "trail",
+    "d": "diameter",
+    "diameter": "diameter",
+    "b": "groove",
+    "groove": "groove",
+    "c": "damping",
+    "c_f": "damping",
+    "cf": "damping",
+    "damping": "damping",
+}
 _UNITS = {"trail": "m", "diameter": "m", "groove": "m", "damping": "N*m/rad", "inertia": "kg*m**2"}
 
 
@@ -290,17 +333,20 @@ def parse_current(text: str, option: str = "--current") -> Design:
     """
 
     if not isinstance(text, str) or not text.strip():
-        raise InputError(f"{option} {text!r}: expected T=..,d=..,B=..,c=.. (e.g. \"T=1.5in,d=7.75in,B=0.5625in,c=1.3\")")
+        raise InputError(f'{option} {text!r}: expected T=..,d=..,B=..,c=.. (e.g. "T=1.5in,d=7.75in,B=0.5625in,c=1.3")')
     values: dict[str, float] = {}
     for piece in text.split(","):
         if "=" not in piece:
-            raise InputError(f"{option} {text!r}: {piece.strip()!r} is not KEY=VALUE "
-                             f"(keys T, d, B, c; e.g. \"T=1.5in,d=7.75in,B=0.5625in,c=1.3\")")
+            raise InputError(
+                f"{option} {text!r}: {piece.strip()!r} is not KEY=VALUE "
+                f'(keys T, d, B, c; e.g. "T=1.5in,d=7.75in,B=0.5625in,c=1.3")'
+            )
         key, value = (s.strip() for s in piece.split("=", 1))
         name = _KEYS.get(key.lower())
         if name is None:
-            raise InputError(f"{option}: unknown key {key!r} in {text!r}; keys are T (trail), d (diameter), "
-                             f"B (groove), c (damping)")
+            raise InputError(
+                f"{option}: unknown key {key!r} in {text!r}; keys are T (trail), d (diameter), B (groove), c (damping)"
+            )
         if name in values:
             raise InputError(f"{option}: {key!r} given twice in {text!r}")
         value = re.sub(r"^([-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?)\s*([A-Za-z].*)$", r"\1 \2", value)
@@ -324,35 +370,51 @@ def _check_inputs(problem, current: Design, inertia, shimmied_at, stem_angle, on
     check_design(current, "current ", error=InputError)
     h = problem.conditions.threshold_height
     if current.diameter <= 2 * h:
-        raise InputError(f"current diameter = {current.diameter / INCH:.3g} in: must exceed twice the sill height "
-                         f"({2 * h / INCH:.3g} in); d/h <= 2 cannot climb the sill (Eq. 4A)")
+        raise InputError(
+            f"current diameter = {current.diameter / INCH:.3g} in: must exceed twice the sill height "
+            f"({2 * h / INCH:.3g} in); d/h <= 2 cannot climb the sill (Eq. 4A)"
+        )
     c0 = problem.conditions.turning.bare_fork_damping
     if current.damping < c0 - 1e-12:
-        raise InputError(f"current damping = {current.damping:g} N·m/rad: below the bare ball-bearing fork's "
-                         f"{c0:g} N·m/rad (Eq. 11C), the least spindle damping a caster has")
+        raise InputError(
+            f"current damping = {current.damping:g} N·m/rad: below the bare ball-bearing fork's "
+            f"{c0:g} N·m/rad (Eq. 11C), the least spindle damping a caster has"
+        )
     if inertia is not None:
-
-        if not (isinstance(inertia, (int, float)) and math.isfinite(inertia)
-                and INERTIA_RANGE[0] <= inertia <= INERTIA_RANGE[1]):
-            raise InputError(f"inertia = {inertia!r} kg·m²: must be between {INERTIA_RANGE[0]:g} and "
-                             f"{INERTIA_RANGE[1]:g} kg·m² (Table 1: 0.00026 to 0.0046)")
+        if not (
+            isinstance(inertia, (int, float))
+            and math.isfinite(inertia)
+            and INERTIA_RANGE[0] <= inertia <= INERTIA_RANGE[1]
+        ):
+            raise InputError(
+                f"inertia = {inertia!r} kg·m²: must be between {INERTIA_RANGE[0]:g} and "
+                f"{INERTIA_RANGE[1]:g} kg·m² (Table 1: 0.00026 to 0.0046)"
+            )
     if not (isinstance(stem_angle, (int, float)) and math.isfinite(stem_angle) and abs(stem_angle) <= MAX_STEM_ANGLE):
-        raise InputError(f"stem angle = {format(math.degrees(stem_angle), '.4g') if isinstance(stem_angle, (int, float)) else repr(stem_angle)}"
-                         f" deg: must be within ±{math.degrees(MAX_STEM_ANGLE):.0f} deg of vertical")
+        raise InputError(
+            f"stem angle = {format(math.degrees(stem_angle), '.4g') if isinstance(stem_angle, (int, float)) else repr(stem_angle)}"
+            f" deg: must be within ±{math.degrees(MAX_STEM_ANGLE):.0f} deg of vertical"
+        )
     t_eff = effective_trail(current.trail, current.diameter / 2, stem_angle)
     if t_eff <= 0:
-        raise InputError(f"stem angle = {math.degrees(stem_angle):.3g} deg: the effective trail "
-                         f"{t_eff / INCH:.3g} in is not positive (the wheel would lead the stem)")
+        raise InputError(
+            f"stem angle = {math.degrees(stem_angle):.3g} deg: the effective trail "
+            f"{t_eff / INCH:.3g} in is not positive (the wheel would lead the stem)"
+        )
     if shimmied_at is not None:
         if not (isinstance(shimmied_at, (int, float)) and math.isfinite(shimmied_at)):
             raise InputError(f"shimmied at = {shimmied_at!r}: expected a speed in m/s")
         if shimmied_at < WALKING_SPEED:
-            raise InputError(f"shimmied at = {shimmied_at:g} m/s: below walking speed ({WALKING_SPEED:g} m/s); "
-                             f"a caster that shimmies that slowly is broken (loose bearing, bent fork), not "
-                             f"described by Eq. 7; or was the speed in km/h?")
+            raise InputError(
+                f"shimmied at = {shimmied_at:g} m/s: below walking speed ({WALKING_SPEED:g} m/s); "
+                f"a caster that shimmies that slowly is broken (loose bearing, bent fork), not "
+                f"described by Eq. 7; or was the speed in km/h?"
+            )
         if shimmied_at > 10.0:
-            raise InputError(f"shimmied at = {shimmied_at:g} m/s: above 10 m/s, no wheelchair goes that fast; "
-                             f"was it given in km/h or mph?")
+            raise InputError(
+                f"shimmied at = {shimmied_at:g} m/s: above 10 m/s, no wheelchair goes that fast; "
+                f"was it given in km/h or mph?"
+            )
     if not (math.isfinite(onset_scatter) and 0 < onset_scatter <= 1):
         raise InputError(f"onset scatter = {onset_scatter!r}: σ of the log onset must be in (0, 1]")
 
@@ -367,9 +429,18 @@ def _check_inputs(problem, current: Design, inertia, shimmied_at, stem_angle, on
 
 
 # long by its docstring (every argument documented); the body: diagnosis, then _ranked fixes, then the records
-def fix(problem, current, inertia: float | None = None, shimmied_at: float | None = None, stem_angle: float = 0.0,
-        *, onset_scatter: float = ONSET_SCATTER, limit: int | None = None, samples: int | None = None,
-        seed: int | None = None) -> FixResult:
+def fix(
+    problem,
+    current,
+    inertia: float | None = None,
+    shimmied_at: float | None = None,
+    stem_angle: float = 0.0,
+    *,
+    onset_scatter: float = ONSET_SCATTER,
+    limit: int | None = None,
+    samples: int | None = None,
+    seed: int | None = None,
+) -> FixResult:
     """Diagnose a caster that shimmies and rank the smallest safe changes to it.
 
     Parameters
@@ -399,7 +470,6 @@ def fix(problem, current, inertia: float | None = None, shimmied_at: float | Non
     swept-radius limit.  Equations: Eq. 7 (V_c), Eq. 4A (P), Eq. 9 (F_turn).
     """
     if isinstance(problem, str) or hasattr(problem, "__fspath__"):
-
         problem = load_problem(problem)
     if isinstance(current, str):
         current = parse_current(current, "current")
@@ -413,8 +483,13 @@ def fix(problem, current, inertia: float | None = None, shimmied_at: float | Non
     samples = int(samples or max(REPORT_SAMPLES, report_u.samples))
     seed = int(report_u.seed if seed is None else seed)
 
-    base = {"trail": current.trail, "diameter": current.diameter, "groove": current.groove,
-            "damping": current.damping, "inertia": inertia}
+    base = {
+        "trail": current.trail,
+        "diameter": current.diameter,
+        "groove": current.groove,
+        "damping": current.damping,
+        "inertia": inertia,
+    }
     raw = _evaluate({k: np.array([v]) for k, v in base.items()}, conditions, stem_angle, 1.0, bound)
     calibration = None
     factor = 1.0
@@ -426,33 +501,75 @@ def fix(problem, current, inertia: float | None = None, shimmied_at: float | Non
             bound = _calibrated(bound, onset_scatter)
         report_u = _calibrated(report_u, onset_scatter)
     now = _evaluate({k: np.array([v]) for k, v in base.items()}, conditions, stem_angle, factor, bound)
-    setting = _Setting(conditions, stem_angle, factor, bound, report_u, samples, seed, problem.required_speed,
-                       problem.target_speed, problem.swept_radius_max, problem.weights)
+    setting = _Setting(
+        conditions,
+        stem_angle,
+        factor,
+        bound,
+        report_u,
+        samples,
+        seed,
+        problem.required_speed,
+        problem.target_speed,
+        problem.swept_radius_max,
+        problem.weights,
+    )
 
     current_state = setting.state(now, 0, (current, inertia))
     options, sources = part_options(problem, current, inertia)
     stock_note = {part: sources[part] for part in PARTS}
-    scatter = {"bound": None if bound is None else dataclasses.asdict(bound),
-               "reported": dataclasses.asdict(report_u) | {"samples": samples, "seed": seed}}
-    result = FixResult(problem.name, problem.target_speed, setting.v_req,
-                       None if bound is None else bound.probability, stem_angle, calibration, current_state, [], 0,
-                       RULE, stock_note, scatter)
+    scatter = {
+        "bound": None if bound is None else dataclasses.asdict(bound),
+        "reported": dataclasses.asdict(report_u) | {"samples": samples, "seed": seed},
+    }
+    result = FixResult(
+        problem.name,
+        problem.target_speed,
+        setting.v_req,
+        None if bound is None else bound.probability,
+        stem_angle,
+        calibration,
+        current_state,
+        [],
+        0,
+        RULE,
+        stock_note,
+        scatter,
+    )
     if current_state.meets_risk_bound:
         return result
 
     cands, values, chosen, result.found = _ranked(options, sources, base, setting, current_state, limit)
-    shared = _mc_many(values["effective_trail"][chosen], cands["inertia"][chosen], cands["groove"][chosen],
-                      cands["damping"][chosen], conditions.slip_coefficient, setting.v_target / factor, report_u,
-                      samples, seed)
+    shared = _mc_many(
+        values["effective_trail"][chosen],
+        cands["inertia"][chosen],
+        cands["groove"][chosen],
+        cands["damping"][chosen],
+        conditions.slip_coefficient,
+        setting.v_target / factor,
+        report_u,
+        samples,
+        seed,
+    )
     fixes = []
     for n, j in enumerate(chosen):
-        design = Design(float(cands["trail"][j]), float(cands["diameter"][j]), float(cands["groove"][j]),
-                        float(cands["damping"][j]))
+        design = Design(
+            float(cands["trail"][j]), float(cands["diameter"][j]), float(cands["groove"][j]), float(cands["damping"][j])
+        )
         changes = _changes(current, inertia, cands, j, options["wheel"])
-        fixes.append(setting.state(values, j, (design, float(cands["inertia"][j])), changes,
-                                   (values["turning_effort"][j] - current_state.turning_effort,
-                                    values["threshold_force"][j] - current_state.threshold_force),
-                                   (float(shared[0][n]), float(shared[1][n]))))
+        fixes.append(
+            setting.state(
+                values,
+                j,
+                (design, float(cands["inertia"][j])),
+                changes,
+                (
+                    values["turning_effort"][j] - current_state.turning_effort,
+                    values["threshold_force"][j] - current_state.threshold_force,
+                ),
+                (float(shared[0][n]), float(shared[1][n])),
+            )
+        )
     result.fixes = fixes
     return result
 
@@ -476,22 +593,41 @@ class _Setting:
     def state(self, values, j, design, changes=(), cost=(0.0, 0.0), mc=None) -> CasterState:
         """Caster ``j`` of the evaluated ``values`` as a :class:`CasterState` (its P(shimmy) topped up if needed)."""
         ok = values["confident_speed"][j] >= self.v_req * (1 - 1e-12) and (
-            self.r_max is None or values["swept_radius"][j] <= self.r_max * (1 + 1e-12))
+            self.r_max is None or values["swept_radius"][j] <= self.r_max * (1 + 1e-12)
+        )
         if mc is None or not mc[1] <= MC_TARGET_SE:  # one caster, or a shared draw too coarse for it: top up
-            mc = _mc((values["effective_trail"][j], float(design[1]), design[0].groove, design[0].damping),
-                     self.conditions, self.v_target, self.factor, self.report_u, self.samples, self.seed)
+            mc = _mc(
+                (values["effective_trail"][j], float(design[1]), design[0].groove, design[0].damping),
+                self.conditions,
+                self.v_target,
+                self.factor,
+                self.report_u,
+                self.samples,
+                self.seed,
+            )
         p, se = mc
         weights = self.weights
-        return CasterState(design[0], float(design[1]), float(values["effective_trail"][j]),
-                           float(values["turning_effort"][j]), float(values["threshold_force"][j]),
-                           float(values["swept_radius"][j]), float(values["critical_speed"][j]),
-                           float(values["calibrated_critical_speed"][j]), float(values["confident_speed"][j]),
-                           bool(ok), p, se, tuple(changes), float(cost[0]), float(cost[1]),
-                           float(weights[0] * cost[0] + weights[1] * cost[1]))
+        return CasterState(
+            design[0],
+            float(design[1]),
+            float(values["effective_trail"][j]),
+            float(values["turning_effort"][j]),
+            float(values["threshold_force"][j]),
+            float(values["swept_radius"][j]),
+            float(values["critical_speed"][j]),
+            float(values["calibrated_critical_speed"][j]),
+            float(values["confident_speed"][j]),
+            bool(ok),
+            p,
+            se,
+            tuple(changes),
+            float(cost[0]),
+            float(cost[1]),
+            float(weights[0] * cost[0] + weights[1] * cost[1]),
+        )
 
 
-def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current_state: CasterState,
-            limit: int | None):
+def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current_state: CasterState, limit: int | None):
     """The feasible fixes in the order of :data:`RULE`: (candidates, their values, chosen indices, how many found).
 
     One- and two-part changes first; three- and four-part ones only when none of those is feasible.
@@ -508,8 +644,9 @@ def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current
     d_turn = values["turning_effort"][idx] - current_state.turning_effort
     d_force = values["threshold_force"][idx] - current_state.threshold_force
     loss = s.weights[0] * d_turn + s.weights[1] * d_force
-    order = np.lexsort((cands["order"][idx], -values["confident_speed"][idx], d_force, d_turn, np.round(loss, 12),
-                        cands["parts"][idx]))
+    order = np.lexsort(
+        (cands["order"][idx], -values["confident_speed"][idx], d_force, d_turn, np.round(loss, 12), cands["parts"][idx])
+    )
     chosen = idx[order] if limit is None else idx[order][:limit]
     return cands, values, chosen, len(order)
 
@@ -532,8 +669,13 @@ def _changes(current: Design, inertia: float, cands: dict, j: int, wheels: list)
     return tuple(out)
 
 
-_SYMBOL = {"damping": ("c_f", 1.0, "N·m/rad"), "groove": ("B", INCH, "in"), "trail": ("T", INCH, "in"),
-           "diameter": ("d", INCH, "in"), "inertia": ("I_w", 1.0, "kg·m²")}
+_SYMBOL = {
+    "damping": ("c_f", 1.0, "N·m/rad"),
+    "groove": ("B", INCH, "in"),
+    "trail": ("T", INCH, "in"),
+    "diameter": ("d", INCH, "in"),
+    "inertia": ("I_w", 1.0, "kg·m²"),
+}
 
 
 def describe_changes(changes, sep: str = "; ", inertia: bool = True) -> str:
@@ -547,9 +689,26 @@ def describe_changes(changes, sep: str = "; ", inertia: bool = True) -> str:
             continue
         symbol, scale, unit = _SYMBOL[c.variable]
         by_part.setdefault(c.part, []).append(f"{symbol} {c.before / scale:.4g} -> {c.after / scale:.4g} {unit}")
-    return sep.join(f"{part}{' (' + names[part] + ')' if part in names else ''}: {', '.join(items)}"
-                    for part, items in by_part.items())
+    return sep.join(
+        f"{part}{' (' + names[part] + ')' if part in names else ''}: {', '.join(items)}"
+        for part, items in by_part.items()
+    )
 
 
-__all__ = ["fix", "describe_changes", "FixResult", "CasterState", "Change", "Calibration", "parse_current", "part_options", "RULE",
-           "PARTS", "PART_VARIABLE", "GRID_STEP", "ONSET_SCATTER", "REPORT_SAMPLES", "MAX_STEM_ANGLE"]
+__all__ = [
+    "fix",
+    "describe_changes",
+    "FixResult",
+    "CasterState",
+    "Change",
+    "Calibration",
+    "parse_current",
+    "part_options",
+    "RULE",
+    "PARTS",
+    "PART_VARIABLE",
+    "GRID_STEP",
+    "ONSET_SCATTER",
+    "REPORT_SAMPLES",
+    "MAX_STEM_ANGLE",
+]

@@ -5,6 +5,7 @@ probability 1 - alpha, turning effort and sill force of candidate arrays (:func:
 model and its calibration by an observed onset, the Monte Carlo P(shimmy), the current wheel's I_w and
 the feasibility screen.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -18,8 +19,7 @@ from designer.model import Conditions, Design, performance
 from designer.physics.geometry import effective_trail, swept_radius
 from designer.physics.inertia import Catalog, InertiaModel
 from designer.physics.shimmy import critical_shimmy_speed
-from designer.physics.uncertainty import (Uncertainty, sample_log_factors, shimmy_probability_mc,
-                                          shimmy_speed_quantile)
+from designer.physics.uncertainty import Uncertainty, sample_log_factors, shimmy_probability_mc, shimmy_speed_quantile
 
 
 class _Given(InertiaModel):
@@ -52,8 +52,9 @@ def _calibrated(u: Uncertainty, scatter: float) -> Uncertainty:
     return dataclasses.replace(u, **changes)
 
 
-def _evaluate(arrays: dict, conditions: Conditions, stem_angle: float, factor: float,
-              bound: Uncertainty | None) -> dict:
+def _evaluate(
+    arrays: dict, conditions: Conditions, stem_angle: float, factor: float, bound: Uncertainty | None
+) -> dict:
     """Vectorised numbers of candidates {trail, diameter, groove, damping, inertia} (arrays)."""
     t, d, b, c, i = (np.asarray(arrays[k], dtype=float) for k in ("trail", "diameter", "groove", "damping", "inertia"))
     t_eff = effective_trail(t, d / 2, stem_angle)
@@ -63,7 +64,8 @@ def _evaluate(arrays: dict, conditions: Conditions, stem_angle: float, factor: f
         confident = factor * v
     else:
         confident = factor * np.asarray(
-            shimmy_speed_quantile(t_eff, i, b, c, conditions.slip_coefficient, bound), dtype=float)
+            shimmy_speed_quantile(t_eff, i, b, c, conditions.slip_coefficient, bound), dtype=float
+        )
     return {
         "effective_trail": t_eff,
         "critical_speed": v,
@@ -75,8 +77,9 @@ def _evaluate(arrays: dict, conditions: Conditions, stem_angle: float, factor: f
     }
 
 
-def _mc_many(trail, inertia, groove, damping, slip_coefficient, speed, u: Uncertainty, samples: int,
-             seed: int) -> tuple[np.ndarray, np.ndarray]:
+def _mc_many(
+    trail, inertia, groove, damping, slip_coefficient, speed, u: Uncertainty, samples: int, seed: int
+) -> tuple[np.ndarray, np.ndarray]:
     """P(V_c,true < speed) and its SE for many casters at once [-].
 
     The same ``samples`` draws of :func:`~designer.physics.uncertainty.sample_log_factors` with ``seed`` as
@@ -94,9 +97,16 @@ def _mc_many(trail, inertia, groove, damping, slip_coefficient, speed, u: Uncert
     step = max(1, 1_000_000 // samples)  # about 8 MB per array
     for a in range(0, m, step):
         b = slice(a, min(m, a + step))
-        v = critical_shimmy_speed(np.asarray(trail)[b, None], np.asarray(inertia)[b, None] * e_i,
-                                  np.asarray(groove)[b, None], np.asarray(damping)[b, None] * e_c,
-                                  slip_coefficient * e_k) * e_m
+        v = (
+            critical_shimmy_speed(
+                np.asarray(trail)[b, None],
+                np.asarray(inertia)[b, None] * e_i,
+                np.asarray(groove)[b, None],
+                np.asarray(damping)[b, None] * e_c,
+                slip_coefficient * e_k,
+            )
+            * e_m
+        )
         hits[b] = np.count_nonzero(v < speed, axis=1)
     p = hits / samples
     return p, np.sqrt(np.maximum(p * (1 - p), 1.0 / samples) / samples)
@@ -116,23 +126,32 @@ def _current_inertia(problem, current: Design) -> float:
     them (same diameter), else InputError asks for ``--inertia``.
     """
 
-
     model = problem.conditions.inertia
     wheels = [Catalog.from_key(k).wheel for k in problem.wheels]
     if wheels or model.fixed_diameter is not None or getattr(model, "name", "") == "fixed":
-        same = [w for w in wheels or [getattr(model, "wheel", None)]
-                if w is not None and abs(w.diameter - current.diameter) <= 1e-6]
+        same = [
+            w
+            for w in wheels or [getattr(model, "wheel", None)]
+            if w is not None and abs(w.diameter - current.diameter) <= 1e-6
+        ]
         if len({w.inertia for w in same}) == 1:
             return float(same[0].inertia)
         if same:
-            raise InputError(f"inertia: the problem has {len(same)} wheels of d = {current.diameter / INCH:.4g} in "
-                             f"({', '.join(w.key for w in same)}) with different I_w; give the current wheel's "
-                             f"measured I_w with --inertia")
-        if getattr(model, "name", "") == "fixed" and problem.bounds["diameter"].fixed and \
-                abs(problem.bounds["diameter"].low - current.diameter) <= 1e-6:
+            raise InputError(
+                f"inertia: the problem has {len(same)} wheels of d = {current.diameter / INCH:.4g} in "
+                f"({', '.join(w.key for w in same)}) with different I_w; give the current wheel's "
+                f"measured I_w with --inertia"
+            )
+        if (
+            getattr(model, "name", "") == "fixed"
+            and problem.bounds["diameter"].fixed
+            and abs(problem.bounds["diameter"].low - current.diameter) <= 1e-6
+        ):
             return float(model(current.diameter))
-        raise InputError(f"inertia: the current wheel (d = {current.diameter / INCH:.4g} in) is not one of the "
-                         f"problem's wheels ({model.describe()}); give its measured I_w with --inertia")
+        raise InputError(
+            f"inertia: the current wheel (d = {current.diameter / INCH:.4g} in) is not one of the "
+            f"problem's wheels ({model.describe()}); give its measured I_w with --inertia"
+        )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # extrapolation of the inertia fit: docs/retrofit.md
         return float(model(current.diameter))

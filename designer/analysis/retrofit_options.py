@@ -4,6 +4,7 @@ Part of :mod:`designer.analysis.retrofit` (which re-exports its public names): t
 variable each sets, the candidate values from ``[stock]`` or a grid over the bounds (:func:`part_options`,
 the one place that decides them), and the vectorised enumeration of one- to four-part changes.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -111,8 +112,9 @@ def _listed(stock: dict, bounds: dict, sources: dict, key: str, variable: str) -
         sources[variable] = "[stock]"
         values = np.array(sorted({float(v) for v in values}))
         return values[(values >= b.low * (1 - 1e-12)) & (values <= b.high * (1 + 1e-12))]  # within the bounds
-    sources[variable] = (f"continuous (no [stock] {key}): grid over the bounds every "
-                         f"{_show(variable, GRID_STEP[variable])}")
+    sources[variable] = (
+        f"continuous (no [stock] {key}): grid over the bounds every {_show(variable, GRID_STEP[variable])}"
+    )
     return _grid(b.low, b.high, GRID_STEP[variable]) if b.high > b.low else np.array([b.low])
 
 
@@ -158,8 +160,11 @@ def _wheel_options(problem, stock: dict, current: Design, sources: dict) -> tupl
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # extrapolation of the inertia fit is stated in docs/retrofit.md
             inertias = np.asarray(model(diameters), dtype=float) * np.ones_like(diameters)
-        wheels = [_Wheel(float(d), math.nan, float(i), None) for d, i in zip(diameters, inertias)
-                  if abs(d - current.diameter) > 1e-9]
+        wheels = [
+            _Wheel(float(d), math.nan, float(i), None)
+            for d, i in zip(diameters, inertias)
+            if abs(d - current.diameter) > 1e-9
+        ]
     return wheels, groove_values
 
 
@@ -211,8 +216,11 @@ def _enumerate(options: dict, sources: dict, base: dict, max_parts: int, min_par
             chunks.append({key: value[valid] for key, value in out.items()})
     if not chunks:
         empty = {key: np.array([]) for key in ("trail", "diameter", "groove", "damping", "inertia")}
-        return empty | {"wheel": np.array([], dtype=int), "parts": np.array([], dtype=int),
-                        "order": np.array([], dtype=int)} | {f"mask_{p}": np.array([], dtype=bool) for p in PARTS}
+        return (
+            empty
+            | {"wheel": np.array([], dtype=int), "parts": np.array([], dtype=int), "order": np.array([], dtype=int)}
+            | {f"mask_{p}": np.array([], dtype=bool) for p in PARTS}
+        )
     return {key: np.concatenate([c[key] for c in chunks]) for key in chunks[0]}
 
 

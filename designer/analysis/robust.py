@@ -4,6 +4,7 @@ The uncertainty model itself (the lognormal scatter, the V_c quantile and the
 Monte Carlo estimate) lives in :mod:`designer.physics.uncertainty`; this module
 compares the nominal and the risk-bounded Pareto fronts of one problem.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -38,22 +39,28 @@ def robust_comparison(problem, points: int = 21) -> dict:
         if problem.wheels:
             cond = [v for v in problem.variants() if v.conditions.inertia.wheel.key == point.wheel][0].conditions
         inertia = float(cond.inertia(d.diameter))
-        p_mc, se = shimmy_probability_mc(d.trail, inertia, d.groove, d.damping, cond.slip_coefficient,
-                                         problem.required_speed, u)
-        p_nom = shimmy_probability_mc(*_nominal_design_args(nominal, point, cond), problem.required_speed, u)[0] \
-            if len(nominal) else float("nan")
+        p_mc, se = shimmy_probability_mc(
+            d.trail, inertia, d.groove, d.damping, cond.slip_coefficient, problem.required_speed, u
+        )
+        p_nom = (
+            shimmy_probability_mc(*_nominal_design_args(nominal, point, cond), problem.required_speed, u)[0]
+            if len(nominal)
+            else float("nan")
+        )
         # the nominal front as min F_turn s.t. P <= P_point: beyond its largest P, its least F_turn
         f_nominal = float(np.interp(point.threshold_force, fn[order, 1], fn[order, 0], left=np.nan))
-        rows.append({
-            "threshold_force": point.threshold_force,
-            "turning_effort_robust": point.turning_effort,
-            "turning_effort_nominal": f_nominal,
-            "extra_effort": point.turning_effort - f_nominal,
-            "critical_speed": point.critical_speed,
-            "probability_mc": p_mc,
-            "probability_mc_se": se,
-            "nominal_probability_mc": p_nom,
-        })
+        rows.append(
+            {
+                "threshold_force": point.threshold_force,
+                "turning_effort_robust": point.turning_effort,
+                "turning_effort_nominal": f_nominal,
+                "extra_effort": point.turning_effort - f_nominal,
+                "critical_speed": point.critical_speed,
+                "probability_mc": p_mc,
+                "probability_mc_se": se,
+                "nominal_probability_mc": p_nom,
+            }
+        )
     cmp = nominal.compare(robust) if len(nominal) and len(robust) else {}
     return {"nominal": nominal, "robust": robust, "rows": rows, "compare": cmp, "uncertainty": u}
 

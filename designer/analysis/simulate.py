@@ -52,6 +52,7 @@ Paper numbers: K, N from :class:`designer.physics.shimmy.DynamicsParameters`
 (N = 0.5 kg, K chosen so that ω = 104.7 rad/s at T = 2.5 in, App. C); K_s =
 1250 N; θ0 = 20° = 0.349 rad.
 """
+
 from __future__ import annotations
 
 import math
@@ -127,10 +128,12 @@ class SimulationResult:
         """Two lines: speed, knock, verdict and amplitudes; frequency, Eq. 7 V_c and the trace length."""
         verdict = "GROWS (shimmy)" if self.grows else "decays"
         freq = f"{self.frequency:.4g}" if math.isfinite(self.frequency) else "n/a"
-        return (f"SimulationResult(V {self.speed:.3g} m/s, knock {math.degrees(self.angle):.3g}°: {verdict}; "
-                f"amplitude {self.early_amplitude:.3g} → {self.late_amplitude:.3g} rad, Eq. 29B "
-                f"{self.predicted_amplitude:.3g} rad)\n  ω {freq} rad/s (Eq. 15B {self.predicted_frequency:.4g}), "
-                f"Eq. 7 V_c {self.critical_speed:.4g} m/s, {len(self.t)} samples over {self._end():.3g} s")
+        return (
+            f"SimulationResult(V {self.speed:.3g} m/s, knock {math.degrees(self.angle):.3g}°: {verdict}; "
+            f"amplitude {self.early_amplitude:.3g} → {self.late_amplitude:.3g} rad, Eq. 29B "
+            f"{self.predicted_amplitude:.3g} rad)\n  ω {freq} rad/s (Eq. 15B {self.predicted_frequency:.4g}), "
+            f"Eq. 7 V_c {self.critical_speed:.4g} m/s, {len(self.t)} samples over {self._end():.3g} s"
+        )
 
     def _end(self) -> float:
         return float(self.t[-1]) if len(self.t) else 0.0
@@ -138,31 +141,51 @@ class SimulationResult:
     def _repr_html_(self) -> str:
         """A compact HTML table with units beside a small SVG of θ(t) [deg] (notebooks; no integration runs)."""
         deg = math.degrees
-        rows = [("speed V", f"{self.speed:.4g}", "m/s"),
-                ("knock θ_i (θ'_i)", f"{deg(self.angle):.3g}° ({self.angular_velocity:.3g} rad/s)", ""),
-                ("verdict", ("grows: shimmy" if self.grows else "decays") + (" (|θ| hit the limit)" if self.diverged else ""), ""),
-                ("amplitude after the transient", f"{self.early_amplitude:.4g} ({deg(self.early_amplitude):.3g}°)", "rad"),
-                ("amplitude at the end", f"{self.late_amplitude:.4g} ({deg(self.late_amplitude):.3g}°)", "rad"),
-                ("Eq. 4 / 29B amplitude θ_i V/(ωT)", f"{self.predicted_amplitude:.4g}", "rad"),
-                ("frequency (Eq. 15B)", (f"{self.frequency:.4g}" if math.isfinite(self.frequency) else "n/a")
-                 + f" ({self.predicted_frequency:.4g})", "rad/s"),
-                ("Eq. 7 V_c (c_f,eff = M_f/θ_i)", f"{self.critical_speed:.4g}", "m/s"),
-                ("friction moment M_f", f"{self.friction_moment:.4g}", "N·m"),
-                ("wheel inertia I_w", f"{self.inertia:.4g}", "kg·m²"),
-                ("trace", f"{len(self.t)} samples, {self._end():.3g}", "s")]
-        svg = svg_sparkline(self.t, np.degrees(self.theta), "time t [s]", "θ [deg]",
-                            band=deg(self.predicted_amplitude))
-        return html_table("Shimmy after a knock (Coulomb friction, App. B)", rows,
-                          caption="θ(t); dashed: ± the Eq. 29B amplitude", extra=svg)
+        rows = [
+            ("speed V", f"{self.speed:.4g}", "m/s"),
+            ("knock θ_i (θ'_i)", f"{deg(self.angle):.3g}° ({self.angular_velocity:.3g} rad/s)", ""),
+            (
+                "verdict",
+                ("grows: shimmy" if self.grows else "decays") + (" (|θ| hit the limit)" if self.diverged else ""),
+                "",
+            ),
+            ("amplitude after the transient", f"{self.early_amplitude:.4g} ({deg(self.early_amplitude):.3g}°)", "rad"),
+            ("amplitude at the end", f"{self.late_amplitude:.4g} ({deg(self.late_amplitude):.3g}°)", "rad"),
+            ("Eq. 4 / 29B amplitude θ_i V/(ωT)", f"{self.predicted_amplitude:.4g}", "rad"),
+            (
+                "frequency (Eq. 15B)",
+                (f"{self.frequency:.4g}" if math.isfinite(self.frequency) else "n/a")
+                + f" ({self.predicted_frequency:.4g})",
+                "rad/s",
+            ),
+            ("Eq. 7 V_c (c_f,eff = M_f/θ_i)", f"{self.critical_speed:.4g}", "m/s"),
+            ("friction moment M_f", f"{self.friction_moment:.4g}", "N·m"),
+            ("wheel inertia I_w", f"{self.inertia:.4g}", "kg·m²"),
+            ("trace", f"{len(self.t)} samples, {self._end():.3g}", "s"),
+        ]
+        svg = svg_sparkline(self.t, np.degrees(self.theta), "time t [s]", "θ [deg]", band=deg(self.predicted_amplitude))
+        return html_table(
+            "Shimmy after a knock (Coulomb friction, App. B)",
+            rows,
+            caption="θ(t); dashed: ± the Eq. 29B amplitude",
+            extra=svg,
+        )
 
     def to_pandas(self):
         """The trace as a pandas DataFrame (pandas: the ``notebook`` extra): columns ``t_s`` [s], ``theta_rad``
         [rad], ``theta_deg`` [deg] and ``lateral_m`` (spindle displacement X [m]); the scalars of
         :meth:`as_dict` in ``df.attrs``, units in ``df.attrs["units"]``."""
-        records = [{"t_s": float(t), "theta_rad": float(th), "theta_deg": math.degrees(th), "lateral_m": float(x)}
-                   for t, th, x in zip(self.t, self.theta, self.lateral)]
-        return dataframe("SimulationResult.to_pandas", records, ["t_s", "theta_rad", "theta_deg", "lateral_m"],
-                         {"t_s": "s", "theta_rad": "rad", "theta_deg": "deg", "lateral_m": "m"}, **self.as_dict())
+        records = [
+            {"t_s": float(t), "theta_rad": float(th), "theta_deg": math.degrees(th), "lateral_m": float(x)}
+            for t, th, x in zip(self.t, self.theta, self.lateral)
+        ]
+        return dataframe(
+            "SimulationResult.to_pandas",
+            records,
+            ["t_s", "theta_rad", "theta_deg", "lateral_m"],
+            {"t_s": "s", "theta_rad": "rad", "theta_deg": "deg", "lateral_m": "m"},
+            **self.as_dict(),
+        )
 
     def plot(self, ax=None, onset_speed: float | None = None):
         """θ(t) in degrees against time [s], with ± the Eq. 29B amplitude; returns the matplotlib Axes.
@@ -171,8 +194,16 @@ class SimulationResult:
         added to the title.  Drawn by :func:`designer.plots.simulation.plot_knock` (as ``designer simulate
         --plot``).
         """
-        return plot_knock(self.t, self.theta, self.speed, self.grows, self.critical_speed, self.predicted_amplitude,
-                          onset_speed=onset_speed, ax=ax)
+        return plot_knock(
+            self.t,
+            self.theta,
+            self.speed,
+            self.grows,
+            self.critical_speed,
+            self.predicted_amplitude,
+            onset_speed=onset_speed,
+            ax=ax,
+        )
 
     def as_dict(self, with_trace: bool = False) -> dict:
         """Scalars (and optionally the trace) as plain Python types."""
@@ -282,8 +313,8 @@ def simulate(  # noqa: C901 - input checks and the stick/slip event loop of one 
     K, N = float(dyn.stiffness), float(dyn.lateral_mass)
     Ks = float(conditions.slip_coefficient)
     M_f = c_f * theta_design
-    J = inertia + N * T**2                       # a3 of Eq. 12B
-    visc = N * T * V + Ks * B**2 / (2 * V)       # a2 of Eq. 12B without C_D
+    J = inertia + N * T**2  # a3 of Eq. 12B
+    visc = N * T * V + Ks * B**2 / (2 * V)  # a2 of Eq. 12B without C_D
     omega = float(shimmy_frequency(T, inertia, dyn))
     period = 2 * math.pi / omega
     transient = max(3 * T / V, period)
@@ -297,10 +328,12 @@ def simulate(  # noqa: C901 - input checks and the stick/slip event loop of one 
         def f(_t, y):
             x, th, w = y
             return [-T * w - V * th, w, (T * K * x - visc * w - s * M_f) / J]
+
         return f
 
     def limit_event(_t, y):
         return abs(y[1]) - angle_limit
+
     limit_event.terminal = True
 
     # Initial state, Eq. 24B: theta'' = 0 fixes X(0).
@@ -311,22 +344,22 @@ def simulate(  # noqa: C901 - input checks and the stick/slip event loop of one 
     t = 0.0
     ts, xs, ths = [t], [x0], [theta_i]
     crossings: list[float] = []
-    extrema: list[tuple[float, float]] = []   # (time, θ) where the motion reverses
-    direction = s                              # last direction of θ motion (0: none yet)
+    extrema: list[tuple[float, float]] = []  # (time, θ) where the motion reverses
+    direction = s  # last direction of θ motion (0: none yet)
     switches = 0
     diverged = False
     max_switches = 200_000
-    graze = False        # last slip segment had zero length (θ' = 0 with |τ| ≈ M_f)
+    graze = False  # last slip segment had zero length (θ' = 0 with |τ| ≈ M_f)
 
     while t < duration and switches < max_switches:
         if s == 0.0:
             # Stick: θ' = 0, θ constant, X' = −Vθ until |T K X| = M_f.
             th = y[1]
             tau = T * K * y[0]
-            if abs(tau) > M_f and not graze:   # cannot stick: slip toward tau
+            if abs(tau) > M_f and not graze:  # cannot stick: slip toward tau
                 s = float(np.sign(tau))
             elif th == 0.0:
-                t_end = duration        # aligned and held: rest for ever
+                t_end = duration  # aligned and held: rest for ever
                 ts.append(t_end), xs.append(y[0]), ths.append(th)
                 t = t_end
                 break
@@ -350,14 +383,23 @@ def simulate(  # noqa: C901 - input checks and the stick/slip event loop of one 
 
         def stop(_t, yy, s=s):
             return s * yy[2]
+
         stop.terminal = True
         stop.direction = -1
 
         def cross(_t, yy):
             return yy[1]
 
-        sol = solve_ivp(rhs(s), (t, duration), y, method="DOP853", rtol=rtol, atol=[1e-12, 1e-10, 1e-8],
-                        max_step=max_step, events=[stop, cross, limit_event])
+        sol = solve_ivp(
+            rhs(s),
+            (t, duration),
+            y,
+            method="DOP853",
+            rtol=rtol,
+            atol=[1e-12, 1e-10, 1e-8],
+            max_step=max_step,
+            events=[stop, cross, limit_event],
+        )
         if sol.status < 0:
             raise SolverError(f"shimmy simulation failed at t = {t:.4g} s: {sol.message}")
         ts.extend(sol.t[1:]), xs.extend(sol.y[0, 1:]), ths.extend(sol.y[1, 1:])
@@ -366,7 +408,7 @@ def simulate(  # noqa: C901 - input checks and the stick/slip event loop of one 
             diverged = True
             t = float(sol.t_events[2][0])
             break
-        if sol.status == 0 or not sol.t_events[0].size:   # reached the end
+        if sol.status == 0 or not sol.t_events[0].size:  # reached the end
             t = duration
             break
         t_start = t
@@ -386,7 +428,7 @@ def simulate(  # noqa: C901 - input checks and the stick/slip event loop of one 
             extrema.append((t, y[1]))
             direction = new
         else:
-            direction = s          # entering stick; extremum decided on exit
+            direction = s  # entering stick; extremum decided on exit
         s = new
 
     t_arr, th_arr, x_arr = np.asarray(ts), np.asarray(ths), np.asarray(xs)
@@ -417,19 +459,33 @@ def simulate(  # noqa: C901 - input checks and the stick/slip event loop of one 
     cr = cr[cr >= transient]
     if cr.size >= 3:
         half_periods = np.diff(cr)
-        frequency = float(math.pi / np.median(half_periods[len(half_periods) // 2:]))
+        frequency = float(math.pi / np.median(half_periods[len(half_periods) // 2 :]))
     else:
         frequency = math.nan
 
     c_eff = M_f / theta_i
     v7 = float(critical_shimmy_speed(T, inertia, B, c_eff, Ks))
     return SimulationResult(
-        t=t_arr, theta=th_arr, lateral=x_arr, speed=V, angle=theta_i, angular_velocity=float(angular_velocity),
-        friction_moment=M_f, inertia=inertia, early_amplitude=early, late_amplitude=late,
-        amplitude_ratio=late / theta_i, growth_ratio=float(growth), grows=grows, diverged=diverged,
-        frequency=frequency, predicted_frequency=omega,
+        t=t_arr,
+        theta=th_arr,
+        lateral=x_arr,
+        speed=V,
+        angle=theta_i,
+        angular_velocity=float(angular_velocity),
+        friction_moment=M_f,
+        inertia=inertia,
+        early_amplitude=early,
+        late_amplitude=late,
+        amplitude_ratio=late / theta_i,
+        growth_ratio=float(growth),
+        grows=grows,
+        diverged=diverged,
+        frequency=frequency,
+        predicted_frequency=omega,
         predicted_amplitude=float(steady_shimmy_amplitude(V, T, omega, theta_i)),
-        critical_speed=v7, switches=switches, extrema=ext,
+        critical_speed=v7,
+        switches=switches,
+        extrema=ext,
     )
 
 
@@ -522,12 +578,11 @@ def onset_speed(
         nonlocal evaluations
         if v not in cache:
             evaluations += 1
-            cache[v] = simulate(design, conditions, v, angle=theta_i, angular_velocity=angular_velocity,
-                                cycles=cycles)
+            cache[v] = simulate(design, conditions, v, angle=theta_i, angular_velocity=angular_velocity, cycles=cycles)
         return cache[v]
 
     inertia = float(conditions.inertia(design.diameter))
-    c_eff = float(design.damping) * float(conditions.disturbance_angle) / theta_i     # M_f / θ_i
+    c_eff = float(design.damping) * float(conditions.disturbance_angle) / theta_i  # M_f / θ_i
     v7 = float(critical_shimmy_speed(design.trail, inertia, design.groove, c_eff, conditions.slip_coefficient))
     if bracket is None:
         low, high = 0.8 * v7, 1.25 * v7
@@ -560,8 +615,15 @@ def onset_speed(
     at = run(high)
     omega = at.predicted_frequency
     return OnsetResult(
-        speed=speed, low=low, high=high, critical_speed=v7, relative_error=(speed - v7) / v7, angle=theta_i,
-        evaluations=evaluations, amplitude_at_onset=at.early_amplitude,
+        speed=speed,
+        low=low,
+        high=high,
+        critical_speed=v7,
+        relative_error=(speed - v7) / v7,
+        angle=theta_i,
+        evaluations=evaluations,
+        amplitude_at_onset=at.early_amplitude,
         predicted_amplitude=float(steady_shimmy_amplitude(speed, design.trail, omega, theta_i)),
-        frequency_at_onset=at.frequency, predicted_frequency=omega,
+        frequency_at_onset=at.frequency,
+        predicted_frequency=omega,
     )

@@ -19,6 +19,7 @@ end of the constraint curve at every ε.
 
 Nothing here changes the NLP object it is given (the problem's values are the NLP's own).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -70,8 +71,14 @@ def box_sample(problem: Problem, n: int = 1024):
     if entry is None:
         x = sample_designs(problem, n, seed=0)
         values = evaluate_many(problem, x)
-        entry = (x, values["turning_effort"], values["threshold_force"], violation(problem, values),
-                 best_starts(problem, (1.0, 0.0), samples=x), best_starts(problem, (0.0, 1.0), samples=x))
+        entry = (
+            x,
+            values["turning_effort"],
+            values["threshold_force"],
+            violation(problem, values),
+            best_starts(problem, (1.0, 0.0), samples=x),
+            best_starts(problem, (0.0, 1.0), samples=x),
+        )
         for a in (*entry[:4], *entry[4], *entry[5]):
             a.setflags(write=False)
     _SAMPLE_CACHE[key] = entry
@@ -104,7 +111,7 @@ def lexicographic_ends(nlp: CasterNLP, problem: Problem, sample=None) -> Ends:
     weights = np.array([(1.0, 0.0)] * len(starts_f) + [(0.0, 1.0)] * len(starts_p))
     results = nlp.solve_many(starts_f + starts_p, weights)
     good_f = [r for r in results[: len(starts_f)] if r.success]
-    good_p = [r for r in results[len(starts_f):] if r.success]
+    good_p = [r for r in results[len(starts_f) :] if r.success]
     if not good_f or not good_p:
         return Ends(None, None, 16, tuple(sorted({r.status for r in results if not r.success})))
     obj_f = nlp.objectives_many([r.design for r in good_f])
@@ -129,9 +136,11 @@ class NLPSweep:
     """The NLP sweep: ε-optima from sample starts, family restarts and warm propagation (see the module text)."""
 
     name = "nlp"
-    method = ("ε-constraint on the CasADi/IPOPT NLP (min F_turn s.t. P <= ε), batched block-diagonal solves, "
-              "warm-started from the neighbouring optimum, arc-length re-spaced, family restarts on a coarse "
-              "subset and at family switches, propagated until no start improves")
+    method = (
+        "ε-constraint on the CasADi/IPOPT NLP (min F_turn s.t. P <= ε), batched block-diagonal solves, "
+        "warm-started from the neighbouring optimum, arc-length re-spaced, family restarts on a coarse "
+        "subset and at family switches, propagated until no start improves"
+    )
 
     def __init__(self, nlp: CasterNLP, problem: Problem):
         self.nlp, self.problem = nlp, problem
@@ -193,10 +202,19 @@ class NLPSweep:
             src.append(a)
             other.append(b if family(a) != family(b) else None)
         pairs = [(i, r) for i, r in enumerate(other) if r is not None]
-        extra = ([i for i, _ in pairs], np.array([r.design.as_array() for _, r in pairs]).reshape(-1, 4),
-                 np.array([r.lam_g for _, r in pairs]), np.array([r.lam_x for _, r in pairs]))
-        sweep.run(np.array([r.design.as_array() for r in src]), np.array([r.lam_g for r in src]),
-                  np.array([r.lam_x for r in src]), families=False, extra=extra)
+        extra = (
+            [i for i, _ in pairs],
+            np.array([r.design.as_array() for _, r in pairs]).reshape(-1, 4),
+            np.array([r.lam_g for _, r in pairs]),
+            np.array([r.lam_x for _, r in pairs]),
+        )
+        sweep.run(
+            np.array([r.design.as_array() for r in src]),
+            np.array([r.lam_g for r in src]),
+            np.array([r.lam_x for r in src]),
+            families=False,
+            extra=extra,
+        )
 
     def sweep_from_sample(self, eps: np.ndarray) -> tuple[list, int]:
         """Best results at ``eps`` (all interior) from the sample starts, with family restarts and rescue."""
@@ -214,9 +232,11 @@ class StructuredSweep(NLPSweep):
     """
 
     name = "structured"
-    method = ("ε-constraint: closed-form ε-optima (designer.solvers.structured) confirmed by one warm batched "
-              "solve of the CasADi/IPOPT NLP (min F_turn s.t. P <= ε), arc-length re-spaced; the NLP sweep "
-              "(sample starts, family restarts) where the closed form has no optimum or the NLP disagrees")
+    method = (
+        "ε-constraint: closed-form ε-optima (designer.solvers.structured) confirmed by one warm batched "
+        "solve of the CasADi/IPOPT NLP (min F_turn s.t. P <= ε), arc-length re-spaced; the NLP sweep "
+        "(sample starts, family restarts) where the closed form has no optimum or the NLP disagrees"
+    )
 
     def ends(self) -> Ends:
         """The ends from their closed form, confirmed by one warm batched NLP solve.
@@ -327,7 +347,9 @@ class _Sweep:
         return out
 
     def _propagate(self, sources, width) -> None:
-        pairs = [(i, j) for i in sorted(sources) for j in range(max(0, i - width), min(self.k, i + width + 1)) if j != i]
+        pairs = [
+            (i, j) for i in sorted(sources) for j in range(max(0, i - width), min(self.k, i + width + 1)) if j != i
+        ]
         while pairs:
             improved = self._propagate_pairs(pairs)
             pairs = [(i, j) for i in sorted(improved) for j in (i - 1, i + 1) if 0 <= j < self.k]
@@ -351,8 +373,9 @@ class _Sweep:
         if not len(idx):
             return set()
         warm = lam_g is not None and len(lam_g)
-        results = self.nlp.solve_many(starts, (1.0, 0.0), self.eps[idx],
-                                      lam_g0=lam_g if warm else None, lam_x0=lam_x if warm else None)
+        results = self.nlp.solve_many(
+            starts, (1.0, 0.0), self.eps[idx], lam_g0=lam_g if warm else None, lam_x0=lam_x if warm else None
+        )
         self.solves += len(idx)
         ok = np.array([r.success for r in results])
         f_all = np.full(len(results), np.inf)

@@ -21,6 +21,7 @@ in every case):
 
 Nothing here re-types an equation: :func:`designer.model.performance` does the physics.
 """
+
 from __future__ import annotations
 
 import warnings
@@ -131,15 +132,18 @@ def designs_at_diameters(problem: Problem, d) -> tuple[np.ndarray, np.ndarray]:
         return _values(problem, t_, d_, b_, c_)["design_speed"]
 
     c_at_b = _least(problem, speed, lo[3], hi[3], (tt, dd, bb, np.full(n * m, lo[3])), 3)
-    b_at_c = [_least(problem, speed, lo[2], hi[2], (t, d, np.full(n, lo[2]), np.full(n, c)), 2)
-              for c in (lo[3], hi[3])]
+    b_at_c = [_least(problem, speed, lo[2], hi[2], (t, d, np.full(n, lo[2]), np.full(n, c)), 2) for c in (lo[3], hi[3])]
     cand_b = np.concatenate([bb.reshape(n, m), np.column_stack([b_at_c[0], b_at_c[1]])], axis=1)
     cand_c = np.concatenate([c_at_b.reshape(n, m), np.column_stack([np.full(n, lo[3]), np.full(n, hi[3])])], axis=1)
     k = cand_b.shape[1]
     ok = np.isfinite(cand_b) & np.isfinite(cand_c)
     safe_b, safe_c = np.where(ok, cand_b, lo[2]), np.where(ok, cand_c, lo[3])
-    cost = np.asarray(_values(problem, np.repeat(t, k).reshape(n, k), np.repeat(d, k).reshape(n, k),
-                              safe_b, safe_c)["turning_effort"], float)
+    cost = np.asarray(
+        _values(problem, np.repeat(t, k).reshape(n, k), np.repeat(d, k).reshape(n, k), safe_b, safe_c)[
+            "turning_effort"
+        ],
+        float,
+    )
     cost = np.where(ok, cost, np.inf)
     best = np.argmin(cost, axis=1)
     rows = np.arange(n)
@@ -170,8 +174,9 @@ def groove_damper_tradeoff(problem: Problem, count: int = 25) -> list[TradeoffRo
         for mechanism in MECHANISMS:
             restricted = _restricted(sub, mechanism) if mechanism != "optimum mix" else sub
             designs, feasible = designs_at_diameters(restricted, ds)
-            effort = np.asarray(_values(sub, designs[:, 0], designs[:, 1], designs[:, 2], designs[:, 3])
-                                ["turning_effort"], float)
+            effort = np.asarray(
+                _values(sub, designs[:, 0], designs[:, 1], designs[:, 2], designs[:, 3])["turning_effort"], float
+            )
             found[mechanism] = (designs, feasible & np.isfinite(effort), effort)
         for i, (d, wheel) in enumerate(items):
             row = TradeoffRow(float(d), wheel)

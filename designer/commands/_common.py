@@ -1,4 +1,5 @@
 """Helpers shared by the sub-commands: option parsing with units, JSON output."""
+
 from __future__ import annotations
 
 import json
@@ -43,7 +44,6 @@ def check_output_folder(folder, option: str = "--out") -> None:
     temporary folder: permission bits alone do not tell, e.g. for root or a read-only mount).
     """
 
-
     folder = Path(folder)
     probe = folder
     while not probe.exists() and not probe.is_symlink() and probe != probe.parent:
@@ -57,5 +57,6 @@ def check_output_folder(folder, option: str = "--out") -> None:
             tempfile.TemporaryDirectory(prefix=".designer-probe-", dir=place or ".").cleanup()
         except OSError as exc:
             reason = os.strerror(exc.errno) if exc.errno else str(exc)
-            raise OutputError(f"{option} {folder}: cannot write in {place or '.'} ({reason}); choose a writable "
-                              f"{option} folder") from None
+            raise OutputError(
+                f"{option} {folder}: cannot write in {place or '.'} ({reason}); choose a writable {option} folder"
+            ) from None

@@ -1,4 +1,5 @@
 """``designer calibrate``: fit the model's constants to a user's test data (Fig. 7, Fig. 2C, Fig. 3C)."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -9,23 +10,30 @@ from designer.errors import InputError
 KINDS = {
     "turning": "moment per unit load k_surface [m] from drill-press data (Fig. 7); CSV columns load_N, moment_Nm",
     "damping": "spindle friction damping c_f = M_f/θ0 [N·m/rad] with Eq. 7 (Fig. 2C); CSV columns trail_m, "
-               "inertia_kgm2, critical_speed_mps [, groove_m]",
+    "inertia_kgm2, critical_speed_mps [, groove_m]",
     "slip": "tyre slip coefficient K_s [N] (Fig. 3C, Eq. 12C); CSV columns slip_ratio, force_N",
 }
 
 
 def register(sub) -> None:
-    p = sub.add_parser("calibrate", help="fit turning, damping or slip constants to test data (CSV)",
-                       description="Fit a model constant to your own measurements, print it with its 95 % "
-                                   "confidence interval, plot residuals (--plot), write a report folder (--report) and write a TOML snippet for a "
-                                   "problem file (--snippet). 'designer calibrate examples DIR' writes example CSVs.")
+    p = sub.add_parser(
+        "calibrate",
+        help="fit turning, damping or slip constants to test data (CSV)",
+        description="Fit a model constant to your own measurements, print it with its 95 % "
+        "confidence interval, plot residuals (--plot), write a report folder (--report) and write a TOML snippet for a "
+        "problem file (--snippet). 'designer calibrate examples DIR' writes example CSVs.",
+    )
     kinds = p.add_subparsers(dest="kind", metavar="KIND", parser_class=type(p))
     for kind, text in KINDS.items():
         k = kinds.add_parser(kind, help=text, description=text)
         k.add_argument("data", help="CSV file with a header row")
         k.add_argument("--plot", default=None, metavar="FILE.png", help="write data, fit and residuals")
-        k.add_argument("--report", default=None, metavar="DIR",
-                       help="write a report folder: index.html, report.md, calibration.json, figures/fit.png")
+        k.add_argument(
+            "--report",
+            default=None,
+            metavar="DIR",
+            help="write a report folder: index.html, report.md, calibration.json, figures/fit.png",
+        )
         k.add_argument("--snippet", default=None, metavar="FILE.toml", help="write a problem-file TOML snippet")
         k.add_argument("--json", action="store_true", help="machine-readable output")
         if kind == "damping":
@@ -47,6 +55,7 @@ def _missing_kind() -> int:
 def run(args) -> int:
     # late import: loads scipy (via designer.analysis.calibrate) only when this runs
     from designer.analysis.calibrate import calibrate_file
+
     # late import: loads matplotlib (via designer.report.calibration) only when this runs
     from designer.report.calibration import plot_fit, write_calibration_report
 
@@ -78,9 +87,11 @@ def run(args) -> int:
         print_json(out)
         return 0
     lo, hi = result.interval
-    print(f"{result.kind}: {result.name} = {result.value:.5g} {result.unit}  "
-          f"(95 % CI {lo:.5g} to {hi:.5g}, standard error {result.stderr:.3g}, n = {result.n}, "
-          f"rms residual {result.rms:.3g} {result.y_unit}; {result.equation})")
+    print(
+        f"{result.kind}: {result.name} = {result.value:.5g} {result.unit}  "
+        f"(95 % CI {lo:.5g} to {hi:.5g}, standard error {result.stderr:.3g}, n = {result.n}, "
+        f"rms residual {result.rms:.3g} {result.y_unit}; {result.equation})"
+    )
     for key, value in result.notes.items():
         print(f"  {key} = {value}")
     if args.plot:

@@ -1,4 +1,5 @@
 """``designer evaluate``: analyse one caster (docs/commands.md)."""
+
 from __future__ import annotations
 
 import math
@@ -15,10 +16,13 @@ import warnings
 
 
 def register(sub) -> None:
-    p = sub.add_parser("evaluate", help="analyse one caster design",
-                       description="Analyse one caster: critical shimmy speed (Eq. 7), threshold force (Eq. 4A), "
-                                   "turning effort, swept radius, shimmy frequency (Eq. 15B). Quantities take units: "
-                                   "--trail 2in, --diameter 203.2mm, --damping '1.3 N*m/rad'.")
+    p = sub.add_parser(
+        "evaluate",
+        help="analyse one caster design",
+        description="Analyse one caster: critical shimmy speed (Eq. 7), threshold force (Eq. 4A), "
+        "turning effort, swept radius, shimmy frequency (Eq. 15B). Quantities take units: "
+        "--trail 2in, --diameter 203.2mm, --damping '1.3 N*m/rad'.",
+    )
     p.add_argument("--trail", required=True, help="trail T (e.g. 2in)")
     p.add_argument("--diameter", required=True, help="wheel diameter d (e.g. 8in)")
     p.add_argument("--groove", required=True, help="groove width B (0 for a single tread)")
@@ -32,8 +36,12 @@ def register(sub) -> None:
     p.add_argument("--slip-coefficient", default="1250 N", help="tyre slip coefficient K_s (default 1250 N)")
     p.add_argument("--inertia", default=None, help="override I_w [kg·m²] (default: Table 1 power law of d)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.add_argument("--knock-safe", action="store_true", help="also simulate the knock-safe speed for knocks of "
-                   "θ0 and 2 θ0 (Coulomb friction, rolling tyre; about 1-2 s)")
+    p.add_argument(
+        "--knock-safe",
+        action="store_true",
+        help="also simulate the knock-safe speed for knocks of "
+        "θ0 and 2 θ0 (Coulomb friction, rolling tyre; about 1-2 s)",
+    )
     p.set_defaults(func=run)
 
 
@@ -53,8 +61,10 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
     check_design(design, "--", error=InputError, given={name: getattr(args, name) for name in values})
     c0 = DEFAULT_TURNING.bare_fork_damping
     if design.damping < c0:
-        raise InputError(f"--damping {design.damping:g} N·m/rad: below the bare ball-bearing fork's {c0:g} N·m/rad "
-                         f"(Eq. 11C), the least spindle damping a caster has; the added damper moment would be negative")
+        raise InputError(
+            f"--damping {design.damping:g} N·m/rad: below the bare ball-bearing fork's {c0:g} N·m/rad "
+            f"(Eq. 11C), the least spindle damping a caster has; the added damper moment would be negative"
+        )
     load = quantity_option(args.load, "force", "--load")
     height = quantity_option(args.threshold_height, "length", "--threshold-height")
     if load <= 0:
@@ -72,8 +82,10 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
     if args.inertia is not None:
         value = quantity_option(args.inertia, "inertia", "--inertia")
         if not INERTIA_RANGE[0] <= value <= INERTIA_RANGE[1]:
-            raise InputError(f"--inertia {args.inertia}: must be between {INERTIA_RANGE[0]:g} and "
-                             f"{INERTIA_RANGE[1]:g} kg·m² (Table 1: 0.00026 to 0.0046)")
+            raise InputError(
+                f"--inertia {args.inertia}: must be between {INERTIA_RANGE[0]:g} and "
+                f"{INERTIA_RANGE[1]:g} kg·m² (Table 1: 0.00026 to 0.0046)"
+            )
         inertia_model = Fixed(value)
     angle = quantity_option(args.disturbance_angle, "angle", "--disturbance-angle")
     if not 0 < angle < 1.5708:
@@ -83,10 +95,13 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
         raise InputError(f"--slip-coefficient {args.slip_coefficient}: must be positive")
     _in_range("--slip-coefficient", "shimmy.slip_coefficient", slip)
     conditions = Conditions(
-        load=load, threshold_height=height,
+        load=load,
+        threshold_height=height,
         surface=choice_option(args.surface, SURFACES, "--surface"),
         turning_mode=choice_option(args.turning_mode, MODES, "--turning-mode"),
-        disturbance_angle=angle, slip_coefficient=slip, inertia=inertia_model,
+        disturbance_angle=angle,
+        slip_coefficient=slip,
+        inertia=inertia_model,
     )
     speed = quantity_option(args.target_speed, "speed", "--target-speed")
     if speed is not None and speed <= 0:
@@ -131,14 +146,16 @@ def run(args) -> int:
 
         theta0 = conditions.disturbance_angle
         out["knock_safe_speed"] = knock_safe_speed(design, conditions)
-        out["knock_safe_speed_double"] = knock_safe_speed(design, conditions, angle=2 * theta0) \
-            if 2 * theta0 < 1.5708 else None
+        out["knock_safe_speed_double"] = (
+            knock_safe_speed(design, conditions, angle=2 * theta0) if 2 * theta0 < 1.5708 else None
+        )
     out["warnings"] = values["warnings"]
     if args.json:
         print_json(out)
         return 0
     # late import: loads rich only when this runs
     from rich.console import Console
+
     # late import: loads rich only when this runs
     from rich.table import Table
 
@@ -148,20 +165,41 @@ def run(args) -> int:
     table.add_column("paper")
     rows = [
         ("wheel inertia I_w", f"{values['inertia']:.4g} kg·m²", conditions.inertia.describe()),
-        ("critical shimmy speed V_c", f"{values['critical_speed']:.3f} m/s ({values['critical_speed'] * 2.23694:.2f} mph)", "Eq. 7"),
+        (
+            "critical shimmy speed V_c",
+            f"{values['critical_speed']:.3f} m/s ({values['critical_speed'] * 2.23694:.2f} mph)",
+            "Eq. 7",
+        ),
         ("threshold force ratio P/L", f"{values['threshold_force_ratio']:.4f}", "Eq. 4A"),
-        ("threshold force P", f"{values['threshold_force']:.2f} N ({values['threshold_force'] / 4.44822:.2f} lbf)", "Eq. 4A"),
+        (
+            "threshold force P",
+            f"{values['threshold_force']:.2f} N ({values['threshold_force'] / 4.44822:.2f} lbf)",
+            "Eq. 4A",
+        ),
         ("turning moment", f"{values['turning_moment']:.4f} N·m", "docs/model.md#turning-effort, Fig. 7"),
-        ("turning effort F_turn", f"{values['turning_effort']:.3f} N ({values['turning_effort'] / 4.44822:.3f} lbf)", "Eq. 9"),
-        ("swept radius T + d/2", f"{values['swept_radius'] * 1000:.1f} mm ({values['swept_radius'] / INCH:.3f} in)", ""),
+        (
+            "turning effort F_turn",
+            f"{values['turning_effort']:.3f} N ({values['turning_effort'] / 4.44822:.3f} lbf)",
+            "Eq. 9",
+        ),
+        (
+            "swept radius T + d/2",
+            f"{values['swept_radius'] * 1000:.1f} mm ({values['swept_radius'] / INCH:.3f} in)",
+            "",
+        ),
         ("shimmy frequency ω", f"{values['shimmy_frequency']:.1f} rad/s", "Eq. 15B"),
     ]
     if args.knock_safe:  # beside V_c
         double = out["knock_safe_speed_double"]
-        rows.insert(2, (f"knock-safe speed, {math.degrees(conditions.disturbance_angle):.0f}° / "
-                     f"{math.degrees(2 * conditions.disturbance_angle):.0f}° knock",
-                     f"{out['knock_safe_speed']:.3f} / " + ("n/a" if double is None else f"{double:.3f}") + " m/s",
-                     "simulated (App. B)"))
+        rows.insert(
+            2,
+            (
+                f"knock-safe speed, {math.degrees(conditions.disturbance_angle):.0f}° / "
+                f"{math.degrees(2 * conditions.disturbance_angle):.0f}° knock",
+                f"{out['knock_safe_speed']:.3f} / " + ("n/a" if double is None else f"{double:.3f}") + " m/s",
+                "simulated (App. B)",
+            ),
+        )
     if speed is not None:
         verdict = "stable" if values["critical_speed"] >= speed else "SHIMMIES"
         rows.append((f"at {speed:.2f} m/s", f"{verdict}, margin {values['critical_speed'] - speed:+.3f} m/s", "Eq. 7"))

@@ -8,6 +8,7 @@ Usage::
 
     python -m designer.commands.regenerate [PROBLEMS_DIR_OR_FILES ...] [--out results] [--points N]
 """
+
 from __future__ import annotations
 
 import sys
@@ -22,8 +23,10 @@ __all__ = ["main", "problem_files"]
 def main(argv: list[str] | None = None) -> int:
     """Entry point: ``designer pareto --all`` on each folder (or file) given, default ``problems``."""
 
-    parser = argparse.ArgumentParser(prog="python -m designer.commands.regenerate",
-                                     description="Regenerate results/<problem>/ for every shipped problem.")
+    parser = argparse.ArgumentParser(
+        prog="python -m designer.commands.regenerate",
+        description="Regenerate results/<problem>/ for every shipped problem.",
+    )
     parser.add_argument("where", nargs="*", default=["problems"], help="problem folders or files (default problems)")
     parser.add_argument("--out", default="results", help="parent folder of the reports (default results)")
     parser.add_argument("--points", default=None, help="front points (default: each problem's)")

@@ -1,4 +1,5 @@
 """``designer robust PROBLEM``: nominal and robust fronts side by side (issue 7, robust design)."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -10,10 +11,13 @@ from designer.commands._common import check_output_folder
 
 
 def register(sub) -> None:
-    p = sub.add_parser("robust", help="compare the nominal and the risk-bounded fronts: the price of safety",
-                       description="For any problem: the front with V_c >= target (Eq. 7 alone) and the front with "
-                                   "P(V_c < target) <= α (its risk bound, or the default one), the price of safety, "
-                                   "and a Monte Carlo check of every point. Writes results/robust/<name>/ by default.")
+    p = sub.add_parser(
+        "robust",
+        help="compare the nominal and the risk-bounded fronts: the price of safety",
+        description="For any problem: the front with V_c >= target (Eq. 7 alone) and the front with "
+        "P(V_c < target) <= α (its risk bound, or the default one), the price of safety, "
+        "and a Monte Carlo check of every point. Writes results/robust/<name>/ by default.",
+    )
     p.add_argument("problem", help="problem file, e.g. problems/indoor-manual-robust.toml")
     p.add_argument("--points", type=int, default=21, help="points per front (default 21)")
     p.add_argument("--out", default=None, help="output folder (default results/robust/<name>)")
@@ -37,10 +41,11 @@ def run(args) -> int:
     print(f"risk-bounded front: {len(data.robust)} points; nominal: {len(data.nominal)} points")
     if extra:
         lo, hi = (0.0 if abs(v) < 5e-4 else v for v in (min(extra), max(extra)))  # no "-0.000"
-        print(f"price of safety: {lo:+.3f} to {hi:+.3f} N turning effort at equal "
-              f"threshold force")
+        print(f"price of safety: {lo:+.3f} to {hi:+.3f} N turning effort at equal threshold force")
     if probs:
-        print(f"Monte Carlo P(shimmy) on the risk-bounded front: {min(probs):.2%}–{max(probs):.2%} "
-              f"(target {data.uncertainty.probability:.1%})")
+        print(
+            f"Monte Carlo P(shimmy) on the risk-bounded front: {min(probs):.2%}–{max(probs):.2%} "
+            f"(target {data.uncertainty.probability:.1%})"
+        )
     print(f"report: {(out / 'index.html').resolve()} (Markdown: {out / 'robust.md'})")
     return 0

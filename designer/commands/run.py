@@ -1,5 +1,6 @@
 """``designer run PROBLEM``: the caster to build (the recommendation, first), then the weighted optimum of the
 problem as posed with margins, sensitivities and solver agreement."""
+
 from __future__ import annotations
 
 import math
@@ -11,11 +12,14 @@ from designer.problem import check_weights, load_problem
 
 
 def register(sub) -> None:
-    p = sub.add_parser("run", help="the caster to build for a problem file, and its weighted optimum",
-                       description="Recommend one buildable caster within the risk bound (knee of the buildable "
-                                   "front, or the cap of [objective]) with two alternatives; then minimise "
-                                   "J = w_turn F_turn + w_threshold P subject to the same bound: multi-start IPOPT, "
-                                   "cross-checked by a geometric program (cvxpy) and SLSQP.")
+    p = sub.add_parser(
+        "run",
+        help="the caster to build for a problem file, and its weighted optimum",
+        description="Recommend one buildable caster within the risk bound (knee of the buildable "
+        "front, or the cap of [objective]) with two alternatives; then minimise "
+        "J = w_turn F_turn + w_threshold P subject to the same bound: multi-start IPOPT, "
+        "cross-checked by a geometric program (cvxpy) and SLSQP.",
+    )
     p.add_argument("problem", help="problem file (TOML), e.g. problems/indoor-manual.toml")
     p.add_argument("--weights", default=None, help="w_turn,w_threshold (default: the problem's [objective])")
     p.add_argument("--target-speed", default=None, help="override shimmy.target_speed, e.g. 3m/s")
@@ -68,11 +72,15 @@ def run(args) -> int:
     else:
         print(rec)
         print()
-        print(f"Weighted optimum of the problem as posed, continuous and "
-              f"{'risk-bounded' if problem.risk is not None else 'nominal'} ({weights_meaning(used)}):")
+        print(
+            f"Weighted optimum of the problem as posed, continuous and "
+            f"{'risk-bounded' if problem.risk is not None else 'nominal'} ({weights_meaning(used)}):"
+        )
         print(solution)
     if args.verbose:
         t = solution.timings
-        eprint(f"timing: NLP build {t['build'] * 1000:.1f} ms, multi-start solve {t['solve'] * 1000:.1f} ms "
-               f"({solution.starts} starts), cross-checks {t['cross_check'] * 1000:.1f} ms")
+        eprint(
+            f"timing: NLP build {t['build'] * 1000:.1f} ms, multi-start solve {t['solve'] * 1000:.1f} ms "
+            f"({solution.starts} starts), cross-checks {t['cross_check'] * 1000:.1f} ms"
+        )
     return 0

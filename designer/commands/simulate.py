@@ -1,4 +1,5 @@
 """``designer simulate``: time-domain shimmy after a knock, Coulomb spindle friction (Appendix B)."""
+
 from __future__ import annotations
 
 import math
@@ -17,11 +18,13 @@ from designer.plots.simulation import bifurcation_axes
 
 def register(sub) -> None:
     p = sub.add_parser(
-        "simulate", help="simulate caster shimmy in time (Coulomb spindle friction)",
+        "simulate",
+        help="simulate caster shimmy in time (Coulomb spindle friction)",
         description="Integrate the two-degree-of-freedom caster of Appendix B (Eq. 3B, 4B, 6B) with true Coulomb "
-                    "spindle friction M_f sgn(θ'), M_f = c_f θ0, from a knock θ_i (Eq. 24B), and compare with Eq. 7 "
-                    "(critical speed), Eq. 4/29B (amplitude) and Eq. 15B (frequency). "
-                    "--report DIR regenerates the comparison report (results/simulation).")
+        "spindle friction M_f sgn(θ'), M_f = c_f θ0, from a knock θ_i (Eq. 24B), and compare with Eq. 7 "
+        "(critical speed), Eq. 4/29B (amplitude) and Eq. 15B (frequency). "
+        "--report DIR regenerates the comparison report (results/simulation).",
+    )
     p.add_argument("--trail", help="trail T (e.g. 2.5in)")
     p.add_argument("--diameter", default="8 in", help="wheel diameter d (default 8 in; sets I_w unless --inertia)")
     p.add_argument("--groove", default="0 in", help="groove width B (default 0, single tread)")
@@ -29,16 +32,25 @@ def register(sub) -> None:
     p.add_argument("--speed", help="wheelchair speed V (e.g. 2.5m/s)")
     p.add_argument("--angle", default="20 deg", help="initial (knock) angle θ_i (default 20 deg)")
     p.add_argument("--angular-velocity", default="0", help="initial θ'_i in rad/s (default 0)")
-    p.add_argument("--disturbance-angle", default="20 deg",
-                   help="design θ0 that defines M_f = c_f θ0 (default 20 deg, App. C)")
-    p.add_argument("--load", default="178 N", help="caster load L (used by the brush tyre of --bifurcation and --knock-safe --tyre; default 178 N)")
+    p.add_argument(
+        "--disturbance-angle", default="20 deg", help="design θ0 that defines M_f = c_f θ0 (default 20 deg, App. C)"
+    )
+    p.add_argument(
+        "--load",
+        default="178 N",
+        help="caster load L (used by the brush tyre of --bifurcation and --knock-safe --tyre; default 178 N)",
+    )
     p.add_argument("--inertia", default=None, help="wheel I_w in kg*m**2 (default: Table 1 power law of d)")
     p.add_argument("--slip-coefficient", default="1250 N", help="tyre slip coefficient K_s (default 1250 N)")
     p.add_argument("--duration", default=None, help="simulated time in s (default: transient + 24 periods)")
     p.add_argument("--find-onset", action="store_true", help="also find the onset speed by bisection")
     p.add_argument("--plot", default=None, metavar="FILE.png", help="plot θ(t) (as Fig. 1C)")
-    p.add_argument("--report", default=None, metavar="DIR",
-                   help="regenerate the simulated-onset vs Eq. 7 report into DIR (e.g. results/simulation)")
+    p.add_argument(
+        "--report",
+        default=None,
+        metavar="DIR",
+        help="regenerate the simulated-onset vs Eq. 7 report into DIR (e.g. results/simulation)",
+    )
     p.add_argument("--json", action="store_true", help="machine-readable output")
     _register_limit_cycles(p)
     p.set_defaults(func=run)
@@ -47,13 +59,20 @@ def register(sub) -> None:
 def _register_limit_cycles(p) -> None:
     """Options of issue 16: the brush tyre, the bifurcation diagram and the knock-safe speed."""
     g = p.add_argument_group("beyond onset (brush tyre, periodic orbits, knock-safe speed)")
-    g.add_argument("--bifurcation", action="store_true",
-                   help="periodic orbits against speed (stable and unstable branches, brush tyre; the rolling "
-                        "tyre's branch beside it); --plot draws the diagram")
-    g.add_argument("--knock-safe", action="store_true",
-                   help="highest speed at which a knock of --angle decays (and of twice it)")
-    g.add_argument("--tyre", action="store_true", help="use the brush tyre for --knock-safe (default: the "
-                                                       "paper's rolling tyre, Eq. 6B)")
+    g.add_argument(
+        "--bifurcation",
+        action="store_true",
+        help="periodic orbits against speed (stable and unstable branches, brush tyre; the rolling "
+        "tyre's branch beside it); --plot draws the diagram",
+    )
+    g.add_argument(
+        "--knock-safe", action="store_true", help="highest speed at which a knock of --angle decays (and of twice it)"
+    )
+    g.add_argument(
+        "--tyre",
+        action="store_true",
+        help="use the brush tyre for --knock-safe (default: the paper's rolling tyre, Eq. 6B)",
+    )
     g.add_argument("--friction-coefficient", default="0.7", help="tyre-floor μ of the brush tyre (default 0.7)")
     g.add_argument("--cornering-stiffness", default="1250", help="brush tyre C in N/rad (default K_s = 1250)")
     g.add_argument("--wheel-mass", default="0.444 kg", help="wheel mass M_W for the brush tyre (default 0.444 kg)")
@@ -64,33 +83,38 @@ def _register_limit_cycles(p) -> None:
 def _tyre(args):
 
     values = {}
-    for option, text in (("--friction-coefficient", args.friction_coefficient),
-                         ("--cornering-stiffness", args.cornering_stiffness)):
+    for option, text in (
+        ("--friction-coefficient", args.friction_coefficient),
+        ("--cornering-stiffness", args.cornering_stiffness),
+    ):
         try:
             values[option] = float(text)
         except ValueError:
             raise InputError(f"{option} {text!r}: expected a number") from None
         if not math.isfinite(values[option]) or values[option] <= 0:
             raise InputError(f"{option} {text}: must be positive")
-    return TyreParameters(cornering_stiffness=values["--cornering-stiffness"],
-                          friction_coefficient=values["--friction-coefficient"],
-                          load=_positive("--load", args.load, "force"),
-                          wheel_mass=_positive("--wheel-mass", args.wheel_mass, "mass"))
+    return TyreParameters(
+        cornering_stiffness=values["--cornering-stiffness"],
+        friction_coefficient=values["--friction-coefficient"],
+        load=_positive("--load", args.load, "force"),
+        wheel_mass=_positive("--wheel-mass", args.wheel_mass, "mass"),
+    )
 
 
 def _run_limit_cycles(args) -> int:
     """--bifurcation / --knock-safe."""
 
     if args.speed is None:
-        args.speed = "1 m/s"          # not used by these analyses
+        args.speed = "1 m/s"  # not used by these analyses
     design, conditions, _speed, angle, _omega0, _duration = parse(args)
     tyre = _tyre(args)
     out: dict = {"design": design.as_dict(), "angle": angle}
     if args.knock_safe:
         used = tyre if args.tyre else None
         out["knock_safe_speed"] = knock_safe_speed(design, conditions, angle=angle, tyre=used)
-        out["knock_safe_speed_double"] = knock_safe_speed(design, conditions, angle=2 * angle, tyre=used) \
-            if 2 * angle < math.pi / 2 else None
+        out["knock_safe_speed_double"] = (
+            knock_safe_speed(design, conditions, angle=2 * angle, tyre=used) if 2 * angle < math.pi / 2 else None
+        )
         out["knock_safe_model"] = "brush tyre" if args.tyre else "rolling tyre (Eq. 6B)"
     if args.bifurcation:
         try:
@@ -101,10 +125,29 @@ def _run_limit_cycles(args) -> int:
             raise InputError(f"--points {points}: must be between 3 and 200")
         top = _positive("--max-speed", args.max_speed, "speed")
         bif = bifurcation_diagram(design, conditions, tyre, speed_range=(min(0.3, top / 4), top), points=points)
-        roll = bifurcation_diagram(design, conditions, None, speed_range=(min(0.3, top / 4), top),
-                                   points=max(3, points // 2), max_amplitude=1.5)
-        out.update({k: bif[k] for k in ("branches", "fold_speed", "eq7_critical_speed", "frequency", "orbits",
-                                        "stable_at_reference", "max_closure", "tyre")})
+        roll = bifurcation_diagram(
+            design,
+            conditions,
+            None,
+            speed_range=(min(0.3, top / 4), top),
+            points=max(3, points // 2),
+            max_amplitude=1.5,
+        )
+        out.update(
+            {
+                k: bif[k]
+                for k in (
+                    "branches",
+                    "fold_speed",
+                    "eq7_critical_speed",
+                    "frequency",
+                    "orbits",
+                    "stable_at_reference",
+                    "max_closure",
+                    "tyre",
+                )
+            }
+        )
         out["rolling_branches"] = roll["branches"]
         if args.plot:
             # late import: loads matplotlib (via designer.plots.figures) only when this runs
@@ -112,9 +155,15 @@ def _run_limit_cycles(args) -> int:
 
             if not str(args.plot).lower().endswith((".png", ".svg", ".pdf")):
                 raise InputError(f"--plot {args.plot}: expected a .png, .svg or .pdf file name")
-            ax = bifurcation_axes(bif["branches"], bif["eq7_critical_speed"],
-                                  angle / (bif["frequency"] * design.trail), roll["branches"], bif["fold_speed"],
-                                  speed_range=(min(0.3, top / 4), top), title=design.describe())
+            ax = bifurcation_axes(
+                bif["branches"],
+                bif["eq7_critical_speed"],
+                angle / (bif["frequency"] * design.trail),
+                roll["branches"],
+                bif["fold_speed"],
+                speed_range=(min(0.3, top / 4), top),
+                title=design.describe(),
+            )
             ax.figure.tight_layout()
             save_figure(ax.figure, args.plot)
             out["plot"] = args.plot
@@ -124,22 +173,31 @@ def _run_limit_cycles(args) -> int:
     print(f"Caster: {design.describe()}")
     if args.knock_safe:
         double = out["knock_safe_speed_double"]
-        print(f"knock-safe speed ({out['knock_safe_model']}): {out['knock_safe_speed']:.3f} m/s for a "
-              f"{math.degrees(angle):.0f}° knock" + (f", {double:.3f} m/s for {math.degrees(2 * angle):.0f}°"
-                                                    if double is not None else ""))
+        print(
+            f"knock-safe speed ({out['knock_safe_model']}): {out['knock_safe_speed']:.3f} m/s for a "
+            f"{math.degrees(angle):.0f}° knock"
+            + (f", {double:.3f} m/s for {math.degrees(2 * angle):.0f}°" if double is not None else "")
+        )
     if args.bifurcation:
-        print(f"Eq. 7 V_c = {out['eq7_critical_speed']:.3f} m/s; brush tyre (μ = {tyre.friction_coefficient:g}, "
-              f"C = {tyre.cornering_stiffness:g} N/rad, L = {tyre.load:g} N):")
+        print(
+            f"Eq. 7 V_c = {out['eq7_critical_speed']:.3f} m/s; brush tyre (μ = {tyre.friction_coefficient:g}, "
+            f"C = {tyre.cornering_stiffness:g} N/rad, L = {tyre.load:g} N):"
+        )
         for b in out["branches"]:
-            print(f"  {b['kind']:8s} branch: V {min(b['speed']):.2f}–{max(b['speed']):.2f} m/s, amplitude "
-                  f"{min(b['amplitude']):.3f}–{max(b['amplitude']):.3f} rad ({len(b['speed'])} orbits)")
+            print(
+                f"  {b['kind']:8s} branch: V {min(b['speed']):.2f}–{max(b['speed']):.2f} m/s, amplitude "
+                f"{min(b['amplitude']):.3f}–{max(b['amplitude']):.3f} rad ({len(b['speed'])} orbits)"
+            )
         fold = out["fold_speed"]
-        print("  fold (lowest speed of sustained shimmy): " + (f"{fold:.2f} m/s" if math.isfinite(fold)
-                                                                else "none found"))
+        print(
+            "  fold (lowest speed of sustained shimmy): " + (f"{fold:.2f} m/s" if math.isfinite(fold) else "none found")
+        )
         s = out["stable_at_reference"]
         if s is not None:
-            print(f"  stable amplitude at {out['eq7_critical_speed']:.2f} m/s: {s['amplitude']:.3f} rad "
-                  f"({math.degrees(s['amplitude']):.1f}°), max |Floquet multiplier| {s['max_abs_multiplier']:.3f}")
+            print(
+                f"  stable amplitude at {out['eq7_critical_speed']:.2f} m/s: {s['amplitude']:.3f} rad "
+                f"({math.degrees(s['amplitude']):.1f}°), max |Floquet multiplier| {s['max_abs_multiplier']:.3f}"
+            )
         print(f"  largest orbit closure error {out['max_closure']:.1e} rad")
         if args.plot:
             print(f"  plot: {args.plot}")
@@ -195,6 +253,7 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
 def run(args) -> int:
     # late import: loads scipy (via designer.analysis.simulate) only when this runs
     from designer.analysis.simulate import onset_speed, simulate
+
     # late import: the validation study (scipy, matplotlib) only for --report
     from designer.analysis.simulation_study import write_simulation_report
 
@@ -203,7 +262,9 @@ def run(args) -> int:
 
     if args.report is not None:
         result = write_simulation_report(
-            args.report, progress=None if args.json else lambda i, n: print(f"\rcase {i}/{n}", end="", file=sys.stderr, flush=True))
+            args.report,
+            progress=None if args.json else lambda i, n: print(f"\rcase {i}/{n}", end="", file=sys.stderr, flush=True),
+        )
         if not args.json:
             eprint("")
         # late import: loads matplotlib (via designer.report.limit_cycles) only when this runs
@@ -216,8 +277,10 @@ def run(args) -> int:
             print_json({"report": args.report, "summary": summary})
         else:
             a = summary["all"]
-            print(f"wrote {args.report}/report.md, onset.csv, onset.json, onset.png: {summary['cases']} cases, "
-                  f"simulated onset vs Eq. 7 from {100 * a['min_error']:+.1f} % to {100 * a['max_error']:+.1f} %")
+            print(
+                f"wrote {args.report}/report.md, onset.csv, onset.json, onset.png: {summary['cases']} cases, "
+                f"simulated onset vs Eq. 7 from {100 * a['min_error']:+.1f} % to {100 * a['max_error']:+.1f} %"
+            )
             print(f"wrote {args.report}/{', '.join(written)} (shimmy beyond onset)")
         return 0
 
@@ -242,15 +305,19 @@ def run(args) -> int:
     verdict = "GROWS (shimmy)" if result.grows else "decays"
     print(f"Caster: {design.describe()}, I_w = {result.inertia:.4g} kg·m², M_f = {result.friction_moment:.3f} N·m")
     print(f"knock θ_i = {math.degrees(angle):.1f}°, θ'_i = {omega0:g} rad/s, V = {speed:.3f} m/s: {verdict}")
-    print(f"  amplitude after transient {result.early_amplitude:.4f} rad (Eq. 4/29B: {result.predicted_amplitude:.4f}),"
-          f" late {result.late_amplitude:.4f} rad; late/θ_i = {result.amplitude_ratio:.3f}, "
-          f"late/early = {result.growth_ratio:.3f}{' (|θ| reached 1 rad)' if result.diverged else ''}")
+    print(
+        f"  amplitude after transient {result.early_amplitude:.4f} rad (Eq. 4/29B: {result.predicted_amplitude:.4f}),"
+        f" late {result.late_amplitude:.4f} rad; late/θ_i = {result.amplitude_ratio:.3f}, "
+        f"late/early = {result.growth_ratio:.3f}{' (|θ| reached 1 rad)' if result.diverged else ''}"
+    )
     freq = "n/a (motion stopped)" if not math.isfinite(result.frequency) else f"{result.frequency:.1f} rad/s"
     print(f"  frequency {freq} (Eq. 15B: {result.predicted_frequency:.1f} rad/s)")
     print(f"  Eq. 7 critical speed (c_f,eff = M_f/θ_i): {result.critical_speed:.3f} m/s")
     if onset is not None:
-        print(f"  simulated onset {onset.speed:.3f} m/s (bracket {onset.low:.3f}–{onset.high:.3f}), "
-              f"{100 * onset.relative_error:+.1f} % vs Eq. 7")
+        print(
+            f"  simulated onset {onset.speed:.3f} m/s (bracket {onset.low:.3f}–{onset.high:.3f}), "
+            f"{100 * onset.relative_error:+.1f} % vs Eq. 7"
+        )
     if args.plot:
         print(f"  plot: {args.plot}")
     for w in out["warnings"]:

@@ -1,22 +1,26 @@
 """``designer studio [PROBLEM]``: the trade-off live in the browser (issue 14, :mod:`designer.studio`)."""
+
 from __future__ import annotations
 
 from designer.errors import InputError
 
 
 def register(sub) -> None:
-    p = sub.add_parser("studio", help="live design studio in the browser (needs the 'studio' extra)",
-                       description="Start a local web app: move the load, sill, target speed, risk, bounds and "
-                                   "stock and watch the fronts and the recommendation follow; click a point for "
-                                   "its card; check your own caster. Serves on 127.0.0.1; Ctrl-C stops it. "
-                                   "Exit 8 if the port is in use.")
-    p.add_argument("problem", nargs="?", default=None,
-                   help="problem file (TOML); default problems/indoor-manual.toml")
+    p = sub.add_parser(
+        "studio",
+        help="live design studio in the browser (needs the 'studio' extra)",
+        description="Start a local web app: move the load, sill, target speed, risk, bounds and "
+        "stock and watch the fronts and the recommendation follow; click a point for "
+        "its card; check your own caster. Serves on 127.0.0.1; Ctrl-C stops it. "
+        "Exit 8 if the port is in use.",
+    )
+    p.add_argument("problem", nargs="?", default=None, help="problem file (TOML); default problems/indoor-manual.toml")
     p.add_argument("--port", type=int, default=8050, help="port to listen on (default 8050; 0 = any free port)")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1: this machine only)")
     p.add_argument("--no-browser", action="store_true", help="do not open a browser, only print the URL")
-    p.add_argument("--out", default="studio-output",
-                   help="folder for 'Save problem' and 'Write report' (default studio-output)")
+    p.add_argument(
+        "--out", default="studio-output", help="folder for 'Save problem' and 'Write report' (default studio-output)"
+    )
     p.set_defaults(func=run)
 
 

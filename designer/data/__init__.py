@@ -4,6 +4,7 @@ Source: "Wheelchair Caster Shimmy and Turning Resistance" (the reference
 paper in ``shared/paper``).  Every constant here names where in the paper it
 comes from; nothing is fitted or tuned in this module.
 """
+
 from designer.data.paper import (
     APPENDIX_C_CASE,
     BARE_FORK_DAMPING,

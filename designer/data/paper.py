@@ -5,6 +5,7 @@ of 1e-3 kg·m² (docs/model.md#wheel-inertia): Eq. 8 uses I_w = 0.00127 kg·m² 
 and a thin disc, m r²/4, reproduces wheels A and B only with that factor.
 The values below are therefore the printed numbers times 1e-3.
 """
+
 from __future__ import annotations
 
 import math

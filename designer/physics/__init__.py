@@ -17,6 +17,7 @@ uncertainty scatter of Eq. 7's constants: V_c quantile and Monte Carlo probabili
 CasADi is not imported here (``import designer`` stays light): the solvers call
 :func:`enable_casadi` when they build symbols.
 """
+
 from designer.physics._checks import enable_casadi as enable_casadi  # re-exported for the solvers
 
 from designer.physics.geometry import swept_radius

@@ -1,4 +1,5 @@
 """Guards on numeric inputs that pass CasADi symbols through untouched."""
+
 from __future__ import annotations
 
 import numpy as np

@@ -1,4 +1,5 @@
 """Type aliases of the physics: its functions take floats, NumPy arrays and CasADi symbols alike."""
+
 from __future__ import annotations
 
 from typing import TYPE_CHECKING, TypeAlias, Union

@@ -6,6 +6,7 @@ radius R = d/2 [m], stem angle φ [rad] (tilt of the stem axis from vertical,
 positive when its top leans back, towards the rear wheels).  The derivation
 and the figure are in ``docs/retrofit.md``.
 """
+
 from __future__ import annotations
 
 import numpy as np

@@ -9,6 +9,7 @@ heart of the design trade-off (Appendix A, last paragraph).  Three models:
 ``Disc``      uniform disc of tyre width w and density ρ;
 ``Catalog``   one wheel of Table 1 with its own d, mass and I_w.
 """
+
 from __future__ import annotations
 
 import math

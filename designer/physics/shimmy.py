@@ -6,6 +6,7 @@ spindle friction damping c_f = M_f/θ0 [N·m/rad], hydraulic damping C_D
 [N·m·s/rad], frame lateral stiffness K [N/m], N = fork mass + bearing-block
 mass [kg], speed V [m/s].
 """
+
 from __future__ import annotations
 
 import math
@@ -24,8 +25,9 @@ Coefficients: TypeAlias = tuple[Scalar, Scalar, Scalar, Scalar]
 """(a3, a2, a1, a0) of the caster equation, Eq. 12B."""
 
 
-def critical_shimmy_speed(trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar,
-                          slip_coefficient: Scalar = SLIP_COEFFICIENT) -> Scalar:
+def critical_shimmy_speed(
+    trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar = SLIP_COEFFICIENT
+) -> Scalar:
     """Critical shimmy speed of a friction-damped caster, Eq. 7 (= Eq. 10C) [m/s].
 
     V_c = sqrt( 4 c_f T² / (π I_w) + K_s B² T / (2 I_w) )
@@ -45,8 +47,9 @@ def critical_shimmy_speed(trail: Scalar, inertia: Scalar, groove: Scalar, dampin
     return np.sqrt(friction + groove_term)
 
 
-def critical_speed_terms(trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar,
-                         slip_coefficient: Scalar = SLIP_COEFFICIENT) -> tuple[Scalar, Scalar]:
+def critical_speed_terms(
+    trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar = SLIP_COEFFICIENT
+) -> tuple[Scalar, Scalar]:
     """The two terms of V_c² in Eq. 7 [m²/s²]: (friction damping, co-rotating groove).
 
     4 c_f T² / (π I_w) and K_s B² T / (2 I_w); their shares tell how the
@@ -55,8 +58,9 @@ def critical_speed_terms(trail: Scalar, inertia: Scalar, groove: Scalar, damping
     return 4 * damping * trail**2 / (np.pi * inertia), slip_coefficient * groove**2 * trail / (2 * inertia)
 
 
-def critical_speed_log_sensitivities(trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar,
-                                     slip_coefficient: Scalar = SLIP_COEFFICIENT) -> dict[str, Scalar]:
+def critical_speed_log_sensitivities(
+    trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar = SLIP_COEFFICIENT
+) -> dict[str, Scalar]:
     """Elasticities d log V_c / d log p of Eq. 7 for the uncertain constants [-].
 
     With a = 4 c_f T²/(π I_w) and b = K_s B² T/(2 I_w), V_c² = a + b, so
@@ -67,8 +71,13 @@ def critical_speed_log_sensitivities(trail: Scalar, inertia: Scalar, groove: Sca
     return {"damping": a / (2 * (a + b)), "slip_coefficient": b / (2 * (a + b)), "inertia": -0.5 + 0 * a}
 
 
-def critical_speed_hydraulic(trail: Scalar, inertia: Scalar, groove: Scalar, hydraulic_damping: Scalar,
-                             slip_coefficient: Scalar = SLIP_COEFFICIENT) -> Scalar:
+def critical_speed_hydraulic(
+    trail: Scalar,
+    inertia: Scalar,
+    groove: Scalar,
+    hydraulic_damping: Scalar,
+    slip_coefficient: Scalar = SLIP_COEFFICIENT,
+) -> Scalar:
     """Critical shimmy speed with a hydraulic spindle damper, Eq. 5, positive root [m/s].
 
     V_c² − (C_D T / I_w) V_c − K_s B² T / (2 I_w) = 0, so

@@ -1,4 +1,5 @@
 """Force to push a caster wheel over a threshold (door sill), Appendix A."""
+
 from __future__ import annotations
 
 import numpy as np

@@ -10,6 +10,7 @@ F_turn = (M_turn + M_d) / T                      lateral force at the spindle [N
 The last line is the paper's relation "turning moment = F_c × trail" (Eq. 9
 and the text after it): doubling the trail halves the effort.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -63,15 +64,27 @@ class TurningConstants:
             raise InputError(f"turning_mode = {mode!r}: expected one of {', '.join(MODES)}") from None
 
     def __hash__(self) -> int:
-        return hash((self.tile_moment_per_load, self.carpet_factor, self.groove_coefficient,
-                     tuple(sorted(self.mode_factors.items())), self.bare_fork_damping))
+        return hash(
+            (
+                self.tile_moment_per_load,
+                self.carpet_factor,
+                self.groove_coefficient,
+                tuple(sorted(self.mode_factors.items())),
+                self.bare_fork_damping,
+            )
+        )
 
 
 DEFAULT_TURNING = TurningConstants()
 
 
-def sliding_turning_moment(load: Scalar, groove: Scalar, surface: str = "tile", mode: str = "chair",
-                           constants: TurningConstants = DEFAULT_TURNING) -> Scalar:
+def sliding_turning_moment(
+    load: Scalar,
+    groove: Scalar,
+    surface: str = "tile",
+    mode: str = "chair",
+    constants: TurningConstants = DEFAULT_TURNING,
+) -> Scalar:
     """Sliding turning moment of the tyre about the spindle [N·m] (docs/model.md#turning-effort; Fig. 7).
 
     M_turn = m_mode · k_surface · L · (1 + κ B).
@@ -87,8 +100,9 @@ def sliding_turning_moment(load: Scalar, groove: Scalar, surface: str = "tile", 
     return constants.mode_factor(mode) * k_surface * load * (1 + constants.groove_coefficient * groove)
 
 
-def added_damper_moment(damping: Scalar, disturbance_angle: Scalar = DISTURBANCE_ANGLE,
-                        constants: TurningConstants = DEFAULT_TURNING) -> Scalar:
+def added_damper_moment(
+    damping: Scalar, disturbance_angle: Scalar = DISTURBANCE_ANGLE, constants: TurningConstants = DEFAULT_TURNING
+) -> Scalar:
     """Spindle friction moment added by a damper, M_d = (c_f − c_0) θ0 [N·m].
 
     The paper: "increasing caster-spindle frictional damping also inhibits
@@ -99,9 +113,16 @@ def added_damper_moment(damping: Scalar, disturbance_angle: Scalar = DISTURBANCE
     return (damping - constants.bare_fork_damping) * disturbance_angle
 
 
-def turning_effort(trail: Scalar, groove: Scalar, damping: Scalar, load: Scalar, surface: str = "tile",
-                   mode: str = "chair", disturbance_angle: Scalar = DISTURBANCE_ANGLE,
-                   constants: TurningConstants = DEFAULT_TURNING) -> Scalar:
+def turning_effort(
+    trail: Scalar,
+    groove: Scalar,
+    damping: Scalar,
+    load: Scalar,
+    surface: str = "tile",
+    mode: str = "chair",
+    disturbance_angle: Scalar = DISTURBANCE_ANGLE,
+    constants: TurningConstants = DEFAULT_TURNING,
+) -> Scalar:
     """Lateral force at the spindle to turn the caster, F_turn [N] (Eq. 9; docs/model.md#turning-effort).
 
     F_turn = (M_turn + M_d) / T.  Worked case (tile, chair, L = 178 N, T = 2 in,

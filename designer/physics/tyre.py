@@ -42,6 +42,7 @@ No relaxation length: the force follows the slip at once.  A caster tyre's
 relaxation length (about half the contact length, ~1 cm) is short against
 the ~0.6 m the chair travels in one shimmy period at 1.5-2.5 m/s.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, replace

@@ -45,6 +45,7 @@ model error, lognormal c_f, K_s, I_w) on the exact Eq. 7 with its own seed.
 
 Only ``scipy.special`` is used: ``scipy.stats`` costs 0.7 s of import time.
 """
+
 from __future__ import annotations
 
 import functools
@@ -95,6 +96,7 @@ def stdtrit(dof: int, p: Numeric) -> Numeric:
     """Student-t quantile (scipy.special.stdtrit, loaded on first use)."""
     value: Numeric = _special().stdtrit(dof, p)
     return value
+
 
 TABLE1_RMS_ERROR = 0.103
 """RMS relative error of Eq. 7 against Table 1 wheels C–G (computed in check 2: 10.3 %)."""
@@ -153,8 +155,10 @@ class Uncertainty:
     def describe(self) -> str:
         """One line: α and the scatter (for reports and messages)."""
         dist = f"Student-t ν = {self.model_error_dof}" if self.model_error_dof else "normal"
-        return (f"P(shimmy) <= {self.probability:.3g}; σ of the log: model error {self.model_error:g} ({dist}), "
-                f"M_f/θ0 {self.damping:g}, K_s {self.slip_coefficient:g}, I_w {self.inertia:g}")
+        return (
+            f"P(shimmy) <= {self.probability:.3g}; σ of the log: model error {self.model_error:g} ({dist}), "
+            f"M_f/θ0 {self.damping:g}, K_s {self.slip_coefficient:g}, I_w {self.inertia:g}"
+        )
 
 
 # --------------------------------------------------------------------------- t + normal quantile
@@ -257,25 +261,31 @@ def log_speed_quantile(sigma_model: float, sigma_rest: Scalar, uncertainty: Unce
     return np.sqrt(total) * _clenshaw(coef, 2 * share - 1)
 
 
-def rest_log_std(trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar,
-                 uncertainty: Uncertainty) -> Scalar:
+def rest_log_std(
+    trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar, uncertainty: Uncertainty
+) -> Scalar:
     """σ_r: standard deviation of the first-order normal part of log V_c,true (c_f, K_s, I_w) [-]."""
     e = critical_speed_log_sensitivities(trail, inertia, groove, damping, slip_coefficient)
     u = uncertainty
-    variance = ((e["damping"] * u.damping) ** 2 + (e["slip_coefficient"] * u.slip_coefficient) ** 2
-                + (e["inertia"] * u.inertia) ** 2)
+    variance = (
+        (e["damping"] * u.damping) ** 2
+        + (e["slip_coefficient"] * u.slip_coefficient) ** 2
+        + (e["inertia"] * u.inertia) ** 2
+    )
     return np.sqrt(variance)
 
 
-def log_speed_std(trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar,
-                  uncertainty: Uncertainty) -> Scalar:
+def log_speed_std(
+    trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar, uncertainty: Uncertainty
+) -> Scalar:
     """Standard deviation of log V_c,true to first order [-] (the t part counted by its scale σ_m)."""
     rest = rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty)
     return np.sqrt(uncertainty.model_error**2 + rest**2)
 
 
-def shimmy_speed_quantile(trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar,
-                          uncertainty: Uncertainty) -> Scalar:
+def shimmy_speed_quantile(
+    trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar, uncertainty: Uncertainty
+) -> Scalar:
     """The speed reached with probability 1 − α: V_q = V_c(x) exp(−Q_{1−α}(σ_m, σ_r(x))) [m/s].
 
     Eq. 7 for V_c; the risk bound is ``V_q >= V_req`` and then P(V_c,true < V_req) <= α
@@ -287,8 +297,15 @@ def shimmy_speed_quantile(trail: Scalar, inertia: Scalar, groove: Scalar, dampin
     return v * np.exp(-log_speed_quantile(uncertainty.model_error, rest, uncertainty))
 
 
-def shimmy_probability_first_order(trail: float, inertia: float, groove: float, damping: float,
-                                   slip_coefficient: float, speed: float, uncertainty: Uncertainty) -> float:
+def shimmy_probability_first_order(
+    trail: float,
+    inertia: float,
+    groove: float,
+    damping: float,
+    slip_coefficient: float,
+    speed: float,
+    uncertainty: Uncertainty,
+) -> float:
     """P(log V_c + σ_m t_ν + σ_r Z < log speed): the probability the deterministic bound controls [-]."""
     u = uncertainty
     v = float(critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient))
@@ -309,14 +326,26 @@ def sample_log_factors(uncertainty: Uncertainty, n: int, rng: np.random.Generato
         model = u.model_error * rng.standard_t(u.model_error_dof, n)
     else:
         model = rng.normal(0.0, u.model_error, n)
-    return {"model": model, "damping": rng.normal(0.0, u.damping, n),
-            "slip": rng.normal(0.0, u.slip_coefficient, n), "inertia": rng.normal(0.0, u.inertia, n)}
+    return {
+        "model": model,
+        "damping": rng.normal(0.0, u.damping, n),
+        "slip": rng.normal(0.0, u.slip_coefficient, n),
+        "inertia": rng.normal(0.0, u.inertia, n),
+    }
 
 
-def shimmy_probability_mc(trail: float, inertia: float, groove: float, damping: float, slip_coefficient: float,
-                          speed: float, uncertainty: Uncertainty,
-                          samples: int | None = None, seed: int | None = None,
-                          target_se: float | None = MC_TARGET_SE) -> tuple[float, float]:
+def shimmy_probability_mc(
+    trail: float,
+    inertia: float,
+    groove: float,
+    damping: float,
+    slip_coefficient: float,
+    speed: float,
+    uncertainty: Uncertainty,
+    samples: int | None = None,
+    seed: int | None = None,
+    target_se: float | None = MC_TARGET_SE,
+) -> tuple[float, float]:
     """Monte Carlo P(V_c,true < speed) on the exact Eq. 7 with sampled constants: (p, standard error) [-].
 
     Samples the distribution the bound assumes (Student-t model error, lognormal c_f, K_s, I_w):
@@ -333,8 +362,13 @@ def shimmy_probability_mc(trail: float, inertia: float, groove: float, damping: 
     while True:
         chunk = min(want - drawn, 1_000_000)
         f = sample_log_factors(u, chunk, rng)
-        v = critical_shimmy_speed(trail, inertia * np.exp(f["inertia"]), groove, damping * np.exp(f["damping"]),
-                                  slip_coefficient * np.exp(f["slip"])) * np.exp(f["model"])
+        v = critical_shimmy_speed(
+            trail,
+            inertia * np.exp(f["inertia"]),
+            groove,
+            damping * np.exp(f["damping"]),
+            slip_coefficient * np.exp(f["slip"]),
+        ) * np.exp(f["model"])
         hits += int(np.count_nonzero(v < speed))
         drawn += chunk
         if drawn < want:

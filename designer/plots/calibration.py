@@ -1,4 +1,5 @@
 """A calibration fit: the data and the fitted curve above, the residuals below (arrays in, Axes out)."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -31,7 +32,7 @@ def draw_fit(ax, ax_residuals, x, y, fitted, x_label: str, y_label: str, title: 
         ax_residuals.axhline(0, color="k", lw=0.8)
         ax_residuals.plot(x, y - fitted, "o")
         ax_residuals.set_xlabel(x_label)
-        unit = y_label[y_label.rfind("["):] if "[" in y_label else ""
+        unit = y_label[y_label.rfind("[") :] if "[" in y_label else ""
         ax_residuals.set_ylabel(f"residual {unit}".strip())
         ax_residuals.grid(True, alpha=0.3)
     else:
@@ -46,9 +47,17 @@ def fit_figure(result):
     fig = Figure(figsize=(7, 6), layout="constrained")
     ax, ax2 = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [2, 1]})
     lo, hi = result.interval
-    draw_fit(ax, ax2, result.x, result.y, result.fitted, result.x_label, result.y_label,
-             title=f"{result.kind}: {result.name} = {result.value:.4g} {result.unit} "
-                   f"(95 % CI {lo:.4g}–{hi:.4g}), {result.equation}")
+    draw_fit(
+        ax,
+        ax2,
+        result.x,
+        result.y,
+        result.fitted,
+        result.x_label,
+        result.y_label,
+        title=f"{result.kind}: {result.name} = {result.value:.4g} {result.unit} "
+        f"(95 % CI {lo:.4g}–{hi:.4g}), {result.equation}",
+    )
     return fig
 
 

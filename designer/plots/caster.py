@@ -17,6 +17,7 @@ Geometry (all lengths [m], SI in, inches on the labels):
 - the tyre is drawn as two treads separated by the groove B (the tread separation of Eq. 7), each
   :data:`TREAD` wide (illustrative: the model does not use the tread width).
 """
+
 from __future__ import annotations
 
 import math
@@ -47,8 +48,9 @@ class CasterGeometry:
     tyre_width: float
 
 
-def caster_geometry(trail: float, diameter: float, groove: float, sill_height: float,
-                    swept_radius_max: float | None = None) -> CasterGeometry:
+def caster_geometry(
+    trail: float, diameter: float, groove: float, sill_height: float, swept_radius_max: float | None = None
+) -> CasterGeometry:
     """The drawing's geometry for trail T [m], diameter d [m], groove B [m], sill h [m] and R_max [m] or None."""
     for name, value in (("trail", trail), ("diameter", diameter), ("groove", groove), ("sill_height", sill_height)):
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
@@ -59,18 +61,35 @@ def caster_geometry(trail: float, diameter: float, groove: float, sill_height: f
     h = min(sill_height, r)
     sill_x = -trail + math.sqrt(max(r * r - (r - h) ** 2, 0.0))
     crown_y = diameter + 0.3 * INCH
-    return CasterGeometry(trail=trail, diameter=diameter, groove=groove, sill_height=sill_height,
-                          swept_radius=trail + r, swept_radius_max=swept_radius_max, axle=(-trail, r),
-                          sill_x=sill_x, crown_y=crown_y, stem_top=crown_y + STEM,
-                          tyre_width=groove + 2 * TREAD)
+    return CasterGeometry(
+        trail=trail,
+        diameter=diameter,
+        groove=groove,
+        sill_height=sill_height,
+        swept_radius=trail + r,
+        swept_radius_max=swept_radius_max,
+        axle=(-trail, r),
+        sill_x=sill_x,
+        crown_y=crown_y,
+        stem_top=crown_y + STEM,
+        tyre_width=groove + 2 * TREAD,
+    )
 
 
 def _inches(value: float) -> str:
     return f"{value / INCH:.3f} in"
 
 
-def draw_caster(ax_side, ax_top, trail: float, diameter: float, groove: float, sill_height: float,
-                swept_radius_max: float | None = None, title: str | None = None):
+def draw_caster(
+    ax_side,
+    ax_top,
+    trail: float,
+    diameter: float,
+    groove: float,
+    sill_height: float,
+    swept_radius_max: float | None = None,
+    title: str | None = None,
+):
     """Draw the caster to scale on two matplotlib Axes; returns ``(ax_side, ax_top)``.
 
     Parameters
@@ -96,8 +115,14 @@ def draw_caster(ax_side, ax_top, trail: float, diameter: float, groove: float, s
         s.annotate("", (ax * k, -0.18), (0, -0.18), arrowprops=dict(arrowstyle="<->", lw=1))
         s.text(ax * k / 2, -0.35, f"trail T = {_inches(g.trail)}", ha="center", va="top", fontsize=8)
         s.text(ax * k, 0.27 * g.diameter * k, f"d = {_inches(g.diameter)}", ha="center", va="top", fontsize=8)
-        s.text((g.sill_x + 0.7 * g.diameter) * k - 0.05, g.sill_height * k + 0.05,
-               f"sill h = {_inches(g.sill_height)}", fontsize=8, va="bottom", ha="right")
+        s.text(
+            (g.sill_x + 0.7 * g.diameter) * k - 0.05,
+            g.sill_height * k + 0.05,
+            f"sill h = {_inches(g.sill_height)}",
+            fontsize=8,
+            va="bottom",
+            ha="right",
+        )
         s.text(0.1, g.stem_top * k, "swivel axis", color="#c0392b", fontsize=8, va="top")
         s.set_aspect("equal")
         s.set_xlim((ax - g.diameter * 0.65) * k, (g.sill_x + 0.7 * g.diameter) * k)
@@ -111,15 +136,13 @@ def draw_caster(ax_side, ax_top, trail: float, diameter: float, groove: float, s
         if g.swept_radius_max is not None:
             t.add_patch(Circle((0, 0), g.swept_radius_max * k, fill=False, color="#c0392b", lw=1.2, ls="--"))
         for y0 in (-g.tyre_width / 2, g.groove / 2):
-            t.add_patch(Rectangle(((ax - g.diameter / 2) * k, y0 * k), g.diameter * k, TREAD * k,
-                                  color="#1f4e79"))
+            t.add_patch(Rectangle(((ax - g.diameter / 2) * k, y0 * k), g.diameter * k, TREAD * k, color="#1f4e79"))
         t.plot([0, ax * k], [0, 0], color="0.2", lw=2)
         t.plot([0], [0], "o", color="#c0392b")
         text = f"swept radius R_s = T + d/2 = {_inches(g.swept_radius)}"
         if g.swept_radius_max is not None:
             text += f"\nfootrest limit R_max = {_inches(g.swept_radius_max)} (dashed)"
-        t.text(0, -(max(g.swept_radius, g.swept_radius_max or 0) * k + 0.25), text, ha="center", va="top",
-               fontsize=8)
+        t.text(0, -(max(g.swept_radius, g.swept_radius_max or 0) * k + 0.25), text, ha="center", va="top", fontsize=8)
         lim = max(g.swept_radius, g.swept_radius_max or 0) * k * 1.1
         t.set_aspect("equal")
         t.set_xlim(-lim, lim)
@@ -128,8 +151,15 @@ def draw_caster(ax_side, ax_top, trail: float, diameter: float, groove: float, s
     return ax_side, ax_top
 
 
-def plot_caster(trail: float, diameter: float, groove: float, sill_height: float,
-                swept_radius_max: float | None = None, title: str | None = None, ax=None):
+def plot_caster(
+    trail: float,
+    diameter: float,
+    groove: float,
+    sill_height: float,
+    swept_radius_max: float | None = None,
+    title: str | None = None,
+    ax=None,
+):
     """The caster to scale, side and top views (:func:`draw_caster`); returns ``(ax_side, ax_top)``.
 
     ``ax``: None (a new figure with both views), one Axes (the side view only; ``ax_top`` is None) or a pair
@@ -145,8 +175,15 @@ def plot_caster(trail: float, diameter: float, groove: float, sill_height: float
 
 
 # long: the drawing, one SVG element after another
-def caster_svg(trail: float, diameter: float, groove: float, sill_height: float,
-               swept_radius_max: float | None = None, scale: float | None = None, label: str | None = None) -> str:
+def caster_svg(
+    trail: float,
+    diameter: float,
+    groove: float,
+    sill_height: float,
+    swept_radius_max: float | None = None,
+    scale: float | None = None,
+    label: str | None = None,
+) -> str:
     """The caster to scale as an SVG string: side view left, top view right.
 
     ``scale`` is pixels per inch, the same in both views so the drawing is to scale (default: the top view
@@ -186,51 +223,78 @@ def caster_svg(trail: float, diameter: float, groove: float, sill_height: float,
     def ty(y):
         return oy - y * s
 
-    out = [f'<svg xmlns="http://www.w3.org/2000/svg" class="caster-drawing" width="{width:.0f}" '
-           f'height="{height:.0f}" viewBox="0 0 {width:.1f} {height:.1f}" font-family="sans-serif" font-size="11">']
+    out = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" class="caster-drawing" width="{width:.0f}" '
+        f'height="{height:.0f}" viewBox="0 0 {width:.1f} {height:.1f}" font-family="sans-serif" font-size="11">'
+    ]
     out.append(f"<title>{escape(label or 'caster drawn to scale')}</title>")
     # side view
     out.append(f'<line x1="0" y1="{sy(0):.1f}" x2="{side_w:.1f}" y2="{sy(0):.1f}" stroke="#555" stroke-width="1"/>')
-    out.append(f'<rect x="{sx(g.sill_x):.1f}" y="{sy(g.sill_height):.1f}" width="{(x1 - g.sill_x) * s:.1f}" '
-               f'height="{g.sill_height * s:.1f}" fill="#bbb"/>')
-    out.append(f'<circle cx="{sx(ax):.1f}" cy="{sy(ay):.1f}" r="{g.diameter / 2 * s:.1f}" fill="none" '
-               f'stroke="#1f4e79" stroke-width="3"/>')
+    out.append(
+        f'<rect x="{sx(g.sill_x):.1f}" y="{sy(g.sill_height):.1f}" width="{(x1 - g.sill_x) * s:.1f}" '
+        f'height="{g.sill_height * s:.1f}" fill="#bbb"/>'
+    )
+    out.append(
+        f'<circle cx="{sx(ax):.1f}" cy="{sy(ay):.1f}" r="{g.diameter / 2 * s:.1f}" fill="none" '
+        f'stroke="#1f4e79" stroke-width="3"/>'
+    )
     out.append(f'<circle cx="{sx(ax):.1f}" cy="{sy(ay):.1f}" r="{0.08 * g.diameter * s:.1f}" fill="#1f4e79"/>')
-    out.append(f'<polyline points="{sx(0):.1f},{sy(g.stem_top):.1f} {sx(0):.1f},{sy(g.crown_y):.1f} '
-               f'{sx(ax):.1f},{sy(g.crown_y):.1f} {sx(ax):.1f},{sy(ay):.1f}" fill="none" stroke="#333" '
-               f'stroke-width="4"/>')
-    out.append(f'<line x1="{sx(0):.1f}" y1="{sy(y1 - pad / 2):.1f}" x2="{sx(0):.1f}" y2="{sy(-0.2 * INCH):.1f}" '
-               f'stroke="#c0392b" stroke-dasharray="6,3,2,3"/>')
+    out.append(
+        f'<polyline points="{sx(0):.1f},{sy(g.stem_top):.1f} {sx(0):.1f},{sy(g.crown_y):.1f} '
+        f'{sx(ax):.1f},{sy(g.crown_y):.1f} {sx(ax):.1f},{sy(ay):.1f}" fill="none" stroke="#333" '
+        f'stroke-width="4"/>'
+    )
+    out.append(
+        f'<line x1="{sx(0):.1f}" y1="{sy(y1 - pad / 2):.1f}" x2="{sx(0):.1f}" y2="{sy(-0.2 * INCH):.1f}" '
+        f'stroke="#c0392b" stroke-dasharray="6,3,2,3"/>'
+    )
     ya = sy(-0.25 * INCH)
-    out.append(f'<line x1="{sx(ax):.1f}" y1="{ya:.1f}" x2="{sx(0):.1f}" y2="{ya:.1f}" stroke="#000" '
-               f'marker-start="url(#caster-arrow)" marker-end="url(#caster-arrow)"/>')
-    out.append(f'<text x="{sx(ax / 2):.1f}" y="{max(ya + 14, sy(-0.7 * INCH)):.1f}" text-anchor="middle">'
-               f'trail T = {_inches(g.trail)}</text>')  # below the arrow at any scale
-    out.append(f'<text x="{sx(ax):.1f}" y="{sy(0.22 * g.diameter):.1f}" text-anchor="middle">'
-               f'd = {_inches(g.diameter)}</text>')
-    out.append(f'<text x="{side_w - 2:.1f}" y="{sy(g.sill_height) - 4:.1f}" text-anchor="end">sill h = '
-               f'{_inches(g.sill_height)}</text>')
+    out.append(
+        f'<line x1="{sx(ax):.1f}" y1="{ya:.1f}" x2="{sx(0):.1f}" y2="{ya:.1f}" stroke="#000" '
+        f'marker-start="url(#caster-arrow)" marker-end="url(#caster-arrow)"/>'
+    )
+    out.append(
+        f'<text x="{sx(ax / 2):.1f}" y="{max(ya + 14, sy(-0.7 * INCH)):.1f}" text-anchor="middle">'
+        f"trail T = {_inches(g.trail)}</text>"
+    )  # below the arrow at any scale
+    out.append(
+        f'<text x="{sx(ax):.1f}" y="{sy(0.22 * g.diameter):.1f}" text-anchor="middle">d = {_inches(g.diameter)}</text>'
+    )
+    out.append(
+        f'<text x="{side_w - 2:.1f}" y="{sy(g.sill_height) - 4:.1f}" text-anchor="end">sill h = '
+        f"{_inches(g.sill_height)}</text>"
+    )
     out.append(f'<text x="{sx(0) + 4:.1f}" y="{sy(g.stem_top) + 4:.1f}" fill="#c0392b">swivel axis</text>')
     out.append(f'<text x="0" y="{max(side_h, top_h) + 16:.1f}">side view, rolling to the right</text>')
     # top view
-    out.append(f'<circle cx="{ox:.1f}" cy="{oy:.1f}" r="{g.swept_radius * s:.1f}" fill="#eef4fb" '
-               f'stroke="#1f4e79" stroke-width="1.5"/>')
+    out.append(
+        f'<circle cx="{ox:.1f}" cy="{oy:.1f}" r="{g.swept_radius * s:.1f}" fill="#eef4fb" '
+        f'stroke="#1f4e79" stroke-width="1.5"/>'
+    )
     if g.swept_radius_max is not None:
-        out.append(f'<circle cx="{ox:.1f}" cy="{oy:.1f}" r="{g.swept_radius_max * s:.1f}" fill="none" '
-                   f'stroke="#c0392b" stroke-width="1.5" stroke-dasharray="6,4"/>')
+        out.append(
+            f'<circle cx="{ox:.1f}" cy="{oy:.1f}" r="{g.swept_radius_max * s:.1f}" fill="none" '
+            f'stroke="#c0392b" stroke-width="1.5" stroke-dasharray="6,4"/>'
+        )
     for yy in (g.tyre_width / 2, -g.groove / 2):
-        out.append(f'<rect x="{tx(ax - g.diameter / 2):.1f}" y="{ty(yy):.1f}" width="{g.diameter * s:.1f}" '
-                   f'height="{TREAD * s:.1f}" fill="#1f4e79"/>')
-    out.append(f'<line x1="{tx(0):.1f}" y1="{ty(0):.1f}" x2="{tx(ax):.1f}" y2="{ty(0):.1f}" stroke="#333" '
-               f'stroke-width="2"/>')
+        out.append(
+            f'<rect x="{tx(ax - g.diameter / 2):.1f}" y="{ty(yy):.1f}" width="{g.diameter * s:.1f}" '
+            f'height="{TREAD * s:.1f}" fill="#1f4e79"/>'
+        )
+    out.append(
+        f'<line x1="{tx(0):.1f}" y1="{ty(0):.1f}" x2="{tx(ax):.1f}" y2="{ty(0):.1f}" stroke="#333" stroke-width="2"/>'
+    )
     out.append(f'<circle cx="{tx(0):.1f}" cy="{ty(0):.1f}" r="3" fill="#c0392b"/>')
     lines = [f"top view: swept radius R_s = {_inches(g.swept_radius)}"]
     if g.swept_radius_max is not None:
         lines.append(f"footrest limit R_max = {_inches(g.swept_radius_max)} (dashed)")
     for i, line in enumerate(lines):
         out.append(f'<text x="{side_w + gap:.1f}" y="{max(side_h, top_h) + 16 + 14 * i:.1f}">{escape(line)}</text>')
-    out.insert(1, '<defs><marker id="caster-arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="6" markerHeight="6" '
-                  'orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10 z"/></marker></defs>')
+    out.insert(
+        1,
+        '<defs><marker id="caster-arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="6" markerHeight="6" '
+        'orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10 z"/></marker></defs>',
+    )
     out.append("</svg>")
     return "\n".join(out)
 

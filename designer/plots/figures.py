@@ -20,6 +20,7 @@ inertia        V_c vs I_w at 2 in trail with the measured points (Fig. 15)
 threshold      P/L vs diameter, exact Eq. 4A and approximate Eq. 5A (Fig. 2A)
 groove_damper  groove against damper: turning effort needed to reach V_req
 """
+
 from __future__ import annotations
 
 import io
@@ -80,7 +81,6 @@ def save_figure(fig, path, dpi: int = 110, option: str = "--plot") -> None:
     # late import: loads matplotlib only when this runs
     import matplotlib.pyplot as plt
 
-
     try:
         fig.savefig(path, dpi=dpi)
     except OSError as exc:
@@ -99,8 +99,9 @@ def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
 # --------------------------------------------------------------------------- front
 
 
-def figure_front(front: dict, title: str, tighter: dict | None = None, curves=(), marks=(), ends=(),
-                 note: str | None = None) -> Figure:
+def figure_front(
+    front: dict, title: str, tighter: dict | None = None, curves=(), marks=(), ends=(), note: str | None = None
+) -> Figure:
     """Pareto front: turning effort F_turn [N] against threshold force P [N] (the report's front figure).
 
     The front is drawn by :func:`designer.plots.fronts.plot_front` (points coloured by design family, as
@@ -124,26 +125,51 @@ def figure_front(front: dict, title: str, tighter: dict | None = None, curves=()
     ax.set_ylabel("turning effort F_turn [N]")
     ax.grid(True, alpha=0.3)
     if tighter is not None:
-        ax.plot(tighter["threshold_force"], tighter["turning_effort"], color="0.65", lw=1.5, ls="--", marker=".",
-                ms=4, label=tighter["label"])
+        ax.plot(
+            tighter["threshold_force"],
+            tighter["turning_effort"],
+            color="0.65",
+            lw=1.5,
+            ls="--",
+            marker=".",
+            ms=4,
+            label=tighter["label"],
+        )
     f = np.asarray(front["turning_effort"], float)
     p = np.asarray(front["threshold_force"], float)
     plot_front(f, p, front["family"], ax=ax, legend=False)
     if len(f):
         draw_fronts(ax, curves, marks, legend=False)
         # the ideal side (below-left) of the front is empty: label the ends there, with arrows
-        for end, where in zip(ends, (dict(xytext=(-25, -30), textcoords="offset points", ha="right"),
-                                     dict(xytext=(0.03, 0.05), textcoords="axes fraction", ha="left",
-                                          va="bottom"))):
-            ax.annotate(f"d = {end['diameter'] / INCH:.2f} in\nT = {end['trail'] / INCH:.2f} in\n"
-                        f"B = {end['groove'] / INCH:.2f} in",
-                        (end["threshold_force"], end["turning_effort"]), fontsize=8, color="0.25",
-                        arrowprops=dict(arrowstyle="-", color="0.5", lw=0.8), **{"va": "top", **where})
+        for end, where in zip(
+            ends,
+            (
+                dict(xytext=(-25, -30), textcoords="offset points", ha="right"),
+                dict(xytext=(0.03, 0.05), textcoords="axes fraction", ha="left", va="bottom"),
+            ),
+        ):
+            ax.annotate(
+                f"d = {end['diameter'] / INCH:.2f} in\nT = {end['trail'] / INCH:.2f} in\n"
+                f"B = {end['groove'] / INCH:.2f} in",
+                (end["threshold_force"], end["turning_effort"]),
+                fontsize=8,
+                color="0.25",
+                arrowprops=dict(arrowstyle="-", color="0.5", lw=0.8),
+                **{"va": "top", **where},
+            )
         if len(f) == 1:
             ax.set_xlim(p[0] * 0.9, p[0] * 1.1)
             ax.set_ylim(f[0] * 0.8, f[0] * 1.2)
-            ax.text(0.5, 0.08, "single-point front: " + (note or ""), transform=ax.transAxes,
-                    ha="center", fontsize=8.5, wrap=True, color="0.2")
+            ax.text(
+                0.5,
+                0.08,
+                "single-point front: " + (note or ""),
+                transform=ax.transAxes,
+                ha="center",
+                fontsize=8.5,
+                wrap=True,
+                color="0.2",
+            )
         else:
             t = np.asarray(tighter["turning_effort"], float) if tighter is not None else f
             lo, hi = min(f.min(), t.min()), max(f.max(), t.max())
@@ -192,12 +218,21 @@ def figure_trail(required_speed: float) -> Figure:
             ax.scatter([TABLE1_TRAIL * MM], [w.critical_speed], color=colour, edgecolor="black", s=40, zorder=4)
         else:
             x = TABLE1_TRAIL * MM + next(stable_offset)
-            ax.annotate("", (x, TABLE1_STABLE_UP_TO + 0.5), (x, TABLE1_STABLE_UP_TO),
-                        arrowprops=dict(arrowstyle="->", color=colour, lw=1.8))
+            ax.annotate(
+                "",
+                (x, TABLE1_STABLE_UP_TO + 0.5),
+                (x, TABLE1_STABLE_UP_TO),
+                arrowprops=dict(arrowstyle="->", color=colour, lw=1.8),
+            )
             ax.scatter([x], [TABLE1_STABLE_UP_TO], marker="_", s=60, color=colour, zorder=4)
     ax.scatter([], [], color="white", edgecolor="black", s=40, label="measured at 2 in (Table 1)")
-    ax.annotate("A, B: stable to 3.8 m/s\n(treadmill limit)", (TABLE1_TRAIL * MM, TABLE1_STABLE_UP_TO),
-                textcoords="offset points", xytext=(8, -22), fontsize=8)
+    ax.annotate(
+        "A, B: stable to 3.8 m/s\n(treadmill limit)",
+        (TABLE1_TRAIL * MM, TABLE1_STABLE_UP_TO),
+        textcoords="offset points",
+        xytext=(8, -22),
+        fontsize=8,
+    )
     ax.axhline(WALKING_SPEED, color="0.4", ls=":", lw=1)
     ax.text(trail[0] * MM + 1, WALKING_SPEED + 0.08, "walking speed 1 m/s", fontsize=8, color="0.3")
     req = required_speed
@@ -223,20 +258,50 @@ def figure_inertia() -> Figure:
     ax.plot(inertia * 1e3, v, color="#1f77b4", lw=1.6, label="Eq. 7, T = 2 in, B = 0, c_f = 1.3 N·m/rad")
     # the problem's wheel family for comparison (its groove and damping at the optimum are not applied)
     measured = [w for w in TABLE1 if w.critical_speed is not None]
-    ax.scatter([w.inertia * 1e3 for w in measured], [w.critical_speed for w in measured], color="#d62728",
-               edgecolor="black", s=45, zorder=4, label="measured critical speed (Table 1)")
+    ax.scatter(
+        [w.inertia * 1e3 for w in measured],
+        [w.critical_speed for w in measured],
+        color="#d62728",
+        edgecolor="black",
+        s=45,
+        zorder=4,
+        label="measured critical speed (Table 1)",
+    )
     for w in TABLE1:
         if w.critical_speed is None:
-            ax.annotate("", (w.inertia * 1e3, TABLE1_STABLE_UP_TO + 0.6), (w.inertia * 1e3, TABLE1_STABLE_UP_TO),
-                        arrowprops=dict(arrowstyle="->", color="#d62728", lw=1.5))
+            ax.annotate(
+                "",
+                (w.inertia * 1e3, TABLE1_STABLE_UP_TO + 0.6),
+                (w.inertia * 1e3, TABLE1_STABLE_UP_TO),
+                arrowprops=dict(arrowstyle="->", color="#d62728", lw=1.5),
+            )
             ax.scatter([w.inertia * 1e3], [TABLE1_STABLE_UP_TO], marker="_", s=120, color="#d62728")
-            ax.annotate(w.key, (w.inertia * 1e3, TABLE1_STABLE_UP_TO), textcoords="offset points", xytext=(6, 4),
-                        fontsize=9, weight="bold")
+            ax.annotate(
+                w.key,
+                (w.inertia * 1e3, TABLE1_STABLE_UP_TO),
+                textcoords="offset points",
+                xytext=(6, 4),
+                fontsize=9,
+                weight="bold",
+            )
         else:
-            ax.annotate(w.key, (w.inertia * 1e3, w.critical_speed), textcoords="offset points", xytext=(6, 4),
-                        fontsize=9, weight="bold")
-    ax.plot([], [], color="#d62728", marker="$\\uparrow$", ls="none", ms=10,
-            label="A, B: no shimmy up to 3.8 m/s (treadmill limit)")
+            ax.annotate(
+                w.key,
+                (w.inertia * 1e3, w.critical_speed),
+                textcoords="offset points",
+                xytext=(6, 4),
+                fontsize=9,
+                weight="bold",
+            )
+    ax.plot(
+        [],
+        [],
+        color="#d62728",
+        marker="$\\uparrow$",
+        ls="none",
+        ms=10,
+        label="A, B: no shimmy up to 3.8 m/s (treadmill limit)",
+    )
     ax.axhline(WALKING_SPEED, color="0.4", ls=":", lw=1)
     ax.text(2.2, WALKING_SPEED - 0.22, "walking speed 1 m/s", fontsize=8, color="0.3")
     ax.set_xlim(0, 3.8)
@@ -262,13 +327,26 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, front_dia
     d_hi = max(10 * INCH, diameter_bounds.high * 1.1)
     d_lo = max(2.6 * h, 1 * INCH)
     d = np.linspace(d_lo, d_hi, 400)
-    ax.plot(d * MM, threshold_force_ratio(d, h), color="#1f77b4", lw=1.8, label=f"exact, Eq. 4A (h = {h / INCH:.3g} in)")
-    ax.plot(d * MM, threshold_force_ratio_approx(d, h), color="#1f77b4", lw=1.2, ls="--",
-            label="approximate, Eq. 5A: 2 sqrt(h/d)")
+    ax.plot(
+        d * MM, threshold_force_ratio(d, h), color="#1f77b4", lw=1.8, label=f"exact, Eq. 4A (h = {h / INCH:.3g} in)"
+    )
+    ax.plot(
+        d * MM,
+        threshold_force_ratio_approx(d, h),
+        color="#1f77b4",
+        lw=1.2,
+        ls="--",
+        label="approximate, Eq. 5A: 2 sqrt(h/d)",
+    )
     if abs(h - 0.5 * INCH) > 1e-9:
         d2 = d[d > 2.6 * 0.5 * INCH]
-        ax.plot(d2 * MM, threshold_force_ratio(d2, 0.5 * INCH), color="0.5", lw=1.2,
-                label="exact, paper's h = 0.5 in (Fig. 2A)")
+        ax.plot(
+            d2 * MM,
+            threshold_force_ratio(d2, 0.5 * INCH),
+            color="0.5",
+            lw=1.2,
+            label="exact, paper's h = 0.5 in (Fig. 2A)",
+        )
     b = diameter_bounds
     if b.fixed:
         ax.axvline(b.low * MM, color="#ff7f0e", lw=1.2, label=f"fixed diameter {b.low / INCH:.3g} in")
@@ -293,8 +371,9 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, front_dia
 # --------------------------------------------------------------------------- groove vs damper
 
 
-def figure_groove_damper(name: str, required_speed: float, bounds: dict, tradeoff, design=None, conditions=None,
-                         catalog: bool = False) -> Figure:
+def figure_groove_damper(
+    name: str, required_speed: float, bounds: dict, tradeoff, design=None, conditions=None, catalog: bool = False
+) -> Figure:
     """Groove against damper for the problem's conditions.
 
     Left: the least turning effort F_turn [N] that reaches V_req at each
@@ -322,8 +401,15 @@ def figure_groove_damper(name: str, required_speed: float, bounds: dict, tradeof
         _tradeoff_lines(left, bounds, rows)
     fixed = [name for name in ("groove", "damping") if bounds[name].fixed]
     if fixed:
-        left.text(0.02, 0.97, f"{' and '.join(fixed)} fixed by the problem", transform=left.transAxes,
-                  fontsize=8, color="0.3", va="top")
+        left.text(
+            0.02,
+            0.97,
+            f"{' and '.join(fixed)} fixed by the problem",
+            transform=left.transAxes,
+            fontsize=8,
+            color="0.3",
+            va="top",
+        )
     left.grid(True, alpha=0.3)
     left.set_ylabel("least turning effort F_turn [N]")
     left.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0, 0.93))
@@ -344,13 +430,22 @@ def _tradeoff_lines(left, bounds, rows) -> None:
             left.scatter(xs[~ok], np.zeros((~ok).sum()), color=colour, marker="x", s=40, clip_on=False, zorder=4)
     if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
         left.scatter([], [], color="0.3", marker="x", label="cannot reach V_req (plotted at 0)")
-    bare = [r.diameter * MM for r in rows if r.designs.get("optimum mix") is not None
-            and _is_bare(bounds, r.designs["optimum mix"])]
+    bare = [
+        r.diameter * MM
+        for r in rows
+        if r.designs.get("optimum mix") is not None and _is_bare(bounds, r.designs["optimum mix"])
+    ]
     if bare and len(rows) > 1:
         step = (xs[-1] - xs[0]) / (len(xs) - 1) / 2
         left.axvspan(min(bare) - step, max(bare) + step, color="0.85", alpha=0.5, lw=0)
-        left.text(0.5 * (min(bare) + max(bare)), 0.5, "trail alone suffices:\nno groove, no damper",
-                  ha="center", fontsize=8, color="0.3")
+        left.text(
+            0.5 * (min(bare) + max(bare)),
+            0.5,
+            "trail alone suffices:\nno groove, no damper",
+            ha="center",
+            fontsize=8,
+            color="0.3",
+        )
     left.set_xlabel("wheel diameter d [mm]")
     _inch_x(left, "wheel diameter d [in]")
     left.set_ylim(bottom=0)
@@ -364,8 +459,9 @@ def _tradeoff_bars(left, catalog, rows) -> None:
     for k, (mechanism, (colour, _, _)) in enumerate(MECHANISM_STYLE.items()):
         y = [r.effort.get(mechanism) for r in rows]
         pos = x + (k - 1) * width
-        left.bar([p for p, v in zip(pos, y) if v is not None], [v for v in y if v is not None], width * 0.95,
-                 color=colour)
+        left.bar(
+            [p for p, v in zip(pos, y) if v is not None], [v for v in y if v is not None], width * 0.95, color=colour
+        )
         left.add_patch(Rectangle((0, 0), 0, 0, color=colour, label=mechanism))  # legend entry even without bars
         for p, v in zip(pos, y):
             if v is None:
@@ -374,8 +470,9 @@ def _tradeoff_bars(left, catalog, rows) -> None:
                 left.text(p, v + 0.01 * top, f"{v:.1f}", ha="center", va="bottom", fontsize=6.5, rotation=90)
     if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
         left.scatter([], [], color="0.3", marker="x", label="× cannot reach V_req")
-    labels = [(f"{r.wheel}\n" if r.wheel else "") + f"{r.diameter / INCH:.3g} in\n{r.diameter * MM:.0f} mm"
-              for r in rows]
+    labels = [
+        (f"{r.wheel}\n" if r.wheel else "") + f"{r.diameter / INCH:.3g} in\n{r.diameter * MM:.0f} mm" for r in rows
+    ]
     left.set_xticks(x, labels, fontsize=8)
     left.set_xlabel("Table 1 wheel, diameter d [in, mm]" if catalog else "wheel diameter d (fixed) [in, mm]")
     left.set_ylim(0, top * 1.35)
@@ -407,16 +504,38 @@ def _groove_damper_plane(ax, bounds, req, design, conditions) -> None:
     if v.min() < req < v.max():
         ax.contour(G * MM, C, v, levels=[req], colors="black", linewidths=2.2)
     elif v.min() >= req:
-        ax.text(0.5, 0.12, "V_c > V_req everywhere in this plane:\nstable without groove or damper",
-                transform=ax.transAxes, ha="center", fontsize=8.5, bbox=dict(facecolor="white", alpha=0.8, lw=0))
+        ax.text(
+            0.5,
+            0.12,
+            "V_c > V_req everywhere in this plane:\nstable without groove or damper",
+            transform=ax.transAxes,
+            ha="center",
+            fontsize=8.5,
+            bbox=dict(facecolor="white", alpha=0.8, lw=0),
+        )
     robust = getattr(conditions, "uncertainty", None) is not None
-    ax.plot([], [], color="black", lw=2.2, label=f"V_c = V_req = {req:.2f} m/s (stable above/right)"
-            + ("\nnominal Eq. 7; the robust optimum keeps a margin" if robust else ""))
+    ax.plot(
+        [],
+        [],
+        color="black",
+        lw=2.2,
+        label=f"V_c = V_req = {req:.2f} m/s (stable above/right)"
+        + ("\nnominal Eq. 7; the robust optimum keeps a margin" if robust else ""),
+    )
     ax.plot([], [], color="0.25", lw=0.8, label="iso-V_c lines [m/s]")
     ax.add_patch(_rect(gb.low * MM, cb.low, (gb.high - gb.low) * MM, cb.high - cb.low))
     ax.plot([], [], color="#bb5500", ls=":", label="bounds")
-    ax.scatter([design.groove * MM], [design.damping], marker="*", s=260, facecolor="gold", edgecolor="black",
-               zorder=5, clip_on=False, label="weighted optimum")
+    ax.scatter(
+        [design.groove * MM],
+        [design.damping],
+        marker="*",
+        s=260,
+        facecolor="gold",
+        edgecolor="black",
+        zorder=5,
+        clip_on=False,
+        label="weighted optimum",
+    )
     ax.set_xlim(0, g_hi * MM)
     ax.set_ylim(c_lo, c_hi)
     ax.set_xlabel("groove width B [mm]")
@@ -431,8 +550,7 @@ def _groove_damper_plane(ax, bounds, req, design, conditions) -> None:
 
 def _is_bare(bounds, design) -> bool:
     """No groove and no added damper beyond the lower bounds (``bounds``: the problem's, by variable name)."""
-    return (design.groove <= bounds["groove"].low + 1e-6 * INCH
-            and design.damping <= bounds["damping"].low * (1 + 1e-6))
+    return design.groove <= bounds["groove"].low + 1e-6 * INCH and design.damping <= bounds["damping"].low * (1 + 1e-6)
 
 
 def _rect(x, y, w, h):

@@ -4,6 +4,7 @@ distributions  what the chairs get: histograms of the recommended trail, diamete
                turning effort, sill force and P(shimmy)
 regret         the regret curve: least count-weighted regret for K = 1 … K_max part numbers
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -21,11 +22,15 @@ def figure_distributions(values: dict, alpha: float | None = None) -> Figure:
         "threshold_force" [N], "shimmy_probability" [-]}: arrays over the feasible chairs (NaN ignored)
     alpha : the risk bound's α, drawn on the P(shimmy) panel
     """
-    panels = [("trail", "trail T [in]", 1 / INCH, True), ("diameter", "wheel diameter d [in]", 1 / INCH, True),
-              ("groove", "groove B [in]", 1 / INCH, True), ("damping", "damping c_f [N·m/rad]", 1.0, True),
-              ("turning_effort", "turning effort F_turn [N]", 1.0, False),
-              ("threshold_force", "sill force P [N]", 1.0, False),
-              ("shimmy_probability", "P(shimmy at V_target) [%]", 100.0, False)]
+    panels = [
+        ("trail", "trail T [in]", 1 / INCH, True),
+        ("diameter", "wheel diameter d [in]", 1 / INCH, True),
+        ("groove", "groove B [in]", 1 / INCH, True),
+        ("damping", "damping c_f [N·m/rad]", 1.0, True),
+        ("turning_effort", "turning effort F_turn [N]", 1.0, False),
+        ("threshold_force", "sill force P [N]", 1.0, False),
+        ("shimmy_probability", "P(shimmy at V_target) [%]", 100.0, False),
+    ]
     panels = [p for p in panels if p[0] in values and np.isfinite(np.asarray(values[p[0]], float)).any()]
     cols = 4
     rows = (len(panels) + cols - 1) // cols

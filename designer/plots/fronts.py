@@ -4,6 +4,7 @@
 continuous risk-bounded front under the buildable one, so the price of stock can be read off; or the
 nominal front under the risk-bounded one, the price of safety) and marks single designs on them.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -30,8 +31,12 @@ FAMILY_STYLE = {
     "groove+damper": ("#9467bd", "D"),
 }
 """Colour and marker per design family (the mechanism that stops shimmy)."""
-COLOR_BY = {"trail": ("trail T [mm]", 0, 1000.0), "diameter": ("wheel diameter d [mm]", 1, 1000.0),
-            "groove": ("groove width B [mm]", 2, 1000.0), "damping": ("spindle damping c_f [N·m/rad]", 3, 1.0)}
+COLOR_BY = {
+    "trail": ("trail T [mm]", 0, 1000.0),
+    "diameter": ("wheel diameter d [mm]", 1, 1000.0),
+    "groove": ("groove width B [mm]", 2, 1000.0),
+    "damping": ("spindle damping c_f [N·m/rad]", 3, 1.0),
+}
 """``color_by`` choices of :func:`plot_front` besides "family", "critical_speed" and None: (label, design column,
 scale to the plotted unit)."""
 MM = 1000.0
@@ -57,8 +62,9 @@ def draw_fronts(ax, curves, marks=(), legend: bool = True):
         marker, ms = style.pop("marker"), style.pop("ms")
         ax.plot(p[order], f[order], marker=marker or "", ms=ms, label=c["label"], **style)
     for m in marks:
-        ax.scatter([m["threshold_force"]], [m["turning_effort"]], label=m["label"],
-                   **MARK_STYLE[m.get("kind", "alternative")])
+        ax.scatter(
+            [m["threshold_force"]], [m["turning_effort"]], label=m["label"], **MARK_STYLE[m.get("kind", "alternative")]
+        )
     ax.set_xlabel("threshold (door-sill) force P [N]")
     ax.set_ylabel("turning effort F_turn [N]")
     ax.grid(True, alpha=0.3)
@@ -78,8 +84,17 @@ def new_axes(ax=None, figsize=(7.5, 5.0)):
     return ax
 
 
-def plot_front(turning_effort, threshold_force, families=None, ax=None, color_by="family", designs=None,
-               critical_speed=None, label: str = "continuous front", legend: bool = True):
+def plot_front(
+    turning_effort,
+    threshold_force,
+    families=None,
+    ax=None,
+    color_by="family",
+    designs=None,
+    critical_speed=None,
+    label: str = "continuous front",
+    legend: bool = True,
+):
     """Draw one Pareto front: turning effort F_turn [N] against threshold force P [N]; returns the Axes.
 
     The points are joined in order by a thin grey line (x = P, y = F_turn) and drawn as markers coloured by
@@ -136,8 +151,10 @@ def _colour_values(color_by, designs, critical_speed, n):
             raise ValueError("color_by='critical_speed' needs critical_speed")
         return np.asarray(critical_speed, float).reshape(n), "critical shimmy speed V_c [m/s]"
     if color_by not in COLOR_BY:
-        raise ValueError(f"color_by = {color_by!r}: expected 'family', None, 'critical_speed' or one of "
-                         f"{', '.join(repr(k) for k in COLOR_BY)}")
+        raise ValueError(
+            f"color_by = {color_by!r}: expected 'family', None, 'critical_speed' or one of "
+            f"{', '.join(repr(k) for k in COLOR_BY)}"
+        )
     if designs is None:
         raise ValueError(f"color_by={color_by!r} needs designs")
     what, column, scale = COLOR_BY[color_by]
@@ -145,8 +162,12 @@ def _colour_values(color_by, designs, critical_speed, n):
 
 
 INCH = 0.0254
-VARIABLE_PANELS = (("trail T [mm]", "T [in]", 0, MM, True), ("wheel diameter d [mm]", "d [in]", 1, MM, True),
-                   ("groove width B [mm]", "B [in]", 2, MM, True), ("spindle damping c_f [N·m/rad]", None, 3, 1.0, False))
+VARIABLE_PANELS = (
+    ("trail T [mm]", "T [in]", 0, MM, True),
+    ("wheel diameter d [mm]", "d [in]", 1, MM, True),
+    ("groove width B [mm]", "B [in]", 2, MM, True),
+    ("spindle damping c_f [N·m/rad]", None, 3, 1.0, False),
+)
 """Panels of :func:`plot_variables`: (label, inch label, design column, scale, inch axis)."""
 
 
@@ -196,7 +217,7 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
             for i, _ in gaps:
                 ax.axvline(0.5 * (x[i - 1] + x[i]), color="0.5", ls="--", lw=0.8)
         low, high = (bounds[k].low, bounds[k].high) if hasattr(bounds[k], "low") else bounds[k]
-        for v in ([low] if low == high else [low, high]):
+        for v in [low] if low == high else [low, high]:
             ax.axhline(v * scale, color="#bb5500", lw=0.8, ls=":")
         ax.set_ylabel(label)
         ax.grid(True, alpha=0.3)
@@ -209,8 +230,11 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
         ax.set_xlabel("threshold force P [N]")
     if len(x) > 1:
         axes.flat[0].invert_xaxis()  # shared: read left to right as P falls
-    handles = [axes.flat[0].scatter([], [], color=c, marker="o", s=16, label=f) for f, (c, _) in FAMILY_STYLE.items()
-               if f in families]
+    handles = [
+        axes.flat[0].scatter([], [], color=c, marker="o", s=16, label=f)
+        for f, (c, _) in FAMILY_STYLE.items()
+        if f in families
+    ]
     handles.append(axes.flat[0].axhline(np.nan, color="#bb5500", lw=0.8, ls=":", label="bounds"))
     fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8)
     note = " (single point)" if len(x) == 1 else "; P decreasing to the right, dashed: family switch"
@@ -218,4 +242,13 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
     return axes
 
 
-__all__ = ["COLOR_BY", "CURVE_STYLE", "FAMILY_STYLE", "MARK_STYLE", "draw_fronts", "new_axes", "plot_front", "plot_variables"]
+__all__ = [
+    "COLOR_BY",
+    "CURVE_STYLE",
+    "FAMILY_STYLE",
+    "MARK_STYLE",
+    "draw_fronts",
+    "new_axes",
+    "plot_front",
+    "plot_variables",
+]

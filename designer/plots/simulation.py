@@ -2,6 +2,7 @@
 
 matplotlib is imported inside each function (heavy; ``import designer`` stays light).
 """
+
 from __future__ import annotations
 
 import math
@@ -19,8 +20,16 @@ def _axes(ax, figsize=(7, 4.5), **layout):
     return ax
 
 
-def plot_knock(t, theta, speed: float, grows: bool, critical_speed: float, predicted_amplitude: float,
-               onset_speed: float | None = None, ax=None):
+def plot_knock(
+    t,
+    theta,
+    speed: float,
+    grows: bool,
+    critical_speed: float,
+    predicted_amplitude: float,
+    onset_speed: float | None = None,
+    ax=None,
+):
     """θ(t) after a knock: the caster angle [deg] against time [s]; returns the Axes.
 
     Dashed red lines: ± the Eq. 29B amplitude θ_i V/(ωT); the title gives the speed V [m/s], whether the
@@ -52,8 +61,17 @@ def plot_knock(t, theta, speed: float, grows: bool, critical_speed: float, predi
     return ax
 
 
-def bifurcation_axes(branches, eq7_speed: float, eq29b_slope: float, rolling_branches=(), fold_speed=None,
-                     measured=None, speed_range=None, title: str | None = None, ax=None):
+def bifurcation_axes(
+    branches,
+    eq7_speed: float,
+    eq29b_slope: float,
+    rolling_branches=(),
+    fold_speed=None,
+    measured=None,
+    speed_range=None,
+    title: str | None = None,
+    ax=None,
+):
     """Bifurcation diagram: shimmy amplitude θ_a [rad] against speed V [m/s].
 
     Parameters
@@ -68,26 +86,52 @@ def bifurcation_axes(branches, eq7_speed: float, eq29b_slope: float, rolling_bra
     """
     ax = _axes(ax)
     for b in rolling_branches:
-        ax.plot(b["speed"], b["amplitude"], color="0.55", ls="--", lw=1.5,
-                label="rolling tyre (paper's model): unstable" if b is rolling_branches[0] else None)
+        ax.plot(
+            b["speed"],
+            b["amplitude"],
+            color="0.55",
+            ls="--",
+            lw=1.5,
+            label="rolling tyre (paper's model): unstable" if b is rolling_branches[0] else None,
+        )
     seen = set()
     for b in branches:
         stable = b["kind"] == "stable"
-        label = None if b["kind"] in seen else ("brush tyre: stable (sustained shimmy)" if stable
-                                                else "brush tyre: unstable (knock threshold)")
+        label = (
+            None
+            if b["kind"] in seen
+            else ("brush tyre: stable (sustained shimmy)" if stable else "brush tyre: unstable (knock threshold)")
+        )
         seen.add(b["kind"])
-        ax.plot(b["speed"], b["amplitude"], color="tab:red" if stable else "tab:blue", ls="-" if stable else "--",
-                lw=2.2 if stable else 1.8, marker="o" if stable else None, ms=3, label=label)
+        ax.plot(
+            b["speed"],
+            b["amplitude"],
+            color="tab:red" if stable else "tab:blue",
+            ls="-" if stable else "--",
+            lw=2.2 if stable else 1.8,
+            marker="o" if stable else None,
+            ms=3,
+            label=label,
+        )
     lo, hi = speed_range if speed_range is not None else ax.get_xlim()
     if fold_speed is not None and math.isfinite(fold_speed):
-        ax.axvspan(fold_speed, hi, color="tab:orange", alpha=0.08,
-                   label=f"hysteresis: rest and shimmy both stable (V > {fold_speed:.2f} m/s)")
+        ax.axvspan(
+            fold_speed,
+            hi,
+            color="tab:orange",
+            alpha=0.08,
+            label=f"hysteresis: rest and shimmy both stable (V > {fold_speed:.2f} m/s)",
+        )
     v = np.linspace(lo, hi, 50)
     ax.plot(v, eq29b_slope * v, ":", color="k", lw=1.2, label="Eq. 29B/6C amplitude θ0 V/(ωT)")
     ax.axvline(eq7_speed, color="tab:green", lw=1.2, label=f"Eq. 7 V_c = {eq7_speed:.2f} m/s")
     if measured is not None:
-        ax.plot(*measured, "k*", ms=13, label=f"measured (Fig. 1C): {math.degrees(measured[1]):.0f}° at "
-                                               f"{measured[0]:.2f} m/s")
+        ax.plot(
+            *measured,
+            "k*",
+            ms=13,
+            label=f"measured (Fig. 1C): {math.degrees(measured[1]):.0f}° at {measured[0]:.2f} m/s",
+        )
     ax.set_xlim(lo, hi)
     ax.set_yscale("log")
     ax.set_xlabel("wheelchair speed V [m/s]")
@@ -119,8 +163,12 @@ def table1_axes(wheels, measured, predictions: dict, stable_up_to: float | None 
     if stable_up_to is not None:
         for xi in x[np.isnan(meas)]:
             ax.bar(xi - 0.4 + width / 2, stable_up_to, width, color="none", edgecolor="k", hatch="//")
-            ax.annotate("", (xi - 0.4 + width / 2, stable_up_to + 0.5), (xi - 0.4 + width / 2, stable_up_to),
-                        arrowprops={"arrowstyle": "->"})
+            ax.annotate(
+                "",
+                (xi - 0.4 + width / 2, stable_up_to + 0.5),
+                (xi - 0.4 + width / 2, stable_up_to),
+                arrowprops={"arrowstyle": "->"},
+            )
         ax.axhline(stable_up_to, color="k", lw=0.6, ls=":")
         ax.bar([], [], color="none", edgecolor="k", hatch="//", label=f"stable up to {stable_up_to} m/s (A, B)")
     colours = ["tab:green", "tab:blue", "tab:red", "tab:purple"]
@@ -134,8 +182,18 @@ def table1_axes(wheels, measured, predictions: dict, stable_up_to: float | None 
     return ax
 
 
-def map_axes(k_factors, n_factors, values, title: str, unit: str, fmt: str = "{:.2f}", ax=None, cmap="viridis",
-             center: float | None = None, marks=None):
+def map_axes(
+    k_factors,
+    n_factors,
+    values,
+    title: str,
+    unit: str,
+    fmt: str = "{:.2f}",
+    ax=None,
+    cmap="viridis",
+    center: float | None = None,
+    marks=None,
+):
     """A (K, N) map: ``values[i, j]`` at K factor ``k_factors[i]`` and N factor ``n_factors[j]``, annotated.
 
     Colour: log scale; with ``center`` the ratio value/center on a diverging scale clipped to [1/2, 2].
@@ -213,8 +271,9 @@ def figure_onset_comparison(rows, traces, onset_c):
     for g, colour, label in ((False, "tab:blue", "B = 0"), (True, "tab:orange", "B = 9/16 in")):
         for a, m in markers.items():
             sel = (grooved == g) & np.isclose(ang, a)
-            ax.scatter(v7[sel], vs[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4,
-                       label=f"{label}, θ_i = {a:.0f}°")
+            ax.scatter(
+                v7[sel], vs[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4, label=f"{label}, θ_i = {a:.0f}°"
+            )
     ax.set_xscale("log"), ax.set_yscale("log")
     ax.set_xlim(lim), ax.set_ylim(lim)
     ax.set_xlabel("Eq. 7 critical speed V_c [m/s] (c_f,eff = M_f/θ_i)")
@@ -252,13 +311,21 @@ def figure_onset_comparison(rows, traces, onset_c):
     ax = axes[1, 1]
     for f, colour in ((0.9, "tab:green"), (1.0, "tab:gray"), (1.1, "tab:red")):
         r = traces[f]
-        ax.plot(r.t, np.degrees(r.theta), color=colour, lw=1,
-                label=f"V = {r.speed:.2f} m/s ({f:.1f} × onset): {'grows' if r.grows else 'decays'}")
+        ax.plot(
+            r.t,
+            np.degrees(r.theta),
+            color=colour,
+            lw=1,
+            label=f"V = {r.speed:.2f} m/s ({f:.1f} × onset): {'grows' if r.grows else 'decays'}",
+        )
     ax.axhline(0, color="k", lw=0.5)
     ax.set_xlabel("time [s]")
     ax.set_ylabel("caster angle θ [deg]")
-    ax.set_title(f"(d) Appendix C caster (T = 2.5 in, θ_i = 20°): onset {onset_c.speed:.2f} m/s, "
-                 f"Eq. 7 {onset_c.critical_speed:.2f} m/s", fontsize=9)
+    ax.set_title(
+        f"(d) Appendix C caster (T = 2.5 in, θ_i = 20°): onset {onset_c.speed:.2f} m/s, "
+        f"Eq. 7 {onset_c.critical_speed:.2f} m/s",
+        fontsize=9,
+    )
     ax.legend(fontsize=8, loc="lower right")
     fig.suptitle("Time-domain shimmy with Coulomb spindle friction vs the describing-function Eq. 7", fontsize=12)
     fig.tight_layout()

@@ -6,6 +6,7 @@ Regenerate the documentation figure with::
 
     python -m designer.plots.stem docs/retrofit-stem.png
 """
+
 from __future__ import annotations
 
 import math
@@ -17,8 +18,13 @@ from designer.data.paper import INCH, SLIP_COEFFICIENT
 from designer.physics.geometry import effective_trail, ground_trail
 from designer.physics.shimmy import critical_shimmy_speed
 
-EQ8_CASTER = {"offset": 1.5 * INCH, "diameter": 7.75 * INCH, "groove": 0.5625 * INCH, "damping": 1.3,
-              "inertia": 0.00127}
+EQ8_CASTER = {
+    "offset": 1.5 * INCH,
+    "diameter": 7.75 * INCH,
+    "groove": 0.5625 * INCH,
+    "damping": 1.3,
+    "inertia": 0.00127,
+}
 """The Eq. 8 wheel (I_w = 0.00127 kg·m², 9/16 in groove, c_f 1.3) on a 1.5 in fork: the docs' example."""
 
 
@@ -42,20 +48,39 @@ def draw_stem_geometry(ax, offset: float, radius: float, angle: float):
     ax.add_patch(Circle(axle * scale, radius * scale, fill=False, lw=2, color="0.2"))
     ax.plot(*(np.array([[0, 0], top]).T * scale), "--", color="tab:blue", lw=1.2, label="stem axis")
     foot = s * u
-    ax.plot(*(np.array([foot, axle]).T * scale), color="tab:orange", lw=3, label=f"fork offset e = {offset * scale:.2f} in")
+    ax.plot(
+        *(np.array([foot, axle]).T * scale), color="tab:orange", lw=3, label=f"fork offset e = {offset * scale:.2f} in"
+    )
     ax.plot(*axle * scale, "o", color="0.2", ms=4)
     ax.plot(*contact * scale, "o", color="tab:red", ms=5)
     t_g = float(ground_trail(offset, radius, angle))
     t_eff = float(effective_trail(offset, radius, angle))
-    ax.annotate("", xy=(0, -0.35), xytext=(contact[0] * scale, -0.35),
-                arrowprops={"arrowstyle": "<->", "color": "tab:green"})
-    ax.text(contact[0] * scale / 2, -0.75, f"floor trail t_g = {t_g * scale:.3f} in", ha="center", color="tab:green",
-            fontsize=8)
+    ax.annotate(
+        "", xy=(0, -0.35), xytext=(contact[0] * scale, -0.35), arrowprops={"arrowstyle": "<->", "color": "tab:green"}
+    )
+    ax.text(
+        contact[0] * scale / 2,
+        -0.75,
+        f"floor trail t_g = {t_g * scale:.3f} in",
+        ha="center",
+        color="tab:green",
+        fontsize=8,
+    )
     proj = float(np.dot(contact, u)) * u  # foot of the perpendicular from the contact to the axis
-    ax.plot(*(np.array([contact, proj]).T * scale), color="tab:purple", lw=2,
-            label=f"effective trail T_eff = e + R sin φ = {t_eff * scale:.3f} in")
-    ax.text(top[0] * scale - 0.2, top[1] * scale + 0.1, f"φ = {math.degrees(angle):.0f}°", color="tab:blue",
-            fontsize=9, ha="right")
+    ax.plot(
+        *(np.array([contact, proj]).T * scale),
+        color="tab:purple",
+        lw=2,
+        label=f"effective trail T_eff = e + R sin φ = {t_eff * scale:.3f} in",
+    )
+    ax.text(
+        top[0] * scale - 0.2,
+        top[1] * scale + 0.1,
+        f"φ = {math.degrees(angle):.0f}°",
+        color="tab:blue",
+        fontsize=9,
+        ha="right",
+    )
     ax.plot([0, 0], [0, top[1] * scale], ":", color="0.6", lw=1)
     ax.set_aspect("equal")
     ax.set_xlabel("x, forward [in]")
@@ -94,8 +119,15 @@ def stem_angle_figure(path, caster: dict = EQ8_CASTER, tilt_degrees: float = 5.0
     speeds = critical_shimmy_speed(t_eff, c["inertia"], c["groove"], c["damping"], SLIP_COEFFICIENT)
     marks = []
     for a in (-tilt_degrees, 0.0, tilt_degrees):
-        v = float(critical_shimmy_speed(effective_trail(c["offset"], radius, math.radians(a)), c["inertia"],
-                                        c["groove"], c["damping"], SLIP_COEFFICIENT))
+        v = float(
+            critical_shimmy_speed(
+                effective_trail(c["offset"], radius, math.radians(a)),
+                c["inertia"],
+                c["groove"],
+                c["damping"],
+                SLIP_COEFFICIENT,
+            )
+        )
         marks.append((a, v, f"{a:+.0f}°: {v:.3f} m/s"))
     fig = Figure(figsize=(11, 4.6))
     left, right = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.1, 1]})

@@ -13,15 +13,50 @@ loader  problem file / TOML text / dict -> :class:`Problem` (:func:`load_problem
 
 Every name is importable from ``designer.problem`` itself.
 """
+
 from __future__ import annotations
 
 from designer.model import MODEL_RANGE
-from designer.problem.core import (DEFAULT_BOUNDS, INERTIA_MODELS, INERTIA_RANGE, MAX_SAMPLES, NAME_PATTERN,
-                                   PHYSICAL_RANGE, POINTS_RANGE, SCHEMA, VARIABLE_DIMENSIONS, WEIGHT_RANGE, Bound,
-                                   Problem, Stock, StockWheel, check_range, check_weights)
+from designer.problem.core import (
+    DEFAULT_BOUNDS,
+    INERTIA_MODELS,
+    INERTIA_RANGE,
+    MAX_SAMPLES,
+    NAME_PATTERN,
+    PHYSICAL_RANGE,
+    POINTS_RANGE,
+    SCHEMA,
+    VARIABLE_DIMENSIONS,
+    WEIGHT_RANGE,
+    Bound,
+    Problem,
+    Stock,
+    StockWheel,
+    check_range,
+    check_weights,
+)
 from designer.problem.loader import load_problem, problem_files, problem_from_dict, problem_from_toml
 
-__all__ = ["DEFAULT_BOUNDS", "INERTIA_MODELS", "INERTIA_RANGE", "MAX_SAMPLES", "MODEL_RANGE", "NAME_PATTERN",
-           "PHYSICAL_RANGE", "POINTS_RANGE", "SCHEMA", "VARIABLE_DIMENSIONS", "WEIGHT_RANGE", "Bound", "Problem",
-           "Stock", "StockWheel", "check_range", "check_weights", "load_problem", "problem_files",
-           "problem_from_dict", "problem_from_toml"]
+__all__ = [
+    "DEFAULT_BOUNDS",
+    "INERTIA_MODELS",
+    "INERTIA_RANGE",
+    "MAX_SAMPLES",
+    "MODEL_RANGE",
+    "NAME_PATTERN",
+    "PHYSICAL_RANGE",
+    "POINTS_RANGE",
+    "SCHEMA",
+    "VARIABLE_DIMENSIONS",
+    "WEIGHT_RANGE",
+    "Bound",
+    "Problem",
+    "Stock",
+    "StockWheel",
+    "check_range",
+    "check_weights",
+    "load_problem",
+    "problem_files",
+    "problem_from_dict",
+    "problem_from_toml",
+]

@@ -3,6 +3,7 @@
 A :class:`Problem` is immutable and validated on construction; every error is one line naming the key,
 the value and the reason.  The problem-file loader (TOML -> Problem) is :mod:`designer.problem.loader`.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -57,12 +58,16 @@ def check_range(key: str, value: float, prefix: str = "") -> None:
     """
     low, high, unit, hint = PHYSICAL_RANGE[key]
     if not math.isfinite(value) or not low <= value <= high:
-        raise ProblemError(f"{prefix}{key} = {value:g} {unit}".rstrip() +
-                           f": outside the model's range {low:g} to {high:g} {unit}".rstrip() + f" ({hint})")
+        raise ProblemError(
+            f"{prefix}{key} = {value:g} {unit}".rstrip()
+            + f": outside the model's range {low:g} to {high:g} {unit}".rstrip()
+            + f" ({hint})"
+        )
 
 
-def check_weights(weights: Iterable[float], key: str = "objective",
-                  error: type[Exception] = ProblemError) -> tuple[float, float]:
+def check_weights(
+    weights: Iterable[float], key: str = "objective", error: type[Exception] = ProblemError
+) -> tuple[float, float]:
     """Validate objective weights (w_turn, w_threshold); returns them as floats.
 
     Raises ``error`` (default :class:`ProblemError`) unless there are two finite,
@@ -75,8 +80,10 @@ def check_weights(weights: Iterable[float], key: str = "objective",
     if len(w) != 2 or any((not math.isfinite(x)) or x < 0 for x in w) or sum(w) <= 0:
         raise error(f"{key} = {list(weights)}: weights must be finite, non-negative and not all zero")
     if not WEIGHT_RANGE[0] <= max(w) <= WEIGHT_RANGE[1]:
-        raise error(f"{key} = {list(w)}: the larger weight must be between {WEIGHT_RANGE[0]:g} and "
-                    f"{WEIGHT_RANGE[1]:g}; weights are relative, scale them to about 1")
+        raise error(
+            f"{key} = {list(w)}: the larger weight must be between {WEIGHT_RANGE[0]:g} and "
+            f"{WEIGHT_RANGE[1]:g}; weights are relative, scale them to about 1"
+        )
     return w
 
 
@@ -102,8 +109,12 @@ SCHEMA: dict[str, dict[str, str]] = {
     },
     "variables": {name: "bound" for name in VARIABLES},
     "constraints": {"swept_radius_max": "length"},
-    "objective": {"turning_effort": "float", "threshold_force": "float", "max_threshold_force": "force",
-                  "max_turning_effort": "force"},
+    "objective": {
+        "turning_effort": "float",
+        "threshold_force": "float",
+        "max_threshold_force": "force",
+        "max_turning_effort": "force",
+    },
     "pareto": {"points": "int"},
     "turning": {
         "tile_moment_per_load": "length",
@@ -115,8 +126,17 @@ SCHEMA: dict[str, dict[str, str]] = {
     },
     "dynamics": {"frame_stiffness": "stiffness", "fork_mass": "mass", "bearing_block_mass": "mass"},
     "choices": {"surface": "list", "turning_mode": "list", "wheel": "list"},
-    "robust": {"enabled": "bool", "probability": "float", "model_error": "float", "model_error_dof": "int",
-               "damping": "float", "slip_coefficient": "float", "inertia": "float", "samples": "int", "seed": "int"},
+    "robust": {
+        "enabled": "bool",
+        "probability": "float",
+        "model_error": "float",
+        "model_error_dof": "int",
+        "damping": "float",
+        "slip_coefficient": "float",
+        "inertia": "float",
+        "samples": "int",
+        "seed": "int",
+    },
     "stock": {"diameters": "list", "grooves": "list", "trail_step": "length", "dampings": "list", "wheels": "list"},
 }
 
@@ -175,6 +195,7 @@ class Stock:
 
     def describe(self) -> str:
         """One line in inches and N·m/rad: what is on offer (``continuous`` where nothing is listed)."""
+
         def inches(values: tuple[float, ...] | None) -> str:
             return "continuous" if values is None else ", ".join(f"{v / INCH:g}" for v in values) + " in"
 
@@ -185,21 +206,29 @@ class Stock:
             parts.append(f"diameters {inches(self.diameters)}")
         if self.wheels is None or all(w.groove is None for w in self.wheels):
             parts.append(f"grooves {inches(self.grooves)}")
-        parts.append("trails continuous" if self.trails is None else
-                     f"trails {self.trails[0] / INCH:g} to {self.trails[-1] / INCH:g} in every "
-                     f"{(self.trail_step or 0.0) / INCH:g} in ({len(self.trails)} holes)")
-        parts.append("dampings continuous" if self.dampings is None else
-                     "dampings " + ", ".join(f"{v:g}" for v in self.dampings) + " N·m/rad")
+        parts.append(
+            "trails continuous"
+            if self.trails is None
+            else f"trails {self.trails[0] / INCH:g} to {self.trails[-1] / INCH:g} in every "
+            f"{(self.trail_step or 0.0) / INCH:g} in ({len(self.trails)} holes)"
+        )
+        parts.append(
+            "dampings continuous"
+            if self.dampings is None
+            else "dampings " + ", ".join(f"{v:g}" for v in self.dampings) + " N·m/rad"
+        )
         return "; ".join(parts)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data in SI units."""
-        return {"diameters": None if self.diameters is None else list(self.diameters),
-                "grooves": None if self.grooves is None else list(self.grooves),
-                "trail_step": self.trail_step,
-                "trails": None if self.trails is None else list(self.trails),
-                "dampings": None if self.dampings is None else list(self.dampings),
-                "wheels": None if self.wheels is None else [dataclasses.asdict(w) for w in self.wheels]}
+        return {
+            "diameters": None if self.diameters is None else list(self.diameters),
+            "grooves": None if self.grooves is None else list(self.grooves),
+            "trail_step": self.trail_step,
+            "trails": None if self.trails is None else list(self.trails),
+            "dampings": None if self.dampings is None else list(self.dampings),
+            "wheels": None if self.wheels is None else [dataclasses.asdict(w) for w in self.wheels],
+        }
 
 
 @dataclass(frozen=True)
@@ -286,9 +315,7 @@ class Problem:
             bounds = dict(self.bounds)
             bounds["diameter"] = Bound(d, d)
             out.append(
-                dataclasses.replace(
-                    self, conditions=self.conditions.replace(inertia=model), bounds=bounds, wheels=()
-                )
+                dataclasses.replace(self, conditions=self.conditions.replace(inertia=model), bounds=bounds, wheels=())
             )
         return out
 
@@ -323,19 +350,23 @@ class Problem:
         """One line: name, required speed, load, sill, risk bound (the full record: :meth:`to_dict`)."""
         c, u = self.conditions, self.conditions.uncertainty
         risk = f"risk α = {u.probability:.3g}" if u is not None else "nominal V_c"
-        return (f"Problem({self.name!r}: V_target {self.target_speed:.3g} m/s, required {self.required_speed:.3g} m/s, "
-                f"load {c.load:.4g} N, sill {c.threshold_height * 1000:.3g} mm, {c.surface}, {risk}; "
-                f"{'stock' if self.stock is not None else 'continuous'})")
+        return (
+            f"Problem({self.name!r}: V_target {self.target_speed:.3g} m/s, required {self.required_speed:.3g} m/s, "
+            f"load {c.load:.4g} N, sill {c.threshold_height * 1000:.3g} mm, {c.surface}, {risk}; "
+            f"{'stock' if self.stock is not None else 'continuous'})"
+        )
 
     def _repr_html_(self) -> str:
         """The problem as a compact HTML table with units (notebooks); no solver runs."""
         c, u = self.conditions, self.conditions.uncertainty
-        rows = [("target speed V_target", f"{self.target_speed:.4g}", "m/s"),
-                ("required speed (1 + margin) V_target", f"{self.required_speed:.4g}", "m/s"),
-                ("load", f"{c.load:.4g}", "N"),
-                ("sill height", f"{c.threshold_height * 1000:.4g}", "mm"),
-                ("surface / turning", f"{c.surface} / {c.turning_mode}", ""),
-                ("risk bound α", f"{u.probability:.3g}" if u is not None else "off (nominal Eq. 7)", "")]
+        rows = [
+            ("target speed V_target", f"{self.target_speed:.4g}", "m/s"),
+            ("required speed (1 + margin) V_target", f"{self.required_speed:.4g}", "m/s"),
+            ("load", f"{c.load:.4g}", "N"),
+            ("sill height", f"{c.threshold_height * 1000:.4g}", "mm"),
+            ("surface / turning", f"{c.surface} / {c.turning_mode}", ""),
+            ("risk bound α", f"{u.probability:.3g}" if u is not None else "off (nominal Eq. 7)", ""),
+        ]
         for v in VARIABLES:
             b, unit = self.bounds[v], VARIABLE_UNITS.get(v, "")
             if unit == "m":
@@ -386,6 +417,7 @@ class Problem:
 
 def _validate(problem: Problem, prefix: str = "") -> None:
     """Every check of a problem, in a fixed order; the first failure is raised as one ProblemError line."""
+
     def fail(msg: str) -> NoReturn:
         raise ProblemError(prefix + msg)
 
@@ -408,7 +440,9 @@ def _validate(problem: Problem, prefix: str = "") -> None:
     if not problem.wheels:
         _validate_inertia(problem, fail)
     if not isinstance(problem.pareto_points, int) or not POINTS_RANGE[0] <= problem.pareto_points <= POINTS_RANGE[1]:
-        fail(f"pareto.points = {problem.pareto_points!r}: must be an integer from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}")
+        fail(
+            f"pareto.points = {problem.pareto_points!r}: must be an integer from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}"
+        )
 
 
 def _validate_conditions(problem: Problem, prefix: str, fail: Callable[[str], NoReturn]) -> None:
@@ -418,15 +452,18 @@ def _validate_conditions(problem: Problem, prefix: str, fail: Callable[[str], No
         fail(f"conditions.load = {c.load:g} N: must be positive")
     if c.threshold_height <= 0:
         fail(f"conditions.threshold_height = {c.threshold_height:g} m: must be positive")
-    for key, value in (("conditions.load", c.load), ("conditions.threshold_height", c.threshold_height),
-                       ("shimmy.target_speed", problem.target_speed),
-                       ("shimmy.slip_coefficient", c.slip_coefficient),
-                       ("turning.tile_moment_per_load", c.turning.tile_moment_per_load),
-                       ("turning.carpet_factor", c.turning.carpet_factor),
-                       ("turning.chair_factor", c.turning.mode_factors["chair"]),
-                       ("turning.pivot_factor", c.turning.mode_factors["pivot"]),
-                       ("turning.groove_coefficient", c.turning.groove_coefficient),
-                       ("turning.bare_fork_damping", c.turning.bare_fork_damping)):
+    for key, value in (
+        ("conditions.load", c.load),
+        ("conditions.threshold_height", c.threshold_height),
+        ("shimmy.target_speed", problem.target_speed),
+        ("shimmy.slip_coefficient", c.slip_coefficient),
+        ("turning.tile_moment_per_load", c.turning.tile_moment_per_load),
+        ("turning.carpet_factor", c.turning.carpet_factor),
+        ("turning.chair_factor", c.turning.mode_factors["chair"]),
+        ("turning.pivot_factor", c.turning.mode_factors["pivot"]),
+        ("turning.groove_coefficient", c.turning.groove_coefficient),
+        ("turning.bare_fork_damping", c.turning.bare_fork_damping),
+    ):
         if value > 0 or key == "turning.groove_coefficient":
             check_range(key, value, prefix)
     if not 0 < c.disturbance_angle < math.pi / 2:
@@ -457,8 +494,7 @@ def _validate_bound(problem: Problem, name: str, fail: Callable[[str], NoReturn]
                 f"(at most {hi:g}); were inches written as metres? write e.g. '2 in'"
             )
     if b.low > b.high:
-        shown = (f" ({b.low / INCH:.4g} in > {b.high / INCH:.4g} in)" if VARIABLE_DIMENSIONS[name] == "length"
-                 else "")
+        shown = f" ({b.low / INCH:.4g} in > {b.high / INCH:.4g} in)" if VARIABLE_DIMENSIONS[name] == "length" else ""
         fail(f"{key} = [{b.low:g}, {b.high:g}]: min is greater than max{shown}")
 
 
@@ -476,8 +512,10 @@ def _validate_sill_and_fork(problem: Problem, fail: Callable[[str], NoReturn]) -
         if wheel is None:
             fail(f"inertia.wheels: unknown Table 1 wheel {key!r}; valid wheels are {', '.join(w.key for w in TABLE1)}")
         if wheel.diameter <= 2 * h:
-            fail(f"inertia.wheels: wheel {key} (d = {wheel.diameter / INCH:.0f} in) cannot climb a "
-                 f"{h / INCH:.3g} in sill (d/h <= 2, Eq. 4A)")
+            fail(
+                f"inertia.wheels: wheel {key} (d = {wheel.diameter / INCH:.0f} in) cannot climb a "
+                f"{h / INCH:.3g} in sill (d/h <= 2, Eq. 4A)"
+            )
     c0 = c.turning.bare_fork_damping
     if problem.bounds["damping"].low < c0 - 1e-12:
         fail(
@@ -512,6 +550,8 @@ def _validate_inertia(problem: Problem, fail: Callable[[str], NoReturn]) -> None
         except (OverflowError, ZeroDivisionError, ValueError):
             inertia = math.nan
         if not (math.isfinite(inertia) and INERTIA_RANGE[0] <= inertia <= INERTIA_RANGE[1]):
-            fail(f"inertia: I_w = {inertia:g} kg·m² at variables.diameter.{label} = {d:g} m "
-                 f"({c.inertia.describe()}): outside {INERTIA_RANGE[0]:g} to {INERTIA_RANGE[1]:g} kg·m²; "
-                 f"check the inertia model's constants and the diameter bounds")
+            fail(
+                f"inertia: I_w = {inertia:g} kg·m² at variables.diameter.{label} = {d:g} m "
+                f"({c.inertia.describe()}): outside {INERTIA_RANGE[0]:g} to {INERTIA_RANGE[1]:g} kg·m²; "
+                f"check the inertia model's constants and the diameter bounds"
+            )

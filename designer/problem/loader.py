@@ -4,6 +4,7 @@ Schema: docs/problem-file.md (:data:`designer.problem.core.SCHEMA` lists the key
 the quantities come from :mod:`designer.parameters`).  Every error is one line naming the key, the value
 and the reason.  :mod:`designer.problem.core` holds the :class:`Problem` record and its validation.
 """
+
 from __future__ import annotations
 
 import difflib
@@ -23,8 +24,18 @@ from designer.physics.turning import MODES, SURFACES, TurningConstants
 from designer.units import InputError, outside_range, parse_quantity
 from designer.physics.uncertainty import Uncertainty
 
-from designer.problem.core import (DEFAULT_BOUNDS, INERTIA_MODELS, INERTIA_RANGE, MAX_SAMPLES, SCHEMA,
-                                   VARIABLE_DIMENSIONS, Bound, Problem, Stock, StockWheel)
+from designer.problem.core import (
+    DEFAULT_BOUNDS,
+    INERTIA_MODELS,
+    INERTIA_RANGE,
+    MAX_SAMPLES,
+    SCHEMA,
+    VARIABLE_DIMENSIONS,
+    Bound,
+    Problem,
+    Stock,
+    StockWheel,
+)
 
 _D = TypeVar("_D")
 """The default of an optional quantity: a float, or None for 'not given'."""
@@ -159,8 +170,11 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
 
     weights = (r.number("objective", "turning_effort", 1.0), r.number("objective", "threshold_force", 1.0))
     caps = _caps(r)
-    stock = _stock(r.section("stock"), bounds, inertia, wheels, conditions.threshold_height, r.fail) \
-        if "stock" in data else None
+    stock = (
+        _stock(r.section("stock"), bounds, inertia, wheels, conditions.threshold_height, r.fail)
+        if "stock" in data
+        else None
+    )
     points = r.section("pareto").get("points", 41)
     if isinstance(points, bool) or not isinstance(points, int):
         r.fail(f"pareto.points = {points!r}: expected an integer")
@@ -224,8 +238,11 @@ def _dynamics(r: _Reader) -> DynamicsParameters:
         fork_mass=r.quantity("dynamics", "fork_mass", "mass", ddef.fork_mass),
         bearing_block_mass=r.quantity("dynamics", "bearing_block_mass", "mass", ddef.bearing_block_mass),
     )
-    for key, stated in (("frame_stiffness", dynamics.frame_stiffness), ("fork_mass", dynamics.fork_mass),
-                        ("bearing_block_mass", dynamics.bearing_block_mass)):
+    for key, stated in (
+        ("frame_stiffness", dynamics.frame_stiffness),
+        ("fork_mass", dynamics.fork_mass),
+        ("bearing_block_mass", dynamics.bearing_block_mass),
+    ):
         if stated is not None and stated <= 0:
             r.fail(f"dynamics.{key} = {stated:g}: must be positive")
     return dynamics
@@ -281,7 +298,9 @@ def _catalog_within(r: _Reader, bounds: dict[str, Bound], wheels: tuple[str, ...
     if "diameter" in r.section("variables"):
         kept = tuple(k for k in wheels if d_lo - 1e-9 <= Catalog.from_key(k).fixed_diameter <= d_hi + 1e-9)
         if not kept:
-            r.fail(f"variables.diameter = [{d_lo / INCH:.3g}, {d_hi / INCH:.3g}] in: no catalog wheel in {list(wheels)} fits")
+            r.fail(
+                f"variables.diameter = [{d_lo / INCH:.3g}, {d_hi / INCH:.3g}] in: no catalog wheel in {list(wheels)} fits"
+            )
         wheels = kept
     diameters = [Catalog.from_key(k).fixed_diameter for k in wheels]
     bounds["diameter"] = Bound(min(diameters), max(diameters))
@@ -297,8 +316,10 @@ def _caps(r: _Reader) -> dict[str, float | None]:
             r.fail(f"objective.{key} = {cap:g} N: must be a positive force below 1e5 N")
         caps[key] = cap
     if caps["max_threshold_force"] is not None and caps["max_turning_effort"] is not None:
-        r.fail("objective: give max_threshold_force or max_turning_effort, not both (the recommendation caps one "
-               "objective and minimises the other)")
+        r.fail(
+            "objective: give max_threshold_force or max_turning_effort, not both (the recommendation caps one "
+            "objective and minimises the other)"
+        )
     return caps
 
 
@@ -333,8 +354,12 @@ def _uncertainty(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> Unce
     values: dict[str, Any] = {}
     for key in ("probability", "model_error", "damping", "slip_coefficient", "inertia"):
         value = table.get(key, getattr(defaults, key))
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or abs(value) > 1e300 \
-                or not math.isfinite(value):
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, (int, float))
+            or abs(value) > 1e300
+            or not math.isfinite(value)
+        ):
             fail(f"robust.{key} = {value!r}: expected a finite number")
         values[key] = float(value)
     if not 0 < values["probability"] < 0.5:
@@ -353,12 +378,18 @@ def _uncertainty(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> Unce
     return Uncertainty(**values)
 
 
-def _stock_values(table: dict[str, Any], key: str, dimension: str, variable: str, bounds: dict[str, Bound],
-                  fail: Callable[[str], NoReturn]) -> tuple[float, ...]:
+def _stock_values(
+    table: dict[str, Any],
+    key: str,
+    dimension: str,
+    variable: str,
+    bounds: dict[str, Bound],
+    fail: Callable[[str], NoReturn],
+) -> tuple[float, ...]:
     """A [stock] list in SI, each value inside ``variable``'s bounds (deduplicated, sorted)."""
     values = table[key]
     if isinstance(values, (str, int, float)) or not isinstance(values, list):
-        fail(f"stock.{key} = {values!r}: expected a list, e.g. [\"4 in\", \"5 in\"]")
+        fail(f'stock.{key} = {values!r}: expected a list, e.g. ["4 in", "5 in"]')
     if not values:
         fail(f"stock.{key} = []: empty; list at least one value, or leave the key out to keep {variable} continuous")
     out = []
@@ -370,16 +401,24 @@ def _stock_values(table: dict[str, Any], key: str, dimension: str, variable: str
             fail(str(exc))
         if not b.low * (1 - 1e-9) - 1e-12 <= v <= b.high * (1 + 1e-9) + 1e-12:
             unit = VARIABLE_UNITS[variable]
-            shown = (f"{v / INCH:.4g} in outside variables.{variable} = [{b.low / INCH:.4g}, {b.high / INCH:.4g}] in"
-                     if dimension == "length" else
-                     f"{v:g} {unit} outside variables.{variable} = [{b.low:g}, {b.high:g}] {unit}")
+            shown = (
+                f"{v / INCH:.4g} in outside variables.{variable} = [{b.low / INCH:.4g}, {b.high / INCH:.4g}] in"
+                if dimension == "length"
+                else f"{v:g} {unit} outside variables.{variable} = [{b.low:g}, {b.high:g}] {unit}"
+            )
             fail(f"stock.{key}[{i}] = {raw!r}: {shown}; widen the bounds or drop the part")
         out.append(min(max(v, b.low), b.high))
     return tuple(sorted(set(out)))
 
 
-def _stock(table: dict[str, Any], bounds: dict[str, Bound], inertia: InertiaModel, catalog: tuple[str, ...],
-           sill: float, fail: Callable[[str], NoReturn]) -> Stock:
+def _stock(
+    table: dict[str, Any],
+    bounds: dict[str, Bound],
+    inertia: InertiaModel,
+    catalog: tuple[str, ...],
+    sill: float,
+    fail: Callable[[str], NoReturn],
+) -> Stock:
     """Parse [stock] against the bounds and the inertia model (one-line errors, exit 3)."""
     if not table:
         fail("[stock] is empty; list diameters, grooves, trail_step or dampings (a key left out stays continuous)")
@@ -387,11 +426,15 @@ def _stock(table: dict[str, Any], bounds: dict[str, Bound], inertia: InertiaMode
     if "diameters" in table or "wheels" in table:
         key = "diameters" if "diameters" in table else "wheels"
         if catalog:
-            fail(f"stock.{key}: not allowed with [inertia] model = \"catalog\"; the wheel stock is "
-                 f"[inertia].wheels ({', '.join(catalog)})")
+            fail(
+                f'stock.{key}: not allowed with [inertia] model = "catalog"; the wheel stock is '
+                f"[inertia].wheels ({', '.join(catalog)})"
+            )
         if model == "fixed" or isinstance(inertia, Fixed):
-            fail(f"stock.{key}: not allowed with [inertia] model = \"fixed\"; a fixed inertia is one measured "
-                 f"wheel, so the diameter is fixed (set variables.diameter to it)")
+            fail(
+                f'stock.{key}: not allowed with [inertia] model = "fixed"; a fixed inertia is one measured '
+                f"wheel, so the diameter is fixed (set variables.diameter to it)"
+            )
     if "diameters" in table and "wheels" in table:
         fail("stock: give diameters (and grooves) or wheels, not both")
     diameters = _stock_values(table, "diameters", "length", "diameter", bounds, fail) if "diameters" in table else None
@@ -401,9 +444,7 @@ def _stock(table: dict[str, Any], bounds: dict[str, Bound], inertia: InertiaMode
     if "trail_step" in table:
         step, trails = _stock_trails(table, bounds["trail"], fail)
     wheels = _stock_wheels(table["wheels"], bounds, grooves, fail) if "wheels" in table else None
-    return Stock(diameters=diameters, grooves=grooves, trail_step=step, trails=trails, dampings=dampings,
-                 wheels=wheels)
-
+    return Stock(diameters=diameters, grooves=grooves, trail_step=step, trails=trails, dampings=dampings, wheels=wheels)
 
 
 def _stock_trails(table: dict[str, Any], b: Bound, fail: Callable[[str], NoReturn]) -> tuple[float, tuple[float, ...]]:
@@ -414,24 +455,31 @@ def _stock_trails(table: dict[str, Any], b: Bound, fail: Callable[[str], NoRetur
         fail(str(exc))
     span = max(b.high - b.low, 0.0)  # inverted bounds are validate()'s one-line error, not the step's
     if not step > 0 or not math.isfinite(step):
-        fail(f"stock.trail_step = {table['trail_step']!r}: must be a positive length, e.g. \"0.25 in\"")
+        fail(f'stock.trail_step = {table["trail_step"]!r}: must be a positive length, e.g. "0.25 in"')
     if b.low > b.high:
         pass  # inverted trail bounds: validate() names variables.trail (min greater than max)
     elif span <= 0:
-        fail(f"stock.trail_step = {table['trail_step']!r}: variables.trail is fixed at {b.low / INCH:.4g} in; "
-             f"leave trail_step out")
+        fail(
+            f"stock.trail_step = {table['trail_step']!r}: variables.trail is fixed at {b.low / INCH:.4g} in; "
+            f"leave trail_step out"
+        )
     elif step > span * (1 + 1e-9):
-        fail(f"stock.trail_step = {step / INCH:.4g} in: larger than the trail range "
-             f"{b.low / INCH:.4g} to {b.high / INCH:.4g} in ({span / INCH:.4g} in); use a smaller step")
+        fail(
+            f"stock.trail_step = {step / INCH:.4g} in: larger than the trail range "
+            f"{b.low / INCH:.4g} to {b.high / INCH:.4g} in ({span / INCH:.4g} in); use a smaller step"
+        )
     count = int(math.floor(span / step + 1e-9)) + 1
     if count > 10_000:
-        fail(f"stock.trail_step = {step / INCH:.4g} in: {count} fork holes; use a step of at least "
-             f"{span / 10_000 / INCH:.3g} in")
+        fail(
+            f"stock.trail_step = {step / INCH:.4g} in: {count} fork holes; use a step of at least "
+            f"{span / 10_000 / INCH:.3g} in"
+        )
     return step, tuple(min(b.low + k * step, b.high) for k in range(count))
 
 
-def _stock_wheels(raw: object, bounds: dict[str, Bound], grooves: tuple[float, ...] | None,
-                  fail: Callable[[str], NoReturn]) -> tuple[StockWheel, ...]:
+def _stock_wheels(
+    raw: object, bounds: dict[str, Bound], grooves: tuple[float, ...] | None, fail: Callable[[str], NoReturn]
+) -> tuple[StockWheel, ...]:
     """``stock.wheels``: named wheels, each with a diameter and optionally a groove and a measured I_w."""
     if not isinstance(raw, list):
         fail(f"stock.wheels = {raw!r}: expected a list of {{name, diameter, groove, inertia}} tables")
@@ -449,12 +497,15 @@ def _stock_wheels(raw: object, bounds: dict[str, Bound], grooves: tuple[float, .
     return tuple(out)
 
 
-def _stock_wheel(i: int, w: object, names: set[str], bounds: dict[str, Bound],
-                 fail: Callable[[str], NoReturn]) -> StockWheel:
+def _stock_wheel(
+    i: int, w: object, names: set[str], bounds: dict[str, Bound], fail: Callable[[str], NoReturn]
+) -> StockWheel:
     """``stock.wheels[i]``: a table {name, diameter, groove, inertia} whose name is not in ``names`` (added)."""
     if not isinstance(w, dict):
-        fail(f"stock.wheels[{i}] = {w!r}: expected a table such as "
-             f"{{ name = \"Frog 5\", diameter = \"5 in\", groove = \"0.25 in\" }}")
+        fail(
+            f"stock.wheels[{i}] = {w!r}: expected a table such as "
+            f'{{ name = "Frog 5", diameter = "5 in", groove = "0.25 in" }}'
+        )
     extra = sorted(set(w) - {"name", "diameter", "groove", "inertia"})
     if extra:
         fail(f"stock.wheels[{i}].{_show_key(extra[0])}: unknown key; expected name, diameter, groove, inertia")
@@ -468,8 +519,11 @@ def _stock_wheel(i: int, w: object, names: set[str], bounds: dict[str, Bound],
         fail(f"stock.wheels[{i}].name = {name!r}: listed twice")
     names.add(name)
     d = _stock_values({"diameter": [w["diameter"]]}, "diameter", "length", "diameter", bounds, fail)[0]
-    g = (_stock_values({"groove": [w["groove"]]}, "groove", "length", "groove", bounds, fail)[0]
-         if "groove" in w else None)
+    g = (
+        _stock_values({"groove": [w["groove"]]}, "groove", "length", "groove", bounds, fail)[0]
+        if "groove" in w
+        else None
+    )
     inertia_w = None
     if "inertia" in w:
         try:
@@ -477,12 +531,16 @@ def _stock_wheel(i: int, w: object, names: set[str], bounds: dict[str, Bound],
         except InputError as exc:
             fail(str(exc))
         if not INERTIA_RANGE[0] <= inertia_w <= INERTIA_RANGE[1]:
-            fail(f"stock.wheels[{i}].inertia = {inertia_w:g} kg·m²: outside {INERTIA_RANGE[0]:g} to "
-                 f"{INERTIA_RANGE[1]:g} kg·m²")
+            fail(
+                f"stock.wheels[{i}].inertia = {inertia_w:g} kg·m²: outside {INERTIA_RANGE[0]:g} to "
+                f"{INERTIA_RANGE[1]:g} kg·m²"
+            )
     return StockWheel(name.strip(), d, g, inertia_w)
 
-def _inertia(table: dict[str, Any], quantity: Callable[[str, str, str, None], float | None],
-             fail: Callable[[str], NoReturn]) -> tuple[InertiaModel, tuple[str, ...]]:
+
+def _inertia(
+    table: dict[str, Any], quantity: Callable[[str, str, str, None], float | None], fail: Callable[[str], NoReturn]
+) -> tuple[InertiaModel, tuple[str, ...]]:
     model = table.get("model", "table1-power-law")
     if model not in INERTIA_MODELS:
         fail(f"inertia.model = {model!r}: expected one of {', '.join(INERTIA_MODELS)}")
@@ -494,7 +552,9 @@ def _inertia(table: dict[str, Any], quantity: Callable[[str, str, str, None], fl
     }[model]
     extra = set(table) - allowed
     if extra:
-        fail(f"inertia.{_show_key(sorted(extra)[0])}: not used by inertia model {model!r} (it takes {', '.join(sorted(allowed - {'model'})) or 'nothing else'})")
+        fail(
+            f"inertia.{_show_key(sorted(extra)[0])}: not used by inertia model {model!r} (it takes {', '.join(sorted(allowed - {'model'})) or 'nothing else'})"
+        )
     if model == "table1-power-law":
         coefficient = quantity("inertia", "coefficient", "dimensionless", None)
         exponent = quantity("inertia", "exponent", "dimensionless", None)
@@ -529,7 +589,7 @@ def _inertia(table: dict[str, Any], quantity: Callable[[str, str, str, None], fl
 def _catalog(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> tuple[InertiaModel, tuple[str, ...]]:
     """[inertia] model = "catalog": the Table 1 wheels named by ``wheel`` or ``wheels`` (default all of them)."""
     if "wheel" in table and "wheels" in table:
-        fail("inertia: give either wheel = \"C\" or wheels = [\"A\", ...], not both")
+        fail('inertia: give either wheel = "C" or wheels = ["A", ...], not both')
     keys = table.get("wheels", [table["wheel"]] if "wheel" in table else [w.key for w in TABLE1])
     if isinstance(keys, str) or not isinstance(keys, list) or not keys:
         fail(f"inertia.wheels = {keys!r}: expected a non-empty list of Table 1 letters")
@@ -547,7 +607,9 @@ def _check_keys(data: dict[str, Any], prefix: str) -> None:
         if key in SCHEMA[""]:
             continue
         if key not in SCHEMA:
-            raise ProblemError(prefix + f"unknown section or key {key!r}{_suggest(key, list(SCHEMA) + list(SCHEMA['']))}")
+            raise ProblemError(
+                prefix + f"unknown section or key {key!r}{_suggest(key, list(SCHEMA) + list(SCHEMA['']))}"
+            )
         if not isinstance(value, dict):
             raise ProblemError(prefix + f"[{key}] must be a table, got {value!r}")
         for sub in value:

@@ -13,6 +13,7 @@ build       compute_and_write: the pipeline's data, rendered, and a summary (``d
 robust      the price-of-safety report (``designer robust``) from a :class:`designer.pipeline.RobustData`
 (the data are computed by :mod:`designer.pipeline`; figures are drawn by :mod:`designer.plots`)
 """
+
 from designer.report.writer import ReportData, build_context, write_report  # ReportData: from designer.pipeline
 
 __all__ = ["ReportData", "build_context", "write_report"]

@@ -5,6 +5,7 @@ report's data once (:func:`designer.pipeline.report_data`), hands them to :func:
 which only renders, and returns a JSON-ready summary.  It lives here, below the entry layer, so that the
 CLI and the studio share it without one entry point importing another.
 """
+
 from __future__ import annotations
 
 import time
@@ -62,8 +63,13 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
 
 def _compute(problem, points, out, tracker, force=False, cross_check=False) -> dict:
     t0 = time.perf_counter()
-    data = report_data(problem, points, cross_check=cross_check, progress=tracker,
-                       run_meta={"command": "designer pareto", "points_option": points, "wall_seconds": None})
+    data = report_data(
+        problem,
+        points,
+        cross_check=cross_check,
+        progress=tracker,
+        run_meta={"command": "designer pareto", "points_option": points, "wall_seconds": None},
+    )
     folder = write_report(data, out, force=force)
     wall = time.perf_counter() - t0
     checks = data.checks
@@ -77,7 +83,8 @@ def _compute(problem, points, out, tracker, force=False, cross_check=False) -> d
         "points": len(data.front.points),
         "failed_points": len(data.front.failed),
         "recommendation": {**_rec_dict(rec), **(data.knock_safe[0] if data.knock_safe else {})}
-        if rec is not None else None,
+        if rec is not None
+        else None,
         "optimum": data.solution.to_dict() if data.solution is not None else None,
         "checks_passed": len(checks) - len(failing),
         "checks_total": len(checks),
@@ -94,7 +101,12 @@ def _rec_dict(rec) -> dict:
     to_dict = getattr(rec, "to_dict", None)
     if callable(to_dict):
         return to_dict()
-    return {"design": rec.design.as_dict(), "turning_effort": rec.turning_effort,
-            "threshold_force": rec.threshold_force, "critical_speed": rec.critical_speed,
-            "shimmy_probability": rec.shimmy_probability, "shimmy_probability_se": rec.shimmy_probability_se,
-            "rule": rec.rule}
+    return {
+        "design": rec.design.as_dict(),
+        "turning_effort": rec.turning_effort,
+        "threshold_force": rec.threshold_force,
+        "critical_speed": rec.critical_speed,
+        "shimmy_probability": rec.shimmy_probability,
+        "shimmy_probability_se": rec.shimmy_probability_se,
+        "rule": rec.rule,
+    }

@@ -3,6 +3,7 @@
 Render only: takes the :class:`designer.analysis.calibrate.CalibrationResult` that the fit computed and writes
 it with the Pareto report's look (shared stylesheet); the figure is :func:`designer.plots.calibration.fit_figure`.
 """
+
 from __future__ import annotations
 
 import base64
@@ -42,9 +43,11 @@ def title(result) -> str:
 def sentences(result, data_file: str) -> list[str]:
     """The summary, generated from the fit."""
     lo, hi = result.interval
-    out = [f"{result.name} = {result.value:.5g} {result.unit}, 95 % confidence interval {lo:.5g} to {hi:.5g} "
-           f"(standard error {result.stderr:.3g}) from n = {result.n} rows of {data_file}.",
-           f"RMS residual {result.rms:.3g} {result.y_unit}; the residual panel should show no trend."]
+    out = [
+        f"{result.name} = {result.value:.5g} {result.unit}, 95 % confidence interval {lo:.5g} to {hi:.5g} "
+        f"(standard error {result.stderr:.3g}) from n = {result.n} rows of {data_file}.",
+        f"RMS residual {result.rms:.3g} {result.y_unit}; the residual panel should show no trend.",
+    ]
     for key, value in result.notes.items():
         out.append(f"Held fixed: {key} = {value}.")
     return out
@@ -52,7 +55,6 @@ def sentences(result, data_file: str) -> list[str]:
 
 def write_calibration_report(result, out_dir, data_file: str = "") -> Path:
     """Write ``out_dir``/index.html (self-contained), report.md, calibration.json and figures/fit.png."""
-
 
     target = Path(out_dir)
     if target.exists() and not target.is_dir():
@@ -64,17 +66,27 @@ def write_calibration_report(result, out_dir, data_file: str = "") -> Path:
         (tmp / "figures").mkdir()
         png = png_bytes(fit_figure(result))
         (tmp / FIGURE).write_bytes(png)
-        rows = [{"x": fmt(x, ".5g"), "y": fmt(y, ".5g"), "fitted": fmt(f, ".5g"), "residual": fmt(y - f, "+.3g")}
-                for x, y, f in zip(result.x, result.y, result.fitted)]
+        rows = [
+            {"x": fmt(x, ".5g"), "y": fmt(y, ".5g"), "fitted": fmt(f, ".5g"), "residual": fmt(y - f, "+.3g")}
+            for x, y, f in zip(result.x, result.y, result.fitted)
+        ]
         info = versions()
-        context = {"title": title(result), "sentences": sentences(result, data_file or "the data"), "rows": rows,
-                   "result": result, "figure": FIGURE, "snippet": result.snippet(),
-                   "figure_uri": "data:image/png;base64," + base64.b64encode(png).decode("ascii"),
-                   "versions": ", ".join(f"{k} {v}" for k, v in info.items() if v)}
+        context = {
+            "title": title(result),
+            "sentences": sentences(result, data_file or "the data"),
+            "rows": rows,
+            "result": result,
+            "figure": FIGURE,
+            "snippet": result.snippet(),
+            "figure_uri": "data:image/png;base64," + base64.b64encode(png).decode("ascii"),
+            "versions": ", ".join(f"{k} {v}" for k, v in info.items() if v),
+        }
         out = result.as_dict()
         out["data"] = data_file
-        (tmp / "calibration.json").write_text(json.dumps(finite(out), indent=2, ensure_ascii=False,
-                                                         allow_nan=False, default=float) + "\n", encoding="utf-8")
+        (tmp / "calibration.json").write_text(
+            json.dumps(finite(out), indent=2, ensure_ascii=False, allow_nan=False, default=float) + "\n",
+            encoding="utf-8",
+        )
         (tmp / "index.html").write_text(_render("calibration.html.j2", context, autoescape=True), encoding="utf-8")
         (tmp / "report.md").write_text(_render("calibration.md.j2", context, autoescape=False), encoding="utf-8")
         _replace(tmp, target, OWNED)

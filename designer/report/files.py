@@ -1,4 +1,5 @@
 """Safe report folders: refuse a foreign folder, replace a report atomically, keep files it does not own."""
+
 from __future__ import annotations
 
 import errno
@@ -36,8 +37,10 @@ def check_target(target: Path, force: bool = False) -> None:
     if target.is_symlink() or (target.exists() and not target.is_dir()):
         raise InputError(f"report folder {target}: exists and is not a folder")
     if target.exists() and not force and not is_report(target):
-        raise InputError(f"report folder {target}: exists and is not a report of this tool (no index.html and "
-                         f"front.json); choose another --out or pass --force to write the report into it")
+        raise InputError(
+            f"report folder {target}: exists and is not a report of this tool (no index.html and "
+            f"front.json); choose another --out or pass --force to write the report into it"
+        )
 
 
 REPORT_OWNED = frozenset({"index.html", "report.md", "front.csv", "front.json", "checks.json", "figures"})

@@ -3,6 +3,7 @@
 Takes the plain data of :func:`designer.analysis.fleet.fleet_data`; computes nothing but formatting.
 Files go to a temporary folder beside the target and are renamed into place when complete.
 """
+
 from __future__ import annotations
 
 import base64
@@ -16,9 +17,22 @@ from pathlib import Path
 
 from designer.jsonsafe import finite
 
-CSV_COLUMNS = ("name", "trail", "diameter", "groove", "damping", "turning_effort", "threshold_force",
-               "shimmy_probability", "shimmy_probability_se", "sku", "sku_turning_effort", "sku_threshold_force",
-               "sku_shimmy_probability", "status")
+CSV_COLUMNS = (
+    "name",
+    "trail",
+    "diameter",
+    "groove",
+    "damping",
+    "turning_effort",
+    "threshold_force",
+    "shimmy_probability",
+    "shimmy_probability_se",
+    "sku",
+    "sku_turning_effort",
+    "sku_threshold_force",
+    "sku_shimmy_probability",
+    "status",
+)
 """Columns of fleet.csv (SI, as front.csv); the sku_* columns only with --skus."""
 
 INCH = 0.0254
@@ -32,8 +46,9 @@ def csv_text(data: dict) -> str:
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(columns)
     for r in rows:
-        writer.writerow(["" if r.get(c) is None else (f"{r[c]:.6g}" if isinstance(r[c], float) else r[c])
-                         for c in columns])
+        writer.writerow(
+            ["" if r.get(c) is None else (f"{r[c]:.6g}" if isinstance(r[c], float) else r[c]) for c in columns]
+        )
     return buf.getvalue()
 
 
@@ -50,10 +65,11 @@ def _figures(data: dict) -> dict:
     figs = {"distributions": figure_distributions(data["distributions"], data.get("alpha"))}
     curve = data.get("regret_curve") or []
     if curve:
-        figs["regret"] = figure_regret([c["k"] for c in curve],
-                                       [c["mean_regret"] if c["mean_regret"] is not None else float("nan")
-                                        for c in curve],
-                                       data.get("k"))
+        figs["regret"] = figure_regret(
+            [c["k"] for c in curve],
+            [c["mean_regret"] if c["mean_regret"] is not None else float("nan") for c in curve],
+            data.get("k"),
+        )
     out = {}
     for name, fig in figs.items():
         buf = io.BytesIO()
@@ -69,18 +85,25 @@ def markdown(data: dict) -> str:
     lines += ["", "![distributions](figures/distributions.png)", ""]
     if data.get("regret_curve"):
         lines += ["## Part numbers", "", "![regret curve](figures/regret.png)", ""]
-        lines += ["| K | mean regret per unit [N] | total regret Σ count · regret [N] | status | solve [s] |",
-                  "|---:|---:|---:|---|---:|"]
+        lines += [
+            "| K | mean regret per unit [N] | total regret Σ count · regret [N] | status | solve [s] |",
+            "|---:|---:|---:|---|---:|",
+        ]
         for c in data["regret_curve"]:
             regret = "–" if c["regret"] is None else f"{c['regret']:.6g}"
             mean = "–" if c["mean_regret"] is None else f"{c['mean_regret']:.3f}"
             lines.append(f"| {c['k']} | {mean} | {regret} | {c['status']} | {c['seconds']:.2f} |")
-        lines += ["", "| SKU | trail [in] | diameter [in] | groove [in] | damping [N·m/rad] | chairs | units |",
-                  "|---:|---:|---:|---:|---:|---:|---:|"]
+        lines += [
+            "",
+            "| SKU | trail [in] | diameter [in] | groove [in] | damping [N·m/rad] | chairs | units |",
+            "|---:|---:|---:|---:|---:|---:|---:|",
+        ]
         for s in data["skus"]:
             d = s["design"]
-            lines.append(f"| {s['id']} | {d['trail'] / INCH:.3f} | {d['diameter'] / INCH:.3f} | "
-                         f"{d['groove'] / INCH:.4f} | {d['damping']:.3f} | {s['chairs']} | {s['count']} |")
+            lines.append(
+                f"| {s['id']} | {d['trail'] / INCH:.3f} | {d['diameter'] / INCH:.3f} | "
+                f"{d['groove'] / INCH:.4f} | {d['damping']:.3f} | {s['chairs']} | {s['count']} |"
+            )
     bad = [r for r in data["rows"] if r["status"] != "ok"]
     if bad:
         lines += ["", f"## Chairs without a caster ({len(bad)})", "", "| chair | why |", "|---|---|"]
@@ -95,26 +118,35 @@ def markdown(data: dict) -> str:
 
 
 def _summary(data: dict) -> list[str]:
-    out = [f"- {data['feasible_chairs']} of {data['chairs']} chairs have a stock caster that meets their own "
-           f"risk bound, swept-radius limit and sill; the others are listed below with the reason.",
-           f"- Rule per chair: {data['rule']}. Stock: {data['stock']['casters']} casters ({data['stock']['note']}).",
-           f"- Objective: {data['objective']}.",
-           f"- {data['regret_definition']}."]
+    out = [
+        f"- {data['feasible_chairs']} of {data['chairs']} chairs have a stock caster that meets their own "
+        f"risk bound, swept-radius limit and sill; the others are listed below with the reason.",
+        f"- Rule per chair: {data['rule']}. Stock: {data['stock']['casters']} casters ({data['stock']['note']}).",
+        f"- Objective: {data['objective']}.",
+        f"- {data['regret_definition']}.",
+    ]
     if data.get("risk"):
-        out.append(f"- Risk bound: P(V_c < (1 + {data['risk']['margin']:g}) V_target) <= "
-                   f"{data['risk']['probability']:.0%}, decided by the deterministic quantile; the reported "
-                   f"P(shimmy) is a Monte Carlo estimate ({data['monte_carlo']['samples']} samples per chair).")
+        out.append(
+            f"- Risk bound: P(V_c < (1 + {data['risk']['margin']:g}) V_target) <= "
+            f"{data['risk']['probability']:.0%}, decided by the deterministic quantile; the reported "
+            f"P(shimmy) is a Monte Carlo estimate ({data['monte_carlo']['samples']} samples per chair)."
+        )
     else:
-        out.append("- No risk bound in the base problem: casters are screened on the nominal V_c >= V_target "
-                   "(Eq. 7); the P(shimmy) column says what risk each one carries.")
+        out.append(
+            "- No risk bound in the base problem: casters are screened on the nominal V_c >= V_target "
+            "(Eq. 7); the P(shimmy) column says what risk each one carries."
+        )
     if data.get("k") is not None:
         if data.get("regret") is None:
-            out.append(f"- K = {data['k']}: no {data['k']} stock casters serve every feasible chair "
-                       f"({data['sku_status']}).")
+            out.append(
+                f"- K = {data['k']}: no {data['k']} stock casters serve every feasible chair ({data['sku_status']})."
+            )
         else:
-            out.append(f"- K = {data['k']} part numbers: each unit sold loses {data['mean_regret']:.3f} N of J on "
-                       f"average against its chair's own best stock caster (total {data['regret']:.6g} N·units, "
-                       f"{data['sku_status']}).")
+            out.append(
+                f"- K = {data['k']} part numbers: each unit sold loses {data['mean_regret']:.3f} N of J on "
+                f"average against its chair's own best stock caster (total {data['regret']:.6g} N·units, "
+                f"{data['sku_status']})."
+            )
     return out
 
 
@@ -124,29 +156,42 @@ def _html(data: dict, figures: dict) -> str:
             return ""
         return f'<img alt="{name}" src="data:image/png;base64,{base64.b64encode(figures[name]).decode()}">'
 
-    body = [f"<h1>Fleet: {data['chairs']} chairs ({data['units']} units), base problem "
-            f"{html.escape(str(data['problem']))}</h1>", "<ul>"]
+    body = [
+        f"<h1>Fleet: {data['chairs']} chairs ({data['units']} units), base problem "
+        f"{html.escape(str(data['problem']))}</h1>",
+        "<ul>",
+    ]
     body += [f"<li>{html.escape(line[2:])}</li>" for line in _summary(data)]
     body += ["</ul>", img("distributions")]
     if data.get("regret_curve"):
-        body += ["<h2>Part numbers</h2>", img("regret"), "<table><tr><th>SKU</th><th>trail [in]</th>"
-                 "<th>diameter [in]</th><th>groove [in]</th><th>damping [N·m/rad]</th><th>chairs</th>"
-                 "<th>units</th></tr>"]
+        body += [
+            "<h2>Part numbers</h2>",
+            img("regret"),
+            "<table><tr><th>SKU</th><th>trail [in]</th>"
+            "<th>diameter [in]</th><th>groove [in]</th><th>damping [N·m/rad]</th><th>chairs</th>"
+            "<th>units</th></tr>",
+        ]
         for s in data["skus"]:
             d = s["design"]
-            body.append(f"<tr><td>{s['id']}</td><td>{d['trail'] / INCH:.3f}</td><td>{d['diameter'] / INCH:.3f}</td>"
-                        f"<td>{d['groove'] / INCH:.4f}</td><td>{d['damping']:.3f}</td><td>{s['chairs']}</td>"
-                        f"<td>{s['count']}</td></tr>")
+            body.append(
+                f"<tr><td>{s['id']}</td><td>{d['trail'] / INCH:.3f}</td><td>{d['diameter'] / INCH:.3f}</td>"
+                f"<td>{d['groove'] / INCH:.4f}</td><td>{d['damping']:.3f}</td><td>{s['chairs']}</td>"
+                f"<td>{s['count']}</td></tr>"
+            )
         body.append("</table>")
     bad = [r for r in data["rows"] if r["status"] != "ok"]
     if bad:
         body += [f"<h2>Chairs without a caster ({len(bad)})</h2><table><tr><th>chair</th><th>why</th></tr>"]
         body += [f"<tr><td>{html.escape(r['name'])}</td><td>{html.escape(r['status'])}</td></tr>" for r in bad[:200]]
         body.append("</table>")
-    style = ("body{font-family:sans-serif;max-width:1200px;margin:2em auto}img{max-width:100%}"
-             "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}")
-    return (f"<!doctype html><html><head><meta charset='utf-8'><title>Fleet report</title><style>{style}</style>"
-            f"</head><body>{''.join(body)}</body></html>\n")
+    style = (
+        "body{font-family:sans-serif;max-width:1200px;margin:2em auto}img{max-width:100%}"
+        "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}"
+    )
+    return (
+        f"<!doctype html><html><head><meta charset='utf-8'><title>Fleet report</title><style>{style}</style>"
+        f"</head><body>{''.join(body)}</body></html>\n"
+    )
 
 
 def write_fleet_report(data: dict, out_dir) -> Path:

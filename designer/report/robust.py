@@ -4,6 +4,7 @@ Render only: takes the :class:`designer.pipeline.RobustData` that :func:`designe
 computed (nominal and risk-bounded fronts, Monte Carlo P(shimmy) per point) and writes the same look as
 the Pareto report (shared stylesheet), with one title used by the page and by its figure.
 """
+
 from __future__ import annotations
 
 import base64
@@ -27,7 +28,9 @@ FIGURE = "figures/robust_fronts.png"
 
 def title(data: RobustData) -> str:
     """The report's title, also the title of its figure (one source, so they cannot disagree)."""
-    return f"Price of safety: {data.problem.name}, nominal against risk-bounded (α = {data.uncertainty.probability:.0%})"
+    return (
+        f"Price of safety: {data.problem.name}, nominal against risk-bounded (α = {data.uncertainty.probability:.0%})"
+    )
 
 
 def figure(data: RobustData):
@@ -42,11 +45,23 @@ def figure(data: RobustData):
     ax = fig.add_subplot()
     curves = []
     if len(fn):
-        curves.append({"threshold_force": fn[:, 1], "turning_effort": fn[:, 0], "kind": "nominal",
-                       "label": f"nominal: V_c >= {problem.required_speed:.2f} m/s (Eq. 7)"})
+        curves.append(
+            {
+                "threshold_force": fn[:, 1],
+                "turning_effort": fn[:, 0],
+                "kind": "nominal",
+                "label": f"nominal: V_c >= {problem.required_speed:.2f} m/s (Eq. 7)",
+            }
+        )
     if len(fr):
-        curves.append({"threshold_force": fr[:, 1], "turning_effort": fr[:, 0], "kind": "risk-bounded",
-                       "label": f"risk-bounded: P(V_c < {problem.required_speed:.2f} m/s) <= {u.probability:.0%}"})
+        curves.append(
+            {
+                "threshold_force": fr[:, 1],
+                "turning_effort": fr[:, 0],
+                "kind": "risk-bounded",
+                "label": f"risk-bounded: P(V_c < {problem.required_speed:.2f} m/s) <= {u.probability:.0%}",
+            }
+        )
     draw_fronts(ax, curves)
     ax.set_title(title(data), fontsize=10)
     return fig
@@ -60,32 +75,44 @@ def sentences(data: RobustData) -> list[str]:
     extra = extra[np.isfinite(extra)]
     if len(extra):
         lo, hi = (0.0 if abs(v) < 5e-4 else float(v) for v in (extra.min(), extra.max()))  # no "-0.000"
-        out.append(f"Price of safety: {lo:+.3f} to {hi:+.3f} N of turning effort at equal sill force, over "
-                   f"{len(extra)} risk-bounded points (the nominal front read as min F_turn s.t. P <= P_point: "
-                   f"beyond its largest P, its least turning effort).")
+        out.append(
+            f"Price of safety: {lo:+.3f} to {hi:+.3f} N of turning effort at equal sill force, over "
+            f"{len(extra)} risk-bounded points (the nominal front read as min F_turn s.t. P <= P_point: "
+            f"beyond its largest P, its least turning effort)."
+        )
     else:
         out.append("The two fronts do not overlap in sill force, so the price of safety is not read at equal P here.")
     hv_n, hv_r = cmp.get("hypervolume_self"), cmp.get("hypervolume_other")
     if hv_n is not None and hv_r is not None and np.isfinite(hv_n) and np.isfinite(hv_r):
         rel = "smaller than" if hv_r < hv_n else "not smaller than"
-        out.append(f"Hypervolume of the risk-bounded front {hv_r:.4f}, {rel} the nominal front's {hv_n:.4f} (the "
-                   f"nominal front's normalisation, reference (1.1, 1.1)).")
+        out.append(
+            f"Hypervolume of the risk-bounded front {hv_r:.4f}, {rel} the nominal front's {hv_n:.4f} (the "
+            f"nominal front's normalisation, reference (1.1, 1.1))."
+        )
     probs = np.array([r["probability_mc"] for r in rows], float)
     ses = np.array([r["probability_mc_se"] for r in rows], float)
     if len(probs):
         worst = int(np.argmax(probs - 2 * ses))
         ok = bool(np.all(probs <= u.probability + 2 * ses))
-        out.append(f"Monte Carlo P(shimmy below {data.problem.required_speed:.3g} m/s) on the risk-bounded front: "
-                   f"{probs.min():.2%} to {probs.max():.2%} (bound α = {u.probability:.1%}; "
-                   + ("every point within α + 2 SE" if ok else
-                      f"point {worst} is ABOVE α + 2 SE: {probs[worst]:.2%} ± {ses[worst]:.2%}") + ").")
+        out.append(
+            f"Monte Carlo P(shimmy below {data.problem.required_speed:.3g} m/s) on the risk-bounded front: "
+            f"{probs.min():.2%} to {probs.max():.2%} (bound α = {u.probability:.1%}; "
+            + (
+                "every point within α + 2 SE"
+                if ok
+                else f"point {worst} is ABOVE α + 2 SE: {probs[worst]:.2%} ± {ses[worst]:.2%}"
+            )
+            + ")."
+        )
     nom = np.array([r["nominal_probability_mc"] for r in rows], float)
     nom = nom[np.isfinite(nom)]
     if len(nom):
-        out.append(f"The nominal designs at the same sill force shimmy with probability {nom.min():.1%} to "
-                   f"{nom.max():.1%} (Monte Carlo of the same law): they sit on V_c = V_req of Eq. 7, and the "
-                   f"risk-bounded designs buy V_c above the target with more groove or damper (more turning effort) "
-                   f"or a smaller wheel (more sill force).")
+        out.append(
+            f"The nominal designs at the same sill force shimmy with probability {nom.min():.1%} to "
+            f"{nom.max():.1%} (Monte Carlo of the same law): they sit on V_c = V_req of Eq. 7, and the "
+            f"risk-bounded designs buy V_c above the target with more groove or damper (more turning effort) "
+            f"or a smaller wheel (more sill force)."
+        )
     return out
 
 
@@ -94,28 +121,54 @@ def bound_sentence(data: RobustData) -> str:
     u = data.uncertainty
     dof = getattr(u, "model_error_dof", None)
     law = f"Student-t, {dof} degrees of freedom" if dof else "normal"
-    return (f"P(V_c,true < {data.problem.required_speed:.3g} m/s) <= {u.probability:.1%}. Model error of Eq. 7: "
-            f"{law}, scale {u.model_error:g}; lognormal M_f/θ0 (σ of the log {u.damping:g}), K_s "
-            f"({u.slip_coefficient:g}), I_w ({u.inertia:g}). Each probability is a Monte Carlo of the same law on the "
-            f"exact Eq. 7 (at least {u.samples:,} samples, seed {u.seed})")
+    return (
+        f"P(V_c,true < {data.problem.required_speed:.3g} m/s) <= {u.probability:.1%}. Model error of Eq. 7: "
+        f"{law}, scale {u.model_error:g}; lognormal M_f/θ0 (σ of the log {u.damping:g}), K_s "
+        f"({u.slip_coefficient:g}), I_w ({u.inertia:g}). Each probability is a Monte Carlo of the same law on the "
+        f"exact Eq. 7 (at least {u.samples:,} samples, seed {u.seed})"
+    )
 
 
 def _rows(data: RobustData) -> list[dict]:
-    return [{"P": fmt(r["threshold_force"], ".2f"), "F_nominal": fmt(r["turning_effort_nominal"], ".3f"),
-             "F_robust": fmt(r["turning_effort_robust"], ".3f"), "extra": fmt(r["extra_effort"], "+.3f"),
-             "V_c": fmt(r["critical_speed"], ".3f"),
-             "p": f"{r['probability_mc']:.2%} ± {r['probability_mc_se']:.2%}",
-             "p_nominal": fmt(r["nominal_probability_mc"] * 100, ".1f", "%")} for r in data.rows]
+    return [
+        {
+            "P": fmt(r["threshold_force"], ".2f"),
+            "F_nominal": fmt(r["turning_effort_nominal"], ".3f"),
+            "F_robust": fmt(r["turning_effort_robust"], ".3f"),
+            "extra": fmt(r["extra_effort"], "+.3f"),
+            "V_c": fmt(r["critical_speed"], ".3f"),
+            "p": f"{r['probability_mc']:.2%} ± {r['probability_mc_se']:.2%}",
+            "p_nominal": fmt(r["nominal_probability_mc"] * 100, ".1f", "%"),
+        }
+        for r in data.rows
+    ]
 
 
 def _json(data: RobustData, page_title: str) -> dict:
     u = data.uncertainty
-    fields = ("probability", "model_error", "model_error_dof", "damping", "slip_coefficient", "inertia", "samples",
-              "seed")
-    return finite({"problem": data.problem.name, "title": page_title, "figure_title": page_title,
-                   "uncertainty": {k: getattr(u, k) for k in fields if hasattr(u, k)},
-                   "rows": data.rows, "compare": data.compare, "nominal_front": data.nominal.rows(),
-                   "robust_front": data.robust.rows(), "run": data.run})
+    fields = (
+        "probability",
+        "model_error",
+        "model_error_dof",
+        "damping",
+        "slip_coefficient",
+        "inertia",
+        "samples",
+        "seed",
+    )
+    return finite(
+        {
+            "problem": data.problem.name,
+            "title": page_title,
+            "figure_title": page_title,
+            "uncertainty": {k: getattr(u, k) for k in fields if hasattr(u, k)},
+            "rows": data.rows,
+            "compare": data.compare,
+            "nominal_front": data.nominal.rows(),
+            "robust_front": data.robust.rows(),
+            "run": data.run,
+        }
+    )
 
 
 def write_robust_report(data: RobustData, out_dir) -> Path:
@@ -137,14 +190,19 @@ def write_robust_report(data: RobustData, out_dir) -> Path:
         png = png_bytes(figure(data))
         (tmp / FIGURE).write_bytes(png)
         context = {
-            "title": page_title, "problem": data.problem, "run": data.run, "sentences": sentences(data),
-            "rows": _rows(data), "figure": FIGURE,
+            "title": page_title,
+            "problem": data.problem,
+            "run": data.run,
+            "sentences": sentences(data),
+            "rows": _rows(data),
+            "figure": FIGURE,
             "figure_uri": "data:image/png;base64," + base64.b64encode(png).decode("ascii"),
             "bound": bound_sentence(data),
             "versions": ", ".join(f"{k} {v}" for k, v in data.run.get("versions", {}).items() if v),
         }
-        (tmp / "robust.json").write_text(json.dumps(_json(data, page_title), indent=2, ensure_ascii=False,
-                                                    allow_nan=False) + "\n", encoding="utf-8")
+        (tmp / "robust.json").write_text(
+            json.dumps(_json(data, page_title), indent=2, ensure_ascii=False, allow_nan=False) + "\n", encoding="utf-8"
+        )
         (tmp / "index.html").write_text(_render("robust.html.j2", context, autoescape=True), encoding="utf-8")
         (tmp / "robust.md").write_text(_render("robust.md.j2", context, autoescape=False), encoding="utf-8")
         _replace(tmp, target, OWNED)

@@ -4,6 +4,7 @@
 :class:`~designer.analysis.recommend.Recommendation`; :func:`summary_lines` the bullet list under it;
 :func:`weights_line` what the weighted optimum is and is not.  Nothing here computes a design.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -39,49 +40,69 @@ def caster_sentence(rec) -> str:
     """What to build, in words: wheel, groove, trail, damping (sizes as ``6.000 in``)."""
     d = rec.design
     wheel = f" ({rec.wheel})" if getattr(rec, "wheel", None) else ""
-    return (f"a {inches(d.diameter)} wheel{wheel} with {_groove_phrase(d.groove)}, in a fork of "
-            f"{inches(d.trail)} trail, with {_damping_phrase(d.damping)}")
+    return (
+        f"a {inches(d.diameter)} wheel{wheel} with {_groove_phrase(d.groove)}, in a fork of "
+        f"{inches(d.trail)} trail, with {_damping_phrase(d.damping)}"
+    )
 
 
 def risk_sentence(rec) -> str:
     """The shimmy risk of ``rec``: the bound it meets (or that it has none) and the Monte Carlo estimate."""
-    mc = (f"P(shimmy at {rec.target_speed:.3g} m/s) = {rec.shimmy_probability:.2%} ± {rec.shimmy_probability_se:.2%} "
-          f"(Monte Carlo, {rec.mc_samples:,} samples, seed {rec.mc_seed})")
+    mc = (
+        f"P(shimmy at {rec.target_speed:.3g} m/s) = {rec.shimmy_probability:.2%} ± {rec.shimmy_probability_se:.2%} "
+        f"(Monte Carlo, {rec.mc_samples:,} samples, seed {rec.mc_seed})"
+    )
     if rec.alpha is None:
-        return (f"No risk bound ([robust] enabled = false): by Eq. 7 it is stable to V_c = {rec.critical_speed:.3f} m/s, "
-                f"but under the default scatter of the model it has {mc}.")
+        return (
+            f"No risk bound ([robust] enabled = false): by Eq. 7 it is stable to V_c = {rec.critical_speed:.3f} m/s, "
+            f"but under the default scatter of the model it has {mc}."
+        )
     within = rec.shimmy_probability <= rec.alpha + 2 * rec.shimmy_probability_se
-    return (f"With probability {1 - rec.alpha:.0%} it stays free of shimmy up to {rec.confident_speed:.3f} m/s "
-            f"(needed: {rec.required_speed:.3f} m/s; Eq. 7 alone gives V_c = {rec.critical_speed:.3f} m/s); {mc}, "
-            + ("within" if within else "ABOVE") + f" the bound α = {rec.alpha:.0%} + 2 SE.")
+    return (
+        f"With probability {1 - rec.alpha:.0%} it stays free of shimmy up to {rec.confident_speed:.3f} m/s "
+        f"(needed: {rec.required_speed:.3f} m/s; Eq. 7 alone gives V_c = {rec.critical_speed:.3f} m/s); {mc}, "
+        + ("within" if within else "ABOVE")
+        + f" the bound α = {rec.alpha:.0%} + 2 SE."
+    )
 
 
 def radius_sentence(rec) -> str:
     """The swept radius against the footrest limit."""
     if rec.swept_radius_max is None:
-        return f"It sweeps a circle of radius T + d/2 = {inches(rec.swept_radius)} (the problem sets no footrest limit)."
+        return (
+            f"It sweeps a circle of radius T + d/2 = {inches(rec.swept_radius)} (the problem sets no footrest limit)."
+        )
     spare = rec.swept_radius_max - rec.swept_radius
-    return (f"It sweeps a circle of radius T + d/2 = {inches(rec.swept_radius)} against the footrest limit "
-            f"{inches(rec.swept_radius_max)} (" + (f"{inches(spare)} to spare" if spare > 1e-9 else "at the limit")
-            + ").")
+    return (
+        f"It sweeps a circle of radius T + d/2 = {inches(rec.swept_radius)} against the footrest limit "
+        f"{inches(rec.swept_radius_max)} (" + (f"{inches(spare)} to spare" if spare > 1e-9 else "at the limit") + ")."
+    )
 
 
 def stock_sentence(price: dict | None, has_stock: bool) -> str:
     """The price of stock: the buildable caster's turning effort against the continuous front at equal sill force."""
     if not has_stock:
-        return ("The problem declares no [stock]: every size is continuous, so the caster is a point of the "
-                "continuous front and its sizes are not rounded to parts.")
+        return (
+            "The problem declares no [stock]: every size is continuous, so the caster is a point of the "
+            "continuous front and its sizes are not rounded to parts."
+        )
     if price is None:
-        return ("The continuous front does not reach the recommendation's sill force, so the price of stock is not "
-                "read off here (see the front figure).")
+        return (
+            "The continuous front does not reach the recommendation's sill force, so the price of stock is not "
+            "read off here (see the front figure)."
+        )
     parts = []
     if abs(price["extra"]) >= 5e-4:
-        parts.append(f"{price['extra']:+.3f} N ({price['relative']:+.1%}) of turning effort at its sill force "
-                     f"{price['threshold_force']:.1f} N (continuous front: {price['turning_effort_continuous']:.3f} N)")
+        parts.append(
+            f"{price['extra']:+.3f} N ({price['relative']:+.1%}) of turning effort at its sill force "
+            f"{price['threshold_force']:.1f} N (continuous front: {price['turning_effort_continuous']:.3f} N)"
+        )
     extra_p = price.get("extra_threshold")
     if extra_p is not None and abs(extra_p) >= 5e-3:
-        parts.append(f"{extra_p:+.2f} N of sill force at its turning effort {price['turning_effort_buildable']:.3f} N "
-                     f"(continuous front: {price['threshold_force_continuous']:.2f} N)")
+        parts.append(
+            f"{extra_p:+.2f} N of sill force at its turning effort {price['turning_effort_buildable']:.3f} N "
+            f"(continuous front: {price['threshold_force_continuous']:.2f} N)"
+        )
     if not parts:
         return "Price of stock: none; this stock caster lies on the continuous risk-bounded front."
     return "Price of stock, against the continuous risk-bounded front: " + "; ".join(parts) + "."
@@ -93,10 +114,13 @@ def build_lines(data) -> list[str]:
     if rec is None:
         return []
     problem = data.problem
-    out = [f"It turns with F_turn = {rec.turning_effort:.3f} N and climbs the {inches(problem.conditions.threshold_height)} "
-           f"sill with P = {rec.threshold_force:.2f} N (chosen by the rule: {rec.rule}).",
-           risk_sentence(rec), radius_sentence(rec),
-           stock_sentence(data.price_of_stock, getattr(problem, "stock", None) is not None)]
+    out = [
+        f"It turns with F_turn = {rec.turning_effort:.3f} N and climbs the {inches(problem.conditions.threshold_height)} "
+        f"sill with P = {rec.threshold_force:.2f} N (chosen by the rule: {rec.rule}).",
+        risk_sentence(rec),
+        radius_sentence(rec),
+        stock_sentence(data.price_of_stock, getattr(problem, "stock", None) is not None),
+    ]
     if getattr(rec, "note", ""):
         out.append(f"Note: {rec.note}.")
     return out
@@ -107,17 +131,25 @@ def weights_line(problem, solution, front) -> str:
     s = solution
     w = problem.weights
     f_opt, p_opt = s.objectives["turning_effort"], s.objectives["threshold_force"]
-    meaning = (f"J = {w[0]:g} F_turn + {w[1]:g} P: 1 N of sill force is worth {w[1] / w[0]:g} N of turning effort"
-               if w[0] > 0 else f"J = {w[1]:g} P: the weights ignore turning effort")
+    meaning = (
+        f"J = {w[0]:g} F_turn + {w[1]:g} P: 1 N of sill force is worth {w[1] / w[0]:g} N of turning effort"
+        if w[0] > 0
+        else f"J = {w[1]:g} P: the weights ignore turning effort"
+    )
     wheel = f" (Table 1 wheel {s.wheel})" if s.wheel else ""
-    line = (f"Weighted optimum{wheel} of {meaning}: {s.design.describe()}; F_turn {f_opt:.3f} N, P {p_opt:.2f} N, "
-            f"V_c {s.critical_speed:.3f} m/s.")
+    line = (
+        f"Weighted optimum{wheel} of {meaning}: {s.design.describe()}; F_turn {f_opt:.3f} N, P {p_opt:.2f} N, "
+        f"V_c {s.critical_speed:.3f} m/s."
+    )
     f_part, p_part = w[0] * f_opt, w[1] * p_opt
     if min(f_part, p_part) > 0 and max(f_part, p_part) > DOMINANCE * min(f_part, p_part):
-        big, small, k = (("threshold-force", "turning-effort", 1) if p_part > f_part
-                         else ("turning-effort", "threshold-force", 0))
-        line += (f" Here the {big} term is {max(f_part, p_part) / min(f_part, p_part):.0f}× the {small} term, so J "
-                 f"mostly follows {'P' if k else 'F_turn'}")
+        big, small, k = (
+            ("threshold-force", "turning-effort", 1) if p_part > f_part else ("turning-effort", "threshold-force", 0)
+        )
+        line += (
+            f" Here the {big} term is {max(f_part, p_part) / min(f_part, p_part):.0f}× the {small} term, so J "
+            f"mostly follows {'P' if k else 'F_turn'}"
+        )
         if len(front.points) >= 2:
             values = front.objectives()[:, k]
             lo, hi = float(values.min()), float(values.max())
@@ -126,8 +158,10 @@ def weights_line(problem, solution, front) -> str:
             if frac <= AT_END:
                 line += f": the optimum is the least-{name} end of the front ({name} = {lo:.2f} N)"
             else:
-                line += (f", yet the optimum is not the least-{name} end: its {name} is {frac:.0%} of the front's "
-                         f"{name} range above the least ({lo:.2f} N)")
+                line += (
+                    f", yet the optimum is not the least-{name} end: its {name} is {frac:.0%} of the front's "
+                    f"{name} range above the least ({lo:.2f} N)"
+                )
         line += ". It is not the recommendation; scale the weights or cap one objective ([objective]) to change it."
     return line
 
@@ -139,12 +173,13 @@ def margin_line(problem, front) -> str:
     v = np.array([p.critical_speed for p in front.points])
     on = int(np.sum(np.abs(v / problem.required_speed - 1) <= ACTIVE_REL))
     n = len(v)
-    where = ("every front design sits" if on == n else
-             f"{on} of {n} front designs sit" if on else "no front design sits")
-    tail = ("" if on == n else f" (the others are stable beyond it: V_c up to {v.max():.3f} m/s)")
-    return (f"No risk bound and no safety margin: {where} exactly at V_c = V_req = {problem.required_speed:.2f} m/s "
-            f"of Eq. 7{tail}. Eq. 7 matched Table 1's measured critical speeds only to RMS 10.3 % (worst −16 %); "
-            f"set [robust] (the default) or shimmy.margin before building a caster.")
+    where = "every front design sits" if on == n else f"{on} of {n} front designs sit" if on else "no front design sits"
+    tail = "" if on == n else f" (the others are stable beyond it: V_c up to {v.max():.3f} m/s)"
+    return (
+        f"No risk bound and no safety margin: {where} exactly at V_c = V_req = {problem.required_speed:.2f} m/s "
+        f"of Eq. 7{tail}. Eq. 7 matched Table 1's measured critical speeds only to RMS 10.3 % (worst −16 %); "
+        f"set [robust] (the default) or shimmy.margin before building a caster."
+    )
 
 
 def summary_lines(data) -> list[str]:
@@ -155,10 +190,12 @@ def summary_lines(data) -> list[str]:
         f = front.objectives()
         d = front.designs()[:, 1]
         kind = "risk-bounded" if problem.conditions.uncertainty is not None else "nominal"
-        out.append(f"Continuous {kind} front: {len(front)} valid point{'s' if len(front) != 1 else ''} (of "
-                   f"{front.meta.get('points_requested', len(front))} requested, {len(front.failed)} failed): turning "
-                   f"effort {f[:, 0].min():.2f}–{f[:, 0].max():.2f} N, threshold force {f[:, 1].min():.1f}–"
-                   f"{f[:, 1].max():.1f} N, wheel diameter {inches(d.min())}–{inches(d.max())}.")
+        out.append(
+            f"Continuous {kind} front: {len(front)} valid point{'s' if len(front) != 1 else ''} (of "
+            f"{front.meta.get('points_requested', len(front))} requested, {len(front.failed)} failed): turning "
+            f"effort {f[:, 0].min():.2f}–{f[:, 0].max():.2f} N, threshold force {f[:, 1].min():.1f}–"
+            f"{f[:, 1].max():.1f} N, wheel diameter {inches(d.min())}–{inches(d.max())}."
+        )
     line = margin_line(problem, front)
     if line:
         out.append(line)
@@ -166,13 +203,26 @@ def summary_lines(data) -> list[str]:
         out.append(weights_line(problem, data.solution, front))
     checks = data.checks
     failed = [c.name for c in checks if not c.passed]
-    out.append(f"Checks: {len(checks) - len(failed)} of {len(checks)} pass" +
-               (f"; failing: {', '.join(failed)}." if failed else "."))
+    out.append(
+        f"Checks: {len(checks) - len(failed)} of {len(checks)} pass"
+        + (f"; failing: {', '.join(failed)}." if failed else ".")
+    )
     if not data.cross_checked:
-        out.append(f"The solver cross-check (geometric program and SLSQP against the NLP) is not part of this run; "
-                   f"run `{data.cross_check_command}` for it.")
+        out.append(
+            f"The solver cross-check (geometric program and SLSQP against the NLP) is not part of this run; "
+            f"run `{data.cross_check_command}` for it."
+        )
     return out
 
 
-__all__ = ["build_lines", "caster_sentence", "inches", "margin_line", "radius_sentence", "risk_sentence",
-           "stock_sentence", "summary_lines", "weights_line"]
+__all__ = [
+    "build_lines",
+    "caster_sentence",
+    "inches",
+    "margin_line",
+    "radius_sentence",
+    "risk_sentence",
+    "stock_sentence",
+    "summary_lines",
+    "weights_line",
+]

@@ -62,6 +62,7 @@ Public API: :func:`solve_gp`, :class:`GPResult`, :func:`polish`,
 :func:`gp_starts` (cheap NLP starts).  The terms are in :mod:`designer.solvers.gp_terms`, one family's
 sequential GP and duals in :mod:`designer.solvers.gp_family`; their names are re-exported here.
 """
+
 from __future__ import annotations
 
 import math
@@ -83,9 +84,23 @@ from designer.solvers.gp_family import BACKOFF, FLOOR, MAX_ITERATIONS, SOLVER_OP
 from designer.solvers.gp_terms import MAX_ORDER, SERIES_TOLERANCE, gp_terms, robust_speed_factor, series_order
 from designer.solvers.gp_terms import _constants, _parameters  # noqa: F401 - re-exported (tests build the terms)
 
-__all__ = ["BACKOFF", "FLOOR", "GPResult", "MAX_ITERATIONS", "MAX_ORDER", "SERIES_TOLERANCE", "SOLVER_OPTIONS",
-           "STEP_TOLERANCE", "exact_objective", "gp_starts", "gp_terms", "polish", "robust_speed_factor",
-           "series_order", "solve_gp"]
+__all__ = [
+    "BACKOFF",
+    "FLOOR",
+    "GPResult",
+    "MAX_ITERATIONS",
+    "MAX_ORDER",
+    "SERIES_TOLERANCE",
+    "SOLVER_OPTIONS",
+    "STEP_TOLERANCE",
+    "exact_objective",
+    "gp_starts",
+    "gp_terms",
+    "polish",
+    "robust_speed_factor",
+    "series_order",
+    "solve_gp",
+]
 
 # --------------------------------------------------------------------------- result
 
@@ -182,9 +197,19 @@ def _solve_continuous(problem: Problem, weights, threshold_cap, order, s_max, ma
             continue
         status, values, j, iterations, duals = best
         design = fam.design(values)
-        rows.append(dict(family=fam.name, exact=fam.exact, status=status, solves=fam.solves, design=design,
-                         gp_objective=j, objective=exact_objective(problem, design, weights),
-                         iterations=iterations, duals=duals or {}))
+        rows.append(
+            dict(
+                family=fam.name,
+                exact=fam.exact,
+                status=status,
+                solves=fam.solves,
+                design=design,
+                gp_objective=j,
+                objective=exact_objective(problem, design, weights),
+                iterations=iterations,
+                duals=duals or {},
+            )
+        )
     return rows
 
 
@@ -193,8 +218,13 @@ def _last_solution_is(fam: _Family, values: dict) -> bool:
     return all(abs(float(v.value) - values[k]) <= 1e-14 * abs(values[k]) for k, v in fam.variables.items())
 
 
-def solve_gp(problem: Problem, weights=None, threshold_cap: float | None = None,
-             max_iterations: int = MAX_ITERATIONS, record: list | None = None) -> GPResult:
+def solve_gp(
+    problem: Problem,
+    weights=None,
+    threshold_cap: float | None = None,
+    max_iterations: int = MAX_ITERATIONS,
+    record: list | None = None,
+) -> GPResult:
     """Minimise J = w_turn F_turn + w_threshold P by geometric programming (docs/model.md#solvers).
 
     Every family (bare fork, groove, damper, groove+damper, as the bounds
@@ -249,16 +279,28 @@ def solve_gp(problem: Problem, weights=None, threshold_cap: float | None = None,
     s = h / design.diameter
     truncation = float(threshold_series_remainder_bound(s, order) / threshold_force_ratio(design.diameter, h))
     return GPResult(
-        design=design, objective=row["objective"], gp_objective=row["gp_objective"], family=row["family"],
-        exact=row["exact"], iterations=row["iterations"], duals=row["duals"], truncation_error=truncation,
-        status=row["status"], families=families, wheel=wheel, problem=variant,
-        designs={label: r["design"] for _, label, _, _, r in candidates}, order=order,
-        seconds=time.perf_counter() - t0, solves=solves,
+        design=design,
+        objective=row["objective"],
+        gp_objective=row["gp_objective"],
+        family=row["family"],
+        exact=row["exact"],
+        iterations=row["iterations"],
+        duals=row["duals"],
+        truncation_error=truncation,
+        status=row["status"],
+        families=families,
+        wheel=wheel,
+        problem=variant,
+        designs={label: r["design"] for _, label, _, _, r in candidates},
+        order=order,
+        seconds=time.perf_counter() - t0,
+        solves=solves,
     )
 
 
-def gp_starts(problem: Problem, weights=None, threshold_cap: float | None = None,
-              max_iterations: int = MAX_ITERATIONS) -> list[np.ndarray]:
+def gp_starts(
+    problem: Problem, weights=None, threshold_cap: float | None = None, max_iterations: int = MAX_ITERATIONS
+) -> list[np.ndarray]:
     """Each feasible family's GP design as an NLP start (SI arrays, VARIABLES order).
 
     Pass a continuous problem (one catalog variant) to get starts for its NLP.
@@ -274,8 +316,9 @@ def gp_starts(problem: Problem, weights=None, threshold_cap: float | None = None
     return [d.as_array() for d in result.designs.values()]
 
 
-def polish(problem: Problem, gp_result: GPResult, weights=None, threshold_cap: float | None = None
-           ) -> tuple[Design, float]:
+def polish(
+    problem: Problem, gp_result: GPResult, weights=None, threshold_cap: float | None = None
+) -> tuple[Design, float]:
     """Exact-model polish: IPOPT (:class:`CasterNLP`) started from the GP design.
 
     Parameters
@@ -295,8 +338,11 @@ def polish(problem: Problem, gp_result: GPResult, weights=None, threshold_cap: f
     w = tuple(float(v) for v in (problem.weights if weights is None else weights))
     variant = gp_result.problem if gp_result.problem is not None else problem
     if variant.wheels:
-        variant = variant.variants()[0] if gp_result.wheel is None else next(
-            v for v in variant.variants() if v.conditions.inertia.wheel.key == gp_result.wheel)
+        variant = (
+            variant.variants()[0]
+            if gp_result.wheel is None
+            else next(v for v in variant.variants() if v.conditions.inertia.wheel.key == gp_result.wheel)
+        )
     nlp = CasterNLP(variant)
     result = nlp.solve(gp_result.design, w, BIG if threshold_cap is None else threshold_cap)
     best = (gp_result.design, exact_objective(variant, gp_result.design, w))

@@ -2,6 +2,7 @@
 
 Part of :mod:`designer.solvers.gp` (which re-exports every name; the method is in its docstring).
 """
+
 from __future__ import annotations
 
 import math
@@ -14,7 +15,7 @@ from designer.errors import check_interrupt
 from designer.model import FAMILIES, Design
 from designer.problem import Problem
 
-from designer.solvers.gp_terms import (_Constants, _constants, _objective, _parameters, gp_terms, robust_speed_factor)
+from designer.solvers.gp_terms import _Constants, _constants, _objective, _parameters, gp_terms, robust_speed_factor
 
 
 FLOOR = 1e-6
@@ -39,8 +40,9 @@ class _Family:
 
     VARS = ("trail", "diameter", "groove", "added_damping")
 
-    def __init__(self, problem: Problem, groove_free: bool, damper_free: bool, weights, threshold_cap,
-                 order: int, s_max: float):
+    def __init__(
+        self, problem: Problem, groove_free: bool, damper_free: bool, weights, threshold_cap, order: int, s_max: float
+    ):
         self.problem = problem
         self.name = FAMILIES[(groove_free, damper_free)]
         self.weights = weights
@@ -72,8 +74,9 @@ class _Family:
                 if lo <= 0:
                     self.floor[name] = FLOOR * hi
         self.variables = {k: v for k, v in self.x.items() if isinstance(v, cp.Variable)}
-        terms = gp_terms(self.x["trail"], self.x["diameter"], self.x["groove"], self.x["added_damping"],
-                         self.constants, order, s_max)
+        terms = gp_terms(
+            self.x["trail"], self.x["diameter"], self.x["groove"], self.x["added_damping"], self.constants, order, s_max
+        )
         self.terms = terms
         constraints = {}
         rhs_terms = terms["shimmy_rhs"]
@@ -101,7 +104,9 @@ class _Family:
             constraints[f"{name}.min"] = var >= (lo if lo > 0 else self.floor[name])
         if self.constants.swept_radius_max is not None:
             if _constant(terms["swept_radius"]):
-                self.infeasible_constant |= _value(terms["swept_radius"]) > self.constants.swept_radius_max * (1 + 1e-12)
+                self.infeasible_constant |= _value(terms["swept_radius"]) > self.constants.swept_radius_max * (
+                    1 + 1e-12
+                )
             else:
                 constraints["swept_radius"] = terms["swept_radius"] <= self.constants.swept_radius_max
         self.threshold_cap = threshold_cap
@@ -132,8 +137,15 @@ class _Family:
 
     def float_terms(self, values: dict, constants: _Constants | None = None) -> dict:
         x = self.full(values)
-        return gp_terms(x["trail"], x["diameter"], x["groove"], x["added_damping"],
-                        constants or self.constants, self.order, self.s_max)
+        return gp_terms(
+            x["trail"],
+            x["diameter"],
+            x["groove"],
+            x["added_damping"],
+            constants or self.constants,
+            self.order,
+            self.s_max,
+        )
 
     def condense(self, values: dict) -> None:
         """Set the condensed monomial r̂ of the shimmy right side at ``values`` (AM–GM)."""
@@ -144,8 +156,17 @@ class _Family:
         for k in self.rhs_variables:
             shifted = dict(x)
             shifted[k] = x[k] * (1 + 1j * eps)  # complex step: Im(r)/eps = ∂r/∂log x_k
-            rc = sum(gp_terms(shifted["trail"], shifted["diameter"], shifted["groove"], shifted["added_damping"],
-                              self.constants, self.order, self.s_max)["shimmy_rhs"])
+            rc = sum(
+                gp_terms(
+                    shifted["trail"],
+                    shifted["diameter"],
+                    shifted["groove"],
+                    shifted["added_damping"],
+                    self.constants,
+                    self.order,
+                    self.s_max,
+                )["shimmy_rhs"]
+            )
             g = float(np.imag(rc)) / eps / r0
             self.g_param[k].value = g
             log_k -= g * math.log(x[k])

@@ -5,6 +5,7 @@ parameter values of a problem (:func:`_parameters`, from :mod:`designer.paramete
 terms need, the order of the threshold-force series (:func:`series_order`) and :func:`gp_terms`, the one
 function every GP, condensation and sensitivity is built from.
 """
+
 from __future__ import annotations
 
 import math
@@ -81,8 +82,9 @@ def robust_speed_factor(problem: Problem, groove: bool) -> tuple[float, bool]:
 def _constants(problem: Problem, params: dict, speed_factor: float = 1.0) -> _Constants:
     """Conditions rebuilt from ``params`` (so a parameter can be perturbed)."""
     conditions = parameters.with_solver_values(problem, params)
-    return _Constants(conditions, (1 + problem.margin) * params["target_speed"] * speed_factor,
-                      params.get("swept_radius_max"))
+    return _Constants(
+        conditions, (1 + problem.margin) * params["target_speed"] * speed_factor, params.get("swept_radius_max")
+    )
 
 
 def series_order(problem: Problem, tolerance: float = SERIES_TOLERANCE) -> tuple[int, float]:

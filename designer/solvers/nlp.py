@@ -12,6 +12,7 @@ Constraints (CasADi convention lbg <= g <= ubg):
     turning    (F_turn − ε_F) / F_ref <= 0         (ε-constraint, Eq. 9)
     swept      (T + d/2) / R_max − 1 <= 0          (only with swept_radius_max)
 """
+
 from __future__ import annotations
 
 import copy
@@ -91,7 +92,9 @@ class CasterNLP:
         x = z * ca.DM(self.scale)
         perf = performance(x[0], x[1], x[2], x[3], conditions_sym)
         self._perf_function = ca.Function(
-            "perf", [z, psym], [perf["turning_effort"], perf["threshold_force"], perf["critical_speed"], perf["swept_radius"]]
+            "perf",
+            [z, psym],
+            [perf["turning_effort"], perf["threshold_force"], perf["critical_speed"], perf["swept_radius"]],
         )
         # references for scaling, at the centre of the box
         centre = (self.lbz + self.ubz) / 2
@@ -100,8 +103,11 @@ class CasterNLP:
         v_req = (1 + problem.margin) * psym[self.param_names.index("target_speed")]
         # J = w_turn F + w_thr P, divided by its value at the box centre so IPOPT sees O(1)
         objective = (w[0] * perf["turning_effort"] + w[1] * perf["threshold_force"]) / (w[0] * f_ref + w[1] * p_ref)
-        g = [perf["design_speed"] / v_req - 1, (perf["threshold_force"] - eps[0]) / p_ref,
-             (perf["turning_effort"] - eps[1]) / f_ref]
+        g = [
+            perf["design_speed"] / v_req - 1,
+            (perf["threshold_force"] - eps[0]) / p_ref,
+            (perf["turning_effort"] - eps[1]) / f_ref,
+        ]
         self.constraint_names = ["shimmy", "threshold_cap", "turning_cap"]
         if problem.swept_radius_max is not None:
             r_max = psym[self.param_names.index("swept_radius_max")]
@@ -176,8 +182,9 @@ class CasterNLP:
         arr = design.as_array() if isinstance(design, Design) else np.asarray(design, float)
         return np.clip(arr / self.scale, self.lbz, self.ubz)
 
-    def solve(self, start, weights=(1.0, 1.0), threshold_cap=BIG, turning_cap=BIG, lam_g0=None, lam_x0=None,
-              overrides=None) -> NLPResult:
+    def solve(
+        self, start, weights=(1.0, 1.0), threshold_cap=BIG, turning_cap=BIG, lam_g0=None, lam_x0=None, overrides=None
+    ) -> NLPResult:
         """One IPOPT solve from ``start`` (a Design or SI array)."""
         p = self.parameter_vector(weights, threshold_cap, turning_cap, overrides)
         args = dict(x0=self.to_z(start), p=p, lbx=self.lbz, ubx=self.ubz, lbg=self.lbg, ubg=self.ubg)
@@ -197,17 +204,30 @@ class CasterNLP:
         success = bool(stats.get("success", False)) and viol <= 1e-6 and np.all(np.isfinite(z))
         w = np.asarray(weights, float)
         objective = self.weighted(design, w)
-        return NLPResult(design, success, str(stats.get("return_status")), objective,
-                         np.asarray(sol["lam_g"]).ravel(), np.asarray(sol["lam_x"]).ravel(),
-                         int(stats.get("iter_count", -1)), seconds, z)
+        return NLPResult(
+            design,
+            success,
+            str(stats.get("return_status")),
+            objective,
+            np.asarray(sol["lam_g"]).ravel(),
+            np.asarray(sol["lam_x"]).ravel(),
+            int(stats.get("iter_count", -1)),
+            seconds,
+            z,
+        )
 
     BATCH_SIZES = (4, 16, 64)
     """Block counts of the batched solvers (built lazily, once each per problem)."""
 
-    WARM_OPTIONS = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-6,
-                    "ipopt.warm_start_bound_push": 1e-9, "ipopt.warm_start_mult_bound_push": 1e-9,
-                    "ipopt.warm_start_slack_bound_push": 1e-9, "ipopt.warm_start_slack_bound_frac": 1e-9,
-                    "ipopt.warm_start_bound_frac": 1e-9}
+    WARM_OPTIONS = {
+        "ipopt.warm_start_init_point": "yes",
+        "ipopt.mu_init": 1e-6,
+        "ipopt.warm_start_bound_push": 1e-9,
+        "ipopt.warm_start_mult_bound_push": 1e-9,
+        "ipopt.warm_start_slack_bound_push": 1e-9,
+        "ipopt.warm_start_slack_bound_frac": 1e-9,
+        "ipopt.warm_start_bound_frac": 1e-9,
+    }
     """IPOPT options of a warm batch: start from the given primal and dual point with a small barrier."""
 
     def _batch_solver(self, size: int, warm: bool):
@@ -221,8 +241,9 @@ class CasterNLP:
             options = dict(self._options, calc_lam_p=False)  # dL/dp of the batch is never used
             if warm:
                 options.update(self.WARM_OPTIONS)
-            solver = ca.nlpsol(f"caster_{size}", "ipopt",
-                               {"x": ca.vec(zz), "p": ca.vec(pp), "f": ca.sum2(f), "g": ca.vec(g)}, options)
+            solver = ca.nlpsol(
+                f"caster_{size}", "ipopt", {"x": ca.vec(zz), "p": ca.vec(pp), "f": ca.sum2(f), "g": ca.vec(g)}, options
+            )
             self._batch[key] = (solver, self._perf_function.map(size))
             self.build_seconds += time.perf_counter() - t0
         return self._batch[key]
@@ -231,8 +252,12 @@ class CasterNLP:
         """lbx, ubx, lbg, ubg of a batch of ``size`` blocks (tiled once per size)."""
         key = ("bounds", size)
         if key not in self._batch:
-            self._batch[key] = dict(lbx=np.tile(self.lbz, size), ubx=np.tile(self.ubz, size),
-                                    lbg=np.tile(self.lbg, size), ubg=np.tile(self.ubg, size))
+            self._batch[key] = dict(
+                lbx=np.tile(self.lbz, size),
+                ubx=np.tile(self.ubz, size),
+                lbg=np.tile(self.lbg, size),
+                ubg=np.tile(self.ubg, size),
+            )
         return self._batch[key]
 
     def _chunk(self, left: int) -> int:
@@ -248,8 +273,9 @@ class CasterNLP:
                 return small if left <= 2 * small else large
         return sizes[-1]
 
-    def solve_many(self, starts, weights=(1.0, 1.0), threshold_caps=BIG, turning_caps=BIG, lam_g0=None,
-                   lam_x0=None) -> list[NLPResult]:
+    def solve_many(
+        self, starts, weights=(1.0, 1.0), threshold_caps=BIG, turning_caps=BIG, lam_g0=None, lam_x0=None
+    ) -> list[NLPResult]:
         """Solve K independent NLPs (one per start) in a few IPOPT calls.
 
         The K problems are stacked into block-diagonal NLPs of
@@ -274,15 +300,20 @@ class CasterNLP:
         list of NLPResult, in the order of ``starts``; ``seconds`` is the
         chunk's wall time shared equally by its blocks.
         """
-        x = np.array([s.as_array() if isinstance(s, Design) else np.asarray(s, float) for s in starts],
-                     float).reshape(-1, 4)
+        x = np.array([s.as_array() if isinstance(s, Design) else np.asarray(s, float) for s in starts], float).reshape(
+            -1, 4
+        )
         k = len(x)
         if k == 0:
             return []
         z0 = np.clip(x / self.scale, self.lbz, self.ubz)
         w = np.broadcast_to(np.asarray(weights, float), (k, 2))
-        caps = np.column_stack([np.broadcast_to(np.asarray(threshold_caps, float), (k,)),
-                                np.broadcast_to(np.asarray(turning_caps, float), (k,))])
+        caps = np.column_stack(
+            [
+                np.broadcast_to(np.asarray(threshold_caps, float), (k,)),
+                np.broadcast_to(np.asarray(turning_caps, float), (k,)),
+            ]
+        )
         params = np.column_stack([np.tile(self.param_values, (k, 1)), w, caps])
         warm = lam_g0 is not None and lam_x0 is not None
         ng = len(self.lbg)
@@ -308,7 +339,9 @@ class CasterNLP:
             gs = np.asarray(sol["g"]).reshape(size, ng)
             lg = np.asarray(sol["lam_g"]).reshape(size, ng)
             lx = np.asarray(sol["lam_x"]).reshape(size, 4)
-            values = np.vstack([np.asarray(v).ravel() for v in perf(zs.T, np.tile(self.param_values[:, None], (1, size)))])
+            values = np.vstack(
+                [np.asarray(v).ravel() for v in perf(zs.T, np.tile(self.param_values[:, None], (1, size)))]
+            )
             viol = np.maximum(np.max(self.lbg - gs, axis=1), np.max(gs - self.ubg, axis=1)).clip(min=0.0)
             for j in range(take):
                 b = i + j
@@ -317,27 +350,43 @@ class CasterNLP:
                     out.append(self.solve(x[b], w[b], caps[b, 0], caps[b, 1]))
                     continue
                 objective = float(w[b, 0] * values[0, j] + w[b, 1] * values[1, j])
-                out.append(NLPResult(Design.from_array(zs[j] * self.scale), good, str(stats.get("return_status")),
-                                     objective, lg[j].copy(), lx[j].copy(), int(stats.get("iter_count", -1)),
-                                     seconds / take, zs[j].copy()))
+                out.append(
+                    NLPResult(
+                        Design.from_array(zs[j] * self.scale),
+                        good,
+                        str(stats.get("return_status")),
+                        objective,
+                        lg[j].copy(),
+                        lx[j].copy(),
+                        int(stats.get("iter_count", -1)),
+                        seconds / take,
+                        zs[j].copy(),
+                    )
+                )
             i += take
         return out
 
-    def multipliers_many(self, designs, weights=(1.0, 0.0), threshold_caps=BIG, turning_caps=BIG,
-                         tol: float = 1e-9) -> tuple[np.ndarray, np.ndarray]:
+    def multipliers_many(
+        self, designs, weights=(1.0, 0.0), threshold_caps=BIG, turning_caps=BIG, tol: float = 1e-9
+    ) -> tuple[np.ndarray, np.ndarray]:
         """KKT multipliers (lam_g (K, m), lam_x (K, 4), CasADi convention) of K designs taken as optima.
 
         The active set is read off the designs (bounds and constraints within ``tol``, scaled), and the
         multipliers solve ∇J + J_gᵀ λ_g + λ_x = 0 on it in least squares; a warm start of
         :meth:`solve_many` from a known optimum and these multipliers needs only a few iterations.
         """
-        x = np.array([d.as_array() if isinstance(d, Design) else np.asarray(d, float) for d in designs],
-                     float).reshape(-1, 4)
+        x = np.array([d.as_array() if isinstance(d, Design) else np.asarray(d, float) for d in designs], float).reshape(
+            -1, 4
+        )
         k, ng = len(x), len(self.lbg)
         z = np.clip(x / self.scale, self.lbz, self.ubz)
         w = np.broadcast_to(np.asarray(weights, float), (k, 2))
-        caps = np.column_stack([np.broadcast_to(np.asarray(threshold_caps, float), (k,)),
-                                np.broadcast_to(np.asarray(turning_caps, float), (k,))])
+        caps = np.column_stack(
+            [
+                np.broadcast_to(np.asarray(threshold_caps, float), (k,)),
+                np.broadcast_to(np.asarray(turning_caps, float), (k,)),
+            ]
+        )
         params = np.column_stack([np.tile(self.param_values, (k, 1)), w, caps])
         grad, jac, g = self._kkt.map(k)(z.T, params.T)
         grad = np.asarray(grad).T.reshape(k, 4)
@@ -351,7 +400,7 @@ class CasterNLP:
             a = np.hstack([jac[i][ag].T, np.eye(4)[:, ax]])
             if a.shape[1]:
                 sol = np.linalg.lstsq(a, -grad[i], rcond=None)[0]
-                lam_g[i, ag], lam_x[i, ax] = sol[: len(ag)], sol[len(ag):]
+                lam_g[i, ag], lam_x[i, ax] = sol[: len(ag)], sol[len(ag) :]
         return lam_g, lam_x
 
     def objectives(self, design: Design, overrides=None) -> tuple[float, float, float, float]:
@@ -364,8 +413,9 @@ class CasterNLP:
 
         Row i equals :meth:`objectives` of design i (the same CasADi function, evaluated column by column).
         """
-        x = np.array([d.as_array() if isinstance(d, Design) else np.asarray(d, float) for d in designs],
-                     float).reshape(-1, 4)
+        x = np.array([d.as_array() if isinstance(d, Design) else np.asarray(d, float) for d in designs], float).reshape(
+            -1, 4
+        )
         if not len(x):
             return np.zeros((0, 4))
         out = self._perf_function((x / self.scale).T, self.param_values)
@@ -452,8 +502,15 @@ def violation(problem: Problem, values: dict) -> np.ndarray:
     return v
 
 
-def best_starts(problem: Problem, weights, k: int = 4, n: int = 1024, threshold_cap: float = BIG,
-                seed: int = 0, samples: np.ndarray | None = None) -> list[np.ndarray]:
+def best_starts(
+    problem: Problem,
+    weights,
+    k: int = 4,
+    n: int = 1024,
+    threshold_cap: float = BIG,
+    seed: int = 0,
+    samples: np.ndarray | None = None,
+) -> list[np.ndarray]:
     """The k best sample points by weighted objective among the (least) infeasible.
 
     Also adds the corners of the two competing families (pure groove, pure damper)
@@ -478,7 +535,9 @@ def best_starts(problem: Problem, weights, k: int = 4, n: int = 1024, threshold_
 # --------------------------------------------------------------------------- public API
 
 
-def solve_best(nlp: CasterNLP, starts, weights=(1.0, 1.0), threshold_cap=BIG, turning_cap=BIG) -> tuple[NLPResult | None, list[NLPResult]]:
+def solve_best(
+    nlp: CasterNLP, starts, weights=(1.0, 1.0), threshold_cap=BIG, turning_cap=BIG
+) -> tuple[NLPResult | None, list[NLPResult]]:
     """Solve from every start; return the best successful result and all results."""
     results = [nlp.solve(s, weights, threshold_cap, turning_cap) for s in starts]
     good = [r for r in results if r.success]
@@ -507,12 +566,18 @@ def max_critical_speed(problem: Problem) -> tuple[float, Design, list[str]]:
     if problem.swept_radius_max is not None:
         g.append(perf["swept_radius"] / problem.swept_radius_max - 1)
     nlp = {"x": z, "f": -perf["design_speed"], "g": ca.vertcat(*g) if g else ca.SX(0, 1)}
-    solver = ca.nlpsol("vmax", "ipopt", nlp, {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
-                                                 "error_on_fail": False})
+    solver = ca.nlpsol(
+        "vmax", "ipopt", nlp, {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "error_on_fail": False}
+    )
     best = None
     for start in sample_designs(problem, 16, seed=1):
-        sol = solver(x0=np.clip(start / scale, lo / scale, hi / scale), lbx=lo / scale, ubx=hi / scale,
-                     ubg=0 if g else [], lbg=-np.inf if g else [])
+        sol = solver(
+            x0=np.clip(start / scale, lo / scale, hi / scale),
+            lbx=lo / scale,
+            ubx=hi / scale,
+            ubg=0 if g else [],
+            lbg=-np.inf if g else [],
+        )
         check_interrupt()
         v = -float(sol["f"])
         if best is None or v > best[0]:

@@ -4,6 +4,7 @@ SLSQP sees only the NumPy evaluation of :func:`designer.model.performance`
 (finite-difference gradients), a different formulation and algorithm from
 the CasADi/IPOPT NLP, so agreement between the two is meaningful.
 """
+
 from __future__ import annotations
 
 import warnings
@@ -16,8 +17,9 @@ from designer.model import Design, performance
 from designer.problem import Problem
 
 
-def slsqp(problem: Problem, weights=None, starts=(), random_starts: int = 5, seed: int = 0,
-          threshold_cap: float | None = None) -> tuple[Design | None, float]:
+def slsqp(
+    problem: Problem, weights=None, starts=(), random_starts: int = 5, seed: int = 0, threshold_cap: float | None = None
+) -> tuple[Design | None, float]:
     """Minimise J = w_turn F_turn + w_threshold P with SLSQP from several starts.
 
     Parameters
@@ -62,8 +64,9 @@ def slsqp(problem: Problem, weights=None, starts=(), random_starts: int = 5, see
     best = (None, float("nan"))
     for start in all_starts:
         z0 = np.clip(start / scale, lo / scale, hi / scale)
-        res = minimize(objective, z0, method="SLSQP", bounds=bounds, constraints=cons,
-                       options={"ftol": 1e-12, "maxiter": 500})
+        res = minimize(
+            objective, z0, method="SLSQP", bounds=bounds, constraints=cons, options={"ftol": 1e-12, "maxiter": 500}
+        )
         check_interrupt()
         z = np.clip(res.x, lo / scale, hi / scale)
         v = perf(z)

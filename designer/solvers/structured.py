@@ -42,6 +42,7 @@ Every model quantity comes from :func:`designer.model.performance` and the V_c q
 :mod:`designer.physics.uncertainty`; only the inversions (P = ε for d, the shimmy constraint for B or
 c_f through :func:`designer.physics.shimmy.critical_speed_terms`, the curve's shares) are written here.
 """
+
 from __future__ import annotations
 
 import functools
@@ -101,8 +102,12 @@ def _values(problem, x):
         return performance(x[..., 0], x[..., 1], x[..., 2], x[..., 3], problem.conditions)
 
 
-CANDIDATES = ("groove from Eq. 7 at the least damping", "damping from Eq. 7 at the least groove",
-              "damping from Eq. 7 at the widest groove", "groove from Eq. 7 at the most damping")
+CANDIDATES = (
+    "groove from Eq. 7 at the least damping",
+    "damping from Eq. 7 at the least groove",
+    "damping from Eq. 7 at the widest groove",
+    "groove from Eq. 7 at the most damping",
+)
 """The ends of the shimmy constraint curve in (B, c_f) at a given (T, d), in the order compared: F_turn
 is concave along the curve, so its minimum is at one of them (docs/model.md)."""
 
@@ -142,7 +147,7 @@ def designs_at_diameter(problem, d, candidates=None, *, search: bool = True) -> 
     if problem.conditions.uncertainty is not None:
         designs, feasible = _risk_designs(problem, t, d, a, b, search)
         return designs, ok & feasible
-    need = problem.required_speed ** 2
+    need = problem.required_speed**2
     (b_lo, c_lo), (b_hi, c_hi) = (lo[2], lo[3]), (hi[2], hi[3])
     with np.errstate(divide="ignore", invalid="ignore"):
         # c_f from the constraint at a given B; B from it at a given c_f
@@ -291,8 +296,10 @@ def structured_front_designs(problem, eps_array) -> tuple[np.ndarray, np.ndarray
     Raises ValueError when the closed form does not apply (see :func:`applicable`).
     """
     if not applicable(problem):
-        raise ValueError("the closed-form ε-optima need a continuous problem with a positive moment "
-                         "(and a risk bound whose quantile factor varies slowly with the friction share)")
+        raise ValueError(
+            "the closed-form ε-optima need a continuous problem with a positive moment "
+            "(and a risk bound whose quantile factor varies slowly with the friction share)"
+        )
     eps = np.asarray(eps_array, float).ravel()
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
     with np.errstate(invalid="ignore"):
@@ -312,8 +319,10 @@ def structured_ends(problem, rel: float = 1e-9, rounds: int = 9):
     tolerance of the NLP's second lexicographic stage (:func:`designer.analysis.sweeps.lexicographic_ends`).
     """
     if not applicable(problem):
-        raise ValueError("the closed-form ends need a continuous problem with a positive moment "
-                         "(and a risk bound whose quantile factor varies slowly with the friction share)")
+        raise ValueError(
+            "the closed-form ends need a continuous problem with a positive moment "
+            "(and a risk bound whose quantile factor varies slowly with the friction share)"
+        )
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
     x_lo, ok_lo = designs_at_diameter(problem, [lo[1]])
     if not ok_lo[0]:

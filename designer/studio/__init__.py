@@ -5,6 +5,7 @@ A Dash app (:mod:`designer.studio.app`) on top of the same API the command line 
 :mod:`designer.studio.view` computes what is shown, :mod:`designer.studio.figures` draws it.
 :func:`serve` runs it on 127.0.0.1.  Dash is imported only when the app is built.
 """
+
 from __future__ import annotations
 
 from designer.studio.server import make_server, serve

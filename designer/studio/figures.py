@@ -2,28 +2,53 @@
 
 Plotly is imported by the functions (the studio's dependency, not the package's).
 """
+
 from __future__ import annotations
 
 import math
 
 INCH = 0.0254
 
-COLOURS = {"continuous": "#9aa0a6", "risk": "#1f6fb2", "buildable": "#e07b00", "recommendation": "#1a9641",
-           "mine": "#d7191c", "fix": "#7b3294"}
+COLOURS = {
+    "continuous": "#9aa0a6",
+    "risk": "#1f6fb2",
+    "buildable": "#e07b00",
+    "recommendation": "#1a9641",
+    "mine": "#d7191c",
+    "fix": "#7b3294",
+}
 
-HOVER = ("<b>%{customdata[4]}</b><br>F_turn %{x:.3f} N<br>P %{y:.2f} N<br>V_c %{customdata[5]:.3f} m/s<br>"
-         "T %{customdata[6]:.3f} in, d %{customdata[7]:.3f} in<br>B %{customdata[8]:.3f} in, "
-         "c_f %{customdata[3]:.3f} N·m/rad<extra></extra>")
+HOVER = (
+    "<b>%{customdata[4]}</b><br>F_turn %{x:.3f} N<br>P %{y:.2f} N<br>V_c %{customdata[5]:.3f} m/s<br>"
+    "T %{customdata[6]:.3f} in, d %{customdata[7]:.3f} in<br>B %{customdata[8]:.3f} in, "
+    "c_f %{customdata[3]:.3f} N·m/rad<extra></extra>"
+)
 
 
 def _custom(p: dict, name: str) -> list:
     d = p["design"]
-    return [d["trail"], d["diameter"], d["groove"], d["damping"], name, p.get("critical_speed", math.nan),
-            d["trail"] / INCH, d["diameter"] / INCH, d["groove"] / INCH, p.get("inertia")]
+    return [
+        d["trail"],
+        d["diameter"],
+        d["groove"],
+        d["damping"],
+        name,
+        p.get("critical_speed", math.nan),
+        d["trail"] / INCH,
+        d["diameter"] / INCH,
+        d["groove"] / INCH,
+        p.get("inertia"),
+    ]
 
 
-def front_figure(continuous: list, risk: list, buildable: list, recommendation: dict | None,
-                 mine: dict | None = None, title: str = ""):
+def front_figure(
+    continuous: list,
+    risk: list,
+    buildable: list,
+    recommendation: dict | None,
+    mine: dict | None = None,
+    title: str = "",
+):
     """The trade-off chart: turning effort vs threshold force of every front, the recommendation, my caster.
 
     Each point carries its design in ``customdata`` (T, d, B, c_f [SI], name, V_c, T, d, B [in], the wheel's
@@ -33,43 +58,89 @@ def front_figure(continuous: list, risk: list, buildable: list, recommendation: 
 
     fig = go.Figure()
     for key, points, name, mode, symbol, size in (
-            ("continuous", continuous, "continuous front (nominal V_c)", "lines+markers", "circle", 6),
-            ("risk", risk, "risk-bounded front (P(shimmy) ≤ α)", "lines+markers", "circle", 8),
-            ("buildable", buildable, "buildable front (stock)", "markers", "square", 10)):
+        ("continuous", continuous, "continuous front (nominal V_c)", "lines+markers", "circle", 6),
+        ("risk", risk, "risk-bounded front (P(shimmy) ≤ α)", "lines+markers", "circle", 8),
+        ("buildable", buildable, "buildable front (stock)", "markers", "square", 10),
+    ):
         if not points:
             continue
-        fig.add_trace(go.Scatter(
-            x=[p["turning_effort"] for p in points], y=[p["threshold_force"] for p in points], mode=mode,
-            name=name, marker={"color": COLOURS[key], "size": size, "symbol": symbol},
-            line={"color": COLOURS[key], "width": 1.5}, meta=key,
-            customdata=[_custom(p, f"{name.split(' (')[0]} #{i + 1}" + (f" {p['label']}" if p.get("label") else ""))
-                        for i, p in enumerate(points)], hovertemplate=HOVER))
+        fig.add_trace(
+            go.Scatter(
+                x=[p["turning_effort"] for p in points],
+                y=[p["threshold_force"] for p in points],
+                mode=mode,
+                name=name,
+                marker={"color": COLOURS[key], "size": size, "symbol": symbol},
+                line={"color": COLOURS[key], "width": 1.5},
+                meta=key,
+                customdata=[
+                    _custom(p, f"{name.split(' (')[0]} #{i + 1}" + (f" {p['label']}" if p.get("label") else ""))
+                    for i, p in enumerate(points)
+                ],
+                hovertemplate=HOVER,
+            )
+        )
     if recommendation is not None:
-        rec = {"design": recommendation["design"], "turning_effort": recommendation["turning_effort"],
-               "threshold_force": recommendation["threshold_force"],
-               "critical_speed": recommendation.get("critical_speed") or math.nan,
-               "inertia": recommendation.get("inertia")}
-        fig.add_trace(go.Scatter(x=[rec["turning_effort"]], y=[rec["threshold_force"]], mode="markers",
-                                 name="recommendation", meta="recommendation",
-                                 marker={"color": COLOURS["recommendation"], "size": 18, "symbol": "star",
-                                         "line": {"color": "white", "width": 1}},
-                                 customdata=[_custom(rec, "recommendation")], hovertemplate=HOVER))
+        rec = {
+            "design": recommendation["design"],
+            "turning_effort": recommendation["turning_effort"],
+            "threshold_force": recommendation["threshold_force"],
+            "critical_speed": recommendation.get("critical_speed") or math.nan,
+            "inertia": recommendation.get("inertia"),
+        }
+        fig.add_trace(
+            go.Scatter(
+                x=[rec["turning_effort"]],
+                y=[rec["threshold_force"]],
+                mode="markers",
+                name="recommendation",
+                meta="recommendation",
+                marker={
+                    "color": COLOURS["recommendation"],
+                    "size": 18,
+                    "symbol": "star",
+                    "line": {"color": "white", "width": 1},
+                },
+                customdata=[_custom(rec, "recommendation")],
+                hovertemplate=HOVER,
+            )
+        )
     if mine is not None:
         n = mine["numbers"]
-        risk_text = ("" if n.get("shimmy_probability") is None
-                     else f"P(shimmy) {100 * n['shimmy_probability']:.1f} %")
-        p = {"design": n["design"], "turning_effort": n["turning_effort"],
-             "threshold_force": n["threshold_force"], "critical_speed": n["critical_speed"]}
-        fig.add_trace(go.Scatter(x=[p["turning_effort"]], y=[p["threshold_force"]], mode="markers+text",
-                                 name="my caster", meta="mine", text=[f"my caster {risk_text}"],
-                                 textposition="top left",
-                                 marker={"color": COLOURS["mine"], "size": 14, "symbol": "x"},
-                                 customdata=[_custom(p, "my caster")], hovertemplate=HOVER))
+        risk_text = "" if n.get("shimmy_probability") is None else f"P(shimmy) {100 * n['shimmy_probability']:.1f} %"
+        p = {
+            "design": n["design"],
+            "turning_effort": n["turning_effort"],
+            "threshold_force": n["threshold_force"],
+            "critical_speed": n["critical_speed"],
+        }
+        fig.add_trace(
+            go.Scatter(
+                x=[p["turning_effort"]],
+                y=[p["threshold_force"]],
+                mode="markers+text",
+                name="my caster",
+                meta="mine",
+                text=[f"my caster {risk_text}"],
+                textposition="top left",
+                marker={"color": COLOURS["mine"], "size": 14, "symbol": "x"},
+                customdata=[_custom(p, "my caster")],
+                hovertemplate=HOVER,
+            )
+        )
     fig.update_layout(
-        title=title, xaxis_title="turning effort F_turn [N]", yaxis_title="threshold (sill) force P [N]",
-        template="plotly_white", height=520, margin={"l": 60, "r": 20, "t": 40, "b": 50},
-        legend={"orientation": "h", "y": -0.15}, hovermode="closest", clickmode="event", uirevision="front",
-        transition={"duration": 0})
+        title=title,
+        xaxis_title="turning effort F_turn [N]",
+        yaxis_title="threshold (sill) force P [N]",
+        template="plotly_white",
+        height=520,
+        margin={"l": 60, "r": 20, "t": 40, "b": 50},
+        legend={"orientation": "h", "y": -0.15},
+        hovermode="closest",
+        clickmode="event",
+        uirevision="front",
+        transition={"duration": 0},
+    )
     return fig
 
 
@@ -82,17 +153,39 @@ def sweeps_figure(sweeps: dict, target: float, alpha: float | None):
     for col, name in ((1, "trail"), (2, "diameter")):
         s = sweeps[name]
         x = [v / INCH for v in s["x"]]
-        fig.add_trace(go.Scatter(x=x, y=list(s["critical_speed"]), name="V_c (Eq. 7)", showlegend=col == 1,
-                                 line={"color": COLOURS["continuous"]}), row=1, col=col)
+        fig.add_trace(
+            go.Scatter(
+                x=x,
+                y=list(s["critical_speed"]),
+                name="V_c (Eq. 7)",
+                showlegend=col == 1,
+                line={"color": COLOURS["continuous"]},
+            ),
+            row=1,
+            col=col,
+        )
         if alpha is not None:
-            fig.add_trace(go.Scatter(x=x, y=list(s["design_speed"]), name=f"speed reached w.p. {1 - alpha:.0%}",
-                                     showlegend=col == 1, line={"color": COLOURS["risk"]}), row=1, col=col)
+            fig.add_trace(
+                go.Scatter(
+                    x=x,
+                    y=list(s["design_speed"]),
+                    name=f"speed reached w.p. {1 - alpha:.0%}",
+                    showlegend=col == 1,
+                    line={"color": COLOURS["risk"]},
+                ),
+                row=1,
+                col=col,
+            )
         fig.add_vline(x=s["value"] / INCH, line={"dash": "dot", "color": "black"}, row=1, col=col)
         fig.add_hline(y=target, line={"dash": "dash", "color": COLOURS["mine"]}, row=1, col=col)
         fig.update_xaxes(title_text=f"{name} [in]", row=1, col=col)
     fig.update_yaxes(title_text="speed [m/s]", row=1, col=1)
-    fig.update_layout(template="plotly_white", height=300, margin={"l": 50, "r": 10, "t": 30, "b": 40},
-                      legend={"orientation": "h", "y": -0.3})
+    fig.update_layout(
+        template="plotly_white",
+        height=300,
+        margin={"l": 50, "r": 10, "t": 30, "b": 40},
+        legend={"orientation": "h", "y": -0.3},
+    )
     return fig
 
 
@@ -100,10 +193,21 @@ def knock_figure(knock: dict, target: float):
     """θ(t) [deg] after the 20° knock at the target speed."""
     import plotly.graph_objects as go  # the studio's dependency
 
-    fig = go.Figure(go.Scatter(x=list(knock["t"]), y=[math.degrees(v) for v in knock["theta"]], mode="lines",
-                               line={"color": COLOURS["mine"] if knock["grows"] else COLOURS["recommendation"]}))
+    fig = go.Figure(
+        go.Scatter(
+            x=list(knock["t"]),
+            y=[math.degrees(v) for v in knock["theta"]],
+            mode="lines",
+            line={"color": COLOURS["mine"] if knock["grows"] else COLOURS["recommendation"]},
+        )
+    )
     verdict = "grows: shimmy" if knock["grows"] else "decays"
-    fig.update_layout(title=f"θ(t) after a 20° knock at {target:.3g} m/s ({verdict})", template="plotly_white",
-                      xaxis_title="t [s]", yaxis_title="θ [deg]", height=280,
-                      margin={"l": 50, "r": 10, "t": 40, "b": 40})
+    fig.update_layout(
+        title=f"θ(t) after a 20° knock at {target:.3g} m/s ({verdict})",
+        template="plotly_white",
+        xaxis_title="t [s]",
+        yaxis_title="θ [deg]",
+        height=280,
+        margin={"l": 50, "r": 10, "t": 40, "b": 40},
+    )
     return fig

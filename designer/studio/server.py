@@ -1,4 +1,5 @@
 """Serve the studio: bind the port first (one line if it is taken), warm the solver, then serve until Ctrl-C."""
+
 from __future__ import annotations
 
 import errno
@@ -27,8 +28,9 @@ def check_port(host: str, port: int) -> None:
             probe.bind((host, port))
         except OSError as exc:
             if exc.errno == errno.EADDRINUSE:
-                raise ServerError(f"--port {port}: already in use on {host}; stop the other server or choose "
-                                  f"another port with --port") from None
+                raise ServerError(
+                    f"--port {port}: already in use on {host}; stop the other server or choose another port with --port"
+                ) from None
             raise ServerError(f"--port {port}: cannot listen on {host}: {exc.strerror or exc}") from None
 
 
@@ -41,6 +43,7 @@ def make_server(problem_path=None, port: int = 8050, host: str = HOST, out_dir="
     from werkzeug.serving import make_server as _make_server  # Dash's web server, loaded with the studio
 
     import designer.studio.state as state
+
     # late import: loads dash, plotly (via designer.studio.app) only when this runs
     from designer.studio.app import create_app
 
@@ -66,13 +69,13 @@ def make_server(problem_path=None, port: int = 8050, host: str = HOST, out_dir="
     return server, url
 
 
-def serve(problem_path=None, port: int = 8050, host: str = HOST, open_browser: bool = True,
-          out_dir="studio-output") -> int:
+def serve(
+    problem_path=None, port: int = 8050, host: str = HOST, open_browser: bool = True, out_dir="studio-output"
+) -> int:
     """Run the studio until Ctrl-C; prints its URL (and opens it unless ``open_browser`` is False). Returns 0."""
     server, url = make_server(problem_path, port, host, out_dir)
     print(f"designer studio: serving {url} (Ctrl-C to stop)", flush=True)
     if open_browser:
-
         threading.Timer(0.5, webbrowser.open, args=(url,)).start()
 
     def _stop(_signum, _frame):  # `kill` stops it as cleanly as Ctrl-C

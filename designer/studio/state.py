@@ -9,6 +9,7 @@ that same dict as TOML, which ``designer run`` reads back to the same problem.
 
 No web framework is imported here: the module is tested on its own.
 """
+
 from __future__ import annotations
 
 import copy
@@ -67,8 +68,7 @@ def _bounds_controls() -> list[Control]:
     out = []
     for name, dim in dims.items():
         for end in ("min", "max"):
-            out.append(Control(f"{name}_{end}", f"{name} {end}", ("variables", name, end), "quantity", dim,
-                               "bounds"))
+            out.append(Control(f"{name}_{end}", f"{name} {end}", ("variables", name, end), "quantity", dim, "bounds"))
     return out
 
 
@@ -84,8 +84,15 @@ CONTROLS: list[Control] = [
     Control("s_slip", "σ slip coefficient (log)", ("robust", "slip_coefficient"), "number", group="risk"),
     Control("s_inertia", "σ wheel inertia (log)", ("robust", "inertia"), "number", group="risk"),
     *_bounds_controls(),
-    Control("swept", "swept radius max (empty: none)", ("constraints", "swept_radius_max"), "quantity", "length",
-            "bounds", optional=True),
+    Control(
+        "swept",
+        "swept radius max (empty: none)",
+        ("constraints", "swept_radius_max"),
+        "quantity",
+        "length",
+        "bounds",
+        optional=True,
+    ),
 ]
 """Every control, in page order."""
 
@@ -107,8 +114,17 @@ def stock_controls() -> list[Control]:
     for key, (label, dim) in STOCK_CONTROLS.items():
         if key in keys:
             kind = "list" if key.endswith("s") else "quantity"
-            out.append(Control(f"stock_{key}", label + (" (comma separated)" if kind == "list" else ""),
-                               ("stock", key), kind, dim, "stock", optional=True))
+            out.append(
+                Control(
+                    f"stock_{key}",
+                    label + (" (comma separated)" if kind == "list" else ""),
+                    ("stock", key),
+                    kind,
+                    dim,
+                    "stock",
+                    optional=True,
+                )
+            )
     return out
 
 
@@ -235,8 +251,9 @@ def apply(data: dict, values: dict) -> dict:
                 if c.optional:
                     _delete(out, c.path)
                     continue
-                raise ControlError(f"{c.dotted}: empty; give a value with its unit, e.g. "
-                                   f"{_example(c.dimension)!r}", c.key)
+                raise ControlError(
+                    f"{c.dotted}: empty; give a value with its unit, e.g. {_example(c.dimension)!r}", c.key
+                )
             value = text
         _set(out, c.path, value)
     return out

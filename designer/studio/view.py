@@ -7,6 +7,7 @@ fixes of "my caster" from :func:`designer.fix` (issue 18), a design's numbers fr
 :func:`designer.analysis.simulate.simulate`.  Nothing here re-states an equation.
 Where an analysis of another issue is not in this version yet, the view says so instead.
 """
+
 from __future__ import annotations
 
 import importlib
@@ -151,7 +152,7 @@ def wheel_inertia(problem, wheel) -> float | None:
     if wheel in (getattr(problem, "wheels", None) or ()):
         return float(Catalog.from_key(wheel).wheel.inertia)
     stock = getattr(problem, "stock", None)
-    for w in (getattr(stock, "wheels", None) or ()):
+    for w in getattr(stock, "wheels", None) or ():
         if getattr(w, "name", None) == wheel and getattr(w, "inertia", None) is not None:
             return float(w.inertia)
     return None
@@ -169,12 +170,17 @@ def front_points(front) -> list[dict]:
         design = getattr(p, "design", None)
         if design is None:
             continue
-        out.append({"design": design.as_dict(), "turning_effort": float(p.turning_effort),
-                    "threshold_force": float(p.threshold_force),
-                    "critical_speed": float(getattr(p, "critical_speed", float("nan"))),
-                    "family": getattr(p, "family", "") or "",
-                    "label": getattr(p, "label", None) or getattr(p, "wheel", None) or "",
-                    "inertia": wheel_inertia(problem, getattr(p, "wheel", None))})
+        out.append(
+            {
+                "design": design.as_dict(),
+                "turning_effort": float(p.turning_effort),
+                "threshold_force": float(p.threshold_force),
+                "critical_speed": float(getattr(p, "critical_speed", float("nan"))),
+                "family": getattr(p, "family", "") or "",
+                "label": getattr(p, "label", None) or getattr(p, "wheel", None) or "",
+                "inertia": wheel_inertia(problem, getattr(p, "wheel", None)),
+            }
+        )
     return out
 
 
@@ -182,17 +188,31 @@ def recommendation_record(rec) -> dict | None:
     """The recommendation's headline numbers as plain data (None without a recommendation)."""
     if rec is None:
         return None
-    keys = ("turning_effort", "threshold_force", "critical_speed", "confident_speed", "shimmy_probability",
-            "shimmy_probability_se", "swept_radius", "swept_radius_max", "rule")
+    keys = (
+        "turning_effort",
+        "threshold_force",
+        "critical_speed",
+        "confident_speed",
+        "shimmy_probability",
+        "shimmy_probability_se",
+        "swept_radius",
+        "swept_radius_max",
+        "rule",
+    )
     out = {k: getattr(rec, k, None) for k in keys}
     out["design"] = rec.design.as_dict()
     inertia = getattr(rec, "inertia", None)
     out["inertia"] = float(inertia) if inertia is not None and math.isfinite(float(inertia)) else None
     out["alternatives"] = []
     for alt in getattr(rec, "alternatives", None) or []:
-        out["alternatives"].append({"label": getattr(alt, "role", None) or getattr(alt, "rule", ""),
-                                    "design": alt.design.as_dict(), "turning_effort": alt.turning_effort,
-                                    "threshold_force": alt.threshold_force})
+        out["alternatives"].append(
+            {
+                "label": getattr(alt, "role", None) or getattr(alt, "rule", ""),
+                "design": alt.design.as_dict(),
+                "turning_effort": alt.turning_effort,
+                "threshold_force": alt.threshold_force,
+            }
+        )
     return out
 
 
@@ -210,8 +230,11 @@ def design_numbers(problem, design: Design) -> dict:
 
     conditions = problem.conditions
     values = _quiet(evaluate, design, conditions, speed=problem.target_speed)
-    out = {k: float(values[k]) for k in ("turning_effort", "threshold_force", "critical_speed", "swept_radius",
-                                         "inertia", "shimmy_frequency") if k in values}
+    out = {
+        k: float(values[k])
+        for k in ("turning_effort", "threshold_force", "critical_speed", "swept_radius", "inertia", "shimmy_frequency")
+        if k in values
+    }
     out["design"] = design.as_dict()
     out["target_speed"] = problem.target_speed
     out["swept_radius_max"] = problem.swept_radius_max
@@ -246,8 +269,12 @@ def speed_sweeps(problem, design: Design, n: int = 61) -> dict:
         args = {k: np.full(n, getattr(design, k)) for k in ("trail", "diameter", "groove", "damping")}
         args[name] = x
         values = _quiet(performance, args["trail"], args["diameter"], args["groove"], args["damping"], conditions)
-        out[name] = {"x": x, "critical_speed": np.asarray(values["critical_speed"], float),
-                     "design_speed": np.asarray(values["design_speed"], float), "value": value}
+        out[name] = {
+            "x": x,
+            "critical_speed": np.asarray(values["critical_speed"], float),
+            "design_speed": np.asarray(values["design_speed"], float),
+            "value": value,
+        }
     return out
 
 
@@ -255,10 +282,16 @@ def knock_response(problem, design: Design, angle: float = KNOCK_ANGLE) -> dict:
     """θ(t) after a knock of ``angle`` [rad] at the target speed (:func:`designer.analysis.simulate.simulate`)."""
     from designer.analysis.simulate import simulate  # scipy's integrator: loaded when a card opens
 
-    result = _quiet(simulate, design, problem.conditions, speed=problem.target_speed, angle=angle,
-                    samples_per_period=24)
-    return {"t": np.asarray(result.t), "theta": np.asarray(result.theta), "grows": bool(result.grows),
-            "diverged": bool(result.diverged), "growth_ratio": float(result.growth_ratio)}
+    result = _quiet(
+        simulate, design, problem.conditions, speed=problem.target_speed, angle=angle, samples_per_period=24
+    )
+    return {
+        "t": np.asarray(result.t),
+        "theta": np.asarray(result.theta),
+        "grows": bool(result.grows),
+        "diverged": bool(result.diverged),
+        "growth_ratio": float(result.growth_ratio),
+    }
 
 
 def knock_safe(problem, design: Design) -> dict:
@@ -275,8 +308,14 @@ def drawing_svg(problem, design: Design) -> str | None:
     caster_svg = _optional("designer.plots.caster", "caster_svg")
     if caster_svg is None:
         return None
-    return _quiet(caster_svg, design.trail, design.diameter, design.groove, problem.conditions.threshold_height,
-                  problem.swept_radius_max)
+    return _quiet(
+        caster_svg,
+        design.trail,
+        design.diameter,
+        design.groove,
+        problem.conditions.threshold_height,
+        problem.swept_radius_max,
+    )
 
 
 def card(problem, design: Design, with_simulation: bool = True, inertia: float | None = None) -> dict:
@@ -307,8 +346,10 @@ def card(problem, design: Design, with_simulation: bool = True, inertia: float |
 
 def fix_command(path, design: Design) -> str:
     """The ``designer fix`` command line that lists every fix of ``design`` for the problem file ``path``."""
-    return (f'designer fix {path} --current "T={design.trail / 0.0254:.4g}in,d={design.diameter / 0.0254:.4g}in,'
-            f'B={design.groove / 0.0254:.4g}in,c={design.damping:.4g}"')
+    return (
+        f'designer fix {path} --current "T={design.trail / 0.0254:.4g}in,d={design.diameter / 0.0254:.4g}in,'
+        f'B={design.groove / 0.0254:.4g}in,c={design.damping:.4g}"'
+    )
 
 
 def my_caster(problem, design: Design) -> dict:
@@ -328,11 +369,12 @@ def my_caster(problem, design: Design) -> dict:
     rows = []
     for rank, item in enumerate(getattr(result, "fixes", None) or [], start=1):
         changes = getattr(item, "changes", ()) or ()
-        row = {"rank": rank,
-               "description": "; ".join(c.describe() for c in changes) if changes else str(item),
-               "parts_changed": getattr(item, "parts_changed", len(changes))}
-        for attr in ("turning_effort", "threshold_force", "critical_speed", "confident_speed",
-                     "shimmy_probability"):
+        row = {
+            "rank": rank,
+            "description": "; ".join(c.describe() for c in changes) if changes else str(item),
+            "parts_changed": getattr(item, "parts_changed", len(changes)),
+        }
+        for attr in ("turning_effort", "threshold_force", "critical_speed", "confident_speed", "shimmy_probability"):
             value = getattr(item, attr, None)
             if value is not None and math.isfinite(float(value)):
                 row[attr] = float(value)

@@ -7,6 +7,7 @@ entry's description, so it renders as text, not as a type (in Returns, ``Front w
 (``:class:`~designer.problem.Problem```) into code spans (``Problem``), which Markdown would print raw.
 mkdocs.yml loads it (handlers.python.options.extensions).
 """
+
 from __future__ import annotations
 
 import re

@@ -4,6 +4,7 @@
 analysis cannot follow; this hook rewrites such a line to the defining module, read from the same table, so
 the API pages follow a module when it moves and a name that disappears fails the strict build.
 """
+
 from __future__ import annotations
 
 import ast

@@ -55,19 +55,60 @@ Package layout
     :mod:`.result` (:class:`ExploreResult` and the comparison with the exact front).
     Every name is re-exported here, so ``from designer.analysis.exploration import explore`` keeps working.
 """
+
 from __future__ import annotations
 
 from designer.errors import StorageError
-from designer.analysis.exploration.operators import (Operators, SearchSpace, category_label, category_problem,
-                                                     search_space)
-from designer.analysis.exploration.result import (CATEGORICAL, CSV_COLUMNS, ExploreResult, _box_reference,
-                                                  _exact_front, compare_fronts, versions)
-from designer.analysis.exploration.runner import (ATTR_PREFIX, MAX_TRIALS, MAX_WORKERS, RETRY_ATTR, SURPLUS_ATTR,
-                                                  explore)
-from designer.analysis.exploration.storage import (GRACE_SECONDS, HEARTBEAT_SECONDS, RDB_SCHEMES, StorageSpec,
-                                                   open_storage, parse_storage)
+from designer.analysis.exploration.operators import (
+    Operators,
+    SearchSpace,
+    category_label,
+    category_problem,
+    search_space,
+)
+from designer.analysis.exploration.result import (
+    CATEGORICAL,
+    CSV_COLUMNS,
+    ExploreResult,
+    _box_reference,
+    _exact_front,
+    compare_fronts,
+    versions,
+)
+from designer.analysis.exploration.runner import ATTR_PREFIX, MAX_TRIALS, MAX_WORKERS, RETRY_ATTR, SURPLUS_ATTR, explore
+from designer.analysis.exploration.storage import (
+    GRACE_SECONDS,
+    HEARTBEAT_SECONDS,
+    RDB_SCHEMES,
+    StorageSpec,
+    open_storage,
+    parse_storage,
+)
 
-__all__ = ["ATTR_PREFIX", "CATEGORICAL", "CSV_COLUMNS", "ExploreResult", "GRACE_SECONDS", "HEARTBEAT_SECONDS",
-           "MAX_TRIALS", "MAX_WORKERS", "Operators", "RDB_SCHEMES", "RETRY_ATTR", "SURPLUS_ATTR", "SearchSpace",
-           "StorageError", "StorageSpec", "_box_reference", "_exact_front", "category_label", "category_problem",
-           "compare_fronts", "explore", "open_storage", "parse_storage", "search_space", "versions"]
+__all__ = [
+    "ATTR_PREFIX",
+    "CATEGORICAL",
+    "CSV_COLUMNS",
+    "ExploreResult",
+    "GRACE_SECONDS",
+    "HEARTBEAT_SECONDS",
+    "MAX_TRIALS",
+    "MAX_WORKERS",
+    "Operators",
+    "RDB_SCHEMES",
+    "RETRY_ATTR",
+    "SURPLUS_ATTR",
+    "SearchSpace",
+    "StorageError",
+    "StorageSpec",
+    "_box_reference",
+    "_exact_front",
+    "category_label",
+    "category_problem",
+    "compare_fronts",
+    "explore",
+    "open_storage",
+    "parse_storage",
+    "search_space",
+    "versions",
+]

@@ -2,6 +2,7 @@
 
 See :mod:`designer.analysis.exploration` for what the operators are and why they are tuned.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -19,7 +20,6 @@ from designer.problem import Bound, Problem
 from designer.solvers.nlp import evaluate_many, violation
 from designer.physics.inertia import Catalog
 from designer.solvers.nlp import BIG, CasterNLP
-
 
 
 # --------------------------------------------------------------------------- operators
@@ -65,17 +65,27 @@ class Operators:
         mutation with probability 1/n, no duplicate filter).
         """
         if name == "optuna":
-            return cls(name="optuna", population_size=population_size or 50, crossover="uniform",
-                       crossover_eta=float("nan"), crossover_prob=0.9, mutation="random",
-                       mutation_eta=float("nan"), mutation_prob=None, deduplicate=False)
+            return cls(
+                name="optuna",
+                population_size=population_size or 50,
+                crossover="uniform",
+                crossover_eta=float("nan"),
+                crossover_prob=0.9,
+                mutation="random",
+                mutation_eta=float("nan"),
+                mutation_prob=None,
+                deduplicate=False,
+            )
         if name != "tuned":
             raise InputError(f"operators = {name!r}: expected 'tuned' or 'optuna'")
         pop = population_size or int(min(100, max(20, round(math.sqrt(max(trials, 1))))))
         return cls(population_size=pop)
 
     def as_dict(self) -> dict:
-        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v)
-                for k, v in dataclasses.asdict(self).items()}
+        return {
+            k: (None if isinstance(v, float) and not math.isfinite(v) else v)
+            for k, v in dataclasses.asdict(self).items()
+        }
 
     @classmethod
     def from_dict(cls, data: dict) -> "Operators":
@@ -86,24 +96,38 @@ class Operators:
         """The configured :class:`optuna.samplers.NSGAIISampler`."""
         # late import: loads optuna only when this runs
         import optuna
+
         # late import: loads optuna only when this runs
         from optuna.samplers.nsgaii import PolynomialMutation, SBXCrossover, UniformCrossover
 
         crossover = SBXCrossover(eta=self.crossover_eta) if self.crossover == "sbx" else UniformCrossover()
         mutation = PolynomialMutation(eta=self.mutation_eta) if self.mutation == "polynomial" else None
-        kwargs = dict(population_size=self.population_size, crossover=crossover, crossover_prob=self.crossover_prob,
-                      mutation=mutation, mutation_prob=self.mutation_prob, seed=seed)
+        kwargs = dict(
+            population_size=self.population_size,
+            crossover=crossover,
+            crossover_prob=self.crossover_prob,
+            mutation=mutation,
+            mutation_prob=self.mutation_prob,
+            seed=seed,
+        )
         if not self.deduplicate:
             return optuna.samplers.NSGAIISampler(**kwargs)
         # late import: loads optuna only when this runs
         from optuna.samplers._lazy_random_state import LazyRandomState
+
         # late import: loads optuna only when this runs
         from optuna.samplers.nsgaii._child_generation_strategy import NSGAIIChildGenerationStrategy
 
         rng = LazyRandomState(seed)
-        inner = NSGAIIChildGenerationStrategy(crossover_prob=self.crossover_prob, mutation=mutation,
-                                              mutation_prob=self.mutation_prob, swapping_prob=0.5,
-                                              crossover=crossover, constraints_func=None, rng=rng)
+        inner = NSGAIIChildGenerationStrategy(
+            crossover_prob=self.crossover_prob,
+            mutation=mutation,
+            mutation_prob=self.mutation_prob,
+            swapping_prob=0.5,
+            crossover=crossover,
+            constraints_func=None,
+            rng=rng,
+        )
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             sampler = optuna.samplers.NSGAIISampler(**kwargs, child_generation_strategy=_Deduplicated(inner))
@@ -130,7 +154,7 @@ class _Deduplicated:
         trials = study.get_trials(deepcopy=False)
         pending = set()
         contiguous = True
-        for t in trials[self._scanned:]:
+        for t in trials[self._scanned :]:
             if t.state.is_finished():
                 self._finished.add(_params_key(t.params))
                 if contiguous:
@@ -149,7 +173,6 @@ class _Deduplicated:
                 break
             child = self.inner(study, search_space, parent_population)
         return child
-
 
 
 def _params_key(params: dict) -> tuple:
@@ -182,8 +205,10 @@ class SearchSpace:
         return [tuple(combo) for combo in itertools.product(*dims)] if dims else [()]
 
     def as_dict(self) -> dict:
-        return {"continuous": {n: [lo, hi] for n, lo, hi in self.continuous},
-                "categorical": {n: list(c) for n, c in self.categorical}}
+        return {
+            "continuous": {n: [lo, hi] for n, lo, hi in self.continuous},
+            "categorical": {n: list(c) for n, c in self.categorical},
+        }
 
 
 def search_space(problem: Problem) -> SearchSpace:
@@ -193,7 +218,9 @@ def search_space(problem: Problem) -> SearchSpace:
     if wheels and chosen:
         wheels = tuple(w for w in wheels if w in chosen)
         if not wheels:
-            raise InputError(f"choices.wheel = {list(chosen)}: none of them is in inertia.wheels {list(problem.wheels)}")
+            raise InputError(
+                f"choices.wheel = {list(chosen)}: none of them is in inertia.wheels {list(problem.wheels)}"
+            )
     elif chosen:
         wheels = tuple(chosen)
     categorical = []
@@ -231,7 +258,6 @@ def category_problem(problem: Problem, category: tuple) -> Problem:
     return problem.replace(conditions=problem.conditions.replace(**changes), bounds=bounds, wheels=())
 
 
-
 # --------------------------------------------------------------------------- NLP refinement
 
 
@@ -243,8 +269,11 @@ def _front_mask(objs: np.ndarray) -> np.ndarray:
 
 def _row(cat: tuple, number: int, x: np.ndarray, values: dict, refined: bool) -> dict:
     row = {name: float(x[i]) for i, name in enumerate(VARIABLES)}
-    row.update(turning_effort=float(values["turning_effort"]), threshold_force=float(values["threshold_force"]),
-               critical_speed=float(values["critical_speed"]))
+    row.update(
+        turning_effort=float(values["turning_effort"]),
+        threshold_force=float(values["threshold_force"]),
+        critical_speed=float(values["critical_speed"]),
+    )
     row.update(dict(cat))
     row.update(trial=int(number), refined=refined)
     return row

@@ -1,5 +1,5 @@
-"""The outcome of an exploration (:class:`ExploreResult`, its files) and the comparison with the exact front.
-"""
+"""The outcome of an exploration (:class:`ExploreResult`, its files) and the comparison with the exact front."""
+
 from __future__ import annotations
 
 import json
@@ -20,7 +20,6 @@ from designer.solvers.nlp import evaluate_many
 import casadi
 from designer.analysis.exploration.operators import Operators, category_problem, search_space
 from designer.analysis.exploration.storage import _atomic_write_many, _one_line
-
 
 
 CATEGORICAL = ("wheel", "surface", "turning_mode")
@@ -99,28 +98,39 @@ class ExploreResult:
         f_range, p_range = self._ranges()
         ratio = self.comparison.get("hypervolume_ratio")
         versus = f" ({ratio:.3f} of the exact front's)" if isinstance(ratio, float) else ""
-        return (f"ExploreResult({self.problem.name!r}: {self.trials} trials, {self.feasible} feasible, "
-                f"front of {len(self.front)} points, F_turn {f_range} N, P {p_range} N)\n"
-                f"  hypervolume {self.hypervolume:.4g} N²{versus}, {self.seconds:.3g} s, seed {self.seed}")
+        return (
+            f"ExploreResult({self.problem.name!r}: {self.trials} trials, {self.feasible} feasible, "
+            f"front of {len(self.front)} points, F_turn {f_range} N, P {p_range} N)\n"
+            f"  hypervolume {self.hypervolume:.4g} N²{versus}, {self.seconds:.3g} s, seed {self.seed}"
+        )
 
     def _repr_html_(self) -> str:
         """A compact HTML table with units beside an SVG of the explored front (notebooks; no trial runs)."""
         f_range, p_range = self._ranges()
         c = self.comparison
-        rows = [("study (storage)", f"{self.study_name} ({self.storage})", ""),
-                ("trials: complete / run here", f"{self.trials} / {self.trials_run}", ""),
-                ("feasible / distinct", f"{self.feasible} / {self.distinct}", ""),
-                ("front points", f"{len(self.front)}", ""),
-                ("turning effort F_turn", f_range, "N"), ("threshold force P", p_range, "N"),
-                ("hypervolume", f"{self.hypervolume:.5g}", "N²")]
+        rows = [
+            ("study (storage)", f"{self.study_name} ({self.storage})", ""),
+            ("trials: complete / run here", f"{self.trials} / {self.trials_run}", ""),
+            ("feasible / distinct", f"{self.feasible} / {self.distinct}", ""),
+            ("front points", f"{len(self.front)}", ""),
+            ("turning effort F_turn", f_range, "N"),
+            ("threshold force P", p_range, "N"),
+            ("hypervolume", f"{self.hypervolume:.5g}", "N²"),
+        ]
         if "hypervolume_ratio" in c:
-            rows += [("hypervolume / exact front's", f"{c['hypervolume_ratio']:.4f}", ""),
-                     ("IGD+ to the exact front (normalised)", f"{c['igd_plus']:.4g}", "")]
-        rows += [("wall time (trials/s)", f"{self.seconds:.3g} ({self.trials_per_second:.3g})", "s"),
-                 ("seed, workers, NLP-refined", f"{self.seed}, {self.workers}, {'yes' if self.refined else 'no'}", "")]
+            rows += [
+                ("hypervolume / exact front's", f"{c['hypervolume_ratio']:.4f}", ""),
+                ("IGD+ to the exact front (normalised)", f"{c['igd_plus']:.4g}", ""),
+            ]
+        rows += [
+            ("wall time (trials/s)", f"{self.seconds:.3g} ({self.trials_per_second:.3g})", "s"),
+            ("seed, workers, NLP-refined", f"{self.seed}, {self.workers}, {'yes' if self.refined else 'no'}", ""),
+        ]
         f = self.objectives()
         order = np.argsort(f[:, 1]) if len(f) else []
-        svg = svg_curve(f[order, 1], f[order, 0], "threshold force P [N]", "turning effort F_turn [N]") if len(f) else ""
+        svg = (
+            svg_curve(f[order, 1], f[order, 0], "threshold force P [N]", "turning effort F_turn [N]") if len(f) else ""
+        )
         return html_table(f"Explored front {self.problem.name!r} (NSGA-II)", rows, caption=c.get("note", ""), extra=svg)
 
     def to_dict(self) -> dict:
@@ -140,8 +150,16 @@ class ExploreResult:
             "feasible_trials": self.feasible,
             "refined": self.refined,
             "operators": self.operators.as_dict(),
-            "units": {"trail": "m", "diameter": "m", "groove": "m", "damping": "N*m/rad", "turning_effort": "N",
-                      "threshold_force": "N", "critical_speed": "m/s", "hypervolume": "N^2"},
+            "units": {
+                "trail": "m",
+                "diameter": "m",
+                "groove": "m",
+                "damping": "N*m/rad",
+                "turning_effort": "N",
+                "threshold_force": "N",
+                "critical_speed": "m/s",
+                "hypervolume": "N^2",
+            },
             "hypervolume": self.hypervolume,
             "reference_point": list(self.reference_point),
             "front": self.front,
@@ -168,14 +186,17 @@ class ExploreResult:
         for rows in self.category_fronts.values():
             for r in rows:
                 cells = [f"{r[c]:.10g}" for c in CSV_COLUMNS] + [str(r[c]) for c in cats]
-                cells += [str((r["trial"], r["turning_effort"], r["threshold_force"]) in overall).lower(),
-                          str(r["refined"]).lower(), str(r["trial"])]
+                cells += [
+                    str((r["trial"], r["turning_effort"], r["threshold_force"]) in overall).lower(),
+                    str(r["refined"]).lower(),
+                    str(r["trial"]),
+                ]
                 lines.append(",".join(cells))
         csv_path, json_path = out / "explore.csv", out / "explore.json"
-        _atomic_write_many({csv_path: "\n".join(lines) + "\n",
-                            json_path: json.dumps(finite(self.to_dict()), indent=2) + "\n"})
+        _atomic_write_many(
+            {csv_path: "\n".join(lines) + "\n", json_path: json.dumps(finite(self.to_dict()), indent=2) + "\n"}
+        )
         return csv_path, json_path
-
 
 
 def versions() -> dict:
@@ -183,10 +204,13 @@ def versions() -> dict:
     # late import: loads optuna only when this runs
     import optuna
 
-    return {"designer": designer.__version__, "python": platform.python_version(), "optuna": optuna.__version__,
-            "numpy": np.__version__, "casadi": casadi.__version__}
-
-
+    return {
+        "designer": designer.__version__,
+        "python": platform.python_version(),
+        "optuna": optuna.__version__,
+        "numpy": np.__version__,
+        "casadi": casadi.__version__,
+    }
 
 
 # --------------------------------------------------------------------------- fronts
@@ -253,10 +277,13 @@ def compare_fronts(explored: np.ndarray, exact: np.ndarray, reference) -> dict:
         "hypervolume_ratio": hv / hv_exact if hv_exact > 0 else float("nan"),
         "igd_plus": igd_plus(normalise(explored, ideal, nadir), normalise(exact, ideal, nadir)),
         "reference_point": [float(v) for v in reference],
-        "normalisation": {"ideal": ideal.tolist(), "nadir": nadir.tolist(),
-                          "reference_normalised": ref_n.tolist(),
-                          "note": "(f - ideal)/(nadir - ideal) with the exact front's ideal and nadir; HV in N² "
-                                  "and normalised with the exact front's reference point (nadir + 10 % of its "
-                                  "extent, i.e. (1.1, 1.1) normalised); IGD+ normalised"},
+        "normalisation": {
+            "ideal": ideal.tolist(),
+            "nadir": nadir.tolist(),
+            "reference_normalised": ref_n.tolist(),
+            "note": "(f - ideal)/(nadir - ideal) with the exact front's ideal and nadir; HV in N² "
+            "and normalised with the exact front's reference point (nadir + 10 % of its "
+            "extent, i.e. (1.1, 1.1) normalised); IGD+ normalised",
+        },
         "exact_points": len(exact),
     }

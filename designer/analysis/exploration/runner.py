@@ -1,6 +1,7 @@
 """The study loop: the optuna objective, the budget, resume, the process pool, the progress bar, and
 :func:`explore`, which runs them and collects the fronts.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -15,11 +16,19 @@ from designer.analysis.indicators import hypervolume_2d
 from designer.model import VARIABLES
 from designer.problem import Problem
 from designer.solvers.nlp import evaluate_many, violation
-from designer.analysis.exploration.operators import (Operators, SearchSpace, _front_mask, _params_key, _refine,
-                                                     _row, category_label, category_problem, search_space)
+from designer.analysis.exploration.operators import (
+    Operators,
+    SearchSpace,
+    _front_mask,
+    _params_key,
+    _refine,
+    _row,
+    category_label,
+    category_problem,
+    search_space,
+)
 from designer.analysis.exploration.result import ExploreResult, _box_reference, _exact_front, compare_fronts
 from designer.analysis.exploration.storage import StorageSpec, _one_line, open_storage, parse_storage
-
 
 
 SURPLUS_ATTR = "explore_surplus"
@@ -54,17 +63,29 @@ class _Evaluator:
     def __call__(self, trial):
         # late import: loads optuna only when this runs
         import optuna
+
         # late import: loads optuna only when this runs
         from optuna.trial import TrialState
 
         study = trial.study
-        ahead = 0 if not self.shared else sum(1 for t in study.get_trials(deepcopy=False, states=(
-            TrialState.WAITING, TrialState.RUNNING, TrialState.COMPLETE)) if t.number < trial.number)
+        ahead = (
+            0
+            if not self.shared
+            else sum(
+                1
+                for t in study.get_trials(
+                    deepcopy=False, states=(TrialState.WAITING, TrialState.RUNNING, TrialState.COMPLETE)
+                )
+                if t.number < trial.number
+            )
+        )
         if ahead >= self.budget:
             trial.set_user_attr(SURPLUS_ATTR, True)
             study.stop()
             raise optuna.TrialPruned("budget reached by other workers")
-        category = tuple((name, trial.suggest_categorical(name, list(choices))) for name, choices in self.space.categorical)
+        category = tuple(
+            (name, trial.suggest_categorical(name, list(choices))) for name, choices in self.space.categorical
+        )
         params = {name: trial.suggest_float(name, lo, hi) for name, lo, hi in self.space.continuous}
         sub = self.problems[category]
         values = evaluate_many(sub, self.design_array(category, params)[None, :])
@@ -102,8 +123,17 @@ def _stopper(budget: int, evaluator: _Evaluator):
     return callback
 
 
-def _run_worker(problem: Problem, storage: str | None, study_name: str, budget: int, seed: int | None,
-                operators: dict, storage_obj=None, on_trial=None, check_budget: bool = True) -> None:
+def _run_worker(
+    problem: Problem,
+    storage: str | None,
+    study_name: str,
+    budget: int,
+    seed: int | None,
+    operators: dict,
+    storage_obj=None,
+    on_trial=None,
+    check_budget: bool = True,
+) -> None:
     """Run trials on one study until it holds ``budget`` COMPLETE trials (one process).
 
     ``check_budget``: other processes may work on the study, so each trial
@@ -137,6 +167,7 @@ def _prepare_resume(study, spec: StorageSpec, search_space_names) -> list[str]:
     """Fail stale RUNNING trials and re-enqueue failed ones once; returns notes."""
     # late import: loads optuna only when this runs
     import optuna
+
     # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
@@ -165,10 +196,20 @@ def _prepare_resume(study, spec: StorageSpec, search_space_names) -> list[str]:
 
 
 # long only by its docstring, which documents every option; the body is about 45 lines
-def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: str | None = None,
-            study_name: str | None = None, workers: int = 1, resume: bool = False, refine: bool = False,
-            operators: str | Operators = "tuned", population_size: int | None = None, compare: bool = True,
-            progress: bool = False) -> ExploreResult:
+def explore(
+    problem: Problem,
+    trials: int = 500,
+    seed: int | None = 0,
+    storage: str | None = None,
+    study_name: str | None = None,
+    workers: int = 1,
+    resume: bool = False,
+    refine: bool = False,
+    operators: str | Operators = "tuned",
+    population_size: int | None = None,
+    compare: bool = True,
+    progress: bool = False,
+) -> ExploreResult:
     """Explore the (F_turn, P) trade-off of ``problem`` with optuna's NSGA-II.
 
     Parameters
@@ -211,6 +252,7 @@ def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: 
     """
     # late import: loads optuna only when this runs
     import optuna
+
     # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
@@ -245,17 +287,38 @@ def explore(problem: Problem, trials: int = 500, seed: int | None = 0, storage: 
     tracker = _FrontTracker(reference)
     bar = _Progress(trials, enabled=progress, initial=complete_before)
     t0 = time.perf_counter()
-    _run_study(problem, spec, study_name, trials, base_seed, ops, workers, storage_obj, tracker, bar,
-               check_budget=spec.remote or resume, progress=progress)
+    _run_study(
+        problem,
+        spec,
+        study_name,
+        trials,
+        base_seed,
+        ops,
+        workers,
+        storage_obj,
+        tracker,
+        bar,
+        check_budget=spec.remote or resume,
+        progress=progress,
+    )
     seconds = time.perf_counter() - t0
     complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
     if len(complete) < trials:
         running = len(study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)))
-        notes.append(f"{len(complete)} of {trials} trials complete ({running} still running elsewhere); "
-                     f"run again with --resume")
+        notes.append(
+            f"{len(complete)} of {trials} trials complete ({running} still running elsewhere); run again with --resume"
+        )
     result = _collect(problem, space, study, complete, ops, refine, exact, reference)
-    result.update(study_name=study_name, storage=spec.shown, seed=seed, trials=len(complete), seconds=seconds,
-                  trials_run=len(complete) - complete_before, workers=workers, warnings=notes)
+    result.update(
+        study_name=study_name,
+        storage=spec.shown,
+        seed=seed,
+        trials=len(complete),
+        seconds=seconds,
+        trials_run=len(complete) - complete_before,
+        workers=workers,
+        warnings=notes,
+    )
     return ExploreResult(problem=problem, **result)
 
 
@@ -266,8 +329,10 @@ def _check_arguments(trials, workers, resume: bool, spec: StorageSpec) -> None:
     if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= MAX_WORKERS:
         raise InputError(f"--workers {workers!r}: must be a whole number from 1 to {MAX_WORKERS}")
     if workers > 1 and not spec.shared:
-        raise InputError(f"--workers {workers}: several processes need a shared storage; add --storage "
-                         f"journal:///path/study.log (one machine) or sqlite:///study.db / postgresql://…")
+        raise InputError(
+            f"--workers {workers}: several processes need a shared storage; add --storage "
+            f"journal:///path/study.log (one machine) or sqlite:///study.db / postgresql://…"
+        )
     if resume and not spec.shared:
         raise InputError("--resume: an in-memory study cannot be resumed; use --storage journal:///path/study.log")
 
@@ -285,36 +350,66 @@ def _load_for_resume(problem: Problem, study_name: str, spec: StorageSpec, stora
         raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {_one_line(exc)}") from None
     attrs = study.user_attrs
     if attrs.get(ATTR_PREFIX + "problem_digest") not in (None, problem.digest()):
-        raise InputError(f"--resume: study {study_name!r} was run on a different problem "
-                         f"({attrs.get(ATTR_PREFIX + 'problem_name')!r}); use another --study")
+        raise InputError(
+            f"--resume: study {study_name!r} was run on a different problem "
+            f"({attrs.get(ATTR_PREFIX + 'problem_name')!r}); use another --study"
+        )
     if ATTR_PREFIX + "operators" in attrs:
         ops = Operators.from_dict(attrs[ATTR_PREFIX + "operators"])
     return study, ops
 
 
-def _create(problem: Problem, study_name: str, spec: StorageSpec, storage_obj, trials: int, seed: int | None,
-            ops: Operators, space: SearchSpace):
+def _create(
+    problem: Problem,
+    study_name: str,
+    spec: StorageSpec,
+    storage_obj,
+    trials: int,
+    seed: int | None,
+    ops: Operators,
+    space: SearchSpace,
+):
     """A new two-objective study, labelled with the problem, budget, seed, operators and space."""
     # late import: loads optuna only when this runs
     import optuna
 
     try:
-        study = optuna.create_study(study_name=study_name, storage=storage_obj,
-                                    directions=["minimize", "minimize"], load_if_exists=False)
+        study = optuna.create_study(
+            study_name=study_name, storage=storage_obj, directions=["minimize", "minimize"], load_if_exists=False
+        )
     except optuna.exceptions.DuplicatedStudyError:
-        raise InputError(f"--study {study_name}: a study of that name already exists in {spec.shown}; "
-                         f"add --resume to continue it or choose another --study") from None
+        raise InputError(
+            f"--study {study_name}: a study of that name already exists in {spec.shown}; "
+            f"add --resume to continue it or choose another --study"
+        ) from None
     except Exception as exc:  # noqa: BLE001
         raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {_one_line(exc)}") from None
-    for key, value in (("problem_name", problem.name), ("problem_digest", problem.digest()),
-                       ("trials", trials), ("seed", seed), ("operators", ops.as_dict()),
-                       ("space", space.as_dict())):
+    for key, value in (
+        ("problem_name", problem.name),
+        ("problem_digest", problem.digest()),
+        ("trials", trials),
+        ("seed", seed),
+        ("operators", ops.as_dict()),
+        ("space", space.as_dict()),
+    ):
         study.set_user_attr(ATTR_PREFIX + key, value)
     return study
 
 
-def _run_study(problem, spec: StorageSpec, study_name: str, trials: int, base_seed, ops: Operators, workers: int,
-               storage_obj, tracker, bar, check_budget: bool, progress: bool) -> None:
+def _run_study(
+    problem,
+    spec: StorageSpec,
+    study_name: str,
+    trials: int,
+    base_seed,
+    ops: Operators,
+    workers: int,
+    storage_obj,
+    tracker,
+    bar,
+    check_budget: bool,
+    progress: bool,
+) -> None:
     """Run the study to ``trials`` COMPLETE trials: in this process, or on a pool of ``workers`` processes."""
     # late import: loads optuna only when this runs
     from optuna.trial import TrialState
@@ -322,19 +417,29 @@ def _run_study(problem, spec: StorageSpec, study_name: str, trials: int, base_se
     try:
         with bar:
             if workers == 1:
+
                 def on_trial(study_, frozen, counts):
                     if frozen.state == TrialState.COMPLETE and all(v <= 0 for v in frozen.constraints.values()):
                         tracker.add(frozen.values)
                     bar.update(counts[TrialState.COMPLETE], tracker)
 
-                _run_worker(problem, spec.url, study_name, trials, base_seed, ops.as_dict(),
-                            storage_obj=storage_obj, on_trial=on_trial if progress else None,
-                            check_budget=check_budget)
+                _run_worker(
+                    problem,
+                    spec.url,
+                    study_name,
+                    trials,
+                    base_seed,
+                    ops.as_dict(),
+                    storage_obj=storage_obj,
+                    on_trial=on_trial if progress else None,
+                    check_budget=check_budget,
+                )
             else:
                 _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storage_obj, tracker, bar)
     except KeyboardInterrupt:
-        raise KeyboardInterrupt(f"interrupted; continue with --resume --storage {spec.shown} --study {study_name}") \
-            from None
+        raise KeyboardInterrupt(
+            f"interrupted; continue with --resume --storage {spec.shown} --study {study_name}"
+        ) from None
 
 
 def _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storage_obj, tracker, bar):
@@ -345,8 +450,10 @@ def _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storag
     from optuna.trial import TrialState
 
     ctx = multiprocessing.get_context("spawn")
-    args = [(problem, spec.url, study_name, trials, None if base_seed is None else base_seed + i, ops.as_dict())
-            for i in range(workers)]
+    args = [
+        (problem, spec.url, study_name, trials, None if base_seed is None else base_seed + i, ops.as_dict())
+        for i in range(workers)
+    ]
     procs = [ctx.Process(target=_worker_entry, args=(a,), daemon=False) for a in args]
     for p in procs:
         p.start()
@@ -372,9 +479,9 @@ def _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storag
         p.join()
     bad = [p.exitcode for p in procs if p.exitcode not in (0, None)]
     if bad:
-        raise StorageError(f"{len(bad)} worker process(es) failed (exit codes {bad}); check the storage, "
-                           f"then continue with --resume")
-
+        raise StorageError(
+            f"{len(bad)} worker process(es) failed (exit codes {bad}); check the storage, then continue with --resume"
+        )
 
 
 class _FrontTracker:
@@ -407,14 +514,27 @@ class _Progress:
         if self.enabled:
             # late import: loads rich only when this runs
             from rich.console import Console
-            # late import: loads rich only when this runs
-            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, \
-                TimeRemainingColumn
 
-            self.progress = Progress(TextColumn("explore"), BarColumn(), MofNCompleteColumn(),
-                                     TextColumn("front {task.fields[front]:>3}  HV {task.fields[hv]:.5g} N²"),
-                                     TimeElapsedColumn(), TimeRemainingColumn(), console=Console(stderr=True),
-                                     transient=False)
+            # late import: loads rich only when this runs
+            from rich.progress import (
+                BarColumn,
+                MofNCompleteColumn,
+                Progress,
+                TextColumn,
+                TimeElapsedColumn,
+                TimeRemainingColumn,
+            )
+
+            self.progress = Progress(
+                TextColumn("explore"),
+                BarColumn(),
+                MofNCompleteColumn(),
+                TextColumn("front {task.fields[front]:>3}  HV {task.fields[hv]:.5g} N²"),
+                TimeElapsedColumn(),
+                TimeRemainingColumn(),
+                console=Console(stderr=True),
+                transient=False,
+            )
             self.progress.__enter__()
             self.task = self.progress.add_task("explore", total=self.total, completed=self.initial, front=0, hv=0.0)
         return self
@@ -453,7 +573,11 @@ def _collect(problem, space, study, complete, ops, refine, exact, reference) -> 
         sub = evaluator.problems[cat]
         x = np.array([evaluator.design_array(cat, t.params) for t in rows])
         values = evaluate_many(sub, x)
-        ok = (violation(sub, values) <= 0) & np.isfinite(values["turning_effort"]) & np.isfinite(values["threshold_force"])
+        ok = (
+            (violation(sub, values) <= 0)
+            & np.isfinite(values["turning_effort"])
+            & np.isfinite(values["threshold_force"])
+        )
         feasible_total += int(ok.sum())
         if not ok.any():
             category_fronts[category_label(cat)] = []
@@ -476,7 +600,14 @@ def _collect(problem, space, study, complete, ops, refine, exact, reference) -> 
         comparison = compare_fronts(objs, exact["points"], exact["reference_point"])
     elif exact is not None:
         comparison = {"note": exact["note"]}
-    return dict(front=overall, category_fronts=category_fronts, distinct=len(distinct), feasible=feasible_total,
-                hypervolume=hypervolume_2d(objs, reference) if len(objs) else 0.0,
-                reference_point=tuple(float(v) for v in reference), comparison=comparison, operators=ops,
-                refined=refine)
+    return dict(
+        front=overall,
+        category_fronts=category_fronts,
+        distinct=len(distinct),
+        feasible=feasible_total,
+        hypervolume=hypervolume_2d(objs, reference) if len(objs) else 0.0,
+        reference_point=tuple(float(v) for v in reference),
+        comparison=comparison,
+        operators=ops,
+        refined=refine,
+    )

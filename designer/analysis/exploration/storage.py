@@ -2,6 +2,7 @@
 
 See :mod:`designer.analysis.exploration` for the storage forms.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -15,7 +16,6 @@ from pathlib import Path
 
 from designer.errors import InputError, StorageError
 import importlib.util
-
 
 
 # --------------------------------------------------------------------------- storage
@@ -61,7 +61,7 @@ def parse_storage(storage: str | None) -> StorageSpec:
         return StorageSpec("memory", None, "memory")
     text = storage.strip()
     if text.startswith("journal://"):
-        path = text[len("journal://"):]
+        path = text[len("journal://") :]
         if not path:
             raise StorageError(f"storage {text!r}: journal URL without a file path; use journal:///abs/path/study.log")
         return StorageSpec("journal", path, f"journal://{path}")
@@ -71,8 +71,9 @@ def parse_storage(storage: str | None) -> StorageSpec:
         if scheme not in RDB_SCHEMES:
             raise StorageError(
                 f"storage {_redact(text)!r}: unknown scheme {match.group(1)!r}; use sqlite:///file.db, "
-                f"postgresql://user:password@host/db or journal:///path/file.log")
-        url = "postgresql" + text[len(match.group(1).split("+")[0]):] if scheme == "postgres" else text
+                f"postgresql://user:password@host/db or journal:///path/file.log"
+            )
+        url = "postgresql" + text[len(match.group(1).split("+")[0]) :] if scheme == "postgres" else text
         if scheme == "postgres" or match.group(1).lower() == "postgresql":
             url = _postgres_driver(url)
         return StorageSpec("rdb", url, _redact(url))
@@ -83,7 +84,8 @@ def parse_storage(storage: str | None) -> StorageSpec:
         return StorageSpec("rdb", f"sqlite:///{text}", f"sqlite:///{text}")
     raise StorageError(
         f"storage {_redact(text)!r}: not a storage URL; use sqlite:///file.db, postgresql://user:password@host/db, "
-        f"journal:///path/file.log (or a path ending .db or .log)")
+        f"journal:///path/file.log (or a path ending .db or .log)"
+    )
 
 
 def _postgres_driver(url: str) -> str:
@@ -91,7 +93,7 @@ def _postgres_driver(url: str) -> str:
     README (and the `test` extra) install psycopg2-binary; an explicit ``postgresql+driver://`` is kept."""
 
     if importlib.util.find_spec("psycopg") is None and importlib.util.find_spec("psycopg2") is not None:
-        return "postgresql+psycopg2://" + url[len("postgresql://"):]
+        return "postgresql+psycopg2://" + url[len("postgresql://") :]
     return url
 
 
@@ -156,9 +158,11 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
             backend = JournalFileBackend(str(path), lock_obj=JournalFileOpenLock(str(path), grace_period=10))
             return JournalStorage(backend)
         except Exception as exc:  # noqa: BLE001 - every failure becomes one line
-            raise StorageError(f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {_one_line(exc)})") from None
+            raise StorageError(
+                f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {_one_line(exc)})"
+            ) from None
     if spec.url.startswith("sqlite:///"):
-        path = Path(spec.url[len("sqlite:///"):])
+        path = Path(spec.url[len("sqlite:///") :])
         if str(path) and not path.parent.is_dir():
             raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
     engine_kwargs = {}
@@ -171,11 +175,17 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
             if not spec.remote:  # SQLite: one machine; --resume fails every RUNNING trial, no heartbeat needed
                 return optuna.storages.RDBStorage(spec.url)
             return optuna.storages.RDBStorage(
-                spec.url, engine_kwargs=engine_kwargs, heartbeat_interval=heartbeat, grace_period=grace,
-                failed_trial_callback=optuna.storages.RetryFailedTrialCallback(max_retry=1))
+                spec.url,
+                engine_kwargs=engine_kwargs,
+                heartbeat_interval=heartbeat,
+                grace_period=grace,
+                failed_trial_callback=optuna.storages.RetryFailedTrialCallback(max_retry=1),
+            )
     except ImportError as exc:
-        raise StorageError(f"storage {spec.shown}: the database driver is not installed ({_one_line(exc)}); "
-                           f"PostgreSQL: pip install psycopg2-binary, MySQL: pip install pymysql") from None
+        raise StorageError(
+            f"storage {spec.shown}: the database driver is not installed ({_one_line(exc)}); "
+            f"PostgreSQL: pip install psycopg2-binary, MySQL: pip install pymysql"
+        ) from None
     except Exception as exc:  # noqa: BLE001
         raise StorageError(f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {_one_line(exc)})") from None
 

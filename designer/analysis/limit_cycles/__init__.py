@@ -39,6 +39,7 @@ round its fold.  Floquet multipliers (full period) are the squared eigenvalues
 of DG (finite differences); the orbit is confirmed by integrating one full
 period from it (closure) and by perturbed simulations.
 """
+
 from __future__ import annotations
 
 from designer.analysis.limit_cycles.dynamics import (

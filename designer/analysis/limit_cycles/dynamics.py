@@ -4,6 +4,7 @@
 the equations are in :mod:`designer.analysis.limit_cycles`); :func:`simulate_knock` integrates a knock
 and says whether it ends in sustained shimmy.
 """
+
 from __future__ import annotations
 
 import cmath
@@ -46,8 +47,16 @@ class CasterDynamics:
 
     def at(self, speed: float) -> "CasterDynamics":
         """The same caster at another speed V [m/s]."""
-        return CasterDynamics(self.trail, self.inertia, self.lateral_mass, self.stiffness, self.friction_moment,
-                              self.groove_coefficient, float(speed), self.tyre)
+        return CasterDynamics(
+            self.trail,
+            self.inertia,
+            self.lateral_mass,
+            self.stiffness,
+            self.friction_moment,
+            self.groove_coefficient,
+            float(speed),
+            self.tyre,
+        )
 
     @property
     def frequency(self) -> float:
@@ -81,12 +90,16 @@ class CasterDynamics:
             def force(v):
                 return -C * v / V
         else:
+
             def force(v):
                 return lateral_tyre_force(v / V, tyre)
+
         if s == 0:
+
             def stick(_t, y):
                 F = force(y[1] + V * y[2])
                 return [y[1], (F - K * y[0]) / m11, 0.0, 0.0]
+
             return stick
 
         def slip(_t, y):
@@ -94,6 +107,7 @@ class CasterDynamics:
             q1 = F - K * y[0]
             q2 = T * F - s * M_f - G * y[3]
             return [y[1], i11 * q1 + i12 * q2, y[3], i12 * q1 + i22 * q2]
+
         return slip
 
     def hold_moment(self, y) -> float:
@@ -116,8 +130,9 @@ class CasterDynamics:
         return np.array([x0, -T * w0 - V * angle, angle, w0])
 
 
-def caster_dynamics(design: Design, conditions: Conditions = Conditions(), speed: float = 2.5,
-                    tyre: TyreParameters | None = None) -> CasterDynamics:
+def caster_dynamics(
+    design: Design, conditions: Conditions = Conditions(), speed: float = 2.5, tyre: TyreParameters | None = None
+) -> CasterDynamics:
     """Build :class:`CasterDynamics` from a design and conditions.
 
     Parameters
@@ -133,29 +148,43 @@ def caster_dynamics(design: Design, conditions: Conditions = Conditions(), speed
     inertia = float(conditions.inertia(design.diameter))
     dyn = conditions.dynamics
     return CasterDynamics(
-        trail=float(design.trail), inertia=inertia, lateral_mass=float(dyn.lateral_mass),
-        stiffness=float(dyn.stiffness), friction_moment=float(design.damping) * float(conditions.disturbance_angle),
+        trail=float(design.trail),
+        inertia=inertia,
+        lateral_mass=float(dyn.lateral_mass),
+        stiffness=float(dyn.stiffness),
+        friction_moment=float(design.damping) * float(conditions.disturbance_angle),
         groove_coefficient=float(conditions.slip_coefficient) * float(design.groove) ** 2 / 2,
-        speed=float(speed), tyre=tyre)
+        speed=float(speed),
+        tyre=tyre,
+    )
 
 
 # ---------------------------------------------------------------------------------------------------------
 # Event-driven integration with exact stick-slip
 
+
 @dataclass
 class _Run:
     t: list
     y: list
-    ends: list            # (t, θ, s, state) at the end of each slip phase
+    ends: list  # (t, θ, s, state) at the end of each slip phase
     state: np.ndarray
     time: float
-    reason: str           # "end", "limit", "section", "rest"
+    reason: str  # "end", "limit", "section", "rest"
     switches: int
 
 
-def _integrate(sys: CasterDynamics, y0, t_end: float, stop_at_end_of: float | None = None,  # noqa: C901 - event-driven stick-slip integration: one branch per event
-               angle_limit: float = math.inf, record: bool = False, max_step: float = math.inf,
-               rtol: float = _RTOL, max_switches: int = 20_000) -> _Run:
+def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch per event
+    sys: CasterDynamics,
+    y0,
+    t_end: float,
+    stop_at_end_of: float | None = None,
+    angle_limit: float = math.inf,
+    record: bool = False,
+    max_step: float = math.inf,
+    rtol: float = _RTOL,
+    max_switches: int = 20_000,
+) -> _Run:
     """Integrate from y0 until t_end, |θ| = angle_limit, or the end of a slip of sign ``stop_at_end_of``."""
     from scipy.integrate import solve_ivp  # heavy import, only for time integration
 
@@ -182,6 +211,7 @@ def _integrate(sys: CasterDynamics, y0, t_end: float, stop_at_end_of: float | No
 
     def limit(_t, yy):
         return abs(yy[ith]) - angle_limit
+
     limit.terminal = True
 
     while t < t_end and switches < max_switches:
@@ -190,10 +220,12 @@ def _integrate(sys: CasterDynamics, y0, t_end: float, stop_at_end_of: float | No
 
             def unstick(_t, yy, level=level):
                 return abs(sys.hold_moment(yy)) - level
+
             unstick.terminal = True
             unstick.direction = 1
-            sol = solve_ivp(sys.rhs(0.0), (t, t_end), y, method="DOP853", rtol=rtol, atol=atol,
-                            max_step=max_step, events=[unstick])
+            sol = solve_ivp(
+                sys.rhs(0.0), (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, max_step=max_step, events=[unstick]
+            )
             graze_level = None
             if sol.status < 0:
                 raise SolverError(f"shimmy integration failed in stick at t = {t:.4g} s: {sol.message}")
@@ -208,14 +240,16 @@ def _integrate(sys: CasterDynamics, y0, t_end: float, stop_at_end_of: float | No
             switches += 1
             continue
 
-        y[iw] = y[iw] if y[iw] * s > 0 else s * tiny     # start the slip just off θ' = 0
+        y[iw] = y[iw] if y[iw] * s > 0 else s * tiny  # start the slip just off θ' = 0
 
         def stop(_t, yy, s=s):
             return s * yy[iw]
+
         stop.terminal = True
         stop.direction = -1
-        sol = solve_ivp(sys.rhs(s), (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, max_step=max_step,
-                        events=[stop, limit])
+        sol = solve_ivp(
+            sys.rhs(s), (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, max_step=max_step, events=[stop, limit]
+        )
         if sol.status < 0:
             raise SolverError(f"shimmy integration failed at t = {t:.4g} s: {sol.message}")
         if record:
@@ -256,7 +290,7 @@ class _LinearSlip:
         J = I + N * T**2
         A = np.array([[0.0, -V, -T], [0.0, 0.0, 1.0], [T * K / J, 0.0, -(N * T * V + sys.groove_coefficient / V) / J]])
         self.lam, self.P = np.linalg.eig(A)
-        self.ok = bool(np.linalg.cond(self.P) < 1e8)     # not (nearly) defective: else fall back to DOP853
+        self.ok = bool(np.linalg.cond(self.P) < 1e8)  # not (nearly) defective: else fall back to DOP853
         self.Pinv = np.linalg.inv(self.P) if self.ok else None
         self.x_eq = sys.friction_moment / (T * K)
 
@@ -276,6 +310,7 @@ class _LinearSlip:
 
         def value(tau: float) -> float:
             return base + sum(cj * cmath.exp(lj * tau) for cj, lj in zip(c, lam)).real
+
         if limit is None:
             return lambda tau: s * value(tau)
         return lambda tau: limit - abs(value(tau))
@@ -295,8 +330,14 @@ def _root(f, a: float, b: float) -> float:
 
 
 # long: the stick/slip event loop of _integrate, with each phase solved in closed form
-def _integrate_exact(sys: CasterDynamics, y0, t_end: float, angle_limit: float = math.inf,  # noqa: C901 - stick/slip event loop: one branch per event, as _integrate
-                     grid: int = 64, max_switches: int = 20_000) -> _Run | None:
+def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per event, as _integrate
+    sys: CasterDynamics,
+    y0,
+    t_end: float,
+    angle_limit: float = math.inf,
+    grid: int = 64,
+    max_switches: int = 20_000,
+) -> _Run | None:
     """:func:`_integrate` for the rolling model (no ``record``, no section stop) with each phase in closed
     form: a slip by :class:`_LinearSlip` (events found on ``grid`` points per period of Eq. 15B, then by
     Brent's method), a stick exactly (X moves at −V θ, T K X reaches the friction moment at a known time).
@@ -341,9 +382,9 @@ def _integrate_exact(sys: CasterDynamics, y0, t_end: float, angle_limit: float =
             s = float(np.sign(TK * y[0]))
             switches += 1
             continue
-        y[2] = y[2] if y[2] * s > 0 else s * tiny          # start the slip just off θ' = 0
+        y[2] = y[2] if y[2] * s > 0 else s * tiny  # start the slip just off θ' = 0
         t0, y_start, base = t, y.copy(), 0.0
-        while True:                                        # one period of grid points at a time
+        while True:  # one period of grid points at a time
             pts = flow.at(s, y_start, base + taus)
             stop = np.nonzero(s * pts[2] <= 0)[0]
             over = np.nonzero(np.abs(pts[1]) >= angle_limit)[0]
@@ -357,8 +398,16 @@ def _integrate_exact(sys: CasterDynamics, y0, t_end: float, angle_limit: float =
         hits = []
         for k, row, kind in ((k_stop, 2, "stop"), (k_over, 1, "limit")):
             if k < grid:
-                hits.append((_root(flow.event(s, y_start, row, angle_limit if row == 1 else None),
-                                   base + (taus[k - 1] if k > 0 else 0.0), base + taus[k]), kind))
+                hits.append(
+                    (
+                        _root(
+                            flow.event(s, y_start, row, angle_limit if row == 1 else None),
+                            base + (taus[k - 1] if k > 0 else 0.0),
+                            base + taus[k],
+                        ),
+                        kind,
+                    )
+                )
         if not hits or t0 + min(hits)[0] > t_end:
             y = flow.at(s, y_start, np.array([t_end - t0]))[:, 0]
             return _Run([], [], ends, y, t_end, "end", switches)
@@ -372,7 +421,7 @@ def _integrate_exact(sys: CasterDynamics, y0, t_end: float, angle_limit: float =
         ends.append((t, float(y[1]), s, y.copy()))
         new = decide(y)
         if new == s and t - t0 < 1e-9 / sys.frequency:
-            new = 0.0                                      # grazing, as in _integrate
+            new = 0.0  # grazing, as in _integrate
             graze_level = abs(TK * y[0]) * (1 + 1e-9)
         s = new
     if switches >= max_switches:
@@ -416,8 +465,15 @@ class KnockResult:
     angle: float = 0.0
 
 
-def simulate_knock(sys: CasterDynamics, angle: float, angular_velocity: float = 0.0, cycles: float = 30.0,
-                   angle_limit: float = 1.0, record: bool = False, exact: bool = False) -> KnockResult:
+def simulate_knock(
+    sys: CasterDynamics,
+    angle: float,
+    angular_velocity: float = 0.0,
+    cycles: float = 30.0,
+    angle_limit: float = 1.0,
+    record: bool = False,
+    exact: bool = False,
+) -> KnockResult:
     """Simulate the caster after a knock θ_i (Eq. 24B) and say whether shimmy is sustained.
 
     Parameters
@@ -440,8 +496,9 @@ def simulate_knock(sys: CasterDynamics, angle: float, angular_velocity: float = 
     y0 = sys.knock_state(angle, angular_velocity)
     run = _integrate_exact(sys, y0, duration, angle_limit) if exact and sys.tyre is None and not record else None
     if run is None:
-        run = _integrate(sys, y0, duration, angle_limit=angle_limit, record=record,
-                         max_step=period / 40 if record else math.inf)
+        run = _integrate(
+            sys, y0, duration, angle_limit=angle_limit, record=record, max_step=period / 40 if record else math.inf
+        )
     ext = _extrema(run.ends)
     half = np.abs(np.diff(ext[:, 1])) / 2 if len(ext) > 1 else np.empty(0)
     times = ext[1:, 0] if len(ext) > 1 else np.empty(0)

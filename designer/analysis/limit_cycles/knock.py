@@ -1,4 +1,5 @@
 """Knock onset and knock-safe speed: bisection in speed on simulated knocks (issue 16)."""
+
 from __future__ import annotations
 
 import math
@@ -29,9 +30,18 @@ class OnsetBracket:
         return math.sqrt(self.low * self.high)
 
 
-def knock_onset_speed(sys: CasterDynamics, angle: float, angular_velocity: float = 0.0, rtol: float = 0.005,
-                      cycles: float = 30.0, guess: float | None = None, bracket: tuple[float, float] = (0.8, 1.25),
-                      widen: float = 1.5, tries: int = 12, exact: bool = False) -> OnsetBracket:
+def knock_onset_speed(
+    sys: CasterDynamics,
+    angle: float,
+    angular_velocity: float = 0.0,
+    rtol: float = 0.005,
+    cycles: float = 30.0,
+    guess: float | None = None,
+    bracket: tuple[float, float] = (0.8, 1.25),
+    widen: float = 1.5,
+    tries: int = 12,
+    exact: bool = False,
+) -> OnsetBracket:
     """Lowest speed at which a knock θ_i is sustained (bisection in log V) [m/s].
 
     The bracket starts at ``guess`` (default Eq. 7's V_c with c_f,eff = M_f/θ_i) × ``bracket``, widened
@@ -39,10 +49,11 @@ def knock_onset_speed(sys: CasterDynamics, angle: float, angular_velocity: float
     when high/low − 1 < ``rtol``.  ``exact``: simulate with the closed-form integration of the rolling model
     (:func:`~designer.analysis.limit_cycles.dynamics.simulate_knock`).
     """
-    if guess is None:   # Eq. 7 with c_f,eff = M_f/θ_i
+    if guess is None:  # Eq. 7 with c_f,eff = M_f/θ_i
         c_eff = sys.friction_moment / angle
-        guess = math.sqrt(4 * c_eff * sys.trail**2 / (math.pi * sys.inertia)
-                          + sys.groove_coefficient * sys.trail / sys.inertia)
+        guess = math.sqrt(
+            4 * c_eff * sys.trail**2 / (math.pi * sys.inertia) + sys.groove_coefficient * sys.trail / sys.inertia
+        )
     n = 0
     cache = {}
 
@@ -72,8 +83,14 @@ def knock_onset_speed(sys: CasterDynamics, angle: float, angular_velocity: float
     return OnsetBracket(low, high, n)
 
 
-def knock_safe_speed(design: Design, conditions: Conditions = Conditions(), angle: float | None = None,
-                     tyre: TyreParameters | None = None, rtol: float = 0.005, exact: bool = True) -> float:
+def knock_safe_speed(
+    design: Design,
+    conditions: Conditions = Conditions(),
+    angle: float | None = None,
+    tyre: TyreParameters | None = None,
+    rtol: float = 0.005,
+    exact: bool = True,
+) -> float:
     """Highest speed at which a knock of θ_i decays instead of growing into shimmy [m/s].
 
     The low end of the knock-onset bracket (:func:`knock_onset_speed`, relative width ``rtol``): the knock
@@ -103,20 +120,22 @@ def knock_safe_speed(design: Design, conditions: Conditions = Conditions(), angl
     sys = caster_dynamics(design, conditions, 1.0, tyre)
     try:
         if exact and tyre is None:
-            return float(knock_onset_speed(sys, theta, rtol=rtol, bracket=FAST_BRACKET, widen=1.15, tries=32,
-                                           exact=True).low)
+            return float(
+                knock_onset_speed(sys, theta, rtol=rtol, bracket=FAST_BRACKET, widen=1.15, tries=32, exact=True).low
+            )
         return float(knock_onset_speed(sys, theta, rtol=rtol).low)
     except SolverError:
         # not bracketed: a knock that is sustained even at a crawl has no safe speed
-        crawl = 0.01 * math.sqrt(4 * sys.friction_moment / theta * sys.trail**2 / (math.pi * sys.inertia)
-                                 + sys.groove_coefficient * sys.trail / sys.inertia)
+        crawl = 0.01 * math.sqrt(
+            4 * sys.friction_moment / theta * sys.trail**2 / (math.pi * sys.inertia)
+            + sys.groove_coefficient * sys.trail / sys.inertia
+        )
         if simulate_knock(sys.at(crawl), theta, exact=exact).shimmy:
             return 0.0
         raise
 
 
-def knock_safe_speeds(designs, conditions: Conditions = Conditions(), rtol: float = 0.005,
-                      inertias=None) -> list[dict]:
+def knock_safe_speeds(designs, conditions: Conditions = Conditions(), rtol: float = 0.005, inertias=None) -> list[dict]:
     """Knock-safe speeds of a few designs (the recommendation card): knocks of θ0 and 2 θ0, rolling tyre.
 
     Each design costs two bisections of :func:`knock_safe_speed` with the closed-form integration (about

@@ -2,6 +2,7 @@
 
 The method is described in :mod:`designer.analysis.limit_cycles`.
 """
+
 from __future__ import annotations
 
 import math
@@ -11,6 +12,7 @@ import numpy as np
 
 from designer.analysis.limit_cycles.dynamics import CasterDynamics, _integrate
 from designer.errors import SolverError
+
 
 @dataclass
 class PeriodicOrbit:
@@ -47,11 +49,18 @@ class PeriodicOrbit:
 
     def as_dict(self) -> dict:
         """Plain floats (multipliers as [re, im] pairs)."""
-        return {"amplitude": self.amplitude, "speed": self.speed, "period": self.period,
-                "frequency": self.frequency, "stable": bool(self.stable), "closure": self.closure,
-                "residual": self.residual, "iterations": self.iterations,
-                "multipliers": [[float(m.real), float(m.imag)] for m in self.multipliers],
-                "max_abs_multiplier": float(np.max(np.abs(self.multipliers)))}
+        return {
+            "amplitude": self.amplitude,
+            "speed": self.speed,
+            "period": self.period,
+            "frequency": self.frequency,
+            "stable": bool(self.stable),
+            "closure": self.closure,
+            "residual": self.residual,
+            "iterations": self.iterations,
+            "multipliers": [[float(m.real), float(m.imag)] for m in self.multipliers],
+            "max_abs_multiplier": float(np.max(np.abs(self.multipliers))),
+        }
 
 
 def _weights(sys: CasterDynamics) -> np.ndarray:
@@ -89,8 +98,9 @@ def _describing_function_speed(sys: CasterDynamics, amplitude: float) -> float:
 
 
 # long: Newton on the half-period map, its step control, Floquet multipliers and the closure check
-def _damped_newton(residual, u: np.ndarray, r: np.ndarray, scales, tol: float, max_iter: int, what: str,
-                   flip_step: bool) -> tuple[np.ndarray, np.ndarray, int]:
+def _damped_newton(
+    residual, u: np.ndarray, r: np.ndarray, scales, tol: float, max_iter: int, what: str, flip_step: bool
+) -> tuple[np.ndarray, np.ndarray, int]:
     """Newton's method with a forward-difference Jacobian and step halving, for the shooting maps below.
 
     ``residual(u)`` is the weighted return-map residual [rad] or None where the map is undefined (the motion
@@ -102,8 +112,9 @@ def _damped_newton(residual, u: np.ndarray, r: np.ndarray, scales, tol: float, m
     iterations = 0
     while np.max(np.abs(r)) > tol:
         if iterations >= max_iter:
-            raise SolverError(f"{what}: Newton did not converge "
-                              f"(residual {np.max(np.abs(r)):.2g} rad after {max_iter} iterations)")
+            raise SolverError(
+                f"{what}: Newton did not converge (residual {np.max(np.abs(r)):.2g} rad after {max_iter} iterations)"
+            )
         iterations += 1
         steps = scales(u)
         J = np.empty((n, n))
@@ -136,8 +147,9 @@ def _damped_newton(residual, u: np.ndarray, r: np.ndarray, scales, tol: float, m
     return u, r, iterations
 
 
-def periodic_orbit(sys: CasterDynamics, amplitude: float, guess: np.ndarray | None = None, tol: float = 1e-9,
-                   max_iter: int = 25) -> PeriodicOrbit:
+def periodic_orbit(
+    sys: CasterDynamics, amplitude: float, guess: np.ndarray | None = None, tol: float = 1e-9, max_iter: int = 25
+) -> PeriodicOrbit:
     """Symmetric periodic orbit of amplitude A: solve G(z) = z for the other section states and V.
 
     Newton's method with a finite-difference Jacobian on the half-period map G (module docstring); the
@@ -158,7 +170,7 @@ def periodic_orbit(sys: CasterDynamics, amplitude: float, guess: np.ndarray | No
     """
     A = float(amplitude)
     w = _weights(sys)
-    n = sys.size - 1                     # section dimension
+    n = sys.size - 1  # section dimension
     if guess is None:
         V = _describing_function_speed(sys, A)
         guess = np.array([-sys.trail * A, V]) if n == 2 else np.array([-sys.trail * A, -V * A, V])
@@ -183,9 +195,17 @@ def periodic_orbit(sys: CasterDynamics, amplitude: float, guess: np.ndarray | No
     at = sys.at(V)
     z = section(u)
     multipliers, closure, period = _floquet_and_closure(at, z)
-    return PeriodicOrbit(amplitude=A, speed=V, state=np.append(z, 0.0), period=period, multipliers=multipliers,
-                         stable=bool(np.all(np.abs(multipliers) < 1)), closure=closure,
-                         residual=float(np.max(np.abs(r))), iterations=iterations)
+    return PeriodicOrbit(
+        amplitude=A,
+        speed=V,
+        state=np.append(z, 0.0),
+        period=period,
+        multipliers=multipliers,
+        stable=bool(np.all(np.abs(multipliers) < 1)),
+        closure=closure,
+        residual=float(np.max(np.abs(r))),
+        iterations=iterations,
+    )
 
 
 @dataclass
@@ -193,7 +213,7 @@ class Branch:
     """Periodic orbits along amplitude, split into stable and unstable pieces for the diagram."""
 
     orbits: list = field(default_factory=list)
-    failed: list = field(default_factory=list)        # amplitudes where no orbit was found [rad]
+    failed: list = field(default_factory=list)  # amplitudes where no orbit was found [rad]
 
     def pieces(self) -> list[dict]:
         """Consecutive runs of equal stability: [{"kind", "speed", "amplitude"}] (SI, rad)."""
@@ -271,8 +291,9 @@ def _floquet_and_closure(at: CasterDynamics, z: np.ndarray):
     return mu**2, closure, period
 
 
-def periodic_orbit_at_speed(sys: CasterDynamics, guess: np.ndarray, tol: float = 1e-9,
-                            max_iter: int = 25) -> PeriodicOrbit:
+def periodic_orbit_at_speed(
+    sys: CasterDynamics, guess: np.ndarray, tol: float = 1e-9, max_iter: int = 25
+) -> PeriodicOrbit:
     """Symmetric periodic orbit at the fixed speed of ``sys``: Newton on G(z) = z over the whole section state.
 
     ``guess`` is a state at a maximum of θ (θ' = 0; its last entry is ignored), e.g. from a long simulation.
@@ -299,13 +320,22 @@ def periodic_orbit_at_speed(sys: CasterDynamics, guess: np.ndarray, tol: float =
     if z[-1] < 0:
         z = -z
     multipliers, closure, period = _floquet_and_closure(sys, z)
-    return PeriodicOrbit(amplitude=float(z[-1]), speed=sys.speed, state=np.append(z, 0.0), period=period,
-                         multipliers=multipliers, stable=bool(np.all(np.abs(multipliers) < 1)), closure=closure,
-                         residual=float(np.max(np.abs(r))), iterations=iterations)
+    return PeriodicOrbit(
+        amplitude=float(z[-1]),
+        speed=sys.speed,
+        state=np.append(z, 0.0),
+        period=period,
+        multipliers=multipliers,
+        stable=bool(np.all(np.abs(multipliers) < 1)),
+        closure=closure,
+        residual=float(np.max(np.abs(r))),
+        iterations=iterations,
+    )
 
 
-def stable_orbit(sys: CasterDynamics, angle: float = 0.6, cycles: float = 80.0,
-                 angle_limit: float = 6.0) -> PeriodicOrbit | None:
+def stable_orbit(
+    sys: CasterDynamics, angle: float = 0.6, cycles: float = 80.0, angle_limit: float = 6.0
+) -> PeriodicOrbit | None:
     """Sustained shimmy at the speed of ``sys``: simulate a knock θ_i = ``angle`` [rad] for ``cycles`` periods,
     then polish the last maximum into a periodic orbit (:func:`periodic_orbit_at_speed`).
 

@@ -1,4 +1,5 @@
 """The studies of results/simulation: bifurcation diagram, Table 1, the (K, N) map, μ (issue 16)."""
+
 from __future__ import annotations
 
 import math
@@ -15,21 +16,35 @@ from designer.analysis.limit_cycles.orbits import (
     continue_orbits,
     speed_sweep,
 )
-from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING, TABLE1, TABLE1_STABLE_UP_TO, TABLE1_TRAIL, table1_wheel
+from designer.data.paper import (
+    APPENDIX_C_CASE,
+    BARE_FORK_DAMPING,
+    TABLE1,
+    TABLE1_STABLE_UP_TO,
+    TABLE1_TRAIL,
+    table1_wheel,
+)
 from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
 from designer.physics.inertia import Fixed
 from designer.physics.shimmy import DynamicsParameters, critical_shimmy_speed
 from designer.physics.tyre import TyreParameters
 
+
 def _branch_dicts(orbits) -> list[dict]:
     return Branch(orbits=list(orbits)).pieces()
 
 
-def bifurcation_diagram(design: Design, conditions: Conditions = Conditions(),
-                        tyre: TyreParameters | None = TyreParameters(), speed_range: tuple[float, float] = (0.3, 4.0),
-                        reference_speed: float | None = None, points: int = 24, max_amplitude: float = 3.0,
-                        progress=None) -> dict:
+def bifurcation_diagram(
+    design: Design,
+    conditions: Conditions = Conditions(),
+    tyre: TyreParameters | None = TyreParameters(),
+    speed_range: tuple[float, float] = (0.3, 4.0),
+    reference_speed: float | None = None,
+    points: int = 24,
+    max_amplitude: float = 3.0,
+    progress=None,
+) -> dict:
     """Periodic orbits against speed: amplitude of the unstable (knock threshold) and stable (sustained
     shimmy) branches, with their Floquet multipliers.
 
@@ -60,8 +75,7 @@ def bifurcation_diagram(design: Design, conditions: Conditions = Conditions(),
         raise InputError(f"speed_range = {speed_range!r}: expected 0 < low < high [m/s]")
     sys = caster_dynamics(design, conditions, hi, tyre)
     inertia = sys.inertia
-    v7 = float(critical_shimmy_speed(design.trail, inertia, design.groove, design.damping,
-                                     conditions.slip_coefficient))
+    v7 = float(critical_shimmy_speed(design.trail, inertia, design.groove, design.damping, conditions.slip_coefficient))
     ref = v7 if reference_speed is None else float(reference_speed)
     c_d_hi = inertia * hi / sys.trail - sys.groove_coefficient / hi
     a_lo = 4 * sys.friction_moment / (math.pi * sys.frequency * c_d_hi) if c_d_hi > 0 else 0.01
@@ -86,9 +100,15 @@ def bifurcation_diagram(design: Design, conditions: Conditions = Conditions(),
     return {
         "design": design.as_dict(),
         "model": "rolling" if tyre is None else "brush tyre",
-        "tyre": None if tyre is None else {"cornering_stiffness": tyre.cornering_stiffness,
-                                           "friction_coefficient": tyre.friction_coefficient, "load": tyre.load,
-                                           "wheel_mass": tyre.wheel_mass, "saturation": tyre.saturation},
+        "tyre": None
+        if tyre is None
+        else {
+            "cornering_stiffness": tyre.cornering_stiffness,
+            "friction_coefficient": tyre.friction_coefficient,
+            "load": tyre.load,
+            "wheel_mass": tyre.wheel_mass,
+            "saturation": tyre.saturation,
+        },
         "inertia": inertia,
         "friction_moment": sys.friction_moment,
         "frequency": sys.frequency,
@@ -106,12 +126,21 @@ def bifurcation_diagram(design: Design, conditions: Conditions = Conditions(),
 
 def _stats(pred, meas) -> dict:
     e = np.asarray(pred, float) / np.asarray(meas, float) - 1
-    return {"rms": float(np.sqrt(np.mean(e**2))), "bias": float(np.mean(e)), "max_abs": float(np.max(np.abs(e))),
-            "n": int(e.size)}
+    return {
+        "rms": float(np.sqrt(np.mean(e**2))),
+        "bias": float(np.mean(e)),
+        "max_abs": float(np.max(np.abs(e))),
+        "n": int(e.size),
+    }
 
 
-def table1_comparison(conditions: Conditions = Conditions(), tyre: TyreParameters = TyreParameters(load=160.0),
-                      angle: float | None = None, rtol: float = 0.005, progress=None) -> dict:
+def table1_comparison(
+    conditions: Conditions = Conditions(),
+    tyre: TyreParameters = TyreParameters(load=160.0),
+    angle: float | None = None,
+    rtol: float = 0.005,
+    progress=None,
+) -> dict:
     """Table 1 (test fork, T = 2 in, bare fork c_f = 1.3, B = 0): measured onset, Eq. 7, the rolling
     simulation (the paper's model, Coulomb friction) and the brush-tyre simulation, from the same knock.
 
@@ -131,35 +160,66 @@ def table1_comparison(conditions: Conditions = Conditions(), tyre: TyreParameter
     for i, wheel in enumerate(TABLE1):
         cond = conditions.replace(inertia=Fixed(wheel.inertia))
         design = Design(trail=TABLE1_TRAIL, diameter=wheel.diameter, groove=0.0, damping=1.3)
-        v7 = float(critical_shimmy_speed(TABLE1_TRAIL, wheel.inertia, 0.0, 1.3 * conditions.disturbance_angle
-                                         / theta, conditions.slip_coefficient))
+        v7 = float(
+            critical_shimmy_speed(
+                TABLE1_TRAIL,
+                wheel.inertia,
+                0.0,
+                1.3 * conditions.disturbance_angle / theta,
+                conditions.slip_coefficient,
+            )
+        )
         rolling = knock_onset_speed(caster_dynamics(design, cond, 1.0, None), theta, rtol=rtol)
         wheel_tyre = tyre.replace(wheel_mass=wheel.mass)
-        slipping = knock_onset_speed(caster_dynamics(design, cond, 1.0, wheel_tyre), theta, rtol=rtol,
-                                     guess=rolling.speed)
+        slipping = knock_onset_speed(
+            caster_dynamics(design, cond, 1.0, wheel_tyre), theta, rtol=rtol, guess=rolling.speed
+        )
         predicted = {"eq7": v7, "rolling_sim": rolling.speed, "tyre_sim": slipping.speed}
         flagged = [k for k, v in predicted.items() if wheel.critical_speed is None and v < TABLE1_STABLE_UP_TO]
-        rows.append({"wheel": wheel.key, "name": wheel.name, "inertia": wheel.inertia, "mass": wheel.mass,
-                     "measured": wheel.critical_speed, **predicted,
-                     "rolling_sim_bracket": [rolling.low, rolling.high],
-                     "tyre_sim_bracket": [slipping.low, slipping.high],
-                     "flagged_below_3.8": flagged})
+        rows.append(
+            {
+                "wheel": wheel.key,
+                "name": wheel.name,
+                "inertia": wheel.inertia,
+                "mass": wheel.mass,
+                "measured": wheel.critical_speed,
+                **predicted,
+                "rolling_sim_bracket": [rolling.low, rolling.high],
+                "tyre_sim_bracket": [slipping.low, slipping.high],
+                "flagged_below_3.8": flagged,
+            }
+        )
         if progress is not None:
             progress(i + 1, len(TABLE1))
     measured = [r for r in rows if r["measured"] is not None]
-    stats = {k: _stats([r[k] for r in measured], [r["measured"] for r in measured])
-             for k in ("eq7", "rolling_sim", "tyre_sim")}
-    return {"rows": rows, "stats": stats, "angle": theta, "trail": TABLE1_TRAIL, "load": tyre.load,
-            "tyre": {"cornering_stiffness": tyre.cornering_stiffness,
-                     "friction_coefficient": tyre.friction_coefficient}, "stable_up_to": TABLE1_STABLE_UP_TO}
+    stats = {
+        k: _stats([r[k] for r in measured], [r["measured"] for r in measured])
+        for k in ("eq7", "rolling_sim", "tyre_sim")
+    }
+    return {
+        "rows": rows,
+        "stats": stats,
+        "angle": theta,
+        "trail": TABLE1_TRAIL,
+        "load": tyre.load,
+        "tyre": {"cornering_stiffness": tyre.cornering_stiffness, "friction_coefficient": tyre.friction_coefficient},
+        "stable_up_to": TABLE1_STABLE_UP_TO,
+    }
 
 
 MAP_FACTORS = (0.25, 1.0, 4.0)
 """Factors on the default frame stiffness K and lateral mass N of the (K, N) map [-]."""
 
 
-def stiffness_mass_map(casters: dict, conditions: Conditions = Conditions(), tyre: TyreParameters = TyreParameters(),
-                       factors=MAP_FACTORS, angle: float | None = None, rtol: float = 0.01, progress=None) -> dict:
+def stiffness_mass_map(
+    casters: dict,
+    conditions: Conditions = Conditions(),
+    tyre: TyreParameters = TyreParameters(),
+    factors=MAP_FACTORS,
+    angle: float | None = None,
+    rtol: float = 0.01,
+    progress=None,
+) -> dict:
     """Onset and sustained amplitude over a grid of frame stiffness K and lateral mass N (issue 16).
 
     For each caster and each (K, N) = (f_K K0, f_N N0): the knock onset with the rolling tyre (bisection from
@@ -187,12 +247,14 @@ def stiffness_mass_map(casters: dict, conditions: Conditions = Conditions(), tyr
     total = len(casters) * len(factors) ** 2
     done = 0
     for name, (design, inertia, mass, measured) in casters.items():
-        v7 = float(critical_shimmy_speed(design.trail, inertia, design.groove, design.damping,
-                                         conditions.slip_coefficient))
+        v7 = float(
+            critical_shimmy_speed(design.trail, inertia, design.groove, design.damping, conditions.slip_coefficient)
+        )
         for fk in factors:
             for fn in factors:
-                dyn = DynamicsParameters(frame_stiffness=K0 * fk, fork_mass=0.6 * N0 * fn,
-                                         bearing_block_mass=0.4 * N0 * fn)
+                dyn = DynamicsParameters(
+                    frame_stiffness=K0 * fk, fork_mass=0.6 * N0 * fn, bearing_block_mass=0.4 * N0 * fn
+                )
                 cond = conditions.replace(inertia=Fixed(inertia), dynamics=dyn)
                 try:
                     rolling = knock_onset_speed(caster_dynamics(design, cond, 1.0, None), theta, rtol=rtol).speed
@@ -203,13 +265,24 @@ def stiffness_mass_map(casters: dict, conditions: Conditions = Conditions(), tyr
                 scan = scanned_onset_speed(sys_t, theta, np.geomspace(0.2, 4.0, 13) * measured, rtol=rtol)
                 onset_t = scan["speed"]
                 orb = _find_stable(sys_t.at(measured))
-                rows.append({"caster": name, "K": K0 * fk, "N": N0 * fn, "K_factor": fk, "N_factor": fn,
-                             "frequency": sys_t.frequency, "eq7": v7, "measured": measured,
-                             "rolling_onset": rolling, "tyre_onset": onset_t, "tyre_onset_monotone": scan["monotone"],
-                             "tyre_onset_below_scan": scan["below_scan"],
-                             "stable_amplitude": math.nan if orb is None else orb.amplitude,
-                             "stable_max_multiplier": math.nan if orb is None
-                             else float(np.max(np.abs(orb.multipliers)))})
+                rows.append(
+                    {
+                        "caster": name,
+                        "K": K0 * fk,
+                        "N": N0 * fn,
+                        "K_factor": fk,
+                        "N_factor": fn,
+                        "frequency": sys_t.frequency,
+                        "eq7": v7,
+                        "measured": measured,
+                        "rolling_onset": rolling,
+                        "tyre_onset": onset_t,
+                        "tyre_onset_monotone": scan["monotone"],
+                        "tyre_onset_below_scan": scan["below_scan"],
+                        "stable_amplitude": math.nan if orb is None else orb.amplitude,
+                        "stable_max_multiplier": math.nan if orb is None else float(np.max(np.abs(orb.multipliers))),
+                    }
+                )
                 done += 1
                 if progress is not None:
                     progress(done, total)
@@ -224,14 +297,22 @@ def map_casters() -> dict:
     out = {"Appendix C": (Design(case.trail, 0.2, 0.0, BARE_FORK_DAMPING), i_c, 0.444, case.critical_speed)}
     for key in ("C", "G"):
         w = table1_wheel(key)
-        out[f"Table 1 {key}"] = (Design(TABLE1_TRAIL, w.diameter, 0.0, BARE_FORK_DAMPING), w.inertia, w.mass,
-                                 w.critical_speed)
+        out[f"Table 1 {key}"] = (
+            Design(TABLE1_TRAIL, w.diameter, 0.0, BARE_FORK_DAMPING),
+            w.inertia,
+            w.mass,
+            w.critical_speed,
+        )
     return out
 
 
-def friction_sensitivity(design: Design, conditions: Conditions, speed: float,
-                         coefficients=(0.1, 0.15, 0.2, 0.3, 0.5, 0.7, 1.0),
-                         tyre: TyreParameters = TyreParameters()) -> list[dict]:
+def friction_sensitivity(
+    design: Design,
+    conditions: Conditions,
+    speed: float,
+    coefficients=(0.1, 0.15, 0.2, 0.3, 0.5, 0.7, 1.0),
+    tyre: TyreParameters = TyreParameters(),
+) -> list[dict]:
     """Fold and stable shimmy amplitude for several tyre friction coefficients μ [-].
 
     For each μ: the orbit branch followed in amplitude (0.03–3 rad); the fold (lowest speed of any orbit
@@ -244,12 +325,16 @@ def friction_sensitivity(design: Design, conditions: Conditions, speed: float,
         stable = [o for o in branch.orbits if o.stable]
         fold = min(branch.orbits, key=lambda o: o.speed) if stable else None
         orb = _find_stable(sys, angles=(0.6, 1.2, 0.3, 2.4, 0.15))
-        rows.append({"friction_coefficient": float(mu),
-                     "fold_speed": math.nan if fold is None else fold.speed,
-                     "fold_amplitude": math.nan if fold is None else fold.amplitude,
-                     "stable_amplitude": math.nan if orb is None else orb.amplitude,
-                     "max_abs_multiplier": math.nan if orb is None else float(np.max(np.abs(orb.multipliers))),
-                     "closure": math.nan if orb is None else orb.closure})
+        rows.append(
+            {
+                "friction_coefficient": float(mu),
+                "fold_speed": math.nan if fold is None else fold.speed,
+                "fold_amplitude": math.nan if fold is None else fold.amplitude,
+                "stable_amplitude": math.nan if orb is None else orb.amplitude,
+                "max_abs_multiplier": math.nan if orb is None else float(np.max(np.abs(orb.multipliers))),
+                "closure": math.nan if orb is None else orb.closure,
+            }
+        )
     return rows
 
 
@@ -269,7 +354,6 @@ def limit_cycle_study(progress=None, quick: bool = False) -> dict:
     ``quick`` uses a 3 × 3 map and fewer orbits (for checking the pipeline, not for results).
     """
 
-
     def say(text):
         if progress is not None:
             progress(text)
@@ -277,14 +361,20 @@ def limit_cycle_study(progress=None, quick: bool = False) -> dict:
     t0 = time.perf_counter()
     design, cond = appendix_c_caster()
     say("bifurcation diagram (brush tyre)")
-    bif = bifurcation_diagram(design, cond, TyreParameters(), speed_range=(0.3, 4.0),
-                              reference_speed=APPENDIX_C_CASE.critical_speed, points=12 if quick else 28)
+    bif = bifurcation_diagram(
+        design,
+        cond,
+        TyreParameters(),
+        speed_range=(0.3, 4.0),
+        reference_speed=APPENDIX_C_CASE.critical_speed,
+        points=12 if quick else 28,
+    )
     say("bifurcation diagram (rolling tyre)")
-    roll = bifurcation_diagram(design, cond, None, speed_range=(0.3, 4.0), points=8 if quick else 16,
-                               max_amplitude=1.5)
+    roll = bifurcation_diagram(design, cond, None, speed_range=(0.3, 4.0), points=8 if quick else 16, max_amplitude=1.5)
     say("stable amplitude against μ")
-    fric = friction_sensitivity(design, cond, APPENDIX_C_CASE.critical_speed,
-                                (0.15, 0.7) if quick else (0.1, 0.15, 0.2, 0.3, 0.5, 0.7, 1.0))
+    fric = friction_sensitivity(
+        design, cond, APPENDIX_C_CASE.critical_speed, (0.15, 0.7) if quick else (0.1, 0.15, 0.2, 0.3, 0.5, 0.7, 1.0)
+    )
     say("knock-safe speeds")
     theta0 = float(cond.disturbance_angle)
     knock = {}
@@ -296,17 +386,36 @@ def limit_cycle_study(progress=None, quick: bool = False) -> dict:
     from designer.analysis.simulate import onset_speed as _today_onset  # today's model, for the reduction check
 
     today = _today_onset(design, cond, rtol=0.002)
-    limit = knock_onset_speed(caster_dynamics(design, cond, 1.0, TyreParameters().rolling_limit(factor)), theta0,
-                              rtol=0.002, guess=today.speed)
-    rolling_limit = {"factor": factor, "today": today.speed, "tyre_limit": limit.speed,
-                     "today_bracket": [today.low, today.high], "tyre_limit_bracket": [limit.low, limit.high]}
+    limit = knock_onset_speed(
+        caster_dynamics(design, cond, 1.0, TyreParameters().rolling_limit(factor)),
+        theta0,
+        rtol=0.002,
+        guess=today.speed,
+    )
+    rolling_limit = {
+        "factor": factor,
+        "today": today.speed,
+        "tyre_limit": limit.speed,
+        "today_bracket": [today.low, today.high],
+        "tyre_limit_bracket": [limit.low, limit.high],
+    }
     say("Table 1")
     table = table1_comparison(rtol=0.01 if quick else 0.005)
     say("(K, N) map")
-    kn = stiffness_mass_map(map_casters(), factors=(0.25, 4.0) if quick else MAP_FACTORS,
-                            progress=None if progress is None else (lambda i, n: progress(f"map {i}/{n}")))
-    return {"bifurcation": bif, "rolling": roll, "friction": fric, "knock_safe": knock, "table1": table,
-            "rolling_limit": rolling_limit,
-            "map": kn, "measured": {"speed": APPENDIX_C_CASE.critical_speed,
-                                    "amplitude": APPENDIX_C_CASE.steady_amplitude},
-            "seconds": time.perf_counter() - t0, "quick": quick}
+    kn = stiffness_mass_map(
+        map_casters(),
+        factors=(0.25, 4.0) if quick else MAP_FACTORS,
+        progress=None if progress is None else (lambda i, n: progress(f"map {i}/{n}")),
+    )
+    return {
+        "bifurcation": bif,
+        "rolling": roll,
+        "friction": fric,
+        "knock_safe": knock,
+        "table1": table,
+        "rolling_limit": rolling_limit,
+        "map": kn,
+        "measured": {"speed": APPENDIX_C_CASE.critical_speed, "amplitude": APPENDIX_C_CASE.steady_amplitude},
+        "seconds": time.perf_counter() - t0,
+        "quick": quick,
+    }
