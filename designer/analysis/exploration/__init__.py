@@ -51,7 +51,9 @@ Hybrid refinement (``refine=True``)
 Package layout
     :mod:`.storage` (storage URLs, opening a storage, journal repair, atomic writes),
     :mod:`.operators` (NSGA-II operators, the search space, the NLP refinement),
-    :mod:`.runner` (the objective, budget and resume, the process pool, the progress bar, :func:`explore`),
+    :mod:`.runner` (:func:`explore`: arguments, create or resume the study, collect the fronts),
+    :mod:`.workers` (the optuna objective and its budget, one worker, the process pool),
+    :mod:`.progress` (the live front, its hypervolume and the progress bar),
     :mod:`.result` (:class:`ExploreResult` and the comparison with the exact front).
     Every name is re-exported here, so ``from designer.analysis.exploration import explore`` keeps working.
 """
