@@ -7,7 +7,7 @@ import pytest
 from designer.cli import main
 from designer.errors import InputError, ProblemError
 from designer.problem import problem_from_toml
-from designer.units import parse_quantity
+from designer.units import COMMON_UNITS, DIMENSIONS, _registry, parse_quantity
 
 EVAL = ["evaluate", "--trail", "2in", "--diameter", "8in", "--groove", "0", "--damping", "1.3"]
 
@@ -60,3 +60,33 @@ def test_problem_file_bound_in_inches_said_in_inches():
         problem_from_toml(text)
     assert "variables.groove.max = '5 in' (0.127 m): outside the model's range 0 to 3.94 in" in str(info.value)
     assert "were inches" not in str(info.value)
+
+
+@pytest.mark.parametrize("unit", sorted(COMMON_UNITS))
+def test_common_unit_factor_equals_pints(unit):
+    """Each unit read without pint (COMMON_UNITS, the cold-start shortcut) converts exactly as pint does:
+    2.5, 0.75, 178 and 1e-3 of it agree with pint's conversion to the SI unit to 2 ulp."""
+    pint = pytest.importorskip("pint")
+    ureg = pint.UnitRegistry()
+    dimension, _ = COMMON_UNITS[unit]
+    target = DIMENSIONS[dimension][0]
+    for x in (2.5, 0.75, 178.0, 1e-3):
+        expected = ureg.Quantity(x, unit).to(target).magnitude
+        assert parse_quantity(f"{x!r} {unit}", dimension, "k") == pytest.approx(expected, rel=5e-16, abs=0)
+
+
+def test_common_units_skip_pint_and_others_use_it():
+    """ "2.5 in" for a length is read by the shortcut (pint's registry is never built); "2.5 in" for a
+    force, "1 ft + 2 in" and "N*m" for a damping go through pint, with its checks and messages."""
+    _registry.cache_clear()
+    assert parse_quantity("2.5 in", "length", "k") == pytest.approx(0.0635, rel=1e-15)
+    assert parse_quantity("20 deg", "angle", "k") == pytest.approx(0.3490658503988659, rel=1e-15)
+    assert _registry.cache_info().currsize == 0
+    with pytest.raises(InputError, match="wrong dimension, expected force"):
+        parse_quantity("2.5 in", "force", "k")
+    assert _registry.cache_info().currsize == 1
+    assert parse_quantity("1 ft + 2 in", "length", "k") == pytest.approx(14 * 0.0254, rel=1e-12)
+    with pytest.raises(InputError, match="not a damping"):
+        parse_quantity("1.3 N*m", "damping", "k")
+    with pytest.raises(InputError, match="too long"):
+        parse_quantity("1" * 120 + " in", "length", "k")

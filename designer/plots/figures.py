@@ -71,8 +71,26 @@ def _inch_x(ax, label: str):
     return sec
 
 
-def _new(width: float = 7.5, height: float = 4.8, **kw) -> Figure:
-    fig = Figure(figsize=(width, height), layout="constrained", **kw)
+def _new(
+    width: float = 7.5,
+    height: float = 4.8,
+    *,
+    left: float = 0.65,
+    right: float = 0.15,
+    bottom: float = 0.5,
+    top: float = 0.35,
+    wspace: float = 0.2,
+) -> Figure:
+    """A figure of ``width`` x ``height`` inches with fixed margins [in] around the axes.
+
+    Fixed margins, not matplotlib's constrained layout: the layout pass measured every tick label of every
+    axis again and took about half of the figures' CPU in the main job (benchmarks/results.md).  Each figure
+    gives the margins its labels need (a title, an inch axis on top, a right-hand axis or colour bar).
+    """
+    fig = Figure(figsize=(width, height))
+    fig.subplots_adjust(
+        left=left / width, right=1 - right / width, bottom=bottom / height, top=1 - top / height, wspace=wspace
+    )
     return fig
 
 
@@ -207,7 +225,7 @@ def figure_trail(required_speed: float) -> Figure:
     colour of their curve; wheels A and B, stable to 3.8 m/s on the
     treadmill, are arrows at 3.8 m/s.
     """
-    fig = _new(7.5, 5.0)
+    fig = _new(7.5, 5.0, top=0.75)  # title and the inch axis on top
     ax = fig.add_subplot()
     trail = np.linspace(0.5, 3.0, 200) * INCH
     stable_offset = iter((-1.0, 1.0, 0.0))  # side by side: A and B were both stable at 2 in
@@ -322,7 +340,7 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, front_dia
     ``fixed``) are shaded and the ``front_diameters`` [m] marked.
     """
     h = sill_height
-    fig = _new(7.5, 5.0)
+    fig = _new(7.5, 5.0, top=0.75, right=0.75)  # title, inch axis on top, force axis on the right
     ax = fig.add_subplot()
     d_hi = max(10 * INCH, diameter_bounds.high * 1.1)
     d_lo = max(2.6 * h, 1 * INCH)
@@ -392,7 +410,7 @@ def figure_groove_damper(
     design, conditions : the weighted optimum and its conditions, or None ("no feasible design")
     catalog : the diameters are catalog wheels (grouped bars instead of lines)
     """
-    fig = _new(11.5, 5.0)
+    fig = _new(11.5, 5.0, top=0.95, right=0.1, wspace=0.17)  # suptitle, titles, inch axes on top; colour bar
     left, right = fig.subplots(1, 2, width_ratios=(1, 1.1))
     rows = tradeoff
     if catalog or len(rows) == 1:
