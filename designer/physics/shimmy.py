@@ -19,6 +19,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
     import numpy.typing as npt
 
 from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING, SLIP_COEFFICIENT
+from designer.physics._roots import brentq
 from designer.physics._types import Array, Scalar
 
 Coefficients: TypeAlias = tuple[Scalar, Scalar, Scalar, Scalar]
@@ -241,13 +242,11 @@ def routh_hurwitz_critical_speed(
 ) -> float:
     """Critical speed where the Routh–Hurwitz margin of Eq. 12B crosses zero [m/s].
 
-    Solved numerically (scipy ``brentq``) from the full third-order
+    Solved numerically (Brent's method, :func:`designer.physics._roots.brentq`) from the full third-order
     coefficients, independently of Eq. 5/7: must equal Eq. 20B, i.e. Eq. 5 for
     ``damping_kind="hydraulic"`` (damping = C_D) and Eq. 7 for ``"friction"``
     (damping = c_f, converted with :func:`friction_damping_at_speed`).
     """
-    # late import: loads scipy only when this runs
-    from scipy.optimize import brentq
 
     def margin(speed: float) -> float:
         if damping_kind == "friction":

@@ -15,6 +15,7 @@ import numpy as np
 
 from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
+from designer.physics._roots import EPS, brentq
 from designer.physics.tyre import TyreParameters, lateral_tyre_force
 
 _RTOL = 1e-10
@@ -304,29 +305,27 @@ class _LinearSlip:
         """τ -> s θ'(τ) (end of the slip, ``row`` 2) or limit − |θ(τ)| (``row`` 1) after y0 (scalar, fast);
         positive before the event."""
         yp = np.array([s * self.x_eq, 0.0, 0.0])
-        c = [complex(v) for v in self.P[row] * (self.Pinv @ (y0 - yp))]
-        lam = [complex(v) for v in self.lam]
+        (c0, c1, c2) = (complex(v) for v in self.P[row] * (self.Pinv @ (y0 - yp)))
+        (l0, l1, l2) = (complex(v) for v in self.lam)
         base = float(yp[row])
+        exp = cmath.exp
 
-        def value(tau: float) -> float:
-            return base + sum(cj * cmath.exp(lj * tau) for cj, lj in zip(c, lam)).real
-
+        # the sum Σ c_j e^{λ_j τ} written out, in the order (and from the int 0) of sum(): the same bits
         if limit is None:
-            return lambda tau: s * value(tau)
-        return lambda tau: limit - abs(value(tau))
+            return lambda tau: s * (base + (0 + c0 * exp(l0 * tau) + c1 * exp(l1 * tau) + c2 * exp(l2 * tau)).real)
+        return lambda tau: limit - abs(base + (0 + c0 * exp(l0 * tau) + c1 * exp(l1 * tau) + c2 * exp(l2 * tau)).real)
 
 
 def _root(f, a: float, b: float) -> float:
     """First τ in [a, b] where f (positive before the event) reaches 0, to rounding: a if f(a) <= 0 already
-    (the grid saw f(a) > 0 up to rounding), b if f(b) > 0 still, else Brent's method."""
-    from scipy.optimize import brentq  # heavy import, only for time integration
-
+    (the grid saw f(a) > 0 up to rounding), b if f(b) > 0 still, else Brent's method
+    (:func:`designer.physics._roots.brentq`, scipy's steps)."""
     fa, fb = f(a), f(b)
     if fa <= 0:
         return float(a)
     if fb > 0:
         return float(b)
-    return float(brentq(f, a, b, xtol=1e-16, rtol=4 * np.finfo(float).eps, maxiter=200))
+    return brentq(f, a, b, xtol=1e-16, rtol=4 * EPS, maxiter=200, fa=fa, fb=fb)
 
 
 # long: the stick/slip event loop of _integrate, with each phase solved in closed form
