@@ -51,12 +51,17 @@ comparisons below use.  Initial conditions are those of Eq. 24B:
 Paper numbers: K, N from :class:`designer.physics.shimmy.DynamicsParameters`
 (N = 0.5 kg, K chosen so that ω = 104.7 rad/s at T = 2.5 in, App. C); K_s =
 1250 N; θ0 = 20° = 0.349 rad.
+
+Layout: :func:`simulate` checks its arguments (:func:`_knock`), runs the stick–slip event loop
+(:class:`_StickSlip`) and measures the amplitudes and the frequency; :func:`onset_speed` brackets and
+bisects the onset.  The records :class:`SimulationResult` and :class:`OnsetResult` live in
+:mod:`designer.analysis.simulation_result` (re-exported here).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -64,8 +69,7 @@ from scipy.integrate import solve_ivp
 from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
 from designer.physics.shimmy import critical_shimmy_speed, shimmy_frequency, steady_shimmy_amplitude
-from designer.plots.simulation import plot_knock
-from designer.reprs import dataframe, html_table, svg_sparkline
+from designer.analysis.simulation_result import OnsetResult, SimulationResult
 
 __all__ = [
     "SimulationResult",
@@ -75,162 +79,6 @@ __all__ = [
 ]
 
 
-@dataclass
-class SimulationResult:
-    """Outcome of one shimmy simulation (all SI).
-
-    Attributes
-    ----------
-    t, theta, lateral : arrays
-        Time [s], caster angle θ(t) [rad] and spindle displacement X(t) [m].
-    speed : wheelchair speed V [m/s]
-    angle, angular_velocity : initial θ_i [rad] and θ'_i [rad/s] (Eq. 24B)
-    friction_moment : M_f = c_f θ0_design [N·m]
-    inertia : I_w [kg·m²]
-    early_amplitude : mean half peak-to-peak of θ over two periods just after
-        the aligning transient (t ≳ 3T/V) [rad]
-    late_amplitude : the same over the last two periods [rad]
-    amplitude_ratio : late_amplitude / θ_i [-] (Eq. 29B predicts V/(ωT) at
-        the threshold)
-    growth_ratio : late_amplitude / early_amplitude [-]; > 1 is shimmy
-    grows : True if the oscillation grows (growth_ratio > 1 or |θ| reached
-        ``angle_limit``)
-    diverged : True if |θ| reached ``angle_limit`` (simulation stopped)
-    frequency : measured shimmy frequency [rad/s] from zero crossings of θ
-    predicted_frequency : ω of Eq. 15B [rad/s]
-    predicted_amplitude : θ_i V/(ω T) of Eq. 4 / 29B [rad] (Eq. 15B ω)
-    critical_speed : Eq. 7 with c_f,eff = M_f/θ_i [m/s]
-    switches : number of stick/slip transitions handled
-    """
-
-    t: np.ndarray
-    theta: np.ndarray
-    lateral: np.ndarray
-    speed: float
-    angle: float
-    angular_velocity: float
-    friction_moment: float
-    inertia: float
-    early_amplitude: float
-    late_amplitude: float
-    amplitude_ratio: float
-    growth_ratio: float
-    grows: bool
-    diverged: bool
-    frequency: float
-    predicted_frequency: float
-    predicted_amplitude: float
-    critical_speed: float
-    switches: int
-    extrema: np.ndarray = field(repr=False, default_factory=lambda: np.empty((0, 2)))
-
-    def __repr__(self) -> str:
-        """Two lines: speed, knock, verdict and amplitudes; frequency, Eq. 7 V_c and the trace length."""
-        verdict = "GROWS (shimmy)" if self.grows else "decays"
-        freq = f"{self.frequency:.4g}" if math.isfinite(self.frequency) else "n/a"
-        return (
-            f"SimulationResult(V {self.speed:.3g} m/s, knock {math.degrees(self.angle):.3g}°: {verdict}; "
-            f"amplitude {self.early_amplitude:.3g} → {self.late_amplitude:.3g} rad, Eq. 29B "
-            f"{self.predicted_amplitude:.3g} rad)\n  ω {freq} rad/s (Eq. 15B {self.predicted_frequency:.4g}), "
-            f"Eq. 7 V_c {self.critical_speed:.4g} m/s, {len(self.t)} samples over {self._end():.3g} s"
-        )
-
-    def _end(self) -> float:
-        return float(self.t[-1]) if len(self.t) else 0.0
-
-    def _repr_html_(self) -> str:
-        """A compact HTML table with units beside a small SVG of θ(t) [deg] (notebooks; no integration runs)."""
-        deg = math.degrees
-        rows = [
-            ("speed V", f"{self.speed:.4g}", "m/s"),
-            ("knock θ_i (θ'_i)", f"{deg(self.angle):.3g}° ({self.angular_velocity:.3g} rad/s)", ""),
-            (
-                "verdict",
-                ("grows: shimmy" if self.grows else "decays") + (" (|θ| hit the limit)" if self.diverged else ""),
-                "",
-            ),
-            ("amplitude after the transient", f"{self.early_amplitude:.4g} ({deg(self.early_amplitude):.3g}°)", "rad"),
-            ("amplitude at the end", f"{self.late_amplitude:.4g} ({deg(self.late_amplitude):.3g}°)", "rad"),
-            ("Eq. 4 / 29B amplitude θ_i V/(ωT)", f"{self.predicted_amplitude:.4g}", "rad"),
-            (
-                "frequency (Eq. 15B)",
-                (f"{self.frequency:.4g}" if math.isfinite(self.frequency) else "n/a")
-                + f" ({self.predicted_frequency:.4g})",
-                "rad/s",
-            ),
-            ("Eq. 7 V_c (c_f,eff = M_f/θ_i)", f"{self.critical_speed:.4g}", "m/s"),
-            ("friction moment M_f", f"{self.friction_moment:.4g}", "N·m"),
-            ("wheel inertia I_w", f"{self.inertia:.4g}", "kg·m²"),
-            ("trace", f"{len(self.t)} samples, {self._end():.3g}", "s"),
-        ]
-        svg = svg_sparkline(self.t, np.degrees(self.theta), "time t [s]", "θ [deg]", band=deg(self.predicted_amplitude))
-        return html_table(
-            "Shimmy after a knock (Coulomb friction, App. B)",
-            rows,
-            caption="θ(t); dashed: ± the Eq. 29B amplitude",
-            extra=svg,
-        )
-
-    def to_pandas(self):
-        """The trace as a pandas DataFrame (pandas: the ``notebook`` extra): columns ``t_s`` [s], ``theta_rad``
-        [rad], ``theta_deg`` [deg] and ``lateral_m`` (spindle displacement X [m]); the scalars of
-        :meth:`as_dict` in ``df.attrs``, units in ``df.attrs["units"]``."""
-        records = [
-            {"t_s": float(t), "theta_rad": float(th), "theta_deg": math.degrees(th), "lateral_m": float(x)}
-            for t, th, x in zip(self.t, self.theta, self.lateral)
-        ]
-        return dataframe(
-            "SimulationResult.to_pandas",
-            records,
-            ["t_s", "theta_rad", "theta_deg", "lateral_m"],
-            {"t_s": "s", "theta_rad": "rad", "theta_deg": "deg", "lateral_m": "m"},
-            **self.as_dict(),
-        )
-
-    def plot(self, ax=None, onset_speed: float | None = None):
-        """θ(t) in degrees against time [s], with ± the Eq. 29B amplitude; returns the matplotlib Axes.
-
-        ``ax``: your Axes or None for a new figure; ``onset_speed`` [m/s] (e.g. from :func:`onset_speed`) is
-        added to the title.  Drawn by :func:`designer.plots.simulation.plot_knock` (as ``designer simulate
-        --plot``).
-        """
-        return plot_knock(
-            self.t,
-            self.theta,
-            self.speed,
-            self.grows,
-            self.critical_speed,
-            self.predicted_amplitude,
-            onset_speed=onset_speed,
-            ax=ax,
-        )
-
-    def as_dict(self, with_trace: bool = False) -> dict:
-        """Scalars (and optionally the trace) as plain Python types."""
-        out = {
-            "speed": self.speed,
-            "angle": self.angle,
-            "angular_velocity": self.angular_velocity,
-            "friction_moment": self.friction_moment,
-            "inertia": self.inertia,
-            "amplitude_ratio": self.amplitude_ratio,
-            "growth_ratio": self.growth_ratio,
-            "early_amplitude": self.early_amplitude,
-            "late_amplitude": self.late_amplitude,
-            "grows": bool(self.grows),
-            "diverged": bool(self.diverged),
-            "frequency": self.frequency,
-            "predicted_frequency": self.predicted_frequency,
-            "predicted_amplitude": self.predicted_amplitude,
-            "critical_speed": self.critical_speed,
-            "switches": self.switches,
-        }
-        if with_trace:
-            out["t"] = self.t.tolist()
-            out["theta"] = self.theta.tolist()
-        return out
-
-
 def _check(name: str, value: float, allow_zero: bool = False) -> None:
     if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
         raise InputError(f"{name} = {value!r}: must be a finite number")
@@ -238,7 +86,172 @@ def _check(name: str, value: float, allow_zero: bool = False) -> None:
         raise InputError(f"{name} = {value:g}: must be {'non-negative' if allow_zero else 'positive'}")
 
 
-def simulate(  # noqa: C901 - input checks and the stick/slip event loop of one integration
+@dataclass(frozen=True)
+class _Knock:
+    """The constants of one integration (SI), from :func:`_knock`: trail T, spring K, speed V, friction moment
+    M_f, the Eq. 12B coefficients J = I_w + N T² and visc = N T V + K_s B²/(2V), the Eq. 15B period, the time
+    span, the solver settings, the knock θ_i, I_w, the Eq. 15B ω, the aligning transient, B and K_s."""
+
+    T: float
+    K: float
+    V: float
+    M_f: float
+    J: float
+    visc: float
+    period: float
+    duration: float
+    max_step: float
+    angle_limit: float
+    rtol: float
+    theta_i: float
+    inertia: float
+    omega: float
+    transient: float
+    groove: float
+    slip_coefficient: float
+
+    def rhs(self, s):
+        """The first-order system (module docstring) while slipping with sgn θ' = ``s``."""
+        T, K, V, visc, M_f, J = self.T, self.K, self.V, self.visc, self.M_f, self.J
+
+        def f(_t, y):
+            x, th, w = y
+            return [-T * w - V * th, w, (T * K * x - visc * w - s * M_f) / J]
+
+        return f
+
+
+class _StickSlip:
+    """The event loop of :func:`simulate`: slip segments integrated by ``solve_ivp`` until θ' = 0, stick
+    segments in closed form, until the end of the time span or |θ| reaches the angle limit.
+
+    Collects the trace (``ts``, ``xs``, ``ths``), the zero crossings of θ, the reversals of the motion
+    (``extrema``: (time, θ)), the number of stick/slip switches and whether |θ| reached the limit.
+    """
+
+    max_switches = 200_000
+
+    def __init__(self, k: _Knock, w0: float):
+        self.k = k
+        theta_i = k.theta_i
+        # Initial state, Eq. 24B: theta'' = 0 fixes X(0).
+        s = float(np.sign(w0))
+        x0 = (k.visc * w0 + s * k.M_f) / (k.T * k.K)
+        self.s = s
+        self.y = np.array([x0, theta_i, w0])
+        self.t = 0.0
+        self.ts, self.xs, self.ths = [self.t], [x0], [theta_i]
+        self.crossings: list[float] = []
+        self.extrema: list[tuple[float, float]] = []  # (time, θ) where the motion reverses
+        self.direction = s  # last direction of θ motion (0: none yet)
+        self.switches = 0
+        self.diverged = False
+        self.graze = False  # last slip segment had zero length (θ' = 0 with |τ| ≈ M_f)
+        angle_limit = k.angle_limit
+
+        def limit_event(_t, y):
+            return abs(y[1]) - angle_limit
+
+        limit_event.terminal = True
+        self.limit_event = limit_event
+
+    def run(self) -> _StickSlip:
+        """Integrate to the end (or the angle limit); returns self."""
+        while self.t < self.k.duration and self.switches < self.max_switches:
+            if self._stick() if self.s == 0.0 else self._slip():
+                break
+        return self
+
+    def _stick(self) -> bool:
+        """Stick: θ' = 0, θ constant, X' = −Vθ until |T K X| = M_f.  True when the run ends."""
+        k, y, t = self.k, self.y, self.t
+        T, K, V, M_f = k.T, k.K, k.V, k.M_f
+        th = y[1]
+        tau = T * K * y[0]
+        if abs(tau) > M_f and not self.graze:  # cannot stick: slip toward tau
+            self.s = float(np.sign(tau))
+        elif th == 0.0:
+            t_end = k.duration  # aligned and held: rest for ever
+            self.ts.append(t_end), self.xs.append(y[0]), self.ths.append(th)
+            self.t = t_end
+            return True
+        else:
+            x_exit = -math.copysign(M_f, th) / (T * K)
+            dt = max((y[0] - x_exit) / (V * th), 0.0)
+            t_end = min(t + dt, k.duration)
+            for tt in np.linspace(t, t_end, max(2, int((t_end - t) / k.max_step) + 1))[1:]:
+                self.ts.append(tt), self.xs.append(y[0] - V * th * (tt - t)), self.ths.append(th)
+            self.y = np.array([y[0] - V * th * (t_end - t), th, 0.0])
+            self.t = t_end
+            if self.t >= k.duration:
+                return True
+            self.s = -math.copysign(1.0, th)
+            self.switches += 1
+        self.graze = False
+        if self.s != self.direction and self.direction != 0.0:
+            self.extrema.append((self.t, self.y[1]))
+        self.direction = self.s
+        return False
+
+    def _slip(self) -> bool:
+        """Slip with sgn θ' = s until θ' crosses zero (terminal event), then reverse or stick.  True when
+        the run ends (end of the time span, or |θ| reached the angle limit)."""
+        k, s, t = self.k, self.s, self.t
+
+        def stop(_t, yy, s=s):
+            return s * yy[2]
+
+        stop.terminal = True
+        stop.direction = -1
+
+        def cross(_t, yy):
+            return yy[1]
+
+        sol = solve_ivp(
+            k.rhs(s),
+            (t, k.duration),
+            self.y,
+            method="DOP853",
+            rtol=k.rtol,
+            atol=[1e-12, 1e-10, 1e-8],
+            max_step=k.max_step,
+            events=[stop, cross, self.limit_event],
+        )
+        if sol.status < 0:
+            raise SolverError(f"shimmy simulation failed at t = {t:.4g} s: {sol.message}")
+        self.ts.extend(sol.t[1:]), self.xs.extend(sol.y[0, 1:]), self.ths.extend(sol.y[1, 1:])
+        self.crossings.extend(float(v) for v in sol.t_events[1])
+        if sol.t_events[2].size:
+            self.diverged = True
+            self.t = float(sol.t_events[2][0])
+            return True
+        if sol.status == 0 or not sol.t_events[0].size:  # reached the end
+            self.t = k.duration
+            return True
+        t_start = t
+        t = self.t = float(sol.t_events[0][0])
+        y = np.array(sol.y_events[0][0], dtype=float)
+        y[2] = 0.0
+        self.y = y
+        self.switches += 1
+        tau = k.T * k.K * y[0]
+        new = float(np.sign(tau)) if abs(tau) > k.M_f else 0.0
+        if t - t_start <= 1e-9 * k.period:
+            # Grazing: |τ| exceeds M_f by a rounding error and the slip ends at
+            # once (its excursion is shorter than the first step).  The
+            # physical motion is a stick; treat it so (error ~ rounding).
+            new = 0.0
+            self.graze = True
+        if new == -s:
+            self.extrema.append((t, y[1]))
+            self.direction = new
+        else:
+            self.direction = s  # entering stick; extremum decided on exit
+        self.s = new
+        return False
+
+
+def simulate(  # long: its docstring documents every argument; the body (30 lines) is _knock, _StickSlip, measure
     design: Design,
     conditions: Conditions = Conditions(),
     speed: float = 2.5,
@@ -294,6 +307,53 @@ def simulate(  # noqa: C901 - input checks and the stick/slip event loop of one 
         Non-positive trail, speed, diameter or inertia, negative groove or
         damping, non-finite values.
     """
+    k = _knock(
+        design, conditions, speed, angle, angular_velocity, duration, cycles, angle_limit, rtol, samples_per_period
+    )
+    run = _StickSlip(k, float(angular_velocity)).run()
+    ext = np.asarray(run.extrema, dtype=float).reshape(-1, 2)
+    end = run.t if run.diverged else k.duration
+    early, late = _amplitudes(ext, k.transient, k.period, end, run.diverged, angle_limit)
+    growth = late / early if early > 0 else (math.inf if late > 0 else 0.0)
+    c_eff = k.M_f / k.theta_i
+    return SimulationResult(
+        t=np.asarray(run.ts),
+        theta=np.asarray(run.ths),
+        lateral=np.asarray(run.xs),
+        speed=k.V,
+        angle=k.theta_i,
+        angular_velocity=float(angular_velocity),
+        friction_moment=k.M_f,
+        inertia=k.inertia,
+        early_amplitude=early,
+        late_amplitude=late,
+        amplitude_ratio=late / k.theta_i,
+        growth_ratio=float(growth),
+        grows=bool(run.diverged or growth > 1.0),
+        diverged=run.diverged,
+        frequency=_frequency(run.crossings, k.transient),
+        predicted_frequency=k.omega,
+        predicted_amplitude=float(steady_shimmy_amplitude(k.V, k.T, k.omega, k.theta_i)),
+        critical_speed=float(critical_shimmy_speed(k.T, k.inertia, k.groove, c_eff, k.slip_coefficient)),
+        switches=run.switches,
+        extrema=ext,
+    )
+
+
+def _knock(
+    design: Design,
+    conditions: Conditions,
+    speed,
+    angle,
+    angular_velocity,
+    duration,
+    cycles,
+    angle_limit,
+    rtol,
+    samples_per_period,
+) -> _Knock:
+    """The arguments of :func:`simulate` checked (InputError naming the value) and turned into the constants
+    of the integration."""
     T, B, c_f = float(design.trail), float(design.groove), float(design.damping)
     _check("trail", T)
     _check("diameter", float(design.diameter))
@@ -323,118 +383,31 @@ def simulate(  # noqa: C901 - input checks and the stick/slip event loop of one 
     _check("duration", float(duration))
     duration = float(duration)
     max_step = period / max(int(samples_per_period), 4)
+    return _Knock(
+        T=T,
+        K=K,
+        V=V,
+        M_f=M_f,
+        J=J,
+        visc=visc,
+        period=period,
+        duration=duration,
+        max_step=max_step,
+        angle_limit=angle_limit,
+        rtol=rtol,
+        theta_i=theta_i,
+        inertia=inertia,
+        omega=omega,
+        transient=transient,
+        groove=B,
+        slip_coefficient=Ks,
+    )
 
-    def rhs(s):
-        def f(_t, y):
-            x, th, w = y
-            return [-T * w - V * th, w, (T * K * x - visc * w - s * M_f) / J]
 
-        return f
-
-    def limit_event(_t, y):
-        return abs(y[1]) - angle_limit
-
-    limit_event.terminal = True
-
-    # Initial state, Eq. 24B: theta'' = 0 fixes X(0).
-    w0 = float(angular_velocity)
-    s = float(np.sign(w0))
-    x0 = (visc * w0 + s * M_f) / (T * K)
-    y = np.array([x0, theta_i, w0])
-    t = 0.0
-    ts, xs, ths = [t], [x0], [theta_i]
-    crossings: list[float] = []
-    extrema: list[tuple[float, float]] = []  # (time, θ) where the motion reverses
-    direction = s  # last direction of θ motion (0: none yet)
-    switches = 0
-    diverged = False
-    max_switches = 200_000
-    graze = False  # last slip segment had zero length (θ' = 0 with |τ| ≈ M_f)
-
-    while t < duration and switches < max_switches:
-        if s == 0.0:
-            # Stick: θ' = 0, θ constant, X' = −Vθ until |T K X| = M_f.
-            th = y[1]
-            tau = T * K * y[0]
-            if abs(tau) > M_f and not graze:  # cannot stick: slip toward tau
-                s = float(np.sign(tau))
-            elif th == 0.0:
-                t_end = duration  # aligned and held: rest for ever
-                ts.append(t_end), xs.append(y[0]), ths.append(th)
-                t = t_end
-                break
-            else:
-                x_exit = -math.copysign(M_f, th) / (T * K)
-                dt = max((y[0] - x_exit) / (V * th), 0.0)
-                t_end = min(t + dt, duration)
-                for tt in np.linspace(t, t_end, max(2, int((t_end - t) / max_step) + 1))[1:]:
-                    ts.append(tt), xs.append(y[0] - V * th * (tt - t)), ths.append(th)
-                y = np.array([y[0] - V * th * (t_end - t), th, 0.0])
-                t = t_end
-                if t >= duration:
-                    break
-                s = -math.copysign(1.0, th)
-                switches += 1
-            graze = False
-            if s != direction and direction != 0.0:
-                extrema.append((t, y[1]))
-            direction = s
-            continue
-
-        def stop(_t, yy, s=s):
-            return s * yy[2]
-
-        stop.terminal = True
-        stop.direction = -1
-
-        def cross(_t, yy):
-            return yy[1]
-
-        sol = solve_ivp(
-            rhs(s),
-            (t, duration),
-            y,
-            method="DOP853",
-            rtol=rtol,
-            atol=[1e-12, 1e-10, 1e-8],
-            max_step=max_step,
-            events=[stop, cross, limit_event],
-        )
-        if sol.status < 0:
-            raise SolverError(f"shimmy simulation failed at t = {t:.4g} s: {sol.message}")
-        ts.extend(sol.t[1:]), xs.extend(sol.y[0, 1:]), ths.extend(sol.y[1, 1:])
-        crossings.extend(float(v) for v in sol.t_events[1])
-        if sol.t_events[2].size:
-            diverged = True
-            t = float(sol.t_events[2][0])
-            break
-        if sol.status == 0 or not sol.t_events[0].size:  # reached the end
-            t = duration
-            break
-        t_start = t
-        t = float(sol.t_events[0][0])
-        y = np.array(sol.y_events[0][0], dtype=float)
-        y[2] = 0.0
-        switches += 1
-        tau = T * K * y[0]
-        new = float(np.sign(tau)) if abs(tau) > M_f else 0.0
-        if t - t_start <= 1e-9 * period:
-            # Grazing: |τ| exceeds M_f by a rounding error and the slip ends at
-            # once (its excursion is shorter than the first step).  The
-            # physical motion is a stick; treat it so (error ~ rounding).
-            new = 0.0
-            graze = True
-        if new == -s:
-            extrema.append((t, y[1]))
-            direction = new
-        else:
-            direction = s  # entering stick; extremum decided on exit
-        s = new
-
-    t_arr, th_arr, x_arr = np.asarray(ts), np.asarray(ths), np.asarray(xs)
-    ext = np.asarray(extrema, dtype=float).reshape(-1, 2)
-    end = t if diverged else duration
-
+def _amplitudes(ext: np.ndarray, transient: float, period: float, end: float, diverged: bool, angle_limit):
+    """(early, late) amplitude [rad]: the mean half peak-to-peak of the swings (between the reversals
+    ``ext``) over two periods after the aligning transient and over the last two periods (``angle_limit``
+    if |θ| reached it)."""
     half = np.abs(np.diff(ext[:, 1])) / 2 if ext.shape[0] >= 2 else np.empty(0)
     half_times = ext[1:, 0] if ext.shape[0] >= 2 else np.empty(0)
 
@@ -452,82 +425,20 @@ def simulate(  # noqa: C901 - input checks and the stick/slip event loop of one 
         late = float(angle_limit)
     else:
         late = window_amplitude(end - 2 * period, end)
-    growth = late / early if early > 0 else (math.inf if late > 0 else 0.0)
-    grows = bool(diverged or growth > 1.0)
+    return early, late
 
+
+def _frequency(crossings: list[float], transient: float) -> float:
+    """Measured shimmy frequency [rad/s] from the zero crossings of θ after the transient (NaN if fewer
+    than three)."""
     cr = np.asarray(crossings)
     cr = cr[cr >= transient]
     if cr.size >= 3:
         half_periods = np.diff(cr)
-        frequency = float(math.pi / np.median(half_periods[len(half_periods) // 2 :]))
-    else:
-        frequency = math.nan
-
-    c_eff = M_f / theta_i
-    v7 = float(critical_shimmy_speed(T, inertia, B, c_eff, Ks))
-    return SimulationResult(
-        t=t_arr,
-        theta=th_arr,
-        lateral=x_arr,
-        speed=V,
-        angle=theta_i,
-        angular_velocity=float(angular_velocity),
-        friction_moment=M_f,
-        inertia=inertia,
-        early_amplitude=early,
-        late_amplitude=late,
-        amplitude_ratio=late / theta_i,
-        growth_ratio=float(growth),
-        grows=grows,
-        diverged=diverged,
-        frequency=frequency,
-        predicted_frequency=omega,
-        predicted_amplitude=float(steady_shimmy_amplitude(V, T, omega, theta_i)),
-        critical_speed=v7,
-        switches=switches,
-        extrema=ext,
-    )
+        return float(math.pi / np.median(half_periods[len(half_periods) // 2 :]))
+    return math.nan
 
 
-@dataclass
-class OnsetResult:
-    """Simulated shimmy onset speed beside Eq. 7.
-
-    Attributes
-    ----------
-    speed : simulated onset speed [m/s] (geometric mean of the final bracket)
-    low, high : final bracket [m/s]: the knock decays at ``low``, grows at ``high``
-    critical_speed : Eq. 7 with c_f,eff = M_f/θ_i [m/s]
-    relative_error : (speed − critical_speed)/critical_speed [-]
-    angle : initial angle θ_i [rad]
-    evaluations : number of simulations run
-    amplitude_at_onset : early shimmy amplitude simulated at ``high`` [rad]
-    predicted_amplitude : Eq. 4 / 29B amplitude θ_i V/(ω T) at ``speed`` [rad]
-    frequency_at_onset : measured ω at ``high`` [rad/s]
-    predicted_frequency : Eq. 15B ω [rad/s]
-    """
-
-    speed: float
-    low: float
-    high: float
-    critical_speed: float
-    relative_error: float
-    angle: float
-    evaluations: int
-    amplitude_at_onset: float
-    predicted_amplitude: float
-    frequency_at_onset: float
-    predicted_frequency: float
-
-    def __float__(self) -> float:
-        return float(self.speed)
-
-    def as_dict(self) -> dict:
-        """All fields as plain floats."""
-        return {k: (float(v) if not isinstance(v, int) else v) for k, v in self.__dict__.items()}
-
-
-# long: input checks, bracketing and bisection of the shimmy onset in one search
 def onset_speed(
     design: Design,
     conditions: Conditions = Conditions(),
@@ -590,27 +501,7 @@ def onset_speed(
         low, high = (float(b) for b in bracket)
         _check("bracket low", low)
         _check("bracket high", high)
-    for _ in range(max_expansions):
-        if run(low).grows:
-            high, low = low, low / 2
-            continue
-        if not run(high).grows:
-            low, high = high, high * 2
-            continue
-        break
-    else:
-        raise SolverError(
-            f"shimmy onset not bracketed after {max_expansions} doublings (last bracket {low:.3g}–{high:.3g} m/s, "
-            f"Eq. 7 gives {v7:.3g} m/s)"
-        )
-    if run(low).grows or not run(high).grows:
-        raise SolverError(f"shimmy onset not bracketed in {low:.3g}–{high:.3g} m/s (Eq. 7 gives {v7:.3g} m/s)")
-    while high / low - 1 > rtol:
-        mid = math.sqrt(low * high)
-        if run(mid).grows:
-            high = mid
-        else:
-            low = mid
+    low, high = _narrow(run, *_bracket(run, low, high, max_expansions, v7), rtol)
     speed = math.sqrt(low * high)
     at = run(high)
     omega = at.predicted_frequency
@@ -627,3 +518,35 @@ def onset_speed(
         frequency_at_onset=at.frequency,
         predicted_frequency=omega,
     )
+
+
+def _bracket(run, low: float, high: float, max_expansions: int, v7: float) -> tuple[float, float]:
+    """Widen (low, high) [m/s] ×2 outward until the knock decays at ``low`` and grows at ``high`` (``run(v)``
+    simulates at speed v); SolverError when that takes more than ``max_expansions`` doublings."""
+    for _ in range(max_expansions):
+        if run(low).grows:
+            high, low = low, low / 2
+            continue
+        if not run(high).grows:
+            low, high = high, high * 2
+            continue
+        break
+    else:
+        raise SolverError(
+            f"shimmy onset not bracketed after {max_expansions} doublings (last bracket {low:.3g}–{high:.3g} m/s, "
+            f"Eq. 7 gives {v7:.3g} m/s)"
+        )
+    if run(low).grows or not run(high).grows:
+        raise SolverError(f"shimmy onset not bracketed in {low:.3g}–{high:.3g} m/s (Eq. 7 gives {v7:.3g} m/s)")
+    return low, high
+
+
+def _narrow(run, low: float, high: float, rtol: float) -> tuple[float, float]:
+    """Bisect the bracket (low, high) [m/s] in log V until high/low − 1 <= ``rtol``."""
+    while high / low - 1 > rtol:
+        mid = math.sqrt(low * high)
+        if run(mid).grows:
+            high = mid
+        else:
+            low = mid
+    return low, high
