@@ -437,39 +437,45 @@ def front_checks(front, tighter=None, tol: float = 1e-6) -> list[Check]:
     front : designer.analysis.pareto.Front
     tighter : optional front of the same problem with a higher V_target
     """
-    problem = front.problem
-    pts = front.points
-    checks = []
+    checks = [_tradeoff_check(front.points, tol), _shimmy_active_check(front.problem, front.points, tol)]
+    if tighter is not None:
+        checks.append(_tighter_check(front, tighter))
+    for c in checks:
+        c.kind = "front"
+    return checks
+
+
+def _tradeoff_check(pts, tol: float) -> Check:
+    """8a: along decreasing threshold force P the diameter d and the turning effort F_turn do not fall."""
     if len(pts) < 2:
-        checks.append(
-            Check(
-                "8a trade-off",
-                "along decreasing threshold force the diameter grows and the turning effort grows",
-                "monotone",
-                f"{len(pts)} point(s): nothing to compare",
-                True,
-                "a front with fixed diameter or one dominant catalog wheel has a single point",
-            )
+        return Check(
+            "8a trade-off",
+            "along decreasing threshold force the diameter grows and the turning effort grows",
+            "monotone",
+            f"{len(pts)} point(s): nothing to compare",
+            True,
+            "a front with fixed diameter or one dominant catalog wheel has a single point",
         )
-    else:
-        p = np.array([x.threshold_force for x in pts])
-        d = np.array([x.design.diameter for x in pts])
-        f = np.array([x.turning_effort for x in pts])
-        order = np.argsort(-p)
-        dd = np.diff(d[order])
-        df = np.diff(f[order])
-        bad_d = int(np.sum(dd < -tol * d.max()))
-        bad_f = int(np.sum(df < -tol * f.max()))
-        checks.append(
-            Check(
-                "8a trade-off",
-                "along decreasing threshold force the diameter grows and the turning effort grows",
-                "d and F_turn non-decreasing as P falls",
-                f"{bad_d} diameter and {bad_f} effort reversals in {len(pts)} points",
-                bad_d == 0 and bad_f == 0,
-                f"d {d.min() / INCH:.2f}–{d.max() / INCH:.2f} in, F_turn {f.min():.3f}–{f.max():.3f} N",
-            )
-        )
+    p = np.array([x.threshold_force for x in pts])
+    d = np.array([x.design.diameter for x in pts])
+    f = np.array([x.turning_effort for x in pts])
+    order = np.argsort(-p)
+    dd = np.diff(d[order])
+    df = np.diff(f[order])
+    bad_d = int(np.sum(dd < -tol * d.max()))
+    bad_f = int(np.sum(df < -tol * f.max()))
+    return Check(
+        "8a trade-off",
+        "along decreasing threshold force the diameter grows and the turning effort grows",
+        "d and F_turn non-decreasing as P falls",
+        f"{bad_d} diameter and {bad_f} effort reversals in {len(pts)} points",
+        bad_d == 0 and bad_f == 0,
+        f"d {d.min() / INCH:.2f}–{d.max() / INCH:.2f} in, F_turn {f.min():.3f}–{f.max():.3f} N",
+    )
+
+
+def _shimmy_active_check(problem, pts, tol: float) -> Check:
+    """8b: the shimmy constraint (Eq. 7) is active wherever it can be."""
     # shimmy active wherever it can be: inactive only at the bare minimum-effort caster for that d
     lo = problem.lower()
     offending = 0
@@ -485,50 +491,46 @@ def front_checks(front, tighter=None, tol: float = 1e-6) -> list[Check]:
         for x in pts
         if x.margins.get("shimmy", x.critical_speed - problem.required_speed) > tol * problem.required_speed
     )
-    checks.append(
-        Check(
-            "8b shimmy active",
-            "the shimmy constraint is active wherever it can be",
-            "inactive only on bare-fork designs (no groove, no damper)",
-            f"{inactive} of {len(pts)} points inactive, {offending} of them with groove or damper",
-            offending == 0,
-            "a groove or damper that is not needed for V_c only adds turning effort",
-        )
+    return Check(
+        "8b shimmy active",
+        "the shimmy constraint is active wherever it can be",
+        "inactive only on bare-fork designs (no groove, no damper)",
+        f"{inactive} of {len(pts)} points inactive, {offending} of them with groove or damper",
+        offending == 0,
+        "a groove or damper that is not needed for V_c only adds turning effort",
     )
-    if tighter is not None and not tighter.points:
+
+
+def _tighter_check(front, tighter) -> Check:
+    """8c: the front of a higher V_target is weakly dominated by ``front`` (not applicable when the tighter
+    target is out of reach of the bounds)."""
+    problem = front.problem
+    if not tighter.points:
         speed = highest_critical_speed(tighter.problem)
-        checks.append(
-            Check(
-                "8c tighter target",
-                "tightening V_target moves the front outward",
-                "every point of the tighter front weakly dominated by the looser front",
-                f"not applicable: the tighter target is out of reach (highest V_c {speed:.3f} m/s "
-                f"< {tighter.problem.required_speed:.3f} m/s required)",
-                True,
-                f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} "
-                f"m/s: no design inside the bounds reaches it, so there is no tighter front to compare",
-                kind="front",
-                outcome=NOT_APPLICABLE,
-            )
+        return Check(
+            "8c tighter target",
+            "tightening V_target moves the front outward",
+            "every point of the tighter front weakly dominated by the looser front",
+            f"not applicable: the tighter target is out of reach (highest V_c {speed:.3f} m/s "
+            f"< {tighter.problem.required_speed:.3f} m/s required)",
+            True,
+            f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} "
+            f"m/s: no design inside the bounds reaches it, so there is no tighter front to compare",
+            kind="front",
+            outcome=NOT_APPLICABLE,
         )
-    elif tighter is not None:
-        worse, total = dominated_by_problem(problem, tighter)
-        cmp = front.compare(tighter)
-        checks.append(
-            Check(
-                "8c tighter target",
-                "tightening V_target moves the front outward",
-                "every point of the tighter front weakly dominated by the looser front",
-                f"{total - worse} of {total} dominated; HV {cmp['hypervolume_self']:.4f} vs "
-                f"{cmp['hypervolume_other']:.4f} (looser's normalisation)",
-                worse == 0 and total > 0,
-                f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} m/s; "
-                f"exact test: the looser problem's min F_turn at each tighter point's P",
-            )
-        )
-    for c in checks:
-        c.kind = "front"
-    return checks
+    worse, total = dominated_by_problem(problem, tighter)
+    cmp = front.compare(tighter)
+    return Check(
+        "8c tighter target",
+        "tightening V_target moves the front outward",
+        "every point of the tighter front weakly dominated by the looser front",
+        f"{total - worse} of {total} dominated; HV {cmp['hypervolume_self']:.4f} vs "
+        f"{cmp['hypervolume_other']:.4f} (looser's normalisation)",
+        worse == 0 and total > 0,
+        f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} m/s; "
+        f"exact test: the looser problem's min F_turn at each tighter point's P",
+    )
 
 
 def highest_critical_speed(problem) -> float:

@@ -299,15 +299,7 @@ def fleet_recommendations(
     client, own = _client(scheduler)
     try:
         start = time.perf_counter()
-        parts = _split(fleet, chunk)
-        if client is None:
-            results = [recommend_chairs(arrays, stock, problem) for _, arrays in parts]
-        else:
-            stock_f = client.scatter(stock, broadcast=True, hash=False)
-            problem_f = client.scatter(problem, broadcast=True, hash=False)
-            futures = [client.submit(_chunk_task, arrays, stock_f, problem_f, pure=False) for _, arrays in parts]
-            results = client.gather(futures)
-        chairs = {k: np.concatenate([r[k] for r in results]) for k in results[0]}
+        chairs = _recommend_all(client, fleet, stock, problem, chunk)
         timings["recommend"] = time.perf_counter() - start
         result = FleetResult(
             fleet=fleet,
@@ -330,17 +322,38 @@ def fleet_recommendations(
             choose_skus(result, skus, k_max=k_max, time_limit=time_limit)
             timings["skus"] = time.perf_counter() - start
             if monte_carlo and result.skus is not None and result.skus.assignment is not None:
-                start = time.perf_counter()
-                assigned = np.full(len(fleet), -1)
-                assigned[result.feasible] = result.skus.assignment
-                chairs["sku_shimmy_probability"], _ = _monte_carlo(
-                    client, stock, problem, assigned, fleet.target_speed, chunk=max(50, chunk // 20)
-                )
-                timings["sku_monte_carlo"] = time.perf_counter() - start
+                _sku_monte_carlo(client, result, chunk)
     finally:
         if own:
             _close(client)
     return result
+
+
+def _recommend_all(client, fleet: Fleet, stock, problem, chunk: int) -> dict:
+    """Every chair's recommendation (:func:`recommend_chairs`) in chunks of ``chunk`` chairs, in this process
+    (``client`` None) or as Dask tasks; the per-chair arrays joined in fleet order."""
+    parts = _split(fleet, chunk)
+    if client is None:
+        results = [recommend_chairs(arrays, stock, problem) for _, arrays in parts]
+    else:
+        stock_f = client.scatter(stock, broadcast=True, hash=False)
+        problem_f = client.scatter(problem, broadcast=True, hash=False)
+        futures = [client.submit(_chunk_task, arrays, stock_f, problem_f, pure=False) for _, arrays in parts]
+        results = client.gather(futures)
+    return {k: np.concatenate([r[k] for r in results]) for k in results[0]}
+
+
+def _sku_monte_carlo(client, result: FleetResult, chunk: int) -> None:
+    """P(shimmy) of each chair with the part number the K-median program assigned it
+    (``chairs["sku_shimmy_probability"]``, NaN for a chair without one), timed as ``sku_monte_carlo``."""
+    start = time.perf_counter()
+    fleet = result.fleet
+    assigned = np.full(len(fleet), -1)
+    assigned[result.feasible] = result.skus.assignment
+    result.chairs["sku_shimmy_probability"], _ = _monte_carlo(
+        client, result.stock, result.problem, assigned, fleet.target_speed, chunk=max(50, chunk // 20)
+    )
+    result.timings["sku_monte_carlo"] = time.perf_counter() - start
 
 
 def _monte_carlo(client, stock, problem, choice, speeds, chunk):

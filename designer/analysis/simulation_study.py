@@ -130,6 +130,33 @@ def write_simulation_report(
             progress(i + 1, len(cases))
     elapsed = time.perf_counter() - start
 
+    onset_c, traces, appendix_c = _appendix_c(conditions, rtol)
+    summary = _summarise(rows)
+    summary.update(
+        {
+            "cases": len(rows),
+            "seconds": elapsed,
+            "appendix_c": appendix_c,
+            "conditions": {
+                "damping": damping,
+                "design_angle": conditions.disturbance_angle,
+                "slip_coefficient": conditions.slip_coefficient,
+                "frame_stiffness": conditions.dynamics.stiffness,
+                "lateral_mass": conditions.dynamics.lateral_mass,
+                "bracket_rtol": rtol,
+            },
+        }
+    )
+    _write_csv(out / "onset.csv", rows)
+    (out / "onset.json").write_text(json.dumps({"summary": summary, "rows": rows}, indent=2))
+    figure_onset_comparison(rows, traces, onset_c).savefig(out / "onset.png", dpi=110)
+    (out / "report.md").write_text(_report_markdown(rows, summary))
+    return {"rows": rows, "summary": summary}
+
+
+def _appendix_c(conditions: Conditions, rtol: float):
+    """The Appendix C reference case (Fig. 1C): its onset (bracket ``rtol``/5), the onset after a 0.7 rad/s
+    kick, θ(t) at 0.9, 1.0 and 1.1 × the onset, and its summary record: ``(onset, traces, record)``."""
     # Appendix C reference case (Fig. 1C): T = 2.5 in, I_w from V_c = 2.53 m/s via Eq. 7, θ0 = 20°.
     from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING
 
@@ -143,44 +170,29 @@ def write_simulation_report(
         f: simulate(design_c, cond_c, f * onset_c.speed, angle=case.initial_angle, cycles=20, angle_limit=0.6)
         for f in (0.9, 1.0, 1.1)
     }
+    record = {
+        "inertia": i_c,
+        "eq7_critical_speed": onset_c.critical_speed,
+        "onset_speed": onset_c.speed,
+        "relative_error": onset_c.relative_error,
+        "onset_speed_with_0.7_rad_per_s": onset_c_kick.speed,
+        "amplitude_sim": onset_c.amplitude_at_onset,
+        "amplitude_eq29b": onset_c.predicted_amplitude,
+        "paper_amplitude": case.steady_amplitude,
+        "frequency_sim": onset_c.frequency_at_onset,
+        "frequency_eq15b": onset_c.predicted_frequency,
+    }
+    return onset_c, traces, record
 
-    summary = _summarise(rows)
-    summary.update(
-        {
-            "cases": len(rows),
-            "seconds": elapsed,
-            "appendix_c": {
-                "inertia": i_c,
-                "eq7_critical_speed": onset_c.critical_speed,
-                "onset_speed": onset_c.speed,
-                "relative_error": onset_c.relative_error,
-                "onset_speed_with_0.7_rad_per_s": onset_c_kick.speed,
-                "amplitude_sim": onset_c.amplitude_at_onset,
-                "amplitude_eq29b": onset_c.predicted_amplitude,
-                "paper_amplitude": case.steady_amplitude,
-                "frequency_sim": onset_c.frequency_at_onset,
-                "frequency_eq15b": onset_c.predicted_frequency,
-            },
-            "conditions": {
-                "damping": damping,
-                "design_angle": conditions.disturbance_angle,
-                "slip_coefficient": conditions.slip_coefficient,
-                "frame_stiffness": conditions.dynamics.stiffness,
-                "lateral_mass": conditions.dynamics.lateral_mass,
-                "bracket_rtol": rtol,
-            },
-        }
-    )
+
+def _write_csv(path: Path, rows: list[dict]) -> None:
+    """``onset.csv``: one line per case, floats to 6 significant digits."""
     fields = list(rows[0])
-    with open(out / "onset.csv", "w", newline="") as fh:
+    with open(path, "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=fields)
         writer.writeheader()
         for row in rows:
             writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
-    (out / "onset.json").write_text(json.dumps({"summary": summary, "rows": rows}, indent=2))
-    figure_onset_comparison(rows, traces, onset_c).savefig(out / "onset.png", dpi=110)
-    (out / "report.md").write_text(_report_markdown(rows, summary))
-    return {"rows": rows, "summary": summary}
 
 
 def _summarise(rows) -> dict:

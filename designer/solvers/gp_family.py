@@ -51,8 +51,24 @@ class _Family:
         groove_present = groove_free or problem.bounds["groove"].low > 0
         self.speed_factor, self.speed_exact = robust_speed_factor(problem, groove_present)
         self.constants = _constants(problem, self.params, self.speed_factor)
-        c0 = problem.conditions.turning.bare_fork_damping
-        b = problem.bounds
+        self._build_variables(groove_free, damper_free)
+        terms = gp_terms(
+            self.x["trail"], self.x["diameter"], self.x["groove"], self.x["added_damping"], self.constants, order, s_max
+        )
+        self.terms = terms
+        constraints: dict = {}
+        self.infeasible_constant = False
+        self._shimmy_constraint(terms, constraints)
+        self._limit_constraints(terms, threshold_cap, constraints)
+        self.constraints = constraints
+        self.cp_problem = cp.Problem(cp.Minimize(self._minimised(terms, weights)), list(constraints.values()))
+        self.solves = 0
+
+    def _build_variables(self, groove_free: bool, damper_free: bool) -> None:
+        """The box of each GP variable (c_d = c_f − c_0) and the variables ``x``: 0 for a part the family
+        lacks, a float for a fixed one, else a positive cvxpy Variable (floored when its lower bound is 0)."""
+        c0 = self.problem.conditions.turning.bare_fork_damping
+        b = self.problem.bounds
         # box of each variable in GP form (c_d = c_f - c_0)
         self.box = {
             "trail": (b["trail"].low, b["trail"].high),
@@ -74,11 +90,11 @@ class _Family:
                 if lo <= 0:
                     self.floor[name] = FLOOR * hi
         self.variables = {k: v for k, v in self.x.items() if isinstance(v, cp.Variable)}
-        terms = gp_terms(
-            self.x["trail"], self.x["diameter"], self.x["groove"], self.x["added_damping"], self.constants, order, s_max
-        )
-        self.terms = terms
-        constraints = {}
+
+    def _shimmy_constraint(self, terms: dict, constraints: dict) -> None:
+        """The shimmy constraint (Eq. 7, V_req² side <= the damping side): a GP constraint when the right side
+        is one monomial (``single``), else its condensation k·Π x^g with parameters updated at every SGP
+        step; when both sides are constant it only sets ``infeasible_constant``."""
         rhs_terms = terms["shimmy_rhs"]
         self.rhs_variables = [k for k in ("trail", "groove", "added_damping") if k in self.variables]
         lhs = terms["shimmy_lhs"] * (1 + BACKOFF)
@@ -93,11 +109,14 @@ class _Family:
             rhs = self.k_param
             for k in self.rhs_variables:
                 rhs = rhs * self.variables[k] ** self.g_param[k]
-        self.infeasible_constant = False
         if _constant(lhs) and _constant(rhs):
             self.infeasible_constant |= _value(lhs) > _value(rhs)
         else:
             constraints["shimmy"] = lhs <= rhs
+
+    def _limit_constraints(self, terms: dict, threshold_cap, constraints: dict) -> None:
+        """The box of each variable, the swept-radius limit and the cap on the threshold force P (a constant
+        that breaks a limit sets ``infeasible_constant``)."""
         for name, var in self.variables.items():
             lo, hi = self.box[name]
             constraints[f"{name}.max"] = var <= hi
@@ -116,14 +135,15 @@ class _Family:
                 self.infeasible_constant |= _value(capped) > threshold_cap
             else:
                 constraints["threshold_cap"] = capped <= threshold_cap
-        self.constraints = constraints
+
+    def _minimised(self, terms: dict, weights):
+        """The objective J = w_turn F_turn + w_threshold P in GP form."""
         objective = _objective(terms, weights)
         if _constant(objective) and "trail" in self.variables:
             # nothing in J depends on a variable (e.g. w_turn = 0 with d fixed): any feasible point is optimal;
             # a negligible T⁻¹ term makes the answer definite (the longest feasible trail)
             objective = objective + 1e-12 * _value(objective) * self.box["trail"][1] * self.variables["trail"] ** -1
-        self.cp_problem = cp.Problem(cp.Minimize(objective), list(constraints.values()))
-        self.solves = 0
+        return objective
 
     # ----------------------------------------------------------------- helpers
     def full(self, values: dict) -> dict:

@@ -82,14 +82,7 @@ def bifurcation_diagram(
     amplitudes = np.geomspace(a_lo, max_amplitude, int(points))
     unstable = continue_orbits(sys, amplitudes, progress=progress)
     orbits = [o for o in unstable.orbits if lo * 0.5 <= o.speed <= hi * 1.5]
-    stable_ref = None
-    stable_orbits: list[PeriodicOrbit] = []
-    if tyre is not None:
-        stable_ref = _find_stable(sys.at(ref))
-        if stable_ref is not None:
-            down = speed_sweep(sys, np.geomspace(ref, lo, max(5, 2 * points // 3))[1:], stable_ref)
-            up = speed_sweep(sys, np.geomspace(ref, hi, max(4, points // 3))[1:], stable_ref)
-            stable_orbits = down.orbits[::-1] + [stable_ref] + up.orbits
+    stable_ref, stable_orbits = _stable_branch(sys, tyre, ref, lo, hi, points)
     # merge: amplitude branch (unstable part and the stable part near the fold) + the speed sweep
     unstable_part = [o for o in orbits if not o.stable]
     fold_part = [o for o in orbits if o.stable and (not stable_orbits or o.amplitude < stable_orbits[0].amplitude)]
@@ -100,15 +93,7 @@ def bifurcation_diagram(
     return {
         "design": design.as_dict(),
         "model": "rolling" if tyre is None else "brush tyre",
-        "tyre": None
-        if tyre is None
-        else {
-            "cornering_stiffness": tyre.cornering_stiffness,
-            "friction_coefficient": tyre.friction_coefficient,
-            "load": tyre.load,
-            "wheel_mass": tyre.wheel_mass,
-            "saturation": tyre.saturation,
-        },
+        "tyre": None if tyre is None else _tyre_dict(tyre),
         "inertia": inertia,
         "friction_moment": sys.friction_moment,
         "frequency": sys.frequency,
@@ -121,6 +106,32 @@ def bifurcation_diagram(
         "stable_at_reference": None if stable_ref is None else stable_ref.as_dict(),
         "max_closure": max((o.closure for o in every), default=math.nan),
         "failed_amplitudes": unstable.failed,
+    }
+
+
+def _stable_branch(sys, tyre, ref: float, lo: float, hi: float, points: int):
+    """The stable branch (sustained shimmy) of the diagram: ``(orbit at ref or None, orbits by speed)``,
+    found by simulating large knocks at ``ref`` [m/s] and followed in speed down to ``lo`` and up to ``hi``
+    (none with the rolling tyre, ``tyre`` None)."""
+    stable_ref = None
+    stable_orbits: list[PeriodicOrbit] = []
+    if tyre is not None:
+        stable_ref = _find_stable(sys.at(ref))
+        if stable_ref is not None:
+            down = speed_sweep(sys, np.geomspace(ref, lo, max(5, 2 * points // 3))[1:], stable_ref)
+            up = speed_sweep(sys, np.geomspace(ref, hi, max(4, points // 3))[1:], stable_ref)
+            stable_orbits = down.orbits[::-1] + [stable_ref] + up.orbits
+    return stable_ref, stable_orbits
+
+
+def _tyre_dict(tyre: TyreParameters) -> dict:
+    """The brush tyre's parameters as a record (SI)."""
+    return {
+        "cornering_stiffness": tyre.cornering_stiffness,
+        "friction_coefficient": tyre.friction_coefficient,
+        "load": tyre.load,
+        "wheel_mass": tyre.wheel_mass,
+        "saturation": tyre.saturation,
     }
 
 
