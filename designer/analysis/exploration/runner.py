@@ -71,7 +71,7 @@ def _prepare_resume(study, spec: StorageSpec, search_space_names) -> list[str]:
     return notes
 
 
-# long only by its docstring, which documents every option; the body is about 45 lines
+# long only by its docstring, which documents every option; the body is about 55 lines
 def explore(
     problem: Problem,
     trials: int = 500,
@@ -138,24 +138,14 @@ def explore(
     if not space.continuous and not space.categorical:
         raise InputError(f"{problem.name}: every variable is fixed; nothing to explore")
     study_name = study_name or f"{problem.name}-explore"
-    if isinstance(operators, str):
-        ops = Operators.for_budget(trials, operators, population_size)
-    else:
-        ops = dataclasses.replace(operators, population_size=population_size or operators.population_size)
+    ops = _operators(trials, operators, population_size)
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
-    notes: list[str] = []
     exact = _exact_front(problem) if compare else None
     reference = exact["reference_point"] if exact and "reference_point" in exact else _box_reference(problem)
 
     storage_obj = open_storage(spec, break_lock=resume)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        if resume:
-            study, ops = _load_for_resume(problem, study_name, spec, storage_obj, ops)
-            notes += _prepare_resume(study, spec, space.names)
-        else:
-            study = _create(problem, study_name, spec, storage_obj, trials, seed, ops, space)
+    study, ops, notes = _open_study(problem, study_name, spec, storage_obj, resume, trials, seed, ops, space)
 
     existing = len(study.get_trials(deepcopy=False))
     base_seed = None if seed is None else seed + (existing if resume else 0)
@@ -180,10 +170,7 @@ def explore(
     seconds = time.perf_counter() - t0
     complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
     if len(complete) < trials:
-        running = len(study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)))
-        notes.append(
-            f"{len(complete)} of {trials} trials complete ({running} still running elsewhere); run again with --resume"
-        )
+        notes.append(_incomplete_note(study, len(complete), trials))
     result = _collect(problem, space, study, complete, ops, refine, exact, reference)
     result.update(
         study_name=study_name,
@@ -196,6 +183,46 @@ def explore(
         warnings=notes,
     )
     return ExploreResult(problem=problem, **result)
+
+
+def _operators(trials: int, operators: str | Operators, population_size: int | None) -> Operators:
+    """The NSGA-II operators: a named set sized to the budget, or the given ones (population overridden)."""
+    if isinstance(operators, str):
+        return Operators.for_budget(trials, operators, population_size)
+    return dataclasses.replace(operators, population_size=population_size or operators.population_size)
+
+
+def _open_study(
+    problem: Problem,
+    study_name: str,
+    spec: StorageSpec,
+    storage_obj,
+    resume: bool,
+    trials: int,
+    seed: int | None,
+    ops: Operators,
+    space: SearchSpace,
+):
+    """The study to run: ``(study, operators, notes)``: resumed (its stored operators, stale trials failed and
+    retried, the notes saying so) or created."""
+    notes: list[str] = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if resume:
+            study, ops = _load_for_resume(problem, study_name, spec, storage_obj, ops)
+            notes += _prepare_resume(study, spec, space.names)
+        else:
+            study = _create(problem, study_name, spec, storage_obj, trials, seed, ops, space)
+    return study, ops, notes
+
+
+def _incomplete_note(study, complete: int, trials: int) -> str:
+    """The warning when the study holds fewer than ``trials`` COMPLETE trials (others still running)."""
+    # late import: loads optuna only when this runs
+    from optuna.trial import TrialState
+
+    running = len(study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)))
+    return f"{complete} of {trials} trials complete ({running} still running elsewhere); run again with --resume"
 
 
 def _check_arguments(trials, workers, resume: bool, spec: StorageSpec) -> None:
