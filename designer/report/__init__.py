@@ -7,8 +7,12 @@ rebuilds the reports of every shipped problem in one command.
 
 Modules
 -------
-writer      format the tables of a :class:`designer.pipeline.ReportData`, render, write safely
+writer      render a :class:`designer.pipeline.ReportData` (templates, figures, data files) and write it safely
+context     the Pareto page's tables as display strings (``build_context``), shared by both templates
+formatting  numbers as table cells (SI and inches, "n/a"), for every report kind
+files       safe report folders: refuse a foreign folder, replace atomically, keep files not owned
 text        the sentences of the report, each generated from the data it states
+figures     which plots/ function draws each figure of the Pareto report, with which data
 build       compute_and_write: the pipeline's data, rendered, and a summary (``designer pareto``, the studio)
 robust      the price-of-safety report (``designer robust``) from a :class:`designer.pipeline.RobustData`
 (the data are computed by :mod:`designer.pipeline`; figures are drawn by :mod:`designer.plots`)

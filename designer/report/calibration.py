@@ -13,7 +13,8 @@ import tempfile
 from pathlib import Path
 
 from designer.errors import InputError
-from designer.report.writer import _render, _replace, fmt
+from designer.report.formatting import fmt
+from designer.report.writer import _render, _replace
 from designer.plots.figures import save_figure
 from designer.plots.calibration import fit_figure
 import json

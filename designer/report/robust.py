@@ -18,7 +18,8 @@ import numpy as np
 
 from designer.jsonsafe import finite
 from designer.pipeline import RobustData
-from designer.report.writer import _render, _replace, fmt
+from designer.report.formatting import fmt
+from designer.report.writer import _render, _replace
 from designer.plots.figures import png_bytes
 
 OWNED = frozenset({"index.html", "robust.md", "robust.json", "figures", "robust_fronts.png"})

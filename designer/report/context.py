@@ -1,0 +1,518 @@
+"""The Pareto report's page context: every table of :class:`designer.pipeline.ReportData` as display strings.
+
+:func:`build_context` turns the data into the dict that both templates (``index.html.j2`` and
+``report.md.j2``) render: the "Build this" card, the problem and model tables, the solver's optimum, the
+checks, the front's points and indicators, the groove/damper trade-off and the figure captions.  Strings
+only (SI and inches, formatted once, :mod:`designer.report.formatting`); :mod:`designer.report.writer`
+draws the figures and writes the files.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from designer import parameters
+from designer.data.paper import INCH
+from designer.pipeline import ReportData
+import designer.report.figures as _figures
+from designer.plots.caster import caster_svg
+from designer.report.formatting import LBF, MPH, fmt, length
+from designer.report.text import build_lines, caster_sentence, inches, summary_lines
+from designer.plots.figures import _is_bare
+from designer.analysis.checks import summary_line
+
+FIGURE_INFO = {
+    "front": (
+        "Pareto front",
+        "Turning effort against threshold force on the exact front, coloured by the mechanism that stops "
+        "shimmy; the knee (circle) and the weighted optimum (star) are marked with the line of constant J "
+        "through it; grey dashes: the front for a 10 % higher target speed (check 8c).",
+    ),
+    "variables": (
+        "Design variables along the front",
+        "Trail, diameter and groove width (mm, inches on the right) and spindle damping along the front, "
+        "as the threshold force falls; dotted lines are the bounds, dashed lines family switches.",
+    ),
+    "trail": (
+        "Critical speed vs trail (cf. paper Fig. 14)",
+        "Eq. 7 for each Table 1 wheel in the bare test fork (B = 0, c_f = 1.3 N·m/rad, K_s = 1250 N); "
+        "points: measured critical speeds at 2 in trail; arrows: wheels A and B, stable up to 3.8 m/s.",
+    ),
+    "inertia": (
+        "Critical speed vs wheel inertia (cf. paper Fig. 15)",
+        "Eq. 7 at 2 in trail, B = 0, c_f = 1.3 N·m/rad against Table 1's measured critical speeds "
+        "(letters); A and B did not shimmy up to the treadmill's 3.8 m/s.",
+    ),
+    "threshold": (
+        "Threshold force per unit load vs diameter (cf. paper Fig. 2A)",
+        "Exact Eq. 4A and approximate Eq. 5A for this problem's sill height; right axis: P for this "
+        "problem's load; shaded: the diameter bounds; dots: the diameters on the front.",
+    ),
+    "groove_damper": (
+        "Groove against damper",
+        "Left: least turning effort reaching V_req at each diameter with the groove alone (bare fork), "
+        "the damper alone (no groove) and the optimum mix, each solved exactly with the trail free. "
+        "Right: at the weighted optimum's trail and diameter, turning-effort contours and iso-V_c "
+        "lines in the (groove, damping) plane; bold: V_c = V_req.",
+    ),
+}
+
+
+def _check_row(c) -> dict:
+    return {
+        "name": c.name,
+        "claim": c.claim,
+        "expected": fmt(c.expected),
+        "got": fmt(c.got),
+        "passed": bool(c.passed),
+        "detail": c.detail,
+        "kind": c.kind,
+        "outcome": c.outcome,
+        "disagreements": list(c.disagreements),
+    }
+
+
+def _design_cells(design) -> dict:
+    t_mm, t_in = length(design.trail)
+    d_mm, d_in = length(design.diameter)
+    b_mm, b_in = length(design.groove)
+    return {
+        "T_mm": t_mm,
+        "T_in": t_in,
+        "d_mm": d_mm,
+        "d_in": d_in,
+        "B_mm": b_mm,
+        "B_in": b_in,
+        "c_f": fmt(design.damping, ".3f", "N·m/rad"),
+    }
+
+
+def _problem_rows(problem) -> list[dict]:
+    """The problem table: its use (load, sill, speeds), its bounds, then the turning model's constants."""
+    rows = _use_rows(problem) + _bound_rows(problem) + _constant_rows(problem)
+    return [{"quantity": q, "symbol": s, "si": si, "other": other} for q, s, si, other in rows]
+
+
+def _use_rows(problem) -> list[tuple]:
+    """(quantity, symbol, SI, other) of the chair's use: load, sill, surface, speeds, θ0, K_s, I_w, risk."""
+    c = problem.conditions
+    rows = [
+        ("name", "", problem.name, ""),
+        ("title", "", problem.title, ""),
+        ("caster load", "L", fmt(c.load, ".1f", "N"), fmt(c.load / LBF, ".1f", "lbf")),
+        ("threshold (sill) height", "h", *length(c.threshold_height)),
+        ("surface", "", c.surface, ""),
+        ("turning mode", "", c.turning_mode, f"m_mode = {c.turning.mode_factor(c.turning_mode):g}"),
+        (
+            "target speed",
+            "V_target",
+            fmt(problem.target_speed, ".3f", "m/s"),
+            fmt(problem.target_speed / MPH, ".2f", "mph"),
+        ),
+        ("safety margin", "", fmt(problem.margin * 100, ".1f", "%"), ""),
+        (
+            "required critical speed",
+            "V_req = (1 + margin) V_target",
+            fmt(problem.required_speed, ".3f", "m/s"),
+            fmt(problem.required_speed / MPH, ".2f", "mph"),
+        ),
+        (
+            "design disturbance angle",
+            "θ0",
+            fmt(c.disturbance_angle, ".4f", "rad"),
+            fmt(math.degrees(c.disturbance_angle), ".1f", "deg"),
+        ),
+        ("slip coefficient", "K_s", fmt(c.slip_coefficient, ".0f", "N"), ""),
+        ("inertia model", "I_w(d)", c.inertia.describe(), ""),
+    ]
+    u = getattr(c, "uncertainty", None)
+    if u is not None:
+        rows.append(
+            (
+                "robust design: allowed shimmy probability",
+                "α = P(V_c,true < V_req)",
+                fmt(u.probability * 100, ".3g", "%"),
+                f"σ of log: model {u.model_error:g}, c_f {u.damping:g}, K_s {u.slip_coefficient:g}, I_w {u.inertia:g}",
+            )
+        )
+    return rows
+
+
+def _bound_rows(problem) -> list[tuple]:
+    """(quantity, symbol, SI, inches) of the design bounds, the swept-radius limit and the catalog wheels."""
+    rows = []
+    for var, sym in (("trail", "T"), ("diameter", "d"), ("groove", "B")):
+        b = problem.bounds[var]
+        lo_mm, lo_in = length(b.low)
+        hi_mm, hi_in = length(b.high)
+        if b.fixed:
+            rows.append((f"{var} (fixed)", sym, lo_mm, lo_in))
+        else:
+            rows.append((f"{var} bounds", sym, f"{lo_mm} – {hi_mm}", f"{lo_in} – {hi_in}"))
+    b = problem.bounds["damping"]
+    rows.append(
+        (
+            "damping (fixed)" if b.fixed else "damping bounds",
+            "c_f",
+            fmt(b.low, ".3g", "N·m/rad") if b.fixed else f"{fmt(b.low, '.3g')} – {fmt(b.high, '.3g', 'N·m/rad')}",
+            "",
+        )
+    )
+    if problem.swept_radius_max is not None:
+        rows.append(("swept radius limit", "R_s = T + d/2 <= R_max", *length(problem.swept_radius_max)))
+    else:
+        rows.append(("swept radius limit", "R_max", "none", ""))
+    if problem.wheels:
+        rows.append(("catalog wheels (Table 1)", "", ", ".join(problem.wheels), ""))
+    return rows
+
+
+def _constant_rows(problem) -> list[tuple]:
+    """(quantity, symbol, SI, other) of the weights, the turning model's constants and the problem's source."""
+    t = problem.conditions.turning
+    return [
+        (
+            "objective weights",
+            "J = w_turn F_turn + w_threshold P",
+            f"{problem.weights[0]:g}, {problem.weights[1]:g}",
+            "",
+        ),
+        ("front points requested", "", str(problem.pareto_points), ""),
+        (
+            "tile turning moment per load",
+            "k_tile",
+            fmt(t.tile_moment_per_load * 1000, ".2f", "mm"),
+            fmt(t.tile_moment_per_load / INCH, ".4f", "in"),
+        ),
+        ("carpet factor", "k_carpet / k_tile", fmt(t.carpet_factor, ".3g"), ""),
+        (
+            "groove coefficient",
+            "κ",
+            fmt(t.groove_coefficient, ".4g", "1/m"),
+            f"{t.groove_coefficient * 9 / 16 * INCH:.0%} per 9/16 in",
+        ),
+        ("bare-fork damping", "c_0", fmt(t.bare_fork_damping, ".3g", "N·m/rad"), "Eq. 11C"),
+        ("problem digest", "", problem.digest(), ""),
+        ("source file", "", str(problem.source or "(built in Python)"), ""),
+    ]
+
+
+def _model_rows(problem) -> list[dict]:
+    inertia = problem.conditions.inertia
+    note = ""
+    rng = inertia.data_range()
+    b = problem.bounds["diameter"]
+    if rng is not None and (b.low < rng[0] * 0.999 or b.high > rng[1] * 1.001):
+        note = (
+            f" The fit rests on Table 1's {rng[0] / INCH:.0f}–{rng[1] / INCH:.0f} in wheels; this problem's "
+            f"diameters {b.low / INCH:.3g}–{b.high / INCH:.3g} in extrapolate it."
+        )
+    rows = [
+        ("critical shimmy speed", "V_c = sqrt( 4 c_f T² / (π I_w) + K_s B² T / (2 I_w) )", "Eq. 7 (= Eq. 10C)"),
+        ("shimmy constraint", "V_c(T, d, B, c_f) >= V_req = (1 + margin) V_target", "docs/model.md#problems"),
+    ]
+    if getattr(problem.conditions, "uncertainty", None) is not None:
+        rows.append(
+            (
+                "robust shimmy constraint (replaces the nominal one)",
+                "V_c · exp(−z_(1−α) σ_V) >= V_req, σ_V² = σ_model² + Σ (∂log V_c/∂log p · σ_p)²",
+                "first-order quantile, designer.analysis.robust",
+            )
+        )
+    rows += [
+        ("wheel inertia", inertia.describe() + "." + note, "docs/model.md#wheel-inertia, Table 1"),
+        ("threshold force", "P = L · 2 sqrt(d/h − 1) / (d/h − 2), valid for d/h > 2", "Eq. 4A (= Eq. 1)"),
+        ("threshold force, approximate (figure only)", "P/L ≈ 2 sqrt(h/d)", "Eq. 5A"),
+        (
+            "sliding turning moment",
+            "M_turn = m_mode · k_surface · L · (1 + κ B)",
+            "docs/model.md#turning-effort, Fig. 7",
+        ),
+        ("added damper moment", "M_d = (c_f − c_0) θ0", "docs/model.md#turning-effort, Eq. 11C"),
+        ("turning effort", "F_turn = (M_turn + M_d) / T", "Eq. 9 (moment = F_c × trail)"),
+        ("swept radius", "R_s = T + d/2", "docs/model.md#shimmy"),
+        (
+            "assumption: dynamics",
+            "linear, small-angle two-degree-of-freedom caster on a lateral frame spring; "
+            "no tyre lateral slip of a single tread",
+            "Appendix B",
+        ),
+        (
+            "assumption: friction damping",
+            "Coulomb spindle friction M_f replaced by an equivalent viscous damper at "
+            "the amplitude of Eq. 4/29B after a design knock θ0 = "
+            f"{problem.conditions.disturbance_angle * 180 / 3.141592653589793:.0f}°: V_c depends on θ0 and the time-domain "
+            "simulation (results/simulation) puts the onset −18 % to +13 % from Eq. 7 for single-tread casters",
+            "Eq. 6, Eq. 29B, Appendix C",
+        ),
+        (
+            "assumption: constants",
+            f"K_s = {problem.conditions.slip_coefficient:g} N independent of load, speed and "
+            "tyre; c_0 = M_f/θ0 = 1.3 N·m/rad for the bare fork; the load does not enter the shimmy model",
+            "Appendix C, Eq. 11C–12C",
+        ),
+        (
+            "assumption: turning model",
+            "the groove (+10 % per 9/16 in) and carpet (×2) factors are the paper's "
+            "measurements built into the model, so checks 3 and 4 confirm the implementation, not the physics; "
+            "calibrate them from your own rig with designer calibrate",
+            "Figs. 7–12",
+        ),
+    ]
+    return [{"quantity": q, "equation": e, "source": s} for q, e, s in rows]
+
+
+def _point_row(i, p, marks="") -> dict:
+    row = {
+        "index": i,
+        "P": fmt(p.threshold_force, ".3f"),
+        "P_lbf": fmt(p.threshold_force / LBF, ".3f"),
+        "F": fmt(p.turning_effort, ".4f"),
+        "F_lbf": fmt(p.turning_effort / LBF, ".4f"),
+        "V_c": fmt(p.critical_speed, ".3f"),
+        "family": p.family,
+        "wheel": p.wheel or "",
+        "marks": marks,
+        "epsilon": fmt(p.epsilon, ".4g"),
+        "status": p.status,
+    }
+    row.update(_design_cells(p.design))
+    row["c_f"] = fmt(p.design.damping, ".3f")
+    return row
+
+
+def _parameter_info(name: str) -> str:
+    info = parameters.PARAMETERS.get(name)  # the one parameter table (designer/parameters.py)
+    if info:
+        return info.description
+    if "." in name:
+        var, side = name.split(".", 1)
+        return f"{'upper' if side == 'max' else 'lower'} bound of {var}"
+    return name.replace("_", " ")
+
+
+def _tradeoff_rows(problem, rows) -> list[dict]:
+    """Table rows of the groove/damper trade-off; consecutive diameters where the trail alone suffices are merged."""
+
+    out = []
+    for r in rows:
+        d_mm, d_in = length(r.diameter)
+        row = {"d_mm": d_mm, "d_in": d_in, "wheel": r.wheel or ""}
+        for key, mech in (("groove", "groove alone"), ("damper", "damper alone"), ("mix", "optimum mix")):
+            v = r.effort.get(mech)
+            row[key] = "cannot reach V_req" if v is None else fmt(v, ".3f", "N")
+        mix = r.designs.get("optimum mix")
+        bare = mix is not None and _is_bare(problem.bounds, mix) and not problem.wheels
+        if bare and out and out[-1].get("_bare") and out[-1]["mix"] == row["mix"]:
+            first = out[-1]["_first"]
+            out[-1].update(d_mm=f"{first[0]} – {d_mm}", d_in=f"{first[1]} – {d_in}")
+            out[-1]["mix"] = row["mix"]
+            continue
+        if bare:
+            row.update(_bare=True, _first=(d_mm, d_in))
+        out.append(row)
+    for row in out:
+        if row.pop("_bare", False):
+            row.pop("_first")
+            row["mix"] += " (trail alone suffices)"
+    return out
+
+
+def _knock_cell(knock: dict | None) -> str:
+    """Knock-safe speeds "θ0 / 2θ0 m/s" of one caster of the card ("–" where not computed)."""
+    if not knock:
+        return "–"
+    single, double = knock.get("knock_safe_speed"), knock.get("knock_safe_speed_double")
+    if single is None and double is None:
+        return "–"
+    return f"{fmt(single, '.2f')} / {fmt(double, '.2f')} m/s"
+
+
+def _rec_row(rec, knock: dict | None = None) -> dict:
+    """One caster of the "Build this" table (display strings)."""
+    row = _design_cells(rec.design)
+    row.update(
+        role=rec.role,
+        wheel=rec.wheel or "",
+        F=fmt(rec.turning_effort, ".3f", "N"),
+        P=fmt(rec.threshold_force, ".2f", "N"),
+        V_c=fmt(rec.critical_speed, ".3f", "m/s"),
+        V_q=fmt(rec.confident_speed, ".3f", "m/s"),
+        V_knock=_knock_cell(knock),
+        p_shimmy=f"{rec.shimmy_probability:.2%} ± {rec.shimmy_probability_se:.2%}",
+        R_s=inches(rec.swept_radius)
+        + (f" (limit {inches(rec.swept_radius_max)})" if rec.swept_radius_max is not None else " (no limit)"),
+    )
+    return row
+
+
+def _build_context(data: ReportData) -> dict:
+    """The first screen: the caster to build, its numbers, the drawing, the alternatives."""
+    rec = data.recommendation
+    if rec is None:
+        return {"available": False, "error": data.recommendation_error or "no recommendation"}
+    d = rec.design
+    level = f"{1 - rec.alpha:.0%}" if rec.alpha is not None else "95% (default scatter)"
+    return {
+        "available": True,
+        "lines": build_lines(data),
+        "headline": f"Build this: {caster_sentence(rec)}",
+        "rows": [
+            _rec_row(r, k)
+            for r, k in zip([rec, *rec.alternatives], list(data.knock_safe) + [None] * (1 + len(rec.alternatives)))
+        ],
+        "knock_header": _knock_header(data),
+        "knock_note": (
+            "Knock-safe speed: the highest speed at which a knock of that size dies out instead of "
+            "growing into shimmy, simulated with the paper's time-domain model (Appendix B: rolling "
+            "tyre, Coulomb friction; as designer evaluate --knock-safe), to "
+            f"{100 * float((data.knock_safe or [{}])[0].get('knock_safe_rtol', 0.005)):.1f} %. "
+            "V_c (Eq. 7) is the threshold for the design knock θ0; a bigger knock starts shimmy "
+            "at a lower speed."
+        ),
+        "alternatives": len(rec.alternatives),
+        "level": level,
+        "svg": caster_svg(
+            d.trail,
+            d.diameter,
+            d.groove,
+            data.problem.conditions.threshold_height,
+            rec.swept_radius_max,
+            label=f"{data.problem.name}: the recommended caster to scale",
+        ),
+        "rule": rec.rule,
+    }
+
+
+def _knock_header(data: ReportData) -> str:
+    """Column title of the knock-safe speeds, with the knock angles in degrees."""
+    theta0 = math.degrees(float(data.problem.conditions.disturbance_angle))
+    return f"knock-safe speed, {theta0:.0f}° / {2 * theta0:.0f}° knock (simulated)"
+
+
+def _indicators(front, problem, knee, best) -> list[dict]:
+    """The front's indicators (hypervolume, reference, ideal and nadir points, knee, best J); none for an empty front."""
+    if not front.points:
+        return []
+    ideal, nadir = front.ideal_nadir()
+    ref = front.reference_point()
+    hv = front.hypervolume()
+    w = np.asarray(problem.weights, float)
+    rows = [
+        (
+            "hypervolume (normalised)",
+            fmt(hv, ".5f"),
+            "objectives normalised by (f − ideal)/(nadir − ideal) with this front's ideal and nadir; reference "
+            "point (1.1, 1.1) in normalised units"
+            + (
+                "; a single point in its own normalisation always gives 1.1² = 1.21: no information"
+                if len(front) == 1
+                else ""
+            ),
+        ),
+        (
+            "hypervolume reference point",
+            f"F_turn {fmt(ref[0], '.4f', 'N')}, P {fmt(ref[1], '.3f', 'N')}",
+            "nadir + 10 % of the front's extent (1 N where the extent is zero)",
+        ),
+        (
+            "ideal point",
+            f"F_turn {fmt(ideal[0], '.4f', 'N')}, P {fmt(ideal[1], '.3f', 'N')}",
+            "best value of each objective on the front",
+        ),
+        (
+            "nadir point",
+            f"F_turn {fmt(nadir[0], '.4f', 'N')}, P {fmt(nadir[1], '.3f', 'N')}",
+            "worst value of each objective on the front",
+        ),
+        (
+            "knee",
+            f"point {front.points.index(knee)}: F_turn {fmt(knee.turning_effort, '.3f', 'N')}, "
+            f"P {fmt(knee.threshold_force, '.2f', 'N')}; {knee.design.describe()}",
+            "farthest from the chord between the two ends, in normalised objectives",
+        ),
+        (
+            "best J on the front",
+            f"point {front.points.index(best)}: F_turn {fmt(best.turning_effort, '.3f', 'N')}, "
+            f"P {fmt(best.threshold_force, '.2f', 'N')}, J = "
+            f"{fmt(float(w @ [best.turning_effort, best.threshold_force]), '.3f', 'N')}; "
+            f"{best.design.describe()}",
+            f"front point minimising J = {w[0]:g} F_turn + {w[1]:g} P (the exact optimum is in the solver section)",
+        ),
+    ]
+    return [{"name": n, "value": v, "note": note} for n, v, note in rows]
+
+
+def _solution(s) -> dict | None:
+    """The solver section: the exact weighted optimum, its cross-check and its largest sensitivities."""
+    if s is None:
+        return None
+    cross = [{"solver": k, "J": fmt(v, ".8f", "N")} for k, v in s.cross_check.items()]
+    missing = [k for k in ("casadi-ipopt", "cvxpy-gp", "scipy-slsqp") if k not in s.cross_check]
+    return {
+        "design": _design_cells(s.design),
+        "describe": s.design.describe(),
+        "wheel": s.wheel,
+        "F": fmt(s.objectives["turning_effort"], ".4f", "N"),
+        "P": fmt(s.objectives["threshold_force"], ".3f", "N"),
+        "J": fmt(s.objectives["weighted"], ".4f", "N"),
+        "V_c": fmt(s.critical_speed, ".4f", "m/s"),
+        "active": ", ".join(s.active) or "none",
+        "cross_check": cross,
+        "missing": ", ".join(missing),
+        "agreement": fmt(s.agreement(), ".1e"),
+        "sensitivities": [
+            {"name": k, "value": fmt(v, "+.4f"), "what": _parameter_info(k)}
+            for k, v in sorted(s.sensitivities.items(), key=lambda kv: -abs(kv[1]))[:8]
+        ],
+    }
+
+
+def build_context(data: ReportData) -> dict:
+    """Every table of the report as display strings (SI and inches), shared by the HTML and Markdown templates."""
+    problem, front = data.problem, data.front
+    knee, best = front.knee(), front.weighted_best()
+    points = []
+    for i, p in enumerate(front.points):
+        marks = ", ".join(m for m, q in (("knee", knee), ("best J on the front", best)) if q is p)
+        points.append(_point_row(i, p, marks))
+    failed = [_point_row(i, p) for i, p in enumerate(front.failed)]
+    indicators = _indicators(front, problem, knee, best)
+    solution = _solution(data.solution)
+    tradeoff = _tradeoff_rows(problem, data.tradeoff)
+    figures = [
+        {"name": n, "title": FIGURE_INFO[n][0], "caption": FIGURE_INFO[n][1], "file": f"figures/{n}.png"}
+        for n in _figures.FIGURES
+    ]
+
+    all_checks = data.paper_checks + data.front_checks
+    return {
+        "problem": problem,
+        "title": f"{problem.title} ({problem.name})",
+        "summary": summary_lines(data),
+        "build": _build_context(data),
+        "degenerate": data.degenerate_reason,
+        "problem_rows": _problem_rows(problem),
+        "model_rows": _model_rows(problem),
+        "solution": solution,
+        "solution_error": data.solution_error,
+        "paper_checks": [_check_row(c) for c in data.paper_checks if c.kind != "identity"],
+        "identity_checks": [_check_row(c) for c in data.paper_checks if c.kind == "identity"],
+        "front_checks": [_check_row(c) for c in data.front_checks],
+        "checks_summary": summary_line(all_checks),
+        "checks_passed": sum(bool(c.passed) for c in all_checks),
+        "checks_total": len(all_checks),
+        "points": points,
+        "catalog": bool(problem.wheels),
+        "failed": failed,
+        "gaps": [{"index": i, "what": what} for i, what in data.gaps],
+        "indicators": indicators,
+        "tradeoff": tradeoff,
+        "figures": figures,
+        "run": data.run,
+        "versions": ", ".join(f"{k} {v}" for k, v in data.run.get("versions", {}).items() if v),
+        "front_method": front.meta.get("method", ""),
+        "front_solver": front.meta.get("solver", ""),
+    }
