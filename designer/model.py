@@ -188,6 +188,8 @@ class Conditions:
     dynamics : K, fork and bearing-block masses of the third-order model
     uncertainty : optional :class:`designer.analysis.robust.Uncertainty`; then the shimmy
         constraint uses the α-quantile of V_c instead of its nominal value
+    constants : the model constants of the parameter table that have no field above, by name
+        (:func:`designer.parameters.location`); read any constant with :meth:`constant`
     """
 
     load: float = parameters.default("load")
@@ -200,10 +202,21 @@ class Conditions:
     turning: TurningConstants = DEFAULT_TURNING
     dynamics: DynamicsParameters = DynamicsParameters()
     uncertainty: Uncertainty | None = None
+    constants: Mapping[str, Any] = field(default_factory=dict)
 
     def replace(self, **changes: Any) -> "Conditions":
         """A copy with some fields changed."""
         return dataclasses.replace(self, **changes)
+
+    def constant(self, name: str) -> Any:
+        """The value [SI] of the model constant ``name`` of :data:`designer.parameters.PARAMETERS`
+        (a float, or a CasADi symbol inside the solvers), wherever it is kept: a field above, or
+        :attr:`constants` (its table default when the problem did not give it)."""
+        entry = parameters.PARAMETERS.get(name)
+        where = parameters.location(entry) if entry is not None else None
+        if where is None or not where.startswith("conditions."):
+            raise KeyError(f"{name!r} is not a model constant of designer/parameters.py's CONSTANT_TABLE")
+        return parameters.read_path(self, where.split(".", 1)[1])
 
 
 def performance(

@@ -52,6 +52,10 @@ class Parameter:
         inertia model's parameter ``x`` (see ``InertiaModel.parameters``)
     when : (path, value): the solvers use the parameter only when the path has that value
     bounds : default (min, max) of a design variable [SI]
+    store : attribute path on a Problem where the loader puts the value read from ``key`` when that is
+        not ``path`` (``a["b"]`` is the literal dict key ``b``).  An entry with a ``key`` and neither
+        ``store`` nor ``path`` is kept in ``Conditions.constants`` by name (:func:`location`), so a new
+        constant needs no other code than the equation that reads it (``conditions.constant(name)``).
     """
 
     name: str
@@ -67,6 +71,7 @@ class Parameter:
     path: str | None = None
     when: tuple[str, str] | None = None
     bounds: tuple[float, float] | None = None
+    store: str | None = None
 
     @property
     def shown_unit(self) -> str:
@@ -131,9 +136,10 @@ CONSTANT_TABLE: tuple[Parameter, ...] = (
               path="conditions.turning.mode_factors[turning_mode]"),
     Parameter("chair_factor", "m_chair", "", "turning a wheelchair in place over the drill-press moment", 0.5,
               (1e-3, 100.0), "Figs. 10–12 (\"about 50 percent\")", key="turning.chair_factor",
-              hint="the paper's chair mode is 0.5"),
+              hint="the paper's chair mode is 0.5", store='conditions.turning.mode_factors["chair"]'),
     Parameter("pivot_factor", "m_pivot", "", "non-rolling wheel (drill press)", 1.0, (1e-3, 100.0), "Fig. 7A",
-              key="turning.pivot_factor", hint="the paper's pivot mode is 1"),
+              key="turning.pivot_factor", hint="the paper's pivot mode is 1",
+              store='conditions.turning.mode_factors["pivot"]'),
     Parameter("inertia_coefficient", "C", "", "inertia power-law coefficient (d in m, I_w in kg·m²)", None, None,
               "least squares on Table 1", key="inertia.coefficient", path="conditions.inertia:inertia_coefficient"),
     Parameter("inertia_exponent", "n", "", "inertia power-law exponent", None, (0.0, 10.0),
@@ -149,14 +155,15 @@ CONSTANT_TABLE: tuple[Parameter, ...] = (
               key="constraints.swept_radius_max", dimension="length",
               hint="footrest clearances are a few inches", path="swept_radius_max"),
     Parameter("margin", "m_V", "", "relative safety margin on the target speed", 0.0, (0.0, 10.0),
-              "Table 1 RMS scatter of Eq. 7 (10.3 %)", key="shimmy.margin"),
+              "Table 1 RMS scatter of Eq. 7 (10.3 %)", key="shimmy.margin", store="margin"),
     Parameter("frame_stiffness", "K", "N/m", "lateral frame stiffness at the bearing block", None, None,
               "Eq. 15B, calibrated to ω = 104.7 rad/s (Eq. 7C)", key="dynamics.frame_stiffness",
-              dimension="stiffness"),
+              dimension="stiffness", store="conditions.dynamics.frame_stiffness"),
     Parameter("fork_mass", "M_F", "kg", "fork mass", 0.3, None, "our estimate (steel fork)", key="dynamics.fork_mass",
-              dimension="mass"),
+              dimension="mass", store="conditions.dynamics.fork_mass"),
     Parameter("bearing_block_mass", "M_1", "kg", "apparent bearing-block mass", 0.2, None,
-              "our estimate (housing)", key="dynamics.bearing_block_mass", dimension="mass"),
+              "our estimate (housing)", key="dynamics.bearing_block_mass", dimension="mass",
+              store="conditions.dynamics.bearing_block_mass"),
 )
 # fmt: on
 """The model constants: fixed quantities of a problem."""
@@ -204,18 +211,35 @@ def checked_ranges() -> dict[str, tuple[float, float, str, str]]:
 
 # --------------------------------------------------------------------------- solver parameter vectors
 
-_INDEX = re.compile(r"^(?P<attr>\w+)\[(?P<key>\w+)\]$")
+_INDEX = re.compile(r'^(?P<attr>\w+)\[(?P<quote>"?)(?P<key>\w+)(?P=quote)\]$')
+"""One step ``a[b]`` (dict ``a`` at the value of the conditions' ``b``) or ``a["b"]`` (at the key ``b``)."""
 
 
-def _read(root: Any, path: str) -> Any:
-    """Follow ``path`` from ``root`` (attribute steps, ``a[b]`` dict steps, ``:x`` inertia parameter)."""
+def location(p: Parameter) -> str | None:
+    """Where the value of entry ``p`` lives on a Problem: ``store``, else ``path``, else (an entry of the
+    problem file with no typed field) ``conditions.constants["<name>"]``; None for a key not in a file."""
+    if p.store or p.path:
+        return p.store or p.path
+    return f'conditions.constants["{p.name}"]' if p.key else None
+
+
+def _dict_key(match: re.Match[str], conditions: Any) -> Any:
+    return match["key"] if match["quote"] else getattr(conditions, match["key"])
+
+
+def read_path(root: Any, path: str) -> Any:
+    """Follow ``path`` from ``root`` (a Problem, or its Conditions for ``conditions.*`` paths given without
+    the first step): attribute steps, ``a[b]`` / ``a["b"]`` dict steps, ``:x`` the inertia model's
+    parameter ``x``.  A missing dict key reads as the entry's default (``constants`` of an older problem)."""
     conditions = getattr(root, "conditions", root)
     path, _, inertia_key = path.partition(":")
     value = root
     for step in path.split("."):
         match = _INDEX.match(step)
         if match:
-            value = getattr(value, match["attr"])[getattr(conditions, match["key"])]
+            mapping = getattr(value, match["attr"])
+            key = _dict_key(match, conditions)
+            value = mapping[key] if key in mapping or key not in PARAMETERS else PARAMETERS[key].default
         else:
             value = getattr(value, step)
     if inertia_key:
@@ -229,11 +253,17 @@ def _write(obj: Any, steps: list[str], value: Any, conditions: Any) -> Any:
     match = _INDEX.match(step)
     if match:
         mapping = dict(getattr(obj, match["attr"]))
-        mapping[getattr(conditions, match["key"])] = value
+        mapping[_dict_key(match, conditions)] = value
         return dataclasses.replace(obj, **{match["attr"]: mapping})
     if len(steps) == 1:
         return dataclasses.replace(obj, **{step: value})
     return dataclasses.replace(obj, **{step: _write(getattr(obj, step), steps[1:], value, conditions)})
+
+
+def write_path(root: Any, path: str, value: Any) -> Any:
+    """A copy of ``root`` (a dataclass: a Problem, or Conditions for a path without ``conditions.``) with
+    the value at ``path`` (as :func:`read_path`, no ``:x`` step) replaced by ``value``."""
+    return _write(root, path.split("."), value, getattr(root, "conditions", root))
 
 
 def solver_values(problem: Any) -> dict[str, float]:
@@ -246,9 +276,9 @@ def solver_values(problem: Any) -> dict[str, float]:
     out: dict[str, float] = {}
     for p in SOLVER_PARAMETERS:
         assert p.path is not None
-        if p.when is not None and _read(problem, p.when[0]) != p.when[1]:
+        if p.when is not None and read_path(problem, p.when[0]) != p.when[1]:
             continue
-        value = _read(problem, p.path)
+        value = read_path(problem, p.path)
         if value is not None:
             out[p.name] = value
     return out

@@ -108,3 +108,72 @@ def test_a_changed_value_reaches_the_conditions():
     assert changed.turning.mode_factors == {"chair": 0.7, "pivot": 1.0}
     assert changed.slip_coefficient == 1500.0
     assert problem.conditions.turning.mode_factors["chair"] == 0.5  # the original is not touched
+
+
+NEW_CONSTANT = """    Parameter("floor_slope", "α", "rad", "floor cross-slope", 0.0, (0.0, 0.2), "an example entry",
+              key="conditions.floor_slope", dimension="angle", hint="a cross-slope of 0 to 11 deg",
+              path='conditions.constants["floor_slope"]'),
+"""
+
+NEW_CONSTANT_RUN = r"""
+import json, sys
+from designer import parameters
+from designer.errors import ProblemError
+from designer.problem import problem_from_toml
+from designer.analysis.optimise import optimise
+base = open(sys.argv[1]).read()
+out = {}
+problem = problem_from_toml(base.replace("[conditions]", '[conditions]\nfloor_slope = "2 deg"'))
+out["value"] = problem.conditions.constant("floor_slope")
+out["default"] = problem_from_toml(base).conditions.constant("floor_slope")
+out["solver"] = parameters.solver_values(problem).get("floor_slope")
+out["docs"] = [line for line in parameters.markdown_table().splitlines() if "floor_slope" in line]
+out["sensitivity"] = optimise(problem.nominal(), cross_check=False).sensitivities.get("floor_slope")
+try:
+    problem_from_toml(base.replace("[conditions]", '[conditions]\nfloor_slope = "20 deg"'))
+except ProblemError as exc:
+    out["error"] = str(exc)
+try:
+    problem_from_toml(base.replace("[conditions]", '[conditions]\nfloor_slope = "2 N"'))
+except Exception as exc:
+    out["unit_error"] = str(exc)
+print(json.dumps(out))
+"""
+
+
+def test_a_new_constant_is_one_table_entry(tmp_path):
+    """Adding a model constant touches one place (issue 13): in a copy of the package whose only change is one
+    Parameter line in CONSTANT_TABLE, a problem file's key is read with its units ("2 deg" -> 0.0349 rad) or
+    takes its default, is range-checked with the entry's hint, is kept on the conditions
+    (``conditions.constant``), has a docs-table row, and becomes a solver parameter with a sensitivity (0 here:
+    no equation reads it yet; using it in an equation is the other half of adding a constant)."""
+    import json
+    import shutil
+    import subprocess
+    import sys
+
+    root = Path(__file__).resolve().parents[1]
+    shutil.copytree(root / "designer", tmp_path / "designer", ignore=shutil.ignore_patterns("__pycache__"))
+    source = tmp_path / "designer" / "parameters.py"
+    text = source.read_text(encoding="utf-8")
+    anchor = ')\n# fmt: on\n"""The model constants'
+    assert text.count(anchor) == 1
+    source.write_text(text.replace(anchor, NEW_CONSTANT + anchor), encoding="utf-8")
+    run = subprocess.run(
+        [sys.executable, "-c", NEW_CONSTANT_RUN, str(root / "problems" / "indoor-manual.toml")],
+        cwd=tmp_path,
+        env={**__import__("os").environ, "PYTHONPATH": str(tmp_path)},
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert run.returncode == 0, run.stderr[-2000:]
+    out = json.loads(run.stdout.strip().splitlines()[-1])
+    assert out["value"] == pytest.approx(math.radians(2), rel=1e-15)
+    assert out["default"] == 0.0
+    assert out["solver"] == pytest.approx(math.radians(2), rel=1e-15)
+    assert len(out["docs"]) == 1 and "`conditions.floor_slope`" in out["docs"][0] and "| rad |" in out["docs"][0]
+    assert out["sensitivity"] is not None and abs(out["sensitivity"]) < 1e-9
+    assert "conditions.floor_slope = 0.349066 rad: outside the model's range 0 to 0.2 rad" in out["error"]
+    assert "(a cross-slope of 0 to 11 deg)" in out["error"]
+    assert "conditions.floor_slope = '2 N': wrong dimension, expected angle" in out["unit_error"]

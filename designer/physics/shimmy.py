@@ -19,6 +19,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
     import numpy.typing as npt
 
 from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING, SLIP_COEFFICIENT
+from designer.parameters import default  # the defaults: one table (designer/parameters.py)
 from designer.physics._roots import brentq
 from designer.physics._types import Array, Scalar
 
@@ -143,9 +144,9 @@ class DynamicsParameters:
     K = ω² (I_w + N T²) / T² (Eq. 15B) ≈ 8.3e3 N/m.
     """
 
-    frame_stiffness: float | None = None
-    fork_mass: float = 0.3
-    bearing_block_mass: float = 0.2
+    frame_stiffness: float | None = default("frame_stiffness")
+    fork_mass: float = default("fork_mass")
+    bearing_block_mass: float = default("bearing_block_mass")
 
     @property
     def lateral_mass(self) -> float:

@@ -15,8 +15,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from designer.data.paper import BARE_FORK_DAMPING, DISTURBANCE_ANGLE, INCH
+from designer.data.paper import DISTURBANCE_ANGLE
 from designer.errors import InputError
+from designer.parameters import default  # the defaults: one table (designer/parameters.py)
 from designer.physics._types import Scalar
 
 SURFACES = ("tile", "carpet")
@@ -42,11 +43,13 @@ class TurningConstants:
         whose bearing friction the paper found negligible in turning.
     """
 
-    tile_moment_per_load: float = 0.005
-    carpet_factor: float = 2.0
-    groove_coefficient: float = 0.10 / (9 / 16 * INCH)
-    mode_factors: dict[str, float] = field(default_factory=lambda: {"chair": 0.5, "pivot": 1.0})
-    bare_fork_damping: float = BARE_FORK_DAMPING
+    tile_moment_per_load: float = default("tile_moment_per_load")
+    carpet_factor: float = default("carpet_factor")
+    groove_coefficient: float = default("groove_coefficient")
+    mode_factors: dict[str, float] = field(
+        default_factory=lambda: {"chair": default("chair_factor"), "pivot": default("pivot_factor")}
+    )
+    bare_fork_damping: float = default("bare_fork_damping")
 
     def surface_factor(self, surface: str) -> float:
         """k_surface / k_tile for ``surface`` (tile 1, carpet ``carpet_factor``)."""

@@ -34,6 +34,9 @@ PHYSICAL_RANGE = parameters.checked_ranges()
 mean nothing, and a value there is almost always a unit mistake.  (low, high, unit, hint), by
 problem-file key, from the entries of :mod:`designer.parameters` that have a hint."""
 
+_BY_KEY = {p.key: p.name for p in parameters.PARAMETERS.values() if p.key}
+"""Table entry name by problem-file key."""
+
 INERTIA_RANGE = (1e-9, 10.0)
 """Wheel moments of inertia [kg·m²] the model accepts at the diameter bounds (Table 1: 0.26e-3 to 4.6e-3)."""
 
@@ -87,28 +90,11 @@ def check_weights(
     return w
 
 
-# Allowed keys per section: key -> dimension (or a type tag).
 SCHEMA: dict[str, dict[str, str]] = {
     "": {"name": "str", "title": "str", "description": "str"},
-    "conditions": {"load": "force", "threshold_height": "length", "surface": "surface", "turning_mode": "mode"},
-    "shimmy": {
-        "target_speed": "speed",
-        "margin": "dimensionless",
-        "disturbance_angle": "angle",
-        "slip_coefficient": "force",
-    },
-    "inertia": {
-        "model": "str",
-        "coefficient": "float",
-        "exponent": "float",
-        "tyre_width": "length",
-        "density": "density",
-        "wheel": "str",
-        "wheels": "list",
-        "inertia": "inertia",
-    },
+    "conditions": {"surface": "surface", "turning_mode": "mode"},
+    "inertia": {"model": "str", "wheel": "str", "wheels": "list"},
     "variables": {name: "bound" for name in VARIABLES},
-    "constraints": {"swept_radius_max": "length"},
     "objective": {
         "turning_effort": "float",
         "threshold_force": "float",
@@ -116,15 +102,6 @@ SCHEMA: dict[str, dict[str, str]] = {
         "max_turning_effort": "force",
     },
     "pareto": {"points": "int"},
-    "turning": {
-        "tile_moment_per_load": "length",
-        "carpet_factor": "dimensionless",
-        "groove_coefficient": "per_length",
-        "chair_factor": "dimensionless",
-        "pivot_factor": "dimensionless",
-        "bare_fork_damping": "damping",
-    },
-    "dynamics": {"frame_stiffness": "stiffness", "fork_mass": "mass", "bearing_block_mass": "mass"},
     "choices": {"surface": "list", "turning_mode": "list", "wheel": "list"},
     "robust": {
         "enabled": "bool",
@@ -139,6 +116,8 @@ SCHEMA: dict[str, dict[str, str]] = {
     },
     "stock": {"diameters": "list", "grooves": "list", "trail_step": "length", "dampings": "list", "wheels": "list"},
 }
+"""Allowed keys per section: key -> dimension (or a type tag).  The model constants' keys are added from
+the parameter table just below, so a new constant needs no line here."""
 
 for _parameter in parameters.PARAMETERS.values():  # every key of the table is a key of the problem file
     if _parameter.key and not _parameter.key.startswith("variables."):
@@ -452,19 +431,13 @@ def _validate_conditions(problem: Problem, prefix: str, fail: Callable[[str], No
         fail(f"conditions.load = {c.load:g} N: must be positive")
     if c.threshold_height <= 0:
         fail(f"conditions.threshold_height = {c.threshold_height:g} m: must be positive")
-    for key, value in (
-        ("conditions.load", c.load),
-        ("conditions.threshold_height", c.threshold_height),
-        ("shimmy.target_speed", problem.target_speed),
-        ("shimmy.slip_coefficient", c.slip_coefficient),
-        ("turning.tile_moment_per_load", c.turning.tile_moment_per_load),
-        ("turning.carpet_factor", c.turning.carpet_factor),
-        ("turning.chair_factor", c.turning.mode_factors["chair"]),
-        ("turning.pivot_factor", c.turning.mode_factors["pivot"]),
-        ("turning.groove_coefficient", c.turning.groove_coefficient),
-        ("turning.bare_fork_damping", c.turning.bare_fork_damping),
-    ):
-        if value > 0 or key == "turning.groove_coefficient":
+    for key in PHYSICAL_RANGE:  # every constant the table gives a range and a hint, where the table keeps it
+        if key == "constraints.swept_radius_max":
+            continue  # None (no limit) or checked with the bounds
+        where = parameters.location(parameters.PARAMETERS[_BY_KEY[key]])
+        assert where is not None
+        value = parameters.read_path(problem, where)
+        if value is not None and (value > 0 or key == "turning.groove_coefficient"):
             check_range(key, value, prefix)
     if not 0 < c.disturbance_angle < math.pi / 2:
         fail(f"shimmy.disturbance_angle = {c.disturbance_angle:g} rad: must be between 0 and 90 deg")
@@ -555,3 +528,8 @@ def _validate_inertia(problem: Problem, fail: Callable[[str], NoReturn]) -> None
                 f"({c.inertia.describe()}): outside {INERTIA_RANGE[0]:g} to {INERTIA_RANGE[1]:g} kg·m²; "
                 f"check the inertia model's constants and the diameter bounds"
             )
+
+
+def show_key(key: object) -> str:
+    """A key as written in messages: plain if it is a simple word, else quoted (keeps the message one line)."""
+    return key if isinstance(key, str) and re.fullmatch(r"[A-Za-z0-9_.-]+", key) else repr(key)

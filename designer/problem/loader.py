@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import difflib
 import math
-import re
 import tomllib
 from pathlib import Path
 from typing import Any, Callable, NoReturn, TypeVar
@@ -17,24 +16,22 @@ from typing import Any, Callable, NoReturn, TypeVar
 from designer.data.paper import INCH, TABLE1
 from designer import parameters
 from designer.errors import ProblemError, read_input_text
-from designer.model import MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions
+from designer.model import MODEL_RANGE, VARIABLES, Conditions
 from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
-from designer.physics.shimmy import DynamicsParameters
 from designer.physics.turning import MODES, SURFACES, TurningConstants
 from designer.units import InputError, outside_range, parse_quantity
 from designer.physics.uncertainty import Uncertainty
 
+from designer.problem.stock import read_stock
 from designer.problem.core import (
+    show_key,
     DEFAULT_BOUNDS,
     INERTIA_MODELS,
-    INERTIA_RANGE,
     MAX_SAMPLES,
     SCHEMA,
     VARIABLE_DIMENSIONS,
     Bound,
     Problem,
-    Stock,
-    StockWheel,
 )
 
 _D = TypeVar("_D")
@@ -143,35 +140,35 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
     description = r.text_value("", "description", "")
 
     # turning constants and dynamics first: conditions need them
-    turning = _turning(r)
-    dynamics = _dynamics(r)
+    constants = {**_turning(r), **_dynamics(r)}
     inertia, wheels = _inertia(r.section("inertia"), r.quantity, r.fail)
 
     uncertainty = _uncertainty(r.section("robust"), r.fail)  # on by default: no [robust] gives the default scatter
 
+    constants.update(_constants(r, "conditions"))
+    constants.update(_constants(r, "shimmy"))
+    constants.update(_constants(r, "constraints"))
     conditions = Conditions(
         uncertainty=uncertainty,
-        load=r.quantity("conditions", "load", "force", parameters.default("load")),
-        threshold_height=r.quantity("conditions", "threshold_height", "length", parameters.default("threshold_height")),
         surface=r.text_value("conditions", "surface", "tile"),
         turning_mode=r.text_value("conditions", "turning_mode", "chair"),
-        disturbance_angle=r.quantity("shimmy", "disturbance_angle", "angle", parameters.default("disturbance_angle")),
-        slip_coefficient=r.quantity("shimmy", "slip_coefficient", "force", parameters.default("slip_coefficient")),
         inertia=inertia,
-        turning=turning,
-        dynamics=dynamics,
     )
+    for constant, value in constants.items():  # each where the parameter table says it lives
+        where = parameters.location(parameters.PARAMETERS[constant])
+        assert where is not None and where.startswith("conditions.")
+        conditions = parameters.write_path(conditions, where.split(".", 1)[1], value)
     if "target_speed" not in r.section("shimmy"):
         r.fail("shimmy.target_speed: missing; give the speed the caster must not shimmy below, e.g. '2.5 m/s'")
 
-    bounds = _bounds(r, turning)
+    bounds = _bounds(r, conditions.turning)
     if wheels:
         wheels = _catalog_within(r, bounds, wheels)
 
     weights = (r.number("objective", "turning_effort", 1.0), r.number("objective", "threshold_force", 1.0))
     caps = _caps(r)
     stock = (
-        _stock(r.section("stock"), bounds, inertia, wheels, conditions.threshold_height, r.fail)
+        read_stock(r.section("stock"), bounds, inertia, wheels, conditions.threshold_height, r.fail)
         if "stock" in data
         else None
     )
@@ -181,7 +178,7 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
 
     choices = _choices(r)
 
-    target_speed = r.quantity("shimmy", "target_speed", "speed", None)
+    target_speed = _value(r, "target_speed")
     assert target_speed is not None  # the key is present (checked above)
     return Problem(
         name=name,
@@ -189,9 +186,9 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
         description=description,
         conditions=conditions,
         target_speed=target_speed,
-        margin=r.quantity("shimmy", "margin", "dimensionless", 0.0),
+        margin=_value(r, "margin"),
         bounds=bounds,
-        swept_radius_max=r.quantity("constraints", "swept_radius_max", "length", None),
+        swept_radius_max=_value(r, "swept_radius_max"),
         weights=weights,
         pareto_points=points,
         wheels=wheels,
@@ -203,49 +200,48 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
     )
 
 
-def _turning(r: _Reader) -> TurningConstants:
-    """[turning]: the constants of the turning model (docs/model.md#turning-effort), each positive."""
-    tdef = TurningConstants()
-    turning = TurningConstants(
-        tile_moment_per_load=r.quantity("turning", "tile_moment_per_load", "length", tdef.tile_moment_per_load),
-        carpet_factor=r.quantity("turning", "carpet_factor", "dimensionless", tdef.carpet_factor),
-        groove_coefficient=r.quantity("turning", "groove_coefficient", "per_length", tdef.groove_coefficient),
-        mode_factors={
-            "chair": r.quantity("turning", "chair_factor", "dimensionless", tdef.mode_factors["chair"]),
-            "pivot": r.quantity("turning", "pivot_factor", "dimensionless", tdef.mode_factors["pivot"]),
-        },
-        bare_fork_damping=r.quantity("turning", "bare_fork_damping", "damping", tdef.bare_fork_damping),
-    )
-    for key, value in (
-        ("tile_moment_per_load", turning.tile_moment_per_load),
-        ("carpet_factor", turning.carpet_factor),
-        ("chair_factor", turning.mode_factors["chair"]),
-        ("pivot_factor", turning.mode_factors["pivot"]),
-        ("bare_fork_damping", turning.bare_fork_damping),
-    ):
-        if value <= 0:
+def _value(r: _Reader, name: str) -> Any:
+    """Entry ``name`` of the parameter table, read from its problem-file key with its dimension and default."""
+    p = parameters.PARAMETERS[name]
+    assert p.key is not None
+    section, key = p.key.split(".", 1)
+    return r.quantity(section, key, p.dimension, p.default)
+
+
+def _constants(r: _Reader, section: str) -> dict[str, Any]:
+    """The model constants of ``[section]`` kept on the conditions, by table name: each key of the parameter
+    table read with its dimension and default (the problem-level ones, such as the target speed, are read
+    by :func:`problem_from_dict` itself)."""
+    out = {}
+    for p in parameters.by_key(section).values():
+        where = parameters.location(p)
+        if where is not None and where.startswith("conditions."):
+            out[p.name] = _value(r, p.name)
+    return out
+
+
+def _turning(r: _Reader) -> dict[str, Any]:
+    """[turning]: the constants of the turning model (docs/model.md#turning-effort), each positive (the groove
+    coefficient non-negative)."""
+    values = _constants(r, "turning")
+    for key, p in parameters.by_key("turning").items():
+        value = values[p.name]
+        if p.range is not None and p.range[0] == 0:
+            if value < 0:
+                r.fail(f"turning.{key} = {value:g} {p.unit}: must be non-negative")
+        elif value <= 0:
             r.fail(f"turning.{key} = {value:g}: must be positive")
-    if turning.groove_coefficient < 0:
-        r.fail(f"turning.groove_coefficient = {turning.groove_coefficient:g} 1/m: must be non-negative")
-    return turning
+    return values
 
 
-def _dynamics(r: _Reader) -> DynamicsParameters:
+def _dynamics(r: _Reader) -> dict[str, Any]:
     """[dynamics]: frame stiffness and fork masses of the third-order model, each positive when given."""
-    ddef = DynamicsParameters()
-    dynamics = DynamicsParameters(
-        frame_stiffness=r.quantity("dynamics", "frame_stiffness", "stiffness", None),
-        fork_mass=r.quantity("dynamics", "fork_mass", "mass", ddef.fork_mass),
-        bearing_block_mass=r.quantity("dynamics", "bearing_block_mass", "mass", ddef.bearing_block_mass),
-    )
-    for key, stated in (
-        ("frame_stiffness", dynamics.frame_stiffness),
-        ("fork_mass", dynamics.fork_mass),
-        ("bearing_block_mass", dynamics.bearing_block_mass),
-    ):
+    values = _constants(r, "dynamics")
+    for key, p in parameters.by_key("dynamics").items():
+        stated = values[p.name]
         if stated is not None and stated <= 0:
             r.fail(f"dynamics.{key} = {stated:g}: must be positive")
-    return dynamics
+    return values
 
 
 def _bounds(r: _Reader, turning: TurningConstants) -> dict[str, Bound]:
@@ -378,166 +374,6 @@ def _uncertainty(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> Unce
     return Uncertainty(**values)
 
 
-def _stock_values(
-    table: dict[str, Any],
-    key: str,
-    dimension: str,
-    variable: str,
-    bounds: dict[str, Bound],
-    fail: Callable[[str], NoReturn],
-) -> tuple[float, ...]:
-    """A [stock] list in SI, each value inside ``variable``'s bounds (deduplicated, sorted)."""
-    values = table[key]
-    if isinstance(values, (str, int, float)) or not isinstance(values, list):
-        fail(f'stock.{key} = {values!r}: expected a list, e.g. ["4 in", "5 in"]')
-    if not values:
-        fail(f"stock.{key} = []: empty; list at least one value, or leave the key out to keep {variable} continuous")
-    out = []
-    b = bounds[variable]
-    for i, raw in enumerate(values):
-        try:
-            v = parse_quantity(raw, dimension, f"stock.{key}[{i}]")
-        except InputError as exc:
-            fail(str(exc))
-        if not b.low * (1 - 1e-9) - 1e-12 <= v <= b.high * (1 + 1e-9) + 1e-12:
-            unit = VARIABLE_UNITS[variable]
-            shown = (
-                f"{v / INCH:.4g} in outside variables.{variable} = [{b.low / INCH:.4g}, {b.high / INCH:.4g}] in"
-                if dimension == "length"
-                else f"{v:g} {unit} outside variables.{variable} = [{b.low:g}, {b.high:g}] {unit}"
-            )
-            fail(f"stock.{key}[{i}] = {raw!r}: {shown}; widen the bounds or drop the part")
-        out.append(min(max(v, b.low), b.high))
-    return tuple(sorted(set(out)))
-
-
-def _stock(
-    table: dict[str, Any],
-    bounds: dict[str, Bound],
-    inertia: InertiaModel,
-    catalog: tuple[str, ...],
-    sill: float,
-    fail: Callable[[str], NoReturn],
-) -> Stock:
-    """Parse [stock] against the bounds and the inertia model (one-line errors, exit 3)."""
-    if not table:
-        fail("[stock] is empty; list diameters, grooves, trail_step or dampings (a key left out stays continuous)")
-    model = getattr(inertia, "name", "")
-    if "diameters" in table or "wheels" in table:
-        key = "diameters" if "diameters" in table else "wheels"
-        if catalog:
-            fail(
-                f'stock.{key}: not allowed with [inertia] model = "catalog"; the wheel stock is '
-                f"[inertia].wheels ({', '.join(catalog)})"
-            )
-        if model == "fixed" or isinstance(inertia, Fixed):
-            fail(
-                f'stock.{key}: not allowed with [inertia] model = "fixed"; a fixed inertia is one measured '
-                f"wheel, so the diameter is fixed (set variables.diameter to it)"
-            )
-    if "diameters" in table and "wheels" in table:
-        fail("stock: give diameters (and grooves) or wheels, not both")
-    diameters = _stock_values(table, "diameters", "length", "diameter", bounds, fail) if "diameters" in table else None
-    grooves = _stock_values(table, "grooves", "length", "groove", bounds, fail) if "grooves" in table else None
-    dampings = _stock_values(table, "dampings", "damping", "damping", bounds, fail) if "dampings" in table else None
-    trails = step = None
-    if "trail_step" in table:
-        step, trails = _stock_trails(table, bounds["trail"], fail)
-    wheels = _stock_wheels(table["wheels"], bounds, grooves, fail) if "wheels" in table else None
-    return Stock(diameters=diameters, grooves=grooves, trail_step=step, trails=trails, dampings=dampings, wheels=wheels)
-
-
-def _stock_trails(table: dict[str, Any], b: Bound, fail: Callable[[str], NoReturn]) -> tuple[float, tuple[float, ...]]:
-    """``stock.trail_step``: the step [m] and the fork holes from ``variables.trail.min`` every step up to max."""
-    try:
-        step = parse_quantity(table["trail_step"], "length", "stock.trail_step")
-    except InputError as exc:
-        fail(str(exc))
-    span = max(b.high - b.low, 0.0)  # inverted bounds are validate()'s one-line error, not the step's
-    if not step > 0 or not math.isfinite(step):
-        fail(f'stock.trail_step = {table["trail_step"]!r}: must be a positive length, e.g. "0.25 in"')
-    if b.low > b.high:
-        pass  # inverted trail bounds: validate() names variables.trail (min greater than max)
-    elif span <= 0:
-        fail(
-            f"stock.trail_step = {table['trail_step']!r}: variables.trail is fixed at {b.low / INCH:.4g} in; "
-            f"leave trail_step out"
-        )
-    elif step > span * (1 + 1e-9):
-        fail(
-            f"stock.trail_step = {step / INCH:.4g} in: larger than the trail range "
-            f"{b.low / INCH:.4g} to {b.high / INCH:.4g} in ({span / INCH:.4g} in); use a smaller step"
-        )
-    count = int(math.floor(span / step + 1e-9)) + 1
-    if count > 10_000:
-        fail(
-            f"stock.trail_step = {step / INCH:.4g} in: {count} fork holes; use a step of at least "
-            f"{span / 10_000 / INCH:.3g} in"
-        )
-    return step, tuple(min(b.low + k * step, b.high) for k in range(count))
-
-
-def _stock_wheels(
-    raw: object, bounds: dict[str, Bound], grooves: tuple[float, ...] | None, fail: Callable[[str], NoReturn]
-) -> tuple[StockWheel, ...]:
-    """``stock.wheels``: named wheels, each with a diameter and optionally a groove and a measured I_w."""
-    if not isinstance(raw, list):
-        fail(f"stock.wheels = {raw!r}: expected a list of {{name, diameter, groove, inertia}} tables")
-    if not raw:
-        fail("stock.wheels = []: empty; list at least one wheel, or leave the key out")
-    out: list[StockWheel] = []
-    names: set[str] = set()
-    for i, w in enumerate(raw):
-        out.append(_stock_wheel(i, w, names, bounds, fail))
-    given = [w.groove is not None for w in out]
-    if any(given) and not all(given):
-        fail("stock.wheels: give a groove for every wheel or for none (then [stock].grooves or continuous)")
-    if all(given) and grooves is not None:
-        fail("stock: the wheels give their grooves; leave stock.grooves out")
-    return tuple(out)
-
-
-def _stock_wheel(
-    i: int, w: object, names: set[str], bounds: dict[str, Bound], fail: Callable[[str], NoReturn]
-) -> StockWheel:
-    """``stock.wheels[i]``: a table {name, diameter, groove, inertia} whose name is not in ``names`` (added)."""
-    if not isinstance(w, dict):
-        fail(
-            f"stock.wheels[{i}] = {w!r}: expected a table such as "
-            f'{{ name = "Frog 5", diameter = "5 in", groove = "0.25 in" }}'
-        )
-    extra = sorted(set(w) - {"name", "diameter", "groove", "inertia"})
-    if extra:
-        fail(f"stock.wheels[{i}].{_show_key(extra[0])}: unknown key; expected name, diameter, groove, inertia")
-    for need in ("name", "diameter"):
-        if need not in w:
-            fail(f"stock.wheels[{i}].{need}: missing")
-    name = w["name"]
-    if not isinstance(name, str) or not name.strip():
-        fail(f"stock.wheels[{i}].name = {name!r}: expected a non-empty string")
-    if name in names:
-        fail(f"stock.wheels[{i}].name = {name!r}: listed twice")
-    names.add(name)
-    d = _stock_values({"diameter": [w["diameter"]]}, "diameter", "length", "diameter", bounds, fail)[0]
-    g = (
-        _stock_values({"groove": [w["groove"]]}, "groove", "length", "groove", bounds, fail)[0]
-        if "groove" in w
-        else None
-    )
-    inertia_w = None
-    if "inertia" in w:
-        try:
-            inertia_w = parse_quantity(w["inertia"], "inertia", f"stock.wheels[{i}].inertia")
-        except InputError as exc:
-            fail(str(exc))
-        if not INERTIA_RANGE[0] <= inertia_w <= INERTIA_RANGE[1]:
-            fail(
-                f"stock.wheels[{i}].inertia = {inertia_w:g} kg·m²: outside {INERTIA_RANGE[0]:g} to "
-                f"{INERTIA_RANGE[1]:g} kg·m²"
-            )
-    return StockWheel(name.strip(), d, g, inertia_w)
-
-
 def _inertia(
     table: dict[str, Any], quantity: Callable[[str, str, str, None], float | None], fail: Callable[[str], NoReturn]
 ) -> tuple[InertiaModel, tuple[str, ...]]:
@@ -553,7 +389,7 @@ def _inertia(
     extra = set(table) - allowed
     if extra:
         fail(
-            f"inertia.{_show_key(sorted(extra)[0])}: not used by inertia model {model!r} (it takes {', '.join(sorted(allowed - {'model'})) or 'nothing else'})"
+            f"inertia.{show_key(sorted(extra)[0])}: not used by inertia model {model!r} (it takes {', '.join(sorted(allowed - {'model'})) or 'nothing else'})"
         )
     if model == "table1-power-law":
         coefficient = quantity("inertia", "coefficient", "dimensionless", None)
@@ -614,12 +450,7 @@ def _check_keys(data: dict[str, Any], prefix: str) -> None:
             raise ProblemError(prefix + f"[{key}] must be a table, got {value!r}")
         for sub in value:
             if sub not in SCHEMA[key]:
-                raise ProblemError(prefix + f"unknown key {key}.{_show_key(sub)}{_suggest(sub, list(SCHEMA[key]))}")
-
-
-def _show_key(key: object) -> str:
-    """A key as written in messages: plain if it is a simple word, else quoted (keeps the message one line)."""
-    return key if isinstance(key, str) and re.fullmatch(r"[A-Za-z0-9_.-]+", key) else repr(key)
+                raise ProblemError(prefix + f"unknown key {key}.{show_key(sub)}{_suggest(sub, list(SCHEMA[key]))}")
 
 
 def _suggest(word: str, options: list[str]) -> str:
