@@ -69,3 +69,17 @@ def test_casadi_bound_equals_numeric():
     f = ca.Function("q", [x], [U.shimmy_speed_quantile(x[0], x[1], x[2], x[3], 1250.0, u)])
     args = (0.05, 1.5e-3, 0.01, 2.0)
     assert float(f(args)) == pytest.approx(float(U.shimmy_speed_quantile(*args, 1250.0, u)), rel=1e-12)
+
+
+def test_stored_fit_is_the_computed_fit():
+    """The stored Chebyshev fit of the default α = 0.05, ν = 5 is what the quadrature computes (coefficients and
+    shift within 1e-13; bit for bit on the reference machine), so reading it changes no number; other α or ν
+    are computed (and differ from it)."""
+    stored, shift = U._fit(0.05, 5)
+    computed, computed_shift = U._compute_fit(0.05, 5)
+    assert (0.05, 5, U._NODES, U._DEGREE) in U._STORED_FITS
+    np.testing.assert_allclose(stored, computed, rtol=0, atol=1e-13)
+    assert shift == pytest.approx(computed_shift, abs=1e-13)
+    other, _ = U._fit(0.1, 5)
+    assert abs(other[0] - stored[0]) > 0.1  # the 90 % quantile is lower than the 95 %
+    np.testing.assert_array_equal(other, U._compute_fit(0.1, 5)[0])

@@ -549,7 +549,7 @@ def dominated_by_problem(problem, other_front, rel_tol: float = 1e-7) -> tuple[i
     Returns (number not dominated, number of points).
     """
     # late import: loads casadi (via designer.solvers.nlp) only when this runs
-    from designer.solvers.nlp import CasterNLP
+    from designer.solvers.shared import shared_nlp
 
     not_dominated = 0
     cache = {}
@@ -560,7 +560,8 @@ def dominated_by_problem(problem, other_front, rel_tol: float = 1e-7) -> tuple[i
         best = np.inf
         for variant in variants:
             key = id(variant) if not problem.wheels else q.wheel
-            nlp = cache.get(key) or cache.setdefault(key, CasterNLP(variant))
+            # the front's compiled NLP (same scaling: the same solves as a new build)
+            nlp = cache.get(key) or cache.setdefault(key, shared_nlp(variant, same_scaling=True))
             r = nlp.solve(q.design, (1.0, 0.0), q.threshold_force * (1 + 1e-12))
             if r.success:
                 best = min(best, nlp.objectives(r.design)[0])

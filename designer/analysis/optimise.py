@@ -23,7 +23,8 @@ from designer.errors import InfeasibleError, SolverError
 from designer.model import VARIABLES, Design, evaluate
 from designer.problem import Problem
 from designer.reprs import dataframe, html_table
-from designer.solvers.nlp import PARAMETER_INFO, CasterNLP, best_starts, max_critical_speed, solve_best
+from designer.solvers.nlp import PARAMETER_INFO, best_starts, max_critical_speed, solve_best
+from designer.solvers.shared import shared_nlp
 import warnings
 from designer.errors import InputError
 from designer.problem import check_weights
@@ -312,7 +313,7 @@ def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Sol
     candidates = []
     gp_results = {}
     for variant in problem.variants():
-        nlp = CasterNLP(variant)
+        nlp = shared_nlp(variant, same_scaling=True)  # the front's compiled NLP: the same solves as a new build
         build += nlp.build_seconds
         starts = best_starts(variant, w, n=samples)
         gp = _gp(variant, w) if cross_check else None

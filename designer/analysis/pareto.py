@@ -21,7 +21,6 @@ family restarts; ``strategy="nlp"`` forces the NLP sweep (the cross-check in the
 
 from __future__ import annotations
 
-import dataclasses
 import time
 import warnings
 
@@ -30,10 +29,11 @@ import numpy as np
 from designer.analysis.front import REFERENCE_OFFSET, Front, FrontPoint, clean, family_of
 from designer.analysis.indicators import normalise
 from designer.analysis.optimise import _diagnose, constraint_margins
-from designer.analysis.sweeps import CACHE_SIZE, choose
+from designer.analysis.sweeps import choose
 from designer.errors import InputError, SolverError
 from designer.model import Design, evaluate
 from designer.problem import POINTS_RANGE, Problem
+from designer.solvers import shared
 from designer.solvers.nlp import BIG, CasterNLP, evaluate_many
 
 STRATEGY_CHOICES = ("auto", "nlp")
@@ -102,33 +102,20 @@ def _points(nlp: CasterNLP, problem: Problem, results, eps, wheel=None) -> list:
     return out
 
 
-_NLP_CACHE: dict = {}
+_NLP_CACHE = shared.SHARED
+"""The compiled NLPs (:data:`designer.solvers.shared.SHARED`, shared with the optimum and check 8c)."""
 
 
 def _nlp(problem: Problem) -> CasterNLP:
-    """The problem's NLP: a compiled structure is built once and reused (the last 32 structures are kept).
+    """The problem's NLP: a compiled structure is built once and reused (:func:`~designer.solvers.shared.shared_nlp`).
 
-    Problems that differ only in caster load or target speed (e.g. a batch of chair configurations)
-    share one build: those values are parameters of the NLP, and :meth:`CasterNLP.for_problem` gives
-    each problem its own view with its own values (the cached NLP itself is never changed).  The scaling
-    constants of the objective stay those of the first problem built (any O(1) scaling gives the same
-    optimum to IPOPT's tolerance).
+    Problems that differ only in caster load or target speed (e.g. a batch of chair configurations, or the
+    tighter front of check 8c) share one build: those values are parameters of the NLP, and
+    :meth:`CasterNLP.for_problem` gives each problem its own view with its own values (the cached NLP itself
+    is never changed).  The scaling constants of the objective stay those of the first problem built (any
+    O(1) scaling gives the same optimum to IPOPT's tolerance).
     """
-    fields = {
-        f.name: getattr(problem, f.name)
-        for f in dataclasses.fields(problem)
-        if f.name not in ("target_speed", "name", "title", "description", "source", "conditions")
-    }
-    key = repr((fields, dataclasses.replace(problem.conditions, load=0.0)))
-    base = _NLP_CACHE.pop(key, None)
-    if base is None:
-        base = nlp = CasterNLP(problem)
-    else:
-        nlp = base.for_problem(problem)
-    _NLP_CACHE[key] = base
-    while len(_NLP_CACHE) > CACHE_SIZE:
-        _NLP_CACHE.pop(next(iter(_NLP_CACHE)))
-    return nlp
+    return shared.shared_nlp(problem, build=CasterNLP)
 
 
 def pareto_front(problem: Problem, points: int | None = None, progress=None, strategy: str = "auto") -> Front:

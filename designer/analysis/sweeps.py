@@ -33,7 +33,7 @@ from designer.solvers import structured
 from designer.solvers.nlp import BIG, CasterNLP, NLPResult, best_starts, evaluate_many, sample_designs, violation
 
 CACHE_SIZE = 32
-"""How many problems' samples (and, in :mod:`designer.analysis.pareto`, NLPs) are kept."""
+"""How many problems' samples are kept (the compiled NLPs: :data:`designer.solvers.shared.SHARED_SIZE`)."""
 
 
 @dataclass

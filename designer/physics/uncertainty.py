@@ -211,9 +211,34 @@ def exact_sum_quantile(share: Numeric, probability: float, dof: int) -> Array:
 
 _DEGREE = 14
 
+_STORED_FITS: dict[tuple[float, int, int, int], tuple[tuple[float, ...], float]] = {
+    # (α, ν, _NODES, _DEGREE): the Chebyshev coefficients and the shift _compute_fit returns, written out with
+    # repr (exact round trip) so the main job needn't redo the quadrature (about 0.1-0.3 s of CPU, mostly
+    # the threaded eigensolver of leggauss(256)); tests/test_uncertainty.py recomputes them
+    (0.05, 5, 64, 14): (
+        (
+            1.8398610952279133,
+            -0.18098169715082657,
+            -0.009025512044237132,
+            -0.003897747202272107,
+            -0.0007983692780797318,
+            -0.0001956947453690319,
+            -7.673162625049496e-05,
+            -2.440348703130868e-05,
+            -7.955245488684818e-06,
+            -2.37014651708665e-06,
+            -2.7185077619810214e-08,
+            7.931278508456347e-07,
+            9.74699486609848e-07,
+            8.165543077358258e-07,
+            4.564530635257894e-07,
+        ),
+        5.740555803074836e-06,
+    ),
+}
 
-@functools.lru_cache(maxsize=32)
-def _fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], float]:
+
+def _compute_fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], float]:
     """Chebyshev coefficients (on s ∈ [0, 1]) of the quantile, shifted up by its fit error; and the shift."""
 
     k = np.arange(_DEGREE + 1)
@@ -228,6 +253,17 @@ def _fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], f
     coef = coef.copy()
     coef[0] += shift
     return coef, shift
+
+
+@functools.lru_cache(maxsize=32)
+def _fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], float]:
+    """:func:`_compute_fit`, read from :data:`_STORED_FITS` for the default α and ν (the same numbers)."""
+    stored = _STORED_FITS.get((probability, dof, _NODES, _DEGREE))
+    if stored is None:
+        return _compute_fit(probability, dof)
+    coef = np.array(stored[0], dtype=float)
+    coef.setflags(write=False)
+    return coef, stored[1]
 
 
 def _clenshaw(coef: npt.NDArray[np.floating[Any]], x: Scalar) -> Scalar:

@@ -97,8 +97,7 @@ class CasterNLP:
             [perf["turning_effort"], perf["threshold_force"], perf["critical_speed"], perf["swept_radius"]],
         )
         # references for scaling, at the centre of the box
-        centre = (self.lbz + self.ubz) / 2
-        f_ref, p_ref, _, _ = (float(v) for v in self._perf_function(centre, self.param_values))
+        f_ref, p_ref = self.references()
         self.f_ref, self.p_ref = f_ref, p_ref
         v_req = (1 + problem.margin) * psym[self.param_names.index("target_speed")]
         # J = w_turn F + w_thr P, divided by its value at the box centre so IPOPT sees O(1)
@@ -159,6 +158,13 @@ class CasterNLP:
         view.param_values = np.array(list(parameters.solver_values(problem).values()), dtype=float)
         view.build_seconds = 0.0
         return view
+
+    def references(self) -> tuple[float, float]:
+        """(F_turn [N], P [N]) at the centre of the box with this NLP's parameter values: the scales of the
+        objective and the ε constraints that a build for ``self.problem`` bakes in."""
+        centre = (self.lbz + self.ubz) / 2
+        f_ref, p_ref, _, _ = (float(v) for v in self._perf_function(centre, self.param_values))
+        return f_ref, p_ref
 
     @staticmethod
     def _symbolic_conditions(problem: Problem):
@@ -300,13 +306,33 @@ class CasterNLP:
         list of NLPResult, in the order of ``starts``; ``seconds`` is the
         chunk's wall time shared equally by its blocks.
         """
-        x = np.array([s.as_array() if isinstance(s, Design) else np.asarray(s, float) for s in starts], float).reshape(
-            -1, 4
-        )
+        x, w, caps, params = self._stack(starts, weights, threshold_caps, turning_caps)
         k = len(x)
         if k == 0:
             return []
         z0 = np.clip(x / self.scale, self.lbz, self.ubz)
+        warm = lam_g0 is not None and lam_x0 is not None
+        out: list[NLPResult] = []
+        i = 0
+        while i < k:  # chunks of BATCH_SIZES blocks, the last one padded with copies of its first block
+            size = self._chunk(k - i)
+            take = min(size, k - i)
+            idx = np.concatenate([np.arange(i, i + take), np.full(size - take, i)])
+            args = dict(x0=z0[idx].ravel(), p=params[idx].ravel(), **self._batch_bounds(size))
+            if warm:
+                args["lam_g0"] = np.asarray(lam_g0, float)[idx].ravel()
+                args["lam_x0"] = np.asarray(lam_x0, float)[idx].ravel()
+            out += self._solve_chunk(size, warm, args, x[i : i + take], w[i : i + take], caps[i : i + take])
+            i += take
+        return out
+
+    def _stack(self, designs, weights, threshold_caps, turning_caps):
+        """K designs (SI, or Designs) as a (K, 4) array with their (K, 2) weights, (K, 2) ε caps and (K, n) full
+        parameter vectors (:meth:`solve_many`, :meth:`multipliers_many`)."""
+        x = np.array([d.as_array() if isinstance(d, Design) else np.asarray(d, float) for d in designs], float).reshape(
+            -1, 4
+        )
+        k = len(x)
         w = np.broadcast_to(np.asarray(weights, float), (k, 2))
         caps = np.column_stack(
             [
@@ -315,56 +341,42 @@ class CasterNLP:
             ]
         )
         params = np.column_stack([np.tile(self.param_values, (k, 1)), w, caps])
-        warm = lam_g0 is not None and lam_x0 is not None
+        return x, w, caps, params
+
+    def _solve_chunk(self, size: int, warm: bool, args: dict, x, w, caps) -> list[NLPResult]:
+        """One IPOPT call of the batch solver of ``size`` blocks on ``args``; the results of its first len(x)
+        blocks (SI starts ``x``, weights ``w``, ε caps ``caps``).  If IPOPT fails on the batch, each of those
+        blocks is solved alone (:meth:`solve`)."""
+        solver, perf = self._batch_solver(size, warm)
         ng = len(self.lbg)
-        out: list[NLPResult] = []
-        i = 0
-        while i < k:
-            size = self._chunk(k - i)
-            take = min(size, k - i)
-            idx = np.arange(i, i + take)
-            idx = np.concatenate([idx, np.full(size - take, i)])
-            solver, perf = self._batch_solver(size, warm)
-            args = dict(x0=z0[idx].ravel(), p=params[idx].ravel(), **self._batch_bounds(size))
-            if warm:
-                args["lam_g0"] = np.asarray(lam_g0, float)[idx].ravel()
-                args["lam_x0"] = np.asarray(lam_x0, float)[idx].ravel()
-            t0 = time.perf_counter()
-            sol = solver(**args)
-            check_interrupt()
-            seconds = time.perf_counter() - t0
-            stats = solver.stats()
-            ok = bool(stats.get("success", False))
-            zs = np.asarray(sol["x"]).reshape(size, 4)
-            gs = np.asarray(sol["g"]).reshape(size, ng)
-            lg = np.asarray(sol["lam_g"]).reshape(size, ng)
-            lx = np.asarray(sol["lam_x"]).reshape(size, 4)
-            values = np.vstack(
-                [np.asarray(v).ravel() for v in perf(zs.T, np.tile(self.param_values[:, None], (1, size)))]
+        t0 = time.perf_counter()
+        sol = solver(**args)
+        check_interrupt()
+        seconds = time.perf_counter() - t0
+        stats = solver.stats()
+        if not bool(stats.get("success", False)):
+            return [self.solve(x[j], w[j], caps[j, 0], caps[j, 1]) for j in range(len(x))]
+        zs = np.asarray(sol["x"]).reshape(size, 4)
+        gs = np.asarray(sol["g"]).reshape(size, ng)
+        lg = np.asarray(sol["lam_g"]).reshape(size, ng)
+        lx = np.asarray(sol["lam_x"]).reshape(size, 4)
+        values = np.vstack([np.asarray(v).ravel() for v in perf(zs.T, np.tile(self.param_values[:, None], (1, size)))])
+        viol = np.maximum(np.max(self.lbg - gs, axis=1), np.max(gs - self.ubg, axis=1)).clip(min=0.0)
+        status, iterations = str(stats.get("return_status")), int(stats.get("iter_count", -1))
+        return [
+            NLPResult(
+                Design.from_array(zs[j] * self.scale),
+                viol[j] <= 1e-6 and bool(np.all(np.isfinite(zs[j]))),
+                status,
+                float(w[j, 0] * values[0, j] + w[j, 1] * values[1, j]),
+                lg[j].copy(),
+                lx[j].copy(),
+                iterations,
+                seconds / len(x),
+                zs[j].copy(),
             )
-            viol = np.maximum(np.max(self.lbg - gs, axis=1), np.max(gs - self.ubg, axis=1)).clip(min=0.0)
-            for j in range(take):
-                b = i + j
-                good = ok and viol[j] <= 1e-6 and bool(np.all(np.isfinite(zs[j])))
-                if not ok:
-                    out.append(self.solve(x[b], w[b], caps[b, 0], caps[b, 1]))
-                    continue
-                objective = float(w[b, 0] * values[0, j] + w[b, 1] * values[1, j])
-                out.append(
-                    NLPResult(
-                        Design.from_array(zs[j] * self.scale),
-                        good,
-                        str(stats.get("return_status")),
-                        objective,
-                        lg[j].copy(),
-                        lx[j].copy(),
-                        int(stats.get("iter_count", -1)),
-                        seconds / take,
-                        zs[j].copy(),
-                    )
-                )
-            i += take
-        return out
+            for j in range(len(x))
+        ]
 
     def multipliers_many(
         self, designs, weights=(1.0, 0.0), threshold_caps=BIG, turning_caps=BIG, tol: float = 1e-9
@@ -375,19 +387,9 @@ class CasterNLP:
         multipliers solve ∇J + J_gᵀ λ_g + λ_x = 0 on it in least squares; a warm start of
         :meth:`solve_many` from a known optimum and these multipliers needs only a few iterations.
         """
-        x = np.array([d.as_array() if isinstance(d, Design) else np.asarray(d, float) for d in designs], float).reshape(
-            -1, 4
-        )
+        x, _, _, params = self._stack(designs, weights, threshold_caps, turning_caps)
         k, ng = len(x), len(self.lbg)
         z = np.clip(x / self.scale, self.lbz, self.ubz)
-        w = np.broadcast_to(np.asarray(weights, float), (k, 2))
-        caps = np.column_stack(
-            [
-                np.broadcast_to(np.asarray(threshold_caps, float), (k,)),
-                np.broadcast_to(np.asarray(turning_caps, float), (k,)),
-            ]
-        )
-        params = np.column_stack([np.tile(self.param_values, (k, 1)), w, caps])
         grad, jac, g = self._kkt.map(k)(z.T, params.T)
         grad = np.asarray(grad).T.reshape(k, 4)
         jac = np.asarray(jac).reshape(ng, k, 4).transpose(1, 0, 2) if ng else np.zeros((k, 0, 4))

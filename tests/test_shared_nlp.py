@@ -1,0 +1,81 @@
+"""One compiled NLP per problem structure (designer.solvers.shared.shared_nlp): the front, the tighter front of
+check 8c, the weighted optimum and check 8c's domination test share it, and every solve is the one of a
+fresh build, to the bit."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from designer.analysis import pareto
+from designer.analysis.optimise import optimise
+from designer.problem import load_problem
+from designer.solvers import nlp as N
+from designer.solvers import shared as S
+
+INDOOR = Path(__file__).resolve().parents[1] / "problems" / "indoor-manual.toml"
+
+
+@pytest.fixture()
+def problem():
+    S.SHARED.clear()
+    yield load_problem(INDOOR)
+    S.SHARED.clear()
+
+
+def _same(a: N.NLPResult, b: N.NLPResult) -> None:
+    np.testing.assert_array_equal(a.design.as_array(), b.design.as_array())
+    np.testing.assert_array_equal(a.lam_g, b.lam_g)
+    assert (a.success, a.status, a.iterations, a.objective) == (b.success, b.status, b.iterations, b.objective)
+
+
+def test_views_share_the_build_and_solve_as_a_fresh_build(problem):
+    """A faster target (check 8c) gets a view of the same compiled solver; its ε-constraint and weighted solves
+    equal those of a fresh build of that problem bit for bit (design, multipliers, iterations)."""
+    base = S.shared_nlp(problem)
+    tighter = problem.replace(target_speed=problem.target_speed * 1.1)
+    view = S.shared_nlp(tighter, same_scaling=True)
+    assert view.solver is base.solver and view is not base
+    assert view.problem is tighter and base.problem is problem  # the build is not changed
+    fresh = N.CasterNLP(tighter)
+    assert view.references() == (fresh.f_ref, fresh.p_ref)
+    start = problem.upper()
+    cap = float(view.objectives(problem.lower())[1]) * 3
+    _same(view.solve(start, (1.0, 0.0), cap), fresh.solve(start, (1.0, 0.0), cap))
+    _same(view.solve(start, (1.0, 1.0)), fresh.solve(start, (1.0, 1.0)))
+
+
+def test_other_load_gets_its_own_scaling_when_asked(problem):
+    """Another caster load shares the structure but not the objective's scale: ``same_scaling`` then builds
+    anew (its solves are a fresh build's), while the front's default reuses the first build."""
+    base = S.shared_nlp(problem)
+    heavier = problem.replace(conditions=problem.conditions.replace(load=problem.conditions.load * 1.5))
+    assert S.structure_key(heavier) == S.structure_key(problem)
+    own = S.shared_nlp(heavier, same_scaling=True)
+    assert own.solver is not base.solver
+    assert own.f_ref != base.f_ref
+    assert S.shared_nlp(heavier).solver is base.solver
+    assert S.SHARED[S.structure_key(problem)] is base  # the kept build is still the first one
+
+
+def test_optimum_with_the_fronts_build_equals_a_fresh_build(problem, monkeypatch):
+    """The weighted optimum solved on the front's compiled NLP (after pareto_front) equals the one solved on
+    a new CasterNLP, to the bit, and builds nothing more."""
+    pareto.pareto_front(problem, points=5)
+    built = []
+    real = N.CasterNLP.__init__
+
+    def counting(self, *args, **kwargs):
+        built.append(1)
+        real(self, *args, **kwargs)
+
+    monkeypatch.setattr(N.CasterNLP, "__init__", counting)
+    shared = optimise(problem, cross_check=False)
+    assert built == []
+    S.SHARED.clear()
+    fresh = optimise(problem, cross_check=False)
+    assert built == [1]
+    np.testing.assert_array_equal(shared.design.as_array(), fresh.design.as_array())
+    assert shared.objectives == fresh.objectives
