@@ -85,34 +85,7 @@ def bifurcation_axes(
     speed_range : (low, high) x limits [m/s]
     """
     ax = _axes(ax)
-    for b in rolling_branches:
-        ax.plot(
-            b["speed"],
-            b["amplitude"],
-            color="0.55",
-            ls="--",
-            lw=1.5,
-            label="rolling tyre (paper's model): unstable" if b is rolling_branches[0] else None,
-        )
-    seen = set()
-    for b in branches:
-        stable = b["kind"] == "stable"
-        label = (
-            None
-            if b["kind"] in seen
-            else ("brush tyre: stable (sustained shimmy)" if stable else "brush tyre: unstable (knock threshold)")
-        )
-        seen.add(b["kind"])
-        ax.plot(
-            b["speed"],
-            b["amplitude"],
-            color="tab:red" if stable else "tab:blue",
-            ls="-" if stable else "--",
-            lw=2.2 if stable else 1.8,
-            marker="o" if stable else None,
-            ms=3,
-            label=label,
-        )
+    _branches(ax, branches, rolling_branches)
     lo, hi = speed_range if speed_range is not None else ax.get_xlim()
     if fold_speed is not None and math.isfinite(fold_speed):
         ax.axvspan(
@@ -143,6 +116,39 @@ def bifurcation_axes(
     ax.legend(fontsize=7.5, loc="lower left")
     ax.grid(True, which="both", alpha=0.25)
     return ax
+
+
+def _branches(ax, branches, rolling_branches) -> None:
+    """The periodic-orbit branches of the bifurcation diagram: rolling tyre grey dashes, brush tyre stable red
+    (sustained shimmy) and unstable blue dashes (knock threshold), each kind labelled once."""
+    for b in rolling_branches:
+        ax.plot(
+            b["speed"],
+            b["amplitude"],
+            color="0.55",
+            ls="--",
+            lw=1.5,
+            label="rolling tyre (paper's model): unstable" if b is rolling_branches[0] else None,
+        )
+    seen = set()
+    for b in branches:
+        stable = b["kind"] == "stable"
+        label = (
+            None
+            if b["kind"] in seen
+            else ("brush tyre: stable (sustained shimmy)" if stable else "brush tyre: unstable (knock threshold)")
+        )
+        seen.add(b["kind"])
+        ax.plot(
+            b["speed"],
+            b["amplitude"],
+            color="tab:red" if stable else "tab:blue",
+            ls="-" if stable else "--",
+            lw=2.2 if stable else 1.8,
+            marker="o" if stable else None,
+            ms=3,
+            label=label,
+        )
 
 
 def table1_axes(wheels, measured, predictions: dict, stable_up_to: float | None = None, ax=None):

@@ -15,6 +15,7 @@ text        the sentences of the report, each generated from the data it states
 figures     which plots/ function draws each figure of the Pareto report, with which data
 build       compute_and_write: the pipeline's data, rendered, and a summary (``designer pareto``, the studio)
 robust      the price-of-safety report (``designer robust``) from a :class:`designer.pipeline.RobustData`
+calibration, fleet, limit_cycles   the reports of ``designer calibrate``, ``designer fleet`` and ``designer simulate --report``
 (the data are computed by :mod:`designer.pipeline`; figures are drawn by :mod:`designer.plots`)
 """
 

@@ -1,0 +1,116 @@
+"""Render the shimmy-beyond-onset study (issue 16) into results/simulation: CSV, JSON, PNG, Markdown, HTML.
+
+Takes the dict of :func:`designer.analysis.limit_cycles.limit_cycle_study`; computes nothing but
+summaries of it (ratios, minima and maxima for the text).
+
+Modules
+-------
+(this one)  write_limit_cycle_report: the data files (CSV, JSON), then the figures, then the text
+figures     the three figures (bifurcation diagram, Table 1, (K, N) map), drawn by :mod:`designer.plots.simulation`
+text        the report's sections as blocks (headings, paragraphs, lists, tables), every sentence from the study
+blocks      the blocks as Markdown (limit_cycles.md) and as HTML (limit_cycles.html)
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+from designer.jsonsafe import finite
+from designer.plots.figures import save_figure
+from designer.report.limit_cycles import blocks as _blocks
+from designer.report.limit_cycles import figures as _figures
+from designer.report.limit_cycles.text import blocks as _text
+
+FILES = (
+    "bifurcation.csv",
+    "bifurcation.json",
+    "bifurcation.png",
+    "table1.csv",
+    "table1.png",
+    "stiffness_mass_map.csv",
+    "stiffness_mass_map.png",
+    "limit_cycles.md",
+    "limit_cycles.html",
+)
+
+
+def _csv(path: Path, rows: list[dict]) -> None:
+    with open(path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
+
+
+def _bifurcation_rows(study) -> list[dict]:
+    rows = []
+    for model, data in (("brush tyre", study["bifurcation"]), ("rolling tyre", study["rolling"])):
+        for o in data["orbits"]:
+            rows.append(
+                {
+                    "model": model,
+                    "kind": "stable" if o["stable"] else "unstable",
+                    "speed": o["speed"],
+                    "amplitude_rad": o["amplitude"],
+                    "amplitude_deg": math.degrees(o["amplitude"]),
+                    "period": o["period"],
+                    "max_abs_multiplier": o["max_abs_multiplier"],
+                    "closure_rad": o["closure"],
+                }
+            )
+    return rows
+
+
+def _table1_rows(table: dict) -> list[dict]:
+    """table1.csv: one row per Table 1 wheel, measured and predicted critical speeds [m/s]."""
+    trows = []
+    for r in table["rows"]:
+        trows.append(
+            {
+                "wheel": r["wheel"],
+                "name": r["name"],
+                "inertia_kgm2": r["inertia"],
+                "mass_kg": r["mass"],
+                "measured": "" if r["measured"] is None else r["measured"],
+                "eq7": r["eq7"],
+                "rolling_sim": r["rolling_sim"],
+                "tyre_sim": r["tyre_sim"],
+                "flagged_below_3.8": " ".join(r["flagged_below_3.8"]),
+            }
+        )
+    return trows
+
+
+def write_limit_cycle_report(study: dict, out_dir="results/simulation") -> list[str]:
+    """Write the files of :data:`FILES` into ``out_dir`` from a :func:`limit_cycle_study` result.
+
+    Returns the names written.
+    """
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    _csv(out / "bifurcation.csv", _bifurcation_rows(study))
+    (out / "bifurcation.json").write_text(
+        json.dumps(
+            finite(
+                {
+                    k: study[k]
+                    for k in ("bifurcation", "rolling", "friction", "knock_safe", "measured", "rolling_limit")
+                    if k in study
+                }
+            ),
+            indent=1,
+        )
+    )
+    save_figure(_figures.bifurcation_figure(study), out / "bifurcation.png")
+    _csv(out / "table1.csv", _table1_rows(study["table1"]))
+    save_figure(_figures.table1_figure(study["table1"]), out / "table1.png")
+    _csv(out / "stiffness_mass_map.csv", study["map"]["rows"])
+    save_figure(_figures.map_figure(study["map"]), out / "stiffness_mass_map.png")
+    blocks = _text(study)
+    (out / "limit_cycles.md").write_text(_blocks.to_markdown(blocks))
+    (out / "limit_cycles.html").write_text(_blocks.to_html(blocks))
+    return list(FILES)

@@ -1,0 +1,77 @@
+"""The limit-cycle report's text blocks as Markdown and as HTML (one list of blocks, two renderings).
+
+A block is a tuple: ``("h1", text)``, ``("h2", text)``, ``("p", text)``, ``("img", file, alt)``,
+``("ul", [lines])`` or ``("table", [header], [[cells]])``.  Text may hold Markdown's bold (two stars) and
+code (backquotes), which :func:`to_html` turns into tags after escaping.
+"""
+
+from __future__ import annotations
+
+import html
+import re
+
+
+def to_markdown(blocks) -> str:
+    """limit_cycles.md from the blocks."""
+    out = []
+    for b in blocks:
+        kind = b[0]
+        if kind == "h1":
+            out.append(f"# {b[1]}\n")
+        elif kind == "h2":
+            out.append(f"## {b[1]}\n")
+        elif kind == "p":
+            out.append(b[1] + "\n")
+        elif kind == "img":
+            out.append(f"![{b[2]}]({b[1]})\n")
+        elif kind == "ul":
+            out.append("\n".join(f"- {line}" for line in b[1]) + "\n")
+        elif kind == "table":
+            head, rows = b[1], b[2]
+            out.append(
+                "| "
+                + " | ".join(head)
+                + " |\n|"
+                + "---|" * len(head)
+                + "\n"
+                + "\n".join("| " + " | ".join(r) + " |" for r in rows)
+                + "\n"
+            )
+    return "\n".join(out)
+
+
+def _inline(text: str) -> str:
+
+    t = html.escape(text)
+    t = re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", t)
+    return re.sub(r"`(.+?)`", r"<code>\1</code>", t)
+
+
+def to_html(blocks) -> str:
+    """limit_cycles.html (one self-contained page) from the blocks."""
+    out = [
+        "<!doctype html><html><head><meta charset='utf-8'><title>Shimmy beyond onset</title>"
+        "<style>body{font-family:sans-serif;max-width:70em;margin:2em auto;line-height:1.45}"
+        "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:2px 8px}"
+        "img{max-width:100%}</style></head><body>"
+    ]
+    for b in blocks:
+        kind = b[0]
+        if kind in ("h1", "h2"):
+            out.append(f"<{kind}>{_inline(b[1])}</{kind}>")
+        elif kind == "p":
+            out.append(f"<p>{_inline(b[1])}</p>")
+        elif kind == "img":
+            out.append(f"<p><img src='{html.escape(b[1])}' alt='{html.escape(b[2])}'></p>")
+        elif kind == "ul":
+            out.append("<ul>" + "".join(f"<li>{_inline(x)}</li>" for x in b[1]) + "</ul>")
+        elif kind == "table":
+            out.append(
+                "<table><tr>"
+                + "".join(f"<th>{_inline(h)}</th>" for h in b[1])
+                + "</tr>"
+                + "".join("<tr>" + "".join(f"<td>{_inline(c)}</td>" for c in r) + "</tr>" for r in b[2])
+                + "</table>"
+            )
+    out.append("</body></html>")
+    return "\n".join(out)

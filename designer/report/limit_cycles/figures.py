@@ -1,0 +1,122 @@
+"""The limit-cycle report's three figures: bifurcation diagram, Table 1 comparison, (K, N) map.
+
+Each function picks its arguments out of the study dict and calls the drawing function of
+:mod:`designer.plots.simulation`; it returns the matplotlib figure (the caller saves it).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from designer.plots.simulation import bifurcation_axes, map_axes, table1_axes
+from designer.report.limit_cycles.text import _pct
+
+
+def _figure(nrows=1, ncols=1, figsize=(8, 5)):
+    import matplotlib  # heavy, only for figures
+
+    matplotlib.use("Agg")
+    # late import: loads matplotlib only when this runs
+    import matplotlib.pyplot as plt
+
+    return plt.subplots(nrows, ncols, figsize=figsize, squeeze=False)
+
+
+def _map_grid(rows, caster, key, factors):
+    grid = np.full((len(factors), len(factors)), np.nan)
+    for r in rows:
+        if r["caster"] == caster:
+            grid[factors.index(r["K_factor"]), factors.index(r["N_factor"])] = r[key]
+    return grid
+
+
+def bifurcation_figure(study: dict):
+    """Periodic orbits against speed, brush and rolling tyre, with Eq. 7, Eq. 29B and the measured point."""
+    bif, roll, meas = study["bifurcation"], study["rolling"], study["measured"]
+    slope = bif["disturbance_angle"] / (bif["frequency"] * bif["design"]["trail"])
+    fig, axes = _figure(1, 1, (9, 5.5))
+    bifurcation_axes(
+        bif["branches"],
+        bif["eq7_critical_speed"],
+        slope,
+        rolling_branches=roll["branches"],
+        fold_speed=bif["fold_speed"],
+        measured=(meas["speed"], meas["amplitude"]),
+        speed_range=(0.3, 4.0),
+        ax=axes[0, 0],
+        title="Appendix C caster (T = 2.5 in, bare fork, θ0 = 20°): periodic orbits, brush tyre "
+        f"(C = {bif['tyre']['cornering_stiffness']:.0f} N/rad, μ = "
+        f"{bif['tyre']['friction_coefficient']}, L = {bif['tyre']['load']:.0f} N)",
+    )
+    fig.tight_layout()
+    return fig
+
+
+def table1_figure(table: dict):
+    """Measured critical speed of each Table 1 wheel against Eq. 7 and the two simulations."""
+    fig, axes = _figure(1, 1, (9, 5))
+    st = table["stats"]
+    table1_axes(
+        [r["wheel"] for r in table["rows"]],
+        [r["measured"] for r in table["rows"]],
+        {
+            f"Eq. 7 (RMS {100 * st['eq7']['rms']:.1f} %, bias {_pct(st['eq7']['bias'])})": [
+                r["eq7"] for r in table["rows"]
+            ],
+            f"rolling simulation (RMS {100 * st['rolling_sim']['rms']:.1f} %, bias "
+            f"{_pct(st['rolling_sim']['bias'])})": [r["rolling_sim"] for r in table["rows"]],
+            f"brush-tyre simulation (RMS {100 * st['tyre_sim']['rms']:.1f} %, bias {_pct(st['tyre_sim']['bias'])})": [
+                r["tyre_sim"] for r in table["rows"]
+            ],
+        },
+        stable_up_to=table["stable_up_to"],
+        ax=axes[0, 0],
+    )
+    axes[0, 0].set_title(
+        "Table 1: measured critical speed against Eq. 7 and the two simulations (20° knock; RMS/bias over C–G)",
+        fontsize=10,
+    )
+    fig.tight_layout()
+    return fig
+
+
+def map_figure(kn: dict):
+    """Onsets (both tyres) and the stable amplitude over the (K, N) grid, one row of panels per caster."""
+    factors = list(kn["factors"])
+    casters = list(dict.fromkeys(r["caster"] for r in kn["rows"]))
+    fig, axes = _figure(len(casters), 3, (15, 4.2 * len(casters)))
+    for i, name in enumerate(casters):
+        measured = next(r["measured"] for r in kn["rows"] if r["caster"] == name)
+        default = {
+            r_key: next(
+                r[r_key] for r in kn["rows"] if r["caster"] == name and r["K_factor"] == 1.0 and r["N_factor"] == 1.0
+            )
+            for r_key in ("rolling_onset", "tyre_onset")
+        }
+        islands = (
+            _map_grid(kn["rows"], name, "tyre_onset_monotone", factors) == 0
+            if "tyre_onset_monotone" in kn["rows"][0]
+            else None
+        )
+        for j, (key, label, unit, fmt) in enumerate(
+            (
+                ("rolling_onset", "onset, rolling tyre", "m/s", "{:.2f}"),
+                ("tyre_onset", "onset, brush tyre (* islands in speed)", "m/s", "{:.2f}"),
+                ("stable_amplitude", f"stable amplitude at {measured:.2f} m/s, brush tyre", "rad", "{:.2f}"),
+            )
+        ):
+            map_axes(
+                factors,
+                factors,
+                _map_grid(kn["rows"], name, key, factors),
+                f"{name} (measured {measured:.2f} m/s): {label}",
+                unit,
+                fmt,
+                ax=axes[i, j],
+                cmap="magma",
+                center=default.get(key),
+                marks=islands if key == "tyre_onset" else None,
+            )
+    fig.suptitle(f"Unknowns mapped: K0 = {kn['K0']:.0f} N/m, N0 = {kn['N0']:.2f} kg (20° knock)", fontsize=11)
+    fig.tight_layout()
+    return fig
