@@ -94,3 +94,24 @@ def test_routh_hurwitz_speed_equals_scipy_root():
 
     assert ours == scipy_brentq(margin, 1e-3, 1e3, xtol=1e-12, rtol=1e-12, maxiter=500)
     assert np.isfinite(ours) and ours > 0
+
+
+def test_report_data_of_the_default_problem_loads_no_scipy():
+    """The main job's compute (front, tighter front, recommendation, knock-safe speeds, optimum, checks) runs
+    without importing scipy: Brent's roots are designer.physics._roots and the default risk-bound fit is stored
+    (scipy.optimize and scipy.special cost about 0.35 and 0.3 s of CPU to import)."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    code = (
+        "import sys, warnings; warnings.simplefilter('ignore')\n"
+        "from designer.problem import load_problem\n"
+        "from designer.pipeline import report_data\n"
+        "data = report_data(load_problem('problems/indoor-manual.toml'))\n"
+        "assert data.knock_safe and data.knock_safe[0]['knock_safe_speed'] > 0 and data.front.points\n"
+        "print(sorted(m for m in sys.modules if m == 'scipy' or m.startswith('scipy.')))\n"
+    )
+    root = Path(__file__).resolve().parents[1]
+    out = subprocess.run([sys.executable, "-c", code], cwd=root, capture_output=True, text=True, check=True)
+    assert out.stdout.strip().splitlines()[-1] == "[]"

@@ -295,18 +295,24 @@ class _LinearSlip:
         self.Pinv = np.linalg.inv(self.P) if self.ok else None
         self.x_eq = sys.friction_moment / (T * K)
 
+    def start(self, s: float, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(y_p, P⁻¹ (y0 − y_p)) of a slip of sign s from y0: what :meth:`states` and :meth:`event` need."""
+        yp = np.array([s * self.x_eq, 0.0, 0.0])
+        return yp, self.Pinv @ (y0 - yp)
+
+    def states(self, yp: np.ndarray, z0: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        """States at times ``tau`` [s] after the start (yp, z0) of :meth:`start` (shape (3, len(tau)))."""
+        return yp[:, None] + (self.P @ (z0[:, None] * np.exp(self.lam[:, None] * tau))).real
+
     def at(self, s: float, y0: np.ndarray, tau: np.ndarray) -> np.ndarray:
         """States at times ``tau`` [s] after y0 (shape (3, len(tau)))."""
-        yp = np.array([s * self.x_eq, 0.0, 0.0])
-        z0 = self.Pinv @ (y0 - yp)
-        return yp[:, None] + (self.P @ (z0[:, None] * np.exp(np.outer(self.lam, tau)))).real
+        return self.states(*self.start(s, y0), tau)
 
-    def event(self, s: float, y0: np.ndarray, row: int, limit: float | None):
-        """τ -> s θ'(τ) (end of the slip, ``row`` 2) or limit − |θ(τ)| (``row`` 1) after y0 (scalar, fast);
-        positive before the event."""
-        yp = np.array([s * self.x_eq, 0.0, 0.0])
-        (c0, c1, c2) = (complex(v) for v in self.P[row] * (self.Pinv @ (y0 - yp)))
-        (l0, l1, l2) = (complex(v) for v in self.lam)
+    def event(self, s: float, yp: np.ndarray, z0: np.ndarray, row: int, limit: float | None):
+        """τ -> s θ'(τ) (end of the slip, ``row`` 2) or limit − |θ(τ)| (``row`` 1) after the start (yp, z0) of
+        :meth:`start` (scalar, fast); positive before the event."""
+        (c0, c1, c2) = (self.P[row] * z0).tolist()  # Python complex numbers, the same values
+        (l0, l1, l2) = self.lam.tolist()
         base = float(yp[row])
         exp = cmath.exp
 
@@ -382,9 +388,10 @@ def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per even
             switches += 1
             continue
         y[2] = y[2] if y[2] * s > 0 else s * tiny  # start the slip just off θ' = 0
-        t0, y_start, base = t, y.copy(), 0.0
+        t0, base = t, 0.0
+        yp, z0 = flow.start(s, y)
         while True:  # one period of grid points at a time
-            pts = flow.at(s, y_start, base + taus)
+            pts = flow.states(yp, z0, base + taus)
             stop = np.nonzero(s * pts[2] <= 0)[0]
             over = np.nonzero(np.abs(pts[1]) >= angle_limit)[0]
             k_stop = stop[0] if stop.size else grid
@@ -400,7 +407,7 @@ def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per even
                 hits.append(
                     (
                         _root(
-                            flow.event(s, y_start, row, angle_limit if row == 1 else None),
+                            flow.event(s, yp, z0, row, angle_limit if row == 1 else None),
                             base + (taus[k - 1] if k > 0 else 0.0),
                             base + taus[k],
                         ),
@@ -408,10 +415,10 @@ def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per even
                     )
                 )
         if not hits or t0 + min(hits)[0] > t_end:
-            y = flow.at(s, y_start, np.array([t_end - t0]))[:, 0]
+            y = flow.states(yp, z0, np.array([t_end - t0]))[:, 0]
             return _Run([], [], ends, y, t_end, "end", switches)
         tau, kind = min(hits)
-        y = flow.at(s, y_start, np.array([tau]))[:, 0]
+        y = flow.states(yp, z0, np.array([tau]))[:, 0]
         t = float(t0 + tau)
         if kind == "limit":
             return _Run([], [], ends, y, t, "limit", switches)
