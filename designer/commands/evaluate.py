@@ -124,7 +124,18 @@ def _in_range(option: str, key: str, value: float) -> None:
 
 
 def run(args) -> int:
+    """``designer evaluate``: the caster's numbers as a table (or ``--json``); exit 0."""
     design, conditions, values, speed = analyse(args)
+    out = _results(design, conditions, values, speed, args.knock_safe)
+    if args.json:
+        print_json(out)
+        return 0
+    _print_table(design, conditions, values, speed, out, args.knock_safe)
+    return 0
+
+
+def _results(design, conditions, values: dict, speed: float | None, knock_safe: bool) -> dict:
+    """The numbers of ``--json`` (SI units); the knock-safe speeds are simulated only when asked for."""
     out = {
         "design": design.as_dict(),
         "critical_speed": values["critical_speed"],
@@ -141,7 +152,7 @@ def run(args) -> int:
         out["shimmy_margin"] = values["critical_speed"] - speed
         out["stable_at_target"] = values["critical_speed"] >= speed
         out["growth_rate"] = values["growth_rate"]
-    if args.knock_safe:  # simulated, about 1-2 s: only on request
+    if knock_safe:  # simulated, about 1-2 s: only on request
         from designer.analysis.limit_cycles import knock_safe_speed
 
         theta0 = conditions.disturbance_angle
@@ -150,9 +161,11 @@ def run(args) -> int:
             knock_safe_speed(design, conditions, angle=2 * theta0) if 2 * theta0 < 1.5708 else None
         )
     out["warnings"] = values["warnings"]
-    if args.json:
-        print_json(out)
-        return 0
+    return out
+
+
+def _print_table(design, conditions, values: dict, speed: float | None, out: dict, knock_safe: bool) -> None:
+    """The rich table of the text output: each quantity with its value (SI and US units) and its paper source."""
     # late import: loads rich only when this runs
     from rich.console import Console
 
@@ -189,7 +202,7 @@ def run(args) -> int:
         ),
         ("shimmy frequency ω", f"{values['shimmy_frequency']:.1f} rad/s", "Eq. 15B"),
     ]
-    if args.knock_safe:  # beside V_c
+    if knock_safe:  # beside V_c
         double = out["knock_safe_speed_double"]
         rows.insert(
             2,
@@ -209,4 +222,3 @@ def run(args) -> int:
     Console(width=max(Console().width, 100)).print(table)
     for w in values["warnings"]:
         print(f"warning: {w}")
-    return 0

@@ -96,16 +96,24 @@ def _length(value: float) -> str:
 
 
 def _print(result, problem) -> None:
+    """The text output: the risk bound, the current caster's diagnosis, then the ranked fixes."""
     # late import: loads rich only when this runs
     from rich.console import Console
 
+    console = Console(width=max(Console().width, 170), highlight=False)
+    alpha = result.probability
+    conf = f"{1 - alpha:.0%}" if alpha is not None else "nominal"
+    _print_current(console, result, problem, conf)
+    if not result.fixes:
+        return
+    _print_fixes(console, result, conf)
+
+
+def _print_current(console, result, problem, conf: str) -> None:
+    """The problem's risk bound and the current caster: V_c, the speed reached with ``conf``, P(shimmy), costs."""
     # late import: loads rich only when this runs
     from rich.markup import escape
 
-    # late import: loads rich only when this runs
-    from rich.table import Table
-
-    console = Console(width=max(Console().width, 170), highlight=False)
     cur = result.current
     d = cur.design
     alpha = result.probability
@@ -130,7 +138,6 @@ def _print(result, problem) -> None:
     console.print(f"  V_c (Eq. 7) = {cur.critical_speed:.3f} m/s", end="")
     if result.calibration is not None:
         console.print(f"; calibrated: {cur.calibrated_critical_speed:.3f} m/s", end="")
-    conf = f"{1 - alpha:.0%}" if alpha is not None else "nominal"
     console.print(
         f"; speed reached with {conf}: {cur.confident_speed:.3f} m/s; P(shimmy at {result.target_speed:.2f} "
         f"m/s) = {cur.shimmy_probability:.2%} ± {cur.shimmy_probability_se:.2%} (Monte Carlo, 1 SE)"
@@ -143,8 +150,16 @@ def _print(result, problem) -> None:
     if result.calibration is not None:
         console.print(f"  [bold]Calibration[/bold]: {escape(result.calibration.describe())}.")
     console.print(f"[bold]{escape(result.summary())}[/bold]")
-    if not result.fixes:
-        return
+
+
+def _print_fixes(console, result, conf: str) -> None:
+    """The rule, the stock and the table of ranked fixes (costs against the current caster)."""
+    # late import: loads rich only when this runs
+    from rich.markup import escape
+
+    # late import: loads rich only when this runs
+    from rich.table import Table
+
     console.print(escape(f"Rule: {result.rule}."))
     console.print(escape("Stock: " + "; ".join(f"{part}: {src}" for part, src in result.stock.items())))
     table = Table(

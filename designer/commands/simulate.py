@@ -110,66 +110,87 @@ def _run_limit_cycles(args) -> int:
     tyre = _tyre(args)
     out: dict = {"design": design.as_dict(), "angle": angle}
     if args.knock_safe:
-        used = tyre if args.tyre else None
-        out["knock_safe_speed"] = knock_safe_speed(design, conditions, angle=angle, tyre=used)
-        out["knock_safe_speed_double"] = (
-            knock_safe_speed(design, conditions, angle=2 * angle, tyre=used) if 2 * angle < math.pi / 2 else None
-        )
-        out["knock_safe_model"] = "brush tyre" if args.tyre else "rolling tyre (Eq. 6B)"
+        out.update(_knock_safe(design, conditions, angle, tyre if args.tyre else None))
     if args.bifurcation:
-        try:
-            points = int(args.points)
-        except ValueError:
-            raise InputError(f"--points {args.points!r}: expected an integer") from None
-        if not 3 <= points <= 200:
-            raise InputError(f"--points {points}: must be between 3 and 200")
-        top = _positive("--max-speed", args.max_speed, "speed")
-        bif = bifurcation_diagram(design, conditions, tyre, speed_range=(min(0.3, top / 4), top), points=points)
-        roll = bifurcation_diagram(
-            design,
-            conditions,
-            None,
-            speed_range=(min(0.3, top / 4), top),
-            points=max(3, points // 2),
-            max_amplitude=1.5,
-        )
-        out.update(
-            {
-                k: bif[k]
-                for k in (
-                    "branches",
-                    "fold_speed",
-                    "eq7_critical_speed",
-                    "frequency",
-                    "orbits",
-                    "stable_at_reference",
-                    "max_closure",
-                    "tyre",
-                )
-            }
-        )
-        out["rolling_branches"] = roll["branches"]
-        if args.plot:
-            # late import: loads matplotlib (via designer.plots.figures) only when this runs
-            from designer.plots.figures import save_figure
-
-            if not str(args.plot).lower().endswith((".png", ".svg", ".pdf")):
-                raise InputError(f"--plot {args.plot}: expected a .png, .svg or .pdf file name")
-            ax = bifurcation_axes(
-                bif["branches"],
-                bif["eq7_critical_speed"],
-                angle / (bif["frequency"] * design.trail),
-                roll["branches"],
-                bif["fold_speed"],
-                speed_range=(min(0.3, top / 4), top),
-                title=design.describe(),
-            )
-            ax.figure.tight_layout()
-            save_figure(ax.figure, args.plot)
-            out["plot"] = args.plot
+        out.update(_bifurcation(args, design, conditions, angle, tyre))
     if args.json:
         print_json(out)
         return 0
+    _print_limit_cycles(args, design, angle, tyre, out)
+    return 0
+
+
+def _knock_safe(design, conditions, angle: float, tyre) -> dict:
+    """Knock-safe speeds [m/s] for knocks of ``angle`` and twice it (None at or beyond 90°); ``tyre`` None: rolling."""
+    return {
+        "knock_safe_speed": knock_safe_speed(design, conditions, angle=angle, tyre=tyre),
+        "knock_safe_speed_double": (
+            knock_safe_speed(design, conditions, angle=2 * angle, tyre=tyre) if 2 * angle < math.pi / 2 else None
+        ),
+        "knock_safe_model": "brush tyre" if tyre is not None else "rolling tyre (Eq. 6B)",
+    }
+
+
+def _bifurcation(args, design, conditions, angle: float, tyre) -> dict:
+    """Periodic orbits against speed, brush tyre and rolling tyre (``--points``, ``--max-speed``); ``--plot`` draws them."""
+    try:
+        points = int(args.points)
+    except ValueError:
+        raise InputError(f"--points {args.points!r}: expected an integer") from None
+    if not 3 <= points <= 200:
+        raise InputError(f"--points {points}: must be between 3 and 200")
+    top = _positive("--max-speed", args.max_speed, "speed")
+    bif = bifurcation_diagram(design, conditions, tyre, speed_range=(min(0.3, top / 4), top), points=points)
+    roll = bifurcation_diagram(
+        design,
+        conditions,
+        None,
+        speed_range=(min(0.3, top / 4), top),
+        points=max(3, points // 2),
+        max_amplitude=1.5,
+    )
+    out = {
+        k: bif[k]
+        for k in (
+            "branches",
+            "fold_speed",
+            "eq7_critical_speed",
+            "frequency",
+            "orbits",
+            "stable_at_reference",
+            "max_closure",
+            "tyre",
+        )
+    }
+    out["rolling_branches"] = roll["branches"]
+    if args.plot:
+        _plot_bifurcation(args.plot, design, angle, bif, roll, top)
+        out["plot"] = args.plot
+    return out
+
+
+def _plot_bifurcation(path, design, angle: float, bif: dict, roll: dict, top: float) -> None:
+    """Draw the bifurcation diagram of ``bif`` (brush tyre) and ``roll`` (rolling tyre) into an image file."""
+    # late import: loads matplotlib (via designer.plots.figures) only when this runs
+    from designer.plots.figures import save_figure
+
+    if not str(path).lower().endswith((".png", ".svg", ".pdf")):
+        raise InputError(f"--plot {path}: expected a .png, .svg or .pdf file name")
+    ax = bifurcation_axes(
+        bif["branches"],
+        bif["eq7_critical_speed"],
+        angle / (bif["frequency"] * design.trail),
+        roll["branches"],
+        bif["fold_speed"],
+        speed_range=(min(0.3, top / 4), top),
+        title=design.describe(),
+    )
+    ax.figure.tight_layout()
+    save_figure(ax.figure, path)
+
+
+def _print_limit_cycles(args, design, angle: float, tyre, out: dict) -> None:
+    """The text output of --knock-safe and --bifurcation."""
     print(f"Caster: {design.describe()}")
     if args.knock_safe:
         double = out["knock_safe_speed_double"]
@@ -201,7 +222,6 @@ def _run_limit_cycles(args) -> int:
         print(f"  largest orbit closure error {out['max_closure']:.1e} rad")
         if args.plot:
             print(f"  plot: {args.plot}")
-    return 0
 
 
 def _positive(option, text, dimension, allow_zero=False):

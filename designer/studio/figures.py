@@ -57,6 +57,33 @@ def front_figure(
     import plotly.graph_objects as go  # the studio's dependency
 
     fig = go.Figure()
+    for trace in _front_traces(continuous, risk, buildable):
+        fig.add_trace(trace)
+    if recommendation is not None:
+        fig.add_trace(_recommendation_trace(recommendation))
+    if mine is not None:
+        fig.add_trace(_mine_trace(mine))
+    fig.update_layout(
+        title=title,
+        xaxis_title="turning effort F_turn [N]",
+        yaxis_title="threshold (sill) force P [N]",
+        template="plotly_white",
+        height=520,
+        margin={"l": 60, "r": 20, "t": 40, "b": 50},
+        legend={"orientation": "h", "y": -0.15},
+        hovermode="closest",
+        clickmode="event",
+        uirevision="front",
+        transition={"duration": 0},
+    )
+    return fig
+
+
+def _front_traces(continuous: list, risk: list, buildable: list) -> list:
+    """One line (or markers) per non-empty front: continuous, risk-bounded, buildable; each point names its design."""
+    import plotly.graph_objects as go  # the studio's dependency
+
+    traces = []
     for key, points, name, mode, symbol, size in (
         ("continuous", continuous, "continuous front (nominal V_c)", "lines+markers", "circle", 6),
         ("risk", risk, "risk-bounded front (P(shimmy) ≤ α)", "lines+markers", "circle", 8),
@@ -64,7 +91,7 @@ def front_figure(
     ):
         if not points:
             continue
-        fig.add_trace(
+        traces.append(
             go.Scatter(
                 x=[p["turning_effort"] for p in points],
                 y=[p["threshold_force"] for p in points],
@@ -80,68 +107,61 @@ def front_figure(
                 hovertemplate=HOVER,
             )
         )
-    if recommendation is not None:
-        rec = {
-            "design": recommendation["design"],
-            "turning_effort": recommendation["turning_effort"],
-            "threshold_force": recommendation["threshold_force"],
-            "critical_speed": recommendation.get("critical_speed") or math.nan,
-            "inertia": recommendation.get("inertia"),
-        }
-        fig.add_trace(
-            go.Scatter(
-                x=[rec["turning_effort"]],
-                y=[rec["threshold_force"]],
-                mode="markers",
-                name="recommendation",
-                meta="recommendation",
-                marker={
-                    "color": COLOURS["recommendation"],
-                    "size": 18,
-                    "symbol": "star",
-                    "line": {"color": "white", "width": 1},
-                },
-                customdata=[_custom(rec, "recommendation")],
-                hovertemplate=HOVER,
-            )
-        )
-    if mine is not None:
-        n = mine["numbers"]
-        risk_text = "" if n.get("shimmy_probability") is None else f"P(shimmy) {100 * n['shimmy_probability']:.1f} %"
-        p = {
-            "design": n["design"],
-            "turning_effort": n["turning_effort"],
-            "threshold_force": n["threshold_force"],
-            "critical_speed": n["critical_speed"],
-        }
-        fig.add_trace(
-            go.Scatter(
-                x=[p["turning_effort"]],
-                y=[p["threshold_force"]],
-                mode="markers+text",
-                name="my caster",
-                meta="mine",
-                text=[f"my caster {risk_text}"],
-                textposition="top left",
-                marker={"color": COLOURS["mine"], "size": 14, "symbol": "x"},
-                customdata=[_custom(p, "my caster")],
-                hovertemplate=HOVER,
-            )
-        )
-    fig.update_layout(
-        title=title,
-        xaxis_title="turning effort F_turn [N]",
-        yaxis_title="threshold (sill) force P [N]",
-        template="plotly_white",
-        height=520,
-        margin={"l": 60, "r": 20, "t": 40, "b": 50},
-        legend={"orientation": "h", "y": -0.15},
-        hovermode="closest",
-        clickmode="event",
-        uirevision="front",
-        transition={"duration": 0},
+    return traces
+
+
+def _recommendation_trace(recommendation: dict):
+    """The recommendation: a green star carrying its design (and its wheel's I_w) for the card."""
+    import plotly.graph_objects as go  # the studio's dependency
+
+    rec = {
+        "design": recommendation["design"],
+        "turning_effort": recommendation["turning_effort"],
+        "threshold_force": recommendation["threshold_force"],
+        "critical_speed": recommendation.get("critical_speed") or math.nan,
+        "inertia": recommendation.get("inertia"),
+    }
+    return go.Scatter(
+        x=[rec["turning_effort"]],
+        y=[rec["threshold_force"]],
+        mode="markers",
+        name="recommendation",
+        meta="recommendation",
+        marker={
+            "color": COLOURS["recommendation"],
+            "size": 18,
+            "symbol": "star",
+            "line": {"color": "white", "width": 1},
+        },
+        customdata=[_custom(rec, "recommendation")],
+        hovertemplate=HOVER,
     )
-    return fig
+
+
+def _mine_trace(mine: dict):
+    """My caster: a red cross labelled with its P(shimmy) when known."""
+    import plotly.graph_objects as go  # the studio's dependency
+
+    n = mine["numbers"]
+    risk_text = "" if n.get("shimmy_probability") is None else f"P(shimmy) {100 * n['shimmy_probability']:.1f} %"
+    p = {
+        "design": n["design"],
+        "turning_effort": n["turning_effort"],
+        "threshold_force": n["threshold_force"],
+        "critical_speed": n["critical_speed"],
+    }
+    return go.Scatter(
+        x=[p["turning_effort"]],
+        y=[p["threshold_force"]],
+        mode="markers+text",
+        name="my caster",
+        meta="mine",
+        text=[f"my caster {risk_text}"],
+        textposition="top left",
+        marker={"color": COLOURS["mine"], "size": 14, "symbol": "x"},
+        customdata=[_custom(p, "my caster")],
+        hovertemplate=HOVER,
+    )
 
 
 def sweeps_figure(sweeps: dict, target: float, alpha: float | None):
