@@ -553,7 +553,10 @@ def dominated_by_problem(problem, other_front, rel_tol: float = 1e-7) -> tuple[i
 
     not_dominated = 0
     cache = {}
-    for q in other_front.points:
+    screened = _dominated_in_batch(problem, other_front.points, rel_tol)
+    for k, q in enumerate(other_front.points):
+        if k in screened:
+            continue
         variants = problem.variants()
         if problem.wheels:
             variants = [v for v in variants if v.conditions.inertia.wheel.key == q.wheel]
@@ -568,3 +571,27 @@ def dominated_by_problem(problem, other_front, rel_tol: float = 1e-7) -> tuple[i
         if not best <= q.turning_effort * (1 + rel_tol):
             not_dominated += 1
     return not_dominated, len(other_front.points)
+
+
+def _dominated_in_batch(problem, points, rel_tol: float) -> set:
+    """Indices of ``points`` that ``problem`` is seen to dominate: the NLPs of :func:`dominated_by_problem` in one
+    warm batch per variant (``solve_many`` from q's multipliers as an optimum); a successful block with F_turn <=
+    F_turn(q)(1 + ``rel_tol``) is a feasible design dominating q.  The others get the single solves."""
+    from designer.solvers.shared import shared_nlp  # late import: loads casadi (via designer.solvers.nlp)
+
+    found = set()
+    for variant in problem.variants():
+        wheel = variant.conditions.inertia.wheel.key if problem.wheels else None
+        idx = [k for k, q in enumerate(points) if wheel is None or q.wheel == wheel]
+        if not idx:
+            continue
+        nlp = shared_nlp(variant, same_scaling=True)
+        x = np.array([points[k].design.as_array() for k in idx])
+        caps = np.array([points[k].threshold_force * (1 + 1e-12) for k in idx])
+        lam_g, lam_x = nlp.multipliers_many(x, (1.0, 0.0), caps)
+        results = nlp.solve_many(x, (1.0, 0.0), caps, lam_g0=lam_g, lam_x0=lam_x)
+        f = nlp.objectives_many([r.design for r in results])[:, 0]
+        found.update(
+            k for k, r, fk in zip(idx, results, f) if r.success and fk <= points[k].turning_effort * (1 + rel_tol)
+        )
+    return found
