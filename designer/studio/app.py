@@ -36,11 +36,20 @@ __all__ = ["build_layout", "card_panel", "create_app", "fixes_panel", "numbers_t
 # --------------------------------------------------------------------------- the app
 
 
-def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's callbacks are closures over its state, defined here together
+def create_app(data: dict, name: str, out_dir: Path):
     """The Dash app for problem-file ``data`` (dict) named ``name``; saves and reports go to ``out_dir``."""
     defaults = state.control_values(data)
     app = dash.Dash(__name__, title=f"studio · {name}", update_title=None, serve_locally=True, assets_ignore=".*")
     app.layout = build_layout(name, defaults)
+    _trade_off_callback(app, data, defaults)
+    _card_callback(app)
+    _mine_callback(app, out_dir)
+    _save_callback(app, out_dir)
+    return app
+
+
+def _trade_off_callback(app, data: dict, defaults: dict) -> None:
+    """The callback that owns the trade-off: controls (or the URL) -> problem -> fronts -> chart, panel, URL."""
     keys = [c.key for c in state.all_controls()]
     latest = {"n": 0}  # the newest change wins: changes that queued behind a computation are skipped
 
@@ -68,7 +77,6 @@ def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's 
         else:
             current = dict(zip(keys, values))
             values_out = [no_update] * len(keys)
-        errors = [""] * len(keys)
         try:
             problem, merged = state.build_problem(data, current)
             canonical = json.dumps(merged, sort_keys=True)
@@ -77,19 +85,7 @@ def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's 
                     raise PreventUpdate  # a newer change is waiting: compute that one instead
                 fronts = view.compute_fronts(problem, key=canonical)
         except DesignerError as exc:
-            key = getattr(exc, "key", None)
-            if key is None:  # the problem is valid but out of reach: say it beside the control just moved
-                moved = ctx.triggered_id.get("key") if isinstance(ctx.triggered_id, dict) else None
-                key = moved or state.blame(str(exc))
-            messages = state.control_errors(data, current, defaults)
-            if not messages:  # only the combination is wrong (e.g. a target out of reach)
-                messages = {key: str(exc)}
-            general = ""
-            for k, message in messages.items():
-                if k in keys:
-                    errors[keys.index(k)] = message
-                else:
-                    general = message
+            errors, general = _messages(exc, data, current, defaults, keys)
             # the last valid chart stays; only the messages change
             return (
                 values_out,
@@ -109,23 +105,50 @@ def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's 
             rec,
             mine,
         )
-        status = (
-            f"{problem.name}: {len(fronts.continuous)} continuous, "
-            f"{0 if fronts.risk is None else len(fronts.risk)} risk-bounded, "
-            f"{0 if fronts.buildable is None else len(fronts.buildable)} buildable points; "
-            f"computed in {1000 * fronts.seconds:.0f} ms ({1000 * fronts.cpu_seconds:.0f} ms CPU)"
-        )
         query = state.to_query(current, defaults)
         return (
             values_out,
-            errors,
+            [""] * len(keys),
             "",
             fig,
             recommendation_panel(fronts),
-            status,
+            _status(problem, fronts),
             no_update if from_url and query == (search or "") else query,
             merged,
         )
+
+
+def _messages(exc: DesignerError, data: dict, current: dict, defaults: dict, keys: list) -> tuple[list, str]:
+    """(message beside each control, general message) for a problem the loader refused or cannot reach."""
+    key = getattr(exc, "key", None)
+    if key is None:  # the problem is valid but out of reach: say it beside the control just moved
+        moved = ctx.triggered_id.get("key") if isinstance(ctx.triggered_id, dict) else None
+        key = moved or state.blame(str(exc))
+    messages = state.control_errors(data, current, defaults)
+    if not messages:  # only the combination is wrong (e.g. a target out of reach)
+        messages = {key: str(exc)}
+    errors = [""] * len(keys)
+    general = ""
+    for k, message in messages.items():
+        if k in keys:
+            errors[keys.index(k)] = message
+        else:
+            general = message
+    return errors, general
+
+
+def _status(problem, fronts) -> str:
+    """The line above the chart: how many points of each front, and the time they took."""
+    return (
+        f"{problem.name}: {len(fronts.continuous)} continuous, "
+        f"{0 if fronts.risk is None else len(fronts.risk)} risk-bounded, "
+        f"{0 if fronts.buildable is None else len(fronts.buildable)} buildable points; "
+        f"computed in {1000 * fronts.seconds:.0f} ms ({1000 * fronts.cpu_seconds:.0f} ms CPU)"
+    )
+
+
+def _card_callback(app) -> None:
+    """A click on a point of the chart (or the recommendation's button) opens that design's card."""
 
     @app.callback(
         Output("card", "children"),
@@ -152,6 +175,10 @@ def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's 
             return card_panel(problem, Design(*custom[:4]), custom[4], custom[9] if len(custom) > 9 else None)
         except DesignerError as exc:
             return html.Div(str(exc), style=CSS["error"])
+
+
+def _mine_callback(app, out_dir: Path) -> None:
+    """The "Check my caster" button: its numbers on the chart and its fixes ranked, with the command to run them."""
 
     @app.callback(
         Output("mine-store", "data"),
@@ -186,6 +213,10 @@ def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's 
         store = {"numbers": {k: v for k, v in result["numbers"].items()}, "fixes": result["fixes"]}
         return json.loads(json.dumps(store, default=float)), fixes_panel(result), ""
 
+
+def _save_callback(app, out_dir: Path) -> None:
+    """The "Save problem" button writes the problem file (and downloads it), "Write report" the Pareto report."""
+
     @app.callback(
         Output("save-result", "children"),
         Output("download", "data"),
@@ -215,5 +246,3 @@ def create_app(data: dict, name: str, out_dir: Path):  # noqa: C901 - the app's 
         except DesignerError as exc:
             return html.Span(str(exc), style=CSS["error"]), no_update
         return html.Span(f"report written: {Path(summary['index_html']).resolve()}", id="report-path"), no_update
-
-    return app
