@@ -239,7 +239,6 @@ def map_axes(
     return ax
 
 
-# long: the four panels of one figure, each a few plotting calls
 def figure_onset_comparison(rows, traces, onset_c):
     """The simulated-onset study against Eq. 7 (results/simulation/onset.png); returns the Figure.
 
@@ -265,17 +264,31 @@ def figure_onset_comparison(rows, traces, onset_c):
     ang = np.array([r["angle_deg"] for r in rows])
     amp_s = np.array([r["amplitude_sim"] for r in rows])
     amp_p = np.array([r["amplitude_eq29b"] for r in rows])
-    markers = {10.0: "v", 20.0: "o", 40.0: "^"}
+    implied = 100 * ((1 + np.array([r["amplitude_error"] for r in rows])) ** -0.5 - 1)
 
     fig = Figure(figsize=(12, 9.5))
     axes = fig.subplots(2, 2)
-    ax = axes[0, 0]
+    _onset_panel(axes[0, 0], v7, vs, grooved, ang)
+    _error_panel(axes[0, 1], implied, err, grooved, ang)
+    _amplitude_panel(axes[1, 0], amp_p, amp_s, grooved, ang)
+    _trace_panel(axes[1, 1], traces, onset_c)
+    fig.suptitle("Time-domain shimmy with Coulomb spindle friction vs the describing-function Eq. 7", fontsize=12)
+    fig.tight_layout()
+    return fig
+
+
+_MARKERS = {10.0: "v", 20.0: "o", 40.0: "^"}
+"""Marker of each knock angle θ_i [deg] in the onset study's scatter panels."""
+
+
+def _onset_panel(ax, v7, vs, grooved, ang) -> None:
+    """(a) simulated onset against Eq. 7's V_c [m/s], log-log, with the ±10 % band."""
     lim = (0.8 * min(v7.min(), vs.min()), 1.2 * max(v7.max(), vs.max()))
     xx = np.geomspace(*lim, 50)
     ax.fill_between(xx, 0.9 * xx, 1.1 * xx, color="0.9", label="±10 %")
     ax.plot(xx, xx, "k-", lw=1, label="simulated = Eq. 7")
     for g, colour, label in ((False, "tab:blue", "B = 0"), (True, "tab:orange", "B = 9/16 in")):
-        for a, m in markers.items():
+        for a, m in _MARKERS.items():
             sel = (grooved == g) & np.isclose(ang, a)
             ax.scatter(
                 v7[sel], vs[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4, label=f"{label}, θ_i = {a:.0f}°"
@@ -287,13 +300,14 @@ def figure_onset_comparison(rows, traces, onset_c):
     ax.set_title("(a) Coulomb-friction simulation vs Eq. 7")
     ax.legend(fontsize=7, ncol=2, loc="upper left")
 
-    ax = axes[0, 1]
-    implied = 100 * ((1 + np.array([r["amplitude_error"] for r in rows])) ** -0.5 - 1)
+
+def _error_panel(ax, implied, err, grooved, ang) -> None:
+    """(b) the onset error [%] against the error implied by Eq. 29B's amplitude [%]."""
     lo, hi = min(implied.min(), err.min()) - 2, max(implied.max(), err.max()) + 2
     ax.axhspan(-10, 10, color="0.9")
     ax.plot([lo, hi], [lo, hi], "k-", lw=1, label="error = (θ_a,29B / θ_a,sim)^½ − 1")
     for g, colour, _label in ((False, "tab:blue", "B = 0"), (True, "tab:orange", "B = 9/16 in")):
-        for a, m in markers.items():
+        for a, m in _MARKERS.items():
             sel = (grooved == g) & np.isclose(ang, a)
             ax.scatter(implied[sel], err[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4)
     ax.set_xlim(lo, hi), ax.set_ylim(lo, hi)
@@ -302,11 +316,13 @@ def figure_onset_comparison(rows, traces, onset_c):
     ax.set_title("(b) Eq. 7's error comes from Eq. 29B's amplitude")
     ax.legend(fontsize=8, loc="upper left")
 
-    ax = axes[1, 0]
+
+def _amplitude_panel(ax, amp_p, amp_s, grooved, ang) -> None:
+    """(c) simulated amplitude after the transient against Eq. 4/29B's [rad]."""
     top = 1.1 * max(amp_s.max(), amp_p.max())
     ax.plot([0, top], [0, top], "k-", lw=1)
     for g, colour in ((False, "tab:blue"), (True, "tab:orange")):
-        for a, m in markers.items():
+        for a, m in _MARKERS.items():
             sel = (grooved == g) & np.isclose(ang, a)
             ax.scatter(amp_p[sel], amp_s[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4)
     ax.set_xlim(0, top), ax.set_ylim(0, top)
@@ -314,7 +330,9 @@ def figure_onset_comparison(rows, traces, onset_c):
     ax.set_ylabel("simulated amplitude after the transient [rad]")
     ax.set_title("(c) shimmy amplitude at onset (blue B = 0, orange grooved)")
 
-    ax = axes[1, 1]
+
+def _trace_panel(ax, traces, onset_c) -> None:
+    """(d) θ(t) [deg] of the Appendix C caster at 0.9, 1.0 and 1.1 × its onset speed."""
     for f, colour in ((0.9, "tab:green"), (1.0, "tab:gray"), (1.1, "tab:red")):
         r = traces[f]
         ax.plot(
@@ -333,6 +351,3 @@ def figure_onset_comparison(rows, traces, onset_c):
         fontsize=9,
     )
     ax.legend(fontsize=8, loc="lower right")
-    fig.suptitle("Time-domain shimmy with Coulomb spindle friction vs the describing-function Eq. 7", fontsize=12)
-    fig.tight_layout()
-    return fig
