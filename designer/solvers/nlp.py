@@ -237,12 +237,15 @@ class CasterNLP:
     """IPOPT options of a warm batch: start from the given primal and dual point with a small barrier."""
 
     def _batch_solver(self, size: int, warm: bool):
+        """The IPOPT solver of ``size`` blocks (built once per size and start kind): an MX ``map`` of the one-block
+        SX function, so IPOPT's derivatives are maps of the block's (differentiated once; expanding 64 SX copies
+        cost ~0.2 s CPU). The same NLP: fronts as with the expanded build to 2e-10 relative (shipped problems)."""
         key = (size, warm)
         if key not in self._batch:
             t0 = time.perf_counter()
             nz, npar = 4, self.n_phys + 4
-            zz = ca.SX.sym("Z", nz, size)
-            pp = ca.SX.sym("P", npar, size)
+            zz = ca.MX.sym("Z", nz, size)
+            pp = ca.MX.sym("P", npar, size)
             f, g = self._block.map(size)(zz, pp)
             options = dict(self._options, calc_lam_p=False)  # dL/dp of the batch is never used
             if warm:
@@ -258,12 +261,8 @@ class CasterNLP:
         """lbx, ubx, lbg, ubg of a batch of ``size`` blocks (tiled once per size)."""
         key = ("bounds", size)
         if key not in self._batch:
-            self._batch[key] = dict(
-                lbx=np.tile(self.lbz, size),
-                ubx=np.tile(self.ubz, size),
-                lbg=np.tile(self.lbg, size),
-                ubg=np.tile(self.ubg, size),
-            )
+            bounds = {"lbx": self.lbz, "ubx": self.ubz, "lbg": self.lbg, "ubg": self.ubg}
+            self._batch[key] = {name: np.tile(value, size) for name, value in bounds.items()}
         return self._batch[key]
 
     def _chunk(self, left: int) -> int:
