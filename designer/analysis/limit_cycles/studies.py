@@ -415,7 +415,7 @@ def limit_cycle_study(progress=None, quick: bool = False) -> dict:
     say("(K, N) map")
     kn = stiffness_mass_map(
         map_casters(),
-        factors=(0.25, 4.0) if quick else MAP_FACTORS,
+        factors=(0.25, 1.0, 4.0) if quick else MAP_FACTORS,
         progress=None if progress is None else (lambda i, n: progress(f"map {i}/{n}")),
     )
     return {
