@@ -15,10 +15,11 @@ import numpy as np
 
 from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
-from designer.physics._roots import EPS, brentq
 from designer.physics.tyre import TyreParameters, lateral_tyre_force
 
 _RTOL = 1e-10
+_EPS = float(np.finfo(float).eps)
+"""Machine epsilon of float64 [-]; ``4 * _EPS`` is the least relative tolerance brentq accepts."""
 
 
 @dataclass(frozen=True)
@@ -324,14 +325,16 @@ class _LinearSlip:
 
 def _root(f, a: float, b: float) -> float:
     """First τ in [a, b] where f (positive before the event) reaches 0, to rounding: a if f(a) <= 0 already
-    (the grid saw f(a) > 0 up to rounding), b if f(b) > 0 still, else Brent's method
-    (:func:`designer.physics._roots.brentq`, scipy's steps)."""
+    (the grid saw f(a) > 0 up to rounding), b if f(b) > 0 still, else Brent's method (scipy's ``brentq``)."""
     fa, fb = f(a), f(b)
     if fa <= 0:
         return float(a)
     if fb > 0:
         return float(b)
-    return brentq(f, a, b, xtol=1e-16, rtol=4 * EPS, maxiter=200, fa=fa, fb=fb)
+    # late import: scipy.optimize (about 0.35 s of CPU) loads only when a knock phase ends inside a step
+    from scipy.optimize import brentq
+
+    return float(brentq(f, a, b, xtol=1e-16, rtol=4 * _EPS, maxiter=200))
 
 
 # long: the stick/slip event loop of _integrate, with each phase solved in closed form
