@@ -191,21 +191,7 @@ def periodic_orbit(
         raise SolverError(f"periodic orbit of amplitude {A:.4g} rad: the motion stops from the first guess")
     what = f"periodic orbit of amplitude {A:.4g} rad"
     u, r, iterations = _damped_newton(residual, u, r, lambda u: scales, tol, max_iter, what, flip_step=True)
-    V = float(u[-1])
-    at = sys.at(V)
-    z = section(u)
-    multipliers, closure, period = _floquet_and_closure(at, z)
-    return PeriodicOrbit(
-        amplitude=A,
-        speed=V,
-        state=np.append(z, 0.0),
-        period=period,
-        multipliers=multipliers,
-        stable=bool(np.all(np.abs(multipliers) < 1)),
-        closure=closure,
-        residual=float(np.max(np.abs(r))),
-        iterations=iterations,
-    )
+    return _orbit(sys.at(float(u[-1])), section(u), r, iterations)
 
 
 @dataclass
@@ -267,8 +253,9 @@ def continue_orbits(sys: CasterDynamics, amplitudes, progress=None) -> Branch:
     return branch
 
 
-def _floquet_and_closure(at: CasterDynamics, z: np.ndarray):
-    """Floquet multipliers (squared eigenvalues of DG), full-period closure [rad] and period [s] at z."""
+def _orbit(at: CasterDynamics, z: np.ndarray, r: np.ndarray, iterations: int) -> PeriodicOrbit:
+    """The orbit through section point z (θ = A = z[-1]) at ``at``'s speed, found by Newton with final residual
+    r: its Floquet multipliers (squared eigenvalues of DG), full-period closure [rad] and period [s]."""
     n = at.size - 1
     w = _weights(at)
     A = abs(z[-1])
@@ -288,7 +275,18 @@ def _floquet_and_closure(at: CasterDynamics, z: np.ndarray):
     mu = np.linalg.eigvals(DG) if np.all(np.isfinite(DG)) else np.full(n, np.nan + 0j)
     full, period = _full_period(at, z)
     closure = float(np.max(np.abs((full - z) * w))) if full is not None else math.nan
-    return mu**2, closure, period
+    multipliers = mu**2
+    return PeriodicOrbit(
+        amplitude=float(z[-1]),
+        speed=at.speed,
+        state=np.append(z, 0.0),
+        period=period,
+        multipliers=multipliers,
+        stable=bool(np.all(np.abs(multipliers) < 1)),
+        closure=closure,
+        residual=float(np.max(np.abs(r))),
+        iterations=iterations,
+    )
 
 
 def periodic_orbit_at_speed(
@@ -319,18 +317,7 @@ def periodic_orbit_at_speed(
     z, r, iterations = _damped_newton(residual, z, r, scales, tol, max_iter, what, flip_step=False)
     if z[-1] < 0:
         z = -z
-    multipliers, closure, period = _floquet_and_closure(sys, z)
-    return PeriodicOrbit(
-        amplitude=float(z[-1]),
-        speed=sys.speed,
-        state=np.append(z, 0.0),
-        period=period,
-        multipliers=multipliers,
-        stable=bool(np.all(np.abs(multipliers) < 1)),
-        closure=closure,
-        residual=float(np.max(np.abs(r))),
-        iterations=iterations,
-    )
+    return _orbit(sys, z, r, iterations)
 
 
 def stable_orbit(
