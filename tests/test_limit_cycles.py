@@ -207,7 +207,13 @@ def test_slow_creep_of_a_sliding_tyre_is_not_shimmy():
     shimmy (fewer than 3 reversals at the end), while at 2.7 m/s the same knock locks onto the stable cycle."""
     sys = caster_dynamics(DESIGN_C, COND_C, 0.8, TyreParameters())
     creep = simulate_knock(sys, 0.349)
-    assert not creep.shimmy and creep.reason == "end"
+    # the physics, not the integrator's stop reason: a creep that ends at rest ("rest") or is still creeping when
+    # the simulated time ends ("end") is not shimmy; only |θ| reaching the limit ("limit") would be
+    assert not creep.shimmy and creep.reason != "limit"
+    # few reversals: a sustained oscillation at ω = 104.7 rad/s would reverse about 60 times in 30 periods
+    assert len(creep.extrema) <= 5
+    # a decaying amplitude: the last reversal is within a tenth of the 20° knock
+    assert abs(creep.extrema[-1, 1]) < 0.1 * 0.349
     locked = simulate_knock(sys.at(2.7), 0.349)
     assert locked.shimmy and locked.late_amplitude == pytest.approx(0.915, rel=0.02)
 
