@@ -3,7 +3,7 @@
 Runs optuna's NSGA-II on a problem with optuna's default operators and with
 candidate configurations, several seeds each, and prints the mean of:
 distinct parameter sets, feasible trials, front size, hypervolume ratio
-against the exact front (:func:`designer.analysis.pareto.pareto_front`, its stated
+against the exact front (:func:`designer.studies.front._pareto.pareto_front`, its stated
 reference point) and IGD+ (normalised by the exact front's ideal and nadir).
 
     python benchmarks/explore_operators.py problems/indoor-manual.toml --trials 500 2000 --seeds 3
@@ -19,7 +19,8 @@ import warnings
 import numpy as np
 
 import designer
-from designer.analysis.exploration import Operators, _exact_front, explore
+from designer.studies.explore import Operators, explore
+from designer.studies.front import pareto_front
 
 
 def main() -> None:
@@ -31,7 +32,7 @@ def main() -> None:
     args = parser.parse_args()
     problem = designer.load_problem(args.problem)
     warnings.simplefilter("ignore")
-    _exact_front(problem)  # warm caches (casadi)
+    pareto_front(problem)  # warm caches (casadi)
     for n in args.trials:
         configs = {"optuna default": Operators.for_budget(n, "optuna"), "tuned": Operators.for_budget(n)}
         if args.grid:

@@ -11,7 +11,7 @@ import warnings
 from pathlib import Path
 
 import designer
-from designer.analysis.exploration import explore
+from designer.studies.explore import explore
 
 
 def main() -> None:

@@ -57,7 +57,7 @@ def main(argv=None) -> int:
     parser.add_argument("--out", default=None)
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")
-    from designer.analysis import fleet as fl
+    from designer.studies import fleet as fl
 
     out = Path(args.out) if args.out else ROOT / "benchmarks" / ("quick" if args.quick else "")
     out.mkdir(parents=True, exist_ok=True)
@@ -89,7 +89,7 @@ def main(argv=None) -> int:
         print(f"in-process {n}: {med:.3f} s")
 
     # loop of designer.recommend over a subset, extrapolated
-    from designer.analysis.recommend import recommend
+    from designer.studies.recommend import recommend
 
     subset = 10 if args.quick else 30
     if recommend is not None:
@@ -164,7 +164,7 @@ def main(argv=None) -> int:
 
     # K-median regret curve: exact MIP on 1000 chairs, against greedy + swap with the Lagrangian bound;
     # the heuristic path alone on 10 000 chairs
-    from designer.analysis.kmedian import solve_kmedian
+    from designer.studies.fleet import solve_kmedian
 
     k_max = 4 if args.quick else 8
     r = fl.fleet_recommendations(fleets[1000], base, monte_carlo=False)

@@ -25,8 +25,8 @@ HERE = Path(__file__).resolve().parent
 def objects() -> dict:
     """The objects of the notebook API for the indoor-manual example (built once, solvers run here)."""
     # late import: optuna and the fleet rule, only for this benchmark
-    from designer.analysis.exploration import explore
-    from designer.analysis.fleet import example_fleet, fleet  # late import: the fleet rule (benchmark only)
+    from designer.studies.explore import explore
+    from designer.studies.fleet import example_fleet, fleet  # late import: the fleet rule (benchmark only)
 
     problem = designer.example_problem("indoor-manual")
     front = designer.pareto_front(problem, points=41)

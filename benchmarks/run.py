@@ -2,17 +2,17 @@
 
     python -m benchmarks.run [--quick] [--problems indoor-manual sports-court ...] [--out benchmarks]
 
-One process, one run, the same model (:func:`designer.model.performance`) for
+One process, one run, the same model (:func:`designer.model._caster.performance`) for
 every method, on the shipped problems:
 
-- this tool's exact ε-constraint front (:func:`designer.analysis.pareto.pareto_front`),
+- this tool's exact ε-constraint front (:func:`designer.studies.front._pareto.pareto_front`),
   N = 25, 51, 101 points, cold (import measured once in a subprocess, plus
   NLP and solver builds) and warm (solvers built);
 - pymoo NSGA-II on a vectorised ``pymoo.core.problem.Problem`` that calls the
   model on the whole population (population 100; 100 and 300 generations;
   constraints V_c >= V_req and the swept radius as G <= 0);
 - optuna NSGA-II with its default operators and with the best operators of
-  issue 5 (``designer.analysis.exploration.Operators.for_budget``);
+  issue 5 (``designer.studies.explore.Operators.for_budget``);
 - scipy SLSQP ε-constraint loop on the same ε grid as the exact 101-point
   front (warm-started from the previous point, finite-difference gradients);
 - a dense grid over the four variables, non-dominated filter;
@@ -137,7 +137,7 @@ class Quality:
     """HV ratio and IGD+ against the exact 101-point front, on its normalisation."""
 
     def __init__(self, exact_objectives: np.ndarray):
-        from designer.analysis.indicators import hypervolume_2d, normalise
+        from designer.studies.front import hypervolume_2d, normalise
 
         self.ideal = exact_objectives.min(axis=0)
         self.nadir = exact_objectives.max(axis=0)
@@ -145,7 +145,7 @@ class Quality:
         self.hv_exact = hypervolume_2d(self.exact, REFERENCE)
 
     def __call__(self, objectives: np.ndarray) -> dict:
-        from designer.analysis.indicators import hypervolume_2d, igd_plus, normalise
+        from designer.studies.front import hypervolume_2d, igd_plus, normalise
 
         f = fast_nondominated(np.asarray(objectives, float).reshape(-1, 2))
         if len(f) == 0:
@@ -175,14 +175,14 @@ def import_seconds() -> float:
     """Import cost of the package and its solver stack, measured once in a fresh interpreter."""
     code = (
         "import time, warnings; warnings.simplefilter('ignore'); t = time.perf_counter(); "
-        "import designer, designer.analysis.pareto, designer.problem, casadi; print(time.perf_counter() - t)"
+        "import designer, designer.studies.front._pareto, designer.problem, casadi; print(time.perf_counter() - t)"
     )
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True)
     return float(out.stdout.strip().splitlines()[-1])
 
 
 def exact_method(problem, points: int, repeats: int, cold_repeats: int, import_s: float):
-    import designer.analysis.pareto as pareto
+    import designer.studies.front._pareto as pareto
 
     def cold(_):
         pareto._NLP_CACHE.clear()
@@ -293,10 +293,10 @@ def optuna_method(problem, trials: int, operators: str, repeats: int, quality: Q
             note = "optuna.samplers.NSGAIISampler defaults (population 50, uniform crossover)"
             return optuna.samplers.NSGAIISampler(seed=seed)
         try:
-            from designer.analysis.exploration import Operators
+            from designer.studies.explore import Operators
 
             ops = Operators.for_budget(trials)
-            note = f"designer.analysis.exploration.Operators.for_budget({trials}): {ops.as_dict()}"
+            note = f"designer.studies.explore.Operators.for_budget({trials}): {ops.as_dict()}"
             return ops.sampler(seed)
         except Exception as exc:  # explore not usable: SBX crossover, population ≈ √N
             from optuna.samplers.nsgaii import SBXCrossover
@@ -427,7 +427,7 @@ def model_throughput(problem, n: int, repeats: int = 5) -> dict:
 
 
 def nlp_costs(problem, repeats: int = 20) -> dict:
-    from designer.analysis.sweeps import box_sample, lexicographic_ends
+    from designer.studies.front import box_sample, lexicographic_ends
     from designer.solvers.nlp import CasterNLP
 
     t0 = time.perf_counter()
@@ -485,7 +485,7 @@ def configurations(problem, count: int) -> list:
 
 
 def scaling(problems: dict, cfg: dict) -> dict:
-    import designer.analysis.pareto as pareto
+    import designer.studies.front._pareto as pareto
 
     by_points = {}
     for name, problem in problems.items():
@@ -625,7 +625,7 @@ def markdown(results: dict) -> str:
         "",
         "## Method",
         "",
-        "Every method uses the one model `designer.model.performance` (the GA and grid through its vectorised "
+        "Every method uses the one model `designer.model._caster.performance` (the GA and grid through its vectorised "
         "form over the whole population / grid chunk). Quality is measured against the exact 101-point front: "
         "objectives (F_turn, P) normalised by its ideal and nadir, hypervolume with reference point (1.1, 1.1) "
         "in normalised units, reported as **HV / HV_exact101**, and **IGD+** against it (0 = reaches the "
@@ -811,7 +811,7 @@ def main(argv=None) -> int:
             times, fronts = timed(lambda _: legacy(problem, n), cfg["legacy_repeats"])
             now = methods.get(f"exact front N={n}")
             old = fronts[-1]
-            from designer.analysis.indicators import hypervolume_2d, normalise
+            from designer.studies.front import hypervolume_2d, normalise
 
             cur = exact[n][1]
             ideal, nadir = old.ideal_nadir()

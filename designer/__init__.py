@@ -25,25 +25,25 @@ _LAZY = {
     "load_problem": "designer.problem",
     "problem_from_dict": "designer.problem",
     "problem_from_toml": "designer.problem",
-    "Solution": "designer.analysis.optimise",
-    "optimise": "designer.analysis.optimise",
-    "Front": "designer.analysis.pareto",
-    "FrontPoint": "designer.analysis.pareto",
-    "pareto_front": "designer.analysis.pareto",
-    "explore": "designer.analysis.exploration",
+    "example_problem": "designer.problem",
+    "example_names": "designer.problem",
+    "Solution": "designer.studies.optimum",
+    "optimise": "designer.studies.optimum",
+    "Front": "designer.studies.front",
+    "FrontPoint": "designer.studies.front",
+    "pareto_front": "designer.studies.front",
+    "explore": "designer.studies.explore",
     "write_report": "designer.report",
     "report_data": "designer.pipeline",
-    "fleet": "designer.analysis.fleet",
-    "knock_safe_speed": "designer.analysis.limit_cycles",
-    "bifurcation_diagram": "designer.analysis.limit_cycles",
+    "fleet": "designer.studies.fleet",
+    "knock_safe_speed": "designer.studies.dynamics.limit_cycles",
+    "bifurcation_diagram": "designer.studies.dynamics.limit_cycles",
     "TyreParameters": "designer.physics.tyre",
-    "recommend": "designer.analysis.recommend",
-    "Recommendation": "designer.analysis.recommend",
-    "simulate": "designer.analysis.simulate",
+    "recommend": "designer.studies.recommend",
+    "Recommendation": "designer.studies.recommend",
+    "simulate": "designer.studies.dynamics",
+    "fix": "designer.studies.retrofit",
 }
-_LAZY["fix"] = "designer.analysis.retrofit"  # issue 18: retrofit
-_LAZY["example_problem"] = "designer.examples"  # issue 17: shipped example problems (package data)
-_LAZY["example_names"] = "designer.examples"
 
 
 def __getattr__(name: str):

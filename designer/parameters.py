@@ -7,7 +7,7 @@ this table:
 
 - the problem loader (schema keys and units, defaults, default bounds, the
   ranges it checks: ``designer.problem``),
-- the model's ranges and variable order (``designer.model``),
+- the model's ranges and variable order (``designer.model._caster``),
 - the NLP and the GP parameter vectors and the names of their sensitivities
   (:func:`solver_values`, :func:`with_solver_values`),
 - the sensitivity table, the report's problem table and ``docs/parameters.md``

@@ -4,13 +4,13 @@ One function, :func:`report_data`, runs everything a Pareto report shows, in thi
 
 1. the front the problem asks for (risk-bounded by default, nominal with ``[robust] enabled = false``);
 2. the front for V_target × 1.1 (check 8c);
-3. the recommendation (:func:`designer.analysis.recommend.recommend`, issue 11): the caster to build,
+3. the recommendation (:func:`designer.studies.recommend._recommend.recommend`, issue 11): the caster to build,
    its two alternatives, the buildable and the continuous risk-bounded fronts; the knock-safe speeds of the
    recommendation and its alternatives (knocks of θ0 and 2 θ0, simulated: issue 16);
 4. the weighted optimum J = w_turn F_turn + w_threshold P (NLP only; the GP and SLSQP cross-check only
    with ``cross_check=True``, i.e. ``designer pareto --cross-check``);
 5. the paper checks and check 8 on the front;
-6. the groove–damper table, in closed form (:mod:`designer.analysis.tradeoff`);
+6. the groove–damper table, in closed form (:mod:`designer.studies.front._tradeoff`);
 7. run metadata: versions, problem digest, CPU and wall seconds of every step.
 
 The CLI (``designer pareto``, ``--all``), the Python API (``designer.report_data``) and the studio call it
@@ -51,13 +51,13 @@ class ReportData:
     recommendation : the Recommendation (issue 11) or None; ``recommendation_error`` says why not
     price_of_stock : :func:`price_of_stock` of the recommendation against ``front``, or None
     knock_safe : per caster of the "Build this" card (recommendation, then its alternatives), the dict of
-        :func:`designer.analysis.limit_cycles.knock_safe_speeds` (``knock_safe_speed``,
+        :func:`designer.studies.dynamics.limit_cycles.knock_safe_speeds` (``knock_safe_speed``,
         ``knock_safe_speed_double`` [m/s]); empty without a recommendation
-    solution : the weighted optimum (:class:`designer.analysis.optimise.Solution`) or None
+    solution : the weighted optimum (:class:`designer.studies.optimum._optimise.Solution`) or None
     solution_error : why the optimum is missing, if it is
     cross_checked : whether the GP/SLSQP cross-check ran (``--cross-check``)
-    paper_checks, front_checks : lists of :class:`designer.analysis.checks.Check`
-    tradeoff : rows of :func:`designer.analysis.tradeoff.groove_damper_tradeoff`
+    paper_checks, front_checks : lists of :class:`designer.studies.checks.Check`
+    tradeoff : rows of :func:`designer.studies.front._tradeoff.groove_damper_tradeoff`
     gaps : ``front.gaps()``
     degenerate_reason, degenerate_reason_short : why a front has fewer than two points ("" otherwise)
     run : metadata (date, versions, digest, solver settings, seconds per step)
@@ -178,7 +178,7 @@ def price_of_stock(front, recommendation) -> dict | None:
 def card_knock_safe(problem, recommendation) -> list[dict]:
     """Knock-safe speeds (θ0 and 2 θ0 knocks) of the recommendation and its alternatives, in card order [m/s]."""
     # late import: the time-domain shimmy model (scipy's root finder) loads only when a card needs it
-    from designer.analysis.limit_cycles import knock_safe_speeds
+    from designer.studies.dynamics.limit_cycles import knock_safe_speeds
 
     casters = [recommendation, *(getattr(recommendation, "alternatives", None) or [])]
     # each caster's own I_w (a catalogue or stock wheel's measured one): the I_w its V_c was computed with
@@ -210,13 +210,11 @@ class _Clock:
 
 
 def _recommend(problem):
-    """The issue-11 recommendation of ``problem``: (Recommendation or None, reason when None)."""
+    """The recommendation of ``problem``: (Recommendation or None, reason when None)."""
+    from designer.studies.recommend import recommend  # late import: the stock screen loads with the pipeline
+
     try:
-        from designer.analysis import recommend as _rec  # issue 11: absent until that module lands
-    except ImportError:
-        return None, "the recommendation module (issue 11) is not installed"
-    try:
-        return _rec.recommend(problem), ""
+        return recommend(problem), ""
     except DesignerError as exc:
         return None, str(exc)
 
@@ -258,12 +256,12 @@ def report_data(
     -------
     ReportData
     """
-    from designer.analysis.checks import front_checks, paper_checks  # analysis: loads casadi on first use
-    from designer.analysis.optimise import optimise
-    from designer.analysis.pareto import pareto_front
+    from designer.studies.checks import front_checks, paper_checks  # analysis: loads casadi on first use
+    from designer.studies.optimum import optimise
+    from designer.studies.front import pareto_front
 
-    # late import: loads casadi (via designer.analysis.tradeoff) only when this runs
-    from designer.analysis.tradeoff import groove_damper_tradeoff
+    # late import: loads casadi (via designer.studies.front._tradeoff) only when this runs
+    from designer.studies.front import groove_damper_tradeoff
 
     clock = _Clock()
     wall0 = time.perf_counter()
@@ -277,9 +275,9 @@ def report_data(
             if front is None:
                 front = pareto_front(problem, points, progress=track(f"{problem.name}: front"))
         if not front.points and not front.failed:  # the problem itself is infeasible: `designer run`'s exit 4
-            from designer.analysis.optimise import _diagnose
+            from designer.studies.optimum import diagnose_infeasible
 
-            raise _diagnose(problem)
+            raise diagnose_infeasible(problem)
         data = ReportData(problem=problem, front=front)
         with clock("tighter"):
             if tighter is None and with_tighter and checks is None:
@@ -375,8 +373,8 @@ class RobustData:
 
 
 def robust_data(problem, points: int = 21) -> RobustData:
-    """Compute the price of safety of ``problem`` (:func:`designer.analysis.robust.robust_comparison`)."""
-    from designer.analysis.robust import robust_comparison  # analysis: loads casadi on first use
+    """Compute the price of safety of ``problem`` (:func:`designer.studies.robust.robust_comparison`)."""
+    from designer.studies.robust import robust_comparison  # analysis: loads casadi on first use
 
     c0 = time.process_time()
     with warnings.catch_warnings():

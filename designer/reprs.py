@@ -1,8 +1,8 @@
 """Small HTML pieces for the notebook reprs (``_repr_html_``): a table with units and an inline SVG curve.
 
 Ground layer: plain strings in, a string out; no solver, no matplotlib, no designer import.  Every text is
-escaped.  Used by :class:`~designer.problem.Problem`, :class:`~designer.analysis.pareto.Front`,
-:class:`~designer.analysis.optimise.Solution` and :class:`~designer.analysis.recommend.Recommendation`.
+escaped.  Used by :class:`~designer.problem.Problem`, :class:`~designer.studies.front._pareto.Front`,
+:class:`~designer.studies.optimum._optimise.Solution` and :class:`~designer.studies.recommend._recommend.Recommendation`.
 """
 
 from __future__ import annotations

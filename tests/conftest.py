@@ -10,6 +10,26 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 PROBLEMS = sorted((ROOT / "problems").glob("*.toml"))
 
+HEAVY = """name = "heavy-carpet-pivot"
+title = "Heavy load on carpet, pivot turning, small damper"
+[conditions]
+load = "700 N"
+threshold_height = "0.5 in"
+surface = "carpet"
+turning_mode = "pivot"
+[shimmy]
+target_speed = "3.5 m/s"
+[variables]
+trail = { min = "1 in", max = "2.5 in" }
+diameter = { min = "3 in", max = "8 in" }
+groove = { min = "0 in", max = "0.75 in" }
+damping = { min = "1.3 N*m/rad", max = "1.5 N*m/rad" }
+[robust]
+enabled = false
+"""
+"""A heavy caster on carpet in pivot mode with a small damper: the closed form's "damping at its maximum, groove
+from Eq. 7" candidate is needed here (tests/solvers/test_closed_form.py, tests/studies/test_checks.py)."""
+
 
 @pytest.fixture(autouse=True)
 def _quiet_extrapolation():

@@ -1,4 +1,5 @@
-"""The layer contract: data flows one way, problem -> model -> solvers -> analysis -> pipeline -> report -> CLI.
+"""The layer contract: data flows one way, model -> problem -> solvers -> studies -> pipeline -> report -> CLI;
+and the rooms are cut by purpose: no private name crosses a room, and no folder keeps a prefix cluster.
 
 Every ``import`` in the package, including the ones inside functions, is read from the source (AST), so
 a late import cannot hide an upward arrow or a cycle.  CONTRIBUTING.md draws the same layers.
@@ -28,13 +29,13 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ),
     ("physics", ("designer.physics",)),
     ("model", ("designer.model",)),
-    ("problem", ("designer.problem", "designer.examples")),
+    ("problem", ("designer.problem",)),
     ("plots", ("designer.plots",)),
     ("solvers", ("designer.solvers",)),
-    ("analysis", ("designer.analysis",)),
+    ("studies", ("designer.studies",)),
     ("pipeline", ("designer.pipeline",)),
     ("report", ("designer.report",)),
-    ("entry", ("designer.cli", "designer.commands", "designer.studio", "designer.__main__")),
+    ("entry", ("designer.cli", "designer.studio", "designer.__main__")),
 ]
 """Lowest first.  A module may import its own layer and the layers below it, never one above."""
 
@@ -194,3 +195,137 @@ def test_late_imports_say_why(path):
             if "#" not in window:
                 unexplained.append(f"line {node.lineno}: {ast.unparse(node)}")
     assert unexplained == [], "late imports without a comment saying why"
+
+
+# --------------------------------------------------------------------------- rooms by purpose
+
+
+def room_of(module: str) -> str:
+    """The room of a module: ``designer.<x>``, or ``designer.studies.<x>`` for a study (each study is a room)."""
+    parts = module.split(".")
+    if len(parts) >= 3 and parts[1] == "studies":
+        return ".".join(parts[:3])
+    return ".".join(parts[:2])
+
+
+def _is_private(dotted: str) -> bool:
+    return any(part.startswith("_") and part != "__init__" for part in dotted.split(".")[1:])
+
+
+def private_imports(path: Path) -> list[str]:
+    """Imports in ``path`` of a ``_private`` module or name that belongs to another room."""
+    source = module_name(path)
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module and node.level == 0 and node.module.startswith("designer"):
+            if _is_private(node.module):  # the module itself is private: one finding for the statement
+                targets = [node.module]
+            else:
+                targets = [f"{node.module}.{alias.name}" for alias in node.names]
+        elif isinstance(node, ast.Import):
+            targets = [alias.name for alias in node.names if alias.name.startswith("designer")]
+        else:
+            continue
+        for target in targets:
+            if room_of(target) != room_of(source) and _is_private(target):
+                found.append(f"{source}:{node.lineno} imports {target}")
+    return found
+
+
+def prefix_clusters(folder: Path) -> dict[str, list[str]]:
+    """Groups of three or more modules of one folder whose names share a prefix before ``_`` (``recommend_*``)."""
+    groups: dict[str, list[str]] = {}
+    for path in folder.glob("*.py"):
+        stem = path.stem.lstrip("_")
+        if path.stem == "__init__" or "_" not in stem:
+            continue
+        groups.setdefault(stem.split("_", 1)[0], []).append(path.name)
+    for path in folder.glob("*.py"):  # a module named as the prefix itself (recommend.py beside recommend_rule.py)
+        stem = path.stem.lstrip("_")
+        if stem in groups and path.name not in groups[stem]:
+            groups[stem].append(path.name)
+    return {prefix: sorted(names) for prefix, names in groups.items() if len(names) >= 3}
+
+
+def test_no_private_name_crosses_a_room():
+    """No module imports a ``_private`` module or name of another room: a room is used through its ``__init__``."""
+    crossing = [line for path in ALL_FILES if module_name(path) != "designer" for line in private_imports(path)]
+    assert crossing == []
+
+
+def test_no_prefix_cluster():
+    """No folder of the package keeps three or more modules sharing a name prefix: such a group is a package."""
+    clusters = {
+        str(folder.relative_to(PACKAGE.parent)): groups
+        for folder in [PACKAGE, *sorted(p for p in PACKAGE.rglob("*") if p.is_dir())]
+        if (groups := prefix_clusters(folder))
+    }
+    assert clusters == {}
+
+
+def test_every_package_states_its_api():
+    """Every package of ``designer`` has an ``__init__`` with an ``__all__`` naming only names it defines or imports
+    (or its public modules, for a package of modules such as ``plots``)."""
+    missing = []
+    for init in sorted(PACKAGE.rglob("__init__.py")):
+        if "templates" in init.parts:
+            continue
+        tree = ast.parse(init.read_text(encoding="utf-8"))
+        names = {
+            alias.asname or alias.name.split(".")[0]
+            for node in tree.body
+            if isinstance(node, (ast.Import, ast.ImportFrom))
+            for alias in node.names
+        }
+        names |= {
+            t.id for node in tree.body if isinstance(node, ast.Assign) for t in node.targets if isinstance(t, ast.Name)
+        }
+        names |= {node.name for node in tree.body if isinstance(node, (ast.FunctionDef, ast.ClassDef))}
+        names |= {p.stem for p in init.parent.glob("*.py")} | {p.name for p in init.parent.iterdir() if p.is_dir()}
+        declared = [
+            node
+            for node in tree.body
+            if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "__all__" for t in node.targets)
+        ]
+        if not declared:
+            missing.append(f"{init.relative_to(PACKAGE.parent)}: no __all__")
+            continue
+        try:
+            listed = ast.literal_eval(declared[0].value)
+        except ValueError:
+            continue  # computed (designer/__init__: the lazy names)
+        unknown = [n for n in listed if n not in names]
+        if unknown:
+            missing.append(f"{init.relative_to(PACKAGE.parent)}: __all__ names {unknown} it does not define")
+    assert missing == []
+
+
+def test_the_room_rule_catches_a_private_import():
+    """The private-name rule is not vacuous: a planted report module importing a study's private module, or a
+    study's private name, is reported; the same import inside the study's own room is not."""
+    fake = PACKAGE / "report" / "_contract_probe.py"
+    inside = PACKAGE / "studies" / "recommend" / "_contract_probe.py"
+    assert not fake.exists() and not inside.exists()
+    try:
+        fake.write_text(
+            "from designer.studies.recommend._stock import stock_candidates\n"
+            "from designer.studies.optimum import _secret\n"
+        )
+        inside.write_text("from designer.studies.recommend._stock import stock_candidates\n")
+        found = private_imports(fake)
+        assert len(found) == 2 and "designer.studies.recommend._stock" in found[0] and "_secret" in found[1]
+        assert private_imports(inside) == []
+    finally:
+        fake.unlink(missing_ok=True)
+        inside.unlink(missing_ok=True)
+
+
+def test_the_cluster_rule_catches_a_prefix_cluster(tmp_path):
+    """The cohesion rule is not vacuous: three modules ``fleet.py``, ``fleet_rule.py``, ``fleet_table.py`` in one
+    folder are a cluster; two are not."""
+    for name in ("fleet.py", "fleet_rule.py"):
+        (tmp_path / name).write_text("")
+    assert prefix_clusters(tmp_path) == {}
+    (tmp_path / "fleet_table.py").write_text("")
+    assert prefix_clusters(tmp_path) == {"fleet": ["fleet.py", "fleet_rule.py", "fleet_table.py"]}

@@ -30,7 +30,8 @@ from designer.physics.inertia import PowerLaw
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_terms
 from designer.physics.threshold import threshold_force_ratio
 from designer.physics.turning import turning_effort
-from designer.problem import MODEL_RANGE, SCHEMA, problem_from_dict, problem_from_toml
+from designer.parameters import MODEL_RANGE
+from designer.problem import SCHEMA, problem_from_dict, problem_from_toml
 
 EXAMPLES = int(os.environ.get("FUZZ_EXAMPLES", "60"))
 """Examples per property (default small; FUZZ_EXAMPLES=5000 for the long run)."""
@@ -196,7 +197,7 @@ def _within(values, low, high):
 @given(valid_problem())
 def test_valid_problems_solve_or_raise_designer_error(data):
     """A random valid problem loads and its optimum is feasible and finite, or a DesignerError says why."""
-    from designer.analysis.optimise import optimise
+    from designer.studies.optimum import optimise
 
     problem = problem_from_dict(data)
     try:

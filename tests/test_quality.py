@@ -1,4 +1,4 @@
-"""Code habits: ruff and mypy pass (when installed: .ci/run runs them anyway), and modules and functions stay small."""
+"""Code habits: ruff and mypy pass (when installed: .ci/run runs them anyway), and long functions say why."""
 
 from __future__ import annotations
 
@@ -13,11 +13,10 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "designer"
 
-MAX_MODULE_LINES = 600
 MAX_FUNCTION_LINES = 80
-
-OVERSIZED = {}
-"""Modules over (or at) the limit today, each with what makes it big."""
+"""A function longer than this says why on its ``def`` line.  Modules have no line cap: a module is as long as
+its one purpose needs, and tests/test_architecture.py keeps the rooms cohesive (no prefix clusters, no private
+name across rooms)."""
 
 
 def _tool(name: str) -> str:
@@ -49,15 +48,6 @@ def test_mypy_passes():
 
 def _modules():
     return sorted(PACKAGE.rglob("*.py"))
-
-
-def test_modules_stay_small():
-    """No module over 600 lines except the listed ones (which exist: a moved or split module leaves the list)."""
-    sizes = {str(p.relative_to(PACKAGE)): len(p.read_text(encoding="utf-8").splitlines()) for p in _modules()}
-    over = sorted(name for name, n in sizes.items() if n > MAX_MODULE_LINES and name not in OVERSIZED)
-    stale = sorted(name for name in OVERSIZED if name not in sizes)
-    assert over == [], f"modules over {MAX_MODULE_LINES} lines: {over}"
-    assert stale == [], f"no such module, remove from OVERSIZED: {stale}"
 
 
 def test_long_functions_say_why():

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from designer.errors import InputError
-from designer.physics._types import Scalar
+from designer.physics.types import Scalar
 
 
 def enable_casadi() -> None:

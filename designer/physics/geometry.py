@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from designer.physics._checks import is_symbolic
-from designer.physics._types import Scalar
+from designer.physics.types import Scalar
 
 
 def swept_radius(trail: Scalar, diameter: Scalar) -> Scalar:

@@ -23,7 +23,7 @@ import numpy as np
 from designer.data.paper import TABLE1, Wheel, table1_wheel
 from designer.errors import InputError
 from designer.physics._checks import is_symbolic, require_positive
-from designer.physics._types import Scalar
+from designer.physics.types import Scalar
 
 
 @lru_cache(maxsize=1)

@@ -20,7 +20,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
 
 from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING, SLIP_COEFFICIENT
 from designer.parameters import default  # the defaults: one table (designer/parameters.py)
-from designer.physics._types import Array, Scalar
+from designer.physics.types import Array, Scalar
 
 Coefficients: TypeAlias = tuple[Scalar, Scalar, Scalar, Scalar]
 """(a3, a2, a1, a0) of the caster equation, Eq. 12B."""

@@ -6,7 +6,7 @@ import numpy as np
 
 from designer.errors import InputError
 from designer.physics._checks import is_symbolic, require_positive
-from designer.physics._types import Array, Scalar
+from designer.physics.types import Array, Scalar
 
 
 def _check_ratio(diameter: Scalar, height: Scalar) -> None:

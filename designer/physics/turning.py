@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 from designer.data.paper import DISTURBANCE_ANGLE
 from designer.errors import InputError
 from designer.parameters import default  # the defaults: one table (designer/parameters.py)
-from designer.physics._types import Scalar
+from designer.physics.types import Scalar
 
 SURFACES = ("tile", "carpet")
 MODES = ("chair", "pivot")

@@ -52,7 +52,7 @@ import numpy as np
 
 from designer.data.paper import SLIP_COEFFICIENT
 from designer.errors import InputError
-from designer.physics._types import Array, Numeric
+from designer.physics.types import Array, Numeric
 
 TYRE_FRICTION_COEFFICIENT = 0.7
 """Tyre-floor friction coefficient μ [-] (vinyl tile); estimated from the paper's sliding turning moment,

@@ -59,7 +59,7 @@ import numpy as np
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
 
-from designer.physics._types import Array, Numeric, Scalar
+from designer.physics.types import Array, Numeric, Scalar
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities
 from numpy.polynomial.hermite_e import hermegauss
 from numpy.polynomial.legendre import leggauss
@@ -214,7 +214,7 @@ _DEGREE = 14
 _STORED_FITS: dict[tuple[float, int, int, int], tuple[tuple[float, ...], float]] = {
     # (α, ν, _NODES, _DEGREE): the Chebyshev coefficients and the shift _compute_fit returns, written out with
     # repr (exact round trip) so the main job needn't redo the quadrature (about 0.1-0.3 s of CPU, mostly
-    # the threaded eigensolver of leggauss(256)); tests/test_uncertainty.py recomputes them
+    # the threaded eigensolver of leggauss(256)); tests/physics/test_uncertainty.py recomputes them
     (0.05, 5, 64, 14): (
         (
             1.8398610952279133,

@@ -41,7 +41,7 @@ def draw_fit(ax, ax_residuals, x, y, fitted, x_label: str, y_label: str, title: 
 
 
 def fit_figure(result):
-    """A Figure of a :class:`designer.analysis.calibrate.CalibrationResult` (data, fit, residuals)."""
+    """A Figure of a :class:`designer.studies.calibrate.CalibrationResult` (data, fit, residuals)."""
     from matplotlib.figure import Figure  # matplotlib: heavy, loaded only when drawing
 
     fig = Figure(figsize=(7, 6), layout="constrained")

@@ -7,7 +7,7 @@ The front and its design variables are drawn by the same functions as
 :meth:`Front.plot` and :meth:`Front.plot_variables`
 (:mod:`designer.plots.fronts`).  They compute
 every curve through the model's own functions (:mod:`designer.physics`,
-:func:`designer.model.performance`); no equation is re-typed here.  Lengths
+:func:`designer.model._caster.performance`); no equation is re-typed here.  Lengths
 are plotted in millimetres with inches on a secondary axis; only valid
 (successful) front points are drawn.
 
@@ -397,9 +397,9 @@ def figure_groove_damper(
     Left: the least turning effort F_turn [N] that reaches V_req at each
     diameter by the groove alone, the damper alone and the optimum mix
     (exact NLP, trail free: the ``tradeoff`` rows of
-    :func:`designer.analysis.tradeoff.groove_damper_tradeoff`).  Right: at the weighted optimum's T and d
+    :func:`designer.studies.front._tradeoff.groove_damper_tradeoff`).  Right: at the weighted optimum's T and d
     (``design``, with its ``conditions``), the (B, c_f) plane with turning-effort contours [N] and iso-V_c
-    lines [m/s] (:func:`designer.model.performance`); the bold line is V_c = V_req, the star the optimum.
+    lines [m/s] (:func:`designer.model._caster.performance`); the bold line is V_c = V_req, the star the optimum.
 
     Parameters
     ----------
@@ -451,7 +451,7 @@ def _tradeoff_lines(left, bounds, rows) -> None:
     bare = [
         r.diameter * MM
         for r in rows
-        if r.designs.get("optimum mix") is not None and _is_bare(bounds, r.designs["optimum mix"])
+        if r.designs.get("optimum mix") is not None and is_bare_fork(bounds, r.designs["optimum mix"])
     ]
     if bare and len(rows) > 1:
         step = (xs[-1] - xs[0]) / (len(xs) - 1) / 2
@@ -566,7 +566,7 @@ def _groove_damper_plane(ax, bounds, req, design, conditions) -> None:
     ax.set_title(title, fontsize=10 if not (cb.fixed or gb.fixed) else 9)
 
 
-def _is_bare(bounds, design) -> bool:
+def is_bare_fork(bounds, design) -> bool:
     """No groove and no added damper beyond the lower bounds (``bounds``: the problem's, by variable name)."""
     return design.groove <= bounds["groove"].low + 1e-6 * INCH and design.damping <= bounds["damping"].low * (1 + 1e-6)
 

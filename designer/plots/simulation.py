@@ -34,7 +34,7 @@ def plot_knock(
 
     Dashed red lines: ± the Eq. 29B amplitude θ_i V/(ωT); the title gives the speed V [m/s], whether the
     shimmy grows, Eq. 7's V_c [m/s] and, when given, the simulated onset speed [m/s].  Used by
-    :meth:`SimulationResult.plot <designer.analysis.simulate.SimulationResult.plot>` and
+    :meth:`SimulationResult.plot <designer.studies.dynamics._simulate.SimulationResult.plot>` and
     ``designer simulate --plot``.
 
     Parameters

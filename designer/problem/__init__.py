@@ -7,17 +7,18 @@ error is one line naming the key, the value and the reason.
 
 Modules
 -------
-core    the :class:`Problem` record (bounds, stock, risk, constraint margins), its validation, the ranges and
-        :data:`SCHEMA` (the keys that are not quantities)
-loader  problem file / TOML text / dict -> :class:`Problem` (:func:`load_problem`, :func:`problem_from_dict`)
+_core      the :class:`Problem` record (bounds, stock, risk, constraint margins), its validation, the ranges and
+           :data:`SCHEMA` (the keys that are not quantities)
+_loader    problem file / TOML text / dict -> :class:`Problem` (:func:`load_problem`, :func:`problem_from_dict`)
+_stock     the ``[stock]`` section: parts that exist
+_examples  the shipped example problems (package data): :func:`example_problem`, :func:`example_names`
 
-Every name is importable from ``designer.problem`` itself.
+The public names are in ``__all__``: import them from ``designer.problem``.
 """
 
 from __future__ import annotations
 
-from designer.model import MODEL_RANGE
-from designer.problem.core import (
+from designer.problem._core import (
     DEFAULT_BOUNDS,
     INERTIA_MODELS,
     INERTIA_RANGE,
@@ -35,14 +36,14 @@ from designer.problem.core import (
     check_range,
     check_weights,
 )
-from designer.problem.loader import load_problem, problem_files, problem_from_dict, problem_from_toml
+from designer.problem._examples import example_names, example_problem, example_text
+from designer.problem._loader import load_problem, problem_files, problem_from_dict, problem_from_toml
 
 __all__ = [
     "DEFAULT_BOUNDS",
     "INERTIA_MODELS",
     "INERTIA_RANGE",
     "MAX_SAMPLES",
-    "MODEL_RANGE",
     "NAME_PATTERN",
     "PHYSICAL_RANGE",
     "POINTS_RANGE",
@@ -55,6 +56,9 @@ __all__ = [
     "StockWheel",
     "check_range",
     "check_weights",
+    "example_names",
+    "example_problem",
+    "example_text",
     "load_problem",
     "problem_files",
     "problem_from_dict",

@@ -2,7 +2,7 @@
 
 :func:`write_report` writes ``results/<problem>/`` with ``index.html`` (one
 self-contained file), ``report.md`` + ``figures/``, ``front.csv``,
-``front.json`` and ``checks.json``.  :mod:`designer.commands.regenerate`
+``front.json`` and ``checks.json``.  :mod:`designer.cli.regenerate`
 rebuilds the reports of every shipped problem in one command.
 
 Modules

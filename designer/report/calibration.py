@@ -1,6 +1,6 @@
 """Render a calibration: ``--plot FILE`` (the figure alone) and ``--report DIR`` (index.html + report.md + figure).
 
-Render only: takes the :class:`designer.analysis.calibrate.CalibrationResult` that the fit computed and writes
+Render only: takes the :class:`designer.studies.calibrate.CalibrationResult` that the fit computed and writes
 it with the Pareto report's look (shared stylesheet); the figure is :func:`designer.plots.calibration.fit_figure`.
 """
 

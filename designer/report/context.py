@@ -20,8 +20,8 @@ import designer.report.figures as _figures
 from designer.plots.caster import caster_svg
 from designer.report.formatting import LBF, MPH, fmt, length
 from designer.report.text import build_lines, caster_sentence, inches, summary_lines
-from designer.plots.figures import _is_bare
-from designer.analysis.checks import summary_line
+from designer.plots.figures import is_bare_fork
+from designer.studies.checks import summary_line
 
 FIGURE_INFO = {
     "front": (
@@ -218,7 +218,7 @@ def _model_rows(problem) -> list[dict]:
             (
                 "robust shimmy constraint (replaces the nominal one)",
                 "V_c · exp(−z_(1−α) σ_V) >= V_req, σ_V² = σ_model² + Σ (∂log V_c/∂log p · σ_p)²",
-                "first-order quantile, designer.analysis.robust",
+                "first-order quantile, designer.studies.robust",
             )
         )
     rows += [
@@ -304,7 +304,7 @@ def _tradeoff_rows(problem, rows) -> list[dict]:
             v = r.effort.get(mech)
             row[key] = "cannot reach V_req" if v is None else fmt(v, ".3f", "N")
         mix = r.designs.get("optimum mix")
-        bare = mix is not None and _is_bare(problem.bounds, mix) and not problem.wheels
+        bare = mix is not None and is_bare_fork(problem.bounds, mix) and not problem.wheels
         if bare and out and out[-1].get("_bare") and out[-1]["mix"] == row["mix"]:
             first = out[-1]["_first"]
             out[-1].update(d_mm=f"{first[0]} – {d_mm}", d_in=f"{first[1]} – {d_in}")

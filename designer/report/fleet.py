@@ -1,6 +1,6 @@
 """Render a fleet run (``designer fleet``): fleet.csv, fleet.json, report.md + figures/, index.html.
 
-Takes the plain data of :func:`designer.analysis.fleet.fleet_data`; computes nothing but formatting.
+Takes the plain data of :func:`designer.studies.fleet._fleet.fleet_data`; computes nothing but formatting.
 Files go to a temporary folder beside the target and are renamed into place when complete.
 """
 

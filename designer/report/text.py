@@ -1,7 +1,7 @@
 """The report's sentences, each generated from the data it states (tests assert them against the data).
 
 :func:`build_lines` writes the "Build this" paragraph of the first screen from the
-:class:`~designer.analysis.recommend.Recommendation`; :func:`summary_lines` the bullet list under it;
+:class:`~designer.studies.recommend._recommend.Recommendation`; :func:`summary_lines` the bullet list under it;
 :func:`weights_line` what the weighted optimum is and is not.  Nothing here computes a design.
 """
 

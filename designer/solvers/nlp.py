@@ -458,7 +458,7 @@ class CasterNLP:
 
 
 SOBOL_FILE = Path(__file__).resolve().parents[1] / "data" / "sobol_d4_seed0.csv"
-"""``scipy.stats.qmc.Sobol(d=4, scramble=True, seed=0).random(1024)``, stored exactly (tests/test_structured.py
+"""``scipy.stats.qmc.Sobol(d=4, scramble=True, seed=0).random(1024)``, stored exactly (tests/solvers/test_closed_form.py
 checks it against scipy): the default sample, read without importing scipy.stats (0.7 s of CPU)."""
 
 
@@ -488,7 +488,7 @@ def sample_designs(problem: Problem, n: int = 1024, seed: int = 0) -> np.ndarray
 
 
 def evaluate_many(problem: Problem, x: np.ndarray) -> dict:
-    """Vectorised :func:`designer.model.performance` over an (N, 4) array of designs."""
+    """Vectorised :func:`designer.model._caster.performance` over an (N, 4) array of designs."""
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)

@@ -1,16 +1,15 @@
 """What the studio shows, computed through the package's API (no web framework here).
 
-The studio is a thin view: the fronts come from :func:`designer.analysis.pareto.pareto_front`,
+The studio is a thin view: the fronts come from :func:`designer.studies.front._pareto.pareto_front`,
 the recommendation and the buildable front from :func:`designer.recommend` (issue 11), the
 fixes of "my caster" from :func:`designer.fix` (issue 18), a design's numbers from
-:func:`designer.model.evaluate` and :mod:`designer.physics.uncertainty`, θ(t) from
-:func:`designer.analysis.simulate.simulate`.  Nothing here re-states an equation.
+:func:`designer.model._caster.evaluate` and :mod:`designer.physics.uncertainty`, θ(t) from
+:func:`designer.studies.dynamics._simulate.simulate`.  Nothing here re-states an equation.
 Where an analysis of another issue is not in this version yet, the view says so instead.
 """
 
 from __future__ import annotations
 
-import importlib
 import math
 import threading
 import time
@@ -32,14 +31,6 @@ longer ranking says it is the top FIX_LIMIT of N and names ``designer fix`` for 
 
 KNOCK_ANGLE = math.radians(20.0)
 """Size of the knock of the card's θ(t) [rad] (20°, the paper's design disturbance, Appendix C)."""
-
-
-def _optional(module: str, name: str):
-    """``module.name`` if this version has it, else None (an analysis another issue adds)."""
-    try:
-        return getattr(importlib.import_module(module), name)
-    except (ImportError, AttributeError):
-        return None
 
 
 def risk_of(problem):
@@ -118,19 +109,17 @@ def _compute_fronts(problem, key):
     if key is not None and key in _CACHE:
         _CACHE.move_to_end(key)
         return _CACHE[key]
-    from designer.analysis.pareto import pareto_front  # casadi: loaded with the studio, not with `import designer`
+    from designer.studies.front import pareto_front  # casadi: loaded with the studio, not with `import designer`
 
     t0, c0 = time.perf_counter(), time.thread_time()
     out = Fronts(problem=problem, continuous=None)
     risk = risk_of(problem)
-    recommend = _optional("designer.analysis.recommend", "recommend")
-    if recommend is not None:
-        rec = _quiet(recommend, problem)
-        out.recommendation = rec
-        out.buildable = getattr(rec, "buildable", None)
-        out.risk = getattr(rec, "front", None) if risk is not None else None
-    else:
-        out.notes.append("recommendation and buildable front: designer.recommend (issue 11) is not in this version")
+    from designer.studies.recommend import recommend  # late import: the stock screen and its Monte Carlo
+
+    rec = _quiet(recommend, problem)
+    out.recommendation = rec
+    out.buildable = getattr(rec, "buildable", None)
+    out.risk = getattr(rec, "front", None) if risk is not None else None
     if risk is not None and out.risk is None:
         out.risk = _quiet(pareto_front, problem)
     nominal = without_risk(problem) if risk is not None else problem
@@ -254,7 +243,7 @@ def speed_sweeps(problem, design: Design, n: int = 61) -> dict:
 
     Each sweep spans the problem's bounds of that variable (and ±50 % of the design's value if the
     bounds are fixed), the other variables held at the design's values; evaluated vectorised by
-    :func:`designer.model.performance`.  Returns {"trail": {...}, "diameter": {...}} of arrays [SI].
+    :func:`designer.model._caster.performance`.  Returns {"trail": {...}, "diameter": {...}} of arrays [SI].
     """
     conditions = problem.conditions
     out = {}
@@ -279,8 +268,8 @@ def speed_sweeps(problem, design: Design, n: int = 61) -> dict:
 
 
 def knock_response(problem, design: Design, angle: float = KNOCK_ANGLE) -> dict:
-    """θ(t) after a knock of ``angle`` [rad] at the target speed (:func:`designer.analysis.simulate.simulate`)."""
-    from designer.analysis.simulate import simulate  # scipy's integrator: loaded when a card opens
+    """θ(t) after a knock of ``angle`` [rad] at the target speed (:func:`designer.studies.dynamics._simulate.simulate`)."""
+    from designer.studies.dynamics import simulate  # scipy's integrator: loaded when a card opens
 
     result = _quiet(
         simulate, design, problem.conditions, speed=problem.target_speed, angle=angle, samples_per_period=24
@@ -296,18 +285,17 @@ def knock_response(problem, design: Design, angle: float = KNOCK_ANGLE) -> dict:
 
 def knock_safe(problem, design: Design) -> dict:
     """The design's knock-safe speeds for knocks of θ0 and 2 θ0 [m/s] (simulated, rolling tyre: the report's
-    card, :func:`designer.analysis.limit_cycles.knock_safe_speeds`); about 0.05–0.1 s of CPU, so on a click only."""
+    card, :func:`designer.studies.dynamics.limit_cycles.knock_safe_speeds`); about 0.05–0.1 s of CPU, so on a click only."""
     # late import: the time-domain shimmy model (scipy's root finder) loads when a card opens
-    from designer.analysis.limit_cycles import knock_safe_speeds
+    from designer.studies.dynamics.limit_cycles import knock_safe_speeds
 
     return _quiet(knock_safe_speeds, [design], problem.conditions)[0]
 
 
 def drawing_svg(problem, design: Design) -> str | None:
-    """The caster drawn to scale as SVG text (:func:`designer.plots.caster.caster_svg`), None if this version lacks it."""
-    caster_svg = _optional("designer.plots.caster", "caster_svg")
-    if caster_svg is None:
-        return None
+    """The caster drawn to scale as SVG text (:func:`designer.plots.caster.caster_svg`)."""
+    from designer.plots.caster import caster_svg  # late import: the drawing code loads when a card opens
+
     return _quiet(
         caster_svg,
         design.trail,
@@ -355,10 +343,8 @@ def fix_command(path, design: Design) -> str:
 def my_caster(problem, design: Design) -> dict:
     """A caster the user has: its numbers and risk for ``problem`` and the ranked fixes of :func:`designer.fix`."""
     out = {"numbers": design_numbers(problem, design), "fixes": None, "fix_note": None}
-    fix = _optional("designer.analysis.retrofit", "fix")
-    if fix is None:
-        out["fix_note"] = "ranked fixes: designer.fix (issue 18) is not in this version"
-        return out
+    from designer.studies.retrofit import fix  # late import: the retrofit study loads when "my caster" is asked
+
     result = _quiet(fix, problem, current=design, limit=FIX_LIMIT)
     out["found"] = int(getattr(result, "found", 0) or 0)
     out["command"] = fix_command(getattr(problem, "source", None) or f"{problem.name}.toml", design)

@@ -1,6 +1,6 @@
 """Render the shimmy-beyond-onset study (issue 16) into results/simulation: CSV, JSON, PNG, Markdown, HTML.
 
-Takes the dict of :func:`designer.analysis.limit_cycles.limit_cycle_study`; computes nothing but
+Takes the dict of :func:`designer.studies.dynamics.limit_cycles.limit_cycle_study`; computes nothing but
 summaries of it (ratios, minima and maxima for the text).
 
 Modules
@@ -114,3 +114,6 @@ def write_limit_cycle_report(study: dict, out_dir="results/simulation") -> list[
     (out / "limit_cycles.md").write_text(_blocks.to_markdown(blocks))
     (out / "limit_cycles.html").write_text(_blocks.to_html(blocks))
     return list(FILES)
+
+
+__all__ = ["write_limit_cycle_report"]

@@ -1,0 +1,115 @@
+"""``designer calibrate``: fit the model's constants to a user's test data (Fig. 7, Fig. 2C, Fig. 3C)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from designer.cli._common import choice_option, print_json, quantity_option
+from designer.errors import InputError
+
+KINDS = {
+    "turning": "moment per unit load k_surface [m] from drill-press data (Fig. 7); CSV columns load_N, moment_Nm",
+    "damping": "spindle friction damping c_f = M_f/θ0 [N·m/rad] with Eq. 7 (Fig. 2C); CSV columns trail_m, "
+    "inertia_kgm2, critical_speed_mps [, groove_m]",
+    "slip": "tyre slip coefficient K_s [N] (Fig. 3C, Eq. 12C); CSV columns slip_ratio, force_N",
+}
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "calibrate",
+        help="fit turning, damping or slip constants to test data (CSV)",
+        description="Fit a model constant to your own measurements, print it with its 95 % "
+        "confidence interval, plot residuals (--plot), write a report folder (--report) and write a TOML snippet for a "
+        "problem file (--snippet). 'designer calibrate examples DIR' writes example CSVs.",
+    )
+    kinds = p.add_subparsers(dest="kind", metavar="KIND", parser_class=type(p))
+    for kind, text in KINDS.items():
+        k = kinds.add_parser(kind, help=text, description=text)
+        k.add_argument("data", help="CSV file with a header row")
+        k.add_argument("--plot", default=None, metavar="FILE.png", help="write data, fit and residuals")
+        k.add_argument(
+            "--report",
+            default=None,
+            metavar="DIR",
+            help="write a report folder: index.html, report.md, calibration.json, figures/fit.png",
+        )
+        k.add_argument("--snippet", default=None, metavar="FILE.toml", help="write a problem-file TOML snippet")
+        k.add_argument("--json", action="store_true", help="machine-readable output")
+        if kind == "damping":
+            k.add_argument("--slip-coefficient", default="1250 N", help="K_s held fixed (default 1250 N)")
+        if kind == "turning":
+            k.add_argument("--surface", default="tile", help="surface tested: tile (default) | carpet")
+        k.set_defaults(func=run)
+    e = kinds.add_parser("examples", help="write the example CSVs (model + stated noise, seed 7)")
+    e.add_argument("out", nargs="?", default=None, help="directory (default: the package's data/examples)")
+    e.add_argument("--seed", type=int, default=None, help="random seed (default 7)")
+    e.set_defaults(func=run_examples)
+    p.set_defaults(func=lambda args: _missing_kind())
+
+
+def _missing_kind() -> int:
+    raise InputError(f"calibrate: missing KIND; expected one of {', '.join(KINDS)} or examples")
+
+
+def run(args) -> int:
+    # late import: loads scipy (via designer.studies.calibrate) only when this runs
+    from designer.studies.calibrate import calibrate_file
+
+    # late import: loads matplotlib (via designer.report.calibration) only when this runs
+    from designer.report.calibration import plot_fit, write_calibration_report
+
+    slip = 1250.0
+    if args.kind == "damping":
+        slip = quantity_option(args.slip_coefficient, "force", "--slip-coefficient")
+        if slip <= 0:
+            raise InputError(f"--slip-coefficient {args.slip_coefficient}: must be positive")
+    surface = choice_option(args.surface, ("tile", "carpet"), "--surface") if args.kind == "turning" else "tile"
+    result = calibrate_file(args.kind, args.data, slip_coefficient=slip, surface=surface)
+    if args.plot:
+        plot_fit(result, args.plot)
+    if args.report:
+        write_calibration_report(result, args.report, str(args.data))
+    if args.snippet:
+        try:
+            Path(args.snippet).write_text(result.snippet())
+        except OSError as exc:
+            raise InputError(f"--snippet {args.snippet}: cannot write ({exc.strerror})") from None
+    out = result.as_dict()
+    out["data"] = str(args.data)
+    if args.plot:
+        out["plot"] = args.plot
+    if args.report:
+        out["report"] = args.report
+    if args.snippet:
+        out["snippet"] = args.snippet
+    if args.json:
+        print_json(out)
+        return 0
+    lo, hi = result.interval
+    print(
+        f"{result.kind}: {result.name} = {result.value:.5g} {result.unit}  "
+        f"(95 % CI {lo:.5g} to {hi:.5g}, standard error {result.stderr:.3g}, n = {result.n}, "
+        f"rms residual {result.rms:.3g} {result.y_unit}; {result.equation})"
+    )
+    for key, value in result.notes.items():
+        print(f"  {key} = {value}")
+    if args.plot:
+        print(f"  residual plot: {args.plot}")
+    if args.report:
+        print(f"  report: {(Path(args.report) / 'index.html').resolve()}")
+    if args.snippet:
+        print(f"  TOML snippet: {args.snippet}")
+    else:
+        print(result.snippet(), end="")
+    return 0
+
+
+def run_examples(args) -> int:
+    # late import: loads scipy (via designer.studies.calibrate) only when this runs
+    from designer.studies.calibrate import EXAMPLE_SEED, EXAMPLES_DIR, write_examples
+
+    paths = write_examples(args.out or EXAMPLES_DIR, EXAMPLE_SEED if args.seed is None else args.seed)
+    for kind, path in paths.items():
+        print(f"{kind}: {path}")
+    return 0

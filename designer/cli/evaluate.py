@@ -1,0 +1,224 @@
+"""``designer evaluate``: analyse one caster (docs/commands.md)."""
+
+from __future__ import annotations
+
+import math
+
+from designer.cli._common import choice_option, print_json, quantity_option
+from designer.data.paper import INCH
+from designer.errors import InputError
+from designer.model import Conditions, Design, evaluate
+from designer.physics.inertia import Fixed, PowerLaw
+from designer.physics.turning import DEFAULT_TURNING, MODES, SURFACES
+from designer.model import check_design
+from designer.problem import INERTIA_RANGE, PHYSICAL_RANGE
+import warnings
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "evaluate",
+        help="analyse one caster design",
+        description="Analyse one caster: critical shimmy speed (Eq. 7), threshold force (Eq. 4A), "
+        "turning effort, swept radius, shimmy frequency (Eq. 15B). Quantities take units: "
+        "--trail 2in, --diameter 203.2mm, --damping '1.3 N*m/rad'.",
+    )
+    p.add_argument("--trail", required=True, help="trail T (e.g. 2in)")
+    p.add_argument("--diameter", required=True, help="wheel diameter d (e.g. 8in)")
+    p.add_argument("--groove", required=True, help="groove width B (0 for a single tread)")
+    p.add_argument("--damping", required=True, help="spindle friction damping c_f = M_f/θ0 (bare fork 1.3 N*m/rad)")
+    p.add_argument("--load", default="178 N", help="caster load L (default 178 N)")
+    p.add_argument("--threshold-height", default="0.5 in", help="door-sill height h (default 0.5 in)")
+    p.add_argument("--target-speed", default=None, help="speed to check for shimmy (optional)")
+    p.add_argument("--surface", default="tile", help="tile | carpet")
+    p.add_argument("--turning-mode", default="chair", help="chair | pivot")
+    p.add_argument("--disturbance-angle", default="20 deg", help="design disturbance θ0 (default 20 deg)")
+    p.add_argument("--slip-coefficient", default="1250 N", help="tyre slip coefficient K_s (default 1250 N)")
+    p.add_argument("--inertia", default=None, help="override I_w [kg·m²] (default: Table 1 power law of d)")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.add_argument(
+        "--knock-safe",
+        action="store_true",
+        help="also simulate the knock-safe speed for knocks of "
+        "θ0 and 2 θ0 (Coulomb friction, rolling tyre; about 1-2 s)",
+    )
+    p.set_defaults(func=run)
+
+
+def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
+    """Parse the options and evaluate; InputError names the option on bad input."""
+    values = {
+        "trail": quantity_option(args.trail, "length", "--trail"),
+        "diameter": quantity_option(args.diameter, "length", "--diameter"),
+        "groove": quantity_option(args.groove, "length", "--groove"),
+        "damping": quantity_option(args.damping, "damping", "--damping"),
+    }
+    for name, allow_zero in (("trail", False), ("diameter", False), ("groove", True), ("damping", True)):
+        value = values[name]
+        if value < 0 or (value == 0 and not allow_zero):
+            raise InputError(f"--{name} {value:g}: must be {'non-negative' if allow_zero else 'positive'}")
+    design = Design(**values)
+    check_design(design, "--", error=InputError, given={name: getattr(args, name) for name in values})
+    c0 = DEFAULT_TURNING.bare_fork_damping
+    if design.damping < c0:
+        raise InputError(
+            f"--damping {design.damping:g} N·m/rad: below the bare ball-bearing fork's {c0:g} N·m/rad "
+            f"(Eq. 11C), the least spindle damping a caster has; the added damper moment would be negative"
+        )
+    load = quantity_option(args.load, "force", "--load")
+    height = quantity_option(args.threshold_height, "length", "--threshold-height")
+    if load <= 0:
+        raise InputError(f"--load {args.load}: must be positive")
+    if height <= 0:
+        raise InputError(f"--threshold-height {args.threshold_height}: must be positive")
+    _in_range("--load", "conditions.load", load)
+    _in_range("--threshold-height", "conditions.threshold_height", height)
+    if design.diameter <= 2 * height:
+        raise InputError(
+            f"--diameter {args.diameter}: must exceed twice the threshold height ({2 * height / INCH:.3g} in); "
+            f"d/h = {design.diameter / height:.3g} <= 2 cannot climb the sill (Eq. 4A)"
+        )
+    inertia_model = PowerLaw()
+    if args.inertia is not None:
+        value = quantity_option(args.inertia, "inertia", "--inertia")
+        if not INERTIA_RANGE[0] <= value <= INERTIA_RANGE[1]:
+            raise InputError(
+                f"--inertia {args.inertia}: must be between {INERTIA_RANGE[0]:g} and "
+                f"{INERTIA_RANGE[1]:g} kg·m² (Table 1: 0.00026 to 0.0046)"
+            )
+        inertia_model = Fixed(value)
+    angle = quantity_option(args.disturbance_angle, "angle", "--disturbance-angle")
+    if not 0 < angle < 1.5708:
+        raise InputError(f"--disturbance-angle {args.disturbance_angle}: must be between 0 and 90 deg")
+    slip = quantity_option(args.slip_coefficient, "force", "--slip-coefficient")
+    if slip <= 0:
+        raise InputError(f"--slip-coefficient {args.slip_coefficient}: must be positive")
+    _in_range("--slip-coefficient", "shimmy.slip_coefficient", slip)
+    conditions = Conditions(
+        load=load,
+        threshold_height=height,
+        surface=choice_option(args.surface, SURFACES, "--surface"),
+        turning_mode=choice_option(args.turning_mode, MODES, "--turning-mode"),
+        disturbance_angle=angle,
+        slip_coefficient=slip,
+        inertia=inertia_model,
+    )
+    speed = quantity_option(args.target_speed, "speed", "--target-speed")
+    if speed is not None and speed <= 0:
+        raise InputError(f"--target-speed {args.target_speed}: must be positive")
+    if speed is not None:
+        _in_range("--target-speed", "shimmy.target_speed", speed)
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        values = evaluate(design, conditions, speed)
+    values["warnings"] = [str(w.message) for w in caught]
+    return design, conditions, values, speed
+
+
+def _in_range(option: str, key: str, value: float) -> None:
+    """InputError naming ``option`` if ``value`` is outside the problem file's range for ``key``."""
+    low, high, unit, hint = PHYSICAL_RANGE[key]
+    if not low <= value <= high:
+        raise InputError(f"{option} {value:g} {unit}: outside the model's range {low:g} to {high:g} {unit} ({hint})")
+
+
+def run(args) -> int:
+    """``designer evaluate``: the caster's numbers as a table (or ``--json``); exit 0."""
+    design, conditions, values, speed = analyse(args)
+    out = _results(design, conditions, values, speed, args.knock_safe)
+    if args.json:
+        print_json(out)
+        return 0
+    _print_table(design, conditions, values, speed, out, args.knock_safe)
+    return 0
+
+
+def _results(design, conditions, values: dict, speed: float | None, knock_safe: bool) -> dict:
+    """The numbers of ``--json`` (SI units); the knock-safe speeds are simulated only when asked for."""
+    out = {
+        "design": design.as_dict(),
+        "critical_speed": values["critical_speed"],
+        "inertia": values["inertia"],
+        "threshold_force_ratio": values["threshold_force_ratio"],
+        "threshold_force": values["threshold_force"],
+        "turning_moment": values["turning_moment"],
+        "turning_effort": values["turning_effort"],
+        "swept_radius": values["swept_radius"],
+        "shimmy_frequency": values["shimmy_frequency"],
+    }
+    if speed is not None:
+        out["target_speed"] = speed
+        out["shimmy_margin"] = values["critical_speed"] - speed
+        out["stable_at_target"] = values["critical_speed"] >= speed
+        out["growth_rate"] = values["growth_rate"]
+    if knock_safe:  # simulated, about 1-2 s: only on request
+        from designer.studies.dynamics.limit_cycles import knock_safe_speed
+
+        theta0 = conditions.disturbance_angle
+        out["knock_safe_speed"] = knock_safe_speed(design, conditions)
+        out["knock_safe_speed_double"] = (
+            knock_safe_speed(design, conditions, angle=2 * theta0) if 2 * theta0 < 1.5708 else None
+        )
+    out["warnings"] = values["warnings"]
+    return out
+
+
+def _print_table(design, conditions, values: dict, speed: float | None, out: dict, knock_safe: bool) -> None:
+    """The rich table of the text output: each quantity with its value (SI and US units) and its paper source."""
+    # late import: loads rich only when this runs
+    from rich.console import Console
+
+    # late import: loads rich only when this runs
+    from rich.table import Table
+
+    table = Table(title=f"Caster: {design.describe()}", title_justify="left")
+    table.add_column("quantity")
+    table.add_column("value", justify="right")
+    table.add_column("paper")
+    rows = [
+        ("wheel inertia I_w", f"{values['inertia']:.4g} kg·m²", conditions.inertia.describe()),
+        (
+            "critical shimmy speed V_c",
+            f"{values['critical_speed']:.3f} m/s ({values['critical_speed'] * 2.23694:.2f} mph)",
+            "Eq. 7",
+        ),
+        ("threshold force ratio P/L", f"{values['threshold_force_ratio']:.4f}", "Eq. 4A"),
+        (
+            "threshold force P",
+            f"{values['threshold_force']:.2f} N ({values['threshold_force'] / 4.44822:.2f} lbf)",
+            "Eq. 4A",
+        ),
+        ("turning moment", f"{values['turning_moment']:.4f} N·m", "docs/model.md#turning-effort, Fig. 7"),
+        (
+            "turning effort F_turn",
+            f"{values['turning_effort']:.3f} N ({values['turning_effort'] / 4.44822:.3f} lbf)",
+            "Eq. 9",
+        ),
+        (
+            "swept radius T + d/2",
+            f"{values['swept_radius'] * 1000:.1f} mm ({values['swept_radius'] / INCH:.3f} in)",
+            "",
+        ),
+        ("shimmy frequency ω", f"{values['shimmy_frequency']:.1f} rad/s", "Eq. 15B"),
+    ]
+    if knock_safe:  # beside V_c
+        double = out["knock_safe_speed_double"]
+        rows.insert(
+            2,
+            (
+                f"knock-safe speed, {math.degrees(conditions.disturbance_angle):.0f}° / "
+                f"{math.degrees(2 * conditions.disturbance_angle):.0f}° knock",
+                f"{out['knock_safe_speed']:.3f} / " + ("n/a" if double is None else f"{double:.3f}") + " m/s",
+                "simulated (App. B)",
+            ),
+        )
+    if speed is not None:
+        verdict = "stable" if values["critical_speed"] >= speed else "SHIMMIES"
+        rows.append((f"at {speed:.2f} m/s", f"{verdict}, margin {values['critical_speed'] - speed:+.3f} m/s", "Eq. 7"))
+        rows.append(("growth rate μ at that speed", f"{values['growth_rate']:+.3g} 1/s", "Eq. 12B"))
+    for row in rows:
+        table.add_row(*row)
+    Console(width=max(Console().width, 100)).print(table)
+    for w in values["warnings"]:
+        print(f"warning: {w}")

@@ -1,0 +1,164 @@
+"""``designer explore``: multi-objective exploration with optuna's NSGA-II (docs/model.md#solvers, docs/commands.md, issue 5)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from designer.cli._common import check_output_folder, eprint, print_json
+from designer.data.paper import INCH
+from designer.errors import InputError
+from designer.problem import load_problem
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "explore",
+        help="explore the trade-off with optuna (NSGA-II), also over catalog wheels and choices",
+        description="Multi-objective optuna study (NSGA-II, constraints via trial.set_constraint) of turning effort "
+        "and threshold force with V_c >= (1+margin) V_target (Eq. 7). Catalog wheels and the problem's "
+        "[choices] are categorical. Writes explore.csv and explore.json into --out.",
+    )
+    p.add_argument("problem", help="problem file (TOML)")
+    p.add_argument("--trials", type=int, default=500, help="COMPLETE trials the study ends with (default 500)")
+    p.add_argument("--seed", type=int, default=0, help="sampler seed (default 0; single-worker runs are repeatable)")
+    p.add_argument(
+        "--storage",
+        default=None,
+        help="optuna storage: sqlite:///file.db, postgresql://user:pw@host/db, journal:///path/file.log "
+        "(or a path ending .db / .log); default in-memory",
+    )
+    p.add_argument("--study", default=None, help="study name (default <problem name>-explore)")
+    p.add_argument("--workers", type=int, default=1, help="processes working on the study (needs --storage)")
+    p.add_argument("--resume", action="store_true", help="continue an interrupted study up to --trials")
+    p.add_argument(
+        "--refine",
+        action="store_true",
+        help="polish every front point with the exact NLP (min F_turn s.t. P <= P_candidate)",
+    )
+    p.add_argument(
+        "--operators",
+        choices=("tuned", "optuna"),
+        default="tuned",
+        help="NSGA-II operators: tuned (SBX + polynomial mutation, default) or optuna's defaults",
+    )
+    p.add_argument("--population", type=int, default=None, help="population size (default ≈ √trials, 20…100)")
+    p.add_argument("--no-compare", action="store_true", help="skip the comparison with the exact front")
+    p.add_argument("--out", default=None, help="output folder (default results/<problem name>/)")
+    p.add_argument("--json", action="store_true", help="print explore.json to stdout")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    # late import: loads casadi (via designer.studies.explore) only when this runs
+    from designer.studies.explore import explore
+
+    if args.population is not None and args.population < 2:
+        raise InputError(f"--population {args.population}: must be at least 2")
+    problem = load_problem(args.problem)
+    out = Path(args.out) if args.out else Path("results") / problem.name
+    check_output_folder(out)  # before the study, not after it
+    try:
+        result = explore(
+            problem,
+            trials=args.trials,
+            seed=args.seed,
+            storage=args.storage,
+            study_name=args.study,
+            workers=args.workers,
+            resume=args.resume,
+            refine=args.refine,
+            operators=args.operators,
+            population_size=args.population,
+            compare=not args.no_compare,
+            progress=not args.json,
+        )
+    except KeyboardInterrupt as exc:
+        if str(exc):
+            eprint(f"designer: {exc}")
+        raise
+    csv_path, json_path = result.write(out)
+    for note in result.warnings:
+        eprint(f"designer: note: {note}")
+    if args.json:
+        print_json(result.to_dict())
+        return 0
+    _print(result, csv_path, json_path)
+    return 0
+
+
+def _print(result, csv_path, json_path) -> None:
+    # late import: loads rich only when this runs
+    from rich.console import Console
+
+    # late import: loads rich only when this runs
+    from rich.markup import escape
+
+    # late import: loads rich only when this runs
+    from rich.table import Table
+
+    console = Console(width=max(Console().width, 120))
+    ops = result.operators
+    console.print(
+        f"[bold]{result.problem.name}[/]: study {result.study_name!r} on {result.storage}, "
+        f"{result.trials} complete trials ({result.distinct} distinct, {result.feasible} feasible), "
+        f"{result.trials_run / max(result.seconds, 1e-9):.0f} trials/s, {result.workers} worker(s), "
+        f"seed {result.seed}"
+    )
+    console.print(
+        f"NSGA-II: {ops.name} (population {ops.population_size}, {ops.crossover} crossover"
+        f"{'' if ops.crossover != 'sbx' else f' η={ops.crossover_eta:g}'}, {ops.mutation} mutation"
+        f"{'' if ops.mutation != 'polynomial' else f' η={ops.mutation_eta:g}'})"
+        f"{'; fronts refined by the exact NLP' if result.refined else ''}"
+    )
+    cats = [c for c in ("wheel", "surface", "turning_mode") if any(c in r for r in result.front)]
+    if len(result.category_fronts) > 1:
+        table = Table(title="Front per category", title_justify="left")
+        for col in ("category", "points", "F_turn range [N]", "P range [N]"):
+            table.add_column(escape(col), justify="left" if col == "category" else "right")
+        for label, rows in result.category_fronts.items():
+            if rows:
+                f = [r["turning_effort"] for r in rows]
+                p = [r["threshold_force"] for r in rows]
+                table.add_row(label, str(len(rows)), f"{min(f):.3f} – {max(f):.3f}", f"{min(p):.2f} – {max(p):.2f}")
+            else:
+                table.add_row(label, "0", "no feasible trial", "")
+        console.print(table)
+    table = Table(title=f"Overall front ({len(result.front)} points)", title_justify="left")
+    for col in cats + ["T [in]", "d [in]", "B [in]", "c_f [N·m/rad]", "F_turn [N]", "P [N]", "V_c [m/s]", "trial"]:
+        # escaped: rich reads "[in]" and "[m/s]" as markup tags and drops them (the units)
+        table.add_column(escape(col), justify="right")
+    for r in result.front:
+        table.add_row(
+            *[str(r[c]) for c in cats],
+            f"{r['trail'] / INCH:.3f}",
+            f"{r['diameter'] / INCH:.3f}",
+            f"{r['groove'] / INCH:.3f}",
+            f"{r['damping']:.3f}",
+            f"{r['turning_effort']:.3f}",
+            f"{r['threshold_force']:.2f}",
+            f"{r['critical_speed']:.3f}",
+            f"{r['trial']}{'*' if r['refined'] else ''}",
+        )
+    console.print(table)
+    if result.refined:
+        console.print("* refined by the NLP (ε-constraint at the candidate's P)")
+    ref = result.reference_point
+    c = result.comparison
+    if "hypervolume_ratio" in c and c.get("exact_points", 0) < 2:
+        best = "reaches" if c["igd_plus"] < 1e-6 else "does not reach"
+        console.print(
+            f"The exact front is a single point (one design dominates every other): the explored front "
+            f"{best} it (IGD+ {c['igd_plus']:.4g}, normalised); a hypervolume ratio says nothing here."
+        )
+    elif "hypervolume_ratio" in c:
+        console.print(
+            f"Against the exact front ({c['exact_points']} points): HV {c['hypervolume_explored']:.4g} vs "
+            f"{c['hypervolume_exact']:.4g} N² (ratio {c['hypervolume_ratio']:.3f}; reference "
+            f"({ref[0]:.3f} N, {ref[1]:.2f} N) = exact nadir + 10 % of its extent); IGD+ "
+            f"{c['igd_plus']:.4f} (normalised by the exact front's ideal and nadir)"
+        )
+    else:
+        console.print(
+            f"HV {result.hypervolume:.4g} N² (reference ({ref[0]:.3f} N, {ref[1]:.2f} N)). {c.get('note', '')}"
+        )
+    console.print(f"wrote {csv_path} and {json_path}")

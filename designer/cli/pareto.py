@@ -1,0 +1,159 @@
+"""``designer pareto PROBLEM``: exact Pareto front, checks and report (docs/commands.md, docs/commands.md#reports).
+
+Computes everything once with :func:`designer.pipeline.report_data` (the front,
+the front for a 10 % higher target speed for check 8c, the recommendation, the
+weighted optimum, the paper checks and check 8, the groove–damper table), hands
+it to :func:`designer.report.write_report`, which renders ``results/<problem>/``,
+and prints where to open it.  ``--cross-check`` adds the GP and SLSQP
+cross-check of the weighted optimum (about 1 s of CPU; off in the main job).  Exit 1 if a front
+check fails (after the report is written); errors of :mod:`designer.errors`
+propagate to the one-line handler of :mod:`designer.cli`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from designer.cli._common import check_output_folder, eprint, print_json
+
+from designer.pipeline import TIGHTER_FACTOR  # noqa: F401  (re-exported: check 8c's factor)
+from designer.errors import InputError
+from designer.problem import load_problem
+from designer.problem import POINTS_RANGE
+from designer.problem import problem_files
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "pareto",
+        help="exact Pareto front of turning effort vs threshold force, with a report",
+        description="Exact Pareto front of (turning effort, threshold force) under V_c >= V_req "
+        "(Eq. 7), the weighted optimum, the paper checks and check 8, written as a "
+        "report (index.html, report.md, front.csv, front.json, checks.json) into "
+        "results/<problem>/. Exit 1 if a check of the front fails.",
+    )
+    p.add_argument("problem", nargs="?", help="problem file (TOML), e.g. problems/indoor-manual.toml")
+    p.add_argument("--points", type=int, default=None, help="number of front points (default: the problem's [pareto])")
+    p.add_argument(
+        "--out",
+        default=None,
+        help="report folder (default results/<problem name>; with --all: the parent folder, default results)",
+    )
+    p.add_argument(
+        "--all",
+        action="store_true",
+        help="regenerate the reports of every problem in problems/ (or the folder given as PROBLEM)",
+    )
+    p.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
+    p.add_argument(
+        "--cross-check",
+        action="store_true",
+        help="also solve the weighted optimum with the geometric program (cvxpy) and SLSQP and report "
+        "the agreement (about 1 s more)",
+    )
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="write the report into the --out folder even if it is not "
+        "a report of this tool (files the report does not own are "
+        "kept)",
+    )
+    p.set_defaults(func=run)
+
+
+def _progress():
+    """A transient rich progress bar on stderr, or None without rich."""
+    try:
+        # late import: loads rich only when this runs
+        from rich.console import Console
+
+        # late import: loads rich only when this runs
+        from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
+    except ImportError:  # pragma: no cover - rich is a dependency
+        return None
+    progress = Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TaskProgressColumn(),
+        TimeElapsedColumn(),
+        console=Console(stderr=True),
+        transient=True,
+    )
+    return progress
+
+
+def _print_summary(s: dict) -> None:
+    print(
+        f"{s['problem']}: {s['points']} front points ({s['failed_points']} failed), "
+        f"checks {s['checks_passed']}/{s['checks_total']} pass"
+        + (f", FAILING: {', '.join(s['failing_checks'])}" if s["failing_checks"] else "")
+        + f" [{s['seconds']:.1f} s]"
+    )
+    rec = s.get("recommendation")
+    if rec is not None:
+        d = rec["design"]
+        print(
+            f"  build this: T = {d['trail'] / 0.0254:.3f} in, d = {d['diameter'] / 0.0254:.3f} in, "
+            f"B = {d['groove'] / 0.0254:.3f} in, c_f = {d['damping']:.3f} N·m/rad; "
+            f"F_turn {rec['turning_effort']:.3f} N, P {rec['threshold_force']:.2f} N ({rec['rule']})"
+        )
+    opt = s["optimum"]
+    if opt is not None:
+        d = opt["design"]
+        wheel = f"wheel {opt['wheel']}, " if opt.get("wheel") else ""
+        print(
+            f"  weighted optimum: {wheel}T = {d['trail'] / 0.0254:.3f} in, d = {d['diameter'] / 0.0254:.3f} in, "
+            f"B = {d['groove'] / 0.0254:.3f} in, c_f = {d['damping']:.3f} N·m/rad; "
+            f"F_turn {opt['objectives']['turning_effort']:.3f} N, P {opt['objectives']['threshold_force']:.2f} N"
+        )
+    print(f"  open: {Path(s['index_html']).resolve()}")
+
+
+def run(args) -> int:
+
+    if args.points is not None and not POINTS_RANGE[0] <= args.points <= POINTS_RANGE[1]:
+        raise InputError(
+            f"--points {args.points}: must be a whole number from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}, "
+            f"as [pareto] points in a problem file"
+        )
+    if args.all:
+        files = problem_files(args.problem or "problems")
+        parent = Path(args.out or "results")
+        jobs = [(load_problem(f), None) for f in files]
+        jobs = [(p, parent / p.name) for p, _ in jobs]
+    else:
+        if not args.problem:
+            raise InputError("designer pareto: give a PROBLEM file, or --all")
+        problem = load_problem(args.problem)
+        jobs = [(problem, Path(args.out) if args.out else None)]
+    # late import: loads matplotlib (via designer.report) only when this runs
+    from designer.report.build import compute_and_write
+
+    # late import: loads matplotlib (via designer.report.writer) only when this runs
+    from designer.report.writer import check_target
+
+    for problem, out in jobs:  # refuse a foreign or unwritable --out folder before the work, not after
+        target = out if out is not None else Path("results") / problem.name
+        check_output_folder(target)
+        check_target(target, args.force)
+    summaries = []
+    progress = _progress()
+    if progress is not None:
+        progress.start()
+    try:
+        for problem, out in jobs:
+            summaries.append(compute_and_write(problem, args.points, out, progress, args.force, args.cross_check))
+            if not args.json:
+                _print_summary(summaries[-1])
+    finally:
+        if progress is not None:
+            progress.stop()
+    if args.json:
+        print_json(summaries if args.all else summaries[0])
+    bad = [s for s in summaries if s["failing_front_checks"]]
+    for s in bad:
+        eprint(
+            f"designer: check failed on the front of {s['problem']}: {', '.join(s['failing_front_checks'])} "
+            f"(report written to {s['report']})"
+        )
+    return 1 if bad else 0

@@ -1,0 +1,86 @@
+"""``designer run PROBLEM``: the caster to build (the recommendation, first), then the weighted optimum of the
+problem as posed with margins, sensitivities and solver agreement."""
+
+from __future__ import annotations
+
+import math
+
+from designer.cli._common import eprint, print_json, quantity_option
+from designer.errors import InputError
+from designer.studies.recommend import recommend, weights_meaning
+from designer.problem import check_weights, load_problem
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "run",
+        help="the caster to build for a problem file, and its weighted optimum",
+        description="Recommend one buildable caster within the risk bound (knee of the buildable "
+        "front, or the cap of [objective]) with two alternatives; then minimise "
+        "J = w_turn F_turn + w_threshold P subject to the same bound: multi-start IPOPT, "
+        "cross-checked by a geometric program (cvxpy) and SLSQP.",
+    )
+    p.add_argument("problem", help="problem file (TOML), e.g. problems/indoor-manual.toml")
+    p.add_argument("--weights", default=None, help="w_turn,w_threshold (default: the problem's [objective])")
+    p.add_argument("--target-speed", default=None, help="override shimmy.target_speed, e.g. 3m/s")
+    p.add_argument("--no-cross-check", action="store_true", help="skip the GP and SLSQP cross-checks")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.add_argument("--verbose", action="store_true", help="print build and solve times")
+    p.set_defaults(func=run)
+
+
+def parse_weights(text: str | None):
+    """Parse "a,b" into two non-negative floats, not both zero."""
+    if text is None:
+        return None
+    parts = text.split(",")
+    try:
+        values = tuple(float(x) for x in parts)
+    except ValueError:
+        raise InputError(f"--weights {text!r}: expected two numbers 'w_turn,w_threshold', e.g. 1,1") from None
+    if len(values) != 2:
+        raise InputError(f"--weights {text}: expected two numbers 'w_turn,w_threshold', e.g. 1,1; got {len(values)}")
+    for name, v in zip(("w_turn", "w_threshold"), values):
+        if not math.isfinite(v) or v < 0:
+            raise InputError(f"--weights {text}: {name} = {v:g} must be a finite non-negative number")
+    if sum(values) <= 0:
+        raise InputError(f"--weights {text}: the weights must not both be zero")
+
+    return check_weights(values, "--weights", error=InputError)
+
+
+def run(args) -> int:
+    problem = load_problem(args.problem)
+    if args.target_speed is not None:
+        problem = problem.replace(target_speed=quantity_option(args.target_speed, "speed", "--target-speed"))
+    weights = parse_weights(args.weights)
+    # late import: the optimiser loads casadi (and cvxpy for its cross-check); the CLI starts without them
+    from designer.studies.optimum import optimise
+
+    rec = recommend(problem)  # exit 4 when no stock combination meets the risk bound
+    solution = optimise(problem, weights, cross_check=not args.no_cross_check)
+    used = [float(w) for w in (weights if weights is not None else problem.weights)]
+    if args.json:
+        data = solution.to_dict()
+        data["recommendation"] = rec.to_dict()
+        data["alternatives"] = [a.to_dict() for a in rec.alternatives]
+        data["weights"] = used
+        data["weights_meaning"] = weights_meaning(used)
+        if rec.note:
+            data["recommendation_note"] = rec.note
+        print_json(data)
+    else:
+        print(rec)
+        print()
+        print(
+            f"Weighted optimum of the problem as posed, continuous and "
+            f"{'risk-bounded' if problem.risk is not None else 'nominal'} ({weights_meaning(used)}):"
+        )
+        print(solution)
+    if args.verbose:
+        t = solution.timings
+        eprint(
+            f"timing: NLP build {t['build'] * 1000:.1f} ms, multi-start solve {t['solve'] * 1000:.1f} ms "
+            f"({solution.starts} starts), cross-checks {t['cross_check'] * 1000:.1f} ms"
+        )
+    return 0

@@ -1,0 +1,355 @@
+"""``designer simulate``: time-domain shimmy after a knock, Coulomb spindle friction (Appendix B)."""
+
+from __future__ import annotations
+
+import math
+import sys
+
+from designer.cli._common import eprint, print_json, quantity_option
+from designer.errors import InputError
+from designer.model import Conditions, Design
+from designer.physics.inertia import Fixed, PowerLaw
+from designer.physics.tyre import TyreParameters
+from designer.studies.dynamics.limit_cycles import bifurcation_diagram, knock_safe_speed
+import warnings
+from designer.studies.dynamics.limit_cycles import limit_cycle_study
+from designer.plots.simulation import bifurcation_axes
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "simulate",
+        help="simulate caster shimmy in time (Coulomb spindle friction)",
+        description="Integrate the two-degree-of-freedom caster of Appendix B (Eq. 3B, 4B, 6B) with true Coulomb "
+        "spindle friction M_f sgn(θ'), M_f = c_f θ0, from a knock θ_i (Eq. 24B), and compare with Eq. 7 "
+        "(critical speed), Eq. 4/29B (amplitude) and Eq. 15B (frequency). "
+        "--report DIR regenerates the comparison report (results/simulation).",
+    )
+    p.add_argument("--trail", help="trail T (e.g. 2.5in)")
+    p.add_argument("--diameter", default="8 in", help="wheel diameter d (default 8 in; sets I_w unless --inertia)")
+    p.add_argument("--groove", default="0 in", help="groove width B (default 0, single tread)")
+    p.add_argument("--damping", default="1.3 N*m/rad", help="spindle friction damping c_f = M_f/θ0 (default 1.3)")
+    p.add_argument("--speed", help="wheelchair speed V (e.g. 2.5m/s)")
+    p.add_argument("--angle", default="20 deg", help="initial (knock) angle θ_i (default 20 deg)")
+    p.add_argument("--angular-velocity", default="0", help="initial θ'_i in rad/s (default 0)")
+    p.add_argument(
+        "--disturbance-angle", default="20 deg", help="design θ0 that defines M_f = c_f θ0 (default 20 deg, App. C)"
+    )
+    p.add_argument(
+        "--load",
+        default="178 N",
+        help="caster load L (used by the brush tyre of --bifurcation and --knock-safe --tyre; default 178 N)",
+    )
+    p.add_argument("--inertia", default=None, help="wheel I_w in kg*m**2 (default: Table 1 power law of d)")
+    p.add_argument("--slip-coefficient", default="1250 N", help="tyre slip coefficient K_s (default 1250 N)")
+    p.add_argument("--duration", default=None, help="simulated time in s (default: transient + 24 periods)")
+    p.add_argument("--find-onset", action="store_true", help="also find the onset speed by bisection")
+    p.add_argument("--plot", default=None, metavar="FILE.png", help="plot θ(t) (as Fig. 1C)")
+    p.add_argument(
+        "--report",
+        default=None,
+        metavar="DIR",
+        help="regenerate the simulated-onset vs Eq. 7 report into DIR (e.g. results/simulation)",
+    )
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    _register_limit_cycles(p)
+    p.set_defaults(func=run)
+
+
+def _register_limit_cycles(p) -> None:
+    """Options of issue 16: the brush tyre, the bifurcation diagram and the knock-safe speed."""
+    g = p.add_argument_group("beyond onset (brush tyre, periodic orbits, knock-safe speed)")
+    g.add_argument(
+        "--bifurcation",
+        action="store_true",
+        help="periodic orbits against speed (stable and unstable branches, brush tyre; the rolling "
+        "tyre's branch beside it); --plot draws the diagram",
+    )
+    g.add_argument(
+        "--knock-safe", action="store_true", help="highest speed at which a knock of --angle decays (and of twice it)"
+    )
+    g.add_argument(
+        "--tyre",
+        action="store_true",
+        help="use the brush tyre for --knock-safe (default: the paper's rolling tyre, Eq. 6B)",
+    )
+    g.add_argument("--friction-coefficient", default="0.7", help="tyre-floor μ of the brush tyre (default 0.7)")
+    g.add_argument("--cornering-stiffness", default="1250", help="brush tyre C in N/rad (default K_s = 1250)")
+    g.add_argument("--wheel-mass", default="0.444 kg", help="wheel mass M_W for the brush tyre (default 0.444 kg)")
+    g.add_argument("--max-speed", default="4 m/s", help="upper speed of --bifurcation (default 4 m/s)")
+    g.add_argument("--points", default="24", help="orbits on the unstable branch of --bifurcation (default 24)")
+
+
+def _tyre(args):
+
+    values = {}
+    for option, text in (
+        ("--friction-coefficient", args.friction_coefficient),
+        ("--cornering-stiffness", args.cornering_stiffness),
+    ):
+        try:
+            values[option] = float(text)
+        except ValueError:
+            raise InputError(f"{option} {text!r}: expected a number") from None
+        if not math.isfinite(values[option]) or values[option] <= 0:
+            raise InputError(f"{option} {text}: must be positive")
+    return TyreParameters(
+        cornering_stiffness=values["--cornering-stiffness"],
+        friction_coefficient=values["--friction-coefficient"],
+        load=_positive("--load", args.load, "force"),
+        wheel_mass=_positive("--wheel-mass", args.wheel_mass, "mass"),
+    )
+
+
+def _run_limit_cycles(args) -> int:
+    """--bifurcation / --knock-safe."""
+
+    if args.speed is None:
+        args.speed = "1 m/s"  # not used by these analyses
+    design, conditions, _speed, angle, _omega0, _duration = parse(args)
+    tyre = _tyre(args)
+    out: dict = {"design": design.as_dict(), "angle": angle}
+    if args.knock_safe:
+        out.update(_knock_safe(design, conditions, angle, tyre if args.tyre else None))
+    if args.bifurcation:
+        out.update(_bifurcation(args, design, conditions, angle, tyre))
+    if args.json:
+        print_json(out)
+        return 0
+    _print_limit_cycles(args, design, angle, tyre, out)
+    return 0
+
+
+def _knock_safe(design, conditions, angle: float, tyre) -> dict:
+    """Knock-safe speeds [m/s] for knocks of ``angle`` and twice it (None at or beyond 90°); ``tyre`` None: rolling."""
+    return {
+        "knock_safe_speed": knock_safe_speed(design, conditions, angle=angle, tyre=tyre),
+        "knock_safe_speed_double": (
+            knock_safe_speed(design, conditions, angle=2 * angle, tyre=tyre) if 2 * angle < math.pi / 2 else None
+        ),
+        "knock_safe_model": "brush tyre" if tyre is not None else "rolling tyre (Eq. 6B)",
+    }
+
+
+def _bifurcation(args, design, conditions, angle: float, tyre) -> dict:
+    """Periodic orbits against speed, brush tyre and rolling tyre (``--points``, ``--max-speed``); ``--plot`` draws them."""
+    try:
+        points = int(args.points)
+    except ValueError:
+        raise InputError(f"--points {args.points!r}: expected an integer") from None
+    if not 3 <= points <= 200:
+        raise InputError(f"--points {points}: must be between 3 and 200")
+    top = _positive("--max-speed", args.max_speed, "speed")
+    bif = bifurcation_diagram(design, conditions, tyre, speed_range=(min(0.3, top / 4), top), points=points)
+    roll = bifurcation_diagram(
+        design,
+        conditions,
+        None,
+        speed_range=(min(0.3, top / 4), top),
+        points=max(3, points // 2),
+        max_amplitude=1.5,
+    )
+    out = {
+        k: bif[k]
+        for k in (
+            "branches",
+            "fold_speed",
+            "eq7_critical_speed",
+            "frequency",
+            "orbits",
+            "stable_at_reference",
+            "max_closure",
+            "tyre",
+        )
+    }
+    out["rolling_branches"] = roll["branches"]
+    if args.plot:
+        _plot_bifurcation(args.plot, design, angle, bif, roll, top)
+        out["plot"] = args.plot
+    return out
+
+
+def _plot_bifurcation(path, design, angle: float, bif: dict, roll: dict, top: float) -> None:
+    """Draw the bifurcation diagram of ``bif`` (brush tyre) and ``roll`` (rolling tyre) into an image file."""
+    # late import: loads matplotlib (via designer.plots.figures) only when this runs
+    from designer.plots.figures import save_figure
+
+    if not str(path).lower().endswith((".png", ".svg", ".pdf")):
+        raise InputError(f"--plot {path}: expected a .png, .svg or .pdf file name")
+    ax = bifurcation_axes(
+        bif["branches"],
+        bif["eq7_critical_speed"],
+        angle / (bif["frequency"] * design.trail),
+        roll["branches"],
+        bif["fold_speed"],
+        speed_range=(min(0.3, top / 4), top),
+        title=design.describe(),
+    )
+    ax.figure.tight_layout()
+    save_figure(ax.figure, path)
+
+
+def _print_limit_cycles(args, design, angle: float, tyre, out: dict) -> None:
+    """The text output of --knock-safe and --bifurcation."""
+    print(f"Caster: {design.describe()}")
+    if args.knock_safe:
+        double = out["knock_safe_speed_double"]
+        print(
+            f"knock-safe speed ({out['knock_safe_model']}): {out['knock_safe_speed']:.3f} m/s for a "
+            f"{math.degrees(angle):.0f}° knock"
+            + (f", {double:.3f} m/s for {math.degrees(2 * angle):.0f}°" if double is not None else "")
+        )
+    if args.bifurcation:
+        print(
+            f"Eq. 7 V_c = {out['eq7_critical_speed']:.3f} m/s; brush tyre (μ = {tyre.friction_coefficient:g}, "
+            f"C = {tyre.cornering_stiffness:g} N/rad, L = {tyre.load:g} N):"
+        )
+        for b in out["branches"]:
+            print(
+                f"  {b['kind']:8s} branch: V {min(b['speed']):.2f}–{max(b['speed']):.2f} m/s, amplitude "
+                f"{min(b['amplitude']):.3f}–{max(b['amplitude']):.3f} rad ({len(b['speed'])} orbits)"
+            )
+        fold = out["fold_speed"]
+        print(
+            "  fold (lowest speed of sustained shimmy): " + (f"{fold:.2f} m/s" if math.isfinite(fold) else "none found")
+        )
+        s = out["stable_at_reference"]
+        if s is not None:
+            print(
+                f"  stable amplitude at {out['eq7_critical_speed']:.2f} m/s: {s['amplitude']:.3f} rad "
+                f"({math.degrees(s['amplitude']):.1f}°), max |Floquet multiplier| {s['max_abs_multiplier']:.3f}"
+            )
+        print(f"  largest orbit closure error {out['max_closure']:.1e} rad")
+        if args.plot:
+            print(f"  plot: {args.plot}")
+
+
+def _positive(option, text, dimension, allow_zero=False):
+    value = quantity_option(text, dimension, option)
+    if value < 0 or (value == 0 and not allow_zero):
+        raise InputError(f"{option} {text}: must be {'non-negative' if allow_zero else 'positive'}")
+    return value
+
+
+def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
+    """Options → (design, conditions, speed, angle, angular velocity, duration); InputError on bad input."""
+    for option, value in (("--trail", args.trail), ("--speed", args.speed)):
+        if value is None:
+            raise InputError(f"{option}: missing; required unless --report is given")
+    design = Design(
+        trail=_positive("--trail", args.trail, "length"),
+        diameter=_positive("--diameter", args.diameter, "length"),
+        groove=_positive("--groove", args.groove, "length", allow_zero=True),
+        damping=_positive("--damping", args.damping, "damping", allow_zero=True),
+    )
+    _positive("--load", args.load, "force")
+    speed = _positive("--speed", args.speed, "speed")
+    angle = _positive("--angle", args.angle, "angle")
+    if angle >= math.pi / 2:
+        raise InputError(f"--angle {args.angle}: must be below 90 deg (small-angle model)")
+    theta0 = _positive("--disturbance-angle", args.disturbance_angle, "angle")
+    if theta0 >= math.pi / 2:
+        raise InputError(f"--disturbance-angle {args.disturbance_angle}: must be below 90 deg")
+    try:
+        omega0 = float(args.angular_velocity)
+    except ValueError:
+        raise InputError(f"--angular-velocity {args.angular_velocity!r}: expected a number in rad/s") from None
+    if not math.isfinite(omega0):
+        raise InputError(f"--angular-velocity {args.angular_velocity}: must be finite")
+    inertia = PowerLaw() if args.inertia is None else Fixed(_positive("--inertia", args.inertia, "inertia"))
+    slip = _positive("--slip-coefficient", args.slip_coefficient, "force")
+    duration = None
+    if args.duration is not None:
+        try:
+            duration = float(args.duration)
+        except ValueError:
+            raise InputError(f"--duration {args.duration!r}: expected a number of seconds") from None
+        if not math.isfinite(duration) or duration <= 0 or duration > 60:
+            raise InputError(f"--duration {args.duration}: must be between 0 and 60 s")
+    conditions = Conditions(disturbance_angle=theta0, slip_coefficient=slip, inertia=inertia)
+    return design, conditions, speed, angle, omega0, duration
+
+
+def run(args) -> int:
+    # late import: loads scipy (via designer.studies.dynamics._simulate) only when this runs
+    from designer.studies.dynamics import onset_speed, simulate
+
+    # late import: the validation study (scipy, matplotlib) only for --report
+    from designer.studies.dynamics import write_simulation_report
+
+    if (args.bifurcation or args.knock_safe) and args.report is None:
+        return _run_limit_cycles(args)
+
+    if args.report is not None:
+        result = write_simulation_report(
+            args.report,
+            progress=None if args.json else lambda i, n: print(f"\rcase {i}/{n}", end="", file=sys.stderr, flush=True),
+        )
+        if not args.json:
+            eprint("")
+        # late import: loads matplotlib (via designer.report.limit_cycles) only when this runs
+        from designer.report.limit_cycles import write_limit_cycle_report
+
+        study = limit_cycle_study(progress=None if args.json else lambda text: eprint(f"limit cycles: {text}"))
+        written = write_limit_cycle_report(study, args.report)
+        summary = result["summary"]
+        if args.json:
+            print_json({"report": args.report, "summary": summary})
+        else:
+            a = summary["all"]
+            print(
+                f"wrote {args.report}/report.md, onset.csv, onset.json, onset.png: {summary['cases']} cases, "
+                f"simulated onset vs Eq. 7 from {100 * a['min_error']:+.1f} % to {100 * a['max_error']:+.1f} %"
+            )
+            print(f"wrote {args.report}/{', '.join(written)} (shimmy beyond onset)")
+        return 0
+
+    design, conditions, speed, angle, omega0, duration = parse(args)
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = simulate(design, conditions, speed, angle=angle, angular_velocity=omega0, duration=duration)
+        onset = onset_speed(design, conditions, angle=angle, angular_velocity=omega0) if args.find_onset else None
+    out = {"design": design.as_dict(), **result.as_dict()}
+    if onset is not None:
+        out["onset_speed"] = onset.speed
+        out["onset_bracket"] = [onset.low, onset.high]
+        out["onset_relative_error"] = onset.relative_error
+    out["warnings"] = [str(w.message) for w in caught]
+    if args.plot:
+        _plot(result, args.plot, onset)
+        out["plot"] = args.plot
+    if args.json:
+        print_json(out)
+        return 0
+    verdict = "GROWS (shimmy)" if result.grows else "decays"
+    print(f"Caster: {design.describe()}, I_w = {result.inertia:.4g} kg·m², M_f = {result.friction_moment:.3f} N·m")
+    print(f"knock θ_i = {math.degrees(angle):.1f}°, θ'_i = {omega0:g} rad/s, V = {speed:.3f} m/s: {verdict}")
+    print(
+        f"  amplitude after transient {result.early_amplitude:.4f} rad (Eq. 4/29B: {result.predicted_amplitude:.4f}),"
+        f" late {result.late_amplitude:.4f} rad; late/θ_i = {result.amplitude_ratio:.3f}, "
+        f"late/early = {result.growth_ratio:.3f}{' (|θ| reached 1 rad)' if result.diverged else ''}"
+    )
+    freq = "n/a (motion stopped)" if not math.isfinite(result.frequency) else f"{result.frequency:.1f} rad/s"
+    print(f"  frequency {freq} (Eq. 15B: {result.predicted_frequency:.1f} rad/s)")
+    print(f"  Eq. 7 critical speed (c_f,eff = M_f/θ_i): {result.critical_speed:.3f} m/s")
+    if onset is not None:
+        print(
+            f"  simulated onset {onset.speed:.3f} m/s (bracket {onset.low:.3f}–{onset.high:.3f}), "
+            f"{100 * onset.relative_error:+.1f} % vs Eq. 7"
+        )
+    if args.plot:
+        print(f"  plot: {args.plot}")
+    for w in out["warnings"]:
+        print(f"warning: {w}")
+    return 0
+
+
+def _plot(result, path, onset=None) -> None:
+    if not str(path).lower().endswith((".png", ".svg", ".pdf")):
+        raise InputError(f"--plot {path}: expected a .png, .svg or .pdf file name")
+    ax = result.plot(onset_speed=onset.speed if onset is not None else None)
+    # late import: loads matplotlib (via designer.plots.figures) only when this runs
+    from designer.plots.figures import save_figure
+
+    save_figure(ax.figure, path, dpi=110)

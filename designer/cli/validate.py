@@ -1,0 +1,64 @@
+"""``designer validate``: the paper's checks (docs/checks.md) as a table; exit 1 only if one fails."""
+
+from __future__ import annotations
+
+from designer.studies.checks import FAILS, paper_checks, summary_line
+from designer.cli._common import print_json
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "validate",
+        help="run the paper's checks (docs/checks.md) and print them as a table",
+        description="Checks that need no optimisation (1–7, 9, 10 and the Table 1 inertia fit), "
+        "counted apart: paper checks (against the paper's measurements; each reproduced, "
+        "disagreeing within the paper's stated scatter, or failing) and implementation "
+        "identities (3, 4, 5: the paper's numbers built into the model). Exit 1 only if "
+        "a check fails. Check 8 runs on every front computed by 'designer pareto'.",
+    )
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    checks = paper_checks()
+    failed = [c for c in checks if c.outcome == FAILS]
+    if args.json:
+        print_json([c.to_dict() for c in checks])
+        return 1 if failed else 0
+    # late import: loads rich only when this runs
+    from rich.console import Console
+
+    # late import: loads rich only when this runs
+    from rich.markup import escape
+
+    # late import: loads rich only when this runs
+    from rich.table import Table
+
+    console = Console(width=160)
+    for kind, title in (
+        ("paper", "Paper checks (against the paper's measurements and stated results)"),
+        ("identity", "Implementation identities (the paper's numbers built into the model)"),
+    ):
+        table = Table(title=title, title_justify="left", show_lines=True)
+        for col in ("check", "paper's claim", "expected", "ours", "result"):
+            table.add_column(col)
+        for c in checks:
+            if c.kind == kind:
+                table.add_row(
+                    escape(c.name),
+                    escape(c.claim),
+                    escape(str(c.expected)),
+                    escape(str(c.got)),
+                    c.outcome.upper() if c.outcome == FAILS else c.outcome,
+                )
+        console.print(table)
+    for c in checks:
+        console.print(f"[bold]{escape(c.name)}[/bold]: {escape(c.detail)}")
+        for line in c.disagreements:
+            console.print(f"  disagrees: {escape(line)}")
+    console.print(summary_line(checks))
+    console.print(f"{len(checks) - len(failed)} do not fail, {len(failed)} failed")
+    for c in failed:
+        console.print(f"FAILED {escape(c.name)}: expected {escape(str(c.expected))}, got {escape(str(c.got))}")
+    return 1 if failed else 0

@@ -1,1 +1,0 @@
-"""Sub-commands of the ``designer`` command line; each module defines ``register(subparsers)``."""

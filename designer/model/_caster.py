@@ -1,0 +1,285 @@
+"""The caster model: one design, its operating conditions, and everything computed from them.
+
+:func:`performance` is the single place where the physics functions are
+combined; the solvers (CasADi, cvxpy, scipy, optuna), the checks and the
+reports all call it, so a formula is never written twice.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+import math
+from typing import TYPE_CHECKING, Any, Mapping
+
+import numpy as np
+
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
+
+from designer import parameters
+from designer.data.paper import INCH
+from designer.errors import InputError
+from designer.reprs import html_table
+from designer.physics.types import Scalar
+from designer.physics.geometry import swept_radius
+from designer.physics.inertia import InertiaModel, PowerLaw
+from designer.physics.shimmy import (
+    DynamicsParameters,
+    critical_shimmy_speed,
+    friction_damping_at_speed,
+    growth_rate,
+    shimmy_frequency,
+    third_order_coefficients,
+)
+from designer.physics.threshold import threshold_force_ratio
+from designer.physics.turning import DEFAULT_TURNING, TurningConstants, added_damper_moment, sliding_turning_moment
+from designer.physics.uncertainty import Uncertainty, shimmy_speed_quantile
+from designer.units import outside_range, parse_quantity
+
+VARIABLES = parameters.VARIABLES
+"""The design variables x = (T, d, B, c_f), in this order everywhere (from :mod:`designer.parameters`)."""
+
+VARIABLE_INFO = {p.name: (p.symbol, p.unit, p.description) for p in parameters.VARIABLE_TABLE}
+"""(symbol, SI unit, description) of each design variable."""
+
+VARIABLE_UNITS = {p.name: p.unit for p in parameters.VARIABLE_TABLE}
+"""SI unit of each design variable."""
+
+MODEL_RANGE = parameters.MODEL_RANGE
+"""Physically sensible ranges [SI] (exclusive low for trail, diameter): beyond
+them the paper's model does not apply, and a value there usually means inches
+were written as metres."""
+
+
+FAMILIES = {
+    (False, False): "bare fork",
+    (True, False): "groove",
+    (False, True): "damper",
+    (True, True): "groove+damper",
+}
+"""Design family by (groove used, damper added): which mechanism stabilises the caster (Eq. 7)."""
+
+
+def check_design(
+    design: Design, prefix: str = "", error: type[Exception] = InputError, given: Mapping[str, object] | None = None
+) -> None:
+    """Raise ``error`` if a design's T, d, B or c_f [SI] is outside :data:`MODEL_RANGE`.
+
+    ``given`` maps a variable to what the user wrote ("5in"): the message then gives the range in
+    that unit instead of asking whether inches were written as metres (:func:`designer.units.outside_range`).
+    """
+    for name in VARIABLES:
+        value = getattr(design, name)
+        lo, hi = MODEL_RANGE[name]
+        if not math.isfinite(value) or value < lo or (value == 0 and name in ("trail", "diameter")) or value > hi:
+            raise error(
+                outside_range(
+                    f"{prefix}{name}",
+                    (given or {}).get(name, value),
+                    value,
+                    lo,
+                    hi,
+                    parameters.PARAMETERS[name].dimension,
+                )
+            )
+
+
+@dataclass(frozen=True)
+class Design:
+    """One caster design x = (T, d, B, c_f) in SI units (strings with units are accepted and converted).
+
+    Attributes
+    ----------
+    trail : T [m]
+    diameter : d [m]
+    groove : B [m] (0: single tread)
+    damping : c_f [N·m/rad] (bare fork 1.3)
+    """
+
+    trail: float
+    diameter: float
+    groove: float
+    damping: float
+
+    def __post_init__(self) -> None:
+        # Units at the edge: strings such as "2 in" or "1.3 N*m/rad" are converted to SI here.
+
+        for name, dimension in (
+            ("trail", "length"),
+            ("diameter", "length"),
+            ("groove", "length"),
+            ("damping", "damping"),
+        ):
+            value = getattr(self, name)
+            if isinstance(value, str):
+                value = parse_quantity(value, dimension, name)
+            try:
+                value = float(value)
+            except (TypeError, ValueError):
+                raise InputError(
+                    f"{name} = {getattr(self, name)!r}: expected a number (SI) or a string with units such as '2 in'"
+                ) from None
+            if not np.isfinite(value):
+                raise InputError(f"{name} = {value}: must be finite")
+            positive = name in ("trail", "diameter")
+            # a solver may return −1e-12 on a zero bound: tolerate round-off, not real negatives
+            if value < -1e-9 or (positive and value <= 0):
+                raise InputError(f"{name} = {value:g}: must be {'positive' if positive else 'non-negative'}")
+            object.__setattr__(self, name, value)
+
+    def as_array(self) -> np.ndarray:
+        """The design as a float array in :data:`VARIABLES` order."""
+        return np.array([self.trail, self.diameter, self.groove, self.damping], dtype=float)
+
+    @classmethod
+    def from_array(cls, x: npt.ArrayLike) -> "Design":
+        """Build from a sequence in :data:`VARIABLES` order."""
+        return cls(*(float(v) for v in np.asarray(x, dtype=float).ravel()[:4]))
+
+    def as_dict(self) -> dict[str, float]:
+        """``{name: value}`` in SI units."""
+        return {name: float(getattr(self, name)) for name in VARIABLES}
+
+    def __repr__(self) -> str:
+        """Two lines: the SI constructor call and the sizes in inches (the industry's unit)."""
+        return (
+            f"Design(trail={self.trail:.6g}, diameter={self.diameter:.6g}, groove={self.groove:.6g}, "
+            f"damping={self.damping:.6g})\n  T {self.trail / INCH:.3f} in, d {self.diameter / INCH:.3f} in, "
+            f"B {self.groove / INCH:.3f} in, c_f {self.damping:.4g} N·m/rad"
+        )
+
+    def _repr_html_(self) -> str:
+        """A compact HTML table: T, d, B in inches and mm, c_f [N·m/rad] and the swept radius (notebooks)."""
+        rows = [
+            (f"{label} {sym}", f"{getattr(self, name) / INCH:.3f} ({getattr(self, name) * 1000:.2f} mm)", "in")
+            for label, sym, name in (("trail", "T", "trail"), ("diameter", "d", "diameter"), ("groove", "B", "groove"))
+        ]
+        rs = float(swept_radius(self.trail, self.diameter))
+        rows += [
+            ("spindle damping c_f", f"{self.damping:.4g}", "N·m/rad"),
+            ("swept radius T + d/2", f"{rs / INCH:.3f} ({rs * 1000:.2f} mm)", "in"),
+        ]
+        return html_table("Caster design", rows)
+
+    def describe(self) -> str:
+        """One line in inches (the industry's unit) and SI."""
+        return (
+            f"T = {self.trail / INCH:.3f} in, d = {self.diameter / INCH:.3f} in, "
+            f"B = {self.groove / INCH:.3f} in, c_f = {self.damping:.3f} N·m/rad"
+        )
+
+
+@dataclass(frozen=True)
+class Conditions:
+    """Fixed operating conditions and model constants of a caster.
+
+    Attributes
+    ----------
+    load : caster load L [N]
+    threshold_height : door-sill height h [m]
+    surface : "tile" | "carpet"
+    turning_mode : "chair" | "pivot"
+    disturbance_angle : design disturbance θ0 [rad] (20°, Appendix C)
+    slip_coefficient : K_s [N] (1250, Appendix C)
+    inertia : the I_w(d) model
+    turning : constants of the turning model (docs/model.md#turning-effort)
+    dynamics : K, fork and bearing-block masses of the third-order model
+    uncertainty : optional :class:`designer.studies.robust.Uncertainty`; then the shimmy
+        constraint uses the α-quantile of V_c instead of its nominal value
+    constants : the model constants of the parameter table that have no field above, by name
+        (:func:`designer.parameters.location`); read any constant with :meth:`constant`
+    """
+
+    load: float = parameters.default("load")
+    threshold_height: float = parameters.default("threshold_height")
+    surface: str = "tile"
+    turning_mode: str = "chair"
+    disturbance_angle: float = parameters.default("disturbance_angle")
+    slip_coefficient: float = parameters.default("slip_coefficient")
+    inertia: InertiaModel = field(default_factory=PowerLaw)
+    turning: TurningConstants = DEFAULT_TURNING
+    dynamics: DynamicsParameters = DynamicsParameters()
+    uncertainty: Uncertainty | None = None
+    constants: Mapping[str, Any] = field(default_factory=dict)
+
+    def replace(self, **changes: Any) -> "Conditions":
+        """A copy with some fields changed."""
+        return dataclasses.replace(self, **changes)
+
+    def constant(self, name: str) -> Any:
+        """The value [SI] of the model constant ``name`` of :data:`designer.parameters.PARAMETERS`
+        (a float, or a CasADi symbol inside the solvers), wherever it is kept: a field above, or
+        :attr:`constants` (its table default when the problem did not give it)."""
+        entry = parameters.PARAMETERS.get(name)
+        where = parameters.location(entry) if entry is not None else None
+        if where is None or not where.startswith("conditions."):
+            raise KeyError(f"{name!r} is not a model constant of designer/parameters.py's CONSTANT_TABLE")
+        return parameters.read_path(self, where.split(".", 1)[1])
+
+
+def performance(
+    trail: Scalar, diameter: Scalar, groove: Scalar, damping: Scalar, conditions: Conditions
+) -> dict[str, Scalar]:
+    """Every performance quantity of the caster, as expressions of the design.
+
+    Works on floats, NumPy arrays (vectorised over many designs) and CasADi
+    symbols.  Keys and equations:
+
+    - ``inertia`` I_w(d) [kg·m²] (inertia model, docs/model.md#wheel-inertia)
+    - ``critical_speed`` V_c [m/s] (Eq. 7)
+    - ``threshold_force_ratio`` P/L [-] (Eq. 4A)
+    - ``threshold_force`` P [N] (Eq. 4A)
+    - ``turning_moment`` M_turn + M_d [N·m] (docs/model.md#turning-effort)
+    - ``turning_effort`` F_turn [N] (Eq. 9, moment / trail)
+    - ``swept_radius`` R_s [m] (T + d/2)
+    - ``design_speed`` [m/s]: the speed the shimmy constraint compares with V_req:
+      V_c itself, or its α-quantile when the conditions carry an uncertainty
+      (robust design, :func:`designer.studies.robust.shimmy_speed_quantile`)
+    """
+    c = conditions
+    inertia = c.inertia(diameter)
+    critical_speed = critical_shimmy_speed(trail, inertia, groove, damping, c.slip_coefficient)
+    if c.uncertainty is None:
+        design_speed = critical_speed
+    else:
+        design_speed = shimmy_speed_quantile(trail, inertia, groove, damping, c.slip_coefficient, c.uncertainty)
+    ratio = threshold_force_ratio(diameter, c.threshold_height)
+    moment = sliding_turning_moment(c.load, groove, c.surface, c.turning_mode, c.turning) + added_damper_moment(
+        damping, c.disturbance_angle, c.turning
+    )
+    return {
+        "inertia": inertia,
+        "critical_speed": critical_speed,
+        "design_speed": design_speed,
+        "threshold_force_ratio": ratio,
+        "threshold_force": c.load * ratio,
+        "turning_moment": moment,
+        "turning_effort": moment / trail,
+        "swept_radius": swept_radius(trail, diameter),
+    }
+
+
+def evaluate(design: Design, conditions: Conditions = Conditions(), speed: float | None = None) -> dict[str, float]:
+    """Analyse one caster: :func:`performance` as floats plus the third-order model.
+
+    Adds ``shimmy_frequency`` ω [rad/s] (Eq. 15B) and, when ``speed`` is given,
+    ``growth_rate`` μ [1/s] of the oscillatory mode at that speed (Eq. 12B,
+    friction damping converted with Eq. 6 and Eq. 4): negative means any
+    shimmy decays.
+
+    Raises InputError for a design outside the model's range (e.g. an 8 m
+    wheel: inches written as metres).
+    """
+    check_design(design, error=InputError)  # an 8 m wheel is inches written as metres, not a caster
+    values = performance(design.trail, design.diameter, design.groove, design.damping, conditions)
+    out = {key: float(value) for key, value in values.items()}
+    out["shimmy_frequency"] = float(shimmy_frequency(design.trail, out["inertia"], conditions.dynamics))
+    if speed is not None:
+        c_d = friction_damping_at_speed(design.damping, design.trail, speed)
+        coeffs = third_order_coefficients(
+            design.trail, out["inertia"], design.groove, c_d, speed, conditions.slip_coefficient, conditions.dynamics
+        )
+        out["growth_rate"] = float(growth_rate(coeffs))
+    return out

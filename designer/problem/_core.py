@@ -1,0 +1,535 @@
+"""The :class:`Problem` record and its validation: bounds, stock, risk, constraint margins, ranges, SCHEMA.
+
+A :class:`Problem` is immutable and validated on construction; every error is one line naming the key,
+the value and the reason.  The problem-file loader (TOML -> Problem) is :mod:`designer.problem._loader`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+import re
+import warnings
+from dataclasses import dataclass, field
+from typing import Any, Callable, Iterable, NoReturn
+
+from designer.data.paper import INCH, TABLE1
+from designer import parameters
+from designer.errors import ProblemError
+from designer.reprs import html_table
+from designer.model import MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions, Design
+from designer.physics.inertia import Catalog
+from designer.physics.turning import MODES, SURFACES
+from designer.physics.uncertainty import Uncertainty
+
+DEFAULT_BOUNDS = parameters.DEFAULT_BOUNDS
+"""Bounds used for a variable the problem file does not mention [SI] (from :mod:`designer.parameters`)."""
+
+VARIABLE_DIMENSIONS = {p.name: p.dimension for p in parameters.VARIABLE_TABLE}
+
+PHYSICAL_RANGE = parameters.checked_ranges()
+"""Ranges [SI] (inclusive) of the fixed quantities: outside them the model's numbers overflow or
+mean nothing, and a value there is almost always a unit mistake.  (low, high, unit, hint), by
+problem-file key, from the entries of :mod:`designer.parameters` that have a hint."""
+
+_BY_KEY = {p.key: p.name for p in parameters.PARAMETERS.values() if p.key}
+"""Table entry name by problem-file key."""
+
+INERTIA_RANGE = (1e-9, 10.0)
+"""Wheel moments of inertia [kg·m²] the model accepts at the diameter bounds (Table 1: 0.26e-3 to 4.6e-3)."""
+
+WEIGHT_RANGE = (1e-6, 1e6)
+"""The larger objective weight must lie in this range (weights are relative: scale them near 1)."""
+
+POINTS_RANGE = (3, 2001)
+"""Allowed number of Pareto front points, in a problem file ([pareto] points) and on the command line (--points)."""
+
+MAX_SAMPLES = 10_000_000
+"""Largest Monte Carlo sample of [robust] (memory grows with it)."""
+
+
+def check_range(key: str, value: float, prefix: str = "") -> None:
+    """Raise :class:`ProblemError` if ``value`` [SI] is outside :data:`PHYSICAL_RANGE` of ``key``.
+
+    Parameters
+    ----------
+    key : "section.key" of :data:`PHYSICAL_RANGE`
+    value : the value in SI units
+    prefix : text put before the message (the file name)
+    """
+    low, high, unit, hint = PHYSICAL_RANGE[key]
+    if not math.isfinite(value) or not low <= value <= high:
+        raise ProblemError(
+            f"{prefix}{key} = {value:g} {unit}".rstrip()
+            + f": outside the model's range {low:g} to {high:g} {unit}".rstrip()
+            + f" ({hint})"
+        )
+
+
+def check_weights(
+    weights: Iterable[float], key: str = "objective", error: type[Exception] = ProblemError
+) -> tuple[float, float]:
+    """Validate objective weights (w_turn, w_threshold); returns them as floats.
+
+    Raises ``error`` (default :class:`ProblemError`) unless there are two finite,
+    non-negative numbers whose larger lies in :data:`WEIGHT_RANGE`.
+    """
+    try:
+        w = tuple(float(v) for v in weights)
+    except (TypeError, ValueError, OverflowError):
+        raise error(f"{key} = {weights!r}: expected two numbers (w_turn, w_threshold)") from None
+    if len(w) != 2 or any((not math.isfinite(x)) or x < 0 for x in w) or sum(w) <= 0:
+        raise error(f"{key} = {list(weights)}: weights must be finite, non-negative and not all zero")
+    if not WEIGHT_RANGE[0] <= max(w) <= WEIGHT_RANGE[1]:
+        raise error(
+            f"{key} = {list(w)}: the larger weight must be between {WEIGHT_RANGE[0]:g} and "
+            f"{WEIGHT_RANGE[1]:g}; weights are relative, scale them to about 1"
+        )
+    return w
+
+
+SCHEMA: dict[str, dict[str, str]] = {
+    "": {"name": "str", "title": "str", "description": "str"},
+    "conditions": {"surface": "surface", "turning_mode": "mode"},
+    "inertia": {"model": "str", "wheel": "str", "wheels": "list"},
+    "variables": {name: "bound" for name in VARIABLES},
+    "objective": {
+        "turning_effort": "float",
+        "threshold_force": "float",
+        "max_threshold_force": "force",
+        "max_turning_effort": "force",
+    },
+    "pareto": {"points": "int"},
+    "choices": {"surface": "list", "turning_mode": "list", "wheel": "list"},
+    "robust": {
+        "enabled": "bool",
+        "probability": "float",
+        "model_error": "float",
+        "model_error_dof": "int",
+        "damping": "float",
+        "slip_coefficient": "float",
+        "inertia": "float",
+        "samples": "int",
+        "seed": "int",
+    },
+    "stock": {"diameters": "list", "grooves": "list", "trail_step": "length", "dampings": "list", "wheels": "list"},
+}
+"""Allowed keys per section: key -> dimension (or a type tag).  The model constants' keys are added from
+the parameter table just below, so a new constant needs no line here."""
+
+for _parameter in parameters.PARAMETERS.values():  # every key of the table is a key of the problem file
+    if _parameter.key and not _parameter.key.startswith("variables."):
+        _section, _key = _parameter.key.split(".", 1)
+        SCHEMA.setdefault(_section, {})[_key] = _parameter.dimension
+
+INERTIA_MODELS = ("table1-power-law", "disc", "catalog", "fixed")
+NAME_PATTERN = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
+
+
+@dataclass(frozen=True)
+class Bound:
+    """Bounds of one design variable [SI]; ``low == high`` means fixed."""
+
+    low: float
+    high: float
+
+    @property
+    def fixed(self) -> bool:
+        return self.low == self.high
+
+
+@dataclass(frozen=True)
+class StockWheel:
+    """A wheel on offer ([stock].wheels): name, diameter [m], groove [m] (None: from [stock].grooves or
+    continuous) and measured I_w [kg·m²] (None: from the [inertia] model)."""
+
+    name: str
+    diameter: float
+    groove: float | None = None
+    inertia: float | None = None
+
+
+@dataclass(frozen=True)
+class Stock:
+    """The parts that can be built ([stock]); a variable left ``None`` stays continuous within its bounds.
+
+    Attributes
+    ----------
+    diameters : wheel diameters on offer [m] (I_w from the [inertia] model)
+    grooves : tyre groove widths on offer [m]
+    trail_step : fork-hole spacing [m]; the trails are variables.trail.min + k · step up to .max
+    trails : the fork holes [m] (from ``trail_step`` and the trail bounds)
+    dampings : spindle dampings on offer [N·m/rad] (bare bearing and friction washers)
+    wheels : a catalogue of named wheels (instead of diameters and grooves)
+    """
+
+    diameters: tuple[float, ...] | None = None
+    grooves: tuple[float, ...] | None = None
+    trail_step: float | None = None
+    trails: tuple[float, ...] | None = None
+    dampings: tuple[float, ...] | None = None
+    wheels: tuple[StockWheel, ...] | None = None
+
+    def describe(self) -> str:
+        """One line in inches and N·m/rad: what is on offer (``continuous`` where nothing is listed)."""
+
+        def inches(values: tuple[float, ...] | None) -> str:
+            return "continuous" if values is None else ", ".join(f"{v / INCH:g}" for v in values) + " in"
+
+        parts = []
+        if self.wheels is not None:
+            parts.append("wheels " + ", ".join(w.name for w in self.wheels))
+        else:
+            parts.append(f"diameters {inches(self.diameters)}")
+        if self.wheels is None or all(w.groove is None for w in self.wheels):
+            parts.append(f"grooves {inches(self.grooves)}")
+        parts.append(
+            "trails continuous"
+            if self.trails is None
+            else f"trails {self.trails[0] / INCH:g} to {self.trails[-1] / INCH:g} in every "
+            f"{(self.trail_step or 0.0) / INCH:g} in ({len(self.trails)} holes)"
+        )
+        parts.append(
+            "dampings continuous"
+            if self.dampings is None
+            else "dampings " + ", ".join(f"{v:g}" for v in self.dampings) + " N·m/rad"
+        )
+        return "; ".join(parts)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data in SI units."""
+        return {
+            "diameters": None if self.diameters is None else list(self.diameters),
+            "grooves": None if self.grooves is None else list(self.grooves),
+            "trail_step": self.trail_step,
+            "trails": None if self.trails is None else list(self.trails),
+            "dampings": None if self.dampings is None else list(self.dampings),
+            "wheels": None if self.wheels is None else [dataclasses.asdict(w) for w in self.wheels],
+        }
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A validated caster design problem (immutable).
+
+    Attributes
+    ----------
+    name : identifier, safe as a folder name (results/<name>/)
+    title : one-line description for reports
+    conditions : load, sill, surface, turning mode and model constants
+    target_speed : V_target [m/s]; the constraint is V_c >= (1 + margin) V_target
+    margin : relative safety margin on the target speed [-]
+    bounds : {variable: Bound}, SI
+    swept_radius_max : optional limit on T + d/2 [m]
+    weights : (w_turn, w_threshold) of J = w_turn F_turn + w_threshold P
+    pareto_points : default number of points on the front
+    wheels : Table 1 wheels to choose from when the inertia model is a catalog
+    stock : the parts that can be built ([stock]), or None (every variable continuous)
+    max_threshold_force : cap on P [N]: the recommendation is the least F_turn within it
+    max_turning_effort : cap on F_turn [N]: the recommendation is the least P within it
+    choices : categorical options for exploration {"surface": (...), ...}
+    description : free text (whose chair, why these numbers)
+    source : the file it was read from, if any
+    """
+
+    name: str
+    title: str
+    conditions: Conditions
+    target_speed: float
+    margin: float = 0.0
+    bounds: dict[str, Bound] = field(default_factory=lambda: {k: Bound(*v) for k, v in DEFAULT_BOUNDS.items()})
+    swept_radius_max: float | None = None
+    weights: tuple[float, float] = (1.0, 1.0)
+    pareto_points: int = 41
+    wheels: tuple[str, ...] = ()
+    choices: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    stock: Stock | None = None
+    max_threshold_force: float | None = None
+    max_turning_effort: float | None = None
+    description: str = ""
+    source: str | None = None
+
+    def __post_init__(self) -> None:
+        _validate(self, prefix=f"{self.source}: " if self.source else "")
+
+    @property
+    def risk(self) -> Uncertainty | None:
+        """The risk bound in force: an :class:`~designer.physics.uncertainty.Uncertainty` (P(V_c,true <
+        (1 + margin) V_target) <= α), or None for the nominal Eq. 7 constraint (``[robust] enabled = false``)."""
+        return self.conditions.uncertainty
+
+    def nominal(self) -> "Problem":
+        """The same problem without the risk bound: V_c (Eq. 7) >= (1 + margin) V_target (``enabled = false``)."""
+        if self.conditions.uncertainty is None:
+            return self
+        return dataclasses.replace(self, conditions=self.conditions.replace(uncertainty=None))
+
+    @property
+    def required_speed(self) -> float:
+        """(1 + margin) · V_target [m/s]: what V_c must reach."""
+        return (1 + self.margin) * self.target_speed
+
+    def replace(self, **changes: Any) -> "Problem":
+        """A validated copy with some fields changed (e.g. ``target_speed=3.0``)."""
+        return dataclasses.replace(self, **changes)
+
+    def lower(self) -> Design:
+        """Lower bounds as a :class:`Design`."""
+        return Design(*(self.bounds[v].low for v in VARIABLES))
+
+    def upper(self) -> Design:
+        """Upper bounds as a :class:`Design`."""
+        return Design(*(self.bounds[v].high for v in VARIABLES))
+
+    def variants(self) -> list["Problem"]:
+        """Continuous sub-problems: one per catalog wheel (diameter and I_w fixed), else [self]."""
+        if not self.wheels:
+            return [self]
+        out = []
+        for key in self.wheels:
+            model = Catalog.from_key(key)
+            d = model.fixed_diameter
+            bounds = dict(self.bounds)
+            bounds["diameter"] = Bound(d, d)
+            out.append(
+                dataclasses.replace(self, conditions=self.conditions.replace(inertia=model), bounds=bounds, wheels=())
+            )
+        return out
+
+    def model_warnings(self, diameters: Iterable[float] | None = None) -> list[str]:
+        """Where the problem leaves the data its model rests on (said once, not per evaluation).
+
+        With ``diameters`` [m] (those of the designs the tool reports): a warning only if one of them
+        lies outside the inertia fit's data (Table 1, 4–8 in); without: if the diameter bounds do.
+        """
+        out = []
+        model = self.conditions.inertia
+        data = model.data_range()
+        if data is not None and not self.wheels and diameters is not None:
+            outside = [float(d) for d in diameters if not data[0] * 0.999 <= float(d) <= data[1] * 1.001]
+            if outside:
+                out.append(
+                    f"{self.name}: a reported design uses d = {min(outside) / INCH:.3g}"
+                    + (f"–{max(outside) / INCH:.3g}" if max(outside) > min(outside) else "")
+                    + f" in, outside the Table 1 inertia fit ({data[0] / INCH:.0f}–{data[1] / INCH:.0f} in): "
+                    f"its I_w is extrapolated"
+                )
+        elif data is not None and not self.wheels:
+            b = self.bounds["diameter"]
+            if b.low < data[0] * 0.999 or b.high > data[1] * 1.001:
+                out.append(
+                    f"{self.name}: the Table 1 inertia fit ({data[0] / INCH:.0f}–{data[1] / INCH:.0f} in) is "
+                    f"extrapolated for diameters in {b.low / INCH:.3g}–{b.high / INCH:.3g} in"
+                )
+        return out
+
+    def __repr__(self) -> str:
+        """One line: name, required speed, load, sill, risk bound (the full record: :meth:`to_dict`)."""
+        c, u = self.conditions, self.conditions.uncertainty
+        risk = f"risk α = {u.probability:.3g}" if u is not None else "nominal V_c"
+        return (
+            f"Problem({self.name!r}: V_target {self.target_speed:.3g} m/s, required {self.required_speed:.3g} m/s, "
+            f"load {c.load:.4g} N, sill {c.threshold_height * 1000:.3g} mm, {c.surface}, {risk}; "
+            f"{'stock' if self.stock is not None else 'continuous'})"
+        )
+
+    def _repr_html_(self) -> str:
+        """The problem as a compact HTML table with units (notebooks); no solver runs."""
+        c, u = self.conditions, self.conditions.uncertainty
+        rows = [
+            ("target speed V_target", f"{self.target_speed:.4g}", "m/s"),
+            ("required speed (1 + margin) V_target", f"{self.required_speed:.4g}", "m/s"),
+            ("load", f"{c.load:.4g}", "N"),
+            ("sill height", f"{c.threshold_height * 1000:.4g}", "mm"),
+            ("surface / turning", f"{c.surface} / {c.turning_mode}", ""),
+            ("risk bound α", f"{u.probability:.3g}" if u is not None else "off (nominal Eq. 7)", ""),
+        ]
+        for v in VARIABLES:
+            b, unit = self.bounds[v], VARIABLE_UNITS.get(v, "")
+            if unit == "m":
+                rows.append((f"{v} bounds", f"{b.low * 1000:.4g} – {b.high * 1000:.4g}", "mm"))
+            else:
+                rows.append((f"{v} bounds", f"{b.low:.4g} – {b.high:.4g}", unit))
+        if self.swept_radius_max is not None:
+            rows.append(("swept radius max", f"{self.swept_radius_max * 1000:.4g}", "mm"))
+        rows.append(("weights (w_turn, w_threshold)", f"{self.weights[0]:g}, {self.weights[1]:g}", ""))
+        return html_table(f"Problem {self.name!r}", rows, caption=self.title)
+
+    def digest(self) -> str:
+        """SHA-256 of the problem's canonical content (for report metadata)."""
+        return hashlib.sha256(json.dumps(self.to_dict(), sort_keys=True, default=str).encode()).hexdigest()[:16]
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain-data description of the problem in SI units."""
+        c = self.conditions
+        return {
+            "name": self.name,
+            "title": self.title,
+            "load": c.load,
+            "threshold_height": c.threshold_height,
+            "surface": c.surface,
+            "turning_mode": c.turning_mode,
+            "disturbance_angle": c.disturbance_angle,
+            "slip_coefficient": c.slip_coefficient,
+            "inertia": c.inertia.describe(),
+            "target_speed": self.target_speed,
+            "margin": self.margin,
+            "bounds": {k: [b.low, b.high] for k, b in self.bounds.items()},
+            "swept_radius_max": self.swept_radius_max,
+            "weights": list(self.weights),
+            "wheels": list(self.wheels),
+            "robust": None if c.uncertainty is None else dataclasses.asdict(c.uncertainty),
+            "stock": None if self.stock is None else self.stock.to_dict(),
+            "max_threshold_force": self.max_threshold_force,
+            "max_turning_effort": self.max_turning_effort,
+            "turning": {
+                "tile_moment_per_load": c.turning.tile_moment_per_load,
+                "carpet_factor": c.turning.carpet_factor,
+                "groove_coefficient": c.turning.groove_coefficient,
+                "mode_factors": c.turning.mode_factors,
+                "bare_fork_damping": c.turning.bare_fork_damping,
+            },
+        }
+
+
+def _validate(problem: Problem, prefix: str = "") -> None:
+    """Every check of a problem, in a fixed order; the first failure is raised as one ProblemError line."""
+
+    def fail(msg: str) -> NoReturn:
+        raise ProblemError(prefix + msg)
+
+    if not isinstance(problem.name, str) or not NAME_PATTERN.match(problem.name):
+        fail(
+            f"name = {problem.name!r}: must be 1–64 letters, digits, '-', '_' or '.', starting with a letter "
+            f"or digit (it names the results folder)"
+        )
+    if problem.target_speed <= 0:
+        fail(f"shimmy.target_speed = {problem.target_speed:g} m/s: must be positive")
+    if problem.margin < 0 or problem.margin > 10:
+        fail(f"shimmy.margin = {problem.margin:g}: must be between 0 and 10 (a fraction, 0.2 = 20 %)")
+    _validate_conditions(problem, prefix, fail)
+    for name in VARIABLES:
+        _validate_bound(problem, name, fail)
+    _validate_sill_and_fork(problem, fail)
+    if problem.swept_radius_max is not None:
+        _validate_swept_radius(problem, problem.swept_radius_max, prefix, fail)
+    check_weights(problem.weights, prefix + "objective")
+    if not problem.wheels:
+        _validate_inertia(problem, fail)
+    if not isinstance(problem.pareto_points, int) or not POINTS_RANGE[0] <= problem.pareto_points <= POINTS_RANGE[1]:
+        fail(
+            f"pareto.points = {problem.pareto_points!r}: must be an integer from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}"
+        )
+
+
+def _validate_conditions(problem: Problem, prefix: str, fail: Callable[[str], NoReturn]) -> None:
+    """Load, sill, the constants of the model (in their ranges), the disturbance angle, surface and mode."""
+    c = problem.conditions
+    if c.load <= 0:
+        fail(f"conditions.load = {c.load:g} N: must be positive")
+    if c.threshold_height <= 0:
+        fail(f"conditions.threshold_height = {c.threshold_height:g} m: must be positive")
+    for key in PHYSICAL_RANGE:  # every constant the table gives a range and a hint, where the table keeps it
+        if key == "constraints.swept_radius_max":
+            continue  # None (no limit) or checked with the bounds
+        where = parameters.location(parameters.PARAMETERS[_BY_KEY[key]])
+        assert where is not None
+        value = parameters.read_path(problem, where)
+        if value is not None and (value > 0 or key == "turning.groove_coefficient"):
+            check_range(key, value, prefix)
+    if not 0 < c.disturbance_angle < math.pi / 2:
+        fail(f"shimmy.disturbance_angle = {c.disturbance_angle:g} rad: must be between 0 and 90 deg")
+    if c.slip_coefficient <= 0:
+        fail(f"shimmy.slip_coefficient = {c.slip_coefficient:g} N: must be positive")
+    if c.surface not in SURFACES:
+        fail(f"conditions.surface = {c.surface!r}: expected one of {', '.join(SURFACES)}")
+    if c.turning_mode not in MODES:
+        fail(f"conditions.turning_mode = {c.turning_mode!r}: expected one of {', '.join(MODES)}")
+
+
+def _validate_bound(problem: Problem, name: str, fail: Callable[[str], NoReturn]) -> None:
+    """``variables.<name>``: present, finite, positive (or >= 0), in the model's range, min <= max."""
+    if name not in problem.bounds:
+        fail(f"variables.{name}: missing bounds")
+    b = problem.bounds[name]
+    key = f"variables.{name}"
+    lo, hi = MODEL_RANGE[name]
+    for label, value in (("min", b.low), ("max", b.high)):
+        if not math.isfinite(value):
+            fail(f"{key}.{label} = {value}: must be finite")
+        if value < 0 or (value == 0 and name in ("trail", "diameter", "damping")):
+            fail(f"{key}.{label} = {value:g}: must be positive")
+        if value > hi:
+            fail(
+                f"{key}.{label} = {value:g} {VARIABLE_UNITS[name]}: outside the model's range "
+                f"(at most {hi:g}); were inches written as metres? write e.g. '2 in'"
+            )
+    if b.low > b.high:
+        shown = f" ({b.low / INCH:.4g} in > {b.high / INCH:.4g} in)" if VARIABLE_DIMENSIONS[name] == "length" else ""
+        fail(f"{key} = [{b.low:g}, {b.high:g}]: min is greater than max{shown}")
+
+
+def _validate_sill_and_fork(problem: Problem, fail: Callable[[str], NoReturn]) -> None:
+    """Every wheel can climb the sill (d > 2h, Eq. 4A); the damping bound is not below the bare fork's."""
+    c = problem.conditions
+    h = c.threshold_height
+    if not problem.wheels and problem.bounds["diameter"].low <= 2 * h:
+        fail(
+            f"variables.diameter.min = {problem.bounds['diameter'].low / INCH:.3g} in: must exceed twice the "
+            f"threshold height ({2 * h / INCH:.3g} in); a wheel with d <= 2h cannot climb the sill (Eq. 4A)"
+        )
+    for key in problem.wheels:
+        wheel = next((w for w in TABLE1 if w.key == key), None)
+        if wheel is None:
+            fail(f"inertia.wheels: unknown Table 1 wheel {key!r}; valid wheels are {', '.join(w.key for w in TABLE1)}")
+        if wheel.diameter <= 2 * h:
+            fail(
+                f"inertia.wheels: wheel {key} (d = {wheel.diameter / INCH:.0f} in) cannot climb a "
+                f"{h / INCH:.3g} in sill (d/h <= 2, Eq. 4A)"
+            )
+    c0 = c.turning.bare_fork_damping
+    if problem.bounds["damping"].low < c0 - 1e-12:
+        fail(
+            f"variables.damping.min = {problem.bounds['damping'].low:g} N·m/rad: below the bare fork's "
+            f"{c0:g} N·m/rad (Eq. 11C); set [turning] bare_fork_damping if your fork differs"
+        )
+
+
+def _validate_swept_radius(problem: Problem, r: float, prefix: str, fail: Callable[[str], NoReturn]) -> None:
+    """``constraints.swept_radius_max``: positive, in range, and above the smallest T + d/2 of the bounds."""
+    if not r > 0:
+        fail(f"constraints.swept_radius_max = {r:g} m: must be positive")
+    check_range("constraints.swept_radius_max", r, prefix)
+    smallest = problem.bounds["trail"].low + problem.bounds["diameter"].low / 2
+    if problem.wheels:
+        smallest = problem.bounds["trail"].low + min(Catalog.from_key(k).fixed_diameter for k in problem.wheels) / 2
+    if r < smallest:
+        fail(
+            f"constraints.swept_radius_max = {r / INCH:.3g} in: smaller than the smallest possible "
+            f"T + d/2 = {smallest / INCH:.3g} in; raise it or lower the trail/diameter minimum"
+        )
+
+
+def _validate_inertia(problem: Problem, fail: Callable[[str], NoReturn]) -> None:
+    """I_w of the inertia model at both diameter bounds lies in :data:`INERTIA_RANGE`."""
+    c = problem.conditions
+    for label, d in (("min", problem.bounds["diameter"].low), ("max", problem.bounds["diameter"].high)):
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # extrapolation is reported where the model is used
+                inertia = float(c.inertia(d))
+        except (OverflowError, ZeroDivisionError, ValueError):
+            inertia = math.nan
+        if not (math.isfinite(inertia) and INERTIA_RANGE[0] <= inertia <= INERTIA_RANGE[1]):
+            fail(
+                f"inertia: I_w = {inertia:g} kg·m² at variables.diameter.{label} = {d:g} m "
+                f"({c.inertia.describe()}): outside {INERTIA_RANGE[0]:g} to {INERTIA_RANGE[1]:g} kg·m²; "
+                f"check the inertia model's constants and the diameter bounds"
+            )
+
+
+def show_key(key: object) -> str:
+    """A key as written in messages: plain if it is a simple word, else quoted (keeps the message one line)."""
+    return key if isinstance(key, str) and re.fullmatch(r"[A-Za-z0-9_.-]+", key) else repr(key)

@@ -1,0 +1,458 @@
+"""The problem-file loader: TOML text or a dict with the problem-file schema -> a validated :class:`Problem`.
+
+Schema: docs/problem-file.md (:data:`designer.problem._core.SCHEMA` lists the keys that are not quantities;
+the quantities come from :mod:`designer.parameters`).  Every error is one line naming the key, the value
+and the reason.  :mod:`designer.problem._core` holds the :class:`Problem` record and its validation.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import tomllib
+from pathlib import Path
+from typing import Any, Callable, NoReturn, TypeVar
+
+from designer.data.paper import INCH, TABLE1
+from designer import parameters
+from designer.errors import ProblemError, read_input_text
+from designer.model import MODEL_RANGE, VARIABLES, Conditions
+from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
+from designer.physics.turning import MODES, SURFACES, TurningConstants
+from designer.units import InputError, outside_range, parse_quantity
+from designer.physics.uncertainty import Uncertainty
+
+from designer.problem._stock import read_stock
+from designer.problem._core import (
+    show_key,
+    DEFAULT_BOUNDS,
+    INERTIA_MODELS,
+    MAX_SAMPLES,
+    SCHEMA,
+    VARIABLE_DIMENSIONS,
+    Bound,
+    Problem,
+)
+
+_D = TypeVar("_D")
+"""The default of an optional quantity: a float, or None for 'not given'."""
+
+
+def problem_files(where: str | Path = "problems") -> list[Path]:
+    """The problem files in folder ``where`` (sorted), or ``[where]`` if it is a file.
+
+    Raises InputError if the folder holds no ``*.toml`` file.
+    """
+    path = Path(where)
+    if path.is_file():
+        return [path]
+    files = sorted(path.glob("*.toml"))
+    if not files:
+        raise InputError(f"{where}: no problem files (*.toml) found")
+    return files
+
+
+def load_problem(path: str | Path) -> Problem:
+    """Read and validate a problem file (TOML, docs/problem-file.md).
+
+    Raises
+    ------
+    ProblemError
+        One line: the file, the key, the value and the reason (TOML syntax
+        errors with their line number).
+    """
+    path = Path(path)
+    text = read_input_text(path, "problem file", ".toml")
+    return problem_from_toml(text, source=str(path), default_name=path.stem)
+
+
+def problem_from_toml(text: str, source: str | None = None, default_name: str = "problem") -> Problem:
+    """Parse TOML text into a validated :class:`Problem` (see :func:`load_problem`)."""
+    prefix = f"{source}: " if source else ""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ProblemError(f"{prefix}TOML syntax error: {exc}") from None
+    except ValueError as exc:  # e.g. an integer literal of more than 4300 digits
+        raise ProblemError(f"{prefix}cannot read the file: {exc}") from None
+    return problem_from_dict(data, source=source, default_name=default_name)
+
+
+class _Reader:
+    """The problem-file dict with its one-line errors: each reader names the key, the value and the reason."""
+
+    def __init__(self, data: dict[str, Any], prefix: str) -> None:
+        self.data = data
+        self.prefix = prefix
+
+    def fail(self, msg: str) -> NoReturn:
+        raise ProblemError(self.prefix + msg)
+
+    def section(self, name: str) -> dict[str, Any]:
+        value = self.data.get(name, {})
+        if not isinstance(value, dict):
+            self.fail(f"[{name}] must be a table, got {type(value).__name__}")
+        return value
+
+    def quantity(self, sec: str, key: str, dimension: str, default: _D) -> float | _D:
+        table = self.data if sec == "" else self.section(sec)
+        if key not in table:
+            return default
+        try:
+            return parse_quantity(table[key], dimension, f"{sec}.{key}" if sec else key)
+        except InputError as exc:
+            self.fail(str(exc))
+
+    def text_value(self, sec: str, key: str, default: str) -> str:
+        table = self.data if sec == "" else self.section(sec)
+        value = table.get(key, default)
+        if not isinstance(value, str):
+            self.fail(f"{(sec + '.') if sec else ''}{key} = {value!r}: expected a string")
+        return value
+
+    def number(self, sec: str, key: str, default: float) -> float:
+        table = self.section(sec)
+        value = table.get(key, default)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            self.fail(f"{sec}.{key} = {value!r}: expected a number")
+        if isinstance(value, int) and abs(value) > 1e300:
+            self.fail(f"{sec}.{key}: an integer of about {int(value.bit_length() * 0.30103)} digits is too large")
+        if not math.isfinite(value):
+            self.fail(f"{sec}.{key} = {value!r}: must be finite")
+        return float(value)
+
+
+def problem_from_dict(data: dict[str, Any], source: str | None = None, default_name: str = "problem") -> Problem:
+    """Build a validated :class:`Problem` from a dict with the problem-file schema.
+
+    The sections are read in a fixed order (names, [turning], [dynamics], [inertia], [robust], the
+    conditions, [variables], [objective], [stock], [pareto], [choices], [shimmy]), so the first error
+    reported for a file with several is always the same.
+    """
+    prefix = f"{source}: " if source else ""
+    r = _Reader(data, prefix)
+    if not isinstance(data, dict):
+        r.fail("a problem must be a table of sections")
+    _check_keys(data, prefix)
+
+    name = r.text_value("", "name", default_name)
+    title = r.text_value("", "title", name)
+    description = r.text_value("", "description", "")
+
+    # turning constants and dynamics first: conditions need them
+    constants = {**_turning(r), **_dynamics(r)}
+    inertia, wheels = _inertia(r.section("inertia"), r.quantity, r.fail)
+
+    uncertainty = _uncertainty(r.section("robust"), r.fail)  # on by default: no [robust] gives the default scatter
+
+    constants.update(_constants(r, "conditions"))
+    constants.update(_constants(r, "shimmy"))
+    constants.update(_constants(r, "constraints"))
+    conditions = Conditions(
+        uncertainty=uncertainty,
+        surface=r.text_value("conditions", "surface", "tile"),
+        turning_mode=r.text_value("conditions", "turning_mode", "chair"),
+        inertia=inertia,
+    )
+    for constant, value in constants.items():  # each where the parameter table says it lives
+        where = parameters.location(parameters.PARAMETERS[constant])
+        assert where is not None and where.startswith("conditions.")
+        conditions = parameters.write_path(conditions, where.split(".", 1)[1], value)
+    if "target_speed" not in r.section("shimmy"):
+        r.fail("shimmy.target_speed: missing; give the speed the caster must not shimmy below, e.g. '2.5 m/s'")
+
+    bounds = _bounds(r, conditions.turning)
+    if wheels:
+        wheels = _catalog_within(r, bounds, wheels)
+
+    weights = (r.number("objective", "turning_effort", 1.0), r.number("objective", "threshold_force", 1.0))
+    caps = _caps(r)
+    stock = (
+        read_stock(r.section("stock"), bounds, inertia, wheels, conditions.threshold_height, r.fail)
+        if "stock" in data
+        else None
+    )
+    points = r.section("pareto").get("points", 41)
+    if isinstance(points, bool) or not isinstance(points, int):
+        r.fail(f"pareto.points = {points!r}: expected an integer")
+
+    choices = _choices(r)
+
+    target_speed = _value(r, "target_speed")
+    assert target_speed is not None  # the key is present (checked above)
+    return Problem(
+        name=name,
+        title=title,
+        description=description,
+        conditions=conditions,
+        target_speed=target_speed,
+        margin=_value(r, "margin"),
+        bounds=bounds,
+        swept_radius_max=_value(r, "swept_radius_max"),
+        weights=weights,
+        pareto_points=points,
+        wheels=wheels,
+        choices=choices,
+        stock=stock,
+        max_threshold_force=caps["max_threshold_force"],
+        max_turning_effort=caps["max_turning_effort"],
+        source=source,
+    )
+
+
+def _value(r: _Reader, name: str) -> Any:
+    """Entry ``name`` of the parameter table, read from its problem-file key with its dimension and default."""
+    p = parameters.PARAMETERS[name]
+    assert p.key is not None
+    section, key = p.key.split(".", 1)
+    return r.quantity(section, key, p.dimension, p.default)
+
+
+def _constants(r: _Reader, section: str) -> dict[str, Any]:
+    """The model constants of ``[section]`` kept on the conditions, by table name: each key of the parameter
+    table read with its dimension and default (the problem-level ones, such as the target speed, are read
+    by :func:`problem_from_dict` itself)."""
+    out = {}
+    for p in parameters.by_key(section).values():
+        where = parameters.location(p)
+        if where is not None and where.startswith("conditions."):
+            out[p.name] = _value(r, p.name)
+    return out
+
+
+def _turning(r: _Reader) -> dict[str, Any]:
+    """[turning]: the constants of the turning model (docs/model.md#turning-effort), each positive (the groove
+    coefficient non-negative)."""
+    values = _constants(r, "turning")
+    for key, p in parameters.by_key("turning").items():
+        value = values[p.name]
+        if p.range is not None and p.range[0] == 0:
+            if value < 0:
+                r.fail(f"turning.{key} = {value:g} {p.unit}: must be non-negative")
+        elif value <= 0:
+            r.fail(f"turning.{key} = {value:g}: must be positive")
+    return values
+
+
+def _dynamics(r: _Reader) -> dict[str, Any]:
+    """[dynamics]: frame stiffness and fork masses of the third-order model, each positive when given."""
+    values = _constants(r, "dynamics")
+    for key, p in parameters.by_key("dynamics").items():
+        stated = values[p.name]
+        if stated is not None and stated <= 0:
+            r.fail(f"dynamics.{key} = {stated:g}: must be positive")
+    return values
+
+
+def _bounds(r: _Reader, turning: TurningConstants) -> dict[str, Bound]:
+    """[variables]: {min, max} or one value (fixed) per design variable; the defaults for the others."""
+    bounds = {}
+    variables = r.section("variables")
+    for var in VARIABLES:
+        if var not in variables:
+            lo, hi = DEFAULT_BOUNDS[var]
+            if var == "damping":
+                lo = turning.bare_fork_damping
+                hi = max(hi, lo)
+            bounds[var] = Bound(lo, hi)
+            continue
+        bounds[var] = _bound(r, var, variables[var])
+    return bounds
+
+
+def _bound(r: _Reader, var: str, spec: object) -> Bound:
+    """One ``variables.<var>``: a table {min, max} or a single value, in the model's range."""
+    dim = VARIABLE_DIMENSIONS[var]
+    if isinstance(spec, dict):
+        extra = set(spec) - {"min", "max"}
+        if extra:
+            r.fail(f"variables.{var}: unknown key {sorted(extra)[0]!r}; expected 'min' and 'max' or a single value")
+        if "min" not in spec or "max" not in spec:
+            missing = "min" if "min" not in spec else "max"
+            r.fail(f"variables.{var}.{missing}: missing; give both min and max, or a single value to fix it")
+        try:
+            lo = parse_quantity(spec["min"], dim, f"variables.{var}.min")
+            hi = parse_quantity(spec["max"], dim, f"variables.{var}.max")
+        except InputError as exc:
+            r.fail(str(exc))
+        given = {f"variables.{var}.min": (spec["min"], lo), f"variables.{var}.max": (spec["max"], hi)}
+    else:
+        try:
+            lo = hi = parse_quantity(spec, dim, f"variables.{var}")
+        except InputError as exc:
+            r.fail(str(exc))
+        given = {f"variables.{var}": (spec, lo)}
+    for key, (text, value) in given.items():  # said in the user's unit (validate() repeats it in SI)
+        if value > MODEL_RANGE[var][1]:
+            r.fail(outside_range(key, text, value, *MODEL_RANGE[var], dim))
+    return Bound(lo, hi)
+
+
+def _catalog_within(r: _Reader, bounds: dict[str, Bound], wheels: tuple[str, ...]) -> tuple[str, ...]:
+    """The catalog wheels within ``variables.diameter`` (when given); the diameter bounds become theirs."""
+    d_lo, d_hi = bounds["diameter"].low, bounds["diameter"].high
+    if "diameter" in r.section("variables"):
+        kept = tuple(k for k in wheels if d_lo - 1e-9 <= Catalog.from_key(k).fixed_diameter <= d_hi + 1e-9)
+        if not kept:
+            r.fail(
+                f"variables.diameter = [{d_lo / INCH:.3g}, {d_hi / INCH:.3g}] in: no catalog wheel in {list(wheels)} fits"
+            )
+        wheels = kept
+    diameters = [Catalog.from_key(k).fixed_diameter for k in wheels]
+    bounds["diameter"] = Bound(min(diameters), max(diameters))
+    return wheels
+
+
+def _caps(r: _Reader) -> dict[str, float | None]:
+    """[objective] max_threshold_force or max_turning_effort [N]: at most one cap, a positive force."""
+    caps = {}
+    for key in ("max_threshold_force", "max_turning_effort"):
+        cap = r.quantity("objective", key, "force", None)
+        if cap is not None and not (math.isfinite(cap) and 0 < cap < 1e5):
+            r.fail(f"objective.{key} = {cap:g} N: must be a positive force below 1e5 N")
+        caps[key] = cap
+    if caps["max_threshold_force"] is not None and caps["max_turning_effort"] is not None:
+        r.fail(
+            "objective: give max_threshold_force or max_turning_effort, not both (the recommendation caps one "
+            "objective and minimises the other)"
+        )
+    return caps
+
+
+def _choices(r: _Reader) -> dict[str, tuple[str, ...]]:
+    """[choices]: the categorical options of an exploration (surface, turning mode, Table 1 wheel)."""
+    choices = {}
+    for key, allowed in (("surface", SURFACES), ("turning_mode", MODES), ("wheel", tuple(w.key for w in TABLE1))):
+        if key in r.section("choices"):
+            values = r.section("choices")[key]
+            if not isinstance(values, list) or not values or any(v not in allowed for v in values):
+                r.fail(f"choices.{key} = {values!r}: expected a non-empty list from {', '.join(allowed)}")
+            choices[key] = tuple(values)
+    return choices
+
+
+def _uncertainty(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> Uncertainty | None:
+    """Parse [robust]: the risk bound α and the scatter (σ of the log) of each constant.
+
+    No section (or no key) gives the defaults of :class:`~designer.physics.uncertainty.Uncertainty`
+    (α = 0.05, Table 1's model error as a Student-t on 5 degrees of freedom); ``enabled = false`` gives
+    None: the nominal Eq. 7 constraint.
+    """
+
+    enabled = table.get("enabled", True)
+    if not isinstance(enabled, bool):
+        fail(f"robust.enabled = {enabled!r}: expected true or false")
+    if not enabled:
+        extra = sorted(set(table) - {"enabled", "samples", "seed"})
+        if extra:
+            fail(f"robust.{extra[0]}: has no effect with enabled = false (the nominal problem has no risk bound)")
+    defaults = Uncertainty()
+    values: dict[str, Any] = {}
+    for key in ("probability", "model_error", "damping", "slip_coefficient", "inertia"):
+        value = table.get(key, getattr(defaults, key))
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, (int, float))
+            or abs(value) > 1e300
+            or not math.isfinite(value)
+        ):
+            fail(f"robust.{key} = {value!r}: expected a finite number")
+        values[key] = float(value)
+    if not 0 < values["probability"] < 0.5:
+        fail(f"robust.probability = {values['probability']:g}: must be between 0 and 0.5 (e.g. 0.05 for 5 %)")
+    for key in ("model_error", "damping", "slip_coefficient", "inertia"):
+        if not 0 <= values[key] <= 2:
+            fail(f"robust.{key} = {values[key]:g}: the standard deviation of the log must be between 0 and 2")
+    for key, low, high in (("samples", 100, MAX_SAMPLES), ("seed", 0, 2**32 - 1), ("model_error_dof", 0, 1000)):
+        value = table.get(key, getattr(defaults, key))
+        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+            hint = " (0 = a normal model error)" if key == "model_error_dof" else ""
+            fail(f"robust.{key} = {value!r}: expected an integer from {low} to {high}{hint}")
+        values[key] = value
+    if not enabled:
+        return None
+    return Uncertainty(**values)
+
+
+def _inertia(
+    table: dict[str, Any], quantity: Callable[[str, str, str, None], float | None], fail: Callable[[str], NoReturn]
+) -> tuple[InertiaModel, tuple[str, ...]]:
+    model = table.get("model", "table1-power-law")
+    if model not in INERTIA_MODELS:
+        fail(f"inertia.model = {model!r}: expected one of {', '.join(INERTIA_MODELS)}")
+    allowed = {
+        "table1-power-law": {"model", "coefficient", "exponent"},
+        "disc": {"model", "tyre_width", "density"},
+        "catalog": {"model", "wheel", "wheels"},
+        "fixed": {"model", "inertia"},
+    }[model]
+    extra = set(table) - allowed
+    if extra:
+        fail(
+            f"inertia.{show_key(sorted(extra)[0])}: not used by inertia model {model!r} (it takes {', '.join(sorted(allowed - {'model'})) or 'nothing else'})"
+        )
+    if model == "table1-power-law":
+        coefficient = quantity("inertia", "coefficient", "dimensionless", None)
+        exponent = quantity("inertia", "exponent", "dimensionless", None)
+        if coefficient is not None and coefficient <= 0:
+            fail(f"inertia.coefficient = {coefficient:g}: must be positive")
+        if exponent is not None and not 0 < exponent < 10:
+            fail(f"inertia.exponent = {exponent:g}: must be between 0 and 10")
+        return PowerLaw(coefficient, exponent), ()
+    if model == "disc":
+        for key in ("tyre_width", "density"):
+            if key not in table:
+                fail(f"inertia.{key}: missing; the disc model needs tyre_width and density")
+        width = quantity("inertia", "tyre_width", "length", None)
+        density = quantity("inertia", "density", "density", None)
+        assert width is not None and density is not None  # both keys are present (checked above)
+        if width <= 0 or width > 0.2:
+            fail(f"inertia.tyre_width = {width:g} m: must be between 0 and 0.2 m")
+        if density <= 0 or density > 20000:
+            fail(f"inertia.density = {density:g} kg/m³: must be between 0 and 20000")
+        return Disc(width, density), ()
+    if model == "fixed":
+        if "inertia" not in table:
+            fail("inertia.inertia: missing; the fixed model needs the measured I_w, e.g. '0.00127 kg*m**2'")
+        value = quantity("inertia", "inertia", "inertia", None)
+        assert value is not None  # the key is present (checked above)
+        if not 0 < value < 0.1:
+            fail(f"inertia.inertia = {value:g} kg·m²: must be between 0 and 0.1 kg·m²")
+        return Fixed(value), ()
+    return _catalog(table, fail)
+
+
+def _catalog(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> tuple[InertiaModel, tuple[str, ...]]:
+    """[inertia] model = "catalog": the Table 1 wheels named by ``wheel`` or ``wheels`` (default all of them)."""
+    if "wheel" in table and "wheels" in table:
+        fail('inertia: give either wheel = "C" or wheels = ["A", ...], not both')
+    keys = table.get("wheels", [table["wheel"]] if "wheel" in table else [w.key for w in TABLE1])
+    if isinstance(keys, str) or not isinstance(keys, list) or not keys:
+        fail(f"inertia.wheels = {keys!r}: expected a non-empty list of Table 1 letters")
+    valid = [w.key for w in TABLE1]
+    out = []
+    for key in keys:
+        if not isinstance(key, str) or key.strip().upper() not in valid:
+            fail(f"inertia.wheel = {key!r}: unknown Table 1 wheel; valid wheels are {', '.join(valid)}")
+        out.append(key.strip().upper())
+    return Catalog.from_key(out[0]), tuple(dict.fromkeys(out))
+
+
+def _check_keys(data: dict[str, Any], prefix: str) -> None:
+    for key, value in data.items():
+        if key in SCHEMA[""]:
+            continue
+        if key not in SCHEMA:
+            raise ProblemError(
+                prefix + f"unknown section or key {key!r}{_suggest(key, list(SCHEMA) + list(SCHEMA['']))}"
+            )
+        if not isinstance(value, dict):
+            raise ProblemError(prefix + f"[{key}] must be a table, got {value!r}")
+        for sub in value:
+            if sub not in SCHEMA[key]:
+                raise ProblemError(prefix + f"unknown key {key}.{show_key(sub)}{_suggest(sub, list(SCHEMA[key]))}")
+
+
+def _suggest(word: str, options: list[str]) -> str:
+    match = difflib.get_close_matches(word, [o for o in options if o], n=1)
+    return f" (did you mean {match[0]!r}?)" if match else ""

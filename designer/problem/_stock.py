@@ -1,0 +1,182 @@
+"""The problem file's [stock] section: the diameters, grooves, trails, dampings and named wheels a
+maker can build from (the "Build this caster" recommendation snaps to them).
+
+Read by :func:`designer.problem._loader.problem_from_dict`; each error names the key, the value and the
+reason, as the rest of the loader.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Callable, NoReturn
+
+from designer.data.paper import INCH
+from designer.model import VARIABLE_UNITS
+from designer.physics.inertia import Fixed, InertiaModel
+from designer.problem._core import INERTIA_RANGE, Bound, Stock, StockWheel, show_key
+from designer.units import InputError, parse_quantity
+
+
+def _stock_values(
+    table: dict[str, Any],
+    key: str,
+    dimension: str,
+    variable: str,
+    bounds: dict[str, Bound],
+    fail: Callable[[str], NoReturn],
+) -> tuple[float, ...]:
+    """A [stock] list in SI, each value inside ``variable``'s bounds (deduplicated, sorted)."""
+    values = table[key]
+    if isinstance(values, (str, int, float)) or not isinstance(values, list):
+        fail(f'stock.{key} = {values!r}: expected a list, e.g. ["4 in", "5 in"]')
+    if not values:
+        fail(f"stock.{key} = []: empty; list at least one value, or leave the key out to keep {variable} continuous")
+    out = []
+    b = bounds[variable]
+    for i, raw in enumerate(values):
+        try:
+            v = parse_quantity(raw, dimension, f"stock.{key}[{i}]")
+        except InputError as exc:
+            fail(str(exc))
+        if not b.low * (1 - 1e-9) - 1e-12 <= v <= b.high * (1 + 1e-9) + 1e-12:
+            unit = VARIABLE_UNITS[variable]
+            shown = (
+                f"{v / INCH:.4g} in outside variables.{variable} = [{b.low / INCH:.4g}, {b.high / INCH:.4g}] in"
+                if dimension == "length"
+                else f"{v:g} {unit} outside variables.{variable} = [{b.low:g}, {b.high:g}] {unit}"
+            )
+            fail(f"stock.{key}[{i}] = {raw!r}: {shown}; widen the bounds or drop the part")
+        out.append(min(max(v, b.low), b.high))
+    return tuple(sorted(set(out)))
+
+
+def read_stock(
+    table: dict[str, Any],
+    bounds: dict[str, Bound],
+    inertia: InertiaModel,
+    catalog: tuple[str, ...],
+    sill: float,
+    fail: Callable[[str], NoReturn],
+) -> Stock:
+    """Parse [stock] against the bounds [SI] and the inertia model I_w(d) [kg·m²] (one-line errors, exit 3).
+
+    ``catalog`` are the problem's catalogue wheels, ``sill`` the door-sill height h [m] (Eq. 4A: a stock
+    wheel must roll over it); ``fail`` raises the loader's ProblemError.  Lengths in the file may carry
+    units ("5 in"); the result is in SI.
+    """
+    if not table:
+        fail("[stock] is empty; list diameters, grooves, trail_step or dampings (a key left out stays continuous)")
+    model = getattr(inertia, "name", "")
+    if "diameters" in table or "wheels" in table:
+        key = "diameters" if "diameters" in table else "wheels"
+        if catalog:
+            fail(
+                f'stock.{key}: not allowed with [inertia] model = "catalog"; the wheel stock is '
+                f"[inertia].wheels ({', '.join(catalog)})"
+            )
+        if model == "fixed" or isinstance(inertia, Fixed):
+            fail(
+                f'stock.{key}: not allowed with [inertia] model = "fixed"; a fixed inertia is one measured '
+                f"wheel, so the diameter is fixed (set variables.diameter to it)"
+            )
+    if "diameters" in table and "wheels" in table:
+        fail("stock: give diameters (and grooves) or wheels, not both")
+    diameters = _stock_values(table, "diameters", "length", "diameter", bounds, fail) if "diameters" in table else None
+    grooves = _stock_values(table, "grooves", "length", "groove", bounds, fail) if "grooves" in table else None
+    dampings = _stock_values(table, "dampings", "damping", "damping", bounds, fail) if "dampings" in table else None
+    trails = step = None
+    if "trail_step" in table:
+        step, trails = _stock_trails(table, bounds["trail"], fail)
+    wheels = _stock_wheels(table["wheels"], bounds, grooves, fail) if "wheels" in table else None
+    return Stock(diameters=diameters, grooves=grooves, trail_step=step, trails=trails, dampings=dampings, wheels=wheels)
+
+
+def _stock_trails(table: dict[str, Any], b: Bound, fail: Callable[[str], NoReturn]) -> tuple[float, tuple[float, ...]]:
+    """``stock.trail_step``: the step [m] and the fork holes from ``variables.trail.min`` every step up to max."""
+    try:
+        step = parse_quantity(table["trail_step"], "length", "stock.trail_step")
+    except InputError as exc:
+        fail(str(exc))
+    span = max(b.high - b.low, 0.0)  # inverted bounds are validate()'s one-line error, not the step's
+    if not step > 0 or not math.isfinite(step):
+        fail(f'stock.trail_step = {table["trail_step"]!r}: must be a positive length, e.g. "0.25 in"')
+    if b.low > b.high:
+        pass  # inverted trail bounds: validate() names variables.trail (min greater than max)
+    elif span <= 0:
+        fail(
+            f"stock.trail_step = {table['trail_step']!r}: variables.trail is fixed at {b.low / INCH:.4g} in; "
+            f"leave trail_step out"
+        )
+    elif step > span * (1 + 1e-9):
+        fail(
+            f"stock.trail_step = {step / INCH:.4g} in: larger than the trail range "
+            f"{b.low / INCH:.4g} to {b.high / INCH:.4g} in ({span / INCH:.4g} in); use a smaller step"
+        )
+    count = int(math.floor(span / step + 1e-9)) + 1
+    if count > 10_000:
+        fail(
+            f"stock.trail_step = {step / INCH:.4g} in: {count} fork holes; use a step of at least "
+            f"{span / 10_000 / INCH:.3g} in"
+        )
+    return step, tuple(min(b.low + k * step, b.high) for k in range(count))
+
+
+def _stock_wheels(
+    raw: object, bounds: dict[str, Bound], grooves: tuple[float, ...] | None, fail: Callable[[str], NoReturn]
+) -> tuple[StockWheel, ...]:
+    """``stock.wheels``: named wheels, each with a diameter and optionally a groove and a measured I_w."""
+    if not isinstance(raw, list):
+        fail(f"stock.wheels = {raw!r}: expected a list of {{name, diameter, groove, inertia}} tables")
+    if not raw:
+        fail("stock.wheels = []: empty; list at least one wheel, or leave the key out")
+    out: list[StockWheel] = []
+    names: set[str] = set()
+    for i, w in enumerate(raw):
+        out.append(_stock_wheel(i, w, names, bounds, fail))
+    given = [w.groove is not None for w in out]
+    if any(given) and not all(given):
+        fail("stock.wheels: give a groove for every wheel or for none (then [stock].grooves or continuous)")
+    if all(given) and grooves is not None:
+        fail("stock: the wheels give their grooves; leave stock.grooves out")
+    return tuple(out)
+
+
+def _stock_wheel(
+    i: int, w: object, names: set[str], bounds: dict[str, Bound], fail: Callable[[str], NoReturn]
+) -> StockWheel:
+    """``stock.wheels[i]``: a table {name, diameter, groove, inertia} whose name is not in ``names`` (added)."""
+    if not isinstance(w, dict):
+        fail(
+            f"stock.wheels[{i}] = {w!r}: expected a table such as "
+            f'{{ name = "Frog 5", diameter = "5 in", groove = "0.25 in" }}'
+        )
+    extra = sorted(set(w) - {"name", "diameter", "groove", "inertia"})
+    if extra:
+        fail(f"stock.wheels[{i}].{show_key(extra[0])}: unknown key; expected name, diameter, groove, inertia")
+    for need in ("name", "diameter"):
+        if need not in w:
+            fail(f"stock.wheels[{i}].{need}: missing")
+    name = w["name"]
+    if not isinstance(name, str) or not name.strip():
+        fail(f"stock.wheels[{i}].name = {name!r}: expected a non-empty string")
+    if name in names:
+        fail(f"stock.wheels[{i}].name = {name!r}: listed twice")
+    names.add(name)
+    d = _stock_values({"diameter": [w["diameter"]]}, "diameter", "length", "diameter", bounds, fail)[0]
+    g = (
+        _stock_values({"groove": [w["groove"]]}, "groove", "length", "groove", bounds, fail)[0]
+        if "groove" in w
+        else None
+    )
+    inertia_w = None
+    if "inertia" in w:
+        try:
+            inertia_w = parse_quantity(w["inertia"], "inertia", f"stock.wheels[{i}].inertia")
+        except InputError as exc:
+            fail(str(exc))
+        if not INERTIA_RANGE[0] <= inertia_w <= INERTIA_RANGE[1]:
+            fail(
+                f"stock.wheels[{i}].inertia = {inertia_w:g} kg·m²: outside {INERTIA_RANGE[0]:g} to "
+                f"{INERTIA_RANGE[1]:g} kg·m²"
+            )
+    return StockWheel(name.strip(), d, g, inertia_w)

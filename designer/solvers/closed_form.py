@@ -1,0 +1,358 @@
+"""Closed-form ε-constraint optima of a continuous problem, nominal or risk-bounded.
+
+For min F_turn s.t. P <= ε, V_c >= V_req (Eq. 7), R_s <= R_max and the box the
+subproblem has structure (valid when the turning moment is positive and its
+coefficients in B and c_f are >= 0):
+
+- P (Eq. 4A) depends on d only and decreases with it; F_turn does not depend on
+  d; I_w(d) does not decrease with d and R_s = T + d/2 grows with it.  So the
+  feasible set in (T, B, c_f) shrinks as d grows and the optimum takes the
+  smallest admissible diameter d = max(d_lo, d(ε)), d(ε) the diameter of P = ε.
+- At fixed (B, c_f) F_turn = M/T falls and V_c rises with T: T = min(T_hi, R_max − d/2).
+- At fixed (T, d) the cost M(B, c_f) is linear with non-negative coefficients and
+  the constraint a·c_f + b·B² >= V_req² (a, b from Eq. 7) is linear in c_f and convex
+  in B, so along the constraint curve the cost is concave in B: the optimum is at
+  an end of the curve inside the box (or at (B_lo, c_lo) when that is feasible).
+  Candidates: c_f = c_lo, c_f = c_hi (B from the constraint), B = B_lo, B = B_hi
+  (c_f from the constraint), each clipped to the box; the cheapest feasible wins.
+
+The risk bound (``conditions.uncertainty``; :mod:`designer.physics.uncertainty`) replaces V_c by its
+α-quantile V_q = V_c exp(−Q(σ_m, σ_r)).  It is *not* the nominal constraint with a tightened target: σ_r
+depends on the design through the elasticities of V_c in c_f and K_s, i.e. through the friction share
+s = a/(a + b) of V_c² = a + b (a = 4 c_f T²/(π I_w), b = K_s B² T/(2 I_w)); only with σ_c = σ_K = 0 is
+the factor a constant.  It is exact to write the bound as
+
+    a + b >= V_req² G(s),   log G(s) = 2 Q(σ_m, σ_r(s)),
+
+G a function of s and the scatter alone (σ_I enters as a constant): on a ray of fixed share V_q grows
+as √(a + b).  So the structure above carries over:
+
+- I_w scales a and b alike (s unchanged): V_q ∝ I_w^−½ falls with d, the smallest admissible d wins;
+- with |s (log G)'| < 1 and |(1 − s)(log G)'| < 1 on [0, 1] (:func:`applicable` asks for <= 0.8; about
+  0.2 for the default scatter) V_q rises with T, c_f and B, so T is again the largest admissible and
+  the optimum lies on the constraint curve (or at the corner (B_lo, c_lo) when that is feasible);
+- the curve is c_f(s) = s V_req² G(s)/a₁, B(s)² = (1 − s) V_req² G(s)/b₁ (a₁, b₁ per unit c_f, B²),
+  c_f rising and B falling with s; where it meets each edge of the box is a fixed point of a map that
+  contracts by the same factor (:func:`_edge_shares`);
+- F_turn along the curve is no longer concave in general (G bends it), so the cheapest point is
+  searched on a grid of s between the box edges, refined by golden section, and compared with both
+  edges (:func:`_risk_designs`).
+
+Every model quantity comes from :func:`designer.model._caster.performance` and the V_c quantile from
+:mod:`designer.physics.uncertainty`; only the inversions (P = ε for d, the shimmy constraint for B or
+c_f through :func:`designer.physics.shimmy.critical_speed_terms`, the curve's shares) are written here.
+"""
+
+from __future__ import annotations
+
+import functools
+import warnings
+
+import numpy as np
+
+from designer.model import performance
+from designer.physics.geometry import swept_radius
+from designer.physics.shimmy import critical_shimmy_speed, critical_speed_terms
+from designer.physics.uncertainty import Uncertainty, shimmy_speed_quantile
+
+CONTRACTION = 0.8
+"""Largest |s (log G)'| and |(1 − s)(log G)'| for which the risk-bounded closed form is used (< 1 is needed:
+then V_q rises with T, c_f and B, and the edge maps of :func:`_edge_shares` contract)."""
+SHARE_GRID = 33
+"""Grid of friction shares between the box edges on which F_turn along the risk-bounded curve is compared."""
+GOLDEN_STEPS = 60
+"""Golden-section steps refining an interior grid minimum (0.618⁶⁰ ≈ 3e-13 of a grid cell)."""
+
+
+def applicable(problem) -> bool:
+    """Whether the closed form holds for ``problem`` (continuous, monotone cost; a risk bound whose G contracts)."""
+    if problem.wheels:
+        return False
+    c = problem.conditions
+    if c.uncertainty is not None and not _contracts(c.uncertainty):
+        return False
+    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    if c.turning.groove_coefficient < 0 or c.disturbance_angle <= 0 or c.slip_coefficient <= 0:
+        return False
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        # positive moment everywhere in the box (F = M/T falls with T); it is linear, so the corner suffices
+        m = performance(hi[0], hi[1], lo[2], lo[3], c)["turning_moment"]
+        # I_w non-decreasing in d (checked on a grid of the box)
+        d = np.linspace(lo[1], hi[1], 65)
+        inertia = np.asarray(performance(hi[0], d, lo[2], lo[3], c)["inertia"], float) + 0 * d
+    return bool(m > 0 and np.all(np.diff(inertia) >= -1e-15 * np.abs(inertia[1:])))
+
+
+def diameter_at(problem, eps) -> np.ndarray:
+    """The diameter d at which P(d) = ε (Eq. 4A inverted): r(x − 2) = 2√(x − 1), r = ε/L, x = d/h.
+
+    With y = √(x − 1): r y² − 2 y − r = 0, y = (1 + √(1 + r²))/r.  NaN for ε <= 0.
+    """
+    c = problem.conditions
+    r = np.asarray(eps, float) / c.load
+    with np.errstate(divide="ignore", invalid="ignore"):
+        y = np.where(r > 0, (1 + np.sqrt(1 + r * r)) / r, np.nan)
+    return (y * y + 1) * c.threshold_height
+
+
+def _values(problem, x):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        return performance(x[..., 0], x[..., 1], x[..., 2], x[..., 3], problem.conditions)
+
+
+CANDIDATES = (
+    "groove from Eq. 7 at the least damping",
+    "damping from Eq. 7 at the least groove",
+    "damping from Eq. 7 at the widest groove",
+    "groove from Eq. 7 at the most damping",
+)
+"""The ends of the shimmy constraint curve in (B, c_f) at a given (T, d), in the order compared: F_turn
+is concave along the curve, so its minimum is at one of them (docs/model.md)."""
+
+
+def largest_trail(problem, d) -> tuple[np.ndarray, np.ndarray]:
+    """The largest admissible trail T [m] at each diameter ``d`` [m], and whether it reaches the trail's lower bound.
+
+    T is capped by its upper bound and by the swept-radius limit R_s = T + d/2 <= R_max (geometry,
+    docs/model.md#swept-radius); where the cap falls below the lower bound the diameter is infeasible (mask
+    False) and T is clipped up to the lower bound.
+    """
+    d = np.asarray(d, float).ravel()
+    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    t = np.full(len(d), hi[0])
+    if problem.swept_radius_max is not None:
+        # R_s = T + d/2 is linear in T: T_max = R_max − R_s(0, d), from the geometry alone (the whole
+        # model at T = 0 would divide by zero in F_turn = M/T)
+        t = np.minimum(t, problem.swept_radius_max - np.asarray(swept_radius(0.0, d), float))
+    ok = t >= lo[0] * (1 - 1e-12)
+    return np.maximum(t, lo[0]), ok
+
+
+def designs_at_diameter(problem, d, candidates=None, *, search: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Least-F_turn designs at given diameters (T, B, c_f optimal): ((N, 4) designs, feasible mask).
+
+    ``candidates`` : indices into :data:`CANDIDATES` to compare (default all four; fewer only to
+    measure what one of them is worth); nominal problems only.  Risk-bounded problems: :func:`_risk_designs`,
+    and ``search=False`` only to read the mask (the curve is not searched; the designs are then an end of it).
+    """
+    d = np.asarray(d, float).ravel()
+    n = len(d)
+    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    t, ok = largest_trail(problem, d)
+    probe = np.column_stack([t, d, np.ones(n), np.ones(n)])
+    inertia = np.asarray(_values(problem, probe)["inertia"], float) + 0 * d
+    a, b = critical_speed_terms(t, inertia, 1.0, 1.0, problem.conditions.slip_coefficient)  # per unit c_f, B²
+    if problem.conditions.uncertainty is not None:
+        designs, feasible = _risk_designs(problem, t, d, a, b, search)
+        return designs, ok & feasible
+    need = problem.required_speed**2
+    (b_lo, c_lo), (b_hi, c_hi) = (lo[2], lo[3]), (hi[2], hi[3])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # c_f from the constraint at a given B; B from it at a given c_f
+        c_at = lambda bb: np.maximum(c_lo, (need - b * bb * bb) / a)  # noqa: E731
+        b_at = lambda cc: np.maximum(b_lo, np.sqrt(np.maximum(0.0, (need - a * cc) / b)))  # noqa: E731
+        cands = [
+            (b_at(c_lo), np.full(n, c_lo)),
+            (np.full(n, b_lo), c_at(b_lo)),
+            (np.full(n, b_hi), c_at(b_hi)),
+            (b_at(c_hi), np.full(n, c_hi)),
+        ]
+    if candidates is not None:
+        cands = [cands[i] for i in candidates]
+    tol = 1e-12
+    xs, feas = [], []
+    for bb, cc in cands:
+        bb = np.where(np.isfinite(bb), bb, np.inf)
+        cc = np.where(np.isfinite(cc), cc, np.inf)
+        f = (bb <= b_hi * (1 + tol) + tol) & (cc <= c_hi * (1 + tol))
+        xs.append(np.column_stack([t, d, np.minimum(bb, b_hi), np.minimum(cc, c_hi)]))
+        feas.append(f)
+    x = np.stack(xs)  # (candidates, N, 4)
+    cost = np.asarray(_values(problem, x)["turning_effort"], float)
+    cost = np.where(np.stack(feas), cost, np.inf)
+    best = np.argmin(cost, axis=0)
+    designs = x[best, np.arange(n)]
+    feasible = ok & np.isfinite(cost[best, np.arange(n)])
+    return designs, feasible
+
+
+def log_gain(uncertainty: Uncertainty, share):
+    """log G(s) = 2 Q_{1−α}(σ_m, σ_r(s)): how far log V_c² must exceed log V_req² at friction share s [-].
+
+    Evaluated by :func:`designer.physics.uncertainty.shimmy_speed_quantile` on a probe design of share
+    s (T = I_w = K_s = 1, V_c = 1): G depends on s and the scatter only.
+    """
+    s = np.asarray(share, float)
+    damping, groove = s * np.pi / 4, np.sqrt(2 * (1 - s))  # a = s, b = 1 − s
+    v = critical_shimmy_speed(1.0, 1.0, groove, damping, 1.0)
+    return 2 * np.log(v / shimmy_speed_quantile(1.0, 1.0, groove, damping, 1.0, uncertainty))
+
+
+@functools.lru_cache(maxsize=32)
+def _contracts(uncertainty: Uncertainty) -> bool:
+    """Whether |s (log G)'| and |(1 − s)(log G)'| stay <= :data:`CONTRACTION` on [0, 1] (2049-point grid)."""
+    s = np.linspace(0.0, 1.0, 2049)
+    slope = np.gradient(log_gain(uncertainty, s), s)
+    return bool(np.all(np.isfinite(slope)) and np.max(np.abs(slope) * np.maximum(s, 1 - s)) <= CONTRACTION)
+
+
+@functools.lru_cache(maxsize=32)
+def _gain_table(uncertainty: Uncertainty) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """log G and its slope on 4097 shares in [0, 1]: the starting point of :func:`_edge_shares`' Newton steps."""
+    s = np.linspace(0.0, 1.0, 4097)
+    lg = log_gain(uncertainty, s)
+    slope = np.gradient(lg, s)
+    for a in (s, lg, slope):
+        a.setflags(write=False)
+    return s, lg, slope
+
+
+def _edge_shares(u: Uncertainty, need, a, b, box) -> tuple[np.ndarray, np.ndarray]:
+    """The shares [s1, s2] of the risk-bounded curve inside the box: c_f(s) in [c_lo, c_hi], B(s) in [B_lo, B_hi].
+
+    Each edge is a fixed point: c_f(s) = c  ⇔  s = a c/(V² G(s));  B(s) = B  ⇔  s = 1 − b B²/(V² G(s)),
+    maps that contract by |s (log G)'| resp. |(1 − s)(log G)'| <= :data:`CONTRACTION` (clipped to [0, 1]: an edge the curve
+    does not reach gives 0 or 1).  Solved on the tabulated G (:func:`_gain_table`), then by Newton steps on
+    the exact G until a step is below 1e-15.  c_f grows and B falls with s, so s1 = max(s at c_lo, s at B_hi)
+    and s2 = min(s at c_hi, s at B_lo); s1 > s2 means the curve misses the box.
+    """
+    (b_lo, c_lo), (b_hi, c_hi) = box
+    sign = np.array([1.0, 1.0, -1.0, -1.0])[:, None]  # c_f edges: s = m; B edges: s = 1 − m; m = k/G(s)
+    base = np.array([0.0, 0.0, 1.0, 1.0])[:, None]
+    k = np.vstack([a * c_lo, a * c_hi, b * b_hi**2, b * b_lo**2]) / need  # (4, N)
+    grid, lg_table, slope_table = _gain_table(u)
+    s = np.full(k.shape, 0.5)
+    for _ in range(120):  # on the table: contraction <= 0.8 (typically 0.2)
+        nxt = np.clip(base + sign * k * np.exp(-np.interp(s, grid, lg_table)), 0.0, 1.0)
+        moved = np.max(np.abs(nxt - s))
+        s = nxt
+        if moved <= 1e-10:
+            break
+    for _ in range(8):  # Newton on s − base − sign·k/G(s) = 0 with the exact G (2-3 steps from the table)
+        m = k * np.exp(-log_gain(u, s))
+        h = s - base - sign * m
+        step = h / (1 + sign * m * np.interp(s, grid, slope_table))
+        nxt = np.clip(s - step, 0.0, 1.0)
+        moved = np.max(np.abs(nxt - s))
+        s = nxt
+        if moved <= 1e-15:
+            break
+    return np.maximum(s[0], s[2]), np.minimum(s[1], s[3])
+
+
+def _on_curve(problem, t, d, a, b, s) -> tuple[np.ndarray, np.ndarray]:
+    """Designs on the risk-bounded curve at shares ``s`` (clipped into the box) and their F_turn [N]."""
+    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    big = problem.required_speed**2 * np.exp(log_gain(problem.conditions.uncertainty, s))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c = np.clip(s * big / a, lo[3], hi[3])
+        g = np.clip(np.sqrt(np.maximum(0.0, (1 - s) * big / b)), lo[2], hi[2])
+    t, d = np.broadcast_to(t, s.shape), np.broadcast_to(d, s.shape)
+    x = np.stack([t, d, g, c], axis=-1)
+    return x, np.asarray(_values(problem, x)["turning_effort"], float) + 0 * s
+
+
+def _risk_designs(problem, t, d, a, b, search: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Least-F_turn designs at (T, d) under the risk bound: ((N, 4) designs, feasible mask) (module text).
+
+    The corner (B_lo, c_lo) when it is feasible; else the cheapest of: the curve's two ends in the box,
+    its best point on a grid of :data:`SHARE_GRID` shares, refined by golden section when it is inside.
+    """
+    n = len(d)
+    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    u = problem.conditions.uncertainty
+    corner = np.column_stack([t, d, np.full(n, lo[2]), np.full(n, lo[3])])
+    corner_ok = np.asarray(_values(problem, corner)["design_speed"], float) >= problem.required_speed
+    s1, s2 = _edge_shares(u, problem.required_speed**2, a, b, ((lo[2], lo[3]), (hi[2], hi[3])))
+    curve_ok = s1 <= s2 + 1e-15
+    s2 = np.maximum(s1, s2)
+    grid = s1[:, None] + (s2 - s1)[:, None] * np.linspace(0.0, 1.0, SHARE_GRID if search else 1)[None, :]
+    xs, cost = _on_curve(problem, t[:, None], d[:, None], a[:, None], b[:, None], grid)
+    j = np.argmin(cost, axis=1)
+    rows = np.arange(n)
+    best_x, best_f = xs[rows, j], cost[rows, j]
+    inside = np.flatnonzero((j > 0) & (j < grid.shape[1] - 1) & curve_ok)
+    if len(inside):  # golden section on the two cells around an interior grid minimum
+        lo_s, hi_s = grid[inside, j[inside] - 1], grid[inside, j[inside] + 1]
+        ti, di, ai, bi = t[inside], d[inside], a[inside], b[inside]
+        ratio = (np.sqrt(5) - 1) / 2
+        for _ in range(GOLDEN_STEPS):
+            m1, m2 = hi_s - ratio * (hi_s - lo_s), lo_s + ratio * (hi_s - lo_s)
+            f1 = _on_curve(problem, ti, di, ai, bi, m1)[1]
+            f2 = _on_curve(problem, ti, di, ai, bi, m2)[1]
+            lo_s, hi_s = np.where(f1 <= f2, lo_s, m1), np.where(f1 <= f2, m2, hi_s)
+        x_r, f_r = _on_curve(problem, ti, di, ai, bi, (lo_s + hi_s) / 2)
+        better = f_r < best_f[inside]
+        best_x[inside[better]], best_f[inside[better]] = x_r[better], f_r[better]
+    designs = np.where(corner_ok[:, None], corner, best_x)
+    return designs, corner_ok | curve_ok
+
+
+def structured_front_designs(problem, eps_array) -> tuple[np.ndarray, np.ndarray]:
+    """ε-constraint optima min F_turn s.t. P <= ε for every ε: ((N, 4) designs, feasible mask).
+
+    Raises ValueError when the closed form does not apply (see :func:`applicable`).
+    """
+    if not applicable(problem):
+        raise ValueError(
+            "the closed-form ε-optima need a continuous problem with a positive moment "
+            "(and a risk bound whose quantile factor varies slowly with the friction share)"
+        )
+    eps = np.asarray(eps_array, float).ravel()
+    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    with np.errstate(invalid="ignore"):
+        d = np.maximum(lo[1], diameter_at(problem, eps))
+    reach = np.isfinite(d) & (d <= hi[1] * (1 + 1e-12))
+    d = np.where(reach, np.minimum(d, hi[1]), hi[1])
+    designs, feasible = designs_at_diameter(problem, d)
+    return designs, feasible & reach
+
+
+def structured_ends(problem, rel: float = 1e-9, rounds: int = 9):
+    """The two lexicographic ends in closed form: (min F then min P, min P then min F) designs, or None.
+
+    End A: d_lo's optimum F*, then the largest d whose optimum keeps F_turn <= F*(1 + rel) (bisection:
+    F*(d) is non-decreasing).  End B: the largest feasible diameter (bisection: feasibility shrinks
+    with d) gives the least P; the end is the ε-optimum at ε = P_min (1 + rel).  ``rel`` is the
+    tolerance of the NLP's second lexicographic stage (:func:`designer.studies.front._sweeps.lexicographic_ends`).
+    """
+    if not applicable(problem):
+        raise ValueError(
+            "the closed-form ends need a continuous problem with a positive moment "
+            "(and a risk bound whose quantile factor varies slowly with the friction share)"
+        )
+    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    x_lo, ok_lo = designs_at_diameter(problem, [lo[1]])
+    if not ok_lo[0]:
+        return None
+    f_min = float(_values(problem, x_lo[0])["turning_effort"])
+
+    def largest(pred):
+        """Largest d in [d_lo, d_hi] with pred(d) (pred monotone: true then false), by grid refinement."""
+        a, b = lo[1], hi[1]
+        if pred(np.array([b]))[0]:
+            return b
+        for _ in range(rounds):
+            grid = np.linspace(a, b, 65)
+            ok = pred(grid)
+            k = int(np.flatnonzero(ok).max()) if ok.any() else 0
+            a, b = grid[k], grid[min(k + 1, 64)]
+            if b - a <= 1e-15 * b:
+                break
+        return a
+
+    def flat(dd):
+        x, ok = designs_at_diameter(problem, dd)
+        return ok & (np.asarray(_values(problem, x)["turning_effort"], float) <= f_min * (1 + rel))
+
+    def feasible(dd):
+        return designs_at_diameter(problem, dd, search=False)[1]
+
+    d_a, d_b = largest(flat), largest(feasible)
+    xa, _ = designs_at_diameter(problem, [d_a])
+    xb, _ = designs_at_diameter(problem, [d_b])
+    p_min = float(_values(problem, xb[0])["threshold_force"])
+    xb, ok = structured_front_designs(problem, [p_min * (1 + rel)])
+    return xa[0], xb[0]

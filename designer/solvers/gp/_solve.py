@@ -1,0 +1,353 @@
+"""Geometric programming with cvxpy (``gp=True``): cross-check, global certificate, duals.
+
+docs/model.md#solvers, cvxpy paragraph.  With the *added* damping c_d = c_f − c_0 as the
+variable, every quantity of the model is a posynomial of the positive
+variables (T, d, B, c_d):
+
+- turning effort (docs/model.md#turning-effort, Eq. 9)
+  F_turn = (m_mode k_surface L (1 + κB) + c_d θ0) / T;
+- threshold force (Eq. 1 = Eq. 4A expanded in s = h/d)
+  P = L · 2 s^½ Σ_{k<=N} c_k s^k, every c_k > 0 (truncated; it *under*-estimates
+  the exact P by at most L·2 s^½ (2s)^(N+1)/(1 − 2s), and N is chosen so that
+  this is below :data:`SERIES_TOLERANCE` relative over the diameter range);
+- wheel inertia (docs/model.md#wheel-inertia): a monomial C d^n (power law), a posynomial
+  (disc) or a constant (fixed / catalog wheel);
+- swept radius T + d/2 <= R_max.
+
+The shimmy constraint (Eq. 7), V_c >= V_req = (1 + margin) V_target, squared
+and multiplied by I_w,
+
+    V_req² I_w(d) <= (4/π)(c_0 + c_d) T² + K_s B² T / 2,
+
+is "posynomial <= posynomial", a signomial constraint.  Where the right side
+has a single term (B = 0 and c_d = 0: the bare fork) it is a GP constraint and
+the GP optimum is the *global* optimum of that family.  Otherwise the right
+side r(x) = Σ u_i(x) is condensed at the current point x0 to the monomial
+
+    r̂(x) = r(x0) Π_j (x_j / x0_j)^{g_j},   g_j = ∂ log r / ∂ log x_j (x0),
+
+which is the AM–GM condensation Π (u_i/α_i)^{α_i}, α_i = u_i(x0)/r(x0): the
+tangent plane of the convex log r(e^y), so r̂ <= r everywhere.  Each GP is
+therefore an inner approximation: every iterate is feasible for the exact
+model, the objective never increases, and the fixed point is a KKT point of
+the exact (truncated-series) problem: sequential GP, a local method.
+
+The design space is split into families by whether B and c_d are fixed at 0
+(no term) or free (with a tiny positive floor): "bare fork" (B = 0, c_d = 0),
+"groove", "damper", "groove+damper".  Each family is solved and the best is
+returned; ``exact`` marks the families whose GP is exact (global).
+
+Dual sensitivities.  cvxpy solves the log-log transformed problem: minimise
+log J(e^y) subject to log f_i(e^y) − log g_i(e^y) <= 0, with multipliers
+λ_i >= 0 (``constraint.dual_value``).  By the envelope theorem, for any fixed
+parameter p,
+
+    d log J* / d log p = ∂ log J/∂ log p + Σ_i λ_i ∂ (log f_i − log g_i)/∂ log p,
+
+all partial derivatives at the optimum x* with x held.  Examples: the target
+speed enters the shimmy constraint as V² on the left, so its sensitivity is
+2 λ_shimmy; R_max enters as (T + d/2)/R_max <= 1, so it is −λ_swept; an active
+upper bound x <= b gives d log J/d log b = −λ.  The partial derivatives are
+taken numerically (central difference in log p, step 1e-5) on the same term
+function the GP is built from (:func:`gp_terms`), with the *exact* right side
+of the shimmy constraint (at an SGP fixed point the condensed and exact sides
+agree in value and log-gradient).  The names are those of
+:data:`designer.solvers.nlp.PARAMETER_INFO` plus ``"<variable>.min|max"`` for
+active bounds, as :meth:`CasterNLP.sensitivities`.  One difference in meaning:
+the GP holds c_d = c_f − c_0 (its variable) when c_0 changes, so its
+``bare_fork_damping`` sensitivity equals the NLP's ``bare_fork_damping`` plus
+``damping.min`` when the damping bound sits at c_0.
+
+Public API: :func:`solve_gp`, :class:`GPResult`, :func:`polish`,
+:func:`gp_starts` (cheap NLP starts).  The terms are in :mod:`designer.solvers.gp._terms`, one family's
+sequential GP and duals in :mod:`designer.solvers.gp._family`; their names are re-exported here.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from designer.model import Design, performance
+from designer.physics.threshold import (
+    threshold_force_ratio,
+    threshold_series_remainder_bound,
+)
+from designer.problem import Problem
+from designer.errors import InfeasibleError
+from designer.solvers.nlp import BIG, CasterNLP
+from designer.solvers.gp._family import BACKOFF, FLOOR, MAX_ITERATIONS, SOLVER_OPTIONS, STEP_TOLERANCE, _Family
+from designer.solvers.gp._terms import MAX_ORDER, SERIES_TOLERANCE, gp_terms, robust_speed_factor, series_order
+from designer.solvers.gp._terms import _constants, _parameters  # noqa: F401 - re-exported (tests build the terms)
+
+__all__ = [
+    "BACKOFF",
+    "FLOOR",
+    "GPResult",
+    "MAX_ITERATIONS",
+    "MAX_ORDER",
+    "SERIES_TOLERANCE",
+    "SOLVER_OPTIONS",
+    "STEP_TOLERANCE",
+    "exact_objective",
+    "gp_starts",
+    "gp_terms",
+    "polish",
+    "robust_speed_factor",
+    "series_order",
+    "solve_gp",
+]
+
+# --------------------------------------------------------------------------- result
+
+
+@dataclass
+class GPResult:
+    """The GP / sequential-GP optimum of a problem.
+
+    Attributes
+    ----------
+    design : the optimum (SI); c_f = c_0 + c_d; B and c_d are exactly 0 in the
+        families that fix them, a tiny floor (see :data:`FLOOR`) otherwise
+    objective : J = w_turn F_turn + w_threshold P [N] of ``design`` with the
+        exact model (:func:`designer.model._caster.performance`, exact Eq. 4A)
+    gp_objective : the GP's own optimal value [N] (truncated P series)
+    family : "bare fork" | "groove" | "damper" | "groove+damper"
+    exact : True if the family's GP is exact (single-term right side of the
+        shimmy constraint): ``design`` is then the global optimum of the family
+        (to the series truncation error)
+    iterations : SGP iterations (GP solves) of the returned family's best start
+    duals : d log J / d log p from the GP multipliers (module docstring), keyed
+        as :data:`designer.solvers.nlp.PARAMETER_INFO` plus active bounds
+    truncation_error : bound on the relative error of the P series at ``design`` [-]
+    status : "optimal", "converged" (SGP), "max_iterations" or "infeasible"
+    families : per family, (family, objective J [N] or nan, exact, status);
+        catalog problems prefix the family with the wheel ("C: groove")
+    wheel : Table 1 wheel key for catalog problems, else None
+    problem : the continuous problem (catalog variant) that ``design`` solves
+    designs : {family label: Design} of every family that solved
+    order : order N of the P series
+    seconds : wall time of the whole solve
+    solves : number of GP solves in total
+    """
+
+    design: Design
+    objective: float
+    gp_objective: float
+    family: str
+    exact: bool
+    iterations: int
+    duals: dict
+    truncation_error: float
+    status: str
+    families: list
+    wheel: str | None = None
+    problem: Problem | None = field(default=None, repr=False)
+    designs: dict = field(default_factory=dict, repr=False)
+    order: int = 0
+    seconds: float = 0.0
+    solves: int = 0
+
+    def as_start(self) -> np.ndarray:
+        """The design as an SI array in VARIABLES order (an NLP start)."""
+        return self.design.as_array()
+
+
+# --------------------------------------------------------------------------- public API
+
+
+def _families(problem: Problem):
+    """(groove_free, damper_free) of the families the bounds allow."""
+    b = problem.bounds
+    c0 = problem.conditions.turning.bare_fork_damping
+    groove_options = [False] if b["groove"].high <= 0 else ([True] if b["groove"].low > 0 else [False, True])
+    cd_lo, cd_hi = b["damping"].low - c0, b["damping"].high - c0
+    damper_options = [False] if cd_hi <= 1e-12 else ([True] if cd_lo > 1e-12 else [False, True])
+    return [(g, c) for c in damper_options for g in groove_options]
+
+
+def exact_objective(problem: Problem, design: Design, weights) -> float:
+    """J = w_turn F_turn + w_threshold P [N] with the exact model (:func:`designer.model._caster.performance`)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        v = performance(design.trail, design.diameter, design.groove, design.damping, problem.conditions)
+    return float(weights[0] * v["turning_effort"] + weights[1] * v["threshold_force"])
+
+
+def _solve_continuous(problem: Problem, weights, threshold_cap, order, s_max, max_iterations, record=None):
+    rows = []
+    for groove_free, damper_free in _families(problem):
+        fam = _Family(problem, groove_free, damper_free, weights, threshold_cap, order, s_max)
+        best = None
+        starts = [None] if fam.single else fam.start_points()
+        for start in starts:
+            status, values, j, iterations = fam.run(start, max_iterations, record)
+            if values is None:
+                continue
+            # the multipliers belong to the last GP solved: read them now
+            duals = fam.duals(values) if _last_solution_is(fam, values) else {}
+            if best is None or j < best[2] - 1e-12 * abs(j):
+                best = (status, values, j, iterations, duals)
+        if best is None:
+            rows.append(dict(family=fam.name, exact=fam.exact, status="infeasible", solves=fam.solves))
+            continue
+        status, values, j, iterations, duals = best
+        design = fam.design(values)
+        rows.append(
+            dict(
+                family=fam.name,
+                exact=fam.exact,
+                status=status,
+                solves=fam.solves,
+                design=design,
+                gp_objective=j,
+                objective=exact_objective(problem, design, weights),
+                iterations=iterations,
+                duals=duals or {},
+            )
+        )
+    return rows
+
+
+def _last_solution_is(fam: _Family, values: dict) -> bool:
+    """True if the cvxpy variables hold ``values`` (so the duals belong to them)."""
+    return all(abs(float(v.value) - values[k]) <= 1e-14 * abs(values[k]) for k, v in fam.variables.items())
+
+
+def solve_gp(
+    problem: Problem,
+    weights=None,
+    threshold_cap: float | None = None,
+    max_iterations: int = MAX_ITERATIONS,
+    record: list | None = None,
+) -> GPResult:
+    """Minimise J = w_turn F_turn + w_threshold P by geometric programming (docs/model.md#solvers).
+
+    Every family (bare fork, groove, damper, groove+damper, as the bounds
+    allow) is solved: the bare fork as one exact GP (global optimum), the
+    others by sequential GP from two starts; the best by exact-model J wins.
+
+    Parameters
+    ----------
+    problem : Problem; a catalog problem is solved for each wheel of
+        ``problem.variants()`` and the best wheel kept
+    weights : (w_turn, w_threshold) [-]; default the problem's
+    threshold_cap : optional ε-cap P <= ε [N] (Pareto points).  Because the
+        truncated series *under*-estimates P, the GP imposes the series plus a
+        monomial bound of its remainder, so the cap holds for the exact Eq. 4A.
+    max_iterations : SGP iterations per start (1 gives the first, already
+        feasible, GP: a cheap start)
+    record : optional list; (continuous problem, design) of every GP iterate is appended (for tests)
+
+    Returns
+    -------
+    GPResult
+
+    Raises
+    ------
+    designer.errors.InfeasibleError
+        No family of any variant has a feasible GP.
+    """
+
+    t0 = time.perf_counter()
+    w = tuple(float(v) for v in (problem.weights if weights is None else weights))
+    order, _ = series_order(problem)
+    variants = problem.variants()
+    s_max = max(v.conditions.threshold_height / v.bounds["diameter"].low for v in variants)
+    candidates, families, solves = [], [], 0
+    for variant in variants:
+        wheel = variant.conditions.inertia.wheel.key if problem.wheels else None
+        rows = _solve_continuous(variant, w, threshold_cap, order, s_max, max_iterations, record)
+        for row in rows:
+            solves += row["solves"]
+            label = row["family"] if wheel is None else f"{wheel}: {row['family']}"
+            families.append((label, row.get("objective", math.nan), row["exact"], row["status"]))
+            if "design" in row:
+                candidates.append((row["objective"], label, wheel, variant, row))
+    if not candidates:
+        raise InfeasibleError(
+            f"{problem.name}: no geometric-programming family is feasible (target speed "
+            f"{problem.required_speed:.3g} m/s" + (f", P <= {threshold_cap:.4g} N" if threshold_cap else "") + ")"
+        )
+    _, _, wheel, variant, row = min(candidates, key=lambda c: c[0])
+    design = row["design"]
+    h = variant.conditions.threshold_height
+    s = h / design.diameter
+    truncation = float(threshold_series_remainder_bound(s, order) / threshold_force_ratio(design.diameter, h))
+    return GPResult(
+        design=design,
+        objective=row["objective"],
+        gp_objective=row["gp_objective"],
+        family=row["family"],
+        exact=row["exact"],
+        iterations=row["iterations"],
+        duals=row["duals"],
+        truncation_error=truncation,
+        status=row["status"],
+        families=families,
+        wheel=wheel,
+        problem=variant,
+        designs={label: r["design"] for _, label, _, _, r in candidates},
+        order=order,
+        seconds=time.perf_counter() - t0,
+        solves=solves,
+    )
+
+
+def gp_starts(
+    problem: Problem, weights=None, threshold_cap: float | None = None, max_iterations: int = MAX_ITERATIONS
+) -> list[np.ndarray]:
+    """Each feasible family's GP design as an NLP start (SI arrays, VARIABLES order).
+
+    Pass a continuous problem (one catalog variant) to get starts for its NLP.
+    ``max_iterations=1`` is the cheapest (one GP per family and start, already
+    feasible for the exact model); the default runs the SGP to convergence.
+    Returns an empty list if no family is feasible.
+    """
+
+    try:
+        result = solve_gp(problem, weights, threshold_cap, max_iterations=max_iterations)
+    except InfeasibleError:
+        return []
+    return [d.as_array() for d in result.designs.values()]
+
+
+def polish(
+    problem: Problem, gp_result: GPResult, weights=None, threshold_cap: float | None = None
+) -> tuple[Design, float]:
+    """Exact-model polish: IPOPT (:class:`CasterNLP`) started from the GP design.
+
+    Parameters
+    ----------
+    problem : the problem given to :func:`solve_gp` (for a catalog problem the
+        wheel of ``gp_result`` is used)
+    gp_result : a :class:`GPResult`
+    weights : (w_turn, w_threshold); default the problem's
+    threshold_cap : optional ε-cap P <= ε [N]
+
+    Returns
+    -------
+    (design, J) : the better of the NLP optimum from the GP start and the GP
+        design itself (always feasible), and its exact J [N].
+    """
+
+    w = tuple(float(v) for v in (problem.weights if weights is None else weights))
+    variant = gp_result.problem if gp_result.problem is not None else problem
+    if variant.wheels:
+        variant = (
+            variant.variants()[0]
+            if gp_result.wheel is None
+            else next(v for v in variant.variants() if v.conditions.inertia.wheel.key == gp_result.wheel)
+        )
+    nlp = CasterNLP(variant)
+    result = nlp.solve(gp_result.design, w, BIG if threshold_cap is None else threshold_cap)
+    best = (gp_result.design, exact_objective(variant, gp_result.design, w))
+    if result.success:
+        j = exact_objective(variant, result.design, w)
+        if j <= best[1]:
+            best = (result.design, j)
+    return best

@@ -1,0 +1,83 @@
+"""Independent cross-check with scipy's SLSQP on the same model.
+
+SLSQP sees only the NumPy evaluation of :func:`designer.model._caster.performance`
+(finite-difference gradients), a different formulation and algorithm from
+the CasADi/IPOPT NLP, so agreement between the two is meaningful.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+from scipy.optimize import minimize
+
+from designer.errors import check_interrupt
+from designer.model import Design, performance
+from designer.problem import Problem
+
+
+def slsqp(
+    problem: Problem, weights=None, starts=(), random_starts: int = 5, seed: int = 0, threshold_cap: float | None = None
+) -> tuple[Design | None, float]:
+    """Minimise J = w_turn F_turn + w_threshold P with SLSQP from several starts.
+
+    Parameters
+    ----------
+    problem : a continuous problem (no catalog choice)
+    weights : (w_turn, w_threshold); default the problem's
+    starts : designs (or SI arrays) to start from, e.g. the NLP optimum
+    random_starts : additional uniform random starts in the box
+    threshold_cap : optional ε-constraint P <= ε [N]
+
+    Returns
+    -------
+    (design, J) : best feasible design and its objective [N]; (None, nan) if none.
+    """
+    w = np.asarray(problem.weights if weights is None else weights, float)
+    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    scale = np.maximum(hi, np.array([0.01, 0.05, 0.005, 1.0]))
+    c = problem.conditions
+
+    def perf(z):
+        x = np.asarray(z) * scale
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return performance(x[0], x[1], x[2], x[3], c)
+
+    f_ref = float(perf((lo + hi) / 2 / scale)["turning_effort"])
+    p_ref = float(perf((lo + hi) / 2 / scale)["threshold_force"])
+
+    def objective(z):
+        v = perf(z)
+        return float((w[0] * v["turning_effort"] + w[1] * v["threshold_force"]) / (w[0] * f_ref + w[1] * p_ref))
+
+    cons = [{"type": "ineq", "fun": lambda z: float(perf(z)["design_speed"]) / problem.required_speed - 1}]
+    if problem.swept_radius_max is not None:
+        cons.append({"type": "ineq", "fun": lambda z: 1 - float(perf(z)["swept_radius"]) / problem.swept_radius_max})
+    if threshold_cap is not None:
+        cons.append({"type": "ineq", "fun": lambda z: (threshold_cap - float(perf(z)["threshold_force"])) / p_ref})
+    rng = np.random.default_rng(seed)
+    all_starts = [np.asarray(s.as_array() if isinstance(s, Design) else s, float) for s in starts]
+    all_starts += [lo + rng.random(4) * (hi - lo) for _ in range(random_starts)]
+    bounds = list(zip(lo / scale, hi / scale))
+    best = (None, float("nan"))
+    for start in all_starts:
+        z0 = np.clip(start / scale, lo / scale, hi / scale)
+        res = minimize(
+            objective, z0, method="SLSQP", bounds=bounds, constraints=cons, options={"ftol": 1e-12, "maxiter": 500}
+        )
+        check_interrupt()
+        z = np.clip(res.x, lo / scale, hi / scale)
+        v = perf(z)
+        feasible = float(v["design_speed"]) >= problem.required_speed * (1 - 1e-7)
+        if problem.swept_radius_max is not None:
+            feasible &= float(v["swept_radius"]) <= problem.swept_radius_max * (1 + 1e-7)
+        if threshold_cap is not None:
+            feasible &= float(v["threshold_force"]) <= threshold_cap * (1 + 1e-7)
+        if not feasible:
+            continue
+        j = float(w[0] * v["turning_effort"] + w[1] * v["threshold_force"])
+        if best[0] is None or j < best[1]:
+            best = (Design.from_array(z * scale), j)
+    return best

@@ -1,0 +1,17 @@
+"""Shimmy in time: simulation of the third-order model with Coulomb friction, onset speeds, limit cycles.
+
+Modules
+-------
+_simulate     :func:`simulate` and :func:`onset_speed` (Eq. 12B with exact Coulomb friction)
+_result       :class:`SimulationResult`, :class:`OnsetResult`
+_onset_study  the committed onset study (``designer simulate --report``)
+limit_cycles  knocks, periodic orbits, Floquet multipliers, knock-safe speeds (a subpackage)
+"""
+
+from __future__ import annotations
+
+from designer.studies.dynamics._onset_study import write_simulation_report
+from designer.studies.dynamics._result import OnsetResult, SimulationResult
+from designer.studies.dynamics._simulate import onset_speed, simulate
+
+__all__ = ["OnsetResult", "SimulationResult", "onset_speed", "simulate", "write_simulation_report"]

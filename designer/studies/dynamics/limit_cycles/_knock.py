@@ -1,0 +1,206 @@
+"""Knock onset and knock-safe speed: bisection in speed on simulated knocks (issue 16)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from designer.studies.dynamics.limit_cycles._system import CasterDynamics, caster_dynamics, simulate_knock
+from designer.errors import InputError, SolverError
+from designer.model import Conditions, Design
+from designer.physics.inertia import Fixed
+from designer.physics.tyre import TyreParameters
+
+FAST_BRACKET = (0.96, 1.04)
+"""Start of the knock-safe bisection around Eq. 7's V_c (c_f,eff = M_f/θ_i) [-]: over the default problem's
+front the simulated onset of the rolling model is 0.977–1.016 × that guess for θ0 and 2 θ0."""
+
+
+@dataclass
+class OnsetBracket:
+    """Knock onset by bisection: the knock decays at ``low`` and is sustained at ``high`` [m/s]."""
+
+    low: float
+    high: float
+    evaluations: int
+
+    @property
+    def speed(self) -> float:
+        """Geometric mean of the bracket [m/s]."""
+        return math.sqrt(self.low * self.high)
+
+
+def knock_onset_speed(
+    sys: CasterDynamics,
+    angle: float,
+    angular_velocity: float = 0.0,
+    rtol: float = 0.005,
+    cycles: float = 30.0,
+    guess: float | None = None,
+    bracket: tuple[float, float] = (0.8, 1.25),
+    widen: float = 1.5,
+    tries: int = 12,
+    exact: bool = False,
+) -> OnsetBracket:
+    """Lowest speed at which a knock θ_i is sustained (bisection in log V) [m/s].
+
+    The bracket starts at ``guess`` (default Eq. 7's V_c with c_f,eff = M_f/θ_i) × ``bracket``, widened
+    × ``widen`` (at most ``tries`` times) until it holds a decaying and a sustained speed; bisection stops
+    when high/low − 1 < ``rtol``.  ``exact``: simulate with the closed-form integration of the rolling model
+    (:func:`~designer.studies.dynamics.limit_cycles._system.simulate_knock`).
+    """
+    if guess is None:  # Eq. 7 with c_f,eff = M_f/θ_i
+        c_eff = sys.friction_moment / angle
+        guess = math.sqrt(
+            4 * c_eff * sys.trail**2 / (math.pi * sys.inertia) + sys.groove_coefficient * sys.trail / sys.inertia
+        )
+    n = 0
+    cache = {}
+
+    def sustained(v):
+        nonlocal n
+        if v not in cache:
+            n += 1
+            cache[v] = simulate_knock(sys.at(v), angle, angular_velocity, cycles, exact=exact).shimmy
+        return cache[v]
+
+    low, high = bracket[0] * guess, bracket[1] * guess
+    for _ in range(tries):
+        if sustained(low):
+            high, low = low, low / widen
+        elif not sustained(high):
+            low, high = high, high * widen
+        else:
+            break
+    else:
+        raise SolverError(f"knock onset not bracketed between {low:.3g} and {high:.3g} m/s")
+    while high / low - 1 > rtol:
+        mid = math.sqrt(low * high)
+        if sustained(mid):
+            high = mid
+        else:
+            low = mid
+    return OnsetBracket(low, high, n)
+
+
+def knock_safe_speed(
+    design: Design,
+    conditions: Conditions = Conditions(),
+    angle: float | None = None,
+    tyre: TyreParameters | None = None,
+    rtol: float = 0.005,
+    exact: bool = True,
+) -> float:
+    """Highest speed at which a knock of θ_i decays instead of growing into shimmy [m/s].
+
+    The low end of the knock-onset bracket (:func:`knock_onset_speed`, relative width ``rtol``): the knock
+    was simulated and seen to decay there.  Rolling tyre (``exact``): each knock is integrated in closed
+    form and the bisection starts at Eq. 7 × :data:`FAST_BRACKET`, about 6 simulations and 0.02–0.05 s of
+    CPU on an idle machine.  ``exact=False`` (and the brush tyre) integrate with DOP853 from Eq. 7 × [0.8,
+    1.25] (about 9 simulations, 0.3–1 s of CPU with the rolling tyre, seconds with the brush tyre): the
+    results/simulation study uses that; the two agree within ``rtol`` (tests/studies/dynamics/test_limit_cycles.py).
+
+    Parameters
+    ----------
+    design : T [m], d [m], B [m], c_f [N·m/rad]
+    conditions : K_s, θ0 (M_f = c_f θ0), inertia model, dynamics (K, N)
+    angle : knock θ_i [rad]; default the design θ0 of the conditions (20°); the report also gives 2 θ0
+    tyre : None for the paper's rolling tyre (Eq. 6B; the default, as for Eq. 7), else the brush tyre
+    rtol : relative width of the bracket [-]
+    exact : closed-form integration and the narrow start bracket (rolling tyre only; ignored with a tyre)
+
+    Returns
+    -------
+    float
+        The speed [m/s]; 0.0 when the knock is sustained at every speed down to 1 % of Eq. 7's V_c (no safe speed).
+    """
+    theta = float(conditions.disturbance_angle if angle is None else angle)
+    if not math.isfinite(theta) or not 0 < theta < math.pi / 2:
+        raise InputError(f"angle = {angle!r}: knock angle must be between 0 and 90 deg (in rad)")
+    sys = caster_dynamics(design, conditions, 1.0, tyre)
+    try:
+        if exact and tyre is None:
+            return float(
+                knock_onset_speed(sys, theta, rtol=rtol, bracket=FAST_BRACKET, widen=1.15, tries=32, exact=True).low
+            )
+        return float(knock_onset_speed(sys, theta, rtol=rtol).low)
+    except SolverError:
+        # not bracketed: a knock that is sustained even at a crawl has no safe speed
+        crawl = 0.01 * math.sqrt(
+            4 * sys.friction_moment / theta * sys.trail**2 / (math.pi * sys.inertia)
+            + sys.groove_coefficient * sys.trail / sys.inertia
+        )
+        if simulate_knock(sys.at(crawl), theta, exact=exact).shimmy:
+            return 0.0
+        raise
+
+
+def knock_safe_speeds(designs, conditions: Conditions = Conditions(), rtol: float = 0.005, inertias=None) -> list[dict]:
+    """Knock-safe speeds of a few designs (the recommendation card): knocks of θ0 and 2 θ0, rolling tyre.
+
+    Each design costs two bisections of :func:`knock_safe_speed` with the closed-form integration (about
+    0.05–0.1 s of CPU on an idle machine); compute it for the designs a page shows, not for a whole front.
+
+    Parameters
+    ----------
+    designs : iterable of Design (T [m], d [m], B [m], c_f [N·m/rad])
+    conditions : θ0 [rad] (``disturbance_angle``), K_s, inertia model, dynamics (K, N)
+    rtol : relative width of the onset bracket [-]
+    inertias : optional I_w per design [kg·m²] (None entries: the conditions' inertia model), e.g. a
+        catalogue wheel's measured I_w, the one its V_c used
+
+    Returns
+    -------
+    list of dict
+        One per design: ``knock_safe_speed`` (θ0 knock) and ``knock_safe_speed_double`` (2 θ0 knock; None
+        when 2 θ0 ≥ 90°) [m/s] (None with ``knock_safe_error`` when the onset could not be bracketed),
+        ``knock_angle`` θ0 [rad], ``knock_safe_rtol`` [-].
+    """
+    theta0 = float(conditions.disturbance_angle)
+    designs = list(designs)
+    inertias = [None] * len(designs) if inertias is None else list(inertias)
+    out = []
+    for design, inertia in zip(designs, inertias):
+        cond = conditions
+        if inertia is not None and math.isfinite(float(inertia)):
+            cond = conditions.replace(inertia=Fixed(float(inertia)))
+        row: dict = {"knock_angle": theta0, "knock_safe_rtol": rtol}
+        for key, factor in (("knock_safe_speed", 1.0), ("knock_safe_speed_double", 2.0)):
+            row[key] = None
+            if factor * theta0 >= math.pi / 2:
+                continue
+            try:
+                row[key] = knock_safe_speed(design, cond, angle=factor * theta0, rtol=rtol)
+            except SolverError as exc:
+                row["knock_safe_error"] = str(exc)
+        out.append(row)
+    return out
+
+
+def scanned_onset_speed(sys: CasterDynamics, angle: float, speeds, rtol: float = 0.01) -> dict:
+    """Lowest speed at which a knock θ_i [rad] is sustained, from a scan over ``speeds`` [m/s] then bisection.
+
+    Unlike :func:`knock_onset_speed` it does not assume one transition: the brush tyre on a stiff frame has
+    islands of shimmy in speed.  Islands narrower than the scan spacing can be missed.
+
+    Returns {"speed" [m/s] (NaN if sustained nowhere in the scan), "monotone" (sustained at every scanned
+    speed above the first), "below_scan" (sustained already at the lowest scanned speed), "evaluations"}.
+    """
+    speeds = [float(v) for v in speeds]
+    outcomes = [simulate_knock(sys.at(v), angle).shimmy for v in speeds]
+    n = len(speeds)
+    if not any(outcomes):
+        return {"speed": math.nan, "monotone": True, "below_scan": False, "evaluations": n}
+    k = outcomes.index(True)
+    monotone = all(outcomes[k:])
+    if k == 0:
+        return {"speed": speeds[0], "monotone": monotone, "below_scan": True, "evaluations": n}
+    low, high = speeds[k - 1], speeds[k]
+    while high / low - 1 > rtol:
+        mid = math.sqrt(low * high)
+        n += 1
+        if simulate_knock(sys.at(mid), angle).shimmy:
+            high = mid
+        else:
+            low = mid
+    return {"speed": math.sqrt(low * high), "monotone": monotone, "below_scan": False, "evaluations": n}

@@ -1,0 +1,365 @@
+"""Periodic orbits: shooting on the section θ' = 0 at a maximum, Floquet multipliers, continuation (issue 16).
+
+The method is described in :mod:`designer.studies.dynamics.limit_cycles`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from designer.studies.dynamics.limit_cycles._system import CasterDynamics, _integrate
+from designer.errors import SolverError
+
+
+@dataclass
+class PeriodicOrbit:
+    """A symmetric periodic orbit (shimmy at constant amplitude) and its stability.
+
+    Attributes
+    ----------
+    amplitude : θ_max = A [rad]
+    speed : V [m/s]
+    state : state at the maximum of θ (θ' = 0) [SI]
+    period : full period [s]
+    multipliers : nontrivial Floquet multipliers of the full period (complex) [-]
+    stable : all |multiplier| < 1
+    closure : largest change of the section state over one full period, in rad
+        (X/T, X'/(ωT), θ) [rad]
+    residual : half-period fixed-point residual at convergence [rad]
+    iterations : Newton iterations
+    """
+
+    amplitude: float
+    speed: float
+    state: np.ndarray
+    period: float
+    multipliers: np.ndarray
+    stable: bool
+    closure: float
+    residual: float
+    iterations: int
+
+    @property
+    def frequency(self) -> float:
+        """2π / period [rad/s]."""
+        return 2 * math.pi / self.period
+
+    def as_dict(self) -> dict:
+        """Plain floats (multipliers as [re, im] pairs)."""
+        return {
+            "amplitude": self.amplitude,
+            "speed": self.speed,
+            "period": self.period,
+            "frequency": self.frequency,
+            "stable": bool(self.stable),
+            "closure": self.closure,
+            "residual": self.residual,
+            "iterations": self.iterations,
+            "multipliers": [[float(m.real), float(m.imag)] for m in self.multipliers],
+            "max_abs_multiplier": float(np.max(np.abs(self.multipliers))),
+        }
+
+
+def _weights(sys: CasterDynamics) -> np.ndarray:
+    """Section coordinates → rad: X/T, X'/(ωT), θ."""
+    T, w = sys.trail, sys.frequency
+    return np.array([1 / T, 1 / (w * T), 1.0]) if sys.tyre is not None else np.array([1 / T, 1.0])
+
+
+def _half_map(sys: CasterDynamics, z: np.ndarray):
+    """G(z) = −H(z): from a maximum of θ (θ' = 0, section state z) to minus the state at the next minimum."""
+    period = 2 * math.pi / sys.frequency
+    run = _integrate(sys, np.append(z, 0.0), 20 * period, stop_at_end_of=-1.0)
+    if run.reason != "section":
+        return None, math.nan
+    return -np.asarray(run.state[:-1]), run.time
+
+
+def _full_period(sys: CasterDynamics, z: np.ndarray):
+    """Section state after one full period (no symmetry used) and the period [s]."""
+    period = 2 * math.pi / sys.frequency
+    first = _integrate(sys, np.append(z, 0.0), 20 * period, stop_at_end_of=-1.0)
+    if first.reason != "section":
+        return None, math.nan
+    second = _integrate(sys, first.state, 20 * period, stop_at_end_of=1.0)
+    if second.reason != "section":
+        return None, math.nan
+    return np.asarray(second.state[:-1]), first.time + second.time
+
+
+def _describing_function_speed(sys: CasterDynamics, amplitude: float) -> float:
+    """Speed of the unstable cycle of amplitude A by Eq. 6 + Eq. 20B (C_D = 4 M_f/(π ω A)) [m/s]."""
+    c_d = 4 * sys.friction_moment / (math.pi * sys.frequency * amplitude)
+    a = sys.inertia / sys.trail
+    return (c_d + math.sqrt(c_d**2 + 4 * a * sys.groove_coefficient)) / (2 * a)
+
+
+# long: Newton on the half-period map, its step control, Floquet multipliers and the closure check
+def _damped_newton(
+    residual, u: np.ndarray, r: np.ndarray, scales, tol: float, max_iter: int, what: str, flip_step: bool
+) -> tuple[np.ndarray, np.ndarray, int]:
+    """Newton's method with a forward-difference Jacobian and step halving, for the shooting maps below.
+
+    ``residual(u)`` is the weighted return-map residual [rad] or None where the map is undefined (the motion
+    stops); ``r`` is its value at ``u``; ``scales(u)`` gives the difference step of each unknown (times 1e-7).
+    With ``flip_step`` an undefined forward difference is retried backwards.  Returns the unknowns with
+    max |residual| <= ``tol``, that residual and the iteration count; raises SolverError naming ``what`` otherwise.
+    """
+    n = u.size
+    iterations = 0
+    while np.max(np.abs(r)) > tol:
+        if iterations >= max_iter:
+            raise SolverError(
+                f"{what}: Newton did not converge (residual {np.max(np.abs(r)):.2g} rad after {max_iter} iterations)"
+            )
+        iterations += 1
+        steps = scales(u)
+        J = np.empty((n, n))
+        for j in range(n):
+            h = 1e-7 * steps[j]
+            up = u.copy()
+            up[j] += h
+            rp = residual(up)
+            if rp is None and flip_step:
+                up[j] -= 2 * h
+                rp = residual(up)
+                h = -h
+            if rp is None:
+                raise SolverError(f"{what}: map undefined near the guess")
+            J[:, j] = (rp - r) / h
+        try:
+            step = np.linalg.solve(J, -r)
+        except np.linalg.LinAlgError:
+            raise SolverError(f"{what}: singular Jacobian") from None
+        lam = 1.0
+        for _ in range(12):
+            trial = u + lam * step
+            rt = residual(trial)
+            if rt is not None and np.max(np.abs(rt)) < np.max(np.abs(r)):
+                u, r = trial, rt
+                break
+            lam /= 2
+        else:
+            raise SolverError(f"{what}: no descent step (residual {np.max(np.abs(r)):.2g} rad)")
+    return u, r, iterations
+
+
+def periodic_orbit(
+    sys: CasterDynamics, amplitude: float, guess: np.ndarray | None = None, tol: float = 1e-9, max_iter: int = 25
+) -> PeriodicOrbit:
+    """Symmetric periodic orbit of amplitude A: solve G(z) = z for the other section states and V.
+
+    Newton's method with a finite-difference Jacobian on the half-period map G (module docstring); the
+    unknowns are (X, [X',] V) with θ = A fixed.  Floquet multipliers are the squares of the eigenvalues of
+    DG at fixed V (central differences); ``closure`` integrates one full period without the symmetry.
+
+    Parameters
+    ----------
+    sys : the caster (its speed is the starting guess unless ``guess`` is given)
+    amplitude : A = θ_max [rad]
+    guess : optional starting unknowns (X [m], [X' [m/s],] V [m/s])
+    tol : convergence of the weighted residual [rad]
+
+    Raises
+    ------
+    SolverError
+        If Newton's method does not converge (no orbit of that amplitude nearby).
+    """
+    A = float(amplitude)
+    w = _weights(sys)
+    n = sys.size - 1  # section dimension
+    if guess is None:
+        V = _describing_function_speed(sys, A)
+        guess = np.array([-sys.trail * A, V]) if n == 2 else np.array([-sys.trail * A, -V * A, V])
+    u = np.array(guess, dtype=float)
+
+    def section(u):
+        return np.concatenate([u[:-1], [A]])
+
+    def residual(u):
+        if not (u[-1] > 0 and math.isfinite(u[-1])):
+            return None
+        g, _ = _half_map(sys.at(u[-1]), section(u))
+        return None if g is None else (g - section(u)) * w
+
+    scales = np.concatenate([[sys.trail * A], [u[-1] * A] if n == 3 else [], [1.0]])
+    r = residual(u)
+    if r is None:
+        raise SolverError(f"periodic orbit of amplitude {A:.4g} rad: the motion stops from the first guess")
+    what = f"periodic orbit of amplitude {A:.4g} rad"
+    u, r, iterations = _damped_newton(residual, u, r, lambda u: scales, tol, max_iter, what, flip_step=True)
+    return _orbit(sys.at(float(u[-1])), section(u), r, iterations)
+
+
+@dataclass
+class Branch:
+    """Periodic orbits along amplitude, split into stable and unstable pieces for the diagram."""
+
+    orbits: list = field(default_factory=list)
+    failed: list = field(default_factory=list)  # amplitudes where no orbit was found [rad]
+
+    def pieces(self) -> list[dict]:
+        """Consecutive runs of equal stability: [{"kind", "speed", "amplitude"}] (SI, rad)."""
+        out: list[dict] = []
+        for orb in self.orbits:
+            kind = "stable" if orb.stable else "unstable"
+            if not out or out[-1]["kind"] != kind:
+                out.append({"kind": kind, "speed": [], "amplitude": []})
+            out[-1]["speed"].append(float(orb.speed))
+            out[-1]["amplitude"].append(float(orb.amplitude))
+        return out
+
+
+def continue_orbits(sys: CasterDynamics, amplitudes, progress=None) -> Branch:
+    """Follow the branch of symmetric periodic orbits over ``amplitudes`` [rad] (increasing or decreasing).
+
+    Each orbit starts from the previous one (secant prediction of the unknowns scaled by A); a point where
+    Newton fails is recorded in ``Branch.failed`` and the next point restarts from the last good orbit.
+    """
+    branch = Branch()
+    prev: list[tuple[float, np.ndarray]] = []
+    amplitudes = [float(a) for a in amplitudes]
+    for i, A in enumerate(amplitudes):
+        guess = None
+        if len(prev) >= 2:
+            (a1, u1), (a2, u2) = prev[-2], prev[-1]
+            # unknowns scale roughly with A (X, X') or 1/A (V): extrapolate in log A
+            k = math.log(A / a2) / math.log(a2 / a1)
+            guess = u2 * (u2 / u1) ** k if np.all(u1 * u2 > 0) else u2 + (u2 - u1) * k
+        elif prev:
+            a2, u2 = prev[-1]
+            guess = u2 * np.concatenate([np.full(len(u2) - 1, A / a2), [1.0]])
+        try:
+            orb = periodic_orbit(sys if guess is None else sys.at(guess[-1]), A, guess)
+        except SolverError:
+            if guess is not None and len(prev) >= 1:
+                try:
+                    a2, u2 = prev[-1]
+                    g2 = u2 * np.concatenate([np.full(len(u2) - 1, A / a2), [1.0]])
+                    orb = periodic_orbit(sys.at(g2[-1]), A, g2)
+                except SolverError:
+                    branch.failed.append(A)
+                    continue
+            else:
+                branch.failed.append(A)
+                continue
+        branch.orbits.append(orb)
+        prev.append((A, np.concatenate([orb.state[:-2], [orb.speed]])))
+        if progress is not None:
+            progress(i + 1, len(amplitudes))
+    return branch
+
+
+def _orbit(at: CasterDynamics, z: np.ndarray, r: np.ndarray, iterations: int) -> PeriodicOrbit:
+    """The orbit through section point z (θ = A = z[-1]) at ``at``'s speed, found by Newton with final residual
+    r: its Floquet multipliers (squared eigenvalues of DG), full-period closure [rad] and period [s]."""
+    n = at.size - 1
+    w = _weights(at)
+    A = abs(z[-1])
+    zs = np.concatenate([[at.trail * A], [at.speed * A] if n == 3 else [], [A]])
+    DG = np.empty((n, n))
+    for j in range(n):
+        h = 1e-6 * zs[j]
+        zp, zm = z.copy(), z.copy()
+        zp[j] += h
+        zm[j] -= h
+        gp, _ = _half_map(at, zp)
+        gm, _ = _half_map(at, zm)
+        if gp is None or gm is None:
+            DG[:, j] = np.nan
+        else:
+            DG[:, j] = (gp - gm) / (2 * h)
+    mu = np.linalg.eigvals(DG) if np.all(np.isfinite(DG)) else np.full(n, np.nan + 0j)
+    full, period = _full_period(at, z)
+    closure = float(np.max(np.abs((full - z) * w))) if full is not None else math.nan
+    multipliers = mu**2
+    return PeriodicOrbit(
+        amplitude=float(z[-1]),
+        speed=at.speed,
+        state=np.append(z, 0.0),
+        period=period,
+        multipliers=multipliers,
+        stable=bool(np.all(np.abs(multipliers) < 1)),
+        closure=closure,
+        residual=float(np.max(np.abs(r))),
+        iterations=iterations,
+    )
+
+
+def periodic_orbit_at_speed(
+    sys: CasterDynamics, guess: np.ndarray, tol: float = 1e-9, max_iter: int = 25
+) -> PeriodicOrbit:
+    """Symmetric periodic orbit at the fixed speed of ``sys``: Newton on G(z) = z over the whole section state.
+
+    ``guess`` is a state at a maximum of θ (θ' = 0; its last entry is ignored), e.g. from a long simulation.
+    Used for the stable branch, swept in speed.  Raises SolverError when Newton fails (past a fold).
+    """
+    w = _weights(sys)
+    n = sys.size - 1
+    z = np.array(guess, dtype=float)[:n]
+
+    def residual(z):
+        g, _ = _half_map(sys, z)
+        return None if g is None else (g - z) * w
+
+    r = residual(z)
+    if r is None:
+        raise SolverError(f"periodic orbit at {sys.speed:.4g} m/s: the motion stops from the guess")
+
+    def scales(z):
+        A = abs(z[-1])
+        return np.concatenate([[sys.trail * A], [sys.speed * A] if n == 3 else [], [A]])
+
+    what = f"periodic orbit at {sys.speed:.4g} m/s"
+    z, r, iterations = _damped_newton(residual, z, r, scales, tol, max_iter, what, flip_step=False)
+    if z[-1] < 0:
+        z = -z
+    return _orbit(sys, z, r, iterations)
+
+
+def stable_orbit(
+    sys: CasterDynamics, angle: float = 0.6, cycles: float = 80.0, angle_limit: float = 6.0
+) -> PeriodicOrbit | None:
+    """Sustained shimmy at the speed of ``sys``: simulate a knock θ_i = ``angle`` [rad] for ``cycles`` periods,
+    then polish the last maximum into a periodic orbit (:func:`periodic_orbit_at_speed`).
+
+    Returns None if the knock decays (no stable cycle reached from it) or |θ| passes ``angle_limit``.
+    """
+    period = 2 * math.pi / sys.frequency
+    run = _integrate(sys, sys.knock_state(angle), cycles * period, angle_limit=angle_limit)
+    if run.reason != "end":
+        return None
+    maxima = [e for e in run.ends if e[2] > 0]
+    if not maxima:
+        return None
+    orb = periodic_orbit_at_speed(sys, maxima[-1][3])
+    return orb if orb.stable else None
+
+
+def speed_sweep(sys: CasterDynamics, speeds, start: PeriodicOrbit) -> Branch:
+    """Follow an orbit in speed (each Newton solve starts from the last orbit); stops at the first failure."""
+    branch = Branch()
+    z = start.state
+    for v in speeds:
+        try:
+            orb = periodic_orbit_at_speed(sys.at(v), z)
+        except SolverError:
+            branch.failed.append(float(v))
+            break
+        branch.orbits.append(orb)
+        z = orb.state
+    return branch
+
+
+def _find_stable(sys: CasterDynamics, angles=(0.6, 1.2, 0.3, 2.4)) -> PeriodicOrbit | None:
+    for a in angles:
+        try:
+            orb = stable_orbit(sys, angle=a, cycles=40.0)
+        except SolverError:
+            orb = None
+        if orb is not None:
+            return orb
+    return None

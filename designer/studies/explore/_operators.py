@@ -1,0 +1,309 @@
+"""The NSGA-II operators, the search space (categories and their sub-problems) and the NLP refinement.
+
+See :mod:`designer.studies.explore` for what the operators are and why they are tuned.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from designer.errors import InputError
+from designer.studies.front import nondominated
+from designer.model import VARIABLES, Design
+from designer.problem import Bound, Problem
+from designer.solvers.nlp import evaluate_many, violation
+from designer.physics.inertia import Catalog
+from designer.solvers.nlp import BIG, CasterNLP
+
+
+# --------------------------------------------------------------------------- operators
+
+
+@dataclass(frozen=True)
+class Operators:
+    """NSGA-II configuration.
+
+    Attributes
+    ----------
+    name : "tuned" (SBX + polynomial mutation + duplicate filter) or "optuna" (library defaults)
+    population_size : individuals per generation
+    crossover : "sbx" or "uniform"
+    crossover_eta : SBX distribution index η_c [-] (larger: children nearer the parents)
+    crossover_prob : probability that a child is made by crossover [-]
+    mutation : "polynomial" or "random" (optuna's resampling)
+    mutation_eta : polynomial-mutation distribution index η_m [-]
+    mutation_prob : per-variable mutation probability [-]; None: 1/n
+    deduplicate : redraw a child whose parameters equal an earlier trial's
+    """
+
+    name: str = "tuned"
+    population_size: int = 50
+    crossover: str = "sbx"
+    crossover_eta: float = 15.0
+    crossover_prob: float = 1.0
+    mutation: str = "polynomial"
+    mutation_eta: float = 20.0
+    mutation_prob: float | None = None
+    deduplicate: bool = True
+
+    @classmethod
+    def for_budget(cls, trials: int, name: str = "tuned", population_size: int | None = None) -> "Operators":
+        """Operators for a budget of ``trials`` trials.
+
+        ``"tuned"``: population ≈ √N clipped to 20…100 (22 and ≈ 22 generations
+        at 500 trials, 45 and ≈ 44 generations at 2000): on this problem the
+        front lies on the intersection of the shimmy and swept-radius
+        constraints, and more generations beat a wider population
+        (benchmarks/explore_operators.py).  ``"optuna"``: optuna 5's NSGA-II defaults
+        (population 50, uniform crossover with probability 0.9, resampling
+        mutation with probability 1/n, no duplicate filter).
+        """
+        if name == "optuna":
+            return cls(
+                name="optuna",
+                population_size=population_size or 50,
+                crossover="uniform",
+                crossover_eta=float("nan"),
+                crossover_prob=0.9,
+                mutation="random",
+                mutation_eta=float("nan"),
+                mutation_prob=None,
+                deduplicate=False,
+            )
+        if name != "tuned":
+            raise InputError(f"operators = {name!r}: expected 'tuned' or 'optuna'")
+        pop = population_size or int(min(100, max(20, round(math.sqrt(max(trials, 1))))))
+        return cls(population_size=pop)
+
+    def as_dict(self) -> dict:
+        return {
+            k: (None if isinstance(v, float) and not math.isfinite(v) else v)
+            for k, v in dataclasses.asdict(self).items()
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "Operators":
+        values = {k: (float("nan") if v is None and k.endswith("_eta") else v) for k, v in data.items()}
+        return cls(**values)
+
+    def sampler(self, seed: int | None):
+        """The configured :class:`optuna.samplers.NSGAIISampler`."""
+        # late import: loads optuna only when this runs
+        import optuna
+
+        # late import: loads optuna only when this runs
+        from optuna.samplers.nsgaii import PolynomialMutation, SBXCrossover, UniformCrossover
+
+        crossover = SBXCrossover(eta=self.crossover_eta) if self.crossover == "sbx" else UniformCrossover()
+        mutation = PolynomialMutation(eta=self.mutation_eta) if self.mutation == "polynomial" else None
+        kwargs = dict(
+            population_size=self.population_size,
+            crossover=crossover,
+            crossover_prob=self.crossover_prob,
+            mutation=mutation,
+            mutation_prob=self.mutation_prob,
+            seed=seed,
+        )
+        if not self.deduplicate:
+            return optuna.samplers.NSGAIISampler(**kwargs)
+        # late import: loads optuna only when this runs
+        from optuna.samplers._lazy_random_state import LazyRandomState
+
+        # late import: loads optuna only when this runs
+        from optuna.samplers.nsgaii._child_generation_strategy import NSGAIIChildGenerationStrategy
+
+        rng = LazyRandomState(seed)
+        inner = NSGAIIChildGenerationStrategy(
+            crossover_prob=self.crossover_prob,
+            mutation=mutation,
+            mutation_prob=self.mutation_prob,
+            swapping_prob=0.5,
+            crossover=crossover,
+            constraints_func=None,
+            rng=rng,
+        )
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            sampler = optuna.samplers.NSGAIISampler(**kwargs, child_generation_strategy=_Deduplicated(inner))
+        sampler._rng = rng  # reseed_rng() must reach the strategy's generator
+        return sampler
+
+
+class _Deduplicated:
+    """Child generation that redraws (up to 20 times) a child equal to an earlier trial.
+
+    The parameter sets of finished trials are cached, so each child costs
+    O(running trials), not O(all trials).
+    """
+
+    def __init__(self, inner):
+        self.inner = inner
+        self._finished: set = set()
+        self._scanned = 0
+
+    def _seen(self, study) -> set:
+        # late import: loads optuna only when this runs
+        from optuna.trial import TrialState
+
+        trials = study.get_trials(deepcopy=False)
+        pending = set()
+        contiguous = True
+        for t in trials[self._scanned :]:
+            if t.state.is_finished():
+                self._finished.add(_params_key(t.params))
+                if contiguous:
+                    self._scanned += 1
+            else:
+                contiguous = False
+                if t.state in (TrialState.RUNNING, TrialState.WAITING):
+                    pending.add(_params_key(t.params))
+        return self._finished | pending if pending else self._finished
+
+    def __call__(self, study, search_space, parent_population):
+        seen = self._seen(study)
+        child = self.inner(study, search_space, parent_population)
+        for _ in range(20):
+            if len(child) < len(search_space) or _params_key(child) not in seen:
+                break
+            child = self.inner(study, search_space, parent_population)
+        return child
+
+
+def _params_key(params: dict) -> tuple:
+    return tuple(sorted((k, round(v, 12) if isinstance(v, float) else v) for k, v in params.items()))
+
+
+# --------------------------------------------------------------------------- search space
+
+
+@dataclass(frozen=True)
+class SearchSpace:
+    """The exploration space of a problem.
+
+    Attributes
+    ----------
+    continuous : ((variable, low, high), ...) [SI] of the free continuous variables
+    categorical : ((dimension, choices), ...) for wheel, surface, turning_mode
+    """
+
+    continuous: tuple
+    categorical: tuple
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(name for name, _ in self.categorical) + tuple(name for name, _, _ in self.continuous)
+
+    def categories(self) -> list[tuple]:
+        """Every combination of categorical values, as ((dimension, value), ...) tuples."""
+        dims = [[(name, value) for value in choices] for name, choices in self.categorical]
+        return [tuple(combo) for combo in itertools.product(*dims)] if dims else [()]
+
+    def as_dict(self) -> dict:
+        return {
+            "continuous": {n: [lo, hi] for n, lo, hi in self.continuous},
+            "categorical": {n: list(c) for n, c in self.categorical},
+        }
+
+
+def search_space(problem: Problem) -> SearchSpace:
+    """Continuous and categorical dimensions of ``problem`` (see the module docstring)."""
+    wheels = tuple(problem.wheels)
+    chosen = problem.choices.get("wheel")
+    if wheels and chosen:
+        wheels = tuple(w for w in wheels if w in chosen)
+        if not wheels:
+            raise InputError(
+                f"choices.wheel = {list(chosen)}: none of them is in inertia.wheels {list(problem.wheels)}"
+            )
+    elif chosen:
+        wheels = tuple(chosen)
+    categorical = []
+    if wheels:
+        categorical.append(("wheel", wheels))
+    for key in ("surface", "turning_mode"):
+        if problem.choices.get(key):
+            categorical.append((key, tuple(problem.choices[key])))
+    continuous = []
+    for name in VARIABLES:
+        if name == "diameter" and wheels:
+            continue
+        bound = problem.bounds[name]
+        if not bound.fixed:
+            continuous.append((name, float(bound.low), float(bound.high)))
+    return SearchSpace(tuple(continuous), tuple(categorical))
+
+
+def category_label(category: tuple) -> str:
+    """``"wheel=C, surface=tile"`` (``"all"`` for a problem without categories)."""
+    return ", ".join(f"{k}={v}" for k, v in category) or "all"
+
+
+def category_problem(problem: Problem, category: tuple) -> Problem:
+    """The continuous sub-problem of one category (wheel: fixed d and I_w; surface; turning mode)."""
+
+    values = dict(category)
+    changes = {k: values[k] for k in ("surface", "turning_mode") if k in values}
+    bounds = dict(problem.bounds)
+    if "wheel" in values:
+        model = Catalog.from_key(values["wheel"])
+        d = model.fixed_diameter
+        bounds["diameter"] = Bound(d, d)
+        changes["inertia"] = model
+    return problem.replace(conditions=problem.conditions.replace(**changes), bounds=bounds, wheels=())
+
+
+# --------------------------------------------------------------------------- NLP refinement
+
+
+def _front_mask(objs: np.ndarray) -> np.ndarray:
+    """Non-dominated rows, ties within 1e-9 relative (e.g. refined points equal to rounding) counted as equal."""
+    objs = np.asarray(objs, float)
+    return nondominated(np.array([[float(f"{v:.9g}") for v in row] for row in objs]).reshape(-1, 2))
+
+
+def _row(cat: tuple, number: int, x: np.ndarray, values: dict, refined: bool) -> dict:
+    row = {name: float(x[i]) for i, name in enumerate(VARIABLES)}
+    row.update(
+        turning_effort=float(values["turning_effort"]),
+        threshold_force=float(values["threshold_force"]),
+        critical_speed=float(values["critical_speed"]),
+    )
+    row.update(dict(cat))
+    row.update(trial=int(number), refined=refined)
+    return row
+
+
+def _refine(sub: Problem, cat: tuple, front: list, nlps: dict) -> list:
+    """ε-constraint polish: min F_turn s.t. P <= P_candidate from each candidate (exact NLP of the category)."""
+
+    if cat not in nlps:
+        nlps[cat] = CasterNLP(sub)
+    nlp = nlps[cat]
+    out = []
+    for row in front:
+        start = Design(*(row[v] for v in VARIABLES))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            # with d fixed (catalog wheel) P is a constant: a cap equal to it would be a degenerate constraint
+            cap = BIG if sub.bounds["diameter"].fixed else row["threshold_force"]
+            res = nlp.solve(start, weights=(1.0, 0.0), threshold_cap=cap)
+        if not res.success:
+            out.append(row)
+            continue
+        x = res.design.as_array()
+        values = evaluate_many(sub, x[None, :])
+        values = {k: v[0] for k, v in values.items()}
+        feasible = violation(sub, {k: np.atleast_1d(v) for k, v in values.items()})[0] <= 1e-9
+        better = values["turning_effort"] <= row["turning_effort"] * (1 + 1e-9)
+        if feasible and better and values["threshold_force"] <= row["threshold_force"] * (1 + 1e-9):
+            out.append(_row(cat, row["trial"], x, values, True))
+        else:
+            out.append(row)
+    objs = np.array([[r["turning_effort"], r["threshold_force"]] for r in out])
+    return [out[i] for i in np.flatnonzero(_front_mask(objs))]

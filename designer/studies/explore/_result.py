@@ -1,0 +1,289 @@
+"""The outcome of an exploration (:class:`ExploreResult`, its files) and the comparison with the exact front."""
+
+from __future__ import annotations
+
+import json
+import platform
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+import designer
+from designer.jsonsafe import finite
+from designer.errors import InputError
+from designer.studies.front import hypervolume_2d, igd_plus, normalise
+from designer.problem import Problem
+from designer.reprs import html_table, svg_curve
+from designer.solvers.nlp import evaluate_many
+import casadi
+from designer.studies.explore._operators import Operators, category_problem, search_space
+from designer.studies.explore._storage import _atomic_write_many, _one_line
+
+
+CATEGORICAL = ("wheel", "surface", "turning_mode")
+"""Categorical dimensions, in this order in category labels and CSV columns."""
+
+CSV_COLUMNS = ("trail", "diameter", "groove", "damping", "turning_effort", "threshold_force", "critical_speed")
+"""SI columns of explore.csv: T [m], d [m], B [m], c_f [N·m/rad], F_turn [N], P [N], V_c [m/s]."""
+
+
+# --------------------------------------------------------------------------- result
+
+
+@dataclass
+class ExploreResult:
+    """The outcome of :func:`explore`.
+
+    Attributes
+    ----------
+    problem : the problem explored
+    study_name, storage : optuna study name and storage (password redacted)
+    seed : sampler seed (None: not seeded)
+    trials : COMPLETE trials in the study
+    front : overall front, list of dicts with the CSV columns [SI], categories, ``trial``, ``refined``
+    category_fronts : {category label: front (same dict rows)}
+    distinct : distinct parameter sets among the COMPLETE trials
+    feasible : COMPLETE trials meeting every constraint
+    hypervolume : HV of the front [N²] with ``reference_point``
+    comparison : explored vs exact (HV, ratio, IGD+, reference, normalisation) or a note
+    operators : the NSGA-II configuration
+    refined : whether the fronts were polished by the NLP
+    seconds : wall time of the study [s] (trials_per_second = trials run / seconds)
+    """
+
+    problem: Problem
+    study_name: str
+    storage: str
+    seed: int | None
+    trials: int
+    front: list
+    category_fronts: dict
+    distinct: int
+    feasible: int
+    hypervolume: float
+    reference_point: tuple
+    comparison: dict
+    operators: Operators
+    refined: bool
+    seconds: float
+    trials_run: int
+    workers: int
+    warnings: list = field(default_factory=list)
+
+    @property
+    def trials_per_second(self) -> float:
+        return self.trials_run / self.seconds if self.seconds > 0 else float("nan")
+
+    def objectives(self) -> np.ndarray:
+        """(n, 2) array of (F_turn, P) [N] of the overall front."""
+        return np.array([[r["turning_effort"], r["threshold_force"]] for r in self.front], float).reshape(-1, 2)
+
+    def best_weighted(self, weights=None) -> dict | None:
+        """The front point minimising J = w_turn F_turn + w_threshold P [N] (problem weights by default)."""
+        w = self.problem.weights if weights is None else weights
+        if not self.front:
+            return None
+        return min(self.front, key=lambda r: w[0] * r["turning_effort"] + w[1] * r["threshold_force"])
+
+    def _ranges(self) -> tuple[str, str]:
+        f = self.objectives()
+        if not len(f):
+            return "–", "–"
+        return f"{f[:, 0].min():.4g} – {f[:, 0].max():.4g}", f"{f[:, 1].min():.4g} – {f[:, 1].max():.4g}"
+
+    def __repr__(self) -> str:
+        """Two lines: trials, front size and objective ranges [N]; hypervolume [N²] against the exact front's."""
+        f_range, p_range = self._ranges()
+        ratio = self.comparison.get("hypervolume_ratio")
+        versus = f" ({ratio:.3f} of the exact front's)" if isinstance(ratio, float) else ""
+        return (
+            f"ExploreResult({self.problem.name!r}: {self.trials} trials, {self.feasible} feasible, "
+            f"front of {len(self.front)} points, F_turn {f_range} N, P {p_range} N)\n"
+            f"  hypervolume {self.hypervolume:.4g} N²{versus}, {self.seconds:.3g} s, seed {self.seed}"
+        )
+
+    def _repr_html_(self) -> str:
+        """A compact HTML table with units beside an SVG of the explored front (notebooks; no trial runs)."""
+        f_range, p_range = self._ranges()
+        c = self.comparison
+        rows = [
+            ("study (storage)", f"{self.study_name} ({self.storage})", ""),
+            ("trials: complete / run here", f"{self.trials} / {self.trials_run}", ""),
+            ("feasible / distinct", f"{self.feasible} / {self.distinct}", ""),
+            ("front points", f"{len(self.front)}", ""),
+            ("turning effort F_turn", f_range, "N"),
+            ("threshold force P", p_range, "N"),
+            ("hypervolume", f"{self.hypervolume:.5g}", "N²"),
+        ]
+        if "hypervolume_ratio" in c:
+            rows += [
+                ("hypervolume / exact front's", f"{c['hypervolume_ratio']:.4f}", ""),
+                ("IGD+ to the exact front (normalised)", f"{c['igd_plus']:.4g}", ""),
+            ]
+        rows += [
+            ("wall time (trials/s)", f"{self.seconds:.3g} ({self.trials_per_second:.3g})", "s"),
+            ("seed, workers, NLP-refined", f"{self.seed}, {self.workers}, {'yes' if self.refined else 'no'}", ""),
+        ]
+        f = self.objectives()
+        order = np.argsort(f[:, 1]) if len(f) else []
+        svg = (
+            svg_curve(f[order, 1], f[order, 0], "threshold force P [N]", "turning effort F_turn [N]") if len(f) else ""
+        )
+        return html_table(f"Explored front {self.problem.name!r} (NSGA-II)", rows, caption=c.get("note", ""), extra=svg)
+
+    def to_dict(self) -> dict:
+        """Plain data for explore.json (SI units)."""
+        return {
+            "problem": self.problem.name,
+            "problem_digest": self.problem.digest(),
+            "study": self.study_name,
+            "storage": self.storage,
+            "seed": self.seed,
+            "trials": self.trials,
+            "trials_run": self.trials_run,
+            "workers": self.workers,
+            "seconds": self.seconds,
+            "trials_per_second": self.trials_per_second,
+            "distinct_parameter_sets": self.distinct,
+            "feasible_trials": self.feasible,
+            "refined": self.refined,
+            "operators": self.operators.as_dict(),
+            "units": {
+                "trail": "m",
+                "diameter": "m",
+                "groove": "m",
+                "damping": "N*m/rad",
+                "turning_effort": "N",
+                "threshold_force": "N",
+                "critical_speed": "m/s",
+                "hypervolume": "N^2",
+            },
+            "hypervolume": self.hypervolume,
+            "reference_point": list(self.reference_point),
+            "front": self.front,
+            "category_fronts": self.category_fronts,
+            "comparison": self.comparison,
+            "warnings": self.warnings,
+            "versions": versions(),
+        }
+
+    def write(self, out_dir) -> tuple[Path, Path]:
+        """Write explore.csv (every per-category front point, ``overall_front`` flag) and explore.json.
+
+        Both are written to temporary files in ``out_dir`` and renamed into
+        place, so a reader never sees a half-written file.
+        """
+        out = Path(out_dir)
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(f"--out {out}: cannot create the folder ({exc.strerror})") from None
+        cats = [name for name in CATEGORICAL if any(name in r for rows in self.category_fronts.values() for r in rows)]
+        overall = {(r["trial"], r["turning_effort"], r["threshold_force"]) for r in self.front}
+        lines = [",".join(CSV_COLUMNS + tuple(cats) + ("overall_front", "refined", "trial"))]
+        for rows in self.category_fronts.values():
+            for r in rows:
+                cells = [f"{r[c]:.10g}" for c in CSV_COLUMNS] + [str(r[c]) for c in cats]
+                cells += [
+                    str((r["trial"], r["turning_effort"], r["threshold_force"]) in overall).lower(),
+                    str(r["refined"]).lower(),
+                    str(r["trial"]),
+                ]
+                lines.append(",".join(cells))
+        csv_path, json_path = out / "explore.csv", out / "explore.json"
+        _atomic_write_many(
+            {csv_path: "\n".join(lines) + "\n", json_path: json.dumps(finite(self.to_dict()), indent=2) + "\n"}
+        )
+        return csv_path, json_path
+
+
+def versions() -> dict:
+    """Versions of the designer, Python and the numerical libraries (for reports)."""
+    # late import: loads optuna only when this runs
+    import optuna
+
+    return {
+        "designer": designer.__version__,
+        "python": platform.python_version(),
+        "optuna": optuna.__version__,
+        "numpy": np.__version__,
+        "casadi": casadi.__version__,
+    }
+
+
+# --------------------------------------------------------------------------- fronts
+
+
+def _box_reference(problem: Problem) -> tuple[float, float]:
+    """Fallback HV reference (F_turn, P) [N]: the worst corner of the box (min T, min d, max B, max c_f) of
+    every category, +10 %; used only when the exact front (and its stated reference) is unavailable."""
+    f, p = [], []
+    for cat in search_space(problem).categories():
+        sub = category_problem(problem, cat)
+        lo, hi = sub.lower().as_array(), sub.upper().as_array()
+        values = evaluate_many(sub, np.array([[lo[0], lo[1], hi[2], hi[3]]]))
+        f.append(float(values["turning_effort"][0]))
+        p.append(float(values["threshold_force"][0]))
+    return (1.1 * max(f), 1.1 * max(p))
+
+
+def _exact_front(problem: Problem) -> dict | None:
+    """The exact front of :func:`designer.studies.front._pareto.pareto_front`, or a note when it is unavailable."""
+    try:  # late import: the exact front loads casadi, only for this comparison
+        from designer.studies.front import pareto_front
+    except ImportError:
+        return {"note": "designer.studies.front._pareto is not available; no comparison with the exact front"}
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            front = pareto_front(problem, points=problem.pareto_points)
+            pts = np.asarray(front.objectives(), float).reshape(-1, 2)
+            ref = tuple(float(v) for v in front.reference_point())
+    except Exception as exc:  # noqa: BLE001 - the exploration is still valid without it
+        return {"note": f"exact front failed ({type(exc).__name__}: {_one_line(exc)}); no comparison"}
+    pts = pts[np.all(np.isfinite(pts), axis=1)]
+    if len(pts) == 0:
+        return {"note": "the exact front has no valid points; no comparison"}
+    return {"points": pts, "reference_point": ref}
+
+
+def compare_fronts(explored: np.ndarray, exact: np.ndarray, reference) -> dict:
+    """Explored vs exact front: hypervolume with the same reference, ratio, IGD+ (normalised).
+
+    Parameters
+    ----------
+    explored, exact : (n, 2) arrays of (F_turn, P) [N]
+    reference : HV reference point (F_turn, P) [N] (the exact front's stated one)
+
+    Returns
+    -------
+    dict with ``hypervolume_explored`` and ``hypervolume_exact`` [N²], their
+    ``hypervolume_ratio``, ``igd_plus`` on objectives normalised by the exact
+    front's ideal and nadir, ``reference_point`` and ``normalisation``.
+    """
+    exact = np.asarray(exact, float).reshape(-1, 2)
+    explored = np.asarray(explored, float).reshape(-1, 2)
+    ideal, nadir = exact.min(axis=0), exact.max(axis=0)
+    hv_exact = hypervolume_2d(exact, reference)
+    hv = hypervolume_2d(explored, reference)
+    ref_n = normalise(np.asarray(reference, float)[None, :], ideal, nadir)[0]
+    return {
+        "hypervolume_explored": hv,
+        "hypervolume_exact": hv_exact,
+        "hypervolume_explored_normalised": hypervolume_2d(normalise(explored, ideal, nadir), ref_n),
+        "hypervolume_exact_normalised": hypervolume_2d(normalise(exact, ideal, nadir), ref_n),
+        "hypervolume_ratio": hv / hv_exact if hv_exact > 0 else float("nan"),
+        "igd_plus": igd_plus(normalise(explored, ideal, nadir), normalise(exact, ideal, nadir)),
+        "reference_point": [float(v) for v in reference],
+        "normalisation": {
+            "ideal": ideal.tolist(),
+            "nadir": nadir.tolist(),
+            "reference_normalised": ref_n.tolist(),
+            "note": "(f - ideal)/(nadir - ideal) with the exact front's ideal and nadir; HV in N² "
+            "and normalised with the exact front's reference point (nadir + 10 % of its "
+            "extent, i.e. (1.1, 1.1) normalised); IGD+ normalised",
+        },
+        "exact_points": len(exact),
+    }

@@ -1,0 +1,358 @@
+"""The study loop: :func:`explore` checks its arguments, creates or resumes the study (failing and retrying
+the trials of an interrupted run), runs it (:mod:`.workers`, with the live front of :mod:`.progress`) and
+collects the fronts per category and overall.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+import warnings
+
+import numpy as np
+
+from designer.errors import InputError, StorageError
+from designer.studies.front import hypervolume_2d
+from designer.problem import Problem
+from designer.solvers.nlp import evaluate_many, violation
+from designer.studies.explore._operators import (
+    Operators,
+    SearchSpace,
+    _front_mask,
+    _params_key,
+    _refine,
+    _row,
+    category_label,
+    search_space,
+)
+from designer.studies.explore._progress import _FrontTracker, _Progress
+from designer.studies.explore._result import ExploreResult, _box_reference, _exact_front, compare_fronts
+from designer.studies.explore._storage import StorageSpec, _one_line, open_storage, parse_storage
+from designer.studies.explore._workers import SURPLUS_ATTR, _counts, _Evaluator, _run_study
+
+RETRY_ATTR = "explore_retry_of"
+ATTR_PREFIX = "designer:"
+
+MAX_TRIALS = 1_000_000
+"""Largest --trials: an optuna study keeps every trial in memory (about 2 kB each)."""
+MAX_WORKERS = 256
+"""Largest --workers (processes on this machine)."""
+
+
+def _prepare_resume(study, spec: StorageSpec, search_space_names) -> list[str]:
+    """Fail stale RUNNING trials and re-enqueue failed ones once; returns notes."""
+    # late import: loads optuna only when this runs
+    import optuna
+
+    # late import: loads optuna only when this runs
+    from optuna.trial import TrialState
+
+    notes = []
+    storage = study._storage
+    if spec.remote:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            optuna.storages.fail_stale_trials(study)
+    else:  # a file storage: nobody else works on the study while it is resumed
+        stale = study.get_trials(deepcopy=False, states=(TrialState.RUNNING,))
+        for t in stale:
+            storage.set_trial_state_values(t._trial_id, TrialState.FAIL)
+        if stale:
+            notes.append(f"failed {len(stale)} stale running trial(s): {[t.number for t in stale]}")
+    trials = study.get_trials(deepcopy=False)
+    retried = {t.user_attrs.get(RETRY_ATTR) for t in trials} | {t.system_attrs.get("failed_trial") for t in trials}
+    names = set(search_space_names)
+    for t in trials:
+        if t.state != TrialState.FAIL or t.number in retried or t.user_attrs.get(SURPLUS_ATTR):
+            continue
+        if set(t.params) >= names:  # killed after its parameters were drawn: evaluate the same candidate
+            study.enqueue_trial(t.params, user_attrs={RETRY_ATTR: t.number}, skip_if_exists=False)
+            notes.append(f"retrying trial {t.number}")
+    return notes
+
+
+# long only by its docstring, which documents every option; the body is about 55 lines
+def explore(
+    problem: Problem,
+    trials: int = 500,
+    seed: int | None = 0,
+    storage: str | None = None,
+    study_name: str | None = None,
+    workers: int = 1,
+    resume: bool = False,
+    refine: bool = False,
+    operators: str | Operators = "tuned",
+    population_size: int | None = None,
+    compare: bool = True,
+    progress: bool = False,
+) -> ExploreResult:
+    """Explore the (F_turn, P) trade-off of ``problem`` with optuna's NSGA-II.
+
+    Parameters
+    ----------
+    problem : Problem
+        Any problem; catalog wheels and ``[choices]`` become categorical dimensions.
+    trials : int
+        The study ends with exactly this many COMPLETE trials.
+    seed : int or None
+        Sampler seed; a single-worker run with a seed is repeatable.  Worker i
+        uses ``seed + i``; a resumed run adds the number of trials already in
+        the study, so it does not replay the first run's random draws.
+    storage : str or None
+        Storage URL (module docstring); None = in-memory.
+    study_name : str or None
+        Default ``"<problem name>-explore"``.
+    workers : int
+        Processes working on the study (K > 1 needs a shared storage).
+    resume : bool
+        Continue an existing study (fail/retry stale trials, then run to ``trials``).
+    refine : bool
+        Polish each front point with the exact NLP (ε-constraint at its P).
+    operators : "tuned" | "optuna" | Operators
+        NSGA-II configuration (module docstring).
+    population_size : int, optional
+        Override the population size of the chosen operators.
+    compare : bool
+        Compare with the exact front of :func:`designer.studies.front._pareto.pareto_front` (HV and IGD+).
+    progress : bool
+        Show a progress bar on stderr (front size and hypervolume).
+
+    Returns
+    -------
+    ExploreResult
+
+    Raises
+    ------
+    InputError
+        Bad arguments (exit 2); StorageError for a bad or unreachable storage (exit 6).
+    """
+    # late import: loads optuna only when this runs
+    import optuna
+
+    # late import: loads optuna only when this runs
+    from optuna.trial import TrialState
+
+    spec = parse_storage(storage)
+    _check_arguments(trials, workers, resume, spec)
+    space = search_space(problem)
+    if not space.continuous and not space.categorical:
+        raise InputError(f"{problem.name}: every variable is fixed; nothing to explore")
+    study_name = study_name or f"{problem.name}-explore"
+    ops = _operators(trials, operators, population_size)
+
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    exact = _exact_front(problem) if compare else None
+    reference = exact["reference_point"] if exact and "reference_point" in exact else _box_reference(problem)
+
+    storage_obj = open_storage(spec, break_lock=resume)
+    study, ops, notes = _open_study(problem, study_name, spec, storage_obj, resume, trials, seed, ops, space)
+
+    existing = len(study.get_trials(deepcopy=False))
+    base_seed = None if seed is None else seed + (existing if resume else 0)
+    complete_before = _counts(study)[TrialState.COMPLETE]
+    tracker = _FrontTracker(reference)
+    bar = _Progress(trials, enabled=progress, initial=complete_before)
+    t0 = time.perf_counter()
+    _run_study(
+        problem,
+        spec,
+        study_name,
+        trials,
+        base_seed,
+        ops,
+        workers,
+        storage_obj,
+        tracker,
+        bar,
+        check_budget=spec.remote or resume,
+        progress=progress,
+    )
+    seconds = time.perf_counter() - t0
+    complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
+    if len(complete) < trials:
+        notes.append(_incomplete_note(study, len(complete), trials))
+    result = _collect(problem, space, study, complete, ops, refine, exact, reference)
+    result.update(
+        study_name=study_name,
+        storage=spec.shown,
+        seed=seed,
+        trials=len(complete),
+        seconds=seconds,
+        trials_run=len(complete) - complete_before,
+        workers=workers,
+        warnings=notes,
+    )
+    return ExploreResult(problem=problem, **result)
+
+
+def _operators(trials: int, operators: str | Operators, population_size: int | None) -> Operators:
+    """The NSGA-II operators: a named set sized to the budget, or the given ones (population overridden)."""
+    if isinstance(operators, str):
+        return Operators.for_budget(trials, operators, population_size)
+    return dataclasses.replace(operators, population_size=population_size or operators.population_size)
+
+
+def _open_study(
+    problem: Problem,
+    study_name: str,
+    spec: StorageSpec,
+    storage_obj,
+    resume: bool,
+    trials: int,
+    seed: int | None,
+    ops: Operators,
+    space: SearchSpace,
+):
+    """The study to run: ``(study, operators, notes)``: resumed (its stored operators, stale trials failed and
+    retried, the notes saying so) or created."""
+    notes: list[str] = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if resume:
+            study, ops = _load_for_resume(problem, study_name, spec, storage_obj, ops)
+            notes += _prepare_resume(study, spec, space.names)
+        else:
+            study = _create(problem, study_name, spec, storage_obj, trials, seed, ops, space)
+    return study, ops, notes
+
+
+def _incomplete_note(study, complete: int, trials: int) -> str:
+    """The warning when the study holds fewer than ``trials`` COMPLETE trials (others still running)."""
+    # late import: loads optuna only when this runs
+    from optuna.trial import TrialState
+
+    running = len(study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)))
+    return f"{complete} of {trials} trials complete ({running} still running elsewhere); run again with --resume"
+
+
+def _check_arguments(trials, workers, resume: bool, spec: StorageSpec) -> None:
+    """InputError for a budget or worker count out of range, or workers/resume without a shared storage."""
+    if isinstance(trials, bool) or not isinstance(trials, int) or not 1 <= trials <= MAX_TRIALS:
+        raise InputError(f"--trials {trials!r}: must be a whole number from 1 to {MAX_TRIALS}")
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= MAX_WORKERS:
+        raise InputError(f"--workers {workers!r}: must be a whole number from 1 to {MAX_WORKERS}")
+    if workers > 1 and not spec.shared:
+        raise InputError(
+            f"--workers {workers}: several processes need a shared storage; add --storage "
+            f"journal:///path/study.log (one machine) or sqlite:///study.db / postgresql://…"
+        )
+    if resume and not spec.shared:
+        raise InputError("--resume: an in-memory study cannot be resumed; use --storage journal:///path/study.log")
+
+
+def _load_for_resume(problem: Problem, study_name: str, spec: StorageSpec, storage_obj, ops: Operators):
+    """The study to resume and its operators (as first run); InputError if it is missing or of another problem."""
+    # late import: loads optuna only when this runs
+    import optuna
+
+    try:
+        study = optuna.load_study(study_name=study_name, storage=storage_obj)
+    except KeyError:
+        raise InputError(f"--resume: no study {study_name!r} in {spec.shown}") from None
+    except Exception as exc:  # noqa: BLE001
+        raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {_one_line(exc)}") from None
+    attrs = study.user_attrs
+    if attrs.get(ATTR_PREFIX + "problem_digest") not in (None, problem.digest()):
+        raise InputError(
+            f"--resume: study {study_name!r} was run on a different problem "
+            f"({attrs.get(ATTR_PREFIX + 'problem_name')!r}); use another --study"
+        )
+    if ATTR_PREFIX + "operators" in attrs:
+        ops = Operators.from_dict(attrs[ATTR_PREFIX + "operators"])
+    return study, ops
+
+
+def _create(
+    problem: Problem,
+    study_name: str,
+    spec: StorageSpec,
+    storage_obj,
+    trials: int,
+    seed: int | None,
+    ops: Operators,
+    space: SearchSpace,
+):
+    """A new two-objective study, labelled with the problem, budget, seed, operators and space."""
+    # late import: loads optuna only when this runs
+    import optuna
+
+    try:
+        study = optuna.create_study(
+            study_name=study_name, storage=storage_obj, directions=["minimize", "minimize"], load_if_exists=False
+        )
+    except optuna.exceptions.DuplicatedStudyError:
+        raise InputError(
+            f"--study {study_name}: a study of that name already exists in {spec.shown}; "
+            f"add --resume to continue it or choose another --study"
+        ) from None
+    except Exception as exc:  # noqa: BLE001
+        raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {_one_line(exc)}") from None
+    for key, value in (
+        ("problem_name", problem.name),
+        ("problem_digest", problem.digest()),
+        ("trials", trials),
+        ("seed", seed),
+        ("operators", ops.as_dict()),
+        ("space", space.as_dict()),
+    ):
+        study.set_user_attr(ATTR_PREFIX + key, value)
+    return study
+
+
+def _collect(problem, space, study, complete, ops, refine, exact, reference) -> dict:
+    """Evaluate the COMPLETE trials by category (one model), fronts per category and overall."""
+    evaluator = _Evaluator(problem, space, 0)
+    by_cat: dict[tuple, list] = {}
+    distinct = {_params_key(t.params) for t in complete}
+    for t in complete:
+        cat = tuple((name, t.params[name]) for name, _ in space.categorical)
+        by_cat.setdefault(cat, []).append(t)
+    category_fronts = {}
+    all_rows = []
+    feasible_total = 0
+    nlps = {}
+    for cat in space.categories():
+        rows = by_cat.get(cat, [])
+        if not rows:
+            continue
+        sub = evaluator.problems[cat]
+        x = np.array([evaluator.design_array(cat, t.params) for t in rows])
+        values = evaluate_many(sub, x)
+        ok = (
+            (violation(sub, values) <= 0)
+            & np.isfinite(values["turning_effort"])
+            & np.isfinite(values["threshold_force"])
+        )
+        feasible_total += int(ok.sum())
+        if not ok.any():
+            category_fronts[category_label(cat)] = []
+            continue
+        objs = np.column_stack([values["turning_effort"], values["threshold_force"]])
+        idx = np.flatnonzero(ok)[_front_mask(objs[ok])]
+        front = [_row(cat, rows[i].number, x[i], {k: v[i] for k, v in values.items()}, False) for i in idx]
+        if refine:
+            front = _refine(sub, cat, front, nlps)
+        front.sort(key=lambda r: r["threshold_force"])
+        category_fronts[category_label(cat)] = front
+        all_rows += front
+    overall = []
+    if all_rows:
+        objs = np.array([[r["turning_effort"], r["threshold_force"]] for r in all_rows])
+        overall = sorted((all_rows[i] for i in np.flatnonzero(_front_mask(objs))), key=lambda r: r["threshold_force"])
+    objs = np.array([[r["turning_effort"], r["threshold_force"]] for r in overall], float).reshape(-1, 2)
+    comparison = {}
+    if exact is not None and "points" in exact:
+        comparison = compare_fronts(objs, exact["points"], exact["reference_point"])
+    elif exact is not None:
+        comparison = {"note": exact["note"]}
+    return dict(
+        front=overall,
+        category_fronts=category_fronts,
+        distinct=len(distinct),
+        feasible=feasible_total,
+        hypervolume=hypervolume_2d(objs, reference) if len(objs) else 0.0,
+        reference_point=tuple(float(v) for v in reference),
+        comparison=comparison,
+        operators=ops,
+        refined=refine,
+    )

@@ -1,0 +1,230 @@
+"""Where a study lives: storage URLs, opening an optuna storage, journal repair, atomic writes of result files.
+
+See :mod:`designer.studies.explore` for the storage forms.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import tempfile
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+
+from designer.errors import InputError, StorageError
+import importlib.util
+
+
+# --------------------------------------------------------------------------- storage
+
+
+@dataclass(frozen=True)
+class StorageSpec:
+    """A parsed storage URL.
+
+    Attributes
+    ----------
+    kind : "memory" | "journal" | "rdb"
+    url : the URL as optuna takes it (journal: the file path)
+    shown : the URL with any password replaced by ``***`` (safe for reports)
+    """
+
+    kind: str
+    url: str | None
+    shown: str
+
+    @property
+    def shared(self) -> bool:
+        """True when several processes can work on one study."""
+        return self.kind != "memory"
+
+    @property
+    def remote(self) -> bool:
+        """A client–server database (heartbeat decides which RUNNING trials are stale)."""
+        return self.kind == "rdb" and not self.url.startswith("sqlite")
+
+
+RDB_SCHEMES = ("sqlite", "postgresql", "postgres", "mysql", "mariadb", "oracle", "mssql")
+
+
+def parse_storage(storage: str | None) -> StorageSpec:
+    """Parse a storage argument; :class:`StorageError` (exit 6) when it is not one of the forms.
+
+    Forms: ``None``/``"memory"``; ``journal:///abs/path.log`` or any path ending
+    ``.log``/``.journal``; ``sqlite:///path.db`` or a path ending ``.db``/``.sqlite``/``.sqlite3``;
+    ``postgresql://user:password@host:port/database`` (also ``postgresql+psycopg2://``, ``mysql://``).
+    """
+    if storage is None or storage.strip() in ("", "memory", ":memory:", "inmemory"):
+        return StorageSpec("memory", None, "memory")
+    text = storage.strip()
+    if text.startswith("journal://"):
+        path = text[len("journal://") :]
+        if not path:
+            raise StorageError(f"storage {text!r}: journal URL without a file path; use journal:///abs/path/study.log")
+        return StorageSpec("journal", path, f"journal://{path}")
+    match = re.match(r"^([A-Za-z][A-Za-z0-9+.-]*)://", text)
+    if match:
+        scheme = match.group(1).lower().split("+")[0]
+        if scheme not in RDB_SCHEMES:
+            raise StorageError(
+                f"storage {_redact(text)!r}: unknown scheme {match.group(1)!r}; use sqlite:///file.db, "
+                f"postgresql://user:password@host/db or journal:///path/file.log"
+            )
+        url = "postgresql" + text[len(match.group(1).split("+")[0]) :] if scheme == "postgres" else text
+        if scheme == "postgres" or match.group(1).lower() == "postgresql":
+            url = _postgres_driver(url)
+        return StorageSpec("rdb", url, _redact(url))
+    lower = text.lower()
+    if lower.endswith((".log", ".journal")):
+        return StorageSpec("journal", text, f"journal://{text}")
+    if lower.endswith((".db", ".sqlite", ".sqlite3")):
+        return StorageSpec("rdb", f"sqlite:///{text}", f"sqlite:///{text}")
+    raise StorageError(
+        f"storage {_redact(text)!r}: not a storage URL; use sqlite:///file.db, postgresql://user:password@host/db, "
+        f"journal:///path/file.log (or a path ending .db or .log)"
+    )
+
+
+def _postgres_driver(url: str) -> str:
+    """``postgresql://`` with the driver that is installed: SQLAlchemy 2.1 reads it as psycopg (3), but the
+    README (and the `test` extra) install psycopg2-binary; an explicit ``postgresql+driver://`` is kept."""
+
+    if importlib.util.find_spec("psycopg") is None and importlib.util.find_spec("psycopg2") is not None:
+        return "postgresql+psycopg2://" + url[len("postgresql://") :]
+    return url
+
+
+def _redact(url: str) -> str:
+    return re.sub(r"(://[^:/@]+:)[^@]*@", r"\1***@", url)
+
+
+def _one_line(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    first = next((line.strip() for line in text if line.strip()), type(exc).__name__)
+    return (first[:200] + "…") if len(first) > 200 else first
+
+
+HEARTBEAT_SECONDS = 10
+"""A worker on a remote (PostgreSQL/MySQL) study records a heartbeat this often (env DESIGNER_HEARTBEAT_SECONDS)."""
+GRACE_SECONDS = 60
+"""A RUNNING trial without a heartbeat for this long is failed and retried once (env DESIGNER_GRACE_SECONDS)."""
+
+
+def _heartbeat() -> tuple[int, int]:
+    """Heartbeat interval and grace period [s] of remote studies: the defaults, or the environment's."""
+    out = []
+    for name, default in (("DESIGNER_HEARTBEAT_SECONDS", HEARTBEAT_SECONDS), ("DESIGNER_GRACE_SECONDS", GRACE_SECONDS)):
+        text = os.environ.get(name, str(default))
+        try:
+            value = int(text)
+        except ValueError:
+            value = 0
+        if not 1 <= value <= 86400:
+            raise InputError(f"{name} = {text!r}: expected whole seconds from 1 to 86400")
+        out.append(value)
+    if out[1] <= out[0]:
+        raise InputError(f"DESIGNER_GRACE_SECONDS = {out[1]}: must exceed DESIGNER_HEARTBEAT_SECONDS = {out[0]}")
+    return out[0], out[1]
+
+
+def open_storage(spec: StorageSpec, break_lock: bool = False):
+    """Open (and check) an optuna storage; any failure is one :class:`StorageError` line.
+
+    ``break_lock`` (resume of a journal file): remove a lock file left by a
+    killed process instead of waiting out its grace period.
+    """
+    # late import: loads optuna only when this runs
+    import optuna
+
+    if spec.kind == "memory":
+        return optuna.storages.InMemoryStorage()
+    if spec.kind == "journal":
+        # late import: loads optuna only when this runs
+        from optuna.storages.journal import JournalFileBackend, JournalFileOpenLock, JournalStorage
+
+        path = Path(spec.url)
+        if not path.parent.is_dir():
+            raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
+        if path.is_dir():
+            raise StorageError(f"storage {spec.shown}: is a folder, expected a journal file")
+        try:
+            if break_lock:
+                with contextlib.suppress(FileNotFoundError):
+                    os.unlink(f"{path}.lock")
+            _repair_journal(path)
+            backend = JournalFileBackend(str(path), lock_obj=JournalFileOpenLock(str(path), grace_period=10))
+            return JournalStorage(backend)
+        except Exception as exc:  # noqa: BLE001 - every failure becomes one line
+            raise StorageError(
+                f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {_one_line(exc)})"
+            ) from None
+    if spec.url.startswith("sqlite:///"):
+        path = Path(spec.url[len("sqlite:///") :])
+        if str(path) and not path.parent.is_dir():
+            raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
+    engine_kwargs = {}
+    if spec.remote:
+        engine_kwargs = {"connect_args": {"connect_timeout": 10}, "pool_pre_ping": True}
+        heartbeat, grace = _heartbeat()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            if not spec.remote:  # SQLite: one machine; --resume fails every RUNNING trial, no heartbeat needed
+                return optuna.storages.RDBStorage(spec.url)
+            return optuna.storages.RDBStorage(
+                spec.url,
+                engine_kwargs=engine_kwargs,
+                heartbeat_interval=heartbeat,
+                grace_period=grace,
+                failed_trial_callback=optuna.storages.RetryFailedTrialCallback(max_retry=1),
+            )
+    except ImportError as exc:
+        raise StorageError(
+            f"storage {spec.shown}: the database driver is not installed ({_one_line(exc)}); "
+            f"PostgreSQL: pip install psycopg2-binary, MySQL: pip install pymysql"
+        ) from None
+    except Exception as exc:  # noqa: BLE001
+        raise StorageError(f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {_one_line(exc)})") from None
+
+
+def _repair_journal(path: Path) -> None:
+    """Drop a partial last line left by a process killed in mid-write (it would corrupt the next append)."""
+    if not path.exists() or path.stat().st_size == 0:
+        return
+    with open(path, "rb+") as f:
+        f.seek(-1, os.SEEK_END)
+        if f.read(1) == b"\n":
+            return
+        data = f.seek(0) or f.read()
+        f.truncate(data.rfind(b"\n") + 1)
+
+
+# --------------------------------------------------------------------------- atomic writes
+
+
+def _atomic_write_many(files: dict) -> None:
+    temps = {}
+    try:
+        for path, text in files.items():
+            fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+            os.chmod(tmp, 0o666 & ~_umask())
+            with os.fdopen(fd, "w", encoding="utf-8") as f:
+                f.write(text)
+                f.flush()
+                os.fsync(f.fileno())
+            temps[path] = tmp
+        for path, tmp in temps.items():
+            os.replace(tmp, path)
+    finally:
+        for tmp in temps.values():
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(tmp)
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask

@@ -1,0 +1,562 @@
+"""Product lines: a caster for every chair of a fleet, and the fewest part numbers for all of them.
+
+A fleet is a table of chair configurations (``FLEET.csv``, one row per chair: load, sill height, target
+speed, swept-radius limit, surface, turning mode, units sold).  The base problem gives everything else:
+bounds, stock, risk bound, weights.  For each chair this module computes the recommendation of
+``designer.recommend`` (issue "Build this caster") vectorised over chairs × stock casters:
+
+1. every stock caster is screened against the chair's own constraints, deterministically:
+   the risk bound ``shimmy_speed_quantile >= (1 + margin) V_target`` (V_c of Eq. 7 lowered by the
+   scatter of the model, ``docs/fleet.md``), the swept radius T + d/2 <= R_max, and d/h > 2 (Eq. 4A);
+2. turning effort F_turn (Eq. 9 with the turning model) and sill force P (Eq. 4A) of every caster for
+   every chair, as (chairs × casters) arrays;
+3. the buildable front of each chair (non-dominated feasible casters) and the rule of the base problem
+   (the knee by default, or a cap on one objective), plus the two alternatives (easiest to turn,
+   easiest over the sill).
+
+V_c, its quantile and the swept radius depend on the caster only, so they are computed once per stock
+caster; load, sill and speed enter per chair.  The reported P(shimmy) of each chair's caster is a
+separate Monte Carlo estimate (:func:`monte_carlo`), timed on its own: that is the part worth a cluster.
+With ``scheduler`` (a Dask address or ``"local"``) both run on Dask workers in chunks of chairs; the
+client keeps reading, validation, the stock table, the K-median program and the report.
+
+Modules: :mod:`designer.studies.fleet._table` reads the fleet (FLEET.csv, example fleets),
+:mod:`designer.studies.fleet._rule` holds the stock table, the vectorised rule and the Monte Carlo,
+:mod:`designer.studies.fleet._kmedian` the K-median program; this module runs them over a fleet
+(:func:`fleet_recommendations`, :func:`choose_skus`, :func:`fleet`) and re-exports their names.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from designer.errors import InputError
+from designer.reprs import dataframe, html_table
+
+from designer.studies.fleet._kmedian import prune_candidates, solve_kmedian
+from designer.problem import load_problem
+from designer.studies.fleet._table import (
+    COLUMNS,
+    EXAMPLE_RANGES,
+    GRAVITY,
+    MAX_CHAIRS,
+    RANGES,
+    REQUIRED,
+    UNIT_ALIASES,
+    Fleet,
+    example_fleet,
+    fleet_from_text,
+    read_fleet,
+    write_fleet_csv,
+)
+from designer.studies.fleet._rule import (
+    DEFAULT_STOCK,
+    RESULT_FIELDS,
+    StockTable,
+    _chunk_task,
+    _mc_task,
+    _split,
+    evaluate_chairs,
+    mc_uncertainty,
+    recommend_chairs,
+    risk_of,
+    stock_table,
+)
+
+__all__ = [
+    "CHUNK",
+    "COLUMNS",
+    "DEFAULT_STOCK",
+    "EXAMPLE_RANGES",
+    "GRAVITY",
+    "MAX_CHAIRS",
+    "RANGES",
+    "REQUIRED",
+    "RESULT_FIELDS",
+    "UNIT_ALIASES",
+    "Fleet",
+    "FleetResult",
+    "StockTable",
+    "choose_skus",
+    "evaluate_chairs",
+    "example_fleet",
+    "fleet",
+    "fleet_data",
+    "fleet_from_text",
+    "fleet_recommendations",
+    "mc_uncertainty",
+    "read_fleet",
+    "recommend_chairs",
+    "risk_of",
+    "stock_table",
+    "write_fleet_csv",
+]
+
+CHUNK = 5000
+"""Chairs per chunk of vectorised work (bounds memory: chunk × casters × 8 bytes per array)."""
+
+
+# --------------------------------------------------------------------------- the whole fleet
+
+
+_FLEET_UNITS = {
+    "trail": ("trail_m", "m"),
+    "diameter": ("diameter_m", "m"),
+    "groove": ("groove_m", "m"),
+    "damping": ("damping_N_m_per_rad", "N·m/rad"),
+    "turning_effort": ("turning_effort_N", "N"),
+    "threshold_force": ("threshold_force_N", "N"),
+    "shimmy_probability": ("shimmy_probability", "-"),
+    "shimmy_probability_se": ("shimmy_probability_se", "-"),
+    "sku_turning_effort": ("sku_turning_effort_N", "N"),
+    "sku_threshold_force": ("sku_threshold_force_N", "N"),
+    "sku_shimmy_probability": ("sku_shimmy_probability", "-"),
+}
+"""fleet.csv column -> (DataFrame column with its SI unit, unit) for :meth:`FleetResult.to_pandas`."""
+
+
+@dataclass
+class FleetResult:
+    """Per-chair recommendations of a fleet, and the part numbers when asked for.
+
+    Attributes
+    ----------
+    fleet : the chairs
+    stock : the stock table
+    problem : the base problem
+    chairs : per-chair arrays (:func:`recommend_chairs` fields, plus ``shimmy_probability`` and ``_se``)
+    skus : the K-median solution for ``--skus K`` (or None), and ``curve`` K -> solution
+    timings : wall times [s] per stage
+    """
+
+    fleet: Fleet
+    stock: StockTable
+    problem: object
+    chairs: dict
+    skus: object | None = None
+    curve: dict = field(default_factory=dict)
+    timings: dict = field(default_factory=dict)
+    scheduler: str | None = None
+    regret_cost: object | None = None
+
+    @property
+    def feasible(self) -> np.ndarray:
+        """Chairs with a recommendation (the others are reported with their reason)."""
+        return self.chairs["choice"] >= 0
+
+    def rows(self) -> list[dict]:
+        """One dict per chair: the columns of fleet.csv (SI)."""
+        ch = self.chairs
+        out = []
+        sku = None if self.skus is None or self.skus.assignment is None else self.skus
+        sku_index = {} if sku is None else {j: i + 1 for i, j in enumerate(sku.chosen)}
+        position = np.cumsum(self.feasible) - 1
+        for i in range(len(self.fleet)):
+            j = int(ch["choice"][i])
+            row = {"name": self.fleet.names[i]}
+            design = self.stock.design(j) if j >= 0 else dict.fromkeys(("trail", "diameter", "groove", "damping"))
+            row.update(design)
+            row["turning_effort"] = float(ch["turning_effort"][i]) if j >= 0 else None
+            row["threshold_force"] = float(ch["threshold_force"][i]) if j >= 0 else None
+            p = ch.get("shimmy_probability")
+            row["shimmy_probability"] = None if p is None or j < 0 else float(p[i])
+            row["shimmy_probability_se"] = None if p is None or j < 0 else float(ch["shimmy_probability_se"][i])
+            if sku is not None:
+                a = int(sku.assignment[position[i]]) if j >= 0 else -1
+                row["sku"] = sku_index.get(a) if a >= 0 else None
+                row["sku_turning_effort"] = (
+                    float(self.regret_cost["turning_effort"][position[i], a]) if a >= 0 else None
+                )
+                row["sku_threshold_force"] = (
+                    float(self.regret_cost["threshold_force"][position[i], a]) if a >= 0 else None
+                )
+                sp = ch.get("sku_shimmy_probability")
+                row["sku_shimmy_probability"] = None if sp is None or a < 0 else float(sp[i])
+            row["status"] = "ok" if j >= 0 else str(ch["reason"][i])
+            out.append(row)
+        return out
+
+    def _summary(self) -> list[tuple[str, str, str]]:
+        ok = self.feasible
+        f, p = self.chairs["turning_effort"][ok], self.chairs["threshold_force"][ok]
+        rows = [
+            ("chairs (with a caster)", f"{len(self.fleet)} ({int(ok.sum())})", ""),
+            ("part numbers (SKUs)", f"{len(self.sku_records())}" if self.skus is not None else "not asked", ""),
+        ]
+        if ok.any():
+            rows += [
+                (
+                    "turning effort F_turn: min – max (median)",
+                    f"{f.min():.4g} – {f.max():.4g} ({float(np.median(f)):.4g})",
+                    "N",
+                ),
+                ("sill force P: min – max (median)", f"{p.min():.4g} – {p.max():.4g} ({float(np.median(p)):.4g})", "N"),
+            ]
+        shimmy = self.chairs.get("shimmy_probability")
+        if shimmy is not None and ok.any():
+            rows.append(("largest P(shimmy)", f"{float(np.max(shimmy[ok])):.2%}", ""))
+        return rows
+
+    def __repr__(self) -> str:
+        """Two lines: chairs, part numbers and the ranges of F_turn and P [N] (``print(fleet_data(...))``: all)."""
+        head = ", ".join(f"{label.split(':')[0]} {value} {unit}".rstrip() for label, value, unit in self._summary()[:2])
+        rest = "; ".join(
+            f"{label.split(':')[0]} {value.split(' (')[0]} {unit}".rstrip()
+            for label, value, unit in self._summary()[2:]
+        )
+        return f"FleetResult({getattr(self.problem, 'name', '?')!r}: {head})" + (f"\n  {rest}" if rest else "")
+
+    def _repr_html_(self) -> str:
+        """A compact HTML table with units: chairs, part numbers, ranges of F_turn and P (notebooks)."""
+        return html_table(f"Fleet recommendations for {getattr(self.problem, 'name', '?')!r}", self._summary())
+
+    def to_pandas(self):
+        """One row per chair, the columns of fleet.csv with SI units in their names (pandas: ``notebook`` extra).
+
+        Columns: ``name``, ``trail_m``, ``diameter_m``, ``groove_m``, ``damping_N_m_per_rad`` (the recommended
+        stock caster), ``turning_effort_N``, ``threshold_force_N``, ``shimmy_probability`` [-] and its
+        ``_se``, with ``--skus``: ``sku``, ``sku_turning_effort_N``, ``sku_threshold_force_N``,
+        ``sku_shimmy_probability``; ``status`` ("ok" or why the chair has no caster; its numbers are then
+        missing).  Units also in ``df.attrs["units"]``.
+        """
+        rows = self.rows()
+        columns = [_FLEET_UNITS.get(c, (c, ""))[0] for c in (rows[0] if rows else ["name", "status"])]
+        records = [{_FLEET_UNITS.get(k, (k, ""))[0]: v for k, v in r.items()} for r in rows]
+        units = {name: unit for name, unit in _FLEET_UNITS.values() if name in columns}
+        return dataframe(
+            "FleetResult.to_pandas",
+            records,
+            columns,
+            units,
+            problem=getattr(self.problem, "name", None),
+            skus=len(self.sku_records()) or None,
+        )
+
+    def sku_records(self) -> list[dict]:
+        """``[{"id", "design", "chairs", "count"}]`` of the chosen part numbers."""
+        if self.skus is None or self.skus.assignment is None:
+            return []
+        feasible = np.flatnonzero(self.feasible)
+        out = []
+        for k, j in enumerate(self.skus.chosen):
+            mine = feasible[self.skus.assignment == j]
+            out.append(
+                {
+                    "id": k + 1,
+                    "design": self.stock.design(j),
+                    "wheel": str(self.stock.wheel[j]) or None,
+                    "chairs": len(mine),
+                    "count": int(self.fleet.count[mine].sum()),
+                }
+            )
+        return out
+
+
+def fleet_recommendations(
+    fleet: Fleet,
+    problem,
+    skus: int | None = None,
+    k_max: int | None = None,
+    scheduler=None,
+    monte_carlo: bool = True,
+    chunk: int = CHUNK,
+    time_limit: float = 120.0,
+) -> FleetResult:
+    """Recommend a caster for every chair of ``fleet`` and, with ``skus``, choose K part numbers.
+
+    Parameters
+    ----------
+    fleet : the chairs (:func:`read_fleet` or :func:`example_fleet`)
+    problem : the base problem (bounds, stock, risk, weights)
+    skus : K, the number of part numbers (None: per-chair recommendations only)
+    k_max : regret curve for K = 1 … k_max (default max(K, 8), at most the number of useful casters)
+    scheduler : None (in-process), a Dask scheduler address ``"tcp://host:8786"``, ``"local"`` (a
+        2-worker LocalCluster), or a ``distributed.Client``
+    monte_carlo : also estimate each chair's P(shimmy) (the reported number; the expensive part)
+    chunk : chairs per task
+    time_limit : per-K limit of the mixed-integer solve [s]
+
+    Returns
+    -------
+    FleetResult
+    """
+    if skus is not None:
+        if isinstance(skus, bool) or not isinstance(skus, (int, np.integer)) or skus < 1:
+            raise InputError(f"--skus {skus!r}: expected a whole number of part numbers, 1 or more")
+    timings = {}
+    start = time.perf_counter()
+    stock = stock_table(problem)
+    if skus is not None and skus > len(stock):
+        raise InputError(f"--skus {skus}: larger than the stock ({len(stock)} casters); choose at most {len(stock)}")
+    timings["stock"] = time.perf_counter() - start
+
+    client, own = _client(scheduler)
+    try:
+        start = time.perf_counter()
+        chairs = _recommend_all(client, fleet, stock, problem, chunk)
+        timings["recommend"] = time.perf_counter() - start
+        result = FleetResult(
+            fleet=fleet,
+            stock=stock,
+            problem=problem,
+            chairs=chairs,
+            timings=timings,
+            scheduler=None
+            if client is None
+            else str(getattr(client, "scheduler_info", lambda: {})().get("address", "")),
+        )
+        if monte_carlo:
+            start = time.perf_counter()
+            chairs["shimmy_probability"], chairs["shimmy_probability_se"] = _monte_carlo(
+                client, stock, problem, chairs["choice"], fleet.target_speed, chunk=max(50, chunk // 20)
+            )
+            timings["monte_carlo"] = time.perf_counter() - start
+        if skus is not None:
+            start = time.perf_counter()
+            choose_skus(result, skus, k_max=k_max, time_limit=time_limit)
+            timings["skus"] = time.perf_counter() - start
+            if monte_carlo and result.skus is not None and result.skus.assignment is not None:
+                _sku_monte_carlo(client, result, chunk)
+    finally:
+        if own:
+            _close(client)
+    return result
+
+
+def _recommend_all(client, fleet: Fleet, stock, problem, chunk: int) -> dict:
+    """Every chair's recommendation (:func:`recommend_chairs`) in chunks of ``chunk`` chairs, in this process
+    (``client`` None) or as Dask tasks; the per-chair arrays joined in fleet order."""
+    parts = _split(fleet, chunk)
+    if client is None:
+        results = [recommend_chairs(arrays, stock, problem) for _, arrays in parts]
+    else:
+        stock_f = client.scatter(stock, broadcast=True, hash=False)
+        problem_f = client.scatter(problem, broadcast=True, hash=False)
+        futures = [client.submit(_chunk_task, arrays, stock_f, problem_f, pure=False) for _, arrays in parts]
+        results = client.gather(futures)
+    return {k: np.concatenate([r[k] for r in results]) for k in results[0]}
+
+
+def _sku_monte_carlo(client, result: FleetResult, chunk: int) -> None:
+    """P(shimmy) of each chair with the part number the K-median program assigned it
+    (``chairs["sku_shimmy_probability"]``, NaN for a chair without one), timed as ``sku_monte_carlo``."""
+    start = time.perf_counter()
+    fleet = result.fleet
+    assigned = np.full(len(fleet), -1)
+    assigned[result.feasible] = result.skus.assignment
+    result.chairs["sku_shimmy_probability"], _ = _monte_carlo(
+        client, result.stock, result.problem, assigned, fleet.target_speed, chunk=max(50, chunk // 20)
+    )
+    result.timings["sku_monte_carlo"] = time.perf_counter() - start
+
+
+def _monte_carlo(client, stock, problem, choice, speeds, chunk):
+    """Reported P(shimmy) at each chair's V_target for its caster; NaN where there is none."""
+    u = mc_uncertainty(problem)
+    slip = problem.conditions.slip_coefficient
+    rows = np.flatnonzero(choice >= 0)
+    p = np.full(len(choice), np.nan)
+    se = np.full(len(choice), np.nan)
+    if not len(rows):
+        return p, se
+    # The estimate is a deterministic function of (caster, speed) (its own fixed seed), so chairs that share
+    # both share one estimate: each distinct pair is sampled once.
+    pairs, inverse = np.unique(
+        np.stack([choice[rows].astype(float), np.asarray(speeds, float)[rows]], axis=1), axis=0, return_inverse=True
+    )
+    which = pairs[:, 0].astype(int)
+    designs = np.stack([stock.trail, stock.diameter, stock.groove, stock.damping], axis=1)[which]
+    inertia = stock.inertia[which]
+    sp = pairs[:, 1]
+    if client is not None:  # enough tasks to keep every worker busy
+        chunk = max(1, min(chunk, -(-len(sp) // (8 * max(1, len(client.scheduler_info().get("workers", {})))))))
+    pieces = [slice(a, a + chunk) for a in range(0, len(sp), chunk)]
+    if client is None:
+        outs = [_mc_task(designs[s], inertia[s], sp[s], slip, u) for s in pieces]
+    else:
+        futures = [client.submit(_mc_task, designs[s], inertia[s], sp[s], slip, u, pure=False) for s in pieces]
+        outs = client.gather(futures)
+    both = np.concatenate(outs)[np.ravel(inverse)]
+    p[rows], se[rows] = both[:, 0], both[:, 1]
+    return p, se
+
+
+def choose_skus(result: FleetResult, k: int, k_max: int | None = None, time_limit: float = 120.0) -> None:
+    """Solve the K-median over the stock for the feasible chairs; fill ``result.skus`` and the regret curve.
+
+    Regret of chair i with caster j: J_ij − min_j' J_ij' over the chair's own feasible stock (never
+    negative), J = w_turn F_turn + w_threshold P with the base problem's weights; +inf where caster j
+    breaks the chair's own risk bound, swept-radius limit or sill.  Infeasible chairs are left out (and
+    reported per row).  Exact MIP (:mod:`designer.studies.fleet._kmedian`).
+    """
+
+    fleet, stock, problem = result.fleet, result.stock, result.problem
+    rows = np.flatnonzero(result.feasible)
+    if not len(rows):
+        raise InputError("--skus: no chair of the fleet has a feasible stock caster, nothing to choose")
+    parts = [rows[a : a + CHUNK] for a in range(0, len(rows), CHUNK)]
+    f_parts, p_parts, cost_parts = [], [], []
+    w = np.asarray(problem.weights, float)
+    for part in parts:
+        ev = evaluate_chairs({k2: v[part] for k2, v in fleet.arrays().items()}, stock, problem)
+        j = np.where(ev["feasible"], w[0] * ev["turning_effort"] + w[1] * ev["threshold_force"], np.inf)
+        cost_parts.append(j - j.min(axis=1, keepdims=True))
+        f_parts.append(ev["turning_effort"])
+        p_parts.append(ev["threshold_force"])
+    cost = np.concatenate(cost_parts)
+    result.regret_cost = {
+        "turning_effort": np.concatenate(f_parts),
+        "threshold_force": np.concatenate(p_parts),
+        "regret": cost,
+    }
+    weights = fleet.count[rows]
+    useful = len(prune_candidates(cost))
+    k_max = max(k, 8) if k_max is None else max(k, k_max)
+    k_max = min(k_max, max(useful, k))
+    curve = {}
+    for kk in range(1, k_max + 1):
+        curve[kk] = solve_kmedian(cost, weights, kk, time_limit=time_limit)
+    result.curve = curve
+    result.skus = curve[k]
+    result.candidates = useful
+
+
+def _client(scheduler):
+    """(client, owned) for a scheduler address, "local", a Client, or None (in-process)."""
+    if scheduler is None:
+        return None, False
+    try:
+        # dask is optional (the `fleet` extra): imported only when a scheduler is asked for
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise InputError(
+            "--scheduler: needs dask[distributed]; install it with pip install 'caster-designer[fleet]'"
+        ) from None
+    if isinstance(scheduler, Client):
+        return scheduler, False
+    if scheduler == "local":
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+        return Client(cluster), True
+    if not isinstance(scheduler, str) or not re.match(r"^(tcp|tls|inproc|ucx)://\S+$", scheduler):
+        raise InputError(f"--scheduler {scheduler!r}: expected an address such as tcp://host:8786, or 'local'")
+    try:
+        return Client(scheduler, timeout="10s"), True
+    except (OSError, TimeoutError) as exc:
+        raise InputError(
+            f"--scheduler {scheduler}: cannot reach the scheduler ({type(exc).__name__}: {exc}); "
+            f"start one with `dask scheduler` (docs/fleet.md)"
+        ) from None
+
+
+def _close(client) -> None:
+    cluster = getattr(client, "cluster", None)
+    client.close()
+    if cluster is not None:
+        cluster.close()
+
+
+def fleet_data(result: FleetResult) -> dict:
+    """Plain data of a fleet run (what ``--json`` prints and the report renders): settings, part numbers,
+    regret curve, per-chair rows, distributions, timings.  SI units; J uses the base problem's weights."""
+    problem = result.problem
+    risk = risk_of(problem)
+    u = mc_uncertainty(problem)
+    ch = result.chairs
+    ok = result.feasible
+    rows = result.rows()
+    choice = ch["choice"][ok]
+    dist = {
+        "trail": result.stock.trail[choice],
+        "diameter": result.stock.diameter[choice],
+        "groove": result.stock.groove[choice],
+        "damping": result.stock.damping[choice],
+        "turning_effort": ch["turning_effort"][ok],
+        "threshold_force": ch["threshold_force"][ok],
+    }
+    if "shimmy_probability" in ch:
+        dist["shimmy_probability"] = ch["shimmy_probability"][ok]
+    served_units = float(result.fleet.count[ok].sum()) or 1.0
+    curve = [
+        {
+            "k": k,
+            "regret": s.regret if s.status != "infeasible" else None,
+            "mean_regret": s.regret / served_units if s.status != "infeasible" else None,
+            "status": s.status,
+            "lower_bound": s.lower_bound,
+            "gap": s.gap,
+            "seconds": s.seconds,
+            "chosen": s.chosen,
+        }
+        for k, s in sorted(result.curve.items())
+    ]
+    w = tuple(float(x) for x in problem.weights)
+    return {
+        "fleet": result.fleet.source,
+        "chairs": len(result.fleet),
+        "feasible_chairs": int(ok.sum()),
+        "units": int(result.fleet.count.sum()),
+        "problem": problem.name,
+        "weights": list(w),
+        "objective": f"J = {w[0]:g} F_turn + {w[1]:g} P [N]: 1 N of sill force is worth "
+        f"{(w[1] / w[0]) if w[0] else math.inf:g} N of turning effort",
+        "regret_definition": "regret of a chair = J with its assigned part number − the least J over the "
+        "chair's own feasible stock (never negative); the part numbers minimise the "
+        "count-weighted sum",
+        "risk": None if risk is None else {"probability": risk.probability, "margin": problem.margin},
+        "monte_carlo": {"samples": getattr(u, "samples", None), "seed": getattr(u, "seed", None)},
+        "rule": (
+            "cap on sill force"
+            if getattr(problem, "max_threshold_force", None) is not None
+            else "cap on turning effort"
+            if getattr(problem, "max_turning_effort", None) is not None
+            else "knee of the buildable front"
+        ),
+        "stock": {
+            "casters": len(result.stock),
+            "note": result.stock.note,
+            "useful_for_skus": getattr(result, "candidates", None),
+        },
+        "skus": result.sku_records(),
+        "k": None if result.skus is None else result.skus.k,
+        "regret": None if result.skus is None or result.skus.status == "infeasible" else result.skus.regret,
+        "mean_regret": None
+        if result.skus is None or result.skus.status == "infeasible"
+        else result.skus.regret / served_units,
+        "sku_status": None if result.skus is None else result.skus.status,
+        "regret_curve": curve,
+        "rows": rows,
+        "distributions": {k: np.asarray(v, float) for k, v in dist.items()},
+        "alpha": None if risk is None else risk.probability,
+        "timings": dict(result.timings),
+        "scheduler": result.scheduler,
+    }
+
+
+def fleet(
+    chairs, problem=None, skus: int | None = None, scheduler=None, monte_carlo: bool = True, k_max: int | None = None
+) -> FleetResult:
+    """``designer.fleet``: per-chair recommendations of a fleet and, with ``skus``, K part numbers.
+
+    Parameters
+    ----------
+    chairs : a FLEET.csv path or a :class:`Fleet` (e.g. ``example_fleet(1000)``)
+    problem : the base problem (a :class:`designer.problem.Problem` or a TOML path; default
+        ``problems/indoor-manual.toml``)
+    skus, scheduler, monte_carlo, k_max : as :func:`fleet_recommendations`
+
+    Returns
+    -------
+    FleetResult; ``fleet_data(result)`` gives the plain data of ``--json``.
+    """
+
+    if not isinstance(chairs, Fleet):
+        chairs = read_fleet(chairs)
+    if problem is None or isinstance(problem, (str, Path)):
+        problem = load_problem(problem or "problems/indoor-manual.toml")
+    return fleet_recommendations(chairs, problem, skus=skus, k_max=k_max, scheduler=scheduler, monte_carlo=monte_carlo)

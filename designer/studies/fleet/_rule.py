@@ -1,0 +1,372 @@
+"""The stock table and the vectorised rule of a fleet: every chair x every stock caster at once.
+
+Part of :mod:`designer.studies.fleet._fleet` (which re-exports every name): the stock casters as arrays with
+V_c and its quantile (:func:`stock_table`), F_turn, P and feasibility of every caster for every chair
+(:func:`evaluate_chairs`), the buildable front and the rule per chair (:func:`recommend_chairs`), and the
+Monte Carlo P(shimmy) of the chosen casters (:func:`_mc_task`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from designer.data.paper import INCH
+from designer.errors import ProblemError
+from designer.physics.geometry import swept_radius
+from designer.physics.shimmy import critical_shimmy_speed
+from designer.physics.threshold import threshold_force_ratio
+from designer.physics import uncertainty as _unc
+from designer.physics.turning import MODES, SURFACES, added_damper_moment, sliding_turning_moment
+
+from designer.studies.recommend import risk_screen, select_rows
+from designer.studies.recommend import confident_speed, stock_candidates
+from designer.problem import Stock
+
+from designer.studies.fleet._table import Fleet
+
+
+# --------------------------------------------------------------------------- the stock
+
+
+@dataclass
+class StockTable:
+    """Every stock caster of the base problem as arrays (one entry per combination), SI.
+
+    Attributes
+    ----------
+    trail, diameter, groove, damping : the design [m, m, m, N·m/rad]
+    inertia : I_w of the wheel [kg·m²]
+    wheel : wheel name per caster (catalogue) or ""
+    critical_speed : V_c, Eq. 7 [m/s]
+    design_speed : what the risk bound compares with (1 + margin) V_target: the α-quantile of V_c
+        (``shimmy_speed_quantile``) or V_c itself when the risk bound is off [m/s]
+    confident_speed : the speed reached with probability 1 − α [m/s] (= design_speed)
+    swept_radius : T + d/2 [m]
+    note : where the stock comes from
+    """
+
+    trail: np.ndarray
+    diameter: np.ndarray
+    groove: np.ndarray
+    damping: np.ndarray
+    inertia: np.ndarray
+    wheel: np.ndarray
+    critical_speed: np.ndarray = field(default=None)
+    design_speed: np.ndarray = field(default=None)
+    swept_radius: np.ndarray = field(default=None)
+    note: str = ""
+
+    def __len__(self) -> int:
+        return len(self.trail)
+
+    def design(self, j: int) -> dict:
+        """Stock caster ``j`` as {trail, diameter, groove, damping} [SI]."""
+        return {
+            "trail": float(self.trail[j]),
+            "diameter": float(self.diameter[j]),
+            "groove": float(self.groove[j]),
+            "damping": float(self.damping[j]),
+        }
+
+
+DEFAULT_STOCK = {
+    "diameters": [3.0, 4.0, 5.0, 6.0, 8.0],
+    "grooves": [0.0, 0.25, 0.5625],
+    "trail_step": 0.25,
+    "dampings": [1.3, 2.0, 3.0],
+}
+"""Stock used when the base problem declares none [in, in, in, N·m/rad]: common caster sizes, the
+tyre profiles of the paper (plain, 1/4 in, 9/16 in groove), fork holes every 1/4 in, bare bearing and
+two friction washers.  Values outside the problem's bounds are left out."""
+
+
+def risk_of(problem):
+    """The risk bound in force (``problem.risk`` when the problem has it, else its [robust] uncertainty)."""
+    if hasattr(problem, "risk"):
+        return problem.risk
+    return problem.conditions.uncertainty
+
+
+def stock_table(problem) -> StockTable:
+    """All stock combinations of the base problem, with V_c, its quantile and the swept radius.
+
+    The enumeration is :func:`designer.studies.recommend._recommend.stock_candidates` (the single owner): the
+    problem's ``[stock]`` when it declares one, otherwise :data:`DEFAULT_STOCK` within its bounds (the
+    table's ``note`` says so).  Every variable must be discrete: a part number is a design tuple.
+    """
+
+    if getattr(problem, "stock", None) is not None:
+        cand = stock_candidates(problem)
+        note = "the base problem's [stock]"
+    else:
+        cand = stock_candidates(problem, _default_stock(problem))
+        note = "the base problem has no [stock]; default stock within its bounds (docs/fleet.md)"
+    stock_key = {"trail": "trail_step", "diameter": "diameters", "groove": "grooves", "damping": "dampings"}
+    for key in ("trail", "diameter", "groove", "damping"):
+        if cand.get(key) is None:
+            raise ProblemError(
+                f"{problem.source or problem.name}: stock.{stock_key[key]}: missing, so {key} stays "
+                f"continuous; a fleet's part numbers are stock casters, so list every variable in "
+                f"[stock] (docs/fleet.md)"
+            )
+    table = StockTable(
+        trail=cand.trail,
+        diameter=cand.diameter,
+        groove=cand.groove,
+        damping=cand.damping,
+        inertia=np.asarray(cand.inertia, float),
+        wheel=np.asarray(cand.wheel, dtype=object),
+        note=note,
+    )
+    c = problem.conditions
+    table.critical_speed = critical_shimmy_speed(
+        table.trail, table.inertia, table.groove, table.damping, c.slip_coefficient
+    )
+    table.design_speed = np.asarray(
+        confident_speed(table.trail, table.inertia, table.groove, table.damping, c.slip_coefficient, risk_of(problem)),
+        float,
+    )
+    table.swept_radius = swept_radius(table.trail, table.diameter)
+    return table
+
+
+def _default_stock(problem):
+    """:data:`DEFAULT_STOCK` within the problem's bounds, as a :class:`designer.problem.Stock`."""
+
+    b = problem.bounds
+
+    def within(values, name):
+        lo, hi = b[name].low, b[name].high
+        kept = [v for v in values if lo - 1e-12 <= v <= hi + 1e-12]
+        return tuple(kept or [lo])
+
+    step = DEFAULT_STOCK["trail_step"] * INCH
+    lo, hi = b["trail"].low, b["trail"].high
+    trails = tuple(lo + step * np.arange(int(math.floor((hi - lo) / step + 1e-9)) + 1))
+    return Stock(
+        diameters=None
+        if problem.wheels or b["diameter"].fixed
+        else within([v * INCH for v in DEFAULT_STOCK["diameters"]], "diameter"),
+        grooves=within([v * INCH for v in DEFAULT_STOCK["grooves"]], "groove"),
+        trail_step=step,
+        trails=trails,
+        dampings=within(DEFAULT_STOCK["dampings"], "damping"),
+    )
+
+
+# --------------------------------------------------------------------------- vectorised recommendation
+
+
+RESULT_FIELDS = (
+    "choice",
+    "easiest_turn",
+    "easiest_sill",
+    "best_j",
+    "front_size",
+    "turning_effort",
+    "threshold_force",
+    "objective",
+    "reason",
+)
+
+
+def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
+    """Turning effort, sill force and feasibility of every stock caster for every chair (chairs × casters).
+
+    Parameters
+    ----------
+    chairs : per-chair arrays ``load`` [N], ``threshold_height`` [m], ``target_speed`` [m/s],
+        ``swept_radius_max`` [m], ``surface``, ``turning_mode`` (as :meth:`Fleet.arrays`)
+    stock : the stock table (V_c and its quantile already per caster)
+    problem : the base problem (margin, turning constants, disturbance angle)
+
+    Returns
+    -------
+    dict of (chairs, casters) arrays: ``turning_effort`` F_turn [N] (Eq. 9 with the turning model),
+    ``threshold_force`` P [N] (Eq. 4A; +inf where d/h <= 2), ``feasible`` (risk bound, swept radius,
+    sill), and per-chair boolean (chairs,) ``any_risk``, ``any_radius``, ``any_sill`` for the reasons.
+    """
+    c = problem.conditions
+    load = np.asarray(chairs["load"], float)
+    height = np.asarray(chairs["threshold_height"], float)
+    n, s = len(load), len(stock)
+    effort = np.empty((n, s))
+    damper = added_damper_moment(stock.damping, c.disturbance_angle, c.turning)
+    for surface in SURFACES:
+        for mode in MODES:
+            rows = np.flatnonzero((chairs["surface"] == surface) & (chairs["turning_mode"] == mode))
+            if len(rows):
+                moment = sliding_turning_moment(load[rows, None], stock.groove[None, :], surface, mode, c.turning)
+                effort[rows] = (moment + damper[None, :]) / stock.trail[None, :]
+    diameters, inverse = np.unique(stock.diameter, return_inverse=True)
+    climbs = diameters[None, :] > 2 * height[:, None]
+    safe = np.where(climbs, diameters[None, :], 3 * height[:, None])
+    ratio = np.where(climbs, threshold_force_ratio(safe, height[:, None]), np.inf)
+    force = load[:, None] * ratio[:, inverse]
+    required = (1 + problem.margin) * np.asarray(chairs["target_speed"], float)
+    risk_ok = risk_screen(stock.design_speed[None, :], required[:, None])
+    radius_ok = stock.swept_radius[None, :] <= np.asarray(chairs["swept_radius_max"], float)[:, None] * (1 + 1e-9)
+    sill_ok = climbs[:, inverse]
+    return {
+        "turning_effort": effort,
+        "threshold_force": force,
+        "feasible": risk_ok & radius_ok & sill_ok,
+        "any_risk": risk_ok.any(axis=1),
+        "any_radius": radius_ok.any(axis=1),
+        "any_sill": sill_ok.any(axis=1),
+        "required": required,
+    }
+
+
+# long: the vectorised rule is one pass over chairs x stock (screen, front, knee, alternatives)
+def recommend_chairs(chairs: dict, stock: StockTable, problem) -> dict:
+    """The recommendation of every chair, vectorised: buildable front, rule, alternatives.
+
+    For each chair: the feasible stock casters (:func:`evaluate_chairs`), their non-dominated set in
+    (F_turn, P) (the buildable front), and the stock index chosen by the base problem's rule: the knee of
+    the front (the point farthest from the chord between its two ends, in objectives normalised to the
+    front's range, toward the ideal point; with fewer than three points the end with the least J), or, with
+    a cap on one objective, the best on the other within the cap.  Also the easiest-to-turn and
+    easiest-over-the-sill ends and the least J = w_turn F_turn + w_threshold P (the regret baseline).
+
+    Returns
+    -------
+    dict of (chairs,) arrays: ``choice``, ``easiest_turn``, ``easiest_sill``, ``best_j`` (stock indices,
+    −1 if the chair has no feasible caster), ``front_size``, ``turning_effort`` [N], ``threshold_force`` [N]
+    and ``objective`` J of the choice, ``reason`` (empty, or why the chair is infeasible).
+    """
+    ev = evaluate_chairs(chairs, stock, problem)
+    f, p, ok = ev["turning_effort"], ev["threshold_force"], ev["feasible"]
+    n, s = f.shape
+    fm = np.where(ok, f, np.inf)
+    rows = np.arange(n)
+    # P depends on the wheel diameter only (Eq. 4A), so casters of one diameter share P and only the
+    # least-F allowed one of each diameter can be on the front (ties: the lowest stock index).  Reduce
+    # to one candidate per diameter first: (chairs × diameters) instead of (chairs × casters).
+    _, group = np.unique(stock.diameter, return_inverse=True)
+    perm = np.argsort(group, kind="stable")
+    counts = np.bincount(group)
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    fperm = fm[:, perm]
+    gmin = np.minimum.reduceat(fperm, starts, axis=1)
+    position = np.where(fperm == np.repeat(gmin, counts, axis=1), np.arange(s), s)
+    gstock = perm[np.minimum(np.minimum.reduceat(position, starts, axis=1), s - 1)]
+    gp = np.where(np.isfinite(gmin), np.take_along_axis(p, gstock, axis=1), np.inf)
+    w = np.asarray(problem.weights, float)
+    j = np.where(ok, w[0] * f + w[1] * p, np.inf)
+    best_j = np.where(ok.any(axis=1), np.argmin(j, axis=1), -1)
+    cap_p = getattr(problem, "max_threshold_force", None)
+    cap_f = getattr(problem, "max_turning_effort", None)
+    # the buildable front and the rule: designer.studies.recommend._recommend.select_rows (the single owner of the rule)
+    sel = select_rows(gmin, gp, np.isfinite(gmin), problem.weights, cap_p, cap_f)
+
+    def stock_index(k):
+        return np.where(k >= 0, np.take_along_axis(gstock, np.maximum(k, 0)[:, None], axis=1)[:, 0], -1)
+
+    choice, easiest_turn, easiest_sill = (stock_index(sel[k]) for k in ("choice", "easiest_turn", "easiest_sill"))
+    size, no_cap = sel["front_size"], sel["over_cap"]
+
+    sel = np.maximum(choice, 0)
+    reason = np.full(n, "", dtype=object)
+    for i in np.flatnonzero(choice < 0):
+        reason[i] = _reason(i, ev, stock, no_cap[i], cap_p, cap_f)
+    return {
+        "choice": choice,
+        "easiest_turn": easiest_turn,
+        "easiest_sill": easiest_sill,
+        "best_j": best_j,
+        "front_size": size,
+        "turning_effort": np.where(choice >= 0, f[rows, sel], np.nan),
+        "threshold_force": np.where(choice >= 0, p[rows, sel], np.nan),
+        "objective": np.where(choice >= 0, j[rows, sel], np.nan),
+        "reason": reason,
+    }
+
+
+def _reason(i, ev, stock, over_cap, cap_p, cap_f) -> str:
+    """Why chair ``i`` gets no caster, in one phrase."""
+    if over_cap:
+        cap = f"sill force <= {cap_p:.1f} N" if cap_p is not None else f"turning effort <= {cap_f:.2f} N"
+        return f"infeasible: no buildable caster within the cap {cap}"
+    missing = []
+    if not ev["any_risk"][i]:
+        missing.append(
+            f"risk bound (best confident speed {stock.design_speed.max():.2f} m/s < required "
+            f"{ev['required'][i]:.2f} m/s)"
+        )
+    if not ev["any_radius"][i]:
+        missing.append(f"swept radius (smallest {stock.swept_radius.min() / INCH:.2f} in)")
+    if not ev["any_sill"][i]:
+        missing.append(f"sill (largest wheel {stock.diameter.max() / INCH:.2f} in <= twice the sill)")
+    if missing:
+        return "infeasible: no stock caster meets the " + "; ".join(missing)
+    return "infeasible: no stock caster meets the risk bound, the swept radius and the sill at once"
+
+
+def _chunk_task(chairs: dict, stock: StockTable, problem) -> dict:
+    """One chunk of chairs on a worker: plain arrays in, plain arrays out (nothing else crosses the wire)."""
+    return recommend_chairs(chairs, stock, problem)
+
+
+def _split(fleet: Fleet, chunk: int) -> list[tuple[int, dict]]:
+    arrays = fleet.arrays()
+    return [(start, {k: v[start : start + chunk] for k, v in arrays.items()}) for start in range(0, len(fleet), chunk)]
+
+
+# --------------------------------------------------------------------------- Monte Carlo of the choice
+
+
+def _mc_task(designs: np.ndarray, inertia: np.ndarray, speeds: np.ndarray, slip: float, uncertainty) -> np.ndarray:
+    """P(shimmy) and its SE for each (design, speed) row: the numbers of ``shimmy_probability_mc``.
+
+    That estimate draws one seeded stream per call, so every speed asked of one caster sees the same
+    first ``samples`` draws.  Rows of one caster therefore share one draw of V_c,true (the same stream,
+    by the module's own ``sample_log_factors``), and each speed counts the draws below it; a row whose
+    estimate would need more draws for SE <= 0.1 pp (P above about 5 %) calls the function itself.
+    ``tests/studies/fleet/test_fleet.py`` checks that both give identical numbers.
+    """
+    module = _unc
+    mc = module.shimmy_probability_mc
+    out = np.empty((len(speeds), 2))
+    target = getattr(module, "MC_TARGET_SE", None)
+    batch = hasattr(module, "sample_log_factors") and uncertainty.samples <= 1_000_000
+    key = np.column_stack([designs, inertia])
+    start = 0
+    while start < len(speeds):
+        stop = start + 1
+        while stop < len(speeds) and np.array_equal(key[stop], key[start]):
+            stop += 1
+        t, _d, g, c = (float(x) for x in designs[start])
+        i_w = float(inertia[start])
+        rows = range(start, stop)
+        if batch and stop - start > 1:
+            n = int(uncertainty.samples)
+            f = module.sample_log_factors(uncertainty, n, np.random.default_rng(uncertainty.seed))
+            v = np.sort(
+                critical_shimmy_speed(
+                    t, i_w * np.exp(f["inertia"]), g, c * np.exp(f["damping"]), slip * np.exp(f["slip"])
+                )
+                * np.exp(f["model"])
+            )
+            hits = np.searchsorted(v, speeds[start:stop], side="left")
+            p = hits / n
+            var = np.maximum(p * (1 - p), 1.0 / n)
+            done = np.ones(len(p), bool) if target is None else np.ceil(var / target**2) <= n
+            out[start:stop, 0] = p
+            out[start:stop, 1] = np.sqrt(var / n)
+            rows = [start + r for r in np.flatnonzero(~done)]
+        for r in rows:
+            out[r] = mc(t, i_w, g, c, slip, float(speeds[r]), uncertainty)
+        start = stop
+    return out
+
+
+def mc_uncertainty(problem):
+    """The uncertainty the reported P(shimmy) uses: the problem's risk, or the default scatter when it is off."""
+    risk = risk_of(problem)
+    if risk is None:
+        risk = _unc.Uncertainty()
+    return risk

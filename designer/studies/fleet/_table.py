@@ -1,0 +1,527 @@
+"""The fleet table: FLEET.csv -> per-chair arrays (:class:`Fleet`), one-line errors, example fleets.
+
+Part of :mod:`designer.studies.fleet._fleet` (which re-exports every name): the columns and their units, the
+model ranges per column, the reader and the writer of the example fleets.
+"""
+
+from __future__ import annotations
+
+import csv
+import difflib
+import io
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from designer.data.paper import INCH
+from designer.errors import InputError, ProblemError, read_input_text
+from designer.physics.turning import MODES, SURFACES
+from designer.units import parse_quantity
+
+
+GRAVITY = 9.80665
+"""Standard gravity g [m/s²] for load = m g front_fraction / 2."""
+
+COLUMNS = {
+    "name": "text",
+    "load": "force",
+    "mass": "mass",
+    "front_fraction": "dimensionless",
+    "threshold_height": "length",
+    "target_speed": "speed",
+    "swept_radius_max": "length",
+    "surface": "surface",
+    "turning_mode": "mode",
+    "count": "count",
+}
+"""Columns of FLEET.csv and their dimension; a unit may follow the name in the header (``load_N``)."""
+
+REQUIRED = ("name", "threshold_height", "target_speed", "swept_radius_max", "surface", "turning_mode")
+"""Columns every fleet needs; plus ``load`` or both ``mass`` and ``front_fraction``."""
+
+UNIT_ALIASES = {
+    "mps": "m/s",
+    "m_s": "m/s",
+    "kmh": "km/h",
+    "kph": "km/h",
+    "pct": "percent",
+    "%": "percent",
+    "lb": "lbf",
+    "lbs": "lbf",
+}
+"""Header unit spellings that pint does not read (``target_speed_mps``)."""
+
+RANGES = {
+    "load": (1.0, 1e5, "N", "a caster load of 0.1 kg to 10 t; was it given in another unit?"),
+    "mass": (1.0, 2000.0, "kg", "user plus chair; was it given in another unit?"),
+    "front_fraction": (0.0, 1.0, "", "the share of the weight on the two front casters, e.g. 0.4 or '40 %'"),
+    "threshold_height": (1e-4, 0.3, "m", "a sill of 0.1 mm to 30 cm; were inches written as metres?"),
+    "target_speed": (0.01, 100.0, "m/s", "plain numbers are m/s; was it given in km/h or mph?"),
+    "swept_radius_max": (1e-3, 10.0, "m", "footrest clearances are a few inches; were inches written as metres?"),
+}
+"""Model range per column [SI] (same limits as the problem file's): outside it a row is an input error."""
+
+MAX_CHAIRS = 10_000_000
+"""Largest fleet read (rows)."""
+
+
+# --------------------------------------------------------------------------- the fleet table
+
+
+@dataclass
+class Fleet:
+    """Chair configurations, one entry per chair, SI units.
+
+    Attributes
+    ----------
+    names : chair names (unique)
+    load : caster load L [N] (given, or m g front_fraction / 2)
+    threshold_height : sill height h [m]
+    target_speed : V_target [m/s]
+    swept_radius_max : R_max, footrest clearance [m]
+    surface : "tile" | "carpet" per chair
+    turning_mode : "chair" | "pivot" per chair
+    count : units sold (weight of the chair in the part-number choice) [-]
+    rows : line of each chair in the file (for messages)
+    source : the file it was read from
+    """
+
+    names: list
+    load: np.ndarray
+    threshold_height: np.ndarray
+    target_speed: np.ndarray
+    swept_radius_max: np.ndarray
+    surface: np.ndarray
+    turning_mode: np.ndarray
+    count: np.ndarray
+    rows: np.ndarray | None = None
+    source: str = "fleet"
+
+    def __len__(self) -> int:
+        return len(self.names)
+
+    def subset(self, index) -> "Fleet":
+        """The chairs at ``index`` (array of positions or a boolean mask)."""
+        index = np.asarray(index)
+        if index.dtype == bool:
+            index = np.flatnonzero(index)
+        return Fleet(
+            names=[self.names[i] for i in index],
+            load=self.load[index],
+            threshold_height=self.threshold_height[index],
+            target_speed=self.target_speed[index],
+            swept_radius_max=self.swept_radius_max[index],
+            surface=self.surface[index],
+            turning_mode=self.turning_mode[index],
+            count=self.count[index],
+            rows=None if self.rows is None else self.rows[index],
+            source=self.source,
+        )
+
+    def arrays(self) -> dict:
+        """The per-chair numbers as plain arrays (what a worker needs; no names)."""
+        return {
+            "load": self.load,
+            "threshold_height": self.threshold_height,
+            "target_speed": self.target_speed,
+            "swept_radius_max": self.swept_radius_max,
+            "surface": self.surface,
+            "turning_mode": self.turning_mode,
+        }
+
+    def problem(self, base, i: int):
+        """The base problem with chair ``i``'s conditions: what ``designer.recommend`` takes for one chair."""
+        conditions = base.conditions.replace(
+            load=float(self.load[i]),
+            threshold_height=float(self.threshold_height[i]),
+            surface=str(self.surface[i]),
+            turning_mode=str(self.turning_mode[i]),
+        )
+        name = re.sub(r"[^A-Za-z0-9_.-]", "-", str(self.names[i]))[:64].lstrip("-_.") or "chair"
+        return base.replace(
+            name=name,
+            conditions=conditions,
+            target_speed=float(self.target_speed[i]),
+            swept_radius_max=float(self.swept_radius_max[i]),
+            source=None,
+        )
+
+
+def _split_header(header: str, source: str) -> tuple[str, str | None]:
+    """``"load_N"`` -> ("load", "N"); ``"threshold_height [in]"`` -> ("threshold_height", "in")."""
+    text = header.strip()
+    match = re.fullmatch(r"(.+?)\s*[\[(]\s*(.+?)\s*[\])]", text)
+    if match:
+        base, unit = match.group(1).strip(), match.group(2)
+        if base in COLUMNS:
+            return base, unit
+    if text in COLUMNS:
+        return text, None
+    for name in sorted(COLUMNS, key=len, reverse=True):
+        if text.startswith(name + "_") and len(text) > len(name) + 1:
+            return name, text[len(name) + 1 :]
+    known = ", ".join(COLUMNS)
+    raise ProblemError(
+        f"{source}: column {header!r}: unknown column{_suggest(text, list(COLUMNS))}; "
+        f"expected {known} (a unit may follow: load_N, threshold_height_in)"
+    )
+
+
+def _suggest(word: str, options) -> str:
+    base = re.split(r"[\s\[(]", word.strip())[0]
+    for candidate in (word, base, base.rsplit("_", 1)[0]):
+        match = difflib.get_close_matches(candidate, list(options), n=1, cutoff=0.75)
+        if match:
+            return f" (did you mean {match[0]!r}?)"
+    return ""
+
+
+def _header_factor(name: str, unit: str | None, source: str) -> float:
+    """SI value of one header unit (1.0 when the header has none)."""
+    dimension = COLUMNS[name]
+    if unit is None:
+        return 1.0
+    if dimension in ("text", "surface", "mode", "count"):
+        raise ProblemError(f"{source}: column {name}_{unit}: {name} takes no unit")
+    unit = UNIT_ALIASES.get(unit, unit)
+    try:
+        return parse_quantity(f"1 {unit}", dimension, f"{source}: column {name} (unit {unit!r} in the header)")
+    except InputError as exc:
+        raise ProblemError(str(exc)) from None
+
+
+def read_fleet(path, base=None) -> Fleet:
+    """Read and validate FLEET.csv.
+
+    Columns: ``name, load, threshold_height, target_speed, swept_radius_max, surface, turning_mode`` and an
+    optional ``count``; ``mass`` [kg] and ``front_fraction`` [-] may replace ``load`` per row (load =
+    m g front_fraction / 2).  Units go in the header (``load_N``, ``threshold_height_in``,
+    ``threshold_height [in]``) or in the cells (``"0.5 in"``); plain numbers without either are SI.
+
+    Raises
+    ------
+    ProblemError (exit 3)
+        One line naming the row and the column: a missing column (by its expected name, with "did you
+        mean" for a near miss), an unknown column, a unit of the wrong dimension, a duplicate name, an
+        empty cell, a value outside the model's range, an unknown surface or turning mode.
+    """
+    path = Path(path)
+    text = read_input_text(path, "fleet file", ".csv", encoding="utf-8-sig")
+    return fleet_from_text(text, source=str(path))
+
+
+def fleet_from_text(text: str, source: str = "fleet") -> Fleet:
+    """Parse CSV text into a validated :class:`Fleet` (see :func:`read_fleet`).
+
+    Checked in this order, the first failure raised as one line: the header (columns, units, required
+    columns), the row lengths, the names, the loads (or mass and front fraction), the sill, speed and
+    radius columns, the surface and turning mode, the counts.
+    """
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    if not lines:
+        raise ProblemError(f"{source}: empty file; expected a header line (name, load_N, threshold_height_in, ...)")
+    reader = csv.reader(io.StringIO("\n".join(lines)))
+    try:
+        table = list(reader)
+    except csv.Error as exc:
+        raise ProblemError(f"{source}: not a CSV file ({exc})") from None
+    header, body = table[0], table[1:]
+    if len(body) > MAX_CHAIRS:
+        raise ProblemError(f"{source}: {len(body)} rows; at most {MAX_CHAIRS} chairs")
+    columns = _header_columns(header, source)
+    if not body:
+        raise ProblemError(f"{source}: no chairs (only a header)")
+
+    n = len(body)
+    width = len(header)
+    # physical line numbers (comments and blank lines skipped above)
+    physical = [i + 1 for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith("#")]
+    row_numbers = np.array(physical[1 : 1 + n] if len(physical) > n else range(2, n + 2))
+    for r, cells in enumerate(body):
+        if len(cells) != width:
+            raise ProblemError(f"{source}: row {row_numbers[r]}: {len(cells)} cells, the header has {width}")
+
+    t = _Table(source, columns, body, row_numbers)
+    names = t.names()
+    load = t.loads()
+    values = {name: t.numbers(name) for name in ("threshold_height", "target_speed", "swept_radius_max")}
+    for name, v in values.items():
+        t.check(name, v)
+    labels = {name: t.labels(name, allowed) for name, allowed in (("surface", SURFACES), ("turning_mode", MODES))}
+    count = t.counts() if "count" in columns else np.ones(n)
+    return Fleet(
+        names=names,
+        load=load,
+        threshold_height=values["threshold_height"],
+        target_speed=values["target_speed"],
+        swept_radius_max=values["swept_radius_max"],
+        surface=labels["surface"],
+        turning_mode=labels["turning_mode"],
+        count=count,
+        rows=row_numbers,
+        source=source,
+    )
+
+
+def _header_columns(header: list[str], source: str) -> dict[str, tuple[int, float, str | None]]:
+    """{column: (position, factor to SI, unit)} of the header; ProblemError for a repeated or missing column."""
+    columns: dict[str, tuple[int, float, str | None]] = {}
+    for pos, raw in enumerate(header):
+        name, unit = _split_header(raw, source)
+        if name in columns:
+            raise ProblemError(f"{source}: column {raw!r}: {name} appears twice in the header")
+        columns[name] = (pos, _header_factor(name, unit, source), unit)
+    heads = [h.strip() for h in header]
+    for name in REQUIRED:
+        if name not in columns:
+            raise ProblemError(f"{source}: missing column {name!r}{_suggest_missing(name, heads)}")
+    if "load" not in columns and not ("mass" in columns and "front_fraction" in columns):
+        if "mass" in columns or "front_fraction" in columns:
+            missing = "front_fraction" if "mass" in columns else "mass"
+            raise ProblemError(
+                f"{source}: missing column {missing!r}{_suggest_missing(missing, heads)} "
+                f"(load = mass g front_fraction / 2 needs both)"
+            )
+        raise ProblemError(
+            f"{source}: missing column 'load'{_suggest_missing('load', heads)} (or give mass and front_fraction)"
+        )
+    return columns
+
+
+class _Table:
+    """The rows of a fleet file under its header: each reader checks one column, with one-line errors."""
+
+    def __init__(
+        self,
+        source: str,
+        columns: dict[str, tuple[int, float, str | None]],
+        body: list[list[str]],
+        row_numbers: np.ndarray,
+    ) -> None:
+        self.source = source
+        self.columns = columns
+        self.body = body
+        self.row_numbers = row_numbers
+        self.n = len(body)
+
+    def column(self, name: str) -> list[str]:
+        pos = self.columns[name][0]
+        return [cells[pos].strip() for cells in self.body]
+
+    def numbers(self, name: str, optional: bool = False) -> np.ndarray:
+        source, row_numbers = self.source, self.row_numbers
+        pos, factor, unit = self.columns[name]
+        dimension = COLUMNS[name]
+        out = np.empty(self.n)
+        for r, cells in enumerate(self.body):
+            cell = cells[pos].strip()
+            if cell == "":
+                if optional:
+                    out[r] = np.nan
+                    continue
+                raise ProblemError(
+                    f"{source}: row {row_numbers[r]}, column {name}: empty; give a number"
+                    + (f" in {unit}" if unit else " (SI) or one with units")
+                )
+            try:
+                out[r] = float(cell) * factor
+            except ValueError:
+                out[r] = _cell_quantity(cell, dimension, f"{source}: row {row_numbers[r]}, column {name}")
+            if not math.isfinite(out[r]):
+                raise ProblemError(f"{source}: row {row_numbers[r]}, column {name} = {cell!r}: must be finite")
+        return out
+
+    def check(self, name: str, values: np.ndarray, skip=None) -> None:
+        low, high, unit, hint = RANGES[name]
+        bad = ~((values >= low) & (values <= high)) if name != "front_fraction" else ~((values > 0) & (values <= 1))
+        if skip is not None:
+            bad &= ~skip
+        if bad.any():
+            r = int(np.flatnonzero(bad)[0])
+            raise ProblemError(
+                f"{self.source}: row {self.row_numbers[r]}, column {name} = {values[r]:g} {unit}".rstrip()
+                + f": outside the model's range {low:g} to {high:g} {unit}".rstrip()
+                + f" ({hint})"
+            )
+
+    def names(self) -> list[str]:
+        """The chairs' names: each given, none repeated."""
+        names = self.column("name")
+        seen: dict[str, int] = {}
+        for r, name in enumerate(names):
+            if not name:
+                raise ProblemError(
+                    f"{self.source}: row {self.row_numbers[r]}, column name: empty; every chair needs a name"
+                )
+            if name in seen:
+                raise ProblemError(
+                    f"{self.source}: row {self.row_numbers[r]}, column name = {name!r}: duplicate "
+                    f"name (first at row {self.row_numbers[seen[name]]})"
+                )
+            seen[name] = r
+        return names
+
+    def loads(self) -> np.ndarray:
+        """Caster load L [N] per chair: the load column, or m g front_fraction / 2 where that is given."""
+        source, row_numbers, columns, n = self.source, self.row_numbers, self.columns, self.n
+        load = self.numbers("load", optional=True) if "load" in columns else np.full(n, np.nan)
+        if "mass" in columns and "front_fraction" in columns:
+            mass = self.numbers("mass", optional=True)
+            fraction = self.numbers("front_fraction", optional=True)
+            for r in range(n):
+                given = (not math.isnan(load[r]), not math.isnan(mass[r]), not math.isnan(fraction[r]))
+                if given[0] and (given[1] or given[2]):
+                    raise ProblemError(
+                        f"{source}: row {row_numbers[r]}, column load: give load or mass and front_fraction, not both"
+                    )
+                if not given[0] and not (given[1] and given[2]):
+                    col = "mass" if not given[1] else "front_fraction"
+                    raise ProblemError(
+                        f"{source}: row {row_numbers[r]}, column {col}: empty; give load, or mass and front_fraction"
+                    )
+            by_mass = np.isnan(load)
+            self.check("mass", mass, skip=~by_mass)
+            self.check("front_fraction", fraction, skip=~by_mass)
+            load = np.where(by_mass, mass * GRAVITY * fraction / 2, load)
+        else:
+            empty = np.flatnonzero(np.isnan(load))
+            if len(empty):
+                raise ProblemError(
+                    f"{source}: row {row_numbers[empty[0]]}, column load: empty; give a number"
+                    + (f" in {columns['load'][2]}" if columns["load"][2] else " (SI) or one with units")
+                )
+        self.check("load", load)
+        return load
+
+    def labels(self, name: str, allowed: tuple[str, ...]) -> np.ndarray:
+        """A categorical column (surface, turning mode): every cell one of ``allowed``."""
+        cells = self.column(name)
+        for r, cell in enumerate(cells):
+            if cell not in allowed:
+                raise ProblemError(
+                    f"{self.source}: row {self.row_numbers[r]}, column {name} = {cell!r}: expected "
+                    f"one of {', '.join(allowed)}{_suggest(cell, allowed)}"
+                )
+        return np.array(cells, dtype=object)
+
+    def counts(self) -> np.ndarray:
+        """Units sold per chair: a whole number, 0 or more (an empty cell is 1)."""
+        count = np.empty(self.n)
+        for r, cell in enumerate(self.column("count")):
+            try:
+                value = float(cell) if cell else 1.0
+            except ValueError:
+                value = math.nan
+            if not math.isfinite(value) or value < 0 or value != int(value) or value > 1e12:
+                raise ProblemError(
+                    f"{self.source}: row {self.row_numbers[r]}, column count = {cell!r}: expected a "
+                    f"whole number of units sold, 0 or more"
+                )
+            count[r] = value
+        return count
+
+
+def _suggest_missing(name: str, heads: list[str]) -> str:
+    """ " (did you mean 'threshold_heigth_in'?)" when a header is a near miss of the expected ``name``."""
+    scored = []
+    for h in heads:
+        stem = re.split(r"\s*[\[(]", h)[0]
+        for candidate in {stem, stem.rsplit("_", 1)[0], stem.rsplit("_", 2)[0]}:
+            score = difflib.SequenceMatcher(None, name, candidate).ratio()
+            scored.append((score, h))
+    scored = [s for s in scored if s[0] >= 0.75]
+    return f" (did you mean {max(scored)[1]!r}?)" if scored else ""
+
+
+_CELL_CACHE: dict = {}
+
+
+def _cell_quantity(cell: str, dimension: str, key: str) -> float:
+    """A cell with units ("0.5 in") in SI; parsed by pint once per distinct text."""
+    hit = _CELL_CACHE.get((cell, dimension))
+    if hit is not None:
+        return hit
+    try:
+        value = parse_quantity(cell, dimension, key)
+    except InputError as exc:
+        raise ProblemError(str(exc)) from None
+    if len(_CELL_CACHE) < 100_000:
+        _CELL_CACHE[(cell, dimension)] = value
+    return value
+
+
+# --------------------------------------------------------------------------- example fleets
+
+
+EXAMPLE_RANGES = {
+    "load": (
+        "120–300 N per caster",
+        "assumption: the spread the product-line issue asks for; the paper's "
+        "slip and turning tests used 178 N (40 lb) per caster (Appendix C, Fig. 7), near the middle",
+    ),
+    "threshold_height": (
+        "0.25–0.75 in",
+        "0.5 in is the paper's case (Fig. 2A) and the US accessibility limit "
+        "for door thresholds (2010 ADA Standards 404.2.5: 1/2 in, 3/4 in for existing "
+        "sliding doors); 0.25 in is an assumption for floor transitions",
+    ),
+    "swept_radius_max": (
+        "5–8 in",
+        "assumption: footrest clearances of common manual chairs; the default problem uses 6 in",
+    ),
+    "target_speed": (
+        "1.5–3.5 m/s",
+        "assumption: above the paper's 1 m/s walking speed (where its E&J wheels "
+        "were near their critical speed) up to a fast push or a ramp; the default problem uses "
+        "2.5 m/s",
+    ),
+    "surface": ("70 % tile, 30 % carpet", "assumption"),
+    "turning_mode": ("85 % chair, 15 % pivot", "assumption"),
+    "count": ("10–2000 units sold, log-uniform", "assumption"),
+}
+"""Ranges of ``designer fleet --example N`` and where each comes from."""
+
+
+def example_fleet(n: int, seed: int = 0) -> Fleet:
+    """A plausible fleet of ``n`` chairs, drawn uniformly within :data:`EXAMPLE_RANGES` (seeded).
+
+    Loads 120–300 N, sills 0.25–0.75 in, footrest clearance 5–8 in, speeds 1.5–3.5 m/s; see
+    :data:`EXAMPLE_RANGES` for the source of each range (several are assumptions, said so there).
+    """
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_CHAIRS:
+        raise InputError(f"--example {n!r}: expected a number of chairs from 1 to {MAX_CHAIRS}")
+    rng = np.random.default_rng(seed)
+    width = len(str(n))
+    return Fleet(
+        names=[f"chair-{i + 1:0{width}d}" for i in range(n)],
+        load=np.round(rng.uniform(120.0, 300.0, n), 1),
+        threshold_height=np.round(rng.uniform(0.25, 0.75, n), 3) * INCH,
+        target_speed=np.round(rng.uniform(1.5, 3.5, n), 2),
+        swept_radius_max=np.round(rng.uniform(5.0, 8.0, n), 2) * INCH,
+        surface=np.where(rng.random(n) < 0.7, "tile", "carpet").astype(object),
+        turning_mode=np.where(rng.random(n) < 0.85, "chair", "pivot").astype(object),
+        count=np.round(np.exp(rng.uniform(np.log(10), np.log(2000), n))),
+        rows=np.arange(2, n + 2),
+        source=f"example-{n}",
+    )
+
+
+def write_fleet_csv(fleet: Fleet, path) -> Path:
+    """Write a fleet as FLEET.csv with units in the header (the format :func:`read_fleet` reads)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    lines = [
+        "# Example fleet written by `designer fleet --example`; ranges and their sources: docs/fleet.md",
+        "name,load_N,threshold_height_in,target_speed_m/s,swept_radius_max_in,surface,turning_mode,count",
+    ]
+    for i in range(len(fleet)):
+        lines.append(
+            f"{fleet.names[i]},{fleet.load[i]:.1f},{fleet.threshold_height[i] / INCH:.3f},"
+            f"{fleet.target_speed[i]:.2f},{fleet.swept_radius_max[i] / INCH:.2f},{fleet.surface[i]},"
+            f"{fleet.turning_mode[i]},{int(fleet.count[i])}"
+        )
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path

@@ -1,0 +1,530 @@
+"""The Pareto front as data: :class:`FrontPoint`, :class:`Front` and its indicators, tables and reprs.
+
+A front is computed by :func:`designer.studies.front._pareto.pareto_front`; this module only holds it: the
+points (SI units), the failed points, the run metadata, and what is read off them (hypervolume, knee,
+weighted best, gaps, comparison with another front, CSV/JSON/pandas, notebook reprs).  No solver runs here.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from designer.studies.front._indicators import hypervolume_2d, igd_plus, nondominated, normalise
+from designer.data.paper import INCH
+from designer.errors import InputError
+from designer.model import FAMILIES, VARIABLES, Design
+from designer.problem import example_names, example_problem
+from designer.problem import Problem, load_problem
+from designer.reprs import html_table, svg_curve
+
+REFERENCE_OFFSET = 0.1
+"""Hypervolume reference point: 10 % beyond the nadir in normalised objectives, i.e. (1.1, 1.1)."""
+
+
+@dataclass
+class FrontPoint:
+    """One point of the front.
+
+    Attributes
+    ----------
+    design : the design (SI)
+    turning_effort : F_turn [N]
+    threshold_force : P [N]
+    critical_speed : V_c [m/s]
+    margins : constraint margins (>= 0 feasible) by name
+    epsilon : the cap on P used [N]
+    status : IPOPT return status
+    success : IPOPT succeeded and the point is feasible
+    multipliers : {"shimmy": λ, "threshold_cap": λ, ...} (CasADi sign convention)
+    family : "bare fork" | "groove" | "damper" | "groove+damper"
+    wheel : Table 1 wheel for catalog problems
+    """
+
+    design: Design
+    turning_effort: float
+    threshold_force: float
+    critical_speed: float
+    margins: dict
+    epsilon: float
+    status: str
+    success: bool
+    multipliers: dict = field(default_factory=dict)
+    family: str = ""
+    wheel: str | None = None
+
+    def row(self) -> dict:
+        """Flat dict for CSV/JSON (SI units)."""
+        out = self.design.as_dict()
+        out.update(
+            turning_effort=self.turning_effort,
+            threshold_force=self.threshold_force,
+            critical_speed=self.critical_speed,
+            epsilon=self.epsilon,
+            family=self.family,
+            status=self.status,
+        )
+        if self.wheel:
+            out["wheel"] = self.wheel
+        for name, value in self.multipliers.items():
+            out[f"lambda_{name}"] = value
+        return out
+
+
+_UNIT_SUFFIX = {"trail": "m", "diameter": "m", "groove": "m", "damping": "N_m_per_rad"}
+"""SI unit written into the DataFrame column name of each design variable (``trail_m``, ...)."""
+
+
+def family_of(problem: Problem, design: Design, tol: float = 1e-6) -> str:
+    """Which mechanism stabilises the design: groove, added damper, both or neither."""
+    grooved = design.groove > problem.bounds["groove"].low + tol * max(problem.bounds["groove"].high, 1e-3)
+    damped = design.damping > problem.conditions.turning.bare_fork_damping * (1 + tol)
+    return FAMILIES[(grooved, damped)]
+
+
+@dataclass
+class Front:
+    """An exact Pareto front (valid points sorted by decreasing threshold force).
+
+    Iterating yields the valid points, from the cheapest-to-turn design to the
+    lowest-threshold-force design.
+    """
+
+    problem: Problem
+    points: list
+    failed: list = field(default_factory=list)
+    meta: dict = field(default_factory=dict)
+
+    def __iter__(self):
+        return iter(self.points)
+
+    def __len__(self):
+        return len(self.points)
+
+    def objectives(self) -> np.ndarray:
+        """(N, 2) array of (turning_effort, threshold_force) [N] of the valid points."""
+        return np.array([[p.turning_effort, p.threshold_force] for p in self.points]).reshape(-1, 2)
+
+    def designs(self) -> np.ndarray:
+        """(N, 4) array of the designs (SI)."""
+        return np.array([p.design.as_array() for p in self.points]).reshape(-1, 4)
+
+    def ideal_nadir(self) -> tuple[np.ndarray, np.ndarray]:
+        """Ideal (best of each objective) and nadir (worst on the front) [N]."""
+        f = self.objectives()
+        return f.min(axis=0), f.max(axis=0)
+
+    def reference_point(self) -> np.ndarray:
+        """Stated hypervolume reference: nadir + 10 % of the front's extent, in newtons."""
+        ideal, nadir = self.ideal_nadir()
+        return nadir + REFERENCE_OFFSET * np.where(nadir > ideal, nadir - ideal, 1.0)
+
+    def hypervolume(self, ref=None, ideal=None, nadir=None) -> float:
+        """Normalised hypervolume of the front.
+
+        Objectives are normalised by (f − ideal)/(nadir − ideal) with the
+        front's own ideal and nadir unless given (give another front's to
+        compare fronts); the reference point is (1.1, 1.1) in normalised
+        units unless ``ref`` (normalised) is given.
+        """
+        own_ideal, own_nadir = self.ideal_nadir()
+        ideal = own_ideal if ideal is None else np.asarray(ideal, float)
+        nadir = own_nadir if nadir is None else np.asarray(nadir, float)
+        ref = np.full(2, 1 + REFERENCE_OFFSET) if ref is None else np.asarray(ref, float)
+        return hypervolume_2d(normalise(self.objectives(), ideal, nadir), ref)
+
+    def knee(self) -> FrontPoint | None:
+        """The knee: the point farthest from the chord between the two ends, in normalised objectives."""
+        if len(self.points) < 3:
+            return self.points[0] if self.points else None
+        ideal, nadir = self.ideal_nadir()
+        f = normalise(self.objectives(), ideal, nadir)
+        a, b = f[0], f[-1]
+        chord = b - a
+        norm = np.hypot(*chord)
+        if norm == 0:
+            return self.points[0]
+        distance = np.abs(chord[0] * (f[:, 1] - a[1]) - chord[1] * (f[:, 0] - a[0])) / norm
+        below = (f[:, 0] - a[0]) * chord[1] - (f[:, 1] - a[1]) * chord[0]
+        distance = np.where(below >= 0, distance, -distance)  # the knee bulges toward the ideal
+        return self.points[int(np.argmax(distance))]
+
+    def weighted_best(self, weights=None) -> FrontPoint | None:
+        """The front point minimising J = w_turn F_turn + w_threshold P (default weights: the problem's)."""
+        if not self.points:
+            return None
+        w = np.asarray(self.problem.weights if weights is None else weights, float)
+        return self.points[int(np.argmin(self.objectives() @ w))]
+
+    def gaps(self, factor: float = 3.0) -> list[tuple[int, str]]:
+        """Discontinuities: family switches and jumps larger than ``factor`` × the median spacing.
+
+        Returns (index of the point after the gap, description) pairs.
+        """
+        out = []
+        if len(self.points) < 3:
+            return out
+        ideal, nadir = self.ideal_nadir()
+        f = normalise(self.objectives(), ideal, nadir)
+        steps = np.hypot(*np.diff(f, axis=0).T)
+        median = np.median(steps) if np.any(steps > 0) else 0
+        for i in range(1, len(self.points)):
+            a, b = self.points[i - 1], self.points[i]
+            if a.family != b.family:
+                out.append((i, f"family switch {a.family} → {b.family} at P ≈ {b.threshold_force:.2f} N"))
+            elif median > 0 and steps[i - 1] > factor * median:
+                out.append((i, f"jump in the front between P = {a.threshold_force:.2f} and {b.threshold_force:.2f} N"))
+        return out
+
+    def compare(self, other: "Front") -> dict:
+        """Compare with another front on common normalisation (this front's ideal/nadir).
+
+        Returns hypervolumes of both, IGD+ of ``other`` against this front, and
+        ``dominated_fraction``: the share of ``other``'s points weakly dominated
+        by one of this front's points (a discrete test: a point of ``other``
+        that falls between two of this front's points can be dominated by the
+        continuous front and still count as not dominated; see
+        :func:`designer.studies.checks.front_checks` for the exact test).
+        """
+        ideal, nadir = self.ideal_nadir()
+        mine = normalise(self.objectives(), ideal, nadir)
+        theirs = normalise(other.objectives(), ideal, nadir)
+        tol = 1e-6
+        dominated = [bool(np.any(np.all(mine <= q + tol, axis=1))) for q in theirs]
+        return {
+            "hypervolume_self": self.hypervolume(ideal=ideal, nadir=nadir),
+            "hypervolume_other": other.hypervolume(ideal=ideal, nadir=nadir),
+            "igd_plus_other": igd_plus(theirs, mine),
+            "dominated_fraction": float(np.mean(dominated)) if dominated else float("nan"),
+        }
+
+    def __repr__(self) -> str:
+        """One line: problem, number of points, objective ranges and the knee (no solver runs)."""
+        name = getattr(self.problem, "name", "?")
+        if not self.points:
+            return f"Front({name!r}: empty, {len(self.failed)} failed)"
+        (f0, p0), (f1, p1) = self.ideal_nadir()
+        k = self.knee()
+        return (
+            f"Front({name!r}: {len(self.points)} points, F_turn {f0:.3g}–{f1:.3g} N, P {p0:.3g}–{p1:.3g} N, "
+            f"knee F_turn {k.turning_effort:.3g} N / P {k.threshold_force:.3g} N, "
+            f"hypervolume {self.hypervolume():.3f})"
+        )
+
+    def _repr_html_(self) -> str:
+        """A compact HTML table with units and an inline SVG of the curve F_turn(P) (notebooks; < 50 ms)."""
+        name = getattr(self.problem, "name", "?")
+        if not self.points:
+            return html_table(f"Front {name!r}", [("points", "0", ""), ("failed", f"{len(self.failed)}", "")])
+        f = self.objectives()
+        (f0, p0), (f1, p1) = self.ideal_nadir()
+        k = self.knee()
+        d = k.design
+        rows = [
+            ("points (failed)", f"{len(self.points)} ({len(self.failed)})", ""),
+            ("turning effort F_turn", f"{f0:.4g} – {f1:.4g}", "N"),
+            ("threshold force P", f"{p0:.4g} – {p1:.4g}", "N"),
+            ("knee F_turn / P", f"{k.turning_effort:.4g} / {k.threshold_force:.4g}", "N"),
+            ("knee T / d / B", f"{d.trail / INCH:.3f} / {d.diameter / INCH:.3f} / {d.groove / INCH:.3f}", "in"),
+            ("knee c_f", f"{d.damping:.4g}", "N·m/rad"),
+            ("knee V_c", f"{k.critical_speed:.4g}", "m/s"),
+            ("families", ", ".join(dict.fromkeys(p.family for p in self.points if p.family)) or "–", ""),
+            ("normalised hypervolume", f"{self.hypervolume():.4f}", ""),
+        ]
+        svg = svg_curve(
+            f[:, 1],
+            f[:, 0],
+            "threshold force P [N]",
+            "turning effort F_turn [N]",
+            marks=[(k.threshold_force, k.turning_effort, "knee")],
+        )  # axes as front.plot()
+        return html_table(f"Pareto front {name!r}", rows, extra=svg)
+
+    def plot(self, ax=None, color_by="family"):
+        """Draw the front, turning effort F_turn [N] against sill force P [N], knee circled; returns the Axes.
+
+        ``color_by``: "family" (the mechanism that stops shimmy), "trail", "diameter", "groove" [mm],
+        "damping" [N·m/rad], "critical_speed" [m/s] or None.  The report's front figure draws with the same
+        function (:func:`designer.plots.fronts.plot_front`).
+        """
+        # late import: loads matplotlib (via designer.plots.fronts) only when this runs
+        from designer.plots.fronts import draw_fronts, plot_front
+
+        f = self.objectives()
+        ax = plot_front(
+            f[:, 0],
+            f[:, 1],
+            [p.family for p in self.points],
+            ax=ax,
+            color_by=color_by,
+            designs=self.designs(),
+            critical_speed=[p.critical_speed for p in self.points],
+            legend=False,
+            label="buildable front" if self.meta.get("buildable") else "continuous front",
+        )
+        knee = self.knee()
+        if knee is not None and len(self) >= 3:
+            draw_fronts(
+                ax,
+                [],
+                [
+                    {
+                        "threshold_force": knee.threshold_force,
+                        "turning_effort": knee.turning_effort,
+                        "kind": "knee",
+                        "label": f"knee: P {knee.threshold_force:.1f} N, F {knee.turning_effort:.2f} N",
+                    }
+                ],
+                legend=False,
+            )
+        if len(self):
+            ax.legend(fontsize=7.5, loc="upper right", framealpha=0.92)
+        ax.set_title(f"Pareto front: {getattr(self.problem, 'name', '?')}", fontsize=10)
+        return ax
+
+    def plot_variables(self, axes=None):
+        """The design variables T, d, B [mm, in] and c_f [N·m/rad] along the front against P [N].
+
+        Returns the 2 × 2 array of Axes (``axes``: your own 2 × 2 array sharing x, or None for a new figure).
+        The report's variables figure draws with the same function
+        (:func:`designer.plots.fronts.plot_variables`).
+        """
+        # late import: loads matplotlib (via designer.plots.fronts) only when this runs
+        from designer.plots.fronts import plot_variables
+
+        return plot_variables(
+            [p.threshold_force for p in self.points],
+            self.designs(),
+            [p.family for p in self.points],
+            [self.problem.bounds[v] for v in VARIABLES],
+            self.gaps(),
+            axes=axes,
+        )
+
+    def to_pandas(self, failed: bool = False):
+        """The points as a pandas DataFrame, one row per point, SI units in the column names.
+
+        Columns: ``trail_m``, ``diameter_m``, ``groove_m``, ``damping_N_m_per_rad``, ``turning_effort_N``,
+        ``threshold_force_N``, ``critical_speed_m_s``, ``epsilon_N``, ``family``, ``status``, ``success``,
+        ``wheel``, ``margin_<constraint>`` (units in ``df.attrs["units"]``) and ``lambda_<constraint>``
+        (multipliers).  ``failed=True`` adds the failed points with ``failed`` true.  Inverse:
+        :meth:`from_pandas`.
+        """
+        try:
+            import pandas as pd  # optional dependency: only this method needs it
+        except ImportError:
+            raise ImportError("Front.to_pandas needs pandas: pip install 'caster-designer[notebook]'") from None
+        points = [(p, False) for p in self.points] + ([(p, True) for p in self.failed] if failed else [])
+        margins = list(dict.fromkeys(m for p, _ in points for m in p.margins))
+        lambdas = list(dict.fromkeys(m for p, _ in points for m in p.multipliers))
+        records = []
+        for p, bad in points:
+            r = {f"{v}_{_UNIT_SUFFIX[v]}": getattr(p.design, v) for v in VARIABLES}
+            r.update(
+                turning_effort_N=p.turning_effort,
+                threshold_force_N=p.threshold_force,
+                critical_speed_m_s=p.critical_speed,
+                epsilon_N=p.epsilon,
+                family=p.family,
+                status=p.status,
+                success=bool(p.success),
+                wheel=p.wheel,
+            )
+            r.update({f"margin_{m}": p.margins.get(m, math.nan) for m in margins})
+            r.update({f"lambda_{m}": p.multipliers.get(m, math.nan) for m in lambdas})
+            if failed:
+                r["failed"] = bad
+            records.append(r)
+        columns = (
+            [f"{v}_{_UNIT_SUFFIX[v]}" for v in VARIABLES]
+            + [
+                "turning_effort_N",
+                "threshold_force_N",
+                "critical_speed_m_s",
+                "epsilon_N",
+                "family",
+                "status",
+                "success",
+                "wheel",
+            ]
+            + [f"margin_{m}" for m in margins]
+            + [f"lambda_{m}" for m in lambdas]
+            + (["failed"] if failed else [])
+        )
+        df = pd.DataFrame.from_records(records, columns=columns)
+        df.attrs["problem"] = getattr(self.problem, "name", None)
+        df.attrs["units"] = {
+            **{c: c.rsplit("_", 1)[1] for c in columns[:4]},
+            "turning_effort_N": "N",
+            "threshold_force_N": "N",
+            "critical_speed_m_s": "m/s",
+            "epsilon_N": "N",
+            **{f"margin_{m}": "SI of the constraint (m/s shimmy, m lengths, N forces)" for m in margins},
+            **{f"lambda_{m}": "CasADi multiplier" for m in lambdas},
+        }
+        return df
+
+    @classmethod
+    def from_pandas(cls, df, problem: Problem) -> "Front":
+        """Rebuild a front from :meth:`to_pandas` output (rows with ``failed`` true go to ``.failed``).
+
+        NaN margins and multipliers are left out of the points' dicts (``to_pandas`` writes NaN where a point
+        lacks one).  ``meta`` is ``{"source": "pandas"}``.
+        """
+        points, failed = [], []
+        margin_cols = [c for c in df.columns if c.startswith("margin_")]
+        lambda_cols = [c for c in df.columns if c.startswith("lambda_")]
+        for r in df.to_dict("records"):
+            wheel = r.get("wheel")
+            point = FrontPoint(
+                design=Design(*(float(r[f"{v}_{_UNIT_SUFFIX[v]}"]) for v in VARIABLES)),
+                turning_effort=float(r["turning_effort_N"]),
+                threshold_force=float(r["threshold_force_N"]),
+                critical_speed=float(r["critical_speed_m_s"]),
+                epsilon=float(r["epsilon_N"]),
+                margins={c[7:]: float(r[c]) for c in margin_cols if not math.isnan(float(r[c]))},
+                multipliers={c[7:]: float(r[c]) for c in lambda_cols if not math.isnan(float(r[c]))},
+                status=str(r["status"]),
+                success=bool(r["success"]),
+                family=str(r["family"]),
+                wheel=wheel if isinstance(wheel, str) else None,
+            )
+            (failed if bool(r.get("failed", False)) else points).append(point)
+        return cls(problem=problem, points=points, failed=failed, meta={"source": "pandas"})
+
+    @classmethod
+    def from_csv(cls, path, problem=None, buildable: bool = False) -> "Front":
+        """Read a front written by :meth:`to_csv`, e.g. a report's ``front.csv`` (SI columns; no pandas needed).
+
+        Parameters
+        ----------
+        path : the CSV file
+        problem : a :class:`~designer.problem.Problem`, the path of a problem file, the name of a shipped
+            example (``designer.example_problem``), or None: the problem named in the ``front.json`` beside the
+            CSV, when it is a shipped example with the same digest
+        buildable : read the buildable front's rows (column ``buildable`` true) instead of the front's
+
+        The margins are not in the CSV (empty dicts); the multipliers are (``lambda_*`` columns).  ``meta`` is
+        ``{"source": path}``.
+        """
+        problem = _problem_for_csv(path, problem)
+        with open(path, newline="", encoding="utf-8") as fh:
+            records = list(csv.DictReader(fh))
+        points = []
+        for r in records:
+            if (r.get("buildable", "false") == "true") != buildable:
+                continue
+            points.append(
+                FrontPoint(
+                    design=Design(*(float(r[v]) for v in VARIABLES)),
+                    turning_effort=float(r["turning_effort"]),
+                    threshold_force=float(r["threshold_force"]),
+                    critical_speed=float(r["critical_speed"]),
+                    margins={},
+                    epsilon=float(r["epsilon"]),
+                    status=r["status"],
+                    success=True,
+                    family=r["family"],
+                    multipliers={
+                        k[7:]: float(v) for k, v in r.items() if k.startswith("lambda_") and v not in ("", None)
+                    },
+                    wheel=r.get("wheel") or None,
+                )
+            )
+        return cls(problem=problem, points=points, meta={"source": str(path)})
+
+    def rows(self) -> list[dict]:
+        """One flat dict per valid point (SI units)."""
+        return [p.row() for p in self.points]
+
+    def to_csv(self, path, buildable=None) -> None:
+        """Write the valid points: trail, diameter, groove, damping, turning_effort, threshold_force, critical_speed, …
+
+        ``buildable``: the buildable front (``Recommendation.buildable``, when the problem has ``[stock]``):
+        its points are added as rows and a column ``buildable`` says true for them, false for this front's.
+        """
+        rows = self.rows()
+        columns = list(VARIABLES) + [
+            "turning_effort",
+            "threshold_force",
+            "critical_speed",
+            "epsilon",
+            "family",
+            "status",
+        ]
+        if buildable is not None:
+            rows = [{**r, "buildable": "false"} for r in rows] + [{**r, "buildable": "true"} for r in buildable.rows()]
+            columns.append("buildable")
+        extra = sorted({k for r in rows for k in r} - set(columns))
+        with open(path, "w", newline="") as fh:
+            writer = csv.DictWriter(fh, fieldnames=columns + extra)
+            writer.writeheader()
+            for r in rows:
+                writer.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in r.items()})
+
+    def to_dict(self) -> dict:
+        """Plain data: points, failed points, indicators and run metadata."""
+        knee = self.knee()
+        best = self.weighted_best()
+        return {
+            "problem": self.problem.name,
+            "points": self.rows(),
+            "failed": [p.row() for p in self.failed],
+            "hypervolume": self.hypervolume() if self.points else None,
+            "hypervolume_reference": {
+                "normalisation": "(f - ideal) / (nadir - ideal), ideal and nadir of this front",
+                "ideal": self.ideal_nadir()[0].tolist() if self.points else None,
+                "nadir": self.ideal_nadir()[1].tolist() if self.points else None,
+                "reference_normalised": [1 + REFERENCE_OFFSET] * 2,
+            },
+            "knee": self.points.index(knee) if knee is not None else None,
+            "weighted_best": self.points.index(best) if best is not None else None,
+            "gaps": [{"index": i, "what": what} for i, what in self.gaps()],
+            "meta": self.meta,
+        }
+
+
+def clean(points: list[FrontPoint]) -> list[FrontPoint]:
+    """Remove dominated and duplicate points; sort by decreasing threshold force."""
+    if not points:
+        return []
+    f = np.array([[p.turning_effort, p.threshold_force] for p in points])
+    # tolerance: treat differences below 1e-9 relative as ties
+    scale = np.maximum(np.abs(f).max(axis=0), 1e-12)
+    rounded = np.round(f / scale, 9)
+    keep = nondominated(rounded)
+    kept = [p for p, k in zip(points, keep) if k]
+    kept.sort(key=lambda p: -p.threshold_force)
+    return kept
+
+
+__all__ = ["REFERENCE_OFFSET", "Front", "FrontPoint", "clean", "family_of"]
+
+
+def _problem_for_csv(path, problem) -> Problem:
+    """The problem of :meth:`Front.from_csv`: as given, loaded from a file or example name, or found beside."""
+    if isinstance(problem, Problem):
+        return problem
+    if problem is not None:
+        text = str(problem)
+        return example_problem(text) if text in example_names() else load_problem(text)
+    beside = Path(path).with_name("front.json")
+    try:
+        info = json.loads(beside.read_text(encoding="utf-8"))
+        name, digest = info["problem"], info.get("problem_digest")
+    except (OSError, ValueError, KeyError):
+        raise InputError(
+            f"Front.from_csv: problem = None: no front.json beside {path} names the problem; pass "
+            "problem= (a Problem, a problem file or an example name)"
+        ) from None
+    if name in example_names() and (digest is None or example_problem(name).digest() == digest):
+        return example_problem(name)
+    raise InputError(
+        f"Front.from_csv: problem = None: {beside} names {name!r}, which is not a shipped example "
+        "with the same digest; pass problem= (a Problem or its problem file)"
+    )

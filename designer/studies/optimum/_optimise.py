@@ -1,0 +1,427 @@
+"""The scalarised optimum of a problem: solve, certify, explain.
+
+``optimise(problem)`` minimises J = w_turn F_turn + w_threshold P subject to
+V_c >= (1 + margin) V_target (Eq. 7), the bounds and the swept-radius limit.
+It solves the exact CasADi/IPOPT NLP from several starts (the best points of
+a vectorised Sobol sample of the box, the two design families' corners and
+the geometric program's answer), keeps the best, and cross-checks it with the
+cvxpy geometric program and scipy's SLSQP.  The returned :class:`Solution`
+prints the design, objectives, constraint margins, sensitivities and the
+solver agreement.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from designer.data.paper import INCH
+from designer.errors import InfeasibleError, SolverError
+from designer.model import VARIABLES, Design, evaluate
+from designer.problem import Problem
+from designer.reprs import dataframe, html_table
+from designer.solvers.nlp import PARAMETER_INFO, best_starts, max_critical_speed, solve_best
+from designer.solvers.cache import shared_nlp
+import warnings
+from designer.errors import InputError
+from designer.problem import check_weights
+from designer.physics.uncertainty import shimmy_probability_mc
+
+ACTIVE_TOL = 1e-6
+
+
+@dataclass
+class Solution:
+    """The optimum of a caster problem and everything an engineer asks about it.
+
+    Attributes
+    ----------
+    problem : the problem solved (for a catalog problem: the chosen wheel's variant)
+    design : optimal design (SI)
+    objectives : {"turning_effort": F_turn [N], "threshold_force": P [N], "weighted": J [N]}
+    critical_speed : V_c at the optimum [m/s] (Eq. 7)
+    constraints : {name: margin}, margin >= 0 feasible (shimmy in m/s, swept radius in m, bounds in SI)
+    active : names of the active constraints and bounds
+    sensitivities : {parameter: d log J / d log p} from the NLP multipliers
+    cross_check : {solver: J [N]} from every solver that was run
+    status : "optimal" or a solver status
+    wheel : chosen Table 1 wheel for a catalog problem, else None
+    timings : {"build": s, "solve": s, "cross_check": s}
+    weights : (w_turn, w_threshold) of the J that was minimised (``--weights`` or the problem's)
+    """
+
+    problem: Problem
+    design: Design
+    objectives: dict
+    critical_speed: float
+    constraints: dict
+    active: list
+    sensitivities: dict
+    cross_check: dict = field(default_factory=dict)
+    gp: object | None = None
+    status: str = "optimal"
+    wheel: str | None = None
+    timings: dict = field(default_factory=dict)
+    starts: int = 0
+    weights: tuple = ()
+
+    def __post_init__(self):
+        if not self.weights:
+            self.weights = tuple(self.problem.weights)
+
+    def to_dict(self) -> dict:
+        """JSON-ready dict with the keys of ``designer run --json``."""
+        return {
+            "problem": self.problem.name,
+            "design": self.design.as_dict(),
+            "objectives": dict(self.objectives),
+            "weights": [float(w) for w in self.weights],
+            "critical_speed": self.critical_speed,
+            "required_speed": self.problem.required_speed,
+            "constraints": dict(self.constraints),
+            "active": list(self.active),
+            "sensitivities": dict(self.sensitivities),
+            "gp_duals": self.gp_duals(),
+            "cross_check": dict(self.cross_check),
+            "status": self.status,
+            "wheel": self.wheel,
+            "timings": dict(self.timings),
+        }
+
+    def gp_duals(self) -> dict:
+        """d log J / d log p from the geometric program's duals, where the GP defines them."""
+        duals = getattr(self.gp, "duals", None) or {}
+        return {k: float(v) for k, v in duals.items()}
+
+    def agreement(self) -> float:
+        """Largest relative difference of J between the solvers that ran."""
+        values = [v for v in self.cross_check.values() if v is not None and np.isfinite(v)]
+        if len(values) < 2:
+            return 0.0
+        ref = self.objectives["weighted"]
+        return float(max(abs(v - ref) for v in values) / abs(ref))
+
+    def __repr__(self) -> str:
+        """Two lines: the design (inches) and the objectives and V_c (the full account: ``print(solution)``)."""
+        d, o = self.design, self.objectives
+        return (
+            f"Solution({self.problem.name!r}, {self.status}): T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in, "
+            f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad\n"
+            f"  F_turn {o['turning_effort']:.4g} N, P {o['threshold_force']:.4g} N, J {o['weighted']:.4g} N, "
+            f"V_c {self.critical_speed:.4g} m/s (required {self.problem.required_speed:.4g})"
+        )
+
+    def _repr_html_(self) -> str:
+        """The optimum as a compact HTML table with units (notebooks; no solver or Monte Carlo runs)."""
+        d, o = self.design, self.objectives
+        rows = ([("wheel (Table 1)", self.wheel, "")] if self.wheel else []) + [
+            ("trail T", f"{d.trail / INCH:.3f} ({d.trail * 1000:.2f} mm)", "in"),
+            ("diameter d", f"{d.diameter / INCH:.3f} ({d.diameter * 1000:.2f} mm)", "in"),
+            ("groove B", f"{d.groove / INCH:.3f} ({d.groove * 1000:.2f} mm)", "in"),
+            ("damping c_f", f"{d.damping:.4g}", "N·m/rad"),
+            ("turning effort F_turn", f"{o['turning_effort']:.4g}", "N"),
+            ("threshold force P", f"{o['threshold_force']:.4g}", "N"),
+            (f"weighted J ({self.weights[0]:g}, {self.weights[1]:g})", f"{o['weighted']:.4g}", "N"),
+            ("critical speed V_c", f"{self.critical_speed:.4g}", "m/s"),
+            ("required speed", f"{self.problem.required_speed:.4g}", "m/s"),
+            ("active", ", ".join(self.active) or "none", ""),
+            ("solver agreement (relative J gap)", f"{self.agreement():.1e}", ""),
+        ]
+        return html_table(f"Optimum of {self.problem.name!r} ({self.status})", rows, caption=self.problem.title)
+
+    def to_pandas(self, wide: bool = False):
+        """The optimum as a pandas DataFrame (pandas: the ``notebook`` extra).
+
+        Long form (default, like GPkit's solution table): one row per quantity with columns ``kind``
+        ("design", "objective", "performance", "margin", "sensitivity", "cross_check"), ``name``, ``value``,
+        ``unit`` and ``active`` (the constraint or bound is active).  Margins are >= 0 when met (shimmy in
+        m/s, lengths in m, damping in N·m/rad); sensitivities are d log J / d log p [-].  ``wide=True``: one
+        row with the columns of :meth:`Front.to_pandas <designer.studies.front._front.Front.to_pandas>`
+        (``trail_m``, ..., ``turning_effort_N``, ``threshold_force_N``, ``critical_speed_m_s``) plus
+        ``weighted_N``, ``margin_<name>`` and ``sensitivity_<name>``; units in ``df.attrs["units"]``.
+        """
+        d, o = self.design, self.objectives
+        design = [
+            (f"{v}_{u}", v, float(getattr(d, v)), u.replace("N_m_per_rad", "N·m/rad"))
+            for v, u in (("trail", "m"), ("diameter", "m"), ("groove", "m"), ("damping", "N_m_per_rad"))
+        ]
+        attrs = {
+            "problem": self.problem.name,
+            "status": self.status,
+            "weights": tuple(self.weights),
+            "wheel": self.wheel,
+        }
+        if wide:
+            record = {col: value for col, _, value, _ in design}
+            record.update(
+                turning_effort_N=o["turning_effort"],
+                threshold_force_N=o["threshold_force"],
+                weighted_N=o["weighted"],
+                critical_speed_m_s=self.critical_speed,
+            )
+            units = {col: unit for col, _, _, unit in design}
+            units.update(turning_effort_N="N", threshold_force_N="N", weighted_N="N", critical_speed_m_s="m/s")
+            for name, value in self.constraints.items():
+                record[f"margin_{name}"], units[f"margin_{name}"] = float(value), _margin_unit(name)
+            for name, value in self.sensitivities.items():
+                record[f"sensitivity_{name}"], units[f"sensitivity_{name}"] = float(value), "-"
+            return dataframe("Solution.to_pandas", [record], list(record), units, **attrs)
+        rows = [("design", name, value, unit) for _, name, value, unit in design]
+        rows += [("objective", k, float(o[k]), "N") for k in ("turning_effort", "threshold_force", "weighted")]
+        rows += [
+            ("performance", "critical_speed", float(self.critical_speed), "m/s"),
+            ("performance", "required_speed", float(self.problem.required_speed), "m/s"),
+        ]
+        rows += [("margin", k, float(v), _margin_unit(k)) for k, v in self.constraints.items()]
+        rows += [("sensitivity", k, float(v), "-") for k, v in self.sensitivities.items()]
+        rows += [("cross_check", k, float(v) if v is not None else math.nan, "N") for k, v in self.cross_check.items()]
+        active = set(self.active)
+        records = [
+            {"kind": kind, "name": name, "value": value, "unit": unit, "active": kind == "margin" and name in active}
+            for kind, name, value, unit in rows
+        ]
+        return dataframe(
+            "Solution.to_pandas",
+            records,
+            ["kind", "name", "value", "unit", "active"],
+            {"value": "the row's unit column"},
+            **attrs,
+        )
+
+    def _robust_lines(self) -> list[str]:
+        u = self.problem.conditions.uncertainty
+        if u is None:
+            return []
+
+        d = self.design
+        inertia = float(self.problem.conditions.inertia(d.diameter))
+        p, se = shimmy_probability_mc(
+            d.trail,
+            inertia,
+            d.groove,
+            d.damping,
+            self.problem.conditions.slip_coefficient,
+            self.problem.required_speed,
+            u,
+        )
+        return [
+            f"  risk bound: P(V_c < {self.problem.required_speed:.3g} m/s) <= {u.probability:.1%} (exact quantile "
+            f"of the first-order law, t_{u.model_error_dof} model error); Monte Carlo {p:.2%} ± {se:.2%} "
+            f"(seed {u.seed}, at least {u.samples} samples, SE <= 0.1 pp)",
+            "",
+        ]
+
+    def __str__(self) -> str:
+        d = self.design
+        p = self.problem
+        lines = [f"Optimum of {p.name!r}: {p.title}", ""]
+        if self.wheel:
+            lines.append(f"  chosen wheel          Table 1 wheel {self.wheel}")
+        lines += [
+            f"  trail T               {d.trail / INCH:8.3f} in   {d.trail * 1000:8.2f} mm",
+            f"  diameter d            {d.diameter / INCH:8.3f} in   {d.diameter * 1000:8.2f} mm",
+            f"  groove B              {d.groove / INCH:8.3f} in   {d.groove * 1000:8.2f} mm",
+            f"  damping c_f           {d.damping:8.3f} N·m/rad",
+            "",
+            f"  turning effort        {self.objectives['turning_effort']:8.3f} N",
+            f"  threshold force       {self.objectives['threshold_force']:8.3f} N",
+            f"  weighted J            {self.objectives['weighted']:8.3f} N   (weights {self.weights[0]:g}, {self.weights[1]:g})",
+            f"  critical speed V_c    {self.critical_speed:8.3f} m/s (required {p.required_speed:.3f}; "
+            f"margin {self.constraints['shimmy']:+.2e})",
+            "",
+            *self._robust_lines(),
+            "  active constraints:   " + (", ".join(self.active) if self.active else "none"),
+            "",
+            "  sensitivities d log J / d log p (largest first; NLP multipliers, GP duals beside):",
+        ]
+        ranked = sorted(self.sensitivities.items(), key=lambda kv: -abs(kv[1]))
+        duals = self.gp_duals()
+        for name, value in ranked[:10]:
+            desc = PARAMETER_INFO.get(name, ("", "", "bound"))[2]
+            gp = f"{duals[name]:+8.4f}" if name in duals else "       –"
+            lines.append(f"    {name:24s} {value:+8.4f}  {gp}   {desc}")
+        lines += ["", "  solver agreement (J in N):"]
+        for solver, value in self.cross_check.items():
+            shown = "n/a" if value is None or not np.isfinite(value) else f"{value:.6f}"
+            lines.append(f"    {solver:24s} {shown}")
+        lines.append(f"    largest relative gap     {self.agreement():.1e}")
+        return "\n".join(lines)
+
+
+def constraint_margins(problem: Problem, design: Design, values: dict) -> tuple[dict, list]:
+    """Margins (>= 0 feasible) of every constraint and bound, and the active ones."""
+    margins = {"shimmy": values["design_speed"] - problem.required_speed}
+    if problem.swept_radius_max is not None:
+        margins["swept_radius"] = problem.swept_radius_max - values["swept_radius"]
+    x = design.as_array()
+    for i, var in enumerate(VARIABLES):
+        b = problem.bounds[var]
+        if b.fixed:
+            continue
+        margins[f"{var}.min"] = x[i] - b.low
+        margins[f"{var}.max"] = b.high - x[i]
+    scale = {"shimmy": problem.required_speed, "swept_radius": problem.swept_radius_max or 1.0}
+    active = []
+    for name, margin in margins.items():
+        ref = scale.get(name, max(abs(problem.bounds[name.split(".")[0]].high), 1e-3) if "." in name else 1.0)
+        if abs(margin) <= ACTIVE_TOL * ref:
+            active.append(name)
+    return margins, active
+
+
+def optimise(problem: Problem, weights=None, cross_check: bool = True, samples: int = 1024) -> Solution:
+    """Minimise J = w_turn F_turn + w_threshold P of ``problem`` (docs/model.md#problems).
+
+    Parameters
+    ----------
+    problem : a :class:`~designer.problem.Problem` (catalog problems are
+        solved per wheel and the best wheel kept)
+    weights : (w_turn, w_threshold); default the problem's
+    cross_check : also solve with the cvxpy GP and scipy SLSQP and report J of each
+    samples : size of the Sobol sample used to choose NLP starts
+
+    Returns
+    -------
+    Solution
+
+    Raises
+    ------
+    InfeasibleError
+        The target speed is out of reach: the message gives the highest
+        reachable V_c, the design reaching it and the bounds to relax.
+    SolverError
+        IPOPT failed from every start although the problem is feasible.
+    """
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="inertia power law used at")
+        warnings.filterwarnings("ignore", message="Solution may be inaccurate")  # GP cross-check, polished below
+        solution = _optimise(problem, weights, cross_check, samples)
+    # once, and only if the reported optimum uses an extrapolated diameter
+    for message in problem.model_warnings([solution.design.diameter]):
+        warnings.warn(message, UserWarning, stacklevel=2)
+    return solution
+
+
+def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Solution:
+
+    w = check_weights(problem.weights if weights is None else weights, "weights", error=InputError)
+    build = solve = 0.0
+    candidates = []
+    gp_results = {}
+    for variant in problem.variants():
+        nlp = shared_nlp(variant, same_scaling=True)  # the front's compiled NLP: the same solves as a new build
+        build += nlp.build_seconds
+        starts = best_starts(variant, w, n=samples)
+        gp = _gp(variant, w) if cross_check else None
+        if gp is not None:  # every family's GP answer is an NLP start (docs/model.md#solvers)
+            starts += [d.as_array() for d in gp.designs.values()]
+        t0 = time.perf_counter()
+        best, results = solve_best(nlp, starts, w)
+        solve += time.perf_counter() - t0
+        if best is not None:
+            candidates.append((best.objective, variant, nlp, best, len(starts)))
+            gp_results[id(variant)] = gp
+    if not candidates:
+        raise diagnose_infeasible(problem)
+    j, variant, nlp, best, n_starts = min(candidates, key=lambda c: c[0])
+    design = best.design
+    values = evaluate(design, variant.conditions)
+    margins, active = constraint_margins(variant, design, values)
+    objectives = {
+        "turning_effort": values["turning_effort"],
+        "threshold_force": values["threshold_force"],
+        "weighted": w[0] * values["turning_effort"] + w[1] * values["threshold_force"],
+    }
+    sens = nlp.sensitivities(best, w)
+    checks = {"casadi-ipopt": objectives["weighted"]}
+    t0 = time.perf_counter()
+    gp = gp_results.get(id(variant))
+    if cross_check:
+        # late import: loads scipy (via designer.solvers.slsqp) only when this runs
+        from designer.solvers.slsqp import slsqp
+
+        # scipy on the chosen variant, from the NLP optimum and random starts
+        _, j_scipy = slsqp(variant, w, starts=[design])
+        checks["scipy-slsqp"] = j_scipy
+        if gp is not None:
+            checks["cvxpy-gp"] = _gp_polished(variant, gp, w)
+    wheel = variant.conditions.inertia.wheel.key if problem.wheels else None
+    return Solution(
+        problem=variant if problem.wheels else problem,
+        design=design,
+        objectives=objectives,
+        critical_speed=values["critical_speed"],
+        constraints=margins,
+        active=active,
+        sensitivities=sens,
+        cross_check=checks,
+        gp=gp,
+        wheel=wheel,
+        timings={"build": build, "solve": solve, "cross_check": time.perf_counter() - t0},
+        starts=n_starts,
+        weights=tuple(w),
+    )
+
+
+def _gp(problem: Problem, weights):
+    """The GP/SGP answer, or None if the GP module is unavailable or fails.
+
+    For robust problems the GP bounds the quantile constraint conservatively
+    (see ``designer.solvers.gp._solve``); its polished answer is still a cross-check.
+    """
+    try:  # late import: cvxpy (the GP cross-check) loads only when the cross-check runs
+        from designer.solvers import gp as gp_module
+    except ImportError:
+        return None
+    try:
+        return gp_module.solve_gp(problem, weights)
+    except Exception:  # the GP is a cross-check; its failure is reported, not fatal
+        return None
+
+
+def _gp_polished(problem: Problem, gp, weights) -> float:
+    from designer.solvers import gp as gp_module  # late import: cvxpy (the GP cross-check) only when it runs
+
+    try:
+        _, j = gp_module.polish(problem, gp, weights)
+        return float(j)
+    except Exception:
+        return float("nan")
+
+
+def diagnose_infeasible(problem: Problem) -> Exception:
+    """Explain why no feasible design was found."""
+    best = None
+    for variant in problem.variants():
+        v, design, active = max_critical_speed(variant)
+        if best is None or v > best[0]:
+            best = (v, design, active, variant)
+    v, design, active, variant = best
+    if v < problem.required_speed * (1 - 1e-6):
+        relax = ", ".join(active) if active else "the variable bounds"
+        wheel = f" with wheel {variant.conditions.inertia.wheel.key}" if problem.wheels else ""
+        return InfeasibleError(
+            f"target speed {problem.required_speed:.3g} m/s (shimmy.target_speed × (1 + margin)) is out of reach: "
+            f"the highest critical speed inside the bounds is {v:.3f} m/s{wheel} at {design.describe()}; "
+            f"relax {relax} or lower shimmy.target_speed",
+            best={"critical_speed": v, "design": design.as_dict(), "active": active},
+        )
+    return SolverError(
+        f"IPOPT found no optimum of {problem.name!r} from any start although V_c up to {v:.3f} m/s is reachable; "
+        f"run with --debug and report it"
+    )
+
+
+def _margin_unit(name: str) -> str:
+    """SI unit of a constraint margin of :func:`constraint_margins` (shimmy m/s, lengths m, damping N·m/rad)."""
+    if name == "shimmy":
+        return "m/s"
+    if name.startswith("damping"):
+        return "N·m/rad"
+    if name.startswith("threshold"):
+        return "N"
+    return "m"

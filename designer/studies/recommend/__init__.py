@@ -1,0 +1,26 @@
+"""Build this caster: the recommended stock caster, its alternatives and the price of stock.
+
+Modules
+-------
+_recommend  :func:`recommend`: the buildable front, the rule, the recommendation
+_record     :class:`Recommendation`: the result record (reprs, drawing)
+_rule       the selection rules and what the weights mean
+_stock      stock candidates and their risk screen
+"""
+
+from __future__ import annotations
+
+from designer.studies.recommend._record import Recommendation
+from designer.studies.recommend._recommend import recommend
+from designer.studies.recommend._rule import select_rows, weights_meaning
+from designer.studies.recommend._stock import confident_speed, risk_screen, stock_candidates
+
+__all__ = [
+    "Recommendation",
+    "confident_speed",
+    "recommend",
+    "risk_screen",
+    "select_rows",
+    "stock_candidates",
+    "weights_meaning",
+]

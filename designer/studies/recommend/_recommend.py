@@ -1,0 +1,396 @@
+"""Build this caster: one safe, buildable recommendation, by a stated rule, with the front behind it.
+
+1. **The stock** (:func:`stock_candidates`): every combination of the parts of ``[stock]`` (fork holes,
+   wheels or diameters, groove profiles, friction washers); a variable the stock leaves out stays
+   continuous within its bounds, a fixed variable (or a catalogue wheel) is one part.
+2. **Deterministic screening** (:func:`risk_screen`): the risk bound V_q(x) >= (1 + margin) V_target,
+   V_q the speed reached with probability 1 − α (:func:`designer.physics.uncertainty.shimmy_speed_quantile`;
+   V_c of Eq. 7 itself with ``[robust] enabled = false``), the swept radius T + d/2 <= R_max and the sill
+   (d > 2h, Eq. 4A).  No random numbers: a tighter α can never make a caster look better.
+3. **The buildable front**: all-discrete stock is evaluated exactly (vectorised); with continuous
+   variables left, each stock combination's continuous rest is solved exactly (the NLP of
+   :mod:`designer.studies.front._pareto`: one point when the diameter is stock, since then P is fixed; its
+   sub-front otherwise).  The non-dominated set in (F_turn, P) is kept.
+4. **The rule** (:func:`select_rows`, vectorised so ``designer fleet`` uses the same code): the knee of
+   the buildable front (the point farthest from the chord between its ends, objectives normalised to
+   the front's range, on the ideal side; fewer than three points: the end with the least J = w_turn F + w_threshold P), or with
+   ``[objective] max_threshold_force`` / ``max_turning_effort`` the best on the other objective within
+   the cap.  Alternatives: the easiest to turn and the easiest over the sill.
+5. **Reported risk**: P(shimmy at V_target) by a separate Monte Carlo of the same distribution with its
+   own seed and SE <= 0.1 percentage point (:func:`designer.physics.uncertainty.shimmy_probability_mc`).
+
+Steps 1 and 2 live in :mod:`designer.studies.recommend._stock`, step 4 in
+:mod:`designer.studies.recommend._rule` and the :class:`Recommendation` record in
+:mod:`designer.studies.recommend._record` (all re-exported here); this module holds step 3 (the buildable
+candidates), the messages when nothing is buildable, and :func:`recommend`, which runs the five steps.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from designer.data.paper import INCH
+from designer.errors import InfeasibleError
+from designer.model import Design
+from designer.physics.geometry import swept_radius
+from designer.physics.inertia import Fixed
+from designer.physics.shimmy import critical_shimmy_speed
+from designer.physics.uncertainty import Uncertainty, shimmy_probability_mc, shimmy_speed_quantile
+from designer.problem import Bound, load_problem
+from designer.studies.recommend._record import Recommendation
+from designer.studies.recommend._rule import RULES, rule_text, select_rows, weights_meaning
+from designer.studies.recommend._stock import (
+    CandidateTable,
+    ScreenedTable,
+    candidate_table,
+    confident_speed,
+    objectives,
+    risk_screen,
+    stock_candidates,
+)
+
+__all__ = [
+    "RULES",
+    "CandidateTable",
+    "Recommendation",
+    "ScreenedTable",
+    "candidate_table",
+    "confident_speed",
+    "objectives",
+    "recommend",
+    "risk_screen",
+    "rule_text",
+    "select_rows",
+    "stock_candidates",
+    "weights_meaning",
+]
+
+
+@dataclass
+class _Buildable:
+    """The buildable candidates before the rule: arrays over candidates (all feasible)."""
+
+    designs: np.ndarray  # (n, 4)
+    inertia: np.ndarray
+    wheel: np.ndarray
+    turning_effort: np.ndarray
+    threshold_force: np.ndarray
+    critical_speed: np.ndarray
+    design_speed: np.ndarray
+    swept_radius: np.ndarray
+
+
+def _discrete_buildable(problem) -> tuple[_Buildable, ScreenedTable]:
+    t = candidate_table(problem)
+    cand = t.candidates
+    k = t.feasible
+    designs = np.column_stack([cand.trail, cand.diameter, cand.groove, cand.damping])[k]
+    return _Buildable(
+        designs,
+        cand.inertia[k],
+        cand.wheel[k],
+        t.turning_effort[k],
+        t.threshold_force[k],
+        t.critical_speed[k],
+        t.design_speed[k],
+        t.swept_radius[k],
+    ), t
+
+
+def _sub_problem(problem, row: dict, inertia, wheel):
+    """The problem with one stock combination's parts fixed (the rest continuous)."""
+
+    bounds = dict(problem.bounds)
+    for name, value in row.items():
+        if value is not None:
+            bounds[name] = Bound(value, value)
+    conditions = problem.conditions
+    if row["diameter"] is not None and inertia is not None and (wheel or problem.wheels):
+        conditions = conditions.replace(inertia=Fixed(float(inertia)))
+    return dataclasses.replace(problem, bounds=bounds, conditions=conditions, wheels=(), stock=None, source=None)
+
+
+def _continuous_buildable(problem) -> _Buildable:
+    """Each stock combination's continuous rest solved exactly (NLP), then pooled."""
+    # late import: loads casadi (via designer.studies.front._pareto) only when this runs
+    from designer.studies.front import pareto_front
+
+    cand = stock_candidates(problem)
+    rows = []
+    for j in range(len(cand)):
+        row = cand.design(j)
+        inertia = None if cand.inertia is None else float(cand.inertia[j])
+        sub = _sub_problem(problem, row, inertia, cand.wheel[j])
+        points = 2 if row["diameter"] is not None else min(21, problem.pareto_points)
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", UserWarning)
+                front = pareto_front(sub, points=points)
+        except InfeasibleError:
+            continue
+        for pt in front:
+            rows.append((pt.design.as_array(), float(sub.conditions.inertia(pt.design.diameter)), cand.wheel[j]))
+    if not rows:
+        empty = np.zeros(0)
+        return _Buildable(np.zeros((0, 4)), empty, np.zeros(0, dtype=object), empty, empty, empty, empty, empty)
+    x = np.array([r[0] for r in rows])
+    inertia = np.array([r[1] for r in rows])
+    c = problem.conditions
+    v = critical_shimmy_speed(x[:, 0], inertia, x[:, 2], x[:, 3], c.slip_coefficient)
+    q = np.asarray(confident_speed(x[:, 0], inertia, x[:, 2], x[:, 3], c.slip_coefficient, problem.risk), float)
+    f, p = objectives(problem, x[:, 0], x[:, 1], x[:, 2], x[:, 3])
+    r = swept_radius(x[:, 0], x[:, 1])
+    return _Buildable(
+        x,
+        inertia,
+        np.array([r_[2] for r_ in rows], dtype=object),
+        np.asarray(f, float),
+        np.asarray(p, float),
+        np.asarray(v, float),
+        q,
+        np.asarray(r, float),
+    )
+
+
+def _infeasible_message(problem, table: ScreenedTable | None) -> str:
+    """Exit-4 text: the closest stock combination and what to relax."""
+    risk = problem.risk
+    bound = (
+        f"P(shimmy below {problem.required_speed:.3g} m/s) <= {risk.probability:g}"
+        if risk is not None
+        else f"V_c >= {problem.required_speed:.3g} m/s"
+    )
+    if table is None or not len(table.candidates):
+        return (
+            f"{problem.name}: no stock combination meets the risk bound {bound}; relax the stock "
+            f"(more groove, stronger friction washers, longer fork holes), robust.probability or "
+            f"shimmy.target_speed"
+        )
+    cand = table.candidates
+    ratio = table.design_speed / problem.required_speed
+    pool = np.flatnonzero(table.radius_ok & np.isfinite(table.threshold_force))
+    if not len(pool):
+        j = int(np.argmin(table.swept_radius))
+        return (
+            f"{problem.name}: no stock combination fits the swept radius {problem.swept_radius_max / INCH:.3f} in; "
+            f"the smallest is {table.swept_radius[j] / INCH:.3f} in (T + d/2); relax "
+            f"constraints.swept_radius_max or stock smaller wheels or shorter fork holes"
+        )
+    j = int(pool[np.argmax(ratio[pool])])
+    d = cand.design(j)
+    relax = []
+    if d["groove"] >= cand.groove.max() * (1 - 1e-12) and problem.bounds["groove"].high > 0:
+        relax.append("a wider groove (stock.grooves)")
+    if d["damping"] >= cand.damping.max() * (1 - 1e-12):
+        relax.append("a stronger friction washer (stock.dampings)")
+    if d["trail"] >= cand.trail.max() * (1 - 1e-12):
+        relax.append(
+            "a longer fork (variables.trail.max)"
+            if problem.swept_radius_max is None or table.swept_radius[j] < problem.swept_radius_max * (1 - 1e-9)
+            else "a larger swept radius (constraints.swept_radius_max)"
+        )
+    relax.append(
+        "a smaller wheel (lighter: less inertia)" if d["diameter"] > cand.diameter.min() else "a lighter wheel"
+    )
+    relax.append(f"robust.probability (now {risk.probability:g})" if risk is not None else "shimmy.margin")
+    relax.append("shimmy.target_speed")
+    wheel = f" (wheel {cand.wheel[j]})" if cand.wheel[j] else ""
+    return (
+        f"{problem.name}: no stock combination meets the risk bound {bound}; the closest is "
+        f"T = {d['trail'] / INCH:.3f} in, d = {d['diameter'] / INCH:.3f} in{wheel}, B = {d['groove'] / INCH:.3f} in, "
+        f"c_f = {d['damping']:.3g} N·m/rad, reaching {table.design_speed[j]:.3f} m/s with probability "
+        f"{1 - (risk.probability if risk is not None else 0):.0%} (needs {problem.required_speed:.3f}); relax: "
+        + ", ".join(relax)
+    )
+
+
+def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, seed=None) -> Recommendation:
+    u = problem.risk if problem.risk is not None else Uncertainty()
+    x = b.designs[i]
+    c = problem.conditions
+    p, se = shimmy_probability_mc(
+        float(x[0]),
+        float(b.inertia[i]),
+        float(x[2]),
+        float(x[3]),
+        c.slip_coefficient,
+        problem.target_speed,
+        u,
+        samples=samples,
+        seed=seed,
+    )
+    n = max(
+        int(u.samples if samples is None else samples), math.ceil(max(p * (1 - p), 1e-12) / 0.001**2) if p > 0 else 0
+    )
+    q = (
+        b.design_speed[i]
+        if problem.risk is not None
+        else float(shimmy_speed_quantile(x[0], b.inertia[i], x[2], x[3], c.slip_coefficient, u))
+    )
+    return Recommendation(
+        design=Design.from_array(x),
+        turning_effort=float(b.turning_effort[i]),
+        threshold_force=float(b.threshold_force[i]),
+        critical_speed=float(b.critical_speed[i]),
+        confident_speed=float(q),
+        shimmy_probability=p,
+        shimmy_probability_se=se,
+        swept_radius=float(b.swept_radius[i]),
+        swept_radius_max=problem.swept_radius_max,
+        rule=rule,
+        wheel=str(b.wheel[i]) or None,
+        inertia=float(b.inertia[i]),
+        role=role,
+        target_speed=problem.target_speed,
+        required_speed=problem.required_speed,
+        alpha=None if problem.risk is None else problem.risk.probability,
+        mc_samples=n,
+        mc_seed=int(u.seed if seed is None else seed),
+        weights=tuple(problem.weights),
+        problem=problem,
+    )
+
+
+def _buildable_front(problem, b: _Buildable, member: np.ndarray):
+    """The buildable front as a :class:`designer.studies.front._pareto.Front` (decreasing P)."""
+    # late import: loads casadi (via designer.studies.front._pareto) only when this runs
+    from designer.studies.front import Front, FrontPoint, family_of
+
+    idx = np.flatnonzero(member)
+    idx = idx[np.argsort(-b.threshold_force[idx], kind="stable")]
+    points = []
+    for i in idx:
+        d = Design.from_array(b.designs[i])
+        points.append(
+            FrontPoint(
+                d,
+                float(b.turning_effort[i]),
+                float(b.threshold_force[i]),
+                float(b.critical_speed[i]),
+                {"shimmy": float(b.design_speed[i] - problem.required_speed)},
+                float(b.threshold_force[i]),
+                "stock",
+                True,
+                {},
+                family_of(problem, d),
+                str(b.wheel[i]) or None,
+            )
+        )
+    return Front(
+        problem, points, [], {"method": "exhaustive over the stock; continuous rest solved exactly", "buildable": True}
+    )
+
+
+def recommend(problem, samples: int | None = None, seed: int | None = None) -> Recommendation:
+    """``designer.recommend``: the caster to build for ``problem``, by the problem's rule.
+
+    Parameters
+    ----------
+    problem : a :class:`designer.problem.Problem` or a path to a problem file
+    samples, seed : Monte Carlo sample (a minimum) and seed of the reported P(shimmy) (default the
+        problem's ``[robust]`` ones: 50 000, seed 20111)
+
+    Returns
+    -------
+    Recommendation (with two alternatives, the buildable front and, on access, the continuous front)
+
+    Raises
+    ------
+    InfeasibleError (exit 4)
+        No stock combination meets the risk bound (the message names the closest and what to relax),
+        or none is within the cap of ``[objective]``.
+    """
+
+    if isinstance(problem, (str, Path)):
+        problem = load_problem(problem)
+    b = _buildable(problem)
+    sel = select_rows(
+        b.turning_effort[None, :],
+        b.threshold_force[None, :],
+        np.ones((1, len(b.turning_effort)), bool),
+        problem.weights,
+        problem.max_threshold_force,
+        problem.max_turning_effort,
+    )
+    size = int(sel["front_size"][0])
+    choice = int(sel["choice"][0])
+    if choice < 0:
+        raise _over_cap_error(problem, b, sel)
+    rule = rule_text(problem, size)
+    rec = _record(problem, b, choice, rule, "recommended", samples, seed)
+    rec.buildable = _buildable_front(problem, b, sel["front"][0])
+    alts = []
+    for key, role in (("easiest_turn", "easiest to turn"), ("easiest_sill", "easiest over the sill")):
+        i = int(sel[key][0])
+        if i >= 0 and i != choice:  # a short front: give what there is, not the same caster twice
+            alts.append(_record(problem, b, i, rule, role, samples, seed))
+    rec.alternatives = alts
+    rec.note = _note(problem, rec, size)
+    return rec
+
+
+def _buildable(problem) -> _Buildable:
+    """Step 3: the buildable candidates (exact for all-discrete stock, NLP for a continuous rest); raises
+    InfeasibleError (the box's own diagnosis, else the closest stock combination) when there is none."""
+    table = None
+    if stock_candidates(problem).discrete:
+        b, table = _discrete_buildable(problem)
+    else:
+        b = _continuous_buildable(problem)
+    if not len(b.turning_effort):
+        # late import: loads casadi, cvxpy, jinja2, scipy (via designer.studies.optimum._optimise) only when this runs
+        from designer.studies.optimum import diagnose_infeasible
+
+        error = diagnose_infeasible(problem)  # out of reach of the whole box: that is the message, not the stock's
+        if isinstance(error, InfeasibleError):
+            raise error
+        raise InfeasibleError(_infeasible_message(problem, table))
+    return b
+
+
+def _over_cap_error(problem, b: _Buildable, sel: dict) -> InfeasibleError:
+    """Exit-4 error when a buildable front exists but no point is within the cap of ``[objective]``."""
+    cap = (
+        f"objective.max_threshold_force = {problem.max_threshold_force:.1f} N"
+        if problem.max_threshold_force is not None
+        else f"objective.max_turning_effort = {problem.max_turning_effort:.2f} N"
+    )
+    lo = int(sel["easiest_sill"][0]) if problem.max_threshold_force is not None else int(sel["easiest_turn"][0])
+    best = (
+        f"the least sill force buildable is {b.threshold_force[lo]:.2f} N"
+        if problem.max_threshold_force is not None
+        else f"the least turning effort buildable is {b.turning_effort[lo]:.3f} N"
+    )
+    return InfeasibleError(
+        f"{problem.name}: no buildable caster within the risk bound meets {cap}; {best}; "
+        f"raise the cap or widen the stock"
+    )
+
+
+def _note(problem, rec: Recommendation, size: int) -> str:
+    """What to know about the recommendation: a short buildable front, or no risk bound."""
+    notes = []
+    if size < 3:
+        notes.append(
+            f"the buildable front has {size} point{'s' if size != 1 else ''}: "
+            + (
+                "the recommendation is the one with the least J (weights: "
+                + weights_meaning(problem.weights)
+                + ") and the only alternative the other end"
+                if size == 2
+                else "one stock caster is best on both objectives, so there is no alternative"
+            )
+        )
+    if problem.risk is None:
+        notes.append(
+            f"no risk bound ([robust] enabled = false): this caster shimmies at {problem.target_speed:.3g} m/s "
+            f"with probability {rec.shimmy_probability:.1%} ± {rec.shimmy_probability_se:.1%} under the "
+            f"default scatter"
+        )
+    return "; ".join(notes)

@@ -1,0 +1,206 @@
+"""The :class:`Recommendation` record: one caster to build, its numbers and the fronts behind it, with its
+text, JSON, HTML and drawing views.  Built by :func:`designer.studies.recommend._recommend.recommend` (which re-exports it).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from designer.data.paper import INCH
+from designer.model import Design
+from designer.plots.caster import caster_svg, plot_caster
+from designer.reprs import html_table
+
+
+@dataclass
+class Recommendation:
+    """One caster to build, its numbers, and the fronts behind it (SI units).
+
+    Attributes
+    ----------
+    design : the caster (trail, diameter, groove, damping)
+    turning_effort : F_turn [N] (Eq. 9 with the turning model)
+    threshold_force : P, force to climb the sill [N] (Eq. 4A)
+    critical_speed : V_c of Eq. 7 [m/s]
+    confident_speed : the speed reached with probability 1 − α, V_q [m/s]
+    shimmy_probability : P(V_c,true < V_target) by Monte Carlo (own seed) [-]
+    shimmy_probability_se : its standard error [-]
+    swept_radius : T + d/2 [m]
+    swept_radius_max : the footrest limit [m] (None: no limit)
+    rule : how it was chosen
+    alternatives : [easiest to turn, easiest over the sill] (the same record type; fewer if the front is short)
+    buildable : the buildable risk-bounded front (a :class:`designer.studies.front._pareto.Front`)
+    front : the continuous risk-bounded front (computed on first access)
+    wheel : the wheel's name (catalogue) or None
+    inertia : I_w [kg·m²]
+    role : "recommended" | "easiest to turn" | "easiest over the sill"
+    note : what to know (e.g. a short front)
+    """
+
+    design: Design
+    turning_effort: float
+    threshold_force: float
+    critical_speed: float
+    confident_speed: float
+    shimmy_probability: float
+    shimmy_probability_se: float
+    swept_radius: float
+    swept_radius_max: float | None
+    rule: str
+    alternatives: list = field(default_factory=list)
+    buildable: object = None
+    wheel: str | None = None
+    inertia: float = math.nan
+    role: str = "recommended"
+    note: str = ""
+    target_speed: float = math.nan
+    required_speed: float = math.nan
+    alpha: float | None = None
+    mc_samples: int = 0
+    mc_seed: int = 0
+    weights: tuple = (1.0, 1.0)
+    problem: object = field(default=None, repr=False)
+    _front: object = field(default=None, repr=False)
+
+    @property
+    def front(self):
+        """The continuous risk-bounded front of the problem (:func:`designer.studies.front._pareto.pareto_front`)."""
+        if self._front is None and self.problem is not None:
+            # late import: loads casadi (via designer.studies.front._pareto) only when this runs
+            from designer.studies.front import pareto_front
+
+            self._front = pareto_front(self.problem)
+        return self._front
+
+    def to_dict(self, alternatives: bool = False) -> dict:
+        """The JSON record of ``designer run --json`` (SI)."""
+        out = {
+            "design": self.design.as_dict(),
+            "turning_effort": self.turning_effort,
+            "threshold_force": self.threshold_force,
+            "critical_speed": self.critical_speed,
+            "confident_speed": self.confident_speed,
+            "shimmy_probability": self.shimmy_probability,
+            "shimmy_probability_se": self.shimmy_probability_se,
+            "swept_radius": self.swept_radius,
+            "swept_radius_max": self.swept_radius_max,
+            "rule": self.rule,
+            "role": self.role,
+            "wheel": self.wheel,
+        }
+        if alternatives:
+            out["alternatives"] = [a.to_dict() for a in self.alternatives]
+        return out
+
+    def lines(self) -> list[str]:
+        """The caster as text lines (inches and SI)."""
+        d = self.design
+        risk = (
+            f"P(shimmy at {self.target_speed:.3g} m/s) = {self.shimmy_probability:.2%} ± "
+            f"{self.shimmy_probability_se:.2%} (Monte Carlo, {self.mc_samples} samples, seed {self.mc_seed})"
+        )
+        radius = (
+            f"{self.swept_radius / INCH:.3f} in (limit {self.swept_radius_max / INCH:.3f} in)"
+            if self.swept_radius_max is not None
+            else f"{self.swept_radius / INCH:.3f} in (no limit)"
+        )
+        level = f"{1 - self.alpha:.0%}" if self.alpha is not None else "95% (default scatter; no risk bound)"
+        return [
+            f"  trail T             {d.trail / INCH:8.3f} in   {d.trail * 1000:8.2f} mm",
+            f"  diameter d          {d.diameter / INCH:8.3f} in   {d.diameter * 1000:8.2f} mm"
+            + (f"   wheel {self.wheel}" if self.wheel else ""),
+            f"  groove B            {d.groove / INCH:8.3f} in   {d.groove * 1000:8.2f} mm",
+            f"  damping c_f         {d.damping:8.3f} N·m/rad",
+            f"  turning effort      {self.turning_effort:8.3f} N",
+            f"  sill force          {self.threshold_force:8.3f} N",
+            f"  V_c (Eq. 7)         {self.critical_speed:8.3f} m/s",
+            f"  speed reached with probability {level}: {self.confident_speed:.3f} m/s "
+            f"(required {self.required_speed:.3f})",
+            f"  {risk}",
+            f"  swept radius        {radius}",
+        ]
+
+    def __str__(self) -> str:
+        p = self.problem
+        head = [f"Build this caster for {p.name!r} ({self.rule}):" if p is not None else f"Build this ({self.rule}):"]
+        out = head + self.lines()
+        for alt in self.alternatives:
+            out += ["", f"Alternative: {alt.role}"] + alt.lines()
+        if self.note:
+            out += ["", f"Note: {self.note}"]
+        return "\n".join(out)
+
+    def __repr__(self) -> str:
+        """Two lines: the caster (inches) and its numbers; the rule and alternatives: ``print(rec)``."""
+        d = self.design
+        return (
+            f"Recommendation({self.role}): T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in, "
+            f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad\n"
+            f"  F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, V_c {self.critical_speed:.4g} m/s, "
+            f"P(shimmy) {self.shimmy_probability:.2%} ± {self.shimmy_probability_se:.2%}"
+        )
+
+    def draw(self, ax=None, sill_height: float | None = None):
+        """The recommended caster to scale: side view (wheel, fork, trail, sill) and top view (swept circle).
+
+        Returns ``(ax_side, ax_top)`` (matplotlib Axes; ``ax``: None for a new figure, one Axes for the side
+        view only, or a pair).  ``sill_height`` [m] defaults to the problem's threshold height h.  Same
+        geometry as the report's SVG drawing (:mod:`designer.plots.caster`).
+        """
+        d = self.design
+        h = (
+            sill_height
+            if sill_height is not None
+            else (self.problem.conditions.threshold_height if self.problem is not None else 0.5 * INCH)
+        )
+        name = f" for {self.problem.name!r}" if self.problem is not None else ""
+        return plot_caster(
+            d.trail,
+            d.diameter,
+            d.groove,
+            h,
+            self.swept_radius_max,
+            title=f"{self.role} caster{name}: T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in",
+            ax=ax,
+        )
+
+    def _repr_html_(self) -> str:
+        """The caster as a compact HTML table with units beside its drawing to scale (notebooks; no solver runs)."""
+        d = self.design
+        rows = ([("wheel", self.wheel, "")] if self.wheel else []) + [
+            ("trail T", f"{d.trail / INCH:.3f} ({d.trail * 1000:.2f} mm)", "in"),
+            ("diameter d", f"{d.diameter / INCH:.3f} ({d.diameter * 1000:.2f} mm)", "in"),
+            ("groove B", f"{d.groove / INCH:.3f} ({d.groove * 1000:.2f} mm)", "in"),
+            ("damping c_f", f"{d.damping:.4g}", "N·m/rad"),
+            ("turning effort F_turn", f"{self.turning_effort:.4g}", "N"),
+            ("sill force P", f"{self.threshold_force:.4g}", "N"),
+            ("critical speed V_c (Eq. 7)", f"{self.critical_speed:.4g}", "m/s"),
+            ("confident speed V_q", f"{self.confident_speed:.4g}", "m/s"),
+            ("required speed", f"{self.required_speed:.4g}", "m/s"),
+            ("P(shimmy) (Monte Carlo)", f"{self.shimmy_probability:.2%} ± {self.shimmy_probability_se:.2%}", ""),
+            (
+                "swept radius (limit)",
+                f"{self.swept_radius * 1000:.1f}"
+                + (f" ({self.swept_radius_max * 1000:.1f})" if self.swept_radius_max is not None else ""),
+                "mm",
+            ),
+        ]
+        drawing = ""
+        if self.problem is not None:
+            drawing = caster_svg(
+                d.trail,
+                d.diameter,
+                d.groove,
+                self.problem.conditions.threshold_height,
+                self.swept_radius_max,
+                scale=17.0,
+                label=f"{self.role} caster",
+            )
+        title = f"Build this caster for {self.problem.name!r}" if self.problem is not None else "Build this caster"
+        return html_table(
+            f"{title} ({self.role})",
+            rows,
+            caption=self.rule + (f" Note: {self.note}" if self.note else ""),
+            extra=drawing,
+        )

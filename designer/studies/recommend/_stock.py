@@ -1,0 +1,234 @@
+"""The stock and its deterministic screening: steps 1 and 2 of :mod:`designer.studies.recommend._recommend`.
+
+Every combination of the parts of ``[stock]`` as arrays (:func:`stock_candidates`, the single owner of
+the enumeration; ``designer fleet`` uses it too), the risk bound as a deterministic screen
+(:func:`risk_screen`, :func:`confident_speed`), the two objectives of candidate arrays
+(:func:`objectives`) and the screened table (:func:`candidate_table`).  Re-exported by
+:mod:`designer.studies.recommend._recommend`.
+"""
+
+from __future__ import annotations
+
+import itertools
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from designer.model import VARIABLES
+from designer.physics.geometry import swept_radius
+from designer.physics.shimmy import critical_shimmy_speed
+from designer.physics.threshold import threshold_force_ratio
+from designer.physics.turning import added_damper_moment, sliding_turning_moment
+from designer.physics.uncertainty import shimmy_speed_quantile
+from designer.physics.inertia import Catalog
+
+
+@dataclass
+class CandidateTable:
+    """Every stock combination as arrays (one entry per combination), SI; ``None`` = continuous.
+
+    Attributes
+    ----------
+    trail, diameter, groove, damping : the parts [m, m, m, N·m/rad], or None where the variable is continuous
+    inertia : I_w per combination [kg·m²] (None when the diameter is continuous)
+    wheel : wheel name per combination ("" for a plain diameter)
+    note : where the stock comes from
+    """
+
+    trail: np.ndarray | None
+    diameter: np.ndarray | None
+    groove: np.ndarray | None
+    damping: np.ndarray | None
+    inertia: np.ndarray | None
+    wheel: np.ndarray
+    note: str = ""
+
+    def __len__(self) -> int:
+        return len(self.wheel)
+
+    def get(self, key, default=None):
+        """Dict-style access (``table.get("trail")``)."""
+        return getattr(self, key, default)
+
+    @property
+    def discrete(self) -> bool:
+        """Every variable is a part (nothing left to solve continuously)."""
+        return all(getattr(self, k) is not None for k in VARIABLES)
+
+    def design(self, j: int) -> dict:
+        """Combination ``j`` as {trail, diameter, groove, damping} [SI] (None where continuous)."""
+        return {k: (None if getattr(self, k) is None else float(getattr(self, k)[j])) for k in VARIABLES}
+
+
+def _wheel_rows(problem, stock):
+    """Wheel choices: (diameter, inertia or None, groove or None, name) tuples, or None if d is continuous."""
+
+    c = problem.conditions
+    if problem.wheels:  # [inertia] model = "catalog": the wheels are Table 1's, with measured I_w
+        return [
+            (Catalog.from_key(k).fixed_diameter, float(Catalog.from_key(k).wheel.inertia), None, k)
+            for k in problem.wheels
+        ]
+    if stock is not None and stock.wheels is not None:
+        return [(w.diameter, w.inertia, w.groove, w.name) for w in stock.wheels]
+    b = problem.bounds["diameter"]
+    if stock is not None and stock.diameters is not None:
+        values = stock.diameters
+    elif b.fixed:
+        values = (b.low,)
+    else:
+        return None
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="inertia power law used at")
+        return [(d, float(c.inertia(d)), None, "") for d in values]
+
+
+def _values(problem, stock, name: str, listed):
+    b = problem.bounds[name]
+    if listed is not None:
+        return tuple(listed)
+    if b.fixed:
+        return (b.low,)
+    return None
+
+
+def stock_candidates(problem, stock=None) -> CandidateTable:
+    """All stock combinations of ``problem`` (its ``[stock]``, or ``stock`` if given) as arrays.
+
+    Parameters
+    ----------
+    problem : the problem (bounds, inertia model, catalogue wheels)
+    stock : a :class:`designer.problem.Stock` to use instead of ``problem.stock``
+
+    Returns
+    -------
+    CandidateTable; a variable neither listed nor fixed is ``None`` (continuous within its bounds).
+    """
+    stock = problem.stock if stock is None else stock
+    wheels = _wheel_rows(problem, stock)
+    trails = _values(problem, stock, "trail", None if stock is None else stock.trails)
+    grooves = _values(problem, stock, "groove", None if stock is None else stock.grooves)
+    dampings = _values(problem, stock, "damping", None if stock is None else stock.dampings)
+    wheel_axis = wheels if wheels is not None else [(None, None, None, "")]
+    rows = []
+    for (d, inertia, g_w, name), t, g, c in itertools.product(
+        wheel_axis, trails or (None,), grooves or (None,), dampings or (None,)
+    ):
+        groove = g_w if g_w is not None else g  # a catalogue wheel's own groove (then stock.grooves is absent)
+        rows.append((t, d, groove, c, inertia, name))
+    rows = list(dict.fromkeys(rows))  # a wheel's own groove repeats once per listed groove
+
+    def column(i, continuous):
+        if continuous:
+            return None
+        return np.array([r[i] for r in rows], float)
+
+    grooves_continuous = grooves is None and (wheels is None or any(w[2] is None for w in wheel_axis))
+    inertia = None
+    if wheels is not None:
+        inertia = np.array([r[4] if r[4] is not None else np.nan for r in rows], float)
+        missing = np.isnan(inertia)
+        if missing.any():
+            with warnings.catch_warnings():
+                warnings.filterwarnings("ignore", message="inertia power law used at")
+                d = np.array([r[1] for r in rows], float)
+                inertia[missing] = np.asarray(problem.conditions.inertia(d[missing]), float) + 0 * d[missing]
+    note = (
+        "the problem's [stock]"
+        if problem.stock is not None and stock is problem.stock
+        else "the given stock"
+        if stock is not None
+        else "no [stock]: every variable that is not fixed is continuous"
+    )
+    return CandidateTable(
+        trail=column(0, trails is None),
+        diameter=column(1, wheels is None),
+        groove=column(2, grooves_continuous),
+        damping=column(3, dampings is None),
+        inertia=inertia,
+        wheel=np.array([r[5] for r in rows], dtype=object),
+        note=note,
+    )
+
+
+def risk_screen(design_speed, required_speed):
+    """The deterministic risk bound: V_q >= (1 + margin) V_target (element-wise, no tolerance) [bool]."""
+    return np.asarray(design_speed) >= np.asarray(required_speed)
+
+
+def confident_speed(trail, inertia, groove, damping, slip_coefficient, risk):
+    """The speed reached with probability 1 − α (V_q), or V_c of Eq. 7 when ``risk`` is None [m/s]."""
+    if risk is None:
+        return critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient)
+    return shimmy_speed_quantile(trail, inertia, groove, damping, slip_coefficient, risk)
+
+
+def objectives(
+    problem, trail, diameter, groove, damping, load=None, threshold_height=None, surface=None, turning_mode=None
+):
+    """Turning effort F_turn (Eq. 9 with the turning model) and sill force P (Eq. 4A) [N], vectorised.
+
+    Chair values (load, sill, surface, mode) default to the problem's; arrays broadcast.  P is +inf
+    where the wheel cannot climb the sill (d <= 2h).
+    """
+    c = problem.conditions
+    load = c.load if load is None else load
+    h = c.threshold_height if threshold_height is None else threshold_height
+    moment = sliding_turning_moment(load, groove, surface or c.surface, turning_mode or c.turning_mode, c.turning)
+    effort = (moment + added_damper_moment(damping, c.disturbance_angle, c.turning)) / trail
+    d = np.asarray(diameter, float)
+    climbs = d > 2 * np.asarray(h)
+    safe = np.where(climbs, d, 3 * np.asarray(h))
+    force = np.where(climbs, np.asarray(load) * threshold_force_ratio(safe, h), np.inf)
+    return effort, force
+
+
+@dataclass
+class ScreenedTable:
+    """:class:`CandidateTable` (all discrete) with every number of the screening, per combination."""
+
+    candidates: CandidateTable
+    critical_speed: np.ndarray
+    design_speed: np.ndarray
+    swept_radius: np.ndarray
+    turning_effort: np.ndarray
+    threshold_force: np.ndarray
+    feasible: np.ndarray
+    risk_ok: np.ndarray
+    radius_ok: np.ndarray
+
+
+def candidate_table(problem, stock=None) -> ScreenedTable:
+    """All-discrete stock of ``problem`` evaluated and screened (V_c, V_q, R_s, F_turn, P, feasible).
+
+    Raises ValueError if a variable is continuous (use :func:`recommend`, which solves the rest).
+    """
+    cand = stock_candidates(problem, stock)
+    if not cand.discrete:
+        raise ValueError("candidate_table needs every variable in the stock; a continuous one is solved by recommend()")
+    c = problem.conditions
+    v = critical_shimmy_speed(cand.trail, cand.inertia, cand.groove, cand.damping, c.slip_coefficient)
+    q = np.asarray(
+        confident_speed(cand.trail, cand.inertia, cand.groove, cand.damping, c.slip_coefficient, problem.risk), float
+    )
+    r = swept_radius(cand.trail, cand.diameter)
+    f, p = objectives(problem, cand.trail, cand.diameter, cand.groove, cand.damping)
+    risk_ok = risk_screen(q, problem.required_speed)
+    radius_ok = (
+        (r <= problem.swept_radius_max * (1 + 1e-9))
+        if problem.swept_radius_max is not None
+        else np.ones(len(cand), bool)
+    )
+    feasible = risk_ok & radius_ok & np.isfinite(p)
+    return ScreenedTable(
+        cand,
+        np.asarray(v, float),
+        q,
+        np.asarray(r, float),
+        np.asarray(f, float) + 0 * q,
+        np.asarray(p, float) + 0 * q,
+        feasible,
+        risk_ok,
+        radius_ok,
+    )

@@ -1,0 +1,128 @@
+"""The input of a retrofit: the current caster as text (:func:`parse_current`) and the checks of the
+caster and the observation the model can take (:func:`_check_inputs`, one-line InputErrors).
+
+Part of :mod:`designer.studies.retrofit._retrofit` (which re-exports its public names).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from designer.data.paper import INCH, WALKING_SPEED
+from designer.errors import InputError
+from designer.model import Design, check_design
+from designer.physics.geometry import effective_trail
+from designer.problem import INERTIA_RANGE
+from designer.units import parse_quantity
+
+MAX_STEM_ANGLE = math.radians(30.0)
+"""Largest stem tilt accepted [rad]: seat-angle and dump changes tilt the stem by a few degrees."""
+
+
+_KEYS = {
+    "t": "trail",
+    "trail": "trail",
+    "d": "diameter",
+    "diameter": "diameter",
+    "b": "groove",
+    "groove": "groove",
+    "c": "damping",
+    "c_f": "damping",
+    "cf": "damping",
+    "damping": "damping",
+}
+
+
+def parse_current(text: str, option: str = "--current") -> Design:
+    """Parse ``"T=1.5in,d=7.75in,B=0.5625in,c=1.3"`` into a :class:`Design` [SI].
+
+    Keys: T (trail), d (diameter), B (groove), c (damping, N·m/rad); values
+    with units, plain numbers in SI.  InputError names the piece that fails.
+    """
+
+    if not isinstance(text, str) or not text.strip():
+        raise InputError(f'{option} {text!r}: expected T=..,d=..,B=..,c=.. (e.g. "T=1.5in,d=7.75in,B=0.5625in,c=1.3")')
+    values: dict[str, float] = {}
+    for piece in text.split(","):
+        if "=" not in piece:
+            raise InputError(
+                f"{option} {text!r}: {piece.strip()!r} is not KEY=VALUE "
+                f'(keys T, d, B, c; e.g. "T=1.5in,d=7.75in,B=0.5625in,c=1.3")'
+            )
+        key, value = (s.strip() for s in piece.split("=", 1))
+        name = _KEYS.get(key.lower())
+        if name is None:
+            raise InputError(
+                f"{option}: unknown key {key!r} in {text!r}; keys are T (trail), d (diameter), B (groove), c (damping)"
+            )
+        if name in values:
+            raise InputError(f"{option}: {key!r} given twice in {text!r}")
+        value = re.sub(r"^([-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?)\s*([A-Za-z].*)$", r"\1 \2", value)
+        try:
+            number = float(value)
+        except ValueError:
+            number = None
+        dimension = "damping" if name == "damping" else "length"
+        values[name] = parse_quantity(number if number is not None else value, dimension, f"{option} {key}")
+    missing = [k for k, n in (("T", "trail"), ("d", "diameter"), ("B", "groove"), ("c", "damping")) if n not in values]
+    if missing:
+        raise InputError(f"{option} {text!r}: missing {', '.join(missing)} (give T, d, B and c)")
+    try:
+        return Design(**values)
+    except InputError as exc:
+        raise InputError(f"{option}: {exc}") from None
+
+
+def _check_inputs(problem, current: Design, inertia, shimmied_at, stem_angle, onset_scatter) -> None:
+    """InputError (one line naming the value) for a caster or observation the model cannot take."""
+    check_design(current, "current ", error=InputError)
+    h = problem.conditions.threshold_height
+    if current.diameter <= 2 * h:
+        raise InputError(
+            f"current diameter = {current.diameter / INCH:.3g} in: must exceed twice the sill height "
+            f"({2 * h / INCH:.3g} in); d/h <= 2 cannot climb the sill (Eq. 4A)"
+        )
+    c0 = problem.conditions.turning.bare_fork_damping
+    if current.damping < c0 - 1e-12:
+        raise InputError(
+            f"current damping = {current.damping:g} N·m/rad: below the bare ball-bearing fork's "
+            f"{c0:g} N·m/rad (Eq. 11C), the least spindle damping a caster has"
+        )
+    if inertia is not None:
+        if not (
+            isinstance(inertia, (int, float))
+            and math.isfinite(inertia)
+            and INERTIA_RANGE[0] <= inertia <= INERTIA_RANGE[1]
+        ):
+            raise InputError(
+                f"inertia = {inertia!r} kg·m²: must be between {INERTIA_RANGE[0]:g} and "
+                f"{INERTIA_RANGE[1]:g} kg·m² (Table 1: 0.00026 to 0.0046)"
+            )
+    if not (isinstance(stem_angle, (int, float)) and math.isfinite(stem_angle) and abs(stem_angle) <= MAX_STEM_ANGLE):
+        raise InputError(
+            f"stem angle = {format(math.degrees(stem_angle), '.4g') if isinstance(stem_angle, (int, float)) else repr(stem_angle)}"
+            f" deg: must be within ±{math.degrees(MAX_STEM_ANGLE):.0f} deg of vertical"
+        )
+    t_eff = effective_trail(current.trail, current.diameter / 2, stem_angle)
+    if t_eff <= 0:
+        raise InputError(
+            f"stem angle = {math.degrees(stem_angle):.3g} deg: the effective trail "
+            f"{t_eff / INCH:.3g} in is not positive (the wheel would lead the stem)"
+        )
+    if shimmied_at is not None:
+        if not (isinstance(shimmied_at, (int, float)) and math.isfinite(shimmied_at)):
+            raise InputError(f"shimmied at = {shimmied_at!r}: expected a speed in m/s")
+        if shimmied_at < WALKING_SPEED:
+            raise InputError(
+                f"shimmied at = {shimmied_at:g} m/s: below walking speed ({WALKING_SPEED:g} m/s); "
+                f"a caster that shimmies that slowly is broken (loose bearing, bent fork), not "
+                f"described by Eq. 7; or was the speed in km/h?"
+            )
+        if shimmied_at > 10.0:
+            raise InputError(
+                f"shimmied at = {shimmied_at:g} m/s: above 10 m/s, no wheelchair goes that fast; "
+                f"was it given in km/h or mph?"
+            )
+    if not (math.isfinite(onset_scatter) and 0 < onset_scatter <= 1):
+        raise InputError(f"onset scatter = {onset_scatter!r}: σ of the log onset must be in (0, 1]")

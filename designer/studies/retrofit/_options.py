@@ -1,0 +1,234 @@
+"""What a retrofit can change: the candidate values of each part and every combination of changed parts.
+
+Part of :mod:`designer.studies.retrofit._retrofit` (which re-exports its public names): the four parts and the
+variable each sets, the candidate values from ``[stock]`` or a grid over the bounds (:func:`part_options`,
+the one place that decides them), and the vectorised enumeration of one- to four-part changes.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from designer.data.paper import INCH
+from designer.model import Design
+from designer.physics.inertia import Catalog, InertiaModel
+
+
+PARTS = ("washer", "tyre", "fork hole", "wheel")
+"""The four parts a retrofit can change, in the order they are listed (cheapest first)."""
+
+PART_VARIABLE = {"washer": "damping", "tyre": "groove", "fork hole": "trail", "wheel": "diameter"}
+"""The design variable each part sets (a catalogue wheel also sets groove and I_w)."""
+
+GRID_STEP = {"trail": INCH / 16, "diameter": INCH / 16, "groove": INCH / 16, "damping": 0.1}
+"""Step of the candidate grid [SI] for a variable that ``[stock]`` leaves continuous."""
+
+_LENGTHS = ("trail", "diameter", "groove")
+
+
+@dataclass(frozen=True)
+class _Wheel:
+    """A wheel on offer: diameter [m], groove [m] (NaN: takes any tyre), I_w [kg·m²], name."""
+
+    diameter: float
+    groove: float
+    inertia: float
+    name: str | None
+
+
+def _stock_of(problem) -> dict:
+    """The problem's ``[stock]`` as {key: values} (keys left out, or no [stock] at all: absent = continuous)."""
+    stock = problem.stock
+    if stock is None:
+        return {}
+    out = {}
+    for key in ("diameters", "grooves", "trails", "dampings", "wheels", "trail_step"):
+        value = getattr(stock, key, None)
+        if value is not None:
+            out[key] = value
+    return out
+
+
+def _grid(low: float, high: float, step: float) -> np.ndarray:
+    n = int(math.floor((high - low) / step + 1e-9))
+    values = low + step * np.arange(n + 1)
+    if high - values[-1] > 1e-12:
+        values = np.append(values, high)
+    return values
+
+
+def part_options(problem, current: Design, current_inertia: float) -> tuple[dict, dict]:
+    """What each part can be changed to: the one place that decides the candidate values.
+
+    Returns ``(options, sources)``.  ``options``: {"washer": array of c_f,
+    "tyre": array of B, "fork hole": array of T, "wheel": list of _Wheel},
+    without the current value (no change is not an option).  ``sources`` says
+    for each part where the values came from: ``[stock]`` (values that exist)
+    or a grid over the problem's bounds (a key that ``[stock]`` leaves out
+    leaves that variable continuous; the grid steps of :data:`GRID_STEP`
+    stand in for it).
+
+    A wheel from ``[stock] diameters`` takes I_w from the inertia model and
+    keeps the current tyre profile only when that profile is on offer
+    (``grooves``), otherwise it needs a tyre change too.  A catalogue wheel
+    (``[stock] wheels``) brings its measured I_w (else the inertia model's)
+    and its own groove when it lists one (then it is never combined with a
+    tyre change); without one it takes a tyre like a ``diameters`` wheel.
+    A tyre change keeps the current wheel and its I_w; when every catalogue
+    wheel brings its own groove and no ``grooves`` are listed, tyres come
+    only with wheels.  With ``[inertia] model = "catalog"`` the wheels are the
+    problem's Table 1 wheels; a fixed inertia or diameter fixes the wheel.
+    """
+    stock = _stock_of(problem)
+    sources: dict[str, str] = {}
+    dampings = _drop_current(_listed(stock, problem.bounds, sources, "dampings", "damping"), current.damping)
+    if "trails" in stock:
+        sources["trail"] = "[stock] (fork holes every trail_step from variables.trail.min)"
+        trails = np.array(sorted(float(v) for v in stock["trails"]))
+    else:
+        trails = _listed(stock, problem.bounds, sources, "trails", "trail")
+    trails = _drop_current(trails, current.trail)
+    wheels, groove_values = _wheel_options(problem, stock, current, sources)
+    if groove_values is None:
+        groove_values = _listed(stock, problem.bounds, sources, "grooves", "groove")
+    grooves = _drop_current(groove_values, current.groove)
+    options = {"washer": dampings, "tyre": grooves, "fork hole": trails, "wheel": wheels}
+    # a new wheel without its own groove keeps the current tyre profile only if that profile is on offer
+    on_offer = "grooves" not in stock or bool(np.any(np.abs(groove_values - current.groove) <= 1e-9))
+    sources = {part: sources.get(PART_VARIABLE[part], "") for part in PARTS} | {"_groove_on_offer": on_offer}
+    return options, sources
+
+
+def _listed(stock: dict, bounds: dict, sources: dict, key: str, variable: str) -> np.ndarray:
+    """The values of ``[stock] key`` within ``variable``'s bounds, else a grid over them; notes the source."""
+    b = bounds[variable]
+    values = stock.get(key)
+    if values is not None:
+        sources[variable] = "[stock]"
+        values = np.array(sorted({float(v) for v in values}))
+        return values[(values >= b.low * (1 - 1e-12)) & (values <= b.high * (1 + 1e-12))]  # within the bounds
+    sources[variable] = (
+        f"continuous (no [stock] {key}): grid over the bounds every {_show(variable, GRID_STEP[variable])}"
+    )
+    return _grid(b.low, b.high, GRID_STEP[variable]) if b.high > b.low else np.array([b.low])
+
+
+def _drop_current(values: np.ndarray, value: float) -> np.ndarray:
+    """``values`` without the current one (no change is not an option)."""
+    values = np.asarray(values, dtype=float)
+    return values[np.abs(values - value) > 1e-9 * max(1.0, abs(value))]
+
+
+def _wheel_options(problem, stock: dict, current: Design, sources: dict) -> tuple[list[_Wheel], np.ndarray | None]:
+    """The wheels on offer (catalogue, Table 1, none, or the stock diameters with the inertia model's I_w), and
+    the groove values when the catalogue's wheels bring every tyre (else None: the tyres are listed apart)."""
+    model: InertiaModel = problem.conditions.inertia
+    bounds = problem.bounds
+    wheels: list[_Wheel] = []
+    catalogue = stock.get("wheels")
+    groove_values = None
+    if catalogue is not None:
+        sources["diameter"] = "[stock] wheels (catalogue)"
+
+        for entry in catalogue:
+            d = float(entry.diameter)
+            if entry.inertia is not None:
+                i = float(entry.inertia)
+            else:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")  # extrapolation of the inertia fit: docs/retrofit.md
+                    i = float(model(d))
+            wheels.append(_Wheel(d, math.nan if entry.groove is None else float(entry.groove), i, entry.name))
+        if "grooves" not in stock and all(w.groove is not None for w in catalogue):
+            sources["groove"] = "none on the current wheel (the catalogue's tyres come with its wheels)"
+            groove_values = np.array([])
+    elif problem.wheels:  # [inertia] model = "catalog": the Table 1 wheels of the problem
+        sources["diameter"] = "the problem's Table 1 wheels ([inertia] wheels)"
+        for key in problem.wheels:
+            w = Catalog.from_key(key).wheel
+            wheels.append(_Wheel(w.diameter, math.nan, w.inertia, f"Table 1 {w.key}"))
+    elif model.fixed_diameter is not None or getattr(model, "name", "") == "fixed" or bounds["diameter"].fixed:
+        sources["diameter"] = "none (the problem fixes the wheel: a fixed inertia or diameter)"
+    else:
+        diameters = _listed(stock, bounds, sources, "diameters", "diameter")
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # extrapolation of the inertia fit is stated in docs/retrofit.md
+            inertias = np.asarray(model(diameters), dtype=float) * np.ones_like(diameters)
+        wheels = [
+            _Wheel(float(d), math.nan, float(i), None)
+            for d, i in zip(diameters, inertias)
+            if abs(d - current.diameter) > 1e-9
+        ]
+    return wheels, groove_values
+
+
+def _enumerate(options: dict, sources: dict, base: dict, max_parts: int, min_parts: int = 1) -> dict:
+    """Every combination of changed parts with min_parts..max_parts parts, as arrays (vectorised).
+
+    Keys: trail, diameter, groove, damping, inertia (SI), parts (count), order
+    (a stable index for ties), mask_<part> (bool: changed), wheel (index into
+    options["wheel"], −1: kept).
+    """
+    chunks = []
+    counter = 0
+    for k in range(min_parts, max_parts + 1):
+        for parts in itertools.combinations(PARTS, k):
+            sizes = [len(options[p]) for p in parts]
+            if 0 in sizes:
+                continue
+            grids = np.meshgrid(*[np.arange(s) for s in sizes], indexing="ij")
+            n = int(np.prod(sizes))
+            out = {key: np.full(n, float(base[key])) for key in ("trail", "diameter", "groove", "damping", "inertia")}
+            out["wheel"] = np.full(n, -1)
+            for part in PARTS:
+                out[f"mask_{part}"] = np.full(n, part in parts)
+            valid = np.ones(n, dtype=bool)
+            for part, grid in zip(parts, grids):
+                index = grid.ravel()
+                if part == "washer":
+                    out["damping"] = options["washer"][index]
+                elif part == "tyre":
+                    out["groove"] = options["tyre"][index]
+                elif part == "fork hole":
+                    out["trail"] = options["fork hole"][index]
+                else:
+                    wheels = options["wheel"]
+                    out["wheel"] = index
+                    out["diameter"] = np.array([wheels[i].diameter for i in index])
+                    out["inertia"] = np.array([wheels[i].inertia for i in index])
+                    own = np.array([wheels[i].groove for i in index])
+                    has_own = np.isfinite(own)
+                    if "tyre" in parts:
+                        valid &= ~has_own  # a catalogue wheel comes with its own tyre
+                    else:
+                        out["groove"] = np.where(has_own, own, out["groove"])
+                        if not sources["_groove_on_offer"]:
+                            valid &= has_own  # a stock wheel needs a stock tyre: the current profile is not on offer
+            out["parts"] = np.full(n, k)
+            out["order"] = counter + np.arange(n)
+            counter += n
+            chunks.append({key: value[valid] for key, value in out.items()})
+    if not chunks:
+        empty = {key: np.array([]) for key in ("trail", "diameter", "groove", "damping", "inertia")}
+        return (
+            empty
+            | {"wheel": np.array([], dtype=int), "parts": np.array([], dtype=int), "order": np.array([], dtype=int)}
+            | {f"mask_{p}": np.array([], dtype=bool) for p in PARTS}
+        )
+    return {key: np.concatenate([c[key] for c in chunks]) for key in chunks[0]}
+
+
+def _show(variable: str, value: float) -> str:
+    if variable in _LENGTHS:
+        return f"{value / INCH:.4g} in"
+    if variable == "damping":
+        return f"{value:.3g} N·m/rad"
+    if variable == "inertia":
+        return f"{value:.3g} kg·m²"
+    return f"{value:g}"

@@ -1,0 +1,278 @@
+"""The records of a retrofit: a changed part (:class:`Change`), a caster and its numbers
+(:class:`CasterState`), the calibration by an observed onset (:class:`Calibration`), the whole answer
+(:class:`FixResult`), the ranking rule in words (:data:`RULE`) and :func:`describe_changes`.
+
+Part of :mod:`designer.studies.retrofit._retrofit` (which re-exports its public names and builds these records).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from designer.data.paper import INCH
+from designer.model import Design
+from designer.studies.retrofit._options import _show
+
+RULE = (
+    "fewest parts changed first; within the same number of parts, the smallest loss "
+    "w_turn·ΔF_turn + w_threshold·ΔP [N] (the problem's [objective] weights; a negative loss is a gain), "
+    "ties broken by the smaller ΔF_turn, then the smaller ΔP, then the higher speed reached with "
+    "probability 1 − α"
+)
+"""The ranking rule, as printed in every output."""
+
+_UNITS = {"trail": "m", "diameter": "m", "groove": "m", "damping": "N*m/rad", "inertia": "kg*m**2"}
+"""The SI unit of each variable in the JSON records."""
+
+
+@dataclass(frozen=True)
+class Change:
+    """One design variable changed by a part: ``before`` -> ``after`` [SI]."""
+
+    part: str
+    variable: str
+    before: float
+    after: float
+    name: str | None = None  # a catalogue wheel's name
+
+    def describe(self) -> str:
+        """``fork hole: trail 1.500 in -> 2.000 in``."""
+        return (
+            f"{self.part}: {self.variable} {_show(self.variable, self.before)} -> {_show(self.variable, self.after)}"
+            + (f" ({self.name})" if self.name else "")
+        )
+
+    def as_dict(self) -> dict:
+        out = {
+            "part": self.part,
+            "variable": self.variable,
+            "from": self.before,
+            "to": self.after,
+            "unit": _UNITS[self.variable],
+        }
+        if self.name:
+            out["name"] = self.name
+        return out
+
+
+@dataclass(frozen=True)
+class CasterState:
+    """A caster (the current one or a fix) and its numbers.
+
+    Attributes
+    ----------
+    design : Design (trail = fork offset e [m], diameter, groove, damping)
+    inertia : I_w [kg·m²]
+    effective_trail : T_eff = e + (d/2) sin φ [m] (what Eq. 7 and the turning effort see)
+    turning_effort : F_turn [N] (Eq. 9 on T_eff)
+    threshold_force : P [N] (Eq. 4A)
+    swept_radius : T + d/2 [m]
+    critical_speed : V_c of Eq. 7 [m/s]
+    calibrated_critical_speed : k·V_c [m/s] (= critical_speed without calibration)
+    confident_speed : speed reached with probability 1 − α under the model in force [m/s]
+    meets_risk_bound : confident_speed >= V_req (and the swept-radius limit)
+    shimmy_probability, shimmy_probability_se : Monte Carlo P(V_c,true < V_target) and its SE [-]
+    changes : the parts changed against the current caster (empty for the current one)
+    """
+
+    design: Design
+    inertia: float
+    effective_trail: float
+    turning_effort: float
+    threshold_force: float
+    swept_radius: float
+    critical_speed: float
+    calibrated_critical_speed: float
+    confident_speed: float
+    meets_risk_bound: bool
+    shimmy_probability: float = math.nan
+    shimmy_probability_se: float = math.nan
+    changes: tuple[Change, ...] = ()
+    cost_turning_effort: float = 0.0
+    cost_threshold_force: float = 0.0
+    loss: float = 0.0
+
+    @property
+    def parts_changed(self) -> int:
+        """Number of parts changed (a catalogue wheel is one part)."""
+        return len({c.part for c in self.changes})
+
+    def as_dict(self) -> dict:
+        """JSON-ready record, SI units."""
+        out = {
+            "design": self.design.as_dict(),
+            "inertia": self.inertia,
+            "effective_trail": self.effective_trail,
+            "objectives": {"turning_effort": self.turning_effort, "threshold_force": self.threshold_force},
+            "turning_effort": self.turning_effort,
+            "threshold_force": self.threshold_force,
+            "swept_radius": self.swept_radius,
+            "critical_speed": self.critical_speed,
+            "calibrated_critical_speed": self.calibrated_critical_speed,
+            "confident_speed": self.confident_speed,
+            "meets_risk_bound": bool(self.meets_risk_bound),
+            "shimmy_probability": self.shimmy_probability,
+            "shimmy_probability_se": self.shimmy_probability_se,
+        }
+        if self.changes:
+            out["parts_changed"] = self.parts_changed
+            out["changes"] = [c.as_dict() for c in self.changes]
+            out["cost"] = {
+                "turning_effort": self.cost_turning_effort,
+                "threshold_force": self.cost_threshold_force,
+                "loss": self.loss,
+            }
+        return out
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """The model error of one caster, from its observed shimmy onset.
+
+    Attributes
+    ----------
+    observed_onset : V_obs [m/s]
+    predicted_onset : V_c of Eq. 7 for the current caster [m/s]
+    factor : k = V_obs / V_c,Eq.7 [-]; multiplies Eq. 7 for every modified caster
+    scatter : σ of log V_obs [-] (replaces the population model error)
+    """
+
+    observed_onset: float
+    predicted_onset: float
+    factor: float
+    scatter: float
+
+    @property
+    def shift(self) -> float:
+        """How far calibration moved the current caster's V_c [m/s] (V_obs − V_c,Eq.7)."""
+        return self.observed_onset - self.predicted_onset
+
+    def describe(self) -> str:
+        return (
+            f"calibrated on the observed onset {self.observed_onset:.3f} m/s: Eq. 7 predicted "
+            f"{self.predicted_onset:.3f} m/s, so V_c moved by {self.shift:+.3f} m/s ({self.factor - 1:+.1%}); "
+            f"every fix is evaluated with Eq. 7 × k = {self.factor:.4f}; the population model error is "
+            f"replaced by the onset's own scatter (σ = {self.scatter:.3f} of the log, normal), the scatter of "
+            f"M_f/θ0, K_s and I_w is kept"
+        )
+
+    def as_dict(self) -> dict:
+        return {
+            "observed_onset": self.observed_onset,
+            "predicted_onset": self.predicted_onset,
+            "factor": self.factor,
+            "shift": self.shift,
+            "scatter": self.scatter,
+        }
+
+
+@dataclass
+class FixResult:
+    """Diagnosis of the current caster and the ranked fixes.
+
+    Attributes
+    ----------
+    problem : the problem's name
+    target_speed, required_speed : V_target and (1 + margin) V_target [m/s]
+    probability : α of the risk bound (None: the nominal bound V_c >= V_req)
+    stem_angle : φ [rad]
+    calibration : Calibration | None
+    current : CasterState of the caster as it is
+    fixes : ranked CasterState list (all found, or the first ``limit``)
+    found : how many fixes were found before the limit
+    rule : the ranking rule
+    stock : where each part's candidates came from
+    """
+
+    problem: str
+    target_speed: float
+    required_speed: float
+    probability: float | None
+    stem_angle: float
+    calibration: Calibration | None
+    current: CasterState
+    fixes: list[CasterState]
+    found: int
+    rule: str = RULE
+    stock: dict = field(default_factory=dict)
+    scatter: dict = field(default_factory=dict)
+
+    @property
+    def single_part_fix_exists(self) -> bool:
+        """True if some fix changes one part only."""
+        return any(f.parts_changed == 1 for f in self.fixes)
+
+    @property
+    def needs_fix(self) -> bool:
+        """False when the current caster already meets the risk bound and the swept-radius limit."""
+        return not self.current.meets_risk_bound
+
+    def summary(self) -> str:
+        """One sentence generated from the numbers."""
+        if not self.needs_fix:
+            return "The current caster already meets the risk bound and the swept-radius limit: no fix needed."
+        if not self.fixes:
+            return "No fix from the stock meets the risk bound and the swept-radius limit."
+        best = self.fixes[0]
+        lead = "" if best.parts_changed == 1 else f"No single-part fix exists; the best {best.parts_changed}-part fix: "
+        return (
+            lead
+            + describe_changes(best.changes)
+            + (
+                f" (ΔF_turn {best.cost_turning_effort:+.2f} N, ΔP {best.cost_threshold_force:+.2f} N, "
+                f"P(shimmy) {best.shimmy_probability:.2%} ± {best.shimmy_probability_se:.2%})"
+            )
+        )
+
+    def as_dict(self) -> dict:
+        """JSON-ready: ``current``, ranked ``fixes`` and the assumptions, SI units."""
+        return {
+            "problem": self.problem,
+            "target_speed": self.target_speed,
+            "required_speed": self.required_speed,
+            "risk_probability": self.probability,
+            "stem_angle": self.stem_angle,
+            "calibration": None if self.calibration is None else self.calibration.as_dict(),
+            "scatter": self.scatter,
+            "rule": self.rule,
+            "stock": self.stock,
+            "needs_fix": self.needs_fix,
+            "single_part_fix_exists": self.single_part_fix_exists,
+            "summary": self.summary(),
+            "current": self.current.as_dict(),
+            "fixes_found": self.found,
+            "fixes": [f.as_dict() for f in self.fixes],
+        }
+
+    def __repr__(self) -> str:
+        return (
+            f"FixResult({self.problem!r}, current V_c {self.current.critical_speed:.3f} m/s, "
+            f"P(shimmy) {self.current.shimmy_probability:.1%}, {self.found} fixes; {self.summary()})"
+        )
+
+
+_SYMBOL = {
+    "damping": ("c_f", 1.0, "N·m/rad"),
+    "groove": ("B", INCH, "in"),
+    "trail": ("T", INCH, "in"),
+    "diameter": ("d", INCH, "in"),
+    "inertia": ("I_w", 1.0, "kg·m²"),
+}
+
+
+def describe_changes(changes, sep: str = "; ", inertia: bool = True) -> str:
+    """``fork hole: T 1.5 -> 2 in; wheel: d 7.75 -> 6 in, I_w 0.00127 -> 0.000685 kg·m²`` (parts joined by ``sep``)."""
+    by_part: dict[str, list[str]] = {}
+    names = {}
+    for c in changes:
+        if c.name:
+            names[c.part] = c.name
+        if c.variable == "inertia" and not inertia:
+            continue
+        symbol, scale, unit = _SYMBOL[c.variable]
+        by_part.setdefault(c.part, []).append(f"{symbol} {c.before / scale:.4g} -> {c.after / scale:.4g} {unit}")
+    return sep.join(
+        f"{part}{' (' + names[part] + ')' if part in names else ''}: {', '.join(items)}"
+        for part, items in by_part.items()
+    )

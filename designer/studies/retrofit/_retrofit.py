@@ -1,0 +1,352 @@
+"""Retrofit: the smallest safe change to the caster you have.
+
+A clinician or wheelchair user does not design a caster from scratch; they ask
+what to change on the one that shimmies.  :func:`fix` answers with numbers:
+
+1. **Diagnosis** of the current caster: V_c (Eq. 7, on the effective trail of a
+   tilted stem, :func:`designer.physics.geometry.effective_trail`), the speed
+   it reaches with probability 1 − α, P(shimmy at V_target) by Monte Carlo
+   with its standard error, turning effort and sill force.
+2. **Calibration** (optional): an observed shimmy onset V_obs on this caster
+   replaces the population model error.  The caster's own factor
+   k = V_obs / V_c,Eq.7(current) multiplies Eq. 7 for every modified caster;
+   the remaining scatter is the onset's own uncertainty (σ of its log,
+   default 5 %, normal) together with the scatter of M_f/θ0, K_s and I_w of
+   the risk bound (kept in full: conservative for the parts you keep, whose
+   deviation is already inside V_obs).
+3. **Fixes** ranked by the rule of :data:`RULE`: every candidate changes one or
+   more of the four parts (washer = damping c_f, tyre = groove B, fork hole =
+   trail T, wheel = diameter d with I_w from the inertia model, or a
+   catalogue wheel) to values that exist (:func:`part_options`), meets the
+   risk bound and the swept-radius limit.
+
+Everything is deterministic except the reported P(shimmy), a Monte Carlo
+estimate with its own seed (feasibility and ranking use the quantile).
+``docs/retrofit.md`` has the derivations and the worked Eq. 8 example.
+
+Modules: :mod:`designer.studies.retrofit._input` reads and checks the current caster;
+:mod:`designer.studies.retrofit._diagnosis` computes the numbers of a caster and of every candidate (V_c,
+the quantile, F_turn, P, the Monte Carlo, the calibration); :mod:`designer.studies.retrofit._options`
+decides what each part can become and enumerates the combinations; :mod:`designer.studies.retrofit._records`
+holds the records and the rule; this module ranks (:func:`fix`) and re-exports the public names.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from designer.model import Conditions, Design
+from designer.physics.uncertainty import MC_TARGET_SE, Uncertainty
+from designer.problem import load_problem
+from designer.studies.retrofit._diagnosis import (
+    _calibrated,
+    _current_inertia,
+    _evaluate,
+    _feasible,
+    _mc,
+    _mc_many,
+    _risk_of,
+)
+from designer.studies.retrofit._input import MAX_STEM_ANGLE, _check_inputs, parse_current
+from designer.studies.retrofit._options import GRID_STEP, PART_VARIABLE, PARTS, _enumerate, part_options
+from designer.studies.retrofit._records import RULE, Calibration, CasterState, Change, FixResult, describe_changes
+
+ONSET_SCATTER = 0.05
+"""σ of log V_obs [-]: a shimmy onset seen on a push or a ramp is known to about ±5 % (our estimate)."""
+
+REPORT_SAMPLES = 50_000
+"""Monte Carlo draws of the reported P(shimmy): SE <= 0.1 percentage point at 5 %."""
+
+
+def fix(
+    problem,
+    current,
+    inertia: float | None = None,
+    shimmied_at: float | None = None,
+    stem_angle: float = 0.0,
+    *,
+    onset_scatter: float = ONSET_SCATTER,
+    limit: int | None = None,
+    samples: int | None = None,
+    seed: int | None = None,
+) -> FixResult:
+    """Diagnose a caster that shimmies and rank the smallest safe changes to it.
+
+    Parameters
+    ----------
+    problem : Problem (or a path to a problem file): load, sill, V_target, the
+        risk bound, bounds, the swept-radius limit and ``[stock]``
+    current : Design (or ``"T=1.5in,d=7.75in,B=0.5625in,c=1.3"``) of the caster
+        as it is; T is the fork offset (the trail with the stem vertical) [m]
+    inertia : the current wheel's measured I_w [kg·m²]; default the problem's inertia model
+    shimmied_at : observed shimmy onset V_obs [m/s] of this caster; calibrates
+        the model error (see :class:`Calibration`)
+    stem_angle : stem tilt φ from vertical [rad], positive when its top leans
+        back; the effective trail is e + (d/2) sin φ (:func:`effective_trail`)
+    onset_scatter : σ of log V_obs [-] (default 0.05)
+    limit : keep the first ``limit`` fixes (None: all found)
+    samples, seed : Monte Carlo of the reported P(shimmy) (default: the risk bound's, at least 50 000 draws
+        and more until the SE is 0.1 percentage point; its own seed, never one that ranks)
+
+    Returns
+    -------
+    FixResult with ``.current`` and the ranked ``.fixes`` (rule :data:`RULE`).
+
+    Fixes change one or two parts; three- and four-part fixes are searched
+    only when no one- or two-part fix exists.  Feasibility is deterministic:
+    the speed reached with probability 1 − α (the quantile of the risk bound,
+    times k when calibrated) >= (1 + margin) V_target, and T + d/2 <= the
+    swept-radius limit.  Equations: Eq. 7 (V_c), Eq. 4A (P), Eq. 9 (F_turn).
+    """
+    if isinstance(problem, str) or hasattr(problem, "__fspath__"):
+        problem = load_problem(problem)
+    if isinstance(current, str):
+        current = parse_current(current, "current")
+    stem_angle = float(stem_angle)
+    _check_inputs(problem, current, inertia, shimmied_at, stem_angle, onset_scatter)
+    if inertia is None:
+        inertia = _current_inertia(problem, current)
+    inertia = float(inertia)
+    setting, calibration, base, now = _diagnosis(
+        problem, current, inertia, shimmied_at, stem_angle, onset_scatter, samples, seed
+    )
+    current_state = setting.state(now, 0, (current, inertia))
+    options, sources = part_options(problem, current, inertia)
+    result = _fix_result(problem, setting, calibration, current_state, sources)
+    if current_state.meets_risk_bound:
+        return result
+    cands, values, chosen, result.found = _ranked(options, sources, base, setting, current_state, limit)
+    result.fixes = _fix_states(setting, current, inertia, current_state, cands, values, chosen, options["wheel"])
+    return result
+
+
+def _diagnosis(problem, current: Design, inertia: float, shimmied_at, stem_angle: float, onset_scatter, samples, seed):
+    """Steps 1 and 2 of :func:`fix`: the risk model every caster is judged with (calibrated by an observed onset
+    V_obs, factor k = V_obs / V_c,Eq.7) and the current caster's numbers under it.
+
+    Returns ``(setting, calibration or None, base, now)``: the :class:`_Setting`, the current caster's variables
+    (``base``, with its I_w) and its evaluated values (``now``, arrays of one).
+    """
+    conditions = problem.conditions
+    bound, report_u = _risk_of(problem)
+    samples = int(samples or max(REPORT_SAMPLES, report_u.samples))
+    seed = int(report_u.seed if seed is None else seed)
+
+    base = {
+        "trail": current.trail,
+        "diameter": current.diameter,
+        "groove": current.groove,
+        "damping": current.damping,
+        "inertia": inertia,
+    }
+    raw = _evaluate({k: np.array([v]) for k, v in base.items()}, conditions, stem_angle, 1.0, bound)
+    calibration = None
+    factor = 1.0
+    if shimmied_at is not None:
+        predicted = float(raw["critical_speed"][0])
+        factor = float(shimmied_at) / predicted
+        calibration = Calibration(float(shimmied_at), predicted, factor, float(onset_scatter))
+        if bound is not None:
+            bound = _calibrated(bound, onset_scatter)
+        report_u = _calibrated(report_u, onset_scatter)
+    now = _evaluate({k: np.array([v]) for k, v in base.items()}, conditions, stem_angle, factor, bound)
+    setting = _Setting(
+        conditions,
+        stem_angle,
+        factor,
+        bound,
+        report_u,
+        samples,
+        seed,
+        problem.required_speed,
+        problem.target_speed,
+        problem.swept_radius_max,
+        problem.weights,
+    )
+    return setting, calibration, base, now
+
+
+def _fix_result(problem, setting: _Setting, calibration, current_state: CasterState, sources: dict) -> FixResult:
+    """The :class:`FixResult` of the diagnosis, its fixes still empty: assumptions, scatter, stock sources."""
+    bound = setting.bound
+    stock_note = {part: sources[part] for part in PARTS}
+    scatter = {
+        "bound": None if bound is None else dataclasses.asdict(bound),
+        "reported": dataclasses.asdict(setting.report_u) | {"samples": setting.samples, "seed": setting.seed},
+    }
+    return FixResult(
+        problem.name,
+        problem.target_speed,
+        setting.v_req,
+        None if bound is None else bound.probability,
+        setting.stem_angle,
+        calibration,
+        current_state,
+        [],
+        0,
+        RULE,
+        stock_note,
+        scatter,
+    )
+
+
+def _fix_states(
+    setting: _Setting,
+    current: Design,
+    inertia: float,
+    current_state: CasterState,
+    cands: dict,
+    values: dict,
+    chosen: np.ndarray,
+    wheels: list,
+) -> list[CasterState]:
+    """Step 3 of :func:`fix`: the chosen candidates as :class:`CasterState` records, in rank order, with their
+    changes, their cost against the current caster and P(shimmy) from one shared Monte Carlo draw."""
+    shared = _mc_many(
+        values["effective_trail"][chosen],
+        cands["inertia"][chosen],
+        cands["groove"][chosen],
+        cands["damping"][chosen],
+        setting.conditions.slip_coefficient,
+        setting.v_target / setting.factor,
+        setting.report_u,
+        setting.samples,
+        setting.seed,
+    )
+    fixes = []
+    for n, j in enumerate(chosen):
+        design = Design(
+            float(cands["trail"][j]), float(cands["diameter"][j]), float(cands["groove"][j]), float(cands["damping"][j])
+        )
+        changes = _changes(current, inertia, cands, j, wheels)
+        fixes.append(
+            setting.state(
+                values,
+                j,
+                (design, float(cands["inertia"][j])),
+                changes,
+                (
+                    values["turning_effort"][j] - current_state.turning_effort,
+                    values["threshold_force"][j] - current_state.threshold_force,
+                ),
+                (float(shared[0][n]), float(shared[1][n])),
+            )
+        )
+    return fixes
+
+
+@dataclass(frozen=True)
+class _Setting:
+    """What every caster of one retrofit is judged with: the conditions, the risk model and the rule's numbers."""
+
+    conditions: Conditions
+    stem_angle: float
+    factor: float
+    bound: Uncertainty | None
+    report_u: Uncertainty
+    samples: int
+    seed: int
+    v_req: float
+    v_target: float
+    r_max: float | None
+    weights: tuple[float, float]
+
+    def state(self, values, j, design, changes=(), cost=(0.0, 0.0), mc=None) -> CasterState:
+        """Caster ``j`` of the evaluated ``values`` as a :class:`CasterState` (its P(shimmy) topped up if needed)."""
+        ok = values["confident_speed"][j] >= self.v_req * (1 - 1e-12) and (
+            self.r_max is None or values["swept_radius"][j] <= self.r_max * (1 + 1e-12)
+        )
+        if mc is None or not mc[1] <= MC_TARGET_SE:  # one caster, or a shared draw too coarse for it: top up
+            mc = _mc(
+                (values["effective_trail"][j], float(design[1]), design[0].groove, design[0].damping),
+                self.conditions,
+                self.v_target,
+                self.factor,
+                self.report_u,
+                self.samples,
+                self.seed,
+            )
+        p, se = mc
+        weights = self.weights
+        return CasterState(
+            design[0],
+            float(design[1]),
+            float(values["effective_trail"][j]),
+            float(values["turning_effort"][j]),
+            float(values["threshold_force"][j]),
+            float(values["swept_radius"][j]),
+            float(values["critical_speed"][j]),
+            float(values["calibrated_critical_speed"][j]),
+            float(values["confident_speed"][j]),
+            bool(ok),
+            p,
+            se,
+            tuple(changes),
+            float(cost[0]),
+            float(cost[1]),
+            float(weights[0] * cost[0] + weights[1] * cost[1]),
+        )
+
+
+def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current_state: CasterState, limit: int | None):
+    """The feasible fixes in the order of :data:`RULE`: (candidates, their values, chosen indices, how many found).
+
+    One- and two-part changes first; three- and four-part ones only when none of those is feasible.
+    """
+    s = setting
+    cands = _enumerate(options, sources, base, max_parts=2)
+    values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound)
+    feasible = _feasible(values, s.v_req, s.r_max)
+    if not np.any(feasible):
+        cands = _enumerate(options, sources, base, max_parts=4, min_parts=3)
+        values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound)
+        feasible = _feasible(values, s.v_req, s.r_max)
+    idx = np.flatnonzero(feasible)
+    d_turn = values["turning_effort"][idx] - current_state.turning_effort
+    d_force = values["threshold_force"][idx] - current_state.threshold_force
+    loss = s.weights[0] * d_turn + s.weights[1] * d_force
+    order = np.lexsort(
+        (cands["order"][idx], -values["confident_speed"][idx], d_force, d_turn, np.round(loss, 12), cands["parts"][idx])
+    )
+    chosen = idx[order] if limit is None else idx[order][:limit]
+    return cands, values, chosen, len(order)
+
+
+def _changes(current: Design, inertia: float, cands: dict, j: int, wheels: list) -> tuple[Change, ...]:
+    out = []
+    if cands["mask_washer"][j]:
+        out.append(Change("washer", "damping", current.damping, float(cands["damping"][j])))
+    if cands["mask_tyre"][j]:
+        out.append(Change("tyre", "groove", current.groove, float(cands["groove"][j])))
+    if cands["mask_fork hole"][j]:
+        out.append(Change("fork hole", "trail", current.trail, float(cands["trail"][j])))
+    if cands["mask_wheel"][j]:
+        name = wheels[int(cands["wheel"][j])].name
+        out.append(Change("wheel", "diameter", current.diameter, float(cands["diameter"][j]), name))
+        if not cands["mask_tyre"][j] and abs(float(cands["groove"][j]) - current.groove) > 1e-12:
+            out.append(Change("wheel", "groove", current.groove, float(cands["groove"][j])))
+        if abs(float(cands["inertia"][j]) - inertia) > 1e-15:
+            out.append(Change("wheel", "inertia", inertia, float(cands["inertia"][j])))
+    return tuple(out)
+
+
+__all__ = [
+    "fix",
+    "describe_changes",
+    "FixResult",
+    "CasterState",
+    "Change",
+    "Calibration",
+    "parse_current",
+    "part_options",
+    "RULE",
+    "PARTS",
+    "PART_VARIABLE",
+    "GRID_STEP",
+    "ONSET_SCATTER",
+    "REPORT_SAMPLES",
+    "MAX_STEM_ANGLE",
+]

@@ -1,0 +1,352 @@
+"""The command line: evaluate, validate, run; one-line errors with the documented exit codes."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from designer.cli import main
+
+from conftest import ROOT
+
+EVAL = ["evaluate", "--trail", "2in", "--diameter", "7.75in", "--groove", "0.5625in", "--damping", "1.3"]
+
+
+def test_evaluate_json_eq8(capsys):
+    """evaluate --json at the Eq. 8 point with I_w = 0.00127 gives V_c = 2.91 m/s and every documented key
+    (B = 9/16 in = 0.0142875 m here against the paper's rounded 0.0143 m: 2.9098 instead of 2.9113)."""
+    assert main(EVAL + ["--inertia", "0.00127", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["critical_speed"] == pytest.approx(2.9098, abs=1e-4)
+    for key in (
+        "critical_speed",
+        "inertia",
+        "threshold_force_ratio",
+        "threshold_force",
+        "turning_moment",
+        "turning_effort",
+        "swept_radius",
+        "shimmy_frequency",
+    ):
+        assert key in out
+    assert out["turning_effort"] == pytest.approx(9.636, abs=1e-3)
+
+
+def test_evaluate_table(capsys):
+    """Without --json a readable table in SI and inches, with the stability verdict at a target speed."""
+    assert main(EVAL + ["--target-speed", "3 m/s"]) == 0
+    text = capsys.readouterr().out
+    assert "critical shimmy speed" in text and "SHIMMIES" in text and "in)" in text
+
+
+@pytest.mark.parametrize(
+    "args, fragment",
+    [
+        (["--trail", "=-2in"], "--trail -0.0508: must be positive"),
+        (["--trail", "0"], "--trail 0: must be positive"),
+        (["--diameter", "0.9in"], "--diameter 0.9in: must exceed twice the threshold height"),
+        (["--surface", "grass"], "--surface 'grass': expected one of tile, carpet"),
+        (["--trail", "2kg"], "--trail = '2 kg': wrong dimension"),
+        (["--damping", "abc"], "--damping"),
+        (["--turning-mode", "drift"], "--turning-mode 'drift'"),
+    ],
+)
+def test_evaluate_bad_input(args, fragment, capsys):
+    """Bad input exits 2 with one line naming the option, the value and the reason; no traceback."""
+    argv = list(EVAL)
+    for i in range(0, len(args), 2):
+        if args[i + 1].startswith("="):  # a negative value must be attached: --trail=-2in
+            j = argv.index(args[i])
+            argv[j : j + 2] = [args[i] + args[i + 1]]
+        elif args[i] in argv:
+            argv[argv.index(args[i]) + 1] = args[i + 1]
+        else:
+            argv += args[i : i + 2]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert fragment in err
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+
+
+def test_validate_passes(capsys):
+    """designer validate: all paper checks pass, exit 0, table lists every check."""
+    assert main(["validate"]) == 0
+    out = capsys.readouterr().out
+    for name in ("1 Eq. 8", "2 Table 1", "7 P/L vs d", "9 Routh", "10 Quadra"):
+        assert name in out
+    assert "0 failed" in out
+
+
+def test_validate_fails_loudly(monkeypatch, capsys):
+    """A failing check makes validate exit 1 and print which check failed and by how much."""
+    import designer.studies.checks as checks
+
+    bad = checks.Check("x broken", "claim", 1.0, 2.0, False, "")
+    monkeypatch.setattr("designer.cli.validate.paper_checks", lambda: [bad])
+    assert main(["validate"]) == 1
+    assert "FAILED x broken: expected 1.0, got 2.0" in capsys.readouterr().out
+
+
+def test_run_json_keys(capsys):
+    """designer run --json gives design, objectives, critical_speed, constraints, sensitivities, cross_check, status."""
+    path = str(ROOT / "problems" / "paper-invacare.toml")
+    assert main(["run", path, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    for key in ("design", "objectives", "critical_speed", "constraints", "sensitivities", "cross_check", "status"):
+        assert key in out
+    assert set(out["design"]) == {"trail", "diameter", "groove", "damping"}
+    assert out["critical_speed"] >= 2.5 - 1e-8
+    assert out["objectives"]["weighted"] == pytest.approx(out["cross_check"]["scipy-slsqp"], rel=1e-4)
+
+
+def test_run_weights_option(capsys):
+    """--weights 1,0 minimises turning effort alone (paper-invacare, risk-bounded by default: 2.5 in trail,
+    0.491 in groove; the nominal Eq. 7 needs 0.222 in)."""
+    path = str(ROOT / "problems" / "paper-invacare.toml")
+    assert main(["run", path, "--weights", "1,0", "--json", "--no-cross-check"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["design"]["trail"] == pytest.approx(0.0635, rel=1e-6)
+    assert out["design"]["groove"] / 0.0254 == pytest.approx(0.4915, abs=1e-3)
+
+
+@pytest.mark.parametrize("weights", ["1", "a,b", "-1,1", "0,0"])
+def test_run_bad_weights(weights, capsys):
+    """Malformed --weights exit 2 with a one-line error."""
+    path = str(ROOT / "problems" / "paper-invacare.toml")
+    assert main(["run", path, f"--weights={weights}"]) == 2
+    assert "--weights" in capsys.readouterr().err
+
+
+def test_run_infeasible_exit_code(capsys):
+    """A 40 m/s target: exit 4 with the highest reachable V_c in one line."""
+    path = str(ROOT / "problems" / "indoor-manual.toml")
+    assert main(["run", path, "--target-speed", "40 m/s"]) == 4
+    lines = capsys.readouterr().err.strip().splitlines()
+    errors = [line for line in lines if line.startswith("designer: error:")]
+    assert len(errors) == 1 and "out of reach" in errors[0] and "highest critical speed" in errors[0]
+    assert all(line.startswith("designer: warning:") for line in lines if line not in errors)
+
+
+def test_run_missing_problem(capsys):
+    """A missing problem file: exit 3, one line."""
+    assert main(["run", "nope.toml"]) == 3
+    assert "no such problem file" in capsys.readouterr().err
+
+
+def test_console_script_runs():
+    """The installed console script answers --help (the entry point is wired)."""
+    result = subprocess.run([sys.executable, "-m", "designer.cli", "--help"], capture_output=True, text=True)
+    assert result.returncode == 0 and "evaluate" in result.stdout
+
+
+# ----------------------------------------------------------------------------------------------------
+# Issue 12.1: crashes and exits a user could reach (check 8c out of reach, infeasible problem, Ctrl-C,
+# unwritable output folder, unbounded --points).
+import os
+import shutil
+import signal
+import time
+from pathlib import Path
+
+import pytest
+
+
+TIGHT = """name = "tight"
+[conditions]
+load = "178 N"
+threshold_height = "0.5 in"
+surface = "tile"
+turning_mode = "chair"
+[shimmy]
+target_speed = "{speed}"
+[variables]
+trail = {{ min = "1 in", max = "2.5 in" }}
+diameter = {{ min = "7 in", max = "8 in" }}
+groove = "0 in"
+damping = "1.3 N*m/rad"
+[robust]
+enabled = false
+[pareto]
+points = 5
+"""
+"""Nominal Eq. 7 constraint (no risk bound): d 7–8 in, no groove, no damper, trail <= 2.5 in: V_c reaches at most 2.384 m/s (T = 2.5 in, d = 7 in)."""
+
+
+def _problem(tmp_path: Path, speed: str) -> Path:
+    path = tmp_path / "tight.toml"
+    path.write_text(TIGHT.format(speed=speed))
+    return path
+
+
+def test_front_checks_8c_not_applicable_when_tighter_front_empty(tmp_path):
+    """An empty tighter front (V_target × 1.1 out of reach) gives check 8c 'not applicable' with the highest
+    reachable V_c (2.384 m/s, Eq. 7 at T = 2.5 in, d = 7 in, B = 0, c_f = 1.3), not a reduction of an empty
+    array (the old ValueError, exit 70)."""
+    from designer.studies.checks import NOT_APPLICABLE, front_checks
+    from designer.studies.front import pareto_front
+    from designer.problem import load_problem
+
+    problem = load_problem(_problem(tmp_path, "2.3 m/s"))
+    front = pareto_front(problem, 5)
+    tighter = pareto_front(problem.replace(target_speed=2.3 * 1.1), 5)
+    assert front.points and not tighter.points
+    c8c = next(c for c in front_checks(front, tighter) if c.name.startswith("8c"))
+    assert c8c.outcome == NOT_APPLICABLE and c8c.passed
+    assert c8c.got.startswith("not applicable: the tighter target is out of reach (highest V_c 2.38")
+
+
+def test_pareto_cli_writes_report_when_tighter_target_out_of_reach(tmp_path, capsys):
+    """`designer pareto` on the issue's problem (target 2.3 m/s, reachable; 2.53 m/s is not) exits 0 and
+    writes the report with check 8c not applicable in checks.json and report.md."""
+    out = tmp_path / "report"
+    assert main(["pareto", str(_problem(tmp_path, "2.3 m/s")), "--out", str(out), "--points", "5"]) == 0
+    checks = {c["name"]: c for c in json.loads((out / "checks.json").read_text())}
+    assert checks["8c tighter target"]["outcome"] == "not applicable"
+    assert "the tighter target is out of reach (highest V_c" in (out / "report.md").read_text()
+
+
+def test_pareto_cli_infeasible_problem_exit_4(tmp_path, capsys):
+    """A problem whose own target (3.5 m/s) is out of reach gives `designer run`'s exit 4 message, no report."""
+    out = tmp_path / "report"
+    assert main(["pareto", str(_problem(tmp_path, "3.5 m/s")), "--out", str(out)]) == 4
+    err = capsys.readouterr().err
+    assert "out of reach: the highest critical speed inside the bounds is 2.384 m/s" in err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("points", ["2", "100000", "-3"])
+def test_pareto_points_bounded_like_problem_file(points, tmp_path, capsys):
+    """--points takes the problem file's range 3..2001 (100000 used to run 4 min and die of MemoryError)."""
+    assert (
+        main(
+            ["pareto", str(ROOT / "problems" / "indoor-manual.toml"), "--out", str(tmp_path / "r"), "--points", points]
+        )
+        == 2
+    )
+    assert f"--points {points}: must be a whole number from 3 to 2001" in capsys.readouterr().err
+
+
+def test_pareto_front_api_rejects_huge_point_count():
+    """pareto_front(points=100000) is refused with InputError before any memory is allocated."""
+    from designer.errors import InputError
+    from designer.studies.front import pareto_front
+    from designer.problem import load_problem
+
+    with pytest.raises(InputError, match="2 to 2001 points"):
+        pareto_front(load_problem(ROOT / "problems" / "indoor-manual.toml"), 100000)
+
+
+def test_explore_trials_bounded(tmp_path, capsys):
+    """explore --trials beyond 1 000 000 is an input error (exit 2), not an ever-growing in-memory study."""
+    assert (
+        main(["explore", str(ROOT / "problems" / "indoor-manual.toml"), "--trials", "10000000", "--out", str(tmp_path)])
+        == 2
+    )
+    assert "--trials 10000000: must be a whole number from 1 to 1000000" in capsys.readouterr().err
+
+
+def test_out_under_regular_file_exit_7(tmp_path, capsys):
+    """--out under a regular file: one line, exit 7 (OutputError), before any computing."""
+    (tmp_path / "afile").write_text("x")
+    assert main(["pareto", str(ROOT / "problems" / "indoor-manual.toml"), "--out", str(tmp_path / "afile" / "r")]) == 7
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "lies under" in err and "a regular file, not a folder" in err
+
+
+def _drop_root_write_override() -> list[str]:
+    """Command prefix under which a 0o555 folder is read-only even for root (CAP_DAC_OVERRIDE dropped)."""
+    if os.geteuid() != 0:
+        return []
+    if shutil.which("setpriv") is None:
+        pytest.skip("running as root without setpriv: a read-only folder cannot be made")
+    return ["setpriv", "--bounding-set=-dac_override,-dac_read_search"]
+
+
+@pytest.mark.parametrize("command", ["pareto", "explore"])
+def test_read_only_out_folder_exit_7(command, tmp_path):
+    """A read-only --out folder: one-line error with exit 7 before the work, not exit 70 after it."""
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    ro.chmod(0o555)
+    try:
+        cmd = _drop_root_write_override() + [
+            sys.executable,
+            "-m",
+            "designer.cli",
+            command,
+            str(ROOT / "problems" / "indoor-manual.toml"),
+            "--out",
+            str(ro),
+        ]
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    finally:
+        ro.chmod(0o755)
+    assert proc.returncode == 7, proc.stderr
+    assert (
+        proc.stderr.strip() == f"designer: error: --out {ro}: cannot write in {ro} (Permission denied); "
+        f"choose a writable --out folder"
+    )
+
+
+def test_solver_call_raises_after_sigint_flag():
+    """A SIGINT received while IPOPT runs is swallowed by CasADi; the flag set by the handler makes the
+    next return from a solver raise KeyboardInterrupt (here the flag is set by a real SIGINT to ourselves)."""
+    from designer.errors import sigint_handler
+    from designer.problem import load_problem
+    from designer.solvers.nlp import CasterNLP
+
+    nlp = CasterNLP(load_problem(ROOT / "problems" / "indoor-manual.toml"))
+    start = nlp.problem.lower()
+    with sigint_handler():
+        with pytest.raises(KeyboardInterrupt):
+            os.kill(os.getpid(), signal.SIGINT)
+        with pytest.raises(KeyboardInterrupt):  # the flag outlives the swallowed exception
+            nlp.solve(start)
+    nlp.solve(start)  # handler removed: the flag is cleared
+
+
+SCRIPT = """
+import sys, time
+import designer.cli.pareto, designer.studies.front._pareto, designer.solvers.nlp, designer.report.writer  # noqa: F401
+from designer.cli import main
+print("ready", flush=True)
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+@pytest.mark.parametrize("delay", [0.3, 1.5])
+def test_sigint_exits_130_within_a_second_report_intact(delay, tmp_path):
+    """SIGINT while the front is being solved (IPOPT inside CasADi): exit 130 within ~1 s, the previous
+    report byte-for-byte intact and no temporary folder left (it finished the whole report before)."""
+    out = tmp_path / "report"
+    out.mkdir()
+    (out / "index.html").write_text("<p>previous</p>")
+    (out / "front.json").write_text(json.dumps({"problem": "indoor-manual", "points": []}))
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    proc = subprocess.Popen(
+        [sys.executable, "-c", SCRIPT, "pareto", str(ROOT / "problems" / "indoor-manual.toml"), "--out", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=tmp_path,
+    )
+    assert proc.stdout.readline().strip() == "ready"
+    time.sleep(delay)
+    assert proc.poll() is None
+    proc.send_signal(signal.SIGINT)
+    t0 = time.perf_counter()
+    try:
+        proc.wait(timeout=10)
+    finally:
+        proc.kill()
+    waited = time.perf_counter() - t0
+    err = proc.stderr.read()
+    assert proc.returncode == 130, err
+    assert err.strip().endswith("designer: interrupted")
+    # ~1 s goal; 3 s leaves room for a machine shared by several test runs
+    assert waited < 3.0, waited
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]

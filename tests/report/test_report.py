@@ -1,0 +1,331 @@
+"""Pareto reports (docs/commands.md#reports): the committed results/ are reproducible, the HTML is
+self-contained and escaped, writes are atomic, and ``designer pareto`` writes every file."""
+
+from __future__ import annotations
+
+import csv
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from designer import load_problem
+from designer.cli import main
+from designer.plots import figures
+from designer.pipeline import report_data
+from designer.report import write_report
+
+ROOT = Path(__file__).resolve().parents[2]
+COMMITTED = ROOT / "results" / "indoor-manual"
+FILES = ("index.html", "report.md", "front.csv", "front.json", "checks.json")
+FIGURES = tuple(f"figures/{name}.png" for name in figures.FIGURES)
+OBJECTIVES_RTOL = 1e-5
+"""Regenerated front objectives must match the committed ones to this relative tolerance."""
+
+
+@pytest.fixture(scope="module")
+def regenerated(tmp_path_factory) -> tuple[Path, int]:
+    """``designer pareto problems/indoor-manual.toml`` into a temporary folder (the committed report's command)."""
+    out = tmp_path_factory.mktemp("pareto") / "indoor-manual"
+    code = main(["pareto", str(ROOT / "problems" / "indoor-manual.toml"), "--out", str(out)])
+    return out, code
+
+
+@pytest.fixture(scope="module")
+def invacare():
+    """The report data of the paper's Invacare wheel (fixed diameter, single-point front): fast to compute."""
+    problem = load_problem(ROOT / "problems" / "paper-invacare.toml")
+    return problem, report_data(problem)
+
+
+def _read_csv(path: Path) -> list[dict]:
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_cli_writes_every_file(regenerated, capsys):
+    """`designer pareto` exits 0 (every check passes on indoor-manual) and writes the report files and figures."""
+    out, code = regenerated
+    assert code == 0
+    for name in FILES + FIGURES:
+        assert (out / name).is_file(), name
+        assert (out / name).stat().st_size > 0, name
+    data = json.loads((out / "front.json").read_text())
+    for key in ("caster-designer", "numpy", "scipy", "casadi", "cvxpy", "optuna"):
+        assert data["run"]["versions"][key], key
+    assert data["run"]["problem_digest"] == load_problem(ROOT / "problems" / "indoor-manual.toml").digest()
+    assert data["run"]["wall_seconds"] > 0 and data["run"]["date"]
+
+
+def test_committed_results_are_current(regenerated):
+    """results/indoor-manual matches a fresh run: front.csv objectives within 1e-5, the same check verdicts."""
+    out, _ = regenerated
+    assert COMMITTED.is_dir(), "results/indoor-manual is missing: run python -m designer.cli.regenerate"
+    new, old = _read_csv(out / "front.csv"), _read_csv(COMMITTED / "front.csv")
+    assert len(new) == len(old), "number of front points changed: regenerate results/"
+    for column in ("turning_effort", "threshold_force"):
+        a = np.array([float(r[column]) for r in new])
+        b = np.array([float(r[column]) for r in old])
+        np.testing.assert_allclose(a, b, rtol=OBJECTIVES_RTOL, err_msg=f"{column}: regenerate results/")
+    verdict = lambda path: {c["name"]: c["passed"] for c in json.loads(path.read_text())}  # noqa: E731
+    assert verdict(out / "checks.json") == verdict(COMMITTED / "checks.json")
+
+
+def test_html_is_self_contained(regenerated):
+    """index.html loads nothing from the network: no http(s) src/href, no external CSS/JS, all figures inline."""
+    out, _ = regenerated
+    html = (out / "index.html").read_text()
+    assert not re.search(r"""(src|href)\s*=\s*["']?\s*(https?:)?//""", html, re.I)
+    assert "<link" not in html.lower() and "<script" not in html.lower()
+    images = re.findall(r"<img[^>]+src=\"([^\"]+)\"", html)
+    assert len(images) == len(figures.FIGURES)
+    assert all(src.startswith("data:image/png;base64,") for src in images)
+
+
+def test_main_job_computes_the_knock_safe_speeds_of_the_card(regenerated):
+    """`designer pareto` simulates the knock-safe speeds of the recommendation and its alternatives only
+    (θ0 and 2 θ0 knocks, m/s in front.json, the 2 θ0 one lower), times the step, and the card shows them."""
+    out, _ = regenerated
+    data = json.loads((out / "front.json").read_text())
+    rec = data["recommendation"]
+    assert 0 < rec["knock_safe_speed_double"] < rec["knock_safe_speed"]
+    assert rec["knock_safe_speed"] == pytest.approx(rec["critical_speed"], rel=0.05)
+    assert all("knock_safe_speed" in a for a in data["alternatives"])
+    assert "knock_safe_speed" not in data["points"][0]
+    assert data["run"]["compute_cpu_seconds"]["knock_safe"] > 0
+    assert (
+        f"{rec['knock_safe_speed']:.2f} / {rec['knock_safe_speed_double']:.2f} m/s" in (out / "report.md").read_text()
+    )
+
+
+def test_no_nan_anywhere(regenerated):
+    """No NaN in a report: tables, Markdown, CSV and JSON."""
+    out, _ = regenerated
+    for name in FILES:
+        text = (out / name).read_text()
+        assert not re.search(r"\bnan\b|\binf\b", text, re.I), name
+
+
+def test_title_is_escaped(invacare, tmp_path):
+    """User text is shown as text: a <script> title is escaped in index.html and report.md."""
+    import dataclasses
+
+    problem, data = invacare
+    evil = problem.replace(title='<script>alert("x")</script> & co')
+    folder = write_report(dataclasses.replace(data, problem=evil), tmp_path / "r")
+    html = (folder / "index.html").read_text()
+    assert "<script>" not in html
+    assert "&lt;script&gt;" in html
+    assert "<script>" not in (folder / "report.md").read_text()
+
+
+def test_single_point_front_explained(invacare, tmp_path):
+    """A fixed-diameter problem has a one-point front; the report says why and still has every figure."""
+    problem, data = invacare
+    assert len(data.front) == 1
+    folder = write_report(data, tmp_path / "inv")
+    html = (folder / "index.html").read_text()
+    assert "Why the front is a single point" in html and "fixed at 7.750 in" in html
+    assert all((folder / f).is_file() for f in FIGURES)
+
+
+def test_failed_write_leaves_nothing(invacare, tmp_path, monkeypatch):
+    """An exception while writing leaves no report folder and no temporary folder; an old report stays intact."""
+    problem, data = invacare
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("figure failed")
+
+    monkeypatch.setattr(figures, "figure_threshold", broken)
+    with pytest.raises(RuntimeError, match="figure failed"):
+        write_report(data, tmp_path / "new")
+    assert list(tmp_path.iterdir()) == []
+    # an existing report is not touched by a failed rewrite
+    old = tmp_path / "old"
+    old.mkdir()
+    (old / "index.html").write_text("previous report")
+    (old / "front.json").write_text('{"problem": "old", "points": []}')  # a previous report of this tool
+    with pytest.raises(RuntimeError):
+        write_report(data, old)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["old"]
+    assert (old / "index.html").read_text() == "previous report"
+
+
+def test_cli_exit_1_when_a_front_check_fails(tmp_path, monkeypatch, capsys):
+    """A failing check 8 gives exit 1, after the report is written (docs/commands.md)."""
+    import designer.studies.checks as checks
+
+    real = checks.front_checks
+
+    def failing(front, tighter=None, **kw):
+        out = real(front, tighter, **kw)
+        out[0].passed = False
+        return out
+
+    monkeypatch.setattr(checks, "front_checks", failing)
+    out = tmp_path / "inv"
+    code = main(["pareto", str(ROOT / "problems" / "paper-invacare.toml"), "--out", str(out)])
+    assert code == 1
+    assert (out / "index.html").is_file()
+    assert "check failed on the front" in capsys.readouterr().err
+    verdicts = {c["name"]: c["passed"] for c in json.loads((out / "checks.json").read_text())}
+    assert verdicts["8a trade-off"] is False
+
+
+# ----------------------------------------------------------------------------------------------------
+# Issue 12.4: replacing a report keeps the files of the folder that the report does not own.
+import os
+
+from designer.report.writer import _replace
+
+
+def _report(folder, marker: str) -> None:
+    folder.mkdir()
+    (folder / "figures").mkdir()
+    (folder / "figures" / "front.png").write_text(marker)
+    for name in ("index.html", "report.md", "front.csv", "front.json", "checks.json"):
+        (folder / name).write_text(marker)
+
+
+def test_replace_keeps_explore_files_and_user_files(tmp_path):
+    """explore.csv / explore.json (written by `designer explore`) and a user's notes survive a report
+    replace; the report's own files and figures are the new ones; no moved-aside folder is left."""
+    target, tmp = tmp_path / "indoor-manual", tmp_path / ".indoor-manual.tmp-x"
+    _report(target, "old")
+    (target / "explore.csv").write_text("trail,diameter\n0.05,0.2\n")
+    (target / "explore.json").write_text('{"trials": 500}')
+    (target / "notes").mkdir()
+    (target / "notes" / "why.txt").write_text("mine")
+    (target / "figures" / "stale.png").write_text("old")  # inside the report's own folder: replaced whole
+    _report(tmp, "new")
+    _replace(tmp, target)
+    assert (target / "explore.csv").read_text() == "trail,diameter\n0.05,0.2\n"
+    assert (target / "explore.json").read_text() == '{"trials": 500}'
+    assert (target / "notes" / "why.txt").read_text() == "mine"
+    assert (target / "index.html").read_text() == "new" and (target / "front.json").read_text() == "new"
+    assert sorted(p.name for p in (target / "figures").iterdir()) == ["front.png"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["indoor-manual"]
+
+
+def test_replace_failure_keeps_old_folder_whole(tmp_path, monkeypatch):
+    """If the final rename fails, the old folder (with explore.csv) is back in place, untouched."""
+    target, tmp = tmp_path / "r", tmp_path / ".r.tmp-x"
+    _report(target, "old")
+    (target / "explore.csv").write_text("keep")
+    _report(tmp, "new")
+    real_rename = os.rename
+
+    def failing(src, dst, *a, **k):
+        if str(src) == str(tmp):
+            raise PermissionError(13, "Permission denied")
+        return real_rename(src, dst, *a, **k)
+
+    monkeypatch.setattr("pathlib.os.rename", failing)
+    try:
+        _replace(tmp, target)
+    except PermissionError:
+        pass
+    monkeypatch.undo()
+    assert (target / "explore.csv").read_text() == "keep" and (target / "index.html").read_text() == "old"
+
+
+# ----------------------------------------------------------------------------------------------------
+# Issue 12.2: no numerical noise from the package, and labels that say what was used (weights, units).
+import warnings
+
+import pytest
+
+
+from conftest import ROOT
+
+INDOOR = str(ROOT / "problems" / "indoor-manual.toml")
+
+
+def test_structured_swept_radius_without_divide_by_zero():
+    """The closed-form designs get T_max = R_max − d/2 from the geometry, not by evaluating the whole model
+    at T = 0 (F_turn = M/T divided by zero on every pareto run); any warning here is an error."""
+    from designer.problem import load_problem
+    from designer.solvers import closed_form as structured
+
+    problem = load_problem(INDOOR)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        x, ok = structured.designs_at_diameter(problem, np.linspace(4, 8, 9) * 0.0254)
+    # trail = min(2.5 in, 6 in − d/2): the swept-radius limit binds above d = 7 in
+    assert x[:, 0] == pytest.approx(np.minimum(2.5, 6 - np.linspace(4, 8, 9) / 2) * 0.0254)
+    assert ok.all()
+
+
+def test_package_runtime_warnings_fail_the_suite():
+    """pyproject's filterwarnings turns a RuntimeWarning raised from a designer module into an error,
+    while the same warning from elsewhere stays a warning."""
+    code = compile("import warnings\nwarnings.warn('divide by zero', RuntimeWarning)\n", "designer/fake.py", "exec")
+    with pytest.raises(RuntimeWarning, match="divide by zero"):
+        exec(code, {"__name__": "designer.fake"})
+    with pytest.warns(RuntimeWarning):
+        exec(code, {"__name__": "elsewhere"})
+
+
+def test_extrapolation_warning_only_for_reported_diameters():
+    """The inertia-extrapolation warning names reported designs outside 4–8 in, never the bounds alone."""
+    from designer.problem import load_problem
+
+    problem = load_problem(INDOOR)  # diameter bounds 3–8 in reach outside Table 1
+    assert problem.model_warnings([8 * 0.0254, 6 * 0.0254]) == []
+    (message,) = problem.model_warnings([3.5 * 0.0254, 6 * 0.0254])
+    assert "a reported design uses d = 3.5 in, outside the Table 1 inertia fit (4–8 in)" in message
+
+
+def test_optimise_inside_table1_does_not_warn():
+    """indoor-manual's bounds reach 3 in, but its (risk-bounded) optimum lies inside Table 1's 4-8 in
+    (d = 7.72 in): no extrapolation warning."""
+    from designer.studies.optimum import optimise
+    from designer.problem import load_problem
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        solution = optimise(load_problem(INDOOR), cross_check=False)
+    assert 4 * 0.0254 <= solution.design.diameter <= 8 * 0.0254 * (1 + 1e-9)
+    assert not [w for w in caught if "extrapolated" in str(w.message)]
+
+
+def test_run_weights_printed_and_recorded(capsys):
+    """run --weights 10,1 prints the weights used (was the problem's '1, 1') and JSON records them."""
+    assert main(["run", INDOOR, "--weights", "10,1", "--no-cross-check"]) == 0
+    assert "(weights 10, 1)" in capsys.readouterr().out
+    assert main(["run", INDOOR, "--weights", "10,1", "--no-cross-check", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["weights"] == [10.0, 1.0]
+
+
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["--weights", "-1,1"], "--weights -1,1: w_turn = -1 must be a finite non-negative number"),
+        (["--weights=-1,1"], "--weights -1,1: w_turn = -1 must be a finite non-negative number"),
+        (["--weights", "1,-2"], "--weights 1,-2: w_threshold = -2 must be a finite non-negative number"),
+    ],
+)
+def test_negative_weights_named(argv, fragment, capsys):
+    """A negative weight is named with its value (argparse used to take '-1,1' for an option)."""
+    assert main(["run", INDOOR] + argv) == 2
+    assert fragment in capsys.readouterr().err
+
+
+def test_explore_summary_shows_units(tmp_path, capsys):
+    """The explore front table's headers keep their units (rich read '[in]' as a markup tag and dropped it)."""
+    assert main(["explore", INDOOR, "--trials", "20", "--no-compare", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    for header in ("T [in]", "d [in]", "B [in]", "c_f [N·m/rad]", "V_c [m/s]"):
+        assert header in out
+
+
+def test_calibration_rms_residual_has_unit(capsys):
+    """The calibration summary gives the rms residual with the unit of the fitted quantity."""
+    data = ROOT / "designer" / "data" / "examples"
+    assert main(["calibrate", "turning", str(data / "turning_tile.csv")]) == 0
+    assert "rms residual" in (out := capsys.readouterr().out)
+    assert " N·m;" in out.split("rms residual", 1)[1].split(")")[0] + ")"
+    assert main(["calibrate", "slip", str(data / "slip.csv"), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["rms_residual_unit"] == "N"

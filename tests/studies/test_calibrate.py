@@ -1,0 +1,133 @@
+"""Calibration of k_surface (Fig. 7), c_f (Eq. 7, Fig. 2C) and K_s (Eq. 12C, Fig. 3C) from CSV data."""
+
+from __future__ import annotations
+
+import json
+import tomllib
+
+import numpy as np
+import pytest
+
+from designer.studies.calibrate import EXAMPLES_DIR, calibrate_file, fit_damping, read_columns, write_examples
+from designer.cli import main
+from designer.errors import InputError
+from designer.problem import SCHEMA
+
+
+def test_examples_regenerate_identically(tmp_path):
+    """write_examples(seed 7) reproduces the shipped example CSVs byte for byte."""
+    paths = write_examples(tmp_path)
+    for path in paths.values():
+        assert path.read_text() == (EXAMPLES_DIR / path.name).read_text()
+
+
+def test_turning_recovers_k_tile():
+    """Drill-press example (k_tile = 0.005 m, σ = 0.03 N·m): the 95 % interval contains 0.005 m and
+    is narrower than ±5 %."""
+    r = calibrate_file("turning", EXAMPLES_DIR / "turning_tile.csv")
+    lo, hi = r.interval
+    assert lo < 0.005 < hi
+    assert (hi - lo) / 2 < 0.05 * 0.005
+
+
+def test_slip_recovers_ks():
+    """Treadmill example (K_s = 1250 N, σ = 4 N): the 95 % interval contains 1250 N."""
+    r = calibrate_file("slip", EXAMPLES_DIR / "slip.csv")
+    assert r.interval[0] < 1250 < r.interval[1]
+    assert r.value == pytest.approx(1250, rel=0.05)
+
+
+def test_damping_example_within_three_standard_errors():
+    """Shipped Fig. 2C-like example (c_f = 1.3, 5 % speed noise, seed 7): this draw is low, 1.222 with
+    95 % interval 1.156–1.287 (1.3 lies 2.5 standard errors away); assert |c_f − 1.3| < 3 SE and 8 %."""
+    r = calibrate_file("damping", EXAMPLES_DIR / "damping.csv")
+    assert abs(r.value - 1.3) < 3 * r.stderr
+    assert r.value == pytest.approx(1.3, rel=0.08)
+
+
+def test_damping_interval_coverage(tmp_path):
+    """Over 30 seeds of the damping example the 95 % interval contains c_f = 1.3 in at least 80 % of
+    fits (binomial: 95 % nominal gives ≥ 80 % with probability > 0.99)."""
+    hits = 0
+    for seed in range(30):
+        paths = write_examples(tmp_path / str(seed), seed=seed)
+        r = calibrate_file("damping", paths["damping"])
+        hits += r.interval[0] <= 1.3 <= r.interval[1]
+    assert hits >= 24
+
+
+def test_damping_noise_free_exact():
+    """Noise-free Eq. 7 speeds (with grooves and K_s = 1000 N) give back c_f = 2.0 to 1e-6."""
+    from designer.physics.shimmy import critical_shimmy_speed
+
+    T = np.array([0.04, 0.05, 0.06, 0.05])
+    inertia = np.array([1e-3, 2e-3, 1.5e-3, 1e-3])
+    B = np.array([0.0, 0.0, 0.01, 0.014])
+    v = critical_shimmy_speed(T, inertia, B, 2.0, 1000.0)
+    assert fit_damping(T, inertia, v, B, slip_coefficient=1000.0).value == pytest.approx(2.0, rel=1e-6)
+
+
+def test_snippets_use_problem_keys(tmp_path):
+    """Each snippet is valid TOML whose sections/keys are accepted by designer.problem."""
+    for kind, name in (("turning", "turning_tile"), ("slip", "slip"), ("damping", "damping")):
+        data = tomllib.loads(calibrate_file(kind, EXAMPLES_DIR / f"{name}.csv").snippet())
+        for section, values in data.items():
+            assert set(values) <= set(SCHEMA[section])
+    turning = tomllib.loads(calibrate_file("turning", EXAMPLES_DIR / "turning_tile.csv").snippet())
+    assert turning["turning"]["tile_moment_per_load"].endswith(" m")
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("load_N,moment\n1,2\n2,3\n3,4\n", "missing column 'moment_Nm'"),
+        ("load_N,moment_Nm\n1,2\n2,abc\n3,4\n", "row 3, column 'moment_Nm': 'abc' is not a number"),
+        ("load_N,moment_Nm\n1,2\n2,nan\n3,4\n", "row 3, column 'moment_Nm': 'nan' is not finite"),
+        ("load_N,moment_Nm\n1,2\n2,3\n", "2 data rows; the fit needs at least 3"),
+        ("load_N,moment_Nm\n1,2\n2,\n3,4\n", "row 3, column 'moment_Nm': empty cell"),
+        ("", "empty file"),
+    ],
+)
+def test_bad_csv_one_line_error(tmp_path, text, message):
+    """Bad CSVs raise one-line InputErrors naming the file, the column/row and the reason."""
+    path = tmp_path / "data.csv"
+    path.write_text(text)
+    with pytest.raises(InputError) as info:
+        read_columns(path, ("load_N", "moment_Nm"))
+    assert message in str(info.value) and str(path) in str(info.value) and "\n" not in str(info.value)
+
+
+def test_missing_file_cli(capsys, tmp_path):
+    """`designer calibrate turning missing.csv` exits 2 with one line 'file not found'."""
+    code = main(["calibrate", "turning", str(tmp_path / "missing.csv")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and err.endswith("missing.csv: file not found") and "\n" not in err
+
+
+def test_cli_json_plot_snippet(capsys, tmp_path):
+    """`designer calibrate slip --json --plot --snippet` gives value and a 2-element interval, writes a
+    PNG and a snippet with [shimmy] slip_coefficient."""
+    plot, snippet = tmp_path / "res.png", tmp_path / "ks.toml"
+    code = main(
+        ["calibrate", "slip", str(EXAMPLES_DIR / "slip.csv"), "--json", "--plot", str(plot), "--snippet", str(snippet)]
+    )
+    assert code == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["interval"][0] < out["value"] < out["interval"][1]
+    assert plot.stat().st_size > 5000
+    assert "slip_coefficient" in tomllib.loads(snippet.read_text())["shimmy"]
+
+
+def test_cli_report_folder(capsys, tmp_path):
+    """`designer calibrate turning --report DIR` writes index.html (figure inline), report.md and calibration.json
+    whose summary states the fitted value and interval of the JSON."""
+    out = tmp_path / "cal"
+    code = main(["calibrate", "turning", str(EXAMPLES_DIR / "turning_tile.csv"), "--report", str(out), "--json"])
+    assert code == 0
+    data = json.loads((out / "calibration.json").read_text())
+    html = (out / "index.html").read_text()
+    lo, hi = data["interval"]
+    assert f"{data['value']:.5g}" in html and f"{lo:.5g} to {hi:.5g}" in html
+    assert "data:image/png;base64," in html and (out / "figures" / "fit.png").stat().st_size > 5000
+    assert (out / "report.md").read_text().startswith("# Calibration of ")
+    assert json.loads(capsys.readouterr().out)["report"] == str(out)

@@ -1,0 +1,175 @@
+"""The studio's Dash app without a browser: its callbacks over HTTP (Flask's test client) and its panels.
+
+The browser session is tests/studio/test_studio_browser.py; these check what needs no rendering, faster.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("dash")
+
+from designer.cli import main  # noqa: E402
+from designer.model import Design  # noqa: E402
+from designer.problem import problem_from_dict  # noqa: E402
+from designer.studio import state, view  # noqa: E402
+from designer.studio.app import create_app, fixes_panel, numbers_table  # noqa: E402
+
+PROBLEM = state.default_problem_path()
+POINTS = 5
+"""Front points of the report test (the problem's [pareto] points): small, the test writes two reports."""
+
+
+def _callback(
+    client,
+    outputs: list[tuple[str, str]],
+    inputs: list[tuple[str, str, object]],
+    changed: str,
+    states: list[tuple[str, str, object]],
+) -> dict:
+    """POST one Dash callback as the page does; returns the response's outputs by component id."""
+    single = len(outputs) == 1
+    body = {
+        "output": f"{outputs[0][0]}.{outputs[0][1]}"
+        if single
+        else ".." + "...".join(f"{i}.{p}" for i, p in outputs) + "..",
+        "outputs": {"id": outputs[0][0], "property": outputs[0][1]}
+        if single
+        else [{"id": i, "property": p} for i, p in outputs],
+        "inputs": [{"id": i, "property": p, "value": v} for i, p, v in inputs],
+        "changedPropIds": [changed],
+        "state": [{"id": i, "property": p, "value": v} for i, p, v in states],
+    }
+    response = client.post("/_dash-update-component", json=body)
+    assert response.status_code == 200, response.data[:500]
+    return json.loads(response.data)["response"]
+
+
+def _objectives(path: Path) -> list[tuple[str, ...]]:
+    with open(path, newline="") as fh:
+        return [
+            tuple(
+                row[k]
+                for k in ("trail", "diameter", "groove", "damping", "turning_effort", "threshold_force", "buildable")
+                if k in row
+            )
+            for row in csv.DictReader(fh)
+        ]
+
+
+def test_write_report_is_designer_pareto(tmp_path):
+    """ "Write report" (the button's callback, over HTTP) writes <out>/<name>/ with the files of a report, and its
+    front.csv is the one `designer pareto` writes for the same problem (the saved TOML): same rows, same numbers.
+    A 5-point front keeps the two reports quick."""
+    data, name = state.read_problem_data(PROBLEM)
+    data = {**data, "pareto": {**data.get("pareto", {}), "points": POINTS}}
+    problem, merged = state.build_problem(data, state.control_values(data))
+    app = create_app(data, name, tmp_path / "studio")
+    reply = _callback(
+        app.server.test_client(),
+        [("save-result", "children"), ("download", "data")],
+        [("save", "n_clicks", 0), ("report", "n_clicks", 1)],
+        "report.n_clicks",
+        [("problem-data", "data", merged)],
+    )
+    written = tmp_path / "studio" / problem.name
+    assert "report written" in json.dumps(reply["save-result"]) and (written / "index.html").is_file()
+    toml = tmp_path / f"{problem.name}.toml"
+    toml.write_text(state.to_toml(merged), encoding="utf-8")
+    assert main(["pareto", str(toml), "--out", str(tmp_path / "cli")]) == 0
+    studio_rows, cli_rows = _objectives(written / "front.csv"), _objectives(tmp_path / "cli" / "front.csv")
+    assert len(studio_rows) >= POINTS and studio_rows == cli_rows
+
+
+def test_fixes_panel_says_when_the_list_is_cut():
+    """ "My caster" lists the whole ranking when it is short ("all N found"); a ranking cut at FIX_LIMIT says it
+    is the top n of N and names the `designer fix` command that lists every fix."""
+    numbers = {
+        "critical_speed": 0.75,
+        "shimmy_probability": 1.0,
+        "target_speed": 2.5,
+        "turning_effort": 17.5,
+        "threshold_force": 98.5,
+    }
+    rows = [{"rank": i + 1, "description": f"fix {i + 1}", "shimmy_probability": 0.01} for i in range(3)]
+    text = json.dumps(fixes_panel({"numbers": numbers, "fixes": rows, "found": 3}), default=str)
+    assert "all 3 found" in text and "designer fix" not in text
+    command = 'designer fix out/p.toml --current "T=1in,d=8in,B=0in,c=1.3"'
+    text = json.dumps(fixes_panel({"numbers": numbers, "fixes": rows, "found": 250, "command": command}), default=str)
+    assert "top 3 of 250" in text and "designer fix out/p.toml" in text
+
+
+def test_my_caster_lists_the_full_ranking():
+    """For the default problem and a 1 in trail, 8 in wheel, bare fork: every fix designer.fix finds is listed
+    (the ranking is shorter than FIX_LIMIT)."""
+    problem = problem_from_dict(state.read_problem_data(PROBLEM)[0])
+    result = view.my_caster(problem, Design(0.0254, 0.2032, 0.0, 1.3))
+    assert result["found"] <= view.FIX_LIMIT
+    assert len(result["fixes"]) == result["found"] > 10
+
+
+def test_card_shows_the_knock_safe_speeds():
+    """A card's numbers carry the knock-safe speeds of the θ0 = 20° and 40° knocks [m/s] (simulated on the click),
+    shown as a row beside V_c; the 40° knock's is lower."""
+    problem = problem_from_dict(state.read_problem_data(PROBLEM)[0])
+    n = view.card(problem, Design(0.0635, 0.1778, 0.0127, 1.3))["numbers"]
+    assert 0 < n["knock_safe_speed_double"] < n["knock_safe_speed"]
+    assert n["knock_safe_speed"] == pytest.approx(n["critical_speed"], rel=0.05)
+    table = json.dumps(
+        numbers_table(n, "card").to_plotly_json(), default=lambda o: o.to_plotly_json(), ensure_ascii=False
+    )
+    assert "knock-safe speed, 20° / 40° knock" in table and f"{n['knock_safe_speed']:.3g} / " in table
+
+
+def test_recommendations_card_uses_its_wheels_inertia():
+    """Catalogue problem: the recommendation's card (the button under the recommendation) evaluates the
+    recommended wheel with its own measured I_w: V_c equals the recommendation's, the knock-safe speed is
+    within 5 % of it."""
+    from designer import load_problem
+    from designer.studies.recommend import recommend
+
+    problem = load_problem(PROBLEM.parent / "catalog-retrofit.toml")
+    rec = recommend(problem)
+    n = view.card(problem, rec.design, inertia=rec.inertia)["numbers"]
+    assert n["critical_speed"] == pytest.approx(rec.critical_speed, rel=1e-9)
+    assert n["knock_safe_speed"] == pytest.approx(rec.critical_speed, rel=0.05)
+
+
+def test_recommendations_card_button_opens_its_card(tmp_path):
+    """The button under the recommendation (its callback, over HTTP) opens the recommendation's card with the
+    knock-safe speed row beside V_c."""
+    data, name = state.read_problem_data(PROBLEM)
+    problem, merged = state.build_problem(data, state.control_values(data))
+    app = create_app(data, name, tmp_path)
+    reply = _callback(
+        app.server.test_client(),
+        [("card", "children")],
+        [("front", "clickData", None), ("rec-card", "n_clicks", 1)],
+        "rec-card.n_clicks",
+        [("problem-data", "data", merged)],
+    )
+    text = json.dumps(reply["card"]["children"], ensure_ascii=False)
+    assert "Card: recommendation" in text and "knock-safe speed, 20° / 40° knock" in text
+    assert "card-knocksafe" in text
+
+
+def test_catalogue_points_carry_their_wheels_inertia():
+    """Catalogue problem: each buildable point of the chart carries its Table 1 wheel's measured I_w, and a card
+    opened with it shows the point's own V_c (not the default wheel's)."""
+    from designer import load_problem
+    from designer.studies.recommend import recommend
+
+    problem = load_problem(PROBLEM.parent / "catalog-retrofit.toml")
+    rec = recommend(problem)
+    points = view.front_points(rec.buildable)
+    assert points and all(p["inertia"] is not None for p in points)
+    assert len({p["inertia"] for p in points}) == len({p["label"] for p in points})
+    for p in points:
+        design = Design(**p["design"])
+        card = view.card(problem, design, with_simulation=False, inertia=p["inertia"])
+        assert card["numbers"]["critical_speed"] == pytest.approx(p["critical_speed"], rel=1e-9)
+    assert view.recommendation_record(rec)["inertia"] == pytest.approx(rec.inertia)
