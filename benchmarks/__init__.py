@@ -1,1 +1,2 @@
-"""Benchmarks of caster-designer (not part of the test suite): ``python -m benchmarks.run [--quick]``."""
+"""Benchmarks of caster-designer: ``python -m benchmarks.run [--quick]``; the suite runs ``--quick`` as a smoke test
+(tests/test_benchmarks.py), asserting the tables, never a time."""

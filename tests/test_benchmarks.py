@@ -1,0 +1,99 @@
+"""The benchmark suite runs (issue 23.4): ``python -m benchmarks.run --quick`` on the current code, as a smoke test.
+
+Nothing here times anything: the test checks that the quick run exits 0 and writes its tables with every method
+row and every column, so the benchmark cannot rot unnoticed again (it once exec'd a module from git history).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PROBLEMS = ("indoor-manual", "sports-court", "powered-chair")
+COLUMNS = "| method | time | model evaluations / NLP solves | HV / HV_exact101 | IGD+ | points |"
+
+
+def _methods(quick: dict) -> list[str]:
+    """The rows every problem's table must have, from the run's own configuration."""
+    grid = "×".join(str(n) for n in quick["grid"])
+    return (
+        [f"exact front N={n}" for n in quick["points"]]
+        + [f"pymoo NSGA-II {g} gen" for g in quick["pymoo_generations"]]
+        + [
+            f"optuna NSGA-II {label} {trials}"
+            for trials in quick["optuna_trials"]
+            for label in ("defaults", "best operators")
+        ]
+        + ["scipy SLSQP ε-loop (101 ε)", f"dense grid {grid}"]
+    )
+
+
+@pytest.fixture(scope="module")
+def quick_run(tmp_path_factory):
+    """``python -m benchmarks.run --quick --out <tmp>`` from the repository root, on this checkout's package."""
+    out = tmp_path_factory.mktemp("bench")
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))}
+    proc = subprocess.run(
+        [sys.executable, "-m", "benchmarks.run", "--quick", "--out", str(out)],
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
+    return proc, out
+
+
+def test_quick_benchmark_exits_0_and_writes_its_files(quick_run):
+    """The quick run exits 0 and writes results.md, results.json and scaling.png (non-empty)."""
+    proc, out = quick_run
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    for name in ("results.md", "results.json", "scaling.png"):
+        assert (out / name).is_file() and (out / name).stat().st_size > 0, name
+
+
+def test_quick_benchmark_table_has_every_method_and_column(quick_run):
+    """Per problem, results.md has the table header and one row of 6 cells per method (exact fronts, pymoo,
+    optuna, SLSQP, grid); results.json has the same methods, each with its HV ratio and IGD+; the exact
+    101-point front is its own reference (HV ratio 1, IGD+ 0)."""
+    proc, out = quick_run
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    text = (out / "results.md").read_text(encoding="utf-8")
+    data = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    assert data["quick"] is True
+    quick = data["config"]  # the budgets the run used (benchmarks.run.QUICK)
+    sections = text.split("\n## ")
+    for name in PROBLEMS:
+        section = next(s for s in sections if s.startswith(name + "\n"))
+        assert COLUMNS in section, name
+        rows = {line.split(" | ")[0].lstrip("| "): line for line in section.splitlines() if line.startswith("| ")}
+        for method in _methods(quick):
+            assert method in rows, (name, method)
+            assert rows[method].count("|") == 7, rows[method]  # 6 cells
+        methods = data["problems"][name]["methods"]
+        assert set(_methods(quick)) <= set(methods), name
+        for method in _methods(quick):
+            assert 0.0 <= methods[method]["hv_ratio"] and methods[method]["igd_plus"] >= 0.0, (name, method)
+        reference = methods["exact front N=101"]  # its own reference: equal up to the rounding of the HV sums
+        assert reference["hv_ratio"] == pytest.approx(1.0, abs=1e-12) and reference["igd_plus"] <= 1e-12
+
+
+def test_quick_benchmark_quotes_the_before_numbers(quick_run):
+    """The "before" speed of the old exact front is quoted from the committed benchmarks/results.json (the old
+    code is not run): the quick run's before/after line carries the committed ms per point and commit."""
+    proc, out = quick_run
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    committed = json.loads((ROOT / "benchmarks" / "results.json").read_text(encoding="utf-8"))
+    data = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    text = (out / "results.md").read_text(encoding="utf-8")
+    for name in PROBLEMS:
+        before = committed["problems"][name]["legacy"]["ms_per_point_before"]
+        quoted = data["problems"][name]["legacy"]
+        assert quoted["ms_per_point_before"] == before and quoted["commit"] == "085d726"
+        assert f"{before:.2f} ms per point before (commit 085d726" in text
