@@ -1,8 +1,9 @@
-"""The report's figures, drawn with matplotlib's object API on the Agg canvas.
+"""The report's figures, drawn on the SVG canvas of :mod:`designer.plots.svg` (matplotlib's object API).
 
 Each ``figure_*`` function takes what it draws (arrays, plain records, the
-problem's bounds) and returns a :class:`matplotlib.figure.Figure`;
-:mod:`designer.report.figures` picks those arguments out of a report's data.
+problem's bounds) and returns a :class:`designer.plots.svg.Figure` (``to_svg()`` gives the SVG text);
+:mod:`designer.report.figures` picks those arguments out of a report's data.  No matplotlib: a figure
+costs milliseconds, so the main job draws all six (benchmarks/results.md).
 The front and its design variables are drawn by the same functions as
 :meth:`Front.plot` and :meth:`Front.plot_variables`
 (:mod:`designer.plots.fronts`).  They compute
@@ -27,8 +28,6 @@ import io
 import warnings
 
 import numpy as np
-from matplotlib.figure import Figure
-from matplotlib.patches import Rectangle
 
 from designer.data.paper import (
     BARE_FORK_DAMPING,
@@ -41,9 +40,10 @@ from designer.data.paper import (
 )
 from designer.model import performance
 from designer.physics.shimmy import critical_shimmy_speed
-from designer.plots.fronts import FAMILY_STYLE, draw_fronts, plot_front, plot_variables  # noqa: F401  (FAMILY_STYLE: re-exported)
+from designer.plots.fronts import VARIABLE_PANELS, FAMILY_STYLE, draw_fronts, plot_front, plot_variables  # noqa: F401  (FAMILY_STYLE: re-exported)
 from designer.physics.threshold import threshold_force_ratio, threshold_force_ratio_approx
 from designer.errors import InputError
+from designer.plots.svg import Axes, Figure
 
 FIGURES = ("front", "variables", "trail", "inertia", "threshold", "groove_damper")
 """Figure names in report order; ``figure_<name>`` draws each."""
@@ -83,9 +83,8 @@ def _new(
 ) -> Figure:
     """A figure of ``width`` x ``height`` inches with fixed margins [in] around the axes.
 
-    Fixed margins, not matplotlib's constrained layout: the layout pass measured every tick label of every
-    axis again and took about half of the figures' CPU in the main job (benchmarks/results.md).  Each figure
-    gives the margins its labels need (a title, an inch axis on top, a right-hand axis or colour bar).
+    Fixed margins (the SVG canvas measures no text): each figure gives the margins its labels need (a
+    title, an inch axis on top, a right-hand axis or colour bar).
     """
     fig = Figure(figsize=(width, height))
     fig.subplots_adjust(
@@ -107,8 +106,8 @@ def save_figure(fig, path, dpi: int = 110, option: str = "--plot") -> None:
         plt.close(fig)
 
 
-def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
-    """The figure as PNG bytes (Agg renderer)."""
+def png_bytes(fig, dpi: int = 110) -> bytes:
+    """A matplotlib figure as PNG bytes (Agg renderer; the robust and calibration reports)."""
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi)
     return buf.getvalue()
@@ -118,7 +117,14 @@ def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
 
 
 def figure_front(
-    front: dict, title: str, tighter: dict | None = None, curves=(), marks=(), ends=(), note: str | None = None
+    front: dict,
+    title: str,
+    tighter: dict | None = None,
+    curves=(),
+    marks=(),
+    ends=(),
+    note: str | None = None,
+    hover=None,
 ) -> Figure:
     """Pareto front: turning effort F_turn [N] against threshold force P [N] (the report's front figure).
 
@@ -136,6 +142,7 @@ def figure_front(
     ends : up to two records ``{"turning_effort", "threshold_force" [N], "trail", "diameter", "groove" [m]}``
         labelled with their sizes in inches (the two ends of the front)
     note : text shown under a single-point front (why it is a single point)
+    hover : optional tooltip text per front point (its numbers); the marked designs show their labels
     """
     fig = _new(7.5, 5.0)
     ax = fig.add_subplot()
@@ -193,6 +200,11 @@ def figure_front(
             lo, hi = min(f.min(), t.min()), max(f.max(), t.max())
             pad = 0.12 * (hi - lo if hi > lo else 1.0)
             ax.set_ylim(lo - 3 * pad, hi + 2.2 * pad)
+    if hover is not None and isinstance(ax, Axes):
+        ax.hover(p, f, hover)
+        ax.hover(
+            [m["threshold_force"] for m in marks], [m["turning_effort"] for m in marks], [m["label"] for m in marks]
+        )
     ax.legend(fontsize=7.5, loc="upper right", framealpha=0.9)
     ax.set_title(title, fontsize=10)
     return fig
@@ -201,15 +213,21 @@ def figure_front(
 # --------------------------------------------------------------------------- variables
 
 
-def figure_variables(threshold_force, designs, families, bounds, gaps=()) -> Figure:
+def figure_variables(threshold_force, designs, families, bounds, gaps=(), hover=None) -> Figure:
     """The design variables T, d, B [mm, in] and c_f [N·m/rad] along the front, against P [N].
 
     Drawn by :func:`designer.plots.fronts.plot_variables` (as :meth:`Front.plot_variables`); arguments as
-    there.  Dashed vertical lines mark family switches (``gaps``).
+    there.  Dashed vertical lines mark family switches (``gaps``); ``hover``: optional tooltip per point.
     """
-    fig = Figure(figsize=(8.5, 6.2))  # fixed margins: constrained layout misplaces labels with secondary axes here
+    fig = Figure(figsize=(8.5, 6.2))
     fig.subplots_adjust(left=0.09, right=0.91, bottom=0.15, top=0.93, wspace=0.45, hspace=0.1)
-    plot_variables(threshold_force, designs, families, bounds, gaps, axes=fig.subplots(2, 2, sharex=True))
+    axes = fig.subplots(2, 2, sharex=True)
+    plot_variables(threshold_force, designs, families, bounds, gaps, axes=axes)
+    if hover is not None:
+        x = np.asarray(threshold_force, float).reshape(-1)
+        d = np.asarray(designs, float).reshape(-1, 4)
+        for ax, (_, _, k, scale, _) in zip(axes.ravel(), VARIABLE_PANELS):
+            ax.hover(x, d[:, k] * scale, hover)
     return fig
 
 
@@ -234,6 +252,12 @@ def figure_trail(required_speed: float) -> Figure:
         ax.plot(trail * MM, v, color=colour, lw=1.4, label=f"{w.key} {w.name}, I_w {w.inertia * 1e3:.2f}e-3")
         if w.critical_speed is not None:
             ax.scatter([TABLE1_TRAIL * MM], [w.critical_speed], color=colour, edgecolor="black", s=40, zorder=4)
+            eq7 = float(critical_shimmy_speed(TABLE1_TRAIL, w.inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT))
+            ax.hover(
+                [TABLE1_TRAIL * MM],
+                [w.critical_speed],
+                [f"wheel {w.key} {w.name}: measured V_c {w.critical_speed:.2f} m/s at T = 2 in; Eq. 7 {eq7:.2f} m/s"],
+            )
         else:
             x = TABLE1_TRAIL * MM + next(stable_offset)
             ax.annotate(
@@ -315,10 +339,24 @@ def figure_inertia() -> Figure:
         [],
         [],
         color="#d62728",
-        marker="$\\uparrow$",
+        marker="uarrow",
         ls="none",
         ms=10,
         label="A, B: no shimmy up to 3.8 m/s (treadmill limit)",
+    )
+    ax.hover(
+        [w.inertia * 1e3 for w in TABLE1],
+        [w.critical_speed if w.critical_speed is not None else TABLE1_STABLE_UP_TO for w in TABLE1],
+        [
+            f"wheel {w.key} {w.name}: I_w {w.inertia * 1e3:.2f}e-3 kg·m², "
+            + (
+                f"measured V_c {w.critical_speed:.2f} m/s"
+                if w.critical_speed is not None
+                else "no shimmy up to 3.8 m/s"
+            )
+            + f"; Eq. 7 {float(critical_shimmy_speed(TABLE1_TRAIL, w.inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT)):.2f} m/s"
+            for w in TABLE1
+        ],
     )
     ax.axhline(WALKING_SPEED, color="0.4", ls=":", lw=1)
     ax.text(2.2, WALKING_SPEED - 0.22, "walking speed 1 m/s", fontsize=8, color="0.3")
@@ -372,7 +410,16 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, front_dia
         ax.axvspan(b.low * MM, b.high * MM, color="#ff7f0e", alpha=0.12, label="diameter bounds of the problem")
     if len(front_diameters):
         dd = np.asarray(front_diameters, float)
-        ax.scatter(dd * MM, threshold_force_ratio(dd, h), color="black", s=12, zorder=4, label="front designs")
+        ratio = threshold_force_ratio(dd, h)
+        ax.scatter(dd * MM, ratio, color="black", s=12, zorder=4, label="front designs")
+        ax.hover(
+            dd * MM,
+            ratio,
+            [
+                f"d = {x / INCH:.3f} in ({x * MM:.1f} mm): P/L = {r:.4f}, P = {r * load:.2f} N"
+                for x, r in zip(dd, ratio)
+            ],
+        )
     ax.set_xlim(d_lo * MM, d_hi * MM)
     ax.set_ylim(0, min(3.0, float(threshold_force_ratio(d_lo, h)) * 1.05))
     ax.set_xlabel("wheel diameter d [mm]")
@@ -444,6 +491,14 @@ def _tradeoff_lines(left, bounds, rows) -> None:
         y = np.array([r.effort.get(mechanism) if r.effort.get(mechanism) is not None else np.nan for r in rows])
         ok = np.isfinite(y)
         left.plot(xs[ok], y[ok], color=colour, ls=ls, marker=marker, ms=4, lw=1.5, label=mechanism)
+        left.hover(
+            xs[ok],
+            y[ok],
+            [
+                f"{mechanism}: d = {x / (INCH * MM):.3f} in ({x:.1f} mm), least F_turn {v:.3f} N"
+                for x, v in zip(xs[ok], y[ok])
+            ],
+        )
         if np.any(~ok):
             left.scatter(xs[~ok], np.zeros((~ok).sum()), color=colour, marker="x", s=40, clip_on=False, zorder=4)
     if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
@@ -480,7 +535,7 @@ def _tradeoff_bars(left, catalog, rows) -> None:
         left.bar(
             [p for p, v in zip(pos, y) if v is not None], [v for v in y if v is not None], width * 0.95, color=colour
         )
-        left.add_patch(Rectangle((0, 0), 0, 0, color=colour, label=mechanism))  # legend entry even without bars
+        left.legend_patch(mechanism, colour)  # legend entry even without bars
         for p, v in zip(pos, y):
             if v is None:
                 left.text(p, 0.02 * top, "×", ha="center", va="bottom", color=colour, fontsize=13, weight="bold")
@@ -541,7 +596,15 @@ def _groove_damper_plane(ax, bounds, req, design, conditions) -> None:
         + ("\nnominal Eq. 7; the robust optimum keeps a margin" if robust else ""),
     )
     ax.plot([], [], color="0.25", lw=0.8, label="iso-V_c lines [m/s]")
-    ax.add_patch(_rect(gb.low * MM, cb.low, (gb.high - gb.low) * MM, cb.high - cb.low))
+    ax.rectangle(
+        gb.low * MM,
+        cb.low,
+        max((gb.high - gb.low) * MM, 1e-9),
+        max(cb.high - cb.low, 1e-9),
+        edgecolor="#bb5500",
+        ls=":",
+        lw=1.2,
+    )
     ax.plot([], [], color="#bb5500", ls=":", label="bounds")
     ax.scatter(
         [design.groove * MM],
@@ -553,6 +616,11 @@ def _groove_damper_plane(ax, bounds, req, design, conditions) -> None:
         zorder=5,
         clip_on=False,
         label="weighted optimum",
+    )
+    ax.hover(
+        [design.groove * MM],
+        [design.damping],
+        [f"weighted optimum: B = {design.groove / INCH:.3f} in, c_f = {design.damping:.3f} N·m/rad"],
     )
     ax.set_xlim(0, g_hi * MM)
     ax.set_ylim(c_lo, c_hi)
@@ -569,10 +637,6 @@ def _groove_damper_plane(ax, bounds, req, design, conditions) -> None:
 def is_bare_fork(bounds, design) -> bool:
     """No groove and no added damper beyond the lower bounds (``bounds``: the problem's, by variable name)."""
     return design.groove <= bounds["groove"].low + 1e-6 * INCH and design.damping <= bounds["damping"].low * (1 + 1e-6)
-
-
-def _rect(x, y, w, h):
-    return Rectangle((x, y), max(w, 1e-9), max(h, 1e-9), fill=False, ls=":", lw=1.2, edgecolor="#bb5500")
 
 
 __all__ = ["FIGURES", "png_bytes", "save_figure"] + [f"figure_{n}" for n in FIGURES]

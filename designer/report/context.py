@@ -483,7 +483,7 @@ def build_context(data: ReportData) -> dict:
     solution = _solution(data.solution)
     tradeoff = _tradeoff_rows(problem, data.tradeoff)
     figures = [
-        {"name": n, "title": FIGURE_INFO[n][0], "caption": FIGURE_INFO[n][1], "file": f"figures/{n}.png"}
+        {"name": n, "title": FIGURE_INFO[n][0], "caption": FIGURE_INFO[n][1], "file": f"figures/{n}.svg"}
         for n in _figures.FIGURES
     ]
 

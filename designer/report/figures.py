@@ -1,9 +1,12 @@
-"""The report's figures: pick each figure's arguments out of the report data and draw it.
+"""The report's figures: pick each figure's arguments out of the report data and draw it as SVG.
 
-Render only.  :mod:`designer.plots.figures` draws from arrays and plain records; this module says which
-parts of a :class:`designer.pipeline.ReportData` each figure shows (the front, its marked designs, the
-problem's bounds, the groove/damper rows).  The front and the design variables are drawn by the same
-functions as :meth:`Front.plot` and :meth:`Front.plot_variables`.
+Render only.  :mod:`designer.plots.figures` draws from arrays and plain records on the SVG canvas
+(:mod:`designer.plots.svg`); this module says which parts of a :class:`designer.pipeline.ReportData` each
+figure shows (the front, its marked designs, the problem's bounds, the groove/damper rows) and what a point
+says on hover (its numbers).  The front and the design variables are drawn by the same functions as
+:meth:`Front.plot` and :meth:`Front.plot_variables`.  To add a figure: a ``figure_<name>`` in
+:mod:`designer.plots.figures`, its name in ``FIGURES``, its arguments in :func:`arguments` and its title and
+caption in :data:`designer.report.context.FIGURE_INFO`.
 """
 
 from __future__ import annotations
@@ -11,9 +14,21 @@ from __future__ import annotations
 import numpy as np
 
 from designer.plots import figures as _figures
-from designer.plots.figures import FIGURES, png_bytes
+from designer.plots.figures import FIGURES
 
-__all__ = ["FIGURES", "arguments", "draw", "png_bytes"]
+__all__ = ["FIGURES", "arguments", "draw", "point_text", "svg"]
+
+INCH = 0.0254
+
+
+def point_text(p) -> str:
+    """What a front point says on hover: its objectives, V_c and design (SI and inches)."""
+    d = p.design
+    return (
+        f"P {p.threshold_force:.2f} N, F_turn {p.turning_effort:.3f} N, V_c {p.critical_speed:.3f} m/s; "
+        f"T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in, B {d.groove / INCH:.3f} in, "
+        f"c_f {d.damping:.3f} N·m/rad ({p.family}{', wheel ' + p.wheel if getattr(p, 'wheel', None) else ''})"
+    )
 
 
 def _front_marks(data) -> tuple[list, list]:
@@ -108,6 +123,7 @@ def _front(data) -> dict:
             for p in ends
         ],
         "note": data.degenerate_reason_short if len(f) == 1 else None,
+        "hover": [point_text(p) for p in front.points],
     }
 
 
@@ -119,6 +135,7 @@ def _variables(data) -> dict:
         "families": [p.family for p in front.points],
         "bounds": [data.problem.bounds[k] for k in ("trail", "diameter", "groove", "damping")],
         "gaps": data.gaps,
+        "hover": [point_text(p) for p in front.points],
     }
 
 
@@ -170,3 +187,8 @@ def draw(name: str, data):
     ``figure_<name>`` is looked up at call time, so a test can replace it.
     """
     return getattr(_figures, f"figure_{name}")(**arguments(name, data))
+
+
+def svg(name: str, data, title: str | None = None) -> str:
+    """Figure ``name`` of the report ``data`` as SVG text (ids prefixed ``fig-<name>``, ``title`` its tooltip)."""
+    return draw(name, data).to_svg(f"fig-{name}", title)

@@ -3,7 +3,8 @@
 Render only: :func:`write_report` takes the :class:`designer.pipeline.ReportData` that
 :func:`designer.pipeline.report_data` computed (front, recommendation, optimum, checks,
 groove/damper table, run metadata), has :func:`designer.report.context.build_context` format
-the tables once (SI and inches), draws the figures, renders the two jinja2 templates and writes
+the tables once (SI and inches), draws the figures as SVG (:mod:`designer.report.figures`), renders the
+two jinja2 templates and writes
 all files into a temporary folder beside the target, which replaces the target by a rename only
 when everything is written (:mod:`designer.report.files`).  An exception leaves no half report.
 Nothing here optimises, checks or sweeps.
@@ -11,7 +12,6 @@ Nothing here optimises, checks or sweeps.
 
 from __future__ import annotations
 
-import base64
 import json
 import os
 import shutil
@@ -91,10 +91,8 @@ def _write_all(folder: Path, data: ReportData, t0: float) -> None:
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="inertia power law used at")
         for item in context["figures"]:
-            fig = _figures.draw(item["name"], data)
-            png = _figures.png_bytes(fig)
-            (folder / item["file"]).write_bytes(png)
-            item["data_uri"] = "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+            item["svg"] = _figures.svg(item["name"], data, item["title"])
+            (folder / item["file"]).write_text(item["svg"] + "\n", encoding="utf-8")
     c1 = time.process_time()
     _front_csv(folder / "front.csv", data)
     if context["build"]["available"]:
@@ -119,9 +117,9 @@ def _write_all(folder: Path, data: ReportData, t0: float) -> None:
 def write_report(data, out_dir=None, *, force: bool = False) -> Path:
     """Render ``data`` (a :class:`designer.pipeline.ReportData`) into ``out_dir``; computes nothing.
 
-    Writes ``index.html`` (one self-contained file: figures as base64 PNG,
-    the caster drawing as inline SVG, inline CSS, autoescaped), ``report.md``
-    with ``figures/*.png`` beside it, ``front.csv``, ``front.json`` (front,
+    Writes ``index.html`` (one self-contained file: the figures and the caster
+    drawing as inline SVG, a point's numbers on hover, inline CSS, autoescaped), ``report.md``
+    with the same ``figures/*.svg`` beside it, ``front.csv``, ``front.json`` (front,
     recommendation, indicators, run metadata) and ``checks.json``.
     Everything is written into a temporary folder beside the target and
     renamed into place at the end, so an exception leaves no half report (and

@@ -422,7 +422,7 @@ def test_two_pareto_runs_on_one_out_folder(tmp_path):
     assert data["run"]["points_option"] in (5, 7)
     for name in ("index.html", "report.md", "front.csv", "checks.json"):
         assert (out / name).is_file()
-    assert len(list((out / "figures").glob("*.png"))) >= 6
+    assert len(list((out / "figures").glob("*.svg"))) >= 6
     html = (out / "index.html").read_text()
     assert data["problem_digest"] in html
 

@@ -20,7 +20,7 @@ from designer.report import write_report
 ROOT = Path(__file__).resolve().parents[2]
 COMMITTED = ROOT / "results" / "indoor-manual"
 FILES = ("index.html", "report.md", "front.csv", "front.json", "checks.json")
-FIGURES = tuple(f"figures/{name}.png" for name in figures.FIGURES)
+FIGURES = tuple(f"figures/{name}.svg" for name in figures.FIGURES)
 OBJECTIVES_RTOL = 1e-5
 """Regenerated front objectives must match the committed ones to this relative tolerance."""
 
@@ -74,14 +74,43 @@ def test_committed_results_are_current(regenerated):
 
 
 def test_html_is_self_contained(regenerated):
-    """index.html loads nothing from the network: no http(s) src/href, no external CSS/JS, all figures inline."""
+    """index.html loads nothing: no http(s) src/href, no external CSS/JS, no <img>; every figure is an inline
+    <svg> in its <figure>, the same SVG as figures/<name>.svg beside report.md (which links those files)."""
     out, _ = regenerated
     html = (out / "index.html").read_text()
     assert not re.search(r"""(src|href)\s*=\s*["']?\s*(https?:)?//""", html, re.I)
-    assert "<link" not in html.lower() and "<script" not in html.lower()
-    images = re.findall(r"<img[^>]+src=\"([^\"]+)\"", html)
-    assert len(images) == len(figures.FIGURES)
-    assert all(src.startswith("data:image/png;base64,") for src in images)
+    assert not re.search(r"\b(src|href)\s*=", html.replace('href="#', ""), re.I)  # only in-page links
+    assert "<link" not in html.lower() and "<script" not in html.lower() and "<img" not in html.lower()
+    md = (out / "report.md").read_text()
+    for name in figures.FIGURES:
+        block = re.search(rf'<figure id="fig-{name}">\s*<div class="plot">(<svg.*?</svg>)', html, re.S)
+        assert block, name
+        assert block.group(1) == (out / "figures" / f"{name}.svg").read_text().strip(), name
+        assert f"](figures/{name}.svg)" in md, name
+
+
+def test_page_figures_carry_their_data_on_hover(regenerated):
+    """Every valid front point is a hover target in the front and variables figures, whose tooltip gives its
+    P, F_turn and design to the printed digits of front.json; the paper figures show Table 1's wheels."""
+    out, _ = regenerated
+    html = (out / "index.html").read_text()
+    data = json.loads((out / "front.json").read_text())
+
+    def tips(name):
+        svg = re.search(rf'<figure id="fig-{name}">(.*?)</figure>', html, re.S).group(1)
+        return re.findall(r"<circle[^>]*><title>([^<]*)</title></circle>", svg)
+
+    front_tips = tips("front")
+    points = data["points"]  # the valid points (failed ones are in data["failed"])
+    assert len(points) > 2
+    for p in points:
+        text = f"P {p['threshold_force']:.2f} N, F_turn {p['turning_effort']:.3f} N"
+        assert any(t.startswith(text) for t in front_tips), text
+        assert sum(t.startswith(text) for t in tips("variables")) >= 4  # one per panel
+    assert any(t.startswith("build this") for t in front_tips)
+    assert len([t for t in tips("trail") if t.startswith("wheel ")]) == 5  # C–G measured at 2 in
+    assert len([t for t in tips("inertia") if t.startswith("wheel ")]) == 7  # all of Table 1
+    assert any("least F_turn" in t for t in tips("groove_damper"))
 
 
 def test_main_job_computes_the_knock_safe_speeds_of_the_card(regenerated):
@@ -184,7 +213,7 @@ from designer.report.writer import _replace
 def _report(folder, marker: str) -> None:
     folder.mkdir()
     (folder / "figures").mkdir()
-    (folder / "figures" / "front.png").write_text(marker)
+    (folder / "figures" / "front.svg").write_text(marker)
     for name in ("index.html", "report.md", "front.csv", "front.json", "checks.json"):
         (folder / name).write_text(marker)
 
@@ -198,14 +227,14 @@ def test_replace_keeps_explore_files_and_user_files(tmp_path):
     (target / "explore.json").write_text('{"trials": 500}')
     (target / "notes").mkdir()
     (target / "notes" / "why.txt").write_text("mine")
-    (target / "figures" / "stale.png").write_text("old")  # inside the report's own folder: replaced whole
+    (target / "figures" / "stale.svg").write_text("old")  # inside the report's own folder: replaced whole
     _report(tmp, "new")
     _replace(tmp, target)
     assert (target / "explore.csv").read_text() == "trail,diameter\n0.05,0.2\n"
     assert (target / "explore.json").read_text() == '{"trials": 500}'
     assert (target / "notes" / "why.txt").read_text() == "mine"
     assert (target / "index.html").read_text() == "new" and (target / "front.json").read_text() == "new"
-    assert sorted(p.name for p in (target / "figures").iterdir()) == ["front.png"]
+    assert sorted(p.name for p in (target / "figures").iterdir()) == ["front.svg"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["indoor-manual"]
 
 
