@@ -12,6 +12,8 @@ import os
 import tempfile
 from pathlib import Path
 from designer.errors import OutputError
+from designer.parameters import PARAMETERS
+from designer.units import outside_range
 
 
 def quantity_option(value: str | None, dimension: str, option: str, default=None):
@@ -60,3 +62,34 @@ def check_output_folder(folder, option: str = "--out") -> None:
             raise OutputError(
                 f"{option} {folder}: cannot write in {place or '.'} ({reason}); choose a writable {option} folder"
             ) from None
+
+
+def ranged_option(value: str | None, entry: str, option: str, default=None, positive: bool = False):
+    """Parse a quantity option and check it against the parameter table's range of ``entry``
+    (:mod:`designer.parameters`), as a problem file's value is checked: InputError (exit 2) naming the option.
+
+    ``positive``: the low end is exclusive (a trail or a diameter of 0).  ``None`` gives ``default``.
+    """
+    number = quantity_option(value, PARAMETERS[entry].dimension, option, default)
+    if value is None:
+        return number
+    p = PARAMETERS[entry]
+    assert p.range is not None, entry
+    low, high = p.range
+    if not (low < number <= high if positive else low <= number <= high):
+        text = outside_range(option, value, number, low, high, p.dimension)
+        raise InputError(
+            text + (" (exclusive)" if positive and number == low else "") + (f" ({p.hint})" if p.hint else "")
+        )
+    return number
+
+
+SEED_MAX = 2**32 - 1
+"""Largest random seed (numpy's SeedSequence takes 0 to 2**32 - 1 as one word; the problem file's robust.seed)."""
+
+
+def count_option(value: int | None, option: str, low: int, high: int, note: str = ""):
+    """Check a whole-number option lies in [low, high]; InputError (exit 2) naming the option. ``None`` passes."""
+    if value is not None and not low <= value <= high:
+        raise InputError(f"{option} {value}: expected a whole number from {low} to {high}{note}")
+    return value

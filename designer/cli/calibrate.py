@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from designer.cli._common import choice_option, print_json, quantity_option
+from designer.cli._common import SEED_MAX, choice_option, count_option, print_json, ranged_option
 from designer.errors import InputError
 
 KINDS = {
@@ -61,9 +61,7 @@ def run(args) -> int:
 
     slip = 1250.0
     if args.kind == "damping":
-        slip = quantity_option(args.slip_coefficient, "force", "--slip-coefficient")
-        if slip <= 0:
-            raise InputError(f"--slip-coefficient {args.slip_coefficient}: must be positive")
+        slip = ranged_option(args.slip_coefficient, "slip_coefficient", "--slip-coefficient")
     surface = choice_option(args.surface, ("tile", "carpet"), "--surface") if args.kind == "turning" else "tile"
     result = calibrate_file(args.kind, args.data, slip_coefficient=slip, surface=surface)
     if args.plot:
@@ -109,6 +107,7 @@ def run_examples(args) -> int:
     # late import: loads scipy (via designer.studies.calibrate) only when this runs
     from designer.studies.calibrate import EXAMPLE_SEED, EXAMPLES_DIR, write_examples
 
+    count_option(args.seed, "--seed", 0, SEED_MAX)
     paths = write_examples(args.out or EXAMPLES_DIR, EXAMPLE_SEED if args.seed is None else args.seed)
     for kind, path in paths.items():
         print(f"{kind}: {path}")

@@ -19,12 +19,20 @@ with the keys :mod:`designer.problem` accepts.  CSV input is checked strictly:
 a missing file, a missing column, a non-numeric or non-finite cell, or too
 few rows gives one :class:`~designer.errors.InputError` line naming the file,
 the column or row, and the reason.
+
+Nothing outside the model is written as a result.  Each data column with a range in the parameter
+table (:mod:`designer.parameters`: load, trail, inertia, groove, critical speed) is checked against it,
+and a fitted constant that is not finite, not determined by the data (no finite standard error), or
+outside the table's range of the key its snippet writes (K_s 1 N to 1 MN, k_tile 1e-6 to 0.1 m, the
+carpet factor, c_0 1e-3 to 100 N·m/rad) is an InputError naming the data columns: a snippet is always
+one the problem loader accepts.
 """
 
 from __future__ import annotations
 
 import csv
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -34,7 +42,8 @@ from scipy.optimize import curve_fit
 
 from designer.data.paper import INCH, SLIP_COEFFICIENT, TABLE1
 from designer.errors import InputError
-from designer.physics.shimmy import critical_shimmy_speed
+from designer.parameters import PARAMETERS
+from designer.physics.shimmy import critical_speed_terms, critical_shimmy_speed
 from designer.physics.turning import DEFAULT_TURNING
 
 __all__ = [
@@ -227,6 +236,60 @@ def _require(path, name, values, positive=True, allow_zero=False):
         )
 
 
+COLUMN_RANGES: dict[str, tuple[str, bool]] = {
+    "load_N": ("load", False),
+    "trail_m": ("trail", True),
+    "inertia_kgm2": ("wheel_inertia", True),
+    "groove_m": ("groove", False),
+    "critical_speed_mps": ("target_speed", False),
+}
+"""Data column -> (entry of the parameter table whose range it must lie in, low end exclusive)."""
+
+SLIP_RATIO_MAX = 1.0
+"""Largest |ΔV/V| of a slip test [-]: a ratio (ΔV <= V); a larger number is a percentage."""
+
+
+def _in_model_range(path, name: str, values: np.ndarray) -> None:
+    """InputError naming the row and column of the first value outside the column's model range."""
+    entry, exclusive = COLUMN_RANGES[name]
+    p = PARAMETERS[entry]
+    assert p.range is not None
+    low, high = p.range
+    bad = ((values <= low) if exclusive else (values < low)) | (values > high)
+    if bad.any():
+        row = int(np.argmax(bad))
+        raise InputError(
+            f"{path}: row {row + 2}, column {name!r}: {values[row]:g} {p.unit} is outside the model's range "
+            f"{low:g}{' (exclusive)' if exclusive else ''} to {high:g} {p.unit} ({p.description}; wrong unit?)"
+        )
+
+
+def _check_result(value: float, stderr: float, constant: str, columns: str, source: str, scale: float = 1.0) -> None:
+    """InputError unless the fitted ``value`` (``scale`` times the table's ``constant``) is finite, has a finite
+    standard error and lies in the parameter table's range of ``constant``: the snippet's key must load."""
+    p = PARAMETERS[constant]
+    assert p.range is not None
+    low, high = p.range
+    prefix = f"{source}: " if source else ""
+    shown = value / scale
+    if not math.isfinite(shown):
+        raise InputError(
+            f"{prefix}columns {columns}: the fit of {p.symbol} is not a number; the data do not determine it"
+        )
+    if not low <= shown <= high:
+        sign = "; it is negative: do the two columns have opposite signs?" if shown < 0 else ""
+        raise InputError(
+            f"{prefix}columns {columns}: the fit gives {p.symbol} = {shown:.6g} {p.unit}".rstrip()
+            + f", outside the model's range {low:g} to {high:g} {p.unit}".rstrip()
+            + f" ({p.hint or p.description}){sign}"
+        )
+    if not math.isfinite(stderr):
+        raise InputError(
+            f"{prefix}columns {columns}: {p.symbol} = {shown:.6g} {p.unit} has no finite standard error; "
+            "the data do not determine it (vary the abscissa, add rows)"
+        )
+
+
 # ---------------------------------------------------------------------------
 # Fits
 
@@ -236,12 +299,30 @@ def _interval(value, stderr, n):
     return (float(value - t * stderr), float(value + t * stderr))
 
 
-def _through_origin(x, y):
-    popt, pcov = curve_fit(lambda xx, k: k * xx, x, y, p0=[float(np.sum(x * y) / np.sum(x * x))])
-    return float(popt[0]), float(math.sqrt(max(pcov[0, 0], 0.0)))
+def _through_origin(x, y, columns: str, source: str):
+    """Slope k of y = k x by least squares (scipy ``curve_fit``) and its standard error (inf when the
+    covariance cannot be estimated); InputError naming the abscissa column when every value of it is 0.
+
+    Fitted on x and y divided by their largest magnitudes, so that values near the ends of the floating-point
+    range neither overflow nor underflow when squared."""
+    x_scale, y_scale = float(np.max(np.abs(x))), float(np.max(np.abs(y)))
+    if x_scale == 0:
+        raise InputError(
+            f"{source + ': ' if source else ''}column {columns.split(' against ')[-1]}: every value is 0; "
+            "a slope through the origin needs non-zero values"
+        )
+    if y_scale == 0:
+        return 0.0, 0.0
+    xs, ys = x / x_scale, y / y_scale
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")  # a degenerate covariance shows as a non-finite standard error
+        popt, pcov = curve_fit(lambda xx, k: k * xx, xs, ys, p0=[float(np.sum(xs * ys) / np.sum(xs * xs))])
+    variance = float(pcov[0, 0])
+    factor = y_scale / x_scale  # inf beyond the float range: refused by the range check
+    return float(popt[0]) * factor, (math.sqrt(variance) * factor if variance >= 0 else math.inf)
 
 
-def fit_turning(load, moment, surface: str = "tile") -> CalibrationResult:
+def fit_turning(load, moment, surface: str = "tile", source: str = "") -> CalibrationResult:
     """Moment per unit load k_surface [m] from drill-press data (Fig. 7; docs/model.md#turning-effort).
 
     Least squares through the origin, M = k L (scipy ``curve_fit``), with a
@@ -253,9 +334,21 @@ def fit_turning(load, moment, surface: str = "tile") -> CalibrationResult:
     moment : sliding turning moments of the non-rolling wheel [N·m]
     surface : "tile" (gives ``tile_moment_per_load``) or "carpet" (gives
         ``carpet_factor`` relative to the default k_tile)
+    source : the data file, named in errors
+
+    Raises
+    ------
+    InputError
+        The slope is not finite, not determined, or outside the parameter table's range of the key the
+        snippet writes (``tile_moment_per_load``, or ``carpet_factor`` for carpet).
     """
     x, y = np.asarray(load, float), np.asarray(moment, float)
-    k, se = _through_origin(x, y)
+    columns = "'moment_Nm' against 'load_N'"
+    k, se = _through_origin(x, y, columns, source)
+    if surface == "carpet":
+        _check_result(k, se, "carpet_factor", columns, source, scale=DEFAULT_TURNING.tile_moment_per_load)
+    else:
+        _check_result(k, se, "tile_moment_per_load", columns, source)
     fitted = k * x
     return CalibrationResult(
         kind="turning",
@@ -277,13 +370,14 @@ def fit_turning(load, moment, surface: str = "tile") -> CalibrationResult:
 
 
 def fit_damping(
-    trail, inertia, critical_speed, groove=None, slip_coefficient: float = SLIP_COEFFICIENT
+    trail, inertia, critical_speed, groove=None, slip_coefficient: float = SLIP_COEFFICIENT, source: str = ""
 ) -> CalibrationResult:
     """Spindle friction damping c_f = M_f/θ0 [N·m/rad] from measured critical speeds (Fig. 2C).
 
     Fits V_c = Eq. 7 (``critical_shimmy_speed``) to the measured speeds by
-    least squares in log V_c (relative residuals; scipy ``curve_fit``,
-    c_f > 0), K_s fixed.
+    least squares in log V_c (relative residuals; scipy ``curve_fit``), K_s
+    fixed, with c_f kept inside the parameter table's range of the bare-fork
+    damping c_0 (1e-3 to 100 N·m/rad, the key the snippet writes).
 
     Parameters
     ----------
@@ -292,22 +386,52 @@ def fit_damping(
     critical_speed : measured critical shimmy speeds V_c [m/s]
     groove : groove widths B [m] (default 0, single tread)
     slip_coefficient : K_s [N] held fixed (1250, App. C)
+    source : the data file, named in errors
+
+    Raises
+    ------
+    InputError
+        Eq. 7 is not finite for the rows (an inertia near 0), the best c_f lies at or beyond an end of
+        the range (the fit stops there), or its standard error is not finite.
     """
     T, inertia_arr, v = (np.asarray(a, float) for a in (trail, inertia, critical_speed))
     B = np.zeros_like(T) if groove is None else np.asarray(groove, float)
+    columns = "'critical_speed_mps' against 'trail_m', 'inertia_kgm2'" + (", 'groove_m'" if groove is not None else "")
+    prefix = f"{source}: " if source else ""
+    low, high = PARAMETERS["bare_fork_damping"].range or (0.0, math.inf)
+    with np.errstate(all="ignore"):
+        per_damping, groove_term = (
+            np.asarray(t, float) for t in critical_speed_terms(T, inertia_arr, B, 1.0, slip_coefficient)
+        )
+        top = per_damping * high + groove_term
+    if not (np.all(np.isfinite(top)) and np.all(top > 0) and np.all(v > 0)):
+        raise InputError(
+            f"{prefix}columns {columns}: Eq. 7 is not finite for these rows (is an inertia near 0 or a value "
+            "in the wrong unit?)"
+        )
 
     def model(_x, c_f):
-        return critical_shimmy_speed(T, inertia_arr, B, c_f, slip_coefficient)
+        return np.sqrt(per_damping * c_f + groove_term)
 
     def log_model(_x, c_f):
-        return np.log(model(_x, c_f))
+        return 0.5 * np.log(per_damping * c_f + groove_term)
 
     # Residuals in log V_c: measured speeds scatter by a roughly constant
     # fraction (Fig. 2C spans 1-4 m/s), so relative errors are the noise model.
-    # Start from the single-tread estimate c_f = π I V²/(4 T²) (mean).
-    guess = float(np.clip(np.mean(np.pi * inertia_arr * v**2 / (4 * T**2)), 1e-3, None))
-    popt, pcov = curve_fit(log_model, np.arange(len(v)), np.log(v), p0=[guess], bounds=(1e-9, np.inf))
-    c_f, se = float(popt[0]), float(math.sqrt(max(pcov[0, 0], 0.0)))
+    # Start from the single-tread estimate c_f = π I V²/(4 T²) (mean), inside the range.
+    guess = float(np.clip(np.mean(v**2 / per_damping), low * 1.01, high * 0.99))
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")  # a degenerate covariance shows as a non-finite standard error
+        popt, pcov = curve_fit(log_model, np.arange(len(v)), np.log(v), p0=[guess], bounds=(low, high))
+    c_f, variance = float(popt[0]), float(pcov[0, 0])
+    se = math.sqrt(variance) if variance >= 0 else math.inf
+    if c_f <= low * (1 + 1e-6) or c_f >= high * (1 - 1e-6):
+        end = "below" if c_f <= low * (1 + 1e-6) else "above"
+        raise InputError(
+            f"{prefix}columns {columns}: the best c_f lies {end} the model's range {low:g} to {high:g} N·m/rad "
+            f"(the fit stops at {c_f:.6g}; {PARAMETERS['bare_fork_damping'].hint}); check the units of the columns"
+        )
+    _check_result(c_f, se, "bare_fork_damping", columns, source)
     fitted = model(None, c_f)
     x = fitted  # measured against fitted: points on the line x = y agree
     return CalibrationResult(
@@ -329,7 +453,7 @@ def fit_damping(
     )
 
 
-def fit_slip(slip_ratio, force) -> CalibrationResult:
+def fit_slip(slip_ratio, force, source: str = "") -> CalibrationResult:
     """Tyre slip coefficient K_s [N] from treadmill data (Fig. 3C, Eq. 12C: F_T = K_s ΔV/V).
 
     Least squares through the origin (scipy ``curve_fit``) with a 95 %
@@ -339,9 +463,18 @@ def fit_slip(slip_ratio, force) -> CalibrationResult:
     ----------
     slip_ratio : ΔV/V [-]
     force : tread force F_T [N]
+    source : the data file, named in errors
+
+    Raises
+    ------
+    InputError
+        Every slip ratio 0, or K_s not finite, not determined or outside the parameter table's range
+        (1 N to 1 MN).
     """
     x, y = np.asarray(slip_ratio, float), np.asarray(force, float)
-    k, se = _through_origin(x, y)
+    columns = "'force_N' against 'slip_ratio'"
+    k, se = _through_origin(x, y, columns, source)
+    _check_result(k, se, "slip_coefficient", columns, source)
     fitted = k * x
     return CalibrationResult(
         kind="slip",
@@ -374,21 +507,39 @@ def calibrate_file(
         d = read_columns(path, ("load_N", "moment_Nm"))
         _require(path, "load_N", d["load_N"])
         _require(path, "moment_Nm", d["moment_Nm"], allow_zero=True)
-        return fit_turning(d["load_N"], d["moment_Nm"], surface=surface)
+        _in_model_range(path, "load_N", d["load_N"])
+        return fit_turning(d["load_N"], d["moment_Nm"], surface=surface, source=str(path))
     if kind == "damping":
         d = read_columns(path, ("trail_m", "inertia_kgm2", "critical_speed_mps"), optional=("groove_m",))
         for col in ("trail_m", "inertia_kgm2", "critical_speed_mps"):
             _require(path, col, d[col])
         if "groove_m" in d:
             _require(path, "groove_m", d["groove_m"], allow_zero=True)
-        if not slip_coefficient > 0 or not math.isfinite(slip_coefficient):
-            raise InputError(f"--slip-coefficient {slip_coefficient:g}: must be positive")
+        for col in d:
+            _in_model_range(path, col, d[col])
+        low, high = PARAMETERS["slip_coefficient"].range or (0.0, math.inf)
+        if not (math.isfinite(slip_coefficient) and low <= slip_coefficient <= high):
+            raise InputError(
+                f"--slip-coefficient {slip_coefficient:g} N: outside the model's range {low:g} to {high:g} N"
+            )
         return fit_damping(
-            d["trail_m"], d["inertia_kgm2"], d["critical_speed_mps"], d.get("groove_m"), slip_coefficient
+            d["trail_m"],
+            d["inertia_kgm2"],
+            d["critical_speed_mps"],
+            d.get("groove_m"),
+            slip_coefficient,
+            source=str(path),
         )
     if kind == "slip":
         d = read_columns(path, ("slip_ratio", "force_N"))
-        return fit_slip(d["slip_ratio"], d["force_N"])
+        ratio = d["slip_ratio"]
+        if (np.abs(ratio) > SLIP_RATIO_MAX).any():
+            row = int(np.argmax(np.abs(ratio) > SLIP_RATIO_MAX))
+            raise InputError(
+                f"{path}: row {row + 2}, column 'slip_ratio': {ratio[row]:g} is not a ratio ΔV/V between "
+                f"-{SLIP_RATIO_MAX:g} and {SLIP_RATIO_MAX:g} (was it given in percent?)"
+            )
+        return fit_slip(ratio, d["force_N"], source=str(path))
     raise InputError(f"calibration {kind!r}: expected turning, damping or slip")
 
 

@@ -131,3 +131,73 @@ def test_cli_report_folder(capsys, tmp_path):
     assert "data:image/png;base64," in html and (out / "figures" / "fit.png").stat().st_size > 5000
     assert (out / "report.md").read_text().startswith("# Calibration of ")
     assert json.loads(capsys.readouterr().out)["report"] == str(out)
+
+
+@pytest.mark.parametrize(
+    "kind, text, column",
+    [
+        ("slip", "slip_ratio,force_N\n0,0\n0,0\n0,0\n", "'slip_ratio'"),
+        ("slip", "slip_ratio,force_N\n0.01,-12\n0.02,-25\n0.03,-37\n", "'force_N' against 'slip_ratio'"),
+        ("slip", "slip_ratio,force_N\n1e-200,12\n2e-200,25\n3e-200,37\n", "'force_N' against 'slip_ratio'"),
+        ("slip", "slip_ratio,force_N\n5,12\n10,25\n15,37\n", "'slip_ratio'"),
+        ("turning", "load_N,moment_Nm\n100,0\n200,0\n300,0\n", "'moment_Nm' against 'load_N'"),
+        ("turning", "load_N,moment_Nm\n1e300,1\n2e300,2\n3e300,3\n", "'load_N'"),
+        (
+            "damping",
+            "trail_m,inertia_kgm2,critical_speed_mps\n1e-9,0.001,2\n2e-9,0.001,2.1\n1e-9,0.001,2.2\n",
+            "'trail_m'",
+        ),
+        ("damping", "trail_m,inertia_kgm2,critical_speed_mps\n1e300,1e300,1e300\n1,1,1\n1,1,1\n", "'trail_m'"),
+        (
+            "damping",
+            "trail_m,inertia_kgm2,critical_speed_mps\n0.05,1e-320,2\n0.05,1e-320,2\n0.05,1e-320,2\n",
+            "'inertia_kgm2'",
+        ),
+        (
+            "damping",
+            "trail_m,inertia_kgm2,critical_speed_mps\n0.05,0.001,0.02\n0.06,0.001,0.02\n0.05,0.002,0.02\n",
+            "'trail_m'",
+        ),
+    ],
+)
+def test_result_outside_the_model_is_an_error_naming_the_column(tmp_path, capsys, kind, text, column):
+    """Issue 24.4: data whose fit is not finite or outside the parameter table's range of the constant (zero
+    slip ratios gave "nan N", negative forces -1235.71 N, a tiny trail 2e15 N·m/rad, huge values overflow
+    warnings and exit 70) end with exit 2 and one line naming the data column, no warning line, and no
+    snippet written."""
+    data, snippet = tmp_path / "data.csv", tmp_path / "snippet.toml"
+    data.write_text(text)
+    code = main(["calibrate", kind, str(data), "--snippet", str(snippet)])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert err.count("\n") == 1 and err.startswith("designer: error:") and column in err, err
+    assert not snippet.exists()
+
+
+def test_every_snippet_written_loads(tmp_path):
+    """Issue 24.4, the rule itself: over 60 seeded slip and turning data sets of any sign and scale (1e-8 to
+    1e8), a fit either fails with an InputError naming the file, or gives a snippet that the problem loader
+    accepts on top of a shipped problem (never one it refuses)."""
+    from designer.problem import problem_from_dict
+
+    base = tomllib.loads((EXAMPLES_DIR.parents[2] / "problems" / "indoor-manual.toml").read_text())
+    rng = np.random.default_rng(3)
+    written = refused = 0
+    for i in range(60):
+        kind = ("slip", "turning")[i % 2]
+        x = rng.uniform(0.005, 0.08, 5) if kind == "slip" else rng.uniform(50, 250, 5)
+        y = x * 10.0 ** rng.uniform(-8, 8) * rng.choice([-1.0, 1.0]) * (1 + rng.normal(0, 0.05, 5))
+        header = "slip_ratio,force_N" if kind == "slip" else "load_N,moment_Nm"
+        y = np.abs(y) if kind == "turning" else y  # moments are non-negative (a row check of its own)
+        path = tmp_path / f"{i}.csv"
+        path.write_text(header + "\n" + "\n".join(f"{float(a)!r},{float(b)!r}" for a, b in zip(x, y)) + "\n")
+        try:
+            snippet = calibrate_file(kind, path).snippet()
+        except InputError as exc:
+            assert str(path) in str(exc) and "\n" not in str(exc)
+            refused += 1
+            continue
+        merged = {**base, **{k: {**base.get(k, {}), **v} for k, v in tomllib.loads(snippet).items()}}
+        problem_from_dict(merged, source=str(path))
+        written += 1
+    assert written >= 5 and refused >= 5
