@@ -14,7 +14,7 @@ from __future__ import annotations
 import importlib
 
 from designer.errors import DesignerError, InfeasibleError, InputError, ProblemError, SolverError
-from designer.model import Conditions, Design, evaluate, performance
+from designer.model import CandidateValues, Conditions, Design, evaluate, evaluate_candidates, performance
 from designer.physics.uncertainty import Uncertainty
 
 __version__ = "0.1.0"
@@ -61,6 +61,7 @@ def __dir__() -> list[str]:
 
 
 __all__ = [
+    "CandidateValues",
     "Conditions",
     "Design",
     "DesignerError",
@@ -70,6 +71,7 @@ __all__ = [
     "SolverError",
     "Uncertainty",
     "evaluate",
+    "evaluate_candidates",
     "performance",
     *_LAZY,
 ]

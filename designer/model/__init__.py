@@ -6,7 +6,9 @@ written twice.
 
 Modules
 -------
-_caster  :class:`Design`, :class:`Conditions`, :func:`performance`, :func:`evaluate`, the design families
+_caster      :class:`Design`, :class:`Conditions`, :func:`performance`, :func:`evaluate`, the design families
+_candidates  :func:`evaluate_candidates`: the one evaluator of a batch of candidates (performance, risk bound,
+             feasibility with one tolerance, the Monte Carlo risk)
 """
 
 from __future__ import annotations
@@ -22,9 +24,23 @@ from designer.model._caster import (
     evaluate,
     performance,
 )
+from designer.model._candidates import (
+    FEASIBILITY_TOLERANCE,
+    CandidateValues,
+    design_columns,
+    evaluate_candidates,
+    scatter_of,
+    shimmy_probability,
+)
 
 __all__ = [
     "FAMILIES",
+    "FEASIBILITY_TOLERANCE",
+    "CandidateValues",
+    "design_columns",
+    "evaluate_candidates",
+    "scatter_of",
+    "shimmy_probability",
     "MODEL_RANGE",
     "VARIABLES",
     "VARIABLE_UNITS",

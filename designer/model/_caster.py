@@ -220,14 +220,20 @@ class Conditions:
 
 
 def performance(
-    trail: Scalar, diameter: Scalar, groove: Scalar, damping: Scalar, conditions: Conditions
+    trail: Scalar,
+    diameter: Scalar,
+    groove: Scalar,
+    damping: Scalar,
+    conditions: Conditions,
+    inertia: Scalar | None = None,
 ) -> dict[str, Scalar]:
     """Every performance quantity of the caster, as expressions of the design.
 
     Works on floats, NumPy arrays (vectorised over many designs) and CasADi
     symbols.  Keys and equations:
 
-    - ``inertia`` I_w(d) [kg·m²] (inertia model, docs/model.md#wheel-inertia)
+    - ``inertia`` I_w(d) [kg·m²] (inertia model, docs/model.md#wheel-inertia; or ``inertia`` when given:
+      a measured wheel)
     - ``critical_speed`` V_c [m/s] (Eq. 7)
     - ``threshold_force_ratio`` P/L [-] (Eq. 4A)
     - ``threshold_force`` P [N] (Eq. 4A)
@@ -239,7 +245,8 @@ def performance(
       (robust design, :func:`designer.studies.robust.shimmy_speed_quantile`)
     """
     c = conditions
-    inertia = c.inertia(diameter)
+    if inertia is None:
+        inertia = c.inertia(diameter)
     critical_speed = critical_shimmy_speed(trail, inertia, groove, damping, c.slip_coefficient)
     if c.uncertainty is None:
         design_speed = critical_speed

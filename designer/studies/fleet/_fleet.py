@@ -65,7 +65,6 @@ from designer.studies.fleet._rule import (
     evaluate_chairs,
     mc_uncertainty,
     recommend_chairs,
-    risk_of,
     stock_table,
 )
 
@@ -93,7 +92,6 @@ __all__ = [
     "mc_uncertainty",
     "read_fleet",
     "recommend_chairs",
-    "risk_of",
     "stock_table",
     "write_fleet_csv",
 ]
@@ -465,7 +463,7 @@ def fleet_data(result: FleetResult) -> dict:
     """Plain data of a fleet run (what ``--json`` prints and the report renders): settings, part numbers,
     regret curve, per-chair rows, distributions, timings.  SI units; J uses the base problem's weights."""
     problem = result.problem
-    risk = risk_of(problem)
+    risk = problem.risk
     u = mc_uncertainty(problem)
     ch = result.chairs
     ok = result.feasible

@@ -3,7 +3,8 @@
 Part of :mod:`designer.studies.fleet._fleet` (which re-exports every name): the stock casters as arrays with
 V_c and its quantile (:func:`stock_table`), F_turn, P and feasibility of every caster for every chair
 (:func:`evaluate_chairs`), the buildable front and the rule per chair (:func:`recommend_chairs`), and the
-Monte Carlo P(shimmy) of the chosen casters (:func:`_mc_task`).
+Monte Carlo P(shimmy) of the chosen casters (:func:`_mc_task`).  Every number of a caster comes from the
+model's evaluator (:func:`designer.model.evaluate_candidates`, :func:`designer.model.shimmy_probability`).
 """
 
 from __future__ import annotations
@@ -15,15 +16,10 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import ProblemError
-from designer.physics.geometry import swept_radius
-from designer.physics.shimmy import critical_shimmy_speed
-from designer.physics.threshold import threshold_force_ratio
-from designer.physics import uncertainty as _unc
-from designer.physics.turning import MODES, SURFACES, added_damper_moment, sliding_turning_moment
-
-from designer.studies.recommend import risk_screen, select_rows
-from designer.studies.recommend import confident_speed, stock_candidates
+from designer.model import VARIABLES, evaluate_candidates, scatter_of, shimmy_probability
+from designer.physics.turning import MODES, SURFACES
 from designer.problem import Stock
+from designer.studies.recommend import select_rows, stock_candidates
 
 from designer.studies.fleet._table import Fleet
 
@@ -41,9 +37,8 @@ class StockTable:
     inertia : I_w of the wheel [kg·m²]
     wheel : wheel name per caster (catalogue) or ""
     critical_speed : V_c, Eq. 7 [m/s]
-    design_speed : what the risk bound compares with (1 + margin) V_target: the α-quantile of V_c
-        (``shimmy_speed_quantile``) or V_c itself when the risk bound is off [m/s]
-    confident_speed : the speed reached with probability 1 − α [m/s] (= design_speed)
+    confident_speed : what the risk bound compares with (1 + margin) V_target: the speed reached with
+        probability 1 − α (``shimmy_speed_quantile``), or V_c itself when the risk bound is off [m/s]
     swept_radius : T + d/2 [m]
     note : where the stock comes from
     """
@@ -55,7 +50,7 @@ class StockTable:
     inertia: np.ndarray
     wheel: np.ndarray
     critical_speed: np.ndarray = field(default=None)
-    design_speed: np.ndarray = field(default=None)
+    confident_speed: np.ndarray = field(default=None)
     swept_radius: np.ndarray = field(default=None)
     note: str = ""
 
@@ -81,13 +76,6 @@ DEFAULT_STOCK = {
 """Stock used when the base problem declares none [in, in, in, N·m/rad]: common caster sizes, the
 tyre profiles of the paper (plain, 1/4 in, 9/16 in groove), fork holes every 1/4 in, bare bearing and
 two friction washers.  Values outside the problem's bounds are left out."""
-
-
-def risk_of(problem):
-    """The risk bound in force (``problem.risk`` when the problem has it, else its [robust] uncertainty)."""
-    if hasattr(problem, "risk"):
-        return problem.risk
-    return problem.conditions.uncertainty
 
 
 def stock_table(problem) -> StockTable:
@@ -121,15 +109,12 @@ def stock_table(problem) -> StockTable:
         wheel=np.asarray(cand.wheel, dtype=object),
         note=note,
     )
-    c = problem.conditions
-    table.critical_speed = critical_shimmy_speed(
-        table.trail, table.inertia, table.groove, table.damping, c.slip_coefficient
+    values = evaluate_candidates(
+        {name: getattr(table, name) for name in VARIABLES}, problem.conditions, inertia=table.inertia
     )
-    table.design_speed = np.asarray(
-        confident_speed(table.trail, table.inertia, table.groove, table.damping, c.slip_coefficient, risk_of(problem)),
-        float,
-    )
-    table.swept_radius = swept_radius(table.trail, table.diameter)
+    table.critical_speed = values.critical_speed
+    table.confident_speed = values.confident_speed
+    table.swept_radius = values.swept_radius
     return table
 
 
@@ -180,8 +165,8 @@ def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     ----------
     chairs : per-chair arrays ``load`` [N], ``threshold_height`` [m], ``target_speed`` [m/s],
         ``swept_radius_max`` [m], ``surface``, ``turning_mode`` (as :meth:`Fleet.arrays`)
-    stock : the stock table (V_c and its quantile already per caster)
-    problem : the base problem (margin, turning constants, disturbance angle)
+    stock : the stock table
+    problem : the base problem (margin, turning constants, disturbance angle, the risk bound)
 
     Returns
     -------
@@ -189,27 +174,32 @@ def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     ``threshold_force`` P [N] (Eq. 4A; +inf where d/h <= 2), ``feasible`` (risk bound, swept radius,
     sill), and per-chair boolean (chairs,) ``any_risk``, ``any_radius``, ``any_sill`` for the reasons.
     """
-    c = problem.conditions
     load = np.asarray(chairs["load"], float)
-    height = np.asarray(chairs["threshold_height"], float)
     n, s = len(load), len(stock)
-    effort = np.empty((n, s))
-    damper = added_damper_moment(stock.damping, c.disturbance_angle, c.turning)
+    required = (1 + problem.margin) * np.asarray(chairs["target_speed"], float)
+    out = {key: np.empty((n, s)) for key in ("turning_effort", "threshold_force")}
+    ok = {key: np.empty((n, s), bool) for key in ("risk_ok", "radius_ok", "sill_ok")}
+    designs = {name: getattr(stock, name)[None, :] for name in VARIABLES}
     for surface in SURFACES:
         for mode in MODES:
             rows = np.flatnonzero((chairs["surface"] == surface) & (chairs["turning_mode"] == mode))
-            if len(rows):
-                moment = sliding_turning_moment(load[rows, None], stock.groove[None, :], surface, mode, c.turning)
-                effort[rows] = (moment + damper[None, :]) / stock.trail[None, :]
-    diameters, inverse = np.unique(stock.diameter, return_inverse=True)
-    climbs = diameters[None, :] > 2 * height[:, None]
-    safe = np.where(climbs, diameters[None, :], 3 * height[:, None])
-    ratio = np.where(climbs, threshold_force_ratio(safe, height[:, None]), np.inf)
-    force = load[:, None] * ratio[:, inverse]
-    required = (1 + problem.margin) * np.asarray(chairs["target_speed"], float)
-    risk_ok = risk_screen(stock.design_speed[None, :], required[:, None])
-    radius_ok = stock.swept_radius[None, :] <= np.asarray(chairs["swept_radius_max"], float)[:, None] * (1 + 1e-9)
-    sill_ok = climbs[:, inverse]
+            if not len(rows):
+                continue
+            values = evaluate_candidates(
+                designs,
+                problem.conditions.replace(surface=surface, turning_mode=mode),
+                inertia=stock.inertia[None, :],
+                load=load[rows, None],
+                threshold_height=np.asarray(chairs["threshold_height"], float)[rows, None],
+                required_speed=required[rows, None],
+                swept_radius_max=np.asarray(chairs["swept_radius_max"], float)[rows, None],
+            )
+            for key in out:
+                out[key][rows] = getattr(values, key)
+            for key in ok:
+                ok[key][rows] = getattr(values, key)
+    effort, force = out["turning_effort"], out["threshold_force"]
+    risk_ok, radius_ok, sill_ok = ok["risk_ok"], ok["radius_ok"], ok["sill_ok"]
     return {
         "turning_effort": effort,
         "threshold_force": force,
@@ -294,7 +284,7 @@ def _reason(i, ev, stock, over_cap, cap_p, cap_f) -> str:
     missing = []
     if not ev["any_risk"][i]:
         missing.append(
-            f"risk bound (best confident speed {stock.design_speed.max():.2f} m/s < required "
+            f"risk bound (best confident speed {stock.confident_speed.max():.2f} m/s < required "
             f"{ev['required'][i]:.2f} m/s)"
         )
     if not ev["any_radius"][i]:
@@ -320,53 +310,16 @@ def _split(fleet: Fleet, chunk: int) -> list[tuple[int, dict]]:
 
 
 def _mc_task(designs: np.ndarray, inertia: np.ndarray, speeds: np.ndarray, slip: float, uncertainty) -> np.ndarray:
-    """P(shimmy) and its SE for each (design, speed) row: the numbers of ``shimmy_probability_mc``.
-
-    That estimate draws one seeded stream per call, so every speed asked of one caster sees the same
-    first ``samples`` draws.  Rows of one caster therefore share one draw of V_c,true (the same stream,
-    by the module's own ``sample_log_factors``), and each speed counts the draws below it; a row whose
-    estimate would need more draws for SE <= 0.1 pp (P above about 5 %) calls the function itself.
-    ``tests/studies/fleet/test_fleet.py`` checks that both give identical numbers.
-    """
-    module = _unc
-    mc = module.shimmy_probability_mc
-    out = np.empty((len(speeds), 2))
-    target = getattr(module, "MC_TARGET_SE", None)
-    batch = hasattr(module, "sample_log_factors") and uncertainty.samples <= 1_000_000
-    key = np.column_stack([designs, inertia])
-    start = 0
-    while start < len(speeds):
-        stop = start + 1
-        while stop < len(speeds) and np.array_equal(key[stop], key[start]):
-            stop += 1
-        t, _d, g, c = (float(x) for x in designs[start])
-        i_w = float(inertia[start])
-        rows = range(start, stop)
-        if batch and stop - start > 1:
-            n = int(uncertainty.samples)
-            f = module.sample_log_factors(uncertainty, n, np.random.default_rng(uncertainty.seed))
-            v = np.sort(
-                critical_shimmy_speed(
-                    t, i_w * np.exp(f["inertia"]), g, c * np.exp(f["damping"]), slip * np.exp(f["slip"])
-                )
-                * np.exp(f["model"])
-            )
-            hits = np.searchsorted(v, speeds[start:stop], side="left")
-            p = hits / n
-            var = np.maximum(p * (1 - p), 1.0 / n)
-            done = np.ones(len(p), bool) if target is None else np.ceil(var / target**2) <= n
-            out[start:stop, 0] = p
-            out[start:stop, 1] = np.sqrt(var / n)
-            rows = [start + r for r in np.flatnonzero(~done)]
-        for r in rows:
-            out[r] = mc(t, i_w, g, c, slip, float(speeds[r]), uncertainty)
-        start = stop
-    return out
+    """P(shimmy) and its SE for each (design, speed) row, as an (n, 2) array: one task of the fleet's
+    Monte Carlo (in this process or on a Dask worker), by the model's :func:`designer.model.shimmy_probability`
+    (each row the number of a single caster's seeded stream)."""
+    columns = {name: designs[:, k] for k, name in enumerate(VARIABLES)}
+    p, se = shimmy_probability(
+        columns["trail"], inertia, columns["groove"], columns["damping"], slip, speeds, uncertainty
+    )
+    return np.column_stack([p, se])
 
 
 def mc_uncertainty(problem):
-    """The uncertainty the reported P(shimmy) uses: the problem's risk, or the default scatter when it is off."""
-    risk = risk_of(problem)
-    if risk is None:
-        risk = _unc.Uncertainty()
-    return risk
+    """The risk law of the reported P(shimmy): the problem's risk bound, or the default scatter when it is off."""
+    return scatter_of(problem.conditions)

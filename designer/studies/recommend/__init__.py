@@ -13,13 +13,11 @@ from __future__ import annotations
 from designer.studies.recommend._record import Recommendation
 from designer.studies.recommend._recommend import recommend
 from designer.studies.recommend._rule import select_rows, weights_meaning
-from designer.studies.recommend._stock import confident_speed, risk_screen, stock_candidates
+from designer.studies.recommend._stock import stock_candidates
 
 __all__ = [
     "Recommendation",
-    "confident_speed",
     "recommend",
-    "risk_screen",
     "select_rows",
     "stock_candidates",
     "weights_meaning",

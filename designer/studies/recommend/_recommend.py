@@ -3,10 +3,10 @@
 1. **The stock** (:func:`stock_candidates`): every combination of the parts of ``[stock]`` (fork holes,
    wheels or diameters, groove profiles, friction washers); a variable the stock leaves out stays
    continuous within its bounds, a fixed variable (or a catalogue wheel) is one part.
-2. **Deterministic screening** (:func:`risk_screen`): the risk bound V_q(x) >= (1 + margin) V_target,
-   V_q the speed reached with probability 1 − α (:func:`designer.physics.uncertainty.shimmy_speed_quantile`;
-   V_c of Eq. 7 itself with ``[robust] enabled = false``), the swept radius T + d/2 <= R_max and the sill
-   (d > 2h, Eq. 4A).  No random numbers: a tighter α can never make a caster look better.
+2. **Deterministic screening** (:func:`designer.model.evaluate_candidates`): the risk bound
+   V_q(x) >= (1 + margin) V_target, V_q the speed reached with probability 1 − α (V_c of Eq. 7 itself with
+   ``[robust] enabled = false``), the swept radius T + d/2 <= R_max and the sill (d > 2h, Eq. 4A).  No random
+   numbers: a tighter α can never make a caster look better.
 3. **The buildable front**: all-discrete stock is evaluated exactly (vectorised); with continuous
    variables left, each stock combination's continuous rest is solved exactly (the NLP of
    :mod:`designer.studies.front._pareto`: one point when the diameter is stock, since then P is fixed; its
@@ -17,7 +17,7 @@
    ``[objective] max_threshold_force`` / ``max_turning_effort`` the best on the other objective within
    the cap.  Alternatives: the easiest to turn and the easiest over the sill.
 5. **Reported risk**: P(shimmy at V_target) by a separate Monte Carlo of the same distribution with its
-   own seed and SE <= 0.1 percentage point (:func:`designer.physics.uncertainty.shimmy_probability_mc`).
+   own seed and SE <= 0.1 percentage point (the evaluator's, :func:`designer.model.shimmy_probability`).
 
 Steps 1 and 2 live in :mod:`designer.studies.recommend._stock`, step 4 in
 :mod:`designer.studies.recommend._rule` and the :class:`Recommendation` record in
@@ -37,11 +37,8 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import InfeasibleError
-from designer.model import Design
-from designer.physics.geometry import swept_radius
+from designer.model import VARIABLES, CandidateValues, Design, evaluate_candidates, scatter_of
 from designer.physics.inertia import Fixed
-from designer.physics.shimmy import critical_shimmy_speed
-from designer.physics.uncertainty import Uncertainty, shimmy_probability_mc, shimmy_speed_quantile
 from designer.problem import Bound, load_problem
 from designer.studies.recommend._record import Recommendation
 from designer.studies.recommend._rule import RULES, rule_text, select_rows, weights_meaning
@@ -49,9 +46,6 @@ from designer.studies.recommend._stock import (
     CandidateTable,
     ScreenedTable,
     candidate_table,
-    confident_speed,
-    objectives,
-    risk_screen,
     stock_candidates,
 )
 
@@ -61,10 +55,7 @@ __all__ = [
     "Recommendation",
     "ScreenedTable",
     "candidate_table",
-    "confident_speed",
-    "objectives",
     "recommend",
-    "risk_screen",
     "rule_text",
     "select_rows",
     "stock_candidates",
@@ -74,33 +65,24 @@ __all__ = [
 
 @dataclass
 class _Buildable:
-    """The buildable candidates before the rule: arrays over candidates (all feasible)."""
+    """The buildable candidates before the rule (all feasible): the model's numbers of each and its wheel."""
 
-    designs: np.ndarray  # (n, 4)
-    inertia: np.ndarray
+    values: CandidateValues
     wheel: np.ndarray
-    turning_effort: np.ndarray
-    threshold_force: np.ndarray
-    critical_speed: np.ndarray
-    design_speed: np.ndarray
-    swept_radius: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.values.turning_effort)
+
+    def design(self, i: int) -> Design:
+        """Candidate ``i`` as a :class:`Design`."""
+        v = self.values
+        return Design(float(v.trail[i]), float(v.diameter[i]), float(v.groove[i]), float(v.damping[i]))
 
 
 def _discrete_buildable(problem) -> tuple[_Buildable, ScreenedTable]:
     t = candidate_table(problem)
-    cand = t.candidates
-    k = t.feasible
-    designs = np.column_stack([cand.trail, cand.diameter, cand.groove, cand.damping])[k]
-    return _Buildable(
-        designs,
-        cand.inertia[k],
-        cand.wheel[k],
-        t.turning_effort[k],
-        t.threshold_force[k],
-        t.critical_speed[k],
-        t.design_speed[k],
-        t.swept_radius[k],
-    ), t
+    k = t.values.feasible
+    return _Buildable(t.values.take(k), t.candidates.wheel[k]), t
 
 
 def _sub_problem(problem, row: dict, inertia, wheel):
@@ -117,7 +99,7 @@ def _sub_problem(problem, row: dict, inertia, wheel):
 
 
 def _continuous_buildable(problem) -> _Buildable:
-    """Each stock combination's continuous rest solved exactly (NLP), then pooled."""
+    """Each stock combination's continuous rest solved exactly (NLP), then pooled and evaluated by the model."""
     # late import: loads casadi (via designer.studies.front._pareto) only when this runs
     from designer.studies.front import pareto_front
 
@@ -135,27 +117,13 @@ def _continuous_buildable(problem) -> _Buildable:
         except InfeasibleError:
             continue
         for pt in front:
-            rows.append((pt.design.as_array(), float(sub.conditions.inertia(pt.design.diameter)), cand.wheel[j]))
-    if not rows:
-        empty = np.zeros(0)
-        return _Buildable(np.zeros((0, 4)), empty, np.zeros(0, dtype=object), empty, empty, empty, empty, empty)
-    x = np.array([r[0] for r in rows])
-    inertia = np.array([r[1] for r in rows])
-    c = problem.conditions
-    v = critical_shimmy_speed(x[:, 0], inertia, x[:, 2], x[:, 3], c.slip_coefficient)
-    q = np.asarray(confident_speed(x[:, 0], inertia, x[:, 2], x[:, 3], c.slip_coefficient, problem.risk), float)
-    f, p = objectives(problem, x[:, 0], x[:, 1], x[:, 2], x[:, 3])
-    r = swept_radius(x[:, 0], x[:, 1])
-    return _Buildable(
-        x,
-        inertia,
-        np.array([r_[2] for r_ in rows], dtype=object),
-        np.asarray(f, float),
-        np.asarray(p, float),
-        np.asarray(v, float),
-        q,
-        np.asarray(r, float),
+            rows.append((pt.design, float(sub.conditions.inertia(pt.design.diameter)), cand.wheel[j]))
+    values = evaluate_candidates(
+        {name: np.array([getattr(r[0], name) for r in rows], float) for name in VARIABLES},
+        problem.conditions,
+        inertia=np.array([r[1] for r in rows], float),
     )
+    return _Buildable(values, np.array([r[2] for r in rows], dtype=object))
 
 
 def _infeasible_message(problem, table: ScreenedTable | None) -> str:
@@ -173,13 +141,13 @@ def _infeasible_message(problem, table: ScreenedTable | None) -> str:
             f"shimmy.target_speed"
         )
     cand = table.candidates
-    ratio = table.design_speed / problem.required_speed
-    pool = np.flatnonzero(table.radius_ok & np.isfinite(table.threshold_force))
+    ratio = table.values.confident_speed / problem.required_speed
+    pool = np.flatnonzero(table.values.radius_ok & np.isfinite(table.values.threshold_force))
     if not len(pool):
-        j = int(np.argmin(table.swept_radius))
+        j = int(np.argmin(table.values.swept_radius))
         return (
             f"{problem.name}: no stock combination fits the swept radius {problem.swept_radius_max / INCH:.3f} in; "
-            f"the smallest is {table.swept_radius[j] / INCH:.3f} in (T + d/2); relax "
+            f"the smallest is {table.values.swept_radius[j] / INCH:.3f} in (T + d/2); relax "
             f"constraints.swept_radius_max or stock smaller wheels or shorter fork holes"
         )
     j = int(pool[np.argmax(ratio[pool])])
@@ -192,7 +160,7 @@ def _infeasible_message(problem, table: ScreenedTable | None) -> str:
     if d["trail"] >= cand.trail.max() * (1 - 1e-12):
         relax.append(
             "a longer fork (variables.trail.max)"
-            if problem.swept_radius_max is None or table.swept_radius[j] < problem.swept_radius_max * (1 - 1e-9)
+            if problem.swept_radius_max is None or table.values.swept_radius[j] < problem.swept_radius_max * (1 - 1e-9)
             else "a larger swept radius (constraints.swept_radius_max)"
         )
     relax.append(
@@ -204,48 +172,45 @@ def _infeasible_message(problem, table: ScreenedTable | None) -> str:
     return (
         f"{problem.name}: no stock combination meets the risk bound {bound}; the closest is "
         f"T = {d['trail'] / INCH:.3f} in, d = {d['diameter'] / INCH:.3f} in{wheel}, B = {d['groove'] / INCH:.3f} in, "
-        f"c_f = {d['damping']:.3g} N·m/rad, reaching {table.design_speed[j]:.3f} m/s with probability "
+        f"c_f = {d['damping']:.3g} N·m/rad, reaching {table.values.confident_speed[j]:.3f} m/s with probability "
         f"{1 - (risk.probability if risk is not None else 0):.0%} (needs {problem.required_speed:.3f}); relax: "
         + ", ".join(relax)
     )
 
 
 def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, seed=None) -> Recommendation:
-    u = problem.risk if problem.risk is not None else Uncertainty()
-    x = b.designs[i]
-    c = problem.conditions
-    p, se = shimmy_probability_mc(
-        float(x[0]),
-        float(b.inertia[i]),
-        float(x[2]),
-        float(x[3]),
-        c.slip_coefficient,
-        problem.target_speed,
-        u,
+    """Candidate ``i`` as a :class:`Recommendation`, with its reported risk: the Monte Carlo P(shimmy at
+    V_target) under the problem's risk law (the default scatter when the bound is off, whose V_q it then
+    reports too)."""
+    u = scatter_of(problem.conditions)
+    v = b.values
+    design = b.design(i)
+    risk = evaluate_candidates(
+        design,
+        problem.conditions.replace(uncertainty=u),
+        inertia=v.inertia[i : i + 1],
+        probability_at=problem.target_speed,
         samples=samples,
         seed=seed,
     )
+    p, se = float(risk.shimmy_probability[0]), float(risk.shimmy_probability_se[0])
     n = max(
         int(u.samples if samples is None else samples), math.ceil(max(p * (1 - p), 1e-12) / 0.001**2) if p > 0 else 0
     )
-    q = (
-        b.design_speed[i]
-        if problem.risk is not None
-        else float(shimmy_speed_quantile(x[0], b.inertia[i], x[2], x[3], c.slip_coefficient, u))
-    )
+    q = v.confident_speed[i] if problem.risk is not None else risk.confident_speed[0]
     return Recommendation(
-        design=Design.from_array(x),
-        turning_effort=float(b.turning_effort[i]),
-        threshold_force=float(b.threshold_force[i]),
-        critical_speed=float(b.critical_speed[i]),
+        design=design,
+        turning_effort=float(v.turning_effort[i]),
+        threshold_force=float(v.threshold_force[i]),
+        critical_speed=float(v.critical_speed[i]),
         confident_speed=float(q),
         shimmy_probability=p,
         shimmy_probability_se=se,
-        swept_radius=float(b.swept_radius[i]),
+        swept_radius=float(v.swept_radius[i]),
         swept_radius_max=problem.swept_radius_max,
         rule=rule,
         wheel=str(b.wheel[i]) or None,
-        inertia=float(b.inertia[i]),
+        inertia=float(v.inertia[i]),
         role=role,
         target_speed=problem.target_speed,
         required_speed=problem.required_speed,
@@ -263,18 +228,18 @@ def _buildable_front(problem, b: _Buildable, member: np.ndarray):
     from designer.studies.front import Front, FrontPoint, family_of
 
     idx = np.flatnonzero(member)
-    idx = idx[np.argsort(-b.threshold_force[idx], kind="stable")]
+    idx = idx[np.argsort(-b.values.threshold_force[idx], kind="stable")]
     points = []
     for i in idx:
-        d = Design.from_array(b.designs[i])
+        d = b.design(i)
         points.append(
             FrontPoint(
                 d,
-                float(b.turning_effort[i]),
-                float(b.threshold_force[i]),
-                float(b.critical_speed[i]),
-                {"shimmy": float(b.design_speed[i] - problem.required_speed)},
-                float(b.threshold_force[i]),
+                float(b.values.turning_effort[i]),
+                float(b.values.threshold_force[i]),
+                float(b.values.critical_speed[i]),
+                {"shimmy": float(b.values.confident_speed[i] - problem.required_speed)},
+                float(b.values.threshold_force[i]),
                 "stock",
                 True,
                 {},
@@ -311,9 +276,9 @@ def recommend(problem, samples: int | None = None, seed: int | None = None) -> R
         problem = load_problem(problem)
     b = _buildable(problem)
     sel = select_rows(
-        b.turning_effort[None, :],
-        b.threshold_force[None, :],
-        np.ones((1, len(b.turning_effort)), bool),
+        b.values.turning_effort[None, :],
+        b.values.threshold_force[None, :],
+        np.ones((1, len(b)), bool),
         problem.weights,
         problem.max_threshold_force,
         problem.max_turning_effort,
@@ -343,7 +308,7 @@ def _buildable(problem) -> _Buildable:
         b, table = _discrete_buildable(problem)
     else:
         b = _continuous_buildable(problem)
-    if not len(b.turning_effort):
+    if not len(b):
         # late import: loads casadi, cvxpy, jinja2, scipy (via designer.studies.optimum._optimise) only when this runs
         from designer.studies.optimum import diagnose_infeasible
 
@@ -363,9 +328,9 @@ def _over_cap_error(problem, b: _Buildable, sel: dict) -> InfeasibleError:
     )
     lo = int(sel["easiest_sill"][0]) if problem.max_threshold_force is not None else int(sel["easiest_turn"][0])
     best = (
-        f"the least sill force buildable is {b.threshold_force[lo]:.2f} N"
+        f"the least sill force buildable is {b.values.threshold_force[lo]:.2f} N"
         if problem.max_threshold_force is not None
-        else f"the least turning effort buildable is {b.turning_effort[lo]:.3f} N"
+        else f"the least turning effort buildable is {b.values.turning_effort[lo]:.3f} N"
     )
     return InfeasibleError(
         f"{problem.name}: no buildable caster within the risk bound meets {cap}; {best}; "

@@ -1,9 +1,9 @@
 """The stock and its deterministic screening: steps 1 and 2 of :mod:`designer.studies.recommend._recommend`.
 
 Every combination of the parts of ``[stock]`` as arrays (:func:`stock_candidates`, the single owner of
-the enumeration; ``designer fleet`` uses it too), the risk bound as a deterministic screen
-(:func:`risk_screen`, :func:`confident_speed`), the two objectives of candidate arrays
-(:func:`objectives`) and the screened table (:func:`candidate_table`).  Re-exported by
+the enumeration; ``designer fleet`` uses it too) and the screened table (:func:`candidate_table`): the risk
+bound, the swept radius and the sill as a deterministic screen, with the objectives, all from the model's
+evaluator (:func:`designer.model.evaluate_candidates`).  Re-exported by
 :mod:`designer.studies.recommend._recommend`.
 """
 
@@ -15,12 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from designer.model import VARIABLES
-from designer.physics.geometry import swept_radius
-from designer.physics.shimmy import critical_shimmy_speed
-from designer.physics.threshold import threshold_force_ratio
-from designer.physics.turning import added_damper_moment, sliding_turning_moment
-from designer.physics.uncertainty import shimmy_speed_quantile
+from designer.model import VARIABLES, CandidateValues, evaluate_candidates
 from designer.physics.inertia import Catalog
 
 
@@ -152,83 +147,28 @@ def stock_candidates(problem, stock=None) -> CandidateTable:
     )
 
 
-def risk_screen(design_speed, required_speed):
-    """The deterministic risk bound: V_q >= (1 + margin) V_target (element-wise, no tolerance) [bool]."""
-    return np.asarray(design_speed) >= np.asarray(required_speed)
-
-
-def confident_speed(trail, inertia, groove, damping, slip_coefficient, risk):
-    """The speed reached with probability 1 − α (V_q), or V_c of Eq. 7 when ``risk`` is None [m/s]."""
-    if risk is None:
-        return critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient)
-    return shimmy_speed_quantile(trail, inertia, groove, damping, slip_coefficient, risk)
-
-
-def objectives(
-    problem, trail, diameter, groove, damping, load=None, threshold_height=None, surface=None, turning_mode=None
-):
-    """Turning effort F_turn (Eq. 9 with the turning model) and sill force P (Eq. 4A) [N], vectorised.
-
-    Chair values (load, sill, surface, mode) default to the problem's; arrays broadcast.  P is +inf
-    where the wheel cannot climb the sill (d <= 2h).
-    """
-    c = problem.conditions
-    load = c.load if load is None else load
-    h = c.threshold_height if threshold_height is None else threshold_height
-    moment = sliding_turning_moment(load, groove, surface or c.surface, turning_mode or c.turning_mode, c.turning)
-    effort = (moment + added_damper_moment(damping, c.disturbance_angle, c.turning)) / trail
-    d = np.asarray(diameter, float)
-    climbs = d > 2 * np.asarray(h)
-    safe = np.where(climbs, d, 3 * np.asarray(h))
-    force = np.where(climbs, np.asarray(load) * threshold_force_ratio(safe, h), np.inf)
-    return effort, force
-
-
 @dataclass
 class ScreenedTable:
-    """:class:`CandidateTable` (all discrete) with every number of the screening, per combination."""
+    """:class:`CandidateTable` (all discrete) and every number of its screening, per combination
+    (:func:`designer.model.evaluate_candidates`: V_c, V_q, R_s, F_turn, P, the limits met)."""
 
     candidates: CandidateTable
-    critical_speed: np.ndarray
-    design_speed: np.ndarray
-    swept_radius: np.ndarray
-    turning_effort: np.ndarray
-    threshold_force: np.ndarray
-    feasible: np.ndarray
-    risk_ok: np.ndarray
-    radius_ok: np.ndarray
+    values: CandidateValues
 
 
 def candidate_table(problem, stock=None) -> ScreenedTable:
-    """All-discrete stock of ``problem`` evaluated and screened (V_c, V_q, R_s, F_turn, P, feasible).
+    """All-discrete stock of ``problem`` evaluated and screened by the model's evaluator.
 
     Raises ValueError if a variable is continuous (use :func:`recommend`, which solves the rest).
     """
     cand = stock_candidates(problem, stock)
     if not cand.discrete:
         raise ValueError("candidate_table needs every variable in the stock; a continuous one is solved by recommend()")
-    c = problem.conditions
-    v = critical_shimmy_speed(cand.trail, cand.inertia, cand.groove, cand.damping, c.slip_coefficient)
-    q = np.asarray(
-        confident_speed(cand.trail, cand.inertia, cand.groove, cand.damping, c.slip_coefficient, problem.risk), float
+    values = evaluate_candidates(
+        {name: getattr(cand, name) for name in VARIABLES},
+        problem.conditions,
+        inertia=cand.inertia,
+        required_speed=problem.required_speed,
+        swept_radius_max=problem.swept_radius_max,
     )
-    r = swept_radius(cand.trail, cand.diameter)
-    f, p = objectives(problem, cand.trail, cand.diameter, cand.groove, cand.damping)
-    risk_ok = risk_screen(q, problem.required_speed)
-    radius_ok = (
-        (r <= problem.swept_radius_max * (1 + 1e-9))
-        if problem.swept_radius_max is not None
-        else np.ones(len(cand), bool)
-    )
-    feasible = risk_ok & radius_ok & np.isfinite(p)
-    return ScreenedTable(
-        cand,
-        np.asarray(v, float),
-        q,
-        np.asarray(r, float),
-        np.asarray(f, float) + 0 * q,
-        np.asarray(p, float) + 0 * q,
-        feasible,
-        risk_ok,
-        radius_ok,
-    )
+    return ScreenedTable(cand, values)

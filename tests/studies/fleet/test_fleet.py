@@ -165,7 +165,7 @@ def _reference_choice(problem, stock, chair: dict) -> tuple[int, int]:
         if d["trail"] + d["diameter"] / 2 > chair["swept_radius_max"] * (1 + 1e-9):
             continue
         v = performance(d["trail"], d["diameter"], d["groove"], d["damping"], c)
-        if stock.design_speed[j] < (1 + problem.margin) * chair["target_speed"]:
+        if stock.confident_speed[j] < (1 + problem.margin) * chair["target_speed"]:
             continue
         pts.append((float(v["turning_effort"]), float(v["threshold_force"]), j))
     if not pts:
@@ -411,7 +411,7 @@ def test_batched_monte_carlo_gives_the_numbers_of_the_shared_function(base):
 
     stock = _rule.stock_table(base)
     u = _rule.mc_uncertainty(base)
-    j = int(np.argmin(np.abs(stock.design_speed - 2.5)))
+    j = int(np.argmin(np.abs(stock.confident_speed - 2.5)))
     speeds = np.sort(np.random.default_rng(3).uniform(0.5, 1.6, 12) * stock.critical_speed[j])
     designs = np.tile([stock.trail[j], stock.diameter[j], stock.groove[j], stock.damping[j]], (12, 1))
     got = _rule._mc_task(designs, np.full(12, stock.inertia[j]), speeds, base.conditions.slip_coefficient, u)

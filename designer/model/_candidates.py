@@ -1,0 +1,373 @@
+"""The one evaluator of candidate casters: a batch of designs and their conditions in, every number out.
+
+:func:`evaluate_candidates` is where the studies get the performance and the risk of their candidates:
+the stock screen and the records of ``designer.recommend``, the fixes of ``designer.fix``, the chairs ×
+stock casters of ``designer fleet``, the studio's card.  It composes :func:`designer.model.performance`
+(I_w, Eq. 7, the quantile of the risk law, Eq. 4A, Eq. 9) for arrays of candidates and adds what a
+screen needs: the sill (d > 2h, else P = +inf), the swept radius of the fork as built (T + d/2), the
+feasibility with one tolerance, and on request the Monte Carlo P(shimmy) with its standard error
+(:func:`shimmy_probability`, the one batched Monte Carlo of the package).  The risk law itself (its
+scatter, the quantile, the sampling) is :mod:`designer.physics.uncertainty`'s; it is called here and
+nowhere else in the studies.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, fields
+from typing import Any
+
+import numpy as np
+
+from designer.parameters import VARIABLES
+from designer.physics.geometry import effective_trail, swept_radius
+from designer.physics.shimmy import critical_shimmy_speed
+from designer.physics.uncertainty import MC_MAX_SAMPLES, MC_TARGET_SE, Uncertainty, sample_log_factors
+from designer.model._caster import Conditions, Design, performance
+
+FEASIBILITY_TOLERANCE = 1e-9
+"""Relative tolerance of the two limits a candidate must meet: V_q >= V_req (1 − tol) and R_s <= R_max (1 + tol).
+
+One number for every study.  A candidate that sits *on* a limit comes either from values converted from
+inches (stock fork holes, wheel sizes, a footrest clearance: rounding of about 1e-16) or from the NLP,
+which meets its constraints to IPOPT's ``constr_viol_tol`` of 1e-10 (scaled): 1e-9 accepts both, and it
+is far below anything physical (2.5 nm/s on 2.5 m/s, a nanometre on a swept radius), so no caster that
+misses a limit in earnest passes.  The sill (d > 2h, Eq. 4A) has no tolerance: there P is infinite."""
+
+_CHUNK = 1_000_000
+"""Draws per chunk of the Monte Carlo stream (bounds the memory of one draw of the log factors)."""
+
+_CELLS = 1_000_000
+"""Candidates × draws evaluated at once in the Monte Carlo (about 8 MB per array)."""
+
+
+def scatter_of(conditions: Conditions) -> Uncertainty:
+    """The risk law a reported P(shimmy) uses: the risk bound of the conditions (a problem's ``[robust]``),
+    or the default :class:`~designer.physics.uncertainty.Uncertainty` when the bound is off
+    (``[robust] enabled = false``: the design is nominal, its risk is still reported)."""
+    return conditions.uncertainty if conditions.uncertainty is not None else Uncertainty()
+
+
+def design_columns(designs: Any) -> dict[str, np.ndarray]:
+    """Candidate designs as ``{name: array}`` in SI, by the names of :data:`designer.parameters.VARIABLES`.
+
+    Accepts a mapping with those keys (arrays that broadcast together), a :class:`Design`, a sequence of
+    Designs, a NumPy record array with those fields, or an (N, 4) array whose columns are in the
+    parameter table's order.
+    """
+    if isinstance(designs, Design):
+        return {name: np.array([getattr(designs, name)], dtype=float) for name in VARIABLES}
+    if isinstance(designs, Mapping):
+        return {name: np.asarray(designs[name], dtype=float) for name in VARIABLES}
+    if isinstance(designs, np.ndarray) and designs.dtype.names:
+        return {name: np.asarray(designs[name], dtype=float) for name in VARIABLES}
+    if isinstance(designs, Sequence) and designs and isinstance(designs[0], Design):
+        return {name: np.array([getattr(d, name) for d in designs], dtype=float) for name in VARIABLES}
+    array = np.asarray(designs, dtype=float).reshape(-1, len(VARIABLES))
+    return {name: array[:, k] for k, name in enumerate(VARIABLES)}
+
+
+@dataclass(frozen=True)
+class CandidateValues:
+    """Every number of a batch of candidate casters (arrays in the broadcast shape of the inputs), SI.
+
+    Attributes
+    ----------
+    trail, diameter, groove, damping : the designs [m, m, m, N·m/rad]
+    inertia : I_w [kg·m²] (given per candidate, or the inertia model at d)
+    effective_trail : the trail the tyre sees, e + (d/2) sin φ for a stem tilted by φ [m] (= trail when upright)
+    critical_speed : V_c of Eq. 7 on the effective trail [m/s] (not calibrated)
+    confident_speed : the speed the risk bound compares with V_req [m/s]: the speed reached with probability
+        1 − α under the risk law (``shimmy_speed_quantile``), or V_c itself without a risk bound; times the
+        calibration factor k of an observed onset
+    turning_effort : F_turn [N] (Eq. 9 with the turning model, on the effective trail)
+    threshold_force : P [N] (Eq. 4A); +inf where the wheel cannot climb the sill (d <= 2h)
+    swept_radius : T + d/2 of the fork as built [m]
+    risk_ok, radius_ok, sill_ok : each limit met (V_q >= V_req, R_s <= R_max within
+        :data:`FEASIBILITY_TOLERANCE`; d > 2h); True where no limit was given
+    feasible : all three
+    shimmy_probability, shimmy_probability_se : Monte Carlo P(V_c,true < speed) and its standard error [-]
+        (None unless asked for)
+    """
+
+    trail: np.ndarray
+    diameter: np.ndarray
+    groove: np.ndarray
+    damping: np.ndarray
+    inertia: np.ndarray
+    effective_trail: np.ndarray
+    critical_speed: np.ndarray
+    confident_speed: np.ndarray
+    turning_effort: np.ndarray
+    threshold_force: np.ndarray
+    swept_radius: np.ndarray
+    risk_ok: np.ndarray
+    radius_ok: np.ndarray
+    sill_ok: np.ndarray
+    feasible: np.ndarray
+    shimmy_probability: np.ndarray | None = None
+    shimmy_probability_se: np.ndarray | None = None
+
+    def __len__(self) -> int:
+        return int(self.feasible.shape[0]) if self.feasible.ndim else 1
+
+    def as_dict(self) -> dict[str, Any]:
+        """``{field: array}`` (the Monte Carlo fields only when computed)."""
+        return {f.name: getattr(self, f.name) for f in fields(self) if getattr(self, f.name) is not None}
+
+    def take(self, index: Any) -> "CandidateValues":
+        """The candidates at ``index`` (a boolean mask or integer indices along the first axis)."""
+        taken: dict[str, Any] = {
+            f.name: None if getattr(self, f.name) is None else np.asarray(getattr(self, f.name))[index]
+            for f in fields(self)
+        }
+        return CandidateValues(**taken)
+
+
+def evaluate_candidates(  # long: the docstring documents every argument; the body is about 45 lines
+    designs: Any,
+    conditions: Conditions,
+    *,
+    inertia: Any = None,
+    load: Any = None,
+    threshold_height: Any = None,
+    required_speed: Any = None,
+    swept_radius_max: Any = None,
+    stem_angle: float = 0.0,
+    calibration: float = 1.0,
+    probability_at: Any = None,
+    samples: int | None = None,
+    seed: int | None = None,
+    target_se: float | None = MC_TARGET_SE,
+) -> CandidateValues:
+    """Evaluate a batch of candidate casters: performance, risk bound, feasibility, and the risk on request.
+
+    Parameters
+    ----------
+    designs : the candidates, by name (:func:`design_columns`): T, d, B [m], c_f [N·m/rad]
+    conditions : the chair and the model (load L [N], sill h [m], surface, turning mode, θ0, K_s, the inertia
+        model, the risk law ``uncertainty``: the bound when set, else the nominal V_c >= V_req)
+    inertia : I_w per candidate [kg·m²] (a measured or catalogue wheel); None: ``conditions.inertia(d)``
+    load, threshold_height : per-candidate (broadcasting) load [N] and sill height [m] instead of the
+        conditions' (a fleet's chairs)
+    required_speed : V_req = (1 + margin) V_target [m/s] of the risk limit (None: no limit)
+    swept_radius_max : R_max [m] (None: no limit)
+    stem_angle : stem tilt φ [rad] from vertical; T is then the fork offset e and the tyre sees e + (d/2) sin φ
+    calibration : factor k = V_obs / V_c,Eq.7 of a caster whose onset was observed (multiplies V_c in the bound
+        and in the Monte Carlo)
+    probability_at : speed [m/s] (one, or one per candidate) at which to estimate P(V_c,true < speed) by Monte
+        Carlo under :func:`scatter_of` the conditions (None: no Monte Carlo)
+    samples, seed, target_se : the Monte Carlo's least sample, seed and target standard error
+        (:func:`shimmy_probability`)
+
+    Returns
+    -------
+    CandidateValues.  Equations: I_w (inertia model), Eq. 7 (V_c), ``shimmy_speed_quantile`` (V_q, the risk
+    law), Eq. 4A (P), Eq. 9 (F_turn), T + d/2 (R_s); :func:`designer.model.performance` composes them.
+    """
+    columns = design_columns(designs)
+    t, d, b, c = (columns[name] for name in VARIABLES)
+    cond = conditions
+    if load is not None:
+        cond = cond.replace(load=np.asarray(load, dtype=float))
+    if threshold_height is not None:
+        cond = cond.replace(threshold_height=np.asarray(threshold_height, dtype=float))
+    i_w = np.asarray(cond.inertia(d) if inertia is None else inertia, dtype=float) + 0 * d
+    t_eff = t if stem_angle == 0 else np.asarray(effective_trail(t, d / 2, stem_angle), dtype=float)
+    h = np.asarray(cond.threshold_height, dtype=float)
+    sill_ok = d > 2 * h
+    climbing = np.where(sill_ok, d, 3 * h)  # a wheel that cannot climb gets P = inf below, not Eq. 4A's error
+    values = performance(t_eff, climbing, b, c, cond, inertia=i_w)
+    confident = np.asarray(values["design_speed"], dtype=float)
+    if calibration != 1.0:
+        confident = calibration * confident
+    force = np.where(sill_ok, np.asarray(values["threshold_force"], dtype=float), np.inf)
+    radius = np.asarray(swept_radius(t, d), dtype=float)
+    risk_ok, radius_ok = _limits(confident, radius, required_speed, swept_radius_max)
+    turning = np.asarray(values["turning_effort"], dtype=float)
+    shape = np.broadcast_shapes(turning.shape, force.shape, risk_ok.shape, radius_ok.shape, sill_ok.shape)
+    out = CandidateValues(
+        trail=t,
+        diameter=d,
+        groove=b,
+        damping=c,
+        inertia=i_w,
+        effective_trail=np.asarray(t_eff, dtype=float),
+        critical_speed=np.asarray(values["critical_speed"], dtype=float),
+        confident_speed=confident,
+        turning_effort=turning,
+        threshold_force=force,
+        swept_radius=radius,
+        risk_ok=risk_ok,
+        radius_ok=radius_ok,
+        sill_ok=sill_ok,
+        feasible=np.broadcast_to(risk_ok & radius_ok & sill_ok, shape),
+    )
+    if probability_at is None:
+        return out
+    p, se = shimmy_probability(
+        t_eff,
+        i_w,
+        b,
+        c,
+        float(cond.slip_coefficient),
+        np.asarray(probability_at, dtype=float) / calibration,
+        scatter_of(cond),
+        samples=samples,
+        seed=seed,
+        target_se=target_se,
+    )
+    return CandidateValues(**(out.as_dict() | {"shimmy_probability": p, "shimmy_probability_se": se}))
+
+
+def _limits(confident: np.ndarray, radius: np.ndarray, required: Any, r_max: Any) -> tuple[np.ndarray, np.ndarray]:
+    """(V_q >= V_req, R_s <= R_max), each within :data:`FEASIBILITY_TOLERANCE`; all True for a limit not given."""
+    risk_ok = np.ones(confident.shape, dtype=bool)
+    if required is not None:
+        risk_ok = confident >= np.asarray(required, dtype=float) * (1 - FEASIBILITY_TOLERANCE)
+    radius_ok = np.ones(radius.shape, dtype=bool)
+    if r_max is not None:
+        radius_ok = radius <= np.asarray(r_max, dtype=float) * (1 + FEASIBILITY_TOLERANCE)
+    return risk_ok, radius_ok
+
+
+# --------------------------------------------------------------------------- the Monte Carlo risk
+
+
+def shimmy_probability(
+    trail: Any,
+    inertia: Any,
+    groove: Any,
+    damping: Any,
+    slip_coefficient: float,
+    speed: Any,
+    uncertainty: Uncertainty,
+    samples: int | None = None,
+    seed: int | None = None,
+    target_se: float | None = MC_TARGET_SE,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Monte Carlo P(V_c,true < speed) and its standard error for many casters at once [-].
+
+    V_c,true is Eq. 7 with the constants drawn from the risk law (``sample_log_factors`` of
+    :mod:`designer.physics.uncertainty`: Student-t model error, lognormal c_f, K_s, I_w).  Each caster's
+    estimate is the one of a single seeded stream: ``samples`` draws (default ``uncertainty.samples``) from
+    ``default_rng(seed)`` (default ``uncertainty.seed``), in chunks of 10⁶, and then, for a caster whose
+    standard error is still above ``target_se`` (None: never), more draws from the same stream until it is
+    not, up to :data:`~designer.physics.uncertainty.MC_MAX_SAMPLES`.  The first draws are shared by all
+    casters (one draw, vectorised); only the casters that need more continue the stream one by one, so
+    every estimate is the same number for a caster alone or in a batch.
+
+    Parameters
+    ----------
+    trail, inertia, groove, damping : T [m], I_w [kg·m²], B [m], c_f [N·m/rad] of each caster (broadcast)
+    slip_coefficient : K_s [N]
+    speed : the speed [m/s] of each caster (broadcast)
+    uncertainty : the risk law
+
+    Returns
+    -------
+    (p, se): arrays in the broadcast shape of the inputs.
+    """
+    arrays = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (trail, inertia, groove, damping, speed)))
+    shape = arrays[0].shape
+    t, i_w, b, c, v_req = (a.ravel() for a in arrays)
+    n = int(uncertainty.samples if samples is None else samples)
+    rng = np.random.default_rng(uncertainty.seed if seed is None else seed)
+    hits = np.zeros(t.size)
+    drawn = 0
+    while drawn < n:  # the first n draws, shared by every caster
+        chunk = min(n - drawn, _CHUNK)
+        hits += _hits(t, i_w, b, c, slip_coefficient, v_req, sample_log_factors(uncertainty, chunk, rng))
+        drawn += chunk
+    p = hits / drawn
+    se = np.sqrt(np.maximum(p * (1 - p), 1.0 / drawn) / drawn)
+    if target_se is not None and t.size:
+        needed = np.ceil(np.maximum(p * (1 - p), 1.0 / drawn) / target_se**2)
+        state = rng.bit_generator.state
+        for k in np.flatnonzero((needed > drawn) & (drawn < MC_MAX_SAMPLES)):
+            p[k], se[k] = _top_up(
+                (t[k], i_w[k], b[k], c[k], slip_coefficient, v_req[k]), uncertainty, state, hits[k], drawn, target_se
+            )
+    return p.reshape(shape), se.reshape(shape)
+
+
+def _true_speeds(
+    trail: Any, inertia: Any, groove: Any, damping: Any, slip_coefficient: float, factors: dict[str, np.ndarray]
+) -> Any:
+    """V_c,true = V_c(T, I_w e^{ξ_I}, B, c_f e^{ξ_c}, K_s e^{ξ_K}) e^{ε} for drawn log factors [m/s] (Eq. 7)."""
+    return critical_shimmy_speed(
+        trail,
+        inertia * np.exp(factors["inertia"]),
+        groove,
+        damping * np.exp(factors["damping"]),
+        slip_coefficient * np.exp(factors["slip"]),
+    ) * np.exp(factors["model"])
+
+
+def _hits(
+    t: np.ndarray,
+    i_w: np.ndarray,
+    b: np.ndarray,
+    c: np.ndarray,
+    slip: float,
+    speed: np.ndarray,
+    factors: dict[str, np.ndarray],
+) -> np.ndarray:
+    """How many of one chunk of draws give V_c,true < speed, per caster (casters sharing a design share V)."""
+    n = len(factors["model"])
+    e = {key: np.exp(value)[None, :] for key, value in factors.items()}
+    key = np.column_stack([t, i_w, b, c])
+    designs, inverse = np.unique(key, axis=0, return_inverse=True)
+    inverse = np.ravel(inverse)
+    out = np.zeros(len(t))
+    step = max(1, _CELLS // max(n, 1))
+    for a in range(0, len(designs), step):
+        block = designs[a : a + step]
+        v = (
+            critical_shimmy_speed(
+                block[:, 0, None],
+                block[:, 1, None] * e["inertia"],
+                block[:, 2, None],
+                block[:, 3, None] * e["damping"],
+                slip * e["slip"],
+            )
+            * e["model"]
+        )
+        rows = np.flatnonzero((inverse >= a) & (inverse < a + len(block)))
+        local = inverse[rows] - a
+        if len(rows) > len(block):  # several speeds of one design: count on the sorted draws
+            v = np.sort(v, axis=1)
+            out[rows] = [np.searchsorted(v[j], s, side="left") for j, s in zip(local, speed[rows])]
+        else:
+            out[rows] = np.count_nonzero(v[local] < speed[rows, None], axis=1)
+    return out
+
+
+def _top_up(
+    caster: tuple[float, float, float, float, float, float],
+    uncertainty: Uncertainty,
+    state: Mapping[str, Any],
+    hits: float,
+    drawn: int,
+    target_se: float,
+) -> tuple[float, float]:
+    """One caster's estimate continued on its stream (at ``state``, after ``drawn`` draws with ``hits``) until
+    its standard error is at most ``target_se`` or :data:`MC_MAX_SAMPLES` are drawn: (p, se)."""
+    trail, inertia, groove, damping, slip, speed = caster
+    rng = np.random.default_rng()
+    rng.bit_generator.state = state
+    p = hits / drawn
+    want = drawn
+    while True:
+        needed = math.ceil(max(p * (1 - p), 1.0 / drawn) / target_se**2)
+        if needed <= drawn or drawn >= MC_MAX_SAMPLES:
+            break
+        want = min(MC_MAX_SAMPLES, needed + needed // 50)
+        while drawn < want:
+            chunk = min(want - drawn, _CHUNK)
+            v = _true_speeds(trail, inertia, groove, damping, slip, sample_log_factors(uncertainty, chunk, rng))
+            hits += int(np.count_nonzero(v < speed))
+            drawn += chunk
+        p = hits / drawn
+    return p, float(math.sqrt(max(p * (1 - p), 1.0 / drawn) / drawn))

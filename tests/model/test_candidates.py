@@ -1,0 +1,177 @@
+"""The one evaluator of candidates (designer.model.evaluate_candidates, shimmy_probability): its numbers are
+model.performance's, its limits use one tolerance, the sill gives P = inf, the inputs are read by name, and
+the batched Monte Carlo gives for every caster the number of that caster's own seeded stream."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from designer.data.paper import INCH
+from designer.model import (
+    FEASIBILITY_TOLERANCE,
+    Conditions,
+    Design,
+    design_columns,
+    evaluate_candidates,
+    performance,
+    scatter_of,
+    shimmy_probability,
+)
+from designer.physics.geometry import effective_trail
+from designer.physics.uncertainty import MC_MAX_SAMPLES, Uncertainty, sample_log_factors
+from designer.physics.shimmy import critical_shimmy_speed
+
+RISK = Conditions(uncertainty=Uncertainty())
+DESIGNS = [
+    Design(2.5 * INCH, 7 * INCH, 0.5 * INCH, 1.3),
+    Design(1.0 * INCH, 3 * INCH, 0.0, 1.3),
+    Design(2.0 * INCH, 8 * INCH, 0.75 * INCH, 4.0),
+    Design(1.5 * INCH, 5 * INCH, 0.25 * INCH, 2.0),
+]
+
+
+def _stream(trail, inertia, groove, damping, slip, speed, u, samples, seed, target_se):
+    """The reference: one caster's estimate from its own stream, written out as the risk law defines it:
+    ``samples`` draws from default_rng(seed) in chunks of 10⁶, then more from the same stream (to the
+    needed count plus 2 %) until the SE is at most ``target_se``, at most MC_MAX_SAMPLES in all."""
+    rng = np.random.default_rng(seed)
+    hits = drawn = 0
+    want = samples
+    while True:
+        while drawn < want:
+            chunk = min(want - drawn, 1_000_000)
+            f = sample_log_factors(u, chunk, rng)
+            v = critical_shimmy_speed(
+                trail,
+                inertia * np.exp(f["inertia"]),
+                groove,
+                damping * np.exp(f["damping"]),
+                slip * np.exp(f["slip"]),
+            ) * np.exp(f["model"])
+            hits += int(np.count_nonzero(v < speed))
+            drawn += chunk
+        p = hits / drawn
+        if target_se is None or drawn >= MC_MAX_SAMPLES:
+            break
+        needed = math.ceil(max(p * (1 - p), 1.0 / drawn) / target_se**2)
+        if needed <= drawn:
+            break
+        want = min(MC_MAX_SAMPLES, needed + needed // 50)
+    return p, math.sqrt(max(p * (1 - p), 1.0 / drawn) / drawn)
+
+
+def test_the_evaluator_gives_the_numbers_of_model_performance():
+    """V_c, V_q, F_turn, P, I_w of a batch are model.performance's of each design alone, bit for bit, and the
+    swept radius is T + d/2."""
+    values = evaluate_candidates(DESIGNS, RISK)
+    for k, d in enumerate(DESIGNS):
+        one = performance(d.trail, d.diameter, d.groove, d.damping, RISK)
+        assert values.critical_speed[k] == float(one["critical_speed"])
+        assert values.confident_speed[k] == float(one["design_speed"])
+        assert values.turning_effort[k] == float(one["turning_effort"])
+        assert values.threshold_force[k] == float(one["threshold_force"])
+        assert values.inertia[k] == float(one["inertia"])
+        assert values.swept_radius[k] == pytest.approx(d.trail + d.diameter / 2, rel=1e-15)
+    assert values.confident_speed[0] < values.critical_speed[0]  # the bound lowers the speed (α = 5 %)
+
+
+def test_designs_are_read_by_name_in_every_form():
+    """A mapping, an (N, 4) array, a list of Designs and a record array with the table's names give the same
+    numbers; a mapping in another key order too."""
+    by_list = evaluate_candidates(DESIGNS, RISK).turning_effort
+    array = np.array([d.as_array() for d in DESIGNS])
+    mapping = {name: array[:, k] for k, name in enumerate(("trail", "diameter", "groove", "damping"))}
+    shuffled = {name: mapping[name] for name in ("damping", "groove", "trail", "diameter")}
+    records = np.rec.fromarrays([mapping[n] for n in mapping], names=list(mapping))
+    for form in (array, mapping, shuffled, records):
+        np.testing.assert_array_equal(evaluate_candidates(form, RISK).turning_effort, by_list)
+    assert design_columns(DESIGNS[2])["damping"][0] == 4.0
+
+
+def test_one_tolerance_for_both_limits():
+    """A candidate FEASIBILITY_TOLERANCE/2 beyond a limit passes, one 2 × FEASIBILITY_TOLERANCE beyond fails,
+    for the risk bound and for the swept radius alike."""
+    d = DESIGNS[0]
+    q = float(evaluate_candidates(d, RISK).confident_speed[0])
+    r = d.trail + d.diameter / 2
+    for factor, ok in ((1 + FEASIBILITY_TOLERANCE / 2, True), (1 + 2 * FEASIBILITY_TOLERANCE, False)):
+        v = evaluate_candidates(d, RISK, required_speed=q * factor, swept_radius_max=r / factor)
+        assert bool(v.risk_ok[0]) is ok and bool(v.radius_ok[0]) is ok and bool(v.feasible[0]) is ok
+
+
+def test_a_wheel_that_cannot_climb_the_sill_is_infeasible_with_infinite_force():
+    """d <= 2h: P = +inf and not feasible (Eq. 4A has no value there), while the other candidates keep their
+    Eq. 4A force; the sill may differ per candidate (a fleet's chairs)."""
+    v = evaluate_candidates(DESIGNS, RISK, threshold_height=np.array([[0.5 * INCH], [1.6 * INCH]]))
+    assert v.threshold_force.shape == (2, 4)
+    assert np.isinf(v.threshold_force[1, 1]) and not v.feasible[1, 1] and not v.sill_ok[1, 1]
+    assert np.isinf(v.threshold_force[1, 0]) is np.False_  # 7 in > 3.2 in
+    assert np.all(np.isfinite(v.threshold_force[0])) and v.feasible[0].all()
+
+
+def test_stem_angle_and_calibration():
+    """A tilted stem: V_c and F_turn on the effective trail e + (d/2) sin φ, the swept radius on the fork as
+    built; a calibration factor k multiplies the bound's speed and divides the Monte Carlo's speed."""
+    d = DESIGNS[3]
+    phi = math.radians(4.0)
+    tilted = evaluate_candidates(d, RISK, stem_angle=phi)
+    t_eff = float(effective_trail(d.trail, d.diameter / 2, phi))
+    upright = evaluate_candidates(Design(t_eff, d.diameter, d.groove, d.damping), RISK)
+    assert tilted.critical_speed[0] == upright.critical_speed[0]
+    assert tilted.turning_effort[0] == upright.turning_effort[0]
+    assert tilted.swept_radius[0] == pytest.approx(d.trail + d.diameter / 2, rel=1e-15)
+    k = 0.8
+    cal = evaluate_candidates(d, RISK, calibration=k, probability_at=2.0, samples=20_000, target_se=None)
+    plain = evaluate_candidates(d, RISK, probability_at=2.0 / k, samples=20_000, target_se=None)
+    assert cal.confident_speed[0] == pytest.approx(k * plain.confident_speed[0], rel=1e-15)
+    assert cal.shimmy_probability[0] == plain.shimmy_probability[0]
+
+
+def test_scatter_of_is_the_bound_or_the_default():
+    """The reported risk uses the problem's bound, or the default Uncertainty when the bound is off."""
+    tight = Uncertainty(probability=0.01)
+    assert scatter_of(Conditions(uncertainty=tight)) is tight
+    assert scatter_of(Conditions()) == Uncertainty()
+
+
+@pytest.mark.parametrize("samples,target_se", [(50_000, 1e-3), (5_000, 2e-3), (3_000, None)])
+def test_batched_monte_carlo_equals_each_casters_own_stream(samples, target_se):
+    """P(shimmy) and SE of many casters and speeds at once equal, exactly, the written-out stream of each caster
+    alone; speeds are spread so that some estimates need the top-up from the same stream and some do not,
+    and two rows share a design at different speeds."""
+    u = Uncertainty()
+    designs = [DESIGNS[0], DESIGNS[0], DESIGNS[2], DESIGNS[3]]
+    inertia = np.array([1.6e-3, 1.6e-3, 3.0e-3, 0.7e-3])
+    speeds = np.array([2.2, 2.9, 2.6, 2.1])
+    cols = design_columns(designs)
+    p, se = shimmy_probability(
+        cols["trail"], inertia, cols["groove"], cols["damping"], 1250.0, speeds, u, samples, 4242, target_se
+    )
+    for k in range(4):
+        want = _stream(
+            cols["trail"][k],
+            inertia[k],
+            cols["groove"][k],
+            cols["damping"][k],
+            1250.0,
+            speeds[k],
+            u,
+            samples,
+            4242,
+            target_se,
+        )
+        assert (p[k], se[k]) == want, k
+    assert p.min() < 0.05 < p.max()  # the top-up path is exercised where an SE target is set
+
+
+def test_candidate_values_take_and_monte_carlo_on_request():
+    """Without ``probability_at`` there is no Monte Carlo; ``take`` keeps the chosen candidates of every field."""
+    v = evaluate_candidates(DESIGNS, RISK, required_speed=2.5)
+    assert v.shimmy_probability is None and len(v) == 4
+    sub = v.take(v.feasible)
+    assert len(sub) == int(v.feasible.sum()) and np.all(sub.confident_speed >= 2.5 * (1 - FEASIBILITY_TOLERANCE))
+    mc = evaluate_candidates(DESIGNS[:1], RISK, probability_at=2.5, samples=10_000, seed=1, target_se=None)
+    assert 0 < mc.shimmy_probability[0] < 1 and mc.shimmy_probability_se[0] > 0
