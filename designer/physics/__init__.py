@@ -13,6 +13,7 @@ threshold   Eq. 1/4A exact, Eq. 5A approximate: force to climb a door sill
 turning     docs/model.md#turning-effort, Eq. 9: turning effort at the caster spindle
 geometry    swept radius of the swivelling caster
 uncertainty scatter of Eq. 7's constants: V_c quantile and Monte Carlo probability of shimmy
+roots       a root in a sign-change bracket (check 6, the knock simulations' events) without scipy.optimize
 
 CasADi is not imported here (``import designer`` stays light): the solvers call
 :func:`enable_casadi` when they build symbols.
@@ -46,6 +47,7 @@ from designer.physics.shimmy import (
     steady_shimmy_amplitude,
     third_order_coefficients,
 )
+from designer.physics.roots import bracketed_root
 from designer.physics.threshold import (
     threshold_force,
     threshold_force_ratio,
@@ -69,6 +71,7 @@ __all__ = [
     "PowerLaw",
     "TurningConstants",
     "added_damper_moment",
+    "bracketed_root",
     "characteristic_roots",
     "critical_shimmy_speed",
     "critical_speed_hydraulic",

@@ -20,6 +20,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
 
 from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING, SLIP_COEFFICIENT
 from designer.parameters import default  # the defaults: one table (designer/parameters.py)
+from designer.physics.roots import bracketed_root
 from designer.physics.types import Array, Scalar
 
 Coefficients: TypeAlias = tuple[Scalar, Scalar, Scalar, Scalar]
@@ -242,7 +243,7 @@ def routh_hurwitz_critical_speed(
 ) -> float:
     """Critical speed where the Routh–Hurwitz margin of Eq. 12B crosses zero [m/s].
 
-    Solved numerically (scipy's ``brentq``, Brent's method) from the full third-order
+    Solved numerically (:func:`designer.physics.roots.bracketed_root`, regula falsi) from the full third-order
     coefficients, independently of Eq. 5/7: must equal Eq. 20B, i.e. Eq. 5 for
     ``damping_kind="hydraulic"`` (damping = C_D) and Eq. 7 for ``"friction"``
     (damping = c_f, converted with :func:`friction_damping_at_speed`).
@@ -258,8 +259,5 @@ def routh_hurwitz_critical_speed(
         coeffs = third_order_coefficients(trail, inertia, groove, c_d, speed, slip_coefficient, dynamics)
         return float(routh_hurwitz_margin(coeffs))
 
-    # late import: scipy.optimize (about 0.35 s of CPU) loads only when this check runs
-    from scipy.optimize import brentq
-
     low, high = speed_range
-    return float(brentq(margin, low, high, xtol=1e-12, rtol=1e-12, maxiter=500))
+    return bracketed_root(margin, low, high, xtol=1e-12, rtol=1e-12, maxiter=500)

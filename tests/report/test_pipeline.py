@@ -349,8 +349,7 @@ def test_report_data_of_the_default_problem_loads_no_heavy_library():
     """``report_data`` of the default problem (front, tighter front, recommendation, knock-safe speeds, optimum,
     checks) runs without importing cvxpy, scipy.stats, optuna, pint or matplotlib: the GP cross-check is
     opt-in, normal quantiles come from scipy.special, the default risk-bound fit and Sobol sample are stored,
-    "2.5 in" is read without pint, and matplotlib waits for the figures.  (scipy.optimize does load: the
-    knock-safe speeds find their event times with its brentq.)"""
+    "2.5 in" is read without pint, and matplotlib waits for the figures."""
     code = (
         "import sys, warnings; warnings.simplefilter('ignore')\n"
         "from designer.problem import load_problem\n"
@@ -365,3 +364,27 @@ def test_report_data_of_the_default_problem_loads_no_heavy_library():
     heavy, stats = out.stdout.strip().splitlines()[-2:]
     assert heavy == "[]"
     assert stats == "[]"
+
+
+MAIN_JOB_NEVER = HEAVY + ("scipy.optimize", "dask", "dash", "flask", "plotly", "PIL", "pandas", "pgserver", "psycopg2")
+"""What the whole ``designer pareto`` process must not load: the GP stack, the samplers, unit parsing, the
+plotting and web stacks, dask, and scipy.optimize (check 6 and the knock events use physics.bracketed_root)."""
+
+
+def test_designer_pareto_process_loads_no_heavy_library(tmp_path):
+    """The whole ``designer pareto problems/indoor-manual.toml`` process (CLI, compute, SVG figures, writing)
+    exits 0 with a complete report and, at its exit, has none of MAIN_JOB_NEVER in sys.modules."""
+    out, modules = tmp_path / "report", tmp_path / "modules.json"
+    code = (
+        "import atexit, json, runpy, sys\n"
+        f"atexit.register(lambda: open({str(modules)!r}, 'w').write(json.dumps(sorted(sys.modules))))\n"
+        f"sys.argv = ['designer', 'pareto', 'problems/indoor-manual.toml', '--out', {str(out)!r}]\n"
+        "runpy.run_module('designer', run_name='__main__')\n"
+    )
+    root = Path(__file__).resolve().parents[2]
+    done = subprocess.run([sys.executable, "-c", code], cwd=root, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert (out / "index.html").is_file() and len(list((out / "figures").glob("*.svg"))) == 7  # six + caster
+    loaded = json.loads(modules.read_text())
+    heavy = sorted(m for m in loaded if any(m == h or m.startswith(h + ".") for h in MAIN_JOB_NEVER))
+    assert heavy == []

@@ -15,11 +15,12 @@ import numpy as np
 
 from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
+from designer.physics import bracketed_root
 from designer.physics.tyre import TyreParameters, lateral_tyre_force
 
 _RTOL = 1e-10
 _EPS = float(np.finfo(float).eps)
-"""Machine epsilon of float64 [-]; ``4 * _EPS`` is the least relative tolerance brentq accepts."""
+"""Machine epsilon of float64 [-]; ``4 * _EPS``: the event times' relative tolerance (rounding)."""
 
 
 @dataclass(frozen=True)
@@ -325,16 +326,14 @@ class _LinearSlip:
 
 def _root(f, a: float, b: float) -> float:
     """First τ in [a, b] where f (positive before the event) reaches 0, to rounding: a if f(a) <= 0 already
-    (the grid saw f(a) > 0 up to rounding), b if f(b) > 0 still, else Brent's method (scipy's ``brentq``)."""
+    (the grid saw f(a) > 0 up to rounding), b if f(b) > 0 still, else the bracketed root to rounding
+    (:func:`designer.physics.bracketed_root`, regula falsi: no scipy.optimize import in the main job)."""
     fa, fb = f(a), f(b)
     if fa <= 0:
         return float(a)
     if fb > 0:
         return float(b)
-    # late import: scipy.optimize (about 0.35 s of CPU) loads only when a knock phase ends inside a step
-    from scipy.optimize import brentq
-
-    return float(brentq(f, a, b, xtol=1e-16, rtol=4 * _EPS, maxiter=200))
+    return bracketed_root(f, a, b, xtol=1e-16, rtol=4 * _EPS, maxiter=200)
 
 
 # long: the stick/slip event loop of _integrate, with each phase solved in closed form
@@ -347,8 +346,8 @@ def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per even
     max_switches: int = 20_000,
 ) -> _Run | None:
     """:func:`_integrate` for the rolling model (no ``record``, no section stop) with each phase in closed
-    form: a slip by :class:`_LinearSlip` (events found on ``grid`` points per period of Eq. 15B, then by
-    Brent's method), a stick exactly (X moves at −V θ, T K X reaches the friction moment at a known time).
+    form: a slip by :class:`_LinearSlip` (events found on ``grid`` points per period of Eq. 15B, then to
+    rounding by :func:`_root`), a stick exactly (X moves at −V θ, T K X reaches the friction moment at a known time).
 
     The same events, the same grazing rule and the same run record as :func:`_integrate`; about ten times
     less CPU.  Returns None when the slip flow is (nearly) defective, where the caller falls back.
