@@ -28,6 +28,7 @@ from designer.problem._core import (
     DEFAULT_BOUNDS,
     INERTIA_MODELS,
     MAX_SAMPLES,
+    PROBABILITY_RANGE,
     SCHEMA,
     VARIABLE_DIMENSIONS,
     Bound,
@@ -358,8 +359,12 @@ def _uncertainty(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> Unce
         ):
             fail(f"robust.{key} = {value!r}: expected a finite number")
         values[key] = float(value)
-    if not 0 < values["probability"] < 0.5:
-        fail(f"robust.probability = {values['probability']:g}: must be between 0 and 0.5 (e.g. 0.05 for 5 %)")
+    low, high = PROBABILITY_RANGE
+    if not low <= values["probability"] < high:
+        fail(
+            f"robust.probability = {values['probability']:g}: must be from {low:g} to below {high:g} (e.g. 0.05 "
+            f"for 5 %; below {low:g} the risk bound is not computed to its accuracy)"
+        )
     for key in ("model_error", "damping", "slip_coefficient", "inertia"):
         if not 0 <= values[key] <= 2:
             fail(f"robust.{key} = {values[key]:g}: the standard deviation of the log must be between 0 and 2")

@@ -15,8 +15,11 @@ Constraints (CasADi convention lbg <= g <= ubg):
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import functools
+import sys
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -32,6 +35,58 @@ import warnings
 
 BIG = 1e9
 FEAS_TOL = 1e-7
+
+QUIET = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "show_eval_warnings": False}
+"""Options of every IPOPT solver built here: no iteration log, no timing table, no banner, and no CasADi
+"NaN detected" evaluation warnings (a NaN in the model shows as a failed solve, which the callers report
+in one line). Solver output never reaches the user's terminal."""
+
+
+class _DropCasadiLines:
+    """A stand-in for sys.stderr while a solver runs: CasADi writes its remaining warnings (e.g. "Failed to
+    calculate multipliers" after a NaN, which no option turns off) through Python's sys.stderr, a line in
+    several writes starting with "CasADi - "; from such a write to the end of its line everything is
+    dropped, every other write passes to the real stream at once."""
+
+    def __init__(self, stream):
+        self.stream = stream
+        self.dropping = False
+
+    def write(self, text: str) -> int:
+        if not self.dropping and not text.startswith("CasADi - "):
+            return self.stream.write(text)
+        self.dropping = True
+        if "\n" in text:
+            self.dropping = False
+            rest = text.split("\n", 1)[1]
+            if rest:
+                self.write(rest)
+        return len(text)
+
+    def __getattr__(self, name):
+        return getattr(self.stream, name)
+
+
+_QUIET_LOCK = threading.Lock()
+_QUIET_DEPTH = 0
+
+
+@contextlib.contextmanager
+def _quiet():
+    """Run a solver call with :class:`_DropCasadiLines` on sys.stderr (re-entrant across threads)."""
+    global _QUIET_DEPTH
+    with _QUIET_LOCK:
+        if _QUIET_DEPTH == 0:
+            sys.stderr = _DropCasadiLines(sys.stderr)
+        _QUIET_DEPTH += 1
+    try:
+        yield
+    finally:
+        with _QUIET_LOCK:
+            _QUIET_DEPTH -= 1
+            if _QUIET_DEPTH == 0 and isinstance(sys.stderr, _DropCasadiLines):
+                sys.stderr = sys.stderr.stream
+
 
 PARAMETER_INFO = {p.name: (p.symbol, p.shown_unit, p.description) for p in parameters.SOLVER_PARAMETERS}
 """Fixed parameters whose sensitivity d log J / d log p is reported (from :mod:`designer.parameters`)."""
@@ -118,9 +173,7 @@ class CasterNLP:
         p_all = ca.vertcat(psym, w, eps)
         self.n_phys = psym.shape[0]
         options = {
-            "ipopt.print_level": 0,
-            "print_time": False,
-            "ipopt.sb": "yes",
+            **QUIET,
             "ipopt.tol": 1e-10,
             "ipopt.acceptable_tol": 1e-8,
             "ipopt.constr_viol_tol": 1e-10,
@@ -199,7 +252,8 @@ class CasterNLP:
         if lam_x0 is not None:
             args["lam_x0"] = lam_x0
         t0 = time.perf_counter()
-        sol = self.solver(**args)
+        with _quiet():
+            sol = self.solver(**args)
         check_interrupt()  # CasADi swallows KeyboardInterrupt: the SIGINT flag
         seconds = time.perf_counter() - t0
         stats = self.solver.stats()
@@ -349,7 +403,8 @@ class CasterNLP:
         solver, perf = self._batch_solver(size, warm)
         ng = len(self.lbg)
         t0 = time.perf_counter()
-        sol = solver(**args)
+        with _quiet():
+            sol = solver(**args)
         check_interrupt()
         seconds = time.perf_counter() - t0
         stats = solver.stats()
@@ -567,18 +622,17 @@ def max_critical_speed(problem: Problem) -> tuple[float, Design, list[str]]:
     if problem.swept_radius_max is not None:
         g.append(perf["swept_radius"] / problem.swept_radius_max - 1)
     nlp = {"x": z, "f": -perf["design_speed"], "g": ca.vertcat(*g) if g else ca.SX(0, 1)}
-    solver = ca.nlpsol(
-        "vmax", "ipopt", nlp, {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "error_on_fail": False}
-    )
+    solver = ca.nlpsol("vmax", "ipopt", nlp, {**QUIET, "error_on_fail": False})
     best = None
     for start in sample_designs(problem, 16, seed=1):
-        sol = solver(
-            x0=np.clip(start / scale, lo / scale, hi / scale),
-            lbx=lo / scale,
-            ubx=hi / scale,
-            ubg=0 if g else [],
-            lbg=-np.inf if g else [],
-        )
+        with _quiet():
+            sol = solver(
+                x0=np.clip(start / scale, lo / scale, hi / scale),
+                lbx=lo / scale,
+                ubx=hi / scale,
+                ubg=0 if g else [],
+                lbg=-np.inf if g else [],
+            )
         check_interrupt()
         v = -float(sol["f"])
         if best is None or v > best[0]:

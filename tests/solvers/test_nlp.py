@@ -136,3 +136,21 @@ def test_batched_blocks_equal_single_solves():
         assert p_batch <= cap * (1 + 1e-7)
         assert nlp.objectives(r.design)[2] >= problem.required_speed * (1 - 1e-7)  # V_c (F_turn is flat in d)
     assert (4, False) in nlp._batch and (16, False) not in nlp._batch  # chunks of 4: 4 + 2 (padded)
+
+
+def test_solver_output_never_reaches_the_terminal(capfd):
+    """Issue 24.4: a model that evaluates to NaN (a risk bound with α = 1e-300, which the loader now refuses,
+    built here directly) made CasADi print 115 "NaN detected" lines on the terminal. Every IPOPT solver is
+    built with the QUIET options: the vmax search and a weighted solve run, and nothing reaches file
+    descriptors 1 or 2 (captured at the descriptor, where C++ writes)."""
+    import dataclasses
+
+    base = load_problem(Path(__file__).parents[2] / "problems" / "indoor-manual-robust.toml")
+    nan_risk = dataclasses.replace(base.risk, probability=1e-300)
+    problem = dataclasses.replace(base, conditions=base.conditions.replace(uncertainty=nan_risk))
+    N.max_critical_speed(problem)
+    nlp = N.CasterNLP(problem)
+    nlp.solve(problem.lower().as_array(), (1.0, 1.0))
+    out, err = capfd.readouterr()
+    assert "NaN detected" not in out + err and "Ipopt" not in out + err
+    assert out == "" and err == ""

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -100,6 +102,8 @@ def test_zero_scatter_is_nominal():
     "robust, message",
     [
         ({"probability": 0.7}, "robust.probability"),
+        ({"probability": 1e-300}, "robust.probability = 1e-300: must be from 0.001"),
+        ({"probability": 1e-4}, "robust.probability = 0.0001: must be from 0.001"),
         ({"damping": -0.1}, "robust.damping"),
         ({"samples": 10}, "robust.samples"),
         ({"sigma": 1}, "unknown key robust.sigma"),
@@ -109,6 +113,23 @@ def test_robust_section_validation(robust, message):
     """Bad [robust] entries are rejected with one line naming the key."""
     with pytest.raises(ProblemError, match=message):
         problem_from_dict({"name": "r", "shimmy": {"target_speed": 2.5}, "robust": robust})
+
+
+def test_alpha_range_is_where_the_quantile_is_accurate():
+    """Issue 24.4: the documented α range ends where the risk bound is computed as stated: at its low end
+    (0.001, model error t_5 as shipped) the fitted quantile's conservative shift is below 1e-4 (the
+    fit is ≈ exact), it is finite, and the bound asks V_c >= V_req exp(Q) with exp(Q) < 2 for the
+    shipped model error (reachable); just below the range (1e-4) the shift is already 0.06."""
+    from designer.physics import uncertainty as un
+    from designer.problem import PROBABILITY_RANGE
+
+    low = PROBABILITY_RANGE[0]
+    _, shift = un._compute_fit(low, 5)
+    assert 0 < shift < 1e-4
+    u = un.Uncertainty(probability=low)
+    q = un.log_speed_quantile(0.103, 0.0, u)
+    assert math.isfinite(q) and math.exp(q) < 2.0
+    assert un._compute_fit(low / 10, 5)[1] > 0.01
 
 
 def test_robust_command_writes_report(tmp_path, capsys):
