@@ -214,8 +214,9 @@ def _mass_for_force_hint(quantity, text: str, key: str) -> str:
     return "; that is a mass: write a force, e.g. '40 lbf', '18 kgf' or '178 N'"
 
 
-_GLUED = re.compile(r"^([-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?)\s*([A-Za-z].*)$")
-"""A number glued to its unit, e.g. ``2in``: a space is put between the two before pint sees it."""
+_GLUED = re.compile(r"^((?>[-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?))\s*([A-Za-z].*)$")
+"""A number glued to its unit, e.g. ``2in``: a space is put between the two before pint sees it.  The number
+is an atomic group: an exponent it has read (``2e0``) is never given back as a unit named ``e0``."""
 
 
 def parse_quantity_text(value: str | None, dimension: str, key: str, default: float | None = None) -> float | None:

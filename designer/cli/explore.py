@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from designer.cli._common import check_output_folder, eprint, print_json
+from designer.cli._common import SEED_MAX, check_output_folder, count_option, eprint, print_json
 from designer.data.paper import INCH
-from designer.errors import InputError
+from designer.errors import StorageError
 from designer.problem import load_problem
 
 
@@ -48,12 +48,30 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
+MAX_POPULATION = 10_000
+"""Largest --population of NSGA-II (a generation; --trials bounds the study)."""
+
+
+def _in_memory_sqlite(url: str) -> bool:
+    """True for an SQLite URL without a file: ``sqlite://``, ``sqlite:///:memory:``, ``...mode=memory...``."""
+    if not url.lower().startswith("sqlite"):
+        return False
+    path = url.split("://", 1)[1] if "://" in url else ""
+    return path in ("", "/") or ":memory:" in path or "mode=memory" in path
+
+
 def run(args) -> int:
     # late import: loads casadi (via designer.studies.explore) only when this runs
-    from designer.studies.explore import explore
+    from designer.studies.explore import explore, parse_storage
 
-    if args.population is not None and args.population < 2:
-        raise InputError(f"--population {args.population}: must be at least 2")
+    count_option(args.population, "--population", 2, MAX_POPULATION)
+    count_option(args.seed, "--seed", 0, SEED_MAX)
+    spec = parse_storage(args.storage)  # exit 6 for a malformed URL, before the problem is read
+    if args.workers > 1 and spec.url is not None and _in_memory_sqlite(spec.url):
+        raise StorageError(
+            f"--storage {args.storage}: an in-memory SQLite database lives inside one process, so --workers "
+            f"{args.workers} cannot share it; use a file (sqlite:///study.db, journal:///path/study.log) or a server"
+        )
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / problem.name
     check_output_folder(out)  # before the study, not after it

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from designer.cli._common import eprint, print_json, quantity_option
+from designer.cli._common import eprint, print_json, ranged_option
 from designer.errors import InputError
 from designer.studies.recommend import recommend, weights_meaning
 from designer.problem import check_weights, load_problem
@@ -50,10 +50,11 @@ def parse_weights(text: str | None):
 
 
 def run(args) -> int:
+    weights = parse_weights(args.weights)  # the options first: a bad one is named before the file is read
+    speed = ranged_option(args.target_speed, "target_speed", "--target-speed")
     problem = load_problem(args.problem)
-    if args.target_speed is not None:
-        problem = problem.replace(target_speed=quantity_option(args.target_speed, "speed", "--target-speed"))
-    weights = parse_weights(args.weights)
+    if speed is not None:
+        problem = problem.replace(target_speed=speed)
     # late import: the optimiser loads casadi (and cvxpy for its cross-check); the CLI starts without them
     from designer.studies.optimum import optimise
 

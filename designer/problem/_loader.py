@@ -70,6 +70,7 @@ def load_problem(path: str | Path) -> Problem:
 def problem_from_toml(text: str, source: str | None = None, default_name: str = "problem") -> Problem:
     """Parse TOML text into a validated :class:`Problem` (see :func:`load_problem`)."""
     prefix = f"{source}: " if source else ""
+    text = text.removeprefix("\ufeff")  # a UTF-8 byte-order mark (Windows editors write one): not TOML, not content
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

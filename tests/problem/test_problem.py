@@ -143,3 +143,12 @@ def test_problem_is_immutable_and_replace_validates():
         p.target_speed = 3.0
     with pytest.raises(ProblemError, match="target_speed"):
         p.replace(target_speed=-1.0)
+
+
+def test_utf8_byte_order_mark_is_accepted(tmp_path):
+    """Issue 24.6: a problem file saved with a UTF-8 byte-order mark (as Windows editors do) gave "TOML syntax
+    error: Invalid statement (at line 1, column 1)"; it loads as the same file without the mark."""
+    source = next(p for p in PROBLEMS if p.name == "indoor-manual.toml")
+    marked = tmp_path / "indoor-manual.toml"
+    marked.write_bytes(b"\xef\xbb\xbf" + source.read_bytes())
+    assert load_problem(marked).to_dict() == load_problem(source).to_dict()

@@ -6,6 +6,7 @@ the study in this process or on the pool.  :func:`designer.studies.explore._runn
 from __future__ import annotations
 
 import math
+import sys
 import time
 import warnings
 
@@ -16,7 +17,7 @@ from designer.model import VARIABLES
 from designer.problem import Problem
 from designer.solvers.nlp import evaluate_many
 from designer.studies.explore._operators import Operators, SearchSpace, category_problem, search_space
-from designer.studies.explore._storage import StorageSpec, open_storage, parse_storage
+from designer.studies.explore._storage import StorageSpec, _one_line, open_storage, parse_storage
 
 SURPLUS_ATTR = "explore_surplus"
 """User attribute of a trial pruned because the budget was reached by other workers (never evaluated)."""
@@ -139,6 +140,9 @@ def _worker_entry(args) -> None:  # top level: picklable for multiprocessing
         _run_worker(*args)
     except KeyboardInterrupt:
         pass
+    except Exception as exc:  # one line, no traceback: the parent says which workers failed and what to do
+        print(f"designer: explore worker: {type(exc).__name__}: {_one_line(exc)}", file=sys.stderr, flush=True)
+        sys.exit(1)
 
 
 def _run_study(

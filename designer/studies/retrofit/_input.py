@@ -7,14 +7,13 @@ Part of :mod:`designer.studies.retrofit._retrofit` (which re-exports its public 
 from __future__ import annotations
 
 import math
-import re
 
 from designer.data.paper import INCH, WALKING_SPEED
 from designer.errors import InputError
 from designer.model import Design, check_design
 from designer.physics.geometry import effective_trail
 from designer.problem import INERTIA_RANGE
-from designer.units import parse_quantity
+from designer.units import parse_quantity_text
 
 MAX_STEM_ANGLE = math.radians(30.0)
 """Largest stem tilt accepted [rad]: seat-angle and dump changes tilt the stem by a few degrees."""
@@ -58,13 +57,9 @@ def parse_current(text: str, option: str = "--current") -> Design:
             )
         if name in values:
             raise InputError(f"{option}: {key!r} given twice in {text!r}")
-        value = re.sub(r"^([-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?)\s*([A-Za-z].*)$", r"\1 \2", value)
-        try:
-            number = float(value)
-        except ValueError:
-            number = None
         dimension = "damping" if name == "damping" else "length"
-        values[name] = parse_quantity(number if number is not None else value, dimension, f"{option} {key}")
+        # the one number-with-unit parser of the command line (evaluate's --damping 1.3e0 reads the same)
+        values[name] = parse_quantity_text(value, dimension, f"{option} {key}")
     missing = [k for k, n in (("T", "trail"), ("d", "diameter"), ("B", "groove"), ("c", "damping")) if n not in values]
     if missing:
         raise InputError(f"{option} {text!r}: missing {', '.join(missing)} (give T, d, B and c)")

@@ -416,3 +416,34 @@ def test_cli_bad_input_one_line_exit_2(capsys, args, fragment):
     assert main(["fix", str(DEFAULT)] + args) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and fragment in err, err
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "T=3.81e-2,d=0.19685,B=1.43e-2,c=1.3e0",
+        "T=3.81E-2,d=1.9685e-1,B=1.43e-2,c=13e-1",
+        "T=1.5in,d=7.75in,B=0.5625in,c=2e0",
+        "T=3.81e1mm,d=1.9685e2 mm,B=1.43e1mm,c=1.3e0 N*m/rad",
+        "T=+1.5in,d=7.75 in,B=.5625in,c=1.3",
+    ],
+)
+def test_current_reads_numbers_as_evaluate_does(text):
+    """Issue 24.6: --current "…,c=1.3e0" failed with DimensionalityError and "c=2e0" with "unknown unit 'e0'"
+    (its own regex gave the exponent back as a unit), while evaluate's options accepted the same numbers.
+    Every piece is now read by the command line's one parser, parse_quantity_text: each value equals what
+    that parser (evaluate's --trail/--damping) gives for the same text."""
+    from designer.units import parse_quantity_text
+
+    design = parse_current(text)
+    pieces = dict(piece.split("=", 1) for piece in text.split(","))
+    names = {
+        "T": ("trail", "length"),
+        "d": ("diameter", "length"),
+        "B": ("groove", "length"),
+        "c": ("damping", "damping"),
+    }
+    for key, value in pieces.items():
+        name, dimension = names[key]
+        assert getattr(design, name) == parse_quantity_text(value, dimension, key)
+    assert parse_current("T=3.81e-2,d=0.19685,B=1.43e-2,c=1.3e0").damping == 1.3
