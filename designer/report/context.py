@@ -10,6 +10,7 @@ draws the figures and writes the files.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -58,6 +59,42 @@ FIGURE_INFO = {
         "lines in the (groove, damping) plane; bold: V_c = V_req.",
     ),
 }
+
+
+@dataclass(frozen=True)
+class PanelTable:
+    """A table of a first-screen :class:`Panel`: display strings, one list per row."""
+
+    header: list[str]
+    rows: list[list[str]]
+    numeric: list[bool] = field(default_factory=list)
+    """Per column: right-aligned numbers (HTML) / right-aligned column (Markdown)."""
+    first_row_marked: bool = False
+    """Highlight the first row (the caster to build), as the card's table does."""
+
+
+@dataclass(frozen=True)
+class Panel:
+    """One block of the first screen ("Build this"), below the card's table, in index.html and report.md alike.
+
+    The templates render every panel of ``build["panels"]`` with one macro each (``_panels.html.j2``,
+    ``_panels.md.j2``): a heading, a sentence, a table, an SVG drawing (inline in the page, written to
+    ``figures/<id>.svg`` for report.md), a caption; each part optional.  New first-screen content (the risk's
+    sources, the purchasing spec, "if you measure the wheel") is a panel built in :func:`_panels`: no
+    template change.  Strings are escaped by the templates; ``svg`` must be SVG this package drew.
+    """
+
+    id: str
+    title: str = ""
+    text: str = ""
+    table: PanelTable | None = None
+    svg: str = ""
+    caption: str = ""
+
+
+def _panels(data: ReportData) -> list[Panel]:
+    """The first screen's panels under the card's table, in order (none yet: the card itself is the rest)."""
+    return []
 
 
 def _check_row(c) -> dict:
@@ -383,6 +420,7 @@ def _build_context(data: ReportData) -> dict:
             label=f"{data.problem.name}: the recommended caster to scale",
         ),
         "rule": rec.rule,
+        "panels": _panels(data),
     }
 
 

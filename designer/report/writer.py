@@ -97,6 +97,9 @@ def _write_all(folder: Path, data: ReportData, t0: float) -> None:
     _front_csv(folder / "front.csv", data)
     if context["build"]["available"]:
         (folder / "figures" / "caster.svg").write_text(context["build"]["svg"] + "\n", encoding="utf-8")
+        for panel in context["build"]["panels"]:
+            if panel.svg:
+                (folder / "figures" / f"{panel.id}.svg").write_text(panel.svg + "\n", encoding="utf-8")
     checks = [finite(c.to_dict()) for c in data.paper_checks + data.front_checks]
     (folder / "checks.json").write_text(
         json.dumps(checks, indent=2, ensure_ascii=False, allow_nan=False) + "\n", encoding="utf-8"

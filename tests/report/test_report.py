@@ -358,3 +358,31 @@ def test_calibration_rms_residual_has_unit(capsys):
     assert " N·m;" in out.split("rms residual", 1)[1].split(")")[0] + ")"
     assert main(["calibrate", "slip", str(data / "slip.csv"), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["rms_residual_unit"] == "N"
+
+
+def test_first_screen_panels_render_in_both_files(invacare, tmp_path, monkeypatch):
+    """A first-screen Panel (heading, sentence, table, drawing, caption) appears in the "Build this" card of
+    index.html (escaped, the drawing inline) and of report.md (a Markdown table, the drawing as figures/<id>.svg),
+    with no template change: the extension point for the card's new content."""
+    from designer.report import context
+
+    panel = context.Panel(
+        id="spec",
+        title="Buy to this spec",
+        text="Any 7 in wheel <under> 1.17e-3 kg·m²",
+        table=context.PanelTable(["part", "value"], [["trail", "2.500 in"], ["max_inertia", "1.17e-3"]], [False, True]),
+        svg='<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"><circle r="3"/></svg>',
+        caption="Spec drawn to scale.",
+    )
+    monkeypatch.setattr(context, "_panels", lambda data: [panel])
+    folder = write_report(invacare[1], tmp_path / "r")
+    html = (folder / "index.html").read_text()
+    card = html.split('<section class="build" id="build">', 1)[1].split("</section>", 1)[0]
+    assert '<div class="panel" id="panel-spec">' in card and "<h3>Buy to this spec</h3>" in card
+    assert "Any 7 in wheel &lt;under&gt; 1.17e-3" in card
+    assert '<td class="num">1.17e-3</td>' in card and '<circle r="3"/>' in card
+    md = (folder / "report.md").read_text()
+    assert "### Buy to this spec" in md and "| part | value |" in md and "|---|---:|" in md
+    assert "| max_inertia | 1.17e-3 |" in md and "![Buy to this spec](figures/spec.svg)" in md
+    assert (folder / "figures" / "spec.svg").read_text().startswith("<svg")
+    assert md.index("### Buy to this spec") < md.index("## Summary")
