@@ -514,7 +514,7 @@ class CasterNLP:
 
 SOBOL_FILE = Path(__file__).resolve().parents[1] / "data" / "sobol_d4_seed0.csv"
 """``scipy.stats.qmc.Sobol(d=4, scramble=True, seed=0).random(1024)``, stored exactly (tests/solvers/test_closed_form.py
-checks it against scipy): the default sample, read without importing scipy.stats (0.7 s of CPU)."""
+checks that it is a Sobol net): the default sample, read without importing scipy.stats (0.7 s of CPU)."""
 
 
 @functools.lru_cache(maxsize=1)

