@@ -61,6 +61,7 @@ def main(argv=None) -> int:
 
     out = Path(args.out) if args.out else ROOT / "benchmarks" / ("quick" if args.quick else "")
     out.mkdir(parents=True, exist_ok=True)
+    from designer.model import scatter_of
     from designer.problem import problem_from_toml
 
     text = (ROOT / "problems" / "indoor-manual.toml").read_text()
@@ -119,7 +120,7 @@ def main(argv=None) -> int:
     t = time.perf_counter()
     p, se = fl._monte_carlo(None, r.stock, base, r.chairs["choice"], sub.target_speed, chunk=250)
     mc_in = time.perf_counter() - t
-    u = fl.mc_uncertainty(base)
+    u = scatter_of(base.conditions)
     ok = r.chairs["choice"] >= 0
     distinct = len(np.unique(np.stack([r.chairs["choice"][ok], sub.target_speed[ok]], axis=1), axis=0))
     res["monte_carlo"]["inprocess"] = {

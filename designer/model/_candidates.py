@@ -137,6 +137,7 @@ def evaluate_candidates(  # long: the docstring documents every argument; the bo
     stem_angle: float = 0.0,
     calibration: float = 1.0,
     probability_at: Any = None,
+    scatter: Uncertainty | None = None,
     samples: int | None = None,
     seed: int | None = None,
     target_se: float | None = MC_TARGET_SE,
@@ -157,7 +158,8 @@ def evaluate_candidates(  # long: the docstring documents every argument; the bo
     calibration : factor k = V_obs / V_c,Eq.7 of a caster whose onset was observed (multiplies V_c in the bound
         and in the Monte Carlo)
     probability_at : speed [m/s] (one, or one per candidate) at which to estimate P(V_c,true < speed) by Monte
-        Carlo under :func:`scatter_of` the conditions (None: no Monte Carlo)
+        Carlo (None: no Monte Carlo)
+    scatter : the risk law of that estimate (default :func:`scatter_of` the conditions)
     samples, seed, target_se : the Monte Carlo's least sample, seed and target standard error
         (:func:`shimmy_probability`)
 
@@ -213,7 +215,7 @@ def evaluate_candidates(  # long: the docstring documents every argument; the bo
         c,
         float(cond.slip_coefficient),
         np.asarray(probability_at, dtype=float) / calibration,
-        scatter_of(cond),
+        scatter_of(cond) if scatter is None else scatter,
         samples=samples,
         seed=seed,
         target_se=target_se,

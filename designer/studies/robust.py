@@ -1,14 +1,15 @@
 """Nominal against risk-bounded design: the price of safety, checked by Monte Carlo.
 
-The uncertainty model itself (the lognormal scatter, the V_c quantile and the
-Monte Carlo estimate) lives in :mod:`designer.physics.uncertainty`; this module
-compares the nominal and the risk-bounded Pareto fronts of one problem.
+The risk law itself (the scatter, the V_c quantile) lives in :mod:`designer.physics.uncertainty` and
+its Monte Carlo estimate in the model's evaluator (:func:`designer.model.evaluate_candidates`); this
+module compares the nominal and the risk-bounded Pareto fronts of one problem.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from designer.physics.uncertainty import Uncertainty, shimmy_probability_mc
+
+from designer.model import evaluate_candidates, scatter_of
 
 # --------------------------------------------------------------------------- nominal vs robust
 
@@ -17,7 +18,7 @@ def robust_comparison(problem, points: int = 21) -> dict:
     """Nominal and risk-bounded Pareto fronts of the same problem, and the price of safety.
 
     The risk-bounded problem is ``problem`` with its risk bound (every problem carries one by default;
-    with ``[robust] enabled = false`` the default :class:`Uncertainty` is used); the nominal problem is
+    with ``[robust] enabled = false`` the default scatter, :func:`designer.model.scatter_of`); the nominal problem is
     the same without it.  Returns a dict with both fronts, the Monte Carlo probability of shimmy (with its
     SE, own seed) of every risk-bounded point and of the nominal point at the same sill force, and the
     price of safety: the extra turning effort at equal threshold force (interpolated on the nominal front).
@@ -25,7 +26,7 @@ def robust_comparison(problem, points: int = 21) -> dict:
     # late import: loads casadi (via designer.studies.front._pareto) only when this runs
     from designer.studies.front import pareto_front
 
-    u = problem.risk if problem.risk is not None else Uncertainty()
+    u = scatter_of(problem.conditions)
     problem = problem.replace(conditions=problem.conditions.replace(uncertainty=u))
     nominal_problem = problem.nominal()
     nominal = pareto_front(nominal_problem, points=points)
@@ -38,12 +39,14 @@ def robust_comparison(problem, points: int = 21) -> dict:
         cond = problem.conditions
         if problem.wheels:
             cond = [v for v in problem.variants() if v.conditions.inertia.wheel.key == point.wheel][0].conditions
-        inertia = float(cond.inertia(d.diameter))
-        p_mc, se = shimmy_probability_mc(
-            d.trail, inertia, d.groove, d.damping, cond.slip_coefficient, problem.required_speed, u
-        )
+        risk = evaluate_candidates(d, cond, probability_at=problem.required_speed)
+        p_mc, se = float(risk.shimmy_probability[0]), float(risk.shimmy_probability_se[0])
         p_nom = (
-            shimmy_probability_mc(*_nominal_design_args(nominal, point, cond), problem.required_speed, u)[0]
+            float(
+                evaluate_candidates(
+                    _nominal_design(nominal, point), cond, probability_at=problem.required_speed
+                ).shimmy_probability[0]
+            )
             if len(nominal)
             else float("nan")
         )
@@ -65,9 +68,7 @@ def robust_comparison(problem, points: int = 21) -> dict:
     return {"nominal": nominal, "robust": robust, "rows": rows, "compare": cmp, "uncertainty": u}
 
 
-def _nominal_design_args(nominal, point, cond):
-    """Nominal front design at the robust point's threshold force (nearest point), as Eq. 7 arguments."""
+def _nominal_design(nominal, point):
+    """The nominal front's design at the robust point's threshold force (nearest point)."""
     f = nominal.objectives()
-    i = int(np.argmin(np.abs(f[:, 1] - point.threshold_force)))
-    d = nominal.points[i].design
-    return d.trail, float(cond.inertia(d.diameter)), d.groove, d.damping, cond.slip_coefficient
+    return nominal.points[int(np.argmin(np.abs(f[:, 1] - point.threshold_force)))].design

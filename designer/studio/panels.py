@@ -55,7 +55,7 @@ def recommendation_panel(fronts: view.Fronts):
             ),
             *notes,
         ]
-    alpha = view.risk_of(fronts.problem)
+    alpha = fronts.problem.risk
     p = rec.get("shimmy_probability")
     rows = [
         html.H4("Recommendation", style={"margin": 0}),
@@ -158,7 +158,7 @@ def card_panel(problem, design: Design, name: str, inertia: float | None = None)
             )
         )
     parts.append(numbers_table(n, "card"))
-    risk = view.risk_of(problem)
+    risk = problem.risk
     parts.append(
         dcc.Graph(
             id="card-sweeps",

@@ -1,11 +1,10 @@
 """What the studio shows, computed through the package's API (no web framework here).
 
-The studio is a thin view: the fronts come from :func:`designer.studies.front._pareto.pareto_front`,
-the recommendation and the buildable front from :func:`designer.recommend` (issue 11), the
-fixes of "my caster" from :func:`designer.fix` (issue 18), a design's numbers from
-:func:`designer.model._caster.evaluate` and :mod:`designer.physics.uncertainty`, θ(t) from
-:func:`designer.studies.dynamics._simulate.simulate`.  Nothing here re-states an equation.
-Where an analysis of another issue is not in this version yet, the view says so instead.
+The studio is a thin view: the fronts come from :func:`designer.pareto_front`, the recommendation and the
+buildable front from :func:`designer.recommend`, the fixes of "my caster" from :func:`designer.fix`, a
+design's numbers from :func:`designer.evaluate` and its risk from the model's evaluator
+(:func:`designer.evaluate_candidates`), θ(t) from :func:`designer.simulate`.  Nothing here re-states an
+equation.
 """
 
 from __future__ import annotations
@@ -20,8 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from designer.errors import DesignerError
-from designer.model import Design, evaluate, performance
-from designer.physics import uncertainty as unc
+from designer.model import Design, evaluate, evaluate_candidates, performance
 from designer.physics.inertia import Catalog, Fixed
 
 FIX_LIMIT = 100
@@ -31,20 +29,6 @@ longer ranking says it is the top FIX_LIMIT of N and names ``designer fix`` for 
 
 KNOCK_ANGLE = math.radians(20.0)
 """Size of the knock of the card's θ(t) [rad] (20°, the paper's design disturbance, Appendix C)."""
-
-
-def risk_of(problem):
-    """The Uncertainty in force for ``problem`` (Problem.risk if this version has it), or None."""
-    if hasattr(type(problem), "risk"):
-        return problem.risk
-    return problem.conditions.uncertainty
-
-
-def without_risk(problem):
-    """The same problem with the nominal shimmy constraint (V_c >= V_req, no scatter)."""
-    if hasattr(problem, "nominal"):
-        return problem.nominal()
-    return problem.replace(conditions=problem.conditions.replace(uncertainty=None))
 
 
 @dataclass
@@ -113,7 +97,7 @@ def _compute_fronts(problem, key):
 
     t0, c0 = time.perf_counter(), time.thread_time()
     out = Fronts(problem=problem, continuous=None)
-    risk = risk_of(problem)
+    risk = problem.risk
     from designer.studies.recommend import recommend  # late import: the stock screen and its Monte Carlo
 
     rec = _quiet(recommend, problem)
@@ -122,7 +106,7 @@ def _compute_fronts(problem, key):
     out.risk = getattr(rec, "front", None) if risk is not None else None
     if risk is not None and out.risk is None:
         out.risk = _quiet(pareto_front, problem)
-    nominal = without_risk(problem) if risk is not None else problem
+    nominal = problem.nominal()
     out.continuous = _quiet(pareto_front, nominal)
     out.seconds = time.perf_counter() - t0
     out.cpu_seconds = time.thread_time() - c0
@@ -211,10 +195,10 @@ def recommendation_record(rec) -> dict | None:
 def design_numbers(problem, design: Design) -> dict:
     """A design's numbers for ``problem``: objectives, V_c, ω, P(shimmy) at the target, the speed reached w.p. 1-α.
 
-    ``shimmy_probability`` is the Monte Carlo estimate of P(V_c,true < V_target) with the problem's scatter
-    (:func:`designer.physics.uncertainty.shimmy_probability_mc`); ``confident_speed`` is the α-quantile of
-    V_c,true (:func:`~designer.physics.uncertainty.shimmy_speed_quantile`), the speed reached without shimmy
-    with probability 1 − α.  Both are None when the problem has no risk.
+    ``shimmy_probability`` is the Monte Carlo estimate of P(V_c,true < V_target) with the problem's scatter;
+    ``confident_speed`` is the α-quantile of V_c,true, the speed reached without shimmy with probability
+    1 − α (both from the model's evaluator, :func:`designer.evaluate_candidates`).  Both are None when the
+    problem has no risk.
     """
 
     conditions = problem.conditions
@@ -227,14 +211,16 @@ def design_numbers(problem, design: Design) -> dict:
     out["design"] = design.as_dict()
     out["target_speed"] = problem.target_speed
     out["swept_radius_max"] = problem.swept_radius_max
-    risk = risk_of(problem)
+    risk = problem.risk
     out["alpha"] = None if risk is None else risk.probability
     out["shimmy_probability"] = out["shimmy_probability_se"] = out["confident_speed"] = None
     if risk is not None:
-        args = (design.trail, out["inertia"], design.groove, design.damping, conditions.slip_coefficient)
-        p, se = _quiet(unc.shimmy_probability_mc, *args, problem.target_speed, risk)
-        out["shimmy_probability"], out["shimmy_probability_se"] = float(p), float(se)
-        out["confident_speed"] = float(_quiet(unc.shimmy_speed_quantile, *args, risk))
+        v = _quiet(
+            evaluate_candidates, design, conditions, inertia=[out["inertia"]], probability_at=problem.target_speed
+        )
+        out["shimmy_probability"] = float(v.shimmy_probability[0])
+        out["shimmy_probability_se"] = float(v.shimmy_probability_se[0])
+        out["confident_speed"] = float(v.confident_speed[0])
     return out
 
 

@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.errors import InputError
+from designer.model import scatter_of
 from designer.reprs import dataframe, html_table
 
 from designer.studies.fleet._kmedian import prune_candidates, solve_kmedian
@@ -63,7 +64,6 @@ from designer.studies.fleet._rule import (
     _mc_task,
     _split,
     evaluate_chairs,
-    mc_uncertainty,
     recommend_chairs,
     stock_table,
 )
@@ -89,7 +89,6 @@ __all__ = [
     "fleet_data",
     "fleet_from_text",
     "fleet_recommendations",
-    "mc_uncertainty",
     "read_fleet",
     "recommend_chairs",
     "stock_table",
@@ -356,7 +355,7 @@ def _sku_monte_carlo(client, result: FleetResult, chunk: int) -> None:
 
 def _monte_carlo(client, stock, problem, choice, speeds, chunk):
     """Reported P(shimmy) at each chair's V_target for its caster; NaN where there is none."""
-    u = mc_uncertainty(problem)
+    u = scatter_of(problem.conditions)
     slip = problem.conditions.slip_coefficient
     rows = np.flatnonzero(choice >= 0)
     p = np.full(len(choice), np.nan)
@@ -464,7 +463,7 @@ def fleet_data(result: FleetResult) -> dict:
     regret curve, per-chair rows, distributions, timings.  SI units; J uses the base problem's weights."""
     problem = result.problem
     risk = problem.risk
-    u = mc_uncertainty(problem)
+    u = scatter_of(problem.conditions)
     ch = result.chairs
     ok = result.feasible
     rows = result.rows()

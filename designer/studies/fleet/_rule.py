@@ -16,7 +16,7 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import ProblemError
-from designer.model import VARIABLES, evaluate_candidates, scatter_of, shimmy_probability
+from designer.model import VARIABLES, evaluate_candidates, shimmy_probability
 from designer.physics.turning import MODES, SURFACES
 from designer.problem import Stock
 from designer.studies.recommend import select_rows, stock_candidates
@@ -318,8 +318,3 @@ def _mc_task(designs: np.ndarray, inertia: np.ndarray, speeds: np.ndarray, slip:
         columns["trail"], inertia, columns["groove"], columns["damping"], slip, speeds, uncertainty
     )
     return np.column_stack([p, se])
-
-
-def mc_uncertainty(problem):
-    """The risk law of the reported P(shimmy): the problem's risk bound, or the default scatter when it is off."""
-    return scatter_of(problem.conditions)

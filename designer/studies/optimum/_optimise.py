@@ -20,7 +20,7 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import InfeasibleError, SolverError
-from designer.model import VARIABLES, Design, evaluate
+from designer.model import VARIABLES, Design, evaluate, evaluate_candidates
 from designer.problem import Problem
 from designer.reprs import dataframe, html_table
 from designer.solvers.nlp import PARAMETER_INFO, best_starts, max_critical_speed, solve_best
@@ -28,7 +28,6 @@ from designer.solvers.cache import shared_nlp
 import warnings
 from designer.errors import InputError
 from designer.problem import check_weights
-from designer.physics.uncertainty import shimmy_probability_mc
 
 ACTIVE_TOL = 1e-6
 
@@ -196,17 +195,8 @@ class Solution:
         if u is None:
             return []
 
-        d = self.design
-        inertia = float(self.problem.conditions.inertia(d.diameter))
-        p, se = shimmy_probability_mc(
-            d.trail,
-            inertia,
-            d.groove,
-            d.damping,
-            self.problem.conditions.slip_coefficient,
-            self.problem.required_speed,
-            u,
-        )
+        v = evaluate_candidates(self.design, self.problem.conditions, probability_at=self.problem.required_speed)
+        p, se = float(v.shimmy_probability[0]), float(v.shimmy_probability_se[0])
         return [
             f"  risk bound: P(V_c < {self.problem.required_speed:.3g} m/s) <= {u.probability:.1%} (exact quantile "
             f"of the first-order law, t_{u.model_error_dof} model error); Monte Carlo {p:.2%} ± {se:.2%} "

@@ -1,9 +1,9 @@
 """The numbers of a caster as it is and of every candidate: the diagnosis side of a retrofit.
 
-Part of :mod:`designer.studies.retrofit._retrofit`: V_c (Eq. 7 on the effective trail), the speed reached with
-probability 1 - alpha, turning effort and sill force of candidate arrays (:func:`_evaluate`), the risk
-model and its calibration by an observed onset, the Monte Carlo P(shimmy), the current wheel's I_w and
-the feasibility screen.
+Part of :mod:`designer.studies.retrofit._retrofit`: the risk model every caster of a retrofit is judged with
+(:func:`_risk_of`, and :func:`_calibrated` by an observed onset), the numbers of candidate arrays and their
+Monte Carlo P(shimmy) from the model's evaluator (:func:`_evaluate`: V_c on the effective trail, the speed
+reached with probability 1 − α, turning effort, sill force, the limits met), and the current wheel's I_w.
 """
 
 from __future__ import annotations
@@ -11,36 +11,17 @@ from __future__ import annotations
 import dataclasses
 import warnings
 
-import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import InputError
-from designer.model import Conditions, Design, performance
-from designer.physics.geometry import effective_trail, swept_radius
-from designer.physics.inertia import Catalog, InertiaModel
-from designer.physics.shimmy import critical_shimmy_speed
-from designer.physics.uncertainty import Uncertainty, sample_log_factors, shimmy_probability_mc, shimmy_speed_quantile
-
-
-class _Given(InertiaModel):
-    """I_w given per candidate (arrays), whatever the diameter."""
-
-    name = "given"
-
-    def __init__(self, values):
-        self.values = values
-
-    def __call__(self, diameter):
-        return self.values + 0 * diameter
-
-    def describe(self) -> str:
-        return "I_w given per candidate"
+from designer.model import VARIABLES, CandidateValues, Conditions, Design, evaluate_candidates, scatter_of
+from designer.physics.inertia import Catalog
+from designer.physics.uncertainty import Uncertainty
 
 
 def _risk_of(problem) -> tuple[Uncertainty | None, Uncertainty]:
     """(the bound's uncertainty or None for the nominal bound, the scatter for reporting P(shimmy))."""
-    risk = problem.risk
-    return risk, (risk if risk is not None else Uncertainty())
+    return problem.risk, scatter_of(problem.conditions)
 
 
 def _calibrated(u: Uncertainty, scatter: float) -> Uncertainty:
@@ -53,70 +34,31 @@ def _calibrated(u: Uncertainty, scatter: float) -> Uncertainty:
 
 
 def _evaluate(
-    arrays: dict, conditions: Conditions, stem_angle: float, factor: float, bound: Uncertainty | None
-) -> dict:
-    """Vectorised numbers of candidates {trail, diameter, groove, damping, inertia} (arrays)."""
-    t, d, b, c, i = (np.asarray(arrays[k], dtype=float) for k in ("trail", "diameter", "groove", "damping", "inertia"))
-    t_eff = effective_trail(t, d / 2, stem_angle)
-    values = performance(t_eff, d, b, c, conditions.replace(inertia=_Given(i), uncertainty=None))
-    v = np.asarray(values["critical_speed"], dtype=float)
-    if bound is None:
-        confident = factor * v
-    else:
-        confident = factor * np.asarray(
-            shimmy_speed_quantile(t_eff, i, b, c, conditions.slip_coefficient, bound), dtype=float
-        )
-    return {
-        "effective_trail": t_eff,
-        "critical_speed": v,
-        "calibrated_critical_speed": factor * v,
-        "confident_speed": confident,
-        "turning_effort": np.asarray(values["turning_effort"], dtype=float),
-        "threshold_force": np.asarray(values["threshold_force"], dtype=float),
-        "swept_radius": np.asarray(swept_radius(t, d), dtype=float),
-    }
-
-
-def _mc_many(
-    trail, inertia, groove, damping, slip_coefficient, speed, u: Uncertainty, samples: int, seed: int
-) -> tuple[np.ndarray, np.ndarray]:
-    """P(V_c,true < speed) and its SE for many casters at once [-].
-
-    The same ``samples`` draws of :func:`~designer.physics.uncertainty.sample_log_factors` with ``seed`` as
-    :func:`shimmy_probability_mc` takes first, applied to every caster (vectorised, in chunks), so each
-    estimate equals that function's without its top-up; a caster whose SE is still above 0.1 percentage
-    point is topped up one by one by the caller.
-    """
-
-    m = len(trail)
-    if m == 0:
-        return np.array([]), np.array([])
-    f = sample_log_factors(u, samples, np.random.default_rng(seed))
-    e_i, e_c, e_k, e_m = (np.exp(f[k])[None, :] for k in ("inertia", "damping", "slip", "model"))
-    hits = np.empty(m)
-    step = max(1, 1_000_000 // samples)  # about 8 MB per array
-    for a in range(0, m, step):
-        b = slice(a, min(m, a + step))
-        v = (
-            critical_shimmy_speed(
-                np.asarray(trail)[b, None],
-                np.asarray(inertia)[b, None] * e_i,
-                np.asarray(groove)[b, None],
-                np.asarray(damping)[b, None] * e_c,
-                slip_coefficient * e_k,
-            )
-            * e_m
-        )
-        hits[b] = np.count_nonzero(v < speed, axis=1)
-    p = hits / samples
-    return p, np.sqrt(np.maximum(p * (1 - p), 1.0 / samples) / samples)
-
-
-def _mc(state_args, conditions, speed, factor, u: Uncertainty, samples: int, seed: int) -> tuple[float, float]:
-    t_eff, inertia, groove, damping = state_args
-    u = dataclasses.replace(u, samples=samples, seed=seed)
-    p, se = shimmy_probability_mc(t_eff, inertia, groove, damping, conditions.slip_coefficient, speed / factor, u)
-    return float(p), float(se)
+    arrays: dict,
+    conditions: Conditions,
+    stem_angle: float,
+    factor: float,
+    bound: Uncertainty | None,
+    limits: tuple[float, float | None] | None = None,
+    monte_carlo: tuple[float, Uncertainty, int, int] | None = None,
+) -> CandidateValues:
+    """The model's numbers of candidates {trail, diameter, groove, damping, inertia} (arrays): V_c on the
+    effective trail, the bound's speed times the calibration ``factor``, F_turn, P, R_s; with ``limits``
+    (V_req, R_max) the limits met, with ``monte_carlo`` (V_target, scatter, samples, seed) P(shimmy) and its SE."""
+    speed, scatter, samples, seed = monte_carlo if monte_carlo is not None else (None, None, None, None)
+    return evaluate_candidates(
+        {name: arrays[name] for name in VARIABLES},
+        conditions.replace(uncertainty=bound),
+        inertia=arrays["inertia"],
+        stem_angle=stem_angle,
+        calibration=factor,
+        required_speed=None if limits is None else limits[0],
+        swept_radius_max=None if limits is None else limits[1],
+        probability_at=speed,
+        scatter=scatter,
+        samples=samples,
+        seed=seed,
+    )
 
 
 def _current_inertia(problem, current: Design) -> float:
@@ -155,10 +97,3 @@ def _current_inertia(problem, current: Design) -> float:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # extrapolation of the inertia fit: docs/retrofit.md
         return float(model(current.diameter))
-
-
-def _feasible(values: dict, v_req: float, r_max: float | None) -> np.ndarray:
-    ok = values["confident_speed"] >= v_req * (1 - 1e-12)
-    if r_max is not None:
-        ok &= values["swept_radius"] <= r_max * (1 + 1e-12)
-    return ok

@@ -62,7 +62,7 @@ def _grid(low: float, high: float, step: float) -> np.ndarray:
     return values
 
 
-def part_options(problem, current: Design, current_inertia: float) -> tuple[dict, dict]:
+def part_options(problem, current: Design) -> tuple[dict, dict]:
     """What each part can be changed to: the one place that decides the candidate values.
 
     Returns ``(options, sources)``.  ``options``: {"washer": array of c_f,

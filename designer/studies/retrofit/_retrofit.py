@@ -38,18 +38,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from designer.model import Conditions, Design
-from designer.physics.uncertainty import MC_TARGET_SE, Uncertainty
+from designer.model import CandidateValues, Conditions, Design
+from designer.physics.uncertainty import Uncertainty
 from designer.problem import load_problem
-from designer.studies.retrofit._diagnosis import (
-    _calibrated,
-    _current_inertia,
-    _evaluate,
-    _feasible,
-    _mc,
-    _mc_many,
-    _risk_of,
-)
+from designer.studies.retrofit._diagnosis import _calibrated, _current_inertia, _evaluate, _risk_of
 from designer.studies.retrofit._input import MAX_STEM_ANGLE, _check_inputs, parse_current
 from designer.studies.retrofit._options import GRID_STEP, PART_VARIABLE, PARTS, _enumerate, part_options
 from designer.studies.retrofit._records import RULE, Calibration, CasterState, Change, FixResult, describe_changes
@@ -114,12 +106,12 @@ def fix(
         problem, current, inertia, shimmied_at, stem_angle, onset_scatter, samples, seed
     )
     current_state = setting.state(now, 0, (current, inertia))
-    options, sources = part_options(problem, current, inertia)
+    options, sources = part_options(problem, current)
     result = _fix_result(problem, setting, calibration, current_state, sources)
     if current_state.meets_risk_bound:
         return result
-    cands, values, chosen, result.found = _ranked(options, sources, base, setting, current_state, limit)
-    result.fixes = _fix_states(setting, current, inertia, current_state, cands, values, chosen, options["wheel"])
+    cands, chosen, result.found = _ranked(options, sources, base, setting, current_state, limit)
+    result.fixes = _fix_states(setting, current, inertia, current_state, cands, chosen, options["wheel"])
     return result
 
 
@@ -142,17 +134,16 @@ def _diagnosis(problem, current: Design, inertia: float, shimmied_at, stem_angle
         "damping": current.damping,
         "inertia": inertia,
     }
-    raw = _evaluate({k: np.array([v]) for k, v in base.items()}, conditions, stem_angle, 1.0, bound)
+    arrays = {k: np.array([v]) for k, v in base.items()}
     calibration = None
     factor = 1.0
     if shimmied_at is not None:
-        predicted = float(raw["critical_speed"][0])
+        predicted = float(_evaluate(arrays, conditions, stem_angle, 1.0, bound).critical_speed[0])
         factor = float(shimmied_at) / predicted
         calibration = Calibration(float(shimmied_at), predicted, factor, float(onset_scatter))
         if bound is not None:
             bound = _calibrated(bound, onset_scatter)
         report_u = _calibrated(report_u, onset_scatter)
-    now = _evaluate({k: np.array([v]) for k, v in base.items()}, conditions, stem_angle, factor, bound)
     setting = _Setting(
         conditions,
         stem_angle,
@@ -166,6 +157,7 @@ def _diagnosis(problem, current: Design, inertia: float, shimmied_at, stem_angle
         problem.swept_radius_max,
         problem.weights,
     )
+    now = _evaluate(arrays, conditions, stem_angle, factor, bound, setting.limits, setting.monte_carlo)
     return setting, calibration, base, now
 
 
@@ -199,23 +191,14 @@ def _fix_states(
     inertia: float,
     current_state: CasterState,
     cands: dict,
-    values: dict,
     chosen: np.ndarray,
     wheels: list,
 ) -> list[CasterState]:
     """Step 3 of :func:`fix`: the chosen candidates as :class:`CasterState` records, in rank order, with their
-    changes, their cost against the current caster and P(shimmy) from one shared Monte Carlo draw."""
-    shared = _mc_many(
-        values["effective_trail"][chosen],
-        cands["inertia"][chosen],
-        cands["groove"][chosen],
-        cands["damping"][chosen],
-        setting.conditions.slip_coefficient,
-        setting.v_target / setting.factor,
-        setting.report_u,
-        setting.samples,
-        setting.seed,
-    )
+    changes, their cost against the current caster and P(shimmy) (the evaluator's batched Monte Carlo)."""
+    s = setting
+    picked = {key: value[chosen] for key, value in cands.items()}
+    values = _evaluate(picked, s.conditions, s.stem_angle, s.factor, s.bound, s.limits, s.monte_carlo)
     fixes = []
     for n, j in enumerate(chosen):
         design = Design(
@@ -225,14 +208,13 @@ def _fix_states(
         fixes.append(
             setting.state(
                 values,
-                j,
+                n,
                 (design, float(cands["inertia"][j])),
                 changes,
                 (
-                    values["turning_effort"][j] - current_state.turning_effort,
-                    values["threshold_force"][j] - current_state.threshold_force,
+                    values.turning_effort[n] - current_state.turning_effort,
+                    values.threshold_force[n] - current_state.threshold_force,
                 ),
-                (float(shared[0][n]), float(shared[1][n])),
             )
         )
     return fixes
@@ -254,36 +236,32 @@ class _Setting:
     r_max: float | None
     weights: tuple[float, float]
 
-    def state(self, values, j, design, changes=(), cost=(0.0, 0.0), mc=None) -> CasterState:
-        """Caster ``j`` of the evaluated ``values`` as a :class:`CasterState` (its P(shimmy) topped up if needed)."""
-        ok = values["confident_speed"][j] >= self.v_req * (1 - 1e-12) and (
-            self.r_max is None or values["swept_radius"][j] <= self.r_max * (1 + 1e-12)
-        )
-        if mc is None or not mc[1] <= MC_TARGET_SE:  # one caster, or a shared draw too coarse for it: top up
-            mc = _mc(
-                (values["effective_trail"][j], float(design[1]), design[0].groove, design[0].damping),
-                self.conditions,
-                self.v_target,
-                self.factor,
-                self.report_u,
-                self.samples,
-                self.seed,
-            )
-        p, se = mc
+    @property
+    def limits(self) -> tuple[float, float | None]:
+        """(V_req [m/s], R_max [m] or None): the limits every caster must meet."""
+        return self.v_req, self.r_max
+
+    @property
+    def monte_carlo(self) -> tuple[float, Uncertainty, int, int]:
+        """(V_target [m/s], scatter, samples, seed) of the reported P(shimmy)."""
+        return self.v_target, self.report_u, self.samples, self.seed
+
+    def state(self, values: CandidateValues, j, design, changes=(), cost=(0.0, 0.0)) -> CasterState:
+        """Caster ``j`` of the evaluated ``values`` (with their Monte Carlo) as a :class:`CasterState`."""
         weights = self.weights
         return CasterState(
             design[0],
             float(design[1]),
-            float(values["effective_trail"][j]),
-            float(values["turning_effort"][j]),
-            float(values["threshold_force"][j]),
-            float(values["swept_radius"][j]),
-            float(values["critical_speed"][j]),
-            float(values["calibrated_critical_speed"][j]),
-            float(values["confident_speed"][j]),
-            bool(ok),
-            p,
-            se,
+            float(values.effective_trail[j]),
+            float(values.turning_effort[j]),
+            float(values.threshold_force[j]),
+            float(values.swept_radius[j]),
+            float(values.critical_speed[j]),
+            float(self.factor * values.critical_speed[j]),
+            float(values.confident_speed[j]),
+            bool(values.feasible[j]),
+            float(values.shimmy_probability[j]),
+            float(values.shimmy_probability_se[j]),
             tuple(changes),
             float(cost[0]),
             float(cost[1]),
@@ -292,27 +270,25 @@ class _Setting:
 
 
 def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current_state: CasterState, limit: int | None):
-    """The feasible fixes in the order of :data:`RULE`: (candidates, their values, chosen indices, how many found).
+    """The feasible fixes in the order of :data:`RULE`: (candidates, chosen indices, how many found).
 
     One- and two-part changes first; three- and four-part ones only when none of those is feasible.
     """
     s = setting
     cands = _enumerate(options, sources, base, max_parts=2)
-    values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound)
-    feasible = _feasible(values, s.v_req, s.r_max)
-    if not np.any(feasible):
+    values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
+    if not np.any(values.feasible):
         cands = _enumerate(options, sources, base, max_parts=4, min_parts=3)
-        values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound)
-        feasible = _feasible(values, s.v_req, s.r_max)
-    idx = np.flatnonzero(feasible)
-    d_turn = values["turning_effort"][idx] - current_state.turning_effort
-    d_force = values["threshold_force"][idx] - current_state.threshold_force
+        values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
+    idx = np.flatnonzero(values.feasible)
+    d_turn = values.turning_effort[idx] - current_state.turning_effort
+    d_force = values.threshold_force[idx] - current_state.threshold_force
     loss = s.weights[0] * d_turn + s.weights[1] * d_force
     order = np.lexsort(
-        (cands["order"][idx], -values["confident_speed"][idx], d_force, d_turn, np.round(loss, 12), cands["parts"][idx])
+        (cands["order"][idx], -values.confident_speed[idx], d_force, d_turn, np.round(loss, 12), cands["parts"][idx])
     )
     chosen = idx[order] if limit is None else idx[order][:limit]
-    return cands, values, chosen, len(order)
+    return cands, chosen, len(order)
 
 
 def _changes(current: Design, inertia: float, cands: dict, j: int, wheels: list) -> tuple[Change, ...]:

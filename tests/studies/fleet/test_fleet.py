@@ -15,7 +15,7 @@ from designer.studies.fleet import _fleet, _rule, _table
 from designer.studies.fleet._kmedian import brute_force_kmedian, solve_kmedian
 from designer.cli import main
 from designer.data.paper import INCH
-from designer.model import performance
+from designer.model import performance, scatter_of
 
 GOOD = """name,load_N,threshold_height_in,target_speed_m/s,swept_radius_max_in,surface,turning_mode,count
 a,178,0.5,2.5,6,tile,chair,10
@@ -410,7 +410,7 @@ def test_batched_monte_carlo_gives_the_numbers_of_the_shared_function(base):
     from designer.physics.uncertainty import shimmy_probability_mc
 
     stock = _rule.stock_table(base)
-    u = _rule.mc_uncertainty(base)
+    u = scatter_of(base.conditions)
     j = int(np.argmin(np.abs(stock.confident_speed - 2.5)))
     speeds = np.sort(np.random.default_rng(3).uniform(0.5, 1.6, 12) * stock.critical_speed[j])
     designs = np.tile([stock.trail[j], stock.diameter[j], stock.groove[j], stock.damping[j]], (12, 1))
