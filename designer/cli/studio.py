@@ -33,4 +33,11 @@ def run(args) -> int:
         raise InputError("designer studio needs Dash: pip install 'caster-designer[studio]'") from None
     from designer.studio import serve  # the web app, loaded only for this command
 
-    return serve(args.problem, port=args.port, host=args.host, open_browser=not args.no_browser, out_dir=args.out)
+    return serve(
+        args.problem,
+        port=args.port,
+        host=args.host,
+        open_browser=not args.no_browser,
+        out_dir=args.out,
+        debug=getattr(args, "debug", False),
+    )

@@ -1,8 +1,17 @@
-"""Serve the studio: bind the port first (one line if it is taken), warm the solver, then serve until Ctrl-C."""
+"""Serve the studio: bind the port first (one line if it is taken), warm the solver, then serve until Ctrl-C.
+
+The studio is a local server and stays one (:func:`guard`): it answers only requests addressed to a loopback
+name (``localhost``, ``127.0.0.1``, ``[::1]``) or to the ``--host`` given, with or without the port, and
+403 otherwise (a DNS-rebinding page names its own host), or sent by a page whose ``Origin`` is another
+site's; a request body above :data:`MAX_REQUEST_BYTES` is
+413; and each bad request is one line on the console, never a traceback or the body (``designer --debug
+studio`` logs the traceback too).
+"""
 
 from __future__ import annotations
 
 import errno
+import logging
 import sys
 import threading
 from pathlib import Path
@@ -17,6 +26,84 @@ import webbrowser
 
 HOST = "127.0.0.1"
 """The studio listens on the local machine only unless --host says otherwise."""
+
+LOOPBACK_NAMES = ("localhost", "127.0.0.1", "[::1]")
+"""Host names (the HTTP ``Host`` header, without the port) the studio always answers."""
+
+MAX_REQUEST_BYTES = 1_000_000
+"""Largest request body [bytes]: a callback's JSON is a few kB (a problem file's controls and a front)."""
+
+LOG = logging.getLogger("designer.studio")
+"""One line per bad request (403, 413, a callback that fails); :func:`serve` prints it on stderr."""
+
+_SHOWN_CHARS = 200
+"""Longest message logged for a failed request (an exception may quote the whole body)."""
+
+
+def allowed_hosts(host: str, port: int) -> frozenset[str]:
+    """The ``Host`` header values the studio answers: the loopback names and ``host`` (the --host given),
+    each alone or with ``:port``; lower case (an IPv6 address in brackets)."""
+    given = f"[{host}]" if ":" in host and not host.startswith("[") else host
+    names = {name.lower() for name in (*LOOPBACK_NAMES, given) if name}
+    return frozenset(names | {f"{name}:{int(port)}" for name in names})
+
+
+def _short(text: str) -> str:
+    """The first line of ``text``, at most :data:`_SHOWN_CHARS` characters."""
+    first = next((line.strip() for line in str(text).splitlines() if line.strip()), "")
+    return first if len(first) <= _SHOWN_CHARS else first[:_SHOWN_CHARS] + "…"
+
+
+def guard(flask_app, hosts: frozenset[str], debug: bool = False) -> None:
+    """Keep the studio's Flask app a local server: 403 for a ``Host`` not in ``hosts``, 413 for a body above
+    :data:`MAX_REQUEST_BYTES`, and one :data:`LOG` line per bad request or failed callback (with the
+    traceback only when ``debug``) instead of Flask's traceback on the console."""
+    from flask import abort, request  # late import: the web framework, loaded with the studio only
+    from werkzeug.exceptions import HTTPException  # late import: the web framework, loaded with the studio only
+
+    flask_app.config["MAX_CONTENT_LENGTH"] = MAX_REQUEST_BYTES  # a body without a length is cut there too
+
+    @flask_app.before_request
+    def _local_only():
+        host = (request.environ.get("HTTP_HOST") or "").strip().lower()
+        if host not in hosts:
+            abort(403, description=f"Host {host[:80]!r} is not this studio's (open it at a loopback address)")
+        origin = (request.environ.get("HTTP_ORIGIN") or "").strip().lower()
+        if origin and origin.split("://", 1)[-1].rstrip("/") not in hosts:  # a page of another site posting here
+            abort(403, description=f"Origin {origin[:80]!r} is not this studio's")
+        length = request.content_length
+        if length is not None and length > MAX_REQUEST_BYTES:
+            abort(413, description=f"a body of {length} bytes; at most {MAX_REQUEST_BYTES}")
+
+    @flask_app.errorhandler(Exception)
+    def _one_line(exc):
+        where = f"{request.method} {_short(request.path)}"
+        if isinstance(exc, HTTPException):
+            if exc.code != 404:
+                LOG.warning("%s: %s %s: %s", where, exc.code, exc.name, _short(exc.description or ""))
+            return exc
+        LOG.error("%s: %s: %s", where, type(exc).__name__, _short(str(exc)), exc_info=exc if debug else None)
+        return "the studio could not answer this request (one line on its console says why)", 500
+
+
+class _Quiet(WSGIRequestHandler):
+    """werkzeug's request handler without a line per request, and its own errors (a malformed request line,
+    a failure outside the app) as one :data:`LOG` line."""
+
+    def log_request(self, *args, **kwargs):  # no line per request on the console
+        pass
+
+    def log(self, type: str, message: str, *args) -> None:
+        if type == "error":
+            LOG.error("%s", _short(message % args if args else message))
+
+
+def _server_log(type: str, message: str, *args) -> None:
+    """The server's log (werkzeug writes "Error on request" with a traceback here): one :data:`LOG` line."""
+    if type == "error":
+        text = message % args if args else message
+        lines = [line for line in text.splitlines() if line.strip()]
+        LOG.error("%s", _short(lines[-1] if lines else text))
 
 
 def check_port(host: str, port: int) -> None:
@@ -34,11 +121,12 @@ def check_port(host: str, port: int) -> None:
             raise ServerError(f"--port {port}: cannot listen on {host}: {exc.strerror or exc}") from None
 
 
-def make_server(problem_path=None, port: int = 8050, host: str = HOST, out_dir="studio-output"):
-    """Build the app for ``problem_path`` and bind ``host:port`` (0 = any free port).
+def make_server(problem_path=None, port: int = 8050, host: str = HOST, out_dir="studio-output", debug: bool = False):
+    """Build the app for ``problem_path`` and bind ``host:port`` (0 = any free port), :func:`guard`-ed.
 
     Returns (werkzeug server, url).  Raises ProblemError for a bad problem file (before binding) and
-    ServerError (exit 8) when the port is taken or cannot be bound.
+    ServerError (exit 8) when the port is taken or cannot be bound.  ``debug``: failed requests log their
+    traceback as well.
     """
     from werkzeug.serving import make_server as _make_server  # Dash's web server, loaded with the studio
 
@@ -57,23 +145,32 @@ def make_server(problem_path=None, port: int = 8050, host: str = HOST, out_dir="
     except Exception:  # noqa: BLE001 - an infeasible start is shown on the page, beside the control
         pass
 
-    class _Quiet(WSGIRequestHandler):
-        def log_request(self, *args, **kwargs):  # no line per request on the console
-            pass
-
     try:
         server = _make_server(host, int(port), app.server, threaded=True, request_handler=_Quiet)
     except (OSError, SystemExit):  # werkzeug prints and exits when the port was taken in between
         raise ServerError(f"--port {port}: cannot listen on {host} (in use?); choose another with --port") from None
+    server.log = _server_log
+    guard(app.server, allowed_hosts(host, server.server_port), debug)
     url = f"http://{host}:{server.server_port}/"
     return server, url
 
 
 def serve(
-    problem_path=None, port: int = 8050, host: str = HOST, open_browser: bool = True, out_dir="studio-output"
+    problem_path=None,
+    port: int = 8050,
+    host: str = HOST,
+    open_browser: bool = True,
+    out_dir="studio-output",
+    debug: bool = False,
 ) -> int:
-    """Run the studio until Ctrl-C; prints its URL (and opens it unless ``open_browser`` is False). Returns 0."""
-    server, url = make_server(problem_path, port, host, out_dir)
+    """Run the studio until Ctrl-C; prints its URL (and opens it unless ``open_browser`` is False), and each
+    bad request as one line on stderr. Returns 0."""
+    if not LOG.handlers:
+        console = logging.StreamHandler(sys.stderr)
+        console.setFormatter(logging.Formatter("designer studio: %(message)s"))
+        LOG.addHandler(console)
+        LOG.setLevel(logging.INFO)
+    server, url = make_server(problem_path, port, host, out_dir, debug)
     print(f"designer studio: serving {url} (Ctrl-C to stop)", flush=True)
     if open_browser:
         threading.Timer(0.5, webbrowser.open, args=(url,)).start()

@@ -173,3 +173,88 @@ def test_catalogue_points_carry_their_wheels_inertia():
         card = view.card(problem, design, with_simulation=False, inertia=p["inertia"])
         assert card["numbers"]["critical_speed"] == pytest.approx(p["critical_speed"], rel=1e-9)
     assert view.recommendation_record(rec)["inertia"] == pytest.approx(rec.inertia)
+
+
+def _guarded_client(tmp_path, debug=False):
+    """The app as `designer studio` serves it on 127.0.0.1:8050 (server.guard applied), as a test client."""
+    from designer.studio.server import allowed_hosts, guard
+
+    data, name = state.read_problem_data(PROBLEM)
+    app = create_app(data, name, tmp_path)
+    guard(app.server, allowed_hosts("127.0.0.1", 8050), debug=debug)
+    return app.server.test_client()
+
+
+def _studio_lines(caplog) -> list[str]:
+    return [r.getMessage() for r in caplog.records if r.name == "designer.studio"]
+
+
+@pytest.mark.parametrize("host", ["attacker.example", "attacker.example:8050", "127.0.0.1:9999", "localhost.evil"])
+def test_foreign_host_is_forbidden(tmp_path, caplog, host):
+    """Issue 24.7: a request with `Host: attacker.example` was answered 200, so a DNS-rebinding page could
+    drive the callbacks ("Write report" included). Only the loopback names and the --host given, with or
+    without the studio's port, are answered; any other Host gets 403 (one log line), the page included."""
+    client = _guarded_client(tmp_path)
+    assert client.get("/", headers={"Host": host}).status_code == 403
+    assert client.post("/_dash-update-component", json={}, headers={"Host": host}).status_code == 403
+    for good in ("localhost", "127.0.0.1:8050", "[::1]:8050", "LOCALHOST:8050"):
+        assert client.get("/", headers={"Host": good}).status_code == 200
+    assert client.get("/", headers={"Origin": "http://attacker.example"}).status_code == 403
+    lines = _studio_lines(caplog)
+    assert len(lines) == 3 and all("403" in line for line in lines)
+
+
+def test_oversized_body_is_one_line(tmp_path, caplog):
+    """Issue 24.7: a 30 MB request body was printed twice on the console (60 MB of stderr). A body above
+    MAX_REQUEST_BYTES is refused with 413 and one short log line that does not echo the body."""
+    from designer.studio.server import MAX_REQUEST_BYTES
+
+    client = _guarded_client(tmp_path)
+    body = json.dumps({"output": "x" * (MAX_REQUEST_BYTES + 10)})
+    response = client.post("/_dash-update-component", data=body, content_type="application/json")
+    assert response.status_code == 413
+    lines = _studio_lines(caplog)
+    assert len(lines) == 1 and "413" in lines[0] and len(lines[0]) < 300 and "xxxx" not in lines[0]
+
+
+@pytest.mark.parametrize(
+    "body",
+    [b"[]", b"null", b'{"output": 1}', b'{"output": "x.y"}', b'{"output":"front.figure","inputs":5}', b"{", b""],
+)
+def test_malformed_callback_is_one_line_without_traceback(tmp_path, caplog, body):
+    """Issue 24.7: 15 malformed callback posts put 11 Python tracebacks on the console. Each is now answered
+    with an error status and logged as exactly one line, without a traceback (with `designer --debug studio`
+    the traceback is logged as well)."""
+    client = _guarded_client(tmp_path)
+    response = client.post("/_dash-update-component", data=body, content_type="application/json")
+    assert response.status_code in (400, 500)
+    records = [r for r in caplog.records if r.name == "designer.studio"]
+    assert len(records) == 1 and "\n" not in records[0].getMessage() and records[0].exc_info is None
+    assert not [r for r in caplog.records if r.exc_info and r.name != "designer.studio"]
+    caplog.clear()
+    debug = _guarded_client(tmp_path, debug=True)
+    debug.post("/_dash-update-component", data=body, content_type="application/json")
+    if response.status_code == 500:
+        assert [r for r in caplog.records if r.name == "designer.studio" and r.exc_info]
+
+
+def test_make_server_applies_the_guard(tmp_path):
+    """The served app (make_server on a free port) answers a foreign Host with 403 and its own address with 200."""
+    import http.client
+    import threading
+
+    from designer.studio.server import make_server
+
+    server, url = make_server(PROBLEM, 0, "127.0.0.1", tmp_path)
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    try:
+        statuses = []
+        for host in ("attacker.example", f"127.0.0.1:{server.server_port}"):
+            connection = http.client.HTTPConnection("127.0.0.1", server.server_port, timeout=60)
+            connection.request("GET", "/", headers={"Host": host})
+            statuses.append(connection.getresponse().status)
+            connection.close()
+    finally:
+        server.shutdown()
+        server.server_close()
+    assert statuses == [403, 200]
