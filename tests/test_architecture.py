@@ -329,3 +329,71 @@ def test_the_cluster_rule_catches_a_prefix_cluster(tmp_path):
     assert prefix_clusters(tmp_path) == {}
     (tmp_path / "fleet_table.py").write_text("")
     assert prefix_clusters(tmp_path) == {"fleet": ["fleet.py", "fleet_rule.py", "fleet_table.py"]}
+
+
+# --------------------------------------------------------------------------- one evaluator
+
+COMPOSED = ("turning_effort", "threshold_force", "threshold_force_ratio")
+"""Physics functions of the objectives: outside the layers below, a caster's F_turn and P come from the model
+(``designer.model.evaluate_candidates`` or ``performance``), never from these."""
+
+MAY_COMPOSE = ("designer.physics", "designer.model", "designer.solvers", "designer.plots")
+"""The rooms that may call them: the physics itself, the model that composes it, the solvers that build it into
+their programs, the figures that draw the paper's curves."""
+
+
+def composed_physics_uses(path: Path) -> list[str]:
+    """Uses in ``path`` of a function of :data:`COMPOSED`: imported from ``designer.physics`` (``from
+    designer.physics.threshold import threshold_force``), or called on a physics module (``threshold.
+    threshold_force(...)`` after ``from designer.physics import threshold`` or ``import designer.physics...``)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    modules: set[str] = set()
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            for alias in node.names:
+                dotted = f"{node.module}.{alias.name}"
+                if node.module.startswith("designer.physics") and alias.name in COMPOSED:
+                    found.append(f"line {node.lineno}: imports {dotted}")
+                elif dotted.startswith("designer.physics"):
+                    modules.add(alias.asname or alias.name)
+        elif isinstance(node, ast.Import):
+            modules |= {alias.asname or alias.name for alias in node.names if alias.name.startswith("designer.physics")}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr in COMPOSED:
+            if ast.unparse(node.func.value) in modules:
+                found.append(f"line {node.lineno}: calls {ast.unparse(node.func)}")
+    return found
+
+
+def test_only_the_model_composes_the_objectives():
+    """No module outside physics/, model/, solvers/ and plots/ calls turning_effort, threshold_force or
+    threshold_force_ratio: the studies, the pipeline, the report, the CLI and the studio ask the model."""
+    offenders = [
+        f"{module_name(path)}: {use}"
+        for path in ALL_FILES
+        if not any(module_name(path).startswith(room) for room in MAY_COMPOSE)
+        for use in composed_physics_uses(path)
+    ]
+    assert offenders == []
+
+
+def test_the_evaluator_rule_catches_a_study_composing_physics(tmp_path):
+    """The rule is not vacuous: a planted study importing threshold_force_ratio, and one calling
+    turning.turning_effort on the physics module, are both reported; model.performance is not."""
+    imports = tmp_path / "imports.py"
+    imports.write_text("from designer.physics.threshold import threshold_force_ratio\n")
+    calls = tmp_path / "calls.py"
+    calls.write_text(
+        "from designer.physics import turning as t\nimport designer.physics.threshold\n"
+        "f = t.turning_effort(0.05, 0.0, 1.3, 178.0)\n"
+        "p = designer.physics.threshold.threshold_force(0.2, 0.0127, 178.0)\n"
+    )
+    clean = tmp_path / "clean.py"
+    clean.write_text("from designer.model import performance\nrec = None\nP = rec.threshold_force if rec else 0\n")
+    assert composed_physics_uses(imports) == ["line 1: imports designer.physics.threshold.threshold_force_ratio"]
+    assert composed_physics_uses(calls) == [
+        "line 3: calls t.turning_effort",
+        "line 4: calls designer.physics.threshold.threshold_force",
+    ]
+    assert composed_physics_uses(clean) == []

@@ -23,14 +23,14 @@ from designer.data.paper import (
     TABLE1_TRAIL,
     WALKING_SPEED,
 )
+from designer.model import Conditions, evaluate_candidates
 from designer.physics.inertia import PowerLaw, fit_table1_power_law
 from designer.physics.shimmy import (
     critical_shimmy_speed,
     routh_hurwitz_critical_speed,
     critical_speed_hydraulic,
 )
-from designer.physics.threshold import threshold_force_ratio
-from designer.physics.turning import sliding_turning_moment, turning_effort
+from designer.physics.turning import sliding_turning_moment
 
 TABLE1_RMS_TOLERANCE = 0.15
 """Check 2 passes if the RMS relative error of Eq. 7 over wheels C–G is within the
@@ -232,7 +232,20 @@ def check_table1(critical_speed=critical_shimmy_speed) -> Check:
     )
 
 
-def check_groove_turning(moment=sliding_turning_moment, effort=turning_effort) -> Check:
+def _model_turning_effort(trail, groove, damping, load):
+    """F_turn [N] as the model computes it (Eq. 9 with the turning model; tile, chair, θ0 = 20°): the checks
+    verify what the tool uses (:func:`designer.model.evaluate_candidates`)."""
+    design = {"trail": trail, "diameter": 8 * INCH, "groove": groove, "damping": damping}
+    return evaluate_candidates(design, Conditions(load=load)).turning_effort
+
+
+def _model_threshold_force_ratio(diameter, height):
+    """P/L [-] as the model computes it (Eq. 4A) for a wheel of ``diameter`` [m] at a sill of ``height`` [m]."""
+    design = {"trail": 2 * INCH, "diameter": diameter, "groove": 0.0, "damping": BARE_FORK_DAMPING}
+    return evaluate_candidates(design, Conditions(load=1.0, threshold_height=height)).threshold_force
+
+
+def check_groove_turning(moment=sliding_turning_moment, effort=_model_turning_effort) -> Check:
     """Check 3 (implementation identity): a ½ in groove (B = 9/16 in) costs 10 % more turning moment, both modes."""
     b = 9 / 16 * INCH
     ratios = {
@@ -271,7 +284,7 @@ def check_carpet(moment=sliding_turning_moment) -> Check:
     )
 
 
-def check_trail_halves(effort=turning_effort) -> Check:
+def check_trail_halves(effort=_model_turning_effort) -> Check:
     """Check 5 (implementation identity): doubling the trail halves the turning effort (F = M/T)."""
     f1 = float(effort(1.25 * INCH, 0.0, BARE_FORK_DAMPING, 178.0))
     f2 = float(effort(2.5 * INCH, 0.0, BARE_FORK_DAMPING, 178.0))
@@ -319,7 +332,7 @@ def check_monotonic(critical_speed=critical_shimmy_speed) -> Check:
     )
 
 
-def check_threshold_curve(ratio=threshold_force_ratio) -> Check:
+def check_threshold_curve(ratio=_model_threshold_force_ratio) -> Check:
     """Check 7: P/L at h = ½ in rises steeply below 6 in diameter and flattens toward 8 in.
 
     The paper's claim is qualitative (Fig. 2A).  Quantified as: P/L decreasing
