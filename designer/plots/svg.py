@@ -167,6 +167,7 @@ class _Axis:
         self.label = ""
 
     def set_xlabel(self, text: str) -> None:
+        """The axis label (also ``set_ylabel``, ``set_label`` for a colour bar)."""
         self.label = text
 
     set_ylabel = set_label = set_xlabel
@@ -193,6 +194,7 @@ class _Handle:
         self.label, self.kind, self.style = label, kind, style
 
     def get_label(self) -> str:
+        """The legend text."""
         return self.label
 
 
@@ -230,18 +232,23 @@ class Axes:
         self.data_y.extend(float(v) for v in np.ravel(ys) if np.isfinite(v))
 
     def set_xlabel(self, text: str) -> None:
+        """The x axis label (with its unit)."""
         self.xlabel = text
 
     def set_ylabel(self, text: str) -> None:
+        """The y axis label (with its unit)."""
         self.ylabel = text
 
     def set_title(self, text: str, fontsize: float = BASE_FONT * 1.2) -> None:
+        """The title above the axes (and above an axis on top); ``fontsize`` [pt]."""
         self.title, self.title_size = text, fontsize
 
     def grid(self, visible: bool = True, alpha: float = 0.3, **_) -> None:
+        """Light grid lines at the ticks."""
         self.show_grid = bool(visible)
 
     def set_xlim(self, left=None, right=None) -> None:
+        """x limits [data units] (shared by the axes of ``subplots(sharex=True)``); None keeps the automatic one."""
         if isinstance(left, (tuple, list)):
             left, right = left
         self._limits().__setitem__(0, left) if left is not None else None
@@ -251,6 +258,7 @@ class Axes:
         return self.sharex.xlim if self.sharex is not None else self.xlim
 
     def set_ylim(self, bottom=None, top=None) -> None:
+        """y limits [data units]; None keeps the automatic one (data range ± 5 %)."""
         if isinstance(bottom, (tuple, list)):
             bottom, top = bottom
         if bottom is not None:
@@ -259,18 +267,22 @@ class Axes:
             self.ylim[1] = float(top)
 
     def invert_xaxis(self) -> None:
+        """x increasing to the left (for every axes sharing this x axis)."""
         owner = self.sharex or self
         owner.inverted_x = True
 
     def set_xticks(self, ticks, labels=None, fontsize: float = BASE_FONT * 0.9) -> None:
+        """Ticks at ``ticks`` [data units] with ``labels`` (multi-line text allowed), ``fontsize`` [pt]."""
         self.xticks = (list(map(float, ticks)), list(labels) if labels is not None else None, fontsize)
 
     def secondary_xaxis(self, where: str, functions) -> _Axis:
+        """A second x axis (``"top"``) in other units: ``functions`` = (forward, inverse) from these units."""
         axis = _Axis("top" if where == "top" else "bottom", functions)
         self.secondary.append(axis)
         return axis
 
     def secondary_yaxis(self, where: str, functions) -> _Axis:
+        """A second y axis (``"right"``) in other units: ``functions`` = (forward, inverse) from these units."""
         axis = _Axis("right" if where == "right" else "left", functions)
         self.secondary.append(axis)
         return axis
@@ -350,6 +362,7 @@ class Axes:
         return handle
 
     def axhline(self, y: float, color=None, ls: str = "-", lw: float = 1.5, label: str | None = None, zorder=2, **_):
+        """A horizontal line across the axes at ``y`` [data units]; ``lw`` [pt]."""
         col = colour(color, "#1f77b4")
         if np.isfinite(y):
             self._extent((), [y])
@@ -360,6 +373,7 @@ class Axes:
         return handle
 
     def axvline(self, x: float, color=None, ls: str = "-", lw: float = 1.5, label: str | None = None, zorder=2, **_):
+        """A vertical line across the axes at ``x`` [data units]; ``lw`` [pt]."""
         col = colour(color, "#1f77b4")
         self._extent([x], ())
         self._add("vline", zorder, float(x), col, lw, ls)
@@ -369,6 +383,7 @@ class Axes:
         return handle
 
     def axvspan(self, x0: float, x1: float, color=None, alpha: float = 1.0, label: str | None = None, **_):
+        """A shaded band from ``x0`` to ``x1`` [data units] across the axes' height."""
         col = colour(color, "#1f77b4")
         self._extent([x0, x1], ())
         self._add("vspan", 1, float(x0), float(x1), col, alpha)
@@ -399,6 +414,7 @@ class Axes:
         return handle
 
     def bar(self, x, height, width: float = 0.8, color=None, label: str | None = None, **_):
+        """Bars centred at ``x`` of ``height`` and ``width`` [data units], from 0."""
         x = np.asarray(x, float).reshape(-1)
         h = np.asarray(height, float).reshape(-1)
         col = colour(color, "#1f77b4")
@@ -527,6 +543,8 @@ class Axes:
         ncol: int = 1,
         **_,
     ):
+        """The legend of the labelled artists (or ``handles``) at ``loc`` ("upper right", "upper left", ...) or
+        with its ``loc`` corner at ``bbox_to_anchor`` (axes fractions); ``fontsize`` [pt]."""
         self.legend_args = dict(
             handles=handles,
             loc=loc,
@@ -562,7 +580,7 @@ class Axes:
         yl, yh = self._resolved_ylim()
         inv = (self.sharex or self).inverted_x
 
-        def sx(v):
+        def sx(v):  # data -> px
             t = (np.asarray(v, float) - xl) / (xh - xl)
             return x0 + w * ((1 - t) if inv else t)
 
@@ -1074,6 +1092,7 @@ class Figure:
         self.bars: list = []
 
     def subplots_adjust(self, left=None, right=None, bottom=None, top=None, wspace=None, hspace=None) -> None:
+        """Margins as fractions of the figure, gaps as fractions of the mean axes width/height (matplotlib's)."""
         for key, value in dict(left=left, right=right, bottom=bottom, top=top, wspace=wspace, hspace=hspace).items():
             if value is not None:
                 self.margins[key] = value
@@ -1096,11 +1115,13 @@ class Figure:
         return boxes
 
     def add_subplot(self) -> Axes:
+        """One axes filling the figure inside its margins."""
         ax = Axes(self, self._grid(1, 1)[0])
         self.axes.append(ax)
         return ax
 
     def subplots(self, nrows: int = 1, ncols: int = 1, sharex: bool = False, width_ratios=None):
+        """A grid of axes (one Axes, a 1-d array or an nrows × ncols array, as matplotlib's)."""
         boxes = self._grid(nrows, ncols, width_ratios)
         axes = [Axes(self, b) for b in boxes]
         self.axes.extend(axes)
@@ -1116,9 +1137,11 @@ class Figure:
         return grid.reshape(nrows, ncols) if nrows > 1 and ncols > 1 else grid
 
     def suptitle(self, text: str, fontsize: float = BASE_FONT * 1.2) -> None:
+        """The figure's title, centred at the top; ``fontsize`` [pt]."""
         self.title, self.title_size = text, fontsize
 
     def legend(self, handles, loc: str = "lower center", ncol: int = 1, fontsize: float = BASE_FONT, **_) -> None:
+        """A figure legend of ``handles`` at ``loc`` (``"lower center"``), in ``ncol`` columns."""
         self.legend_args = dict(handles=handles, loc=loc, ncol=ncol, fontsize=fontsize)
 
     def colorbar(self, mappable: _Mappable, ax: Axes, pad: float = 0.05, label: str = "", **_):
