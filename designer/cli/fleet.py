@@ -7,8 +7,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from designer.cli._common import eprint, print_json
+from designer.cli._common import eprint, print_json, quantity_option
 from designer.studies.fleet import (
+    DEFAULT_MAX_REGRET,
     EXAMPLE_RANGES,
     example_fleet,
     fleet_data,
@@ -17,28 +18,42 @@ from designer.studies.fleet import (
     write_fleet_csv,
 )
 from designer.errors import InputError
-from designer.problem import load_problem
+from designer.problem import example_problem, load_problem
 
 
 def register(sub) -> None:
     p = sub.add_parser(
         "fleet",
-        help="per-chair recommendations for a fleet and K part numbers (exact K-median; Dask optional)",
+        help="per-chair recommendations for a fleet and how many part numbers it needs (K-median proved optimal)",
         description="Reads FLEET.csv (name, load | mass + front_fraction, threshold_height, target_speed, "
         "swept_radius_max, surface, turning_mode[, count]; units in the header or the cells), gives "
-        "every chair the recommendation of its own problem (vectorised over chairs x stock), and with "
-        "--skus K chooses K stock casters minimising the count-weighted regret. Writes fleet.csv, "
-        "fleet.json and a report to results/fleet/<name>/ by default.",
+        "every chair the recommendation of its own problem (vectorised over chairs x stock), solves the "
+        "K-median of part numbers for K = 1..8 (each proved optimal) and says on the first line how many "
+        "part numbers keep the mean regret within --max-regret. Writes fleet.csv, fleet.json and a report "
+        "to results/fleet/<name>/ by default.",
     )
     p.add_argument("fleet", nargs="?", help="the fleet table (CSV)")
     p.add_argument("--example", type=int, metavar="N", help="write an example fleet of N chairs and stop")
     p.add_argument("--seed", type=int, default=0, help="seed of --example (default 0)")
-    p.add_argument("--skus", type=int, metavar="K", help="choose K part numbers for the fleet")
+    p.add_argument(
+        "--skus",
+        type=int,
+        metavar="K",
+        help="choose K part numbers (default: the suggested count, the fewest within --max-regret)",
+    )
+    p.add_argument(
+        "--max-regret",
+        default=None,
+        metavar="FORCE",
+        help=f"the suggested count is the fewest part numbers whose mean regret on J = F_turn + P is at most "
+        f"this (default {DEFAULT_MAX_REGRET:g} N, about 1 %% of J; plain numbers are N, '0.5 lbf' works)",
+    )
     p.add_argument("--k-max", type=int, metavar="N", help="regret curve up to K = N (default max(K, 8))")
+    p.add_argument("--no-skus", action="store_true", help="per-chair recommendations only (no part numbers)")
     p.add_argument(
         "--problem",
         default=None,
-        help="base problem: bounds, stock, risk, weights (default problems/indoor-manual.toml)",
+        help="base problem: bounds, stock, risk, weights (default the shipped indoor-manual problem)",
     )
     p.add_argument("--out", default=None, help="output folder (with --example: the CSV file to write)")
     p.add_argument(
@@ -80,18 +95,21 @@ def run(args) -> int:
         raise InputError("designer fleet: give FLEET.csv, or --example N to write one")
     if args.skus is not None and args.skus < 1:
         raise InputError(f"--skus {args.skus}: expected 1 or more part numbers")
+    if args.skus is not None and args.no_skus:
+        raise InputError(f"--skus {args.skus}: not with --no-skus (which skips the part numbers)")
     if args.k_max is not None and not 1 <= args.k_max <= 50:
         raise InputError(f"--k-max {args.k_max}: expected 1 to 50")
-    problem_path = args.problem or "problems/indoor-manual.toml"
-    if args.problem is None and not Path(problem_path).exists():
-        raise InputError(
-            "--problem: give the base problem file (bounds, stock, risk, weights), "
-            "e.g. --problem problems/indoor-manual.toml"
-        )
-    problem = load_problem(problem_path)
+    max_regret = quantity_option(args.max_regret, "force", "--max-regret", DEFAULT_MAX_REGRET)
+    problem = example_problem("indoor-manual") if args.problem is None else load_problem(args.problem)
     fleet = read_fleet(args.fleet)
     result = fleet_recommendations(
-        fleet, problem, skus=args.skus, k_max=args.k_max, scheduler=args.scheduler, monte_carlo=not args.no_monte_carlo
+        fleet,
+        problem,
+        skus=None if args.no_skus else args.skus or "auto",
+        k_max=args.k_max,
+        scheduler=args.scheduler,
+        monte_carlo=not args.no_monte_carlo,
+        max_regret=max_regret,
     )
     data = fleet_data(result)
     out = Path(args.out) if args.out else Path("results") / "fleet" / Path(args.fleet).stem
@@ -102,28 +120,47 @@ def run(args) -> int:
     if args.json:
         print_json(json_data(data))
     else:
-        print(
-            f"{data['feasible_chairs']} of {data['chairs']} chairs have a caster "
-            f"({len(result.stock)} stock casters; {data['rule']})"
-        )
-        for name, seconds in data["timings"].items():
-            print(f"  {name}: {seconds:.2f} s")
-        if data["k"] is not None:
-            if data["regret"] is None:
-                print(f"K = {data['k']}: no {data['k']} stock casters serve every feasible chair")
-            else:
-                print(f"K = {data['k']}: total regret {data['regret']:.4g} ({data['sku_status']})")
-                for s in data["skus"]:
-                    d = s["design"]
-                    print(
-                        f"  SKU {s['id']}: T {d['trail'] / 0.0254:.3f} in, d {d['diameter'] / 0.0254:.3f} in, "
-                        f"B {d['groove'] / 0.0254:.4f} in, c_f {d['damping']:.2f} N·m/rad: "
-                        f"{s['chairs']} chairs, {s['count']} units"
-                    )
-        print(f"report: {out / 'index.html'}")
+        _print(data, len(result.stock), out)
     if data["feasible_chairs"] < data["chairs"]:
         eprint(
             f"designer: note: {data['chairs'] - data['feasible_chairs']} chairs have no feasible stock caster "
             f"(status column of {out / 'fleet.csv'})"
         )
     return 0
+
+
+def _print(data: dict, stock: int, out: Path) -> None:
+    """The answer first (how many part numbers), then the part numbers, the chairs and the timings."""
+    if data["answer"]:
+        print(data["answer"])
+        print(f"  rule: {data['suggested_skus']['rule']}")
+    print(
+        f"{data['feasible_chairs']} of {data['chairs']} chairs have a caster "
+        f"({stock} stock casters; own recommendation: {data['rule']})"
+    )
+    if data["k"] is not None:
+        k = data["k"]
+        asked = "" if k == data["suggested_skus"]["count"] else " (asked with --skus)"
+        if data["mean_regret_N"] is None:
+            print(f"K = {k}{asked}: no {k} stock casters serve every chair that has a caster")
+        else:
+            print(
+                f"K = {k}{asked}: mean regret {data['mean_regret_N']:.2f} N per unit sold, worst chair "
+                f"{data['worst_regret_N']:.2f} N, total {data['total_regret_N']:.4g} N over {data['served_units']} units "
+                f"({data['sku_status']}: {data['sku_proof']})"
+            )
+            for s in data["skus"]:
+                d = s["design"]
+                print(
+                    f"  SKU {s['id']}: T {d['trail'] / 0.0254:.3f} in, d {d['diameter'] / 0.0254:.3f} in, "
+                    f"B {d['groove'] / 0.0254:.4f} in, c_f {d['damping']:.2f} N·m/rad: "
+                    f"{s['chairs']} chairs, {s['count']} units"
+                )
+        curve = ", ".join(
+            f"{c['mean_regret_N']:.2f}" if c["mean_regret_N"] is not None else "–" for c in data["regret_curve"]
+        )
+        statuses = sorted({c["status"] for c in data["regret_curve"]})
+        print(f"  mean regret [N] for K = 1…{len(data['regret_curve'])}: {curve} ({', '.join(statuses)})")
+    for name, seconds in data["timings"].items():
+        print(f"  {name}: {seconds:.2f} s")
+    print(f"report: {out / 'index.html'}")

@@ -31,9 +31,11 @@ CSV_COLUMNS = (
     "sku_turning_effort",
     "sku_threshold_force",
     "sku_shimmy_probability",
+    "knee_regret_N",
+    "sku_regret_N",
     "status",
 )
-"""Columns of fleet.csv (SI, as front.csv); the sku_* columns only with --skus."""
+"""Columns of fleet.csv (SI, as front.csv); the sku_* and *_regret_N columns only with part numbers."""
 
 INCH = 0.0254
 
@@ -41,7 +43,7 @@ INCH = 0.0254
 def csv_text(data: dict) -> str:
     """fleet.csv: one row per chair (SI units; empty cells where a chair has no caster)."""
     rows = data["rows"]
-    columns = [c for c in CSV_COLUMNS if not c.startswith("sku") or data.get("k") is not None]
+    columns = [c for c in CSV_COLUMNS if not (c.startswith("sku") or "regret" in c) or data.get("k") is not None]
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(columns)
@@ -67,7 +69,7 @@ def _figures(data: dict) -> dict:
     if curve:
         figs["regret"] = figure_regret(
             [c["k"] for c in curve],
-            [c["mean_regret"] if c["mean_regret"] is not None else float("nan") for c in curve],
+            [c["mean_regret_N"] if c["mean_regret_N"] is not None else float("nan") for c in curve],
             data.get("k"),
         )
     out = {}
@@ -86,13 +88,14 @@ def markdown(data: dict) -> str:
     if data.get("regret_curve"):
         lines += ["## Part numbers", "", "![regret curve](figures/regret.png)", ""]
         lines += [
-            "| K | mean regret per unit [N] | total regret Σ count · regret [N] | status | solve [s] |",
-            "|---:|---:|---:|---|---:|",
+            "| K | mean regret per unit [N] | worst chair [N] | total regret Σ count · regret [N] | status | solve [s] |",
+            "|---:|---:|---:|---:|---|---:|",
         ]
         for c in data["regret_curve"]:
-            regret = "–" if c["regret"] is None else f"{c['regret']:.6g}"
-            mean = "–" if c["mean_regret"] is None else f"{c['mean_regret']:.3f}"
-            lines.append(f"| {c['k']} | {mean} | {regret} | {c['status']} | {c['seconds']:.2f} |")
+            regret = "–" if c["total_regret_N"] is None else f"{c['total_regret_N']:.6g}"
+            mean = "–" if c["mean_regret_N"] is None else f"{c['mean_regret_N']:.3f}"
+            worst = "–" if c["worst_regret_N"] is None else f"{c['worst_regret_N']:.2f}"
+            lines.append(f"| {c['k']} | {mean} | {worst} | {regret} | {c['status']} | {c['seconds']:.2f} |")
         lines += [
             "",
             "| SKU | trail [in] | diameter [in] | groove [in] | damping [N·m/rad] | chairs | units |",
@@ -137,15 +140,15 @@ def _summary(data: dict) -> list[str]:
             "(Eq. 7); the P(shimmy) column says what risk each one carries."
         )
     if data.get("k") is not None:
-        if data.get("regret") is None:
+        if data.get("total_regret_N") is None:
             out.append(
                 f"- K = {data['k']}: no {data['k']} stock casters serve every feasible chair ({data['sku_status']})."
             )
         else:
             out.append(
-                f"- K = {data['k']} part numbers: each unit sold loses {data['mean_regret']:.3f} N of J on "
-                f"average against its chair's own best stock caster (total {data['regret']:.6g} N·units, "
-                f"{data['sku_status']})."
+                f"- K = {data['k']} part numbers: each unit sold loses {data['mean_regret_N']:.3f} N of J on "
+                f"average against its chair's least-J stock caster (total {data['total_regret_N']:.6g} N over "
+                f"the units sold, {data['sku_status']})."
             )
     return out
 

@@ -28,6 +28,7 @@ Modules: :mod:`designer.studies.fleet._table` reads the fleet (FLEET.csv, exampl
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 import time
@@ -40,8 +41,8 @@ from designer.errors import InputError
 from designer.model import scatter_of
 from designer.reprs import dataframe, html_table
 
-from designer.studies.fleet._kmedian import prune_candidates, solve_kmedian
-from designer.problem import load_problem
+from designer.studies.fleet._kmedian import kmedian_curve, prune_candidates
+from designer.problem import example_problem, load_problem
 from designer.studies.fleet._table import (
     COLUMNS,
     EXAMPLE_RANGES,
@@ -71,6 +72,7 @@ from designer.studies.fleet._rule import (
 __all__ = [
     "CHUNK",
     "COLUMNS",
+    "DEFAULT_MAX_REGRET",
     "DEFAULT_STOCK",
     "EXAMPLE_RANGES",
     "GRAVITY",
@@ -92,11 +94,18 @@ __all__ = [
     "read_fleet",
     "recommend_chairs",
     "stock_table",
+    "suggest_skus",
     "write_fleet_csv",
 ]
 
 CHUNK = 5000
 """Chairs per chunk of vectorised work (bounds memory: chunk × casters × 8 bytes per array)."""
+
+DEFAULT_MAX_REGRET = 2.0
+"""Default ``--max-regret`` [N]: the suggested number of part numbers is the smallest K whose mean regret
+(J with the part number − the chair's least J, averaged over the units sold) is at most this.  2 N is
+about 1 % of a typical J = F_turn + P (120–300 N per caster: J ≈ 100–250 N), smaller than the paper's
+scatter on either force (docs/fleet.md, "How many part numbers")."""
 
 
 # --------------------------------------------------------------------------- the whole fleet
@@ -114,6 +123,8 @@ _FLEET_UNITS = {
     "sku_turning_effort": ("sku_turning_effort_N", "N"),
     "sku_threshold_force": ("sku_threshold_force_N", "N"),
     "sku_shimmy_probability": ("sku_shimmy_probability", "-"),
+    "knee_regret_N": ("knee_regret_N", "N"),
+    "sku_regret_N": ("sku_regret_N", "N"),
 }
 """fleet.csv column -> (DataFrame column with its SI unit, unit) for :meth:`FleetResult.to_pandas`."""
 
@@ -141,6 +152,8 @@ class FleetResult:
     timings: dict = field(default_factory=dict)
     scheduler: str | None = None
     regret_cost: object | None = None
+    suggested: dict | None = None
+    candidates: int | None = None
 
     @property
     def feasible(self) -> np.ndarray:
@@ -154,6 +167,7 @@ class FleetResult:
         sku = None if self.skus is None or self.skus.assignment is None else self.skus
         sku_index = {} if sku is None else {j: i + 1 for i, j in enumerate(sku.chosen)}
         position = np.cumsum(self.feasible) - 1
+        cost = self.regret_cost
         for i in range(len(self.fleet)):
             j = int(ch["choice"][i])
             row = {"name": self.fleet.names[i]}
@@ -166,15 +180,14 @@ class FleetResult:
             row["shimmy_probability_se"] = None if p is None or j < 0 else float(ch["shimmy_probability_se"][i])
             if sku is not None:
                 a = int(sku.assignment[position[i]]) if j >= 0 else -1
+                col = int(np.searchsorted(cost["columns"], a)) if a >= 0 else -1
                 row["sku"] = sku_index.get(a) if a >= 0 else None
-                row["sku_turning_effort"] = (
-                    float(self.regret_cost["turning_effort"][position[i], a]) if a >= 0 else None
-                )
-                row["sku_threshold_force"] = (
-                    float(self.regret_cost["threshold_force"][position[i], a]) if a >= 0 else None
-                )
+                row["sku_turning_effort"] = float(cost["turning_effort"][position[i], col]) if a >= 0 else None
+                row["sku_threshold_force"] = float(cost["threshold_force"][position[i], col]) if a >= 0 else None
                 sp = ch.get("sku_shimmy_probability")
                 row["sku_shimmy_probability"] = None if sp is None or a < 0 else float(sp[i])
+                row["knee_regret_N"] = float(cost["knee_regret"][position[i]]) if j >= 0 else None
+                row["sku_regret_N"] = float(cost["regret"][position[i], col]) if a >= 0 else None
             row["status"] = "ok" if j >= 0 else str(ch["reason"][i])
             out.append(row)
         return out
@@ -258,12 +271,13 @@ class FleetResult:
 def fleet_recommendations(
     fleet: Fleet,
     problem,
-    skus: int | None = None,
+    skus: int | str | None = None,
     k_max: int | None = None,
     scheduler=None,
     monte_carlo: bool = True,
     chunk: int = CHUNK,
     time_limit: float = 120.0,
+    max_regret: float = DEFAULT_MAX_REGRET,
 ) -> FleetResult:
     """Recommend a caster for every chair of ``fleet`` and, with ``skus``, choose K part numbers.
 
@@ -271,25 +285,30 @@ def fleet_recommendations(
     ----------
     fleet : the chairs (:func:`read_fleet` or :func:`example_fleet`)
     problem : the base problem (bounds, stock, risk, weights)
-    skus : K, the number of part numbers (None: per-chair recommendations only)
-    k_max : regret curve for K = 1 … k_max (default max(K, 8), at most the number of useful casters)
+    skus : K, the number of part numbers; ``"auto"``: the suggested count (:func:`suggest_skus`); None:
+        per-chair recommendations only
+    k_max : regret curve for K = 1 … k_max (default max(K, 8), and on until the mean regret is within
+        ``max_regret``; at most the number of useful casters)
     scheduler : None (in-process), a Dask scheduler address ``"tcp://host:8786"``, ``"local"`` (a
         2-worker LocalCluster), or a ``distributed.Client``
     monte_carlo : also estimate each chair's P(shimmy) (the reported number; the expensive part)
     chunk : chairs per task
     time_limit : per-K limit of the mixed-integer solve [s]
+    max_regret : the suggested count's threshold on the mean regret [N] (:data:`DEFAULT_MAX_REGRET`)
 
     Returns
     -------
     FleetResult
     """
-    if skus is not None:
+    if skus is not None and skus != "auto":
         if isinstance(skus, bool) or not isinstance(skus, (int, np.integer)) or skus < 1:
             raise InputError(f"--skus {skus!r}: expected a whole number of part numbers, 1 or more")
+    if not (isinstance(max_regret, (int, float)) and math.isfinite(max_regret) and max_regret >= 0):
+        raise InputError(f"--max-regret {max_regret!r}: expected a mean regret in N, 0 or more")
     timings = {}
     start = time.perf_counter()
     stock = stock_table(problem)
-    if skus is not None and skus > len(stock):
+    if skus not in (None, "auto") and skus > len(stock):
         raise InputError(f"--skus {skus}: larger than the stock ({len(stock)} casters); choose at most {len(stock)}")
     timings["stock"] = time.perf_counter() - start
 
@@ -316,7 +335,7 @@ def fleet_recommendations(
             timings["monte_carlo"] = time.perf_counter() - start
         if skus is not None:
             start = time.perf_counter()
-            choose_skus(result, skus, k_max=k_max, time_limit=time_limit)
+            choose_skus(result, skus, k_max=k_max, time_limit=time_limit, max_regret=max_regret)
             timings["skus"] = time.perf_counter() - start
             if monte_carlo and result.skus is not None and result.skus.assignment is not None:
                 _sku_monte_carlo(client, result, chunk)
@@ -384,44 +403,127 @@ def _monte_carlo(client, stock, problem, choice, speeds, chunk):
     return p, se
 
 
-def choose_skus(result: FleetResult, k: int, k_max: int | None = None, time_limit: float = 120.0) -> None:
-    """Solve the K-median over the stock for the feasible chairs; fill ``result.skus`` and the regret curve.
+def choose_skus(
+    result: FleetResult,
+    k: int | str,
+    k_max: int | None = None,
+    time_limit: float = 120.0,
+    max_regret: float = DEFAULT_MAX_REGRET,
+) -> None:
+    """Solve the K-median over the stock for the feasible chairs; fill ``result.skus``, the regret curve and
+    the suggested count.
 
-    Regret of chair i with caster j: J_ij − min_j' J_ij' over the chair's own feasible stock (never
-    negative), J = w_turn F_turn + w_threshold P with the base problem's weights; +inf where caster j
+    Regret of chair i with caster j: J_ij − min_j' J_ij' over the chair's own allowed stock (never
+    negative), J = w_turn F_turn + w_threshold P with the base problem's weights [N]; +inf where caster j
     breaks the chair's own risk bound, swept-radius limit or sill.  Infeasible chairs are left out (and
-    reported per row).  Exact MIP (:mod:`designer.studies.fleet._kmedian`).
+    reported per row).  Every K of the curve is solved to proven optimality
+    (:mod:`designer.studies.fleet._kmedian`); ``k="auto"`` takes the suggested count (:func:`suggest_skus`).
     """
-
-    fleet, stock, problem = result.fleet, result.stock, result.problem
+    fleet = result.fleet
     rows = np.flatnonzero(result.feasible)
     if not len(rows):
         raise InputError("--skus: no chair of the fleet has a feasible stock caster, nothing to choose")
-    parts = [rows[a : a + CHUNK] for a in range(0, len(rows), CHUNK)]
-    f_parts, p_parts, cost_parts = [], [], []
-    w = np.asarray(problem.weights, float)
-    for part in parts:
-        ev = evaluate_chairs({k2: v[part] for k2, v in fleet.arrays().items()}, stock, problem)
-        j = np.where(ev["feasible"], w[0] * ev["turning_effort"] + w[1] * ev["threshold_force"], np.inf)
-        cost_parts.append(j - j.min(axis=1, keepdims=True))
-        f_parts.append(ev["turning_effort"])
-        p_parts.append(ev["threshold_force"])
-    cost = np.concatenate(cost_parts)
-    result.regret_cost = {
-        "turning_effort": np.concatenate(f_parts),
-        "threshold_force": np.concatenate(p_parts),
-        "regret": cost,
-    }
+    result.regret_cost = _regret_matrix(result, rows)
+    result.regret_cost["knee_regret"] = np.maximum(
+        0.0, result.chairs["objective"][rows] - result.regret_cost["least_objective"]
+    )
+    cost, columns = result.regret_cost["regret"], result.regret_cost["columns"]
     weights = fleet.count[rows]
-    useful = len(prune_candidates(cost))
-    k_max = max(k, 8) if k_max is None else max(k, k_max)
-    k_max = min(k_max, max(useful, k))
-    curve = {}
-    for kk in range(1, k_max + 1):
-        curve[kk] = solve_kmedian(cost, weights, kk, time_limit=time_limit)
-    result.curve = curve
-    result.skus = curve[k]
+    asked = None if k == "auto" else int(k)
+    # without --k-max the curve goes on past 8 until the threshold is met, so the suggestion always exists
+    until = float(weights.sum()) * max_regret if k_max is None else None
+    k_max = max(asked or 1, 8) if k_max is None else max(asked or 1, k_max)
+    curve = kmedian_curve(cost, weights, range(1, k_max + 1), time_limit=time_limit, until=until)
+    useful = curve[1].candidates
+    for solution in curve.values():  # back to stock indices
+        solution.chosen = [int(columns[j]) for j in solution.chosen]
+        if solution.assignment is not None:
+            solution.assignment = columns[solution.assignment]
+    result.curve = {kk: s for kk, s in curve.items() if kk <= max(useful, asked or 1)}
     result.candidates = useful
+    result.suggested = suggest_skus(result.curve, float(weights.sum()), max_regret)
+    result.skus = result.curve[asked if asked is not None else result.suggested["count"]]
+
+
+def suggest_skus(curve: dict, units: float, max_regret: float = DEFAULT_MAX_REGRET) -> dict:
+    """The suggested number of part numbers: the smallest K whose mean regret is at most ``max_regret``.
+
+    Parameters
+    ----------
+    curve : K -> :class:`designer.studies.fleet._kmedian.KMedianSolution` (K = 1 … k_max)
+    units : units sold of the served chairs (Σ count); the mean regret is the total regret / units [N]
+    max_regret : threshold on the mean regret [N]
+
+    Returns
+    -------
+    dict: ``count`` (K; the largest K of the curve when none is within, with ``within`` False),
+    ``mean_regret_N`` (of that K), ``max_regret_N``, ``within``, ``rule`` (the rule in words).
+    """
+    rule = (
+        f"the fewest part numbers whose mean regret (J with the part number − the chair's least J over its "
+        f"allowed stock, averaged over the units sold) is at most {max_regret:g} N"
+    )
+    units = units or 1.0
+    mean = {k: s.regret / units for k, s in sorted(curve.items()) if s.status != "infeasible"}
+    within = [k for k, value in mean.items() if value <= max_regret]
+    count = within[0] if within else max(mean, default=max(curve))
+    return {
+        "count": count,
+        "rule": rule,
+        "mean_regret_N": mean.get(count),
+        "max_regret_N": max_regret,
+        "within": bool(within),
+    }
+
+
+def _stock_subset(stock: StockTable, columns: np.ndarray) -> StockTable:
+    """The stock table restricted to ``columns`` (every per-caster array indexed)."""
+    n = len(stock)
+    return dataclasses.replace(
+        stock,
+        **{
+            f.name: getattr(stock, f.name)[columns]
+            for f in dataclasses.fields(stock)
+            if isinstance(getattr(stock, f.name), np.ndarray) and len(getattr(stock, f.name)) == n
+        },
+    )
+
+
+def _regret_matrix(result: FleetResult, rows: np.ndarray) -> dict:
+    """Regret, F_turn and P of the chairs ``rows`` (feasible) with the casters that can matter for a K-median.
+
+    J of every chair with every stock caster (chunks of :data:`CHUNK` chairs; one chairs × stock matrix in
+    memory), the casters not dominated on regret (:func:`designer.studies.fleet._kmedian.prune_candidates`),
+    then F_turn and P of those casters only.
+    """
+    fleet, stock, problem = result.fleet, result.stock, result.problem
+    arrays = fleet.arrays()
+    w = np.asarray(problem.weights, float)
+    parts = [rows[a : a + CHUNK] for a in range(0, len(rows), CHUNK)]
+
+    def evaluate(table, forces: bool):
+        out = {"objective": [], "turning_effort": [], "threshold_force": []}
+        for part in parts:
+            ev = evaluate_chairs({key: v[part] for key, v in arrays.items()}, table, problem)
+            f, p = ev["turning_effort"], ev["threshold_force"]
+            out["objective"].append(np.where(ev["feasible"], w[0] * f + w[1] * p, np.inf))
+            if forces:
+                out["turning_effort"].append(f)
+                out["threshold_force"].append(p)
+        return {key: np.concatenate(v) if v else None for key, v in out.items()}
+
+    j = evaluate(stock, forces=False)["objective"]
+    least = j.min(axis=1)
+    columns = prune_candidates(j - least[:, None])
+    del j
+    useful = evaluate(_stock_subset(stock, columns), forces=True)
+    return {
+        "columns": columns,
+        "turning_effort": useful["turning_effort"],
+        "threshold_force": useful["threshold_force"],
+        "regret": useful["objective"] - least[:, None],
+        "least_objective": least,
+    }
 
 
 def _client(scheduler):
@@ -482,29 +584,36 @@ def fleet_data(result: FleetResult) -> dict:
     curve = [
         {
             "k": k,
-            "regret": s.regret if s.status != "infeasible" else None,
-            "mean_regret": s.regret / served_units if s.status != "infeasible" else None,
+            "total_regret_N": s.regret if s.status != "infeasible" else None,
+            "mean_regret_N": s.regret / served_units if s.status != "infeasible" else None,
+            "worst_regret_N": _worst_regret(result, s),
             "status": s.status,
-            "lower_bound": s.lower_bound,
-            "gap": s.gap,
+            "lower_bound_N": s.lower_bound,
+            "gap_N": s.gap,
+            "method": s.method,
             "seconds": s.seconds,
             "chosen": s.chosen,
         }
         for k, s in sorted(result.curve.items())
     ]
+    sku = result.skus
+    solved = sku is not None and sku.status != "infeasible"
     w = tuple(float(x) for x in problem.weights)
     return {
         "fleet": result.fleet.source,
         "chairs": len(result.fleet),
         "feasible_chairs": int(ok.sum()),
         "units": int(result.fleet.count.sum()),
+        "served_units": int(result.fleet.count[ok].sum()),
         "problem": problem.name,
         "weights": list(w),
         "objective": f"J = {w[0]:g} F_turn + {w[1]:g} P [N]: 1 N of sill force is worth "
         f"{(w[1] / w[0]) if w[0] else math.inf:g} N of turning effort",
-        "regret_definition": "regret of a chair = J with its assigned part number − the least J over the "
-        "chair's own feasible stock (never negative); the part numbers minimise the "
-        "count-weighted sum",
+        "regret_definition": "regret of a chair = J with its assigned part number − the chair's least J, the "
+        "least J over the stock casters allowed for that chair (never negative); the part numbers minimise "
+        "the sum over the units sold",
+        "regret_unit": "N",
+        "own_recommendation": _own_recommendation(result),
         "risk": None if risk is None else {"probability": risk.probability, "margin": problem.margin},
         "monte_carlo": {"samples": getattr(u, "samples", None), "seed": getattr(u, "seed", None)},
         "rule": (
@@ -520,12 +629,14 @@ def fleet_data(result: FleetResult) -> dict:
             "useful_for_skus": getattr(result, "candidates", None),
         },
         "skus": result.sku_records(),
-        "k": None if result.skus is None else result.skus.k,
-        "regret": None if result.skus is None or result.skus.status == "infeasible" else result.skus.regret,
-        "mean_regret": None
-        if result.skus is None or result.skus.status == "infeasible"
-        else result.skus.regret / served_units,
-        "sku_status": None if result.skus is None else result.skus.status,
+        "k": None if sku is None else sku.k,
+        "total_regret_N": sku.regret if solved else None,
+        "mean_regret_N": sku.regret / served_units if solved else None,
+        "worst_regret_N": _worst_regret(result, sku) if solved else None,
+        "sku_status": None if sku is None else sku.status,
+        "sku_proof": None if sku is None else sku.method,
+        "suggested_skus": result.suggested,
+        "answer": _answer(result, served_units),
         "regret_curve": curve,
         "rows": rows,
         "distributions": {k: np.asarray(v, float) for k, v in dist.items()},
@@ -535,17 +646,84 @@ def fleet_data(result: FleetResult) -> dict:
     }
 
 
+def _worst_regret(result: FleetResult, solution) -> float | None:
+    """The largest regret of one chair with the part number it is assigned [N] (None if infeasible)."""
+    if solution is None or solution.assignment is None or result.regret_cost is None:
+        return None
+    cost = result.regret_cost
+    col = np.searchsorted(cost["columns"], solution.assignment)
+    return float(cost["regret"][np.arange(len(col)), col].max())
+
+
+def _own_recommendation(result: FleetResult) -> dict:
+    """What "own recommendation" means, and how the part numbers compare with it on J."""
+    out = {
+        "meaning": "each chair's own recommendation is the caster designer.recommend picks for that chair "
+        "alone: the base problem's rule on the chair's buildable front (by default its knee, the balance of "
+        "F_turn and P in the front's own range). It is not the chair's least J: regret is measured against "
+        "the least J, so a part number can be better on J than the chair's own recommendation.",
+    }
+    cost, sku = result.regret_cost, result.skus
+    if cost is None or sku is None or sku.assignment is None:
+        return out
+    col = np.searchsorted(cost["columns"], sku.assignment)
+    regret = cost["regret"][np.arange(len(col)), col]
+    knee = cost["knee_regret"]
+    tol = 1e-9 * np.maximum(1.0, cost["least_objective"])
+    out.update(
+        {
+            "recommendation_is_least_J": int(np.sum(knee <= tol)),
+            "part_number_better_on_J": int(np.sum(regret < knee - tol)),
+            "part_number_is_the_recommendation": int(
+                np.sum(sku.assignment == result.chairs["choice"][result.feasible])
+            ),
+            "mean_recommendation_regret_N": float(
+                np.dot(result.fleet.count[result.feasible], knee) / max(1, result.fleet.count[result.feasible].sum())
+            ),
+        }
+    )
+    return out
+
+
+def _answer(result: FleetResult, units: float) -> str | None:
+    """The first line of the output: how many part numbers, for how many chairs, within what mean regret."""
+    s = result.suggested
+    if s is None:
+        return None
+    n_ok, n = int(result.feasible.sum()), len(result.fleet)
+    chairs = f"all {n} chairs" if n_ok == n else f"the {n_ok} of {n} chairs that have a caster"
+    parts = "part number" if s["count"] == 1 else "part numbers"
+    if s["mean_regret_N"] is None:
+        return f"No {s['count']} stock casters serve {chairs}; the fewest that do are more (see the regret curve)"
+    if s["within"]:
+        return (
+            f"{s['count']} {parts} serve {chairs} within {s['max_regret_N']:g} N of each chair's best caster "
+            f"on average (mean regret {s['mean_regret_N']:.2f} N of J = F_turn + P)"
+        )
+    return (
+        f"No K <= {s['count']} keeps the mean regret within {s['max_regret_N']:g} N: {s['count']} {parts} "
+        f"serve {chairs} at a mean regret of {s['mean_regret_N']:.2f} N (raise --k-max or --max-regret)"
+    )
+
+
 def fleet(
-    chairs, problem=None, skus: int | None = None, scheduler=None, monte_carlo: bool = True, k_max: int | None = None
+    chairs,
+    problem=None,
+    skus: int | str | None = None,
+    scheduler=None,
+    monte_carlo: bool = True,
+    k_max: int | None = None,
+    max_regret: float = DEFAULT_MAX_REGRET,
 ) -> FleetResult:
     """``designer.fleet``: per-chair recommendations of a fleet and, with ``skus``, K part numbers.
 
     Parameters
     ----------
     chairs : a FLEET.csv path or a :class:`Fleet` (e.g. ``example_fleet(1000)``)
-    problem : the base problem (a :class:`designer.problem.Problem` or a TOML path; default
-        ``problems/indoor-manual.toml``)
-    skus, scheduler, monte_carlo, k_max : as :func:`fleet_recommendations`
+    problem : the base problem (a :class:`designer.problem.Problem` or a TOML path; default the shipped
+        ``designer.example_problem("indoor-manual")``, from any folder)
+    skus, scheduler, monte_carlo, k_max, max_regret : as :func:`fleet_recommendations` (``skus="auto"``:
+        the suggested count)
 
     Returns
     -------
@@ -554,6 +732,10 @@ def fleet(
 
     if not isinstance(chairs, Fleet):
         chairs = read_fleet(chairs)
-    if problem is None or isinstance(problem, (str, Path)):
-        problem = load_problem(problem or "problems/indoor-manual.toml")
-    return fleet_recommendations(chairs, problem, skus=skus, k_max=k_max, scheduler=scheduler, monte_carlo=monte_carlo)
+    if problem is None:
+        problem = example_problem("indoor-manual")
+    elif isinstance(problem, (str, Path)):
+        problem = load_problem(problem)
+    return fleet_recommendations(
+        chairs, problem, skus=skus, k_max=k_max, scheduler=scheduler, monte_carlo=monte_carlo, max_regret=max_regret
+    )

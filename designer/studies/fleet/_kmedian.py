@@ -1,22 +1,42 @@
-"""K part numbers for a fleet: the exact weighted K-median over stock casters (mixed-integer program).
+"""K part numbers for a fleet: the weighted K-median over stock casters, solved to proven optimality.
 
 Chairs i (weight w_i = units sold) are clients, stock casters j are facilities.  The cost of giving
 chair i caster j is its regret r_ij = J_ij − min_j' J_ij' >= 0 (J = w_turn F_turn + w_threshold P of the
 base problem), or +inf when caster j breaks chair i's own risk bound, swept-radius limit or sill
-(d/h > 2).  The program
+(d/h > 2).  The problem is
 
-    minimise   Σ_i Σ_j w_i r_ij x_ij
-    subject to Σ_j x_ij = 1            (every chair gets one caster)
-               x_ij <= y_j             (only from an open part number)
-               Σ_j y_j = K             (K part numbers)
-               y_j ∈ {0, 1}, 0 <= x_ij <= 1, x_ij only where r_ij < inf
+    minimise   Σ_i w_i min_{j ∈ S} r_ij   over sets S of K casters, every chair served (a finite r_ij).
 
-is solved exactly by HiGHS (``scipy.optimize.milp``).  x may stay continuous: for integral y the best
-assignment (each chair to its cheapest open caster) is integral.  Before the solve, a caster that is
-feasible for no chair is dropped, and so is a caster j whose column is dominated by another one j'
-(j' feasible wherever j is and r_ij' <= r_ij for every chair): replacing j by j' never makes a solution
-worse, so the optimum is unchanged.  Beyond :data:`EXACT_LIMIT` feasible pairs, :func:`solve_kmedian`
-uses greedy selection plus swap local search and states the gap to a Lagrangian lower bound.
+How it is solved (:func:`kmedian_curve`, :func:`solve_kmedian`); every step is exact:
+
+1. **Reduction.**  A caster allowed for no chair is dropped, and so is a caster whose column is dominated
+   by another one (allowed wherever it is, r no larger anywhere; of equal columns the first is kept):
+   swapping it for its dominator never makes a set worse.  Chairs with identical cost rows are merged
+   into one client whose weight is the sum of their counts.
+2. **Feasibility.**  The fewest casters that serve every chair (a set cover over the distinct patterns
+   of allowed casters, solved by HiGHS) decide which K are feasible at all: below it, "infeasible" is
+   proved, not guessed.
+3. **Incumbent.**  Greedy (from the K − 1 solution) and 1-swap local search give a set S and its value U.
+4. **Lagrangian bound.**  Relaxing "every chair served once" with multipliers λ gives, for every λ,
+
+       L(λ) = Σ_i λ_i + (sum of the K smallest ρ_j),   ρ_j = Σ_i min(0, w_i r_ij − λ_i)  <=  optimum,
+
+   the linear-programming bound of the classical K-median program.  λ is improved by subgradient steps
+   (Polyak's step toward U); the casters the relaxation opens are also tried as incumbents.  When
+   L(λ) reaches U (relative :data:`TOLERANCE`) the incumbent is proved optimal: status
+   ``"optimal-by-bound"``.
+5. **Elimination and exact MIP.**  Otherwise the same λ fixes casters: forcing caster j open (closed)
+   changes the relaxation to L(λ) + ρ_j − ρ_(K) (to L(λ) − ρ_j + ρ_(K+1)); when that exceeds U, no set
+   as good as the incumbent contains j (omits j), so j is removed (fixed open).  The few casters left go
+   to an exact mixed-integer program solved by HiGHS (``scipy.optimize.milp``, relative gap 0), in the
+   compact *radius* form: for each client sort its costs over the remaining casters,
+   r_(1) <= r_(2) <= …; its cost is r_(1) + Σ_t (r_(t+1) − r_(t)) [none of its t cheapest casters is
+   open].  With binary y_j and one continuous u_T >= 1 − Σ_{j ∈ T} y_j, u_T >= 0 per distinct set T of
+   "t cheapest casters" (clients sharing a set share its u, their coefficients add up), plus a cover row
+   Σ_{j allowed} y_j >= 1 per distinct allowed pattern and Σ_j y_j = K, the program's optimum is the
+   K-median optimum over those casters.  HiGHS's proof (dual bound = incumbent) then proves the whole
+   problem: status ``"optimal"``, with the bound reported.  A MIP stopped by ``time_limit`` reports
+   ``"time limit"`` with its gap.
 """
 
 from __future__ import annotations
@@ -28,27 +48,31 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-EXACT_LIMIT = 60_000
-"""Largest number of allowed (chair, caster) pairs solved as an exact MIP (HiGHS takes 3–8 s per K at
-15 000–40 000 pairs on this machine and hits a 2-minute limit at 140 000); beyond it: greedy + swap with
-a Lagrangian gap bound."""
+TOLERANCE = 1e-9
+"""Relative gap at which a value is called optimal: value − lower bound <= TOLERANCE · max(1, value)."""
+
+LAGRANGIAN_ITERATIONS = 300
+"""Most subgradient steps per K before the remaining casters go to the exact MIP."""
 
 
 @dataclass
 class KMedianSolution:
-    """One K: the chosen casters, the assignment and the regret.
+    """One K: the chosen casters, the assignment, the regret and its proof.
 
     Attributes
     ----------
     k : number of part numbers asked for
     chosen : stock indices of the K casters (sorted)
-    assignment : per chair, the stock index it gets (-1 if none can serve it)
-    regret : the count-weighted total regret Σ w_i r_i [objective units, N with weights (1, 1)]
-    status : "optimal" (MIP), "optimal-by-bound" (heuristic whose value the Lagrangian bound meets),
-        "heuristic" or "time limit" (with ``gap``), or "infeasible" (no K casters serve every chair)
-    lower_bound : proven lower bound on the regret (= regret when optimal)
-    gap : regret − lower_bound (0 when optimal)
+    assignment : per chair, the stock index it gets (its cheapest chosen caster)
+    regret : the count-weighted total regret Σ w_i r_i [objective units: N with the base problem's weights]
+    status : "optimal" (HiGHS MIP after elimination), "optimal-by-bound" (the Lagrangian bound meets the
+        value), "time limit" (MIP stopped early; see ``gap``), or "infeasible" (proved: fewer casters than
+        the smallest set that serves every chair)
+    lower_bound : proven lower bound on the least regret [same units]
+    gap : regret − lower_bound (<= TOLERANCE · regret when optimal)
     seconds : wall time of the solve [s]
+    method : how optimality was proved, in words
+    candidates : useful casters after the reduction (stocking more than these changes nothing)
     """
 
     k: int
@@ -60,260 +84,373 @@ class KMedianSolution:
     gap: float = math.nan
     seconds: float = 0.0
     message: str = ""
+    method: str = ""
+    candidates: int = 0
 
 
-def prune_candidates(cost: np.ndarray) -> np.ndarray:
+# --------------------------------------------------------------------------- reduction
+
+
+def prune_candidates(cost: np.ndarray, sample_rows: int = 256) -> np.ndarray:
     """Indices of the columns worth keeping: feasible for some chair and not dominated by another column.
 
-    Column j is dropped when some j' has cost[:, j'] <= cost[:, j] everywhere (+inf = infeasible) and,
-    if the two columns are equal, j' < j.  The K-median optimum is unchanged (see the module docstring).
+    Column b is dropped when some column a has cost[:, a] <= cost[:, b] everywhere (+inf = infeasible) and,
+    if the two columns are equal, a < b.  The K-median optimum is unchanged (the module docstring).  Pairs
+    are screened on a sample of rows first and confirmed on all rows.
     """
     cost = np.asarray(cost, float)
-    n = cost.shape[1]
-    alive = np.isfinite(cost).any(axis=0)
-    idx = np.flatnonzero(alive)
-    keep = np.ones(len(idx), bool)
-    sub = cost[:, idx]
-    for a in range(len(idx)):
-        if not keep[a]:
+    alive = np.flatnonzero(np.isfinite(cost).any(axis=0))
+    sub = cost[:, alive]
+    m, n = sub.shape
+    if n <= 1:
+        return alive
+    rows = np.random.default_rng(0).choice(m, min(sample_rows, m), replace=False)
+    sample = sub[np.sort(rows)]
+    pa, pb = [], []
+    for a0 in range(0, n, 64):  # (a, b) with a <= b on the sample, in blocks of 64 a's
+        a, b = np.nonzero(np.all(sample[:, a0 : a0 + 64, None] <= sample[:, None, :], axis=0))
+        a += a0
+        pa.append(a[a != b])
+        pb.append(b[a != b])
+    pa, pb = np.concatenate(pa), np.concatenate(pb)
+    keep = np.ones(n, bool)
+    if not len(pa):
+        return alive
+    order = np.lexsort((pa, -np.bincount(pa, minlength=n)[pa]))  # likely dominators first
+    pa, pb = pa[order], pb[order]
+    starts = np.flatnonzero(np.r_[True, pa[1:] != pa[:-1]])
+    for s, e in zip(starts, np.r_[starts[1:], len(pa)]):
+        a, b = pa[s], pb[s:e]
+        b = b[keep[b]]  # a dropped a is still a valid dominator (dominance is transitive)
+        if not len(b):
             continue
-        # columns b dominated by a: cost[:, a] <= cost[:, b] everywhere
-        le = np.all(sub[:, [a]] <= sub, axis=0)
-        eq = np.all(sub[:, [a]] == sub, axis=0)
-        dominated = le & (~eq | (np.arange(len(idx)) > a))
-        dominated[a] = False
-        keep &= ~dominated
-    del n
-    return idx[keep]
+        block = sub[:, b]
+        le = np.all(sub[:, [a]] <= block, axis=0)
+        eq = np.all(sub[:, [a]] == block, axis=0)
+        keep[b[le & (~eq | (b > a))]] = False
+    return alive[keep]
 
 
-def solve_kmedian(
-    cost: np.ndarray, weights: np.ndarray, k: int, time_limit: float = 120.0, exact_limit: int = EXACT_LIMIT
-) -> KMedianSolution:
+def aggregate_rows(cost: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Merge chairs with identical cost rows: (distinct rows, summed weights, row of each chair)."""
+    cost = np.ascontiguousarray(cost, float)
+    keys = cost.view(np.dtype((np.void, cost.dtype.itemsize * cost.shape[1]))).ravel()
+    _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+    return cost[first], np.bincount(inverse.ravel(), weights=weights, minlength=len(first)), inverse.ravel()
+
+
+class _Instance:
+    """The reduced problem: distinct client rows × useful casters, and its feasible pairs."""
+
+    def __init__(self, cost: np.ndarray, weights: np.ndarray):
+        self.cols = prune_candidates(cost)
+        self.full = np.asarray(cost, float)[:, self.cols]
+        self.sub, self.w, self.inverse = aggregate_rows(self.full, np.asarray(weights, float))
+        self.m, self.n = self.sub.shape
+        self.ii, self.jj = np.nonzero(np.isfinite(self.sub))
+        self.wc = self.w[self.ii] * self.sub[self.ii, self.jj]
+        self.served = np.isfinite(self.sub).any(axis=1).all() if self.n else False
+        self.cover = _min_cover(np.isfinite(self.sub)) if self.served else []
+
+    def value(self, chosen) -> float:
+        """Σ w_i min_{j ∈ chosen} cost_ij (+inf if some chair is unserved)."""
+        v = self.sub[:, list(chosen)].min(axis=1)
+        return float(self.w @ v) if np.all(np.isfinite(v)) else math.inf
+
+    def relaxation(self, lam: np.ndarray, k: int):
+        """L(λ), ρ, the K casters the relaxation opens, and the reduced costs of the pairs."""
+        red = np.minimum(0.0, self.wc - lam[self.ii])
+        rho = np.bincount(self.jj, weights=red, minlength=self.n)
+        opened = np.argpartition(rho, k - 1)[:k] if k < self.n else np.arange(self.n)
+        return float(lam.sum() + rho[opened].sum()), rho, opened, red
+
+
+def _min_cover(allowed: np.ndarray) -> list[int]:
+    """A smallest set of columns serving every row of ``allowed`` (set cover over its distinct rows, HiGHS).
+
+    Its size is the fewest part numbers that serve every chair; exact (HiGHS proves the cover minimal).
+    """
+    # scipy.optimize: heavy, loaded only when a K-median is solved
+    from scipy.optimize import Bounds, LinearConstraint, milp
+
+    patterns = np.unique(allowed, axis=0)
+    n = allowed.shape[1]
+    res = milp(
+        np.ones(n),
+        constraints=[LinearConstraint(patterns.astype(float), 1, np.inf)],
+        integrality=np.ones(n),
+        bounds=Bounds(0, 1),
+        options={"disp": False, "mip_rel_gap": 0.0},
+    )
+    if res.status != 0:  # not proved minimal (never seen: a few hundred rows): no K is called infeasible
+        return []
+    return [int(j) for j in np.flatnonzero(res.x > 0.5)]
+
+
+# --------------------------------------------------------------------------- incumbent
+
+
+def _greedy(inst: _Instance, k: int, start) -> list[int]:
+    """Extend ``start`` to k casters, each time the one that serves the most unserved weight, then the least total."""
+    chosen = [int(j) for j in start][:k]
+    current = inst.sub[:, chosen].min(axis=1) if chosen else np.full(inst.m, np.inf)
+    allowed = np.isfinite(inst.sub)
+    while len(chosen) < k:
+        unserved = ~np.isfinite(current)
+        cand = np.minimum(current[:, None], inst.sub)
+        totals = inst.w @ np.where(np.isfinite(cand), cand, 0.0)
+        if unserved.any():  # cover the unserved weight first (ties: the least total)
+            cover = (inst.w[unserved] + 1e-9) @ allowed[unserved]
+            totals = np.where(cover == cover.max(), totals, np.inf)
+        totals[chosen] = np.inf
+        j = int(np.argmin(totals))
+        chosen.append(j)
+        current = np.minimum(current, inst.sub[:, j])
+    return chosen
+
+
+def _local_search(inst: _Instance, chosen, max_sweeps: int = 100) -> tuple[list[int], float]:
+    """1-swap local search (first improvement per position) until no swap lowers the value."""
+    chosen = [int(j) for j in chosen]
+    value = inst.value(chosen)
+    for _ in range(max_sweeps):
+        improved = False
+        for pos in range(len(chosen)):
+            rest = chosen[:pos] + chosen[pos + 1 :]
+            base = inst.sub[:, rest].min(axis=1) if rest else np.full(inst.m, np.inf)
+            cand = np.minimum(base[:, None], inst.sub)
+            served = np.isfinite(cand).all(axis=0)
+            totals = np.where(served, inst.w @ np.where(served[None, :], cand, 0.0), np.inf)
+            totals[chosen] = np.inf
+            j = int(np.argmin(totals))
+            if totals[j] < value - 1e-12 * max(1.0, abs(value)):
+                chosen[pos], value, improved = j, float(totals[j]), True
+        if not improved:
+            break
+    return sorted(chosen), value
+
+
+# --------------------------------------------------------------------------- bound and proof
+
+
+def lagrangian_bound(cost: np.ndarray, weights: np.ndarray, k: int, lam: np.ndarray) -> float:
+    """L(λ) = Σ_i λ_i + (sum of the k smallest ρ_j), ρ_j = Σ_i min(0, w_i c_ij − λ_i): a lower bound on
+    the K-median optimum for every λ (the module docstring); infinite costs never enter ρ."""
+    cost = np.asarray(cost, float)
+    wc = np.where(np.isfinite(cost), np.asarray(weights, float)[:, None] * cost, np.inf)
+    with np.errstate(invalid="ignore"):
+        rho = np.minimum(0.0, wc - np.asarray(lam, float)[:, None]).sum(axis=0)
+    return float(np.sum(lam) + np.sort(rho)[:k].sum())
+
+
+def _subgradient(inst: _Instance, k: int, upper: float, chosen, lam: np.ndarray, iterations: int):
+    """Improve λ toward the incumbent's value; returns (bound, λ, upper, chosen) with the best of each."""
+    best, best_lam = -math.inf, lam
+    theta, stall = 1.0, 0
+    isopen = np.zeros(inst.n, bool)
+    for it in range(iterations):
+        value, rho, opened, red = inst.relaxation(lam, k)
+        if value > best:
+            best, best_lam, stall = value, lam, 0
+        else:
+            stall += 1
+            if stall >= 15:
+                theta, stall = theta / 2, 0
+        candidate = inst.value(opened)
+        if candidate < upper:
+            upper, chosen = candidate, sorted(int(j) for j in opened)
+        if upper - best <= TOLERANCE * max(1.0, abs(upper)) or theta < 1e-6:
+            break
+        if it % 10 == 9 and len(_eliminate(inst, best_lam, k, upper)[0]) <= k + 8:
+            break  # few enough casters left for a quick exact MIP
+        isopen[:] = False
+        isopen[opened] = True
+        g = 1.0 - np.bincount(inst.ii, weights=(red < 0) & isopen[inst.jj], minlength=inst.m)
+        norm = float(g @ g)
+        if norm == 0:  # the relaxation serves every client once: its value is attained, L = optimum
+            break
+        lam = lam + theta * (upper - value) / norm * g
+    return best, best_lam, upper, chosen
+
+
+def _eliminate(inst: _Instance, lam: np.ndarray, k: int, upper: float) -> tuple[np.ndarray, np.ndarray]:
+    """(casters that may be in a set as good as ``upper``, the subset that must be in every such set)."""
+    value, rho, opened, _ = inst.relaxation(lam, k)
+    if k >= inst.n:
+        return np.arange(inst.n), np.arange(inst.n)
+    ordered = np.sort(rho)
+    kth, next_ = ordered[k - 1], ordered[k]
+    isopen = np.zeros(inst.n, bool)
+    isopen[opened] = True
+    margin = TOLERANCE * max(1.0, abs(upper))
+    closed = ~isopen & (value + rho - kth > upper + margin)
+    forced = isopen & (value - rho + next_ > upper + margin)
+    return np.flatnonzero(~closed), np.flatnonzero(forced)
+
+
+def radius_mip(cost: np.ndarray, weights: np.ndarray, k: int, fixed_open=(), time_limit: float = 120.0):
+    """Exact K-median over the columns of ``cost`` by HiGHS in the radius form (module docstring, step 5).
+
+    Returns (scipy result, chosen columns or None, constant): the optimum is ``result.fun + constant`` and
+    HiGHS's dual bound ``result.mip_dual_bound + constant``.
+    """
+    # scipy.optimize / scipy.sparse: heavy, loaded only when a K-median needs the MIP
+    from scipy.optimize import Bounds, LinearConstraint, milp
+    from scipy.sparse import csr_matrix
+
+    cost = np.asarray(cost, float)
+    weights = np.asarray(weights, float)
+    m, n = cost.shape
+    order = np.argsort(cost, axis=1, kind="stable")
+    ranked = np.take_along_axis(cost, order, axis=1)
+    constant = float(weights @ ranked[:, 0])
+    with np.errstate(invalid="ignore"):
+        step = np.diff(ranked, axis=1)  # r_(t+1) − r_(t); inf past the allowed casters, nan between infs
+    fixed = np.zeros(n, bool)
+    fixed[list(fixed_open)] = True
+    # the t cheapest casters are surely hit when they include a fixed one or number more than n − k
+    hit = np.logical_or.accumulate(fixed[order], axis=1)[:, :-1] | (np.arange(1, n)[None, :] > n - k)
+    ii, tt = np.nonzero(np.isfinite(step) & (step > 0) & ~hit)
+    rank = np.empty_like(order)
+    np.put_along_axis(rank, order, np.broadcast_to(np.arange(n), (m, n)), axis=1)
+    member = rank[ii] <= tt[:, None]
+    _, first, inverse = np.unique(np.packbits(member, axis=1), axis=0, return_index=True, return_inverse=True)
+    coef = np.bincount(inverse.ravel(), weights=weights[ii] * step[ii, tt])
+    sets = member[first]
+    s = len(first)
+    r, c = np.nonzero(sets)
+    radius = csr_matrix((np.ones(len(r) + s), (np.r_[r, np.arange(s)], np.r_[c, n + np.arange(s)])), shape=(s, n + s))
+    patterns = np.unique(np.isfinite(cost), axis=0)
+    pr, pc = np.nonzero(patterns)
+    cover = csr_matrix((np.ones(len(pr)), (pr, pc)), shape=(len(patterns), n + s))
+    count = csr_matrix((np.ones(n), (np.zeros(n, int), np.arange(n))), shape=(1, n + s))
+    rows = [LinearConstraint(cover, 1, np.inf), LinearConstraint(count, k, k)]
+    if s:
+        rows.append(LinearConstraint(radius, 1, np.inf))
+    res = milp(
+        np.r_[np.zeros(n), coef],
+        constraints=rows,
+        integrality=np.r_[np.ones(n), np.zeros(s)],
+        bounds=Bounds(np.r_[fixed.astype(float), np.zeros(s)], np.r_[np.ones(n), np.full(s, np.inf)]),
+        options={"time_limit": time_limit, "mip_rel_gap": 0.0, "disp": False},
+    )
+    chosen = None if res.x is None else np.flatnonzero(res.x[:n] > 0.5)
+    return res, chosen, constant
+
+
+# --------------------------------------------------------------------------- one K, and the curve
+
+
+def _solve(inst: _Instance, k: int, start, lam, time_limit: float) -> tuple[KMedianSolution, np.ndarray | None]:
+    t0 = time.perf_counter()
+    out = KMedianSolution(k=k, candidates=inst.n)
+    if not inst.served:
+        out.message = "some chair has no allowed caster"
+        return _done(out, t0), lam
+    if k < len(inst.cover):
+        out.message = f"no {k} casters serve every chair: the fewest that do are {len(inst.cover)} (set cover, HiGHS)"
+        out.method = "set cover (HiGHS)"
+        return _done(out, t0), lam
+    if k >= inst.n:  # every useful caster stocked: each chair gets its own best (regret 0)
+        return _finish(inst, out, list(range(inst.n)), None, "optimal", "all useful casters", t0), lam
+    chosen = _greedy(inst, k, start)
+    if not math.isfinite(inst.value(chosen)):
+        chosen = _greedy(inst, k, inst.cover)
+    chosen, upper = _local_search(inst, chosen)
+    if lam is None or len(lam) != inst.m:
+        lam = inst.w * inst.sub[:, chosen].min(axis=1)
+    bound, lam, upper2, chosen2 = _subgradient(inst, k, upper, chosen, lam, LAGRANGIAN_ITERATIONS)
+    if upper2 < upper:
+        chosen, upper = _local_search(inst, chosen2)
+    if upper - bound <= TOLERANCE * max(1.0, abs(upper)):
+        return _finish(inst, out, chosen, bound, "optimal-by-bound", "Lagrangian bound", t0), lam
+    keep, forced = _eliminate(inst, lam, k, upper)
+    res, picked, constant = radius_mip(
+        inst.sub[:, keep], inst.w, k, np.searchsorted(keep, forced), time_limit=max(1.0, time_limit)
+    )
+    method = f"Lagrangian elimination ({inst.n} -> {len(keep)} casters) + HiGHS MIP"
+    mip_bound = getattr(res, "mip_dual_bound", None)
+    mip_bound = -math.inf if mip_bound is None or not math.isfinite(mip_bound) else mip_bound + constant
+    if picked is not None and len(picked) == k and inst.value(keep[picked]) < upper:
+        chosen, upper = sorted(int(j) for j in keep[picked]), inst.value(keep[picked])
+    # no set better than `upper` lies outside `keep`: the MIP's bound holds globally up to `upper`
+    bound = max(bound, min(upper, mip_bound))
+    status = "optimal" if upper - bound <= TOLERANCE * max(1.0, abs(upper)) else "time limit"
+    out = _finish(inst, out, chosen, bound, status, method, t0)
+    out.message = str(res.message)
+    return out, lam
+
+
+def _finish(inst: _Instance, out: KMedianSolution, chosen, bound, status, method, t0) -> KMedianSolution:
+    chosen = np.array(sorted(chosen), int)
+    pick = chosen[np.argmin(inst.full[:, chosen], axis=1)]
+    out.chosen = [int(inst.cols[j]) for j in chosen]
+    out.assignment = inst.cols[pick]
+    out.regret = inst.value(chosen)
+    out.lower_bound = out.regret if bound is None else min(float(bound), out.regret)
+    out.gap = out.regret - out.lower_bound
+    out.status, out.method = status, method
+    return _done(out, t0)
+
+
+def _done(out: KMedianSolution, t0: float) -> KMedianSolution:
+    out.seconds = time.perf_counter() - t0
+    return out
+
+
+def kmedian_curve(
+    cost: np.ndarray, weights: np.ndarray, ks, time_limit: float = 120.0, until: float | None = None
+) -> dict:
+    """The K-median for every K in ``ks`` (ascending), sharing the reduction and warm starts.
+
+    Parameters
+    ----------
+    cost : (chairs, casters) regrets r_ij >= 0 [objective units], +inf where caster j is not allowed
+    weights : (chairs,) counts w_i >= 0
+    ks : the numbers of part numbers (each >= 1)
+    time_limit : limit of each exact MIP [s]; a MIP stopped by it gives status "time limit"
+    until : if given, go on past ``max(ks)`` (K + 1, K + 2, …) until the optimal total regret is at most
+        ``until`` [objective units] or every useful caster is stocked
+
+    Returns
+    -------
+    dict K -> :class:`KMedianSolution`, each proved optimal or infeasible unless a time limit hit.
+    """
+    t0 = time.perf_counter()
+    inst = _Instance(cost, weights)
+    setup = time.perf_counter() - t0
+    out: dict = {}
+    start: list = []
+    lam = None
+    ks = sorted(ks)
+    k = ks[0] if ks else 1
+    while ks or (until is not None and out and k <= inst.n and out[max(out)].regret > until):
+        out[k], lam = _solve(inst, k, start, lam, time_limit)
+        if out[k].chosen:
+            start = [int(np.flatnonzero(inst.cols == j)[0]) for j in out[k].chosen]
+        if ks and ks[0] == k:
+            ks.pop(0)
+        k = ks[0] if ks else k + 1
+    if out:
+        out[min(out)].seconds += setup  # the shared reduction, counted once
+    return out
+
+
+def solve_kmedian(cost: np.ndarray, weights: np.ndarray, k: int, time_limit: float = 120.0) -> KMedianSolution:
     """Choose ``k`` columns of ``cost`` minimising Σ_i w_i min_{j chosen} cost_ij, every row served.
 
     Parameters
     ----------
     cost : (chairs, casters) regrets r_ij >= 0 [objective units], +inf where caster j is not allowed
     weights : (chairs,) counts w_i >= 0
-    k : number of casters to choose (1 <= k <= casters)
-    time_limit : HiGHS time limit [s]; if it stops early the result says so (status "time limit")
-    exact_limit : above this many feasible pairs use the heuristic with a Lagrangian gap bound
+    k : number of casters to choose (>= 1)
+    time_limit : limit of the exact MIP [s]
 
     Returns
     -------
-    KMedianSolution (exact via ``scipy.optimize.milp`` when small enough).
+    KMedianSolution, proved optimal ("optimal" or "optimal-by-bound") or infeasible, unless the time limit hit.
     """
-    start = time.perf_counter()
-    cost = np.asarray(cost, float)
-    weights = np.asarray(weights, float)
-    cols = prune_candidates(cost)
-    sub = cost[:, cols]
-    out = KMedianSolution(k=k)
-    if len(cols) == 0 or not np.isfinite(sub).any(axis=1).all():
-        out.message = "some chair has no allowed caster"
-        out.seconds = time.perf_counter() - start
-        return out
-    if k >= len(cols):  # every useful caster can be stocked: each chair gets its own best (regret 0 by design)
-        chosen = np.arange(len(cols))
-        best = _assign(sub, chosen)
-        return _finish(out, cols, chosen, best, sub, weights, "optimal", start, bound=None)
-    pairs = int(np.isfinite(sub).sum())
-    if pairs <= exact_limit:
-        out = _milp(out, cols, sub, weights, k, time_limit, start)
-        if out.status != "time limit":
-            return out
-        # HiGHS stopped early: keep the better of its incumbent and the heuristic, with the better bound
-        mip = out
-        out = _heuristic(KMedianSolution(k=k), cols, sub, weights, k, start)
-        if mip.regret < out.regret:
-            mip.lower_bound = max(mip.lower_bound, out.lower_bound)
-            out = mip
-        else:
-            out.lower_bound = max(out.lower_bound, mip.lower_bound if math.isfinite(mip.lower_bound) else 0.0)
-        out.gap = max(0.0, out.regret - out.lower_bound)
-        out.status = "optimal-by-bound" if out.gap <= 1e-9 * max(1.0, abs(out.regret)) else "time limit"
-        out.seconds = time.perf_counter() - start
-        return out
-    return _heuristic(out, cols, sub, weights, k, start)
-
-
-def _assign(sub: np.ndarray, chosen: np.ndarray) -> np.ndarray:
-    """Per chair, the position in ``chosen`` of its cheapest chosen column (index into sub's columns)."""
-    pick = np.argmin(sub[:, chosen], axis=1)
-    return chosen[pick]
-
-
-def _finish(out, cols, chosen, best, sub, weights, status, start, bound):
-    values = sub[np.arange(sub.shape[0]), best]
-    if not np.all(np.isfinite(values)):
-        out.status = "infeasible"
-        out.message = f"no {out.k} casters serve every chair"
-        out.seconds = time.perf_counter() - start
-        return out
-    out.chosen = sorted(int(cols[j]) for j in chosen)
-    out.assignment = cols[best]
-    out.regret = float(np.dot(weights, values))
-    out.status = status
-    out.lower_bound = out.regret if bound is None else float(bound)
-    out.gap = max(0.0, out.regret - out.lower_bound)
-    out.seconds = time.perf_counter() - start
-    return out
-
-
-def _milp(out, cols, sub, weights, k, time_limit, start):
-    # scipy.optimize / scipy.sparse: heavy, loaded only when a K-median is solved
-    from scipy.optimize import Bounds, LinearConstraint, milp
-    from scipy.sparse import coo_matrix, csr_matrix
-
-    m, n = sub.shape
-    ii, jj = np.nonzero(np.isfinite(sub))
-    p = len(ii)
-    # variables: y_0..y_{n-1}, then x_p for each feasible pair p = (ii[p], jj[p])
-    c = np.concatenate([np.zeros(n), weights[ii] * sub[ii, jj]])
-    # Σ_j x_ij = 1
-    a_assign = coo_matrix((np.ones(p), (ii, n + np.arange(p))), shape=(m, n + p))
-    # x_ij − y_j <= 0
-    rows = np.concatenate([np.arange(p), np.arange(p)])
-    colsx = np.concatenate([n + np.arange(p), jj])
-    vals = np.concatenate([np.ones(p), -np.ones(p)])
-    a_link = coo_matrix((vals, (rows, colsx)), shape=(p, n + p))
-    # Σ_j y_j = K
-    a_k = csr_matrix((np.ones(n), (np.zeros(n, int), np.arange(n))), shape=(1, n + p))
-    constraints = [
-        LinearConstraint(csr_matrix(a_assign), 1, 1),
-        LinearConstraint(csr_matrix(a_link), -np.inf, 0),
-        LinearConstraint(a_k, k, k),
-    ]
-    integrality = np.concatenate([np.ones(n), np.zeros(p)])
-    res = milp(
-        c,
-        constraints=constraints,
-        integrality=integrality,
-        bounds=Bounds(0, 1),
-        options={"time_limit": time_limit, "mip_rel_gap": 0.0, "disp": False},
-    )
-    if res.x is None:
-        out.status = "infeasible"
-        out.message = f"no {k} casters serve every chair ({res.message})"
-        out.seconds = time.perf_counter() - start
-        return out
-    chosen = np.flatnonzero(res.x[:n] > 0.5)
-    best = _assign(sub, chosen)
-    status = "optimal" if res.status == 0 else "time limit"
-    bound = getattr(res, "mip_dual_bound", None)
-    out = _finish(
-        out,
-        cols,
-        chosen,
-        best,
-        sub,
-        weights,
-        status,
-        start,
-        bound=None if status == "optimal" or bound is None else bound,
-    )
-    out.message = res.message
-    return out
-
-
-def _heuristic(out, cols, sub, weights, k, start, iterations: int = 400):
-    """Greedy + 1-swap local search; gap to the Lagrangian bound (assignment constraints relaxed)."""
-    chosen, value = greedy_swap(sub, weights, k)
-    if not math.isfinite(value):
-        out.status = "infeasible"
-        out.message = f"no {k} casters found that serve every chair (greedy cover)"
-        out.seconds = time.perf_counter() - start
-        return out
-    bound = lagrangian_bound(sub, weights, k, upper=value, iterations=iterations)
-    # a bound that meets the heuristic's value (to 1e-9) proves it optimal
-    status = "optimal-by-bound" if value - bound <= 1e-9 * max(1.0, abs(value)) else "heuristic"
-    return _finish(out, cols, chosen, _assign(sub, chosen), sub, weights, status, start, bound=bound)
-
-
-def greedy_swap(cost: np.ndarray, weights: np.ndarray, k: int, max_seconds: float = 120.0) -> tuple[np.ndarray, float]:
-    """Greedy K-median (cover the unserved weight first, then the least total), improved by 1-swaps.
-
-    Returns (chosen columns sorted, Σ w_i min_{j chosen} cost_ij); the value is +inf if the greedy cover
-    leaves a chair unserved.
-    """
-    start = time.perf_counter()
-    m, n = cost.shape
-    big = np.where(np.isfinite(cost), cost, np.inf)
-    allowed = np.isfinite(big)
-    finite_big = np.where(allowed, big, 0.0)
-    chosen: list[int] = []
-    current = np.full(m, np.inf)
-    for _ in range(k):
-        unserved = ~np.isfinite(current)
-        gain_cover = (weights[unserved] + 1e-9) @ allowed[unserved] if unserved.any() else np.zeros(n)
-        if unserved.any() and gain_cover.max() > 0:
-            gain_cover[chosen] = -1
-            j = int(np.argmax(gain_cover))
-        else:
-            cand = np.minimum(current[:, None], big)
-            totals = weights @ np.where(np.isfinite(cand), cand, 0.0)
-            totals[chosen] = np.inf
-            j = int(np.argmin(totals))
-        chosen.append(j)
-        current = np.minimum(current, big[:, j])
-    del finite_big
-
-    def total(cur):
-        return float(np.dot(weights, cur)) if np.all(np.isfinite(cur)) else math.inf
-
-    value = total(current)
-    improved = True
-    while improved and time.perf_counter() - start < max_seconds:
-        improved = False
-        for pos in range(k):
-            rest = [c for i, c in enumerate(chosen) if i != pos]
-            base = big[:, rest].min(axis=1) if rest else np.full(m, np.inf)
-            cand = np.minimum(base[:, None], big)
-            served = np.isfinite(cand).all(axis=0)
-            totals = np.where(served, weights @ np.where(np.isfinite(cand), cand, 0.0), np.inf)
-            totals[chosen] = np.inf
-            j = int(np.argmin(totals))
-            if totals[j] < value - 1e-12 * max(1.0, abs(value)):
-                chosen[pos] = j
-                current = cand[:, j]
-                value = total(current)
-                improved = True
-    return np.array(sorted(chosen)), value
-
-
-def lagrangian_bound(cost: np.ndarray, weights: np.ndarray, k: int, upper: float, iterations: int = 400) -> float:
-    """Lower bound on the K-median optimum by Lagrangian relaxation of "every chair served once".
-
-    L(λ) = Σ_i λ_i + (sum of the k smallest ρ_j), ρ_j = Σ_i min(0, w_i c_ij − λ_i), is a lower bound for
-    every λ; maximised by subgradient steps of Polyak's size θ (upper − L)/‖g‖² toward the heuristic
-    value ``upper`` (θ halves after 20 steps without progress).  Infinite costs never enter ρ.
-    """
-    wc = np.where(np.isfinite(cost), weights[:, None] * cost, np.inf)
-    lam = np.min(wc, axis=1)
-    best = 0.0
-    theta = 2.0
-    stall = 0
-    for _ in range(iterations):
-        with np.errstate(invalid="ignore"):
-            red = np.minimum(0.0, wc - lam[:, None])
-        rho = red.sum(axis=0)
-        open_ = np.argpartition(rho, k - 1)[:k] if k < len(rho) else np.arange(len(rho))
-        value = float(lam.sum() + rho[open_].sum())
-        if value > best + 1e-9 * max(1.0, abs(best)):
-            best, stall = value, 0
-        else:
-            stall += 1
-            if stall >= 20:
-                theta, stall = theta / 2, 0
-                if theta < 1e-4:
-                    break
-        g = 1.0 - (red[:, open_] < 0).sum(axis=1)
-        norm = float(np.dot(g, g))
-        if norm == 0:  # λ is optimal: the relaxed solution serves every chair once
-            break
-        lam = lam + theta * max(upper - value, 1e-12 * max(1.0, abs(upper))) / norm * g
-    return max(0.0, min(best, upper))
+    return kmedian_curve(cost, weights, [k], time_limit=time_limit)[k]
 
 
 def brute_force_kmedian(cost: np.ndarray, weights: np.ndarray, k: int) -> tuple[float, tuple]:

@@ -3,16 +3,19 @@ K-median of part numbers, and the Dask path on a 2-worker LocalCluster."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import pickle
+import re
 
 import numpy as np
 import pytest
 
 import designer
 from designer.studies.fleet import _fleet, _rule, _table
-from designer.studies.fleet._kmedian import brute_force_kmedian, solve_kmedian
+from designer.studies.fleet import _kmedian
+from designer.studies.fleet._kmedian import brute_force_kmedian, kmedian_curve, solve_kmedian
 from designer.cli import main
 from designer.data.paper import INCH
 from designer.model import performance, scatter_of
@@ -284,7 +287,8 @@ def _small_instance(base, chairs=60, candidates=12, seed=5):
 
 
 def test_kmedian_equals_brute_force_on_60_chairs_12_candidates(base):
-    """K = 1…4: the MIP's least count-weighted regret and chosen casters equal enumeration of all K-subsets."""
+    """K = 1…4: the solver's least count-weighted regret and chosen casters equal enumeration of all
+    K-subsets, each K proved optimal (lower bound within the stated tolerance of the value)."""
     cost, weights = _small_instance(base)
     assert cost.shape == (60, 12) and np.isinf(cost).any()  # some casters break some chairs' bounds
     values = []
@@ -294,8 +298,9 @@ def test_kmedian_equals_brute_force_on_60_chairs_12_candidates(base):
         if math.isinf(best):
             assert sol.status == "infeasible"
             continue
-        assert sol.status == "optimal"
+        assert sol.status in ("optimal", "optimal-by-bound")
         assert sol.regret == pytest.approx(best, rel=1e-9, abs=1e-9)
+        assert sol.lower_bound <= best * (1 + 1e-12) and sol.gap <= _kmedian.TOLERANCE * best
         # the chosen casters achieve the optimum (the brute-force subset, or a tie with it)
         achieved = float(np.dot(weights, cost[:, sol.chosen].min(axis=1)))
         assert achieved == pytest.approx(best, rel=1e-9, abs=1e-9)
@@ -304,15 +309,150 @@ def test_kmedian_equals_brute_force_on_60_chairs_12_candidates(base):
     assert len(values) >= 2 and all(a >= b for a, b in zip(values, values[1:]))  # more SKUs never cost more
 
 
-def test_kmedian_heuristic_gap_bound_brackets_the_optimum(base):
-    """Above the exact size limit: greedy + swap is never better than the MIP, its bound never above it."""
-    cost, weights = _small_instance(base, seed=8)
-    exact = solve_kmedian(cost, weights, 3)
-    heur = solve_kmedian(cost, weights, 3, exact_limit=0)
-    assert heur.status in ("heuristic", "optimal-by-bound") and exact.status == "optimal"
-    assert heur.regret >= exact.regret * (1 - 1e-12)
-    assert heur.lower_bound <= exact.regret * (1 + 1e-9)
-    assert heur.gap == pytest.approx(heur.regret - heur.lower_bound)
+def _random_instance(rng, kind):
+    """A small random K-median instance: continuous costs, many ties, points in a square, or repeated rows;
+    a share of the pairs not allowed (+inf); each row's least cost 0 (regrets), weights 1–19."""
+    m, n = int(rng.integers(1, 40)), int(rng.integers(1, 11))
+    if kind == 0:
+        c = rng.uniform(0, 10, (m, n))
+    elif kind == 1:
+        c = rng.integers(0, 4, (m, n)).astype(float)
+    elif kind == 2:
+        c = np.linalg.norm(rng.uniform(0, 1, (m, 1, 2)) - rng.uniform(0, 1, (1, n, 2)), axis=2)
+    else:
+        c = np.repeat(rng.uniform(0, 10, (max(1, m // 3), n)), 3, axis=0)
+    c = np.where(rng.uniform(size=c.shape) < rng.choice([0.0, 0.3, 0.6]), np.inf, c)
+    least = np.where(np.isfinite(c).any(axis=1, keepdims=True), np.min(c, axis=1, keepdims=True), 0.0)
+    return c - least, rng.integers(1, 20, c.shape[0]).astype(float)
+
+
+def test_optimality_proof_against_exhaustive_kmedian():
+    """On 240 random instances (ties, repeated rows, forbidden pairs) and every K: the value equals the
+    exhaustive K-median, the status is a proof ("optimal" or "optimal-by-bound") with a lower bound that
+    never exceeds the exhaustive optimum and lies within the tolerance of the value, the assignment gives
+    each chair its cheapest chosen caster, and "infeasible" is said exactly when no K casters serve all."""
+    rng = np.random.default_rng(2024)
+    proofs = set()
+    for trial in range(240):
+        cost, weights = _random_instance(rng, trial % 4)
+        for k, sol in kmedian_curve(cost, weights, range(1, cost.shape[1] + 1)).items():
+            best, _ = brute_force_kmedian(cost, weights, k)
+            if math.isinf(best):
+                assert sol.status == "infeasible", (trial, k)
+                continue
+            assert sol.status in ("optimal", "optimal-by-bound"), (trial, k, sol.status)
+            proofs.add(sol.method.split(" (")[0])
+            tol = _kmedian.TOLERANCE * max(1.0, best)
+            assert abs(sol.regret - best) <= tol and sol.lower_bound <= best + tol and sol.gap <= tol
+            assert len(sol.chosen) == k or sol.method == "all useful casters"
+            served = cost[np.arange(len(cost)), sol.assignment]
+            assert np.allclose(served, cost[:, sol.chosen].min(axis=1)) and math.isclose(
+                float(weights @ served), sol.regret, rel_tol=1e-12, abs_tol=1e-12
+            )
+    # both proofs are exercised: the Lagrangian bound alone, and elimination + HiGHS
+    assert {"Lagrangian bound", "Lagrangian elimination"} <= proofs
+
+
+def test_lagrangian_bound_never_exceeds_the_optimum():
+    """L(λ) <= the exhaustive K-median optimum for arbitrary multipliers λ (the bound the proofs rest on)."""
+    rng = np.random.default_rng(7)
+    checked = 0
+    for trial in range(60):
+        cost, weights = _random_instance(rng, trial % 4)
+        for k in range(1, cost.shape[1] + 1):
+            best, _ = brute_force_kmedian(cost, weights, k)
+            if math.isinf(best):
+                continue
+            for scale in (0.0, 1.0, 5.0):
+                lam = rng.uniform(0, scale * (1 + np.nanmax(np.where(np.isfinite(cost), cost, 0))), len(cost))
+                lam = lam * weights
+                assert _kmedian.lagrangian_bound(cost, weights, k, lam) <= best * (1 + 1e-12) + 1e-9
+                checked += 1
+    assert checked > 300
+
+
+def test_elimination_keeps_every_optimal_set_and_radius_mip_is_exact():
+    """The Lagrangian elimination never removes a caster of any optimal K-set and never forces one that some
+    optimal set omits; HiGHS on the radius form alone gives the exhaustive optimum."""
+    rng = np.random.default_rng(3)
+    for trial in range(40):
+        cost, weights = _random_instance(rng, 2 if trial % 2 else 1)
+        if not np.isfinite(cost).any(axis=1).all() or cost.shape[1] < 3:
+            continue
+        for k in range(1, cost.shape[1]):
+            best, _ = brute_force_kmedian(cost, weights, k)
+            if math.isinf(best):
+                continue
+            res, chosen, constant = _kmedian.radius_mip(cost, weights, k)
+            assert res.status == 0 and math.isclose(res.fun + constant, best, rel_tol=1e-9, abs_tol=1e-9)
+            assert math.isclose(float(weights @ cost[:, chosen].min(axis=1)), best, rel_tol=1e-9, abs_tol=1e-9)
+            optimal = [
+                set(s)
+                for s in itertools.combinations(range(cost.shape[1]), k)
+                if math.isclose(float(weights @ cost[:, list(s)].min(axis=1)), best, rel_tol=1e-12, abs_tol=1e-12)
+            ]
+            inst = _kmedian._Instance(cost, weights)
+            lam = inst.w * inst.sub[:, inst.sub.argmin(axis=1)].min(axis=1) + rng.uniform(0, 1, inst.m)
+            keep, forced = _kmedian._eliminate(inst, lam, min(k, inst.n - 1) or 1, best)
+            if k >= inst.n:
+                continue
+            kept = {int(inst.cols[j]) for j in keep}
+            must = {int(inst.cols[j]) for j in forced}
+            # optimal sets over the pruned columns (pruning keeps at least one optimal set)
+            pruned = [s for s in optimal if s <= set(inst.cols.tolist())]
+            assert pruned and all(s <= kept for s in pruned) and all(must <= s for s in pruned)
+
+
+def test_pruning_and_merging_keep_the_optimum():
+    """Dropped columns are each dominated by a kept one, merged rows carry the summed weights, and the
+    optimum over the kept columns equals the optimum over all columns."""
+    rng = np.random.default_rng(9)
+    for trial in range(40):
+        cost, weights = _random_instance(rng, 3 if trial % 2 else 1)
+        keep = _kmedian.prune_candidates(cost)
+        for b in set(range(cost.shape[1])) - set(keep.tolist()):
+            assert not np.isfinite(cost[:, b]).any() or any(np.all(cost[:, a] <= cost[:, b]) for a in keep)
+        rows, w, inverse = _kmedian.aggregate_rows(cost, weights)
+        assert np.array_equal(rows[inverse], cost) and math.isclose(w.sum(), weights.sum())
+        assert len(np.unique(rows, axis=0)) == len(rows)
+        for k in range(1, min(4, len(keep)) + 1):
+            assert brute_force_kmedian(cost[:, keep], weights, k)[0] == pytest.approx(
+                brute_force_kmedian(cost, weights, k)[0], rel=1e-12
+            )
+
+
+def test_suggested_count_is_the_smallest_k_within_max_regret_by_brute_force(base):
+    """On a 30-chair fleet: the suggested count is the smallest K whose exhaustive least mean regret (over
+    units sold) is <= --max-regret, for thresholds between the curve's values, at a value exactly, and
+    below the whole curve (then K_max, flagged not within)."""
+    f = _table.example_fleet(30, seed=12)
+    res = _fleet.fleet_recommendations(f, base, skus="auto", k_max=4, monte_carlo=False)
+    cost, columns = res.regret_cost["regret"], res.regret_cost["columns"]
+    units = float(f.count[res.feasible].sum())
+    keep = _kmedian.prune_candidates(cost)
+    exhaustive = {k: brute_force_kmedian(cost[:, keep], f.count[res.feasible], k)[0] / units for k in range(1, 5)}
+    assert all(a > b for a, b in zip(list(exhaustive.values()), list(exhaustive.values())[1:]))
+    for k, value in exhaustive.items():
+        assert res.curve[k].regret / units == pytest.approx(value, rel=1e-9)
+    cases = [
+        ((exhaustive[2] + exhaustive[3]) / 2, 3, True),
+        (exhaustive[2], 2, True),
+        (exhaustive[1] * 2, 1, True),
+        (exhaustive[4] / 2, 4, False),
+    ]
+    for threshold, expected, within in cases:
+        got = _fleet.suggest_skus(res.curve, units, threshold)
+        assert (got["count"], got["within"]) == (expected, within), threshold
+        assert got["mean_regret_N"] == pytest.approx(exhaustive[expected], rel=1e-9)
+        assert f"{threshold:g} N" in got["rule"]
+    assert res.suggested == _fleet.suggest_skus(res.curve, units, _fleet.DEFAULT_MAX_REGRET)
+    assert res.skus is res.curve[res.suggested["count"]] and set(res.skus.chosen) <= set(columns.tolist())
+    # without --k-max the curve goes on past 8 until the threshold is met (every K proved optimal)
+    strict = _fleet.fleet_recommendations(f, base, skus="auto", monte_carlo=False, max_regret=0.05)
+    count, ks = strict.suggested["count"], sorted(strict.curve)
+    assert strict.suggested["within"] and ks == list(range(1, max(8, count) + 1)) and count > 8
+    assert strict.curve[count].regret / units <= 0.05 < strict.curve[count - 1].regret / units
+    assert {s.status for s in strict.curve.values()} <= {"optimal", "optimal-by-bound"}
 
 
 def test_fleet_cli_writes_csv_json_and_report(tmp_path, capsys, root):
@@ -336,13 +476,13 @@ def test_fleet_cli_writes_csv_json_and_report(tmp_path, capsys, root):
     )
     assert code == 0
     data = json.loads(capsys.readouterr().out)
-    assert data["k"] == 2 and len(data["skus"]) == 2 and data["sku_status"] == "optimal"
+    assert data["k"] == 2 and len(data["skus"]) == 2 and data["sku_status"] in ("optimal", "optimal-by-bound")
     assert sum(s["chairs"] for s in data["skus"]) == data["feasible_chairs"]
     assert {"id", "design", "chairs", "count"} <= set(data["skus"][0])
     assert [c["k"] for c in data["regret_curve"]] == [1, 2, 3]
-    regrets = [c["regret"] for c in data["regret_curve"] if c["regret"] is not None]
+    regrets = [c["total_regret_N"] for c in data["regret_curve"] if c["total_regret_N"] is not None]
     assert regrets == sorted(regrets, reverse=True)
-    assert data["weights"] == [1.0, 1.0] and "regret" in data
+    assert data["weights"] == [1.0, 1.0] and data["total_regret_N"] == data["regret_curve"][1]["total_regret_N"]
     header = (out / "fleet.csv").read_text().splitlines()[0].split(",")
     assert header == [
         "name",
@@ -358,6 +498,8 @@ def test_fleet_cli_writes_csv_json_and_report(tmp_path, capsys, root):
         "sku_turning_effort",
         "sku_threshold_force",
         "sku_shimmy_probability",
+        "knee_regret_N",
+        "sku_regret_N",
         "status",
     ]
     rows = data["rows"]
@@ -374,7 +516,8 @@ def test_infeasible_chair_is_reported_not_dropped(base):
     part-number choice leaves it out."""
     f = _table.fleet_from_text(GOOD + "tight,178,0.5,2.5,1,tile,chair,5\n")
     res = _fleet.fleet_recommendations(f, base, skus=1, k_max=1, monte_carlo=False)
-    regret = res.regret_cost["regret"][np.arange(2), res.skus.assignment]
+    col = np.searchsorted(res.regret_cost["columns"], res.skus.assignment)
+    regret = res.regret_cost["regret"][np.arange(2), col]
     assert np.all(regret >= 0) and np.all(np.isfinite(regret))  # never negative, never a broken bound
     rows = res.rows()
     assert [r["name"] for r in rows] == ["a", "b", "tight"]
@@ -427,3 +570,85 @@ def test_batched_monte_carlo_gives_the_numbers_of_the_shared_function(base):
         )
         assert tuple(got[r]) == want, r
     assert got[0, 0] < 0.05 < got[-1, 0]  # both paths (shared draw, top-up) are exercised
+
+
+def _regret_keys(node, path=""):
+    """Every (path, key) of a JSON tree whose key names a regret and holds a number."""
+    out = []
+    if isinstance(node, dict):
+        for key, value in node.items():
+            if "regret" in key and isinstance(value, (int, float)) and not isinstance(value, bool):
+                out.append(f"{path}/{key}")
+            out += _regret_keys(value, f"{path}/{key}")
+    elif isinstance(node, list):
+        for i, value in enumerate(node):
+            out += _regret_keys(value, f"{path}[{i}]")
+    return out
+
+
+def test_fleet_cli_answer_first_from_another_folder_and_json_units(tmp_path, monkeypatch, capsys):
+    """From a folder outside the repository, without --problem (the shipped indoor-manual problem):
+    `designer fleet F --skus 2` prints the suggested count on its first line, the K asked on a later one,
+    and writes the report under ./results/fleet/<name>/; `--json` has suggested_skus {count, rule,
+    mean_regret_N}, "regret_unit": "N", and every number keyed by a regret ends in _N."""
+    monkeypatch.chdir(tmp_path)
+    path = _table.write_fleet_csv(_table.example_fleet(40, seed=6), tmp_path / "line.csv")
+    assert main(["fleet", path.name, "--skus", "2", "--no-monte-carlo"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    first = re.fullmatch(
+        r"(\d+) part numbers? serve all 40 chairs within 2 N of each chair's best caster on average "
+        r"\(mean regret (\d+\.\d\d) N of J = F_turn \+ P\)",
+        lines[0],
+    )
+    assert first, lines[0]
+    assert (tmp_path / "results" / "fleet" / "line" / "fleet.csv").exists()
+    assert main(["fleet", path.name, "--skus", "2", "--no-monte-carlo", "--json", "--out", "o"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    suggested = data["suggested_skus"]
+    assert {"count", "rule", "mean_regret_N"} <= set(suggested) and data["regret_unit"] == "N"
+    assert suggested["count"] == int(first.group(1)) and f"{suggested['mean_regret_N']:.2f}" == first.group(2)
+    curve = {c["k"]: c["mean_regret_N"] for c in data["regret_curve"]}
+    assert suggested["mean_regret_N"] <= 2.0 and all(curve[k] > 2.0 for k in curve if k < suggested["count"])
+    if suggested["count"] != 2:
+        assert any(ln.startswith("K = 2 (asked with --skus)") for ln in lines)
+    keys = _regret_keys(data)
+    assert keys and all(k.endswith("_N") for k in keys), [k for k in keys if not k.endswith("_N")]
+    assert {"/total_regret_N", "/mean_regret_N", "/suggested_skus/mean_regret_N"} <= set(keys)
+
+
+def test_max_regret_option_reads_units_and_refuses_nonsense(tmp_path, capsys):
+    """--max-regret "1 lbf" is 4.448 N in the rule; a negative or unit-less nonsense value is one line, exit 2."""
+    path = _table.write_fleet_csv(_table.example_fleet(20, seed=6), tmp_path / "f.csv")
+    args = ["fleet", str(path), "--no-monte-carlo", "--json", "--out", str(tmp_path / "o")]
+    assert main([*args, "--max-regret", "1 lbf"]) == 0
+    assert "4.44822 N" in json.loads(capsys.readouterr().out)["suggested_skus"]["rule"]
+    for bad in ("-1", "2 m"):
+        code = main([*args, "--max-regret", bad])
+        errors = [ln for ln in capsys.readouterr().err.splitlines() if ln.startswith("designer: error")]
+        assert code == 2 and len(errors) == 1 and "--max-regret" in errors[0], (bad, errors)
+
+
+def test_regret_is_measured_against_the_least_j_not_the_recommendation(base):
+    """Own recommendation = the knee of the chair's front, not its least J: per chair, knee_regret_N and
+    sku_regret_N equal J − (least J over the chair's allowed stock, by a scalar loop); the count of chairs
+    whose part number beats their recommendation on J is reported as such."""
+    f = _table.example_fleet(50, seed=21)
+    res = _fleet.fleet_recommendations(f, base, skus=2, k_max=2, monte_carlo=False)
+    data = _fleet.fleet_data(res)
+    stock = res.stock
+    ev = _rule.evaluate_chairs(f.arrays(), stock, base)
+    w = base.weights
+    better = 0
+    for i, row in enumerate(data["rows"]):
+        if row["status"] != "ok":
+            continue
+        allowed = np.flatnonzero(ev["feasible"][i])
+        least = min(w[0] * ev["turning_effort"][i, j] + w[1] * ev["threshold_force"][i, j] for j in allowed)
+        knee = w[0] * row["turning_effort"] + w[1] * row["threshold_force"]
+        sku = w[0] * row["sku_turning_effort"] + w[1] * row["sku_threshold_force"]
+        assert row["knee_regret_N"] == pytest.approx(knee - least, abs=1e-9 * least)
+        assert row["sku_regret_N"] == pytest.approx(sku - least, abs=1e-9 * least)
+        assert row["knee_regret_N"] >= 0 and row["sku_regret_N"] >= 0
+        better += sku < knee - 1e-9 * least
+    own = data["own_recommendation"]
+    assert own["part_number_better_on_J"] == better and "knee" in own["meaning"] and "least J" in own["meaning"]
