@@ -79,6 +79,27 @@ TABLE1: tuple[Wheel, ...] = (
 TABLE1_TRAIL = 2.0 * INCH
 """Trail at which Table 1's critical speeds were measured [m]."""
 
+TABLE1_SOURCE = (
+    'Table 1, "Caster wheel parameters": seven commercial wheels (A-G) with their diameter, mass and '
+    "measured moment of inertia; wheels C-G with their critical speed measured on the test fork at 2 in "
+    "trail, 160 N load, bare ball-bearing spindle (B = 0); A and B stable up to 3.8 m/s"
+)
+"""Provenance of the scales derived from Table 1 (the risk law's model error and inertia prediction)."""
+
+DAMPING_SOURCE = (
+    'Appendix C, Eq. 11C: "several caster shimmy tests reported by Bruning (7) were plotted and an overall '
+    'M_f/θ_0 calculated ... Fitting a curve to the data gives M_f/θ_0 = 1.3" (Fig. 2C); the paper gives '
+    "no scatter for it"
+)
+"""Provenance of c_f = M_f/θ0 = 1.3 N·m/rad (:data:`BARE_FORK_DAMPING`); its scatter is an assumption."""
+
+SLIP_COEFFICIENT_SOURCE = (
+    'Appendix C, Eq. 12C and Fig. 3C: "it was found that K_s = 1250 newtons. Results for other speeds, '
+    'tire materials, and loads did not change K_s significantly" (one polyurethane tyre, 178 N); the '
+    "paper gives no scatter for it"
+)
+"""Provenance of K_s = 1250 N (:data:`SLIP_COEFFICIENT`); its scatter is an assumption."""
+
 
 def table1_wheel(key: str) -> Wheel:
     """Return the Table 1 wheel with letter ``key`` (case-insensitive).

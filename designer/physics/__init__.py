@@ -14,6 +14,7 @@ turning     docs/model.md#turning-effort, Eq. 9: turning effort at the caster sp
 geometry    swept radius of the swivelling caster
 uncertainty scatter of Eq. 7's constants: V_c quantile and Monte Carlo probability of shimmy
 roots       a root in a sign-change bracket (check 6, the knock simulations' events) without scipy.optimize
+scatter     the risk law's scales derived from Table 1, each with its provenance
 
 CasADi is not imported here (``import designer`` stays light): the solvers call
 :func:`enable_casadi` when they build symbols.

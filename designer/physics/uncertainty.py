@@ -2,52 +2,75 @@
 
 Eq. 7 rests on fitted constants with scatter: M_f/θ0 = 1.3 is a fit to
 scattered data (Fig. 2C), Table 1 shows Eq. 7 within about ±15 % of the
-measured critical speeds (RMS 10.3 %), and K_s, I_w vary from tyre to tyre.
+measured critical speeds, and K_s, I_w vary from tyre to tyre.
 The true critical speed is modelled as
 
-    log V_c,true = log V_c(x; c_f e^{ξ_c}, K_s e^{ξ_K}, I_w e^{ξ_I}) + σ_m t_ν
+    log V_c,true = log V_c(x; c_f e^{ξ_c}, K_s e^{ξ_K}, I_w e^{ι}) + σ_m t_ν
 
-with ξ_p ~ N(0, σ_p²) independent (σ of the log of each constant) and the
-model error σ_m t_ν a Student-t with ν degrees of freedom and scale σ_m.
+with ξ_p ~ N(0, σ_p²) independent (σ of the log of each constant), the
+model error σ_m t_ν a Student-t with ν degrees of freedom and scale σ_m, and ι
+the scatter of the wheel's inertia about the value used:
 
-Why Student-t: σ_m = 0.103 is the RMS error of Eq. 7 over the five Table 1
-wheels C–G, which were not used to fit Eq. 7 (its constants come from Fig. 2C
-and Appendix C), so the residuals have a known mean of zero and the RMS is an
-estimate of σ on ν = 5 degrees of freedom.  With the usual non-informative
-prior the predictive distribution of the next wheel's log error is then
-σ̂ t_5 (scale = the RMS): a 95 % quantile 2.015 σ̂ instead of 1.645 σ̂ for
-a normal.  ``model_error_dof = 0`` gives the normal model error.
+- a measured wheel (``diameter=None`` in the functions below): ι ~ N(0, σ_I²);
+- a wheel known by its diameter d only (``diameter=d``, I_w the power law's value
+  at d): ι = σ_P(d) t_νP, the Student-t prediction interval of Table 1's power law
+  (:mod:`designer.physics.scatter`: 0.3647 at 7 in on 5 degrees of freedom,
+  widening outside Table 1's 4–8 in).
+
+:func:`data_law` is the law computed from the data (issue 26; every scale's
+provenance in :mod:`designer.physics.scatter`): σ_m = 0.10751, the log RMS of Eq. 7
+over Table 1's wheels C–G, on ν = 5; σ_I = 0.05 for a measured wheel; M_f/θ0 0.10
+and K_s 0.20 assumed.  (The default :class:`Uncertainty` keeps the earlier
+σ_m = 0.103, which is the RMS of the *relative* error, and σ_I = 0.10 on every
+wheel, until the studies pass the diameter: issue 26, phase 2.)
+
+Why Student-t: Table 1's wheels C–G were not used to fit Eq. 7 (its constants
+come from Fig. 2C and Appendix C), so the residuals have a known mean of zero and
+the RMS is an estimate of σ on ν = 5 degrees of freedom.  With the usual
+non-informative prior the predictive distribution of the next wheel's log error
+is then σ̂ t_5 (scale = the RMS): a 95 % quantile 2.015 σ̂ instead of 1.645 σ̂ for
+a normal.  ``model_error_dof = 0`` gives the normal model error.  The same holds
+for a new wheel about the power law (n − 2 = 5 degrees of freedom).
 
 The deterministic bound.  log V_c,true − log V_c(x) is, to first order in
-the ξ_p, X = σ_m t_ν + σ_r Z with Z standard normal and
+the ξ_p, X = σ_m t_ν + σ_r Z (measured wheel) or X = σ_m t_ν + ½ σ_P(d) t_νP + σ_r Z
+(wheel known by its diameter), Z standard normal and
 
-    σ_r(x)² = (e_c σ_c)² + (e_K σ_K)² + (σ_I/2)²
+    σ_r(x)² = (e_c σ_c)² + (e_K σ_K)² [+ (σ_I/2)² for a measured wheel]
 
-(elasticities e of Eq. 7, :func:`designer.physics.shimmy.critical_speed_log_sensitivities`).
-This is exact for I_w and the model error (log V_c is linear in their logs)
-and conservative for c_f and K_s: log V_c = ½ log(a e^{ξ_c} + b e^{ξ_K}) is
-convex in (ξ_c, ξ_K) (log-sum-exp), so it lies above its tangent plane and the
-true speed is never lower than the first-order one.  The risk bound
-P(V_c,true < V_req) <= α therefore holds when
+(elasticities e of Eq. 7, :func:`designer.physics.shimmy.critical_speed_log_sensitivities`;
+that of I_w is −1/2 whatever B).  This is exact for I_w and the model error
+(log V_c is linear in their logs) and conservative for c_f and K_s:
+log V_c = ½ log(a e^{ξ_c} + b e^{ξ_K}) is convex in (ξ_c, ξ_K) (log-sum-exp),
+so it lies above its tangent plane and the true speed is never lower than the
+first-order one.  The risk bound P(V_c,true < V_req) <= α therefore holds when
 
-    V_q(x) = V_c(x) · exp(−Q_{1−α}(σ_m, σ_r(x))) >= V_req,
+    V_q(x) = V_c(x) · exp(−Q_{1−α}(x)) >= V_req,
 
-Q the exact (1 − α)-quantile of X (a t-plus-normal convolution computed by
-quadrature once per (α, ν) and represented by a Chebyshev fit in the normal
-share s = σ_r²/(σ_m² + σ_r²), shifted up by its largest fit error so it never
-lies below the exact quantile).  V_q works on floats, NumPy arrays and CasADi
-symbols, so the NLP, the GP's bound and the stock screening use the same
-function.  (The simpler root-sum-square of the t and normal quantiles is up to
-0.7 % too small in Q for s ≈ 0.7: not conservative.)
+Q the exact (1 − α)-quantile of X, represented by a Chebyshev fit shifted up by
+its largest fit error so it never lies below the exact quantile: for one t and a
+normal a fit in the normal share s = σ_r²/(σ_m² + σ_r²) (quadrature, as before);
+for two t's and a normal a 2-D fit in u = σ_I²/(σ_m² + σ_I²) and
+r = σ_r²/(σ_m² + σ_I² + σ_r²), its reference the characteristic-function inversion
+of :mod:`designer.physics._sums`.  V_q works on floats, NumPy arrays and CasADi
+symbols (the diameter may be a symbol), so the NLP, the GP's bound and the stock
+screening use the same function.  (The simpler root-sum-square of the t and
+normal quantiles is up to 0.7 % too small in Q for s ≈ 0.7; one t of scale
+√(σ_m² + σ_I²) for the two t's is up to 2.1 % too small: neither is conservative.)
 
-:func:`shimmy_probability_mc` samples exactly this distribution (Student-t
-model error, lognormal c_f, K_s, I_w) on the exact Eq. 7 with its own seed.
+:func:`shimmy_probability_exact` integrates the exact law (the linear part by
+inversion, c_f and K_s through Eq. 7 itself by Gauss–Hermite);
+:func:`shimmy_probability_mc_many` samples it for many casters and speeds with its
+own seed; :func:`risk_record` says where a caster's risk comes from.
+:func:`shimmy_probability_mc` samples the default :class:`Uncertainty`'s law
+(Student-t model error, lognormal c_f, K_s, I_w) on the exact Eq. 7 with its own seed.
 
 Only ``scipy.special`` is used: ``scipy.stats`` costs 0.7 s of import time.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from dataclasses import dataclass
@@ -61,6 +84,22 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
 
 from designer.physics.types import Array, Numeric, Scalar
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities
+from designer.physics.scatter import (
+    ASSUMED_DAMPING_SCATTER,
+    ASSUMED_SLIP_SCATTER,
+    MEASURED_INERTIA_SCATTER,
+    InertiaPrediction,
+    Source,
+    damping_source,
+    inertia_prediction,
+    measured_inertia_source,
+    model_error,
+    model_error_source,
+    predicted_inertia_source,
+    slip_coefficient_source,
+)
+from designer.physics._sums import SumDistribution
+from designer.physics._quantile_fits import STORED_PAIR_FITS
 from numpy.polynomial.hermite_e import hermegauss
 from numpy.polynomial.legendre import leggauss
 from numpy.polynomial import chebyshev as C
@@ -99,7 +138,8 @@ def stdtrit(dof: int, p: Numeric) -> Numeric:
 
 
 TABLE1_RMS_ERROR = 0.103
-"""RMS relative error of Eq. 7 against Table 1 wheels C–G (computed in check 2: 10.3 %)."""
+"""RMS relative error of Eq. 7 against Table 1 wheels C–G (computed in check 2: 10.3 %); the default model error
+of :class:`Uncertainty` until phase 2 of issue 26 (the log RMS is 0.10751: :func:`designer.physics.scatter.model_error`)."""
 
 TABLE1_DOF = 5
 """Degrees of freedom of the model-error estimate: 5 wheels (C–G), zero mean known (Eq. 7 not fitted to them)."""
@@ -124,10 +164,13 @@ class Uncertainty:
     Attributes
     ----------
     probability : α, the largest allowed probability that V_c,true < V_req [-]
-    model_error : scale σ_m of the model error log(V_c,measured / V_c,Eq.7) [-]; default the Table 1 RMS, 0.103
+    model_error : scale σ_m of the model error log(V_c,measured / V_c,Eq.7) [-]; default 0.103, which is Table 1's
+        RMS *relative* error (the log RMS, the data law's scale, is 0.10751: :func:`data_law`)
     damping : σ of log(M_f/θ0) [-] (scatter of the Eq. 11C fit)
     slip_coefficient : σ of log K_s [-]
-    inertia : σ of log I_w [-] (wheel-to-wheel variation around the inertia model)
+    inertia : σ of log I_w [-] of a wheel whose I_w is given (default 0.10 around the inertia model; the data
+        law's 0.05 for a measured wheel); a wheel known by its diameter, passed as ``diameter`` to the functions
+        of this module, gets Table 1's Student-t prediction instead
     model_error_dof : ν of the Student-t model error (5: Table 1 wheels C–G); 0 = normal
     samples : least Monte Carlo sample of a reported probability (more are drawn for SE <= 0.1 pp)
     seed : seed of the reported Monte Carlo estimate
@@ -275,6 +318,16 @@ def _clenshaw(coef: npt.NDArray[np.floating[Any]], x: Scalar) -> Scalar:
     return x * b1 - b2 + float(coef[0])
 
 
+def _one_t_quantile(t_scale: float, dof: int, normal: Scalar, probability: float) -> Scalar:
+    """Q_{1−α}(a t_ν + c Z) from the stored or computed 1-D fit in the normal share s = c²/(a² + c²) [-]."""
+    if not dof or t_scale == 0:
+        return float(ndtri(1 - probability)) * np.sqrt(t_scale**2 + normal**2)
+    total = t_scale**2 + normal**2
+    share = normal**2 / total
+    coef, _ = _fit(float(probability), int(dof))
+    return np.sqrt(total) * _clenshaw(coef, 2 * share - 1)
+
+
 def log_speed_quantile(sigma_model: float, sigma_rest: Scalar, uncertainty: Uncertainty) -> Scalar:
     """Q_{1−α}(σ_m t_ν + σ_r Z): how far log V_c must exceed log V_req for the risk bound [-].
 
@@ -288,26 +341,25 @@ def log_speed_quantile(sigma_model: float, sigma_rest: Scalar, uncertainty: Unce
     ≈1e-7).  Increasing in σ_r.  ν = 0 or σ_m = 0: the normal quantile z √(σ_m² + σ_r²).
     """
     u = uncertainty
-    sm = float(sigma_model)
-    if not u.model_error_dof or sm == 0:
-        return u.z * np.sqrt(sm**2 + sigma_rest**2)
-    total = sm**2 + sigma_rest**2
-    share = sigma_rest**2 / total
-    coef, _ = _fit(float(u.probability), int(u.model_error_dof))
-    return np.sqrt(total) * _clenshaw(coef, 2 * share - 1)
+    return _one_t_quantile(float(sigma_model), int(u.model_error_dof), sigma_rest, float(u.probability))
 
 
 def rest_log_std(
-    trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar, uncertainty: Uncertainty
+    trail: Scalar,
+    inertia: Scalar,
+    groove: Scalar,
+    damping: Scalar,
+    slip_coefficient: Scalar,
+    uncertainty: Uncertainty,
+    measured: bool = True,
 ) -> Scalar:
-    """σ_r: standard deviation of the first-order normal part of log V_c,true (c_f, K_s, I_w) [-]."""
+    """σ_r: standard deviation of the first-order normal part of log V_c,true (c_f, K_s, and I_w if
+    ``measured``: a wheel known by its diameter only has a Student-t inertia term instead) [-]."""
     e = critical_speed_log_sensitivities(trail, inertia, groove, damping, slip_coefficient)
     u = uncertainty
-    variance = (
-        (e["damping"] * u.damping) ** 2
-        + (e["slip_coefficient"] * u.slip_coefficient) ** 2
-        + (e["inertia"] * u.inertia) ** 2
-    )
+    variance = (e["damping"] * u.damping) ** 2 + (e["slip_coefficient"] * u.slip_coefficient) ** 2
+    if measured:
+        variance = variance + (e["inertia"] * u.inertia) ** 2
     return np.sqrt(variance)
 
 
@@ -319,18 +371,111 @@ def log_speed_std(
     return np.sqrt(uncertainty.model_error**2 + rest**2)
 
 
-def shimmy_speed_quantile(
-    trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar, uncertainty: Uncertainty
+def inertia_log_scale(
+    trail: Scalar,
+    inertia: Scalar,
+    groove: Scalar,
+    damping: Scalar,
+    slip_coefficient: Scalar,
+    diameter: Scalar,
+    prediction: InertiaPrediction | None = None,
 ) -> Scalar:
-    """The speed reached with probability 1 − α: V_q = V_c(x) exp(−Q_{1−α}(σ_m, σ_r(x))) [m/s].
+    """Scale of the Student-t inertia term of log V_c,true for a wheel known by its diameter d [m] [-]:
+
+    |∂ log V_c/∂ log I_w| (= 1/2 for Eq. 7) times the prediction scale of log I_w at d (Table 1's power
+    law unless ``prediction`` is given).  Floats, arrays, CasADi symbols.
+    """
+    e = critical_speed_log_sensitivities(trail, inertia, groove, damping, slip_coefficient)
+    p = inertia_prediction() if prediction is None else prediction
+    return np.sqrt(e["inertia"] ** 2) * p.scale(diameter)
+
+
+def law_quantile(
+    sigma_model: float,
+    sigma_inertia: Scalar | None,
+    sigma_rest: Scalar,
+    uncertainty: Uncertainty,
+    inertia_dof: int | None = None,
+) -> Scalar:
+    """Q_{1−α}(σ_m t_νm + σ_I t_νI + σ_r Z): how far log V_c must exceed log V_req [-].
+
+    ``sigma_inertia`` None: a measured wheel (its scatter is inside σ_r), :func:`log_speed_quantile`.
+    Otherwise the two Student-t terms (model error, inertia predicted from the diameter with
+    ``inertia_dof`` = ν_I, default Table 1's 5) and the normal rest, by the 2-D fit of
+    :func:`_fit2` in the shares u = σ_I²/(σ_m² + σ_I²) and r = σ_r²/(σ_m² + σ_I² + σ_r²), shifted up by
+    its largest error so that it never lies below the exact quantile.  Floats, arrays, CasADi symbols.
+    """
+    u = uncertainty
+    if sigma_inertia is None:
+        return log_speed_quantile(sigma_model, sigma_rest, u)
+    nu_i = inertia_prediction().dof if inertia_dof is None else int(inertia_dof)
+    sm = float(sigma_model)
+    if not u.model_error_dof or sm == 0:  # one t (the inertia): the model error joins the normal rest
+        return _one_t_quantile_symbolic(sigma_inertia, nu_i, np.sqrt(sm**2 + sigma_rest**2), float(u.probability))
+    pair = sm**2 + sigma_inertia**2
+    total = pair + sigma_rest**2
+    coef, _ = _fit2(float(u.probability), int(u.model_error_dof), nu_i)
+    return np.sqrt(total) * _clenshaw2(coef, 2 * sigma_inertia**2 / pair - 1, 2 * sigma_rest**2 / total - 1)
+
+
+def _one_t_quantile_symbolic(t_scale: Scalar, dof: int, normal: Scalar, probability: float) -> Scalar:
+    """:func:`_one_t_quantile` with the t scale an expression (never zero) [-]."""
+    total = t_scale**2 + normal**2
+    coef, _ = _fit(float(probability), int(dof))
+    return np.sqrt(total) * _clenshaw(coef, 2 * normal**2 / total - 1)
+
+
+def shimmy_speed_quantile(
+    trail: Scalar,
+    inertia: Scalar,
+    groove: Scalar,
+    damping: Scalar,
+    slip_coefficient: Scalar,
+    uncertainty: Uncertainty,
+    diameter: Scalar | None = None,
+    prediction: InertiaPrediction | None = None,
+) -> Scalar:
+    """The speed reached with probability 1 − α: V_q = V_c(x) exp(−Q_{1−α}(x)) [m/s].
 
     Eq. 7 for V_c; the risk bound is ``V_q >= V_req`` and then P(V_c,true < V_req) <= α
     (exact for model error and I_w, conservative for c_f and K_s: see the module text).
-    Works on floats, NumPy arrays and CasADi symbols.
+    ``diameter`` None: the wheel's inertia ``inertia`` was measured (lognormal σ ``uncertainty.inertia``);
+    a diameter d [m]: ``inertia`` is the power law's value at d and the wheel is known by its diameter only
+    (Student-t prediction of :func:`inertia_log_scale`).  Works on floats, NumPy arrays and CasADi symbols.
     """
     v = critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient)
-    rest = rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty)
-    return v * np.exp(-log_speed_quantile(uncertainty.model_error, rest, uncertainty))
+    rest = rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty, measured=diameter is None)
+    if diameter is None:
+        return v * np.exp(-log_speed_quantile(uncertainty.model_error, rest, uncertainty))
+    p = inertia_prediction() if prediction is None else prediction
+    sigma_i = inertia_log_scale(trail, inertia, groove, damping, slip_coefficient, diameter, p)
+    return v * np.exp(-law_quantile(uncertainty.model_error, sigma_i, rest, uncertainty, p.dof))
+
+
+def first_order_terms(
+    trail: Numeric,
+    inertia: Numeric,
+    groove: Numeric,
+    damping: Numeric,
+    slip_coefficient: Numeric,
+    uncertainty: Uncertainty,
+    diameter: Numeric | None = None,
+    prediction: InertiaPrediction | None = None,
+) -> tuple[list[tuple[Array, int]], Array]:
+    """The linear (first-order) law of log V_c,true − log V_c as (t terms [(scale, ν)], normal scale) [-].
+
+    The model error σ_m t_νm (normal when ν = 0); the inertia, a Student-t of scale
+    :func:`inertia_log_scale` for a wheel known by its diameter or inside the normal part when measured;
+    c_f and K_s through Eq. 7's elasticities, normal.  Numeric (arrays broadcast).
+    """
+    u = uncertainty
+    rest = np.asarray(rest_log_std(trail, inertia, groove, damping, slip_coefficient, u, measured=diameter is None))
+    terms: list[tuple[Array, int]] = [(np.asarray(float(u.model_error)), int(u.model_error_dof))]
+    if diameter is not None:
+        p = inertia_prediction() if prediction is None else prediction
+        scale = inertia_log_scale(trail, inertia, groove, damping, slip_coefficient, diameter, p)
+        terms.append((np.asarray(scale, dtype=float), p.dof))
+    return terms, rest
 
 
 def shimmy_probability_first_order(
@@ -341,18 +486,26 @@ def shimmy_probability_first_order(
     slip_coefficient: float,
     speed: float,
     uncertainty: Uncertainty,
+    diameter: float | None = None,
+    prediction: InertiaPrediction | None = None,
 ) -> float:
-    """P(log V_c + σ_m t_ν + σ_r Z < log speed): the probability the deterministic bound controls [-]."""
+    """P(log V_c + X < log speed), X the first-order law: the probability the deterministic bound controls [-].
+
+    ``diameter`` as :func:`shimmy_speed_quantile` (None: a measured wheel).
+    """
     u = uncertainty
     v = float(critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient))
-    rest = float(rest_log_std(trail, inertia, groove, damping, slip_coefficient, u))
     gap = math.log(speed) - math.log(v)
-    total = math.sqrt(u.model_error**2 + rest**2)
+    if diameter is not None:
+        terms, rest = first_order_terms(trail, inertia, groove, damping, slip_coefficient, u, diameter, prediction)
+        return float(SumDistribution(terms, rest).cdf(gap))
+    sigma_r = float(rest_log_std(trail, inertia, groove, damping, slip_coefficient, u))
+    total = math.sqrt(u.model_error**2 + sigma_r**2)
     if total == 0:
         return float(gap > 0)
     if not u.model_error_dof or u.model_error == 0:
         return float(ndtr(gap / total))
-    return float(_sum_cdf(np.array([gap / total]), np.array([rest**2 / total**2]), int(u.model_error_dof))[0])
+    return float(_sum_cdf(np.array([gap / total]), np.array([sigma_r**2 / total**2]), int(u.model_error_dof))[0])
 
 
 def sample_log_factors(uncertainty: Uncertainty, n: int, rng: np.random.Generator) -> dict[str, Array]:
@@ -417,3 +570,366 @@ def shimmy_probability_mc(
             break
         want = min(MC_MAX_SAMPLES, needed + needed // 50)
     return p, float(math.sqrt(max(p * (1 - p), 1.0 / drawn) / drawn))
+
+
+# --------------------------------------------------------------------------- two Student-t terms and a normal
+
+_DEGREE2 = (12, 16)
+"""Chebyshev degrees of the 2-D quantile fit in (u, r)."""
+
+
+def _chebyshev_nodes(degree: int) -> Array:
+    k = np.arange(degree + 1)
+    nodes: Array = (np.cos(np.pi * (k + 0.5) / (degree + 1))[::-1] + 1) / 2
+    return nodes
+
+
+def exact_pair_quantile(u: Numeric, r: Numeric, probability: float, dof_model: int, dof_inertia: int) -> Array:
+    """(1 − α)-quantile of √((1−r)(1−u)) t_νm + √((1−r)u) t_νI + √r Z by characteristic-function inversion [-].
+
+    The reference for :func:`law_quantile`'s 2-D fit (numeric only; :mod:`designer.physics._sums`).
+    """
+    u_, r_ = np.broadcast_arrays(np.asarray(u, dtype=float), np.asarray(r, dtype=float))
+    a = np.sqrt((1 - r_) * (1 - u_))
+    b = np.sqrt((1 - r_) * u_)
+    quantile: Array = SumDistribution([(a, dof_model), (b, dof_inertia)], np.sqrt(r_)).quantile(1 - probability)
+    return quantile
+
+
+def _compute_fit2(probability: float, dof_model: int, dof_inertia: int) -> tuple[Array, float]:
+    """Chebyshev coefficients (on u, r ∈ [0, 1]²) of the quantile, shifted up by the largest fit error on a
+    grid four times as fine (ends included); and the shift."""
+    du, dr = _DEGREE2
+    nu, nr = _chebyshev_nodes(du), _chebyshev_nodes(dr)
+    grid_u, grid_r = np.meshgrid(nu, nr, indexing="ij")
+    q = exact_pair_quantile(grid_u, grid_r, probability, dof_model, dof_inertia)
+    vu, vr = C.chebvander(2 * nu - 1, du), C.chebvander(2 * nr - 1, dr)
+    coef = np.linalg.solve(vu, np.linalg.solve(vr, q.T).T)
+    cu, cr = np.meshgrid(np.linspace(0, 1, 4 * du + 1), np.linspace(0, 1, 4 * dr + 1), indexing="ij")
+    error = exact_pair_quantile(cu, cr, probability, dof_model, dof_inertia) - C.chebval2d(2 * cu - 1, 2 * cr - 1, coef)
+    shift = max(0.0, float(error.max())) + 1e-9
+    coef[0, 0] += shift
+    return coef, shift
+
+
+@functools.lru_cache(maxsize=32)
+def _fit2(probability: float, dof_model: int, dof_inertia: int) -> tuple[Array, float]:
+    """:func:`_compute_fit2`, read from the stored fits for the default α and ν (the same numbers)."""
+    stored = STORED_PAIR_FITS.get((probability, dof_model, dof_inertia, _DEGREE2))
+    if stored is None:
+        coef, shift = _compute_fit2(probability, dof_model, dof_inertia)
+    else:
+        coef, shift = np.array(stored[0], dtype=float).reshape(_DEGREE2[0] + 1, _DEGREE2[1] + 1), stored[1]
+    coef.setflags(write=False)
+    return coef, shift
+
+
+def _clenshaw_values(values: list[Scalar], x: Scalar) -> Scalar:
+    """Σ v_k T_k(x) by Clenshaw's recurrence with coefficients that may be expressions."""
+    b1 = 0 * x
+    b2 = 0 * x
+    for c in values[:0:-1]:
+        b1, b2 = 2 * x * b1 - b2 + c, b1
+    return x * b1 - b2 + values[0]
+
+
+def _clenshaw2(coef: Array, x: Scalar, y: Scalar) -> Scalar:
+    """Σ_jk c_jk T_j(x) T_k(y) (floats, arrays, CasADi symbols)."""
+    return _clenshaw_values([_clenshaw(row, y) for row in coef], x)
+
+
+# --------------------------------------------------------------------------- the data law: exact probability
+
+
+def data_law(**changes: Any) -> Uncertainty:
+    """The risk law computed from the data (issue 26), as an :class:`Uncertainty`.
+
+    Model error: Table 1's log RMS of Eq. 7 over wheels C–G, Student-t on 5 degrees of freedom
+    (:func:`designer.physics.scatter.model_error`, 0.10751); a measured wheel inertia: σ = 0.05 of its log;
+    M_f/θ0 0.10 and K_s 0.20 (assumed).  A wheel known by its diameter only gets the Student-t prediction
+    of Table 1's power law: pass its ``diameter`` to the functions of this module.  ``changes`` replace
+    fields (α, samples, seed, a configured scatter).
+    """
+    m = model_error()
+    law = Uncertainty(
+        model_error=m.scale,
+        model_error_dof=m.dof,
+        inertia=MEASURED_INERTIA_SCATTER,
+        damping=ASSUMED_DAMPING_SCATTER,
+        slip_coefficient=ASSUMED_SLIP_SCATTER,
+    )
+    return dataclasses.replace(law, **changes)
+
+
+def _linear_part(
+    trail: float,
+    inertia: float,
+    groove: float,
+    damping: float,
+    slip_coefficient: float,
+    uncertainty: Uncertainty,
+    diameter: float | None,
+    prediction: InertiaPrediction | None,
+) -> SumDistribution:
+    """The part of log V_c,true − log V_c that is exactly linear: model error and the wheel's inertia
+    (Eq. 7's log V_c is linear in log I_w, slope −1/2, whatever B)."""
+    u = uncertainty
+    e = critical_speed_log_sensitivities(trail, inertia, groove, damping, slip_coefficient)
+    slope = abs(float(e["inertia"]))
+    terms: list[tuple[Numeric, int]] = [(float(u.model_error), int(u.model_error_dof))]
+    if diameter is None:
+        return SumDistribution(terms, slope * float(u.inertia))
+    p = inertia_prediction() if prediction is None else prediction
+    terms.append((slope * float(p.scale(diameter)), p.dof))
+    return SumDistribution(terms, 0.0)
+
+
+def shimmy_probability_exact(
+    trail: float,
+    inertia: float,
+    groove: float,
+    damping: float,
+    slip_coefficient: float,
+    speed: Numeric,
+    uncertainty: Uncertainty,
+    diameter: float | None = None,
+    prediction: InertiaPrediction | None = None,
+    nodes: int = 32,
+) -> Numeric:
+    """P(V_c,true < speed) under the exact law, by quadrature [-] (one caster; one or several speeds).
+
+    log V_c,true = log V_c,Eq.7(I_w e^ι, c_f e^{ξc}, K_s e^{ξK}) + e_m: the model error e_m (Student-t) and the
+    inertia's ι (Student-t prediction for a wheel known by its ``diameter``, else lognormal σ
+    ``uncertainty.inertia`` about a measured ``inertia``) enter linearly, so their sum's CDF is exact
+    (:class:`~designer.physics._sums.SumDistribution`); ξc, ξK ~ N(0, σ²) are integrated through Eq. 7 itself
+    by Gauss–Hermite with ``nodes`` points each (one axis when B = 0 or σ_K = 0).
+    """
+    u = uncertainty
+    dist = _linear_part(trail, inertia, groove, damping, slip_coefficient, u, diameter, prediction)
+    zn, zw = hermegauss(nodes)
+    zw = zw / math.sqrt(2 * math.pi)
+    if groove == 0 or u.slip_coefficient == 0:
+        zc, zk, w = zn, np.zeros_like(zn), zw
+    else:
+        a, b = np.meshgrid(zn, zn, indexing="ij")
+        zc, zk, w = a.ravel(), b.ravel(), np.outer(zw, zw).ravel()
+    v = critical_shimmy_speed(
+        trail, inertia, groove, damping * np.exp(u.damping * zc), slip_coefficient * np.exp(u.slip_coefficient * zk)
+    )
+    speeds = np.asarray(speed, dtype=float)
+    gap = np.log(speeds)[..., None] - np.log(v)
+    p = np.sum(w * dist.cdf(gap.reshape(1, -1)).reshape(gap.shape), axis=-1)
+    return float(p) if p.ndim == 0 else p
+
+
+# --------------------------------------------------------------------------- the data law: Monte Carlo
+
+MC_BLOCK = 10_000
+"""Draws per block of the data law's Monte Carlo stream: samples are whole blocks, so an estimate is the
+same whichever other casters are evaluated beside it."""
+
+_CELLS = 1_000_000
+"""Casters × draws evaluated at once (about 8 MB per array)."""
+
+
+def _blocks(n: int) -> int:
+    return max(1, math.ceil(n / MC_BLOCK)) * MC_BLOCK
+
+
+def law_draws(uncertainty: Uncertainty, rng: np.random.Generator, inertia_dof: int) -> dict[str, Array]:
+    """One block of standard draws of the data law, in a fixed order: model (t_νm, or normal when ν = 0),
+    inertia_t (t_νI, for wheels known by their diameter), inertia_z, damping, slip (standard normal) [-]."""
+    u = uncertainty
+    n = MC_BLOCK
+    model = rng.standard_t(u.model_error_dof, n) if u.model_error_dof else rng.standard_normal(n)
+    return {
+        "model": model,
+        "inertia_t": rng.standard_t(inertia_dof, n),
+        "inertia_z": rng.standard_normal(n),
+        "damping": rng.standard_normal(n),
+        "slip": rng.standard_normal(n),
+    }
+
+
+def shimmy_probability_mc_many(
+    trail: Numeric,
+    inertia: Numeric,
+    groove: Numeric,
+    damping: Numeric,
+    slip_coefficient: Numeric,
+    speed: Numeric,
+    uncertainty: Uncertainty,
+    diameter: Numeric | None = None,
+    measured: Numeric | None = None,
+    prediction: InertiaPrediction | None = None,
+    samples: int | None = None,
+    seed: int | None = None,
+    target_se: float | None = MC_TARGET_SE,
+) -> tuple[Array, Array]:
+    """Monte Carlo P(V_c,true < speed) and its standard error for many casters and speeds [-].
+
+    The exact law: V_c,true = V_c,Eq.7(T, I_w e^ι, B, c_f e^{σc Zc}, K_s e^{σK ZK}) e^{σm t_νm}, with ι the
+    Student-t prediction σ_I(d) t_νI of a wheel known by its ``diameter`` or σ Z about a measured ``inertia``
+    (``measured``: True/False per caster; default: measured when ``diameter`` is None, else not).
+
+    One seeded stream (``seed``, default ``uncertainty.seed``) of blocks of :data:`MC_BLOCK` draws
+    (:func:`law_draws`) is applied to every caster: at least ``samples`` draws (default
+    ``uncertainty.samples``, rounded up to whole blocks), then more blocks for a caster whose standard error is
+    above ``target_se`` (0.1 percentage point; None: no top-up), up to :data:`MC_MAX_SAMPLES`, each speed of
+    each caster stopping on its own.  An estimate therefore does not depend on the other casters or speeds
+    evaluated with it: it is the one the caster gets alone.  ``speed`` broadcasts with the casters,
+    or has one more trailing axis (several speeds per caster).  Returns arrays (p, se) of the speeds' shape.
+    """
+    u = uncertainty
+    cols = np.broadcast_arrays(
+        *(np.asarray(v, dtype=float) for v in (trail, inertia, groove, damping, slip_coefficient))
+    )
+    shape = cols[0].shape
+    t, i_w, b, c, k = (np.asarray(x).reshape(-1) for x in cols)
+    n = t.size
+    speeds = np.asarray(speed, dtype=float)
+    several = speeds.ndim > len(shape)
+    v_req = (speeds if several else np.broadcast_to(speeds, shape)[..., None]).reshape(n, -1)
+    p_law = inertia_prediction() if prediction is None else prediction
+    if diameter is None:
+        is_measured = np.ones(n, dtype=bool)
+        scale_i = np.full(n, float(u.inertia))
+    else:
+        d = np.broadcast_to(np.asarray(diameter, dtype=float), shape).reshape(-1)
+        is_measured = np.broadcast_to(np.asarray(False if measured is None else measured, dtype=bool), shape).reshape(
+            -1
+        )
+        scale_i = np.where(is_measured, float(u.inertia), np.asarray(p_law.scale(d), dtype=float))
+    rng = np.random.default_rng(u.seed if seed is None else seed)
+    want = np.full(v_req.shape, _blocks(int(u.samples if samples is None else samples)))  # per caster and speed
+    hits = np.zeros(v_req.shape)
+    drawn = 0
+    active = np.arange(n)
+    while active.size:
+        f = law_draws(u, rng, p_law.dof)
+        step = max(1, _CELLS // MC_BLOCK)
+        for start in range(0, active.size, step):
+            j = active[start : start + step]
+            iota = np.where(is_measured[j, None], f["inertia_z"], f["inertia_t"]) * scale_i[j, None]
+            v = np.asarray(
+                critical_shimmy_speed(
+                    t[j, None],
+                    i_w[j, None] * np.exp(iota),
+                    b[j, None],
+                    c[j, None] * np.exp(u.damping * f["damping"]),
+                    k[j, None] * np.exp(u.slip_coefficient * f["slip"]),
+                ),
+                dtype=float,
+            ) * np.exp(u.model_error * f["model"])
+            counts = np.count_nonzero(v[:, None, :] < v_req[j, :, None], axis=-1)
+            hits[j] += np.where(want[j] > drawn, counts, 0)  # a speed that stopped keeps its count
+        drawn += MC_BLOCK
+        reached = want == drawn
+        if reached.any() and target_se is not None and drawn < MC_MAX_SAMPLES:
+            p = hits[reached] / drawn
+            needed = np.ceil(np.maximum(p * (1 - p), 1.0 / drawn) / target_se**2)
+            more = needed > drawn
+            raised = [min(MC_MAX_SAMPLES, _blocks(int(x + x // 50))) for x in needed[more]]
+            idx = np.argwhere(reached)[more]
+            want[idx[:, 0], idx[:, 1]] = raised
+        if drawn >= MC_MAX_SAMPLES:
+            break
+        active = np.flatnonzero(np.any(want > drawn, axis=1))
+    total = np.minimum(want, drawn).astype(float)
+    p = hits / total
+    se = np.sqrt(np.maximum(p * (1 - p), 1.0 / total) / total)
+    out_shape = shape + (v_req.shape[1],) if several else shape
+    return p.reshape(out_shape), se.reshape(out_shape)
+
+
+# --------------------------------------------------------------------------- where the risk comes from
+
+_PHRASES = {
+    "model error": "Eq. 7's own error against Table 1",
+    "wheel inertia (diameter only)": "the inertia of a wheel known by its diameter only (Table 1's scatter "
+    "about the power law)",
+    "wheel inertia (measured)": "the scatter of the measured wheel inertia",
+    "M_f/θ0": "the assumed scatter of the bearing friction M_f/θ0",
+    "K_s": "the assumed scatter of the slip coefficient K_s",
+}
+
+
+def law_sources(
+    trail: float,
+    inertia: float,
+    groove: float,
+    damping: float,
+    slip_coefficient: float,
+    uncertainty: Uncertainty,
+    diameter: float | None = None,
+    prediction: InertiaPrediction | None = None,
+) -> list[dict[str, Any]]:
+    """The sources of the law at one caster, each with its share of the variance of log V_c,true [-].
+
+    Share = (∂ log V_c/∂ log p)² × var(log p) / Σ, a Student-t_ν's variance being scale² ν/(ν − 2) (a source
+    with ν <= 2 has infinite variance: it takes the whole share); the shares add up to 1.  Each entry is
+    :meth:`Source.to_dict` (name, distribution, scale, dof, kind, source, caveats) plus ``share``.
+    """
+    u = uncertainty
+    e = critical_speed_log_sensitivities(trail, inertia, groove, damping, slip_coefficient)
+    rows: list[tuple[Source, float]] = [(model_error_source(u.model_error, u.model_error_dof), 1.0)]
+    if diameter is None:
+        rows.append((measured_inertia_source(u.inertia), float(e["inertia"])))
+    else:
+        rows.append((predicted_inertia_source(float(diameter), prediction), float(e["inertia"])))
+    rows.append((damping_source(u.damping), float(e["damping"])))
+    rows.append((slip_coefficient_source(u.slip_coefficient), float(e["slip_coefficient"])))
+    parts = [src.variance * sens**2 if sens else 0.0 for src, sens in rows]
+    if any(math.isinf(x) for x in parts):
+        shares = [float(math.isinf(x)) / sum(math.isinf(y) for y in parts) for x in parts]
+    else:
+        total = sum(parts)
+        shares = [x / total if total else 0.0 for x in parts]
+    return [src.to_dict() | {"share": share} for (src, _), share in zip(rows, shares)]
+
+
+def dominant_sentence(sources: list[dict[str, Any]]) -> str:
+    """One sentence: which source dominates the variance of log V_c,true, and the next one."""
+    ranked = sorted(sources, key=lambda s: -s["share"])
+    first, second = ranked[0], ranked[1]
+    text = f"{_PHRASES.get(first['name'], first['name'])} dominates the risk: {100 * first['share']:.0f} % of the variance of log V_c"
+    if second["share"] >= 0.005:
+        text += f", then {_PHRASES.get(second['name'], second['name'])} ({100 * second['share']:.0f} %)"
+    return text[0].upper() + text[1:] + "."
+
+
+def risk_record(
+    trail: float,
+    inertia: float,
+    groove: float,
+    damping: float,
+    slip_coefficient: float,
+    speed: float,
+    uncertainty: Uncertainty,
+    diameter: float | None = None,
+    prediction: InertiaPrediction | None = None,
+    samples: int | None = None,
+    seed: int | None = None,
+) -> dict[str, Any]:
+    """Where one caster's risk comes from: {"probability", "se", "sources", "dominant"}.
+
+    ``probability``, ``se``: P(V_c,true < speed) by the exact law's Monte Carlo with its own seed
+    (:func:`shimmy_probability_mc_many`, SE <= 0.1 pp); ``sources``: :func:`law_sources` (provenance and
+    share of the variance of log V_c); ``dominant``: :func:`dominant_sentence`.  ``diameter`` None: the
+    wheel's ``inertia`` was measured; else it is the power law's value at that diameter [m].
+    """
+    p, se = shimmy_probability_mc_many(
+        trail,
+        inertia,
+        groove,
+        damping,
+        slip_coefficient,
+        speed,
+        uncertainty,
+        diameter=diameter,
+        prediction=prediction,
+        samples=samples,
+        seed=seed,
+    )
+    sources = law_sources(trail, inertia, groove, damping, slip_coefficient, uncertainty, diameter, prediction)
+    return {"probability": float(p), "se": float(se), "sources": sources, "dominant": dominant_sentence(sources)}
