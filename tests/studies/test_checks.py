@@ -894,3 +894,106 @@ def test_designs_at_diameter_infeasible_when_trail_cannot_fit():
     assert ok.tolist() == [True] and x[0, 0] == pytest.approx(2 * INCH)
     x, ok = structured.designs_at_diameter(base.replace(swept_radius_max=4.4 * INCH), d)
     assert ok.tolist() == [False] and x[0, 0] == pytest.approx(1 * INCH)
+
+
+# --------------------------------------------------------------------------- check 11: the risk law, leave one out
+
+
+def test_leave_one_out_pits_against_an_independent_monte_carlo():
+    """Check 11's PIT of each wheel C–G, from its diameter and from its measured I_w, equals a Monte Carlo of the
+    refitted law written out here (10⁶ draws: log V = log V_Eq.7(T = 2 in, I e^ι, B = 0, 1.3 e^{0.1 Z}) +
+    σ_m t_4, ι = σ_I(d) t_4 or 0.05 Z) within 4 SE; every row has 4 degrees of freedom."""
+    from designer.physics.scatter import inertia_prediction, model_error
+
+    rows = ck.leave_one_out_rows()
+    assert [r["wheel"] for r in rows] == ["C", "D", "E", "F", "G"]
+    rng = np.random.default_rng(2024)
+    n = 1_000_000
+    for r in rows:
+        others = tuple(w for w in TABLE1 if w.key != r["wheel"])
+        p, m = inertia_prediction(others), model_error(others)
+        assert (r["inertia_dof"], r["model_error_dof"]) == (4, 4)
+        model = m.scale * rng.standard_t(4, n)
+        friction = 1.3 * np.exp(0.10 * rng.standard_normal(n))
+        for key, inertia in (
+            ("diameter", float(p.median(r["diameter"])) * np.exp(float(p.scale(r["diameter"])) * rng.standard_t(4, n))),
+            ("inertia", r["inertia"] * np.exp(0.05 * rng.standard_normal(n))),
+        ):
+            v = critical_shimmy_speed(2 * INCH, inertia, 0.0, friction) * np.exp(model)
+            pit = float(np.mean(v <= r["measured_speed"]))
+            assert r[f"pit_from_{key}"] == pytest.approx(pit, abs=4 * np.sqrt(pit * (1 - pit) / n) + 1e-4)
+            assert r[f"inside_from_{key}"] == (0.05 <= r[f"pit_from_{key}"] <= 0.95)
+
+
+def test_leave_one_out_check_counts_and_says_it_is_coarse():
+    """Check 11 states its count from both predictions (a 'law' check, in validate's summary) and says the check
+    is coarse; its rows are in to_dict; the counts are the rows' own."""
+    c = ck.check_leave_one_out()
+    rows = ck.leave_one_out_rows()
+    n_d = sum(r["inside_from_diameter"] for r in rows)
+    n_i = sum(r["inside_from_inertia"] for r in rows)
+    assert c.kind == "law" and c.got == f"from d {n_d}/5, from I_w {n_i}/5"
+    assert "coarse check" in c.detail and "4.5 of 5 expected" in c.detail
+    assert c.to_dict()["rows"] == rows
+    assert "rows" not in ck.check_eq8().to_dict()
+    assert ck.summary_line([c]).endswith(
+        f"; risk-law checks: {int(c.outcome == ck.REPRODUCED)} reproduced, "
+        f"{int(c.outcome == ck.WITHIN_SCATTER)} within the scatter, "
+        f"{int(c.outcome == ck.FAILS)} fail"
+    )
+
+
+@pytest.mark.parametrize(
+    "inside, outcome", [(5, ck.REPRODUCED), (4, ck.REPRODUCED), (3, ck.WITHIN_SCATTER), (2, ck.FAILS)]
+)
+def test_leave_one_out_outcome_by_count(monkeypatch, inside, outcome):
+    """Check 11's outcome from the count inside the 90 % interval (the worse of the two predictions): >= 4
+    reproduced, 3 within the scatter (a wheel outside is listed), <= 2 fails."""
+    rows = [
+        {
+            "wheel": k,
+            "measured_speed": 1.5,
+            "pit_from_diameter": 0.5 if j < inside else 0.99,
+            "pit_from_inertia": 0.5,
+            "inside_from_diameter": j < inside,
+            "inside_from_inertia": True,
+        }
+        for j, k in enumerate("CDEFG")
+    ]
+    monkeypatch.setattr(ck, "leave_one_out_rows", lambda assumed=True: rows)
+    c = ck.check_leave_one_out()
+    assert c.outcome == outcome and len(c.disagreements) == 5 - inside
+    if inside < 5:
+        assert c.disagreements[0] == (
+            f"{'CDEFG'[inside]}: measured 1.50 m/s outside the central 90% interval predicted from its diameter "
+            f"(PIT 0.990)"
+        )
+
+
+def test_validate_shows_the_leave_one_out_table(capsys):
+    """designer validate prints check 11's per-wheel table and counts it; --json carries its rows."""
+    import json
+
+    assert main(["validate"]) == 0
+    out = capsys.readouterr().out
+    assert "11 leave-one-out: the risk law refitted without each wheel (coarse: five wheels)" in out
+    assert "risk-law checks: 1 reproduced" in out or "risk-law checks: 0 reproduced" in out
+    assert main(["validate", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    law = [c for c in data if c["kind"] == "law"]
+    assert len(law) == 1 and [r["wheel"] for r in law[0]["rows"]] == ["C", "D", "E", "F", "G"]
+
+
+def test_knock_safe_speed_error_against_table1():
+    """The knock-safe speed (20° knock, rolling tyre, T = 2 in, bare fork) against Table 1 C–G: log RMS 0.153 (the
+    audit's number, issue 26, to its digits) and bias, both from the rows' log errors; the simulated onsets lie
+    below the measurements on average (bias < 0); cached (the same dict twice)."""
+    k = ck.knock_safe_table1_error()
+    e = np.array([r["log_error"] for r in k["rows"]])
+    assert [r["wheel"] for r in k["rows"]] == ["C", "D", "E", "F", "G"]
+    assert np.allclose(e, [np.log(r["knock_safe"] / r["measured"]) for r in k["rows"]], rtol=0, atol=1e-15)
+    assert k["log_rms"] == pytest.approx(np.sqrt(np.mean(e**2)), rel=1e-12)
+    assert k["log_rms"] == pytest.approx(0.153, abs=5e-4)
+    assert k["bias"] == pytest.approx(np.mean(e), rel=1e-12) and k["bias"] < 0
+    assert k["angle"] == pytest.approx(np.radians(20)) and k["trail"] == pytest.approx(2 * INCH)
+    assert ck.knock_safe_table1_error() == k
