@@ -751,6 +751,22 @@ def law_draws(uncertainty: Uncertainty, rng: np.random.Generator, inertia_dof: i
     }
 
 
+def _true_speeds(
+    f: dict[str, Array], u: Uncertainty, iota: Array, t: Array, i_w: Array, b: Array, c: Array, k: Array
+) -> Array:
+    """V_c,true [m/s] of casters (rows) for one block of draws (columns): Eq. 7 with the scattered I_w (log
+    factor ``iota``), c_f and K_s, times the model error."""
+    v = critical_shimmy_speed(
+        t[:, None],
+        i_w[:, None] * np.exp(iota),
+        b[:, None],
+        c[:, None] * np.exp(u.damping * f["damping"]),
+        k[:, None] * np.exp(u.slip_coefficient * f["slip"]),
+    )
+    out: Array = np.asarray(v, dtype=float) * np.exp(u.model_error * f["model"])
+    return out
+
+
 def shimmy_probability_mc_many(
     trail: Numeric,
     inertia: Numeric,
@@ -811,16 +827,7 @@ def shimmy_probability_mc_many(
         for start in range(0, active.size, step):
             j = active[start : start + step]
             iota = np.where(is_measured[j, None], f["inertia_z"], f["inertia_t"]) * scale_i[j, None]
-            v = np.asarray(
-                critical_shimmy_speed(
-                    t[j, None],
-                    i_w[j, None] * np.exp(iota),
-                    b[j, None],
-                    c[j, None] * np.exp(u.damping * f["damping"]),
-                    k[j, None] * np.exp(u.slip_coefficient * f["slip"]),
-                ),
-                dtype=float,
-            ) * np.exp(u.model_error * f["model"])
+            v = _true_speeds(f, u, iota, t[j], i_w[j], b[j], c[j], k[j])
             counts = np.count_nonzero(v[:, None, :] < v_req[j, :, None], axis=-1)
             hits[j] += np.where(want[j] > drawn, counts, 0)  # a speed that stopped keeps its count
         drawn += MC_BLOCK
