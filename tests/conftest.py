@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import fcntl
+import os
 import warnings
 from pathlib import Path
 
@@ -42,3 +44,32 @@ def _quiet_extrapolation():
 @pytest.fixture(scope="session")
 def root() -> Path:
     return ROOT
+
+
+def pytest_configure(config):
+    config.addinivalue_line(
+        "markers", "alone: loads the whole machine; under pytest-xdist no other test runs meanwhile"
+    )
+
+
+@pytest.fixture(autouse=True)
+def _alone_under_xdist(request, tmp_path_factory):
+    """Under pytest-xdist a test marked ``alone`` runs while no other test does (a readers-writer lock in the
+    run's shared temporary folder: every test holds it shared, an ``alone`` test exclusive; a gate stops new
+    tests from starting while an ``alone`` test waits).  Plain pytest runs one test at a time: no lock."""
+    if "PYTEST_XDIST_WORKER" not in os.environ:
+        yield
+        return
+    folder = tmp_path_factory.getbasetemp().parent  # pytest-N, shared by the run's workers (popen-gw0, ...)
+    alone = request.node.get_closest_marker("alone") is not None
+    with open(folder / "alone.gate", "a") as gate, open(folder / "alone.lock", "a") as lock:
+        fcntl.flock(gate, fcntl.LOCK_EX)
+        fcntl.flock(lock, fcntl.LOCK_EX if alone else fcntl.LOCK_SH)
+        if not alone:
+            fcntl.flock(gate, fcntl.LOCK_UN)
+        try:
+            yield
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
+            if alone:
+                fcntl.flock(gate, fcntl.LOCK_UN)

@@ -34,14 +34,23 @@ Storage (``storage=``)
     optuna's JournalStorage with a file backend, the right choice for several
     processes on one machine.
 
-Budget
-    A study ends with exactly N COMPLETE trials, whatever the number of
-    workers: a trial runs only if fewer than N waiting, running or complete
-    trials precede it (by trial number); a surplus trial started in a race at
-    the end is marked PRUNED with user attribute ``explore_surplus`` and never
-    evaluated.  ``resume=True`` first fails the stale RUNNING trials of an
-    interrupted run and re-enqueues the parameters of every failed trial once
-    (user attribute ``explore_retry_of``), then continues to N.
+Budget and exactness
+    A study ends with exactly N COMPLETE trials, whatever the number of workers and however the machine
+    schedules them, and timing never makes a candidate count twice (with the tuned operators, which
+    redraw a repeated child, the N candidates are all different): a trial runs only if fewer than N
+    waiting, running or complete trials precede it (by trial number); a surplus trial started in a race at the end is
+    marked PRUNED with user attribute ``explore_surplus`` and never evaluated.  Every process draws from
+    its own random stream (the seed and the number of its first trial, :func:`stream_seed`), so
+    processes started with the same command never draw the same candidates.  A worker tells a trial only
+    while it is RUNNING: a trial that the heartbeat failed while its process still evaluated it (a process
+    starved of CPU or paused past the grace period) keeps its FAIL, its late result is discarded and a
+    note says so; the storage retries its candidate (up to 3 times), and a retry runs only if no earlier
+    trial of the same candidate (:func:`lineage`) is waiting, running or complete, else it is PRUNED with
+    ``explore_duplicate_of``.  On a database with a heartbeat a worker that finds the budget held by
+    running trials waits until they complete or are failed as stale, so the workers that survive a
+    dead one finish the study.  ``resume=True`` first fails the stale RUNNING trials of an interrupted
+    run and queues one retry of each candidate whose every trial failed (user attribute
+    ``explore_retry_of``: the candidate's first trial), then continues to N.
 
 Hybrid refinement (``refine=True``)
     every point of every per-category front is polished by the exact CasADi
@@ -52,7 +61,8 @@ Package layout
     ``_storage`` (storage URLs, opening a storage, journal repair, atomic writes),
     ``_operators`` (NSGA-II operators, the search space, the NLP refinement),
     ``_runner`` (:func:`explore`: arguments, create or resume the study, collect the fronts),
-    ``_workers`` (the optuna objective and its budget, one worker, the process pool),
+    ``_workers`` (the optuna objective, its budget and duplicate checks, the ask-and-tell loop of one
+    worker with its heartbeat, the process pool),
     ``_progress`` (the live front, its hypervolume and the progress bar),
     ``_result`` (:class:`ExploreResult` and the comparison with the exact front).
     The public names are re-exported here: ``from designer.studies.explore import explore``.
@@ -62,11 +72,13 @@ from __future__ import annotations
 
 from designer.errors import StorageError
 from designer.studies.explore._operators import (
+    STREAM_STRIDE,
     Operators,
     SearchSpace,
     category_label,
     category_problem,
     search_space,
+    stream_seed,
 )
 from designer.studies.explore._result import (
     CATEGORICAL,
@@ -75,7 +87,8 @@ from designer.studies.explore._result import (
     compare_fronts,
     versions,
 )
-from designer.studies.explore._runner import ATTR_PREFIX, MAX_TRIALS, MAX_WORKERS, RETRY_ATTR, SURPLUS_ATTR, explore
+from designer.studies.explore._runner import ATTR_PREFIX, MAX_TRIALS, MAX_WORKERS, explore
+from designer.studies.explore._workers import DUPLICATE_ATTR, RETRY_ATTR, SURPLUS_ATTR, WORKER_ATTR, lineage
 from designer.studies.explore._storage import (
     GRACE_SECONDS,
     HEARTBEAT_SECONDS,
@@ -89,6 +102,7 @@ __all__ = [
     "ATTR_PREFIX",
     "CATEGORICAL",
     "CSV_COLUMNS",
+    "DUPLICATE_ATTR",
     "ExploreResult",
     "GRACE_SECONDS",
     "HEARTBEAT_SECONDS",
@@ -97,16 +111,20 @@ __all__ = [
     "Operators",
     "RDB_SCHEMES",
     "RETRY_ATTR",
+    "STREAM_STRIDE",
     "SURPLUS_ATTR",
     "SearchSpace",
     "StorageError",
     "StorageSpec",
+    "WORKER_ATTR",
     "category_label",
     "category_problem",
     "compare_fronts",
     "explore",
+    "lineage",
     "open_storage",
     "parse_storage",
     "search_space",
+    "stream_seed",
     "versions",
 ]

@@ -134,6 +134,61 @@ class Operators:
         sampler._rng = rng  # reseed_rng() must reach the strategy's generator
         return sampler
 
+    def process_sampler(self, seed: int | None):
+        """The sampler of one process working on a study: :meth:`sampler` seeded with
+        :func:`stream_seed` ``(seed, n)``, ``n`` the number of the first trial this process runs.
+
+        Trial numbers are unique, so processes that join one study at the same moment with the same
+        ``seed`` (or seeds whose sum with the trial count coincides) still draw different candidates; a
+        process alone on a study (a fresh single-worker run, or a resume) is repeatable, and a fresh run
+        (first trial 0) uses ``seed`` itself.
+        """
+        return _PerProcessSampler(self, seed)
+
+
+STREAM_STRIDE = 0x9E3779B1
+"""Odd multiplier of :func:`stream_seed`: ``(STREAM_STRIDE * k) mod 2**32`` is at least 1637 away from 0 for
+every ``0 < |k| < 2**20``, so processes whose seeds differ by less than 1637 never share a stream."""
+
+
+def stream_seed(seed: int | None, first_trial: int) -> int | None:
+    """Seed of the random stream of a process whose first trial is number ``first_trial``:
+    ``(seed + STREAM_STRIDE * first_trial) mod 2**32`` (``seed`` itself for trial 0; None stays None)."""
+    return None if seed is None else (seed + STREAM_STRIDE * first_trial) % 2**32
+
+
+class _PerProcessSampler:
+    """An NSGA-II sampler built when the process asks its first trial, seeded by that trial's number."""
+
+    def __init__(self, operators: Operators, seed: int | None):
+        self.operators = operators
+        self.seed = seed
+        self.inner = None
+
+    def _for(self, trial):
+        if self.inner is None:
+            self.inner = self.operators.sampler(stream_seed(self.seed, trial.number))
+        return self.inner
+
+    def before_trial(self, study, trial) -> None:
+        self._for(trial).before_trial(study, trial)
+
+    def infer_relative_search_space(self, study, trial):
+        return self._for(trial).infer_relative_search_space(study, trial)
+
+    def sample_relative(self, study, trial, search_space):
+        return self._for(trial).sample_relative(study, trial, search_space)
+
+    def sample_independent(self, study, trial, param_name, param_distribution):
+        return self._for(trial).sample_independent(study, trial, param_name, param_distribution)
+
+    def after_trial(self, study, trial, state, values) -> None:
+        self._for(trial).after_trial(study, trial, state, values)
+
+    def reseed_rng(self) -> None:
+        if self.inner is not None:
+            self.inner.reseed_rng()
+
 
 class _Deduplicated:
     """Child generation that redraws (up to 20 times) a child equal to an earlier trial.

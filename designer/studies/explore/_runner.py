@@ -28,9 +28,8 @@ from designer.studies.explore._operators import (
 from designer.studies.explore._progress import _FrontTracker, _Progress
 from designer.studies.explore._result import ExploreResult, _box_reference, _exact_front, compare_fronts
 from designer.studies.explore._storage import StorageSpec, _one_line, open_storage, parse_storage
-from designer.studies.explore._workers import SURPLUS_ATTR, _counts, _Evaluator, _run_study
+from designer.studies.explore._workers import RETRY_ATTR, _counts, _Evaluator, _run_study, lineage
 
-RETRY_ATTR = "explore_retry_of"
 ATTR_PREFIX = "designer:"
 
 MAX_TRIALS = 1_000_000
@@ -39,8 +38,15 @@ MAX_WORKERS = 256
 """Largest --workers (processes on this machine)."""
 
 
-def _prepare_resume(study, spec: StorageSpec, search_space_names) -> list[str]:
-    """Fail stale RUNNING trials and re-enqueue failed ones once; returns notes."""
+def _prepare_resume(study, spec: StorageSpec, search_space_names, trials: int) -> list[str]:
+    """Fail stale RUNNING trials and queue one retry of each candidate whose every trial failed; returns notes.
+
+    A candidate (a :func:`lineage`: a trial and its retries) with a waiting, running or complete trial
+    needs nothing; one whose trials all failed after its parameters were drawn gets one retry (user
+    attribute ``explore_retry_of``: the candidate's first trial), as many as the budget still lacks.  A
+    retry queued twice in a race (two processes resuming at once) is evaluated once
+    (:meth:`_Evaluator.skip`).
+    """
     # late import: loads optuna only when this runs
     import optuna
 
@@ -59,15 +65,23 @@ def _prepare_resume(study, spec: StorageSpec, search_space_names) -> list[str]:
             storage.set_trial_state_values(t._trial_id, TrialState.FAIL)
         if stale:
             notes.append(f"failed {len(stale)} stale running trial(s): {[t.number for t in stale]}")
-    trials = study.get_trials(deepcopy=False)
-    retried = {t.user_attrs.get(RETRY_ATTR) for t in trials} | {t.system_attrs.get("failed_trial") for t in trials}
+    candidates: dict[int, list] = {}
+    for t in study.get_trials(deepcopy=False):
+        candidates.setdefault(lineage(t), []).append(t)
+    live = (TrialState.WAITING, TrialState.RUNNING, TrialState.COMPLETE)
+    lacking = trials - sum(t.state in live for chain in candidates.values() for t in chain)
     names = set(search_space_names)
-    for t in trials:
-        if t.state != TrialState.FAIL or t.number in retried or t.user_attrs.get(SURPLUS_ATTR):
+    for root, chain in sorted(candidates.items()):
+        if lacking <= 0:
+            break
+        if any(t.state in live for t in chain):
             continue
-        if set(t.params) >= names:  # killed after its parameters were drawn: evaluate the same candidate
-            study.enqueue_trial(t.params, user_attrs={RETRY_ATTR: t.number}, skip_if_exists=False)
-            notes.append(f"retrying trial {t.number}")
+        failed = [t for t in chain if t.state == TrialState.FAIL and set(t.params) >= names]
+        if not failed:  # pruned, or killed before its parameters were drawn: no candidate to retry
+            continue
+        study.enqueue_trial(failed[-1].params, user_attrs={RETRY_ATTR: root}, skip_if_exists=False)
+        notes.append(f"retrying trial {failed[-1].number}")
+        lacking -= 1
     return notes
 
 
@@ -95,9 +109,11 @@ def explore(
     trials : int
         The study ends with exactly this many COMPLETE trials.
     seed : int or None
-        Sampler seed; a single-worker run with a seed is repeatable.  Worker i
-        uses ``seed + i``; a resumed run adds the number of trials already in
-        the study, so it does not replay the first run's random draws.
+        Sampler seed; a run alone on its study (a fresh single-worker run, or a
+        resume) is repeatable.  Each process draws from its own stream, chosen by
+        the number of the first trial it runs (:func:`stream_seed`), so workers and
+        processes that join the study never share draws, and a resume does not
+        replay the first run's.
     storage : str or None
         Storage URL (module docstring); None = in-memory.
     study_name : str or None
@@ -147,18 +163,16 @@ def explore(
     storage_obj = open_storage(spec, break_lock=resume)
     study, ops, notes = _open_study(problem, study_name, spec, storage_obj, resume, trials, seed, ops, space)
 
-    existing = len(study.get_trials(deepcopy=False))
-    base_seed = None if seed is None else seed + (existing if resume else 0)
     complete_before = _counts(study)[TrialState.COMPLETE]
     tracker = _FrontTracker(reference)
     bar = _Progress(trials, enabled=progress, initial=complete_before)
     t0 = time.perf_counter()
-    _run_study(
+    notes += _run_study(
         problem,
         spec,
         study_name,
         trials,
-        base_seed,
+        seed,
         ops,
         workers,
         storage_obj,
@@ -210,7 +224,7 @@ def _open_study(
         warnings.simplefilter("ignore")
         if resume:
             study, ops = _load_for_resume(problem, study_name, spec, storage_obj, ops)
-            notes += _prepare_resume(study, spec, space.names)
+            notes += _prepare_resume(study, spec, space.names, trials)
         else:
             study = _create(problem, study_name, spec, storage_obj, trials, seed, ops, space)
     return study, ops, notes

@@ -110,7 +110,10 @@ def _one_line(exc: BaseException) -> str:
 HEARTBEAT_SECONDS = 10
 """A worker on a remote (PostgreSQL/MySQL) study records a heartbeat this often (env DESIGNER_HEARTBEAT_SECONDS)."""
 GRACE_SECONDS = 60
-"""A RUNNING trial without a heartbeat for this long is failed and retried once (env DESIGNER_GRACE_SECONDS)."""
+"""A RUNNING trial without a heartbeat for this long is failed and retried (env DESIGNER_GRACE_SECONDS)."""
+STALE_RETRIES = 3
+"""A candidate whose trial went stale is retried up to this many times (a retry can go stale too: its worker
+killed or starved); each retry is evaluated once, and the stale trial's own late result never counts."""
 
 
 def _heartbeat() -> tuple[int, int]:
@@ -179,7 +182,7 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
                 engine_kwargs=engine_kwargs,
                 heartbeat_interval=heartbeat,
                 grace_period=grace,
-                failed_trial_callback=optuna.storages.RetryFailedTrialCallback(max_retry=1),
+                failed_trial_callback=optuna.storages.RetryFailedTrialCallback(max_retry=STALE_RETRIES),
             )
     except ImportError as exc:
         raise StorageError(

@@ -1,12 +1,25 @@
 """The processes that run trials: the optuna objective and its budget (:class:`_Evaluator`), one worker
-(:func:`_run_worker`), the pool of worker processes (:func:`_run_pool`), and :func:`_run_study`, which runs
-the study in this process or on the pool.  :func:`designer.studies.explore._runner.explore` calls it.
+(:func:`_run_worker`, an ask-and-tell loop, :func:`_work`), the pool of worker processes (:func:`_run_pool`),
+and :func:`_run_study`, which runs the study in this process or on the pool.
+:func:`designer.studies.explore._runner.explore` calls it.
+
+Exactly once
+    Every process draws its candidates from its own random stream (:meth:`Operators.process_sampler`).
+    A worker tells a trial only while it is still RUNNING: a trial that another process failed meanwhile
+    (its heartbeat was late because this process was starved of CPU or paused, or a file-storage resume
+    failed it) keeps its FAIL, the late result is discarded and a note says so; its candidate counts
+    through its retry.  A retry runs only if no earlier trial of the same candidate (:func:`lineage`) is
+    waiting, running or complete, so a candidate retried twice in a race is still evaluated once.
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
+import socket
 import sys
+import threading
 import time
 import warnings
 
@@ -21,47 +34,75 @@ from designer.studies.explore._storage import StorageSpec, _one_line, open_stora
 
 SURPLUS_ATTR = "explore_surplus"
 """User attribute of a trial pruned because the budget was reached by other workers (never evaluated)."""
+RETRY_ATTR = "explore_retry_of"
+"""User attribute of a trial that re-evaluates a failed candidate: the number of the candidate's first trial."""
+DUPLICATE_ATTR = "explore_duplicate_of"
+"""User attribute of a retry pruned because an earlier trial holds the same candidate (never evaluated)."""
+WORKER_ATTR = "explore_worker"
+"""User attribute: the process (``host:pid``) that ran the trial."""
+
+_WORKER = f"{socket.gethostname()}:{os.getpid()}"
+
+
+def lineage(trial) -> int:
+    """The number of the first trial of ``trial``'s candidate: itself, or the trial a retry re-evaluates.
+
+    A retry made by ``--resume`` carries it as ``explore_retry_of``; a retry made by the storage's heartbeat
+    callback carries optuna's ``failed_trial`` system attribute (the first failed trial of its chain) and the
+    user attributes of the trial it copies.
+    """
+    return int(trial.user_attrs.get(RETRY_ATTR, trial.system_attrs.get("failed_trial", trial.number)))
 
 
 class _Evaluator:
     """The optuna objective: suggest, evaluate with the one model, set constraints."""
 
     def __init__(self, problem: Problem, space: SearchSpace, budget: int, shared: bool = True):
-        self.shared = shared  # several workers: check the budget by trial number (single: the callback stops)
+        self.shared = shared  # several processes may work on the study: budget and duplicates by trial number
         self.problem = problem
         self.space = space
         self.budget = budget
         self.problems = {cat: category_problem(problem, cat) for cat in space.categories()}
-        self.on_trial = None
 
     def design_array(self, category: tuple, params: dict) -> np.ndarray:
         """(T, d, B, c_f) [SI] of a trial: suggested values, else the category's fixed bound."""
         sub = self.problems[category]
         return np.array([params.get(name, sub.bounds[name].low) for name in VARIABLES], float)
 
+    def skip(self, trial) -> str | None:
+        """Why ``trial`` must not be evaluated (it is then pruned), or None.
+
+        Surplus: ``budget`` waiting, running or complete trials precede it (by number).  Duplicate: an
+        earlier waiting, running or complete trial holds the same candidate (:func:`lineage`), as when a
+        failed trial was retried twice by processes in a race.  Trials are created one at a time, so every
+        trial with a smaller number is visible here.
+        """
+        # late import: loads optuna only when this runs
+        from optuna.trial import TrialState
+
+        live = (TrialState.WAITING, TrialState.RUNNING, TrialState.COMPLETE)
+        trials = trial.study.get_trials(deepcopy=False)
+        me = next(t for t in trials if t.number == trial.number)
+        earlier = [t for t in trials if t.number < trial.number and t.state in live]
+        if len(earlier) >= self.budget:
+            trial.set_user_attr(SURPLUS_ATTR, True)
+            return "budget reached by other workers"
+        root = lineage(me)
+        twin = next((t.number for t in earlier if lineage(t) == root), None)
+        if twin is not None:
+            trial.set_user_attr(DUPLICATE_ATTR, twin)
+            return f"candidate already held by trial {twin}"
+        return None
+
     def __call__(self, trial):
         # late import: loads optuna only when this runs
         import optuna
 
-        # late import: loads optuna only when this runs
-        from optuna.trial import TrialState
-
-        study = trial.study
-        ahead = (
-            0
-            if not self.shared
-            else sum(
-                1
-                for t in study.get_trials(
-                    deepcopy=False, states=(TrialState.WAITING, TrialState.RUNNING, TrialState.COMPLETE)
-                )
-                if t.number < trial.number
-            )
-        )
-        if ahead >= self.budget:
-            trial.set_user_attr(SURPLUS_ATTR, True)
-            study.stop()
-            raise optuna.TrialPruned("budget reached by other workers")
+        if self.shared:
+            trial.set_user_attr(WORKER_ATTR, _WORKER)
+            reason = self.skip(trial)
+            if reason is not None:
+                raise optuna.TrialPruned(reason)
         category = tuple(
             (name, trial.suggest_categorical(name, list(choices))) for name, choices in self.space.categorical
         )
@@ -88,18 +129,141 @@ def _counts(study) -> dict:
     return out
 
 
-def _stopper(budget: int, evaluator: _Evaluator):
+@contextlib.contextmanager
+def _heartbeat(storage, trial_id: int, interval: float | None):
+    """Record the trial's heartbeat in ``storage`` every ``interval`` seconds while the block runs."""
+    if interval is None:
+        yield
+        return
+    storage.record_heartbeat(trial_id)  # now, not when the thread first runs: a stale trial is one with a beat
+    stop = threading.Event()
+
+    def beat():
+        while not stop.wait(interval):
+            with contextlib.suppress(Exception):  # a missed beat is retried; a dead database stops the main thread
+                storage.record_heartbeat(trial_id)
+
+    thread = threading.Thread(target=beat, name=f"heartbeat-{trial_id}", daemon=True)
+    thread.start()
+    try:
+        yield
+    finally:
+        stop.set()
+        thread.join()
+
+
+def _late_note(number: int) -> str:
+    return (
+        f"trial {number} was failed by another process while this one still evaluated it (its heartbeat "
+        f"was late: this process was starved of CPU or paused); its result was discarded, its candidate is "
+        f"retried, not counted twice"
+    )
+
+
+def _tell(study, trial, values, state):
+    """Tell ``trial`` only while it is still RUNNING: the told FrozenTrial, or None when another process has
+    failed it meanwhile (then it keeps its FAIL and ``values`` count nowhere)."""
+    # late import: loads optuna only when this runs
+    from optuna.exceptions import UpdateFinishedTrialError
+
     # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
-    def callback(study, frozen):
-        c = _counts(study)
-        if evaluator.on_trial is not None:
-            evaluator.on_trial(study, frozen, c)
-        if c[TrialState.COMPLETE] + c[TrialState.RUNNING] >= budget:
-            study.stop()
+    try:
+        told = study.tell(trial, values, state=state, skip_if_finished=True)
+    except UpdateFinishedTrialError:  # failed between tell's check of the state and its write
+        return None
+    return told if told.state == (TrialState.COMPLETE if state is None else state) else None
 
-    return callback
+
+def _run_trial(study, trial, evaluator: _Evaluator, storage, heartbeat: float | None):
+    """Evaluate and tell one asked trial: ``(told FrozenTrial, None)``, or ``(None, note)`` when another
+    process failed the trial before its result was told."""
+    # late import: loads optuna only when this runs
+    import optuna
+
+    # late import: loads optuna only when this runs
+    from optuna.exceptions import UpdateFinishedTrialError
+
+    # late import: loads optuna only when this runs
+    from optuna.trial import TrialState
+
+    values, state = None, None
+    try:
+        with _heartbeat(storage, trial._trial_id, heartbeat):
+            try:
+                values = evaluator(trial)
+            except optuna.TrialPruned:
+                state = TrialState.PRUNED
+    except UpdateFinishedTrialError:  # a write to the trial (an attribute, a parameter) was refused
+        return None, _late_note(trial.number)
+    except BaseException:  # Ctrl-C or a bug: the trial fails (a resume retries it) and the error goes on
+        _tell(study, trial, None, TrialState.FAIL)
+        raise
+    told = _tell(study, trial, values, state)
+    return told, (_late_note(trial.number) if told is None else None)
+
+
+def _work(study, evaluator: _Evaluator, budget: int, storage, on_trial=None) -> list[str]:
+    """Ask, evaluate and tell trials until the study holds ``budget`` COMPLETE trials; returns notes.
+
+    With a heartbeat (a client–server database), stale RUNNING trials are failed before every trial (the
+    storage's callback queues their retries), and a worker that finds the budget taken by running trials
+    waits: each of them completes, or goes stale and is retried, or is abandoned (:func:`_abandon`), so
+    the study ends with exactly ``budget`` COMPLETE trials as long as one worker lives.  Without a
+    heartbeat a running trial of another process cannot be told from a dead one: the worker stops
+    (``--resume`` finishes such a study).
+    """
+    # late import: loads optuna only when this runs
+    import optuna
+
+    # late import: loads optuna only when this runs
+    from optuna.trial import TrialState
+
+    interval = storage.get_heartbeat_interval() if hasattr(storage, "get_heartbeat_interval") else None
+    notes: list[str] = []
+    waited_on: dict[int, float] = {}
+    while True:
+        if interval is not None:
+            optuna.storages.fail_stale_trials(study)
+        counts = _counts(study)
+        if counts[TrialState.COMPLETE] >= budget:
+            return notes
+        if counts[TrialState.COMPLETE] + counts[TrialState.RUNNING] >= budget and not counts[TrialState.WAITING]:
+            if interval is None or not evaluator.shared:
+                return notes
+            _abandon(study, storage, waited_on, 2.0 * (getattr(storage, "grace_period", None) or 2 * interval))
+            time.sleep(min(interval, 1.0))
+            continue
+        waited_on.clear()
+        told, note = _run_trial(study, study.ask(), evaluator, storage, interval)
+        if note is not None:
+            notes.append(note)
+        if on_trial is not None and told is not None:
+            on_trial(study, told, _counts(study))
+
+
+def _abandon(study, storage, waited_on: dict, patience: float) -> None:
+    """Fail the RUNNING trials that this waiting worker has seen running for over ``patience`` seconds.
+
+    The heartbeat fails a trial only once it has a beat: a process killed between asking its trial and
+    the first beat leaves it RUNNING for ever.  Failing a trial whose process is alive but slow is safe: its
+    result is then discarded (:func:`_tell`) and the budget is filled by another trial.
+    """
+    # late import: loads optuna only when this runs
+    from optuna.exceptions import UpdateFinishedTrialError
+
+    # late import: loads optuna only when this runs
+    from optuna.trial import TrialState
+
+    now = time.monotonic()
+    running = study.get_trials(deepcopy=False, states=(TrialState.RUNNING,))
+    for number in set(waited_on) - {t.number for t in running}:
+        del waited_on[number]
+    for t in running:
+        if now - waited_on.setdefault(t.number, now) > patience:
+            with contextlib.suppress(UpdateFinishedTrialError):  # it has just finished after all
+                storage.set_trial_state_values(t._trial_id, TrialState.FAIL)
 
 
 def _run_worker(
@@ -112,32 +276,32 @@ def _run_worker(
     storage_obj=None,
     on_trial=None,
     check_budget: bool = True,
-) -> None:
-    """Run trials on one study until it holds ``budget`` COMPLETE trials (one process).
+) -> list[str]:
+    """Run trials on one study until it holds ``budget`` COMPLETE trials (one process); returns notes.
 
-    ``check_budget``: other processes may work on the study, so each trial
-    checks by its number that fewer than ``budget`` trials precede it.
+    ``check_budget``: other processes may work on the study, so each trial checks by its number that
+    fewer than ``budget`` trials precede it and that no earlier trial holds its candidate.
     """
     # late import: loads optuna only when this runs
     import optuna
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
+        warnings.simplefilter("ignore")  # optuna's experimental heartbeat API, ask() with a heartbeat storage
         if storage_obj is None:
             storage_obj = open_storage(parse_storage(storage))
         ops = Operators.from_dict(operators)
-        study = optuna.load_study(study_name=study_name, storage=storage_obj, sampler=ops.sampler(seed))
-        if _counts(study)[optuna.trial.TrialState.COMPLETE] >= budget:
-            return
+        study = optuna.load_study(study_name=study_name, storage=storage_obj, sampler=ops.process_sampler(seed))
         evaluator = _Evaluator(problem, search_space(problem), budget, shared=check_budget)
-        evaluator.on_trial = on_trial
-        study.optimize(evaluator, n_trials=None, callbacks=[_stopper(budget, evaluator)], gc_after_trial=False)
+        return _work(study, evaluator, budget, storage_obj, on_trial)
 
 
-def _worker_entry(args) -> None:  # top level: picklable for multiprocessing
+def _worker_entry(args, notes=None) -> None:  # top level: picklable for multiprocessing
+    """One pool worker: run the study, put its notes on the ``notes`` queue (if given)."""
     try:
-        _run_worker(*args)
+        found = _run_worker(*args)
+        if notes is not None:
+            notes.put(found)
     except KeyboardInterrupt:
         pass
     except Exception as exc:  # one line, no traceback: the parent says which workers failed and what to do
@@ -150,7 +314,7 @@ def _run_study(
     spec: StorageSpec,
     study_name: str,
     trials: int,
-    base_seed,
+    seed,
     ops: Operators,
     workers: int,
     storage_obj,
@@ -158,8 +322,10 @@ def _run_study(
     bar,
     check_budget: bool,
     progress: bool,
-) -> None:
-    """Run the study to ``trials`` COMPLETE trials: in this process, or on a pool of ``workers`` processes."""
+) -> list[str]:
+    """Run the study to ``trials`` COMPLETE trials: in this process, or on a pool of ``workers`` processes.
+
+    Returns the workers' notes (results that came too late to count)."""
     # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
@@ -172,26 +338,25 @@ def _run_study(
                         tracker.add(frozen.values)
                     bar.update(counts[TrialState.COMPLETE], tracker)
 
-                _run_worker(
+                return _run_worker(
                     problem,
                     spec.url,
                     study_name,
                     trials,
-                    base_seed,
+                    seed,
                     ops.as_dict(),
                     storage_obj=storage_obj,
                     on_trial=on_trial if progress else None,
                     check_budget=check_budget,
                 )
-            else:
-                _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storage_obj, tracker, bar)
+            return _run_pool(problem, spec, study_name, trials, seed, ops, workers, storage_obj, tracker, bar)
     except KeyboardInterrupt:
         raise KeyboardInterrupt(
             f"interrupted; continue with --resume --storage {spec.shown} --study {study_name}"
         ) from None
 
 
-def _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storage_obj, tracker, bar):
+def _run_pool(problem, spec, study_name, trials, seed, ops, workers, storage_obj, tracker, bar) -> list[str]:
     # late import: loads multiprocessing only when this runs
     import multiprocessing
 
@@ -199,11 +364,9 @@ def _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storag
     from optuna.trial import TrialState
 
     ctx = multiprocessing.get_context("spawn")
-    args = [
-        (problem, spec.url, study_name, trials, None if base_seed is None else base_seed + i, ops.as_dict())
-        for i in range(workers)
-    ]
-    procs = [ctx.Process(target=_worker_entry, args=(a,), daemon=False) for a in args]
+    notes_queue = ctx.SimpleQueue()
+    args = (problem, spec.url, study_name, trials, seed, ops.as_dict())  # one seed: streams differ by process
+    procs = [ctx.Process(target=_worker_entry, args=(args, notes_queue), daemon=False) for _ in range(workers)]
     for p in procs:
         p.start()
     # late import: loads optuna only when this runs
@@ -211,9 +374,12 @@ def _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storag
 
     study = optuna.load_study(study_name=study_name, storage=storage_obj)
     seen = 0
+    notes: list[str] = []
     try:
         while any(p.is_alive() for p in procs):
             time.sleep(0.25)
+            while not notes_queue.empty():  # read as they come: a full pipe would block a finishing worker
+                notes += notes_queue.get()
             done = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
             for t in done[seen:]:
                 if all(v <= 0 for v in t.constraints.values()):
@@ -231,3 +397,6 @@ def _run_pool(problem, spec, study_name, trials, base_seed, ops, workers, storag
         raise StorageError(
             f"{len(bad)} worker process(es) failed (exit codes {bad}); check the storage, then continue with --resume"
         )
+    while not notes_queue.empty():
+        notes += notes_queue.get()
+    return notes

@@ -266,3 +266,119 @@ def test_parse_storage_forms():
     assert spec.kind == "rdb" and spec.remote and "pw" not in spec.shown
     with pytest.raises(StorageError):
         parse_storage("redis://localhost")
+
+
+# --------------------------------------------------------------------------- exactly once (issue 23.3)
+
+
+def _url(kind: str, folder: Path) -> str:
+    return f"sqlite:///{folder / 'study.db'}" if kind == "sqlite" else f"journal://{folder / 'study.log'}"
+
+
+@pytest.mark.parametrize("kind", ["sqlite", "journal"])
+@pytest.mark.parametrize("moment", ["before its constraints are set", "before it is told"])
+def test_a_trial_failed_while_evaluated_counts_once(kind, moment, tmp_path, monkeypatch):
+    """A trial that another process fails (and retries, as the heartbeat's callback does) while this process
+    still evaluates it keeps its FAIL: the late result is discarded with a note naming the trial, the worker
+    carries on, and the study ends with exactly N COMPLETE trials of N distinct candidates, the failed
+    trial's candidate complete once, through its retry."""
+    from designer.studies.explore import _workers, lineage
+
+    url, n = _url(kind, tmp_path), 12
+    failed = []
+
+    def other_process_fails_it():
+        study = _load(url)  # a second connection: another process
+        (running,) = study.get_trials(deepcopy=False, states=(TrialState.RUNNING,))
+        study._storage.set_trial_state_values(running._trial_id, TrialState.FAIL)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the callback's deprecated name in optuna 5
+            optuna.storages.RetryFailedTrialCallback(max_retry=1)(study, study.trials[running.number])
+        failed.append(running.number)
+
+    if moment == "before its constraints are set":
+        evaluate = _workers.evaluate_many
+
+        def late_evaluate(sub, x):
+            if not failed and len(_load(url).trials) == 4:
+                other_process_fails_it()
+            return evaluate(sub, x)
+
+        monkeypatch.setattr(_workers, "evaluate_many", late_evaluate)
+    else:
+        call = _workers._Evaluator.__call__
+
+        def late_call(self, trial):
+            values = call(self, trial)
+            if not failed and trial.number == 3:
+                other_process_fails_it()
+            return values
+
+        monkeypatch.setattr(_workers._Evaluator, "__call__", late_call)
+    result = explore(designer.load_problem(INDOOR), trials=n, seed=3, storage=url, compare=False)
+    trials = _load(url).get_trials(deepcopy=False)
+    complete = [t for t in trials if t.state == TrialState.COMPLETE]
+    assert failed == [3] and trials[3].state == TrialState.FAIL
+    assert result.trials == n == len(complete) == len({_params_key(t) for t in complete})
+    (retry,) = [t for t in trials if t.number != 3 and lineage(t) == 3]
+    assert [t.number for t in complete if t.params == trials[3].params] == [retry.number]  # once, the retry
+    assert [w for w in result.warnings if "trial 3 was failed by another process" in w]
+    assert not [t for t in trials if t.state in (TrialState.RUNNING, TrialState.WAITING)]
+
+
+def test_a_candidate_retried_twice_in_a_race_is_evaluated_once(tmp_path):
+    """A failed candidate queued twice (two processes resuming at once, or a resume beside the heartbeat's
+    callback) is evaluated by its first retry only: the second is PRUNED with explore_duplicate_of, never
+    evaluated, and the study still ends with exactly N COMPLETE trials of N distinct candidates."""
+    from designer.studies.explore import DUPLICATE_ATTR, lineage
+
+    url, n = _url("journal", tmp_path), 10
+    problem = designer.load_problem(INDOOR)
+    explore(problem, trials=4, seed=0, storage=url, compare=False)
+    study = _load(url)
+    dists = study.trials[0].distributions
+    study.add_trial(  # a trial killed after its parameters were drawn: the middle of the box
+        optuna.trial.create_trial(
+            state=TrialState.FAIL, params={k: (d.low + d.high) / 2 for k, d in dists.items()}, distributions=dists
+        )
+    )
+    lost = study.trials[-1]
+    study.enqueue_trial(lost.params, user_attrs={RETRY_ATTR: lost.number})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        optuna.storages.RetryFailedTrialCallback(max_retry=1)(study, lost)
+    result = explore(problem, trials=n, seed=0, storage=url, resume=True, compare=False)
+    trials = _load(url).get_trials(deepcopy=False)
+    complete = [t for t in trials if t.state == TrialState.COMPLETE]
+    assert result.trials == n == len(complete) == len({_params_key(t) for t in complete})
+    twins = [t for t in trials if t.number > lost.number and lineage(t) == lost.number]
+    assert [t.state for t in twins] == [TrialState.COMPLETE, TrialState.PRUNED]
+    assert twins[0].params == lost.params and twins[1].values is None
+    assert twins[1].user_attrs[DUPLICATE_ATTR] == twins[0].number
+
+
+def test_processes_joining_one_study_draw_different_candidates(tmp_path):
+    """Seeds no longer add up to a shared stream: a resume with seed 5 at 8 trials used to replay the draws of
+    a resume with seed 10 at 3 trials (5 + 8 = 10 + 3), evaluating and counting 5 candidates twice. Each
+    process's stream is now chosen by its first trial's number, unique in the study."""
+    url = _url("journal", tmp_path)
+    problem = designer.load_problem(INDOOR)
+    explore(problem, trials=3, seed=0, storage=url, compare=False)
+    explore(problem, trials=8, seed=10, storage=url, resume=True, compare=False)
+    result = explore(problem, trials=13, seed=5, storage=url, resume=True, compare=False)
+    assert result.trials == result.distinct == 13
+
+
+def test_stream_seeds_of_two_processes_never_coincide():
+    """stream_seed(seed, n) = (seed + STREAM_STRIDE n) mod 2**32: the same seed with two first trials below
+    2**20 never gives one stream, nor do seeds that differ by less than 1637 (the smallest distance of
+    STREAM_STRIDE k from a multiple of 2**32 for 0 < k < 2**20); a fresh run (first trial 0) keeps its seed."""
+    import numpy as np
+
+    from designer.studies.explore import STREAM_STRIDE, stream_seed
+
+    k = np.arange(1, 2**20, dtype=np.uint64)
+    r = (k * np.uint64(STREAM_STRIDE)) % np.uint64(2**32)
+    assert int(np.minimum(r, np.uint64(2**32) - r).min()) == 1637
+    assert stream_seed(7, 0) == 7 and stream_seed(None, 5) is None
+    assert stream_seed(0, 1) != stream_seed(1, 0) and 0 <= stream_seed(2**32 - 1, 3) < 2**32
