@@ -7,10 +7,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from designer.cli._common import eprint, print_json, quantity_option
+from designer.cli._common import SEED_MAX, count_option, eprint, print_json, quantity_option
 from designer.studies.fleet import (
     DEFAULT_MAX_REGRET,
     EXAMPLE_RANGES,
+    MAX_CHAIRS,
     example_fleet,
     fleet_data,
     fleet_recommendations,
@@ -73,6 +74,8 @@ def register(sub) -> None:
 
 def run(args) -> int:
 
+    count_option(args.seed, "--seed", 0, SEED_MAX)
+    count_option(args.example, "--example", 1, MAX_CHAIRS, " chairs (docs/fleet.md)")
     if args.example is not None:
         if args.fleet is not None:
             raise InputError(f"--example {args.example}: writes a fleet; do not also give FLEET.csv ({args.fleet})")

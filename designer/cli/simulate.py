@@ -5,11 +5,12 @@ from __future__ import annotations
 import math
 import sys
 
-from designer.cli._common import eprint, print_json, quantity_option
+from designer.cli._common import eprint, print_json, quantity_option, ranged_option
 from designer.errors import InputError
 from designer.model import Conditions, Design
 from designer.physics.inertia import Fixed, PowerLaw
 from designer.physics.tyre import TyreParameters
+from designer.problem import INERTIA_RANGE
 from designer.studies.dynamics.limit_cycles import bifurcation_diagram, knock_safe_speed
 import warnings
 from designer.studies.dynamics.limit_cycles import limit_cycle_study
@@ -80,6 +81,26 @@ def _register_limit_cycles(p) -> None:
     g.add_argument("--points", default="24", help="orbits on the unstable branch of --bifurcation (default 24)")
 
 
+MAX_ANGULAR_VELOCITY = 1000.0
+"""Largest |θ'_i| of a knock [rad/s]: the small-angle model holds to |θ| = 1 rad, and at the paper's shimmy
+frequencies (Eq. 15B, 80-105 rad/s) a swing of 1 rad has |θ'| of about 100 rad/s; ten times that is no knock."""
+
+TYRE_RANGES = {
+    "--friction-coefficient": (0.0, 10.0, "", "tyre-floor μ: about 0.7 for rubber on tile"),
+    "--cornering-stiffness": (1.0, 1e6, "N/rad", "as K_s (1250 N, App. C): 1 to 1e6"),
+    "--wheel-mass": (0.0, 100.0, "kg", "a caster wheel of 0.444 kg (the default)"),
+}
+"""The brush tyre's options: (low (exclusive for 0), high, unit, what a value usually is)."""
+
+
+def _bounded(option: str, value: float, text: str) -> float:
+    """InputError naming ``option`` unless ``value`` lies in :data:`TYRE_RANGES` (low exclusive when 0)."""
+    low, high, unit, hint = TYRE_RANGES[option]
+    if not (math.isfinite(value) and (low < value if low == 0 else low <= value) and value <= high):
+        raise InputError(f"{option} {text}: outside {low:g} to {high:g} {unit}".rstrip() + f" ({hint})")
+    return value
+
+
 def _tyre(args):
 
     values = {}
@@ -91,13 +112,12 @@ def _tyre(args):
             values[option] = float(text)
         except ValueError:
             raise InputError(f"{option} {text!r}: expected a number") from None
-        if not math.isfinite(values[option]) or values[option] <= 0:
-            raise InputError(f"{option} {text}: must be positive")
+        _bounded(option, values[option], text)
     return TyreParameters(
         cornering_stiffness=values["--cornering-stiffness"],
         friction_coefficient=values["--friction-coefficient"],
-        load=_positive("--load", args.load, "force"),
-        wheel_mass=_positive("--wheel-mass", args.wheel_mass, "mass"),
+        load=ranged_option(args.load, "load", "--load"),
+        wheel_mass=_bounded("--wheel-mass", quantity_option(args.wheel_mass, "mass", "--wheel-mass"), args.wheel_mass),
     )
 
 
@@ -139,7 +159,7 @@ def _bifurcation(args, design, conditions, angle: float, tyre) -> dict:
         raise InputError(f"--points {args.points!r}: expected an integer") from None
     if not 3 <= points <= 200:
         raise InputError(f"--points {points}: must be between 3 and 200")
-    top = _positive("--max-speed", args.max_speed, "speed")
+    top = ranged_option(args.max_speed, "target_speed", "--max-speed")
     bif = bifurcation_diagram(design, conditions, tyre, speed_range=(min(0.3, top / 4), top), points=points)
     roll = bifurcation_diagram(
         design,
@@ -231,19 +251,30 @@ def _positive(option, text, dimension, allow_zero=False):
     return value
 
 
+def _inertia(text: str) -> float:
+    """--inertia [kg·m²] within the model's INERTIA_RANGE (as evaluate and fix take it)."""
+    value = quantity_option(text, "inertia", "--inertia")
+    if not INERTIA_RANGE[0] <= value <= INERTIA_RANGE[1]:
+        raise InputError(
+            f"--inertia {text}: must be between {INERTIA_RANGE[0]:g} and {INERTIA_RANGE[1]:g} kg·m² "
+            "(Table 1: 0.00026 to 0.0046)"
+        )
+    return value
+
+
 def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
     """Options → (design, conditions, speed, angle, angular velocity, duration); InputError on bad input."""
     for option, value in (("--trail", args.trail), ("--speed", args.speed)):
         if value is None:
             raise InputError(f"{option}: missing; required unless --report is given")
-    design = Design(
-        trail=_positive("--trail", args.trail, "length"),
-        diameter=_positive("--diameter", args.diameter, "length"),
-        groove=_positive("--groove", args.groove, "length", allow_zero=True),
-        damping=_positive("--damping", args.damping, "damping", allow_zero=True),
+    design = Design(  # the model's ranges of the parameter table, as a problem file's bounds
+        trail=ranged_option(args.trail, "trail", "--trail", positive=True),
+        diameter=ranged_option(args.diameter, "diameter", "--diameter", positive=True),
+        groove=ranged_option(args.groove, "groove", "--groove"),
+        damping=ranged_option(args.damping, "damping", "--damping"),
     )
-    _positive("--load", args.load, "force")
-    speed = _positive("--speed", args.speed, "speed")
+    ranged_option(args.load, "load", "--load")
+    speed = ranged_option(args.speed, "target_speed", "--speed")
     angle = _positive("--angle", args.angle, "angle")
     if angle >= math.pi / 2:
         raise InputError(f"--angle {args.angle}: must be below 90 deg (small-angle model)")
@@ -254,10 +285,13 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
         omega0 = float(args.angular_velocity)
     except ValueError:
         raise InputError(f"--angular-velocity {args.angular_velocity!r}: expected a number in rad/s") from None
-    if not math.isfinite(omega0):
-        raise InputError(f"--angular-velocity {args.angular_velocity}: must be finite")
-    inertia = PowerLaw() if args.inertia is None else Fixed(_positive("--inertia", args.inertia, "inertia"))
-    slip = _positive("--slip-coefficient", args.slip_coefficient, "force")
+    if not (math.isfinite(omega0) and abs(omega0) <= MAX_ANGULAR_VELOCITY):
+        raise InputError(
+            f"--angular-velocity {args.angular_velocity}: must be between -{MAX_ANGULAR_VELOCITY:g} and "
+            f"{MAX_ANGULAR_VELOCITY:g} rad/s (a knock's θ'_i; App. C estimates 0.7 rad/s)"
+        )
+    inertia = PowerLaw() if args.inertia is None else Fixed(_inertia(args.inertia))
+    slip = ranged_option(args.slip_coefficient, "slip_coefficient", "--slip-coefficient")
     duration = None
     if args.duration is not None:
         try:
@@ -272,13 +306,14 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
 
 def run(args) -> int:
     # late import: loads scipy (via designer.studies.dynamics._simulate) only when this runs
-    from designer.studies.dynamics import onset_speed, simulate
+    from designer.studies.dynamics import onset_speed, simulate, work_limit
 
     # late import: the validation study (scipy, matplotlib) only for --report
     from designer.studies.dynamics import write_simulation_report
 
     if (args.bifurcation or args.knock_safe) and args.report is None:
-        return _run_limit_cycles(args)
+        with work_limit("designer simulate"):  # one budget for all the command's studies
+            return _run_limit_cycles(args)
 
     if args.report is not None:
         result = write_simulation_report(
@@ -306,7 +341,7 @@ def run(args) -> int:
 
     design, conditions, speed, angle, omega0, duration = parse(args)
 
-    with warnings.catch_warnings(record=True) as caught:
+    with warnings.catch_warnings(record=True) as caught, work_limit("designer simulate"):
         warnings.simplefilter("always")
         result = simulate(design, conditions, speed, angle=angle, angular_velocity=omega0, duration=duration)
         onset = onset_speed(design, conditions, angle=angle, angular_velocity=omega0) if args.find_onset else None

@@ -69,6 +69,7 @@ from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
 from designer.physics.shimmy import critical_shimmy_speed, shimmy_frequency, steady_shimmy_amplitude
 from designer.studies.dynamics._result import OnsetResult, SimulationResult
+from designer.studies.dynamics._work import SPEED_RANGE, bounded, counted, spend
 
 __all__ = [
     "SimulationResult",
@@ -157,6 +158,7 @@ class _StickSlip:
     def run(self) -> _StickSlip:
         """Integrate to the end (or the angle limit); returns self."""
         while self.t < self.k.duration and self.switches < self.max_switches:
+            spend(10)  # a phase costs about ten evaluations more than its integration counts
             if self._stick() if self.s == 0.0 else self._slip():
                 break
         return self
@@ -209,7 +211,7 @@ class _StickSlip:
         from scipy.integrate import solve_ivp  # late import: scipy's integrator only when a simulation runs
 
         sol = solve_ivp(
-            k.rhs(s),
+            counted(k.rhs(s)),
             (t, k.duration),
             self.y,
             method="DOP853",
@@ -252,6 +254,7 @@ class _StickSlip:
         return False
 
 
+@bounded("shimmy simulation")
 def simulate(  # long: its docstring documents every argument; the body (30 lines) is _knock, _StickSlip, measure
     design: Design,
     conditions: Conditions = Conditions(),
@@ -307,6 +310,9 @@ def simulate(  # long: its docstring documents every argument; the body (30 line
     InputError
         Non-positive trail, speed, diameter or inertia, negative groove or
         damping, non-finite values.
+    WorkLimitError
+        (exit 5) More than ``_work.MAX_EVALUATIONS`` evaluations of the equations of motion (a stiff
+        case); a study that calls it shares its budget.
     """
     k = _knock(
         design, conditions, speed, angle, angular_velocity, duration, cycles, angle_limit, rtol, samples_per_period
@@ -440,6 +446,7 @@ def _frequency(crossings: list[float], transient: float) -> float:
     return math.nan
 
 
+@bounded("onset search")
 def onset_speed(
     design: Design,
     conditions: Conditions = Conditions(),
@@ -456,8 +463,10 @@ def onset_speed(
     oscillation amplitude over the last two periods exceeds the amplitude just
     after the aligning transient, or |θ| reached the angle limit).  The
     bracket starts at Eq. 7's V_c (with c_f,eff = M_f/θ_i) × [0.8, 1.25] and
-    is widened ×2 until it holds a decaying and a growing speed; bisection in
-    log V then stops when high/low − 1 < ``rtol``.
+    is widened ×2 until it holds a decaying and a growing speed, never beyond
+    the model's speeds (``_work.SPEED_RANGE``, 0.01 to 100 m/s); bisection in
+    log V then stops when high/low − 1 < ``rtol``.  All the trial simulations
+    share one work budget.
 
     Parameters
     ----------
@@ -478,7 +487,10 @@ def onset_speed(
     Raises
     ------
     SolverError
-        If no bracket with decay below and growth above is found.
+        If no bracket with decay below and growth above is found: the knock grows already at the
+        lowest speed of the model, or decays up to its highest (the onset lies outside the model's
+        speeds), or not within ``max_expansions`` doublings; WorkLimitError (exit 5) when the
+        simulations spend the work budget.
     """
     theta_i = float(conditions.disturbance_angle if angle is None else angle)
     _check("angle", theta_i)
@@ -522,14 +534,27 @@ def onset_speed(
 
 
 def _bracket(run, low: float, high: float, max_expansions: int, v7: float) -> tuple[float, float]:
-    """Widen (low, high) [m/s] ×2 outward until the knock decays at ``low`` and grows at ``high`` (``run(v)``
-    simulates at speed v); SolverError when that takes more than ``max_expansions`` doublings."""
+    """Widen (low, high) [m/s] ×2 outward, inside :data:`SPEED_RANGE`, until the knock decays at ``low`` and
+    grows at ``high`` (``run(v)`` simulates at speed v); SolverError when that takes more than
+    ``max_expansions`` doublings or would leave the model's speeds."""
+    v_min, v_max = SPEED_RANGE
+    low, high = min(max(low, v_min), v_max), min(max(high, v_min), v_max)
     for _ in range(max_expansions):
         if run(low).grows:
-            high, low = low, low / 2
+            if low <= v_min:
+                raise SolverError(
+                    f"shimmy onset below {v_min:g} m/s, the model's lowest speed: the knock grows there already "
+                    f"(Eq. 7 gives {v7:.3g} m/s)"
+                )
+            high, low = low, max(low / 2, v_min)
             continue
         if not run(high).grows:
-            low, high = high, high * 2
+            if high >= v_max:
+                raise SolverError(
+                    f"no shimmy onset up to {v_max:g} m/s, the model's highest speed: the knock decays there "
+                    f"(Eq. 7 gives {v7:.3g} m/s); the caster does not shimmy at any speed the model covers"
+                )
+            low, high = high, min(high * 2, v_max)
             continue
         break
     else:

@@ -20,11 +20,12 @@ from designer.studies.fleet._fleet import (
     suggest_skus,
 )
 from designer.studies.fleet._kmedian import kmedian_curve, solve_kmedian
-from designer.studies.fleet._table import EXAMPLE_RANGES, example_fleet, read_fleet, write_fleet_csv
+from designer.studies.fleet._table import EXAMPLE_RANGES, MAX_CHAIRS, example_fleet, read_fleet, write_fleet_csv
 
 __all__ = [
     "DEFAULT_MAX_REGRET",
     "EXAMPLE_RANGES",
+    "MAX_CHAIRS",
     "FleetResult",
     "example_fleet",
     "fleet",

@@ -64,8 +64,13 @@ RANGES = {
 }
 """Model range per column [SI] (same limits as the problem file's): outside it a row is an input error."""
 
-MAX_CHAIRS = 10_000_000
-"""Largest fleet read (rows)."""
+MAX_CHAIRS = 100_000
+"""Largest fleet (rows of FLEET.csv, chairs of --example): what one machine carries in bounded time and
+memory (docs/fleet.md: 100 000 chairs about 10-20 s without the Monte Carlo, benchmarks/fleet.md); a larger
+product line is split into files of at most this many chairs."""
+
+MAX_FLEET_BYTES = 640 * MAX_CHAIRS
+"""Largest fleet file read [bytes]: :data:`MAX_CHAIRS` rows of 640 characters (a row is about 60)."""
 
 
 # --------------------------------------------------------------------------- the fleet table
@@ -209,6 +214,11 @@ def read_fleet(path, base=None) -> Fleet:
         empty cell, a value outside the model's range, an unknown surface or turning mode.
     """
     path = Path(path)
+    if path.is_file() and path.stat().st_size > MAX_FLEET_BYTES:
+        raise ProblemError(
+            f"{path}: {path.stat().st_size:,} bytes; a fleet file is at most {MAX_FLEET_BYTES:,} bytes "
+            f"({MAX_CHAIRS:,} chairs): split the fleet into files of at most {MAX_CHAIRS:,} chairs"
+        )
     text = read_input_text(path, "fleet file", ".csv", encoding="utf-8-sig")
     return fleet_from_text(text, source=str(path))
 
@@ -223,6 +233,11 @@ def fleet_from_text(text: str, source: str = "fleet") -> Fleet:
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         raise ProblemError(f"{source}: empty file; expected a header line (name, load_N, threshold_height_in, ...)")
+    if len(lines) - 1 > MAX_CHAIRS:  # counted on the lines, before the CSV is parsed (a quoted cell may hold one)
+        raise ProblemError(
+            f"{source}: {len(lines) - 1:,} rows; a fleet has at most {MAX_CHAIRS:,} chairs: split it into files "
+            f"of at most {MAX_CHAIRS:,} chairs (docs/fleet.md)"
+        )
     reader = csv.reader(io.StringIO("\n".join(lines)))
     try:
         table = list(reader)
@@ -230,7 +245,7 @@ def fleet_from_text(text: str, source: str = "fleet") -> Fleet:
         raise ProblemError(f"{source}: not a CSV file ({exc})") from None
     header, body = table[0], table[1:]
     if len(body) > MAX_CHAIRS:
-        raise ProblemError(f"{source}: {len(body)} rows; at most {MAX_CHAIRS} chairs")
+        raise ProblemError(f"{source}: {len(body):,} rows; a fleet has at most {MAX_CHAIRS:,} chairs")
     columns = _header_columns(header, source)
     if not body:
         raise ProblemError(f"{source}: no chairs (only a header)")

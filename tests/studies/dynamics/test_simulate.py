@@ -129,11 +129,11 @@ def test_cli_json_keys(capsys):
 
 
 def test_cli_bad_option_one_line(capsys):
-    """A bad --speed is one error line naming the option and value, exit code 2."""
+    """A bad --speed is one error line naming the option, the value and the model's range, exit code 2."""
     code = main(["simulate", "--trail", "2in", "--speed", "-3"])
     err = capsys.readouterr().err.strip()
     assert code == 2
-    assert "\n" not in err and "--speed" in err and "positive" in err
+    assert "\n" not in err and "--speed = -3 m/s" in err and "range 0.01 to 100 m/s" in err
 
 
 def test_cli_plot(tmp_path, capsys):

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from designer.studies.dynamics.limit_cycles._system import CasterDynamics, caster_dynamics, simulate_knock
 from designer.errors import InputError, SolverError
+from designer.studies.dynamics._work import bounded
 from designer.model import Conditions, Design
 from designer.physics.inertia import Fixed
 from designer.physics.tyre import TyreParameters
@@ -31,6 +32,7 @@ class OnsetBracket:
         return math.sqrt(self.low * self.high)
 
 
+@bounded("knock onset search")
 def knock_onset_speed(
     sys: CasterDynamics,
     angle: float,
@@ -84,6 +86,7 @@ def knock_onset_speed(
     return OnsetBracket(low, high, n)
 
 
+@bounded("knock-safe speed")
 def knock_safe_speed(
     design: Design,
     conditions: Conditions = Conditions(),

@@ -8,6 +8,7 @@ import time
 import numpy as np
 
 from designer.studies.dynamics.limit_cycles._system import caster_dynamics
+from designer.studies.dynamics._work import bounded
 from designer.studies.dynamics.limit_cycles._knock import knock_onset_speed, knock_safe_speed, scanned_onset_speed
 from designer.studies.dynamics.limit_cycles._orbits import (
     Branch,
@@ -36,6 +37,7 @@ def _branch_dicts(orbits) -> list[dict]:
     return Branch(orbits=list(orbits)).pieces()
 
 
+@bounded("bifurcation diagram")
 def bifurcation_diagram(
     design: Design,
     conditions: Conditions = Conditions(),

@@ -17,6 +17,7 @@ from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
 from designer.physics import bracketed_root
 from designer.physics.tyre import TyreParameters, lateral_tyre_force
+from designer.studies.dynamics._work import bounded, counted, spend
 
 _RTOL = 1e-10
 _EPS = float(np.finfo(float).eps)
@@ -218,6 +219,7 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
     limit.terminal = True
 
     while t < t_end and switches < max_switches:
+        spend(10)  # a phase costs about ten evaluations more than its integration counts
         if s == 0.0:
             level = M_f if graze_level is None else graze_level
 
@@ -227,7 +229,14 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
             unstick.terminal = True
             unstick.direction = 1
             sol = solve_ivp(
-                sys.rhs(0.0), (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, max_step=max_step, events=[unstick]
+                counted(sys.rhs(0.0)),
+                (t, t_end),
+                y,
+                method="DOP853",
+                rtol=rtol,
+                atol=atol,
+                max_step=max_step,
+                events=[unstick],
             )
             graze_level = None
             if sol.status < 0:
@@ -251,7 +260,14 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
         stop.terminal = True
         stop.direction = -1
         sol = solve_ivp(
-            sys.rhs(s), (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, max_step=max_step, events=[stop, limit]
+            counted(sys.rhs(s)),
+            (t, t_end),
+            y,
+            method="DOP853",
+            rtol=rtol,
+            atol=atol,
+            max_step=max_step,
+            events=[stop, limit],
         )
         if sol.status < 0:
             raise SolverError(f"shimmy integration failed at t = {t:.4g} s: {sol.message}")
@@ -393,6 +409,7 @@ def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per even
         t0, base = t, 0.0
         yp, z0 = flow.start(s, y)
         while True:  # one period of grid points at a time
+            spend(1)
             pts = flow.states(yp, z0, base + taus)
             stop = np.nonzero(s * pts[2] <= 0)[0]
             over = np.nonzero(np.abs(pts[1]) >= angle_limit)[0]
@@ -473,6 +490,7 @@ class KnockResult:
     angle: float = 0.0
 
 
+@bounded("knock simulation")
 def simulate_knock(
     sys: CasterDynamics,
     angle: float,

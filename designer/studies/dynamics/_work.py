@@ -1,0 +1,111 @@
+"""A bound on the work of one shimmy study: evaluations of the equations of motion, and its speeds.
+
+Every time integration of the room counts the evaluations of its right-hand side (and the closed-form
+integration its grid points) against one budget; the outermost public study (:func:`simulate`,
+:func:`onset_speed`, a knock onset or knock-safe speed, a bifurcation diagram) opens it with
+:func:`bounded`, and every simulation it runs shares it.  When the budget is spent the study ends with
+:class:`WorkLimitError`: one line saying what was being computed, with how many evaluations, and why
+such a case is costly.  The count is deterministic (no clock), so a case ends the same way everywhere.
+
+The searches in speed (onset, knock onset) stay inside :data:`SPEED_RANGE`, the model's speeds (the
+problem file's ``shimmy.target_speed`` range): an onset beyond it is said, not searched for.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import contextvars
+import functools
+from collections.abc import Iterator
+from typing import Any, Callable, TypeVar
+
+from designer.errors import DesignerError, SolverError
+from designer.parameters import PARAMETERS
+
+MAX_EVALUATIONS = 3_000_000
+"""Evaluations of the equations of motion one study may spend (about 30 s of CPU here at 9-10 µs each).
+The shipped cases need far less: a simulation 2 000-15 000, an onset search 40 000-110 000, a default
+bifurcation diagram about 800 000 (3.8 times fewer), the slowest single simulation of the model's range
+(T = 0.25 m at 0.01 m/s: a 75 s aligning transient) about 740 000."""
+
+SPEED_RANGE: tuple[float, float] = PARAMETERS["target_speed"].range or (0.01, 100.0)
+"""The model's speeds [m/s] (the problem file's range of ``shimmy.target_speed``)."""
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+class WorkLimitError(DesignerError):
+    """A shimmy study spent :data:`MAX_EVALUATIONS` evaluations without an answer (exit 5, as a solver that
+    fails).  Not a :class:`SolverError`: the searches that step over a failed orbit or bracket do not step
+    over it, the study ends."""
+
+    exit_code = SolverError.exit_code
+
+
+class _Budget:
+    def __init__(self, what: str, evaluations: int):
+        self.what = what
+        self.limit = evaluations
+        self.left = evaluations
+
+    def spend(self, n: int) -> None:
+        self.left -= n
+        if self.left < 0:
+            raise WorkLimitError(
+                f"{self.what}: stopped after {self.limit:,} evaluations of the equations of motion, the work "
+                "limit of one study; such a case has time scales far apart (a short trail or a light wheel at "
+                "a high speed, a long transient at a crawl): choose values nearer the paper's casters"
+            )
+
+
+_ACTIVE: contextvars.ContextVar[_Budget | None] = contextvars.ContextVar("designer_dynamics_budget", default=None)
+
+
+@contextlib.contextmanager
+def work_limit(what: str, evaluations: int | None = None) -> Iterator[None]:
+    """Open one budget of ``evaluations`` (default :data:`MAX_EVALUATIONS`) for everything run inside, e.g. a
+    command that runs several studies; ``what`` names it in the message.  Inside an open budget it opens
+    none (the outer one bounds the whole)."""
+    if _ACTIVE.get() is not None:
+        yield
+        return
+    token = _ACTIVE.set(_Budget(what, MAX_EVALUATIONS if evaluations is None else int(evaluations)))
+    try:
+        yield
+    finally:
+        _ACTIVE.reset(token)
+
+
+def bounded(what: str) -> Callable[[_F], _F]:
+    """Decorator of a public study: it runs inside :func:`work_limit` (``what`` names it), so a study that
+    calls it shares the caller's budget."""
+
+    def decorate(function: _F) -> _F:
+        @functools.wraps(function)
+        def wrapper(*args, **kwargs):
+            with work_limit(what):
+                return function(*args, **kwargs)
+
+        return wrapper  # type: ignore[return-value]
+
+    return decorate
+
+
+def spend(n: int = 1) -> None:
+    """Count ``n`` evaluations against the open budget (none open: nothing counted)."""
+    budget = _ACTIVE.get()
+    if budget is not None:
+        budget.spend(n)
+
+
+def counted(rhs: Callable[..., Any]) -> Callable[..., Any]:
+    """``rhs`` (a right-hand side for ``solve_ivp``) counting each call against the open budget."""
+    budget = _ACTIVE.get()
+    if budget is None:
+        return rhs
+
+    def f(t, y):
+        budget.spend(1)
+        return rhs(t, y)
+
+    return f
