@@ -82,7 +82,7 @@ class _Evaluator:
 
         live = (TrialState.WAITING, TrialState.RUNNING, TrialState.COMPLETE)
         trials = trial.study.get_trials(deepcopy=False)
-        me = next(t for t in trials if t.number == trial.number)
+        me = next(t for t in trials if t.number == trial.number)  # a FrozenTrial: its system attributes too
         earlier = [t for t in trials if t.number < trial.number and t.state in live]
         if len(earlier) >= self.budget:
             trial.set_user_attr(SURPLUS_ATTR, True)
@@ -155,8 +155,8 @@ def _heartbeat(storage, trial_id: int, interval: float | None):
 def _late_note(number: int) -> str:
     return (
         f"trial {number} was failed by another process while this one still evaluated it (its heartbeat "
-        f"was late: this process was starved of CPU or paused); its result was discarded, its candidate is "
-        f"retried, not counted twice"
+        f"was late: this process was starved of CPU or paused); its result was discarded, so its candidate "
+        f"counts at most once, through a retry"
     )
 
 
