@@ -109,7 +109,7 @@ def save_figure(fig, path, dpi: int = 110, option: str = "--plot") -> None:
 def png_bytes(fig, dpi: int = 110) -> bytes:
     """A matplotlib figure as PNG bytes (Agg renderer; the robust and calibration reports)."""
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi)
+    fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})  # no matplotlib version in the bytes
     return buf.getvalue()
 
 

@@ -8,7 +8,6 @@ the Pareto report (shared stylesheet), with one title used by the page and by it
 from __future__ import annotations
 
 import base64
-import json
 import os
 import shutil
 import tempfile
@@ -19,7 +18,8 @@ import numpy as np
 from designer.jsonsafe import finite
 from designer.pipeline import RobustData
 from designer.report.formatting import fmt
-from designer.report.writer import _render, _replace
+from designer.report.resolution import resolved, split_run
+from designer.report.writer import RUN_FILE, _render, _replace, _write_json
 from designer.plots.figures import png_bytes
 
 OWNED = frozenset({"index.html", "robust.md", "robust.json", "figures", "robust_fronts.png"})
@@ -131,6 +131,7 @@ def bound_sentence(data: RobustData) -> str:
 
 
 def _rows(data: RobustData) -> list[dict]:
+    """The table's cells, from the rows as resolved (robust.json's numbers: no "-0.000" of a 1e-12 difference)."""
     return [
         {
             "P": fmt(r["threshold_force"], ".2f"),
@@ -141,7 +142,7 @@ def _rows(data: RobustData) -> list[dict]:
             "p": f"{r['probability_mc']:.2%} ± {r['probability_mc_se']:.2%}",
             "p_nominal": fmt(r["nominal_probability_mc"] * 100, ".1f", "%"),
         }
-        for r in data.rows
+        for r in resolved(data.rows)
     ]
 
 
@@ -157,7 +158,7 @@ def _json(data: RobustData, page_title: str) -> dict:
         "samples",
         "seed",
     )
-    return finite(
+    out = finite(
         {
             "problem": data.problem.name,
             "title": page_title,
@@ -167,13 +168,17 @@ def _json(data: RobustData, page_title: str) -> dict:
             "compare": data.compare,
             "nominal_front": data.nominal.rows(),
             "robust_front": data.robust.rows(),
-            "run": data.run,
+            "run": split_run(data.run)[0],
         }
     )
+    return resolved(out, data.problem.bounds)
 
 
 def write_robust_report(data: RobustData, out_dir) -> Path:
-    """Render ``data`` into ``out_dir``: index.html (self-contained), robust.md, robust.json, figures/.
+    """Render ``data`` into ``out_dir``: index.html (self-contained), robust.md, robust.json, figures/, run.json.
+
+    robust.json holds its numbers as the solver resolves them (:mod:`designer.report.resolution`); the run's
+    date, seconds and library versions are only in run.json (git-ignored), so a rerun writes the same bytes.
 
     Written into a temporary folder beside the target and renamed into place when complete; files in the
     target that the report does not own (:data:`OWNED`) are kept.
@@ -193,17 +198,16 @@ def write_robust_report(data: RobustData, out_dir) -> Path:
         context = {
             "title": page_title,
             "problem": data.problem,
-            "run": data.run,
+            "run": split_run(data.run)[0],
             "sentences": sentences(data),
             "rows": _rows(data),
             "figure": FIGURE,
             "figure_uri": "data:image/png;base64," + base64.b64encode(png).decode("ascii"),
             "bound": bound_sentence(data),
-            "versions": ", ".join(f"{k} {v}" for k, v in data.run.get("versions", {}).items() if v),
+            "designer_version": data.run.get("versions", {}).get("caster-designer") or "(not installed)",
         }
-        (tmp / "robust.json").write_text(
-            json.dumps(_json(data, page_title), indent=2, ensure_ascii=False, allow_nan=False) + "\n", encoding="utf-8"
-        )
+        _write_json(tmp / "robust.json", _json(data, page_title))
+        _write_json(tmp / RUN_FILE, finite(data.run))  # date, seconds, versions: beside, never committed
         (tmp / "index.html").write_text(_render("robust.html.j2", context, autoescape=True), encoding="utf-8")
         (tmp / "robust.md").write_text(_render("robust.md.j2", context, autoescape=False), encoding="utf-8")
         _replace(tmp, target, OWNED)

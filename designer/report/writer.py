@@ -8,10 +8,16 @@ two jinja2 templates and writes
 all files into a temporary folder beside the target, which replaces the target by a rename only
 when everything is written (:mod:`designer.report.files`).  An exception leaves no half report.
 Nothing here optimises, checks or sweeps.
+
+The data files hold every number as the solver resolves it (:mod:`designer.report.resolution`), and no
+committed file holds what changes from run to run: the date, the seconds, the library versions and the solve
+counts go into ``run.json`` beside the report (git-ignored), so a rerun of the same command writes the same
+bytes into everything else.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import shutil
@@ -21,11 +27,16 @@ import warnings
 from pathlib import Path
 
 from designer.jsonsafe import finite
+from designer.model import Design
 from designer.pipeline import ReportData
 from designer.report.files import REPORT_MARKERS, REPORT_OWNED, _carry_over, _replace, check_target, is_report  # noqa: F401
 import designer.report.figures as _figures
+from designer.report.resolution import design_value, multiplier, on_scale, resolved, split_run
 from designer.report.context import FIGURE_INFO, build_context  # noqa: F401 (FIGURE_INFO: its old home)
 from designer.report.formatting import LBF, MPH, fmt, length  # noqa: F401 (fmt: robust and calibration use it)
+
+RUN_FILE = "run.json"
+"""The run's metadata beside the report (date, seconds, versions, solve counts): git-ignored, never committed."""
 
 # --------------------------------------------------------------------------- writing
 
@@ -55,7 +66,7 @@ def _md_escape(value) -> str:
 
 def _front_json(data: ReportData) -> dict:
     out = data.front.to_dict()
-    out["run"] = data.run
+    out["run"] = split_run(data.run)[0]
     out["problem_digest"] = data.problem.digest()
     out["problem_definition"] = data.problem.to_dict()
     if data.solution is not None:
@@ -72,15 +83,46 @@ def _front_json(data: ReportData) -> dict:
     if data.tighter is not None:
         out["tighter_target"] = {"target_speed": data.tighter.problem.target_speed, "points": data.tighter.rows()}
     out["degenerate_reason"] = data.degenerate_reason or None
-    return finite(out)
+    return _resolved(data, finite(out))
+
+
+def _resolved(data: ReportData, value):
+    """``value`` with its numbers as resolved (:func:`designer.report.resolution.resolved`) for ``data``'s problem."""
+    return resolved(value, data.problem.bounds, {"swept_radius": data.problem.swept_radius_max})
+
+
+def _resolved_front(front, bounds):
+    """A copy of ``front`` whose points carry their numbers as resolved (front.csv is written from it); None: None."""
+
+    def point(p):
+        design = Design(**{k: design_value(k, v, bounds) for k, v in p.design.as_dict().items()})
+        return dataclasses.replace(
+            p,
+            design=design,
+            turning_effort=on_scale(p.turning_effort),
+            threshold_force=on_scale(p.threshold_force),
+            critical_speed=on_scale(p.critical_speed),
+            epsilon=on_scale(p.epsilon),
+            multipliers={k: multiplier(v) for k, v in p.multipliers.items()},
+        )
+
+    if front is None:
+        return None
+    return dataclasses.replace(front, points=[point(p) for p in front.points], failed=[point(p) for p in front.failed])
 
 
 def _front_csv(path: Path, data: ReportData) -> None:
     """front.csv: the front the problem asks for; with [stock], the buildable front as extra rows
-    (column ``buildable`` true for them, false for the others: :meth:`Front.to_csv`)."""
+    (column ``buildable`` true for them, false for the others: :meth:`Front.to_csv`); numbers as resolved."""
     rec = data.recommendation
     stocked = getattr(data.problem, "stock", None) is not None and rec is not None
-    data.front.to_csv(path, buildable=rec.buildable if stocked else None)
+    bounds = data.problem.bounds
+    buildable = _resolved_front(rec.buildable, bounds) if stocked else None
+    _resolved_front(data.front, bounds).to_csv(path, buildable=buildable)
+
+
+def _write_json(path: Path, value) -> None:
+    path.write_text(json.dumps(value, indent=2, ensure_ascii=False, allow_nan=False) + "\n", encoding="utf-8")
 
 
 def _write_all(folder: Path, data: ReportData, t0: float) -> None:
@@ -100,21 +142,20 @@ def _write_all(folder: Path, data: ReportData, t0: float) -> None:
         for panel in context["build"]["panels"]:
             if panel.svg:
                 (folder / "figures" / f"{panel.id}.svg").write_text(panel.svg + "\n", encoding="utf-8")
-    checks = [finite(c.to_dict()) for c in data.paper_checks + data.front_checks]
-    (folder / "checks.json").write_text(
-        json.dumps(checks, indent=2, ensure_ascii=False, allow_nan=False) + "\n", encoding="utf-8"
+    _write_json(
+        folder / "checks.json", _resolved(data, [finite(c.to_dict()) for c in data.paper_checks + data.front_checks])
     )
     data.run["report_seconds"] = time.perf_counter() - t0
     if data.run.get("wall_seconds") is None:  # called from Python: the sum of the parts we know of
         data.run["wall_seconds"] = data.run.get("compute_wall_seconds", 0.0) + data.run["report_seconds"]
     data.run["render_cpu_seconds"] = {"figures": c1 - c0}
-    context["run"] = data.run
-    (folder / "front.json").write_text(
-        json.dumps(_front_json(data), indent=2, ensure_ascii=False, allow_nan=False) + "\n", encoding="utf-8"
-    )
+    context["run"] = split_run(data.run)[0]  # the pages show no date, seconds or library versions: run.json has them
+    context["designer_version"] = data.run.get("versions", {}).get("caster-designer") or "(not installed)"
+    _write_json(folder / "front.json", _front_json(data))
     (folder / "index.html").write_text(_render("index.html.j2", context, autoescape=True), encoding="utf-8")
     (folder / "report.md").write_text(_render("report.md.j2", context, autoescape=False), encoding="utf-8")
     data.run["render_cpu_seconds"]["writing"] = time.process_time() - c1
+    _write_json(folder / RUN_FILE, finite(data.run))
 
 
 def write_report(data, out_dir=None, *, force: bool = False) -> Path:
@@ -123,7 +164,9 @@ def write_report(data, out_dir=None, *, force: bool = False) -> Path:
     Writes ``index.html`` (one self-contained file: the figures and the caster
     drawing as inline SVG, a point's numbers on hover, inline CSS, autoescaped), ``report.md``
     with the same ``figures/*.svg`` beside it, ``front.csv``, ``front.json`` (front,
-    recommendation, indicators, run metadata) and ``checks.json``.
+    recommendation, indicators, the run's settings) and ``checks.json``, with every number as the solver
+    resolves it (:mod:`designer.report.resolution`), and ``run.json`` (the date, seconds, library versions
+    and solve counts of this run, which no other file holds).
     Everything is written into a temporary folder beside the target and
     renamed into place at the end, so an exception leaves no half report (and
     an existing report untouched).  Files in the target that a report does not

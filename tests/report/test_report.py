@@ -3,9 +3,10 @@ self-contained and escaped, writes are atomic, and ``designer pareto`` writes ev
 
 from __future__ import annotations
 
-import csv
 import json
 import re
+import shutil
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -21,16 +22,26 @@ ROOT = Path(__file__).resolve().parents[2]
 COMMITTED = ROOT / "results" / "indoor-manual"
 FILES = ("index.html", "report.md", "front.csv", "front.json", "checks.json")
 FIGURES = tuple(f"figures/{name}.svg" for name in figures.FIGURES)
-OBJECTIVES_RTOL = 1e-5
-"""Regenerated front objectives must match the committed ones to this relative tolerance."""
+VARYING = ("date", "versions", "wall_seconds", "compute_cpu_seconds", "render_cpu_seconds", "front_seconds")
+"""Run metadata that changes from run to run: in run.json, never in a committed file."""
 
 
 @pytest.fixture(scope="module")
-def regenerated(tmp_path_factory) -> tuple[Path, int]:
-    """``designer pareto problems/indoor-manual.toml`` into a temporary folder (the committed report's command)."""
-    out = tmp_path_factory.mktemp("pareto") / "indoor-manual"
-    code = main(["pareto", str(ROOT / "problems" / "indoor-manual.toml"), "--out", str(out)])
-    return out, code
+def regenerated_all(tmp_path_factory) -> tuple[Path, int]:
+    """``designer pareto --all problems`` into a temporary folder, from the checkout's root: the command that
+    writes results/<problem>/ (a report names its problem file as given, so the path is the relative one)."""
+    parent = tmp_path_factory.mktemp("pareto")
+    with pytest.MonkeyPatch.context() as patch:
+        patch.chdir(ROOT)
+        code = main(["pareto", "--all", "problems", "--out", str(parent)])
+    return parent, code
+
+
+@pytest.fixture(scope="module")
+def regenerated(regenerated_all) -> tuple[Path, int]:
+    """The default problem's report of that run (the README's main job: problems/indoor-manual.toml)."""
+    parent, code = regenerated_all
+    return parent / "indoor-manual", code
 
 
 @pytest.fixture(scope="module")
@@ -40,37 +51,87 @@ def invacare():
     return problem, report_data(problem)
 
 
-def _read_csv(path: Path) -> list[dict]:
-    with open(path, newline="") as fh:
-        return list(csv.DictReader(fh))
+def _files(folder: Path) -> dict[str, bytes]:
+    """Every file under ``folder`` but run.json (the run's metadata, git-ignored), by relative path."""
+    return {
+        str(path.relative_to(folder)): path.read_bytes()
+        for path in sorted(folder.rglob("*"))
+        if path.is_file() and path.name != "run.json"
+    }
+
+
+def _stale(committed: Path, fresh: Path) -> list[str]:
+    """The files of ``committed`` and ``fresh`` that differ in bytes, or exist in one only."""
+    old, new = _files(committed), _files(fresh)
+    return sorted(name for name in set(old) | set(new) if old.get(name) != new.get(name))
 
 
 def test_cli_writes_every_file(regenerated, capsys):
-    """`designer pareto` exits 0 (every check passes on indoor-manual) and writes the report files and figures."""
+    """`designer pareto` exits 0 (every check passes on every shipped problem) and writes the report files and
+    figures; the run's date, seconds and library versions are in run.json beside them, and in no other file."""
     out, code = regenerated
     assert code == 0
     for name in FILES + FIGURES:
         assert (out / name).is_file(), name
         assert (out / name).stat().st_size > 0, name
-    data = json.loads((out / "front.json").read_text())
+    run = json.loads((out / "run.json").read_text())
     for key in ("caster-designer", "numpy", "scipy", "casadi", "cvxpy", "optuna"):
-        assert data["run"]["versions"][key], key
-    assert data["run"]["problem_digest"] == load_problem(ROOT / "problems" / "indoor-manual.toml").digest()
-    assert data["run"]["wall_seconds"] > 0 and data["run"]["date"]
+        assert run["versions"][key], key
+    digest = load_problem(ROOT / "problems" / "indoor-manual.toml").digest()
+    assert run["problem_digest"] == digest and run["wall_seconds"] > 0 and run["date"]
+    data = json.loads((out / "front.json").read_text())
+    assert data["run"]["problem_digest"] == digest
+    assert not set(VARYING) & set(data["run"]), "run metadata that varies belongs in run.json"
+    for name in ("index.html", "report.md"):
+        text = (out / name).read_text()
+        assert run["date"] not in text and run["date"][:10] not in text, name
+        assert f"numpy {run['versions']['numpy']}" not in text, name
 
 
-def test_committed_results_are_current(regenerated):
-    """results/indoor-manual matches a fresh run: front.csv objectives within 1e-5, the same check verdicts."""
-    out, _ = regenerated
-    assert COMMITTED.is_dir(), "results/indoor-manual is missing: run python -m designer.cli.regenerate"
-    new, old = _read_csv(out / "front.csv"), _read_csv(COMMITTED / "front.csv")
-    assert len(new) == len(old), "number of front points changed: regenerate results/"
-    for column in ("turning_effort", "threshold_force"):
-        a = np.array([float(r[column]) for r in new])
-        b = np.array([float(r[column]) for r in old])
-        np.testing.assert_allclose(a, b, rtol=OBJECTIVES_RTOL, err_msg=f"{column}: regenerate results/")
-    verdict = lambda path: {c["name"]: c["passed"] for c in json.loads(path.read_text())}  # noqa: E731
-    assert verdict(out / "checks.json") == verdict(COMMITTED / "checks.json")
+def test_committed_results_are_current(regenerated_all):
+    """results/<problem>/ of every shipped problem is byte for byte what `designer pareto --all problems` writes
+    now (run.json aside): the data files hold the numbers as resolved (designer.report.resolution) and no run's
+    date or seconds, so any difference means results/ is stale."""
+    parent, _ = regenerated_all
+    problems = sorted(path.stem for path in (ROOT / "problems").glob("*.toml"))
+    stale = {name: _stale(ROOT / "results" / name, parent / name) for name in problems}
+    stale = {name: files for name, files in stale.items() if files}
+    assert not stale, f"results/ is stale (regenerate: designer pareto --all problems): {stale}"
+
+
+def test_committed_robust_report_is_current(tmp_path, monkeypatch):
+    """results/robust/indoor-manual-robust is byte for byte what `designer robust` writes now (run.json aside)."""
+    out = tmp_path / "indoor-manual-robust"
+    monkeypatch.chdir(ROOT)
+    assert main(["robust", "problems/indoor-manual-robust.toml", "--out", str(out)]) == 0
+    assert (out / "run.json").is_file()
+    stale = _stale(ROOT / "results" / "robust" / "indoor-manual-robust", out)
+    assert not stale, (
+        f"results/robust is stale (regenerate: designer robust problems/indoor-manual-robust.toml): {stale}"
+    )
+
+
+def test_main_job_twice_leaves_the_checkout_clean(tmp_path, monkeypatch, regenerated_all):
+    """README command 1 (`designer pareto problems/indoor-manual.toml`, from the checkout's root) run twice in a
+    git copy of problems/, results/indoor-manual/ and .gitignore: after each run `git status --porcelain` is
+    empty (run.json is written and ignored)."""
+    repo = tmp_path / "checkout"
+    shutil.copytree(ROOT / "problems", repo / "problems")
+    shutil.copytree(COMMITTED, repo / "results" / "indoor-manual", ignore=shutil.ignore_patterns("run.json"))
+    shutil.copy(ROOT / ".gitignore", repo / ".gitignore")
+
+    def git(*args: str) -> str:
+        config = ["-c", "user.name=test", "-c", "user.email=test@example.invalid", "-c", "commit.gpgsign=false"]
+        return subprocess.run(["git", *config, *args], cwd=repo, capture_output=True, text=True, check=True).stdout
+
+    git("init", "-q")
+    git("add", "-A")
+    git("commit", "-q", "-m", "checkout")
+    monkeypatch.chdir(repo)
+    for run in (1, 2):
+        assert main(["pareto", "problems/indoor-manual.toml"]) == 0
+        assert git("status", "--porcelain", "--untracked-files=all") == "", f"run {run} changed the checkout"
+        assert (repo / "results" / "indoor-manual" / "run.json").is_file()
 
 
 def test_html_is_self_contained(regenerated):
@@ -123,7 +184,7 @@ def test_main_job_computes_the_knock_safe_speeds_of_the_card(regenerated):
     assert rec["knock_safe_speed"] == pytest.approx(rec["critical_speed"], rel=0.05)
     assert all("knock_safe_speed" in a for a in data["alternatives"])
     assert "knock_safe_speed" not in data["points"][0]
-    assert data["run"]["compute_cpu_seconds"]["knock_safe"] > 0
+    assert json.loads((out / "run.json").read_text())["compute_cpu_seconds"]["knock_safe"] > 0
     assert (
         f"{rec['knock_safe_speed']:.2f} / {rec['knock_safe_speed_double']:.2f} m/s" in (out / "report.md").read_text()
     )

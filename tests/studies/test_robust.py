@@ -133,12 +133,13 @@ def test_alpha_range_is_where_the_quantile_is_accurate():
 
 
 def test_robust_command_writes_report(tmp_path, capsys):
-    """designer robust writes index.html, robust.md, robust.json and its figure, and reports the price of safety."""
+    """designer robust writes index.html, robust.md, robust.json, its figure and run.json (the run's date, seconds
+    and versions, beside the report), and reports the price of safety."""
     from designer.cli import main
 
     out = tmp_path / "robust"
     assert main(["robust", str(ROBUST), "--points", "7", "--out", str(out)]) == 0
-    assert {p.name for p in out.iterdir()} == {"index.html", "robust.md", "robust.json", "figures"}
+    assert {p.name for p in out.iterdir()} == {"index.html", "robust.md", "robust.json", "figures", "run.json"}
     assert (out / "figures" / "robust_fronts.png").stat().st_size > 0
     import json
 
