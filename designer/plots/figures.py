@@ -43,7 +43,7 @@ from designer.physics.shimmy import critical_shimmy_speed
 from designer.plots.fronts import VARIABLE_PANELS, FAMILY_STYLE, draw_fronts, plot_front, plot_variables  # noqa: F401  (FAMILY_STYLE: re-exported)
 from designer.physics.threshold import threshold_force_ratio, threshold_force_ratio_approx
 from designer.errors import InputError
-from designer.plots.svg import Axes, Figure
+from designer.plots.svg import Figure
 
 FIGURES = ("front", "variables", "trail", "inertia", "threshold", "groove_damper")
 """Figure names in report order; ``figure_<name>`` draws each."""
@@ -165,23 +165,7 @@ def figure_front(
     plot_front(f, p, front["family"], ax=ax, legend=False)
     if len(f):
         draw_fronts(ax, curves, marks, legend=False)
-        # the ideal side (below-left) of the front is empty: label the ends there, with arrows
-        for end, where in zip(
-            ends,
-            (
-                dict(xytext=(-25, -30), textcoords="offset points", ha="right"),
-                dict(xytext=(0.03, 0.05), textcoords="axes fraction", ha="left", va="bottom"),
-            ),
-        ):
-            ax.annotate(
-                f"d = {end['diameter'] / INCH:.2f} in\nT = {end['trail'] / INCH:.2f} in\n"
-                f"B = {end['groove'] / INCH:.2f} in",
-                (end["threshold_force"], end["turning_effort"]),
-                fontsize=8,
-                color="0.25",
-                arrowprops=dict(arrowstyle="-", color="0.5", lw=0.8),
-                **{"va": "top", **where},
-            )
+        _label_ends(ax, ends)
         if len(f) == 1:
             ax.set_xlim(p[0] * 0.9, p[0] * 1.1)
             ax.set_ylim(f[0] * 0.8, f[0] * 1.2)
@@ -200,7 +184,7 @@ def figure_front(
             lo, hi = min(f.min(), t.min()), max(f.max(), t.max())
             pad = 0.12 * (hi - lo if hi > lo else 1.0)
             ax.set_ylim(lo - 3 * pad, hi + 2.2 * pad)
-    if hover is not None and isinstance(ax, Axes):
+    if hover is not None:
         ax.hover(p, f, hover)
         ax.hover(
             [m["threshold_force"] for m in marks], [m["turning_effort"] for m in marks], [m["label"] for m in marks]
@@ -208,6 +192,25 @@ def figure_front(
     ax.legend(fontsize=7.5, loc="upper right", framealpha=0.9)
     ax.set_title(title, fontsize=10)
     return fig
+
+
+def _label_ends(ax, ends) -> None:
+    """Label the front's ends with their sizes [in], on the empty ideal side (below-left), with a line to each."""
+    for end, where in zip(
+        ends,
+        (
+            dict(xytext=(-25, -30), textcoords="offset points", ha="right"),
+            dict(xytext=(0.03, 0.05), textcoords="axes fraction", ha="left", va="bottom"),
+        ),
+    ):
+        ax.annotate(
+            f"d = {end['diameter'] / INCH:.2f} in\nT = {end['trail'] / INCH:.2f} in\nB = {end['groove'] / INCH:.2f} in",
+            (end["threshold_force"], end["turning_effort"]),
+            fontsize=8,
+            color="0.25",
+            arrowprops=dict(arrowstyle="-", color="0.5", lw=0.8),
+            **{"va": "top", **where},
+        )
 
 
 # --------------------------------------------------------------------------- variables

@@ -1,7 +1,7 @@
 """Pareto reports: pictures first, then tables (docs/commands.md#reports).
 
 :func:`write_report` writes ``results/<problem>/`` with ``index.html`` (one
-self-contained file), ``report.md`` + ``figures/``, ``front.csv``,
+self-contained file, figures as inline SVG), ``report.md`` + ``figures/*.svg``, ``front.csv``,
 ``front.json`` and ``checks.json``.  :mod:`designer.cli.regenerate`
 rebuilds the reports of every shipped problem in one command.
 
@@ -12,7 +12,7 @@ context     the Pareto page's tables as display strings (``build_context``), sha
 formatting  numbers as table cells (SI and inches, "n/a"), for every report kind
 files       safe report folders: refuse a foreign folder, replace atomically, keep files not owned
 text        the sentences of the report, each generated from the data it states
-figures     which plots/ function draws each figure of the Pareto report, with which data
+figures     which plots/ function draws each figure of the Pareto report (as SVG), with which data and hover text
 build       compute_and_write: the pipeline's data, rendered, and a summary (``designer pareto``, the studio)
 robust      the price-of-safety report (``designer robust``) from a :class:`designer.pipeline.RobustData`
 calibration, fleet, limit_cycles   the reports of ``designer calibrate``, ``designer fleet`` and ``designer simulate --report``
