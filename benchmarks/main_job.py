@@ -194,8 +194,10 @@ def _write(args, r: dict, load_start: list, load_end: list) -> None:
         f"| `designer pareto {args.problem}` | {p['wall']:.2f} [{p['wall_range'][0]:.2f}–{p['wall_range'][1]:.2f}] | "
         f"**{p['wall'] / n['wall']:.1f}** | {p['cpu']:.2f} [{p['cpu_range'][0]:.2f}–{p['cpu_range'][1]:.2f}] | "
         f"**{p['cpu'] / n['cpu']:.1f}** |",
-        f"| before ({BEFORE['source']}) | {BEFORE['process_wall']:.1f} | | {BEFORE['process_cpu']:.1f} | "
+        f"| before: `designer pareto` (issue 29) | {BEFORE['process_wall']:.1f} | | {BEFORE['process_cpu']:.1f} | "
         f"{BEFORE['process_cpu_ratio']:.1f} |",
+        "",
+        f"Before: {BEFORE['source']}.",
         "",
         "CPU seconds per step (one child runs `report_data` and `write_report`, timing each step with "
         "`time.process_time`); before: issue 29's table, when `import numpy` took "
