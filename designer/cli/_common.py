@@ -76,10 +76,11 @@ def ranged_option(value: str | None, entry: str, option: str, default=None, posi
     p = PARAMETERS[entry]
     assert p.range is not None, entry
     low, high = p.range
-    if not (low < number <= high if positive else low <= number <= high):
-        text = outside_range(option, value, number, low, high, p.dimension)
+    if positive and number <= low:
+        raise InputError(f"{option} {value}: must be " + ("positive" if low == 0 else f"above {low:g} {p.unit}"))
+    if not low <= number <= high:
         raise InputError(
-            text + (" (exclusive)" if positive and number == low else "") + (f" ({p.hint})" if p.hint else "")
+            outside_range(option, value, number, low, high, p.dimension) + (f" ({p.hint})" if p.hint else "")
         )
     return number
 
