@@ -13,6 +13,7 @@ threshold   Eq. 1/4A exact, Eq. 5A approximate: force to climb a door sill
 turning     docs/model.md#turning-effort, Eq. 9: turning effort at the caster spindle
 geometry    swept radius of the swivelling caster
 uncertainty scatter of Eq. 7's constants: V_c quantile and Monte Carlo probability of shimmy
+motion      Eq. 3B, 4B, 6B, 24B: the equations of motion with Coulomb spindle friction (rolling and brush tyre)
 roots       a root in a sign-change bracket (check 6, the knock simulations' events) without scipy.optimize
 scatter     the risk law's scales derived from Table 1, each with its provenance
 

@@ -10,25 +10,9 @@ approximation can be checked.
 
 Equations integrated
 --------------------
-Two-degree-of-freedom model of Fig. 1B (lateral spindle displacement X [m],
-caster angle θ [rad]).  Eq. 3B and 4B, with F_N eliminated (Eq. 5B) and the
-mass distribution of Eq. 9B–11B (wheel mass at the contact point, fork mass at
-the spindle, so I_G − a b M_C = I_w and the wheel mass drops out), give
-
-    T K X + T N X'' = I_w θ'' + M_f sgn(θ') + (K_s B²/(2V)) θ'          (5B')
-
-with N = M_F + M_1 (Eq. 14B) and, unlike Eq. 4B, the spindle moment is the
-Coulomb friction M_f sgn(θ') instead of C_D θ'.  The tyre rolls without
-lateral slip, Eq. 6B:  X' = −T θ' − V θ, hence X'' = −T θ'' − V θ' (Eq. 7B).
-Substituting, the state (X, θ, θ') obeys the first-order system
-
-    X'  = −T θ' − V θ
-    θ'' = [ T K X − (N T V + K_s B²/(2V)) θ' − M_f sgn(θ') ] / (I_w + N T²)
-
-Differentiating the second line once and using the first gives Eq. 12B with
-C_D θ'' replaced by d/dt(M_f sgn θ'): the paper's third-order equation is the
-same model.  (The constraint Eq. 6B makes X' a function of θ and θ', so the
-"two degrees of freedom" have three states, not four.)
+The two-degree-of-freedom rolling caster of Fig. 1B with the Coulomb spindle moment M_f sgn(θ') in place of
+Eq. 4B's C_D θ': :mod:`designer.physics.motion` (Eq. 3B, 4B, 6B; the state (X, θ, θ') and its first-order
+system, whose derivative is Eq. 12B with C_D θ'' replaced by d/dt(M_f sgn θ')).
 
 Coulomb friction is handled exactly, by events (stick–slip), not smoothed:
 
@@ -67,6 +51,14 @@ import numpy as np
 
 from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
+from designer.physics.motion import (
+    held_moment,
+    knock_lateral,
+    rolling_coefficients,
+    rolling_field,
+    stick_release,
+    tread_coefficient,
+)
 from designer.physics.shimmy import critical_shimmy_speed, shimmy_frequency, steady_shimmy_amplitude
 from designer.studies.dynamics._result import OnsetResult, SimulationResult
 from designer.studies.dynamics._work import SPEED_RANGE, bounded, counted, spend
@@ -89,7 +81,7 @@ def _check(name: str, value: float, allow_zero: bool = False) -> None:
 @dataclass(frozen=True)
 class _Knock:
     """The constants of one integration (SI), from :func:`_knock`: trail T, spring K, speed V, friction moment
-    M_f, the Eq. 12B coefficients J = I_w + N T² and visc = N T V + K_s B²/(2V), the Eq. 15B period, the time
+    M_f, the Eq. 12B coefficients J and visc = D of :func:`designer.physics.motion.rolling_coefficients`, the Eq. 15B period, the time
     span, the solver settings, the knock θ_i, I_w, the Eq. 15B ω, the aligning transient, B and K_s."""
 
     T: float
@@ -111,14 +103,8 @@ class _Knock:
     slip_coefficient: float
 
     def rhs(self, s):
-        """The first-order system (module docstring) while slipping with sgn θ' = ``s``."""
-        T, K, V, visc, M_f, J = self.T, self.K, self.V, self.visc, self.M_f, self.J
-
-        def f(_t, y):
-            x, th, w = y
-            return [-T * w - V * th, w, (T * K * x - visc * w - s * M_f) / J]
-
-        return f
+        """The equations of motion (:func:`designer.physics.motion.rolling_field`) while slipping with sgn θ' = ``s``."""
+        return rolling_field(s, self.T, self.K, self.V, self.M_f, self.J, self.visc)
 
 
 class _StickSlip:
@@ -136,7 +122,7 @@ class _StickSlip:
         theta_i = k.theta_i
         # Initial state, Eq. 24B: theta'' = 0 fixes X(0).
         s = float(np.sign(w0))
-        x0 = (k.visc * w0 + s * k.M_f) / (k.T * k.K)
+        x0 = knock_lateral(w0, k.M_f, k.T, k.K, k.visc)
         self.s = s
         self.y = np.array([x0, theta_i, w0])
         self.t = 0.0
@@ -168,7 +154,7 @@ class _StickSlip:
         k, y, t = self.k, self.y, self.t
         T, K, V, M_f = k.T, k.K, k.V, k.M_f
         th = y[1]
-        tau = T * K * y[0]
+        tau = held_moment(y[0], T, K)
         if abs(tau) > M_f and not self.graze:  # cannot stick: slip toward tau
             self.s = float(np.sign(tau))
         elif th == 0.0:
@@ -177,7 +163,7 @@ class _StickSlip:
             self.t = t_end
             return True
         else:
-            x_exit = -math.copysign(M_f, th) / (T * K)
+            x_exit = stick_release(th, M_f, T, K)
             dt = max((y[0] - x_exit) / (V * th), 0.0)
             t_end = min(t + dt, k.duration)
             for tt in np.linspace(t, t_end, max(2, int((t_end - t) / k.max_step) + 1))[1:]:
@@ -237,7 +223,7 @@ class _StickSlip:
         y[2] = 0.0
         self.y = y
         self.switches += 1
-        tau = k.T * k.K * y[0]
+        tau = held_moment(y[0], k.T, k.K)
         new = float(np.sign(tau)) if abs(tau) > k.M_f else 0.0
         if t - t_start <= 1e-9 * k.period:
             # Grazing: |τ| exceeds M_f by a rounding error and the slip ends at
@@ -380,8 +366,7 @@ def _knock(
     K, N = float(dyn.stiffness), float(dyn.lateral_mass)
     Ks = float(conditions.slip_coefficient)
     M_f = c_f * theta_design
-    J = inertia + N * T**2  # a3 of Eq. 12B
-    visc = N * T * V + Ks * B**2 / (2 * V)  # a2 of Eq. 12B without C_D
+    J, visc = rolling_coefficients(T, inertia, N, V, tread_coefficient(Ks, B))  # a3 and a2 − C_D of Eq. 12B
     omega = float(shimmy_frequency(T, inertia, dyn))
     period = 2 * math.pi / omega
     transient = max(3 * T / V, period)

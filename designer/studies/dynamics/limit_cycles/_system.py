@@ -1,7 +1,7 @@
-"""The caster's equations of motion and the event-driven integration with exact stick-slip (issue 16).
+"""One caster at one speed and the event-driven integration of a knock with exact stick-slip.
 
 :class:`CasterDynamics` holds one caster at one speed (the rolling model of Appendix B or the brush tyre;
-the equations are in :mod:`designer.studies.dynamics.limit_cycles`); :func:`simulate_knock` integrates a knock
+the equations of motion are :mod:`designer.physics.motion`'s); :func:`simulate_knock` integrates a knock
 and says whether it ends in sustained shimmy.
 """
 
@@ -16,7 +16,19 @@ import numpy as np
 from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design
 from designer.physics import bracketed_root
-from designer.physics.tyre import TyreParameters, lateral_tyre_force
+from designer.physics.motion import (
+    brush_field,
+    brush_held_moment,
+    held_moment,
+    knock_lateral,
+    rolling_coefficients,
+    rolling_field,
+    slip_equilibrium,
+    slip_matrix,
+    stick_release,
+    tread_coefficient,
+)
+from designer.physics.tyre import TyreParameters
 from designer.studies.dynamics._work import bounded, counted, spend
 
 _RTOL = 1e-10
@@ -73,62 +85,38 @@ class CasterDynamics:
         """Number of states: 3 (X, θ, θ') rolling, 4 (X, X', θ, θ') tyre."""
         return 3 if self.tyre is None else 4
 
-    # -- equations --------------------------------------------------------------------------------------
+    # -- equations: designer.physics.motion ------------------------------------------------------------
     def rhs(self, s: float):
         """f(t, y) of the slip phase with sgn θ' = s (s = 0: stick, θ' held at 0)."""
-        T, K, N, I, V = self.trail, self.stiffness, self.lateral_mass, self.inertia, self.speed
-        M_f, G = self.friction_moment, self.groove_coefficient / self.speed
         if self.tyre is None:
-            J = I + N * T**2
-            visc = N * T * V + G
-            if s == 0:
-                return lambda _t, y: [-V * y[1], 0.0, 0.0]
-            return lambda _t, y: [-T * y[2] - V * y[1], y[2], (T * K * y[0] - visc * y[2] - s * M_f) / J]
-        tyre, M = self.tyre, self.tyre.wheel_mass
-        m11, m12, m22 = N + M, M * T, I + M * T**2
-        det = m11 * m22 - m12**2
-        i11, i12, i22 = m22 / det, -m12 / det, m11 / det
-        if not tyre.saturation:
-            C = tyre.cornering_stiffness
-
-            def force(v):
-                return -C * v / V
-        else:
-
-            def force(v):
-                return lateral_tyre_force(v / V, tyre)
-
-        if s == 0:
-
-            def stick(_t, y):
-                F = force(y[1] + V * y[2])
-                return [y[1], (F - K * y[0]) / m11, 0.0, 0.0]
-
-            return stick
-
-        def slip(_t, y):
-            F = force(y[1] + T * y[3] + V * y[2])
-            q1 = F - K * y[0]
-            q2 = T * F - s * M_f - G * y[3]
-            return [y[1], i11 * q1 + i12 * q2, y[3], i12 * q1 + i22 * q2]
-
-        return slip
+            J, D = rolling_coefficients(
+                self.trail, self.inertia, self.lateral_mass, self.speed, self.groove_coefficient
+            )
+            return rolling_field(s, self.trail, self.stiffness, self.speed, self.friction_moment, J, D)
+        return brush_field(
+            s,
+            self.trail,
+            self.inertia,
+            self.lateral_mass,
+            self.stiffness,
+            self.speed,
+            self.friction_moment,
+            self.groove_coefficient,
+            self.tyre,
+        )
 
     def hold_moment(self, y) -> float:
         """Moment the spindle must transmit to keep θ' = 0 at state y [N·m] (sticks while |·| ≤ M_f)."""
-        T, K = self.trail, self.stiffness
         if self.tyre is None:
-            return T * K * y[0]
-        N, M = self.lateral_mass, self.tyre.wheel_mass
-        F = float(lateral_tyre_force((y[1] + self.speed * y[2]) / self.speed, self.tyre))
-        return T * (N * F + M * K * y[0]) / (N + M)
+            return held_moment(y[0], self.trail, self.stiffness)
+        return brush_held_moment(y, self.trail, self.lateral_mass, self.stiffness, self.speed, self.tyre)
 
     def knock_state(self, angle: float, angular_velocity: float = 0.0) -> np.ndarray:
         """Initial state after a knock, Eq. 24B: θ = θ_i, θ' = θ'_i, θ'' = 0, no tyre slip."""
-        T, K, N, V = self.trail, self.stiffness, self.lateral_mass, self.speed
+        T, V = self.trail, self.speed
         w0 = float(angular_velocity)
-        visc = N * T * V + self.groove_coefficient / V
-        x0 = (visc * w0 + math.copysign(self.friction_moment, w0) * (w0 != 0)) / (T * K)
+        _, D = rolling_coefficients(T, self.inertia, self.lateral_mass, V, self.groove_coefficient)
+        x0 = knock_lateral(w0, self.friction_moment, T, self.stiffness, D)
         if self.tyre is None:
             return np.array([x0, angle, w0])
         return np.array([x0, -T * w0 - V * angle, angle, w0])
@@ -157,7 +145,7 @@ def caster_dynamics(
         lateral_mass=float(dyn.lateral_mass),
         stiffness=float(dyn.stiffness),
         friction_moment=float(design.damping) * float(conditions.disturbance_angle),
-        groove_coefficient=float(conditions.slip_coefficient) * float(design.groove) ** 2 / 2,
+        groove_coefficient=tread_coefficient(float(conditions.slip_coefficient), float(design.groove)),
         speed=float(speed),
         tyre=tyre,
     )
@@ -299,23 +287,21 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
 class _LinearSlip:
     """Closed-form flow of the rolling model in a slip of sign s: y(τ) = y_p + P e^{Λτ} P⁻¹ (y0 − y_p).
 
-    In a slip the rolling model is linear with a constant friction moment (module docstring), so the flow is
-    exact up to rounding: A = [[0, −V, −T], [0, 0, 1], [T K/J, 0, −(N T V + K_s B²/(2V))/J]] and the
-    equilibrium y_p = (s M_f/(T K), 0, 0).
+    In a slip the rolling model is linear with a constant friction moment, so the flow is exact up to rounding:
+    A and the equilibrium y_p of :func:`designer.physics.motion.slip_matrix`.
     """
 
     def __init__(self, sys: CasterDynamics):
-        T, K, N, I, V = sys.trail, sys.stiffness, sys.lateral_mass, sys.inertia, sys.speed
-        J = I + N * T**2
-        A = np.array([[0.0, -V, -T], [0.0, 0.0, 1.0], [T * K / J, 0.0, -(N * T * V + sys.groove_coefficient / V) / J]])
-        self.lam, self.P = np.linalg.eig(A)
+        T, K, V = sys.trail, sys.stiffness, sys.speed
+        J, D = rolling_coefficients(T, sys.inertia, sys.lateral_mass, V, sys.groove_coefficient)
+        self.lam, self.P = np.linalg.eig(slip_matrix(T, K, V, J, D))
         self.ok = bool(np.linalg.cond(self.P) < 1e8)  # not (nearly) defective: else fall back to DOP853
         self.Pinv = np.linalg.inv(self.P) if self.ok else None
-        self.x_eq = sys.friction_moment / (T * K)
+        self.sys = sys
 
     def start(self, s: float, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(y_p, P⁻¹ (y0 − y_p)) of a slip of sign s from y0: what :meth:`states` and :meth:`event` need."""
-        yp = np.array([s * self.x_eq, 0.0, 0.0])
+        yp = np.array([slip_equilibrium(s, self.sys.friction_moment, self.sys.trail, self.sys.stiffness), 0.0, 0.0])
         return yp, self.Pinv @ (y0 - yp)
 
     def states(self, yp: np.ndarray, z0: np.ndarray, tau: np.ndarray) -> np.ndarray:
@@ -373,7 +359,7 @@ def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per even
     flow = _LinearSlip(sys)
     if not flow.ok:
         return None
-    M_f, TK, V = sys.friction_moment, sys.trail * sys.stiffness, sys.speed
+    M_f, V = sys.friction_moment, sys.speed
     period = 2 * math.pi / sys.frequency
     taus = np.linspace(0.0, period, grid + 1)[1:]
     y = np.array(y0, dtype=float)
@@ -384,7 +370,7 @@ def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per even
     tiny = 1e-13 * max(scale, 1e-3) * sys.frequency
 
     def decide(state) -> float:
-        h = TK * state[0]
+        h = held_moment(state[0], sys.trail, sys.stiffness)
         return float(np.sign(h)) if abs(h) > M_f else 0.0
 
     s = float(np.sign(y[2])) if y[2] != 0 else decide(y)
@@ -395,14 +381,14 @@ def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per even
             graze_level = None
             th = y[1]
             # X' = −V θ: |T K X| (at most the level now) reaches the level on the side −sgn θ at t + dt
-            target = -np.sign(th) * level / TK
+            target = stick_release(th, level, sys.trail, sys.stiffness)
             dt = max((y[0] - target) / (V * th), 0.0) if th != 0 else math.inf
             if t + dt > t_end:
                 y[0] -= V * th * (t_end - t)
                 return _Run([], [], ends, y, t_end, "rest", switches)
             t = float(t + dt)
             y = np.array([target, th, 0.0])
-            s = float(np.sign(TK * y[0]))
+            s = float(np.sign(held_moment(y[0], sys.trail, sys.stiffness)))
             switches += 1
             continue
         y[2] = y[2] if y[2] * s > 0 else s * tiny  # start the slip just off θ' = 0
@@ -447,7 +433,7 @@ def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per even
         new = decide(y)
         if new == s and t - t0 < 1e-9 / sys.frequency:
             new = 0.0  # grazing, as in _integrate
-            graze_level = abs(TK * y[0]) * (1 + 1e-9)
+            graze_level = abs(held_moment(y[0], sys.trail, sys.stiffness)) * (1 + 1e-9)
         s = new
     if switches >= max_switches:
         raise SolverError(f"shimmy integration: more than {max_switches} stick/slip switches before t = {t_end:g} s")
