@@ -5,6 +5,8 @@
 
 from __future__ import annotations
 
+import shutil
+import textwrap
 from pathlib import Path
 
 from designer.cli._common import SEED_MAX, count_option, eprint, print_json, quantity_option
@@ -116,12 +118,12 @@ def run(args) -> int:
     )
     data = fleet_data(result)
     out = Path(args.out) if args.out else Path("results") / "fleet" / Path(args.fleet).stem
-    # late import: loads matplotlib (via designer.report.fleet) only when this runs
-    from designer.report.fleet import json_data, write_fleet_report
+    # late import: loads jinja2 and the report room only when this runs
+    from designer.report.fleet import json_text, write_fleet_report
 
     write_fleet_report(data, out)
     if args.json:
-        print_json(json_data(data))
+        print(json_text(data))
     else:
         _print(data, len(result.stock), out)
     if data["feasible_chairs"] < data["chairs"]:
@@ -133,37 +135,44 @@ def run(args) -> int:
 
 
 def _print(data: dict, stock: int, out: Path) -> None:
-    """The answer first (how many part numbers), then the part numbers, the chairs and the timings."""
+    """The answer first (how many part numbers), then the part numbers, the chairs and the timings; lines
+    wrapped to the terminal's width (``COLUMNS``; 80 when not a terminal)."""
+    width = max(40, shutil.get_terminal_size((80, 24)).columns)
+
+    def say(text: str) -> None:
+        indent = " " * (len(text) - len(text.lstrip()) + 2)
+        print(textwrap.fill(text, width, subsequent_indent=indent, break_on_hyphens=False, break_long_words=False))
+
     if data["answer"]:
         print(data["answer"])
-        print(f"  rule: {data['suggested_skus']['rule']}")
-    print(
-        f"{data['feasible_chairs']} of {data['chairs']} chairs have a caster "
-        f"({stock} stock casters; own recommendation: {data['rule']})"
+        say(f"  {data['answer_detail']}")
+        say(f"  rule: {data['suggested_skus']['rule']}")
+    say(
+        f"{data['feasible_chairs']} of {data['chairs']} chairs have a caster ({stock} stock casters; own "
+        f"recommendation: {data['rule']})"
     )
     if data["k"] is not None:
         k = data["k"]
         asked = "" if k == data["suggested_skus"]["count"] else " (asked with --skus)"
         if data["mean_regret_N"] is None:
-            print(f"K = {k}{asked}: no {k} stock casters serve every chair that has a caster")
+            say(f"K = {k}{asked}: no {k} stock casters serve every chair that has a caster")
         else:
-            print(
+            say(
                 f"K = {k}{asked}: mean regret {data['mean_regret_N']:.2f} N per unit sold, worst chair "
-                f"{data['worst_regret_N']:.2f} N, total {data['total_regret_N']:.4g} N over {data['served_units']} units "
-                f"({data['sku_status']}: {data['sku_proof']})"
+                f"{data['worst_regret_N']:.2f} N, total {data['total_regret_N']:.4g} N over {data['served_units']} "
+                f"units ({data['sku_status']})"
             )
             for s in data["skus"]:
                 d = s["design"]
-                print(
-                    f"  SKU {s['id']}: T {d['trail'] / 0.0254:.3f} in, d {d['diameter'] / 0.0254:.3f} in, "
-                    f"B {d['groove'] / 0.0254:.4f} in, c_f {d['damping']:.2f} N·m/rad: "
-                    f"{s['chairs']} chairs, {s['count']} units"
+                say(
+                    f"  SKU {s['id']}: T {d['trail'] / 0.0254:.4g} in, d {d['diameter'] / 0.0254:.4g} in, "
+                    f"B {d['groove'] / 0.0254:.4g} in, c_f {d['damping']:.2f} N·m/rad: {s['chairs']} chairs, "
+                    f"{s['count']} units"
                 )
         curve = ", ".join(
             f"{c['mean_regret_N']:.2f}" if c["mean_regret_N"] is not None else "–" for c in data["regret_curve"]
         )
-        statuses = sorted({c["status"] for c in data["regret_curve"]})
-        print(f"  mean regret [N] for K = 1…{len(data['regret_curve'])}: {curve} ({', '.join(statuses)})")
-    for name, seconds in data["timings"].items():
-        print(f"  {name}: {seconds:.2f} s")
-    print(f"report: {out / 'index.html'}")
+        statuses = " or ".join(sorted({c["status"] for c in data["regret_curve"]}))
+        say(f"  mean regret [N] for K = 1…{len(data['regret_curve'])}: {curve} (each {statuses})")
+    say("  time [s]: " + ", ".join(f"{name} {seconds:.2f}" for name, seconds in data["timings"].items()))
+    say(f"report: {out / 'index.html'}")

@@ -1,20 +1,88 @@
-"""Figures of a fleet report: arrays in, matplotlib Figures out (no solver, no fleet object).
+"""Figures of a fleet report, drawn on the SVG canvas of :mod:`designer.plots.svg` (as the Pareto report's).
 
-distributions  what the chairs get: histograms of the recommended trail, diameter, groove, damping,
-               turning effort, sill force and P(shimmy)
-regret         the regret curve: least count-weighted regret for K = 1 … K_max part numbers
+Arrays in, :class:`designer.plots.svg.Figure` out (``to_svg()`` gives the SVG text); no solver, no fleet
+object, no matplotlib.  A point's numbers show on hover (SVG ``<title>``).
+
+regret         the regret curve: the least mean regret per unit sold [N] for K = 1 … K_max part numbers,
+               with the --max-regret threshold and the suggested and the asked K marked
+distributions  what the chairs get: bar charts of the recommended trail, diameter, groove, damping and
+               histograms of turning effort, sill force and P(shimmy)
 """
 
 from __future__ import annotations
 
 import numpy as np
-from matplotlib.figure import Figure
+
+from designer.plots.svg import Figure
 
 INCH = 0.0254
+BLUE, RED, GREEN, GREY = "#1f77b4", "#d62728", "#2e7d32", "#7f7f7f"
+
+
+def _new(width: float, height: float, left=0.75, right=0.2, bottom=0.55, top=0.4, wspace=0.35, hspace=0.6) -> Figure:
+    """A figure of ``width`` × ``height`` inches with fixed margins [in] (the canvas measures no text)."""
+    fig = Figure(figsize=(width, height))
+    fig.subplots_adjust(
+        left=left / width,
+        right=1 - right / width,
+        bottom=bottom / height,
+        top=1 - top / height,
+        wspace=wspace,
+        hspace=hspace,
+    )
+    return fig
+
+
+def figure_regret(
+    k,
+    regret,
+    asked: int | None = None,
+    suggested: int | None = None,
+    max_regret: float | None = None,
+    hover=None,
+    unit: str = "N",
+) -> Figure:
+    """Regret curve: the least mean regret per unit sold against the number of part numbers K.
+
+    Parameters
+    ----------
+    k : K values
+    regret : least count-weighted mean regret for each K [unit] (NaN where no K casters serve every chair)
+    asked : the K whose part numbers the report lists (marked)
+    suggested : the suggested count (marked, when it differs from ``asked``)
+    max_regret : the threshold of the suggestion [unit] (a dashed line)
+    hover : per K, the text its point shows on hover
+    """
+    fig = _new(4.6, 3.6, left=0.6, right=0.12, bottom=0.5, top=0.35)
+    ax = fig.add_subplot()
+    k = np.asarray(k, float)
+    regret = np.asarray(regret, float)
+    ok = np.isfinite(regret)
+    ax.plot(k[ok], regret[ok], "-", color=BLUE, marker="o", label="least mean regret (each proved)")
+    for kk in k[~ok]:
+        ax.axvline(kk, color=GREY, ls=":", lw=1)
+    if max_regret is not None:
+        ax.axhline(max_regret, color=GREEN, ls="--", lw=1.2, label=f"--max-regret {max_regret:g} {unit}")
+    if suggested is not None and suggested in set(k[ok].tolist()):
+        i = int(np.flatnonzero(k == suggested)[0])
+        ax.plot([suggested], [regret[i]], "D", color=GREEN, ms=10, label=f"suggested: K = {suggested}")
+    if asked is not None and asked != suggested and asked in set(k[ok].tolist()):
+        i = int(np.flatnonzero(k == asked)[0])
+        ax.plot([asked], [regret[i]], "s", color=RED, ms=9, label=f"asked: K = {asked}")
+    if hover is not None:
+        ax.hover(k[ok], regret[ok], [t for t, good in zip(hover, ok) if good])
+    ax.set_xlabel("part numbers K")
+    ax.set_ylabel(f"mean regret per unit sold [{unit}]")
+    ax.set_title("What each added part number buys", fontsize=10.5)
+    ax.set_xticks(k.tolist())
+    ax.set_ylim(0, None)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper right", fontsize=8.5)
+    return fig
 
 
 def figure_distributions(values: dict, alpha: float | None = None) -> Figure:
-    """Histograms of the per-chair recommendation.
+    """Bar charts and histograms of each chair's own recommendation.
 
     Parameters
     ----------
@@ -33,54 +101,31 @@ def figure_distributions(values: dict, alpha: float | None = None) -> Figure:
     ]
     panels = [p for p in panels if p[0] in values and np.isfinite(np.asarray(values[p[0]], float)).any()]
     cols = 4
-    rows = (len(panels) + cols - 1) // cols
-    fig = Figure(figsize=(12, 3.0 * rows))
-    for k, (key, label, scale, discrete) in enumerate(panels):
-        ax = fig.add_subplot(rows, cols, k + 1)
+    rows = max(1, (len(panels) + cols - 1) // cols)
+    fig = _new(11.0, 2.9 * rows + 0.3, left=0.6, right=0.15, bottom=0.75, top=0.55, wspace=0.45, hspace=0.75)
+    grid = fig.subplots(rows, cols)
+    axes = list(np.ravel(grid))
+    for ax, (key, label, scale, discrete) in zip(axes, panels):
         v = np.asarray(values[key], float)
         v = v[np.isfinite(v)] * scale
         if discrete:
             levels, counts = np.unique(np.round(v, 6), return_counts=True)
-            ax.bar([f"{x:.3g}" for x in levels], counts, color="#1f77b4")
-            ax.tick_params(axis="x", labelrotation=45, labelsize=7)
+            pos = np.arange(len(levels), dtype=float)
+            ax.bar(pos, counts, color=BLUE)
+            ax.set_xticks(pos.tolist(), [f"{x:.4g}" for x in levels], fontsize=8)
+            ax.hover(pos, counts, [f"{label.split(' [')[0]} {x:.4g}: {c} chairs" for x, c in zip(levels, counts)])
         else:
-            ax.hist(v, bins=30, color="#1f77b4")
+            counts, edges = np.histogram(v, bins=24)
+            mid = (edges[:-1] + edges[1:]) / 2
+            ax.bar(mid, counts, width=float(edges[1] - edges[0]) * 0.95, color=BLUE)
+            ax.hover(mid, counts, [f"{a:.3g}–{b:.3g}: {c} chairs" for a, b, c in zip(edges, edges[1:], counts)])
         if key == "shimmy_probability" and alpha is not None:
-            ax.axvline(alpha * 100, color="#d62728", ls="--", label=f"α = {alpha:.0%}")
-            ax.legend(fontsize=7)
-        ax.set_xlabel(label, fontsize=8)
-        ax.set_ylabel("chairs", fontsize=8)
+            ax.axvline(alpha * 100, color=RED, ls="--", label=f"α = {alpha:.0%}")
+            ax.legend(loc="upper right", fontsize=8)
+        ax.set_xlabel(label)
+        ax.set_ylabel("chairs")
         ax.grid(alpha=0.3)
-    fig.suptitle("What each chair's own recommendation is (feasible chairs)", fontsize=10)
-    fig.tight_layout()
-    return fig
-
-
-def figure_regret(k: np.ndarray, regret: np.ndarray, chosen_k: int | None = None, unit: str = "N") -> Figure:
-    """Regret curve: the least mean regret per unit sold against the number of part numbers K.
-
-    Parameters
-    ----------
-    k : K values
-    regret : least count-weighted mean regret for each K (NaN where no K casters serve every chair) [unit]
-    chosen_k : the K asked for (marked)
-    """
-    fig = Figure(figsize=(6.5, 4.0))
-    ax = fig.add_subplot(1, 1, 1)
-    k = np.asarray(k)
-    regret = np.asarray(regret, float)
-    ok = np.isfinite(regret)
-    ax.plot(k[ok], regret[ok], "o-", color="#1f77b4")
-    for kk in k[~ok]:
-        ax.axvline(kk, color="#999999", ls=":", lw=1)
-    if chosen_k is not None and chosen_k in set(k[ok].tolist()):
-        i = int(np.flatnonzero(k == chosen_k)[0])
-        ax.plot([chosen_k], [regret[i]], "s", color="#d62728", ms=9, label=f"K = {chosen_k} (asked for)")
-        ax.legend(fontsize=8)
-    ax.set_xlabel("part numbers K")
-    ax.set_ylabel(f"mean regret per unit sold, J − J_own best [{unit}]")
-    ax.set_title("What each added part number buys (exact K-median)", fontsize=10)
-    ax.set_xticks(k)
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
+    for ax in axes[len(panels) :]:  # the grid's empty cells are not drawn
+        fig.axes.remove(ax)
+    fig.suptitle("What each chair's own recommendation is (chairs with a caster)", fontsize=11)
     return fig

@@ -1,21 +1,28 @@
-"""Render a fleet run (``designer fleet``): fleet.csv, fleet.json, report.md + figures/, index.html.
+"""Render a fleet run (``designer fleet``): fleet.csv, fleet.json, report.md + figures/*.svg, index.html.
 
 Takes the plain data of :func:`designer.studies.fleet._fleet.fleet_data`; computes nothing but formatting.
-Files go to a temporary folder beside the target and are renamed into place when complete.
+The look is the Pareto report's: the same stylesheet (``_style.html.j2``), a first screen that answers
+(the number of part numbers in words, the part numbers, the regret curve), SVG figures drawn on
+:mod:`designer.plots.svg` and inlined in the page with each point's numbers on hover, report.md linking
+the same ``figures/*.svg``.  Files go to a temporary folder beside the target and are renamed into place
+when complete.
 """
 
 from __future__ import annotations
 
-import base64
 import csv
-import html
 import io
 import json
+import math
 import shutil
 import tempfile
 from pathlib import Path
 
 from designer.jsonsafe import finite
+from designer.pipeline import versions
+from designer.plots.fleet import figure_distributions, figure_regret
+from designer.report.formatting import fmt, length
+from designer.report.writer import _render
 
 CSV_COLUMNS = (
     "name",
@@ -39,6 +46,11 @@ CSV_COLUMNS = (
 
 INCH = 0.0254
 
+HOVER_STYLE = (
+    "<style>.hover circle{fill:transparent;stroke:none}.hover circle:hover{stroke:#d62728;stroke-width:2}</style>"
+)
+"""What the page's stylesheet gives the hover targets, for a figure file opened on its own."""
+
 
 def csv_text(data: dict) -> str:
     """fleet.csv: one row per chair (SI units; empty cells where a chair has no caster)."""
@@ -60,157 +72,244 @@ def json_data(data: dict) -> dict:
     return finite(out)
 
 
-def _figures(data: dict) -> dict:
-    # matplotlib: heavy, loaded only when a report is written
-    from designer.plots.fleet import figure_distributions, figure_regret
+def json_text(data: dict) -> str:
+    """:func:`json_data` as text, one chair per line in ``rows`` (NaN and infinities are null).
 
-    figs = {"distributions": figure_distributions(data["distributions"], data.get("alpha"))}
+    The rows (one per chair, thousands) are written by the C encoder, one line each; a row that holds a
+    NaN or an infinity goes through :func:`designer.jsonsafe.finite` first.
+    """
+    head = finite({k: v for k, v in data.items() if k not in ("distributions", "rows")})
+    text = json.dumps(head, indent=1, ensure_ascii=False)
+    rows = []
+    for row in data["rows"]:
+        try:
+            rows.append(json.dumps(row, ensure_ascii=False, allow_nan=False))
+        except ValueError:
+            rows.append(json.dumps(finite(row), ensure_ascii=False))
+    body = "[\n  " + ",\n  ".join(rows) + "\n ]" if rows else "[]"
+    return text[:-2] + ',\n "rows": ' + body + "\n}" if head else '{\n "rows": ' + body + "\n}"
+
+
+# --------------------------------------------------------------------------- figures
+
+
+def _figures(data: dict) -> list[dict]:
+    """The report's figures: name, title, caption, SVG text (drawn on the SVG canvas, no matplotlib)."""
+    out = []
     curve = data.get("regret_curve") or []
     if curve:
-        figs["regret"] = figure_regret(
+        suggested = (data.get("suggested_skus") or {}).get("count")
+        hover = [
+            f"K = {c['k']}: "
+            + (
+                f"mean regret {c['mean_regret_N']:.3f} N, worst chair {c['worst_regret_N']:.2f} N; {c['status']} "
+                f"({c['method']})"
+                if c["mean_regret_N"] is not None
+                else f"{c['status']}"
+            )
+            for c in curve
+        ]
+        fig = figure_regret(
             [c["k"] for c in curve],
-            [c["mean_regret_N"] if c["mean_regret_N"] is not None else float("nan") for c in curve],
-            data.get("k"),
+            [c["mean_regret_N"] if c["mean_regret_N"] is not None else math.nan for c in curve],
+            asked=data.get("k"),
+            suggested=suggested,
+            max_regret=(data.get("suggested_skus") or {}).get("max_regret_N"),
+            hover=hover,
         )
-    out = {}
-    for name, fig in figs.items():
-        buf = io.BytesIO()
-        fig.savefig(buf, format="png", dpi=100)
-        out[name] = buf.getvalue()
+        out.append(
+            {
+                "name": "regret",
+                "title": "The regret curve",
+                "caption": "Least mean regret per unit sold against the number of part numbers K, every point "
+                "proved optimal (hover a point for its numbers and proof). The dashed line is --max-regret; "
+                "the suggested count is the first K on or below it.",
+                "svg": fig.to_svg("fleet-regret", "The regret curve"),
+            }
+        )
+    fig = figure_distributions(data["distributions"], data.get("alpha"))
+    out.append(
+        {
+            "name": "distributions",
+            "title": "What each chair's own recommendation is",
+            "caption": "Each chair's own recommendation (the rule of the base problem on its buildable front): "
+            "how many chairs get each trail, wheel, groove and damper, and the spread of their turning effort, "
+            "sill force and reported P(shimmy) (hover a bar for its count).",
+            "svg": fig.to_svg("fleet-distributions", "What each chair's own recommendation is"),
+        }
+    )
+    for item in out:
+        item["file"] = f"figures/{item['name']}.svg"
     return out
 
 
-def markdown(data: dict) -> str:
-    """report.md of a fleet run (figures as figures/<name>.png)."""
-    lines = [f"# Fleet: {data['chairs']} chairs ({data['units']} units), base problem {data['problem']}", ""]
-    lines += _summary(data)
-    lines += ["", "![distributions](figures/distributions.png)", ""]
-    if data.get("regret_curve"):
-        lines += ["## Part numbers", "", "![regret curve](figures/regret.png)", ""]
-        lines += [
-            "| K | mean regret per unit [N] | worst chair [N] | total regret Σ count · regret [N] | status | solve [s] |",
-            "|---:|---:|---:|---:|---|---:|",
-        ]
-        for c in data["regret_curve"]:
-            regret = "–" if c["total_regret_N"] is None else f"{c['total_regret_N']:.6g}"
-            mean = "–" if c["mean_regret_N"] is None else f"{c['mean_regret_N']:.3f}"
-            worst = "–" if c["worst_regret_N"] is None else f"{c['worst_regret_N']:.2f}"
-            lines.append(f"| {c['k']} | {mean} | {worst} | {regret} | {c['status']} | {c['seconds']:.2f} |")
-        lines += [
-            "",
-            "| SKU | trail [in] | diameter [in] | groove [in] | damping [N·m/rad] | chairs | units |",
-            "|---:|---:|---:|---:|---:|---:|---:|",
-        ]
-        for s in data["skus"]:
-            d = s["design"]
+# --------------------------------------------------------------------------- context
+
+
+def _sku_rows(data: dict) -> list[dict]:
+    rows = []
+    for s in data["skus"]:
+        d = s["design"]
+        t_mm, t_in = length(d["trail"], 1)
+        d_mm, d_in = length(d["diameter"], 1)
+        b_mm, b_in = length(d["groove"], 1)
+        rows.append(
+            {
+                "id": s["id"],
+                "wheel": s.get("wheel"),
+                "T_in": t_in,
+                "T_mm": t_mm,
+                "d_in": d_in,
+                "d_mm": d_mm,
+                "B_in": b_in,
+                "B_mm": b_mm,
+                "c_f": fmt(d["damping"], ".2f", "N·m/rad"),
+                "chairs": s["chairs"],
+                "units": f"{s['count']:,}",
+            }
+        )
+    return rows
+
+
+def _curve_rows(data: dict) -> list[dict]:
+    def n(value, spec):
+        return "–" if value is None else fmt(value, spec)
+
+    return [
+        {
+            "k": c["k"],
+            "mean": n(c["mean_regret_N"], ".3f"),
+            "worst": n(c["worst_regret_N"], ".2f"),
+            "total": n(c["total_regret_N"], ".6g"),
+            "bound": n(c["lower_bound_N"] if c["total_regret_N"] is not None else None, ".6g"),
+            "gap": n(c["gap_N"] if c["total_regret_N"] is not None else None, ".1e"),
+            "status": c["status"],
+            "method": c["method"],
+            "seconds": fmt(c["seconds"], ".2f"),
+            "mark": c["k"] == data.get("k"),
+        }
+        for c in data["regret_curve"]
+    ]
+
+
+def _headline(data: dict) -> dict:
+    """The first screen: the answer, the numbers behind it, the rule, and which part numbers are listed."""
+    lines = []
+    s = data.get("suggested_skus")
+    if data.get("answer_detail"):
+        lines.append(data["answer_detail"][0].upper() + data["answer_detail"][1:] + ".")
+    if s is not None:
+        lines.append(f"Rule: {s['rule']}.")
+    if data.get("k") is not None and (s is None or data["k"] != s["count"]):
+        if data.get("mean_regret_N") is None:
+            lines.append(f"K = {data['k']} asked with --skus: no {data['k']} stock casters serve every chair.")
+        else:
             lines.append(
-                f"| {s['id']} | {d['trail'] / INCH:.3f} | {d['diameter'] / INCH:.3f} | "
-                f"{d['groove'] / INCH:.4f} | {d['damping']:.3f} | {s['chairs']} | {s['count']} |"
+                f"Listed below: the K = {data['k']} part numbers asked with --skus: mean regret "
+                f"{data['mean_regret_N']:.2f} N per unit sold, worst chair {data['worst_regret_N']:.2f} N; "
+                f"{data['sku_status']} ({data['sku_proof']})."
             )
-    bad = [r for r in data["rows"] if r["status"] != "ok"]
-    if bad:
-        lines += ["", f"## Chairs without a caster ({len(bad)})", "", "| chair | why |", "|---|---|"]
-        for r in bad[:200]:
-            lines.append(f"| {r['name']} | {r['status']} |")
-        if len(bad) > 200:
-            lines.append(f"| … | {len(bad) - 200} more in fleet.csv |")
-    lines += ["", "## Timings", "", "| stage | wall time [s] |", "|---|---:|"]
-    for k, v in data["timings"].items():
-        lines.append(f"| {k} | {v:.3f} |")
-    return "\n".join(lines) + "\n"
+    if data.get("k") is not None:
+        lines.append(
+            "Each chair gets the part number with its least J among them; regret = J with the part number − the "
+            "chair's least J over the stock casters allowed for it (risk bound, footrest clearance, sill), with "
+            + data["objective"].split(":")[0]
+            + "."
+        )
+    return {
+        "answer": data.get("answer")
+        or f"{data['feasible_chairs']} of {data['chairs']} chairs have a caster (no part numbers asked)",
+        "lines": lines,
+    }
+
+
+def _own(data: dict) -> dict:
+    own = data.get("own_recommendation") or {}
+    out = {"meaning": own.get("meaning", ""), "numbers": []}
+    if "part_number_better_on_J" in own:
+        n = data["feasible_chairs"]
+        out["numbers"] = [
+            f"The own recommendation is the chair's least-J caster for {own['recommendation_is_least_J']} of {n} "
+            f"chairs; on average it is {own['mean_recommendation_regret_N']:.2f} N of J above the least J "
+            f"(knee_regret_N in fleet.csv).",
+            f"With the K = {data['k']} part numbers, {own['part_number_better_on_J']} of {n} chairs get a part "
+            f"number better on J than their own recommendation (sku_regret_N < knee_regret_N), and "
+            f"{own['part_number_is_the_recommendation']} get exactly their own recommendation.",
+        ]
+    return out
 
 
 def _summary(data: dict) -> list[str]:
     out = [
-        f"- {data['feasible_chairs']} of {data['chairs']} chairs have a stock caster that meets their own "
-        f"risk bound, swept-radius limit and sill; the others are listed below with the reason.",
-        f"- Rule per chair: {data['rule']}. Stock: {data['stock']['casters']} casters ({data['stock']['note']}).",
-        f"- Objective: {data['objective']}.",
-        f"- {data['regret_definition']}.",
+        f"{data['feasible_chairs']} of {data['chairs']} chairs have a stock caster that meets their own risk bound, "
+        f"footrest clearance and sill; the others are listed below with the reason.",
+        f"Own recommendation per chair: the {data['rule']} of the chair's own problem (the base problem "
+        f"{data['problem']} with the chair's load, sill, target speed, clearance, surface and turning mode).",
+        f"Stock: {data['stock']['casters']} casters ({data['stock']['note']}); "
+        f"{data['stock'].get('useful_for_skus') or 'n/a'} can matter for part numbers (the others are "
+        f"dominated on regret).",
+        f"Objective: {data['objective']}.",
     ]
     if data.get("risk"):
         out.append(
-            f"- Risk bound: P(V_c < (1 + {data['risk']['margin']:g}) V_target) <= "
-            f"{data['risk']['probability']:.0%}, decided by the deterministic quantile; the reported "
-            f"P(shimmy) is a Monte Carlo estimate ({data['monte_carlo']['samples']} samples per chair)."
+            f"Risk bound: P(V_c < (1 + {data['risk']['margin']:g}) V_target) <= {data['risk']['probability']:.0%}, "
+            f"decided by the deterministic quantile; the reported P(shimmy) is a Monte Carlo estimate "
+            f"({data['monte_carlo']['samples']} samples per chair)."
         )
     else:
         out.append(
-            "- No risk bound in the base problem: casters are screened on the nominal V_c >= V_target "
-            "(Eq. 7); the P(shimmy) column says what risk each one carries."
+            "No risk bound in the base problem: casters are screened on the nominal V_c >= V_target (Eq. 7); "
+            "the P(shimmy) column says what risk each one carries."
         )
-    if data.get("k") is not None:
-        if data.get("total_regret_N") is None:
-            out.append(
-                f"- K = {data['k']}: no {data['k']} stock casters serve every feasible chair ({data['sku_status']})."
-            )
-        else:
-            out.append(
-                f"- K = {data['k']} part numbers: each unit sold loses {data['mean_regret_N']:.3f} N of J on "
-                f"average against its chair's least-J stock caster (total {data['total_regret_N']:.6g} N over "
-                f"the units sold, {data['sku_status']})."
-            )
     return out
 
 
-def _html(data: dict, figures: dict) -> str:
-    def img(name):
-        if name not in figures:
-            return ""
-        return f'<img alt="{name}" src="data:image/png;base64,{base64.b64encode(figures[name]).decode()}">'
-
-    body = [
-        f"<h1>Fleet: {data['chairs']} chairs ({data['units']} units), base problem "
-        f"{html.escape(str(data['problem']))}</h1>",
-        "<ul>",
-    ]
-    body += [f"<li>{html.escape(line[2:])}</li>" for line in _summary(data)]
-    body += ["</ul>", img("distributions")]
-    if data.get("regret_curve"):
-        body += [
-            "<h2>Part numbers</h2>",
-            img("regret"),
-            "<table><tr><th>SKU</th><th>trail [in]</th>"
-            "<th>diameter [in]</th><th>groove [in]</th><th>damping [N·m/rad]</th><th>chairs</th>"
-            "<th>units</th></tr>",
-        ]
-        for s in data["skus"]:
-            d = s["design"]
-            body.append(
-                f"<tr><td>{s['id']}</td><td>{d['trail'] / INCH:.3f}</td><td>{d['diameter'] / INCH:.3f}</td>"
-                f"<td>{d['groove'] / INCH:.4f}</td><td>{d['damping']:.3f}</td><td>{s['chairs']}</td>"
-                f"<td>{s['count']}</td></tr>"
-            )
-        body.append("</table>")
+def _context(data: dict, figures: list[dict]) -> dict:
     bad = [r for r in data["rows"] if r["status"] != "ok"]
-    if bad:
-        body += [f"<h2>Chairs without a caster ({len(bad)})</h2><table><tr><th>chair</th><th>why</th></tr>"]
-        body += [f"<tr><td>{html.escape(r['name'])}</td><td>{html.escape(r['status'])}</td></tr>" for r in bad[:200]]
-        body.append("</table>")
-    style = (
-        "body{font-family:sans-serif;max-width:1200px;margin:2em auto}img{max-width:100%}"
-        "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}"
-    )
-    return (
-        f"<!doctype html><html><head><meta charset='utf-8'><title>Fleet report</title><style>{style}</style>"
-        f"</head><body>{''.join(body)}</body></html>\n"
-    )
+    return {
+        "title": f"Fleet: {data['chairs']:,} chairs ({data['units']:,} units sold)",
+        "data": data,
+        "headline": _headline(data),
+        "skus": _sku_rows(data),
+        "curve": _curve_rows(data) if data.get("regret_curve") else [],
+        "own": _own(data),
+        "summary": _summary(data),
+        "figures": figures,
+        "first": figures[0] if figures and figures[0]["name"] == "regret" else None,
+        "others": [f for f in figures if f["name"] != "regret"],
+        "bad": bad[:200],
+        "bad_more": max(0, len(bad) - 200),
+        "bad_total": len(bad),
+        "timings": [(k, fmt(v, ".2f")) for k, v in data["timings"].items()],
+        "run": {**(data.get("run") or {}), "version": versions().get("caster-designer")},
+    }
+
+
+def markdown(data: dict, figures: list[dict] | None = None) -> str:
+    """report.md of a fleet run (figures as figures/<name>.svg)."""
+    return _render("fleet.md.j2", _context(data, figures if figures is not None else _figures(data)), False)
+
+
+def html(data: dict, figures: list[dict] | None = None) -> str:
+    """index.html of a fleet run: one self-contained page, the figures inline."""
+    return _render("fleet.html.j2", _context(data, figures if figures is not None else _figures(data)), True)
 
 
 def write_fleet_report(data: dict, out_dir) -> Path:
-    """Write fleet.csv, fleet.json, report.md, figures/*.png and index.html into ``out_dir`` (atomically)."""
+    """Write fleet.csv, fleet.json, report.md, figures/*.svg and index.html into ``out_dir`` (atomically)."""
     out = Path(out_dir)
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}-", dir=out.parent))
     try:
         figures = _figures(data)
         (tmp / "figures").mkdir()
-        for name, png in figures.items():
-            (tmp / "figures" / f"{name}.png").write_bytes(png)
+        for item in figures:
+            svg = item["svg"].replace(">", ">" + HOVER_STYLE, 1)  # a figure file opened on its own
+            (tmp / item["file"]).write_text(svg + "\n", encoding="utf-8")
         (tmp / "fleet.csv").write_text(csv_text(data), encoding="utf-8")
-        (tmp / "fleet.json").write_text(json.dumps(json_data(data), indent=1), encoding="utf-8")
-        (tmp / "report.md").write_text(markdown(data), encoding="utf-8")
-        (tmp / "index.html").write_text(_html(data, figures), encoding="utf-8")
+        (tmp / "fleet.json").write_text(json_text(data) + "\n", encoding="utf-8")
+        (tmp / "report.md").write_text(markdown(data, figures), encoding="utf-8")
+        (tmp / "index.html").write_text(html(data, figures), encoding="utf-8")
         if out.exists():
             old = out.with_name(f".{out.name}.old")
             shutil.rmtree(old, ignore_errors=True)

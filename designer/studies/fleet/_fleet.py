@@ -29,6 +29,7 @@ Modules: :mod:`designer.studies.fleet._table` reads the fleet (FLEET.csv, exampl
 from __future__ import annotations
 
 import dataclasses
+import datetime
 import math
 import re
 import time
@@ -566,36 +567,10 @@ def fleet_data(result: FleetResult) -> dict:
     problem = result.problem
     risk = problem.risk
     u = scatter_of(problem.conditions)
-    ch = result.chairs
     ok = result.feasible
     rows = result.rows()
-    choice = ch["choice"][ok]
-    dist = {
-        "trail": result.stock.trail[choice],
-        "diameter": result.stock.diameter[choice],
-        "groove": result.stock.groove[choice],
-        "damping": result.stock.damping[choice],
-        "turning_effort": ch["turning_effort"][ok],
-        "threshold_force": ch["threshold_force"][ok],
-    }
-    if "shimmy_probability" in ch:
-        dist["shimmy_probability"] = ch["shimmy_probability"][ok]
     served_units = float(result.fleet.count[ok].sum()) or 1.0
-    curve = [
-        {
-            "k": k,
-            "total_regret_N": s.regret if s.status != "infeasible" else None,
-            "mean_regret_N": s.regret / served_units if s.status != "infeasible" else None,
-            "worst_regret_N": _worst_regret(result, s),
-            "status": s.status,
-            "lower_bound_N": s.lower_bound,
-            "gap_N": s.gap,
-            "method": s.method,
-            "seconds": s.seconds,
-            "chosen": s.chosen,
-        }
-        for k, s in sorted(result.curve.items())
-    ]
+    curve = _curve_data(result, served_units)
     sku = result.skus
     solved = sku is not None and sku.status != "infeasible"
     w = tuple(float(x) for x in problem.weights)
@@ -636,14 +611,52 @@ def fleet_data(result: FleetResult) -> dict:
         "sku_status": None if sku is None else sku.status,
         "sku_proof": None if sku is None else sku.method,
         "suggested_skus": result.suggested,
-        "answer": _answer(result, served_units),
+        "answer": _answer(result)[0],
+        "answer_detail": _answer(result)[1],
         "regret_curve": curve,
         "rows": rows,
-        "distributions": {k: np.asarray(v, float) for k, v in dist.items()},
+        "distributions": _distributions(result),
         "alpha": None if risk is None else risk.probability,
         "timings": dict(result.timings),
         "scheduler": result.scheduler,
+        "run": {"date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")},
     }
+
+
+def _distributions(result: FleetResult) -> dict:
+    """Per-chair arrays of the own recommendations (chairs with a caster) for the report's figure."""
+    ch, ok = result.chairs, result.feasible
+    choice = ch["choice"][ok]
+    dist = {
+        "trail": result.stock.trail[choice],
+        "diameter": result.stock.diameter[choice],
+        "groove": result.stock.groove[choice],
+        "damping": result.stock.damping[choice],
+        "turning_effort": ch["turning_effort"][ok],
+        "threshold_force": ch["threshold_force"][ok],
+    }
+    if "shimmy_probability" in ch:
+        dist["shimmy_probability"] = ch["shimmy_probability"][ok]
+    return {k: np.asarray(v, float) for k, v in dist.items()}
+
+
+def _curve_data(result: FleetResult, units: float) -> list[dict]:
+    """The regret curve as plain data: per K the total, mean (over ``units``) and worst regret [N], proof."""
+    return [
+        {
+            "k": k,
+            "total_regret_N": s.regret if s.status != "infeasible" else None,
+            "mean_regret_N": s.regret / units if s.status != "infeasible" else None,
+            "worst_regret_N": _worst_regret(result, s),
+            "status": s.status,
+            "lower_bound_N": s.lower_bound,
+            "gap_N": s.gap,
+            "method": s.method,
+            "seconds": s.seconds,
+            "chosen": s.chosen,
+        }
+        for k, s in sorted(result.curve.items())
+    ]
 
 
 def _worst_regret(result: FleetResult, solution) -> float | None:
@@ -658,7 +671,7 @@ def _worst_regret(result: FleetResult, solution) -> float | None:
 def _own_recommendation(result: FleetResult) -> dict:
     """What "own recommendation" means, and how the part numbers compare with it on J."""
     out = {
-        "meaning": "each chair's own recommendation is the caster designer.recommend picks for that chair "
+        "meaning": "Each chair's own recommendation is the caster designer.recommend picks for that chair "
         "alone: the base problem's rule on the chair's buildable front (by default its knee, the balance of "
         "F_turn and P in the front's own range). It is not the chair's least J: regret is measured against "
         "the least J, so a part number can be better on J than the chair's own recommendation.",
@@ -685,24 +698,32 @@ def _own_recommendation(result: FleetResult) -> dict:
     return out
 
 
-def _answer(result: FleetResult, units: float) -> str | None:
-    """The first line of the output: how many part numbers, for how many chairs, within what mean regret."""
+def _answer(result: FleetResult) -> tuple[str | None, str | None]:
+    """(first line, second line) of the output: how many part numbers serve how many chairs within what mean
+    regret, in at most 80 characters for fleets up to 10 000 chairs; then the numbers behind it."""
     s = result.suggested
     if s is None:
-        return None
+        return None, None
     n_ok, n = int(result.feasible.sum()), len(result.fleet)
     chairs = f"all {n} chairs" if n_ok == n else f"the {n_ok} of {n} chairs that have a caster"
     parts = "part number" if s["count"] == 1 else "part numbers"
     if s["mean_regret_N"] is None:
-        return f"No {s['count']} stock casters serve {chairs}; the fewest that do are more (see the regret curve)"
+        return f"No {s['count']} stock casters serve {chairs}", "the fewest that do are more: see the regret curve"
+    sol = result.curve[s["count"]]
+    w = tuple(float(x) for x in result.problem.weights)
+    j = "F_turn + P" if w == (1.0, 1.0) else f"{w[0]:g} F_turn + {w[1]:g} P"
+    detail = (
+        f"mean regret {s['mean_regret_N']:.2f} N per unit sold against each chair's least J = {j}; worst "
+        f"chair {_worst_regret(result, sol):.2f} N; {sol.status} ({sol.method})"
+    )
     if s["within"]:
         return (
-            f"{s['count']} {parts} serve {chairs} within {s['max_regret_N']:g} N of each chair's best caster "
-            f"on average (mean regret {s['mean_regret_N']:.2f} N of J = F_turn + P)"
+            f"{s['count']} {parts} serve {chairs} within {s['max_regret_N']:g} N of their best caster on average",
+            detail,
         )
     return (
-        f"No K <= {s['count']} keeps the mean regret within {s['max_regret_N']:g} N: {s['count']} {parts} "
-        f"serve {chairs} at a mean regret of {s['mean_regret_N']:.2f} N (raise --k-max or --max-regret)"
+        f"No K ≤ {s['count']} keeps the mean regret within {s['max_regret_N']:g} N (raise --k-max or --max-regret)",
+        f"{s['count']} {parts} serve {chairs}: " + detail,
     )
 
 

@@ -3,6 +3,7 @@ K-median of part numbers, and the Dask path on a 2-worker LocalCluster."""
 
 from __future__ import annotations
 
+import html
 import itertools
 import json
 import math
@@ -17,6 +18,7 @@ from designer.studies.fleet import _fleet, _rule, _table
 from designer.studies.fleet import _kmedian
 from designer.studies.fleet._kmedian import brute_force_kmedian, kmedian_curve, solve_kmedian
 from designer.cli import main
+from designer.report import fleet as _report
 from designer.data.paper import INCH
 from designer.model import performance, scatter_of
 
@@ -508,7 +510,19 @@ def test_fleet_cli_writes_csv_json_and_report(tmp_path, capsys, root):
         if r["status"] == "ok":
             assert r["sku"] in (1, 2) and r["sku_turning_effort"] > 0 and r["sku_threshold_force"] > 0
             assert 0 <= r["shimmy_probability"] <= 1 and r["shimmy_probability_se"] > 0
-    assert (out / "index.html").read_text().count("data:image/png;base64") == 2
+    # the Pareto report's look: its stylesheet, the answer and the part numbers in the first-screen box with
+    # the regret curve, SVG figures inline (each point's numbers on hover) and the same files for report.md
+    page = (out / "index.html").read_text()
+    assert ".build {" in page and "<img" not in page and "data:image" not in page
+    box = page.split('<section class="build" id="build">', 1)[1].split("</section>", 1)[0]
+    assert html.escape(data["answer"]) in box and "<td>2</td>" in box and 'id="fig-regret"' in box
+    for name in ("regret", "distributions"):
+        svg = (out / "figures" / f"{name}.svg").read_text()
+        assert svg.startswith("<svg") and svg.replace(_report.HOVER_STYLE, "", 1).strip() in page
+    for c in data["regret_curve"]:
+        assert f"K = {c['k']}: mean regret {c['mean_regret_N']:.3f} N" in box
+    md = (out / "report.md").read_text()
+    assert md.splitlines()[5] == f"## {data['answer']}" and "](figures/regret.svg)" in md
 
 
 def test_infeasible_chair_is_reported_not_dropped(base):
@@ -596,17 +610,17 @@ def test_fleet_cli_answer_first_from_another_folder_and_json_units(tmp_path, mon
     assert main(["fleet", path.name, "--skus", "2", "--no-monte-carlo"]) == 0
     lines = capsys.readouterr().out.splitlines()
     first = re.fullmatch(
-        r"(\d+) part numbers? serve all 40 chairs within 2 N of each chair's best caster on average "
-        r"\(mean regret (\d+\.\d\d) N of J = F_turn \+ P\)",
-        lines[0],
+        r"(\d+) part numbers? serve all 40 chairs within 2 N of their best caster on average", lines[0]
     )
-    assert first, lines[0]
+    second = re.match(r"  mean regret (\d+\.\d\d) N per unit sold against each chair's least J = F_turn \+ P", lines[1])
+    assert first and second, lines[:2]
+    assert max(len(ln) for ln in lines) <= 80  # COLUMNS unset and not a terminal: 80 columns
     assert (tmp_path / "results" / "fleet" / "line" / "fleet.csv").exists()
     assert main(["fleet", path.name, "--skus", "2", "--no-monte-carlo", "--json", "--out", "o"]) == 0
     data = json.loads(capsys.readouterr().out)
     suggested = data["suggested_skus"]
     assert {"count", "rule", "mean_regret_N"} <= set(suggested) and data["regret_unit"] == "N"
-    assert suggested["count"] == int(first.group(1)) and f"{suggested['mean_regret_N']:.2f}" == first.group(2)
+    assert suggested["count"] == int(first.group(1)) and f"{suggested['mean_regret_N']:.2f}" == second.group(1)
     curve = {c["k"]: c["mean_regret_N"] for c in data["regret_curve"]}
     assert suggested["mean_regret_N"] <= 2.0 and all(curve[k] > 2.0 for k in curve if k < suggested["count"])
     if suggested["count"] != 2:
@@ -652,3 +666,25 @@ def test_regret_is_measured_against_the_least_j_not_the_recommendation(base):
         better += sku < knee - 1e-9 * least
     own = data["own_recommendation"]
     assert own["part_number_better_on_J"] == better and "knee" in own["meaning"] and "least J" in own["meaning"]
+
+
+def test_fleet_run_loads_no_matplotlib_and_json_reads_back(tmp_path):
+    """The whole `designer fleet F --skus 2` process (report included) loads no matplotlib (its figures are
+    SVG), and its --json output is valid JSON with one row per chair (written by the fast row writer)."""
+    import subprocess
+    import sys
+
+    path = _table.write_fleet_csv(_table.example_fleet(15, seed=1), tmp_path / "f.csv")
+    code = (
+        "import sys, io, contextlib; from designer.cli import main; buf = io.StringIO()\n"
+        f"with contextlib.redirect_stdout(buf): rc = main(['fleet', {str(path)!r}, '--skus', '2', '--json', "
+        f"'--no-monte-carlo', '--out', {str(tmp_path / 'o')!r}])\n"
+        "print(rc, 'matplotlib' in sys.modules); print(buf.getvalue())"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    first, rest = out.split("\n", 1)
+    assert first == "0 False"
+    data = json.loads(rest)
+    assert len(data["rows"]) == 15 and data == json.loads((tmp_path / "o" / "fleet.json").read_text()) | {
+        "run": data["run"]
+    }
