@@ -133,9 +133,12 @@ def run_10000(repeats: int, chairs: int = 10000) -> dict:
             "ratio_wall": res["run"]["wall"] / res["screen"]["wall"],
             "ratio_cpu": res["run"]["cpu"] / res["screen"]["cpu"],
             "answer": data["answer"],
-            "timings": data["timings"],
+            "timings": data["run"]["timings"],
             "curve": [
-                {key: c[key] for key in ("k", "mean_regret_N", "status", "method", "gap_N", "seconds")}
+                {
+                    **{key: c[key] for key in ("k", "mean_regret_N", "status", "method", "gap_N")},
+                    "seconds": data["run"]["curve_seconds"][str(c["k"])],
+                }
                 for c in data["regret_curve"]
             ],
             "load_start": load0,

@@ -17,6 +17,7 @@ from designer.studies.fleet import (
     example_fleet,
     fleet_data,
     fleet_recommendations,
+    fleet_run,
     read_fleet,
     write_fleet_csv,
 )
@@ -116,16 +117,16 @@ def run(args) -> int:
         monte_carlo=not args.no_monte_carlo,
         max_regret=max_regret,
     )
-    data = fleet_data(result)
+    data, run_info = fleet_data(result), fleet_run(result)
     out = Path(args.out) if args.out else Path("results") / "fleet" / Path(args.fleet).stem
     # late import: loads jinja2 and the report room only when this runs
     from designer.report.fleet import json_text, write_fleet_report
 
-    write_fleet_report(data, out)
+    write_fleet_report(data, out, run_info)
     if args.json:
-        print(json_text(data))
+        print(json_text(data, run_info))
     else:
-        _print(data, len(result.stock), out)
+        _print(data, run_info, len(result.stock), out)
     if data["feasible_chairs"] < data["chairs"]:
         eprint(
             f"designer: note: {data['chairs'] - data['feasible_chairs']} chairs have no feasible stock caster "
@@ -134,7 +135,7 @@ def run(args) -> int:
     return 0
 
 
-def _print(data: dict, stock: int, out: Path) -> None:
+def _print(data: dict, run_info: dict, stock: int, out: Path) -> None:
     """The answer first (how many part numbers), then the part numbers, the chairs and the timings; lines
     wrapped to the terminal's width (``COLUMNS``; 80 when not a terminal)."""
     width = max(40, shutil.get_terminal_size((80, 24)).columns)
@@ -174,5 +175,5 @@ def _print(data: dict, stock: int, out: Path) -> None:
         )
         statuses = " or ".join(sorted({c["status"] for c in data["regret_curve"]}))
         say(f"  mean regret [N] for K = 1…{len(data['regret_curve'])}: {curve} (each {statuses})")
-    say("  time [s]: " + ", ".join(f"{name} {seconds:.2f}" for name, seconds in data["timings"].items()))
+    say("  time [s]: " + ", ".join(f"{name} {seconds:.2f}" for name, seconds in run_info["timings"].items()))
     say(f"report: {out / 'index.html'}")

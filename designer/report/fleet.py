@@ -1,6 +1,9 @@
-"""Render a fleet run (``designer fleet``): fleet.csv, fleet.json, report.md + figures/*.svg, index.html.
+"""Render a fleet run (``designer fleet``): fleet.csv, fleet.json, report.md + figures/*.svg, index.html, run.json.
 
 Takes the plain data of :func:`designer.studies.fleet._fleet.fleet_data`; computes nothing but formatting.
+As the Pareto report's, the pages and fleet.json hold no date, seconds or versions: those are in
+``run.json`` (:func:`designer.studies.fleet._fleet.fleet_run` plus the library versions), so the same
+fleet gives the same files.
 The look is the Pareto report's: the same stylesheet (``_style.html.j2``), a first screen that answers
 (the number of part numbers in words, the part numbers, the regret curve), SVG figures drawn on
 :mod:`designer.plots.svg` and inlined in the page with each point's numbers on hover, report.md linking
@@ -72,13 +75,20 @@ def json_data(data: dict) -> dict:
     return finite(out)
 
 
-def json_text(data: dict) -> str:
-    """:func:`json_data` as text, one chair per line in ``rows`` (NaN and infinities are null).
+def run_data(run: dict | None) -> dict | None:
+    """run.json: the run's date, stage and per-K seconds, scheduler, and the library versions."""
+    return None if run is None else finite({**run, "versions": versions()})
+
+
+def json_text(data: dict, run: dict | None = None) -> str:
+    """:func:`json_data` as text (with ``"run"`` last when given), one chair per line in ``rows``.
 
     The rows (one per chair, thousands) are written by the C encoder, one line each; a row that holds a
-    NaN or an infinity goes through :func:`designer.jsonsafe.finite` first.
+    NaN or an infinity goes through :func:`designer.jsonsafe.finite` first (NaN and infinities are null).
     """
     head = finite({k: v for k, v in data.items() if k not in ("distributions", "rows")})
+    if run is not None:
+        head["run"] = run_data(run)
     text = json.dumps(head, indent=1, ensure_ascii=False)
     rows = []
     for row in data["rows"]:
@@ -185,7 +195,6 @@ def _curve_rows(data: dict) -> list[dict]:
             "gap": n(c["gap_N"] if c["total_regret_N"] is not None else None, ".1e"),
             "status": c["status"],
             "method": c["method"],
-            "seconds": fmt(c["seconds"], ".2f"),
             "mark": c["k"] == data.get("k"),
         }
         for c in data["regret_curve"]
@@ -280,8 +289,6 @@ def _context(data: dict, figures: list[dict]) -> dict:
         "bad": bad[:200],
         "bad_more": max(0, len(bad) - 200),
         "bad_total": len(bad),
-        "timings": [(k, fmt(v, ".2f")) for k, v in data["timings"].items()],
-        "run": {**(data.get("run") or {}), "version": versions().get("caster-designer")},
     }
 
 
@@ -295,8 +302,9 @@ def html(data: dict, figures: list[dict] | None = None) -> str:
     return _render("fleet.html.j2", _context(data, figures if figures is not None else _figures(data)), True)
 
 
-def write_fleet_report(data: dict, out_dir) -> Path:
-    """Write fleet.csv, fleet.json, report.md, figures/*.svg and index.html into ``out_dir`` (atomically)."""
+def write_fleet_report(data: dict, out_dir, run: dict | None = None) -> Path:
+    """Write fleet.csv, fleet.json, report.md, figures/*.svg, index.html and (given ``run``, from
+    :func:`designer.studies.fleet._fleet.fleet_run`) run.json into ``out_dir`` (atomically)."""
     out = Path(out_dir)
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}-", dir=out.parent))
@@ -310,6 +318,8 @@ def write_fleet_report(data: dict, out_dir) -> Path:
         (tmp / "fleet.json").write_text(json_text(data) + "\n", encoding="utf-8")
         (tmp / "report.md").write_text(markdown(data, figures), encoding="utf-8")
         (tmp / "index.html").write_text(html(data, figures), encoding="utf-8")
+        if run is not None:
+            (tmp / "run.json").write_text(json.dumps(run_data(run), indent=1) + "\n", encoding="utf-8")
         if out.exists():
             old = out.with_name(f".{out.name}.old")
             shutil.rmtree(old, ignore_errors=True)

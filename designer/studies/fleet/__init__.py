@@ -17,6 +17,7 @@ from designer.studies.fleet._fleet import (
     fleet,
     fleet_data,
     fleet_recommendations,
+    fleet_run,
     suggest_skus,
 )
 from designer.studies.fleet._kmedian import kmedian_curve, solve_kmedian
@@ -31,6 +32,7 @@ __all__ = [
     "fleet",
     "fleet_data",
     "fleet_recommendations",
+    "fleet_run",
     "kmedian_curve",
     "read_fleet",
     "solve_kmedian",

@@ -92,6 +92,7 @@ __all__ = [
     "fleet_data",
     "fleet_from_text",
     "fleet_recommendations",
+    "fleet_run",
     "read_fleet",
     "recommend_chairs",
     "stock_table",
@@ -562,8 +563,9 @@ def _close(client) -> None:
 
 
 def fleet_data(result: FleetResult) -> dict:
-    """Plain data of a fleet run (what ``--json`` prints and the report renders): settings, part numbers,
-    regret curve, per-chair rows, distributions, timings.  SI units; J uses the base problem's weights."""
+    """Plain data of a fleet run (fleet.json; what the report renders): settings, part numbers, regret curve,
+    per-chair rows, distributions.  SI units; J uses the base problem's weights.  The date and times are in
+    :func:`fleet_run` (run.json)."""
     problem = result.problem
     risk = problem.risk
     u = scatter_of(problem.conditions)
@@ -617,9 +619,17 @@ def fleet_data(result: FleetResult) -> dict:
         "rows": rows,
         "distributions": _distributions(result),
         "alpha": None if risk is None else risk.probability,
+    }
+
+
+def fleet_run(result: FleetResult) -> dict:
+    """What a rerun changes (kept out of :func:`fleet_data`, so the same fleet gives the same fleet.json and
+    report): the date, the wall seconds per stage and per K of the regret curve, the Dask scheduler."""
+    return {
+        "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "timings": dict(result.timings),
+        "curve_seconds": {str(k): s.seconds for k, s in sorted(result.curve.items())},
         "scheduler": result.scheduler,
-        "run": {"date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")},
     }
 
 
@@ -652,7 +662,6 @@ def _curve_data(result: FleetResult, units: float) -> list[dict]:
             "lower_bound_N": s.lower_bound,
             "gap_N": s.gap,
             "method": s.method,
-            "seconds": s.seconds,
             "chosen": s.chosen,
         }
         for k, s in sorted(result.curve.items())

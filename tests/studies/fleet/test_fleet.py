@@ -685,6 +685,15 @@ def test_fleet_run_loads_no_matplotlib_and_json_reads_back(tmp_path):
     first, rest = out.split("\n", 1)
     assert first == "0 False"
     data = json.loads(rest)
-    assert len(data["rows"]) == 15 and data == json.loads((tmp_path / "o" / "fleet.json").read_text()) | {
-        "run": data["run"]
+    run = data.pop("run")
+    assert len(data["rows"]) == 15 and data == json.loads((tmp_path / "o" / "fleet.json").read_text())
+    # the date, times and versions only in run.json (and --json's "run"): a rerun writes the same files
+    assert run == json.loads((tmp_path / "o" / "run.json").read_text()) | {
+        "date": run["date"],
+        "timings": run["timings"],
+        "curve_seconds": run["curve_seconds"],
     }
+    assert {"date", "timings", "curve_seconds", "versions"} <= set(run)
+    for name in ("fleet.json", "index.html", "report.md"):
+        text = (tmp_path / "o" / name).read_text()
+        assert run["date"][:10] not in text and "seconds" not in text, name
