@@ -98,8 +98,10 @@ def save_figure(fig, path, dpi: int = 110, option: str = "--plot") -> None:
     # late import: loads matplotlib only when this runs
     import matplotlib.pyplot as plt
 
+    # a PNG's Software tag names matplotlib's version: left out, so a redrawn figure has the same bytes
+    metadata = {"Software": None} if str(path).lower().endswith(".png") else None
     try:
-        fig.savefig(path, dpi=dpi)
+        fig.savefig(path, dpi=dpi, metadata=metadata)
     except OSError as exc:
         raise InputError(f"{option} {path}: cannot write ({exc.strerror})") from None
     finally:
