@@ -78,7 +78,9 @@ def _register_limit_cycles(p) -> None:
     g.add_argument("--cornering-stiffness", default="1250", help="brush tyre C in N/rad (default K_s = 1250)")
     g.add_argument("--wheel-mass", default="0.444 kg", help="wheel mass M_W for the brush tyre (default 0.444 kg)")
     g.add_argument("--max-speed", default="4 m/s", help="upper speed of --bifurcation (default 4 m/s)")
-    g.add_argument("--points", default="24", help="orbits on the unstable branch of --bifurcation (default 24)")
+    g.add_argument(
+        "--points", default=str(DEFAULT_POINTS), help="orbits on the unstable branch of --bifurcation (default 24)"
+    )
 
 
 MAX_ANGULAR_VELOCITY = 1000.0
@@ -153,12 +155,7 @@ def _knock_safe(design, conditions, angle: float, tyre) -> dict:
 
 def _bifurcation(args, design, conditions, angle: float, tyre) -> dict:
     """Periodic orbits against speed, brush tyre and rolling tyre (``--points``, ``--max-speed``); ``--plot`` draws them."""
-    try:
-        points = int(args.points)
-    except ValueError:
-        raise InputError(f"--points {args.points!r}: expected an integer") from None
-    if not 3 <= points <= 200:
-        raise InputError(f"--points {points}: must be between 3 and 200")
+    points = _points(args)
     top = ranged_option(args.max_speed, "target_speed", "--max-speed")
     bif = bifurcation_diagram(design, conditions, tyre, speed_range=(min(0.3, top / 4), top), points=points)
     roll = bifurcation_diagram(
@@ -187,6 +184,21 @@ def _bifurcation(args, design, conditions, angle: float, tyre) -> dict:
         _plot_bifurcation(args.plot, design, angle, bif, roll, top)
         out["plot"] = args.plot
     return out
+
+
+DEFAULT_POINTS = 24
+"""Orbits on the unstable branch of --bifurcation by default (its work budget grows with --points over this)."""
+
+
+def _points(args) -> int:
+    """--points of --bifurcation: a whole number from 3 to 200."""
+    try:
+        points = int(args.points)
+    except ValueError:
+        raise InputError(f"--points {args.points!r}: expected an integer") from None
+    if not 3 <= points <= 200:
+        raise InputError(f"--points {points}: must be between 3 and 200")
+    return points
 
 
 def _plot_bifurcation(path, design, angle: float, bif: dict, roll: dict, top: float) -> None:
@@ -306,13 +318,15 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
 
 def run(args) -> int:
     # late import: loads scipy (via designer.studies.dynamics._simulate) only when this runs
-    from designer.studies.dynamics import onset_speed, simulate, work_limit
+    from designer.studies.dynamics import onset_speed, scaled_budget, simulate, work_limit
 
     # late import: the validation study (scipy, matplotlib) only for --report
     from designer.studies.dynamics import write_simulation_report
 
     if (args.bifurcation or args.knock_safe) and args.report is None:
-        with work_limit("designer simulate"):  # one budget for all the command's studies
+        # one budget for all the command's studies, grown with the orbits asked for (--points, default 24)
+        budget = scaled_budget(_points(args), DEFAULT_POINTS) if args.bifurcation else None
+        with work_limit("designer simulate", budget):
             return _run_limit_cycles(args)
 
     if args.report is not None:

@@ -14,7 +14,7 @@ from __future__ import annotations
 from designer.studies.dynamics._onset_study import write_simulation_report
 from designer.studies.dynamics._result import OnsetResult, SimulationResult
 from designer.studies.dynamics._simulate import onset_speed, simulate
-from designer.studies.dynamics._work import MAX_EVALUATIONS, SPEED_RANGE, WorkLimitError, work_limit
+from designer.studies.dynamics._work import MAX_EVALUATIONS, SPEED_RANGE, WorkLimitError, scaled_budget, work_limit
 
 __all__ = [
     "MAX_EVALUATIONS",
@@ -23,6 +23,7 @@ __all__ = [
     "SimulationResult",
     "WorkLimitError",
     "onset_speed",
+    "scaled_budget",
     "simulate",
     "work_limit",
     "write_simulation_report",

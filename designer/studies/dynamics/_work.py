@@ -16,17 +16,21 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import functools
+import inspect
 from collections.abc import Iterator
 from typing import Any, Callable, TypeVar
 
 from designer.errors import DesignerError, SolverError
 from designer.parameters import PARAMETERS
 
-MAX_EVALUATIONS = 3_000_000
-"""Evaluations of the equations of motion one study may spend (about 30 s of CPU here at 9-10 µs each).
-The shipped cases need far less: a simulation 2 000-15 000, an onset search 40 000-110 000, a default
-bifurcation diagram about 800 000 (3.8 times fewer), the slowest single simulation of the model's range
-(T = 0.25 m at 0.01 m/s: a 75 s aligning transient) about 740 000."""
+MAX_EVALUATIONS = 2_000_000
+"""Evaluations of the equations of motion one study may spend (about 20 s of CPU here at 9-10 µs each).
+The cases measured need less: a simulation 2 000-15 000, an onset search 40 000-110 000 (500 000 for
+T = 0.25 m, d = 0.6 m at a crawl), a knock-safe speed with the brush tyre 460 000, the default bifurcation
+diagram (24 orbits, both tyres) about 800 000, the slowest single simulation of the model's range
+(T = 0.25 m at 0.01 m/s: a 75 s aligning transient) about 740 000.  Work that grows with a requested count
+(a bifurcation diagram's ``points``) gets a budget grown in proportion (:func:`scaled_budget`): 200 orbits
+took 4.3 million."""
 
 SPEED_RANGE: tuple[float, float] = PARAMETERS["target_speed"].range or (0.01, 100.0)
 """The model's speeds [m/s] (the problem file's range of ``shimmy.target_speed``)."""
@@ -76,19 +80,33 @@ def work_limit(what: str, evaluations: int | None = None) -> Iterator[None]:
         _ACTIVE.reset(token)
 
 
-def bounded(what: str) -> Callable[[_F], _F]:
+def bounded(what: str, scale: str | None = None) -> Callable[[_F], _F]:
     """Decorator of a public study: it runs inside :func:`work_limit` (``what`` names it), so a study that
-    calls it shares the caller's budget."""
+    calls it shares the caller's budget.  ``scale`` names a count argument that the work grows with (the
+    orbits of a bifurcation diagram): the budget is :data:`MAX_EVALUATIONS` times the count over its default,
+    at least once."""
 
     def decorate(function: _F) -> _F:
+        signature = inspect.signature(function)
+
         @functools.wraps(function)
         def wrapper(*args, **kwargs):
-            with work_limit(what):
+            evaluations = None
+            if scale is not None:
+                count = signature.bind(*args, **kwargs).arguments.get(scale, signature.parameters[scale].default)
+                evaluations = scaled_budget(count, signature.parameters[scale].default)
+            with work_limit(what, evaluations):
                 return function(*args, **kwargs)
 
         return wrapper  # type: ignore[return-value]
 
     return decorate
+
+
+def scaled_budget(count: float, reference: float) -> int:
+    """:data:`MAX_EVALUATIONS` times ``count / reference``, at least :data:`MAX_EVALUATIONS` (work that grows
+    with a requested count, e.g. --points orbits against the default 24)."""
+    return int(MAX_EVALUATIONS * max(1.0, float(count) / float(reference)))
 
 
 def spend(n: int = 1) -> None:

@@ -44,3 +44,23 @@ def test_onset_beyond_the_model_speeds_is_said_not_searched():
     with pytest.raises(SolverError) as info:
         onset_speed(CASTER, light)
     assert f"no shimmy onset up to {SPEED_RANGE[1]:g} m/s" in str(info.value) and "\n" not in str(info.value)
+
+
+def test_budget_grows_with_the_requested_count(monkeypatch):
+    """Work that grows with a requested count (the orbits of a bifurcation diagram, --points up to 200) gets a
+    budget grown in proportion to the count over its default: 4 evaluations per orbit fit at 24 and at 200
+    orbits, 5 per orbit do not (the budget is spent, not merely large)."""
+    from designer.studies.dynamics import _work
+
+    monkeypatch.setattr(_work, "MAX_EVALUATIONS", 100)
+
+    def orbits(points=24, each=4):
+        _work.spend(each * points)
+
+    scaled = _work.bounded("orbits", scale="points")(orbits)
+    scaled()
+    scaled(points=200)
+    with pytest.raises(WorkLimitError):
+        scaled(points=200, each=5)
+    with pytest.raises(WorkLimitError):
+        _work.bounded("orbits")(orbits)(points=200)

@@ -37,7 +37,7 @@ def _branch_dicts(orbits) -> list[dict]:
     return Branch(orbits=list(orbits)).pieces()
 
 
-@bounded("bifurcation diagram")
+@bounded("bifurcation diagram", scale="points")
 def bifurcation_diagram(
     design: Design,
     conditions: Conditions = Conditions(),
