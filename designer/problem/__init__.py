@@ -38,7 +38,7 @@ from designer.problem._core import (
     check_weights,
 )
 from designer.problem._examples import example_names, example_problem, example_text
-from designer.problem._loader import load_problem, problem_files, problem_from_dict, problem_from_toml
+from designer.problem._loader import check_utf8, load_problem, problem_files, problem_from_dict, problem_from_toml
 
 __all__ = [
     "DEFAULT_BOUNDS",
@@ -61,6 +61,7 @@ __all__ = [
     "example_names",
     "example_problem",
     "example_text",
+    "check_utf8",
     "load_problem",
     "problem_files",
     "problem_from_dict",

@@ -152,3 +152,17 @@ def test_utf8_byte_order_mark_is_accepted(tmp_path):
     marked = tmp_path / "indoor-manual.toml"
     marked.write_bytes(b"\xef\xbb\xbf" + source.read_bytes())
     assert load_problem(marked).to_dict() == load_problem(source).to_dict()
+
+
+@pytest.mark.parametrize("encoding, name", [("utf-16", "UTF-16"), ("utf-32", "UTF-32")])
+def test_wide_unicode_file_is_named(tmp_path, encoding, name):
+    """Issue 24.6: a problem file saved as UTF-16 or UTF-32 ("Unicode" in Windows editors) starts with that
+    encoding's byte-order mark; the error names the encoding and says to save it as UTF-8 (it was a
+    UnicodeDecodeError about byte 0xff)."""
+    from designer.errors import ProblemError
+
+    source = next(p for p in PROBLEMS if p.name == "indoor-manual.toml")
+    wide = tmp_path / "wide.toml"
+    wide.write_text(source.read_text(encoding="utf-8"), encoding=encoding)
+    with pytest.raises(ProblemError, match=f"{name} text .* save the problem file as UTF-8"):
+        load_problem(wide)

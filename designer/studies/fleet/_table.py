@@ -19,6 +19,7 @@ import numpy as np
 from designer.data.paper import INCH
 from designer.errors import InputError, ProblemError, read_input_text
 from designer.physics.turning import MODES, SURFACES
+from designer.problem import check_utf8
 from designer.units import parse_quantity
 
 
@@ -219,6 +220,8 @@ def read_fleet(path, base=None) -> Fleet:
             f"{path}: {path.stat().st_size:,} bytes; a fleet file is at most {MAX_FLEET_BYTES:,} bytes "
             f"({MAX_CHAIRS:,} chairs): split the fleet into files of at most {MAX_CHAIRS:,} chairs"
         )
+    if path.is_file():
+        check_utf8(path, "fleet file")
     text = read_input_text(path, "fleet file", ".csv", encoding="utf-8-sig")
     return fleet_from_text(text, source=str(path))
 
