@@ -20,6 +20,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
         "ground",
         (
             "designer.errors",
+            "designer.output",
             "designer.units",
             "designer.jsonsafe",
             "designer.data",
@@ -35,7 +36,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("studies", ("designer.studies",)),
     ("pipeline", ("designer.pipeline",)),
     ("report", ("designer.report",)),
-    ("entry", ("designer.cli", "designer.studio", "designer.__main__")),
+    ("entry", ("designer.cli", "designer.studio", "designer.__main__", "designer.entry")),
 ]
 """Lowest first.  A module may import its own layer and the layers below it, never one above."""
 

@@ -7,11 +7,8 @@ import sys
 
 from designer.jsonsafe import finite
 from designer.errors import InputError
+from designer.output import check_file, check_folder
 from designer.units import parse_quantity_text
-import os
-import tempfile
-from pathlib import Path
-from designer.errors import OutputError
 from designer.parameters import PARAMETERS
 from designer.units import outside_range
 
@@ -38,30 +35,20 @@ def eprint(*args) -> None:
     print(*args, file=sys.stderr)
 
 
-def check_output_folder(folder, option: str = "--out") -> None:
+def check_output_folder(folder, option: str = "--out", **owned) -> None:
     """Raise OutputError (exit 7) unless ``folder`` can be created and written; called before any computing.
 
-    The nearest existing ancestor must be a folder (not a regular file) in which a file can be made,
-    and ``folder`` itself, if it exists, must be writable too (tried by making and removing a
-    temporary folder: permission bits alone do not tell, e.g. for root or a read-only mount).
+    :func:`designer.output.check_folder`: a regular file or a path under one, a link to nothing, a read-only
+    or forbidden place are refused; a link to a folder is followed.  Keyword arguments (``owned``, ``marker``,
+    ``command``) also refuse a folder holding files of the user's that the command would replace.
     """
+    check_folder(folder, option, **owned)
 
-    folder = Path(folder)
-    probe = folder
-    while not probe.exists() and not probe.is_symlink() and probe != probe.parent:
-        probe = probe.parent
-    if probe.exists() and not probe.is_dir():
-        what = "is" if probe == folder else f"lies under {probe}, which is"
-        raise OutputError(f"{option} {folder}: {what} a regular file, not a folder; choose another {option}")
-    places = [probe] + ([folder.parent] if probe == folder and folder.parent.is_dir() else [])
-    for place in places:
-        try:
-            tempfile.TemporaryDirectory(prefix=".designer-probe-", dir=place or ".").cleanup()
-        except OSError as exc:
-            reason = os.strerror(exc.errno) if exc.errno else str(exc)
-            raise OutputError(
-                f"{option} {folder}: cannot write in {place or '.'} ({reason}); choose a writable {option} folder"
-            ) from None
+
+def check_output_file(path, option: str, example: str = "out.csv") -> None:
+    """Raise OutputError (exit 7) unless the file ``path`` can be written (not a folder, not under a regular
+    file, in a writable folder); called before any computing (:func:`designer.output.check_file`)."""
+    check_file(path, option, example)
 
 
 def ranged_option(value: str | None, entry: str, option: str, default=None, positive: bool = False):

@@ -4,8 +4,17 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from designer.cli._common import SEED_MAX, choice_option, count_option, print_json, ranged_option
+from designer.cli._common import (
+    SEED_MAX,
+    check_output_file,
+    check_output_folder,
+    choice_option,
+    count_option,
+    print_json,
+    ranged_option,
+)
 from designer.errors import InputError
+from designer.output import output_folder, write_file
 
 KINDS = {
     "turning": "moment per unit load k_surface [m] from drill-press data (Fig. 7); CSV columns load_N, moment_Nm",
@@ -59,6 +68,7 @@ def run(args) -> int:
     # late import: loads matplotlib (via designer.report.calibration) only when this runs
     from designer.report.calibration import plot_fit, write_calibration_report
 
+    _check_outputs(args)
     slip = 1250.0
     if args.kind == "damping":
         slip = ranged_option(args.slip_coefficient, "slip_coefficient", "--slip-coefficient")
@@ -69,10 +79,7 @@ def run(args) -> int:
     if args.report:
         write_calibration_report(result, args.report, str(args.data))
     if args.snippet:
-        try:
-            Path(args.snippet).write_text(result.snippet())
-        except OSError as exc:
-            raise InputError(f"--snippet {args.snippet}: cannot write ({exc.strerror})") from None
+        write_file(args.snippet, result.snippet(), "--snippet", example="calibration.toml")
     out = result.as_dict()
     out["data"] = str(args.data)
     if args.plot:
@@ -103,12 +110,32 @@ def run(args) -> int:
     return 0
 
 
+def _check_outputs(args) -> None:
+    """Every place the fit will be written to, checked before the fit (exit 2 for a bad name, 7 for a bad place)."""
+    # late import: loads matplotlib (via designer.report.calibration) only when this runs
+    from designer.report.calibration import MARKER, OWNED, check_plot_name
+
+    if args.plot:
+        check_plot_name(args.plot)
+        check_output_file(args.plot, "--plot", example="fit.png")
+    if args.report:
+        check_output_folder(args.report, "--report", owned=OWNED, marker=MARKER, command="designer calibrate")
+    if args.snippet:
+        check_output_file(args.snippet, "--snippet", example="calibration.toml")
+
+
 def run_examples(args) -> int:
     # late import: loads scipy (via designer.studies.calibrate) only when this runs
     from designer.studies.calibrate import EXAMPLE_SEED, EXAMPLES_DIR, write_examples
 
     count_option(args.seed, "--seed", 0, SEED_MAX)
-    paths = write_examples(args.out or EXAMPLES_DIR, EXAMPLE_SEED if args.seed is None else args.seed)
+    out = Path(args.out or EXAMPLES_DIR)
+    # only the three CSVs are written; a folder holding a different file of one of their names is refused
+    # (exit 7) when they are committed, except the package's own examples folder, which they are regenerated into
+    with output_folder(
+        out, (), option="examples DIR", force=args.out is None, command="designer calibrate examples"
+    ) as tmp:
+        paths = write_examples(tmp, EXAMPLE_SEED if args.seed is None else args.seed)
     for kind, path in paths.items():
-        print(f"{kind}: {path}")
+        print(f"{kind}: {out / Path(path).name}")
     return 0

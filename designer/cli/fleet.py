@@ -9,7 +9,15 @@ import shutil
 import textwrap
 from pathlib import Path
 
-from designer.cli._common import SEED_MAX, count_option, eprint, print_json, quantity_option
+from designer.cli._common import (
+    SEED_MAX,
+    check_output_file,
+    check_output_folder,
+    count_option,
+    eprint,
+    print_json,
+    quantity_option,
+)
 from designer.studies.fleet import (
     DEFAULT_MAX_REGRET,
     EXAMPLE_RANGES,
@@ -82,8 +90,10 @@ def run(args) -> int:
     if args.example is not None:
         if args.fleet is not None:
             raise InputError(f"--example {args.example}: writes a fleet; do not also give FLEET.csv ({args.fleet})")
+        target = args.out or f"fleet-example-{args.example}.csv"
+        check_output_file(target, "--out", example=f"fleet-example-{args.example}.csv")  # before the fleet is made
         fleet = example_fleet(args.example, seed=args.seed)
-        path = write_fleet_csv(fleet, args.out or f"fleet-example-{args.example}.csv")
+        path = write_fleet_csv(fleet, target)
         if args.json:
             print_json(
                 {
@@ -108,6 +118,11 @@ def run(args) -> int:
     max_regret = quantity_option(args.max_regret, "force", "--max-regret", DEFAULT_MAX_REGRET)
     problem = example_problem("indoor-manual") if args.problem is None else load_problem(args.problem)
     fleet = read_fleet(args.fleet)
+    out = Path(args.out) if args.out else Path("results") / "fleet" / Path(args.fleet).stem
+    # late import: loads jinja2 and the report room only when this runs
+    from designer.report.fleet import MARKER, OWNED, json_text, write_fleet_report
+
+    check_output_folder(out, owned=OWNED, marker=MARKER, command="designer fleet")  # before the work
     result = fleet_recommendations(
         fleet,
         problem,
@@ -118,10 +133,6 @@ def run(args) -> int:
         max_regret=max_regret,
     )
     data, run_info = fleet_data(result), fleet_run(result)
-    out = Path(args.out) if args.out else Path("results") / "fleet" / Path(args.fleet).stem
-    # late import: loads jinja2 and the report room only when this runs
-    from designer.report.fleet import json_text, write_fleet_report
-
     write_fleet_report(data, out, run_info)
     if args.json:
         print(json_text(data, run_info))

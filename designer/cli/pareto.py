@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from designer.cli._common import check_output_folder, eprint, print_json
+from designer.cli._common import eprint, print_json
 
 from designer.pipeline import TIGHTER_FACTOR  # noqa: F401  (re-exported: check 8c's factor)
 from designer.errors import InputError
@@ -55,8 +55,8 @@ def register(sub) -> None:
         "--force",
         action="store_true",
         help="write the report into the --out folder even if it is not "
-        "a report of this tool (files the report does not own are "
-        "kept)",
+        "a report of this tool (only the report's own files are written; "
+        "every other file there is left as it is)",
     )
     p.set_defaults(func=run)
 
@@ -130,11 +130,10 @@ def run(args) -> int:
     from designer.report.build import compute_and_write
 
     # late import: loads matplotlib (via designer.report.writer) only when this runs
-    from designer.report.writer import check_target
+    from designer.report.writer import check_target  # exit 7 for a file or an unwritable place, 2 for a foreign folder
 
     for problem, out in jobs:  # refuse a foreign or unwritable --out folder before the work, not after
         target = out if out is not None else Path("results") / problem.name
-        check_output_folder(target)
         check_target(target, args.force)
     summaries = []
     progress = _progress()

@@ -5,8 +5,9 @@ from __future__ import annotations
 import math
 import sys
 
-from designer.cli._common import eprint, print_json, quantity_option, ranged_option
+from designer.cli._common import check_output_file, eprint, print_json, quantity_option, ranged_option
 from designer.errors import InputError
+from designer.output import output_folder
 from designer.model import Conditions, Design
 from designer.physics.inertia import Fixed, PowerLaw
 from designer.physics.tyre import TyreParameters
@@ -323,6 +324,10 @@ def run(args) -> int:
     # late import: the validation study (scipy, matplotlib) only for --report
     from designer.studies.dynamics import write_simulation_report
 
+    if args.plot and args.report is None:  # the plot's place, checked before the simulation
+        if not str(args.plot).lower().endswith((".png", ".svg", ".pdf")):
+            raise InputError(f"--plot {args.plot}: expected a .png, .svg or .pdf file name")
+        check_output_file(args.plot, "--plot", example="plot.png")
     if (args.bifurcation or args.knock_safe) and args.report is None:
         # one budget for all the command's studies, grown with the orbits asked for (--points, default 24)
         budget = scaled_budget(_points(args), DEFAULT_POINTS) if args.bifurcation else None
@@ -330,28 +335,7 @@ def run(args) -> int:
             return _run_limit_cycles(args)
 
     if args.report is not None:
-        result = write_simulation_report(
-            args.report,
-            progress=None if args.json else lambda i, n: print(f"\rcase {i}/{n}", end="", file=sys.stderr, flush=True),
-        )
-        if not args.json:
-            eprint("")
-        # late import: loads matplotlib (via designer.report.limit_cycles) only when this runs
-        from designer.report.limit_cycles import write_limit_cycle_report
-
-        study = limit_cycle_study(progress=None if args.json else lambda text: eprint(f"limit cycles: {text}"))
-        written = write_limit_cycle_report(study, args.report)
-        summary = result["summary"]
-        if args.json:
-            print_json({"report": args.report, "summary": summary})
-        else:
-            a = summary["all"]
-            print(
-                f"wrote {args.report}/report.md, onset.csv, onset.json, onset.png: {summary['cases']} cases, "
-                f"simulated onset vs Eq. 7 from {100 * a['min_error']:+.1f} % to {100 * a['max_error']:+.1f} %"
-            )
-            print(f"wrote {args.report}/{', '.join(written)} (shimmy beyond onset)")
-        return 0
+        return _report(args, write_simulation_report)
 
     design, conditions, speed, angle, omega0, duration = parse(args)
 
@@ -391,6 +375,42 @@ def run(args) -> int:
         print(f"  plot: {args.plot}")
     for w in out["warnings"]:
         print(f"warning: {w}")
+    return 0
+
+
+ONSET_FILES = ("onset.csv", "onset.json", "onset.png", "report.md")
+"""What the simulated-onset study writes into the --report folder (beside the limit-cycle files)."""
+
+
+def _report(args, write_simulation_report) -> int:
+    """--report DIR: the onset study and the limit-cycle study, written into DIR at once when both are done.
+
+    Both write into one temporary folder inside DIR (:func:`designer.output.output_folder`), checked before
+    the work; an error or a signal (after minutes of work) leaves DIR as it was, never half new.
+    """
+    # late import: loads matplotlib (via designer.report.limit_cycles) only when this runs
+    from designer.report.limit_cycles import FILES, limit_cycle_files
+
+    owned = ONSET_FILES + FILES
+    with output_folder(args.report, owned, option="--report", marker="onset.json", command="designer simulate") as tmp:
+        result = write_simulation_report(
+            tmp,
+            progress=None if args.json else lambda i, n: print(f"\rcase {i}/{n}", end="", file=sys.stderr, flush=True),
+        )
+        if not args.json:
+            eprint("")
+        study = limit_cycle_study(progress=None if args.json else lambda text: eprint(f"limit cycles: {text}"))
+        written = limit_cycle_files(study, tmp)
+    summary = result["summary"]
+    if args.json:
+        print_json({"report": args.report, "summary": summary})
+    else:
+        a = summary["all"]
+        print(
+            f"wrote {args.report}/report.md, onset.csv, onset.json, onset.png: {summary['cases']} cases, "
+            f"simulated onset vs Eq. 7 from {100 * a['min_error']:+.1f} % to {100 * a['max_error']:+.1f} %"
+        )
+        print(f"wrote {args.report}/{', '.join(written)} (shimmy beyond onset)")
     return 0
 
 

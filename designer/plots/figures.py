@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import io
 import warnings
+from pathlib import Path
 
 import numpy as np
 
@@ -39,10 +40,10 @@ from designer.data.paper import (
     WALKING_SPEED,
 )
 from designer.model import performance
+from designer.output import write_file
 from designer.physics.shimmy import critical_shimmy_speed
 from designer.plots.fronts import VARIABLE_PANELS, FAMILY_STYLE, draw_fronts, plot_front, plot_variables  # noqa: F401  (FAMILY_STYLE: re-exported)
 from designer.physics.threshold import threshold_force_ratio, threshold_force_ratio_approx
-from designer.errors import InputError
 from designer.plots.svg import Figure
 
 FIGURES = ("front", "variables", "trail", "inertia", "threshold", "groove_damper")
@@ -94,16 +95,17 @@ def _new(
 
 
 def save_figure(fig, path, dpi: int = 110, option: str = "--plot") -> None:
-    """Save a figure to ``path`` and close it; an unwritable path is an InputError naming ``option``."""
+    """Save a figure to ``path`` (format from its suffix) and close it; the file is replaced atomically
+    (:func:`designer.output.write_file`), and a place that cannot be written is an OutputError naming ``option``."""
     # late import: loads matplotlib only when this runs
     import matplotlib.pyplot as plt
 
     # a PNG's Software tag names matplotlib's version: left out, so a redrawn figure has the same bytes
     metadata = {"Software": None} if str(path).lower().endswith(".png") else None
     try:
-        fig.savefig(path, dpi=dpi, metadata=metadata)
-    except OSError as exc:
-        raise InputError(f"{option} {path}: cannot write ({exc.strerror})") from None
+        buf = io.BytesIO()
+        fig.savefig(buf, format=Path(path).suffix[1:].lower() or None, dpi=dpi, metadata=metadata)
+        write_file(path, buf.getvalue(), option, example="plot.png")
     finally:
         plt.close(fig)
 

@@ -7,14 +7,12 @@ it with the Pareto report's look (shared stylesheet); the figure is :func:`desig
 from __future__ import annotations
 
 import base64
-import os
-import shutil
-import tempfile
 from pathlib import Path
 
 from designer.errors import InputError
+from designer.output import output_folder
 from designer.report.formatting import fmt
-from designer.report.writer import _render, _replace
+from designer.report.writer import _render
 from designer.plots.figures import save_figure
 from designer.plots.calibration import fit_figure
 import json
@@ -24,16 +22,24 @@ from designer.plots.figures import png_bytes
 
 OWNED = frozenset({"index.html", "report.md", "calibration.json", "figures"})
 """What a calibration report owns in its folder (anything else there is kept on replace)."""
+MARKER = "calibration.json"
+"""The file that makes a folder a calibration report."""
 FIGURE = "figures/fit.png"
 
 
 def plot_fit(result, path) -> None:
-    """Write the data, the fit and its residuals to an image file (PNG/SVG/PDF); a bad path is an InputError."""
+    """Write the data, the fit and its residuals to an image file (PNG/SVG/PDF); a bad name is an InputError,
+    a place that cannot be written an OutputError."""
 
-    if not str(path).lower().endswith((".png", ".svg", ".pdf")):
-        raise InputError(f"--plot {path}: expected a .png, .svg or .pdf file name")
+    check_plot_name(path)
 
     save_figure(fit_figure(result), path, dpi=100)
+
+
+def check_plot_name(path, option: str = "--plot") -> None:
+    """InputError unless ``path`` ends .png, .svg or .pdf (checked before the fit)."""
+    if not str(path).lower().endswith((".png", ".svg", ".pdf")):
+        raise InputError(f"{option} {path}: expected a .png, .svg or .pdf file name")
 
 
 def title(result) -> str:
@@ -54,16 +60,14 @@ def sentences(result, data_file: str) -> list[str]:
     return out
 
 
-def write_calibration_report(result, out_dir, data_file: str = "") -> Path:
-    """Write ``out_dir``/index.html (self-contained), report.md, calibration.json and figures/fit.png."""
+def write_calibration_report(result, out_dir, data_file: str = "", option: str = "--report") -> Path:
+    """Write ``out_dir``/index.html (self-contained), report.md, calibration.json and figures/fit.png.
 
-    target = Path(out_dir)
-    if target.exists() and not target.is_dir():
-        raise InputError(f"--report {target}: exists and is not a folder")
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
-    os.chmod(tmp, 0o755)  # mkdtemp makes it private; the report is an ordinary folder
-    try:
+    Safely (:func:`designer.output.output_folder`): only these names are replaced, atomically; anything else
+    in the folder is never touched.
+    """
+
+    with output_folder(out_dir, OWNED, option=option, marker=MARKER, command="designer calibrate") as tmp:
         (tmp / "figures").mkdir()
         png = png_bytes(fit_figure(result))
         (tmp / FIGURE).write_bytes(png)
@@ -90,11 +94,7 @@ def write_calibration_report(result, out_dir, data_file: str = "") -> Path:
         )
         (tmp / "index.html").write_text(_render("calibration.html.j2", context, autoescape=True), encoding="utf-8")
         (tmp / "report.md").write_text(_render("calibration.md.j2", context, autoescape=False), encoding="utf-8")
-        _replace(tmp, target, OWNED)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    return target
+    return Path(out_dir)
 
 
-__all__ = ["OWNED", "plot_fit", "sentences", "title", "write_calibration_report"]
+__all__ = ["MARKER", "OWNED", "check_plot_name", "plot_fit", "sentences", "title", "write_calibration_report"]

@@ -1,26 +1,36 @@
-"""Safe report folders: refuse a foreign folder, replace a report atomically, keep files it does not own."""
+"""Report folders: which folder is a report of this tool, and the owned names of each report kind.
+
+The writing itself (temporary folder inside the target, renames of the owned names only, one-line errors,
+exit 7 for the user's setup) is :mod:`designer.output`, shared by every command that writes.
+"""
 
 from __future__ import annotations
 
-import errno
 import json
-import os
-import shutil
-import uuid
 from pathlib import Path
 
-from designer.errors import DesignerError, InputError
+from designer.errors import InputError
+from designer.output import TEMP_PREFIX, check_folder
 
 REPORT_MARKERS = ("index.html", "front.json")
 """Files that make a folder a report of this tool (every report has them)."""
 
+REPORT_OWNED = frozenset({"index.html", "report.md", "front.csv", "front.json", "checks.json", "figures", "run.json"})
+"""Names a Pareto report owns in its folder: anything else there (``designer explore``'s explore.csv and
+explore.json, the user's notes) is left as it is."""
+
+NEIGHBOURS = frozenset({"explore.csv", "explore.json"})
+"""Files another command of this tool writes into a report folder (``designer explore``)."""
+
 
 def is_report(folder: Path) -> bool:
-    """True if ``folder`` is empty or a report written by this tool (index.html and a front.json of a front)."""
+    """True if ``folder`` is empty, holds only files of this tool's other commands (explore.csv/json), or is
+    a report written by this tool (index.html and a front.json of a front)."""
     folder = Path(folder)
     if not folder.is_dir():
         return False
-    if not any(folder.iterdir()):
+    names = {e.name for e in folder.iterdir() if not e.name.startswith(TEMP_PREFIX)}
+    if names <= NEIGHBOURS:
         return True
     if not all((folder / name).is_file() for name in REPORT_MARKERS):
         return False
@@ -31,89 +41,21 @@ def is_report(folder: Path) -> bool:
     return isinstance(data, dict) and "problem" in data and "points" in data
 
 
-def check_target(target: Path, force: bool = False) -> None:
-    """Refuse (InputError, exit 2) to replace ``target`` unless it is absent, a previous report, or ``force``."""
-    target = Path(target)
-    if target.is_symlink() or (target.exists() and not target.is_dir()):
-        raise InputError(f"report folder {target}: exists and is not a folder")
-    if target.exists() and not force and not is_report(target):
+def check_target(target: Path, force: bool = False, option: str = "--out") -> Path:
+    """Check a Pareto report's folder before computing; returns it with links resolved.
+
+    A regular file, a path under one, or an unwritable place is an OutputError (exit 7,
+    :func:`designer.output.check_folder`); a folder that is not a report of this tool is refused with
+    InputError (exit 2, the user may have mistyped) unless ``force``, which writes the report's own files
+    into it and leaves every other file there as it is.
+    """
+    real = check_folder(target, option)
+    if real.exists() and not force and not is_report(real):
         raise InputError(
             f"report folder {target}: exists and is not a report of this tool (no index.html and "
-            f"front.json); choose another --out or pass --force to write the report into it"
+            f"front.json); choose another {option} or pass --force to write the report into it"
         )
+    return real
 
 
-REPORT_OWNED = frozenset({"index.html", "report.md", "front.csv", "front.json", "checks.json", "figures"})
-"""Names a report replace owns besides those it writes: anything else in the folder (``designer explore``'s
-explore.csv and explore.json, the user's notes) is carried over into the new report folder."""
-
-
-def _link_or_copy(src, dst) -> None:
-    try:
-        os.link(src, dst)
-    except OSError:  # another file system, or one without hard links
-        shutil.copy2(src, dst)
-
-
-def _carry_over(old: Path, new: Path, owned=REPORT_OWNED) -> None:
-    """Put into ``new`` what ``old`` holds and a report does not own, as hard links (else copies).
-
-    Links, not moves: if the replace fails afterwards, ``new`` is deleted and ``old`` still has everything.
-    """
-    for entry in old.iterdir():
-        if entry.name in owned or entry.name.startswith(".") and ".tmp-" in entry.name:
-            continue
-        dest = new / entry.name
-        if dest.exists() or dest.is_symlink():  # the new report wrote it: it owns it
-            continue
-        if entry.is_symlink():
-            os.symlink(os.readlink(entry), dest)
-        elif entry.is_dir():
-            shutil.copytree(entry, dest, symlinks=True, copy_function=_link_or_copy)
-        else:
-            _link_or_copy(entry, dest)
-
-
-def _replace(tmp: Path, target: Path, owned=REPORT_OWNED) -> None:
-    """Move the finished ``tmp`` folder to ``target`` by renames; an old ``target`` is removed only afterwards.
-
-    Files of the old ``target`` that the report does not own (:data:`REPORT_OWNED`, e.g. explore.csv
-    and explore.json) are linked into ``tmp`` first, so the new folder has them from its first moment.
-    Another process writing the same report at once may rename its own folder into place between
-    our renames; then ours is retried, so the target ends as one complete report (the last one in),
-    never a mixture, and no moved-aside folder is left behind.
-    """
-    olds = []
-    try:
-        for _ in range(50):
-            if target.is_symlink() or (target.exists() and not target.is_dir()):
-                raise InputError(f"report folder {target}: exists and is not a folder")
-            if target.exists():
-                try:
-                    _carry_over(target, tmp, owned)
-                except FileNotFoundError:  # another writer moved it aside meanwhile: retry
-                    continue
-                old = target.with_name(f".{target.name}.old-{uuid.uuid4().hex[:8]}")
-                try:
-                    target.rename(old)
-                except FileNotFoundError:  # another writer moved it aside first
-                    continue
-                olds.append(old)
-            try:
-                tmp.rename(target)
-                return
-            except OSError as exc:
-                if exc.errno not in (errno.ENOTEMPTY, errno.EEXIST):
-                    raise
-                # another writer's report landed in between: move it aside and retry
-        raise DesignerError(f"report folder {target}: other processes keep replacing it; try again")
-    except BaseException:
-        if olds and not target.exists():
-            try:
-                olds.pop().rename(target)
-            except OSError:
-                pass
-        raise
-    finally:
-        for old in olds:
-            shutil.rmtree(old, ignore_errors=True)
+__all__ = ["NEIGHBOURS", "REPORT_MARKERS", "REPORT_OWNED", "check_target", "is_report"]

@@ -7,8 +7,8 @@ fleet gives the same files.
 The look is the Pareto report's: the same stylesheet (``_style.html.j2``), a first screen that answers
 (the number of part numbers in words, the part numbers, the regret curve), SVG figures drawn on
 :mod:`designer.plots.svg` and inlined in the page with each point's numbers on hover, report.md linking
-the same ``figures/*.svg``.  Files go to a temporary folder beside the target and are renamed into place
-when complete.
+the same ``figures/*.svg``.  Files go to a temporary folder inside the target and are renamed into place
+when complete (:func:`designer.output.output_folder`); nothing else in the folder is touched.
 """
 
 from __future__ import annotations
@@ -17,11 +17,10 @@ import csv
 import io
 import json
 import math
-import shutil
-import tempfile
 from pathlib import Path
 
 from designer.jsonsafe import finite
+from designer.output import output_folder
 from designer.pipeline import versions
 from designer.plots.fleet import figure_distributions, figure_regret
 from designer.report.formatting import fmt, length
@@ -46,6 +45,11 @@ CSV_COLUMNS = (
     "status",
 )
 """Columns of fleet.csv (SI, as front.csv); the sku_* and *_regret_N columns only with part numbers."""
+
+OWNED = frozenset({"fleet.csv", "fleet.json", "report.md", "index.html", "figures", "run.json"})
+"""What a fleet report owns in its folder (anything else there is never touched)."""
+MARKER = "fleet.json"
+"""The file that makes a folder a fleet report."""
 
 INCH = 0.0254
 
@@ -302,13 +306,14 @@ def html(data: dict, figures: list[dict] | None = None) -> str:
     return _render("fleet.html.j2", _context(data, figures if figures is not None else _figures(data)), True)
 
 
-def write_fleet_report(data: dict, out_dir, run: dict | None = None) -> Path:
+def write_fleet_report(data: dict, out_dir, run: dict | None = None, option: str = "--out") -> Path:
     """Write fleet.csv, fleet.json, report.md, figures/*.svg, index.html and (given ``run``, from
-    :func:`designer.studies.fleet._fleet.fleet_run`) run.json into ``out_dir`` (atomically)."""
-    out = Path(out_dir)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}-", dir=out.parent))
-    try:
+    :func:`designer.studies.fleet._fleet.fleet_run`) run.json into ``out_dir`` (atomically).
+
+    Only these names (:data:`OWNED`) are replaced; the user's files in the folder are never touched, and a
+    folder holding an owned name without being a fleet report is refused (OutputError, exit 7).
+    """
+    with output_folder(out_dir, OWNED, option=option, marker=MARKER, command="designer fleet") as tmp:
         figures = _figures(data)
         (tmp / "figures").mkdir()
         for item in figures:
@@ -320,15 +325,4 @@ def write_fleet_report(data: dict, out_dir, run: dict | None = None) -> Path:
         (tmp / "index.html").write_text(html(data, figures), encoding="utf-8")
         if run is not None:
             (tmp / "run.json").write_text(json.dumps(run_data(run), indent=1) + "\n", encoding="utf-8")
-        if out.exists():
-            old = out.with_name(f".{out.name}.old")
-            shutil.rmtree(old, ignore_errors=True)
-            out.rename(old)
-            tmp.rename(out)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            tmp.rename(out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    return out
+    return Path(out_dir)

@@ -8,9 +8,6 @@ the Pareto report (shared stylesheet), with one title used by the page and by it
 from __future__ import annotations
 
 import base64
-import os
-import shutil
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -19,11 +16,14 @@ from designer.jsonsafe import finite
 from designer.pipeline import RobustData
 from designer.report.formatting import fmt
 from designer.report.resolution import resolved, split_run
-from designer.report.writer import RUN_FILE, _render, _replace, _write_json
+from designer.output import output_folder
+from designer.report.writer import RUN_FILE, _render, _write_json
 from designer.plots.figures import png_bytes
 
-OWNED = frozenset({"index.html", "robust.md", "robust.json", "figures", "robust_fronts.png"})
+OWNED = frozenset({"index.html", "robust.md", "robust.json", "figures", "robust_fronts.png", RUN_FILE})
 """What a robust report owns in its folder (anything else there is kept on replace)."""
+MARKER = "robust.json"
+"""The file that makes a folder a robust report (one this command wrote before)."""
 FIGURE = "figures/robust_fronts.png"
 
 
@@ -174,23 +174,20 @@ def _json(data: RobustData, page_title: str) -> dict:
     return resolved(out, data.problem.bounds)
 
 
-def write_robust_report(data: RobustData, out_dir) -> Path:
+def write_robust_report(data: RobustData, out_dir, option: str = "--out") -> Path:
     """Render ``data`` into ``out_dir``: index.html (self-contained), robust.md, robust.json, figures/, run.json.
 
     robust.json holds its numbers as the solver resolves them (:mod:`designer.report.resolution`); the run's
     date, seconds and library versions are only in run.json (git-ignored), so a rerun writes the same bytes.
 
-    Written into a temporary folder beside the target and renamed into place when complete; files in the
-    target that the report does not own (:data:`OWNED`) are kept.
+    Written into a temporary folder inside the target and renamed into place when complete
+    (:func:`designer.output.output_folder`); files in the target that the report does not own (:data:`OWNED`)
+    are never touched, and a folder holding an owned name without being a robust report is refused (exit 7).
     """
 
     if not isinstance(data, RobustData):
         raise TypeError("write_robust_report renders a RobustData; build one with designer.pipeline.robust_data")
-    target = Path(out_dir)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
-    os.chmod(tmp, 0o755)  # mkdtemp makes it private; the report is an ordinary folder
-    try:
+    with output_folder(out_dir, OWNED, option=option, marker=MARKER, command="designer robust") as tmp:
         page_title = title(data)
         (tmp / "figures").mkdir()
         png = png_bytes(figure(data))
@@ -210,11 +207,7 @@ def write_robust_report(data: RobustData, out_dir) -> Path:
         _write_json(tmp / RUN_FILE, finite(data.run))  # date, seconds, versions: beside, never committed
         (tmp / "index.html").write_text(_render("robust.html.j2", context, autoescape=True), encoding="utf-8")
         (tmp / "robust.md").write_text(_render("robust.md.j2", context, autoescape=False), encoding="utf-8")
-        _replace(tmp, target, OWNED)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    return target
+    return Path(out_dir)
 
 
-__all__ = ["OWNED", "bound_sentence", "figure", "sentences", "title", "write_robust_report"]
+__all__ = ["MARKER", "OWNED", "bound_sentence", "figure", "sentences", "title", "write_robust_report"]

@@ -5,8 +5,9 @@ Render only: :func:`write_report` takes the :class:`designer.pipeline.ReportData
 groove/damper table, run metadata), has :func:`designer.report.context.build_context` format
 the tables once (SI and inches), draws the figures as SVG (:mod:`designer.report.figures`), renders the
 two jinja2 templates and writes
-all files into a temporary folder beside the target, which replaces the target by a rename only
-when everything is written (:mod:`designer.report.files`).  An exception leaves no half report.
+all files into a temporary folder inside the target, whose entries replace the report's own files by
+renames only when everything is written (:mod:`designer.output`).  An exception or a signal leaves no
+half report, and files of the folder that the report does not own are never touched.
 Nothing here optimises, checks or sweeps.
 
 The data files hold every number as the solver resolves it (:mod:`designer.report.resolution`), and no
@@ -19,9 +20,6 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import os
-import shutil
-import tempfile
 import time
 import warnings
 from pathlib import Path
@@ -29,7 +27,8 @@ from pathlib import Path
 from designer.jsonsafe import finite
 from designer.model import Design
 from designer.pipeline import ReportData
-from designer.report.files import REPORT_MARKERS, REPORT_OWNED, _carry_over, _replace, check_target, is_report  # noqa: F401
+from designer.output import output_folder
+from designer.report.files import REPORT_MARKERS, REPORT_OWNED, check_target, is_report  # noqa: F401
 import designer.report.figures as _figures
 from designer.report.resolution import design_value, multiplier, on_scale, resolved, split_run
 from designer.report.context import FIGURE_INFO, build_context  # noqa: F401 (FIGURE_INFO: its old home)
@@ -158,7 +157,7 @@ def _write_all(folder: Path, data: ReportData, t0: float) -> None:
     _write_json(folder / RUN_FILE, finite(data.run))
 
 
-def write_report(data, out_dir=None, *, force: bool = False) -> Path:
+def write_report(data, out_dir=None, *, force: bool = False, option: str = "--out") -> Path:
     """Render ``data`` (a :class:`designer.pipeline.ReportData`) into ``out_dir``; computes nothing.
 
     Writes ``index.html`` (one self-contained file: the figures and the caster
@@ -167,10 +166,11 @@ def write_report(data, out_dir=None, *, force: bool = False) -> Path:
     recommendation, indicators, the run's settings) and ``checks.json``, with every number as the solver
     resolves it (:mod:`designer.report.resolution`), and ``run.json`` (the date, seconds, library versions
     and solve counts of this run, which no other file holds).
-    Everything is written into a temporary folder beside the target and
-    renamed into place at the end, so an exception leaves no half report (and
-    an existing report untouched).  Files in the target that a report does not
-    write (e.g. ``explore.csv``) are kept.
+    Everything is written into a temporary folder inside the target and
+    renamed into place at the end, so an exception or a signal leaves no half
+    report (and an existing report untouched).  Files in the target that a
+    report does not write (e.g. ``explore.csv``, the user's notes) are never
+    touched; a link to a folder is followed.
 
     Parameters
     ----------
@@ -179,8 +179,11 @@ def write_report(data, out_dir=None, *, force: bool = False) -> Path:
     out_dir : str | Path, optional
         The report folder itself; default ``results/<problem name>``.
     force : bool
-        Replace ``out_dir`` even if it is a folder that is not a report of this tool
-        (by default such a folder is refused with :class:`~designer.errors.InputError`).
+        Write into ``out_dir`` even if it is a folder that is not a report of this tool
+        (by default such a folder is refused with :class:`~designer.errors.InputError`);
+        only the report's own names (:data:`REPORT_OWNED`) are replaced there.
+    option : str
+        How messages name the folder (the command-line option).
 
     Returns
     -------
@@ -195,14 +198,9 @@ def write_report(data, out_dir=None, *, force: bool = False) -> Path:
     t0 = time.perf_counter()
     problem = data.problem
     target = Path(out_dir) if out_dir is not None else Path("results") / problem.name
-    check_target(target, force)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
-    os.chmod(tmp, 0o755)  # mkdtemp makes it private; the report is an ordinary folder
-    try:
-        _write_all(tmp, data, t0)
-        _replace(tmp, target)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
+    check_target(target, force, option)
+    with output_folder(
+        target, REPORT_OWNED, option=option, marker=is_report, force=True, command="designer pareto"
+    ) as stage:  # force: check_target decided (a foreign folder only with force)
+        _write_all(stage, data, t0)
     return target

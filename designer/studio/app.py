@@ -22,6 +22,7 @@ from dash.exceptions import PreventUpdate
 
 from designer.errors import DesignerError
 from designer.model import Design
+from designer.output import write_file
 import designer.studio.figures as figures
 import designer.studio.state as state
 import designer.studio.view as view
@@ -228,21 +229,27 @@ def _save_callback(app, out_dir: Path) -> None:
     def save(_s, _r, merged):
         if not merged:
             return "nothing valid to save yet", no_update
-
-        out_dir.mkdir(parents=True, exist_ok=True)
-        problem = problem_from_dict(merged)
-        if ctx.triggered_id == "save":
-            path = out_dir / f"{problem.name}.toml"
-            text = state.to_toml(merged)
-            path.write_text(text, encoding="utf-8")
-            return html.Span([f"saved {path.resolve()} (run it: designer run {path})"], id="saved-path"), {
-                "content": text,
-                "filename": path.name,
-            }
-        from designer.report.build import compute_and_write  # the same report as `designer pareto`; loads matplotlib
-
         try:
-            summary = view._quiet(compute_and_write, problem, out=out_dir / problem.name)
-        except DesignerError as exc:
+            return _save_or_report(ctx.triggered_id, merged, out_dir)
+        except DesignerError as exc:  # a refused folder, a full disk: one line on the page (designer.output)
             return html.Span(str(exc), style=CSS["error"]), no_update
-        return html.Span(f"report written: {Path(summary['index_html']).resolve()}", id="report-path"), no_update
+        except OSError as exc:  # pragma: no cover - designer.output turns write failures into DesignerError
+            return html.Span(f"{out_dir}: cannot write ({exc.strerror or exc})", style=CSS["error"]), no_update
+
+
+def _save_or_report(trigger, merged: dict, out_dir: Path):
+    """ "Save problem": the problem file ``<out>/<name>.toml`` (replaced atomically) and its download; "Write
+    report": the Pareto report ``<out>/<name>/``, as `designer pareto` writes it (only the report's own files)."""
+    problem = problem_from_dict(merged)
+    if trigger == "save":
+        path = out_dir / f"{problem.name}.toml"
+        text = state.to_toml(merged)
+        write_file(path, text, "--out", example=path.name)
+        return html.Span([f"saved {path.resolve()} (run it: designer run {path})"], id="saved-path"), {
+            "content": text,
+            "filename": path.name,
+        }
+    from designer.report.build import compute_and_write  # the same report as `designer pareto`; loads matplotlib
+
+    summary = view._quiet(compute_and_write, problem, out=out_dir / problem.name)
+    return html.Span(f"report written: {Path(summary['index_html']).resolve()}", id="report-path"), no_update

@@ -19,7 +19,8 @@ import pytest
 import designer.errors as errors_module
 from designer import load_problem
 from designer.cli import main
-from designer.errors import DesignerError, InputError, ProblemError, SolverError
+from designer.errors import DesignerError, InputError, OutputError, ProblemError, SolverError
+from designer.output import TEMP_PREFIX
 from designer.problem import problem_from_toml
 from designer.solvers.nlp import CasterNLP
 from designer.units import parse_quantity
@@ -318,6 +319,7 @@ def test_interrupted_report_leaves_nothing(invacare_front, tmp_path, monkeypatch
         writer.write_report(data, tmp_path / "r")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r"]
     assert (tmp_path / "r" / "front.json").read_text() == before
+    assert not [p.name for p in (tmp_path / "r").iterdir() if p.name.startswith(TEMP_PREFIX)]
 
 
 def test_out_refuses_a_foreign_folder_unless_force(invacare_front, tmp_path, capsys):
@@ -339,8 +341,9 @@ def test_out_refuses_a_foreign_folder_unless_force(invacare_front, tmp_path, cap
     assert "--force" in err and err.count("\n") == 1
     assert (mine / "chapter1.tex").read_text() == "precious"
     (tmp_path / "file").write_text("x")
-    with pytest.raises(InputError, match="not a folder"):
+    with pytest.raises(OutputError, match="is a regular file, not a folder"):  # the user's setup: exit 7
         write_report(data, tmp_path / "file")
+    assert (tmp_path / "file").read_text() == "x"
     assert main(["pareto", str(INVACARE), "--out", str(mine), "--force"]) == 0
     # the report owns only its own files: the foreign one is kept (issue 12.4)
     assert (mine / "chapter1.tex").read_text() == "precious" and (mine / "index.html").is_file()
@@ -348,35 +351,40 @@ def test_out_refuses_a_foreign_folder_unless_force(invacare_front, tmp_path, cap
     assert sorted(p.name for p in tmp_path.iterdir()) == ["file", "thesis"]
 
 
-def test_replace_race_ends_with_one_complete_report(tmp_path, monkeypatch):
-    """Another writer landing its report between our renames: ours is retried, the target is one complete
-    report (ours, the last in), and no moved-aside folder is left (it used to raise OSError, exit 70, and
-    leave ``.r.old-*`` behind)."""
-    from designer.report import writer
+def test_commits_to_one_folder_take_turns(tmp_path, monkeypatch):
+    """Two writers committing into one folder at once take turns (a lock on the folder): while the first one's
+    renames run (slowed down here), the second waits, so the folder ends as one complete set of files (the
+    second writer's), never a mixture, with nothing temporary left behind."""
+    import threading
+
+    from designer.output import output_folder
 
     target = tmp_path / "r"
-    target.mkdir()
-    (target / "index.html").write_text("first")
-    ours = tmp_path / "ours"
-    ours.mkdir()
-    (ours / "index.html").write_text("ours")
-    real_rename = Path.rename
-    raced = {"done": False}
+    names = [f"f{i:02d}.txt" for i in range(20)]
+    real_replace = os.replace
+    renaming = threading.Event()
 
-    def rename(self, dst):
-        if self == ours and not raced["done"]:
-            raced["done"] = True
-            theirs = tmp_path / "theirs"
-            theirs.mkdir()
-            (theirs / "index.html").write_text("theirs")
-            real_rename(theirs, target)  # the other process wins this round
-        return real_rename(self, dst)
+    def slow_replace(src, dst, *a, **k):
+        if threading.current_thread().name == "first":
+            renaming.set()
+            time.sleep(0.01)
+        return real_replace(src, dst, *a, **k)
 
-    monkeypatch.setattr(Path, "rename", rename)
-    writer._replace(ours, target)
-    assert raced["done"]
-    assert (target / "index.html").read_text() == "ours"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["r"]
+    monkeypatch.setattr(os, "replace", slow_replace)
+
+    def writer(tag):
+        with output_folder(target, names, marker="f00.txt") as tmp:
+            for n in names:
+                (tmp / n).write_text(tag)
+
+    first = threading.Thread(target=writer, args=("first",), name="first")
+    first.start()
+    assert renaming.wait(10)  # the first writer is half-way through its renames
+    writer("second")
+    first.join(10)
+    contents = [(target / n).read_text() for n in names]
+    assert contents == ["second"] * len(names)
+    assert sorted(p.name for p in target.iterdir()) == names
 
 
 def test_title_script_is_escaped_via_cli(tmp_path):

@@ -265,60 +265,79 @@ def test_cli_exit_1_when_a_front_check_fails(tmp_path, monkeypatch, capsys):
 
 
 # ----------------------------------------------------------------------------------------------------
-# Issue 12.4: replacing a report keeps the files of the folder that the report does not own.
+# Issue 12.4 and 24.1: replacing a report keeps the files of the folder that the report does not own.
 import os
 
-from designer.report.writer import _replace
+from designer.output import TEMP_PREFIX, output_folder
+from designer.report.files import REPORT_OWNED, is_report
 
 
 def _report(folder, marker: str) -> None:
     folder.mkdir()
     (folder / "figures").mkdir()
     (folder / "figures" / "front.svg").write_text(marker)
-    for name in ("index.html", "report.md", "front.csv", "front.json", "checks.json"):
+    for name in ("index.html", "report.md", "front.csv", "checks.json"):
         (folder / name).write_text(marker)
+    (folder / "front.json").write_text('{"problem": "%s", "points": []}' % marker)
+
+
+def _replace(stage, target) -> None:
+    """Commit the report in ``stage`` into ``target`` as write_report does (designer.output.output_folder)."""
+    with output_folder(target, REPORT_OWNED, marker=is_report) as tmp:
+        for entry in stage.iterdir():
+            os.rename(entry, tmp / entry.name)
+    stage.rmdir()
 
 
 def test_replace_keeps_explore_files_and_user_files(tmp_path):
     """explore.csv / explore.json (written by `designer explore`) and a user's notes survive a report
-    replace; the report's own files and figures are the new ones; no moved-aside folder is left."""
-    target, tmp = tmp_path / "indoor-manual", tmp_path / ".indoor-manual.tmp-x"
+    replace; the report's own files and figures are the new ones; no temporary or moved-aside entry is left."""
+    target, stage = tmp_path / "indoor-manual", tmp_path / "stage"
     _report(target, "old")
     (target / "explore.csv").write_text("trail,diameter\n0.05,0.2\n")
     (target / "explore.json").write_text('{"trials": 500}')
     (target / "notes").mkdir()
     (target / "notes" / "why.txt").write_text("mine")
     (target / "figures" / "stale.svg").write_text("old")  # inside the report's own folder: replaced whole
-    _report(tmp, "new")
-    _replace(tmp, target)
+    _report(stage, "new")
+    _replace(stage, target)
     assert (target / "explore.csv").read_text() == "trail,diameter\n0.05,0.2\n"
     assert (target / "explore.json").read_text() == '{"trials": 500}'
     assert (target / "notes" / "why.txt").read_text() == "mine"
-    assert (target / "index.html").read_text() == "new" and (target / "front.json").read_text() == "new"
+    assert (target / "index.html").read_text() == "new" and '"new"' in (target / "front.json").read_text()
     assert sorted(p.name for p in (target / "figures").iterdir()) == ["front.svg"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["indoor-manual"]
+    assert not [p for p in target.iterdir() if p.name.startswith(TEMP_PREFIX)]
 
 
-def test_replace_failure_keeps_old_folder_whole(tmp_path, monkeypatch):
-    """If the final rename fails, the old folder (with explore.csv) is back in place, untouched."""
-    target, tmp = tmp_path / "r", tmp_path / ".r.tmp-x"
+def test_replace_failure_keeps_old_report_whole(tmp_path, monkeypatch):
+    """If a rename fails half-way through the commit, every entry already replaced is put back: the folder is
+    the old report, whole (no mixture of old and new), explore.csv is untouched, nothing temporary is left."""
+    target, stage = tmp_path / "r", tmp_path / "stage"
     _report(target, "old")
     (target / "explore.csv").write_text("keep")
-    _report(tmp, "new")
-    real_rename = os.rename
+    _report(stage, "new")
+    real_replace = os.replace
+    calls = {"n": 0}
 
     def failing(src, dst, *a, **k):
-        if str(src) == str(tmp):
+        if Path(dst).name == "index.html" and calls["n"] == 0:  # after checks, figures, front.* moved in
+            calls["n"] += 1
             raise PermissionError(13, "Permission denied")
-        return real_rename(src, dst, *a, **k)
+        return real_replace(src, dst, *a, **k)
 
-    monkeypatch.setattr("pathlib.os.rename", failing)
-    try:
-        _replace(tmp, target)
-    except PermissionError:
-        pass
+    monkeypatch.setattr(os, "replace", failing)
+    with pytest.raises(PermissionError):
+        _replace(stage, target)
     monkeypatch.undo()
-    assert (target / "explore.csv").read_text() == "keep" and (target / "index.html").read_text() == "old"
+    assert calls["n"] == 1
+    assert (target / "explore.csv").read_text() == "keep"
+    for name in ("index.html", "report.md", "front.csv", "checks.json", "figures/front.svg"):
+        assert (target / name).read_text() == "old", name
+    assert '"old"' in (target / "front.json").read_text()
+    assert sorted(p.name for p in target.iterdir()) == sorted(
+        ["explore.csv", "figures", "index.html", "report.md", "front.csv", "front.json", "checks.json"]
+    )
 
 
 # ----------------------------------------------------------------------------------------------------

@@ -5,7 +5,8 @@ summaries of it (ratios, minima and maxima for the text).
 
 Modules
 -------
-(this one)  write_limit_cycle_report: the data files (CSV, JSON), then the figures, then the text
+(this one)  write_limit_cycle_report (safely, :mod:`designer.output`) and limit_cycle_files: the data files
+            (CSV, JSON), then the figures, then the text
 figures     the three figures (bifurcation diagram, Table 1, (K, N) map), drawn by :mod:`designer.plots.simulation`
 text        the report's sections as blocks (headings, paragraphs, lists, tables), every sentence from the study
 blocks      the blocks as Markdown (limit_cycles.md) and as HTML (limit_cycles.html)
@@ -19,7 +20,8 @@ import math
 from pathlib import Path
 
 from designer.jsonsafe import finite
-from designer.plots.figures import save_figure
+from designer.output import output_folder
+from designer.plots.figures import png_bytes
 from designer.report.limit_cycles import blocks as _blocks
 from designer.report.limit_cycles import figures as _figures
 from designer.report.limit_cycles.text import blocks as _text
@@ -43,6 +45,17 @@ def _csv(path: Path, rows: list[dict]) -> None:
         writer.writeheader()
         for row in rows:
             writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
+
+
+def _png(fig, path: Path) -> None:
+    """The figure as a PNG file (110 dpi), closed afterwards."""
+    # late import: loads matplotlib only when this runs
+    import matplotlib.pyplot as plt
+
+    try:
+        path.write_bytes(png_bytes(fig, dpi=110))
+    finally:
+        plt.close(fig)
 
 
 def _bifurcation_rows(study) -> list[dict]:
@@ -84,14 +97,20 @@ def _table1_rows(table: dict) -> list[dict]:
     return trows
 
 
-def write_limit_cycle_report(study: dict, out_dir="results/simulation") -> list[str]:
+def write_limit_cycle_report(study: dict, out_dir="results/simulation", option: str = "--report") -> list[str]:
     """Write the files of :data:`FILES` into ``out_dir`` from a :func:`limit_cycle_study` result.
 
-    Returns the names written.
+    Safely (:func:`designer.output.output_folder`): the nine files replace their previous versions at once;
+    nothing else in the folder is touched.  Returns the names written.
     """
+    with output_folder(out_dir, FILES, option=option, marker="bifurcation.json", command="designer simulate") as tmp:
+        return limit_cycle_files(study, tmp)
 
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+
+def limit_cycle_files(study: dict, folder) -> list[str]:
+    """Write the files of :data:`FILES` into ``folder`` as they are (a folder the caller prepared, e.g. the
+    temporary folder of :func:`designer.output.output_folder`).  Returns the names written."""
+    out = Path(folder)
     _csv(out / "bifurcation.csv", _bifurcation_rows(study))
     (out / "bifurcation.json").write_text(
         json.dumps(
@@ -105,15 +124,15 @@ def write_limit_cycle_report(study: dict, out_dir="results/simulation") -> list[
             indent=1,
         )
     )
-    save_figure(_figures.bifurcation_figure(study), out / "bifurcation.png")
+    _png(_figures.bifurcation_figure(study), out / "bifurcation.png")
     _csv(out / "table1.csv", _table1_rows(study["table1"]))
-    save_figure(_figures.table1_figure(study["table1"]), out / "table1.png")
+    _png(_figures.table1_figure(study["table1"]), out / "table1.png")
     _csv(out / "stiffness_mass_map.csv", study["map"]["rows"])
-    save_figure(_figures.map_figure(study["map"]), out / "stiffness_mass_map.png")
+    _png(_figures.map_figure(study["map"]), out / "stiffness_mass_map.png")
     blocks = _text(study)
     (out / "limit_cycles.md").write_text(_blocks.to_markdown(blocks))
     (out / "limit_cycles.html").write_text(_blocks.to_html(blocks))
     return list(FILES)
 
 
-__all__ = ["write_limit_cycle_report"]
+__all__ = ["FILES", "limit_cycle_files", "write_limit_cycle_report"]

@@ -12,7 +12,6 @@ import numpy as np
 
 import designer
 from designer.jsonsafe import finite
-from designer.errors import InputError
 from designer.studies.front import hypervolume_2d, igd_plus, normalise
 from designer.problem import Problem
 from designer.reprs import html_table, svg_curve
@@ -173,13 +172,10 @@ class ExploreResult:
         """Write explore.csv (every per-category front point, ``overall_front`` flag) and explore.json.
 
         Both are written to temporary files in ``out_dir`` and renamed into
-        place, so a reader never sees a half-written file.
+        place, so a reader never sees a half-written file; the folder is made if
+        needed, and nothing else in it is touched (:func:`designer.output.output_folder`).
         """
         out = Path(out_dir)
-        try:
-            out.mkdir(parents=True, exist_ok=True)
-        except OSError as exc:
-            raise InputError(f"--out {out}: cannot create the folder ({exc.strerror})") from None
         cats = [name for name in CATEGORICAL if any(name in r for rows in self.category_fronts.values() for r in rows)]
         overall = {(r["trial"], r["turning_effort"], r["threshold_force"]) for r in self.front}
         lines = [",".join(CSV_COLUMNS + tuple(cats) + ("overall_front", "refined", "trial"))]

@@ -8,13 +8,13 @@ from __future__ import annotations
 import contextlib
 import os
 import re
-import tempfile
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 
 from designer.errors import InputError, StorageError
+from designer.output import output_folder
 import importlib.util
 
 
@@ -208,26 +208,20 @@ def _repair_journal(path: Path) -> None:
 # --------------------------------------------------------------------------- atomic writes
 
 
-def _atomic_write_many(files: dict) -> None:
-    temps = {}
-    try:
+RESULT_FILES = ("explore.csv", "explore.json")
+"""The files ``designer explore`` owns in its --out folder (explore.json marks a folder it wrote before)."""
+
+
+def _atomic_write_many(files: dict, option: str = "--out") -> None:
+    """Write the files of ``files`` (path -> text, one folder) at once: into a temporary folder inside it,
+    synced, then renamed over the previous ones (:func:`designer.output.output_folder`).  Nothing else in the
+    folder is touched; a full disk or an unwritable folder is one OutputError line (exit 7), and no temporary
+    file is left behind."""
+    (folder,) = {Path(p).parent for p in files}
+    names = {Path(p).name for p in files}
+    with output_folder(folder, names, option=option, marker="explore.json", command="designer explore") as tmp:
         for path, text in files.items():
-            fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-            os.chmod(tmp, 0o666 & ~_umask())
-            with os.fdopen(fd, "w", encoding="utf-8") as f:
+            with open(tmp / Path(path).name, "w", encoding="utf-8") as f:
                 f.write(text)
                 f.flush()
                 os.fsync(f.fileno())
-            temps[path] = tmp
-        for path, tmp in temps.items():
-            os.replace(tmp, path)
-    finally:
-        for tmp in temps.values():
-            with contextlib.suppress(FileNotFoundError):
-                os.unlink(tmp)
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask

@@ -18,6 +18,7 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import InputError, ProblemError, read_input_text
+from designer.output import write_file
 from designer.physics.turning import MODES, SURFACES
 from designer.problem import check_utf8
 from designer.units import parse_quantity
@@ -528,9 +529,9 @@ def example_fleet(n: int, seed: int = 0) -> Fleet:
 
 
 def write_fleet_csv(fleet: Fleet, path) -> Path:
-    """Write a fleet as FLEET.csv with units in the header (the format :func:`read_fleet` reads)."""
+    """Write a fleet as FLEET.csv with units in the header (the format :func:`read_fleet` reads), atomically
+    (:func:`designer.output.write_file`: a folder or an unwritable place is an OutputError, exit 7)."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     lines = [
         "# Example fleet written by `designer fleet --example`; ranges and their sources: docs/fleet.md",
         "name,load_N,threshold_height_in,target_speed_m/s,swept_radius_max_in,surface,turning_mode,count",
@@ -541,5 +542,5 @@ def write_fleet_csv(fleet: Fleet, path) -> Path:
             f"{fleet.target_speed[i]:.2f},{fleet.swept_radius_max[i] / INCH:.2f},{fleet.surface[i]},"
             f"{fleet.turning_mode[i]},{int(fleet.count[i])}"
         )
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    write_file(path, "\n".join(lines) + "\n", "--out", example="fleet.csv")
     return path
