@@ -4,23 +4,33 @@ Chooses trail T, wheel diameter d, groove width B and spindle friction
 damping c_f to minimise turning effort and threshold (door-sill) force with
 no shimmy below a target speed (Eq. 7 of the reference paper).
 
-``import designer`` loads NumPy and the physics only; the solvers (CasADi,
-cvxpy), optuna, matplotlib and the rest load when a function that needs them
-is first used (the names below are resolved lazily).
+``import designer`` loads nothing: the error classes, the model (NumPy),
+the solvers (CasADi, cvxpy), optuna, matplotlib and the rest load when a name
+that needs them is first used (the names below are resolved lazily).  So the
+``designer`` command installs its Ctrl-C handler before any heavy import
+(:mod:`designer.entry`).
 """
 
 from __future__ import annotations
 
 import importlib
 
-from designer.errors import DesignerError, InfeasibleError, InputError, ProblemError, SolverError
-from designer.model import CandidateValues, Conditions, Design, evaluate, evaluate_candidates, performance
-from designer.physics.uncertainty import Uncertainty
-
 __version__ = "0.1.0"
 
 # name -> module that defines it; imported on first use (keeps `import designer` light).
 _LAZY = {
+    "DesignerError": "designer.errors",
+    "InfeasibleError": "designer.errors",
+    "InputError": "designer.errors",
+    "ProblemError": "designer.errors",
+    "SolverError": "designer.errors",
+    "CandidateValues": "designer.model",
+    "Conditions": "designer.model",
+    "Design": "designer.model",
+    "evaluate": "designer.model",
+    "evaluate_candidates": "designer.model",
+    "performance": "designer.model",
+    "Uncertainty": "designer.physics.uncertainty",
     "Problem": "designer.problem",
     "load_problem": "designer.problem",
     "problem_from_dict": "designer.problem",
@@ -60,18 +70,4 @@ def __dir__() -> list[str]:
     return sorted(set(globals()) | set(_LAZY))
 
 
-__all__ = [
-    "CandidateValues",
-    "Conditions",
-    "Design",
-    "DesignerError",
-    "InfeasibleError",
-    "InputError",
-    "ProblemError",
-    "SolverError",
-    "Uncertainty",
-    "evaluate",
-    "evaluate_candidates",
-    "performance",
-    *_LAZY,
-]
+__all__ = [*_LAZY]

@@ -1,7 +1,7 @@
-"""``python -m designer``: the ``designer`` command."""
+"""``python -m designer``: the ``designer`` command (:func:`designer.entry.main`)."""
 
 import sys
 
-from designer.cli import main
+from designer.entry import main
 
 sys.exit(main())

@@ -2,17 +2,28 @@
 
 Errors are printed as one line on stderr with a non-zero exit code per kind
 (see :mod:`designer.errors` and the README); ``--debug`` shows the traceback.
+Ctrl-C (SIGINT) and SIGTERM print one line and exit 130 and 143, from start-up on
+(:mod:`designer.entry` covers the imports before this module); a standard output
+closed early (``designer validate --json | head -c5``) ends quietly with exit 141, as a
+Unix tool killed by SIGPIPE; a standard output that cannot be written (``> /dev/full``)
+is exit 7.
 """
 
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
+import os
 import re
 import sys
 import warnings
 
-from designer.errors import DesignerError, interrupted, sigint_handler
+from designer.errors import DesignerError, OutputError, interrupt_exit_code, interrupted, sigint_handler
+
+BROKEN_PIPE = 141
+"""Exit code when the reader of standard output went away (``| head``): 128 + SIGPIPE, what a shell reports
+for a Unix tool that SIGPIPE ended; quietly, without a message."""
 
 COMMANDS = ["evaluate", "validate", "run", "pareto", "explore", "robust", "simulate", "calibrate", "fleet", "studio"]
 """Sub-command modules in designer.cli; each defines ``register(subparsers)``."""
@@ -41,29 +52,83 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``designer`` console script; returns the exit code."""
-    try:
-        parser = build_parser()  # imports the sub-commands: Ctrl-C may arrive here too
-    except KeyboardInterrupt:
-        print("designer: interrupted", file=sys.stderr)
-        return 130
+    """Entry point of the ``designer`` command (via :func:`designer.entry.main`); returns the exit code."""
+    with sigint_handler():  # SIGINT and SIGTERM raise (and set a flag checked after every solver call)
+        try:
+            return _main(argv)
+        except KeyboardInterrupt as exc:  # Terminated (SIGTERM) too
+            return _interrupted(exc)
+        except BrokenPipeError:  # the reader of stdout went away (`| head`): stop quietly
+            _silence_stdout()
+            return BROKEN_PIPE
+        except Exception:
+            if interrupted():  # a C extension turned the KeyboardInterrupt into its own error (numpy: ImportError)
+                return _interrupted(KeyboardInterrupt())
+            raise
+
+
+def _main(argv: list[str] | None) -> int:
+    parser = build_parser()  # imports the sub-commands
     args = parser.parse_args(_join_negative_values(parser, sys.argv[1:] if argv is None else list(argv)))
     if not getattr(args, "command", None):
         parser.print_help()
         return 2
-    with warnings.catch_warnings(), sigint_handler():  # Ctrl-C: a flag checked after every solver call
+    with warnings.catch_warnings():
         warnings.simplefilter("default")
         warnings.showwarning = _one_line_warning
         try:
-            return int(args.func(args) or 0)
-        except KeyboardInterrupt:
-            print("designer: interrupted", file=sys.stderr)
-            return 130
+            code = int(args.func(args) or 0)
+            sys.stdout.flush()  # a full or closed stdout fails here, not in the interpreter's last flush
+            return code
+        except (KeyboardInterrupt, BrokenPipeError):
+            raise
         except Exception as exc:
             if interrupted():  # a solver turned the KeyboardInterrupt into its own error (CasADi: RuntimeError)
-                print("designer: interrupted", file=sys.stderr)
-                return 130
+                raise KeyboardInterrupt from None
+            if isinstance(exc, OSError) and _stdout_failed(exc):
+                exc = OutputError(f"standard output{_stdout_reason(exc)}; the output is incomplete")
+                _silence_stdout()
             return _error(exc, args.debug)
+
+
+def _interrupted(exc: KeyboardInterrupt) -> int:
+    """One line for an interruption (its message if it has one, e.g. how to resume) and its exit code."""
+    code = interrupt_exit_code(exc)
+    text = str(exc) or ("terminated (SIGTERM)" if code == 143 else "interrupted")
+    print(f"designer: {text}", file=sys.stderr)
+    return code
+
+
+_FULL_ERRNOS = {errno.ENOSPC: "no space left on device", errno.EDQUOT: "no space left (disk quota exceeded)"}
+
+
+def _stdout_failed(exc: OSError) -> bool:
+    """True if ``exc`` is a full standard output: a full disk without a file name (every file the tool writes
+    goes through :mod:`designer.output`, whose errors name their file), e.g. ``designer validate --json > /dev/full``.
+    """
+    return exc.errno in _FULL_ERRNOS and exc.filename is None
+
+
+def _stdout_reason(exc: OSError) -> str:
+    where = ""
+    try:  # what stdout is, where the system says (Linux): "/dev/full", "/tmp/out.json"
+        where = f" ({os.readlink(f'/proc/self/fd/{sys.__stdout__.fileno()}')})"
+    except (OSError, ValueError, AttributeError):
+        pass
+    return f"{where}: {_FULL_ERRNOS[exc.errno or errno.ENOSPC]}"
+
+
+def _silence_stdout() -> None:
+    """Point file descriptor 1 at /dev/null: what is still buffered goes nowhere, and the interpreter's last
+    flush cannot fail again (it would print "Exception ignored ..." and exit 120)."""
+    if sys.stdout is not sys.__stdout__:  # captured (tests): nothing to silence
+        return
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):
+        pass
 
 
 _NEGATIVE = re.compile(r"^-[0-9.]")

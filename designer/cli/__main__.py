@@ -1,7 +1,7 @@
-"""``python -m designer.cli``: the ``designer`` command."""
+"""``python -m designer.cli``: the ``designer`` command (:func:`designer.entry.main`)."""
 
 import sys
 
-from designer.cli import main
+from designer.entry import main
 
 sys.exit(main())

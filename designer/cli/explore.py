@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 
 from designer.cli._common import SEED_MAX, check_output_folder, count_option, eprint, print_json
 from designer.data.paper import INCH
-from designer.errors import StorageError
+from designer.errors import QuietAfterInterrupt, StorageError
 from designer.problem import load_problem
+
+EXPLORE_FILES = ("explore.csv", "explore.json")
+"""What ``designer explore`` writes into --out (explore.json marks a folder it wrote before); nothing else."""
 
 
 def register(sub) -> None:
@@ -74,26 +78,24 @@ def run(args) -> int:
         )
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / problem.name
-    check_output_folder(out)  # before the study, not after it
-    try:
-        result = explore(
-            problem,
-            trials=args.trials,
-            seed=args.seed,
-            storage=args.storage,
-            study_name=args.study,
-            workers=args.workers,
-            resume=args.resume,
-            refine=args.refine,
-            operators=args.operators,
-            population_size=args.population,
-            compare=not args.no_compare,
-            progress=not args.json,
-        )
-    except KeyboardInterrupt as exc:
-        if str(exc):
-            eprint(f"designer: {exc}")
-        raise
+    # before the study, not after it
+    check_output_folder(out, owned=EXPLORE_FILES, marker="explore.json", command="designer explore")
+    # after Ctrl-C, optuna's "Trial N failed ... KeyboardInterrupt" tracebacks are dropped: one line says it
+    logging.getLogger("optuna.study._optimize").addFilter(_QUIET)
+    result = explore(
+        problem,
+        trials=args.trials,
+        seed=args.seed,
+        storage=args.storage,
+        study_name=args.study,
+        workers=args.workers,
+        resume=args.resume,
+        refine=args.refine,
+        operators=args.operators,
+        population_size=args.population,
+        compare=not args.no_compare,
+        progress=not args.json,
+    )
     csv_path, json_path = result.write(out)
     for note in result.warnings:
         eprint(f"designer: note: {note}")
@@ -102,6 +104,9 @@ def run(args) -> int:
         return 0
     _print(result, csv_path, json_path)
     return 0
+
+
+_QUIET = QuietAfterInterrupt()
 
 
 def _print(result, csv_path, json_path) -> None:

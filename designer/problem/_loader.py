@@ -77,8 +77,12 @@ def check_utf8(path: str | Path, kind: str = "problem file") -> None:
             )
 
 
+MAX_PROBLEM_BYTES = 2**20
+"""A problem file is a few kB of TOML; a larger one (or an endless one such as /dev/zero) is refused unread."""
+
+
 def load_problem(path: str | Path) -> Problem:
-    """Read and validate a problem file (TOML, docs/problem-file.md).
+    """Read and validate a problem file (TOML, docs/problem-file.md); at most :data:`MAX_PROBLEM_BYTES` are read.
 
     Raises
     ------
@@ -89,7 +93,7 @@ def load_problem(path: str | Path) -> Problem:
     path = Path(path)
     if path.is_file():
         check_utf8(path)
-    text = read_input_text(path, "problem file", ".toml")
+    text = read_input_text(path, "problem file", ".toml", limit=MAX_PROBLEM_BYTES)
     return problem_from_toml(text, source=str(path), default_name=path.stem)
 
 
