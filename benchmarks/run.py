@@ -184,9 +184,10 @@ def import_seconds() -> float:
 
 def exact_method(problem, points: int, repeats: int, cold_repeats: int, import_s: float):
     import designer.studies.front._pareto as pareto
+    from designer.solvers.nlp import SHARED
 
     def cold(_):
-        pareto._NLP_CACHE.clear()
+        SHARED.clear()
         return pareto.pareto_front(problem, points)
 
     cold_times, _ = timed(cold, cold_repeats)
@@ -437,8 +438,7 @@ def model_throughput(problem, n: int, repeats: int = 5) -> dict:
 
 
 def nlp_costs(problem, repeats: int = 20) -> dict:
-    from designer.studies.front import box_sample, lexicographic_ends
-    from designer.solvers.nlp import CasterNLP
+    from designer.solvers.nlp import CasterNLP, box_sample, lexicographic_ends
 
     t0 = time.perf_counter()
     nlp = CasterNLP(problem)
@@ -496,6 +496,7 @@ def configurations(problem, count: int) -> list:
 
 def scaling(problems: dict, cfg: dict) -> dict:
     import designer.studies.front._pareto as pareto
+    from designer.solvers.nlp import SHARED
 
     by_points = {}
     for name, problem in problems.items():
@@ -516,7 +517,7 @@ def scaling(problems: dict, cfg: dict) -> dict:
     batch = []
     for count in cfg["scaling_configs"]:
         configs = configurations(base, count)
-        pareto._NLP_CACHE.clear()
+        SHARED.clear()
         t0 = time.perf_counter()
         fronts = [pareto.pareto_front(p, 25) for p in configs]
         cold = time.perf_counter() - t0
@@ -736,7 +737,7 @@ def markdown(results: dict) -> str:
         )
     lines += [
         "",
-        "## What the exact front does (designer/pareto.py)",
+        "## What the exact front does (designer/studies/front/_pareto.py, designer/solvers/nlp/_sweep.py)",
         "",
         "ε-constraint sweep (min F_turn s.t. P <= ε) on the CasADi/IPOPT NLP built once per problem. The "
         "points of a pass are solved together as block-diagonal NLPs (CasADi `map`, 4/16/64 blocks per IPOPT "

@@ -36,6 +36,7 @@ from designer.problem._core import (
     StockWheel,
     check_range,
     check_weights,
+    family_of,
 )
 from designer.problem._examples import example_names, example_problem, example_text
 from designer.problem._loader import check_utf8, load_problem, problem_files, problem_from_dict, problem_from_toml
@@ -62,6 +63,7 @@ __all__ = [
     "example_problem",
     "example_text",
     "check_utf8",
+    "family_of",
     "load_problem",
     "problem_files",
     "problem_from_dict",

@@ -19,7 +19,7 @@ from designer.data.paper import INCH, TABLE1
 from designer import parameters
 from designer.errors import ProblemError
 from designer.reprs import html_table
-from designer.model import MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions, Design
+from designer.model import FAMILIES, MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions, Design
 from designer.physics.inertia import Catalog
 from designer.physics.turning import MODES, SURFACES
 from designer.physics.uncertainty import Uncertainty
@@ -401,6 +401,17 @@ class Problem:
                 "bare_fork_damping": c.turning.bare_fork_damping,
             },
         }
+
+
+def family_of(problem: Problem, design: Design, tol: float = 1e-6) -> str:
+    """Which mechanism stabilises ``design`` within ``problem``'s bounds: groove, added damper, both or neither.
+
+    Grooved: B above its lower bound by more than ``tol`` of max(B_hi, 1 mm); damped: c_f above the bare
+    fork's c_0 by more than ``tol`` relative.  One of :data:`designer.model.FAMILIES`' names.
+    """
+    grooved = design.groove > problem.bounds["groove"].low + tol * max(problem.bounds["groove"].high, 1e-3)
+    damped = design.damping > problem.conditions.turning.bare_fork_damping * (1 + tol)
+    return FAMILIES[(grooved, damped)]
 
 
 def _validate(problem: Problem, prefix: str = "") -> None:

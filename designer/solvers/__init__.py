@@ -1,16 +1,35 @@
-"""Solvers for caster design problems: one model, several tools.
+"""Solvers for caster design problems: one protocol, four solvers, one dispatcher.
 
-Modules (each imported on its own, so that loading one solver does not load another's library)
+Every solver answers ``optimum(problem, weights, caps) -> Optimum`` and ``front_designs(problem, eps) -> Designs``
+(:mod:`designer.solvers.base`); :mod:`designer.solvers.dispatch` says which runs where.
+
+Modules (each solver imported on its own, so that loading one does not load another's library)
 -------
-nlp          CasADi/IPOPT exact NLP, built once per problem, multi-start (primary)
-cache        one compiled NLP per problem structure (fronts, optimum and check 8c share it)
-closed_form  closed-form ε-optima of the front where the structure allows (checked by the NLP)
-gp           cvxpy geometric programming: global certificate and duals
-slsqp        SciPy SLSQP cross-check from the NLP optimum and random starts
+base         the protocol: :class:`Solver`, the records :class:`Optimum`, :class:`Designs`, :class:`Caps`
+dispatch     the one dispatcher: :func:`solver` by name, :func:`front_solver` for a front, the primary solver
+             and the cross-checks
+closed_form  closed-form ε-optima and weighted optimum where the structure allows ("closed-form"; numpy)
+nlp          CasADi/IPOPT exact NLP, built once per problem structure, multi-start, the front's ε-sweeps
+             ("casadi-ipopt", the primary)
+gp           cvxpy geometric programming: global certificate and duals ("cvxpy-gp")
+slsqp        SciPy SLSQP on the NumPy model from the NLP optimum and random starts ("scipy-slsqp")
 """
 
-from designer.physics import enable_casadi
+from __future__ import annotations
 
-enable_casadi()  # the solvers build CasADi symbols from the physics functions
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, Solver
+from designer.solvers.dispatch import CROSS_CHECKS, FRONT_STRATEGIES, PRIMARY, SOLVERS, front_solver, solver
 
-__all__ = ["enable_casadi"]
+__all__ = [
+    "CROSS_CHECKS",
+    "FRONT_STRATEGIES",
+    "NO_CAPS",
+    "PRIMARY",
+    "SOLVERS",
+    "Caps",
+    "Designs",
+    "Optimum",
+    "Solver",
+    "front_solver",
+    "solver",
+]

@@ -46,14 +46,23 @@ c_f through :func:`designer.physics.shimmy.critical_speed_terms`, the curve's sh
 from __future__ import annotations
 
 import functools
+import math
+import time
 import warnings
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from designer.model import performance
+from designer.model import Design, performance
 from designer.physics.geometry import swept_radius
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_terms
 from designer.physics.uncertainty import Uncertainty, shimmy_speed_quantile
+from designer.problem import Problem
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, evaluated, no_optimum, weights_of
+
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
 
 CONTRACTION = 0.8
 """Largest |s (log G)'| and |(1 − s)(log G)'| for which the risk-bounded closed form is used (< 1 is needed:
@@ -316,7 +325,7 @@ def structured_ends(problem, rel: float = 1e-9, rounds: int = 9):
     End A: d_lo's optimum F*, then the largest d whose optimum keeps F_turn <= F*(1 + rel) (bisection:
     F*(d) is non-decreasing).  End B: the largest feasible diameter (bisection: feasibility shrinks
     with d) gives the least P; the end is the ε-optimum at ε = P_min (1 + rel).  ``rel`` is the
-    tolerance of the NLP's second lexicographic stage (:func:`designer.studies.front._sweeps.lexicographic_ends`).
+    tolerance of the NLP's second lexicographic stage (:func:`designer.solvers.nlp.lexicographic_ends`).
     """
     if not applicable(problem):
         raise ValueError(
@@ -356,3 +365,124 @@ def structured_ends(problem, rel: float = 1e-9, rounds: int = 9):
     p_min = float(_values(problem, xb[0])["threshold_force"])
     xb, ok = structured_front_designs(problem, [p_min * (1 + rel)])
     return xa[0], xb[0]
+
+
+# --------------------------------------------------------------------------- the solver protocol
+
+WEIGHTED_GRID = 513
+"""ε-grid between the front's ends on which :meth:`ClosedFormSolver.optimum` compares J before refining."""
+
+
+class ClosedFormSolver:
+    """The closed form as a solver (:class:`designer.solvers.base.Solver`): ε-optima and the weighted optimum.
+
+    ``front_designs`` is :func:`structured_front_designs`.  ``optimum`` uses that the weighted optimum is an
+    ε-optimum (a design with lower J would have a lower F_turn at the same P): J(ε) = w_turn F_turn(x(ε)) +
+    w_threshold P(x(ε)) is compared on :data:`WEIGHTED_GRID` values of ε between the ends' P
+    (:func:`structured_ends`; an ε cap lowers the upper end, a turning cap removes points) and its least value
+    refined by golden section over the two grid cells around it.  A catalog problem is solved per wheel.
+    """
+
+    name = "closed-form"
+    tolerance = 1e-7
+
+    def applicable(self, problem: Problem) -> bool:
+        """:func:`applicable` for every continuous variant (one per catalog wheel)."""
+        return all(applicable(v) for v in problem.variants())
+
+    def front_designs(self, problem: Problem, eps: npt.ArrayLike) -> Designs:
+        """:func:`structured_front_designs` as :class:`~designer.solvers.base.Designs` (ValueError where it does
+        not apply)."""
+        e = np.asarray(eps, float).ravel()
+        x, ok = structured_front_designs(problem, e)
+        return Designs(
+            solver=self.name,
+            epsilon=e,
+            designs=x,
+            success=ok,
+            objectives=evaluated(problem, x),
+            status=tuple("optimal" if k else "infeasible" for k in ok),
+        )
+
+    def optimum(
+        self,
+        problem: Problem,
+        weights: Sequence[float] | None = None,
+        caps: Caps = NO_CAPS,
+        *,
+        starts: Sequence[object] = (),
+    ) -> Optimum:
+        """The weighted optimum in closed form (class text); ``starts`` are not needed.  ValueError where the
+        closed form does not apply (:meth:`applicable`)."""
+        if not self.applicable(problem):
+            raise ValueError(f"{problem.name}: the closed form does not apply (designer.solvers.closed_form)")
+        w = weights_of(problem, weights)
+        return best_variant(problem, lambda variant: self._optimum(variant, w, caps))
+
+    def _optimum(self, problem: Problem, w: tuple[float, float], caps: Caps) -> Optimum:
+        t0 = time.perf_counter()
+        ends = structured_ends(problem)
+        if ends is None:
+            return no_optimum(self.name, problem, w, caps, "infeasible")
+        p_b, p_a = (float(v) for v in evaluated(problem, np.array(ends))[::-1, 1])
+        high = p_a if caps.threshold is None else min(p_a, caps.threshold)
+        if high < p_b * (1 - 1e-12):
+            return no_optimum(self.name, problem, w, caps, "infeasible")
+        high = max(high, p_b)
+
+        def cost(eps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            x, ok = structured_front_designs(problem, eps)
+            f, p = evaluated(problem, x)[:, :2].T
+            if caps.turning is not None:
+                ok = ok & (f <= caps.turning * (1 + 1e-12))
+            return x, np.where(ok, w[0] * f + w[1] * p, np.inf)
+
+        low = p_b
+        if caps.turning is not None:  # F_turn(x(ε)) does not increase with ε: the least ε meeting the cap
+            if not np.isfinite(cost(np.array([high]))[1][0]):
+                return no_optimum(self.name, problem, w, caps, "infeasible")
+            if not np.isfinite(cost(np.array([low]))[1][0]):
+                low = _least(lambda e: np.isfinite(cost(e)[1]), low, high)
+        grid = np.linspace(low, high, WEIGHTED_GRID)
+        x, j = cost(grid)
+        k = int(np.argmin(j))
+        if not np.isfinite(j[k]):
+            return no_optimum(self.name, problem, w, caps, "infeasible")
+        best_x, best_j = x[k], float(j[k])
+        lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
+        ratio = (math.sqrt(5) - 1) / 2
+        for _ in range(GOLDEN_STEPS):
+            m1, m2 = hi - ratio * (hi - lo), lo + ratio * (hi - lo)
+            _, (j1, j2) = cost(np.array([m1, m2]))
+            lo, hi = (lo, m2) if j1 <= j2 else (m1, hi)
+        x_r, j_r = cost(np.array([(lo + hi) / 2]))
+        if j_r[0] < best_j:
+            best_x, best_j = x_r[0], float(j_r[0])
+        return Optimum(
+            solver=self.name,
+            problem=problem,
+            weights=w,
+            caps=caps,
+            design=Design.from_array(best_x),
+            objective=best_j,
+            success=True,
+            status="optimal",
+            solves=WEIGHTED_GRID + 2 * GOLDEN_STEPS + 1,
+            seconds=time.perf_counter() - t0,
+        )
+
+
+def _least(pred: Callable[[np.ndarray], np.ndarray], a: float, b: float, rounds: int = 9) -> float:
+    """The least x in [a, b] with pred(x), pred monotone (false then true, true at b), by grid refinement."""
+    for _ in range(rounds):
+        grid = np.linspace(a, b, 65)
+        ok = pred(grid)
+        k = int(np.flatnonzero(ok).min()) if ok.any() else 64
+        a, b = grid[max(k - 1, 0)], grid[k]
+        if b - a <= 1e-15 * b:
+            break
+    return float(b)
+
+
+CLOSED_FORM = ClosedFormSolver()
+"""The closed form's :class:`~designer.solvers.base.Solver`."""

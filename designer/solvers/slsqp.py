@@ -7,7 +7,10 @@ the CasADi/IPOPT NLP, so agreement between the two is meaningful.
 
 from __future__ import annotations
 
+import time
 import warnings
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from scipy.optimize import minimize
@@ -15,10 +18,20 @@ from scipy.optimize import minimize
 from designer.errors import check_interrupt
 from designer.model import Design, performance
 from designer.problem import Problem
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, evaluated, no_optimum, weights_of
+
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
 
 
 def slsqp(
-    problem: Problem, weights=None, starts=(), random_starts: int = 5, seed: int = 0, threshold_cap: float | None = None
+    problem: Problem,
+    weights=None,
+    starts=(),
+    random_starts: int = 5,
+    seed: int = 0,
+    threshold_cap: float | None = None,
+    turning_cap: float | None = None,
 ) -> tuple[Design | None, float]:
     """Minimise J = w_turn F_turn + w_threshold P with SLSQP from several starts.
 
@@ -29,6 +42,7 @@ def slsqp(
     starts : designs (or SI arrays) to start from, e.g. the NLP optimum
     random_starts : additional uniform random starts in the box
     threshold_cap : optional ε-constraint P <= ε [N]
+    turning_cap : optional ε-constraint F_turn <= ε [N]
 
     Returns
     -------
@@ -57,6 +71,8 @@ def slsqp(
         cons.append({"type": "ineq", "fun": lambda z: 1 - float(perf(z)["swept_radius"]) / problem.swept_radius_max})
     if threshold_cap is not None:
         cons.append({"type": "ineq", "fun": lambda z: (threshold_cap - float(perf(z)["threshold_force"])) / p_ref})
+    if turning_cap is not None:
+        cons.append({"type": "ineq", "fun": lambda z: (turning_cap - float(perf(z)["turning_effort"])) / f_ref})
     rng = np.random.default_rng(seed)
     all_starts = [np.asarray(s.as_array() if isinstance(s, Design) else s, float) for s in starts]
     all_starts += [lo + rng.random(4) * (hi - lo) for _ in range(random_starts)]
@@ -75,9 +91,82 @@ def slsqp(
             feasible &= float(v["swept_radius"]) <= problem.swept_radius_max * (1 + 1e-7)
         if threshold_cap is not None:
             feasible &= float(v["threshold_force"]) <= threshold_cap * (1 + 1e-7)
+        if turning_cap is not None:
+            feasible &= float(v["turning_effort"]) <= turning_cap * (1 + 1e-7)
         if not feasible:
             continue
         j = float(w[0] * v["turning_effort"] + w[1] * v["threshold_force"])
         if best[0] is None or j < best[1]:
             best = (Design.from_array(z * scale), j)
     return best
+
+
+class SLSQPSolver:
+    """SLSQP as a solver of the protocol (:class:`designer.solvers.base.Solver`): :func:`slsqp` from the given
+    starts and :attr:`random_starts` uniform ones, per catalog wheel; ``front_designs`` solves min F_turn s.t.
+    P <= ε at each ε the same way (the previous ε's optimum is a start of the next)."""
+
+    name = "scipy-slsqp"
+    tolerance = 1e-4
+
+    def __init__(self, random_starts: int = 5, seed: int = 0):
+        self.random_starts, self.seed = random_starts, seed
+
+    def applicable(self, problem: Problem) -> bool:
+        """SLSQP takes every problem (a catalog one per wheel)."""
+        return True
+
+    def optimum(
+        self,
+        problem: Problem,
+        weights: Sequence[float] | None = None,
+        caps: Caps = NO_CAPS,
+        *,
+        starts: Sequence[Any] = (),
+    ) -> Optimum:
+        """The best feasible SLSQP optimum (J by the NumPy model) from ``starts`` and the random starts."""
+        w = weights_of(problem, weights)
+
+        def one(variant: Problem) -> Optimum:
+            t0 = time.perf_counter()
+            design, j = slsqp(variant, w, starts, self.random_starts, self.seed, caps.threshold, caps.turning)
+            if design is None:
+                return no_optimum(self.name, variant, w, caps, "infeasible")
+            return Optimum(
+                solver=self.name,
+                problem=variant,
+                weights=w,
+                caps=caps,
+                design=design,
+                objective=j,
+                success=True,
+                status="optimal",
+                solves=len(starts) + self.random_starts,
+                seconds=time.perf_counter() - t0,
+            )
+
+        return best_variant(problem, one)
+
+    def front_designs(self, problem: Problem, eps: npt.ArrayLike) -> Designs:
+        """min F_turn s.t. P <= ε at each ε of a continuous problem (warm from the previous ε's optimum)."""
+        e = np.asarray(eps, float).ravel()
+        rows, ok, start = [], [], []
+        for cap in e:
+            design, _ = slsqp(problem, (1.0, 0.0), start, self.random_starts, self.seed, float(cap))
+            ok.append(design is not None)
+            rows.append(problem.upper().as_array() if design is None else design.as_array())
+            start = [] if design is None else [design]
+        x = np.array(rows, float).reshape(-1, 4)
+        return Designs(
+            solver=self.name,
+            epsilon=e,
+            designs=x,
+            success=np.array(ok, dtype=bool),
+            objectives=evaluated(problem, x),
+            status=tuple("optimal" if k else "infeasible" for k in ok),
+            solves=len(e) * (1 + self.random_starts),
+        )
+
+
+SLSQP = SLSQPSolver()
+"""SLSQP's :class:`~designer.solvers.base.Solver`."""

@@ -574,7 +574,7 @@ def dominated_by_problem(problem, other_front, rel_tol: float = 1e-7) -> tuple[i
     Returns (number not dominated, number of points).
     """
     # late import: loads casadi (via designer.solvers.nlp) only when this runs
-    from designer.solvers.cache import shared_nlp
+    from designer.solvers.nlp import shared_nlp
 
     not_dominated = 0
     cache = {}
@@ -602,7 +602,7 @@ def _dominated_in_batch(problem, points, rel_tol: float) -> set:
     """Indices of ``points`` that ``problem`` is seen to dominate: the NLPs of :func:`dominated_by_problem` in one
     warm batch per variant (``solve_many`` from q's multipliers as an optimum); a successful block with F_turn <=
     F_turn(q)(1 + ``rel_tol``) is a feasible design dominating q.  The others get the single solves."""
-    from designer.solvers.cache import shared_nlp  # late import: loads casadi (via designer.solvers.nlp)
+    from designer.solvers.nlp import shared_nlp  # late import: loads casadi (via designer.solvers.nlp)
 
     found = set()
     for variant in problem.variants():

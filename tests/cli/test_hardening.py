@@ -227,9 +227,10 @@ def test_pareto_marks_failed_points(monkeypatch):
     """ε-points whose solves all fail (any start, any retry) are kept in front.failed with their status,
     never in front.points, the indicators or the CSV; the rest of the front is unaffected."""
     import designer.studies.front._pareto as pareto
+    from designer.solvers.nlp import BIG, SHARED
 
     problem = load_problem(INDOOR)
-    pareto._NLP_CACHE.clear()
+    SHARED.clear()
     clean = pareto.pareto_front(problem, points=9)
     p = clean.objectives()[:, 1]
     band = (p.min() + 0.35 * np.ptp(p), p.min() + 0.65 * np.ptp(p))
@@ -239,22 +240,22 @@ def test_pareto_marks_failed_points(monkeypatch):
 
     real_solve, real_many = CasterNLP.solve, CasterNLP.solve_many
 
-    def solve(self, start, weights=(1.0, 1.0), threshold_cap=pareto.BIG, *args, **kwargs):
+    def solve(self, start, weights=(1.0, 1.0), threshold_cap=BIG, *args, **kwargs):
         result = real_solve(self, start, weights, threshold_cap, *args, **kwargs)
         return _failed(result) if in_band(threshold_cap) else result
 
-    def solve_many(self, starts, weights=(1.0, 1.0), threshold_caps=pareto.BIG, *args, **kwargs):
+    def solve_many(self, starts, weights=(1.0, 1.0), threshold_caps=BIG, *args, **kwargs):
         results = real_many(self, starts, weights, threshold_caps, *args, **kwargs)
         caps = np.broadcast_to(np.asarray(threshold_caps, float), (len(results),))
         return [_failed(r) if in_band(c) else r for r, c in zip(results, caps)]
 
     monkeypatch.setattr(CasterNLP, "solve", solve)
     monkeypatch.setattr(CasterNLP, "solve_many", solve_many)
-    pareto._NLP_CACHE.clear()
+    SHARED.clear()
     try:
         front = pareto.pareto_front(problem, points=9)
     finally:
-        pareto._NLP_CACHE.clear()
+        SHARED.clear()
     assert front.failed, "points in the band must be reported as failed"
     assert all(not f.success and f.status == "Restoration_Failed" and in_band(f.epsilon) for f in front.failed)
     assert all(q.success and not in_band(q.epsilon) for q in front.points)
@@ -270,16 +271,19 @@ def test_pareto_marks_failed_points(monkeypatch):
 def test_pareto_total_solver_failure_is_an_error(monkeypatch):
     """IPOPT failing everywhere on a feasible problem used to give a silent empty front; now a SolverError."""
     import designer.studies.front._pareto as pareto
+    from designer.solvers.nlp import SHARED
 
-    real = pareto.CasterNLP
-    monkeypatch.setattr(pareto, "CasterNLP", lambda problem: real(problem, ipopt_options={"ipopt.max_iter": 1}))
-    pareto._NLP_CACHE.clear()
+    real = CasterNLP.__init__
+    monkeypatch.setattr(
+        CasterNLP, "__init__", lambda self, problem, ipopt_options=None: real(self, problem, {"ipopt.max_iter": 1})
+    )
+    SHARED.clear()
     try:
         with pytest.raises(SolverError) as info:
             pareto.pareto_front(load_problem(INDOOR), points=5)
     finally:
         monkeypatch.undo()
-        pareto._NLP_CACHE.clear()  # the crippled NLPs must not serve later tests
+        SHARED.clear()  # the crippled NLPs must not serve later tests
     assert "Maximum_Iterations_Exceeded" in str(info.value) and "\n" not in str(info.value)
     # an unreachable target is still an empty front (the report explains it), not a solver error
     infeasible = pareto.pareto_front(load_problem(INDOOR).replace(target_speed=40.0), points=5)

@@ -1,4 +1,4 @@
-"""One compiled NLP per problem structure (designer.solvers.cache.shared_nlp): the front, the tighter front of
+"""One compiled NLP per problem structure (designer.solvers.nlp.shared_nlp): the front, the tighter front of
 check 8c, the weighted optimum and check 8c's domination test share it, and every solve is the one of a
 fresh build, to the bit."""
 
@@ -13,7 +13,7 @@ from designer.studies import front as pareto
 from designer.studies.optimum import optimise
 from designer.problem import load_problem
 from designer.solvers import nlp as N
-from designer.solvers import cache as S
+from designer.solvers import nlp as S
 
 INDOOR = Path(__file__).resolve().parents[2] / "problems" / "indoor-manual.toml"
 

@@ -850,7 +850,7 @@ def test_front_checks_texts_and_single_point(tmp_path):
 def test_structured_ends_match_nlp_ends(toml):
     """The closed-form lexicographic ends equal IPOPT's: end A has the least F_turn (to 1e-7) and, among
     designs with it, the least P; end B the least P (to 1e-7), then the least F_turn."""
-    from designer.studies.front import lexicographic_ends
+    from designer.solvers.nlp import lexicographic_ends
 
     problem = (
         load_problem(ROOT / "problems" / "indoor-manual.toml").nominal()

@@ -41,9 +41,18 @@ class _Family:
     VARS = ("trail", "diameter", "groove", "added_damping")
 
     def __init__(
-        self, problem: Problem, groove_free: bool, damper_free: bool, weights, threshold_cap, order: int, s_max: float
+        self,
+        problem: Problem,
+        groove_free: bool,
+        damper_free: bool,
+        weights,
+        threshold_cap,
+        order: int,
+        s_max: float,
+        turning_cap: float | None = None,
     ):
         self.problem = problem
+        self.turning_cap = turning_cap
         self.name = FAMILIES[(groove_free, damper_free)]
         self.weights = weights
         self.order, self.s_max = order, s_max
@@ -115,8 +124,8 @@ class _Family:
             constraints["shimmy"] = lhs <= rhs
 
     def _limit_constraints(self, terms: dict, threshold_cap, constraints: dict) -> None:
-        """The box of each variable, the swept-radius limit and the cap on the threshold force P (a constant
-        that breaks a limit sets ``infeasible_constant``)."""
+        """The box of each variable, the swept-radius limit and the caps on the threshold force P and the turning
+        effort F_turn (a constant that breaks a limit sets ``infeasible_constant``)."""
         for name, var in self.variables.items():
             lo, hi = self.box[name]
             constraints[f"{name}.max"] = var <= hi
@@ -135,6 +144,11 @@ class _Family:
                 self.infeasible_constant |= _value(capped) > threshold_cap
             else:
                 constraints["threshold_cap"] = capped <= threshold_cap
+        if self.turning_cap is not None:
+            if _constant(terms["turning_effort"]):
+                self.infeasible_constant |= _value(terms["turning_effort"]) > self.turning_cap
+            else:
+                constraints["turning_cap"] = terms["turning_effort"] <= self.turning_cap
 
     def _minimised(self, terms: dict, weights):
         """The objective J = w_turn F_turn + w_threshold P in GP form."""
@@ -319,6 +333,8 @@ class _Family:
             out["bare_fork_damping"] -= mu * c0
         if "threshold_cap" in self.constraints:
             out["threshold_cap"] = -lam["threshold_cap"]
+        if "turning_cap" in self.constraints:
+            out["turning_cap"] = -lam["turning_cap"]
         return out
 
     def _log_parts(self, x: dict, consts: _Constants):
@@ -335,6 +351,8 @@ class _Family:
             g["swept_radius"] = np.log(t["swept_radius"] / consts.swept_radius_max + 0j)
         if "threshold_cap" in self.constraints:
             g["threshold_cap"] = np.log((t["threshold_force"] + t["threshold_remainder"]) / self.threshold_cap + 0j)
+        if "turning_cap" in self.constraints:
+            g["turning_cap"] = np.log(t["turning_effort"] / self.turning_cap + 0j)
         return j, g
 
 

@@ -68,7 +68,9 @@ from __future__ import annotations
 import math
 import time
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -79,14 +81,20 @@ from designer.physics.threshold import (
 )
 from designer.problem import Problem
 from designer.errors import InfeasibleError
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, evaluated, no_optimum, weights_of
 from designer.solvers.nlp import BIG, CasterNLP
 from designer.solvers.gp._family import BACKOFF, FLOOR, MAX_ITERATIONS, SOLVER_OPTIONS, STEP_TOLERANCE, _Family
 from designer.solvers.gp._terms import MAX_ORDER, SERIES_TOLERANCE, gp_terms, robust_speed_factor, series_order
 from designer.solvers.gp._terms import _constants, _parameters  # noqa: F401 - re-exported (tests build the terms)
 
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
+
 __all__ = [
     "BACKOFF",
     "FLOOR",
+    "GP",
+    "GPSolver",
     "GPResult",
     "MAX_ITERATIONS",
     "MAX_ORDER",
@@ -178,10 +186,12 @@ def exact_objective(problem: Problem, design: Design, weights) -> float:
     return float(weights[0] * v["turning_effort"] + weights[1] * v["threshold_force"])
 
 
-def _solve_continuous(problem: Problem, weights, threshold_cap, order, s_max, max_iterations, record=None):
+def _solve_continuous(
+    problem: Problem, weights, threshold_cap, order, s_max, max_iterations, record=None, turning_cap=None
+):
     rows = []
     for groove_free, damper_free in _families(problem):
-        fam = _Family(problem, groove_free, damper_free, weights, threshold_cap, order, s_max)
+        fam = _Family(problem, groove_free, damper_free, weights, threshold_cap, order, s_max, turning_cap)
         best = None
         starts = [None] if fam.single else fam.start_points()
         for start in starts:
@@ -224,6 +234,7 @@ def solve_gp(
     threshold_cap: float | None = None,
     max_iterations: int = MAX_ITERATIONS,
     record: list | None = None,
+    turning_cap: float | None = None,
 ) -> GPResult:
     """Minimise J = w_turn F_turn + w_threshold P by geometric programming (docs/model.md#solvers).
 
@@ -242,6 +253,7 @@ def solve_gp(
     max_iterations : SGP iterations per start (1 gives the first, already
         feasible, GP: a cheap start)
     record : optional list; (continuous problem, design) of every GP iterate is appended (for tests)
+    turning_cap : optional ε-cap F_turn <= ε [N] (a posynomial constraint)
 
     Returns
     -------
@@ -261,7 +273,7 @@ def solve_gp(
     candidates, families, solves = [], [], 0
     for variant in variants:
         wheel = variant.conditions.inertia.wheel.key if problem.wheels else None
-        rows = _solve_continuous(variant, w, threshold_cap, order, s_max, max_iterations, record)
+        rows = _solve_continuous(variant, w, threshold_cap, order, s_max, max_iterations, record, turning_cap)
         for row in rows:
             solves += row["solves"]
             label = row["family"] if wheel is None else f"{wheel}: {row['family']}"
@@ -271,7 +283,10 @@ def solve_gp(
     if not candidates:
         raise InfeasibleError(
             f"{problem.name}: no geometric-programming family is feasible (target speed "
-            f"{problem.required_speed:.3g} m/s" + (f", P <= {threshold_cap:.4g} N" if threshold_cap else "") + ")"
+            f"{problem.required_speed:.3g} m/s"
+            + (f", P <= {threshold_cap:.4g} N" if threshold_cap else "")
+            + (f", F_turn <= {turning_cap:.4g} N" if turning_cap else "")
+            + ")"
         )
     _, _, wheel, variant, row = min(candidates, key=lambda c: c[0])
     design = row["design"]
@@ -351,3 +366,74 @@ def polish(
         if j <= best[1]:
             best = (result.design, j)
     return best
+
+
+# --------------------------------------------------------------------------- the solver protocol
+
+
+class GPSolver:
+    """The geometric program as a solver of the protocol (:class:`designer.solvers.base.Solver`).
+
+    ``optimum`` is :func:`solve_gp` (every family, every catalog wheel; J of the GP design by the exact model,
+    the duals as sensitivities, the :class:`GPResult` as ``result``); ``front_designs`` solves min F_turn s.t.
+    P <= ε by :func:`solve_gp` at each ε.  Not polished: the GP design itself (feasible for the exact model).
+    """
+
+    name = "cvxpy-gp"
+    tolerance = 1e-4
+
+    def applicable(self, problem: Problem) -> bool:
+        """The GP takes every problem (risk-bounded ones conservatively: :func:`robust_speed_factor`)."""
+        return True
+
+    def optimum(
+        self,
+        problem: Problem,
+        weights: Sequence[float] | None = None,
+        caps: Caps = NO_CAPS,
+        *,
+        starts: Sequence[Any] = (),
+    ) -> Optimum:
+        """The best family's GP optimum (``starts`` are not needed: each family starts from its corners)."""
+        w = weights_of(problem, weights)
+        try:
+            r = solve_gp(problem, w, caps.threshold, turning_cap=caps.turning)
+        except InfeasibleError:
+            return no_optimum(self.name, problem, w, caps, "infeasible")
+        return Optimum(
+            solver=self.name,
+            problem=r.problem if r.problem is not None else problem,
+            weights=w,
+            caps=caps,
+            design=r.design,
+            objective=r.objective,
+            success=True,
+            status=r.status,
+            wheel=r.wheel,
+            sensitivities=dict(r.duals),
+            solves=r.solves,
+            seconds=r.seconds,
+            result=r,
+        )
+
+    def front_designs(self, problem: Problem, eps: npt.ArrayLike) -> Designs:
+        """min F_turn s.t. P <= ε by :func:`solve_gp` at each ε of a continuous problem."""
+        e = np.asarray(eps, float).ravel()
+        found = [self.optimum(problem, (1.0, 0.0), Caps(threshold=float(cap))) for cap in e]
+        x = np.array(
+            [o.design.as_array() if o.design is not None else problem.upper().as_array() for o in found], float
+        ).reshape(-1, 4)
+        return Designs(
+            solver=self.name,
+            epsilon=e,
+            designs=x,
+            success=np.array([o.success for o in found], dtype=bool),
+            objectives=evaluated(problem, x),
+            status=tuple(o.status for o in found),
+            multipliers=tuple(o.sensitivities for o in found),
+            solves=sum(o.solves for o in found),
+        )
+
+
+GP = GPSolver()
+"""The geometric program's :class:`~designer.solvers.base.Solver`."""

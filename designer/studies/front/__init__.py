@@ -3,8 +3,7 @@
 Modules
 -------
 _front       :class:`Front` and :class:`FrontPoint`: the front as data (indicators, knee, pandas, plots)
-_pareto      :func:`pareto_front`: the ε-constraint sweep of a problem
-_sweeps      the sweep strategies (closed form confirmed by the NLP, or the warm-started NLP)
+_pareto      :func:`pareto_front`: the ε-constraint sweep of a problem (its ε-points: :func:`designer.solvers.front_solver`)
 _indicators  hypervolume and IGD+ (reference point and normalisation stated)
 _tradeoff    the groove-damper trade-off table, in closed form
 """
@@ -14,19 +13,16 @@ from __future__ import annotations
 from designer.studies.front._front import Front, FrontPoint, family_of
 from designer.studies.front._indicators import hypervolume_2d, igd_plus, nondominated, normalise
 from designer.studies.front._pareto import pareto_front
-from designer.studies.front._sweeps import box_sample, lexicographic_ends
 from designer.studies.front._tradeoff import TradeoffRow, groove_damper_tradeoff
 
 __all__ = [
     "Front",
     "FrontPoint",
     "TradeoffRow",
-    "box_sample",
     "family_of",
     "groove_damper_tradeoff",
     "hypervolume_2d",
     "igd_plus",
-    "lexicographic_ends",
     "nondominated",
     "normalise",
     "pareto_front",

@@ -18,9 +18,9 @@ import numpy as np
 from designer.studies.front._indicators import hypervolume_2d, igd_plus, nondominated, normalise
 from designer.data.paper import INCH
 from designer.errors import InputError
-from designer.model import FAMILIES, VARIABLES, Design
+from designer.model import VARIABLES, Design
 from designer.problem import example_names, example_problem
-from designer.problem import Problem, load_problem
+from designer.problem import Problem, family_of, load_problem
 from designer.reprs import html_table, svg_curve
 
 REFERENCE_OFFSET = 0.1
@@ -78,13 +78,6 @@ class FrontPoint:
 
 _UNIT_SUFFIX = {"trail": "m", "diameter": "m", "groove": "m", "damping": "N_m_per_rad"}
 """SI unit written into the DataFrame column name of each design variable (``trail_m``, ...)."""
-
-
-def family_of(problem: Problem, design: Design, tol: float = 1e-6) -> str:
-    """Which mechanism stabilises the design: groove, added damper, both or neither."""
-    grooved = design.groove > problem.bounds["groove"].low + tol * max(problem.bounds["groove"].high, 1e-3)
-    damped = design.damping > problem.conditions.turning.bare_fork_damping * (1 + tol)
-    return FAMILIES[(grooved, damped)]
 
 
 @dataclass

@@ -13,9 +13,10 @@ continuous sub-problem (one per catalog wheel):
 3. pass 2 re-spaces ε evenly by arc length along pass 1's normalised front and solves again;
 4. points that fail are kept as failed (never plotted or counted); dominated points are removed.
 
-How an ε-point is solved is the sweep strategy (:mod:`designer.studies.front._sweeps`): the closed-form ε-optima
-confirmed by the NLP where they apply (``strategy="auto"``), else the NLP sweep from sample starts with
-family restarts; ``strategy="nlp"`` forces the NLP sweep (the cross-check in the tests).  The front itself
+How an ε-point is solved is the front solver's (:func:`designer.solvers.front_solver`, through the solver
+protocol): the closed-form ε-optima confirmed by the NLP where they apply (``strategy="auto"``), else the NLP
+sweep from sample starts with family restarts; ``strategy="nlp"`` forces the NLP sweep (the cross-check in
+the tests).  The front itself
 (:class:`~designer.studies.front._front.Front`) is data: :mod:`designer.studies.front._front`.
 """
 
@@ -26,96 +27,55 @@ import warnings
 
 import numpy as np
 
-from designer.studies.front._front import REFERENCE_OFFSET, Front, FrontPoint, clean, family_of
+from designer.studies.front._front import REFERENCE_OFFSET, Front, FrontPoint, clean
 from designer.studies.front._indicators import normalise
 from designer.studies.optimum import diagnose_infeasible, constraint_margins
-from designer.studies.front._sweeps import choose
 from designer.errors import InputError, SolverError
-from designer.model import Design, evaluate
-from designer.problem import POINTS_RANGE, Problem
-from designer.solvers import cache
-from designer.solvers.nlp import BIG, CasterNLP, evaluate_many
+from designer.model import Design
+from designer.problem import POINTS_RANGE, Problem, family_of
+from designer.solvers import FRONT_STRATEGIES, Designs, front_solver
+from designer.solvers.nlp import BIG, evaluate_many
 
-STRATEGY_CHOICES = ("auto", "nlp")
+STRATEGY_CHOICES = FRONT_STRATEGIES
 """``pareto_front(strategy=...)``: "auto" (closed form confirmed by the NLP where it applies) or "nlp"."""
 
 
 # --------------------------------------------------------------------------- front points
 
 
-def _point(nlp: CasterNLP, problem: Problem, result, epsilon: float, wheel=None) -> FrontPoint:
-    values = evaluate(result.design, problem.conditions) if result.success else None
-    if values is None:
-        f, p, v, _ = nlp.objectives(result.design)
-        margins = {}
-    else:
-        f, p, v = values["turning_effort"], values["threshold_force"], values["critical_speed"]
-        margins, _ = constraint_margins(problem, result.design, values)
-    multipliers = {name: float(lam) for name, lam in zip(nlp.constraint_names, result.lam_g)}
-    return FrontPoint(
-        result.design,
-        float(f),
-        float(p),
-        float(v),
-        margins,
-        float(epsilon),
-        result.status,
-        result.success,
-        multipliers,
-        family_of(problem, result.design),
-        wheel,
-    )
-
-
-def _points(nlp: CasterNLP, problem: Problem, results, eps, wheel=None) -> list:
-    """FrontPoints of many results: one vectorised model call for all successful designs."""
-    out = [None] * len(results)
-    ok = [i for i, r in enumerate(results) if r.success]
-    if ok:
-        designs = np.array([results[i].design.as_array() for i in ok])
-        values = evaluate_many(problem, designs)
-        columns = {
-            key: np.asarray(v, float).ravel().tolist() if np.ndim(v) else [float(v)] * len(ok)
-            for key, v in values.items()
-        }
-        for j, i in enumerate(ok):
-            r = results[i]
-            row = {key: column[j] for key, column in columns.items()}
-            margins, _ = constraint_margins(problem, r.design, row)
-            multipliers = dict(zip(nlp.constraint_names, np.asarray(r.lam_g, float).tolist()))
-            out[i] = FrontPoint(
-                r.design,
-                row["turning_effort"],
-                row["threshold_force"],
-                row["critical_speed"],
-                margins,
-                float(eps[i]),
-                r.status,
-                True,
-                multipliers,
-                family_of(problem, r.design),
-                wheel,
-            )
-    for i, r in enumerate(results):
-        if out[i] is None:
-            out[i] = _point(nlp, problem, r, eps[i], wheel)
-    return out
-
-
-_NLP_CACHE = cache.SHARED
-"""The compiled NLPs (:data:`designer.solvers.cache.SHARED`, shared with the optimum and check 8c)."""
-
-
-def _nlp(problem: Problem) -> CasterNLP:
-    """The problem's NLP: a compiled structure is built once and reused (:func:`~designer.solvers.cache.shared_nlp`).
-
-    Problems that differ only in caster load or target speed (e.g. a batch of chair configurations, or the
-    tighter front of check 8c) share one build: those values are parameters of the NLP, and
-    :meth:`CasterNLP.for_problem` gives each problem its own view with its own values (the cached NLP itself
-    is never changed).  The scaling constants of the objective stay those of the first problem built (any
-    O(1) scaling gives the same optimum to IPOPT's tolerance).
-    """
-    return cache.shared_nlp(problem, build=CasterNLP)
+def _points(problem: Problem, found: Designs, wheel: str | None = None, eps=None) -> list[FrontPoint]:
+    """FrontPoints of a solver's ε-optima (``eps`` overrides their ε): the successful ones evaluated by the model
+    in one vectorised call, a failed one with the solver's own numbers and no margins."""
+    eps = found.epsilon if eps is None else np.asarray(eps, float)
+    out: list[FrontPoint | None] = [None] * len(found)
+    ok = np.flatnonzero(found.success).tolist()
+    values = evaluate_many(problem, found.designs[ok]) if ok else {}
+    columns = {
+        key: np.asarray(v, float).ravel().tolist() if np.ndim(v) else [float(v)] * len(ok) for key, v in values.items()
+    }
+    for i in range(len(found)):
+        design = found.design(i)
+        if i in ok:
+            row = {key: column[ok.index(i)] for key, column in columns.items()}
+            f, p, v = row["turning_effort"], row["threshold_force"], row["critical_speed"]
+            margins, _ = constraint_margins(problem, design, row)
+        else:
+            f, p, v = (float(a) for a in found.objectives[i])
+            margins = {}
+        out[i] = FrontPoint(
+            design=design,
+            turning_effort=f,
+            threshold_force=p,
+            critical_speed=v,
+            margins=margins,
+            epsilon=float(eps[i]),
+            status=found.status[i],
+            success=bool(found.success[i]),
+            multipliers=dict(found.multipliers[i]) if found.multipliers else {},
+            family=family_of(problem, design),
+            wheel=wheel,
+        )
+    return [p for p in out if p is not None]
 
 
 def pareto_front(problem: Problem, points: int | None = None, progress=None, strategy: str = "auto") -> Front:
@@ -127,7 +87,7 @@ def pareto_front(problem: Problem, points: int | None = None, progress=None, str
     points : number of points (default ``problem.pareto_points``)
     progress : optional callable ``progress(done, total)`` for long runs
     strategy : "auto" (closed-form ε-optima confirmed by the NLP where they apply, else the NLP sweep)
-        or "nlp" (the NLP sweep everywhere); :mod:`designer.studies.front._sweeps`
+        or "nlp" (the NLP sweep everywhere); :func:`designer.solvers.front_solver`
 
     Returns
     -------
@@ -160,42 +120,40 @@ def _pareto_front(problem: Problem, n: int, progress, strategy: str) -> Front:
     used: dict = {}
     variants = problem.variants()
     for k, variant in enumerate(variants):
-        nlp = _nlp(variant)
-        kind = choose(variant, strategy)
-        used[kind.name] = kind.method
-        sweeper = kind(nlp, variant)
+        solver = front_solver(variant, strategy)
+        used[solver.strategy] = solver.method
         wheel = variant.conditions.inertia.wheel.key if problem.wheels else None
-        ends = sweeper.ends()
+        ends = solver.front_ends(variant)
         solves += ends.solves
         if ends.a is None:
             end_statuses.update(ends.statuses)
-            build += nlp.build_seconds
+            build += solver.build_seconds(variant)
             continue  # infeasible variant (e.g. a catalog wheel that cannot reach the target)
         if variant.bounds["diameter"].fixed:  # P is the same for every design: the front is end B
-            all_points += _points(nlp, variant, [ends.b], [BIG], wheel)
-            build += nlp.build_seconds
+            all_points += _points(variant, solver.ends_designs(variant, ends, eps=[BIG, BIG]), wheel)[1:]
+            build += solver.build_seconds(variant)
             if progress:
                 progress(k + 1, len(variants))
             continue
-        p_a, p_b = (float(v) for v in nlp.objectives_many([ends.a.design, ends.b.design])[:, 1])
+        p_a, p_b = (float(v) for v in solver.ends_designs(variant, ends).epsilon)
         eps = np.linspace(p_a, p_b, n)  # pass 1: uniform in ε
-        first, done = sweeper.sweep(eps, ends)
-        solves += done
+        first = solver.front_designs(variant, eps, ends=ends)
+        solves += first.solves
         if progress:
             progress(n, 2 * n)
-        good = [r for r in first if r.success]
-        if len(good) >= 3:  # pass 2: uniform in arc length of pass 1
-            eps2 = _respace_objectives(nlp.objectives_many([r.design for r in good])[:, :2], n)
-            second, done = sweeper.sweep(eps2, ends, guide=(eps, first))
-            solves += done
+        good = first.success
+        if np.count_nonzero(good) >= 3:  # pass 2: uniform in arc length of pass 1
+            eps2 = _respace_objectives(first.objectives[good, :2], n)
+            second = solver.front_designs(variant, eps2, ends=ends, guide=first)
+            solves += second.solves
         else:
-            second, eps2 = first, eps
-        pts = _points(nlp, variant, second, eps2, wheel)
+            second = first
+        pts = _points(variant, second, wheel)
         if progress:
             progress(2 * n, 2 * n)
         all_points += [p for p in pts if p.success]
         failed += [p for p in pts if not p.success]
-        build += nlp.build_seconds
+        build += solver.build_seconds(variant)
     if not all_points and not failed:
         # no end of any front was found: an unreachable target gives an empty front (the report explains it),
         # but IPOPT failing on a feasible problem must not pass for one
@@ -217,7 +175,7 @@ def _pareto_front(problem: Problem, n: int, progress, strategy: str) -> Front:
         "method": "; ".join(used.values()),
         "solver": "ipopt (tol 1e-10, exact Hessian)",
     }
-    return Front(problem, valid, failed, meta)
+    return Front(problem=problem, points=valid, failed=failed, meta=meta)
 
 
 def _respace_objectives(f: np.ndarray, n: int) -> np.ndarray:

@@ -23,8 +23,8 @@ from designer.errors import InfeasibleError, SolverError
 from designer.model import VARIABLES, Design, evaluate, evaluate_candidates
 from designer.problem import Problem
 from designer.reprs import dataframe, html_table
-from designer.solvers.nlp import PARAMETER_INFO, best_starts, max_critical_speed, solve_best
-from designer.solvers.cache import shared_nlp
+from designer.solvers import PRIMARY, Optimum, solver
+from designer.solvers.nlp import PARAMETER_INFO, max_critical_speed
 import warnings
 from designer.errors import InputError
 from designer.problem import check_weights
@@ -234,9 +234,9 @@ class Solution:
             gp = f"{duals[name]:+8.4f}" if name in duals else "       –"
             lines.append(f"    {name:24s} {value:+8.4f}  {gp}   {desc}")
         lines += ["", "  solver agreement (J in N):"]
-        for solver, value in self.cross_check.items():
+        for name, value in self.cross_check.items():
             shown = "n/a" if value is None or not np.isfinite(value) else f"{value:.6f}"
-            lines.append(f"    {solver:24s} {shown}")
+            lines.append(f"    {name:24s} {shown}")
         lines.append(f"    largest relative gap     {self.agreement():.1e}")
         return "\n".join(lines)
 
@@ -297,28 +297,23 @@ def optimise(problem: Problem, weights=None, cross_check: bool = True, samples: 
 
 
 def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Solution:
-
     w = check_weights(problem.weights if weights is None else weights, "weights", error=InputError)
+    primary = solver(PRIMARY, samples=samples)
     build = solve = 0.0
     candidates = []
-    gp_results = {}
     for variant in problem.variants():
-        nlp = shared_nlp(variant, same_scaling=True)  # the front's compiled NLP: the same solves as a new build
-        build += nlp.build_seconds
-        starts = best_starts(variant, w, n=samples)
         gp = _gp(variant, w) if cross_check else None
-        if gp is not None:  # every family's GP answer is an NLP start (docs/model.md#solvers)
-            starts += [d.as_array() for d in gp.designs.values()]
-        t0 = time.perf_counter()
-        best, results = solve_best(nlp, starts, w)
-        solve += time.perf_counter() - t0
-        if best is not None:
-            candidates.append((best.objective, variant, nlp, best, len(starts)))
-            gp_results[id(variant)] = gp
+        # every family's GP answer is an NLP start (docs/model.md#solvers)
+        starts = [d.as_array() for d in gp.result.designs.values()] if gp is not None else []
+        found = primary.optimum(variant, w, starts=starts)
+        build += found.build_seconds
+        solve += found.seconds
+        if found.success:
+            candidates.append((found, gp))
     if not candidates:
         raise diagnose_infeasible(problem)
-    j, variant, nlp, best, n_starts = min(candidates, key=lambda c: c[0])
-    design = best.design
+    found, gp = min(candidates, key=lambda c: c[0].objective)
+    variant, design = found.problem, found.design
     values = evaluate(design, variant.conditions)
     margins, active = constraint_margins(variant, design, values)
     objectives = {
@@ -326,19 +321,13 @@ def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Sol
         "threshold_force": values["threshold_force"],
         "weighted": w[0] * values["turning_effort"] + w[1] * values["threshold_force"],
     }
-    sens = nlp.sensitivities(best, w)
-    checks = {"casadi-ipopt": objectives["weighted"]}
+    checks = {PRIMARY: objectives["weighted"]}
     t0 = time.perf_counter()
-    gp = gp_results.get(id(variant))
     if cross_check:
-        # late import: loads scipy (via designer.solvers.slsqp) only when this runs
-        from designer.solvers.slsqp import slsqp
-
-        # scipy on the chosen variant, from the NLP optimum and random starts
-        _, j_scipy = slsqp(variant, w, starts=[design])
-        checks["scipy-slsqp"] = j_scipy
+        # SLSQP on the chosen variant, from the NLP optimum and random starts
+        checks["scipy-slsqp"] = solver("scipy-slsqp").optimum(variant, w, starts=[design]).objective
         if gp is not None:
-            checks["cvxpy-gp"] = _gp_polished(variant, gp, w)
+            checks["cvxpy-gp"] = _gp_polished(variant, gp.result, w)
     wheel = variant.conditions.inertia.wheel.key if problem.wheels else None
     return Solution(
         problem=variant if problem.wheels else problem,
@@ -347,30 +336,32 @@ def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Sol
         critical_speed=values["critical_speed"],
         constraints=margins,
         active=active,
-        sensitivities=sens,
+        sensitivities=dict(found.sensitivities),
         cross_check=checks,
-        gp=gp,
+        gp=None if gp is None else gp.result,
         wheel=wheel,
         timings={"build": build, "solve": solve, "cross_check": time.perf_counter() - t0},
-        starts=n_starts,
+        starts=found.solves,
         weights=tuple(w),
     )
 
 
-def _gp(problem: Problem, weights):
-    """The GP/SGP answer, or None if the GP module is unavailable or fails.
+def _gp(problem: Problem, weights) -> Optimum | None:
+    """The GP/SGP optimum (:data:`~designer.solvers.CROSS_CHECKS`), or None if cvxpy is missing, the GP fails or
+    finds nothing feasible.
 
     For robust problems the GP bounds the quantile constraint conservatively
     (see ``designer.solvers.gp._solve``); its polished answer is still a cross-check.
     """
-    try:  # late import: cvxpy (the GP cross-check) loads only when the cross-check runs
-        from designer.solvers import gp as gp_module
+    try:
+        gp = solver("cvxpy-gp")
     except ImportError:
         return None
     try:
-        return gp_module.solve_gp(problem, weights)
+        found = gp.optimum(problem, weights)
     except Exception:  # the GP is a cross-check; its failure is reported, not fatal
         return None
+    return found if found.success else None
 
 
 def _gp_polished(problem: Problem, gp, weights) -> float:

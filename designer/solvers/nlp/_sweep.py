@@ -1,4 +1,4 @@
-"""How the ε-points of a front are solved: two sweep strategies behind one interface.
+"""How the NLP solves the ε-points of a front: two sweep strategies behind one interface.
 
 A strategy is made for one continuous problem and its NLP (``strategy = Kind(nlp, problem)``) and answers
 two questions, both with results of the NLP (:class:`designer.solvers.nlp.NLPResult`), which is the
@@ -17,7 +17,8 @@ fails, or whose NLP optimum is worse than the closed form's by more than 1e-9 (r
 :class:`NLPSweep` machinery.  The family restarts are not needed otherwise: the closed form compares every
 end of the constraint curve at every ε.
 
-Nothing here changes the NLP object it is given (the problem's values are the NLP's own).
+Nothing here changes the NLP object it is given (the problem's values are the NLP's own).  The solver protocol's
+``front_designs`` of :class:`~designer.solvers.nlp.NLPSolver` runs these sweeps.
 """
 
 from __future__ import annotations
@@ -26,14 +27,21 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from designer.studies.front._front import family_of
 from designer.model import Design
-from designer.problem import Problem
-from designer.solvers import closed_form
-from designer.solvers.nlp import BIG, CasterNLP, NLPResult, best_starts, evaluate_many, sample_designs, violation
+from designer.problem import Problem, family_of
+from designer.solvers.closed_form import CLOSED_FORM, structured_ends
+from designer.solvers.nlp._casadi import (
+    BIG,
+    CasterNLP,
+    NLPResult,
+    best_starts,
+    evaluate_many,
+    sample_designs,
+    violation,
+)
 
 CACHE_SIZE = 32
-"""How many problems' samples are kept (the compiled NLPs: :data:`designer.solvers.cache.SHARED_SIZE`)."""
+"""How many problems' samples are kept (the compiled NLPs: :data:`designer.solvers.nlp.SHARED_SIZE`)."""
 
 
 @dataclass
@@ -245,7 +253,7 @@ class StructuredSweep(NLPSweep):
         solve fails or the NLP end is worse than the closed form's by more than 1e-9 (relative).
         """
         nlp = self.nlp
-        ends = closed_form.structured_ends(self.problem)
+        ends = structured_ends(self.problem)
         if ends is not None:
             (f_a, p_a, _, _), (f_b, p_b, _, _) = nlp.objectives_many(ends)
             weights = np.array([(0.0, 1.0), (1.0, 0.0)])
@@ -270,7 +278,8 @@ class StructuredSweep(NLPSweep):
         results = [ends.a] + [None] * len(inner) + [ends.b]
         solves = 0
         if len(inner):
-            x, ok = closed_form.structured_front_designs(problem, inner)
+            found = CLOSED_FORM.front_designs(problem, inner)
+            x, ok = found.designs, found.success
             idx = np.flatnonzero(ok)
             if len(idx):
                 lam_g, lam_x = nlp.multipliers_many(x[idx], (1.0, 0.0), inner[idx])
@@ -402,18 +411,3 @@ class _Sweep:
                 self.solves += 1
                 if r.success and (self.best[i] is None or _rank(self.nlp, r) < self.f[i]):
                     self.best[i], self.f[i] = r, _rank(self.nlp, r)
-
-
-STRATEGIES = {kind.name: kind for kind in (NLPSweep, StructuredSweep)}
-"""The sweep strategies by name (``pareto_front(..., strategy=name)``)."""
-
-
-def choose(problem: Problem, requested: str = "auto") -> type[NLPSweep]:
-    """The strategy for one continuous problem: ``requested``, or with "auto" the structured one where it applies.
-
-    The structured strategy needs a free diameter (a catalog wheel fixes it: one point per wheel) and
-    :func:`designer.solvers.closed_form.applicable`; elsewhere, and with ``requested="nlp"``, the NLP sweep.
-    """
-    if requested == "nlp" or problem.bounds["diameter"].fixed or not closed_form.applicable(problem):
-        return NLPSweep
-    return StructuredSweep

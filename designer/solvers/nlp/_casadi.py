@@ -30,8 +30,11 @@ import numpy as np
 from designer import parameters
 from designer.errors import check_interrupt
 from designer.model import VARIABLES, Design, performance
+from designer.physics import enable_casadi
 from designer.problem import Problem
 import warnings
+
+enable_casadi()  # NumPy mode: the physics functions build CasADi symbols here
 
 BIG = 1e9
 FEAS_TOL = 1e-7
@@ -512,7 +515,7 @@ class CasterNLP:
 # --------------------------------------------------------------------------- multi-start
 
 
-SOBOL_FILE = Path(__file__).resolve().parents[1] / "data" / "sobol_d4_seed0.csv"
+SOBOL_FILE = Path(__file__).resolve().parents[2] / "data" / "sobol_d4_seed0.csv"
 """``scipy.stats.qmc.Sobol(d=4, scramble=True, seed=0).random(1024)``, stored exactly (tests/solvers/test_closed_form.py
 checks that it is a Sobol net): the default sample, read without importing scipy.stats (0.7 s of CPU)."""
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import dataclasses
 
 from designer.problem import Problem
-from designer.solvers.nlp import CasterNLP
+from designer.solvers.nlp._casadi import CasterNLP
 
 SHARED_SIZE = 32
 """How many compiled NLP structures :func:`shared_nlp` keeps (the least recently used are dropped)."""

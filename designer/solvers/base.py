@@ -1,0 +1,214 @@
+"""The solver protocol: one shape for every solver of a caster problem.
+
+Every solver answers the same two questions about a :class:`~designer.problem.Problem`, and returns
+records built by keyword:
+
+``optimum(problem, weights, caps) -> Optimum``
+    min J = w_turn F_turn + w_threshold P (Eq. 9, Eq. 4A) subject to V_c >= V_req (Eq. 7; its α-quantile
+    with a risk bound), the bounds, the swept-radius limit R_s <= R_max and the optional ε caps
+    P <= ε_P, F_turn <= ε_F (:class:`Caps`).  A catalog problem is solved per wheel and the best kept.
+``front_designs(problem, eps) -> Designs``
+    the ε-constraint optima min F_turn s.t. P <= ε at every ε of ``eps`` (a front's points).
+
+The implementations (each in its solver's module, so that loading one does not load another's library):
+
+=================  =====================================================================  ==============
+name               how                                                                     tolerance on J
+=================  =====================================================================  ==============
+``closed-form``    the structure of the model (:mod:`designer.solvers.closed_form`)        1e-7
+``casadi-ipopt``   the exact NLP from multiple starts (:mod:`designer.solvers.nlp`)       1e-8
+``cvxpy-gp``       sequential geometric programming (:mod:`designer.solvers.gp`)          1e-4
+``scipy-slsqp``    SLSQP on the NumPy model, finite differences (:mod:`designer.solvers.slsqp`)  1e-4
+=================  =====================================================================  ==============
+
+The tolerance is the relative gap in J to the exact optimum a solver is held to (``Solver.tolerance``;
+tests/solvers/test_protocol.py runs one problem through all four).  Which solver runs where is decided in
+one place, :mod:`designer.solvers` (:func:`~designer.solvers.solver`, :func:`~designer.solvers.front_solver`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import warnings
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
+
+import numpy as np
+
+from designer.model import Design, performance
+from designer.problem import Problem
+
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
+
+
+@dataclass(frozen=True, kw_only=True)
+class Caps:
+    """Optional ε caps of an optimum: P <= ``threshold`` [N] and F_turn <= ``turning`` [N] (None: no cap)."""
+
+    threshold: float | None = None
+    turning: float | None = None
+
+
+NO_CAPS = Caps()
+"""No cap on either objective."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class Optimum:
+    """The optimum one solver found for one problem (built by keyword).
+
+    Attributes
+    ----------
+    solver : the solver's name ("closed-form", "casadi-ipopt", "cvxpy-gp", "scipy-slsqp")
+    problem : the continuous problem solved (for a catalog problem: the chosen wheel's variant)
+    weights : (w_turn, w_threshold) of the J minimised
+    caps : the ε caps imposed
+    design : the optimum (SI), or None when the solver found none
+    objective : J = w_turn F_turn + w_threshold P [N] of ``design`` by the exact model (nan when none)
+    success : a feasible optimum was found
+    status : the solver's status ("optimal", "infeasible", IPOPT's return status, ...)
+    wheel : the Table 1 wheel of a catalog problem, else None
+    sensitivities : d log J / d log p [-] where the solver gives them (NLP multipliers, GP duals), else {}
+    solves : number of solves (starts, GP solves, ε-points searched)
+    seconds : wall time of the solves [s]
+    build_seconds : wall time of building the solver's model (the compiled NLP) [s]
+    result : the solver's own record (:class:`~designer.solvers.nlp.NLPResult`,
+        :class:`~designer.solvers.gp.GPResult`) for what only it knows (multipliers, families), or None
+    """
+
+    solver: str
+    problem: Problem = field(repr=False)
+    weights: tuple[float, float]
+    caps: Caps = NO_CAPS
+    design: Design | None
+    objective: float
+    success: bool
+    status: str
+    wheel: str | None = None
+    sensitivities: dict[str, float] = field(default_factory=dict, repr=False)
+    solves: int = 0
+    seconds: float = 0.0
+    build_seconds: float = 0.0
+    result: Any = field(default=None, repr=False)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Designs:
+    """The ε-constraint optima of one continuous problem (built by keyword): one row per ε.
+
+    Attributes
+    ----------
+    solver : the solver's name
+    epsilon : (N,) the caps ε on P [N]
+    designs : (N, 4) the designs (SI, :data:`~designer.model.VARIABLES` order); a row that failed holds the
+        solver's last iterate (or the box's upper corner when it has none)
+    success : (N,) a feasible optimum was found at this ε
+    objectives : (N, 3) F_turn [N], P [N] and V_c [m/s] of each row as the solver evaluates them
+    status : per row, the solver's status
+    multipliers : per row, {constraint: λ} (CasADi sign convention) where the solver has them, else {}
+    solves : number of solves it took
+    results : per row, the solver's own result (NLP rows: :class:`~designer.solvers.nlp.NLPResult`,
+        which a later sweep starts warm from), or () when it has none
+    """
+
+    solver: str
+    epsilon: np.ndarray
+    designs: np.ndarray
+    success: np.ndarray
+    objectives: np.ndarray
+    status: tuple[str, ...]
+    multipliers: tuple[dict[str, float], ...] = ()
+    solves: int = 0
+    results: tuple[Any, ...] = field(default=(), repr=False)
+
+    def __len__(self) -> int:
+        return len(self.epsilon)
+
+    def design(self, i: int) -> Design:
+        """Row ``i`` as a :class:`~designer.model.Design`."""
+        return Design.from_array(self.designs[i])
+
+
+@runtime_checkable
+class Solver(Protocol):
+    """What every solver implements (the module text); the four are listed in :data:`designer.solvers.SOLVERS`."""
+
+    name: str
+    """How results name it (``Solution.cross_check`` keys, ``Optimum.solver``)."""
+    tolerance: float
+    """Relative gap in J to the exact optimum this solver is held to."""
+
+    def applicable(self, problem: Problem) -> bool:
+        """Whether the solver can solve ``problem`` (e.g. the closed form needs its structure)."""
+        ...
+
+    def optimum(
+        self,
+        problem: Problem,
+        weights: Sequence[float] | None = None,
+        caps: Caps = NO_CAPS,
+        *,
+        starts: Sequence[Any] = (),
+    ) -> Optimum:
+        """The optimum of J (weights default: the problem's) under ``caps``; ``starts``: designs to start from
+        (ignored by solvers that need none)."""
+        ...
+
+    def front_designs(self, problem: Problem, eps: npt.ArrayLike) -> Designs:
+        """The ε-constraint optima min F_turn s.t. P <= ε of a continuous problem at every ε [N]."""
+        ...
+
+
+def weights_of(problem: Problem, weights: Sequence[float] | None) -> tuple[float, float]:
+    """``weights`` as two floats, or the problem's."""
+    w = problem.weights if weights is None else weights
+    return float(w[0]), float(w[1])
+
+
+def no_optimum(solver: str, problem: Problem, weights: tuple[float, float], caps: Caps, status: str) -> Optimum:
+    """The :class:`Optimum` of a solver that found no feasible design."""
+    return Optimum(
+        solver=solver,
+        problem=problem,
+        weights=weights,
+        caps=caps,
+        design=None,
+        objective=math.nan,
+        success=False,
+        status=status,
+    )
+
+
+def best_variant(problem: Problem, solve: Callable[[Problem], Optimum]) -> Optimum:
+    """``solve`` on every continuous variant of ``problem`` (one per catalog wheel); the best successful one.
+
+    Its ``wheel`` is set for a catalog problem; ties go to the first wheel (as ``min`` does); with no success,
+    the first variant's failure.  ``solves`` and ``seconds`` are summed over the variants.
+    """
+    found = [solve(variant) for variant in problem.variants()]
+    good = [o for o in found if o.success]
+    chosen = min(good, key=lambda o: o.objective) if good else found[0]
+    if problem.wheels:
+        wheel = chosen.problem.conditions.inertia.wheel
+        chosen = dataclasses.replace(chosen, wheel=None if wheel is None else wheel.key)
+    return dataclasses.replace(chosen, solves=sum(o.solves for o in found), seconds=sum(o.seconds for o in found))
+
+
+def evaluated(problem: Problem, x: np.ndarray) -> np.ndarray:
+    """(N, 3) F_turn [N], P [N], V_c [m/s] of (N, 4) designs by the exact model (non-finite where it fails)."""
+    x = np.asarray(x, float).reshape(-1, 4)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        v = performance(x[:, 0], x[:, 1], x[:, 2], x[:, 3], problem.conditions)
+    return np.column_stack(
+        [
+            np.broadcast_to(np.asarray(v[k], float), (len(x),))
+            for k in ("turning_effort", "threshold_force", "critical_speed")
+        ]
+    )
+
+
+__all__ = ["NO_CAPS", "Caps", "Designs", "Optimum", "Solver", "best_variant", "evaluated", "no_optimum", "weights_of"]

@@ -1,0 +1,77 @@
+"""Which solver runs where: the one dispatcher of the package.
+
+Every solver implements the protocol of :mod:`designer.solvers.base`.  This module names them
+(:data:`SOLVERS`), gives one by name (:func:`solver`, loading only that solver's library), and decides for the
+studies:
+
+- the weighted optimum (:func:`designer.studies.optimum.optimise`): the :data:`PRIMARY` solver, the NLP, with
+  the :data:`CROSS_CHECKS` beside it (the GP's designs are also starts of the NLP);
+- a front's ε-points (:func:`designer.studies.front.pareto_front`): :func:`front_solver`, the NLP whose sweep
+  starts from the closed form where that applies (a free diameter and
+  :func:`~designer.solvers.closed_form.applicable`), else from the sample of the box.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from designer.errors import InputError
+from designer.problem import Problem
+from designer.solvers.base import Solver
+from designer.solvers.closed_form import CLOSED_FORM, applicable
+
+SOLVERS = ("closed-form", "casadi-ipopt", "cvxpy-gp", "scipy-slsqp")
+"""Every solver of the protocol, by the name results use (``Optimum.solver``, ``Solution.cross_check``)."""
+
+PRIMARY = "casadi-ipopt"
+"""The solver whose optimum is reported: the exact NLP."""
+
+CROSS_CHECKS = ("scipy-slsqp", "cvxpy-gp")
+"""The solvers an optimum is cross-checked with (``optimise(cross_check=True)``), in the order reported."""
+
+FRONT_STRATEGIES = ("auto", "nlp")
+"""``pareto_front(strategy=...)``: "auto" (the NLP confirming the closed form where it applies) or "nlp"."""
+
+
+def solver(name: str, **options: Any) -> Solver:
+    """The solver called ``name`` (one of :data:`SOLVERS`); its library (casadi, cvxpy, scipy) loads now.
+
+    With ``options`` a new instance of that solver with them (``samples`` for the NLP's sample of starts,
+    ``random_starts`` and ``seed`` for SLSQP), else the shared default one.
+    """
+    found: Solver
+    if name == "closed-form":
+        found = CLOSED_FORM
+    elif name == "casadi-ipopt":
+        from designer.solvers.nlp import NLP  # late import: loads casadi
+
+        found = NLP
+    elif name == "cvxpy-gp":
+        from designer.solvers.gp import GP  # late import: loads cvxpy
+
+        found = GP
+    elif name == "scipy-slsqp":
+        from designer.solvers.slsqp import SLSQP  # late import: loads scipy.optimize
+
+        found = SLSQP
+    else:
+        raise InputError(f"solver = {name!r}: expected one of {', '.join(SOLVERS)}")
+    return type(found)(**options) if options else found
+
+
+def front_solver(problem: Problem, requested: str = "auto"):  # -> designer.solvers.nlp.NLPSolver (casadi, late)
+    """The solver of one continuous problem's front: the NLP, sweeping from the closed form where it applies.
+
+    ``requested="auto"``: from the closed form when the diameter is free (a catalog wheel fixes it: one
+    point per wheel) and :func:`~designer.solvers.closed_form.applicable` holds, else from the sample;
+    ``"nlp"``: from the sample everywhere (the cross-check of the tests).
+    """
+    if requested not in FRONT_STRATEGIES:
+        raise InputError(f"strategy = {requested!r}: expected one of {', '.join(FRONT_STRATEGIES)}")
+    from designer.solvers.nlp import NLPSolver  # late import: loads casadi
+
+    structured = requested == "auto" and not problem.bounds["diameter"].fixed and applicable(problem)
+    return NLPSolver(structured=structured)
+
+
+__all__ = ["CROSS_CHECKS", "FRONT_STRATEGIES", "PRIMARY", "SOLVERS", "front_solver", "solver"]
