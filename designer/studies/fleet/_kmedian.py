@@ -147,10 +147,18 @@ class _Instance:
         self.full = np.asarray(cost, float)[:, self.cols]
         self.sub, self.w, self.inverse = aggregate_rows(self.full, np.asarray(weights, float))
         self.m, self.n = self.sub.shape
-        self.ii, self.jj = np.nonzero(np.isfinite(self.sub))
+        self.ii, self.jj = np.nonzero(np.isfinite(self.sub))  # pairs by client (row-major order)
         self.wc = self.w[self.ii] * self.sub[self.ii, self.jj]
+        self.counts = np.bincount(self.ii, minlength=self.m)  # allowed casters per client (>= 1 when served)
+        self.starts = np.r_[0, np.cumsum(self.counts)[:-1]]
+        self._red = np.empty(len(self.wc))
         self.served = np.isfinite(self.sub).any(axis=1).all() if self.n else False
         self.cover = _min_cover(np.isfinite(self.sub)) if self.served else []
+
+    def served_by(self, red: np.ndarray, isopen: np.ndarray) -> np.ndarray:
+        """Per client, how many open casters the relaxation assigns it (pairs with negative reduced cost)."""
+        hit = (red < 0) & isopen[self.jj]
+        return np.add.reduceat(hit.view(np.uint8), self.starts, dtype=np.int64)
 
     def value(self, chosen) -> float:
         """Σ w_i min_{j ∈ chosen} cost_ij (+inf if some chair is unserved)."""
@@ -158,8 +166,10 @@ class _Instance:
         return float(self.w @ v) if np.all(np.isfinite(v)) else math.inf
 
     def relaxation(self, lam: np.ndarray, k: int):
-        """L(λ), ρ, the K casters the relaxation opens, and the reduced costs of the pairs."""
-        red = np.minimum(0.0, self.wc - lam[self.ii])
+        """L(λ), ρ, the K casters the relaxation opens, and the reduced costs min(0, w c − λ) of the pairs
+        (a buffer reused by the next call)."""
+        red = np.subtract(self.wc, np.repeat(lam, self.counts), out=self._red)
+        np.minimum(red, 0.0, out=red)
         rho = np.bincount(self.jj, weights=red, minlength=self.n)
         opened = np.argpartition(rho, k - 1)[:k] if k < self.n else np.arange(self.n)
         return float(lam.sum() + rho[opened].sum()), rho, opened, red
@@ -256,6 +266,9 @@ def _subgradient(inst: _Instance, k: int, upper: float, chosen, lam: np.ndarray,
             stall += 1
             if stall >= 15:
                 theta, stall = theta / 2, 0
+        isopen[:] = False
+        isopen[opened] = True
+        g = 1.0 - inst.served_by(red, isopen)  # before `red`'s buffer is reused by another relaxation
         candidate = inst.value(opened)
         if candidate < upper:
             upper, chosen = candidate, sorted(int(j) for j in opened)
@@ -263,9 +276,6 @@ def _subgradient(inst: _Instance, k: int, upper: float, chosen, lam: np.ndarray,
             break
         if it % 10 == 9 and len(_eliminate(inst, best_lam, k, upper)[0]) <= k + 8:
             break  # few enough casters left for a quick exact MIP
-        isopen[:] = False
-        isopen[opened] = True
-        g = 1.0 - np.bincount(inst.ii, weights=(red < 0) & isopen[inst.jj], minlength=inst.m)
         norm = float(g @ g)
         if norm == 0:  # the relaxation serves every client once: its value is attained, L = optimum
             break
