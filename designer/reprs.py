@@ -1,16 +1,30 @@
-"""Small HTML pieces for the notebook reprs (``_repr_html_``): a table with units and an inline SVG curve.
+"""The result protocol (:class:`Record`) and the small HTML pieces of the notebook reprs.
 
-Ground layer: plain strings in, a string out; no solver, no matplotlib, no designer import.  Every text is
-escaped.  Used by :class:`~designer.problem.Problem`, :class:`~designer.studies.front._pareto.Front`,
-:class:`~designer.studies.optimum._optimise.Solution` and :class:`~designer.studies.recommend._recommend.Recommendation`.
+Every result record of the package (a design, a problem, a solver's optimum, a front and its points, a
+recommendation, a fix, a fleet, a simulation, an exploration, a calibration, a check, ...) is a dataclass built by
+keyword with :class:`Record` as a base, so it answers the same four methods, spelled one way:
+
+``to_dict()``      plain data (dicts, lists, str, numbers, None; NumPy turned into Python): ``json.dumps`` takes it
+                   after :func:`designer.jsonsafe.finite`
+``to_pandas()``    a pandas DataFrame (pandas: the ``notebook`` extra), units in ``df.attrs["units"]``
+``_repr_html_()``  a compact HTML table with units (Jupyter), built from data already held: it computes nothing
+                   expensive (no solver, no Monte Carlo)
+``__repr__()``     at most three lines: what it is, its size, its headline numbers
+
+A record changes what they show through hooks (:meth:`Record._repr_lines`, :meth:`Record._html_rows`, ...); the
+four methods themselves are defined here only.  Ground layer: no designer import, no solver, no matplotlib; every
+text in the HTML is escaped.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from html import escape
-from typing import Any
+from typing import Any, ClassVar
+
+import numpy as np
 
 STYLE = (
     "border-collapse:collapse;font-size:12px;font-family:sans-serif;margin:2px 0",
@@ -188,4 +202,163 @@ def dataframe(what: str, records: list[dict[str, Any]], columns: list[str], unit
     return df
 
 
-__all__ = ["dataframe", "html_table", "require_pandas", "svg_curve", "svg_sparkline"]
+# --------------------------------------------------------------------------- the result protocol
+
+MAX_REPR_LINES = 3
+"""A record's ``repr`` has at most this many lines (the full account is ``str()``, ``to_dict()`` or the HTML)."""
+
+REPR_WIDTH = 118
+"""Width at which the default ``repr`` wraps its fields."""
+
+
+def plain(value: Any) -> Any:
+    """``value`` as plain data: a record's :meth:`Record.to_dict`, other dataclasses field by field (fields hidden
+    from their repr left out), mappings with string keys, sequences as lists, NumPy as Python; other objects
+    with a ``to_dict`` through it, anything else as its ``str``.  Non-finite floats stay (``jsonsafe.finite``
+    turns them into None)."""
+    if isinstance(value, Record):
+        return value.to_dict()
+    if value is None or isinstance(value, (str, bool, int, float)):
+        return value
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return plain(value.tolist())
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {f.name: plain(getattr(value, f.name)) for f in dataclasses.fields(value) if f.repr}
+    if isinstance(value, Mapping):
+        return {str(k): plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple, set, frozenset)):
+        return [plain(v) for v in value]
+    to_dict = getattr(value, "to_dict", None)
+    if callable(to_dict):
+        return plain(to_dict())
+    return str(value)
+
+
+def flatten(data: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
+    """Nested dicts as one level with dotted keys (``{"design": {"trail": 0.05}}`` -> ``{"design.trail": 0.05}``);
+    lists stay as values."""
+    out: dict[str, Any] = {}
+    for key, value in data.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, Mapping) and value:
+            out.update(flatten(value, name + "."))
+        else:
+            out[name] = value
+    return out
+
+
+def shown(value: Any) -> str:
+    """A value as a short text: numbers to 4 significant digits, long lists by their length."""
+    if isinstance(value, bool) or value is None:
+        return str(value)
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    if isinstance(value, (list, tuple)):
+        return f"[{len(value)} values]" if len(value) > 4 else "[" + ", ".join(shown(v) for v in value) + "]"
+    return str(value)
+
+
+class Record:
+    """The result protocol (module text): ``to_dict``, ``to_pandas``, ``_repr_html_`` and ``__repr__``.
+
+    A record is a dataclass deriving from this class and built by keyword.  The defaults work from its fields
+    (those shown in the dataclass repr; back references such as the problem are declared ``repr=False``):
+
+    - :meth:`to_dict` gives every such field as plain data (:func:`plain`);
+    - :meth:`to_pandas` one row of the flattened :meth:`to_dict`, units from :attr:`_units`;
+    - :meth:`_repr_html_` a table of :meth:`_html_rows` under :meth:`_html_title`;
+    - ``repr`` the :meth:`_repr_lines` (the class name and its short fields), at most :data:`MAX_REPR_LINES`.
+
+    A record overrides :meth:`to_dict` or :meth:`to_pandas` when it has a better shape (documented where it
+    round-trips: ``from_pandas``), and the hooks ``_repr_lines``, ``_html_title``, ``_html_rows``,
+    ``_html_caption``, ``_html_extra`` to change what the reprs show; it never defines ``__repr__`` or
+    ``_repr_html_`` itself (a TypeError at class creation), so the protocol is spelled once.  No hook may run a
+    solver or a Monte Carlo.
+    """
+
+    _units: ClassVar[Mapping[str, str]] = {}
+    """SI unit of each field (dotted names of the flattened ``to_dict``), shown beside values and in pandas attrs."""
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        for name in ("__repr__", "_repr_html_"):
+            if name in cls.__dict__ and cls.__dict__[name] is not getattr(Record, name):
+                raise TypeError(
+                    f"{cls.__name__} defines {name}: a Record shows itself through the _repr_lines and _html_* hooks"
+                )
+        # @dataclass writes its own __repr__ unless the class body has one: this one is the protocol's
+        cls.__repr__ = Record.__repr__  # type: ignore[method-assign]
+
+    # ----------------------------------------------------------------- data
+    def _fields(self) -> list[str]:
+        """The fields of the record's data: the dataclass fields shown in its repr."""
+        return [f.name for f in dataclasses.fields(self) if f.repr] if dataclasses.is_dataclass(self) else []  # type: ignore[arg-type]
+
+    def to_dict(self) -> dict[str, Any]:
+        """The record as plain data, field by field (:func:`plain`); JSON after :func:`designer.jsonsafe.finite`."""
+        return {name: plain(getattr(self, name)) for name in self._fields()}
+
+    def to_pandas(self) -> Any:
+        """One row: the flattened :meth:`to_dict` (dotted column names), units in ``df.attrs["units"]``."""
+        row = flatten(self.to_dict())
+        units = {k: u for k, u in self._units.items() if k in row}
+        return dataframe(f"{type(self).__name__}.to_pandas", [row], list(row), units, record=type(self).__name__)
+
+    # ----------------------------------------------------------------- reprs
+    def __repr__(self) -> str:
+        lines = self._repr_lines()
+        if len(lines) > MAX_REPR_LINES:
+            lines = lines[: MAX_REPR_LINES - 1] + [lines[MAX_REPR_LINES - 1].rstrip() + " …"]
+        return "\n".join(lines)
+
+    def _repr_html_(self) -> str:
+        return html_table(self._html_title(), self._html_rows(), caption=self._html_caption(), extra=self._html_extra())
+
+    def _scalars(self) -> list[tuple[str, Any]]:
+        """The flattened :meth:`to_dict` items that are numbers, strings, booleans or None."""
+        return [
+            (k, v) for k, v in flatten(self.to_dict()).items() if v is None or isinstance(v, (str, int, float, bool))
+        ]
+
+    def _repr_lines(self) -> list[str]:
+        """The repr's lines: ``Class(field=value, ...)`` of the short fields, wrapped at :data:`REPR_WIDTH`."""
+        parts = [f"{k}={shown(v)}" for k, v in self._scalars()]
+        lines, line = [], f"{type(self).__name__}("
+        for i, part in enumerate(parts):
+            piece = part + (", " if i < len(parts) - 1 else "")
+            if len(line) + len(piece) > REPR_WIDTH and line.strip():
+                lines.append(line.rstrip())
+                line = "  "
+            line += piece
+        lines.append(line + ")")
+        return lines
+
+    def _html_title(self) -> str:
+        return type(self).__name__
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        """(label, value, unit) rows of the HTML table: the short fields with their units."""
+        return [(k, shown(v), self._units.get(k, "")) for k, v in self._scalars()]
+
+    def _html_caption(self) -> str:
+        return ""
+
+    def _html_extra(self) -> str:
+        """HTML placed beside the table (e.g. an SVG curve built by :func:`svg_curve`), or ""."""
+        return ""
+
+
+__all__ = [
+    "MAX_REPR_LINES",
+    "Record",
+    "dataframe",
+    "flatten",
+    "html_table",
+    "plain",
+    "require_pandas",
+    "shown",
+    "svg_curve",
+    "svg_sparkline",
+]

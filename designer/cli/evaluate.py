@@ -137,7 +137,7 @@ def run(args) -> int:
 def _results(design, conditions, values: dict, speed: float | None, knock_safe: bool) -> dict:
     """The numbers of ``--json`` (SI units); the knock-safe speeds are simulated only when asked for."""
     out = {
-        "design": design.as_dict(),
+        "design": design.to_dict(),
         "critical_speed": values["critical_speed"],
         "inertia": values["inertia"],
         "threshold_force_ratio": values["threshold_force_ratio"],

@@ -131,7 +131,7 @@ def _run_limit_cycles(args) -> int:
         args.speed = "1 m/s"  # not used by these analyses
     design, conditions, _speed, angle, _omega0, _duration = parse(args)
     tyre = _tyre(args)
-    out: dict = {"design": design.as_dict(), "angle": angle}
+    out: dict = {"design": design.to_dict(), "angle": angle}
     if args.knock_safe:
         out.update(_knock_safe(design, conditions, angle, tyre if args.tyre else None))
     if args.bifurcation:
@@ -343,7 +343,7 @@ def run(args) -> int:
         warnings.simplefilter("always")
         result = simulate(design, conditions, speed, angle=angle, angular_velocity=omega0, duration=duration)
         onset = onset_speed(design, conditions, angle=angle, angular_velocity=omega0) if args.find_onset else None
-    out = {"design": design.as_dict(), **result.as_dict()}
+    out = {"design": design.to_dict(), **result.as_dict()}
     if onset is not None:
         out["onset_speed"] = onset.speed
         out["onset_bracket"] = [onset.low, onset.high]

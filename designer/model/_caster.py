@@ -21,7 +21,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
 from designer import parameters
 from designer.data.paper import INCH
 from designer.errors import InputError
-from designer.reprs import html_table
+from designer.reprs import Record
 from designer.physics.types import Scalar
 from designer.physics.geometry import swept_radius
 from designer.physics.inertia import InertiaModel, PowerLaw
@@ -87,7 +87,7 @@ def check_design(
 
 
 @dataclass(frozen=True)
-class Design:
+class Design(Record):
     """One caster design x = (T, d, B, c_f) in SI units (strings with units are accepted and converted).
 
     Attributes
@@ -102,6 +102,8 @@ class Design:
     diameter: float
     groove: float
     damping: float
+
+    _units = VARIABLE_UNITS
 
     def __post_init__(self) -> None:
         # Units at the edge: strings such as "2 in" or "1.3 N*m/rad" are converted to SI here.
@@ -138,21 +140,25 @@ class Design:
         """Build from a sequence in :data:`VARIABLES` order."""
         return cls(*(float(v) for v in np.asarray(x, dtype=float).ravel()[:4]))
 
-    def as_dict(self) -> dict[str, float]:
+    def to_dict(self) -> dict[str, float]:
         """``{name: value}`` in SI units."""
         return {name: float(getattr(self, name)) for name in VARIABLES}
 
-    def __repr__(self) -> str:
+    def _repr_lines(self) -> list[str]:
         """Two lines: the SI constructor call and the sizes in inches (the industry's unit)."""
-        return (
+        return [
             f"Design(trail={self.trail:.6g}, diameter={self.diameter:.6g}, groove={self.groove:.6g}, "
-            f"damping={self.damping:.6g})\n  T {self.trail / INCH:.3f} in, d {self.diameter / INCH:.3f} in, "
-            f"B {self.groove / INCH:.3f} in, c_f {self.damping:.4g} N·m/rad"
-        )
+            f"damping={self.damping:.6g})",
+            f"  T {self.trail / INCH:.3f} in, d {self.diameter / INCH:.3f} in, "
+            f"B {self.groove / INCH:.3f} in, c_f {self.damping:.4g} N·m/rad",
+        ]
 
-    def _repr_html_(self) -> str:
-        """A compact HTML table: T, d, B in inches and mm, c_f [N·m/rad] and the swept radius (notebooks)."""
-        rows = [
+    def _html_title(self) -> str:
+        return "Caster design"
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        """T, d, B in inches and mm, c_f [N·m/rad] and the swept radius (notebooks)."""
+        rows: list[tuple[Any, Any, Any]] = [
             (f"{label} {sym}", f"{getattr(self, name) / INCH:.3f} ({getattr(self, name) * 1000:.2f} mm)", "in")
             for label, sym, name in (("trail", "T", "trail"), ("diameter", "d", "diameter"), ("groove", "B", "groove"))
         ]
@@ -161,7 +167,7 @@ class Design:
             ("spindle damping c_f", f"{self.damping:.4g}", "N·m/rad"),
             ("swept radius T + d/2", f"{rs / INCH:.3f} ({rs * 1000:.2f} mm)", "in"),
         ]
-        return html_table("Caster design", rows)
+        return rows
 
     def describe(self) -> str:
         """One line in inches (the industry's unit) and SI."""

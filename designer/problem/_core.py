@@ -18,7 +18,7 @@ from typing import Any, Callable, Iterable, NoReturn
 from designer.data.paper import INCH, TABLE1
 from designer import parameters
 from designer.errors import ProblemError
-from designer.reprs import html_table
+from designer.reprs import Record
 from designer.model import FAMILIES, MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions, Design
 from designer.physics.inertia import Catalog
 from designer.physics.turning import MODES, SURFACES
@@ -220,7 +220,7 @@ class Stock:
 
 
 @dataclass(frozen=True)
-class Problem:
+class Problem(Record):
     """A validated caster design problem (immutable).
 
     Attributes
@@ -334,20 +334,26 @@ class Problem:
                 )
         return out
 
-    def __repr__(self) -> str:
+    def _repr_lines(self) -> list[str]:
         """One line: name, required speed, load, sill, risk bound (the full record: :meth:`to_dict`)."""
         c, u = self.conditions, self.conditions.uncertainty
         risk = f"risk α = {u.probability:.3g}" if u is not None else "nominal V_c"
-        return (
+        return [
             f"Problem({self.name!r}: V_target {self.target_speed:.3g} m/s, required {self.required_speed:.3g} m/s, "
             f"load {c.load:.4g} N, sill {c.threshold_height * 1000:.3g} mm, {c.surface}, {risk}; "
             f"{'stock' if self.stock is not None else 'continuous'})"
-        )
+        ]
 
-    def _repr_html_(self) -> str:
-        """The problem as a compact HTML table with units (notebooks); no solver runs."""
+    def _html_title(self) -> str:
+        return f"Problem {self.name!r}"
+
+    def _html_caption(self) -> str:
+        return self.title
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        """The problem as a compact table with units (notebooks); no solver runs."""
         c, u = self.conditions, self.conditions.uncertainty
-        rows = [
+        rows: list[tuple[Any, Any, Any]] = [
             ("target speed V_target", f"{self.target_speed:.4g}", "m/s"),
             ("required speed (1 + margin) V_target", f"{self.required_speed:.4g}", "m/s"),
             ("load", f"{c.load:.4g}", "N"),
@@ -364,7 +370,7 @@ class Problem:
         if self.swept_radius_max is not None:
             rows.append(("swept radius max", f"{self.swept_radius_max * 1000:.4g}", "mm"))
         rows.append(("weights (w_turn, w_threshold)", f"{self.weights[0]:g}, {self.weights[1]:g}", ""))
-        return html_table(f"Problem {self.name!r}", rows, caption=self.title)
+        return rows
 
     def digest(self) -> str:
         """SHA-256 of the problem's canonical content (for report metadata)."""

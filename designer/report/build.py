@@ -102,7 +102,7 @@ def _rec_dict(rec) -> dict:
     if callable(to_dict):
         return to_dict()
     return {
-        "design": rec.design.as_dict(),
+        "design": rec.design.to_dict(),
         "turning_effort": rec.turning_effort,
         "threshold_force": rec.threshold_force,
         "critical_speed": rec.critical_speed,

@@ -94,7 +94,7 @@ def _resolved_front(front, bounds):
     """A copy of ``front`` whose points carry their numbers as resolved (front.csv is written from it); None: None."""
 
     def point(p):
-        design = Design(**{k: design_value(k, v, bounds) for k, v in p.design.as_dict().items()})
+        design = Design(**{k: design_value(k, v, bounds) for k, v in p.design.to_dict().items()})
         return dataclasses.replace(
             p,
             design=design,

@@ -39,6 +39,7 @@ import numpy as np
 
 from designer.model import Design, performance
 from designer.problem import Problem
+from designer.reprs import Record, dataframe
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -57,7 +58,7 @@ NO_CAPS = Caps()
 
 
 @dataclass(frozen=True, kw_only=True)
-class Optimum:
+class Optimum(Record):
     """The optimum one solver found for one problem (built by keyword).
 
     Attributes
@@ -94,9 +95,22 @@ class Optimum:
     build_seconds: float = 0.0
     result: Any = field(default=None, repr=False)
 
+    _units = {"objective": "N", "seconds": "s", "build_seconds": "s", "caps.threshold": "N", "caps.turning": "N"}
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the solver, its status, J and the design (inches)."""
+        head = f"Optimum({self.solver}, {self.status}"
+        if self.design is None:
+            return [head + ": no design)"]
+        wheel = f", wheel {self.wheel}" if self.wheel else ""
+        return [f"{head}{wheel}: J {self.objective:.6g} N at {self.design.describe()})"]
+
+    def _html_title(self) -> str:
+        return f"Optimum by {self.solver} ({self.status})"
+
 
 @dataclass(frozen=True, kw_only=True)
-class Designs:
+class Designs(Record):
     """The ε-constraint optima of one continuous problem (built by keyword): one row per ε.
 
     Attributes
@@ -124,8 +138,39 @@ class Designs:
     solves: int = 0
     results: tuple[Any, ...] = field(default=(), repr=False)
 
+    _units = {"epsilon": "N", "designs": "m, m, m, N·m/rad", "objectives": "N, N, m/s"}
+
     def __len__(self) -> int:
         return len(self.epsilon)
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the solver, how many ε-optima of how many rows were found, the ε range and the solves."""
+        eps = f", ε {float(np.min(self.epsilon)):.4g}–{float(np.max(self.epsilon)):.4g} N" if len(self) else ""
+        return [
+            f"Designs({self.solver}: {int(np.count_nonzero(self.success))} of {len(self)} ε-optima found{eps}, "
+            f"{self.solves} solves)"
+        ]
+
+    def to_pandas(self) -> Any:
+        """One row per ε: ``epsilon_N``, the design (``trail_m``, ``diameter_m``, ``groove_m``,
+        ``damping_N_m_per_rad``), ``turning_effort_N``, ``threshold_force_N``, ``critical_speed_m_s``, ``success``
+        and ``status``; units in ``df.attrs["units"]``."""
+        names = ["trail_m", "diameter_m", "groove_m", "damping_N_m_per_rad"]
+        values = ["turning_effort_N", "threshold_force_N", "critical_speed_m_s"]
+        rows = [
+            {
+                "epsilon_N": float(self.epsilon[i]),
+                **dict(zip(names, (float(v) for v in self.designs[i]))),
+                **dict(zip(values, (float(v) for v in self.objectives[i]))),
+                "success": bool(self.success[i]),
+                "status": self.status[i],
+            }
+            for i in range(len(self))
+        ]
+        columns = ["epsilon_N", *names, *values, "success", "status"]
+        units = {c: c.rsplit("_", 1)[-1] for c in columns[:-2]}
+        units.update(damping_N_m_per_rad="N·m/rad", critical_speed_m_s="m/s")
+        return dataframe("Designs.to_pandas", rows, columns, units, solver=self.solver)
 
     def design(self, i: int) -> Design:
         """Row ``i`` as a :class:`~designer.model.Design`."""

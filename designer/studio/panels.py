@@ -42,7 +42,7 @@ def recommendation_panel(fronts: view.Fronts):
             return notes
         return [
             html.H4("Weighted optimum on the front (no recommendation in this version)", style={"margin": 0}),
-            html.Div(_design_text(knee.design.as_dict()), id="rec-design"),
+            html.Div(_design_text(knee.design.to_dict()), id="rec-design"),
             html.Div(
                 [
                     "F_turn ",

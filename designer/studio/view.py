@@ -145,7 +145,7 @@ def front_points(front) -> list[dict]:
             continue
         out.append(
             {
-                "design": design.as_dict(),
+                "design": design.to_dict(),
                 "turning_effort": float(p.turning_effort),
                 "threshold_force": float(p.threshold_force),
                 "critical_speed": float(getattr(p, "critical_speed", float("nan"))),
@@ -173,7 +173,7 @@ def recommendation_record(rec) -> dict | None:
         "rule",
     )
     out = {k: getattr(rec, k, None) for k in keys}
-    out["design"] = rec.design.as_dict()
+    out["design"] = rec.design.to_dict()
     inertia = getattr(rec, "inertia", None)
     out["inertia"] = float(inertia) if inertia is not None and math.isfinite(float(inertia)) else None
     out["alternatives"] = []
@@ -181,7 +181,7 @@ def recommendation_record(rec) -> dict | None:
         out["alternatives"].append(
             {
                 "label": getattr(alt, "role", None) or getattr(alt, "rule", ""),
-                "design": alt.design.as_dict(),
+                "design": alt.design.to_dict(),
                 "turning_effort": alt.turning_effort,
                 "threshold_force": alt.threshold_force,
             }
@@ -208,7 +208,7 @@ def design_numbers(problem, design: Design) -> dict:
         for k in ("turning_effort", "threshold_force", "critical_speed", "swept_radius", "inertia", "shimmy_frequency")
         if k in values
     }
-    out["design"] = design.as_dict()
+    out["design"] = design.to_dict()
     out["target_speed"] = problem.target_speed
     out["swept_radius_max"] = problem.swept_radius_max
     risk = problem.risk
@@ -352,7 +352,7 @@ def my_caster(problem, design: Design) -> dict:
                 row[attr] = float(value)
         design_ = getattr(item, "design", None)
         if design_ is not None:
-            row["design"] = design_.as_dict()
+            row["design"] = design_.to_dict()
         rows.append(row)
     out["fixes"] = rows
     return out

@@ -50,7 +50,7 @@ def _record(problem, design, f, p, role="recommended", prob=0.031, se=0.0008, al
         alpha=alpha,
         mc_samples=50_000,
         mc_seed=20111,
-        to_dict=lambda: {"design": design.as_dict(), "turning_effort": f, "threshold_force": p, "role": role},
+        to_dict=lambda: {"design": design.to_dict(), "turning_effort": f, "threshold_force": p, "role": role},
     )
 
 

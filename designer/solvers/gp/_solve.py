@@ -81,6 +81,7 @@ from designer.physics.threshold import (
 )
 from designer.problem import Problem
 from designer.errors import InfeasibleError
+from designer.reprs import Record
 from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, evaluated, no_optimum, weights_of
 from designer.solvers.nlp import BIG, CasterNLP
 from designer.solvers.gp._family import BACKOFF, FLOOR, MAX_ITERATIONS, SOLVER_OPTIONS, STEP_TOLERANCE, _Family
@@ -113,8 +114,8 @@ __all__ = [
 # --------------------------------------------------------------------------- result
 
 
-@dataclass
-class GPResult:
+@dataclass(kw_only=True)
+class GPResult(Record):
     """The GP / sequential-GP optimum of a problem.
 
     Attributes
@@ -159,6 +160,16 @@ class GPResult:
     order: int = 0
     seconds: float = 0.0
     solves: int = 0
+
+    _units = {"objective": "N", "gp_objective": "N", "seconds": "s"}
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the family, status, J and the design (inches)."""
+        wheel = f", wheel {self.wheel}" if self.wheel else ""
+        return [
+            f"GPResult({self.family}{wheel}, {self.status}{', exact' if self.exact else ''}: J {self.objective:.6g} N, "
+            f"{self.design.describe()})"
+        ]
 
     def as_start(self) -> np.ndarray:
         """The design as an SI array in VARIABLES order (an NLP start)."""

@@ -32,6 +32,7 @@ from designer.errors import check_interrupt
 from designer.model import VARIABLES, Design, performance
 from designer.physics import enable_casadi
 from designer.problem import Problem
+from designer.reprs import Record
 import warnings
 
 enable_casadi()  # NumPy mode: the physics functions build CasADi symbols here
@@ -95,8 +96,8 @@ PARAMETER_INFO = {p.name: (p.symbol, p.shown_unit, p.description) for p in param
 """Fixed parameters whose sensitivity d log J / d log p is reported (from :mod:`designer.parameters`)."""
 
 
-@dataclass
-class NLPResult:
+@dataclass(kw_only=True)
+class NLPResult(Record):
     """One IPOPT solve.
 
     Attributes
@@ -119,6 +120,15 @@ class NLPResult:
     iterations: int
     seconds: float
     z: np.ndarray = field(repr=False, default=None)
+
+    _units = {"objective": "N", "seconds": "s"}
+
+    def _repr_lines(self) -> list[str]:
+        """One line: status, J, iterations and the design (inches)."""
+        return [
+            f"NLPResult({self.status}{'' if self.success else ', failed'}: J {self.objective:.6g} N, "
+            f"{self.iterations} iterations, {self.design.describe()})"
+        ]
 
 
 class CasterNLP:
@@ -268,15 +278,15 @@ class CasterNLP:
         w = np.asarray(weights, float)
         objective = self.weighted(design, w)
         return NLPResult(
-            design,
-            success,
-            str(stats.get("return_status")),
-            objective,
-            np.asarray(sol["lam_g"]).ravel(),
-            np.asarray(sol["lam_x"]).ravel(),
-            int(stats.get("iter_count", -1)),
-            seconds,
-            z,
+            design=design,
+            success=success,
+            status=str(stats.get("return_status")),
+            objective=objective,
+            lam_g=np.asarray(sol["lam_g"]).ravel(),
+            lam_x=np.asarray(sol["lam_x"]).ravel(),
+            iterations=int(stats.get("iter_count", -1)),
+            seconds=seconds,
+            z=z,
         )
 
     BATCH_SIZES = (4, 16, 64)
@@ -422,15 +432,15 @@ class CasterNLP:
         status, iterations = str(stats.get("return_status")), int(stats.get("iter_count", -1))
         return [
             NLPResult(
-                Design.from_array(zs[j] * self.scale),
-                viol[j] <= 1e-6 and bool(np.all(np.isfinite(zs[j]))),
-                status,
-                float(w[j, 0] * values[0, j] + w[j, 1] * values[1, j]),
-                lg[j].copy(),
-                lx[j].copy(),
-                iterations,
-                seconds / len(x),
-                zs[j].copy(),
+                design=Design.from_array(zs[j] * self.scale),
+                success=viol[j] <= 1e-6 and bool(np.all(np.isfinite(zs[j]))),
+                status=status,
+                objective=float(w[j, 0] * values[0, j] + w[j, 1] * values[1, j]),
+                lam_g=lg[j].copy(),
+                lam_x=lx[j].copy(),
+                iterations=iterations,
+                seconds=seconds / len(x),
+                z=zs[j].copy(),
             )
             for j in range(len(x))
         ]

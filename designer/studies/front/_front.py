@@ -60,7 +60,7 @@ class FrontPoint:
 
     def row(self) -> dict:
         """Flat dict for CSV/JSON (SI units)."""
-        out = self.design.as_dict()
+        out = self.design.to_dict()
         out.update(
             turning_effort=self.turning_effort,
             threshold_force=self.threshold_force,

@@ -75,7 +75,7 @@ class Solution:
         """JSON-ready dict with the keys of ``designer run --json``."""
         return {
             "problem": self.problem.name,
-            "design": self.design.as_dict(),
+            "design": self.design.to_dict(),
             "objectives": dict(self.objectives),
             "weights": [float(w) for w in self.weights],
             "critical_speed": self.critical_speed,
@@ -389,7 +389,7 @@ def diagnose_infeasible(problem: Problem) -> Exception:
             f"target speed {problem.required_speed:.3g} m/s (shimmy.target_speed × (1 + margin)) is out of reach: "
             f"the highest critical speed inside the bounds is {v:.3f} m/s{wheel} at {design.describe()}; "
             f"relax {relax} or lower shimmy.target_speed",
-            best={"critical_speed": v, "design": design.as_dict(), "active": active},
+            best={"critical_speed": v, "design": design.to_dict(), "active": active},
         )
     return SolverError(
         f"IPOPT found no optimum of {problem.name!r} from any start although V_c up to {v:.3f} m/s is reachable; "

@@ -76,7 +76,7 @@ class Recommendation:
     def to_dict(self, alternatives: bool = False) -> dict:
         """The JSON record of ``designer run --json`` (SI)."""
         out = {
-            "design": self.design.as_dict(),
+            "design": self.design.to_dict(),
             "turning_effort": self.turning_effort,
             "threshold_force": self.threshold_force,
             "critical_speed": self.critical_speed,

@@ -101,7 +101,7 @@ class CasterState:
     def as_dict(self) -> dict:
         """JSON-ready record, SI units."""
         out = {
-            "design": self.design.as_dict(),
+            "design": self.design.to_dict(),
             "inertia": self.inertia,
             "effective_trail": self.effective_trail,
             "objectives": {"turning_effort": self.turning_effort, "threshold_force": self.threshold_force},

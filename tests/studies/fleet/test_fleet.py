@@ -255,7 +255,7 @@ def test_vectorised_recommendation_equals_designer_recommend(stocked, fleet1000)
         r = recommend(sub.problem(stocked, k))
         j = ch["choice"][k]
         assert j >= 0
-        assert stock.design(j) == pytest.approx(r.design.as_dict(), rel=1e-12)
+        assert stock.design(j) == pytest.approx(r.design.to_dict(), rel=1e-12)
         assert ch["turning_effort"][k] == pytest.approx(r.turning_effort, rel=1e-12)
         assert ch["threshold_force"][k] == pytest.approx(r.threshold_force, rel=1e-12)
         assert (ch["shimmy_probability"][k], ch["shimmy_probability_se"][k]) == (
@@ -263,10 +263,10 @@ def test_vectorised_recommendation_equals_designer_recommend(stocked, fleet1000)
             r.shimmy_probability_se,
         )
         assert ch["front_size"][k] == len(r.buildable)
-        ends = {a.role: a.design.as_dict() for a in r.alternatives}
+        ends = {a.role: a.design.to_dict() for a in r.alternatives}
         for role, key in (("easiest to turn", "easiest_turn"), ("easiest over the sill", "easiest_sill")):
             # recommend() leaves out an alternative that repeats the recommendation
-            want = ends.get(role, r.design.as_dict())
+            want = ends.get(role, r.design.to_dict())
             assert stock.design(ch[key][k]) == pytest.approx(want, rel=1e-12), role
     assert len(set(ch["choice"].tolist())) >= 2  # the 20 chairs do not all get one caster
 

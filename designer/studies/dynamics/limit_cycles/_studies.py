@@ -94,7 +94,7 @@ def bifurcation_diagram(
     every = unstable_part + stable_all
     fold = min((o.speed for o in every), default=math.nan) if stable_orbits or fold_part else math.nan
     return {
-        "design": design.as_dict(),
+        "design": design.to_dict(),
         "model": "rolling" if tyre is None else "brush tyre",
         "tyre": None if tyre is None else _tyre_dict(tyre),
         "inertia": inertia,

@@ -1,0 +1,196 @@
+"""The result protocol (designer.reprs.Record): every result record of the package passes one shared test.
+
+For each record: ``to_dict()`` is JSON (``json.dumps(finite(...), allow_nan=False)``), ``to_pandas()`` gives a
+DataFrame (and round-trips where the record documents ``from_pandas``), ``_repr_html_()`` and ``repr`` run with
+every solver and Monte Carlo patched to raise (they only show data already held), the repr fits three lines, and
+the record is built by keyword everywhere in the package (no call with more than three positional arguments).
+How long ``_repr_html_`` takes is measured in benchmarks/notebook_reprs.py, not asserted here.
+"""
+
+from __future__ import annotations
+
+import ast
+import importlib
+import json
+import pkgutil
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from designer.jsonsafe import finite
+from designer.problem import load_problem
+from designer.reprs import MAX_REPR_LINES, Record
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "designer"
+INDOOR = ROOT / "problems" / "indoor-manual.toml"
+
+EXPENSIVE = [
+    ("designer.solvers.nlp._casadi", "CasterNLP.__init__"),
+    ("designer.solvers.nlp._casadi", "CasterNLP.solve"),
+    ("designer.solvers.nlp._casadi", "CasterNLP.solve_many"),
+    ("designer.solvers.nlp._casadi", "max_critical_speed"),
+    ("designer.solvers.gp._solve", "solve_gp"),
+    ("designer.solvers.slsqp", "minimize"),
+    ("designer.solvers.closed_form", "designs_at_diameter"),
+    ("designer.studies.front._pareto", "_pareto_front"),
+    ("designer.model._candidates", "shimmy_probability"),
+    ("designer.physics.uncertainty", "shimmy_probability_mc"),
+    ("designer.physics.uncertainty", "shimmy_probability_mc_many"),
+]
+"""Every solver and Monte Carlo entry point: patched to raise while the reprs and attributes are read."""
+
+
+def _forbid(monkeypatch) -> None:
+    for module, name in EXPENSIVE:
+        owner = importlib.import_module(module)
+        *path, attr = name.split(".")
+        for part in path:
+            owner = getattr(owner, part)
+
+        def refuse(*args, _name=f"{module}.{name}", **kwargs):
+            raise AssertionError(f"{_name} ran while a record was only read")
+
+        monkeypatch.setattr(owner, attr, refuse)
+
+
+@pytest.fixture()
+def no_solvers(monkeypatch):
+    """Every solver and Monte Carlo raises (EXPENSIVE) for the duration of the test."""
+    _forbid(monkeypatch)
+
+
+def _quiet(build):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        return build()
+
+
+def _examples() -> dict[str, Record]:
+    """One instance of every record class, built by the package's own functions on the indoor-manual problem."""
+    from designer.solvers import Caps, front_solver, solver
+
+    problem = load_problem(INDOOR)
+    nlp = _quiet(lambda: solver("casadi-ipopt").optimum(problem))
+    gp = _quiet(lambda: solver("cvxpy-gp").optimum(problem.nominal()))
+    fronts = front_solver(problem)
+    ends = fronts.ends_designs(problem, fronts.front_ends(problem))
+    eps = np.linspace(*ends.epsilon, 5)
+    out: dict[str, Record] = {
+        "Design": problem.lower(),
+        "Problem": problem,
+        "Optimum": nlp,
+        "Optimum (none)": _quiet(lambda: solver("scipy-slsqp").optimum(problem, caps=Caps(threshold=1.0))),
+        "Designs": _quiet(lambda: solver("closed-form").front_designs(problem, eps)),
+        "NLPResult": nlp.result,
+        "GPResult": gp.result,
+    }
+    return out
+
+
+@pytest.fixture(scope="module")
+def examples() -> dict[str, Record]:
+    return _examples()
+
+
+def _record_classes() -> set[type]:
+    """Every subclass of Record defined in the package (all its modules imported)."""
+    for info in pkgutil.walk_packages([str(PACKAGE)], "designer."):
+        if info.name.startswith(("designer.studio", "designer.cli", "designer.__main__")):
+            continue
+        importlib.import_module(info.name)
+    found, todo = set(), [Record]
+    while todo:
+        for sub in todo.pop().__subclasses__():
+            if sub.__module__.startswith("designer.") and sub not in found:
+                found.add(sub)
+                todo.append(sub)
+    return found
+
+
+NAMES = [
+    "Design",
+    "Problem",
+    "Optimum",
+    "Optimum (none)",
+    "Designs",
+    "NLPResult",
+    "GPResult",
+]
+
+
+def test_every_record_class_has_an_example(examples):
+    """The shared test covers every Record of the package: each class has an instance among the examples."""
+    assert set(examples) == set(NAMES)
+    covered = {type(r) for r in examples.values()}
+    assert _record_classes() - covered == set()
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_to_dict_is_json(examples, name):
+    """to_dict() is plain data that json.dumps takes with allow_nan=False once designer.jsonsafe.finite has run."""
+    data = examples[name].to_dict()
+    assert isinstance(data, dict) and data
+    text = json.dumps(finite(data), allow_nan=False)
+    assert json.loads(text) == finite(data)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_to_pandas_gives_a_frame(examples, name):
+    """to_pandas() gives a DataFrame with rows; where the class documents from_pandas, the frame round-trips."""
+    pd = pytest.importorskip("pandas")
+    record = examples[name]
+    df = record.to_pandas()
+    assert isinstance(df, pd.DataFrame) and len(df) >= 1 and len(df.columns) >= 1
+    if hasattr(type(record), "from_pandas"):
+        back = type(record).from_pandas(df, **_from_pandas_arguments(record))
+        np.testing.assert_equal(finite(back.to_dict()), finite(record.to_dict()))
+
+
+def _from_pandas_arguments(record) -> dict:
+    return {"problem": record.problem} if hasattr(record, "problem") else {}
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_reprs_show_without_computing(examples, name, no_solvers):
+    """repr and _repr_html_ are the protocol's (Record's, through hooks), run with every solver and Monte Carlo
+    raising, give a repr of at most three non-empty lines and HTML with a table."""
+    record = examples[name]
+    assert type(record).__repr__ is Record.__repr__ and type(record)._repr_html_ is Record._repr_html_
+    text = repr(record)
+    lines = text.splitlines()
+    assert 1 <= len(lines) <= MAX_REPR_LINES and all(line.strip() for line in lines)
+    html = record._repr_html_()
+    assert html.startswith("<div") and "<table" in html
+
+
+POSITIONAL = {"Design": "the design vector x = (T, d, B, c_f) in VARIABLES order, written like a point"}
+"""Records that may be built by position, and why."""
+
+
+def test_records_are_built_by_keyword():
+    """No call in the package builds a record with more than three positional arguments (records with many
+    fields are built by keyword): an AST scan of every module (the design vector excepted: POSITIONAL)."""
+    names = {cls.__name__ for cls in _record_classes()} - set(POSITIONAL)
+    offending = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Call) and len(node.args) > 3:
+                func = node.func
+                called = func.id if isinstance(func, ast.Name) else func.attr if isinstance(func, ast.Attribute) else ""
+                if called in names:
+                    offending.append(f"{path.relative_to(ROOT)}:{node.lineno} {called}(<{len(node.args)} positional>)")
+    assert offending == []
+
+
+def test_a_record_cannot_spell_its_own_repr():
+    """The protocol is spelled once: a Record subclass that defines __repr__ or _repr_html_ is refused when the
+    class is made, naming the hooks to use instead."""
+    with pytest.raises(TypeError, match="Bad defines __repr__: a Record shows itself through the _repr_lines"):
+
+        class Bad(Record):
+            def __repr__(self) -> str:
+                return "bad"
