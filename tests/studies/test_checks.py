@@ -140,14 +140,14 @@ def _point(problem, x, f=None, margins=None):
     design = Design.from_array(np.asarray(x, float))
     fv = float(values["turning_effort"][0]) if f is None else f
     return FrontPoint(
-        design,
-        fv,
-        float(values["threshold_force"][0]),
-        float(values["critical_speed"][0]),
-        margins if margins is not None else {"shimmy": 0.0},
-        0.0,
-        "Solve_Succeeded",
-        True,
+        design=design,
+        turning_effort=fv,
+        threshold_force=float(values["threshold_force"][0]),
+        critical_speed=float(values["critical_speed"][0]),
+        margins=margins if margins is not None else {"shimmy": 0.0},
+        epsilon=0.0,
+        status="Solve_Succeeded",
+        success=True,
         family=family_of(problem, design),
     )
 
@@ -368,14 +368,14 @@ def _pt(d_in, p, f, groove=0.0, damping=1.3, v=2.5, margins=None):
     from designer.model import Design
 
     return FrontPoint(
-        Design(2 * INCH, d_in * INCH, groove * INCH, damping),
-        f,
-        p,
-        v,
-        {"shimmy": 0.0} if margins is None else margins,
-        p,
-        "Solve_Succeeded",
-        True,
+        design=Design(2 * INCH, d_in * INCH, groove * INCH, damping),
+        turning_effort=f,
+        threshold_force=p,
+        critical_speed=v,
+        margins={"shimmy": 0.0} if margins is None else margins,
+        epsilon=p,
+        status="Solve_Succeeded",
+        success=True,
     )
 
 
@@ -625,7 +625,17 @@ def test_dominated_by_problem_compares_each_catalog_wheel_with_its_own_variant(i
 
     def q(key, factor):
         design, f, p, v = opt[key]
-        return FrontPoint(design, f * factor, p, v, {"shimmy": 0.0}, p, "Solve_Succeeded", True, wheel=key)
+        return FrontPoint(
+            design=design,
+            turning_effort=f * factor,
+            threshold_force=p,
+            critical_speed=v,
+            margins={"shimmy": 0.0},
+            epsilon=p,
+            status="Solve_Succeeded",
+            success=True,
+            wheel=key,
+        )
 
     tighter = _front(catalog, [q("C", 1.001), q("D", 1.001), q("D", 0.999), q("D", 0.998)])
     assert ck.dominated_by_problem(catalog, tighter) == (2, 4)

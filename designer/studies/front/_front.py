@@ -21,14 +21,14 @@ from designer.errors import InputError
 from designer.model import VARIABLES, Design
 from designer.problem import example_names, example_problem
 from designer.problem import Problem, family_of, load_problem
-from designer.reprs import html_table, svg_curve
+from designer.reprs import Record, svg_curve
 
 REFERENCE_OFFSET = 0.1
 """Hypervolume reference point: 10 % beyond the nadir in normalised objectives, i.e. (1.1, 1.1)."""
 
 
-@dataclass
-class FrontPoint:
+@dataclass(kw_only=True)
+class FrontPoint(Record):
     """One point of the front.
 
     Attributes
@@ -54,12 +54,36 @@ class FrontPoint:
     epsilon: float
     status: str
     success: bool
-    multipliers: dict = field(default_factory=dict)
+    multipliers: dict[str, float] = field(default_factory=dict)
     family: str = ""
     wheel: str | None = None
 
+    _units = {
+        "design.trail": "m",
+        "design.diameter": "m",
+        "design.groove": "m",
+        "design.damping": "N·m/rad",
+        "turning_effort": "N",
+        "threshold_force": "N",
+        "critical_speed": "m/s",
+        "epsilon": "N",
+    }
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the objectives, V_c, the family and the design (inches)."""
+        wheel = f", wheel {self.wheel}" if self.wheel else ""
+        failed = "" if self.success else f", failed ({self.status})"
+        return [
+            f"FrontPoint(F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, "
+            f"V_c {self.critical_speed:.4g} m/s, {self.family or 'no family'}{wheel}{failed}: {self.design.describe()})"
+        ]
+
+    def _html_title(self) -> str:
+        return "Front point"
+
     def row(self) -> dict:
-        """Flat dict for CSV/JSON (SI units)."""
+        """The point as one flat row of ``front.csv`` and ``front.json`` (SI units; the margins are in
+        :meth:`to_dict`, not here)."""
         out = self.design.to_dict()
         out.update(
             turning_effort=self.turning_effort,
@@ -81,7 +105,7 @@ _UNIT_SUFFIX = {"trail": "m", "diameter": "m", "groove": "m", "damping": "N_m_pe
 
 
 @dataclass
-class Front:
+class Front(Record):
     """An exact Pareto front (valid points sorted by decreasing threshold force).
 
     Iterating yields the valid points, from the cheapest-to-turn design to the
@@ -89,8 +113,8 @@ class Front:
     """
 
     problem: Problem
-    points: list
-    failed: list = field(default_factory=list)
+    points: list[FrontPoint]
+    failed: list[FrontPoint] = field(default_factory=list)
     meta: dict = field(default_factory=dict)
 
     def __iter__(self):
@@ -196,29 +220,31 @@ class Front:
             "dominated_fraction": float(np.mean(dominated)) if dominated else float("nan"),
         }
 
-    def __repr__(self) -> str:
+    def _repr_lines(self) -> list[str]:
         """One line: problem, number of points, objective ranges and the knee (no solver runs)."""
         name = getattr(self.problem, "name", "?")
         if not self.points:
-            return f"Front({name!r}: empty, {len(self.failed)} failed)"
+            return [f"Front({name!r}: empty, {len(self.failed)} failed)"]
         (f0, p0), (f1, p1) = self.ideal_nadir()
         k = self.knee()
-        return (
+        return [
             f"Front({name!r}: {len(self.points)} points, F_turn {f0:.3g}–{f1:.3g} N, P {p0:.3g}–{p1:.3g} N, "
             f"knee F_turn {k.turning_effort:.3g} N / P {k.threshold_force:.3g} N, "
             f"hypervolume {self.hypervolume():.3f})"
-        )
+        ]
 
-    def _repr_html_(self) -> str:
-        """A compact HTML table with units and an inline SVG of the curve F_turn(P) (notebooks; < 50 ms)."""
+    def _html_title(self) -> str:
         name = getattr(self.problem, "name", "?")
+        return f"Pareto front {name!r}" if self.points else f"Front {name!r}"
+
+    def _html_rows(self) -> list[tuple]:
+        """A compact table with units (notebooks; < 50 ms: benchmarks/notebook_reprs.py)."""
         if not self.points:
-            return html_table(f"Front {name!r}", [("points", "0", ""), ("failed", f"{len(self.failed)}", "")])
-        f = self.objectives()
+            return [("points", "0", ""), ("failed", f"{len(self.failed)}", "")]
         (f0, p0), (f1, p1) = self.ideal_nadir()
         k = self.knee()
         d = k.design
-        rows = [
+        return [
             ("points (failed)", f"{len(self.points)} ({len(self.failed)})", ""),
             ("turning effort F_turn", f"{f0:.4g} – {f1:.4g}", "N"),
             ("threshold force P", f"{p0:.4g} – {p1:.4g}", "N"),
@@ -229,14 +255,20 @@ class Front:
             ("families", ", ".join(dict.fromkeys(p.family for p in self.points if p.family)) or "–", ""),
             ("normalised hypervolume", f"{self.hypervolume():.4f}", ""),
         ]
-        svg = svg_curve(
+
+    def _html_extra(self) -> str:
+        """An inline SVG of the curve F_turn(P), the knee marked (axes as :meth:`plot`)."""
+        if not self.points:
+            return ""
+        f = self.objectives()
+        k = self.knee()
+        return svg_curve(
             f[:, 1],
             f[:, 0],
             "threshold force P [N]",
             "turning effort F_turn [N]",
             marks=[(k.threshold_force, k.turning_effort, "knee")],
-        )  # axes as front.plot()
-        return html_table(f"Pareto front {name!r}", rows, extra=svg)
+        )
 
     def plot(self, ax=None, color_by="family"):
         """Draw the front, turning effort F_turn [N] against sill force P [N], knee circled; returns the Axes.

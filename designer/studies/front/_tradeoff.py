@@ -29,8 +29,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from designer.data.paper import INCH
 from designer.model import Design, performance
 from designer.problem import Bound, Problem
+from designer.reprs import Record
 from designer.solvers import closed_form
 
 MECHANISMS = ("groove alone", "damper alone", "optimum mix")
@@ -41,8 +43,8 @@ GROOVE_GRID = 33
 """Grooves tried along the risk-bounded constraint curve for the optimum mix (besides the edges)."""
 
 
-@dataclass
-class TradeoffRow:
+@dataclass(kw_only=True)
+class TradeoffRow(Record):
     """Least turning effort at one diameter for each mechanism.
 
     Attributes
@@ -55,8 +57,19 @@ class TradeoffRow:
 
     diameter: float
     wheel: str | None
-    effort: dict = field(default_factory=dict)
-    designs: dict = field(default_factory=dict)
+    effort: dict[str, float | None] = field(default_factory=dict)
+    designs: dict[str, Design | None] = field(default_factory=dict)
+
+    _units = {"diameter": "m", **{f"effort.{m}": "N" for m in MECHANISMS}}
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the diameter (inches) and each mechanism's least F_turn."""
+        wheel = f" (wheel {self.wheel})" if self.wheel else ""
+        efforts = ", ".join(f"{m} {'unreachable' if e is None else f'{e:.4g} N'}" for m, e in self.effort.items())
+        return [f"TradeoffRow(d {self.diameter / INCH:.3f} in{wheel}: {efforts})"]
+
+    def _html_title(self) -> str:
+        return "Groove–damper trade-off at one diameter"
 
 
 def _restricted(problem: Problem, mechanism: str) -> Problem:
@@ -179,7 +192,7 @@ def groove_damper_tradeoff(problem: Problem, count: int = 25) -> list[TradeoffRo
             )
             found[mechanism] = (designs, feasible & np.isfinite(effort), effort)
         for i, (d, wheel) in enumerate(items):
-            row = TradeoffRow(float(d), wheel)
+            row = TradeoffRow(diameter=float(d), wheel=wheel)
             for mechanism, (designs, feasible, effort) in found.items():
                 if feasible[i]:
                     row.effort[mechanism] = float(effort[i])

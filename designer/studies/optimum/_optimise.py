@@ -22,18 +22,23 @@ from designer.data.paper import INCH
 from designer.errors import InfeasibleError, SolverError
 from designer.model import VARIABLES, Design, evaluate, evaluate_candidates
 from designer.problem import Problem
-from designer.reprs import dataframe, html_table
+from designer.reprs import Record, dataframe
 from designer.solvers import PRIMARY, Optimum, solver
 from designer.solvers.nlp import PARAMETER_INFO, max_critical_speed
 import warnings
+from typing import TYPE_CHECKING
+
 from designer.errors import InputError
 from designer.problem import check_weights
+
+if TYPE_CHECKING:  # the GP's record for the checker only: designer.solvers.gp loads cvxpy
+    from designer.solvers.gp import GPResult
 
 ACTIVE_TOL = 1e-6
 
 
-@dataclass
-class Solution:
+@dataclass(kw_only=True)
+class Solution(Record):
     """The optimum of a caster problem and everything an engineer asks about it.
 
     Attributes
@@ -54,18 +59,18 @@ class Solution:
 
     problem: Problem
     design: Design
-    objectives: dict
+    objectives: dict[str, float]
     critical_speed: float
-    constraints: dict
-    active: list
-    sensitivities: dict
-    cross_check: dict = field(default_factory=dict)
-    gp: object | None = None
+    constraints: dict[str, float]
+    active: list[str]
+    sensitivities: dict[str, float]
+    cross_check: dict[str, float] = field(default_factory=dict)
+    gp: GPResult | None = None
     status: str = "optimal"
     wheel: str | None = None
-    timings: dict = field(default_factory=dict)
+    timings: dict[str, float] = field(default_factory=dict)
     starts: int = 0
-    weights: tuple = ()
+    weights: tuple[float, ...] = ()
 
     def __post_init__(self):
         if not self.weights:
@@ -103,20 +108,26 @@ class Solution:
         ref = self.objectives["weighted"]
         return float(max(abs(v - ref) for v in values) / abs(ref))
 
-    def __repr__(self) -> str:
+    def _repr_lines(self) -> list[str]:
         """Two lines: the design (inches) and the objectives and V_c (the full account: ``print(solution)``)."""
         d, o = self.design, self.objectives
-        return (
+        return [
             f"Solution({self.problem.name!r}, {self.status}): T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in, "
-            f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad\n"
+            f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad",
             f"  F_turn {o['turning_effort']:.4g} N, P {o['threshold_force']:.4g} N, J {o['weighted']:.4g} N, "
-            f"V_c {self.critical_speed:.4g} m/s (required {self.problem.required_speed:.4g})"
-        )
+            f"V_c {self.critical_speed:.4g} m/s (required {self.problem.required_speed:.4g})",
+        ]
 
-    def _repr_html_(self) -> str:
-        """The optimum as a compact HTML table with units (notebooks; no solver or Monte Carlo runs)."""
+    def _html_title(self) -> str:
+        return f"Optimum of {self.problem.name!r} ({self.status})"
+
+    def _html_caption(self) -> str:
+        return self.problem.title
+
+    def _html_rows(self) -> list[tuple]:
+        """The optimum as a compact table with units (notebooks; no solver or Monte Carlo runs)."""
         d, o = self.design, self.objectives
-        rows = ([("wheel (Table 1)", self.wheel, "")] if self.wheel else []) + [
+        return ([("wheel (Table 1)", self.wheel, "")] if self.wheel else []) + [
             ("trail T", f"{d.trail / INCH:.3f} ({d.trail * 1000:.2f} mm)", "in"),
             ("diameter d", f"{d.diameter / INCH:.3f} ({d.diameter * 1000:.2f} mm)", "in"),
             ("groove B", f"{d.groove / INCH:.3f} ({d.groove * 1000:.2f} mm)", "in"),
@@ -129,7 +140,6 @@ class Solution:
             ("active", ", ".join(self.active) or "none", ""),
             ("solver agreement (relative J gap)", f"{self.agreement():.1e}", ""),
         ]
-        return html_table(f"Optimum of {self.problem.name!r} ({self.status})", rows, caption=self.problem.title)
 
     def to_pandas(self, wide: bool = False):
         """The optimum as a pandas DataFrame (pandas: the ``notebook`` extra).

@@ -234,21 +234,24 @@ def _buildable_front(problem, b: _Buildable, member: np.ndarray):
         d = b.design(i)
         points.append(
             FrontPoint(
-                d,
-                float(b.values.turning_effort[i]),
-                float(b.values.threshold_force[i]),
-                float(b.values.critical_speed[i]),
-                {"shimmy": float(b.values.confident_speed[i] - problem.required_speed)},
-                float(b.values.threshold_force[i]),
-                "stock",
-                True,
-                {},
-                family_of(problem, d),
-                str(b.wheel[i]) or None,
+                design=d,
+                turning_effort=float(b.values.turning_effort[i]),
+                threshold_force=float(b.values.threshold_force[i]),
+                critical_speed=float(b.values.critical_speed[i]),
+                margins={"shimmy": float(b.values.confident_speed[i] - problem.required_speed)},
+                epsilon=float(b.values.threshold_force[i]),
+                status="stock",
+                success=True,
+                multipliers={},
+                family=family_of(problem, d),
+                wheel=str(b.wheel[i]) or None,
             )
         )
     return Front(
-        problem, points, [], {"method": "exhaustive over the stock; continuous rest solved exactly", "buildable": True}
+        problem=problem,
+        points=points,
+        failed=[],
+        meta={"method": "exhaustive over the stock; continuous rest solved exactly", "buildable": True},
     )
 
 
