@@ -13,11 +13,12 @@ Dash and plotly are imported here (and by layout and panels): these modules are 
 
 from __future__ import annotations
 
+import hashlib
 import json
 from pathlib import Path
 
 import dash
-from dash import ALL, Input, Output, State, ctx, html, no_update
+from dash import ALL, Input, Output, Patch, State, ctx, html, no_update
 from dash.exceptions import PreventUpdate
 
 from designer.errors import DesignerError
@@ -50,7 +51,11 @@ def create_app(data: dict, name: str, out_dir: Path):
 
 
 def _trade_off_callback(app, data: dict, defaults: dict) -> None:
-    """The callback that owns the trade-off: controls (or the URL) -> problem -> fronts -> chart, panel, URL."""
+    """The callback that owns the trade-off: controls (or the URL) -> problem -> fronts -> chart, panel, URL.
+
+    Only what changed goes to the browser: the chart's traces that differ from the ones it shows (a Dash
+    ``Patch``, :func:`_chart`; the layout is sent with the first chart only), and the messages, URL and
+    problem data where they differ from the page's."""
     keys = [c.key for c in state.all_controls()]
     latest = {"n": 0}  # the newest change wins: changes that queued behind a computation are skipped
 
@@ -59,6 +64,7 @@ def _trade_off_callback(app, data: dict, defaults: dict) -> None:
         Output({"type": "err", "key": ALL}, "children"),
         Output("general-error", "children"),
         Output("front", "figure"),
+        Output("front-shown", "data"),
         Output("recommendation", "children"),
         Output("status", "children"),
         Output("url", "search"),
@@ -67,8 +73,11 @@ def _trade_off_callback(app, data: dict, defaults: dict) -> None:
         Input({"type": "ctl", "key": ALL}, "value"),
         Input("mine-store", "data"),
         State("problem-data", "data"),
+        State("front-shown", "data"),
+        State({"type": "err", "key": ALL}, "children"),
+        State("general-error", "children"),
     )
-    def update(search, values, mine, last):
+    def update(search, values, mine, last, shown, errors_shown, general_shown):
         latest["n"] += 1
         generation = latest["n"]
         from_url = ctx.triggered_id in (None, "url")
@@ -90,33 +99,72 @@ def _trade_off_callback(app, data: dict, defaults: dict) -> None:
             # the last valid chart stays; only the messages change
             return (
                 values_out,
-                errors,
-                general,
+                _changed(errors, errors_shown),
+                _changed(general, general_shown),
+                no_update,
                 no_update,
                 no_update,
                 no_update,
                 no_update if from_url else state.to_query(current, defaults),
                 no_update,
             )
-        rec = view.recommendation_record(fronts.recommendation)
-        fig = figures.front_figure(
-            view.front_points(fronts.continuous),
-            view.front_points(fronts.risk),
-            view.front_points(fronts.buildable),
-            rec,
-            mine,
-        )
+        figure, shown_now = _chart(fronts, mine, shown)
         query = state.to_query(current, defaults)
         return (
             values_out,
-            [""] * len(keys),
-            "",
-            fig,
+            _changed([""] * len(keys), errors_shown),
+            _changed("", general_shown),
+            figure,
+            shown_now,
             recommendation_panel(fronts),
             _status(problem, fronts),
             no_update if from_url and query == (search or "") else query,
-            merged,
+            no_update if merged == last else merged,
         )
+
+
+def _changed(new, shown):
+    """``new`` where it differs from what the page ``shown``, else ``no_update`` (item by item for a list)."""
+    if isinstance(new, list):
+        shown = shown if isinstance(shown, list) and len(shown) == len(new) else [None] * len(new)
+        return [no_update if n == (s or "") else n for n, s in zip(new, shown)]
+    return no_update if new == (shown or "") else new
+
+
+def _chart(fronts, mine, shown) -> tuple:
+    """(the chart's update, what it then shows) for ``fronts`` and my caster ``mine``.
+
+    ``shown`` is what the chart shows: a [part, digest] pair per trace (``meta`` and a hash of the trace), as
+    this function returned it last time (None before the first chart).  The update is the whole figure the
+    first time; a ``Patch`` of the traces whose digest changed when the same parts are drawn (no_update
+    if none did); otherwise a ``Patch`` of the data alone.  The layout never changes after the first chart.
+    """
+    traces = figures.front_traces(
+        view.front_points(fronts.continuous),
+        view.front_points(fronts.risk),
+        view.front_points(fronts.buildable),
+        view.recommendation_record(fronts.recommendation),
+        mine,
+    )
+    now = [[t["meta"], _digest(t)] for t in traces]
+    if not shown:
+        return {"data": traces, "layout": figures.front_layout()}, now
+    patch = Patch()
+    if [m for m, _ in shown] != [m for m, _ in now]:
+        patch["data"] = traces
+        return patch, now
+    changed = [i for i, (old, new) in enumerate(zip(shown, now)) if old[1] != new[1]]
+    if not changed:
+        return no_update, no_update
+    for i in changed:
+        patch["data"][i] = traces[i]
+    return patch, now
+
+
+def _digest(trace: dict) -> str:
+    """A short hash of a trace's content (its JSON), to tell which traces changed."""
+    text = json.dumps(trace, sort_keys=True, default=float, allow_nan=True)
+    return hashlib.blake2b(text.encode(), digest_size=8).hexdigest()
 
 
 def _messages(exc: DesignerError, data: dict, current: dict, defaults: dict, keys: list) -> tuple[list, str]:

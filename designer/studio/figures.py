@@ -5,6 +5,7 @@ Plotly is imported by the functions (the studio's dependency, not the package's)
 
 from __future__ import annotations
 
+import functools
 import math
 
 INCH = 0.0254
@@ -48,22 +49,38 @@ def front_figure(
     recommendation: dict | None,
     mine: dict | None = None,
     title: str = "",
-):
-    """The trade-off chart: turning effort vs threshold force of every front, the recommendation, my caster.
+) -> dict:
+    """The trade-off chart as a plotly figure dict: turning effort vs threshold force of every front, the
+    recommendation, my caster (:func:`front_traces` and :func:`front_layout`).
 
     Each point carries its design in ``customdata`` (T, d, B, c_f [SI], name, V_c, T, d, B [in], the wheel's
     own I_w [kg·m²] or None), which the card callback reads on a click.
     """
+    return {"data": front_traces(continuous, risk, buildable, recommendation, mine), "layout": front_layout(title)}
+
+
+def front_traces(continuous: list, risk: list, buildable: list, recommendation: dict | None, mine: dict | None) -> list:
+    """The chart's traces as plain plotly dicts, in drawing order: the non-empty fronts (continuous, risk-bounded,
+    buildable), the recommendation, my caster; each names its part in ``meta``.
+
+    Plain dicts, not ``plotly.graph_objects``: validating them costs about 20 ms of CPU per redraw, and they are
+    the dicts ``go.Scatter(...).to_plotly_json()`` gives (tests/studio/test_studio_app.py checks that).
+    """
+    traces = _front_traces(continuous, risk, buildable)
+    if recommendation is not None:
+        traces.append(_recommendation_trace(recommendation))
+    if mine is not None:
+        traces.append(_mine_trace(mine))
+    return traces
+
+
+@functools.lru_cache(maxsize=8)
+def front_layout(title: str = "") -> dict:
+    """The chart's layout (axes, the plotly_white template, legend, click and hover modes) as a plotly dict;
+    the same for every state of the studio (built once: the template alone is about 7 kB).  Read-only."""
     import plotly.graph_objects as go  # the studio's dependency
 
-    fig = go.Figure()
-    for trace in _front_traces(continuous, risk, buildable):
-        fig.add_trace(trace)
-    if recommendation is not None:
-        fig.add_trace(_recommendation_trace(recommendation))
-    if mine is not None:
-        fig.add_trace(_mine_trace(mine))
-    fig.update_layout(
+    return go.Layout(
         title=title,
         xaxis_title="turning effort F_turn [N]",
         yaxis_title="threshold (sill) force P [N]",
@@ -75,14 +92,11 @@ def front_figure(
         clickmode="event",
         uirevision="front",
         transition={"duration": 0},
-    )
-    return fig
+    ).to_plotly_json()
 
 
 def _front_traces(continuous: list, risk: list, buildable: list) -> list:
     """One line (or markers) per non-empty front: continuous, risk-bounded, buildable; each point names its design."""
-    import plotly.graph_objects as go  # the studio's dependency
-
     traces = []
     for key, points, name, mode, symbol, size in (
         ("continuous", continuous, "continuous front (nominal V_c)", "lines+markers", "circle", 6),
@@ -92,28 +106,27 @@ def _front_traces(continuous: list, risk: list, buildable: list) -> list:
         if not points:
             continue
         traces.append(
-            go.Scatter(
-                x=[p["turning_effort"] for p in points],
-                y=[p["threshold_force"] for p in points],
-                mode=mode,
-                name=name,
-                marker={"color": COLOURS[key], "size": size, "symbol": symbol},
-                line={"color": COLOURS[key], "width": 1.5},
-                meta=key,
-                customdata=[
+            {
+                "customdata": [
                     _custom(p, f"{name.split(' (')[0]} #{i + 1}" + (f" {p['label']}" if p.get("label") else ""))
                     for i, p in enumerate(points)
                 ],
-                hovertemplate=HOVER,
-            )
+                "hovertemplate": HOVER,
+                "line": {"color": COLOURS[key], "width": 1.5},
+                "marker": {"color": COLOURS[key], "size": size, "symbol": symbol},
+                "meta": key,
+                "mode": mode,
+                "name": name,
+                "x": [p["turning_effort"] for p in points],
+                "y": [p["threshold_force"] for p in points],
+                "type": "scatter",
+            }
         )
     return traces
 
 
-def _recommendation_trace(recommendation: dict):
+def _recommendation_trace(recommendation: dict) -> dict:
     """The recommendation: a green star carrying its design (and its wheel's I_w) for the card."""
-    import plotly.graph_objects as go  # the studio's dependency
-
     rec = {
         "design": recommendation["design"],
         "turning_effort": recommendation["turning_effort"],
@@ -121,27 +134,26 @@ def _recommendation_trace(recommendation: dict):
         "critical_speed": recommendation.get("critical_speed") or math.nan,
         "inertia": recommendation.get("inertia"),
     }
-    return go.Scatter(
-        x=[rec["turning_effort"]],
-        y=[rec["threshold_force"]],
-        mode="markers",
-        name="recommendation",
-        meta="recommendation",
-        marker={
+    return {
+        "customdata": [_custom(rec, "recommendation")],
+        "hovertemplate": HOVER,
+        "marker": {
             "color": COLOURS["recommendation"],
+            "line": {"color": "white", "width": 1},
             "size": 18,
             "symbol": "star",
-            "line": {"color": "white", "width": 1},
         },
-        customdata=[_custom(rec, "recommendation")],
-        hovertemplate=HOVER,
-    )
+        "meta": "recommendation",
+        "mode": "markers",
+        "name": "recommendation",
+        "x": [rec["turning_effort"]],
+        "y": [rec["threshold_force"]],
+        "type": "scatter",
+    }
 
 
-def _mine_trace(mine: dict):
+def _mine_trace(mine: dict) -> dict:
     """My caster: a red cross labelled with its P(shimmy) when known."""
-    import plotly.graph_objects as go  # the studio's dependency
-
     n = mine["numbers"]
     risk_text = "" if n.get("shimmy_probability") is None else f"P(shimmy) {100 * n['shimmy_probability']:.1f} %"
     p = {
@@ -150,18 +162,19 @@ def _mine_trace(mine: dict):
         "threshold_force": n["threshold_force"],
         "critical_speed": n["critical_speed"],
     }
-    return go.Scatter(
-        x=[p["turning_effort"]],
-        y=[p["threshold_force"]],
-        mode="markers+text",
-        name="my caster",
-        meta="mine",
-        text=[f"my caster {risk_text}"],
-        textposition="top left",
-        marker={"color": COLOURS["mine"], "size": 14, "symbol": "x"},
-        customdata=[_custom(p, "my caster")],
-        hovertemplate=HOVER,
-    )
+    return {
+        "customdata": [_custom(p, "my caster")],
+        "hovertemplate": HOVER,
+        "marker": {"color": COLOURS["mine"], "size": 14, "symbol": "x"},
+        "meta": "mine",
+        "mode": "markers+text",
+        "name": "my caster",
+        "text": [f"my caster {risk_text}"],
+        "textposition": "top left",
+        "x": [p["turning_effort"]],
+        "y": [p["threshold_force"]],
+        "type": "scatter",
+    }
 
 
 def sweeps_figure(sweeps: dict, target: float, alpha: float | None):

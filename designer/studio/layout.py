@@ -69,6 +69,7 @@ def build_layout(name: str, defaults: dict):
             dcc.Location(id="url", refresh=False),
             dcc.Store(id="problem-data"),
             dcc.Store(id="mine-store"),
+            dcc.Store(id="front-shown"),  # what the chart shows: [part, digest] per trace (app._chart)
             html.H2(f"caster-designer studio: {name}", style={"margin": "4px 0"}),
             html.Div([left, middle, right], style=CSS["row"]),
         ],

@@ -14,7 +14,7 @@ import threading
 import time
 import warnings
 from collections import OrderedDict
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
@@ -72,11 +72,39 @@ def _quiet(func, *args, **kwargs):
 _CACHE: OrderedDict = OrderedDict()
 _CACHE_SIZE = 32
 
+_FRONTS: OrderedDict = OrderedDict()
+"""The fronts computed so far by :func:`front_key` (the last :data:`_CACHE_SIZE`): a change the front does not
+depend on (α or σ for the nominal front, the stock for both) reuses it."""
+
+FRONT_INDEPENDENT = (
+    "name",
+    "title",
+    "description",
+    "source",
+    "stock",
+    "weights",
+    "max_threshold_force",
+    "max_turning_effort",
+    "choices",
+)
+"""Fields of a :class:`~designer.problem.Problem` that :func:`designer.pareto_front` does not read: the names, the
+``[stock]`` (the buildable front's), the ``[objective]`` weights and caps (the recommendation's) and the
+exploration's choices."""
+
+
+def front_key(problem) -> str:
+    """What a front of ``problem`` depends on: every field of the problem but :data:`FRONT_INDEPENDENT` (the
+    conditions with the risk bound, the target speed and margin, the bounds, the swept-radius limit, the number
+    of points, the catalogue wheels)."""
+    return repr({f.name: getattr(problem, f.name) for f in fields(problem) if f.name not in FRONT_INDEPENDENT})
+
 
 def compute_fronts(problem, key: str | None = None) -> Fronts:
     """The continuous, risk-bounded and buildable fronts and the recommendation of ``problem``.
 
-    ``key`` (e.g. the canonical problem data) caches the result, so going back to a state is instant.
+    ``key`` (e.g. the canonical problem data) caches the result, so going back to a state is instant; the two
+    continuous fronts are also kept by :func:`front_key`, so a control that one of them does not depend on
+    recomputes only the other (and the recommendation).
     Raises the package's DesignerError (e.g. InfeasibleError naming the target to relax).
     """
     with LOCK:
@@ -89,25 +117,34 @@ def cached(key: str):
         return _CACHE.get(key)
 
 
+def _front(problem):
+    """:func:`designer.pareto_front` of ``problem``, kept by :func:`front_key` (the front of an equal key is
+    returned as the front of ``problem``)."""
+    from designer.studies.front import pareto_front  # casadi: loaded with the studio, not with `import designer`
+
+    key = front_key(problem)
+    front = _FRONTS.pop(key, None)
+    if front is None:
+        front = _quiet(pareto_front, problem)
+    _FRONTS[key] = front
+    while len(_FRONTS) > _CACHE_SIZE:
+        _FRONTS.popitem(last=False)
+    return front if front.problem is problem else replace(front, problem=problem)
+
+
 def _compute_fronts(problem, key):
     if key is not None and key in _CACHE:
         _CACHE.move_to_end(key)
         return _CACHE[key]
-    from designer.studies.front import pareto_front  # casadi: loaded with the studio, not with `import designer`
-
     t0, c0 = time.perf_counter(), time.thread_time()
     out = Fronts(problem=problem, continuous=None)
-    risk = problem.risk
     from designer.studies.recommend import recommend  # late import: the stock screen and its Monte Carlo
 
     rec = _quiet(recommend, problem)
     out.recommendation = rec
     out.buildable = getattr(rec, "buildable", None)
-    out.risk = getattr(rec, "front", None) if risk is not None else None
-    if risk is not None and out.risk is None:
-        out.risk = _quiet(pareto_front, problem)
-    nominal = problem.nominal()
-    out.continuous = _quiet(pareto_front, nominal)
+    out.risk = _front(problem) if problem.risk is not None else None
+    out.continuous = _front(problem.nominal())
     out.seconds = time.perf_counter() - t0
     out.cpu_seconds = time.thread_time() - c0
     if key is not None:

@@ -1,0 +1,177 @@
+"""What the studio recomputes and sends per change (issue 29.2): fronts kept by what they depend on, the chart
+sent as the traces that changed (a Dash Patch), the traces plain plotly dicts.
+
+The callbacks run over HTTP (Flask's test client), as the page posts them; tests/studio/test_studio_browser.py
+checks the same chart in Chromium against the API.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+
+import numpy as np
+import pytest
+
+pytest.importorskip("dash")
+go = pytest.importorskip("plotly.graph_objects")
+
+from designer.studies.front import pareto_front  # noqa: E402
+from designer.studio import figures, state, view  # noqa: E402
+from designer.studio.app import create_app  # noqa: E402
+
+PROBLEM = state.default_problem_path()
+
+
+def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last=None, search="") -> dict:
+    """POST the trade-off callback as the page does (controls ``values``, the URL query ``search``, the chart
+    showing ``shown``)."""
+    ids = [{"type": "ctl", "key": k} for k in keys]
+    errs = [{"type": "err", "key": k} for k in keys]
+    outputs = [{"id": i, "property": "value"} for i in ids]
+    body = {
+        "output": '..{"key":["ALL"],"type":"ctl"}.value...{"key":["ALL"],"type":"err"}.children...general-error.children'
+        "...front.figure...front-shown.data...recommendation.children...status.children...url.search...problem-data.data..",
+        "outputs": [
+            outputs,
+            [{"id": i, "property": "children"} for i in errs],
+            {"id": "general-error", "property": "children"},
+            {"id": "front", "property": "figure"},
+            {"id": "front-shown", "property": "data"},
+            {"id": "recommendation", "property": "children"},
+            {"id": "status", "property": "children"},
+            {"id": "url", "property": "search"},
+            {"id": "problem-data", "property": "data"},
+        ],
+        "inputs": [
+            {"id": "url", "property": "search", "value": search},
+            [{"id": i, "property": "value", "value": values[k]} for i, k in zip(ids, keys)],
+            {"id": "mine-store", "property": "data", "value": mine},
+        ],
+        "changedPropIds": [changed],
+        "state": [
+            {"id": "problem-data", "property": "data", "value": last},
+            {"id": "front-shown", "property": "data", "value": shown},
+            [{"id": i, "property": "children", "value": None} for i in errs],
+            {"id": "general-error", "property": "children", "value": None},
+        ],
+    }
+    response = client.post("/_dash-update-component", json=body)
+    assert response.status_code == 200, response.data[:500]
+    return json.loads(response.data)["response"]
+
+
+def _apply(figure: dict, patch: dict) -> dict:
+    """A figure with a Dash Patch's Assign operations applied (the only ones the studio sends)."""
+    out = copy.deepcopy(figure)
+    assert patch["__dash_patch_update"] == "__dash_patch_update"
+    for op in patch["operations"]:
+        assert op["operation"] == "Assign"
+        *path, last = op["location"]
+        node = out
+        for key in path:
+            node = node[key]
+        node[last] = op["params"]["value"]
+    return out
+
+
+def _mine(problem) -> dict:
+    """The mine-store the "Check my caster" button writes for a 1 in trail, 8 in wheel, bare fork."""
+    numbers = view.design_numbers(problem, view.Design(0.0254, 0.2032, 0.0, 1.3))
+    return json.loads(json.dumps({"numbers": numbers}, default=float))
+
+
+def _locations(patch: dict) -> list:
+    return [op["location"] for op in patch["operations"]]
+
+
+@pytest.fixture(scope="module")
+def studio(tmp_path_factory):
+    data, name = state.read_problem_data(PROBLEM)
+    app = create_app(data, name, tmp_path_factory.mktemp("studio"))
+    return app.server.test_client(), [c.key for c in state.all_controls()], state.control_values(data)
+
+
+def test_chart_is_sent_as_the_traces_that_changed(studio):
+    """First chart: the whole figure (layout included). The same state again: no figure at all. A new target:
+    a Patch of the four traces that changed and no layout, which applied to the first chart gives exactly the
+    chart a fresh page draws for that target. My caster added: the data alone. α changed: the nominal front's
+    trace is not sent (it does not depend on α), the risk-bounded one is."""
+    client, keys, defaults = studio
+    first = _post(client, keys, defaults, "url.search", None)
+    figure, shown = first["front"]["figure"], first["front-shown"]["data"]
+    assert set(figure) == {"data", "layout"} and "template" in figure["layout"]
+    assert [m for m, _ in shown] == ["continuous", "risk", "buildable", "recommendation"]
+    assert [t["meta"] for t in figure["data"]] == [m for m, _ in shown]
+
+    again = _post(
+        client, keys, defaults, '{"key":"target","type":"ctl"}.value', shown, last=first["problem-data"]["data"]
+    )
+    assert "front" not in again and "front-shown" not in again and "problem-data" not in again
+
+    moved = dict(defaults, target=3.0)
+    patch = _post(client, keys, moved, '{"key":"target","type":"ctl"}.value', shown)
+    assert _locations(patch["front"]["figure"]) == [["data", i] for i in range(4)]
+    fresh = _post(client, keys, moved, "url.search", None, search=state.to_query(moved, defaults))["front"]["figure"]
+    assert _apply(figure, patch["front"]["figure"]) == fresh
+    figure, shown = fresh, patch["front-shown"]["data"]
+
+    problem, _ = state.build_problem(state.read_problem_data(PROBLEM)[0], moved)
+    mine = _mine(problem)
+    with_mine = _post(client, keys, moved, "mine-store.data", shown, mine=mine)
+    assert _locations(with_mine["front"]["figure"]) == [["data"]]
+    figure = _apply(figure, with_mine["front"]["figure"])
+    assert [t["meta"] for t in figure["data"]][-1] == "mine"
+    shown = with_mine["front-shown"]["data"]
+
+    alpha = dict(moved, alpha=0.02)
+    risk_only = _post(client, keys, alpha, '{"key":"alpha","type":"ctl"}.value', shown, mine=mine)
+    sent = _locations(risk_only["front"]["figure"])
+    assert ["data", 0] not in sent and ["data", 1] in sent and ["data", 4] not in sent
+    fresh = _post(client, keys, alpha, "url.search", None, mine=mine, search=state.to_query(alpha, defaults))
+    fresh = fresh["front"]["figure"]
+    assert _apply(figure, risk_only["front"]["figure"]) == fresh
+
+
+def test_chart_traces_are_what_plotly_would_build(studio):
+    """The chart's plain-dict traces and layout are valid plotly (go.Figure accepts them) and unchanged by
+    plotly's validation: the same JSON as the graph objects built from them."""
+    data, _ = state.read_problem_data(PROBLEM)
+    problem, _ = state.build_problem(data, state.control_values(data))
+    fronts = view.compute_fronts(problem)
+    fig = figures.front_figure(
+        view.front_points(fronts.continuous),
+        view.front_points(fronts.risk),
+        view.front_points(fronts.buildable),
+        view.recommendation_record(fronts.recommendation),
+        _mine(problem),
+    )
+    assert [t["meta"] for t in fig["data"]] == ["continuous", "risk", "buildable", "recommendation", "mine"]
+    built = go.Figure(fig).to_plotly_json()
+    assert json.dumps(built, sort_keys=True, default=float) == json.dumps(fig, sort_keys=True, default=float)
+
+
+def test_fronts_are_kept_by_what_they_depend_on():
+    """front_key ignores the names, the stock and the objective's weights and caps, and nothing else: the front of
+    a problem differing only there is the same front (recomputed here to the bit); a change of α keeps the
+    nominal front's key and changes the risk-bounded one's; compute_fronts then reuses the nominal front."""
+    data, _ = state.read_problem_data(PROBLEM)
+    defaults = state.control_values(data)
+    problem, _ = state.build_problem(data, defaults)
+    other = problem.replace(name="other", title="t", stock=None, weights=(2.0, 1.0), max_turning_effort=50.0)
+    assert view.front_key(other) == view.front_key(problem)
+    a, b = pareto_front(problem), pareto_front(other)
+    assert np.array_equal(a.objectives(), b.objectives()) and np.array_equal(a.designs(), b.designs())
+
+    riskier, _ = state.build_problem(data, dict(defaults, alpha=0.1))
+    assert view.front_key(riskier.nominal()) == view.front_key(problem.nominal())
+    assert view.front_key(riskier) != view.front_key(problem)
+    for changed in (dict(defaults, target=2.6), dict(defaults, load="180 N"), dict(defaults, swept="6.5 in")):
+        p, _ = state.build_problem(data, changed)
+        assert view.front_key(p.nominal()) != view.front_key(problem.nominal())
+
+    first = view.compute_fronts(problem)
+    second = view.compute_fronts(riskier)
+    assert second.continuous.points is first.continuous.points  # reused, not recomputed
+    assert second.continuous.problem == riskier.nominal()
+    assert not np.array_equal(second.risk.objectives(), first.risk.objectives())
