@@ -478,11 +478,12 @@ def test_readme_exit_codes_match_errors_module():
             documented[name] = code
     assert documented == kinds
     assert rows[1].startswith("a check failed") and DesignerError.exit_code == 1
-    assert 0 in rows and 70 in rows and 130 in rows
+    assert 0 in rows and 70 in rows and 130 in rows and 141 in rows and 143 in rows
 
 
 def test_internal_error_and_interrupt_codes_match_readme(monkeypatch, capsys):
-    """A bug gives exit 70 with one line (traceback under --debug); Ctrl-C gives 130, as the README says."""
+    """A bug gives exit 70 with one line (traceback under --debug); Ctrl-C gives 130, SIGTERM 143 and a closed
+    standard output 141, as the README says."""
     import designer.cli.evaluate as evaluate
 
     rows = _readme_table()
@@ -503,6 +504,22 @@ def test_internal_error_and_interrupt_codes_match_readme(monkeypatch, capsys):
 
     monkeypatch.setattr(evaluate, "analyse", interrupt)
     assert main(argv) == 130 and "interrupted" in rows[130]
+
+    def terminate(args):
+        from designer.errors import Terminated
+
+        raise Terminated
+
+    monkeypatch.setattr(evaluate, "analyse", terminate)
+    assert main(argv) == 143 and "terminated" in rows[143]
+    assert capsys.readouterr().err.strip().splitlines()[-1] == "designer: terminated (SIGTERM)"
+
+    def closed(args):
+        raise BrokenPipeError(32, "Broken pipe")
+
+    monkeypatch.setattr(evaluate, "analyse", closed)
+    assert main(argv) == 141 and "closed" in rows[141]
+    assert capsys.readouterr().err == ""
 
 
 def test_pareto_front_points_must_be_whole_number():

@@ -509,6 +509,51 @@ def test_ctrl_c_in_explore_is_one_line(tmp_path, monkeypatch, capsys):
     assert not (tmp_path / "e").exists()
 
 
+def _alive(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().split(") ")[1][0] != "Z"  # a zombie has ended
+    except (FileNotFoundError, IndexError):
+        return False
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="reads the worker processes from /proc (Linux)")
+def test_sigterm_stops_explore_workers_too(tmp_path):
+    """``kill PID`` (SIGTERM to the parent only) of ``explore --workers 2``: the workers are stopped as well and the
+    command ends within a minute with exit 143 and one line (the interpreter used to wait for the workers to finish
+    the whole study)."""
+    import sqlite3
+
+    db = tmp_path / "study.db"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "designer", "explore", INVACARE, "--trials", "100000", "--no-compare", "--json"]
+        + ["--workers", "2", "--storage", str(db), "--out", str(tmp_path / "out")],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=PYTHON_ENV,
+    )
+    deadline = time.monotonic() + 240
+    complete = 0
+    while complete < 4 and time.monotonic() < deadline and proc.poll() is None:  # the workers are at work
+        time.sleep(0.5)
+        try:
+            with sqlite3.connect(db) as con:
+                complete = con.execute("select count(*) from trials where state = 'COMPLETE'").fetchone()[0]
+        except sqlite3.Error:
+            pass
+    assert complete >= 4, "the workers did not start"
+    children = Path(f"/proc/{proc.pid}/task/{proc.pid}/children").read_text().split()
+    workers = [int(pid) for pid in children if "spawn_main" in Path(f"/proc/{pid}/cmdline").read_text()]
+    assert len(workers) == 2
+    proc.send_signal(signal.SIGTERM)
+    err = proc.communicate(timeout=60)[1]
+    assert proc.returncode == 143
+    assert err.strip().splitlines()[-1].startswith("designer: interrupted; continue with --resume")
+    time.sleep(1)
+    assert not [pid for pid in workers if _alive(pid)]
+
+
 def test_debug_still_shows_the_traceback(tmp_path):
     """``designer --debug`` shows the traceback of the user's-setup errors too (here exit 7 for a regular file)."""
     mine = tmp_path / "file"

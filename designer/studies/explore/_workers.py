@@ -17,6 +17,7 @@ from __future__ import annotations
 import contextlib
 import math
 import os
+import signal
 import socket
 import sys
 import threading
@@ -296,6 +297,23 @@ def _run_worker(
         return _work(study, evaluator, budget, storage_obj, on_trial)
 
 
+def _stop_workers(procs) -> None:
+    """Stop the pool after an interruption: workers that did not get the signal themselves (``kill`` of this
+    process only) get SIGINT and end their trial as after Ctrl-C; one that still runs after 10 s is terminated.
+    Without this, the interpreter's exit would wait for them to finish the whole study."""
+    for p in procs:
+        p.join(timeout=2)  # after Ctrl-C at a terminal they stop by themselves
+    for p in procs:
+        if p.is_alive() and p.pid is not None:
+            with contextlib.suppress(OSError):
+                os.kill(p.pid, signal.SIGINT)
+    for p in procs:
+        p.join(timeout=10)
+        if p.is_alive():
+            p.terminate()
+            p.join(timeout=5)
+
+
 def _worker_entry(args, notes=None) -> None:  # top level: picklable for multiprocessing
     """One pool worker: run the study, put its notes on the ``notes`` queue (if given)."""
     try:
@@ -386,9 +404,8 @@ def _run_pool(problem, spec, study_name, trials, seed, ops, workers, storage_obj
                     tracker.add(t.values)
             seen = len(done)
             bar.update(len(done), tracker)
-    except KeyboardInterrupt:
-        for p in procs:
-            p.join(timeout=10)
+    except KeyboardInterrupt:  # Ctrl-C reaches the whole process group; SIGTERM (`kill PID`) only this process
+        _stop_workers(procs)
         raise
     for p in procs:
         p.join()
