@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 from designer.jsonsafe import finite
+from designer.model import Design
 from designer.problem import load_problem
 from designer.reprs import MAX_REPR_LINES, Record
 
@@ -100,7 +101,33 @@ def _examples() -> dict[str, Record]:
             "Solution": _quiet(lambda: optimise(problem, cross_check=True)),
         }
     )
+    out.update(_dynamics_examples(problem))
     return out
+
+
+def _dynamics_examples(problem) -> dict[str, Record]:
+    """A knock simulated, an onset, and the Appendix C caster's knocks and periodic orbits (rolling tyre)."""
+    from designer.studies.dynamics import onset_speed, simulate
+    from designer.studies.dynamics.limit_cycles import (
+        appendix_c_caster,
+        caster_dynamics,
+        continue_orbits,
+        knock_onset_speed,
+        simulate_knock,
+    )
+
+    design = Design(trail=0.05, diameter=0.2, groove=0.0, damping=1.3)
+    design_c, conditions_c = appendix_c_caster()
+    rolling = caster_dynamics(design_c, conditions_c, 2.0, None)
+    branch = continue_orbits(rolling, [0.15, 0.16])
+    return {
+        "SimulationResult": simulate(design, problem.conditions, speed=problem.target_speed, duration=1.0),
+        "OnsetResult": onset_speed(design, problem.conditions, rtol=0.02),
+        "PeriodicOrbit": branch.orbits[0],
+        "Branch": branch,
+        "KnockResult": simulate_knock(rolling, 0.349, cycles=8, record=True),
+        "OnsetBracket": knock_onset_speed(rolling, 0.349, rtol=0.05, cycles=8),
+    }
 
 
 @pytest.fixture(scope="module")
@@ -136,6 +163,12 @@ NAMES = [
     "FrontPoint",
     "TradeoffRow",
     "Solution",
+    "SimulationResult",
+    "OnsetResult",
+    "PeriodicOrbit",
+    "Branch",
+    "KnockResult",
+    "OnsetBracket",
 ]
 
 

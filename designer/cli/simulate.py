@@ -343,7 +343,7 @@ def run(args) -> int:
         warnings.simplefilter("always")
         result = simulate(design, conditions, speed, angle=angle, angular_velocity=omega0, duration=duration)
         onset = onset_speed(design, conditions, angle=angle, angular_velocity=omega0) if args.find_onset else None
-    out = {"design": design.to_dict(), **result.as_dict()}
+    out = {"design": design.to_dict(), **result.to_dict()}
     if onset is not None:
         out["onset_speed"] = onset.speed
         out["onset_bracket"] = [onset.low, onset.high]

@@ -12,11 +12,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from designer.plots.simulation import plot_knock
-from designer.reprs import dataframe, html_table, svg_sparkline
+from designer.reprs import Record, dataframe, svg_sparkline
 
 
-@dataclass
-class SimulationResult:
+@dataclass(kw_only=True)
+class SimulationResult(Record):
     """Outcome of one shimmy simulation (all SI).
 
     Attributes
@@ -64,24 +64,47 @@ class SimulationResult:
     switches: int
     extrema: np.ndarray = field(repr=False, default_factory=lambda: np.empty((0, 2)))
 
-    def __repr__(self) -> str:
+    _units = {
+        "speed": "m/s",
+        "angle": "rad",
+        "angular_velocity": "rad/s",
+        "friction_moment": "N·m",
+        "inertia": "kg·m²",
+        "early_amplitude": "rad",
+        "late_amplitude": "rad",
+        "frequency": "rad/s",
+        "predicted_frequency": "rad/s",
+        "predicted_amplitude": "rad",
+        "critical_speed": "m/s",
+        "t": "s",
+        "theta": "rad",
+    }
+
+    def _repr_lines(self) -> list[str]:
         """Two lines: speed, knock, verdict and amplitudes; frequency, Eq. 7 V_c and the trace length."""
         verdict = "GROWS (shimmy)" if self.grows else "decays"
         freq = f"{self.frequency:.4g}" if math.isfinite(self.frequency) else "n/a"
-        return (
+        return [
             f"SimulationResult(V {self.speed:.3g} m/s, knock {math.degrees(self.angle):.3g}°: {verdict}; "
             f"amplitude {self.early_amplitude:.3g} → {self.late_amplitude:.3g} rad, Eq. 29B "
-            f"{self.predicted_amplitude:.3g} rad)\n  ω {freq} rad/s (Eq. 15B {self.predicted_frequency:.4g}), "
-            f"Eq. 7 V_c {self.critical_speed:.4g} m/s, {len(self.t)} samples over {self._end():.3g} s"
-        )
+            f"{self.predicted_amplitude:.3g} rad)",
+            f"  ω {freq} rad/s (Eq. 15B {self.predicted_frequency:.4g}), "
+            f"Eq. 7 V_c {self.critical_speed:.4g} m/s, {len(self.t)} samples over {self._end():.3g} s",
+        ]
 
     def _end(self) -> float:
         return float(self.t[-1]) if len(self.t) else 0.0
 
-    def _repr_html_(self) -> str:
-        """A compact HTML table with units beside a small SVG of θ(t) [deg] (notebooks; no integration runs)."""
+    def _html_title(self) -> str:
+        return "Shimmy after a knock (Coulomb friction, App. B)"
+
+    def _html_caption(self) -> str:
+        return "θ(t); dashed: ± the Eq. 29B amplitude"
+
+    def _html_rows(self) -> list[tuple]:
+        """A compact table with units (notebooks; no integration runs)."""
         deg = math.degrees
-        rows = [
+        return [
             ("speed V", f"{self.speed:.4g}", "m/s"),
             ("knock θ_i (θ'_i)", f"{deg(self.angle):.3g}° ({self.angular_velocity:.3g} rad/s)", ""),
             (
@@ -103,18 +126,17 @@ class SimulationResult:
             ("wheel inertia I_w", f"{self.inertia:.4g}", "kg·m²"),
             ("trace", f"{len(self.t)} samples, {self._end():.3g}", "s"),
         ]
-        svg = svg_sparkline(self.t, np.degrees(self.theta), "time t [s]", "θ [deg]", band=deg(self.predicted_amplitude))
-        return html_table(
-            "Shimmy after a knock (Coulomb friction, App. B)",
-            rows,
-            caption="θ(t); dashed: ± the Eq. 29B amplitude",
-            extra=svg,
+
+    def _html_extra(self) -> str:
+        """A small SVG of θ(t) [deg] with ± the Eq. 29B amplitude."""
+        return svg_sparkline(
+            self.t, np.degrees(self.theta), "time t [s]", "θ [deg]", band=math.degrees(self.predicted_amplitude)
         )
 
     def to_pandas(self):
         """The trace as a pandas DataFrame (pandas: the ``notebook`` extra): columns ``t_s`` [s], ``theta_rad``
         [rad], ``theta_deg`` [deg] and ``lateral_m`` (spindle displacement X [m]); the scalars of
-        :meth:`as_dict` in ``df.attrs``, units in ``df.attrs["units"]``."""
+        :meth:`to_dict` in ``df.attrs``, units in ``df.attrs["units"]``."""
         records = [
             {"t_s": float(t), "theta_rad": float(th), "theta_deg": math.degrees(th), "lateral_m": float(x)}
             for t, th, x in zip(self.t, self.theta, self.lateral)
@@ -124,7 +146,7 @@ class SimulationResult:
             records,
             ["t_s", "theta_rad", "theta_deg", "lateral_m"],
             {"t_s": "s", "theta_rad": "rad", "theta_deg": "deg", "lateral_m": "m"},
-            **self.as_dict(),
+            **self.to_dict(),
         )
 
     def plot(self, ax=None, onset_speed: float | None = None):
@@ -145,8 +167,8 @@ class SimulationResult:
             ax=ax,
         )
 
-    def as_dict(self, with_trace: bool = False) -> dict:
-        """Scalars (and optionally the trace) as plain Python types."""
+    def to_dict(self, with_trace: bool = False) -> dict:
+        """Scalars (and with ``with_trace`` the trace t, θ) as plain Python types."""
         out = {
             "speed": self.speed,
             "angle": self.angle,
@@ -171,8 +193,8 @@ class SimulationResult:
         return out
 
 
-@dataclass
-class OnsetResult:
+@dataclass(kw_only=True)
+class OnsetResult(Record):
     """Simulated shimmy onset speed beside Eq. 7.
 
     Attributes
@@ -201,9 +223,32 @@ class OnsetResult:
     frequency_at_onset: float
     predicted_frequency: float
 
+    _units = {
+        "speed": "m/s",
+        "low": "m/s",
+        "high": "m/s",
+        "critical_speed": "m/s",
+        "angle": "rad",
+        "amplitude_at_onset": "rad",
+        "predicted_amplitude": "rad",
+        "frequency_at_onset": "rad/s",
+        "predicted_frequency": "rad/s",
+    }
+
     def __float__(self) -> float:
         return float(self.speed)
 
-    def as_dict(self) -> dict:
-        """All fields as plain floats."""
+    def to_dict(self) -> dict:
+        """All fields as plain floats (the count of simulations an int)."""
         return {k: (float(v) if not isinstance(v, int) else v) for k, v in self.__dict__.items()}
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the simulated onset, its bracket and Eq. 7's V_c."""
+        return [
+            f"OnsetResult(onset {self.speed:.4g} m/s in [{self.low:.4g}, {self.high:.4g}], Eq. 7 V_c "
+            f"{self.critical_speed:.4g} m/s ({self.relative_error:+.1%}), knock {math.degrees(self.angle):.3g}°, "
+            f"{self.evaluations} simulations)"
+        ]
+
+    def _html_title(self) -> str:
+        return "Simulated shimmy onset beside Eq. 7"

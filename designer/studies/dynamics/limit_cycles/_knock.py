@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from designer.studies.dynamics.limit_cycles._system import CasterDynamics, caster_dynamics, simulate_knock
 from designer.errors import InputError, SolverError
+from designer.reprs import Record
 from designer.studies.dynamics._work import bounded
 from designer.model import Conditions, Design
 from designer.physics.inertia import Fixed
@@ -18,18 +19,32 @@ FAST_BRACKET = (0.96, 1.04)
 front the simulated onset of the rolling model is 0.977–1.016 × that guess for θ0 and 2 θ0."""
 
 
-@dataclass
-class OnsetBracket:
+@dataclass(kw_only=True)
+class OnsetBracket(Record):
     """Knock onset by bisection: the knock decays at ``low`` and is sustained at ``high`` [m/s]."""
 
     low: float
     high: float
     evaluations: int
 
+    _units = {"low": "m/s", "high": "m/s", "speed": "m/s"}
+
     @property
     def speed(self) -> float:
         """Geometric mean of the bracket [m/s]."""
         return math.sqrt(self.low * self.high)
+
+    def to_dict(self) -> dict:
+        """The bracket, its geometric mean and the number of knock simulations."""
+        return {"low": self.low, "high": self.high, "speed": self.speed, "evaluations": self.evaluations}
+
+    def _repr_lines(self) -> list[str]:
+        return [
+            f"OnsetBracket(knock onset {self.speed:.4g} m/s in [{self.low:.4g}, {self.high:.4g}], {self.evaluations} simulations)"
+        ]
+
+    def _html_title(self) -> str:
+        return "Knock onset (bisection)"
 
 
 @bounded("knock onset search")
@@ -83,7 +98,7 @@ def knock_onset_speed(
             high = mid
         else:
             low = mid
-    return OnsetBracket(low, high, n)
+    return OnsetBracket(low=low, high=high, evaluations=n)
 
 
 @bounded("knock-safe speed")

@@ -12,10 +12,11 @@ import numpy as np
 
 from designer.studies.dynamics.limit_cycles._system import CasterDynamics, _integrate
 from designer.errors import SolverError
+from designer.reprs import Record
 
 
-@dataclass
-class PeriodicOrbit:
+@dataclass(kw_only=True)
+class PeriodicOrbit(Record):
     """A symmetric periodic orbit (shimmy at constant amplitude) and its stability.
 
     Attributes
@@ -47,7 +48,27 @@ class PeriodicOrbit:
         """2π / period [rad/s]."""
         return 2 * math.pi / self.period
 
-    def as_dict(self) -> dict:
+    _units = {
+        "amplitude": "rad",
+        "speed": "m/s",
+        "period": "s",
+        "frequency": "rad/s",
+        "closure": "rad",
+        "residual": "rad",
+    }
+
+    def _repr_lines(self) -> list[str]:
+        """One line: amplitude, speed, period and stability."""
+        return [
+            f"PeriodicOrbit(A {self.amplitude:.4g} rad ({math.degrees(self.amplitude):.3g}°) at V {self.speed:.4g} m/s, "
+            f"period {self.period:.4g} s, {'stable' if self.stable else 'unstable'} "
+            f"(max |multiplier| {float(np.max(np.abs(self.multipliers))):.4g}), {self.iterations} Newton iterations)"
+        ]
+
+    def _html_title(self) -> str:
+        return "Periodic orbit (shimmy at constant amplitude)"
+
+    def to_dict(self) -> dict:
         """Plain floats (multipliers as [re, im] pairs)."""
         return {
             "amplitude": self.amplitude,
@@ -195,11 +216,39 @@ def periodic_orbit(
 
 
 @dataclass
-class Branch:
+class Branch(Record):
     """Periodic orbits along amplitude, split into stable and unstable pieces for the diagram."""
 
-    orbits: list = field(default_factory=list)
-    failed: list = field(default_factory=list)  # amplitudes where no orbit was found [rad]
+    orbits: list[PeriodicOrbit] = field(default_factory=list)
+    failed: list[float] = field(default_factory=list)  # amplitudes where no orbit was found [rad]
+
+    _units = {"failed": "rad"}
+
+    def _repr_lines(self) -> list[str]:
+        """One line: how many orbits (stable, unstable) over which amplitudes, and the failures."""
+        if not self.orbits:
+            return [f"Branch(no orbit, {len(self.failed)} failed)"]
+        a = [o.amplitude for o in self.orbits]
+        stable = sum(bool(o.stable) for o in self.orbits)
+        return [
+            f"Branch({len(self.orbits)} orbits ({stable} stable, {len(self.orbits) - stable} unstable), "
+            f"A {min(a):.4g}–{max(a):.4g} rad, {len(self.failed)} failed)"
+        ]
+
+    def _html_rows(self) -> list[tuple]:
+        if not self.orbits:
+            return [("orbits", "0", ""), ("failed amplitudes", str(len(self.failed)), "")]
+        a = [o.amplitude for o in self.orbits]
+        v = [o.speed for o in self.orbits]
+        return [
+            ("orbits (stable)", f"{len(self.orbits)} ({sum(bool(o.stable) for o in self.orbits)})", ""),
+            ("amplitude A", f"{min(a):.4g} – {max(a):.4g}", "rad"),
+            ("speed V", f"{min(v):.4g} – {max(v):.4g}", "m/s"),
+            ("failed amplitudes", str(len(self.failed)), ""),
+        ]
+
+    def _html_title(self) -> str:
+        return "Branch of periodic orbits"
 
     def pieces(self) -> list[dict]:
         """Consecutive runs of equal stability: [{"kind", "speed", "amplitude"}] (SI, rad)."""

@@ -103,10 +103,10 @@ def bifurcation_diagram(
         "eq7_critical_speed": v7,
         "disturbance_angle": float(conditions.disturbance_angle),
         "branches": branches,
-        "orbits": [o.as_dict() for o in every],
+        "orbits": [o.to_dict() for o in every],
         "fold_speed": fold,
         "reference_speed": ref,
-        "stable_at_reference": None if stable_ref is None else stable_ref.as_dict(),
+        "stable_at_reference": None if stable_ref is None else stable_ref.to_dict(),
         "max_closure": max((o.closure for o in every), default=math.nan),
         "failed_amplitudes": unstable.failed,
     }

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.errors import InputError, SolverError
+from designer.reprs import Record
 from designer.model import Conditions, Design
 from designer.physics import bracketed_root
 from designer.physics.motion import (
@@ -449,8 +450,8 @@ def _extrema(ends) -> np.ndarray:
     return np.asarray(out, dtype=float).reshape(-1, 2)
 
 
-@dataclass
-class KnockResult:
+@dataclass(kw_only=True)
+class KnockResult(Record):
     """What a knock does: the trace, the amplitudes and the verdict.
 
     Attributes
@@ -474,6 +475,26 @@ class KnockResult:
     reason: str
     speed: float = 0.0
     angle: float = 0.0
+
+    _units = {
+        "t": "s",
+        "theta": "rad",
+        "early_amplitude": "rad",
+        "late_amplitude": "rad",
+        "speed": "m/s",
+        "angle": "rad",
+    }
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the knock, the verdict and the amplitudes."""
+        verdict = "sustained shimmy" if self.shimmy else "no shimmy"
+        return [
+            f"KnockResult(V {self.speed:.4g} m/s, knock {math.degrees(self.angle):.3g}°: {verdict} ({self.reason}); "
+            f"amplitude {self.early_amplitude:.3g} → {self.late_amplitude:.3g} rad, {len(self.extrema)} reversals)"
+        ]
+
+    def _html_title(self) -> str:
+        return "Knock simulation"
 
 
 @bounded("knock simulation")
@@ -523,4 +544,14 @@ def simulate_knock(
     # sliding tyre at a crawl is not shimmy) with an amplitude at least half the early one
     shimmy = run.reason == "limit" or (early > 0 and late >= 0.5 * early and int(late_sel.sum()) >= 3)
     theta = np.array([v[sys.size - 2] for v in run.y]) if record else np.empty(0)
-    return KnockResult(np.asarray(run.t), theta, ext, early, late, bool(shimmy), run.reason, sys.speed, angle)
+    return KnockResult(
+        t=np.asarray(run.t),
+        theta=theta,
+        extrema=ext,
+        early_amplitude=early,
+        late_amplitude=late,
+        shimmy=bool(shimmy),
+        reason=run.reason,
+        speed=sys.speed,
+        angle=angle,
+    )
