@@ -123,12 +123,12 @@ def fast_nondominated(f: np.ndarray) -> np.ndarray:
     return g[keep]
 
 
-def design_speed(values: dict):
-    return values.get("design_speed", values["critical_speed"])
+def confident_speed(values: dict):
+    return values.get("confident_speed", values["critical_speed"])
 
 
 def feasible_mask(problem, values: dict, tol: float = 0.0) -> np.ndarray:
-    ok = design_speed(values) >= problem.required_speed * (1 - tol)
+    ok = confident_speed(values) >= problem.required_speed * (1 - tol)
     if problem.swept_radius_max is not None:
         ok &= values["swept_radius"] <= problem.swept_radius_max * (1 + tol)
     return ok & np.isfinite(values["turning_effort"]) & np.isfinite(values["threshold_force"])
@@ -256,7 +256,7 @@ class PymooCaster:
                 counter[0] += len(x)
                 v = evaluate_many(problem, np.asarray(x, float))
                 out["F"] = np.column_stack([v["turning_effort"], v["threshold_force"]])
-                g = [1 - design_speed(v) / problem.required_speed]
+                g = [1 - confident_speed(v) / problem.required_speed]
                 if problem.swept_radius_max is not None:
                     g.append(v["swept_radius"] / problem.swept_radius_max - 1)
                 out["G"] = np.column_stack(g)
@@ -319,7 +319,7 @@ def optuna_method(problem, trials: int, operators: str, repeats: int, quality: Q
     def objective(trial):
         x = np.array([[trial.suggest_float(name, lo[i], hi[i]) for i, name in enumerate(VARIABLES)]])
         v = evaluate_many(problem, x)
-        trial.set_constraint("shimmy", float(1 - design_speed(v)[0] / problem.required_speed))
+        trial.set_constraint("shimmy", float(1 - confident_speed(v)[0] / problem.required_speed))
         if problem.swept_radius_max is not None:
             trial.set_constraint("swept_radius", float(v["swept_radius"][0] / problem.swept_radius_max - 1))
         return float(v["turning_effort"][0]), float(v["threshold_force"][0])
@@ -369,7 +369,7 @@ def slsqp_method(problem, eps_values, repeats: int, quality: Quality):
         for eps in eps_values:
             cons = [
                 {"type": "ineq", "fun": lambda z, e=eps: 1 - perf(z)["threshold_force"] / e},
-                {"type": "ineq", "fun": lambda z: design_speed(perf(z)) / req - 1},
+                {"type": "ineq", "fun": lambda z: confident_speed(perf(z)) / req - 1},
             ]
             if problem.swept_radius_max is not None:
                 cons.append({"type": "ineq", "fun": lambda z: 1 - perf(z)["swept_radius"] / problem.swept_radius_max})

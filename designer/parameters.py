@@ -26,7 +26,8 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-from designer.data.paper import BARE_FORK_DAMPING, DISTURBANCE_ANGLE, INCH, SLIP_COEFFICIENT
+from designer.data.paper import BARE_FORK_DAMPING, DISTURBANCE_ANGLE, SLIP_COEFFICIENT
+from designer.units import DIMENSIONS, INCH
 
 
 @dataclass(frozen=True)
@@ -56,6 +57,8 @@ class Parameter:
         not ``path`` (``a["b"]`` is the literal dict key ``b``).  An entry with a ``key`` and neither
         ``store`` nor ``path`` is kept in ``Conditions.constants`` by name (:func:`location`), so a new
         constant needs no other code than the equation that reads it (``conditions.constant(name)``).
+    scale : a design variable's least scale in the NLP [SI]: IPOPT sees x / max(upper bound, scale), numbers
+        near 1 (``designer.solvers.nlp``)
     """
 
     name: str
@@ -72,11 +75,23 @@ class Parameter:
     when: tuple[str, str] | None = None
     bounds: tuple[float, float] | None = None
     store: str | None = None
+    scale: float | None = None
 
     @property
     def shown_unit(self) -> str:
         """The unit for tables: "-" when dimensionless."""
         return self.unit or "-"
+
+    @property
+    def ascii_unit(self) -> str:
+        """The SI unit in ASCII, as pint reads it ("N*m/rad", "kg*m**2"; "" when dimensionless): JSON records."""
+        return DIMENSIONS[self.dimension][0]
+
+    @property
+    def column(self) -> str:
+        """The name with its SI unit, for a CSV or DataFrame column ("trail_m", "damping_N_m_per_rad")."""
+        suffix = self.unit.replace("·", "_").replace("/", "_per_").replace("²", "2").replace("³", "3")
+        return f"{self.name}_{suffix}" if suffix else self.name
 
 
 # --------------------------------------------------------------------------- design variables x = (T, d, B, c_f)
@@ -85,13 +100,17 @@ class Parameter:
 # fmt: off
 VARIABLE_TABLE: tuple[Parameter, ...] = (
     Parameter("trail", "T", "m", "trail: spindle axis to tyre contact", None, (0.0, 0.25),
-              "Eq. 7, Eq. 9", key="variables.trail", dimension="length", bounds=(1.0 * INCH, 2.5 * INCH)),
+              "Eq. 7, Eq. 9", key="variables.trail", dimension="length", bounds=(1.0 * INCH, 2.5 * INCH),
+              scale=0.01),
     Parameter("diameter", "d", "m", "wheel diameter", None, (0.0, 0.6),
-              "Eq. 4A, Table 1", key="variables.diameter", dimension="length", bounds=(3.0 * INCH, 8.0 * INCH)),
+              "Eq. 4A, Table 1", key="variables.diameter", dimension="length", bounds=(3.0 * INCH, 8.0 * INCH),
+              scale=0.05),
     Parameter("groove", "B", "m", "groove width = tread separation of Eq. 7", None, (0.0, 0.1),
-              "Eq. 7, Eq. 8", key="variables.groove", dimension="length", bounds=(0.0, 0.75 * INCH)),
+              "Eq. 7, Eq. 8", key="variables.groove", dimension="length", bounds=(0.0, 0.75 * INCH),
+              scale=0.005),
     Parameter("damping", "c_f", "N·m/rad", "spindle friction damping M_f/θ0", None, (0.0, 100.0),
-              "Eq. 11C", key="variables.damping", dimension="damping", bounds=(BARE_FORK_DAMPING, 6.0)),
+              "Eq. 11C", key="variables.damping", dimension="damping", bounds=(BARE_FORK_DAMPING, 6.0),
+              scale=1.0),
 )
 # fmt: on
 """The design variables, in the order of x everywhere.  ``range`` is the model's range (exclusive
@@ -174,6 +193,18 @@ PARAMETERS: dict[str, Parameter] = {p.name: p for p in VARIABLE_TABLE + CONSTANT
 VARIABLES: tuple[str, ...] = tuple(p.name for p in VARIABLE_TABLE)
 """The design variables x = (T, d, B, c_f), in this order everywhere."""
 
+VARIABLE_INDEX: dict[str, int] = {name: k for k, name in enumerate(VARIABLES)}
+"""Position of each design variable in a design vector x: the one table of indices (``x[VARIABLE_INDEX["groove"]]``)."""
+
+
+def named(x: Any) -> dict[str, Any]:
+    """The entries of a design vector ``x`` (a sequence, a NumPy or CasADi vector in :data:`VARIABLES` order) by
+    name; for a 2-D NumPy array of designs (one per row), its columns by name."""
+    if getattr(x, "ndim", 1) == 2:
+        return {name: x[:, k] for name, k in VARIABLE_INDEX.items()}
+    return {name: x[k] for name, k in VARIABLE_INDEX.items()}
+
+
 SOLVER_PARAMETERS: tuple[Parameter, ...] = tuple(p for p in CONSTANT_TABLE if p.path)
 """The fixed parameters of the NLP and the GP, in parameter-vector order."""
 
@@ -192,6 +223,9 @@ MODEL_RANGE: dict[str, tuple[float, float]] = _pairs("range")
 
 DEFAULT_BOUNDS: dict[str, tuple[float, float]] = _pairs("bounds")
 """The default (min, max) [SI] of each design variable."""
+
+SCALES: tuple[float, ...] = tuple(float(p.scale or 1.0) for p in VARIABLE_TABLE)
+"""The least NLP scale of each design variable [SI], in :data:`VARIABLES` order (``Parameter.scale``)."""
 
 
 def default(name: str) -> Any:

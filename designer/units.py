@@ -14,6 +14,10 @@ from functools import lru_cache
 
 from designer.errors import InputError
 
+INCH = 0.0254
+"""One inch [m] (exact, by the international yard and pound agreement of 1959): the one definition of the
+package; plots, reports and messages show lengths in inches with it."""
+
 MAX_TEXT = 100
 """Longest quantity string accepted (characters)."""
 
@@ -102,8 +106,8 @@ COMMON_UNITS: dict[str, tuple[str, float]] = {
     "m": ("length", 1.0),
     "cm": ("length", 0.01),
     "mm": ("length", 0.001),
-    "in": ("length", 0.0254),
-    "inch": ("length", 0.0254),
+    "in": ("length", INCH),
+    "inch": ("length", INCH),
     "ft": ("length", 0.3048),
     "N": ("force", 1.0),
     "kN": ("force", 1000.0),
@@ -269,7 +273,7 @@ def outside_range(key: str, given, value: float, low: float, high: float, dimens
                 f"{high / factor:.3g} {unit}" + ("" if not si else f" ({low:g} to {high:g} {shown})")
             )
     text = f"{key} = {value:g} {shown}: outside the model's range {low:g} to {high:g} {shown}"
-    if dimension == "length" and low <= value * 0.0254 <= high:
+    if dimension == "length" and low <= value * INCH <= high:
         text += "; were inches written as metres? write e.g. '2 in'"
     return text
 
@@ -321,4 +325,4 @@ def _example(dimension: str) -> str:
 
 def inches(metres):
     """Convert metres to inches (for display only)."""
-    return metres / 0.0254
+    return metres / INCH

@@ -31,6 +31,7 @@ from designer.studies.fleet import (
 )
 from designer.errors import InputError
 from designer.problem import example_problem, load_problem
+from designer.units import INCH
 
 
 def register(sub) -> None:
@@ -177,8 +178,8 @@ def _print(data: dict, run_info: dict, stock: int, out: Path) -> None:
             for s in data["skus"]:
                 d = s["design"]
                 say(
-                    f"  SKU {s['id']}: T {d['trail'] / 0.0254:.4g} in, d {d['diameter'] / 0.0254:.4g} in, "
-                    f"B {d['groove'] / 0.0254:.4g} in, c_f {d['damping']:.2f} N·m/rad: {s['chairs']} chairs, "
+                    f"  SKU {s['id']}: T {d['trail'] / INCH:.4g} in, d {d['diameter'] / INCH:.4g} in, "
+                    f"B {d['groove'] / INCH:.4g} in, c_f {d['damping']:.2f} N·m/rad: {s['chairs']} chairs, "
                     f"{s['count']} units"
                 )
         curve = ", ".join(

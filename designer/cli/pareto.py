@@ -21,6 +21,7 @@ from designer.errors import InputError
 from designer.problem import load_problem
 from designer.problem import POINTS_RANGE
 from designer.problem import problem_files
+from designer.units import INCH
 
 
 def register(sub) -> None:
@@ -93,8 +94,8 @@ def _print_summary(s: dict) -> None:
     if rec is not None:
         d = rec["design"]
         print(
-            f"  build this: T = {d['trail'] / 0.0254:.3f} in, d = {d['diameter'] / 0.0254:.3f} in, "
-            f"B = {d['groove'] / 0.0254:.3f} in, c_f = {d['damping']:.3f} N·m/rad; "
+            f"  build this: T = {d['trail'] / INCH:.3f} in, d = {d['diameter'] / INCH:.3f} in, "
+            f"B = {d['groove'] / INCH:.3f} in, c_f = {d['damping']:.3f} N·m/rad; "
             f"F_turn {rec['turning_effort']:.3f} N, P {rec['threshold_force']:.2f} N ({rec['rule']})"
         )
     opt = s["optimum"]
@@ -102,8 +103,8 @@ def _print_summary(s: dict) -> None:
         d = opt["design"]
         wheel = f"wheel {opt['wheel']}, " if opt.get("wheel") else ""
         print(
-            f"  weighted optimum: {wheel}T = {d['trail'] / 0.0254:.3f} in, d = {d['diameter'] / 0.0254:.3f} in, "
-            f"B = {d['groove'] / 0.0254:.3f} in, c_f = {d['damping']:.3f} N·m/rad; "
+            f"  weighted optimum: {wheel}T = {d['trail'] / INCH:.3f} in, d = {d['diameter'] / INCH:.3f} in, "
+            f"B = {d['groove'] / INCH:.3f} in, c_f = {d['damping']:.3f} N·m/rad; "
             f"F_turn {opt['objectives']['turning_effort']:.3f} N, P {opt['objectives']['threshold_force']:.2f} N"
         )
     print(f"  open: {Path(s['index_html']).resolve()}")

@@ -11,8 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-INCH = 0.0254
-"""One inch [m]."""
+from designer.units import INCH as INCH  # the one definition of the inch; the paper's lengths are in inches
 
 SLIP_COEFFICIENT = 1250.0
 """Tyre slip coefficient K_s [N]; Appendix C, Eq. 12C and Fig. 3C

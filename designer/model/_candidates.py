@@ -181,7 +181,7 @@ def evaluate_candidates(  # long: the docstring documents every argument; the bo
     sill_ok = d > 2 * h
     climbing = np.where(sill_ok, d, 3 * h)  # a wheel that cannot climb gets P = inf below, not Eq. 4A's error
     values = performance(t_eff, climbing, b, c, cond, inertia=i_w)
-    confident = np.asarray(values["design_speed"], dtype=float)
+    confident = np.asarray(values["confident_speed"], dtype=float)
     if calibration != 1.0:
         confident = calibration * confident
     force = np.where(sill_ok, np.asarray(values["threshold_force"], dtype=float), np.inf)

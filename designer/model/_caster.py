@@ -41,9 +41,6 @@ from designer.units import outside_range, parse_quantity
 VARIABLES = parameters.VARIABLES
 """The design variables x = (T, d, B, c_f), in this order everywhere (from :mod:`designer.parameters`)."""
 
-VARIABLE_INFO = {p.name: (p.symbol, p.unit, p.description) for p in parameters.VARIABLE_TABLE}
-"""(symbol, SI unit, description) of each design variable."""
-
 VARIABLE_UNITS = {p.name: p.unit for p in parameters.VARIABLE_TABLE}
 """SI unit of each design variable."""
 
@@ -108,15 +105,11 @@ class Design(Record):
     def __post_init__(self) -> None:
         # Units at the edge: strings such as "2 in" or "1.3 N*m/rad" are converted to SI here.
 
-        for name, dimension in (
-            ("trail", "length"),
-            ("diameter", "length"),
-            ("groove", "length"),
-            ("damping", "damping"),
-        ):
+        for entry in parameters.VARIABLE_TABLE:
+            name = entry.name
             value = getattr(self, name)
             if isinstance(value, str):
-                value = parse_quantity(value, dimension, name)
+                value = parse_quantity(value, entry.dimension, name)
             try:
                 value = float(value)
             except (TypeError, ValueError):
@@ -157,16 +150,16 @@ class Design(Record):
         return "Caster design"
 
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        """T, d, B in inches and mm, c_f [N·m/rad] and the swept radius (notebooks)."""
-        rows: list[tuple[Any, Any, Any]] = [
-            (f"{label} {sym}", f"{getattr(self, name) / INCH:.3f} ({getattr(self, name) * 1000:.2f} mm)", "in")
-            for label, sym, name in (("trail", "T", "trail"), ("diameter", "d", "diameter"), ("groove", "B", "groove"))
-        ]
+        """T, d, B in inches and mm, c_f [N·m/rad] and the swept radius (notebooks); names and units from the table."""
+        rows: list[tuple[Any, Any, Any]] = []
+        for p in parameters.VARIABLE_TABLE:
+            value = getattr(self, p.name)
+            if p.dimension == "length":
+                rows.append((f"{p.name} {p.symbol}", f"{value / INCH:.3f} ({value * 1000:.2f} mm)", "in"))
+            else:
+                rows.append((f"{p.name} {p.symbol}", f"{value:.4g}", p.unit))
         rs = float(swept_radius(self.trail, self.diameter))
-        rows += [
-            ("spindle damping c_f", f"{self.damping:.4g}", "N·m/rad"),
-            ("swept radius T + d/2", f"{rs / INCH:.3f} ({rs * 1000:.2f} mm)", "in"),
-        ]
+        rows.append(("swept radius T + d/2", f"{rs / INCH:.3f} ({rs * 1000:.2f} mm)", "in"))
         return rows
 
     def describe(self) -> str:
@@ -192,7 +185,7 @@ class Conditions:
     inertia : the I_w(d) model
     turning : constants of the turning model (docs/model.md#turning-effort)
     dynamics : K, fork and bearing-block masses of the third-order model
-    uncertainty : optional :class:`designer.studies.robust.Uncertainty`; then the shimmy
+    uncertainty : optional :class:`designer.physics.uncertainty.Uncertainty` (the risk law); then the shimmy
         constraint uses the α-quantile of V_c instead of its nominal value
     constants : the model constants of the parameter table that have no field above, by name
         (:func:`designer.parameters.location`); read any constant with :meth:`constant`
@@ -246,18 +239,18 @@ def performance(
     - ``turning_moment`` M_turn + M_d [N·m] (docs/model.md#turning-effort)
     - ``turning_effort`` F_turn [N] (Eq. 9, moment / trail)
     - ``swept_radius`` R_s [m] (T + d/2)
-    - ``design_speed`` [m/s]: the speed the shimmy constraint compares with V_req:
-      V_c itself, or its α-quantile when the conditions carry an uncertainty
-      (robust design, :func:`designer.studies.robust.shimmy_speed_quantile`)
+    - ``confident_speed`` V_q [m/s]: the speed the shimmy constraint compares with V_req, the speed
+      reached with probability 1 − α when the conditions carry a risk law
+      (:func:`designer.physics.uncertainty.shimmy_speed_quantile`), else V_c itself
     """
     c = conditions
     if inertia is None:
         inertia = c.inertia(diameter)
     critical_speed = critical_shimmy_speed(trail, inertia, groove, damping, c.slip_coefficient)
     if c.uncertainty is None:
-        design_speed = critical_speed
+        confident_speed = critical_speed
     else:
-        design_speed = shimmy_speed_quantile(trail, inertia, groove, damping, c.slip_coefficient, c.uncertainty)
+        confident_speed = shimmy_speed_quantile(trail, inertia, groove, damping, c.slip_coefficient, c.uncertainty)
     ratio = threshold_force_ratio(diameter, c.threshold_height)
     moment = sliding_turning_moment(c.load, groove, c.surface, c.turning_mode, c.turning) + added_damper_moment(
         damping, c.disturbance_angle, c.turning
@@ -265,7 +258,7 @@ def performance(
     return {
         "inertia": inertia,
         "critical_speed": critical_speed,
-        "design_speed": design_speed,
+        "confident_speed": confident_speed,
         "threshold_force_ratio": ratio,
         "threshold_force": c.load * ratio,
         "turning_moment": moment,

@@ -24,6 +24,7 @@ from designer.data.paper import TABLE1, Wheel, table1_wheel
 from designer.errors import InputError
 from designer.physics._checks import is_symbolic, require_positive
 from designer.physics.types import Scalar
+from designer.units import INCH
 
 
 @lru_cache(maxsize=1)
@@ -133,7 +134,7 @@ class PowerLaw(InertiaModel):
             arr = np.asarray(diameter, dtype=float)
             if np.any(arr < low * 0.999) or np.any(arr > high * 1.001):
                 warnings.warn(
-                    f"inertia power law used at d = {np.min(arr) / 0.0254:.2f}–{np.max(arr) / 0.0254:.2f} in, "
+                    f"inertia power law used at d = {np.min(arr) / INCH:.2f}–{np.max(arr) / INCH:.2f} in, "
                     f"outside Table 1's 4–8 in: an extrapolation",
                     UserWarning,
                     stacklevel=2,
@@ -217,7 +218,7 @@ class Catalog(InertiaModel):
     def describe(self) -> str:
         w = self.wheel
         return (
-            f"Table 1 wheel {w.key} ({w.name}): d = {w.diameter / 0.0254:.0f} in, "
+            f"Table 1 wheel {w.key} ({w.name}): d = {w.diameter / INCH:.0f} in, "
             f"m = {w.mass:.3f} kg, I_w = {w.inertia:.3g} kg·m²"
         )
 

@@ -23,8 +23,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from html import escape
+from designer.units import INCH
 
-INCH = 0.0254
 TREAD = 0.25 * INCH
 """Width of each tread in the drawing [m] (illustrative only)."""
 STEM = 1.5 * INCH

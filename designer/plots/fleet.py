@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 
 from designer.plots.svg import Figure
+from designer.units import INCH
 
-INCH = 0.0254
 BLUE, RED, GREEN, GREY = "#1f77b4", "#d62728", "#2e7d32", "#7f7f7f"
 
 

@@ -8,6 +8,7 @@ nominal front under the risk-bounded one, the price of safety) and marks single 
 from __future__ import annotations
 
 import numpy as np
+from designer.units import INCH
 
 CURVE_STYLE = {
     "continuous": dict(color="#1f77b4", lw=1.6, ls="-", marker=None, ms=0, zorder=2),
@@ -161,7 +162,6 @@ def _colour_values(color_by, designs, critical_speed, n):
     return np.asarray(designs, float).reshape(n, 4)[:, column] * scale, what
 
 
-INCH = 0.0254
 VARIABLE_PANELS = (
     ("trail T [mm]", "T [in]", 0, MM, True),
     ("wheel diameter d [mm]", "d [in]", 1, MM, True),

@@ -15,10 +15,9 @@ import numpy as np
 
 from designer.plots import figures as _figures
 from designer.plots.figures import FIGURES
+from designer.units import INCH
 
 __all__ = ["FIGURES", "arguments", "draw", "point_text", "svg"]
-
-INCH = 0.0254
 
 
 def point_text(p) -> str:

@@ -51,7 +51,6 @@ OWNED = frozenset({"fleet.csv", "fleet.json", "report.md", "index.html", "figure
 MARKER = "fleet.json"
 """The file that makes a folder a fleet report."""
 
-INCH = 0.0254
 
 HOVER_STYLE = (
     "<style>.hover circle{fill:transparent;stroke:none}.hover circle:hover{stroke:#d62728;stroke-width:2}</style>"

@@ -188,7 +188,7 @@ def summary_lines(data) -> list[str]:
     out = []
     if front.points:
         f = front.objectives()
-        d = front.designs()[:, 1]
+        d = np.array([p.design.diameter for p in front.points])
         kind = "risk-bounded" if problem.conditions.uncertainty is not None else "nominal"
         out.append(
             f"Continuous {kind} front: {len(front)} valid point{'s' if len(front) != 1 else ''} (of "

@@ -80,16 +80,16 @@ def applicable(problem) -> bool:
     c = problem.conditions
     if c.uncertainty is not None and not _contracts(c.uncertainty):
         return False
-    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    lo, hi = problem.lower(), problem.upper()
     if c.turning.groove_coefficient < 0 or c.disturbance_angle <= 0 or c.slip_coefficient <= 0:
         return False
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         # positive moment everywhere in the box (F = M/T falls with T); it is linear, so the corner suffices
-        m = performance(hi[0], hi[1], lo[2], lo[3], c)["turning_moment"]
+        m = performance(hi.trail, hi.diameter, lo.groove, lo.damping, c)["turning_moment"]
         # I_w non-decreasing in d (checked on a grid of the box)
-        d = np.linspace(lo[1], hi[1], 65)
-        inertia = np.asarray(performance(hi[0], d, lo[2], lo[3], c)["inertia"], float) + 0 * d
+        d = np.linspace(lo.diameter, hi.diameter, 65)
+        inertia = np.asarray(performance(hi.trail, d, lo.groove, lo.damping, c)["inertia"], float) + 0 * d
     return bool(m > 0 and np.all(np.diff(inertia) >= -1e-15 * np.abs(inertia[1:])))
 
 
@@ -129,14 +129,14 @@ def largest_trail(problem, d) -> tuple[np.ndarray, np.ndarray]:
     False) and T is clipped up to the lower bound.
     """
     d = np.asarray(d, float).ravel()
-    lo, hi = problem.lower().as_array(), problem.upper().as_array()
-    t = np.full(len(d), hi[0])
+    lo, hi = problem.lower(), problem.upper()
+    t = np.full(len(d), hi.trail)
     if problem.swept_radius_max is not None:
         # R_s = T + d/2 is linear in T: T_max = R_max − R_s(0, d), from the geometry alone (the whole
         # model at T = 0 would divide by zero in F_turn = M/T)
         t = np.minimum(t, problem.swept_radius_max - np.asarray(swept_radius(0.0, d), float))
-    ok = t >= lo[0] * (1 - 1e-12)
-    return np.maximum(t, lo[0]), ok
+    ok = t >= lo.trail * (1 - 1e-12)
+    return np.maximum(t, lo.trail), ok
 
 
 def designs_at_diameter(problem, d, candidates=None, *, search: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -148,7 +148,7 @@ def designs_at_diameter(problem, d, candidates=None, *, search: bool = True) -> 
     """
     d = np.asarray(d, float).ravel()
     n = len(d)
-    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    lo, hi = problem.lower(), problem.upper()
     t, ok = largest_trail(problem, d)
     probe = np.column_stack([t, d, np.ones(n), np.ones(n)])
     inertia = np.asarray(_values(problem, probe)["inertia"], float) + 0 * d
@@ -157,7 +157,7 @@ def designs_at_diameter(problem, d, candidates=None, *, search: bool = True) -> 
         designs, feasible = _risk_designs(problem, t, d, a, b, search)
         return designs, ok & feasible
     need = problem.required_speed**2
-    (b_lo, c_lo), (b_hi, c_hi) = (lo[2], lo[3]), (hi[2], hi[3])
+    (b_lo, c_lo), (b_hi, c_hi) = (lo.groove, lo.damping), (hi.groove, hi.damping)
     with np.errstate(divide="ignore", invalid="ignore"):
         # c_f from the constraint at a given B; B from it at a given c_f
         c_at = lambda bb: np.maximum(c_lo, (need - b * bb * bb) / a)  # noqa: E731
@@ -253,11 +253,11 @@ def _edge_shares(u: Uncertainty, need, a, b, box) -> tuple[np.ndarray, np.ndarra
 
 def _on_curve(problem, t, d, a, b, s) -> tuple[np.ndarray, np.ndarray]:
     """Designs on the risk-bounded curve at shares ``s`` (clipped into the box) and their F_turn [N]."""
-    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    lo, hi = problem.lower(), problem.upper()
     big = problem.required_speed**2 * np.exp(log_gain(problem.conditions.uncertainty, s))
     with np.errstate(divide="ignore", invalid="ignore"):
-        c = np.clip(s * big / a, lo[3], hi[3])
-        g = np.clip(np.sqrt(np.maximum(0.0, (1 - s) * big / b)), lo[2], hi[2])
+        c = np.clip(s * big / a, lo.damping, hi.damping)
+        g = np.clip(np.sqrt(np.maximum(0.0, (1 - s) * big / b)), lo.groove, hi.groove)
     t, d = np.broadcast_to(t, s.shape), np.broadcast_to(d, s.shape)
     x = np.stack([t, d, g, c], axis=-1)
     return x, np.asarray(_values(problem, x)["turning_effort"], float) + 0 * s
@@ -270,11 +270,11 @@ def _risk_designs(problem, t, d, a, b, search: bool = True) -> tuple[np.ndarray,
     its best point on a grid of :data:`SHARE_GRID` shares, refined by golden section when it is inside.
     """
     n = len(d)
-    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    lo, hi = problem.lower(), problem.upper()
     u = problem.conditions.uncertainty
-    corner = np.column_stack([t, d, np.full(n, lo[2]), np.full(n, lo[3])])
-    corner_ok = np.asarray(_values(problem, corner)["design_speed"], float) >= problem.required_speed
-    s1, s2 = _edge_shares(u, problem.required_speed**2, a, b, ((lo[2], lo[3]), (hi[2], hi[3])))
+    corner = np.column_stack([t, d, np.full(n, lo.groove), np.full(n, lo.damping)])
+    corner_ok = np.asarray(_values(problem, corner)["confident_speed"], float) >= problem.required_speed
+    s1, s2 = _edge_shares(u, problem.required_speed**2, a, b, ((lo.groove, lo.damping), (hi.groove, hi.damping)))
     curve_ok = s1 <= s2 + 1e-15
     s2 = np.maximum(s1, s2)
     grid = s1[:, None] + (s2 - s1)[:, None] * np.linspace(0.0, 1.0, SHARE_GRID if search else 1)[None, :]
@@ -310,11 +310,11 @@ def structured_front_designs(problem, eps_array) -> tuple[np.ndarray, np.ndarray
             "(and a risk bound whose quantile factor varies slowly with the friction share)"
         )
     eps = np.asarray(eps_array, float).ravel()
-    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    lo, hi = problem.lower(), problem.upper()
     with np.errstate(invalid="ignore"):
-        d = np.maximum(lo[1], diameter_at(problem, eps))
-    reach = np.isfinite(d) & (d <= hi[1] * (1 + 1e-12))
-    d = np.where(reach, np.minimum(d, hi[1]), hi[1])
+        d = np.maximum(lo.diameter, diameter_at(problem, eps))
+    reach = np.isfinite(d) & (d <= hi.diameter * (1 + 1e-12))
+    d = np.where(reach, np.minimum(d, hi.diameter), hi.diameter)
     designs, feasible = designs_at_diameter(problem, d)
     return designs, feasible & reach
 
@@ -332,15 +332,15 @@ def structured_ends(problem, rel: float = 1e-9, rounds: int = 9):
             "the closed-form ends need a continuous problem with a positive moment "
             "(and a risk bound whose quantile factor varies slowly with the friction share)"
         )
-    lo, hi = problem.lower().as_array(), problem.upper().as_array()
-    x_lo, ok_lo = designs_at_diameter(problem, [lo[1]])
+    lo, hi = problem.lower(), problem.upper()
+    x_lo, ok_lo = designs_at_diameter(problem, [lo.diameter])
     if not ok_lo[0]:
         return None
     f_min = float(_values(problem, x_lo[0])["turning_effort"])
 
     def largest(pred):
         """Largest d in [d_lo, d_hi] with pred(d) (pred monotone: true then false), by grid refinement."""
-        a, b = lo[1], hi[1]
+        a, b = lo.diameter, hi.diameter
         if pred(np.array([b]))[0]:
             return b
         for _ in range(rounds):

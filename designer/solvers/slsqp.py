@@ -17,6 +17,7 @@ from scipy.optimize import minimize
 
 from designer.errors import check_interrupt
 from designer.model import Design, performance
+from designer.parameters import named
 from designer.problem import Problem
 from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, evaluated, no_optimum, weights_of
 
@@ -57,7 +58,7 @@ def slsqp(
         x = np.asarray(z) * scale
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return performance(x[0], x[1], x[2], x[3], c)
+            return performance(**named(x), conditions=c)
 
     f_ref = float(perf((lo + hi) / 2 / scale)["turning_effort"])
     p_ref = float(perf((lo + hi) / 2 / scale)["threshold_force"])
@@ -66,7 +67,7 @@ def slsqp(
         v = perf(z)
         return float((w[0] * v["turning_effort"] + w[1] * v["threshold_force"]) / (w[0] * f_ref + w[1] * p_ref))
 
-    cons = [{"type": "ineq", "fun": lambda z: float(perf(z)["design_speed"]) / problem.required_speed - 1}]
+    cons = [{"type": "ineq", "fun": lambda z: float(perf(z)["confident_speed"]) / problem.required_speed - 1}]
     if problem.swept_radius_max is not None:
         cons.append({"type": "ineq", "fun": lambda z: 1 - float(perf(z)["swept_radius"]) / problem.swept_radius_max})
     if threshold_cap is not None:
@@ -86,7 +87,7 @@ def slsqp(
         check_interrupt()
         z = np.clip(res.x, lo / scale, hi / scale)
         v = perf(z)
-        feasible = float(v["design_speed"]) >= problem.required_speed * (1 - 1e-7)
+        feasible = float(v["confident_speed"]) >= problem.required_speed * (1 - 1e-7)
         if problem.swept_radius_max is not None:
             feasible &= float(v["swept_radius"]) <= problem.swept_radius_max * (1 + 1e-7)
         if threshold_cap is not None:

@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import functools
 import math
+from designer.units import INCH
 
-INCH = 0.0254
 
 COLOURS = {
     "continuous": "#9aa0a6",
@@ -201,7 +201,7 @@ def sweeps_figure(sweeps: dict, target: float, alpha: float | None):
             fig.add_trace(
                 go.Scatter(
                     x=x,
-                    y=list(s["design_speed"]),
+                    y=list(s["confident_speed"]),
                     name=f"speed reached w.p. {1 - alpha:.0%}",
                     showlegend=col == 1,
                     line={"color": COLOURS["risk"]},

@@ -15,8 +15,7 @@ from designer.model import Design
 import designer.studio.figures as figures
 import designer.studio.view as view
 from designer.studio.layout import CSS
-
-INCH = 0.0254
+from designer.units import INCH
 
 
 def _fmt(value, spec=".4g", unit=""):

@@ -24,7 +24,8 @@ from urllib.parse import parse_qsl, urlencode
 from designer.data.paper import INCH
 from designer.errors import DesignerError, ProblemError
 from designer.physics.uncertainty import Uncertainty
-from designer.units import parse_quantity
+from designer.parameters import VARIABLE_TABLE
+from designer.units import DIMENSIONS, parse_quantity
 from designer.problem import SCHEMA
 from designer.problem import load_problem
 from designer.problem import DEFAULT_BOUNDS
@@ -64,11 +65,15 @@ class Control:
 
 
 def _bounds_controls() -> list[Control]:
-    dims = {"trail": "length", "diameter": "length", "groove": "length", "damping": "damping"}
+    """A min and a max box per design variable, with its dimension from the parameter table."""
     out = []
-    for name, dim in dims.items():
+    for p in VARIABLE_TABLE:
         for end in ("min", "max"):
-            out.append(Control(f"{name}_{end}", f"{name} {end}", ("variables", name, end), "quantity", dim, "bounds"))
+            out.append(
+                Control(
+                    f"{p.name}_{end}", f"{p.name} {end}", ("variables", p.name, end), "quantity", p.dimension, "bounds"
+                )
+            )
     return out
 
 
@@ -167,7 +172,7 @@ def _show(value, dimension: str) -> str:
         return value
     if dimension == "length":
         return f"{value / INCH:.6g} in"
-    unit = {"force": "N", "damping": "N*m/rad", "speed": "m/s"}.get(dimension, "")
+    unit = DIMENSIONS[dimension][0] if dimension else ""
     return f"{value:.6g} {unit}".strip()
 
 

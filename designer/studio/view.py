@@ -21,6 +21,7 @@ import numpy as np
 from designer.errors import DesignerError
 from designer.model import Design, evaluate, evaluate_candidates, performance
 from designer.physics.inertia import Catalog, Fixed
+from designer.units import INCH
 
 FIX_LIMIT = 100
 """Fixes listed for "my caster": the whole ranking up to this many (designer.fix evaluates each listed fix by
@@ -284,7 +285,7 @@ def speed_sweeps(problem, design: Design, n: int = 61) -> dict:
         out[name] = {
             "x": x,
             "critical_speed": np.asarray(values["critical_speed"], float),
-            "design_speed": np.asarray(values["design_speed"], float),
+            "confident_speed": np.asarray(values["confident_speed"], float),
             "value": value,
         }
     return out
@@ -358,8 +359,8 @@ def card(problem, design: Design, with_simulation: bool = True, inertia: float |
 def fix_command(path, design: Design) -> str:
     """The ``designer fix`` command line that lists every fix of ``design`` for the problem file ``path``."""
     return (
-        f'designer fix {path} --current "T={design.trail / 0.0254:.4g}in,d={design.diameter / 0.0254:.4g}in,'
-        f'B={design.groove / 0.0254:.4g}in,c={design.damping:.4g}"'
+        f'designer fix {path} --current "T={design.trail / INCH:.4g}in,d={design.diameter / INCH:.4g}in,'
+        f'B={design.groove / INCH:.4g}in,c={design.damping:.4g}"'
     )
 
 

@@ -177,3 +177,19 @@ def test_a_new_constant_is_one_table_entry(tmp_path):
     assert "conditions.floor_slope = 0.349066 rad: outside the model's range 0 to 0.2 rad" in out["error"]
     assert "(a cross-slope of 0 to 11 deg)" in out["error"]
     assert "conditions.floor_slope = '2 N': wrong dimension, expected angle" in out["unit_error"]
+
+
+def test_the_table_names_units_columns_and_scales_of_the_variables():
+    """Each design variable's DataFrame column, JSON unit, index and NLP scale come from its table entry, and
+    ``named`` reads a design vector (or an array of designs) by those names."""
+    import numpy as np
+
+    p = parameters
+    assert [e.column for e in p.VARIABLE_TABLE] == ["trail_m", "diameter_m", "groove_m", "damping_N_m_per_rad"]
+    assert [e.ascii_unit for e in p.VARIABLE_TABLE] == ["m", "m", "m", "N*m/rad"]
+    assert p.PARAMETERS["wheel_inertia"].ascii_unit == "kg*m**2"
+    assert p.SCALES == tuple(e.scale for e in p.VARIABLE_TABLE) and all(s > 0 for s in p.SCALES)
+    assert [p.VARIABLE_INDEX[name] for name in p.VARIABLES] == [0, 1, 2, 3]
+    x = np.array([0.05, 0.2, 0.01, 1.3])
+    assert p.named(x)["groove"] == 0.01
+    np.testing.assert_array_equal(p.named(np.vstack([x, 2 * x]))["damping"], [1.3, 2.6])

@@ -90,3 +90,21 @@ def test_common_units_skip_pint_and_others_use_it():
         parse_quantity("1.3 N*m", "damping", "k")
     with pytest.raises(InputError, match="too long"):
         parse_quantity("1" * 120 + " in", "length", "k")
+
+
+def test_the_inch_is_defined_once():
+    """0.0254 is written once in the package, in designer/units.py, and the paper's INCH is that object."""
+    from pathlib import Path
+
+    import designer.data.paper as paper
+    import designer.units as units
+
+    package = Path(units.__file__).resolve().parent
+    hits = [
+        f"{path.relative_to(package)}:{n}"
+        for path in sorted(package.rglob("*.py"))
+        for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
+        if "0.0254" in line
+    ]
+    assert len(hits) == 1 and hits[0].startswith("units.py:"), hits
+    assert paper.INCH is units.INCH and units.INCH == 0.0254

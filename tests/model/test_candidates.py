@@ -70,7 +70,7 @@ def test_the_evaluator_gives_the_numbers_of_model_performance():
     for k, d in enumerate(DESIGNS):
         one = performance(d.trail, d.diameter, d.groove, d.damping, RISK)
         assert values.critical_speed[k] == float(one["critical_speed"])
-        assert values.confident_speed[k] == float(one["design_speed"])
+        assert values.confident_speed[k] == float(one["confident_speed"])
         assert values.turning_effort[k] == float(one["turning_effort"])
         assert values.threshold_force[k] == float(one["threshold_force"])
         assert values.inertia[k] == float(one["inertia"])

@@ -211,6 +211,8 @@ def test_front_pandas_round_trip(front):
     ):
         assert col in df.columns
     assert df.attrs["units"]["turning_effort_N"] == "N" and df.attrs["problem"] == front.problem.name
+    # the variables' columns and units come from the parameter table (the damping's unit was once "rad")
+    assert df.attrs["units"]["damping_N_m_per_rad"] == "N·m/rad" and df.attrs["units"]["trail_m"] == "m"
     np.testing.assert_allclose(df["turning_effort_N"].to_numpy(), front.objectives()[:, 0], rtol=0, atol=0)
     back = Front.from_pandas(df, front.problem)
     assert len(back) == len(front) and back.failed == []

@@ -184,7 +184,7 @@ def test_risk_closed_form_matches_nlp_front(risk_fronts, name):
     x, ok = structured.structured_front_designs(problem, np.minimum(eps, 1e8))
     assert ok.all()
     values = evaluate_many(problem, x)
-    assert np.all(values["design_speed"] >= problem.required_speed * (1 - 1e-12))
+    assert np.all(values["confident_speed"] >= problem.required_speed * (1 - 1e-12))
     assert np.all(values["threshold_force"] <= np.minimum(eps, 1e8) * (1 + 1e-12))
     assert np.all(problem.lower().as_array() <= x) and np.all(x <= problem.upper().as_array())
     f_slow = slow.objectives()[:, 0]
@@ -633,10 +633,10 @@ def test_risk_design_on_the_bound_unless_at_the_corner():
     x, d = x[ok], d[ok]
     v = evaluate_many(p, x)
     corner = np.column_stack([x[:, 0], d, np.full(len(d), lo[2]), np.full(len(d), lo[3])])
-    corner_ok = evaluate_many(p, corner)["design_speed"] >= p.required_speed
+    corner_ok = evaluate_many(p, corner)["confident_speed"] >= p.required_speed
     assert corner_ok.any() and not corner_ok.all()
     assert np.array_equal(x[corner_ok], corner[corner_ok])
-    assert np.allclose(v["design_speed"][~corner_ok], p.required_speed, rtol=1e-9, atol=0)
+    assert np.allclose(v["confident_speed"][~corner_ok], p.required_speed, rtol=1e-9, atol=0)
 
 
 @pytest.mark.parametrize(

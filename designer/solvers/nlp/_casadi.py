@@ -38,7 +38,6 @@ import warnings
 enable_casadi()  # NumPy mode: the physics functions build CasADi symbols here
 
 BIG = 1e9
-FEAS_TOL = 1e-7
 
 QUIET = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "show_eval_warnings": False}
 """Options of every IPOPT solver built here: no iteration log, no timing table, no banner, and no CasADi
@@ -149,7 +148,7 @@ class CasterNLP:
         self.problem = problem
         lo = problem.lower().as_array()
         hi = problem.upper().as_array()
-        self.scale = np.maximum(hi, np.array([0.01, 0.05, 0.005, 1.0]))
+        self.scale = np.maximum(hi, np.array(parameters.SCALES))
         self.lbz = lo / self.scale
         self.ubz = hi / self.scale
         self.param_names, self.param_values, conditions_sym, psym = self._symbolic_conditions(problem)
@@ -158,7 +157,7 @@ class CasterNLP:
         eps = ca.SX.sym("eps", 2)
         z = ca.SX.sym("z", 4)
         x = z * ca.DM(self.scale)
-        perf = performance(x[0], x[1], x[2], x[3], conditions_sym)
+        perf = performance(**parameters.named(x), conditions=conditions_sym)
         self._perf_function = ca.Function(
             "perf",
             [z, psym],
@@ -171,7 +170,7 @@ class CasterNLP:
         # J = w_turn F + w_thr P, divided by its value at the box centre so IPOPT sees O(1)
         objective = (w[0] * perf["turning_effort"] + w[1] * perf["threshold_force"]) / (w[0] * f_ref + w[1] * p_ref)
         g = [
-            perf["design_speed"] / v_req - 1,
+            perf["confident_speed"] / v_req - 1,
             (perf["threshold_force"] - eps[0]) / p_ref,
             (perf["turning_effort"] - eps[1]) / f_ref,
         ]
@@ -560,12 +559,12 @@ def evaluate_many(problem: Problem, x: np.ndarray) -> dict:
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
-        return performance(x[:, 0], x[:, 1], x[:, 2], x[:, 3], problem.conditions)
+        return performance(**parameters.named(x), conditions=problem.conditions)
 
 
 def violation(problem: Problem, values: dict) -> np.ndarray:
     """Total relative constraint violation of evaluated designs (0 = feasible)."""
-    v = np.maximum(0.0, 1 - values["design_speed"] / problem.required_speed)
+    v = np.maximum(0.0, 1 - values["confident_speed"] / problem.required_speed)
     if problem.swept_radius_max is not None:
         v = v + np.maximum(0.0, values["swept_radius"] / problem.swept_radius_max - 1)
     return v
@@ -594,10 +593,10 @@ def best_starts(
     starts = [x[feasible][i] for i in order]
     if len(starts) < k:
         starts += [x[i] for i in np.argsort(viol)[: k - len(starts)]]
-    lo, hi = problem.lower().as_array(), problem.upper().as_array()
-    mid_d = (lo[1] + hi[1]) / 2
-    starts.append(np.array([hi[0], mid_d, hi[2], lo[3]]))  # grooved family
-    starts.append(np.array([hi[0], mid_d, lo[2], hi[3]]))  # damped family
+    lo, hi = problem.lower(), problem.upper()
+    mid_d = (lo.diameter + hi.diameter) / 2
+    starts.append(Design(hi.trail, mid_d, hi.groove, lo.damping).as_array())  # grooved family
+    starts.append(Design(hi.trail, mid_d, lo.groove, hi.damping).as_array())  # damped family
     return starts
 
 
@@ -627,14 +626,14 @@ def max_critical_speed(problem: Problem) -> tuple[float, Design, list[str]]:
     Used to diagnose an infeasible target speed.  Solved with IPOPT from several starts.
     """
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
-    scale = np.maximum(hi, np.array([0.01, 0.05, 0.005, 1.0]))
+    scale = np.maximum(hi, np.array(parameters.SCALES))
     z = ca.SX.sym("z", 4)
     x = z * ca.DM(scale)
-    perf = performance(x[0], x[1], x[2], x[3], problem.conditions)
+    perf = performance(**parameters.named(x), conditions=problem.conditions)
     g = []
     if problem.swept_radius_max is not None:
         g.append(perf["swept_radius"] / problem.swept_radius_max - 1)
-    nlp = {"x": z, "f": -perf["design_speed"], "g": ca.vertcat(*g) if g else ca.SX(0, 1)}
+    nlp = {"x": z, "f": -perf["confident_speed"], "g": ca.vertcat(*g) if g else ca.SX(0, 1)}
     solver = ca.nlpsol("vmax", "ipopt", nlp, {**QUIET, "error_on_fail": False})
     best = None
     for start in sample_designs(problem, 16, seed=1):
@@ -660,6 +659,8 @@ def max_critical_speed(problem: Problem) -> tuple[float, Design, list[str]]:
             active.append(f"variables.{var}.max")
         elif abs(arr[i] - lo[i]) <= 1e-6 * max(1.0, abs(lo[i])):
             active.append(f"variables.{var}.min")
-    if problem.swept_radius_max is not None and arr[0] + arr[1] / 2 >= problem.swept_radius_max * (1 - 1e-6):
+    if problem.swept_radius_max is not None and design.trail + design.diameter / 2 >= problem.swept_radius_max * (
+        1 - 1e-6
+    ):
         active.append("constraints.swept_radius_max")
     return v, design, active

@@ -23,6 +23,7 @@ Nothing here changes the NLP object it is given (the problem's values are the NL
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -57,11 +58,10 @@ class Ends:
 
 def _family_starts(problem: Problem, design: Design) -> list[np.ndarray]:
     """The previous design moved to each competing family (grooved / damped)."""
-    lo, hi = problem.lower().as_array(), problem.upper().as_array()
-    x = design.as_array()
-    grooved = np.array([x[0], x[1], hi[2], lo[3]])
-    damped = np.array([x[0], x[1], lo[2], hi[3]])
-    return [grooved, damped]
+    lo, hi = problem.lower(), problem.upper()
+    grooved = dataclasses.replace(design, groove=hi.groove, damping=lo.damping)
+    damped = dataclasses.replace(design, groove=lo.groove, damping=hi.damping)
+    return [grooved.as_array(), damped.as_array()]
 
 
 _SAMPLE_CACHE: dict = {}

@@ -12,6 +12,7 @@ import numpy as np
 
 import designer
 from designer.jsonsafe import finite
+from designer.parameters import VARIABLE_TABLE
 from designer.studies.front import hypervolume_2d, igd_plus, normalise
 from designer.problem import Problem
 from designer.reprs import html_table, svg_curve
@@ -150,10 +151,7 @@ class ExploreResult:
             "refined": self.refined,
             "operators": self.operators.as_dict(),
             "units": {
-                "trail": "m",
-                "diameter": "m",
-                "groove": "m",
-                "damping": "N*m/rad",
+                **{p.name: p.ascii_unit for p in VARIABLE_TABLE},
                 "turning_effort": "N",
                 "threshold_force": "N",
                 "critical_speed": "m/s",
@@ -218,8 +216,8 @@ def _box_reference(problem: Problem) -> tuple[float, float]:
     f, p = [], []
     for cat in search_space(problem).categories():
         sub = category_problem(problem, cat)
-        lo, hi = sub.lower().as_array(), sub.upper().as_array()
-        values = evaluate_many(sub, np.array([[lo[0], lo[1], hi[2], hi[3]]]))
+        lo, hi = sub.lower(), sub.upper()
+        values = evaluate_many(sub, np.array([[lo.trail, lo.diameter, hi.groove, hi.damping]]))
         f.append(float(values["turning_effort"][0]))
         p.append(float(values["threshold_force"][0]))
     return (1.1 * max(f), 1.1 * max(p))

@@ -40,6 +40,7 @@ import numpy as np
 
 from designer.errors import InputError
 from designer.model import scatter_of
+from designer.parameters import VARIABLE_TABLE
 from designer.reprs import dataframe, html_table
 
 from designer.studies.fleet._kmedian import kmedian_curve, prune_candidates
@@ -114,10 +115,7 @@ scatter on either force (docs/fleet.md, "How many part numbers")."""
 
 
 _FLEET_UNITS = {
-    "trail": ("trail_m", "m"),
-    "diameter": ("diameter_m", "m"),
-    "groove": ("groove_m", "m"),
-    "damping": ("damping_N_m_per_rad", "N·m/rad"),
+    **{p.name: (p.column, p.unit) for p in VARIABLE_TABLE},
     "turning_effort": ("turning_effort_N", "N"),
     "threshold_force": ("threshold_force_N", "N"),
     "shimmy_probability": ("shimmy_probability", "-"),

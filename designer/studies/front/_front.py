@@ -19,6 +19,7 @@ from designer.studies.front._indicators import hypervolume_2d, igd_plus, nondomi
 from designer.data.paper import INCH
 from designer.errors import InputError
 from designer.model import VARIABLES, Design
+from designer.parameters import PARAMETERS
 from designer.problem import example_names, example_problem
 from designer.problem import Problem, family_of, load_problem
 from designer.reprs import Record, svg_curve
@@ -100,8 +101,8 @@ class FrontPoint(Record):
         return out
 
 
-_UNIT_SUFFIX = {"trail": "m", "diameter": "m", "groove": "m", "damping": "N_m_per_rad"}
-"""SI unit written into the DataFrame column name of each design variable (``trail_m``, ...)."""
+_COLUMNS = {v: PARAMETERS[v].column for v in VARIABLES}
+"""DataFrame column of each design variable, its SI unit in the name (``trail_m``, ``damping_N_m_per_rad``)."""
 
 
 @dataclass
@@ -349,7 +350,7 @@ class Front(Record):
         lambdas = list(dict.fromkeys(m for p, _ in points for m in p.multipliers))
         records = []
         for p, bad in points:
-            r = {f"{v}_{_UNIT_SUFFIX[v]}": getattr(p.design, v) for v in VARIABLES}
+            r = {_COLUMNS[v]: getattr(p.design, v) for v in VARIABLES}
             r.update(
                 turning_effort_N=p.turning_effort,
                 threshold_force_N=p.threshold_force,
@@ -366,7 +367,7 @@ class Front(Record):
                 r["failed"] = bad
             records.append(r)
         columns = (
-            [f"{v}_{_UNIT_SUFFIX[v]}" for v in VARIABLES]
+            [_COLUMNS[v] for v in VARIABLES]
             + [
                 "turning_effort_N",
                 "threshold_force_N",
@@ -384,7 +385,7 @@ class Front(Record):
         df = pd.DataFrame.from_records(records, columns=columns)
         df.attrs["problem"] = getattr(self.problem, "name", None)
         df.attrs["units"] = {
-            **{c: c.rsplit("_", 1)[1] for c in columns[:4]},
+            **{_COLUMNS[v]: PARAMETERS[v].unit for v in VARIABLES},
             "turning_effort_N": "N",
             "threshold_force_N": "N",
             "critical_speed_m_s": "m/s",
@@ -407,7 +408,7 @@ class Front(Record):
         for r in df.to_dict("records"):
             wheel = r.get("wheel")
             point = FrontPoint(
-                design=Design(*(float(r[f"{v}_{_UNIT_SUFFIX[v]}"]) for v in VARIABLES)),
+                design=Design(**{v: float(r[_COLUMNS[v]]) for v in VARIABLES}),
                 turning_effort=float(r["turning_effort_N"]),
                 threshold_force=float(r["threshold_force_N"]),
                 critical_speed=float(r["critical_speed_m_s"]),

@@ -16,7 +16,7 @@ in every case):
 - risk-bounded problems (the α-quantile of V_c >= V_req): the same structure
   (trail at its largest admissible value, then the cheapest point of the constraint
   curve in the (B, c_f) box), with the constraint curve found by vectorised bisection
-  on :func:`designer.model._caster.performance`'s ``design_speed`` at the box's edges and on a
+  on :func:`designer.model._caster.performance`'s ``confident_speed`` at the box's edges and on a
   grid of grooves.
 
 Nothing here re-types an equation: :func:`designer.model._caster.performance` does the physics.
@@ -31,6 +31,7 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.model import Design, performance
+from designer.parameters import named
 from designer.problem import Bound, Problem
 from designer.reprs import Record
 from designer.solvers import closed_form
@@ -94,10 +95,10 @@ def diameters_for(problem: Problem, count: int = 25) -> list[tuple[Problem, floa
     return [(problem, float(d), None) for d in np.linspace(b.low, b.high, count)]
 
 
-def _values(problem: Problem, t, d, b, c) -> dict:
+def _values(problem: Problem, trail, diameter, groove, damping) -> dict:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
-        return performance(t, d, b, c, problem.conditions)
+        return performance(trail, diameter, groove, damping, problem.conditions)
 
 
 def _least(problem: Problem, speed, lo, hi, fixed_args, which: int):
@@ -134,23 +135,28 @@ def designs_at_diameters(problem: Problem, d) -> tuple[np.ndarray, np.ndarray]:
     if closed_form.applicable(problem):
         return closed_form.designs_at_diameter(problem, d)
     n = len(d)
-    lo, hi = problem.lower().as_array(), problem.upper().as_array()
+    lo, hi = problem.lower(), problem.upper()
     t, reach = closed_form.largest_trail(problem, d)
-    grooves = np.unique(np.concatenate([[lo[2], hi[2]], np.linspace(lo[2], hi[2], GROOVE_GRID)]))
+    grooves = np.unique(np.concatenate([[lo.groove, hi.groove], np.linspace(lo.groove, hi.groove, GROOVE_GRID)]))
     m = len(grooves)
     tt, dd = np.repeat(t, m), np.repeat(d, m)
     bb = np.tile(grooves, n)
 
     def speed(t_, d_, b_, c_):
-        return _values(problem, t_, d_, b_, c_)["design_speed"]
+        return _values(problem, t_, d_, b_, c_)["confident_speed"]
 
-    c_at_b = _least(problem, speed, lo[3], hi[3], (tt, dd, bb, np.full(n * m, lo[3])), 3)
-    b_at_c = [_least(problem, speed, lo[2], hi[2], (t, d, np.full(n, lo[2]), np.full(n, c)), 2) for c in (lo[3], hi[3])]
+    c_at_b = _least(problem, speed, lo.damping, hi.damping, (tt, dd, bb, np.full(n * m, lo.damping)), 3)
+    b_at_c = [
+        _least(problem, speed, lo.groove, hi.groove, (t, d, np.full(n, lo.groove), np.full(n, c)), 2)
+        for c in (lo.damping, hi.damping)
+    ]
     cand_b = np.concatenate([bb.reshape(n, m), np.column_stack([b_at_c[0], b_at_c[1]])], axis=1)
-    cand_c = np.concatenate([c_at_b.reshape(n, m), np.column_stack([np.full(n, lo[3]), np.full(n, hi[3])])], axis=1)
+    cand_c = np.concatenate(
+        [c_at_b.reshape(n, m), np.column_stack([np.full(n, lo.damping), np.full(n, hi.damping)])], axis=1
+    )
     k = cand_b.shape[1]
     ok = np.isfinite(cand_b) & np.isfinite(cand_c)
-    safe_b, safe_c = np.where(ok, cand_b, lo[2]), np.where(ok, cand_c, lo[3])
+    safe_b, safe_c = np.where(ok, cand_b, lo.groove), np.where(ok, cand_c, lo.damping)
     cost = np.asarray(
         _values(problem, np.repeat(t, k).reshape(n, k), np.repeat(d, k).reshape(n, k), safe_b, safe_c)[
             "turning_effort"
@@ -187,9 +193,7 @@ def groove_damper_tradeoff(problem: Problem, count: int = 25) -> list[TradeoffRo
         for mechanism in MECHANISMS:
             restricted = _restricted(sub, mechanism) if mechanism != "optimum mix" else sub
             designs, feasible = designs_at_diameters(restricted, ds)
-            effort = np.asarray(
-                _values(sub, designs[:, 0], designs[:, 1], designs[:, 2], designs[:, 3])["turning_effort"], float
-            )
+            effort = np.asarray(_values(sub, **named(designs))["turning_effort"], float)
             found[mechanism] = (designs, feasible & np.isfinite(effort), effort)
         for i, (d, wheel) in enumerate(items):
             row = TradeoffRow(diameter=float(d), wheel=wheel)

@@ -253,7 +253,7 @@ class Solution(Record):
 
 def constraint_margins(problem: Problem, design: Design, values: dict) -> tuple[dict, list]:
     """Margins (>= 0 feasible) of every constraint and bound, and the active ones."""
-    margins = {"shimmy": values["design_speed"] - problem.required_speed}
+    margins = {"shimmy": values["confident_speed"] - problem.required_speed}
     if problem.swept_radius_max is not None:
         margins["swept_radius"] = problem.swept_radius_max - values["swept_radius"]
     x = design.as_array()

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 from designer.data.paper import INCH
 from designer.model import Design
+from designer.parameters import PARAMETERS, VARIABLE_TABLE
 from designer.studies.retrofit._options import _show
 
 RULE = (
@@ -22,8 +23,8 @@ RULE = (
 )
 """The ranking rule, as printed in every output."""
 
-_UNITS = {"trail": "m", "diameter": "m", "groove": "m", "damping": "N*m/rad", "inertia": "kg*m**2"}
-"""The SI unit of each variable in the JSON records."""
+_UNITS = {p.name: p.ascii_unit for p in VARIABLE_TABLE} | {"inertia": PARAMETERS["wheel_inertia"].ascii_unit}
+"""The SI unit of each variable in the JSON records (from the parameter table; I_w is its ``wheel_inertia``)."""
 
 
 @dataclass(frozen=True)

@@ -105,7 +105,7 @@ def fix(
     setting, calibration, base, now = _diagnosis(
         problem, current, inertia, shimmied_at, stem_angle, onset_scatter, samples, seed
     )
-    current_state = setting.state(now, 0, (current, inertia))
+    current_state = setting.state(now, 0, current, inertia)
     options, sources = part_options(problem, current)
     result = _fix_result(problem, setting, calibration, current_state, sources)
     if current_state.meets_risk_bound:
@@ -209,7 +209,8 @@ def _fix_states(
             setting.state(
                 values,
                 n,
-                (design, float(cands["inertia"][j])),
+                design,
+                float(cands["inertia"][j]),
                 changes,
                 (
                     values.turning_effort[n] - current_state.turning_effort,
@@ -246,26 +247,29 @@ class _Setting:
         """(V_target [m/s], scatter, samples, seed) of the reported P(shimmy)."""
         return self.v_target, self.report_u, self.samples, self.seed
 
-    def state(self, values: CandidateValues, j, design, changes=(), cost=(0.0, 0.0)) -> CasterState:
+    def state(
+        self, values: CandidateValues, j, design: Design, inertia: float, changes=(), cost=(0.0, 0.0)
+    ) -> CasterState:
         """Caster ``j`` of the evaluated ``values`` (with their Monte Carlo) as a :class:`CasterState`."""
-        weights = self.weights
+        w_turn, w_threshold = self.weights
+        cost_turn, cost_threshold = cost
         return CasterState(
-            design[0],
-            float(design[1]),
-            float(values.effective_trail[j]),
-            float(values.turning_effort[j]),
-            float(values.threshold_force[j]),
-            float(values.swept_radius[j]),
-            float(values.critical_speed[j]),
-            float(self.factor * values.critical_speed[j]),
-            float(values.confident_speed[j]),
-            bool(values.feasible[j]),
-            float(values.shimmy_probability[j]),
-            float(values.shimmy_probability_se[j]),
-            tuple(changes),
-            float(cost[0]),
-            float(cost[1]),
-            float(weights[0] * cost[0] + weights[1] * cost[1]),
+            design=design,
+            inertia=float(inertia),
+            effective_trail=float(values.effective_trail[j]),
+            turning_effort=float(values.turning_effort[j]),
+            threshold_force=float(values.threshold_force[j]),
+            swept_radius=float(values.swept_radius[j]),
+            critical_speed=float(values.critical_speed[j]),
+            calibrated_critical_speed=float(self.factor * values.critical_speed[j]),
+            confident_speed=float(values.confident_speed[j]),
+            meets_risk_bound=bool(values.feasible[j]),
+            shimmy_probability=float(values.shimmy_probability[j]),
+            shimmy_probability_se=float(values.shimmy_probability_se[j]),
+            changes=tuple(changes),
+            cost_turning_effort=float(cost_turn),
+            cost_threshold_force=float(cost_threshold),
+            loss=float(w_turn * cost_turn + w_threshold * cost_threshold),
         )
 
 

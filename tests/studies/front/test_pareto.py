@@ -57,7 +57,7 @@ def _brute_min_effort(problem, diameter, n=40):
     t, b, c = np.meshgrid(np.linspace(lo[0], hi[0], n), np.linspace(lo[2], hi[2], n), np.linspace(lo[3], hi[3], n))
     t, b, c = t.ravel(), b.ravel(), c.ravel()
     v = performance(t, np.full_like(t, diameter), b, c, problem.conditions)
-    ok = v["design_speed"] >= problem.required_speed  # V_c, or its risk quantile when the bound is on
+    ok = v["confident_speed"] >= problem.required_speed  # V_c, or its risk quantile when the bound is on
     if problem.swept_radius_max:
         ok &= v["swept_radius"] <= problem.swept_radius_max
     if not np.any(ok):
@@ -82,7 +82,7 @@ def _polish(problem, diameter, z0, sc, lo, hi):
         zz = z * sc
         return performance(zz[0], diameter, zz[1], zz[2], problem.conditions)
 
-    cons = [{"type": "ineq", "fun": lambda z: perf(z)["design_speed"] / problem.required_speed - 1}]
+    cons = [{"type": "ineq", "fun": lambda z: perf(z)["confident_speed"] / problem.required_speed - 1}]
     if problem.swept_radius_max:
         cons.append({"type": "ineq", "fun": lambda z: 1 - perf(z)["swept_radius"] / problem.swept_radius_max})
     res = minimize(
@@ -94,7 +94,7 @@ def _polish(problem, diameter, z0, sc, lo, hi):
         options={"ftol": 1e-12, "maxiter": 300},
     )
     polished = perf(res.x)
-    feasible = polished["design_speed"] >= problem.required_speed * (1 - 1e-7)
+    feasible = polished["confident_speed"] >= problem.required_speed * (1 - 1e-7)
     if problem.swept_radius_max:
         feasible &= polished["swept_radius"] <= problem.swept_radius_max * (1 + 1e-7)
     return float(polished["turning_effort"]) if feasible else np.inf
@@ -120,7 +120,7 @@ def test_front_covers_whole_tradeoff(fronts, name):
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
     x = lo + rng.random((200_000, 4)) * (hi - lo)
     v = performance(x[:, 0], x[:, 1], x[:, 2], x[:, 3], problem.conditions)
-    ok = v["design_speed"] >= problem.required_speed
+    ok = v["confident_speed"] >= problem.required_speed
     if problem.swept_radius_max:
         ok &= v["swept_radius"] <= problem.swept_radius_max
     f = front.objectives()

@@ -63,7 +63,7 @@ def _brute(problem) -> list[tuple[float, float, tuple, bool]]:
         wheels, listed(s.trails, "trail"), listed(s.grooves, "groove"), listed(s.dampings, "damping")
     ):
         v = performance(t, d, g, c, cond)
-        ok = float(v["design_speed"]) >= problem.required_speed and d > 2 * cond.threshold_height
+        ok = float(v["confident_speed"]) >= problem.required_speed and d > 2 * cond.threshold_height
         if problem.swept_radius_max is not None:
             ok &= float(v["swept_radius"]) <= problem.swept_radius_max * (1 + 1e-9)
         out.append((float(v["turning_effort"]), float(v["threshold_force"]), (t, d, g, c), bool(ok)))
@@ -202,7 +202,7 @@ def test_continuous_rest_is_solved_exactly():
     for r in [rec, *rec.alternatives]:
         d = r.design
         v = performance(trails, d.diameter, d.groove, d.damping, problem.conditions)
-        ok = (v["design_speed"] >= problem.required_speed) & (v["swept_radius"] <= problem.swept_radius_max)
+        ok = (v["confident_speed"] >= problem.required_speed) & (v["swept_radius"] <= problem.swept_radius_max)
         assert r.turning_effort <= v["turning_effort"][ok].min() * (1 + 1e-7)
 
 
