@@ -16,7 +16,6 @@ import sys
 from pathlib import Path
 
 EQUIVALENT = Path(__file__).with_name("mutation-equivalent.txt")
-STATUSES = ("killed", "survived", "no tests", "timeout", "not checked")
 
 
 def read_equivalent(path: Path = EQUIVALENT) -> dict[str, str]:

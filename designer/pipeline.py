@@ -4,9 +4,9 @@ One function, :func:`report_data`, runs everything a Pareto report shows, in thi
 
 1. the front the problem asks for (risk-bounded by default, nominal with ``[robust] enabled = false``);
 2. the front for V_target × 1.1 (check 8c);
-3. the recommendation (:func:`designer.studies.recommend._recommend.recommend`, issue 11): the caster to build,
+3. the recommendation (:func:`designer.studies.recommend._recommend.recommend`): the caster to build,
    its two alternatives, the buildable and the continuous risk-bounded fronts; the knock-safe speeds of the
-   recommendation and its alternatives (knocks of θ0 and 2 θ0, simulated: issue 16);
+   recommendation and its alternatives (knocks of θ0 and 2 θ0, simulated);
 4. the weighted optimum J = w_turn F_turn + w_threshold P (NLP only; the GP and SLSQP cross-check only
    with ``cross_check=True``, i.e. ``designer pareto --cross-check``);
 5. the paper checks and check 8 on the front;
@@ -20,7 +20,6 @@ and hand the result to :func:`designer.report.write_report`, which renders it an
 from __future__ import annotations
 
 import datetime as _dt
-import platform
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -29,12 +28,14 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import DesignerError
-from importlib.metadata import PackageNotFoundError, version
+from designer.versions import versions
+from designer.studies.checks import front_checks, paper_checks
+from designer.studies.dynamics.limit_cycles import knock_safe_speeds
+from designer.studies.recommend import recommend
+from designer.studies.robust import robust_comparison
 
 TIGHTER_FACTOR = 1.1
 """Check 8c tightens V_target by this factor."""
-PACKAGES = ("caster-designer", "numpy", "scipy", "casadi", "cvxpy", "optuna", "matplotlib", "jinja2")
-"""Distributions whose versions go into every report."""
 CROSS_CHECK_COMMAND = "designer pareto {problem} --cross-check"
 """How to run the GP and SLSQP cross-check of the weighted optimum (kept out of the main job for speed)."""
 
@@ -48,7 +49,7 @@ class ReportData:
     problem : designer.problem.Problem
     front : the exact front the problem asks for (failed points in ``front.failed``)
     tighter : front for V_target × :data:`TIGHTER_FACTOR` (check 8c), or None
-    recommendation : the Recommendation (issue 11) or None; ``recommendation_error`` says why not
+    recommendation : the Recommendation or None; ``recommendation_error`` says why not
     price_of_stock : :func:`price_of_stock` of the recommendation against ``front``, or None
     knock_safe : per caster of the "Build this" card (recommendation, then its alternatives), the dict of
         :func:`designer.studies.dynamics.limit_cycles.knock_safe_speeds` (``knock_safe_speed``,
@@ -91,19 +92,6 @@ class ReportData:
         """The command that runs the solver cross-check for this problem."""
         source = getattr(self.problem, "source", None) or f"problems/{self.problem.name}.toml"
         return CROSS_CHECK_COMMAND.format(problem=source)
-
-
-def versions() -> dict:
-    """Installed versions of :data:`PACKAGES` and Python."""
-
-    out = {}
-    for name in PACKAGES:
-        try:
-            out[name] = version(name)
-        except PackageNotFoundError:
-            out[name] = None
-    out["python"] = platform.python_version()
-    return out
 
 
 def degenerate_reason(problem, front) -> tuple[str, str]:
@@ -177,8 +165,6 @@ def price_of_stock(front, recommendation) -> dict | None:
 
 def card_knock_safe(problem, recommendation) -> list[dict]:
     """Knock-safe speeds (θ0 and 2 θ0 knocks) of the recommendation and its alternatives, in card order [m/s]."""
-    # late import: the time-domain shimmy model (scipy's root finder) loads only when a card needs it
-    from designer.studies.dynamics.limit_cycles import knock_safe_speeds
 
     casters = [recommendation, *(getattr(recommendation, "alternatives", None) or [])]
     # each caster's own I_w (a catalogue or stock wheel's measured one): the I_w its V_c was computed with
@@ -211,7 +197,6 @@ class _Clock:
 
 def _recommend(problem):
     """The recommendation of ``problem``: (Recommendation or None, reason when None)."""
-    from designer.studies.recommend import recommend  # late import: the stock screen loads with the pipeline
 
     try:
         return recommend(problem), ""
@@ -246,7 +231,7 @@ def report_data(
     front, tighter, recommendation, solution, checks, tradeoff : optional precomputed parts (then not recomputed)
     cross_check : also run the GP and SLSQP cross-check of the weighted optimum (about 1 s of CPU)
     with_tighter : compute the V_target × 1.1 front for check 8c
-    with_recommendation : compute the recommendation (issue 11)
+    with_recommendation : compute the recommendation
     with_knock_safe : simulate the knock-safe speeds of the recommendation and its alternatives (about
         0.05–0.1 s of CPU per caster)
     progress : ``callable(label) -> callable(done, total) | None`` for the sweeps' progress bars
@@ -256,11 +241,9 @@ def report_data(
     -------
     ReportData
     """
-    from designer.studies.checks import front_checks, paper_checks  # analysis: loads casadi on first use
     from designer.studies.optimum import optimise
     from designer.studies.front import pareto_front
 
-    # late import: loads casadi (via designer.studies.front._tradeoff) only when this runs
     from designer.studies.front import groove_damper_tradeoff
 
     clock = _Clock()
@@ -374,7 +357,6 @@ class RobustData:
 
 def robust_data(problem, points: int = 21) -> RobustData:
     """Compute the price of safety of ``problem`` (:func:`designer.studies.robust.robust_comparison`)."""
-    from designer.studies.robust import robust_comparison  # analysis: loads casadi on first use
 
     c0 = time.process_time()
     with warnings.catch_warnings():
@@ -402,5 +384,4 @@ __all__ = [
     "degenerate_reason",
     "price_of_stock",
     "report_data",
-    "versions",
 ]

@@ -46,7 +46,6 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
 
 @lru_cache(maxsize=1)
 def _registry():
-    # late import: pint costs about 0.3 s of CPU (and pulls in scipy, dask when installed); only strings with units need it
     import pint
 
     ureg = pint.UnitRegistry()
@@ -147,7 +146,6 @@ def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) 
     fast = _common(text.strip(), dimension)
     if fast is not None:
         return fast
-    # late import: pint costs about 0.3 s of CPU (and pulls in scipy, dask when installed); only strings with units need it
     import pint
 
     ureg = _registry()

@@ -11,7 +11,6 @@ import ast
 import sys
 from pathlib import Path
 
-import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "designer"
 
@@ -26,6 +25,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
             "designer.data",
             "designer.parameters",
             "designer.reprs",
+            "designer.versions",
         ),
     ),
     ("physics", ("designer.physics",)),
@@ -177,25 +177,136 @@ def test_import_designer_is_light():
     assert out == "[]"
 
 
-@pytest.mark.parametrize(
-    "path",
-    [p for p in ALL_FILES if p.name != "__init__.py" or p.parent == PACKAGE],
-    ids=lambda p: str(p.relative_to(PACKAGE)),
-)
-def test_late_imports_say_why(path):
-    """A function-local import is only for a heavy or optional dependency and says so in a comment."""
-    lines = path.read_text(encoding="utf-8").splitlines()
-    tree = ast.parse("\n".join(lines))
-    top = {id(node) for node in tree.body}
-    unexplained = []
-    for node in ast.walk(tree):
-        if isinstance(node, (ast.Import, ast.ImportFrom)) and id(node) not in top:
-            if isinstance(node, ast.ImportFrom) and node.module == "__future__":
+LATE = HEAVY + ("scipy", "pint", "rich", "werkzeug", "flask", "contourpy", "selenium", "fcntl")
+"""What a function may import inside itself: a heavy or optional library (CONTRIBUTING, "Heavy dependencies
+load late"; fcntl exists on POSIX only), or a designer module whose import would load one."""
+
+LATE_ENTRY = {"designer.entry": "designer.cli"}
+"""The one late import of a light designer module: the console script installs its signal handlers first and
+then imports the whole command line (designer/entry.py)."""
+
+
+def _top_imports(path: Path) -> set[str]:
+    """Modules a file imports when it is imported: its module-level imports (also in top-level ``try``/``if``
+    blocks, but not under ``if TYPE_CHECKING``), with the designer packages that contain them."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    module = module_name(path)
+    package = module if path.name == "__init__.py" else module.rsplit(".", 1)[0]
+    out: set[str] = set()
+
+    def visit(nodes) -> None:
+        for node in nodes:
+            if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
                 continue
-            window = " ".join(lines[max(0, node.lineno - 3) : node.lineno])
-            if "#" not in window:
-                unexplained.append(f"line {node.lineno}: {ast.unparse(node)}")
-    assert unexplained == [], "late imports without a comment saying why"
+            if isinstance(node, (ast.If, ast.Try)):
+                visit(node.body + node.orelse + getattr(node, "finalbody", []))
+                for handler in getattr(node, "handlers", []):
+                    visit(handler.body)
+            elif isinstance(node, ast.Import):
+                out.update(alias.name for alias in node.names)
+            elif isinstance(node, ast.ImportFrom) and node.module != "__future__":
+                base = node.module or ""
+                if node.level:
+                    base = ".".join(
+                        package.split(".")[: len(package.split(".")) - node.level + 1] + ([base] if base else [])
+                    )
+                out.add(base)
+                out.update(f"{base}.{alias.name}" for alias in node.names if f"{base}.{alias.name}" in ALL_MODULES)
+
+    visit(tree.body)
+    return {parent for name in out for parent in _with_parents(name)}
+
+
+def _with_parents(name: str) -> list[str]:
+    """``a.b.c`` and, for a designer module, the packages it is in (importing it imports them)."""
+    parts = name.split(".")
+    if parts[0] != "designer":
+        return [name]
+    return [".".join(parts[:k]) for k in range(2, len(parts) + 1)]
+
+
+_LOADS: dict[str, bool] = {}
+
+
+def loads_late_library(module: str, seen: frozenset = frozenset()) -> bool:
+    """Whether importing designer ``module`` loads a library of :data:`LATE` (through its own module-level imports
+    and those of the designer modules it imports)."""
+    if module in _LOADS:
+        return _LOADS[module]
+    path = PACKAGE.parent / (module.replace(".", "/") + ".py")
+    if not path.exists():
+        path = PACKAGE.parent / module.replace(".", "/") / "__init__.py"
+    if not path.exists() or module in seen:
+        return False
+    found = False
+    for name in _top_imports(path):
+        if name.startswith("designer."):
+            found = name in ALL_MODULES and loads_late_library(name, seen | {module})
+        else:
+            found = any(name == lib or name.startswith(lib + ".") for lib in LATE)
+        if found:
+            break
+    _LOADS[module] = found
+    return found
+
+
+def _module_of(path: Path) -> str | None:
+    """The module name of a file of the package (None for a file elsewhere, such as a planted probe)."""
+    try:
+        return module_name(path)
+    except ValueError:
+        return None
+
+
+def late_imports_without_reason(path: Path) -> list[str]:
+    """Imports inside a function of ``path`` that are neither of a :data:`LATE` library nor of a designer module
+    that loads one (such an import belongs at the top of the module)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    found = []
+    for func in ast.walk(tree):
+        if not isinstance(func, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            continue
+        for node in ast.walk(func):
+            if isinstance(node, ast.Import):
+                names = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+                modules = [f"{node.module}.{alias.name}" for alias in node.names]  # `from pkg import module`
+                names = [m for m in modules if m in ALL_MODULES] or [node.module]
+            else:
+                continue
+            for name in names:
+                if name.startswith("designer"):
+                    ok = loads_late_library(name) or LATE_ENTRY.get(_module_of(path)) == name
+                else:
+                    ok = any(name == lib or name.startswith(lib + ".") for lib in LATE)
+                if not ok:
+                    found.append(f"line {node.lineno}: {ast.unparse(node)}")
+    return sorted(set(found))
+
+
+def test_late_imports_are_of_heavy_libraries():
+    """A function-local import is only of a heavy or optional library, or of a designer module whose import
+    would load one (CONTRIBUTING: "Heavy dependencies load late"); every other import sits at the top."""
+    offenders = {
+        str(path.relative_to(PACKAGE)): found for path in ALL_FILES if (found := late_imports_without_reason(path))
+    }
+    assert offenders == {}
+
+
+def test_the_late_import_rule_catches_a_light_late_import(tmp_path):
+    """The rule is not vacuous: a late ``import json`` or a late import of the (light) parameter table is
+    reported; a late matplotlib, scipy.optimize or designer.studies.front (which loads casadi) is not."""
+    probe = tmp_path / "probe.py"
+    probe.write_text(
+        "def f():\n    import json\n    from designer.parameters import VARIABLES\n"
+        "    import matplotlib.pyplot as plt\n    from scipy.optimize import brentq\n"
+        "    from designer.studies.front import pareto_front\n"
+    )
+    assert late_imports_without_reason(probe) == [
+        "line 2: import json",
+        "line 3: from designer.parameters import VARIABLES",
+    ]
+    assert loads_late_library("designer.studies.front") and not loads_late_library("designer.parameters")
 
 
 # --------------------------------------------------------------------------- rooms by purpose

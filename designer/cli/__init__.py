@@ -27,7 +27,7 @@ for a Unix tool that SIGPIPE ended; quietly, without a message."""
 
 COMMANDS = ["evaluate", "validate", "run", "pareto", "explore", "robust", "simulate", "calibrate", "fleet", "studio"]
 """Sub-command modules in designer.cli; each defines ``register(subparsers)``."""
-COMMANDS.append("fix")  # issue 18: retrofit
+COMMANDS.append("fix")  # retrofit
 
 
 class _Parser(argparse.ArgumentParser):

@@ -62,10 +62,8 @@ def _missing_kind() -> int:
 
 
 def run(args) -> int:
-    # late import: loads scipy (via designer.studies.calibrate) only when this runs
     from designer.studies.calibrate import calibrate_file
 
-    # late import: loads matplotlib (via designer.report.calibration) only when this runs
     from designer.report.calibration import plot_fit, write_calibration_report
 
     _check_outputs(args)
@@ -112,7 +110,6 @@ def run(args) -> int:
 
 def _check_outputs(args) -> None:
     """Every place the fit will be written to, checked before the fit (exit 2 for a bad name, 7 for a bad place)."""
-    # late import: loads matplotlib (via designer.report.calibration) only when this runs
     from designer.report.calibration import MARKER, OWNED, check_plot_name
 
     if args.plot:
@@ -125,7 +122,6 @@ def _check_outputs(args) -> None:
 
 
 def run_examples(args) -> int:
-    # late import: loads scipy (via designer.studies.calibrate) only when this runs
     from designer.studies.calibrate import EXAMPLE_SEED, EXAMPLES_DIR, write_examples
 
     count_option(args.seed, "--seed", 0, SEED_MAX)

@@ -13,6 +13,7 @@ from designer.physics.turning import DEFAULT_TURNING, MODES, SURFACES
 from designer.model import check_design
 from designer.problem import INERTIA_RANGE, PHYSICAL_RANGE
 import warnings
+from designer.studies.dynamics.limit_cycles import knock_safe_speed
 
 
 def register(sub) -> None:
@@ -153,8 +154,6 @@ def _results(design, conditions, values: dict, speed: float | None, knock_safe: 
         out["stable_at_target"] = values["critical_speed"] >= speed
         out["growth_rate"] = values["growth_rate"]
     if knock_safe:  # simulated, about 1-2 s: only on request
-        from designer.studies.dynamics.limit_cycles import knock_safe_speed
-
         theta0 = conditions.disturbance_angle
         out["knock_safe_speed"] = knock_safe_speed(design, conditions)
         out["knock_safe_speed_double"] = (
@@ -166,10 +165,8 @@ def _results(design, conditions, values: dict, speed: float | None, knock_safe: 
 
 def _print_table(design, conditions, values: dict, speed: float | None, out: dict, knock_safe: bool) -> None:
     """The rich table of the text output: each quantity with its value (SI and US units) and its paper source."""
-    # late import: loads rich only when this runs
     from rich.console import Console
 
-    # late import: loads rich only when this runs
     from rich.table import Table
 
     table = Table(title=f"Caster: {design.describe()}", title_justify="left")

@@ -1,4 +1,4 @@
-"""``designer explore``: multi-objective exploration with optuna's NSGA-II (docs/model.md#solvers, docs/commands.md, issue 5)."""
+"""``designer explore``: multi-objective exploration with optuna's NSGA-II (docs/model.md#solvers, docs/commands.md)."""
 
 from __future__ import annotations
 
@@ -65,7 +65,6 @@ def _in_memory_sqlite(url: str) -> bool:
 
 
 def run(args) -> int:
-    # late import: loads casadi (via designer.studies.explore) only when this runs
     from designer.studies.explore import explore, parse_storage
 
     count_option(args.population, "--population", 2, MAX_POPULATION)
@@ -110,13 +109,10 @@ _QUIET = QuietAfterInterrupt()
 
 
 def _print(result, csv_path, json_path) -> None:
-    # late import: loads rich only when this runs
     from rich.console import Console
 
-    # late import: loads rich only when this runs
     from rich.markup import escape
 
-    # late import: loads rich only when this runs
     from rich.table import Table
 
     console = Console(width=max(Console().width, 120))

@@ -97,7 +97,6 @@ def _length(value: float) -> str:
 
 def _print(result, problem) -> None:
     """The text output: the risk bound, the current caster's diagnosis, then the ranked fixes."""
-    # late import: loads rich only when this runs
     from rich.console import Console
 
     console = Console(width=max(Console().width, 170), highlight=False)
@@ -111,7 +110,6 @@ def _print(result, problem) -> None:
 
 def _print_current(console, result, problem, conf: str) -> None:
     """The problem's risk bound and the current caster: V_c, the speed reached with ``conf``, P(shimmy), costs."""
-    # late import: loads rich only when this runs
     from rich.markup import escape
 
     cur = result.current
@@ -154,10 +152,8 @@ def _print_current(console, result, problem, conf: str) -> None:
 
 def _print_fixes(console, result, conf: str) -> None:
     """The rule, the stock and the table of ranked fixes (costs against the current caster)."""
-    # late import: loads rich only when this runs
     from rich.markup import escape
 
-    # late import: loads rich only when this runs
     from rich.table import Table
 
     console.print(escape(f"Rule: {result.rule}."))

@@ -120,7 +120,6 @@ def run(args) -> int:
     problem = example_problem("indoor-manual") if args.problem is None else load_problem(args.problem)
     fleet = read_fleet(args.fleet)
     out = Path(args.out) if args.out else Path("results") / "fleet" / Path(args.fleet).stem
-    # late import: loads jinja2 and the report room only when this runs
     from designer.report.fleet import MARKER, OWNED, json_text, write_fleet_report
 
     check_output_folder(out, owned=OWNED, marker=MARKER, command="designer fleet")  # before the work

@@ -65,10 +65,8 @@ def register(sub) -> None:
 def _progress():
     """A transient rich progress bar on stderr, or None without rich."""
     try:
-        # late import: loads rich only when this runs
         from rich.console import Console
 
-        # late import: loads rich only when this runs
         from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
     except ImportError:  # pragma: no cover - rich is a dependency
         return None
@@ -127,10 +125,8 @@ def run(args) -> int:
             raise InputError("designer pareto: give a PROBLEM file, or --all")
         problem = load_problem(args.problem)
         jobs = [(problem, Path(args.out) if args.out else None)]
-    # late import: loads matplotlib (via designer.report) only when this runs
     from designer.report.build import compute_and_write
 
-    # late import: loads matplotlib (via designer.report.writer) only when this runs
     from designer.report.writer import check_target  # exit 7 for a file or an unwritable place, 2 for a foreign folder
 
     for problem, out in jobs:  # refuse a foreign or unwritable --out folder before the work, not after

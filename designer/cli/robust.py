@@ -1,4 +1,4 @@
-"""``designer robust PROBLEM``: nominal and robust fronts side by side (issue 7, robust design)."""
+"""``designer robust PROBLEM``: nominal and robust fronts side by side (robust design)."""
 
 from __future__ import annotations
 
@@ -25,7 +25,6 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    # late import: loads matplotlib (via designer.report.robust) only when this runs
     from designer.report.robust import MARKER, OWNED, write_robust_report
 
     if args.points < 2 or args.points > 501:

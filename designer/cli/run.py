@@ -55,7 +55,6 @@ def run(args) -> int:
     problem = load_problem(args.problem)
     if speed is not None:
         problem = problem.replace(target_speed=speed)
-    # late import: the optimiser loads casadi (and cvxpy for its cross-check); the CLI starts without them
     from designer.studies.optimum import optimise
 
     rec = recommend(problem)  # exit 4 when no stock combination meets the risk bound

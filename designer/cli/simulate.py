@@ -16,6 +16,8 @@ from designer.studies.dynamics.limit_cycles import bifurcation_diagram, knock_sa
 import warnings
 from designer.studies.dynamics.limit_cycles import limit_cycle_study
 from designer.plots.simulation import bifurcation_axes
+from designer.studies.dynamics import onset_speed, scaled_budget, simulate, work_limit
+from designer.studies.dynamics import write_simulation_report
 
 
 def register(sub) -> None:
@@ -59,7 +61,7 @@ def register(sub) -> None:
 
 
 def _register_limit_cycles(p) -> None:
-    """Options of issue 16: the brush tyre, the bifurcation diagram and the knock-safe speed."""
+    """Options of the study beyond onset: the brush tyre, the bifurcation diagram and the knock-safe speed."""
     g = p.add_argument_group("beyond onset (brush tyre, periodic orbits, knock-safe speed)")
     g.add_argument(
         "--bifurcation",
@@ -105,7 +107,6 @@ def _bounded(option: str, value: float, text: str) -> float:
 
 
 def _tyre(args):
-
     values = {}
     for option, text in (
         ("--friction-coefficient", args.friction_coefficient),
@@ -204,7 +205,6 @@ def _points(args) -> int:
 
 def _plot_bifurcation(path, design, angle: float, bif: dict, roll: dict, top: float) -> None:
     """Draw the bifurcation diagram of ``bif`` (brush tyre) and ``roll`` (rolling tyre) into an image file."""
-    # late import: loads matplotlib (via designer.plots.figures) only when this runs
     from designer.plots.figures import save_figure
 
     if not str(path).lower().endswith((".png", ".svg", ".pdf")):
@@ -318,12 +318,6 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
 
 
 def run(args) -> int:
-    # late import: loads scipy (via designer.studies.dynamics._simulate) only when this runs
-    from designer.studies.dynamics import onset_speed, scaled_budget, simulate, work_limit
-
-    # late import: the validation study (scipy, matplotlib) only for --report
-    from designer.studies.dynamics import write_simulation_report
-
     if args.plot and args.report is None:  # the plot's place, checked before the simulation
         if not str(args.plot).lower().endswith((".png", ".svg", ".pdf")):
             raise InputError(f"--plot {args.plot}: expected a .png, .svg or .pdf file name")
@@ -388,7 +382,6 @@ def _report(args, write_simulation_report) -> int:
     Both write into one temporary folder inside DIR (:func:`designer.output.output_folder`), checked before
     the work; an error or a signal (after minutes of work) leaves DIR as it was, never half new.
     """
-    # late import: loads matplotlib (via designer.report.limit_cycles) only when this runs
     from designer.report.limit_cycles import FILES, limit_cycle_files
 
     owned = ONSET_FILES + FILES
@@ -418,7 +411,6 @@ def _plot(result, path, onset=None) -> None:
     if not str(path).lower().endswith((".png", ".svg", ".pdf")):
         raise InputError(f"--plot {path}: expected a .png, .svg or .pdf file name")
     ax = result.plot(onset_speed=onset.speed if onset is not None else None)
-    # late import: loads matplotlib (via designer.plots.figures) only when this runs
     from designer.plots.figures import save_figure
 
     save_figure(ax.figure, path, dpi=110)

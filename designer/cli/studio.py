@@ -1,4 +1,4 @@
-"""``designer studio [PROBLEM]``: the trade-off live in the browser (issue 14, :mod:`designer.studio`)."""
+"""``designer studio [PROBLEM]``: the trade-off live in the browser (:mod:`designer.studio`)."""
 
 from __future__ import annotations
 

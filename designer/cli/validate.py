@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from designer.studies.checks import FAILS, law_checks, paper_checks, summary_line
 from designer.cli._common import print_json
+from designer.units import INCH
 
 
 def register(sub) -> None:
@@ -27,13 +28,10 @@ def run(args) -> int:
     if args.json:
         print_json([c.to_dict() for c in checks])
         return 1 if failed else 0
-    # late import: loads rich only when this runs
     from rich.console import Console
 
-    # late import: loads rich only when this runs
     from rich.markup import escape
 
-    # late import: loads rich only when this runs
     from rich.table import Table
 
     console = Console(width=160)
@@ -71,7 +69,6 @@ def run(args) -> int:
 
 def _pit_table(check):
     """Check 11's table: each Table 1 wheel left out, the law refitted without it, the PIT of its onset."""
-    # late import: loads rich only when this runs
     from rich.table import Table
 
     table = Table(
@@ -91,7 +88,7 @@ def _pit_table(check):
     for r in check.rows:
         table.add_row(
             r["wheel"],
-            f"{r['diameter'] / 0.0254:.0f}",
+            f"{r['diameter'] / INCH:.0f}",
             f"{r['measured_speed']:.2f}",
             f"{r['inertia_scale']:.3f} ({r['inertia_dof']})",
             f"{r['model_error_scale']:.4f} ({r['model_error_dof']})",

@@ -38,7 +38,6 @@ _TAIL_NORMAL = 9.5
 
 
 def _special() -> ModuleType:
-    # late import: scipy.special costs about 0.3 s of CPU, paid at first use, not by `import designer`
     import scipy.special
 
     module: ModuleType = scipy.special

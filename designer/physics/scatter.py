@@ -47,6 +47,7 @@ from designer.data.paper import (
 )
 from designer.physics.shimmy import critical_shimmy_speed
 from designer.physics.types import Numeric, Scalar
+from designer.units import INCH
 
 KINDS = ("data", "assumed", "measured")
 """Where a scale comes from: derived from the paper's tables, assumed, or the scatter of a measurement."""
@@ -307,13 +308,13 @@ def predicted_inertia_source(diameter: float, prediction: InertiaPrediction | No
     ]
     if bool(p.extrapolated(diameter)):
         caveats.append(
-            f"d = {diameter / 0.0254:.2f} in lies outside Table 1's {p.low / 0.0254:.0f}–{p.high / 0.0254:.0f} in: "
+            f"d = {diameter / INCH:.2f} in lies outside Table 1's {p.low / INCH:.0f}–{p.high / INCH:.0f} in: "
             "an extrapolation; the prediction interval widens with it"
         )
     text = (
         f"{TABLE1_SOURCE}. Prediction interval of the least-squares fit log I_w = log C + n log d "
         f"(n = {p.exponent:.3f}, s = {p.residual_scale:.4f}, {p.wheels} wheels, {p.dof} degrees of freedom) "
-        f"at d = {diameter / 0.0254:.3g} in"
+        f"at d = {diameter / INCH:.3g} in"
     )
     return Source(
         "wheel inertia (diameter only)",

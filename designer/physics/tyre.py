@@ -1,4 +1,4 @@
-"""Lateral tyre force of the caster wheel: a brush model that slips and saturates (issue 16).
+"""Lateral tyre force of the caster wheel: a brush model that slips and saturates.
 
 The paper's shimmy model (Appendix B) lets the tyre roll without lateral
 slip (Eq. 6B): the contact point moves only along the wheel plane, and the

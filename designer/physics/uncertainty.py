@@ -17,12 +17,12 @@ the scatter of the wheel's inertia about the value used:
   (:mod:`designer.physics.scatter`: 0.3647 at 7 in on 5 degrees of freedom,
   widening outside Table 1's 4–8 in).
 
-:func:`data_law` is the law computed from the data (issue 26; every scale's
+:func:`data_law` is the law computed from the data (every scale's
 provenance in :mod:`designer.physics.scatter`): σ_m = 0.10751, the log RMS of Eq. 7
 over Table 1's wheels C–G, on ν = 5; σ_I = 0.05 for a measured wheel; M_f/θ0 0.10
 and K_s 0.20 assumed.  (The default :class:`Uncertainty` keeps the earlier
 σ_m = 0.103, which is the RMS of the *relative* error, and σ_I = 0.10 on every
-wheel, until the studies pass the diameter: issue 26, phase 2.)
+wheel, until the studies pass the diameter.)
 
 Why Student-t: Table 1's wheels C–G were not used to fit Eq. 7 (its constants
 come from Fig. 2C and Appendix C), so the residuals have a known mean of zero and
@@ -106,7 +106,6 @@ from numpy.polynomial import chebyshev as C
 
 
 def _special() -> ModuleType:
-    # late import: scipy.special costs about 0.3 s of CPU, paid at the first quantile, not by `import designer`
     import scipy.special
 
     module: ModuleType = scipy.special
@@ -139,7 +138,7 @@ def stdtrit(dof: int, p: Numeric) -> Numeric:
 
 TABLE1_RMS_ERROR = 0.103
 """RMS relative error of Eq. 7 against Table 1 wheels C–G (computed in check 2: 10.3 %); the default model error
-of :class:`Uncertainty` until phase 2 of issue 26 (the log RMS is 0.10751: :func:`designer.physics.scatter.model_error`)."""
+of :class:`Uncertainty` until the studies pass the diameter (the log RMS is 0.10751: :func:`designer.physics.scatter.model_error`)."""
 
 TABLE1_DOF = 5
 """Degrees of freedom of the model-error estimate: 5 wheels (C–G), zero mean known (Eq. 7 not fitted to them)."""
@@ -642,7 +641,7 @@ def _clenshaw2(coef: Array, x: Scalar, y: Scalar) -> Scalar:
 
 
 def data_law(**changes: Any) -> Uncertainty:
-    """The risk law computed from the data (issue 26), as an :class:`Uncertainty`.
+    """The risk law computed from the data, as an :class:`Uncertainty`.
 
     Model error: Table 1's log RMS of Eq. 7 over wheels C–G, Student-t on 5 degrees of freedom
     (:func:`designer.physics.scatter.model_error`, 0.10751); a measured wheel inertia: σ = 0.05 of its log;

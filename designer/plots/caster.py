@@ -166,7 +166,6 @@ def plot_caster(
     of Axes.  Lengths [m] as :func:`draw_caster`.  Used by :meth:`Recommendation.draw`.
     """
     if ax is None:
-        # late import: loads matplotlib only when a figure is drawn
         import matplotlib.pyplot as plt
 
         _, ax = plt.subplots(1, 2, figsize=(9, 4.2), width_ratios=(1.25, 1), layout="constrained")

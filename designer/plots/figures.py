@@ -97,7 +97,6 @@ def _new(
 def save_figure(fig, path, dpi: int = 110, option: str = "--plot") -> None:
     """Save a figure to ``path`` (format from its suffix) and close it; the file is replaced atomically
     (:func:`designer.output.write_file`), and a place that cannot be written is an OutputError naming ``option``."""
-    # late import: loads matplotlib only when this runs
     import matplotlib.pyplot as plt
 
     # a PNG's Software tag names matplotlib's version: left out, so a redrawn figure has the same bytes

@@ -78,7 +78,6 @@ def new_axes(ax=None, figsize=(7.5, 5.0)):
     """``ax``, or the Axes of a new figure of ``figsize`` [in] (pyplot, so a notebook shows it)."""
     if ax is not None:
         return ax
-    # late import: loads matplotlib only when a figure is drawn
     import matplotlib.pyplot as plt
 
     _, ax = plt.subplots(figsize=figsize, layout="constrained")
@@ -198,7 +197,6 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
     axes : a 2 × 2 array of Axes sharing x, or None for a new figure
     """
     if axes is None:
-        # late import: loads matplotlib only when a figure is drawn
         import matplotlib.pyplot as plt
 
         fig = plt.figure(figsize=(8.5, 6.2))  # fixed margins: constrained layout misplaces the secondary axes

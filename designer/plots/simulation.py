@@ -1,4 +1,4 @@
-"""Figures of shimmy beyond onset (issue 16): arrays and plain records in, matplotlib Axes out.
+"""Figures of shimmy beyond onset: arrays and plain records in, matplotlib Axes out.
 
 matplotlib is imported inside each function (heavy; ``import designer`` stays light).
 """
@@ -12,8 +12,7 @@ import numpy as np
 
 def _axes(ax, figsize=(7, 4.5), **layout):
     if ax is None:
-        # late import: loads matplotlib only when a figure is drawn (pyplot, so a notebook shows it; no
-        # backend is forced: matplotlib picks Agg by itself where there is no display)
+        # pyplot, so a notebook shows the figure; no backend is forced (matplotlib picks Agg without a display)
         import matplotlib.pyplot as plt
 
         _, ax = plt.subplots(figsize=figsize, **layout)
@@ -254,7 +253,6 @@ def figure_onset_comparison(rows, traces, onset_c):
         ``grows``}
     onset_c : the Appendix C onset (``speed``, ``critical_speed`` [m/s])
     """
-    # late import: loads matplotlib only when a figure is drawn
     from matplotlib.figure import Figure
 
     v7 = np.array([r["eq7_critical_speed"] for r in rows])

@@ -109,7 +109,6 @@ def stem_angle_figure(path, caster: dict = EQ8_CASTER, tilt_degrees: float = 5.0
     import matplotlib  # heavy: matplotlib only when a figure is drawn
 
     matplotlib.use("Agg")
-    # late import: loads matplotlib only when this runs
     from matplotlib.figure import Figure
 
     c = caster

@@ -221,7 +221,6 @@ class Axes:
         self.legend_args: dict | None = None
         self.sharex: Axes | None = None
         self.hide_xticklabels = False
-        self.colorbars: list = []
 
     # -- state -------------------------------------------------------------------------------------
     def _add(self, kind: str, zorder: float, *args) -> None:

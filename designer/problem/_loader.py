@@ -199,11 +199,7 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
 
     weights = (r.number("objective", "turning_effort", 1.0), r.number("objective", "threshold_force", 1.0))
     caps = _caps(r)
-    stock = (
-        read_stock(r.section("stock"), bounds, inertia, wheels, conditions.threshold_height, r.fail)
-        if "stock" in data
-        else None
-    )
+    stock = read_stock(r.section("stock"), bounds, inertia, wheels, r.fail) if "stock" in data else None
     points = r.section("pareto").get("points", 41)
     if isinstance(points, bool) or not isinstance(points, int):
         r.fail(f"pareto.points = {points!r}: expected an integer")

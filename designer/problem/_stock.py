@@ -55,13 +55,11 @@ def read_stock(
     bounds: dict[str, Bound],
     inertia: InertiaModel,
     catalog: tuple[str, ...],
-    sill: float,
     fail: Callable[[str], NoReturn],
 ) -> Stock:
     """Parse [stock] against the bounds [SI] and the inertia model I_w(d) [kg·m²] (one-line errors, exit 3).
 
-    ``catalog`` are the problem's catalogue wheels, ``sill`` the door-sill height h [m] (Eq. 4A: a stock
-    wheel must roll over it); ``fail`` raises the loader's ProblemError.  Lengths in the file may carry
+    ``catalog`` are the problem's catalogue wheels; ``fail`` raises the loader's ProblemError.  Lengths in the file may carry
     units ("5 in"); the result is in SI.
     """
     if not table:

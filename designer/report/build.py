@@ -97,7 +97,7 @@ def _compute(problem, points, out, tracker, force=False, cross_check=False) -> d
 
 
 def _rec_dict(rec) -> dict:
-    """The recommendation as the JSON shape of issue 11 (SI)."""
+    """The recommendation as the JSON shape of ``designer run --json`` (SI)."""
     to_dict = getattr(rec, "to_dict", None)
     if callable(to_dict):
         return to_dict()

@@ -17,7 +17,7 @@ from designer.plots.figures import save_figure
 from designer.plots.calibration import fit_figure
 import json
 from designer.jsonsafe import finite
-from designer.pipeline import versions
+from designer.versions import versions
 from designer.plots.figures import png_bytes
 
 OWNED = frozenset({"index.html", "report.md", "calibration.json", "figures"})

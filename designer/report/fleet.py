@@ -21,7 +21,7 @@ from pathlib import Path
 
 from designer.jsonsafe import finite
 from designer.output import output_folder
-from designer.pipeline import versions
+from designer.versions import versions
 from designer.plots.fleet import figure_distributions, figure_regret
 from designer.report.formatting import fmt, length
 from designer.report.writer import _render

@@ -5,7 +5,7 @@ on this machine and, as far as the solver allows, under other releases of numpy,
 last digits are not results: IPOPT stops at its tolerance (``tol`` 1e-10 on the scaled NLP, acceptable 1e-8),
 so a variable at a bound sits a few 1e-10 of its scale inside it, an inactive constraint keeps a multiplier of
 about μ/slack ~ 1e-10, and a rerun in another order or another release moves those digits.  Every number is
-therefore written to what the solver resolves (issue 23.5):
+therefore written to what the solver resolves:
 
 - a design variable (T, d, B, c_f) to 9 significant digits of its scale (the largest magnitude of its default
   bounds in :data:`designer.parameters.DEFAULT_BOUNDS`: 2.5 in, 8 in, 0.75 in, 6 N·m/rad), so a value below

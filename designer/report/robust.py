@@ -19,6 +19,7 @@ from designer.report.resolution import resolved, split_run
 from designer.output import output_folder
 from designer.report.writer import RUN_FILE, _render, _write_json
 from designer.plots.figures import png_bytes
+from designer.plots.fronts import draw_fronts
 
 OWNED = frozenset({"index.html", "robust.md", "robust.json", "figures", "robust_fronts.png", RUN_FILE})
 """What a robust report owns in its folder (anything else there is kept on replace)."""
@@ -37,8 +38,6 @@ def title(data: RobustData) -> str:
 def figure(data: RobustData):
     """The nominal front under the risk-bounded one (:func:`designer.plots.fronts.draw_fronts`): a Figure."""
     from matplotlib.figure import Figure  # matplotlib: heavy, loaded only when a report is drawn
-
-    from designer.plots.fronts import draw_fronts
 
     problem, u = data.problem, data.uncertainty
     fn, fr = data.nominal.objectives(), data.robust.objectives()

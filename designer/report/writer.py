@@ -41,7 +41,6 @@ RUN_FILE = "run.json"
 
 
 def _render(template: str, context: dict, autoescape: bool) -> str:
-    # late import: loads jinja2 only when this runs
     import jinja2
 
     env = jinja2.Environment(

@@ -43,15 +43,15 @@ def solver(name: str, **options: Any) -> Solver:
     if name == "closed-form":
         found = CLOSED_FORM
     elif name == "casadi-ipopt":
-        from designer.solvers.nlp import NLP  # late import: loads casadi
+        from designer.solvers.nlp import NLP
 
         found = NLP
     elif name == "cvxpy-gp":
-        from designer.solvers.gp import GP  # late import: loads cvxpy
+        from designer.solvers.gp import GP
 
         found = GP
     elif name == "scipy-slsqp":
-        from designer.solvers.slsqp import SLSQP  # late import: loads scipy.optimize
+        from designer.solvers.slsqp import SLSQP
 
         found = SLSQP
     else:
@@ -68,7 +68,7 @@ def front_solver(problem: Problem, requested: str = "auto"):  # -> designer.solv
     """
     if requested not in FRONT_STRATEGIES:
         raise InputError(f"strategy = {requested!r}: expected one of {', '.join(FRONT_STRATEGIES)}")
-    from designer.solvers.nlp import NLPSolver  # late import: loads casadi
+    from designer.solvers.nlp import NLPSolver
 
     structured = requested == "auto" and not problem.bounds["diameter"].fixed and applicable(problem)
     return NLPSolver(structured=structured)

@@ -1,4 +1,4 @@
-"""Calibrate the model's constants from a user's own test data (issue 7).
+"""Calibrate the model's constants from a user's own test data.
 
 Three fits, each the paper's own test:
 

@@ -33,6 +33,7 @@ from designer.physics.shimmy import (
     critical_speed_hydraulic,
 )
 from designer.physics.turning import sliding_turning_moment
+from designer.studies.dynamics.limit_cycles import knock_safe_speed
 
 TABLE1_RMS_TOLERANCE = 0.15
 """Check 2 passes if the RMS relative error of Eq. 7 over wheels C–G is within the
@@ -560,7 +561,6 @@ def _tighter_check(front, tighter) -> Check:
 
 def highest_critical_speed(problem) -> float:
     """Highest V_c [m/s] inside the bounds of ``problem`` (over its catalog wheels), by IPOPT (Eq. 7)."""
-    # late import: loads casadi (via designer.solvers.nlp) only when this runs
     from designer.solvers.nlp import max_critical_speed
 
     return max(max_critical_speed(v)[0] for v in problem.variants())
@@ -573,7 +573,6 @@ def dominated_by_problem(problem, other_front, rel_tol: float = 1e-7) -> tuple[i
     from q's design; q is dominated if the optimum's F_turn <= F_turn(q).
     Returns (number not dominated, number of points).
     """
-    # late import: loads casadi (via designer.solvers.nlp) only when this runs
     from designer.solvers.nlp import shared_nlp
 
     not_dominated = 0
@@ -602,7 +601,7 @@ def _dominated_in_batch(problem, points, rel_tol: float) -> set:
     """Indices of ``points`` that ``problem`` is seen to dominate: the NLPs of :func:`dominated_by_problem` in one
     warm batch per variant (``solve_many`` from q's multipliers as an optimum); a successful block with F_turn <=
     F_turn(q)(1 + ``rel_tol``) is a feasible design dominating q.  The others get the single solves."""
-    from designer.solvers.nlp import shared_nlp  # late import: loads casadi (via designer.solvers.nlp)
+    from designer.solvers.nlp import shared_nlp
 
     found = set()
     for variant in problem.variants():
@@ -779,8 +778,6 @@ def knock_safe_table1_error(angle: float | None = None) -> dict:
         ``angle`` [rad], ``trail`` [m], ``rows`` [{wheel, measured, knock_safe [m/s], log_error}].  Against
         Eq. 7's 0.1075 (check 11's model error) this is the band to show beside a knock-safe speed.
     """
-    # late import: the limit-cycle simulations (and scipy.optimize) load only when a knock-safe speed is asked for
-    from designer.studies.dynamics.limit_cycles import knock_safe_speed
 
     base = Conditions()
     theta = float(base.disturbance_angle if angle is None else angle)

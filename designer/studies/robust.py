@@ -23,7 +23,6 @@ def robust_comparison(problem, points: int = 21) -> dict:
     SE, own seed) of every risk-bounded point and of the nominal point at the same sill force, and the
     price of safety: the extra turning effort at equal threshold force (interpolated on the nominal front).
     """
-    # late import: loads casadi (via designer.studies.front._pareto) only when this runs
     from designer.studies.front import pareto_front
 
     u = scatter_of(problem.conditions)

@@ -1,4 +1,4 @@
-"""``designer studio``: the trade-off live in the browser (issue 14).
+"""``designer studio``: the trade-off live in the browser.
 
 A Dash app (:mod:`designer.studio.app`: its callbacks) on top of the same API the command line uses:
 :mod:`designer.studio.state` turns controls into problem-file data and back (URL, TOML),

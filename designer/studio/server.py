@@ -23,6 +23,7 @@ import designer.studio.view as view
 import json
 import signal
 import webbrowser
+import designer.studio.state as state
 
 HOST = "127.0.0.1"
 """The studio listens on the local machine only unless --host says otherwise."""
@@ -58,8 +59,8 @@ def guard(flask_app, hosts: frozenset[str], debug: bool = False) -> None:
     """Keep the studio's Flask app a local server: 403 for a ``Host`` not in ``hosts``, 413 for a body above
     :data:`MAX_REQUEST_BYTES`, and one :data:`LOG` line per bad request or failed callback (with the
     traceback only when ``debug``) instead of Flask's traceback on the console."""
-    from flask import abort, request  # late import: the web framework, loaded with the studio only
-    from werkzeug.exceptions import HTTPException  # late import: the web framework, loaded with the studio only
+    from flask import abort, request
+    from werkzeug.exceptions import HTTPException
 
     flask_app.config["MAX_CONTENT_LENGTH"] = MAX_REQUEST_BYTES  # a body without a length is cut there too
 
@@ -130,9 +131,6 @@ def make_server(problem_path=None, port: int = 8050, host: str = HOST, out_dir="
     """
     from werkzeug.serving import make_server as _make_server  # Dash's web server, loaded with the studio
 
-    import designer.studio.state as state
-
-    # late import: loads dash, plotly (via designer.studio.app) only when this runs
     from designer.studio.app import create_app
 
     data, name = state.read_problem_data(problem_path)

@@ -26,7 +26,6 @@ from designer.errors import DesignerError, ProblemError
 from designer.physics.uncertainty import Uncertainty
 from designer.parameters import VARIABLE_TABLE
 from designer.units import DIMENSIONS, parse_quantity
-from designer.problem import SCHEMA
 from designer.problem import load_problem
 from designer.problem import DEFAULT_BOUNDS
 from designer.problem import problem_from_dict
@@ -108,28 +107,25 @@ STOCK_CONTROLS = {
     "trail_step": ("trail step", "length"),
     "wheels": ("stock wheels (Table 1 letters)", ""),
 }
-"""[stock] keys the studio offers when the problem schema has a [stock] section (issue 11)."""
+"""[stock] keys the studio offers (keys of the problem file's [stock] section)."""
 
 
 def stock_controls() -> list[Control]:
-    """Controls of the [stock] lists, if this version's problem schema has a [stock] section."""
-
-    keys = SCHEMA.get("stock", {})
+    """Controls of the [stock] lists."""
     out = []
     for key, (label, dim) in STOCK_CONTROLS.items():
-        if key in keys:
-            kind = "list" if key.endswith("s") else "quantity"
-            out.append(
-                Control(
-                    f"stock_{key}",
-                    label + (" (comma separated)" if kind == "list" else ""),
-                    ("stock", key),
-                    kind,
-                    dim,
-                    "stock",
-                    optional=True,
-                )
+        kind = "list" if key.endswith("s") else "quantity"
+        out.append(
+            Control(
+                f"stock_{key}",
+                label + (" (comma separated)" if kind == "list" else ""),
+                ("stock", key),
+                kind,
+                dim,
+                "stock",
+                optional=True,
             )
+        )
     return out
 
 

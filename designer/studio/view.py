@@ -22,6 +22,11 @@ from designer.errors import DesignerError
 from designer.model import Design, evaluate, evaluate_candidates, performance
 from designer.physics.inertia import Catalog, Fixed
 from designer.units import INCH
+from designer.plots.caster import caster_svg
+from designer.studies.dynamics import simulate
+from designer.studies.dynamics.limit_cycles import knock_safe_speeds
+from designer.studies.recommend import recommend
+from designer.studies.retrofit import fix
 
 FIX_LIMIT = 100
 """Fixes listed for "my caster": the whole ranking up to this many (designer.fix evaluates each listed fix by
@@ -41,7 +46,7 @@ class Fronts:
     problem : the validated problem
     continuous : nominal continuous front (Eq. 7 without scatter)
     risk : continuous risk-bounded front (P(V_c,true < V_req) <= α), or None without risk
-    buildable : the buildable front (stock combinations; issue 11), or None
+    buildable : the buildable front (stock combinations), or None
     recommendation : designer.recommend's result, or None where this version has no recommend
     seconds : wall time of the computation [s]
     cpu_seconds : CPU time of the computing thread [s] (the wall time on an idle machine, about)
@@ -139,7 +144,6 @@ def _compute_fronts(problem, key):
         return _CACHE[key]
     t0, c0 = time.perf_counter(), time.thread_time()
     out = Fronts(problem=problem, continuous=None)
-    from designer.studies.recommend import recommend  # late import: the stock screen and its Monte Carlo
 
     rec = _quiet(recommend, problem)
     out.recommendation = rec
@@ -293,7 +297,6 @@ def speed_sweeps(problem, design: Design, n: int = 61) -> dict:
 
 def knock_response(problem, design: Design, angle: float = KNOCK_ANGLE) -> dict:
     """θ(t) after a knock of ``angle`` [rad] at the target speed (:func:`designer.studies.dynamics._simulate.simulate`)."""
-    from designer.studies.dynamics import simulate  # scipy's integrator: loaded when a card opens
 
     result = _quiet(
         simulate, design, problem.conditions, speed=problem.target_speed, angle=angle, samples_per_period=24
@@ -310,15 +313,12 @@ def knock_response(problem, design: Design, angle: float = KNOCK_ANGLE) -> dict:
 def knock_safe(problem, design: Design) -> dict:
     """The design's knock-safe speeds for knocks of θ0 and 2 θ0 [m/s] (simulated, rolling tyre: the report's
     card, :func:`designer.studies.dynamics.limit_cycles.knock_safe_speeds`); about 0.05–0.1 s of CPU, so on a click only."""
-    # late import: the time-domain shimmy model (scipy's root finder) loads when a card opens
-    from designer.studies.dynamics.limit_cycles import knock_safe_speeds
 
     return _quiet(knock_safe_speeds, [design], problem.conditions)[0]
 
 
 def drawing_svg(problem, design: Design) -> str | None:
     """The caster drawn to scale as SVG text (:func:`designer.plots.caster.caster_svg`)."""
-    from designer.plots.caster import caster_svg  # late import: the drawing code loads when a card opens
 
     return _quiet(
         caster_svg,
@@ -367,7 +367,6 @@ def fix_command(path, design: Design) -> str:
 def my_caster(problem, design: Design) -> dict:
     """A caster the user has: its numbers and risk for ``problem`` and the ranked fixes of :func:`designer.fix`."""
     out = {"numbers": design_numbers(problem, design), "fixes": None, "fix_note": None}
-    from designer.studies.retrofit import fix  # late import: the retrofit study loads when "my caster" is asked
 
     result = _quiet(fix, problem, current=design, limit=FIX_LIMIT)
     out["found"] = int(getattr(result, "found", 0) or 0)

@@ -1,4 +1,4 @@
-"""Render the shimmy-beyond-onset study (issue 16) into results/simulation: CSV, JSON, PNG, Markdown, HTML.
+"""Render the shimmy-beyond-onset study into results/simulation: CSV, JSON, PNG, Markdown, HTML.
 
 Takes the dict of :func:`designer.studies.dynamics.limit_cycles.limit_cycle_study`; computes nothing but
 summaries of it (ratios, minima and maxima for the text).
@@ -49,7 +49,6 @@ def _csv(path: Path, rows: list[dict]) -> None:
 
 def _png(fig, path: Path) -> None:
     """The figure as a PNG file (110 dpi), closed afterwards."""
-    # late import: loads matplotlib only when this runs
     import matplotlib.pyplot as plt
 
     try:

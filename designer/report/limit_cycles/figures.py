@@ -16,7 +16,6 @@ def _figure(nrows=1, ncols=1, figsize=(8, 5)):
     import matplotlib  # heavy, only for figures
 
     matplotlib.use("Agg")
-    # late import: loads matplotlib only when this runs
     import matplotlib.pyplot as plt
 
     return plt.subplots(nrows, ncols, figsize=figsize, squeeze=False)

@@ -325,7 +325,6 @@ class _Family:
         if isinstance(self.x["added_damping"], int) and self.box["added_damping"][0] == 0:
             # c_d fixed at 0 by the family: its multiplier μ = ∂L/∂c_d at c_d = 0 (complex step)
             eps = 1e-30
-            j0, _ = self._log_parts(x, self.constants)
             jc, gc = self._log_parts({**x, "added_damping": 1j * eps}, self.constants)
             mu = float(np.imag(jc)) / eps + sum(lam.get(k, 0.0) * float(np.imag(v)) / eps for k, v in gc.items())
             if not damping_fixed and abs(mu * c0) > 1e-9:

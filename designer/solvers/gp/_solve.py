@@ -171,10 +171,6 @@ class GPResult(Record):
             f"{self.design.describe()})"
         ]
 
-    def as_start(self) -> np.ndarray:
-        """The design as an SI array in VARIABLES order (an NLP start)."""
-        return self.design.as_array()
-
 
 # --------------------------------------------------------------------------- public API
 

@@ -545,7 +545,6 @@ def sample_designs(problem: Problem, n: int = 1024, seed: int = 0) -> np.ndarray
     if n == 1024 and seed == 0 and SOBOL_FILE.exists():
         unit = _stored_sobol()
     else:
-        # late import: loads scipy.stats only when this runs
         from scipy.stats import qmc
 
         unit = qmc.Sobol(d=4, scramble=True, seed=seed).random(n)

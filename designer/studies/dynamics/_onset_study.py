@@ -25,6 +25,7 @@ from designer.model import Conditions, Design
 from designer.physics.inertia import Fixed
 from designer.physics.shimmy import critical_shimmy_speed
 from designer.plots.simulation import figure_onset_comparison
+from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING
 
 __all__ = [
     "REPORT_ANGLES",
@@ -59,8 +60,6 @@ def simulation_report_cases():
 
 
 def _report_row(trail, inertia, groove, angle, conditions, damping, rtol):
-    from designer.data.paper import BARE_FORK_DAMPING  # noqa: F401  (documented default)
-
     cond = conditions.replace(inertia=Fixed(inertia))
     design = Design(trail=trail, diameter=0.2, groove=groove, damping=damping)
     onset = onset_speed(design, cond, angle=angle, rtol=rtol)
@@ -160,8 +159,6 @@ def _appendix_c(conditions: Conditions, rtol: float):
     """The Appendix C reference case (Fig. 1C): its onset (bracket ``rtol``/5), the onset after a 0.7 rad/s
     kick, θ(t) at 0.9, 1.0 and 1.1 × the onset, and its summary record: ``(onset, traces, record)``."""
     # Appendix C reference case (Fig. 1C): T = 2.5 in, I_w from V_c = 2.53 m/s via Eq. 7, θ0 = 20°.
-    from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING
-
     case = APPENDIX_C_CASE
     i_c = 4 * BARE_FORK_DAMPING * case.trail**2 / (math.pi * case.critical_speed**2)
     cond_c = conditions.replace(inertia=Fixed(i_c))

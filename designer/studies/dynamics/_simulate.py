@@ -1,4 +1,4 @@
-"""Time-domain shimmy simulation with true Coulomb spindle friction (Appendix B, issue 7).
+"""Time-domain shimmy simulation with true Coulomb spindle friction (Appendix B).
 
 Eq. 7 is a *describing-function* result: the paper replaces the spindle's
 constant friction moment M_f by the hydraulic damper that dissipates the same
@@ -194,7 +194,7 @@ class _StickSlip:
         def cross(_t, yy):
             return yy[1]
 
-        from scipy.integrate import solve_ivp  # late import: scipy's integrator only when a simulation runs
+        from scipy.integrate import solve_ivp
 
         sol = solve_ivp(
             counted(k.rhs(s)),

@@ -94,10 +94,8 @@ class Operators:
 
     def sampler(self, seed: int | None):
         """The configured :class:`optuna.samplers.NSGAIISampler`."""
-        # late import: loads optuna only when this runs
         import optuna
 
-        # late import: loads optuna only when this runs
         from optuna.samplers.nsgaii import PolynomialMutation, SBXCrossover, UniformCrossover
 
         crossover = SBXCrossover(eta=self.crossover_eta) if self.crossover == "sbx" else UniformCrossover()
@@ -112,10 +110,8 @@ class Operators:
         )
         if not self.deduplicate:
             return optuna.samplers.NSGAIISampler(**kwargs)
-        # late import: loads optuna only when this runs
         from optuna.samplers._lazy_random_state import LazyRandomState
 
-        # late import: loads optuna only when this runs
         from optuna.samplers.nsgaii._child_generation_strategy import NSGAIIChildGenerationStrategy
 
         rng = LazyRandomState(seed)
@@ -203,7 +199,6 @@ class _Deduplicated:
         self._scanned = 0
 
     def _seen(self, study) -> set:
-        # late import: loads optuna only when this runs
         from optuna.trial import TrialState
 
         trials = study.get_trials(deepcopy=False)

@@ -39,10 +39,8 @@ class _Progress:
 
     def __enter__(self):
         if self.enabled:
-            # late import: loads rich only when this runs
             from rich.console import Console
 
-            # late import: loads rich only when this runs
             from rich.progress import (
                 BarColumn,
                 MofNCompleteColumn,

@@ -3,21 +3,19 @@
 from __future__ import annotations
 
 import json
-import platform
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-import designer
 from designer.jsonsafe import finite
 from designer.parameters import VARIABLE_TABLE
+from designer.versions import versions
 from designer.studies.front import hypervolume_2d, igd_plus, normalise
 from designer.problem import Problem
 from designer.reprs import html_table, svg_curve
 from designer.solvers.nlp import evaluate_many
-import casadi
 from designer.studies.explore._operators import Operators, category_problem, search_space
 from designer.studies.explore._storage import _atomic_write_many, _one_line
 
@@ -193,20 +191,6 @@ class ExploreResult:
         return csv_path, json_path
 
 
-def versions() -> dict:
-    """Versions of the designer, Python and the numerical libraries (for reports)."""
-    # late import: loads optuna only when this runs
-    import optuna
-
-    return {
-        "designer": designer.__version__,
-        "python": platform.python_version(),
-        "optuna": optuna.__version__,
-        "numpy": np.__version__,
-        "casadi": casadi.__version__,
-    }
-
-
 # --------------------------------------------------------------------------- fronts
 
 
@@ -225,7 +209,7 @@ def _box_reference(problem: Problem) -> tuple[float, float]:
 
 def _exact_front(problem: Problem) -> dict | None:
     """The exact front of :func:`designer.studies.front._pareto.pareto_front`, or a note when it is unavailable."""
-    try:  # late import: the exact front loads casadi, only for this comparison
+    try:
         from designer.studies.front import pareto_front
     except ImportError:
         return {"note": "designer.studies.front._pareto is not available; no comparison with the exact front"}

@@ -47,10 +47,8 @@ def _prepare_resume(study, spec: StorageSpec, search_space_names, trials: int) -
     retry queued twice in a race (two processes resuming at once) is evaluated once
     (:meth:`_Evaluator.skip`).
     """
-    # late import: loads optuna only when this runs
     import optuna
 
-    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     notes = []
@@ -142,10 +140,8 @@ def explore(
     InputError
         Bad arguments (exit 2); StorageError for a bad or unreachable storage (exit 6).
     """
-    # late import: loads optuna only when this runs
     import optuna
 
-    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     spec = parse_storage(storage)
@@ -232,7 +228,6 @@ def _open_study(
 
 def _incomplete_note(study, complete: int, trials: int) -> str:
     """The warning when the study holds fewer than ``trials`` COMPLETE trials (others still running)."""
-    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     running = len(study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)))
@@ -256,7 +251,6 @@ def _check_arguments(trials, workers, resume: bool, spec: StorageSpec) -> None:
 
 def _load_for_resume(problem: Problem, study_name: str, spec: StorageSpec, storage_obj, ops: Operators):
     """The study to resume and its operators (as first run); InputError if it is missing or of another problem."""
-    # late import: loads optuna only when this runs
     import optuna
 
     try:
@@ -287,7 +281,6 @@ def _create(
     space: SearchSpace,
 ):
     """A new two-objective study, labelled with the problem, budget, seed, operators and space."""
-    # late import: loads optuna only when this runs
     import optuna
 
     try:

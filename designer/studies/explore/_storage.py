@@ -139,13 +139,11 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
     ``break_lock`` (resume of a journal file): remove a lock file left by a
     killed process instead of waiting out its grace period.
     """
-    # late import: loads optuna only when this runs
     import optuna
 
     if spec.kind == "memory":
         return optuna.storages.InMemoryStorage()
     if spec.kind == "journal":
-        # late import: loads optuna only when this runs
         from optuna.storages.journal import JournalFileBackend, JournalFileOpenLock, JournalStorage
 
         path = Path(spec.url)

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import multiprocessing
 import os
 import signal
 import socket
@@ -78,7 +79,6 @@ class _Evaluator:
         failed trial was retried twice by processes in a race.  Trials are created one at a time, so every
         trial with a smaller number is visible here.
         """
-        # late import: loads optuna only when this runs
         from optuna.trial import TrialState
 
         live = (TrialState.WAITING, TrialState.RUNNING, TrialState.COMPLETE)
@@ -96,7 +96,6 @@ class _Evaluator:
         return None
 
     def __call__(self, trial):
-        # late import: loads optuna only when this runs
         import optuna
 
         if self.shared:
@@ -121,7 +120,6 @@ class _Evaluator:
 
 
 def _counts(study) -> dict:
-    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     out = {s: 0 for s in TrialState}
@@ -164,10 +162,8 @@ def _late_note(number: int) -> str:
 def _tell(study, trial, values, state):
     """Tell ``trial`` only while it is still RUNNING: the told FrozenTrial, or None when another process has
     failed it meanwhile (then it keeps its FAIL and ``values`` count nowhere)."""
-    # late import: loads optuna only when this runs
     from optuna.exceptions import UpdateFinishedTrialError
 
-    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     try:
@@ -180,13 +176,10 @@ def _tell(study, trial, values, state):
 def _run_trial(study, trial, evaluator: _Evaluator, storage, heartbeat: float | None):
     """Evaluate and tell one asked trial: ``(told FrozenTrial, None)``, or ``(None, note)`` when another
     process failed the trial before its result was told."""
-    # late import: loads optuna only when this runs
     import optuna
 
-    # late import: loads optuna only when this runs
     from optuna.exceptions import UpdateFinishedTrialError
 
-    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     values, state = None, None
@@ -215,10 +208,8 @@ def _work(study, evaluator: _Evaluator, budget: int, storage, on_trial=None) -> 
     heartbeat a running trial of another process cannot be told from a dead one: the worker stops
     (``--resume`` finishes such a study).
     """
-    # late import: loads optuna only when this runs
     import optuna
 
-    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     interval = storage.get_heartbeat_interval() if hasattr(storage, "get_heartbeat_interval") else None
@@ -251,10 +242,8 @@ def _abandon(study, storage, waited_on: dict, patience: float) -> None:
     the first beat leaves it RUNNING for ever.  Failing a trial whose process is alive but slow is safe: its
     result is then discarded (:func:`_tell`) and the budget is filled by another trial.
     """
-    # late import: loads optuna only when this runs
     from optuna.exceptions import UpdateFinishedTrialError
 
-    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     now = time.monotonic()
@@ -283,7 +272,6 @@ def _run_worker(
     ``check_budget``: other processes may work on the study, so each trial checks by its number that
     fewer than ``budget`` trials precede it and that no earlier trial holds its candidate.
     """
-    # late import: loads optuna only when this runs
     import optuna
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
@@ -344,7 +332,6 @@ def _run_study(
     """Run the study to ``trials`` COMPLETE trials: in this process, or on a pool of ``workers`` processes.
 
     Returns the workers' notes (results that came too late to count)."""
-    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     try:
@@ -375,10 +362,6 @@ def _run_study(
 
 
 def _run_pool(problem, spec, study_name, trials, seed, ops, workers, storage_obj, tracker, bar) -> list[str]:
-    # late import: loads multiprocessing only when this runs
-    import multiprocessing
-
-    # late import: loads optuna only when this runs
     from optuna.trial import TrialState
 
     ctx = multiprocessing.get_context("spawn")
@@ -387,7 +370,6 @@ def _run_pool(problem, spec, study_name, trials, seed, ops, workers, storage_obj
     procs = [ctx.Process(target=_worker_entry, args=(args, notes_queue), daemon=False) for _ in range(workers)]
     for p in procs:
         p.start()
-    # late import: loads optuna only when this runs
     import optuna
 
     study = optuna.load_study(study_name=study_name, storage=storage_obj)

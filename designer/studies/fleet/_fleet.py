@@ -3,7 +3,7 @@
 A fleet is a table of chair configurations (``FLEET.csv``, one row per chair: load, sill height, target
 speed, swept-radius limit, surface, turning mode, units sold).  The base problem gives everything else:
 bounds, stock, risk bound, weights.  For each chair this module computes the recommendation of
-``designer.recommend`` (issue "Build this caster") vectorised over chairs × stock casters:
+``designer.recommend`` vectorised over chairs × stock casters:
 
 1. every stock caster is screened against the chair's own constraints, deterministically:
    the risk bound ``shimmy_speed_quantile >= (1 + margin) V_target`` (V_c of Eq. 7 lowered by the

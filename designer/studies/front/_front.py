@@ -23,6 +23,8 @@ from designer.parameters import PARAMETERS
 from designer.problem import example_names, example_problem
 from designer.problem import Problem, family_of, load_problem
 from designer.reprs import Record, svg_curve
+from designer.plots.fronts import draw_fronts, plot_front
+from designer.plots.fronts import plot_variables
 
 REFERENCE_OFFSET = 0.1
 """Hypervolume reference point: 10 % beyond the nadir in normalised objectives, i.e. (1.1, 1.1)."""
@@ -278,8 +280,6 @@ class Front(Record):
         "damping" [N·m/rad], "critical_speed" [m/s] or None.  The report's front figure draws with the same
         function (:func:`designer.plots.fronts.plot_front`).
         """
-        # late import: loads matplotlib (via designer.plots.fronts) only when this runs
-        from designer.plots.fronts import draw_fronts, plot_front
 
         f = self.objectives()
         ax = plot_front(
@@ -320,8 +320,6 @@ class Front(Record):
         The report's variables figure draws with the same function
         (:func:`designer.plots.fronts.plot_variables`).
         """
-        # late import: loads matplotlib (via designer.plots.fronts) only when this runs
-        from designer.plots.fronts import plot_variables
 
         return plot_variables(
             [p.threshold_force for p in self.points],

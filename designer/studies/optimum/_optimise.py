@@ -375,7 +375,7 @@ def _gp(problem: Problem, weights) -> Optimum | None:
 
 
 def _gp_polished(problem: Problem, gp, weights) -> float:
-    from designer.solvers import gp as gp_module  # late import: cvxpy (the GP cross-check) only when it runs
+    from designer.solvers import gp as gp_module
 
     try:
         _, j = gp_module.polish(problem, gp, weights)

@@ -100,7 +100,6 @@ def _sub_problem(problem, row: dict, inertia, wheel):
 
 def _continuous_buildable(problem) -> _Buildable:
     """Each stock combination's continuous rest solved exactly (NLP), then pooled and evaluated by the model."""
-    # late import: loads casadi (via designer.studies.front._pareto) only when this runs
     from designer.studies.front import pareto_front
 
     cand = stock_candidates(problem)
@@ -224,7 +223,6 @@ def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, 
 
 def _buildable_front(problem, b: _Buildable, member: np.ndarray):
     """The buildable front as a :class:`designer.studies.front._pareto.Front` (decreasing P)."""
-    # late import: loads casadi (via designer.studies.front._pareto) only when this runs
     from designer.studies.front import Front, FrontPoint, family_of
 
     idx = np.flatnonzero(member)
@@ -312,7 +310,6 @@ def _buildable(problem) -> _Buildable:
     else:
         b = _continuous_buildable(problem)
     if not len(b):
-        # late import: loads casadi, cvxpy, jinja2, scipy (via designer.studies.optimum._optimise) only when this runs
         from designer.studies.optimum import diagnose_infeasible
 
         error = diagnose_infeasible(problem)  # out of reach of the whole box: that is the message, not the stock's

@@ -67,7 +67,6 @@ class Recommendation:
     def front(self):
         """The continuous risk-bounded front of the problem (:func:`designer.studies.front._pareto.pareto_front`)."""
         if self._front is None and self.problem is not None:
-            # late import: loads casadi (via designer.studies.front._pareto) only when this runs
             from designer.studies.front import pareto_front
 
             self._front = pareto_front(self.problem)

@@ -1,4 +1,4 @@
-"""Shimmy beyond onset: knocks, periodic orbits, Floquet multipliers, knock-safe speed (issue 16).
+"""Shimmy beyond onset: knocks, periodic orbits, Floquet multipliers, knock-safe speed.
 
 Two caster models, both with exact Coulomb spindle friction M_f sgn θ'
 (stick–slip handled by events, as ``designer.studies.dynamics._simulate``):

@@ -1,4 +1,4 @@
-"""Knock onset and knock-safe speed: bisection in speed on simulated knocks (issue 16)."""
+"""Knock onset and knock-safe speed: bisection in speed on simulated knocks."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Periodic orbits: shooting on the section θ' = 0 at a maximum, Floquet multipliers, continuation (issue 16).
+"""Periodic orbits: shooting on the section θ' = 0 at a maximum, Floquet multipliers, continuation.
 
 The method is described in :mod:`designer.studies.dynamics.limit_cycles`.
 """

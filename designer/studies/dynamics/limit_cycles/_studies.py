@@ -1,4 +1,4 @@
-"""The studies of results/simulation: bifurcation diagram, Table 1, the (K, N) map, μ (issue 16)."""
+"""The studies of results/simulation: bifurcation diagram, Table 1, the (K, N) map, μ."""
 
 from __future__ import annotations
 
@@ -234,7 +234,7 @@ def stiffness_mass_map(
     rtol: float = 0.01,
     progress=None,
 ) -> dict:
-    """Onset and sustained amplitude over a grid of frame stiffness K and lateral mass N (issue 16).
+    """Onset and sustained amplitude over a grid of frame stiffness K and lateral mass N.
 
     For each caster and each (K, N) = (f_K K0, f_N N0): the knock onset with the rolling tyre (bisection from
     Eq. 7) and with the brush tyre (lowest sustained speed of a 13-speed scan over 0.2-4 × the measured V_c,
@@ -361,7 +361,7 @@ def appendix_c_caster() -> tuple[Design, Conditions]:
 
 
 def limit_cycle_study(progress=None, quick: bool = False) -> dict:
-    """Everything the results/simulation limit-cycle report shows (issue 16); minutes of CPU.
+    """Everything the results/simulation limit-cycle report shows; minutes of CPU.
 
     Appendix C caster: bifurcation diagrams (brush tyre and rolling tyre), stable amplitude against the
     measured 8° and its dependence on μ, knock-safe speeds (θ0, 2θ0); Table 1 comparison; (K, N) map.

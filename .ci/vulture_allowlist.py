@@ -1,0 +1,50 @@
+"""Names vulture (dead-code search, `.ci/run`) cannot see used: they are called by a framework, by name, or by a
+protocol.  One line per name, with who uses it; anything else vulture reports is dead code to remove."""
+
+# Python protocols and callbacks with a fixed signature
+__getattr__  # the lazy public names of designer/__init__.py (module __getattr__)
+__dir__  # the same
+_.showwarning  # warnings.showwarning replaced by the CLI (designer/cli/__init__.py)
+file  # its signature's argument
+signum  # signal handler arguments (designer/errors.py)
+frame
+_.terminal  # scipy solve_ivp event attributes (terminal, direction)
+study_  # optuna's trial callback argument (designer/studies/explore/_workers.py)
+_._rng  # optuna sampler attribute set for reseed_rng (designer/studies/explore/_operators.py)
+
+# called by name
+figure_trail  # report/figures.py: getattr(figures, f"figure_{name}") for each of plots.figures.FIGURES
+figure_inertia
+figure_threshold
+figure_groove_damper
+_._draw_line  # plots/svg.py: getattr(self, "_draw_" + kind) for each recorded artist
+_._draw_markers
+_._draw_hline
+_._draw_vline
+_._draw_vspan
+_._draw_rect
+_._draw_bars
+_._draw_bands
+_._draw_contour
+_._draw_clabel
+_._draw_annotate
+first_row_marked  # read by the Jinja templates (report/templates/_panels.*.j2)
+write_docs  # the documented command that regenerates docs/parameters.md (CONTRIBUTING)
+_.residuals  # public property of a calibration result (notebooks)
+
+# web framework: Dash callbacks, Flask hooks and overrides (designer/studio)
+open_card
+check_mine
+save
+_local_only
+_.log_request
+
+# pytest and test helpers: fixtures used by name, HTMLParser and Selenium overrides
+_quiet_extrapolation
+_close_figures
+_.handle_starttag
+_.handle_startendtag
+_.handle_endtag
+_.handle_data
+pytestmark
+_.binary_location
