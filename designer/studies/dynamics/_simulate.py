@@ -432,7 +432,7 @@ def _frequency(crossings: list[float], transient: float) -> float:
 
 
 @bounded("onset search")
-def onset_speed(
+def onset_speed(  # long: its docstring documents every argument and error; the body is bracket then bisect
     design: Design,
     conditions: Conditions = Conditions(),
     angle: float | None = None,

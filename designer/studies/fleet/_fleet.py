@@ -590,14 +590,8 @@ def fleet_data(result: FleetResult) -> dict:
         "regret_unit": "N",
         "own_recommendation": _own_recommendation(result),
         "risk": None if risk is None else {"probability": risk.probability, "margin": problem.margin},
-        "monte_carlo": {"samples": getattr(u, "samples", None), "seed": getattr(u, "seed", None)},
-        "rule": (
-            "cap on sill force"
-            if getattr(problem, "max_threshold_force", None) is not None
-            else "cap on turning effort"
-            if getattr(problem, "max_turning_effort", None) is not None
-            else "knee of the buildable front"
-        ),
+        "monte_carlo": {"samples": u.samples, "seed": u.seed},
+        "rule": _rule_name(problem),
         "stock": {
             "casters": len(result.stock),
             "note": result.stock.note,
@@ -664,6 +658,15 @@ def _curve_data(result: FleetResult, units: float) -> list[dict]:
         }
         for k, s in sorted(result.curve.items())
     ]
+
+
+def _rule_name(problem) -> str:
+    """The base problem's rule in words (a cap on one objective, else the knee)."""
+    if problem.max_threshold_force is not None:
+        return "cap on sill force"
+    if problem.max_turning_effort is not None:
+        return "cap on turning effort"
+    return "knee of the buildable front"
 
 
 def _worst_regret(result: FleetResult, solution) -> float | None:
