@@ -31,6 +31,8 @@ _._draw_annotate
 first_row_marked  # read by the Jinja templates (report/templates/_panels.*.j2)
 write_docs  # the documented command that regenerates docs/parameters.md (CONTRIBUTING)
 _.residuals  # public property of a calibration result (notebooks)
+sum_cdf  # the exact law's sums of scaled Student-t and normal terms, public helpers (physics/_sums.py)
+sum_quantile
 
 # web framework: Dash callbacks, Flask hooks and overrides (designer/studio)
 open_card
@@ -39,7 +41,9 @@ save
 _local_only
 _.log_request
 
-# pytest and test helpers: fixtures used by name, HTMLParser and Selenium overrides
+# pytest and test helpers: hooks and fixtures used by name, HTMLParser and Selenium overrides
+pytest_configure
+_alone_under_xdist
 _quiet_extrapolation
 _close_figures
 _.handle_starttag

@@ -72,19 +72,14 @@ def csv_text(data: dict) -> str:
     return buf.getvalue()
 
 
-def json_data(data: dict) -> dict:
-    """What ``--json`` prints and fleet.json holds (no figure arrays)."""
-    out = {k: v for k, v in data.items() if k != "distributions"}
-    return finite(out)
-
-
 def run_data(run: dict | None) -> dict | None:
     """run.json: the run's date, stage and per-K seconds, scheduler, and the library versions."""
     return None if run is None else finite({**run, "versions": versions()})
 
 
 def json_text(data: dict, run: dict | None = None) -> str:
-    """:func:`json_data` as text (with ``"run"`` last when given), one chair per line in ``rows``.
+    """What ``--json`` prints and fleet.json holds, as text: ``data`` without the figure arrays (with ``"run"``
+    last when given), one chair per line in ``rows``.
 
     The rows (one per chair, thousands) are written by the C encoder, one line each; a row that holds a
     NaN or an infinity goes through :func:`designer.jsonsafe.finite` first (NaN and infinities are null).
