@@ -44,6 +44,7 @@ _.log_request
 # pytest and test helpers: hooks and fixtures used by name, HTMLParser and Selenium overrides
 pytest_configure
 _alone_under_xdist
+fast_simulation_report
 _quiet_extrapolation
 _close_figures
 _.handle_starttag

@@ -206,10 +206,6 @@ def _repair_journal(path: Path) -> None:
 # --------------------------------------------------------------------------- atomic writes
 
 
-RESULT_FILES = ("explore.csv", "explore.json")
-"""The files ``designer explore`` owns in its --out folder (explore.json marks a folder it wrote before)."""
-
-
 def _atomic_write_many(files: dict, option: str = "--out") -> None:
     """Write the files of ``files`` (path -> text, one folder) at once: into a temporary folder inside it,
     synced, then renamed over the previous ones (:func:`designer.output.output_folder`).  Nothing else in the
