@@ -45,6 +45,8 @@ _.log_request
 pytest_configure
 _alone_under_xdist
 fast_simulation_report
+no_solvers
+Bad  # a record class whose definition must raise (tests/test_records.py)
 _quiet_extrapolation
 _close_figures
 _.handle_starttag
