@@ -19,6 +19,7 @@ from pathlib import Path
 from designer.errors import ServerError
 import socket
 from werkzeug.serving import WSGIRequestHandler
+import designer.studio.helper as helper
 import designer.studio.view as view
 import json
 import signal
@@ -122,12 +123,20 @@ def check_port(host: str, port: int) -> None:
             raise ServerError(f"--port {port}: cannot listen on {host}: {exc.strerror or exc}") from None
 
 
-def make_server(problem_path=None, port: int = 8050, host: str = HOST, out_dir="studio-output", debug: bool = False):
+def make_server(
+    problem_path=None,
+    port: int = 8050,
+    host: str = HOST,
+    out_dir="studio-output",
+    debug: bool = False,
+    parallel: bool = False,
+):
     """Build the app for ``problem_path`` and bind ``host:port`` (0 = any free port), :func:`guard`-ed.
 
     Returns (werkzeug server, url).  Raises ProblemError for a bad problem file (before binding) and
     ServerError (exit 8) when the port is taken or cannot be bound.  ``debug``: failed requests log their
-    traceback as well.
+    traceback as well.  ``parallel``: start the helper process (:mod:`designer.studio.helper`; stop it
+    with :func:`designer.studio.helper.stop`), warmed on the problem's nominal front.
     """
     from werkzeug.serving import make_server as _make_server  # Dash's web server, loaded with the studio
 
@@ -142,6 +151,8 @@ def make_server(problem_path=None, port: int = 8050, host: str = HOST, out_dir="
         view.compute_fronts(problem, key=json.dumps(merged, sort_keys=True))
     except Exception:  # noqa: BLE001 - an infeasible start is shown on the page, beside the control
         pass
+    if parallel:  # the helper warms its own solvers meanwhile, in the background
+        helper.start(warm=problem.nominal())
 
     try:
         server = _make_server(host, int(port), app.server, threaded=True, request_handler=_Quiet)
@@ -168,7 +179,7 @@ def serve(
         console.setFormatter(logging.Formatter("designer studio: %(message)s"))
         LOG.addHandler(console)
         LOG.setLevel(logging.INFO)
-    server, url = make_server(problem_path, port, host, out_dir, debug)
+    server, url = make_server(problem_path, port, host, out_dir, debug, parallel=True)
     print(f"designer studio: serving {url} (Ctrl-C to stop)", flush=True)
     if open_browser:
         threading.Timer(0.5, webbrowser.open, args=(url,)).start()
@@ -183,5 +194,6 @@ def serve(
         pass
     finally:
         server.server_close()
+        helper.stop()
     print("designer studio: stopped", file=sys.stderr)
     return 0

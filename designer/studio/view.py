@@ -19,6 +19,7 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from designer.errors import DesignerError
+import designer.studio.helper as helper
 from designer.model import Design, evaluate, evaluate_candidates, performance
 from designer.physics.inertia import Catalog, Fixed
 from designer.units import INCH
@@ -49,7 +50,7 @@ class Fronts:
     buildable : the buildable front (stock combinations), or None
     recommendation : designer.recommend's result, or None where this version has no recommend
     seconds : wall time of the computation [s]
-    cpu_seconds : CPU time of the computing thread [s] (the wall time on an idle machine, about)
+    cpu_seconds : CPU time of the computing thread and of the helper process's job [s]
     notes : what could not be computed and why (one line each)
     """
 
@@ -123,13 +124,15 @@ def cached(key: str):
         return _CACHE.get(key)
 
 
-def _front(problem):
+def _front(problem, computed=None):
     """:func:`designer.pareto_front` of ``problem``, kept by :func:`front_key` (the front of an equal key is
-    returned as the front of ``problem``)."""
+    returned as the front of ``problem``); ``computed``: that front, computed elsewhere (the helper process)."""
     from designer.studies.front import pareto_front  # casadi: loaded with the studio, not with `import designer`
 
     key = front_key(problem)
     front = _FRONTS.pop(key, None)
+    if front is None:
+        front = computed
     if front is None:
         front = _quiet(pareto_front, problem)
     _FRONTS[key] = front
@@ -145,13 +148,17 @@ def _compute_fronts(problem, key):
     t0, c0 = time.perf_counter(), time.thread_time()
     out = Fronts(problem=problem, continuous=None)
 
+    nominal = problem.nominal()
+    # the nominal front in the helper process (designer studio starts it) while this one does the rest
+    job = helper.submit(nominal) if front_key(nominal) not in _FRONTS else None
     rec = _quiet(recommend, problem)
     out.recommendation = rec
     out.buildable = getattr(rec, "buildable", None)
     out.risk = _front(problem) if problem.risk is not None else None
-    out.continuous = _front(problem.nominal())
+    done = helper.result(job)
+    out.continuous = _front(nominal, done[0] if done else None)
     out.seconds = time.perf_counter() - t0
-    out.cpu_seconds = time.thread_time() - c0
+    out.cpu_seconds = time.thread_time() - c0 + (done[1] if done else 0.0)
     if key is not None:
         _CACHE[key] = out
         while len(_CACHE) > _CACHE_SIZE:

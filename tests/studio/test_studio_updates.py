@@ -175,3 +175,88 @@ def test_fronts_are_kept_by_what_they_depend_on():
     assert second.continuous.points is first.continuous.points  # reused, not recomputed
     assert second.continuous.problem == riskier.nominal()
     assert not np.array_equal(second.risk.objectives(), first.risk.objectives())
+
+
+HELPER_RUN = r"""
+import json, os, signal, sys, time
+import numpy as np
+from designer.studies.front import pareto_front
+from designer.studio import helper, state, view
+
+def same(a, b):
+    return bool(np.array_equal(a.objectives(), b.objectives()) and np.array_equal(a.designs(), b.designs()))
+
+if __name__ == "__main__":
+    data, _ = state.read_problem_data()
+    defaults = state.control_values(data)
+    problem, _ = state.build_problem(data, dict(defaults, target=2.2))
+    helper.start(warm=problem.nominal())
+    first = helper.pid()
+    with_helper = view.compute_fronts(problem)
+    out = {"helper": same(with_helper.continuous, pareto_front(problem.nominal())),
+           "helper_cpu": with_helper.cpu_seconds}
+    os.kill(first, signal.SIGKILL)  # a helper that dies: the next change is computed here, the helper dropped
+    time.sleep(1)
+    other, _ = state.build_problem(data, dict(defaults, target=2.3))
+    fallback = view.compute_fronts(other)
+    out["fallback"] = same(fallback.continuous, pareto_front(other.nominal()))
+    out["dropped"] = helper.pid() is None
+    helper.start()
+    out["second"] = helper.pid()
+    print(json.dumps(out), flush=True)
+    time.sleep(300)  # killed by the test
+"""
+
+
+def _running(pid: int) -> bool:
+    """Whether process ``pid`` runs (an exited one that nobody reaped yet, a zombie, does not)."""
+    from pathlib import Path
+
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except FileNotFoundError:
+        return False
+    except OSError:  # no /proc: ask the kernel
+        import os
+
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            return False
+        return True
+    return stat.rsplit(")", 1)[1].split()[0] not in ("Z", "X")
+
+
+def test_helper_process_computes_the_same_front_and_ends_with_the_studio(tmp_path):
+    """designer studio's helper process (helper.start) computes the nominal front to the bit as pareto_front does
+    here; when it dies the change is computed in the server's process and the helper dropped; when the server
+    is killed (SIGKILL: no clean-up of its own), its helper ends within seconds."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = tmp_path / "run_helper.py"
+    script.write_text(HELPER_RUN)
+    proc = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = proc.stdout.readline()
+        assert line, proc.stderr.read()[-3000:]
+        out = json.loads(line)
+        assert out["helper"] and out["fallback"] and out["dropped"]
+        assert out["helper_cpu"] > 0
+        helper_pid = out["second"]
+        assert _running(helper_pid)
+        proc.kill()
+        proc.wait(30)
+        deadline = time.monotonic() + 20
+        while _running(helper_pid):
+            if time.monotonic() > deadline:
+                os.kill(helper_pid, signal.SIGKILL)
+                raise AssertionError("the helper outlived its killed server by 20 s")
+            time.sleep(0.2)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait(30)
