@@ -307,7 +307,7 @@ def optuna_method(problem, trials: int, operators: str, repeats: int, quality: Q
             from designer.studies.explore import Operators
 
             ops = Operators.for_budget(trials)
-            note = f"designer.studies.explore.Operators.for_budget({trials}): {ops.as_dict()}"
+            note = f"designer.studies.explore.Operators.for_budget({trials}): {ops.to_dict()}"
             return ops.sampler(seed)
         except Exception as exc:  # explore not usable: SBX crossover, population ≈ √N
             from optuna.samplers.nsgaii import SBXCrossover

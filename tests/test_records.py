@@ -102,7 +102,23 @@ def _examples() -> dict[str, Record]:
         }
     )
     out.update(_dynamics_examples(problem))
+    out.update(_other_examples(problem))
     return out
+
+
+def _other_examples(problem) -> dict[str, Record]:
+    """An exploration (optuna, in memory), its operators and search space, a calibration, a check."""
+    from designer.studies.calibrate import EXAMPLES_DIR, calibrate_file
+    from designer.studies.checks import check_eq8
+    from designer.studies.explore import Operators, explore, search_space
+
+    return {
+        "ExploreResult": _quiet(lambda: explore(problem, trials=16, seed=0, compare=False)),
+        "Operators": Operators.for_budget(500),
+        "SearchSpace": search_space(load_problem(ROOT / "problems" / "catalog-retrofit.toml")),
+        "CalibrationResult": calibrate_file("turning", EXAMPLES_DIR / "turning_tile.csv"),
+        "Check": check_eq8(),
+    }
 
 
 def _dynamics_examples(problem) -> dict[str, Record]:
@@ -169,6 +185,11 @@ NAMES = [
     "Branch",
     "KnockResult",
     "OnsetBracket",
+    "ExploreResult",
+    "Operators",
+    "SearchSpace",
+    "CalibrationResult",
+    "Check",
 ]
 
 

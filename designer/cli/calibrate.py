@@ -78,7 +78,7 @@ def run(args) -> int:
         write_calibration_report(result, args.report, str(args.data))
     if args.snippet:
         write_file(args.snippet, result.snippet(), "--snippet", example="calibration.toml")
-    out = result.as_dict()
+    out = result.to_dict()
     out["data"] = str(args.data)
     if args.plot:
         out["plot"] = args.plot

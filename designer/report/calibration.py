@@ -86,7 +86,7 @@ def write_calibration_report(result, out_dir, data_file: str = "", option: str =
             "figure_uri": "data:image/png;base64," + base64.b64encode(png).decode("ascii"),
             "versions": ", ".join(f"{k} {v}" for k, v in info.items() if v),
         }
-        out = result.as_dict()
+        out = result.to_dict()
         out["data"] = data_file
         (tmp / "calibration.json").write_text(
             json.dumps(finite(out), indent=2, ensure_ascii=False, allow_nan=False, default=float) + "\n",

@@ -45,6 +45,7 @@ from designer.errors import InputError
 from designer.parameters import PARAMETERS
 from designer.physics.shimmy import critical_speed_terms, critical_shimmy_speed
 from designer.physics.turning import DEFAULT_TURNING
+from designer.reprs import Record, dataframe
 
 __all__ = [
     "CalibrationResult",
@@ -64,8 +65,8 @@ MIN_ROWS = 3
 """Fewest data rows a fit accepts (one parameter, a meaningful interval)."""
 
 
-@dataclass
-class CalibrationResult:
+@dataclass(kw_only=True)
+class CalibrationResult(Record):
     """A fitted constant with its 95 % confidence interval.
 
     Attributes
@@ -111,8 +112,9 @@ class CalibrationResult:
         """Measured − fitted [unit of y]."""
         return self.y - self.fitted
 
-    def as_dict(self) -> dict:
-        """Plain-Python summary: ``value`` and ``interval`` [low, high] (95 %) among others."""
+    def to_dict(self) -> dict:
+        """Plain-Python summary: ``value`` and ``interval`` [low, high] (95 %) among others (no data arrays:
+        :meth:`to_pandas` has the rows)."""
         return {
             "kind": self.kind,
             "name": self.name,
@@ -127,6 +129,39 @@ class CalibrationResult:
             "equation": self.equation,
             **self.notes,
         }
+
+    def to_pandas(self):
+        """The data and the fit, one row per measurement: ``x``, ``y`` (measured), ``fitted`` and ``residual``
+        (units in ``df.attrs["units"]`` from the axis labels); the fitted constant in ``df.attrs``."""
+        rows = [
+            {"x": float(a), "y": float(b), "fitted": float(c), "residual": float(b - c)}
+            for a, b, c in zip(self.x, self.y, self.fitted)
+        ]
+        x_unit = self.x_label[self.x_label.rindex("[") + 1 : self.x_label.rindex("]")] if "[" in self.x_label else ""
+        units = {"x": x_unit, "y": self.y_unit, "fitted": self.y_unit, "residual": self.y_unit}
+        return dataframe("CalibrationResult.to_pandas", rows, ["x", "y", "fitted", "residual"], units, **self.to_dict())
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the constant, its value and 95 % interval, the data count and the RMS residual."""
+        lo, hi = self.interval
+        return [
+            f"CalibrationResult({self.kind}: {self.name} = {self.value:.6g} {self.unit} (95 % CI {lo:.6g} to "
+            f"{hi:.6g}), n = {self.n}, RMS residual {self.rms:.3g} {self.y_unit}, {self.equation})"
+        ]
+
+    def _html_title(self) -> str:
+        return f"Calibration of {self.name} ({self.kind})"
+
+    def _html_rows(self) -> list[tuple]:
+        lo, hi = self.interval
+        return [
+            (self.name, f"{self.value:.6g}", self.unit),
+            ("standard error", f"{self.stderr:.3g}", self.unit),
+            ("95 % interval", f"{lo:.6g} – {hi:.6g}", self.unit),
+            ("data rows", str(self.n), ""),
+            ("RMS residual", f"{self.rms:.3g}", self.y_unit),
+            ("equation", self.equation, ""),
+        ]
 
     def snippet(self) -> str:
         """A TOML snippet a problem file can include (keys of ``[turning]`` / ``[shimmy]``)."""

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, field
+from typing import TypeAlias
 
 import numpy as np
 
@@ -33,6 +34,7 @@ from designer.physics.shimmy import (
     critical_speed_hydraulic,
 )
 from designer.physics.turning import sliding_turning_moment
+from designer.reprs import Record, shown
 from designer.studies.dynamics.limit_cycles import knock_safe_speed
 
 TABLE1_RMS_TOLERANCE = 0.15
@@ -58,8 +60,12 @@ the model has built in (checks 3, 4, 5: they confirm the implementation, not the
 on a computed Pareto front; law: the risk law against the Table 1 wheels it was not fitted to (11)."""
 
 
-@dataclass
-class Check:
+CheckValue: TypeAlias = float | int | str | bool | None
+"""What a check expects or got: a number, a property in words, or None."""
+
+
+@dataclass(kw_only=True)
+class Check(Record):
     """One check of the paper's trade-offs (docs/checks.md).
 
     Attributes
@@ -78,14 +84,14 @@ class Check:
 
     name: str
     claim: str
-    expected: object
-    got: object
+    expected: CheckValue
+    got: CheckValue
     passed: bool
     detail: str = ""
     kind: str = "paper"
     outcome: str = ""
-    disagreements: list = field(default_factory=list)
-    rows: list = field(default_factory=list)
+    disagreements: list[str] = field(default_factory=list)
+    rows: list[dict] = field(default_factory=list)
 
     def __post_init__(self):
         if not self.outcome:
@@ -101,6 +107,25 @@ class Check:
         if not d["rows"]:
             del d["rows"]
         return d
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the check, its outcome, what the paper says and what the code got."""
+        return [f"Check({self.name}: {self.outcome}; expected {shown(self.expected)}, got {shown(self.got)})"]
+
+    def _html_title(self) -> str:
+        return f"Check {self.name} ({self.kind}): {self.outcome}"
+
+    def _html_caption(self) -> str:
+        return self.detail
+
+    def _html_rows(self) -> list[tuple]:
+        rows = [
+            ("claim", self.claim, ""),
+            ("expected", shown(self.expected), ""),
+            ("got", shown(self.got), ""),
+            ("outcome", self.outcome, ""),
+        ]
+        return rows + [("disagreement", line, "") for line in self.disagreements]
 
 
 def count_outcomes(checks) -> dict:
@@ -186,12 +211,12 @@ def check_eq8(critical_speed=critical_shimmy_speed) -> Check:
     v = float(critical_speed(c.trail, c.inertia, c.groove, c.damping, c.slip_coefficient))
     err = _rel(v, c.critical_speed)
     return Check(
-        "1 Eq. 8",
-        "B = 9/16 in, T = 2 in, I_w = 0.00127 kg·m², c_f = 1.3, K_s = 1250 N gives V_c = 2.91 m/s",
-        c.critical_speed,
-        round(v, 4),
-        abs(err) <= EQ8_TOLERANCE,
-        f"error {err:+.2%} (tolerance ±{EQ8_TOLERANCE:.1%}, the paper's rounding). The paper's '16.86 mph' "
+        name="1 Eq. 8",
+        claim="B = 9/16 in, T = 2 in, I_w = 0.00127 kg·m², c_f = 1.3, K_s = 1250 N gives V_c = 2.91 m/s",
+        expected=c.critical_speed,
+        got=round(v, 4),
+        passed=abs(err) <= EQ8_TOLERANCE,
+        detail=f"error {err:+.2%} (tolerance ±{EQ8_TOLERANCE:.1%}, the paper's rounding). The paper's '16.86 mph' "
         f"is not 2.91 m/s ({2.91 * 2.23694:.2f} mph); the m/s value is checked.",
     )
 
@@ -232,13 +257,13 @@ def check_table1(critical_speed=critical_shimmy_speed) -> Check:
     passed = rms <= TABLE1_RMS_TOLERANCE and worst <= TABLE1_MAX_TOLERANCE and ab_ok
     outcome = FAILS if not passed else (WITHIN_SCATTER if disagreements else REPRODUCED)
     return Check(
-        "2 Table 1",
-        "Eq. 7 predicts the measured critical speeds of wheels C–G (2.39, 1.77, 1.46, 1.58, "
+        name="2 Table 1",
+        claim="Eq. 7 predicts the measured critical speeds of wheels C–G (2.39, 1.77, 1.46, 1.58, "
         "1.20 m/s); A and B stable far above the 1 m/s walking speed",
-        f"RMS error within the paper's ±{TABLE1_RMS_TOLERANCE:.0%} scatter; A, B > 2 m/s",
-        f"RMS {rms:.1%}, worst {worst:.1%}",
-        passed,
-        "; ".join(lines) + f". Tolerance: RMS <= {TABLE1_RMS_TOLERANCE:.0%} (the scatter of Fig. 2C), "
+        expected=f"RMS error within the paper's ±{TABLE1_RMS_TOLERANCE:.0%} scatter; A, B > 2 m/s",
+        got=f"RMS {rms:.1%}, worst {worst:.1%}",
+        passed=passed,
+        detail="; ".join(lines) + f". Tolerance: RMS <= {TABLE1_RMS_TOLERANCE:.0%} (the scatter of Fig. 2C), "
         f"each wheel <= {TABLE1_MAX_TOLERANCE:.0%}, A and B >= 2 × walking speed.",
         outcome=outcome,
         disagreements=disagreements,
@@ -270,12 +295,12 @@ def check_groove_turning(moment=sliding_turning_moment, effort=_model_turning_ef
         all(abs(v - 1.10) <= IDENTITY_TOLERANCE for v in ratios.values()) and abs(ratio - 1.10) <= IDENTITY_TOLERANCE
     )
     return Check(
-        "3 groove +10 %",
-        "the grooved tyre needs 10 percent more turning effort than the ungrooved (drill press and chair tests)",
-        "+10 % (chair and pivot)",
-        f"chair {got['chair']:+.1%}, pivot {got['pivot']:+.1%}",
-        passed,
-        f"turning effort ratio at T = 2 in, tile: {ratio:.4f}; tolerance ±{IDENTITY_TOLERANCE:.1%}. The "
+        name="3 groove +10 %",
+        claim="the grooved tyre needs 10 percent more turning effort than the ungrooved (drill press and chair tests)",
+        expected="+10 % (chair and pivot)",
+        got=f"chair {got['chair']:+.1%}, pivot {got['pivot']:+.1%}",
+        passed=passed,
+        detail=f"turning effort ratio at T = 2 in, tile: {ratio:.4f}; tolerance ±{IDENTITY_TOLERANCE:.1%}. The "
         f"10 % is the paper's measurement built into the turning model (κ), so this checks the implementation, "
         f"not the physics",
         kind="identity",
@@ -286,12 +311,12 @@ def check_carpet(moment=sliding_turning_moment) -> Check:
     """Check 4 (implementation identity): carpet about doubles the sliding turning moment."""
     ratio = float(moment(178.0, 0.0, "carpet", "pivot") / moment(178.0, 0.0, "tile", "pivot"))
     return Check(
-        "4 carpet ×2",
-        "sliding friction turning moments for carpet are approximately double those on tile (Fig. 7)",
-        2.0,
-        round(ratio, 4),
-        abs(ratio - 2.0) <= 2.0 * IDENTITY_TOLERANCE,
-        f"tolerance ±{IDENTITY_TOLERANCE:.1%}: the factor is the paper's measurement built into the model "
+        name="4 carpet ×2",
+        claim="sliding friction turning moments for carpet are approximately double those on tile (Fig. 7)",
+        expected=2.0,
+        got=round(ratio, 4),
+        passed=abs(ratio - 2.0) <= 2.0 * IDENTITY_TOLERANCE,
+        detail=f"tolerance ±{IDENTITY_TOLERANCE:.1%}: the factor is the paper's measurement built into the model "
         f"(carpet_factor), so this checks the implementation, not the physics",
         kind="identity",
     )
@@ -303,12 +328,12 @@ def check_trail_halves(effort=_model_turning_effort) -> Check:
     f2 = float(effort(2.5 * INCH, 0.0, BARE_FORK_DAMPING, 178.0))
     ratio = f2 / f1
     return Check(
-        "5 trail ×2",
-        "doubling the trail length will decrease the effort by a factor of two",
-        0.5,
-        round(ratio, 6),
-        abs(ratio - 0.5) <= 1e-9,
-        f"F_turn at 1.25 in: {f1:.3f} N, at 2.5 in: {f2:.3f} N; F_turn = M/T is the model's definition, "
+        name="5 trail ×2",
+        claim="doubling the trail length will decrease the effort by a factor of two",
+        expected=0.5,
+        got=round(ratio, 6),
+        passed=abs(ratio - 0.5) <= 1e-9,
+        detail=f"F_turn at 1.25 in: {f1:.3f} N, at 2.5 in: {f2:.3f} N; F_turn = M/T is the model's definition, "
         f"so this checks the implementation (to 1e-9)",
         kind="identity",
     )
@@ -335,13 +360,13 @@ def check_monotonic(critical_speed=critical_shimmy_speed) -> Check:
     }
     got = ", ".join(f"{k} {'ok' if v else 'FAILS'}" for k, v in results.items())
     return Check(
-        "6 monotonicity",
-        "increasing the trail, decreasing the moment of inertia, increasing the damping "
+        name="6 monotonicity",
+        claim="increasing the trail, decreasing the moment of inertia, increasing the damping "
         "and/or adding a groove will inhibit the onset of shimmy (Conclusion)",
-        "V_c ↑ with T, c_f, B; ↓ with I_w, d",
-        got,
-        all(results.values()),
-        f"{n} random designs, T 1–3 in, d 4–8 in, B 0–0.75 in, c_f 1.3–6",
+        expected="V_c ↑ with T, c_f, B; ↓ with I_w, d",
+        got=got,
+        passed=all(results.values()),
+        detail=f"{n} random designs, T 1–3 in, d 4–8 in, B 0–0.75 in, c_f 1.3–6",
     )
 
 
@@ -369,14 +394,14 @@ def check_threshold_curve(ratio=_model_threshold_force_ratio) -> Check:
     s4, s8 = slope(4), slope(8)
     passed = decreasing and convex and ratio_of(s4, s8) >= 2 and r[3] >= 1.5 * r[6]
     return Check(
-        "7 P/L vs d",
-        "P/L increases rapidly for wheel diameters below 6 inches ... approaches a minimum "
+        name="7 P/L vs d",
+        claim="P/L increases rapidly for wheel diameters below 6 inches ... approaches a minimum "
         "asymptote toward 8 inches (Fig. 2A)",
-        "decreasing, convex; slope at 4 in >= 2 × slope at 8 in; P/L(3 in) >= 1.5 × P/L(6 in)",
-        f"P/L 3 in {r[3]:.3f}, 4 in {r[4]:.3f}, 6 in {r[6]:.3f}, 8 in {r[8]:.3f}; slope ratio 4 in / 8 in "
+        expected="decreasing, convex; slope at 4 in >= 2 × slope at 8 in; P/L(3 in) >= 1.5 × P/L(6 in)",
+        got=f"P/L 3 in {r[3]:.3f}, 4 in {r[4]:.3f}, 6 in {r[6]:.3f}, 8 in {r[8]:.3f}; slope ratio 4 in / 8 in "
         f"{ratio_of(s4, s8):.2f}",
-        passed,
-        f"h = 0.5 in, Eq. 4A. Mean drop per inch 4–6 in {(r[4] - r[6]) / 2:.3f}, 6–8 in {(r[6] - r[8]) / 2:.3f} "
+        passed=passed,
+        detail=f"h = 0.5 in, Eq. 4A. Mean drop per inch 4–6 in {(r[4] - r[6]) / 2:.3f}, 6–8 in {(r[6] - r[8]) / 2:.3f} "
         f"(ratio {ratio_of(r[4] - r[6], r[6] - r[8]):.2f}); decreasing {decreasing}, convex {convex}",
     )
 
@@ -397,12 +422,12 @@ def check_routh_hurwitz(
             rh = routh_hurwitz(t, i, b, c, kind)
             worst = max(worst, abs(rh - float(closed)) / float(closed))
     return Check(
-        "9 Routh–Hurwitz",
-        "applying the Hurwitz–Routh criterion to Eq. 12B gives Eq. 20B (and Eq. 7 with friction damping)",
-        f"relative difference < {ROUTH_HURWITZ_TOLERANCE:g}",
-        f"{worst:.1e}",
-        worst < ROUTH_HURWITZ_TOLERANCE,
-        f"{len(cases)} parameter sets × (friction, hydraulic); K, N defaults of DynamicsParameters "
+        name="9 Routh–Hurwitz",
+        claim="applying the Hurwitz–Routh criterion to Eq. 12B gives Eq. 20B (and Eq. 7 with friction damping)",
+        expected=f"relative difference < {ROUTH_HURWITZ_TOLERANCE:g}",
+        got=f"{worst:.1e}",
+        passed=worst < ROUTH_HURWITZ_TOLERANCE,
+        detail=f"{len(cases)} parameter sets × (friction, hydraulic); K, N defaults of DynamicsParameters "
         f"(ω = 104.7 rad/s at 2.5 in), which cancel in the threshold",
     )
 
@@ -412,12 +437,12 @@ def check_quadra(critical_speed=critical_shimmy_speed) -> Check:
     a = TABLE1[0]
     v = float(critical_speed(2.5 * INCH, a.inertia, 0.0, BARE_FORK_DAMPING))
     return Check(
-        "10 Quadra",
-        "the Quadra wheel ... sold in a fork with trail of 2.50 inches ... never shimmies (stable to 3.8 m/s)",
-        "> 3.8 m/s",
-        round(v, 3),
-        v > TABLE1_STABLE_UP_TO,
-        f"Eq. 7, wheel A, I_w = {a.inertia:.2e} kg·m², B = 0, c_f = 1.3",
+        name="10 Quadra",
+        claim="the Quadra wheel ... sold in a fork with trail of 2.50 inches ... never shimmies (stable to 3.8 m/s)",
+        expected="> 3.8 m/s",
+        got=round(v, 3),
+        passed=v > TABLE1_STABLE_UP_TO,
+        detail=f"Eq. 7, wheel A, I_w = {a.inertia:.2e} kg·m², B = 0, c_f = 1.3",
     )
 
 
@@ -427,12 +452,12 @@ def check_inertia_fit(fit=fit_table1_power_law) -> Check:
     i8 = c * (8 * INCH) ** n
     passed = abs(n - 3.50) < 0.01 and abs(i8 - 1.873e-3) / 1.873e-3 < 0.005
     return Check(
-        "fit I_w(d)",
-        "least-squares fit of Table 1 (docs/model.md): n ≈ 3.50, I_w(8 in) ≈ 1.87e-3 kg·m²",
-        "n 3.50, 1.873e-3",
-        f"n {n:.4f}, {i8:.4e}",
-        passed,
-        "tolerance n ±0.01 (the two decimals quoted), I_w ±0.5 % (rounding of 1.87e-3)",
+        name="fit I_w(d)",
+        claim="least-squares fit of Table 1 (docs/model.md): n ≈ 3.50, I_w(8 in) ≈ 1.87e-3 kg·m²",
+        expected="n 3.50, 1.873e-3",
+        got=f"n {n:.4f}, {i8:.4e}",
+        passed=passed,
+        detail="tolerance n ±0.01 (the two decimals quoted), I_w ±0.5 % (rounding of 1.87e-3)",
     )
 
 
@@ -475,12 +500,12 @@ def _tradeoff_check(pts, tol: float) -> Check:
     """8a: along decreasing threshold force P the diameter d and the turning effort F_turn do not fall."""
     if len(pts) < 2:
         return Check(
-            "8a trade-off",
-            "along decreasing threshold force the diameter grows and the turning effort grows",
-            "monotone",
-            f"{len(pts)} point(s): nothing to compare",
-            True,
-            "a front with fixed diameter or one dominant catalog wheel has a single point",
+            name="8a trade-off",
+            claim="along decreasing threshold force the diameter grows and the turning effort grows",
+            expected="monotone",
+            got=f"{len(pts)} point(s): nothing to compare",
+            passed=True,
+            detail="a front with fixed diameter or one dominant catalog wheel has a single point",
         )
     p = np.array([x.threshold_force for x in pts])
     d = np.array([x.design.diameter for x in pts])
@@ -491,12 +516,12 @@ def _tradeoff_check(pts, tol: float) -> Check:
     bad_d = int(np.sum(dd < -tol * d.max()))
     bad_f = int(np.sum(df < -tol * f.max()))
     return Check(
-        "8a trade-off",
-        "along decreasing threshold force the diameter grows and the turning effort grows",
-        "d and F_turn non-decreasing as P falls",
-        f"{bad_d} diameter and {bad_f} effort reversals in {len(pts)} points",
-        bad_d == 0 and bad_f == 0,
-        f"d {d.min() / INCH:.2f}–{d.max() / INCH:.2f} in, F_turn {f.min():.3f}–{f.max():.3f} N",
+        name="8a trade-off",
+        claim="along decreasing threshold force the diameter grows and the turning effort grows",
+        expected="d and F_turn non-decreasing as P falls",
+        got=f"{bad_d} diameter and {bad_f} effort reversals in {len(pts)} points",
+        passed=bad_d == 0 and bad_f == 0,
+        detail=f"d {d.min() / INCH:.2f}–{d.max() / INCH:.2f} in, F_turn {f.min():.3f}–{f.max():.3f} N",
     )
 
 
@@ -518,12 +543,12 @@ def _shimmy_active_check(problem, pts, tol: float) -> Check:
         if x.margins.get("shimmy", x.critical_speed - problem.required_speed) > tol * problem.required_speed
     )
     return Check(
-        "8b shimmy active",
-        "the shimmy constraint is active wherever it can be",
-        "inactive only on bare-fork designs (no groove, no damper)",
-        f"{inactive} of {len(pts)} points inactive, {offending} of them with groove or damper",
-        offending == 0,
-        "a groove or damper that is not needed for V_c only adds turning effort",
+        name="8b shimmy active",
+        claim="the shimmy constraint is active wherever it can be",
+        expected="inactive only on bare-fork designs (no groove, no damper)",
+        got=f"{inactive} of {len(pts)} points inactive, {offending} of them with groove or damper",
+        passed=offending == 0,
+        detail="a groove or damper that is not needed for V_c only adds turning effort",
     )
 
 
@@ -534,13 +559,13 @@ def _tighter_check(front, tighter) -> Check:
     if not tighter.points:
         speed = highest_critical_speed(tighter.problem)
         return Check(
-            "8c tighter target",
-            "tightening V_target moves the front outward",
-            "every point of the tighter front weakly dominated by the looser front",
-            f"not applicable: the tighter target is out of reach (highest V_c {speed:.3f} m/s "
+            name="8c tighter target",
+            claim="tightening V_target moves the front outward",
+            expected="every point of the tighter front weakly dominated by the looser front",
+            got=f"not applicable: the tighter target is out of reach (highest V_c {speed:.3f} m/s "
             f"< {tighter.problem.required_speed:.3f} m/s required)",
-            True,
-            f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} "
+            passed=True,
+            detail=f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} "
             f"m/s: no design inside the bounds reaches it, so there is no tighter front to compare",
             kind="front",
             outcome=NOT_APPLICABLE,
@@ -548,13 +573,13 @@ def _tighter_check(front, tighter) -> Check:
     worse, total = dominated_by_problem(problem, tighter)
     cmp = front.compare(tighter)
     return Check(
-        "8c tighter target",
-        "tightening V_target moves the front outward",
-        "every point of the tighter front weakly dominated by the looser front",
-        f"{total - worse} of {total} dominated; HV {cmp['hypervolume_self']:.4f} vs "
+        name="8c tighter target",
+        claim="tightening V_target moves the front outward",
+        expected="every point of the tighter front weakly dominated by the looser front",
+        got=f"{total - worse} of {total} dominated; HV {cmp['hypervolume_self']:.4f} vs "
         f"{cmp['hypervolume_other']:.4f} (looser's normalisation)",
-        worse == 0 and total > 0,
-        f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} m/s; "
+        passed=worse == 0 and total > 0,
+        detail=f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} m/s; "
         f"exact test: the looser problem's min F_turn at each tighter point's P",
     )
 
@@ -735,13 +760,13 @@ def check_leave_one_out() -> Check:
         if not r[f"inside_from_{k}"]
     ]
     return Check(
-        "11 leave-one-out",
-        "the risk law, refitted without each Table 1 wheel C–G (power law and model error on 4 degrees of "
+        name="11 leave-one-out",
+        claim="the risk law, refitted without each Table 1 wheel C–G (power law and model error on 4 degrees of "
         "freedom), predicts that wheel's measured critical speed at 2 in trail within its central 90 % interval",
-        f">= {LOO_REPRODUCED_AT} of {n} inside, from the diameter and from the measured I_w",
-        f"from d {count['diameter']}/{n}, from I_w {count['inertia']}/{n}",
-        outcome != FAILS,
-        f"{lines}. PIT = P(V_c,true <= V_measured) under the exact law with the assumed c_f scatter (σ 0.10) and "
+        expected=f">= {LOO_REPRODUCED_AT} of {n} inside, from the diameter and from the measured I_w",
+        got=f"from d {count['diameter']}/{n}, from I_w {count['inertia']}/{n}",
+        passed=outcome != FAILS,
+        detail=f"{lines}. PIT = P(V_c,true <= V_measured) under the exact law with the assumed c_f scatter (σ 0.10) and "
         f"a measured I_w's σ 0.05; with Eq. 7's error and the inertia prediction alone: from d "
         f"{bare_count['diameter']}/{n}, from I_w {bare_count['inertia']}/{n}. A calibrated law puts each wheel "
         f"inside with probability 0.9 (4.5 of 5 expected). With five wheels this is a coarse check: only a law "

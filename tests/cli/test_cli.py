@@ -84,7 +84,7 @@ def test_validate_fails_loudly(monkeypatch, capsys):
     """A failing check makes validate exit 1 and print which check failed and by how much."""
     import designer.studies.checks as checks
 
-    bad = checks.Check("x broken", "claim", 1.0, 2.0, False, "")
+    bad = checks.Check(name="x broken", claim="claim", expected=1.0, got=2.0, passed=False, detail="")
     monkeypatch.setattr("designer.cli.validate.paper_checks", lambda: [bad])
     assert main(["validate"]) == 1
     assert "FAILED x broken: expected 1.0, got 2.0" in capsys.readouterr().out

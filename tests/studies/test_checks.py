@@ -106,8 +106,17 @@ def test_identities_are_counted_apart():
 def test_validate_exits_0_on_disagreement_within_scatter_and_1_on_failure(monkeypatch, capsys):
     """validate: a disagreement within the scatter is not a failure (exit 0); a failure is (exit 1);
     the output counts paper checks and identities apart."""
-    within = ck.Check("2 x", "claim", 1.0, 1.1, True, "", outcome=ck.WITHIN_SCATTER, disagreements=["x: 10 %"])
-    ident = ck.Check("3 y", "claim", 1.0, 1.0, True, "", kind="identity")
+    within = ck.Check(
+        name="2 x",
+        claim="claim",
+        expected=1.0,
+        got=1.1,
+        passed=True,
+        detail="",
+        outcome=ck.WITHIN_SCATTER,
+        disagreements=["x: 10 %"],
+    )
+    ident = ck.Check(name="3 y", claim="claim", expected=1.0, got=1.0, passed=True, detail="", kind="identity")
     monkeypatch.setattr("designer.cli.validate.paper_checks", lambda: [within, ident])
     assert main(["validate"]) == 0
     out = capsys.readouterr().out
@@ -116,7 +125,7 @@ def test_validate_exits_0_on_disagreement_within_scatter_and_1_on_failure(monkey
         "implementation identities hold" in out
     )
     assert "disagrees: x: 10 %" in out
-    bad = ck.Check("2 x", "claim", 1.0, 2.0, False, "")
+    bad = ck.Check(name="2 x", claim="claim", expected=1.0, got=2.0, passed=False, detail="")
     monkeypatch.setattr("designer.cli.validate.paper_checks", lambda: [bad, ident])
     assert main(["validate"]) == 1
 
@@ -282,21 +291,21 @@ def test_paper_check_texts_pinned():
 def test_check_rejects_unknown_kind():
     """A check's kind must be paper, identity or front; the error names the check, its outcome and its kind."""
     with pytest.raises(ValueError, match=r"^check x: outcome 'reproduced' / kind 'other' unknown$"):
-        ck.Check("x", "c", 1, 1, True, kind="other")
+        ck.Check(name="x", claim="c", expected=1, got=1, passed=True, kind="other")
 
 
 def test_summary_line_without_front_checks_and_without_not_applicable():
     """Without front checks the summary stops after the identities; with front checks but none 'not applicable'
     it does not mention them; the paper part is always the first clause."""
-    p = ck.Check("1 x", "c", 1, 1, True)
-    w = ck.Check("2 x", "c", 1, 1, True, outcome=ck.WITHIN_SCATTER)
-    i = ck.Check("3 x", "c", 1, 1, True, kind="identity")
+    p = ck.Check(name="1 x", claim="c", expected=1, got=1, passed=True)
+    w = ck.Check(name="2 x", claim="c", expected=1, got=1, passed=True, outcome=ck.WITHIN_SCATTER)
+    i = ck.Check(name="3 x", claim="c", expected=1, got=1, passed=True, kind="identity")
     text = ck.summary_line([p, w, i])
     assert text == (
         "1 paper checks reproduced, 1 disagree within the paper's stated scatter, 0 fail; 1 of 1 "
         "implementation identities hold"
     )
-    a = ck.Check("8a x", "c", 1, 1, True, kind="front")
+    a = ck.Check(name="8a x", claim="c", expected=1, got=1, passed=True, kind="front")
     assert ck.summary_line([p, w, i, a]) == text + "; front checks: 1 pass, 0 fail"
 
 
@@ -817,9 +826,9 @@ def test_table1_rms_limit_edge(factor, outcome):
 
 def test_summary_counts_front_checks():
     """The summary line counts front checks, including 'not applicable' ones."""
-    a = ck.Check("8a x", "c", 1, 1, True, kind="front")
-    b = ck.Check("8c x", "c", 1, 1, True, kind="front", outcome=ck.NOT_APPLICABLE)
-    f = ck.Check("8b x", "c", 1, 2, False, kind="front")
+    a = ck.Check(name="8a x", claim="c", expected=1, got=1, passed=True, kind="front")
+    b = ck.Check(name="8c x", claim="c", expected=1, got=1, passed=True, kind="front", outcome=ck.NOT_APPLICABLE)
+    f = ck.Check(name="8b x", claim="c", expected=1, got=2, passed=False, kind="front")
     text = ck.summary_line([a, b, f])
     assert text.endswith("; front checks: 1 pass, 1 fail, 1 not applicable")
     assert ck.count_outcomes([a, b, f])["front"] == {
@@ -829,7 +838,7 @@ def test_summary_counts_front_checks():
         ck.NOT_APPLICABLE: 1,
     }
     with pytest.raises(ValueError):
-        ck.Check("x", "c", 1, 1, True, outcome="maybe")
+        ck.Check(name="x", claim="c", expected=1, got=1, passed=True, outcome="maybe")
 
 
 def test_front_checks_texts_and_single_point(tmp_path):

@@ -17,6 +17,7 @@ from designer.errors import InputError
 from designer.studies.front import nondominated
 from designer.model import VARIABLES, Design
 from designer.problem import Bound, Problem
+from designer.reprs import Record
 from designer.solvers.nlp import evaluate_many, violation
 from designer.physics.inertia import Catalog
 from designer.solvers.nlp import BIG, CasterNLP
@@ -26,7 +27,7 @@ from designer.solvers.nlp import BIG, CasterNLP
 
 
 @dataclass(frozen=True)
-class Operators:
+class Operators(Record):
     """NSGA-II configuration.
 
     Attributes
@@ -81,11 +82,21 @@ class Operators:
         pop = population_size or int(min(100, max(20, round(math.sqrt(max(trials, 1))))))
         return cls(population_size=pop)
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
+        """The configuration as plain data (an unused η as None); :meth:`from_dict` reads it back."""
         return {
             k: (None if isinstance(v, float) and not math.isfinite(v) else v)
             for k, v in dataclasses.asdict(self).items()
         }
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the name, the population and the two operators."""
+        cross = f"{self.crossover} crossover" + (f" η={self.crossover_eta:g}" if self.crossover == "sbx" else "")
+        mut = f"{self.mutation} mutation" + (f" η={self.mutation_eta:g}" if self.mutation == "polynomial" else "")
+        return [f"Operators({self.name}: population {self.population_size}, {cross}, {mut})"]
+
+    def _html_title(self) -> str:
+        return "NSGA-II operators"
 
     @classmethod
     def from_dict(cls, data: dict) -> "Operators":
@@ -233,7 +244,7 @@ def _params_key(params: dict) -> tuple:
 
 
 @dataclass(frozen=True)
-class SearchSpace:
+class SearchSpace(Record):
     """The exploration space of a problem.
 
     Attributes
@@ -254,11 +265,21 @@ class SearchSpace:
         dims = [[(name, value) for value in choices] for name, choices in self.categorical]
         return [tuple(combo) for combo in itertools.product(*dims)] if dims else [()]
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
+        """{"continuous": {variable: [low, high]} [SI], "categorical": {dimension: [choices]}}."""
         return {
             "continuous": {n: [lo, hi] for n, lo, hi in self.continuous},
             "categorical": {n: list(c) for n, c in self.categorical},
         }
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the continuous variables and the categorical dimensions with their sizes."""
+        cont = ", ".join(n for n, _, _ in self.continuous) or "none"
+        cat = ", ".join(f"{n} ({len(c)})" for n, c in self.categorical) or "none"
+        return [f"SearchSpace(continuous: {cont}; categorical: {cat}; {len(self.categories())} categories)"]
+
+    def _html_title(self) -> str:
+        return "Search space"
 
 
 def search_space(problem: Problem) -> SearchSpace:
@@ -286,7 +307,7 @@ def search_space(problem: Problem) -> SearchSpace:
         bound = problem.bounds[name]
         if not bound.fixed:
             continuous.append((name, float(bound.low), float(bound.high)))
-    return SearchSpace(tuple(continuous), tuple(categorical))
+    return SearchSpace(continuous=tuple(continuous), categorical=tuple(categorical))
 
 
 def category_label(category: tuple) -> str:

@@ -14,7 +14,7 @@ from designer.parameters import VARIABLE_TABLE
 from designer.versions import versions
 from designer.studies.front import hypervolume_2d, igd_plus, normalise
 from designer.problem import Problem
-from designer.reprs import html_table, svg_curve
+from designer.reprs import Record, dataframe, svg_curve
 from designer.solvers.nlp import evaluate_many
 from designer.studies.explore._operators import Operators, category_problem, search_space
 from designer.studies.explore._storage import _atomic_write_many, _one_line
@@ -30,8 +30,8 @@ CSV_COLUMNS = ("trail", "diameter", "groove", "damping", "turning_effort", "thre
 # --------------------------------------------------------------------------- result
 
 
-@dataclass
-class ExploreResult:
+@dataclass(kw_only=True)
+class ExploreResult(Record):
     """The outcome of :func:`explore`.
 
     Attributes
@@ -56,19 +56,19 @@ class ExploreResult:
     storage: str
     seed: int | None
     trials: int
-    front: list
-    category_fronts: dict
+    front: list[dict]
+    category_fronts: dict[str, list[dict]]
     distinct: int
     feasible: int
     hypervolume: float
-    reference_point: tuple
+    reference_point: tuple[float, ...]
     comparison: dict
     operators: Operators
     refined: bool
     seconds: float
     trials_run: int
     workers: int
-    warnings: list = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
 
     @property
     def trials_per_second(self) -> float:
@@ -91,19 +91,25 @@ class ExploreResult:
             return "–", "–"
         return f"{f[:, 0].min():.4g} – {f[:, 0].max():.4g}", f"{f[:, 1].min():.4g} – {f[:, 1].max():.4g}"
 
-    def __repr__(self) -> str:
+    def _repr_lines(self) -> list[str]:
         """Two lines: trials, front size and objective ranges [N]; hypervolume [N²] against the exact front's."""
         f_range, p_range = self._ranges()
         ratio = self.comparison.get("hypervolume_ratio")
         versus = f" ({ratio:.3f} of the exact front's)" if isinstance(ratio, float) else ""
-        return (
+        return [
             f"ExploreResult({self.problem.name!r}: {self.trials} trials, {self.feasible} feasible, "
-            f"front of {len(self.front)} points, F_turn {f_range} N, P {p_range} N)\n"
-            f"  hypervolume {self.hypervolume:.4g} N²{versus}, {self.seconds:.3g} s, seed {self.seed}"
-        )
+            f"front of {len(self.front)} points, F_turn {f_range} N, P {p_range} N)",
+            f"  hypervolume {self.hypervolume:.4g} N²{versus}, {self.seconds:.3g} s, seed {self.seed}",
+        ]
 
-    def _repr_html_(self) -> str:
-        """A compact HTML table with units beside an SVG of the explored front (notebooks; no trial runs)."""
+    def _html_title(self) -> str:
+        return f"Explored front {self.problem.name!r} (NSGA-II)"
+
+    def _html_caption(self) -> str:
+        return str(self.comparison.get("note", ""))
+
+    def _html_rows(self) -> list[tuple]:
+        """A compact table with units (notebooks; no trial runs)."""
         f_range, p_range = self._ranges()
         c = self.comparison
         rows = [
@@ -124,12 +130,30 @@ class ExploreResult:
             ("wall time (trials/s)", f"{self.seconds:.3g} ({self.trials_per_second:.3g})", "s"),
             ("seed, workers, NLP-refined", f"{self.seed}, {self.workers}, {'yes' if self.refined else 'no'}", ""),
         ]
+        return rows
+
+    def _html_extra(self) -> str:
+        """An SVG of the explored front, F_turn against P."""
         f = self.objectives()
-        order = np.argsort(f[:, 1]) if len(f) else []
-        svg = (
-            svg_curve(f[order, 1], f[order, 0], "threshold force P [N]", "turning effort F_turn [N]") if len(f) else ""
+        if not len(f):
+            return ""
+        order = np.argsort(f[:, 1])
+        return svg_curve(f[order, 1], f[order, 0], "threshold force P [N]", "turning effort F_turn [N]")
+
+    def to_pandas(self):
+        """The explored front as a DataFrame, one row per point: the SI columns of ``explore.csv`` (``trail``,
+        ``diameter``, ``groove``, ``damping``, ``turning_effort``, ``threshold_force``, ``critical_speed``), the
+        categories that were explored, ``trial`` and ``refined``; units in ``df.attrs["units"]``."""
+        columns = list(dict.fromkeys(k for r in self.front for k in r)) or list(CSV_COLUMNS)
+        units = dict(zip(CSV_COLUMNS, ("m", "m", "m", "N·m/rad", "N", "N", "m/s")))
+        return dataframe(
+            "ExploreResult.to_pandas",
+            [dict(r) for r in self.front],
+            columns,
+            {k: u for k, u in units.items() if k in columns},
+            problem=self.problem.name,
+            study=self.study_name,
         )
-        return html_table(f"Explored front {self.problem.name!r} (NSGA-II)", rows, caption=c.get("note", ""), extra=svg)
 
     def to_dict(self) -> dict:
         """Plain data for explore.json (SI units)."""
@@ -147,7 +171,7 @@ class ExploreResult:
             "distinct_parameter_sets": self.distinct,
             "feasible_trials": self.feasible,
             "refined": self.refined,
-            "operators": self.operators.as_dict(),
+            "operators": self.operators.to_dict(),
             "units": {
                 **{p.name: p.ascii_unit for p in VARIABLE_TABLE},
                 "turning_effort": "N",

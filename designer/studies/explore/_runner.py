@@ -299,8 +299,8 @@ def _create(
         ("problem_digest", problem.digest()),
         ("trials", trials),
         ("seed", seed),
-        ("operators", ops.as_dict()),
-        ("space", space.as_dict()),
+        ("operators", ops.to_dict()),
+        ("space", space.to_dict()),
     ):
         study.set_user_attr(ATTR_PREFIX + key, value)
     return study

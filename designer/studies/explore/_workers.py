@@ -349,7 +349,7 @@ def _run_study(
                     study_name,
                     trials,
                     seed,
-                    ops.as_dict(),
+                    ops.to_dict(),
                     storage_obj=storage_obj,
                     on_trial=on_trial if progress else None,
                     check_budget=check_budget,
@@ -366,7 +366,7 @@ def _run_pool(problem, spec, study_name, trials, seed, ops, workers, storage_obj
 
     ctx = multiprocessing.get_context("spawn")
     notes_queue = ctx.SimpleQueue()
-    args = (problem, spec.url, study_name, trials, seed, ops.as_dict())  # one seed: streams differ by process
+    args = (problem, spec.url, study_name, trials, seed, ops.to_dict())  # one seed: streams differ by process
     procs = [ctx.Process(target=_worker_entry, args=(args, notes_queue), daemon=False) for _ in range(workers)]
     for p in procs:
         p.start()
