@@ -103,7 +103,23 @@ def _examples() -> dict[str, Record]:
     )
     out.update(_dynamics_examples(problem))
     out.update(_other_examples(problem))
+    out.update(_retrofit_examples(problem))
     return out
+
+
+def _retrofit_examples(problem) -> dict[str, Record]:
+    """A retrofit of a caster that shimmies, calibrated by its observed onset: the answer, its parts."""
+    from designer.studies.retrofit import fix
+
+    result = _quiet(lambda: fix(problem, "T=1.25in,d=8in,B=0,c=1.3", shimmied_at=1.5, limit=8, samples=2000))
+    best = result.fixes[0]
+    return {
+        "FixResult": result,
+        "CasterState": result.current,
+        "CasterState (fix)": best,
+        "Change": best.changes[0],
+        "Calibration": result.calibration,
+    }
 
 
 def _other_examples(problem) -> dict[str, Record]:
@@ -190,6 +206,11 @@ NAMES = [
     "SearchSpace",
     "CalibrationResult",
     "Check",
+    "FixResult",
+    "CasterState",
+    "CasterState (fix)",
+    "Change",
+    "Calibration",
 ]
 
 

@@ -85,7 +85,7 @@ def run(args) -> int:
                 break
         raise InputError(text) from None
     if args.json:
-        print_json(result.as_dict())
+        print_json(result.to_dict())
         return 0
     _print(result, problem)
     return 0

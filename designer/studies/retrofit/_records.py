@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from designer.data.paper import INCH
 from designer.model import Design
 from designer.parameters import PARAMETERS, VARIABLE_TABLE
+from designer.reprs import Record, dataframe
 from designer.studies.retrofit._options import _show
 
 RULE = (
@@ -27,8 +28,8 @@ _UNITS = {p.name: p.ascii_unit for p in VARIABLE_TABLE} | {"inertia": PARAMETERS
 """The SI unit of each variable in the JSON records (from the parameter table; I_w is its ``wheel_inertia``)."""
 
 
-@dataclass(frozen=True)
-class Change:
+@dataclass(frozen=True, kw_only=True)
+class Change(Record):
     """One design variable changed by a part: ``before`` -> ``after`` [SI]."""
 
     part: str
@@ -44,7 +45,8 @@ class Change:
             + (f" ({self.name})" if self.name else "")
         )
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
+        """``part``, ``variable``, ``from``, ``to`` [SI], ``unit`` (and the wheel's ``name``)."""
         out = {
             "part": self.part,
             "variable": self.variable,
@@ -56,9 +58,23 @@ class Change:
             out["name"] = self.name
         return out
 
+    def _repr_lines(self) -> list[str]:
+        return [f"Change({self.describe()})"]
 
-@dataclass(frozen=True)
-class CasterState:
+    def _html_title(self) -> str:
+        return f"Change of the {self.part}"
+
+    def _html_rows(self) -> list[tuple]:
+        unit = _UNITS[self.variable]
+        rows = [
+            (f"{self.variable} before", f"{self.before:.6g}", unit),
+            (f"{self.variable} after", f"{self.after:.6g}", unit),
+        ]
+        return rows + ([("catalogue wheel", self.name, "")] if self.name else [])
+
+
+@dataclass(frozen=True, kw_only=True)
+class CasterState(Record):
     """A caster (the current one or a fix) and its numbers.
 
     Attributes
@@ -99,7 +115,36 @@ class CasterState:
         """Number of parts changed (a catalogue wheel is one part)."""
         return len({c.part for c in self.changes})
 
-    def as_dict(self) -> dict:
+    _units = {
+        "design.trail": "m",
+        "design.diameter": "m",
+        "design.groove": "m",
+        "design.damping": "N·m/rad",
+        "inertia": "kg·m²",
+        "effective_trail": "m",
+        "turning_effort": "N",
+        "threshold_force": "N",
+        "swept_radius": "m",
+        "critical_speed": "m/s",
+        "calibrated_critical_speed": "m/s",
+        "confident_speed": "m/s",
+    }
+
+    def _repr_lines(self) -> list[str]:
+        """Two lines: the design, F_turn, P, V_c and P(shimmy); the parts changed (if any)."""
+        ok = "meets the risk bound" if self.meets_risk_bound else "misses the risk bound"
+        lines = [
+            f"CasterState({self.design.describe()}: F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, "
+            f"V_c {self.critical_speed:.4g} m/s, P(shimmy) {self.shimmy_probability:.2%}; {ok})"
+        ]
+        if self.changes:
+            lines.append(f"  {describe_changes(self.changes)} (loss {self.loss:+.3g} N)")
+        return lines
+
+    def _html_title(self) -> str:
+        return "Caster" + (f" with {self.parts_changed} part(s) changed" if self.changes else " as it is")
+
+    def to_dict(self) -> dict:
         """JSON-ready record, SI units."""
         out = {
             "design": self.design.to_dict(),
@@ -118,7 +163,7 @@ class CasterState:
         }
         if self.changes:
             out["parts_changed"] = self.parts_changed
-            out["changes"] = [c.as_dict() for c in self.changes]
+            out["changes"] = [c.to_dict() for c in self.changes]
             out["cost"] = {
                 "turning_effort": self.cost_turning_effort,
                 "threshold_force": self.cost_threshold_force,
@@ -127,8 +172,8 @@ class CasterState:
         return out
 
 
-@dataclass(frozen=True)
-class Calibration:
+@dataclass(frozen=True, kw_only=True)
+class Calibration(Record):
     """The model error of one caster, from its observed shimmy onset.
 
     Attributes
@@ -158,7 +203,19 @@ class Calibration:
             f"M_f/θ0, K_s and I_w is kept"
         )
 
-    def as_dict(self) -> dict:
+    _units = {"observed_onset": "m/s", "predicted_onset": "m/s", "shift": "m/s"}
+
+    def _repr_lines(self) -> list[str]:
+        return [
+            f"Calibration(observed onset {self.observed_onset:.4g} m/s, Eq. 7 {self.predicted_onset:.4g} m/s: "
+            f"k = {self.factor:.4f}, σ {self.scatter:.3g})"
+        ]
+
+    def _html_title(self) -> str:
+        return "Calibration by an observed onset"
+
+    def to_dict(self) -> dict:
+        """The observed and predicted onsets [m/s], the factor k, the shift [m/s] and the scatter σ."""
         return {
             "observed_onset": self.observed_onset,
             "predicted_onset": self.predicted_onset,
@@ -168,8 +225,8 @@ class Calibration:
         }
 
 
-@dataclass
-class FixResult:
+@dataclass(kw_only=True)
+class FixResult(Record):
     """Diagnosis of the current caster and the ranked fixes.
 
     Attributes
@@ -196,8 +253,10 @@ class FixResult:
     fixes: list[CasterState]
     found: int
     rule: str = RULE
-    stock: dict = field(default_factory=dict)
+    stock: dict[str, str] = field(default_factory=dict)
     scatter: dict = field(default_factory=dict)
+
+    _units = {"target_speed": "m/s", "required_speed": "m/s", "stem_angle": "rad"}
 
     @property
     def single_part_fix_exists(self) -> bool:
@@ -226,7 +285,7 @@ class FixResult:
             )
         )
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         """JSON-ready: ``current``, ranked ``fixes`` and the assumptions, SI units."""
         return {
             "problem": self.problem,
@@ -234,23 +293,83 @@ class FixResult:
             "required_speed": self.required_speed,
             "risk_probability": self.probability,
             "stem_angle": self.stem_angle,
-            "calibration": None if self.calibration is None else self.calibration.as_dict(),
+            "calibration": None if self.calibration is None else self.calibration.to_dict(),
             "scatter": self.scatter,
             "rule": self.rule,
             "stock": self.stock,
             "needs_fix": self.needs_fix,
             "single_part_fix_exists": self.single_part_fix_exists,
             "summary": self.summary(),
-            "current": self.current.as_dict(),
+            "current": self.current.to_dict(),
             "fixes_found": self.found,
-            "fixes": [f.as_dict() for f in self.fixes],
+            "fixes": [f.to_dict() for f in self.fixes],
         }
 
-    def __repr__(self) -> str:
-        return (
+    def to_pandas(self):
+        """One row per caster, the current one first then the fixes in rank order: ``rank`` (0: current),
+        ``changes`` (in words), the design [SI], F_turn, P, V_c, the speed at 1 − α, P(shimmy) and its SE, the
+        loss [N]; units in ``df.attrs["units"]``."""
+        rows = []
+        for rank, state in enumerate([self.current, *self.fixes]):
+            d = state.design
+            rows.append(
+                {
+                    "rank": rank,
+                    "changes": describe_changes(state.changes) if state.changes else "current",
+                    "trail_m": d.trail,
+                    "diameter_m": d.diameter,
+                    "groove_m": d.groove,
+                    "damping_N_m_per_rad": d.damping,
+                    "turning_effort_N": state.turning_effort,
+                    "threshold_force_N": state.threshold_force,
+                    "critical_speed_m_s": state.critical_speed,
+                    "confident_speed_m_s": state.confident_speed,
+                    "shimmy_probability": state.shimmy_probability,
+                    "shimmy_probability_se": state.shimmy_probability_se,
+                    "meets_risk_bound": bool(state.meets_risk_bound),
+                    "loss_N": state.loss,
+                }
+            )
+        columns = list(rows[0])
+        units = {c: c.split("_")[-1] for c in columns if c.endswith(("_m", "_N"))}
+        units.update(damping_N_m_per_rad="N·m/rad", critical_speed_m_s="m/s", confident_speed_m_s="m/s")
+        return dataframe("FixResult.to_pandas", rows, columns, units, problem=self.problem, rule=self.rule)
+
+    def _repr_lines(self) -> list[str]:
+        """Two lines: the current caster (V_c, P(shimmy)) and the answer in one sentence."""
+        return [
             f"FixResult({self.problem!r}, current V_c {self.current.critical_speed:.3f} m/s, "
-            f"P(shimmy) {self.current.shimmy_probability:.1%}, {self.found} fixes; {self.summary()})"
-        )
+            f"P(shimmy) {self.current.shimmy_probability:.1%}, {self.found} fixes)",
+            f"  {self.summary()}",
+        ]
+
+    def _html_title(self) -> str:
+        return f"Retrofit of {self.problem!r}"
+
+    def _html_caption(self) -> str:
+        return self.summary()
+
+    def _html_rows(self) -> list[tuple]:
+        """The current caster, then each fix (first five) with its changes, F_turn, P and P(shimmy)."""
+        rows: list[tuple] = [
+            (
+                "current",
+                f"{self.current.design.describe()}; P(shimmy) {self.current.shimmy_probability:.2%}",
+                "",
+            )
+        ]
+        for rank, f in enumerate(self.fixes[:5], start=1):
+            rows.append(
+                (
+                    f"fix {rank}",
+                    f"{describe_changes(f.changes)}; F_turn {f.turning_effort:.4g} N, P {f.threshold_force:.4g} N, "
+                    f"P(shimmy) {f.shimmy_probability:.2%}",
+                    "",
+                )
+            )
+        if self.found > 5:
+            rows.append(("more fixes", str(self.found - 5), ""))
+        return rows
 
 
 _SYMBOL = {

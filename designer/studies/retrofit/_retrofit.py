@@ -140,7 +140,9 @@ def _diagnosis(problem, current: Design, inertia: float, shimmied_at, stem_angle
     if shimmied_at is not None:
         predicted = float(_evaluate(arrays, conditions, stem_angle, 1.0, bound).critical_speed[0])
         factor = float(shimmied_at) / predicted
-        calibration = Calibration(float(shimmied_at), predicted, factor, float(onset_scatter))
+        calibration = Calibration(
+            observed_onset=float(shimmied_at), predicted_onset=predicted, factor=factor, scatter=float(onset_scatter)
+        )
         if bound is not None:
             bound = _calibrated(bound, onset_scatter)
         report_u = _calibrated(report_u, onset_scatter)
@@ -170,18 +172,18 @@ def _fix_result(problem, setting: _Setting, calibration, current_state: CasterSt
         "reported": dataclasses.asdict(setting.report_u) | {"samples": setting.samples, "seed": setting.seed},
     }
     return FixResult(
-        problem.name,
-        problem.target_speed,
-        setting.v_req,
-        None if bound is None else bound.probability,
-        setting.stem_angle,
-        calibration,
-        current_state,
-        [],
-        0,
-        RULE,
-        stock_note,
-        scatter,
+        problem=problem.name,
+        target_speed=problem.target_speed,
+        required_speed=setting.v_req,
+        probability=None if bound is None else bound.probability,
+        stem_angle=setting.stem_angle,
+        calibration=calibration,
+        current=current_state,
+        fixes=[],
+        found=0,
+        rule=RULE,
+        stock=stock_note,
+        scatter=scatter,
     )
 
 
@@ -298,18 +300,22 @@ def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current
 def _changes(current: Design, inertia: float, cands: dict, j: int, wheels: list) -> tuple[Change, ...]:
     out = []
     if cands["mask_washer"][j]:
-        out.append(Change("washer", "damping", current.damping, float(cands["damping"][j])))
+        out.append(Change(part="washer", variable="damping", before=current.damping, after=float(cands["damping"][j])))
     if cands["mask_tyre"][j]:
-        out.append(Change("tyre", "groove", current.groove, float(cands["groove"][j])))
+        out.append(Change(part="tyre", variable="groove", before=current.groove, after=float(cands["groove"][j])))
     if cands["mask_fork hole"][j]:
-        out.append(Change("fork hole", "trail", current.trail, float(cands["trail"][j])))
+        out.append(Change(part="fork hole", variable="trail", before=current.trail, after=float(cands["trail"][j])))
     if cands["mask_wheel"][j]:
         name = wheels[int(cands["wheel"][j])].name
-        out.append(Change("wheel", "diameter", current.diameter, float(cands["diameter"][j]), name))
+        out.append(
+            Change(
+                part="wheel", variable="diameter", before=current.diameter, after=float(cands["diameter"][j]), name=name
+            )
+        )
         if not cands["mask_tyre"][j] and abs(float(cands["groove"][j]) - current.groove) > 1e-12:
-            out.append(Change("wheel", "groove", current.groove, float(cands["groove"][j])))
+            out.append(Change(part="wheel", variable="groove", before=current.groove, after=float(cands["groove"][j])))
         if abs(float(cands["inertia"][j]) - inertia) > 1e-15:
-            out.append(Change("wheel", "inertia", inertia, float(cands["inertia"][j])))
+            out.append(Change(part="wheel", variable="inertia", before=inertia, after=float(cands["inertia"][j])))
     return tuple(out)
 
 
