@@ -38,7 +38,6 @@ EXPENSIVE = [
     ("designer.solvers.closed_form", "designs_at_diameter"),
     ("designer.studies.front._pareto", "_pareto_front"),
     ("designer.model._candidates", "shimmy_probability"),
-    ("designer.physics.uncertainty", "shimmy_probability_mc"),
     ("designer.physics.uncertainty", "shimmy_probability_mc_many"),
 ]
 """Every solver and Monte Carlo entry point: patched to raise while the reprs and attributes are read."""

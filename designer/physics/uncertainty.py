@@ -62,8 +62,9 @@ normal quantiles is up to 0.7 % too small in Q for s ≈ 0.7; one t of scale
 inversion, c_f and K_s through Eq. 7 itself by Gauss–Hermite);
 :func:`shimmy_probability_mc_many` samples it for many casters and speeds with its
 own seed; :func:`risk_record` says where a caster's risk comes from.
-:func:`shimmy_probability_mc` samples the default :class:`Uncertainty`'s law
-(Student-t model error, lognormal c_f, K_s, I_w) on the exact Eq. 7 with its own seed.
+:func:`sample_log_factors` draws the default :class:`Uncertainty`'s law (Student-t model error,
+lognormal c_f, K_s, I_w); the reported Monte Carlo of a batch of casters on the exact Eq. 7, with its own
+seed, is the model's (:func:`designer.model.shimmy_probability`).
 
 Only ``scipy.special`` is used: ``scipy.stats`` costs 0.7 s of import time.
 """
@@ -520,55 +521,6 @@ def sample_log_factors(uncertainty: Uncertainty, n: int, rng: np.random.Generato
         "slip": rng.normal(0.0, u.slip_coefficient, n),
         "inertia": rng.normal(0.0, u.inertia, n),
     }
-
-
-def shimmy_probability_mc(
-    trail: float,
-    inertia: float,
-    groove: float,
-    damping: float,
-    slip_coefficient: float,
-    speed: float,
-    uncertainty: Uncertainty,
-    samples: int | None = None,
-    seed: int | None = None,
-    target_se: float | None = MC_TARGET_SE,
-) -> tuple[float, float]:
-    """Monte Carlo P(V_c,true < speed) on the exact Eq. 7 with sampled constants: (p, standard error) [-].
-
-    Samples the distribution the bound assumes (Student-t model error, lognormal c_f, K_s, I_w):
-    ``samples`` (default ``uncertainty.samples``) draws with ``seed`` (default ``uncertainty.seed``),
-    then more from the same stream until the standard error is at most ``target_se`` (0.1 percentage
-    point; None: no top-up), up to :data:`MC_MAX_SAMPLES`.  The design is one caster (floats).
-    """
-    u = uncertainty
-    n = int(u.samples if samples is None else samples)
-    rng = np.random.default_rng(u.seed if seed is None else seed)
-    hits = 0
-    drawn = 0
-    want = n
-    while True:
-        chunk = min(want - drawn, 1_000_000)
-        f = sample_log_factors(u, chunk, rng)
-        v = critical_shimmy_speed(
-            trail,
-            inertia * np.exp(f["inertia"]),
-            groove,
-            damping * np.exp(f["damping"]),
-            slip_coefficient * np.exp(f["slip"]),
-        ) * np.exp(f["model"])
-        hits += int(np.count_nonzero(v < speed))
-        drawn += chunk
-        if drawn < want:
-            continue
-        p = hits / drawn
-        if target_se is None or drawn >= MC_MAX_SAMPLES:
-            break
-        needed = math.ceil(max(p * (1 - p), 1.0 / drawn) / target_se**2)
-        if needed <= drawn:
-            break
-        want = min(MC_MAX_SAMPLES, needed + needed // 50)
-    return p, float(math.sqrt(max(p * (1 - p), 1.0 / drawn) / drawn))
 
 
 # --------------------------------------------------------------------------- two Student-t terms and a normal

@@ -516,9 +516,9 @@ def test_monte_carlo_top_up_draws_what_the_target_needs():
     from designer.physics import uncertainty as un
 
     u = un.Uncertainty()
-    p1, _ = un.shimmy_probability_mc(*CASE, 3.0, u, samples=1000, target_se=None)
+    p1, _ = _mc(*CASE, 3.0, u, samples=1000, target_se=None)
     need = math.ceil(max(p1 * (1 - p1), 1e-3) / 0.005**2)
-    p, se = un.shimmy_probability_mc(*CASE, 3.0, u, samples=1000, target_se=0.005)
+    p, se = _mc(*CASE, 3.0, u, samples=1000, target_se=0.005)
     assert se <= 0.005
     assert round(p * (1 - p) / se**2) == need + need // 50
 
@@ -728,19 +728,19 @@ def _mc_reference(u, speed, seed, chunks):
 
 
 def test_monte_carlo_is_the_definition_draw_for_draw():
-    """shimmy_probability_mc counts, draw for draw, the sampled casters whose V_c,true = V_c(I_w e^ξI, c_f e^ξc,
+    """The Monte Carlo (designer.model.shimmy_probability) counts, draw for draw, the sampled casters whose V_c,true = V_c(I_w e^ξI, c_f e^ξc,
     K_s e^ξK) e^ξm falls below the speed (K_s = 2000 N here, not the default): with its own seed, with a seed
     given, and across the top-up (1000 draws, then up to n = ⌈p(1−p)/SE²⌉ + 2 %); SE = √(p(1−p)/n)."""
     from designer.physics import uncertainty as un
 
     u = un.Uncertainty()
-    p, se = un.shimmy_probability_mc(*CASE, 3.0, u, samples=1000, target_se=None)
+    p, se = _mc(*CASE, 3.0, u, samples=1000, target_se=None)
     assert p == _mc_reference(u, 3.0, u.seed, [1000]) and se == pytest.approx(math.sqrt(p * (1 - p) / 1000))
-    p7, _ = un.shimmy_probability_mc(*CASE, 3.0, u, samples=1000, seed=7, target_se=None)
+    p7, _ = _mc(*CASE, 3.0, u, samples=1000, seed=7, target_se=None)
     assert p7 == _mc_reference(u, 3.0, 7, [1000]) and p7 != p
     need = math.ceil(p * (1 - p) / 0.005**2)
     want = need + need // 50
-    p2, se2 = un.shimmy_probability_mc(*CASE, 3.0, u, samples=1000, target_se=0.005)
+    p2, se2 = _mc(*CASE, 3.0, u, samples=1000, target_se=0.005)
     assert p2 == _mc_reference(u, 3.0, u.seed, [1000, want - 1000])
     assert se2 == pytest.approx(math.sqrt(p2 * (1 - p2) / want), rel=1e-12)
 
@@ -751,7 +751,7 @@ def test_monte_carlo_with_no_hit_reports_one_over_n():
     drawn and SE = 1/1000 exactly."""
     from designer.physics import uncertainty as un
 
-    p, se = un.shimmy_probability_mc(*CASE, 0.5, un.Uncertainty(), samples=1000, target_se=0.00101)
+    p, se = _mc(*CASE, 0.5, un.Uncertainty(), samples=1000, target_se=0.00101)
     assert p == 0.0 and se == pytest.approx(1e-3, rel=1e-12)
 
 
@@ -793,3 +793,11 @@ def test_threshold_small_but_climbable_wheel():
     assert threshold.threshold_force_ratio(2.5, 1.0) == pytest.approx(2 * math.sqrt(1.5) / 0.5, rel=1e-12)
     with pytest.raises(InputError, match=r"^diameter/threshold height = 2: the wheel must be more than twice the sill"):
         threshold.threshold_force_ratio(2.0, 1.0)
+
+
+def _mc(*args, **kwargs) -> tuple[float, float]:
+    """The model's Monte Carlo P(shimmy) and SE of one caster, as floats."""
+    from designer.model import shimmy_probability
+
+    p, se = shimmy_probability(*args, **kwargs)
+    return float(p), float(se)

@@ -562,10 +562,8 @@ def test_dask_local_cluster_gives_the_in_process_result(base):
 
 
 def test_batched_monte_carlo_gives_the_numbers_of_the_shared_function(base):
-    """Chairs sharing a caster share one seeded draw; P(shimmy) and SE equal shimmy_probability_mc per chair
-    exactly (speeds spread so that some estimates need the function's top-up for SE <= 0.1 pp)."""
-    from designer.physics.uncertainty import shimmy_probability_mc
-
+    """Chairs sharing a caster share one seeded draw; P(shimmy) and SE equal, per chair, the model's Monte Carlo
+    of that caster alone (speeds spread so that some estimates need the top-up for SE <= 0.1 pp)."""
     stock = _rule.stock_table(base)
     u = scatter_of(base.conditions)
     j = int(np.argmin(np.abs(stock.confident_speed - 2.5)))
@@ -573,7 +571,7 @@ def test_batched_monte_carlo_gives_the_numbers_of_the_shared_function(base):
     designs = np.tile([stock.trail[j], stock.diameter[j], stock.groove[j], stock.damping[j]], (12, 1))
     got = _rule._mc_task(designs, np.full(12, stock.inertia[j]), speeds, base.conditions.slip_coefficient, u)
     for r in range(12):
-        want = shimmy_probability_mc(
+        want = _mc(
             stock.trail[j],
             stock.inertia[j],
             stock.groove[j],
@@ -697,3 +695,11 @@ def test_fleet_run_loads_no_matplotlib_and_json_reads_back(tmp_path):
     for name in ("fleet.json", "index.html", "report.md"):
         text = (tmp_path / "o" / name).read_text()
         assert run["date"][:10] not in text and "seconds" not in text, name
+
+
+def _mc(*args, **kwargs) -> tuple[float, float]:
+    """The model's Monte Carlo P(shimmy) and SE of one caster, as floats."""
+    from designer.model import shimmy_probability
+
+    p, se = shimmy_probability(*args, **kwargs)
+    return float(p), float(se)

@@ -22,7 +22,7 @@ from designer.data.paper import INCH
 from designer.model import Design, evaluate
 from designer.physics.geometry import effective_trail, ground_trail
 from designer.physics.inertia import Fixed
-from designer.physics.uncertainty import Uncertainty, shimmy_probability_mc, shimmy_speed_quantile
+from designer.physics.uncertainty import Uncertainty, shimmy_speed_quantile
 from designer.problem import Bound, load_problem, problem_from_toml
 
 from conftest import ROOT
@@ -236,7 +236,7 @@ def test_fixes_are_ranked_and_safe(problem, eq8):
     for f in eq8.fixes:
         assert f.confident_speed >= problem.required_speed and f.swept_radius <= problem.swept_radius_max + 1e-12
         u = dataclasses.replace(bound, samples=40_000, seed=12345)
-        p, se = shimmy_probability_mc(
+        p, se = _mc(
             f.effective_trail, f.inertia, f.design.groove, f.design.damping, c.slip_coefficient, problem.target_speed, u
         )
         assert p <= bound.probability + 3 * max(se, 1e-4)
@@ -245,10 +245,10 @@ def test_fixes_are_ranked_and_safe(problem, eq8):
 
 def test_reported_probability_is_the_uncertainty_modules_estimate(problem, eq8):
     """The fixes' P(shimmy) is computed for all fixes at once (vectorised), yet equals
-    shimmy_probability_mc of each caster with the same draws (seed and sample count), bit for bit."""
+    the model's Monte Carlo of each caster alone with the same draws (seed and sample count), bit for bit."""
     u = _diagnosis._risk_of(problem)[1]
     for f in eq8.fixes[:5]:
-        p, se = shimmy_probability_mc(
+        p, se = _mc(
             f.effective_trail,
             f.inertia,
             f.design.groove,
@@ -299,7 +299,7 @@ def test_calibrated_fixes_are_safe_and_uncalibrated_ones_are_not(problem, eq8):
             )
         )
         u = dataclasses.replace(bound, samples=40_000, seed=777)
-        p, se = shimmy_probability_mc(
+        p, se = _mc(
             f.effective_trail,
             f.inertia,
             f.design.groove,
@@ -447,3 +447,11 @@ def test_current_reads_numbers_as_evaluate_does(text):
         name, dimension = names[key]
         assert getattr(design, name) == parse_quantity_text(value, dimension, key)
     assert parse_current("T=3.81e-2,d=0.19685,B=1.43e-2,c=1.3e0").damping == 1.3
+
+
+def _mc(*args, **kwargs) -> tuple[float, float]:
+    """The model's Monte Carlo P(shimmy) and SE of one caster, as floats."""
+    from designer.model import shimmy_probability
+
+    p, se = shimmy_probability(*args, **kwargs)
+    return float(p), float(se)
