@@ -107,8 +107,9 @@ CHUNK = 5000
 DEFAULT_MAX_REGRET = 2.0
 """Default ``--max-regret`` [N]: the suggested number of part numbers is the smallest K whose mean regret
 (J with the part number − the chair's least J, averaged over the units sold) is at most this.  2 N is
-about 1 % of a typical J = F_turn + P (120–300 N per caster: J ≈ 100–250 N), smaller than the paper's
-scatter on either force (docs/fleet.md, "How many part numbers")."""
+about 1.5 % of a typical J = F_turn + P (≈ 140 N on the example fleets) and about the smallest
+turning-effort difference the paper measured (a grooved tyre's 10 %: ≈ 1.2 N at the median F_turn);
+docs/fleet.md, "How many part numbers"."""
 
 
 # --------------------------------------------------------------------------- the whole fleet
