@@ -43,7 +43,7 @@ from designer.model import scatter_of
 from designer.parameters import VARIABLE_TABLE
 from designer.reprs import dataframe, html_table
 
-from designer.studies.fleet._kmedian import kmedian_curve, prune_candidates
+from designer.studies.fleet._kmedian import ColumnDominance, kmedian_curve
 from designer.problem import example_problem, load_problem
 from designer.studies.fleet._table import (
     COLUMNS,
@@ -493,38 +493,30 @@ def _stock_subset(stock: StockTable, columns: np.ndarray) -> StockTable:
 def _regret_matrix(result: FleetResult, rows: np.ndarray) -> dict:
     """Regret, F_turn and P of the chairs ``rows`` (feasible) with the casters that can matter for a K-median.
 
-    J of every chair with every stock caster (chunks of :data:`CHUNK` chairs; one chairs × stock matrix in
-    memory), the casters not dominated on regret (:func:`designer.studies.fleet._kmedian.prune_candidates`),
-    then F_turn and P of those casters only.
+    Two passes over chunks of :data:`CHUNK` chairs: the first evaluates J of every stock caster and keeps
+    only which casters dominate which (:class:`designer.studies.fleet._kmedian.ColumnDominance`; memory of
+    one chunk), the second evaluates the undominated casters for every chair: chairs × useful casters in
+    memory, not chairs × stock.
     """
     fleet, stock, problem = result.fleet, result.stock, result.problem
     arrays = fleet.arrays()
     w = np.asarray(problem.weights, float)
     parts = [rows[a : a + CHUNK] for a in range(0, len(rows), CHUNK)]
 
-    def evaluate(table, forces: bool):
-        out = {"objective": [], "turning_effort": [], "threshold_force": []}
-        for part in parts:
-            ev = evaluate_chairs({key: v[part] for key, v in arrays.items()}, table, problem)
-            f, p = ev["turning_effort"], ev["threshold_force"]
-            out["objective"].append(np.where(ev["feasible"], w[0] * f + w[1] * p, np.inf))
-            if forces:
-                out["turning_effort"].append(f)
-                out["threshold_force"].append(p)
-        return {key: np.concatenate(v) if v else None for key, v in out.items()}
+    def evaluate(part, table):
+        ev = evaluate_chairs({key: v[part] for key, v in arrays.items()}, table, problem)
+        f, p = ev["turning_effort"], ev["threshold_force"]
+        return np.where(ev["feasible"], w[0] * f + w[1] * p, np.inf), f, p
 
-    j = evaluate(stock, forces=False)["objective"]
+    dominance = ColumnDominance(len(stock))
+    for part in parts:
+        dominance.add(evaluate(part, stock)[0])
+    columns = dominance.undominated()
+    table = _stock_subset(stock, columns)
+    j, f, p = (np.concatenate(x) for x in zip(*(evaluate(part, table) for part in parts)))
     least = j.min(axis=1)
-    columns = prune_candidates(j - least[:, None])
-    del j
-    useful = evaluate(_stock_subset(stock, columns), forces=True)
-    return {
-        "columns": columns,
-        "turning_effort": useful["turning_effort"],
-        "threshold_force": useful["threshold_force"],
-        "regret": useful["objective"] - least[:, None],
-        "least_objective": least,
-    }
+    j -= least[:, None]
+    return {"columns": columns, "turning_effort": f, "threshold_force": p, "regret": j, "least_objective": least}
 
 
 def _client(scheduler):

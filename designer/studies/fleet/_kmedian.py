@@ -91,44 +91,86 @@ class KMedianSolution:
 # --------------------------------------------------------------------------- reduction
 
 
-def prune_candidates(cost: np.ndarray, sample_rows: int = 256) -> np.ndarray:
-    """Indices of the columns worth keeping: feasible for some chair and not dominated by another column.
+class ColumnDominance:
+    """Which columns of a cost matrix are dominated, from its rows given in blocks (exact; memory of a block).
 
-    Column b is dropped when some column a has cost[:, a] <= cost[:, b] everywhere (+inf = infeasible) and,
-    if the two columns are equal, a < b.  The K-median optimum is unchanged (the module docstring).  Pairs
-    are screened on a sample of rows first and confirmed on all rows.
+    Column a dominates column b when cost[:, a] <= cost[:, b] on every row (+inf = not allowed) and, if the
+    two are equal, a < b; a dominated column, or one allowed on no row, is never needed by a K-median (the
+    module docstring).  The candidate pairs come from a sample of the first block's rows: for each column b
+    its ``per_column`` likeliest dominators (those that dominate the most columns on the sample); every
+    block then keeps the pairs that hold on all its rows, so a pair left holds on every row seen.  A column
+    whose candidates all fail is kept (never dropped without proof; keeping one more column changes no
+    optimum).
     """
+
+    def __init__(self, n: int, sample_rows: int = 256, per_column: int = 32):
+        self.n, self.sample_rows, self.per_column = n, sample_rows, per_column
+        self.alive = np.zeros(n, bool)
+        self.pa: np.ndarray | None = None
+        self.pb = np.zeros(0, int)
+        self.eq = np.zeros(0, bool)
+
+    def add(self, block: np.ndarray) -> None:
+        """Take the next rows (rows × n)."""
+        block = np.asarray(block, float)
+        if not len(block):
+            return
+        self.alive |= np.isfinite(block).any(axis=0)
+        if self.pa is None:
+            self.pa, self.pb = self._candidates(block)
+            self.eq = np.ones(len(self.pa), bool)
+        le, eq = self._verify(block, self.pa, self.pb)
+        self.pa, self.pb, self.eq = self.pa[le], self.pb[le], (self.eq & eq)[le]
+
+    def _candidates(self, block: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        rows = np.random.default_rng(0).choice(len(block), min(self.sample_rows, len(block)), replace=False)
+        sample = block[np.sort(rows)]
+        pa, pb = [], []
+        for a0 in range(0, self.n, 64):  # (a, b) with a <= b on the sample, in blocks of 64 a's
+            a, b = np.nonzero(np.all(sample[:, a0 : a0 + 64, None] <= sample[:, None, :], axis=0))
+            a += a0
+            pa.append(a[a != b])
+            pb.append(b[a != b])
+        pa, pb = np.concatenate(pa), np.concatenate(pb)
+        strength = np.bincount(pa, minlength=self.n)
+        order = np.lexsort((pa, -strength[pa], pb))  # per b, its strongest dominators first
+        pa, pb = pa[order], pb[order]
+        first = np.r_[0, np.flatnonzero(pb[1:] != pb[:-1]) + 1] if len(pb) else np.zeros(0, int)
+        rank = np.arange(len(pb)) - np.repeat(first, np.diff(np.r_[first, len(pb)]))
+        keep = rank < self.per_column
+        return pa[keep], pb[keep]
+
+    @staticmethod
+    def _verify(block: np.ndarray, pa: np.ndarray, pb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Per pair: column a <= column b on every row of ``block``, and equal on every row (pairs by a)."""
+        le, eq = np.zeros(len(pa), bool), np.zeros(len(pa), bool)
+        if not len(pa):
+            return le, eq
+        order = np.argsort(pa, kind="stable")
+        starts = np.flatnonzero(np.r_[True, pa[order][1:] != pa[order][:-1]])
+        for s, e in zip(starts, np.r_[starts[1:], len(order)]):
+            idx = order[s:e]
+            col, other = block[:, [pa[idx[0]]]], block[:, pb[idx]]
+            le[idx] = np.all(col <= other, axis=0)
+            eq[idx] = np.all(col == other, axis=0)
+        return le, eq
+
+    def undominated(self) -> np.ndarray:
+        """Indices of the columns to keep: allowed on some row and dominated by no other column."""
+        keep = self.alive.copy()
+        if self.pa is not None:
+            keep[self.pb[~self.eq | (self.pa < self.pb)]] = False
+        return np.flatnonzero(keep)
+
+
+def prune_candidates(cost: np.ndarray, block_rows: int = 5000) -> np.ndarray:
+    """Indices of the columns worth keeping: feasible for some chair and not dominated by another column
+    (:class:`ColumnDominance` over blocks of ``block_rows`` rows).  The K-median optimum is unchanged."""
     cost = np.asarray(cost, float)
-    alive = np.flatnonzero(np.isfinite(cost).any(axis=0))
-    sub = cost[:, alive]
-    m, n = sub.shape
-    if n <= 1:
-        return alive
-    rows = np.random.default_rng(0).choice(m, min(sample_rows, m), replace=False)
-    sample = sub[np.sort(rows)]
-    pa, pb = [], []
-    for a0 in range(0, n, 64):  # (a, b) with a <= b on the sample, in blocks of 64 a's
-        a, b = np.nonzero(np.all(sample[:, a0 : a0 + 64, None] <= sample[:, None, :], axis=0))
-        a += a0
-        pa.append(a[a != b])
-        pb.append(b[a != b])
-    pa, pb = np.concatenate(pa), np.concatenate(pb)
-    keep = np.ones(n, bool)
-    if not len(pa):
-        return alive
-    order = np.lexsort((pa, -np.bincount(pa, minlength=n)[pa]))  # likely dominators first
-    pa, pb = pa[order], pb[order]
-    starts = np.flatnonzero(np.r_[True, pa[1:] != pa[:-1]])
-    for s, e in zip(starts, np.r_[starts[1:], len(pa)]):
-        a, b = pa[s], pb[s:e]
-        b = b[keep[b]]  # a dropped a is still a valid dominator (dominance is transitive)
-        if not len(b):
-            continue
-        block = sub[:, b]
-        le = np.all(sub[:, [a]] <= block, axis=0)
-        eq = np.all(sub[:, [a]] == block, axis=0)
-        keep[b[le & (~eq | (b > a))]] = False
-    return alive[keep]
+    dominance = ColumnDominance(cost.shape[1])
+    for a in range(0, max(len(cost), 1), block_rows):
+        dominance.add(cost[a : a + block_rows])
+    return dominance.undominated()
 
 
 def aggregate_rows(cost: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

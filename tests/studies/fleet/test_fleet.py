@@ -423,6 +423,26 @@ def test_pruning_and_merging_keep_the_optimum():
             )
 
 
+def test_column_dominance_over_blocks_drops_only_what_is_dominated_on_every_row():
+    """Rows given in blocks: a column dominated by one column in the first block and by another in the second
+    is kept (no single column dominates it on every row); one dominated on every row by one column is dropped;
+    a column allowed for no row is dropped; the result is that of the whole matrix at once."""
+    inf = np.inf
+    good_first = [0.0] * 5 + [9.0] * 5
+    good_last = [9.0] * 5 + [0.0] * 5
+    middle = [1.0] * 10
+    worse_than_middle = [2.0] * 10
+    never = [inf] * 10
+    cost = np.array([good_first, good_last, middle, worse_than_middle, never]).T
+    assert list(_kmedian.prune_candidates(cost, block_rows=5)) == [0, 1, 2]
+    assert list(_kmedian.prune_candidates(cost, block_rows=100)) == [0, 1, 2]
+    rng = np.random.default_rng(4)
+    for _ in range(20):
+        c, _w = _random_instance(rng, 2)
+        if len(c) > 3:
+            assert np.array_equal(_kmedian.prune_candidates(c, block_rows=3), _kmedian.prune_candidates(c))
+
+
 def test_suggested_count_is_the_smallest_k_within_max_regret_by_brute_force(base):
     """On a 30-chair fleet: the suggested count is the smallest K whose exhaustive least mean regret (over
     units sold) is <= --max-regret, for thresholds between the curve's values, at a value exactly, and
