@@ -103,7 +103,16 @@ def _examples() -> dict[str, Record]:
     out.update(_dynamics_examples(problem))
     out.update(_other_examples(problem))
     out.update(_retrofit_examples(problem))
+    out.update(_fleet_examples(problem))
     return out
+
+
+def _fleet_examples(problem) -> dict[str, Record]:
+    """A small fleet (30 chairs of the shipped example) with two part numbers, and its K-median solution."""
+    from designer.studies.fleet import example_fleet, fleet
+
+    result = _quiet(lambda: fleet(example_fleet(30), problem, skus=2, monte_carlo=False))
+    return {"FleetResult": result, "KMedianSolution": result.skus}
 
 
 def _retrofit_examples(problem) -> dict[str, Record]:
@@ -210,6 +219,8 @@ NAMES = [
     "CasterState (fix)",
     "Change",
     "Calibration",
+    "FleetResult",
+    "KMedianSolution",
 ]
 
 

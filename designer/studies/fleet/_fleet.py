@@ -41,10 +41,10 @@ import numpy as np
 from designer.errors import InputError
 from designer.model import scatter_of
 from designer.parameters import VARIABLE_TABLE
-from designer.reprs import dataframe, html_table
+from designer.reprs import Record, dataframe
 
-from designer.studies.fleet._kmedian import ColumnDominance, kmedian_curve
-from designer.problem import example_problem, load_problem
+from designer.studies.fleet._kmedian import ColumnDominance, KMedianSolution, kmedian_curve
+from designer.problem import Problem, example_problem, load_problem
 from designer.studies.fleet._table import (
     COLUMNS,
     EXAMPLE_RANGES,
@@ -130,8 +130,8 @@ _FLEET_UNITS = {
 """fleet.csv column -> (DataFrame column with its SI unit, unit) for :meth:`FleetResult.to_pandas`."""
 
 
-@dataclass
-class FleetResult:
+@dataclass(kw_only=True)
+class FleetResult(Record):
     """Per-chair recommendations of a fleet, and the part numbers when asked for.
 
     Attributes
@@ -146,13 +146,13 @@ class FleetResult:
 
     fleet: Fleet
     stock: StockTable
-    problem: object
-    chairs: dict
-    skus: object | None = None
-    curve: dict = field(default_factory=dict)
-    timings: dict = field(default_factory=dict)
+    problem: Problem
+    chairs: dict[str, np.ndarray]
+    skus: KMedianSolution | None = None
+    curve: dict[int, KMedianSolution] = field(default_factory=dict)
+    timings: dict[str, float] = field(default_factory=dict)
     scheduler: str | None = None
-    regret_cost: object | None = None
+    regret_cost: dict[str, np.ndarray] | None = None
     suggested: dict | None = None
     candidates: int | None = None
 
@@ -214,18 +214,26 @@ class FleetResult:
             rows.append(("largest P(shimmy)", f"{float(np.max(shimmy[ok])):.2%}", ""))
         return rows
 
-    def __repr__(self) -> str:
+    def _repr_lines(self) -> list[str]:
         """Two lines: chairs, part numbers and the ranges of F_turn and P [N] (``print(fleet_data(...))``: all)."""
         head = ", ".join(f"{label.split(':')[0]} {value} {unit}".rstrip() for label, value, unit in self._summary()[:2])
         rest = "; ".join(
             f"{label.split(':')[0]} {value.split(' (')[0]} {unit}".rstrip()
             for label, value, unit in self._summary()[2:]
         )
-        return f"FleetResult({getattr(self.problem, 'name', '?')!r}: {head})" + (f"\n  {rest}" if rest else "")
+        return [f"FleetResult({getattr(self.problem, 'name', '?')!r}: {head})"] + ([f"  {rest}"] if rest else [])
 
-    def _repr_html_(self) -> str:
-        """A compact HTML table with units: chairs, part numbers, ranges of F_turn and P (notebooks)."""
-        return html_table(f"Fleet recommendations for {getattr(self.problem, 'name', '?')!r}", self._summary())
+    def _html_title(self) -> str:
+        return f"Fleet recommendations for {getattr(self.problem, 'name', '?')!r}"
+
+    def _html_rows(self) -> list[tuple]:
+        """Chairs, part numbers, ranges of F_turn and P (notebooks)."""
+        return list(self._summary())
+
+    def to_dict(self) -> dict:
+        """The plain data of ``fleet.json`` (:func:`fleet_data`): settings, part numbers, regret curve, per-chair
+        rows, distributions; SI units."""
+        return fleet_data(self)
 
     def to_pandas(self):
         """One row per chair, the columns of fleet.csv with SI units in their names (pandas: ``notebook`` extra).

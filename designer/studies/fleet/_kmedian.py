@@ -48,6 +48,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from designer.reprs import Record
+
 TOLERANCE = 1e-9
 """Relative gap at which a value is called optimal: value − lower bound <= TOLERANCE · max(1, value)."""
 
@@ -55,8 +57,8 @@ LAGRANGIAN_ITERATIONS = 300
 """Most subgradient steps per K before the remaining casters go to the exact MIP."""
 
 
-@dataclass
-class KMedianSolution:
+@dataclass(kw_only=True)
+class KMedianSolution(Record):
     """One K: the chosen casters, the assignment, the regret and its proof.
 
     Attributes
@@ -76,7 +78,7 @@ class KMedianSolution:
     """
 
     k: int
-    chosen: list = field(default_factory=list)
+    chosen: list[int] = field(default_factory=list)
     assignment: np.ndarray | None = None
     regret: float = math.inf
     status: str = "infeasible"
@@ -86,6 +88,18 @@ class KMedianSolution:
     message: str = ""
     method: str = ""
     candidates: int = 0
+
+    _units = {"regret": "N", "lower_bound": "N", "gap": "N", "seconds": "s"}
+
+    def _repr_lines(self) -> list[str]:
+        """One line: K, the status, the regret and its proof."""
+        return [
+            f"KMedianSolution(K = {self.k}: {self.status}, regret {self.regret:.5g} N (bound {self.lower_bound:.5g}), "
+            f"casters {list(self.chosen)}, {self.candidates} candidates)"
+        ]
+
+    def _html_title(self) -> str:
+        return f"{self.k} part numbers (K-median)"
 
 
 # --------------------------------------------------------------------------- reduction
