@@ -29,7 +29,7 @@ import numpy as np
 from designer.data.paper import INCH
 from designer.errors import DesignerError
 from designer.versions import versions
-from designer.studies.checks import front_checks, paper_checks
+from designer.studies import checks as study_checks
 from designer.studies.dynamics.limit_cycles import knock_safe_speeds
 from designer.studies.recommend import recommend
 from designer.studies.robust import robust_comparison
@@ -300,7 +300,8 @@ def report_data(
         data.cross_checked = bool(solution is not None and len(getattr(solution, "cross_check", {})) > 1)
         with clock("checks"):
             if checks is None:
-                checks = paper_checks() + front_checks(front, tighter)  # an empty tighter front: 8c not applicable
+                # an empty tighter front: 8c not applicable
+                checks = study_checks.paper_checks() + study_checks.front_checks(front, tighter)
         if tighter is not None and not tighter.points:
             tighter_error = next((c.got for c in checks if c.name.startswith("8c")), "no point at the tighter target")
             tighter = data.tighter = None

@@ -17,7 +17,7 @@ import warnings
 from designer.studies.dynamics.limit_cycles import limit_cycle_study
 from designer.plots.simulation import bifurcation_axes
 from designer.studies.dynamics import onset_speed, scaled_budget, simulate, work_limit
-from designer.studies.dynamics import write_simulation_report
+from designer.studies import dynamics
 
 
 def register(sub) -> None:
@@ -329,7 +329,7 @@ def run(args) -> int:
             return _run_limit_cycles(args)
 
     if args.report is not None:
-        return _report(args, write_simulation_report)
+        return _report(args, dynamics.write_simulation_report)
 
     design, conditions, speed, angle, omega0, duration = parse(args)
 
