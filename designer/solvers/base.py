@@ -151,6 +151,24 @@ class Designs(Record):
             f"{self.solves} solves)"
         ]
 
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        """The solver, how many ε-optima were found, the ε range and the ranges of F_turn and P found."""
+        ok = np.asarray(self.success, dtype=bool)
+        rows: list[tuple[Any, Any, Any]] = [
+            ("solver", self.solver, ""),
+            ("ε-optima found", f"{int(ok.sum())} of {len(self)}", ""),
+            ("solves", str(self.solves), ""),
+        ]
+        if len(self):
+            rows.append(("ε", f"{float(np.min(self.epsilon)):.4g} – {float(np.max(self.epsilon)):.4g}", "N"))
+        if ok.any():
+            f, p = self.objectives[ok, 0], self.objectives[ok, 1]
+            rows += [
+                ("turning effort F_turn", f"{float(f.min()):.4g} – {float(f.max()):.4g}", "N"),
+                ("threshold force P", f"{float(p.min()):.4g} – {float(p.max()):.4g}", "N"),
+            ]
+        return rows
+
     def to_pandas(self) -> Any:
         """One row per ε: ``epsilon_N``, the design (``trail_m``, ``diameter_m``, ``groove_m``,
         ``damping_N_m_per_rad``), ``turning_effort_N``, ``threshold_force_N``, ``critical_speed_m_s``, ``success``

@@ -281,6 +281,11 @@ class SearchSpace(Record):
     def _html_title(self) -> str:
         return "Search space"
 
+    def _html_rows(self) -> list[tuple]:
+        """Each continuous variable with its range [SI], each categorical dimension with its choices."""
+        rows: list[tuple] = [(name, f"{lo:.4g} – {hi:.4g}", "") for name, lo, hi in self.continuous]
+        return rows + [(name, ", ".join(str(c) for c in choices), "") for name, choices in self.categorical]
+
 
 def search_space(problem: Problem) -> SearchSpace:
     """Continuous and categorical dimensions of ``problem`` (see the module docstring)."""
