@@ -404,6 +404,24 @@ def fit_turning(load, moment, surface: str = "tile", source: str = "") -> Calibr
     )
 
 
+def _log_fit(per_damping, groove_term, v, low: float, high: float) -> tuple[float, float]:
+    """c_f [N·m/rad] in [low, high] and its standard error (inf if not estimable) for V_c² = a c_f + b
+    (Eq. 7's two terms, ``per_damping`` a and ``groove_term`` b) fitted to the speeds ``v`` in log V_c."""
+
+    def log_model(_x, c_f):
+        return 0.5 * np.log(per_damping * c_f + groove_term)
+
+    # Residuals in log V_c: measured speeds scatter by a roughly constant
+    # fraction (Fig. 2C spans 1-4 m/s), so relative errors are the noise model.
+    # Start from the single-tread estimate c_f = π I V²/(4 T²) (mean), inside the range.
+    guess = float(np.clip(np.mean(v**2 / per_damping), low * 1.01, high * 0.99))
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")  # a degenerate covariance shows as a non-finite standard error
+        popt, pcov = curve_fit(log_model, np.arange(len(v)), np.log(v), p0=[guess], bounds=(low, high))
+    variance = float(pcov[0, 0])
+    return float(popt[0]), math.sqrt(variance) if variance >= 0 else math.inf
+
+
 def fit_damping(
     trail, inertia, critical_speed, groove=None, slip_coefficient: float = SLIP_COEFFICIENT, source: str = ""
 ) -> CalibrationResult:
@@ -448,18 +466,7 @@ def fit_damping(
     def model(_x, c_f):
         return np.sqrt(per_damping * c_f + groove_term)
 
-    def log_model(_x, c_f):
-        return 0.5 * np.log(per_damping * c_f + groove_term)
-
-    # Residuals in log V_c: measured speeds scatter by a roughly constant
-    # fraction (Fig. 2C spans 1-4 m/s), so relative errors are the noise model.
-    # Start from the single-tread estimate c_f = π I V²/(4 T²) (mean), inside the range.
-    guess = float(np.clip(np.mean(v**2 / per_damping), low * 1.01, high * 0.99))
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")  # a degenerate covariance shows as a non-finite standard error
-        popt, pcov = curve_fit(log_model, np.arange(len(v)), np.log(v), p0=[guess], bounds=(low, high))
-    c_f, variance = float(popt[0]), float(pcov[0, 0])
-    se = math.sqrt(variance) if variance >= 0 else math.inf
+    c_f, se = _log_fit(per_damping, groove_term, v, low, high)
     if c_f <= low * (1 + 1e-6) or c_f >= high * (1 - 1e-6):
         end = "below" if c_f <= low * (1 + 1e-6) else "above"
         raise InputError(

@@ -448,10 +448,8 @@ def onset_speed(  # long: its docstring documents every argument and error; the 
     oscillation amplitude over the last two periods exceeds the amplitude just
     after the aligning transient, or |θ| reached the angle limit).  The
     bracket starts at Eq. 7's V_c (with c_f,eff = M_f/θ_i) × [0.8, 1.25] and
-    is widened ×2 until it holds a decaying and a growing speed, never beyond
-    the model's speeds (``_work.SPEED_RANGE``, 0.01 to 100 m/s); bisection in
-    log V then stops when high/low − 1 < ``rtol``.  All the trial simulations
-    share one work budget.
+    is widened ×2 within the model's speeds (0.01-100 m/s) until it holds a decaying and a growing
+    speed; bisection in log V then stops when high/low − 1 < ``rtol``.  One work budget for all.
 
     Parameters
     ----------
@@ -472,10 +470,7 @@ def onset_speed(  # long: its docstring documents every argument and error; the 
     Raises
     ------
     SolverError
-        If no bracket with decay below and growth above is found: the knock grows already at the
-        lowest speed of the model, or decays up to its highest (the onset lies outside the model's
-        speeds), or not within ``max_expansions`` doublings; WorkLimitError (exit 5) when the
-        simulations spend the work budget.
+        No bracket (decay below, growth above) in the model's speeds and ``max_expansions`` doublings.
     """
     theta_i = float(conditions.disturbance_angle if angle is None else angle)
     _check("angle", theta_i)
