@@ -15,11 +15,14 @@ from __future__ import annotations
 
 from designer.model._caster import (
     FAMILIES,
+    GRAVITY,
+    MASS_RANGE,
     MODEL_RANGE,
     VARIABLE_UNITS,
     VARIABLES,
     Conditions,
     Design,
+    caster_load,
     check_design,
     evaluate,
     performance,
@@ -35,6 +38,9 @@ from designer.model._candidates import (
 
 __all__ = [
     "FAMILIES",
+    "GRAVITY",
+    "MASS_RANGE",
+    "caster_load",
     "FEASIBILITY_TOLERANCE",
     "CandidateValues",
     "design_columns",

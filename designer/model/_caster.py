@@ -50,6 +50,32 @@ them the paper's model does not apply, and a value there usually means inches
 were written as metres."""
 
 
+GRAVITY = 9.80665
+"""Standard gravity g [m/s²] (CGPM 1901): the weight m g of the user and the chair."""
+
+MASS_RANGE = (1.0, 2000.0)
+"""Mass of the user plus the chair [kg] the problem file and the fleet table accept (0.1 kg to 2 t)."""
+
+
+def caster_load(mass: Scalar, front_fraction: Scalar) -> Scalar:
+    """Load L [N] on one front caster from the mass of the user plus the chair: L = m g f / 2.
+
+    The one conversion of the package: the problem file's ``[conditions] mass`` and ``front_fraction`` and
+    the fleet table's columns of the same names both use it (the paper gives L directly: 178 N per caster
+    in its tests, Appendix C).
+
+    Parameters
+    ----------
+    mass : m, user plus chair [kg] (float or array)
+    front_fraction : f, the share of the weight on the two front casters [-], 0 < f <= 1
+
+    Returns
+    -------
+    L [N], the load on each of the two front casters (same shape as the arguments).
+    """
+    return mass * GRAVITY * front_fraction / 2
+
+
 FAMILIES = {
     (False, False): "bare fork",
     (True, False): "groove",

@@ -101,7 +101,7 @@ def check_weights(
 
 SCHEMA: dict[str, dict[str, str]] = {
     "": {"name": "str", "title": "str", "description": "str"},
-    "conditions": {"surface": "surface", "turning_mode": "mode"},
+    "conditions": {"surface": "surface", "turning_mode": "mode", "mass": "mass", "front_fraction": "dimensionless"},
     "inertia": {"model": "str", "wheel": "str", "wheels": "list"},
     "variables": {name: "bound" for name in VARIABLES},
     "objective": {

@@ -16,7 +16,7 @@ from typing import Any, Callable, NoReturn, TypeVar
 from designer.data.paper import INCH, TABLE1
 from designer import parameters
 from designer.errors import ProblemError, read_input_text
-from designer.model import MODEL_RANGE, VARIABLES, Conditions
+from designer.model import MASS_RANGE, MODEL_RANGE, VARIABLES, Conditions, caster_load
 from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
 from designer.physics.turning import MODES, SURFACES, TurningConstants
 from designer.units import InputError, outside_range, parse_quantity
@@ -178,6 +178,9 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
     uncertainty = _uncertainty(r.section("robust"), r.fail)  # on by default: no [robust] gives the default scatter
 
     constants.update(_constants(r, "conditions"))
+    by_mass = _load_from_mass(r)
+    if by_mass is not None:
+        constants["load"] = by_mass
     constants.update(_constants(r, "shimmy"))
     constants.update(_constants(r, "constraints"))
     conditions = Conditions(
@@ -246,6 +249,45 @@ def _constants(r: _Reader, section: str) -> dict[str, Any]:
         if where is not None and where.startswith("conditions."):
             out[p.name] = _value(r, p.name)
     return out
+
+
+def _load_from_mass(r: _Reader) -> float | None:
+    """[conditions] mass and front_fraction, the alternative to ``load``: L = m g f / 2 [N]
+    (:func:`designer.model.caster_load`), or None when neither is given.  Both or neither; not with ``load``."""
+    table = r.section("conditions")
+    given = [key for key in ("mass", "front_fraction") if key in table]
+    if not given:
+        return None
+    if "load" in table:
+        r.fail(
+            f"conditions.load and conditions.{given[0]}: give load, or mass and front_fraction, not both "
+            "(load = mass g front_fraction / 2 per front caster)"
+        )
+    if len(given) == 1:
+        missing = "front_fraction" if given[0] == "mass" else "mass"
+        r.fail(
+            f"conditions.{missing}: missing; conditions.{given[0]} needs it (load = mass g front_fraction / 2, "
+            "e.g. mass = '110 kg', front_fraction = 0.4)"
+        )
+    mass = r.quantity("conditions", "mass", "mass", None)
+    fraction = r.quantity("conditions", "front_fraction", "dimensionless", None)
+    assert mass is not None and fraction is not None  # both keys are present (checked above)
+    low, high = MASS_RANGE
+    if not low <= mass <= high:
+        r.fail(f"conditions.mass = {table['mass']!r}: must be {low:g} to {high:g} kg (the user plus the chair)")
+    if not 0 < fraction <= 1:
+        r.fail(
+            f"conditions.front_fraction = {table['front_fraction']!r}: must be above 0 and at most 1 (the share "
+            "of the weight on the two front casters, e.g. 0.4 or '40 %')"
+        )
+    load = float(caster_load(mass, fraction))
+    low, high = parameters.PARAMETERS["load"].range or (0.0, math.inf)
+    if not low <= load <= high:
+        r.fail(
+            f"conditions.mass = {table['mass']!r}, front_fraction = {table['front_fraction']!r}: a caster load of "
+            f"{load:.3g} N, outside {low:g} N to {high:g} N"
+        )
+    return load
 
 
 def _turning(r: _Reader) -> dict[str, Any]:

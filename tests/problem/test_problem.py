@@ -166,3 +166,45 @@ def test_wide_unicode_file_is_named(tmp_path, encoding, name):
     wide.write_text(source.read_text(encoding="utf-8"), encoding=encoding)
     with pytest.raises(ProblemError, match=f"{name} text .* save the problem file as UTF-8"):
         load_problem(wide)
+
+
+def test_mass_and_front_fraction_give_the_load_per_caster(tmp_path):
+    """Issue 28.3: ``[conditions] mass = "110 kg"`` and ``front_fraction = 0.4`` give L = m g f / 2 =
+    110 × 9.80665 × 0.4 / 2 = 215.7463 N per front caster (hand calculation), the same value the fleet table
+    gives for the same mass and fraction (one conversion, designer.model.caster_load); a percentage is read
+    as a fraction."""
+    from designer.studies.fleet import read_fleet
+
+    problem = problem_from_toml(
+        '[conditions]\nmass = "110 kg"\nfront_fraction = 0.4\n[shimmy]\ntarget_speed = "2.5 m/s"\n'
+    )
+    assert problem.conditions.load == pytest.approx(215.7463, abs=1e-9)
+    percent = problem_from_toml('[conditions]\nmass = 110\nfront_fraction = "40 %"\n[shimmy]\ntarget_speed = 2.5\n')
+    assert percent.conditions.load == pytest.approx(215.7463, abs=1e-9)
+    csv = tmp_path / "fleet.csv"
+    csv.write_text(
+        "name,mass_kg,front_fraction,threshold_height_in,target_speed,swept_radius_max_in,surface,turning_mode\n"
+        "a,110,0.4,0.5,2.5,6,tile,chair\n"
+    )
+    fleet = read_fleet(csv)
+    assert fleet.load[0] == problem.conditions.load
+
+
+@pytest.mark.parametrize(
+    "conditions, message",
+    [
+        ('load = "200 N"\nmass = "110 kg"\nfront_fraction = 0.4', "conditions.load and conditions.mass: give load, or"),
+        ('mass = "110 kg"', "conditions.front_fraction: missing; conditions.mass needs it"),
+        ("front_fraction = 0.4", "conditions.mass: missing; conditions.front_fraction needs it"),
+        ('mass = "110 lbf"\nfront_fraction = 0.4', "conditions.mass = '110 lbf': wrong dimension"),
+        ('mass = "3 t"\nfront_fraction = 0.4', "conditions.mass = '3 t': must be 1 to 2000 kg"),
+        ('mass = "110 kg"\nfront_fraction = 0', "conditions.front_fraction = 0: must be above 0 and at most 1"),
+    ],
+)
+def test_mass_and_load_are_alternatives(conditions, message):
+    """Issue 28.3: load, or mass with front_fraction: giving both, or one of the pair, or a value out of range, is
+    one line naming the keys."""
+    with pytest.raises(ProblemError) as info:
+        problem_from_toml(f"[conditions]\n{conditions}\n[shimmy]\ntarget_speed = 2.5\n", source="p.toml")
+    text = str(info.value)
+    assert "\n" not in text and text.startswith("p.toml: ") and message in text

@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.errors import InputError
-from designer.model import scatter_of
+from designer.model import GRAVITY, scatter_of
 from designer.parameters import VARIABLE_TABLE
 from designer.reprs import Record, dataframe
 
@@ -48,7 +48,6 @@ from designer.problem import Problem, example_problem, load_problem
 from designer.studies.fleet._table import (
     COLUMNS,
     EXAMPLE_RANGES,
-    GRAVITY,
     MAX_CHAIRS,
     RANGES,
     REQUIRED,

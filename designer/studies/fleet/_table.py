@@ -18,14 +18,12 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import InputError, ProblemError, read_input_text
+from designer.model import MASS_RANGE, caster_load
 from designer.output import write_file
 from designer.physics.turning import MODES, SURFACES
 from designer.problem import check_utf8
 from designer.units import parse_quantity
 
-
-GRAVITY = 9.80665
-"""Standard gravity g [m/s²] for load = m g front_fraction / 2."""
 
 COLUMNS = {
     "name": "text",
@@ -58,7 +56,7 @@ UNIT_ALIASES = {
 
 RANGES = {
     "load": (1.0, 1e5, "N", "a caster load of 0.1 kg to 10 t; was it given in another unit?"),
-    "mass": (1.0, 2000.0, "kg", "user plus chair; was it given in another unit?"),
+    "mass": (*MASS_RANGE, "kg", "user plus chair; was it given in another unit?"),
     "front_fraction": (0.0, 1.0, "", "the share of the weight on the two front casters, e.g. 0.4 or '40 %'"),
     "threshold_height": (1e-4, 0.3, "m", "a sill of 0.1 mm to 30 cm; were inches written as metres?"),
     "target_speed": (0.01, 100.0, "m/s", "plain numbers are m/s; was it given in km/h or mph?"),
@@ -404,7 +402,7 @@ class _Table:
             by_mass = np.isnan(load)
             self.check("mass", mass, skip=~by_mass)
             self.check("front_fraction", fraction, skip=~by_mass)
-            load = np.where(by_mass, mass * GRAVITY * fraction / 2, load)
+            load = np.where(by_mass, caster_load(mass, fraction), load)
         else:
             empty = np.flatnonzero(np.isnan(load))
             if len(empty):
