@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
 
-def finite(value):
+def finite(value: Any) -> Any:
     """JSON-safe copy: non-finite floats become None, NumPy scalars and arrays plain Python.
 
     Reports, ``--json`` output and exploration files all pass through this, so

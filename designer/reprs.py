@@ -110,10 +110,10 @@ def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: 
         x0, x1 = (x0 - 0.5, x1 + 0.5) if x1 == x0 else (x0, x1)
         y0, y1 = (y0 - 0.5, y1 + 0.5) if y1 == y0 else (y0, y1)
 
-        def px(a):
+        def px(a: float) -> float:
             return left + 4 + (a - x0) / (x1 - x0) * (width - left - right - 8)
 
-        def py(b):
+        def py(b: float) -> float:
             return height - bottom - 4 - (b - y0) / (y1 - y0) * (height - top - bottom - 8)
 
         line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)

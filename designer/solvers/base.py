@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
 import numpy as np
 
 from designer.model import Design, performance
+from designer.physics.inertia import Catalog
 from designer.problem import Problem
 from designer.reprs import Record, dataframe
 
@@ -255,9 +256,14 @@ def best_variant(problem: Problem, solve: Callable[[Problem], Optimum]) -> Optim
     good = [o for o in found if o.success]
     chosen = min(good, key=lambda o: o.objective) if good else found[0]
     if problem.wheels:
-        wheel = chosen.problem.conditions.inertia.wheel
-        chosen = dataclasses.replace(chosen, wheel=None if wheel is None else wheel.key)
+        chosen = dataclasses.replace(chosen, wheel=wheel_of(chosen.problem))
     return dataclasses.replace(chosen, solves=sum(o.solves for o in found), seconds=sum(o.seconds for o in found))
+
+
+def wheel_of(problem: Problem) -> str | None:
+    """The Table 1 wheel of a catalog variant (its inertia model is that wheel's), else None."""
+    inertia = problem.conditions.inertia
+    return inertia.wheel.key if isinstance(inertia, Catalog) else None
 
 
 def evaluated(problem: Problem, x: np.ndarray) -> np.ndarray:
@@ -274,4 +280,15 @@ def evaluated(problem: Problem, x: np.ndarray) -> np.ndarray:
     )
 
 
-__all__ = ["NO_CAPS", "Caps", "Designs", "Optimum", "Solver", "best_variant", "evaluated", "no_optimum", "weights_of"]
+__all__ = [
+    "NO_CAPS",
+    "Caps",
+    "Designs",
+    "Optimum",
+    "Solver",
+    "best_variant",
+    "evaluated",
+    "no_optimum",
+    "weights_of",
+    "wheel_of",
+]

@@ -13,12 +13,15 @@ studies:
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from designer.errors import InputError
 from designer.problem import Problem
 from designer.solvers.base import Solver
 from designer.solvers.closed_form import CLOSED_FORM, applicable
+
+if TYPE_CHECKING:  # the NLP's class for the checker only: designer.solvers.nlp loads casadi
+    from designer.solvers.nlp import NLPSolver
 
 SOLVERS = ("closed-form", "casadi-ipopt", "cvxpy-gp", "scipy-slsqp")
 """Every solver of the protocol, by the name results use (``Optimum.solver``, ``Solution.cross_check``)."""
@@ -59,7 +62,7 @@ def solver(name: str, **options: Any) -> Solver:
     return type(found)(**options) if options else found
 
 
-def front_solver(problem: Problem, requested: str = "auto"):  # -> designer.solvers.nlp.NLPSolver (casadi, late)
+def front_solver(problem: Problem, requested: str = "auto") -> NLPSolver:
     """The solver of one continuous problem's front: the NLP, sweeping from the closed form where it applies.
 
     ``requested="auto"``: from the closed form when the diameter is free (a catalog wheel fixes it: one

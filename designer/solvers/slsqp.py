@@ -27,8 +27,8 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
 
 def slsqp(
     problem: Problem,
-    weights=None,
-    starts=(),
+    weights: Sequence[float] | None = None,
+    starts: Sequence[Any] = (),
     random_starts: int = 5,
     seed: int = 0,
     threshold_cap: float | None = None,
@@ -54,7 +54,7 @@ def slsqp(
     scale = np.maximum(hi, np.array([0.01, 0.05, 0.005, 1.0]))
     c = problem.conditions
 
-    def perf(z):
+    def perf(z: npt.ArrayLike) -> dict[str, Any]:
         x = np.asarray(z) * scale
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -63,7 +63,7 @@ def slsqp(
     f_ref = float(perf((lo + hi) / 2 / scale)["turning_effort"])
     p_ref = float(perf((lo + hi) / 2 / scale)["threshold_force"])
 
-    def objective(z):
+    def objective(z: np.ndarray) -> float:
         v = perf(z)
         return float((w[0] * v["turning_effort"] + w[1] * v["threshold_force"]) / (w[0] * f_ref + w[1] * p_ref))
 
@@ -78,7 +78,7 @@ def slsqp(
     all_starts = [np.asarray(s.as_array() if isinstance(s, Design) else s, float) for s in starts]
     all_starts += [lo + rng.random(4) * (hi - lo) for _ in range(random_starts)]
     bounds = list(zip(lo / scale, hi / scale))
-    best = (None, float("nan"))
+    best: tuple[Design | None, float] = (None, float("nan"))
     for start in all_starts:
         z0 = np.clip(start / scale, lo / scale, hi / scale)
         res = minimize(
@@ -151,7 +151,9 @@ class SLSQPSolver:
     def front_designs(self, problem: Problem, eps: npt.ArrayLike) -> Designs:
         """min F_turn s.t. P <= ε at each ε of a continuous problem (warm from the previous ε's optimum)."""
         e = np.asarray(eps, float).ravel()
-        rows, ok, start = [], [], []
+        rows: list[np.ndarray] = []
+        ok: list[bool] = []
+        start: list[Design] = []
         for cap in e:
             design, _ = slsqp(problem, (1.0, 0.0), start, self.random_starts, self.seed, float(cap))
             ok.append(design is not None)

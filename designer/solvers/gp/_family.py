@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from typing import Any
 
 import cvxpy as cp
 import numpy as np
@@ -45,8 +46,8 @@ class _Family:
         problem: Problem,
         groove_free: bool,
         damper_free: bool,
-        weights,
-        threshold_cap,
+        weights: tuple[float, float],
+        threshold_cap: float | None,
         order: int,
         s_max: float,
         turning_cap: float | None = None,
@@ -65,12 +66,12 @@ class _Family:
             self.x["trail"], self.x["diameter"], self.x["groove"], self.x["added_damping"], self.constants, order, s_max
         )
         self.terms = terms
-        constraints: dict = {}
+        constraints: dict[str, Any] = {}
         self.infeasible_constant = False
         self._shimmy_constraint(terms, constraints)
         self._limit_constraints(terms, threshold_cap, constraints)
         self.constraints = constraints
-        self.cp_problem = cp.Problem(cp.Minimize(self._minimised(terms, weights)), list(constraints.values()))
+        self.cp_problem: Any = cp.Problem(cp.Minimize(self._minimised(terms, weights)), list(constraints.values()))
         self.solves = 0
 
     def _build_variables(self, groove_free: bool, damper_free: bool) -> None:
@@ -79,15 +80,15 @@ class _Family:
         c0 = self.problem.conditions.turning.bare_fork_damping
         b = self.problem.bounds
         # box of each variable in GP form (c_d = c_f - c_0)
-        self.box = {
+        self.box: dict[str, tuple[float, float]] = {
             "trail": (b["trail"].low, b["trail"].high),
             "diameter": (b["diameter"].low, b["diameter"].high),
             "groove": (b["groove"].low, b["groove"].high),
             "added_damping": (max(b["damping"].low - c0, 0.0), max(b["damping"].high - c0, 0.0)),
         }
         free = {"trail": True, "diameter": True, "groove": groove_free, "added_damping": damper_free}
-        self.x = {}
-        self.floor = {}
+        self.x: dict[str, Any] = {}
+        self.floor: dict[str, float] = {}
         for name in self.VARS:
             lo, hi = self.box[name]
             if not free[name]:
@@ -98,9 +99,9 @@ class _Family:
                 self.x[name] = cp.Variable(pos=True, name=name)
                 if lo <= 0:
                     self.floor[name] = FLOOR * hi
-        self.variables = {k: v for k, v in self.x.items() if isinstance(v, cp.Variable)}
+        self.variables: dict[str, Any] = {k: v for k, v in self.x.items() if isinstance(v, cp.Variable)}
 
-    def _shimmy_constraint(self, terms: dict, constraints: dict) -> None:
+    def _shimmy_constraint(self, terms: dict[str, Any], constraints: dict[str, Any]) -> None:
         """The shimmy constraint (Eq. 7, V_req² side <= the damping side): a GP constraint when the right side
         is one monomial (``single``), else its condensation k·Π x^g with parameters updated at every SGP
         step; when both sides are constant it only sets ``infeasible_constant``."""
@@ -123,7 +124,9 @@ class _Family:
         else:
             constraints["shimmy"] = lhs <= rhs
 
-    def _limit_constraints(self, terms: dict, threshold_cap, constraints: dict) -> None:
+    def _limit_constraints(
+        self, terms: dict[str, Any], threshold_cap: float | None, constraints: dict[str, Any]
+    ) -> None:
         """The box of each variable, the swept-radius limit and the caps on the threshold force P and the turning
         effort F_turn (a constant that breaks a limit sets ``infeasible_constant``)."""
         for name, var in self.variables.items():
@@ -150,9 +153,9 @@ class _Family:
             else:
                 constraints["turning_cap"] = terms["turning_effort"] <= self.turning_cap
 
-    def _minimised(self, terms: dict, weights):
+    def _minimised(self, terms: dict[str, Any], weights: tuple[float, float]) -> Any:
         """The objective J = w_turn F_turn + w_threshold P in GP form."""
-        objective = _objective(terms, weights)
+        objective: Any = _objective(terms, weights)
         if _constant(objective) and "trail" in self.variables:
             # nothing in J depends on a variable (e.g. w_turn = 0 with d fixed): any feasible point is optimal;
             # a negligible T⁻¹ term makes the answer definite (the longest feasible trail)
@@ -160,16 +163,16 @@ class _Family:
         return objective
 
     # ----------------------------------------------------------------- helpers
-    def full(self, values: dict) -> dict:
+    def full(self, values: dict[str, float]) -> dict[str, float]:
         """Values of all four GP variables (floats) given the free ones."""
         return {k: (values[k] if k in self.variables else float(v)) for k, v in self.x.items()}
 
-    def design(self, values: dict) -> Design:
+    def design(self, values: dict[str, float]) -> Design:
         x = self.full(values)
         c0 = self.problem.conditions.turning.bare_fork_damping
         return Design(x["trail"], x["diameter"], x["groove"], c0 + x["added_damping"])
 
-    def float_terms(self, values: dict, constants: _Constants | None = None) -> dict:
+    def float_terms(self, values: dict[str, float], constants: _Constants | None = None) -> dict[str, Any]:
         x = self.full(values)
         return gp_terms(
             x["trail"],
@@ -181,14 +184,14 @@ class _Family:
             self.s_max,
         )
 
-    def condense(self, values: dict) -> None:
+    def condense(self, values: dict[str, float]) -> None:
         """Set the condensed monomial r̂ of the shimmy right side at ``values`` (AM–GM)."""
         x = self.full(values)
         r0 = sum(float(np.real(u)) for u in self.float_terms(values)["shimmy_rhs"])
         log_k = math.log(r0)
         eps = 1e-30
         for k in self.rhs_variables:
-            shifted = dict(x)
+            shifted: dict[str, Any] = dict(x)
             shifted[k] = x[k] * (1 + 1j * eps)  # complex step: Im(r)/eps = ∂r/∂log x_k
             rc = sum(
                 gp_terms(
@@ -206,14 +209,14 @@ class _Family:
             log_k -= g * math.log(x[k])
         self.k_param.value = math.exp(log_k)
 
-    def solve_once(self) -> tuple[str, dict | None, float]:
+    def solve_once(self) -> tuple[str, dict[str, float] | None, float]:
         self.solves += 1
         try:
             return self._solve_once()
         finally:
             check_interrupt()  # Clarabel runs in Rust: the SIGINT flag
 
-    def _solve_once(self) -> tuple[str, dict | None, float]:
+    def _solve_once(self) -> tuple[str, dict[str, float] | None, float]:
         with warnings.catch_warnings():
             # "may be inaccurate": Clarabel stopped short of the tight tolerances above;
             # such a point is still checked against the exact model by the caller
@@ -225,16 +228,16 @@ class _Family:
                     self.cp_problem.solve(gp=True, solver=cp.CLARABEL)
                 except cp.error.SolverError:
                     return "solver_error", None, math.nan
-        status = self.cp_problem.status
+        status = str(self.cp_problem.status)
         if status not in _OK:
             return status, None, math.nan
         values = {k: float(v.value) for k, v in self.variables.items()}
         return status, values, float(self.cp_problem.value)
 
-    def start_points(self) -> list[dict]:
+    def start_points(self) -> list[dict[str, float]]:
         """SGP starts: the corner that maximises the shimmy right side, and the geometric centre."""
-        starts = []
-        corner = {}
+        starts: list[dict[str, float]] = []
+        corner: dict[str, float] = {}
         for k in self.variables:
             lo, hi = self.box[k]
             lo = lo if lo > 0 else self.floor[k]
@@ -243,7 +246,7 @@ class _Family:
             d = self.full(corner)["diameter"]
             corner["trail"] = float(np.clip(self.constants.swept_radius_max - d / 2, *self.box["trail"]))
         starts.append(corner)
-        centre = {}
+        centre: dict[str, float] = {}
         for k in self.variables:
             lo, hi = self.box[k]
             lo = lo if lo > 0 else self.floor[k] * 1e3
@@ -251,7 +254,12 @@ class _Family:
         starts.append(centre)
         return starts
 
-    def run(self, start: dict, max_iterations: int = MAX_ITERATIONS, record=None):
+    def run(
+        self,
+        start: dict[str, float] | None,
+        max_iterations: int = MAX_ITERATIONS,
+        record: list[tuple[Problem, Design]] | None = None,
+    ) -> tuple[str, dict[str, float] | None, float, int]:
         """SGP from ``start`` (or one GP if exact). Returns (status, values, gp J, iterations)."""
         if self.infeasible_constant:
             return "infeasible", None, math.nan, 0
@@ -260,13 +268,15 @@ class _Family:
             if values is not None and record is not None:
                 record.append((self.problem, self.design(values)))
             return ("optimal" if values is not None else status), values, j, 1
-        x0 = dict(start)
-        best = None
+        x0 = dict(start or {})
+        best: tuple[dict[str, float], float] | None = None
         for it in range(1, max_iterations + 1):
             self.condense(x0)
             status, values, j = self.solve_once()
             if values is None:
-                return (status if best is None else "converged"), best and best[0], best[1] if best else math.nan, it
+                if best is None:
+                    return status, None, math.nan, it
+                return "converged", best[0], best[1], it
             if record is not None:
                 record.append((self.problem, self.design(values)))
             best = (values, j)
@@ -275,10 +285,12 @@ class _Family:
             if step <= STEP_TOLERANCE:
                 return "converged", values, j, it
             x0 = values
+        if best is None:  # max_iterations < 1: nothing was solved
+            return "max_iterations", None, math.nan, 0
         return "max_iterations", best[0], best[1], max_iterations
 
     # ----------------------------------------------------------------- duals
-    def duals(self, values: dict) -> dict:
+    def duals(self, values: dict[str, float]) -> dict[str, float]:
         """d log J*/d log p from the GP multipliers (module docstring).
 
         Parameters are perturbed by ±1e-5 in log at fixed x (central
@@ -287,7 +299,7 @@ class _Family:
         c_f held (the NLP's meaning): the GP's own derivative (c_d held)
         minus the share of the c_d bounds that move when c_0 does.
         """
-        lam = {}
+        lam: dict[str, float] = {}
         for name, con in self.constraints.items():
             dv = con.dual_value
             lam[name] = 0.0 if dv is None else float(np.asarray(dv).ravel()[0])
@@ -296,9 +308,9 @@ class _Family:
         step = 1e-5
         for pname, pvalue in self.params.items():
             logs = []
-            for sign in (+1, -1):
+            for direction in (+1, -1):
                 params = dict(self.params)
-                params[pname] = pvalue * math.exp(sign * step)
+                params[pname] = pvalue * math.exp(direction * step)
                 logs.append(self._log_parts(x, _constants(self.problem, params, self.speed_factor)))
             (j_p, g_p), (j_m, g_m) = logs
             d = (j_p - j_m) / (2 * step)
@@ -336,14 +348,15 @@ class _Family:
             out["turning_cap"] = -lam["turning_cap"]
         return out
 
-    def _log_parts(self, x: dict, consts: _Constants):
+    def _log_parts(self, x: dict[str, Any], consts: _Constants) -> tuple[Any, dict[str, Any]]:
         """log J and log(f_i/g_i) of the parameter-dependent constraints at x (exact shimmy side).
 
         Works on float and complex values (complex step).
         """
         t = gp_terms(x["trail"], x["diameter"], x["groove"], x["added_damping"], consts, self.order, self.s_max)
-        j = np.log(_objective(t, self.weights) + 0j)
-        g = {}
+        objective: Any = _objective(t, self.weights)
+        j = np.log(objective + 0j)
+        g: dict[str, Any] = {}
         if "shimmy" in self.constraints:
             g["shimmy"] = np.log(t["shimmy_lhs"] + 0j) - np.log(sum(t["shimmy_rhs"]) + 0j)
         if "swept_radius" in self.constraints:
@@ -355,11 +368,13 @@ class _Family:
         return j, g
 
 
-def _constant(expr) -> bool:
+def _constant(expr: Any) -> bool:
     if isinstance(expr, (int, float, np.floating)):
         return True
-    return isinstance(expr, cp.Expression) and not expr.variables()
+    variables: Any = expr.variables if isinstance(expr, cp.Expression) else None
+    return variables is not None and not variables()
 
 
-def _value(expr) -> float:
-    return float(expr.value) if isinstance(expr, cp.Expression) else float(expr)
+def _value(expr: Any) -> float:
+    value: Any = expr.value if isinstance(expr, cp.Expression) else expr
+    return float(value)

@@ -82,7 +82,7 @@ from designer.physics.threshold import (
 from designer.problem import Problem
 from designer.errors import InfeasibleError
 from designer.reprs import Record
-from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, evaluated, no_optimum, weights_of
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, evaluated, no_optimum, weights_of, wheel_of
 from designer.solvers.nlp import BIG, CasterNLP
 from designer.solvers.gp._family import BACKOFF, FLOOR, MAX_ITERATIONS, SOLVER_OPTIONS, STEP_TOLERANCE, _Family
 from designer.solvers.gp._terms import MAX_ORDER, SERIES_TOLERANCE, gp_terms, robust_speed_factor, series_order
@@ -150,13 +150,13 @@ class GPResult(Record):
     family: str
     exact: bool
     iterations: int
-    duals: dict
+    duals: dict[str, float]
     truncation_error: float
     status: str
-    families: list
+    families: list[tuple[str, float, bool, str]]
     wheel: str | None = None
     problem: Problem | None = field(default=None, repr=False)
-    designs: dict = field(default_factory=dict, repr=False)
+    designs: dict[str, Design] = field(default_factory=dict, repr=False)
     order: int = 0
     seconds: float = 0.0
     solves: int = 0
@@ -175,7 +175,7 @@ class GPResult(Record):
 # --------------------------------------------------------------------------- public API
 
 
-def _families(problem: Problem):
+def _families(problem: Problem) -> list[tuple[bool, bool]]:
     """(groove_free, damper_free) of the families the bounds allow."""
     b = problem.bounds
     c0 = problem.conditions.turning.bare_fork_damping
@@ -185,7 +185,7 @@ def _families(problem: Problem):
     return [(g, c) for c in damper_options for g in groove_options]
 
 
-def exact_objective(problem: Problem, design: Design, weights) -> float:
+def exact_objective(problem: Problem, design: Design, weights: Sequence[float]) -> float:
     """J = w_turn F_turn + w_threshold P [N] with the exact model (:func:`designer.model._caster.performance`)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
@@ -194,13 +194,20 @@ def exact_objective(problem: Problem, design: Design, weights) -> float:
 
 
 def _solve_continuous(
-    problem: Problem, weights, threshold_cap, order, s_max, max_iterations, record=None, turning_cap=None
-):
-    rows = []
+    problem: Problem,
+    weights: tuple[float, float],
+    threshold_cap: float | None,
+    order: int,
+    s_max: float,
+    max_iterations: int,
+    record: list[tuple[Problem, Design]] | None = None,
+    turning_cap: float | None = None,
+) -> list[dict[str, Any]]:
+    rows: list[dict[str, Any]] = []
     for groove_free, damper_free in _families(problem):
         fam = _Family(problem, groove_free, damper_free, weights, threshold_cap, order, s_max, turning_cap)
-        best = None
-        starts = [None] if fam.single else fam.start_points()
+        best: tuple[str, dict[str, float], float, int, dict[str, float]] | None = None
+        starts: list[dict[str, float] | None] = [None] if fam.single else list(fam.start_points())
         for start in starts:
             status, values, j, iterations = fam.run(start, max_iterations, record)
             if values is None:
@@ -230,17 +237,17 @@ def _solve_continuous(
     return rows
 
 
-def _last_solution_is(fam: _Family, values: dict) -> bool:
+def _last_solution_is(fam: _Family, values: dict[str, float]) -> bool:
     """True if the cvxpy variables hold ``values`` (so the duals belong to them)."""
     return all(abs(float(v.value) - values[k]) <= 1e-14 * abs(values[k]) for k, v in fam.variables.items())
 
 
 def solve_gp(
     problem: Problem,
-    weights=None,
+    weights: Sequence[float] | None = None,
     threshold_cap: float | None = None,
     max_iterations: int = MAX_ITERATIONS,
-    record: list | None = None,
+    record: list[tuple[Problem, Design]] | None = None,
     turning_cap: float | None = None,
 ) -> GPResult:
     """Minimise J = w_turn F_turn + w_threshold P by geometric programming (docs/model.md#solvers).
@@ -273,13 +280,15 @@ def solve_gp(
     """
 
     t0 = time.perf_counter()
-    w = tuple(float(v) for v in (problem.weights if weights is None else weights))
+    w = weights_of(problem, weights)
     order, _ = series_order(problem)
     variants = problem.variants()
     s_max = max(v.conditions.threshold_height / v.bounds["diameter"].low for v in variants)
-    candidates, families, solves = [], [], 0
+    candidates: list[tuple[float, str, str | None, Problem, dict[str, Any]]] = []
+    families: list[tuple[str, float, bool, str]] = []
+    solves = 0
     for variant in variants:
-        wheel = variant.conditions.inertia.wheel.key if problem.wheels else None
+        wheel = wheel_of(variant) if problem.wheels else None
         rows = _solve_continuous(variant, w, threshold_cap, order, s_max, max_iterations, record, turning_cap)
         for row in rows:
             solves += row["solves"]
@@ -321,7 +330,10 @@ def solve_gp(
 
 
 def gp_starts(
-    problem: Problem, weights=None, threshold_cap: float | None = None, max_iterations: int = MAX_ITERATIONS
+    problem: Problem,
+    weights: Sequence[float] | None = None,
+    threshold_cap: float | None = None,
+    max_iterations: int = MAX_ITERATIONS,
 ) -> list[np.ndarray]:
     """Each feasible family's GP design as an NLP start (SI arrays, VARIABLES order).
 
@@ -339,7 +351,7 @@ def gp_starts(
 
 
 def polish(
-    problem: Problem, gp_result: GPResult, weights=None, threshold_cap: float | None = None
+    problem: Problem, gp_result: GPResult, weights: Sequence[float] | None = None, threshold_cap: float | None = None
 ) -> tuple[Design, float]:
     """Exact-model polish: IPOPT (:class:`CasterNLP`) started from the GP design.
 
@@ -357,13 +369,13 @@ def polish(
         design itself (always feasible), and its exact J [N].
     """
 
-    w = tuple(float(v) for v in (problem.weights if weights is None else weights))
+    w = weights_of(problem, weights)
     variant = gp_result.problem if gp_result.problem is not None else problem
     if variant.wheels:
         variant = (
             variant.variants()[0]
             if gp_result.wheel is None
-            else next(v for v in variant.variants() if v.conditions.inertia.wheel.key == gp_result.wheel)
+            else next(v for v in variant.variants() if wheel_of(v) == gp_result.wheel)
         )
     nlp = CasterNLP(variant)
     result = nlp.solve(gp_result.design, w, BIG if threshold_cap is None else threshold_cap)

@@ -9,6 +9,7 @@ that differ only in parameter values (target speed, caster load) can use one bui
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 
 from designer.problem import Problem
 from designer.solvers.nlp._casadi import CasterNLP
@@ -16,7 +17,7 @@ from designer.solvers.nlp._casadi import CasterNLP
 SHARED_SIZE = 32
 """How many compiled NLP structures :func:`shared_nlp` keeps (the least recently used are dropped)."""
 
-SHARED: dict = {}
+SHARED: dict[str, CasterNLP] = {}
 """The compiled NLPs of :func:`shared_nlp`, by :func:`structure_key` (least recently used first)."""
 
 
@@ -31,7 +32,9 @@ def structure_key(problem: Problem) -> str:
     return repr((fields, dataclasses.replace(problem.conditions, load=0.0)))
 
 
-def shared_nlp(problem: Problem, *, same_scaling: bool = False, build=None) -> CasterNLP:
+def shared_nlp(
+    problem: Problem, *, same_scaling: bool = False, build: Callable[[Problem], CasterNLP] | None = None
+) -> CasterNLP:
     """The NLP of ``problem`` from one compiled build per structure (:func:`structure_key`; the last
     :data:`SHARED_SIZE` kept in :data:`SHARED`).
 

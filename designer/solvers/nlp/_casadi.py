@@ -21,7 +21,9 @@ import functools
 import sys
 import threading
 import time
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, TextIO
 from pathlib import Path
 
 import casadi as ca
@@ -35,11 +37,14 @@ from designer.problem import Problem
 from designer.reprs import Record
 import warnings
 
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
+
 enable_casadi()  # NumPy mode: the physics functions build CasADi symbols here
 
 BIG = 1e9
 
-QUIET = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "show_eval_warnings": False}
+QUIET: dict[str, Any] = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "show_eval_warnings": False}
 """Options of every IPOPT solver built here: no iteration log, no timing table, no banner, and no CasADi
 "NaN detected" evaluation warnings (a NaN in the model shows as a failed solve, which the callers report
 in one line). Solver output never reaches the user's terminal."""
@@ -51,13 +56,13 @@ class _DropCasadiLines:
     several writes starting with "CasADi - "; from such a write to the end of its line everything is
     dropped, every other write passes to the real stream at once."""
 
-    def __init__(self, stream):
+    def __init__(self, stream: TextIO):
         self.stream = stream
         self.dropping = False
 
     def write(self, text: str) -> int:
         if not self.dropping and not text.startswith("CasADi - "):
-            return self.stream.write(text)
+            return int(self.stream.write(text))
         self.dropping = True
         if "\n" in text:
             self.dropping = False
@@ -66,7 +71,7 @@ class _DropCasadiLines:
                 self.write(rest)
         return len(text)
 
-    def __getattr__(self, name):
+    def __getattr__(self, name: str) -> Any:
         return getattr(self.stream, name)
 
 
@@ -75,12 +80,12 @@ _QUIET_DEPTH = 0
 
 
 @contextlib.contextmanager
-def _quiet():
+def _quiet() -> Iterator[None]:
     """Run a solver call with :class:`_DropCasadiLines` on sys.stderr (re-entrant across threads)."""
     global _QUIET_DEPTH
     with _QUIET_LOCK:
         if _QUIET_DEPTH == 0:
-            sys.stderr = _DropCasadiLines(sys.stderr)
+            sys.stderr = _DropCasadiLines(sys.stderr)  # type: ignore[assignment]
         _QUIET_DEPTH += 1
     try:
         yield
@@ -88,7 +93,7 @@ def _quiet():
         with _QUIET_LOCK:
             _QUIET_DEPTH -= 1
             if _QUIET_DEPTH == 0 and isinstance(sys.stderr, _DropCasadiLines):
-                sys.stderr = sys.stderr.stream
+                sys.stderr = sys.stderr.stream  # type: ignore[unreachable]
 
 
 PARAMETER_INFO = {p.name: (p.symbol, p.shown_unit, p.description) for p in parameters.SOLVER_PARAMETERS}
@@ -118,7 +123,7 @@ class NLPResult(Record):
     lam_x: np.ndarray
     iterations: int
     seconds: float
-    z: np.ndarray = field(repr=False, default=None)
+    z: np.ndarray | None = field(repr=False, default=None)
 
     _units = {"objective": "N", "seconds": "s"}
 
@@ -141,7 +146,7 @@ class CasterNLP:
         Extra IPOPT options.
     """
 
-    def __init__(self, problem: Problem, ipopt_options: dict | None = None):
+    def __init__(self, problem: Problem, ipopt_options: dict[str, Any] | None = None):
         if problem.wheels:
             raise ValueError("CasterNLP needs a continuous problem; iterate over problem.variants()")
         t0 = time.perf_counter()
@@ -184,7 +189,7 @@ class CasterNLP:
         self.ubg = np.array([np.inf] + [0.0] * (g.shape[0] - 1))
         p_all = ca.vertcat(psym, w, eps)
         self.n_phys = psym.shape[0]
-        options = {
+        options: dict[str, Any] = {
             **QUIET,
             "ipopt.tol": 1e-10,
             "ipopt.acceptable_tol": 1e-8,
@@ -202,7 +207,7 @@ class CasterNLP:
         # Gradient of the objective and Jacobian of the constraints (multipliers of a known optimum)
         self._kkt = ca.Function("kkt", [z, p_all], [ca.gradient(objective, z), ca.jacobian(g, z), g])
         self._options = options
-        self._batch: dict = {}
+        self._batch: dict[Any, Any] = {}
         # Sensitivity of the Lagrangian with respect to the physical parameters.
         lam_g = ca.SX.sym("lam_g", g.shape[0])
         lagrangian = objective + ca.dot(lam_g, g)
@@ -232,7 +237,7 @@ class CasterNLP:
         return f_ref, p_ref
 
     @staticmethod
-    def _symbolic_conditions(problem: Problem):
+    def _symbolic_conditions(problem: Problem) -> tuple[list[str], np.ndarray, Any, Any]:
         """Replace every fixed constant of the conditions by a CasADi symbol (:mod:`designer.parameters`)."""
         values = parameters.solver_values(problem)
         names = list(values)
@@ -240,7 +245,13 @@ class CasterNLP:
         conditions = parameters.with_solver_values(problem, {name: p[i] for i, name in enumerate(names)})
         return names, np.array(list(values.values()), dtype=float), conditions, p
 
-    def parameter_vector(self, weights=(1.0, 1.0), threshold_cap=BIG, turning_cap=BIG, overrides=None) -> np.ndarray:
+    def parameter_vector(
+        self,
+        weights: npt.ArrayLike = (1.0, 1.0),
+        threshold_cap: float = BIG,
+        turning_cap: float = BIG,
+        overrides: dict[str, float] | None = None,
+    ) -> np.ndarray:
         """Full parameter vector: physical values (optionally overridden), weights, ε caps."""
         phys = self.param_values.copy()
         for name, value in (overrides or {}).items():
@@ -248,17 +259,25 @@ class CasterNLP:
         return np.concatenate([phys, np.asarray(weights, float), [threshold_cap, turning_cap]])
 
     # ----------------------------------------------------------------- solving
-    def to_z(self, design) -> np.ndarray:
+    def to_z(self, design: Design | npt.ArrayLike) -> np.ndarray:
         """Scaled variables of a design (clipped into the box)."""
         arr = design.as_array() if isinstance(design, Design) else np.asarray(design, float)
-        return np.clip(arr / self.scale, self.lbz, self.ubz)
+        z: np.ndarray = np.clip(arr / self.scale, self.lbz, self.ubz)
+        return z
 
     def solve(
-        self, start, weights=(1.0, 1.0), threshold_cap=BIG, turning_cap=BIG, lam_g0=None, lam_x0=None, overrides=None
+        self,
+        start: Design | npt.ArrayLike,
+        weights: npt.ArrayLike = (1.0, 1.0),
+        threshold_cap: float = BIG,
+        turning_cap: float = BIG,
+        lam_g0: npt.ArrayLike | None = None,
+        lam_x0: npt.ArrayLike | None = None,
+        overrides: dict[str, float] | None = None,
     ) -> NLPResult:
         """One IPOPT solve from ``start`` (a Design or SI array)."""
         p = self.parameter_vector(weights, threshold_cap, turning_cap, overrides)
-        args = dict(x0=self.to_z(start), p=p, lbx=self.lbz, ubx=self.ubz, lbg=self.lbg, ubg=self.ubg)
+        args: dict[str, Any] = dict(x0=self.to_z(start), p=p, lbx=self.lbz, ubx=self.ubz, lbg=self.lbg, ubg=self.ubg)
         if lam_g0 is not None:
             args["lam_g0"] = lam_g0
         if lam_x0 is not None:
@@ -273,7 +292,7 @@ class CasterNLP:
         design = Design.from_array(z * self.scale)
         g = np.asarray(sol["g"]).ravel()
         viol = max(float(np.max(self.lbg - g)), float(np.max(g - self.ubg)), 0.0)
-        success = bool(stats.get("success", False)) and viol <= 1e-6 and np.all(np.isfinite(z))
+        success = bool(stats.get("success", False)) and viol <= 1e-6 and bool(np.all(np.isfinite(z)))
         w = np.asarray(weights, float)
         objective = self.weighted(design, w)
         return NLPResult(
@@ -302,7 +321,7 @@ class CasterNLP:
     }
     """IPOPT options of a warm batch: start from the given primal and dual point with a small barrier."""
 
-    def _batch_solver(self, size: int, warm: bool):
+    def _batch_solver(self, size: int, warm: bool) -> tuple[Any, Any]:
         """The IPOPT solver of ``size`` blocks (built once per size and start kind): an MX ``map`` of the one-block
         SX function, so IPOPT's derivatives are maps of the block's (differentiated once; expanding 64 SX copies
         cost ~0.2 s CPU). The same NLP: fronts as with the expanded build to 2e-10 relative (shipped problems)."""
@@ -321,15 +340,17 @@ class CasterNLP:
             )
             self._batch[key] = (solver, self._perf_function.map(size))
             self.build_seconds += time.perf_counter() - t0
-        return self._batch[key]
+        built: tuple[Any, Any] = self._batch[key]
+        return built
 
-    def _batch_bounds(self, size: int) -> dict:
+    def _batch_bounds(self, size: int) -> dict[str, np.ndarray]:
         """lbx, ubx, lbg, ubg of a batch of ``size`` blocks (tiled once per size)."""
         key = ("bounds", size)
         if key not in self._batch:
             bounds = {"lbx": self.lbz, "ubx": self.ubz, "lbg": self.lbg, "ubg": self.ubg}
             self._batch[key] = {name: np.tile(value, size) for name, value in bounds.items()}
-        return self._batch[key]
+        tiled: dict[str, np.ndarray] = self._batch[key]
+        return tiled
 
     def _chunk(self, left: int) -> int:
         """Size of the next chunk for ``left`` blocks: full large chunks, then the least padding."""
@@ -345,7 +366,13 @@ class CasterNLP:
         return sizes[-1]
 
     def solve_many(
-        self, starts, weights=(1.0, 1.0), threshold_caps=BIG, turning_caps=BIG, lam_g0=None, lam_x0=None
+        self,
+        starts: Sequence[Design | npt.ArrayLike] | np.ndarray,
+        weights: npt.ArrayLike = (1.0, 1.0),
+        threshold_caps: npt.ArrayLike = BIG,
+        turning_caps: npt.ArrayLike = BIG,
+        lam_g0: npt.ArrayLike | None = None,
+        lam_x0: npt.ArrayLike | None = None,
     ) -> list[NLPResult]:
         """Solve K independent NLPs (one per start) in a few IPOPT calls.
 
@@ -391,7 +418,13 @@ class CasterNLP:
             i += take
         return out
 
-    def _stack(self, designs, weights, threshold_caps, turning_caps):
+    def _stack(
+        self,
+        designs: Sequence[Design | npt.ArrayLike] | np.ndarray,
+        weights: npt.ArrayLike,
+        threshold_caps: npt.ArrayLike,
+        turning_caps: npt.ArrayLike,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """K designs (SI, or Designs) as a (K, 4) array with their (K, 2) weights, (K, 2) ε caps and (K, n) full
         parameter vectors (:meth:`solve_many`, :meth:`multipliers_many`)."""
         x = np.array([d.as_array() if isinstance(d, Design) else np.asarray(d, float) for d in designs], float).reshape(
@@ -408,7 +441,9 @@ class CasterNLP:
         params = np.column_stack([np.tile(self.param_values, (k, 1)), w, caps])
         return x, w, caps, params
 
-    def _solve_chunk(self, size: int, warm: bool, args: dict, x, w, caps) -> list[NLPResult]:
+    def _solve_chunk(
+        self, size: int, warm: bool, args: dict[str, Any], x: np.ndarray, w: np.ndarray, caps: np.ndarray
+    ) -> list[NLPResult]:
         """One IPOPT call of the batch solver of ``size`` blocks on ``args``; the results of its first len(x)
         blocks (SI starts ``x``, weights ``w``, ε caps ``caps``).  If IPOPT fails on the batch, each of those
         blocks is solved alone (:meth:`solve`)."""
@@ -445,7 +480,12 @@ class CasterNLP:
         ]
 
     def multipliers_many(
-        self, designs, weights=(1.0, 0.0), threshold_caps=BIG, turning_caps=BIG, tol: float = 1e-9
+        self,
+        designs: Sequence[Design | npt.ArrayLike] | np.ndarray,
+        weights: npt.ArrayLike = (1.0, 0.0),
+        threshold_caps: npt.ArrayLike = BIG,
+        turning_caps: npt.ArrayLike = BIG,
+        tol: float = 1e-9,
     ) -> tuple[np.ndarray, np.ndarray]:
         """KKT multipliers (lam_g (K, m), lam_x (K, 4), CasADi convention) of K designs taken as optima.
 
@@ -471,12 +511,15 @@ class CasterNLP:
                 lam_g[i, ag], lam_x[i, ax] = sol[: len(ag)], sol[len(ag) :]
         return lam_g, lam_x
 
-    def objectives(self, design: Design, overrides=None) -> tuple[float, float, float, float]:
+    def objectives(
+        self, design: Design, overrides: dict[str, float] | None = None
+    ) -> tuple[float, float, float, float]:
         """(F_turn [N], P [N], V_c [m/s], R_s [m]) of a design, through the same CasADi graph."""
         phys = self.parameter_vector(overrides=overrides)[: self.n_phys]
-        return tuple(float(v) for v in self._perf_function(design.as_array() / self.scale, phys))
+        f, p, v, r = (float(v) for v in self._perf_function(design.as_array() / self.scale, phys))
+        return f, p, v, r
 
-    def objectives_many(self, designs) -> np.ndarray:
+    def objectives_many(self, designs: Sequence[Design | npt.ArrayLike] | np.ndarray) -> np.ndarray:
         """(N, 4) array of (F_turn, P, V_c, R_s) of N designs (SI array or Designs), one call of the same graph.
 
         Row i equals :meth:`objectives` of design i (the same CasADi function, evaluated column by column).
@@ -489,12 +532,19 @@ class CasterNLP:
         out = self._perf_function((x / self.scale).T, self.param_values)
         return np.vstack([np.asarray(v).reshape(-1) for v in out]).T
 
-    def weighted(self, design: Design, weights) -> float:
+    def weighted(self, design: Design, weights: npt.ArrayLike) -> float:
         """J = w_turn F_turn + w_threshold P [N]."""
         f, p, _, _ = self.objectives(design)
-        return float(weights[0] * f + weights[1] * p)
+        w = np.asarray(weights, float)
+        return float(w[0] * f + w[1] * p)
 
-    def sensitivities(self, result: NLPResult, weights=(1.0, 1.0), threshold_cap=BIG, turning_cap=BIG) -> dict:
+    def sensitivities(
+        self,
+        result: NLPResult,
+        weights: npt.ArrayLike = (1.0, 1.0),
+        threshold_cap: float = BIG,
+        turning_cap: float = BIG,
+    ) -> dict[str, float]:
         """d log J / d log p at an optimum for every fixed parameter and active bound.
 
         Envelope theorem: dJ*/dp = ∂L/∂p with L = f + λ_gᵀ g (the bounds on x do
@@ -502,9 +552,11 @@ class CasterNLP:
         J is the objective actually minimised (weighted sum; F_turn on ε-points).
         """
         p = self.parameter_vector(weights, threshold_cap, turning_cap)
-        grad = np.asarray(self._dlag_dp(result.z, p, result.lam_g)).ravel()
-        f_scaled = self.weighted(result.design, weights) / (weights[0] * self.f_ref + weights[1] * self.p_ref)
-        out = {}
+        z = result.z if result.z is not None else self.to_z(result.design)
+        grad = np.asarray(self._dlag_dp(z, p, result.lam_g)).ravel()
+        w = np.asarray(weights, float)
+        f_scaled = self.weighted(result.design, w) / (w[0] * self.f_ref + w[1] * self.p_ref)
+        out: dict[str, float] = {}
         if f_scaled <= 0:
             return out
         for i, name in enumerate(self.param_names):
@@ -550,10 +602,11 @@ def sample_designs(problem: Problem, n: int = 1024, seed: int = 0) -> np.ndarray
         unit = qmc.Sobol(d=4, scramble=True, seed=seed).random(n)
     lo = problem.lower().as_array()
     hi = problem.upper().as_array()
-    return lo + unit * (hi - lo)
+    designs: np.ndarray = lo + unit * (hi - lo)
+    return designs
 
 
-def evaluate_many(problem: Problem, x: np.ndarray) -> dict:
+def evaluate_many(problem: Problem, x: np.ndarray) -> dict[str, Any]:
     """Vectorised :func:`designer.model._caster.performance` over an (N, 4) array of designs."""
 
     with warnings.catch_warnings():
@@ -561,9 +614,9 @@ def evaluate_many(problem: Problem, x: np.ndarray) -> dict:
         return performance(**parameters.named(x), conditions=problem.conditions)
 
 
-def violation(problem: Problem, values: dict) -> np.ndarray:
+def violation(problem: Problem, values: dict[str, Any]) -> np.ndarray:
     """Total relative constraint violation of evaluated designs (0 = feasible)."""
-    v = np.maximum(0.0, 1 - values["confident_speed"] / problem.required_speed)
+    v: np.ndarray = np.maximum(0.0, 1 - values["confident_speed"] / problem.required_speed)
     if problem.swept_radius_max is not None:
         v = v + np.maximum(0.0, values["swept_radius"] / problem.swept_radius_max - 1)
     return v
@@ -571,7 +624,7 @@ def violation(problem: Problem, values: dict) -> np.ndarray:
 
 def best_starts(
     problem: Problem,
-    weights,
+    weights: Sequence[float],
     k: int = 4,
     n: int = 1024,
     threshold_cap: float = BIG,
@@ -603,7 +656,11 @@ def best_starts(
 
 
 def solve_best(
-    nlp: CasterNLP, starts, weights=(1.0, 1.0), threshold_cap=BIG, turning_cap=BIG
+    nlp: CasterNLP,
+    starts: Sequence[Design | npt.ArrayLike],
+    weights: Sequence[float] = (1.0, 1.0),
+    threshold_cap: float = BIG,
+    turning_cap: float = BIG,
 ) -> tuple[NLPResult | None, list[NLPResult]]:
     """Solve from every start; return the best successful result and all results."""
     results = [nlp.solve(s, weights, threshold_cap, turning_cap) for s in starts]
@@ -634,7 +691,7 @@ def max_critical_speed(problem: Problem) -> tuple[float, Design, list[str]]:
         g.append(perf["swept_radius"] / problem.swept_radius_max - 1)
     nlp = {"x": z, "f": -perf["confident_speed"], "g": ca.vertcat(*g) if g else ca.SX(0, 1)}
     solver = ca.nlpsol("vmax", "ipopt", nlp, {**QUIET, "error_on_fail": False})
-    best = None
+    best: tuple[float, Design] | None = None
     for start in sample_designs(problem, 16, seed=1):
         with _quiet():
             sol = solver(
@@ -648,6 +705,7 @@ def max_critical_speed(problem: Problem) -> tuple[float, Design, list[str]]:
         v = -float(sol["f"])
         if best is None or v > best[0]:
             best = (v, Design.from_array(np.asarray(sol["x"]).ravel() * scale))
+    assert best is not None  # 16 starts: at least one result
     v, design = best
     active = []
     arr = design.as_array()

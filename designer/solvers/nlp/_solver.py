@@ -138,9 +138,9 @@ class NLPSolver:
     def ends_designs(self, problem: Problem, ends: Ends, eps: npt.ArrayLike | None = None) -> Designs:
         """The two ends found by :meth:`front_ends` as :class:`Designs` (rows a, b); ε: ``eps``, else their own P."""
         nlp = self.front_nlp(problem)
-        results = [ends.a, ends.b]
-        if any(r is None for r in results):
+        if ends.a is None or ends.b is None:
             raise ValueError(f"{problem.name}: the front's ends were not found ({', '.join(ends.statuses)})")
+        results = [ends.a, ends.b]
         if eps is None:
             eps = nlp.objectives_many([r.design for r in results])[:, 1]
         return nlp_designs(nlp, self.name, eps, results, ends.solves)

@@ -24,7 +24,9 @@ Nothing here changes the NLP object it is given (the problem's values are the NL
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, TypeAlias
 
 import numpy as np
 
@@ -41,6 +43,9 @@ from designer.solvers.nlp._casadi import (
     violation,
 )
 
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
+
 CACHE_SIZE = 32
 """How many problems' samples are kept (the compiled NLPs: :data:`designer.solvers.nlp.SHARED_SIZE`)."""
 
@@ -52,8 +57,15 @@ class Ends:
     a: NLPResult | None
     b: NLPResult | None
     solves: int
-    statuses: tuple = ()
+    statuses: tuple[str, ...] = ()
     """IPOPT statuses of the failed end solves when no end was found (for the error message)."""
+
+
+def _found(ends: Ends) -> tuple[NLPResult, NLPResult]:
+    """Both ends of a sweep; ValueError when they were not found (the caller sweeps only a front with ends)."""
+    if ends.a is None or ends.b is None:
+        raise ValueError(f"no sweep without the front's ends ({', '.join(ends.statuses) or 'not found'})")
+    return ends.a, ends.b
 
 
 def _family_starts(problem: Problem, design: Design) -> list[np.ndarray]:
@@ -64,10 +76,16 @@ def _family_starts(problem: Problem, design: Design) -> list[np.ndarray]:
     return [grooved.as_array(), damped.as_array()]
 
 
-_SAMPLE_CACHE: dict = {}
+Sample: TypeAlias = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[np.ndarray], list[np.ndarray]]
+"""A box sample: designs (N, 4), their F_turn, P and violation, and the two ends' best starts."""
+
+Guide: TypeAlias = "tuple[npt.ArrayLike, Sequence[NLPResult]]"
+"""An earlier pass of a sweep: its ε and its results."""
+
+_SAMPLE_CACHE: dict[str, Sample] = {}
 
 
-def box_sample(problem: Problem, n: int = 1024):
+def box_sample(problem: Problem, n: int = 1024) -> Sample:
     """A vectorised look at the box: Sobol designs, their F_turn, P and constraint violation (one model call).
 
     Also the starts of the two lexicographic ends (:func:`best_starts` on the same designs).  Kept per
@@ -95,7 +113,7 @@ def box_sample(problem: Problem, n: int = 1024):
     return entry
 
 
-def _sample_starts(sample, eps_values: np.ndarray) -> np.ndarray:
+def _sample_starts(sample: Sample, eps_values: np.ndarray) -> np.ndarray:
     """For each ε: the sample design of least F_turn with P <= ε among the feasible (else the least violating)."""
     x, f, p, viol = sample[:4]
     eps = np.asarray(eps_values, float)[:, None]
@@ -103,14 +121,15 @@ def _sample_starts(sample, eps_values: np.ndarray) -> np.ndarray:
     score = np.where(ok, f[None, :], np.inf)
     best = np.argmin(score, axis=1)
     fallback = np.argmin(viol[None, :] + np.maximum(0.0, p[None, :] / eps - 1), axis=1)
-    return x[np.where(np.isfinite(score[np.arange(len(eps)), best]), best, fallback)]
+    starts: np.ndarray = x[np.where(np.isfinite(score[np.arange(len(eps)), best]), best, fallback)]
+    return starts
 
 
-def _rank(nlp: CasterNLP, result) -> float:
+def _rank(nlp: CasterNLP, result: NLPResult | None) -> float:
     return nlp.objectives(result.design)[0] if result is not None and result.success else np.inf
 
 
-def lexicographic_ends(nlp: CasterNLP, problem: Problem, sample=None) -> Ends:
+def lexicographic_ends(nlp: CasterNLP, problem: Problem, sample: Sample | None = None) -> Ends:
     """Lexicographic ends from sample starts: (min F, then min P) and (min P, then min F), each stage one batch."""
     if sample is not None:
         starts_f, starts_p = sample[4], sample[5]
@@ -152,10 +171,10 @@ class NLPSweep:
 
     def __init__(self, nlp: CasterNLP, problem: Problem):
         self.nlp, self.problem = nlp, problem
-        self._sample = None
+        self._sample: Sample | None = None
 
     @property
-    def sample(self):
+    def sample(self) -> Sample:
         """:func:`box_sample` of the problem, drawn when first needed."""
         if self._sample is None:
             self._sample = box_sample(self.problem)
@@ -165,14 +184,15 @@ class NLPSweep:
         """The two lexicographic ends (:func:`lexicographic_ends` from the sample's best starts)."""
         return lexicographic_ends(self.nlp, self.problem, self.sample)
 
-    def sweep(self, eps_values, ends: Ends, guide=None) -> tuple[list, int]:
+    def sweep(self, eps_values: npt.ArrayLike, ends: Ends, guide: Guide | None = None) -> tuple[list[NLPResult], int]:
         """Results at every ε (the first and last are the ends) and the number of solves.
 
         ``guide`` = (ε, results) of an earlier pass: each point starts warm from the earlier pass's point
         just before it in sweep order (and from the one after when their families differ).
         """
-        eps_values = np.asarray(eps_values, float)
-        inner = eps_values[1:-1]
+        eps = np.asarray(eps_values, float)
+        end_a, end_b = _found(ends)
+        inner = eps[1:-1]
         sweep = _Sweep(self.nlp, self.problem, inner)
         if len(inner):
             if guide is None:
@@ -180,28 +200,31 @@ class NLPSweep:
             else:
                 self._run_guided(sweep, inner, ends, guide)
             sweep.rescue()
-        results = [ends.a] + [b if b is not None else f for b, f in zip(sweep.best, sweep.first)] + [ends.b]
-        return results[: len(eps_values)] if len(eps_values) >= 2 else [ends.a], sweep.solves
+        results = [end_a] + sweep.results() + [end_b]
+        return results[: len(eps)] if len(eps) >= 2 else [end_a], sweep.solves
 
-    def _run_guided(self, sweep: "_Sweep", inner: np.ndarray, ends: Ends, guide) -> None:
+    def _run_guided(self, sweep: "_Sweep", inner: np.ndarray, ends: Ends, guide: Guide) -> None:
         """Run ``sweep`` warm from the earlier pass ``guide`` = (ε, results)."""
-        g_eps, g_res = guide
+        g_eps, g_res = np.asarray(guide[0], float), guide[1]
+        end_a, end_b = _found(ends)
         # the earlier pass's point just before in sweep order (ε decreasing), warm with its multipliers
-        pos = np.clip(np.searchsorted(-np.asarray(g_eps), -inner, side="right") - 1, 0, len(g_eps) - 1)
-        src, other, fam = [], [], {}
+        pos = np.clip(np.searchsorted(-g_eps, -inner, side="right") - 1, 0, len(g_eps) - 1)
+        src: list[NLPResult] = []
+        other: list[NLPResult | None] = []
+        fam: dict[int, str] = {}
 
-        def family(r):
+        def family(r: NLPResult) -> str:
             return fam.setdefault(id(r), family_of(self.problem, r.design))
 
-        for j in pos:
+        for j in pos.tolist():
             before = j
             while before > 0 and not g_res[before].success:
                 before -= 1
             after = min(j + 1, len(g_res) - 1)
             while after < len(g_res) - 1 and not g_res[after].success:
                 after += 1
-            a = g_res[before] if g_res[before].success else ends.a
-            b = g_res[after] if g_res[after].success else ends.b
+            a = g_res[before] if g_res[before].success else end_a
+            b = g_res[after] if g_res[after].success else end_b
             if before == 0 and 0 < after < len(g_res) - 1 and b.success:
                 # the end's multipliers belong to its lexicographic solve (another objective): a warm
                 # start from them takes ~25 iterations and would hold up the whole first batch, so the
@@ -224,12 +247,12 @@ class NLPSweep:
             extra=extra,
         )
 
-    def sweep_from_sample(self, eps: np.ndarray) -> tuple[list, int]:
+    def sweep_from_sample(self, eps: np.ndarray) -> tuple[list[NLPResult], int]:
         """Best results at ``eps`` (all interior) from the sample starts, with family restarts and rescue."""
         sweep = _Sweep(self.nlp, self.problem, eps)
         sweep.run(_sample_starts(self.sample, eps))
         sweep.rescue()
-        return [b if b is not None else f for b, f in zip(sweep.best, sweep.first)], sweep.solves
+        return sweep.results(), sweep.solves
 
 
 class StructuredSweep(NLPSweep):
@@ -270,12 +293,13 @@ class StructuredSweep(NLPSweep):
         found.solves += 2
         return found
 
-    def sweep(self, eps_values, ends: Ends, guide=None) -> tuple[list, int]:
+    def sweep(self, eps_values: npt.ArrayLike, ends: Ends, guide: Guide | None = None) -> tuple[list[NLPResult], int]:
         """Results at every ε from the closed form, confirmed by the NLP (``guide`` is not needed)."""
         nlp, problem = self.nlp, self.problem
-        eps_values = np.asarray(eps_values, float)
-        inner = eps_values[1:-1]
-        results = [ends.a] + [None] * len(inner) + [ends.b]
+        eps = np.asarray(eps_values, float)
+        end_a, end_b = _found(ends)
+        inner = eps[1:-1]
+        results: list[NLPResult | None] = [end_a] + [None] * len(inner) + [end_b]
         solves = 0
         if len(inner):
             found = CLOSED_FORM.front_designs(problem, inner)
@@ -292,11 +316,12 @@ class StructuredSweep(NLPSweep):
                         results[j + 1] = r
             bad = [j for j in range(len(inner)) if results[j + 1] is None]
             if bad:
-                found, done = self.sweep_from_sample(inner[bad])
+                rescued, done = self.sweep_from_sample(inner[bad])
                 solves += done
-                for j, r in zip(bad, found):
-                    results[j + 1] = r
-        return results[: len(eps_values)] if len(eps_values) >= 2 else [ends.a], solves
+                for k, r in zip(bad, rescued):
+                    results[k + 1] = r
+        solved = [r for r in results if r is not None]
+        return solved[: len(eps)] if len(eps) >= 2 else [end_a], solves
 
 
 class _Sweep:
@@ -317,23 +342,42 @@ class _Sweep:
     def __init__(self, nlp: CasterNLP, problem: Problem, eps: np.ndarray):
         self.nlp, self.problem, self.eps = nlp, problem, np.asarray(eps, float)
         self.k = len(self.eps)
-        self.best: list = [None] * self.k
-        self.first: list = [None] * self.k  # first result (kept to report a failure)
+        self.best: list[NLPResult | None] = [None] * self.k
+        self.first: list[NLPResult | None] = [None] * self.k  # first result (kept to report a failure)
         self.f = np.full(self.k, np.inf)
         self.solves = 0
         self.stride = max(1, self.k // 10)
-        self._tried: set = set()
+        self._tried: set[tuple[int, int]] = set()
 
-    def run(self, starts, lam_g=None, lam_x=None, families: bool = True, extra=None) -> None:
+    def results(self) -> list[NLPResult]:
+        """Per point the best successful result, else the first one (a failure, kept for its status)."""
+        out = []
+        for best, first in zip(self.best, self.first):
+            result = best if best is not None else first
+            if result is None:  # every point is tried in run's first round
+                raise ValueError("a sweep point was never solved")
+            out.append(result)
+        return out
+
+    def run(
+        self,
+        starts: npt.ArrayLike,
+        lam_g: np.ndarray | None = None,
+        lam_x: np.ndarray | None = None,
+        families: bool = True,
+        extra: tuple[list[int], np.ndarray, np.ndarray, np.ndarray] | None = None,
+    ) -> None:
         self._try(list(range(self.k)), starts, lam_g, lam_x)
         if extra is not None:  # optional second start per point: (indices, starts, lam_g, lam_x)
             self._try(*extra)
         if families:
             switch = self._switches()
-            idx, fam_starts = [], []
+            idx: list[int] = []
+            fam_starts: list[np.ndarray] = []
             for i in sorted(set(range(0, self.k, self.stride)) | {self.k - 1} | switch):
-                if self.best[i] is not None:
-                    for s in _family_starts(self.problem, self.best[i].design):
+                point = self.best[i]
+                if point is not None:
+                    for s in _family_starts(self.problem, point.design):
                         idx.append(i)
                         fam_starts.append(s)
             improved = self._try(idx, fam_starts)
@@ -343,19 +387,19 @@ class _Sweep:
             if not self._propagate_pairs(pairs):
                 break
 
-    def _family(self, i) -> str:
+    def _family(self, i: int) -> str:
         r = self.best[i]
         return family_of(self.problem, r.design) if r is not None else ""
 
-    def _switches(self) -> set:
+    def _switches(self) -> set[int]:
         fam = [self._family(i) for i in range(self.k)]
-        out = set()
+        out: set[int] = set()
         for i in range(self.k - 1):
             if fam[i] != fam[i + 1]:
                 out |= {i, i + 1}
         return out
 
-    def _propagate(self, sources, width) -> None:
+    def _propagate(self, sources: set[int], width: int) -> None:
         pairs = [
             (i, j) for i in sorted(sources) for j in range(max(0, i - width), min(self.k, i + width + 1)) if j != i
         ]
@@ -363,9 +407,12 @@ class _Sweep:
             improved = self._propagate_pairs(pairs)
             pairs = [(i, j) for i in sorted(improved) for j in (i - 1, i + 1) if 0 <= j < self.k]
 
-    def _propagate_pairs(self, pairs) -> set:
+    def _propagate_pairs(self, pairs: list[tuple[int, int]]) -> set[int]:
         """Re-solve point j warm from point i's optimum for each new (i, j) pair; the improved points."""
-        idx, starts, lg, lx = [], [], [], []
+        idx: list[int] = []
+        starts: list[np.ndarray] = []
+        lg: list[np.ndarray] = []
+        lx: list[np.ndarray] = []
         for i, j in pairs:
             source = self.best[i]
             key = (j, id(source))
@@ -378,12 +425,22 @@ class _Sweep:
             lx.append(source.lam_x)
         return self._try(idx, starts, np.array(lg), np.array(lx)) if idx else set()
 
-    def _try(self, idx, starts, lam_g=None, lam_x=None) -> set:
+    def _try(
+        self,
+        idx: list[int],
+        starts: npt.ArrayLike,
+        lam_g: np.ndarray | None = None,
+        lam_x: np.ndarray | None = None,
+    ) -> set[int]:
         if not len(idx):
             return set()
         warm = lam_g is not None and len(lam_g)
         results = self.nlp.solve_many(
-            starts, (1.0, 0.0), self.eps[idx], lam_g0=lam_g if warm else None, lam_x0=lam_x if warm else None
+            np.asarray(starts, float),
+            (1.0, 0.0),
+            self.eps[idx],
+            lam_g0=lam_g if warm else None,
+            lam_x0=lam_x if warm else None,
         )
         self.solves += len(idx)
         ok = np.array([r.success for r in results])
@@ -391,7 +448,7 @@ class _Sweep:
         if np.any(ok):
             values = evaluate_many(self.problem, np.array([r.design.as_array() for r in results]))
             f_all[ok] = values["turning_effort"][ok]
-        improved = set()
+        improved: set[int] = set()
         for i, r, f in zip(idx, results, f_all):
             if self.first[i] is None:
                 self.first[i] = r
