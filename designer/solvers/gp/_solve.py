@@ -297,13 +297,7 @@ def solve_gp(
             if "design" in row:
                 candidates.append((row["objective"], label, wheel, variant, row))
     if not candidates:
-        raise InfeasibleError(
-            f"{problem.name}: no geometric-programming family is feasible (target speed "
-            f"{problem.required_speed:.3g} m/s"
-            + (f", P <= {threshold_cap:.4g} N" if threshold_cap else "")
-            + (f", F_turn <= {turning_cap:.4g} N" if turning_cap else "")
-            + ")"
-        )
+        raise _infeasible(problem, threshold_cap, turning_cap)
     _, _, wheel, variant, row = min(candidates, key=lambda c: c[0])
     design = row["design"]
     h = variant.conditions.threshold_height
@@ -326,6 +320,17 @@ def solve_gp(
         order=order,
         seconds=time.perf_counter() - t0,
         solves=solves,
+    )
+
+
+def _infeasible(problem: Problem, threshold_cap: float | None, turning_cap: float | None) -> InfeasibleError:
+    """The one-line error of a problem no GP family can solve: the target speed and the caps it asked for."""
+    return InfeasibleError(
+        f"{problem.name}: no geometric-programming family is feasible (target speed "
+        f"{problem.required_speed:.3g} m/s"
+        + (f", P <= {threshold_cap:.4g} N" if threshold_cap else "")
+        + (f", F_turn <= {turning_cap:.4g} N" if turning_cap else "")
+        + ")"
     )
 
 
