@@ -104,7 +104,18 @@ def _examples() -> dict[str, Record]:
     out.update(_other_examples(problem))
     out.update(_retrofit_examples(problem))
     out.update(_fleet_examples(problem))
+    out.update(_pipeline_examples(problem))
     return out
+
+
+def _pipeline_examples(problem) -> dict[str, Record]:
+    """The report data of a small front (the recommendation, the checks) and a price-of-safety comparison."""
+    from designer.pipeline import report_data, robust_data
+
+    return {
+        "ReportData": _quiet(lambda: report_data(problem, points=9, with_knock_safe=False)),
+        "RobustData": _quiet(lambda: robust_data(problem, points=5)),
+    }
 
 
 def _fleet_examples(problem) -> dict[str, Record]:
@@ -221,6 +232,8 @@ NAMES = [
     "Calibration",
     "FleetResult",
     "KMedianSolution",
+    "ReportData",
+    "RobustData",
 ]
 
 

@@ -50,7 +50,7 @@ import math
 import time
 import warnings
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -410,7 +410,7 @@ class ClosedFormSolver:
         weights: Sequence[float] | None = None,
         caps: Caps = NO_CAPS,
         *,
-        starts: Sequence[object] = (),
+        starts: Sequence[Any] = (),
     ) -> Optimum:
         """The weighted optimum in closed form (class text); ``starts`` are not needed.  ValueError where the
         closed form does not apply (:meth:`applicable`)."""

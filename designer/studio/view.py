@@ -15,6 +15,7 @@ import time
 import warnings
 from collections import OrderedDict
 from dataclasses import dataclass, field, fields, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -28,6 +29,11 @@ from designer.studies.dynamics import simulate
 from designer.studies.dynamics.limit_cycles import knock_safe_speeds
 from designer.studies.recommend import recommend
 from designer.studies.retrofit import fix
+
+if TYPE_CHECKING:  # record types for the checker only: designer.studies.front loads casadi
+    from designer.problem import Problem
+    from designer.studies.front import Front
+    from designer.studies.recommend import Recommendation
 
 FIX_LIMIT = 100
 """Fixes listed for "my caster": the whole ranking up to this many (designer.fix evaluates each listed fix by
@@ -54,14 +60,14 @@ class Fronts:
     notes : what could not be computed and why (one line each)
     """
 
-    problem: object
-    continuous: object
-    risk: object = None
-    buildable: object = None
-    recommendation: object = None
+    problem: Problem
+    continuous: Front
+    risk: Front | None = None
+    buildable: Front | None = None
+    recommendation: Recommendation | None = None
     seconds: float = 0.0
     cpu_seconds: float = 0.0
-    notes: list = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
 
 
 LOCK = threading.RLock()
