@@ -35,6 +35,7 @@ import math
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from scipy import stats
@@ -112,7 +113,7 @@ class CalibrationResult(Record):
         """Measured − fitted [unit of y]."""
         return self.y - self.fitted
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """Plain-Python summary: ``value`` and ``interval`` [low, high] (95 %) among others (no data arrays:
         :meth:`to_pandas` has the rows)."""
         return {
@@ -130,7 +131,7 @@ class CalibrationResult(Record):
             **self.notes,
         }
 
-    def to_pandas(self):
+    def to_pandas(self) -> Any:
         """The data and the fit, one row per measurement: ``x``, ``y`` (measured), ``fitted`` and ``residual``
         (units in ``df.attrs["units"]`` from the axis labels); the fitted constant in ``df.attrs``."""
         rows = [
@@ -152,7 +153,7 @@ class CalibrationResult(Record):
     def _html_title(self) -> str:
         return f"Calibration of {self.name} ({self.kind})"
 
-    def _html_rows(self) -> list[tuple]:
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         lo, hi = self.interval
         return [
             (self.name, f"{self.value:.6g}", self.unit),

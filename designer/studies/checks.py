@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, field
-from typing import TypeAlias
+from typing import Any, TypeAlias
 
 import numpy as np
 
@@ -100,7 +100,7 @@ class Check(Record):
             raise ValueError(f"check {self.name}: outcome {self.outcome!r} / kind {self.kind!r} unknown")
         self.passed = self.outcome != FAILS
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict: name, claim, expected, got, passed, detail, kind, outcome, disagreements (and rows)."""
         d = asdict(self)
         d["passed"] = bool(d["passed"])
@@ -118,7 +118,7 @@ class Check(Record):
     def _html_caption(self) -> str:
         return self.detail
 
-    def _html_rows(self) -> list[tuple]:
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         rows = [
             ("claim", self.claim, ""),
             ("expected", shown(self.expected), ""),

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -101,7 +102,7 @@ class SimulationResult(Record):
     def _html_caption(self) -> str:
         return "θ(t); dashed: ± the Eq. 29B amplitude"
 
-    def _html_rows(self) -> list[tuple]:
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """A compact table with units (notebooks; no integration runs)."""
         deg = math.degrees
         return [
@@ -133,7 +134,7 @@ class SimulationResult(Record):
             self.t, np.degrees(self.theta), "time t [s]", "θ [deg]", band=math.degrees(self.predicted_amplitude)
         )
 
-    def to_pandas(self):
+    def to_pandas(self) -> Any:
         """The trace as a pandas DataFrame (pandas: the ``notebook`` extra): columns ``t_s`` [s], ``theta_rad``
         [rad], ``theta_deg`` [deg] and ``lateral_m`` (spindle displacement X [m]); the scalars of
         :meth:`to_dict` in ``df.attrs``, units in ``df.attrs["units"]``."""
@@ -149,7 +150,7 @@ class SimulationResult(Record):
             **self.to_dict(),
         )
 
-    def plot(self, ax=None, onset_speed: float | None = None):
+    def plot(self, ax: Any = None, onset_speed: float | None = None) -> Any:
         """θ(t) in degrees against time [s], with ± the Eq. 29B amplitude; returns the matplotlib Axes.
 
         ``ax``: your Axes or None for a new figure; ``onset_speed`` [m/s] (e.g. from :func:`onset_speed`) is
@@ -167,7 +168,7 @@ class SimulationResult(Record):
             ax=ax,
         )
 
-    def to_dict(self, with_trace: bool = False) -> dict:
+    def to_dict(self, with_trace: bool = False) -> dict[str, Any]:
         """Scalars (and with ``with_trace`` the trace t, θ) as plain Python types."""
         out = {
             "speed": self.speed,
@@ -238,7 +239,7 @@ class OnsetResult(Record):
     def __float__(self) -> float:
         return float(self.speed)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """All fields as plain floats (the count of simulations an int)."""
         return {k: (float(v) if not isinstance(v, int) else v) for k, v in self.__dict__.items()}
 

@@ -10,6 +10,7 @@ import itertools
 import math
 import warnings
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -82,7 +83,7 @@ class Operators(Record):
         pop = population_size or int(min(100, max(20, round(math.sqrt(max(trials, 1))))))
         return cls(population_size=pop)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """The configuration as plain data (an unused η as None); :meth:`from_dict` reads it back."""
         return {
             k: (None if isinstance(v, float) and not math.isfinite(v) else v)
@@ -260,12 +261,12 @@ class SearchSpace(Record):
     def names(self) -> tuple[str, ...]:
         return tuple(name for name, _ in self.categorical) + tuple(name for name, _, _ in self.continuous)
 
-    def categories(self) -> list[tuple]:
+    def categories(self) -> list[tuple[Any, Any, Any]]:
         """Every combination of categorical values, as ((dimension, value), ...) tuples."""
         dims = [[(name, value) for value in choices] for name, choices in self.categorical]
         return [tuple(combo) for combo in itertools.product(*dims)] if dims else [()]
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """{"continuous": {variable: [low, high]} [SI], "categorical": {dimension: [choices]}}."""
         return {
             "continuous": {n: [lo, hi] for n, lo, hi in self.continuous},
@@ -281,7 +282,7 @@ class SearchSpace(Record):
     def _html_title(self) -> str:
         return "Search space"
 
-    def _html_rows(self) -> list[tuple]:
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """Each continuous variable with its range [SI], each categorical dimension with its choices."""
         rows: list[tuple] = [(name, f"{lo:.4g} – {hi:.4g}", "") for name, lo, hi in self.continuous]
         return rows + [(name, ", ".join(str(c) for c in choices), "") for name, choices in self.categorical]

@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import json
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -56,13 +58,13 @@ class ExploreResult(Record):
     storage: str
     seed: int | None
     trials: int
-    front: list[dict]
-    category_fronts: dict[str, list[dict]]
+    front: list[dict[str, Any]]
+    category_fronts: dict[str, list[dict[str, Any]]]
     distinct: int
     feasible: int
     hypervolume: float
     reference_point: tuple[float, ...]
-    comparison: dict
+    comparison: dict[str, Any]
     operators: Operators
     refined: bool
     seconds: float
@@ -78,7 +80,7 @@ class ExploreResult(Record):
         """(n, 2) array of (F_turn, P) [N] of the overall front."""
         return np.array([[r["turning_effort"], r["threshold_force"]] for r in self.front], float).reshape(-1, 2)
 
-    def best_weighted(self, weights=None) -> dict | None:
+    def best_weighted(self, weights: Sequence[float] | None = None) -> dict[str, Any] | None:
         """The front point minimising J = w_turn F_turn + w_threshold P [N] (problem weights by default)."""
         w = self.problem.weights if weights is None else weights
         if not self.front:
@@ -108,7 +110,7 @@ class ExploreResult(Record):
     def _html_caption(self) -> str:
         return str(self.comparison.get("note", ""))
 
-    def _html_rows(self) -> list[tuple]:
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """A compact table with units (notebooks; no trial runs)."""
         f_range, p_range = self._ranges()
         c = self.comparison
@@ -140,7 +142,7 @@ class ExploreResult(Record):
         order = np.argsort(f[:, 1])
         return svg_curve(f[order, 1], f[order, 0], "threshold force P [N]", "turning effort F_turn [N]")
 
-    def to_pandas(self):
+    def to_pandas(self) -> Any:
         """The explored front as a DataFrame, one row per point: the SI columns of ``explore.csv`` (``trail``,
         ``diameter``, ``groove``, ``damping``, ``turning_effort``, ``threshold_force``, ``critical_speed``), the
         categories that were explored, ``trial`` and ``refined``; units in ``df.attrs["units"]``."""
@@ -155,7 +157,7 @@ class ExploreResult(Record):
             study=self.study_name,
         )
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """Plain data for explore.json (SI units)."""
         return {
             "problem": self.problem.name,
@@ -188,7 +190,7 @@ class ExploreResult(Record):
             "versions": versions(),
         }
 
-    def write(self, out_dir) -> tuple[Path, Path]:
+    def write(self, out_dir: str | Path) -> tuple[Path, Path]:
         """Write explore.csv (every per-category front point, ``overall_front`` flag) and explore.json.
 
         Both are written to temporary files in ``out_dir`` and renamed into
@@ -231,7 +233,7 @@ def _box_reference(problem: Problem) -> tuple[float, float]:
     return (1.1 * max(f), 1.1 * max(p))
 
 
-def _exact_front(problem: Problem) -> dict | None:
+def _exact_front(problem: Problem) -> dict[str, Any] | None:
     """The exact front of :func:`designer.studies.front._pareto.pareto_front`, or a note when it is unavailable."""
     try:
         from designer.studies.front import pareto_front
@@ -251,7 +253,7 @@ def _exact_front(problem: Problem) -> dict | None:
     return {"points": pts, "reference_point": ref}
 
 
-def compare_fronts(explored: np.ndarray, exact: np.ndarray, reference) -> dict:
+def compare_fronts(explored: np.ndarray, exact: np.ndarray, reference: Sequence[float]) -> dict[str, Any]:
     """Explored vs exact front: hypervolume with the same reference, ratio, IGD+ (normalised).
 
     Parameters

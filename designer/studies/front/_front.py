@@ -10,8 +10,10 @@ from __future__ import annotations
 import csv
 import json
 import math
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -25,6 +27,9 @@ from designer.problem import Problem, family_of, load_problem
 from designer.reprs import Record, svg_curve
 from designer.plots.fronts import draw_fronts, plot_front
 from designer.plots.fronts import plot_variables
+
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
 
 REFERENCE_OFFSET = 0.1
 """Hypervolume reference point: 10 % beyond the nadir in normalised objectives, i.e. (1.1, 1.1)."""
@@ -53,7 +58,7 @@ class FrontPoint(Record):
     turning_effort: float
     threshold_force: float
     critical_speed: float
-    margins: dict
+    margins: dict[str, float]
     epsilon: float
     status: str
     success: bool
@@ -84,10 +89,10 @@ class FrontPoint(Record):
     def _html_title(self) -> str:
         return "Front point"
 
-    def row(self) -> dict:
+    def row(self) -> dict[str, Any]:
         """The point as one flat row of ``front.csv`` and ``front.json`` (SI units; the margins are in
         :meth:`to_dict`, not here)."""
-        out = self.design.to_dict()
+        out: dict[str, Any] = self.design.to_dict()
         out.update(
             turning_effort=self.turning_effort,
             threshold_force=self.threshold_force,
@@ -118,12 +123,12 @@ class Front(Record):
     problem: Problem
     points: list[FrontPoint]
     failed: list[FrontPoint] = field(default_factory=list)
-    meta: dict = field(default_factory=dict)
+    meta: dict[str, Any] = field(default_factory=dict)
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[FrontPoint]:
         return iter(self.points)
 
-    def __len__(self):
+    def __len__(self) -> int:
         return len(self.points)
 
     def objectives(self) -> np.ndarray:
@@ -144,7 +149,9 @@ class Front(Record):
         ideal, nadir = self.ideal_nadir()
         return nadir + REFERENCE_OFFSET * np.where(nadir > ideal, nadir - ideal, 1.0)
 
-    def hypervolume(self, ref=None, ideal=None, nadir=None) -> float:
+    def hypervolume(
+        self, ref: npt.ArrayLike | None = None, ideal: npt.ArrayLike | None = None, nadir: npt.ArrayLike | None = None
+    ) -> float:
         """Normalised hypervolume of the front.
 
         Objectives are normalised by (f − ideal)/(nadir − ideal) with the
@@ -174,7 +181,7 @@ class Front(Record):
         distance = np.where(below >= 0, distance, -distance)  # the knee bulges toward the ideal
         return self.points[int(np.argmax(distance))]
 
-    def weighted_best(self, weights=None) -> FrontPoint | None:
+    def weighted_best(self, weights: Sequence[float] | None = None) -> FrontPoint | None:
         """The front point minimising J = w_turn F_turn + w_threshold P (default weights: the problem's)."""
         if not self.points:
             return None
@@ -186,7 +193,7 @@ class Front(Record):
 
         Returns (index of the point after the gap, description) pairs.
         """
-        out = []
+        out: list[tuple[int, str]] = []
         if len(self.points) < 3:
             return out
         ideal, nadir = self.ideal_nadir()
@@ -201,7 +208,7 @@ class Front(Record):
                 out.append((i, f"jump in the front between P = {a.threshold_force:.2f} and {b.threshold_force:.2f} N"))
         return out
 
-    def compare(self, other: "Front") -> dict:
+    def compare(self, other: "Front") -> dict[str, float]:
         """Compare with another front on common normalisation (this front's ideal/nadir).
 
         Returns hypervolumes of both, IGD+ of ``other`` against this front, and
@@ -229,7 +236,7 @@ class Front(Record):
         if not self.points:
             return [f"Front({name!r}: empty, {len(self.failed)} failed)"]
         (f0, p0), (f1, p1) = self.ideal_nadir()
-        k = self.knee()
+        k = self.knee() or self.points[0]
         return [
             f"Front({name!r}: {len(self.points)} points, F_turn {f0:.3g}–{f1:.3g} N, P {p0:.3g}–{p1:.3g} N, "
             f"knee F_turn {k.turning_effort:.3g} N / P {k.threshold_force:.3g} N, "
@@ -240,12 +247,12 @@ class Front(Record):
         name = getattr(self.problem, "name", "?")
         return f"Pareto front {name!r}" if self.points else f"Front {name!r}"
 
-    def _html_rows(self) -> list[tuple]:
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """A compact table with units (notebooks; < 50 ms: benchmarks/notebook_reprs.py)."""
         if not self.points:
             return [("points", "0", ""), ("failed", f"{len(self.failed)}", "")]
         (f0, p0), (f1, p1) = self.ideal_nadir()
-        k = self.knee()
+        k = self.knee() or self.points[0]
         d = k.design
         return [
             ("points (failed)", f"{len(self.points)} ({len(self.failed)})", ""),
@@ -264,7 +271,7 @@ class Front(Record):
         if not self.points:
             return ""
         f = self.objectives()
-        k = self.knee()
+        k = self.knee() or self.points[0]
         return svg_curve(
             f[:, 1],
             f[:, 0],
@@ -273,7 +280,7 @@ class Front(Record):
             marks=[(k.threshold_force, k.turning_effort, "knee")],
         )
 
-    def plot(self, ax=None, color_by="family"):
+    def plot(self, ax: Any = None, color_by: str | None = "family") -> Any:
         """Draw the front, turning effort F_turn [N] against sill force P [N], knee circled; returns the Axes.
 
         ``color_by``: "family" (the mechanism that stops shimmy), "trail", "diameter", "groove" [mm],
@@ -313,7 +320,7 @@ class Front(Record):
         ax.set_title(f"Pareto front: {getattr(self.problem, 'name', '?')}", fontsize=10)
         return ax
 
-    def plot_variables(self, axes=None):
+    def plot_variables(self, axes: Any = None) -> Any:
         """The design variables T, d, B [mm, in] and c_f [N·m/rad] along the front against P [N].
 
         Returns the 2 × 2 array of Axes (``axes``: your own 2 × 2 array sharing x, or None for a new figure).
@@ -330,7 +337,7 @@ class Front(Record):
             axes=axes,
         )
 
-    def to_pandas(self, failed: bool = False):
+    def to_pandas(self, failed: bool = False) -> Any:
         """The points as a pandas DataFrame, one row per point, SI units in the column names.
 
         Columns: ``trail_m``, ``diameter_m``, ``groove_m``, ``damping_N_m_per_rad``, ``turning_effort_N``,
@@ -394,13 +401,14 @@ class Front(Record):
         return df
 
     @classmethod
-    def from_pandas(cls, df, problem: Problem) -> "Front":
+    def from_pandas(cls, df: Any, problem: Problem) -> "Front":
         """Rebuild a front from :meth:`to_pandas` output (rows with ``failed`` true go to ``.failed``).
 
         NaN margins and multipliers are left out of the points' dicts (``to_pandas`` writes NaN where a point
         lacks one).  ``meta`` is ``{"source": "pandas"}``.
         """
-        points, failed = [], []
+        points: list[FrontPoint] = []
+        failed: list[FrontPoint] = []
         margin_cols = [c for c in df.columns if c.startswith("margin_")]
         lambda_cols = [c for c in df.columns if c.startswith("lambda_")]
         for r in df.to_dict("records"):
@@ -422,7 +430,9 @@ class Front(Record):
         return cls(problem=problem, points=points, failed=failed, meta={"source": "pandas"})
 
     @classmethod
-    def from_csv(cls, path, problem=None, buildable: bool = False) -> "Front":
+    def from_csv(
+        cls, path: str | Path, problem: Problem | str | Path | None = None, buildable: bool = False
+    ) -> "Front":
         """Read a front written by :meth:`to_csv`, e.g. a report's ``front.csv`` (SI columns; no pandas needed).
 
         Parameters
@@ -462,11 +472,11 @@ class Front(Record):
             )
         return cls(problem=problem, points=points, meta={"source": str(path)})
 
-    def rows(self) -> list[dict]:
+    def rows(self) -> list[dict[str, Any]]:
         """One flat dict per valid point (SI units)."""
         return [p.row() for p in self.points]
 
-    def to_csv(self, path, buildable=None) -> None:
+    def to_csv(self, path: str | Path, buildable: "Front | None" = None) -> None:
         """Write the valid points: trail, diameter, groove, damping, turning_effort, threshold_force, critical_speed, …
 
         ``buildable``: the buildable front (``Recommendation.buildable``, when the problem has ``[stock]``):
@@ -491,7 +501,7 @@ class Front(Record):
             for r in rows:
                 writer.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in r.items()})
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """Plain data: points, failed points, indicators and run metadata."""
         knee = self.knee()
         best = self.weighted_best()
@@ -530,7 +540,7 @@ def clean(points: list[FrontPoint]) -> list[FrontPoint]:
 __all__ = ["REFERENCE_OFFSET", "Front", "FrontPoint", "clean", "family_of"]
 
 
-def _problem_for_csv(path, problem) -> Problem:
+def _problem_for_csv(path: str | Path, problem: Problem | str | Path | None) -> Problem:
     """The problem of :meth:`Front.from_csv`: as given, loaded from a file or example name, or found beside."""
     if isinstance(problem, Problem):
         return problem

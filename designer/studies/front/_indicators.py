@@ -6,7 +6,12 @@ normalisation are arguments, never hidden defaults.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
 
 
 def nondominated(points: np.ndarray) -> np.ndarray:
@@ -28,15 +33,16 @@ def nondominated(points: np.ndarray) -> np.ndarray:
     return keep
 
 
-def normalise(points: np.ndarray, ideal, nadir) -> np.ndarray:
+def normalise(points: np.ndarray, ideal: npt.ArrayLike, nadir: npt.ArrayLike) -> np.ndarray:
     """Map objectives to [0, 1] by (f − ideal) / (nadir − ideal)."""
     ideal = np.asarray(ideal, float)
     nadir = np.asarray(nadir, float)
     span = np.where(nadir - ideal > 0, nadir - ideal, 1.0)
-    return (np.asarray(points, float) - ideal) / span
+    normalised: np.ndarray = (np.asarray(points, float) - ideal) / span
+    return normalised
 
 
-def hypervolume_2d(points: np.ndarray, reference) -> float:
+def hypervolume_2d(points: np.ndarray, reference: npt.ArrayLike) -> float:
     """Area dominated by ``points`` and bounded by ``reference`` (minimisation).
 
     Exact sweep over the sorted non-dominated points; points not strictly

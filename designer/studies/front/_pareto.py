@@ -24,6 +24,8 @@ from __future__ import annotations
 
 import time
 import warnings
+from collections.abc import Callable
+from typing import TYPE_CHECKING, TypeAlias
 
 import numpy as np
 
@@ -34,7 +36,14 @@ from designer.errors import InputError, SolverError
 from designer.model import Design
 from designer.problem import POINTS_RANGE, Problem, family_of
 from designer.solvers import FRONT_STRATEGIES, Designs, front_solver
+from designer.solvers.base import wheel_of
 from designer.solvers.nlp import BIG, evaluate_many
+
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
+
+Progress: TypeAlias = Callable[[int, int], object]
+"""A progress callback: ``progress(done, total)``."""
 
 STRATEGY_CHOICES = FRONT_STRATEGIES
 """``pareto_front(strategy=...)``: "auto" (closed form confirmed by the NLP where it applies) or "nlp"."""
@@ -43,10 +52,12 @@ STRATEGY_CHOICES = FRONT_STRATEGIES
 # --------------------------------------------------------------------------- front points
 
 
-def _points(problem: Problem, found: Designs, wheel: str | None = None, eps=None) -> list[FrontPoint]:
+def _points(
+    problem: Problem, found: Designs, wheel: str | None = None, eps: npt.ArrayLike | None = None
+) -> list[FrontPoint]:
     """FrontPoints of a solver's ε-optima (``eps`` overrides their ε): the successful ones evaluated by the model
     in one vectorised call, a failed one with the solver's own numbers and no margins."""
-    eps = found.epsilon if eps is None else np.asarray(eps, float)
+    caps = found.epsilon if eps is None else np.asarray(eps, float)
     out: list[FrontPoint | None] = [None] * len(found)
     ok = np.flatnonzero(found.success).tolist()
     values = evaluate_many(problem, found.designs[ok]) if ok else {}
@@ -68,7 +79,7 @@ def _points(problem: Problem, found: Designs, wheel: str | None = None, eps=None
             threshold_force=p,
             critical_speed=v,
             margins=margins,
-            epsilon=float(eps[i]),
+            epsilon=float(caps[i]),
             status=found.status[i],
             success=bool(found.success[i]),
             multipliers=dict(found.multipliers[i]) if found.multipliers else {},
@@ -78,7 +89,9 @@ def _points(problem: Problem, found: Designs, wheel: str | None = None, eps=None
     return [p for p in out if p is not None]
 
 
-def pareto_front(problem: Problem, points: int | None = None, progress=None, strategy: str = "auto") -> Front:
+def pareto_front(
+    problem: Problem, points: int | None = None, progress: Progress | None = None, strategy: str = "auto"
+) -> Front:
     """Exact Pareto front of (turning effort, threshold force) for ``problem``.
 
     Parameters
@@ -110,19 +123,19 @@ def pareto_front(problem: Problem, points: int | None = None, progress=None, str
 
 
 # long: the per-variant steps (ends, two passes, points) and the run metadata in one readable loop
-def _pareto_front(problem: Problem, n: int, progress, strategy: str) -> Front:
+def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy: str) -> Front:
     t0 = time.perf_counter()
     all_points: list[FrontPoint] = []
     failed: list[FrontPoint] = []
     build = 0.0
     solves = 0
-    end_statuses: set = set()
-    used: dict = {}
+    end_statuses: set[str] = set()
+    used: dict[str, str] = {}
     variants = problem.variants()
     for k, variant in enumerate(variants):
         solver = front_solver(variant, strategy)
         used[solver.strategy] = solver.method
-        wheel = variant.conditions.inertia.wheel.key if problem.wheels else None
+        wheel = wheel_of(variant) if problem.wheels else None
         ends = solver.front_ends(variant)
         solves += ends.solves
         if ends.a is None:
@@ -186,7 +199,8 @@ def _respace_objectives(f: np.ndarray, n: int) -> np.ndarray:
     if s[-1] <= 0:
         return f[:, 1].copy()
     targets = np.linspace(0, s[-1], n)
-    return np.interp(targets, s, f[:, 1])
+    eps: np.ndarray = np.interp(targets, s, f[:, 1])
+    return eps
 
 
 __all__ = ["REFERENCE_OFFSET", "STRATEGY_CHOICES", "Design", "Front", "FrontPoint", "family_of", "pareto_front"]

@@ -25,7 +25,9 @@ Nothing here re-types an equation: :func:`designer.model._caster.performance` do
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -35,6 +37,10 @@ from designer.parameters import named
 from designer.problem import Bound, Problem
 from designer.reprs import Record
 from designer.solvers import closed_form
+from designer.solvers.base import wheel_of
+
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
 
 MECHANISMS = ("groove alone", "damper alone", "optimum mix")
 """The three ways of reaching V_req compared in the trade-off figure."""
@@ -88,44 +94,53 @@ def _restricted(problem: Problem, mechanism: str) -> Problem:
 def diameters_for(problem: Problem, count: int = 25) -> list[tuple[Problem, float, str | None]]:
     """(sub-problem, diameter [m], wheel) triples to compare: catalog wheels, the fixed d, or a grid over the bounds."""
     if problem.wheels:
-        return [(v, v.bounds["diameter"].low, v.conditions.inertia.wheel.key) for v in problem.variants()]
+        return [(v, v.bounds["diameter"].low, wheel_of(v)) for v in problem.variants()]
     b = problem.bounds["diameter"]
     if b.fixed:
         return [(problem, b.low, None)]
     return [(problem, float(d), None) for d in np.linspace(b.low, b.high, count)]
 
 
-def _values(problem: Problem, trail, diameter, groove, damping) -> dict:
+def _values(problem: Problem, trail: Any, diameter: Any, groove: Any, damping: Any) -> dict[str, Any]:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         return performance(trail, diameter, groove, damping, problem.conditions)
 
 
-def _least(problem: Problem, speed, lo, hi, fixed_args, which: int):
+def _least(
+    problem: Problem,
+    speed: Callable[..., Any],
+    lo: npt.ArrayLike,
+    hi: npt.ArrayLike,
+    fixed_args: tuple[np.ndarray, ...],
+    which: int,
+) -> np.ndarray:
     """Least value in [lo, hi] of argument ``which`` (2 = B, 3 = c_f) with speed >= V_req; NaN where none.
 
     ``speed(x)`` is the constraint's speed [m/s], increasing in the argument; vectorised bisection.
     """
     need = problem.required_speed
-    lo = np.broadcast_to(np.asarray(lo, float), fixed_args[0].shape).copy()
-    hi = np.broadcast_to(np.asarray(hi, float), fixed_args[0].shape).copy()
+    low = np.broadcast_to(np.asarray(lo, float), fixed_args[0].shape).copy()
+    high = np.broadcast_to(np.asarray(hi, float), fixed_args[0].shape).copy()
 
-    def ok(v):
+    def ok(v: np.ndarray) -> np.ndarray:
         args = list(fixed_args)
         args[which] = v
-        return np.asarray(speed(*args), float) >= need
+        reached: np.ndarray = np.asarray(speed(*args), float) >= need
+        return reached
 
-    at_lo, at_hi = ok(lo), ok(hi)
-    a, b = lo.copy(), hi.copy()
+    at_lo, at_hi = ok(low), ok(high)
+    a, b = low.copy(), high.copy()
     for _ in range(BISECTIONS):
         mid = 0.5 * (a + b)
         good = ok(mid)
         b = np.where(good, mid, b)
         a = np.where(good, a, mid)
-    return np.where(at_lo, lo, np.where(at_hi, b, np.nan))
+    least: np.ndarray = np.where(at_lo, low, np.where(at_hi, b, np.nan))
+    return least
 
 
-def designs_at_diameters(problem: Problem, d) -> tuple[np.ndarray, np.ndarray]:
+def designs_at_diameters(problem: Problem, d: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Least-F_turn designs reaching V_req at diameters ``d`` [m]: ((N, 4) designs, feasible mask).
 
     Nominal problems use the closed form of :func:`designer.solvers.closed_form.designs_at_diameter`;
@@ -142,7 +157,7 @@ def designs_at_diameters(problem: Problem, d) -> tuple[np.ndarray, np.ndarray]:
     tt, dd = np.repeat(t, m), np.repeat(d, m)
     bb = np.tile(grooves, n)
 
-    def speed(t_, d_, b_, c_):
+    def speed(t_: Any, d_: Any, b_: Any, c_: Any) -> Any:
         return _values(problem, t_, d_, b_, c_)["confident_speed"]
 
     c_at_b = _least(problem, speed, lo.damping, hi.damping, (tt, dd, bb, np.full(n * m, lo.damping)), 3)
@@ -183,10 +198,10 @@ def groove_damper_tradeoff(problem: Problem, count: int = 25) -> list[TradeoffRo
     -------
     list of TradeoffRow, by increasing diameter
     """
-    groups: dict[int, tuple[Problem, list]] = {}
+    groups: dict[int, tuple[Problem, list[tuple[float, str | None]]]] = {}
     for sub, d, wheel in diameters_for(problem, count):
         groups.setdefault(id(sub), (sub, []))[1].append((d, wheel))
-    rows = []
+    rows: list[TradeoffRow] = []
     for sub, items in groups.values():
         ds = np.array([d for d, _ in items])
         found = {}

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -24,9 +25,10 @@ from designer.model import VARIABLES, Design, evaluate, evaluate_candidates
 from designer.problem import Problem
 from designer.reprs import Record, dataframe
 from designer.solvers import PRIMARY, Optimum, solver
+from designer.solvers.base import wheel_of
 from designer.solvers.nlp import PARAMETER_INFO, max_critical_speed
 import warnings
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from designer.errors import InputError
 from designer.problem import check_weights
@@ -72,11 +74,11 @@ class Solution(Record):
     starts: int = 0
     weights: tuple[float, ...] = ()
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if not self.weights:
             self.weights = tuple(self.problem.weights)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict with the keys of ``designer run --json``."""
         return {
             "problem": self.problem.name,
@@ -95,7 +97,7 @@ class Solution(Record):
             "timings": dict(self.timings),
         }
 
-    def gp_duals(self) -> dict:
+    def gp_duals(self) -> dict[str, float]:
         """d log J / d log p from the geometric program's duals, where the GP defines them."""
         duals = getattr(self.gp, "duals", None) or {}
         return {k: float(v) for k, v in duals.items()}
@@ -124,7 +126,7 @@ class Solution(Record):
     def _html_caption(self) -> str:
         return self.problem.title
 
-    def _html_rows(self) -> list[tuple]:
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """The optimum as a compact table with units (notebooks; no solver or Monte Carlo runs)."""
         d, o = self.design, self.objectives
         return ([("wheel (Table 1)", self.wheel, "")] if self.wheel else []) + [
@@ -141,7 +143,7 @@ class Solution(Record):
             ("solver agreement (relative J gap)", f"{self.agreement():.1e}", ""),
         ]
 
-    def to_pandas(self, wide: bool = False):
+    def to_pandas(self, wide: bool = False) -> Any:
         """The optimum as a pandas DataFrame (pandas: the ``notebook`` extra).
 
         Long form (default, like GPkit's solution table): one row per quantity with columns ``kind``
@@ -206,7 +208,7 @@ class Solution(Record):
             return []
 
         v = evaluate_candidates(self.design, self.problem.conditions, probability_at=self.problem.required_speed)
-        p, se = float(v.shimmy_probability[0]), float(v.shimmy_probability_se[0])
+        p, se = (float(np.asarray(a)[0]) for a in (v.shimmy_probability, v.shimmy_probability_se))
         return [
             f"  risk bound: P(V_c < {self.problem.required_speed:.3g} m/s) <= {u.probability:.1%} (exact quantile "
             f"of the first-order law, t_{u.model_error_dof} model error); Monte Carlo {p:.2%} ± {se:.2%} "
@@ -251,7 +253,9 @@ class Solution(Record):
         return "\n".join(lines)
 
 
-def constraint_margins(problem: Problem, design: Design, values: dict) -> tuple[dict, list]:
+def constraint_margins(
+    problem: Problem, design: Design, values: Mapping[str, Any]
+) -> tuple[dict[str, float], list[str]]:
     """Margins (>= 0 feasible) of every constraint and bound, and the active ones."""
     margins = {"shimmy": values["confident_speed"] - problem.required_speed}
     if problem.swept_radius_max is not None:
@@ -272,7 +276,9 @@ def constraint_margins(problem: Problem, design: Design, values: dict) -> tuple[
     return margins, active
 
 
-def optimise(problem: Problem, weights=None, cross_check: bool = True, samples: int = 1024) -> Solution:
+def optimise(
+    problem: Problem, weights: Sequence[float] | None = None, cross_check: bool = True, samples: int = 1024
+) -> Solution:
     """Minimise J = w_turn F_turn + w_threshold P of ``problem`` (docs/model.md#problems).
 
     Parameters
@@ -306,11 +312,11 @@ def optimise(problem: Problem, weights=None, cross_check: bool = True, samples: 
     return solution
 
 
-def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Solution:
+def _optimise(problem: Problem, weights: Sequence[float] | None, cross_check: bool, samples: int) -> Solution:
     w = check_weights(problem.weights if weights is None else weights, "weights", error=InputError)
     primary = solver(PRIMARY, samples=samples)
     build = solve = 0.0
-    candidates = []
+    candidates: list[tuple[Optimum, Design, Optimum | None]] = []
     for variant in problem.variants():
         gp = _gp(variant, w) if cross_check else None
         # every family's GP answer is an NLP start (docs/model.md#solvers)
@@ -318,12 +324,12 @@ def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Sol
         found = primary.optimum(variant, w, starts=starts)
         build += found.build_seconds
         solve += found.seconds
-        if found.success:
-            candidates.append((found, gp))
+        if found.success and found.design is not None:
+            candidates.append((found, found.design, gp))
     if not candidates:
         raise diagnose_infeasible(problem)
-    found, gp = min(candidates, key=lambda c: c[0].objective)
-    variant, design = found.problem, found.design
+    found, design, gp = min(candidates, key=lambda c: c[0].objective)
+    variant = found.problem
     values = evaluate(design, variant.conditions)
     margins, active = constraint_margins(variant, design, values)
     objectives = {
@@ -338,7 +344,7 @@ def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Sol
         checks["scipy-slsqp"] = solver("scipy-slsqp").optimum(variant, w, starts=[design]).objective
         if gp is not None:
             checks["cvxpy-gp"] = _gp_polished(variant, gp.result, w)
-    wheel = variant.conditions.inertia.wheel.key if problem.wheels else None
+    wheel = wheel_of(variant) if problem.wheels else None
     return Solution(
         problem=variant if problem.wheels else problem,
         design=design,
@@ -356,7 +362,7 @@ def _optimise(problem: Problem, weights, cross_check: bool, samples: int) -> Sol
     )
 
 
-def _gp(problem: Problem, weights) -> Optimum | None:
+def _gp(problem: Problem, weights: Sequence[float]) -> Optimum | None:
     """The GP/SGP optimum (:data:`~designer.solvers.CROSS_CHECKS`), or None if cvxpy is missing, the GP fails or
     finds nothing feasible.
 
@@ -374,7 +380,7 @@ def _gp(problem: Problem, weights) -> Optimum | None:
     return found if found.success else None
 
 
-def _gp_polished(problem: Problem, gp, weights) -> float:
+def _gp_polished(problem: Problem, gp: GPResult, weights: Sequence[float]) -> float:
     from designer.solvers import gp as gp_module
 
     try:
@@ -386,15 +392,11 @@ def _gp_polished(problem: Problem, gp, weights) -> float:
 
 def diagnose_infeasible(problem: Problem) -> Exception:
     """Explain why no feasible design was found."""
-    best = None
-    for variant in problem.variants():
-        v, design, active = max_critical_speed(variant)
-        if best is None or v > best[0]:
-            best = (v, design, active, variant)
-    v, design, active, variant = best
+    found = [(*max_critical_speed(variant), variant) for variant in problem.variants()]
+    v, design, active, variant = max(found, key=lambda row: row[0])  # the first of equal maxima, as before
     if v < problem.required_speed * (1 - 1e-6):
         relax = ", ".join(active) if active else "the variable bounds"
-        wheel = f" with wheel {variant.conditions.inertia.wheel.key}" if problem.wheels else ""
+        wheel = f" with wheel {wheel_of(variant)}" if problem.wheels else ""
         return InfeasibleError(
             f"target speed {problem.required_speed:.3g} m/s (shimmy.target_speed × (1 + margin)) is out of reach: "
             f"the highest critical speed inside the bounds is {v:.3f} m/s{wheel} at {design.describe()}; "

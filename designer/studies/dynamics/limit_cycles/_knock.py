@@ -5,6 +5,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
+from typing import Any
 
 from designer.studies.dynamics.limit_cycles._system import CasterDynamics, caster_dynamics, simulate_knock
 from designer.errors import InputError, SolverError
@@ -34,7 +35,7 @@ class OnsetBracket(Record):
         """Geometric mean of the bracket [m/s]."""
         return math.sqrt(self.low * self.high)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """The bracket, its geometric mean and the number of knock simulations."""
         return {"low": self.low, "high": self.high, "speed": self.speed, "evaluations": self.evaluations}
 

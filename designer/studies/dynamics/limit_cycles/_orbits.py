@@ -6,13 +6,18 @@ The method is described in :mod:`designer.studies.dynamics.limit_cycles`.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from typing import Any, TypeAlias
 
 import numpy as np
 
 from designer.studies.dynamics.limit_cycles._system import CasterDynamics, _integrate
 from designer.errors import SolverError
 from designer.reprs import Record
+
+Residual: TypeAlias = Callable[[np.ndarray], "np.ndarray | None"]
+"""A shooting residual: the weighted return-map residual of the unknowns [rad], None where the map is undefined."""
 
 
 @dataclass(kw_only=True)
@@ -68,7 +73,7 @@ class PeriodicOrbit(Record):
     def _html_title(self) -> str:
         return "Periodic orbit (shimmy at constant amplitude)"
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """Plain floats (multipliers as [re, im] pairs)."""
         return {
             "amplitude": self.amplitude,
@@ -90,7 +95,7 @@ def _weights(sys: CasterDynamics) -> np.ndarray:
     return np.array([1 / T, 1 / (w * T), 1.0]) if sys.tyre is not None else np.array([1 / T, 1.0])
 
 
-def _half_map(sys: CasterDynamics, z: np.ndarray):
+def _half_map(sys: CasterDynamics, z: np.ndarray) -> tuple[np.ndarray | None, float]:
     """G(z) = −H(z): from a maximum of θ (θ' = 0, section state z) to minus the state at the next minimum."""
     period = 2 * math.pi / sys.frequency
     run = _integrate(sys, np.append(z, 0.0), 20 * period, stop_at_end_of=-1.0)
@@ -99,7 +104,7 @@ def _half_map(sys: CasterDynamics, z: np.ndarray):
     return -np.asarray(run.state[:-1]), run.time
 
 
-def _full_period(sys: CasterDynamics, z: np.ndarray):
+def _full_period(sys: CasterDynamics, z: np.ndarray) -> tuple[np.ndarray | None, float]:
     """Section state after one full period (no symmetry used) and the period [s]."""
     period = 2 * math.pi / sys.frequency
     first = _integrate(sys, np.append(z, 0.0), 20 * period, stop_at_end_of=-1.0)
@@ -120,7 +125,14 @@ def _describing_function_speed(sys: CasterDynamics, amplitude: float) -> float:
 
 # long: Newton on the half-period map, its step control, Floquet multipliers and the closure check
 def _damped_newton(
-    residual, u: np.ndarray, r: np.ndarray, scales, tol: float, max_iter: int, what: str, flip_step: bool
+    residual: Residual,
+    u: np.ndarray,
+    r: np.ndarray,
+    scales: Callable[[np.ndarray], np.ndarray],
+    tol: float,
+    max_iter: int,
+    what: str,
+    flip_step: bool,
 ) -> tuple[np.ndarray, np.ndarray, int]:
     """Newton's method with a forward-difference Jacobian and step halving, for the shooting maps below.
 
@@ -197,10 +209,10 @@ def periodic_orbit(
         guess = np.array([-sys.trail * A, V]) if n == 2 else np.array([-sys.trail * A, -V * A, V])
     u = np.array(guess, dtype=float)
 
-    def section(u):
+    def section(u: np.ndarray) -> np.ndarray:
         return np.concatenate([u[:-1], [A]])
 
-    def residual(u):
+    def residual(u: np.ndarray) -> np.ndarray | None:
         if not (u[-1] > 0 and math.isfinite(u[-1])):
             return None
         g, _ = _half_map(sys.at(u[-1]), section(u))
@@ -235,7 +247,7 @@ class Branch(Record):
             f"A {min(a):.4g}–{max(a):.4g} rad, {len(self.failed)} failed)"
         ]
 
-    def _html_rows(self) -> list[tuple]:
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         if not self.orbits:
             return [("orbits", "0", ""), ("failed amplitudes", str(len(self.failed)), "")]
         a = [o.amplitude for o in self.orbits]
@@ -250,9 +262,9 @@ class Branch(Record):
     def _html_title(self) -> str:
         return "Branch of periodic orbits"
 
-    def pieces(self) -> list[dict]:
+    def pieces(self) -> list[dict[str, Any]]:
         """Consecutive runs of equal stability: [{"kind", "speed", "amplitude"}] (SI, rad)."""
-        out: list[dict] = []
+        out: list[dict[str, Any]] = []
         for orb in self.orbits:
             kind = "stable" if orb.stable else "unstable"
             if not out or out[-1]["kind"] != kind:
@@ -262,7 +274,9 @@ class Branch(Record):
         return out
 
 
-def continue_orbits(sys: CasterDynamics, amplitudes, progress=None) -> Branch:
+def continue_orbits(
+    sys: CasterDynamics, amplitudes: Iterable[float], progress: Callable[[int, int], object] | None = None
+) -> Branch:
     """Follow the branch of symmetric periodic orbits over ``amplitudes`` [rad] (increasing or decreasing).
 
     Each orbit starts from the previous one (secant prediction of the unknowns scaled by A); a point where
@@ -350,7 +364,7 @@ def periodic_orbit_at_speed(
     n = sys.size - 1
     z = np.array(guess, dtype=float)[:n]
 
-    def residual(z):
+    def residual(z: np.ndarray) -> np.ndarray | None:
         g, _ = _half_map(sys, z)
         return None if g is None else (g - z) * w
 
@@ -358,7 +372,7 @@ def periodic_orbit_at_speed(
     if r is None:
         raise SolverError(f"periodic orbit at {sys.speed:.4g} m/s: the motion stops from the guess")
 
-    def scales(z):
+    def scales(z: np.ndarray) -> np.ndarray:
         A = abs(z[-1])
         return np.concatenate([[sys.trail * A], [sys.speed * A] if n == 3 else [], [A]])
 
@@ -388,7 +402,7 @@ def stable_orbit(
     return orb if orb.stable else None
 
 
-def speed_sweep(sys: CasterDynamics, speeds, start: PeriodicOrbit) -> Branch:
+def speed_sweep(sys: CasterDynamics, speeds: Iterable[float], start: PeriodicOrbit) -> Branch:
     """Follow an orbit in speed (each Newton solve starts from the last orbit); stops at the first failure."""
     branch = Branch()
     z = start.state
@@ -403,7 +417,7 @@ def speed_sweep(sys: CasterDynamics, speeds, start: PeriodicOrbit) -> Branch:
     return branch
 
 
-def _find_stable(sys: CasterDynamics, angles=(0.6, 1.2, 0.3, 2.4)) -> PeriodicOrbit | None:
+def _find_stable(sys: CasterDynamics, angles: Iterable[float] = (0.6, 1.2, 0.3, 2.4)) -> PeriodicOrbit | None:
     for a in angles:
         try:
             orb = stable_orbit(sys, angle=a, cycles=40.0)
