@@ -25,8 +25,7 @@ from designer.parameters import PARAMETERS
 from designer.problem import example_names, example_problem
 from designer.problem import Problem, family_of, load_problem
 from designer.reprs import Record, svg_curve
-from designer.plots.fronts import draw_fronts, plot_front
-from designer.plots.fronts import plot_variables
+from designer.plots import fronts as front_plots
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -289,7 +288,7 @@ class Front(Record):
         """
 
         f = self.objectives()
-        ax = plot_front(
+        ax = front_plots.plot_front(
             f[:, 0],
             f[:, 1],
             [p.family for p in self.points],
@@ -302,7 +301,7 @@ class Front(Record):
         )
         knee = self.knee()
         if knee is not None and len(self) >= 3:
-            draw_fronts(
+            front_plots.draw_fronts(
                 ax,
                 [],
                 [
@@ -328,7 +327,7 @@ class Front(Record):
         (:func:`designer.plots.fronts.plot_variables`).
         """
 
-        return plot_variables(
+        return front_plots.plot_variables(
             [p.threshold_force for p in self.points],
             self.designs(),
             [p.family for p in self.points],
