@@ -576,14 +576,15 @@ class CasterNLP:
 # --------------------------------------------------------------------------- multi-start
 
 
-SOBOL_FILE = Path(__file__).resolve().parents[2] / "data" / "sobol_d4_seed0.csv"
-"""``scipy.stats.qmc.Sobol(d=4, scramble=True, seed=0).random(1024)``, stored exactly (tests/solvers/test_closed_form.py
-checks that it is a Sobol net): the default sample, read without importing scipy.stats (0.7 s of CPU)."""
+SOBOL_FILE = Path(__file__).resolve().parents[2] / "data" / "sobol_d4_seed0.npy"
+"""``scipy.stats.qmc.Sobol(d=4, scramble=True, seed=0).random(1024)``, stored exactly as float64 in NumPy's ``.npy``
+format (tests/solvers/test_closed_form.py checks that it is a Sobol net): the default sample, read without importing
+scipy.stats (0.7 s of CPU)."""
 
 
 @functools.lru_cache(maxsize=1)
 def _stored_sobol() -> np.ndarray:
-    unit = np.loadtxt(SOBOL_FILE, delimiter=",", comments="#")
+    unit = np.load(SOBOL_FILE, allow_pickle=False)
     unit.setflags(write=False)
     return unit
 
