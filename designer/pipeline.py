@@ -19,11 +19,13 @@ and hand the result to :func:`designer.report.write_report`, which renders it an
 
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
 import time
+from collections.abc import Callable
 import warnings
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
@@ -39,7 +41,7 @@ from designer.studies.recommend import recommend
 from designer.studies.robust import robust_comparison
 
 if TYPE_CHECKING:  # record types for the checker only: designer.studies.front and .optimum load casadi
-    from designer.studies.checks import Check
+    from designer.studies.checks import Check, CheckValue
     from designer.studies.front import Front, TradeoffRow
     from designer.studies.optimum import Solution
     from designer.studies.recommend import Recommendation
@@ -153,7 +155,7 @@ class ReportData(Record):
         return CROSS_CHECK_COMMAND.format(problem=source)
 
 
-def degenerate_reason(problem, front) -> tuple[str, str]:
+def degenerate_reason(problem: Problem, front: Front) -> tuple[str, str]:
     """(sentence, short phrase) explaining why a front has fewer than two points; ("", "") otherwise."""
     pts = front.points
     if len(pts) >= 2:
@@ -189,7 +191,7 @@ def degenerate_reason(problem, front) -> tuple[str, str]:
     )
 
 
-def price_of_stock(front, recommendation) -> dict | None:
+def price_of_stock(front: Front, recommendation: Recommendation | None) -> dict[str, float | None] | None:
     """What building from stock costs against the continuous front, in each objective.
 
     ``extra`` [N]: the recommendation's F_turn minus the continuous front's at equal sill force, the front read
@@ -222,7 +224,7 @@ def price_of_stock(front, recommendation) -> dict | None:
     }
 
 
-def card_knock_safe(problem, recommendation) -> list[dict]:
+def card_knock_safe(problem: Problem, recommendation: Recommendation) -> list[dict[str, float]]:
     """Knock-safe speeds (θ0 and 2 θ0 knocks) of the recommendation and its alternatives, in card order [m/s]."""
 
     casters = [recommendation, *(getattr(recommendation, "alternatives", None) or [])]
@@ -235,18 +237,18 @@ def card_knock_safe(problem, recommendation) -> list[dict]:
 class _Clock:
     """CPU and wall seconds of named steps (``run["cpu"]`` and ``run["seconds"]``)."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.cpu: dict[str, float] = {}
         self.wall: dict[str, float] = {}
 
-    def __call__(self, name: str):
+    def __call__(self, name: str) -> contextlib.AbstractContextManager[None]:
         clock = self
 
         class _Step:
-            def __enter__(self):
+            def __enter__(self) -> None:
                 self.c, self.w = time.process_time(), time.perf_counter()
 
-            def __exit__(self, *exc):
+            def __exit__(self, *exc: object) -> Literal[False]:
                 clock.cpu[name] = clock.cpu.get(name, 0.0) + time.process_time() - self.c
                 clock.wall[name] = clock.wall.get(name, 0.0) + time.perf_counter() - self.w
                 return False
@@ -254,7 +256,7 @@ class _Clock:
         return _Step()
 
 
-def _recommend(problem):
+def _recommend(problem: Problem) -> tuple[Recommendation | None, str]:
     """The recommendation of ``problem``: (Recommendation or None, reason when None)."""
 
     try:
@@ -265,21 +267,21 @@ def _recommend(problem):
 
 # long: the pipeline's steps in order (front, optimum, recommendation, checks, trade-off)
 def report_data(
-    problem,
+    problem: Problem,
     points: int | None = None,
     *,
-    front=None,
-    tighter=None,
-    recommendation=None,
-    solution=None,
-    checks=None,
-    tradeoff=None,
+    front: Front | None = None,
+    tighter: Front | None = None,
+    recommendation: Recommendation | None = None,
+    solution: Solution | None = None,
+    checks: list[Check] | None = None,
+    tradeoff: list[TradeoffRow] | None = None,
     cross_check: bool = False,
     with_tighter: bool = True,
     with_recommendation: bool = True,
     with_knock_safe: bool = True,
-    progress=None,
-    run_meta: dict | None = None,
+    progress: Callable[[str], Callable[[int, int], object] | None] | None = None,
+    run_meta: dict[str, Any] | None = None,
 ) -> ReportData:
     """Compute everything the Pareto report of ``problem`` shows.
 
@@ -308,7 +310,7 @@ def report_data(
     clock = _Clock()
     wall0 = time.perf_counter()
     track = progress or (lambda label: None)
-    tighter_error = None
+    tighter_error: CheckValue = None
     n_tight = None
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="inertia power law used at")
@@ -437,7 +439,7 @@ class RobustData(Record):
         return f"Price of safety of {self.problem.name!r}"
 
 
-def robust_data(problem, points: int = 21) -> RobustData:
+def robust_data(problem: Problem, points: int = 21) -> RobustData:
     """Compute the price of safety of ``problem`` (:func:`designer.studies.robust.robust_comparison`)."""
 
     c0 = time.process_time()

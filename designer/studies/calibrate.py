@@ -33,13 +33,17 @@ from __future__ import annotations
 import csv
 import math
 import warnings
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from scipy import stats
 from scipy.optimize import curve_fit
+
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
 
 from designer.data.paper import INCH, SLIP_COEFFICIENT, TABLE1
 from designer.errors import InputError
@@ -100,7 +104,7 @@ class CalibrationResult(Record):
     y_label: str
     rms: float
     equation: str
-    notes: dict = field(default_factory=dict)
+    notes: dict[str, Any] = field(default_factory=dict)
 
     @property
     def y_unit(self) -> str:
@@ -111,7 +115,8 @@ class CalibrationResult(Record):
     @property
     def residuals(self) -> np.ndarray:
         """Measured − fitted [unit of y]."""
-        return self.y - self.fitted
+        residuals: np.ndarray = self.y - self.fitted
+        return residuals
 
     def to_dict(self) -> dict[str, Any]:
         """Plain-Python summary: ``value`` and ``interval`` [low, high] (95 %) among others (no data arrays:
@@ -198,7 +203,7 @@ class CalibrationResult(Record):
 
 
 def read_columns(
-    path, required: tuple[str, ...], optional: tuple[str, ...] = (), min_rows: int = MIN_ROWS
+    path: str | Path, required: tuple[str, ...], optional: tuple[str, ...] = (), min_rows: int = MIN_ROWS
 ) -> dict[str, np.ndarray]:
     """Read numeric columns of a CSV file with a header row.
 
@@ -262,7 +267,7 @@ def read_columns(
     return {c: np.asarray(v, dtype=float) for c, v in data.items()}
 
 
-def _require(path, name, values, positive=True, allow_zero=False):
+def _require(path: str | Path, name: str, values: np.ndarray, positive: bool = True, allow_zero: bool = False) -> None:
     bad = (values < 0) if allow_zero else (values <= 0)
     if positive and bad.any():
         row = int(np.argmax(bad)) + 2
@@ -285,7 +290,7 @@ SLIP_RATIO_MAX = 1.0
 """Largest |ΔV/V| of a slip test [-]: a ratio (ΔV <= V); a larger number is a percentage."""
 
 
-def _in_model_range(path, name: str, values: np.ndarray) -> None:
+def _in_model_range(path: str | Path, name: str, values: np.ndarray) -> None:
     """InputError naming the row and column of the first value outside the column's model range."""
     entry, exclusive = COLUMN_RANGES[name]
     p = PARAMETERS[entry]
@@ -330,12 +335,12 @@ def _check_result(value: float, stderr: float, constant: str, columns: str, sour
 # Fits
 
 
-def _interval(value, stderr, n):
+def _interval(value: float, stderr: float, n: int) -> tuple[float, float]:
     t = stats.t.ppf(0.975, max(n - 1, 1))
     return (float(value - t * stderr), float(value + t * stderr))
 
 
-def _through_origin(x, y, columns: str, source: str):
+def _through_origin(x: np.ndarray, y: np.ndarray, columns: str, source: str) -> tuple[float, float]:
     """Slope k of y = k x by least squares (scipy ``curve_fit``) and its standard error (inf when the
     covariance cannot be estimated); InputError naming the abscissa column when every value of it is 0.
 
@@ -358,7 +363,9 @@ def _through_origin(x, y, columns: str, source: str):
     return float(popt[0]) * factor, (math.sqrt(variance) * factor if variance >= 0 else math.inf)
 
 
-def fit_turning(load, moment, surface: str = "tile", source: str = "") -> CalibrationResult:
+def fit_turning(
+    load: npt.ArrayLike, moment: npt.ArrayLike, surface: str = "tile", source: str = ""
+) -> CalibrationResult:
     """Moment per unit load k_surface [m] from drill-press data (Fig. 7; docs/model.md#turning-effort).
 
     Least squares through the origin, M = k L (scipy ``curve_fit``), with a
@@ -405,11 +412,13 @@ def fit_turning(load, moment, surface: str = "tile", source: str = "") -> Calibr
     )
 
 
-def _log_fit(per_damping, groove_term, v, low: float, high: float) -> tuple[float, float]:
+def _log_fit(
+    per_damping: np.ndarray, groove_term: np.ndarray, v: np.ndarray, low: float, high: float
+) -> tuple[float, float]:
     """c_f [N·m/rad] in [low, high] and its standard error (inf if not estimable) for V_c² = a c_f + b
     (Eq. 7's two terms, ``per_damping`` a and ``groove_term`` b) fitted to the speeds ``v`` in log V_c."""
 
-    def log_model(_x, c_f):
+    def log_model(_x: Any, c_f: float) -> Any:
         return 0.5 * np.log(per_damping * c_f + groove_term)
 
     # Residuals in log V_c: measured speeds scatter by a roughly constant
@@ -424,7 +433,12 @@ def _log_fit(per_damping, groove_term, v, low: float, high: float) -> tuple[floa
 
 
 def fit_damping(
-    trail, inertia, critical_speed, groove=None, slip_coefficient: float = SLIP_COEFFICIENT, source: str = ""
+    trail: npt.ArrayLike,
+    inertia: npt.ArrayLike,
+    critical_speed: npt.ArrayLike,
+    groove: npt.ArrayLike | None = None,
+    slip_coefficient: float = SLIP_COEFFICIENT,
+    source: str = "",
 ) -> CalibrationResult:
     """Spindle friction damping c_f = M_f/θ0 [N·m/rad] from measured critical speeds (Fig. 2C).
 
@@ -464,7 +478,7 @@ def fit_damping(
             "in the wrong unit?)"
         )
 
-    def model(_x, c_f):
+    def model(_x: Any, c_f: float) -> Any:
         return np.sqrt(per_damping * c_f + groove_term)
 
     c_f, se = _log_fit(per_damping, groove_term, v, low, high)
@@ -496,7 +510,7 @@ def fit_damping(
     )
 
 
-def fit_slip(slip_ratio, force, source: str = "") -> CalibrationResult:
+def fit_slip(slip_ratio: npt.ArrayLike, force: npt.ArrayLike, source: str = "") -> CalibrationResult:
     """Tyre slip coefficient K_s [N] from treadmill data (Fig. 3C, Eq. 12C: F_T = K_s ΔV/V).
 
     Least squares through the origin (scipy ``curve_fit``) with a 95 %
@@ -538,7 +552,7 @@ def fit_slip(slip_ratio, force, source: str = "") -> CalibrationResult:
 
 
 def calibrate_file(
-    kind: str, path, slip_coefficient: float = SLIP_COEFFICIENT, surface: str = "tile"
+    kind: str, path: str | Path, slip_coefficient: float = SLIP_COEFFICIENT, surface: str = "tile"
 ) -> CalibrationResult:
     """Read ``path`` (CSV) and run the ``kind`` fit ("turning", "damping" or "slip").
 
@@ -593,7 +607,7 @@ EXAMPLE_SEED = 7
 """Seed of :func:`write_examples` (numpy default_rng)."""
 
 
-def write_examples(out_dir=EXAMPLES_DIR, seed: int = EXAMPLE_SEED) -> dict[str, Path]:
+def write_examples(out_dir: str | Path = EXAMPLES_DIR, seed: int = EXAMPLE_SEED) -> dict[str, Path]:
     """Generate the example CSVs from the model with stated noise.
 
     - ``turning_tile.csv``: loads 50–250 N (9 points), moment = 0.005 m × L
@@ -630,7 +644,7 @@ def write_examples(out_dir=EXAMPLES_DIR, seed: int = EXAMPLE_SEED) -> dict[str, 
     for trail in (1.5 * INCH, 2.0 * INCH, 2.5 * INCH):
         rows.append((trail, 0.00127, 9 / 16 * INCH))
     arr = np.array(rows)
-    v = critical_shimmy_speed(arr[:, 0], arr[:, 1], arr[:, 2], 1.3, SLIP_COEFFICIENT)
+    v = np.asarray(critical_shimmy_speed(arr[:, 0], arr[:, 1], arr[:, 2], 1.3, SLIP_COEFFICIENT), float)
     v = v * (1 + rng.normal(0, 0.05, v.size))
     paths["damping"] = _write(
         out / "damping.csv",
@@ -644,7 +658,7 @@ def write_examples(out_dir=EXAMPLES_DIR, seed: int = EXAMPLE_SEED) -> dict[str, 
     return paths
 
 
-def _write(path: Path, header, rows) -> Path:
+def _write(path: Path, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> Path:
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(header)

@@ -9,8 +9,9 @@ Pareto front.  ``designer validate`` prints them; the reports embed them.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, field
-from typing import Any, TypeAlias
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
 
@@ -35,7 +36,13 @@ from designer.physics.shimmy import (
 )
 from designer.physics.turning import sliding_turning_moment
 from designer.reprs import Record, shown
+from designer.problem import Problem
+from designer.solvers.base import wheel_of
 from designer.studies.dynamics.limit_cycles import knock_safe_speed
+
+if TYPE_CHECKING:  # record and solver types for the checker only: designer.studies.front loads casadi
+    from designer.solvers.nlp import CasterNLP
+    from designer.studies.front import Front, FrontPoint
 
 TABLE1_RMS_TOLERANCE = 0.15
 """Check 2 passes if the RMS relative error of Eq. 7 over wheels C–G is within the
@@ -59,6 +66,9 @@ KINDS = ("paper", "identity", "front", "law")
 the model has built in (checks 3, 4, 5: they confirm the implementation, not the physics); front: check 8
 on a computed Pareto front; law: the risk law against the Table 1 wheels it was not fitted to (11)."""
 
+
+Model: TypeAlias = Callable[..., Any]
+"""A model function a check runs (injectable, so a test can hand a check a wrong model and see it fail)."""
 
 CheckValue: TypeAlias = float | int | str | bool | None
 """What a check expects or got: a number, a property in words, or None."""
@@ -91,9 +101,9 @@ class Check(Record):
     kind: str = "paper"
     outcome: str = ""
     disagreements: list[str] = field(default_factory=list)
-    rows: list[dict] = field(default_factory=list)
+    rows: list[dict[str, Any]] = field(default_factory=list)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if not self.outcome:
             self.outcome = REPRODUCED if self.passed else FAILS
         if self.outcome not in OUTCOMES or self.kind not in KINDS:
@@ -128,7 +138,7 @@ class Check(Record):
         return rows + [("disagreement", line, "") for line in self.disagreements]
 
 
-def count_outcomes(checks) -> dict:
+def count_outcomes(checks: Iterable[Check]) -> dict[str, dict[str, int]]:
     """Counts for a summary line: paper checks by outcome, identities, front checks, law checks by outcome."""
     out = {kind: {o: 0 for o in OUTCOMES} for kind in KINDS}
     for c in checks:
@@ -136,7 +146,7 @@ def count_outcomes(checks) -> dict:
     return out
 
 
-def summary_line(checks) -> str:
+def summary_line(checks: Iterable[Check]) -> str:
     """ "n paper checks reproduced, k disagree within the stated scatter, f fail; m implementation identities hold"."""
     n = count_outcomes(checks)
     p, i = n["paper"], n["identity"]
@@ -202,7 +212,7 @@ def _disagreement(
     )
 
 
-def check_eq8(critical_speed=critical_shimmy_speed) -> Check:
+def check_eq8(critical_speed: Model = critical_shimmy_speed) -> Check:
     """Check 1: Eq. 8 sample calculation gives V_c = 2.91 m/s.
 
     ``critical_speed`` : the model under test (default Eq. 7); tests pass a perturbed one.
@@ -221,7 +231,7 @@ def check_eq8(critical_speed=critical_shimmy_speed) -> Check:
     )
 
 
-def check_table1(critical_speed=critical_shimmy_speed) -> Check:
+def check_table1(critical_speed: Model = critical_shimmy_speed) -> Check:
     """Check 2: Eq. 7 against the measured V_c of Table 1 wheels C–G at 2 in trail; A and B well above walking speed.
 
     Three outcomes: fails if the RMS error over C–G exceeds the paper's scatter
@@ -270,20 +280,20 @@ def check_table1(critical_speed=critical_shimmy_speed) -> Check:
     )
 
 
-def _model_turning_effort(trail, groove, damping, load):
+def _model_turning_effort(trail: Any, groove: Any, damping: Any, load: Any) -> np.ndarray:
     """F_turn [N] as the model computes it (Eq. 9 with the turning model; tile, chair, θ0 = 20°): the checks
     verify what the tool uses (:func:`designer.model.evaluate_candidates`)."""
     design = {"trail": trail, "diameter": 8 * INCH, "groove": groove, "damping": damping}
     return evaluate_candidates(design, Conditions(load=load)).turning_effort
 
 
-def _model_threshold_force_ratio(diameter, height):
+def _model_threshold_force_ratio(diameter: Any, height: Any) -> np.ndarray:
     """P/L [-] as the model computes it (Eq. 4A) for a wheel of ``diameter`` [m] at a sill of ``height`` [m]."""
     design = {"trail": 2 * INCH, "diameter": diameter, "groove": 0.0, "damping": BARE_FORK_DAMPING}
     return evaluate_candidates(design, Conditions(load=1.0, threshold_height=height)).threshold_force
 
 
-def check_groove_turning(moment=sliding_turning_moment, effort=_model_turning_effort) -> Check:
+def check_groove_turning(moment: Model = sliding_turning_moment, effort: Model = _model_turning_effort) -> Check:
     """Check 3 (implementation identity): a ½ in groove (B = 9/16 in) costs 10 % more turning moment, both modes."""
     b = 9 / 16 * INCH
     ratios = {
@@ -307,7 +317,7 @@ def check_groove_turning(moment=sliding_turning_moment, effort=_model_turning_ef
     )
 
 
-def check_carpet(moment=sliding_turning_moment) -> Check:
+def check_carpet(moment: Model = sliding_turning_moment) -> Check:
     """Check 4 (implementation identity): carpet about doubles the sliding turning moment."""
     ratio = float(moment(178.0, 0.0, "carpet", "pivot") / moment(178.0, 0.0, "tile", "pivot"))
     return Check(
@@ -322,7 +332,7 @@ def check_carpet(moment=sliding_turning_moment) -> Check:
     )
 
 
-def check_trail_halves(effort=_model_turning_effort) -> Check:
+def check_trail_halves(effort: Model = _model_turning_effort) -> Check:
     """Check 5 (implementation identity): doubling the trail halves the turning effort (F = M/T)."""
     f1 = float(effort(1.25 * INCH, 0.0, BARE_FORK_DAMPING, 178.0))
     f2 = float(effort(2.5 * INCH, 0.0, BARE_FORK_DAMPING, 178.0))
@@ -339,7 +349,7 @@ def check_trail_halves(effort=_model_turning_effort) -> Check:
     )
 
 
-def check_monotonic(critical_speed=critical_shimmy_speed) -> Check:
+def check_monotonic(critical_speed: Model = critical_shimmy_speed) -> Check:
     """Check 6: V_c rises with trail, damping and groove, and falls with I_w and with d."""
     rng = np.random.default_rng(6)
     n = 2000
@@ -370,7 +380,7 @@ def check_monotonic(critical_speed=critical_shimmy_speed) -> Check:
     )
 
 
-def check_threshold_curve(ratio=_model_threshold_force_ratio) -> Check:
+def check_threshold_curve(ratio: Model = _model_threshold_force_ratio) -> Check:
     """Check 7: P/L at h = ½ in rises steeply below 6 in diameter and flattens toward 8 in.
 
     The paper's claim is qualitative (Fig. 2A).  Quantified as: P/L decreasing
@@ -384,11 +394,13 @@ def check_threshold_curve(ratio=_model_threshold_force_ratio) -> Check:
     decreasing = bool(np.all(np.diff(curve) < 0))
     convex = bool(np.all(np.diff(curve, 2) > 0))
 
-    def slope(x):
+    def slope(x: float) -> float:
         e = 1e-4
         return float(ratio((x + e) * INCH, h) - ratio((x - e) * INCH, h)) / (2 * e)
 
-    def ratio_of(a, b):  # a flat curve (a perturbed model) must fail the check, not divide by zero
+    def ratio_of(
+        a: float, b: float
+    ) -> float:  # a flat curve (a perturbed model) must fail the check, not divide by zero
         return a / b if b != 0 else (math.inf if a != 0 else 0.0)
 
     s4, s8 = slope(4), slope(8)
@@ -407,7 +419,9 @@ def check_threshold_curve(ratio=_model_threshold_force_ratio) -> Check:
 
 
 def check_routh_hurwitz(
-    routh_hurwitz=routh_hurwitz_critical_speed, friction=critical_shimmy_speed, hydraulic=critical_speed_hydraulic
+    routh_hurwitz: Model = routh_hurwitz_critical_speed,
+    friction: Model = critical_shimmy_speed,
+    hydraulic: Model = critical_speed_hydraulic,
 ) -> Check:
     """Check 9: the third-order model's Routh–Hurwitz threshold equals Eq. 20B (Eq. 5 hydraulic, Eq. 7 friction)."""
     cases = [
@@ -432,7 +446,7 @@ def check_routh_hurwitz(
     )
 
 
-def check_quadra(critical_speed=critical_shimmy_speed) -> Check:
+def check_quadra(critical_speed: Model = critical_shimmy_speed) -> Check:
     """Check 10: the Quadra wheel (A) at 2.5 in trail does not shimmy below 3.8 m/s."""
     a = TABLE1[0]
     v = float(critical_speed(2.5 * INCH, a.inertia, 0.0, BARE_FORK_DAMPING))
@@ -446,7 +460,7 @@ def check_quadra(critical_speed=critical_shimmy_speed) -> Check:
     )
 
 
-def check_inertia_fit(fit=fit_table1_power_law) -> Check:
+def check_inertia_fit(fit: Model = fit_table1_power_law) -> Check:
     """Table 1 power-law fit: n ≈ 3.50 and I_w(8 in) ≈ 1.87e-3 kg·m² (docs/model.md, wheel inertia)."""
     c, n = fit()
     i8 = c * (8 * INCH) ** n
@@ -480,7 +494,7 @@ def paper_checks() -> list[Check]:
 # --------------------------------------------------------------------------- check 8 on fronts
 
 
-def front_checks(front, tighter=None, tol: float = 1e-6) -> list[Check]:
+def front_checks(front: Front, tighter: Front | None = None, tol: float = 1e-6) -> list[Check]:
     """Check 8 on a computed front: monotone trade-off, shimmy active where it can be, tighter target dominated.
 
     Parameters
@@ -496,7 +510,7 @@ def front_checks(front, tighter=None, tol: float = 1e-6) -> list[Check]:
     return checks
 
 
-def _tradeoff_check(pts, tol: float) -> Check:
+def _tradeoff_check(pts: Sequence[FrontPoint], tol: float) -> Check:
     """8a: along decreasing threshold force P the diameter d and the turning effort F_turn do not fall."""
     if len(pts) < 2:
         return Check(
@@ -525,7 +539,7 @@ def _tradeoff_check(pts, tol: float) -> Check:
     )
 
 
-def _shimmy_active_check(problem, pts, tol: float) -> Check:
+def _shimmy_active_check(problem: Problem, pts: Sequence[FrontPoint], tol: float) -> Check:
     """8b: the shimmy constraint (Eq. 7) is active wherever it can be."""
     # shimmy active wherever it can be: inactive only at the bare minimum-effort caster for that d
     lo = problem.lower()
@@ -552,7 +566,7 @@ def _shimmy_active_check(problem, pts, tol: float) -> Check:
     )
 
 
-def _tighter_check(front, tighter) -> Check:
+def _tighter_check(front: Front, tighter: Front) -> Check:
     """8c: the front of a higher V_target is weakly dominated by ``front`` (not applicable when the tighter
     target is out of reach of the bounds)."""
     problem = front.problem
@@ -584,14 +598,14 @@ def _tighter_check(front, tighter) -> Check:
     )
 
 
-def highest_critical_speed(problem) -> float:
+def highest_critical_speed(problem: Problem) -> float:
     """Highest V_c [m/s] inside the bounds of ``problem`` (over its catalog wheels), by IPOPT (Eq. 7)."""
     from designer.solvers.nlp import max_critical_speed
 
     return max(max_critical_speed(v)[0] for v in problem.variants())
 
 
-def dominated_by_problem(problem, other_front, rel_tol: float = 1e-7) -> tuple[int, int]:
+def dominated_by_problem(problem: Problem, other_front: Front, rel_tol: float = 1e-7) -> tuple[int, int]:
     """Count points of ``other_front`` NOT weakly dominated by ``problem``'s exact front.
 
     For each point q, solves the ε-constraint NLP of ``problem`` at ε = P(q)
@@ -601,14 +615,14 @@ def dominated_by_problem(problem, other_front, rel_tol: float = 1e-7) -> tuple[i
     from designer.solvers.nlp import shared_nlp
 
     not_dominated = 0
-    cache = {}
+    cache: dict[object, CasterNLP] = {}
     screened = _dominated_in_batch(problem, other_front.points, rel_tol)
     for k, q in enumerate(other_front.points):
         if k in screened:
             continue
         variants = problem.variants()
         if problem.wheels:
-            variants = [v for v in variants if v.conditions.inertia.wheel.key == q.wheel]
+            variants = [v for v in variants if wheel_of(v) == q.wheel]
         best = np.inf
         for variant in variants:
             key = id(variant) if not problem.wheels else q.wheel
@@ -622,15 +636,15 @@ def dominated_by_problem(problem, other_front, rel_tol: float = 1e-7) -> tuple[i
     return not_dominated, len(other_front.points)
 
 
-def _dominated_in_batch(problem, points, rel_tol: float) -> set:
+def _dominated_in_batch(problem: Problem, points: Sequence[FrontPoint], rel_tol: float) -> set[int]:
     """Indices of ``points`` that ``problem`` is seen to dominate: the NLPs of :func:`dominated_by_problem` in one
     warm batch per variant (``solve_many`` from q's multipliers as an optimum); a successful block with F_turn <=
     F_turn(q)(1 + ``rel_tol``) is a feasible design dominating q.  The others get the single solves."""
     from designer.solvers.nlp import shared_nlp
 
-    found = set()
+    found: set[int] = set()
     for variant in problem.variants():
-        wheel = variant.conditions.inertia.wheel.key if problem.wheels else None
+        wheel = wheel_of(variant) if problem.wheels else None
         idx = [k for k, q in enumerate(points) if wheel is None or q.wheel == wheel]
         if not idx:
             continue
@@ -659,7 +673,7 @@ LOO_FAILS_BELOW = 3
 """... and fails when fewer than 3 do (probability 0.9 % for a calibrated law, wheels taken as independent)."""
 
 
-def _pit_rows(assumed: bool) -> list[dict]:
+def _pit_rows(assumed: bool) -> list[dict[str, Any]]:
     """One row per Table 1 wheel C–G: the law refitted without it, and the PIT of its measured onset."""
     rows = []
     for wheel in TABLE1:
@@ -715,10 +729,10 @@ def _inside(pit: float) -> bool:
     return (1 - LOO_LEVEL) / 2 <= pit <= 1 - (1 - LOO_LEVEL) / 2
 
 
-_LOO_CACHE: dict[bool, list[dict]] = {}
+_LOO_CACHE: dict[bool, list[dict[str, Any]]] = {}
 
 
-def leave_one_out_rows(assumed: bool = True) -> list[dict]:
+def leave_one_out_rows(assumed: bool = True) -> list[dict[str, Any]]:
     """Check 11's table (cached): for each Table 1 wheel C–G, the power law and the model-error scale refitted
     without it (Student-t on 4 degrees of freedom each), and the probability integral transform
     P(V_c,true <= V_measured) of its measured onset under the exact law, predicted twice: from its diameter
@@ -786,10 +800,10 @@ def law_checks() -> list[Check]:
 
 # --------------------------------------------------------------------------- the knock-safe speed against Table 1
 
-_KNOCK_CACHE: dict[float, dict] = {}
+_KNOCK_CACHE: dict[float, dict[str, Any]] = {}
 
 
-def knock_safe_table1_error(angle: float | None = None) -> dict:
+def knock_safe_table1_error(angle: float | None = None) -> dict[str, Any]:
     """The knock-safe speed's error against Table 1 (cached): log RMS and bias of the simulated onsets [-].
 
     For wheels C–G at Table 1's conditions (T = 2 in, B = 0, bare fork c_f = 1.3 N·m/rad, the wheel's measured

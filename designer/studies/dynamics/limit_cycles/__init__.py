@@ -26,7 +26,8 @@ Stick (θ' = 0): the moment the spindle must hold is T K X (rolling) or
 T (N F + M_W K X)/(N + M_W) (tyre); the caster sticks while it is at most M_f.
 
 Docs: docs/limit-cycles.md.  Modules: :mod:`~designer.studies.dynamics.limit_cycles._system` (equations,
-integration, knocks), :mod:`~designer.studies.dynamics.limit_cycles._knock` (onset, knock-safe speed),
+integration, knocks), :mod:`~designer.studies.dynamics.limit_cycles._records` (the knocks' records),
+:mod:`~designer.studies.dynamics.limit_cycles._knock` (onset, knock-safe speed),
 :mod:`~designer.studies.dynamics.limit_cycles._orbits` (periodic orbits), :mod:`~designer.studies.dynamics.limit_cycles._studies`
 (bifurcation diagram, Table 1, (K, N) map).
 
@@ -42,16 +43,15 @@ period from it (closure) and by perturbed simulations.
 
 from __future__ import annotations
 
+from designer.studies.dynamics.limit_cycles._records import KnockResult, OnsetBracket
 from designer.studies.dynamics.limit_cycles._system import (
     CasterDynamics,
-    KnockResult,
     _extrema,
     _integrate,
     caster_dynamics,
     simulate_knock,
 )
 from designer.studies.dynamics.limit_cycles._knock import (
-    OnsetBracket,
     knock_onset_speed,
     knock_safe_speed,
     knock_safe_speeds,

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from collections.abc import Iterable
 from typing import Any
 
+from designer.studies.dynamics.limit_cycles._records import OnsetBracket
 from designer.studies.dynamics.limit_cycles._system import CasterDynamics, caster_dynamics, simulate_knock
 from designer.errors import InputError, SolverError
-from designer.reprs import Record
 from designer.studies.dynamics._work import bounded
 from designer.model import Conditions, Design
 from designer.physics.inertia import Fixed
@@ -18,34 +18,6 @@ from designer.physics.tyre import TyreParameters
 FAST_BRACKET = (0.96, 1.04)
 """Start of the knock-safe bisection around Eq. 7's V_c (c_f,eff = M_f/θ_i) [-]: over the default problem's
 front the simulated onset of the rolling model is 0.977–1.016 × that guess for θ0 and 2 θ0."""
-
-
-@dataclass(kw_only=True)
-class OnsetBracket(Record):
-    """Knock onset by bisection: the knock decays at ``low`` and is sustained at ``high`` [m/s]."""
-
-    low: float
-    high: float
-    evaluations: int
-
-    _units = {"low": "m/s", "high": "m/s", "speed": "m/s"}
-
-    @property
-    def speed(self) -> float:
-        """Geometric mean of the bracket [m/s]."""
-        return math.sqrt(self.low * self.high)
-
-    def to_dict(self) -> dict[str, Any]:
-        """The bracket, its geometric mean and the number of knock simulations."""
-        return {"low": self.low, "high": self.high, "speed": self.speed, "evaluations": self.evaluations}
-
-    def _repr_lines(self) -> list[str]:
-        return [
-            f"OnsetBracket(knock onset {self.speed:.4g} m/s in [{self.low:.4g}, {self.high:.4g}], {self.evaluations} simulations)"
-        ]
-
-    def _html_title(self) -> str:
-        return "Knock onset (bisection)"
 
 
 @bounded("knock onset search")
@@ -74,9 +46,9 @@ def knock_onset_speed(
             4 * c_eff * sys.trail**2 / (math.pi * sys.inertia) + sys.groove_coefficient * sys.trail / sys.inertia
         )
     n = 0
-    cache = {}
+    cache: dict[float, bool] = {}
 
-    def sustained(v):
+    def sustained(v: float) -> bool:
         nonlocal n
         if v not in cache:
             n += 1
@@ -161,7 +133,12 @@ def _rolling_knock_safe(sys: CasterDynamics, theta: float, rtol: float) -> float
     return float(knock_onset_speed(sys, theta, rtol=rtol, bracket=FAST_BRACKET, widen=1.15, tries=32, exact=True).low)
 
 
-def knock_safe_speeds(designs, conditions: Conditions = Conditions(), rtol: float = 0.005, inertias=None) -> list[dict]:
+def knock_safe_speeds(
+    designs: Iterable[Design],
+    conditions: Conditions = Conditions(),
+    rtol: float = 0.005,
+    inertias: Iterable[float | None] | None = None,
+) -> list[dict[str, Any]]:
     """Knock-safe speeds of a few designs (the recommendation card): knocks of θ0 and 2 θ0, rolling tyre.
 
     Each design costs two bisections of :func:`knock_safe_speed` with the closed-form integration (about
@@ -184,14 +161,14 @@ def knock_safe_speeds(designs, conditions: Conditions = Conditions(), rtol: floa
         ``knock_angle`` θ0 [rad], ``knock_safe_rtol`` [-].
     """
     theta0 = float(conditions.disturbance_angle)
-    designs = list(designs)
-    inertias = [None] * len(designs) if inertias is None else list(inertias)
-    out = []
-    for design, inertia in zip(designs, inertias):
+    items = list(designs)
+    known: list[float | None] = [None] * len(items) if inertias is None else list(inertias)
+    out: list[dict[str, Any]] = []
+    for design, inertia in zip(items, known):
         cond = conditions
         if inertia is not None and math.isfinite(float(inertia)):
             cond = conditions.replace(inertia=Fixed(float(inertia)))
-        row: dict = {"knock_angle": theta0, "knock_safe_rtol": rtol}
+        row: dict[str, Any] = {"knock_angle": theta0, "knock_safe_rtol": rtol}
         for key, factor in (("knock_safe_speed", 1.0), ("knock_safe_speed_double", 2.0)):
             row[key] = None
             if factor * theta0 >= math.pi / 2:
@@ -204,7 +181,9 @@ def knock_safe_speeds(designs, conditions: Conditions = Conditions(), rtol: floa
     return out
 
 
-def scanned_onset_speed(sys: CasterDynamics, angle: float, speeds, rtol: float = 0.01) -> dict:
+def scanned_onset_speed(
+    sys: CasterDynamics, angle: float, speeds: Iterable[float], rtol: float = 0.01
+) -> dict[str, Any]:
     """Lowest speed at which a knock θ_i [rad] is sustained, from a scan over ``speeds`` [m/s] then bisection.
 
     Unlike :func:`knock_onset_speed` it does not assume one transition: the brush tyre on a stiff frame has
@@ -213,16 +192,16 @@ def scanned_onset_speed(sys: CasterDynamics, angle: float, speeds, rtol: float =
     Returns {"speed" [m/s] (NaN if sustained nowhere in the scan), "monotone" (sustained at every scanned
     speed above the first), "below_scan" (sustained already at the lowest scanned speed), "evaluations"}.
     """
-    speeds = [float(v) for v in speeds]
-    outcomes = [simulate_knock(sys.at(v), angle).shimmy for v in speeds]
-    n = len(speeds)
+    scan = [float(v) for v in speeds]
+    outcomes = [simulate_knock(sys.at(v), angle).shimmy for v in scan]
+    n = len(scan)
     if not any(outcomes):
         return {"speed": math.nan, "monotone": True, "below_scan": False, "evaluations": n}
     k = outcomes.index(True)
     monotone = all(outcomes[k:])
     if k == 0:
-        return {"speed": speeds[0], "monotone": monotone, "below_scan": True, "evaluations": n}
-    low, high = speeds[k - 1], speeds[k]
+        return {"speed": scan[0], "monotone": monotone, "below_scan": True, "evaluations": n}
+    low, high = scan[k - 1], scan[k]
     while high / low - 1 > rtol:
         mid = math.sqrt(low * high)
         n += 1

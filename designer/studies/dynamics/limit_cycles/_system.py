@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.errors import InputError, SolverError
-from designer.reprs import Record
+from designer.studies.dynamics.limit_cycles._records import KnockResult
 from designer.model import Conditions, Design
 from designer.physics import bracketed_root
 from designer.physics.motion import (
@@ -448,53 +448,6 @@ def _extrema(ends) -> np.ndarray:
         if k + 1 == len(ends) or ends[k + 1][2] != s:
             out.append((t, th))
     return np.asarray(out, dtype=float).reshape(-1, 2)
-
-
-@dataclass(kw_only=True)
-class KnockResult(Record):
-    """What a knock does: the trace, the amplitudes and the verdict.
-
-    Attributes
-    ----------
-    t, theta : time [s] and caster angle θ [rad] (empty unless ``record``)
-    extrema : (t [s], θ [rad]) at the reversals
-    early_amplitude : mean half peak-to-peak over two periods after the aligning transient [rad]
-    late_amplitude : the same over the last two periods (0 if the motion stopped) [rad]
-    shimmy : True if the knock ends in sustained shimmy: |θ| reached the limit, or the caster still
-        reverses at least 3 times in the last two periods with late ≥ 0.5 early (a decaying
-        Coulomb-damped motion stops in finite time; a slow creep of a sliding tyre is not shimmy)
-    reason : "end", "limit" (|θ| reached ``angle_limit``) or "rest" (the caster stopped)
-    """
-
-    t: np.ndarray
-    theta: np.ndarray
-    extrema: np.ndarray
-    early_amplitude: float
-    late_amplitude: float
-    shimmy: bool
-    reason: str
-    speed: float = 0.0
-    angle: float = 0.0
-
-    _units = {
-        "t": "s",
-        "theta": "rad",
-        "early_amplitude": "rad",
-        "late_amplitude": "rad",
-        "speed": "m/s",
-        "angle": "rad",
-    }
-
-    def _repr_lines(self) -> list[str]:
-        """One line: the knock, the verdict and the amplitudes."""
-        verdict = "sustained shimmy" if self.shimmy else "no shimmy"
-        return [
-            f"KnockResult(V {self.speed:.4g} m/s, knock {math.degrees(self.angle):.3g}°: {verdict} ({self.reason}); "
-            f"amplitude {self.early_amplitude:.3g} → {self.late_amplitude:.3g} rad, {len(self.extrema)} reversals)"
-        ]
-
-    def _html_title(self) -> str:
-        return "Knock simulation"
 
 
 @bounded("knock simulation")
