@@ -276,7 +276,7 @@ def test_stored_sobol_sample_is_a_sobol_net():
 
     problem = _problem("indoor-manual")
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
-    unit = np.loadtxt(SOBOL_FILE, delimiter=",", comments="#")
+    unit = np.load(SOBOL_FILE, allow_pickle=False)
     assert unit.shape == (1024, 4) and np.all((unit >= 0) & (unit < 1))
     np.testing.assert_allclose(sample_designs(problem), lo + unit * (hi - lo), rtol=1e-15, atol=0)
 
