@@ -584,7 +584,7 @@ scipy.stats (0.7 s of CPU)."""
 
 @functools.lru_cache(maxsize=1)
 def _stored_sobol() -> np.ndarray:
-    unit = np.load(SOBOL_FILE, allow_pickle=False)
+    unit: np.ndarray = np.load(SOBOL_FILE, allow_pickle=False)
     unit.setflags(write=False)
     return unit
 
