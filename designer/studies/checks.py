@@ -439,7 +439,9 @@ def check_routh_hurwitz(
         name="9 Routh–Hurwitz",
         claim="applying the Hurwitz–Routh criterion to Eq. 12B gives Eq. 20B (and Eq. 7 with friction damping)",
         expected=f"relative difference < {ROUTH_HURWITZ_TOLERANCE:g}",
-        got=f"{worst:.1e}",
+        # below 1e-12 the difference is the floating-point rounding of the two formulas (it varies with the BLAS
+        # and the root finder's last step), so the committed report states the bound, not the noise
+        got=f"{worst:.1e}" if worst >= 1e-12 else "< 1e-12",
         passed=worst < ROUTH_HURWITZ_TOLERANCE,
         detail=f"{len(cases)} parameter sets × (friction, hydraulic); K, N defaults of DynamicsParameters "
         f"(ω = 104.7 rad/s at 2.5 in), which cancel in the threshold",
