@@ -99,10 +99,10 @@ class Parameter:
 # a table, one parameter per line and read across: not reformatted
 # fmt: off
 VARIABLE_TABLE: tuple[Parameter, ...] = (
-    Parameter("trail", "T", "m", "trail: spindle axis to tyre contact", None, (0.0, 0.25),
+    Parameter("trail", "T", "m", "trail: spindle axis to tyre contact", None, (0.001, 0.25),
               "Eq. 7, Eq. 9", key="variables.trail", dimension="length", bounds=(1.0 * INCH, 2.5 * INCH),
               scale=0.01),
-    Parameter("diameter", "d", "m", "wheel diameter", None, (0.0, 0.6),
+    Parameter("diameter", "d", "m", "wheel diameter", None, (0.01, 0.6),
               "Eq. 4A, Table 1", key="variables.diameter", dimension="length", bounds=(3.0 * INCH, 8.0 * INCH),
               scale=0.05),
     Parameter("groove", "B", "m", "groove width = tread separation of Eq. 7", None, (0.0, 0.1),
@@ -113,9 +113,10 @@ VARIABLE_TABLE: tuple[Parameter, ...] = (
               scale=1.0),
 )
 # fmt: on
-"""The design variables, in the order of x everywhere.  ``range`` is the model's range (exclusive
-low for trail and diameter): beyond it the paper's model does not apply, and a value there usually
-means inches were written as metres."""
+"""The design variables, in the order of x everywhere.  ``range`` is the model's range: beyond it the
+paper's model does not apply, and a value there usually means inches were written as metres.  Its low
+ends for trail (1 mm) and wheel diameter (10 mm) are physical floors: below them a caster has no trail or
+no wheel to speak of, and the turning effort M/T (Eq. 9) or the sill force (Eq. 4A) overflow."""
 
 # --------------------------------------------------------------------------- model constants
 # The entries with a ``path`` are the solvers' fixed parameters, in the order of the NLP's parameter vector.

@@ -45,7 +45,7 @@ VARIABLE_UNITS = {p.name: p.unit for p in parameters.VARIABLE_TABLE}
 """SI unit of each design variable."""
 
 MODEL_RANGE = parameters.MODEL_RANGE
-"""Physically sensible ranges [SI] (exclusive low for trail, diameter): beyond
+"""Physically sensible ranges [SI] (low ends: 1 mm trail, 10 mm wheel diameter): beyond
 them the paper's model does not apply, and a value there usually means inches
 were written as metres."""
 

@@ -487,6 +487,11 @@ def _validate_bound(problem: Problem, name: str, fail: Callable[[str], NoReturn]
             fail(f"{key}.{label} = {value}: must be finite")
         if value < 0 or (value == 0 and name in ("trail", "diameter", "damping")):
             fail(f"{key}.{label} = {value:g}: must be positive")
+        if value < lo:
+            fail(
+                f"{key}.{label} = {value:g} {VARIABLE_UNITS[name]}: outside the model's range "
+                f"(at least {lo:g}); below it the caster has no {name} to speak of"
+            )
         if value > hi:
             fail(
                 f"{key}.{label} = {value:g} {VARIABLE_UNITS[name]}: outside the model's range "

@@ -353,7 +353,7 @@ def _bound(r: _Reader, var: str, spec: object) -> Bound:
             r.fail(str(exc))
         given = {f"variables.{var}": (spec, lo)}
     for key, (text, value) in given.items():  # said in the user's unit (validate() repeats it in SI)
-        if value > MODEL_RANGE[var][1]:
+        if value > MODEL_RANGE[var][1] or 0 < value < MODEL_RANGE[var][0]:
             r.fail(outside_range(key, text, value, *MODEL_RANGE[var], dim))
     return Bound(lo, hi)
 

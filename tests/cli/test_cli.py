@@ -350,3 +350,34 @@ def test_sigint_exits_130_within_a_second_report_intact(delay, tmp_path):
     assert waited < 3.0, waited
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]
+
+
+@pytest.mark.parametrize(
+    "args, code, key",
+    [
+        (["evaluate", "--trail", "0.5mm", "--diameter", "8in", "--groove", "0", "--damping", "1.3"], 2, "--trail"),
+        (["evaluate", "--trail", "2in", "--diameter", "5mm", "--groove", "0", "--damping", "1.3"], 2, "--diameter"),
+        (["fix", "problems/indoor-manual.toml", "--current", "T=1e-300,d=8in,B=0,c=1.3"], 2, "trail = 1e-300 m"),
+    ],
+)
+def test_a_caster_below_the_physical_floor_is_refused(args, code, key):
+    """A trail under 1 mm or a wheel under 10 mm (the model range's physical floors, designer/parameters.py) is a
+    one-line error naming the value, never a result with overflowing turning efforts (T = 1e-300 gave M/T ~ 1e300
+    and exit 0 before)."""
+    result = subprocess.run([sys.executable, "-m", "designer", *args], capture_output=True, text=True, cwd=ROOT)
+    assert result.returncode == code, result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and key in lines[0] and "outside the model's range" in lines[0]
+    assert result.stdout == ""
+
+
+def test_problem_bounds_below_the_physical_floor_are_refused(tmp_path):
+    """A problem file whose trail bound lies under the 1 mm floor fails to load with the key and the floor."""
+    from designer.errors import ProblemError
+    from designer.problem import problem_from_toml
+
+    text = (ROOT / "problems" / "indoor-manual.toml").read_text()
+    text = text.replace('trail = { min = "1 in"', 'trail = { min = "0.2 mm"')
+    assert '"0.2 mm"' in text
+    with pytest.raises(ProblemError, match=r"variables\.trail\.min = '0\.2 mm'.*outside the model's range"):
+        problem_from_toml(text)

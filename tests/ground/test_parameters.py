@@ -36,7 +36,7 @@ def test_every_entry_is_complete():
 def test_loader_and_model_read_the_table():
     """Variable order, model ranges, default bounds, schema keys and checked ranges come from the table."""
     assert VARIABLES == ("trail", "diameter", "groove", "damping")
-    assert MODEL_RANGE["diameter"] == parameters.PARAMETERS["diameter"].range == (0.0, 0.6)
+    assert MODEL_RANGE["diameter"] == parameters.PARAMETERS["diameter"].range == (0.01, 0.6)
     assert DEFAULT_BOUNDS["damping"] == (1.3, 6.0)
     for p in parameters.PARAMETERS.values():
         if p.key:
