@@ -314,6 +314,7 @@ def _subgradient(inst: _Instance, k: int, upper: float, chosen, lam: np.ndarray,
     best, best_lam = -math.inf, lam
     theta, stall = 1.0, 0
     isopen = np.zeros(inst.n, bool)
+    tried: set = set()  # open sets already valued (the relaxation repeats them)
     for it in range(iterations):
         value, rho, opened, red = inst.relaxation(lam, k)
         if value > best:
@@ -325,9 +326,11 @@ def _subgradient(inst: _Instance, k: int, upper: float, chosen, lam: np.ndarray,
         isopen[:] = False
         isopen[opened] = True
         g = 1.0 - inst.served_by(red, isopen)  # before `red`'s buffer is reused by another relaxation
-        candidate = inst.value(opened)
+        key = tuple(sorted(int(j) for j in opened))
+        candidate = math.inf if key in tried else inst.value(key)
+        tried.add(key)
         if candidate < upper:
-            upper, chosen = candidate, sorted(int(j) for j in opened)
+            upper, chosen = candidate, list(key)
         if upper - best <= TOLERANCE * max(1.0, abs(upper)) or theta < 1e-6:
             break
         if it % 10 == 9 and len(_eliminate(inst, best_lam, k, upper)[0]) <= k + 8:
