@@ -261,7 +261,7 @@ class SearchSpace(Record):
     def names(self) -> tuple[str, ...]:
         return tuple(name for name, _ in self.categorical) + tuple(name for name, _, _ in self.continuous)
 
-    def categories(self) -> list[tuple[Any, Any, Any]]:
+    def categories(self) -> list[tuple[tuple[str, Any], ...]]:
         """Every combination of categorical values, as ((dimension, value), ...) tuples."""
         dims = [[(name, value) for value in choices] for name, choices in self.categorical]
         return [tuple(combo) for combo in itertools.product(*dims)] if dims else [()]

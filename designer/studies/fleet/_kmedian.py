@@ -44,7 +44,9 @@ from __future__ import annotations
 import itertools
 import math
 import time
+from collections.abc import Iterable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -139,13 +141,14 @@ class ColumnDominance:
     def _candidates(self, block: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         rows = np.random.default_rng(0).choice(len(block), min(self.sample_rows, len(block)), replace=False)
         sample = block[np.sort(rows)]
-        pa, pb = [], []
+        parts_a: list[np.ndarray] = []
+        parts_b: list[np.ndarray] = []
         for a0 in range(0, self.n, 64):  # (a, b) with a <= b on the sample, in blocks of 64 a's
             a, b = np.nonzero(np.all(sample[:, a0 : a0 + 64, None] <= sample[:, None, :], axis=0))
             a += a0
-            pa.append(a[a != b])
-            pb.append(b[a != b])
-        pa, pb = np.concatenate(pa), np.concatenate(pb)
+            parts_a.append(a[a != b])
+            parts_b.append(b[a != b])
+        pa, pb = np.concatenate(parts_a), np.concatenate(parts_b)
         strength = np.bincount(pa, minlength=self.n)
         order = np.lexsort((pa, -strength[pa], pb))  # per b, its strongest dominators first
         pa, pb = pa[order], pb[order]
@@ -216,12 +219,12 @@ class _Instance:
         hit = (red < 0) & isopen[self.jj]
         return np.add.reduceat(hit.view(np.uint8), self.starts, dtype=np.int64)
 
-    def value(self, chosen) -> float:
+    def value(self, chosen: Iterable[int] | np.ndarray) -> float:
         """Σ w_i min_{j ∈ chosen} cost_ij (+inf if some chair is unserved)."""
         v = self.sub[:, list(chosen)].min(axis=1)
         return float(self.w @ v) if np.all(np.isfinite(v)) else math.inf
 
-    def relaxation(self, lam: np.ndarray, k: int):
+    def relaxation(self, lam: np.ndarray, k: int) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
         """L(λ), ρ, the K casters the relaxation opens, and the reduced costs min(0, w c − λ) of the pairs
         (a buffer reused by the next call)."""
         red = np.subtract(self.wc, np.repeat(lam, self.counts), out=self._red)
@@ -256,7 +259,7 @@ def _min_cover(allowed: np.ndarray) -> list[int]:
 # --------------------------------------------------------------------------- incumbent
 
 
-def _greedy(inst: _Instance, k: int, start) -> list[int]:
+def _greedy(inst: _Instance, k: int, start: Iterable[int]) -> list[int]:
     """Extend ``start`` to k casters, each time the one that serves the most unserved weight, then the least total."""
     chosen = [int(j) for j in start][:k]
     current = inst.sub[:, chosen].min(axis=1) if chosen else np.full(inst.m, np.inf)
@@ -275,7 +278,7 @@ def _greedy(inst: _Instance, k: int, start) -> list[int]:
     return chosen
 
 
-def _local_search(inst: _Instance, chosen, max_sweeps: int = 100) -> tuple[list[int], float]:
+def _local_search(inst: _Instance, chosen: Iterable[int], max_sweeps: int = 100) -> tuple[list[int], float]:
     """1-swap local search (first improvement per position) until no swap lowers the value."""
     chosen = [int(j) for j in chosen]
     value = inst.value(chosen)
@@ -309,7 +312,9 @@ def lagrangian_bound(cost: np.ndarray, weights: np.ndarray, k: int, lam: np.ndar
     return float(np.sum(lam) + np.sort(rho)[:k].sum())
 
 
-def _subgradient(inst: _Instance, k: int, upper: float, chosen, lam: np.ndarray, iterations: int):
+def _subgradient(
+    inst: _Instance, k: int, upper: float, chosen: list[int], lam: np.ndarray, iterations: int
+) -> tuple[float, np.ndarray, float, list[int]]:
     """Improve λ toward the incumbent's value; returns (bound, λ, upper, chosen) with the best of each."""
     best, best_lam = -math.inf, lam
     theta, stall = 1.0, 0
@@ -357,7 +362,9 @@ def _eliminate(inst: _Instance, lam: np.ndarray, k: int, upper: float) -> tuple[
     return np.flatnonzero(~closed), np.flatnonzero(forced)
 
 
-def radius_mip(cost: np.ndarray, weights: np.ndarray, k: int, fixed_open=(), time_limit: float = 120.0):
+def radius_mip(
+    cost: np.ndarray, weights: np.ndarray, k: int, fixed_open: Iterable[int] = (), time_limit: float = 120.0
+) -> tuple[Any, np.ndarray | None, float]:
     """Exact K-median over the columns of ``cost`` by HiGHS in the radius form (module docstring, step 5).
 
     Returns (scipy result, chosen columns or None, constant): the optimum is ``result.fun + constant`` and
@@ -410,7 +417,9 @@ def radius_mip(cost: np.ndarray, weights: np.ndarray, k: int, fixed_open=(), tim
 # --------------------------------------------------------------------------- one K, and the curve
 
 
-def _solve(inst: _Instance, k: int, start, lam, time_limit: float) -> tuple[KMedianSolution, np.ndarray | None]:
+def _solve(
+    inst: _Instance, k: int, start: list[int], lam: np.ndarray | None, time_limit: float
+) -> tuple[KMedianSolution, np.ndarray | None]:
     t0 = time.perf_counter()
     out = KMedianSolution(k=k, candidates=inst.n)
     if not inst.served:
@@ -450,12 +459,20 @@ def _solve(inst: _Instance, k: int, start, lam, time_limit: float) -> tuple[KMed
     return out, lam
 
 
-def _finish(inst: _Instance, out: KMedianSolution, chosen, bound, status, method, t0) -> KMedianSolution:
-    chosen = np.array(sorted(chosen), int)
-    pick = chosen[np.argmin(inst.full[:, chosen], axis=1)]
-    out.chosen = [int(inst.cols[j]) for j in chosen]
+def _finish(
+    inst: _Instance,
+    out: KMedianSolution,
+    chosen: Iterable[int],
+    bound: float | None,
+    status: str,
+    method: str,
+    t0: float,
+) -> KMedianSolution:
+    columns = np.array(sorted(chosen), int)
+    pick = columns[np.argmin(inst.full[:, columns], axis=1)]
+    out.chosen = [int(inst.cols[j]) for j in columns]
     out.assignment = inst.cols[pick]
-    out.regret = inst.value(chosen)
+    out.regret = inst.value(columns)
     out.lower_bound = out.regret if bound is None else min(float(bound), out.regret)
     out.gap = out.regret - out.lower_bound
     out.status, out.method = status, method
@@ -468,8 +485,8 @@ def _done(out: KMedianSolution, t0: float) -> KMedianSolution:
 
 
 def kmedian_curve(
-    cost: np.ndarray, weights: np.ndarray, ks, time_limit: float = 120.0, until: float | None = None
-) -> dict:
+    cost: np.ndarray, weights: np.ndarray, ks: Iterable[int], time_limit: float = 120.0, until: float | None = None
+) -> dict[int, KMedianSolution]:
     """The K-median for every K in ``ks`` (ascending), sharing the reduction and warm starts.
 
     Parameters
@@ -488,18 +505,18 @@ def kmedian_curve(
     t0 = time.perf_counter()
     inst = _Instance(cost, weights)
     setup = time.perf_counter() - t0
-    out: dict = {}
-    start: list = []
-    lam = None
-    ks = sorted(ks)
-    k = ks[0] if ks else 1
-    while ks or (until is not None and out and k <= inst.n and out[max(out)].regret > until):
+    out: dict[int, KMedianSolution] = {}
+    start: list[int] = []
+    lam: np.ndarray | None = None
+    todo = sorted(ks)
+    k = todo[0] if todo else 1
+    while todo or (until is not None and out and k <= inst.n and out[max(out)].regret > until):
         out[k], lam = _solve(inst, k, start, lam, time_limit)
         if out[k].chosen:
             start = [int(np.flatnonzero(inst.cols == j)[0]) for j in out[k].chosen]
-        if ks and ks[0] == k:
-            ks.pop(0)
-        k = ks[0] if ks else k + 1
+        if todo and todo[0] == k:
+            todo.pop(0)
+        k = todo[0] if todo else k + 1
     if out:
         out[min(out)].seconds += setup  # the shared reduction, counted once
     return out
@@ -522,13 +539,13 @@ def solve_kmedian(cost: np.ndarray, weights: np.ndarray, k: int, time_limit: flo
     return kmedian_curve(cost, weights, [k], time_limit=time_limit)[k]
 
 
-def brute_force_kmedian(cost: np.ndarray, weights: np.ndarray, k: int) -> tuple[float, tuple]:
+def brute_force_kmedian(cost: np.ndarray, weights: np.ndarray, k: int) -> tuple[float, tuple[int, ...]]:
     """Enumerate every k-subset of columns; (least weighted regret, its columns) with every row served.
 
     For tests: C(n, k) subsets, so only for small n (12 candidates and k = 3 is 220 subsets).
     """
     cost = np.asarray(cost, float)
-    best = (math.inf, ())
+    best: tuple[float, tuple[int, ...]] = (math.inf, ())
     for subset in itertools.combinations(range(cost.shape[1]), k):
         values = cost[:, list(subset)].min(axis=1)
         if np.all(np.isfinite(values)):
