@@ -319,7 +319,7 @@ def _subgradient(
     best, best_lam = -math.inf, lam
     theta, stall = 1.0, 0
     isopen = np.zeros(inst.n, bool)
-    tried: set = set()  # open sets already valued (the relaxation repeats them)
+    tried: set[tuple[int, ...]] = set()  # open sets already valued (the relaxation repeats them)
     for it in range(iterations):
         value, rho, opened, red = inst.relaxation(lam, k)
         if value > best:
