@@ -98,7 +98,6 @@ def fast_simulation_report(monkeypatch):
         return list(limit_cycles.FILES)
 
     monkeypatch.setattr(dynamics, "write_simulation_report", onset_study)
-    monkeypatch.setattr(simulate, "write_simulation_report", onset_study)  # the command's own name for it
     monkeypatch.setattr(simulate, "limit_cycle_study", lambda progress=None: {})
     monkeypatch.setattr(limit_cycles, "limit_cycle_files", limit_cycle_files)
 
