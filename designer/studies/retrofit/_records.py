@@ -8,7 +8,9 @@ Part of :mod:`designer.studies.retrofit._retrofit` (which re-exports its public 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
+from typing import Any
 
 from designer.data.paper import INCH
 from designer.model import Design
@@ -45,7 +47,7 @@ class Change(Record):
             + (f" ({self.name})" if self.name else "")
         )
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """``part``, ``variable``, ``from``, ``to`` [SI], ``unit`` (and the wheel's ``name``)."""
         out = {
             "part": self.part,
@@ -64,7 +66,7 @@ class Change(Record):
     def _html_title(self) -> str:
         return f"Change of the {self.part}"
 
-    def _html_rows(self) -> list[tuple]:
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         unit = _UNITS[self.variable]
         rows = [
             (f"{self.variable} before", f"{self.before:.6g}", unit),
@@ -144,7 +146,7 @@ class CasterState(Record):
     def _html_title(self) -> str:
         return "Caster" + (f" with {self.parts_changed} part(s) changed" if self.changes else " as it is")
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready record, SI units."""
         out = {
             "design": self.design.to_dict(),
@@ -214,7 +216,7 @@ class Calibration(Record):
     def _html_title(self) -> str:
         return "Calibration by an observed onset"
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """The observed and predicted onsets [m/s], the factor k, the shift [m/s] and the scatter σ."""
         return {
             "observed_onset": self.observed_onset,
@@ -254,7 +256,7 @@ class FixResult(Record):
     found: int
     rule: str = RULE
     stock: dict[str, str] = field(default_factory=dict)
-    scatter: dict = field(default_factory=dict)
+    scatter: dict[str, Any] = field(default_factory=dict)
 
     _units = {"target_speed": "m/s", "required_speed": "m/s", "stem_angle": "rad"}
 
@@ -285,7 +287,7 @@ class FixResult(Record):
             )
         )
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready: ``current``, ranked ``fixes`` and the assumptions, SI units."""
         return {
             "problem": self.problem,
@@ -305,7 +307,7 @@ class FixResult(Record):
             "fixes": [f.to_dict() for f in self.fixes],
         }
 
-    def to_pandas(self):
+    def to_pandas(self) -> Any:
         """One row per caster, the current one first then the fixes in rank order: ``rank`` (0: current),
         ``changes`` (in words), the design [SI], F_turn, P, V_c, the speed at 1 − α, P(shimmy) and its SE, the
         loss [N]; units in ``df.attrs["units"]``."""
@@ -349,9 +351,9 @@ class FixResult(Record):
     def _html_caption(self) -> str:
         return self.summary()
 
-    def _html_rows(self) -> list[tuple]:
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """The current caster, then each fix (first five) with its changes, F_turn, P and P(shimmy)."""
-        rows: list[tuple] = [
+        rows: list[tuple[Any, Any, Any]] = [
             (
                 "current",
                 f"{self.current.design.describe()}; P(shimmy) {self.current.shimmy_probability:.2%}",
@@ -381,7 +383,7 @@ _SYMBOL = {
 }
 
 
-def describe_changes(changes, sep: str = "; ", inertia: bool = True) -> str:
+def describe_changes(changes: Iterable[Change], sep: str = "; ", inertia: bool = True) -> str:
     """``fork hole: T 1.5 -> 2 in; wheel: d 7.75 -> 6 in, I_w 0.00127 -> 0.000685 kg·m²`` (parts joined by ``sep``)."""
     by_part: dict[str, list[str]] = {}
     names = {}
