@@ -38,7 +38,7 @@ from designer.versions import versions
 from designer.studies import checks as study_checks
 from designer.studies.dynamics.limit_cycles import knock_safe_speeds
 from designer.studies.recommend import recommend
-from designer.studies.robust import robust_comparison
+from designer.studies.robust import ROBUST_POINTS, robust_comparison
 
 if TYPE_CHECKING:  # record types for the checker only: designer.studies.front and .optimum load casadi
     from designer.studies.checks import Check, CheckValue
@@ -439,7 +439,7 @@ class RobustData(Record):
         return f"Price of safety of {self.problem.name!r}"
 
 
-def robust_data(problem: Problem, points: int = 21) -> RobustData:
+def robust_data(problem: Problem, points: int = ROBUST_POINTS) -> RobustData:
     """Compute the price of safety of ``problem`` (:func:`designer.studies.robust.robust_comparison`)."""
 
     c0 = time.process_time()
@@ -469,6 +469,7 @@ __all__ = [
     "ReportData",
     "RobustData",
     "robust_data",
+    "ROBUST_POINTS",
     "TIGHTER_FACTOR",
     "card_knock_safe",
     "degenerate_reason",

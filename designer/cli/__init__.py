@@ -15,10 +15,12 @@ import argparse
 import errno
 import importlib
 import os
+import platform
 import re
 import sys
 import warnings
 
+import designer
 from designer.errors import DesignerError, OutputError, interrupt_exit_code, interrupted, sigint_handler
 
 BROKEN_PIPE = 141
@@ -39,6 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every available sub-command."""
     parser = _Parser(prog="designer", description="Optimal wheelchair caster design (shimmy, turning, door sills).")
     parser.add_argument("--debug", action="store_true", help="show the full traceback on errors")
+    parser.add_argument("--version", action="version", version=_version(), help="print the version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name in COMMANDS:
         try:
@@ -49,6 +52,11 @@ def build_parser() -> argparse.ArgumentParser:
             raise
         module.register(sub)
     return parser
+
+
+def _version() -> str:
+    """``designer 0.1.0 (Python 3.11.9)``: the package's version and the interpreter's."""
+    return f"designer {designer.__version__} (Python {platform.python_version()})"
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -13,6 +13,12 @@ from designer.parameters import PARAMETERS
 from designer.units import outside_range
 
 
+PROBLEM_HELP = (
+    "problem file (TOML), or the name of a shipped problem, e.g. problems/indoor-manual.toml or indoor-manual"
+)
+"""The help of every PROBLEM argument: a shipped problem is found by its name from any folder."""
+
+
 def quantity_option(value: str | None, dimension: str, option: str, default=None):
     """Parse a command-line quantity ("2in", "2 in", "50.8 mm", plain SI number): :func:`designer.units.parse_quantity_text`."""
     return parse_quantity_text(value, dimension, option, default)

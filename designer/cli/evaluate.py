@@ -28,8 +28,8 @@ def register(sub) -> None:
     p.add_argument("--diameter", required=True, help="wheel diameter d (e.g. 8in)")
     p.add_argument("--groove", required=True, help="groove width B (0 for a single tread)")
     p.add_argument("--damping", required=True, help="spindle friction damping c_f = M_f/θ0 (bare fork 1.3 N*m/rad)")
-    p.add_argument("--load", default="178 N", help="caster load L (default 178 N)")
-    p.add_argument("--threshold-height", default="0.5 in", help="door-sill height h (default 0.5 in)")
+    p.add_argument("--load", default=None, help="caster load L per front caster (default 178 N, the paper's)")
+    p.add_argument("--threshold-height", default=None, help="door-sill height h (default 0.5 in)")
     p.add_argument("--target-speed", default=None, help="speed to check for shimmy (optional)")
     p.add_argument("--surface", default="tile", help="tile | carpet")
     p.add_argument("--turning-mode", default="chair", help="chair | pivot")
@@ -66,8 +66,8 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
             f"--damping {design.damping:g} N·m/rad: below the bare ball-bearing fork's {c0:g} N·m/rad "
             f"(Eq. 11C), the least spindle damping a caster has; the added damper moment would be negative"
         )
-    load = quantity_option(args.load, "force", "--load")
-    height = quantity_option(args.threshold_height, "length", "--threshold-height")
+    load = quantity_option(args.load or "178 N", "force", "--load")
+    height = quantity_option(args.threshold_height or "0.5 in", "length", "--threshold-height")
     if load <= 0:
         raise InputError(f"--load {args.load}: must be positive")
     if height <= 0:
@@ -114,6 +114,10 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
         warnings.simplefilter("always")
         values = evaluate(design, conditions, speed)
     values["warnings"] = [str(w.message) for w in caught]
+    values["sources"] = {  # where the load and the sill came from: shown beside them
+        "load": "--load" if args.load else "default: the paper's test load (App. C)",
+        "threshold_height": "--threshold-height" if args.threshold_height else "default: a 1/2 in sill (Fig. 2A)",
+    }
     return design, conditions, values, speed
 
 
@@ -139,6 +143,8 @@ def _results(design, conditions, values: dict, speed: float | None, knock_safe: 
     """The numbers of ``--json`` (SI units); the knock-safe speeds are simulated only when asked for."""
     out = {
         "design": design.to_dict(),
+        "load": conditions.load,
+        "threshold_height": conditions.threshold_height,
         "critical_speed": values["critical_speed"],
         "inertia": values["inertia"],
         "threshold_force_ratio": values["threshold_force_ratio"],
@@ -172,8 +178,14 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
     table = Table(title=f"Caster: {design.describe()}", title_justify="left")
     table.add_column("quantity")
     table.add_column("value", justify="right")
-    table.add_column("paper")
+    table.add_column("source")
     rows = [
+        ("caster load L", f"{conditions.load:.1f} N ({conditions.load / 4.44822:.1f} lbf)", values["sources"]["load"]),
+        (
+            "door-sill height h",
+            f"{conditions.threshold_height * 1000:.1f} mm ({conditions.threshold_height / INCH:.3f} in)",
+            values["sources"]["threshold_height"],
+        ),
         ("wheel inertia I_w", f"{values['inertia']:.4g} kg·m²", conditions.inertia.describe()),
         (
             "critical shimmy speed V_c",

@@ -5,7 +5,7 @@ from __future__ import annotations
 import logging
 from pathlib import Path
 
-from designer.cli._common import SEED_MAX, check_output_folder, count_option, eprint, print_json
+from designer.cli._common import PROBLEM_HELP, SEED_MAX, check_output_folder, count_option, eprint, print_json
 from designer.data.paper import INCH
 from designer.errors import QuietAfterInterrupt, StorageError
 from designer.problem import load_problem
@@ -17,12 +17,13 @@ EXPLORE_FILES = ("explore.csv", "explore.json")
 def register(sub) -> None:
     p = sub.add_parser(
         "explore",
-        help="explore the trade-off with optuna (NSGA-II), also over catalog wheels and choices",
+        help="explore the risk-bounded trade-off with optuna (NSGA-II), also over catalog wheels and choices",
         description="Multi-objective optuna study (NSGA-II, constraints via trial.set_constraint) of turning effort "
-        "and threshold force with V_c >= (1+margin) V_target (Eq. 7). Catalog wheels and the problem's "
+        "and threshold force, risk-bounded (P(V_c < V_target) <= α, Eq. 7 with its scatter; V_c >= (1+margin) "
+        "V_target for a nominal problem), as the exact front it is compared with. Catalog wheels and the problem's "
         "[choices] are categorical. Writes explore.csv and explore.json into --out.",
     )
-    p.add_argument("problem", help="problem file (TOML)")
+    p.add_argument("problem", help=PROBLEM_HELP)
     p.add_argument("--trials", type=int, default=500, help="COMPLETE trials the study ends with (default 500)")
     p.add_argument("--seed", type=int, default=0, help="sampler seed (default 0; single-worker runs are repeatable)")
     p.add_argument(

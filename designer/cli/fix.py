@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from designer.cli._common import print_json, quantity_option
+from designer.cli._common import PROBLEM_HELP, print_json, quantity_option, ranged_option
 from designer.data.paper import INCH
 from designer.studies.retrofit import ONSET_SCATTER, fix, parse_current
 from designer.errors import InputError
@@ -22,7 +22,8 @@ def register(sub) -> None:
         "effort and sill force. Every fix meets the risk bound and the swept-radius limit. "
         "See docs/retrofit.md.",
     )
-    p.add_argument("problem", help="problem file (TOML): the chair, V_target, the risk bound and [stock]")
+    p.add_argument("problem", help=PROBLEM_HELP + ": the chair, V_target, the risk bound and [stock]")
+    p.add_argument("--target-speed", default=None, help="override shimmy.target_speed, e.g. 3m/s (as run takes it)")
     p.add_argument(
         "--current",
         required=True,
@@ -32,7 +33,7 @@ def register(sub) -> None:
     p.add_argument(
         "--inertia",
         default=None,
-        help="measured I_w of the current wheel [kg*m**2] (default: the problem's inertia model)",
+        help="measured I_w of the current wheel [kg·m²], e.g. 0.00127 (default: the problem's inertia model)",
     )
     p.add_argument(
         "--shimmied-at",
@@ -54,7 +55,10 @@ def register(sub) -> None:
 
 def run(args) -> int:
 
+    speed = ranged_option(args.target_speed, "target_speed", "--target-speed")  # options before the file
     problem = load_problem(args.problem)
+    if speed is not None:
+        problem = problem.replace(target_speed=speed)
     current = parse_current(args.current)
     inertia = None if args.inertia is None else quantity_option(args.inertia, "inertia", "--inertia")
     shimmied = None if args.shimmied_at is None else quantity_option(args.shimmied_at, "speed", "--shimmied-at")

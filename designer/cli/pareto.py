@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from designer.cli._common import eprint, print_json
+from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
 
 from designer.pipeline import TIGHTER_FACTOR  # noqa: F401  (re-exported: check 8c's factor)
 from designer.errors import InputError
@@ -27,13 +27,15 @@ from designer.units import INCH
 def register(sub) -> None:
     p = sub.add_parser(
         "pareto",
-        help="exact Pareto front of turning effort vs threshold force, with a report",
-        description="Exact Pareto front of (turning effort, threshold force) under V_c >= V_req "
-        "(Eq. 7), the weighted optimum, the paper checks and check 8, written as a "
+        help="exact risk-bounded Pareto front of turning effort vs threshold force, with a report",
+        description="Exact risk-bounded Pareto front of (turning effort, threshold force): P(V_c < V_target) "
+        "<= α with Eq. 7's scatter (V_c >= V_target alone when [robust] enabled = false); the caster to build, "
+        "the weighted optimum, the paper checks and check 8, written as a "
         "report (index.html, report.md, front.csv, front.json, checks.json) into "
         "results/<problem>/. Exit 1 if a check of the front fails.",
     )
-    p.add_argument("problem", nargs="?", help="problem file (TOML), e.g. problems/indoor-manual.toml")
+    p.add_argument("problem", nargs="?", help=PROBLEM_HELP)
+    p.add_argument("--target-speed", default=None, help="override shimmy.target_speed, e.g. 3m/s (as run takes it)")
     p.add_argument("--points", type=int, default=None, help="number of front points (default: the problem's [pareto])")
     p.add_argument(
         "--out",
@@ -115,6 +117,7 @@ def run(args) -> int:
             f"--points {args.points}: must be a whole number from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}, "
             f"as [pareto] points in a problem file"
         )
+    speed = ranged_option(args.target_speed, "target_speed", "--target-speed")
     if args.all:
         files = problem_files(args.problem or "problems")
         parent = Path(args.out or "results")
@@ -125,6 +128,8 @@ def run(args) -> int:
             raise InputError("designer pareto: give a PROBLEM file, or --all")
         problem = load_problem(args.problem)
         jobs = [(problem, Path(args.out) if args.out else None)]
+    if speed is not None:
+        jobs = [(p.replace(target_speed=speed), out) for p, out in jobs]
     from designer.report.build import compute_and_write
 
     from designer.report.writer import check_target  # exit 7 for a file or an unwritable place, 2 for a foreign folder

@@ -6,8 +6,8 @@ from pathlib import Path
 
 from designer.problem import load_problem
 from designer.errors import InputError
-from designer.pipeline import robust_data
-from designer.cli._common import check_output_folder
+from designer.pipeline import ROBUST_POINTS, robust_data
+from designer.cli._common import PROBLEM_HELP, check_output_folder
 
 
 def register(sub) -> None:
@@ -18,8 +18,14 @@ def register(sub) -> None:
         "P(V_c < target) <= α (its risk bound, or the default one), the price of safety, "
         "and a Monte Carlo check of every point. Writes results/robust/<name>/ by default.",
     )
-    p.add_argument("problem", help="problem file, e.g. problems/indoor-manual-robust.toml")
-    p.add_argument("--points", type=int, default=21, help="points per front (default 21)")
+    p.add_argument("problem", help=PROBLEM_HELP)
+    p.add_argument(
+        "--points",
+        type=int,
+        default=ROBUST_POINTS,
+        help=f"points per front (default {ROBUST_POINTS}, not pareto's 41: it solves two fronts and runs two "
+        "Monte Carlo checks per point)",
+    )
     p.add_argument("--out", default=None, help="output folder (default results/robust/<name>)")
     p.set_defaults(func=run)
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from designer.cli._common import eprint, print_json, ranged_option
+from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
 from designer.errors import InputError
 from designer.studies.recommend import recommend, weights_meaning
 from designer.problem import check_weights, load_problem
@@ -20,7 +20,7 @@ def register(sub) -> None:
         "J = w_turn F_turn + w_threshold P subject to the same bound: multi-start IPOPT, "
         "cross-checked by a geometric program (cvxpy) and SLSQP.",
     )
-    p.add_argument("problem", help="problem file (TOML), e.g. problems/indoor-manual.toml")
+    p.add_argument("problem", help=PROBLEM_HELP)
     p.add_argument("--weights", default=None, help="w_turn,w_threshold (default: the problem's [objective])")
     p.add_argument("--target-speed", default=None, help="override shimmy.target_speed, e.g. 3m/s")
     p.add_argument("--no-cross-check", action="store_true", help="skip the GP and SLSQP cross-checks")

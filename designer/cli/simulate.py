@@ -44,7 +44,7 @@ def register(sub) -> None:
         default="178 N",
         help="caster load L (used by the brush tyre of --bifurcation and --knock-safe --tyre; default 178 N)",
     )
-    p.add_argument("--inertia", default=None, help="wheel I_w in kg*m**2 (default: Table 1 power law of d)")
+    p.add_argument("--inertia", default=None, help="wheel I_w [kg·m²], e.g. 0.00127 (default: Table 1 power law of d)")
     p.add_argument("--slip-coefficient", default="1250 N", help="tyre slip coefficient K_s (default 1250 N)")
     p.add_argument("--duration", default=None, help="simulated time in s (default: transient + 24 periods)")
     p.add_argument("--find-onset", action="store_true", help="also find the onset speed by bisection")

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from designer.cli._common import check_output_folder
+from designer.cli._common import PROBLEM_HELP, check_output_folder
 from designer.errors import InputError
 
 
@@ -15,7 +15,7 @@ def register(sub) -> None:
         "its card; check your own caster. Serves on 127.0.0.1; Ctrl-C stops it. "
         "Exit 8 if the port is in use.",
     )
-    p.add_argument("problem", nargs="?", default=None, help="problem file (TOML); default problems/indoor-manual.toml")
+    p.add_argument("problem", nargs="?", default=None, help=PROBLEM_HELP + "; default indoor-manual")
     p.add_argument("--port", type=int, default=8050, help="port to listen on (default 8050; 0 = any free port)")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1: this machine only)")
     p.add_argument("--no-browser", action="store_true", help="do not open a browser, only print the URL")

@@ -39,7 +39,14 @@ from designer.problem._core import (
     family_of,
 )
 from designer.problem._examples import example_names, example_problem, example_text
-from designer.problem._loader import check_utf8, load_problem, problem_files, problem_from_dict, problem_from_toml
+from designer.problem._loader import (
+    check_utf8,
+    load_problem,
+    problem_files,
+    problem_from_dict,
+    problem_from_toml,
+    problem_path,
+)
 
 __all__ = [
     "DEFAULT_BOUNDS",
@@ -66,6 +73,7 @@ __all__ = [
     "family_of",
     "load_problem",
     "problem_files",
+    "problem_path",
     "problem_from_dict",
     "problem_from_toml",
 ]

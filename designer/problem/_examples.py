@@ -7,23 +7,16 @@ or a script finds them from any working directory and from a non-editable instal
 
 from __future__ import annotations
 
-from importlib import resources
-from importlib.resources.abc import Traversable
-
 from designer.errors import ProblemError
 from designer.problem._core import Problem
-from designer.problem._loader import problem_from_toml
+from designer.problem._loader import problem_from_toml, shipped_folder, shipped_names
 
 __all__ = ["example_names", "example_problem", "example_text"]
 
 
-def _folder() -> Traversable:
-    return resources.files("designer.data") / "problems"
-
-
 def example_names() -> list[str]:
     """The names of the shipped example problems, sorted (``"indoor-manual"``, ``"paper-invacare"``, ...)."""
-    return sorted(entry.name[: -len(".toml")] for entry in _folder().iterdir() if entry.name.endswith(".toml"))
+    return shipped_names()
 
 
 def example_text(name: str) -> str:
@@ -39,7 +32,7 @@ def example_text(name: str) -> str:
         raise ProblemError(
             f"example_problem: name = {name!r}: no such example problem; the shipped ones are {', '.join(names)}"
         )
-    text: str = (_folder() / f"{name}.toml").read_text(encoding="utf-8")
+    text: str = (shipped_folder() / f"{name}.toml").read_text(encoding="utf-8")
     return text
 
 

@@ -10,6 +10,8 @@ from __future__ import annotations
 import difflib
 import math
 import tomllib
+from importlib import resources
+from importlib.resources.abc import Traversable
 from pathlib import Path
 from typing import Any, Callable, NoReturn, TypeVar
 
@@ -81,16 +83,50 @@ MAX_PROBLEM_BYTES = 2**20
 """A problem file is a few kB of TOML; a larger one (or an endless one such as /dev/zero) is refused unread."""
 
 
+def shipped_folder() -> Traversable:
+    """The folder of the shipped example problems (package data: ``designer/data/problems``)."""
+    return resources.files("designer.data") / "problems"
+
+
+def shipped_names() -> list[str]:
+    """The names of the shipped example problems, sorted (``"indoor-manual"``, ``"paper-invacare"``, ...)."""
+    return sorted(e.name[: -len(".toml")] for e in shipped_folder().iterdir() if e.name.endswith(".toml"))
+
+
+def problem_path(spec: str | Path) -> Path:
+    """The problem file that ``spec`` names: the path itself when it exists, else the shipped example problem
+    of that name (``"indoor-manual"`` or ``"indoor-manual.toml"`` without a folder), from any working folder.
+
+    A path that is neither is returned as it is (:func:`load_problem` then says there is no such file and
+    lists the shipped names).
+    """
+    path = Path(spec)
+    if path.exists() or path.parent != Path("."):
+        return path
+    name = path.name.removesuffix(".toml")
+    if name in shipped_names():
+        return Path(str(shipped_folder() / f"{name}.toml"))
+    return path
+
+
 def load_problem(path: str | Path) -> Problem:
     """Read and validate a problem file (TOML, docs/problem-file.md); at most :data:`MAX_PROBLEM_BYTES` are read.
+
+    ``path`` may also be the name of a shipped example problem (``"indoor-manual"``) when no such file exists
+    (:func:`problem_path`): what ``designer run indoor-manual`` reads from any folder.
 
     Raises
     ------
     ProblemError
         One line: the file, the key, the value and the reason (TOML syntax
-        errors with their line number).
+        errors with their line number); for a missing file, the shipped names.
     """
-    path = Path(path)
+    given = Path(path)
+    path = problem_path(given)
+    if not path.exists() and given.parent == Path("."):
+        raise ProblemError(
+            f"{given}: no such problem file, nor a shipped problem of that name ({', '.join(shipped_names())})"
+        )
     if path.is_file():
         check_utf8(path)
     text = read_input_text(path, "problem file", ".toml", limit=MAX_PROBLEM_BYTES)
@@ -487,7 +523,7 @@ def _inertia(
         return Disc(width, density), ()
     if model == "fixed":
         if "inertia" not in table:
-            fail("inertia.inertia: missing; the fixed model needs the measured I_w, e.g. '0.00127 kg*m**2'")
+            fail("inertia.inertia: missing; the fixed model needs the measured I_w, e.g. 0.00127 (kg·m²)")
         value = quantity("inertia", "inertia", "inertia", None)
         assert value is not None  # the key is present (checked above)
         if not 0 < value < 0.1:

@@ -26,7 +26,7 @@ from designer.errors import DesignerError, ProblemError
 from designer.physics.uncertainty import Uncertainty
 from designer.parameters import VARIABLE_TABLE
 from designer.units import DIMENSIONS, parse_quantity
-from designer.problem import load_problem
+from designer.problem import load_problem, problem_path
 from designer.problem import DEFAULT_BOUNDS
 from designer.problem import problem_from_dict
 
@@ -149,9 +149,8 @@ def read_problem_data(path=None) -> tuple[dict, str]:
 
     if path is None:
         path = default_problem_path()
-    path = Path(path)
     problem = load_problem(path)  # the CLI's checks and messages, before the page opens
-    data = tomllib.loads(path.read_text(encoding="utf-8"))
+    data = tomllib.loads(problem_path(path).read_text(encoding="utf-8"))  # a path, or a shipped problem's name
     data.setdefault("name", problem.name)
     return data, problem.name
 

@@ -2,7 +2,8 @@
 
 ``explore(problem, trials=N)`` runs a two-objective optuna study (minimise
 turning effort F_turn [N] and threshold force P [N], Eq. 9 and Eq. 4A)
-subject to the shimmy constraint V_c >= (1 + margin) V_target (Eq. 7) and the
+subject to the problem's shimmy constraint, risk-bounded as everywhere else (V_q >= (1 + margin) V_target:
+P(V_c < V_target) <= α, or V_c >= (1 + margin) V_target (Eq. 7) for a nominal problem), and the
 optional swept-radius limit, both passed to optuna with
 ``trial.set_constraint`` (g <= 0 feasible).  Every trial is evaluated by
 :func:`designer.solvers.nlp.evaluate_many`, i.e. by the one model

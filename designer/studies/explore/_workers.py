@@ -111,8 +111,8 @@ class _Evaluator:
         values = evaluate_many(sub, self.design_array(category, params)[None, :])
         f_turn = float(values["turning_effort"][0])
         p = float(values["threshold_force"][0])
-        v_c = float(values["critical_speed"][0])
-        shimmy = 1.0 - v_c / sub.required_speed if math.isfinite(v_c) else 1.0
+        v_q = float(values["confident_speed"][0])  # V_q of the risk bound (V_c itself for a nominal problem)
+        shimmy = 1.0 - v_q / sub.required_speed if math.isfinite(v_q) else 1.0
         trial.set_constraint("shimmy", shimmy)
         if sub.swept_radius_max is not None:
             trial.set_constraint("swept_radius", float(values["swept_radius"][0]) / sub.swept_radius_max - 1.0)

@@ -16,6 +16,7 @@ import pytest
 from optuna.trial import TrialState
 
 import designer
+from designer.model import performance
 from designer.cli import main
 from designer.studies.explore import (
     CSV_COLUMNS,
@@ -141,7 +142,9 @@ def _enumerate_catalog(problem):
 def test_catalog_best_wheel_matches_nlp_enumeration(target_speed):
     """On the categorical catalog problem the explored best wheel for J = F_turn + P is the one found by
     enumerating the catalog with the NLP (at 2.0 m/s wheels D and E tie exactly; at 2.6 m/s D is unique), and
-    with --refine its J equals the NLP optimum to 1e-6."""
+    with --refine its J equals the NLP optimum to 1e-6.  500 trials: under the risk bound (issue 28.4) the
+    feasible set at 2.6 m/s is narrow and 300 trials' best unrefined point was wheel E (J 104 N against D's
+    96 N)."""
     problem = designer.load_problem(CATALOG)
     if target_speed is not None:
         problem = problem.replace(target_speed=target_speed)
@@ -149,9 +152,9 @@ def test_catalog_best_wheel_matches_nlp_enumeration(target_speed):
     j_best = min(enumerated.values())
     best_wheels = {k for k, j in enumerated.items() if j <= j_best * (1 + 1e-6)}
     w = problem.weights
-    explored = explore(problem, trials=300, seed=0, compare=False).best_weighted()
+    explored = explore(problem, trials=500, seed=0, compare=False).best_weighted()
     assert explored["wheel"] in best_wheels
-    refined = explore(problem, trials=300, seed=0, refine=True, compare=False)
+    refined = explore(problem, trials=500, seed=0, refine=True, compare=False)
     best = refined.best_weighted()
     assert best["wheel"] in best_wheels and best["refined"]
     assert w[0] * best["turning_effort"] + w[1] * best["threshold_force"] == pytest.approx(j_best, rel=1e-6)
@@ -170,7 +173,8 @@ def test_same_seed_same_front():
 
 def test_front_is_feasible_and_constraints_reach_optuna():
     """Constraints go to optuna through trial.set_constraint (keys shimmy, swept_radius; g <= 0 feasible), and
-    every front point meets V_c >= V_target (Eq. 7) and T + d/2 <= R_max."""
+    every front point meets the problem's risk bound (V_q >= V_target, so V_c too, Eq. 7), as the exact front
+    it is compared with does (issue 28.4: it was V_c >= V_target alone), and T + d/2 <= R_max."""
     problem = designer.load_problem(INDOOR)
     storage = "sqlite:///" + str(Path(os.environ.get("TMPDIR", "/tmp")) / f"explore-test-{os.getpid()}.db")
     try:
@@ -180,8 +184,13 @@ def test_front_is_feasible_and_constraints_reach_optuna():
     finally:
         Path(storage[len("sqlite:///") :]).unlink(missing_ok=True)
     assert result.front
+    assert problem.risk is not None
     for row in result.front:
         assert row["critical_speed"] >= problem.required_speed * (1 - 1e-12)
+        values = performance(
+            **{k: row[k] for k in ("trail", "diameter", "groove", "damping")}, conditions=problem.conditions
+        )
+        assert values["confident_speed"] >= problem.required_speed * (1 - 1e-12)
         assert row["trail"] + row["diameter"] / 2 <= problem.swept_radius_max * (1 + 1e-12)
 
 
