@@ -20,7 +20,7 @@ COLOURS = {
 }
 
 HOVER = (
-    "<b>%{customdata[4]}</b><br>F_turn %{x:.3f} N<br>P %{y:.2f} N<br>V_c %{customdata[5]:.3f} m/s<br>"
+    "<b>%{customdata[4]}</b><br>P %{x:.2f} N<br>F_turn %{y:.3f} N<br>V_c %{customdata[5]:.3f} m/s<br>"
     "T %{customdata[6]:.3f} in, d %{customdata[7]:.3f} in<br>B %{customdata[8]:.3f} in, "
     "c_f %{customdata[3]:.3f} N·m/rad<extra></extra>"
 )
@@ -50,8 +50,9 @@ def front_figure(
     mine: dict | None = None,
     title: str = "",
 ) -> dict:
-    """The trade-off chart as a plotly figure dict: turning effort vs threshold force of every front, the
-    recommendation, my caster (:func:`front_traces` and :func:`front_layout`).
+    """The trade-off chart as a plotly figure dict: every front with the threshold force P across and the turning
+    effort F_turn up (as the report and ``Front.plot()`` draw it), the recommendation, my caster
+    (:func:`front_traces` and :func:`front_layout`).
 
     Each point carries its design in ``customdata`` (T, d, B, c_f [SI], name, V_c, T, d, B [in], the wheel's
     own I_w [kg·m²] or None), which the card callback reads on a click.
@@ -82,8 +83,8 @@ def front_layout(title: str = "") -> dict:
 
     return go.Layout(
         title=title,
-        xaxis_title="turning effort F_turn [N]",
-        yaxis_title="threshold (sill) force P [N]",
+        xaxis_title="threshold (door-sill) force P [N]",  # P across, F_turn up: the report's and front.plot()'s
+        yaxis_title="turning effort F_turn [N]",
         template="plotly_white",
         height=520,
         margin={"l": 60, "r": 20, "t": 40, "b": 50},
@@ -117,8 +118,8 @@ def _front_traces(continuous: list, risk: list, buildable: list) -> list:
                 "meta": key,
                 "mode": mode,
                 "name": name,
-                "x": [p["turning_effort"] for p in points],
-                "y": [p["threshold_force"] for p in points],
+                "x": [p["threshold_force"] for p in points],
+                "y": [p["turning_effort"] for p in points],
                 "type": "scatter",
             }
         )
@@ -146,8 +147,8 @@ def _recommendation_trace(recommendation: dict) -> dict:
         "meta": "recommendation",
         "mode": "markers",
         "name": "recommendation",
-        "x": [rec["turning_effort"]],
-        "y": [rec["threshold_force"]],
+        "x": [rec["threshold_force"]],
+        "y": [rec["turning_effort"]],
         "type": "scatter",
     }
 
@@ -171,8 +172,8 @@ def _mine_trace(mine: dict) -> dict:
         "name": "my caster",
         "text": [f"my caster {risk_text}"],
         "textposition": "top left",
-        "x": [p["turning_effort"]],
-        "y": [p["threshold_force"]],
+        "x": [p["threshold_force"]],
+        "y": [p["turning_effort"]],
         "type": "scatter",
     }
 

@@ -163,3 +163,20 @@ def test_simulation_model_draws_nothing():
     names += [n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
     assert not [n for n in names if n.startswith("matplotlib")], names
     assert callable(write_simulation_report) and callable(figure_onset_comparison)
+
+
+def test_readme_says_what_each_plot_method_returns(front, rec, problem):
+    """Issue 28.6: the README said "four plot methods return matplotlib Axes" while plot_variables() returns a
+    2 × 2 array and draw() a pair; it now says what each returns, and each returns that."""
+    from matplotlib.axes import Axes
+
+    text = " ".join((ROOT / "README.md").read_text(encoding="utf-8").split())
+    assert "`front.plot_variables()` (T, d, B, c_f along the front) returns the 2 × 2 NumPy array of Axes" in text
+    assert "`recommendation.draw()` (side and top views to scale) returns the pair `(ax_side, ax_top)`" in text
+    assert "Four plot methods return matplotlib Axes" not in text
+    assert isinstance(front.plot(), Axes)
+    axes = front.plot_variables()
+    assert isinstance(axes, np.ndarray) and axes.shape == (2, 2) and all(isinstance(a, Axes) for a in axes.flat)
+    side, top = rec.draw()
+    assert isinstance(side, Axes) and isinstance(top, Axes)
+    assert isinstance(simulate(rec.design, problem.conditions, speed=2.0, cycles=2).plot(), Axes)

@@ -41,17 +41,43 @@ def test_all_paper_checks_do_not_fail_on_the_model():
 
 def test_table1_wheel_b_disagreement_on_its_own_line():
     """Wheel B predicted to shimmy at 3.60 m/s, below the 3.8 m/s it was measured stable to: its own line,
-    with size (at least 5.3 %) and direction, within the ±15 % scatter."""
+    with size (at least 5.3 %) and direction, within the one-wheel band of the ±15 % scatter."""
     c = ck.check_table1()
     (line,) = [x for x in c.disagreements if x.startswith("B:")]
     assert "3.60 m/s, below the 3.80 m/s up to which it was measured stable" in line
-    assert "disagrees by at least 5.3 %, within the paper's ±15 % scatter" in line
+    assert "disagrees by at least 5.3 %, within ±24.7 %, the central 90 % of the paper's ±15 % scatter" in line
     assert len(c.disagreements) == 6  # B and the five measured wheels C–G (each off by more than 1 %)
+
+
+def test_table1_words_and_outcome_follow_one_rule():
+    """Issue 28.6: the words of every wheel and the check's outcome follow one rule from the paper's scatter.
+    The scatter is ±15 % (one standard deviation of Fig. 2C's points about the fit): the RMS over C–G must be
+    within it, and one wheel within the central 90 % of that spread, ±z₀.₉₅ × 15 % = ±24.7 % (z₀.₉₅ =
+    1.6449, checked against scipy).  Wheel C at −16.4 % used to print "outside the paper's ±15 % scatter" in
+    a check whose outcome was "disagrees within the stated scatter"; now every one of the six lines says
+    "within" the same band, and a wheel beyond it is "outside" it and fails the check."""
+    from scipy.special import ndtri
+
+    assert ck.CENTRAL_90_Z == pytest.approx(float(ndtri(0.95)), rel=1e-15)
+    assert ck.TABLE1_MAX_TOLERANCE == pytest.approx(0.24673, abs=1e-5)
+    c = ck.check_table1()
+    assert c.outcome == ck.WITHIN_SCATTER and c.passed
+    band = "within ±24.7 %, the central 90 % of the paper's ±15 % scatter for one wheel"
+    assert all(line.endswith(band) for line in c.disagreements), c.disagreements
+    (line_c,) = [x for x in c.disagreements if x.startswith("C:")]
+    assert "disagrees by 16.4 % (predicted lower)" in line_c
+    # one wheel just beyond the band: its line says outside, and the check fails (same rule)
+    beyond = ck.check_table1(_table1_model(overrides={"G": 1.20 * 1.25}))
+    assert beyond.outcome == ck.FAILS and not beyond.passed
+    (line_g,) = [x for x in beyond.disagreements if x.startswith("G:")]
+    assert line_g.endswith("outside ±24.7 %, the central 90 % of the paper's ±15 % scatter for one wheel")
+    inside = ck.check_table1(_table1_model(overrides={"G": 1.20 * 1.24}))
+    assert inside.outcome == ck.WITHIN_SCATTER
 
 
 def test_table1_three_outcomes():
     """Exactly the measured values: reproduced; B below 3.8 m/s by 5 %: disagrees within scatter; every wheel
-    20 % high (RMS 20 % > 15 %, each <= 25 %): fails on the RMS limit alone; one wheel 30 % off: fails."""
+    20 % high (RMS 20 % > 15 %, each <= 24.7 %): fails on the RMS limit alone; one wheel 30 % off: fails."""
     assert ck.check_table1(_table1_model()).outcome == ck.REPRODUCED
     within = ck.check_table1(_table1_model(overrides={"B": 0.95 * TABLE1_STABLE_UP_TO}))
     assert within.outcome == ck.WITHIN_SCATTER and within.passed
@@ -62,7 +88,7 @@ def test_table1_three_outcomes():
 
 
 def test_table1_a_b_far_below_stable_fails():
-    """A or B predicted more than 25 % below the 3.8 m/s they were measured stable to: fails."""
+    """A or B predicted more than 24.7 % below the 3.8 m/s they were measured stable to: fails."""
     assert ck.check_table1(_table1_model(overrides={"A": 2.5})).outcome == ck.FAILS
 
 
@@ -229,8 +255,9 @@ CLAIMS_AND_DETAILS = {
         "A: predicted 4.87 m/s, measured stable to 3.8; B: predicted 3.60 m/s, measured stable to 3.8; "
         "C: predicted 2.00 vs measured 2.39 m/s (-16.4%); D: predicted 1.85 vs measured 1.77 m/s (+4.4%); "
         "E: predicted 1.63 vs measured 1.46 m/s (+11.9%); F: predicted 1.46 vs measured 1.58 m/s (-7.5%); "
-        "G: predicted 1.12 vs measured 1.20 m/s (-6.9%). Tolerance: RMS <= 15% (the scatter of Fig. 2C), "
-        "each wheel <= 25%, A and B >= 2 × walking speed.",
+        "G: predicted 1.12 vs measured 1.20 m/s (-6.9%). Tolerance: RMS <= 15% (the scatter of Fig. 2C, one "
+        "standard deviation), each wheel <= 24.7% (1.645 × 15%, the central 90 % of that scatter for one "
+        "wheel), A and B >= 2 × walking speed.",
     ),
     "3 groove +10 %": (
         "the grooved tyre needs 10 percent more turning effort than the ungrooved (drill press and chair tests)",
@@ -310,23 +337,22 @@ def test_summary_line_without_front_checks_and_without_not_applicable():
 
 
 def test_disagreement_bands_and_direction():
-    """The band of a disagreement: |e| <= 15 % within the scatter (15 % exactly is within), <= 25 % within the
-    one-wheel allowance, beyond it outside; the direction is 'lower' for e < 0 and 'higher' for e >= 0."""
-    assert ck._disagreement("X", 1.15, 1.0, 0.15, 0.25).endswith(
-        "disagrees by 15.0 % (predicted higher), within the paper's ±15 % scatter"
-    )
+    """The band of a disagreement: |e| <= the one-wheel band is within it (the band exactly is within), beyond
+    it outside; the direction is 'lower' for e < 0 and 'higher' for e >= 0."""
     assert ck._disagreement("X", 1.25, 1.0, 0.15, 0.25).endswith(
-        "(predicted higher), outside the paper's ±15 % scatter, within the ±25 % allowed for one wheel"
+        "disagrees by 25.0 % (predicted higher), within ±25.0 %, the central 90 % of the paper's ±15 % scatter "
+        "for one wheel"
     )
     assert ck._disagreement("X", 0.7, 1.0, 0.15, 0.25) == (
-        "X: predicted 0.70 m/s against 1.00 m/s measured: disagrees by 30.0 % (predicted lower), outside the "
-        "±25 % allowed for one wheel"
+        "X: predicted 0.70 m/s against 1.00 m/s measured: disagrees by 30.0 % (predicted lower), outside "
+        "±25.0 %, the central 90 % of the paper's ±15 % scatter for one wheel"
     )
-    assert ck._disagreement("X", 1.0, 1.0, 0.15, 0.25) == (
-        "X: predicted 1.00 m/s against 1.00 m/s measured: disagrees by 0.0 % (predicted higher), within the "
-        "paper's ±15 % scatter"
+    assert ck._disagreement("X", 1.0, 1.0, 0.15, 0.25).startswith(
+        "X: predicted 1.00 m/s against 1.00 m/s measured: disagrees by 0.0 % (predicted higher), within"
     )
-    assert "outside the paper's ±10 % scatter, within the ±20 % allowed" in ck._disagreement("X", 1.12, 1.0, 0.1, 0.2)
+    assert "outside ±16.4 %, the central 90 % of the paper's ±10 % scatter" in ck._disagreement(
+        "X", 1.2, 1.0, 0.1, 0.1645
+    )
 
 
 def test_eq8_check_uses_the_case_slip_coefficient():
@@ -585,12 +611,10 @@ def test_threshold_curve_flat_models():
 
 
 def test_disagreement_prints_bands_in_percent():
-    """The bands are printed as percentages of the fractions given: 0.9 and 1.0 give ±90 % and ±100 %."""
-    assert ck._disagreement("X", 1.5, 1.0, 0.9, 1.0).endswith("within the paper's ±90 % scatter")
-    assert ck._disagreement("X", 1.95, 1.0, 0.9, 1.0).endswith(
-        "outside the paper's ±90 % scatter, within the ±100 % allowed for one wheel"
-    )
-    assert ck._disagreement("X", 2.5, 1.0, 0.9, 1.0).endswith("outside the ±100 % allowed for one wheel")
+    """The bands are printed as percentages of the fractions given: 0.9 and 1.0 give ±90 % and ±100.0 %."""
+    band = "±100.0 %, the central 90 % of the paper's ±90 % scatter for one wheel"
+    assert ck._disagreement("X", 1.95, 1.0, 0.9, 1.0).endswith("within " + band)
+    assert ck._disagreement("X", 2.5, 1.0, 0.9, 1.0).endswith("outside " + band)
 
 
 def test_carpet_and_inertia_fit_tolerances():
@@ -740,7 +764,11 @@ from conftest import HEAVY
 PINNED = {
     # name: (kind, expected, got) as the report and validate show them
     "1 Eq. 8": ("paper", 2.91, 2.9113),
-    "2 Table 1": ("paper", "RMS error within the paper's ±15% scatter; A, B > 2 m/s", "RMS 10.3%, worst 16.4%"),
+    "2 Table 1": (
+        "paper",
+        "RMS error within the paper's ±15% scatter, each wheel within ±24.7%; A, B > 2 m/s",
+        "RMS 10.3%, worst 16.4%",
+    ),
     "3 groove +10 %": ("identity", "+10 % (chair and pivot)", "chair +10.0%, pivot +10.0%"),
     "4 carpet ×2": ("identity", 2.0, 2.0),
     "5 trail ×2": ("identity", 0.5, 0.5),
@@ -789,7 +817,9 @@ def test_paper_check_records_pinned():
     assert "error +0.04% (tolerance ±0.5%" in eq8.detail and "6.51 mph" in eq8.detail
     assert table1.detail.startswith("A: predicted 4.87 m/s, measured stable to 3.8; B: predicted 3.60 m/s")
     assert "C: predicted 2.00 vs measured 2.39 m/s (-16.4%)" in table1.detail
-    assert "Tolerance: RMS <= 15% (the scatter of Fig. 2C), each wheel <= 25%" in table1.detail
+    assert (
+        "Tolerance: RMS <= 15% (the scatter of Fig. 2C, one standard deviation), each wheel <= 24.7%" in table1.detail
+    )
     routh = checks[7]
     assert routh.got == "< 1e-12" and "4 parameter sets" in routh.detail
     fit = checks[9]
@@ -799,21 +829,19 @@ def test_paper_check_records_pinned():
 
 def test_table1_disagreement_lines_pinned():
     """The six disagreement lines of check 2, word for word (size, direction, band)."""
+    band = "within ±24.7 %, the central 90 % of the paper's ±15 % scatter for one wheel"
     assert ck.check_table1().disagreements == [
         "B: predicted to shimmy at 3.60 m/s, below the 3.80 m/s up to which it was measured stable: disagrees "
-        "by at least 5.3 %, within the paper's ±15 % scatter",
-        "C: predicted 2.00 m/s against 2.39 m/s measured: disagrees by 16.4 % (predicted lower), outside the "
-        "paper's ±15 % scatter, within the ±25 % allowed for one wheel",
-        "D: predicted 1.85 m/s against 1.77 m/s measured: disagrees by 4.4 % (predicted higher), within the "
-        "paper's ±15 % scatter",
-        "E: predicted 1.63 m/s against 1.46 m/s measured: disagrees by 11.9 % (predicted higher), within the "
-        "paper's ±15 % scatter",
-        "F: predicted 1.46 m/s against 1.58 m/s measured: disagrees by 7.5 % (predicted lower), within the "
-        "paper's ±15 % scatter",
-        "G: predicted 1.12 m/s against 1.20 m/s measured: disagrees by 6.9 % (predicted lower), within the "
-        "paper's ±15 % scatter",
+        "by at least 5.3 %, " + band,
+        "C: predicted 2.00 m/s against 2.39 m/s measured: disagrees by 16.4 % (predicted lower), " + band,
+        "D: predicted 1.85 m/s against 1.77 m/s measured: disagrees by 4.4 % (predicted higher), " + band,
+        "E: predicted 1.63 m/s against 1.46 m/s measured: disagrees by 11.9 % (predicted higher), " + band,
+        "F: predicted 1.46 m/s against 1.58 m/s measured: disagrees by 7.5 % (predicted lower), " + band,
+        "G: predicted 1.12 m/s against 1.20 m/s measured: disagrees by 6.9 % (predicted lower), " + band,
     ]
-    assert ck._disagreement("X", 1.0, 2.0, 0.15, 0.25).endswith("outside the ±25 % allowed for one wheel")
+    assert ck._disagreement("X", 1.0, 2.0, 0.15, 0.25).endswith(
+        "outside ±25.0 %, the central 90 % of the paper's ±15 % scatter for one wheel"
+    )
 
 
 @pytest.mark.parametrize("factor, outcome", [(1.149, ck.WITHIN_SCATTER), (1.151, ck.FAILS)])

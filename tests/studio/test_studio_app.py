@@ -258,3 +258,38 @@ def test_make_server_applies_the_guard(tmp_path):
         server.shutdown()
         server.server_close()
     assert statuses == [403, 200]
+
+
+def test_front_convention_is_the_reports():
+    """Issue 28.6: one front convention everywhere.  The studio's chart, the report's Figure 1 and
+    ``Front.plot()`` all draw the threshold (sill) force P across and the turning effort F_turn up: every
+    studio trace's x is its points' P and y their F_turn, and the axis titles say so."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from designer.plots.figures import figure_front
+    from designer.plots.fronts import draw_fronts
+    from designer.studio.figures import front_figure
+
+    points = [
+        {"design": Design("2 in", "7 in", 0, 1.3).to_dict(), "turning_effort": 9.0, "threshold_force": 107.0},
+        {"design": Design("2.5 in", "5 in", 0, 1.3).to_dict(), "turning_effort": 7.0, "threshold_force": 133.5},
+    ]
+    rec = {**points[0], "critical_speed": 3.3}
+    fig = front_figure(points, points, points, rec)
+    assert fig["layout"]["xaxis"]["title"]["text"].startswith("threshold (door-sill) force P")
+    assert fig["layout"]["yaxis"]["title"]["text"].startswith("turning effort F_turn")
+    for trace in fig["data"]:
+        assert trace["x"] == [p["threshold_force"] for p in (points if len(trace["x"]) == 2 else [rec])]
+        assert trace["y"] == [p["turning_effort"] for p in (points if len(trace["y"]) == 2 else [rec])]
+        assert "P %{x:.2f} N<br>F_turn %{y:.3f} N" in trace["hovertemplate"]
+    from matplotlib.figure import Figure
+
+    ax = draw_fronts(Figure().add_subplot(), [{"threshold_force": [107.0], "turning_effort": [9.0], "label": "x"}], [])
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("threshold (door-sill) force P [N]", "turning effort F_turn [N]")
+    report = figure_front(
+        {"turning_effort": [9.0, 7.0], "threshold_force": [107.0, 133.5], "family": ["bare fork"] * 2}, "t"
+    )
+    (axes, *_) = report.axes
+    assert (axes.xlabel, axes.ylabel) == ("threshold (door-sill) force P [N]", "turning effort F_turn [N]")
+    assert min(axes.data_x) == 107.0 and max(axes.data_y) == 9.0

@@ -98,7 +98,12 @@ class Solution(Record):
         }
 
     def gp_duals(self) -> dict[str, float]:
-        """d log J / d log p from the geometric program's duals, where the GP defines them."""
+        """d log J / d log p from the geometric program's duals, where the GP defines them.
+
+        Under a risk bound they are the duals of the GP's conservative bound (V_req times a quantile factor
+        fixed over the box, :func:`designer.solvers.gp.robust_speed_factor` in ``_terms``), not of the exact
+        quantile the NLP's multipliers hold: a few % apart where the bound is active, equal for a nominal
+        problem (``tests/studies/optimum``)."""
         duals = getattr(self.gp, "duals", None) or {}
         return {k: float(v) for k, v in duals.items()}
 
@@ -239,6 +244,11 @@ class Solution(Record):
             "",
             "  sensitivities d log J / d log p (largest first; NLP multipliers, GP duals beside):",
         ]
+        if p.risk is not None and self.gp_duals():
+            lines += [
+                "  (the GP's are the duals of its conservative risk bound, V_req times a fixed quantile factor,",
+                "   so they differ from the NLP's by a few % where that bound is active; equal when nominal)",
+            ]
         ranked = sorted(self.sensitivities.items(), key=lambda kv: -abs(kv[1]))
         duals = self.gp_duals()
         for name, value in ranked[:10]:
