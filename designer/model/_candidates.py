@@ -13,7 +13,6 @@ nowhere else in the studies.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, fields
 from typing import Any
@@ -22,8 +21,8 @@ import numpy as np
 
 from designer.parameters import VARIABLES
 from designer.physics.geometry import effective_trail, swept_radius
-from designer.physics.shimmy import critical_shimmy_speed
-from designer.physics.uncertainty import MC_MAX_SAMPLES, MC_TARGET_SE, Uncertainty, sample_log_factors
+from designer.physics.scatter import inertia_prediction
+from designer.physics.uncertainty import MC_TARGET_SE, Uncertainty, shimmy_probability_mc_many
 from designer.model._caster import Conditions, Design, performance
 
 FEASIBILITY_TOLERANCE = 1e-9
@@ -34,12 +33,6 @@ inches (stock fork holes, wheel sizes, a footrest clearance: rounding of about 1
 which meets its constraints to IPOPT's ``constr_viol_tol`` of 1e-10 (scaled): 1e-9 accepts both, and it
 is far below anything physical (2.5 nm/s on 2.5 m/s, a nanometre on a swept radius), so no caster that
 misses a limit in earnest passes.  The sill (d > 2h, Eq. 4A) has no tolerance: there P is infinite."""
-
-_CHUNK = 1_000_000
-"""Draws per chunk of the Monte Carlo stream (bounds the memory of one draw of the log factors)."""
-
-_CELLS = 1_000_000
-"""Candidates × draws evaluated at once in the Monte Carlo (about 8 MB per array)."""
 
 
 def scatter_of(conditions: Conditions) -> Uncertainty:
@@ -76,6 +69,9 @@ class CandidateValues:
     ----------
     trail, diameter, groove, damping : the designs [m, m, m, N·m/rad]
     inertia : I_w [kg·m²] (given per candidate, or the inertia model at d)
+    measured : whether each wheel's I_w was measured (the risk law's measurement scatter) or is known from its
+        diameter only (Table 1's prediction interval)
+    extrapolated : d outside Table 1's 4–8 in, where the power law and Eq. 7's check are extrapolations
     effective_trail : the trail the tyre sees, e + (d/2) sin φ for a stem tilted by φ [m] (= trail when upright)
     critical_speed : V_c of Eq. 7 on the effective trail [m/s] (not calibrated)
     confident_speed : the speed the risk bound compares with V_req [m/s]: the speed reached with probability
@@ -96,6 +92,8 @@ class CandidateValues:
     groove: np.ndarray
     damping: np.ndarray
     inertia: np.ndarray
+    measured: np.ndarray
+    extrapolated: np.ndarray
     effective_trail: np.ndarray
     critical_speed: np.ndarray
     confident_speed: np.ndarray
@@ -130,6 +128,7 @@ def evaluate_candidates(  # long: the docstring documents every argument; the bo
     conditions: Conditions,
     *,
     inertia: Any = None,
+    measured: Any = None,
     load: Any = None,
     threshold_height: Any = None,
     required_speed: Any = None,
@@ -150,6 +149,10 @@ def evaluate_candidates(  # long: the docstring documents every argument; the bo
     conditions : the chair and the model (load L [N], sill h [m], surface, turning mode, θ0, K_s, the inertia
         model, the risk law ``uncertainty``: the bound when set, else the nominal V_c >= V_req)
     inertia : I_w per candidate [kg·m²] (a measured or catalogue wheel); None: ``conditions.inertia(d)``
+    measured : whether each candidate's I_w was measured (True, False or one flag per candidate); default: the
+        inertia model's own when ``inertia`` is None (catalogue and fixed wheels measured, the power law not),
+        else True.  A wheel not measured is known by its diameter: the risk law then scatters its I_w by Table
+        1's prediction interval at d (bound and Monte Carlo alike)
     load, threshold_height : per-candidate (broadcasting) load [N] and sill height [m] instead of the
         conditions' (a fleet's chairs)
     required_speed : V_req = (1 + margin) V_target [m/s] of the risk limit (None: no limit)
@@ -176,11 +179,14 @@ def evaluate_candidates(  # long: the docstring documents every argument; the bo
     if threshold_height is not None:
         cond = cond.replace(threshold_height=np.asarray(threshold_height, dtype=float))
     i_w = np.asarray(cond.inertia(d) if inertia is None else inertia, dtype=float) + 0 * d
+    if measured is None:
+        measured = bool(getattr(cond.inertia, "measured", False)) if inertia is None else True
+    flags = np.broadcast_to(np.asarray(measured, dtype=bool), np.broadcast_shapes(np.shape(measured), i_w.shape))
     t_eff = t if stem_angle == 0 else np.asarray(effective_trail(t, d / 2, stem_angle), dtype=float)
     h = np.asarray(cond.threshold_height, dtype=float)
     sill_ok = d > 2 * h
     climbing = np.where(sill_ok, d, 3 * h)  # a wheel that cannot climb gets P = inf below, not Eq. 4A's error
-    values = performance(t_eff, climbing, b, c, cond, inertia=i_w)
+    values = performance(t_eff, climbing, b, c, cond, inertia=i_w, measured=flags, wheel_diameter=d)
     confident = np.asarray(values["confident_speed"], dtype=float)
     if calibration != 1.0:
         confident = calibration * confident
@@ -195,6 +201,8 @@ def evaluate_candidates(  # long: the docstring documents every argument; the bo
         groove=b,
         damping=c,
         inertia=i_w,
+        measured=flags,
+        extrapolated=np.asarray(inertia_prediction().extrapolated(d), dtype=bool),
         effective_trail=np.asarray(t_eff, dtype=float),
         critical_speed=np.asarray(values["critical_speed"], dtype=float),
         confident_speed=confident,
@@ -219,6 +227,8 @@ def evaluate_candidates(  # long: the docstring documents every argument; the bo
         samples=samples,
         seed=seed,
         target_se=target_se,
+        diameter=d,
+        measured=flags,
     )
     return CandidateValues(**(out.as_dict() | {"shimmy_probability": p, "shimmy_probability_se": se}))
 
@@ -248,17 +258,18 @@ def shimmy_probability(
     samples: int | None = None,
     seed: int | None = None,
     target_se: float | None = MC_TARGET_SE,
+    diameter: Any = None,
+    measured: Any = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Monte Carlo P(V_c,true < speed) and its standard error for many casters at once [-].
 
-    V_c,true is Eq. 7 with the constants drawn from the risk law (``sample_log_factors`` of
-    :mod:`designer.physics.uncertainty`: Student-t model error, lognormal c_f, K_s, I_w).  Each caster's
-    estimate is the one of a single seeded stream: ``samples`` draws (default ``uncertainty.samples``) from
-    ``default_rng(seed)`` (default ``uncertainty.seed``), in chunks of 10⁶, and then, for a caster whose
-    standard error is still above ``target_se`` (None: never), more draws from the same stream until it is
-    not, up to :data:`~designer.physics.uncertainty.MC_MAX_SAMPLES`.  The first draws are shared by all
-    casters (one draw, vectorised); only the casters that need more continue the stream one by one, so
-    every estimate is the same number for a caster alone or in a batch.
+    V_c,true is Eq. 7 with the constants drawn from the risk law
+    (:func:`designer.physics.uncertainty.shimmy_probability_mc_many`: Student-t model error; the wheel's I_w
+    scattered by Table 1's Student-t prediction at its ``diameter`` when it is not ``measured``, by the
+    measurement's lognormal scatter when it is; lognormal c_f and K_s).  Each caster's estimate is the one of
+    a single seeded stream (``seed``, default ``uncertainty.seed``): at least ``samples`` draws (default
+    ``uncertainty.samples``, whole blocks of 10 000), more until the standard error is at most ``target_se``
+    (None: never), so every estimate is the same number for a caster alone or in a batch.
 
     Parameters
     ----------
@@ -266,110 +277,37 @@ def shimmy_probability(
     slip_coefficient : K_s [N]
     speed : the speed [m/s] of each caster (broadcast)
     uncertainty : the risk law
+    diameter : d [m] of each caster (broadcast); None: every wheel measured
+    measured : whether each wheel was measured (broadcast; default: all measured without a diameter, none
+        with one)
 
     Returns
     -------
     (p, se): arrays in the broadcast shape of the inputs.
     """
-    arrays = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (trail, inertia, groove, damping, speed)))
+    columns = [trail, inertia, groove, damping, speed] + ([] if diameter is None else [diameter])
+    if measured is not None:
+        columns.append(measured)
+    arrays = np.broadcast_arrays(*(np.asarray(x) for x in columns))
     shape = arrays[0].shape
-    t, i_w, b, c, v_req = (a.ravel() for a in arrays)
-    n = int(uncertainty.samples if samples is None else samples)
-    rng = np.random.default_rng(uncertainty.seed if seed is None else seed)
-    hits = np.zeros(t.size)
-    drawn = 0
-    while drawn < n:  # the first n draws, shared by every caster
-        chunk = min(n - drawn, _CHUNK)
-        hits += _hits(t, i_w, b, c, slip_coefficient, v_req, sample_log_factors(uncertainty, chunk, rng))
-        drawn += chunk
-    p = hits / drawn
-    se = np.sqrt(np.maximum(p * (1 - p), 1.0 / drawn) / drawn)
-    if target_se is not None and t.size:
-        needed = np.ceil(np.maximum(p * (1 - p), 1.0 / drawn) / target_se**2)
-        state = rng.bit_generator.state
-        for k in np.flatnonzero((needed > drawn) & (drawn < MC_MAX_SAMPLES)):
-            p[k], se[k] = _top_up(
-                (t[k], i_w[k], b[k], c[k], slip_coefficient, v_req[k]), uncertainty, state, hits[k], drawn, target_se
-            )
+    flat = [a.ravel() for a in arrays]
+    t, i_w, b, c, v_req = (np.asarray(a, dtype=float) for a in flat[:5])
+    d = None if diameter is None else np.asarray(flat[5], dtype=float)
+    flags = None if measured is None else np.asarray(flat[-1], dtype=bool)
+    if not t.size:
+        return np.zeros(shape), np.zeros(shape)
+    p, se = shimmy_probability_mc_many(
+        t,
+        i_w,
+        b,
+        c,
+        slip_coefficient,
+        v_req,
+        uncertainty,
+        diameter=d,
+        measured=flags,
+        samples=samples,
+        seed=seed,
+        target_se=target_se,
+    )
     return p.reshape(shape), se.reshape(shape)
-
-
-def _true_speeds(
-    trail: Any, inertia: Any, groove: Any, damping: Any, slip_coefficient: float, factors: dict[str, np.ndarray]
-) -> Any:
-    """V_c,true = V_c(T, I_w e^{ξ_I}, B, c_f e^{ξ_c}, K_s e^{ξ_K}) e^{ε} for drawn log factors [m/s] (Eq. 7)."""
-    return critical_shimmy_speed(
-        trail,
-        inertia * np.exp(factors["inertia"]),
-        groove,
-        damping * np.exp(factors["damping"]),
-        slip_coefficient * np.exp(factors["slip"]),
-    ) * np.exp(factors["model"])
-
-
-def _hits(
-    t: np.ndarray,
-    i_w: np.ndarray,
-    b: np.ndarray,
-    c: np.ndarray,
-    slip: float,
-    speed: np.ndarray,
-    factors: dict[str, np.ndarray],
-) -> np.ndarray:
-    """How many of one chunk of draws give V_c,true < speed, per caster (casters sharing a design share V)."""
-    n = len(factors["model"])
-    e = {key: np.exp(value)[None, :] for key, value in factors.items()}
-    key = np.column_stack([t, i_w, b, c])
-    designs, inverse = np.unique(key, axis=0, return_inverse=True)
-    inverse = np.ravel(inverse)
-    out = np.zeros(len(t))
-    step = max(1, _CELLS // max(n, 1))
-    for a in range(0, len(designs), step):
-        block = designs[a : a + step]
-        v = (
-            critical_shimmy_speed(
-                block[:, 0, None],
-                block[:, 1, None] * e["inertia"],
-                block[:, 2, None],
-                block[:, 3, None] * e["damping"],
-                slip * e["slip"],
-            )
-            * e["model"]
-        )
-        rows = np.flatnonzero((inverse >= a) & (inverse < a + len(block)))
-        local = inverse[rows] - a
-        if len(rows) > len(block):  # several speeds of one design: count on the sorted draws
-            v = np.sort(v, axis=1)
-            out[rows] = [np.searchsorted(v[j], s, side="left") for j, s in zip(local, speed[rows])]
-        else:
-            out[rows] = np.count_nonzero(v[local] < speed[rows, None], axis=1)
-    return out
-
-
-def _top_up(
-    caster: tuple[float, float, float, float, float, float],
-    uncertainty: Uncertainty,
-    state: Mapping[str, Any],
-    hits: float,
-    drawn: int,
-    target_se: float,
-) -> tuple[float, float]:
-    """One caster's estimate continued on its stream (at ``state``, after ``drawn`` draws with ``hits``) until
-    its standard error is at most ``target_se`` or :data:`MC_MAX_SAMPLES` are drawn: (p, se)."""
-    trail, inertia, groove, damping, slip, speed = caster
-    rng = np.random.default_rng()
-    rng.bit_generator.state = state
-    p = hits / drawn
-    want = drawn
-    while True:
-        needed = math.ceil(max(p * (1 - p), 1.0 / drawn) / target_se**2)
-        if needed <= drawn or drawn >= MC_MAX_SAMPLES:
-            break
-        want = min(MC_MAX_SAMPLES, needed + needed // 50)
-        while drawn < want:
-            chunk = min(want - drawn, _CHUNK)
-            v = _true_speeds(trail, inertia, groove, damping, slip, sample_log_factors(uncertainty, chunk, rng))
-            hits += int(np.count_nonzero(v < speed))
-            drawn += chunk
-        p = hits / drawn
-    return p, float(math.sqrt(max(p * (1 - p), 1.0 / drawn) / drawn))

@@ -251,6 +251,8 @@ def performance(
     damping: Scalar,
     conditions: Conditions,
     inertia: Scalar | None = None,
+    measured: Any = None,
+    wheel_diameter: Scalar | None = None,
 ) -> dict[str, Scalar]:
     """Every performance quantity of the caster, as expressions of the design.
 
@@ -268,15 +270,34 @@ def performance(
     - ``confident_speed`` V_q [m/s]: the speed the shimmy constraint compares with V_req, the speed
       reached with probability 1 − α when the conditions carry a risk law
       (:func:`designer.physics.uncertainty.shimmy_speed_quantile`), else V_c itself
+
+    ``measured`` says which wheels were measured (True, False, or one flag per caster; numeric only): default,
+    the inertia model's own (``Catalog``, ``Fixed``: measured; power law, disc: known by the diameter) when
+    ``inertia`` is None, else measured.  ``wheel_diameter`` is the diameter the inertia prediction is taken at
+    (default ``diameter``): the risk law scatters a wheel known by its diameter by Table 1's prediction of I_w,
+    a measured one by the measurement's scatter.
     """
     c = conditions
     if inertia is None:
         inertia = c.inertia(diameter)
+        if measured is None:
+            measured = bool(getattr(c.inertia, "measured", False))
+    elif measured is None:
+        measured = True
     critical_speed = critical_shimmy_speed(trail, inertia, groove, damping, c.slip_coefficient)
     if c.uncertainty is None:
         confident_speed = critical_speed
     else:
-        confident_speed = shimmy_speed_quantile(trail, inertia, groove, damping, c.slip_coefficient, c.uncertainty)
+        confident_speed = shimmy_speed_quantile(
+            trail,
+            inertia,
+            groove,
+            damping,
+            c.slip_coefficient,
+            c.uncertainty,
+            diameter=diameter if wheel_diameter is None else wheel_diameter,
+            measured=measured,
+        )
     ratio = threshold_force_ratio(diameter, c.threshold_height)
     moment = sliding_turning_moment(c.load, groove, c.surface, c.turning_mode, c.turning) + added_damper_moment(
         damping, c.disturbance_angle, c.turning

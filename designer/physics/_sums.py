@@ -144,8 +144,23 @@ class SumDistribution:
         return out
 
     def quantile(self, probability: Numeric, tol: float = 1e-13) -> Array:
-        """x with P(X <= x) = probability per row (0 < probability < 1), Newton in a bisection bracket."""
+        """x with P(X <= x) = probability per row, Newton in a bisection bracket (±inf at probability 1 or 0, which
+        a probability within 1e-16 of either end rounds to; nan for one outside [0, 1])."""
         p = np.broadcast_to(np.asarray(probability, dtype=float), self.shape)
+        ends = (p <= 0) | (p >= 1) | ~np.isfinite(p)
+        if np.any(ends):
+            edge: Array = np.where(p >= 1, np.inf, -np.inf)
+            edge = np.where((p < 0) | (p > 1) | ~np.isfinite(p), np.nan, edge)
+            inner = ~ends
+            if np.any(inner):
+                sub = SumDistribution.__new__(SumDistribution)
+                sub.terms = [(np.broadcast_to(a, self.shape)[inner], dof) for a, dof in self.terms]
+                sub.normal = np.broadcast_to(self.normal, self.shape)[inner]
+                sub.shape = sub.normal.shape
+                sub.degenerate = self.degenerate[inner]
+                sub.s, sub.w, sub.phi = self.s[inner], self.w[inner], self.phi[inner]
+                edge[inner] = sub.quantile(p[inner], tol)
+            return edge
         sp = _special()
         k = len(self.terms) + 1
         # P(X > x) <= Σ P(term_k > x_k) with Σ x_k = x: each term at its 1 − (1 − p)/k quantile

@@ -86,10 +86,16 @@ def disc_inertia(diameter: Scalar, tyre_width: Scalar, density: Scalar) -> Scala
 
 
 class InertiaModel:
-    """Base class: I_w as a function of diameter, callable on floats, arrays, CasADi."""
+    """Base class: I_w as a function of diameter, callable on floats, arrays, CasADi.
+
+    ``measured``: the model gives a measured wheel's I_w (catalogue, fixed), to which the risk law applies
+    the measurement's scatter; otherwise I_w is predicted from the diameter and the risk law applies Table
+    1's prediction interval (:mod:`designer.physics.scatter`).
+    """
 
     name = "abstract"
     fixed_diameter: float | None = None
+    measured = False
 
     def __call__(self, diameter: Scalar) -> Scalar:  # pragma: no cover - interface
         raise NotImplementedError
@@ -116,10 +122,15 @@ class PowerLaw(InertiaModel):
 
     Warns (``UserWarning``) when evaluated numerically outside the diameters of
     Table 1 (4–8 in), where the fit is an extrapolation.
+
+    ``measured``: False (default), a wheel bought by its diameter, whose I_w the risk law scatters by Table 1's
+    prediction interval; True, a wheel measured and accepted at (at most) the power law's value, whose I_w gets
+    the measurement's scatter (the "if you measure the wheel" recommendation).
     """
 
     coefficient: float | None = None
     exponent: float | None = None
+    measured: bool = False
     name = "table1-power-law"
 
     def constants(self) -> tuple[float, float]:
@@ -150,11 +161,12 @@ class PowerLaw(InertiaModel):
         return {"inertia_coefficient": c, "inertia_exponent": n}
 
     def with_parameters(self, values: Mapping[str, Any]) -> "PowerLaw":
-        return PowerLaw(values["inertia_coefficient"], values["inertia_exponent"])
+        return PowerLaw(values["inertia_coefficient"], values["inertia_exponent"], self.measured)
 
     def describe(self) -> str:
         c, n = self.constants()
-        return f"I_w = {c:.4g} d^{n:.3f} (least squares on Table 1, d in m, I_w in kg·m²)"
+        measured = "; wheels measured at its value" if self.measured else ""
+        return f"I_w = {c:.4g} d^{n:.3f} (least squares on Table 1, d in m, I_w in kg·m²{measured})"
 
 
 @dataclass(frozen=True)
@@ -191,6 +203,7 @@ class Catalog(InertiaModel):
 
     wheel: Wheel = TABLE1[0]
     name = "catalog"
+    measured = True
 
     @classmethod
     def from_key(cls, key: str) -> "Catalog":
@@ -233,6 +246,7 @@ class Fixed(InertiaModel):
 
     inertia: float = 0.00127
     name = "fixed"
+    measured = True
 
     def __post_init__(self) -> None:
         require_positive("inertia.inertia", self.inertia)

@@ -17,12 +17,10 @@ the scatter of the wheel's inertia about the value used:
   (:mod:`designer.physics.scatter`: 0.3647 at 7 in on 5 degrees of freedom,
   widening outside Table 1's 4–8 in).
 
-:func:`data_law` is the law computed from the data (every scale's
-provenance in :mod:`designer.physics.scatter`): σ_m = 0.10751, the log RMS of Eq. 7
-over Table 1's wheels C–G, on ν = 5; σ_I = 0.05 for a measured wheel; M_f/θ0 0.10
-and K_s 0.20 assumed.  (The default :class:`Uncertainty` keeps the earlier
-σ_m = 0.103, which is the RMS of the *relative* error, and σ_I = 0.10 on every
-wheel, until the studies pass the diameter.)
+The default :class:`Uncertainty` (= :func:`data_law`) is the law computed from the
+data (every scale's provenance in :mod:`designer.physics.scatter`):
+σ_m = 0.10751, the log RMS of Eq. 7 over Table 1's wheels C–G, on ν = 5; σ_I = 0.05
+for a measured wheel; M_f/θ0 0.10 and K_s 0.20 assumed.
 
 Why Student-t: Table 1's wheels C–G were not used to fit Eq. 7 (its constants
 come from Fig. 2C and Appendix C), so the residuals have a known mean of zero and
@@ -61,10 +59,8 @@ normal quantiles is up to 0.7 % too small in Q for s ≈ 0.7; one t of scale
 :func:`shimmy_probability_exact` integrates the exact law (the linear part by
 inversion, c_f and K_s through Eq. 7 itself by Gauss–Hermite);
 :func:`shimmy_probability_mc_many` samples it for many casters and speeds with its
-own seed; :func:`risk_record` says where a caster's risk comes from.
-:func:`sample_log_factors` draws the default :class:`Uncertainty`'s law (Student-t model error,
-lognormal c_f, K_s, I_w); the reported Monte Carlo of a batch of casters on the exact Eq. 7, with its own
-seed, is the model's (:func:`designer.model.shimmy_probability`).
+own seed (the sampler behind the model's reported Monte Carlo, :func:`designer.model.shimmy_probability`);
+:func:`risk_record` says where a caster's risk comes from.
 
 Only ``scipy.special`` is used: ``scipy.stats`` costs 0.7 s of import time.
 """
@@ -137,11 +133,11 @@ def stdtrit(dof: int, p: Numeric) -> Numeric:
     return value
 
 
-TABLE1_RMS_ERROR = 0.103
-"""RMS relative error of Eq. 7 against Table 1 wheels C–G (computed in check 2: 10.3 %); the default model error
-of :class:`Uncertainty` until the studies pass the diameter (the log RMS is 0.10751: :func:`designer.physics.scatter.model_error`)."""
+TABLE1_LOG_RMS_ERROR = model_error().scale
+"""Log RMS of V_measured / V_Eq.7 over Table 1 wheels C–G (0.10751; :func:`designer.physics.scatter.model_error`,
+computed from the table): the model error's scale.  (The RMS *relative* error of check 2 is 0.103.)"""
 
-TABLE1_DOF = 5
+TABLE1_DOF = model_error().dof
 """Degrees of freedom of the model-error estimate: 5 wheels (C–G), zero mean known (Eq. 7 not fitted to them)."""
 
 MC_SEED = 20111
@@ -164,23 +160,23 @@ class Uncertainty:
     Attributes
     ----------
     probability : α, the largest allowed probability that V_c,true < V_req [-]
-    model_error : scale σ_m of the model error log(V_c,measured / V_c,Eq.7) [-]; default 0.103, which is Table 1's
-        RMS *relative* error (the log RMS, the data law's scale, is 0.10751: :func:`data_law`)
-    damping : σ of log(M_f/θ0) [-] (scatter of the Eq. 11C fit)
-    slip_coefficient : σ of log K_s [-]
-    inertia : σ of log I_w [-] of a wheel whose I_w is given (default 0.10 around the inertia model; the data
-        law's 0.05 for a measured wheel); a wheel known by its diameter, passed as ``diameter`` to the functions
-        of this module, gets Table 1's Student-t prediction instead
+    model_error : scale σ_m of the model error log(V_c,measured / V_c,Eq.7) [-]; default Table 1's log RMS over
+        wheels C–G, 0.10751 (:data:`TABLE1_LOG_RMS_ERROR`)
+    damping : σ of log(M_f/θ0) [-] (assumed: the paper gives no scatter for Eq. 11C's fit)
+    slip_coefficient : σ of log K_s [-] (assumed)
+    inertia : σ of log I_w [-] of a measured wheel (default 0.05, a pendulum measurement); a wheel known by its
+        diameter only, passed as ``diameter`` to the functions of this module, gets Table 1's Student-t
+        prediction instead
     model_error_dof : ν of the Student-t model error (5: Table 1 wheels C–G); 0 = normal
     samples : least Monte Carlo sample of a reported probability (more are drawn for SE <= 0.1 pp)
     seed : seed of the reported Monte Carlo estimate
     """
 
     probability: float = 0.05
-    model_error: float = TABLE1_RMS_ERROR
-    damping: float = 0.10
-    slip_coefficient: float = 0.20
-    inertia: float = 0.10
+    model_error: float = TABLE1_LOG_RMS_ERROR
+    damping: float = ASSUMED_DAMPING_SCATTER
+    slip_coefficient: float = ASSUMED_SLIP_SCATTER
+    inertia: float = MEASURED_INERTIA_SCATTER
     model_error_dof: int = TABLE1_DOF
     samples: int = MC_SAMPLES
     seed: int = MC_SEED
@@ -199,8 +195,9 @@ class Uncertainty:
         """One line: α and the scatter (for reports and messages)."""
         dist = f"Student-t ν = {self.model_error_dof}" if self.model_error_dof else "normal"
         return (
-            f"P(shimmy) <= {self.probability:.3g}; σ of the log: model error {self.model_error:g} ({dist}), "
-            f"M_f/θ0 {self.damping:g}, K_s {self.slip_coefficient:g}, I_w {self.inertia:g}"
+            f"P(shimmy) <= {self.probability:.3g}; σ of the log: model error {self.model_error:.4g} ({dist}), "
+            f"M_f/θ0 {self.damping:g}, K_s {self.slip_coefficient:g}, I_w {self.inertia:g} if measured (else "
+            f"Table 1's prediction from the diameter, Student-t ν = {inertia_prediction().dof})"
         )
 
 
@@ -434,6 +431,7 @@ def shimmy_speed_quantile(
     uncertainty: Uncertainty,
     diameter: Scalar | None = None,
     prediction: InertiaPrediction | None = None,
+    measured: Any = None,
 ) -> Scalar:
     """The speed reached with probability 1 − α: V_q = V_c(x) exp(−Q_{1−α}(x)) [m/s].
 
@@ -441,8 +439,21 @@ def shimmy_speed_quantile(
     (exact for model error and I_w, conservative for c_f and K_s: see the module text).
     ``diameter`` None: the wheel's inertia ``inertia`` was measured (lognormal σ ``uncertainty.inertia``);
     a diameter d [m]: ``inertia`` is the power law's value at d and the wheel is known by its diameter only
-    (Student-t prediction of :func:`inertia_log_scale`).  Works on floats, NumPy arrays and CasADi symbols.
+    (Student-t prediction of :func:`inertia_log_scale`).  ``measured`` (with a diameter): True, False, or one
+    flag per caster (numeric) saying which wheels were measured after all.  Works on floats, NumPy arrays and
+    CasADi symbols.
     """
+    if measured is not None and diameter is not None:
+        if isinstance(measured, bool):
+            diameter = None if measured else diameter
+        else:  # numeric, one flag per caster
+            mask = np.asarray(measured, dtype=bool)
+            if mask.all():
+                diameter = None
+            elif mask.any():
+                args = (trail, inertia, groove, damping, slip_coefficient, uncertainty)
+                both = shimmy_speed_quantile(*args), shimmy_speed_quantile(*args, diameter, prediction)
+                return np.where(mask, *both)
     v = critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient)
     rest = rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty, measured=diameter is None)
     if diameter is None:
@@ -506,21 +517,6 @@ def shimmy_probability_first_order(
     if not u.model_error_dof or u.model_error == 0:
         return float(ndtr(gap / total))
     return float(_sum_cdf(np.array([gap / total]), np.array([sigma_r**2 / total**2]), int(u.model_error_dof))[0])
-
-
-def sample_log_factors(uncertainty: Uncertainty, n: int, rng: np.random.Generator) -> dict[str, Array]:
-    """``n`` draws of the log factors: model (σ_m t_ν), damping, slip, inertia (normal) [-]."""
-    u = uncertainty
-    if u.model_error_dof:
-        model = u.model_error * rng.standard_t(u.model_error_dof, n)
-    else:
-        model = rng.normal(0.0, u.model_error, n)
-    return {
-        "model": model,
-        "damping": rng.normal(0.0, u.damping, n),
-        "slip": rng.normal(0.0, u.slip_coefficient, n),
-        "inertia": rng.normal(0.0, u.inertia, n),
-    }
 
 
 # --------------------------------------------------------------------------- two Student-t terms and a normal
@@ -593,7 +589,7 @@ def _clenshaw2(coef: Array, x: Scalar, y: Scalar) -> Scalar:
 
 
 def data_law(**changes: Any) -> Uncertainty:
-    """The risk law computed from the data, as an :class:`Uncertainty`.
+    """The risk law computed from the data: the default :class:`Uncertainty` with ``changes``.
 
     Model error: Table 1's log RMS of Eq. 7 over wheels C–G, Student-t on 5 degrees of freedom
     (:func:`designer.physics.scatter.model_error`, 0.10751); a measured wheel inertia: σ = 0.05 of its log;
@@ -601,15 +597,7 @@ def data_law(**changes: Any) -> Uncertainty:
     of Table 1's power law: pass its ``diameter`` to the functions of this module.  ``changes`` replace
     fields (α, samples, seed, a configured scatter).
     """
-    m = model_error()
-    law = Uncertainty(
-        model_error=m.scale,
-        model_error_dof=m.dof,
-        inertia=MEASURED_INERTIA_SCATTER,
-        damping=ASSUMED_DAMPING_SCATTER,
-        slip_coefficient=ASSUMED_SLIP_SCATTER,
-    )
-    return dataclasses.replace(law, **changes)
+    return dataclasses.replace(Uncertainty(), **changes)
 
 
 def _linear_part(

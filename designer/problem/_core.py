@@ -52,7 +52,7 @@ computed to its stated accuracy: the (1 − α)-quantile of the model error's St
 normal rest is a fitted Chebyshev series shifted up by its largest error against the exact quadrature, and
 that shift grows from 6e-5 at α = 0.001 to 0.06 at 1e-4 and 7 at 1e-6 (a bound far stricter than the α
 asked for); below about 1e-16, 1 − α rounds to 1 and the quantile is infinite (NaN in the solvers).
-Reachable: at α = 0.001 the t_5 model error alone (σ 0.103) asks V_c >= 1.8 × V_req, which the shipped
+Reachable: at α = 0.001 the t_5 model error alone (scale 0.1075) asks V_c >= 1.9 × V_req, which the shipped
 problems' bounds give.  From 0.5 up the bound would allow shimmy more often than not."""
 
 MAX_SAMPLES = 10_000_000

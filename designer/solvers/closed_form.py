@@ -24,10 +24,14 @@ the factor a constant.  It is exact to write the bound as
 
     a + b >= V_req² G(s),   log G(s) = 2 Q(σ_m, σ_r(s)),
 
-G a function of s and the scatter alone (σ_I enters as a constant): on a ray of fixed share V_q grows
-as √(a + b).  So the structure above carries over:
+G a function of s and the scatter alone (a measured wheel's σ_I enters as a constant; for a wheel known by
+its diameter, Table 1's prediction scale at d enters too, a constant at fixed d, so G = G(s; d) and every
+step below is taken at the row's own d): on a ray of fixed share V_q grows as √(a + b).  So the structure
+above carries over:
 
-- I_w scales a and b alike (s unchanged): V_q ∝ I_w^−½ falls with d, the smallest admissible d wins;
+- I_w scales a and b alike (s unchanged): V_q ∝ I_w^−½ falls with d, the smallest admissible d wins (for a
+  wheel known by its diameter the prediction scale narrows towards Table 1's middle as d grows, but
+  I_w ∝ d^3.5 dominates: d log V_q / d log d is about −1.4 to −1.9 over 2–9 in; :func:`applicable` checks it);
 - with |s (log G)'| < 1 and |(1 − s)(log G)'| < 1 on [0, 1] (:func:`applicable` asks for <= 0.8; about
   0.2 for the default scatter) V_q rises with T, c_f and B, so T is again the largest admissible and
   the optimum lies on the constraint curve (or at the corner (B_lo, c_lo) when that is feasible);
@@ -73,14 +77,25 @@ GOLDEN_STEPS = 60
 """Golden-section steps refining an interior grid minimum (0.618⁶⁰ ≈ 3e-13 of a grid cell)."""
 
 
+def _predicted(problem) -> bool:
+    """Whether the wheel is known by its diameter only (the risk law's I_w prediction depends on d)."""
+    c = problem.conditions
+    return c.uncertainty is not None and not bool(getattr(c.inertia, "measured", False))
+
+
 def applicable(problem) -> bool:
-    """Whether the closed form holds for ``problem`` (continuous, monotone cost; a risk bound whose G contracts)."""
+    """Whether the closed form holds for ``problem`` (continuous, monotone cost; a risk bound whose G contracts,
+    and, for a wheel known by its diameter, V_q falling with d)."""
     if problem.wheels:
         return False
     c = problem.conditions
-    if c.uncertainty is not None and not _contracts(c.uncertainty):
-        return False
     lo, hi = problem.lower(), problem.upper()
+    if c.uncertainty is not None:
+        diameters = tuple(np.linspace(lo.diameter, hi.diameter, 9)) if _predicted(problem) else (None,)
+        if not all(_contracts(c.uncertainty, d) for d in diameters):
+            return False
+        if _predicted(problem) and not _speed_falls_with_diameter(problem, lo, hi):
+            return False
     if c.turning.groove_coefficient < 0 or c.disturbance_angle <= 0 or c.slip_coefficient <= 0:
         return False
     with warnings.catch_warnings():
@@ -187,24 +202,40 @@ def designs_at_diameter(problem, d, candidates=None, *, search: bool = True) -> 
     return designs, feasible
 
 
-def log_gain(uncertainty: Uncertainty, share):
-    """log G(s) = 2 Q_{1−α}(σ_m, σ_r(s)): how far log V_c² must exceed log V_req² at friction share s [-].
+def log_gain(uncertainty: Uncertainty, share, diameter=None):
+    """log G(s) = 2 Q_{1−α}(s): how far log V_c² must exceed log V_req² at friction share s [-].
 
     Evaluated by :func:`designer.physics.uncertainty.shimmy_speed_quantile` on a probe design of share
-    s (T = I_w = K_s = 1, V_c = 1): G depends on s and the scatter only.
+    s (T = I_w = K_s = 1, V_c = 1): G depends on s and the scatter only, and for a wheel known by its
+    ``diameter`` d [m] (broadcast with s) on Table 1's prediction scale at d too (a constant at fixed d).
     """
     s = np.asarray(share, float)
     damping, groove = s * np.pi / 4, np.sqrt(2 * (1 - s))  # a = s, b = 1 − s
     v = critical_shimmy_speed(1.0, 1.0, groove, damping, 1.0)
-    return 2 * np.log(v / shimmy_speed_quantile(1.0, 1.0, groove, damping, 1.0, uncertainty))
+    d = None if diameter is None else np.broadcast_to(np.asarray(diameter, float), s.shape)
+    return 2 * np.log(v / shimmy_speed_quantile(1.0, 1.0, groove, damping, 1.0, uncertainty, diameter=d))
 
 
-@functools.lru_cache(maxsize=32)
-def _contracts(uncertainty: Uncertainty) -> bool:
-    """Whether |s (log G)'| and |(1 − s)(log G)'| stay <= :data:`CONTRACTION` on [0, 1] (2049-point grid)."""
+@functools.lru_cache(maxsize=64)
+def _contracts(uncertainty: Uncertainty, diameter: float | None = None) -> bool:
+    """Whether |s (log G)'| and |(1 − s)(log G)'| stay <= :data:`CONTRACTION` on [0, 1] (2049-point grid), for a
+    measured wheel (``diameter`` None) or one known by its diameter d [m]."""
     s = np.linspace(0.0, 1.0, 2049)
-    slope = np.gradient(log_gain(uncertainty, s), s)
+    slope = np.gradient(log_gain(uncertainty, s, diameter), s)
     return bool(np.all(np.isfinite(slope)) and np.max(np.abs(slope) * np.maximum(s, 1 - s)) <= CONTRACTION)
+
+
+def _speed_falls_with_diameter(problem, lo, hi) -> bool:
+    """A wheel known by its diameter: V_q falls with d at the largest trail and each (B, c_f) corner of the box
+    (I_w grows as d^3.5 while the prediction scale narrows towards Table 1's middle; 65-point grid)."""
+    d = np.linspace(lo.diameter, hi.diameter, 65)
+    for groove in (lo.groove, hi.groove):
+        for damping in (lo.damping, hi.damping):
+            x = np.stack(np.broadcast_arrays(hi.trail, d, groove, damping), axis=-1)
+            v = np.asarray(_values(problem, x)["confident_speed"], float) + 0 * d
+            if np.any(np.diff(v) > 1e-12 * v[1:]):
+                return False
+    return True
 
 
 @functools.lru_cache(maxsize=32)
@@ -218,7 +249,7 @@ def _gain_table(uncertainty: Uncertainty) -> tuple[np.ndarray, np.ndarray, np.nd
     return s, lg, slope
 
 
-def _edge_shares(u: Uncertainty, need, a, b, box) -> tuple[np.ndarray, np.ndarray]:
+def _edge_shares(u: Uncertainty, need, a, b, box, diameter=None) -> tuple[np.ndarray, np.ndarray]:
     """The shares [s1, s2] of the risk-bounded curve inside the box: c_f(s) in [c_lo, c_hi], B(s) in [B_lo, B_hi].
 
     Each edge is a fixed point: c_f(s) = c  ⇔  s = a c/(V² G(s));  B(s) = B  ⇔  s = 1 − b B²/(V² G(s)),
@@ -231,8 +262,17 @@ def _edge_shares(u: Uncertainty, need, a, b, box) -> tuple[np.ndarray, np.ndarra
     sign = np.array([1.0, 1.0, -1.0, -1.0])[:, None]  # c_f edges: s = m; B edges: s = 1 − m; m = k/G(s)
     base = np.array([0.0, 0.0, 1.0, 1.0])[:, None]
     k = np.vstack([a * c_lo, a * c_hi, b * b_hi**2, b * b_lo**2]) / need  # (4, N)
-    grid, lg_table, slope_table = _gain_table(u)
     s = np.full(k.shape, 0.5)
+    if diameter is not None:  # G depends on d too: the fixed points on the exact G (contraction <= 0.8)
+        d = np.broadcast_to(np.asarray(diameter, float), k.shape)
+        for _ in range(400):
+            nxt = np.clip(base + sign * k * np.exp(-log_gain(u, s, d)), 0.0, 1.0)
+            moved = np.max(np.abs(nxt - s))
+            s = nxt
+            if moved <= 1e-15:
+                break
+        return np.maximum(s[0], s[2]), np.minimum(s[1], s[3])
+    grid, lg_table, slope_table = _gain_table(u)
     for _ in range(120):  # on the table: contraction <= 0.8 (typically 0.2)
         nxt = np.clip(base + sign * k * np.exp(-np.interp(s, grid, lg_table)), 0.0, 1.0)
         moved = np.max(np.abs(nxt - s))
@@ -254,7 +294,8 @@ def _edge_shares(u: Uncertainty, need, a, b, box) -> tuple[np.ndarray, np.ndarra
 def _on_curve(problem, t, d, a, b, s) -> tuple[np.ndarray, np.ndarray]:
     """Designs on the risk-bounded curve at shares ``s`` (clipped into the box) and their F_turn [N]."""
     lo, hi = problem.lower(), problem.upper()
-    big = problem.required_speed**2 * np.exp(log_gain(problem.conditions.uncertainty, s))
+    wheel = np.broadcast_to(d, np.shape(s)) if _predicted(problem) else None
+    big = problem.required_speed**2 * np.exp(log_gain(problem.conditions.uncertainty, s, wheel))
     with np.errstate(divide="ignore", invalid="ignore"):
         c = np.clip(s * big / a, lo.damping, hi.damping)
         g = np.clip(np.sqrt(np.maximum(0.0, (1 - s) * big / b)), lo.groove, hi.groove)
@@ -274,7 +315,8 @@ def _risk_designs(problem, t, d, a, b, search: bool = True) -> tuple[np.ndarray,
     u = problem.conditions.uncertainty
     corner = np.column_stack([t, d, np.full(n, lo.groove), np.full(n, lo.damping)])
     corner_ok = np.asarray(_values(problem, corner)["confident_speed"], float) >= problem.required_speed
-    s1, s2 = _edge_shares(u, problem.required_speed**2, a, b, ((lo.groove, lo.damping), (hi.groove, hi.damping)))
+    box = ((lo.groove, lo.damping), (hi.groove, hi.damping))
+    s1, s2 = _edge_shares(u, problem.required_speed**2, a, b, box, d if _predicted(problem) else None)
     curve_ok = s1 <= s2 + 1e-15
     s2 = np.maximum(s1, s2)
     grid = s1[:, None] + (s2 - s1)[:, None] * np.linspace(0.0, 1.0, SHARE_GRID if search else 1)[None, :]

@@ -21,7 +21,8 @@ from designer.model import (
     shimmy_probability,
 )
 from designer.physics.geometry import effective_trail
-from designer.physics.uncertainty import MC_MAX_SAMPLES, Uncertainty, sample_log_factors
+from designer.physics.scatter import inertia_prediction
+from designer.physics.uncertainty import MC_BLOCK, MC_MAX_SAMPLES, Uncertainty, law_draws
 from designer.physics.shimmy import critical_shimmy_speed
 
 RISK = Conditions(uncertainty=Uncertainty())
@@ -33,33 +34,37 @@ DESIGNS = [
 ]
 
 
-def _stream(trail, inertia, groove, damping, slip, speed, u, samples, seed, target_se):
+def _stream(trail, inertia, groove, damping, slip, speed, u, samples, seed, target_se, diameter=None):
     """The reference: one caster's estimate from its own stream, written out as the risk law defines it:
-    ``samples`` draws from default_rng(seed) in chunks of 10⁶, then more from the same stream (to the
-    needed count plus 2 %) until the SE is at most ``target_se``, at most MC_MAX_SAMPLES in all."""
+    blocks of 10 000 draws (model t_5, inertia t_5, inertia, damping and slip normals, in that order) from
+    default_rng(seed), at least ``samples`` (whole blocks), then more blocks (to the needed count plus 2 %,
+    whole blocks) until the SE is at most ``target_se``, at most MC_MAX_SAMPLES in all; the wheel's I_w
+    scattered by σ_I = 0.05 when measured (``diameter`` None), by Table 1's prediction at d otherwise."""
     rng = np.random.default_rng(seed)
     hits = drawn = 0
-    want = samples
+    block = MC_BLOCK
+    want = -(-samples // block) * block
+    scale = u.inertia if diameter is None else float(inertia_prediction().scale(diameter))
     while True:
         while drawn < want:
-            chunk = min(want - drawn, 1_000_000)
-            f = sample_log_factors(u, chunk, rng)
+            f = law_draws(u, rng, 5)
+            iota = scale * (f["inertia_z"] if diameter is None else f["inertia_t"])
             v = critical_shimmy_speed(
                 trail,
-                inertia * np.exp(f["inertia"]),
+                inertia * np.exp(iota),
                 groove,
-                damping * np.exp(f["damping"]),
-                slip * np.exp(f["slip"]),
-            ) * np.exp(f["model"])
+                damping * np.exp(u.damping * f["damping"]),
+                slip * np.exp(u.slip_coefficient * f["slip"]),
+            ) * np.exp(u.model_error * f["model"])
             hits += int(np.count_nonzero(v < speed))
-            drawn += chunk
+            drawn += block
         p = hits / drawn
         if target_se is None or drawn >= MC_MAX_SAMPLES:
             break
         needed = math.ceil(max(p * (1 - p), 1.0 / drawn) / target_se**2)
         if needed <= drawn:
             break
-        want = min(MC_MAX_SAMPLES, needed + needed // 50)
+        want = min(MC_MAX_SAMPLES, -(-(needed + needed // 50) // block) * block)
     return p, math.sqrt(max(p * (1 - p), 1.0 / drawn) / drawn)
 
 
@@ -141,14 +146,26 @@ def test_scatter_of_is_the_bound_or_the_default():
 def test_batched_monte_carlo_equals_each_casters_own_stream(samples, target_se):
     """P(shimmy) and SE of many casters and speeds at once equal, exactly, the written-out stream of each caster
     alone; speeds are spread so that some estimates need the top-up from the same stream and some do not,
-    and two rows share a design at different speeds."""
+    two rows share a design at different speeds, and two wheels are known by their diameter only."""
     u = Uncertainty()
     designs = [DESIGNS[0], DESIGNS[0], DESIGNS[2], DESIGNS[3]]
     inertia = np.array([1.6e-3, 1.6e-3, 3.0e-3, 0.7e-3])
     speeds = np.array([2.2, 2.9, 2.6, 2.1])
+    measured = np.array([True, True, False, False])
     cols = design_columns(designs)
     p, se = shimmy_probability(
-        cols["trail"], inertia, cols["groove"], cols["damping"], 1250.0, speeds, u, samples, 4242, target_se
+        cols["trail"],
+        inertia,
+        cols["groove"],
+        cols["damping"],
+        1250.0,
+        speeds,
+        u,
+        samples,
+        4242,
+        target_se,
+        diameter=cols["diameter"],
+        measured=measured,
     )
     for k in range(4):
         want = _stream(
@@ -162,6 +179,7 @@ def test_batched_monte_carlo_equals_each_casters_own_stream(samples, target_se):
             samples,
             4242,
             target_se,
+            None if measured[k] else cols["diameter"][k],
         )
         assert (p[k], se[k]) == want, k
     assert p.min() < 0.05 < p.max()  # the top-up path is exercised where an SE target is set

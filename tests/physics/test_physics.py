@@ -488,14 +488,16 @@ CASE = (2 * INCH, 1.27e-3, 0.0143, 3.0, 2000.0)  # Eq. 8's caster with a damper 
 
 def test_log_speed_std_by_hand():
     """σ = √(σ_m² + σ_r²), σ_r² = (e_c σ_c)² + (e_K σ_K)² + (σ_I/2)² with Eq. 7's elasticities, for a caster with
-    c_f = 3 N·m/rad and K_s = 2000 N (both enter the elasticities)."""
+    c_f = 3 N·m/rad and K_s = 2000 N (both enter the elasticities), a measured wheel under the default law
+    (σ_m = 0.10751, σ_c = 0.10, σ_K = 0.20, σ_I = 0.05): σ_r = 0.06205, σ = 0.12413."""
     from designer.physics import uncertainty as un
 
     u = un.Uncertainty()
     v, rest, std = _by_hand_std(*CASE, u)
     assert un.rest_log_std(*CASE, u) == pytest.approx(rest, rel=1e-12)
     assert un.log_speed_std(*CASE, u) == pytest.approx(std, rel=1e-12)
-    assert std == pytest.approx(0.12781, abs=1e-5)
+    assert rest == pytest.approx(0.06205, abs=1e-5)
+    assert std == pytest.approx(0.12413, abs=1e-5)
 
 
 def test_quantile_speed_and_probability_normal_case_by_hand():
@@ -511,16 +513,16 @@ def test_quantile_speed_and_probability_normal_case_by_hand():
 
 
 def test_monte_carlo_top_up_draws_what_the_target_needs():
-    """The top-up draws up to n = ⌈p(1−p)/SE²⌉ + 2 % from the first sample's p, no more: 1000 draws give p₁,
-    then exactly n draws in all when the final p keeps the standard error within the target (n from the SE)."""
+    """The top-up draws up to n = ⌈p(1−p)/SE²⌉ + 2 % (whole blocks of 10 000) from the first block's p, no more:
+    one block gives p₁, then exactly n draws in all when the final p keeps the standard error within the target."""
     from designer.physics import uncertainty as un
 
     u = un.Uncertainty()
     p1, _ = _mc(*CASE, 3.0, u, samples=1000, target_se=None)
-    need = math.ceil(max(p1 * (1 - p1), 1e-3) / 0.005**2)
-    p, se = _mc(*CASE, 3.0, u, samples=1000, target_se=0.005)
-    assert se <= 0.005
-    assert round(p * (1 - p) / se**2) == need + need // 50
+    need = math.ceil(max(p1 * (1 - p1), 1e-4) / 0.001**2)
+    p, se = _mc(*CASE, 3.0, u, samples=1000, target_se=0.001)
+    assert se <= 0.001
+    assert round(p * (1 - p) / se**2) == math.ceil((need + need // 50) / 10_000) * 10_000
 
 
 # --------------------------------------------------------------------------- brush tyre (issue 16)
@@ -646,16 +648,16 @@ def test_tilted_stem_switches_casadi_numpy_mode(function, position):
 
 def test_model_descriptions():
     """The one-line descriptions shown in reports: the power law with the Table 1 fit (C 0.4925, n 3.496), the
-    scatter with a Student-t or a normal model error."""
+    scatter with a Student-t or a normal model error (Table 1's log RMS 0.1075), and a measured or predicted I_w."""
     from designer.physics.uncertainty import Uncertainty
 
     assert inertia.PowerLaw().describe() == "I_w = 0.4925 d^3.496 (least squares on Table 1, d in m, I_w in kg·m²)"
     assert inertia.PowerLaw(0.5, 3.0).describe().startswith("I_w = 0.5 d^3.000 ")
-    tail = "M_f/θ0 0.1, K_s 0.2, I_w 0.1"
-    assert Uncertainty().describe() == f"P(shimmy) <= 0.05; σ of the log: model error 0.103 (Student-t ν = 5), {tail}"
+    tail = "M_f/θ0 0.1, K_s 0.2, I_w 0.05 if measured (else Table 1's prediction from the diameter, Student-t ν = 5)"
+    assert Uncertainty().describe() == f"P(shimmy) <= 0.05; σ of the log: model error 0.1075 (Student-t ν = 5), {tail}"
     assert (
         Uncertainty(model_error_dof=0).describe()
-        == f"P(shimmy) <= 0.05; σ of the log: model error 0.103 (normal), {tail}"
+        == f"P(shimmy) <= 0.05; σ of the log: model error 0.1075 (normal), {tail}"
     )
 
 
@@ -695,64 +697,73 @@ def test_first_order_probability_without_scatter_is_a_step():
 
 
 @pytest.mark.parametrize("dof", [0, 5])
-def test_sampled_log_factors_have_the_stated_scatter(dof):
-    """sample_log_factors draws n values of each log factor, centred on 0, with σ_m = 0.103 for the model error
-    (normal for ν = 0; Student-t of scale 0.103, σ = 0.103·√(5/3) = 0.133, for ν = 5), and 0.10, 0.20, 0.10 for
-    c_f, K_s, I_w: 200 000 draws give means within 5 standard errors of 0 and σ within 2 %."""
+def test_law_draws_are_standard_variates(dof):
+    """law_draws gives one block of 10 000 standard draws per factor, centred on 0: the model error a t_5 of scale 1
+    (σ = √(5/3)) or a standard normal for ν = 0, the inertia's t_5 and the standard normals of the measured I_w,
+    c_f and K_s (the law's scales are applied by the sampler); 20 blocks give means within 5 standard errors
+    of 0 and σ within 2 %."""
     from designer.physics import uncertainty as un
 
-    n = 200_000
-    f = un.sample_log_factors(un.Uncertainty(model_error_dof=dof), n, np.random.default_rng(1))
-    sigma = {"model": 0.103 * (math.sqrt(5 / 3) if dof else 1.0), "damping": 0.10, "slip": 0.20, "inertia": 0.10}
+    rng = np.random.default_rng(1)
+    blocks = [un.law_draws(un.Uncertainty(model_error_dof=dof), rng, 5) for _ in range(20)]
+    f = {key: np.concatenate([b[key] for b in blocks]) for key in blocks[0]}
+    t5 = math.sqrt(5 / 3)
+    sigma = {"model": t5 if dof else 1.0, "inertia_t": t5, "inertia_z": 1.0, "damping": 1.0, "slip": 1.0}
+    n = 20 * un.MC_BLOCK
     for key, s in sigma.items():
-        assert f[key].shape == (n,)
+        assert blocks[0][key].shape == (un.MC_BLOCK,)
         assert abs(f[key].mean()) < 5 * s / math.sqrt(n)
         assert f[key].std() == pytest.approx(s, rel=0.02)
 
 
-def _mc_reference(u, speed, seed, chunks):
-    """P(V_c,true < speed) by the definition: draws of the log factors (in the given chunk sizes, from one stream),
-    Eq. 7 with the constants scaled by e^ξ, times e^{ξ_m}."""
+def _mc_reference(u, speed, seed, blocks):
+    """P(V_c,true < speed) of a measured wheel by the definition: ``blocks`` blocks of standard draws from one
+    stream, Eq. 7 with I_w e^{σ_I Z}, c_f e^{σ_c Z}, K_s e^{σ_K Z}, times e^{σ_m t_5}."""
     from designer.physics import uncertainty as un
 
     rng = np.random.default_rng(seed)
     t, i, b, c, ks = CASE
     hits = 0
-    for n in chunks:
-        f = un.sample_log_factors(u, n, rng)
+    for _ in range(blocks):
+        f = un.law_draws(u, rng, 5)
         v = shimmy.critical_shimmy_speed(
-            t, i * np.exp(f["inertia"]), b, c * np.exp(f["damping"]), ks * np.exp(f["slip"])
-        ) * np.exp(f["model"])
+            t,
+            i * np.exp(u.inertia * f["inertia_z"]),
+            b,
+            c * np.exp(u.damping * f["damping"]),
+            ks * np.exp(u.slip_coefficient * f["slip"]),
+        ) * np.exp(u.model_error * f["model"])
         hits += int(np.count_nonzero(v < speed))
-    return hits / sum(chunks)
+    return hits / (blocks * un.MC_BLOCK)
 
 
 def test_monte_carlo_is_the_definition_draw_for_draw():
     """The Monte Carlo (designer.model.shimmy_probability) counts, draw for draw, the sampled casters whose V_c,true = V_c(I_w e^ξI, c_f e^ξc,
     K_s e^ξK) e^ξm falls below the speed (K_s = 2000 N here, not the default): with its own seed, with a seed
-    given, and across the top-up (1000 draws, then up to n = ⌈p(1−p)/SE²⌉ + 2 %); SE = √(p(1−p)/n)."""
+    given, and across the top-up (one block of 10 000, then whole blocks up to n = ⌈p(1−p)/SE²⌉ + 2 %);
+    SE = √(p(1−p)/n)."""
     from designer.physics import uncertainty as un
 
     u = un.Uncertainty()
     p, se = _mc(*CASE, 3.0, u, samples=1000, target_se=None)
-    assert p == _mc_reference(u, 3.0, u.seed, [1000]) and se == pytest.approx(math.sqrt(p * (1 - p) / 1000))
+    assert p == _mc_reference(u, 3.0, u.seed, 1) and se == pytest.approx(math.sqrt(p * (1 - p) / 10_000))
     p7, _ = _mc(*CASE, 3.0, u, samples=1000, seed=7, target_se=None)
-    assert p7 == _mc_reference(u, 3.0, 7, [1000]) and p7 != p
-    need = math.ceil(p * (1 - p) / 0.005**2)
-    want = need + need // 50
-    p2, se2 = _mc(*CASE, 3.0, u, samples=1000, target_se=0.005)
-    assert p2 == _mc_reference(u, 3.0, u.seed, [1000, want - 1000])
+    assert p7 == _mc_reference(u, 3.0, 7, 1) and p7 != p
+    need = math.ceil(p * (1 - p) / 0.001**2)
+    want = math.ceil((need + need // 50) / 10_000) * 10_000
+    p2, se2 = _mc(*CASE, 3.0, u, samples=1000, target_se=0.001)
+    assert want > 10_000
+    assert p2 == _mc_reference(u, 3.0, u.seed, want // 10_000)
     assert se2 == pytest.approx(math.sqrt(p2 * (1 - p2) / want), rel=1e-12)
 
 
 def test_monte_carlo_with_no_hit_reports_one_over_n():
     """No sampled caster shimmies at 0.5 m/s: p = 0, and the standard error is reported as 1/n (from max(p(1−p),
-    1/n)); 1000 draws already meet a 0.101 % target (⌈(1/1000)/0.00101²⌉ = 981 draws needed), so no more are
-    drawn and SE = 1/1000 exactly."""
+    1/n)); one block of 10 000 draws already meets a 0.101 % target, so no more are drawn and SE = 1/10 000."""
     from designer.physics import uncertainty as un
 
     p, se = _mc(*CASE, 0.5, un.Uncertainty(), samples=1000, target_se=0.00101)
-    assert p == 0.0 and se == pytest.approx(1e-3, rel=1e-12)
+    assert p == 0.0 and se == pytest.approx(1e-4, rel=1e-12)
 
 
 def test_threshold_argument_errors_name_the_argument():

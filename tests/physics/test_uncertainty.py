@@ -312,13 +312,13 @@ def test_risk_record_of_a_measured_wheel_without_groove():
     assert r["dominant"].startswith("Eq. 7's own error against Table 1 dominates the risk")
 
 
-def test_data_law_defaults():
-    """data_law(): model error 0.10751 on 5 dof (Table 1), measured inertia 0.05, M_f/θ0 0.10, K_s 0.20; changes
-    replace fields; the old default Uncertainty() is untouched in phase 1 (0.103, 0.10)."""
+def test_data_law_is_the_default():
+    """data_law() is the default Uncertainty: model error 0.10751 on 5 dof (Table 1), measured inertia 0.05,
+    M_f/θ0 0.10, K_s 0.20; changes replace fields."""
     law = U.data_law(probability=0.1)
     assert (law.model_error, law.model_error_dof) == (pytest.approx(0.10751, abs=5e-6), 5)
     assert (law.inertia, law.damping, law.slip_coefficient, law.probability) == (0.05, 0.10, 0.20, 0.1)
-    assert (U.Uncertainty().model_error, U.Uncertainty().inertia) == (0.103, 0.10)
+    assert U.data_law() == U.Uncertainty()
 
 
 def _mc(*args, **kwargs) -> tuple[float, float]:

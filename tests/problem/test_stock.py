@@ -23,10 +23,16 @@ damping = { min = "1.3 N*m/rad", max = "6 N*m/rad" }
 
 
 def test_default_risk_bound_and_enabled_false():
-    """No [robust]: α = 0.05 with the indoor-manual-robust scatter and a t_5 model error; enabled = false: none."""
+    """No [robust]: α = 0.05 with the data law (Table 1's log RMS 0.10751 as a t_5 model error, a measured wheel's
+    σ 0.05, the assumed 0.10 and 0.20 for M_f/θ0 and K_s); enabled = false: none."""
     p = problem_from_toml(BASE)
     assert p.risk == Uncertainty(
-        probability=0.05, model_error=0.103, damping=0.10, slip_coefficient=0.20, inertia=0.10, model_error_dof=5
+        probability=0.05,
+        model_error=pytest.approx(0.10751, abs=5e-6),
+        damping=0.10,
+        slip_coefficient=0.20,
+        inertia=0.05,
+        model_error_dof=5,
     )
     assert problem_from_toml(BASE + "[robust]\nenabled = false\n").risk is None
     assert problem_from_toml(BASE + "[robust]\nprobability = 0.01\n").risk.probability == 0.01

@@ -177,7 +177,8 @@ def risk_fronts():
 @pytest.mark.parametrize("name", NAMES)
 def test_risk_closed_form_matches_nlp_front(risk_fronts, name):
     """At every ε of the NLP-only risk-bounded front the closed form is feasible (V_q = V_req to 1e-12 or
-    above, P <= ε), never worse than the NLP by more than its tolerance (1e-9) and equal to it to 1e-6."""
+    above, P <= ε), never worse than the NLP by more than its tolerance (1e-9) and equal to it to 1e-6 except at
+    most two points where the NLP-only sweep stopped short (there it is better)."""
     problem, slow, _ = risk_fronts[name]
     assert problem.risk is not None and structured.applicable(problem)
     eps = np.array([p.epsilon for p in slow.points])
@@ -190,14 +191,17 @@ def test_risk_closed_form_matches_nlp_front(risk_fronts, name):
     f_slow = slow.objectives()[:, 0]
     rel = (values["turning_effort"] - f_slow) / f_slow
     assert np.all(rel <= 1e-9)
-    assert np.all(rel >= -1e-6)
+    # equal to 1e-6, except where the NLP-only sweep stopped at a local optimum (at most 2 points, as on the
+    # nominal front): there the closed form's design, feasible as checked above, is strictly better
+    assert np.sum(rel < -1e-6) <= 2
 
 
 @pytest.mark.parametrize("name", NAMES)
 def test_risk_fast_front_is_the_closed_form(risk_fronts, name):
     """The risk-bounded front of ``pareto_front`` (structured strategy) is made of NLP optima equal to the
     closed form at their ε (1e-8); no point of the NLP-only front dominates one of its points (beyond 1e-9),
-    and the two hypervolumes agree to 1e-5 (the re-spaced ε differ where the NLP sweep missed an optimum)."""
+    and its hypervolume is at least the NLP-only front's to 1e-5 (the re-spaced ε differ, and the NLP sweep
+    may miss an optimum)."""
     problem, slow, fast = risk_fronts[name]
     assert fast.meta["strategy"] == "structured" and slow.meta["strategy"] == "nlp"
     assert len(fast) == len(slow) and not fast.failed
@@ -209,17 +213,21 @@ def test_risk_fast_front_is_the_closed_form(risk_fronts, name):
     for q in f_fast:
         assert not np.any((f_slow[:, 0] < q[0] * (1 - 1e-9)) & (f_slow[:, 1] <= q[1] * (1 + 1e-12)))
     ideal, nadir = slow.ideal_nadir()
-    assert fast.hypervolume(ideal=ideal, nadir=nadir) == pytest.approx(
-        slow.hypervolume(ideal=ideal, nadir=nadir), rel=1e-5
-    )
+    # at least as large to 1e-5 (the re-spaced ε; larger where the NLP-only sweep missed an optimum)
+    assert fast.hypervolume(ideal=ideal, nadir=nadir) >= slow.hypervolume(ideal=ideal, nadir=nadir) * (1 - 1e-5)
     assert fast.meta["nlp_solves"] < slow.meta["nlp_solves"]
 
 
 def test_risk_bound_is_a_share_dependent_target():
     """The risk bound is V_c² >= V_req² G(s), G depending on the friction share s of V_c² (so not one tightened
-    target) unless σ_c = σ_K = 0: then G is constant and the risk-bounded optima are the nominal closed form
+    target) unless σ_c = σ_K = 0: then G is constant (for a measured wheel; for a wheel known by its diameter
+    it depends on d through Table 1's prediction scale) and the risk-bounded optima are the nominal closed form
     at V_target × √G, to 1e-12."""
     base = load_problem("problems/indoor-manual.toml")
+    base = base.replace(conditions=base.conditions.replace(inertia=PowerLaw(measured=True)))
+    wheel = load_problem("problems/indoor-manual.toml")
+    at = structured.log_gain(wheel.risk, np.full(2, 0.5), np.array([4, 7]) * INCH)
+    assert at[0] > at[1] + 1e-3  # the prediction interval narrows towards Table 1's middle
     share = np.linspace(0, 1, 5)
     g = structured.log_gain(base.risk, share)
     assert np.ptp(g) > 1e-3
@@ -533,10 +541,13 @@ from designer.physics.uncertainty import shimmy_speed_quantile
 from designer.solvers import closed_form as structured
 
 
-def _problem(name="indoor-manual", speed=None, groove_cost=1.0, **scatter):
+def _risk_problem(name="indoor-manual", speed=None, groove_cost=1.0, measured=False, **scatter):
     """A shipped (risk-bounded) problem, its target speed, the groove's turning-moment coefficient (× groove_cost)
-    and its risk bound's scatter optionally changed."""
+    and its risk bound's scatter optionally changed; ``measured``: its power-law wheels measured at their value
+    (the measurement's scatter instead of Table 1's prediction interval, which depends on d)."""
     p = load_problem(ROOT / "problems" / f"{name}.toml")
+    if measured:
+        p = p.replace(conditions=p.conditions.replace(inertia=PowerLaw(measured=True)))
     if groove_cost != 1.0:
         kappa = p.conditions.turning.groove_coefficient * groove_cost
         p = p.replace(conditions=p.conditions.replace(turning=TurningConstants(groove_coefficient=kappa)))
@@ -548,20 +559,24 @@ def _problem(name="indoor-manual", speed=None, groove_cost=1.0, **scatter):
     return p
 
 
-def _quantile(p, t, inertia, b, c):
-    """V_q of designs from the physics layer directly [m/s]."""
-    return shimmy_speed_quantile(t, inertia, b, c, p.conditions.slip_coefficient, p.conditions.uncertainty)
+def _quantile(p, t, inertia, b, c, d):
+    """V_q of designs from the physics layer directly [m/s] (a wheel known by its diameter d: Table 1's prediction
+    of I_w, unless the problem's wheels are measured)."""
+    wheel = None if p.conditions.inertia.measured else d
+    return shimmy_speed_quantile(
+        t, inertia, b, c, p.conditions.slip_coefficient, p.conditions.uncertainty, diameter=wheel
+    )
 
 
-def _least_c(p, t, inertia, b):
+def _least_c(p, t, inertia, b, d):
     """The least c_f in [c_lo, c_hi] with V_q >= V_req at groove b (bisection), or inf when c_hi is not enough."""
     lo, hi = p.lower().as_array()[3], p.upper().as_array()[3]
     need = p.required_speed
-    if _quantile(p, t, inertia, b, lo) >= need:
+    if _quantile(p, t, inertia, b, lo, d) >= need:
         return lo
-    if _quantile(p, t, inertia, b, hi) < need:
+    if _quantile(p, t, inertia, b, hi, d) < need:
         return np.inf
-    return brentq(lambda c: _quantile(p, t, inertia, b, c) - need, lo, hi, xtol=1e-14, rtol=1e-15)
+    return brentq(lambda c: _quantile(p, t, inertia, b, c, d) - need, lo, hi, xtol=1e-14, rtol=1e-15)
 
 
 def _brute_best(p, t, d):
@@ -571,7 +586,7 @@ def _brute_best(p, t, d):
     inertia = float(evaluate_many(p, np.array([[t, d, lo[2], lo[3]]]))["inertia"][0])
 
     def f(b):
-        c = _least_c(p, t, inertia, b)
+        c = _least_c(p, t, inertia, b, d)
         if not np.isfinite(c):
             return np.inf
         return float(evaluate_many(p, np.array([[t, d, b, c]]))["turning_effort"][0])
@@ -604,7 +619,7 @@ def test_risk_designs_equal_a_brute_force_search(name, speed, scatter):
     """At five ε across the box the risk-bounded closed form is feasible exactly when a brute-force search in
     (B, c_f) at its (T, d) finds a design meeting V_q >= V_req (physics layer, bisection in c_f), its design meets
     the bound (to 1e-12) and the box, P <= ε, and its F_turn equals the search's least F_turn to 1e-8."""
-    p = _problem(name, speed, **scatter)
+    p = _risk_problem(name, speed, **scatter)
     assert p.risk is not None and structured.applicable(p)
     lo, hi = p.lower().as_array(), p.upper().as_array()
     p_range = evaluate_many(p, np.array([lo, hi]))["threshold_force"]
@@ -617,19 +632,22 @@ def test_risk_designs_equal_a_brute_force_search(name, speed, scatter):
             continue
         v = evaluate_many(p, xi[None])
         inertia = float(v["inertia"][0])
-        assert _quantile(p, xi[0], inertia, xi[2], xi[3]) >= p.required_speed * (1 - 1e-12)
+        assert _quantile(p, xi[0], inertia, xi[2], xi[3], xi[1]) >= p.required_speed * (1 - 1e-12)
         assert np.all(lo <= xi) and np.all(xi <= hi) and v["threshold_force"][0] <= e * (1 + 1e-12)
         assert float(v["turning_effort"][0]) == pytest.approx(ref, rel=1e-8)
 
 
-def test_risk_design_on_the_bound_unless_at_the_corner():
+@pytest.mark.parametrize("speed, measured", [(6.0, True), (4.0, False)])
+def test_risk_design_on_the_bound_unless_at_the_corner(speed, measured):
     """Where the corner (B_lo, c_lo) misses the risk bound, the closed form's design lies on it: V_q = V_req to
-    1e-9 (not above, which a cheaper design could exploit); where the corner meets it, the design is the corner."""
-    p = _problem("indoor-manual", 6.0)
+    1e-9 (not above, which a cheaper design could exploit); where the corner meets it, the design is the corner;
+    for measured wheels and for wheels known by their diameter (a speed where both kinds of point occur)."""
+    p = _risk_problem("indoor-manual", speed, measured=measured)
     lo, hi = p.lower().as_array(), p.upper().as_array()
     d = np.linspace(lo[1], hi[1], 9)
     x, ok = structured.designs_at_diameter(p, d)
-    assert ok[:6].all()  # the larger diameters miss the bound (I_w too large): the box cannot meet it
+    # feasibility shrinks with d: the larger diameters miss the bound (I_w too large), the box cannot meet it
+    assert ok[0] and not ok[-1] and np.all(np.diff(ok.astype(int)) <= 0)
     x, d = x[ok], d[ok]
     v = evaluate_many(p, x)
     corner = np.column_stack([x[:, 0], d, np.full(len(d), lo[2]), np.full(len(d), lo[3])])
@@ -650,7 +668,7 @@ def test_risk_design_on_the_bound_unless_at_the_corner():
 def test_log_gain_is_the_quantile_ratio_of_real_designs(scatter):
     """log G(s) = 2 log(V_c/V_q) for real designs (T, I_w, B, c_f, K_s from the shipped problem's box) at their
     friction share s = a/(a + b) (Eq. 7 terms): computed from physics.shimmy and physics.uncertainty, to 1e-12."""
-    p = _problem(**scatter)
+    p = _risk_problem(**scatter)
     u, ks = p.risk, p.conditions.slip_coefficient
     rng = np.random.default_rng(3)
     t, inertia = rng.uniform(0.03, 0.07, 12), rng.uniform(5e-4, 3e-3, 12)
@@ -680,7 +698,7 @@ def test_edge_shares_are_the_roots_of_the_edge_equations(scatter):
     """The shares [s1, s2] where the risk-bounded curve enters and leaves the box equal the roots of the four edge
     equations found by brentq (s1 = max(s at c_lo, s at B_hi), s2 = min(s at c_hi, s at B_lo)) to 1e-12, for
     curves crossing the box, ending on an edge, and missing it (s1 > s2)."""
-    p = _problem(**scatter)
+    p = _risk_problem(**scatter)
     u = p.risk
     box = ((0.002, 1.3), (0.019, 6.0))
     a = np.array([0.5, 1.0, 2.0, 4.0, 0.05, 30.0])
@@ -701,9 +719,10 @@ def test_edge_shares_are_the_roots_of_the_edge_equations(scatter):
 
 @pytest.mark.parametrize("speed", [None, 6.0, 9.0])
 def test_zero_design_scatter_is_the_nominal_closed_form_at_a_raised_target(speed):
-    """With σ_c = σ_K = 0 the quantile factor G is constant, so the risk-bounded optima equal the nominal closed
-    form at V_target·√G (the documented special case): same feasibility and designs to 1e-9 at seven ε."""
-    flat = _problem("indoor-manual", speed, damping=0.0, slip_coefficient=0.0)
+    """With σ_c = σ_K = 0 and a measured wheel the quantile factor G is constant, so the risk-bounded optima equal
+    the nominal closed form at V_target·√G (the documented special case): same feasibility and designs to 1e-9
+    at seven ε.  (A wheel known by its diameter has G depending on d: no single raised target.)"""
+    flat = _risk_problem("indoor-manual", speed, measured=True, damping=0.0, slip_coefficient=0.0)
     g = structured.log_gain(flat.risk, np.linspace(0.0, 1.0, 5))
     assert np.ptp(g) < 1e-12 and g[0] > 0.01
     nominal = flat.nominal().replace(target_speed=flat.target_speed * float(np.exp(g[0] / 2)))

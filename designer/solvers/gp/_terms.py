@@ -24,7 +24,8 @@ from designer.physics.threshold import (
 )
 from designer.physics.turning import sliding_turning_moment
 from designer.problem import Problem
-from designer.physics.uncertainty import log_speed_quantile
+from designer.physics.scatter import inertia_prediction
+from designer.physics.uncertainty import law_quantile, log_speed_quantile
 
 
 SERIES_TOLERANCE = 1e-9
@@ -64,7 +65,9 @@ def robust_speed_factor(problem: Problem, groove: bool) -> tuple[float, bool]:
     e_c + e_K = 1/2 and the convex sum of squares peaks at a vertex, so
     σ_V <= sqrt(σ_m² + max(σ_c, σ_K)²/4 + σ_I²/4), conservative (every GP
     point meets the robust constraint).  Without a groove term (b = 0)
-    e_c = 1/2 exactly and the factor is exact.
+    e_c = 1/2 exactly and the factor is exact.  For a wheel known by its
+    diameter the I_w term is Table 1's Student-t prediction, scale σ_P(d)/2,
+    taken at its largest over the diameter bounds (exact only for a fixed d).
 
     Returns
     -------
@@ -75,8 +78,17 @@ def robust_speed_factor(problem: Problem, groove: bool) -> tuple[float, bool]:
         return 1.0, True
 
     e2 = (max(u.damping, u.slip_coefficient) if groove else u.damping) ** 2 / 4
+    exact = not groove or u.slip_coefficient <= u.damping
+    if not getattr(problem.conditions.inertia, "measured", False):
+        # a wheel known by its diameter: Table 1's prediction of I_w, a Student-t whose scale depends on d; the
+        # quantile grows with it, and the scale is convex in log d, so its largest value is at an end of the box
+        rest = math.sqrt(e2)
+        b = problem.bounds["diameter"]
+        scale = max(float(inertia_prediction().scale(b.low)), float(inertia_prediction().scale(b.high))) / 2
+        q = float(law_quantile(u.model_error, scale, rest, u))
+        return math.exp(q), exact and b.low == b.high
     rest = math.sqrt(e2 + u.inertia**2 / 4)  # the quantile grows with the normal part: its largest value bounds it
-    return math.exp(float(log_speed_quantile(u.model_error, rest, u))), not groove or u.slip_coefficient <= u.damping
+    return math.exp(float(log_speed_quantile(u.model_error, rest, u))), exact
 
 
 def _constants(problem: Problem, params: dict, speed_factor: float = 1.0) -> _Constants:

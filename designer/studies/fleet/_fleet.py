@@ -397,14 +397,17 @@ def _monte_carlo(client, stock, problem, choice, speeds, chunk):
     which = pairs[:, 0].astype(int)
     designs = np.stack([stock.trail, stock.diameter, stock.groove, stock.damping], axis=1)[which]
     inertia = stock.inertia[which]
+    measured = np.asarray(stock.measured, bool)[which]
     sp = pairs[:, 1]
     if client is not None:  # enough tasks to keep every worker busy
         chunk = max(1, min(chunk, -(-len(sp) // (8 * max(1, len(client.scheduler_info().get("workers", {})))))))
     pieces = [slice(a, a + chunk) for a in range(0, len(sp), chunk)]
     if client is None:
-        outs = [_mc_task(designs[s], inertia[s], sp[s], slip, u) for s in pieces]
+        outs = [_mc_task(designs[s], inertia[s], sp[s], slip, u, measured[s]) for s in pieces]
     else:
-        futures = [client.submit(_mc_task, designs[s], inertia[s], sp[s], slip, u, pure=False) for s in pieces]
+        futures = [
+            client.submit(_mc_task, designs[s], inertia[s], sp[s], slip, u, measured[s], pure=False) for s in pieces
+        ]
         outs = client.gather(futures)
     both = np.concatenate(outs)[np.ravel(inverse)]
     p[rows], se[rows] = both[:, 0], both[:, 1]

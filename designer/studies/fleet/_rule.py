@@ -35,6 +35,8 @@ class StockTable:
     ----------
     trail, diameter, groove, damping : the design [m, m, m, N·m/rad]
     inertia : I_w of the wheel [kg·m²]
+    measured : whether that I_w was measured (else the wheel is known by its diameter: the risk law applies
+        Table 1's prediction interval)
     wheel : wheel name per caster (catalogue) or ""
     critical_speed : V_c, Eq. 7 [m/s]
     confident_speed : what the risk bound compares with (1 + margin) V_target: the speed reached with
@@ -53,6 +55,7 @@ class StockTable:
     confident_speed: np.ndarray = field(default=None)
     swept_radius: np.ndarray = field(default=None)
     note: str = ""
+    measured: np.ndarray = field(default=None)
 
     def __len__(self) -> int:
         return len(self.trail)
@@ -108,9 +111,13 @@ def stock_table(problem) -> StockTable:
         inertia=np.asarray(cand.inertia, float),
         wheel=np.asarray(cand.wheel, dtype=object),
         note=note,
+        measured=np.asarray(cand.measured, bool),
     )
     values = evaluate_candidates(
-        {name: getattr(table, name) for name in VARIABLES}, problem.conditions, inertia=table.inertia
+        {name: getattr(table, name) for name in VARIABLES},
+        problem.conditions,
+        inertia=table.inertia,
+        measured=table.measured,
     )
     table.critical_speed = values.critical_speed
     table.confident_speed = values.confident_speed
@@ -189,6 +196,7 @@ def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
                 designs,
                 problem.conditions.replace(surface=surface, turning_mode=mode),
                 inertia=stock.inertia[None, :],
+                measured=stock.measured[None, :],
                 load=load[rows, None],
                 threshold_height=np.asarray(chairs["threshold_height"], float)[rows, None],
                 required_speed=required[rows, None],
@@ -309,12 +317,23 @@ def _split(fleet: Fleet, chunk: int) -> list[tuple[int, dict]]:
 # --------------------------------------------------------------------------- Monte Carlo of the choice
 
 
-def _mc_task(designs: np.ndarray, inertia: np.ndarray, speeds: np.ndarray, slip: float, uncertainty) -> np.ndarray:
+def _mc_task(
+    designs: np.ndarray, inertia: np.ndarray, speeds: np.ndarray, slip: float, uncertainty, measured: np.ndarray
+) -> np.ndarray:
     """P(shimmy) and its SE for each (design, speed) row, as an (n, 2) array: one task of the fleet's
     Monte Carlo (in this process or on a Dask worker), by the model's :func:`designer.model.shimmy_probability`
-    (each row the number of a single caster's seeded stream)."""
+    (each row the number of a single caster's seeded stream; a wheel not ``measured`` is known by its
+    diameter)."""
     columns = {name: designs[:, k] for k, name in enumerate(VARIABLES)}
     p, se = shimmy_probability(
-        columns["trail"], inertia, columns["groove"], columns["damping"], slip, speeds, uncertainty
+        columns["trail"],
+        inertia,
+        columns["groove"],
+        columns["damping"],
+        slip,
+        speeds,
+        uncertainty,
+        diameter=columns["diameter"],
+        measured=measured,
     )
     return np.column_stack([p, se])

@@ -85,15 +85,15 @@ def _discrete_buildable(problem) -> tuple[_Buildable, ScreenedTable]:
     return _Buildable(t.values.take(k), t.candidates.wheel[k]), t
 
 
-def _sub_problem(problem, row: dict, inertia, wheel):
-    """The problem with one stock combination's parts fixed (the rest continuous)."""
+def _sub_problem(problem, row: dict, inertia, measured):
+    """The problem with one stock combination's parts fixed (the rest continuous); a measured wheel's I_w fixed."""
 
     bounds = dict(problem.bounds)
     for name, value in row.items():
         if value is not None:
             bounds[name] = Bound(value, value)
     conditions = problem.conditions
-    if row["diameter"] is not None and inertia is not None and (wheel or problem.wheels):
+    if row["diameter"] is not None and inertia is not None and measured:
         conditions = conditions.replace(inertia=Fixed(float(inertia)))
     return dataclasses.replace(problem, bounds=bounds, conditions=conditions, wheels=(), stock=None, source=None)
 
@@ -107,7 +107,7 @@ def _continuous_buildable(problem) -> _Buildable:
     for j in range(len(cand)):
         row = cand.design(j)
         inertia = None if cand.inertia is None else float(cand.inertia[j])
-        sub = _sub_problem(problem, row, inertia, cand.wheel[j])
+        sub = _sub_problem(problem, row, inertia, cand.measured is not None and bool(cand.measured[j]))
         points = 2 if row["diameter"] is not None else min(21, problem.pareto_points)
         try:
             with warnings.catch_warnings():
@@ -115,12 +115,14 @@ def _continuous_buildable(problem) -> _Buildable:
                 front = pareto_front(sub, points=points)
         except InfeasibleError:
             continue
+        measured = bool(getattr(sub.conditions.inertia, "measured", False))
         for pt in front:
-            rows.append((pt.design, float(sub.conditions.inertia(pt.design.diameter)), cand.wheel[j]))
+            rows.append((pt.design, float(sub.conditions.inertia(pt.design.diameter)), cand.wheel[j], measured))
     values = evaluate_candidates(
         {name: np.array([getattr(r[0], name) for r in rows], float) for name in VARIABLES},
         problem.conditions,
         inertia=np.array([r[1] for r in rows], float),
+        measured=np.array([r[3] for r in rows], bool),
     )
     return _Buildable(values, np.array([r[2] for r in rows], dtype=object))
 
@@ -188,6 +190,7 @@ def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, 
         design,
         problem.conditions.replace(uncertainty=u),
         inertia=v.inertia[i : i + 1],
+        measured=v.measured[i : i + 1],
         probability_at=problem.target_speed,
         samples=samples,
         seed=seed,

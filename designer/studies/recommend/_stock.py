@@ -27,6 +27,8 @@ class CandidateTable:
     ----------
     trail, diameter, groove, damping : the parts [m, m, m, N·m/rad], or None where the variable is continuous
     inertia : I_w per combination [kg·m²] (None when the diameter is continuous)
+    measured : whether that I_w was measured (a catalogue wheel, a stock wheel listed with its inertia) or comes
+        from the inertia model at d (a wheel known by its diameter only); None when the diameter is continuous
     wheel : wheel name per combination ("" for a plain diameter)
     note : where the stock comes from
     """
@@ -38,6 +40,7 @@ class CandidateTable:
     inertia: np.ndarray | None
     wheel: np.ndarray
     note: str = ""
+    measured: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.wheel)
@@ -74,9 +77,9 @@ def _wheel_rows(problem, stock):
         values = (b.low,)
     else:
         return None
-    with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", message="inertia power law used at")
+    if getattr(c.inertia, "measured", False):  # a fixed, measured inertia whatever the diameter
         return [(d, float(c.inertia(d)), None, "") for d in values]
+    return [(d, None, None, "") for d in values]  # I_w from the inertia model (stock_candidates fills it in)
 
 
 def _values(problem, stock, name: str, listed):
@@ -120,10 +123,11 @@ def stock_candidates(problem, stock=None) -> CandidateTable:
         return np.array([r[i] for r in rows], float)
 
     grooves_continuous = grooves is None and (wheels is None or any(w[2] is None for w in wheel_axis))
-    inertia = None
+    inertia = measured = None
     if wheels is not None:
         inertia = np.array([r[4] if r[4] is not None else np.nan for r in rows], float)
         missing = np.isnan(inertia)
+        measured = ~missing | bool(getattr(problem.conditions.inertia, "measured", False))
         if missing.any():
             with warnings.catch_warnings():
                 warnings.filterwarnings("ignore", message="inertia power law used at")
@@ -144,6 +148,7 @@ def stock_candidates(problem, stock=None) -> CandidateTable:
         inertia=inertia,
         wheel=np.array([r[5] for r in rows], dtype=object),
         note=note,
+        measured=measured,
     )
 
 
@@ -168,6 +173,7 @@ def candidate_table(problem, stock=None) -> ScreenedTable:
         {name: getattr(cand, name) for name in VARIABLES},
         problem.conditions,
         inertia=cand.inertia,
+        measured=cand.measured,
         required_speed=problem.required_speed,
         swept_radius_max=problem.swept_radius_max,
     )

@@ -50,6 +50,7 @@ def _evaluate(
         {name: arrays[name] for name in VARIABLES},
         conditions.replace(uncertainty=bound),
         inertia=arrays["inertia"],
+        measured=arrays.get("measured", True),
         stem_angle=stem_angle,
         calibration=factor,
         required_speed=None if limits is None else limits[0],
@@ -61,11 +62,13 @@ def _evaluate(
     )
 
 
-def _current_inertia(problem, current: Design) -> float:
-    """I_w of the current wheel when it was not measured: the problem's inertia model at its diameter.
+def _current_inertia(problem, current: Design) -> tuple[float, bool]:
+    """I_w of the current wheel when it was not given, and whether that I_w is a measured one.
 
-    A catalogue or fixed-inertia problem describes particular wheels: the current wheel must be one of
-    them (same diameter), else InputError asks for ``--inertia``.
+    A catalogue or fixed-inertia problem describes particular wheels, measured: the current wheel must be one
+    of them (same diameter), else InputError asks for ``--inertia``.  Otherwise the problem's inertia model at
+    its diameter: a wheel known by its diameter only (the risk law's prediction interval), unless the model
+    itself is a measured one.
     """
 
     model = problem.conditions.inertia
@@ -77,7 +80,7 @@ def _current_inertia(problem, current: Design) -> float:
             if w is not None and abs(w.diameter - current.diameter) <= 1e-6
         ]
         if len({w.inertia for w in same}) == 1:
-            return float(same[0].inertia)
+            return float(same[0].inertia), True
         if same:
             raise InputError(
                 f"inertia: the problem has {len(same)} wheels of d = {current.diameter / INCH:.4g} in "
@@ -89,11 +92,11 @@ def _current_inertia(problem, current: Design) -> float:
             and problem.bounds["diameter"].fixed
             and abs(problem.bounds["diameter"].low - current.diameter) <= 1e-6
         ):
-            return float(model(current.diameter))
+            return float(model(current.diameter)), True
         raise InputError(
             f"inertia: the current wheel (d = {current.diameter / INCH:.4g} in) is not one of the "
             f"problem's wheels ({model.describe()}); give its measured I_w with --inertia"
         )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # extrapolation of the inertia fit: docs/retrofit.md
-        return float(model(current.diameter))
+        return float(model(current.diameter)), bool(getattr(model, "measured", False))

@@ -33,12 +33,14 @@ _LENGTHS = ("trail", "diameter", "groove")
 
 @dataclass(frozen=True)
 class _Wheel:
-    """A wheel on offer: diameter [m], groove [m] (NaN: takes any tyre), I_w [kg·m²], name."""
+    """A wheel on offer: diameter [m], groove [m] (NaN: takes any tyre), I_w [kg·m²], name, and whether its I_w
+    was measured (else it is the inertia model's at d: a wheel known by its diameter)."""
 
     diameter: float
     groove: float
     inertia: float
     name: str | None
+    measured: bool = True
 
 
 def _stock_of(problem) -> dict:
@@ -137,13 +139,15 @@ def _wheel_options(problem, stock: dict, current: Design, sources: dict) -> tupl
 
         for entry in catalogue:
             d = float(entry.diameter)
+            measured = entry.inertia is not None or bool(getattr(model, "measured", False))
             if entry.inertia is not None:
                 i = float(entry.inertia)
             else:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")  # extrapolation of the inertia fit: docs/retrofit.md
                     i = float(model(d))
-            wheels.append(_Wheel(d, math.nan if entry.groove is None else float(entry.groove), i, entry.name))
+            groove = math.nan if entry.groove is None else float(entry.groove)
+            wheels.append(_Wheel(d, groove, i, entry.name, measured))
         if "grooves" not in stock and all(w.groove is not None for w in catalogue):
             sources["groove"] = "none on the current wheel (the catalogue's tyres come with its wheels)"
             groove_values = np.array([])
@@ -160,8 +164,9 @@ def _wheel_options(problem, stock: dict, current: Design, sources: dict) -> tupl
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # extrapolation of the inertia fit is stated in docs/retrofit.md
             inertias = np.asarray(model(diameters), dtype=float) * np.ones_like(diameters)
+        measured = bool(getattr(model, "measured", False))
         wheels = [
-            _Wheel(float(d), math.nan, float(i), None)
+            _Wheel(float(d), math.nan, float(i), None, measured)
             for d, i in zip(diameters, inertias)
             if abs(d - current.diameter) > 1e-9
         ]
@@ -171,7 +176,7 @@ def _wheel_options(problem, stock: dict, current: Design, sources: dict) -> tupl
 def _enumerate(options: dict, sources: dict, base: dict, max_parts: int, min_parts: int = 1) -> dict:
     """Every combination of changed parts with min_parts..max_parts parts, as arrays (vectorised).
 
-    Keys: trail, diameter, groove, damping, inertia (SI), parts (count), order
+    Keys: trail, diameter, groove, damping, inertia (SI), measured (the wheel's I_w measured), parts (count), order
     (a stable index for ties), mask_<part> (bool: changed), wheel (index into
     options["wheel"], −1: kept).
     """
@@ -185,6 +190,7 @@ def _enumerate(options: dict, sources: dict, base: dict, max_parts: int, min_par
             grids = np.meshgrid(*[np.arange(s) for s in sizes], indexing="ij")
             n = int(np.prod(sizes))
             out = {key: np.full(n, float(base[key])) for key in ("trail", "diameter", "groove", "damping", "inertia")}
+            out["measured"] = np.full(n, bool(base.get("measured", True)))
             out["wheel"] = np.full(n, -1)
             for part in PARTS:
                 out[f"mask_{part}"] = np.full(n, part in parts)
@@ -202,6 +208,7 @@ def _enumerate(options: dict, sources: dict, base: dict, max_parts: int, min_par
                     out["wheel"] = index
                     out["diameter"] = np.array([wheels[i].diameter for i in index])
                     out["inertia"] = np.array([wheels[i].inertia for i in index])
+                    out["measured"] = np.array([wheels[i].measured for i in index], dtype=bool)
                     own = np.array([wheels[i].groove for i in index])
                     has_own = np.isfinite(own)
                     if "tyre" in parts:
@@ -218,6 +225,7 @@ def _enumerate(options: dict, sources: dict, base: dict, max_parts: int, min_par
         empty = {key: np.array([]) for key in ("trail", "diameter", "groove", "damping", "inertia")}
         return (
             empty
+            | {"measured": np.array([], dtype=bool)}
             | {"wheel": np.array([], dtype=int), "parts": np.array([], dtype=int), "order": np.array([], dtype=int)}
             | {f"mask_{p}": np.array([], dtype=bool) for p in PARTS}
         )

@@ -99,11 +99,12 @@ def fix(
         current = parse_current(current, "current")
     stem_angle = float(stem_angle)
     _check_inputs(problem, current, inertia, shimmied_at, stem_angle, onset_scatter)
+    measured = True  # a given I_w is the current wheel's measurement
     if inertia is None:
-        inertia = _current_inertia(problem, current)
+        inertia, measured = _current_inertia(problem, current)
     inertia = float(inertia)
     setting, calibration, base, now = _diagnosis(
-        problem, current, inertia, shimmied_at, stem_angle, onset_scatter, samples, seed
+        problem, current, inertia, shimmied_at, stem_angle, onset_scatter, samples, seed, measured
     )
     current_state = setting.state(now, 0, current, inertia)
     options, sources = part_options(problem, current)
@@ -115,7 +116,17 @@ def fix(
     return result
 
 
-def _diagnosis(problem, current: Design, inertia: float, shimmied_at, stem_angle: float, onset_scatter, samples, seed):
+def _diagnosis(
+    problem,
+    current: Design,
+    inertia: float,
+    shimmied_at,
+    stem_angle: float,
+    onset_scatter,
+    samples,
+    seed,
+    measured=True,
+):
     """Steps 1 and 2 of :func:`fix`: the risk model every caster is judged with (calibrated by an observed onset
     V_obs, factor k = V_obs / V_c,Eq.7) and the current caster's numbers under it.
 
@@ -133,6 +144,7 @@ def _diagnosis(problem, current: Design, inertia: float, shimmied_at, stem_angle
         "groove": current.groove,
         "damping": current.damping,
         "inertia": inertia,
+        "measured": bool(measured),
     }
     arrays = {k: np.array([v]) for k, v in base.items()}
     calibration = None

@@ -197,12 +197,14 @@ def test_front_is_feasible_and_constraints_reach_optuna():
 def test_tuned_operators_beat_optuna_defaults():
     """The tuned operators (SBX, polynomial mutation, population ≈ √N, duplicate filter) give no repeated
     parameter sets and a higher hypervolume against the exact front than optuna's defaults at 500 trials (whether
-    optuna's own defaults repeat parameter sets is optuna's business, not asserted)."""
+    optuna's own defaults repeat parameter sets is optuna's business, not asserted).  (Under the earlier risk
+    law the margin was above 0.1 of the exact hypervolume; under the data law of issue 26 it is about 0.01,
+    0.805 against 0.795 at seed 0: only the order is asserted.)"""
     problem = designer.load_problem(INDOOR)
     tuned = explore(problem, trials=500, seed=0)
     default = explore(problem, trials=500, seed=0, operators="optuna")
     assert tuned.distinct == 500
-    assert tuned.comparison["hypervolume_ratio"] > default.comparison["hypervolume_ratio"] + 0.1
+    assert tuned.comparison["hypervolume_ratio"] > default.comparison["hypervolume_ratio"]
     assert tuned.comparison["igd_plus"] < default.comparison["igd_plus"]
 
 

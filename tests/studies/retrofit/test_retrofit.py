@@ -165,9 +165,15 @@ def brute_force(problem, current: Design, inertia: float, bound: Uncertainty):
     part_of = {"damping": "washer", "groove": "tyre", "trail": "fork hole", "diameter": "wheel"}
     c = problem.conditions
 
-    def numbers(design, i_w):
+    def numbers(design, i_w, wheel=None):
+        """Eq. 7 and the bound; ``wheel`` the diameter of a new stock wheel, known by its diameter only (Table 1's
+        prediction of I_w), None for the current wheel, whose I_w was measured."""
         values = evaluate(design, c.replace(inertia=Fixed(i_w), uncertainty=None))
-        q = float(shimmy_speed_quantile(design.trail, i_w, design.groove, design.damping, c.slip_coefficient, bound))
+        q = float(
+            shimmy_speed_quantile(
+                design.trail, i_w, design.groove, design.damping, c.slip_coefficient, bound, diameter=wheel
+            )
+        )
         return values, q
 
     base, _ = numbers(current, inertia)
@@ -179,8 +185,9 @@ def brute_force(problem, current: Design, inertia: float, bound: Uncertainty):
                 if any(abs(changed[v] - getattr(current, v)) < 1e-12 for v in variables):
                     continue  # the current value is not a change
                 design = dataclasses.replace(current, **changed)
-                i_w = float(c.inertia(design.diameter)) if "diameter" in changed else inertia
-                out, q = numbers(design, i_w)
+                new_wheel = "diameter" in changed
+                i_w = float(c.inertia(design.diameter)) if new_wheel else inertia
+                out, q = numbers(design, i_w, design.diameter if new_wheel else None)
                 if q < problem.required_speed or design.trail + design.diameter / 2 > problem.swept_radius_max:
                     continue
                 d_turn = out["turning_effort"] - base["turning_effort"]
@@ -195,6 +202,12 @@ def brute_force(problem, current: Design, inertia: float, bound: Uncertainty):
                 )
     rows.sort(key=lambda r: r[0])
     return rows
+
+
+def _wheel(f):
+    """The keyword that gives the risk law a fix's wheel: its diameter when the fix changes the wheel for a stock
+    one known by its diameter only, none when it keeps the current (measured) wheel."""
+    return {"diameter": f.design.diameter} if any(c.part == "wheel" for c in f.changes) else {}
 
 
 def test_eq8_caster_diagnosis(eq8):
@@ -237,7 +250,14 @@ def test_fixes_are_ranked_and_safe(problem, eq8):
         assert f.confident_speed >= problem.required_speed and f.swept_radius <= problem.swept_radius_max + 1e-12
         u = dataclasses.replace(bound, samples=40_000, seed=12345)
         p, se = _mc(
-            f.effective_trail, f.inertia, f.design.groove, f.design.damping, c.slip_coefficient, problem.target_speed, u
+            f.effective_trail,
+            f.inertia,
+            f.design.groove,
+            f.design.damping,
+            c.slip_coefficient,
+            problem.target_speed,
+            u,
+            **_wheel(f),
         )
         assert p <= bound.probability + 3 * max(se, 1e-4)
         assert f.cost_turning_effort == pytest.approx(f.turning_effort - eq8.current.turning_effort, abs=1e-12)
@@ -258,6 +278,7 @@ def test_reported_probability_is_the_uncertainty_modules_estimate(problem, eq8):
             u,
             samples=max(_retrofit.REPORT_SAMPLES, u.samples),
             seed=u.seed,
+            **_wheel(f),
         )
         assert (f.shimmy_probability, f.shimmy_probability_se) == (p, se)
 
@@ -295,7 +316,7 @@ def test_calibrated_fixes_are_safe_and_uncalibrated_ones_are_not(problem, eq8):
     def calibrated(f):
         q = k * float(
             shimmy_speed_quantile(
-                f.effective_trail, f.inertia, f.design.groove, f.design.damping, c.slip_coefficient, bound
+                f.effective_trail, f.inertia, f.design.groove, f.design.damping, c.slip_coefficient, bound, **_wheel(f)
             )
         )
         u = dataclasses.replace(bound, samples=40_000, seed=777)
@@ -307,6 +328,7 @@ def test_calibrated_fixes_are_safe_and_uncalibrated_ones_are_not(problem, eq8):
             c.slip_coefficient,
             problem.target_speed / k,
             u,
+            **_wheel(f),
         )
         return q, p, se
 
