@@ -82,8 +82,12 @@ def test_the_same_capped_optimum_from_every_solver(nominal):
 
 def test_risk_bounded_optimum_agrees_and_the_gp_is_conservative():
     """With the risk bound (indoor-manual as shipped) the closed form and SLSQP find the NLP's J to their
-    tolerance; the GP bounds the quantile conservatively (designer.solvers.gp), so its J is not below the NLP's
-    and within 1 % of it."""
+    tolerance; the GP bounds the quantile conservatively (designer.solvers.gp), so its J is not below the NLP's.
+    For measured wheels (the quantile's scatter the same at every d) it is within 1 % of it; for wheels known
+    by their diameter the GP takes Table 1's prediction scale at its largest over the diameter bounds (at 3 in,
+    0.534 against 0.37 at the optimum's 7.2 in), so it is conservative by more."""
+    from designer.physics.inertia import PowerLaw
+
     problem = load_problem(PROBLEMS / "indoor-manual.toml")
     assert problem.conditions.uncertainty is not None
     reference = _optimum(PRIMARY, problem)
@@ -91,6 +95,10 @@ def test_risk_bounded_optimum_agrees_and_the_gp_is_conservative():
         found = _optimum(name, problem)
         assert abs(found.objective - reference.objective) <= solver(name).tolerance * reference.objective, name
     gp = _optimum("cvxpy-gp", problem)
+    assert reference.objective * (1 - 1e-9) <= gp.objective
+    measured = problem.replace(conditions=problem.conditions.replace(inertia=PowerLaw(measured=True)))
+    reference = _optimum(PRIMARY, measured)
+    gp = _optimum("cvxpy-gp", measured)
     assert reference.objective * (1 - 1e-9) <= gp.objective <= reference.objective * 1.01
 
 
