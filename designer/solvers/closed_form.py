@@ -77,13 +77,13 @@ GOLDEN_STEPS = 60
 """Golden-section steps refining an interior grid minimum (0.618⁶⁰ ≈ 3e-13 of a grid cell)."""
 
 
-def _predicted(problem) -> bool:
+def _predicted(problem: Problem) -> bool:
     """Whether the wheel is known by its diameter only (the risk law's I_w prediction depends on d)."""
     c = problem.conditions
     return c.uncertainty is not None and not bool(getattr(c.inertia, "measured", False))
 
 
-def applicable(problem) -> bool:
+def applicable(problem: Problem) -> bool:
     """Whether the closed form holds for ``problem`` (continuous, monotone cost; a risk bound whose G contracts,
     and, for a wheel known by its diameter, V_q falling with d)."""
     if problem.wheels:
@@ -108,7 +108,7 @@ def applicable(problem) -> bool:
     return bool(m > 0 and np.all(np.diff(inertia) >= -1e-15 * np.abs(inertia[1:])))
 
 
-def diameter_at(problem, eps) -> np.ndarray:
+def diameter_at(problem: Problem, eps: npt.ArrayLike) -> np.ndarray:
     """The diameter d at which P(d) = ε (Eq. 4A inverted): r(x − 2) = 2√(x − 1), r = ε/L, x = d/h.
 
     With y = √(x − 1): r y² − 2 y − r = 0, y = (1 + √(1 + r²))/r.  NaN for ε <= 0.
@@ -117,10 +117,11 @@ def diameter_at(problem, eps) -> np.ndarray:
     r = np.asarray(eps, float) / c.load
     with np.errstate(divide="ignore", invalid="ignore"):
         y = np.where(r > 0, (1 + np.sqrt(1 + r * r)) / r, np.nan)
-    return (y * y + 1) * c.threshold_height
+    d: np.ndarray = (y * y + 1) * c.threshold_height
+    return d
 
 
-def _values(problem, x):
+def _values(problem: Problem, x: np.ndarray) -> dict[str, Any]:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         return performance(x[..., 0], x[..., 1], x[..., 2], x[..., 3], problem.conditions)
@@ -136,7 +137,7 @@ CANDIDATES = (
 is concave along the curve, so its minimum is at one of them (docs/model.md)."""
 
 
-def largest_trail(problem, d) -> tuple[np.ndarray, np.ndarray]:
+def largest_trail(problem: Problem, d: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """The largest admissible trail T [m] at each diameter ``d`` [m], and whether it reaches the trail's lower bound.
 
     T is capped by its upper bound and by the swept-radius limit R_s = T + d/2 <= R_max (geometry,
@@ -154,7 +155,9 @@ def largest_trail(problem, d) -> tuple[np.ndarray, np.ndarray]:
     return np.maximum(t, lo.trail), ok
 
 
-def designs_at_diameter(problem, d, candidates=None, *, search: bool = True) -> tuple[np.ndarray, np.ndarray]:
+def designs_at_diameter(
+    problem: Problem, d: npt.ArrayLike, candidates: Sequence[int] | None = None, *, search: bool = True
+) -> tuple[np.ndarray, np.ndarray]:
     """Least-F_turn designs at given diameters (T, B, c_f optimal): ((N, 4) designs, feasible mask).
 
     ``candidates`` : indices into :data:`CANDIDATES` to compare (default all four; fewer only to
@@ -167,7 +170,10 @@ def designs_at_diameter(problem, d, candidates=None, *, search: bool = True) -> 
     t, ok = largest_trail(problem, d)
     probe = np.column_stack([t, d, np.ones(n), np.ones(n)])
     inertia = np.asarray(_values(problem, probe)["inertia"], float) + 0 * d
-    a, b = critical_speed_terms(t, inertia, 1.0, 1.0, problem.conditions.slip_coefficient)  # per unit c_f, B²
+    # per unit c_f, B²
+    a, b = (
+        np.asarray(v, float) for v in critical_speed_terms(t, inertia, 1.0, 1.0, problem.conditions.slip_coefficient)
+    )
     if problem.conditions.uncertainty is not None:
         designs, feasible = _risk_designs(problem, t, d, a, b, search)
         return designs, ok & feasible
@@ -175,8 +181,16 @@ def designs_at_diameter(problem, d, candidates=None, *, search: bool = True) -> 
     (b_lo, c_lo), (b_hi, c_hi) = (lo.groove, lo.damping), (hi.groove, hi.damping)
     with np.errstate(divide="ignore", invalid="ignore"):
         # c_f from the constraint at a given B; B from it at a given c_f
-        c_at = lambda bb: np.maximum(c_lo, (need - b * bb * bb) / a)  # noqa: E731
-        b_at = lambda cc: np.maximum(b_lo, np.sqrt(np.maximum(0.0, (need - a * cc) / b)))  # noqa: E731
+
+        def c_at(bb: npt.ArrayLike) -> np.ndarray:
+            bb = np.asarray(bb, float)
+            c: np.ndarray = np.maximum(c_lo, (need - b * bb * bb) / a)
+            return c
+
+        def b_at(cc: npt.ArrayLike) -> np.ndarray:
+            g: np.ndarray = np.maximum(b_lo, np.sqrt(np.maximum(0.0, (need - a * np.asarray(cc, float)) / b)))
+            return g
+
         cands = [
             (b_at(c_lo), np.full(n, c_lo)),
             (np.full(n, b_lo), c_at(b_lo)),
@@ -202,7 +216,7 @@ def designs_at_diameter(problem, d, candidates=None, *, search: bool = True) -> 
     return designs, feasible
 
 
-def log_gain(uncertainty: Uncertainty, share, diameter=None):
+def log_gain(uncertainty: Uncertainty, share: npt.ArrayLike, diameter: npt.ArrayLike | None = None) -> np.ndarray:
     """log G(s) = 2 Q_{1−α}(s): how far log V_c² must exceed log V_req² at friction share s [-].
 
     Evaluated by :func:`designer.physics.uncertainty.shimmy_speed_quantile` on a probe design of share
@@ -225,7 +239,7 @@ def _contracts(uncertainty: Uncertainty, diameter: float | None = None) -> bool:
     return bool(np.all(np.isfinite(slope)) and np.max(np.abs(slope) * np.maximum(s, 1 - s)) <= CONTRACTION)
 
 
-def _speed_falls_with_diameter(problem, lo, hi) -> bool:
+def _speed_falls_with_diameter(problem: Problem, lo: Design, hi: Design) -> bool:
     """A wheel known by its diameter: V_q falls with d at the largest trail and each (B, c_f) corner of the box
     (I_w grows as d^3.5 while the prediction scale narrows towards Table 1's middle; 65-point grid)."""
     d = np.linspace(lo.diameter, hi.diameter, 65)
@@ -249,7 +263,14 @@ def _gain_table(uncertainty: Uncertainty) -> tuple[np.ndarray, np.ndarray, np.nd
     return s, lg, slope
 
 
-def _edge_shares(u: Uncertainty, need, a, b, box, diameter=None) -> tuple[np.ndarray, np.ndarray]:
+def _edge_shares(
+    u: Uncertainty,
+    need: float,
+    a: np.ndarray,
+    b: np.ndarray,
+    box: tuple[tuple[float, float], tuple[float, float]],
+    diameter: npt.ArrayLike | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
     """The shares [s1, s2] of the risk-bounded curve inside the box: c_f(s) in [c_lo, c_hi], B(s) in [B_lo, B_hi].
 
     Each edge is a fixed point: c_f(s) = c  ⇔  s = a c/(V² G(s));  B(s) = B  ⇔  s = 1 − b B²/(V² G(s)),
@@ -291,11 +312,21 @@ def _edge_shares(u: Uncertainty, need, a, b, box, diameter=None) -> tuple[np.nda
     return np.maximum(s[0], s[2]), np.minimum(s[1], s[3])
 
 
-def _on_curve(problem, t, d, a, b, s) -> tuple[np.ndarray, np.ndarray]:
+def _law(problem: Problem) -> Uncertainty:
+    """The risk law of a risk-bounded problem (ValueError for a nominal one: the curve has no quantile)."""
+    law = problem.conditions.uncertainty
+    if law is None:
+        raise ValueError(f"{problem.name}: the risk-bounded curve needs a risk bound")
+    return law
+
+
+def _on_curve(
+    problem: Problem, t: np.ndarray, d: np.ndarray, a: np.ndarray, b: np.ndarray, s: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Designs on the risk-bounded curve at shares ``s`` (clipped into the box) and their F_turn [N]."""
     lo, hi = problem.lower(), problem.upper()
     wheel = np.broadcast_to(d, np.shape(s)) if _predicted(problem) else None
-    big = problem.required_speed**2 * np.exp(log_gain(problem.conditions.uncertainty, s, wheel))
+    big = problem.required_speed**2 * np.exp(log_gain(_law(problem), s, wheel))
     with np.errstate(divide="ignore", invalid="ignore"):
         c = np.clip(s * big / a, lo.damping, hi.damping)
         g = np.clip(np.sqrt(np.maximum(0.0, (1 - s) * big / b)), lo.groove, hi.groove)
@@ -304,7 +335,9 @@ def _on_curve(problem, t, d, a, b, s) -> tuple[np.ndarray, np.ndarray]:
     return x, np.asarray(_values(problem, x)["turning_effort"], float) + 0 * s
 
 
-def _risk_designs(problem, t, d, a, b, search: bool = True) -> tuple[np.ndarray, np.ndarray]:
+def _risk_designs(
+    problem: Problem, t: np.ndarray, d: np.ndarray, a: np.ndarray, b: np.ndarray, search: bool = True
+) -> tuple[np.ndarray, np.ndarray]:
     """Least-F_turn designs at (T, d) under the risk bound: ((N, 4) designs, feasible mask) (module text).
 
     The corner (B_lo, c_lo) when it is feasible; else the cheapest of: the curve's two ends in the box,
@@ -312,7 +345,7 @@ def _risk_designs(problem, t, d, a, b, search: bool = True) -> tuple[np.ndarray,
     """
     n = len(d)
     lo, hi = problem.lower(), problem.upper()
-    u = problem.conditions.uncertainty
+    u = _law(problem)
     corner = np.column_stack([t, d, np.full(n, lo.groove), np.full(n, lo.damping)])
     corner_ok = np.asarray(_values(problem, corner)["confident_speed"], float) >= problem.required_speed
     box = ((lo.groove, lo.damping), (hi.groove, hi.damping))
@@ -341,7 +374,7 @@ def _risk_designs(problem, t, d, a, b, search: bool = True) -> tuple[np.ndarray,
     return designs, corner_ok | curve_ok
 
 
-def structured_front_designs(problem, eps_array) -> tuple[np.ndarray, np.ndarray]:
+def structured_front_designs(problem: Problem, eps_array: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """ε-constraint optima min F_turn s.t. P <= ε for every ε: ((N, 4) designs, feasible mask).
 
     Raises ValueError when the closed form does not apply (see :func:`applicable`).
@@ -361,7 +394,7 @@ def structured_front_designs(problem, eps_array) -> tuple[np.ndarray, np.ndarray
     return designs, feasible & reach
 
 
-def structured_ends(problem, rel: float = 1e-9, rounds: int = 9):
+def structured_ends(problem: Problem, rel: float = 1e-9, rounds: int = 9) -> tuple[np.ndarray, np.ndarray] | None:
     """The two lexicographic ends in closed form: (min F then min P, min P then min F) designs, or None.
 
     End A: d_lo's optimum F*, then the largest d whose optimum keeps F_turn <= F*(1 + rel) (bisection:
@@ -380,11 +413,11 @@ def structured_ends(problem, rel: float = 1e-9, rounds: int = 9):
         return None
     f_min = float(_values(problem, x_lo[0])["turning_effort"])
 
-    def largest(pred):
+    def largest(pred: Callable[[np.ndarray], np.ndarray]) -> float:
         """Largest d in [d_lo, d_hi] with pred(d) (pred monotone: true then false), by grid refinement."""
         a, b = lo.diameter, hi.diameter
         if pred(np.array([b]))[0]:
-            return b
+            return float(b)
         for _ in range(rounds):
             grid = np.linspace(a, b, 65)
             ok = pred(grid)
@@ -392,13 +425,14 @@ def structured_ends(problem, rel: float = 1e-9, rounds: int = 9):
             a, b = grid[k], grid[min(k + 1, 64)]
             if b - a <= 1e-15 * b:
                 break
-        return a
+        return float(a)
 
-    def flat(dd):
+    def flat(dd: np.ndarray) -> np.ndarray:
         x, ok = designs_at_diameter(problem, dd)
-        return ok & (np.asarray(_values(problem, x)["turning_effort"], float) <= f_min * (1 + rel))
+        flat_at: np.ndarray = ok & (np.asarray(_values(problem, x)["turning_effort"], float) <= f_min * (1 + rel))
+        return flat_at
 
-    def feasible(dd):
+    def feasible(dd: np.ndarray) -> np.ndarray:
         return designs_at_diameter(problem, dd, search=False)[1]
 
     d_a, d_b = largest(flat), largest(feasible)

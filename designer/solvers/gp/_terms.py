@@ -9,14 +9,16 @@ function every GP, condensation and sensitivity is built from.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from designer import parameters
 from designer.model import Conditions
 from designer.physics.geometry import swept_radius
-from designer.physics.inertia import Catalog, Disc, Fixed, PowerLaw, disc_inertia, power_law_inertia
+from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw, disc_inertia, power_law_inertia
 from designer.physics.threshold import (
     threshold_force_ratio,
     threshold_series_coefficients,
@@ -37,7 +39,7 @@ MAX_ORDER = 400
 # --------------------------------------------------------------------------- parameters
 
 
-def _parameters(problem: Problem) -> dict:
+def _parameters(problem: Problem) -> dict[str, Any]:
     """The fixed parameters of a continuous problem, named as in :mod:`designer.parameters`."""
     if not isinstance(problem.conditions.inertia, (PowerLaw, Disc, Catalog, Fixed)):  # pragma: no cover
         raise TypeError(f"inertia model {type(problem.conditions.inertia).__name__}: not expressible as a GP")
@@ -91,11 +93,13 @@ def robust_speed_factor(problem: Problem, groove: bool) -> tuple[float, bool]:
     return math.exp(float(log_speed_quantile(u.model_error, rest, u))), exact
 
 
-def _constants(problem: Problem, params: dict, speed_factor: float = 1.0) -> _Constants:
+def _constants(problem: Problem, params: dict[str, Any], speed_factor: float = 1.0) -> _Constants:
     """Conditions rebuilt from ``params`` (so a parameter can be perturbed)."""
     conditions = parameters.with_solver_values(problem, params)
     return _Constants(
-        conditions, (1 + problem.margin) * params["target_speed"] * speed_factor, params.get("swept_radius_max")
+        conditions=conditions,
+        required_speed=(1 + problem.margin) * params["target_speed"] * speed_factor,
+        swept_radius_max=params.get("swept_radius_max"),
     )
 
 
@@ -125,11 +129,11 @@ def series_order(problem: Problem, tolerance: float = SERIES_TOLERANCE) -> tuple
 # --------------------------------------------------------------------------- the posynomials (ONE place)
 
 
-def _is_zero(x) -> bool:
+def _is_zero(x: Any) -> bool:
     return isinstance(x, (int, float)) and x == 0
 
 
-def _inertia(diameter, model):
+def _inertia(diameter: Any, model: InertiaModel) -> Any:
     """I_w(d) through the physics functions: monomial, posynomial or constant (docs/model.md#wheel-inertia)."""
     if isinstance(model, PowerLaw):
         c, n = model.constants()
@@ -138,10 +142,14 @@ def _inertia(diameter, model):
         return disc_inertia(diameter, model.tyre_width, model.density)
     if isinstance(model, Catalog):
         return model.wheel.inertia
-    return model.inertia  # Fixed
+    if isinstance(model, Fixed):
+        return model.inertia
+    raise TypeError(f"inertia model {type(model).__name__}: not expressible as a GP")
 
 
-def gp_terms(trail, diameter, groove, added_damping, constants: _Constants, order: int, s_max: float) -> dict:
+def gp_terms(
+    trail: Any, diameter: Any, groove: Any, added_damping: Any, constants: _Constants, order: int, s_max: float
+) -> dict[str, Any]:
     """The posynomials of the GP, written once; works on cvxpy, float and complex values.
 
     Parameters
@@ -193,9 +201,9 @@ def gp_terms(trail, diameter, groove, added_damping, constants: _Constants, orde
     }
 
 
-def _objective(terms: dict, weights) -> object:
+def _objective(terms: Mapping[str, Any], weights: Sequence[float]) -> Any:
     """J = w_turn F_turn + w_threshold P from the terms (a zero weight drops its term)."""
-    parts = []
+    parts: list[Any] = []
     if weights[0] > 0:
         parts.append(weights[0] * terms["turning_effort"])
     if weights[1] > 0:
