@@ -2,9 +2,9 @@
 
 A change of the target speed (or the load, the sill, a bound) moves both continuous fronts and the
 recommendation.  They are independent, and CasADi's solvers cannot run in two threads of one process, so
-:func:`designer.studio.view.compute_fronts` hands the nominal front to this process (its own compiled
-solvers, kept warm like the server's) and computes the recommendation and the risk-bounded front meanwhile:
-on two cores the change then takes about the longer of the two instead of their sum.
+:func:`designer.studio.view.compute_fronts` hands the risk-bounded front (the costliest part) to this process
+(its own compiled solvers, kept warm like the server's) and computes the recommendation and the nominal front
+meanwhile: on two cores the change then takes about the longer of the two instead of their sum.
 
 Started by ``designer studio`` (:func:`start`), stopped with it (:func:`stop`); without it (the API, the tests)
 everything is computed in the calling process, with the same results: the helper runs the same

@@ -136,7 +136,7 @@ def make_server(
     Returns (werkzeug server, url).  Raises ProblemError for a bad problem file (before binding) and
     ServerError (exit 8) when the port is taken or cannot be bound.  ``debug``: failed requests log their
     traceback as well.  ``parallel``: start the helper process (:mod:`designer.studio.helper`; stop it
-    with :func:`designer.studio.helper.stop`), warmed on the problem's nominal front.
+    with :func:`designer.studio.helper.stop`), warmed on the problem's front.
     """
     from werkzeug.serving import make_server as _make_server  # Dash's web server, loaded with the studio
 
@@ -152,7 +152,7 @@ def make_server(
     except Exception:  # noqa: BLE001 - an infeasible start is shown on the page, beside the control
         pass
     if parallel:  # the helper warms its own solvers meanwhile, in the background
-        helper.start(warm=problem.nominal())
+        helper.start(warm=problem)
 
     try:
         server = _make_server(host, int(port), app.server, threaded=True, request_handler=_Quiet)

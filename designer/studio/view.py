@@ -155,14 +155,21 @@ def _compute_fronts(problem, key):
     out = Fronts(problem=problem, continuous=None)
 
     nominal = problem.nominal()
-    # the nominal front in the helper process (designer studio starts it) while this one does the rest
-    job = helper.submit(nominal) if front_key(nominal) not in _FRONTS else None
+    # the risk-bounded front (else the nominal one) in the helper process, which designer studio starts, while
+    # this one computes the recommendation and the other front
+    wanted = [p for p in (problem if problem.risk is not None else None, nominal) if p is not None]
+    missing = [p for p in wanted if front_key(p) not in _FRONTS]
+    away = missing[0] if missing else None
+    job = helper.submit(away) if away is not None else None
     rec = _quiet(recommend, problem)
     out.recommendation = rec
     out.buildable = getattr(rec, "buildable", None)
-    out.risk = _front(problem) if problem.risk is not None else None
+    fronts = {id(p): _front(p) for p in wanted if p is not away}  # here, while the helper computes its front
     done = helper.result(job)
-    out.continuous = _front(nominal, done[0] if done else None)
+    if away is not None:
+        fronts[id(away)] = _front(away, done[0] if done else None)
+    out.continuous = fronts[id(nominal)]
+    out.risk = fronts[id(problem)] if problem.risk is not None else None
     out.seconds = time.perf_counter() - t0
     out.cpu_seconds = time.thread_time() - c0 + (done[1] if done else 0.0)
     if key is not None:

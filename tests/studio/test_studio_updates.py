@@ -94,13 +94,13 @@ def studio(tmp_path_factory):
 
 def test_chart_is_sent_as_the_traces_that_changed(studio):
     """First chart: the whole figure (layout included). The same state again: no figure at all. A new target:
-    a Patch of the four traces that changed and no layout, which applied to the first chart gives exactly the
-    chart a fresh page draws for that target. My caster added: the data alone. α changed: the nominal front's
+    a Patch of the four traces that changed and of the layout's datarevision alone, which applied to the first
+    chart gives exactly the chart a fresh page draws for that target. My caster added: the data alone. α changed: the nominal front's
     trace is not sent (it does not depend on α), the risk-bounded one is."""
     client, keys, defaults = studio
     first = _post(client, keys, defaults, "url.search", None)
     figure, shown = first["front"]["figure"], first["front-shown"]["data"]
-    assert set(figure) == {"data", "layout"} and "template" in figure["layout"]
+    assert set(figure) == {"data", "layout"} and "template" in figure["layout"] and figure["layout"]["datarevision"]
     assert [m for m, _ in shown] == ["continuous", "risk", "buildable", "recommendation"]
     assert [t["meta"] for t in figure["data"]] == [m for m, _ in shown]
 
@@ -111,7 +111,7 @@ def test_chart_is_sent_as_the_traces_that_changed(studio):
 
     moved = dict(defaults, target=3.0)
     patch = _post(client, keys, moved, '{"key":"target","type":"ctl"}.value', shown)
-    assert _locations(patch["front"]["figure"]) == [["data", i] for i in range(4)]
+    assert _locations(patch["front"]["figure"]) == [["data", i] for i in range(4)] + [["layout", "datarevision"]]
     fresh = _post(client, keys, moved, "url.search", None, search=state.to_query(moved, defaults))["front"]["figure"]
     assert _apply(figure, patch["front"]["figure"]) == fresh
     figure, shown = fresh, patch["front-shown"]["data"]
@@ -119,7 +119,7 @@ def test_chart_is_sent_as_the_traces_that_changed(studio):
     problem, _ = state.build_problem(state.read_problem_data(PROBLEM)[0], moved)
     mine = _mine(problem)
     with_mine = _post(client, keys, moved, "mine-store.data", shown, mine=mine)
-    assert _locations(with_mine["front"]["figure"]) == [["data"]]
+    assert _locations(with_mine["front"]["figure"]) == [["data"], ["layout", "datarevision"]]
     figure = _apply(figure, with_mine["front"]["figure"])
     assert [t["meta"] for t in figure["data"]][-1] == "mine"
     shown = with_mine["front-shown"]["data"]
@@ -193,13 +193,14 @@ if __name__ == "__main__":
     helper.start(warm=problem.nominal())
     first = helper.pid()
     with_helper = view.compute_fronts(problem)
-    out = {"helper": same(with_helper.continuous, pareto_front(problem.nominal())),
+    out = {"helper": same(with_helper.risk, pareto_front(problem))
+                     and same(with_helper.continuous, pareto_front(problem.nominal())),
            "helper_cpu": with_helper.cpu_seconds}
     os.kill(first, signal.SIGKILL)  # a helper that dies: the next change is computed here, the helper dropped
     time.sleep(1)
     other, _ = state.build_problem(data, dict(defaults, target=2.3))
     fallback = view.compute_fronts(other)
-    out["fallback"] = same(fallback.continuous, pareto_front(other.nominal()))
+    out["fallback"] = same(fallback.risk, pareto_front(other)) and same(fallback.continuous, pareto_front(other.nominal()))
     out["dropped"] = helper.pid() is None
     helper.start()
     out["second"] = helper.pid()
@@ -228,8 +229,8 @@ def _running(pid: int) -> bool:
 
 
 def test_helper_process_computes_the_same_front_and_ends_with_the_studio(tmp_path):
-    """designer studio's helper process (helper.start) computes the nominal front to the bit as pareto_front does
-    here; when it dies the change is computed in the server's process and the helper dropped; when the server
+    """designer studio's helper process (helper.start) computes the risk-bounded front to the bit as pareto_front
+    does here; when it dies the change is computed in the server's process and the helper dropped; when the server
     is killed (SIGKILL: no clean-up of its own), its helper ends within seconds."""
     import os
     import signal
