@@ -62,12 +62,16 @@ def test_problem_file_bound_in_inches_said_in_inches():
     assert "were inches" not in str(info.value)
 
 
+@pytest.fixture(scope="module")
+def ureg():
+    """A pint UnitRegistry of its own (not the package's cached one), built once: building one takes seconds."""
+    return pytest.importorskip("pint").UnitRegistry()
+
+
 @pytest.mark.parametrize("unit", sorted(COMMON_UNITS))
-def test_common_unit_factor_equals_pints(unit):
+def test_common_unit_factor_equals_pints(unit, ureg):
     """Each unit read without pint (COMMON_UNITS, the cold-start shortcut) converts exactly as pint does:
     2.5, 0.75, 178 and 1e-3 of it agree with pint's conversion to the SI unit to 2 ulp."""
-    pint = pytest.importorskip("pint")
-    ureg = pint.UnitRegistry()
     dimension, _ = COMMON_UNITS[unit]
     target = DIMENSIONS[dimension][0]
     for x in (2.5, 0.75, 178.0, 1e-3):
