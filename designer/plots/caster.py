@@ -173,8 +173,20 @@ def plot_caster(
     return draw_caster(side, top, trail, diameter, groove, sill_height, swept_radius_max, title=title)
 
 
+def _size(value: float, units: str) -> str:
+    """A length [m] on the drawing: inches to 1/16 ("2 1/2 in") or millimetres to 0.1 ("63.5 mm")."""
+    if units == "mm":
+        return f"{value * 1000:.1f}".rstrip("0").rstrip(".") + " mm"
+    sixteenths = round(value / INCH * 16)
+    whole, rest = divmod(sixteenths, 16)
+    g = math.gcd(rest, 16) or 16
+    frac = f"{rest // g}/{16 // g}" if rest else ""
+    text = f"{whole} {frac}" if whole and frac else (frac or str(whole))
+    return f"{'≈ ' if abs(value / INCH * 16 - sixteenths) > 1 / 8 else ''}{text} in"
+
+
 # long: the drawing, one SVG element after another
-def caster_svg(
+def caster_svg(  # noqa: C901 - one branch per optional part of the drawing (limit, groove, units)
     trail: float,
     diameter: float,
     groove: float,
@@ -182,13 +194,21 @@ def caster_svg(
     swept_radius_max: float | None = None,
     scale: float | None = None,
     label: str | None = None,
+    units: str | None = None,
 ) -> str:
-    """The caster to scale as an SVG string: side view left, top view right.
+    """The caster to scale as an SVG string: side view left, top view right, each with its caption under it.
 
     ``scale`` is pixels per inch, the same in both views so the drawing is to scale (default: the top view
-    about 320 px wide, 18–32 px/in).  Text is escaped.
+    about 320 px wide, 18–32 px/in).  ``units``: None labels sizes in decimal inches (``6.000 in``); ``"in"``
+    to the nearest 1/16 (``2 1/2 in``), ``"mm"`` in millimetres to 0.1, as the report's ``[report] units``.
+    The top view labels the two treads (one tyre when B = 0) and draws the footrest limit R_max as a wide red
+    dashed ring under the swept circle, so it shows even where it equals the swept radius.  Text is escaped.
     """
     g = caster_geometry(trail, diameter, groove, sill_height, swept_radius_max)
+
+    def size(value: float) -> str:
+        return _inches(value) if units is None else _size(value, units)
+
     if scale is None:
         reach_in = max(g.swept_radius, g.swept_radius_max or 0.0) / INCH
         scale = min(32.0, max(18.0, 320.0 / (2.16 * reach_in)))
@@ -201,12 +221,15 @@ def caster_svg(
     y0, y1 = -0.8 * INCH, g.stem_top + pad
     side_w, side_h = (x1 - x0) * s, (y1 - y0) * s
     reach = max(g.swept_radius, g.swept_radius_max or 0.0) * 1.08
-    top_w = 2 * reach * s
+    top_w = max(2 * reach * s, 300.0)  # at least as wide as its caption
     top_h = 2 * reach * s
-    gap = 24
+    gap = 28
     width = side_w + gap + top_w
-    text_h = 40
-    height = max(side_h, top_h) + text_h
+    top_lines = [f"top view: swept radius R_s = T + d/2 = {size(g.swept_radius)} (blue)"]
+    if g.swept_radius_max is not None:
+        at = " (at the limit)" if abs(g.swept_radius_max - g.swept_radius) < 1e-9 else ""
+        top_lines.append(f"footrest limit R_max = {size(g.swept_radius_max)} (red dashes){at}")
+    height = max(side_h + 22, top_h + 8 + 14 * len(top_lines))
 
     def sx(x):  # side view: metres -> px
         return (x - x0) * s
@@ -254,41 +277,57 @@ def caster_svg(
     )
     out.append(
         f'<text x="{sx(ax / 2):.1f}" y="{max(ya + 14, sy(-0.7 * INCH)):.1f}" text-anchor="middle">'
-        f"trail T = {_inches(g.trail)}</text>"
+        f"trail T = {escape(size(g.trail))}</text>"
     )  # below the arrow at any scale
     out.append(
-        f'<text x="{sx(ax):.1f}" y="{sy(0.22 * g.diameter):.1f}" text-anchor="middle">d = {_inches(g.diameter)}</text>'
-    )
+        f'<text x="{sx(ax) + 0.1 * g.diameter * s + 4:.1f}" y="{sy(ay) + 4:.1f}">d = {escape(size(g.diameter))}</text>'
+    )  # right of the hub, clear of the fork leg
     out.append(
         f'<text x="{side_w - 2:.1f}" y="{sy(g.sill_height) - 4:.1f}" text-anchor="end">sill h = '
-        f"{_inches(g.sill_height)}</text>"
+        f"{escape(size(g.sill_height))}</text>"
     )
     out.append(f'<text x="{sx(0) + 4:.1f}" y="{sy(g.stem_top) + 4:.1f}" fill="#c0392b">swivel axis</text>')
-    out.append(f'<text x="0" y="{max(side_h, top_h) + 16:.1f}">side view, rolling to the right</text>')
-    # top view
     out.append(
-        f'<circle cx="{ox:.1f}" cy="{oy:.1f}" r="{g.swept_radius * s:.1f}" fill="#eef4fb" '
-        f'stroke="#1f4e79" stroke-width="1.5"/>'
+        f'<text class="caption" x="{side_w / 2:.1f}" y="{side_h + 16:.1f}" text-anchor="middle">'
+        "side view, rolling to the right</text>"
     )
+    # top view: the swept disc, then the footrest limit wide and dashed, then the swept circle's thin line over
+    # it: the limit shows even where it equals the swept radius
+    r_s = g.swept_radius * s
+    out.append(f'<circle cx="{ox:.1f}" cy="{oy:.1f}" r="{r_s:.1f}" fill="#eef4fb" stroke="none"/>')
     if g.swept_radius_max is not None:
         out.append(
-            f'<circle cx="{ox:.1f}" cy="{oy:.1f}" r="{g.swept_radius_max * s:.1f}" fill="none" '
-            f'stroke="#c0392b" stroke-width="1.5" stroke-dasharray="6,4"/>'
+            f'<circle class="footrest-limit" cx="{ox:.1f}" cy="{oy:.1f}" r="{g.swept_radius_max * s:.1f}" '
+            f'fill="none" stroke="#c0392b" stroke-opacity="0.75" stroke-width="6" stroke-dasharray="9,6"/>'
         )
+    out.append(
+        f'<circle class="swept" cx="{ox:.1f}" cy="{oy:.1f}" r="{r_s:.1f}" fill="none" stroke="#1f4e79" '
+        f'stroke-width="1.5"/>'
+    )
     for yy in (g.tyre_width / 2, -g.groove / 2):
         out.append(
-            f'<rect x="{tx(ax - g.diameter / 2):.1f}" y="{ty(yy):.1f}" width="{g.diameter * s:.1f}" '
+            f'<rect class="tread" x="{tx(ax - g.diameter / 2):.1f}" y="{ty(yy):.1f}" width="{g.diameter * s:.1f}" '
             f'height="{TREAD * s:.1f}" fill="#1f4e79"/>'
         )
     out.append(
         f'<line x1="{tx(0):.1f}" y1="{ty(0):.1f}" x2="{tx(ax):.1f}" y2="{ty(0):.1f}" stroke="#333" stroke-width="2"/>'
     )
     out.append(f'<circle cx="{tx(0):.1f}" cy="{ty(0):.1f}" r="3" fill="#c0392b"/>')
-    lines = [f"top view: swept radius R_s = {_inches(g.swept_radius)}"]
-    if g.swept_radius_max is not None:
-        lines.append(f"footrest limit R_max = {_inches(g.swept_radius_max)} (dashed)")
-    for i, line in enumerate(lines):
-        out.append(f'<text x="{side_w + gap:.1f}" y="{max(side_h, top_h) + 16 + 14 * i:.1f}">{escape(line)}</text>')
+    if g.groove > 1e-9:
+        tread_labels = ((g.tyre_width / 2, -4, "tread"), (-g.tyre_width / 2, 12, "tread"))
+        out.append(
+            f'<text x="{tx(ax + g.diameter / 2) + 4:.1f}" y="{ty(0) + 4:.1f}">groove B = {escape(size(g.groove))}'
+            "</text>"
+        )
+    else:
+        tread_labels = ((g.tyre_width / 2, -4, "one tread (no groove)"),)
+    for yy, dy, text in tread_labels:
+        out.append(f'<text x="{tx(ax):.1f}" y="{ty(yy) + dy:.1f}" text-anchor="middle">{text}</text>')
+    for i, line in enumerate(top_lines):
+        out.append(
+            f'<text class="caption" x="{ox:.1f}" y="{top_h + 8 + 14 * i:.1f}" text-anchor="middle">'
+            f"{escape(line)}</text>"
+        )
     out.insert(
         1,
         '<defs><marker id="caster-arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="6" markerHeight="6" '

@@ -25,6 +25,14 @@ MARK_STYLE = {
     "knee": dict(marker="o", s=170, facecolor="none", edgecolor="#1f77b4", lw=1.8, zorder=5),
 }
 """Marker style per kind of marked design."""
+MARK_WORDS = {
+    "recommended": "the caster to build (gold star, 'build this')",
+    "alternative": "the other casters from the same parts (white triangles)",
+    "knee": "the knee of the continuous front (blue circle)",
+    "weighted": "the weighted optimum, not the recommendation (grey cross)",
+}
+"""Each kind of marked design as a caption names its marker (:data:`MARK_STYLE`): the report's Figure 1 caption
+is written from these, so caption and legend agree."""
 FAMILY_STYLE = {
     "bare fork": ("#555555", "o"),
     "groove": ("#1f77b4", "o"),
@@ -245,6 +253,7 @@ __all__ = [
     "CURVE_STYLE",
     "FAMILY_STYLE",
     "MARK_STYLE",
+    "MARK_WORDS",
     "draw_fronts",
     "new_axes",
     "plot_front",

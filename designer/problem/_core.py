@@ -124,6 +124,7 @@ SCHEMA: dict[str, dict[str, str]] = {
         "seed": "int",
     },
     "stock": {"diameters": "list", "grooves": "list", "trail_step": "length", "dampings": "list", "wheels": "list"},
+    "report": {"units": "str"},
 }
 """Allowed keys per section: key -> dimension (or a type tag).  The model constants' keys are added from
 the parameter table just below, so a new constant needs no line here."""
@@ -134,6 +135,8 @@ for _parameter in parameters.PARAMETERS.values():  # every key of the table is a
         SCHEMA.setdefault(_section, {})[_key] = _parameter.dimension
 
 INERTIA_MODELS = ("table1-power-law", "disc", "catalog", "fixed")
+REPORT_UNITS = ("in", "mm")
+"""``[report] units``: sizes in inches (to 1/16) or millimetres (to 0.1)."""
 NAME_PATTERN = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
 
 
@@ -241,6 +244,8 @@ class Problem(Record):
     choices : categorical options for exploration {"surface": (...), ...}
     description : free text (whose chair, why these numbers)
     source : the file it was read from, if any
+    units : how reports write sizes, "in" (to 1/16 in) or "mm" (to 0.1 mm): ``[report] units``, or the unit
+        the file's lengths are written in (display only: not part of :meth:`to_dict` nor the digest)
     """
 
     name: str
@@ -259,6 +264,7 @@ class Problem(Record):
     max_turning_effort: float | None = None
     description: str = ""
     source: str | None = None
+    units: str = "in"
 
     def __post_init__(self) -> None:
         _validate(self, prefix=f"{self.source}: " if self.source else "")
@@ -431,6 +437,8 @@ def _validate(problem: Problem, prefix: str = "") -> None:
             f"name = {problem.name!r}: must be 1–64 letters, digits, '-', '_' or '.', starting with a letter "
             f"or digit (it names the results folder)"
         )
+    if problem.units not in REPORT_UNITS:
+        fail(f"report.units = {problem.units!r}: expected one of {', '.join(REPORT_UNITS)}")
     if problem.target_speed <= 0:
         fail(f"shimmy.target_speed = {problem.target_speed:g} m/s: must be positive")
     if problem.margin < 0 or problem.margin > 10:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 import tomllib
 from importlib import resources
 from importlib.resources.abc import Traversable
@@ -31,6 +32,7 @@ from designer.problem._core import (
     INERTIA_MODELS,
     MAX_SAMPLES,
     PROBABILITY_RANGE,
+    REPORT_UNITS,
     SCHEMA,
     VARIABLE_DIMENSIONS,
     Bound,
@@ -130,7 +132,8 @@ def load_problem(path: str | Path) -> Problem:
     if path.is_file():
         check_utf8(path)
     text = read_input_text(path, "problem file", ".toml", limit=MAX_PROBLEM_BYTES)
-    return problem_from_toml(text, source=str(path), default_name=path.stem)
+    shipped = path != given  # a shipped problem by its name: the name is what the user wrote, and reads it again
+    return problem_from_toml(text, source=str(given if shipped else path), default_name=path.stem)
 
 
 def problem_from_toml(text: str, source: str | None = None, default_name: str = "problem") -> Problem:
@@ -244,6 +247,7 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
         r.fail(f"pareto.points = {points!r}: expected an integer")
 
     choices = _choices(r)
+    units = _report_units(r)
 
     target_speed = _value(r, "target_speed")
     assert target_speed is not None  # the key is present (checked above)
@@ -264,6 +268,7 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
         max_threshold_force=caps["max_threshold_force"],
         max_turning_effort=caps["max_turning_effort"],
         source=source,
+        units=units,
     )
 
 
@@ -423,6 +428,39 @@ def _caps(r: _Reader) -> dict[str, float | None]:
             "objective and minimises the other)"
         )
     return caps
+
+
+_WRITTEN_LENGTH = re.compile(r"^\s*[-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?\s*(mm|cm|m|in|inch|inches)\s*$")
+"""A length written with its unit ("13 mm", "0.5 in"): the unit is the user's choice of sizes."""
+
+
+def _report_units(r: _Reader) -> str:
+    """[report] units = "in" | "mm"; without it, the unit the file writes its lengths in: "mm" when every length
+    written with a unit is in mm, cm or m, "in" when every one is in inches, and the sill's when they mix (a sill
+    given as "13 mm" is shown as 13 mm); "in" when no length has a unit."""
+    table = r.section("report")
+    if "units" in table:
+        units = table["units"]
+        if units not in REPORT_UNITS:
+            r.fail(f"report.units = {units!r}: expected one of {', '.join(repr(u) for u in REPORT_UNITS)}")
+        return str(units)
+    written = [m.group(1) for m in map(_WRITTEN_LENGTH.match, _strings(r.data)) if m]
+    metric = [u for u in written if u in ("mm", "cm", "m")]
+    if metric and len(metric) < len(written):  # mixed: the sill's unit, if it has one
+        sill = _WRITTEN_LENGTH.match(str(r.section("conditions").get("threshold_height", "")))
+        return "mm" if sill and sill.group(1) in ("mm", "cm", "m") else "in"
+    return "mm" if metric else "in"
+
+
+def _strings(value: Any) -> list[str]:
+    """Every string value of a problem-file table, nested tables and lists included."""
+    if isinstance(value, str):
+        return [value]
+    if isinstance(value, dict):
+        return [s for v in value.values() for s in _strings(v)]
+    if isinstance(value, list):
+        return [s for v in value for s in _strings(v)]
+    return []
 
 
 def _choices(r: _Reader) -> dict[str, tuple[str, ...]]:

@@ -19,17 +19,16 @@ from designer.data.paper import INCH
 from designer.pipeline import ReportData
 import designer.report.figures as _figures
 from designer.plots.caster import caster_svg
-from designer.report.formatting import LBF, MPH, fmt, length
-from designer.report.text import build_lines, caster_sentence, inches, summary_lines
+from designer.plots.fronts import MARK_WORDS
+from designer.report.formatting import LBF, MPH, fmt, length, size
+from designer.report.text import build_lines, caster_sentence, lead_sentence, summary_lines
 from designer.plots.figures import is_bare_fork
 from designer.studies.checks import summary_line
 
 FIGURE_INFO = {
     "front": (
         "Pareto front",
-        "Turning effort against threshold force on the exact front, coloured by the mechanism that stops "
-        "shimmy; the knee (circle) and the weighted optimum (star) are marked with the line of constant J "
-        "through it; grey dashes: the front for a 10 % higher target speed (check 8c).",
+        "Turning effort against threshold force on the exact front, coloured by the mechanism that stops shimmy",
     ),
     "variables": (
         "Design variables along the front",
@@ -357,59 +356,149 @@ def _tradeoff_rows(problem, rows) -> list[dict]:
     return out
 
 
-def _knock_cell(knock: dict | None) -> str:
-    """Knock-safe speeds "θ0 / 2θ0 m/s" of one caster of the card ("–" where not computed)."""
-    if not knock:
-        return "–"
-    single, double = knock.get("knock_safe_speed"), knock.get("knock_safe_speed_double")
-    if single is None and double is None:
-        return "–"
-    return f"{fmt(single, '.2f')} / {fmt(double, '.2f')} m/s"
+def _knock_cell(knock: dict | None, key: str) -> str:
+    """One knock-safe speed of one caster [m/s] ("–" where not computed)."""
+    value = (knock or {}).get(key)
+    return "–" if value is None else fmt(value, ".2f", "m/s")
 
 
-def _rec_row(rec, knock: dict | None = None) -> dict:
-    """One caster of the "Build this" table (display strings)."""
-    row = _design_cells(rec.design)
-    row.update(
-        role=rec.role,
-        wheel=rec.wheel or "",
-        F=fmt(rec.turning_effort, ".3f", "N"),
-        P=fmt(rec.threshold_force, ".2f", "N"),
-        V_c=fmt(rec.critical_speed, ".3f", "m/s"),
-        V_q=fmt(rec.confident_speed, ".3f", "m/s"),
-        V_knock=_knock_cell(knock),
-        p_shimmy=f"{rec.shimmy_probability:.2%} ± {rec.shimmy_probability_se:.2%}",
-        R_s=inches(rec.swept_radius)
-        + (f" (limit {inches(rec.swept_radius_max)})" if rec.swept_radius_max is not None else " (no limit)"),
+CARD_HEADER = [
+    "trail T",
+    "diameter d",
+    "groove B",
+    "damping c_f",
+    "turning effort",
+    "sill force",
+    "V_q: speed held with prob. {level}",
+    "P(shimmy) ± SE",
+    "swept radius",
+]
+"""The columns of the caster to build (one row): sizes as the user writes them, then what it does."""
+
+
+def _caster_cells(rec, units: str) -> list[str]:
+    """One caster's row of the first screen (display strings, sizes in ``units``)."""
+    d = rec.design
+    limit = f" (limit {size(rec.swept_radius_max, units)})" if rec.swept_radius_max is not None else " (no limit)"
+    return [
+        size(d.trail, units),
+        size(d.diameter, units) + (f" ({rec.wheel})" if rec.wheel else ""),
+        size(d.groove, units),
+        fmt(d.damping, ".3g", "N·m/rad"),
+        fmt(rec.turning_effort, ".2f", "N"),
+        fmt(rec.threshold_force, ".1f", "N"),
+        fmt(rec.confident_speed, ".2f", "m/s"),
+        f"{rec.shimmy_probability:.2%} ± {rec.shimmy_probability_se:.2%}",
+        size(rec.swept_radius, units) + limit,
+    ]
+
+
+GLOSSARY = [
+    (
+        "best balance (knee)",
+        "the caster of a front farthest from the straight line between its two ends, both forces scaled to the "
+        "front's range: on either side of it, easing one force costs much more of the other",
+    ),
+    ("front (Pareto front)", "the casters for which neither force can be lowered without raising the other"),
+    ("buildable front", "the front among the casters that the parts of [stock] can make"),
+    (
+        "risk-bounded front",
+        "a front whose every caster shimmies below V_target with probability at most α (Eq. 7 with the scatter "
+        "of its constants and of the model); the continuous one lets every size vary freely",
+    ),
+    ("V_q", "the speed the caster stays free of shimmy up to with probability 1 − α"),
+    ("P(shimmy) ± SE", "the probability of shimmy at V_target, estimated by Monte Carlo, ± its standard error"),
+    (
+        "α + 2 SE",
+        "a Monte Carlo estimate within the bound α up to twice its standard error is within the bound: the "
+        "estimate's own noise is not counted against the caster",
+    ),
+    (
+        "weighted optimum",
+        "the continuous caster that minimises J = w_turn F_turn + w_threshold P; it is not the recommendation",
+    ),
+    ("swept radius", "T + d/2, the circle the caster sweeps about its swivel; the footrest must clear it"),
+]
+"""The first screen's terms, in plain words (the "Terms" panel)."""
+
+
+def _after_panels(data: ReportData, units: str, level: str) -> list[Panel]:
+    """The panels under the card: the other casters from the same parts, the knock-safe speed as a second
+    opinion, the terms."""
+    rec = data.recommendation
+    out = []
+    if rec.alternatives:
+        out.append(
+            Panel(
+                id="alternatives",
+                title="Other casters from the same parts",
+                text="The two ends of the buildable front, beside the caster to build (first row).",
+                table=PanelTable(
+                    header=["caster", *(h.format(level=level) for h in CARD_HEADER)],
+                    rows=[[c.role, *_caster_cells(c, units)] for c in [rec, *rec.alternatives]],
+                    numeric=[False] + [True] * len(CARD_HEADER),
+                    first_row_marked=True,
+                ),
+                caption=""
+                if len(rec.alternatives) >= 2
+                else f"The buildable front has fewer than three points: {len(rec.alternatives)} alternative"
+                f"{'' if len(rec.alternatives) == 1 else 's'} shown.",
+            )
+        )
+    if data.knock_safe:
+        theta0 = math.degrees(float(data.problem.conditions.disturbance_angle))
+        knocks = list(data.knock_safe) + [None] * (1 + len(rec.alternatives))
+        out.append(
+            Panel(
+                id="knock-safe",
+                title="Knock-safe speed: a second opinion",
+                text="The design criterion is the risk bound on Eq. 7 above. The knock-safe speed is the highest "
+                "speed at which a knock of that size dies out instead of growing into shimmy, simulated with the "
+                "paper's time-domain model (Appendix B: rolling tyre, Coulomb friction; as designer evaluate "
+                f"--knock-safe), to {100 * float((data.knock_safe[0] or {}).get('knock_safe_rtol', 0.005)):.1f} %; "
+                "V_c (Eq. 7) is the threshold for the design knock θ0, and a bigger knock starts shimmy at a lower "
+                "speed.",
+                table=PanelTable(
+                    header=["caster", "V_c (Eq. 7)", f"{theta0:.0f}° knock", f"{2 * theta0:.0f}° knock"],
+                    rows=[
+                        [
+                            c.role,
+                            fmt(c.critical_speed, ".2f", "m/s"),
+                            _knock_cell(k, "knock_safe_speed"),
+                            _knock_cell(k, "knock_safe_speed_double"),
+                        ]
+                        for c, k in zip([rec, *rec.alternatives], knocks)
+                    ],
+                    numeric=[False, True, True, True],
+                    first_row_marked=True,
+                ),
+            )
+        )
+    out.append(
+        Panel(
+            id="terms",
+            title="Terms",
+            table=PanelTable(header=["term", "meaning"], rows=[list(row) for row in GLOSSARY]),
+        )
     )
-    return row
+    return out
 
 
 def _build_context(data: ReportData) -> dict:
-    """The first screen: the caster to build, its numbers, the drawing, the alternatives."""
+    """The first screen: ONE caster to build (in plain words, drawn, its numbers), then the panels under it."""
     rec = data.recommendation
     if rec is None:
         return {"available": False, "error": data.recommendation_error or "no recommendation"}
     d = rec.design
+    units = data.problem.units
     level = f"{1 - rec.alpha:.0%}" if rec.alpha is not None else "95% (default scatter)"
     return {
         "available": True,
+        "lead": lead_sentence(data),
         "lines": build_lines(data),
-        "headline": f"Build this: {caster_sentence(rec)}",
-        "rows": [
-            _rec_row(r, k)
-            for r, k in zip([rec, *rec.alternatives], list(data.knock_safe) + [None] * (1 + len(rec.alternatives)))
-        ],
-        "knock_header": _knock_header(data),
-        "knock_note": (
-            "Knock-safe speed: the highest speed at which a knock of that size dies out instead of "
-            "growing into shimmy, simulated with the paper's time-domain model (Appendix B: rolling "
-            "tyre, Coulomb friction; as designer evaluate --knock-safe), to "
-            f"{100 * float((data.knock_safe or [{}])[0].get('knock_safe_rtol', 0.005)):.1f} %. "
-            "V_c (Eq. 7) is the threshold for the design knock θ0; a bigger knock starts shimmy "
-            "at a lower speed."
-        ),
-        "alternatives": len(rec.alternatives),
+        "headline": f"Build this: {caster_sentence(rec, units)}",
+        "header": [h.format(level=level) for h in CARD_HEADER],
+        "row": _caster_cells(rec, units),
         "level": level,
         "svg": caster_svg(
             d.trail,
@@ -418,16 +507,25 @@ def _build_context(data: ReportData) -> dict:
             data.problem.conditions.threshold_height,
             rec.swept_radius_max,
             label=f"{data.problem.name}: the recommended caster to scale",
+            units=units,
         ),
         "rule": rec.rule,
         "panels": _panels(data),
+        "after": _after_panels(data, units, level),
     }
 
 
-def _knock_header(data: ReportData) -> str:
-    """Column title of the knock-safe speeds, with the knock angles in degrees."""
-    theta0 = math.degrees(float(data.problem.conditions.disturbance_angle))
-    return f"knock-safe speed, {theta0:.0f}° / {2 * theta0:.0f}° knock (simulated)"
+def front_caption(data: ReportData) -> str:
+    """Figure 1's caption, from the marks its legend shows (:data:`designer.plots.fronts.MARK_WORDS` names each
+    marker as drawn): the star is the caster to build."""
+    kinds = [m["kind"] for m in _figures.arguments("front", data).get("marks", [])] if len(data.front) else []
+    marked = [MARK_WORDS[k] for k in dict.fromkeys(kinds)]
+    text = FIGURE_INFO["front"][1]
+    if marked:
+        text += "; marked: " + ", ".join(marked)
+    if data.tighter is not None and len(data.tighter.points):
+        text += "; grey dashes: the front for a 10 % higher target speed (check 8c)"
+    return text + "."
 
 
 def _indicators(front, problem, knee, best) -> list[dict]:
@@ -521,7 +619,12 @@ def build_context(data: ReportData) -> dict:
     solution = _solution(data.solution)
     tradeoff = _tradeoff_rows(problem, data.tradeoff)
     figures = [
-        {"name": n, "title": FIGURE_INFO[n][0], "caption": FIGURE_INFO[n][1], "file": f"figures/{n}.svg"}
+        {
+            "name": n,
+            "title": FIGURE_INFO[n][0],
+            "caption": front_caption(data) if n == "front" else FIGURE_INFO[n][1],
+            "file": f"figures/{n}.svg",
+        }
         for n in _figures.FIGURES
     ]
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from designer.data.paper import BARE_FORK_DAMPING, INCH
+from designer.report.formatting import size
 
 DOMINANCE = 5.0
 """A weighted term this many times the other one dominates J (the report then says so)."""
@@ -26,24 +27,70 @@ def inches(value: float) -> str:
 
 def _damping_phrase(damping: float) -> str:
     if damping <= BARE_FORK_DAMPING * (1 + 1e-6):
-        return f"the bare fork's bearing (c_f = {damping:.3f} N·m/rad, no friction washer)"
-    return f"a friction washer giving c_f = {damping:.3f} N·m/rad"
+        return "on the bare fork's bearing (no friction washer)"
+    return f"with a friction washer giving c_f = {damping:.3g} N·m/rad"
 
 
-def _groove_phrase(groove: float) -> str:
+def _groove_phrase(groove: float, units: str) -> str:
     if groove <= 1e-9:
         return "a plain tyre (no groove)"
-    return f"a {inches(groove)} groove"
+    return f"a {size(groove, units)} groove"
 
 
-def caster_sentence(rec) -> str:
-    """What to build, in words: wheel, groove, trail, damping (sizes as ``6.000 in``)."""
+def caster_sentence(rec, units: str = "in") -> str:
+    """What to build, in words, sizes as the user writes them (``units``: "in" to 1/16, "mm" to 0.1):
+    "a 7 in wheel with a 1/2 in groove in a fork of 2 1/2 in trail, on the bare fork's bearing (no friction
+    washer)"."""
     d = rec.design
     wheel = f" ({rec.wheel})" if getattr(rec, "wheel", None) else ""
     return (
-        f"a {inches(d.diameter)} wheel{wheel} with {_groove_phrase(d.groove)}, in a fork of "
-        f"{inches(d.trail)} trail, with {_damping_phrase(d.damping)}"
+        f"a {size(d.diameter, units)} wheel{wheel} with {_groove_phrase(d.groove, units)} in a fork of "
+        f"{size(d.trail, units)} trail, {_damping_phrase(d.damping)}"
     )
+
+
+PLAIN_RULES = {
+    "knee": "the best balance between turning and the sill among {what}",
+    "cap_threshold": "the easiest to turn among {what} that climb the sill with at most {cap:.0f} N",
+    "cap_turning": "the easiest over the sill among {what} that turn with at most {cap:.1f} N",
+    "end": "the best of the few casters {what} allow (least J = {w0:g} F_turn + {w1:g} P)",
+}
+"""The recommendation's rule in plain words, by kind (the terms are in the report's glossary)."""
+
+
+def plain_rule(problem, rec) -> str:
+    """How the caster was chosen, in plain words: "the best balance between turning and the sill among the
+    parts you can buy" for the knee of the buildable front (``[stock]``; "the sizes allowed" without one)."""
+    what = "the parts you can buy" if getattr(problem, "stock", None) is not None else "the sizes allowed"
+    if problem.max_threshold_force is not None:
+        return PLAIN_RULES["cap_threshold"].format(what=what, cap=problem.max_threshold_force)
+    if problem.max_turning_effort is not None:
+        return PLAIN_RULES["cap_turning"].format(what=what, cap=problem.max_turning_effort)
+    if rec.rule.startswith("knee"):
+        return PLAIN_RULES["knee"].format(what=what)
+    if rec.rule.startswith("least J"):
+        w0, w1 = problem.weights
+        return PLAIN_RULES["end"].format(what="the parts" if problem.stock is not None else "the sizes", w0=w0, w1=w1)
+    return f"chosen by the rule: {rec.rule}"
+
+
+def lead_sentence(data) -> str:
+    """The first screen's first sentence, in plain words: why this caster, the two forces, the risk."""
+    rec, problem = data.recommendation, data.problem
+    units = getattr(problem, "units", "in")
+    forces = (
+        f"it turns with {rec.turning_effort:.1f} N of effort and climbs the "
+        f"{size(problem.conditions.threshold_height, units)} sill with {rec.threshold_force:.0f} N"
+    )
+    if rec.alpha is None:
+        risk = f"no risk bound is set (Eq. 7 alone: stable to {rec.critical_speed:.2f} m/s)"
+    else:
+        risk = (
+            f"at {rec.target_speed:.3g} m/s it shimmies with probability {rec.shimmy_probability:.1%} "
+            f"(the bound is {rec.alpha:.0%})"
+        )
+    text = plain_rule(problem, rec)
+    return f"{text[0].upper()}{text[1:]}: {forces}; {risk}."
 
 
 def risk_sentence(rec) -> str:
@@ -66,16 +113,19 @@ def risk_sentence(rec) -> str:
     )
 
 
-def radius_sentence(rec) -> str:
-    """The swept radius against the footrest limit."""
+def radius_sentence(rec, units: str = "in") -> str:
+    """The swept radius against the footrest limit (sizes in ``units``)."""
     if rec.swept_radius_max is None:
         return (
-            f"It sweeps a circle of radius T + d/2 = {inches(rec.swept_radius)} (the problem sets no footrest limit)."
+            f"It sweeps a circle of radius T + d/2 = {size(rec.swept_radius, units)} (the problem sets no "
+            "footrest limit)."
         )
     spare = rec.swept_radius_max - rec.swept_radius
     return (
-        f"It sweeps a circle of radius T + d/2 = {inches(rec.swept_radius)} against the footrest limit "
-        f"{inches(rec.swept_radius_max)} (" + (f"{inches(spare)} to spare" if spare > 1e-9 else "at the limit") + ")."
+        f"It sweeps a circle of radius T + d/2 = {size(rec.swept_radius, units)} against the footrest limit "
+        f"{size(rec.swept_radius_max, units)} ("
+        + (f"{size(spare, units)} to spare" if spare > 1e-9 else "at the limit")
+        + ")."
     )
 
 
@@ -109,17 +159,18 @@ def stock_sentence(price: dict | None, has_stock: bool) -> str:
 
 
 def build_lines(data) -> list[str]:
-    """The "Build this" sentences of the first screen (empty without a recommendation)."""
+    """The "Build this" details under the lead sentence (empty without a recommendation): the rule by its name,
+    the forces and the risk in full, the swept radius."""
     rec = data.recommendation
     if rec is None:
         return []
     problem = data.problem
+    units = getattr(problem, "units", "in")
     out = [
-        f"It turns with F_turn = {rec.turning_effort:.3f} N and climbs the {inches(problem.conditions.threshold_height)} "
-        f"sill with P = {rec.threshold_force:.2f} N (chosen by the rule: {rec.rule}).",
+        f"Chosen by the rule: {rec.rule} (see Terms). F_turn = {rec.turning_effort:.3f} N; over the "
+        f"{size(problem.conditions.threshold_height, units)} sill P = {rec.threshold_force:.2f} N.",
         risk_sentence(rec),
-        radius_sentence(rec),
-        stock_sentence(data.price_of_stock, getattr(problem, "stock", None) is not None),
+        radius_sentence(rec, units),
     ]
     if getattr(rec, "note", ""):
         out.append(f"Note: {rec.note}.")
@@ -194,8 +245,10 @@ def summary_lines(data) -> list[str]:
             f"Continuous {kind} front: {len(front)} valid point{'s' if len(front) != 1 else ''} (of "
             f"{front.meta.get('points_requested', len(front))} requested, {len(front.failed)} failed): turning "
             f"effort {f[:, 0].min():.2f}–{f[:, 0].max():.2f} N, threshold force {f[:, 1].min():.1f}–"
-            f"{f[:, 1].max():.1f} N, wheel diameter {inches(d.min())}–{inches(d.max())}."
+            f"{f[:, 1].max():.1f} N, wheel diameter {size(d.min(), problem.units)}–{size(d.max(), problem.units)}."
         )
+    if data.recommendation is not None:
+        out.append(stock_sentence(data.price_of_stock, getattr(problem, "stock", None) is not None))
     line = margin_line(problem, front)
     if line:
         out.append(line)
@@ -219,6 +272,8 @@ __all__ = [
     "build_lines",
     "caster_sentence",
     "inches",
+    "lead_sentence",
+    "plain_rule",
     "margin_line",
     "radius_sentence",
     "risk_sentence",

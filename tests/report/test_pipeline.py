@@ -124,17 +124,25 @@ def test_cross_check_flag_runs_the_gp():
 
 
 def test_first_screen_is_build_this(stub, tmp_path):
-    """The page opens with "Build this" above the figures: the caster's sizes as `x.xxx in`, the drawing (inline
-    SVG), and the alternatives table (3 rows); the Markdown links the SVG it writes."""
+    """The page opens with "Build this" above the figures: ONE caster in the headline, its sizes as the user writes
+    them (inches to 1/16; this stub is the continuous knee, so its sizes are marked "≈"), the drawing (inline SVG),
+    its one-row table; the other casters (3 rows with the recommendation) in a panel under the card; the
+    Markdown links the SVG it writes."""
+    from designer.report.formatting import size
+
     folder = write_report(stub, tmp_path / "build")
     html = (folder / "index.html").read_text()
     d = stub.recommendation.design
     build = html.index('id="build"')
+    card = html[build : html.index("</section>", build)]
     assert build < html.index('id="figures"') and build < html.index('<ul class="summary">')
-    assert f"{d.diameter / INCH:.3f} in wheel" in html and f"{d.trail / INCH:.3f} in trail" in html
+    assert f"{size(d.diameter)} wheel" in card and f"{size(d.trail)} trail" in card and "≈ " in card
     assert html.index("<svg", build) < html.index('id="figures"')
-    table = html[html.index("<table>", build) : html.index("</table>", build)]
-    assert table.count("<tr") == 4 and "easiest to turn" in table and "easiest over the sill" in table
+    table = card[card.index('<table class="card">') : card.index("</table>")]
+    assert table.count("<tr") == 2 and "easiest" not in card  # one caster in the card
+    others = html[html.index('id="panel-alternatives"') :]
+    others = others[: others.index("</table>")]
+    assert others.count("<tr") == 4 and "easiest to turn" in others and "easiest over the sill" in others
     md = (folder / "report.md").read_text()
     assert md.index("## Build this") < md.index("## Figures")
     assert "figures/caster.svg" in md and (folder / "figures" / "caster.svg").read_text().startswith("<svg")
@@ -159,9 +167,9 @@ def test_build_card_shows_the_knock_safe_speeds(stub, tmp_path):
     folder = write_report(dataclasses.replace(stub, knock_safe=knock), tmp_path / "knock")
     html, md = (folder / "index.html").read_text(), (folder / "report.md").read_text()
     for page in (html, md):
-        assert "knock-safe speed, 20° / 40° knock" in page
+        assert "Knock-safe speed: a second opinion" in page and "20° knock" in page and "40° knock" in page
         for row in knock:
-            assert f"{row['knock_safe_speed']:.2f} / {row['knock_safe_speed_double']:.2f} m/s" in page
+            assert f"{row['knock_safe_speed']:.2f} m/s" in page and f"{row['knock_safe_speed_double']:.2f} m/s" in page
     front = json.loads((folder / "front.json").read_text())
     assert front["recommendation"]["knock_safe_speed"] == pytest.approx(knock[0]["knock_safe_speed"])
     assert [a["knock_safe_speed_double"] for a in front["alternatives"]] == pytest.approx(
@@ -186,16 +194,26 @@ def test_card_knock_safe_uses_each_wheels_inertia():
 
 
 def test_build_sentences_state_the_data(stub):
-    """Each "Build this" sentence carries the recommendation's own numbers (sizes, forces, risk, radius)."""
+    """The lead sentence and each "Build this" detail carry the recommendation's own numbers (rule, forces, risk,
+    radius); the price of stock moved to the summary under the card."""
     rec, problem = stub.recommendation, stub.problem
+    assert text.lead_sentence(stub).startswith("Chosen by the rule: test rule: ")
+    stub = dataclasses.replace(
+        stub, recommendation=SimpleNamespace(**{**vars(rec), "rule": "knee of the buildable front"})
+    )
+    rec = stub.recommendation
+    lead = text.lead_sentence(stub)
+    assert lead.startswith("The best balance between turning and the sill among the parts you can buy: ")
+    assert f"{rec.turning_effort:.1f} N of effort" in lead and f"with {rec.threshold_force:.0f} N" in lead
+    assert f"probability {rec.shimmy_probability:.1%} (the bound is 5%)" in lead
     lines = text.build_lines(stub)
     joined = " ".join(lines)
     assert f"F_turn = {rec.turning_effort:.3f} N" in joined and f"P = {rec.threshold_force:.2f} N" in joined
     assert f"{rec.shimmy_probability:.2%} ± {rec.shimmy_probability_se:.2%}" in joined
     assert f"up to {rec.confident_speed:.3f} m/s" in joined and "within the bound α = 5%" in joined
-    spare = (problem.swept_radius_max - rec.swept_radius) / INCH
-    assert (f"{spare:.3f} in to spare" in joined) == (spare > 1e-9 / INCH)
-    assert text.stock_sentence(stub.price_of_stock, problem.stock is not None) in joined
+    spare = problem.swept_radius_max - rec.swept_radius
+    assert ("to spare" in joined) == (spare > 1e-9)
+    assert text.stock_sentence(stub.price_of_stock, problem.stock is not None) in text.summary_lines(stub)
     assert "no [stock]" in text.stock_sentence(None, has_stock=False)
 
 
