@@ -30,14 +30,19 @@ def test_version(capsys):
 
 def test_shipped_problem_by_name_from_any_folder(tmp_path, monkeypatch, capsys):
     """From a folder without problems/, ``designer run indoor-manual`` reads the shipped problem: the same
-    recommendation as the repository's file (a 7 in wheel is what that file recommends today); a file of
-    that name in the folder wins, and an unknown name lists the shipped ones (exit 3)."""
+    recommendation as the repository's file; a file of that name in the folder wins, and an unknown name lists
+    the shipped ones (exit 3)."""
+    from designer.studies.recommend import recommend
+
+    from conftest import ROOT
+
+    expected = recommend(load_problem(ROOT / "problems" / "indoor-manual.toml")).design.to_dict()
     monkeypatch.chdir(tmp_path)
     assert load_problem("indoor-manual").to_dict() == example_problem("indoor-manual").to_dict()
     assert load_problem("indoor-manual.toml").name == "indoor-manual"
     assert main(["run", "indoor-manual", "--no-cross-check", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert data["recommendation"]["design"]["diameter"] == pytest.approx(7 * 0.0254)
+    assert data["recommendation"]["design"] == pytest.approx(expected, rel=1e-12)
     (tmp_path / "indoor-manual").write_text('name = "mine"\n[shimmy]\ntarget_speed = "2 m/s"\n')
     assert load_problem("indoor-manual").name == "mine"
     assert main(["run", "no-such-problem"]) == 3
