@@ -43,6 +43,7 @@ _.log_request
 
 # pytest and test helpers: hooks and fixtures used by name, HTMLParser and Selenium overrides
 pytest_configure
+pytest_collection_modifyitems  # tests/conftest.py: the slowest modules first under pytest-xdist
 _alone_under_xdist
 fast_simulation_report
 no_solvers

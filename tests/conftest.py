@@ -73,3 +73,38 @@ def _alone_under_xdist(request, tmp_path_factory):
             fcntl.flock(lock, fcntl.LOCK_UN)
             if alone:
                 fcntl.flock(gate, fcntl.LOCK_UN)
+
+
+SLOWEST_FIRST = (
+    "studies/explore/test_postgres.py",  # `alone`: the other workers wait while it runs, so it runs first
+    "cli/test_safe_output.py",
+    "test_benchmarks.py",
+    "studies/explore/test_explore.py",
+    "test_quality.py",
+    "studies/fleet/test_fleet.py",
+    "studio/test_studio_browser.py",
+    "cli/test_cli.py",
+    "cli/test_hardening.py",
+    "notebook/test_notebook.py",
+    "docs/test_docs_build.py",
+)
+"""The modules that take longest (``pytest --durations``; benchmarks/results.md), slowest first.  Under
+pytest-xdist they are handed out first, so the run does not end with one worker finishing a long module while
+the others wait; a module missing here only runs in its usual place."""
+
+
+def pytest_collection_modifyitems(config, items):
+    """Under pytest-xdist (a worker's collection), the modules of :data:`SLOWEST_FIRST` first, in that order; the
+    rest as collected.  Every worker sorts alike, as xdist requires; a plain run keeps the usual order."""
+    if "PYTEST_XDIST_WORKER" not in os.environ:
+        return
+    tests = Path(__file__).resolve().parent
+
+    def rank(item) -> int:
+        try:
+            module = item.path.resolve().relative_to(tests).as_posix()
+        except ValueError:
+            return len(SLOWEST_FIRST)
+        return SLOWEST_FIRST.index(module) if module in SLOWEST_FIRST else len(SLOWEST_FIRST)
+
+    items.sort(key=rank)
