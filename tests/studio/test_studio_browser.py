@@ -133,12 +133,12 @@ def test_studio_in_chromium(studio):
     )
     assert values["target"] == pytest.approx(3.0)
     fronts, rec = api_view(values)
-    x, y = traces(driver)["risk"]
+    x, y = traces(driver)["risk"]  # P across, F_turn up (as the report draws it)
     api = fronts.risk.objectives()
     assert len(x) == len(api)
-    assert x == pytest.approx(list(api[:, 0]), rel=1e-9) and y == pytest.approx(list(api[:, 1]), rel=1e-9)
-    xc, _ = traces(driver)["continuous"]
-    assert xc == pytest.approx(list(fronts.continuous.objectives()[:, 0]), rel=1e-9)
+    assert x == pytest.approx(list(api[:, 1]), rel=1e-9) and y == pytest.approx(list(api[:, 0]), rel=1e-9)
+    _, yc = traces(driver)["continuous"]
+    assert yc == pytest.approx(list(fronts.continuous.objectives()[:, 0]), rel=1e-9)
     wait.until(lambda d: text(d, "rec-turning") != rec_before)
     assert float(text(driver, "rec-turning")) == pytest.approx(rec["turning_effort"], rel=5e-4)
     assert float(text(driver, "rec-threshold")) == pytest.approx(rec["threshold_force"], rel=5e-4)
