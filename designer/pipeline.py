@@ -256,11 +256,12 @@ class _Clock:
         return _Step()
 
 
-def _recommend(problem: Problem) -> tuple[Recommendation | None, str]:
-    """The recommendation of ``problem``: (Recommendation or None, reason when None)."""
+def _recommend(problem: Problem, front: Front) -> tuple[Recommendation | None, str]:
+    """The recommendation of ``problem`` (its continuous front is ``front``): (Recommendation or None, reason
+    when None)."""
 
     try:
-        return recommend(problem), ""
+        return recommend(problem, front=front), ""
     except DesignerError as exc:
         return None, str(exc)
 
@@ -338,13 +339,11 @@ def report_data(
         data.tighter = tighter
         with clock("recommendation"):
             if recommendation is None and with_recommendation:
-                recommendation, data.recommendation_error = _recommend(problem)
+                recommendation, data.recommendation_error = _recommend(problem, front)
             elif recommendation is None:
                 data.recommendation_error = "not computed"
         data.recommendation = recommendation
         if recommendation is not None:
-            if getattr(recommendation, "_front", False) is None:  # the continuous front is this report's front
-                recommendation._front = front
             data.price_of_stock = price_of_stock(front, recommendation)
             if with_knock_safe:
                 with clock("knock_safe"):

@@ -105,7 +105,26 @@ def _examples() -> dict[str, Record]:
     out.update(_retrofit_examples(problem))
     out.update(_fleet_examples(problem))
     out.update(_pipeline_examples(problem))
+    out.update(_recommend_examples(problem))
     return out
+
+
+def _recommend_examples(problem) -> dict[str, Record]:
+    """The recommendation (its alternatives and buildable front, the continuous front it was given) and the
+    evaluator's values of a few candidates, with their Monte Carlo risk."""
+    from designer.model import evaluate_candidates
+    from designer.studies.front import pareto_front
+    from designer.studies.recommend import recommend
+
+    front = _quiet(lambda: pareto_front(problem, points=9))
+    rec = _quiet(lambda: recommend(problem, front=front))
+    designs = [problem.lower(), problem.upper(), rec.design]
+    values = evaluate_candidates(designs, problem.conditions, probability_at=problem.target_speed, samples=2000)
+    return {
+        "Recommendation": rec,
+        "Recommendation (alternative)": rec.alternatives[0],
+        "CandidateValues": values,
+    }
 
 
 def _pipeline_examples(problem) -> dict[str, Record]:
@@ -234,6 +253,9 @@ NAMES = [
     "KMedianSolution",
     "ReportData",
     "RobustData",
+    "Recommendation",
+    "Recommendation (alternative)",
+    "CandidateValues",
 ]
 
 
@@ -287,6 +309,37 @@ def test_reprs_show_without_computing(examples, name, no_solvers):
 
 POSITIONAL = {"Design": "the design vector x = (T, d, B, c_f) in VARIABLES order, written like a point"}
 """Records that may be built by position, and why."""
+
+
+def _public_attributes(record) -> list[str]:
+    """Every public attribute of a record that is data or a property (methods are not called)."""
+    names = []
+    for name in dir(record):
+        if name.startswith("_"):
+            continue
+        if isinstance(getattr(type(record), name, None), property) or not callable(getattr(record, name)):
+            names.append(name)
+    return names
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_no_attribute_runs_a_solver(examples, name, no_solvers):
+    """Reading every public attribute of a record (fields and properties: a Recommendation's front, buildable
+    front, alternatives, problem, ...) runs no solver and no Monte Carlo: all of them are patched to raise."""
+    record = examples[name]
+    attributes = _public_attributes(record)
+    assert attributes
+    for attribute in attributes:
+        getattr(record, attribute)
+
+
+def test_a_recommendation_keeps_the_front_it_was_given(examples):
+    """recommend(problem, front=...) keeps the caller's continuous front in .front (the report's front, not a new
+    solve); without one .front is None, and reading it computes nothing (the attribute test above)."""
+    rec = examples["Recommendation"]
+    assert rec.front is not None and len(rec.front.points) == 9
+    assert rec.buildable is not None and rec.buildable.meta["buildable"] is True
+    assert all(alt.front is None and alt.buildable is None for alt in rec.alternatives)
 
 
 def test_records_are_built_by_keyword():

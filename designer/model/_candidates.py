@@ -14,12 +14,13 @@ nowhere else in the studies.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from typing import Any
 
 import numpy as np
 
 from designer.parameters import VARIABLES
+from designer.reprs import Record, dataframe, plain
 from designer.physics.geometry import effective_trail, swept_radius
 from designer.physics.scatter import inertia_prediction
 from designer.physics.uncertainty import MC_TARGET_SE, Uncertainty, shimmy_probability_mc_many
@@ -61,8 +62,8 @@ def design_columns(designs: Any) -> dict[str, np.ndarray]:
     return {name: array[:, k] for k, name in enumerate(VARIABLES)}
 
 
-@dataclass(frozen=True)
-class CandidateValues:
+@dataclass(frozen=True, kw_only=True)
+class CandidateValues(Record):
     """Every number of a batch of candidate casters (arrays in the broadcast shape of the inputs), SI.
 
     Attributes
@@ -110,9 +111,60 @@ class CandidateValues:
     def __len__(self) -> int:
         return int(self.feasible.shape[0]) if self.feasible.ndim else 1
 
-    def as_dict(self) -> dict[str, Any]:
-        """``{field: array}`` (the Monte Carlo fields only when computed)."""
-        return {f.name: getattr(self, f.name) for f in fields(self) if getattr(self, f.name) is not None}
+    _units = {
+        "trail": "m",
+        "diameter": "m",
+        "groove": "m",
+        "damping": "N·m/rad",
+        "inertia": "kg·m²",
+        "effective_trail": "m",
+        "critical_speed": "m/s",
+        "confident_speed": "m/s",
+        "turning_effort": "N",
+        "threshold_force": "N",
+        "swept_radius": "m",
+    }
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{field: list}`` per candidate (the Monte Carlo fields only when computed), plain data."""
+        return {
+            f.name: plain(np.asarray(getattr(self, f.name))) for f in fields(self) if getattr(self, f.name) is not None
+        }
+
+    def to_pandas(self) -> Any:
+        """One row per candidate, one column per field (the Monte Carlo ones only when computed); units in
+        ``df.attrs["units"]``."""
+        columns = [f.name for f in fields(self) if getattr(self, f.name) is not None]
+        n = len(self)
+        arrays = {c: np.broadcast_to(np.asarray(getattr(self, c)), (n,)) for c in columns}
+        rows = [{c: arrays[c][i].item() for c in columns} for i in range(n)]
+        return dataframe(
+            "CandidateValues.to_pandas", rows, columns, {c: u for c, u in self._units.items() if c in columns}
+        )
+
+    def _repr_lines(self) -> list[str]:
+        """One line: how many candidates, how many feasible, and the ranges of F_turn and P."""
+        f, p = np.atleast_1d(self.turning_effort), np.atleast_1d(self.threshold_force)
+        return [
+            f"CandidateValues({len(self)} candidates, {int(np.count_nonzero(self.feasible))} feasible; "
+            f"F_turn {float(np.min(f)):.4g}–{float(np.max(f)):.4g} N, P {float(np.min(p)):.4g}–{float(np.max(p)):.4g} N)"
+        ]
+
+    def _html_title(self) -> str:
+        return "Candidate casters"
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        """The count and the range of every field over the candidates (no Monte Carlo runs)."""
+        rows: list[tuple[Any, Any, Any]] = [
+            ("candidates (feasible)", f"{len(self)} ({int(np.count_nonzero(self.feasible))})", "")
+        ]
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if value is None or np.asarray(value).dtype == bool:
+                continue
+            a = np.asarray(value, float)
+            rows.append((f.name, f"{float(np.min(a)):.4g} – {float(np.max(a)):.4g}", self._units.get(f.name, "")))
+        return rows
 
     def take(self, index: Any) -> "CandidateValues":
         """The candidates at ``index`` (a boolean mask or integer indices along the first axis)."""
@@ -230,7 +282,7 @@ def evaluate_candidates(  # long: the docstring documents every argument; the bo
         diameter=d,
         measured=flags,
     )
-    return CandidateValues(**(out.as_dict() | {"shimmy_probability": p, "shimmy_probability_se": se}))
+    return replace(out, shimmy_probability=p, shimmy_probability_se=se)
 
 
 def _limits(confident: np.ndarray, radius: np.ndarray, required: Any, r_max: Any) -> tuple[np.ndarray, np.ndarray]:

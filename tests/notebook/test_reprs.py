@@ -183,8 +183,8 @@ def test_recommendation_repr_is_short_with_headline_numbers(rec):
 
 def test_recommendation_html_has_table_and_drawing_without_solving(rec):
     """Recommendation's HTML parses, shows its numbers with units and the caster drawing (SVG), and does not
-    compute the continuous front (no solver runs in a repr)."""
-    assert rec._front is None
+    compute the continuous front (no solver runs in a repr; recommend() was given none, so it stays None)."""
+    assert rec.front is None
     html = rec._repr_html_()
     text, tags = parse(html)
     d = rec.design
@@ -192,7 +192,7 @@ def test_recommendation_html_has_table_and_drawing_without_solving(rec):
     assert f"{rec.turning_effort:.4g}" in text and f"{rec.threshold_force:.4g}" in text
     assert f"{rec.confident_speed:.4g}" in text and "m/s" in text and "mm" in text
     assert 'class="caster-drawing"' in html and "svg" in tags
-    assert rec._front is None
+    assert rec.front is None
 
 
 def test_front_pandas_round_trip(front):

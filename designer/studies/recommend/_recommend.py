@@ -256,7 +256,7 @@ def _buildable_front(problem, b: _Buildable, member: np.ndarray):
     )
 
 
-def recommend(problem, samples: int | None = None, seed: int | None = None) -> Recommendation:
+def recommend(problem, samples: int | None = None, seed: int | None = None, *, front=None) -> Recommendation:
     """``designer.recommend``: the caster to build for ``problem``, by the problem's rule.
 
     Parameters
@@ -264,10 +264,12 @@ def recommend(problem, samples: int | None = None, seed: int | None = None) -> R
     problem : a :class:`designer.problem.Problem` or a path to a problem file
     samples, seed : Monte Carlo sample (a minimum) and seed of the reported P(shimmy) (default the
         problem's ``[robust]`` ones: 50 000, seed 20111)
+    front : the continuous risk-bounded front of ``problem`` when the caller has it (kept in
+        ``Recommendation.front``; nothing here computes it)
 
     Returns
     -------
-    Recommendation (with two alternatives, the buildable front and, on access, the continuous front)
+    Recommendation (with two alternatives, the buildable front and the continuous front it was given)
 
     Raises
     ------
@@ -293,15 +295,18 @@ def recommend(problem, samples: int | None = None, seed: int | None = None) -> R
         raise _over_cap_error(problem, b, sel)
     rule = rule_text(problem, size)
     rec = _record(problem, b, choice, rule, "recommended", samples, seed)
-    rec.buildable = _buildable_front(problem, b, sel["front"][0])
     alts = []
     for key, role in (("easiest_turn", "easiest to turn"), ("easiest_sill", "easiest over the sill")):
         i = int(sel[key][0])
         if i >= 0 and i != choice:  # a short front: give what there is, not the same caster twice
             alts.append(_record(problem, b, i, rule, role, samples, seed))
-    rec.alternatives = alts
-    rec.note = _note(problem, rec, size)
-    return rec
+    return dataclasses.replace(
+        rec,
+        alternatives=alts,
+        buildable=_buildable_front(problem, b, sel["front"][0]),
+        front=front,
+        note=_note(problem, rec, size),
+    )
 
 
 def _buildable(problem) -> _Buildable:

@@ -6,15 +6,20 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 from designer.data.paper import INCH
 from designer.model import Design
 from designer.plots.caster import caster_svg, plot_caster
-from designer.reprs import html_table
+from designer.problem import Problem
+from designer.reprs import Record, dataframe
+
+if TYPE_CHECKING:  # the front's record for the checker only: designer.studies.front loads casadi
+    from designer.studies.front import Front
 
 
-@dataclass
-class Recommendation:
+@dataclass(kw_only=True)
+class Recommendation(Record):
     """One caster to build, its numbers, and the fronts behind it (SI units).
 
     Attributes
@@ -30,8 +35,10 @@ class Recommendation:
     swept_radius_max : the footrest limit [m] (None: no limit)
     rule : how it was chosen
     alternatives : [easiest to turn, easiest over the sill] (the same record type; fewer if the front is short)
-    buildable : the buildable risk-bounded front (a :class:`designer.studies.front._pareto.Front`)
-    front : the continuous risk-bounded front (computed on first access)
+    buildable : the buildable risk-bounded front (a :class:`designer.studies.front.Front`)
+    front : the continuous risk-bounded front when the caller had it (:func:`designer.report_data` passes its
+        front to :func:`~designer.studies.recommend.recommend`), else None: no attribute computes it
+        (``designer.pareto_front(rec.problem)`` does)
     wheel : the wheel's name (catalogue) or None
     inertia : I_w [kg·m²]
     role : "recommended" | "easiest to turn" | "easiest over the sill"
@@ -48,8 +55,8 @@ class Recommendation:
     swept_radius: float
     swept_radius_max: float | None
     rule: str
-    alternatives: list = field(default_factory=list)
-    buildable: object = None
+    alternatives: list[Recommendation] = field(default_factory=list)
+    buildable: Front | None = field(default=None, repr=False)
     wheel: str | None = None
     inertia: float = math.nan
     role: str = "recommended"
@@ -59,20 +66,24 @@ class Recommendation:
     alpha: float | None = None
     mc_samples: int = 0
     mc_seed: int = 0
-    weights: tuple = (1.0, 1.0)
-    problem: object = field(default=None, repr=False)
-    _front: object = field(default=None, repr=False)
+    weights: tuple[float, float] = (1.0, 1.0)
+    problem: Problem | None = field(default=None, repr=False)
+    front: Front | None = field(default=None, repr=False)
 
-    @property
-    def front(self):
-        """The continuous risk-bounded front of the problem (:func:`designer.studies.front._pareto.pareto_front`)."""
-        if self._front is None and self.problem is not None:
-            from designer.studies.front import pareto_front
+    _units = {
+        "design.trail": "m",
+        "design.diameter": "m",
+        "design.groove": "m",
+        "design.damping": "N·m/rad",
+        "turning_effort": "N",
+        "threshold_force": "N",
+        "critical_speed": "m/s",
+        "confident_speed": "m/s",
+        "swept_radius": "m",
+        "swept_radius_max": "m",
+    }
 
-            self._front = pareto_front(self.problem)
-        return self._front
-
-    def to_dict(self, alternatives: bool = False) -> dict:
+    def to_dict(self, alternatives: bool = False) -> dict[str, Any]:
         """The JSON record of ``designer run --json`` (SI)."""
         out = {
             "design": self.design.to_dict(),
@@ -130,17 +141,46 @@ class Recommendation:
             out += ["", f"Note: {self.note}"]
         return "\n".join(out)
 
-    def __repr__(self) -> str:
+    def to_pandas(self) -> Any:
+        """One row per caster, the recommendation then its alternatives: ``role``, ``wheel``, the design [SI],
+        F_turn, P [N], V_c, the speed at 1 − α and the swept radius, P(shimmy) and its SE; units in
+        ``df.attrs["units"]``."""
+        rows = []
+        for rec in (self, *self.alternatives):
+            d = rec.design
+            rows.append(
+                {
+                    "role": rec.role,
+                    "wheel": rec.wheel,
+                    "trail_m": d.trail,
+                    "diameter_m": d.diameter,
+                    "groove_m": d.groove,
+                    "damping_N_m_per_rad": d.damping,
+                    "turning_effort_N": rec.turning_effort,
+                    "threshold_force_N": rec.threshold_force,
+                    "critical_speed_m_s": rec.critical_speed,
+                    "confident_speed_m_s": rec.confident_speed,
+                    "swept_radius_m": rec.swept_radius,
+                    "shimmy_probability": rec.shimmy_probability,
+                    "shimmy_probability_se": rec.shimmy_probability_se,
+                }
+            )
+        columns = list(rows[0])
+        units = {c: c.split("_")[-1] for c in columns if c.endswith(("_m", "_N"))}
+        units.update(damping_N_m_per_rad="N·m/rad", critical_speed_m_s="m/s", confident_speed_m_s="m/s")
+        return dataframe("Recommendation.to_pandas", rows, columns, units, rule=self.rule)
+
+    def _repr_lines(self) -> list[str]:
         """Two lines: the caster (inches) and its numbers; the rule and alternatives: ``print(rec)``."""
         d = self.design
-        return (
+        return [
             f"Recommendation({self.role}): T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in, "
-            f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad\n"
+            f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad",
             f"  F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, V_c {self.critical_speed:.4g} m/s, "
-            f"P(shimmy) {self.shimmy_probability:.2%} ± {self.shimmy_probability_se:.2%}"
-        )
+            f"P(shimmy) {self.shimmy_probability:.2%} ± {self.shimmy_probability_se:.2%}",
+        ]
 
-    def draw(self, ax=None, sill_height: float | None = None):
+    def draw(self, ax: Any = None, sill_height: float | None = None) -> Any:
         """The recommended caster to scale: side view (wheel, fork, trail, sill) and top view (swept circle).
 
         Returns ``(ax_side, ax_top)`` (matplotlib Axes; ``ax``: None for a new figure, one Axes for the side
@@ -164,10 +204,18 @@ class Recommendation:
             ax=ax,
         )
 
-    def _repr_html_(self) -> str:
-        """The caster as a compact HTML table with units beside its drawing to scale (notebooks; no solver runs)."""
+    def _html_title(self) -> str:
+        title = f"Build this caster for {self.problem.name!r}" if self.problem is not None else "Build this caster"
+        return f"{title} ({self.role})"
+
+    def _html_caption(self) -> str:
+        return self.rule + (f" Note: {self.note}" if self.note else "")
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        """The caster as a compact table with units (notebooks; no solver runs)."""
         d = self.design
-        rows = ([("wheel", self.wheel, "")] if self.wheel else []) + [
+        rows: list[tuple[Any, Any, Any]] = [("wheel", self.wheel, "")] if self.wheel else []
+        return rows + [
             ("trail T", f"{d.trail / INCH:.3f} ({d.trail * 1000:.2f} mm)", "in"),
             ("diameter d", f"{d.diameter / INCH:.3f} ({d.diameter * 1000:.2f} mm)", "in"),
             ("groove B", f"{d.groove / INCH:.3f} ({d.groove * 1000:.2f} mm)", "in"),
@@ -185,9 +233,14 @@ class Recommendation:
                 "mm",
             ),
         ]
-        drawing = ""
-        if self.problem is not None:
-            drawing = caster_svg(
+
+    def _html_extra(self) -> str:
+        """The caster drawn to scale beside the table (needs the problem's sill)."""
+        if self.problem is None:
+            return ""
+        d = self.design
+        return str(
+            caster_svg(
                 d.trail,
                 d.diameter,
                 d.groove,
@@ -196,10 +249,4 @@ class Recommendation:
                 scale=17.0,
                 label=f"{self.role} caster",
             )
-        title = f"Build this caster for {self.problem.name!r}" if self.problem is not None else "Build this caster"
-        return html_table(
-            f"{title} ({self.role})",
-            rows,
-            caption=self.rule + (f" Note: {self.note}" if self.note else ""),
-            extra=drawing,
         )
