@@ -35,8 +35,12 @@ import re
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
+    import numpy.typing as npt
 
 from designer.errors import InputError
 from designer.model import GRAVITY, scatter_of
@@ -152,7 +156,7 @@ class FleetResult(Record):
     timings: dict[str, float] = field(default_factory=dict)
     scheduler: str | None = None
     regret_cost: dict[str, np.ndarray] | None = None
-    suggested: dict | None = None
+    suggested: dict[str, Any] | None = None
     candidates: int | None = None
 
     @property
@@ -160,17 +164,17 @@ class FleetResult(Record):
         """Chairs with a recommendation (the others are reported with their reason)."""
         return self.chairs["choice"] >= 0
 
-    def rows(self) -> list[dict]:
+    def rows(self) -> list[dict[str, Any]]:
         """One dict per chair: the columns of fleet.csv (SI)."""
         ch = self.chairs
         out = []
-        sku = None if self.skus is None or self.skus.assignment is None else self.skus
-        sku_index = {} if sku is None else {j: i + 1 for i, j in enumerate(sku.chosen)}
-        position = np.cumsum(self.feasible) - 1
+        assignment = None if self.skus is None else self.skus.assignment
         cost = self.regret_cost
+        sku_index = {} if self.skus is None else {j: i + 1 for i, j in enumerate(self.skus.chosen)}
+        position = np.cumsum(self.feasible) - 1
         for i in range(len(self.fleet)):
             j = int(ch["choice"][i])
-            row = {"name": self.fleet.names[i]}
+            row: dict[str, Any] = {"name": self.fleet.names[i]}
             design = self.stock.design(j) if j >= 0 else dict.fromkeys(("trail", "diameter", "groove", "damping"))
             row.update(design)
             row["turning_effort"] = float(ch["turning_effort"][i]) if j >= 0 else None
@@ -178,8 +182,8 @@ class FleetResult(Record):
             p = ch.get("shimmy_probability")
             row["shimmy_probability"] = None if p is None or j < 0 else float(p[i])
             row["shimmy_probability_se"] = None if p is None or j < 0 else float(ch["shimmy_probability_se"][i])
-            if sku is not None:
-                a = int(sku.assignment[position[i]]) if j >= 0 else -1
+            if assignment is not None and cost is not None:
+                a = int(assignment[position[i]]) if j >= 0 else -1
                 col = int(np.searchsorted(cost["columns"], a)) if a >= 0 else -1
                 row["sku"] = sku_index.get(a) if a >= 0 else None
                 row["sku_turning_effort"] = float(cost["turning_effort"][position[i], col]) if a >= 0 else None
@@ -225,16 +229,16 @@ class FleetResult(Record):
     def _html_title(self) -> str:
         return f"Fleet recommendations for {getattr(self.problem, 'name', '?')!r}"
 
-    def _html_rows(self) -> list[tuple]:
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """Chairs, part numbers, ranges of F_turn and P (notebooks)."""
         return list(self._summary())
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """The plain data of ``fleet.json`` (:func:`fleet_data`): settings, part numbers, regret curve, per-chair
         rows, distributions; SI units."""
         return fleet_data(self)
 
-    def to_pandas(self):
+    def to_pandas(self) -> Any:
         """One row per chair, the columns of fleet.csv with SI units in their names (pandas: ``notebook`` extra).
 
         Columns: ``name``, ``trail_m``, ``diameter_m``, ``groove_m``, ``damping_N_m_per_rad`` (the recommended
@@ -256,7 +260,7 @@ class FleetResult(Record):
             skus=len(self.sku_records()) or None,
         )
 
-    def sku_records(self) -> list[dict]:
+    def sku_records(self) -> list[dict[str, Any]]:
         """``[{"id", "design", "chairs", "count"}]`` of the chosen part numbers."""
         if self.skus is None or self.skus.assignment is None:
             return []
@@ -278,10 +282,10 @@ class FleetResult(Record):
 
 def fleet_recommendations(
     fleet: Fleet,
-    problem,
+    problem: Problem,
     skus: int | str | None = None,
     k_max: int | None = None,
-    scheduler=None,
+    scheduler: Any = None,
     monte_carlo: bool = True,
     chunk: int = CHUNK,
     time_limit: float = 120.0,
@@ -313,10 +317,10 @@ def fleet_recommendations(
             raise InputError(f"--skus {skus!r}: expected a whole number of part numbers, 1 or more")
     if not (isinstance(max_regret, (int, float)) and math.isfinite(max_regret) and max_regret >= 0):
         raise InputError(f"--max-regret {max_regret!r}: expected a mean regret in N, 0 or more")
-    timings = {}
+    timings: dict[str, float] = {}
     start = time.perf_counter()
     stock = stock_table(problem)
-    if skus not in (None, "auto") and skus > len(stock):
+    if isinstance(skus, (int, np.integer)) and skus > len(stock):
         raise InputError(f"--skus {skus}: larger than the stock ({len(stock)} casters); choose at most {len(stock)}")
     timings["stock"] = time.perf_counter() - start
 
@@ -331,9 +335,7 @@ def fleet_recommendations(
             problem=problem,
             chairs=chairs,
             timings=timings,
-            scheduler=None
-            if client is None
-            else str(getattr(client, "scheduler_info", lambda: {})().get("address", "")),
+            scheduler=None if client is None else _address(client),
         )
         if monte_carlo:
             start = time.perf_counter()
@@ -353,7 +355,13 @@ def fleet_recommendations(
     return result
 
 
-def _recommend_all(client, fleet: Fleet, stock, problem, chunk: int) -> dict:
+def _address(client: Any) -> str:
+    """The Dask scheduler's address, for run.json ("" when the client does not say)."""
+    info: Any = getattr(client, "scheduler_info", lambda: {})()
+    return str(info.get("address", ""))
+
+
+def _recommend_all(client: Any, fleet: Fleet, stock: StockTable, problem: Problem, chunk: int) -> dict[str, np.ndarray]:
     """Every chair's recommendation (:func:`recommend_chairs`) in chunks of ``chunk`` chairs, in this process
     (``client`` None) or as Dask tasks; the per-chair arrays joined in fleet order."""
     parts = _split(fleet, chunk)
@@ -367,12 +375,14 @@ def _recommend_all(client, fleet: Fleet, stock, problem, chunk: int) -> dict:
     return {k: np.concatenate([r[k] for r in results]) for k in results[0]}
 
 
-def _sku_monte_carlo(client, result: FleetResult, chunk: int) -> None:
+def _sku_monte_carlo(client: Any, result: FleetResult, chunk: int) -> None:
     """P(shimmy) of each chair with the part number the K-median program assigned it
     (``chairs["sku_shimmy_probability"]``, NaN for a chair without one), timed as ``sku_monte_carlo``."""
     start = time.perf_counter()
     fleet = result.fleet
     assigned = np.full(len(fleet), -1)
+    if result.skus is None or result.skus.assignment is None:
+        raise ValueError("no part numbers assigned: nothing to sample")
     assigned[result.feasible] = result.skus.assignment
     result.chairs["sku_shimmy_probability"], _ = _monte_carlo(
         client, result.stock, result.problem, assigned, fleet.target_speed, chunk=max(50, chunk // 20)
@@ -380,7 +390,9 @@ def _sku_monte_carlo(client, result: FleetResult, chunk: int) -> None:
     result.timings["sku_monte_carlo"] = time.perf_counter() - start
 
 
-def _monte_carlo(client, stock, problem, choice, speeds, chunk):
+def _monte_carlo(
+    client: Any, stock: StockTable, problem: Problem, choice: np.ndarray, speeds: npt.ArrayLike, chunk: int
+) -> tuple[np.ndarray, np.ndarray]:
     """Reported P(shimmy) at each chair's V_target for its caster; NaN where there is none."""
     u = scatter_of(problem.conditions)
     slip = problem.conditions.slip_coefficient
@@ -456,7 +468,9 @@ def choose_skus(
     result.skus = result.curve[asked if asked is not None else result.suggested["count"]]
 
 
-def suggest_skus(curve: dict, units: float, max_regret: float = DEFAULT_MAX_REGRET) -> dict:
+def suggest_skus(
+    curve: dict[int, KMedianSolution], units: float, max_regret: float = DEFAULT_MAX_REGRET
+) -> dict[str, Any]:
     """The suggested number of part numbers: the smallest K whose mean regret is at most ``max_regret``.
 
     Parameters
@@ -500,7 +514,7 @@ def _stock_subset(stock: StockTable, columns: np.ndarray) -> StockTable:
     )
 
 
-def _regret_matrix(result: FleetResult, rows: np.ndarray) -> dict:
+def _regret_matrix(result: FleetResult, rows: np.ndarray) -> dict[str, np.ndarray]:
     """Regret, F_turn and P of the chairs ``rows`` (feasible) with the casters that can matter for a K-median.
 
     Two passes over chunks of :data:`CHUNK` chairs: the first evaluates J of every stock caster and keeps
@@ -513,7 +527,7 @@ def _regret_matrix(result: FleetResult, rows: np.ndarray) -> dict:
     w = np.asarray(problem.weights, float)
     parts = [rows[a : a + CHUNK] for a in range(0, len(rows), CHUNK)]
 
-    def evaluate(part, table):
+    def evaluate(part: np.ndarray, table: StockTable) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         ev = evaluate_chairs({key: v[part] for key, v in arrays.items()}, table, problem)
         f, p = ev["turning_effort"], ev["threshold_force"]
         return np.where(ev["feasible"], w[0] * f + w[1] * p, np.inf), f, p
@@ -529,7 +543,7 @@ def _regret_matrix(result: FleetResult, rows: np.ndarray) -> dict:
     return {"columns": columns, "turning_effort": f, "threshold_force": p, "regret": j, "least_objective": least}
 
 
-def _client(scheduler):
+def _client(scheduler: Any) -> tuple[Any, bool]:
     """(client, owned) for a scheduler address, "local", a Client, or None (in-process)."""
     if scheduler is None:
         return None, False
@@ -542,13 +556,14 @@ def _client(scheduler):
         ) from None
     if isinstance(scheduler, Client):
         return scheduler, False
+    client: Any = Client  # distributed's own types: untyped calls
     if scheduler == "local":
-        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
-        return Client(cluster), True
+        cluster: Any = LocalCluster
+        return client(cluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)), True
     if not isinstance(scheduler, str) or not re.match(r"^(tcp|tls|inproc|ucx)://\S+$", scheduler):
         raise InputError(f"--scheduler {scheduler!r}: expected an address such as tcp://host:8786, or 'local'")
     try:
-        return Client(scheduler, timeout="10s"), True
+        return client(scheduler, timeout="10s"), True
     except (OSError, TimeoutError) as exc:
         raise InputError(
             f"--scheduler {scheduler}: cannot reach the scheduler ({type(exc).__name__}: {exc}); "
@@ -556,14 +571,14 @@ def _client(scheduler):
         ) from None
 
 
-def _close(client) -> None:
+def _close(client: Any) -> None:
     cluster = getattr(client, "cluster", None)
     client.close()
     if cluster is not None:
         cluster.close()
 
 
-def fleet_data(result: FleetResult) -> dict:
+def fleet_data(result: FleetResult) -> dict[str, Any]:
     """Plain data of a fleet run (fleet.json; what the report renders): settings, part numbers, regret curve,
     per-chair rows, distributions.  SI units; J uses the base problem's weights.  The date and times are in
     :func:`fleet_run` (run.json)."""
@@ -602,8 +617,8 @@ def fleet_data(result: FleetResult) -> dict:
         },
         "skus": result.sku_records(),
         "k": None if sku is None else sku.k,
-        "total_regret_N": sku.regret if solved else None,
-        "mean_regret_N": sku.regret / served_units if solved else None,
+        "total_regret_N": sku.regret if sku is not None and solved else None,
+        "mean_regret_N": sku.regret / served_units if sku is not None and solved else None,
         "worst_regret_N": _worst_regret(result, sku) if solved else None,
         "sku_status": None if sku is None else sku.status,
         "sku_proof": None if sku is None else sku.method,
@@ -617,7 +632,7 @@ def fleet_data(result: FleetResult) -> dict:
     }
 
 
-def fleet_run(result: FleetResult) -> dict:
+def fleet_run(result: FleetResult) -> dict[str, Any]:
     """What a rerun changes (kept out of :func:`fleet_data`, so the same fleet gives the same fleet.json and
     report): the date, the wall seconds per stage and per K of the regret curve, the Dask scheduler."""
     return {
@@ -628,7 +643,7 @@ def fleet_run(result: FleetResult) -> dict:
     }
 
 
-def _distributions(result: FleetResult) -> dict:
+def _distributions(result: FleetResult) -> dict[str, np.ndarray]:
     """Per-chair arrays of the own recommendations (chairs with a caster) for the report's figure."""
     ch, ok = result.chairs, result.feasible
     choice = ch["choice"][ok]
@@ -645,7 +660,7 @@ def _distributions(result: FleetResult) -> dict:
     return {k: np.asarray(v, float) for k, v in dist.items()}
 
 
-def _curve_data(result: FleetResult, units: float) -> list[dict]:
+def _curve_data(result: FleetResult, units: float) -> list[dict[str, Any]]:
     """The regret curve as plain data: per K the total, mean (over ``units``) and worst regret [N], proof."""
     return [
         {
@@ -663,7 +678,7 @@ def _curve_data(result: FleetResult, units: float) -> list[dict]:
     ]
 
 
-def _rule_name(problem) -> str:
+def _rule_name(problem: Problem) -> str:
     """The base problem's rule in words (a cap on one objective, else the knee)."""
     if problem.max_threshold_force is not None:
         return "cap on sill force"
@@ -672,7 +687,7 @@ def _rule_name(problem) -> str:
     return "knee of the buildable front"
 
 
-def _worst_regret(result: FleetResult, solution) -> float | None:
+def _worst_regret(result: FleetResult, solution: KMedianSolution | None) -> float | None:
     """The largest regret of one chair with the part number it is assigned [N] (None if infeasible)."""
     if solution is None or solution.assignment is None or result.regret_cost is None:
         return None
@@ -681,9 +696,9 @@ def _worst_regret(result: FleetResult, solution) -> float | None:
     return float(cost["regret"][np.arange(len(col)), col].max())
 
 
-def _own_recommendation(result: FleetResult) -> dict:
+def _own_recommendation(result: FleetResult) -> dict[str, Any]:
     """What "own recommendation" means, and how the part numbers compare with it on J."""
-    out = {
+    out: dict[str, Any] = {
         "meaning": "Each chair's own recommendation is the caster designer.recommend picks for that chair "
         "alone: the base problem's rule on the chair's buildable front (by default its knee, the balance of "
         "F_turn and P in the front's own range). It is not the chair's least J: regret is measured against "
@@ -741,10 +756,10 @@ def _answer(result: FleetResult) -> tuple[str | None, str | None]:
 
 
 def fleet(
-    chairs,
-    problem=None,
+    chairs: Fleet | str | Path,
+    problem: Problem | str | Path | None = None,
     skus: int | str | None = None,
-    scheduler=None,
+    scheduler: Any = None,
     monte_carlo: bool = True,
     k_max: int | None = None,
     max_regret: float = DEFAULT_MAX_REGRET,
