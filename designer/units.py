@@ -18,6 +18,32 @@ INCH = 0.0254
 """One inch [m] (exact, by the international yard and pound agreement of 1959): the one definition of the
 package; plots, reports and messages show lengths in inches with it."""
 
+
+def written_size(value: float | None, units: str = "in") -> str:
+    """A length [m] as a user writes it: ``"7 in"``, ``"1/2 in"``, ``"2 1/2 in"`` (inches to the nearest 1/16, a
+    fraction in lowest terms), or ``"13 mm"``, ``"177.8 mm"`` (millimetres to 0.1, no trailing zero).
+
+    A length that is not within 1/128 in of a sixteenth (a continuous optimum's 2.139 in) is marked as rounded:
+    ``"≈ 2 1/8 in"``.  NaN or None is ``"n/a"``.  Display only (reports, ``designer fix``, the drawing).
+    """
+    if value is None or not math.isfinite(float(value)):
+        return "n/a"
+    if units == "mm":
+        text = f"{value * 1000:.1f}".rstrip("0").rstrip(".")
+        return f"{'0' if text in ('-0', '') else text} mm"
+    sixteenths = round(value / INCH * 16)
+    approx = abs(value / INCH * 16 - sixteenths) > 1 / 8  # more than 1/128 in from a sixteenth
+    whole, rest = divmod(abs(sixteenths), 16)
+    if rest:
+        g = math.gcd(rest, 16)
+        frac = f"{rest // g}/{16 // g}"
+        text = f"{whole} {frac}" if whole else frac
+    else:
+        text = str(whole)
+    sign = "-" if sixteenths < 0 else ""
+    return f"{'≈ ' if approx else ''}{sign}{text} in"
+
+
 MAX_TEXT = 100
 """Longest quantity string accepted (characters)."""
 

@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from html import escape
-from designer.units import INCH
+from designer.units import INCH, written_size
 
 TREAD = 0.25 * INCH
 """Width of each tread in the drawing [m] (illustrative only)."""
@@ -173,18 +173,6 @@ def plot_caster(
     return draw_caster(side, top, trail, diameter, groove, sill_height, swept_radius_max, title=title)
 
 
-def _size(value: float, units: str) -> str:
-    """A length [m] on the drawing: inches to 1/16 ("2 1/2 in") or millimetres to 0.1 ("63.5 mm")."""
-    if units == "mm":
-        return f"{value * 1000:.1f}".rstrip("0").rstrip(".") + " mm"
-    sixteenths = round(value / INCH * 16)
-    whole, rest = divmod(sixteenths, 16)
-    g = math.gcd(rest, 16) or 16
-    frac = f"{rest // g}/{16 // g}" if rest else ""
-    text = f"{whole} {frac}" if whole and frac else (frac or str(whole))
-    return f"{'≈ ' if abs(value / INCH * 16 - sixteenths) > 1 / 8 else ''}{text} in"
-
-
 # long: the drawing, one SVG element after another
 def caster_svg(  # noqa: C901 - one branch per optional part of the drawing (limit, groove, units)
     trail: float,
@@ -207,7 +195,7 @@ def caster_svg(  # noqa: C901 - one branch per optional part of the drawing (lim
     g = caster_geometry(trail, diameter, groove, sill_height, swept_radius_max)
 
     def size(value: float) -> str:
-        return _inches(value) if units is None else _size(value, units)
+        return _inches(value) if units is None else written_size(value, units)
 
     if scale is None:
         reach_in = max(g.swept_radius, g.swept_radius_max or 0.0) / INCH
