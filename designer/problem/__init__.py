@@ -20,6 +20,9 @@ from __future__ import annotations
 
 from designer.problem._core import (
     DEFAULT_BOUNDS,
+    DEFAULT_MAX_THRESHOLD_INCREASE,
+    DEFAULT_PART_COSTS,
+    PART_KINDS,
     INERTIA_MODELS,
     INERTIA_RANGE,
     MAX_SAMPLES,
@@ -51,6 +54,9 @@ from designer.problem._loader import (
 
 __all__ = [
     "DEFAULT_BOUNDS",
+    "DEFAULT_MAX_THRESHOLD_INCREASE",
+    "DEFAULT_PART_COSTS",
+    "PART_KINDS",
     "INERTIA_MODELS",
     "INERTIA_RANGE",
     "MAX_SAMPLES",

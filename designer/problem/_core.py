@@ -123,8 +123,16 @@ SCHEMA: dict[str, dict[str, str]] = {
         "samples": "int",
         "seed": "int",
     },
-    "stock": {"diameters": "list", "grooves": "list", "trail_step": "length", "dampings": "list", "wheels": "list"},
+    "stock": {
+        "diameters": "list",
+        "grooves": "list",
+        "trail_step": "length",
+        "dampings": "list",
+        "wheels": "list",
+        "costs": "table",
+    },
     "report": {"units": "str"},
+    "retrofit": {"max_threshold_increase": "dimensionless"},
 }
 """Allowed keys per section: key -> dimension (or a type tag).  The model constants' keys are added from
 the parameter table just below, so a new constant needs no line here."""
@@ -152,15 +160,30 @@ class Bound:
         return self.low == self.high
 
 
+PART_KINDS = ("washer", "tyre", "fork hole", "wheel")
+"""The four kinds of part a retrofit changes, cheapest first (``[stock] costs`` keys: ``washer``, ``tyre``,
+``fork_hole``, ``wheel``)."""
+
+DEFAULT_PART_COSTS = {"washer": 1.0, "tyre": 2.0, "fork hole": 3.0, "wheel": 4.0}
+"""Cost of one part of each kind when ``[stock] costs`` leaves it out, in the order of price a seating shop
+sees (a friction washer, a tyre, another fork hole or a new fork, a wheel); relative units, any currency."""
+
+DEFAULT_MAX_THRESHOLD_INCREASE = 0.10
+"""``[retrofit] max_threshold_increase``: a fix may raise the sill force by at most 10 % of the current caster's
+(a clinician's limit: about 10 N on a 100 N sill force, what a user notices over a door sill)."""
+
+
 @dataclass(frozen=True)
 class StockWheel:
     """A wheel on offer ([stock].wheels): name, diameter [m], groove [m] (None: from [stock].grooves or
-    continuous) and measured I_w [kg·m²] (None: from the [inertia] model)."""
+    continuous), measured I_w [kg·m²] (None: from the [inertia] model) and its cost (None: [stock] costs'
+    wheel)."""
 
     name: str
     diameter: float
     groove: float | None = None
     inertia: float | None = None
+    cost: float | None = None
 
 
 @dataclass(frozen=True)
@@ -175,6 +198,10 @@ class Stock:
     trails : the fork holes [m] (from ``trail_step`` and the trail bounds)
     dampings : spindle dampings on offer [N·m/rad] (bare bearing and friction washers)
     wheels : a catalogue of named wheels (instead of diameters and grooves)
+    costs : the cost of one part of each kind {washer, tyre, fork hole, wheel} (``[stock] costs``, defaults
+        :data:`DEFAULT_PART_COSTS`), relative units
+    item_costs : {variable: {value [SI]: cost}} of the items listed with their own cost
+        (``{ value = "7 in", cost = 6 }`` in ``diameters``, ``grooves`` or ``dampings``)
     """
 
     diameters: tuple[float, ...] | None = None
@@ -183,6 +210,19 @@ class Stock:
     trails: tuple[float, ...] | None = None
     dampings: tuple[float, ...] | None = None
     wheels: tuple[StockWheel, ...] | None = None
+    costs: dict[str, float] = field(default_factory=lambda: dict(DEFAULT_PART_COSTS))
+    item_costs: dict[str, dict[float, float]] = field(default_factory=dict)
+
+    def cost(self, kind: str, value: float | None = None) -> float:
+        """The cost of one part of ``kind`` (one of :data:`PART_KINDS`), of the item ``value`` [SI] when it was
+        listed with its own cost."""
+        variable = {"washer": "damping", "tyre": "groove", "fork hole": "trail", "wheel": "diameter"}[kind]
+        own = self.item_costs.get(variable, {})
+        if value is not None:
+            for listed, cost in own.items():
+                if abs(listed - value) <= 1e-9 * max(1.0, abs(value)):
+                    return cost
+        return self.costs.get(kind, DEFAULT_PART_COSTS[kind])
 
     def describe(self) -> str:
         """One line in inches and N·m/rad: what is on offer (``continuous`` where nothing is listed)."""
@@ -219,6 +259,8 @@ class Stock:
             "trails": None if self.trails is None else list(self.trails),
             "dampings": None if self.dampings is None else list(self.dampings),
             "wheels": None if self.wheels is None else [dataclasses.asdict(w) for w in self.wheels],
+            "costs": dict(self.costs),
+            "item_costs": {k: [[v, c] for v, c in sorted(d.items())] for k, d in self.item_costs.items()},
         }
 
 
@@ -241,6 +283,7 @@ class Problem(Record):
     stock : the parts that can be built ([stock]), or None (every variable continuous)
     max_threshold_force : cap on P [N]: the recommendation is the least F_turn within it
     max_turning_effort : cap on F_turn [N]: the recommendation is the least P within it
+    max_threshold_increase : a retrofit's limit on the sill force, relative to the current caster's [-]
     choices : categorical options for exploration {"surface": (...), ...}
     description : free text (whose chair, why these numbers)
     source : the file it was read from, if any
@@ -262,9 +305,10 @@ class Problem(Record):
     stock: Stock | None = None
     max_threshold_force: float | None = None
     max_turning_effort: float | None = None
+    max_threshold_increase: float = DEFAULT_MAX_THRESHOLD_INCREASE
     description: str = ""
     source: str | None = None
-    units: str = "in"
+    units: str = field(default="in", compare=False)  # display only: equal problems may write sizes otherwise
 
     def __post_init__(self) -> None:
         _validate(self, prefix=f"{self.source}: " if self.source else "")
@@ -405,6 +449,7 @@ class Problem(Record):
             "stock": None if self.stock is None else self.stock.to_dict(),
             "max_threshold_force": self.max_threshold_force,
             "max_turning_effort": self.max_turning_effort,
+            "max_threshold_increase": self.max_threshold_increase,
             "turning": {
                 "tile_moment_per_load": c.turning.tile_moment_per_load,
                 "carpet_factor": c.turning.carpet_factor,
@@ -436,6 +481,11 @@ def _validate(problem: Problem, prefix: str = "") -> None:
         fail(
             f"name = {problem.name!r}: must be 1–64 letters, digits, '-', '_' or '.', starting with a letter "
             f"or digit (it names the results folder)"
+        )
+    if not (math.isfinite(problem.max_threshold_increase) and 0 <= problem.max_threshold_increase <= 10):
+        fail(
+            f"retrofit.max_threshold_increase = {problem.max_threshold_increase:g}: must be from 0 to 10 "
+            "(0.1 or '10 %': a fix may raise the sill force by 10 % of the current caster's)"
         )
     if problem.units not in REPORT_UNITS:
         fail(f"report.units = {problem.units!r}: expected one of {', '.join(REPORT_UNITS)}")

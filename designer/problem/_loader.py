@@ -29,6 +29,7 @@ from designer.problem._stock import read_stock
 from designer.problem._core import (
     show_key,
     DEFAULT_BOUNDS,
+    DEFAULT_MAX_THRESHOLD_INCREASE,
     INERTIA_MODELS,
     MAX_SAMPLES,
     PROBABILITY_RANGE,
@@ -248,6 +249,7 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
 
     choices = _choices(r)
     units = _report_units(r)
+    increase = r.quantity("retrofit", "max_threshold_increase", "dimensionless", DEFAULT_MAX_THRESHOLD_INCREASE)
 
     target_speed = _value(r, "target_speed")
     assert target_speed is not None  # the key is present (checked above)
@@ -269,6 +271,7 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
         max_turning_effort=caps["max_turning_effort"],
         source=source,
         units=units,
+        max_threshold_increase=increase,
     )
 
 

@@ -13,8 +13,41 @@ from typing import Any, Callable, NoReturn
 from designer.data.paper import INCH
 from designer.model import VARIABLE_UNITS
 from designer.physics.inertia import Fixed, InertiaModel
-from designer.problem._core import INERTIA_RANGE, Bound, Stock, StockWheel, show_key
+from designer.problem._core import (
+    DEFAULT_PART_COSTS,
+    INERTIA_RANGE,
+    PART_KINDS,
+    Bound,
+    Stock,
+    StockWheel,
+    show_key,
+)
 from designer.units import InputError, parse_quantity
+
+
+def _cost(raw: object, key: str, fail: Callable[[str], NoReturn]) -> float:
+    """A part's cost: a finite number >= 0 (relative units, any currency)."""
+    if isinstance(raw, bool) or not isinstance(raw, (int, float)) or not math.isfinite(raw) or not 0 <= raw <= 1e9:
+        fail(f"{key} = {raw!r}: expected a cost, a number from 0 to 1e9 (relative units, any currency)")
+    return float(raw)
+
+
+def _priced(table: dict[str, Any], key: str, fail: Callable[[str], NoReturn]) -> tuple[list[object], dict[int, float]]:
+    """The raw entries of a [stock] list and the costs of those written ``{ value = ..., cost = ... }``, by
+    position."""
+    entries, costs = [], {}
+    for i, raw in enumerate(table[key]):
+        if isinstance(raw, dict):
+            extra = sorted(set(raw) - {"value", "cost"})
+            if extra or "value" not in raw or "cost" not in raw:
+                fail(
+                    f"stock.{key}[{i}] = {raw!r}: expected a value, or a table {{ value = ..., cost = ... }}"
+                    + (f" (unknown key {extra[0]!r})" if extra else "")
+                )
+            costs[i] = _cost(raw["cost"], f"stock.{key}[{i}].cost", fail)
+            raw = raw["value"]
+        entries.append(raw)
+    return entries, costs
 
 
 def _stock_values(
@@ -24,13 +57,16 @@ def _stock_values(
     variable: str,
     bounds: dict[str, Bound],
     fail: Callable[[str], NoReturn],
+    item_costs: dict[str, dict[float, float]] | None = None,
 ) -> tuple[float, ...]:
-    """A [stock] list in SI, each value inside ``variable``'s bounds (deduplicated, sorted)."""
+    """A [stock] list in SI, each value inside ``variable``'s bounds (deduplicated, sorted).  An entry may be a
+    table ``{ value = "7 in", cost = 6 }``: its cost goes into ``item_costs[variable]``."""
     values = table[key]
     if isinstance(values, (str, int, float)) or not isinstance(values, list):
         fail(f'stock.{key} = {values!r}: expected a list, e.g. ["4 in", "5 in"]')
     if not values:
         fail(f"stock.{key} = []: empty; list at least one value, or leave the key out to keep {variable} continuous")
+    values, costs = _priced(table, key, fail)
     out = []
     b = bounds[variable]
     for i, raw in enumerate(values):
@@ -47,7 +83,23 @@ def _stock_values(
             )
             fail(f"stock.{key}[{i}] = {raw!r}: {shown}; widen the bounds or drop the part")
         out.append(min(max(v, b.low), b.high))
+        if i in costs and item_costs is not None:
+            item_costs.setdefault(variable, {})[out[-1]] = costs[i]
     return tuple(sorted(set(out)))
+
+
+def _kind_costs(raw: object, fail: Callable[[str], NoReturn]) -> dict[str, float]:
+    """``stock.costs``: the cost of one part of each kind (washer, tyre, fork_hole, wheel); the others keep their
+    defaults (:data:`DEFAULT_PART_COSTS`)."""
+    if not isinstance(raw, dict):
+        fail(f"stock.costs = {raw!r}: expected a table, e.g. {{ washer = 1, tyre = 2, fork_hole = 3, wheel = 4 }}")
+    costs = dict(DEFAULT_PART_COSTS)
+    for key, value in raw.items():
+        kind = key.replace("_", " ")
+        if kind not in PART_KINDS:
+            fail(f"stock.costs.{show_key(key)}: unknown part; expected washer, tyre, fork_hole, wheel")
+        costs[kind] = _cost(value, f"stock.costs.{key}", fail)
+    return costs
 
 
 def read_stock(
@@ -79,14 +131,31 @@ def read_stock(
             )
     if "diameters" in table and "wheels" in table:
         fail("stock: give diameters (and grooves) or wheels, not both")
-    diameters = _stock_values(table, "diameters", "length", "diameter", bounds, fail) if "diameters" in table else None
-    grooves = _stock_values(table, "grooves", "length", "groove", bounds, fail) if "grooves" in table else None
-    dampings = _stock_values(table, "dampings", "damping", "damping", bounds, fail) if "dampings" in table else None
+    items: dict[str, dict[float, float]] = {}
+    diameters = (
+        _stock_values(table, "diameters", "length", "diameter", bounds, fail, items) if "diameters" in table else None
+    )
+    grooves = _stock_values(table, "grooves", "length", "groove", bounds, fail, items) if "grooves" in table else None
+    dampings = (
+        _stock_values(table, "dampings", "damping", "damping", bounds, fail, items) if "dampings" in table else None
+    )
     trails = step = None
     if "trail_step" in table:
         step, trails = _stock_trails(table, bounds["trail"], fail)
     wheels = _stock_wheels(table["wheels"], bounds, grooves, fail) if "wheels" in table else None
-    return Stock(diameters=diameters, grooves=grooves, trail_step=step, trails=trails, dampings=dampings, wheels=wheels)
+    costs = _kind_costs(table["costs"], fail) if "costs" in table else dict(DEFAULT_PART_COSTS)
+    if set(table) == {"costs"}:
+        fail("[stock] lists only costs; list the parts too (diameters, grooves, trail_step, dampings or wheels)")
+    return Stock(
+        diameters=diameters,
+        grooves=grooves,
+        trail_step=step,
+        trails=trails,
+        dampings=dampings,
+        wheels=wheels,
+        costs=costs,
+        item_costs=items,
+    )
 
 
 def _stock_trails(table: dict[str, Any], b: Bound, fail: Callable[[str], NoReturn]) -> tuple[float, tuple[float, ...]]:
@@ -148,9 +217,9 @@ def _stock_wheel(
             f"stock.wheels[{i}] = {w!r}: expected a table such as "
             f'{{ name = "Frog 5", diameter = "5 in", groove = "0.25 in" }}'
         )
-    extra = sorted(set(w) - {"name", "diameter", "groove", "inertia"})
+    extra = sorted(set(w) - {"name", "diameter", "groove", "inertia", "cost"})
     if extra:
-        fail(f"stock.wheels[{i}].{show_key(extra[0])}: unknown key; expected name, diameter, groove, inertia")
+        fail(f"stock.wheels[{i}].{show_key(extra[0])}: unknown key; expected name, diameter, groove, inertia, cost")
     for need in ("name", "diameter"):
         if need not in w:
             fail(f"stock.wheels[{i}].{need}: missing")
@@ -177,4 +246,5 @@ def _stock_wheel(
                 f"stock.wheels[{i}].inertia = {inertia_w:g} kg·m²: outside {INERTIA_RANGE[0]:g} to "
                 f"{INERTIA_RANGE[1]:g} kg·m²"
             )
-    return StockWheel(name.strip(), d, g, inertia_w)
+    cost = _cost(w["cost"], f"stock.wheels[{i}].cost", fail) if "cost" in w else None
+    return StockWheel(name.strip(), d, g, inertia_w, cost)
