@@ -1,26 +1,26 @@
-"""``designer fix PROBLEM --current ...``: diagnose a caster that shimmies and rank the smallest safe changes."""
+"""``designer fix PROBLEM --current ...``: diagnose a caster that shimmies and rank the safe changes, cheapest first."""
 
 from __future__ import annotations
 
 import math
 
 from designer.cli._common import PROBLEM_HELP, print_json, quantity_option, ranged_option
-from designer.data.paper import INCH
 from designer.studies.retrofit import ONSET_SCATTER, fix, parse_current
 from designer.errors import InputError
 from designer.problem import load_problem
-from designer.studies.retrofit import describe_changes
+from designer.units import written_size
 
 
 def register(sub) -> None:
     p = sub.add_parser(
         "fix",
-        help="retrofit: the smallest safe change to the caster you have",
+        help="retrofit: the cheapest safe change to the caster you have",
         description="Diagnose the current caster (V_c of Eq. 7, P(shimmy at V_target) with its standard error, "
-        "turning effort, sill force) and rank the fixes from the problem's [stock]: one part changed "
-        "(washer, tyre, fork hole, wheel) before two, then by the smallest weighted loss in turning "
-        "effort and sill force. Every fix meets the risk bound and the swept-radius limit. "
-        "See docs/retrofit.md.",
+        "turning effort, sill force) and rank the fixes from the problem's [stock] (washer, tyre, fork hole, "
+        "wheel): among those that meet the risk bound and the swept-radius limit and keep the sill force within "
+        "[retrofit] max_threshold_increase (default +10 %), the cheapest first ([stock] costs), then the "
+        "smallest loss in J = w_turn F_turn + w_threshold P; the others are listed apart. The answer comes "
+        "first, in words; the table fits the terminal (COLUMNS), --wide shows every column. See docs/retrofit.md.",
     )
     p.add_argument("problem", help=PROBLEM_HELP + ": the chair, V_target, the risk bound and [stock]")
     p.add_argument("--target-speed", default=None, help="override shimmy.target_speed, e.g. 3m/s (as run takes it)")
@@ -48,23 +48,33 @@ def register(sub) -> None:
     p.add_argument(
         "--onset-scatter", type=float, default=None, help="σ of the log of the observed onset (default 0.05)"
     )
+    p.add_argument(
+        "--max-threshold-increase",
+        default=None,
+        metavar="FRACTION",
+        help="override [retrofit] max_threshold_increase: how much a fix may raise the sill force, e.g. 0.15 or "
+        "'15 %%' (default the problem's, 10 %%)",
+    )
     p.add_argument("--top", type=int, default=10, help="fixes to list (0: all found; default 10)")
+    p.add_argument("--wide", action="store_true", help="every column of the table (wider than 80 characters)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-
     speed = ranged_option(args.target_speed, "target_speed", "--target-speed")  # options before the file
+    increase = _increase(args.max_threshold_increase)
+    if args.top < 0:
+        raise InputError(f"--top {args.top}: must be 0 (all) or a positive number")
     problem = load_problem(args.problem)
     if speed is not None:
         problem = problem.replace(target_speed=speed)
+    if increase is not None:
+        problem = problem.replace(max_threshold_increase=increase)
     current = parse_current(args.current)
     inertia = None if args.inertia is None else quantity_option(args.inertia, "inertia", "--inertia")
     shimmied = None if args.shimmied_at is None else quantity_option(args.shimmied_at, "speed", "--shimmied-at")
     angle = quantity_option(args.stem_angle, "angle", "--stem-angle")
-    if args.top < 0:
-        raise InputError(f"--top {args.top}: must be 0 (all) or a positive number")
     try:
         result = fix(
             problem,
@@ -91,25 +101,71 @@ def run(args) -> int:
     if args.json:
         print_json(result.to_dict())
         return 0
-    _print(result, problem)
+    _print(result, problem, args.wide, args.top)
     return 0
 
 
-def _length(value: float) -> str:
-    return f"{value / INCH:.3f} in"
+def _increase(text: str | None) -> float | None:
+    """``--max-threshold-increase``: a fraction from 0 to 10 (``0.15`` or ``"15 %"``); InputError naming it."""
+    if text is None:
+        return None
+    value = quantity_option(text, "dimensionless", "--max-threshold-increase")
+    if not 0 <= value <= 10:
+        raise InputError(f"--max-threshold-increase {text}: must be from 0 to 10 (0.1 or '10 %')")
+    return float(value)
 
 
-def _print(result, problem) -> None:
-    """The text output: the risk bound, the current caster's diagnosis, then the ranked fixes."""
+def _console(wide: bool):
+    """A rich console at the terminal's width (COLUMNS, else 80 when not a terminal); ``wide``: at least 150."""
     from rich.console import Console
 
-    console = Console(width=max(Console().width, 170), highlight=False)
+    console = Console(highlight=False)
+    return Console(width=max(console.width, 150), highlight=False) if wide else console
+
+
+def _print(result, problem, wide: bool = False, top: int = 10) -> None:
+    """The text output: the answer first, in words; the current caster; what each part can become; the rule; the
+    fixes within the sill-force limit, then those beyond it (each table fits the console's width)."""
+    from rich.markup import escape
+
+    console = _console(wide)
     alpha = result.probability
     conf = f"{1 - alpha:.0%}" if alpha is not None else "nominal"
+    console.print(f"[bold]{escape(result.summary())}[/bold]")
     _print_current(console, result, problem, conf)
-    if not result.fixes:
+    if not result.needs_fix:
         return
-    _print_fixes(console, result, conf)
+    console.print("Parts on offer (what each part can become; cost):")
+    for part, text in result.stock.items():
+        console.print(f"  {part:<10} {escape(text)}")
+    console.print(escape(f"Rule: {result.rule}."))
+    limit = f"+{result.max_threshold_increase:.0%}"
+    shown = list(result.fixes)
+    if result.fixes:
+        _print_table(
+            console,
+            result,
+            result.fixes,
+            f"Fixes within {limit} sill force ({result.found} found, {len(result.fixes)} shown)",
+            wide,
+            conf,
+        )
+    else:
+        console.print(f"No fix keeps the sill force within {limit} of the current caster's.")
+    if result.beyond:
+        apart = result.beyond if not result.fixes or wide else result.beyond[: min(3, top or 3)]
+        shown += apart
+        _print_table(
+            console,
+            result,
+            apart,
+            f"Beyond the limit, listed apart: the sill force rises more than {limit} ({result.found_beyond} found, "
+            f"{len(apart)} shown; --json --top 0 lists all)",
+            wide,
+            conf,
+        )
+    if any(f.extrapolated for f in shown):
+        console.print("* a wheel outside Table 1's 4–8 in: its I_w and Eq. 7 are extrapolated (docs/retrofit.md).")
 
 
 def _print_current(console, result, problem, conf: str) -> None:
@@ -118,6 +174,7 @@ def _print_current(console, result, problem, conf: str) -> None:
 
     cur = result.current
     d = cur.design
+    units = problem.units
     alpha = result.probability
     bound = (
         f"P(shimmy at {result.required_speed:.2f} m/s) <= {alpha:.0%}"
@@ -125,75 +182,90 @@ def _print_current(console, result, problem, conf: str) -> None:
         else f"V_c >= {result.required_speed:.2f} m/s (nominal: [robust] enabled = false)"
     )
     console.print(
-        f"[bold]{problem.title}[/bold] ({problem.name}): risk bound {bound}; swept radius "
-        + (f"<= {_length(problem.swept_radius_max)}" if problem.swept_radius_max else "not limited")
+        escape(
+            f"{problem.title} ({problem.name}): risk bound {bound}; swept radius "
+            + (f"<= {written_size(problem.swept_radius_max, units)}" if problem.swept_radius_max else "not limited")
+        )
     )
     console.print(
-        f"[bold]Current caster[/bold]: T = {_length(d.trail)}, d = {_length(d.diameter)}, "
-        f"B = {_length(d.groove)}, c_f = {d.damping:.3g} N·m/rad, I_w = {cur.inertia:.4g} kg·m²"
+        escape(
+            f"Current caster: T = {written_size(d.trail, units)}, d = {written_size(d.diameter, units)}, "
+            f"B = {written_size(d.groove, units)}, c_f = {d.damping:.3g} N·m/rad, I_w = {cur.inertia:.4g} kg·m²"
+        )
     )
     if result.stem_angle:
         console.print(
             f"  stem tilted {math.degrees(result.stem_angle):+.2f} deg: effective trail "
-            f"{_length(cur.effective_trail)} (fork {_length(d.trail)} + (d/2) sin φ, docs/retrofit.md)"
+            f"{escape(written_size(cur.effective_trail, units))} (fork {escape(written_size(d.trail, units))} + (d/2) "
+            "sin φ, docs/retrofit.md)"
         )
-    console.print(f"  V_c (Eq. 7) = {cur.critical_speed:.3f} m/s", end="")
+    text = f"  V_c (Eq. 7) = {cur.critical_speed:.3f} m/s"
     if result.calibration is not None:
-        console.print(f"; calibrated: {cur.calibrated_critical_speed:.3f} m/s", end="")
+        text += f"; calibrated: {cur.calibrated_critical_speed:.3f} m/s"
     console.print(
-        f"; speed reached with {conf}: {cur.confident_speed:.3f} m/s; P(shimmy at {result.target_speed:.2f} "
+        text + f"; speed reached with {conf}: {cur.confident_speed:.3f} m/s; P(shimmy at {result.target_speed:.2f} "
         f"m/s) = {cur.shimmy_probability:.2%} ± {cur.shimmy_probability_se:.2%} (Monte Carlo, 1 SE)"
     )
     console.print(
         f"  turning effort {cur.turning_effort:.2f} N, sill force {cur.threshold_force:.2f} N, swept radius "
-        f"{_length(cur.swept_radius)}: "
+        f"{escape(written_size(cur.swept_radius, units))}: "
         + ("[green]meets the risk bound[/green]" if cur.meets_risk_bound else "[red]does not meet the risk bound[/red]")
     )
     if result.calibration is not None:
         console.print(f"  [bold]Calibration[/bold]: {escape(result.calibration.describe())}.")
-    console.print(f"[bold]{escape(result.summary())}[/bold]")
 
 
-def _print_fixes(console, result, conf: str) -> None:
-    """The rule, the stock and the table of ranked fixes (costs against the current caster)."""
+def _changes(fix, units: str) -> str:
+    """A fix's changes for the table, one part a line: ``wheel 8 -> 7 in``, ``hole 1 1/4 -> 2 1/2 in``,
+    ``washer c_f 1.3 -> 2`` (a wheel outside Table 1's 4–8 in marked ``*``)."""
+    lines = []
+    for c in fix.changes:
+        if c.variable == "inertia":
+            continue
+        part = "hole" if c.part == "fork hole" else c.part
+        if c.variable == "damping":
+            lines.append(f"{part} c_f {c.before:g} -> {c.after:g}")
+            continue
+        before, after = written_size(c.before, units), written_size(c.after, units)
+        name = f" {c.name}" if c.name else ""
+        lines.append(
+            f"{part}{name} {before.rsplit(' ', 1)[0]} -> {after}"
+            + (" *" if c.part == "wheel" and fix.extrapolated else "")
+        )
+    return "\n".join(lines)
+
+
+def _print_table(console, result, fixes, title: str, wide: bool, conf: str) -> None:
+    """One table of fixes: rank, the changes (one part a line, sizes as the problem writes them), the parts' cost,
+    F_turn and P against the current caster, P(shimmy); ``wide`` adds I_w, the loss, V_c, V_q and the swept
+    radius."""
+    from rich import box
     from rich.markup import escape
-
     from rich.table import Table
 
-    console.print(escape(f"Rule: {result.rule}."))
-    console.print(escape("Stock: " + "; ".join(f"{part}: {src}" for part, src in result.stock.items())))
-    table = Table(
-        title=f"Fixes ({result.found} found, {len(result.fixes)} shown; costs against the current caster)",
-        title_justify="left",
-    )
-    for col, just in (
-        ("#", "right"),
-        ("parts", "right"),
-        ("change: from -> to", "left"),
-        ("I_w [kg·m²]", "right"),
-        ("F_turn [N]", "right"),
-        ("P [N]", "right"),
-        ("loss [N]", "right"),
-        ("V_c Eq. 7" + (" / ×k" if result.calibration else ""), "right"),
-        (f"V at {conf}", "right"),
-        ("P(shimmy) ± SE", "right"),
-        ("swept", "right"),
-    ):
-        table.add_column(col, justify=just, no_wrap=col.startswith("change"))
-    for rank, f in enumerate(result.fixes, 1):
-        text = escape(describe_changes(f.changes, "\n", inertia=False))
-        v_c = f"{f.critical_speed:.3f}" + (f" / {f.calibrated_critical_speed:.3f}" if result.calibration else "")
-        table.add_row(
+    table = Table(title=escape(title), title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
+    columns = [("#", "right"), ("change: from -> to", "left"), ("cost", "right"), ("F_turn [N]", "right")]
+    columns += [("P [N]", "right"), ("P(shimmy)" + (" ± SE" if wide else ""), "right")]
+    if wide:
+        calibrated = " / ×k" if result.calibration else ""
+        columns += [("I_w [kg·m²]", "right"), ("loss [N]", "right"), (f"V_c Eq. 7{calibrated}", "right")]
+        columns += [(f"V at {conf}", "right"), ("swept", "right")]
+    for col, just in columns:  # the changes never wrap inside a size ("2 1/2 in"): the numbers give way
+        table.add_column(escape(col), justify=just, overflow="fold", no_wrap=col.startswith("change"))
+    for rank, f in enumerate(fixes, 1):
+        change = _changes(f, result.units)
+        risk = f"{f.shimmy_probability:.2%}" + (f" ± {f.shimmy_probability_se:.2%}" if wide else "")
+        cells = [
             str(rank),
-            str(f.parts_changed),
-            text,
-            f"{f.inertia:.3g}",
-            f"{f.turning_effort:.2f} ({f.cost_turning_effort:+.2f})",
-            f"{f.threshold_force:.2f} ({f.cost_threshold_force:+.2f})",
-            f"{f.loss:+.2f}",
-            v_c,
-            f"{f.confident_speed:.3f}",
-            f"{f.shimmy_probability:.2%} ± {f.shimmy_probability_se:.2%}",
-            _length(f.swept_radius),
-        )
+            escape(change),
+            f"{f.parts_cost:g}",
+            f"{f.turning_effort:.1f} ({f.cost_turning_effort:+.1f})",
+            f"{f.threshold_force:.1f} ({f.threshold_increase:+.1%})",
+            risk,
+        ]
+        if wide:
+            v_c = f"{f.critical_speed:.3f}" + (f" / {f.calibrated_critical_speed:.3f}" if result.calibration else "")
+            cells += [f"{f.inertia:.3g}", f"{f.loss:+.2f}", v_c, f"{f.confident_speed:.3f}"]
+            cells += [escape(written_size(f.swept_radius, result.units))]
+        table.add_row(*cells)
     console.print(table)

@@ -12,7 +12,7 @@ _records    :class:`FixResult` and its parts
 from __future__ import annotations
 
 from designer.studies.retrofit._input import parse_current
-from designer.studies.retrofit._records import FixResult, describe_changes
+from designer.studies.retrofit._records import FixResult, describe_changes, fix_sentence
 from designer.studies.retrofit._retrofit import ONSET_SCATTER, fix
 
-__all__ = ["ONSET_SCATTER", "FixResult", "describe_changes", "fix", "parse_current"]
+__all__ = ["ONSET_SCATTER", "FixResult", "describe_changes", "fix", "fix_sentence", "parse_current"]

@@ -17,9 +17,10 @@ import numpy as np
 from designer.data.paper import INCH
 from designer.model import Design
 from designer.physics.inertia import Catalog, InertiaModel
+from designer.problem import DEFAULT_PART_COSTS, PART_KINDS, Stock
 
 
-PARTS = ("washer", "tyre", "fork hole", "wheel")
+PARTS = PART_KINDS
 """The four parts a retrofit can change, in the order they are listed (cheapest first)."""
 
 PART_VARIABLE = {"washer": "damping", "tyre": "groove", "fork hole": "trail", "wheel": "diameter"}
@@ -41,6 +42,7 @@ class _Wheel:
     inertia: float
     name: str | None
     measured: bool = True
+    cost: float = DEFAULT_PART_COSTS["wheel"]
 
 
 def _stock_of(problem) -> dict:
@@ -103,7 +105,10 @@ def part_options(problem, current: Design) -> tuple[dict, dict]:
     # a new wheel without its own groove keeps the current tyre profile only if that profile is on offer
     on_offer = "grooves" not in stock or bool(np.any(np.abs(groove_values - current.groove) <= 1e-9))
     sources = {part: sources.get(PART_VARIABLE[part], "") for part in PARTS} | {"_groove_on_offer": on_offer}
-    return options, sources
+    priced = problem.stock if problem.stock is not None else Stock()
+    costs = {part: np.array([priced.cost(part, float(v)) for v in options[part]]) for part in PARTS[:3]}
+    costs["wheel"] = np.array([w.cost for w in wheels])
+    return options | {"cost": costs}, sources
 
 
 def _listed(stock: dict, bounds: dict, sources: dict, key: str, variable: str) -> np.ndarray:
@@ -147,15 +152,17 @@ def _wheel_options(problem, stock: dict, current: Design, sources: dict) -> tupl
                     warnings.simplefilter("ignore")  # extrapolation of the inertia fit: docs/retrofit.md
                     i = float(model(d))
             groove = math.nan if entry.groove is None else float(entry.groove)
-            wheels.append(_Wheel(d, groove, i, entry.name, measured))
+            cost = problem.stock.cost("wheel") if entry.cost is None else float(entry.cost)
+            wheels.append(_Wheel(d, groove, i, entry.name, measured, cost))
         if "grooves" not in stock and all(w.groove is not None for w in catalogue):
             sources["groove"] = "none on the current wheel (the catalogue's tyres come with its wheels)"
             groove_values = np.array([])
     elif problem.wheels:  # [inertia] model = "catalog": the Table 1 wheels of the problem
         sources["diameter"] = "the problem's Table 1 wheels ([inertia] wheels)"
+        cost = problem.stock.cost("wheel") if problem.stock is not None else DEFAULT_PART_COSTS["wheel"]
         for key in problem.wheels:
             w = Catalog.from_key(key).wheel
-            wheels.append(_Wheel(w.diameter, math.nan, w.inertia, f"Table 1 {w.key}"))
+            wheels.append(_Wheel(w.diameter, math.nan, w.inertia, f"Table 1 {w.key}", True, cost))
     elif model.fixed_diameter is not None or getattr(model, "name", "") == "fixed" or bounds["diameter"].fixed:
         sources["diameter"] = "none (the problem fixes the wheel: a fixed inertia or diameter)"
     else:
@@ -165,8 +172,9 @@ def _wheel_options(problem, stock: dict, current: Design, sources: dict) -> tupl
             warnings.simplefilter("ignore")  # extrapolation of the inertia fit is stated in docs/retrofit.md
             inertias = np.asarray(model(diameters), dtype=float) * np.ones_like(diameters)
         measured = bool(getattr(model, "measured", False))
+        priced = problem.stock if problem.stock is not None else Stock()
         wheels = [
-            _Wheel(float(d), math.nan, float(i), None, measured)
+            _Wheel(float(d), math.nan, float(i), None, measured, priced.cost("wheel", float(d)))
             for d, i in zip(diameters, inertias)
             if abs(d - current.diameter) > 1e-9
         ]
@@ -178,8 +186,9 @@ def _enumerate(options: dict, sources: dict, base: dict, max_parts: int, min_par
 
     Keys: trail, diameter, groove, damping, inertia (SI), measured (the wheel's I_w measured), parts (count), order
     (a stable index for ties), mask_<part> (bool: changed), wheel (index into
-    options["wheel"], −1: kept).
+    options["wheel"], −1: kept), price (the sum of the changed parts' costs, ``options["cost"]``).
     """
+    costs = options.get("cost", {})
     chunks = []
     counter = 0
     for k in range(min_parts, max_parts + 1):
@@ -192,11 +201,14 @@ def _enumerate(options: dict, sources: dict, base: dict, max_parts: int, min_par
             out = {key: np.full(n, float(base[key])) for key in ("trail", "diameter", "groove", "damping", "inertia")}
             out["measured"] = np.full(n, bool(base.get("measured", True)))
             out["wheel"] = np.full(n, -1)
+            out["price"] = np.zeros(n)
             for part in PARTS:
                 out[f"mask_{part}"] = np.full(n, part in parts)
             valid = np.ones(n, dtype=bool)
             for part, grid in zip(parts, grids):
                 index = grid.ravel()
+                if part in costs:
+                    out["price"] = out["price"] + costs[part][index]
                 if part == "washer":
                     out["damping"] = options["washer"][index]
                 elif part == "tyre":
@@ -227,9 +239,20 @@ def _enumerate(options: dict, sources: dict, base: dict, max_parts: int, min_par
             empty
             | {"measured": np.array([], dtype=bool)}
             | {"wheel": np.array([], dtype=int), "parts": np.array([], dtype=int), "order": np.array([], dtype=int)}
+            | {"price": np.array([])}
             | {f"mask_{p}": np.array([], dtype=bool) for p in PARTS}
         )
     return {key: np.concatenate([c[key] for c in chunks]) for key in chunks[0]}
+
+
+def combinations(options: dict, max_parts: int = 4) -> int:
+    """How many candidates of 1..``max_parts`` changed parts ``options`` give (before a wheel's tyre rules)."""
+    sizes = [len(options[p]) for p in PARTS]
+    return sum(
+        int(np.prod([sizes[i] for i in c]))
+        for k in range(1, max_parts + 1)
+        for c in itertools.combinations(range(4), k)
+    )
 
 
 def _show(variable: str, value: float) -> str:

@@ -12,17 +12,19 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
-from designer.data.paper import INCH
+from designer.data.paper import BARE_FORK_DAMPING, INCH
 from designer.model import Design
 from designer.parameters import PARAMETERS, VARIABLE_TABLE
 from designer.reprs import Record, dataframe
+from designer.units import written_size
 from designer.studies.retrofit._options import _show
 
 RULE = (
-    "fewest parts changed first; within the same number of parts, the smallest loss "
-    "w_turn·ΔF_turn + w_threshold·ΔP [N] (the problem's [objective] weights; a negative loss is a gain), "
-    "ties broken by the smaller ΔF_turn, then the smaller ΔP, then the higher speed reached with "
-    "probability 1 − α"
+    "among the fixes that meet the risk bound and the swept-radius limit and raise the sill force by at most "
+    "[retrofit] max_threshold_increase (default 10%), the cheapest first (the sum of the [stock] costs of the "
+    "parts changed), then the smallest loss w_turn·ΔF_turn + w_threshold·ΔP [N] (a negative loss is a gain), "
+    "then the smaller ΔP, the smaller ΔF_turn, the higher speed reached with probability 1 − α; the others are "
+    "listed apart, the smallest rise of the sill force first"
 )
 """The ranking rule, as printed in every output."""
 
@@ -93,6 +95,11 @@ class CasterState(Record):
     meets_risk_bound : confident_speed >= V_req (and the swept-radius limit)
     shimmy_probability, shimmy_probability_se : Monte Carlo P(V_c,true < V_target) and its SE [-]
     changes : the parts changed against the current caster (empty for the current one)
+    cost_turning_effort, cost_threshold_force, loss : ΔF_turn, ΔP and w_turn ΔF_turn + w_threshold ΔP [N]
+    parts_cost : the sum of the [stock] costs of the parts changed (relative units; 0 for the current caster)
+    threshold_increase : ΔP / P of the current caster [-]
+    within_limit : threshold_increase <= the retrofit's max_threshold_increase
+    extrapolated : the wheel's diameter lies outside Table 1's 4–8 in (its I_w and Eq. 7 are extrapolations)
     """
 
     design: Design
@@ -111,6 +118,10 @@ class CasterState(Record):
     cost_turning_effort: float = 0.0
     cost_threshold_force: float = 0.0
     loss: float = 0.0
+    parts_cost: float = 0.0
+    threshold_increase: float = 0.0
+    within_limit: bool = True
+    extrapolated: bool = False
 
     @property
     def parts_changed(self) -> int:
@@ -150,6 +161,7 @@ class CasterState(Record):
         """JSON-ready record, SI units."""
         out = {
             "design": self.design.to_dict(),
+            "extrapolated": bool(self.extrapolated),
             "inertia": self.inertia,
             "effective_trail": self.effective_trail,
             "objectives": {"turning_effort": self.turning_effort, "threshold_force": self.threshold_force},
@@ -171,6 +183,9 @@ class CasterState(Record):
                 "threshold_force": self.cost_threshold_force,
                 "loss": self.loss,
             }
+            out["parts_cost"] = self.parts_cost
+            out["threshold_increase"] = self.threshold_increase
+            out["within_limit"] = bool(self.within_limit)
         return out
 
 
@@ -239,10 +254,15 @@ class FixResult(Record):
     stem_angle : φ [rad]
     calibration : Calibration | None
     current : CasterState of the caster as it is
-    fixes : ranked CasterState list (all found, or the first ``limit``)
-    found : how many fixes were found before the limit
+    fixes : ranked CasterState list of the fixes within the sill-force limit (all found, or the first ``limit``)
+    found : how many fixes within the limit were found before ``limit``
     rule : the ranking rule
-    stock : where each part's candidates came from
+    stock : what each part can become (its values, where they come from, its cost)
+    beyond : the fixes beyond the sill-force limit, listed apart (the smallest increase first)
+    found_beyond : how many of those were found
+    max_threshold_increase : the sill-force limit, relative to the current caster's [-]
+    searched : which combinations of parts were searched
+    units : how sizes are written ("in" to 1/16, "mm" to 0.1)
     """
 
     problem: str
@@ -257,6 +277,11 @@ class FixResult(Record):
     rule: str = RULE
     stock: dict[str, str] = field(default_factory=dict)
     scatter: dict[str, Any] = field(default_factory=dict)
+    beyond: list[CasterState] = field(default_factory=list)
+    found_beyond: int = 0
+    max_threshold_increase: float = 0.10
+    searched: str = ""
+    units: str = "in"
 
     _units = {"target_speed": "m/s", "required_speed": "m/s", "stem_angle": "rad"}
 
@@ -270,22 +295,25 @@ class FixResult(Record):
         """False when the current caster already meets the risk bound and the swept-radius limit."""
         return not self.current.meets_risk_bound
 
+    @property
+    def best(self) -> CasterState | None:
+        """The answer: the first fix within the sill-force limit, else the least bad beyond it (None: no fix)."""
+        return self.fixes[0] if self.fixes else (self.beyond[0] if self.beyond else None)
+
     def summary(self) -> str:
-        """One sentence generated from the numbers."""
+        """The answer in words, first: "Best fix: a 7 in wheel with a 3/4 in groove in the 2 1/2 in fork hole;
+        sill force 98 → 107 N (+8.6 %), turning effort 14.0 → 7.9 N; ..." (generated from the numbers)."""
         if not self.needs_fix:
             return "The current caster already meets the risk bound and the swept-radius limit: no fix needed."
-        if not self.fixes:
+        best = self.best
+        if best is None:
             return "No fix from the stock meets the risk bound and the swept-radius limit."
-        best = self.fixes[0]
-        lead = "" if best.parts_changed == 1 else f"No single-part fix exists; the best {best.parts_changed}-part fix: "
-        return (
-            lead
-            + describe_changes(best.changes)
-            + (
-                f" (ΔF_turn {best.cost_turning_effort:+.2f} N, ΔP {best.cost_threshold_force:+.2f} N, "
-                f"P(shimmy) {best.shimmy_probability:.2%} ± {best.shimmy_probability_se:.2%})"
-            )
+        lead = (
+            "Best fix: "
+            if self.fixes
+            else f"No fix keeps the sill force within +{self.max_threshold_increase:.0%}; the least bad: "
         )
+        return lead + fix_sentence(best, self.current, self.units, self.probability)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: ``current``, ranked ``fixes`` and the assumptions, SI units."""
@@ -302,9 +330,13 @@ class FixResult(Record):
             "needs_fix": self.needs_fix,
             "single_part_fix_exists": self.single_part_fix_exists,
             "summary": self.summary(),
+            "max_threshold_increase": self.max_threshold_increase,
+            "searched": self.searched,
             "current": self.current.to_dict(),
             "fixes_found": self.found,
             "fixes": [f.to_dict() for f in self.fixes],
+            "fixes_beyond_limit_found": self.found_beyond,
+            "fixes_beyond_limit": [f.to_dict() for f in self.beyond],
         }
 
     def to_pandas(self) -> Any:
@@ -383,8 +415,9 @@ _SYMBOL = {
 }
 
 
-def describe_changes(changes: Iterable[Change], sep: str = "; ", inertia: bool = True) -> str:
-    """``fork hole: T 1.5 -> 2 in; wheel: d 7.75 -> 6 in, I_w 0.00127 -> 0.000685 kg·m²`` (parts joined by ``sep``)."""
+def describe_changes(changes: Iterable[Change], sep: str = "; ", inertia: bool = True, units: str | None = None) -> str:
+    """``fork hole: T 1.5 -> 2 in; wheel: d 7.75 -> 6 in, I_w 0.00127 -> 0.000685 kg·m²`` (parts joined by ``sep``);
+    with ``units`` ("in" or "mm") the lengths as the user writes them: ``fork hole: T 1 1/2 -> 2 in``."""
     by_part: dict[str, list[str]] = {}
     names = {}
     for c in changes:
@@ -393,8 +426,49 @@ def describe_changes(changes: Iterable[Change], sep: str = "; ", inertia: bool =
         if c.variable == "inertia" and not inertia:
             continue
         symbol, scale, unit = _SYMBOL[c.variable]
-        by_part.setdefault(c.part, []).append(f"{symbol} {c.before / scale:.4g} -> {c.after / scale:.4g} {unit}")
+        if units is not None and unit == "in":
+            before, after = written_size(c.before, units), written_size(c.after, units)
+            after_number, unit = after.rsplit(" ", 1)
+            text = f"{symbol} {before.rsplit(' ', 1)[0]} -> {after_number} {unit}"
+        else:
+            text = f"{symbol} {c.before / scale:.4g} -> {c.after / scale:.4g} {unit}"
+        by_part.setdefault(c.part, []).append(text)
     return sep.join(
         f"{part}{' (' + names[part] + ')' if part in names else ''}: {', '.join(items)}"
         for part, items in by_part.items()
     )
+
+
+def fix_sentence(fix: CasterState, current: CasterState, units: str = "in", alpha: float | None = None) -> str:
+    """A fix in words, the parts it changes first: "a 7 in wheel with a 3/4 in groove in the 2 1/2 in fork hole;
+    sill force 98 → 107 N (+8.6 %), turning effort 14.0 → 7.9 N; P(shimmy) 2.1 % (bound 5 %); parts cost 9"."""
+    d = fix.design
+    parts = {c.part for c in fix.changes}
+    names = {c.part: c.name for c in fix.changes if c.name}
+    groove_changed = abs(d.groove - current.design.groove) > 1e-12
+    groove = f"a {written_size(d.groove, units)} groove" if d.groove > 1e-12 else "a plain tyre"
+    text = ""
+    if "wheel" in parts:
+        text = f"a {written_size(d.diameter, units)} wheel" + (f" ({names['wheel']})" if "wheel" in names else "")
+        if groove_changed:
+            text += f" with {groove}"
+    elif groove_changed:
+        text = groove
+    if "fork hole" in parts:
+        text += (" in the " if text else "the ") + f"{written_size(d.trail, units)} fork hole"
+    if "washer" in parts:
+        washer = (
+            "the bare bearing (no friction washer)"
+            if d.damping <= BARE_FORK_DAMPING * (1 + 1e-9)
+            else f"a friction washer (c_f = {d.damping:.3g} N·m/rad)"
+        )
+        text += (" with " if text else "") + washer
+    risk = f"P(shimmy) {fix.shimmy_probability:.1%}" + (f" (bound {alpha:.0%})" if alpha is not None else "")
+    out = (
+        f"{text}; sill force {current.threshold_force:.0f} → {fix.threshold_force:.0f} N "
+        f"({fix.threshold_increase:+.1%}), turning effort {current.turning_effort:.1f} → {fix.turning_effort:.1f} N; "
+        f"{risk}; parts cost {fix.parts_cost:g}"
+    )
+    if fix.extrapolated:
+        out += f"; the {written_size(d.diameter, units)} wheel is outside Table 1's 4–8 in: extrapolated"
+    return out

@@ -1,4 +1,4 @@
-"""Retrofit: the smallest safe change to the caster you have.
+"""Retrofit: the cheapest safe change to the caster you have.
 
 A clinician or wheelchair user does not design a caster from scratch; they ask
 what to change on the one that shimmies.  :func:`fix` answers with numbers:
@@ -18,7 +18,11 @@ what to change on the one that shimmies.  :func:`fix` answers with numbers:
    more of the four parts (washer = damping c_f, tyre = groove B, fork hole =
    trail T, wheel = diameter d with I_w from the inertia model, or a
    catalogue wheel) to values that exist (:func:`part_options`), meets the
-   risk bound and the swept-radius limit.
+   risk bound and the swept-radius limit.  Those that keep the sill force
+   within ``[retrofit] max_threshold_increase`` of the current caster's are
+   ranked cheapest first (the ``[stock]`` costs of the parts changed), then by
+   the smallest loss in J; the others are listed apart, the smallest increase
+   of the sill force first.
 
 Everything is deterministic except the reported P(shimmy), a Monte Carlo
 estimate with its own seed (feasibility and ranking use the quantile).
@@ -43,14 +47,36 @@ from designer.physics.uncertainty import Uncertainty
 from designer.problem import load_problem
 from designer.studies.retrofit._diagnosis import _calibrated, _current_inertia, _evaluate, _risk_of
 from designer.studies.retrofit._input import MAX_STEM_ANGLE, _check_inputs, parse_current
-from designer.studies.retrofit._options import GRID_STEP, PART_VARIABLE, PARTS, _enumerate, part_options
-from designer.studies.retrofit._records import RULE, Calibration, CasterState, Change, FixResult, describe_changes
+from designer.studies.retrofit._options import (
+    GRID_STEP,
+    PART_VARIABLE,
+    PARTS,
+    _enumerate,
+    combinations,
+    part_options,
+)
+from designer.studies.retrofit._records import (
+    RULE,
+    Calibration,
+    CasterState,
+    Change,
+    FixResult,
+    describe_changes,
+    fix_sentence,
+)
+from designer.units import written_size
 
 ONSET_SCATTER = 0.05
 """σ of log V_obs [-]: a shimmy onset seen on a push or a ramp is known to about ±5 % (our estimate)."""
 
 REPORT_SAMPLES = 50_000
 """Monte Carlo draws of the reported P(shimmy): SE <= 0.1 percentage point at 5 %."""
+
+MAX_CANDIDATES = 200_000
+"""Every combination of the four parts is searched when there are at most this many (a stock of a few values
+per part gives about a thousand; 200 000 take about 0.5 s of CPU); beyond it (a continuous variable's grid)
+one- and two-part fixes are searched, and three- and four-part ones only when none of those is within the
+sill-force limit."""
 
 
 def fix(
@@ -65,7 +91,7 @@ def fix(
     samples: int | None = None,
     seed: int | None = None,
 ) -> FixResult:
-    """Diagnose a caster that shimmies and rank the smallest safe changes to it.
+    """Diagnose a caster that shimmies and rank the safe changes to it, cheapest first.
 
     Parameters
     ----------
@@ -87,11 +113,11 @@ def fix(
     -------
     FixResult with ``.current`` and the ranked ``.fixes`` (rule :data:`RULE`).
 
-    Fixes change one or two parts; three- and four-part fixes are searched
-    only when no one- or two-part fix exists.  Feasibility is deterministic:
-    the speed reached with probability 1 − α (the quantile of the risk bound,
-    times k when calibrated) >= (1 + margin) V_target, and T + d/2 <= the
-    swept-radius limit.  Equations: Eq. 7 (V_c), Eq. 4A (P), Eq. 9 (F_turn).
+    Every combination of the parts on offer is searched (up to :data:`MAX_CANDIDATES`).  Feasibility is
+    deterministic: the speed reached with probability 1 − α (the quantile of the risk bound, times k when
+    calibrated) >= (1 + margin) V_target, and T + d/2 <= the swept-radius limit.  The fixes that raise the sill
+    force by at most ``problem.max_threshold_increase`` are ranked cheapest first, then by the smallest loss
+    (``fixes``); the others are listed apart (``beyond``).  Equations: Eq. 7 (V_c), Eq. 4A (P), Eq. 9 (F_turn).
     """
     if isinstance(problem, str) or hasattr(problem, "__fspath__"):
         problem = load_problem(problem)
@@ -108,12 +134,45 @@ def fix(
     )
     current_state = setting.state(now, 0, current, inertia)
     options, sources = part_options(problem, current)
-    result = _fix_result(problem, setting, calibration, current_state, sources)
+    result = _fix_result(problem, setting, calibration, current_state, stock_offer(problem, options, sources))
     if current_state.meets_risk_bound:
         return result
-    cands, chosen, result.found = _ranked(options, sources, base, setting, current_state, limit)
-    result.fixes = _fix_states(setting, current, inertia, current_state, cands, chosen, options["wheel"])
+    cands, within, beyond, result.searched = _ranked(options, sources, base, setting, current_state)
+    result.found, result.found_beyond = len(within), len(beyond)
+    keep = slice(None) if limit is None else slice(limit)
+    states = _fix_states(
+        setting, current, inertia, current_state, cands, np.concatenate([within[keep], beyond[keep]]), options
+    )
+    result.fixes, result.beyond = states[: len(within[keep])], states[len(within[keep]) :]
     return result
+
+
+def stock_offer(problem, options: dict, sources: dict) -> dict[str, str]:
+    """What each part can become, in words: its values (sizes as the problem writes them), where they come from
+    and what one costs ("c_f 2, 3 N·m/rad ([stock] dampings; 1 each)"); "none" for a part that cannot change."""
+    units = problem.units
+    out = {}
+    for part in PARTS:
+        values = options[part]
+        costs = options["cost"][part]
+        if len(values) == 0:
+            out[part] = "none" + (f" ({sources[part]})" if sources[part].startswith("none") else "")
+            continue
+        if part == "wheel" and any(w.name for w in values):
+            text = ", ".join(f"{w.name} ({written_size(w.diameter, units)})" for w in values)
+        elif part == "wheel":
+            sizes = [written_size(w.diameter, units) for w in values]
+            text = "d " + ", ".join(x.rsplit(" ", 1)[0] for x in sizes) + " " + sizes[0].rsplit(" ", 1)[1]
+        elif part == "washer":
+            text = "c_f " + ", ".join(f"{v:g}" for v in values) + " N·m/rad"
+        else:
+            sizes = [written_size(float(v), units) for v in values]
+            unit = sizes[0].rsplit(" ", 1)[1]
+            text = ("B " if part == "tyre" else "T ") + ", ".join(x.rsplit(" ", 1)[0] for x in sizes) + f" {unit}"
+        where = sources[part] if sources[part].startswith("continuous") else ""
+        price = f"{costs[0]:g} each" if np.all(costs == costs[0]) else "costs " + ", ".join(f"{c:g}" for c in costs)
+        out[part] = f"{text} ({where + '; ' if where else ''}{price})"
+    return out
 
 
 def _diagnosis(
@@ -170,15 +229,15 @@ def _diagnosis(
         problem.target_speed,
         problem.swept_radius_max,
         problem.weights,
+        problem.max_threshold_increase,
     )
     now = _evaluate(arrays, conditions, stem_angle, factor, bound, setting.limits, setting.monte_carlo)
     return setting, calibration, base, now
 
 
-def _fix_result(problem, setting: _Setting, calibration, current_state: CasterState, sources: dict) -> FixResult:
-    """The :class:`FixResult` of the diagnosis, its fixes still empty: assumptions, scatter, stock sources."""
+def _fix_result(problem, setting: _Setting, calibration, current_state: CasterState, offer: dict) -> FixResult:
+    """The :class:`FixResult` of the diagnosis, its fixes still empty: assumptions, scatter, what is on offer."""
     bound = setting.bound
-    stock_note = {part: sources[part] for part in PARTS}
     scatter = {
         "bound": None if bound is None else dataclasses.asdict(bound),
         "reported": dataclasses.asdict(setting.report_u) | {"samples": setting.samples, "seed": setting.seed},
@@ -194,8 +253,10 @@ def _fix_result(problem, setting: _Setting, calibration, current_state: CasterSt
         fixes=[],
         found=0,
         rule=RULE,
-        stock=stock_note,
+        stock=offer,
         scatter=scatter,
+        max_threshold_increase=setting.max_increase,
+        units=problem.units,
     )
 
 
@@ -206,11 +267,12 @@ def _fix_states(
     current_state: CasterState,
     cands: dict,
     chosen: np.ndarray,
-    wheels: list,
+    options: dict,
 ) -> list[CasterState]:
     """Step 3 of :func:`fix`: the chosen candidates as :class:`CasterState` records, in rank order, with their
     changes, their cost against the current caster and P(shimmy) (the evaluator's batched Monte Carlo)."""
     s = setting
+    chosen = np.asarray(chosen, dtype=int)
     picked = {key: value[chosen] for key, value in cands.items()}
     values = _evaluate(picked, s.conditions, s.stem_angle, s.factor, s.bound, s.limits, s.monte_carlo)
     fixes = []
@@ -218,7 +280,7 @@ def _fix_states(
         design = Design(
             float(cands["trail"][j]), float(cands["diameter"][j]), float(cands["groove"][j]), float(cands["damping"][j])
         )
-        changes = _changes(current, inertia, cands, j, wheels)
+        changes = _changes(current, inertia, cands, j, options["wheel"])
         fixes.append(
             setting.state(
                 values,
@@ -230,6 +292,8 @@ def _fix_states(
                     values.turning_effort[n] - current_state.turning_effort,
                     values.threshold_force[n] - current_state.threshold_force,
                 ),
+                price=float(cands["price"][j]),
+                base_force=current_state.threshold_force,
             )
         )
     return fixes
@@ -250,6 +314,7 @@ class _Setting:
     v_target: float
     r_max: float | None
     weights: tuple[float, float]
+    max_increase: float = 0.10
 
     @property
     def limits(self) -> tuple[float, float | None]:
@@ -262,11 +327,21 @@ class _Setting:
         return self.v_target, self.report_u, self.samples, self.seed
 
     def state(
-        self, values: CandidateValues, j, design: Design, inertia: float, changes=(), cost=(0.0, 0.0)
+        self,
+        values: CandidateValues,
+        j,
+        design: Design,
+        inertia: float,
+        changes=(),
+        cost=(0.0, 0.0),
+        price: float = 0.0,
+        base_force: float | None = None,
     ) -> CasterState:
-        """Caster ``j`` of the evaluated ``values`` (with their Monte Carlo) as a :class:`CasterState`."""
+        """Caster ``j`` of the evaluated ``values`` (with their Monte Carlo) as a :class:`CasterState`; ``price``
+        the cost of its parts, ``base_force`` the current caster's P [N] its sill-force increase is taken against."""
         w_turn, w_threshold = self.weights
         cost_turn, cost_threshold = cost
+        increase = 0.0 if base_force is None else float(cost_threshold) / base_force
         return CasterState(
             design=design,
             inertia=float(inertia),
@@ -284,29 +359,59 @@ class _Setting:
             cost_turning_effort=float(cost_turn),
             cost_threshold_force=float(cost_threshold),
             loss=float(w_turn * cost_turn + w_threshold * cost_threshold),
+            parts_cost=float(price),
+            threshold_increase=increase,
+            within_limit=bool(increase <= self.max_increase + 1e-12),
+            extrapolated=bool(values.extrapolated[j]),
         )
 
 
-def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current_state: CasterState, limit: int | None):
-    """The feasible fixes in the order of :data:`RULE`: (candidates, chosen indices, how many found).
-
-    One- and two-part changes first; three- and four-part ones only when none of those is feasible.
-    """
+def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current_state: CasterState):
+    """The feasible fixes in the order of :data:`RULE`: (candidates, the ranked indices within the sill-force
+    limit, the ranked indices beyond it, which combinations were searched)."""
     s = setting
-    cands = _enumerate(options, sources, base, max_parts=2)
+    if combinations(options) <= MAX_CANDIDATES:
+        cands = _enumerate(options, sources, base, max_parts=4)
+        searched = "every combination of the four parts"
+    else:
+        cands = _enumerate(options, sources, base, max_parts=2)
+        searched = (
+            f"one- and two-part fixes ({combinations(options):,} combinations of all four parts exceed "
+            f"{MAX_CANDIDATES:,}: a continuous part's grid)"
+        )
     values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
-    if not np.any(values.feasible):
-        cands = _enumerate(options, sources, base, max_parts=4, min_parts=3)
-        values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
-    idx = np.flatnonzero(values.feasible)
-    d_turn = values.turning_effort[idx] - current_state.turning_effort
-    d_force = values.threshold_force[idx] - current_state.threshold_force
-    loss = s.weights[0] * d_turn + s.weights[1] * d_force
-    order = np.lexsort(
-        (cands["order"][idx], -values.confident_speed[idx], d_force, d_turn, np.round(loss, 12), cands["parts"][idx])
-    )
-    chosen = idx[order] if limit is None else idx[order][:limit]
-    return cands, chosen, len(order)
+    increase = (values.threshold_force - current_state.threshold_force) / current_state.threshold_force
+    if searched.startswith("one-") and not np.any(values.feasible & (increase <= s.max_increase + 1e-12)):
+        more = _enumerate(options, sources, base, max_parts=4, min_parts=3)
+        if len(more["trail"]) <= MAX_CANDIDATES:
+            more["order"] = more["order"] + len(cands["order"])
+            cands = {key: np.concatenate([cands[key], more[key]]) for key in cands}
+            values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
+            increase = (values.threshold_force - current_state.threshold_force) / current_state.threshold_force
+            searched = "one- and two-part fixes, then three- and four-part ones (none of the first within the limit)"
+    d_turn = values.turning_effort - current_state.turning_effort
+    d_force = values.threshold_force - current_state.threshold_force
+    loss = np.round(s.weights[0] * d_turn + s.weights[1] * d_force, 9)
+    price = np.round(cands["price"], 9)
+    feasible = values.feasible
+    inside = np.flatnonzero(feasible & (increase <= s.max_increase + 1e-12))
+    outside = np.flatnonzero(feasible & (increase > s.max_increase + 1e-12))
+    ranked = inside[
+        np.lexsort(
+            (
+                cands["order"][inside],
+                -values.confident_speed[inside],
+                np.round(d_turn[inside], 9),
+                np.round(d_force[inside], 9),
+                loss[inside],
+                price[inside],
+            )
+        )
+    ]
+    apart = outside[
+        np.lexsort((cands["order"][outside], loss[outside], price[outside], np.round(increase[outside], 9)))
+    ]
+    return cands, ranked, apart, searched
 
 
 def _changes(current: Design, inertia: float, cands: dict, j: int, wheels: list) -> tuple[Change, ...]:
@@ -334,6 +439,9 @@ def _changes(current: Design, inertia: float, cands: dict, j: int, wheels: list)
 __all__ = [
     "fix",
     "describe_changes",
+    "fix_sentence",
+    "stock_offer",
+    "MAX_CANDIDATES",
     "FixResult",
     "CasterState",
     "Change",

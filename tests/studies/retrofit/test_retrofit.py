@@ -23,11 +23,13 @@ from designer.model import Design, evaluate
 from designer.physics.geometry import effective_trail, ground_trail
 from designer.physics.inertia import Fixed
 from designer.physics.uncertainty import Uncertainty, shimmy_speed_quantile
-from designer.problem import Bound, load_problem, problem_from_toml
+from designer.problem import load_problem, problem_from_toml
 
 from conftest import ROOT
 
 EQ8 = "T=1.5in,d=7.75in,B=0.5625in,c=1.3"
+MUST_SHOW = "T=1.25in,d=8in,B=0,c=1.3"
+"""The caster of issue 28.1: an 8 in wheel, no groove, on a 1.25 in fork."""
 EQ8_INERTIA = 0.00127
 DEFAULT = ROOT / "problems" / "indoor-manual.toml"
 
@@ -159,8 +161,15 @@ def stock_lists(problem) -> dict:
     }
 
 
-def brute_force(problem, current: Design, inertia: float, bound: Uncertainty):
-    """All single- and two-part changes from the stock, scalar loop, sorted by the stated rule."""
+COSTS = {"washer": 1.0, "tyre": 2.0, "fork hole": 3.0, "wheel": 4.0}
+"""The default cost of one part of each kind (docs/retrofit.md), written out here."""
+
+
+def brute_force(problem, current: Design, inertia: float, bound: Uncertainty, costs=COSTS, measured=True):
+    """Every change of one to four parts from the stock, scalar loop, split at the sill-force limit and sorted by
+    the stated rule: within the limit (cost, loss, ΔP, ΔF_turn, −V_q); beyond it (ΔP/P, cost, loss).  Returns
+    (within, beyond), each a list of (key, parts, design, cost).  ``measured``: the current wheel's I_w was
+    measured (``--inertia``), else it is known by its diameter only, as a new stock wheel."""
     lists = stock_lists(problem)
     part_of = {"damping": "washer", "groove": "tyre", "trail": "fork hole", "diameter": "wheel"}
     c = problem.conditions
@@ -177,8 +186,8 @@ def brute_force(problem, current: Design, inertia: float, bound: Uncertainty):
         return values, q
 
     base, _ = numbers(current, inertia)
-    rows = []
-    for k in (1, 2):
+    within, beyond = [], []
+    for k in (1, 2, 3, 4):
         for variables in itertools.combinations(("damping", "groove", "trail", "diameter"), k):
             for values in itertools.product(*(lists[v] for v in variables)):
                 changed = dict(zip(variables, values))
@@ -187,21 +196,23 @@ def brute_force(problem, current: Design, inertia: float, bound: Uncertainty):
                 design = dataclasses.replace(current, **changed)
                 new_wheel = "diameter" in changed
                 i_w = float(c.inertia(design.diameter)) if new_wheel else inertia
-                out, q = numbers(design, i_w, design.diameter if new_wheel else None)
+                out, q = numbers(design, i_w, design.diameter if new_wheel or not measured else None)
                 if q < problem.required_speed or design.trail + design.diameter / 2 > problem.swept_radius_max:
                     continue
                 d_turn = out["turning_effort"] - base["turning_effort"]
                 d_force = out["threshold_force"] - base["threshold_force"]
                 loss = problem.weights[0] * d_turn + problem.weights[1] * d_force
-                rows.append(
-                    (
-                        (k, round(loss, 9), round(d_turn, 9), round(d_force, 9), -q),
-                        {part_of[v] for v in variables},
-                        design,
-                    )
-                )
-    rows.sort(key=lambda r: r[0])
-    return rows
+                cost = sum(costs[part_of[v]] for v in variables)
+                parts = {part_of[v] for v in variables}
+                increase = d_force / base["threshold_force"]
+                if increase <= problem.max_threshold_increase + 1e-12:
+                    key = (round(cost, 9), round(loss, 9), round(d_force, 9), round(d_turn, 9), -q)
+                    within.append((key, parts, design, cost))
+                else:
+                    beyond.append(((round(increase, 9), round(cost, 9), round(loss, 9)), parts, design, cost))
+    within.sort(key=lambda r: r[0])
+    beyond.sort(key=lambda r: r[0])
+    return within, beyond
 
 
 def _wheel(f):
@@ -224,29 +235,33 @@ def test_eq8_caster_diagnosis(eq8):
 
 
 def test_eq8_fixes_match_brute_force(problem, eq8):
-    """Every single- and two-part stock change that meets the risk bound and the swept radius is listed,
-    none is missed, none is extra, and the order follows the rule (parts, weighted loss, ΔF_turn, ΔP)."""
+    """Every stock change of one to four parts that meets the risk bound and the swept radius is listed, none is
+    missed, none is extra; those within the sill-force limit (+10 %) in the order of the rule (cost, loss, ΔP,
+    ΔF_turn), the others apart (the smallest increase first), each with its parts' cost."""
     bound = _diagnosis._risk_of(problem)[0]
-    expected = brute_force(problem, parse_current(EQ8), EQ8_INERTIA, bound)
-    got = [f for f in eq8.fixes if f.parts_changed <= 2]
-    assert len(expected) > 0
-    assert len(got) == len(expected) == eq8.found
-    for (key, parts, design), f in zip(expected, got):
-        assert {c.part for c in f.changes} == parts
-        assert np.allclose(f.design.as_array(), design.as_array(), rtol=0, atol=1e-12)
-        assert f.parts_changed == key[0]
-        assert f.loss == pytest.approx(key[1], abs=1e-8)
+    within, beyond = brute_force(problem, parse_current(EQ8), EQ8_INERTIA, bound)
+    assert len(within) > 0 and len(beyond) > 0
+    assert (len(eq8.fixes), len(eq8.beyond)) == (len(within), len(beyond)) == (eq8.found, eq8.found_beyond)
+    for expected, got in ((within, eq8.fixes), (beyond, eq8.beyond)):
+        for (_key, parts, design, cost), f in zip(expected, got):
+            assert {c.part for c in f.changes} == parts
+            assert np.allclose(f.design.as_array(), design.as_array(), rtol=0, atol=1e-12)
+            assert f.parts_cost == cost
+    assert all(f.within_limit for f in eq8.fixes) and not any(f.within_limit for f in eq8.beyond)
 
 
 def test_fixes_are_ranked_and_safe(problem, eq8):
-    """Ranking: parts changed never decrease, the weighted loss never decreases within a part count; every fix
-    meets the risk bound (deterministic quantile) and the swept-radius limit, and its Monte Carlo
-    P(shimmy) with a seed of this test's own is <= α + 3 SE."""
-    keys = [(f.parts_changed, round(f.loss, 9)) for f in eq8.fixes]
+    """Ranking: within the limit the cost never decreases and, at equal cost, the weighted loss never decreases;
+    beyond it the sill-force increase never decreases; every fix meets the risk bound (deterministic quantile)
+    and the swept-radius limit, and its Monte Carlo P(shimmy) with a seed of this test's own is <= α + 3 SE."""
+    keys = [(f.parts_cost, round(f.loss, 9)) for f in eq8.fixes]
     assert keys == sorted(keys)
+    increases = [round(f.threshold_increase, 9) for f in eq8.beyond]
+    assert increases == sorted(increases) and min(increases) > problem.max_threshold_increase
+    assert max(f.threshold_increase for f in eq8.fixes) <= problem.max_threshold_increase + 1e-12
     bound = _diagnosis._risk_of(problem)[0]
     c = problem.conditions
-    for f in eq8.fixes:
+    for f in eq8.fixes[:15] + eq8.beyond[:15]:
         assert f.confident_speed >= problem.required_speed and f.swept_radius <= problem.swept_radius_max + 1e-12
         u = dataclasses.replace(bound, samples=40_000, seed=12345)
         p, se = _mc(
@@ -261,6 +276,7 @@ def test_fixes_are_ranked_and_safe(problem, eq8):
         )
         assert p <= bound.probability + 3 * max(se, 1e-4)
         assert f.cost_turning_effort == pytest.approx(f.turning_effort - eq8.current.turning_effort, abs=1e-12)
+        assert f.threshold_increase == pytest.approx(f.cost_threshold_force / eq8.current.threshold_force, rel=1e-12)
 
 
 def test_reported_probability_is_the_uncertainty_modules_estimate(problem, eq8):
@@ -283,17 +299,34 @@ def test_reported_probability_is_the_uncertainty_modules_estimate(problem, eq8):
         assert (f.shimmy_probability, f.shimmy_probability_se) == (p, se)
 
 
-def test_no_single_part_fix_is_an_answer(problem):
-    """With wheels limited to 7–8 in (only the 8 in wheel in stock, worse than the 7.75 in one), no single part
-    fixes the Eq. 8 caster: the answer says so and gives the best two-part fix, which brute force confirms."""
-    bounds = dict(problem.bounds)
-    bounds["diameter"] = Bound(7 * INCH, 8 * INCH)
-    narrow = problem.replace(bounds=bounds)
-    r = fix(narrow, EQ8, inertia=EQ8_INERTIA)
-    assert r.fixes and not r.single_part_fix_exists
-    assert r.summary().startswith("No single-part fix exists; the best 2-part fix")
-    expected = brute_force(narrow, parse_current(EQ8), EQ8_INERTIA, _diagnosis._risk_of(narrow)[0])
-    assert np.allclose(r.fixes[0].design.as_array(), expected[0][2].as_array(), atol=1e-12)
+def test_no_fix_within_the_limit_says_so(problem):
+    """The 8 in wheel on a 1 1/4 in fork: every fix raises the sill force by 8.6 % or more (a 7 in wheel), so with
+    a +5 % limit none keeps within it: the answer says so and shows the least bad (the smallest increase), which
+    brute force confirms."""
+    strict = problem.replace(max_threshold_increase=0.05)
+    r = fix(strict, MUST_SHOW, limit=3)
+    assert not r.fixes and r.beyond
+    assert r.summary().startswith("No fix keeps the sill force within +5%; the least bad: a 7 in wheel")
+    current = parse_current(MUST_SHOW)
+    within, beyond = brute_force(strict, current, r.current.inertia, _diagnosis._risk_of(strict)[0], measured=False)
+    assert within == []
+    assert np.allclose(r.beyond[0].design.as_array(), beyond[0][2].as_array(), atol=1e-12)
+
+
+def test_costs_decide_the_ranking(problem):
+    """[stock] costs per kind and per item change the order as stated: with the defaults the Eq. 8 caster's
+    cheapest fix is a washer with a wider groove (cost 3); with a costly washer (10) a washer-free fix leads;
+    an item listed with its own cost (the 3 N·m/rad washer at 0.5) costs that."""
+    stock = problem.stock
+    dear = problem.replace(stock=dataclasses.replace(stock, costs={**stock.costs, "washer": 10.0}))
+    r = fix(dear, EQ8, inertia=EQ8_INERTIA, limit=3)
+    assert all(c.part != "washer" for c in r.fixes[0].changes) and r.fixes[0].parts_cost == 5.0
+    cheap = problem.replace(stock=dataclasses.replace(stock, item_costs={"damping": {3.0: 0.5}}))
+    r = fix(cheap, EQ8, inertia=EQ8_INERTIA, limit=3)
+    washer = [c for c in r.fixes[0].changes if c.part == "washer"]
+    assert washer and washer[0].after == 3.0 and r.fixes[0].parts_cost == 0.5 + 2.0
+    within, _ = brute_force(problem, parse_current(EQ8), EQ8_INERTIA, _diagnosis._risk_of(problem)[0])
+    assert within[0][3] == 3.0 and {"washer", "tyre"} == within[0][1]
 
 
 # --------------------------------------------------------------------------- calibration
@@ -332,14 +365,15 @@ def test_calibrated_fixes_are_safe_and_uncalibrated_ones_are_not(problem, eq8):
         )
         return q, p, se
 
-    for f in cal.fixes:
+    for f in cal.fixes + cal.beyond[:10]:
         q, p, se = calibrated(f)
         assert q >= problem.required_speed and p <= bound.probability + 3 * max(se, 1e-4)
     top = eq8.fixes[0]
     q, p, se = calibrated(top)
     assert q < problem.required_speed and p > bound.probability + 3 * se
     assert not any(
-        np.allclose(f.design.as_array(), top.design.as_array()) and f.inertia == top.inertia for f in cal.fixes
+        np.allclose(f.design.as_array(), top.design.as_array()) and f.inertia == top.inertia
+        for f in cal.fixes + cal.beyond
     )
 
 
@@ -401,7 +435,8 @@ def test_cli_text(capsys, tmp_path):
     """The text output names the diagnosis, the rule and the ranked fixes with from -> to."""
     assert main(["fix", stocked_file(tmp_path), "--current", EQ8, "--inertia", "0.00127", "--top", "4"]) == 0
     text = capsys.readouterr().out
-    assert "V_c (Eq. 7) = 2.392 m/s" in text and "Rule: fewest parts changed first" in text and "->" in text
+    assert "V_c (Eq. 7) = 2.392 m/s" in text and "Rule: among the fixes that meet the risk bound" in text
+    assert text.startswith("Best fix: ") and "->" in text
 
 
 def test_catalog_problem_takes_the_current_wheels_inertia(capsys):
@@ -477,3 +512,86 @@ def _mc(*args, **kwargs) -> tuple[float, float]:
 
     p, se = shimmy_probability(*args, **kwargs)
     return float(p), float(se)
+
+
+# --------------------------------------------------------------------------- issue 28.1: a fix a clinician would fit
+
+
+def test_must_show_best_fix_within_the_limit_and_extrapolated_wheels(capsys, monkeypatch):
+    """`designer fix problems/indoor-manual.toml --current "T=1.25in,d=8in,B=0,c=1.3" --json --top 0`: the best fix
+    keeps the sill force within +10 % (it was a 3 in wheel that doubled it); every fix whose wheel lies outside
+    Table 1's 4–8 in carries "extrapolated": true beside its design, and no other fix does."""
+    assert main(["fix", str(DEFAULT), "--current", MUST_SHOW, "--json", "--top", "0"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    best = data["fixes"][0]
+    assert best["within_limit"] and 0 <= best["threshold_increase"] <= 0.10
+    assert best["threshold_force"] <= 1.10 * data["current"]["threshold_force"]
+    assert data["summary"].startswith(
+        "Best fix: a 7 in wheel with a 3/4 in groove in the 2 1/2 in fork hole; sill force 98 → 107 N (+8.6%), "
+        "turning effort 14.0 → 7.9 N"
+    )
+    every = data["fixes"] + data["fixes_beyond_limit"]
+    outside = [f for f in every if not 4 * INCH - 1e-9 <= f["design"]["diameter"] <= 8 * INCH + 1e-9]
+    assert outside and all(f["extrapolated"] is True for f in outside)
+    assert sum(f["extrapolated"] for f in every) == len(outside)
+    assert list(best)[:2] == ["design", "extrapolated"]
+    assert all(not f["within_limit"] and f["threshold_increase"] > 0.10 for f in data["fixes_beyond_limit"])
+    from designer.cli.fix import _changes
+
+    three = next(f for f in fix(load_problem(DEFAULT), MUST_SHOW).beyond if f.design.diameter == 3 * INCH)
+    assert three.extrapolated and _changes(three, "in").endswith("wheel 8 -> 3 in *")
+
+
+@pytest.mark.parametrize("columns", [80, 100])
+def test_text_answer_first_and_fits_the_terminal(capsys, monkeypatch, columns):
+    """The text output leads with the answer in words, says what each part can become (not "washer: [stock]"),
+    and at COLUMNS = 80 (or 100) no line is wider; --wide shows every column (I_w, the loss, V_c)."""
+    monkeypatch.setenv("COLUMNS", str(columns))
+    assert main(["fix", str(DEFAULT), "--current", MUST_SHOW]) == 0
+    text = capsys.readouterr().out
+    lines = text.splitlines()
+    assert lines[0].startswith("Best fix: a 7 in wheel with a 3/4 in groove in the 2 1/2 in fork hole;")
+    assert max(len(line) for line in lines) <= columns
+    assert "  tyre       B 1/4, 1/2, 9/16, 3/4 in (2 each)" in text and "washer: [stock]" not in text
+    assert "  wheel      d 3, 4, 5, 6, 7 in (4 each)" in text
+    assert "Beyond the limit, listed apart: the sill force rises more than +10%" in text
+    assert not any(line.strip() == "in" for line in lines)  # a size is never broken: the numbers give way
+    assert main(["fix", str(DEFAULT), "--current", MUST_SHOW, "--wide", "--top", "2"]) == 0
+    wide = capsys.readouterr().out
+    assert "loss [N]" in wide and "V_c Eq. 7" in wide and "P(shimmy) ± SE" in wide and "I_w [kg·m²]" in wide
+
+
+def test_threshold_limit_from_the_file_and_the_option(tmp_path, capsys):
+    """[retrofit] max_threshold_increase = "5 %" moves the limit (no fix of the 8 in caster keeps within it: the
+    answer says so); --max-threshold-increase overrides the file; a value outside 0–10 is one line, exit 2."""
+    path = tmp_path / "p.toml"
+    path.write_text(DEFAULT.read_text() + '\n[retrofit]\nmax_threshold_increase = "5 %"\n')
+    assert load_problem(path).max_threshold_increase == pytest.approx(0.05)
+    assert main(["fix", str(path), "--current", MUST_SHOW, "--json", "--top", "1"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["fixes"] == [] and data["summary"].startswith("No fix keeps the sill force within +5%; the least bad")
+    assert (
+        main(["fix", str(path), "--current", MUST_SHOW, "--json", "--top", "1", "--max-threshold-increase", "0.1"]) == 0
+    )
+    assert json.loads(capsys.readouterr().out)["fixes"]
+    assert main(["fix", str(path), "--current", MUST_SHOW, "--max-threshold-increase", "12"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--max-threshold-increase 12: must be from 0 to 10" in err
+
+
+@pytest.mark.parametrize(
+    "stock, message",
+    [
+        ("costs = { washer = -1 }", "stock.costs.washer = -1: expected a cost"),
+        ("costs = { bearing = 1 }", "stock.costs.bearing: unknown part; expected washer, tyre, fork_hole, wheel"),
+        ('diameters = [{ value = "7 in" }]', "stock.diameters[0] = {'value': '7 in'}: expected a value, or a table"),
+        ('diameters = ["5 in", { value = "7 in", cost = "x" }]', "stock.diameters[1].cost = 'x': expected a cost"),
+    ],
+)
+def test_stock_costs_bad_input(stock, message):
+    """[stock] costs and item costs: one line naming the key, the value and the reason (exit 3)."""
+    from designer.errors import ProblemError
+
+    with pytest.raises(ProblemError) as info:
+        problem_from_toml(f"[shimmy]\ntarget_speed = 2.5\n[stock]\n{stock}\n", source="p.toml")
+    assert str(info.value) == "p.toml: " + str(info.value).split("p.toml: ", 1)[1] and message in str(info.value)
