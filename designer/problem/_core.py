@@ -288,7 +288,7 @@ class Problem(Record):
     description : free text (whose chair, why these numbers)
     source : the file it was read from, if any
     units : how reports write sizes, "in" (to 1/16 in) or "mm" (to 0.1 mm): ``[report] units``, or the unit
-        the file's lengths are written in (display only: not part of :meth:`to_dict` nor the digest)
+        the file's lengths are written in (display only: not part of :meth:`to_dict`, the digest nor equality)
     """
 
     name: str

@@ -107,7 +107,7 @@ def test_ordinary_quantities_still_parse(value):
 @pytest.mark.parametrize(
     "args, fragment",
     [
-        (["--diameter", "3m"], "--diameter = '3m': outside the model's range 0 to 0.6 m"),
+        (["--diameter", "3m"], "--diameter = '3m': outside the model's range 0.01 to 0.6 m"),
         (["--trail", "1e300"], "--trail = 1e+300 m"),  # was OverflowError, exit 70
         (["--groove", "1e300"], "--groove = 1e+300 m"),  # was OverflowError, exit 70
         (["--inertia", "1e-320"], "--inertia 1e-320"),  # printed V_c = inf

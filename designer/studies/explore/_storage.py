@@ -8,6 +8,7 @@ from __future__ import annotations
 import contextlib
 import os
 import re
+import time
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -133,6 +134,39 @@ def _heartbeat() -> tuple[int, int]:
     return out[0], out[1]
 
 
+SCHEMA_ATTEMPTS = 3
+"""Opens of a remote storage tried when another process is creating optuna's tables at the same moment."""
+
+
+def _open_database(spec: StorageSpec, heartbeat: int | None, grace: int | None):
+    """optuna's RDBStorage of ``spec`` (remote: with heartbeat and retry of stale trials).  Processes started
+    together on a fresh database race to create optuna's tables: the loser's CREATE fails on a unique index
+    (PostgreSQL's pg_type), and as the tables exist then, it opens again (:data:`SCHEMA_ATTEMPTS` in all)."""
+    import optuna
+
+    engine_kwargs = {}
+    if spec.remote:
+        engine_kwargs = {"connect_args": {"connect_timeout": 10}, "pool_pre_ping": True}
+    for attempt in range(1, SCHEMA_ATTEMPTS + 1):
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                if not spec.remote:  # SQLite: one machine; --resume fails every RUNNING trial, no heartbeat needed
+                    return optuna.storages.RDBStorage(spec.url)
+                return optuna.storages.RDBStorage(
+                    spec.url,
+                    engine_kwargs=engine_kwargs,
+                    heartbeat_interval=heartbeat,
+                    grace_period=grace,
+                    failed_trial_callback=optuna.storages.RetryFailedTrialCallback(max_retry=STALE_RETRIES),
+                )
+        except Exception as exc:  # noqa: BLE001 - the caller makes any failure one line
+            if not spec.remote or type(exc).__name__ != "IntegrityError" or attempt == SCHEMA_ATTEMPTS:
+                raise
+            time.sleep(0.5 * attempt)
+    raise AssertionError("unreachable: the last attempt returns or raises")
+
+
 def open_storage(spec: StorageSpec, break_lock: bool = False):
     """Open (and check) an optuna storage; any failure is one :class:`StorageError` line.
 
@@ -166,22 +200,9 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
         path = Path(spec.url[len("sqlite:///") :])
         if str(path) and not path.parent.is_dir():
             raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
-    engine_kwargs = {}
-    if spec.remote:
-        engine_kwargs = {"connect_args": {"connect_timeout": 10}, "pool_pre_ping": True}
-        heartbeat, grace = _heartbeat()
+    heartbeat, grace = _heartbeat() if spec.remote else (None, None)  # a bad setting is its own one line
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            if not spec.remote:  # SQLite: one machine; --resume fails every RUNNING trial, no heartbeat needed
-                return optuna.storages.RDBStorage(spec.url)
-            return optuna.storages.RDBStorage(
-                spec.url,
-                engine_kwargs=engine_kwargs,
-                heartbeat_interval=heartbeat,
-                grace_period=grace,
-                failed_trial_callback=optuna.storages.RetryFailedTrialCallback(max_retry=STALE_RETRIES),
-            )
+        return _open_database(spec, heartbeat, grace)
     except ImportError as exc:
         raise StorageError(
             f"storage {spec.shown}: the database driver is not installed ({_one_line(exc)}); "

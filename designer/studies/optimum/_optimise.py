@@ -102,8 +102,8 @@ class Solution(Record):
 
         Under a risk bound they are the duals of the GP's conservative bound (V_req times a quantile factor
         fixed over the box, :func:`designer.solvers.gp.robust_speed_factor` in ``_terms``), not of the exact
-        quantile the NLP's multipliers hold: a few % apart where the bound is active, equal for a nominal
-        problem (``tests/studies/optimum``)."""
+        quantile the NLP's multipliers hold, so the printout shows them only for a nominal problem, where the two
+        are equal (``tests/studies/optimum``)."""
         duals = getattr(self.gp, "duals", None) or {}
         return {k: float(v) for k, v in duals.items()}
 
@@ -242,19 +242,25 @@ class Solution(Record):
             *self._robust_lines(),
             "  active constraints:   " + (", ".join(self.active) if self.active else "none"),
             "",
-            "  sensitivities d log J / d log p (largest first; NLP multipliers, GP duals beside):",
         ]
-        if p.risk is not None and self.gp_duals():
-            lines += [
-                "  (the GP's are the duals of its conservative risk bound, V_req times a fixed quantile factor,",
-                "   so they differ from the NLP's by a few % where that bound is active; equal when nominal)",
-            ]
-        ranked = sorted(self.sensitivities.items(), key=lambda kv: -abs(kv[1]))
         duals = self.gp_duals()
-        for name, value in ranked[:10]:
-            desc = PARAMETER_INFO.get(name, ("", "", "bound"))[2]
-            gp = f"{duals[name]:+8.4f}" if name in duals else "       –"
-            lines.append(f"    {name:24s} {value:+8.4f}  {gp}   {desc}")
+        ranked = sorted(self.sensitivities.items(), key=lambda kv: -abs(kv[1]))
+        if p.risk is None and duals:
+            lines.append("  sensitivities d log J / d log p (largest first; NLP multipliers, GP duals beside):")
+            for name, value in ranked[:10]:
+                desc = PARAMETER_INFO.get(name, ("", "", "bound"))[2]
+                gp = f"{duals[name]:+8.4f}" if name in duals else "       –"
+                lines.append(f"    {name:24s} {value:+8.4f}  {gp}   {desc}")
+        else:
+            lines.append("  sensitivities d log J / d log p (largest first; NLP multipliers):")
+            if duals:
+                lines += [
+                    "  (the GP's duals are not shown: they belong to its conservative risk bound, V_req times a",
+                    "   quantile factor fixed over the diameter range, not to this optimum's exact bound)",
+                ]
+            for name, value in ranked[:10]:
+                desc = PARAMETER_INFO.get(name, ("", "", "bound"))[2]
+                lines.append(f"    {name:24s} {value:+8.4f}   {desc}")
         lines += ["", "  solver agreement (J in N):"]
         for name, value in self.cross_check.items():
             shown = "n/a" if value is None or not np.isfinite(value) else f"{value:.6f}"

@@ -11,6 +11,7 @@ import time
 import warnings
 from pathlib import Path
 
+import numpy as np
 import optuna
 import pytest
 from optuna.trial import TrialState
@@ -196,16 +197,20 @@ def test_front_is_feasible_and_constraints_reach_optuna():
 
 def test_tuned_operators_beat_optuna_defaults():
     """The tuned operators (SBX, polynomial mutation, population ≈ √N, duplicate filter) give no repeated
-    parameter sets and a higher hypervolume against the exact front than optuna's defaults at 500 trials (whether
-    optuna's own defaults repeat parameter sets is optuna's business, not asserted).  (Under the earlier risk
-    law the margin was above 0.1 of the exact hypervolume; under the data law of issue 26 it is about 0.01,
-    0.805 against 0.795 at seed 0: only the order is asserted.)"""
+    parameter sets and a higher hypervolume against the exact front than optuna's defaults at 500 trials, on
+    average over seeds 0-19 by more than two standard errors of the mean paired difference (one seed proves
+    nothing: at seed 0 the defaults win, 0.846 against 0.813; over 60 seeds the tuned mean is 0.832 ± 0.005
+    against 0.798 ± 0.005, the README's numbers).  Whether optuna's own defaults repeat parameter sets is
+    optuna's business, not asserted."""
     problem = designer.load_problem(INDOOR)
-    tuned = explore(problem, trials=500, seed=0)
-    default = explore(problem, trials=500, seed=0, operators="optuna")
-    assert tuned.distinct == 500
-    assert tuned.comparison["hypervolume_ratio"] > default.comparison["hypervolume_ratio"]
-    assert tuned.comparison["igd_plus"] < default.comparison["igd_plus"]
+    gains = []
+    for seed in range(20):
+        tuned = explore(problem, trials=500, seed=seed)
+        default = explore(problem, trials=500, seed=seed, operators="optuna")
+        assert tuned.distinct == 500
+        gains.append(tuned.comparison["hypervolume_ratio"] - default.comparison["hypervolume_ratio"])
+    mean, se = float(np.mean(gains)), float(np.std(gains, ddof=1) / np.sqrt(len(gains)))
+    assert mean > 2 * se, (mean, se)
 
 
 @pytest.mark.parametrize(

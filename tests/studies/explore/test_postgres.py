@@ -28,9 +28,48 @@ pytestmark = pytest.mark.alone  # it saturates every core: under pytest-xdist no
 TRIALS = 60
 STUDY = "pg-starved"
 HEARTBEAT, GRACE = 1, 3  # [s]: a worker paused (or starved) for more than 3 s loses its trial
-PATIENCE = 1800.0
-"""[s] Bound of every wait of the test: a saturated 2-core machine runs it in about 3 minutes, a slower or
-busier one may take many times longer; the waits end as soon as their condition holds."""
+PATIENCE = 900.0
+"""[s] Bound of every wait of the test: a saturated 2-core machine runs it in a few minutes, a slower or busier
+one may take several times longer; the waits end as soon as their condition holds, and at once (not at the
+deadline) when no worker is left that could make it hold."""
+
+WORKER = """
+import os, signal, sys, time
+from pathlib import Path
+from designer.studies.explore import _workers
+from designer.cli import main
+
+role, marker, gate, start = sys.argv[1:5]
+evaluate = _workers.evaluate_many
+calls = 0
+
+
+def instrumented(*args, **kwargs):  # the worker's evaluation of a drawn candidate (no database transaction open)
+    global calls
+    calls += 1
+    if role == "first" and calls == 1:  # hold the first trial (heartbeats go on) until the test opens the gate
+        while not Path(gate).exists():
+            time.sleep(0.05)
+    elif role == "paused" and calls == 1:  # a starved process, made certain: stopped inside its first trial
+        Path(marker).touch()
+        os.kill(os.getpid(), signal.SIGSTOP)
+    elif role == "victim":  # paced, so that it is still working when the test asks it to stop
+        while not Path(start).exists():  # begins once the paused worker is stopped
+            time.sleep(0.05)
+        if Path(gate).exists():
+            Path(marker).touch()
+            os.kill(os.getpid(), signal.SIGSTOP)
+        time.sleep(0.2)
+    return evaluate(*args, **kwargs)
+
+
+_workers.evaluate_many = instrumented
+sys.exit(main(sys.argv[5:]))
+"""
+"""A `designer explore` process whose evaluations the test choreographs by files: ``first`` holds its first trial
+until ``gate`` exists; ``paused`` stops itself (SIGSTOP) inside its first trial after touching ``marker``;
+``victim`` waits for ``start``, then evaluates one candidate per 0.2 s and stops itself inside a trial once
+``gate`` exists."""
 
 
 @pytest.fixture(scope="module")
@@ -69,8 +108,10 @@ def _every_core_busy(seconds: float):
             p.wait()
 
 
-def _explore(url, out, resume, env):
-    cmd = [sys.executable, "-m", "designer.cli", "explore", str(ROOT / "problems" / "indoor-manual.toml")]
+def _explore(url, out, resume, env, role=None, files=(os.devnull,) * 3):
+    """`designer explore` joining the study (``resume``); with a ``role``, instrumented by :data:`WORKER`."""
+    launch = [sys.executable, "-m", "designer.cli"] if role is None else [sys.executable, "-c", WORKER, role, *files]
+    cmd = [*launch, "explore", str(ROOT / "problems" / "indoor-manual.toml")]
     cmd += ["--storage", url, "--study", STUDY, "--trials", str(TRIALS), "--seed", "0"]
     cmd += ["--no-compare", "--json", "--out", str(out)] + (["--resume"] if resume else [])
     return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
@@ -113,6 +154,8 @@ class _Clock:
             for p in self.procs:
                 if p.poll() not in (None, 0, -signal.SIGKILL):
                     raise AssertionError(f"worker exited {p.returncode}: {p.stderr.read()}")
+            if all(p.poll() is not None for p in self.procs) and not predicate():
+                raise AssertionError(f"{what}: every worker has exited")
             time.sleep(0.2)
         if within is None or time.monotonic() >= self.end:
             raise AssertionError(f"{what}: not within {PATIENCE:.0f} s")
@@ -146,31 +189,14 @@ def _state(url, number):
     return next(t.state for t in _trials(url) if t.number == number)
 
 
-def _pause_until_failed(url, worker, clock) -> int:
-    """Stop ``worker`` (SIGSTOP) while it evaluates a drawn candidate and keep it stopped until the other
-    workers have failed that trial for its missing heartbeat; then continue it.  Returns the trial's number."""
-    from optuna.trial import TrialState
-
-    while True:
-        clock.wait(lambda: _evaluating(url, worker.pid) is not None, "the paused worker never ran a trial")
-        number = _evaluating(url, worker.pid)
-        worker.send_signal(signal.SIGSTOP)
-        try:
-            if number is not None and _state(url, number) == TrialState.RUNNING:  # stopped inside it
-                # a stop inside a database transaction holds a lock the others wait on: then try again
-                if clock.wait(lambda n=number: _state(url, n) == TrialState.FAIL, "stale trial", within=60 + GRACE):
-                    return number
-        finally:
-            worker.send_signal(signal.SIGCONT)
-
-
 def test_postgres_starved_paused_and_killed_workers_complete_exactly(postgres, tmp_path):
     """With every core busy, three `designer explore` processes (same command, same seed) join one study on
-    PostgreSQL. One is paused while it evaluates a trial until the others fail that trial for its missing
-    heartbeat (a starved process, made certain); continued, it finishes the trial too late: its result is
-    discarded with a note and the candidate counts once, through its retry. Another is SIGKILLed; the
-    survivors retry its stale trial and end the study themselves; a `--resume` afterwards finds nothing to
-    do. The study holds exactly TRIALS COMPLETE trials of TRIALS distinct candidates, no trial number twice,
+    PostgreSQL. One is paused while it evaluates a trial until another fails that trial for its missing
+    heartbeat (a starved process, made certain: it stops itself inside the evaluation, so the choreography does
+    not depend on catching a fast trial by polling); continued, it finishes the trial too late: its result is
+    discarded with a note and the candidate counts once, through its retry. Another is SIGKILLed inside a
+    trial; the survivors retry its stale trial and end the study themselves; a `--resume` afterwards finds
+    nothing to do. The study holds exactly TRIALS COMPLETE trials of TRIALS distinct candidates, no trial number twice,
     nothing left RUNNING or WAITING, and explore.csv's front drawn from them."""
     from optuna.trial import TrialState
 
@@ -180,19 +206,30 @@ def test_postgres_starved_paused_and_killed_workers_complete_exactly(postgres, t
     env = {**os.environ, "DESIGNER_HEARTBEAT_SECONDS": str(HEARTBEAT), "DESIGNER_GRACE_SECONDS": str(GRACE)}
     out = tmp_path / "results"
     t0 = time.monotonic()
+    gate, paused_at, victim_gate, victim_at = (tmp_path / n for n in ("gate", "paused", "stop-victim", "victim"))
     with _every_core_busy(PATIENCE) as spinning:
         assert len(spinning) == (os.cpu_count() or 1)
-        first = _explore(url, out, False, env)  # creates the study
+        first = _explore(url, out, False, env, "first", (os.devnull, str(gate), os.devnull))  # creates the study
         workers = [first]
         clock = _Clock(PATIENCE, workers)
         try:
             clock.wait(lambda: _trials(url) is not None, "the study was never created")
-            workers += [_explore(url, out, True, env) for _ in range(2)]  # join it with the same seed
-            paused, victim = workers[1], workers[2]
-            late = _pause_until_failed(url, paused, clock)
-            clock.wait(lambda: _evaluating(url, victim.pid) is not None, "the victim never ran a trial")
+            paused = _explore(url, out, True, env, "paused", (str(paused_at), os.devnull, os.devnull))  # same seed
+            victim = _explore(url, out, True, env, "victim", (str(victim_at), str(victim_gate), str(paused_at)))
+            workers += [paused, victim]
+            # the paused worker stops itself inside a trial; the victim, still working, fails it when its
+            # heartbeat is GRACE seconds late
+            clock.wait(paused_at.exists, "the paused worker never ran a trial")
+            clock.wait(lambda: _evaluating(url, paused.pid) is not None, "the paused worker's trial is not running")
+            late = _evaluating(url, paused.pid)
+            clock.wait(lambda: _state(url, late) == TrialState.FAIL, "the paused worker's trial was never failed")
+            victim_gate.touch()  # the victim stops itself inside its next trial and is killed there
+            clock.wait(victim_at.exists, "the victim never stopped inside a trial")
+            clock.wait(lambda: _evaluating(url, victim.pid) is not None, "the victim's trial is not running")
             victim.send_signal(signal.SIGKILL)
             assert victim.wait(timeout=PATIENCE) == -signal.SIGKILL
+            paused.send_signal(signal.SIGCONT)  # its result comes too late and must not count
+            gate.touch()
             for p in (first, paused):
                 stdout, stderr = p.communicate(timeout=PATIENCE)
                 assert p.returncode == 0, stderr
@@ -204,6 +241,7 @@ def test_postgres_starved_paused_and_killed_workers_complete_exactly(postgres, t
         finally:
             for p in workers:
                 if p.poll() is None:
+                    p.send_signal(signal.SIGCONT)
                     p.kill()
                     p.wait()
         load = os.getloadavg()[0]

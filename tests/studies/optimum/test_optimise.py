@@ -169,21 +169,26 @@ def test_solution_prints_table(solutions):
         assert fragment in text
 
 
-def test_gp_duals_differ_only_under_the_risk_bound(solutions):
-    """Issue 28.6: `designer run` prints the NLP's sensitivities and the GP's duals side by side.  For the nominal
-    problem they are the same numbers (to 1e-3, the GP's solver tolerance); under the risk bound the GP's are the
-    duals of its conservative bound (a fixed quantile factor on V_req) and differ by up to a few %, and the
-    printout says so under the header (and only then)."""
+def test_gp_duals_shown_only_where_they_equal_the_nlp_multipliers(solutions):
+    """Issue 28.6: `designer run` prints the NLP's sensitivities, and the GP's duals beside them only where they
+    mean the same thing.  For the nominal problem they are the same numbers (to 1e-3, the GP's solver tolerance)
+    and both columns are printed.  Under the risk bound the GP's are the duals of its conservative bound (a
+    quantile factor fixed over the diameter range), which do differ (by more than the solver tolerance), so the
+    printout leaves them out and says why."""
     nominal = solutions["indoor-manual"]
     duals = nominal.gp_duals()
     shared = set(duals) & set(nominal.sensitivities)
     assert len(shared) >= 5
     assert all(abs(duals[k] - nominal.sensitivities[k]) <= 1e-3 for k in shared)
+    assert "GP duals beside" in str(nominal)
     assert "conservative risk bound" not in str(nominal)
 
     bounded = optimise(load_problem([p for p in PROBLEMS if p.stem == "indoor-manual"][0]))
     duals = bounded.gp_duals()
     gaps = [abs(duals[k] - v) for k, v in bounded.sensitivities.items() if k in duals and abs(v) > 0.05]
     assert max(gaps) > 1e-3
-    assert max(gaps) < 0.1 * max(abs(v) for v in bounded.sensitivities.values())
-    assert "the GP's are the duals of its conservative risk bound" in str(bounded)
+    text = str(bounded)
+    assert "GP duals beside" not in text
+    assert "the GP's duals are not shown: they belong to its conservative risk bound" in text
+    row = next(line for line in text.splitlines() if line.strip().startswith("inertia_exponent"))
+    assert len(row.split()) >= 2 and f"{duals['inertia_exponent']:+8.4f}".strip() not in row
