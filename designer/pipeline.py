@@ -361,7 +361,9 @@ def report_data(
         with clock("checks"):
             if checks is None:
                 # an empty tighter front: 8c not applicable
-                checks = study_checks.paper_checks() + study_checks.front_checks(front, tighter)
+                checks = (
+                    study_checks.paper_checks() + study_checks.law_checks() + study_checks.front_checks(front, tighter)
+                )
         if tighter is not None and not tighter.points:
             tighter_error = next((c.got for c in checks if c.name.startswith("8c")), "no point at the tighter target")
             tighter = data.tighter = None

@@ -342,6 +342,30 @@ def test_a_recommendation_keeps_the_front_it_was_given(examples):
     assert all(alt.front is None and alt.buildable is None for alt in rec.alternatives)
 
 
+def test_a_recommendation_carries_its_risk_spec_and_if_measured(examples, no_solvers):
+    """indoor-manual's recommendation (a wheel known by its diameter) carries the risk law's records as fields: its
+    risk (P ± SE equal to the record's own, sources whose shares add up to 1), its purchasing spec (M_f = c_f θ0,
+    a positive max_inertia) and if_measured; to_dict puts them beside ``extrapolated``, the HTML shows the spec's
+    largest measured inertia, to_pandas the measured and extrapolated flags; its alternatives carry none of the
+    three.  Every solver and Monte Carlo raises meanwhile: nothing here computes."""
+    rec = examples["Recommendation"]
+    data = rec.to_dict()
+    assert {"risk", "spec", "if_measured", "extrapolated", "measured"} <= set(data)
+    assert data["extrapolated"] is False and data["measured"] is False
+    assert (data["risk"]["probability"], data["risk"]["se"]) == (rec.shimmy_probability, rec.shimmy_probability_se)
+    assert sum(s["share"] for s in data["risk"]["sources"]) == pytest.approx(1.0, abs=1e-12)
+    assert data["spec"]["friction_moment"] == pytest.approx(
+        rec.design.damping * rec.problem.conditions.disturbance_angle, rel=1e-12
+    )
+    assert data["spec"]["max_inertia"] > 0
+    assert f"{rec.spec['max_inertia']:.3e}" in rec._repr_html_()
+    df = rec.to_pandas()
+    assert list(df["measured"]) == [False] * len(df) and not df["extrapolated"].any()
+    for alt in rec.alternatives:
+        assert (alt.risk, alt.spec, alt.if_measured) == (None, None, None)
+        assert not {"risk", "spec", "if_measured"} & set(alt.to_dict())
+
+
 def test_records_are_built_by_keyword():
     """No call in the package builds a record with more than three positional arguments (records with many
     fields are built by keyword): an AST scan of every module (the design vector excepted: POSITIONAL)."""

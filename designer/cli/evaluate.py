@@ -14,6 +14,9 @@ from designer.model import check_design
 from designer.problem import INERTIA_RANGE, PHYSICAL_RANGE
 import warnings
 from designer.studies.dynamics.limit_cycles import knock_safe_speed
+from designer.studies.checks import knock_safe_table1_error
+from designer.physics.scatter import inertia_prediction
+from designer.physics.uncertainty import Uncertainty, risk_record
 
 
 def register(sub) -> None:
@@ -154,17 +157,31 @@ def _results(design, conditions, values: dict, speed: float | None, knock_safe: 
         "swept_radius": values["swept_radius"],
         "shimmy_frequency": values["shimmy_frequency"],
     }
+    out["extrapolated"] = bool(inertia_prediction().extrapolated(design.diameter))
     if speed is not None:
         out["target_speed"] = speed
         out["shimmy_margin"] = values["critical_speed"] - speed
         out["stable_at_target"] = values["critical_speed"] >= speed
         out["growth_rate"] = values["growth_rate"]
+        measured = bool(getattr(conditions.inertia, "measured", False))
+        out["risk"] = risk_record(
+            design.trail,
+            values["inertia"],
+            design.groove,
+            design.damping,
+            conditions.slip_coefficient,
+            speed,
+            Uncertainty(),
+            diameter=None if measured else design.diameter,
+        )
     if knock_safe:  # simulated, about 1-2 s: only on request
         theta0 = conditions.disturbance_angle
         out["knock_safe_speed"] = knock_safe_speed(design, conditions)
         out["knock_safe_speed_double"] = (
             knock_safe_speed(design, conditions, angle=2 * theta0) if 2 * theta0 < 1.5708 else None
         )
+        band = knock_safe_table1_error(theta0)
+        out["knock_safe_table1"] = {"log_rms": band["log_rms"], "bias": band["bias"], "angle": band["angle"]}
     out["warnings"] = values["warnings"]
     return out
 
@@ -219,15 +236,47 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
                 f"knock-safe speed, {math.degrees(conditions.disturbance_angle):.0f}° / "
                 f"{math.degrees(2 * conditions.disturbance_angle):.0f}° knock",
                 f"{out['knock_safe_speed']:.3f} / " + ("n/a" if double is None else f"{double:.3f}") + " m/s",
-                "simulated (App. B)",
+                "simulated (App. B); against Table 1 C–G: log RMS "
+                f"{out['knock_safe_table1']['log_rms']:.3f}, bias {out['knock_safe_table1']['bias']:+.3f} "
+                "(a second opinion: the criterion is the Eq. 7 risk bound)",
             ),
         )
     if speed is not None:
         verdict = "stable" if values["critical_speed"] >= speed else "SHIMMIES"
         rows.append((f"at {speed:.2f} m/s", f"{verdict}, margin {values['critical_speed'] - speed:+.3f} m/s", "Eq. 7"))
         rows.append(("growth rate μ at that speed", f"{values['growth_rate']:+.3g} 1/s", "Eq. 12B"))
+        risk = out["risk"]
+        rows.append(
+            (
+                f"P(shimmy at {speed:.2f} m/s)",
+                f"{100 * risk['probability']:.2f} % ± {100 * risk['se']:.2f}",
+                "Monte Carlo of the risk law (docs/model.md, Shimmy risk)",
+            )
+        )
     for row in rows:
         table.add_row(*row)
-    Console(width=max(Console().width, 100)).print(table)
+    console = Console(width=max(Console().width, 100))
+    console.print(table)
+    if speed is not None:
+        _print_sources(console, out["risk"])
     for w in values["warnings"]:
         print(f"warning: {w}")
+    if out["extrapolated"] and not values["warnings"]:
+        print(
+            f"warning: d = {design.diameter / INCH:.3g} in lies outside Table 1's 4–8 in: the inertia fit and "
+            "Eq. 7's check are extrapolated"
+        )
+
+
+def _print_sources(console, risk: dict) -> None:
+    """Where the risk comes from: each source of the law with its share of the variance of log V_c."""
+    from rich.table import Table
+
+    table = Table(title="Where the risk comes from", title_justify="left")
+    for col in ("source", "distribution of its log", "scale", "kind", "share of var log V_c"):
+        table.add_column(col)
+    for src in risk["sources"]:
+        dist = src["distribution"] + (f", ν = {src['dof']}" if src["dof"] else "")
+        table.add_row(src["name"], dist, f"{src['scale']:.4g}", src["kind"], f"{100 * src['share']:.1f} %")
+    console.print(table)
+    console.print(risk["dominant"])

@@ -213,6 +213,23 @@ def _print_current(console, result, problem, conf: str) -> None:
     )
     if result.calibration is not None:
         console.print(f"  [bold]Calibration[/bold]: {escape(result.calibration.describe())}.")
+    if cur.extrapolated:
+        console.print(
+            escape(
+                f"  warning: d = {written_size(d.diameter, units)} lies outside Table 1's 4–8 in: the inertia fit and "
+                "Eq. 7's check are extrapolated (the risk law's prediction interval widens with it)"
+            )
+        )
+    m = result.if_measured
+    if m is not None:
+        console.print(
+            escape(
+                f"If you measure the current wheel and it is at most {m['inertia']:.4g} kg·m² (the power law's "
+                f"value; without --inertia the risk law takes any wheel of its diameter): P(shimmy) "
+                f"{m['current_shimmy_probability']:.2%} ± {m['current_shimmy_probability_se']:.2%} as it is. With "
+                f"the wheel measured: {m['summary']}"
+            )
+        )
 
 
 def _changes(fix, units: str) -> str:

@@ -7,6 +7,7 @@ import math
 
 from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
 from designer.errors import InputError
+from designer.physics.scatter import inertia_prediction
 from designer.studies.recommend import recommend, weights_meaning
 from designer.problem import check_weights, load_problem
 
@@ -62,6 +63,7 @@ def run(args) -> int:
     used = [float(w) for w in (weights if weights is not None else problem.weights)]
     if args.json:
         data = solution.to_dict()
+        data["extrapolated"] = bool(inertia_prediction().extrapolated(solution.design.diameter))
         data["recommendation"] = rec.to_dict()
         data["alternatives"] = [a.to_dict() for a in rec.alternatives]
         data["weights"] = used

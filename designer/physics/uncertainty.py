@@ -80,6 +80,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
     import numpy.typing as npt
 
 from designer.physics.types import Array, Numeric, Scalar
+from designer.physics.roots import bracketed_root
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities
 from designer.physics.scatter import (
     ASSUMED_DAMPING_SCATTER,
@@ -659,6 +660,32 @@ def shimmy_probability_exact(
     gap = np.log(speeds)[..., None] - np.log(v)
     p = np.sum(w * dist.cdf(gap.reshape(1, -1)).reshape(gap.shape), axis=-1)
     return float(p) if p.ndim == 0 else p
+
+
+def max_measured_inertia(
+    trail: float,
+    groove: float,
+    damping: float,
+    slip_coefficient: float,
+    speed: float,
+    uncertainty: Uncertainty,
+) -> float:
+    """The largest measured wheel inertia I* [kg·m²] at which the caster still meets the risk bound.
+
+    The I* whose exact law, with the measurement's lognormal scatter (σ ``uncertainty.inertia``) about I*, gives
+    P(V_c,true < speed) = α (:func:`shimmy_probability_exact`, quadrature; P rises with I*): the purchasing spec's
+    acceptance limit for a wheel measured before it is fitted.  Regula falsi in log I (:mod:`designer.physics.roots`)
+    between the I_w at which Eq. 7's V_c equals the speed (P about 1/2 there) and e^−12 of it (P ≈ 0).
+    """
+    alpha = float(uncertainty.probability)
+    v_unit = float(critical_shimmy_speed(trail, 1.0, groove, damping, slip_coefficient))  # V_c at I_w = 1 kg·m²
+    top = 2 * math.log(v_unit / speed)  # log of the I_w whose V_c is the speed (V_c ∝ I_w^−1/2, Eq. 7)
+
+    def excess(log_i: float) -> float:
+        p = shimmy_probability_exact(trail, math.exp(log_i), groove, damping, slip_coefficient, speed, uncertainty)
+        return float(p) - alpha
+
+    return math.exp(bracketed_root(excess, top - 12.0, top, xtol=1e-12))
 
 
 # --------------------------------------------------------------------------- the data law: Monte Carlo

@@ -23,7 +23,8 @@ from designer.plots.fronts import MARK_WORDS
 from designer.report.formatting import LBF, MPH, fmt, length, size
 from designer.report.text import build_lines, caster_sentence, lead_sentence, summary_lines
 from designer.plots.figures import is_bare_fork
-from designer.studies.checks import summary_line
+from designer.physics.uncertainty import TABLE1_LOG_RMS_ERROR
+from designer.studies.checks import knock_safe_table1_error, summary_line
 
 FIGURE_INFO = {
     "front": (
@@ -92,7 +93,8 @@ class Panel:
 
 
 def _panels(data: ReportData) -> list[Panel]:
-    """The first screen's panels under the card's table, in order (none yet: the card itself is the rest)."""
+    """The first screen's panels under the card's table, in order (none yet: the card itself is the rest; the
+    panels under the card are :func:`_after_panels`)."""
     return []
 
 
@@ -422,11 +424,85 @@ GLOSSARY = [
 """The first screen's terms, in plain words (the "Terms" panel)."""
 
 
+def _law_panels(data: ReportData, units: str) -> list[Panel]:
+    """The risk law's panels under the card, in order: a diameter outside Table 1, where the risk comes from, the
+    purchasing spec and what measuring the wheel is worth (sizes in ``units``)."""
+    rec = data.recommendation
+    if rec is None:
+        return []
+    out = []
+    outside = [r for r in (rec, *rec.alternatives) if r.extrapolated]
+    if outside:
+        out.append(
+            Panel(
+                id="extrapolated",
+                title="Outside Table 1",
+                text="; ".join(f"the {r.role} caster's d = {size(r.design.diameter, units)}" for r in outside)
+                + " lies outside Table 1's 4–8 in: the inertia fit and Eq. 7's check are extrapolated (the risk "
+                "law's prediction interval of I_w widens with it).",
+            )
+        )
+    risk = rec.risk
+    if risk is not None:
+        out.append(
+            Panel(
+                id="risk",
+                title="Where the risk comes from",
+                text=f"P(shimmy at {rec.target_speed:.3g} m/s) = {risk['probability']:.2%} ± {risk['se']:.2%} "
+                f"(Monte Carlo of the law below). {risk['dominant']}",
+                table=PanelTable(
+                    header=["source", "distribution of its log", "scale", "kind", "share of var log V_c"],
+                    rows=[
+                        [
+                            src["name"],
+                            src["distribution"] + (f", ν = {src['dof']}" if src["dof"] else ""),
+                            f"{src['scale']:.4g}",
+                            src["kind"],
+                            f"{100 * src['share']:.1f} %",
+                        ]
+                        for src in risk["sources"]
+                    ],
+                    numeric=[False, False, True, False, True],
+                ),
+                caption="Model error and the inertia of a wheel known by its diameter come from Table 1 (data); "
+                "M_f/θ0 and K_s scatters are assumptions; a measured wheel's is the measurement's. Caveats: "
+                + "; ".join(f"{src['name']}: {'; '.join(src.get('caveats', []))}" for src in risk["sources"])
+                + ".",
+            )
+        )
+    spec = rec.spec
+    if spec is not None:
+        out.append(
+            Panel(
+                id="spec",
+                title="The spec to buy to",
+                text="A wheel whose measured moment of inertia about a diameter is above the last line does not meet "
+                "the risk bound on this fork.",
+                table=PanelTable(
+                    header=["part", "value"],
+                    rows=[
+                        ["trail T", size(spec["trail"], units)],
+                        ["wheel diameter d", size(spec["diameter"], units)],
+                        ["groove B", size(spec["groove"], units)],
+                        ["bearing friction moment M_f = c_f θ0", f"{spec['friction_moment']:.3f} N·m"],
+                        ["largest measured wheel inertia I_w", f"{spec['max_inertia']:.3e} kg·m²"],
+                    ],
+                    numeric=[False, True],
+                ),
+            )
+        )
+    if rec.if_measured is not None:
+        out.append(
+            Panel(id="if_measured", title="If you measure the wheel", text=rec.headline(lambda x: size(x, units)))
+        )
+    return out
+
+
 def _after_panels(data: ReportData, units: str, level: str) -> list[Panel]:
     """The panels under the card: the other casters from the same parts, the knock-safe speed as a second
     opinion, the terms."""
     rec = data.recommendation
-    out = []
+    out = _law_panels(data, units)
     if rec.alternatives:
         out.append(
             Panel(
@@ -457,7 +533,7 @@ def _after_panels(data: ReportData, units: str, level: str) -> list[Panel]:
                 "paper's time-domain model (Appendix B: rolling tyre, Coulomb friction; as designer evaluate "
                 f"--knock-safe), to {100 * float((data.knock_safe[0] or {}).get('knock_safe_rtol', 0.005)):.1f} %; "
                 "V_c (Eq. 7) is the threshold for the design knock θ0, and a bigger knock starts shimmy at a lower "
-                "speed.",
+                "speed. " + _knock_band(data),
                 table=PanelTable(
                     header=["caster", "V_c (Eq. 7)", f"{theta0:.0f}° knock", f"{2 * theta0:.0f}° knock"],
                     rows=[
@@ -526,6 +602,17 @@ def front_caption(data: ReportData) -> str:
     if data.tighter is not None and len(data.tighter.points):
         text += "; grey dashes: the front for a 10 % higher target speed (check 8c)"
     return text + "."
+
+
+def _knock_band(data: ReportData) -> str:
+    """The knock-safe speed's Table 1 error at the problem's knock θ0: the log RMS and the bias of the simulated
+    onsets of wheels C–G (T = 2 in) against their measured onsets, beside Eq. 7's model error."""
+    band = knock_safe_table1_error(float(data.problem.conditions.disturbance_angle))
+    return (
+        f"Against Table 1's wheels C–G (T = 2 in, {math.degrees(band['angle']):.0f}° knock) the simulated onsets "
+        f"have a log RMS error of {band['log_rms']:.3f} and a bias of {band['bias']:+.3f}; Eq. 7's model error is "
+        f"a log RMS of {TABLE1_LOG_RMS_ERROR:.4f}."
+    )
 
 
 def _indicators(front, problem, knee, best) -> list[dict]:

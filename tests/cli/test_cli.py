@@ -407,3 +407,47 @@ def test_problem_bounds_below_the_physical_floor_are_refused(tmp_path):
     assert '"0.2 mm"' in text
     with pytest.raises(ProblemError, match=r"variables\.trail\.min = '0\.2 mm'.*outside the model's range"):
         problem_from_toml(text)
+
+
+def test_evaluate_target_speed_prints_the_risk_and_its_sources(capsys):
+    """designer evaluate --target-speed gives P(shimmy) ± SE under the risk law and its sources (shares adding up to
+    1, the inertia of a 7 in wheel known by its diameter the largest), the same as the physics layer's record; with
+    --inertia the wheel is measured (σ 0.05); a 3 in wheel is flagged as outside Table 1."""
+    from designer.physics.inertia import power_law_inertia
+    from designer.physics.uncertainty import Uncertainty, risk_record
+
+    args = ["evaluate", "--trail", "2.5in", "--diameter", "7in", "--groove", "0.5in", "--damping", "1.3"]
+    assert main(args + ["--target-speed", "2.5m/s", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    inertia = float(power_law_inertia(7 * 0.0254))
+    want = risk_record(2.5 * 0.0254, inertia, 0.5 * 0.0254, 1.3, 1250.0, 2.5, Uncertainty(), diameter=7 * 0.0254)
+    assert out["risk"]["probability"] == want["probability"] and out["risk"]["se"] == want["se"]
+    assert out["extrapolated"] is False
+    shares = {s["name"]: s["share"] for s in out["risk"]["sources"]}
+    assert sum(shares.values()) == pytest.approx(1.0, abs=1e-12) and max(shares, key=shares.get).startswith("wheel")
+    assert main(args + ["--target-speed", "2.5m/s", "--inertia", "0.00117", "--json"]) == 0
+    measured = json.loads(capsys.readouterr().out)["risk"]["sources"]
+    assert measured[1]["name"] == "wheel inertia (measured)" and measured[1]["scale"] == 0.05
+    assert main(args + ["--target-speed", "2.5m/s"]) == 0
+    text = " ".join(capsys.readouterr().out.split())  # the console wraps lines
+    assert "P(shimmy at 2.50 m/s)" in text and "Where the risk comes from" in text and "dominates the risk" in text
+    small = ["evaluate", "--trail", "2.5in", "--diameter", "3in", "--groove", "0in", "--damping", "1.3"]
+    assert main(small + ["--inertia", "0.0002", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["extrapolated"] is True
+    assert main(small + ["--inertia", "0.0002"]) == 0
+    assert "outside Table 1's 4–8 in" in " ".join(capsys.readouterr().out.split())
+
+
+def test_run_json_has_risk_spec_if_measured_and_extrapolated(capsys):
+    """designer run --json: the recommendation has risk, spec and if_measured, every design record its
+    extrapolated flag beside its design (recommendation, alternatives, the weighted optimum)."""
+    assert main(["run", str(ROOT / "problems" / "indoor-manual.toml"), "--json", "--no-cross-check"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    rec = out["recommendation"]
+    assert {"risk", "spec", "if_measured", "extrapolated", "design"} <= set(rec)
+    assert {"probability", "se", "sources", "dominant"} == set(rec["risk"])
+    assert {"trail", "diameter", "groove", "friction_moment", "max_inertia"} <= set(rec["spec"])
+    assert {"design", "turning_effort", "threshold_force", "shimmy_probability", "shimmy_probability_se"} <= set(
+        rec["if_measured"]
+    )
+    assert all("extrapolated" in a for a in out["alternatives"]) and out["extrapolated"] is False

@@ -50,6 +50,11 @@ def _record(problem, design, f, p, role="recommended", prob=0.031, se=0.0008, al
         alpha=alpha,
         mc_samples=50_000,
         mc_seed=20111,
+        measured=True,
+        extrapolated=False,
+        risk=None,
+        spec=None,
+        if_measured=None,
         to_dict=lambda: {"design": design.to_dict(), "turning_effort": f, "threshold_force": p, "role": role},
     )
 

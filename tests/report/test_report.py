@@ -467,3 +467,28 @@ def test_first_screen_panels_render_in_both_files(invacare, tmp_path, monkeypatc
     assert "| max_inertia | 1.17e-3 |" in md and "![Buy to this spec](figures/spec.svg)" in md
     assert (folder / "figures" / "spec.svg").read_text().startswith("<svg")
     assert md.index("### Buy to this spec") < md.index("## Summary")
+
+
+def test_report_shows_the_risk_law_its_spec_and_its_checks():
+    """The committed indoor-manual report (kept current by test_committed_results_are_current) shows, on its first
+    screen, where the risk comes from (each source with its kind and share), the spec to buy to (the bearing's
+    friction moment, the largest measured wheel inertia), what measuring the wheel allows, the knock-safe
+    speed's Table 1 error beside it; and in its checks the leave-one-out check of the law with its count and the
+    word that it is coarse."""
+    text = (ROOT / "results" / "indoor-manual" / "report.md").read_text(encoding="utf-8")
+    first = text[: text.index("## Summary")]
+    for needle in (
+        "### Where the risk comes from",
+        "| wheel inertia (diameter only) | Student-t, ν = 5 |",
+        "### The spec to buy to",
+        "bearing friction moment M_f = c_f θ0",
+        "largest measured wheel inertia I_w",
+        "### If you measure the wheel",
+        "log RMS error of 0.153",
+        "The design criterion is the risk bound on Eq. 7",
+    ):
+        assert needle in first, needle
+    checks = json.loads((ROOT / "results" / "indoor-manual" / "checks.json").read_text(encoding="utf-8"))
+    loo = [c for c in checks if c["name"] == "11 leave-one-out"]
+    assert len(loo) == 1 and loo[0]["kind"] == "law" and "coarse check" in loo[0]["detail"]
+    assert loo[0]["got"].startswith("from d ") and len(loo[0]["rows"]) == 5

@@ -120,6 +120,7 @@ docs/fleet.md, "How many part numbers"."""
 
 _FLEET_UNITS = {
     **{p.name: (p.column, p.unit) for p in VARIABLE_TABLE},
+    "extrapolated": ("extrapolated", "-"),
     "turning_effort": ("turning_effort_N", "N"),
     "threshold_force": ("threshold_force_N", "N"),
     "shimmy_probability": ("shimmy_probability", "-"),
@@ -177,6 +178,7 @@ class FleetResult(Record):
             row: dict[str, Any] = {"name": self.fleet.names[i]}
             design = self.stock.design(j) if j >= 0 else dict.fromkeys(("trail", "diameter", "groove", "damping"))
             row.update(design)
+            row["extrapolated"] = bool(self.stock.extrapolated[j]) if j >= 0 else None
             row["turning_effort"] = float(ch["turning_effort"][i]) if j >= 0 else None
             row["threshold_force"] = float(ch["threshold_force"][i]) if j >= 0 else None
             p = ch.get("shimmy_probability")

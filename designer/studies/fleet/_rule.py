@@ -37,6 +37,7 @@ class StockTable:
     inertia : I_w of the wheel [kg·m²]
     measured : whether that I_w was measured (else the wheel is known by its diameter: the risk law applies
         Table 1's prediction interval)
+    extrapolated : d outside Table 1's 4–8 in (the inertia fit and Eq. 7's check extrapolate)
     wheel : wheel name per caster (catalogue) or ""
     critical_speed : V_c, Eq. 7 [m/s]
     confident_speed : what the risk bound compares with (1 + margin) V_target: the speed reached with
@@ -56,6 +57,7 @@ class StockTable:
     swept_radius: np.ndarray = field(default=None)
     note: str = ""
     measured: np.ndarray = field(default=None)
+    extrapolated: np.ndarray = field(default=None)
 
     def __len__(self) -> int:
         return len(self.trail)
@@ -122,6 +124,7 @@ def stock_table(problem) -> StockTable:
     table.critical_speed = values.critical_speed
     table.confident_speed = values.confident_speed
     table.swept_radius = values.swept_radius
+    table.extrapolated = np.asarray(values.extrapolated, bool)
     return table
 
 

@@ -38,7 +38,14 @@ import numpy as np
 from designer.data.paper import INCH
 from designer.errors import InfeasibleError
 from designer.model import VARIABLES, CandidateValues, Design, evaluate_candidates, scatter_of
-from designer.physics.inertia import Fixed
+from designer.physics.inertia import Fixed, PowerLaw
+from designer.physics.uncertainty import (
+    Uncertainty,
+    dominant_sentence,
+    law_sources,
+    max_measured_inertia,
+    shimmy_probability_exact,
+)
 from designer.problem import Bound, load_problem
 from designer.studies.recommend._record import Recommendation
 from designer.studies.recommend._rule import RULES, rule_text, select_rows, weights_meaning
@@ -196,6 +203,7 @@ def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, 
         seed=seed,
     )
     p, se = float(risk.shimmy_probability[0]), float(risk.shimmy_probability_se[0])
+    extra = _risk_and_spec(problem, v, i, u, p, se) if role == "recommended" else {}
     n = max(
         int(u.samples if samples is None else samples), math.ceil(max(p * (1 - p), 1e-12) / 0.001**2) if p > 0 else 0
     )
@@ -221,7 +229,35 @@ def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, 
         mc_seed=int(u.seed if seed is None else seed),
         weights=tuple(problem.weights),
         problem=problem,
+        measured=bool(v.measured[i]),
+        extrapolated=bool(v.extrapolated[i]),
+        **extra,
     )
+
+
+def _risk_and_spec(problem, v: CandidateValues, i: int, u: Uncertainty, p: float, se: float) -> dict:
+    """The recommended caster's risk record (its Monte Carlo P ± SE and the law's sources, each with its share of
+    the variance of log V_c) and its purchasing spec (M_f = c_f θ0 [N·m], the largest measured I_w that still meets
+    the bound at V_req, by quadrature of the exact law)."""
+    c = problem.conditions
+    args = (float(v.trail[i]), float(v.inertia[i]), float(v.groove[i]), float(v.damping[i]), float(c.slip_coefficient))
+    wheel = None if bool(v.measured[i]) else float(v.diameter[i])
+    sources = law_sources(*args, u, diameter=wheel)
+    bound = problem.risk if problem.risk is not None else u
+    t, _, b, damping, k = args
+    top = max_measured_inertia(t, b, damping, k, problem.required_speed, bound)
+    at_top = shimmy_probability_exact(t, top, b, damping, k, problem.required_speed, bound)
+    return {
+        "risk": {"probability": p, "se": se, "sources": sources, "dominant": dominant_sentence(sources)},
+        "spec": {
+            "trail": t,
+            "diameter": float(v.diameter[i]),
+            "groove": b,
+            "friction_moment": damping * float(c.disturbance_angle),
+            "max_inertia": top,
+            "max_inertia_probability": float(at_top),
+        },
+    }
 
 
 def _buildable_front(problem, b: _Buildable, member: np.ndarray):
@@ -306,7 +342,59 @@ def recommend(problem, samples: int | None = None, seed: int | None = None, *, f
         buildable=_buildable_front(problem, b, sel["front"][0]),
         front=front,
         note=_note(problem, rec, size),
+        if_measured=_if_measured(problem, rec, samples, seed),
     )
+
+
+def _if_measured(problem, rec: Recommendation, samples, seed) -> dict | None:
+    """The recommendation for wheels that will be measured and accepted only up to their power-law value: every
+    candidate evaluated as a measured wheel at exactly that value (the worst wheel accepted, with the
+    measurement's scatter about it), chosen by the problem's own rule and never worse in J = w_F F + w_P P than
+    ``rec``.  None when the inertia model is not the power law or every wheel is measured already."""
+    model = problem.conditions.inertia
+    if not isinstance(model, PowerLaw) or model.measured or problem.wheels:
+        return None
+    measured = problem.replace(conditions=problem.conditions.replace(inertia=dataclasses.replace(model, measured=True)))
+    try:
+        b = _buildable(measured)
+    except InfeasibleError:
+        return None
+    sel = select_rows(
+        b.values.turning_effort[None, :],
+        b.values.threshold_force[None, :],
+        np.ones((1, len(b)), bool),
+        measured.weights,
+        measured.max_threshold_force,
+        measured.max_turning_effort,
+    )
+    w = np.asarray(problem.weights, float)
+    cost = w[0] * b.values.turning_effort + w[1] * b.values.threshold_force
+    j_rec = w[0] * rec.turning_effort + w[1] * rec.threshold_force
+    choice = int(sel["choice"][0])
+    same = np.flatnonzero(
+        np.all(np.isclose(_designs(b), rec.design.as_array()[None, :], rtol=1e-12, atol=1e-15), axis=1)
+    )
+    if (choice < 0 or cost[choice] > j_rec * (1 + 1e-12)) and len(same):
+        choice = int(same[0])  # the rule's pick would cost more than the recommendation: keep the recommendation
+    if choice < 0:
+        return None
+    r = _record(measured, b, choice, rec.rule, "if measured", samples, seed)
+    return {
+        "design": r.design.to_dict(),
+        "turning_effort": r.turning_effort,
+        "threshold_force": r.threshold_force,
+        "shimmy_probability": r.shimmy_probability,
+        "shimmy_probability_se": r.shimmy_probability_se,
+        "inertia": r.inertia,
+        "extrapolated": r.extrapolated,
+        "saves_turning_effort": rec.turning_effort - r.turning_effort,
+        "saves_threshold_force": rec.threshold_force - r.threshold_force,
+    }
+
+
+def _designs(b: _Buildable) -> np.ndarray:
+    """The buildable candidates' designs as an (N, 4) array in VARIABLES order."""
+    return np.column_stack([getattr(b.values, name) for name in VARIABLES])
 
 
 def _buildable(problem) -> _Buildable:

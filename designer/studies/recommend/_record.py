@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from designer.data.paper import INCH
@@ -41,8 +42,21 @@ class Recommendation(Record):
         (``designer.pareto_front(rec.problem)`` does)
     wheel : the wheel's name (catalogue) or None
     inertia : I_w [kg·m²]
-    role : "recommended" | "easiest to turn" | "easiest over the sill"
+    role : "recommended" | "easiest to turn" | "easiest over the sill" | "if measured"
     note : what to know (e.g. a short front)
+    measured : the wheel's I_w was measured (a catalogue wheel, a stock wheel listed with its inertia); else the
+        wheel is known by its diameter and the risk law scatters its I_w by Table 1's prediction interval
+    extrapolated : d lies outside Table 1's 4–8 in (the power law and Eq. 7's check extrapolate)
+    risk : where P(shimmy) comes from: {"probability", "se", "sources", "dominant"}
+        (:func:`designer.physics.uncertainty.law_sources`); None for an alternative
+    spec : the purchasing spec: {"trail", "diameter", "groove" [m], "friction_moment" M_f = c_f θ0 [N·m],
+        "max_inertia" [kg·m²], "max_inertia_probability"}: the largest measured I_w at which the caster still
+        meets the bound (:func:`designer.physics.uncertainty.max_measured_inertia`); None for an alternative
+    if_measured : the recommendation for wheels measured and accepted up to their power-law value (each
+        candidate evaluated as a measured wheel at exactly that value), never worse in J than this one:
+        {"design", "turning_effort", "threshold_force", "shimmy_probability", "shimmy_probability_se",
+        "inertia", "extrapolated", "saves_turning_effort", "saves_threshold_force"}; None when every wheel is
+        measured already
     """
 
     design: Design
@@ -69,6 +83,11 @@ class Recommendation(Record):
     weights: tuple[float, float] = (1.0, 1.0)
     problem: Problem | None = field(default=None, repr=False)
     front: Front | None = field(default=None, repr=False)
+    measured: bool = True
+    extrapolated: bool = False
+    risk: dict[str, Any] | None = None
+    spec: dict[str, Any] | None = None
+    if_measured: dict[str, Any] | None = None
 
     _units = {
         "design.trail": "m",
@@ -98,7 +117,12 @@ class Recommendation(Record):
             "rule": self.rule,
             "role": self.role,
             "wheel": self.wheel,
+            "extrapolated": self.extrapolated,
+            "measured": self.measured,
         }
+        for key in ("risk", "spec", "if_measured"):
+            if getattr(self, key) is not None:
+                out[key] = getattr(self, key)
         if alternatives:
             out["alternatives"] = [a.to_dict() for a in self.alternatives]
         return out
@@ -116,6 +140,21 @@ class Recommendation(Record):
             else f"{self.swept_radius / INCH:.3f} in (no limit)"
         )
         level = f"{1 - self.alpha:.0%}" if self.alpha is not None else "95% (default scatter; no risk bound)"
+        extra = []
+        if self.extrapolated:
+            extra.append(
+                f"  warning: d = {d.diameter / INCH:.3g} in lies outside Table 1's 4–8 in: the inertia fit and Eq. 7's "
+                "check are extrapolated (the risk law's prediction interval widens with it)"
+            )
+        if self.risk is not None:
+            extra.append(f"  {self.risk['dominant']}")
+        if self.spec is not None:
+            sp = self.spec
+            extra.append(
+                f"  spec: T {sp['trail'] / INCH:.3f} in, d {sp['diameter'] / INCH:.3f} in, B {sp['groove'] / INCH:.3f} in, "
+                f"bearing friction moment M_f = {sp['friction_moment']:.3f} N·m, measured I_w at most "
+                f"{sp['max_inertia']:.3e} kg·m²"
+            )
         return [
             f"  trail T             {d.trail / INCH:8.3f} in   {d.trail * 1000:8.2f} mm",
             f"  diameter d          {d.diameter / INCH:8.3f} in   {d.diameter * 1000:8.2f} mm"
@@ -129,12 +168,46 @@ class Recommendation(Record):
             f"(required {self.required_speed:.3f})",
             f"  {risk}",
             f"  swept radius        {radius}",
-        ]
+        ] + extra
+
+    def headline(self, length: Callable[[float], str] | None = None) -> str:
+        """One sentence: what to build for any wheel of its size, and what measuring the wheel allows.
+
+        ``length`` writes a length [m] (default: inches to 3 significant digits, ``"7 in"``)."""
+        size = length if length is not None else (lambda x: f"{x / INCH:.3g} in")
+        d = self.design
+        kind = "The measured wheel" if self.measured else f"Any {size(d.diameter)} wheel"
+        text = (
+            f"{kind}: build T {size(d.trail)}, B {size(d.groove)}, c_f {d.damping:.3g} N·m/rad "
+            f"(P(shimmy) {100 * self.shimmy_probability:.1f} %)."
+        )
+        m = self.if_measured
+        if m is None:
+            return text
+        md = m["design"]
+        if all(abs(md[k] - getattr(d, k)) <= 1e-12 for k in md):
+            return text + (
+                f" Measuring the wheel (accepted under {m['inertia']:.3g} kg·m²) changes no part; its risk is "
+                f"{100 * m['shimmy_probability']:.1f} %."
+            )
+        gains = []
+        if m["saves_turning_effort"] > 1e-9:
+            gains.append(f"{m['saves_turning_effort']:.2g} N easier to turn")
+        if m["saves_threshold_force"] > 1e-9:
+            gains.append(f"{m['saves_threshold_force']:.2g} N easier over the sill")
+        return text + (
+            f" A wheel measured under {m['inertia']:.3g} kg·m² lets you build d {size(md['diameter'])}, "
+            f"T {size(md['trail'])}, B {size(md['groove'])}, c_f {md['damping']:.3g} N·m/rad"
+            + (f", {' and '.join(gains)}" if gains else "")
+            + f" (P(shimmy) {100 * m['shimmy_probability']:.1f} %)."
+        )
 
     def __str__(self) -> str:
         p = self.problem
         head = [f"Build this caster for {p.name!r} ({self.rule}):" if p is not None else f"Build this ({self.rule}):"]
         out = head + self.lines()
+        if self.if_measured is not None:
+            out += ["", self.headline()]
         for alt in self.alternatives:
             out += ["", f"Alternative: {alt.role}"] + alt.lines()
         if self.note:
@@ -143,8 +216,8 @@ class Recommendation(Record):
 
     def to_pandas(self) -> Any:
         """One row per caster, the recommendation then its alternatives: ``role``, ``wheel``, the design [SI],
-        F_turn, P [N], V_c, the speed at 1 − α and the swept radius, P(shimmy) and its SE; units in
-        ``df.attrs["units"]``."""
+        F_turn, P [N], V_c, the speed at 1 − α and the swept radius, P(shimmy) and its SE, whether the wheel's
+        I_w is measured and whether d lies outside Table 1; units in ``df.attrs["units"]``."""
         rows = []
         for rec in (self, *self.alternatives):
             d = rec.design
@@ -163,6 +236,8 @@ class Recommendation(Record):
                     "swept_radius_m": rec.swept_radius,
                     "shimmy_probability": rec.shimmy_probability,
                     "shimmy_probability_se": rec.shimmy_probability_se,
+                    "measured": rec.measured,
+                    "extrapolated": rec.extrapolated,
                 }
             )
         columns = list(rows[0])
@@ -209,13 +284,18 @@ class Recommendation(Record):
         return f"{title} ({self.role})"
 
     def _html_caption(self) -> str:
-        return self.rule + (f" Note: {self.note}" if self.note else "")
+        text = self.rule
+        if self.risk is not None:
+            text += f" {self.risk['dominant']}"
+        if self.if_measured is not None:
+            text += f" {self.headline()}"
+        return text + (f" Note: {self.note}" if self.note else "")
 
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """The caster as a compact table with units (notebooks; no solver runs)."""
         d = self.design
         rows: list[tuple[Any, Any, Any]] = [("wheel", self.wheel, "")] if self.wheel else []
-        return rows + [
+        rows += [
             ("trail T", f"{d.trail / INCH:.3f} ({d.trail * 1000:.2f} mm)", "in"),
             ("diameter d", f"{d.diameter / INCH:.3f} ({d.diameter * 1000:.2f} mm)", "in"),
             ("groove B", f"{d.groove / INCH:.3f} ({d.groove * 1000:.2f} mm)", "in"),
@@ -233,6 +313,12 @@ class Recommendation(Record):
                 "mm",
             ),
         ]
+        if self.extrapolated:
+            rows.append(("outside Table 1's 4–8 in", "yes: the inertia fit and Eq. 7's check extrapolate", ""))
+        if self.spec is not None:
+            rows.append(("spec: largest measured wheel inertia", f"{self.spec['max_inertia']:.3e}", "kg·m²"))
+            rows.append(("spec: bearing friction moment M_f = c_f θ0", f"{self.spec['friction_moment']:.3f}", "N·m"))
+        return rows
 
     def _html_extra(self) -> str:
         """The caster drawn to scale beside the table (needs the problem's sill)."""

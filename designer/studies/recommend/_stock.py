@@ -77,8 +77,10 @@ def _wheel_rows(problem, stock):
         values = (b.low,)
     else:
         return None
-    if getattr(c.inertia, "measured", False):  # a fixed, measured inertia whatever the diameter
-        return [(d, float(c.inertia(d)), None, "") for d in values]
+    if getattr(c.inertia, "measured", False):  # measured wheels: a fixed I_w, or the power law's value at d
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message="inertia power law used at")
+            return [(d, float(c.inertia(d)), None, "") for d in values]
     return [(d, None, None, "") for d in values]  # I_w from the inertia model (stock_candidates fills it in)
 
 

@@ -100,6 +100,8 @@ class CasterState(Record):
     threshold_increase : ΔP / P of the current caster [-]
     within_limit : threshold_increase <= the retrofit's max_threshold_increase
     extrapolated : the wheel's diameter lies outside Table 1's 4–8 in (its I_w and Eq. 7 are extrapolations)
+    measured : the wheel's I_w was measured (``--inertia``, a catalogue wheel); else it is known by its diameter
+        (Table 1's prediction interval in the risk law)
     """
 
     design: Design
@@ -122,6 +124,7 @@ class CasterState(Record):
     threshold_increase: float = 0.0
     within_limit: bool = True
     extrapolated: bool = False
+    measured: bool = True
 
     @property
     def parts_changed(self) -> int:
@@ -162,6 +165,7 @@ class CasterState(Record):
         out = {
             "design": self.design.to_dict(),
             "extrapolated": bool(self.extrapolated),
+            "measured": bool(self.measured),
             "inertia": self.inertia,
             "effective_trail": self.effective_trail,
             "objectives": {"turning_effort": self.turning_effort, "threshold_force": self.threshold_force},
@@ -263,6 +267,9 @@ class FixResult(Record):
     max_threshold_increase : the sill-force limit, relative to the current caster's [-]
     searched : which combinations of parts were searched
     units : how sizes are written ("in" to 1/16, "mm" to 0.1)
+    if_measured : without ``--inertia`` (the current wheel known by its diameter), the same retrofit for the wheel
+        measured at its power-law value: {"inertia", "needs_fix", "current_shimmy_probability",
+        "current_shimmy_probability_se", "fix" (the top fix or None), "summary"}
     """
 
     problem: str
@@ -282,6 +289,7 @@ class FixResult(Record):
     max_threshold_increase: float = 0.10
     searched: str = ""
     units: str = "in"
+    if_measured: dict[str, Any] | None = None
 
     _units = {"target_speed": "m/s", "required_speed": "m/s", "stem_angle": "rad"}
 
@@ -337,7 +345,7 @@ class FixResult(Record):
             "fixes": [f.to_dict() for f in self.fixes],
             "fixes_beyond_limit_found": self.found_beyond,
             "fixes_beyond_limit": [f.to_dict() for f in self.beyond],
-        }
+        } | ({} if self.if_measured is None else {"if_measured": self.if_measured})
 
     def to_pandas(self) -> Any:
         """One row per caster, the current one first then the fixes in rank order: ``rank`` (0: current),

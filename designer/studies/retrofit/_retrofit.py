@@ -99,7 +99,8 @@ def fix(
         risk bound, bounds, the swept-radius limit and ``[stock]``
     current : Design (or ``"T=1.5in,d=7.75in,B=0.5625in,c=1.3"``) of the caster
         as it is; T is the fork offset (the trail with the stem vertical) [m]
-    inertia : the current wheel's measured I_w [kg·m²]; default the problem's inertia model
+    inertia : the current wheel's measured I_w [kg·m²]; default the problem's inertia model (then the wheel is
+        known by its diameter, and ``if_measured`` gives the retrofit for the wheel measured at that value)
     shimmied_at : observed shimmy onset V_obs [m/s] of this caster; calibrates
         the model error (see :class:`Calibration`)
     stem_angle : stem tilt φ from vertical [rad], positive when its top leans
@@ -135,6 +136,10 @@ def fix(
     current_state = setting.state(now, 0, current, inertia)
     options, sources = part_options(problem, current)
     result = _fix_result(problem, setting, calibration, current_state, stock_offer(problem, options, sources))
+    if not measured:  # what measuring the current wheel (accepted at its power-law value) would change
+        result.if_measured = _if_measured(
+            problem, current, inertia, shimmied_at, stem_angle, onset_scatter, samples, seed
+        )
     if current_state.meets_risk_bound:
         return result
     cands, within, beyond, result.searched = _ranked(options, sources, base, setting, current_state)
@@ -145,6 +150,33 @@ def fix(
     )
     result.fixes, result.beyond = states[: len(within[keep])], states[len(within[keep]) :]
     return result
+
+
+def _if_measured(
+    problem, current: Design, inertia: float, shimmied_at, stem_angle: float, onset_scatter, samples, seed
+) -> dict[str, object]:
+    """The same retrofit for the current wheel measured at ``inertia`` [kg·m²] (its power-law value: the worst
+    wheel of that size a measurement would accept), the measurement's scatter about it: {"inertia", "needs_fix",
+    "current_shimmy_probability", "current_shimmy_probability_se", "fix" (the top fix or None), "summary"}."""
+    alt = fix(
+        problem,
+        current,
+        inertia,
+        shimmied_at,
+        stem_angle,
+        onset_scatter=onset_scatter,
+        limit=1,
+        samples=samples,
+        seed=seed,
+    )
+    return {
+        "inertia": inertia,
+        "needs_fix": alt.needs_fix,
+        "current_shimmy_probability": alt.current.shimmy_probability,
+        "current_shimmy_probability_se": alt.current.shimmy_probability_se,
+        "fix": alt.fixes[0].to_dict() if alt.fixes else None,
+        "summary": alt.summary(),
+    }
 
 
 def stock_offer(problem, options: dict, sources: dict) -> dict[str, str]:
@@ -363,6 +395,7 @@ class _Setting:
             threshold_increase=increase,
             within_limit=bool(increase <= self.max_increase + 1e-12),
             extrapolated=bool(values.extrapolated[j]),
+            measured=bool(values.measured[j]),
         )
 
 

@@ -727,3 +727,19 @@ def _mc(*args, **kwargs) -> tuple[float, float]:
 
     p, se = shimmy_probability(*args, **kwargs)
     return float(p), float(se)
+
+
+def test_fleet_rows_say_when_a_diameter_is_outside_table1(base):
+    """Every chair's row with a caster says whether its wheel's diameter lies outside Table 1's 4–8 in (the
+    inertia fit and Eq. 7's check extrapolate there); a chair without a caster has None; the stock table holds the
+    same flag per caster."""
+    res = _fleet.fleet_recommendations(_table.example_fleet(30, seed=12), base, monte_carlo=False)
+    rows = res.rows()
+    assert any(r["status"] == "ok" for r in rows)
+    for r in rows:
+        if r["status"] == "ok":
+            assert r["extrapolated"] == (not 4 * INCH * 0.999 <= r["diameter"] <= 8 * INCH * 1.001)
+        else:
+            assert r["extrapolated"] is None
+    stock = res.stock
+    assert np.array_equal(stock.extrapolated, (stock.diameter < 4 * INCH * 0.999) | (stock.diameter > 8 * INCH * 1.001))

@@ -214,7 +214,8 @@ def test_continuous_rest_is_solved_exactly():
 
 def test_designer_recommend_and_run_json(capsys):
     """designer.recommend is the package's name; `designer run --json` keeps design/objectives/sensitivities/
-    cross_check and adds recommendation, alternatives and weights."""
+    cross_check and adds recommendation, alternatives and weights; the recommendation alone carries risk and spec,
+    every design record its extrapolated flag (true exactly when d lies outside Table 1's 4–8 in)."""
     assert designer.recommend is recommend
     path = ROOT / "problems" / "sports-court.toml"
     assert main(["run", str(path), "--json", "--no-cross-check"]) == 0
@@ -233,7 +234,11 @@ def test_designer_recommend_and_run_json(capsys):
         "rule",
     } <= set(r)
     assert out["weights"] == [1.0, 1.0]
-    assert all(set(a) >= set(r) - {"role"} for a in out["alternatives"])
+    assert {"risk", "spec", "extrapolated", "measured"} <= set(r)
+    only = {"role", "risk", "spec", "if_measured"}  # the recommendation's own records
+    assert all(set(a) >= set(r) - only and not only - {"role"} & set(a) for a in out["alternatives"])
+    for a in [r, *out["alternatives"]]:
+        assert a["extrapolated"] is not (4 * INCH - 1e-9 <= a["design"]["diameter"] <= 8 * INCH + 1e-9)
 
 
 def test_front_csv_gains_buildable_rows(recs, tmp_path):
@@ -256,3 +261,130 @@ def _mc(*args, **kwargs) -> tuple[float, float]:
 
     p, se = shimmy_probability(*args, **kwargs)
     return float(p), float(se)
+
+
+# --------------------------------------------------------------------------- the risk law's records
+
+
+def test_recommendation_risk_spec_and_if_measured(recs):
+    """indoor-manual: the recommendation carries its risk (the reported P ± SE, the law's sources with shares that
+    add up to 1), confirmed by a Monte Carlo of the same law with a seed of this test's own (P <= α + 2 SE, the
+    wheel known by its diameter); its spec (M_f = c_f θ0; at max_inertia the exact law with a measured wheel's
+    scatter gives α to 0.5 pp, and P rises through α there); and what measuring the wheel allows (never worse
+    in J, its own risk within α + 2 SE as a measured wheel at its power-law value)."""
+    from designer.model import evaluate_candidates, shimmy_probability
+    from designer.physics.uncertainty import shimmy_probability_exact
+
+    problem, rec = recs["indoor-manual"]
+    d = rec.design
+    c = problem.conditions
+    assert not rec.measured and not rec.extrapolated
+    risk = rec.risk
+    assert (risk["probability"], risk["se"]) == (rec.shimmy_probability, rec.shimmy_probability_se)
+    assert sum(s["share"] for s in risk["sources"]) == pytest.approx(1.0, abs=1e-12)
+    assert [s["kind"] for s in risk["sources"]] == ["data", "data", "assumed", "assumed"]
+    p, se = shimmy_probability(
+        d.trail,
+        rec.inertia,
+        d.groove,
+        d.damping,
+        c.slip_coefficient,
+        problem.target_speed,
+        problem.risk,
+        samples=200_000,
+        seed=31337,
+        diameter=d.diameter,
+    )
+    assert float(p) <= problem.risk.probability + 2 * float(se)
+    spec = rec.spec
+    assert spec["friction_moment"] == pytest.approx(d.damping * math.radians(20), rel=1e-12)
+    assert (spec["trail"], spec["diameter"], spec["groove"]) == (d.trail, d.diameter, d.groove)
+    args = (d.trail, spec["max_inertia"], d.groove, d.damping, c.slip_coefficient, problem.required_speed, problem.risk)
+    assert abs(shimmy_probability_exact(*args) - problem.risk.probability) <= 0.005
+    below = shimmy_probability_exact(d.trail, 0.9 * spec["max_inertia"], *args[2:])
+    above = shimmy_probability_exact(d.trail, 1.1 * spec["max_inertia"], *args[2:])
+    assert below < problem.risk.probability < above
+    m = rec.if_measured
+    w = problem.weights
+    assert w[0] * m["turning_effort"] + w[1] * m["threshold_force"] <= (
+        w[0] * rec.turning_effort + w[1] * rec.threshold_force
+    ) * (1 + 1e-12)
+    assert m["saves_threshold_force"] == pytest.approx(rec.threshold_force - m["threshold_force"], abs=1e-12)
+    md = designer.Design(**m["design"])
+    v = evaluate_candidates(
+        md,
+        c,
+        inertia=m["inertia"],
+        measured=True,
+        required_speed=problem.required_speed,
+        probability_at=problem.target_speed,
+        seed=4711,
+    )
+    assert v.feasible[0] and float(v.inertia[0]) == pytest.approx(float(c.inertia(md.diameter)), rel=1e-12)
+    assert float(v.shimmy_probability[0]) <= problem.risk.probability + 2 * float(v.shimmy_probability_se[0])
+    assert "A wheel measured under" in rec.headline() or "changes no part" in rec.headline()
+
+
+def test_stock_with_measured_inertias_gets_the_measured_scatter(tmp_path):
+    """[stock] wheels listed with their inertia are measured wheels (the measurement's σ 0.05 in the bound), a
+    wheel listed without one is known by its diameter (Table 1's prediction interval): the screen's speed
+    reached with probability 95 % is the physics layer's bound of each kind."""
+    from designer.physics.uncertainty import shimmy_speed_quantile
+    from designer.studies.recommend._stock import candidate_table
+
+    text = (ROOT / "problems" / "indoor-manual.toml").read_text()
+    text = text.replace('diameters = ["3 in", "4 in", "5 in", "6 in", "7 in", "8 in"]\n', "")
+    text = text.replace(
+        'grooves = ["0 in",',
+        'wheels = [{ name = "M7", diameter = "7 in", inertia = "0.0011 kg*m**2" }, { name = "U6", diameter = "6 in" }]\n'
+        'grooves = ["0 in",',
+    )
+    path = tmp_path / "mixed.toml"
+    path.write_text(text)
+    problem = load_problem(path)
+    table = candidate_table(problem)
+    cand, v = table.candidates, table.values
+    assert set(cand.wheel) == {"M7", "U6"}
+    assert np.array_equal(cand.measured, cand.wheel == "M7")
+    c = problem.conditions
+    for j in (int(np.flatnonzero(cand.wheel == "M7")[3]), int(np.flatnonzero(cand.wheel == "U6")[3])):
+        measured = bool(cand.measured[j])
+        q = shimmy_speed_quantile(
+            cand.trail[j],
+            cand.inertia[j],
+            cand.groove[j],
+            cand.damping[j],
+            c.slip_coefficient,
+            problem.risk,
+            diameter=None if measured else cand.diameter[j],
+        )
+        assert v.confident_speed[j] == pytest.approx(float(q), rel=1e-12)
+    assert cand.inertia[cand.wheel == "M7"][0] == 0.0011
+
+
+def test_mixed_catalogue_recommendation_is_non_dominated(tmp_path):
+    """On a catalogue mixing a measured and an unmeasured wheel, the recommendation is non-dominated in (F_turn, P)
+    among the stock combinations that meet the same risk law's bound (the screen's feasible rows)."""
+    from designer.studies.recommend._stock import candidate_table
+
+    text = (ROOT / "problems" / "indoor-manual.toml").read_text()
+    text = text.replace('diameters = ["3 in", "4 in", "5 in", "6 in", "7 in", "8 in"]\n', "")
+    text = text.replace(
+        'grooves = ["0 in",',
+        'wheels = [{ name = "M7", diameter = "7 in", inertia = "0.0011 kg*m**2" }, { name = "U6", diameter = "6 in" },'
+        ' { name = "U8", diameter = "8 in" }]\ngrooves = ["0 in",',
+    )
+    path = tmp_path / "mixed.toml"
+    path.write_text(text)
+    problem = load_problem(path)
+    rec = recommend(problem, samples=20_000)
+    v = candidate_table(problem).values
+    ok = v.feasible
+    f, p = v.turning_effort[ok], v.threshold_force[ok]
+    dominated = (
+        (f <= rec.turning_effort)
+        & (p <= rec.threshold_force)
+        & ((f < rec.turning_effort * (1 - 1e-12)) | (p < rec.threshold_force * (1 - 1e-12)))
+    )
+    assert not dominated.any()
+    assert rec.if_measured is not None

@@ -595,3 +595,25 @@ def test_stock_costs_bad_input(stock, message):
     with pytest.raises(ProblemError) as info:
         problem_from_toml(f"[shimmy]\ntarget_speed = 2.5\n[stock]\n{stock}\n", source="p.toml")
     assert str(info.value) == "p.toml: " + str(info.value).split("p.toml: ", 1)[1] and message in str(info.value)
+
+
+def test_without_inertia_the_predictive_law_and_what_measuring_is_worth(problem, eq8):
+    """Without --inertia the 7¾ in wheel is known by its diameter (Table 1's prediction interval in the risk law)
+    and the result says what measuring it at its power-law value would change (that retrofit's current risk and
+    top fix); with --inertia the wheel is measured and there is no such entry.  Every fix's record says whether
+    its diameter lies outside Table 1's 4–8 in."""
+    from designer.physics.inertia import power_law_inertia
+
+    assert eq8.current.measured and eq8.if_measured is None
+    loose = fix(problem, EQ8)
+    assert not loose.current.measured
+    m = loose.if_measured
+    assert m["inertia"] == pytest.approx(float(power_law_inertia(7.75 * INCH)), rel=1e-12)
+    alt = fix(problem, EQ8, inertia=m["inertia"], limit=1)
+    assert (m["current_shimmy_probability"], m["needs_fix"]) == (alt.current.shimmy_probability, alt.needs_fix)
+    assert m["summary"] == alt.summary()
+    # the wider law (any wheel of that diameter) holds a lower speed with probability 95 % than the measured one
+    assert loose.current.confident_speed < alt.current.confident_speed
+    for f in eq8.fixes + loose.fixes:
+        assert f.extrapolated == (not 4 * INCH * 0.999 <= f.design.diameter <= 8 * INCH * 1.001)
+        assert f.to_dict()["extrapolated"] == f.extrapolated
