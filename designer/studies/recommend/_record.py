@@ -190,11 +190,13 @@ class Recommendation(Record):
                 f" Measuring the wheel (accepted under {m['inertia']:.3g} kg·m²) changes no part; its risk is "
                 f"{100 * m['shimmy_probability']:.1f} %."
             )
-        gains = []
-        if m["saves_turning_effort"] > 1e-9:
-            gains.append(f"{m['saves_turning_effort']:.2g} N easier to turn")
-        if m["saves_threshold_force"] > 1e-9:
-            gains.append(f"{m['saves_threshold_force']:.2g} N easier over the sill")
+        gains = []  # both changes, a cost as plainly as a saving (J never rises, but one force may)
+        for key, easier, harder in (
+            ("saves_turning_effort", "easier to turn", "harder to turn"),
+            ("saves_threshold_force", "easier over the sill", "harder over the sill"),
+        ):
+            if abs(m[key]) > 1e-9:
+                gains.append(f"{abs(m[key]):.2g} N {easier if m[key] > 0 else harder}")
         return text + (
             f" A wheel measured under {m['inertia']:.3g} kg·m² lets you build d {size(md['diameter'])}, "
             f"T {size(md['trail'])}, B {size(md['groove'])}, c_f {md['damping']:.3g} N·m/rad"

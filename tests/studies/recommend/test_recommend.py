@@ -271,7 +271,8 @@ def test_recommendation_risk_spec_and_if_measured(recs):
     add up to 1), confirmed by a Monte Carlo of the same law with a seed of this test's own (P <= α + 2 SE, the
     wheel known by its diameter); its spec (M_f = c_f θ0; at max_inertia the exact law with a measured wheel's
     scatter gives α to 0.5 pp, and P rises through α there); and what measuring the wheel allows (never worse
-    in J, its own risk within α + 2 SE as a measured wheel at its power-law value)."""
+    in J, its own risk within α + 2 SE as a measured wheel at its power-law value; the headline names the force
+    that rises as well as the one that falls)."""
     from designer.model import evaluate_candidates, shimmy_probability
     from designer.physics.uncertainty import shimmy_probability_exact
 
@@ -323,6 +324,10 @@ def test_recommendation_risk_spec_and_if_measured(recs):
     assert v.feasible[0] and float(v.inertia[0]) == pytest.approx(float(c.inertia(md.diameter)), rel=1e-12)
     assert float(v.shimmy_probability[0]) <= problem.risk.probability + 2 * float(v.shimmy_probability_se[0])
     assert "A wheel measured under" in rec.headline() or "changes no part" in rec.headline()
+    # the sentence states a cost as plainly as a saving: here the sill force falls and the turning effort rises
+    assert m["saves_threshold_force"] > 0 > m["saves_turning_effort"]
+    assert f"{m['saves_threshold_force']:.2g} N easier over the sill" in rec.headline()
+    assert f"{-m['saves_turning_effort']:.2g} N harder to turn" in rec.headline()
 
 
 def test_stock_with_measured_inertias_gets_the_measured_scatter(tmp_path):
