@@ -31,7 +31,7 @@ from designer.studies.fleet import (
 )
 from designer.errors import InputError
 from designer.problem import example_problem, load_problem
-from designer.units import INCH
+from designer.units import written_size
 
 
 def register(sub) -> None:
@@ -137,7 +137,7 @@ def run(args) -> int:
     if args.json:
         print(json_text(data, run_info))
     else:
-        _print(data, run_info, len(result.stock), out)
+        _print(data, run_info, len(result.stock), out, problem.units)
     if data["feasible_chairs"] < data["chairs"]:
         eprint(
             f"designer: note: {data['chairs'] - data['feasible_chairs']} chairs have no feasible stock caster "
@@ -146,14 +146,22 @@ def run(args) -> int:
     return 0
 
 
-def _print(data: dict, run_info: dict, stock: int, out: Path) -> None:
+KEEP = "\u00a0"
+"""A no-break space: joins the words of a size while a line is wrapped (then written as a plain space)."""
+
+
+def _print(data: dict, run_info: dict, stock: int, out: Path, units: str) -> None:
     """The answer first (how many part numbers), then the part numbers, the chairs and the timings; lines
     wrapped to the terminal's width (``COLUMNS``; 80 when not a terminal)."""
     width = max(40, shutil.get_terminal_size((80, 24)).columns)
 
     def say(text: str) -> None:
         indent = " " * (len(text) - len(text.lstrip()) + 2)
-        print(textwrap.fill(text, width, subsequent_indent=indent, break_on_hyphens=False, break_long_words=False))
+        lines = textwrap.fill(text, width, subsequent_indent=indent, break_on_hyphens=False, break_long_words=False)
+        print(lines.replace(KEEP, " "))  # a size ("2 1/2 in") is never broken across lines
+
+    def size(value: float) -> str:
+        return written_size(value, units).replace(" ", KEEP)
 
     if data["answer"]:
         print(data["answer"])
@@ -177,8 +185,7 @@ def _print(data: dict, run_info: dict, stock: int, out: Path) -> None:
             for s in data["skus"]:
                 d = s["design"]
                 say(
-                    f"  SKU {s['id']}: T {d['trail'] / INCH:.4g} in, d {d['diameter'] / INCH:.4g} in, "
-                    f"B {d['groove'] / INCH:.4g} in, c_f {d['damping']:.2f} N·m/rad: {s['chairs']} chairs, "
+                    f"  SKU {s['id']}: T {size(d['trail'])}, d {size(d['diameter'])}, B {size(d['groove'])}, c_f {d['damping']:.2f} N·m/rad: {s['chairs']} chairs, "
                     f"{s['count']} units"
                 )
         curve = ", ".join(

@@ -15,6 +15,7 @@ import pytest
 
 import designer
 from designer.studies.fleet import _fleet, _rule, _table
+from designer.units import written_size
 from designer.studies.fleet import _kmedian
 from designer.studies.fleet._kmedian import brute_force_kmedian, kmedian_curve, solve_kmedian
 from designer.cli import main
@@ -743,3 +744,25 @@ def test_fleet_rows_say_when_a_diameter_is_outside_table1(base):
             assert r["extrapolated"] is None
     stock = res.stock
     assert np.array_equal(stock.extrapolated, (stock.diameter < 4 * INCH * 0.999) | (stock.diameter > 8 * INCH * 1.001))
+
+
+def test_fleet_cli_part_numbers_in_written_sizes_never_broken(tmp_path, monkeypatch, capsys):
+    """Issue 28.5 on the fleet's terminal answer: each part number's sizes are written as the user writes them
+    (inches to 1/16, "2 1/2 in", "3/4 in"; not "2.5 in" or "0.75 in"), at COLUMNS=50 no line but the first (the
+    answer, kept whole for a script to read) is wider than 50, and no size is broken across two lines (each SKU's
+    sizes all stand on its first line)."""
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("COLUMNS", "50")
+    path = _table.write_fleet_csv(_table.example_fleet(40, seed=6), tmp_path / "line.csv")
+    assert main(["fleet", path.name, "--skus", "3", "--no-monte-carlo", "--json", "--out", "j"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert main(["fleet", path.name, "--skus", "3", "--no-monte-carlo", "--out", "t"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert max(len(ln) for ln in lines[1:]) <= 50
+    assert data["k"] == 3 and len(data["skus"]) == 3
+    for s in data["skus"]:
+        d = s["design"]
+        line = next(ln for ln in lines if ln.startswith(f"  SKU {s['id']}: "))
+        want = f"T {written_size(d['trail'])}, d {written_size(d['diameter'])}, B {written_size(d['groove'])}"
+        assert want in line, (want, line)
+        assert re.search(r"\d\.\d+ in", line) is None, line
