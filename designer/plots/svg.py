@@ -863,7 +863,10 @@ class Axes:
         out.append('<g class="hover">')
         for a, b, t in zip(sx(x), sy(y), texts):
             if np.isfinite(a) and np.isfinite(b):
-                out.append(f'<circle cx="{_f(a)}" cy="{_f(b)}" r="{_f(4 * PT)}"><title>{escape(t)}</title></circle>')
+                out.append(  # invisible by its own attributes in a file opened alone; a page's CSS overrides them
+                    f'<circle cx="{_f(a)}" cy="{_f(b)}" r="{_f(4 * PT)}" fill="#ffffff" fill-opacity="0">'
+                    f"<title>{escape(t)}</title></circle>"
+                )
         out.append("</g>")
 
     def _legend_entries(self, handles):

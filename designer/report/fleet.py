@@ -23,7 +23,8 @@ from designer.jsonsafe import finite
 from designer.output import output_folder
 from designer.versions import versions
 from designer.plots.fleet import figure_distributions, figure_regret
-from designer.report.formatting import fmt, length
+from designer.report.formatting import fmt
+from designer.units import written_size
 from designer.report.writer import _render
 
 CSV_COLUMNS = (
@@ -50,12 +51,6 @@ OWNED = frozenset({"fleet.csv", "fleet.json", "report.md", "index.html", "figure
 """What a fleet report owns in its folder (anything else there is never touched)."""
 MARKER = "fleet.json"
 """The file that makes a folder a fleet report."""
-
-
-HOVER_STYLE = (
-    "<style>.hover circle{fill:transparent;stroke:none}.hover circle:hover{stroke:#d62728;stroke-width:2}</style>"
-)
-"""What the page's stylesheet gives the hover targets, for a figure file opened on its own."""
 
 
 def csv_text(data: dict) -> str:
@@ -158,9 +153,9 @@ def _sku_rows(data: dict) -> list[dict]:
     rows = []
     for s in data["skus"]:
         d = s["design"]
-        t_mm, t_in = length(d["trail"], 1)
-        d_mm, d_in = length(d["diameter"], 1)
-        b_mm, b_in = length(d["groove"], 1)
+        t_mm, t_in = written_size(d["trail"], "mm"), written_size(d["trail"], "in")  # as the user writes sizes
+        d_mm, d_in = written_size(d["diameter"], "mm"), written_size(d["diameter"], "in")
+        b_mm, b_in = written_size(d["groove"], "mm"), written_size(d["groove"], "in")
         rows.append(
             {
                 "id": s["id"],
@@ -311,8 +306,7 @@ def write_fleet_report(data: dict, out_dir, run: dict | None = None, option: str
         figures = _figures(data)
         (tmp / "figures").mkdir()
         for item in figures:
-            svg = item["svg"].replace(">", ">" + HOVER_STYLE, 1)  # a figure file opened on its own
-            (tmp / item["file"]).write_text(svg + "\n", encoding="utf-8")
+            (tmp / item["file"]).write_text(item["svg"] + "\n", encoding="utf-8")
         (tmp / "fleet.csv").write_text(csv_text(data), encoding="utf-8")
         (tmp / "fleet.json").write_text(json_text(data) + "\n", encoding="utf-8")
         (tmp / "report.md").write_text(markdown(data, figures), encoding="utf-8")

@@ -174,6 +174,21 @@ def test_page_figures_carry_their_data_on_hover(regenerated):
     assert any("least F_turn" in t for t in tips("groove_damper"))
 
 
+def test_figure_files_opened_alone_hide_their_hover_targets(regenerated):
+    """A figure file opened on its own (no page stylesheet) draws no dots of its own: every hover target in
+    figures/*.svg is transparent by its attributes (SVG's default fill is black), and the page's stylesheet,
+    which overrides presentation attributes, still styles them."""
+    out, _ = regenerated
+    circles = 0
+    for svg in sorted((out / "figures").glob("*.svg")):
+        for group in re.findall(r'<g class="hover">(.*?)</g>', svg.read_text(), re.S):
+            for circle in re.findall(r"<circle[^>]*>", group):
+                circles += 1
+                assert 'fill-opacity="0"' in circle, (svg.name, circle)
+    assert circles > 41  # the front's points at least
+    assert ".hover circle" in (out / "index.html").read_text()
+
+
 def test_main_job_computes_the_knock_safe_speeds_of_the_card(regenerated):
     """`designer pareto` simulates the knock-safe speeds of the recommendation and its alternatives only
     (θ0 and 2 θ0 knocks, m/s in front.json, the 2 θ0 one lower), times the step, and the card shows them."""

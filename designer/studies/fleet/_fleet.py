@@ -681,12 +681,13 @@ def _curve_data(result: FleetResult, units: float) -> list[dict[str, Any]]:
 
 
 def _rule_name(problem: Problem) -> str:
-    """The base problem's rule in words (a cap on one objective, else the knee)."""
+    """The base problem's rule in words (a cap on one objective, else the knee, or the least-J end of a front
+    that has none: :func:`designer.studies.recommend.select_rows`)."""
     if problem.max_threshold_force is not None:
         return "cap on sill force"
     if problem.max_turning_effort is not None:
         return "cap on turning effort"
-    return "knee of the buildable front"
+    return "knee of the buildable front (its least-J end where it has no knee)"
 
 
 def _worst_regret(result: FleetResult, solution: KMedianSolution | None) -> float | None:

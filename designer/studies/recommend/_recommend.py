@@ -13,7 +13,8 @@
    sub-front otherwise).  The non-dominated set in (F_turn, P) is kept.
 4. **The rule** (:func:`select_rows`, vectorised so ``designer fleet`` uses the same code): the knee of
    the buildable front (the point farthest from the chord between its ends, objectives normalised to
-   the front's range, on the ideal side; fewer than three points: the end with the least J = w_turn F + w_threshold P), or with
+   the front's range, on the ideal side; with no knee (fewer than three points, or none bulging toward the
+   ideal): the end with the least J = w_turn F + w_threshold P), or with
    ``[objective] max_threshold_force`` / ``max_turning_effort`` the best on the other objective within
    the cap.  Alternatives: the easiest to turn and the easiest over the sill.
 5. **Reported risk**: P(shimmy at V_target) by a separate Monte Carlo of the same distribution with its
@@ -329,7 +330,7 @@ def recommend(problem, samples: int | None = None, seed: int | None = None, *, f
     choice = int(sel["choice"][0])
     if choice < 0:
         raise _over_cap_error(problem, b, sel)
-    rule = rule_text(problem, size)
+    rule = rule_text(problem, size, bool(sel["knee"][0]))
     rec = _record(problem, b, choice, rule, "recommended", samples, seed)
     alts = []
     for key, role in (("easiest_turn", "easiest to turn"), ("easiest_sill", "easiest over the sill")):

@@ -2,7 +2,8 @@
 
 :func:`select_rows` is vectorised over rows (chairs) so ``designer fleet`` uses the same code: the knee of
 the buildable front (the point farthest from the chord between its ends, objectives normalised to the
-front's range, on the ideal side; fewer than three points: the end with the least J = w_turn F + w_threshold P),
+front's range, on the ideal side; with no knee, that is fewer than three points or none bulging toward the
+ideal: the end with the least J = w_turn F + w_threshold P),
 or with ``[objective] max_threshold_force`` / ``max_turning_effort`` the best on the other objective within
 the cap.  :func:`rule_text` and :func:`weights_meaning` say the rule and the weights in words.
 Re-exported by :mod:`designer.studies.recommend._recommend`.
@@ -17,6 +18,8 @@ RULES = {
     "cap_threshold": "least turning effort with sill force <= {cap:.1f} N",
     "cap_turning": "least sill force with turning effort <= {cap:.2f} N",
     "end": "least J = {w0:g} F_turn + {w1:g} P of a buildable front of fewer than three points (no knee)",
+    "concave": "least J = {w0:g} F_turn + {w1:g} P of the buildable front's ends (no point bulges toward the ideal: "
+    "no knee)",
 }
 """How the recommendation is chosen (the text of ``Recommendation.rule``)."""
 
@@ -34,7 +37,8 @@ def select_rows(f: np.ndarray, p: np.ndarray, ok: np.ndarray, weights=(1.0, 1.0)
     Returns
     -------
     dict of (rows,) arrays: ``choice``, ``easiest_turn``, ``easiest_sill``, ``best_j`` (column indices, −1 if
-    the row has nothing feasible or nothing within the cap), ``front_size``, ``over_cap`` (a front exists but
+    the row has nothing feasible or nothing within the cap), ``front_size``, ``knee`` (the choice is a knee:
+    three or more points, one bulging toward the ideal; False under a cap), ``over_cap`` (a front exists but
     no point is within the cap), and (rows, casters) ``front`` (membership of the buildable front).
     """
     f = np.atleast_2d(np.asarray(f, float))
@@ -61,6 +65,7 @@ def select_rows(f: np.ndarray, p: np.ndarray, ok: np.ndarray, weights=(1.0, 1.0)
         j = np.where(ok, w[0] * f + w[1] * p, np.inf)
     best_j = np.where(has, np.argmin(j, axis=1), -1)
     over_cap = np.zeros(n, bool)
+    knee = np.zeros(n, bool)
     if cap_p is not None or cap_f is not None:
         within = front & ((ps <= cap_p * (1 + 1e-12)) if cap_p is not None else (fs <= cap_f * (1 + 1e-12)))
         key = fs if cap_p is not None else ps
@@ -69,7 +74,7 @@ def select_rows(f: np.ndarray, p: np.ndarray, ok: np.ndarray, weights=(1.0, 1.0)
         choice = np.where(anywhere, order[rows, pick], -1)
         over_cap = has & ~anywhere
     else:
-        pick = _knee_or_end(fs, ps, front, size, first, last, weights)
+        pick, knee = _knee_or_end(fs, ps, front, size, first, last, weights)
         choice = np.where(has, order[rows, pick], -1)
     member = np.zeros((n, s), bool)
     np.put_along_axis(member, order, front, axis=1)
@@ -79,14 +84,17 @@ def select_rows(f: np.ndarray, p: np.ndarray, ok: np.ndarray, weights=(1.0, 1.0)
         "easiest_sill": easiest_sill,
         "best_j": best_j,
         "front_size": size,
+        "knee": knee & has,
         "over_cap": over_cap,
         "front": member,
     }
 
 
-def _knee_or_end(fs, ps, front, size, first, last, weights) -> np.ndarray:
+def _knee_or_end(fs, ps, front, size, first, last, weights) -> tuple[np.ndarray, np.ndarray]:
     """The rule without a cap, per row: the column (in the sorted order of ``fs``, ``ps``) of the knee of the
-    front, or of the end with the least J when the front has fewer than three points."""
+    front, or of the end with the least J when the front has no knee (fewer than three points, or no point on
+    the ideal side of the chord: a front bulging away from the ideal has its best trade at an end, and the
+    farthest-from-the-chord rule would pick an end by the order of a tie); and whether it was a knee."""
     n, s = fs.shape
     rows = np.arange(n)
     # knee in the front's order of decreasing P: a = largest-P end (least F), b = least-P end
@@ -108,24 +116,26 @@ def _knee_or_end(fs, ps, front, size, first, last, weights) -> np.ndarray:
     dist = np.where(front, dist, -np.inf)
     # the first maximum in the decreasing-P order (as Front.knee)
     knee = s - 1 - np.argmax(dist[:, ::-1], axis=1)
-    small = (size < 3) | ~(norm > 0)
-    # no knee on fewer than three points: the end with the least J = w_turn F + w_threshold P (the problem's
+    small = (size < 3) | ~(norm > 0) | ~(np.max(dist, axis=1) > 0)
+    # no knee (fewer than three points, or none bulging toward the ideal): the end with the least J = w_turn F + w_threshold P (the problem's
     # weights, their stated meaning), the easiest-to-turn end on a tie
     w_ = np.asarray(weights, float)
     with np.errstate(invalid="ignore"):
         j_last = w_[0] * fa + w_[1] * pa
         j_first = w_[0] * fb + w_[1] * pb
     end = np.where(j_first < j_last, first, last)
-    return np.where(small, end, knee)
+    return np.where(small, end, knee), ~small
 
 
-def rule_text(problem, front_size: int) -> str:
-    """The rule in words (what ``Recommendation.rule`` says)."""
+def rule_text(problem, front_size: int, knee: bool = True) -> str:
+    """The rule in words (what ``Recommendation.rule`` says); ``knee``: :func:`select_rows`'s flag."""
     if problem.max_threshold_force is not None:
         return RULES["cap_threshold"].format(cap=problem.max_threshold_force)
     if problem.max_turning_effort is not None:
         return RULES["cap_turning"].format(cap=problem.max_turning_effort)
-    return RULES["knee"] if front_size >= 3 else RULES["end"].format(w0=problem.weights[0], w1=problem.weights[1])
+    if front_size < 3:
+        return RULES["end"].format(w0=problem.weights[0], w1=problem.weights[1])
+    return RULES["knee"] if knee else RULES["concave"].format(w0=problem.weights[0], w1=problem.weights[1])
 
 
 def weights_meaning(weights) -> str:

@@ -272,7 +272,7 @@ def test_recommendation_risk_spec_and_if_measured(recs):
     wheel known by its diameter); its spec (M_f = c_f θ0; at max_inertia the exact law with a measured wheel's
     scatter gives α to 0.5 pp, and P rises through α there); and what measuring the wheel allows (never worse
     in J, its own risk within α + 2 SE as a measured wheel at its power-law value; the headline names the force
-    that rises as well as the one that falls)."""
+    that rises as well as the one that falls, shown on sports-court where one does)."""
     from designer.model import evaluate_candidates, shimmy_probability
     from designer.physics.uncertainty import shimmy_probability_exact
 
@@ -324,10 +324,16 @@ def test_recommendation_risk_spec_and_if_measured(recs):
     assert v.feasible[0] and float(v.inertia[0]) == pytest.approx(float(c.inertia(md.diameter)), rel=1e-12)
     assert float(v.shimmy_probability[0]) <= problem.risk.probability + 2 * float(v.shimmy_probability_se[0])
     assert "A wheel measured under" in rec.headline() or "changes no part" in rec.headline()
-    # the sentence states a cost as plainly as a saving: here the sill force falls and the turning effort rises
+    # here the measured wheel keeps the 7 in diameter (the sill force) and saves turning effort with less groove
+    assert m["saves_threshold_force"] == 0 < m["saves_turning_effort"]
+    assert f"{m['saves_turning_effort']:.2g} N easier to turn" in rec.headline()
+    # the sentence states a cost as plainly as a saving: for sports-court the sill force falls and the turning
+    # effort rises
+    _, court = recs["sports-court"]
+    m = court.if_measured
     assert m["saves_threshold_force"] > 0 > m["saves_turning_effort"]
-    assert f"{m['saves_threshold_force']:.2g} N easier over the sill" in rec.headline()
-    assert f"{-m['saves_turning_effort']:.2g} N harder to turn" in rec.headline()
+    assert f"{m['saves_threshold_force']:.2g} N easier over the sill" in court.headline()
+    assert f"{-m['saves_turning_effort']:.2g} N harder to turn" in court.headline()
 
 
 def test_stock_with_measured_inertias_gets_the_measured_scatter(tmp_path):
@@ -393,3 +399,24 @@ def test_mixed_catalogue_recommendation_is_non_dominated(tmp_path):
     )
     assert not dominated.any()
     assert rec.if_measured is not None
+
+
+def test_rule_takes_the_least_j_end_when_no_point_bulges_toward_the_ideal(recs):
+    """The knee is the point farthest from the ends' chord on the ideal side.  A three-point front whose middle
+    point lies beyond the chord (indoor-manual's buildable front: 5 in plain 7.01 N / 133.5 N, 6 in 7.63 / 118.1,
+    7 in 7.94 / 107.0) has no knee: the rule takes the end with the least J = F_turn + P (the 7 in wheel, J 114.9
+    against 140.5), not the end a tie in distance happens to give; a middle point inside the chord is the knee."""
+    from designer.studies.recommend import select_rows
+
+    f = np.array([[7.008, 7.631, 7.942]])
+    p = np.array([[133.5, 118.07, 106.96]])
+    sel = select_rows(f, p, np.ones_like(f, bool))
+    assert int(sel["choice"][0]) == 2 and not bool(sel["knee"][0])
+    f_convex = np.array([[3.54, 3.86, 23.38]])  # sports-court's buildable front: its middle point is the knee
+    p_convex = np.array([[59.7, 49.8, 43.6]])
+    sel = select_rows(f_convex, p_convex, np.ones_like(f_convex, bool))
+    assert int(sel["choice"][0]) == 1 and bool(sel["knee"][0])
+    problem, rec = recs["indoor-manual"]
+    assert [round(x.turning_effort, 2) for x in rec.buildable.points] == [7.01, 7.63, 7.94]
+    assert rec.design.diameter == pytest.approx(7 * INCH) and rec.rule.startswith("least J = 1 F_turn + 1 P")
+    assert "no knee" in rec.rule and recs["sports-court"][1].rule == "knee of the buildable risk-bounded front"
