@@ -71,6 +71,7 @@ import dataclasses
 import functools
 import math
 from dataclasses import dataclass
+from statistics import NormalDist
 from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
@@ -80,7 +81,6 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
     import numpy.typing as npt
 
 from designer.physics.types import Array, Numeric, Scalar
-from designer.physics.roots import bracketed_root
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities
 from designer.physics.scatter import (
     ASSUMED_DAMPING_SCATTER,
@@ -307,8 +307,17 @@ def _fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], f
     return coef, stored[1]
 
 
+def _numeric(*values: Any) -> bool:
+    """True when every value is a float or a NumPy array (not a CasADi expression): NumPy's own Chebyshev
+    evaluation then does the sum (in C; the recurrence below is for CasADi symbols)."""
+    return all(isinstance(v, (float, int, np.floating, np.ndarray)) for v in values)
+
+
 def _clenshaw(coef: npt.NDArray[np.floating[Any]], x: Scalar) -> Scalar:
     """Σ c_k T_k(x) by Clenshaw's recurrence (floats, arrays, CasADi symbols)."""
+    if _numeric(x):
+        one: Scalar = np.asarray(C.chebval(x, coef), dtype=float)
+        return one if np.ndim(one) else float(one)
     b1 = 0 * x
     b2 = 0 * x
     for c in coef[:0:-1]:
@@ -583,6 +592,9 @@ def _clenshaw_values(values: list[Scalar], x: Scalar) -> Scalar:
 
 def _clenshaw2(coef: Array, x: Scalar, y: Scalar) -> Scalar:
     """Σ_jk c_jk T_j(x) T_k(y) (floats, arrays, CasADi symbols)."""
+    if _numeric(x, y):
+        value: Scalar = np.asarray(C.chebval2d(x, y, coef), dtype=float)
+        return value if np.ndim(value) else float(value)
     return _clenshaw_values([_clenshaw(row, y) for row in coef], x)
 
 
@@ -624,6 +636,34 @@ def _linear_part(
     return SumDistribution(terms, 0.0)
 
 
+def _exact_law(
+    trail: float,
+    inertia: float,
+    groove: float,
+    damping: float,
+    slip_coefficient: float,
+    uncertainty: Uncertainty,
+    diameter: float | None,
+    prediction: InertiaPrediction | None,
+    nodes: int,
+) -> tuple[SumDistribution, Array, Array]:
+    """The exact law's pieces: the linear part's distribution, the Gauss–Hermite weights over (ξc, ξK) and
+    log V_c (Eq. 7) at those nodes [log m/s]: P(V_c,true < v) = Σ w F(log v − log V_c)."""
+    u = uncertainty
+    dist = _linear_part(trail, inertia, groove, damping, slip_coefficient, u, diameter, prediction)
+    zn, zw = hermegauss(nodes)
+    zw = zw / math.sqrt(2 * math.pi)
+    if groove == 0 or u.slip_coefficient == 0:
+        zc, zk, w = zn, np.zeros_like(zn), zw
+    else:
+        a, b = np.meshgrid(zn, zn, indexing="ij")
+        zc, zk, w = a.ravel(), b.ravel(), np.outer(zw, zw).ravel()
+    v = critical_shimmy_speed(
+        trail, inertia, groove, damping * np.exp(u.damping * zc), slip_coefficient * np.exp(u.slip_coefficient * zk)
+    )
+    return dist, w, np.log(v)
+
+
 def shimmy_probability_exact(
     trail: float,
     inertia: float,
@@ -644,20 +684,11 @@ def shimmy_probability_exact(
     (:class:`~designer.physics._sums.SumDistribution`); ξc, ξK ~ N(0, σ²) are integrated through Eq. 7 itself
     by Gauss–Hermite with ``nodes`` points each (one axis when B = 0 or σ_K = 0).
     """
-    u = uncertainty
-    dist = _linear_part(trail, inertia, groove, damping, slip_coefficient, u, diameter, prediction)
-    zn, zw = hermegauss(nodes)
-    zw = zw / math.sqrt(2 * math.pi)
-    if groove == 0 or u.slip_coefficient == 0:
-        zc, zk, w = zn, np.zeros_like(zn), zw
-    else:
-        a, b = np.meshgrid(zn, zn, indexing="ij")
-        zc, zk, w = a.ravel(), b.ravel(), np.outer(zw, zw).ravel()
-    v = critical_shimmy_speed(
-        trail, inertia, groove, damping * np.exp(u.damping * zc), slip_coefficient * np.exp(u.slip_coefficient * zk)
+    dist, w, log_v = _exact_law(
+        trail, inertia, groove, damping, slip_coefficient, uncertainty, diameter, prediction, nodes
     )
     speeds = np.asarray(speed, dtype=float)
-    gap = np.log(speeds)[..., None] - np.log(v)
+    gap = np.log(speeds)[..., None] - log_v
     p = np.sum(w * dist.cdf(gap.reshape(1, -1)).reshape(gap.shape), axis=-1)
     return float(p) if p.ndim == 0 else p
 
@@ -674,18 +705,41 @@ def max_measured_inertia(
 
     The I* whose exact law, with the measurement's lognormal scatter (σ ``uncertainty.inertia``) about I*, gives
     P(V_c,true < speed) = α (:func:`shimmy_probability_exact`, quadrature; P rises with I*): the purchasing spec's
-    acceptance limit for a wheel measured before it is fitted.  Regula falsi in log I (:mod:`designer.physics.roots`)
-    between the I_w at which Eq. 7's V_c equals the speed (P about 1/2 there) and e^−12 of it (P ≈ 0).
+    acceptance limit for a wheel measured before it is fitted.  Solved in log I
+    between the I_w at which Eq. 7's V_c equals the speed (P about 1/2 there) and e^−12 of it (P ≈ 0), by a
+    safeguarded Newton iteration (the law's density gives P's slope).
     """
     alpha = float(uncertainty.probability)
     v_unit = float(critical_shimmy_speed(trail, 1.0, groove, damping, slip_coefficient))  # V_c at I_w = 1 kg·m²
     top = 2 * math.log(v_unit / speed)  # log of the I_w whose V_c is the speed (V_c ∝ I_w^−1/2, Eq. 7)
+    # the law at I_w = 1 kg·m²; at I* every node's log V_c is lower by log(I*)/2 and the linear part's shape is
+    # the same (its inertia slope is 1/2 whatever I*): the law is built once, each step is one CDF
+    dist, w, log_v = _exact_law(trail, 1.0, groove, damping, slip_coefficient, uncertainty, None, None, 32)
+    gap = (math.log(speed) - log_v)[None, :]
 
     def excess(log_i: float) -> float:
-        p = shimmy_probability_exact(trail, math.exp(log_i), groove, damping, slip_coefficient, speed, uncertainty)
-        return float(p) - alpha
+        return float(np.sum(w * dist.cdf(gap + 0.5 * log_i)[0])) - alpha
 
-    return math.exp(bracketed_root(excess, top - 12.0, top, xtol=1e-12))
+    # Newton from a normal approximation of the law (P' = Σ w f / 2, f the linear part's density), kept inside
+    # a bracket that shrinks with each sign; a step that leaves it bisects.  Typically 3-5 steps to 1e-10.
+    spread = float(np.sum(dist.total_scale**2) + np.sum(w * (log_v - np.sum(w * log_v)) ** 2))
+    start = 2 * (float(np.sum(w * log_v)) - math.log(speed) - NormalDist().inv_cdf(1 - alpha) * math.sqrt(spread))
+    lo, hi = top - 12.0, top
+    x = min(max(start, lo), hi)
+    for _ in range(60):
+        f = excess(x)
+        if f < 0:
+            lo = x
+        else:
+            hi = x
+        slope = 0.5 * float(np.sum(w * dist.pdf(gap + 0.5 * x)[0]))
+        new = x - f / slope if slope > 0 else 0.5 * (lo + hi)
+        if not lo < new < hi:
+            new = 0.5 * (lo + hi)
+        if abs(new - x) <= 1e-10 or hi - lo <= 1e-10:
+            return math.exp(new)
+        x = new
+    raise RuntimeError(f"max_measured_inertia: no convergence in [{math.exp(lo):.6g}, {math.exp(hi):.6g}] kg·m²")
 
 
 # --------------------------------------------------------------------------- the data law: Monte Carlo

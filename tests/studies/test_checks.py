@@ -1044,3 +1044,31 @@ def test_knock_safe_speed_error_against_table1():
     assert k["bias"] == pytest.approx(np.mean(e), rel=1e-12) and k["bias"] < 0
     assert k["angle"] == pytest.approx(np.radians(20)) and k["trail"] == pytest.approx(2 * INCH)
     assert ck.knock_safe_table1_error() == k
+
+
+def test_stored_leave_one_out_tables_are_the_computed_ones():
+    """designer/data/leave_one_out.py (read by the main job, which then needs no scipy) holds exactly what
+    _pit_rows computes now, for both tables, under the digest of today's inputs: the PITs to 1e-12 (quadrature
+    rounding), every other field equal.  Stale after a change to Table 1, the fork constants or the default law:
+    rewrite it with designer.studies.checks.write_leave_one_out_table() and `ruff format` the file."""
+    from designer.data import leave_one_out
+
+    assert leave_one_out.DIGEST == ck._loo_inputs_digest()
+    for assumed, key in ((True, "assumed"), (False, "bare")):
+        computed, stored = ck._pit_rows(assumed), leave_one_out.ROWS[key]
+        assert [r["wheel"] for r in stored] == [r["wheel"] for r in computed] == ["C", "D", "E", "F", "G"]
+        for s, c in zip(stored, computed):
+            assert s.keys() == c.keys()
+            for name in c:
+                if isinstance(c[name], float):
+                    assert s[name] == pytest.approx(c[name], rel=1e-12, abs=1e-12), (key, c["wheel"], name)
+                else:
+                    assert s[name] == c[name], (key, c["wheel"], name)
+        assert ck._stored_loo_rows(assumed) == stored
+
+
+def test_stored_leave_one_out_table_is_ignored_once_its_inputs_change(monkeypatch):
+    """A changed input (here the interval level) moves the digest: the stored table is not used and the rows are
+    computed (so a stale file can never put old numbers in a report)."""
+    monkeypatch.setattr(ck, "LOO_LEVEL", 0.8)
+    assert ck._stored_loo_rows(True) is None
