@@ -584,7 +584,8 @@ def _tighter_check(front: Front, tighter: Front) -> Check:
             name="8c tighter target",
             claim="tightening V_target moves the front outward",
             expected="every point of the tighter front weakly dominated by the looser front",
-            got=f"not applicable: the tighter target is out of reach (highest V_c {speed:.3f} m/s "
+            got=f"not applicable: the tighter target is out of reach (highest {'V_c' if problem.risk is None else 'V_q'} "
+            f"{speed:.3f} m/s "
             f"< {tighter.problem.required_speed:.3f} m/s required)",
             passed=True,
             detail=f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} "
@@ -607,7 +608,8 @@ def _tighter_check(front: Front, tighter: Front) -> Check:
 
 
 def highest_critical_speed(problem: Problem) -> float:
-    """Highest V_c [m/s] inside the bounds of ``problem`` (over its catalog wheels), by IPOPT (Eq. 7)."""
+    """Highest speed the shimmy constraint reaches inside the bounds of ``problem`` [m/s] (over its catalog
+    wheels), by IPOPT: V_q of the risk bound, or Eq. 7's V_c for a nominal problem."""
     from designer.solvers.nlp import max_critical_speed
 
     return max(max_critical_speed(v)[0] for v in problem.variants())

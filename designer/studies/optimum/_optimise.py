@@ -407,15 +407,22 @@ def _gp_polished(problem: Problem, gp: GPResult, weights: Sequence[float]) -> fl
 
 
 def diagnose_infeasible(problem: Problem) -> Exception:
-    """Explain why no feasible design was found."""
+    """Explain why no feasible design was found: the highest speed the shimmy constraint can reach inside the
+    bounds (V_q of the risk bound, or Eq. 7's V_c for a nominal problem) against the one required."""
     found = [(*max_critical_speed(variant), variant) for variant in problem.variants()]
     v, design, active, variant = max(found, key=lambda row: row[0])  # the first of equal maxima, as before
     if v < problem.required_speed * (1 - 1e-6):
         relax = ", ".join(active) if active else "the variable bounds"
         wheel = f" with wheel {wheel_of(variant)}" if problem.wheels else ""
+        risk = problem.risk
+        what = (
+            "critical speed (Eq. 7)"
+            if risk is None
+            else f"speed held with probability {1 - float(risk.probability):.0%} (V_q of the risk bound)"
+        )
         return InfeasibleError(
             f"target speed {problem.required_speed:.3g} m/s (shimmy.target_speed × (1 + margin)) is out of reach: "
-            f"the highest critical speed inside the bounds is {v:.3f} m/s{wheel} at {design.describe()}; "
+            f"the highest {what} inside the bounds is {v:.3f} m/s{wheel} at {design.describe()}; "
             f"relax {relax} or lower shimmy.target_speed",
             best={"critical_speed": v, "design": design.to_dict(), "active": active},
         )
