@@ -769,7 +769,7 @@ def _stored_loo_rows(assumed: bool) -> list[dict[str, Any]] | None:
     return rows
 
 
-def write_leave_one_out_table() -> Path:
+def write_leave_one_out_table(path: Path = LOO_FILE) -> Path:
     """Compute check 11's two tables and write them to :data:`LOO_FILE` (after a change to Table 1 or the law;
     then `ruff format` the file)."""
     rows = {"assumed": _pit_rows(True), "bare": _pit_rows(False)}
@@ -778,8 +778,8 @@ def write_leave_one_out_table() -> Path:
         'edit: a test recomputes them).  DIGEST names what they were computed from."""\n\n'
         f"DIGEST = {_loo_inputs_digest()!r}\n\nROWS = {pprint.pformat(rows, width=116, sort_dicts=False)}\n"
     )
-    LOO_FILE.write_text(text, encoding="utf-8")
-    return LOO_FILE
+    path.write_text(text, encoding="utf-8")
+    return path
 
 
 def leave_one_out_rows(assumed: bool = True) -> list[dict[str, Any]]:

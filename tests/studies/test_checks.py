@@ -1067,6 +1067,18 @@ def test_stored_leave_one_out_tables_are_the_computed_ones():
         assert ck._stored_loo_rows(assumed) == stored
 
 
+def test_written_leave_one_out_table_reads_back_as_the_stored_one(tmp_path):
+    """write_leave_one_out_table writes a module whose DIGEST and ROWS equal the shipped module's (so the
+    command its docstring names regenerates exactly what is stored)."""
+    import runpy
+
+    from designer.data import leave_one_out
+
+    written = runpy.run_path(str(ck.write_leave_one_out_table(tmp_path / "loo.py")))
+    assert written["DIGEST"] == leave_one_out.DIGEST
+    assert written["ROWS"] == leave_one_out.ROWS
+
+
 def test_stored_leave_one_out_table_is_ignored_once_its_inputs_change(monkeypatch):
     """A changed input (here the interval level) moves the digest: the stored table is not used and the rows are
     computed (so a stale file can never put old numbers in a report)."""
