@@ -358,7 +358,7 @@ def test_a_recommendation_carries_its_risk_spec_and_if_measured(examples, no_sol
         rec.design.damping * rec.problem.conditions.disturbance_angle, rel=1e-12
     )
     assert data["spec"]["max_inertia"] > 0
-    assert f"{rec.spec['max_inertia']:.3e}" in rec._repr_html_()
+    assert f"{rec.spec['max_inertia']:.3g}" in rec._repr_html_()
     df = rec.to_pandas()
     assert list(df["measured"]) == [False] * len(df) and not df["extrapolated"].any()
     for alt in rec.alternatives:

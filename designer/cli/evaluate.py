@@ -243,7 +243,13 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
         )
     if speed is not None:
         verdict = "stable" if values["critical_speed"] >= speed else "SHIMMIES"
-        rows.append((f"at {speed:.2f} m/s", f"{verdict}, margin {values['critical_speed'] - speed:+.3f} m/s", "Eq. 7"))
+        rows.append(
+            (
+                f"at {speed:.2f} m/s, Eq. 7 alone",
+                f"{verdict}, V_c − speed {values['critical_speed'] - speed:+.3f} m/s (the risk is below)",
+                "Eq. 7",
+            )
+        )
         rows.append(("growth rate μ at that speed", f"{values['growth_rate']:+.3g} 1/s", "Eq. 12B"))
         risk = out["risk"]
         rows.append(

@@ -112,6 +112,11 @@ def _increase(text: str | None) -> float | None:
     value = quantity_option(text, "dimensionless", "--max-threshold-increase")
     if not 0 <= value <= 10:
         raise InputError(f"--max-threshold-increase {text}: must be from 0 to 10 (0.1 or '10 %')")
+    if value >= 1 and "%" not in text:  # '5' meant as 5 % would silently allow +500 %
+        raise InputError(
+            f"--max-threshold-increase {text}: a bare number is a fraction (0.05 = 5 %); write '{text} %' for "
+            f"{text} % or '{100 * value:g} %' for a {value:g}-fold rise"
+        )
     return float(value)
 
 

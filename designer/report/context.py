@@ -485,7 +485,7 @@ def _law_panels(data: ReportData, units: str) -> list[Panel]:
                         ["wheel diameter d", size(spec["diameter"], units)],
                         ["groove B", size(spec["groove"], units)],
                         ["bearing friction moment M_f = c_f θ0", f"{spec['friction_moment']:.3f} N·m"],
-                        ["largest measured wheel inertia I_w", f"{spec['max_inertia']:.3e} kg·m²"],
+                        ["largest measured wheel inertia I_w", f"{spec['max_inertia']:.3g} kg·m²"],
                     ],
                     numeric=[False, True],
                 ),

@@ -54,8 +54,7 @@ PLAIN_RULES = {
     "cap_threshold": "the easiest to turn among {what} that climb the sill with at most {cap:.0f} N",
     "cap_turning": "the easiest over the sill among {what} that turn with at most {cap:.1f} N",
     "end": "the best of the few casters {what} allow (least J = {w0:g} F_turn + {w1:g} P)",
-    "concave": "the least total force ({j}) among {what}, as no caster between the two extremes balances "
-    "turning and the sill better",
+    "concave": "the lowest combined force among {what} ({j})",
 }
 """The recommendation's rule in plain words, by kind (the terms are in the report's glossary)."""
 
@@ -70,9 +69,13 @@ def plain_rule(problem, rec) -> str:
         return PLAIN_RULES["cap_turning"].format(what=what, cap=problem.max_turning_effort)
     if rec.rule.startswith("knee"):
         return PLAIN_RULES["knee"].format(what=what)
-    if rec.rule.startswith("least J") and "ends" in rec.rule:
+    if rec.rule.startswith("least J") and "has no knee" in rec.rule:
         w0, w1 = problem.weights
-        j = "F_turn + P" if (w0, w1) == (1, 1) else f"{w0:g} F_turn + {w1:g} P"
+        j = (
+            "turning effort plus sill force, a newton of each counted alike"
+            if (w0, w1) == (1, 1)
+            else f"{w0:g} × turning effort + {w1:g} × sill force, the problem's weights"
+        )
         return PLAIN_RULES["concave"].format(what=what, j=j)
     if rec.rule.startswith("least J"):
         w0, w1 = problem.weights

@@ -88,18 +88,18 @@ def test_sill_in_mm_is_shown_in_mm(stub, tmp_path):
 
 def test_one_caster_in_plain_words_first(stub, tmp_path):
     """The card holds one caster: its headline, a plain-words lead (indoor-manual's buildable front has three
-    points and no knee, so "the least total force (F_turn + P) among the parts you can buy, as no caster between
-    the two extremes ..."; a knee would read "the best balance ..."), its drawing and a one-row table with "P(shimmy) ± SE" and "swept radius"; the terms (knee, risk-bounded
+    points and no knee, so "the lowest combined force among the parts you can buy (turning effort plus sill force,
+    a newton of each counted alike)"; a knee would read "the best balance ..."), its drawing and a one-row table with "P(shimmy) ± SE" and "swept radius"; the terms (knee, risk-bounded
     front, α + 2 SE) are in the glossary under it; the continuous knee and the weighted optimum only further
     down."""
     folder = write_report(stub, tmp_path / "r")
     html = (folder / "index.html").read_text()
     card = html[html.index('id="build"') : html.index("</section>")]
     lead = re.search(r'<p class="lead">(.*?)</p>', card).group(1)
-    assert stub.recommendation.rule.startswith("least J = 1 F_turn + 1 P of the buildable front's ends")
+    assert stub.recommendation.rule.startswith("least J = 1 F_turn + 1 P: the buildable front has no knee")
     assert lead.startswith(
-        "The least total force (F_turn + P) among the parts you can buy, as no caster between the two extremes "
-        "balances turning and the sill better: "
+        "The lowest combined force among the parts you can buy (turning effort plus sill force, a newton of each "
+        "counted alike): "
     )
     assert "knee" not in lead and "front" not in lead
     table = card[card.index('<table class="card">') : card.index("</table>")]

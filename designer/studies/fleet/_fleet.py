@@ -263,7 +263,8 @@ class FleetResult(Record):
         )
 
     def sku_records(self) -> list[dict[str, Any]]:
-        """``[{"id", "design", "chairs", "count"}]`` of the chosen part numbers."""
+        """``[{"id", "design", "wheel", "extrapolated", "chairs", "count"}]`` of the chosen part numbers
+        (``extrapolated``: the wheel's d lies outside Table 1's 4–8 in, as on every design record)."""
         if self.skus is None or self.skus.assignment is None:
             return []
         feasible = np.flatnonzero(self.feasible)
@@ -275,6 +276,7 @@ class FleetResult(Record):
                     "id": k + 1,
                     "design": self.stock.design(j),
                     "wheel": str(self.stock.wheel[j]) or None,
+                    "extrapolated": bool(self.stock.extrapolated[j]),
                     "chairs": len(mine),
                     "count": int(self.fleet.count[mine].sum()),
                 }

@@ -236,8 +236,14 @@ class Solution(Record):
             f"  turning effort        {self.objectives['turning_effort']:8.3f} N",
             f"  threshold force       {self.objectives['threshold_force']:8.3f} N",
             f"  weighted J            {self.objectives['weighted']:8.3f} N   (weights {self.weights[0]:g}, {self.weights[1]:g})",
-            f"  critical speed V_c    {self.critical_speed:8.3f} m/s (required {p.required_speed:.3f}; "
-            f"margin {self.constraints['shimmy']:+.2e})",
+            (
+                f"  critical speed V_c    {self.critical_speed:8.3f} m/s (Eq. 7; required {p.required_speed:.3f}, "
+                f"margin {self.constraints['shimmy']:+.3g} m/s)"
+                if p.risk is None
+                else f"  critical speed V_c    {self.critical_speed:8.3f} m/s (Eq. 7); held with probability "
+                f"{1 - float(p.risk.probability):.0%}: V_q {p.required_speed + self.constraints['shimmy']:.3f} m/s "
+                f"(required {p.required_speed:.3f}, margin {self.constraints['shimmy']:+.2e} m/s)"
+            ),
             "",
             *self._robust_lines(),
             "  active constraints:   " + (", ".join(self.active) if self.active else "none"),

@@ -152,8 +152,8 @@ class Recommendation(Record):
             sp = self.spec
             extra.append(
                 f"  spec: T {sp['trail'] / INCH:.3f} in, d {sp['diameter'] / INCH:.3f} in, B {sp['groove'] / INCH:.3f} in, "
-                f"bearing friction moment M_f = {sp['friction_moment']:.3f} N·m, measured I_w at most "
-                f"{sp['max_inertia']:.3e} kg·m²"
+                f"bearing friction moment M_f = {sp['friction_moment']:.3f} N·m; a wheel measured at up to "
+                f"{sp['max_inertia']:.3g} kg·m² still meets the risk bound on this fork"
             )
         return [
             f"  trail T             {d.trail / INCH:8.3f} in   {d.trail * 1000:8.2f} mm",
@@ -187,7 +187,7 @@ class Recommendation(Record):
         md = m["design"]
         if all(abs(md[k] - getattr(d, k)) <= 1e-12 for k in md):
             return text + (
-                f" Measuring the wheel (accepted under {m['inertia']:.3g} kg·m²) changes no part; its risk is "
+                f" Measuring the wheel (accepted at or under {m['inertia']:.3g} kg·m²) changes no part; its risk is "
                 f"{100 * m['shimmy_probability']:.1f} %."
             )
         gains = []  # both changes, a cost as plainly as a saving (J never rises, but one force may)
@@ -198,8 +198,9 @@ class Recommendation(Record):
             if abs(m[key]) > 1e-9:
                 gains.append(f"{abs(m[key]):.2g} N {easier if m[key] > 0 else harder}")
         return text + (
-            f" A wheel measured under {m['inertia']:.3g} kg·m² lets you build d {size(md['diameter'])}, "
-            f"T {size(md['trail'])}, B {size(md['groove'])}, c_f {md['damping']:.3g} N·m/rad"
+            f" If you measure the wheel: a {size(md['diameter'])} wheel measured at or under {m['inertia']:.3g} kg·m² "
+            f"(Table 1's power law at that size) lets you build T {size(md['trail'])}, B {size(md['groove'])}, "
+            f"c_f {md['damping']:.3g} N·m/rad instead"
             + (f", {' and '.join(gains)}" if gains else "")
             + f" (P(shimmy) {100 * m['shimmy_probability']:.1f} %)."
         )
@@ -318,7 +319,7 @@ class Recommendation(Record):
         if self.extrapolated:
             rows.append(("outside Table 1's 4–8 in", "yes: the inertia fit and Eq. 7's check extrapolate", ""))
         if self.spec is not None:
-            rows.append(("spec: largest measured wheel inertia", f"{self.spec['max_inertia']:.3e}", "kg·m²"))
+            rows.append(("spec: largest measured wheel inertia", f"{self.spec['max_inertia']:.3g}", "kg·m²"))
             rows.append(("spec: bearing friction moment M_f = c_f θ0", f"{self.spec['friction_moment']:.3f}", "N·m"))
         return rows
 

@@ -18,8 +18,8 @@ RULES = {
     "cap_threshold": "least turning effort with sill force <= {cap:.1f} N",
     "cap_turning": "least sill force with turning effort <= {cap:.2f} N",
     "end": "least J = {w0:g} F_turn + {w1:g} P of a buildable front of fewer than three points (no knee)",
-    "concave": "least J = {w0:g} F_turn + {w1:g} P of the buildable front's ends (no point bulges toward the ideal: "
-    "no knee)",
+    "concave": "least J = {w0:g} F_turn + {w1:g} P: the buildable front has no knee (no caster between its ends "
+    "bulges toward the ideal)",
 }
 """How the recommendation is chosen (the text of ``Recommendation.rule``)."""
 

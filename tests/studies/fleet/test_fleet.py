@@ -507,7 +507,9 @@ def test_fleet_cli_writes_csv_json_and_report(tmp_path, capsys, root):
     data = json.loads(capsys.readouterr().out)
     assert data["k"] == 2 and len(data["skus"]) == 2 and data["sku_status"] in ("optimal", "optimal-by-bound")
     assert sum(s["chairs"] for s in data["skus"]) == data["feasible_chairs"]
-    assert {"id", "design", "chairs", "count"} <= set(data["skus"][0])
+    assert {"id", "design", "chairs", "count", "extrapolated"} <= set(data["skus"][0])
+    for sku in data["skus"]:  # every design record says whether its wheel is outside Table 1's 4–8 in
+        assert sku["extrapolated"] == (not 4 * INCH * 0.999 <= sku["design"]["diameter"] <= 8 * INCH * 1.001)
     assert [c["k"] for c in data["regret_curve"]] == [1, 2, 3]
     regrets = [c["total_regret_N"] for c in data["regret_curve"] if c["total_regret_N"] is not None]
     assert regrets == sorted(regrets, reverse=True)

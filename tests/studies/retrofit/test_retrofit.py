@@ -579,6 +579,26 @@ def test_threshold_limit_from_the_file_and_the_option(tmp_path, capsys):
     assert err.count("\n") == 1 and "--max-threshold-increase 12: must be from 0 to 10" in err
 
 
+def test_a_bare_number_of_one_or_more_is_not_taken_for_a_percentage(tmp_path, capsys):
+    """'5' for the sill-force limit would be +500 % (a bare number is a fraction): refused in one line that says
+    how to write 5 % or a fivefold rise, on the command line (exit 2) and in the problem file (exit 3); '5 %' and
+    0.05 are 5 %, and '500 %' is still allowed."""
+    assert main(["fix", str(DEFAULT), "--current", MUST_SHOW, "--max-threshold-increase", "5"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--max-threshold-increase 5: a bare number is a fraction (0.05 = 5 %)" in err
+    assert main(["fix", str(DEFAULT), "--current", MUST_SHOW, "--json", "--max-threshold-increase", "5 %"]) == 0
+    assert json.loads(capsys.readouterr().out)["max_threshold_increase"] == pytest.approx(0.05)
+    path = tmp_path / "p.toml"
+    path.write_text(DEFAULT.read_text() + "\n[retrofit]\nmax_threshold_increase = 5\n")
+    assert main(["fix", str(path), "--current", MUST_SHOW]) == 3
+    err = capsys.readouterr().err
+    assert "retrofit.max_threshold_increase = 5: a bare number is a fraction" in err and err.count("\n") == 1
+    path.write_text(DEFAULT.read_text() + '\n[retrofit]\nmax_threshold_increase = "500 %"\n')
+    assert load_problem(path).max_threshold_increase == pytest.approx(5.0)
+    path.write_text(DEFAULT.read_text() + "\n[retrofit]\nmax_threshold_increase = 0.05\n")
+    assert load_problem(path).max_threshold_increase == pytest.approx(0.05)
+
+
 @pytest.mark.parametrize(
     "stock, message",
     [
