@@ -10,6 +10,7 @@ from designer.errors import InputError
 from designer.physics.scatter import inertia_prediction
 from designer.studies.recommend import recommend, weights_meaning
 from designer.problem import check_weights, load_problem
+from designer.units import written_size
 
 
 def register(sub) -> None:
@@ -50,6 +51,16 @@ def parse_weights(text: str | None):
     return check_weights(values, "--weights", error=InputError)
 
 
+def conditions_line(problem) -> str:
+    """What the answer was computed for, in one line: the load per front caster (from ``load``, or from ``mass``
+    and ``front_fraction``: L = m g f / 2), the sill, the floor and the turning mode."""
+    c = problem.conditions
+    return (
+        f"For a load of {c.load:.1f} N per front caster, a {written_size(c.threshold_height, problem.units)} sill, "
+        f"{c.surface} floor, turning mode {c.turning_mode}:"
+    )
+
+
 def run(args) -> int:
     weights = parse_weights(args.weights)  # the options first: a bad one is named before the file is read
     speed = ranged_option(args.target_speed, "target_speed", "--target-speed")
@@ -67,11 +78,19 @@ def run(args) -> int:
         data["recommendation"] = rec.to_dict()
         data["alternatives"] = [a.to_dict() for a in rec.alternatives]
         data["weights"] = used
+        c = problem.conditions
+        data["conditions"] = {
+            "load_N": c.load,
+            "threshold_height_m": c.threshold_height,
+            "surface": c.surface,
+            "turning_mode": c.turning_mode,
+        }
         data["weights_meaning"] = weights_meaning(used)
         if rec.note:
             data["recommendation_note"] = rec.note
         print_json(data)
     else:
+        print(conditions_line(problem))
         print(rec)
         print()
         print(

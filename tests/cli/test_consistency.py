@@ -117,3 +117,23 @@ def test_evaluate_shows_the_load_and_sill_it_used(capsys):
     assert main(base + ["--load", "215.7 N", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["load"] == 215.7 and data["threshold_height"] == pytest.approx(0.0127)
+
+
+def test_run_says_the_load_it_used_from_a_mass(tmp_path, capsys):
+    """A problem file with mass = "110 kg" and front_fraction = 0.4: `designer run` names the load it computed
+    for (L = m g f / 2 = 215.7463 N per front caster, by hand), the sill, floor and turning mode on its first
+    line, and --json has them under "conditions"."""
+    from conftest import ROOT
+
+    text = (ROOT / "problems" / "indoor-manual.toml").read_text()
+    lines = [ln for ln in text.splitlines() if not ln.startswith("load =")]
+    at = lines.index("[conditions]") + 1
+    path = tmp_path / "mass.toml"
+    path.write_text("\n".join(lines[:at] + ['mass = "110 kg"', "front_fraction = 0.4"] + lines[at:]) + "\n")
+    assert main(["run", str(path), "--no-cross-check"]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first == "For a load of 215.7 N per front caster, a 1/2 in sill, tile floor, turning mode chair:"
+    assert main(["run", str(path), "--no-cross-check", "--json"]) == 0
+    conditions = json.loads(capsys.readouterr().out)["conditions"]
+    assert conditions["load_N"] == pytest.approx(110 * 9.80665 * 0.4 / 2, rel=1e-12)
+    assert conditions["threshold_height_m"] == pytest.approx(0.0127)
