@@ -17,8 +17,9 @@ def register(sub) -> None:
         help="retrofit: the cheapest safe change to the caster you have",
         description="Diagnose the current caster (V_c of Eq. 7, P(shimmy at V_target) with its standard error, "
         "turning effort, sill force) and rank the fixes from the problem's [stock] (washer, tyre, fork hole, "
-        "wheel): among those that meet the risk bound and the swept-radius limit and keep the sill force within "
-        "[retrofit] max_threshold_increase (default +10 %), the cheapest first ([stock] costs), then the "
+        "wheel): among those that meet the risk bound and the swept-radius limit and keep the sill force and the "
+        "turning effort within [retrofit] max_threshold_increase and max_turning_increase (default +10 % each), "
+        "the cheapest first ([stock] costs), then the "
         "smallest loss in J = w_turn F_turn + w_threshold P; the others are listed apart. The answer comes "
         "first, in words; the table fits the terminal (COLUMNS), --wide shows every column. See docs/retrofit.md.",
     )
@@ -55,6 +56,13 @@ def register(sub) -> None:
         help="override [retrofit] max_threshold_increase: how much a fix may raise the sill force, e.g. 0.15 or "
         "'15 %%' (default the problem's, 10 %%)",
     )
+    p.add_argument(
+        "--max-turning-increase",
+        default=None,
+        metavar="FRACTION",
+        help="override [retrofit] max_turning_increase: how much a fix may raise the turning effort, e.g. 0.15 "
+        "or '15 %%' (default the problem's, 10 %%)",
+    )
     p.add_argument("--top", type=int, default=10, help="fixes to list (0: all found; default 10)")
     p.add_argument("--wide", action="store_true", help="every column of the table (wider than 80 characters)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
@@ -64,6 +72,7 @@ def register(sub) -> None:
 def run(args) -> int:
     speed = ranged_option(args.target_speed, "target_speed", "--target-speed")  # options before the file
     increase = _increase(args.max_threshold_increase)
+    turning = _increase(args.max_turning_increase, "--max-turning-increase")
     if args.top < 0:
         raise InputError(f"--top {args.top}: must be 0 (all) or a positive number")
     problem = load_problem(args.problem)
@@ -71,6 +80,8 @@ def run(args) -> int:
         problem = problem.replace(target_speed=speed)
     if increase is not None:
         problem = problem.replace(max_threshold_increase=increase)
+    if turning is not None:
+        problem = problem.replace(max_turning_increase=turning)
     current = parse_current(args.current)
     inertia = None if args.inertia is None else quantity_option(args.inertia, "inertia", "--inertia")
     shimmied = None if args.shimmied_at is None else quantity_option(args.shimmied_at, "speed", "--shimmied-at")
@@ -105,16 +116,17 @@ def run(args) -> int:
     return 0
 
 
-def _increase(text: str | None) -> float | None:
-    """``--max-threshold-increase``: a fraction from 0 to 10 (``0.15`` or ``"15 %"``); InputError naming it."""
+def _increase(text: str | None, option: str = "--max-threshold-increase") -> float | None:
+    """``--max-threshold-increase`` or ``--max-turning-increase``: a fraction from 0 to 10 (``0.15`` or
+    ``"15 %"``); InputError naming it."""
     if text is None:
         return None
-    value = quantity_option(text, "dimensionless", "--max-threshold-increase")
+    value = quantity_option(text, "dimensionless", option)
     if not 0 <= value <= 10:
-        raise InputError(f"--max-threshold-increase {text}: must be from 0 to 10 (0.1 or '10 %')")
+        raise InputError(f"{option} {text}: must be from 0 to 10 (0.1 or '10 %')")
     if value >= 1 and "%" not in text:  # '5' meant as 5 % would silently allow +500 %
         raise InputError(
-            f"--max-threshold-increase {text}: a bare number is a fraction (0.05 = 5 %); write '{text} %' for "
+            f"{option} {text}: a bare number is a fraction (0.05 = 5 %); write '{text} %' for "
             f"{text} % or '{100 * value:g} %' for a {value:g}-fold rise"
         )
     return float(value)
@@ -130,7 +142,7 @@ def _console(wide: bool):
 
 def _print(result, problem, wide: bool = False, top: int = 10) -> None:
     """The text output: the answer first, in words; the current caster; what each part can become; the rule; the
-    fixes within the sill-force limit, then those beyond it (each table fits the console's width)."""
+    fixes within the limits (sill force, turning effort), then those beyond them (each table fits the console's width)."""
     from rich.markup import escape
 
     console = _console(wide)
@@ -144,19 +156,19 @@ def _print(result, problem, wide: bool = False, top: int = 10) -> None:
     for part, text in result.stock.items():
         console.print(f"  {part:<10} {escape(text)}")
     console.print(escape(f"Rule: {result.rule}."))
-    limit = f"+{result.max_threshold_increase:.0%}"
+    limit = f"+{result.max_threshold_increase:.0%} sill force and +{result.max_turning_increase:.0%} turning effort"
     shown = list(result.fixes)
     if result.fixes:
         _print_table(
             console,
             result,
             result.fixes,
-            f"Fixes within {limit} sill force ({result.found} found, {len(result.fixes)} shown)",
+            f"Fixes within {limit} ({result.found} found, {len(result.fixes)} shown)",
             wide,
             conf,
         )
     else:
-        console.print(f"No fix keeps the sill force within {limit} of the current caster's.")
+        console.print(f"No fix keeps within {limit} of the current caster's.")
     if result.beyond:
         apart = result.beyond if not result.fixes or wide else result.beyond[: min(3, top or 3)]
         shown += apart
@@ -164,8 +176,8 @@ def _print(result, problem, wide: bool = False, top: int = 10) -> None:
             console,
             result,
             apart,
-            f"Beyond the limit, listed apart: the sill force rises more than {limit} ({result.found_beyond} found, "
-            f"{len(apart)} shown; --json --top 0 lists all)",
+            f"Beyond the limits, listed apart ({result.found_beyond} found, {len(apart)} shown; --json --top 0 lists "
+            "all)",
             wide,
             conf,
         )

@@ -21,6 +21,7 @@ from __future__ import annotations
 from designer.problem._core import (
     DEFAULT_BOUNDS,
     DEFAULT_MAX_THRESHOLD_INCREASE,
+    DEFAULT_MAX_TURNING_INCREASE,
     DEFAULT_PART_COSTS,
     PART_KINDS,
     INERTIA_MODELS,
@@ -55,6 +56,7 @@ from designer.problem._loader import (
 __all__ = [
     "DEFAULT_BOUNDS",
     "DEFAULT_MAX_THRESHOLD_INCREASE",
+    "DEFAULT_MAX_TURNING_INCREASE",
     "DEFAULT_PART_COSTS",
     "PART_KINDS",
     "INERTIA_MODELS",

@@ -132,7 +132,7 @@ SCHEMA: dict[str, dict[str, str]] = {
         "costs": "table",
     },
     "report": {"units": "str"},
-    "retrofit": {"max_threshold_increase": "dimensionless"},
+    "retrofit": {"max_threshold_increase": "dimensionless", "max_turning_increase": "dimensionless"},
 }
 """Allowed keys per section: key -> dimension (or a type tag).  The model constants' keys are added from
 the parameter table just below, so a new constant needs no line here."""
@@ -169,6 +169,9 @@ DEFAULT_PART_COSTS = {"washer": 1.0, "tyre": 2.0, "fork hole": 3.0, "wheel": 4.0
 sees (a friction washer, a tyre, another fork hole or a new fork, a wheel); relative units, any currency."""
 
 DEFAULT_MAX_THRESHOLD_INCREASE = 0.10
+DEFAULT_MAX_TURNING_INCREASE = 0.10
+"""``[retrofit] max_turning_increase``: a fix may raise the turning effort by at most 10 % of the current
+caster's (a cheap fix that makes the chair much harder to turn is not one a clinician fits)."""
 """``[retrofit] max_threshold_increase``: a fix may raise the sill force by at most 10 % of the current caster's
 (a clinician's limit: about 10 N on a 100 N sill force, what a user notices over a door sill)."""
 
@@ -284,6 +287,7 @@ class Problem(Record):
     max_threshold_force : cap on P [N]: the recommendation is the least F_turn within it
     max_turning_effort : cap on F_turn [N]: the recommendation is the least P within it
     max_threshold_increase : a retrofit's limit on the sill force, relative to the current caster's [-]
+    max_turning_increase : a retrofit's limit on the turning effort, relative to the current caster's [-]
     choices : categorical options for exploration {"surface": (...), ...}
     description : free text (whose chair, why these numbers)
     source : the file it was read from, if any
@@ -306,6 +310,7 @@ class Problem(Record):
     max_threshold_force: float | None = None
     max_turning_effort: float | None = None
     max_threshold_increase: float = DEFAULT_MAX_THRESHOLD_INCREASE
+    max_turning_increase: float = DEFAULT_MAX_TURNING_INCREASE
     description: str = ""
     source: str | None = None
     units: str = field(default="in", compare=False)  # display only: equal problems may write sizes otherwise
@@ -450,6 +455,7 @@ class Problem(Record):
             "max_threshold_force": self.max_threshold_force,
             "max_turning_effort": self.max_turning_effort,
             "max_threshold_increase": self.max_threshold_increase,
+            "max_turning_increase": self.max_turning_increase,
             "turning": {
                 "tile_moment_per_load": c.turning.tile_moment_per_load,
                 "carpet_factor": c.turning.carpet_factor,
@@ -486,6 +492,11 @@ def _validate(problem: Problem, prefix: str = "") -> None:
         fail(
             f"retrofit.max_threshold_increase = {problem.max_threshold_increase:g}: must be from 0 to 10 "
             "(0.1 or '10 %': a fix may raise the sill force by 10 % of the current caster's)"
+        )
+    if not (math.isfinite(problem.max_turning_increase) and 0 <= problem.max_turning_increase <= 10):
+        fail(
+            f"retrofit.max_turning_increase = {problem.max_turning_increase:g}: must be from 0 to 10 "
+            "(0.1 or '10 %': a fix may raise the turning effort by 10 % of the current caster's)"
         )
     if problem.units not in REPORT_UNITS:
         fail(f"report.units = {problem.units!r}: expected one of {', '.join(REPORT_UNITS)}")

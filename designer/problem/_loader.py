@@ -30,6 +30,7 @@ from designer.problem._core import (
     show_key,
     DEFAULT_BOUNDS,
     DEFAULT_MAX_THRESHOLD_INCREASE,
+    DEFAULT_MAX_TURNING_INCREASE,
     INERTIA_MODELS,
     MAX_SAMPLES,
     PROBABILITY_RANGE,
@@ -250,12 +251,14 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
     choices = _choices(r)
     units = _report_units(r)
     increase = r.quantity("retrofit", "max_threshold_increase", "dimensionless", DEFAULT_MAX_THRESHOLD_INCREASE)
-    raw = r.section("retrofit").get("max_threshold_increase") if "retrofit" in data else None
-    if isinstance(raw, (int, float)) and not isinstance(raw, bool) and raw >= 1:  # '5' meant as 5 % is +500 %
-        r.fail(
-            f"retrofit.max_threshold_increase = {raw!r}: a bare number is a fraction (0.05 = 5 %); write "
-            f'"{raw} %" for {raw} % or "{100 * raw:g} %" for a {raw:g}-fold rise'
-        )
+    turning = r.quantity("retrofit", "max_turning_increase", "dimensionless", DEFAULT_MAX_TURNING_INCREASE)
+    for key in ("max_threshold_increase", "max_turning_increase"):
+        raw = r.section("retrofit").get(key) if "retrofit" in data else None
+        if isinstance(raw, (int, float)) and not isinstance(raw, bool) and raw >= 1:  # '5' meant as 5 % is +500 %
+            r.fail(
+                f"retrofit.{key} = {raw!r}: a bare number is a fraction (0.05 = 5 %); write "
+                f'"{raw} %" for {raw} % or "{100 * raw:g} %" for a {raw:g}-fold rise'
+            )
 
     target_speed = _value(r, "target_speed")
     assert target_speed is not None  # the key is present (checked above)
@@ -278,6 +281,7 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
         source=source,
         units=units,
         max_threshold_increase=increase,
+        max_turning_increase=turning,
     )
 
 

@@ -21,10 +21,11 @@ from designer.studies.retrofit._options import _show
 
 RULE = (
     "among the fixes that meet the risk bound and the swept-radius limit and raise the sill force by at most "
-    "[retrofit] max_threshold_increase (default 10%), the cheapest first (the sum of the [stock] costs of the "
-    "parts changed), then the smallest loss w_turn·ΔF_turn + w_threshold·ΔP [N] (a negative loss is a gain), "
-    "then the smaller ΔP, the smaller ΔF_turn, the higher speed reached with probability 1 − α; the others are "
-    "listed apart, the smallest rise of the sill force first"
+    "[retrofit] max_threshold_increase and the turning effort by at most [retrofit] max_turning_increase "
+    "(default 10% each), the cheapest first (the sum of the [stock] costs of the parts changed), then the "
+    "smallest loss w_turn·ΔF_turn + w_threshold·ΔP [N] (a negative loss is a gain), then the smaller ΔP, the "
+    "smaller ΔF_turn, the higher speed reached with probability 1 − α; the others are listed apart, the "
+    "smallest overshoot of either limit first"
 )
 """The ranking rule, as printed in every output."""
 
@@ -98,7 +99,9 @@ class CasterState(Record):
     cost_turning_effort, cost_threshold_force, loss : ΔF_turn, ΔP and w_turn ΔF_turn + w_threshold ΔP [N]
     parts_cost : the sum of the [stock] costs of the parts changed (relative units; 0 for the current caster)
     threshold_increase : ΔP / P of the current caster [-]
-    within_limit : threshold_increase <= the retrofit's max_threshold_increase
+    turning_increase : ΔF_turn / F_turn of the current caster [-]
+    within_limit : threshold_increase <= the retrofit's max_threshold_increase and turning_increase <= its
+        max_turning_increase
     extrapolated : the wheel's diameter lies outside Table 1's 4–8 in (its I_w and Eq. 7 are extrapolations)
     measured : the wheel's I_w was measured (``--inertia``, a catalogue wheel); else it is known by its diameter
         (Table 1's prediction interval in the risk law)
@@ -122,6 +125,7 @@ class CasterState(Record):
     loss: float = 0.0
     parts_cost: float = 0.0
     threshold_increase: float = 0.0
+    turning_increase: float = 0.0
     within_limit: bool = True
     extrapolated: bool = False
     measured: bool = True
@@ -189,6 +193,7 @@ class CasterState(Record):
             }
             out["parts_cost"] = self.parts_cost
             out["threshold_increase"] = self.threshold_increase
+            out["turning_increase"] = self.turning_increase
             out["within_limit"] = bool(self.within_limit)
         return out
 
@@ -258,13 +263,14 @@ class FixResult(Record):
     stem_angle : φ [rad]
     calibration : Calibration | None
     current : CasterState of the caster as it is
-    fixes : ranked CasterState list of the fixes within the sill-force limit (all found, or the first ``limit``)
+    fixes : ranked CasterState list of the fixes within the limits (sill force and turning effort) (all found, or the first ``limit``)
     found : how many fixes within the limit were found before ``limit``
     rule : the ranking rule
     stock : what each part can become (its values, where they come from, its cost)
-    beyond : the fixes beyond the sill-force limit, listed apart (the smallest increase first)
+    beyond : the fixes beyond either limit, listed apart (the smallest overshoot first)
     found_beyond : how many of those were found
     max_threshold_increase : the sill-force limit, relative to the current caster's [-]
+    max_turning_increase : the turning-effort limit, relative to the current caster's [-]
     searched : which combinations of parts were searched
     units : how sizes are written ("in" to 1/16, "mm" to 0.1)
     if_measured : without ``--inertia`` (the current wheel known by its diameter), the same retrofit for the wheel
@@ -287,6 +293,7 @@ class FixResult(Record):
     beyond: list[CasterState] = field(default_factory=list)
     found_beyond: int = 0
     max_threshold_increase: float = 0.10
+    max_turning_increase: float = 0.10
     searched: str = ""
     units: str = "in"
     if_measured: dict[str, Any] | None = None
@@ -305,7 +312,7 @@ class FixResult(Record):
 
     @property
     def best(self) -> CasterState | None:
-        """The answer: the first fix within the sill-force limit, else the least bad beyond it (None: no fix)."""
+        """The answer: the first fix within the limits, else the least bad beyond it (None: no fix)."""
         return self.fixes[0] if self.fixes else (self.beyond[0] if self.beyond else None)
 
     def summary(self) -> str:
@@ -319,7 +326,8 @@ class FixResult(Record):
         lead = (
             "Best fix: "
             if self.fixes
-            else f"No fix keeps the sill force within +{self.max_threshold_increase:.0%}; the least bad: "
+            else f"No fix keeps the sill force within +{self.max_threshold_increase:.0%} and the turning effort "
+            f"within +{self.max_turning_increase:.0%}; the least bad: "
         )
         return lead + fix_sentence(best, self.current, self.units, self.probability)
 
@@ -339,6 +347,7 @@ class FixResult(Record):
             "single_part_fix_exists": self.single_part_fix_exists,
             "summary": self.summary(),
             "max_threshold_increase": self.max_threshold_increase,
+            "max_turning_increase": self.max_turning_increase,
             "searched": self.searched,
             "current": self.current.to_dict(),
             "fixes_found": self.found,

@@ -19,10 +19,11 @@ what to change on the one that shimmies.  :func:`fix` answers with numbers:
    trail T, wheel = diameter d with I_w from the inertia model, or a
    catalogue wheel) to values that exist (:func:`part_options`), meets the
    risk bound and the swept-radius limit.  Those that keep the sill force
-   within ``[retrofit] max_threshold_increase`` of the current caster's are
-   ranked cheapest first (the ``[stock]`` costs of the parts changed), then by
-   the smallest loss in J; the others are listed apart, the smallest increase
-   of the sill force first.
+   within ``[retrofit] max_threshold_increase`` and the turning effort within
+   ``[retrofit] max_turning_increase`` of the current caster's are ranked
+   cheapest first (the ``[stock]`` costs of the parts changed), then by the
+   smallest loss in J; the others are listed apart, the smallest overshoot of
+   either limit first.
 
 Everything is deterministic except the reported P(shimmy), a Monte Carlo
 estimate with its own seed (feasibility and ranking use the quantile).
@@ -39,6 +40,8 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
+
+from typing import Any
 
 import numpy as np
 
@@ -117,7 +120,8 @@ def fix(
     Every combination of the parts on offer is searched (up to :data:`MAX_CANDIDATES`).  Feasibility is
     deterministic: the speed reached with probability 1 − α (the quantile of the risk bound, times k when
     calibrated) >= (1 + margin) V_target, and T + d/2 <= the swept-radius limit.  The fixes that raise the sill
-    force by at most ``problem.max_threshold_increase`` are ranked cheapest first, then by the smallest loss
+    force by at most ``problem.max_threshold_increase`` and the turning effort by at most
+    ``problem.max_turning_increase`` are ranked cheapest first, then by the smallest loss
     (``fixes``); the others are listed apart (``beyond``).  Equations: Eq. 7 (V_c), Eq. 4A (P), Eq. 9 (F_turn).
     """
     if isinstance(problem, str) or hasattr(problem, "__fspath__"):
@@ -262,6 +266,7 @@ def _diagnosis(
         problem.swept_radius_max,
         problem.weights,
         problem.max_threshold_increase,
+        problem.max_turning_increase,
     )
     now = _evaluate(arrays, conditions, stem_angle, factor, bound, setting.limits, setting.monte_carlo)
     return setting, calibration, base, now
@@ -288,6 +293,7 @@ def _fix_result(problem, setting: _Setting, calibration, current_state: CasterSt
         stock=offer,
         scatter=scatter,
         max_threshold_increase=setting.max_increase,
+        max_turning_increase=setting.max_turning,
         units=problem.units,
     )
 
@@ -347,6 +353,14 @@ class _Setting:
     r_max: float | None
     weights: tuple[float, float]
     max_increase: float = 0.10
+    max_turning: float = 0.10
+
+    def overshoot(self, turning_effort: Any, threshold_force: Any, current: CasterState) -> Any:
+        """How far a caster's rises exceed the limits [-]: max(ΔP/P − the sill limit, ΔF/F − the turning limit),
+        each relative to the current caster's force; <= 0 is within both limits (floats or arrays)."""
+        rise_p = (threshold_force - current.threshold_force) / current.threshold_force - self.max_increase
+        rise_f = (turning_effort - current.turning_effort) / current.turning_effort - self.max_turning
+        return np.maximum(rise_p, rise_f)
 
     @property
     def limits(self) -> tuple[float, float | None]:
@@ -374,6 +388,8 @@ class _Setting:
         w_turn, w_threshold = self.weights
         cost_turn, cost_threshold = cost
         increase = 0.0 if base_force is None else float(cost_threshold) / base_force
+        base_turn = float(values.turning_effort[j]) - float(cost_turn)
+        turning = 0.0 if base_force is None else float(cost_turn) / base_turn
         return CasterState(
             design=design,
             inertia=float(inertia),
@@ -393,7 +409,8 @@ class _Setting:
             loss=float(w_turn * cost_turn + w_threshold * cost_threshold),
             parts_cost=float(price),
             threshold_increase=increase,
-            within_limit=bool(increase <= self.max_increase + 1e-12),
+            turning_increase=turning,
+            within_limit=bool(increase <= self.max_increase + 1e-12 and turning <= self.max_turning + 1e-12),
             extrapolated=bool(values.extrapolated[j]),
             measured=bool(values.measured[j]),
         )
@@ -413,22 +430,22 @@ def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current
             f"{MAX_CANDIDATES:,}: a continuous part's grid)"
         )
     values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
-    increase = (values.threshold_force - current_state.threshold_force) / current_state.threshold_force
-    if searched.startswith("one-") and not np.any(values.feasible & (increase <= s.max_increase + 1e-12)):
+    over = s.overshoot(values.turning_effort, values.threshold_force, current_state)
+    if searched.startswith("one-") and not np.any(values.feasible & (over <= 1e-12)):
         more = _enumerate(options, sources, base, max_parts=4, min_parts=3)
         if len(more["trail"]) <= MAX_CANDIDATES:
             more["order"] = more["order"] + len(cands["order"])
             cands = {key: np.concatenate([cands[key], more[key]]) for key in cands}
             values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
-            increase = (values.threshold_force - current_state.threshold_force) / current_state.threshold_force
-            searched = "one- and two-part fixes, then three- and four-part ones (none of the first within the limit)"
+            over = s.overshoot(values.turning_effort, values.threshold_force, current_state)
+            searched = "one- and two-part fixes, then three- and four-part ones (none of the first within the limits)"
     d_turn = values.turning_effort - current_state.turning_effort
     d_force = values.threshold_force - current_state.threshold_force
     loss = np.round(s.weights[0] * d_turn + s.weights[1] * d_force, 9)
     price = np.round(cands["price"], 9)
     feasible = values.feasible
-    inside = np.flatnonzero(feasible & (increase <= s.max_increase + 1e-12))
-    outside = np.flatnonzero(feasible & (increase > s.max_increase + 1e-12))
+    inside = np.flatnonzero(feasible & (over <= 1e-12))
+    outside = np.flatnonzero(feasible & (over > 1e-12))
     ranked = inside[
         np.lexsort(
             (
@@ -441,9 +458,7 @@ def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current
             )
         )
     ]
-    apart = outside[
-        np.lexsort((cands["order"][outside], loss[outside], price[outside], np.round(increase[outside], 9)))
-    ]
+    apart = outside[np.lexsort((cands["order"][outside], loss[outside], price[outside], np.round(over[outside], 9)))]
     return cands, ranked, apart, searched
 
 
