@@ -4,6 +4,8 @@ problem as posed with margins, sensitivities and solver agreement."""
 from __future__ import annotations
 
 import math
+import shutil
+import textwrap
 
 from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
 from designer.errors import InputError
@@ -51,13 +53,36 @@ def parse_weights(text: str | None):
     return check_weights(values, "--weights", error=InputError)
 
 
+def wrapped(text: str) -> str:
+    """``text`` with every line wider than the terminal (``COLUMNS``; 80 when not a terminal) wrapped at word
+    boundaries, its continuation indented two more than the line; narrower lines (the aligned tables) as they are."""
+    width = max(40, shutil.get_terminal_size((80, 24)).columns)
+    out = []
+    for line in text.splitlines():
+        if len(line) <= width:
+            out.append(line)
+            continue
+        indent = " " * (len(line) - len(line.lstrip()))
+        out.append(
+            textwrap.fill(
+                line.strip(),
+                width,
+                initial_indent=indent,
+                subsequent_indent=indent + "  ",
+                break_on_hyphens=False,
+                break_long_words=False,
+            )
+        )
+    return "\n".join(out)
+
+
 def conditions_line(problem) -> str:
     """What the answer was computed for, in one line: the load per front caster (from ``load``, or from ``mass``
     and ``front_fraction``: L = m g f / 2), the sill, the floor and the turning mode."""
     c = problem.conditions
     return (
-        f"For a load of {c.load:.1f} N per front caster, a {written_size(c.threshold_height, problem.units)} sill, "
-        f"{c.surface} floor, turning mode {c.turning_mode}:"
+        f"For {c.load:.1f} N per front caster, a {written_size(c.threshold_height, problem.units)} sill, "
+        f"{c.surface} floor, {c.turning_mode} turning:"
     )
 
 
@@ -90,14 +115,17 @@ def run(args) -> int:
             data["recommendation_note"] = rec.note
         print_json(data)
     else:
-        print(conditions_line(problem))
-        print(rec)
-        print()
-        print(
-            f"Weighted optimum of the problem as posed, continuous and "
-            f"{'risk-bounded' if problem.risk is not None else 'nominal'} ({weights_meaning(used)}):"
+        text = "\n".join(
+            [
+                conditions_line(problem),
+                str(rec),
+                "",
+                f"Weighted optimum of the problem as posed, continuous and "
+                f"{'risk-bounded' if problem.risk is not None else 'nominal'} ({weights_meaning(used)}):",
+                str(solution),
+            ]
         )
-        print(solution)
+        print(wrapped(text))
     if args.verbose:
         t = solution.timings
         eprint(

@@ -132,8 +132,19 @@ def test_run_says_the_load_it_used_from_a_mass(tmp_path, capsys):
     path.write_text("\n".join(lines[:at] + ['mass = "110 kg"', "front_fraction = 0.4"] + lines[at:]) + "\n")
     assert main(["run", str(path), "--no-cross-check"]) == 0
     first = capsys.readouterr().out.splitlines()[0]
-    assert first == "For a load of 215.7 N per front caster, a 1/2 in sill, tile floor, turning mode chair:"
+    assert first == "For 215.7 N per front caster, a 1/2 in sill, tile floor, chair turning:"
     assert main(["run", str(path), "--no-cross-check", "--json"]) == 0
     conditions = json.loads(capsys.readouterr().out)["conditions"]
     assert conditions["load_N"] == pytest.approx(110 * 9.80665 * 0.4 / 2, rel=1e-12)
     assert conditions["threshold_height_m"] == pytest.approx(0.0127)
+
+
+def test_run_fits_the_terminal(monkeypatch, capsys):
+    """`designer run` wraps its prose to the terminal's width (COLUMNS=80: no line wider than 80 characters,
+    the risk sources' sentence and the measured-wheel headline included) and keeps the aligned rows whole."""
+    monkeypatch.setenv("COLUMNS", "80")
+    assert main(["run", "indoor-manual", "--no-cross-check"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert max(len(ln) for ln in lines) <= 80
+    assert any(ln.startswith("  trail T ") and ln.rstrip().endswith("mm") for ln in lines)
+    assert any("dominates the risk" in ln for ln in lines)
