@@ -60,7 +60,11 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
     for name, allow_zero in (("trail", False), ("diameter", False), ("groove", True), ("damping", True)):
         value = values[name]
         if value < 0 or (value == 0 and not allow_zero):
-            raise InputError(f"--{name} {value:g}: must be {'non-negative' if allow_zero else 'positive'}")
+            given = getattr(args, name)
+            raise InputError(
+                f"--{name} {given!r} ({value:g} {'N·m/rad' if name == 'damping' else 'm'}): must be "
+                f"{'non-negative' if allow_zero else 'positive'}"
+            )
     design = Design(**values)
     check_design(design, "--", error=InputError, given={name: getattr(args, name) for name in values})
     c0 = DEFAULT_TURNING.bare_fork_damping

@@ -45,8 +45,8 @@ def test_evaluate_table(capsys):
 @pytest.mark.parametrize(
     "args, fragment",
     [
-        (["--trail", "=-2in"], "--trail -0.0508: must be positive"),
-        (["--trail", "0"], "--trail 0: must be positive"),
+        (["--trail", "=-2in"], "--trail '-2in' (-0.0508 m): must be positive"),
+        (["--trail", "0"], "--trail '0' (0 m): must be positive"),
         (["--diameter", "0.9in"], "--diameter 0.9in: must exceed twice the threshold height"),
         (["--surface", "grass"], "--surface 'grass': expected one of tile, carpet"),
         (["--trail", "2kg"], "--trail = '2 kg': wrong dimension"),

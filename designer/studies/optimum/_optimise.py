@@ -234,7 +234,7 @@ class Solution(Record):
             f"  damping c_f           {d.damping:8.3f} N·m/rad",
             "",
             f"  turning effort        {self.objectives['turning_effort']:8.3f} N",
-            f"  threshold force       {self.objectives['threshold_force']:8.3f} N",
+            f"  sill force            {self.objectives['threshold_force']:8.3f} N",
             f"  weighted J            {self.objectives['weighted']:8.3f} N   (weights {self.weights[0]:g}, {self.weights[1]:g})",
             (
                 f"  critical speed V_c    {self.critical_speed:8.3f} m/s (Eq. 7; required {p.required_speed:.3f}, "
