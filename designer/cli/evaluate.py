@@ -246,23 +246,7 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
             ),
         )
     if speed is not None:
-        verdict = "stable" if values["critical_speed"] >= speed else "SHIMMIES"
-        rows.append(
-            (
-                f"at {speed:.2f} m/s, Eq. 7 alone",
-                f"{verdict}, V_c − speed {values['critical_speed'] - speed:+.3f} m/s (the risk is below)",
-                "Eq. 7",
-            )
-        )
-        rows.append(("growth rate μ at that speed", f"{values['growth_rate']:+.3g} 1/s", "Eq. 12B"))
-        risk = out["risk"]
-        rows.append(
-            (
-                f"P(shimmy at {speed:.2f} m/s)",
-                f"{100 * risk['probability']:.2f} % ± {100 * risk['se']:.2f}",
-                "Monte Carlo of the risk law (docs/model.md, Shimmy risk)",
-            )
-        )
+        rows += _speed_rows(values, speed, out["risk"])
     for row in rows:
         table.add_row(*row)
     console = Console(width=max(Console().width, 100))
@@ -276,6 +260,21 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
             f"warning: d = {design.diameter / INCH:.3g} in lies outside Table 1's 4–8 in: the inertia fit and "
             "Eq. 7's check are extrapolated"
         )
+
+
+def _speed_rows(values: dict, speed: float, risk: dict) -> list[tuple[str, str, str]]:
+    """The rows at the target speed: Eq. 7's verdict alone, the growth rate (Eq. 12B), P(shimmy) ± SE."""
+    verdict = "stable" if values["critical_speed"] >= speed else "SHIMMIES"
+    gap = f"{verdict}, V_c − speed {values['critical_speed'] - speed:+.3f} m/s (the risk is below)"
+    return [
+        (f"at {speed:.2f} m/s, Eq. 7 alone", gap, "Eq. 7"),
+        ("growth rate μ at that speed", f"{values['growth_rate']:+.3g} 1/s", "Eq. 12B"),
+        (
+            f"P(shimmy at {speed:.2f} m/s)",
+            f"{100 * risk['probability']:.2f} % ± {100 * risk['se']:.2f} %",
+            "Monte Carlo of the risk law (docs/model.md, Shimmy risk)",
+        ),
+    ]
 
 
 def _print_sources(console, risk: dict) -> None:

@@ -195,6 +195,21 @@ class _Reader:
         return float(value)
 
 
+def _retrofit_limits(r: Any, data: dict[str, Any]) -> tuple[float, float]:
+    """``[retrofit] max_threshold_increase`` and ``max_turning_increase`` [-]; a bare number of 1 or more is
+    refused (``5`` meant as 5 % would be +500 %: write ``"5 %"``)."""
+    for key in ("max_threshold_increase", "max_turning_increase"):
+        raw = r.section("retrofit").get(key) if "retrofit" in data else None
+        if isinstance(raw, (int, float)) and not isinstance(raw, bool) and raw >= 1:
+            r.fail(
+                f"retrofit.{key} = {raw!r}: a bare number is a fraction (0.05 = 5 %); write "
+                f'"{raw} %" for {raw} % or "{100 * raw:g} %" for a {raw:g}-fold rise'
+            )
+    increase = r.quantity("retrofit", "max_threshold_increase", "dimensionless", DEFAULT_MAX_THRESHOLD_INCREASE)
+    turning = r.quantity("retrofit", "max_turning_increase", "dimensionless", DEFAULT_MAX_TURNING_INCREASE)
+    return increase, turning
+
+
 def problem_from_dict(data: dict[str, Any], source: str | None = None, default_name: str = "problem") -> Problem:
     """Build a validated :class:`Problem` from a dict with the problem-file schema.
 
@@ -250,15 +265,7 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
 
     choices = _choices(r)
     units = _report_units(r)
-    increase = r.quantity("retrofit", "max_threshold_increase", "dimensionless", DEFAULT_MAX_THRESHOLD_INCREASE)
-    turning = r.quantity("retrofit", "max_turning_increase", "dimensionless", DEFAULT_MAX_TURNING_INCREASE)
-    for key in ("max_threshold_increase", "max_turning_increase"):
-        raw = r.section("retrofit").get(key) if "retrofit" in data else None
-        if isinstance(raw, (int, float)) and not isinstance(raw, bool) and raw >= 1:  # '5' meant as 5 % is +500 %
-            r.fail(
-                f"retrofit.{key} = {raw!r}: a bare number is a fraction (0.05 = 5 %); write "
-                f'"{raw} %" for {raw} % or "{100 * raw:g} %" for a {raw:g}-fold rise'
-            )
+    increase, turning = _retrofit_limits(r, data)
 
     target_speed = _value(r, "target_speed")
     assert target_speed is not None  # the key is present (checked above)
