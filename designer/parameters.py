@@ -197,6 +197,9 @@ VARIABLES: tuple[str, ...] = tuple(p.name for p in VARIABLE_TABLE)
 VARIABLE_INDEX: dict[str, int] = {name: k for k, name in enumerate(VARIABLES)}
 """Position of each design variable in a design vector x: the one table of indices (``x[VARIABLE_INDEX["groove"]]``)."""
 
+DESIGN_UNITS: dict[str, str] = {f"design.{p.name}": p.unit for p in VARIABLE_TABLE}
+"""The units of a record's ``design.*`` fields, from the table (a record's ``_units`` starts from these)."""
+
 
 def named(x: Any) -> dict[str, Any]:
     """The entries of a design vector ``x`` (a sequence, a NumPy or CasADi vector in :data:`VARIABLES` order) by

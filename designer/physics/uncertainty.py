@@ -590,10 +590,6 @@ def _clenshaw_values(values: list[Scalar], x: Scalar) -> Scalar:
     return x * b1 - b2 + values[0]
 
 
-_ROWS: dict[int, tuple[Array, list[list[float]]]] = {}
-"""The 2-D fits' coefficients as Python lists (by the array's id, the array kept with them so the id stays its)."""
-
-
 def _clenshaw_float(rows: list[list[float]], x: float, y: float) -> float:
     """Σ_jk c_jk T_j(x) T_k(y) for two Python floats, by Clenshaw's recurrence in plain Python: a few µs where
     NumPy's chebval2d spends ~90 µs on call overhead (the closed-form front asks ~800 quantiles one by one)."""
@@ -612,10 +608,7 @@ def _clenshaw_float(rows: list[list[float]], x: float, y: float) -> float:
 def _clenshaw2(coef: Array, x: Scalar, y: Scalar) -> Scalar:
     """Σ_jk c_jk T_j(x) T_k(y) (floats, arrays, CasADi symbols)."""
     if isinstance(x, (float, np.floating)) and isinstance(y, (float, np.floating)):
-        entry = _ROWS.get(id(coef))
-        if entry is None or entry[0] is not coef:
-            entry = _ROWS[id(coef)] = (coef, np.asarray(coef, dtype=float).tolist())
-        return _clenshaw_float(entry[1], float(x), float(y))
+        return _clenshaw_float(np.asarray(coef, dtype=float).tolist(), float(x), float(y))
     if _numeric(x, y):
         value: Scalar = np.asarray(C.chebval2d(x, y, coef), dtype=float)
         return value if np.ndim(value) else float(value)

@@ -21,7 +21,7 @@ from designer.studies.front._indicators import hypervolume_2d, igd_plus, nondomi
 from designer.data.paper import INCH
 from designer.errors import InputError
 from designer.model import VARIABLES, Design
-from designer.parameters import PARAMETERS
+from designer.parameters import DESIGN_UNITS, PARAMETERS
 from designer.problem import example_names, example_problem
 from designer.problem import Problem, family_of, load_problem
 from designer.reprs import Record, svg_curve
@@ -66,10 +66,7 @@ class FrontPoint(Record):
     wheel: str | None = None
 
     _units = {
-        "design.trail": "m",
-        "design.diameter": "m",
-        "design.groove": "m",
-        "design.damping": "N·m/rad",
+        **DESIGN_UNITS,
         "turning_effort": "N",
         "threshold_force": "N",
         "critical_speed": "m/s",

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 from designer.data.paper import INCH
 from designer.model import Design
+from designer.parameters import DESIGN_UNITS
 from designer.plots.caster import caster_svg, plot_caster
 from designer.problem import Problem
 from designer.reprs import Record, dataframe
@@ -90,10 +91,7 @@ class Recommendation(Record):
     if_measured: dict[str, Any] | None = None
 
     _units = {
-        "design.trail": "m",
-        "design.diameter": "m",
-        "design.groove": "m",
-        "design.damping": "N·m/rad",
+        **DESIGN_UNITS,
         "turning_effort": "N",
         "threshold_force": "N",
         "critical_speed": "m/s",

@@ -14,7 +14,7 @@ from typing import Any
 
 from designer.data.paper import BARE_FORK_DAMPING, INCH
 from designer.model import Design
-from designer.parameters import PARAMETERS, VARIABLE_TABLE
+from designer.parameters import DESIGN_UNITS, PARAMETERS, VARIABLE_TABLE
 from designer.reprs import Record, dataframe
 from designer.units import written_size
 from designer.studies.retrofit._options import _show
@@ -136,10 +136,7 @@ class CasterState(Record):
         return len({c.part for c in self.changes})
 
     _units = {
-        "design.trail": "m",
-        "design.diameter": "m",
-        "design.groove": "m",
-        "design.damping": "N·m/rad",
+        **DESIGN_UNITS,
         "inertia": "kg·m²",
         "effective_trail": "m",
         "turning_effort": "N",

@@ -326,12 +326,8 @@ def _fix_states(
                 design,
                 float(cands["inertia"][j]),
                 changes,
-                (
-                    values.turning_effort[n] - current_state.turning_effort,
-                    values.threshold_force[n] - current_state.threshold_force,
-                ),
                 price=float(cands["price"][j]),
-                base_force=current_state.threshold_force,
+                current=current_state,
             )
         )
     return fixes
@@ -379,23 +375,25 @@ class _Setting:
         design: Design,
         inertia: float,
         changes=(),
-        cost=(0.0, 0.0),
         price: float = 0.0,
-        base_force: float | None = None,
+        current: CasterState | None = None,
     ) -> CasterState:
         """Caster ``j`` of the evaluated ``values`` (with their Monte Carlo) as a :class:`CasterState`; ``price``
-        the cost of its parts, ``base_force`` the current caster's P [N] its sill-force increase is taken against."""
+        the cost of its parts; ``current`` the caster as it is, which its changes, rises and limits are taken
+        against (None: this is the current caster)."""
         w_turn, w_threshold = self.weights
-        cost_turn, cost_threshold = cost
-        increase = 0.0 if base_force is None else float(cost_threshold) / base_force
-        base_turn = float(values.turning_effort[j]) - float(cost_turn)
-        turning = 0.0 if base_force is None else float(cost_turn) / base_turn
+        f, p = float(values.turning_effort[j]), float(values.threshold_force[j])
+        cost_turn = 0.0 if current is None else f - current.turning_effort
+        cost_threshold = 0.0 if current is None else p - current.threshold_force
+        increase = 0.0 if current is None else cost_threshold / current.threshold_force
+        turning = 0.0 if current is None else cost_turn / current.turning_effort
+        within = current is None or bool(self.overshoot(f, p, current) <= 1e-12)
         return CasterState(
             design=design,
             inertia=float(inertia),
             effective_trail=float(values.effective_trail[j]),
-            turning_effort=float(values.turning_effort[j]),
-            threshold_force=float(values.threshold_force[j]),
+            turning_effort=f,
+            threshold_force=p,
             swept_radius=float(values.swept_radius[j]),
             critical_speed=float(values.critical_speed[j]),
             calibrated_critical_speed=float(self.factor * values.critical_speed[j]),
@@ -404,13 +402,13 @@ class _Setting:
             shimmy_probability=float(values.shimmy_probability[j]),
             shimmy_probability_se=float(values.shimmy_probability_se[j]),
             changes=tuple(changes),
-            cost_turning_effort=float(cost_turn),
-            cost_threshold_force=float(cost_threshold),
+            cost_turning_effort=cost_turn,
+            cost_threshold_force=cost_threshold,
             loss=float(w_turn * cost_turn + w_threshold * cost_threshold),
             parts_cost=float(price),
             threshold_increase=increase,
             turning_increase=turning,
-            within_limit=bool(increase <= self.max_increase + 1e-12 and turning <= self.max_turning + 1e-12),
+            within_limit=within,
             extrapolated=bool(values.extrapolated[j]),
             measured=bool(values.measured[j]),
         )
