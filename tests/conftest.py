@@ -108,3 +108,36 @@ def pytest_collection_modifyitems(config, items):
         return SLOWEST_FIRST.index(module) if module in SLOWEST_FIRST else len(SLOWEST_FIRST)
 
     items.sort(key=rank)
+
+
+@pytest.fixture
+def browser():
+    """A function ``width -> Selenium driver`` of Debian's headless Chromium with a viewport ``width`` CSS px
+    wide (narrower than Chromium's smallest window: its device emulation, as its phone preview); every driver
+    opened is closed after the test.  Skipped without Selenium, chromium or chromedriver."""
+    import shutil
+
+    webdriver = pytest.importorskip("selenium.webdriver")
+    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
+    driver_path = shutil.which("chromedriver")
+    if not (chromium and driver_path):
+        pytest.skip("needs Debian's chromium and chromium-driver")
+    opened = []
+
+    def open_at(width: int, height: int = 900):
+        options = webdriver.ChromeOptions()
+        options.binary_location = chromium
+        for arg in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--disable-gpu"):
+            options.add_argument(arg)
+        options.add_argument(f"--window-size={max(width, 500)},{height}")
+        driver = webdriver.Chrome(options=options, service=webdriver.ChromeService(driver_path))
+        opened.append(driver)
+        driver.execute_cdp_cmd(
+            "Emulation.setDeviceMetricsOverride",
+            {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": width < 500},
+        )
+        return driver
+
+    yield open_at
+    for driver in opened:
+        driver.quit()

@@ -189,8 +189,9 @@ def figure_front(
             ax.set_ylim(lo - 3 * pad, hi + 2.2 * pad)
     if hover is not None:
         ax.hover(p, f, hover)
+        named = [m for m in marks if m["label"]]  # a mark drawn on another's spot shares its label
         ax.hover(
-            [m["threshold_force"] for m in marks], [m["turning_effort"] for m in marks], [m["label"] for m in marks]
+            [m["threshold_force"] for m in named], [m["turning_effort"] for m in named], [m["label"] for m in named]
         )
     ax.legend(fontsize=7.5, loc="upper right", framealpha=0.9)
     ax.set_title(title, fontsize=10)
@@ -285,7 +286,15 @@ def figure_trail(required_speed: float) -> Figure:
     ax.text(trail[0] * MM + 1, WALKING_SPEED + 0.08, "walking speed 1 m/s", fontsize=8, color="0.3")
     req = required_speed
     ax.axhline(req, color="black", ls="--", lw=1)
-    ax.text(trail[0] * MM + 1, req + 0.08, f"this problem's V_req = {req:.2f} m/s", fontsize=8)
+    # at the right end: the legend fills the upper left, and at the left a fast target's label went under it
+    ax.text(
+        trail[-1] * MM - 1,
+        req + 0.08,
+        f"this problem's V_req = {req:.2f} m/s",
+        fontsize=8,
+        ha="right",
+        bbox=dict(facecolor="white", alpha=0.8, lw=0),
+    )
     ax.set_xlim(trail[0] * MM, trail[-1] * MM)
     ax.set_ylim(0, 7)
     ax.set_xlabel("trail T [mm]")
@@ -463,7 +472,8 @@ def figure_groove_damper(
     design, conditions : the weighted optimum and its conditions, or None ("no feasible design")
     catalog : the diameters are catalog wheels (grouped bars instead of lines)
     """
-    fig = _new(11.5, 5.0, top=0.95, right=0.1, wspace=0.17)  # suptitle, titles, inch axes on top; colour bar
+    # suptitle, titles, inch axes on top; colour bar; the plane's legend under it (inside, it covered iso-V_c labels)
+    fig = _new(11.5, 6.3, top=0.95, right=0.1, bottom=1.8, wspace=0.17)
     left, right = fig.subplots(1, 2, width_ratios=(1, 1.1))
     rows = tradeoff
     if catalog or len(rows) == 1:
@@ -633,7 +643,7 @@ def _groove_damper_plane(ax, bounds, req, design, conditions) -> None:
     ax.set_xlabel("groove width B [mm]")
     ax.set_ylabel("spindle friction damping c_f [N·m/rad]")
     _inch_x(ax, "groove width B [in]")
-    ax.legend(fontsize=7.5, loc="upper right", framealpha=0.9)
+    ax.legend(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.14), framealpha=0.9)
     title = f"At the optimum's T = {design.trail / INCH:.2f} in, d = {design.diameter / INCH:.2f} in"
     if cb.fixed or gb.fixed:
         title += " (beyond the problem's fixed values, for context)"

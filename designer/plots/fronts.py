@@ -192,7 +192,8 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
 
     Panels: trail T, diameter d, groove B [mm, inches on the right] and spindle damping c_f [N·m/rad]; the
     points are coloured by family (:data:`FAMILY_STYLE`), dotted lines are the bounds, dashed vertical lines
-    the family switches (``gaps``); the shared x axis runs with P decreasing to the right.  Used by
+    the family switches (``gaps``); the shared x axis runs with P increasing to the right, as in
+    :func:`plot_front`, the report's front figure and the studio's chart (one direction per axis).  Used by
     :meth:`Front.plot_variables` and the report's variables figure.
 
     Parameters
@@ -234,8 +235,6 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
             ax.secondary_yaxis("right", functions=(_mm_to_in, _in_to_mm)).set_ylabel(inch_label)
     for ax in axes[-1]:
         ax.set_xlabel("threshold force P [N]")
-    if len(x) > 1:
-        axes.flat[0].invert_xaxis()  # shared: read left to right as P falls
     handles = [
         axes.flat[0].scatter([], [], color=c, marker="o", s=16, label=f)
         for f, (c, _) in FAMILY_STYLE.items()
@@ -243,7 +242,7 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
     ]
     handles.append(axes.flat[0].axhline(np.nan, color="#bb5500", lw=0.8, ls=":", label="bounds"))
     fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8)
-    note = " (single point)" if len(x) == 1 else "; P decreasing to the right, dashed: family switch"
+    note = " (single point)" if len(x) == 1 else "; dashed: family switch"
     fig.suptitle(f"Design variables along the front{note}", fontsize=10)
     return axes
 

@@ -216,7 +216,6 @@ class Axes:
         self.data_y: list[float] = []
         self.show_grid = False
         self.secondary: list[_Axis] = []
-        self.inverted_x = False
         self.xticks: tuple | None = None
         self.legend_args: dict | None = None
         self.sharex: Axes | None = None
@@ -264,11 +263,6 @@ class Axes:
             self.ylim[0] = float(bottom)
         if top is not None:
             self.ylim[1] = float(top)
-
-    def invert_xaxis(self) -> None:
-        """x increasing to the left (for every axes sharing this x axis)."""
-        owner = self.sharex or self
-        owner.inverted_x = True
 
     def set_xticks(self, ticks, labels=None, fontsize: float = BASE_FONT * 0.9) -> None:
         """Ticks at ``ticks`` [data units] with ``labels`` (multi-line text allowed), ``fontsize`` [pt]."""
@@ -577,11 +571,10 @@ class Axes:
         x0, y0, w, h = self.box
         xl, xh = self._resolved_xlim()
         yl, yh = self._resolved_ylim()
-        inv = (self.sharex or self).inverted_x
 
         def sx(v):  # data -> px
             t = (np.asarray(v, float) - xl) / (xh - xl)
-            return x0 + w * ((1 - t) if inv else t)
+            return x0 + w * t
 
         def sy(v):
             return y0 + h * (1 - (np.asarray(v, float) - yl) / (yh - yl))

@@ -63,27 +63,46 @@ def _front_marks(data) -> tuple[list, list]:
                     "label": f"{alt.role}: P {alt.threshold_force:.1f} N, F {alt.turning_effort:.2f} N",
                 }
             )
-    knee = front.knee()
-    if knee is not None and len(front) >= 3:
+    knee = front.knee() if len(front) >= 3 else None
+    at_knee = f"P {knee.threshold_force:.1f} N, F {knee.turning_effort:.2f} N" if knee is not None else ""
+    if knee is not None:
         marks.append(
             {
                 "threshold_force": knee.threshold_force,
                 "turning_effort": knee.turning_effort,
                 "kind": "knee",
-                "label": f"knee of the continuous front: P {knee.threshold_force:.1f} N, F {knee.turning_effort:.2f} N",
+                "label": f"knee of the continuous front: {at_knee}",
             }
         )
     if data.solution is not None:  # the exact optimum, not only the nearest front point
         w = np.asarray(problem.weights, float)
-        marks.append(
-            {
-                "threshold_force": data.solution.objectives["threshold_force"],
-                "turning_effort": data.solution.objectives["turning_effort"],
-                "kind": "weighted",
-                "label": f"weighted optimum (w = {w[0]:g}, {w[1]:g}; not the recommendation)",
-            }
-        )
+        weighted = {
+            "threshold_force": data.solution.objectives["threshold_force"],
+            "turning_effort": data.solution.objectives["turning_effort"],
+            "kind": "weighted",
+            "label": f"weighted optimum (w = {w[0]:g}, {w[1]:g}; not the recommendation)",
+        }
+        if knee is not None and _coincide(marks[-1], weighted, front.objectives()):
+            # one spot, one legend entry: the cross is drawn inside the knee's circle
+            marks[-1]["label"] = f"knee of the continuous front = weighted optimum (w = {w[0]:g}, {w[1]:g}): {at_knee}"
+            weighted["label"] = ""
+        marks.append(weighted)
     return curves, marks
+
+
+COINCIDENT = 0.02
+"""Two marked designs closer than this fraction of the front's range in both P and F_turn are drawn on one
+spot (the knee's circle, 170 pt², has a radius of about 2 % of the front figure's axes): they share one legend
+entry."""
+
+
+def _coincide(a: dict, b: dict, objectives) -> bool:
+    """``a`` and ``b`` (marks) fall on one spot of the front figure (:data:`COINCIDENT`)."""
+    span = np.ptp(np.asarray(objectives, float), axis=0)  # (F_turn, P) ranges of the front [N]
+    return bool(
+        abs(a["turning_effort"] - b["turning_effort"]) <= COINCIDENT * span[0]
+        and abs(a["threshold_force"] - b["threshold_force"]) <= COINCIDENT * span[1]
+    )
 
 
 def _front(data) -> dict:

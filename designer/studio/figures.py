@@ -88,7 +88,9 @@ def front_layout(title: str = "") -> dict:
         template="plotly_white",
         height=520,
         margin={"l": 60, "r": 20, "t": 40, "b": 50},
-        legend={"orientation": "h", "y": -0.15},
+        # its top edge well under the x-axis title (anchored by its middle, a legend wrapped to two rows
+        # covered the title); the bottom margin grows to hold it
+        legend={"orientation": "h", "x": 0, "xanchor": "left", "y": -0.17, "yanchor": "top"},
         hovermode="closest",
         clickmode="event",
         uirevision="front",

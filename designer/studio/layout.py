@@ -10,8 +10,14 @@ from dash import dcc, html
 import designer.studio.state as state
 
 CSS = {
-    "page": {"fontFamily": "system-ui, sans-serif", "margin": "0 auto", "maxWidth": "1500px", "padding": "8px 16px"},
-    "row": {"display": "flex", "gap": "16px", "alignItems": "flex-start"},
+    "page": {
+        "fontFamily": "system-ui, sans-serif",
+        "margin": "0 auto",
+        "maxWidth": "1500px",
+        "padding": "8px 12px",
+        "boxSizing": "border-box",
+    },
+    "row": {"display": "flex", "flexWrap": "wrap", "gap": "16px", "alignItems": "flex-start"},
     "panel": {"border": "1px solid #ddd", "borderRadius": "6px", "padding": "8px 10px", "marginBottom": "8px"},
     "label": {"fontSize": "13px", "color": "#333", "display": "block", "marginTop": "4px"},
     "input": {"width": "150px", "fontSize": "13px"},
@@ -53,7 +59,11 @@ def _control(c: state.Control, value):
     )
 
 
-def _group(title: str, controls: list, values: dict, open_: bool = True):
+FIRST = ("load", "sill", "surface", "target", "alpha")
+"""The controls a user changes first, on top of the page (the rest fold away under "More controls")."""
+
+
+def _group(title: str, controls: list, values: dict, open_: bool = False):
     return html.Details(
         [html.Summary(title, style={"fontWeight": "600"}), *[_control(c, values[c.key]) for c in controls]],
         open=open_,
@@ -62,37 +72,54 @@ def _group(title: str, controls: list, values: dict, open_: bool = True):
 
 
 def build_layout(name: str, defaults: dict):
-    """The page: controls on the left, chart + recommendation in the middle, my caster and the card below."""
-    left, middle, right = _controls_column(defaults), _middle_column(), _card_column()
+    """The page: the first controls on top; the chart (the largest thing) with the recommendation and the card
+    beside it; my caster, saving and the other controls (folded) below.  Columns wrap under each other on a
+    narrow screen (a phone, 390 px wide) instead of scrolling sideways."""
     return html.Div(
         [
             dcc.Location(id="url", refresh=False),
             dcc.Store(id="problem-data"),
             dcc.Store(id="mine-store"),
             dcc.Store(id="front-shown"),  # what the chart shows: [part, digest] per trace (app._chart)
-            html.H2(f"caster-designer studio: {name}", style={"margin": "4px 0"}),
-            html.Div([left, middle, right], style=CSS["row"]),
+            html.H2(f"caster-designer studio: {name}", style={"margin": "4px 0", "fontSize": "1.3em"}),
+            _first_controls(defaults),
+            html.Div([_chart_column(), _card_column()], style=CSS["row"]),
+            html.Div([_more_controls(defaults), _tools_column()], style=CSS["row"]),
         ],
         style=CSS["page"],
     )
 
 
-def _controls_column(defaults: dict):
-    """The problem's controls in folding groups (use, risk, bounds, stock), filled with ``defaults``."""
-    controls = state.all_controls()
+def _first_controls(defaults: dict):
+    """Load, sill, surface, target speed and α in one row (wrapping on a narrow screen)."""
+    controls = {c.key: c for c in state.all_controls()}
+    return html.Div(
+        [_control(controls[k], defaults[k]) for k in FIRST],
+        id="first-controls",
+        style={**CSS["panel"], "display": "flex", "flexWrap": "wrap", "gap": "4px 18px", "alignItems": "flex-end"},
+    )
+
+
+def _more_controls(defaults: dict):
+    """Every other control in folded groups (use, risk, bounds, stock), filled with ``defaults``."""
+    controls = [c for c in state.all_controls() if c.key not in FIRST]
     groups = [
-        ("Use: load, sill, surface, target", "use"),
-        ("Risk: α and the scatter σ", "risk"),
+        ("Turning mode", "use"),
+        ("Risk: the scatter σ", "risk"),
         ("Bounds and swept radius", "bounds"),
         ("Stock (buildable front)", "stock"),
     ]
     return html.Div(
         [
-            _group(title, [c for c in controls if c.group == g], defaults, g != "stock")
-            for title, g in groups
-            if any(c.group == g for c in controls)
+            html.H4("More controls", style={"margin": "2px 0 6px"}),
+            *[
+                _group(title, [c for c in controls if c.group == g], defaults)
+                for title, g in groups
+                if any(c.group == g for c in controls)
+            ],
         ],
-        style={"width": "300px", "flex": "0 0 300px"},
+        id="more-controls",
+        style={"flex": "1 1 300px", "minWidth": "0"},
     )
 
 
@@ -117,30 +144,26 @@ def _mine_inputs():
     )
 
 
-def _middle_column():
-    """Status and errors, the trade-off chart, the recommendation, my caster, save and report buttons."""
-    mine_inputs = _mine_inputs()
+def _chart_column():
+    """Status and errors above the trade-off chart."""
     return html.Div(
         [
             html.Div(id="status", style={"fontSize": "12px", "color": "#555"}),
             html.Div(id="general-error", className="control-error", style=CSS["error"]),
             dcc.Graph(id="front", config={"displaylogo": False, "responsive": True}),
-            html.Div(
-                [
-                    html.Div(id="recommendation"),
-                    html.Button(
-                        "Recommendation's card (with its knock-safe speed)",
-                        id="rec-card",
-                        n_clicks=0,
-                        style={"marginTop": "6px", "fontSize": "12px"},
-                    ),
-                ],
-                style=CSS["panel"],
-            ),
+        ],
+        style={"flex": "3 1 560px", "minWidth": "0"},
+    )
+
+
+def _tools_column():
+    """My caster (its numbers and fixes), save and report buttons."""
+    return html.Div(
+        [
             html.Div(
                 [
                     html.H4("My caster", style={"margin": "2px 0"}),
-                    mine_inputs,
+                    _mine_inputs(),
                     html.Button("Check my caster", id="mine-go", n_clicks=0, style={"marginTop": "6px"}),
                     html.Div(id="mine-error", className="control-error", style=CSS["error"]),
                     html.Div(id="mine-result"),
@@ -157,17 +180,35 @@ def _middle_column():
                 style=CSS["panel"],
             ),
         ],
-        style={"flex": "1 1 600px", "minWidth": "500px"},
+        style={"flex": "2 1 400px", "minWidth": "0"},
     )
 
 
 def _card_column():
-    """The card of the clicked point (empty until a click)."""
+    """Beside the chart: the recommendation, then the card of the clicked point (or of the recommendation)."""
     return html.Div(
-        dcc.Loading(
+        [
             html.Div(
-                id="card", children=html.P("Click a point of the chart to open its card.", style={"color": "#666"})
-            )
-        ),
-        style={"flex": "0 0 440px", "width": "440px"},
+                [
+                    html.Div(id="recommendation"),
+                    html.Button(
+                        "Recommendation's card (with its knock-safe speed)",
+                        id="rec-card",
+                        n_clicks=0,
+                        style={"marginTop": "6px", "fontSize": "12px"},
+                    ),
+                ],
+                style=CSS["panel"],
+            ),
+            dcc.Loading(
+                html.Div(
+                    id="card",
+                    children=html.P(
+                        "Click a point of the chart (or the button above) for its card.",
+                        style={"color": "#666", "fontSize": "13px"},
+                    ),
+                )
+            ),
+        ],
+        style={"flex": "1 1 340px", "minWidth": "0", "maxWidth": "100%", "overflowWrap": "anywhere"},
     )

@@ -80,9 +80,9 @@ CONTROLS: list[Control] = [
     Control("load", "load per caster", ("conditions", "load"), "quantity", "force"),
     Control("sill", "sill height", ("conditions", "threshold_height"), "quantity", "length"),
     Control("surface", "surface", ("conditions", "surface"), "choice", options=("tile", "carpet")),
-    Control("mode", "turning mode", ("conditions", "turning_mode"), "choice", options=("chair", "pivot")),
     Control("target", "target speed [m/s]", ("shimmy", "target_speed"), "slider", "speed"),
     Control("alpha", "risk α (allowed P(shimmy))", ("robust", "probability"), "number", group="risk"),
+    Control("mode", "turning mode", ("conditions", "turning_mode"), "choice", options=("chair", "pivot")),
     Control("s_model", "σ model error (log)", ("robust", "model_error"), "number", group="risk"),
     Control("s_damping", "σ damping (log)", ("robust", "damping"), "number", group="risk"),
     Control("s_slip", "σ slip coefficient (log)", ("robust", "slip_coefficient"), "number", group="risk"),
@@ -98,7 +98,8 @@ CONTROLS: list[Control] = [
         optional=True,
     ),
 ]
-"""Every control, in page order."""
+"""Every control, in page order (:mod:`designer.studio.layout`: the first five on top, the others folded by
+group; the callbacks read the controls in this order)."""
 
 STOCK_CONTROLS = {
     "diameters": ("stock diameters", "length"),
@@ -180,6 +181,12 @@ def get(data: dict, path: tuple[str, ...]):
     return data
 
 
+NUMBER_DIGITS = 4
+"""Significant digits a number box shows (α, the σ of the scatter: the Table 1 fit's σ is known to about 20 %;
+four digits tell it from a rounded value).  A box left as shown leaves the problem's own value untouched
+(:func:`apply`)."""
+
+
 def control_values(data: dict) -> dict:
     """The value every control shows for problem-file ``data`` (defaults filled in as the loader would)."""
 
@@ -200,7 +207,7 @@ def control_values(data: dict) -> dict:
             value = parse_quantity(value, "speed", c.dotted) if value is not None else 2.5
             out[c.key] = round(float(value), 6)
         elif c.kind == "number":
-            out[c.key] = float(value)
+            out[c.key] = float(f"{float(value):.{NUMBER_DIGITS}g}")  # σ 0.1075, not 0.10751150496617…
         elif c.kind == "choice":
             out[c.key] = value if value is not None else c.options[0]
         elif c.kind == "list":
@@ -224,15 +231,17 @@ class ControlError(DesignerError):
 
 
 def apply(data: dict, values: dict) -> dict:
-    """A copy of problem-file ``data`` with the control ``values`` written into it.
+    """A copy of problem-file ``data`` with the control ``values`` that differ from what ``data`` shows
+    (:func:`control_values`) written into it.
 
     Raises ControlError (naming the control) for a value that is not even of the right type
     (a number box holding text); units and ranges are left to the loader.
     """
     out = copy.deepcopy(data)
+    shown = control_values(data)
     for c in all_controls():
-        if c.key not in values:
-            continue
+        if c.key not in values or values[c.key] == shown[c.key]:
+            continue  # as the page shows the file: the file's own value stays (not its rounded display)
         value = values[c.key]
         if c.kind == "slider":
             value = _number(value, c)

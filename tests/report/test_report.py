@@ -144,7 +144,7 @@ def test_html_is_self_contained(regenerated):
     assert "<link" not in html.lower() and "<script" not in html.lower() and "<img" not in html.lower()
     md = (out / "report.md").read_text()
     for name in figures.FIGURES:
-        block = re.search(rf'<figure id="fig-{name}">\s*<div class="plot">(<svg.*?</svg>)', html, re.S)
+        block = re.search(rf'<figure id="fig-{name}">\s*<div class="plot"[^>]*>(<svg.*?</svg>)', html, re.S)
         assert block, name
         assert block.group(1) == (out / "figures" / f"{name}.svg").read_text().strip(), name
         assert f"](figures/{name}.svg)" in md, name

@@ -293,3 +293,36 @@ def test_front_convention_is_the_reports():
     (axes, *_) = report.axes
     assert (axes.xlabel, axes.ylabel) == ("threshold (door-sill) force P [N]", "turning effort F_turn [N]")
     assert min(axes.data_x) == 107.0 and max(axes.data_y) == 9.0
+
+
+def _controls_in_page_order(component, where="open", out=None) -> list:
+    """(control key, where it sits) of every control of the layout in page order: "first" in the top row,
+    "folded" inside a closed <details>, else "open"."""
+    from dash import html
+
+    out = [] if out is None else out
+    cid = getattr(component, "id", None)
+    if cid == "first-controls":
+        where = "first"
+    elif isinstance(component, html.Details) and not component.open:
+        where = "folded"
+    if isinstance(cid, dict) and cid.get("type") == "ctl":
+        out.append((cid["key"], where))
+    children = getattr(component, "children", None)
+    for child in children if isinstance(children, (list, tuple)) else [children]:
+        if hasattr(child, "to_plotly_json"):  # a component, not text
+            _controls_in_page_order(child, where, out)
+    return out
+
+
+def test_first_controls_on_top_the_rest_folded_in_callback_order():
+    """Load, sill, surface, target speed and α sit in the top row; every other control is folded; the page
+    order is the order the callbacks read the controls in (state.all_controls: a control out of place would
+    receive another's value)."""
+    from designer.studio.layout import FIRST, build_layout
+
+    data, _ = state.read_problem_data(state.default_problem_path())
+    placed = _controls_in_page_order(build_layout("t", state.control_values(data)))
+    assert [k for k, _ in placed] == [c.key for c in state.all_controls()]
+    assert [k for k, where in placed if where == "first"] == list(FIRST)
+    assert {where for k, where in placed if k not in FIRST} == {"folded"}

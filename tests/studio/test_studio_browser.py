@@ -181,6 +181,8 @@ def test_studio_in_chromium(studio):
     # min > max: the loader's message beside the control, the last valid front stays
     shown_front = traces(driver)["risk"]
     box = driver.find_element(By.CSS_SELECTOR, '[data-key="trail_min"] input')
+    assert not box.is_displayed()  # the bounds are folded under "More controls"
+    box.find_element(By.XPATH, "ancestor::details/summary").click()
     box.clear()
     box.send_keys("3 in", Keys.ENTER)
     wait.until(
@@ -192,6 +194,30 @@ def test_studio_in_chromium(studio):
     assert message.startswith("variables.trail") and "3 in > 2.5 in" in message
     assert traces(driver)["risk"] == shown_front
     assert not math.isnan(float(text(driver, "rec-turning")))
+
+
+PHONE = 390
+"""A phone's CSS width [px] (an iPhone 12–15 held upright)."""
+
+
+def test_studio_fits_a_phone(studio, browser):
+    """At 390 px (Chromium's phone emulation) the studio does not scroll sideways: the page is 390 px wide and
+    shown 390 px wide (a phone zooms out to show a wider page), and the chart, the recommendation and the first
+    controls lie inside the window; planted, a 900 px wide block is seen."""
+    _, url, _, _ = studio
+    phone = browser(PHONE, 1800)
+    phone.get(url)
+    WebDriverWait(phone, WAIT, poll_frequency=0.1).until(lambda d: "computed" in text(d, "status"))
+    sideways = "return [document.documentElement.scrollWidth, window.innerWidth]"
+    assert phone.execute_script(sideways) == [PHONE, PHONE]
+    for element in ("front", "recommendation", "first-controls"):
+        box = phone.execute_script(f"return document.getElementById('{element}').getBoundingClientRect().toJSON()")
+        assert 0 <= box["left"] and box["right"] <= PHONE and box["width"] > 0.8 * PHONE - 40, (element, box)
+    phone.execute_script(
+        "const d = document.createElement('div'); d.style.width = '900px'; d.style.height = '10px';"
+        "document.body.append(d)"
+    )
+    assert min(phone.execute_script(sideways)) > PHONE
 
 
 def test_ctrl_c_stops_cleanly(studio):

@@ -10,6 +10,7 @@ import pytest
 
 from designer.cli import main
 from designer.problem import load_problem, problem_from_dict
+from designer.physics.uncertainty import Uncertainty
 from designer.studio import state
 
 PROBLEM = state.default_problem_path()
@@ -32,13 +33,24 @@ def test_controls_show_the_problem_file(base):
 
 
 def test_unchanged_controls_give_the_files_problem(base):
-    """Controls at their defaults give the problem `designer run` reads from the file (plus the risk shown)."""
+    """Controls at their defaults give the problem `designer run` reads from the file, its risk law included
+    (σ of the model error shown as 0.1075 stays 0.10751150496617…: a box left as shown writes nothing)."""
     data, values = base
-    problem, _ = state.build_problem(data, values)
+    problem, merged = state.build_problem(data, values)
     direct = load_problem(PROBLEM)
-    a, b = problem.to_dict(), direct.to_dict()
-    a.pop("robust"), b.pop("robust")
-    assert a == b
+    assert problem.to_dict() == direct.to_dict()
+    assert merged == data
+
+
+def test_numbers_shown_at_four_significant_digits(base):
+    """The σ boxes show four significant digits (the model error's σ, 0.10751150496617…, as 0.1075); a number
+    typed in is taken as typed."""
+    data, values = base
+    exact = Uncertainty().model_error
+    assert values["s_model"] == 0.1075 != exact
+    assert all(len(f"{values[k]:g}".lstrip("0.").replace(".", "")) <= 4 for k in ("alpha", "s_model", "s_damping"))
+    problem, _ = state.build_problem(data, {**values, "s_model": 0.1})
+    assert problem.conditions.uncertainty.model_error == 0.1
 
 
 def test_min_above_max_names_the_control_with_the_loaders_message(base):
