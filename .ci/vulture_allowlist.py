@@ -56,3 +56,5 @@ _.handle_endtag
 _.handle_data
 pytestmark
 _.binary_location
+dask_setup  # Dask's preload hook (designer/children.py: preload=["designer.children"] in studies/fleet)
+worker  # its argument

@@ -19,6 +19,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
         "ground",
         (
             "designer.errors",
+            "designer.children",
             "designer.output",
             "designer.units",
             "designer.jsonsafe",

@@ -17,7 +17,6 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
-import threading
 import time
 import warnings
 from concurrent.futures import Future, ProcessPoolExecutor
@@ -25,20 +24,17 @@ from concurrent.futures.process import BrokenProcessPool
 
 import numpy as np
 
+from designer.children import bind_to_parent
+
 _POOL: ProcessPoolExecutor | None = None
 
 
 def _begin(parent: int) -> None:
     """The helper's start.  Ctrl-C reaches every process of the terminal: the server stops, and stops this one.
-    A server that is killed cannot stop it: a thread ends the helper when its parent ``parent`` is gone."""
+    A server that is killed cannot stop it: the helper ends with its parent ``parent``, however the parent ends
+    (:func:`designer.children.bind_to_parent`)."""
+    bind_to_parent(parent)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-    def watch() -> None:
-        while os.getppid() == parent:
-            time.sleep(0.5)
-        os._exit(0)
-
-    threading.Thread(target=watch, name="parent-watch", daemon=True).start()
 
 
 def front_job(problem):

@@ -27,6 +27,7 @@ import warnings
 
 import numpy as np
 
+from designer.children import bind_to_parent
 from designer.errors import StorageError
 from designer.model import VARIABLES
 from designer.problem import Problem
@@ -302,8 +303,10 @@ def _stop_workers(procs) -> None:
             p.join(timeout=5)
 
 
-def _worker_entry(args, notes=None) -> None:  # top level: picklable for multiprocessing
-    """One pool worker: run the study, put its notes on the ``notes`` queue (if given)."""
+def _worker_entry(args, notes=None, parent: int | None = None) -> None:  # top level: picklable for multiprocessing
+    """One pool worker: run the study, put its notes on the ``notes`` queue (if given).  It ends with its
+    parent ``parent`` (a pid), however the parent ends (:func:`designer.children.bind_to_parent`)."""
+    bind_to_parent(parent)
     try:
         found = _run_worker(*args)
         if notes is not None:
@@ -367,7 +370,9 @@ def _run_pool(problem, spec, study_name, trials, seed, ops, workers, storage_obj
     ctx = multiprocessing.get_context("spawn")
     notes_queue = ctx.SimpleQueue()
     args = (problem, spec.url, study_name, trials, seed, ops.to_dict())  # one seed: streams differ by process
-    procs = [ctx.Process(target=_worker_entry, args=(args, notes_queue), daemon=False) for _ in range(workers)]
+    procs = [
+        ctx.Process(target=_worker_entry, args=(args, notes_queue, os.getpid()), daemon=False) for _ in range(workers)
+    ]
     for p in procs:
         p.start()
     import optuna

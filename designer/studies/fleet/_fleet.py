@@ -104,6 +104,9 @@ __all__ = [
     "write_fleet_csv",
 ]
 
+_LIFETIME = "designer.children"
+"""Dask preload module of the local cluster's workers: each ends with its parent process."""
+
 CHUNK = 5000
 """Chairs per chunk of vectorised work (bounds memory: chunk × casters × 8 bytes per array)."""
 
@@ -563,7 +566,16 @@ def _client(scheduler: Any) -> tuple[Any, bool]:
     client: Any = Client  # distributed's own types: untyped calls
     if scheduler == "local":
         cluster: Any = LocalCluster
-        return client(cluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)), True
+        # every worker process ends with the process that started it (designer.children; the nannies are
+        # objects of this process)
+        local = cluster(
+            n_workers=2,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            preload=[_LIFETIME],
+        )
+        return client(local), True
     if not isinstance(scheduler, str) or not re.match(r"^(tcp|tls|inproc|ucx)://\S+$", scheduler):
         raise InputError(f"--scheduler {scheduler!r}: expected an address such as tcp://host:8786, or 'local'")
     try:

@@ -1,0 +1,78 @@
+"""Child processes never outlive their parent: one function, :func:`bind_to_parent`, called first in every child.
+
+The tool starts child processes in three places: ``designer explore --workers N`` (a pool of optuna workers),
+``designer studio`` (its helper process) and ``designer fleet --scheduler local`` (Dask's worker processes,
+started by the nannies of this process).  A parent that ends normally, or by SIGINT/SIGTERM, stops its children itself; a parent that is
+killed (``kill -9``, the out-of-memory killer) cannot, and its children used to run on under init (an explore
+pool finished all its trials).  So each child binds its life to its parent's as it starts:
+
+- Linux: ``prctl(PR_SET_PDEATHSIG, SIGKILL)`` (through ctypes): the kernel kills the child when the thread
+  that started it ends.  A parent that died before the call is caught by comparing :func:`os.getppid` with
+  the parent's pid passed to the child (the child was re-parented already): the child ends at once.
+- Everywhere (and on Linux as a second line, e.g. when the starting thread ends before the process): a daemon
+  thread polls :func:`os.getppid` every 0.2 s and ends the child with ``os._exit`` once the parent is gone.
+
+A child of a child binds to its own parent: the chain ends from the top.  Processes that multiprocessing
+starts for itself (its resource tracker) end when their pipe from the parent closes.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import os
+import signal
+import sys
+import threading
+import time
+
+PR_SET_PDEATHSIG = 1
+"""prctl option: the signal the kernel sends this process when its parent thread ends (linux/prctl.h)."""
+
+POLL_SECONDS = 0.2
+"""How often the watchdog thread looks at the parent's pid [s]."""
+
+EXIT_ORPHANED = 137
+"""Exit status of a child whose parent is gone (as if killed by SIGKILL: 128 + 9)."""
+
+
+def _pdeathsig(signum: int) -> bool:
+    """Ask the Linux kernel to send ``signum`` to this process when its parent ends; False where unsupported."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        return libc.prctl(PR_SET_PDEATHSIG, signum, 0, 0, 0) == 0
+    except (OSError, AttributeError):  # no libc symbol (musl without prctl, a sandbox)
+        return False
+
+
+def _watch(parent: int) -> None:
+    while os.getppid() == parent:
+        time.sleep(POLL_SECONDS)
+    os._exit(EXIT_ORPHANED)
+
+
+def bind_to_parent(parent: int | None = None) -> None:
+    """End this process when its parent ends, whatever ends the parent (SIGKILL included).
+
+    Call it first in a child process.  ``parent``: the pid of the process that started this one, as that
+    process saw it (``os.getpid()`` there, passed as an argument); default the current parent.  If the parent
+    has already gone (this process was re-parented before the call) the process ends at once with exit status
+    :data:`EXIT_ORPHANED`.
+    """
+    expected = os.getppid() if parent is None else parent
+    _pdeathsig(signal.SIGKILL)
+    if os.getppid() != expected:  # the parent died before the kernel was told: nobody would kill us
+        os._exit(EXIT_ORPHANED)
+    with contextlib.suppress(RuntimeError):  # at interpreter shutdown no thread can start: the prctl holds
+        threading.Thread(target=_watch, args=(expected,), name="parent-watch", daemon=True).start()
+
+
+def dask_setup(worker: object) -> None:
+    """Dask's preload hook (``preload=["designer.children"]``): a Dask worker process binds itself to the
+    process that started it (:func:`bind_to_parent`)."""
+    bind_to_parent()
+
+
+__all__ = ["EXIT_ORPHANED", "POLL_SECONDS", "bind_to_parent", "dask_setup"]
