@@ -1,19 +1,50 @@
-"""Writing the tool's output safely: only the files a command owns, replaced atomically, one-line errors.
+"""Writing the tool's output safely: only the files a command owns, committed whole, one-line errors.
 
-Every command that writes goes through this module (``pareto``, ``robust``, ``fleet``, ``simulate --report``,
-``calibrate --report/--plot/--snippet/examples``, ``explore``, the studio's "Save problem" and "Write report"):
+Every command that writes goes through this module (``pareto``, ``robust``, ``fleet``, ``simulate --report``
+and ``--plot``, ``calibrate --report/--plot/--snippet/examples``, ``explore --out`` and ``--storage``, the
+studio's "Save problem" and "Write report", :meth:`Front.to_csv <designer.studies.front.Front.to_csv>`):
 
 - :func:`check_folder` and :func:`check_file`, called before any computing: a regular file, a path under
-  one, a link to nothing, a place where nothing can be created, or a folder holding files of the user's
-  that the command would replace, is an :class:`~designer.errors.OutputError` (exit 7).
-- :func:`output_folder`: the command writes its files into a temporary folder inside the target; once
-  they are complete they are renamed into the target one by one (each rename atomic, SIGINT and SIGTERM
-  held back, other writers of the same folder locked out), so a reader finds the previous set or the new
-  one, never a mixture.  Nothing else in the folder is removed or moved; a link to a folder is followed;
-  the folder itself (its mode, its other files) is left as it was.  An error or a signal removes the
-  temporary folder (and a folder the command created for nothing).
-- :func:`write_file`: one file replaced atomically (a temporary file beside it), its mode kept.
+  one, a link to nothing, a place where nothing can be created, the filesystem root or the home folder as an
+  output folder, a folder holding files of the user's that the command would replace, or an existing file
+  that is not one of the tool's own of the same kind (:class:`FileKind`: a journal optuna wrote, a snippet
+  with the header line the tool writes), is an :class:`~designer.errors.OutputError` (exit 7).
+- :func:`output_folder`: the command writes its files into a temporary folder inside the target; once they
+  are complete they are committed (below).  Nothing else in the folder is removed or moved; a link to a folder
+  is followed; the folder itself (its mode, its other files) is left as it was.
+- :func:`write_file`: one file replaced atomically (a temporary file beside it, renamed over it), its mode
+  kept, and only if it is new, empty, or of the same kind and written by the tool.
 - :func:`write_error`: an OSError while writing as one line naming the path ("no space left on device").
+
+How a report of several files is committed: a write-ahead record
+------------------------------------------------------------------
+Linux can exchange two folders atomically (``renameat2(RENAME_EXCHANGE)``), but a report folder is shared: it
+holds the user's own files and other commands' files (``explore.csv`` beside a Pareto report), may be a link,
+has its own mode; exchanging the whole folder would have to carry them over, which is not atomic either.  So
+the commit is a write-ahead record in the folder, under an exclusive lock of the folder (``flock``):
+
+1. the record ``.designer-tmp-commit-<id>.json`` (the names to install and remove, the hidden name each
+   previous entry is kept under) is written, synced and renamed into place;
+2. each previous entry is kept aside (a hard link for a file, a rename for a folder:
+   ``.designer-tmp-old-<id>-<name>``) and the new one renamed over it; the owned names of an older run that
+   this one does not write again are set aside too;
+3. the commit point: the record is renamed to ``.designer-tmp-done-<id>.json`` (one atomic rename);
+4. the entries kept aside, the temporary folder and the record are removed.
+
+Every command that touches the folder (:func:`check_folder` before computing, the commit itself, a single
+file written there) first takes the lock and *recovers* (:func:`recover`): a ``commit`` record left by a
+process killed before the commit point is rolled back (each previous entry put back, each new one removed), a
+``done`` record is rolled forward (the entries kept aside removed).  A kill -9 at any instant therefore leaves,
+after the next run, the whole previous report or the whole new one, byte for byte.  A reader that does not
+take the lock (a browser) can meet the few milliseconds of step 2; every command of this tool cannot.
+
+Leftovers of dead processes: the temporary folder of a run holds an exclusive ``flock`` of itself while the
+run computes (the kernel releases it when the process dies, whatever kills it); a temporary entry that can be
+locked, found under the folder's lock, belongs to no live run and is removed.  Only names with the prefix
+:data:`TEMP_PREFIX` are ever removed; nothing of the user's.
+
+Ownership is checked twice: before computing (a clear refusal before minutes of work) and again under the
+lock of the commit, with the same rule: another command that wrote the folder meanwhile is seen.
 
 Nothing here computes; the commands decide what to write.
 """
@@ -22,7 +53,10 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import hashlib
+import json
 import os
+import re
 import shutil
 import signal
 import stat
@@ -30,12 +64,22 @@ import tempfile
 import threading
 import uuid
 from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
 
 from designer.errors import OutputError
 
 TEMP_PREFIX = ".designer-tmp-"
-"""Name prefix of the temporary folders and files (hidden; removed on any failure or signal)."""
+"""Name prefix of every temporary entry (hidden; removed on any failure or signal, or by the next run)."""
+
+OLD_PREFIX = TEMP_PREFIX + "old-"
+"""Name prefix of a previous entry kept aside during a commit."""
+
+COMMIT_PREFIX = TEMP_PREFIX + "commit-"
+"""Name prefix of a commit's write-ahead record before its commit point (rolled back by :func:`recover`)."""
+
+DONE_PREFIX = TEMP_PREFIX + "done-"
+"""Name prefix of a commit's record after its commit point (rolled forward by :func:`recover`)."""
 
 _FULL = {errno.ENOSPC: "no space left on device", errno.EDQUOT: "no space left (disk quota exceeded)"}
 _WRITE_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS}
@@ -43,6 +87,92 @@ _WRITE_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS}
 
 Marker = str | Callable[[Path], bool] | None
 """What makes an existing folder the command's own: a file name it always writes, or a test of the folder."""
+
+_step_hook: Callable[[str], None] | None = None
+"""Test hook: called with the name of each step of a commit (``staged``, ``record``, ``aside <name>``,
+``install <name>``, ``remove <name>``, ``commit``, ``drop <name>``, ``done``); None in normal runs."""
+
+
+def _step(name: str) -> None:
+    if _step_hook is not None:
+        _step_hook(name)
+
+
+# --------------------------------------------------------------------------- kinds of single files
+
+
+@dataclass(frozen=True)
+class FileKind:
+    """A kind of single file a command writes, and how to recognise one the tool wrote.
+
+    ``what``: how messages name it ("an optuna journal", "a snippet written by designer calibrate");
+    ``recognise(path)``: True if the existing, non-empty regular file at ``path`` is of this kind and the
+    tool's (it may be replaced, or written into).  A new or empty file is always the tool's to write.
+    """
+
+    what: str
+    recognise: Callable[[Path], bool]
+
+
+def _head(path: Path, size: int = 4096) -> bytes:
+    try:
+        with open(path, "rb") as fh:
+            return fh.read(size)
+    except OSError:
+        return b""
+
+
+_SIGNATURE = re.compile(r"^# written by (?P<writer>[^\n]*?) \(sha256 (?P<digest>[0-9a-f]{16})\)[^\n]*\n")
+
+
+def _digest(body: str) -> str:
+    return hashlib.sha256(body.encode("utf-8")).hexdigest()[:16]
+
+
+def signed(body: str, writer: str) -> str:
+    """``body`` (a TOML or CSV text whose format takes ``#`` comments) under a first line naming ``writer`` and
+    the sha256 of ``body``: the tool replaces the file later only while that line is first and ``body``
+    unchanged (:func:`signed_kind`); a file the user edited, or any other file, is left as it is."""
+    return f"# written by {writer} (sha256 {_digest(body)}); replaced by its next run, so edit a copy\n{body}"
+
+
+def signed_kind(writer: str, what: str) -> FileKind:
+    """The :class:`FileKind` of the files :func:`signed` writes for ``writer``: the first line names ``writer``
+    and the digest matches the rest (the user has not edited it)."""
+
+    def recognise(path: Path) -> bool:
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError):
+            return False
+        match = _SIGNATURE.match(text)
+        return bool(match and match["writer"] == writer and match["digest"] == _digest(text[match.end() :]))
+
+    return FileKind(what, recognise)
+
+
+def first_line_kind(start: str, what: str) -> FileKind:
+    """The :class:`FileKind` of files whose first line starts with ``start`` (a header the tool always writes)."""
+    data = start.encode("utf-8")
+    return FileKind(what, lambda path: _head(path, len(data)) == data)
+
+
+SOFTWARE = "caster-designer"
+"""The name figures carry in their metadata (a PNG's Software text, an SVG's or PDF's Creator)."""
+
+
+def _our_figure(path: Path) -> bool:
+    head = _head(path)
+    if head[:8] == b"\x89PNG\r\n\x1a\n":  # the text chunks come before the image data
+        return b"Software\x00" + SOFTWARE.encode() in head
+    try:
+        return SOFTWARE.encode() in path.read_bytes()  # an SVG's or a PDF's Creator
+    except OSError:
+        return False
+
+
+PLOT = FileKind(f"a figure written by {SOFTWARE}", _our_figure)
+"""A figure of ``--plot``: its metadata names :data:`SOFTWARE` (a PNG in its first chunks)."""
 
 
 # --------------------------------------------------------------------------- messages
@@ -98,10 +228,12 @@ def _nearest_existing(path: Path) -> Path:
 def _probe(place: Path, path: Path, option: str, hint: str) -> None:
     """Make and remove a temporary folder in ``place`` (permission bits alone do not tell: root, read-only mounts)."""
     try:
-        tempfile.TemporaryDirectory(prefix=TEMP_PREFIX, dir=place).cleanup()
+        made = tempfile.mkdtemp(prefix=f"{TEMP_PREFIX}probe-", dir=place)
     except OSError as exc:
         reason = os.strerror(exc.errno) if exc.errno else str(exc)
         raise OutputError(f"{option} {path}: cannot write in {place} ({reason}); {hint}") from None
+    with contextlib.suppress(OSError):  # removed meanwhile by another run's clean-up: as good
+        os.rmdir(made)
 
 
 def _refuse_files_on_the_way(path: Path, option: str, what: str) -> Path:
@@ -131,6 +263,31 @@ def clashes(folder: Path, owned: Iterable[str]) -> list[str]:
     return sorted(n for n in set(owned) if (folder / n).exists() or (folder / n).is_symlink())
 
 
+def _refused_place(real: Path, path: Path, option: str) -> None:
+    """OutputError if ``real`` is the filesystem root or the home folder: no command writes its files there."""
+    try:
+        home: Path | None = Path(os.path.realpath(Path.home()))
+    except (RuntimeError, KeyError, OSError):  # no HOME and no password entry: no home folder to protect
+        home = None
+    if real == real.parent:
+        where = "the filesystem root"
+    elif home is not None and real == home and home != home.parent:
+        where = "your home folder"
+    else:
+        return
+    raise OutputError(
+        f"{option} {path}: is {where}; a command writes its files into a folder of their own, "
+        f"e.g. {option} {real / 'caster-report'}"
+    )
+
+
+def _refuse_clash(real: Path, clash: list[str], option: str, command: str) -> None:
+    raise OutputError(
+        f"{option} {real}: holds {', '.join(clash)}, which {command} would replace, and is not a folder "
+        f"{command} wrote; choose another {option} (your files are left as they are)"
+    )
+
+
 def check_folder(
     folder,
     option: str = "--out",
@@ -139,12 +296,14 @@ def check_folder(
     force: bool = False,
     command: str = "the command",
 ) -> Path:
-    """Raise OutputError (exit 7) unless ``command`` can write its ``owned`` files into ``folder``; no side effect.
+    """Raise OutputError (exit 7) unless ``command`` can write its ``owned`` files into ``folder``.
 
     Called before any computing.  ``folder`` may be absent (it will be made), a folder, or a link to a folder
     (followed).  Refused: a regular file or a path under one, a link to nothing, a place where nothing can be
-    created (read-only, no permission), and a folder that holds an ``owned`` name while it is not one the
-    command wrote (``marker``) -- those are the user's files, unless ``force``.
+    created (read-only, no permission), the filesystem root and the home folder (even with ``force``), and a
+    folder that holds an ``owned`` name while it is not one the command wrote (``marker``) -- those are the
+    user's files, unless ``force``.  Its one side effect: an existing folder is recovered first
+    (:func:`recover`: an interrupted commit rolled back or forward, leftovers of dead runs removed).
 
     Returns
     -------
@@ -153,23 +312,39 @@ def check_folder(
     """
     path = Path(folder)
     probe = _refuse_files_on_the_way(path, option, "")
-    _probe(probe, path, option, f"choose a writable {option} folder")
     real = Path(os.path.realpath(path))
-    if real.is_dir() and not force:
-        clash = clashes(real, owned)
-        if clash and not is_ours(real, marker):
-            raise OutputError(
-                f"{option} {path}: holds {', '.join(clash)}, which {command} would replace, and is not a folder "
-                f"{command} wrote; choose another {option} (your files are left as they are)"
-            )
+    _refused_place(real, path, option)
+    _probe(probe, path, option, f"choose a writable {option} folder")
+    if real.is_dir():
+        recover(real)
+        if not force:
+            clash = clashes(real, owned)
+            if clash and not is_ours(real, marker):
+                _refuse_clash(real, clash, option, command)
     return real
 
 
-def check_file(path, option: str = "--out", example: str = "out.csv") -> Path:
+def _refuse_foreign(real: Path, path: Path, option: str, kind: FileKind) -> None:
+    """OutputError unless the file at ``real`` is new, empty, not a regular file, or ``kind``'s and the tool's."""
+    try:
+        st = os.stat(real)
+    except FileNotFoundError:
+        return
+    if not stat.S_ISREG(st.st_mode) or st.st_size == 0 or kind.recognise(real):
+        return
+    raise OutputError(
+        f"{option} {path}: is a file this tool did not write (not {kind.what}); it is left as it is; "
+        f"choose another {option}"
+    )
+
+
+def check_file(path, option: str = "--out", example: str = "out.csv", *, kind: FileKind) -> Path:
     """Raise OutputError (exit 7) unless the file ``path`` can be written; no side effect; called before computing.
 
     Refused: a folder (the file needs a name), a path under a regular file, a link to nothing, a folder where
-    nothing can be created.  A link to a file is followed (the file it names is replaced, the link kept).
+    nothing can be created, and an existing non-empty file that is not ``kind``'s written by the tool (a
+    user's notes named as a journal, a user's problem file named as a snippet).  A link to a file is followed
+    (the file it names is replaced, the link kept).
 
     Returns
     -------
@@ -183,6 +358,7 @@ def check_file(path, option: str = "--out", example: str = "out.csv") -> Path:
         return Path(os.path.realpath(path))
     if path.exists():  # a file (or a link to one): its folder must take a temporary file
         place = Path(os.path.realpath(path)).parent
+        _refuse_foreign(Path(os.path.realpath(path)), path, option, kind)
     else:
         place = _refuse_files_on_the_way(path, option, "")
     _probe(place, path, option, f"choose another {option}")
@@ -208,23 +384,45 @@ def signals_held() -> Iterator[None]:
         signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
-@contextlib.contextmanager
-def _locked(folder: Path) -> Iterator[None]:
-    """An exclusive lock on ``folder`` (flock of the folder itself: nothing is added to it) while committing."""
+def _hold(path: Path, blocking: bool = True) -> int | None:
+    """An open descriptor of ``path`` holding its exclusive flock (None: no lock to be had, or none without
+    waiting when not ``blocking``).  Closing the descriptor, or the process's death, releases it."""
     try:
         import fcntl  # POSIX only; elsewhere concurrent writers are not serialised
     except ImportError:  # pragma: no cover - Windows
-        yield
-        return
-    fd = os.open(folder, os.O_RDONLY)
+        return None
     try:
-        fcntl.flock(fd, fcntl.LOCK_EX)
-        yield
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) * (not path.is_dir()))
+    except OSError:
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | (0 if blocking else fcntl.LOCK_NB))
+    except OSError:
+        os.close(fd)
+        return None
+    return fd
+
+
+@contextlib.contextmanager
+def _locked(folder: Path) -> Iterator[bool]:
+    """An exclusive lock on ``folder`` (flock of the folder itself: nothing is added to it) meanwhile; yields
+    whether it is held.  A temporary folder of this tool is private to its run: not locked."""
+    if folder.name.startswith(TEMP_PREFIX):
+        yield False
+        return
+    fd = _hold(folder)
+    try:
+        yield fd is not None
     finally:
-        os.close(fd)  # releases the lock
+        if fd is not None:
+            os.close(fd)  # releases the lock
 
 
-# --------------------------------------------------------------------------- writing a folder
+# --------------------------------------------------------------------------- recovery
+
+
+def _lexists(path: Path) -> bool:
+    return os.path.lexists(path)
 
 
 def _remove(path: Path) -> None:
@@ -233,6 +431,126 @@ def _remove(path: Path) -> None:
     else:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(path)
+
+
+def _sync(path: Path) -> None:
+    """fsync ``path`` (a file or a folder) where the system allows it."""
+    with contextlib.suppress(OSError):
+        fd = os.open(path, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+
+
+def _real_dir(path: Path) -> bool:
+    return path.is_dir() and not path.is_symlink()
+
+
+def _put_back(folder: Path, name: str, aside: str | None, installed: bool) -> None:
+    """Undo one entry of a commit: the previous ``name`` (kept as ``aside``, None if there was none) back in
+    place; the new one removed if it was ``installed`` (renamed out of the temporary folder)."""
+    dst = folder / name
+    if aside is None:
+        if installed and _lexists(dst):
+            _remove(dst)
+        return
+    old = folder / aside
+    if not _lexists(old):
+        return  # not set aside yet, or put back already
+    if _lexists(dst):
+        if os.path.samestat(os.lstat(old), os.lstat(dst)):
+            os.unlink(old)  # a hard link of a file that was never replaced
+            return
+        if not installed:
+            return  # not this commit's entry (cannot happen under the lock): left as it is
+        if _real_dir(dst) or _real_dir(old):
+            _remove(dst)  # the new folder (a rename cannot replace a folder by a file or a full folder)
+    os.replace(old, dst)
+
+
+def _roll_back(folder: Path, record: dict) -> None:
+    """Undo an interrupted commit described by ``record``: the folder as it was before it."""
+    stage = folder / record["stage"]
+    for name, aside in reversed(record["remove"]):
+        _put_back(folder, name, aside, installed=False)
+    for name, aside in reversed(record["install"]):
+        _put_back(folder, name, aside, installed=not _lexists(stage / name))
+
+
+def _roll_forward(folder: Path, record: dict) -> None:
+    """Finish a commit that passed its commit point: the previous entries kept aside are removed."""
+    for _, aside in record["install"] + record["remove"]:
+        if aside is not None:
+            _remove(folder / aside)
+
+
+def _read_record(path: Path) -> dict | None:
+    try:
+        record = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError):
+        return None
+    valid = isinstance(record, dict) and isinstance(record.get("stage"), str)
+    for key in ("install", "remove"):
+        valid = valid and isinstance(record.get(key), list) and all(_entry(e) for e in record[key])
+    return record if valid else None
+
+
+def _entry(item) -> bool:
+    """A record's entry: [name, aside or None], plain names of this folder (no separators, no '..')."""
+    ok = isinstance(item, list) and len(item) == 2 and isinstance(item[0], str)
+    names = [n for n in item if isinstance(n, str)] if ok else []
+    ok = ok and (item[1] is None or isinstance(item[1], str) and item[1].startswith(OLD_PREFIX))
+    return ok and all(n and "/" not in n and os.sep not in n and n not in (".", "..") for n in names)
+
+
+def _recover_records(folder: Path) -> None:
+    for entry in sorted(os.listdir(folder)):
+        if not entry.startswith((COMMIT_PREFIX, DONE_PREFIX)) or not entry.endswith(".json"):
+            continue
+        record = _read_record(folder / entry)
+        if record is not None:
+            (_roll_forward if entry.startswith(DONE_PREFIX) else _roll_back)(folder, record)
+            stage = folder / record["stage"]
+            if record["stage"].startswith(TEMP_PREFIX) and "/" not in record["stage"]:
+                _remove(stage)
+        _sync(folder)
+        os.unlink(folder / entry)
+
+
+def _remove_dead_leftovers(folder: Path) -> None:
+    """Remove the temporary entries of runs that are gone: those no live process holds the flock of."""
+    for entry in sorted(os.listdir(folder)):
+        if not entry.startswith(TEMP_PREFIX):
+            continue
+        path = folder / entry
+        if path.is_dir() and not path.is_symlink():
+            fd = _hold(path, blocking=False)
+            if fd is None:
+                continue  # a live run's temporary folder (or one this process cannot open: left alone)
+            os.close(fd)
+        _remove(path)
+
+
+def recover(folder) -> None:
+    """Bring ``folder`` back to a whole state before anything else touches it, under its lock: a commit
+    interrupted before its commit point is rolled back, one interrupted after it is finished, and the
+    temporary entries of runs that are no longer alive are removed.  Nothing if the folder cannot be locked."""
+    folder = Path(folder)
+    with _locked(folder) as held:
+        if held:
+            with signals_held():
+                _tidy(folder)
+
+
+def _tidy(folder: Path) -> None:
+    """:func:`recover`'s work, the folder's lock held."""
+    with contextlib.suppress(FileNotFoundError):
+        _recover_records(folder)
+        _remove_dead_leftovers(folder)
+
+
+# --------------------------------------------------------------------------- committing a folder
 
 
 def _same_file(new: Path, old: Path) -> bool:
@@ -245,70 +563,96 @@ def _same_file(new: Path, old: Path) -> bool:
         return False
 
 
-def _aside(dst: Path) -> Path | None:
-    """Keep the previous ``dst`` under a hidden name until the commit is complete (None if there is none).
-
-    A file or a link gets a second hard link, so ``dst`` itself stays in place until the rename replaces it; a
-    folder is renamed aside (it cannot be replaced by a rename while it holds files)."""
-    if not (dst.exists() or dst.is_symlink()):
-        return None
-    aside = dst.with_name(f"{TEMP_PREFIX}old-{uuid.uuid4().hex[:8]}-{dst.name}")
-    if dst.is_dir() and not dst.is_symlink():
+def _aside(dst: Path, aside: Path) -> None:
+    """Keep the previous ``dst`` as ``aside`` until the commit is complete.  A file or a link gets a second
+    hard link, so ``dst`` itself stays in place until the rename replaces it; a folder is renamed aside (it
+    cannot be replaced by a rename while it holds files)."""
+    if _real_dir(dst):
         os.rename(dst, aside)
-        return aside
+        return
     try:
         os.link(dst, aside, follow_symlinks=False)
     except OSError:  # a file system without hard links
         os.rename(dst, aside)
-    return aside
 
 
-def _undo(done: list[tuple[Path, Path | None]]) -> None:
-    """Put the previous entries back, newest change first: the folder is as it was before the commit."""
-    for dst, aside in reversed(done):
-        if aside is None or aside.is_dir() or dst.is_dir() and not dst.is_symlink():
-            if dst.exists() or dst.is_symlink():
-                _remove(dst)
+def _write_record(folder: Path, name: str, record: dict) -> Path:
+    """Write ``record`` as ``folder/name`` whole: a temporary file, synced, renamed, the folder synced."""
+    tmp = folder / f"{TEMP_PREFIX}record-{uuid.uuid4().hex[:8]}"
+    with open(tmp, "w", encoding="utf-8") as fh:
+        json.dump(record, fh)
+        fh.flush()
+        os.fsync(fh.fileno())
+    os.replace(tmp, folder / name)
+    _sync(folder)
+    return folder / name
+
+
+def _sync_tree(stage: Path) -> None:
+    """fsync every file of the temporary folder (a crash of the machine after the commit keeps the bytes)."""
+    for root, _, files in os.walk(stage):
+        for name in files:
+            _sync(Path(root) / name)
+        _sync(Path(root))
+
+
+def _apply(real: Path, stage: Path, record: dict) -> None:
+    """Steps 2 of the commit: every previous entry aside, every new one in place, the stale ones aside."""
+    for name, aside in record["install"]:
+        src, dst = stage / name, real / name
         if aside is not None:
-            with contextlib.suppress(OSError):
-                if (dst.exists() or dst.is_symlink()) and os.path.samestat(os.lstat(aside), os.lstat(dst)):
-                    os.unlink(aside)  # never replaced (a rename onto its own hard link would do nothing)
-                else:
-                    os.replace(aside, dst)
+            _aside(dst, real / aside)
+            _step(f"aside {name}")
+            if src.is_dir() and _lexists(dst):
+                os.unlink(dst)  # a file or a link where the new folder goes (kept aside)
+        os.replace(src, dst)
+        _step(f"install {name}")
+    for name, aside in record["remove"]:
+        _aside(real / name, real / aside)
+        _remove(real / name)
+        _step(f"remove {name}")
 
 
 def _commit(stage: Path, real: Path, owned: set[str], marker: Marker, force: bool, option: str, command: str) -> None:
-    """Rename every entry of ``stage`` into ``real`` (the marker last) and remove the owned names of an older run
-    that this one did not write again; all or nothing: on any failure the previous entries are put back.
-    Under the folder's lock, with signals held back."""
+    """Commit the entries of ``stage`` into ``real`` (the module's write-ahead record), removing the owned names
+    of an older run that this one did not write again; all or nothing.  Under the folder's lock, with
+    signals held back; ownership is checked again under that lock."""
     names = sorted(os.listdir(stage), key=lambda n: (isinstance(marker, str) and n == marker, n))
-    with _locked(real), signals_held():
+    _sync_tree(stage)
+    with _locked(real) as held, signals_held():
+        if held:
+            _tidy(real)
         ours = is_ours(real, marker)
         clash = [n for n in clashes(real, set(names) | owned) if not _same_file(stage / n, real / n)]
-        if clash and not (ours or force):  # something of the user's appeared meanwhile (or an undeclared name)
-            raise OutputError(
-                f"{option} {real}: holds {', '.join(clash)}, which {command} would replace, and is not a folder "
-                f"{command} wrote; choose another {option} (your files are left as they are)"
-            )
-        stale = sorted(owned - set(names)) if ours else []  # written by an older run, not by this one
-        done: list[tuple[Path, Path | None]] = []
+        if clash and not (ours or force):  # something of the user's, or another command's report, meanwhile
+            _refuse_clash(real, clash, option, command)
+        tag = uuid.uuid4().hex[:8]
+        stale = [n for n in sorted(owned - set(names)) if ours and _lexists(real / n)]
+        record = {
+            "stage": stage.name,
+            "install": [[n, f"{OLD_PREFIX}{tag}-{n}" if _lexists(real / n) else None] for n in names],
+            "remove": [[n, f"{OLD_PREFIX}{tag}-{n}"] for n in stale],
+        }
+        journal = _write_record(real, f"{COMMIT_PREFIX}{tag}.json", record)
+        _step("record")
         try:
-            for name in names:
-                src, dst = stage / name, real / name
-                done.append((dst, _aside(dst)))
-                if src.is_dir() and (dst.exists() or dst.is_symlink()):
-                    os.unlink(dst)  # a file or a link where the new folder goes (kept aside)
-                os.replace(src, dst)
-            for name in stale:
-                if (real / name).exists() or (real / name).is_symlink():
-                    done.append((real / name, _aside(real / name)))
-                    _remove(real / name)
+            _apply(real, stage, record)
         except BaseException:
-            _undo(done)
+            _roll_back(real, record)
+            os.unlink(journal)
             raise
-        for _, aside in done:
+        _sync(real)
+        done = real / f"{DONE_PREFIX}{tag}.json"
+        os.replace(journal, done)  # the commit point
+        _sync(real)
+        _step("commit")
+        for name, aside in record["install"] + record["remove"]:
             if aside is not None:
-                _remove(aside)
+                with contextlib.suppress(OSError):  # left for the next run's recovery
+                    _remove(real / aside)
+                _step(f"drop {name}")
+        os.unlink(done)
+        _step("done")
 
 
 def _make_folders(path: Path) -> list[Path]:
@@ -319,6 +663,14 @@ def _make_folders(path: Path) -> list[Path]:
             folder.mkdir()
             made.append(folder)
     return made
+
+
+def _make_stage(real: Path) -> tuple[Path, int | None]:
+    """A temporary folder in ``real`` holding its own flock while this run lives (made under the folder's lock,
+    so another run's clean-up never sees it unlocked); returns it and the descriptor of the flock."""
+    with _locked(real):
+        stage = Path(tempfile.mkdtemp(prefix=TEMP_PREFIX, dir=real))
+        return stage, _hold(stage)
 
 
 @contextlib.contextmanager
@@ -332,14 +684,14 @@ def output_folder(
     command: str = "the command",
 ) -> Iterator[Path]:
     """Context manager: yield an empty temporary folder; when the block ends normally, its entries replace
-    those of ``folder``.
+    those of ``folder`` (committed whole: see the module's docstring).
 
     ``owned``: the names the command writes in ``folder`` (files, or folders such as ``figures`` that are
     replaced whole); nothing else there is touched.  ``marker``: a file name (or test) that makes an existing
     folder one the command wrote before; in any other folder an owned name is the user's, and the command is
     refused (OutputError, exit 7) unless ``force``, or unless the file there has the very bytes about to be
-    written (checked again when committing, for every name written).  The checks of :func:`check_folder`
-    run first.
+    written (checked again under the lock of the commit, for every name written).  The checks of
+    :func:`check_folder` run first.
 
     An exception or a signal in the block, or an OSError while committing, removes the temporary folder
     (and ``folder`` if it was made for this run and holds nothing else); an OSError from writing becomes an
@@ -349,13 +701,15 @@ def output_folder(
     real = check_folder(folder, option, owned, marker, force, command)
     made: list[Path] = []
     stage: Path | None = None
+    held: int | None = None
     done = False
     try:
         try:
             made = _make_folders(real)
-            stage = Path(tempfile.mkdtemp(prefix=TEMP_PREFIX, dir=real))
+            stage, held = _make_stage(real)
         except OSError as exc:
             raise write_error(folder, exc, option) from None
+        _step("staged")
         try:
             yield stage
             _commit(stage, real, owned, marker, force, option, command)
@@ -368,6 +722,8 @@ def output_folder(
         with signals_held():  # the clean-up itself is not cut short by a second Ctrl-C
             if stage is not None:
                 shutil.rmtree(stage, ignore_errors=True)
+            if held is not None:
+                os.close(held)
             if not done:
                 for made_folder in reversed(made):
                     with contextlib.suppress(OSError):
@@ -377,12 +733,15 @@ def output_folder(
 # --------------------------------------------------------------------------- writing one file
 
 
-def write_file(path, content: str | bytes, option: str = "--out", example: str = "out.csv") -> Path:
+def write_file(path, content: str | bytes, option: str = "--out", example: str = "out.csv", *, kind: FileKind) -> Path:
     """Replace the file ``path`` with ``content`` atomically (a temporary file beside it, renamed over it).
 
+    Only a new or empty file, or one of ``kind`` the tool wrote, is replaced (:func:`check_file`; checked again
+    under the lock of the folder, just before the rename): anything else is an OutputError naming ``option``.
     A link to a file is followed (the file is replaced, the link kept); an existing file keeps its mode, a new
     one gets the usual mode (0666 less the umask); missing parent folders are made.  Refusals and write
-    failures are OutputError lines (exit 7); the temporary file is removed on any failure or signal.
+    failures are OutputError lines (exit 7); the temporary file is removed on any failure or signal (and by
+    the next run after a kill).
 
     Returns
     -------
@@ -390,7 +749,7 @@ def write_file(path, content: str | bytes, option: str = "--out", example: str =
         ``path`` as given.
     """
     path = Path(path)
-    real = check_file(path, option, example)
+    real = check_file(path, option, example, kind=kind)
     data = content.encode("utf-8") if isinstance(content, str) else bytes(content)
     if real.exists() and not _regular(real):  # a device or a pipe: nothing to replace, nothing to leave behind
         try:
@@ -399,18 +758,21 @@ def write_file(path, content: str | bytes, option: str = "--out", example: str =
         except OSError as exc:
             raise write_error(path, exc, option) from None
         return path
-    tmp = real.with_name(f"{TEMP_PREFIX}{real.name}-{uuid.uuid4().hex[:8]}")
+    tmp = real.with_name(f"{TEMP_PREFIX}{real.name[:100]}-{uuid.uuid4().hex[:8]}")
     try:
         _make_folders(real.parent)
-        mode = stat.S_IMODE(real.stat().st_mode) if real.exists() else None
-        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)  # the umask applies
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        if mode is not None:
-            os.chmod(tmp, mode)
-        with signals_held():
+        with _locked(real.parent) as held, signals_held():
+            if held:
+                _tidy(real.parent)
+            _refuse_foreign(real, path, option, kind)  # again, under the lock
+            mode = stat.S_IMODE(real.stat().st_mode) if real.exists() else None
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)  # the umask applies
+            with os.fdopen(fd, "wb") as fh:
+                fh.write(data)
+                fh.flush()
+                os.fsync(fh.fileno())
+            if mode is not None:
+                os.chmod(tmp, mode)
             os.replace(tmp, real)
     except OSError as exc:
         raise write_error(path, exc, option) from None
@@ -421,12 +783,19 @@ def write_file(path, content: str | bytes, option: str = "--out", example: str =
 
 
 __all__ = [
+    "PLOT",
+    "SOFTWARE",
     "TEMP_PREFIX",
+    "FileKind",
     "check_file",
     "check_folder",
     "clashes",
+    "first_line_kind",
     "is_ours",
     "output_folder",
+    "recover",
+    "signed",
+    "signed_kind",
     "signals_held",
     "write_error",
     "write_file",

@@ -7,7 +7,7 @@ import sys
 
 from designer.jsonsafe import finite
 from designer.errors import InputError
-from designer.output import check_file, check_folder
+from designer.output import FileKind, check_file, check_folder
 from designer.units import parse_quantity_text
 from designer.parameters import PARAMETERS
 from designer.units import outside_range
@@ -51,10 +51,11 @@ def check_output_folder(folder, option: str = "--out", **owned) -> None:
     check_folder(folder, option, **owned)
 
 
-def check_output_file(path, option: str, example: str = "out.csv") -> None:
+def check_output_file(path, option: str, example: str = "out.csv", *, kind: FileKind) -> None:
     """Raise OutputError (exit 7) unless the file ``path`` can be written (not a folder, not under a regular
-    file, in a writable folder); called before any computing (:func:`designer.output.check_file`)."""
-    check_file(path, option, example)
+    file, in a writable folder, new or empty or of ``kind`` and written by the tool); called before any
+    computing (:func:`designer.output.check_file`)."""
+    check_file(path, option, example, kind=kind)
 
 
 def ranged_option(value: str | None, entry: str, option: str, default=None, positive: bool = False):

@@ -14,7 +14,7 @@ from designer.cli._common import (
     ranged_option,
 )
 from designer.errors import InputError
-from designer.output import output_folder, write_file
+from designer.output import PLOT, output_folder, signed, signed_kind, write_file
 
 KINDS = {
     "turning": "moment per unit load k_surface [m] from drill-press data (Fig. 7); CSV columns load_N, moment_Nm",
@@ -22,6 +22,13 @@ KINDS = {
     "inertia_kgm2, critical_speed_mps [, groove_m]",
     "slip": "tyre slip coefficient K_s [N] (Fig. 3C, Eq. 12C); CSV columns slip_ratio, force_N",
 }
+
+
+SNIPPET_WRITER = "designer calibrate --snippet"
+"""The first line of a snippet names this writer (:func:`designer.output.signed`)."""
+
+SNIPPET = signed_kind(SNIPPET_WRITER, "a snippet written by designer calibrate --snippet")
+"""What ``--snippet`` may replace: a snippet it wrote, unchanged since; never a problem file of the user's."""
 
 
 def register(sub) -> None:
@@ -77,7 +84,8 @@ def run(args) -> int:
     if args.report:
         write_calibration_report(result, args.report, str(args.data))
     if args.snippet:
-        write_file(args.snippet, result.snippet(), "--snippet", example="calibration.toml")
+        text = signed(result.snippet(), SNIPPET_WRITER)
+        write_file(args.snippet, text, "--snippet", example="calibration.toml", kind=SNIPPET)
     out = result.to_dict()
     out["data"] = str(args.data)
     if args.plot:
@@ -114,11 +122,11 @@ def _check_outputs(args) -> None:
 
     if args.plot:
         check_plot_name(args.plot)
-        check_output_file(args.plot, "--plot", example="fit.png")
+        check_output_file(args.plot, "--plot", example="fit.png", kind=PLOT)
     if args.report:
         check_output_folder(args.report, "--report", owned=OWNED, marker=MARKER, command="designer calibrate")
     if args.snippet:
-        check_output_file(args.snippet, "--snippet", example="calibration.toml")
+        check_output_file(args.snippet, "--snippet", example="calibration.toml", kind=SNIPPET)
 
 
 def run_examples(args) -> int:

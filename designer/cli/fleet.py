@@ -20,6 +20,7 @@ from designer.cli._common import (
 )
 from designer.studies.fleet import (
     DEFAULT_MAX_REGRET,
+    EXAMPLE_KIND,
     EXAMPLE_RANGES,
     MAX_CHAIRS,
     example_fleet,
@@ -92,7 +93,9 @@ def run(args) -> int:
         if args.fleet is not None:
             raise InputError(f"--example {args.example}: writes a fleet; do not also give FLEET.csv ({args.fleet})")
         target = args.out or f"fleet-example-{args.example}.csv"
-        check_output_file(target, "--out", example=f"fleet-example-{args.example}.csv")  # before the fleet is made
+        check_output_file(
+            target, "--out", example=f"fleet-example-{args.example}.csv", kind=EXAMPLE_KIND
+        )  # before the fleet is made
         fleet = example_fleet(args.example, seed=args.seed)
         path = write_fleet_csv(fleet, target)
         if args.json:

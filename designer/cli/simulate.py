@@ -7,7 +7,7 @@ import sys
 
 from designer.cli._common import check_output_file, eprint, print_json, quantity_option, ranged_option
 from designer.errors import InputError
-from designer.output import output_folder
+from designer.output import PLOT, output_folder
 from designer.model import Conditions, Design
 from designer.physics.inertia import Fixed, PowerLaw
 from designer.physics.tyre import TyreParameters
@@ -321,7 +321,7 @@ def run(args) -> int:
     if args.plot and args.report is None:  # the plot's place, checked before the simulation
         if not str(args.plot).lower().endswith((".png", ".svg", ".pdf")):
             raise InputError(f"--plot {args.plot}: expected a .png, .svg or .pdf file name")
-        check_output_file(args.plot, "--plot", example="plot.png")
+        check_output_file(args.plot, "--plot", example="plot.png", kind=PLOT)
     if (args.bifurcation or args.knock_safe) and args.report is None:
         # one budget for all the command's studies, grown with the orbits asked for (--points, default 24)
         budget = scaled_budget(_points(args), DEFAULT_POINTS) if args.bifurcation else None

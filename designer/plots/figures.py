@@ -40,7 +40,7 @@ from designer.data.paper import (
     WALKING_SPEED,
 )
 from designer.model import performance
-from designer.output import write_file
+from designer.output import PLOT, SOFTWARE, write_file
 from designer.physics.shimmy import critical_shimmy_speed
 from designer.plots.fronts import VARIABLE_PANELS, FAMILY_STYLE, draw_fronts, plot_front, plot_variables  # noqa: F401  (FAMILY_STYLE: re-exported)
 from designer.physics.threshold import threshold_force_ratio, threshold_force_ratio_approx
@@ -94,17 +94,23 @@ def _new(
     return fig
 
 
+CREATOR = ("svg", "pdf", "ps", "eps")
+"""Figure formats whose metadata take a Creator (matplotlib): the tool's name goes there."""
+
+
 def save_figure(fig, path, dpi: int = 110, option: str = "--plot") -> None:
     """Save a figure to ``path`` (format from its suffix) and close it; the file is replaced atomically
     (:func:`designer.output.write_file`), and a place that cannot be written is an OutputError naming ``option``."""
     import matplotlib.pyplot as plt
 
-    # a PNG's Software tag names matplotlib's version: left out, so a redrawn figure has the same bytes
-    metadata = {"Software": None} if str(path).lower().endswith(".png") else None
+    # the metadata name this tool (not matplotlib's version: a redrawn figure has the same bytes), so that the
+    # next --plot recognises the file as its own figure (designer.output.PLOT) and replaces nothing else
+    suffix = Path(path).suffix[1:].lower()
+    metadata = {"Software": SOFTWARE} if suffix == "png" else {"Creator": SOFTWARE} if suffix in CREATOR else None
     try:
         buf = io.BytesIO()
-        fig.savefig(buf, format=Path(path).suffix[1:].lower() or None, dpi=dpi, metadata=metadata)
-        write_file(path, buf.getvalue(), option, example="plot.png")
+        fig.savefig(buf, format=suffix or None, dpi=dpi, metadata=metadata)
+        write_file(path, buf.getvalue(), option, example="plot.png", kind=PLOT)
     finally:
         plt.close(fig)
 

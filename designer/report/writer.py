@@ -198,8 +198,11 @@ def write_report(data, out_dir=None, *, force: bool = False, option: str = "--ou
     problem = data.problem
     target = Path(out_dir) if out_dir is not None else Path("results") / problem.name
     check_target(target, force, option)
+    # check_target decided before computing; the commit checks again under the folder's lock, with the same rule
+    # (a report of this tool, an empty folder, or a foreign one only with force): another command's report
+    # written meanwhile is refused, never mixed with this one
     with output_folder(
-        target, REPORT_OWNED, option=option, marker=is_report, force=True, command="designer pareto"
-    ) as stage:  # force: check_target decided (a foreign folder only with force)
+        target, REPORT_OWNED, option=option, marker=is_report, force=force, command="designer pareto"
+    ) as stage:
         _write_all(stage, data, t0)
     return target

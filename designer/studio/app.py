@@ -23,7 +23,7 @@ from dash.exceptions import PreventUpdate
 
 from designer.errors import DesignerError
 from designer.model import Design
-from designer.output import write_file
+from designer.output import signed, signed_kind, write_file
 import designer.studio.figures as figures
 import designer.studio.state as state
 import designer.studio.view as view
@@ -36,6 +36,13 @@ __all__ = ["build_layout", "card_panel", "create_app", "fixes_panel", "numbers_t
 
 
 # --------------------------------------------------------------------------- the app
+
+
+SAVE_WRITER = "designer studio"
+"""The first line of a problem file "Save problem" writes names this writer (:func:`designer.output.signed`)."""
+
+SAVED_PROBLEM = signed_kind(SAVE_WRITER, "a problem file saved by designer studio")
+"""What "Save problem" may replace: a problem file it saved, unchanged since (never one the user wrote)."""
 
 
 def create_app(data: dict, name: str, out_dir: Path):
@@ -296,8 +303,8 @@ def _save_or_report(trigger, merged: dict, out_dir: Path):
     problem = problem_from_dict(merged)
     if trigger == "save":
         path = out_dir / f"{problem.name}.toml"
-        text = state.to_toml(merged)
-        write_file(path, text, "--out", example=path.name)
+        text = signed(state.to_toml(merged), SAVE_WRITER)
+        write_file(path, text, "--out", example=path.name, kind=SAVED_PROBLEM)
         return html.Span([f"saved {path.resolve()} (run it: designer run {path})"], id="saved-path"), {
             "content": text,
             "filename": path.name,

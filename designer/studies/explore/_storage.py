@@ -6,8 +6,10 @@ See :mod:`designer.studies.explore` for the storage forms.
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 import re
+import sqlite3
 import time
 import warnings
 from dataclasses import dataclass
@@ -15,7 +17,7 @@ from pathlib import Path
 
 
 from designer.errors import InputError, StorageError
-from designer.output import output_folder
+from designer.output import FileKind, check_file, output_folder
 import importlib.util
 
 
@@ -167,6 +169,58 @@ def _open_database(spec: StorageSpec, heartbeat: int | None, grace: int | None):
     raise AssertionError("unreachable: the last attempt returns or raises")
 
 
+def _optuna_journal(path: Path) -> bool:
+    """True if ``path`` is optuna's journal: JSON lines, each an operation (``{"op_code": ...``)."""
+    try:
+        with open(path, "rb") as fh:
+            first = fh.readline(1 << 20)
+    except OSError:
+        return False
+    if not first.endswith(b"\n"):  # a first record cut short by a kill (repaired on open)
+        return first.startswith(b'{"op_code":')
+    try:
+        record = json.loads(first)
+    except ValueError:
+        return False
+    return isinstance(record, dict) and "op_code" in record
+
+
+OPTUNA_TABLES = frozenset({"studies", "trials", "version_info"})
+"""Tables every optuna RDB schema has: an SQLite file holding them (or no table at all) is a study's."""
+
+
+def _optuna_sqlite(path: Path) -> bool:
+    """True if ``path`` is an SQLite database of optuna's schema (or one without any table yet)."""
+    try:
+        with open(path, "rb") as fh:
+            if fh.read(16) != b"SQLite format 3\x00":
+                return False
+        con = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+        try:
+            tables = {row[0] for row in con.execute("select name from sqlite_master where type = 'table'")}
+        finally:
+            con.close()
+    except (OSError, sqlite3.Error):
+        return False
+    return not tables or OPTUNA_TABLES <= tables
+
+
+JOURNAL = FileKind("an optuna journal (JSON lines written by designer explore)", _optuna_journal)
+"""What ``--storage FILE.log`` may write into: a new or empty file, or optuna's journal; never a user's text."""
+
+SQLITE = FileKind("an SQLite database of optuna's schema", _optuna_sqlite)
+"""What ``--storage FILE.db`` may write into: a new or empty file, or an optuna SQLite database."""
+
+
+def check_storage_file(spec: StorageSpec) -> None:
+    """OutputError (exit 7) unless the file of a journal or SQLite storage is new, empty or optuna's own
+    (:func:`designer.output.check_file`): a user's notes.log or database is never written into."""
+    if spec.kind == "journal":
+        check_file(spec.url, "--storage", example="study.log", kind=JOURNAL)
+    elif spec.url is not None and spec.url.startswith("sqlite:///") and len(spec.url) > len("sqlite:///"):
+        check_file(spec.url[len("sqlite:///") :], "--storage", example="study.db", kind=SQLITE)
+
+
 def open_storage(spec: StorageSpec, break_lock: bool = False):
     """Open (and check) an optuna storage; any failure is one :class:`StorageError` line.
 
@@ -183,8 +237,7 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
         path = Path(spec.url)
         if not path.parent.is_dir():
             raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
-        if path.is_dir():
-            raise StorageError(f"storage {spec.shown}: is a folder, expected a journal file")
+        check_storage_file(spec)  # a folder, or a file that is not optuna's journal: OutputError, exit 7
         try:
             if break_lock:
                 with contextlib.suppress(FileNotFoundError):
@@ -200,6 +253,7 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
         path = Path(spec.url[len("sqlite:///") :])
         if str(path) and not path.parent.is_dir():
             raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
+    check_storage_file(spec)
     heartbeat, grace = _heartbeat() if spec.remote else (None, None)  # a bad setting is its own one line
     try:
         return _open_database(spec, heartbeat, grace)

@@ -21,10 +21,18 @@ from designer.studies.fleet._fleet import (
     suggest_skus,
 )
 from designer.studies.fleet._kmedian import kmedian_curve, solve_kmedian
-from designer.studies.fleet._table import EXAMPLE_RANGES, MAX_CHAIRS, example_fleet, read_fleet, write_fleet_csv
+from designer.studies.fleet._table import (
+    EXAMPLE_KIND,
+    EXAMPLE_RANGES,
+    MAX_CHAIRS,
+    example_fleet,
+    read_fleet,
+    write_fleet_csv,
+)
 
 __all__ = [
     "DEFAULT_MAX_REGRET",
+    "EXAMPLE_KIND",
     "EXAMPLE_RANGES",
     "MAX_CHAIRS",
     "FleetResult",

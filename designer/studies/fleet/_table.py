@@ -19,7 +19,7 @@ import numpy as np
 from designer.data.paper import INCH
 from designer.errors import InputError, ProblemError, read_input_text
 from designer.model import MASS_RANGE, caster_load
-from designer.output import write_file
+from designer.output import first_line_kind, write_file
 from designer.physics.turning import MODES, SURFACES
 from designer.problem import check_utf8
 from designer.units import parse_quantity
@@ -526,12 +526,19 @@ def example_fleet(n: int, seed: int = 0) -> Fleet:
     )
 
 
+EXAMPLE_HEADER = "# Example fleet written by `designer fleet --example`; ranges and their sources: docs/fleet.md"
+"""The first line of an example fleet CSV (a comment :func:`read_fleet` skips)."""
+
+EXAMPLE_KIND = first_line_kind(EXAMPLE_HEADER, "an example fleet written by designer fleet --example")
+"""What ``fleet --example --out FILE`` may replace: an example fleet it wrote (never a fleet of the user's)."""
+
+
 def write_fleet_csv(fleet: Fleet, path) -> Path:
     """Write a fleet as FLEET.csv with units in the header (the format :func:`read_fleet` reads), atomically
     (:func:`designer.output.write_file`: a folder or an unwritable place is an OutputError, exit 7)."""
     path = Path(path)
     lines = [
-        "# Example fleet written by `designer fleet --example`; ranges and their sources: docs/fleet.md",
+        EXAMPLE_HEADER,
         "name,load_N,threshold_height_in,target_speed_m/s,swept_radius_max_in,surface,turning_mode,count",
     ]
     for i in range(len(fleet)):
@@ -540,5 +547,5 @@ def write_fleet_csv(fleet: Fleet, path) -> Path:
             f"{fleet.target_speed[i]:.2f},{fleet.swept_radius_max[i] / INCH:.2f},{fleet.surface[i]},"
             f"{fleet.turning_mode[i]},{int(fleet.count[i])}"
         )
-    write_file(path, "\n".join(lines) + "\n", "--out", example="fleet.csv")
+    write_file(path, "\n".join(lines) + "\n", "--out", example="fleet.csv", kind=EXAMPLE_KIND)
     return path

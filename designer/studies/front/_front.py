@@ -8,6 +8,7 @@ weighted best, gaps, comparison with another front, CSV/JSON/pandas, notebook re
 from __future__ import annotations
 
 import csv
+import io
 import json
 import math
 from collections.abc import Iterator, Sequence
@@ -20,6 +21,7 @@ import numpy as np
 from designer.studies.front._indicators import hypervolume_2d, igd_plus, nondominated, normalise
 from designer.data.paper import INCH
 from designer.errors import InputError
+from designer.output import first_line_kind, write_file
 from designer.model import VARIABLES, Design
 from designer.parameters import DESIGN_UNITS, PARAMETERS
 from designer.problem import example_names, example_problem
@@ -29,6 +31,9 @@ from designer.plots import fronts as front_plots
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
+
+FRONT_CSV = first_line_kind(",".join([*VARIABLES, "turning_effort", "threshold_force"]), "a front CSV")
+"""What :meth:`Front.to_csv` may replace: a front CSV (its header), never another file of the user's."""
 
 REFERENCE_OFFSET = 0.1
 """Hypervolume reference point: 10 % beyond the nadir in normalised objectives, i.e. (1.1, 1.1)."""
@@ -477,6 +482,9 @@ class Front(Record):
 
         ``buildable``: the buildable front (``Recommendation.buildable``, when the problem has ``[stock]``):
         its points are added as rows and a column ``buildable`` says true for them, false for this front's.
+        The file is replaced atomically, and only if it is new, empty or a front CSV (its header starts with the
+        design variables and the objectives): a file of the user's is an OutputError
+        (:func:`designer.output.write_file`).
         """
         rows = self.rows()
         columns = list(VARIABLES) + [
@@ -491,11 +499,12 @@ class Front(Record):
             rows = [{**r, "buildable": "false"} for r in rows] + [{**r, "buildable": "true"} for r in buildable.rows()]
             columns.append("buildable")
         extra = sorted({k for r in rows for k in r} - set(columns))
-        with open(path, "w", newline="") as fh:
-            writer = csv.DictWriter(fh, fieldnames=columns + extra)
-            writer.writeheader()
-            for r in rows:
-                writer.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in r.items()})
+        fh = io.StringIO(newline="")
+        writer = csv.DictWriter(fh, fieldnames=columns + extra)
+        writer.writeheader()
+        for r in rows:
+            writer.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in r.items()})
+        write_file(path, fh.getvalue(), "to_csv", example="front.csv", kind=FRONT_CSV)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data: points, failed points, indicators and run metadata."""
