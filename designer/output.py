@@ -529,18 +529,23 @@ def _remove_dead_leftovers(folder: Path) -> None:
             if fd is None:
                 continue  # a live run's temporary folder (or one this process cannot open: left alone)
             os.close(fd)
-        _remove(path)
+        with contextlib.suppress(OSError):  # another user's leftover: left for a run that may remove it
+            _remove(path)
 
 
 def recover(folder) -> None:
     """Bring ``folder`` back to a whole state before anything else touches it, under its lock: a commit
     interrupted before its commit point is rolled back, one interrupted after it is finished, and the
-    temporary entries of runs that are no longer alive are removed.  Nothing if the folder cannot be locked."""
+    temporary entries of runs that are no longer alive are removed.  Nothing if the folder cannot be locked;
+    an OSError while putting entries back is an OutputError naming the folder (:func:`write_error`)."""
     folder = Path(folder)
     with _locked(folder) as held:
         if held:
             with signals_held():
-                _tidy(folder)
+                try:
+                    _tidy(folder)
+                except OSError as exc:  # e.g. no permission to put an entry back: the user's setup, one line
+                    raise write_error(folder, exc) from None
 
 
 def _tidy(folder: Path) -> None:
