@@ -123,6 +123,8 @@ def _recommend_examples(problem) -> dict[str, Record]:
     return {
         "Recommendation": rec,
         "Recommendation (alternative)": rec.alternatives[0],
+        "Spec": rec.spec,
+        "Limit": rec.spec.limits[0],
         "CandidateValues": values,
     }
 
@@ -255,6 +257,8 @@ NAMES = [
     "RobustData",
     "Recommendation",
     "Recommendation (alternative)",
+    "Spec",
+    "Limit",
     "CandidateValues",
 ]
 
@@ -344,26 +348,28 @@ def test_a_recommendation_keeps_the_front_it_was_given(examples):
 
 def test_a_recommendation_carries_its_risk_spec_and_if_measured(examples, no_solvers):
     """indoor-manual's recommendation (a wheel known by its diameter) carries the risk law's records as fields: its
-    risk (P ± SE equal to the record's own, sources whose shares add up to 1), its purchasing spec (M_f = c_f θ0,
-    a positive max_inertia) and if_measured; to_dict puts them beside ``extrapolated``, the HTML shows the spec's
-    largest measured inertia, to_pandas the measured and extrapolated flags; its alternatives carry none of the
-    three.  Every solver and Monte Carlo raises meanwhile: nothing here computes."""
+    risk (exact P and the Monte Carlo's P ± SE equal to the record's own, sources whose shares add up to 1), its
+    spec (M_f = c_f θ0, a positive wheel_inertia_max with its unit beside it) and if_measured; to_dict puts them
+    beside ``extrapolated``, the HTML shows the spec's largest measured inertia, to_pandas the measured and
+    extrapolated flags; its alternatives carry a spec of their own but neither the risk nor if_measured.  Every
+    solver and Monte Carlo raises meanwhile: nothing here computes."""
     rec = examples["Recommendation"]
     data = rec.to_dict()
     assert {"risk", "spec", "if_measured", "extrapolated", "measured"} <= set(data)
     assert data["extrapolated"] is False and data["measured"] is False
     assert (data["risk"]["probability"], data["risk"]["se"]) == (rec.shimmy_probability, rec.shimmy_probability_se)
+    assert data["risk"]["monte_carlo"] == rec.shimmy_probability_mc
     assert sum(s["share"] for s in data["risk"]["sources"]) == pytest.approx(1.0, abs=1e-12)
-    assert data["spec"]["friction_moment"] == pytest.approx(
+    assert data["spec"]["nominal"]["friction_moment"] == pytest.approx(
         rec.design.damping * rec.problem.conditions.disturbance_angle, rel=1e-12
     )
-    assert data["spec"]["max_inertia"] > 0
-    assert f"{rec.spec['max_inertia']:.3g}" in rec._repr_html_()
+    assert data["spec"]["limits"]["wheel_inertia_max"] > 0 and data["spec"]["units"]["wheel_inertia_max"] == "kg·m²"
+    assert f"{rec.spec.limit('wheel_inertia', 'max').value:.4g}" in rec._repr_html_()
     df = rec.to_pandas()
     assert list(df["measured"]) == [False] * len(df) and not df["extrapolated"].any()
     for alt in rec.alternatives:
-        assert (alt.risk, alt.spec, alt.if_measured) == (None, None, None)
-        assert not {"risk", "spec", "if_measured"} & set(alt.to_dict())
+        assert (alt.risk, alt.if_measured) == (None, None) and alt.spec is not None
+        assert not {"risk", "if_measured"} & set(alt.to_dict()) and "spec" in alt.to_dict()
 
 
 def test_records_are_built_by_keyword():

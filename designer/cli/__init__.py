@@ -30,6 +30,7 @@ for a Unix tool that SIGPIPE ended; quietly, without a message."""
 COMMANDS = ["evaluate", "validate", "run", "pareto", "explore", "robust", "simulate", "calibrate", "fleet", "studio"]
 """Sub-command modules in designer.cli; each defines ``register(subparsers)``."""
 COMMANDS.append("fix")  # retrofit
+COMMANDS.append("spec")  # the inspection sheet
 
 
 class _Parser(argparse.ArgumentParser):

@@ -133,6 +133,15 @@ SCHEMA: dict[str, dict[str, str]] = {
     },
     "report": {"units": "str"},
     "retrofit": {"max_threshold_increase": "dimensionless", "max_turning_increase": "dimensionless"},
+    "tolerances": {
+        "trail": "length",
+        "groove": "length",
+        "diameter": "length",
+        "friction_moment": "dimensionless",
+        "stem_angle": "angle",
+        "wheel": "str",
+        "enforce": "bool",
+    },
 }
 """Allowed keys per section: key -> dimension (or a type tag).  The model constants' keys are added from
 the parameter table just below, so a new constant needs no line here."""
@@ -267,6 +276,36 @@ class Stock:
         }
 
 
+TOLERANCE_MAX_LENGTH = 1.0 * INCH
+"""Largest spread [m] of a toleranced length (1 in): a spread of a part, not a part's size."""
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """``[tolerances]``: each part's manufacturing spread, ± about its nominal value (SI; None: not toleranced).
+
+    Attributes
+    ----------
+    trail, groove, diameter : ± [m]
+    friction_moment : relative spread of M_f = c_f θ0 [-] (0.2 = ±20 %), its loss over the caster's life
+        (washers and bearings wear) included
+    wheel : the largest measured wheel inertia goods-in accepts [kg·m²], or None ("catalogue": the wheel's
+        inertia as the problem's inertia model gives it, at the diameter's worst edge)
+    enforce : the recommendation is chosen among the casters that hold the risk bound at the worst corner
+    """
+
+    trail: float | None = None
+    groove: float | None = None
+    diameter: float | None = None
+    friction_moment: float | None = None
+    wheel: float | None = None
+    enforce: bool = False
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data (SI; ``wheel`` None: catalogue)."""
+        return dataclasses.asdict(self)
+
+
 @dataclass(frozen=True)
 class Problem(Record):
     """A validated caster design problem (immutable).
@@ -288,6 +327,7 @@ class Problem(Record):
     max_turning_effort : cap on F_turn [N]: the recommendation is the least P within it
     max_threshold_increase : a retrofit's limit on the sill force, relative to the current caster's [-]
     max_turning_increase : a retrofit's limit on the turning effort, relative to the current caster's [-]
+    tolerances : ``[tolerances]``, the manufacturing spread of each part (:class:`Tolerances`), or None
     choices : categorical options for exploration {"surface": (...), ...}
     description : free text (whose chair, why these numbers)
     source : the file it was read from, if any
@@ -311,6 +351,7 @@ class Problem(Record):
     max_turning_effort: float | None = None
     max_threshold_increase: float = DEFAULT_MAX_THRESHOLD_INCREASE
     max_turning_increase: float = DEFAULT_MAX_TURNING_INCREASE
+    tolerances: Tolerances | None = None
     description: str = ""
     source: str | None = None
     units: str = field(default="in", compare=False)  # display only: equal problems may write sizes otherwise
@@ -463,7 +504,7 @@ class Problem(Record):
                 "mode_factors": c.turning.mode_factors,
                 "bare_fork_damping": c.turning.bare_fork_damping,
             },
-        }
+        } | ({} if self.tolerances is None else {"tolerances": self.tolerances.to_dict()})
 
 
 def family_of(problem: Problem, design: Design, tol: float = 1e-6) -> str:

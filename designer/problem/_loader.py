@@ -37,8 +37,10 @@ from designer.problem._core import (
     REPORT_UNITS,
     SCHEMA,
     VARIABLE_DIMENSIONS,
+    TOLERANCE_MAX_LENGTH,
     Bound,
     Problem,
+    Tolerances,
 )
 
 _D = TypeVar("_D")
@@ -263,8 +265,6 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
     if isinstance(points, bool) or not isinstance(points, int):
         r.fail(f"pareto.points = {points!r}: expected an integer")
 
-    choices = _choices(r)
-    units = _report_units(r)
     increase, turning = _retrofit_limits(r, data)
 
     target_speed = _value(r, "target_speed")
@@ -281,15 +281,59 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
         weights=weights,
         pareto_points=points,
         wheels=wheels,
-        choices=choices,
+        choices=_choices(r),
         stock=stock,
         max_threshold_force=caps["max_threshold_force"],
         max_turning_effort=caps["max_turning_effort"],
         source=source,
-        units=units,
+        units=_report_units(r),
         max_threshold_increase=increase,
         max_turning_increase=turning,
+        tolerances=_tolerances(r) if "tolerances" in data else None,
     )
+
+
+def _tolerances(r: _Reader) -> Tolerances:
+    """``[tolerances]``: the ± spread of trail, groove and diameter (lengths from 0 to 1 in), of the friction
+    moment (a fraction below 1: "20 %"), the wheel ("catalogue" or the largest measured I_w accepted) and
+    ``enforce``.  A stem angle is refused: the problem's stem is vertical (nothing to tolerance)."""
+    table = r.section("tolerances")
+    if "stem_angle" in table:
+        r.fail(
+            f"tolerances.stem_angle = {table['stem_angle']!r}: this problem has no stem angle (its stem is vertical "
+            "and T is the tyre's trail); tolerance the trail instead"
+        )
+    lengths = {}
+    for key in ("trail", "groove", "diameter"):
+        value = r.quantity("tolerances", key, "length", None)
+        if value is not None and not 0 <= value <= TOLERANCE_MAX_LENGTH:
+            r.fail(
+                f"tolerances.{key} = {table[key]!r}: a spread must be from 0 to {TOLERANCE_MAX_LENGTH * 1000:.1f} mm "
+                "(± about the nominal size)"
+            )
+        lengths[key] = value
+    moment = r.quantity("tolerances", "friction_moment", "dimensionless", None)
+    if moment is not None and not 0 <= moment < 1:
+        r.fail(
+            f"tolerances.friction_moment = {table['friction_moment']!r}: the spread of M_f is a fraction from 0 to "
+            'below 1 (write "20 %" or 0.2); 100 % or more would leave no friction'
+        )
+    wheel = table.get("wheel", "catalogue")
+    limit = None
+    if not (isinstance(wheel, str) and wheel.strip().lower() in ("catalogue", "catalog")):
+        try:
+            limit = parse_quantity(wheel, "inertia", "tolerances.wheel")
+        except InputError:
+            limit = None
+        if limit is None or not 0 < limit < 0.1:
+            r.fail(
+                f'tolerances.wheel = {wheel!r}: expected "catalogue" or the largest measured wheel inertia '
+                "accepted, between 0 and 0.1 kg·m² (e.g. '1.5e-3 kg*m^2')"
+            )
+    enforce = table.get("enforce", False)
+    if not isinstance(enforce, bool):
+        r.fail(f"tolerances.enforce = {enforce!r}: expected true or false")
+    return Tolerances(**lengths, friction_moment=moment, wheel=limit, enforce=enforce)
 
 
 def _value(r: _Reader, name: str) -> Any:

@@ -10,6 +10,7 @@ draws the figures and writes the files.
 from __future__ import annotations
 
 import math
+from typing import Any
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -372,7 +373,7 @@ CARD_HEADER = [
     "turning effort",
     "sill force",
     "V_q: speed held with prob. {level}",
-    "P(shimmy) ± SE",
+    "P(shimmy): exact (Monte Carlo ± SE)",
     "swept radius",
 ]
 """The columns of the caster to build (one row): sizes as the user writes them, then what it does."""
@@ -390,7 +391,7 @@ def _caster_cells(rec, units: str) -> list[str]:
         fmt(rec.turning_effort, ".2f", "N"),
         fmt(rec.threshold_force, ".1f", "N"),
         fmt(rec.confident_speed, ".2f", "m/s"),
-        f"{rec.shimmy_probability:.2%} ± {rec.shimmy_probability_se:.2%}",
+        f"{rec.shimmy_probability:.2%} ({rec.shimmy_probability_mc:.2%} ± {rec.shimmy_probability_se:.2%})",
         size(rec.swept_radius, units) + limit,
     ]
 
@@ -448,8 +449,8 @@ def _law_panels(data: ReportData, units: str) -> list[Panel]:
             Panel(
                 id="risk",
                 title="Where the risk comes from",
-                text=f"P(shimmy at {rec.target_speed:.3g} m/s) = {risk['probability']:.2%} ± {risk['se']:.2%} "
-                f"(Monte Carlo of the law below). {risk['dominant']}",
+                text=f"P(shimmy at {rec.target_speed:.3g} m/s) = {risk['probability']:.2%} (the law below, by "
+                f"quadrature; its Monte Carlo: {risk['monte_carlo']:.2%} ± {risk['se']:.2%}). {risk['dominant']}",
                 table=PanelTable(
                     header=["source", "distribution of its log", "scale", "kind", "share of var log V_c"],
                     rows=[
@@ -470,32 +471,81 @@ def _law_panels(data: ReportData, units: str) -> list[Panel]:
                 + ".",
             )
         )
-    spec = rec.spec
-    if spec is not None:
-        out.append(
-            Panel(
-                id="spec",
-                title="The spec to buy to",
-                text="A wheel whose measured moment of inertia about a diameter is above the last line does not meet "
-                "the risk bound on this fork.",
-                table=PanelTable(
-                    header=["part", "value"],
-                    rows=[
-                        ["trail T", size(spec["trail"], units)],
-                        ["wheel diameter d", size(spec["diameter"], units)],
-                        ["groove B", size(spec["groove"], units)],
-                        ["bearing friction moment M_f = c_f θ0", f"{spec['friction_moment']:.3f} N·m"],
-                        ["largest measured wheel inertia I_w", f"{spec['max_inertia']:.3g} kg·m²"],
-                    ],
-                    numeric=[False, True],
-                ),
-            )
-        )
+    if rec.spec is not None:
+        out.append(spec_panel(rec, units))
     if rec.if_measured is not None:
         out.append(
             Panel(id="if_measured", title="If you measure the wheel", text=rec.headline(lambda x: size(x, units)))
         )
     return out
+
+
+def spec_rows(spec, units: str) -> list[list[str]]:
+    """The spec's table: each inspectable part's nominal, tolerance (± from ``[tolerances]``), acceptance limit
+    (others at nominal) and how to measure it (display strings of ``spec.parts()``; sizes in ``units``)."""
+
+    def shown(value: Any, unit: str) -> str:
+        if value is None:
+            return "none"
+        if isinstance(value, str):
+            return value
+        return size(value, units) if unit == "m" else (f"{value:.3f} N·m" if unit == "N·m" else f"{value:.3g} {unit}")
+
+    rows = []
+    for row in spec.parts():
+        tol, unit = row["tolerance"], row["unit"]
+        if tol is None:
+            spread = "—"
+        elif row["part"] == "friction_moment":
+            spread = f"± {tol:.0%}"
+        elif row["part"] == "wheel_inertia":
+            spread = tol if isinstance(tol, str) else f"≤ {tol:.3g} kg·m² measured"
+        else:  # a spread is finer than the sizes' 1/16 in: always to 0.01 mm
+            spread = f"± {tol * 1000:.2f} mm ({tol / INCH:.3f} in)"
+        limit = "; ".join(f"{lim.side} {lim.shown}" for lim in row["limits"]) or "—"
+        rows.append([row["label"], shown(row["nominal"], unit), spread, limit, row["measure"]])
+    return rows
+
+
+def corner_sentence(spec) -> str:
+    """P(shimmy) at the worst corner of the tolerance box, whether the caster holds there (or: no tolerances)."""
+    c = spec.corner
+    if c is None:
+        return "No [tolerances] in the problem: the worst corner is not computed."
+    edges = ", ".join(
+        f"{k.replace('_', ' ')} "
+        + (f"{v * 1000:.2f} mm" if k in ("trail", "groove", "diameter") else f"{v:.4g}")
+        + (" N·m" if k == "friction_moment" else " kg·m²" if k == "wheel_inertia" else "")
+        for k, v in c["edges"].items()
+    )
+    return (
+        f"At the worst corner of the tolerances (every part at its own worst edge at once: {edges}; the law's "
+        f"scatter on top), P(shimmy at {spec.required_speed:.3g} m/s) = {c['probability']:.2%} against "
+        f"{c['nominal_probability']:.2%} at nominal: the caster "
+        + ("holds" if c["holds"] else "does NOT hold")
+        + f" the bound α = {spec.alpha:.0%}."
+    )
+
+
+def spec_panel(rec, units: str) -> Panel:
+    """The spec a factory inspects against: nominal, tolerance, acceptance limit and how to measure each part."""
+    spec = rec.spec
+    no_limit = [f"{lim.part} {lim.side}: {lim.reason}" for lim in spec.limits if lim.value is None]
+    return Panel(
+        id="spec",
+        title="The spec to inspect against",
+        text="Each part's acceptance limit is where, with every other part at nominal, the exact law gives "
+        f"P(shimmy) = α = {spec.alpha:.0%}; a part beyond its limit fails the risk bound on this caster. "
+        + corner_sentence(spec)
+        + (f" {rec.enforced_sentence()}" if rec.enforced is not None else ""),
+        table=PanelTable(
+            header=["part", "nominal", "tolerance", "acceptance limit", "how to measure"],
+            rows=spec_rows(spec, units),
+            numeric=[False, True, True, True, False],
+        ),
+        caption=f"M_f = c_f θ0 with θ0 = {math.degrees(spec.disturbance_angle):.0f}° (Eq. 7). "
+        + ("No limit inside the model's range: " + "; ".join(no_limit) + "." if no_limit else ""),
+    )
 
 
 def _after_panels(data: ReportData, units: str, level: str) -> list[Panel]:

@@ -36,6 +36,7 @@ CSV_COLUMNS = (
     "turning_effort",
     "threshold_force",
     "shimmy_probability",
+    "shimmy_probability_mc",
     "shimmy_probability_se",
     "sku",
     "sku_turning_effort",

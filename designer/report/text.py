@@ -105,20 +105,21 @@ def lead_sentence(data) -> str:
 def risk_sentence(rec) -> str:
     """The shimmy risk of ``rec``: the bound it meets (or that it has none) and the Monte Carlo estimate."""
     mc = (
-        f"P(shimmy at {rec.target_speed:.3g} m/s) = {rec.shimmy_probability:.2%} ± {rec.shimmy_probability_se:.2%} "
-        f"(Monte Carlo, {rec.mc_samples:,} samples, seed {rec.mc_seed})"
+        f"P(shimmy at {rec.target_speed:.3g} m/s) = {rec.shimmy_probability:.2%} by the exact law (its Monte Carlo: "
+        f"{rec.shimmy_probability_mc:.2%} ± {rec.shimmy_probability_se:.2%}, {rec.mc_samples:,} draws, seed "
+        f"{rec.mc_seed})"
     )
     if rec.alpha is None:
         return (
             f"No risk bound ([robust] enabled = false): by Eq. 7 it is stable to V_c = {rec.critical_speed:.3f} m/s, "
             f"but under the default scatter of the model it has {mc}."
         )
-    within = rec.shimmy_probability <= rec.alpha + 2 * rec.shimmy_probability_se
+    within = rec.shimmy_probability <= rec.alpha
     return (
         f"With probability {1 - rec.alpha:.0%} it stays free of shimmy up to {rec.confident_speed:.3f} m/s "
         f"(needed: {rec.required_speed:.3f} m/s; Eq. 7 alone gives V_c = {rec.critical_speed:.3f} m/s); {mc}, "
         + ("within" if within else "ABOVE")
-        + f" the bound α = {rec.alpha:.0%} + 2 SE."
+        + f" the bound α = {rec.alpha:.0%}."
     )
 
 

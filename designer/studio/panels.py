@@ -83,6 +83,18 @@ def recommendation_panel(fronts: view.Fronts):
             style=CSS["num"],
         ),
     ]
+    if rec.get("limits"):  # the spec goods-in inspects against (each limit with the other parts at nominal)
+        corner = rec.get("corner")
+        worst = (
+            ""
+            if corner is None
+            else f"; worst corner P(shimmy) {100 * corner[0]:.2f} %" + ("" if corner[1] else " (does NOT hold)")
+        )
+        rows.append(
+            html.Div(
+                "acceptance limits: " + "; ".join(rec["limits"]) + worst, id="rec-limits", style={"fontSize": "12px"}
+            )
+        )
     if rec.get("rule"):
         rows.append(html.Div(str(rec["rule"]), style={"fontSize": "12px", "color": "#555"}))
     for alt in rec["alternatives"]:

@@ -238,6 +238,12 @@ def recommendation_record(rec) -> dict | None:
     out["design"] = rec.design.to_dict()
     inertia = getattr(rec, "inertia", None)
     out["inertia"] = float(inertia) if inertia is not None and math.isfinite(float(inertia)) else None
+    spec = getattr(rec, "spec", None)
+    out["limits"] = (
+        [] if spec is None else [f"{lim.side} {lim.part.replace('_', ' ')} {lim.shown}" for lim in spec.limits]
+    )
+    corner = None if spec is None else spec.corner
+    out["corner"] = None if corner is None else (corner["probability"], corner["holds"])
     out["alternatives"] = []
     for alt in getattr(rec, "alternatives", None) or []:
         out["alternatives"].append(

@@ -441,14 +441,25 @@ def test_evaluate_target_speed_prints_the_risk_and_its_sources(capsys):
 
 
 def test_run_json_has_risk_spec_if_measured_and_extrapolated(capsys):
-    """designer run --json: the recommendation has risk, spec and if_measured, every design record its
-    extrapolated flag beside its design (recommendation, alternatives, the weighted optimum)."""
+    """designer run --json: the recommendation has risk (exact P, its Monte Carlo and SE), spec and if_measured,
+    every design record its extrapolated flag beside its design (recommendation, alternatives, the weighted
+    optimum); the spec's limits are SI numbers keyed by part and side, each with its unit under ``units``."""
     assert main(["run", str(ROOT / "problems" / "indoor-manual.toml"), "--json", "--no-cross-check"]) == 0
     out = json.loads(capsys.readouterr().out)
     rec = out["recommendation"]
     assert {"risk", "spec", "if_measured", "extrapolated", "design"} <= set(rec)
-    assert {"probability", "se", "sources", "dominant"} == set(rec["risk"])
-    assert {"trail", "diameter", "groove", "friction_moment", "max_inertia"} <= set(rec["spec"])
+    assert {"probability", "monte_carlo", "se", "sources", "dominant"} == set(rec["risk"])
+    assert {"trail", "diameter", "groove", "friction_moment", "wheel_inertia"} == set(rec["spec"]["nominal"])
+    limits, units = rec["spec"]["limits"], rec["spec"]["units"]
+    assert set(limits) == {"trail_min", "trail_max", "groove_min", "friction_moment_min", "wheel_inertia_max"}
+    assert {k: units[k] for k in limits} == {
+        "trail_min": "m",
+        "trail_max": "m",
+        "groove_min": "m",
+        "friction_moment_min": "N·m",
+        "wheel_inertia_max": "kg·m²",
+    }
+    assert 0.0254 < limits["trail_min"] < rec["design"]["trail"] <= limits["trail_max"] + 1e-12
     assert {"design", "turning_effort", "threshold_force", "shimmy_probability", "shimmy_probability_se"} <= set(
         rec["if_measured"]
     )

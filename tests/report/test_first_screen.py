@@ -89,7 +89,7 @@ def test_sill_in_mm_is_shown_in_mm(stub, tmp_path):
 def test_one_caster_in_plain_words_first(stub, tmp_path):
     """The card holds one caster: its headline, a plain-words lead (indoor-manual's buildable front has three
     points and no knee, so "the lowest combined force among the parts you can buy (turning effort plus sill force,
-    a newton of each counted alike)"; a knee would read "the best balance ..."), its drawing and a one-row table with "P(shimmy) ± SE" and "swept radius"; the terms (knee, risk-bounded
+    a newton of each counted alike)"; a knee would read "the best balance ..."), its drawing and a one-row table with "P(shimmy): exact (Monte Carlo ± SE)" and "swept radius"; the terms (knee, risk-bounded
     front, α + 2 SE) are in the glossary under it; the continuous knee and the weighted optimum only further
     down."""
     folder = write_report(stub, tmp_path / "r")
@@ -103,7 +103,11 @@ def test_one_caster_in_plain_words_first(stub, tmp_path):
     )
     assert "knee" not in lead and "front" not in lead
     table = card[card.index('<table class="card">') : card.index("</table>")]
-    assert table.count("<tr") == 2 and "<th>P(shimmy) ± SE</th>" in table and "<th>swept radius</th>" in table
+    assert (
+        table.count("<tr") == 2
+        and "<th>P(shimmy): exact (Monte Carlo ± SE)</th>" in table
+        and "<th>swept radius</th>" in table
+    )
     assert "weighted optimum" not in card and "easiest" not in card and "continuous front" not in card
     terms = html[html.index('id="panel-terms"') :]
     terms = terms[: terms.index("</table>")]
@@ -160,7 +164,7 @@ CHROMEDRIVER = shutil.which("chromedriver")
 @pytest.mark.skipif(not (CHROMIUM and CHROMEDRIVER), reason="needs Debian's chromium and chromium-driver")
 def test_card_fits_at_1400_px_in_chromium():
     """The committed results/indoor-manual/index.html in Chromium at 1400 px: the card's table needs no sideways
-    scroll (its width within its box, the page no wider than the window) and its "P(shimmy) ± SE" and
+    scroll (its width within its box, the page no wider than the window) and its "P(shimmy): exact (Monte Carlo ± SE)" and
     "swept radius" headers lie inside the window."""
     webdriver = pytest.importorskip("selenium.webdriver")
     options = webdriver.ChromeOptions()
@@ -186,4 +190,4 @@ def test_card_fits_at_1400_px_in_chromium():
         driver.quit()
     assert m["table"] <= m["box"] and m["page"] <= m["window"], m
     right = dict(m["th"])
-    assert right["P(shimmy) ± SE"] <= m["window"] and right["swept radius"] <= m["window"], m
+    assert right["P(shimmy): exact (Monte Carlo ± SE)"] <= m["window"] and right["swept radius"] <= m["window"], m

@@ -36,6 +36,7 @@ def _record(problem, design, f, p, role="recommended", prob=0.031, se=0.0008, al
         critical_speed=3.1,
         confident_speed=2.61,
         shimmy_probability=prob,
+        shimmy_probability_mc=prob - se,
         shimmy_probability_se=se,
         swept_radius=design.trail + design.diameter / 2,
         swept_radius_max=problem.swept_radius_max,
@@ -214,7 +215,8 @@ def test_build_sentences_state_the_data(stub):
     lines = text.build_lines(stub)
     joined = " ".join(lines)
     assert f"F_turn = {rec.turning_effort:.3f} N" in joined and f"P = {rec.threshold_force:.2f} N" in joined
-    assert f"{rec.shimmy_probability:.2%} ± {rec.shimmy_probability_se:.2%}" in joined
+    assert f"{rec.shimmy_probability:.2%} by the exact law" in joined
+    assert f"{rec.shimmy_probability_mc:.2%} ± {rec.shimmy_probability_se:.2%}" in joined
     assert f"up to {rec.confident_speed:.3f} m/s" in joined and "within the bound α = 5%" in joined
     spare = problem.swept_radius_max - rec.swept_radius
     assert ("to spare" in joined) == (spare > 1e-9)
@@ -223,9 +225,10 @@ def test_build_sentences_state_the_data(stub):
 
 
 def test_risk_sentence_flags_an_estimate_above_the_bound(stub):
-    """P(shimmy) above α + 2 SE is said to be ABOVE the bound; without a bound the risk is still given as a number."""
+    """An exact P(shimmy) above α is said to be ABOVE the bound (0.0501 against 5 %: the exact law has no SE to
+    hide in); without a bound the risk is still given as a number."""
     rec = stub.recommendation
-    high = SimpleNamespace(**{**vars(rec), "shimmy_probability": 0.07, "shimmy_probability_se": 0.001})
+    high = SimpleNamespace(**{**vars(rec), "shimmy_probability": 0.0501, "shimmy_probability_se": 0.001})
     assert "ABOVE" in text.risk_sentence(high)
     assert "within" in text.risk_sentence(rec)
     nominal = SimpleNamespace(**{**vars(rec), "alpha": None, "shimmy_probability": 0.49})

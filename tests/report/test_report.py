@@ -486,8 +486,9 @@ def test_first_screen_panels_render_in_both_files(invacare, tmp_path, monkeypatc
 
 def test_report_shows_the_risk_law_its_spec_and_its_checks():
     """The committed indoor-manual report (kept current by test_committed_results_are_current) shows, on its first
-    screen, where the risk comes from (each source with its kind and share), the spec to buy to (the bearing's
-    friction moment, the largest measured wheel inertia), what measuring the wheel allows, the knock-safe
+    screen, where the risk comes from (each source with its kind and share), the spec to inspect against (each
+    part's limit: the bearing's friction moment, the largest measured wheel inertia), what measuring the wheel
+    allows, the knock-safe
     speed's Table 1 error beside it; and in its checks the leave-one-out check of the law with its count and the
     word that it is coarse."""
     text = (ROOT / "results" / "indoor-manual" / "report.md").read_text(encoding="utf-8")
@@ -495,9 +496,9 @@ def test_report_shows_the_risk_law_its_spec_and_its_checks():
     for needle in (
         "### Where the risk comes from",
         "| wheel inertia (diameter only) | Student-t, ν = 5 |",
-        "### The spec to buy to",
-        "bearing friction moment M_f = c_f θ0",
-        "largest measured wheel inertia I_w",
+        "### The spec to inspect against",
+        "| bearing friction moment M_f = c_f θ0 | 0.454 N·m | — | min 0.251 N·m |",
+        "| measured wheel inertia I_w | 0.00117 kg·m² | — | max 0.00206 kg·m² |",
         "### If you measure the wheel",
         "log RMS error of 0.153",
         "The design criterion is the risk bound on Eq. 7",

@@ -175,6 +175,22 @@ def test_catalogue_points_carry_their_wheels_inertia():
     assert view.recommendation_record(rec)["inertia"] == pytest.approx(rec.inertia)
 
 
+def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster():
+    """The studio's recommendation card lists each acceptance limit of the chosen caster as the spec rounds it
+    (trail min and max, groove min, friction moment min, wheel inertia max) under id rec-limits."""
+    from designer import load_problem
+    from designer.studies.recommend import recommend
+    from designer.studio import panels
+
+    problem = load_problem(PROBLEM.parent / "catalog-retrofit.toml")
+    rec = recommend(problem)
+    record = view.recommendation_record(rec)
+    assert record["limits"] == [f"{x.side} {x.part.replace('_', ' ')} {x.shown}" for x in rec.spec.limits]
+    fronts = view.Fronts(problem=problem, recommendation=rec, continuous=None, risk=None, notes=[])
+    shown = [c for c in panels.recommendation_panel(fronts) if getattr(c, "id", None) == "rec-limits"]
+    assert len(shown) == 1 and all(text in shown[0].children for text in record["limits"])
+
+
 def _guarded_client(tmp_path, debug=False):
     """The app as `designer studio` serves it on 127.0.0.1:8050 (server.guard applied), as a test client."""
     from designer.studio.server import allowed_hosts, guard

@@ -127,6 +127,7 @@ _FLEET_UNITS = {
     "turning_effort": ("turning_effort_N", "N"),
     "threshold_force": ("threshold_force_N", "N"),
     "shimmy_probability": ("shimmy_probability", "-"),
+    "shimmy_probability_mc": ("shimmy_probability_mc", "-"),
     "shimmy_probability_se": ("shimmy_probability_se", "-"),
     "sku_turning_effort": ("sku_turning_effort_N", "N"),
     "sku_threshold_force": ("sku_threshold_force_N", "N"),
@@ -146,7 +147,8 @@ class FleetResult(Record):
     fleet : the chairs
     stock : the stock table
     problem : the base problem
-    chairs : per-chair arrays (:func:`recommend_chairs` fields, plus ``shimmy_probability`` and ``_se``)
+    chairs : per-chair arrays (:func:`recommend_chairs` fields, plus ``shimmy_probability`` (exact law),
+        ``shimmy_probability_mc`` and ``_se`` (its Monte Carlo check))
     skus : the K-median solution for ``--skus K`` (or None), and ``curve`` K -> solution
     timings : wall times [s] per stage
     """
@@ -186,6 +188,7 @@ class FleetResult(Record):
             row["threshold_force"] = float(ch["threshold_force"][i]) if j >= 0 else None
             p = ch.get("shimmy_probability")
             row["shimmy_probability"] = None if p is None or j < 0 else float(p[i])
+            row["shimmy_probability_mc"] = None if p is None or j < 0 else float(ch["shimmy_probability_mc"][i])
             row["shimmy_probability_se"] = None if p is None or j < 0 else float(ch["shimmy_probability_se"][i])
             if assignment is not None and cost is not None:
                 a = int(assignment[position[i]]) if j >= 0 else -1
@@ -346,9 +349,10 @@ def fleet_recommendations(
         )
         if monte_carlo:
             start = time.perf_counter()
-            chairs["shimmy_probability"], chairs["shimmy_probability_se"] = _monte_carlo(
+            risk = _monte_carlo(
                 client, stock, problem, chairs["choice"], fleet.target_speed, chunk=max(50, chunk // 20)
             )
+            chairs["shimmy_probability"], chairs["shimmy_probability_mc"], chairs["shimmy_probability_se"] = risk
             timings["monte_carlo"] = time.perf_counter() - start
         if skus is not None:
             start = time.perf_counter()
@@ -391,7 +395,7 @@ def _sku_monte_carlo(client: Any, result: FleetResult, chunk: int) -> None:
     if result.skus is None or result.skus.assignment is None:
         raise ValueError("no part numbers assigned: nothing to sample")
     assigned[result.feasible] = result.skus.assignment
-    result.chairs["sku_shimmy_probability"], _ = _monte_carlo(
+    result.chairs["sku_shimmy_probability"], _, _ = _monte_carlo(
         client, result.stock, result.problem, assigned, fleet.target_speed, chunk=max(50, chunk // 20)
     )
     result.timings["sku_monte_carlo"] = time.perf_counter() - start
@@ -399,15 +403,17 @@ def _sku_monte_carlo(client: Any, result: FleetResult, chunk: int) -> None:
 
 def _monte_carlo(
     client: Any, stock: StockTable, problem: Problem, choice: np.ndarray, speeds: npt.ArrayLike, chunk: int
-) -> tuple[np.ndarray, np.ndarray]:
-    """Reported P(shimmy) at each chair's V_target for its caster; NaN where there is none."""
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Reported P(shimmy) at each chair's V_target for its caster: the exact law's, the Monte Carlo's beside it
+    and its SE; NaN where there is none."""
     u = scatter_of(problem.conditions)
     slip = problem.conditions.slip_coefficient
     rows = np.flatnonzero(choice >= 0)
     p = np.full(len(choice), np.nan)
+    mc = np.full(len(choice), np.nan)
     se = np.full(len(choice), np.nan)
     if not len(rows):
-        return p, se
+        return p, mc, se
     # The estimate is a deterministic function of (caster, speed) (its own fixed seed), so chairs that share
     # both share one estimate: each distinct pair is sampled once.
     pairs, inverse = np.unique(
@@ -429,8 +435,8 @@ def _monte_carlo(
         ]
         outs = client.gather(futures)
     both = np.concatenate(outs)[np.ravel(inverse)]
-    p[rows], se[rows] = both[:, 0], both[:, 1]
-    return p, se
+    p[rows], mc[rows], se[rows] = both[:, 0], both[:, 1], both[:, 2]
+    return p, mc, se
 
 
 def choose_skus(

@@ -17,6 +17,7 @@ import numpy as np
 from designer.data.paper import INCH
 from designer.errors import ProblemError
 from designer.model import VARIABLES, evaluate_candidates, shimmy_probability
+from designer.physics.acceptance import LawCaster, exact_probability
 from designer.physics.turning import MODES, SURFACES
 from designer.problem import Stock
 from designer.studies.recommend import select_rows, stock_candidates
@@ -323,10 +324,11 @@ def _split(fleet: Fleet, chunk: int) -> list[tuple[int, dict]]:
 def _mc_task(
     designs: np.ndarray, inertia: np.ndarray, speeds: np.ndarray, slip: float, uncertainty, measured: np.ndarray
 ) -> np.ndarray:
-    """P(shimmy) and its SE for each (design, speed) row, as an (n, 2) array: one task of the fleet's
-    Monte Carlo (in this process or on a Dask worker), by the model's :func:`designer.model.shimmy_probability`
-    (each row the number of a single caster's seeded stream; a wheel not ``measured`` is known by its
-    diameter)."""
+    """P(shimmy) for each (design, speed) row, as an (n, 3) array: the exact law's (quadrature,
+    :func:`designer.physics.acceptance.exact_probability`), the Monte Carlo's beside it and its SE; one task of
+    the fleet's risk (in this process or on a Dask worker), the Monte Carlo by the model's
+    :func:`designer.model.shimmy_probability` (each row the number of a single caster's seeded stream; a wheel
+    not ``measured`` is known by its diameter)."""
     columns = {name: designs[:, k] for k, name in enumerate(VARIABLES)}
     p, se = shimmy_probability(
         columns["trail"],
@@ -339,4 +341,8 @@ def _mc_task(
         diameter=columns["diameter"],
         measured=measured,
     )
-    return np.column_stack([p, se])
+    exact = [
+        exact_probability(LawCaster(t, float(i_w), b, c, float(slip), None if m else d), float(v), uncertainty)
+        for (t, d, b, c), i_w, m, v in zip(designs.tolist(), inertia, measured, speeds)
+    ]
+    return np.column_stack([exact, p, se])

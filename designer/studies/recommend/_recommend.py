@@ -40,15 +40,10 @@ from designer.data.paper import INCH
 from designer.errors import InfeasibleError
 from designer.model import VARIABLES, CandidateValues, Design, evaluate_candidates, scatter_of
 from designer.physics.inertia import Fixed, PowerLaw
-from designer.physics.uncertainty import (
-    Uncertainty,
-    dominant_sentence,
-    law_sources,
-    max_measured_inertia,
-    shimmy_probability_exact,
-)
+from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sources
 from designer.problem import Bound, load_problem
 from designer.studies.recommend._record import Recommendation
+from designer.studies.spec import caster_spec, corner_probabilities, exact_shimmy_probability
 from designer.studies.recommend._rule import RULES, rule_text, select_rows, weights_meaning
 from designer.studies.recommend._stock import (
     CandidateTable,
@@ -188,9 +183,10 @@ def _infeasible_message(problem, table: ScreenedTable | None) -> str:
 
 
 def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, seed=None) -> Recommendation:
-    """Candidate ``i`` as a :class:`Recommendation`, with its reported risk: the Monte Carlo P(shimmy at
-    V_target) under the problem's risk law (the default scatter when the bound is off, whose V_q it then
-    reports too)."""
+    """Candidate ``i`` as a :class:`Recommendation`, with its reported risk: P(shimmy at V_target) by the exact
+    law (quadrature) under the problem's risk law (the default scatter when the bound is off, whose V_q it then
+    reports too), the Monte Carlo beside it as an independent check; its spec (limits, worst corner) unless it
+    is the "if measured" variant."""
     u = scatter_of(problem.conditions)
     v = b.values
     design = b.design(i)
@@ -203,11 +199,20 @@ def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, 
         samples=samples,
         seed=seed,
     )
-    p, se = float(risk.shimmy_probability[0]), float(risk.shimmy_probability_se[0])
-    extra = _risk_and_spec(problem, v, i, u, p, se) if role == "recommended" else {}
+    p_mc, se = float(risk.shimmy_probability[0]), float(risk.shimmy_probability_se[0])
     n = max(
-        int(u.samples if samples is None else samples), math.ceil(max(p * (1 - p), 1e-12) / 0.001**2) if p > 0 else 0
+        int(u.samples if samples is None else samples),
+        math.ceil(max(p_mc * (1 - p_mc), 1e-12) / 0.001**2) if p_mc > 0 else 0,
     )
+    mc_seed = int(u.seed if seed is None else seed)
+    inertia, measured = float(v.inertia[i]), bool(v.measured[i])
+    spec = None
+    if role != "if measured":
+        spec = caster_spec(problem, design, inertia, measured, (p_mc, se, n, mc_seed))
+        p = spec.probability
+    else:
+        p = exact_shimmy_probability(problem, design, inertia, measured, problem.target_speed)
+    extra = _risk(problem, v, i, u, p, (p_mc, se)) if role == "recommended" else {}
     q = v.confident_speed[i] if problem.risk is not None else risk.confident_speed[0]
     return Recommendation(
         design=design,
@@ -216,48 +221,43 @@ def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, 
         critical_speed=float(v.critical_speed[i]),
         confident_speed=float(q),
         shimmy_probability=p,
+        shimmy_probability_mc=p_mc,
         shimmy_probability_se=se,
         swept_radius=float(v.swept_radius[i]),
         swept_radius_max=problem.swept_radius_max,
         rule=rule,
         wheel=str(b.wheel[i]) or None,
-        inertia=float(v.inertia[i]),
+        inertia=inertia,
         role=role,
         target_speed=problem.target_speed,
         required_speed=problem.required_speed,
         alpha=None if problem.risk is None else problem.risk.probability,
         mc_samples=n,
-        mc_seed=int(u.seed if seed is None else seed),
+        mc_seed=mc_seed,
         weights=tuple(problem.weights),
         problem=problem,
-        measured=bool(v.measured[i]),
+        measured=measured,
         extrapolated=bool(v.extrapolated[i]),
+        spec=spec,
         **extra,
     )
 
 
-def _risk_and_spec(problem, v: CandidateValues, i: int, u: Uncertainty, p: float, se: float) -> dict:
-    """The recommended caster's risk record (its Monte Carlo P ± SE and the law's sources, each with its share of
-    the variance of log V_c) and its purchasing spec (M_f = c_f θ0 [N·m], the largest measured I_w that still meets
-    the bound at V_req, by quadrature of the exact law)."""
+def _risk(problem, v: CandidateValues, i: int, u: Uncertainty, p: float, mc: tuple[float, float]) -> dict:
+    """The recommended caster's risk record: its exact P, the Monte Carlo P ± SE beside it, and the law's
+    sources, each with its share of the variance of log V_c."""
     c = problem.conditions
     args = (float(v.trail[i]), float(v.inertia[i]), float(v.groove[i]), float(v.damping[i]), float(c.slip_coefficient))
     wheel = None if bool(v.measured[i]) else float(v.diameter[i])
     sources = law_sources(*args, u, diameter=wheel)
-    bound = problem.risk if problem.risk is not None else u
-    t, _, b, damping, k = args
-    top = max_measured_inertia(t, b, damping, k, problem.required_speed, bound)
-    at_top = shimmy_probability_exact(t, top, b, damping, k, problem.required_speed, bound)
     return {
-        "risk": {"probability": p, "se": se, "sources": sources, "dominant": dominant_sentence(sources)},
-        "spec": {
-            "trail": t,
-            "diameter": float(v.diameter[i]),
-            "groove": b,
-            "friction_moment": damping * float(c.disturbance_angle),
-            "max_inertia": top,
-            "max_inertia_probability": float(at_top),
-        },
+        "risk": {
+            "probability": p,
+            "monte_carlo": mc[0],
+            "se": mc[1],
+            "sources": sources,
+            "dominant": dominant_sentence(sources),
+        }
     }
 
 
@@ -318,18 +318,17 @@ def recommend(problem, samples: int | None = None, seed: int | None = None, *, f
     if isinstance(problem, (str, Path)):
         problem = load_problem(problem)
     b = _buildable(problem)
-    sel = select_rows(
-        b.values.turning_effort[None, :],
-        b.values.threshold_force[None, :],
-        np.ones((1, len(b)), bool),
-        problem.weights,
-        problem.max_threshold_force,
-        problem.max_turning_effort,
-    )
+    sel = _select(problem, b, np.ones(len(b), bool))
+    enforced = None
+    if problem.tolerances is not None and problem.tolerances.enforce:
+        enforced = sel, _enforce(problem, b, int(sel["choice"][0]))
+        sel = enforced[1]
     size = int(sel["front_size"][0])
     choice = int(sel["choice"][0])
     if choice < 0:
-        raise _over_cap_error(problem, b, sel)
+        if enforced is None or int(enforced[0]["choice"][0]) < 0:
+            raise _over_cap_error(problem, b, sel)
+        raise _corner_error(problem, b, enforced[0])
     rule = rule_text(problem, size, bool(sel["knee"][0]))
     rec = _record(problem, b, choice, rule, "recommended", samples, seed)
     alts = []
@@ -344,6 +343,79 @@ def recommend(problem, samples: int | None = None, seed: int | None = None, *, f
         front=front,
         note=_note(problem, rec, size),
         if_measured=_if_measured(problem, rec, samples, seed),
+        enforced=None if enforced is None else _enforced(problem, b, rec, int(enforced[0]["choice"][0])),
+    )
+
+
+def _select(problem, b: _Buildable, ok: np.ndarray) -> dict:
+    """The rule over the buildable candidates marked ``ok`` (:func:`select_rows`, one row)."""
+    return select_rows(
+        b.values.turning_effort[None, :],
+        b.values.threshold_force[None, :],
+        ok[None, :],
+        problem.weights,
+        problem.max_threshold_force,
+        problem.max_turning_effort,
+    )
+
+
+def _enforce(problem, b: _Buildable, free: int) -> dict:
+    """``[tolerances] enforce = true``: the rule among the casters that hold the bound at their worst corner.
+
+    The rule's own pick ``free`` stays when it holds (enforcing a limit it meets changes nothing).  Else,
+    lazily: the worst-corner P (exact law, :func:`designer.studies.spec.corner_probabilities`) of the current
+    front's members only; the failing ones leave and the front is taken again, until every member holds.  A
+    caster dominated by one that holds stays dominated, so the result is the front of all holding casters."""
+    alpha = problem.risk.probability if problem.risk is not None else scatter_of(problem.conditions).probability
+    ok = np.ones(len(b), bool)
+    if free >= 0:
+        v = b.values
+        at = corner_probabilities(problem, [b.design(free)], [float(v.inertia[free])], [bool(v.measured[free])])[0]
+        if at <= alpha:
+            return _select(problem, b, ok)
+    corner = np.full(len(b), np.nan)
+    while True:
+        sel = _select(problem, b, ok)
+        members = np.flatnonzero(sel["front"][0])
+        todo = members[np.isnan(corner[members])]
+        if not len(todo):
+            return sel
+        corner[todo] = corner_probabilities(
+            problem, [b.design(int(j)) for j in todo], list(b.values.inertia[todo]), list(b.values.measured[todo])
+        )
+        ok[todo] = corner[todo] <= alpha
+
+
+def _enforced(problem, b: _Buildable, rec: Recommendation, free: int) -> dict:
+    """What enforcing the worst corner changed: the caster the rule picks without it, its worst-corner P, and the
+    cost of the enforced one in turning effort and sill force [N] (zero when the rule's pick already holds)."""
+    v = b.values
+    d = b.design(free)
+    corner = corner_probabilities(problem, [d], [float(v.inertia[free])], [bool(v.measured[free])])[0]
+    return {
+        "changed": bool(not np.allclose(d.as_array(), rec.design.as_array(), rtol=1e-12, atol=1e-15)),
+        "unenforced": {
+            "design": d.to_dict(),
+            "turning_effort": float(v.turning_effort[free]),
+            "threshold_force": float(v.threshold_force[free]),
+            "worst_corner_probability": corner,
+            "wheel": str(b.wheel[free]) or None,
+        },
+        "costs_turning_effort": rec.turning_effort - float(v.turning_effort[free]),
+        "costs_threshold_force": rec.threshold_force - float(v.threshold_force[free]),
+    }
+
+
+def _corner_error(problem, b: _Buildable, sel: dict) -> InfeasibleError:
+    """Exit-4 error when no buildable caster holds the bound at the worst corner of ``[tolerances]``."""
+    free = int(sel["choice"][0])
+    v = b.values
+    corner = corner_probabilities(problem, [b.design(free)], [float(v.inertia[free])], [bool(v.measured[free])])[0]
+    alpha = problem.risk.probability if problem.risk is not None else scatter_of(problem.conditions).probability
+    return InfeasibleError(
+        f"{problem.name}: no buildable caster holds P(shimmy) <= {alpha:g} at the worst corner of [tolerances] "
+        f"(the rule's pick without it reaches {corner:.2%} there); tighten tolerances, widen the stock or set "
+        "tolerances.enforce = false"
     )
 
 
@@ -360,14 +432,9 @@ def _if_measured(problem, rec: Recommendation, samples, seed) -> dict | None:
         b = _buildable(measured)
     except InfeasibleError:
         return None
-    sel = select_rows(
-        b.values.turning_effort[None, :],
-        b.values.threshold_force[None, :],
-        np.ones((1, len(b)), bool),
-        measured.weights,
-        measured.max_threshold_force,
-        measured.max_turning_effort,
-    )
+    sel = _select(measured, b, np.ones(len(b), bool))
+    if measured.tolerances is not None and measured.tolerances.enforce:  # the worst corner decides here too
+        sel = _enforce(measured, b, int(sel["choice"][0]))
     w = np.asarray(problem.weights, float)
     cost = w[0] * b.values.turning_effort + w[1] * b.values.threshold_force
     j_rec = w[0] * rec.turning_effort + w[1] * rec.threshold_force

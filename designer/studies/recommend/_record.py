@@ -15,9 +15,11 @@ from designer.parameters import DESIGN_UNITS
 from designer.plots.caster import caster_svg, plot_caster
 from designer.problem import Problem
 from designer.reprs import Record, dataframe
+from designer.studies.spec import PART_LABELS, limit_shown
 
 if TYPE_CHECKING:  # the front's record for the checker only: designer.studies.front loads casadi
     from designer.studies.front import Front
+    from designer.studies.spec import Spec
 
 
 @dataclass(kw_only=True)
@@ -31,8 +33,10 @@ class Recommendation(Record):
     threshold_force : P, force to climb the sill [N] (Eq. 4A)
     critical_speed : V_c of Eq. 7 [m/s]
     confident_speed : the speed reached with probability 1 − α, V_q [m/s]
-    shimmy_probability : P(V_c,true < V_target) by Monte Carlo (own seed) [-]
-    shimmy_probability_se : its standard error [-]
+    shimmy_probability : P(V_c,true < V_target) by the exact law (quadrature) [-]
+    shimmy_probability_mc : the same by Monte Carlo (own seed: ``mc_seed``, ``mc_samples`` draws), an
+        independent check [-]
+    shimmy_probability_se : the Monte Carlo's standard error [-]
     swept_radius : T + d/2 [m]
     swept_radius_max : the footrest limit [m] (None: no limit)
     rule : how it was chosen
@@ -48,11 +52,13 @@ class Recommendation(Record):
     measured : the wheel's I_w was measured (a catalogue wheel, a stock wheel listed with its inertia); else the
         wheel is known by its diameter and the risk law scatters its I_w by Table 1's prediction interval
     extrapolated : d lies outside Table 1's 4–8 in (the power law and Eq. 7's check extrapolate)
-    risk : where P(shimmy) comes from: {"probability", "se", "sources", "dominant"}
+    risk : where P(shimmy) comes from: {"probability" (exact), "monte_carlo", "se", "sources", "dominant"}
         (:func:`designer.physics.uncertainty.law_sources`); None for an alternative
-    spec : the purchasing spec: {"trail", "diameter", "groove" [m], "friction_moment" M_f = c_f θ0 [N·m],
-        "max_inertia" [kg·m²], "max_inertia_probability"}: the largest measured I_w at which the caster still
-        meets the bound (:func:`designer.physics.uncertainty.max_measured_inertia`); None for an alternative
+    spec : the spec a factory inspects against (:class:`designer.studies.spec.Spec`): nominal parts, each
+        part's acceptance limit with the others at nominal (``spec.limits``), exact and Monte Carlo P, and the
+        worst corner of ``[tolerances]``; None for the "if measured" variant
+    enforced : with ``[tolerances] enforce = true``: {"changed", "unenforced" (the rule's pick without it:
+        design, forces, worst-corner P), "costs_turning_effort", "costs_threshold_force" [N]}; else None
     if_measured : the recommendation for wheels measured and accepted up to their power-law value (each
         candidate evaluated as a measured wheel at exactly that value), never worse in J than this one:
         {"design", "turning_effort", "threshold_force", "shimmy_probability", "shimmy_probability_se",
@@ -86,9 +92,11 @@ class Recommendation(Record):
     front: Front | None = field(default=None, repr=False)
     measured: bool = True
     extrapolated: bool = False
+    shimmy_probability_mc: float = math.nan
     risk: dict[str, Any] | None = None
-    spec: dict[str, Any] | None = None
+    spec: Spec | None = None
     if_measured: dict[str, Any] | None = None
+    enforced: dict[str, Any] | None = None
 
     _units = {
         **DESIGN_UNITS,
@@ -109,7 +117,10 @@ class Recommendation(Record):
             "critical_speed": self.critical_speed,
             "confident_speed": self.confident_speed,
             "shimmy_probability": self.shimmy_probability,
+            "shimmy_probability_mc": self.shimmy_probability_mc,
             "shimmy_probability_se": self.shimmy_probability_se,
+            "mc_samples": self.mc_samples,
+            "mc_seed": self.mc_seed,
             "swept_radius": self.swept_radius,
             "swept_radius_max": self.swept_radius_max,
             "rule": self.rule,
@@ -118,9 +129,11 @@ class Recommendation(Record):
             "extrapolated": self.extrapolated,
             "measured": self.measured,
         }
-        for key in ("risk", "spec", "if_measured"):
+        for key in ("risk", "if_measured", "enforced"):
             if getattr(self, key) is not None:
                 out[key] = getattr(self, key)
+        if self.spec is not None:
+            out["spec"] = self.spec.to_dict()
         if alternatives:
             out["alternatives"] = [a.to_dict() for a in self.alternatives]
         return out
@@ -129,8 +142,9 @@ class Recommendation(Record):
         """The caster as text lines (inches and SI)."""
         d = self.design
         risk = (
-            f"P(shimmy at {self.target_speed:.3g} m/s) = {self.shimmy_probability:.2%} ± "
-            f"{self.shimmy_probability_se:.2%} (Monte Carlo, {self.mc_samples} samples, seed {self.mc_seed})"
+            f"P(shimmy at {self.target_speed:.3g} m/s) = {self.shimmy_probability:.2%} (exact law; Monte Carlo "
+            f"{self.shimmy_probability_mc:.2%} ± {self.shimmy_probability_se:.2%}, {self.mc_samples} draws, "
+            f"seed {self.mc_seed})"
         )
         radius = (
             f"{self.swept_radius / INCH:.3f} in (limit {self.swept_radius_max / INCH:.3f} in)"
@@ -147,12 +161,7 @@ class Recommendation(Record):
         if self.risk is not None:
             extra.append(f"  {self.risk['dominant']}")
         if self.spec is not None:
-            sp = self.spec
-            extra.append(
-                f"  spec: T {sp['trail'] / INCH:.3f} in, d {sp['diameter'] / INCH:.3f} in, B {sp['groove'] / INCH:.3f} in, "
-                f"bearing friction moment M_f = {sp['friction_moment']:.3f} N·m; a wheel measured at up to "
-                f"{sp['max_inertia']:.3g} kg·m² still meets the risk bound on this fork"
-            )
+            extra += spec_lines(self.spec)
         return [
             f"  trail T             {d.trail / INCH:8.3f} in   {d.trail * 1000:8.2f} mm",
             f"  diameter d          {d.diameter / INCH:8.3f} in   {d.diameter * 1000:8.2f} mm"
@@ -203,10 +212,41 @@ class Recommendation(Record):
             + f" (P(shimmy) {100 * m['shimmy_probability']:.1f} %)."
         )
 
+    def enforced_sentence(self) -> str:
+        """What ``[tolerances] enforce = true`` did: kept the rule's pick (it holds at its worst corner), or
+        changed it, with the rule's pick's worst-corner P and what the change costs in turning effort and sill
+        force (a saving said as one)."""
+        e = self.enforced
+        if e is None:
+            return ""
+        free = e["unenforced"]
+        alpha = self.spec.alpha if self.spec is not None else 0.05
+        if not e["changed"]:
+            return (
+                f"[tolerances] enforce = true: the rule's pick holds at its worst corner "
+                f"(P(shimmy) {free['worst_corner_probability']:.2%} <= {alpha:.0%}), so it stays."
+            )
+        d = free["design"]
+        costs = []
+        for key, name in (("costs_threshold_force", "sill force"), ("costs_turning_effort", "turning effort")):
+            value = e[key]
+            more = "more" if value > 0 else "less"
+            costs.append(f"{abs(value):.2f} N {more} {name}" if abs(value) >= 0.005 else f"the same {name}")
+        return (
+            f"[tolerances] enforce = true changed the caster: the rule's pick without it (T {d['trail'] / INCH:.3g} "
+            f"in, d {d['diameter'] / INCH:.3g} in, B {d['groove'] / INCH:.3g} in, c_f {d['damping']:.3g} N·m/rad) "
+            f"reaches P(shimmy) {free['worst_corner_probability']:.2%} at its worst corner, above {alpha:.0%}; "
+            f"this one holds there, with {' and '.join(costs)} "
+            f"({free['turning_effort']:.2f} -> {self.turning_effort:.2f} N turning, "
+            f"{free['threshold_force']:.1f} -> {self.threshold_force:.1f} N over the sill)."
+        )
+
     def __str__(self) -> str:
         p = self.problem
         head = [f"Build this caster for {p.name!r} ({self.rule}):" if p is not None else f"Build this ({self.rule}):"]
         out = head + self.lines()
+        if self.enforced is not None:
+            out += ["", self.enforced_sentence()]
         if self.if_measured is not None:
             out += ["", self.headline()]
         for alt in self.alternatives:
@@ -306,7 +346,12 @@ class Recommendation(Record):
             ("critical speed V_c (Eq. 7)", f"{self.critical_speed:.4g}", "m/s"),
             ("confident speed V_q", f"{self.confident_speed:.4g}", "m/s"),
             ("required speed", f"{self.required_speed:.4g}", "m/s"),
-            ("P(shimmy) (Monte Carlo)", f"{self.shimmy_probability:.2%} ± {self.shimmy_probability_se:.2%}", ""),
+            ("P(shimmy) (exact law)", f"{self.shimmy_probability:.3%}", ""),
+            (
+                "P(shimmy) (Monte Carlo check)",
+                f"{self.shimmy_probability_mc:.2%} ± {self.shimmy_probability_se:.2%}",
+                "",
+            ),
             (
                 "swept radius (limit)",
                 f"{self.swept_radius * 1000:.1f}"
@@ -317,8 +362,11 @@ class Recommendation(Record):
         if self.extrapolated:
             rows.append(("outside Table 1's 4–8 in", "yes: the inertia fit and Eq. 7's check extrapolate", ""))
         if self.spec is not None:
-            rows.append(("spec: largest measured wheel inertia", f"{self.spec['max_inertia']:.3g}", "kg·m²"))
-            rows.append(("spec: bearing friction moment M_f = c_f θ0", f"{self.spec['friction_moment']:.3f}", "N·m"))
+            rows.append(("spec: bearing friction moment M_f = c_f θ0", f"{self.spec.friction_moment:.3f}", "N·m"))
+            for lim in self.spec.limits:
+                rows.append(
+                    (f"limit: {lim.part} {lim.side}", "none" if lim.value is None else f"{lim.value:.4g}", lim.unit)
+                )
         return rows
 
     def _html_extra(self) -> str:
@@ -337,3 +385,23 @@ class Recommendation(Record):
                 label=f"{self.role} caster",
             )
         )
+
+
+def spec_lines(spec: Spec) -> list[str]:
+    """The spec as text lines: each limit (others at nominal), and the worst corner when there are tolerances."""
+    out = [
+        f"  spec: M_f = c_f θ0 = {spec.friction_moment:.3f} N·m (θ0 = {spec.disturbance_angle * 180 / math.pi:.0f}°);"
+        " acceptance limits, each with the other parts at nominal:"
+    ]
+    for lim in spec.limits:
+        shown = limit_shown(lim.value, lim.unit, lim.side)
+        out.append(
+            f"    {lim.side} {PART_LABELS[lim.part]}: {shown}" + (f" ({lim.reason})" if lim.value is None else "")
+        )
+    if spec.corner is not None:
+        c = spec.corner
+        out.append(
+            f"  worst corner of the tolerances: P(shimmy) {c['probability']:.2%} (nominal {c['nominal_probability']:.2%}"
+            f", bound {spec.alpha:.0%}): {'holds' if c['holds'] else 'does NOT hold'}"
+        )
+    return out

@@ -11,6 +11,8 @@ import pickle
 import re
 
 import numpy as np
+
+from designer.physics.acceptance import LawCaster, exact_probability
 import pytest
 
 import designer
@@ -247,7 +249,8 @@ def stocked(root):
 
 def test_vectorised_recommendation_equals_designer_recommend(stocked, fleet1000):
     """The contract with issue 11: on 20 random chairs of a 1000-chair example fleet, the vectorised
-    recommendation is the design, turning effort, sill force, front size and Monte Carlo P(shimmy) ± SE of
+    recommendation is the design, turning effort, sill force, front size and P(shimmy) (exact, and its Monte Carlo
+    ± SE) of
     ``recommend`` on the chair's own problem (the base problem with the chair's load, sill, speed,
     clearance, surface and turning mode), and the alternatives are its two ends."""
     from designer.studies.recommend import recommend
@@ -265,8 +268,9 @@ def test_vectorised_recommendation_equals_designer_recommend(stocked, fleet1000)
         assert stock.design(j) == pytest.approx(r.design.to_dict(), rel=1e-12)
         assert ch["turning_effort"][k] == pytest.approx(r.turning_effort, rel=1e-12)
         assert ch["threshold_force"][k] == pytest.approx(r.threshold_force, rel=1e-12)
-        assert (ch["shimmy_probability"][k], ch["shimmy_probability_se"][k]) == (
+        assert (ch["shimmy_probability"][k], ch["shimmy_probability_mc"][k], ch["shimmy_probability_se"][k]) == (
             r.shimmy_probability,
+            r.shimmy_probability_mc,
             r.shimmy_probability_se,
         )
         assert ch["front_size"][k] == len(r.buildable)
@@ -524,6 +528,7 @@ def test_fleet_cli_writes_csv_json_and_report(tmp_path, capsys, root):
         "turning_effort",
         "threshold_force",
         "shimmy_probability",
+        "shimmy_probability_mc",
         "shimmy_probability_se",
         "sku",
         "sku_turning_effort",
@@ -539,6 +544,7 @@ def test_fleet_cli_writes_csv_json_and_report(tmp_path, capsys, root):
         if r["status"] == "ok":
             assert r["sku"] in (1, 2) and r["sku_turning_effort"] > 0 and r["sku_threshold_force"] > 0
             assert 0 <= r["shimmy_probability"] <= 1 and r["shimmy_probability_se"] > 0
+            assert abs(r["shimmy_probability"] - r["shimmy_probability_mc"]) <= 4 * r["shimmy_probability_se"]
     # the Pareto report's look: its stylesheet, the answer and the part numbers in the first-screen box with
     # the regret curve, SVG figures inline (each point's numbers on hover) and the same files for report.md
     page = (out / "index.html").read_text()
@@ -591,8 +597,9 @@ def test_dask_local_cluster_gives_the_in_process_result(base):
 
 
 def test_batched_monte_carlo_gives_the_numbers_of_the_shared_function(base):
-    """Chairs sharing a caster share one seeded draw; P(shimmy) and SE equal, per chair, the model's Monte Carlo
-    of that caster alone (speeds spread so that some estimates need the top-up for SE <= 0.1 pp)."""
+    """Chairs sharing a caster share one seeded draw; the Monte Carlo P(shimmy) and SE equal, per chair, the
+    model's Monte Carlo of that caster alone (speeds spread so that some estimates need the top-up for SE <= 0.1
+    pp); the exact P beside them is the exact law's of that caster (quadrature), within 3 SE of the draw."""
     stock = _rule.stock_table(base)
     u = scatter_of(base.conditions)
     j = int(np.argmin(np.abs(stock.confident_speed - 2.5)))
@@ -613,8 +620,18 @@ def test_batched_monte_carlo_gives_the_numbers_of_the_shared_function(base):
             u,
             diameter=stock.diameter[j],
         )
-        assert tuple(got[r]) == want, r
-    assert got[0, 0] < 0.05 < got[-1, 0]  # both paths (shared draw, top-up) are exercised
+        assert tuple(got[r, 1:]) == want, r
+        caster = LawCaster(
+            stock.trail[j],
+            stock.inertia[j],
+            stock.groove[j],
+            stock.damping[j],
+            base.conditions.slip_coefficient,
+            stock.diameter[j],
+        )
+        assert got[r, 0] == exact_probability(caster, speeds[r], u)
+        assert abs(got[r, 0] - got[r, 1]) <= 3 * got[r, 2] + 1e-12, r
+    assert got[0, 1] < 0.05 < got[-1, 1]  # both paths (shared draw, top-up) are exercised
 
 
 def _regret_keys(node, path=""):

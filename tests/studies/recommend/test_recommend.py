@@ -235,7 +235,7 @@ def test_designer_recommend_and_run_json(capsys):
     } <= set(r)
     assert out["weights"] == [1.0, 1.0]
     assert {"risk", "spec", "extrapolated", "measured"} <= set(r)
-    only = {"role", "risk", "spec", "if_measured"}  # the recommendation's own records
+    only = {"role", "risk", "if_measured"}  # the recommendation's own records (alternatives carry a spec too)
     assert all(set(a) >= set(r) - only and not only - {"role"} & set(a) for a in out["alternatives"])
     for a in [r, *out["alternatives"]]:
         assert a["extrapolated"] is not (4 * INCH - 1e-9 <= a["design"]["diameter"] <= 8 * INCH + 1e-9)
@@ -281,7 +281,11 @@ def test_recommendation_risk_spec_and_if_measured(recs):
     c = problem.conditions
     assert not rec.measured and not rec.extrapolated
     risk = rec.risk
-    assert (risk["probability"], risk["se"]) == (rec.shimmy_probability, rec.shimmy_probability_se)
+    assert (risk["probability"], risk["monte_carlo"], risk["se"]) == (
+        rec.shimmy_probability,
+        rec.shimmy_probability_mc,
+        rec.shimmy_probability_se,
+    )
     assert sum(s["share"] for s in risk["sources"]) == pytest.approx(1.0, abs=1e-12)
     assert [s["kind"] for s in risk["sources"]] == ["data", "data", "assumed", "assumed"]
     p, se = shimmy_probability(
@@ -298,12 +302,13 @@ def test_recommendation_risk_spec_and_if_measured(recs):
     )
     assert float(p) <= problem.risk.probability + 2 * float(se)
     spec = rec.spec
-    assert spec["friction_moment"] == pytest.approx(d.damping * math.radians(20), rel=1e-12)
-    assert (spec["trail"], spec["diameter"], spec["groove"]) == (d.trail, d.diameter, d.groove)
-    args = (d.trail, spec["max_inertia"], d.groove, d.damping, c.slip_coefficient, problem.required_speed, problem.risk)
+    assert spec.friction_moment == pytest.approx(d.damping * math.radians(20), rel=1e-12)
+    assert (spec.trail, spec.diameter, spec.groove) == (d.trail, d.diameter, d.groove)
+    top = spec.limit("wheel_inertia", "max").value
+    args = (d.trail, top, d.groove, d.damping, c.slip_coefficient, problem.required_speed, problem.risk)
     assert abs(shimmy_probability_exact(*args) - problem.risk.probability) <= 0.005
-    below = shimmy_probability_exact(d.trail, 0.9 * spec["max_inertia"], *args[2:])
-    above = shimmy_probability_exact(d.trail, 1.1 * spec["max_inertia"], *args[2:])
+    below = shimmy_probability_exact(d.trail, 0.9 * top, *args[2:])
+    above = shimmy_probability_exact(d.trail, 1.1 * top, *args[2:])
     assert below < problem.risk.probability < above
     m = rec.if_measured
     w = problem.weights

@@ -1,0 +1,46 @@
+"""``designer spec PROBLEM [--out FILE]``: the one-page inspection sheet of the recommended caster (HTML, print-ready)."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+from designer.output import write_file
+from designer.problem import load_problem
+from designer.studies.recommend import recommend
+from designer.cli._common import PROBLEM_HELP, check_output_file
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "spec",
+        help="write the inspection sheet of the recommended caster (one printable page)",
+        description="The recommended caster's inspection sheet: the caster drawn to scale, each part's nominal "
+        "value, tolerance ([tolerances]), acceptance limit and how to measure it, P(shimmy) at nominal and at the "
+        "worst corner, and the problem it was designed for. One A4 or Letter page from a browser's Print. "
+        "Writes results/<name>/spec.html by default.",
+    )
+    p.add_argument("problem", help=PROBLEM_HELP)
+    p.add_argument("--out", default=None, help="the HTML file (default results/<name>/spec.html)")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from designer.report.sheet import sheet_html  # the report package loads matplotlib
+
+    problem = load_problem(args.problem)
+    out = Path(args.out) if args.out else Path("results") / problem.name / "spec.html"
+    check_output_file(out, "--out", "spec.html")  # before computing
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)  # the sheet states the caster's own numbers
+        rec = recommend(problem)
+    write_file(out, sheet_html(rec), "--out", "spec.html")
+    spec = rec.spec
+    corner = (
+        ""
+        if spec.corner is None
+        else f"; worst corner {spec.corner['probability']:.2%} ({'holds' if spec.corner['holds'] else 'does NOT hold'})"
+    )
+    print(f"P(shimmy) {spec.probability:.2%} at nominal (exact law){corner}; bound {spec.alpha:.0%}")
+    print(f"inspection sheet: {out.resolve()}")
+    return 0

@@ -1,0 +1,245 @@
+"""Acceptance limits of a caster's parts and its risk at the worst corner of a tolerance box (exact law).
+
+A factory builds each part with a spread; goods-in inspects each part against a limit.  For a caster
+(T, I_w, B, c_f) and the risk law of :mod:`designer.physics.uncertainty`, the acceptance limit of a part
+is the value at which, with every other part at its nominal value, the exact law gives
+P(V_c,true < V_req) = α:
+
+- trail T: the least (P falls as T grows, Eq. 7: V_c² = 4 c_f T²/(π I_w) + K_s B² T/(2 I_w));
+- groove B: the least;
+- bearing friction moment M_f = c_f θ0 [N·m]: the least (c_f = M_f/θ0, Eq. 7 with Eq. 11C's θ0);
+- wheel inertia I_w: the largest measured one
+  (:func:`designer.physics.uncertainty.max_measured_inertia`).
+
+Each is a root of P(part) − α found by :func:`designer.physics.roots.bracketed_root` on the part's
+range (the parameter table's model range), P by :func:`~designer.physics.uncertainty.shimmy_probability_exact`
+(Gauss–Hermite quadrature of the exact law).  When P stays at or below α over the whole side of the range
+the part has no limit there (None, with the reason).
+
+The worst corner (:func:`worst_corner`): each toleranced part at the edge of its tolerance where P is the
+larger (others nominal), then all of them at once, the law's scatter on top: worst-case (arithmetic)
+stacking, see docs/problem-file.md#tolerances.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+from designer.physics.roots import bracketed_root
+from designer.physics.scatter import InertiaPrediction
+from designer.physics.uncertainty import Uncertainty, max_measured_inertia, shimmy_probability_exact
+
+RISK_PARTS = ("trail", "groove", "damping")
+"""The parts whose least acceptable value is a root of P = α (the inertia's largest is its own solver)."""
+
+EXACT_NODES = 16
+"""Gauss–Hermite nodes per axis of the limits' and corners' quadrature: P agrees with 32 nodes to 1e-15 on the
+recommended casters of the shipped problems (tests/physics/test_acceptance.py), at a sixth of the work."""
+
+LIMIT_RTOL = 1e-9
+"""Relative tolerance of a limit's root [-]: far below any part's tolerance (P at the limit is α to ~1e-10)."""
+
+
+@dataclass(frozen=True)
+class LawCaster:
+    """One caster as the risk law sees it (SI).
+
+    Attributes
+    ----------
+    trail : T [m] (the trail the tyre sees)
+    inertia : I_w [kg·m²]
+    groove : B [m]
+    damping : c_f [N·m/rad]
+    slip_coefficient : K_s [N]
+    diameter : d [m] of a wheel known by its diameter only (Table 1's prediction scatters I_w), None for a
+        measured wheel (lognormal measurement scatter)
+    """
+
+    trail: float
+    inertia: float
+    groove: float
+    damping: float
+    slip_coefficient: float
+    diameter: float | None = None
+
+    def with_fields(self, changes: dict[str, float | None]) -> LawCaster:
+        """The same caster with some fields set ({"trail": 0.05, "diameter": None, ...}) [SI]."""
+        return dataclasses.replace(self, **changes)  # type: ignore[arg-type]
+
+    def with_part(self, part: str, value: float) -> LawCaster:
+        """The same caster with ``part`` ("trail", "groove", "damping") set to ``value`` [SI]."""
+        return self.with_fields({part: value})
+
+
+def exact_probability(
+    caster: LawCaster, speed: float, uncertainty: Uncertainty, prediction: InertiaPrediction | None = None
+) -> float:
+    """P(V_c,true < speed) of ``caster`` under the exact law, by quadrature [-] (:data:`EXACT_NODES` a side).
+
+    :func:`designer.physics.uncertainty.shimmy_probability_exact`: the model error and the inertia's scatter
+    by characteristic-function inversion, c_f and K_s through Eq. 7 itself.  1 when Eq. 7's V_c is zero (no
+    trail, or neither friction nor groove).
+    """
+    c = caster
+    if c.trail <= 0 or (c.damping <= 0 and c.groove <= 0):
+        return 1.0  # V_c = 0 (Eq. 7): no speed is free of shimmy
+    value = shimmy_probability_exact(
+        c.trail,
+        c.inertia,
+        c.groove,
+        c.damping,
+        c.slip_coefficient,
+        speed,
+        uncertainty,
+        c.diameter,
+        prediction,
+        EXACT_NODES,
+    )
+    return float(value)
+
+
+@dataclass(frozen=True)
+class PartLimit:
+    """One part's acceptance limit (SI), or why it has none.
+
+    Attributes
+    ----------
+    part : "trail", "groove", "damping" (c_f; the report states M_f = c_f θ0) or "inertia"
+    side : "min" or "max"
+    value : the limit [SI], or None when there is none inside the range
+    probability : P(V_c,true < V_req) at the limit, others nominal [-] (α up to the root's tolerance);
+        None for a geometric limit or no limit
+    reason : what bounds it ("risk", "swept radius") or why there is no limit ("holds at the low end": P <= α
+        over the whole range below nominal; "fails at the high end": no value in the range holds; "the problem
+        has no swept-radius limit")
+    """
+
+    part: str
+    side: str
+    value: float | None
+    probability: float | None
+    reason: str
+
+
+def least_part(
+    caster: LawCaster,
+    part: str,
+    speed: float,
+    uncertainty: Uncertainty,
+    low: float,
+    high: float,
+    prediction: InertiaPrediction | None = None,
+) -> PartLimit:
+    """The least value of ``part`` (T [m], B [m] or c_f [N·m/rad]) at which P(V_c,true < speed) = α, the other
+    parts at their nominal values; searched in the part's range [low, high] (P falls as the part grows: Eq. 7's
+    V_c rises with T, B and c_f).
+
+    None (with the reason) when P <= α already at ``low`` (no lower limit in the range) or P > α still at
+    ``high`` (no value in the range holds).
+    """
+    alpha = float(uncertainty.probability)
+
+    def excess(value: float) -> float:
+        return exact_probability(caster.with_part(part, value), speed, uncertainty, prediction) - alpha
+
+    at_low, at_high = excess(low), excess(high)
+    if at_low <= 0:
+        return PartLimit(part, "min", None, None, "holds at the low end")
+    if at_high > 0:
+        return PartLimit(part, "min", None, None, "fails at the high end")
+    value = bracketed_root(excess, low, high, xtol=LIMIT_RTOL * max(abs(high), 1e-12), rtol=LIMIT_RTOL)
+    return PartLimit(part, "min", value, excess(value) + alpha, "risk")
+
+
+def acceptance_limits(
+    caster: LawCaster,
+    speed: float,
+    uncertainty: Uncertainty,
+    ranges: dict[str, tuple[float, float]],
+    swept_radius_max: float | None,
+    wheel_diameter: float,
+    prediction: InertiaPrediction | None = None,
+) -> list[PartLimit]:
+    """Every inspectable part's acceptance limit, each with the others at nominal [SI].
+
+    Trail min, groove min and c_f min by :func:`least_part` (``ranges``: each part's model range);
+    trail max = R_max − d/2 (the swept-radius limit T + d/2 <= R_max; none without it); I_w max by
+    :func:`~designer.physics.uncertainty.max_measured_inertia` (a measured wheel, measurement scatter about it).
+    """
+    out = [least_part(caster, part, speed, uncertainty, *ranges[part], prediction) for part in RISK_PARTS]
+    if swept_radius_max is None:
+        out.insert(1, PartLimit("trail", "max", None, None, "the problem has no swept-radius limit"))
+    else:
+        out.insert(1, PartLimit("trail", "max", swept_radius_max - wheel_diameter / 2, None, "swept radius"))
+    c = caster
+    top = max_measured_inertia(c.trail, c.groove, c.damping, c.slip_coefficient, speed, uncertainty)
+    at_top = exact_probability(c.with_fields({"inertia": top, "diameter": None}), speed, uncertainty)
+    out.append(PartLimit("inertia", "max", top, at_top, "risk"))
+    return out
+
+
+@dataclass(frozen=True)
+class Corner:
+    """The worst corner of a tolerance box.
+
+    Attributes
+    ----------
+    edges : {part: the worst edge's value [SI]} (the parts given a tolerance)
+    caster : the caster with every part at its worst edge at once
+    probability : P(V_c,true < V_req) there, the law's scatter on top [-]
+    nominal_probability : P at nominal [-]
+    alpha : the bound α [-]
+    """
+
+    edges: dict[str, float]
+    caster: LawCaster
+    probability: float
+    nominal_probability: float
+    alpha: float
+
+    @property
+    def holds(self) -> bool:
+        """P at the worst corner is at most α."""
+        return self.probability <= self.alpha
+
+
+Edge = tuple[float, dict[str, float | None]]
+"""One edge of a part's tolerance: (the part's value there [SI], the LawCaster fields it sets)."""
+
+
+def worst_corner(
+    nominal: LawCaster,
+    edges: dict[str, tuple[Edge, Edge]],
+    speed: float,
+    uncertainty: Uncertainty,
+    prediction: InertiaPrediction | None = None,
+) -> Corner:
+    """P(V_c,true < speed) with every toleranced part at its worst edge at once (worst-case stacking) [-].
+
+    ``edges``: {part: (low edge, high edge)}, each edge the part's value and the fields of the caster it sets
+    (the diameter may move the wheel's inertia too; a measured wheel's limit sets I_w and makes it measured).
+    The worst edge of a part is the one with the larger P, the others at nominal; the corner sets every worst
+    edge together, and P there is the exact law's.
+    """
+    chosen: dict[str, float] = {}
+    changes: dict[str, float | None] = {}
+    for part, (low, high) in edges.items():
+        p_low = exact_probability(nominal.with_fields(low[1]), speed, uncertainty, prediction)
+        p_high = exact_probability(nominal.with_fields(high[1]), speed, uncertainty, prediction)
+        value, fields = low if p_low >= p_high else high
+        chosen[part] = value
+        changes.update(fields)
+    corner = nominal.with_fields(changes)
+    return Corner(
+        edges=chosen,
+        caster=corner,
+        probability=exact_probability(corner, speed, uncertainty, prediction),
+        nominal_probability=exact_probability(nominal, speed, uncertainty, prediction),
+        alpha=float(uncertainty.probability),
+    )
+
+
+def friction_moment(damping: float, disturbance_angle: float) -> float:
+    """The bearing friction moment M_f = c_f θ0 [N·m] of a spindle damping c_f [N·m/rad] (Eq. 7, Eq. 11C)."""
+    return damping * disturbance_angle

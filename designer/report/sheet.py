@@ -1,0 +1,110 @@
+"""The inspection sheet: one print-ready page (A4 or Letter) a factory inspects a caster against.
+
+``designer spec PROBLEM`` writes it: the caster drawn to scale with its dimensions
+(:func:`designer.plots.caster.caster_svg`), a table of each part's nominal value, tolerance, acceptance limit
+and how to measure it (:meth:`designer.studies.spec.Spec.parts`), P(shimmy) at nominal and at the worst
+corner, and the problem it was designed for.  Render only: every number comes from the
+:class:`~designer.studies.recommend.Recommendation` and its :class:`~designer.studies.spec.Spec`.
+"""
+
+from __future__ import annotations
+
+import math
+from html import escape
+from typing import Any
+
+from designer.plots.caster import caster_svg
+from designer.report.context import corner_sentence, spec_rows
+from designer.report.formatting import size
+
+SHEET_SCALE = 19.2
+"""Pixels per inch of the sheet's drawing: CSS prints 96 px to the inch, so the drawing is 1:5 at 100 %."""
+
+CSS = """
+@page { size: auto; margin: 12mm; }
+* { box-sizing: border-box; }
+body { font-family: sans-serif; font-size: 9pt; color: #111; margin: 0; max-width: 186mm; }
+h1 { font-size: 14pt; margin: 0 0 2mm 0; }
+p { margin: 1.2mm 0; }
+.meta { color: #444; font-size: 8.5pt; }
+table { border-collapse: collapse; width: 100%; margin: 2mm 0; }
+th, td { border: 0.3mm solid #999; padding: 1mm 1.5mm; text-align: left; vertical-align: top; }
+th { background: #eee; }
+td.num { white-space: nowrap; font-variant-numeric: tabular-nums; }
+td.how { font-size: 7.5pt; color: #333; }
+.risk { border: 0.5mm solid #333; padding: 1.5mm 2mm; margin: 2mm 0; }
+.fail { color: #b00; font-weight: bold; }
+.drawing svg { display: block; }
+.sign { margin-top: 4mm; display: flex; gap: 10mm; font-size: 8.5pt; }
+.sign span { flex: 1; border-top: 0.3mm solid #333; padding-top: 1mm; }
+@media print { body { max-width: none; } .sheet { page-break-inside: avoid; break-inside: avoid; } }
+"""
+"""The sheet's stylesheet: one column, print margins, no page break inside."""
+
+
+def _risk_lines(rec: Any) -> list[str]:
+    """P(shimmy) at nominal (exact, and the Monte Carlo check) and at the worst corner, as HTML paragraphs."""
+    spec = rec.spec
+    nominal = (
+        f"P(shimmy at {spec.target_speed:.3g} m/s) at nominal: <b>{spec.probability:.2%}</b> by the exact law "
+        f"(Monte Carlo check: {spec.mc_probability:.2%} ± {spec.mc_se:.2%}, {spec.mc_samples:,} draws, seed "
+        f"{spec.mc_seed}); bound α = {spec.alpha:.0%}."
+    )
+    corner = escape(corner_sentence(spec))
+    if spec.corner is not None and not spec.corner["holds"]:
+        corner = f'<span class="fail">{corner}</span>'
+    return [f"<p>{nominal}</p>", f"<p>{corner}</p>"]
+
+
+def sheet_html(rec: Any) -> str:
+    """The one-page inspection sheet of the recommended caster ``rec`` (needs its spec and problem) as HTML."""
+    problem, spec, d = rec.problem, rec.spec, rec.design
+    units = getattr(problem, "units", "in")
+    drawing = caster_svg(
+        d.trail,
+        d.diameter,
+        d.groove,
+        problem.conditions.threshold_height,
+        problem.swept_radius_max,
+        scale=SHEET_SCALE,
+        label=f"caster for {problem.name}, drawn 1:5",
+        units=units,
+    )
+    rows = "".join(
+        "<tr>"
+        + "".join(
+            f'<td class="{cls}">{escape(cell)}</td>' for cls, cell in zip(("part", "num", "num", "num", "how"), row)
+        )
+        + "</tr>"
+        for row in spec_rows(spec, units)
+    )
+    wheel = f" (wheel {rec.wheel})" if rec.wheel else ""
+    kind = "measured" if spec.measured else "known by its diameter (Table 1's power law and its scatter)"
+    title = f"Inspection sheet: caster for {problem.name}"
+    return "\n".join(
+        [
+            "<!DOCTYPE html>",
+            '<html lang="en"><head><meta charset="utf-8">',
+            f"<title>{escape(title)}</title><style>{CSS}</style></head>",
+            '<body><div class="sheet">',
+            f"<h1>{escape(title)}</h1>",
+            f'<p class="meta">Designed for: {escape(problem.title)}; {problem.conditions.load:.4g} N per caster, '
+            f"sill {escape(size(problem.conditions.threshold_height, units))}, no shimmy below "
+            f"{problem.required_speed:.3g} m/s with probability {1 - spec.alpha:.0%}. Rule: {escape(rec.rule)}.</p>",
+            f'<div class="drawing">{drawing}</div>',
+            '<p class="meta">Drawn to scale, 1:5 when printed at 100 %.</p>',
+            f"<p>Build: trail {escape(size(d.trail, units))}, wheel {escape(size(d.diameter, units))}{escape(wheel)}"
+            f" ({escape(kind)}, I_w {spec.inertia:.3g} kg·m²), groove {escape(size(d.groove, units))}, bearing friction "
+            f"moment M_f = {spec.friction_moment:.3f} N·m (c_f = {d.damping:.3g} N·m/rad at θ0 = "
+            f"{math.degrees(spec.disturbance_angle):.0f}°).</p>",
+            "<table><tr><th>part</th><th>nominal</th><th>tolerance</th><th>acceptance limit (others at nominal)"
+            f"</th><th>how to measure</th></tr>{rows}</table>",
+            '<p class="meta">A limit is where, with every other part at nominal, the exact law gives P(shimmy) = α; '
+            "printed limits are rounded toward the safe side. A part beyond its limit fails the risk bound.</p>",
+            '<div class="risk">',
+            *_risk_lines(rec),
+            "</div>",
+            '<div class="sign"><span>inspected by</span><span>date</span><span>batch / serial</span></div>',
+            "</div></body></html>",
+        ]
+    )

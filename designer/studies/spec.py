@@ -1,0 +1,402 @@
+"""The spec a factory can inspect against: each part's acceptance limit, the risk at the worst corner of the
+tolerance box, and P(shimmy) as an exact number (docs/problem-file.md#tolerances).
+
+For one caster of a problem (the recommendation, an alternative, a fleet part number, a retrofit fix):
+
+- :func:`caster_spec` builds a :class:`Spec`: the nominal parts, the acceptance limit of each inspectable
+  part with the others at nominal (:func:`designer.physics.acceptance.acceptance_limits`: trail min and max,
+  groove min, bearing friction moment M_f = c_f θ0 min, measured wheel inertia max), how to measure each,
+  P(shimmy) from the exact law with the Monte Carlo beside it, and, with ``[tolerances]``, the worst corner;
+- :func:`corner_probabilities` gives the worst-corner P of many casters (``enforce = true`` screens with it).
+
+Limits and corners are at the bound's speed V_req = (1 + margin) V_target and the problem's risk law (the
+default scatter when the bound is off); the reported P(shimmy) is at V_target, like the Monte Carlo's.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+from designer.data.paper import INCH
+from designer.parameters import PARAMETERS
+from designer.physics.acceptance import (
+    Corner,
+    Edge,
+    LawCaster,
+    acceptance_limits,
+    exact_probability,
+    friction_moment,
+    worst_corner,
+)
+from designer.model import Design, scatter_of
+from designer.problem import Problem, Tolerances
+from designer.reprs import Record
+
+UNITS = {"trail": "m", "groove": "m", "diameter": "m", "friction_moment": "N·m", "wheel_inertia": "kg·m²"}
+"""SI unit of each inspectable part (the JSON's ``units`` entry)."""
+
+MEASURE = {
+    "trail": "floor distance from the stem axis (extended down) to the tyre's contact point, caster loaded and "
+    "trailing straight (square and rule)",
+    "diameter": "across the tyre at two right angles (calliper or tape), the mean",
+    "groove": "width between the tyre's two tread lands at the contact patch (calliper)",
+    "friction_moment": "steady moment to swivel the fork slowly about its stem, stem bearing under the caster load, "
+    "tyre on a free-turning plate (torque gauge, or spring scale at lever arm r: M_f = F r)",
+    "wheel_inertia": "about a diameter, by compound pendulum: wheel hung at its rim, swung about an axis in its "
+    "plane; I = m g a τ²/(4π²) − m a² (a: axis to hub, τ: period)",
+}
+"""How goods-in measures each part (the inspection sheet's last column)."""
+
+
+def limit_shown(value: float | None, unit: str, side: str) -> str:
+    """A limit for an inspector: lengths in mm to 0.01 (and in to 0.001), N·m to 0.001, kg·m² to 3 significant
+    digits, each rounded toward the safe side (a min up, a max down) so the printed limit is never outside the
+    computed one; "none" when there is no limit."""
+    if value is None:
+        return "none"
+
+    def step(x: float) -> int:  # rounding noise (63.499999 mm for 2.5 in) is not a step
+        return (math.ceil if side == "min" else math.floor)(round(x, 6))
+
+    if unit == "m":
+        return f"{step(value * 1e5) / 100:.2f} mm ({step(value / INCH * 1000) / 1000:.3f} in)"
+    if unit == "N·m":
+        return f"{step(value * 1000) / 1000:.3f} N·m"
+    digits = 2 - math.floor(math.log10(abs(value)))
+    return f"{step(value * 10**digits) / 10**digits:.{max(digits, 0)}f} {unit}"
+
+
+PART_LABELS = {
+    "trail": "trail T",
+    "diameter": "wheel diameter d",
+    "groove": "groove B",
+    "friction_moment": "bearing friction moment M_f = c_f θ0",
+    "wheel_inertia": "measured wheel inertia I_w",
+}
+"""What the spec calls each part (text, report, sheet), in the sheet's order."""
+
+_PARTS = {"damping": "friction_moment", "inertia": "wheel_inertia"}
+"""The physics' part names that the spec states otherwise (c_f as M_f = c_f θ0; I_w as the wheel's inertia)."""
+
+
+@dataclass(kw_only=True)
+class Limit(Record):
+    """One part's acceptance limit (SI), with the others at nominal.
+
+    Attributes
+    ----------
+    part : "trail", "groove", "friction_moment" (M_f = c_f θ0) or "wheel_inertia"
+    side : "min" or "max"
+    value : the limit [unit], None when there is none inside the part's range (``reason`` says why)
+    nominal : the part's nominal value [unit]
+    unit : SI unit
+    probability : P(V_c,true < V_req) at the limit [-] (α up to the root's tolerance); None for a geometric
+        limit or none
+    reason : what sets the limit ("risk", "swept radius") or why there is none
+    measure : how goods-in measures the part
+    """
+
+    part: str
+    side: str
+    value: float | None
+    nominal: float
+    unit: str
+    probability: float | None
+    reason: str
+    measure: str
+
+    @property
+    def shown(self) -> str:
+        """The limit for an inspector, rounded toward the safe side (:func:`limit_shown`)."""
+        return limit_shown(self.value, self.unit, self.side)
+
+    @property
+    def key(self) -> str:
+        """The part and the side: "trail_min", "wheel_inertia_max" (the JSON key)."""
+        return f"{self.part}_{self.side}"
+
+
+@dataclass(kw_only=True)
+class Spec(Record):
+    """The spec of one caster (SI): nominal parts, acceptance limits, exact risk, worst corner.
+
+    Attributes
+    ----------
+    trail, diameter, groove : T, d, B [m]
+    damping : c_f [N·m/rad]
+    friction_moment : M_f = c_f θ0 [N·m]
+    disturbance_angle : θ0 [rad] (Eq. 7's; M_f is stated so goods-in needs no θ0)
+    inertia : I_w [kg·m²] the risk law uses (the power law's at d for a wheel known by its diameter)
+    measured : the wheel's I_w was measured (else known by its diameter: Table 1's prediction scatter)
+    limits : :class:`Limit` records, trail min and max, groove min, friction_moment min, wheel_inertia max
+    probability : P(shimmy at V_target) by the exact law (quadrature) [-]
+    mc_probability, mc_se : the Monte Carlo's P and standard error [-] (an independent check)
+    mc_samples, mc_seed : its draws and seed
+    target_speed, required_speed : V_target and the bound's V_req [m/s]
+    alpha : α [-]
+    tolerances : the problem's ``[tolerances]`` (None: none given)
+    corner : the worst corner (None without tolerances): {"edges" {part: value [SI]}, "probability",
+        "nominal_probability", "holds"}
+    """
+
+    trail: float
+    diameter: float
+    groove: float
+    damping: float
+    friction_moment: float
+    disturbance_angle: float
+    inertia: float
+    measured: bool
+    limits: list[Limit]
+    probability: float
+    mc_probability: float
+    mc_se: float
+    mc_samples: int
+    mc_seed: int
+    target_speed: float
+    required_speed: float
+    alpha: float
+    tolerances: Tolerances | None = None
+    corner: dict[str, Any] | None = None
+
+    def limit(self, part: str, side: str) -> Limit:
+        """The :class:`Limit` of ``part`` on ``side`` ("trail", "min")."""
+        for lim in self.limits:
+            if lim.part == part and lim.side == side:
+                return lim
+        raise KeyError(f"{part}_{side}: no such limit (have {', '.join(x.key for x in self.limits)})")
+
+    def parts(self) -> list[dict[str, Any]]:
+        """One row per part, in :data:`PART_LABELS`' order: {"part", "label", "nominal" [SI], "unit",
+        "tolerance" (± [SI], a fraction for the friction moment, the accepted I_w for the wheel, None: none given;
+        "catalogue" for a catalogue wheel), "limits" [:class:`Limit`], "measure"}."""
+        tol = self.tolerances
+        spread: dict[str, Any] = {}
+        if tol is not None:
+            spread = {
+                "trail": tol.trail,
+                "groove": tol.groove,
+                "diameter": tol.diameter,
+                "friction_moment": tol.friction_moment,
+                "wheel_inertia": "catalogue" if tol.wheel is None else tol.wheel,
+            }
+        nominal = {
+            "trail": self.trail,
+            "diameter": self.diameter,
+            "groove": self.groove,
+            "friction_moment": self.friction_moment,
+            "wheel_inertia": self.inertia,
+        }
+        return [
+            {
+                "part": part,
+                "label": label,
+                "nominal": nominal[part],
+                "unit": UNITS[part],
+                "tolerance": spread.get(part),
+                "limits": [lim for lim in self.limits if lim.part == part],
+                "measure": MEASURE[part],
+            }
+            for part, label in PART_LABELS.items()
+        ]
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON record (SI): nominal parts, ``limits`` by part and side with ``units`` beside them (None: no
+        limit inside the range, ``no_limit`` says why), the exact and Monte Carlo P, tolerances and worst corner."""
+        return {
+            "nominal": {
+                "trail": self.trail,
+                "diameter": self.diameter,
+                "groove": self.groove,
+                "friction_moment": self.friction_moment,
+                "wheel_inertia": self.inertia,
+            },
+            "limits": {lim.key: lim.value for lim in self.limits},
+            "units": {lim.key: lim.unit for lim in self.limits} | {"nominal": "SI (m, N·m, kg·m²)"},
+            "no_limit": {lim.key: lim.reason for lim in self.limits if lim.value is None},
+            "limit_probability": {lim.key: lim.probability for lim in self.limits if lim.probability is not None},
+            "disturbance_angle": self.disturbance_angle,
+            "damping": self.damping,
+            "measured": self.measured,
+            "shimmy_probability": {
+                "exact": self.probability,
+                "monte_carlo": self.mc_probability,
+                "monte_carlo_se": self.mc_se,
+                "monte_carlo_samples": self.mc_samples,
+                "monte_carlo_seed": self.mc_seed,
+                "at_speed": self.target_speed,
+            },
+            "alpha": self.alpha,
+            "required_speed": self.required_speed,
+            "tolerances": None if self.tolerances is None else self.tolerances.to_dict(),
+            "worst_corner": self.corner,
+        }
+
+    def _repr_lines(self) -> list[str]:
+        shown = ", ".join(f"{lim.key} {lim.value:.4g} {lim.unit}" for lim in self.limits if lim.value is not None)
+        corner = (
+            ""
+            if self.corner is None
+            else f"; worst corner P {self.corner['probability']:.2%} ({'holds' if self.corner['holds'] else 'fails'})"
+        )
+        return [f"Spec(P(shimmy) {self.probability:.3%} exact{corner})", f"  limits: {shown}"]
+
+
+def law_caster(problem: Problem, design: Design, inertia: float, measured: bool) -> LawCaster:
+    """The caster as the risk law sees it: a wheel known by its diameter keeps d (Table 1's prediction)."""
+    return LawCaster(
+        design.trail,
+        inertia,
+        design.groove,
+        design.damping,
+        float(problem.conditions.slip_coefficient),
+        None if measured else design.diameter,
+    )
+
+
+def _edges(problem: Problem, design: Design, caster: LawCaster) -> dict[str, tuple[Edge, Edge]]:
+    """Each toleranced part's two edges: its value [SI] and the caster fields it sets there."""
+    tol = problem.tolerances
+    assert tol is not None
+    out: dict[str, tuple[Edge, Edge]] = {}
+    t, b, c = design.trail, design.groove, design.damping
+    theta0 = float(problem.conditions.disturbance_angle)
+    if tol.trail is not None:
+        lo_t = max(t - tol.trail, PARAMETERS["trail"].range[0])  # type: ignore[index]
+        out["trail"] = ((lo_t, {"trail": lo_t}), (t + tol.trail, {"trail": t + tol.trail}))
+    if tol.groove is not None:
+        lo_b = max(b - tol.groove, 0.0)
+        out["groove"] = ((lo_b, {"groove": lo_b}), (b + tol.groove, {"groove": b + tol.groove}))
+    if tol.friction_moment is not None:
+        f = tol.friction_moment
+        out["friction_moment"] = (
+            (friction_moment(c * (1 - f), theta0), {"damping": c * (1 - f)}),
+            (friction_moment(c * (1 + f), theta0), {"damping": c * (1 + f)}),
+        )
+    if tol.diameter is not None:
+        d = design.diameter
+        lo_d, hi_d = d - tol.diameter, d + tol.diameter
+        if caster.diameter is None:  # a measured wheel: its I_w does not follow its diameter
+            out["diameter"] = ((lo_d, {}), (hi_d, {}))
+        else:
+            model = problem.conditions.inertia
+            with warnings.catch_warnings():  # a 4 in wheel's low edge leaves Table 1 by a hair: the caster's own
+                warnings.simplefilter("ignore", UserWarning)  # warning, if any, is said once elsewhere
+                at = {x: float(model(x)) for x in (lo_d, hi_d)}
+            out["diameter"] = (
+                (lo_d, {"diameter": lo_d, "inertia": at[lo_d]}),
+                (hi_d, {"diameter": hi_d, "inertia": at[hi_d]}),
+            )
+    if tol.wheel is not None:  # goods-in accepts wheels measured up to this I_w: the worst is at the limit
+        edge: Edge = (tol.wheel, {"inertia": tol.wheel, "diameter": None})
+        out["wheel_inertia"] = (edge, edge)
+    return out
+
+
+def caster_corner(problem: Problem, design: Design, inertia: float, measured: bool) -> Corner | None:
+    """The worst corner of ``problem``'s tolerance box about one caster (None without ``[tolerances]``)."""
+    if problem.tolerances is None:
+        return None
+    u = problem.risk if problem.risk is not None else scatter_of(problem.conditions)
+    caster = law_caster(problem, design, inertia, measured)
+    return worst_corner(caster, _edges(problem, design, caster), problem.required_speed, u)
+
+
+def corner_probabilities(
+    problem: Problem, designs: list[Design], inertia: list[float], measured: list[bool]
+) -> list[float]:
+    """P(V_c,true < V_req) at the worst corner of each caster [-] (``[tolerances]`` required)."""
+    out = []
+    for design, i_w, flag in zip(designs, inertia, measured):
+        corner = caster_corner(problem, design, i_w, flag)
+        assert corner is not None
+        out.append(corner.probability)
+    return out
+
+
+def exact_shimmy_probability(problem: Problem, design: Design, inertia: float, measured: bool, speed: float) -> float:
+    """P(V_c,true < speed) of one caster by the exact law (quadrature) under the problem's risk law [-]."""
+    u = problem.risk if problem.risk is not None else scatter_of(problem.conditions)
+    return exact_probability(law_caster(problem, design, inertia, measured), speed, u)
+
+
+def _reason(code: str, part: str, ranges: dict[str, Any], scale: float, unit: str) -> str:
+    """The physics' reason as a sentence with the range's end in the spec's unit."""
+    if code == "holds at the low end":
+        return f"no lower limit: P <= α down to {ranges[part][0] * scale:.4g} {unit}, the low end of the model's range"
+    if code == "fails at the high end":
+        return f"none holds: P > α up to {ranges[part][1] * scale:.4g} {unit}, the high end of the model's range"
+    return code
+
+
+def caster_spec(
+    problem: Problem,
+    design: Design,
+    inertia: float,
+    measured: bool,
+    monte_carlo: tuple[float, float, int, int],
+) -> Spec:
+    """The :class:`Spec` of one caster: limits (others at nominal), exact P at V_target beside the Monte Carlo
+    ``(p, se, samples, seed)`` the caller has, and the worst corner when the problem has ``[tolerances]``."""
+    u = problem.risk if problem.risk is not None else scatter_of(problem.conditions)
+    caster = law_caster(problem, design, inertia, measured)
+    ranges = {name: PARAMETERS[name].range for name in ("trail", "groove", "damping")}
+    found = acceptance_limits(
+        caster,
+        problem.required_speed,
+        u,
+        ranges,
+        problem.swept_radius_max,
+        design.diameter,  # type: ignore[arg-type]
+    )
+    theta0 = float(problem.conditions.disturbance_angle)
+    nominal = {"trail": design.trail, "groove": design.groove, "damping": design.damping, "inertia": inertia}
+    limits = []
+    for lim in found:
+        part = _PARTS.get(lim.part, lim.part)
+        scale = theta0 if lim.part == "damping" else 1.0  # c_f -> M_f = c_f θ0
+        limits.append(
+            Limit(
+                part=part,
+                side=lim.side,
+                value=None if lim.value is None else lim.value * scale,
+                nominal=nominal[lim.part] * scale,
+                unit=UNITS[part],
+                probability=lim.probability,
+                reason=_reason(lim.reason, lim.part, ranges, scale, UNITS[part]),
+                measure=MEASURE[part],
+            )
+        )
+    corner = caster_corner(problem, design, inertia, measured)
+    p_mc, se, samples, seed = monte_carlo
+    return Spec(
+        trail=design.trail,
+        diameter=design.diameter,
+        groove=design.groove,
+        damping=design.damping,
+        friction_moment=friction_moment(design.damping, theta0),
+        disturbance_angle=theta0,
+        inertia=inertia,
+        measured=measured,
+        limits=limits,
+        probability=exact_probability(caster, problem.target_speed, u),
+        mc_probability=p_mc,
+        mc_se=se,
+        mc_samples=samples,
+        mc_seed=seed,
+        target_speed=problem.target_speed,
+        required_speed=problem.required_speed,
+        alpha=float(u.probability),
+        tolerances=problem.tolerances,
+        corner=None
+        if corner is None
+        else {
+            "edges": corner.edges,
+            "probability": corner.probability,
+            "nominal_probability": corner.nominal_probability,
+            "holds": corner.holds,
+        },
+    )
