@@ -5,7 +5,7 @@ from __future__ import annotations
 import warnings
 from pathlib import Path
 
-from designer.output import write_file
+from designer.output import first_line_kind, write_file
 from designer.problem import load_problem
 from designer.studies.recommend import recommend
 from designer.cli._common import PROBLEM_HELP, check_output_file
@@ -26,15 +26,16 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from designer.report.sheet import sheet_html  # the report package loads matplotlib
+    from designer.report.sheet import SHEET_HEAD, sheet_html  # the report package loads matplotlib
 
+    kind = first_line_kind(SHEET_HEAD, "an inspection sheet written by designer spec")
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / problem.name / "spec.html"
-    check_output_file(out, "--out", "spec.html")  # before computing
+    check_output_file(out, "--out", "spec.html", kind=kind)  # before computing: never over a file of the user's
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)  # the sheet states the caster's own numbers
         rec = recommend(problem)
-    write_file(out, sheet_html(rec), "--out", "spec.html")
+    write_file(out, sheet_html(rec), "--out", "spec.html", kind=kind)
     spec = rec.spec
     corner = (
         ""

@@ -17,6 +17,9 @@ from designer.plots.caster import caster_svg
 from designer.report.context import corner_sentence, spec_rows
 from designer.report.formatting import size
 
+SHEET_HEAD = "<!DOCTYPE html><!-- inspection sheet written by caster-designer's designer spec -->"
+"""The sheet's first line: how ``designer spec`` recognises a sheet of its own it may replace."""
+
 SHEET_SCALE = 19.2
 """Pixels per inch of the sheet's drawing: CSS prints 96 px to the inch, so the drawing is 1:5 at 100 %."""
 
@@ -83,7 +86,7 @@ def sheet_html(rec: Any) -> str:
     title = f"Inspection sheet: caster for {problem.name}"
     return "\n".join(
         [
-            "<!DOCTYPE html>",
+            SHEET_HEAD,
             '<html lang="en"><head><meta charset="utf-8">',
             f"<title>{escape(title)}</title><style>{CSS}</style></head>",
             '<body><div class="sheet">',

@@ -325,3 +325,18 @@ def test_spec_sheet_refuses_an_unwritable_out_before_computing(tmp_path, capsys)
     assert main(["spec", str(TOLERANCES), "--out", str(blocker / "sheet.html")]) == 7
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "--out" in err
+
+
+def test_spec_sheet_replaces_its_own_sheet_but_not_a_users_file(tmp_path, capsys):
+    """designer spec --out over a sheet it wrote replaces it; over a file of the user's (another HTML page) it
+    stops with exit 7 and one line, the file untouched."""
+    from designer.cli import main
+
+    out = tmp_path / "sheet.html"
+    assert main(["spec", str(TOLERANCES), "--out", str(out)]) == 0
+    assert main(["spec", str(TOLERANCES), "--out", str(out)]) == 0
+    mine = tmp_path / "mine.html"
+    mine.write_text("<!DOCTYPE html><p>my notes</p>\n")
+    capsys.readouterr()
+    assert main(["spec", str(TOLERANCES), "--out", str(mine)]) == 7
+    assert mine.read_text() == "<!DOCTYPE html><p>my notes</p>\n" and capsys.readouterr().err.count("\n") == 1

@@ -237,8 +237,8 @@ class Recommendation(Record):
             f"in, d {d['diameter'] / INCH:.3g} in, B {d['groove'] / INCH:.3g} in, c_f {d['damping']:.3g} N·m/rad) "
             f"reaches P(shimmy) {free['worst_corner_probability']:.2%} at its worst corner, above {alpha:.0%}; "
             f"this one holds there, with {' and '.join(costs)} "
-            f"({free['turning_effort']:.2f} -> {self.turning_effort:.2f} N turning, "
-            f"{free['threshold_force']:.1f} -> {self.threshold_force:.1f} N over the sill)."
+            f"({free['turning_effort']:.2f} → {self.turning_effort:.2f} N turning, "
+            f"{free['threshold_force']:.1f} → {self.threshold_force:.1f} N over the sill)."
         )
 
     def __str__(self) -> str:
