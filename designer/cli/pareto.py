@@ -107,6 +107,8 @@ def _print_summary(s: dict) -> None:
             f"B = {d['groove'] / INCH:.3f} in, c_f = {d['damping']:.3f} N·m/rad; "
             f"F_turn {opt['objectives']['turning_effort']:.3f} N, P {opt['objectives']['threshold_force']:.2f} N"
         )
+    for line in s.get("moved", {}).values():  # files of the existing report whose values moved (the rest kept)
+        print(f"  rewritten: {line}")
     print(f"  open: {Path(s['index_html']).resolve()}")
 
 

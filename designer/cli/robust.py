@@ -52,5 +52,7 @@ def run(args) -> int:
             f"Monte Carlo P(shimmy) on the risk-bounded front: {min(probs):.2%}–{max(probs):.2%} "
             f"(target {data.uncertainty.probability:.1%})"
         )
+    for line in data.run.get("moved", {}).values():  # files of the existing report whose values moved
+        print(f"rewritten: {line}")
     print(f"report: {(out / 'index.html').resolve()} (Markdown: {out / 'robust.md'})")
     return 0

@@ -30,7 +30,9 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
 
     Returns
     -------
-    dict with the report folder, index.html path, counts, optimum and check results
+    dict with the report folder, index.html path, counts, optimum and check results, and ``moved``: one line per
+    file of an existing report that was rewritten because a value moved beyond its tolerance
+    (:func:`designer.report.agreement.keep_agreeing`; a file that agrees keeps its bytes)
     """
     t0 = time.perf_counter()
 
@@ -90,6 +92,7 @@ def _compute(problem, points, out, tracker, force=False, cross_check=False) -> d
         "checks_total": len(checks),
         "failing_checks": failing,
         "failing_front_checks": failing_front,
+        "moved": dict(data.run.get("moved") or {}),
         "seconds": wall,
         "reported_diameters": [p.design.diameter for p in data.front.points]
         + ([data.solution.design.diameter] if data.solution is not None else []),

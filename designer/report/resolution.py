@@ -61,6 +61,7 @@ VARYING_RUN_KEYS = frozenset(
         "build_seconds",
         "total_seconds",
         "timings",
+        "moved",
     }
 )
 """Run metadata that changes from run to run (times, date, library versions, solve counts): run.json only."""
@@ -104,12 +105,12 @@ def design_value(name: str, value: float, bounds=None) -> float:
     return on_scale(value, scale)
 
 
-# keys whose value is a difference of objectives or a margin: the key of the sibling (or a number) giving its scale
-_DIFFERENCE_SCALE = {
+DIFFERENCE_SCALE = {
     "extra": "turning_effort_buildable",
     "extra_threshold": "threshold_force",
     "extra_effort": "turning_effort_robust",
 }
+"""Keys whose value is a difference of two objectives: the key of the sibling objective giving its scale."""
 _MARGIN_SCALE = {"shimmy": "required_speed"}  # the optimum's margins: m/s of the target, m of the limit
 
 
@@ -150,8 +151,8 @@ def _resolve(value, key, bounds, scales, siblings=None):  # noqa: C901 - one bra
         return design_value(key, value, bounds)
     if isinstance(key, str) and key.startswith("lambda_"):
         return multiplier(value)
-    if key in _DIFFERENCE_SCALE and siblings is not None and _is_float(siblings.get(_DIFFERENCE_SCALE[key])):
-        return on_scale(value, abs(siblings[_DIFFERENCE_SCALE[key]]))
+    if key in DIFFERENCE_SCALE and siblings is not None and _is_float(siblings.get(DIFFERENCE_SCALE[key])):
+        return on_scale(value, abs(siblings[DIFFERENCE_SCALE[key]]))
     return on_scale(value)
 
 
@@ -185,6 +186,7 @@ def split_run(run: dict) -> tuple[dict, dict]:
 
 __all__ = [
     "AT_BOUND",
+    "DIFFERENCE_SCALE",
     "MULTIPLIER_FLOOR",
     "MULTIPLIER_GROUPS",
     "MULTIPLIER_SIGNIFICANT",

@@ -8,12 +8,14 @@ the Pareto report (shared stylesheet), with one title used by the page and by it
 from __future__ import annotations
 
 import base64
+import json
 from pathlib import Path
 
 import numpy as np
 
 from designer.jsonsafe import finite
 from designer.pipeline import RobustData
+from designer.report.agreement import compare_json, keep_agreeing
 from designer.report.formatting import fmt
 from designer.report.resolution import resolved, split_run
 from designer.output import output_folder
@@ -189,7 +191,8 @@ def write_robust_report(data: RobustData, out_dir, option: str = "--out") -> Pat
     with output_folder(out_dir, OWNED, option=option, marker=MARKER, command="designer robust") as tmp:
         page_title = title(data)
         (tmp / "figures").mkdir()
-        png = png_bytes(figure(data))
+        numbers = _json(data, page_title)
+        png = _kept_figure(Path(out_dir), numbers) or png_bytes(figure(data))
         (tmp / FIGURE).write_bytes(png)
         context = {
             "title": page_title,
@@ -202,11 +205,24 @@ def write_robust_report(data: RobustData, out_dir, option: str = "--out") -> Pat
             "bound": bound_sentence(data),
             "designer_version": data.run.get("versions", {}).get("caster-designer") or "(not installed)",
         }
-        _write_json(tmp / "robust.json", _json(data, page_title))
-        _write_json(tmp / RUN_FILE, finite(data.run))  # date, seconds, versions: beside, never committed
+        _write_json(tmp / "robust.json", numbers)
         (tmp / "index.html").write_text(_render("robust.html.j2", context, autoescape=True), encoding="utf-8")
         (tmp / "robust.md").write_text(_render("robust.md.j2", context, autoescape=False), encoding="utf-8")
+        data.run["moved"] = keep_agreeing(tmp, Path(out_dir))  # a file that agrees keeps its bytes
+        _write_json(tmp / RUN_FILE, finite(data.run))  # date, seconds, versions: beside, never committed
     return Path(out_dir)
+
+
+def _kept_figure(folder: Path, numbers: dict) -> bytes | None:
+    """The PNG of the report in ``folder`` when its robust.json agrees with ``numbers`` (the figure is drawn from
+    them: :func:`figure`), so a rerun keeps its bytes (a PNG cannot be compared by number); None otherwise."""
+    old_json, old_png = folder / "robust.json", folder / FIGURE
+    try:
+        if old_png.is_file() and not compare_json(json.loads(old_json.read_text(encoding="utf-8")), numbers):
+            return old_png.read_bytes()
+    except (OSError, ValueError):
+        return None
+    return None
 
 
 __all__ = ["MARKER", "OWNED", "bound_sentence", "figure", "sentences", "title", "write_robust_report"]

@@ -28,6 +28,7 @@ from designer.jsonsafe import finite
 from designer.model import Design
 from designer.pipeline import ReportData
 from designer.output import output_folder
+from designer.report.agreement import keep_agreeing
 from designer.report.files import REPORT_MARKERS, REPORT_OWNED, check_target, is_report  # noqa: F401
 import designer.report.figures as _figures
 from designer.report.resolution import design_value, multiplier, on_scale, resolved, split_run
@@ -123,7 +124,7 @@ def _write_json(path: Path, value) -> None:
     path.write_text(json.dumps(value, indent=2, ensure_ascii=False, allow_nan=False) + "\n", encoding="utf-8")
 
 
-def _write_all(folder: Path, data: ReportData, t0: float) -> None:
+def _write_all(folder: Path, data: ReportData, t0: float, target: Path | None = None) -> None:
     fig_dir = folder / "figures"
     fig_dir.mkdir()
     context = build_context(data)
@@ -153,6 +154,7 @@ def _write_all(folder: Path, data: ReportData, t0: float) -> None:
     (folder / "index.html").write_text(_render("index.html.j2", context, autoescape=True), encoding="utf-8")
     (folder / "report.md").write_text(_render("report.md.j2", context, autoescape=False), encoding="utf-8")
     data.run["render_cpu_seconds"]["writing"] = time.process_time() - c1
+    data.run["moved"] = keep_agreeing(folder, target) if target is not None else {}  # agreeing files keep their bytes
     _write_json(folder / RUN_FILE, finite(data.run))
 
 
@@ -197,12 +199,12 @@ def write_report(data, out_dir=None, *, force: bool = False, option: str = "--ou
     t0 = time.perf_counter()
     problem = data.problem
     target = Path(out_dir) if out_dir is not None else Path("results") / problem.name
-    check_target(target, force, option)
+    real = check_target(target, force, option)
     # check_target decided before computing; the commit checks again under the folder's lock, with the same rule
     # (a report of this tool, an empty folder, or a foreign one only with force): another command's report
     # written meanwhile is refused, never mixed with this one
     with output_folder(
         target, REPORT_OWNED, option=option, marker=is_report, force=force, command="designer pareto"
     ) as stage:
-        _write_all(stage, data, t0)
+        _write_all(stage, data, t0, real)
     return target

@@ -17,6 +17,7 @@ from designer.cli import main
 from designer.plots import figures
 from designer.pipeline import report_data
 from designer.report import write_report
+from designer.report.agreement import compare_folders
 
 ROOT = Path(__file__).resolve().parents[2]
 COMMITTED = ROOT / "results" / "indoor-manual"
@@ -51,19 +52,10 @@ def invacare():
     return problem, report_data(problem)
 
 
-def _files(folder: Path) -> dict[str, bytes]:
-    """Every file under ``folder`` but run.json (the run's metadata, git-ignored), by relative path."""
-    return {
-        str(path.relative_to(folder)): path.read_bytes()
-        for path in sorted(folder.rglob("*"))
-        if path.is_file() and path.name != "run.json"
-    }
-
-
-def _stale(committed: Path, fresh: Path) -> list[str]:
-    """The files of ``committed`` and ``fresh`` that differ in bytes, or exist in one only."""
-    old, new = _files(committed), _files(fresh)
-    return sorted(name for name in set(old) | set(new) if old.get(name) != new.get(name))
+def _stale(committed: Path, fresh: Path) -> dict[str, list[str]]:
+    """The files of ``committed`` and ``fresh`` that do not agree (designer.report.agreement: value by value, each
+    within its field's tolerance; the same structure and text), or exist in one only, with what moved."""
+    return {name: [m.line() for m in moved] for name, moved in compare_folders(committed, fresh).items()}
 
 
 def test_cli_writes_every_file(regenerated, capsys):
@@ -89,9 +81,10 @@ def test_cli_writes_every_file(regenerated, capsys):
 
 
 def test_committed_results_are_current(regenerated_all):
-    """results/<problem>/ of every shipped problem is byte for byte what `designer pareto --all problems` writes
-    now (run.json aside): the data files hold the numbers as resolved (designer.report.resolution) and no run's
-    date or seconds, so any difference means results/ is stale."""
+    """results/<problem>/ of every shipped problem agrees with what `designer pareto --all problems` writes now
+    (run.json aside): every number of every data file, figure and page within the tolerance of what produced it,
+    the same structure, labels and text (docs/checks.md#when-two-result-files-agree), on any CPU and numeric
+    kernel; a difference beyond it means results/ is stale (test_agreement plants such differences)."""
     parent, _ = regenerated_all
     problems = sorted(path.stem for path in (ROOT / "problems").glob("*.toml"))
     stale = {name: _stale(ROOT / "results" / name, parent / name) for name in problems}
@@ -100,7 +93,9 @@ def test_committed_results_are_current(regenerated_all):
 
 
 def test_committed_robust_report_is_current(tmp_path, monkeypatch):
-    """results/robust/indoor-manual-robust is byte for byte what `designer robust` writes now (run.json aside)."""
+    """results/robust/indoor-manual-robust agrees with what `designer robust` writes now (run.json aside): robust.json
+    value by value (Monte Carlo estimates within 4 SE), the pages by structure and numbers, and the PNG, which
+    cannot be compared by number, byte for byte (a rerun keeps it when robust.json agrees)."""
     out = tmp_path / "indoor-manual-robust"
     monkeypatch.chdir(ROOT)
     assert main(["robust", "problems/indoor-manual-robust.toml", "--out", str(out)]) == 0
