@@ -6,6 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from designer.report.agreement import compare_text
+
 import designer.studies.checks as ck
 from designer.cli import main
 from designer.data.paper import INCH, TABLE1, TABLE1_STABLE_UP_TO
@@ -307,12 +309,19 @@ def test_paper_check_texts_pinned():
     check 7, P/L = 2√(x−1)/(x−2) at x = d/h = 8, 12, 16 is 0.8819, 0.6633, 0.5533, so the drops per inch are
     0.109 and 0.055 (ratio 1.99); check 1, 2.91 m/s is 6.51 mph; check 10, wheel A's I_w = 0.18e-3 kg·m²."""
     checks = ck.paper_checks()
-    assert {c.name: (c.claim, c.detail) for c in checks} == CLAIMS_AND_DETAILS
+    assert [c.name for c in checks] == list(CLAIMS_AND_DETAILS)
+    for c in checks:  # the words exactly; a computed number at its printed precision (one unit of its last digit)
+        claim, detail = CLAIMS_AND_DETAILS[c.name]
+        assert compare_text(claim, c.claim, c.name, markup=False) == [], c.name
+        assert compare_text(detail, c.detail, c.name, markup=False) == [], c.name
+    assert compare_text(claim, claim.replace(" ", "  ", 1), markup=False), "a changed word would be caught"
     assert [c.passed for c in checks] == [True] * 10
     by_name = {c.name: c for c in checks}
     assert by_name["4 carpet ×2"].got == 2.0 and isinstance(by_name["4 carpet ×2"].got, float)
-    assert by_name["5 trail ×2"].got == 0.5 and by_name["10 Quadra"].got == 6.089
-    assert by_name["1 Eq. 8"].got == 2.9113
+    # got is rounded (ck.check_*: trail to 6 decimals, Quadra to 3, Eq. 8 to 4): it agrees within one unit of the last
+    assert by_name["5 trail ×2"].got == pytest.approx(0.5, abs=1e-6)
+    assert by_name["10 Quadra"].got == pytest.approx(6.089, abs=1e-3)
+    assert by_name["1 Eq. 8"].got == pytest.approx(2.9113, abs=1e-4)
 
 
 def test_check_rejects_unknown_kind():

@@ -436,6 +436,7 @@ def test_rule_takes_the_least_j_end_when_no_point_bulges_toward_the_ideal(recs):
     sel = select_rows(f_convex, p_convex, np.ones_like(f_convex, bool))
     assert int(sel["choice"][0]) == 1 and bool(sel["knee"][0])
     problem, rec = recs["indoor-manual"]
-    assert [round(x.turning_effort, 2) for x in rec.buildable.points] == [7.01, 7.63, 7.94]
+    # stated to 2 decimals: each within half a unit of the 2nd decimal (not a rounding of the solver's last digits)
+    assert [x.turning_effort for x in rec.buildable.points] == pytest.approx([7.01, 7.63, 7.94], abs=5e-3)
     assert rec.design.diameter == pytest.approx(7 * INCH) and rec.rule.startswith("least J = 1 F_turn + 1 P")
     assert "no knee" in rec.rule and recs["sports-court"][1].rule == "knee of the buildable risk-bounded front"
