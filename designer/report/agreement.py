@@ -100,7 +100,8 @@ RULES = {
         "Monte Carlo estimate",
         0.0,
         0.0,
-        f"within {MONTE_CARLO_K:g} standard errors of the difference (sqrt(SE_a² + SE_b²), its SE field)",
+        f"within {MONTE_CARLO_K:g} standard errors of the difference (sqrt(SE_a² + SE_b²), its SE field); its SE "
+        "field, sqrt(p(1-p)/n), within as many of its own, |1-2p| SE²/(2p(1-p)), carried from p's",
     ),
     "exact": Rule("string, count, status, boolean", 0.0, 0.0, "equal"),
     "drawing": Rule("drawing coordinate", 0.0, DRAWING_PX, "half a pixel (SVG geometry attributes, written to 0.1 px)"),
@@ -201,6 +202,20 @@ def _walk(old, new, where, key, parent, siblings, out) -> None:  # noqa: C901 - 
         out.append(Moved(where, old, new, "exact"))
 
 
+def _estimate_of(key, siblings):
+    """The Monte Carlo estimate whose standard error is stored under ``key`` (``X`` for ``X_se``), or None."""
+    if not (siblings and isinstance(key, str)):
+        return None
+    if key == "se":
+        name = "probability"
+    elif key.endswith("_se"):
+        name = key[:-3]
+    else:
+        return None
+    value = siblings[0].get(name)
+    return value if _is_number(value) else None
+
+
 def _field(old, new, where, key, parent, siblings) -> Moved | None:
     """One number of a JSON object (``siblings``: the old and new dicts holding it, for SEs and scales)."""
     se_key = MONTE_CARLO_SE.get(key) or (f"{key}_se" if isinstance(key, str) else None)
@@ -209,6 +224,12 @@ def _field(old, new, where, key, parent, siblings) -> Moved | None:
     if siblings and se_key and se_key in siblings[0] and _is_number(siblings[0].get(se_key)):
         se = (float(siblings[0][se_key]), float(siblings[1].get(se_key, 0.0) or 0.0))
         return _number(old, new, where, "monte carlo", se=se)
+    estimate = _estimate_of(key, siblings)
+    if estimate is not None:  # a binomial SE = sqrt(p(1-p)/n) moves with its estimate p
+        p = float(estimate)
+        if 0 < p < 1:
+            spread = tuple(abs(1 - 2 * p) * float(x) ** 2 / (2 * p * (1 - p)) for x in (old, new))
+            return _number(old, new, where, "monte carlo", se=spread)
     rule = rule_for(key, parent)
     scale = VARIABLE_SCALES.get(key, 0.0) if rule == "design" else 0.0
     if parent == "constraints" and isinstance(key, str):  # an optimum's margin: on its constraint's scale

@@ -192,3 +192,16 @@ def test_the_docs_state_the_declared_tolerances():
     assert f"{g(RULES['multiplier'].rtol)} of its magnitude, plus {g(RULES['multiplier'].atol)}" in section
     assert f"{MONTE_CARLO_K:g} standard errors of the difference" in section
     assert f"| {DRAWING_PX:g} px |" in section
+
+
+def test_a_standard_error_moves_with_its_estimate():
+    """An SE field sqrt(p(1−p)/n) agrees within 4 of its own standard errors, |1−2p| SE²/(2p(1−p)) carried from p's:
+    one sample of 50 000 more below the speed (p 0.02906 -> 0.02908) agrees, an SE 10 % larger does not."""
+    n = 50_000
+
+    def at(p):
+        return {"shimmy_probability": p, "shimmy_probability_se": (p * (1 - p) / n) ** 0.5}
+
+    assert compare_json(at(0.02906), at(0.02908)) == []
+    wider = {**at(0.02906), "shimmy_probability_se": at(0.02906)["shimmy_probability_se"] * 1.1}
+    assert [m.where for m in compare_json(at(0.02906), wider)] == ["shimmy_probability_se"]

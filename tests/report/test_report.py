@@ -503,3 +503,54 @@ def test_report_shows_the_risk_law_its_spec_and_its_checks():
     loo = [c for c in checks if c["name"] == "11 leave-one-out"]
     assert len(loo) == 1 and loo[0]["kind"] == "law" and "coarse check" in loo[0]["detail"]
     assert loo[0]["got"].startswith("from d ") and len(loo[0]["rows"]) == 5
+
+
+def _contour_offsets_px(data) -> list[float]:
+    """How far [px] each vertex of the groove–damper figure's iso-V_c lines lies from the model's V_c = level line:
+    |V_c(vertex) − level| over |∇V_c| in px (the figure's own scales), V_c from designer.model.performance."""
+    from designer.model import performance
+    from designer.plots.figures import MM
+    from designer.report import figures as report_figures
+
+    fig = report_figures.draw("groove_damper", data)
+    fig.to_svg()  # lays the axes out (their boxes in px)
+    plane = fig.axes[1]
+    sx, sy, _, _ = plane._scales()
+    per_x, per_y = abs(float(sx(1.0) - sx(0.0))), abs(float(sy(1.0) - sy(0.0)))  # px per mm of B, per N·m/rad
+    design, conditions = data.solution.design, data.solution.problem.conditions
+
+    def speed(g_mm, c):
+        return performance(design.trail, design.diameter, g_mm / MM, c, conditions)["critical_speed"]
+
+    offsets = []
+    for lines in (args[0] for _, _, kind, args in plane.items if kind == "contour"):
+        for level, pieces in lines.paths:
+            for piece in pieces:
+                g, c = piece[:, 0], piece[:, 1]
+                v = speed(g, c)
+                grad = np.hypot((speed(g + 0.5 / per_x, c) - v) / 0.5, (speed(g, c + 0.5 / per_y) - v) / 0.5)
+                offsets.extend(np.abs(v - level) / grad)
+    return offsets
+
+
+def test_groove_damper_contours_lie_on_the_model(invacare, monkeypatch):
+    """The groove–damper figure's iso-V_c lines, whose values no data file holds, checked by number: every vertex lies
+    within the drawing tolerance (0.5 px, designer.report.agreement.DRAWING_PX) of the model's V_c = level line at
+    the weighted optimum's T and d; a figure drawn from a V_c 2 % off (planted) fails it."""
+    from designer.report.agreement import DRAWING_PX
+
+    _, data = invacare
+    offsets = _contour_offsets_px(data)
+    assert len(offsets) > 100 and max(offsets) <= DRAWING_PX, max(offsets)
+
+    import designer.plots.figures as plot_figures
+
+    real = plot_figures.performance
+
+    def off_by_2_percent(*args, **kwargs):
+        values = dict(real(*args, **kwargs))
+        values["critical_speed"] = values["critical_speed"] * 1.02
+        return values
+
+    monkeypatch.setattr(plot_figures, "performance", off_by_2_percent)
+    assert max(_contour_offsets_px(data)) > DRAWING_PX
