@@ -9,9 +9,8 @@ checked after every solver call (:func:`check_interrupt`).
 
 from __future__ import annotations
 
-import os
+import errno
 import signal
-import stat
 import threading
 
 
@@ -84,47 +83,61 @@ class ServerError(DesignerError):
 _INTERRUPTED = False
 
 
-def read_input_text(
-    path: str | os.PathLike[str], kind: str, suffix: str, encoding: str = "utf-8", limit: int | None = None
-) -> str:
-    """The text of an input file (a problem or fleet file), or ProblemError in one line naming the file.
+OS_REASONS: dict[int, str] = {
+    errno.ENOENT: "no such file or folder",
+    errno.ELOOP: "a symbolic link loop (a link that leads back to itself)",
+    errno.EISDIR: "is a folder, expected a file",
+    errno.ENOTDIR: "a part of the path is a file, not a folder",
+    errno.EACCES: "permission denied",
+    errno.EPERM: "operation not permitted",
+    errno.EROFS: "read-only file system",
+    errno.ENOSPC: "no space left on device",
+    errno.EDQUOT: "no space left (disk quota exceeded)",
+    errno.EFBIG: "file too large for the file system",
+    errno.ENAMETOOLONG: "a name longer than the file system allows",
+    errno.EMFILE: "too many open files",
+    errno.EIO: "input/output error (a failing disk or a lost network share)",
+    errno.ENXIO: "no such device (nothing reads or writes the other end)",
+    errno.ENODEV: "no such device",
+    errno.ETXTBSY: "the file is busy (a running program)",
+    errno.EEXIST: "already exists",
+    errno.EXDEV: "on another file system",
+    errno.EBUSY: "busy (in use by the system)",
+    errno.EINVAL: "not allowed here (an invalid name or operation on this file system)",
+}
+"""The true reason of each operating-system error a user's setup can cause, by errno: the one table every
+message about a file or a folder uses (:func:`os_reason`)."""
 
-    ``kind`` names the file in the messages ("problem file"), ``suffix`` the expected extension (".toml"):
-    ``<path>: no such <kind>``, ``<path>: is a folder, expected a <suffix> <kind>``, or
-    ``<path>: cannot read it (<error>)``.  With ``limit`` [bytes], at most ``limit`` + 1 bytes are read:
-    a longer file (or an endless one, such as ``/dev/zero``) is ``<path>: larger than <limit> ...``.
-    """
-    source = str(path)
-    if not os.path.exists(path):
-        raise ProblemError(f"{source}: no such {kind}")
-    if os.path.isdir(path):
-        raise ProblemError(f"{source}: is a folder, expected a {suffix} {kind}")
-    try:
-        with open(path, "rb") as f:
-            data = f.read() if limit is None else f.read(limit + 1)
-        if limit is not None and len(data) > limit:
-            size = _file_size(path)
-            what = f"{size:,} bytes" if size > limit else "a device or a pipe that gave more"
-            raise ProblemError(
-                f"{source}: larger than the {_bytes(limit)} a {kind} may have ({what}); a {kind} is a few kB "
-                f"of text: is this the right file?"
-            )
-        return data.decode(encoding).replace("\r\n", "\n").replace("\r", "\n")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ProblemError(f"{source}: cannot read it ({exc.__class__.__name__}: {exc})") from None
-
-
-def _file_size(path) -> int:
-    """The size of a regular file [bytes]; 0 for a device or a pipe (their size says nothing)."""
-    try:
-        st = os.stat(path)
-    except OSError:
-        return 0
-    return st.st_size if stat.S_ISREG(st.st_mode) else 0
+WRITE_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG, errno.ENAMETOOLONG})
+"""The errors that can only mean an output cannot be written (exit 7, :class:`OutputError`)."""
 
 
-def _bytes(n: int) -> str:
-    return f"{n // 2**20} MB" if n % 2**20 == 0 else f"{n:,} bytes"
+def os_reason(exc: OSError) -> str:
+    """One short line: why ``exc`` happened, by its errno (:data:`OS_REASONS`), else the system's own words."""
+    if exc.errno in OS_REASONS:
+        return OS_REASONS[exc.errno]
+    return exc.strerror or type(exc).__name__
+
+
+def system_error(exc: BaseException) -> DesignerError | None:
+    """A system error that reached the command's edge, as the tool's own error (one line, its exit code), or None
+    for a bug.  An :class:`OSError` names its path and its true reason (:func:`os_reason`): exit 7 when only an
+    output can cause it (:data:`WRITE_ERRNOS`), else exit 2; a :class:`RecursionError` is input nested too deeply
+    (exit 2); a :class:`UnicodeEncodeError` is an output whose encoding cannot take a character (exit 7)."""
+    if isinstance(exc, DesignerError):
+        return exc
+    if isinstance(exc, OSError) and exc.errno is not None:
+        where = " -> ".join(str(f) for f in (exc.filename, exc.filename2) if f is not None) or "a file"
+        kind = OutputError if exc.errno in WRITE_ERRNOS else InputError
+        return kind(f"{where}: {os_reason(exc)}")
+    if isinstance(exc, RecursionError):
+        return InputError("the input is nested too deeply to read (thousands of levels of brackets or tables)")
+    if isinstance(exc, UnicodeEncodeError):
+        return OutputError(
+            f"the output's encoding ({exc.encoding}) cannot write {exc.object[exc.start : exc.end]!r}; "
+            f"set PYTHONIOENCODING=utf-8 or a UTF-8 locale"
+        )
+    return None
 
 
 class Terminated(KeyboardInterrupt):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -14,7 +15,7 @@ def finite(value: Any) -> Any:
     Reports, ``--json`` output and exploration files all pass through this, so
     no NaN or infinity ever reaches a file or a terminal as a number.
     """
-    if isinstance(value, dict):
+    if isinstance(value, Mapping):  # a dict, or a record's read-only mapping (designer.reprs.FrozenMapping)
         return {str(k): finite(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
         return [finite(v) for v in value]

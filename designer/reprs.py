@@ -35,6 +35,64 @@ STYLE = (
 """Inline styles (table, label cell, value cell, unit cell): the repr must render without a stylesheet."""
 
 
+class FrozenMapping(Mapping[Any, Any]):
+    """A read-only mapping: the records' dict fields (a problem's bounds, choices, stock costs, the turning
+    model's mode factors, the conditions' constants), so ``problem.bounds["trail"] = ...`` raises TypeError and
+    a record stays what its constructor validated.
+
+    Equal to a dict with the same items, printed like one, picklable (a problem goes to worker processes),
+    hashable when its values are.  Build a changed copy with the record's ``replace`` (``problem.replace(
+    bounds={**problem.bounds, "trail": Bound(0.03, 0.05)})``), which validates it again.
+    """
+
+    __slots__ = ("_data",)
+
+    def __init__(self, data: Any = (), /) -> None:
+        self._data = dict(data)
+
+    def __getitem__(self, key: Any) -> Any:
+        return self._data[key]
+
+    def __iter__(self) -> Any:
+        return iter(self._data)
+
+    def __len__(self) -> int:
+        return len(self._data)
+
+    def __contains__(self, key: object) -> bool:
+        return key in self._data
+
+    def __repr__(self) -> str:
+        return repr(self._data)
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, Mapping):
+            return self._data == dict(other.items())
+        return NotImplemented
+
+    def __hash__(self) -> int:
+        return hash(frozenset(self._data.items()))
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (FrozenMapping, (self._data,))
+
+    def __setitem__(self, key: Any, value: Any) -> None:
+        raise TypeError(
+            f"cannot set [{key!r}]: a record's mapping is read-only; build a changed copy with the record's "
+            f"replace(), which checks it again"
+        )
+
+    def __delitem__(self, key: Any) -> None:
+        self.__setitem__(key, None)
+
+
+def frozen(data: Any) -> FrozenMapping:
+    """``data`` (a mapping) as a :class:`FrozenMapping`, nested mappings too (a stock's item costs)."""
+    if isinstance(data, FrozenMapping):
+        return data
+    return FrozenMapping({k: frozen(v) if isinstance(v, Mapping) else v for k, v in dict(data).items()})
+
+
 def html_table(title: str, rows: Iterable[tuple[Any, Any, Any]], caption: str = "", extra: str = "") -> str:
     """A compact HTML table: a bold title, rows of (label, value, unit), an optional caption and extra HTML.
 
@@ -351,7 +409,9 @@ class Record:
 
 
 __all__ = [
+    "FrozenMapping",
     "MAX_REPR_LINES",
+    "frozen",
     "Record",
     "dataframe",
     "flatten",

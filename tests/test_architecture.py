@@ -20,6 +20,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
         (
             "designer.errors",
             "designer.children",
+            "designer.textfiles",
             "designer.output",
             "designer.units",
             "designer.jsonsafe",
@@ -57,6 +58,7 @@ HEAVY = (
     "psycopg2",
     "jinja2",
     "pymoo",
+    "sqlalchemy",
 )
 """Dependencies that ``import designer`` must not load: imported late, inside the functions that need them."""
 

@@ -12,6 +12,7 @@ is exit 7.
 from __future__ import annotations
 
 import argparse
+import codecs
 import errno
 import importlib
 import os
@@ -21,7 +22,14 @@ import sys
 import warnings
 
 import designer
-from designer.errors import DesignerError, OutputError, interrupt_exit_code, interrupted, sigint_handler
+from designer.errors import (
+    DesignerError,
+    OutputError,
+    interrupt_exit_code,
+    interrupted,
+    sigint_handler,
+    system_error,
+)
 
 BROKEN_PIPE = 141
 """Exit code when the reader of standard output went away (``| head``): 128 + SIGPIPE, what a shell reports
@@ -62,6 +70,7 @@ def _version() -> str:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``designer`` command (via :func:`designer.entry.main`); returns the exit code."""
+    _ascii_fallback()  # a terminal that cannot print "·" or "²" gets "*" and "^2", not a UnicodeEncodeError
     with sigint_handler():  # SIGINT and SIGTERM raise (and set a flag checked after every solver call)
         try:
             return _main(argv)
@@ -97,7 +106,8 @@ def _main(argv: list[str] | None) -> int:
             if isinstance(exc, OSError) and _stdout_failed(exc):
                 exc = OutputError(f"standard output{_stdout_reason(exc)}; the output is incomplete")
                 _silence_stdout()
-            return _error(exc, args.debug)
+            # the one place a system error becomes a line and an exit code (OSError by errno, RecursionError, ...)
+            return _error(exc if args.debug else (system_error(exc) or exc), args.debug)
 
 
 def _interrupted(exc: KeyboardInterrupt) -> int:
@@ -174,6 +184,65 @@ def _error(exc: Exception, debug: bool) -> int:
         f"designer: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)", file=sys.stderr
     )
     return 70
+
+
+ASCII_GLYPHS = {
+    "·": "*",
+    "²": "^2",
+    "³": "^3",
+    "×": "x",
+    "−": "-",
+    "–": "-",
+    "—": "--",
+    "±": "+/-",
+    "°": " deg",
+    "≤": "<=",
+    "≥": ">=",
+    "≈": "~",
+    "→": "->",
+    "←": "<-",
+    "…": "...",
+    "µ": "u",
+    "μ": "mu",
+    "α": "alpha",
+    "θ": "theta",
+    "κ": "kappa",
+    "ω": "omega",
+    "ρ": "rho",
+    "Δ": "Delta",
+    "½": "1/2",
+    "¼": "1/4",
+    "¾": "3/4",
+    "‘": "'",
+    "’": "'",
+    "“": '"',
+    "”": '"',
+    "✓": "ok",
+    "✗": "x",
+}
+"""ASCII for the glyphs the tool prints, used where the terminal's encoding cannot take them (a C locale)."""
+
+
+def _ascii_replace(exc: UnicodeError) -> tuple[str, int]:
+    """The codec error handler "designer-ascii": a glyph of :data:`ASCII_GLYPHS` in ASCII, any other character as
+    a backslash escape; the line is printed either way."""
+    if not isinstance(exc, UnicodeEncodeError):
+        raise exc
+    text = exc.object[exc.start : exc.end]
+    return "".join(ASCII_GLYPHS.get(ch, ch.encode("ascii", "backslashreplace").decode()) for ch in text), exc.end
+
+
+def _ascii_fallback() -> None:
+    """Standard output and error print what their encoding cannot take through "designer-ascii"
+    (:func:`_ascii_replace`) instead of raising UnicodeEncodeError; nothing changes on a UTF-8 terminal."""
+    codecs.register_error("designer-ascii", _ascii_replace)
+    for stream in (sys.stdout, sys.stderr):
+        reconfigure = getattr(stream, "reconfigure", None)
+        if reconfigure is not None and getattr(stream, "errors", "strict") == "strict":
+            try:
+                reconfigure(errors="designer-ascii")
+            except (ValueError, OSError):  # a stream that cannot change (closed, detached)
+                pass
 
 
 _SHOWN: set[str] = set()

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from designer.cli._common import PROBLEM_HELP, SEED_MAX, check_output_folder, count_option, eprint, print_json
 from designer.data.paper import INCH
-from designer.errors import QuietAfterInterrupt, StorageError
+from designer.errors import QuietAfterInterrupt
 from designer.problem import load_problem
 
 EXPLORE_FILES = ("explore.csv", "explore.json")
@@ -57,25 +57,12 @@ MAX_POPULATION = 10_000
 """Largest --population of NSGA-II (a generation; --trials bounds the study)."""
 
 
-def _in_memory_sqlite(url: str) -> bool:
-    """True for an SQLite URL without a file: ``sqlite://``, ``sqlite:///:memory:``, ``...mode=memory...``."""
-    if not url.lower().startswith("sqlite"):
-        return False
-    path = url.split("://", 1)[1] if "://" in url else ""
-    return path in ("", "/") or ":memory:" in path or "mode=memory" in path
-
-
 def run(args) -> int:
     from designer.studies.explore import explore, parse_storage
 
     count_option(args.population, "--population", 2, MAX_POPULATION)
     count_option(args.seed, "--seed", 0, SEED_MAX)
-    spec = parse_storage(args.storage)  # exit 6 for a malformed URL, before the problem is read
-    if args.workers > 1 and spec.url is not None and _in_memory_sqlite(spec.url):
-        raise StorageError(
-            f"--storage {args.storage}: an in-memory SQLite database lives inside one process, so --workers "
-            f"{args.workers} cannot share it; use a file (sqlite:///study.db, journal:///path/study.log) or a server"
-        )
+    parse_storage(args.storage)  # exit 6 for a malformed URL or an in-memory SQLite, before the problem is read
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / problem.name
     # before the study, not after it

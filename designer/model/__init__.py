@@ -14,6 +14,9 @@ _candidates  :func:`evaluate_candidates`: the one evaluator of a batch of candid
 from __future__ import annotations
 
 from designer.model._caster import (
+    CONDITION_CHOICES,
+    CONDITION_NUMBERS,
+    condition_refusal,
     FAMILIES,
     GRAVITY,
     MASS_RANGE,
@@ -37,6 +40,9 @@ from designer.model._candidates import (
 )
 
 __all__ = [
+    "CONDITION_CHOICES",
+    "CONDITION_NUMBERS",
+    "condition_refusal",
     "FAMILIES",
     "GRAVITY",
     "MASS_RANGE",

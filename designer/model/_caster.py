@@ -21,7 +21,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
 from designer import parameters
 from designer.data.paper import INCH
 from designer.errors import InputError
-from designer.reprs import Record
+from designer.reprs import Record, frozen
 from designer.physics.types import Scalar
 from designer.physics.geometry import swept_radius
 from designer.physics.inertia import InertiaModel, PowerLaw
@@ -34,7 +34,14 @@ from designer.physics.shimmy import (
     third_order_coefficients,
 )
 from designer.physics.threshold import threshold_force_ratio
-from designer.physics.turning import DEFAULT_TURNING, TurningConstants, added_damper_moment, sliding_turning_moment
+from designer.physics.turning import (
+    DEFAULT_TURNING,
+    MODES,
+    SURFACES,
+    TurningConstants,
+    added_damper_moment,
+    sliding_turning_moment,
+)
 from designer.physics.uncertainty import Uncertainty, shimmy_speed_quantile
 from designer.units import outside_range, parse_quantity
 
@@ -196,6 +203,47 @@ class Design(Record):
         )
 
 
+CONDITION_NUMBERS = ("load", "threshold_height", "disturbance_angle", "slip_coefficient")
+"""The number fields of :class:`Conditions`, each an entry of the parameter table (unit, range, hint)."""
+
+CONDITION_CHOICES = {"surface": SURFACES, "turning_mode": MODES}
+"""The categorical fields of :class:`Conditions` and their allowed values."""
+
+
+def condition_refusal(name: str, value: Any, label: str | None = None) -> str | None:
+    """Why ``value`` [SI] is refused for the conditions' field ``name``, as one line starting with ``label``
+    (default ``name``), or None when it is accepted: the one set of rules of the problem file
+    (``conditions.load``, ...) and of the API (``Conditions(load=...)``).
+
+    Numbers: finite; load L, sill height h and slip coefficient K_s positive, θ0 between 0 and 90 deg
+    (exclusive), each within the parameter table's range (:data:`designer.parameters.PARAMETERS`, with its
+    hint); ``surface`` and ``turning_mode`` one of their choices.
+    """
+    label = name if label is None else label
+    if name in CONDITION_CHOICES:
+        allowed = CONDITION_CHOICES[name]
+        return None if value in allowed else f"{label} = {value!r}: expected one of {', '.join(allowed)}"
+    p = parameters.PARAMETERS[name]
+    shown = f"{label} = {value:g} {p.unit}".rstrip()
+    if not math.isfinite(value):
+        return f"{label} = {value}: must be finite"
+    if name == "disturbance_angle":
+        return None if 0 < value < math.pi / 2 else f"{shown}: must be between 0 and 90 deg"
+    if value <= 0:
+        return f"{shown}: must be positive"
+    assert p.range is not None, name
+    low, high = p.range
+    if not low <= value <= high:
+        return f"{shown}: outside the model's range {low:g} to {high:g} {p.unit}".rstrip() + f" ({p.hint})"
+    return None
+
+
+def _symbolic(value: Any) -> bool:
+    """A NumPy array or a CasADi expression: the solvers' and the vectorised model's own conditions, not a user's
+    number (checked where it was read)."""
+    return isinstance(value, np.ndarray) or type(value).__module__.startswith("casadi")
+
+
 @dataclass(frozen=True)
 class Conditions:
     """Fixed operating conditions and model constants of a caster.
@@ -229,8 +277,37 @@ class Conditions:
     uncertainty: Uncertainty | None = None
     constants: Mapping[str, Any] = field(default_factory=dict)
 
+    def __post_init__(self) -> None:
+        # the API's boundary: a user's Conditions(load=-5) is refused as the problem file's conditions.load = -5
+        for name in CONDITION_NUMBERS:
+            value = getattr(self, name)
+            if _symbolic(value):
+                continue
+            p = parameters.PARAMETERS[name]
+            value = parse_quantity(value, p.dimension, name)  # a number [SI] or a string with units
+            reason = condition_refusal(name, value)
+            if reason is not None:
+                raise InputError(reason)
+            object.__setattr__(self, name, value)
+        for name in CONDITION_CHOICES:
+            reason = condition_refusal(name, getattr(self, name))
+            if reason is not None:
+                raise InputError(reason)
+        for name, kind, example in (
+            ("inertia", InertiaModel, "PowerLaw()"),
+            ("turning", TurningConstants, "TurningConstants()"),
+            ("dynamics", DynamicsParameters, "DynamicsParameters()"),
+        ):
+            if not isinstance(getattr(self, name), kind):
+                raise InputError(f"{name} = {getattr(self, name)!r}: expected a {kind.__name__}, e.g. {example}")
+        if self.uncertainty is not None and not isinstance(self.uncertainty, Uncertainty):
+            raise InputError(f"uncertainty = {self.uncertainty!r}: expected None or an Uncertainty")
+        if not isinstance(self.constants, Mapping):
+            raise InputError(f"constants = {self.constants!r}: expected a mapping of constant names to values")
+        object.__setattr__(self, "constants", frozen(self.constants))
+
     def replace(self, **changes: Any) -> "Conditions":
-        """A copy with some fields changed."""
+        """A copy with some fields changed (checked again)."""
         return dataclasses.replace(self, **changes)
 
     def constant(self, name: str) -> Any:
@@ -322,9 +399,23 @@ def evaluate(design: Design, conditions: Conditions = Conditions(), speed: float
     friction damping converted with Eq. 6 and Eq. 4): negative means any
     shimmy decays.
 
-    Raises InputError for a design outside the model's range (e.g. an 8 m
-    wheel: inches written as metres).
+    Raises InputError (one line naming the argument, the value and the reason) for a ``design`` that is not a
+    :class:`Design`, ``conditions`` that are not :class:`Conditions`, a ``speed`` [m/s] that is not a finite
+    number within the target speed's range, or a design outside the model's range (e.g. an 8 m wheel: inches
+    written as metres).
     """
+    if not isinstance(design, Design):
+        raise InputError(
+            f"design = {design!r}: expected a designer.Design, e.g. Design(trail='2 in', diameter='6 in', "
+            f"groove=0, damping=1.3)"
+        )
+    if not isinstance(conditions, Conditions):
+        raise InputError(f"conditions = {conditions!r}: expected a designer.Conditions, e.g. Conditions(load=178)")
+    if speed is not None:
+        speed = parse_quantity(speed, "speed", "speed")
+        low, high = parameters.PARAMETERS["target_speed"].range or (0.0, math.inf)
+        if not low <= speed <= high:
+            raise InputError(f"speed = {speed:g} m/s: outside the model's range {low:g} to {high:g} m/s")
     check_design(design, error=InputError)  # an 8 m wheel is inches written as metres, not a caster
     values = performance(design.trail, design.diameter, design.groove, design.damping, conditions)
     out = {key: float(value) for key, value in values.items()}

@@ -13,10 +13,12 @@ and the text after it): doubling the trail halves the effort.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from designer.data.paper import DISTURBANCE_ANGLE
 from designer.errors import InputError
+from designer.reprs import frozen
 from designer.parameters import default  # the defaults: one table (designer/parameters.py)
 from designer.physics.types import Scalar
 
@@ -46,10 +48,13 @@ class TurningConstants:
     tile_moment_per_load: float = default("tile_moment_per_load")
     carpet_factor: float = default("carpet_factor")
     groove_coefficient: float = default("groove_coefficient")
-    mode_factors: dict[str, float] = field(
+    mode_factors: Mapping[str, float] = field(
         default_factory=lambda: {"chair": default("chair_factor"), "pivot": default("pivot_factor")}
     )
     bare_fork_damping: float = default("bare_fork_damping")
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "mode_factors", frozen(self.mode_factors))  # read-only, as the record
 
     def surface_factor(self, surface: str) -> float:
         """k_surface / k_tile for ``surface`` (tile 1, carpet ``carpet_factor``)."""

@@ -48,6 +48,7 @@ from designer.problem._examples import example_names, example_problem, example_t
 from designer.problem._loader import (
     check_utf8,
     load_problem,
+    problem_argument,
     problem_files,
     problem_from_dict,
     problem_from_toml,
@@ -84,6 +85,7 @@ __all__ = [
     "check_utf8",
     "family_of",
     "load_problem",
+    "problem_argument",
     "problem_files",
     "problem_path",
     "problem_from_dict",

@@ -13,15 +13,29 @@ import math
 import re
 import warnings
 from dataclasses import dataclass, field
+from collections.abc import Mapping
 from typing import Any, Callable, Iterable, NoReturn
+
+import numpy as np
 
 from designer.data.paper import INCH, TABLE1
 from designer import parameters
 from designer.errors import ProblemError
-from designer.reprs import Record
-from designer.model import FAMILIES, MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions, Design
+from designer.reprs import Record, frozen
+from designer.units import parse_quantity
+from designer.errors import InputError
+from designer.model import (
+    CONDITION_CHOICES,
+    CONDITION_NUMBERS,
+    FAMILIES,
+    MODEL_RANGE,
+    VARIABLE_UNITS,
+    VARIABLES,
+    Conditions,
+    Design,
+    condition_refusal,
+)
 from designer.physics.inertia import Catalog
-from designer.physics.turning import MODES, SURFACES
 from designer.physics.uncertainty import Uncertainty
 
 DEFAULT_BOUNDS = parameters.DEFAULT_BOUNDS
@@ -164,6 +178,13 @@ class Bound:
     low: float
     high: float
 
+    def __post_init__(self) -> None:
+        for name in ("low", "high"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+                raise InputError(f"Bound({name}={value!r}): expected a number [SI]")
+            object.__setattr__(self, name, float(value))
+
     @property
     def fixed(self) -> bool:
         return self.low == self.high
@@ -222,8 +243,12 @@ class Stock:
     trails: tuple[float, ...] | None = None
     dampings: tuple[float, ...] | None = None
     wheels: tuple[StockWheel, ...] | None = None
-    costs: dict[str, float] = field(default_factory=lambda: dict(DEFAULT_PART_COSTS))
-    item_costs: dict[str, dict[float, float]] = field(default_factory=dict)
+    costs: Mapping[str, float] = field(default_factory=lambda: dict(DEFAULT_PART_COSTS))
+    item_costs: Mapping[str, Mapping[float, float]] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "costs", frozen(self.costs))
+        object.__setattr__(self, "item_costs", frozen(self.item_costs))
 
     def cost(self, kind: str, value: float | None = None) -> float:
         """The cost of one part of ``kind`` (one of :data:`PART_KINDS`), of the item ``value`` [SI] when it was
@@ -340,12 +365,12 @@ class Problem(Record):
     conditions: Conditions
     target_speed: float
     margin: float = 0.0
-    bounds: dict[str, Bound] = field(default_factory=lambda: {k: Bound(*v) for k, v in DEFAULT_BOUNDS.items()})
+    bounds: Mapping[str, Bound] = field(default_factory=lambda: {k: Bound(*v) for k, v in DEFAULT_BOUNDS.items()})
     swept_radius_max: float | None = None
     weights: tuple[float, float] = (1.0, 1.0)
     pareto_points: int = 41
     wheels: tuple[str, ...] = ()
-    choices: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    choices: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
     stock: Stock | None = None
     max_threshold_force: float | None = None
     max_turning_effort: float | None = None
@@ -357,7 +382,9 @@ class Problem(Record):
     units: str = field(default="in", compare=False)  # display only: equal problems may write sizes otherwise
 
     def __post_init__(self) -> None:
-        _validate(self, prefix=f"{self.source}: " if self.source else "")
+        prefix = f"{self.source}: " if self.source else ""
+        _normalise(self, prefix)
+        _validate(self, prefix=prefix)
 
     @property
     def risk(self) -> Uncertainty | None:
@@ -501,10 +528,13 @@ class Problem(Record):
                 "tile_moment_per_load": c.turning.tile_moment_per_load,
                 "carpet_factor": c.turning.carpet_factor,
                 "groove_coefficient": c.turning.groove_coefficient,
-                "mode_factors": c.turning.mode_factors,
+                "mode_factors": dict(c.turning.mode_factors),
                 "bare_fork_damping": c.turning.bare_fork_damping,
             },
         } | ({} if self.tolerances is None else {"tolerances": self.tolerances.to_dict()})
+
+
+_FIELD_INDEX = {f.name: k for k, f in enumerate(dataclasses.fields(Problem))}
 
 
 def family_of(problem: Problem, design: Design, tol: float = 1e-6) -> str:
@@ -516,6 +546,63 @@ def family_of(problem: Problem, design: Design, tol: float = 1e-6) -> str:
     grooved = design.groove > problem.bounds["groove"].low + tol * max(problem.bounds["groove"].high, 1e-3)
     damped = design.damping > problem.conditions.turning.bare_fork_damping * (1 + tol)
     return FAMILIES[(grooved, damped)]
+
+
+_NUMBER_FIELDS = {
+    "target_speed": ("shimmy.target_speed", "speed"),
+    "margin": ("shimmy.margin", "dimensionless"),
+    "swept_radius_max": ("constraints.swept_radius_max", "length"),
+    "max_threshold_force": ("objective.max_threshold_force", "force"),
+    "max_turning_effort": ("objective.max_turning_effort", "force"),
+    "max_threshold_increase": ("retrofit.max_threshold_increase", "dimensionless"),
+    "max_turning_increase": ("retrofit.max_turning_increase", "dimensionless"),
+}
+"""The number fields of a :class:`Problem`: their problem-file keys and dimensions (None allowed where the
+default is None)."""
+
+
+def _normalise(problem: Problem, prefix: str) -> None:
+    """The fields of a Problem built by the API as the loader gives them: numbers (or strings with units) as
+    floats [SI], the bounds (Bound or a (min, max) pair) and the choices as read-only mappings, the wheels and
+    the weights as tuples; a wrong type is one ProblemError line naming the field."""
+
+    def fail(msg: str) -> NoReturn:
+        raise ProblemError(prefix + msg)
+
+    def put(name: str, value: Any) -> None:
+        object.__setattr__(problem, name, value)
+
+    for name, (key, dimension) in _NUMBER_FIELDS.items():
+        value = getattr(problem, name)
+        if value is None and dataclasses.fields(problem)[_FIELD_INDEX[name]].default is None:
+            continue
+        try:
+            put(name, parse_quantity(value, dimension, key))
+        except InputError as exc:
+            fail(str(exc))
+    if not isinstance(problem.bounds, Mapping):
+        fail(f"bounds = {problem.bounds!r}: expected a mapping of variable names to Bound(min, max) [SI]")
+    bounds = {}
+    for name, bound in problem.bounds.items():
+        if not isinstance(bound, Bound):
+            if isinstance(bound, (str, bytes)) or not isinstance(bound, Iterable) or len(list(bound)) != 2:
+                fail(f"variables.{show_key(name)} = {bound!r}: expected Bound(min, max) or a (min, max) pair [SI]")
+            try:
+                bound = Bound(*bound)
+            except InputError as exc:
+                fail(f"variables.{show_key(name)}: {exc}")
+        bounds[name] = bound
+    put("bounds", frozen(bounds))
+    if not isinstance(problem.choices, Mapping):
+        fail(f"choices = {problem.choices!r}: expected a mapping of option names to lists of values")
+    put("choices", frozen({k: tuple(v) for k, v in problem.choices.items()}))
+    for name in ("wheels", "weights"):
+        value = getattr(problem, name)
+        if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, Iterable):
+            fail(f"{name} = {value!r}: expected a sequence")
+        put(name, tuple(value))
+    if problem.stock is not None and not isinstance(problem.stock, Stock):
+        fail(f"stock = {problem.stock!r}: expected None or a Stock")
 
 
 def _validate(problem: Problem, prefix: str = "") -> None:
@@ -563,10 +650,13 @@ def _validate(problem: Problem, prefix: str = "") -> None:
 def _validate_conditions(problem: Problem, prefix: str, fail: Callable[[str], NoReturn]) -> None:
     """Load, sill, the constants of the model (in their ranges), the disturbance angle, surface and mode."""
     c = problem.conditions
-    if c.load <= 0:
-        fail(f"conditions.load = {c.load:g} N: must be positive")
-    if c.threshold_height <= 0:
-        fail(f"conditions.threshold_height = {c.threshold_height:g} m: must be positive")
+    if not isinstance(c, Conditions):
+        fail(f"conditions = {c!r}: expected a designer.Conditions, e.g. Conditions(load=178)")
+    for name in (*CONDITION_NUMBERS, *CONDITION_CHOICES):  # the rules of Conditions (a copy may bypass them)
+        key = f"conditions.{name}" if name in CONDITION_CHOICES else parameters.PARAMETERS[name].key
+        reason = condition_refusal(name, getattr(c, name), key)
+        if reason is not None:
+            fail(reason)
     for key in PHYSICAL_RANGE:  # every constant the table gives a range and a hint, where the table keeps it
         if key == "constraints.swept_radius_max":
             continue  # None (no limit) or checked with the bounds
@@ -575,14 +665,6 @@ def _validate_conditions(problem: Problem, prefix: str, fail: Callable[[str], No
         value = parameters.read_path(problem, where)
         if value is not None and (value > 0 or key == "turning.groove_coefficient"):
             check_range(key, value, prefix)
-    if not 0 < c.disturbance_angle < math.pi / 2:
-        fail(f"shimmy.disturbance_angle = {c.disturbance_angle:g} rad: must be between 0 and 90 deg")
-    if c.slip_coefficient <= 0:
-        fail(f"shimmy.slip_coefficient = {c.slip_coefficient:g} N: must be positive")
-    if c.surface not in SURFACES:
-        fail(f"conditions.surface = {c.surface!r}: expected one of {', '.join(SURFACES)}")
-    if c.turning_mode not in MODES:
-        fail(f"conditions.turning_mode = {c.turning_mode!r}: expected one of {', '.join(MODES)}")
 
 
 def _validate_bound(problem: Problem, name: str, fail: Callable[[str], NoReturn]) -> None:

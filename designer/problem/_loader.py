@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import os
 import re
 import tomllib
 from importlib import resources
@@ -18,8 +19,18 @@ from typing import Any, Callable, NoReturn, TypeVar
 
 from designer.data.paper import INCH, TABLE1
 from designer import parameters
-from designer.errors import ProblemError, read_input_text
-from designer.model import MASS_RANGE, MODEL_RANGE, VARIABLES, Conditions, caster_load
+from designer.errors import ProblemError
+from designer.textfiles import read_input_text
+from designer.model import (
+    CONDITION_CHOICES,
+    CONDITION_NUMBERS,
+    MASS_RANGE,
+    MODEL_RANGE,
+    VARIABLES,
+    Conditions,
+    caster_load,
+    condition_refusal,
+)
 from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
 from designer.physics.turning import MODES, SURFACES, TurningConstants
 from designer.units import InputError, outside_range, parse_quantity
@@ -107,7 +118,7 @@ def problem_path(spec: str | Path) -> Path:
     lists the shipped names).
     """
     path = Path(spec)
-    if path.exists() or path.parent != Path("."):
+    if os.path.lexists(path) or path.parent != Path("."):
         return path
     name = path.name.removesuffix(".toml")
     if name in shipped_names():
@@ -115,7 +126,21 @@ def problem_path(spec: str | Path) -> Path:
     return path
 
 
-def load_problem(path: str | Path) -> Problem:
+def problem_argument(value: Any, argument: str = "problem") -> Problem:
+    """The API's problem argument (``designer.optimise``, ``pareto_front``, ``recommend``, ``fix``, ``fleet``,
+    ``explore``): a :class:`Problem` as it is, a problem file's path or a shipped problem's name read by
+    :func:`load_problem` (its rules and messages); anything else is one InputError line naming ``argument``."""
+    if isinstance(value, Problem):
+        return value
+    if isinstance(value, (str, os.PathLike)):
+        return load_problem(os.fspath(value))
+    raise InputError(
+        f"{argument} = {value!r}: expected a designer.Problem, a problem file's path or a shipped problem's name "
+        f"(e.g. designer.load_problem('problems/indoor-manual.toml'))"
+    )
+
+
+def load_problem(path: str | os.PathLike[str]) -> Problem:
     """Read and validate a problem file (TOML, docs/problem-file.md); at most :data:`MAX_PROBLEM_BYTES` are read.
 
     ``path`` may also be the name of a shipped example problem (``"indoor-manual"``) when no such file exists
@@ -129,12 +154,10 @@ def load_problem(path: str | Path) -> Problem:
     """
     given = Path(path)
     path = problem_path(given)
-    if not path.exists() and given.parent == Path("."):
+    if not os.path.lexists(path) and given.parent == Path("."):  # a link to itself exists: read_input_text says so
         raise ProblemError(
             f"{given}: no such problem file, nor a shipped problem of that name ({', '.join(shipped_names())})"
         )
-    if path.is_file():
-        check_utf8(path)
     text = read_input_text(path, "problem file", ".toml", limit=MAX_PROBLEM_BYTES)
     shipped = path != given  # a shipped problem by its name: the name is what the user wrote, and reads it again
     return problem_from_toml(text, source=str(given if shipped else path), default_name=path.stem)
@@ -150,7 +173,15 @@ def problem_from_toml(text: str, source: str | None = None, default_name: str = 
         raise ProblemError(f"{prefix}TOML syntax error: {exc}") from None
     except ValueError as exc:  # e.g. an integer literal of more than 4300 digits
         raise ProblemError(f"{prefix}cannot read the file: {exc}") from None
-    return problem_from_dict(data, source=source, default_name=default_name)
+    except RecursionError:  # tomllib reads nested arrays and inline tables by recursion
+        raise ProblemError(
+            f"{prefix}nested too deeply to read (brackets or inline tables thousands of levels deep); a problem "
+            f"file has sections of keys and short lists"
+        ) from None
+    try:
+        return problem_from_dict(data, source=source, default_name=default_name)
+    except RecursionError:  # a nested value echoed in a message
+        raise ProblemError(f"{prefix}a value nested too deeply to read; a problem file has short lists") from None
 
 
 class _Reader:
@@ -241,16 +272,7 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
         constants["load"] = by_mass
     constants.update(_constants(r, "shimmy"))
     constants.update(_constants(r, "constraints"))
-    conditions = Conditions(
-        uncertainty=uncertainty,
-        surface=r.text_value("conditions", "surface", "tile"),
-        turning_mode=r.text_value("conditions", "turning_mode", "chair"),
-        inertia=inertia,
-    )
-    for constant, value in constants.items():  # each where the parameter table says it lives
-        where = parameters.location(parameters.PARAMETERS[constant])
-        assert where is not None and where.startswith("conditions.")
-        conditions = parameters.write_path(conditions, where.split(".", 1)[1], value)
+    conditions = _conditions(r, constants, uncertainty, inertia)
     if "target_speed" not in r.section("shimmy"):
         r.fail("shimmy.target_speed: missing; give the speed the caster must not shimmy below, e.g. '2.5 m/s'")
 
@@ -334,6 +356,28 @@ def _tolerances(r: _Reader) -> Tolerances:
     if not isinstance(enforce, bool):
         r.fail(f"tolerances.enforce = {enforce!r}: expected true or false")
     return Tolerances(**lengths, friction_moment=moment, wheel=limit, enforce=enforce)
+
+
+def _conditions(
+    r: _Reader, constants: dict[str, Any], uncertainty: Uncertainty | None, inertia: InertiaModel
+) -> Conditions:
+    """The problem's :class:`Conditions`: surface, turning mode and each constant checked by the rules of
+    ``Conditions`` (:func:`designer.model.condition_refusal`, the message naming the file's key), then each
+    constant written where the parameter table says it lives."""
+    surface = r.text_value("conditions", "surface", "tile")
+    turning_mode = r.text_value("conditions", "turning_mode", "chair")
+    for entry, value in [("surface", surface), ("turning_mode", turning_mode), *constants.items()]:
+        # the rules of Conditions, each message naming the file's key
+        key = f"conditions.{entry}" if entry in CONDITION_CHOICES else parameters.PARAMETERS[entry].key
+        reason = condition_refusal(entry, value, key) if entry in (*CONDITION_CHOICES, *CONDITION_NUMBERS) else None
+        if reason is not None:
+            r.fail(reason)
+    conditions = Conditions(uncertainty=uncertainty, inertia=inertia, surface=surface, turning_mode=turning_mode)
+    for constant, value in constants.items():  # each where the parameter table says it lives
+        where = parameters.location(parameters.PARAMETERS[constant])
+        assert where is not None and where.startswith("conditions.")
+        conditions = parameters.write_path(conditions, where.split(".", 1)[1], value)
+    return conditions
 
 
 def _value(r: _Reader, name: str) -> Any:

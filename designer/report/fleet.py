@@ -13,12 +13,11 @@ when complete (:func:`designer.output.output_folder`); nothing else in the folde
 
 from __future__ import annotations
 
-import csv
-import io
 import json
 import math
 from pathlib import Path
 
+from designer.textfiles import csv_text as write_csv_text, dict_rows
 from designer.jsonsafe import finite
 from designer.output import output_folder
 from designer.versions import versions
@@ -58,14 +57,7 @@ def csv_text(data: dict) -> str:
     """fleet.csv: one row per chair (SI units; empty cells where a chair has no caster)."""
     rows = data["rows"]
     columns = [c for c in CSV_COLUMNS if not (c.startswith("sku") or "regret" in c) or data.get("k") is not None]
-    buf = io.StringIO()
-    writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(columns)
-    for r in rows:
-        writer.writerow(
-            ["" if r.get(c) is None else (f"{r[c]:.6g}" if isinstance(r[c], float) else r[c]) for c in columns]
-        )
-    return buf.getvalue()
+    return write_csv_text(dict_rows(rows, columns, "{:.6g}"))  # the one CSV writer: chair names kept from formulas
 
 
 def run_data(run: dict | None) -> dict | None:

@@ -17,10 +17,12 @@ slsqp        SciPy SLSQP on the NumPy model from the NLP optimum and random star
 
 from __future__ import annotations
 
-from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, Solver
+from designer.solvers.base import NO_CAPS, SOLVE_LOCK, Caps, Designs, Optimum, Solver, one_solve_at_a_time
 from designer.solvers.dispatch import CROSS_CHECKS, FRONT_STRATEGIES, PRIMARY, SOLVERS, front_solver, solver
 
 __all__ = [
+    "SOLVE_LOCK",
+    "one_solve_at_a_time",
     "CROSS_CHECKS",
     "FRONT_STRATEGIES",
     "NO_CAPS",

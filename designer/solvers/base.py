@@ -29,11 +29,13 @@ one place, :mod:`designer.solvers` (:func:`~designer.solvers.solver`, :func:`~de
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
+import threading
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any, Protocol, TypeVar, runtime_checkable
 
 import numpy as np
 
@@ -44,6 +46,29 @@ from designer.reprs import Record, dataframe
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
+
+
+SOLVE_LOCK = threading.RLock()
+"""One solve at a time per process.  CasADi's compiled functions and IPOPT instances, the compiled NLPs shared
+between problems of one structure (:mod:`designer.solvers.nlp`) and the solvers' default instances hold
+working memory: two threads solving on one of them at once crash the interpreter (a segmentation fault in
+CasADi).  The public studies that solve (``designer.optimise``, ``pareto_front``, ``recommend``, ``fix``,
+``fleet``, ``explore``) hold this lock (:func:`one_solve_at_a_time`); re-entrant, so one calling another is
+fine.  Processes (``explore --workers``, fleet's Dask workers) each have their own."""
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def one_solve_at_a_time(func: _F) -> _F:
+    """``func`` run under :data:`SOLVE_LOCK`: threads calling the API's studies at once are served in turn, each
+    with the result a call alone gives."""
+
+    @functools.wraps(func)
+    def serialised(*args: Any, **kwargs: Any) -> Any:
+        with SOLVE_LOCK:
+            return func(*args, **kwargs)
+
+    return serialised  # type: ignore[return-value]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -281,6 +306,8 @@ def evaluated(problem: Problem, x: np.ndarray) -> np.ndarray:
 
 
 __all__ = [
+    "SOLVE_LOCK",
+    "one_solve_at_a_time",
     "NO_CAPS",
     "Caps",
     "Designs",

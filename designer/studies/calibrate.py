@@ -30,7 +30,6 @@ one the problem loader accepts.
 
 from __future__ import annotations
 
-import csv
 import math
 import warnings
 from collections.abc import Iterable, Sequence
@@ -47,6 +46,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
 
 from designer.data.paper import INCH, SLIP_COEFFICIENT, TABLE1
 from designer.errors import InputError
+from designer.textfiles import csv_table, csv_text, read_input_text
 from designer.parameters import PARAMETERS
 from designer.physics.shimmy import critical_speed_terms, critical_shimmy_speed
 from designer.physics.turning import DEFAULT_TURNING
@@ -202,6 +202,10 @@ class CalibrationResult(Record):
 # CSV input
 
 
+MAX_DATA_BYTES = 64 * 2**20
+"""Largest calibration data file [bytes]: a rig's log of a million rows; a larger one is another file."""
+
+
 def read_columns(
     path: str | Path, required: tuple[str, ...], optional: tuple[str, ...] = (), min_rows: int = MIN_ROWS
 ) -> dict[str, np.ndarray]:
@@ -227,19 +231,11 @@ def read_columns(
         NaN or infinite value, fewer than ``min_rows`` rows.
     """
     p = Path(path)
-    if not p.exists():
-        raise InputError(f"{p}: file not found")
-    if p.is_dir():
-        raise InputError(f"{p}: is a directory, expected a CSV file")
-    try:
-        text = p.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: cannot read ({exc.__class__.__name__}: {exc})") from None
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-    if not lines:
+    text = read_input_text(p, "CSV file", ".csv", limit=MAX_DATA_BYTES, error=InputError)
+    header, body, row_lines = csv_table(text, str(p))  # the readers' shared rules (sizes, duplicate columns)
+    if not header:
         raise InputError(f"{p}: empty file; expected a header row with columns {', '.join(required)}")
-    reader = csv.reader(lines)
-    header = [h.strip() for h in next(reader)]
+    header = [h.strip() for h in header]
     missing = [c for c in required if c not in header]
     if missing:
         raise InputError(
@@ -249,7 +245,7 @@ def read_columns(
     wanted = list(required) + [c for c in optional if c in header]
     index = {c: header.index(c) for c in wanted}
     data: dict[str, list[float]] = {c: [] for c in wanted}
-    for row_number, row in enumerate(reader, start=2):
+    for row_number, row in zip(row_lines, body):
         for c in wanted:
             cell = row[index[c]].strip() if index[c] < len(row) else ""
             if cell == "":
@@ -659,9 +655,7 @@ def write_examples(out_dir: str | Path = EXAMPLES_DIR, seed: int = EXAMPLE_SEED)
 
 
 def _write(path: Path, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> Path:
-    with open(path, "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(header)
-        for row in rows:
-            w.writerow([f"{float(v):.6g}" for v in row])
+    """A table of numbers as CSV (6 significant digits) through the one CSV writer (:func:`designer.textfiles.csv_text`)."""
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        fh.write(csv_text([list(header), *([f"{float(v):.6g}" for v in row] for row in rows)]))
     return path

@@ -2,8 +2,8 @@
 
 The studio is a local server and stays one (:func:`guard`): it answers only requests addressed to a loopback
 name (``localhost``, ``127.0.0.1``, ``[::1]``) or to the ``--host`` given, with or without the port, and
-403 otherwise (a DNS-rebinding page names its own host), or sent by a page whose ``Origin`` is another
-site's; a request body above :data:`MAX_REQUEST_BYTES` is
+403 otherwise (a DNS-rebinding page names its own host), or sent by a page whose ``Origin`` (scheme, host and
+port) is not the studio's own; a request body above :data:`MAX_REQUEST_BYTES` is
 413; and each bad request is one line on the console, never a traceback or the body (``designer --debug
 studio`` logs the traceback too).
 """
@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import errno
 import logging
+import re
 import sys
 import threading
 from pathlib import Path
@@ -50,6 +51,21 @@ def allowed_hosts(host: str, port: int) -> frozenset[str]:
     return frozenset(names | {f"{name}:{int(port)}" for name in names})
 
 
+def allowed_origins(hosts: frozenset[str]) -> frozenset[str]:
+    """The ``Origin`` header values of the studio's own pages: an origin is scheme, host and port, so
+    ``http://<name>:<port>`` for each name of ``hosts`` at the studio's port, and ``http://<name>`` (the
+    default port) only when that port is 80; ``http://localhost`` is another site's for a studio on 8050."""
+    out = set()
+    for entry in hosts:
+        match = re.fullmatch(r"(?P<name>.+):(?P<port>[0-9]+)", entry)
+        if match is None or entry.endswith("]"):  # a name without its port ("[::1]" ends in "]")
+            continue
+        out.add(f"http://{match['name']}:{int(match['port'])}")
+        if int(match["port"]) == 80:
+            out.add(f"http://{match['name']}")
+    return frozenset(out)
+
+
 def _short(text: str) -> str:
     """The first line of ``text``, at most :data:`_SHOWN_CHARS` characters."""
     first = next((line.strip() for line in str(text).splitlines() if line.strip()), "")
@@ -64,6 +80,7 @@ def guard(flask_app, hosts: frozenset[str], debug: bool = False) -> None:
     from werkzeug.exceptions import HTTPException
 
     flask_app.config["MAX_CONTENT_LENGTH"] = MAX_REQUEST_BYTES  # a body without a length is cut there too
+    origins = allowed_origins(hosts)
 
     @flask_app.before_request
     def _local_only():
@@ -71,7 +88,7 @@ def guard(flask_app, hosts: frozenset[str], debug: bool = False) -> None:
         if host not in hosts:
             abort(403, description=f"Host {host[:80]!r} is not this studio's (open it at a loopback address)")
         origin = (request.environ.get("HTTP_ORIGIN") or "").strip().lower()
-        if origin and origin.split("://", 1)[-1].rstrip("/") not in hosts:  # a page of another site posting here
+        if origin and origin.rstrip("/") not in origins:  # a page of another site (scheme, host, port) posting here
             abort(403, description=f"Origin {origin[:80]!r} is not this studio's")
         length = request.content_length
         if length is not None and length > MAX_REQUEST_BYTES:

@@ -13,7 +13,6 @@ No web framework is imported here: the module is tested on its own.
 from __future__ import annotations
 
 import copy
-import json
 import math
 import re
 import tomllib
@@ -172,6 +171,46 @@ def _show(value, dimension: str) -> str:
     return f"{value:.6g} {unit}".strip()
 
 
+def _as_list(value) -> list:
+    return list(value) if isinstance(value, (list, tuple)) else [value]
+
+
+_COST = re.compile(r"^(?P<value>.*?)\s*\(cost\s+(?P<cost>[-+0-9.eE]+)\)$")
+"""A stock item shown with its own cost: ``7 in (cost 6)``."""
+
+
+def _show_item(item, dimension: str) -> str:
+    """One item of a [stock] list as its text box shows it: a value (``7 in``), a value with its own cost
+    (``{ value = "7 in", cost = 6 }`` -> ``7 in (cost 6)``), a named wheel by its name."""
+    if isinstance(item, dict):
+        if "name" in item:
+            return str(item["name"])
+        shown = _show(item.get("value", ""), dimension)
+        return f"{shown} (cost {item['cost']:g})" if isinstance(item.get("cost"), (int, float)) else shown
+    return _show(item, dimension)
+
+
+def _list_items(text: str, before) -> list:
+    """The items of a [stock] list's text box: ``7 in (cost 6)`` -> ``{value = "7 in", cost = 6.0}``, a name of
+    a named wheel of ``before`` (the list as the file had it) -> that wheel's table, else the text."""
+    named = {str(v["name"]): v for v in _as_list(before or []) if isinstance(v, dict) and "name" in v}
+    out: list = []
+    for part in (p.strip() for p in text.split(",")):
+        if not part:
+            continue
+        match = _COST.match(part)
+        if part in named:
+            out.append(named[part])
+        elif match:
+            try:
+                out.append({"value": match["value"], "cost": float(match["cost"])})
+            except ValueError:
+                out.append(part)
+        else:
+            out.append(part)
+    return out
+
+
 def get(data: dict, path: tuple[str, ...]):
     """The value at ``path`` of nested dicts, or None."""
     for key in path:
@@ -211,7 +250,7 @@ def control_values(data: dict) -> dict:
         elif c.kind == "choice":
             out[c.key] = value if value is not None else c.options[0]
         elif c.kind == "list":
-            out[c.key] = "" if value is None else ", ".join(_show(v, c.dimension) for v in value)
+            out[c.key] = "" if value is None else ", ".join(_show_item(v, c.dimension) for v in _as_list(value))
         else:
             out[c.key] = "" if value is None else _show(value, c.dimension)
     return out
@@ -243,6 +282,8 @@ def apply(data: dict, values: dict) -> dict:
         if c.key not in values or values[c.key] == shown[c.key]:
             continue  # as the page shows the file: the file's own value stays (not its rounded display)
         value = values[c.key]
+        if c.kind == "list" and str(value).strip() == shown.get(c.key):
+            continue  # unchanged: the file's list as it was (items with their own costs, named wheels)
         if c.kind == "slider":
             value = _number(value, c)
             value = f"{value:g} m/s"
@@ -253,7 +294,7 @@ def apply(data: dict, values: dict) -> dict:
             if not text:
                 _delete(out, c.path)
                 continue
-            value = [v.strip() for v in text.split(",") if v.strip()]
+            value = _list_items(text, get(data, c.path))
         elif c.kind == "quantity":
             text = "" if value is None else str(value).strip()
             if not text:
@@ -392,7 +433,28 @@ def to_toml(data: dict) -> str:
 
 
 def _bare(key: str) -> str:
-    return key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else json.dumps(key)
+    return key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else toml_string(key)
+
+
+_TOML_ESCAPES = {'"': '\\"', "\\": "\\\\", "\b": "\\b", "\t": "\\t", "\n": "\\n", "\f": "\\f", "\r": "\\r"}
+
+
+def toml_string(text: str) -> str:
+    """``text`` as a TOML basic string: quotes, backslashes and every control character TOML forbids raw
+    (U+0000 to U+001F and U+007F) escaped, the rest (non-ASCII included) as it is; ``tomllib`` reads it back to
+    ``text``.  A lone surrogate (not a character) is a ValueError."""
+    out = []
+    for ch in text:
+        code = ord(ch)
+        if ch in _TOML_ESCAPES:
+            out.append(_TOML_ESCAPES[ch])
+        elif code < 0x20 or code == 0x7F:
+            out.append(f"\\u{code:04X}")
+        elif 0xD800 <= code <= 0xDFFF:
+            raise ValueError(f"cannot write the lone surrogate U+{code:04X} to TOML")
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
 
 
 def _toml_value(value) -> str:
@@ -405,7 +467,7 @@ def _toml_value(value) -> str:
             raise ValueError(f"cannot write {value!r} to TOML")
         return repr(value)
     if isinstance(value, str):
-        return json.dumps(value, ensure_ascii=False)
+        return toml_string(value)
     if isinstance(value, (list, tuple)):
         return "[" + ", ".join(_toml_value(v) for v in value) + "]"
     if isinstance(value, dict):

@@ -50,7 +50,7 @@ def test_in_memory_sqlite_cannot_serve_workers(capsys, tmp_path):
     code, err = _one_line_error(
         capsys, ["explore", INDOOR, "--storage", "sqlite:///:memory:", "--workers", "2", "--out", str(tmp_path)]
     )
-    assert code == StorageError.exit_code == 6 and "--storage sqlite:///:memory:" in err
+    assert code == StorageError.exit_code == 6 and "storage 'sqlite:///:memory:': an in-memory SQLite" in err
 
 
 def test_a_failing_worker_says_one_line(monkeypatch, capsys):

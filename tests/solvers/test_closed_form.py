@@ -390,11 +390,13 @@ def indoor():
 
 
 def _with_conditions(problem, validated=True, **changes):
-    """The problem with some conditions changed; ``validated=False`` skips the loader's checks (to reach the
-    closed form's own guards with values the loader would refuse)."""
-    conditions = problem.conditions.replace(**changes)
+    """The problem with some conditions changed; ``validated=False`` skips the loader's and the records' checks
+    (to reach the closed form's own guards with values the loader and ``Conditions`` would refuse)."""
     if validated:
-        return problem.replace(conditions=conditions)
+        return problem.replace(conditions=problem.conditions.replace(**changes))
+    conditions = copy.copy(problem.conditions)
+    for name, value in changes.items():
+        object.__setattr__(conditions, name, value)
     raw = copy.copy(problem)
     object.__setattr__(raw, "conditions", conditions)
     return raw

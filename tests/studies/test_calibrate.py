@@ -104,10 +104,11 @@ def test_bad_csv_one_line_error(tmp_path, text, message):
 
 
 def test_missing_file_cli(capsys, tmp_path):
-    """`designer calibrate turning missing.csv` exits 2 with one line 'file not found'."""
+    """`designer calibrate turning missing.csv` exits 2 with one line 'no such CSV file' (the readers' shared
+    words, designer.textfiles.read_input_text)."""
     code = main(["calibrate", "turning", str(tmp_path / "missing.csv")])
     err = capsys.readouterr().err.strip()
-    assert code == 2 and err.endswith("missing.csv: file not found") and "\n" not in err
+    assert code == 2 and err.endswith("missing.csv: no such CSV file") and "\n" not in err
 
 
 def test_cli_json_plot_snippet(capsys, tmp_path):

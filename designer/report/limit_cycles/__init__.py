@@ -14,11 +14,11 @@ blocks      the blocks as Markdown (limit_cycles.md) and as HTML (limit_cycles.h
 
 from __future__ import annotations
 
-import csv
 import json
 import math
 from pathlib import Path
 
+from designer.textfiles import csv_text, dict_rows
 from designer.jsonsafe import finite
 from designer.output import output_folder
 from designer.plots.figures import png_bytes
@@ -40,11 +40,8 @@ FILES = (
 
 
 def _csv(path: Path, rows: list[dict]) -> None:
-    with open(path, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        writer.writeheader()
-        for row in rows:
-            writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        fh.write(csv_text(dict_rows(rows, list(rows[0]), "{:.6g}")))
 
 
 def _png(fig, path: Path) -> None:

@@ -29,7 +29,8 @@ def structure_key(problem: Problem) -> str:
         for f in dataclasses.fields(problem)
         if f.name not in ("target_speed", "name", "title", "description", "source", "conditions")
     }
-    return repr((fields, dataclasses.replace(problem.conditions, load=0.0)))
+    c = problem.conditions
+    return repr((fields, {f.name: getattr(c, f.name) for f in dataclasses.fields(c) if f.name != "load"}))
 
 
 def shared_nlp(

@@ -11,7 +11,6 @@ approximation holds and where it breaks, and the comparison figure
 
 from __future__ import annotations
 
-import csv
 import json
 import math
 import time
@@ -19,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from designer.textfiles import csv_text, dict_rows
 from designer.studies.dynamics._simulate import onset_speed, simulate
 from designer.data.paper import INCH
 from designer.model import Conditions, Design
@@ -186,12 +186,8 @@ def _appendix_c(conditions: Conditions, rtol: float):
 
 def _write_csv(path: Path, rows: list[dict]) -> None:
     """``onset.csv``: one line per case, floats to 6 significant digits."""
-    fields = list(rows[0])
-    with open(path, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=fields)
-        writer.writeheader()
-        for row in rows:
-            writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        fh.write(csv_text(dict_rows(rows, list(rows[0]), "{:.6g}")))
 
 
 def _summarise(rows) -> dict:

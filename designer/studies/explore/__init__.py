@@ -95,6 +95,7 @@ from designer.studies.explore._storage import (
     HEARTBEAT_SECONDS,
     RDB_SCHEMES,
     StorageSpec,
+    redact_url,
     open_storage,
     parse_storage,
 )
@@ -110,6 +111,7 @@ __all__ = [
     "MAX_TRIALS",
     "MAX_WORKERS",
     "Operators",
+    "redact_url",
     "RDB_SCHEMES",
     "RETRY_ATTR",
     "STREAM_STRIDE",

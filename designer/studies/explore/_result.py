@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from designer.textfiles import csv_text
 from designer.jsonsafe import finite
 from designer.parameters import VARIABLE_TABLE
 from designer.versions import versions
@@ -200,20 +201,18 @@ class ExploreResult(Record):
         out = Path(out_dir)
         cats = [name for name in CATEGORICAL if any(name in r for rows in self.category_fronts.values() for r in rows)]
         overall = {(r["trial"], r["turning_effort"], r["threshold_force"]) for r in self.front}
-        lines = [",".join(CSV_COLUMNS + tuple(cats) + ("overall_front", "refined", "trial"))]
+        table: list[list[object]] = [[*CSV_COLUMNS, *cats, "overall_front", "refined", "trial"]]
         for rows in self.category_fronts.values():
             for r in rows:
-                cells = [f"{r[c]:.10g}" for c in CSV_COLUMNS] + [str(r[c]) for c in cats]
+                cells: list[object] = [*(f"{r[c]:.10g}" for c in CSV_COLUMNS), *(str(r[c]) for c in cats)]
                 cells += [
                     str((r["trial"], r["turning_effort"], r["threshold_force"]) in overall).lower(),
                     str(r["refined"]).lower(),
                     str(r["trial"]),
                 ]
-                lines.append(",".join(cells))
+                table.append(cells)
         csv_path, json_path = out / "explore.csv", out / "explore.json"
-        _atomic_write_many(
-            {csv_path: "\n".join(lines) + "\n", json_path: json.dumps(finite(self.to_dict()), indent=2) + "\n"}
-        )
+        _atomic_write_many({csv_path: csv_text(table), json_path: json.dumps(finite(self.to_dict()), indent=2) + "\n"})
         return csv_path, json_path
 
 

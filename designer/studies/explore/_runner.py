@@ -11,9 +11,10 @@ import warnings
 
 import numpy as np
 
-from designer.errors import InputError, StorageError
+from designer.errors import DesignerError, InputError, StorageError, os_reason
 from designer.studies.front import hypervolume_2d
-from designer.problem import Problem
+from designer.problem import Problem, problem_argument
+from designer.solvers import one_solve_at_a_time
 from designer.solvers.nlp import evaluate_many, violation
 from designer.studies.explore._operators import (
     Operators,
@@ -27,7 +28,7 @@ from designer.studies.explore._operators import (
 )
 from designer.studies.explore._progress import _FrontTracker, _Progress
 from designer.studies.explore._result import ExploreResult, _box_reference, _exact_front, compare_fronts
-from designer.studies.explore._storage import StorageSpec, _one_line, open_storage, parse_storage
+from designer.studies.explore._storage import StorageSpec, _one_line, open_storage, parse_storage, scrub
 from designer.studies.explore._workers import RETRY_ATTR, _counts, _Evaluator, _run_study, lineage
 
 ATTR_PREFIX = "designer:"
@@ -84,6 +85,7 @@ def _prepare_resume(study, spec: StorageSpec, search_space_names, trials: int) -
 
 
 # long only by its docstring, which documents every option; the body is about 55 lines
+@one_solve_at_a_time
 def explore(
     problem: Problem,
     trials: int = 500,
@@ -144,6 +146,7 @@ def explore(
 
     from optuna.trial import TrialState
 
+    problem = problem_argument(problem)
     spec = parse_storage(storage)
     _check_arguments(trials, workers, resume, spec)
     space = search_space(problem)
@@ -163,20 +166,23 @@ def explore(
     tracker = _FrontTracker(reference)
     bar = _Progress(trials, enabled=progress, initial=complete_before)
     t0 = time.perf_counter()
-    notes += _run_study(
-        problem,
-        spec,
-        study_name,
-        trials,
-        seed,
-        ops,
-        workers,
-        storage_obj,
-        tracker,
-        bar,
-        check_budget=spec.remote or resume,
-        progress=progress,
-    )
+    try:
+        notes += _run_study(
+            problem,
+            spec,
+            study_name,
+            trials,
+            seed,
+            ops,
+            workers,
+            storage_obj,
+            tracker,
+            bar,
+            check_budget=spec.remote or resume,
+            progress=progress,
+        )
+    except Exception as exc:
+        raise _storage_failure(exc, spec) from None
     seconds = time.perf_counter() - t0
     complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
     if len(complete) < trials:
@@ -193,6 +199,28 @@ def explore(
         warnings=notes,
     )
     return ExploreResult(problem=problem, **result)
+
+
+def _storage_failure(exc: Exception, spec: StorageSpec) -> Exception:
+    """A failure while trials are stored, as the storage's one line (exit 6): a full disk under the SQLite file
+    or the journal ("database or disk is full", ENOSPC), a lost database, a journal file named as standard output
+    that cannot take more; the tool's own errors and anything else (a bug) pass as they are."""
+    if isinstance(exc, DesignerError):
+        return exc
+    chain: list[BaseException] = []  # optuna wraps the database's error (StorageInternalError from OperationalError)
+    link: BaseException | None = exc
+    while link is not None and link not in chain:
+        chain.append(link)
+        link = link.__cause__ or link.__context__
+    for cause in reversed(chain):  # the innermost cause says why
+        if isinstance(cause, OSError) and cause.errno is not None and spec.kind == "journal":
+            return StorageError(f"storage {spec.shown}: cannot write the journal ({os_reason(cause)})")
+        if type(cause).__module__.split(".")[0] in ("sqlalchemy", "sqlite3"):
+            line = scrub(_one_line(cause), spec.url)
+            if "disk is full" in line or "disk I/O error" in line:
+                line = f"no space left on device ({line})"
+            return StorageError(f"storage {spec.shown}: {type(cause).__name__}: {line}")
+    return exc
 
 
 def _operators(trials: int, operators: str | Operators, population_size: int | None) -> Operators:
@@ -258,7 +286,7 @@ def _load_for_resume(problem: Problem, study_name: str, spec: StorageSpec, stora
     except KeyError:
         raise InputError(f"--resume: no study {study_name!r} in {spec.shown}") from None
     except Exception as exc:  # noqa: BLE001
-        raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {_one_line(exc)}") from None
+        raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {scrub(_one_line(exc), spec.url)}") from None
     attrs = study.user_attrs
     if attrs.get(ATTR_PREFIX + "problem_digest") not in (None, problem.digest()):
         raise InputError(
@@ -293,7 +321,7 @@ def _create(
             f"add --resume to continue it or choose another --study"
         ) from None
     except Exception as exc:  # noqa: BLE001
-        raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {_one_line(exc)}") from None
+        raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {scrub(_one_line(exc), spec.url)}") from None
     for key, value in (
         ("problem_name", problem.name),
         ("problem_digest", problem.digest()),

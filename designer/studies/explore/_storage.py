@@ -18,6 +18,7 @@ from pathlib import Path
 
 from designer.errors import InputError, StorageError
 from designer.output import FileKind, check_file, output_folder
+from designer.textfiles import not_a_file
 import importlib.util
 
 
@@ -73,22 +74,37 @@ def parse_storage(storage: str | None) -> StorageSpec:
         scheme = match.group(1).lower().split("+")[0]
         if scheme not in RDB_SCHEMES:
             raise StorageError(
-                f"storage {_redact(text)!r}: unknown scheme {match.group(1)!r}; use sqlite:///file.db, "
+                f"storage {redact_url(text)!r}: unknown scheme {match.group(1)!r}; use sqlite:///file.db, "
                 f"postgresql://user:password@host/db or journal:///path/file.log"
             )
         url = "postgresql" + text[len(match.group(1).split("+")[0]) :] if scheme == "postgres" else text
         if scheme == "postgres" or match.group(1).lower() == "postgresql":
             url = _postgres_driver(url)
-        return StorageSpec("rdb", url, _redact(url))
+        if in_memory_sqlite(url):
+            raise StorageError(
+                f"storage {redact_url(text)!r}: an in-memory SQLite database keeps nothing once the run ends and "
+                f"lives inside one process (--workers cannot share it); use a file (sqlite:///study.db, "
+                f"journal:///path/study.log), or leave --storage out for a study in memory"
+            )
+        return StorageSpec("rdb", url, redact_url(url))
     lower = text.lower()
     if lower.endswith((".log", ".journal")):
         return StorageSpec("journal", text, f"journal://{text}")
     if lower.endswith((".db", ".sqlite", ".sqlite3")):
         return StorageSpec("rdb", f"sqlite:///{text}", f"sqlite:///{text}")
     raise StorageError(
-        f"storage {_redact(text)!r}: not a storage URL; use sqlite:///file.db, postgresql://user:password@host/db, "
+        f"storage {redact_url(text)!r}: not a storage URL; use sqlite:///file.db, postgresql://user:password@host/db, "
         f"journal:///path/file.log (or a path ending .db or .log)"
     )
+
+
+def in_memory_sqlite(url: str) -> bool:
+    """True for an SQLite URL without a file: ``sqlite://``, ``sqlite:///``, ``sqlite:///:memory:``,
+    ``...mode=memory...``."""
+    if not url.lower().startswith("sqlite"):
+        return False
+    path = url.split("://", 1)[1] if "://" in url else ""
+    return path.split("?", 1)[0] in ("", "/") or ":memory:" in path or "mode=memory" in path
 
 
 def _postgres_driver(url: str) -> str:
@@ -100,8 +116,72 @@ def _postgres_driver(url: str) -> str:
     return url
 
 
-def _redact(url: str) -> str:
-    return re.sub(r"(://[^:/@]+:)[^@]*@", r"\1***@", url)
+SECRET_QUERY_KEYS = r"(?:[A-Za-z0-9_]*(?:password|passwd|pwd|secret|token)|pass|sslkey|odbc_connect)"
+"""The query keys of a storage URL whose value is a secret, a regular expression matched case-insensitively:
+``?password=``, ``?sslpassword=``, pymysql's ``passwd``, ODBC's ``PWD``, any ``*_token`` or ``*secret``, and an
+ODBC connection string (``odbc_connect``, which carries its own ``PWD=``)."""
+
+_SECRET_KEY = re.compile(f"^{SECRET_QUERY_KEYS}$", re.IGNORECASE)
+
+_USERINFO = re.compile(
+    r"^(?P<scheme>[A-Za-z][A-Za-z0-9+.-]*://)(?P<user>[^:/?#@]*)(?::[^/?#]*)?@(?=[^@/?#]*(?:[/?#]|$))"
+)
+"""The user information of a URL up to the last ``@`` before the host: ``user:secret@``, ``:secret@``, with
+``@`` inside a secret written raw."""
+
+
+def redact_url(url: str) -> str:
+    """``url`` with every password SQLAlchemy's URL accepts replaced by ``***``: the one function for every place a
+    storage URL is shown (explore.json, ``--json``, the terminal, error messages, logs).
+
+    ``user:pw@``, an empty user (``:pw@``), a percent-encoded or raw-``@`` password, and the query's secret keys
+    (:data:`SECRET_QUERY_KEYS`: ``?password=``, ``?passwd=``, ...).  Parsed by SQLAlchemy
+    (``sqlalchemy.engine.make_url``, ``render_as_string(hide_password=True)``); a URL SQLAlchemy refuses has its
+    user information and query secrets masked all the same.  A URL without a secret is returned unchanged.
+    """
+    text = str(url)
+    try:
+        from sqlalchemy.engine import make_url
+
+        parsed = make_url(text)
+        hidden = {k for k in parsed.query if _SECRET_KEY.match(k)}
+        if parsed.password is not None or hidden:
+            parsed = parsed.update_query_dict({k: "***" for k in hidden}) if hidden else parsed
+            text = parsed.render_as_string(hide_password=True)
+    except Exception:  # noqa: BLE001 - not a URL SQLAlchemy reads: the masks below still apply
+        pass
+    masked = _USERINFO.sub(
+        lambda m: f"{m['scheme']}{m['user']}:***@" if ":" in m.group(0)[len(m["scheme"]) :] else m.group(0), text
+    )
+    return re.sub(
+        f"([?&;]{SECRET_QUERY_KEYS}=)[^&#]*",
+        r"\1***",
+        masked,
+        flags=re.IGNORECASE,
+    )
+
+
+def scrub(text: str, url: str | None) -> str:
+    """``text`` (a driver's error message) without the secrets of ``url``: each password that
+    :func:`redact_url` hides is replaced by ``***`` wherever it appears, and any copy of the URL by its shown form."""
+    if not url:
+        return text
+    shown = redact_url(url)
+    text = text.replace(url, shown)
+    try:
+        from sqlalchemy.engine import make_url
+
+        parsed = make_url(url)
+        secrets = [parsed.password] if parsed.password else []
+        secrets += [v for k, v in parsed.query.items() if isinstance(v, str) and _SECRET_KEY.match(k)]
+    except Exception:  # noqa: BLE001
+        secrets = []
+    for value in list(secrets):  # a connection string's own password (ODBC's "...;PWD=secret;...")
+        secrets += re.findall(r"(?i)(?:^|[;&])\s*(?:pwd|password|passwd)\s*=\s*([^;&]+)", str(value))
+    for secret in secrets:
+        if secret and len(str(secret)) >= 3:
+            text = text.replace(str(secret), "***")
+    return text
 
 
 def _one_line(exc: BaseException) -> str:
@@ -237,6 +317,9 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
         path = Path(spec.url)
         if not path.parent.is_dir():
             raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
+        other = not_a_file(path)  # the readers' rule: a folder, a device (/dev/stdout), a FIFO is not a journal
+        if other is not None:
+            raise StorageError(f"storage {spec.shown}: is {other}, expected a journal file")
         check_storage_file(spec)  # a folder, or a file that is not optuna's journal: OutputError, exit 7
         try:
             if break_lock:
@@ -247,23 +330,28 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
             return JournalStorage(backend)
         except Exception as exc:  # noqa: BLE001 - every failure becomes one line
             raise StorageError(
-                f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {_one_line(exc)})"
+                f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {scrub(_one_line(exc), spec.url)})"
             ) from None
     if spec.url.startswith("sqlite:///"):
-        path = Path(spec.url[len("sqlite:///") :])
+        path = Path(spec.url[len("sqlite:///") :].split("?", 1)[0])
         if str(path) and not path.parent.is_dir():
             raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
+        other = not_a_file(path)  # the readers' rule: a device or a FIFO is not a database
+        if other is not None:
+            raise StorageError(f"storage {spec.shown}: is {other}, expected an SQLite database file")
     check_storage_file(spec)
     heartbeat, grace = _heartbeat() if spec.remote else (None, None)  # a bad setting is its own one line
     try:
         return _open_database(spec, heartbeat, grace)
     except ImportError as exc:
         raise StorageError(
-            f"storage {spec.shown}: the database driver is not installed ({_one_line(exc)}); "
+            f"storage {spec.shown}: the database driver is not installed ({scrub(_one_line(exc), spec.url)}); "
             f"PostgreSQL: pip install psycopg2-binary, MySQL: pip install pymysql"
         ) from None
     except Exception as exc:  # noqa: BLE001
-        raise StorageError(f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {_one_line(exc)})") from None
+        raise StorageError(
+            f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {scrub(_one_line(exc), spec.url)})"
+        ) from None
 
 
 def _repair_journal(path: Path) -> None:

@@ -33,7 +33,7 @@ from designer.model import VARIABLES
 from designer.problem import Problem
 from designer.solvers.nlp import evaluate_many
 from designer.studies.explore._operators import Operators, SearchSpace, category_problem, search_space
-from designer.studies.explore._storage import StorageSpec, _one_line, open_storage, parse_storage
+from designer.studies.explore._storage import StorageSpec, _one_line, open_storage, parse_storage, scrub
 
 SURPLUS_ATTR = "explore_surplus"
 """User attribute of a trial pruned because the budget was reached by other workers (never evaluated)."""
@@ -314,7 +314,8 @@ def _worker_entry(args, notes=None, parent: int | None = None) -> None:  # top l
     except KeyboardInterrupt:
         pass
     except Exception as exc:  # one line, no traceback: the parent says which workers failed and what to do
-        print(f"designer: explore worker: {type(exc).__name__}: {_one_line(exc)}", file=sys.stderr, flush=True)
+        line = scrub(_one_line(exc), args[1] if len(args) > 1 else None)  # args[1]: the storage URL (no password)
+        print(f"designer: explore worker: {type(exc).__name__}: {line}", file=sys.stderr, flush=True)
         sys.exit(1)
 
 

@@ -34,6 +34,8 @@ import math
 import re
 import time
 from dataclasses import dataclass, field
+import os
+import urllib.parse
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -48,7 +50,8 @@ from designer.parameters import VARIABLE_TABLE
 from designer.reprs import Record, dataframe
 
 from designer.studies.fleet._kmedian import ColumnDominance, KMedianSolution, kmedian_curve
-from designer.problem import Problem, example_problem, load_problem
+from designer.problem import Problem, example_problem, problem_argument
+from designer.solvers import one_solve_at_a_time
 from designer.studies.fleet._table import (
     COLUMNS,
     EXAMPLE_RANGES,
@@ -582,8 +585,7 @@ def _client(scheduler: Any) -> tuple[Any, bool]:
             preload=[_LIFETIME],
         )
         return client(local), True
-    if not isinstance(scheduler, str) or not re.match(r"^(tcp|tls|inproc|ucx)://\S+$", scheduler):
-        raise InputError(f"--scheduler {scheduler!r}: expected an address such as tcp://host:8786, or 'local'")
+    _check_scheduler(scheduler)
     try:
         return client(scheduler, timeout="10s"), True
     except (OSError, TimeoutError) as exc:
@@ -591,6 +593,25 @@ def _client(scheduler: Any) -> tuple[Any, bool]:
             f"--scheduler {scheduler}: cannot reach the scheduler ({type(exc).__name__}: {exc}); "
             f"start one with `dask scheduler` (docs/fleet.md)"
         ) from None
+    except (ValueError, TypeError) as exc:  # an address distributed's own parser refuses
+        raise InputError(f"--scheduler {scheduler!r}: not a scheduler address ({exc})") from None
+
+
+def _check_scheduler(scheduler: Any) -> None:
+    """InputError (one line) unless ``scheduler`` is a scheduler address: ``tcp://host:port`` (also ``tls://``,
+    ``ucx://``) with a host and a port from 1 to 65535 and nothing after them, or ``inproc://name``."""
+    usage = "expected an address such as tcp://host:8786, or 'local'"
+    if not isinstance(scheduler, str) or not re.match(r"^(tcp|tls|inproc|ucx)://\S+$", scheduler):
+        raise InputError(f"--scheduler {scheduler!r}: {usage}")
+    if scheduler.startswith("inproc://"):
+        return
+    try:
+        parts = urllib.parse.urlsplit(scheduler)
+        port = parts.port
+    except ValueError as exc:  # "Invalid IPv6 URL", a port out of range or not a number
+        raise InputError(f"--scheduler {scheduler!r}: not an address ({exc}); {usage}") from None
+    if not parts.hostname or port is None or port == 0 or parts.path not in ("", "/") or parts.query or parts.fragment:
+        raise InputError(f"--scheduler {scheduler!r}: {usage} (a host and a port, nothing after them)")
 
 
 def _close(client: Any) -> None:
@@ -778,6 +799,7 @@ def _answer(result: FleetResult) -> tuple[str | None, str | None]:
     )
 
 
+@one_solve_at_a_time
 def fleet(
     chairs: Fleet | str | Path,
     problem: Problem | str | Path | None = None,
@@ -802,12 +824,11 @@ def fleet(
     FleetResult; ``fleet_data(result)`` gives the plain data of ``--json``.
     """
 
+    if not isinstance(chairs, (Fleet, str, os.PathLike)):
+        raise InputError(f"chairs = {chairs!r}: expected a Fleet or a fleet CSV file's path")
     if not isinstance(chairs, Fleet):
         chairs = read_fleet(chairs)
-    if problem is None:
-        problem = example_problem("indoor-manual")
-    elif isinstance(problem, (str, Path)):
-        problem = load_problem(problem)
+    problem = example_problem("indoor-manual") if problem is None else problem_argument(problem)
     return fleet_recommendations(
         chairs, problem, skus=skus, k_max=k_max, scheduler=scheduler, monte_carlo=monte_carlo, max_regret=max_regret
     )

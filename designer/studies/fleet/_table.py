@@ -6,9 +6,7 @@ model ranges per column, the reader and the writer of the example fleets.
 
 from __future__ import annotations
 
-import csv
 import difflib
-import io
 import math
 import re
 from dataclasses import dataclass
@@ -17,11 +15,11 @@ from pathlib import Path
 import numpy as np
 
 from designer.data.paper import INCH
-from designer.errors import InputError, ProblemError, read_input_text
+from designer.errors import InputError, ProblemError
+from designer.textfiles import csv_table, csv_text, read_input_text
 from designer.model import MASS_RANGE, caster_load
 from designer.output import first_line_kind, write_file
 from designer.physics.turning import MODES, SURFACES
-from designer.problem import check_utf8
 from designer.units import parse_quantity
 
 
@@ -219,9 +217,7 @@ def read_fleet(path, base=None) -> Fleet:
             f"{path}: {path.stat().st_size:,} bytes; a fleet file is at most {MAX_FLEET_BYTES:,} bytes "
             f"({MAX_CHAIRS:,} chairs): split the fleet into files of at most {MAX_CHAIRS:,} chairs"
         )
-    if path.is_file():
-        check_utf8(path, "fleet file")
-    text = read_input_text(path, "fleet file", ".csv", encoding="utf-8-sig")
+    text = read_input_text(path, "fleet file", ".csv")
     return fleet_from_text(text, source=str(path))
 
 
@@ -240,12 +236,7 @@ def fleet_from_text(text: str, source: str = "fleet") -> Fleet:
             f"{source}: {len(lines) - 1:,} rows; a fleet has at most {MAX_CHAIRS:,} chairs: split it into files "
             f"of at most {MAX_CHAIRS:,} chairs (docs/fleet.md)"
         )
-    reader = csv.reader(io.StringIO("\n".join(lines)))
-    try:
-        table = list(reader)
-    except csv.Error as exc:
-        raise ProblemError(f"{source}: not a CSV file ({exc})") from None
-    header, body = table[0], table[1:]
+    header, body, lines_of_rows = csv_table(text, source, error=ProblemError)  # the readers' shared rules
     if len(body) > MAX_CHAIRS:
         raise ProblemError(f"{source}: {len(body):,} rows; a fleet has at most {MAX_CHAIRS:,} chairs")
     columns = _header_columns(header, source)
@@ -254,9 +245,7 @@ def fleet_from_text(text: str, source: str = "fleet") -> Fleet:
 
     n = len(body)
     width = len(header)
-    # physical line numbers (comments and blank lines skipped above)
-    physical = [i + 1 for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith("#")]
-    row_numbers = np.array(physical[1 : 1 + n] if len(physical) > n else range(2, n + 2))
+    row_numbers = np.array(lines_of_rows)  # physical line numbers (comments and blank lines skipped)
     for r, cells in enumerate(body):
         if len(cells) != width:
             raise ProblemError(f"{source}: row {row_numbers[r]}: {len(cells)} cells, the header has {width}")
@@ -537,15 +526,22 @@ def write_fleet_csv(fleet: Fleet, path) -> Path:
     """Write a fleet as FLEET.csv with units in the header (the format :func:`read_fleet` reads), atomically
     (:func:`designer.output.write_file`: a folder or an unwritable place is an OutputError, exit 7)."""
     path = Path(path)
-    lines = [
-        EXAMPLE_HEADER,
-        "name,load_N,threshold_height_in,target_speed_m/s,swept_radius_max_in,surface,turning_mode,count",
+    rows: list[list[object]] = [
+        ["name", "load_N", "threshold_height_in", "target_speed_m/s", "swept_radius_max_in", "surface"]
+        + ["turning_mode", "count"]
     ]
     for i in range(len(fleet)):
-        lines.append(
-            f"{fleet.names[i]},{fleet.load[i]:.1f},{fleet.threshold_height[i] / INCH:.3f},"
-            f"{fleet.target_speed[i]:.2f},{fleet.swept_radius_max[i] / INCH:.2f},{fleet.surface[i]},"
-            f"{fleet.turning_mode[i]},{int(fleet.count[i])}"
+        rows.append(
+            [
+                fleet.names[i],
+                f"{fleet.load[i]:.1f}",
+                f"{fleet.threshold_height[i] / INCH:.3f}",
+                f"{fleet.target_speed[i]:.2f}",
+                f"{fleet.swept_radius_max[i] / INCH:.2f}",
+                fleet.surface[i],
+                fleet.turning_mode[i],
+                int(fleet.count[i]),
+            ]
         )
-    write_file(path, "\n".join(lines) + "\n", "--out", example="fleet.csv", kind=EXAMPLE_KIND)
+    write_file(path, csv_text(rows, comments=[EXAMPLE_HEADER[2:]]), "--out", example="fleet.csv", kind=EXAMPLE_KIND)
     return path

@@ -7,8 +7,6 @@ weighted best, gaps, comparison with another front, CSV/JSON/pandas, notebook re
 
 from __future__ import annotations
 
-import csv
-import io
 import json
 import math
 from collections.abc import Iterator, Sequence
@@ -18,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from designer.textfiles import csv_table, csv_text, dict_rows, read_input_text
 from designer.studies.front._indicators import hypervolume_2d, igd_plus, nondominated, normalise
 from designer.data.paper import INCH
 from designer.errors import InputError
@@ -448,8 +447,8 @@ class Front(Record):
         ``{"source": path}``.
         """
         problem = _problem_for_csv(path, problem)
-        with open(path, newline="", encoding="utf-8") as fh:
-            records = list(csv.DictReader(fh))
+        header, body, _ = csv_table(read_input_text(path, "front CSV file", ".csv", error=InputError), str(path))
+        records = [dict(zip(header, row)) for row in body]
         points = []
         for r in records:
             if (r.get("buildable", "false") == "true") != buildable:
@@ -499,12 +498,10 @@ class Front(Record):
             rows = [{**r, "buildable": "false"} for r in rows] + [{**r, "buildable": "true"} for r in buildable.rows()]
             columns.append("buildable")
         extra = sorted({k for r in rows for k in r} - set(columns))
-        fh = io.StringIO(newline="")
-        writer = csv.DictWriter(fh, fieldnames=columns + extra)
-        writer.writeheader()
-        for r in rows:
-            writer.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in r.items()})
-        write_file(path, fh.getvalue(), "to_csv", example="front.csv", kind=FRONT_CSV)
+        # the one CSV writer (designer.textfiles): names kept from formulas
+        write_file(
+            path, csv_text(dict_rows(rows, columns + extra, "{:.10g}")), "to_csv", example="front.csv", kind=FRONT_CSV
+        )
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data: points, failed points, indicators and run metadata."""

@@ -34,8 +34,8 @@ from designer.studies.front._indicators import normalise
 from designer.studies.optimum import diagnose_infeasible, constraint_margins
 from designer.errors import InputError, SolverError
 from designer.model import Design
-from designer.problem import POINTS_RANGE, Problem, family_of
-from designer.solvers import FRONT_STRATEGIES, Designs, front_solver
+from designer.problem import POINTS_RANGE, Problem, family_of, problem_argument
+from designer.solvers import FRONT_STRATEGIES, Designs, front_solver, one_solve_at_a_time
 from designer.solvers.base import wheel_of
 from designer.solvers.nlp import BIG, evaluate_many
 
@@ -89,6 +89,7 @@ def _points(
     return [p for p in out if p is not None]
 
 
+@one_solve_at_a_time
 def pareto_front(
     problem: Problem, points: int | None = None, progress: Progress | None = None, strategy: str = "auto"
 ) -> Front:
@@ -106,10 +107,11 @@ def pareto_front(
     -------
     Front
     """
+    problem = problem_argument(problem)
     if points is not None and (isinstance(points, bool) or not isinstance(points, (int, np.integer))):
         raise InputError(f"points = {points!r}: expected a whole number of front points, e.g. 41")
-    n = int(points or problem.pareto_points)
-    if not 2 <= n <= POINTS_RANGE[1]:  # memory grows with n × the 1024-design sample: bounded, never MemoryError
+    n = problem.pareto_points if points is None else int(points)  # 0 is refused, not the problem's 41
+    if not 2 <= n <= POINTS_RANGE[1]:  # its two ends at least; memory grows with n × the 1024-design sample
         raise InputError(f"points = {n}: a front needs 2 to {POINTS_RANGE[1]} points")
     if strategy not in STRATEGY_CHOICES:
         raise InputError(f"strategy = {strategy!r}: expected one of {', '.join(STRATEGY_CHOICES)}")

@@ -22,9 +22,9 @@ import numpy as np
 from designer.data.paper import INCH
 from designer.errors import InfeasibleError, SolverError
 from designer.model import VARIABLES, Design, evaluate, evaluate_candidates
-from designer.problem import Problem
+from designer.problem import Problem, problem_argument
 from designer.reprs import Record, dataframe
-from designer.solvers import PRIMARY, Optimum, solver
+from designer.solvers import PRIMARY, Optimum, one_solve_at_a_time, solver
 from designer.solvers.base import wheel_of
 from designer.solvers.nlp import PARAMETER_INFO, max_critical_speed
 import warnings
@@ -298,6 +298,7 @@ def constraint_margins(
     return margins, active
 
 
+@one_solve_at_a_time
 def optimise(
     problem: Problem, weights: Sequence[float] | None = None, cross_check: bool = True, samples: int = 1024
 ) -> Solution:
@@ -323,7 +324,7 @@ def optimise(
     SolverError
         IPOPT failed from every start although the problem is feasible.
     """
-
+    problem = problem_argument(problem)
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="inertia power law used at")
         warnings.filterwarnings("ignore", message="Solution may be inaccurate")  # GP cross-check, polished below

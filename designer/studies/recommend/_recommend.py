@@ -32,7 +32,6 @@ import dataclasses
 import math
 import warnings
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -41,7 +40,8 @@ from designer.errors import InfeasibleError
 from designer.model import VARIABLES, CandidateValues, Design, evaluate_candidates, scatter_of
 from designer.physics.inertia import Fixed, PowerLaw
 from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sources
-from designer.problem import Bound, load_problem
+from designer.problem import Bound, problem_argument
+from designer.solvers import one_solve_at_a_time
 from designer.studies.recommend._record import Recommendation
 from designer.studies.spec import caster_spec, corner_probabilities, exact_shimmy_probability
 from designer.studies.recommend._rule import RULES, rule_text, select_rows, weights_meaning
@@ -293,6 +293,7 @@ def _buildable_front(problem, b: _Buildable, member: np.ndarray):
     )
 
 
+@one_solve_at_a_time
 def recommend(problem, samples: int | None = None, seed: int | None = None, *, front=None) -> Recommendation:
     """``designer.recommend``: the caster to build for ``problem``, by the problem's rule.
 
@@ -315,8 +316,7 @@ def recommend(problem, samples: int | None = None, seed: int | None = None, *, f
         or none is within the cap of ``[objective]``.
     """
 
-    if isinstance(problem, (str, Path)):
-        problem = load_problem(problem)
+    problem = problem_argument(problem)
     b = _buildable(problem)
     sel = _select(problem, b, np.ones(len(b), bool))
     enforced = None

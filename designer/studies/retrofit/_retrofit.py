@@ -47,7 +47,8 @@ import numpy as np
 
 from designer.model import CandidateValues, Conditions, Design
 from designer.physics.uncertainty import Uncertainty
-from designer.problem import load_problem
+from designer.problem import problem_argument
+from designer.solvers import one_solve_at_a_time
 from designer.studies.retrofit._diagnosis import _calibrated, _current_inertia, _evaluate, _risk_of
 from designer.studies.retrofit._input import MAX_STEM_ANGLE, _check_inputs, parse_current
 from designer.studies.retrofit._options import (
@@ -82,6 +83,7 @@ one- and two-part fixes are searched, and three- and four-part ones only when no
 sill-force limit."""
 
 
+@one_solve_at_a_time
 def fix(
     problem,
     current,
@@ -124,8 +126,7 @@ def fix(
     ``problem.max_turning_increase`` are ranked cheapest first, then by the smallest loss
     (``fixes``); the others are listed apart (``beyond``).  Equations: Eq. 7 (V_c), Eq. 4A (P), Eq. 9 (F_turn).
     """
-    if isinstance(problem, str) or hasattr(problem, "__fspath__"):
-        problem = load_problem(problem)
+    problem = problem_argument(problem)
     if isinstance(current, str):
         current = parse_current(current, "current")
     stem_angle = float(stem_angle)
