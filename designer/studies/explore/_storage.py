@@ -317,10 +317,10 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
         path = Path(spec.url)
         if not path.parent.is_dir():
             raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
-        other = not_a_file(path)  # the readers' rule: a folder, a device (/dev/stdout), a FIFO is not a journal
+        check_storage_file(spec)  # a folder, or a file that is not optuna's journal: OutputError, exit 7
+        other = not_a_file(path)  # the readers' rule: a device (/dev/stdout) or a FIFO is not a journal
         if other is not None:
             raise StorageError(f"storage {spec.shown}: is {other}, expected a journal file")
-        check_storage_file(spec)  # a folder, or a file that is not optuna's journal: OutputError, exit 7
         try:
             if break_lock:
                 with contextlib.suppress(FileNotFoundError):
@@ -336,10 +336,11 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
         path = Path(spec.url[len("sqlite:///") :].split("?", 1)[0])
         if str(path) and not path.parent.is_dir():
             raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
-        other = not_a_file(path)  # the readers' rule: a device or a FIFO is not a database
+    check_storage_file(spec)
+    if spec.url.startswith("sqlite:///"):
+        other = not_a_file(spec.url[len("sqlite:///") :].split("?", 1)[0])  # a device or a FIFO is not a database
         if other is not None:
             raise StorageError(f"storage {spec.shown}: is {other}, expected an SQLite database file")
-    check_storage_file(spec)
     heartbeat, grace = _heartbeat() if spec.remote else (None, None)  # a bad setting is its own one line
     try:
         return _open_database(spec, heartbeat, grace)
