@@ -180,9 +180,9 @@ def test_import_designer_is_light():
     assert out == "[]"
 
 
-LATE = HEAVY + ("scipy", "pint", "rich", "werkzeug", "flask", "contourpy", "selenium", "fcntl")
+LATE = HEAVY + ("scipy", "pint", "rich", "werkzeug", "flask", "contourpy", "selenium", "fcntl", "shtab")
 """What a function may import inside itself: a heavy or optional library (CONTRIBUTING, "Heavy dependencies
-load late"; fcntl exists on POSIX only), or a designer module whose import would load one."""
+load late"; fcntl exists on POSIX only; shtab takes ~40 ms, for `designer completion` only), or a designer module whose import would load one."""
 
 LATE_ENTRY = {"designer.entry": "designer.cli"}
 """The one late import of a light designer module: the console script installs its signal handlers first and

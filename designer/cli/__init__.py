@@ -22,6 +22,7 @@ import sys
 import warnings
 
 import designer
+from designer.cli._parser import Parser
 from designer.errors import (
     DesignerError,
     OutputError,
@@ -35,23 +36,17 @@ BROKEN_PIPE = 141
 """Exit code when the reader of standard output went away (``| head``): 128 + SIGPIPE, what a shell reports
 for a Unix tool that SIGPIPE ended; quietly, without a message."""
 
-COMMANDS = ["evaluate", "validate", "run", "pareto", "explore", "robust", "simulate", "calibrate", "fleet", "studio"]
+COMMANDS = ["init", "evaluate", "validate", "run", "pareto", "explore", "robust", "simulate", "calibrate", "fleet"]
 """Sub-command modules in designer.cli; each defines ``register(subparsers)``."""
-COMMANDS.append("fix")  # retrofit
-COMMANDS.append("spec")  # the inspection sheet
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # one line, exit 2, like every input error
-        self.exit(2, f"designer: error: {message}\n")
+COMMANDS += ["studio", "fix", "spec", "completion"]  # spec: the inspection sheet
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every available sub-command."""
-    parser = _Parser(prog="designer", description="Optimal wheelchair caster design (shimmy, turning, door sills).")
+    parser = Parser(prog="designer", description="Optimal wheelchair caster design (shimmy, turning, door sills).")
     parser.add_argument("--debug", action="store_true", help="show the full traceback on errors")
     parser.add_argument("--version", action="version", version=_version(), help="print the version and exit")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     for name in COMMANDS:
         try:
             module = importlib.import_module(f"designer.cli.{name}")

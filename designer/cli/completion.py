@@ -1,0 +1,29 @@
+"""``designer completion bash|zsh|fish``: the shell's completion script for every command and option, printed
+to standard output (shtab writes it from the argument parser itself, so it never falls behind the options).
+docs/commands.md shows where each shell reads it from."""
+
+from __future__ import annotations
+
+from designer.cli import build_parser
+
+SHELLS = ("bash", "zsh", "fish")
+"""The shells a completion script is written for (shtab's static scripts)."""
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "completion",
+        help="print the shell completion script (bash, zsh or fish)",
+        description="Print a static completion script for every designer command and option, e.g. "
+        "'designer completion bash > ~/.local/share/bash-completion/completions/designer' (docs/commands.md).",
+    )
+    p.add_argument("shell", choices=SHELLS, help="the shell to complete in: " + ", ".join(SHELLS))
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    """Print the completion script of ``args.shell`` for the whole ``designer`` parser; exit 0."""
+    import shtab  # ~40 ms (it loads email.parser): only for this command, not at every start
+
+    print(shtab.complete(build_parser(), shell=args.shell), end="")
+    return 0

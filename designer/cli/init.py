@@ -1,0 +1,257 @@
+"""``designer init PATH``: start a problem file from a few answers (docs/commands.md, docs/problem-file.md).
+
+At a terminal it asks for the load (or the mass and the front fraction), the sill, the floor, the target
+speed and the units, each with its default; an option answers its question (``--sill 3/4in``), ``--defaults``
+or a standard input that is not a terminal asks nothing.  Every other value (the design ranges, the swept
+radius) is the shipped default problem's (``indoor-manual``).  The file is checked by the problem loader
+before it is written, and an existing file is never replaced.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+from designer.cli._common import choice_option, quantity_option, ranged_option
+from designer.errors import DesignerError, InputError, OutputError
+from designer.physics.turning import SURFACES
+from designer.model import MASS_RANGE, caster_load
+from designer.output import FileKind, check_file, write_file
+from designer.problem import REPORT_UNITS, load_problem, problem_from_toml
+from designer.units import INCH
+
+NEW_FILE = FileKind("a new file", lambda _path: False)
+"""What designer init writes: only a new (or empty) file; no existing file is ever its to replace."""
+
+DEFAULT_PROBLEM = "indoor-manual"
+"""The shipped problem whose values are the defaults of ``designer init``."""
+
+FRONT_FRACTION = 0.4
+"""Default share f of the user-plus-chair weight on the two front casters [-]: the paper's test load of
+178 N per caster (Appendix C) is f = 2 x 178 N / (90 kg x 9.80665 m/s^2) = 0.40 for a 75 kg user in a
+15 kg chair (the default problem's chair)."""
+
+FRONT_FRACTION_TYPICAL = (0.2, 0.4)
+"""Typical range of f for manual chairs [-] (our estimate from the statics, not the paper's): f is the
+distance from the rear axle to the centre of mass over the wheelbase; a rigid chair set up with its rear axle
+forward under the user (easy to tip, light casters) is near 0.2, a folding chair with the axle behind the
+backrest near 0.4.  Weigh the chair: f = (weight on the two front casters) / (total weight)."""
+
+FRONT_FRACTION_NOTE = (
+    f"the share of the user-plus-chair weight on the two front casters: typically "
+    f"{FRONT_FRACTION_TYPICAL[0]:g} to {FRONT_FRACTION_TYPICAL[1]:g} for a manual chair (rear axle forward: "
+    f"{FRONT_FRACTION_TYPICAL[0]:g}; behind the backrest: {FRONT_FRACTION_TYPICAL[1]:g}); measure it with a "
+    "scale under the front casters"
+)
+"""The words that explain the front fraction, in the prompt and in the file written."""
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "init",
+        help="start a commented problem file from a few answers",
+        description="Write a commented problem file: asks for the load (or mass and front fraction), the sill, "
+        "the floor, the target speed and the units at a terminal; options answer the questions; without a "
+        "terminal, or with --defaults, writes the defaults (the shipped indoor-manual problem). Never "
+        "replaces a file. Then: designer run PATH.",
+    )
+    p.add_argument("path", metavar="PATH", help="the problem file to write (TOML), e.g. my-chair.toml")
+    p.add_argument("--load", default=None, help="load per front caster, e.g. 178N (default the paper's 178 N)")
+    p.add_argument("--mass", default=None, help="user plus chair, e.g. 95kg (instead of --load)")
+    p.add_argument("--front-fraction", default=None, help=f"with --mass: {FRONT_FRACTION_NOTE}")
+    p.add_argument("--sill", default=None, help="door-sill height, e.g. 3/4in or 19mm (default 1/2 in)")
+    p.add_argument("--floor", default=None, help="tile | carpet (default tile)")
+    p.add_argument("--target-speed", default=None, help="speed without shimmy, e.g. 2.5m/s (default 2.5 m/s)")
+    p.add_argument("--units", default=None, help="in | mm: the unit of the lengths written (default in)")
+    p.add_argument("--defaults", action="store_true", help="ask nothing: the options given, else the defaults")
+    p.set_defaults(func=run)
+
+
+@dataclass(frozen=True)
+class Answers:
+    """The answers a problem file is written from (SI): either ``load`` or ``mass`` and ``front_fraction``."""
+
+    load: float | None
+    mass: float | None
+    front_fraction: float | None
+    sill: float
+    floor: str
+    target_speed: float
+    units: str
+
+
+def run(args) -> int:
+    """Write the problem file ``args.path`` from the answers; exit 0, or 7 if it exists or cannot be written."""
+    path = Path(args.path)
+    if os.path.lexists(path):
+        raise OutputError(f"PATH {path}: exists; designer init never replaces a file (choose another name)")
+    check_file(path, "PATH", example="my-chair.toml", kind=NEW_FILE)  # before any question
+    interactive = sys.stdin is not None and sys.stdin.isatty() and not args.defaults
+    answers = _ask(args) if interactive else _answers(vars(args))
+    text = problem_text(answers, path.stem)
+    _check(text, path)
+    write_file(path, text, "PATH", example="my-chair.toml", kind=NEW_FILE)
+    if answers.load is not None:
+        load = f"{answers.load:.1f} N per front caster"
+    else:
+        load = f"{float(caster_load(answers.mass, answers.front_fraction)):.1f} N per front caster: m g f / 2"
+    print(f"wrote {path} ({load}); next: designer run {path}")
+    return 0
+
+
+_QUESTIONS = (
+    ("mass", "User plus chair mass (e.g. 90kg; empty: give the load per caster instead)"),
+    ("front_fraction", f"Front fraction f, {FRONT_FRACTION_NOTE}"),
+    ("load", "Load per front caster"),
+    ("sill", "Door-sill height"),
+    ("floor", "Floor (tile | carpet)"),
+    ("target_speed", "Speed without shimmy"),
+    ("units", "Units of the lengths in the file (in | mm)"),
+)
+"""What ``designer init`` asks at a terminal, in order (an option given answers its question)."""
+
+
+def _ask(args) -> Answers:
+    """Ask each question an option did not answer; an empty answer takes the default, a bad one asks again."""
+    given = dict(vars(args))
+    defaults = _defaults()
+    for key, question in _QUESTIONS:
+        if given.get(key) is not None:
+            continue
+        if key == "front_fraction" and given.get("mass") is None:
+            continue
+        if key == "load" and given.get("mass") is not None:
+            continue
+        default = f"{FRONT_FRACTION:g}" if key == "front_fraction" else (defaults.get(key) or "")
+        while True:
+            try:
+                reply = input(f"{question} [{default or 'none'}]: ").strip()
+            except EOFError:
+                reply = ""
+            given[key] = reply or (default if key != "mass" else None)
+            try:
+                _answers({**given, **{k: None for k, _ in _QUESTIONS if k not in given}})
+                break
+            except InputError as exc:
+                print(f"  {exc}", file=sys.stderr)
+    return _answers(given)
+
+
+def _defaults() -> dict[str, str]:
+    """The defaults of the questions, as written answers: the shipped default problem's values."""
+    p = load_problem(DEFAULT_PROBLEM)
+    return {
+        "load": f"{p.conditions.load:g} N",
+        "sill": f"{p.conditions.threshold_height / INCH:g} in",
+        "floor": p.conditions.surface,
+        "target_speed": f"{p.target_speed:g} m/s",
+        "units": p.units,
+    }
+
+
+def _answers(given: dict) -> Answers:
+    """The answers from the options (or replies) in ``given``, each checked as its option; the rest defaults."""
+    defaults = _defaults()
+    mass, fraction = given.get("mass"), given.get("front_fraction")
+    if given.get("load") is not None and (mass is not None or fraction is not None):
+        raise InputError("--load and --mass: give the load per caster, or the mass and --front-fraction, not both")
+    if fraction is not None and mass is None:
+        raise InputError(f"--front-fraction {fraction}: needs --mass (load = mass g front_fraction / 2)")
+    m = f = load = None
+    if mass is not None:
+        m = quantity_option(mass, "mass", "--mass")
+        if not MASS_RANGE[0] <= m <= MASS_RANGE[1]:
+            raise InputError(f"--mass {mass}: must be {MASS_RANGE[0]:g} to {MASS_RANGE[1]:g} kg (user plus chair)")
+        f = quantity_option(fraction or f"{FRONT_FRACTION:g}", "dimensionless", "--front-fraction")
+        if not 0 < f <= 1:
+            raise InputError(f"--front-fraction {fraction}: must be above 0 and at most 1 ({FRONT_FRACTION_NOTE})")
+    else:
+        load = ranged_option(given.get("load") or defaults["load"], "load", "--load", positive=True)
+    units = choice_option(given.get("units") or defaults["units"], REPORT_UNITS, "--units")
+    return Answers(
+        load=load,
+        mass=m,
+        front_fraction=f,
+        sill=ranged_option(given.get("sill") or defaults["sill"], "threshold_height", "--sill", positive=True),
+        floor=choice_option(given.get("floor") or defaults["floor"], SURFACES, "--floor"),
+        target_speed=ranged_option(
+            given.get("target_speed") or defaults["target_speed"], "target_speed", "--target-speed", positive=True
+        ),
+        units=units,
+    )
+
+
+def _length(value: float, units: str) -> str:
+    """A length [m] as the file writes it: ``"0.75 in"`` or ``"19.05 mm"`` (to 1e-6 of the unit)."""
+    return f'"{round(value / INCH, 6):g} in"' if units == "in" else f'"{round(value * 1000, 6):g} mm"'
+
+
+def problem_text(a: Answers, name: str) -> str:
+    """The problem file's TOML for the answers ``a``: a comment line above every key it writes (what the key
+    means, its unit, where its value came from); the design ranges and the swept radius from the default problem."""
+    base = load_problem(DEFAULT_PROBLEM)
+    L = lambda v: _length(v, a.units)  # noqa: E731 - one short local formatter
+    if a.load is not None:
+        load = [
+            "# load: the weight on one front caster (the paper tested at 178 N, Appendix C)",
+            f'load = "{a.load:g} N"',
+        ]
+    else:
+        load = [
+            "# mass: the user plus the chair; the load per front caster is L = mass g front_fraction / 2",
+            f'mass = "{a.mass:g} kg"',
+            f"# front_fraction: {FRONT_FRACTION_NOTE}",
+            f"front_fraction = {a.front_fraction:g}",
+        ]
+    b = base.bounds
+    lines = [
+        "# A problem file written by designer init; every key is explained in docs/problem-file.md.",
+        "# Check it, then: designer run THIS-FILE",
+        "# name: the problem's name in reports and results/<name>/",
+        f'name = "{name}"',
+        "# title: one line describing the chair",
+        f'title = "{name}: {a.floor} floor, {L(a.sill)[1:-1]} sills"',
+        "",
+        "[conditions]",
+        *load,
+        "# threshold_height: the door sill or floor transition the caster must climb (Eq. 4A)",
+        f"threshold_height = {L(a.sill)}",
+        "# surface: the floor the chair turns on, tile or carpet (turning effort, Fig. 7)",
+        f'surface = "{a.floor}"',
+        "# turning_mode: chair (turning the chair in place) or pivot (a non-rolling wheel, the drill-press test)",
+        f'turning_mode = "{base.conditions.turning_mode}"',
+        "",
+        "[shimmy]",
+        "# target_speed: the fastest the chair goes (a fast push, a ramp) and must not shimmy at (Eq. 7)",
+        f'target_speed = "{a.target_speed:g} m/s"',
+        "",
+        "[variables]",
+        "# the ranges the design may take: trail T, wheel diameter d, groove width B, spindle damping c_f",
+        "# trail: the fork's offset behind the stem",
+        f"trail = {{ min = {L(b['trail'].low)}, max = {L(b['trail'].high)} }}",
+        "# diameter: the wheel's outer diameter (Table 1's wheels are 4 to 8 in)",
+        f"diameter = {{ min = {L(b['diameter'].low)}, max = {L(b['diameter'].high)} }}",
+        "# groove: the width of the tread's groove (0 for a single tread)",
+        f"groove = {{ min = {L(b['groove'].low)}, max = {L(b['groove'].high)} }}",
+        "# damping: the spindle friction damping M_f/theta0 (1.3 N*m/rad is the bare fork, Eq. 11C)",
+        f'damping = {{ min = "{b["damping"].low:g} N*m/rad", max = "{b["damping"].high:g} N*m/rad" }}',
+        "",
+        "[constraints]",
+        "# swept_radius_max: the room the swivelling caster has (T + d/2), e.g. clear of the footrests",
+        f"swept_radius_max = {L(base.swept_radius_max)}",
+        "",
+        "[report]",
+        "# units: how reports write sizes, in (to 1/16) or mm",
+        f'units = "{a.units}"',
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def _check(text: str, path: Path) -> None:
+    """InputError (exit 2) if the problem loader refuses ``text``: nothing is written then."""
+    try:
+        problem_from_toml(text, source=str(path), default_name=path.stem)
+    except DesignerError as exc:
+        raise InputError(f"the answers do not make a valid problem: {exc}") from None

@@ -1,0 +1,164 @@
+"""The first minutes with the command line: "did you mean" for misspelled options and commands, shell
+completion, and ``designer init`` (a commented problem file that ``designer run`` accepts)."""
+
+from __future__ import annotations
+
+import io
+import re
+import shutil
+import subprocess
+import tomllib
+
+import pytest
+
+from designer.cli import COMMANDS, build_parser, main
+from designer.cli._parser import suggestion
+from designer.problem import load_problem
+from designer.units import INCH
+
+
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (
+            ["evaluate", "--trial", "2in", "--diameter", "8in", "--groove", "0", "--damping", "1.3"],
+            "unrecognized option --trial; did you mean '--trail'?",
+        ),
+        (["pareto", "indoor-manual", "--piont", "21"], "unrecognized option --piont; did you mean '--points'?"),
+        (["pareto", "indoor-manual", "--piont=21"], "unrecognized option --piont; did you mean '--points'?"),
+        (["evalute", "--trail", "2in"], "unknown command 'evalute'; did you mean 'evaluate'?"),
+        (["--verison"], "unrecognized option --verison; did you mean '--version'?"),
+        (["run", "indoor-manual", "--jsno"], "unrecognized option --jsno; did you mean '--json'?"),
+    ],
+)
+def test_misspelled_option_is_named(argv, fragment, capsys):
+    """A misspelled option or sub-command exits 2 with one line naming it and the closest valid one (the
+    required option it was meant to be is not reported missing instead)."""
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and fragment in err, err
+    assert "required" not in err
+
+
+def test_no_suggestion_for_an_unrelated_word(capsys):
+    """An option like no valid one gets no guess; argparse's own abbreviations still work (``--tri`` is
+    ``--trials``)."""
+    with pytest.raises(SystemExit):
+        main(["run", "indoor-manual", "--zzz"])
+    err = capsys.readouterr().err
+    assert "unrecognized option --zzz" in err and "did you mean" not in err
+    assert suggestion("--zzz", ["--json", "--weights"]) == ""
+    args = build_parser().parse_args(["explore", "indoor-manual", "--tri", "3"])
+    assert args.trials == 3
+
+
+@pytest.mark.parametrize("shell", ["bash", "zsh", "fish"])
+def test_completion_script(shell, capsys):
+    """``designer completion SHELL`` prints a script naming every sub-command and their options (one from
+    each command checked: evaluate's --trail, pareto's --points, init's --front-fraction)."""
+    assert main(["completion", shell]) == 0
+    script = capsys.readouterr().out
+    for name in COMMANDS:
+        assert name in script, name
+    for option in ("--trail", "--points", "--front-fraction"):
+        assert option.lstrip("-") in script, option
+
+
+@pytest.mark.skipif(shutil.which("bash") is None, reason="needs bash")
+def test_bash_completion_loads(tmp_path, capsys):
+    """The bash script is valid bash: sourcing it registers the completion of ``designer``."""
+    main(["completion", "bash"])
+    script = tmp_path / "designer.bash"
+    script.write_text(capsys.readouterr().out)
+    done = subprocess.run(["bash", "-c", f"source {script} && complete -p designer"], capture_output=True, text=True)
+    assert done.returncode == 0 and "designer" in done.stdout, done.stderr
+
+
+def _keys_with_comments(text: str) -> tuple[set[str], set[str]]:
+    """(every key the TOML ``text`` sets, the keys whose line has ``# key:`` directly above it)."""
+    data = tomllib.loads(text)
+    keys = {k for k, v in data.items() if not isinstance(v, dict)}
+    keys |= {k for v in data.values() if isinstance(v, dict) for k in v}
+    lines = text.splitlines()
+    commented = set()
+    for i, line in enumerate(lines):
+        m = re.match(r"^(\w+) = ", line)
+        if m and i > 0 and lines[i - 1].startswith(f"# {m.group(1)}:"):
+            commented.add(m.group(1))
+    return keys, commented
+
+
+def test_init_then_run(tmp_path, monkeypatch, capsys):
+    """``designer init`` without a terminal writes the defaults (the shipped indoor-manual problem's load,
+    sill, floor, speed), every key under a comment that explains it; ``designer run`` on it exits 0."""
+    monkeypatch.setattr("sys.stdin", io.StringIO(""))
+    path = tmp_path / "my-chair.toml"
+    assert main(["init", str(path)]) == 0
+    text = path.read_text()
+    keys, commented = _keys_with_comments(text)
+    assert len(keys) >= 12 and keys == commented, keys - commented
+    base, mine = load_problem("indoor-manual"), load_problem(path)
+    assert mine.conditions.load == base.conditions.load and mine.target_speed == base.target_speed
+    assert mine.conditions.threshold_height == pytest.approx(base.conditions.threshold_height, rel=1e-12)
+    assert mine.bounds == base.bounds
+    capsys.readouterr()
+    assert main(["run", str(path), "--no-cross-check"]) == 0
+    assert "Build this caster" in capsys.readouterr().out
+
+
+def test_init_options_mass_and_mm(tmp_path, capsys):
+    """Options answer the questions: 95 kg with f = 0.3 is L = 95 x 9.80665 x 0.3 / 2 = 139.7 N per caster;
+    a 3/4 in sill written in mm (19.05 mm) loads back to 0.01905 m; the front fraction's comment gives its
+    typical range."""
+    path = tmp_path / "p.toml"
+    argv = ["init", str(path), "--mass", "95kg", "--front-fraction", "0.3", "--sill", "3/4in", "--units", "mm"]
+    assert main([*argv, "--floor", "carpet", "--target-speed", "2m/s", "--defaults"]) == 0
+    text = path.read_text()
+    assert 'threshold_height = "19.05 mm"' in text and "typically 0.2 to 0.4" in text
+    p = load_problem(path)
+    assert p.conditions.load == pytest.approx(95 * 9.80665 * 0.3 / 2, rel=1e-12)
+    assert p.conditions.threshold_height == pytest.approx(0.75 * INCH, rel=1e-9)
+    assert p.conditions.surface == "carpet" and p.target_speed == 2.0 and p.units == "mm"
+    assert "139.7 N per front caster" in capsys.readouterr().out
+
+
+def test_init_interactive(tmp_path, monkeypatch, capsys):
+    """At a terminal the questions are asked; an empty reply takes the default, a bad one is named and asked
+    again (here the speed 'fast', then 3 m/s)."""
+    replies = iter(["", "250 N", "", "carpet", "fast", "3 m/s", ""])
+    monkeypatch.setattr("sys.stdin.isatty", lambda: True, raising=False)
+    monkeypatch.setattr("builtins.input", lambda _prompt="": next(replies))
+    path = tmp_path / "q.toml"
+    assert main(["init", str(path)]) == 0
+    assert "--target-speed = 'fast'" in capsys.readouterr().err
+    p = load_problem(path)
+    assert p.conditions.load == 250.0 and p.conditions.surface == "carpet" and p.target_speed == 3.0
+
+
+@pytest.mark.parametrize(
+    "extra, code, fragment",
+    [
+        (["--front-fraction", "0.3"], 2, "--front-fraction 0.3: needs --mass"),
+        (["--mass", "95kg", "--front-fraction", "1.5"], 2, "--front-fraction 1.5: must be above 0 and at most 1"),
+        (["--mass", "95kg", "--load", "200N"], 2, "--load and --mass"),
+        (["--floor", "grass"], 2, "--floor 'grass': expected one of tile, carpet"),
+        (["--sill", "5in"], 2, "the answers do not make a valid problem"),
+    ],
+)
+def test_init_bad_answers(extra, code, fragment, tmp_path, capsys):
+    """A bad option is one line naming it, exit 2, and no file is written."""
+    path = tmp_path / "bad.toml"
+    assert main(["init", str(path), "--defaults", *extra]) == code
+    assert fragment in capsys.readouterr().err
+    assert not path.exists()
+
+
+def test_init_never_replaces(tmp_path, capsys):
+    """An existing file is left as it is: exit 7 naming it."""
+    path = tmp_path / "mine.toml"
+    path.write_text("my notes\n")
+    assert main(["init", str(path), "--defaults"]) == 7
+    assert "exists" in capsys.readouterr().err and path.read_text() == "my notes\n"
+    assert [p.name for p in tmp_path.iterdir()] == ["mine.toml"]
