@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import codecs
+import contextlib
 import errno
 import importlib
 import os
@@ -20,9 +21,11 @@ import platform
 import re
 import sys
 import warnings
+from collections.abc import Iterator
 
 import designer
 from designer.cli._parser import Parser
+from designer.cli._terminal import Fitted, fit, width
 from designer.errors import (
     DesignerError,
     OutputError,
@@ -86,7 +89,7 @@ def _main(argv: list[str] | None) -> int:
     if not getattr(args, "command", None):
         parser.print_help()
         return 2
-    with warnings.catch_warnings():
+    with warnings.catch_warnings(), _fitted(args):
         warnings.simplefilter("default")
         warnings.showwarning = _one_line_warning
         try:
@@ -103,6 +106,25 @@ def _main(argv: list[str] | None) -> int:
                 _silence_stdout()
             # the one place a system error becomes a line and an exit code (OSError by errno, RecursionError, ...)
             return _error(exc if args.debug else (system_error(exc) or exc), args.debug)
+
+
+@contextlib.contextmanager
+def _fitted(args) -> Iterator[None]:
+    """Standard output at the terminal's width while the command runs (:class:`designer.cli._terminal.Fitted`:
+    every line fitted, trailing spaces removed; ``--wide`` widens it); ``--json`` and what a program reads (a
+    command that sets ``fit=False``: the shell's completion script) are left as they are."""
+    if getattr(args, "json", False) or not getattr(args, "fit", True):
+        yield
+        return
+    real = sys.stdout
+    sys.stdout = Fitted(real, width(bool(getattr(args, "wide", False))))  # type: ignore[assignment]
+    try:
+        yield
+    finally:
+        try:
+            sys.stdout.flush()
+        finally:
+            sys.stdout = real
 
 
 def _interrupted(exc: KeyboardInterrupt) -> int:
@@ -248,7 +270,7 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
     if text in _SHOWN:  # each distinct warning once per command
         return
     _SHOWN.add(text)
-    print(f"designer: warning: {text}", file=sys.stderr)
+    print(fit(f"designer: warning: {text}"), file=sys.stderr)
 
 
 if __name__ == "__main__":  # pragma: no cover

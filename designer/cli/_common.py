@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import sys
 
+from designer.cli._terminal import fit
 from designer.jsonsafe import finite
 from designer.errors import InputError
 from designer.output import FileKind, check_file, check_folder
@@ -37,8 +38,9 @@ def print_json(data) -> None:
 
 
 def eprint(*args) -> None:
-    """Print to stderr (progress and notes that must not pollute --json output)."""
-    print(*args, file=sys.stderr)
+    """Print to stderr (progress and notes that must not pollute --json output), fitted to the terminal's width
+    (:func:`designer.cli._terminal.fit`)."""
+    print(fit(" ".join(str(a) for a in args)), file=sys.stderr)
 
 
 def check_output_folder(folder, option: str = "--out", **owned) -> None:

@@ -18,7 +18,7 @@ def register(sub) -> None:
         "'designer completion bash > ~/.local/share/bash-completion/completions/designer' (docs/commands.md).",
     )
     p.add_argument("shell", choices=SHELLS, help="the shell to complete in: " + ", ".join(SHELLS))
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, fit=False)  # a script for the shell: its lines as shtab writes them
 
 
 def run(args) -> int:

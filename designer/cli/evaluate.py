@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from designer.cli._common import choice_option, print_json, quantity_option
+from designer.cli._terminal import console as terminal_console
 from designer.data.paper import INCH
 from designer.errors import InputError
 from designer.model import Conditions, Design, evaluate
@@ -192,14 +193,12 @@ def _results(design, conditions, values: dict, speed: float | None, knock_safe: 
 
 def _print_table(design, conditions, values: dict, speed: float | None, out: dict, knock_safe: bool) -> None:
     """The rich table of the text output: each quantity with its value (SI and US units) and its paper source."""
-    from rich.console import Console
-
     from rich.table import Table
 
     table = Table(title=f"Caster: {design.describe()}", title_justify="left")
     table.add_column("quantity")
     table.add_column("value", justify="right")
-    table.add_column("source")
+    table.add_column("source", overflow="fold")  # a long link is folded, not cut
     rows = [
         ("caster load L", f"{conditions.load:.1f} N ({conditions.load / 4.44822:.1f} lbf)", values["sources"]["load"]),
         (
@@ -249,7 +248,7 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
         rows += _speed_rows(values, speed, out["risk"])
     for row in rows:
         table.add_row(*row)
-    console = Console(width=max(Console().width, 100))
+    console = terminal_console()
     console.print(table)
     if speed is not None:
         _print_sources(console, out["risk"])

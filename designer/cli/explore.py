@@ -5,6 +5,7 @@ from __future__ import annotations
 import logging
 from pathlib import Path
 
+from designer.cli._terminal import console as terminal_console
 from designer.cli._common import PROBLEM_HELP, SEED_MAX, check_output_folder, count_option, eprint, print_json
 from designer.data.paper import INCH
 from designer.errors import QuietAfterInterrupt
@@ -97,13 +98,11 @@ _QUIET = QuietAfterInterrupt()
 
 
 def _print(result, csv_path, json_path) -> None:
-    from rich.console import Console
-
     from rich.markup import escape
 
     from rich.table import Table
 
-    console = Console(width=max(Console().width, 120))
+    console = terminal_console()
     ops = result.operators
     console.print(
         f"[bold]{result.problem.name}[/]: study {result.study_name!r} on {result.storage}, "

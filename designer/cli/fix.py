@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+from designer.cli._terminal import console as terminal_console
 from designer.cli._common import PROBLEM_HELP, print_json, quantity_option, ranged_option
 from designer.studies.retrofit import ONSET_SCATTER, fix, parse_current
 from designer.errors import InputError
@@ -132,20 +133,12 @@ def _increase(text: str | None, option: str = "--max-threshold-increase") -> flo
     return float(value)
 
 
-def _console(wide: bool):
-    """A rich console at the terminal's width (COLUMNS, else 80 when not a terminal); ``wide``: at least 150."""
-    from rich.console import Console
-
-    console = Console(highlight=False)
-    return Console(width=max(console.width, 150), highlight=False) if wide else console
-
-
 def _print(result, problem, wide: bool = False, top: int = 10) -> None:
     """The text output: the answer first, in words; the current caster; what each part can become; the rule; the
     fixes within the limits (sill force, turning effort), then those beyond them (each table fits the console's width)."""
     from rich.markup import escape
 
-    console = _console(wide)
+    console = terminal_console(wide)
     alpha = result.probability
     conf = f"{1 - alpha:.0%}" if alpha is not None else "nominal"
     console.print(f"[bold]{escape(result.summary())}[/bold]")

@@ -1,0 +1,102 @@
+"""Output at the terminal's width, for every command: one width and one wrap rule.
+
+The width is the terminal's (``COLUMNS`` when set; 80 when standard output is not a terminal), at least
+:data:`NARROWEST`.  :func:`fit` is the rule: a line is stripped of trailing spaces, and a line wider than the
+width is wrapped at word boundaries with a hanging indent (a ``#`` comment's continuation stays a comment).
+The command line (:func:`designer.cli.main`) sends every text a command prints to standard output through
+:class:`Fitted`, so no command can print past the width; tables are drawn at the width by rich
+(:func:`console`), their columns giving way (``--wide`` where a command has it).
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+import textwrap
+from typing import TextIO
+
+NARROWEST = 40
+"""Least width [columns] text is wrapped to, however narrow the terminal says it is."""
+
+WIDE = 150
+"""The width of ``--wide`` [columns] (at least; a wider terminal keeps its own)."""
+
+_ANSI = re.compile(r"\x1b\[[0-9;]*m")
+_TRAILING = re.compile(r"[ \t]+((?:\x1b\[[0-9;]*m)*)$")
+
+
+def width(wide: bool = False) -> int:
+    """The output width [columns]: ``COLUMNS``, else the terminal's, else 80; at least :data:`NARROWEST`
+    (:data:`WIDE` at least with ``wide``)."""
+    columns = max(NARROWEST, shutil.get_terminal_size((80, 24)).columns)
+    return max(columns, WIDE) if wide else columns
+
+
+def fit_line(line: str, columns: int) -> str:
+    """One line fitted to ``columns``: trailing spaces removed (also before a closing colour code); wider lines
+    wrapped at word boundaries, continued with the line's indent plus two spaces (plus ``# `` for a comment,
+    so a TOML or shell comment stays one).  A word longer than the width is left whole."""
+    line = _TRAILING.sub(r"\1", line)
+    if len(_ANSI.sub("", line)) <= columns or "\x1b" in line:  # coloured lines are rich's, drawn at the width
+        return line
+    body = line.lstrip(" ")
+    indent = line[: len(line) - len(body)]
+    more = indent + ("# " if body.startswith("#") else "  ")
+    return textwrap.fill(
+        body,
+        columns,
+        initial_indent=indent,
+        subsequent_indent=more,
+        break_on_hyphens=False,
+        break_long_words=False,
+    )
+
+
+def fit(text: str, columns: int | None = None) -> str:
+    """``text`` with every line fitted by :func:`fit_line` to ``columns`` (default :func:`width`)."""
+    columns = width() if columns is None else columns
+    return "\n".join(fit_line(line, columns) for line in text.split("\n"))
+
+
+class Fitted:
+    """A text stream that fits every whole line written to it (:func:`fit_line`) before passing it on.
+
+    A line is held until its newline; :meth:`flush` passes on a partial line as it is (a prompt).  Everything
+    else (``isatty``, ``fileno``, ``encoding``) is the wrapped stream's, so rich and ``input`` see a terminal
+    where there is one.
+    """
+
+    def __init__(self, stream: TextIO, columns: int | None = None) -> None:
+        self._stream = stream
+        self._columns = width() if columns is None else columns
+        self._pending = ""
+
+    def write(self, text: str) -> int:
+        """Hold ``text``; pass on each whole line fitted."""
+        self._pending += text
+        if "\n" in self._pending:
+            whole, self._pending = self._pending.rsplit("\n", 1)
+            self._stream.write(fit(whole, self._columns) + "\n")
+        return len(text)
+
+    def flush(self) -> None:
+        """Pass on what is held (a partial line as it is) and flush the stream."""
+        if self._pending:
+            self._stream.write(self._pending)
+            self._pending = ""
+        self._stream.flush()
+
+    def __getattr__(self, name: str):
+        return getattr(self._stream, name)
+
+
+def console(wide: bool = False):
+    """A rich console drawing at :func:`width` (``wide``: :data:`WIDE` at least), no highlighting of numbers.
+
+    It writes to ``sys.stdout`` as it is when it prints, so its lines pass through :class:`Fitted`."""
+    from rich.console import Console
+
+    return Console(width=width(wide), highlight=False)
+
+
+__all__ = ["NARROWEST", "WIDE", "Fitted", "console", "fit", "fit_line", "width"]
