@@ -66,6 +66,11 @@ def register(sub) -> None:
     )
     p.add_argument("--top", type=int, default=10, help="fixes to list (0: all found; default 10)")
     p.add_argument("--wide", action="store_true", help="every column of the table (wider than 80 characters)")
+    p.add_argument(
+        "--verbose",
+        action="store_true",
+        help="the details: the current caster, the parts on offer, the rule, the tables",
+    )
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.set_defaults(func=run)
 
@@ -113,7 +118,10 @@ def run(args) -> int:
     if args.json:
         print_json(result.to_dict())
         return 0
-    _print(result, problem, args.wide, args.top)
+    if args.verbose or args.wide:
+        _print(result, problem, args.wide, args.top)
+    else:
+        _print_screen(result, problem)
     return 0
 
 
@@ -230,16 +238,8 @@ def _print_current(console, result, problem, conf: str) -> None:
                 "Eq. 7's check are extrapolated (the risk law's prediction interval widens with it)"
             )
         )
-    m = result.if_measured
-    if m is not None:
-        console.print(
-            escape(
-                f"If you measure the current wheel and it is at most {m['inertia']:.4g} kg·m² (the power law's "
-                f"value; without --inertia the risk law takes any wheel of its diameter): P(shimmy) "
-                f"{m['current_shimmy_probability']:.2%} ± {m['current_shimmy_probability_se']:.2%} as it is. With "
-                f"the wheel measured: {m['summary']}"
-            )
-        )
+    if result.if_measured is not None:
+        console.print(escape(_if_measured_text(result)))
 
 
 def _changes(fix, units: str) -> str:
@@ -296,3 +296,102 @@ def _print_table(console, result, fixes, title: str, wide: bool, conf: str) -> N
             cells += [escape(written_size(f.swept_radius, result.units))]
         table.add_row(*cells)
     console.print(table)
+
+
+def _print_screen(result, problem) -> None:
+    """The answer in one screen (at most 24 lines at 80 columns): the answer, why, what it costs, what to inspect,
+    what to do next; the tables, the parts on offer and the rule are behind ``--verbose``."""
+    from rich.markup import escape
+
+    console = terminal_console()
+    console.print(f"[bold]{escape(result.summary())}[/bold]")
+    for head, text in _screen_paragraphs(result, problem):
+        console.print(f"[bold]{head}:[/bold] {escape(text)}")
+
+
+def _screen_paragraphs(result, problem) -> list[tuple[str, str]]:
+    """(heading, text) of the one-screen answer after its first line: Why, Cost, Inspect, Next (words generated
+    from the result's numbers)."""
+    cur, units = result.current, problem.units
+    d = cur.design
+    size = lambda v: written_size(v, units)  # noqa: E731 - one short local formatter
+    bound = (
+        f"the bound {result.probability:.0%}"
+        if result.probability is not None
+        else f"V_c >= {result.required_speed:.2f} m/s (nominal)"
+    )
+    why = (
+        f"the caster as it is (T = {size(d.trail)}, d = {size(d.diameter)}, B = {size(d.groove)}, "
+        f"c_f = {d.damping:.3g} N·m/rad) has P(shimmy at {result.target_speed:.2f} m/s) = "
+        f"{cur.shimmy_probability:.2%} ± {cur.shimmy_probability_se:.2%} against {bound}; V_c (Eq. 7) "
+        f"{cur.critical_speed:.2f} m/s"
+    )
+    out = [("Why", why + ("" if result.needs_fix else "; it needs no fix"))]
+    best = result.best
+    if result.needs_fix and best is not None:
+        out.append(("Cost", _cost_text(best, result)))
+        out.append(("Inspect", _inspect_text(best, result, problem)))
+    out.append(("Next", _next_text(result)))
+    return out
+
+
+def _cost_text(best, result) -> str:
+    """What the best fix costs: the sum of the [stock] costs of its parts, in the unit they are written in."""
+    parts = sorted({c.part for c in best.changes if c.variable != "inertia"})
+    return (
+        f"{best.parts_cost:g} in the unit the problem's [stock] costs are written in (relative units: "
+        f"docs/problem-file.md), the sum for the {len(parts)} part{'s' if len(parts) != 1 else ''} changed: "
+        + ", ".join(parts)
+    )
+
+
+def _inspect_text(best, result, problem) -> str:
+    """What to look at before fitting the best fix: the swept radius against its limit, a new wheel's inertia
+    (power law or measured), an extrapolated diameter; and what measuring the current wheel would change."""
+    units = problem.units
+    limit = problem.swept_radius_max
+    text = f"the caster's sweep T + d/2 becomes {written_size(best.swept_radius, units)}" + (
+        f" (limit {written_size(limit, units)}): check it clears the footrests" if limit else ""
+    )
+    if any(c.part == "wheel" for c in best.changes):
+        text += f"; the new wheel's I_w {best.inertia:.3g} kg·m² is " + (
+            "measured" if best.measured else "the power law's: weigh and swing it if you can"
+        )
+    if best.extrapolated:
+        text += f"; {written_size(best.design.diameter, units)} lies outside Table 1's 4–8 in (extrapolated)"
+    if result.if_measured is not None:
+        text += ". " + _if_measured_text(result)
+    return text
+
+
+def _next_text(result) -> str:
+    """What to do next: fit and ride; calibrate with the speed it shimmied at; where the other fixes are."""
+    text = f"fit the parts and ride at {result.target_speed:.2f} m/s; if it shimmies, rerun with --shimmied-at SPEED"
+    text += " (the onset calibrates Eq. 7 for this chair)" if result.calibration is None else ""
+    more = max(result.found - 1, 0)
+    return text + (
+        f". Other fixes: {more} more within the limits, {result.found_beyond} beyond them; --verbose shows the "
+        "tables, the parts on offer and the ranking rule; --json --top 0 lists all"
+    )
+
+
+def _if_measured_text(result) -> str:
+    """What measuring the current wheel would change, said so that a higher P(shimmy) reads as what it is: without
+    ``--inertia`` the risk law spreads V_c over every wheel of that diameter; a caster whose median V_c is below
+    the speed is then *less* surely unstable, so measuring it at the power law's value raises P(shimmy)."""
+    m = result.if_measured
+    p, now = m["current_shimmy_probability"], result.current.shimmy_probability
+    effect = (
+        "a caster whose V_c lies below the speed shimmies more surely once the wheel's scatter is gone"
+        if p >= now
+        else "the wheel's scatter was the risk"
+    )
+    return (
+        f"Measuring the current wheel (--inertia) takes Table 1's scatter out of its risk: at the power law's "
+        f"{m['inertia']:.4g} kg·m², P(shimmy) {now:.2%} → {p:.2%} as it is ({effect}); "
+        + (
+            "the same best fix"
+            if m["summary"] == result.summary()
+            else "the fix then: " + m["summary"].removeprefix("Best fix: ")
+        )
+    )

@@ -106,9 +106,10 @@ def test_point_counts_state_why_robust_differs():
     assert "default 21, not pareto's 41: it solves two fronts and runs two Monte Carlo checks per point" in text
 
 
-def test_evaluate_shows_the_load_and_sill_it_used(capsys):
+def test_evaluate_shows_the_load_and_sill_it_used(capsys, monkeypatch):
     """evaluate's table starts with the load and the sill, saying whether they were given or the defaults; its
-    JSON has both [SI]."""
+    JSON has both [SI] (at 200 columns: no cell folded)."""
+    monkeypatch.setenv("COLUMNS", "200")
     base = ["evaluate", "--trail", "2in", "--diameter", "7in", "--groove", "0", "--damping", "1.3"]
     assert main(base + ["--threshold-height", "13 mm"]) == 0
     text = capsys.readouterr().out

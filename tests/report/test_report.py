@@ -433,8 +433,10 @@ def test_negative_weights_named(argv, fragment, capsys):
     assert fragment in capsys.readouterr().err
 
 
-def test_explore_summary_shows_units(tmp_path, capsys):
-    """The explore front table's headers keep their units (rich read '[in]' as a markup tag and dropped it)."""
+def test_explore_summary_shows_units(tmp_path, capsys, monkeypatch):
+    """The explore front table's headers keep their units (rich read '[in]' as a markup tag and dropped it);
+    at 200 columns, so that no header is folded."""
+    monkeypatch.setenv("COLUMNS", "200")
     assert main(["explore", INDOOR, "--trials", "20", "--no-compare", "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     for header in ("T [in]", "d [in]", "B [in]", "c_f [N·m/rad]", "V_c [m/s]"):

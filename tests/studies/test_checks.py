@@ -133,7 +133,8 @@ def test_identities_are_counted_apart():
 
 def test_validate_exits_0_on_disagreement_within_scatter_and_1_on_failure(monkeypatch, capsys):
     """validate: a disagreement within the scatter is not a failure (exit 0); a failure is (exit 1);
-    the output counts paper checks and identities apart."""
+    the output counts paper checks and identities apart (read at 200 columns: the sentence on one line)."""
+    monkeypatch.setenv("COLUMNS", "200")
     within = ck.Check(
         name="2 x",
         claim="claim",

@@ -455,7 +455,8 @@ def describe_changes(changes: Iterable[Change], sep: str = "; ", inertia: bool =
 
 def fix_sentence(fix: CasterState, current: CasterState, units: str = "in", alpha: float | None = None) -> str:
     """A fix in words, the parts it changes first: "a 7 in wheel with a 3/4 in groove in the 2 1/2 in fork hole;
-    sill force 98 → 107 N (+8.6 %), turning effort 14.0 → 7.9 N; P(shimmy) 2.1 % (bound 5 %); parts cost 9"."""
+    sill force 98 → 107 N (+8.6 %), turning effort 14.0 → 7.9 N; P(shimmy) 2.1 % (bound 5 %); parts cost 9 ([stock]
+    cost units)": the unit of the costs is the one the problem's [stock] costs are written in."""
     d = fix.design
     parts = {c.part for c in fix.changes}
     names = {c.part: c.name for c in fix.changes if c.name}
@@ -481,7 +482,7 @@ def fix_sentence(fix: CasterState, current: CasterState, units: str = "in", alph
     out = (
         f"{text}; sill force {current.threshold_force:.0f} → {fix.threshold_force:.0f} N "
         f"({fix.threshold_increase:+.1%}), turning effort {current.turning_effort:.1f} → {fix.turning_effort:.1f} N; "
-        f"{risk}; parts cost {fix.parts_cost:g}"
+        f"{risk}; parts cost {fix.parts_cost:g} ([stock] cost units)"
     )
     if fix.extrapolated:
         out += f"; the {written_size(d.diameter, units)} wheel is outside Table 1's 4–8 in: extrapolated"

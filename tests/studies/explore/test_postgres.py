@@ -234,7 +234,8 @@ def test_postgres_starved_paused_and_killed_workers_complete_exactly(postgres, t
                 stdout, stderr = p.communicate(timeout=PATIENCE)
                 assert p.returncode == 0, stderr
                 assert json.loads(stdout)["trials"] == TRIALS  # the survivors end the study themselves
-            assert f"trial {late} was failed by another process while this one still evaluated it" in stderr
+            said = " ".join(stderr.split())  # notes are wrapped at the terminal's width
+            assert f"trial {late} was failed by another process while this one still evaluated it" in said
             resume = _explore(url, out, True, env)
             stdout, stderr = resume.communicate(timeout=PATIENCE)
             assert resume.returncode == 0, stderr

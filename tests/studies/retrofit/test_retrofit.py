@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import json
+import re
 import math
 
 import numpy as np
@@ -447,8 +448,10 @@ def test_cli_json(capsys, tmp_path):
 
 
 def test_cli_text(capsys, tmp_path):
-    """The text output names the diagnosis, the rule and the ranked fixes with from -> to."""
-    assert main(["fix", stocked_file(tmp_path), "--current", EQ8, "--inertia", "0.00127", "--top", "4"]) == 0
+    """The --verbose text output names the diagnosis, the rule and the ranked fixes with from -> to."""
+    assert (
+        main(["fix", stocked_file(tmp_path), "--current", EQ8, "--inertia", "0.00127", "--top", "4", "--verbose"]) == 0
+    )
     text = capsys.readouterr().out
     assert "V_c (Eq. 7) = 2.392 m/s" in text and "Rule: among the fixes that meet the risk bound" in text
     assert text.startswith("Best fix: ") and "->" in text
@@ -562,10 +565,10 @@ def test_must_show_best_fix_within_the_limit_and_extrapolated_wheels(capsys, mon
 
 @pytest.mark.parametrize("columns", [80, 100])
 def test_text_answer_first_and_fits_the_terminal(capsys, monkeypatch, columns):
-    """The text output leads with the answer in words, says what each part can become (not "washer: [stock]"),
-    and at COLUMNS = 80 (or 100) no line is wider; --wide shows every column (I_w, the loss, V_c)."""
+    """The --verbose output leads with the answer in words, says what each part can become (not "washer:
+    [stock]"), and at COLUMNS = 80 (or 100) no line is wider; --wide shows every column (I_w, the loss, V_c)."""
     monkeypatch.setenv("COLUMNS", str(columns))
-    assert main(["fix", str(DEFAULT), "--current", MUST_SHOW]) == 0
+    assert main(["fix", str(DEFAULT), "--current", MUST_SHOW, "--verbose"]) == 0
     text = capsys.readouterr().out
     lines = text.splitlines()
     assert lines[0].startswith("Best fix: a 7 in wheel with a 3/4 in groove in the 2 1/2 in fork hole;")
@@ -578,6 +581,30 @@ def test_text_answer_first_and_fits_the_terminal(capsys, monkeypatch, columns):
     assert main(["fix", str(DEFAULT), "--current", MUST_SHOW, "--wide", "--top", "2"]) == 0
     wide = capsys.readouterr().out
     assert "loss [N]" in wide and "V_c Eq. 7" in wide and "P(shimmy) ± SE" in wide and "I_w [kg·m²]" in wide
+
+
+@pytest.mark.parametrize("inertia", [[], ["--inertia", "0.00127"]])
+def test_the_answer_fits_one_screen(capsys, monkeypatch, inertia):
+    """Without --verbose, fix answers in one screen: at most 24 lines of at most 80 columns, the answer first (its
+    cost with the unit of the [stock] costs), then Why, Cost, Inspect and Next, no table; unmeasured, what
+    measuring the wheel changes reads as a change of certainty (P before → after), not as damage."""
+    monkeypatch.setenv("COLUMNS", "80")
+    assert main(["fix", str(DEFAULT), "--current", MUST_SHOW, *inertia]) == 0
+    text = capsys.readouterr().out
+    lines = text.splitlines()
+    assert len(lines) <= 24 and max(len(ln) for ln in lines) <= 80
+    assert lines[0].startswith("Best fix: ") and re.search(
+        r"parts cost \d+ \(\[stock\] cost units\)", " ".join(text.split())
+    )
+    heads = [ln.split(":")[0] for ln in lines if ln.split(":")[0] in ("Why", "Cost", "Inspect", "Next")]
+    assert heads == ["Why", "Cost", "Inspect", "Next"]
+    assert "Fixes within" not in text and "Rule:" not in text and "If you measure" not in text
+    said = " ".join(text.split())
+    assert ("Measuring the current wheel (--inertia) takes Table 1's scatter out of its risk" in said) == (not inertia)
+    if not inertia:
+        assert (
+            "P(shimmy) 99.73% → 99.98% as it is (a caster whose V_c lies below the speed shimmies more surely" in said
+        )
 
 
 def test_threshold_limit_from_the_file_and_the_option(tmp_path, capsys):
