@@ -50,6 +50,7 @@ def _examples() -> dict[str, list[list[str]]]:
             ["fleet", "fleet.csv", "--no-skus", "--out", "f"],
         ],
         "studio": [["studio", "--help"]],
+        "spec": [["spec", "indoor-manual", "--out", "spec.html"]],
         "fix": [
             ["fix", "indoor-manual", "--current", _CURRENT, "--inertia", "0.00127"],
             ["fix", "indoor-manual", "--current", _CURRENT],
