@@ -1,7 +1,7 @@
 """The tool's own exceptions, one per kind of failure, each with an exit code.
 
 The command line prints ``str(error)`` on one line and exits with
-``error.exit_code``; the codes are documented in the README.  Also the signals:
+``error.exit_code``; the codes are documented in docs/commands.md (errors and exit codes).  Also the signals:
 SIGINT (Ctrl-C, exit 130) and SIGTERM (``kill``, logout, a service manager; exit 143)
 raise :class:`KeyboardInterrupt` (:class:`Terminated` for SIGTERM) and set the flag
 checked after every solver call (:func:`check_interrupt`).

@@ -1,7 +1,7 @@
 """The ``designer`` command: one sub-command per module of this package (``designer.cli.<name>``).
 
 Errors are printed as one line on stderr with a non-zero exit code per kind
-(see :mod:`designer.errors` and the README); ``--debug`` shows the traceback.
+(see :mod:`designer.errors` and docs/commands.md); ``--debug`` shows the traceback.
 Ctrl-C (SIGINT) and SIGTERM print one line and exit 130 and 143, from start-up on
 (:mod:`designer.entry` covers the imports before this module); a standard output
 closed early (``designer validate --json | head -c5``) ends quietly with exit 141, as a

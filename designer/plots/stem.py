@@ -104,8 +104,15 @@ def draw_speed_against_angle(ax, angles, speeds, marks=()):
 
 
 def stem_angle_figure(path, caster: dict = EQ8_CASTER, tilt_degrees: float = 5.0, drawn_degrees: float = 15.0):
-    """Write the docs figure: the geometry drawn at ``drawn_degrees`` (large enough to see the angles) and
-    V_c of ``caster`` against stem angle with ±``tilt_degrees`` marked."""
+    """Write the docs figure (:func:`stem_figure`) to ``path`` (120 dpi); returns ``path``."""
+    stem_figure(caster, tilt_degrees, drawn_degrees).savefig(path, dpi=120)
+    return path
+
+
+def stem_figure(caster: dict = EQ8_CASTER, tilt_degrees: float = 5.0, drawn_degrees: float = 15.0):
+    """The docs figure (a matplotlib Figure): the geometry drawn at ``drawn_degrees`` [deg] (large enough to see
+    the angles) and V_c [m/s] (Eq. 7 at the effective trail of Eq. 8) of ``caster`` against stem angle, with
+    ±``tilt_degrees`` [deg] marked."""
     import matplotlib  # heavy: matplotlib only when a figure is drawn
 
     matplotlib.use("Agg")
@@ -137,8 +144,7 @@ def stem_angle_figure(path, caster: dict = EQ8_CASTER, tilt_degrees: float = 5.0
     right.text(-9.8, 2.52, "V_target 2.5 m/s (indoor-manual)", fontsize=8, color="0.3")
     right.set_title("Eq. 8 wheel (I_w 0.00127 kg·m², B 9/16 in, c_f 1.3) on a 1.5 in fork", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    return path
+    return fig
 
 
 if __name__ == "__main__":  # pragma: no cover - regenerates the docs figure

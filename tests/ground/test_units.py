@@ -112,3 +112,20 @@ def test_the_inch_is_defined_once():
     ]
     assert len(hits) == 1 and hits[0].startswith("units.py:"), hits
     assert paper.INCH is units.INCH and units.INCH == 0.0254
+
+
+@pytest.mark.parametrize(
+    "text, inches",
+    [("2 1/2 in", 2.5), ("1 1/4in", 1.25), ("7 3/4 in", 7.75), ("-1 1/2 in", -1.5), ("3/4 in", 0.75), ("2 in", 2.0)],
+)
+def test_mixed_numbers_read_as_the_tool_writes_them(text, inches):
+    """A size as the tool prints it ("2 1/2 in": fleet part numbers, fix tables, the first screen) reads back as
+    2.5 in; pint alone reads "2 1/2" as 2 × 1/2 = 1 in, and a copied size silently lost 1.5 in."""
+    assert parse_quantity(text, "length", "trail") == pytest.approx(inches * 0.0254, rel=1e-12)
+
+
+def test_a_copied_size_makes_the_same_design():
+    """designer.Design("2 1/2 in", "7 in", "3/4 in", 1.3) is the recommendation's caster (T = 63.5 mm)."""
+    from designer import Design
+
+    assert Design("2 1/2 in", "7 in", "3/4 in", 1.3).trail == pytest.approx(0.0635, rel=1e-12)

@@ -167,10 +167,11 @@ def test_simulation_model_draws_nothing():
 
 def test_readme_says_what_each_plot_method_returns(front, rec, problem):
     """Issue 28.6: the README said "four plot methods return matplotlib Axes" while plot_variables() returns a
-    2 × 2 array and draw() a pair; it now says what each returns, and each returns that."""
+    2 × 2 array and draw() a pair; the notebook guide (docs/examples/index.md, where the README's notebook
+    section moved) says what each returns, and each returns that."""
     from matplotlib.axes import Axes
 
-    text = " ".join((ROOT / "README.md").read_text(encoding="utf-8").split())
+    text = " ".join((ROOT / "docs" / "examples" / "index.md").read_text(encoding="utf-8").split())
     assert "`front.plot_variables()` (T, d, B, c_f along the front) returns the 2 × 2 NumPy array of Axes" in text
     assert "`recommendation.draw()` (side and top views to scale) returns the pair `(ax_side, ax_top)`" in text
     assert "Four plot methods return matplotlib Axes" not in text
