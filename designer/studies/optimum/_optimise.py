@@ -260,10 +260,10 @@ class Solution(Record):
         else:
             lines.append("  sensitivities d log J / d log p (largest first; NLP multipliers):")
             if duals:
-                lines += [
-                    "  (the GP's duals are not shown: they belong to its conservative risk bound, V_req times a",
-                    "   quantile factor fixed over the diameter range, not to this optimum's exact bound)",
-                ]
+                lines.append(  # one line: the terminal wraps it at its width (designer.cli._terminal)
+                    "  (the GP's duals are not shown: they belong to its conservative risk bound, V_req times a "
+                    "quantile factor fixed over the diameter range, not to this optimum's exact bound)"
+                )
             for name, value in ranked[:10]:
                 desc = PARAMETER_INFO.get(name, ("", "", "bound"))[2]
                 lines.append(f"    {name:24s} {value:+8.4f}   {desc}")
