@@ -55,8 +55,15 @@ GEOMETRY = frozenset(
     {"x", "y", "x1", "x2", "y1", "y2", "cx", "cy", "r", "rx", "ry", "width", "height", "d", "points", "transform"}
 )
 """SVG attributes that hold drawing coordinates [px] (or a rotation angle [°]): compared within DRAWING_PX."""
-MONTE_CARLO_SE = {"shimmy_probability": "shimmy_probability_se", "probability_mc": "probability_mc_se"}
+MONTE_CARLO_SE = {
+    "shimmy_probability": "shimmy_probability_se",
+    "shimmy_probability_mc": "shimmy_probability_se",
+    "probability_mc": "probability_mc_se",
+}
 """Monte Carlo estimates and the sibling key of their standard error (besides any ``X`` with an ``X_se``)."""
+EXACT_BESIDE_MONTE_CARLO = {"shimmy_probability": "shimmy_probability_mc"}
+"""A field that is exact (the risk law's quadrature) where its record carries the Monte Carlo estimate beside it
+(the key named here): then it agrees as a computed number, and the estimate within its SE."""
 MARGIN_SCALES = {**VARIABLE_SCALES, "shimmy": 1.0, "swept_radius": VARIABLE_SCALES["diameter"]}
 """Scale of an optimum's constraint margin [SI]: its variable's; 1 m/s for V_c - V_req (target speeds are 1 to 5
 m/s); the diameter's for the swept radius [m].  A margin at the solver's tolerance is written 0, so it agrees on
@@ -212,13 +219,15 @@ def _estimate_of(key, siblings):
         name = key[:-3]
     else:
         return None
-    value = siblings[0].get(name)
+    value = siblings[0].get(EXACT_BESIDE_MONTE_CARLO.get(name, name), siblings[0].get(name))
     return value if _is_number(value) else None
 
 
 def _field(old, new, where, key, parent, siblings) -> Moved | None:
     """One number of a JSON object (``siblings``: the old and new dicts holding it, for SEs and scales)."""
     se_key = MONTE_CARLO_SE.get(key) or (f"{key}_se" if isinstance(key, str) else None)
+    if siblings and isinstance(key, str) and EXACT_BESIDE_MONTE_CARLO.get(key) in siblings[0]:
+        se_key = None  # the exact value; its Monte Carlo check is the sibling
     if key == "probability" and siblings and "se" in siblings[0]:
         se_key = "se"
     if siblings and se_key and se_key in siblings[0] and _is_number(siblings[0].get(se_key)):

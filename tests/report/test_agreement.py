@@ -205,3 +205,15 @@ def test_a_standard_error_moves_with_its_estimate():
     assert compare_json(at(0.02906), at(0.02908)) == []
     wider = {**at(0.02906), "shimmy_probability_se": at(0.02906)["shimmy_probability_se"] * 1.1}
     assert [m.where for m in compare_json(at(0.02906), wider)] == ["shimmy_probability_se"]
+
+
+def test_the_exact_risk_beside_its_monte_carlo_is_held_to_the_quadrature():
+    """Where a record carries the exact P(shimmy) (quadrature) and its Monte Carlo check beside it: the Monte Carlo
+    estimate agrees within 4 SE (one draw of 50 000 more below the speed moves it by 2e-5), while the exact value
+    is a computed number: the same 2e-5 move of it is a change the check reports."""
+    old = {"shimmy_probability": 0.02983, "shimmy_probability_mc": 0.02906, "shimmy_probability_se": 0.00075}
+    assert compare_json(old, {**old, "shimmy_probability_mc": 0.02908}) == []
+    (m,) = compare_json(old, {**old, "shimmy_probability": 0.02985})
+    assert m.where == "shimmy_probability" and m.rule != "monte carlo"
+    (m,) = compare_json(old, {**old, "shimmy_probability_mc": 0.0335})
+    assert m.where == "shimmy_probability_mc" and m.rule == "monte carlo"
