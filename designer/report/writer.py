@@ -25,6 +25,8 @@ import time
 import warnings
 from pathlib import Path
 
+from markupsafe import Markup, escape
+
 from designer.jsonsafe import finite
 from designer.model import Design
 from designer.pipeline import ReportData
@@ -65,8 +67,6 @@ _CODE = re.compile(r"`([^`\n]+)`")
 def _inline_code(value):
     """Every ``{{ … }}`` of an HTML template: a string's Markdown inline code (`…`) as <code>…</code>, the rest
     escaped, so no Markdown syntax shows as text; markup already safe (the SVG figures) and numbers unchanged."""
-    from markupsafe import Markup, escape
-
     if not isinstance(value, str) or isinstance(value, Markup) or "`" not in value:
         return value
     parts = _CODE.split(value)  # text, code, text, code, ..., text
