@@ -5,8 +5,8 @@ One function, :func:`report_data`, runs everything a Pareto report shows, in thi
 1. the front the problem asks for (risk-bounded by default, nominal with ``[robust] enabled = false``);
 2. the front for V_target × 1.1 (check 8c);
 3. the recommendation (:func:`designer.studies.recommend._recommend.recommend`): the caster to build,
-   its two alternatives, the buildable and the continuous risk-bounded fronts; the knock-safe speeds of the
-   recommendation and its alternatives (knocks of θ0 and 2 θ0, simulated);
+   every other caster of the buildable front (its alternatives), the buildable and the continuous
+   risk-bounded fronts; the knock-safe speeds of the recommendation and its alternatives (knocks of θ0 and 2 θ0, simulated);
 4. the weighted optimum J = w_turn F_turn + w_threshold P (NLP only; the GP and SLSQP cross-check only
    with ``cross_check=True``, i.e. ``designer pareto --cross-check``);
 5. the paper checks and check 8 on the front;

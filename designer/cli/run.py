@@ -20,7 +20,7 @@ def register(sub) -> None:
         "run",
         help="the caster to build for a problem file, and its weighted optimum",
         description="Recommend one buildable caster within the risk bound (knee of the buildable "
-        "front, or the cap of [objective]) with two alternatives; then minimise "
+        "front, or the cap of [objective]) with every other caster of the buildable front; then minimise "
         "J = w_turn F_turn + w_threshold P subject to the same bound: multi-start IPOPT, "
         "cross-checked by a geometric program (cvxpy) and SLSQP.",
     )

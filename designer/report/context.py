@@ -22,7 +22,7 @@ import designer.report.figures as _figures
 from designer.plots.caster import caster_svg
 from designer.plots.fronts import MARK_WORDS
 from designer.report.formatting import LBF, MPH, fmt, length, size
-from designer.report.text import build_lines, caster_sentence, lead_sentence, summary_lines
+from designer.report.text import build_lines, caster_sentence, front_count_sentence, lead_sentence, summary_lines
 from designer.plots.figures import is_bare_fork
 from designer.physics.uncertainty import TABLE1_LOG_RMS_ERROR
 from designer.studies.checks import knock_safe_table1_error, summary_line
@@ -558,17 +558,13 @@ def _after_panels(data: ReportData, units: str, level: str) -> list[Panel]:
             Panel(
                 id="alternatives",
                 title="Other casters from the same parts",
-                text="The two ends of the buildable front, beside the caster to build (first row).",
+                text=front_count_sentence(rec),
                 table=PanelTable(
                     header=["caster", *(h.format(level=level) for h in CARD_HEADER)],
                     rows=[[c.role, *_caster_cells(c, units)] for c in [rec, *rec.alternatives]],
                     numeric=[False] + [True] * len(CARD_HEADER),
                     first_row_marked=True,
                 ),
-                caption=""
-                if len(rec.alternatives) >= 2
-                else f"The buildable front has fewer than three points: {len(rec.alternatives)} alternative"
-                f"{'' if len(rec.alternatives) == 1 else 's'} shown.",
             )
         )
     if data.knock_safe:

@@ -102,6 +102,25 @@ def lead_sentence(data) -> str:
     return f"{text[0].upper()}{text[1:]}: {forces}; {risk}."
 
 
+def _count(n: int, noun: str) -> str:
+    """``n`` and ``noun``, plural unless ``n`` is 1 ("1 caster", "3 casters")."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
+
+
+def front_count_sentence(rec) -> str:
+    """How many casters the buildable front has and how many are shown beside the caster to build, counted from
+    ``rec`` (its buildable front when it has one, else itself and its alternatives): "The buildable front has 3
+    casters: the caster to build (first row) and the 2 others, by turning effort."."""
+    shown = len(rec.alternatives)
+    front = getattr(rec, "buildable", None)
+    total = len(front.points) if front is not None else 1 + shown
+    others = "the other" if shown == 1 else f"the {shown} others"
+    tail = "" if shown < 2 else ", by turning effort"
+    if shown == 0:
+        return f"The buildable front has {_count(total, 'caster')}: the caster to build."
+    return f"The buildable front has {_count(total, 'caster')}: the caster to build (first row) and {others}{tail}."
+
+
 def risk_sentence(rec) -> str:
     """The shimmy risk of ``rec``: the bound it meets (or that it has none) and the Monte Carlo estimate."""
     mc = (

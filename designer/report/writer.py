@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import re
 import time
 import warnings
 from pathlib import Path
@@ -50,9 +51,25 @@ def _render(template: str, context: dict, autoescape: bool) -> str:
         trim_blocks=True,
         lstrip_blocks=True,
         keep_trailing_newline=True,
+        finalize=_inline_code if autoescape else None,
     )
     env.filters["md"] = _md_escape
     return env.get_template(template).render(**context)
+
+
+_CODE = re.compile(r"`([^`\n]+)`")
+"""Markdown inline code in the report's words (``run `designer pareto … --cross-check` for it``)."""
+
+
+def _inline_code(value):
+    """Every ``{{ … }}`` of an HTML template: a string's Markdown inline code (`…`) as <code>…</code>, the rest
+    escaped, so no Markdown syntax shows as text; markup already safe (the SVG figures) and numbers unchanged."""
+    from markupsafe import Markup, escape
+
+    if not isinstance(value, str) or isinstance(value, Markup) or "`" not in value:
+        return value
+    parts = _CODE.split(value)  # text, code, text, code, ..., text
+    return Markup("").join(escape(p) if k % 2 == 0 else Markup("<code>%s</code>") % p for k, p in enumerate(parts))
 
 
 def _md_escape(value) -> str:

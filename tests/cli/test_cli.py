@@ -464,3 +464,8 @@ def test_run_json_has_risk_spec_if_measured_and_extrapolated(capsys):
         rec["if_measured"]
     )
     assert all("extrapolated" in a for a in out["alternatives"]) and out["extrapolated"] is False
+    # every other caster of the buildable front (results/indoor-manual/front.csv: 5, 6 and 7 in), the 6 in one
+    # between the ends
+    wheels = {round(a["design"]["diameter"] / 0.0254, 6): a["role"] for a in out["alternatives"]}
+    assert round(rec["design"]["diameter"] / 0.0254, 6) == 7
+    assert wheels == {5: "easiest to turn", 6: "between the ends"}

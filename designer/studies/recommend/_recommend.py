@@ -16,7 +16,8 @@
    the front's range, on the ideal side; with no knee (fewer than three points, or none bulging toward the
    ideal): the end with the least J = w_turn F + w_threshold P), or with
    ``[objective] max_threshold_force`` / ``max_turning_effort`` the best on the other objective within
-   the cap.  Alternatives: the easiest to turn and the easiest over the sill.
+   the cap.  Alternatives: every other caster of the buildable front, each with its role (the easiest to
+   turn, the easiest over the sill, or between the ends).
 5. **Reported risk**: P(shimmy at V_target) by a separate Monte Carlo of the same distribution with its
    own seed and SE <= 0.1 percentage point (the evaluator's, :func:`designer.model.shimmy_probability`).
 
@@ -44,7 +45,7 @@ from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sou
 from designer.problem import Bound, load_problem
 from designer.studies.recommend._record import Recommendation
 from designer.studies.spec import caster_spec, corner_probabilities, exact_shimmy_probability
-from designer.studies.recommend._rule import RULES, rule_text, select_rows, weights_meaning
+from designer.studies.recommend._rule import RULES, front_roles, rule_text, select_rows, weights_meaning
 from designer.studies.recommend._stock import (
     CandidateTable,
     ScreenedTable,
@@ -306,7 +307,8 @@ def recommend(problem, samples: int | None = None, seed: int | None = None, *, f
 
     Returns
     -------
-    Recommendation (with two alternatives, the buildable front and the continuous front it was given)
+    Recommendation (with every other caster of the buildable front as its alternatives, from the easiest to
+    turn to the easiest over the sill, the buildable front and the continuous front it was given)
 
     Raises
     ------
@@ -331,11 +333,11 @@ def recommend(problem, samples: int | None = None, seed: int | None = None, *, f
         raise _corner_error(problem, b, enforced[0])
     rule = rule_text(problem, size, bool(sel["knee"][0]))
     rec = _record(problem, b, choice, rule, "recommended", samples, seed)
-    alts = []
-    for key, role in (("easiest_turn", "easiest to turn"), ("easiest_sill", "easiest over the sill")):
-        i = int(sel[key][0])
-        if i >= 0 and i != choice:  # a short front: give what there is, not the same caster twice
-            alts.append(_record(problem, b, i, rule, role, samples, seed))
+    alts = [
+        _record(problem, b, i, rule, role, samples, seed)
+        for i, role in front_roles(b.values.turning_effort, sel)
+        if i != choice
+    ]
     return dataclasses.replace(
         rec,
         alternatives=alts,

@@ -40,14 +40,15 @@ class Recommendation(Record):
     swept_radius : T + d/2 [m]
     swept_radius_max : the footrest limit [m] (None: no limit)
     rule : how it was chosen
-    alternatives : [easiest to turn, easiest over the sill] (the same record type; fewer if the front is short)
+    alternatives : every other caster of the buildable front, by increasing turning effort (the same record
+        type), each with its role
     buildable : the buildable risk-bounded front (a :class:`designer.studies.front.Front`)
     front : the continuous risk-bounded front when the caller had it (:func:`designer.report_data` passes its
         front to :func:`~designer.studies.recommend.recommend`), else None: no attribute computes it
         (``designer.pareto_front(rec.problem)`` does)
     wheel : the wheel's name (catalogue) or None
     inertia : I_w [kg·m²]
-    role : "recommended" | "easiest to turn" | "easiest over the sill" | "if measured"
+    role : "recommended" | "easiest to turn" | "between the ends" | "easiest over the sill" | "if measured"
     note : what to know (e.g. a short front)
     measured : the wheel's I_w was measured (a catalogue wheel, a stock wheel listed with its inertia); else the
         wheel is known by its diameter and the risk law scatters its I_w by Table 1's prediction interval

@@ -127,6 +127,19 @@ def _knee_or_end(fs, ps, front, size, first, last, weights) -> tuple[np.ndarray,
     return np.where(small, end, knee), ~small
 
 
+def front_roles(turning_effort: np.ndarray, sel: dict) -> list[tuple[int, str]]:
+    """Every caster of the buildable front (row 0 of :func:`select_rows`'s ``sel``) with its role, from the
+    easiest to turn to the easiest over the sill: (index, "easiest to turn" | "between the ends" |
+    "easiest over the sill"); one caster best on both is "easiest to turn"."""
+    members = np.flatnonzero(sel["front"][0])
+    members = members[np.argsort(turning_effort[members], kind="stable")]
+    turn, sill = int(sel["easiest_turn"][0]), int(sel["easiest_sill"][0])
+    return [
+        (int(i), "easiest to turn" if i == turn else "easiest over the sill" if i == sill else "between the ends")
+        for i in members
+    ]
+
+
 def rule_text(problem, front_size: int, knee: bool = True) -> str:
     """The rule in words (what ``Recommendation.rule`` says); ``knee``: :func:`select_rows`'s flag."""
     if problem.max_threshold_force is not None:
