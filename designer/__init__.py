@@ -25,6 +25,8 @@ _LAZY = {
     "ProblemError": "designer.errors",
     "SolverError": "designer.errors",
     "CandidateValues": "designer.model",
+    "Caster": "designer.model",
+    "Casters": "designer.model",
     "Conditions": "designer.model",
     "Design": "designer.model",
     "evaluate": "designer.model",

@@ -35,8 +35,10 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("plots", ("designer.plots",)),
     ("solvers", ("designer.solvers",)),
     ("studies", ("designer.studies",)),
+    ("reportdata", ("designer.reportdata",)),
     ("pipeline", ("designer.pipeline",)),
     ("report", ("designer.report",)),
+    ("jobs", ("designer.jobs",)),
     ("entry", ("designer.cli", "designer.studio", "designer.__main__", "designer.entry")),
 ]
 """Lowest first.  A module may import its own layer and the layers below it, never one above."""
@@ -189,7 +191,8 @@ then imports the whole command line (designer/entry.py)."""
 
 def _top_imports(path: Path) -> set[str]:
     """Modules a file imports when it is imported: its module-level imports (also in top-level ``try``/``if``
-    blocks, but not under ``if TYPE_CHECKING``), with the designer packages that contain them."""
+    blocks, but not under ``if TYPE_CHECKING``), with the designer packages that contain them; a module-level
+    ``__getattr__`` counts too (it serves names of the module: using them loads what it imports)."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
     module = module_name(path)
     package = module if path.name == "__init__.py" else module.rsplit(".", 1)[0]
@@ -199,7 +202,9 @@ def _top_imports(path: Path) -> set[str]:
         for node in nodes:
             if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
                 continue
-            if isinstance(node, (ast.If, ast.Try)):
+            if isinstance(node, ast.FunctionDef) and node.name == "__getattr__":
+                visit(node.body)
+            elif isinstance(node, (ast.If, ast.Try)):
                 visit(node.body + node.orelse + getattr(node, "finalbody", []))
                 for handler in getattr(node, "handlers", []):
                     visit(handler.body)
@@ -395,6 +400,14 @@ def test_every_package_states_its_api():
             t.id for node in tree.body if isinstance(node, ast.Assign) for t in node.targets if isinstance(t, ast.Name)
         }
         names |= {node.name for node in tree.body if isinstance(node, (ast.FunctionDef, ast.ClassDef))}
+        names |= {  # served lazily by a module-level __getattr__
+            alias.asname or alias.name
+            for node in tree.body
+            if isinstance(node, ast.FunctionDef) and node.name == "__getattr__"
+            for inner in ast.walk(node)
+            if isinstance(inner, ast.ImportFrom)
+            for alias in inner.names
+        }
         names |= {p.stem for p in init.parent.glob("*.py")} | {p.name for p in init.parent.iterdir() if p.is_dir()}
         declared = [
             node
@@ -510,3 +523,53 @@ def test_the_evaluator_rule_catches_a_study_composing_physics(tmp_path):
         "line 4: calls designer.physics.threshold.threshold_force",
     ]
     assert composed_physics_uses(clean) == []
+
+
+# --------------------------------------------------------------------------- the renderer computes nothing
+
+RENDERERS = ("designer.report", "designer.plots")
+"""The rooms that only render: they take report data or records and import no study and not the pipeline."""
+COMPUTERS = ("designer.studies", "designer.pipeline")
+
+
+def renderer_imports(path: Path, module: str) -> list[str]:
+    """The imports of a study or of the pipeline in ``path`` (module ``module``), when it is a renderer's."""
+    if not any(module == r or module.startswith(r + ".") for r in RENDERERS):
+        return []
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            names = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names = [node.module]
+        else:
+            continue
+        found += [
+            f"{module}:{node.lineno} imports {name}"
+            for name in names
+            if any(name == c or name.startswith(c + ".") for c in COMPUTERS)
+        ]
+    return found
+
+
+def test_report_and_plots_import_no_study_nor_the_pipeline():
+    """report/ and plots/ import nothing from studies/ or the pipeline (function-local imports included)."""
+    offenders = [use for path in ALL_FILES for use in renderer_imports(path, module_name(path))]
+    assert offenders == []
+
+
+def test_the_renderer_rule_catches_a_planted_import(tmp_path):
+    """The rule is not vacuous: a planted report module importing the pipeline inside a function, and a planted
+    plots module importing a study, are reported; the same imports in a study are not."""
+    report = tmp_path / "report_mod.py"
+    report.write_text("def f():\n    from designer.pipeline import report_data\n    return report_data\n")
+    plots = tmp_path / "plots_mod.py"
+    plots.write_text("import designer.studies.checks\n")
+    assert renderer_imports(report, "designer.report.planted") == [
+        "designer.report.planted:2 imports designer.pipeline"
+    ]
+    assert renderer_imports(plots, "designer.plots.planted") == [
+        "designer.plots.planted:1 imports designer.studies.checks"
+    ]
+    assert renderer_imports(report, "designer.studies.planted") == []
+    assert renderer_imports(report, "designer.reportdata") == []  # the hand-over, not a renderer

@@ -19,7 +19,7 @@ from designer.data.paper import INCH, TABLE1
 from designer import parameters
 from designer.errors import ProblemError
 from designer.reprs import Record
-from designer.model import FAMILIES, MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions, Design
+from designer.model import FAMILIES, MODEL_RANGE, VARIABLE_UNITS, VARIABLES, Conditions, Design, evaluate
 from designer.physics.inertia import Catalog
 from designer.physics.turning import MODES, SURFACES
 from designer.physics.uncertainty import Uncertainty
@@ -379,6 +379,21 @@ class Problem(Record):
     def replace(self, **changes: Any) -> "Problem":
         """A validated copy with some fields changed (e.g. ``target_speed=3.0``)."""
         return dataclasses.replace(self, **changes)
+
+    def evaluate(self, designs: Any, **options: Any) -> Any:
+        """:func:`designer.model.evaluate` of ``designs`` under this problem: its conditions, its limits
+        (V_req = (1 + margin) V_target, the swept radius R_max) and its weights; UserWarnings of the inertia fit
+        silenced (the report states an extrapolation once).  Returns Casters (a Caster for one Design)."""
+        options.setdefault("weights", self.weights)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            return evaluate(
+                designs,
+                self.conditions,
+                required_speed=self.required_speed,
+                swept_radius_max=self.swept_radius_max,
+                **options,
+            )
 
     def lower(self) -> Design:
         """Lower bounds as a :class:`Design`."""

@@ -1,6 +1,6 @@
 """Render the price-of-safety report (``designer robust``): index.html, robust.md, robust.json, figures/.
 
-Render only: takes the :class:`designer.pipeline.RobustData` that :func:`designer.pipeline.robust_data`
+Render only: takes the :class:`designer.reportdata.RobustData` that :func:`designer.pipeline.robust_data`
 computed (nominal and risk-bounded fronts, Monte Carlo P(shimmy) per point) and writes the same look as
 the Pareto report (shared stylesheet), with one title used by the page and by its figure.
 """
@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.jsonsafe import finite
-from designer.pipeline import RobustData
+from designer.reportdata import RobustData
 from designer.report.formatting import fmt
 from designer.report.resolution import resolved, split_run
 from designer.output import output_folder

@@ -25,9 +25,11 @@ import time
 import warnings
 from pathlib import Path
 
+from markupsafe import Markup, escape
+
 from designer.jsonsafe import finite
 from designer.model import Design
-from designer.pipeline import ReportData
+from designer.reportdata import ReportData
 from designer.output import output_folder
 from designer.report.files import REPORT_MARKERS, REPORT_OWNED, check_target, is_report  # noqa: F401
 import designer.report.figures as _figures
@@ -64,8 +66,6 @@ _CODE = re.compile(r"`([^`\n]+)`")
 def _inline_code(value):
     """Every ``{{ … }}`` of an HTML template: a string's Markdown inline code (`…`) as <code>…</code>, the rest
     escaped, so no Markdown syntax shows as text; markup already safe (the SVG figures) and numbers unchanged."""
-    from markupsafe import Markup, escape
-
     if not isinstance(value, str) or isinstance(value, Markup) or "`" not in value:
         return value
     parts = _CODE.split(value)  # text, code, text, code, ..., text

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import csv
 import json
+import io
 import math
 import time
 from pathlib import Path
@@ -22,6 +23,7 @@ import numpy as np
 from designer.studies.dynamics._simulate import onset_speed, simulate
 from designer.data.paper import INCH
 from designer.model import Conditions, Design
+from designer.output import write_file
 from designer.physics.inertia import Fixed
 from designer.physics.shimmy import critical_shimmy_speed
 from designer.plots.simulation import figure_onset_comparison
@@ -149,9 +151,11 @@ def write_simulation_report(
     _write_csv(out / "onset.csv", rows)
     # the run time stays out of the committed files (it is in the returned summary): a rerun writes the same bytes
     kept = {k: v for k, v in summary.items() if k != "seconds"}
-    (out / "onset.json").write_text(json.dumps({"summary": kept, "rows": rows}, indent=2))
-    figure_onset_comparison(rows, traces, onset_c).savefig(out / "onset.png", dpi=110, metadata={"Software": None})
-    (out / "report.md").write_text(_report_markdown(rows, summary))
+    write_file(out / "onset.json", json.dumps({"summary": kept, "rows": rows}, indent=2), "--report", "onset.json")
+    png = io.BytesIO()
+    figure_onset_comparison(rows, traces, onset_c).savefig(png, format="png", dpi=110, metadata={"Software": None})
+    write_file(out / "onset.png", png.getvalue(), "--report", "onset.png")
+    write_file(out / "report.md", _report_markdown(rows, summary), "--report", "report.md")
     return {"rows": rows, "summary": summary}
 
 
@@ -187,11 +191,12 @@ def _appendix_c(conditions: Conditions, rtol: float):
 def _write_csv(path: Path, rows: list[dict]) -> None:
     """``onset.csv``: one line per case, floats to 6 significant digits."""
     fields = list(rows[0])
-    with open(path, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=fields)
-        writer.writeheader()
-        for row in rows:
-            writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
+    text = io.StringIO(newline="")
+    writer = csv.DictWriter(text, fieldnames=fields)
+    writer.writeheader()
+    for row in rows:
+        writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
+    write_file(path, text.getvalue(), "--report", "onset.csv")
 
 
 def _summarise(rows) -> dict:

@@ -45,7 +45,7 @@ from typing import Any
 
 import numpy as np
 
-from designer.model import CandidateValues, Conditions, Design
+from designer.model import Casters, Conditions, Design
 from designer.physics.uncertainty import Uncertainty
 from designer.problem import load_problem
 from designer.studies.retrofit._diagnosis import _calibrated, _current_inertia, _evaluate, _risk_of
@@ -370,7 +370,7 @@ class _Setting:
 
     def state(
         self,
-        values: CandidateValues,
+        values: Casters,
         j,
         design: Design,
         inertia: float,
