@@ -459,13 +459,20 @@ def test_the_cluster_rule_catches_a_prefix_cluster(tmp_path):
 
 # --------------------------------------------------------------------------- one evaluator
 
-COMPOSED = ("turning_effort", "threshold_force", "threshold_force_ratio")
-"""Physics functions of the objectives: outside the layers below, a caster's F_turn and P come from the model
-(``designer.model.evaluate_candidates`` or ``performance``), never from these."""
+COMPOSED = (
+    "turning_effort",
+    "threshold_force",
+    "threshold_force_ratio",
+    "critical_shimmy_speed",
+    "shimmy_probability_mc_many",
+    "law_draws",
+)
+"""Physics functions of the objectives, Eq. 7 and the Monte Carlo of the risk law: outside the layers below, a
+caster's F_turn, P, V_c and P(shimmy) come from the model (``designer.model.evaluate``), never from these."""
 
-MAY_COMPOSE = ("designer.physics", "designer.model", "designer.solvers", "designer.plots")
+MAY_COMPOSE = ("designer.physics", "designer.model", "designer.solvers")
 """The rooms that may call them: the physics itself, the model that composes it, the solvers that build it into
-their programs, the figures that draw the paper's curves."""
+their programs (the figures ask the model too)."""
 
 
 def composed_physics_uses(path: Path) -> list[str]:
@@ -493,8 +500,9 @@ def composed_physics_uses(path: Path) -> list[str]:
 
 
 def test_only_the_model_composes_the_objectives():
-    """No module outside physics/, model/, solvers/ and plots/ calls turning_effort, threshold_force or
-    threshold_force_ratio: the studies, the pipeline, the report, the CLI and the studio ask the model."""
+    """No module outside physics/, model/ and solvers/ calls turning_effort, threshold_force, threshold_force_ratio,
+    critical_shimmy_speed or the Monte Carlo (shimmy_probability_mc_many, law_draws): the studies, the plots, the
+    pipeline, the report, the CLI and the studio ask the model."""
     offenders = [
         f"{module_name(path)}: {use}"
         for path in ALL_FILES
@@ -505,8 +513,9 @@ def test_only_the_model_composes_the_objectives():
 
 
 def test_the_evaluator_rule_catches_a_study_composing_physics(tmp_path):
-    """The rule is not vacuous: a planted study importing threshold_force_ratio, and one calling
-    turning.turning_effort on the physics module, are both reported; model.performance is not."""
+    """The rule is not vacuous: a planted study importing threshold_force_ratio, one calling turning.turning_effort
+    on the physics module, and one importing Eq. 7's critical_shimmy_speed and calling the Monte Carlo are all
+    reported; model.performance is not."""
     imports = tmp_path / "imports.py"
     imports.write_text("from designer.physics.threshold import threshold_force_ratio\n")
     calls = tmp_path / "calls.py"
@@ -515,6 +524,16 @@ def test_the_evaluator_rule_catches_a_study_composing_physics(tmp_path):
         "f = t.turning_effort(0.05, 0.0, 1.3, 178.0)\n"
         "p = designer.physics.threshold.threshold_force(0.2, 0.0127, 178.0)\n"
     )
+    eq7 = tmp_path / "eq7.py"
+    eq7.write_text(
+        "from designer.physics.shimmy import critical_shimmy_speed\n"
+        "from designer.physics import uncertainty as u\n"
+        "p = u.shimmy_probability_mc_many(0.05, 1e-3, 0.0, 1.3, 1250.0, 2.5, None)\n"
+    )
+    assert composed_physics_uses(eq7) == [
+        "line 1: imports designer.physics.shimmy.critical_shimmy_speed",
+        "line 3: calls u.shimmy_probability_mc_many",
+    ]
     clean = tmp_path / "clean.py"
     clean.write_text("from designer.model import performance\nrec = None\nP = rec.threshold_force if rec else 0\n")
     assert composed_physics_uses(imports) == ["line 1: imports designer.physics.threshold.threshold_force_ratio"]

@@ -22,6 +22,7 @@ import warnings
 
 import designer
 from designer.errors import DesignerError, OutputError, interrupt_exit_code, interrupted, sigint_handler
+from designer.cli._common import RUNNING
 
 BROKEN_PIPE = 141
 """Exit code when the reader of standard output went away (``| head``): 128 + SIGPIPE, what a shell reports
@@ -82,6 +83,7 @@ def _main(argv: list[str] | None) -> int:
     if not getattr(args, "command", None):
         parser.print_help()
         return 2
+    RUNNING["command"] = args.command
     with warnings.catch_warnings():
         warnings.simplefilter("default")
         warnings.showwarning = _one_line_warning

@@ -154,6 +154,23 @@ class Casters(Record):
         out: np.ndarray = np.maximum(0.0, self.g()).sum(axis=1)
         return out
 
+    def keys(self) -> list[str]:
+        """The names of the fields that hold a value (the optional ones only when computed): the columns, read by key
+        as by attribute (``casters["threshold_force"]``)."""
+        return [f.name for f in fields(self) if getattr(self, f.name) is not None]
+
+    def __getitem__(self, key: str) -> Any:
+        if key not in self.keys():
+            raise KeyError(key)
+        return getattr(self, key)
+
+    def __contains__(self, key: object) -> bool:
+        return key in self.keys()
+
+    def get(self, key: str, default: Any = None) -> Any:
+        """The field ``key``, or ``default`` when it holds no value."""
+        return self[key] if key in self else default
+
     def row(self, i: int) -> "Caster":
         """Caster ``i`` (the fields as Python scalars)."""
         n = len(self)
@@ -239,22 +256,6 @@ class Caster(Casters):
 
     def __len__(self) -> int:
         return 1
-
-    def keys(self) -> list[str]:
-        """The names of the fields that hold a value (the optional ones only when computed)."""
-        return [f.name for f in fields(self) if getattr(self, f.name) is not None]
-
-    def __getitem__(self, key: str) -> Any:
-        if key not in self.keys():
-            raise KeyError(key)
-        return getattr(self, key)
-
-    def __contains__(self, key: object) -> bool:
-        return key in self.keys()
-
-    def get(self, key: str, default: Any = None) -> Any:
-        """The field ``key``, or ``default`` when it holds no value."""
-        return self[key] if key in self else default
 
     def _repr_lines(self) -> list[str]:
         """One line: the caster and its forces."""
@@ -354,6 +355,22 @@ def evaluate(  # long: the docstring documents every argument
     if extra:
         out = replace(out, **extra)
     return out.row(0) if single else out
+
+
+def critical_speed(
+    trail: Any, inertia: Any, groove: Any, damping: Any, slip_coefficient: float = Conditions().slip_coefficient
+) -> Any:
+    """V_c of Eq. 7 [m/s] of casters whose wheel inertia I_w [kg·m²] is given (a simulated knock's effective
+    c_f = M_f/θ_i, a paper figure's Table 1 wheel, a paper check), by :func:`evaluate` without a risk law; T, B [m],
+    c_f [N·m/rad] broadcast, K_s [N]; a float for scalar inputs.  The wheel's diameter plays no part in V_c once
+    I_w is given.  The signature of :func:`designer.physics.shimmy.critical_shimmy_speed`, so a check can take
+    either."""
+    arrays = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (trail, inertia, groove, damping)))
+    t, i_w, b, c = (a.ravel() for a in arrays)
+    design = {"trail": t, "diameter": np.full(t.shape, 0.2), "groove": b, "damping": c}  # d: any, I_w is given
+    conditions = Conditions(slip_coefficient=float(slip_coefficient), uncertainty=None)
+    v = evaluate(design, conditions, inertia=i_w).critical_speed.reshape(arrays[0].shape)
+    return float(v) if v.ndim == 0 else v
 
 
 def out_conditions(conditions: Conditions, load: Any, threshold_height: Any) -> Conditions:

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from designer.jsonsafe import finite
+from designer.jsonsafe import finite, stamped
 from designer.reportdata import RobustData
 from designer.report.formatting import fmt
 from designer.report.resolution import resolved, split_run
@@ -202,8 +202,10 @@ def write_robust_report(data: RobustData, out_dir, option: str = "--out") -> Pat
             "bound": bound_sentence(data),
             "designer_version": data.run.get("versions", {}).get("caster-designer") or "(not installed)",
         }
-        _write_json(tmp / "robust.json", _json(data, page_title))
-        _write_json(tmp / RUN_FILE, finite(data.run))  # date, seconds, versions: beside, never committed
+        _write_json(tmp / "robust.json", stamped("robust.json", _json(data, page_title)))
+        _write_json(
+            tmp / RUN_FILE, stamped(RUN_FILE, finite(data.run))
+        )  # date, seconds, versions: beside, never committed
         (tmp / "index.html").write_text(_render("robust.html.j2", context, autoescape=True), encoding="utf-8")
         (tmp / "robust.md").write_text(_render("robust.md.j2", context, autoescape=False), encoding="utf-8")
     return Path(out_dir)

@@ -22,10 +22,10 @@ import numpy as np
 
 from designer.studies.dynamics._simulate import onset_speed, simulate
 from designer.data.paper import INCH
-from designer.model import Conditions, Design
+from designer.model import Conditions, Design, critical_speed
+from designer.jsonsafe import stamped
 from designer.output import write_file
 from designer.physics.inertia import Fixed
-from designer.physics.shimmy import critical_shimmy_speed
 from designer.plots.simulation import figure_onset_comparison
 from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING
 
@@ -67,7 +67,7 @@ def _report_row(trail, inertia, groove, angle, conditions, damping, rtol):
     onset = onset_speed(design, cond, angle=angle, rtol=rtol)
     omega = onset.predicted_frequency
     groove_share = float(
-        critical_shimmy_speed(trail, inertia, groove, 0.0, cond.slip_coefficient) ** 2 / onset.critical_speed**2
+        critical_speed(trail, inertia, groove, 0.0, cond.slip_coefficient) ** 2 / onset.critical_speed**2
     )
     return {
         "trail_in": trail / INCH,
@@ -151,7 +151,12 @@ def write_simulation_report(
     _write_csv(out / "onset.csv", rows)
     # the run time stays out of the committed files (it is in the returned summary): a rerun writes the same bytes
     kept = {k: v for k, v in summary.items() if k != "seconds"}
-    write_file(out / "onset.json", json.dumps({"summary": kept, "rows": rows}, indent=2), "--report", "onset.json")
+    write_file(
+        out / "onset.json",
+        json.dumps(stamped("onset.json", {"summary": kept, "rows": rows}), indent=2),
+        "--report",
+        "onset.json",
+    )
     png = io.BytesIO()
     figure_onset_comparison(rows, traces, onset_c).savefig(png, format="png", dpi=110, metadata={"Software": None})
     write_file(out / "onset.png", png.getvalue(), "--report", "onset.png")

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from designer.jsonsafe import finite
+from designer.jsonsafe import finite, stamped
 from designer.parameters import VARIABLE_TABLE
 from designer.versions import versions
 from designer.studies.front import hypervolume_2d, igd_plus, normalise
@@ -211,7 +211,10 @@ class ExploreResult(Record):
                 lines.append(",".join(cells))
         csv_path, json_path = out / "explore.csv", out / "explore.json"
         _atomic_write_many(
-            {csv_path: "\n".join(lines) + "\n", json_path: json.dumps(finite(self.to_dict()), indent=2) + "\n"}
+            {
+                csv_path: "\n".join(lines) + "\n",
+                json_path: json.dumps(stamped("explore.json", finite(self.to_dict())), indent=2) + "\n",
+            }
         )
         return csv_path, json_path
 

@@ -29,7 +29,7 @@ import numpy as np
 
 from designer.children import bind_to_parent
 from designer.errors import StorageError
-from designer.model import FEASIBILITY_TOLERANCE, VARIABLES
+from designer.model import FEASIBILITY_TOLERANCE, VARIABLES, Caster
 from designer.problem import Problem
 from designer.studies.explore._operators import Operators, SearchSpace, category_problem, search_space
 from designer.studies.explore._storage import StorageSpec, _one_line, open_storage, parse_storage
@@ -108,7 +108,7 @@ class _Evaluator:
         )
         params = {name: trial.suggest_float(name, lo, hi) for name, lo, hi in self.space.continuous}
         sub = self.problems[category]
-        values = sub.evaluate(self.design_array(category, params)[None, :]).row(0)
+        values = evaluate_trial(sub, self.design_array(category, params))
         f_turn, p = values.turning_effort, values.threshold_force
         # the model's constraint values less its one tolerance, so optuna's g <= 0 is the model's feasibility:
         # g_risk on V_q of the risk bound (V_c for a nominal problem), g_radius on the swept radius
@@ -117,6 +117,11 @@ class _Evaluator:
         if sub.swept_radius_max is not None:
             trial.set_constraint("swept_radius", values.g_radius - tol)
         return (f_turn if math.isfinite(f_turn) else 1e12), (p if math.isfinite(p) else 1e12)
+
+
+def evaluate_trial(sub: Problem, x: np.ndarray) -> Caster:
+    """One drawn candidate (T, d, B, c_f [SI]) by the model's evaluator under its category's problem: a Caster."""
+    return sub.evaluate(x[None, :]).row(0)
 
 
 def _counts(study) -> dict:
