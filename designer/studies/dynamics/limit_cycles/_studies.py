@@ -269,15 +269,8 @@ def stiffness_mass_map(
     total = len(casters) * len(factors) ** 2
     done = 0
     for name, (design, inertia, mass, measured) in casters.items():
-        v7 = float(
-            critical_speed(
-                design.trail,
-                inertia,
-                design.groove,
-                design.damping,
-                conditions.slip_coefficient,
-            )
-        )
+        k_s = conditions.slip_coefficient
+        v7 = float(critical_speed(design.trail, inertia, design.groove, design.damping, k_s))
         for fk in factors:
             for fn in factors:
                 dyn = DynamicsParameters(
