@@ -24,7 +24,7 @@ from designer.studies.dynamics._simulate import onset_speed, simulate
 from designer.data.paper import INCH
 from designer.model import Conditions, Design, critical_speed
 from designer.jsonsafe import stamped
-from designer.output import write_file
+from designer.output import PLOT, SOFTWARE, first_line_kind, write_file
 from designer.physics.inertia import Fixed
 from designer.plots.simulation import figure_onset_comparison
 from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING
@@ -156,11 +156,14 @@ def write_simulation_report(
         json.dumps(stamped("onset.json", {"summary": kept, "rows": rows}), indent=2),
         "--report",
         "onset.json",
+        kind=ONSET_KINDS["onset.json"],
     )
     png = io.BytesIO()
-    figure_onset_comparison(rows, traces, onset_c).savefig(png, format="png", dpi=110, metadata={"Software": None})
-    write_file(out / "onset.png", png.getvalue(), "--report", "onset.png")
-    write_file(out / "report.md", _report_markdown(rows, summary), "--report", "report.md")
+    figure_onset_comparison(rows, traces, onset_c).savefig(png, format="png", dpi=110, metadata={"Software": SOFTWARE})
+    write_file(out / "onset.png", png.getvalue(), "--report", "onset.png", kind=ONSET_KINDS["onset.png"])
+    write_file(
+        out / "report.md", _report_markdown(rows, summary), "--report", "report.md", kind=ONSET_KINDS["report.md"]
+    )
     return {"rows": rows, "summary": summary}
 
 
@@ -193,6 +196,15 @@ def _appendix_c(conditions: Conditions, rtol: float):
     return onset_c, traces, record
 
 
+ONSET_KINDS = {
+    "onset.json": first_line_kind('{\n  "schema": "caster-designer/onset.json/', "an onset.json of designer simulate"),
+    "onset.csv": first_line_kind("trail_in,inertia_kgm2,", "an onset.csv of designer simulate"),
+    "report.md": first_line_kind("# Simulated shimmy onset vs Eq. 7", "the onset report of designer simulate"),
+    "onset.png": PLOT,
+}
+"""The onset study's files: an existing one is replaced only when the tool wrote it (:func:`designer.output.write_file`)."""
+
+
 def _write_csv(path: Path, rows: list[dict]) -> None:
     """``onset.csv``: one line per case, floats to 6 significant digits."""
     fields = list(rows[0])
@@ -201,7 +213,7 @@ def _write_csv(path: Path, rows: list[dict]) -> None:
     writer.writeheader()
     for row in rows:
         writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
-    write_file(path, text.getvalue(), "--report", "onset.csv")
+    write_file(path, text.getvalue(), "--report", "onset.csv", kind=ONSET_KINDS["onset.csv"])
 
 
 def _summarise(rows) -> dict:
