@@ -58,3 +58,4 @@ pytestmark
 _.binary_location
 dask_setup  # Dask's preload hook (designer/children.py: preload=["designer.children"] in studies/fleet)
 worker  # its argument
+_.turning_moment  # a Casters column read by key (designer evaluate's table)

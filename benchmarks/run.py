@@ -243,8 +243,6 @@ class PymooCaster:
     def __new__(cls, problem, counter):
         from pymoo.core.problem import Problem as PymooProblem
 
-        from designer.solvers.nlp import evaluate_many
-
         lo, hi = problem.lower().as_array(), problem.upper().as_array()
         n_ieq = 1 + (problem.swept_radius_max is not None)
 
@@ -254,7 +252,7 @@ class PymooCaster:
 
             def _evaluate(self, x, out, *args, **kwargs):
                 counter[0] += len(x)
-                v = evaluate_many(problem, np.asarray(x, float))
+                v = problem.evaluate(np.asarray(x, float))
                 out["F"] = np.column_stack([v["turning_effort"], v["threshold_force"]])
                 g = [1 - confident_speed(v) / problem.required_speed]
                 if problem.swept_radius_max is not None:
@@ -292,7 +290,6 @@ def optuna_method(problem, trials: int, operators: str, repeats: int, quality: Q
     import optuna
 
     from designer.model import VARIABLES
-    from designer.solvers.nlp import evaluate_many
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
@@ -318,7 +315,7 @@ def optuna_method(problem, trials: int, operators: str, repeats: int, quality: Q
 
     def objective(trial):
         x = np.array([[trial.suggest_float(name, lo[i], hi[i]) for i, name in enumerate(VARIABLES)]])
-        v = evaluate_many(problem, x)
+        v = problem.evaluate(x)
         trial.set_constraint("shimmy", float(1 - confident_speed(v)[0] / problem.required_speed))
         if problem.swept_radius_max is not None:
             trial.set_constraint("swept_radius", float(v["swept_radius"][0] / problem.swept_radius_max - 1))
@@ -402,7 +399,6 @@ def slsqp_method(problem, eps_values, repeats: int, quality: Quality):
 
 def grid_front(problem, shape) -> tuple[np.ndarray, int]:
     """Dense grid over (T, d, B, c_f), the one model vectorised chunk by chunk, non-dominated filter."""
-    from designer.solvers.nlp import evaluate_many
 
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
     axes = [np.linspace(lo[i], hi[i], n) if hi[i] > lo[i] else np.array([lo[i]]) for i, n in enumerate(shape)]
@@ -413,7 +409,7 @@ def grid_front(problem, shape) -> tuple[np.ndarray, int]:
     for start in range(0, len(axes[1]), chunk):
         ds = axes[1][start : start + chunk]
         x = np.column_stack([np.tile(t, len(ds)), np.repeat(ds, per_d), np.tile(b, len(ds)), np.tile(c, len(ds))])
-        v = evaluate_many(problem, x)
+        v = problem.evaluate(x)
         count += len(x)
         ok = feasible_mask(problem, v)
         fronts.append(fast_nondominated(np.column_stack([v["turning_effort"][ok], v["threshold_force"][ok]])))
@@ -430,10 +426,10 @@ def grid_method(problem, shape, repeats: int, quality: Quality):
 
 
 def model_throughput(problem, n: int, repeats: int = 5) -> dict:
-    from designer.solvers.nlp import evaluate_many, sample_designs
+    from designer.solvers.nlp import sample_designs
 
     x = sample_designs(problem, 1 << int(np.ceil(np.log2(n))), seed=1)[:n]
-    times, _ = timed(lambda _: evaluate_many(problem, x), repeats)
+    times, _ = timed(lambda _: problem.evaluate(x), repeats)
     return {"designs": n, **stats(times), "designs_per_second": n / statistics.median(times)}
 
 
@@ -698,7 +694,7 @@ def markdown(results: dict) -> str:
     lines += [
         "## Model and NLP costs (indoor-manual)",
         "",
-        f"- Vectorised model (`evaluate_many` → `performance` on NumPy arrays): {th['designs_per_second']:.3g} "
+        f"- Vectorised model (`Problem.evaluate` → `model.evaluate` → `performance` on NumPy arrays): {th['designs_per_second']:.3g} "
         f"designs/s ({th['designs']:,} designs in {th['median_s'] * 1e3:.1f} ms, median of {th['repeats']}).",
         f"- NLP build (CasADi SX + IPOPT): {nc['nlp_build_s'] * 1e3:.1f} ms; batched solvers (4, 16, 64 blocks, cold "
         f"and warm variants, built lazily): {nc['batch_solver_build_s'] * 1e3:.0f} ms.",

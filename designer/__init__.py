@@ -25,6 +25,8 @@ _LAZY = {
     "ProblemError": "designer.errors",
     "SolverError": "designer.errors",
     "CandidateValues": "designer.model",
+    "Caster": "designer.model",
+    "Casters": "designer.model",
     "Conditions": "designer.model",
     "Design": "designer.model",
     "evaluate": "designer.model",
@@ -70,4 +72,7 @@ def __dir__() -> list[str]:
     return sorted(set(globals()) | set(_LAZY))
 
 
-__all__ = [*_LAZY]
+_DEPRECATED = {"CandidateValues", "evaluate_candidates"}
+"""Former names that still resolve for a release (CHANGELOG.md), kept out of ``__all__`` and the API pages."""
+
+__all__ = [name for name in _LAZY if name not in _DEPRECATED]

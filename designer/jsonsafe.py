@@ -9,6 +9,17 @@ from typing import Any
 import numpy as np
 
 
+SCHEMA_VERSION = 1
+"""The version of the JSON files the tool writes and of its ``--json`` output; raised when a key changes meaning or
+goes away (CHANGELOG.md says what changed), not when a key is added."""
+
+
+def stamped(kind: str, data: dict[str, Any]) -> dict[str, Any]:
+    """``data`` with its ``schema`` first: ``"caster-designer/<kind>/<SCHEMA_VERSION>"`` (``kind``: the file, e.g.
+    ``"front.json"``, or the command of a ``--json`` output)."""
+    return {"schema": f"caster-designer/{kind}/{SCHEMA_VERSION}", **data}
+
+
 def finite(value: Any) -> Any:
     """JSON-safe copy: non-finite floats become None, NumPy scalars and arrays plain Python.
 

@@ -36,8 +36,10 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("plots", ("designer.plots",)),
     ("solvers", ("designer.solvers",)),
     ("studies", ("designer.studies",)),
+    ("reportdata", ("designer.reportdata",)),
     ("pipeline", ("designer.pipeline",)),
     ("report", ("designer.report",)),
+    ("jobs", ("designer.jobs",)),
     ("entry", ("designer.cli", "designer.studio", "designer.__main__", "designer.entry")),
 ]
 """Lowest first.  A module may import its own layer and the layers below it, never one above."""
@@ -191,7 +193,8 @@ then imports the whole command line (designer/entry.py)."""
 
 def _top_imports(path: Path) -> set[str]:
     """Modules a file imports when it is imported: its module-level imports (also in top-level ``try``/``if``
-    blocks, but not under ``if TYPE_CHECKING``), with the designer packages that contain them."""
+    blocks, but not under ``if TYPE_CHECKING``), with the designer packages that contain them; a module-level
+    ``__getattr__`` counts too (it serves names of the module: using them loads what it imports)."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
     module = module_name(path)
     package = module if path.name == "__init__.py" else module.rsplit(".", 1)[0]
@@ -201,7 +204,9 @@ def _top_imports(path: Path) -> set[str]:
         for node in nodes:
             if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
                 continue
-            if isinstance(node, (ast.If, ast.Try)):
+            if isinstance(node, ast.FunctionDef) and node.name == "__getattr__":
+                visit(node.body)
+            elif isinstance(node, (ast.If, ast.Try)):
                 visit(node.body + node.orelse + getattr(node, "finalbody", []))
                 for handler in getattr(node, "handlers", []):
                     visit(handler.body)
@@ -397,6 +402,14 @@ def test_every_package_states_its_api():
             t.id for node in tree.body if isinstance(node, ast.Assign) for t in node.targets if isinstance(t, ast.Name)
         }
         names |= {node.name for node in tree.body if isinstance(node, (ast.FunctionDef, ast.ClassDef))}
+        names |= {  # served lazily by a module-level __getattr__
+            alias.asname or alias.name
+            for node in tree.body
+            if isinstance(node, ast.FunctionDef) and node.name == "__getattr__"
+            for inner in ast.walk(node)
+            if isinstance(inner, ast.ImportFrom)
+            for alias in inner.names
+        }
         names |= {p.stem for p in init.parent.glob("*.py")} | {p.name for p in init.parent.iterdir() if p.is_dir()}
         declared = [
             node
@@ -448,13 +461,20 @@ def test_the_cluster_rule_catches_a_prefix_cluster(tmp_path):
 
 # --------------------------------------------------------------------------- one evaluator
 
-COMPOSED = ("turning_effort", "threshold_force", "threshold_force_ratio")
-"""Physics functions of the objectives: outside the layers below, a caster's F_turn and P come from the model
-(``designer.model.evaluate_candidates`` or ``performance``), never from these."""
+COMPOSED = (
+    "turning_effort",
+    "threshold_force",
+    "threshold_force_ratio",
+    "critical_shimmy_speed",
+    "shimmy_probability_mc_many",
+    "law_draws",
+)
+"""Physics functions of the objectives, Eq. 7 and the Monte Carlo of the risk law: outside the layers below, a
+caster's F_turn, P, V_c and P(shimmy) come from the model (``designer.model.evaluate``), never from these."""
 
-MAY_COMPOSE = ("designer.physics", "designer.model", "designer.solvers", "designer.plots")
+MAY_COMPOSE = ("designer.physics", "designer.model", "designer.solvers")
 """The rooms that may call them: the physics itself, the model that composes it, the solvers that build it into
-their programs, the figures that draw the paper's curves."""
+their programs (the figures ask the model too)."""
 
 
 def composed_physics_uses(path: Path) -> list[str]:
@@ -482,8 +502,9 @@ def composed_physics_uses(path: Path) -> list[str]:
 
 
 def test_only_the_model_composes_the_objectives():
-    """No module outside physics/, model/, solvers/ and plots/ calls turning_effort, threshold_force or
-    threshold_force_ratio: the studies, the pipeline, the report, the CLI and the studio ask the model."""
+    """No module outside physics/, model/ and solvers/ calls turning_effort, threshold_force, threshold_force_ratio,
+    critical_shimmy_speed or the Monte Carlo (shimmy_probability_mc_many, law_draws): the studies, the plots, the
+    pipeline, the report, the CLI and the studio ask the model."""
     offenders = [
         f"{module_name(path)}: {use}"
         for path in ALL_FILES
@@ -494,8 +515,9 @@ def test_only_the_model_composes_the_objectives():
 
 
 def test_the_evaluator_rule_catches_a_study_composing_physics(tmp_path):
-    """The rule is not vacuous: a planted study importing threshold_force_ratio, and one calling
-    turning.turning_effort on the physics module, are both reported; model.performance is not."""
+    """The rule is not vacuous: a planted study importing threshold_force_ratio, one calling turning.turning_effort
+    on the physics module, and one importing Eq. 7's critical_shimmy_speed and calling the Monte Carlo are all
+    reported; model.performance is not."""
     imports = tmp_path / "imports.py"
     imports.write_text("from designer.physics.threshold import threshold_force_ratio\n")
     calls = tmp_path / "calls.py"
@@ -504,6 +526,16 @@ def test_the_evaluator_rule_catches_a_study_composing_physics(tmp_path):
         "f = t.turning_effort(0.05, 0.0, 1.3, 178.0)\n"
         "p = designer.physics.threshold.threshold_force(0.2, 0.0127, 178.0)\n"
     )
+    eq7 = tmp_path / "eq7.py"
+    eq7.write_text(
+        "from designer.physics.shimmy import critical_shimmy_speed\n"
+        "from designer.physics import uncertainty as u\n"
+        "p = u.shimmy_probability_mc_many(0.05, 1e-3, 0.0, 1.3, 1250.0, 2.5, None)\n"
+    )
+    assert composed_physics_uses(eq7) == [
+        "line 1: imports designer.physics.shimmy.critical_shimmy_speed",
+        "line 3: calls u.shimmy_probability_mc_many",
+    ]
     clean = tmp_path / "clean.py"
     clean.write_text("from designer.model import performance\nrec = None\nP = rec.threshold_force if rec else 0\n")
     assert composed_physics_uses(imports) == ["line 1: imports designer.physics.threshold.threshold_force_ratio"]
@@ -512,3 +544,53 @@ def test_the_evaluator_rule_catches_a_study_composing_physics(tmp_path):
         "line 4: calls designer.physics.threshold.threshold_force",
     ]
     assert composed_physics_uses(clean) == []
+
+
+# --------------------------------------------------------------------------- the renderer computes nothing
+
+RENDERERS = ("designer.report", "designer.plots")
+"""The rooms that only render: they take report data or records and import no study and not the pipeline."""
+COMPUTERS = ("designer.studies", "designer.pipeline")
+
+
+def renderer_imports(path: Path, module: str) -> list[str]:
+    """The imports of a study or of the pipeline in ``path`` (module ``module``), when it is a renderer's."""
+    if not any(module == r or module.startswith(r + ".") for r in RENDERERS):
+        return []
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            names = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names = [node.module]
+        else:
+            continue
+        found += [
+            f"{module}:{node.lineno} imports {name}"
+            for name in names
+            if any(name == c or name.startswith(c + ".") for c in COMPUTERS)
+        ]
+    return found
+
+
+def test_report_and_plots_import_no_study_nor_the_pipeline():
+    """report/ and plots/ import nothing from studies/ or the pipeline (function-local imports included)."""
+    offenders = [use for path in ALL_FILES for use in renderer_imports(path, module_name(path))]
+    assert offenders == []
+
+
+def test_the_renderer_rule_catches_a_planted_import(tmp_path):
+    """The rule is not vacuous: a planted report module importing the pipeline inside a function, and a planted
+    plots module importing a study, are reported; the same imports in a study are not."""
+    report = tmp_path / "report_mod.py"
+    report.write_text("def f():\n    from designer.pipeline import report_data\n    return report_data\n")
+    plots = tmp_path / "plots_mod.py"
+    plots.write_text("import designer.studies.checks\n")
+    assert renderer_imports(report, "designer.report.planted") == [
+        "designer.report.planted:2 imports designer.pipeline"
+    ]
+    assert renderer_imports(plots, "designer.plots.planted") == [
+        "designer.plots.planted:1 imports designer.studies.checks"
+    ]
+    assert renderer_imports(report, "designer.studies.planted") == []
+    assert renderer_imports(report, "designer.reportdata") == []  # the hand-over, not a renderer

@@ -112,20 +112,21 @@ def _examples() -> dict[str, Record]:
 def _recommend_examples(problem) -> dict[str, Record]:
     """The recommendation (its alternatives and buildable front, the continuous front it was given) and the
     evaluator's values of a few candidates, with their Monte Carlo risk."""
-    from designer.model import evaluate_candidates
+    from designer.model import evaluate
     from designer.studies.front import pareto_front
     from designer.studies.recommend import recommend
 
     front = _quiet(lambda: pareto_front(problem, points=9))
     rec = _quiet(lambda: recommend(problem, front=front))
     designs = [problem.lower(), problem.upper(), rec.design]
-    values = evaluate_candidates(designs, problem.conditions, probability_at=problem.target_speed, samples=2000)
+    values = evaluate(designs, problem.conditions, risk=problem.target_speed, samples=2000)
     return {
         "Recommendation": rec,
         "Recommendation (alternative)": rec.alternatives[0],
         "Spec": rec.spec,
         "Limit": rec.spec.limits[0],
-        "CandidateValues": values,
+        "Casters": values,
+        "Caster": values.row(2),
     }
 
 
@@ -259,7 +260,8 @@ NAMES = [
     "Recommendation (alternative)",
     "Spec",
     "Limit",
-    "CandidateValues",
+    "Casters",
+    "Caster",
 ]
 
 

@@ -24,6 +24,7 @@ import warnings
 from collections.abc import Iterator
 
 import designer
+from designer.cli._common import RUNNING
 from designer.cli._parser import Parser
 from designer.cli._terminal import Fitted, fit, width
 from designer.errors import (
@@ -89,6 +90,7 @@ def _main(argv: list[str] | None) -> int:
     if not getattr(args, "command", None):
         parser.print_help()
         return 2
+    RUNNING["command"] = args.command
     with warnings.catch_warnings(), _fitted(args):
         warnings.simplefilter("default")
         warnings.showwarning = _one_line_warning

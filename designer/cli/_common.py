@@ -6,7 +6,7 @@ import json
 import sys
 
 from designer.cli._terminal import fit
-from designer.jsonsafe import finite
+from designer.jsonsafe import finite, stamped
 from designer.errors import InputError
 from designer.output import FileKind, check_file, check_folder
 from designer.units import parse_quantity_text
@@ -32,9 +32,21 @@ def choice_option(value: str, allowed: tuple[str, ...], option: str) -> str:
     return value
 
 
-def print_json(data) -> None:
-    """Print ``data`` as JSON; NaN and infinities become null."""
+def print_json(data, kind: str | None = None) -> None:
+    """Print ``data`` as JSON; NaN and infinities become null; a dict gets its ``schema`` first
+    (:func:`designer.jsonsafe.stamped`; ``kind``: default the command, ``designer <command> --json``)."""
+    if isinstance(data, dict):
+        data = stamped(kind or _command(), data)
     print(json.dumps(finite(data), indent=2, sort_keys=False))
+
+
+RUNNING = {"command": ""}
+"""The command :func:`designer.cli.main` is running (``run`` for ``designer run ...``): the kind of its --json."""
+
+
+def _command() -> str:
+    """The schema kind of the running command's --json output: ``"run --json"``."""
+    return f"{RUNNING['command'] or 'designer'} --json"
 
 
 def eprint(*args) -> None:

@@ -120,7 +120,7 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        values = evaluate(design, conditions, speed)
+        values = dict(evaluate(design, conditions, speed))
     values["warnings"] = [str(w.message) for w in caught]
     values["sources"] = {  # where the load and the sill came from: shown beside them
         "load": "--load" if args.load else "default: the paper's test load (App. C)",

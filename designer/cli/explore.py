@@ -88,7 +88,7 @@ def run(args) -> int:
     for note in result.warnings:
         eprint(f"designer: note: {note}")
     if args.json:
-        print_json(result.to_dict())
+        print_json(result.to_dict(), kind="explore.json")  # the record explore.json holds
         return 0
     _print(result, csv_path, json_path)
     return 0

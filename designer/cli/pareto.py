@@ -132,7 +132,7 @@ def run(args) -> int:
         jobs = [(problem, Path(args.out) if args.out else None)]
     if speed is not None:
         jobs = [(p.replace(target_speed=speed), out) for p, out in jobs]
-    from designer.report.build import compute_and_write
+    from designer.jobs import compute_and_write
 
     from designer.report.writer import check_target  # exit 7 for a file or an unwritable place, 2 for a foreign folder
 

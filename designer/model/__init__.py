@@ -1,14 +1,15 @@
 """The caster model: one design, its operating conditions, and everything computed from them.
 
-:func:`performance` is the one place where the physics functions are combined for a design; the solvers
-(CasADi, cvxpy, scipy, optuna), the studies and the reports all call the model, so a formula is never
-written twice.
+:func:`evaluate` is the one door to the model for numbers: one caster or a batch in, :class:`Casters`
+(one :class:`Caster`) out, with the limits, J and the risk on request.  :func:`performance` is the one place
+where the physics functions are combined for a design, on floats, arrays or CasADi symbols: :func:`evaluate`
+calls it, and the solvers build it into their programs, so a formula is never written twice.
 
 Modules
 -------
-_caster      :class:`Design`, :class:`Conditions`, :func:`performance`, :func:`evaluate`, the design families
-_candidates  :func:`evaluate_candidates`: the one evaluator of a batch of candidates (performance, risk bound,
-             feasibility with one tolerance, the Monte Carlo risk)
+_caster      :class:`Design`, :class:`Conditions`, :func:`performance`, the design families
+_candidates  :func:`evaluate`, :class:`Casters`, :class:`Caster`: the one evaluator (performance, constraint
+             values and feasibility with one tolerance, J, the risk by Monte Carlo or the exact law)
 """
 
 from __future__ import annotations
@@ -27,13 +28,16 @@ from designer.model._caster import (
     Design,
     caster_load,
     check_design,
-    evaluate,
     performance,
 )
 from designer.model._candidates import (
     FEASIBILITY_TOLERANCE,
     CandidateValues,
+    Caster,
+    Casters,
+    critical_speed,
     design_columns,
+    evaluate,
     evaluate_candidates,
     scatter_of,
     shimmy_probability,
@@ -49,6 +53,9 @@ __all__ = [
     "caster_load",
     "FEASIBILITY_TOLERANCE",
     "CandidateValues",
+    "Caster",
+    "Casters",
+    "critical_speed",
     "design_columns",
     "evaluate_candidates",
     "scatter_of",

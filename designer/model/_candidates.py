@@ -14,17 +14,31 @@ nowhere else in the studies.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+import warnings
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
 import numpy as np
 
-from designer.parameters import VARIABLES
+from designer.parameters import PARAMETERS, VARIABLES
+from designer.units import parse_quantity
 from designer.reprs import Record, dataframe, plain
 from designer.physics.geometry import effective_trail, swept_radius
 from designer.physics.scatter import inertia_prediction
-from designer.physics.uncertainty import MC_TARGET_SE, Uncertainty, shimmy_probability_mc_many
-from designer.model._caster import Conditions, Design, performance
+from designer.errors import InputError
+from designer.physics.shimmy import (
+    friction_damping_at_speed,
+    growth_rate,
+    shimmy_frequency,
+    third_order_coefficients,
+)
+from designer.physics.uncertainty import (
+    MC_TARGET_SE,
+    Uncertainty,
+    shimmy_probability_exact,
+    shimmy_probability_mc_many,
+)
+from designer.model._caster import Conditions, Design, check_design, performance
 
 FEASIBILITY_TOLERANCE = 1e-9
 """Relative tolerance of the two limits a candidate must meet: V_q >= V_req (1 − tol) and R_s <= R_max (1 + tol).
@@ -63,8 +77,9 @@ def design_columns(designs: Any) -> dict[str, np.ndarray]:
 
 
 @dataclass(frozen=True, kw_only=True)
-class CandidateValues(Record):
-    """Every number of a batch of candidate casters (arrays in the broadcast shape of the inputs), SI.
+class Casters(Record):
+    """Every number of a batch of evaluated casters (arrays in the broadcast shape of the inputs), SI: what
+    :func:`evaluate` returns; ``.row(i)`` is one :class:`Caster`.
 
     Attributes
     ----------
@@ -79,13 +94,19 @@ class CandidateValues(Record):
         1 − α under the risk law (``shimmy_speed_quantile``), or V_c itself without a risk bound; times the
         calibration factor k of an observed onset
     turning_effort : F_turn [N] (Eq. 9 with the turning model, on the effective trail)
+    turning_moment : M_turn + M_d [N·m], the moment F_turn overcomes at the trail
     threshold_force : P [N] (Eq. 4A); +inf where the wheel cannot climb the sill (d <= 2h)
+    threshold_force_ratio : P/L [-] (Eq. 4A); +inf where the wheel cannot climb the sill
     swept_radius : T + d/2 of the fork as built [m]
-    risk_ok, radius_ok, sill_ok : each limit met (V_q >= V_req, R_s <= R_max within
-        :data:`FEASIBILITY_TOLERANCE`; d > 2h); True where no limit was given
+    shimmy_frequency : ω of the third-order model [rad/s] (Eq. 15B)
+    g_risk, g_radius : the constraint values, g <= 0 feasible within :data:`FEASIBILITY_TOLERANCE`:
+        1 − V_q/V_req and R_s/R_max − 1 [-] (−inf where no limit was given)
+    risk_ok, radius_ok, sill_ok : each limit met (g_risk, g_radius <= :data:`FEASIBILITY_TOLERANCE`; d > 2h)
     feasible : all three
-    shimmy_probability, shimmy_probability_se : Monte Carlo P(V_c,true < speed) and its standard error [-]
-        (None unless asked for)
+    weighted : J = w_turn F_turn + w_threshold P [N] for the weights given to :func:`evaluate` (else None)
+    growth_rate : μ of the oscillatory mode at the speed given to :func:`evaluate` [1/s] (Eq. 16B; else None)
+    shimmy_probability, shimmy_probability_se : P(V_c,true < speed) [-] (``risk``) by Monte Carlo with its
+        standard error, or by quadrature of the exact law (``exact=True``: SE 0); None unless asked for
     """
 
     trail: np.ndarray
@@ -99,17 +120,66 @@ class CandidateValues(Record):
     critical_speed: np.ndarray
     confident_speed: np.ndarray
     turning_effort: np.ndarray
+    turning_moment: np.ndarray
     threshold_force: np.ndarray
+    threshold_force_ratio: np.ndarray
     swept_radius: np.ndarray
+    shimmy_frequency: np.ndarray
+    g_risk: np.ndarray
+    g_radius: np.ndarray
     risk_ok: np.ndarray
     radius_ok: np.ndarray
     sill_ok: np.ndarray
     feasible: np.ndarray
+    weighted: np.ndarray | None = None
+    growth_rate: np.ndarray | None = None
     shimmy_probability: np.ndarray | None = None
     shimmy_probability_se: np.ndarray | None = None
 
     def __len__(self) -> int:
         return int(self.feasible.shape[0]) if self.feasible.ndim else 1
+
+    def J(self, weights: Sequence[float]) -> np.ndarray:
+        """J = w_turn F_turn + w_threshold P [N] for ``weights`` (w_turn, w_threshold): the weighted objective,
+        written once."""
+        return weights[0] * np.asarray(self.turning_effort) + weights[1] * np.asarray(self.threshold_force)
+
+    def g(self) -> np.ndarray:
+        """The constraint values (N, 2): g_risk, g_radius; g <= :data:`FEASIBILITY_TOLERANCE` is feasible."""
+        return np.column_stack(
+            [np.broadcast_to(self.g_risk, (len(self),)), np.broadcast_to(self.g_radius, (len(self),))]
+        )
+
+    def violation(self) -> np.ndarray:
+        """Total constraint violation [-]: the sum of the positive g (0 for a caster that meets both limits)."""
+        out: np.ndarray = np.maximum(0.0, self.g()).sum(axis=1)
+        return out
+
+    def keys(self) -> list[str]:
+        """The names of the fields that hold a value (the optional ones only when computed): the columns, read by key
+        as by attribute (``casters["threshold_force"]``)."""
+        return [f.name for f in fields(self) if getattr(self, f.name) is not None]
+
+    def __getitem__(self, key: str) -> Any:
+        if key not in self.keys():
+            raise KeyError(key)
+        return getattr(self, key)
+
+    def __contains__(self, key: object) -> bool:
+        return key in self.keys()
+
+    def get(self, key: str, default: Any = None) -> Any:
+        """The field ``key``, or ``default`` when it holds no value."""
+        return self[key] if key in self else default
+
+    def row(self, i: int) -> "Caster":
+        """Caster ``i`` (the fields as Python scalars)."""
+        n = len(self)
+        values: dict[str, Any] = {}
+        for f in fields(self):
+            value = getattr(self, f.name)
+            values[f.name] = None if value is None else np.broadcast_to(np.asarray(value), (n,))[i].item()
+        return Caster(**values)
 
     _units = {
         "trail": "m",
@@ -121,8 +191,12 @@ class CandidateValues(Record):
         "critical_speed": "m/s",
         "confident_speed": "m/s",
         "turning_effort": "N",
+        "turning_moment": "N·m",
         "threshold_force": "N",
         "swept_radius": "m",
+        "shimmy_frequency": "rad/s",
+        "weighted": "N",
+        "growth_rate": "1/s",
     }
 
     def to_dict(self) -> dict[str, Any]:
@@ -139,14 +213,14 @@ class CandidateValues(Record):
         arrays = {c: np.broadcast_to(np.asarray(getattr(self, c)), (n,)) for c in columns}
         rows = [{c: arrays[c][i].item() for c in columns} for i in range(n)]
         return dataframe(
-            "CandidateValues.to_pandas", rows, columns, {c: u for c, u in self._units.items() if c in columns}
+            f"{type(self).__name__}.to_pandas", rows, columns, {c: u for c, u in self._units.items() if c in columns}
         )
 
     def _repr_lines(self) -> list[str]:
         """One line: how many candidates, how many feasible, and the ranges of F_turn and P."""
         f, p = np.atleast_1d(self.turning_effort), np.atleast_1d(self.threshold_force)
         return [
-            f"CandidateValues({len(self)} candidates, {int(np.count_nonzero(self.feasible))} feasible; "
+            f"{type(self).__name__}({len(self)} casters, {int(np.count_nonzero(self.feasible))} feasible; "
             f"F_turn {float(np.min(f)):.4g}–{float(np.max(f)):.4g} N, P {float(np.min(p)):.4g}–{float(np.max(p)):.4g} N)"
         ]
 
@@ -166,19 +240,45 @@ class CandidateValues(Record):
             rows.append((f.name, f"{float(np.min(a)):.4g} – {float(np.max(a)):.4g}", self._units.get(f.name, "")))
         return rows
 
-    def take(self, index: Any) -> "CandidateValues":
+    def take(self, index: Any) -> "Casters":
         """The candidates at ``index`` (a boolean mask or integer indices along the first axis)."""
         taken: dict[str, Any] = {
             f.name: None if getattr(self, f.name) is None else np.asarray(getattr(self, f.name))[index]
             for f in fields(self)
         }
-        return CandidateValues(**taken)
+        return Casters(**taken)
 
 
-def evaluate_candidates(  # long: the docstring documents every argument; the body is about 45 lines
+@dataclass(frozen=True, kw_only=True)
+class Caster(Casters):
+    """One evaluated caster (:meth:`Casters.row`, or :func:`evaluate` of one :class:`Design`): the fields of
+    :class:`Casters` as Python scalars, also read by key (``caster["threshold_force"]``, ``dict(caster)``), as
+    the dict that ``designer.evaluate`` returned before."""
+
+    def __len__(self) -> int:
+        return 1
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the caster and its forces."""
+        return [
+            f"Caster(T {self.trail:.4g} m, d {self.diameter:.4g} m, B {self.groove:.4g} m, c_f {self.damping:.4g} "
+            f"N·m/rad; F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, V_c "
+            f"{self.critical_speed:.4g} m/s)"
+        ]
+
+
+CandidateValues = Casters
+"""The former name of :class:`Casters`."""
+
+
+def evaluate(  # long: the docstring documents every argument
     designs: Any,
-    conditions: Conditions,
+    conditions: Conditions = Conditions(),
+    speed: Any = None,
     *,
+    weights: Sequence[float] | None = None,
+    risk: Any = None,
+    exact: bool = False,
     inertia: Any = None,
     measured: Any = None,
     load: Any = None,
@@ -187,49 +287,150 @@ def evaluate_candidates(  # long: the docstring documents every argument; the bo
     swept_radius_max: Any = None,
     stem_angle: float = 0.0,
     calibration: float = 1.0,
-    probability_at: Any = None,
     scatter: Uncertainty | None = None,
     samples: int | None = None,
     seed: int | None = None,
     target_se: float | None = MC_TARGET_SE,
-) -> CandidateValues:
-    """Evaluate a batch of candidate casters: performance, risk bound, feasibility, and the risk on request.
+) -> Any:
+    """The one door to the model for numbers: evaluate one caster or a batch.
 
     Parameters
     ----------
-    designs : the candidates, by name (:func:`design_columns`): T, d, B [m], c_f [N·m/rad]
+    designs : one :class:`Design` (then a :class:`Caster` is returned, after the model-range check of
+        :func:`check_design`: InputError), or a batch by name (:func:`design_columns`): T, d, B [m],
+        c_f [N·m/rad] (then :class:`Casters`)
     conditions : the chair and the model (load L [N], sill h [m], surface, turning mode, θ0, K_s, the inertia
         model, the risk law ``uncertainty``: the bound when set, else the nominal V_c >= V_req)
-    inertia : I_w per candidate [kg·m²] (a measured or catalogue wheel); None: ``conditions.inertia(d)``
-    measured : whether each candidate's I_w was measured (True, False or one flag per candidate); default: the
+    speed : a speed [m/s] at which to give the growth rate μ of the oscillatory mode (Eq. 16B; Eq. 6 with
+        Eq. 4 for the friction damping)
+    weights : (w_turn, w_threshold): give ``weighted`` = J = w_turn F_turn + w_threshold P [N]
+    risk : a speed [m/s] (one, or one per caster) at which to give P(V_c,true < speed) under the risk law
+        (``scatter``, default :func:`scatter_of` the conditions): by Monte Carlo with its SE, or by quadrature
+        of the exact law with ``exact=True`` (one caster at a time; SE 0)
+    inertia : I_w per caster [kg·m²] (a measured or catalogue wheel); None: ``conditions.inertia(d)``
+    measured : whether each caster's I_w was measured (True, False or one flag per caster); default: the
         inertia model's own when ``inertia`` is None (catalogue and fixed wheels measured, the power law not),
         else True.  A wheel not measured is known by its diameter: the risk law then scatters its I_w by Table
         1's prediction interval at d (bound and Monte Carlo alike)
-    load, threshold_height : per-candidate (broadcasting) load [N] and sill height [m] instead of the
+    load, threshold_height : per-caster (broadcasting) load [N] and sill height [m] instead of the
         conditions' (a fleet's chairs)
     required_speed : V_req = (1 + margin) V_target [m/s] of the risk limit (None: no limit)
     swept_radius_max : R_max [m] (None: no limit)
     stem_angle : stem tilt φ [rad] from vertical; T is then the fork offset e and the tyre sees e + (d/2) sin φ
     calibration : factor k = V_obs / V_c,Eq.7 of a caster whose onset was observed (multiplies V_c in the bound
-        and in the Monte Carlo)
-    probability_at : speed [m/s] (one, or one per candidate) at which to estimate P(V_c,true < speed) by Monte
-        Carlo (None: no Monte Carlo)
-    scatter : the risk law of that estimate (default :func:`scatter_of` the conditions)
+        and in the risk)
     samples, seed, target_se : the Monte Carlo's least sample, seed and target standard error
         (:func:`shimmy_probability`)
 
     Returns
     -------
-    CandidateValues.  Equations: I_w (inertia model), Eq. 7 (V_c), ``shimmy_speed_quantile`` (V_q, the risk
-    law), Eq. 4A (P), Eq. 9 (F_turn), T + d/2 (R_s); :func:`designer.model.performance` composes them.
+    Casters (a Caster for one Design).  Equations: I_w (inertia model), Eq. 7 (V_c), ``shimmy_speed_quantile``
+    (V_q, the risk law), Eq. 4A (P), Eq. 9 (F_turn), T + d/2 (R_s), Eq. 15B (ω), Eq. 16B (μ):
+    :func:`designer.model.performance` composes them.
     """
-    columns = design_columns(designs)
-    t, d, b, c = (columns[name] for name in VARIABLES)
-    cond = conditions
+    single = isinstance(designs, Design)
+    if single:
+        check_design(designs, error=InputError)  # an 8 m wheel is inches written as metres, not a caster
+    if not isinstance(conditions, Conditions):
+        raise InputError(f"conditions = {conditions!r}: expected a designer.Conditions, e.g. Conditions(load=178)")
+    if speed is not None:
+        speed = _speed(speed)
+    out = _evaluate(
+        _columns(designs),
+        conditions,
+        inertia=inertia,
+        measured=measured,
+        load=load,
+        threshold_height=threshold_height,
+        required_speed=required_speed,
+        swept_radius_max=swept_radius_max,
+        stem_angle=stem_angle,
+        calibration=calibration,
+    )
+    extra: dict[str, Any] = {}
+    if weights is not None:
+        extra["weighted"] = out.J(weights)
+    if speed is not None:
+        extra["growth_rate"] = _growth_rate(out, conditions, speed)
+    if risk is not None:
+        law = scatter_of(out_conditions(conditions, load, threshold_height)) if scatter is None else scatter
+        extra["shimmy_probability"], extra["shimmy_probability_se"] = _risk(
+            out, conditions, risk, law, exact, calibration, samples, seed, target_se
+        )
+    if extra:
+        out = replace(out, **extra)
+    return out.row(0) if single else out
+
+
+def _columns(designs: Any) -> dict[str, np.ndarray]:
+    """:func:`design_columns`, with a user's wrong argument (a string, a dict without the four names) refused in
+    one line naming it."""
+    try:
+        columns = design_columns(designs)
+    except (KeyError, TypeError, ValueError) as error:
+        raise InputError(
+            f"design = {designs!r}: expected a designer.Design (e.g. Design(trail='2 in', diameter='6 in', "
+            f"groove=0, damping=1.3)) or a batch with the columns {', '.join(VARIABLES)} ({error})"
+        ) from None
+    return columns
+
+
+def _speed(speed: Any) -> Any:
+    """The growth rate's speed [m/s]: a number or a quantity with units (one, or one per caster), finite and
+    within the target speed's range of the parameter table."""
+    if isinstance(speed, (np.ndarray, list, tuple)):
+        values = np.asarray(speed, dtype=float)
+    else:
+        values = np.asarray(parse_quantity(speed, "speed", "speed"), dtype=float)
+    low, high = PARAMETERS["target_speed"].range or (0.0, np.inf)
+    bad = ~((values >= low) & (values <= high))
+    if np.any(bad):
+        shown = float(values.ravel()[np.argmax(bad.ravel())])
+        raise InputError(f"speed = {shown:g} m/s: outside the model's range {low:g} to {high:g} m/s")
+    return values if values.ndim else float(values)
+
+
+def critical_speed(
+    trail: Any, inertia: Any, groove: Any, damping: Any, slip_coefficient: float = Conditions().slip_coefficient
+) -> Any:
+    """V_c of Eq. 7 [m/s] of casters whose wheel inertia I_w [kg·m²] is given (a simulated knock's effective
+    c_f = M_f/θ_i, a paper figure's Table 1 wheel, a paper check), by :func:`evaluate` without a risk law; T, B [m],
+    c_f [N·m/rad] broadcast, K_s [N]; a float for scalar inputs.  The wheel's diameter plays no part in V_c once
+    I_w is given.  The signature of :func:`designer.physics.shimmy.critical_shimmy_speed`, so a check can take
+    either."""
+    arrays = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (trail, inertia, groove, damping)))
+    t, i_w, b, c = (a.ravel() for a in arrays)
+    design = {"trail": t, "diameter": np.full(t.shape, 0.2), "groove": b, "damping": c}  # d: any, I_w is given
+    conditions = Conditions(slip_coefficient=float(slip_coefficient), uncertainty=None)
+    v = evaluate(design, conditions, inertia=i_w).critical_speed.reshape(arrays[0].shape)
+    return float(v) if v.ndim == 0 else v
+
+
+def out_conditions(conditions: Conditions, load: Any, threshold_height: Any) -> Conditions:
+    """``conditions`` with a per-caster load [N] and sill height [m] when given."""
     if load is not None:
-        cond = cond.replace(load=np.asarray(load, dtype=float))
+        conditions = conditions.replace(load=np.asarray(load, dtype=float))
     if threshold_height is not None:
-        cond = cond.replace(threshold_height=np.asarray(threshold_height, dtype=float))
+        conditions = conditions.replace(threshold_height=np.asarray(threshold_height, dtype=float))
+    return conditions
+
+
+def _evaluate(
+    columns: dict[str, np.ndarray],
+    conditions: Conditions,
+    *,
+    inertia: Any,
+    measured: Any,
+    load: Any,
+    threshold_height: Any,
+    required_speed: Any,
+    swept_radius_max: Any,
+    stem_angle: float,
+    calibration: float,
+) -> Casters:
+    """The deterministic columns of :func:`evaluate` (performance, limits, feasibility)."""
+    t, d, b, c = (columns[name] for name in VARIABLES)
+    cond = out_conditions(conditions, load, threshold_height)
     i_w = np.asarray(cond.inertia(d) if inertia is None else inertia, dtype=float) + 0 * d
     if measured is None:
         measured = bool(getattr(cond.inertia, "measured", False)) if inertia is None else True
@@ -243,11 +444,13 @@ def evaluate_candidates(  # long: the docstring documents every argument; the bo
     if calibration != 1.0:
         confident = calibration * confident
     force = np.where(sill_ok, np.asarray(values["threshold_force"], dtype=float), np.inf)
+    ratio = np.where(sill_ok, np.asarray(values["threshold_force_ratio"], dtype=float), np.inf)
     radius = np.asarray(swept_radius(t, d), dtype=float)
-    risk_ok, radius_ok = _limits(confident, radius, required_speed, swept_radius_max)
+    g_risk, g_radius = _constraints(confident, radius, required_speed, swept_radius_max)
+    risk_ok, radius_ok = g_risk <= FEASIBILITY_TOLERANCE, g_radius <= FEASIBILITY_TOLERANCE
     turning = np.asarray(values["turning_effort"], dtype=float)
     shape = np.broadcast_shapes(turning.shape, force.shape, risk_ok.shape, radius_ok.shape, sill_ok.shape)
-    out = CandidateValues(
+    return Casters(
         trail=t,
         diameter=d,
         groove=b,
@@ -259,41 +462,111 @@ def evaluate_candidates(  # long: the docstring documents every argument; the bo
         critical_speed=np.asarray(values["critical_speed"], dtype=float),
         confident_speed=confident,
         turning_effort=turning,
+        turning_moment=np.asarray(values["turning_moment"], dtype=float) + 0 * turning,
         threshold_force=force,
+        threshold_force_ratio=ratio,
         swept_radius=radius,
+        shimmy_frequency=np.asarray(shimmy_frequency(t_eff, i_w, cond.dynamics), dtype=float),
+        g_risk=g_risk,
+        g_radius=g_radius,
         risk_ok=risk_ok,
         radius_ok=radius_ok,
         sill_ok=sill_ok,
         feasible=np.broadcast_to(risk_ok & radius_ok & sill_ok, shape),
     )
-    if probability_at is None:
-        return out
-    p, se = shimmy_probability(
-        t_eff,
-        i_w,
-        b,
-        c,
-        float(cond.slip_coefficient),
-        np.asarray(probability_at, dtype=float) / calibration,
-        scatter_of(cond) if scatter is None else scatter,
-        samples=samples,
-        seed=seed,
-        target_se=target_se,
-        diameter=d,
-        measured=flags,
+
+
+def _growth_rate(out: Casters, conditions: Conditions, speed: Any) -> np.ndarray:
+    """μ of the oscillatory mode at ``speed`` [1/s] (Eq. 16B of the Eq. 12B coefficients; c_f as the hydraulic
+    damping of Eq. 6 at the amplitude of Eq. 4), per caster."""
+    t = np.atleast_1d(out.effective_trail)
+    i_w = np.broadcast_to(out.inertia, t.shape)
+    b, c = np.broadcast_to(out.groove, t.shape), np.broadcast_to(out.damping, t.shape)
+    v = np.broadcast_to(np.asarray(speed, dtype=float), t.shape)
+    rates = []
+    for k in range(t.size):
+        c_d = friction_damping_at_speed(float(c[k]), float(t[k]), float(v[k]))
+        coeffs = third_order_coefficients(
+            float(t[k]), float(i_w[k]), float(b[k]), c_d, float(v[k]), conditions.slip_coefficient, conditions.dynamics
+        )
+        rates.append(float(growth_rate(coeffs)))
+    return np.array(rates)
+
+
+def _risk(
+    out: Casters,
+    conditions: Conditions,
+    speed: Any,
+    law: Uncertainty,
+    exact: bool,
+    calibration: float,
+    samples: int | None,
+    seed: int | None,
+    target_se: float | None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """P(V_c,true < speed) and its SE per caster: Monte Carlo, or the exact law by quadrature (SE 0)."""
+    speed = np.asarray(speed, dtype=float) / calibration
+    if not exact:
+        return shimmy_probability(
+            out.effective_trail,
+            out.inertia,
+            out.groove,
+            out.damping,
+            float(conditions.slip_coefficient),
+            speed,
+            law,
+            samples=samples,
+            seed=seed,
+            target_se=target_se,
+            diameter=out.diameter,
+            measured=out.measured,
+        )
+    n = len(out)
+    col = {
+        k: np.broadcast_to(np.asarray(getattr(out, k)), (n,))
+        for k in ("effective_trail", "inertia", "groove", "damping", "diameter", "measured")
+    }
+    v = np.broadcast_to(speed, (n,))
+    p = np.array(
+        [
+            float(
+                shimmy_probability_exact(
+                    float(col["effective_trail"][k]),
+                    float(col["inertia"][k]),
+                    float(col["groove"][k]),
+                    float(col["damping"][k]),
+                    float(conditions.slip_coefficient),
+                    float(v[k]),
+                    law,
+                    diameter=None if col["measured"][k] else float(col["diameter"][k]),
+                )
+            )
+            for k in range(n)
+        ]
     )
-    return replace(out, shimmy_probability=p, shimmy_probability_se=se)
+    return p, np.zeros(n)
 
 
-def _limits(confident: np.ndarray, radius: np.ndarray, required: Any, r_max: Any) -> tuple[np.ndarray, np.ndarray]:
-    """(V_q >= V_req, R_s <= R_max), each within :data:`FEASIBILITY_TOLERANCE`; all True for a limit not given."""
-    risk_ok = np.ones(confident.shape, dtype=bool)
+def evaluate_candidates(designs: Any, conditions: Conditions, *, probability_at: Any = None, **options: Any) -> Casters:
+    """Deprecated name of :func:`evaluate` for a batch (``probability_at`` is now ``risk``): always Casters."""
+    warnings.warn(
+        "designer.model.evaluate_candidates is deprecated: use designer.model.evaluate (probability_at -> risk)",
+        DeprecationWarning,
+        stacklevel=2,
+    )
+    out: Casters = evaluate(design_columns(designs), conditions, risk=probability_at, **options)
+    return out
+
+
+def _constraints(confident: np.ndarray, radius: np.ndarray, required: Any, r_max: Any) -> tuple[np.ndarray, np.ndarray]:
+    """g_risk = 1 − V_q/V_req and g_radius = R_s/R_max − 1 [-] (g <= 0 feasible); −inf for a limit not given."""
+    g_risk = np.full(confident.shape, -np.inf)
     if required is not None:
-        risk_ok = confident >= np.asarray(required, dtype=float) * (1 - FEASIBILITY_TOLERANCE)
-    radius_ok = np.ones(radius.shape, dtype=bool)
+        g_risk = 1 - confident / np.asarray(required, dtype=float)
+    g_radius = np.full(radius.shape, -np.inf)
     if r_max is not None:
-        radius_ok = radius <= np.asarray(r_max, dtype=float) * (1 + FEASIBILITY_TOLERANCE)
-    return risk_ok, radius_ok
+        g_radius = radius / np.asarray(r_max, dtype=float) - 1
+    return np.asarray(g_risk, dtype=float), np.asarray(g_radius, dtype=float)
 
 
 # --------------------------------------------------------------------------- the Monte Carlo risk

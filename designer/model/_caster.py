@@ -28,10 +28,6 @@ from designer.physics.inertia import InertiaModel, PowerLaw
 from designer.physics.shimmy import (
     DynamicsParameters,
     critical_shimmy_speed,
-    friction_damping_at_speed,
-    growth_rate,
-    shimmy_frequency,
-    third_order_coefficients,
 )
 from designer.physics.threshold import threshold_force_ratio
 from designer.physics.turning import (
@@ -389,41 +385,3 @@ def performance(
         "turning_effort": moment / trail,
         "swept_radius": swept_radius(trail, diameter),
     }
-
-
-def evaluate(design: Design, conditions: Conditions = Conditions(), speed: float | None = None) -> dict[str, float]:
-    """Analyse one caster: :func:`performance` as floats plus the third-order model.
-
-    Adds ``shimmy_frequency`` ω [rad/s] (Eq. 15B) and, when ``speed`` is given,
-    ``growth_rate`` μ [1/s] of the oscillatory mode at that speed (Eq. 12B,
-    friction damping converted with Eq. 6 and Eq. 4): negative means any
-    shimmy decays.
-
-    Raises InputError (one line naming the argument, the value and the reason) for a ``design`` that is not a
-    :class:`Design`, ``conditions`` that are not :class:`Conditions`, a ``speed`` [m/s] that is not a finite
-    number within the target speed's range, or a design outside the model's range (e.g. an 8 m wheel: inches
-    written as metres).
-    """
-    if not isinstance(design, Design):
-        raise InputError(
-            f"design = {design!r}: expected a designer.Design, e.g. Design(trail='2 in', diameter='6 in', "
-            f"groove=0, damping=1.3)"
-        )
-    if not isinstance(conditions, Conditions):
-        raise InputError(f"conditions = {conditions!r}: expected a designer.Conditions, e.g. Conditions(load=178)")
-    if speed is not None:
-        speed = parse_quantity(speed, "speed", "speed")
-        low, high = parameters.PARAMETERS["target_speed"].range or (0.0, math.inf)
-        if not low <= speed <= high:
-            raise InputError(f"speed = {speed:g} m/s: outside the model's range {low:g} to {high:g} m/s")
-    check_design(design, error=InputError)  # an 8 m wheel is inches written as metres, not a caster
-    values = performance(design.trail, design.diameter, design.groove, design.damping, conditions)
-    out = {key: float(value) for key, value in values.items()}
-    out["shimmy_frequency"] = float(shimmy_frequency(design.trail, out["inertia"], conditions.dynamics))
-    if speed is not None:
-        c_d = friction_damping_at_speed(design.damping, design.trail, speed)
-        coeffs = third_order_coefficients(
-            design.trail, out["inertia"], design.groove, c_d, speed, conditions.slip_coefficient, conditions.dynamics
-        )
-        out["growth_rate"] = float(growth_rate(coeffs))
-    return out

@@ -39,11 +39,10 @@ from designer.data.paper import (
     TABLE1_TRAIL,
     WALKING_SPEED,
 )
-from designer.model import performance
+from designer.model import Conditions, critical_speed, evaluate, performance
 from designer.output import PLOT, SOFTWARE, write_file
-from designer.physics.shimmy import critical_shimmy_speed
 from designer.plots.fronts import VARIABLE_PANELS, FAMILY_STYLE, draw_fronts, plot_front, plot_variables  # noqa: F401  (FAMILY_STYLE: re-exported)
-from designer.physics.threshold import threshold_force_ratio, threshold_force_ratio_approx
+from designer.physics.threshold import threshold_force_ratio_approx
 from designer.plots.svg import Figure
 
 FIGURES = ("front", "variables", "trail", "inertia", "threshold", "groove_damper")
@@ -261,11 +260,11 @@ def figure_trail(required_speed: float) -> Figure:
     trail = np.linspace(0.5, 3.0, 200) * INCH
     stable_offset = iter((-1.0, 1.0, 0.0))  # side by side: A and B were both stable at 2 in
     for w, colour in zip(TABLE1, WHEEL_COLOURS):
-        v = critical_shimmy_speed(trail, w.inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT)
+        v = critical_speed(trail, w.inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT)
         ax.plot(trail * MM, v, color=colour, lw=1.4, label=f"{w.key} {w.name}, I_w {w.inertia * 1e3:.2f}e-3")
         if w.critical_speed is not None:
             ax.scatter([TABLE1_TRAIL * MM], [w.critical_speed], color=colour, edgecolor="black", s=40, zorder=4)
-            eq7 = float(critical_shimmy_speed(TABLE1_TRAIL, w.inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT))
+            eq7 = float(critical_speed(TABLE1_TRAIL, w.inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT))
             ax.hover(
                 [TABLE1_TRAIL * MM],
                 [w.critical_speed],
@@ -317,7 +316,7 @@ def figure_inertia() -> Figure:
     fig = _new(7.5, 5.0)
     ax = fig.add_subplot()
     inertia = np.linspace(0.1e-3, 3.8e-3, 300)
-    v = critical_shimmy_speed(TABLE1_TRAIL, inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT)
+    v = critical_speed(TABLE1_TRAIL, inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT)
     ax.plot(inertia * 1e3, v, color="#1f77b4", lw=1.6, label="Eq. 7, T = 2 in, B = 0, c_f = 1.3 N·m/rad")
     # the problem's wheel family for comparison (its groove and damping at the optimum are not applied)
     measured = [w for w in TABLE1 if w.critical_speed is not None]
@@ -375,7 +374,7 @@ def figure_inertia() -> Figure:
                 if w.critical_speed is not None
                 else "no shimmy up to 3.8 m/s"
             )
-            + f"; Eq. 7 {float(critical_shimmy_speed(TABLE1_TRAIL, w.inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT)):.2f} m/s"
+            + f"; Eq. 7 {float(critical_speed(TABLE1_TRAIL, w.inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT)):.2f} m/s"
             for w in TABLE1
         ],
     )
@@ -391,6 +390,13 @@ def figure_inertia() -> Figure:
     return fig
 
 
+def _sill_ratio(diameter, height: float) -> np.ndarray:
+    """P/L of Eq. 4A [-] for wheels of ``diameter`` [m] at a sill of ``height`` [m], by the model's evaluator."""
+    d = np.atleast_1d(np.asarray(diameter, float))
+    design = {"trail": np.full(d.shape, 0.05), "diameter": d, "groove": np.zeros(d.shape), "damping": np.ones(d.shape)}
+    return evaluate(design, Conditions(load=1.0, threshold_height=height), inertia=1e-3).threshold_force_ratio
+
+
 def figure_threshold(sill_height: float, load: float, diameter_bounds, front_diameters=()) -> Figure:
     """P/L [-] vs wheel diameter d [mm, in]: exact Eq. 4A and approximate Eq. 5A, Fig. 2A.
 
@@ -404,9 +410,7 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, front_dia
     d_hi = max(10 * INCH, diameter_bounds.high * 1.1)
     d_lo = max(2.6 * h, 1 * INCH)
     d = np.linspace(d_lo, d_hi, 400)
-    ax.plot(
-        d * MM, threshold_force_ratio(d, h), color="#1f77b4", lw=1.8, label=f"exact, Eq. 4A (h = {h / INCH:.3g} in)"
-    )
+    ax.plot(d * MM, _sill_ratio(d, h), color="#1f77b4", lw=1.8, label=f"exact, Eq. 4A (h = {h / INCH:.3g} in)")
     ax.plot(
         d * MM,
         threshold_force_ratio_approx(d, h),
@@ -419,7 +423,7 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, front_dia
         d2 = d[d > 2.6 * 0.5 * INCH]
         ax.plot(
             d2 * MM,
-            threshold_force_ratio(d2, 0.5 * INCH),
+            _sill_ratio(d2, 0.5 * INCH),
             color="0.5",
             lw=1.2,
             label="exact, paper's h = 0.5 in (Fig. 2A)",
@@ -431,7 +435,7 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, front_dia
         ax.axvspan(b.low * MM, b.high * MM, color="#ff7f0e", alpha=0.12, label="diameter bounds of the problem")
     if len(front_diameters):
         dd = np.asarray(front_diameters, float)
-        ratio = threshold_force_ratio(dd, h)
+        ratio = _sill_ratio(dd, h)
         ax.scatter(dd * MM, ratio, color="black", s=12, zorder=4, label="front designs")
         ax.hover(
             dd * MM,
@@ -442,7 +446,7 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, front_dia
             ],
         )
     ax.set_xlim(d_lo * MM, d_hi * MM)
-    ax.set_ylim(0, min(3.0, float(threshold_force_ratio(d_lo, h)) * 1.05))
+    ax.set_ylim(0, min(3.0, float(_sill_ratio(d_lo, h)[0]) * 1.05))
     ax.set_xlabel("wheel diameter d [mm]")
     ax.set_ylabel("force per unit load P/L [-]")
     _inch_x(ax, "wheel diameter d [in]")

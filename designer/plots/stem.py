@@ -15,8 +15,8 @@ import sys
 import numpy as np
 
 from designer.data.paper import INCH, SLIP_COEFFICIENT
+from designer.model import critical_speed
 from designer.physics.geometry import effective_trail, ground_trail
-from designer.physics.shimmy import critical_shimmy_speed
 
 EQ8_CASTER = {
     "offset": 1.5 * INCH,
@@ -122,11 +122,11 @@ def stem_figure(caster: dict = EQ8_CASTER, tilt_degrees: float = 5.0, drawn_degr
     radius = c["diameter"] / 2
     angles = np.linspace(-10, 10, 201)
     t_eff = effective_trail(c["offset"], radius, np.radians(angles))
-    speeds = critical_shimmy_speed(t_eff, c["inertia"], c["groove"], c["damping"], SLIP_COEFFICIENT)
+    speeds = critical_speed(t_eff, c["inertia"], c["groove"], c["damping"], SLIP_COEFFICIENT)
     marks = []
     for a in (-tilt_degrees, 0.0, tilt_degrees):
         v = float(
-            critical_shimmy_speed(
+            critical_speed(
                 effective_trail(c["offset"], radius, math.radians(a)),
                 c["inertia"],
                 c["groove"],

@@ -34,6 +34,7 @@ from designer.model import (
     Conditions,
     Design,
     condition_refusal,
+    evaluate,
 )
 from designer.physics.inertia import Catalog
 from designer.physics.uncertainty import Uncertainty
@@ -406,6 +407,21 @@ class Problem(Record):
     def replace(self, **changes: Any) -> "Problem":
         """A validated copy with some fields changed (e.g. ``target_speed=3.0``)."""
         return dataclasses.replace(self, **changes)
+
+    def evaluate(self, designs: Any, **options: Any) -> Any:
+        """:func:`designer.model.evaluate` of ``designs`` under this problem: its conditions, its limits
+        (V_req = (1 + margin) V_target, the swept radius R_max) and its weights; UserWarnings of the inertia fit
+        silenced (the report states an extrapolation once).  Returns Casters (a Caster for one Design)."""
+        options.setdefault("weights", self.weights)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            return evaluate(
+                designs,
+                self.conditions,
+                required_speed=self.required_speed,
+                swept_radius_max=self.swept_radius_max,
+                **options,
+            )
 
     def lower(self) -> Design:
         """Lower bounds as a :class:`Design`."""

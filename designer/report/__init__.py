@@ -7,18 +7,18 @@ rebuilds the reports of every shipped problem in one command.
 
 Modules
 -------
-writer      render a :class:`designer.pipeline.ReportData` (templates, figures, data files) and write it safely
+writer      render a :class:`designer.reportdata.ReportData` (templates, figures, data files) and write it safely
 context     the Pareto page's tables as display strings (``build_context``), shared by both templates
 formatting  numbers as table cells (SI and inches, "n/a"), for every report kind
 files       safe report folders: refuse a foreign folder, replace atomically, keep files not owned
 text        the sentences of the report, each generated from the data it states
 figures     which plots/ function draws each figure of the Pareto report (as SVG), with which data and hover text
-build       compute_and_write: the pipeline's data, rendered, and a summary (``designer pareto``, the studio)
-robust      the price-of-safety report (``designer robust``) from a :class:`designer.pipeline.RobustData`
+robust      the price-of-safety report (``designer robust``) from a :class:`designer.reportdata.RobustData`
 calibration, fleet, limit_cycles   the reports of ``designer calibrate``, ``designer fleet`` and ``designer simulate --report``
-(the data are computed by :mod:`designer.pipeline`; figures are drawn by :mod:`designer.plots`)
+(the data are computed by :mod:`designer.pipeline`, and :mod:`designer.jobs` runs the pipeline then the report;
+figures are drawn by :mod:`designer.plots`; nothing here imports a study or the pipeline)
 """
 
-from designer.report.writer import ReportData, build_context, write_report  # ReportData: from designer.pipeline
+from designer.report.writer import ReportData, build_context, write_report  # ReportData: from designer.reportdata
 
 __all__ = ["ReportData", "build_context", "write_report"]

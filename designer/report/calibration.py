@@ -16,7 +16,7 @@ from designer.report.writer import _render
 from designer.plots.figures import save_figure
 from designer.plots.calibration import fit_figure
 import json
-from designer.jsonsafe import finite
+from designer.jsonsafe import finite, stamped
 from designer.versions import versions
 from designer.plots.figures import png_bytes
 
@@ -89,7 +89,10 @@ def write_calibration_report(result, out_dir, data_file: str = "", option: str =
         out = result.to_dict()
         out["data"] = data_file
         (tmp / "calibration.json").write_text(
-            json.dumps(finite(out), indent=2, ensure_ascii=False, allow_nan=False, default=float) + "\n",
+            json.dumps(
+                stamped("calibration.json", finite(out)), indent=2, ensure_ascii=False, allow_nan=False, default=float
+            )
+            + "\n",
             encoding="utf-8",
         )
         (tmp / "index.html").write_text(_render("calibration.html.j2", context, autoescape=True), encoding="utf-8")

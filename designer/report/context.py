@@ -17,7 +17,7 @@ import numpy as np
 
 from designer import parameters
 from designer.data.paper import INCH
-from designer.pipeline import ReportData
+from designer.reportdata import ReportData
 import designer.report.figures as _figures
 from designer.plots.caster import caster_svg
 from designer.plots.fronts import MARK_WORDS
@@ -25,7 +25,6 @@ from designer.report.formatting import LBF, MPH, fmt, length, size
 from designer.report.text import build_lines, caster_sentence, front_count_sentence, lead_sentence, summary_lines
 from designer.plots.figures import is_bare_fork
 from designer.physics.uncertainty import TABLE1_LOG_RMS_ERROR
-from designer.studies.checks import knock_safe_table1_error, summary_line
 
 FIGURE_INFO = {
     "front": (
@@ -653,7 +652,9 @@ def front_caption(data: ReportData) -> str:
 def _knock_band(data: ReportData) -> str:
     """The knock-safe speed's Table 1 error at the problem's knock θ0: the log RMS and the bias of the simulated
     onsets of wheels C–G (T = 2 in) against their measured onsets, beside Eq. 7's model error."""
-    band = knock_safe_table1_error(float(data.problem.conditions.disturbance_angle))
+    band = data.knock_safe_band
+    if band is None:
+        return ""
     return (
         f"Against Table 1's wheels C–G (T = 2 in, {math.degrees(band['angle']):.0f}° knock) the simulated onsets "
         f"have a log RMS error of {band['log_rms']:.3f} and a bias of {band['bias']:+.3f}; Eq. 7's model error is "
@@ -775,7 +776,7 @@ def build_context(data: ReportData) -> dict:
         "paper_checks": [_check_row(c) for c in data.paper_checks if c.kind != "identity"],
         "identity_checks": [_check_row(c) for c in data.paper_checks if c.kind == "identity"],
         "front_checks": [_check_row(c) for c in data.front_checks],
-        "checks_summary": summary_line(all_checks),
+        "checks_summary": data.checks_summary,
         "checks_passed": sum(bool(c.passed) for c in all_checks),
         "checks_total": len(all_checks),
         "points": points,

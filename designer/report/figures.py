@@ -1,7 +1,7 @@
 """The report's figures: pick each figure's arguments out of the report data and draw it as SVG.
 
 Render only.  :mod:`designer.plots.figures` draws from arrays and plain records on the SVG canvas
-(:mod:`designer.plots.svg`); this module says which parts of a :class:`designer.pipeline.ReportData` each
+(:mod:`designer.plots.svg`); this module says which parts of a :class:`designer.reportdata.ReportData` each
 figure shows (the front, its marked designs, the problem's bounds, the groove/damper rows) and what a point
 says on hover (its numbers).  The front and the design variables are drawn by the same functions as
 :meth:`Front.plot` and :meth:`Front.plot_variables`.  To add a figure: a ``figure_<name>`` in

@@ -18,7 +18,7 @@ import math
 from pathlib import Path
 
 from designer.textfiles import csv_text as write_csv_text, dict_rows
-from designer.jsonsafe import finite
+from designer.jsonsafe import finite, stamped
 from designer.output import output_folder
 from designer.versions import versions
 from designer.plots.fleet import figure_distributions, figure_regret
@@ -62,7 +62,7 @@ def csv_text(data: dict) -> str:
 
 def run_data(run: dict | None) -> dict | None:
     """run.json: the run's date, stage and per-K seconds, scheduler, and the library versions."""
-    return None if run is None else finite({**run, "versions": versions()})
+    return None if run is None else stamped("run.json", finite({**run, "versions": versions()}))
 
 
 def json_text(data: dict, run: dict | None = None) -> str:
@@ -72,7 +72,7 @@ def json_text(data: dict, run: dict | None = None) -> str:
     The rows (one per chair, thousands) are written by the C encoder, one line each; a row that holds a
     NaN or an infinity goes through :func:`designer.jsonsafe.finite` first (NaN and infinities are null).
     """
-    head = finite({k: v for k, v in data.items() if k not in ("distributions", "rows")})
+    head = stamped("fleet.json", finite({k: v for k, v in data.items() if k not in ("distributions", "rows")}))
     if run is not None:
         head["run"] = run_data(run)
     text = json.dumps(head, indent=1, ensure_ascii=False)

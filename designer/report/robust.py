@@ -1,6 +1,6 @@
 """Render the price-of-safety report (``designer robust``): index.html, robust.md, robust.json, figures/.
 
-Render only: takes the :class:`designer.pipeline.RobustData` that :func:`designer.pipeline.robust_data`
+Render only: takes the :class:`designer.reportdata.RobustData` that :func:`designer.pipeline.robust_data`
 computed (nominal and risk-bounded fronts, Monte Carlo P(shimmy) per point) and writes the same look as
 the Pareto report (shared stylesheet), with one title used by the page and by its figure.
 """
@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from designer.jsonsafe import finite
-from designer.pipeline import RobustData
+from designer.jsonsafe import finite, stamped
+from designer.reportdata import RobustData
 from designer.report.agreement import compare_json, keep_agreeing
 from designer.report.formatting import fmt
 from designer.report.resolution import resolved, split_run
@@ -191,7 +191,7 @@ def write_robust_report(data: RobustData, out_dir, option: str = "--out") -> Pat
     with output_folder(out_dir, OWNED, option=option, marker=MARKER, command="designer robust") as tmp:
         page_title = title(data)
         (tmp / "figures").mkdir()
-        numbers = _json(data, page_title)
+        numbers = stamped("robust.json", _json(data, page_title))
         png = _kept_figure(Path(out_dir), numbers) or png_bytes(figure(data))
         (tmp / FIGURE).write_bytes(png)
         context = {
@@ -209,7 +209,9 @@ def write_robust_report(data: RobustData, out_dir, option: str = "--out") -> Pat
         (tmp / "index.html").write_text(_render("robust.html.j2", context, autoescape=True), encoding="utf-8")
         (tmp / "robust.md").write_text(_render("robust.md.j2", context, autoescape=False), encoding="utf-8")
         data.run["moved"] = keep_agreeing(tmp, Path(out_dir))  # a file that agrees keeps its bytes
-        _write_json(tmp / RUN_FILE, finite(data.run))  # date, seconds, versions: beside, never committed
+        _write_json(
+            tmp / RUN_FILE, stamped(RUN_FILE, finite(data.run))
+        )  # date, seconds, versions: beside, never committed
     return Path(out_dir)
 
 

@@ -27,9 +27,9 @@ from pathlib import Path
 
 from markupsafe import Markup, escape
 
-from designer.jsonsafe import finite
+from designer.jsonsafe import finite, stamped
 from designer.model import Design
-from designer.pipeline import ReportData
+from designer.reportdata import ReportData
 from designer.output import output_folder
 from designer.report.agreement import keep_agreeing
 from designer.report.files import REPORT_MARKERS, REPORT_OWNED, check_target, is_report  # noqa: F401
@@ -159,7 +159,8 @@ def _write_all(folder: Path, data: ReportData, t0: float, target: Path | None = 
             if panel.svg:
                 (folder / "figures" / f"{panel.id}.svg").write_text(panel.svg + "\n", encoding="utf-8")
     _write_json(
-        folder / "checks.json", _resolved(data, [finite(c.to_dict()) for c in data.paper_checks + data.front_checks])
+        folder / "checks.json",
+        _resolved(data, [stamped("checks.json", finite(c.to_dict())) for c in data.paper_checks + data.front_checks]),
     )
     data.run["report_seconds"] = time.perf_counter() - t0
     if data.run.get("wall_seconds") is None:  # called from Python: the sum of the parts we know of
@@ -167,12 +168,12 @@ def _write_all(folder: Path, data: ReportData, t0: float, target: Path | None = 
     data.run["render_cpu_seconds"] = {"figures": c1 - c0}
     context["run"] = split_run(data.run)[0]  # the pages show no date, seconds or library versions: run.json has them
     context["designer_version"] = data.run.get("versions", {}).get("caster-designer") or "(not installed)"
-    _write_json(folder / "front.json", _front_json(data))
+    _write_json(folder / "front.json", stamped("front.json", _front_json(data)))
     (folder / "index.html").write_text(_render("index.html.j2", context, autoescape=True), encoding="utf-8")
     (folder / "report.md").write_text(_render("report.md.j2", context, autoescape=False), encoding="utf-8")
     data.run["render_cpu_seconds"]["writing"] = time.process_time() - c1
     data.run["moved"] = keep_agreeing(folder, target) if target is not None else {}  # agreeing files keep their bytes
-    _write_json(folder / RUN_FILE, finite(data.run))
+    _write_json(folder / RUN_FILE, stamped(RUN_FILE, finite(data.run)))
 
 
 def write_report(data, out_dir=None, *, force: bool = False, option: str = "--out") -> Path:

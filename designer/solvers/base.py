@@ -32,14 +32,13 @@ import dataclasses
 import functools
 import math
 import threading
-import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Protocol, TypeVar, runtime_checkable
 
 import numpy as np
 
-from designer.model import Design, performance
+from designer.model import Design
 from designer.physics.inertia import Catalog
 from designer.problem import Problem
 from designer.reprs import Record, dataframe
@@ -291,15 +290,14 @@ def wheel_of(problem: Problem) -> str | None:
     return inertia.wheel.key if isinstance(inertia, Catalog) else None
 
 
-def evaluated(problem: Problem, x: np.ndarray) -> np.ndarray:
-    """(N, 3) F_turn [N], P [N], V_c [m/s] of (N, 4) designs by the exact model (non-finite where it fails)."""
-    x = np.asarray(x, float).reshape(-1, 4)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)
-        v = performance(x[:, 0], x[:, 1], x[:, 2], x[:, 3], problem.conditions)
+def objectives_of(problem: Problem, x: np.ndarray) -> np.ndarray:
+    """(N, 3) F_turn [N], P [N], V_c [m/s] of (N, 4) designs by the model's evaluator (:meth:`Problem.evaluate`;
+    non-finite where the model fails): the solvers' numeric check of their own optima."""
+    c = problem.evaluate(np.asarray(x, float).reshape(-1, 4))
+    n = len(c)
     return np.column_stack(
         [
-            np.broadcast_to(np.asarray(v[k], float), (len(x),))
+            np.broadcast_to(np.asarray(getattr(c, k), float), (n,))
             for k in ("turning_effort", "threshold_force", "critical_speed")
         ]
     )
@@ -314,7 +312,7 @@ __all__ = [
     "Optimum",
     "Solver",
     "best_variant",
-    "evaluated",
+    "objectives_of",
     "no_optimum",
     "weights_of",
     "wheel_of",

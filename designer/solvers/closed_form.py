@@ -63,7 +63,7 @@ from designer.physics.geometry import swept_radius
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_terms
 from designer.physics.uncertainty import Uncertainty, shimmy_speed_quantile
 from designer.problem import Problem
-from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, evaluated, no_optimum, weights_of
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, objectives_of, no_optimum, weights_of
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -476,7 +476,7 @@ class ClosedFormSolver:
             epsilon=e,
             designs=x,
             success=ok,
-            objectives=evaluated(problem, x),
+            objectives=objectives_of(problem, x),
             status=tuple("optimal" if k else "infeasible" for k in ok),
         )
 
@@ -500,7 +500,7 @@ class ClosedFormSolver:
         ends = structured_ends(problem)
         if ends is None:
             return no_optimum(self.name, problem, w, caps, "infeasible")
-        p_b, p_a = (float(v) for v in evaluated(problem, np.array(ends))[::-1, 1])
+        p_b, p_a = (float(v) for v in objectives_of(problem, np.array(ends))[::-1, 1])
         high = p_a if caps.threshold is None else min(p_a, caps.threshold)
         if high < p_b * (1 - 1e-12):
             return no_optimum(self.name, problem, w, caps, "infeasible")
@@ -508,7 +508,7 @@ class ClosedFormSolver:
 
         def cost(eps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             x, ok = structured_front_designs(problem, eps)
-            f, p = evaluated(problem, x)[:, :2].T
+            f, p = objectives_of(problem, x)[:, :2].T
             if caps.turning is not None:
                 ok = ok & (f <= caps.turning * (1 + 1e-12))
             return x, np.where(ok, w[0] * f + w[1] * p, np.inf)

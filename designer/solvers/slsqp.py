@@ -19,7 +19,7 @@ from designer.errors import check_interrupt
 from designer.model import Design, performance
 from designer.parameters import named
 from designer.problem import Problem
-from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, evaluated, no_optimum, weights_of
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, objectives_of, no_optimum, weights_of
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -165,7 +165,7 @@ class SLSQPSolver:
             epsilon=e,
             designs=x,
             success=np.array(ok, dtype=bool),
-            objectives=evaluated(problem, x),
+            objectives=objectives_of(problem, x),
             status=tuple("optimal" if k else "infeasible" for k in ok),
             solves=len(e) * (1 + self.random_starts),
         )

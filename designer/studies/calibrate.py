@@ -48,7 +48,8 @@ from designer.data.paper import INCH, SLIP_COEFFICIENT, TABLE1
 from designer.errors import InputError
 from designer.textfiles import csv_table, csv_text, read_input_text
 from designer.parameters import PARAMETERS
-from designer.physics.shimmy import critical_speed_terms, critical_shimmy_speed
+from designer.model import critical_speed
+from designer.physics.shimmy import critical_speed_terms
 from designer.physics.turning import DEFAULT_TURNING
 from designer.reprs import Record, dataframe
 
@@ -640,7 +641,7 @@ def write_examples(out_dir: str | Path = EXAMPLES_DIR, seed: int = EXAMPLE_SEED)
     for trail in (1.5 * INCH, 2.0 * INCH, 2.5 * INCH):
         rows.append((trail, 0.00127, 9 / 16 * INCH))
     arr = np.array(rows)
-    v = np.asarray(critical_shimmy_speed(arr[:, 0], arr[:, 1], arr[:, 2], 1.3, SLIP_COEFFICIENT), float)
+    v = np.asarray(critical_speed(arr[:, 0], arr[:, 1], arr[:, 2], 1.3, SLIP_COEFFICIENT), float)
     v = v * (1 + rng.normal(0, 0.05, v.size))
     paths["damping"] = _write(
         out / "damping.csv",

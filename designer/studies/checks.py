@@ -30,12 +30,11 @@ from designer.data.paper import (
     TABLE1_TRAIL,
     WALKING_SPEED,
 )
-from designer.model import Conditions, Design, evaluate_candidates
+from designer.model import Conditions, Design, critical_speed, evaluate
 from designer.physics.inertia import Fixed, PowerLaw, fit_table1_power_law
 from designer.physics.scatter import inertia_prediction, model_error
 from designer.physics.uncertainty import data_law, shimmy_probability_exact
 from designer.physics.shimmy import (
-    critical_shimmy_speed,
     routh_hurwitz_critical_speed,
     critical_speed_hydraulic,
 )
@@ -215,7 +214,7 @@ def _disagreement(
     )
 
 
-def check_eq8(critical_speed: Model = critical_shimmy_speed) -> Check:
+def check_eq8(critical_speed: Model = critical_speed) -> Check:
     """Check 1: Eq. 8 sample calculation gives V_c = 2.91 m/s.
 
     ``critical_speed`` : the model under test (default Eq. 7); tests pass a perturbed one.
@@ -234,7 +233,7 @@ def check_eq8(critical_speed: Model = critical_shimmy_speed) -> Check:
     )
 
 
-def check_table1(critical_speed: Model = critical_shimmy_speed) -> Check:
+def check_table1(critical_speed: Model = critical_speed) -> Check:
     """Check 2: Eq. 7 against the measured V_c of Table 1 wheels C–G at 2 in trail; A and B well above walking speed.
 
     Three outcomes: fails if the RMS error over C–G exceeds the paper's scatter
@@ -288,15 +287,17 @@ def check_table1(critical_speed: Model = critical_shimmy_speed) -> Check:
 
 def _model_turning_effort(trail: Any, groove: Any, damping: Any, load: Any) -> np.ndarray:
     """F_turn [N] as the model computes it (Eq. 9 with the turning model; tile, chair, θ0 = 20°): the checks
-    verify what the tool uses (:func:`designer.model.evaluate_candidates`)."""
+    verify what the tool uses (:func:`designer.model.evaluate`)."""
     design = {"trail": trail, "diameter": 8 * INCH, "groove": groove, "damping": damping}
-    return evaluate_candidates(design, Conditions(load=load)).turning_effort
+    out: np.ndarray = evaluate(design, Conditions(load=load)).turning_effort
+    return out
 
 
 def _model_threshold_force_ratio(diameter: Any, height: Any) -> np.ndarray:
     """P/L [-] as the model computes it (Eq. 4A) for a wheel of ``diameter`` [m] at a sill of ``height`` [m]."""
     design = {"trail": 2 * INCH, "diameter": diameter, "groove": 0.0, "damping": BARE_FORK_DAMPING}
-    return evaluate_candidates(design, Conditions(load=1.0, threshold_height=height)).threshold_force
+    out: np.ndarray = evaluate(design, Conditions(load=1.0, threshold_height=height)).threshold_force
+    return out
 
 
 def check_groove_turning(moment: Model = sliding_turning_moment, effort: Model = _model_turning_effort) -> Check:
@@ -355,7 +356,7 @@ def check_trail_halves(effort: Model = _model_turning_effort) -> Check:
     )
 
 
-def check_monotonic(critical_speed: Model = critical_shimmy_speed) -> Check:
+def check_monotonic(critical_speed: Model = critical_speed) -> Check:
     """Check 6: V_c rises with trail, damping and groove, and falls with I_w and with d."""
     rng = np.random.default_rng(6)
     n = 2000
@@ -426,7 +427,7 @@ def check_threshold_curve(ratio: Model = _model_threshold_force_ratio) -> Check:
 
 def check_routh_hurwitz(
     routh_hurwitz: Model = routh_hurwitz_critical_speed,
-    friction: Model = critical_shimmy_speed,
+    friction: Model = critical_speed,
     hydraulic: Model = critical_speed_hydraulic,
 ) -> Check:
     """Check 9: the third-order model's Routh–Hurwitz threshold equals Eq. 20B (Eq. 5 hydraulic, Eq. 7 friction)."""
@@ -454,7 +455,7 @@ def check_routh_hurwitz(
     )
 
 
-def check_quadra(critical_speed: Model = critical_shimmy_speed) -> Check:
+def check_quadra(critical_speed: Model = critical_speed) -> Check:
     """Check 10: the Quadra wheel (A) at 2.5 in trail does not shimmy below 3.8 m/s."""
     a = TABLE1[0]
     v = float(critical_speed(2.5 * INCH, a.inertia, 0.0, BARE_FORK_DAMPING))

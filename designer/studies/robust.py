@@ -1,7 +1,7 @@
 """Nominal against risk-bounded design: the price of safety, checked by Monte Carlo.
 
 The risk law itself (the scatter, the V_c quantile) lives in :mod:`designer.physics.uncertainty` and
-its Monte Carlo estimate in the model's evaluator (:func:`designer.model.evaluate_candidates`); this
+its Monte Carlo estimate in the model's evaluator (:func:`designer.model.evaluate`); this
 module compares the nominal and the risk-bounded Pareto fronts of one problem.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from designer.model import evaluate_candidates, scatter_of
+from designer.model import evaluate, scatter_of
 
 # --------------------------------------------------------------------------- nominal vs robust
 
@@ -45,14 +45,10 @@ def robust_comparison(problem, points: int = ROBUST_POINTS) -> dict:
         cond = problem.conditions
         if problem.wheels:
             cond = [v for v in problem.variants() if v.conditions.inertia.wheel.key == point.wheel][0].conditions
-        risk = evaluate_candidates(d, cond, probability_at=problem.required_speed)
+        risk = evaluate([d], cond, risk=problem.required_speed)
         p_mc, se = float(risk.shimmy_probability[0]), float(risk.shimmy_probability_se[0])
         p_nom = (
-            float(
-                evaluate_candidates(
-                    _nominal_design(nominal, point), cond, probability_at=problem.required_speed
-                ).shimmy_probability[0]
-            )
+            float(evaluate([_nominal_design(nominal, point)], cond, risk=problem.required_speed).shimmy_probability[0])
             if len(nominal)
             else float("nan")
         )

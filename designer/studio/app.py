@@ -309,7 +309,7 @@ def _save_or_report(trigger, merged: dict, out_dir: Path):
             "content": text,
             "filename": path.name,
         }
-    from designer.report.build import compute_and_write  # the same report as `designer pareto`; loads matplotlib
+    from designer.jobs import compute_and_write  # the same report as `designer pareto`; loads matplotlib
 
     summary = view._quiet(compute_and_write, problem, out=out_dir / problem.name)
     return html.Span(f"report written: {Path(summary['index_html']).resolve()}", id="report-path"), no_update

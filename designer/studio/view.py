@@ -3,7 +3,7 @@
 The studio is a thin view: the fronts come from :func:`designer.pareto_front`, the recommendation and the
 buildable front from :func:`designer.recommend`, the fixes of "my caster" from :func:`designer.fix`, a
 design's numbers from :func:`designer.evaluate` and its risk from the model's evaluator
-(:func:`designer.evaluate_candidates`), θ(t) from :func:`designer.simulate`.  Nothing here re-states an
+(:func:`designer.model.evaluate`), θ(t) from :func:`designer.simulate`.  Nothing here re-states an
 equation.
 """
 
@@ -21,7 +21,7 @@ import numpy as np
 
 from designer.errors import DesignerError
 import designer.studio.helper as helper
-from designer.model import Design, evaluate, evaluate_candidates, performance
+from designer.model import Design, evaluate
 from designer.physics.inertia import Catalog, Fixed
 from designer.units import INCH
 from designer.plots.caster import caster_svg
@@ -265,12 +265,15 @@ def design_numbers(problem, design: Design) -> dict:
 
     ``shimmy_probability`` is the Monte Carlo estimate of P(V_c,true < V_target) with the problem's scatter;
     ``confident_speed`` is the α-quantile of V_c,true, the speed reached without shimmy with probability
-    1 − α (both from the model's evaluator, :func:`designer.evaluate_candidates`).  Both are None when the
+    1 − α (both from the model's evaluator, :func:`designer.model.evaluate`).  Both are None when the
     problem has no risk.
     """
 
     conditions = problem.conditions
-    values = _quiet(evaluate, design, conditions, speed=problem.target_speed)
+    risk = problem.risk
+    values = _quiet(
+        evaluate, design, conditions, speed=problem.target_speed, risk=None if risk is None else problem.target_speed
+    )
     out = {
         k: float(values[k])
         for k in ("turning_effort", "threshold_force", "critical_speed", "swept_radius", "inertia", "shimmy_frequency")
@@ -279,16 +282,12 @@ def design_numbers(problem, design: Design) -> dict:
     out["design"] = design.to_dict()
     out["target_speed"] = problem.target_speed
     out["swept_radius_max"] = problem.swept_radius_max
-    risk = problem.risk
     out["alpha"] = None if risk is None else risk.probability
     out["shimmy_probability"] = out["shimmy_probability_se"] = out["confident_speed"] = None
     if risk is not None:
-        v = _quiet(
-            evaluate_candidates, design, conditions, inertia=[out["inertia"]], probability_at=problem.target_speed
-        )
-        out["shimmy_probability"] = float(v.shimmy_probability[0])
-        out["shimmy_probability_se"] = float(v.shimmy_probability_se[0])
-        out["confident_speed"] = float(v.confident_speed[0])
+        out["shimmy_probability"] = float(values.shimmy_probability)
+        out["shimmy_probability_se"] = float(values.shimmy_probability_se)
+        out["confident_speed"] = float(values.confident_speed)
     return out
 
 
@@ -297,7 +296,7 @@ def speed_sweeps(problem, design: Design, n: int = 61) -> dict:
 
     Each sweep spans the problem's bounds of that variable (and ±50 % of the design's value if the
     bounds are fixed), the other variables held at the design's values; evaluated vectorised by
-    :func:`designer.model._caster.performance`.  Returns {"trail": {...}, "diameter": {...}} of arrays [SI].
+    :func:`designer.model.evaluate`.  Returns {"trail": {...}, "diameter": {...}} of arrays [SI].
     """
     conditions = problem.conditions
     out = {}
@@ -311,11 +310,11 @@ def speed_sweeps(problem, design: Design, n: int = 61) -> dict:
         x = np.linspace(lo, hi, n)
         args = {k: np.full(n, getattr(design, k)) for k in ("trail", "diameter", "groove", "damping")}
         args[name] = x
-        values = _quiet(performance, args["trail"], args["diameter"], args["groove"], args["damping"], conditions)
+        values = _quiet(evaluate, args, conditions)
         out[name] = {
             "x": x,
-            "critical_speed": np.asarray(values["critical_speed"], float),
-            "confident_speed": np.asarray(values["confident_speed"], float),
+            "critical_speed": np.asarray(values.critical_speed, float),
+            "confident_speed": np.asarray(values.confident_speed, float),
             "value": value,
         }
     return out

@@ -204,7 +204,7 @@ def test_a_regular_file_is_refused_before_computing(under, tmp_path, fleet_csv, 
     with one line naming the path, the file untouched, and the study never started (its function would fail)."""
     import designer.cli.fleet as fleet_cli
     import designer.cli.robust as robust_cli
-    import designer.report.build as build
+    import designer.jobs as build
     import designer.studies.calibrate as calibrate
     import designer.studies.dynamics as dynamics
     import designer.studies.explore as explore

@@ -1,5 +1,4 @@
-"""The one evaluator of candidates (designer.model.evaluate_candidates, shimmy_probability): its numbers are
-model.performance's, its limits use one tolerance, the sill gives P = inf, the inputs are read by name, and
+"""The one evaluator (designer.model.evaluate, shimmy_probability): its numbers are model.performance's, its limits use one tolerance, the sill gives P = inf, the inputs are read by name, and
 the batched Monte Carlo gives for every caster the number of that caster's own seeded stream."""
 
 from __future__ import annotations
@@ -14,8 +13,10 @@ from designer.model import (
     FEASIBILITY_TOLERANCE,
     Conditions,
     Design,
+    Caster,
+    Casters,
     design_columns,
-    evaluate_candidates,
+    evaluate,
     performance,
     scatter_of,
     shimmy_probability,
@@ -26,6 +27,13 @@ from designer.physics.uncertainty import MC_BLOCK, MC_MAX_SAMPLES, Uncertainty, 
 from designer.physics.shimmy import critical_shimmy_speed
 
 RISK = Conditions(uncertainty=Uncertainty())
+
+
+def evaluate_candidates(designs, conditions, probability_at=None, **options) -> Casters:
+    """The evaluator on a batch (one Design as a batch of one), the Monte Carlo speed as ``risk``."""
+    return evaluate(design_columns(designs), conditions, risk=probability_at, **options)
+
+
 DESIGNS = [
     Design(2.5 * INCH, 7 * INCH, 0.5 * INCH, 1.3),
     Design(1.0 * INCH, 3 * INCH, 0.0, 1.3),
@@ -193,3 +201,48 @@ def test_candidate_values_take_and_monte_carlo_on_request():
     assert len(sub) == int(v.feasible.sum()) and np.all(sub.confident_speed >= 2.5 * (1 - FEASIBILITY_TOLERANCE))
     mc = evaluate_candidates(DESIGNS[:1], RISK, probability_at=2.5, samples=10_000, seed=1, target_se=None)
     assert 0 < mc.shimmy_probability[0] < 1 and mc.shimmy_probability_se[0] > 0
+
+
+def test_one_design_is_a_caster_read_by_key():
+    """evaluate() of one Design is a Caster whose fields are the batch's row 0, read by attribute and by key
+    (designer.evaluate's dict answer: result["threshold_force"]); the J of given weights is w_F F + w_P P; g <= 0
+    within the one tolerance is feasible; an 8 m wheel is refused."""
+    from designer.errors import InputError
+
+    one = evaluate(DESIGNS[0], RISK, weights=(1.0, 2.0), required_speed=2.0)
+    row = evaluate(DESIGNS, RISK, weights=(1.0, 2.0), required_speed=2.0).row(0)
+    assert isinstance(one, Caster) and one == row
+    assert one["threshold_force"] == one.threshold_force and dict(one)["critical_speed"] == one.critical_speed
+    assert one.weighted == pytest.approx(one.turning_effort + 2 * one.threshold_force, rel=1e-15)
+    assert one.g_risk == pytest.approx(1 - one.confident_speed / 2.0, rel=1e-15) and one.feasible
+    assert one.g_radius == -math.inf and "growth_rate" not in one
+    with pytest.raises(InputError, match="diameter"):
+        evaluate(Design(0.06, 8.0, 0.0, 1.3), RISK)
+
+
+def test_feasibility_is_g_within_the_one_tolerance():
+    """feasible <=> every g <= FEASIBILITY_TOLERANCE: a caster whose V_q is 2 tolerances short of V_req fails,
+    one half a tolerance short passes, and violation() is the sum of the positive g."""
+    q = float(evaluate_candidates(DESIGNS[0], RISK).confident_speed[0])
+    short = evaluate_candidates(DESIGNS[0], RISK, required_speed=q / (1 - 2 * FEASIBILITY_TOLERANCE))
+    near = evaluate_candidates(DESIGNS[0], RISK, required_speed=q / (1 - 0.5 * FEASIBILITY_TOLERANCE))
+    assert not short.feasible[0] and near.feasible[0]
+    assert short.violation()[0] == pytest.approx(2 * FEASIBILITY_TOLERANCE, rel=1e-6)
+
+
+def test_exact_risk_matches_the_monte_carlo():
+    """risk with exact=True is the quadrature of the exact law; the Monte Carlo of the same caster agrees with it
+    within 3 of its standard errors."""
+    exact = evaluate(DESIGNS[0], RISK, risk=2.5, exact=True)
+    mc = evaluate(DESIGNS[0], RISK, risk=2.5)
+    assert exact.shimmy_probability_se == 0
+    assert abs(mc.shimmy_probability - exact.shimmy_probability) <= 3 * mc.shimmy_probability_se
+
+
+def test_old_name_warns():
+    """evaluate_candidates, the former name, still works for a release and says so (DeprecationWarning)."""
+    from designer.model import evaluate_candidates as old
+
+    with pytest.warns(DeprecationWarning, match="designer.model.evaluate"):
+        values = old(DESIGNS, RISK, probability_at=2.5, samples=10_000, target_se=None)
+    assert values.shimmy_probability.shape == (len(DESIGNS),)

@@ -10,7 +10,7 @@ from designer.studies import front as pareto
 from designer.model import VARIABLES, Design
 from designer.problem import load_problem
 from designer.solvers import closed_form as structured
-from designer.solvers.nlp import CasterNLP, best_starts, evaluate_many
+from designer.solvers.nlp import CasterNLP, best_starts
 
 warnings.filterwarnings("ignore", message="inertia power law used at")
 NAMES = ["indoor-manual", "sports-court", "powered-chair"]
@@ -33,7 +33,7 @@ def fronts():
 
 
 def _f(problem, x):
-    return evaluate_many(problem, np.asarray(x, float).reshape(-1, 4))["turning_effort"]
+    return problem.evaluate(np.asarray(x, float).reshape(-1, 4))["turning_effort"]
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -55,7 +55,7 @@ def test_closed_form_matches_nlp_front(fronts, name):
         assert pareto.family_of(problem, slow.points[i].design) in ("groove", "groove+damper")
         assert pareto.family_of(problem, Design.from_array(x[i])) == "damper"
     # same threshold force: the diameter is the smallest one meeting the cap
-    p_cf = evaluate_many(problem, x)["threshold_force"]
+    p_cf = problem.evaluate(x)["threshold_force"]
     assert np.allclose(p_cf, slow.objectives()[:, 1], rtol=1e-7)
 
 
@@ -102,9 +102,7 @@ def test_fixed_variables(fixed):
     problem = base.replace(bounds={**base.bounds, fixed: dataclasses.replace(b, low=value, high=value)})
     assert structured.applicable(problem)
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
-    p_hi = evaluate_many(problem, np.array([[lo[0], lo[1], lo[2], lo[3]], [lo[0], hi[1], lo[2], lo[3]]]))[
-        "threshold_force"
-    ]
+    p_hi = problem.evaluate(np.array([[lo[0], lo[1], lo[2], lo[3]], [lo[0], hi[1], lo[2], lo[3]]]))["threshold_force"]
     eps = np.linspace(p_hi[1], p_hi[0], 5)
     x, ok = structured.structured_front_designs(problem, eps)
     i = list(VARIABLES).index(fixed)
@@ -123,7 +121,7 @@ def test_infeasible_epsilon_and_target():
     front ends), not designs."""
     problem = _problem("indoor-manual")
     hi = problem.upper().as_array()
-    p_min = evaluate_many(problem, hi[None, :])["threshold_force"][0]
+    p_min = problem.evaluate(hi[None, :])["threshold_force"][0]
     _, ok = structured.structured_front_designs(problem, [p_min * 0.99, p_min * 1.01, 0.0, -1.0])
     assert ok.tolist() == [False, True, False, False]
     unreachable = problem.replace(target_speed=100.0)
@@ -150,7 +148,7 @@ def test_ends(fronts, name):
     """Closed-form ends equal the NLP-only front's ends (F and P to 1e-8)."""
     problem, slow, _ = fronts[name]
     a, b = structured.structured_ends(problem)
-    v = evaluate_many(problem, np.array([a, b]))
+    v = problem.evaluate(np.array([a, b]))
     f = slow.objectives()
     assert np.allclose([v["turning_effort"][0], v["threshold_force"][1]], [f[0, 0], f[-1, 1]], rtol=1e-8)
     assert np.allclose([v["threshold_force"][0], v["turning_effort"][1]], [f[0, 1], f[-1, 0]], rtol=1e-7)
@@ -184,7 +182,7 @@ def test_risk_closed_form_matches_nlp_front(risk_fronts, name):
     eps = np.array([p.epsilon for p in slow.points])
     x, ok = structured.structured_front_designs(problem, np.minimum(eps, 1e8))
     assert ok.all()
-    values = evaluate_many(problem, x)
+    values = problem.evaluate(x)
     assert np.all(values["confident_speed"] >= problem.required_speed * (1 - 1e-12))
     assert np.all(values["threshold_force"] <= np.minimum(eps, 1e8) * (1 + 1e-12))
     assert np.all(problem.lower().as_array() <= x) and np.all(x <= problem.upper().as_array())
@@ -236,7 +234,7 @@ def test_risk_bound_is_a_share_dependent_target():
     assert np.ptp(g_flat) < 1e-12
     tightened = base.nominal().replace(target_speed=base.target_speed * float(np.exp(g_flat[0] / 2)))
     lo, hi = base.lower().as_array(), base.upper().as_array()
-    p_range = evaluate_many(base, np.array([lo, hi]))["threshold_force"]
+    p_range = base.evaluate(np.array([lo, hi]))["threshold_force"]
     eps = np.linspace(p_range[1], p_range[0], 8)[1:-1]
     x_risk, ok_risk = structured.structured_front_designs(flat, eps)
     x_nom, ok_nom = structured.structured_front_designs(tightened, eps)
@@ -257,7 +255,7 @@ def test_risk_closed_form_other_scatter(scatter):
     problem = _with_scatter(load_problem("problems/sports-court.toml"), **scatter)
     assert structured.applicable(problem)
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
-    p_range = evaluate_many(problem, np.array([lo, hi]))["threshold_force"]
+    p_range = problem.evaluate(np.array([lo, hi]))["threshold_force"]
     eps = np.linspace(p_range[1], p_range[0], 7)[1:-1]
     x, ok = structured.structured_front_designs(problem, eps)
     for e, xi, oki in zip(eps, x, ok):
@@ -326,8 +324,8 @@ def heavy():
     x, ok = structured.designs_at_diameter(problem, d)
     others = tuple(i for i in range(len(structured.CANDIDATES)) if i != LAST)
     x3, ok3 = structured.designs_at_diameter(problem, d, candidates=others)
-    f = evaluate_many(problem, x)["turning_effort"]
-    f3 = np.where(ok3, evaluate_many(problem, x3)["turning_effort"], np.inf)
+    f = problem.evaluate(x)["turning_effort"]
+    f3 = np.where(ok3, problem.evaluate(x3)["turning_effort"], np.inf)
     return problem, d, x, ok, f, f3
 
 
@@ -340,7 +338,7 @@ def test_damping_at_max_groove_from_eq7_is_chosen(heavy):
     xc = x[chosen]
     assert np.all(xc[:, 3] == pytest.approx(1.5))
     assert np.all((xc[:, 2] > 1e-4) & (xc[:, 2] < 0.75 * 0.0254 - 1e-4))
-    v = evaluate_many(problem, xc)["critical_speed"]
+    v = problem.evaluate(xc)["critical_speed"]
     assert v == pytest.approx(problem.required_speed, rel=1e-9)
 
 
@@ -505,7 +503,7 @@ def test_designs_use_the_problems_slip_coefficient(indoor):
     d = np.linspace(4, 8, 5) * INCH
     x, ok = structured.designs_at_diameter(stiff, d)
     assert ok.all()
-    values = evaluate_many(stiff, x)
+    values = stiff.evaluate(x)
     v = values["critical_speed"]
     bare = (x[:, 2] <= 1e-12) & (x[:, 3] <= stiff.lower().damping * (1 + 1e-12))
     assert np.all(v >= stiff.required_speed * (1 - 1e-9))
@@ -585,13 +583,13 @@ def _brute_best(p, t, d):
     """Least F_turn at (T, d) over the box in (B, c_f) under the risk bound: a 401-point grid in B, then a bounded
     scalar minimisation around the best cell (c_f the least feasible at each B).  inf when nothing is feasible."""
     lo, hi = p.lower().as_array(), p.upper().as_array()
-    inertia = float(evaluate_many(p, np.array([[t, d, lo[2], lo[3]]]))["inertia"][0])
+    inertia = float(p.evaluate(np.array([[t, d, lo[2], lo[3]]]))["inertia"][0])
 
     def f(b):
         c = _least_c(p, t, inertia, b, d)
         if not np.isfinite(c):
             return np.inf
-        return float(evaluate_many(p, np.array([[t, d, b, c]]))["turning_effort"][0])
+        return float(p.evaluate(np.array([[t, d, b, c]]))["turning_effort"][0])
 
     grid = np.linspace(lo[2], hi[2], 401)
     vals = np.array([f(b) for b in grid])
@@ -624,7 +622,7 @@ def test_risk_designs_equal_a_brute_force_search(name, speed, scatter):
     p = _risk_problem(name, speed, **scatter)
     assert p.risk is not None and structured.applicable(p)
     lo, hi = p.lower().as_array(), p.upper().as_array()
-    p_range = evaluate_many(p, np.array([lo, hi]))["threshold_force"]
+    p_range = p.evaluate(np.array([lo, hi]))["threshold_force"]
     eps = np.linspace(p_range[1], p_range[0], 6)[:-1]
     x, ok = structured.structured_front_designs(p, eps)
     for e, xi, oki in zip(eps, x, ok):
@@ -632,7 +630,7 @@ def test_risk_designs_equal_a_brute_force_search(name, speed, scatter):
         assert oki == np.isfinite(ref)
         if not oki:
             continue
-        v = evaluate_many(p, xi[None])
+        v = p.evaluate(xi[None])
         inertia = float(v["inertia"][0])
         assert _quantile(p, xi[0], inertia, xi[2], xi[3], xi[1]) >= p.required_speed * (1 - 1e-12)
         assert np.all(lo <= xi) and np.all(xi <= hi) and v["threshold_force"][0] <= e * (1 + 1e-12)
@@ -651,9 +649,9 @@ def test_risk_design_on_the_bound_unless_at_the_corner(speed, measured):
     # feasibility shrinks with d: the larger diameters miss the bound (I_w too large), the box cannot meet it
     assert ok[0] and not ok[-1] and np.all(np.diff(ok.astype(int)) <= 0)
     x, d = x[ok], d[ok]
-    v = evaluate_many(p, x)
+    v = p.evaluate(x)
     corner = np.column_stack([x[:, 0], d, np.full(len(d), lo[2]), np.full(len(d), lo[3])])
-    corner_ok = evaluate_many(p, corner)["confident_speed"] >= p.required_speed
+    corner_ok = p.evaluate(corner)["confident_speed"] >= p.required_speed
     assert corner_ok.any() and not corner_ok.all()
     assert np.array_equal(x[corner_ok], corner[corner_ok])
     assert np.allclose(v["confident_speed"][~corner_ok], p.required_speed, rtol=1e-9, atol=0)
@@ -729,7 +727,7 @@ def test_zero_design_scatter_is_the_nominal_closed_form_at_a_raised_target(speed
     assert np.ptp(g) < 1e-12 and g[0] > 0.01
     nominal = flat.nominal().replace(target_speed=flat.target_speed * float(np.exp(g[0] / 2)))
     lo, hi = flat.lower().as_array(), flat.upper().as_array()
-    p_range = evaluate_many(flat, np.array([lo, hi]))["threshold_force"]
+    p_range = flat.evaluate(np.array([lo, hi]))["threshold_force"]
     eps = np.linspace(p_range[1], p_range[0], 9)[1:-1]
     x_risk, ok_risk = structured.structured_front_designs(flat, eps)
     x_nom, ok_nom = structured.structured_front_designs(nominal, eps)

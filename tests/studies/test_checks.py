@@ -172,9 +172,8 @@ def indoor():
 def _point(problem, x, f=None, margins=None):
     from designer.model import Design
     from designer.studies.front import FrontPoint, family_of
-    from designer.solvers.nlp import evaluate_many
 
-    values = evaluate_many(problem, np.atleast_2d(x))
+    values = problem.evaluate(np.atleast_2d(x))
     design = Design.from_array(np.asarray(x, float))
     fv = float(values["turning_effort"][0]) if f is None else f
     return FrontPoint(
@@ -767,7 +766,7 @@ import designer.studies.checks as ck
 from designer.data.paper import INCH
 from designer.problem import load_problem, problem_from_toml
 from designer.solvers import closed_form as structured
-from designer.solvers.nlp import CasterNLP, evaluate_many
+from designer.solvers.nlp import CasterNLP
 
 from conftest import HEAVY
 
@@ -922,7 +921,7 @@ def test_structured_ends_match_nlp_ends(toml):
     (na_f, na_p, _, _), (nb_f, nb_p, _, _) = nlp.objectives_many([ra.design, rb.design])
     assert fa == pytest.approx(na_f, rel=1e-7) and pa == pytest.approx(na_p, rel=1e-6)
     assert pb == pytest.approx(nb_p, rel=1e-7) and fb == pytest.approx(nb_f, rel=1e-6)
-    v = evaluate_many(problem, np.array([xa, xb]))["critical_speed"]
+    v = problem.evaluate(np.array([xa, xb]))["critical_speed"]
     assert np.all(v >= problem.required_speed * (1 - 1e-9))
 
 
@@ -932,7 +931,7 @@ def test_structured_front_designs_on_the_curve():
     eps = np.array([100.0, 110.0, 120.0])
     x, ok = structured.structured_front_designs(problem, eps)
     assert ok.all()
-    values = evaluate_many(problem, x)
+    values = problem.evaluate(x)
     assert values["threshold_force"] == pytest.approx(eps, rel=1e-9)
     assert structured.diameter_at(problem, eps) == pytest.approx(x[:, 1], rel=1e-12)
     assert np.isnan(structured.diameter_at(problem, [0.0])[0])

@@ -19,7 +19,7 @@ import math
 from pathlib import Path
 
 from designer.textfiles import csv_text, dict_rows
-from designer.jsonsafe import finite
+from designer.jsonsafe import finite, stamped
 from designer.output import output_folder
 from designer.plots.figures import png_bytes
 from designer.report.limit_cycles import blocks as _blocks
@@ -110,12 +110,15 @@ def limit_cycle_files(study: dict, folder) -> list[str]:
     _csv(out / "bifurcation.csv", _bifurcation_rows(study))
     (out / "bifurcation.json").write_text(
         json.dumps(
-            finite(
-                {
-                    k: study[k]
-                    for k in ("bifurcation", "rolling", "friction", "knock_safe", "measured", "rolling_limit")
-                    if k in study
-                }
+            stamped(
+                "bifurcation.json",
+                finite(
+                    {
+                        k: study[k]
+                        for k in ("bifurcation", "rolling", "friction", "knock_safe", "measured", "rolling_limit")
+                        if k in study
+                    }
+                ),
             ),
             indent=1,
         )

@@ -82,7 +82,7 @@ from designer.physics.threshold import (
 from designer.problem import Problem
 from designer.errors import InfeasibleError
 from designer.reprs import Record
-from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, evaluated, no_optimum, weights_of, wheel_of
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, objectives_of, no_optimum, weights_of, wheel_of
 from designer.solvers.nlp import BIG, CasterNLP
 from designer.solvers.gp._family import BACKOFF, FLOOR, MAX_ITERATIONS, SOLVER_OPTIONS, STEP_TOLERANCE, _Family
 from designer.solvers.gp._terms import MAX_ORDER, SERIES_TOLERANCE, gp_terms, robust_speed_factor, series_order
@@ -452,7 +452,7 @@ class GPSolver:
             epsilon=e,
             designs=x,
             success=np.array([o.success for o in found], dtype=bool),
-            objectives=evaluated(problem, x),
+            objectives=objectives_of(problem, x),
             status=tuple(o.status for o in found),
             multipliers=tuple(o.sensitivities for o in found),
             solves=sum(o.solves for o in found),

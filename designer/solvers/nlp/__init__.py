@@ -22,11 +22,9 @@ from designer.solvers.nlp._casadi import (
     CasterNLP,
     NLPResult,
     best_starts,
-    evaluate_many,
     max_critical_speed,
     sample_designs,
     solve_best,
-    violation,
 )
 from designer.solvers.nlp._solver import NLP, NLPSolver, nlp_designs
 from designer.solvers.nlp._sweep import Ends, NLPSweep, StructuredSweep, box_sample, lexicographic_ends
@@ -47,7 +45,6 @@ __all__ = [
     "StructuredSweep",
     "best_starts",
     "box_sample",
-    "evaluate_many",
     "lexicographic_ends",
     "max_critical_speed",
     "nlp_designs",
@@ -55,5 +52,4 @@ __all__ = [
     "shared_nlp",
     "solve_best",
     "structure_key",
-    "violation",
 ]

@@ -35,7 +35,6 @@ from designer.model import VARIABLES, Design, performance
 from designer.physics import enable_casadi
 from designer.problem import Problem
 from designer.reprs import Record
-import warnings
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -607,22 +606,6 @@ def sample_designs(problem: Problem, n: int = 1024, seed: int = 0) -> np.ndarray
     return designs
 
 
-def evaluate_many(problem: Problem, x: np.ndarray) -> dict[str, Any]:
-    """Vectorised :func:`designer.model._caster.performance` over an (N, 4) array of designs."""
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)
-        return performance(**parameters.named(x), conditions=problem.conditions)
-
-
-def violation(problem: Problem, values: dict[str, Any]) -> np.ndarray:
-    """Total relative constraint violation of evaluated designs (0 = feasible)."""
-    v: np.ndarray = np.maximum(0.0, 1 - values["confident_speed"] / problem.required_speed)
-    if problem.swept_radius_max is not None:
-        v = v + np.maximum(0.0, values["swept_radius"] / problem.swept_radius_max - 1)
-    return v
-
-
 def best_starts(
     problem: Problem,
     weights: Sequence[float],
@@ -638,9 +621,9 @@ def best_starts(
     at maximum trail, which is where the optima of this problem live.
     """
     x = sample_designs(problem, n, seed) if samples is None else samples
-    values = evaluate_many(problem, x)
-    viol = violation(problem, values) + np.maximum(0.0, values["threshold_force"] / threshold_cap - 1)
-    j = weights[0] * values["turning_effort"] + weights[1] * values["threshold_force"]
+    values = problem.evaluate(x)
+    viol = values.violation() + np.maximum(0.0, values.threshold_force / threshold_cap - 1)
+    j = values.J(weights)
     feasible = viol <= 0
     order = np.argsort(j[feasible])[:k] if np.any(feasible) else np.array([], int)
     starts = [x[feasible][i] for i in order]

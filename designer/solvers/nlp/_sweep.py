@@ -38,9 +38,7 @@ from designer.solvers.nlp._casadi import (
     CasterNLP,
     NLPResult,
     best_starts,
-    evaluate_many,
     sample_designs,
-    violation,
 )
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
@@ -96,12 +94,12 @@ def box_sample(problem: Problem, n: int = 1024) -> Sample:
     entry = _SAMPLE_CACHE.pop(key, None)
     if entry is None:
         x = sample_designs(problem, n, seed=0)
-        values = evaluate_many(problem, x)
+        values = problem.evaluate(x)
         entry = (
             x,
-            values["turning_effort"],
-            values["threshold_force"],
-            violation(problem, values),
+            values.turning_effort,
+            values.threshold_force,
+            values.violation(),
             best_starts(problem, (1.0, 0.0), samples=x),
             best_starts(problem, (0.0, 1.0), samples=x),
         )
@@ -309,8 +307,8 @@ class StructuredSweep(NLPSweep):
                 lam_g, lam_x = nlp.multipliers_many(x[idx], (1.0, 0.0), inner[idx])
                 solved = nlp.solve_many(x[idx], (1.0, 0.0), inner[idx], lam_g0=lam_g, lam_x0=lam_x)
                 solves += len(idx)
-                f_cf = evaluate_many(problem, x[idx])["turning_effort"]
-                f_nlp = evaluate_many(problem, np.array([r.design.as_array() for r in solved]))["turning_effort"]
+                f_cf = problem.evaluate(x[idx]).turning_effort
+                f_nlp = problem.evaluate(np.array([r.design.as_array() for r in solved])).turning_effort
                 for j, r, a, b in zip(idx, solved, f_nlp, f_cf):
                     if r.success and a <= b * (1 + 1e-9):
                         results[j + 1] = r
@@ -446,8 +444,8 @@ class _Sweep:
         ok = np.array([r.success for r in results])
         f_all = np.full(len(results), np.inf)
         if np.any(ok):
-            values = evaluate_many(self.problem, np.array([r.design.as_array() for r in results]))
-            f_all[ok] = values["turning_effort"][ok]
+            values = self.problem.evaluate(np.array([r.design.as_array() for r in results]))
+            f_all[ok] = values.turning_effort[ok]
         improved: set[int] = set()
         for i, r, f in zip(idx, results, f_all):
             if self.first[i] is None:

@@ -12,6 +12,7 @@ approximation holds and where it breaks, and the comparison figure
 from __future__ import annotations
 
 import json
+import io
 import math
 import time
 from pathlib import Path
@@ -21,9 +22,10 @@ import numpy as np
 from designer.textfiles import csv_text, dict_rows
 from designer.studies.dynamics._simulate import onset_speed, simulate
 from designer.data.paper import INCH
-from designer.model import Conditions, Design
+from designer.model import Conditions, Design, critical_speed
+from designer.jsonsafe import stamped
+from designer.output import PLOT, SOFTWARE, first_line_kind, write_file
 from designer.physics.inertia import Fixed
-from designer.physics.shimmy import critical_shimmy_speed
 from designer.plots.simulation import figure_onset_comparison
 from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING
 
@@ -65,7 +67,7 @@ def _report_row(trail, inertia, groove, angle, conditions, damping, rtol):
     onset = onset_speed(design, cond, angle=angle, rtol=rtol)
     omega = onset.predicted_frequency
     groove_share = float(
-        critical_shimmy_speed(trail, inertia, groove, 0.0, cond.slip_coefficient) ** 2 / onset.critical_speed**2
+        critical_speed(trail, inertia, groove, 0.0, cond.slip_coefficient) ** 2 / onset.critical_speed**2
     )
     return {
         "trail_in": trail / INCH,
@@ -149,9 +151,19 @@ def write_simulation_report(
     _write_csv(out / "onset.csv", rows)
     # the run time stays out of the committed files (it is in the returned summary): a rerun writes the same bytes
     kept = {k: v for k, v in summary.items() if k != "seconds"}
-    (out / "onset.json").write_text(json.dumps({"summary": kept, "rows": rows}, indent=2))
-    figure_onset_comparison(rows, traces, onset_c).savefig(out / "onset.png", dpi=110, metadata={"Software": None})
-    (out / "report.md").write_text(_report_markdown(rows, summary))
+    write_file(
+        out / "onset.json",
+        json.dumps(stamped("onset.json", {"summary": kept, "rows": rows}), indent=2),
+        "--report",
+        "onset.json",
+        kind=ONSET_KINDS["onset.json"],
+    )
+    png = io.BytesIO()
+    figure_onset_comparison(rows, traces, onset_c).savefig(png, format="png", dpi=110, metadata={"Software": SOFTWARE})
+    write_file(out / "onset.png", png.getvalue(), "--report", "onset.png", kind=ONSET_KINDS["onset.png"])
+    write_file(
+        out / "report.md", _report_markdown(rows, summary), "--report", "report.md", kind=ONSET_KINDS["report.md"]
+    )
     return {"rows": rows, "summary": summary}
 
 
@@ -184,10 +196,20 @@ def _appendix_c(conditions: Conditions, rtol: float):
     return onset_c, traces, record
 
 
+ONSET_KINDS = {
+    "onset.json": first_line_kind('{\n  "schema": "caster-designer/onset.json/', "an onset.json of designer simulate"),
+    "onset.csv": first_line_kind("trail_in,inertia_kgm2,", "an onset.csv of designer simulate"),
+    "report.md": first_line_kind("# Simulated shimmy onset vs Eq. 7", "the onset report of designer simulate"),
+    "onset.png": PLOT,
+}
+"""The onset study's files: an existing one is replaced only when the tool wrote it (:func:`designer.output.write_file`)."""
+
+
 def _write_csv(path: Path, rows: list[dict]) -> None:
     """``onset.csv``: one line per case, floats to 6 significant digits."""
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        fh.write(csv_text(dict_rows(rows, list(rows[0]), "{:.6g}")))
+    write_file(
+        path, csv_text(dict_rows(rows, list(rows[0]), "{:.6g}")), "--report", "onset.csv", kind=ONSET_KINDS["onset.csv"]
+    )
 
 
 def _summarise(rows) -> dict:

@@ -50,7 +50,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.errors import InputError, SolverError
-from designer.model import Conditions, Design
+from designer.model import Conditions, Design, critical_speed
 from designer.physics.motion import (
     held_moment,
     knock_lateral,
@@ -59,7 +59,7 @@ from designer.physics.motion import (
     stick_release,
     tread_coefficient,
 )
-from designer.physics.shimmy import critical_shimmy_speed, shimmy_frequency, steady_shimmy_amplitude
+from designer.physics.shimmy import shimmy_frequency, steady_shimmy_amplitude
 from designer.studies.dynamics._result import OnsetResult, SimulationResult
 from designer.studies.dynamics._work import SPEED_RANGE, bounded, counted, spend
 
@@ -327,7 +327,7 @@ def simulate(  # long: its docstring documents every argument; the body (30 line
         frequency=_frequency(run.crossings, k.transient),
         predicted_frequency=k.omega,
         predicted_amplitude=float(steady_shimmy_amplitude(k.V, k.T, k.omega, k.theta_i)),
-        critical_speed=float(critical_shimmy_speed(k.T, k.inertia, k.groove, c_eff, k.slip_coefficient)),
+        critical_speed=float(critical_speed(k.T, k.inertia, k.groove, c_eff, k.slip_coefficient)),
         switches=run.switches,
         extrema=ext,
     )
@@ -487,7 +487,7 @@ def onset_speed(  # long: its docstring documents every argument and error; the 
 
     inertia = float(conditions.inertia(design.diameter))
     c_eff = float(design.damping) * float(conditions.disturbance_angle) / theta_i  # M_f / θ_i
-    v7 = float(critical_shimmy_speed(design.trail, inertia, design.groove, c_eff, conditions.slip_coefficient))
+    v7 = float(critical_speed(design.trail, inertia, design.groove, c_eff, conditions.slip_coefficient))
     if bracket is None:
         low, high = 0.8 * v7, 1.25 * v7
     else:

@@ -6,7 +6,7 @@ subject to the problem's shimmy constraint, risk-bounded as everywhere else (V_q
 P(V_c < V_target) <= α, or V_c >= (1 + margin) V_target (Eq. 7) for a nominal problem), and the
 optional swept-radius limit, both passed to optuna with
 ``trial.set_constraint`` (g <= 0 feasible).  Every trial is evaluated by
-:func:`designer.solvers.nlp.evaluate_many`, i.e. by the one model
+:func:`designer.model.evaluate`, i.e. by the one model
 :func:`designer.model._caster.performance`.
 
 Search space

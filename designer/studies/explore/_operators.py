@@ -19,9 +19,7 @@ from designer.studies.front import nondominated
 from designer.model import VARIABLES, Design
 from designer.problem import Bound, Problem
 from designer.reprs import Record
-from designer.solvers.nlp import evaluate_many, violation
 from designer.physics.inertia import Catalog
-from designer.solvers.nlp import BIG, CasterNLP
 
 
 # --------------------------------------------------------------------------- operators
@@ -359,6 +357,8 @@ def _row(cat: tuple, number: int, x: np.ndarray, values: dict, refined: bool) ->
 def _refine(sub: Problem, cat: tuple, front: list, nlps: dict) -> list:
     """ε-constraint polish: min F_turn s.t. P <= P_candidate from each candidate (exact NLP of the category)."""
 
+    from designer.solvers.nlp import BIG, CasterNLP  # CasADi: the polish only, never a trial
+
     if cat not in nlps:
         nlps[cat] = CasterNLP(sub)
     nlp = nlps[cat]
@@ -374,9 +374,8 @@ def _refine(sub: Problem, cat: tuple, front: list, nlps: dict) -> list:
             out.append(row)
             continue
         x = res.design.as_array()
-        values = evaluate_many(sub, x[None, :])
-        values = {k: v[0] for k, v in values.items()}
-        feasible = violation(sub, {k: np.atleast_1d(v) for k, v in values.items()})[0] <= 1e-9
+        values = sub.evaluate(x[None, :]).row(0)
+        feasible = values.feasible
         better = values["turning_effort"] <= row["turning_effort"] * (1 + 1e-9)
         if feasible and better and values["threshold_force"] <= row["threshold_force"] * (1 + 1e-9):
             out.append(_row(cat, row["trial"], x, values, True))

@@ -12,13 +12,12 @@ from typing import Any
 import numpy as np
 
 from designer.textfiles import csv_text
-from designer.jsonsafe import finite
+from designer.jsonsafe import finite, stamped
 from designer.parameters import VARIABLE_TABLE
 from designer.versions import versions
 from designer.studies.front import hypervolume_2d, igd_plus, normalise
 from designer.problem import Problem
 from designer.reprs import Record, dataframe, svg_curve
-from designer.solvers.nlp import evaluate_many
 from designer.studies.explore._operators import Operators, category_problem, search_space
 from designer.studies.explore._storage import _atomic_write_many, _one_line
 
@@ -212,7 +211,12 @@ class ExploreResult(Record):
                 ]
                 table.append(cells)
         csv_path, json_path = out / "explore.csv", out / "explore.json"
-        _atomic_write_many({csv_path: csv_text(table), json_path: json.dumps(finite(self.to_dict()), indent=2) + "\n"})
+        _atomic_write_many(
+            {
+                csv_path: csv_text(table),
+                json_path: json.dumps(stamped("explore.json", finite(self.to_dict())), indent=2) + "\n",
+            }
+        )
         return csv_path, json_path
 
 
@@ -226,9 +230,9 @@ def _box_reference(problem: Problem) -> tuple[float, float]:
     for cat in search_space(problem).categories():
         sub = category_problem(problem, cat)
         lo, hi = sub.lower(), sub.upper()
-        values = evaluate_many(sub, np.array([[lo.trail, lo.diameter, hi.groove, hi.damping]]))
-        f.append(float(values["turning_effort"][0]))
-        p.append(float(values["threshold_force"][0]))
+        values = sub.evaluate(np.array([[lo.trail, lo.diameter, hi.groove, hi.damping]])).row(0)
+        f.append(values.turning_effort)
+        p.append(values.threshold_force)
     return (1.1 * max(f), 1.1 * max(p))
 
 

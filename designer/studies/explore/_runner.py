@@ -15,7 +15,6 @@ from designer.errors import DesignerError, InputError, StorageError, os_reason
 from designer.studies.front import hypervolume_2d
 from designer.problem import Problem, problem_argument
 from designer.solvers import one_solve_at_a_time
-from designer.solvers.nlp import evaluate_many, violation
 from designer.studies.explore._operators import (
     Operators,
     SearchSpace,
@@ -352,19 +351,15 @@ def _collect(problem, space, study, complete, ops, refine, exact, reference) -> 
             continue
         sub = evaluator.problems[cat]
         x = np.array([evaluator.design_array(cat, t.params) for t in rows])
-        values = evaluate_many(sub, x)
-        ok = (
-            (violation(sub, values) <= 0)
-            & np.isfinite(values["turning_effort"])
-            & np.isfinite(values["threshold_force"])
-        )
+        values = sub.evaluate(x)
+        ok = values.feasible & np.isfinite(values.turning_effort) & np.isfinite(values.threshold_force)
         feasible_total += int(ok.sum())
         if not ok.any():
             category_fronts[category_label(cat)] = []
             continue
-        objs = np.column_stack([values["turning_effort"], values["threshold_force"]])
+        objs = np.column_stack([values.turning_effort, values.threshold_force])
         idx = np.flatnonzero(ok)[_front_mask(objs[ok])]
-        front = [_row(cat, rows[i].number, x[i], {k: v[i] for k, v in values.items()}, False) for i in idx]
+        front = [_row(cat, rows[i].number, x[i], values.row(i), False) for i in idx]
         if refine:
             front = _refine(sub, cat, front, nlps)
         front.sort(key=lambda r: r["threshold_force"])

@@ -29,9 +29,8 @@ import numpy as np
 
 from designer.children import bind_to_parent
 from designer.errors import StorageError
-from designer.model import VARIABLES
+from designer.model import FEASIBILITY_TOLERANCE, VARIABLES, Caster
 from designer.problem import Problem
-from designer.solvers.nlp import evaluate_many
 from designer.studies.explore._operators import Operators, SearchSpace, category_problem, search_space
 from designer.studies.explore._storage import StorageSpec, _one_line, open_storage, parse_storage, scrub
 
@@ -109,15 +108,20 @@ class _Evaluator:
         )
         params = {name: trial.suggest_float(name, lo, hi) for name, lo, hi in self.space.continuous}
         sub = self.problems[category]
-        values = evaluate_many(sub, self.design_array(category, params)[None, :])
-        f_turn = float(values["turning_effort"][0])
-        p = float(values["threshold_force"][0])
-        v_q = float(values["confident_speed"][0])  # V_q of the risk bound (V_c itself for a nominal problem)
-        shimmy = 1.0 - v_q / sub.required_speed if math.isfinite(v_q) else 1.0
-        trial.set_constraint("shimmy", shimmy)
+        values = evaluate_trial(sub, self.design_array(category, params))
+        f_turn, p = values.turning_effort, values.threshold_force
+        # the model's constraint values less its one tolerance, so optuna's g <= 0 is the model's feasibility:
+        # g_risk on V_q of the risk bound (V_c for a nominal problem), g_radius on the swept radius
+        tol = FEASIBILITY_TOLERANCE
+        trial.set_constraint("shimmy", values.g_risk - tol if math.isfinite(values.g_risk) else 1.0)
         if sub.swept_radius_max is not None:
-            trial.set_constraint("swept_radius", float(values["swept_radius"][0]) / sub.swept_radius_max - 1.0)
+            trial.set_constraint("swept_radius", values.g_radius - tol)
         return (f_turn if math.isfinite(f_turn) else 1e12), (p if math.isfinite(p) else 1e12)
+
+
+def evaluate_trial(sub: Problem, x: np.ndarray) -> Caster:
+    """One drawn candidate (T, d, B, c_f [SI]) by the model's evaluator under its category's problem: a Caster."""
+    return sub.evaluate(x[None, :]).row(0)
 
 
 def _counts(study) -> dict:

@@ -4,7 +4,7 @@ Part of :mod:`designer.studies.fleet._fleet` (which re-exports every name): the 
 V_c and its quantile (:func:`stock_table`), F_turn, P and feasibility of every caster for every chair
 (:func:`evaluate_chairs`), the buildable front and the rule per chair (:func:`recommend_chairs`), and the
 Monte Carlo P(shimmy) of the chosen casters (:func:`_mc_task`).  Every number of a caster comes from the
-model's evaluator (:func:`designer.model.evaluate_candidates`, :func:`designer.model.shimmy_probability`).
+model's evaluator (:func:`designer.model.evaluate`, :func:`designer.model.shimmy_probability`).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import ProblemError
-from designer.model import VARIABLES, evaluate_candidates, shimmy_probability
+from designer.model import VARIABLES, evaluate, shimmy_probability
 from designer.physics.acceptance import LawCaster, exact_probability
 from designer.physics.turning import MODES, SURFACES
 from designer.problem import Stock
@@ -116,7 +116,7 @@ def stock_table(problem) -> StockTable:
         note=note,
         measured=np.asarray(cand.measured, bool),
     )
-    values = evaluate_candidates(
+    values = evaluate(
         {name: getattr(table, name) for name in VARIABLES},
         problem.conditions,
         inertia=table.inertia,
@@ -196,7 +196,7 @@ def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
             rows = np.flatnonzero((chairs["surface"] == surface) & (chairs["turning_mode"] == mode))
             if not len(rows):
                 continue
-            values = evaluate_candidates(
+            values = evaluate(
                 designs,
                 problem.conditions.replace(surface=surface, turning_mode=mode),
                 inertia=stock.inertia[None, :],

@@ -37,7 +37,7 @@ from designer.model import Design
 from designer.problem import POINTS_RANGE, Problem, family_of, problem_argument
 from designer.solvers import FRONT_STRATEGIES, Designs, front_solver, one_solve_at_a_time
 from designer.solvers.base import wheel_of
-from designer.solvers.nlp import BIG, evaluate_many
+from designer.solvers.nlp import BIG
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -60,14 +60,11 @@ def _points(
     caps = found.epsilon if eps is None else np.asarray(eps, float)
     out: list[FrontPoint | None] = [None] * len(found)
     ok = np.flatnonzero(found.success).tolist()
-    values = evaluate_many(problem, found.designs[ok]) if ok else {}
-    columns = {
-        key: np.asarray(v, float).ravel().tolist() if np.ndim(v) else [float(v)] * len(ok) for key, v in values.items()
-    }
+    values = problem.evaluate(found.designs[ok]) if ok else None
     for i in range(len(found)):
         design = found.design(i)
-        if i in ok:
-            row = {key: column[ok.index(i)] for key, column in columns.items()}
+        if values is not None and i in ok:
+            row = values.row(ok.index(i))
             f, p, v = row["turning_effort"], row["threshold_force"], row["critical_speed"]
             margins, _ = constraint_margins(problem, design, row)
         else:

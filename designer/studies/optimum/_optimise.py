@@ -21,7 +21,7 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import InfeasibleError, SolverError
-from designer.model import VARIABLES, Design, evaluate, evaluate_candidates
+from designer.model import VARIABLES, Design
 from designer.problem import Problem, problem_argument
 from designer.reprs import Record, dataframe
 from designer.solvers import PRIMARY, Optimum, one_solve_at_a_time, solver
@@ -57,6 +57,9 @@ class Solution(Record):
     wheel : chosen Table 1 wheel for a catalog problem, else None
     timings : {"build": s, "solve": s, "cross_check": s}
     weights : (w_turn, w_threshold) of the J that was minimised (``--weights`` or the problem's)
+    shimmy_probability, shimmy_probability_se : Monte Carlo P(V_c,true < V_req) at the optimum and its SE [-]
+        (computed by :func:`optimise` with the model's evaluator; None without a risk bound): ``str()`` shows them
+        and runs nothing
     """
 
     problem: Problem
@@ -73,6 +76,8 @@ class Solution(Record):
     timings: dict[str, float] = field(default_factory=dict)
     starts: int = 0
     weights: tuple[float, ...] = ()
+    shimmy_probability: float | None = None
+    shimmy_probability_se: float | None = None
 
     def __post_init__(self) -> None:
         if not self.weights:
@@ -211,9 +216,9 @@ class Solution(Record):
         u = self.problem.conditions.uncertainty
         if u is None:
             return []
-
-        v = evaluate_candidates(self.design, self.problem.conditions, probability_at=self.problem.required_speed)
-        p, se = (float(np.asarray(a)[0]) for a in (v.shimmy_probability, v.shimmy_probability_se))
+        p, se = self.shimmy_probability, self.shimmy_probability_se
+        if p is None or se is None:
+            return []
         return [
             f"  risk bound: P(V_c < {self.problem.required_speed:.3g} m/s) <= {u.probability:.1%} (exact quantile "
             f"of the first-order law, t_{u.model_error_dof} model error); Monte Carlo {p:.2%} ± {se:.2%} "
@@ -353,12 +358,13 @@ def _optimise(problem: Problem, weights: Sequence[float] | None, cross_check: bo
         raise diagnose_infeasible(problem)
     found, design, gp = min(candidates, key=lambda c: c[0].objective)
     variant = found.problem
-    values = evaluate(design, variant.conditions)
+    # the optimum by the model's evaluator; its risk (Monte Carlo at V_req) when the problem has a bound
+    values = variant.evaluate(design, weights=w, risk=None if problem.risk is None else problem.required_speed)
     margins, active = constraint_margins(variant, design, values)
     objectives = {
-        "turning_effort": values["turning_effort"],
-        "threshold_force": values["threshold_force"],
-        "weighted": w[0] * values["turning_effort"] + w[1] * values["threshold_force"],
+        "turning_effort": values.turning_effort,
+        "threshold_force": values.threshold_force,
+        "weighted": values.weighted,
     }
     checks = {PRIMARY: objectives["weighted"]}
     t0 = time.perf_counter()
@@ -372,7 +378,9 @@ def _optimise(problem: Problem, weights: Sequence[float] | None, cross_check: bo
         problem=variant if problem.wheels else problem,
         design=design,
         objectives=objectives,
-        critical_speed=values["critical_speed"],
+        critical_speed=values.critical_speed,
+        shimmy_probability=values.shimmy_probability,
+        shimmy_probability_se=values.shimmy_probability_se,
         constraints=margins,
         active=active,
         sensitivities=dict(found.sensitivities),

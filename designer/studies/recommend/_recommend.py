@@ -3,7 +3,7 @@
 1. **The stock** (:func:`stock_candidates`): every combination of the parts of ``[stock]`` (fork holes,
    wheels or diameters, groove profiles, friction washers); a variable the stock leaves out stays
    continuous within its bounds, a fixed variable (or a catalogue wheel) is one part.
-2. **Deterministic screening** (:func:`designer.model.evaluate_candidates`): the risk bound
+2. **Deterministic screening** (:func:`designer.model.evaluate`): the risk bound
    V_q(x) >= (1 + margin) V_target, V_q the speed reached with probability 1 − α (V_c of Eq. 7 itself with
    ``[robust] enabled = false``), the swept radius T + d/2 <= R_max and the sill (d > 2h, Eq. 4A).  No random
    numbers: a tighter α can never make a caster look better.
@@ -38,7 +38,7 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import InfeasibleError
-from designer.model import VARIABLES, CandidateValues, Design, evaluate_candidates, scatter_of
+from designer.model import VARIABLES, Casters, Design, evaluate, scatter_of
 from designer.physics.inertia import Fixed, PowerLaw
 from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sources
 from designer.problem import Bound, problem_argument
@@ -71,7 +71,7 @@ __all__ = [
 class _Buildable:
     """The buildable candidates before the rule (all feasible): the model's numbers of each and its wheel."""
 
-    values: CandidateValues
+    values: Casters
     wheel: np.ndarray
 
     def __len__(self) -> int:
@@ -122,7 +122,7 @@ def _continuous_buildable(problem) -> _Buildable:
         measured = bool(getattr(sub.conditions.inertia, "measured", False))
         for pt in front:
             rows.append((pt.design, float(sub.conditions.inertia(pt.design.diameter)), cand.wheel[j], measured))
-    values = evaluate_candidates(
+    values = evaluate(
         {name: np.array([getattr(r[0], name) for r in rows], float) for name in VARIABLES},
         problem.conditions,
         inertia=np.array([r[1] for r in rows], float),
@@ -191,12 +191,12 @@ def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, 
     u = scatter_of(problem.conditions)
     v = b.values
     design = b.design(i)
-    risk = evaluate_candidates(
-        design,
+    risk = evaluate(
+        [design],
         problem.conditions.replace(uncertainty=u),
         inertia=v.inertia[i : i + 1],
         measured=v.measured[i : i + 1],
-        probability_at=problem.target_speed,
+        risk=problem.target_speed,
         samples=samples,
         seed=seed,
     )
@@ -244,7 +244,7 @@ def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, 
     )
 
 
-def _risk(problem, v: CandidateValues, i: int, u: Uncertainty, p: float, mc: tuple[float, float]) -> dict:
+def _risk(problem, v: Casters, i: int, u: Uncertainty, p: float, mc: tuple[float, float]) -> dict:
     """The recommended caster's risk record: its exact P, the Monte Carlo P ± SE beside it, and the law's
     sources, each with its share of the variance of log V_c."""
     c = problem.conditions

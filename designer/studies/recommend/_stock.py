@@ -3,7 +3,7 @@
 Every combination of the parts of ``[stock]`` as arrays (:func:`stock_candidates`, the single owner of
 the enumeration; ``designer fleet`` uses it too) and the screened table (:func:`candidate_table`): the risk
 bound, the swept radius and the sill as a deterministic screen, with the objectives, all from the model's
-evaluator (:func:`designer.model.evaluate_candidates`).  Re-exported by
+evaluator (:func:`designer.model.evaluate`).  Re-exported by
 :mod:`designer.studies.recommend._recommend`.
 """
 
@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from designer.model import VARIABLES, CandidateValues, evaluate_candidates
+from designer.model import VARIABLES, Casters, evaluate
 from designer.physics.inertia import Catalog
 
 
@@ -157,10 +157,10 @@ def stock_candidates(problem, stock=None) -> CandidateTable:
 @dataclass
 class ScreenedTable:
     """:class:`CandidateTable` (all discrete) and every number of its screening, per combination
-    (:func:`designer.model.evaluate_candidates`: V_c, V_q, R_s, F_turn, P, the limits met)."""
+    (:func:`designer.model.evaluate`: V_c, V_q, R_s, F_turn, P, the limits met)."""
 
     candidates: CandidateTable
-    values: CandidateValues
+    values: Casters
 
 
 def candidate_table(problem, stock=None) -> ScreenedTable:
@@ -171,7 +171,7 @@ def candidate_table(problem, stock=None) -> ScreenedTable:
     cand = stock_candidates(problem, stock)
     if not cand.discrete:
         raise ValueError("candidate_table needs every variable in the stock; a continuous one is solved by recommend()")
-    values = evaluate_candidates(
+    values = evaluate(
         {name: getattr(cand, name) for name in VARIABLES},
         problem.conditions,
         inertia=cand.inertia,

@@ -14,7 +14,7 @@ import warnings
 
 from designer.data.paper import INCH
 from designer.errors import InputError
-from designer.model import VARIABLES, CandidateValues, Conditions, Design, evaluate_candidates, scatter_of
+from designer.model import VARIABLES, Casters, Conditions, Design, evaluate, scatter_of
 from designer.physics.inertia import Catalog
 from designer.physics.uncertainty import Uncertainty
 
@@ -41,12 +41,12 @@ def _evaluate(
     bound: Uncertainty | None,
     limits: tuple[float, float | None] | None = None,
     monte_carlo: tuple[float, Uncertainty, int, int] | None = None,
-) -> CandidateValues:
+) -> Casters:
     """The model's numbers of candidates {trail, diameter, groove, damping, inertia} (arrays): V_c on the
     effective trail, the bound's speed times the calibration ``factor``, F_turn, P, R_s; with ``limits``
     (V_req, R_max) the limits met, with ``monte_carlo`` (V_target, scatter, samples, seed) P(shimmy) and its SE."""
     speed, scatter, samples, seed = monte_carlo if monte_carlo is not None else (None, None, None, None)
-    return evaluate_candidates(
+    return evaluate(
         {name: arrays[name] for name in VARIABLES},
         conditions.replace(uncertainty=bound),
         inertia=arrays["inertia"],
@@ -55,7 +55,7 @@ def _evaluate(
         calibration=factor,
         required_speed=None if limits is None else limits[0],
         swept_radius_max=None if limits is None else limits[1],
-        probability_at=speed,
+        risk=speed,
         scatter=scatter,
         samples=samples,
         seed=seed,

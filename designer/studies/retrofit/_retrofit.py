@@ -45,7 +45,7 @@ from typing import Any
 
 import numpy as np
 
-from designer.model import CandidateValues, Conditions, Design
+from designer.model import Casters, Conditions, Design
 from designer.physics.uncertainty import Uncertainty
 from designer.problem import problem_argument
 from designer.solvers import one_solve_at_a_time
@@ -371,7 +371,7 @@ class _Setting:
 
     def state(
         self,
-        values: CandidateValues,
+        values: Casters,
         j,
         design: Design,
         inertia: float,

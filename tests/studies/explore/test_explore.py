@@ -313,14 +313,14 @@ def test_a_trial_failed_while_evaluated_counts_once(kind, moment, tmp_path, monk
         failed.append(running.number)
 
     if moment == "before its constraints are set":
-        evaluate = _workers.evaluate_many
+        evaluate = _workers.evaluate_trial
 
         def late_evaluate(sub, x):
             if not failed and len(_load(url).trials) == 4:
                 other_process_fails_it()
             return evaluate(sub, x)
 
-        monkeypatch.setattr(_workers, "evaluate_many", late_evaluate)
+        monkeypatch.setattr(_workers, "evaluate_trial", late_evaluate)
     else:
         call = _workers._Evaluator.__call__
 

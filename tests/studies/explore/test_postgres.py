@@ -40,7 +40,7 @@ from designer.studies.explore import _workers
 from designer.cli import main
 
 role, marker, gate, start = sys.argv[1:5]
-evaluate = _workers.evaluate_many
+evaluate = _workers.evaluate_trial
 calls = 0
 
 
@@ -63,7 +63,7 @@ def instrumented(*args, **kwargs):  # the worker's evaluation of a drawn candida
     return evaluate(*args, **kwargs)
 
 
-_workers.evaluate_many = instrumented
+_workers.evaluate_trial = instrumented
 sys.exit(main(sys.argv[5:]))
 """
 """A `designer explore` process whose evaluations the test choreographs by files: ``first`` holds its first trial

@@ -287,7 +287,7 @@ def test_recommendation_risk_spec_and_if_measured(recs):
     scatter gives α to 0.5 pp, and P rises through α there); and what measuring the wheel allows (never worse
     in J, its own risk within α + 2 SE as a measured wheel at its power-law value; the headline names the force
     that rises as well as the one that falls, shown on sports-court where one does)."""
-    from designer.model import evaluate_candidates, shimmy_probability
+    from designer.model import design_columns, evaluate, shimmy_probability
     from designer.physics.uncertainty import shimmy_probability_exact
 
     problem, rec = recs["indoor-manual"]
@@ -331,13 +331,13 @@ def test_recommendation_risk_spec_and_if_measured(recs):
     ) * (1 + 1e-12)
     assert m["saves_threshold_force"] == pytest.approx(rec.threshold_force - m["threshold_force"], abs=1e-12)
     md = designer.Design(**m["design"])
-    v = evaluate_candidates(
-        md,
+    v = evaluate(
+        design_columns(md),
         c,
         inertia=m["inertia"],
         measured=True,
         required_speed=problem.required_speed,
-        probability_at=problem.target_speed,
+        risk=problem.target_speed,
         seed=4711,
     )
     assert v.feasible[0] and float(v.inertia[0]) == pytest.approx(float(c.inertia(md.diameter)), rel=1e-12)

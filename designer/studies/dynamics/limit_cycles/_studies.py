@@ -26,9 +26,9 @@ from designer.data.paper import (
     table1_wheel,
 )
 from designer.errors import InputError, SolverError
-from designer.model import Conditions, Design
+from designer.model import Conditions, Design, critical_speed
 from designer.physics.inertia import Fixed
-from designer.physics.shimmy import DynamicsParameters, critical_shimmy_speed
+from designer.physics.shimmy import DynamicsParameters
 from designer.physics.tyre import TyreParameters
 from designer.studies.dynamics._simulate import onset_speed as _today_onset  # today's model: the reduction check
 
@@ -78,7 +78,15 @@ def bifurcation_diagram(
         raise InputError(f"speed_range = {speed_range!r}: expected 0 < low < high [m/s]")
     sys = caster_dynamics(design, conditions, hi, tyre)
     inertia = sys.inertia
-    v7 = float(critical_shimmy_speed(design.trail, inertia, design.groove, design.damping, conditions.slip_coefficient))
+    v7 = float(
+        critical_speed(
+            design.trail,
+            inertia,
+            design.groove,
+            design.damping,
+            conditions.slip_coefficient,
+        )
+    )
     ref = v7 if reference_speed is None else float(reference_speed)
     c_d_hi = inertia * hi / sys.trail - sys.groove_coefficient / hi
     a_lo = 4 * sys.friction_moment / (math.pi * sys.frequency * c_d_hi) if c_d_hi > 0 else 0.01
@@ -175,7 +183,7 @@ def table1_comparison(
         cond = conditions.replace(inertia=Fixed(wheel.inertia))
         design = Design(trail=TABLE1_TRAIL, diameter=wheel.diameter, groove=0.0, damping=1.3)
         v7 = float(
-            critical_shimmy_speed(
+            critical_speed(
                 TABLE1_TRAIL,
                 wheel.inertia,
                 0.0,
@@ -261,9 +269,8 @@ def stiffness_mass_map(
     total = len(casters) * len(factors) ** 2
     done = 0
     for name, (design, inertia, mass, measured) in casters.items():
-        v7 = float(
-            critical_shimmy_speed(design.trail, inertia, design.groove, design.damping, conditions.slip_coefficient)
-        )
+        k_s = conditions.slip_coefficient
+        v7 = float(critical_speed(design.trail, inertia, design.groove, design.damping, k_s))
         for fk in factors:
             for fn in factors:
                 dyn = DynamicsParameters(

@@ -1,9 +1,9 @@
-"""Compute and write a Pareto report in one call: what ``designer pareto`` and the studio's "Write report" run.
+"""The main job in one call: what ``designer pareto`` and the studio's "Write report" run.
 
-:func:`compute_and_write` is the one place where the report layer calls the pipeline: it computes the
-report's data once (:func:`designer.pipeline.report_data`), hands them to :func:`designer.report.write_report`,
-which only renders, and returns a JSON-ready summary.  It lives here, below the entry layer, so that the
-CLI and the studio share it without one entry point importing another.
+:func:`compute_and_write` computes the report's data once (:func:`designer.pipeline.report_data`), hands them
+to :func:`designer.report.write_report`, which only renders, and returns a JSON-ready summary.  It lives above
+the pipeline and the report (the report layer calls neither the pipeline nor a study) and below the entry
+layer, so that the CLI and the studio share it without one entry point importing another.
 """
 
 from __future__ import annotations
