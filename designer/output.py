@@ -151,10 +151,12 @@ def signed_kind(writer: str, what: str) -> FileKind:
     return FileKind(what, recognise)
 
 
-def first_line_kind(start: str, what: str) -> FileKind:
-    """The :class:`FileKind` of files whose first line starts with ``start`` (a header the tool always writes)."""
-    data = start.encode("utf-8")
-    return FileKind(what, lambda path: _head(path, len(data)) == data)
+def first_line_kind(start: str, what: str, *earlier: str) -> FileKind:
+    """The :class:`FileKind` of files that start with ``start`` (a header the tool always writes) or with one of
+    the ``earlier`` headers an earlier release wrote (a file of the tool's own, from before a column or key was
+    added: replaced by a rerun, never refused)."""
+    heads = [text.encode("utf-8") for text in (start, *earlier)]
+    return FileKind(what, lambda path: any(_head(path, len(data)) == data for data in heads))
 
 
 SOFTWARE = "caster-designer"

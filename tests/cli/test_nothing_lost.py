@@ -512,3 +512,25 @@ def test_the_studios_save_follows_the_same_rule(tmp_path):
     assert "saved" in save(ours) and "saved" in save(ours)
     saved = ours / f"{merged['name']}.toml"
     assert saved.read_text().startswith("# written by designer studio (sha256 ")
+
+
+def test_a_file_an_earlier_release_wrote_is_still_the_tools(tmp_path):
+    """A result file of the tool's own from before a key or a column was added (release 3's onset.json began
+    with "summary", the current one with its schema) is recognised as the tool's, so a rerun over an old results
+    folder replaces it; a JSON file of the user's with neither header is still refused."""
+    from designer.studies.dynamics._onset_study import ONSET_KINDS
+
+    kind = ONSET_KINDS["onset.json"]
+    old = tmp_path / "old.json"
+    old.write_text('{\n  "summary": {\n    "single_tread_by_trail_inertia": {}\n  }\n}\n', encoding="utf-8")
+    new = tmp_path / "new.json"
+    new.write_text('{\n  "schema": "caster-designer/onset.json/1",\n  "summary": {}\n}\n', encoding="utf-8")
+    users = tmp_path / "users.json"
+    users.write_text('{\n  "summary": "my notes"\n}\n', encoding="utf-8")
+    assert kind.recognise(old) and kind.recognise(new)
+    assert not kind.recognise(users)
+    with pytest.raises(OutputError, match="users.json"):
+        output.write_file(users, "{}", "--report", "onset.json", kind=kind)
+    assert users.read_text(encoding="utf-8") == '{\n  "summary": "my notes"\n}\n'
+    output.write_file(old, "{}\n", "--report", "onset.json", kind=kind)
+    assert old.read_text(encoding="utf-8") == "{}\n"

@@ -197,7 +197,11 @@ def _appendix_c(conditions: Conditions, rtol: float):
 
 
 ONSET_KINDS = {
-    "onset.json": first_line_kind('{\n  "schema": "caster-designer/onset.json/', "an onset.json of designer simulate"),
+    "onset.json": first_line_kind(
+        '{\n  "schema": "caster-designer/onset.json/',
+        "an onset.json of designer simulate",
+        '{\n  "summary": {\n    "single_tread_by_trail_inertia"',  # before the schema key (release 3)
+    ),
     "onset.csv": first_line_kind("trail_in,inertia_kgm2,", "an onset.csv of designer simulate"),
     "report.md": first_line_kind("# Simulated shimmy onset vs Eq. 7", "the onset report of designer simulate"),
     "onset.png": PLOT,
