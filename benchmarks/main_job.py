@@ -1,4 +1,4 @@
-"""The main job, cold: ``python -m benchmarks.main_job [PROBLEM] [--repeats N] [--write]``.
+"""The main job, cold: ``python -m benchmarks.main_job [PROBLEM] [--repeats N] [--before DIR] [--write]``.
 
 Two measurements of ``designer pareto PROBLEM`` (default problems/indoor-manual.toml), each in fresh
 interpreters, against ``python -c "import numpy"`` in the same run (interleaved, so all three see the same
@@ -10,6 +10,10 @@ load):
 - the split: a child that imports the package, reads the problem, runs ``report_data`` and ``write_report``
   and prints the CPU seconds of each step (``ReportData.run``'s ``compute_cpu_seconds`` and
   ``render_cpu_seconds``, measured with time.process_time).
+
+``--before DIR``: a checkout of earlier code with its own ``DIR/.venv`` (e.g. ``git worktree add /tmp/before
+main``, then the README's install there) is measured in the same run, interleaved with this one, so a change's
+cost is read side by side under the same load.
 
 Cold means a new interpreter with no warm state of this process; Python's bytecode caches are on, as for
 any run after the first (an unmeasured run writes them first; ``PYTHONDONTWRITEBYTECODE`` is dropped from the
@@ -77,19 +81,20 @@ print(json.dumps(out))
 """
 
 
-def child_env() -> dict:
-    """The children's environment: bytecode caches on (as a user's runs after the first)."""
+def child_env(tree: Path = ROOT) -> dict:
+    """The children's environment: bytecode caches on (as a user's runs after the first), the package of ``tree``."""
     env = dict(os.environ)
     env.pop("PYTHONDONTWRITEBYTECODE", None)
-    env.setdefault("PYTHONPATH", str(ROOT))
+    env["PYTHONPATH"] = str(tree)
     return env
 
 
-def run(command: list[str]) -> tuple[float, float, str]:
-    """(wall [s], CPU [s] = user + system of the child, stdout) of one child process; raises on failure."""
+def run(command: list[str], tree: Path = ROOT) -> tuple[float, float, str]:
+    """(wall [s], CPU [s] = user + system of the child, stdout) of one child process run in ``tree``; raises on
+    failure."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, env=child_env())
+    done = subprocess.run(command, cwd=tree, capture_output=True, text=True, env=child_env(tree))
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if done.returncode not in (0, 1):  # 1: a front check failed; the report is still written
@@ -98,35 +103,46 @@ def run(command: list[str]) -> tuple[float, float, str]:
     return wall, cpu, done.stdout
 
 
-def measure(problem: str, repeats: int) -> dict:
-    """Interleaved repeats of the numpy import, the whole process and the split; medians and ranges."""
+def measure(problem: str, repeats: int, before: Path | None = None) -> dict:
+    """Interleaved repeats of the numpy import, the whole process and the split (and, with ``before``, the same two
+    of that checkout with its own interpreter); medians and ranges."""
     numpy_cmd = [sys.executable, "-c", "import numpy"]
+    trees = {"": (ROOT, sys.executable)}
+    if before is not None:
+        trees["before "] = (before, str(before / ".venv" / "bin" / "python"))
+    rows: dict[str, list] = {"numpy": []}
     with tempfile.TemporaryDirectory() as tmp:
-        process_cmd = [sys.executable, "-m", "designer", "pareto", problem, "--out", f"{tmp}/p"]
-        run(process_cmd)  # unmeasured: writes the bytecode caches
-        rows: dict[str, list] = {"numpy": [], "process": [], "split": []}
+        for tag, (tree, python) in trees.items():
+            run([python, "-m", "designer", "pareto", problem, "--out", f"{tmp}/w"], tree)  # unmeasured: caches
+            rows[f"{tag}process"], rows[f"{tag}split"] = [], []
         for _ in range(repeats):
             rows["numpy"].append(run(numpy_cmd)[:2])
-            rows["process"].append(run(process_cmd)[:2])
-            out = run([sys.executable, "-c", CHILD, problem, f"{tmp}/s"])[2]
-            rows["split"].append(json.loads(out.strip().splitlines()[-1]))
+            for tag, (tree, python) in trees.items():
+                rows[f"{tag}process"].append(
+                    run([python, "-m", "designer", "pareto", problem, "--out", f"{tmp}/p"], tree)[:2]
+                )
+                out = run([python, "-c", CHILD, problem, f"{tmp}/s"], tree)[2]
+                rows[f"{tag}split"].append(json.loads(out.strip().splitlines()[-1]))
     med = statistics.median
-    result = {
+    result: dict = {
         name: {
             "wall": med(w for w, _ in rows[name]),
             "cpu": med(c for _, c in rows[name]),
             "wall_range": [min(w for w, _ in rows[name]), max(w for w, _ in rows[name])],
             "cpu_range": [min(c for _, c in rows[name]), max(c for _, c in rows[name])],
         }
-        for name in ("numpy", "process")
+        for name in rows
+        if not name.endswith("split")
     }
-    result["split"] = {
-        k: {
-            "cpu": med(r[k] for r in rows["split"]),
-            "range": [min(r[k] for r in rows["split"]), max(r[k] for r in rows["split"])],
+    for tag in trees:
+        split = rows[f"{tag}split"]
+        result[f"{tag}split"] = {
+            k: {
+                "cpu": med(r.get(k, 0.0) for r in split),
+                "range": [min(r.get(k, 0.0) for r in split), max(r.get(k, 0.0) for r in split)],
+            }
+            for k in split[0]
         }
-        for k in rows["split"][0]
-    }
     return result
 
 
@@ -135,10 +151,11 @@ def main(argv=None) -> int:
     parser.add_argument("problem", nargs="?", default="problems/indoor-manual.toml")
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--write", action="store_true", help="write the tables into benchmarks/results.md")
+    parser.add_argument("--before", type=Path, help="a checkout of earlier code with its own .venv, measured beside")
     args = parser.parse_args(argv)
     load_start = [round(x, 2) for x in os.getloadavg()]
     print(f"load average at start: {load_start}", flush=True)
-    r = measure(args.problem, args.repeats)
+    r = measure(args.problem, args.repeats, args.before)
     load_end = [round(x, 2) for x in os.getloadavg()]
     n, p = r["numpy"], r["process"]
     print(f"main job {args.problem}, {args.repeats} cold runs each, median [min-max]:")
@@ -150,6 +167,16 @@ def main(argv=None) -> int:
     print("  CPU seconds per step (report_data + write_report in one child):")
     for k, v in r["split"].items():
         print(f"    {k:15s} {v['cpu']:.2f}  [{v['range'][0]:.2f}-{v['range'][1]:.2f}]")
+    if args.before is not None:
+        b = r["before process"]
+        print(
+            f"  before ({args.before}), same run: wall {b['wall']:.2f} s, CPU {b['cpu']:.2f} s "
+            f"[{b['cpu_range'][0]:.2f}-{b['cpu_range'][1]:.2f}]; after/before CPU {p['cpu'] / b['cpu']:.3f}"
+        )
+        for k, v in r["before split"].items():
+            after = r["split"].get(k, {}).get("cpu")
+            shown = "-" if after is None else f"{after:.2f}"
+            print(f"    {k:15s} before {v['cpu']:.2f}  after {shown}")
     print(f"load average at end: {load_end}")
     if args.write:
         _write(args, r, load_start, load_end)
@@ -194,6 +221,16 @@ def _write(args, r: dict, load_start: list, load_end: list) -> None:
         f"| `designer pareto {args.problem}` | {p['wall']:.2f} [{p['wall_range'][0]:.2f}–{p['wall_range'][1]:.2f}] | "
         f"**{p['wall'] / n['wall']:.1f}** | {p['cpu']:.2f} [{p['cpu_range'][0]:.2f}–{p['cpu_range'][1]:.2f}] | "
         f"**{p['cpu'] / n['cpu']:.1f}** |",
+        *(
+            [
+                f"| the same, before: `{args.before}` (same run, interleaved) | {r['before process']['wall']:.2f} | "
+                f"{r['before process']['wall'] / n['wall']:.1f} | {r['before process']['cpu']:.2f} "
+                f"[{r['before process']['cpu_range'][0]:.2f}–{r['before process']['cpu_range'][1]:.2f}] | "
+                f"{r['before process']['cpu'] / n['cpu']:.1f} |"
+            ]
+            if "before process" in r
+            else []
+        ),
         f"| before: `designer pareto` (issue 29) | {BEFORE['process_wall']:.1f} | | {BEFORE['process_cpu']:.1f} | "
         f"{BEFORE['process_cpu_ratio']:.1f} |",
         "",
