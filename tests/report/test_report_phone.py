@@ -14,7 +14,11 @@ SIDEWAYS = "return [document.documentElement.scrollWidth, window.innerWidth]"
 """How wide the page is and the window shows [px].  A phone (Chromium's mobile emulation) zooms out to show a
 page wider than the screen: the window then grows with the page, so both are compared with the phone's width."""
 ROOT = Path(__file__).resolve().parents[2]
-REPORTS = sorted((ROOT / "results").glob("*/index.html")) + sorted((ROOT / "results").glob("robust/*/index.html"))
+REPORTS = (
+    sorted((ROOT / "results").glob("*/index.html"))
+    + sorted((ROOT / "results").glob("robust/*/index.html"))
+    + [ROOT / "results" / "simulation" / "limit_cycles.html"]
+)
 
 
 @pytest.fixture

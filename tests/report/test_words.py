@@ -123,13 +123,15 @@ def _visible_text(html: str) -> str:
     return htmllib.unescape(re.sub(r"<[^>]+>", " ", html))
 
 
-MARKDOWN = re.compile(r"`|\*\*|\]\(|^#+ |__\w", re.M)
-"""Markdown syntax that must not show as text: inline code, bold, links, headings, underscore emphasis."""
+MARKDOWN = re.compile(r"`|\*\*|(?<![\w*])\*\w[^*\n]*?\*(?![\w*])|\]\(|^#+ |__\w", re.M)
+"""Markdown syntax that must not show as text: inline code, bold, *emphasis*, links, headings, underscore
+emphasis (a product such as N*m is not emphasis)."""
 
 
-@pytest.mark.parametrize("page", sorted(RESULTS.glob("**/index.html")), ids=lambda p: str(p.relative_to(RESULTS)))
+@pytest.mark.parametrize("page", sorted(RESULTS.glob("**/*.html")), ids=lambda p: str(p.relative_to(RESULTS)))
 def test_no_markdown_shows_in_html(page):
-    """No committed HTML report shows Markdown syntax as text (its inline code is rendered as <code>)."""
+    """No committed HTML page (the reports, the limit-cycle page) shows Markdown syntax as text (its inline code is
+    rendered as <code>, *emphasis* as <em>)."""
     text = _visible_text(page.read_text(encoding="utf-8"))
     assert not MARKDOWN.search(text), MARKDOWN.search(text)
 

@@ -44,16 +44,20 @@ def _inline(text: str) -> str:
 
     t = html.escape(text)
     t = re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", t)
+    t = re.sub(r"(?<![\w*])\*(\w[^*]*?)\*(?![\w*])", r"<em>\1</em>", t)  # *word*, not N*m
     return re.sub(r"`(.+?)`", r"<code>\1</code>", t)
 
 
 def to_html(blocks) -> str:
     """limit_cycles.html (one self-contained page) from the blocks."""
     out = [
-        "<!doctype html><html><head><meta charset='utf-8'><title>Shimmy beyond onset</title>"
-        "<style>body{font-family:sans-serif;max-width:70em;margin:2em auto;line-height:1.45}"
-        "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:2px 8px}"
-        "img{max-width:100%}</style></head><body>"
+        "<!doctype html><html><head><meta charset='utf-8'>"
+        "<meta name='viewport' content='width=device-width, initial-scale=1'><title>Shimmy beyond onset</title>"
+        "<style>body{font-family:sans-serif;max-width:70em;margin:2em auto;padding:0 1em;line-height:1.45;"
+        "overflow-wrap:break-word}"
+        ".wide{overflow-x:auto}table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:2px 8px}"
+        "img{max-width:100%;height:auto}code{overflow-wrap:anywhere}"
+        "@media (max-width:600px){body{margin:1em auto;padding:0 .5em}td,th{padding:2px 4px}}</style></head><body>"
     ]
     for b in blocks:
         kind = b[0]
@@ -66,12 +70,12 @@ def to_html(blocks) -> str:
         elif kind == "ul":
             out.append("<ul>" + "".join(f"<li>{_inline(x)}</li>" for x in b[1]) + "</ul>")
         elif kind == "table":
-            out.append(
-                "<table><tr>"
+            out.append(  # a wide table scrolls in its own box on a phone, never the page
+                "<div class='wide'><table><tr>"
                 + "".join(f"<th>{_inline(h)}</th>" for h in b[1])
                 + "</tr>"
                 + "".join("<tr>" + "".join(f"<td>{_inline(c)}</td>" for c in r) + "</tr>" for r in b[2])
-                + "</table>"
+                + "</table></div>"
             )
     out.append("</body></html>")
     return "\n".join(out)
