@@ -135,3 +135,40 @@ def test_a_report_front_with_hostile_wheel_names_reads_back(tmp_path, capsys):
     assert [round(p.turning_effort, 6) for p in front.points] == [
         round(p["turning_effort"], 6) for p in front_json["points"]
     ]
+
+
+RESULT_FILES = sorted(
+    p for p in (ROOT / "results").rglob("*") if p.suffix in (".csv", ".json") and p.name != "run.json"
+)
+"""Every data file the tool committed to results/ (run.json is git-ignored: each run's dates and seconds)."""
+
+
+@pytest.mark.parametrize("path", RESULT_FILES, ids=lambda p: p.relative_to(ROOT / "results").as_posix())
+def test_every_result_file_reads_back_by_the_shared_readers(path):
+    """Every CSV and JSON file in results/ reads back by the readers the commands use: a CSV by
+    designer.textfiles.csv_table (one header, rows as wide as it, no text cell a spreadsheet would run as a
+    formula, LF line ends), a JSON by json with its schema stamp ``caster-designer/<file>/<version>`` first
+    (in each record of a list)."""
+    text = path.read_text(encoding="utf-8")
+    if path.suffix == ".csv":
+        assert "\r" not in text, f"{path.name}: CR line ends"
+        header, rows, _ = csv_table(text, path.name)
+        assert rows and len(set(header)) == len(header)
+        for row in rows:
+            assert len(row) == len(header)
+            for cell in row:
+                assert not cell or cell[0] not in "=+@\t\r" and not (cell[0] == "-" and not _number(cell)), cell
+        return
+    data = json.loads(text)
+    records = data if isinstance(data, list) else [data]
+    for record in records:
+        assert next(iter(record)) == "schema", f"{path.name}: no schema key first"
+        assert record["schema"].startswith(f"caster-designer/{path.name}/"), record["schema"]
+
+
+def _number(cell: str) -> bool:
+    try:
+        float(cell)
+    except ValueError:
+        return False
+    return True
