@@ -653,6 +653,16 @@ def _linear_part(
     return SumDistribution(terms, 0.0)
 
 
+@functools.lru_cache(maxsize=4)
+def _hermite_nodes(nodes: int) -> tuple[Array, Array]:
+    """Gauss–Hermite nodes and weights for the standard normal (weights sum to 1), computed once per count."""
+    zn, zw = hermegauss(nodes)
+    zn.setflags(write=False)
+    weights = zw / math.sqrt(2 * math.pi)
+    weights.setflags(write=False)
+    return zn, weights
+
+
 def _exact_law(
     trail: float,
     inertia: float,
@@ -668,8 +678,7 @@ def _exact_law(
     log V_c (Eq. 7) at those nodes [log m/s]: P(V_c,true < v) = Σ w F(log v − log V_c)."""
     u = uncertainty
     dist = _linear_part(trail, inertia, groove, damping, slip_coefficient, u, diameter, prediction)
-    zn, zw = hermegauss(nodes)
-    zw = zw / math.sqrt(2 * math.pi)
+    zn, zw = _hermite_nodes(nodes)
     if groove == 0 or u.slip_coefficient == 0:
         zc, zk, w = zn, np.zeros_like(zn), zw
     else:
