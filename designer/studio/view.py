@@ -161,7 +161,7 @@ def _compute_fronts(problem, key):
     missing = [p for p in wanted if front_key(p) not in _FRONTS]
     away = missing[0] if missing else None
     job = helper.submit(away) if away is not None else None
-    rec = _quiet(recommend, problem)
+    rec = _quiet(recommend, problem, alternative_specs=False)  # the card shows the recommended caster's limits
     out.recommendation = rec
     out.buildable = getattr(rec, "buildable", None)
     fronts = {id(p): _front(p) for p in wanted if p is not away}  # here, while the helper computes its front

@@ -183,11 +183,13 @@ def _infeasible_message(problem, table: ScreenedTable | None) -> str:
     )
 
 
-def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, seed=None) -> Recommendation:
+def _record(
+    problem, b: _Buildable, i: int, rule: str, role: str, samples=None, seed=None, with_spec: bool = True
+) -> Recommendation:
     """Candidate ``i`` as a :class:`Recommendation`, with its reported risk: P(shimmy at V_target) by the exact
     law (quadrature) under the problem's risk law (the default scatter when the bound is off, whose V_q it then
-    reports too), the Monte Carlo beside it as an independent check; its spec (limits, worst corner) unless it
-    is the "if measured" variant."""
+    reports too), the Monte Carlo beside it as an independent check; its spec (limits, worst corner) when
+    ``with_spec`` and it is not the "if measured" variant."""
     u = scatter_of(problem.conditions)
     v = b.values
     design = b.design(i)
@@ -208,7 +210,7 @@ def _record(problem, b: _Buildable, i: int, rule: str, role: str, samples=None, 
     mc_seed = int(u.seed if seed is None else seed)
     inertia, measured = float(v.inertia[i]), bool(v.measured[i])
     spec = None
-    if role != "if measured":
+    if role != "if measured" and with_spec:
         spec = caster_spec(problem, design, inertia, measured, (p_mc, se, n, mc_seed))
         p = spec.probability
     else:
@@ -295,7 +297,9 @@ def _buildable_front(problem, b: _Buildable, member: np.ndarray):
 
 
 @one_solve_at_a_time
-def recommend(problem, samples: int | None = None, seed: int | None = None, *, front=None) -> Recommendation:
+def recommend(
+    problem, samples: int | None = None, seed: int | None = None, *, front=None, alternative_specs: bool = True
+) -> Recommendation:
     """``designer.recommend``: the caster to build for ``problem``, by the problem's rule.
 
     Parameters
@@ -305,6 +309,10 @@ def recommend(problem, samples: int | None = None, seed: int | None = None, *, f
         problem's ``[robust]`` ones: 50 000, seed 20111)
     front : the continuous risk-bounded front of ``problem`` when the caller has it (kept in
         ``Recommendation.front``; nothing here computes it)
+    alternative_specs : give every alternative its spec (acceptance limits and worst corner: about 0.1 s of
+        CPU each, the quadratures of :func:`designer.physics.acceptance.acceptance_limits`); False leaves
+        their ``spec`` None (the studio, which shows the recommended caster's limits at every key press); the
+        recommended caster always has its spec, and every caster its exact P(shimmy)
 
     Returns
     -------
@@ -334,7 +342,7 @@ def recommend(problem, samples: int | None = None, seed: int | None = None, *, f
     rule = rule_text(problem, size, bool(sel["knee"][0]))
     rec = _record(problem, b, choice, rule, "recommended", samples, seed)
     alts = [
-        _record(problem, b, i, rule, role, samples, seed)
+        _record(problem, b, i, rule, role, samples, seed, alternative_specs)
         for i, role in front_roles(b.values.turning_effort, sel)
         if i != choice
     ]

@@ -440,3 +440,24 @@ def test_rule_takes_the_least_j_end_when_no_point_bulges_toward_the_ideal(recs):
     assert [x.turning_effort for x in rec.buildable.points] == pytest.approx([7.01, 7.63, 7.94], abs=5e-3)
     assert rec.design.diameter == pytest.approx(7 * INCH) and rec.rule.startswith("least J = 1 F_turn + 1 P")
     assert "no knee" in rec.rule and recs["sports-court"][1].rule == "knee of the buildable risk-bounded front"
+
+
+def test_alternatives_without_their_specs_keep_every_number(recs):
+    """recommend(..., alternative_specs=False) (the studio's call at each key press) leaves the alternatives'
+    spec None and changes nothing else: the same casters, roles and forces, the exact P(shimmy) of each
+    alternative equal to its spec's nominal P to quadrature precision (1e-12), the same Monte Carlo beside it, and
+    the recommended caster's spec as with every spec."""
+    problem, full = recs["indoor-manual"]
+    light = recommend(problem, alternative_specs=False)
+    assert light.spec is not None and light.spec.limits == full.spec.limits
+    assert len(light.alternatives) == len(full.alternatives) >= 2
+    for a, b in zip(light.alternatives, full.alternatives):
+        assert a.spec is None and b.spec is not None
+        assert (a.role, a.design, a.turning_effort, a.threshold_force) == (
+            b.role,
+            b.design,
+            b.turning_effort,
+            b.threshold_force,
+        )
+        assert a.shimmy_probability == pytest.approx(b.spec.probability, abs=1e-12)
+        assert (a.shimmy_probability_mc, a.shimmy_probability_se) == (b.shimmy_probability_mc, b.shimmy_probability_se)
