@@ -398,3 +398,75 @@ def test_a_record_cannot_spell_its_own_repr():
         class Bad(Record):
             def __repr__(self) -> str:
                 return "bad"
+
+
+# --------------------------------------------------------------------------- one declaration per key and quantity
+
+SHARED_SHAPE_ONLY = {"designer/reprs.py"}
+"""Where ``def to_dict`` may be written: the protocol's own (``Keyed.to_dict``, from the record's ``_keys``)."""
+
+ANOTHER_BRANCH = {"designer/studies/retrofit/_records.py", "designer/studies/fleet/_fleet.py"}
+"""Records still spelling their own ``to_dict`` while another branch of issue 34 moves them to ``_keys``."""
+
+
+def test_records_declare_their_data_instead_of_writing_to_dict():
+    """A record's data is declared once (``_keys``): no module but designer/reprs.py defines ``to_dict`` (the
+    retrofit and fleet records excepted until their branch lands), so at most 6 definitions remain of 26."""
+    found = {
+        str(path.relative_to(ROOT))
+        for path in PACKAGE.rglob("*.py")
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+        if isinstance(node, ast.FunctionDef) and node.name == "to_dict"
+    }
+    assert found - ANOTHER_BRANCH == SHARED_SHAPE_ONLY
+
+
+def test_a_records_keys_rename_read_paths_nest_leave_out_and_add_on_request():
+    """The shapes the records declare with reprs.Key give the dict they used to write by hand: a renamed field, a
+    value along a path and a method's, a nested key, a key left out when None or empty, a key only on request
+    (``to_dict(full=True)``), a mapping spread in, a function's value; an unknown option is a TypeError."""
+    import dataclasses
+
+    from designer.reprs import Key
+
+    @dataclasses.dataclass
+    class Part:
+        size: float
+
+        def doubled(self) -> float:
+            return 2 * self.size
+
+    @dataclasses.dataclass(kw_only=True)
+    class Probe(Record):
+        name: str
+        part: Part
+        rms: float
+        notes: dict
+        rows: list
+        extra: list
+        hidden: int = dataclasses.field(default=0, repr=False)
+
+        _keys = (
+            "name",
+            Key("size", "part.size"),
+            Key("twice.size", "part.doubled()"),
+            Key("rms_residual", "rms"),
+            Key("rows", omit="empty"),
+            Key("nothing", lambda r: None, omit="none"),
+            Key("extra", option="full"),
+            Key("**", "notes"),
+            Key("count", lambda r: len(r.rows) + r.hidden),
+        )
+
+    probe = Probe(name="p", part=Part(0.5), rms=np.float64(0.1), notes={"K_s": 1250}, rows=[], extra=[1], hidden=3)
+    assert probe.to_dict() == {
+        "name": "p",
+        "size": 0.5,
+        "twice": {"size": 1.0},
+        "rms_residual": 0.1,
+        "K_s": 1250,
+        "count": 3,
+    }
+    assert list(probe.to_dict(full=True)) == ["name", "size", "twice", "rms_residual", "extra", "K_s", "count"]
+    with pytest.raises(TypeError, match="unexpected option 'alternative'"):
+        probe.to_dict(alternative=True)

@@ -246,7 +246,7 @@ class Casters(Record):
     def take(self, index: Any) -> "Casters":
         """The candidates at ``index`` (a boolean mask or integer indices along the first axis)."""
         taken: dict[str, Any] = {
-            name: None if getattr(self, name) is None else np.asarray(getattr(self, name))[index]
+            name: None if getattr(self, name) is None else np.asarray(self._column(name))[index]
             for name in [f.name for f in fields(self) if f.name != "quantities"] + list(self.quantities)
         }
         return Casters.of(**taken)
