@@ -437,7 +437,31 @@ optimum to each constant that has a solver parameter (see `designer.parameters.S
 """
 
 
+def outputs_markdown_table() -> str:
+    """:data:`OUTPUT_TABLE` as Markdown: the quantities of an evaluated caster (``docs/parameters.md``)."""
+    lines = [
+        "| name | symbol | unit | description | source | in the tables of one caster |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
+    for p in OUTPUT_TABLE:
+        listed = "yes" if p.listed else "data only"
+        lines.append(
+            f"| {p.name} | {p.symbol or '–'} | {p.shown_unit} | {p.description} | {p.source or '–'} | {listed} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+OUTPUTS_HEADER = """
+## Quantities of an evaluated caster
+
+What `designer.model.evaluate` gives for each caster besides its design (`designer.parameters.OUTPUT_TABLE`):
+the fields and keys of `Casters` and `Caster`, their units in `to_pandas()`, the labels of a `Caster`'s HTML and
+the rows of `designer evaluate`.
+
+"""
+
+
 def write_docs(path: str = "docs/parameters.md") -> None:
-    """Write the table to ``path`` (run from the repository root after changing an entry)."""
+    """Write the tables to ``path`` (run from the repository root after changing an entry)."""
     with open(path, "w", encoding="utf-8") as out:
-        out.write(DOC_HEADER + markdown_table())
+        out.write(DOC_HEADER + markdown_table() + OUTPUTS_HEADER + outputs_markdown_table())

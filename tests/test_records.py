@@ -524,3 +524,17 @@ def test_the_shimmy_amplitude_is_eq4_at_the_critical_speed():
     expected = conditions.disturbance_angle * caster.critical_speed / (caster.shimmy_frequency * caster.trail)
     assert caster.shimmy_amplitude == pytest.approx(expected, rel=1e-12)
     assert steady_shimmy_amplitude(2.53, 0.0635, 104.7, 0.35) == pytest.approx(0.14 - 0.7 / 104.7, abs=5e-4)
+
+
+def test_every_quantity_of_a_caster_is_in_the_parameter_table():
+    """The fields of Casters are the design variables and the entries of parameters.OUTPUT_TABLE (the rest in
+    ``quantities``), so every unit and label of a caster comes from the table."""
+    import dataclasses
+
+    from designer.model import Casters
+    from designer.parameters import OUTPUTS, VARIABLE_TABLE, VARIABLES
+
+    own = [f.name for f in dataclasses.fields(Casters) if f.name != "quantities"]
+    assert own[: len(VARIABLES)] == list(VARIABLES)
+    assert set(own[len(VARIABLES) :]) <= set(OUTPUTS)
+    assert Casters._units == {p.name: p.unit for p in (*VARIABLE_TABLE, *OUTPUTS.values()) if p.unit}
