@@ -61,6 +61,8 @@ class Parameter:
         near 1 (``designer.solvers.nlp``)
     listed : a quantity of :data:`OUTPUT_TABLE` shown in the tables of one caster (the HTML of a
         :class:`~designer.model.Caster`, ``designer evaluate``); False: in its data only
+    decimals : decimals of a force in the text tables, in N and in lbf (``designer evaluate``: the load to 0.1 N,
+        the turning effort to 1 mN)
     """
 
     name: str
@@ -79,6 +81,7 @@ class Parameter:
     store: str | None = None
     scale: float | None = None
     listed: bool = True
+    decimals: int = 2
 
     @property
     def shown_unit(self) -> str:
@@ -134,7 +137,8 @@ no wheel to speak of, and the turning effort M/T (Eq. 9) or the sill force (Eq. 
 CONSTANT_TABLE: tuple[Parameter, ...] = (
     Parameter("load", "L", "N", "caster load", 178.0, (1.0, 1e5), "Table 1 (test load), Appendix C",
               key="conditions.load", dimension="force",
-              hint="a caster load of 0.1 kg to 10 t; was it given in another unit?", path="conditions.load"),
+              hint="a caster load of 0.1 kg to 10 t; was it given in another unit?", path="conditions.load",
+              decimals=1),
     Parameter("threshold_height", "h", "m", "door-sill height", 0.5 * INCH, (1e-4, 0.3), "Eq. 4A",
               key="conditions.threshold_height", dimension="length",
               hint="a sill of 0.1 mm to 30 cm; were inches written as metres?", path="conditions.threshold_height"),
@@ -219,7 +223,8 @@ OUTPUT_TABLE: tuple[Parameter, ...] = (
     Parameter("threshold_force", "P", "N", "threshold force", None, None, "Eq. 4A", dimension="force"),
     Parameter("turning_moment", "M_turn + M_d", "N·m", "turning moment", None, None,
               "docs/model.md#turning-effort, Fig. 7", dimension="moment"),
-    Parameter("turning_effort", "F_turn", "N", "turning effort", None, None, "Eq. 9", dimension="force"),
+    Parameter("turning_effort", "F_turn", "N", "turning effort", None, None, "Eq. 9", dimension="force",
+              decimals=3),
     Parameter("swept_radius", "T + d/2", "m", "swept radius", None, None, "", dimension="length"),
     Parameter("shimmy_frequency", "ω", "rad/s", "shimmy frequency", None, None, "Eq. 15B"),
     Parameter("g_risk", "", "", "risk constraint 1 − V_q/V_req", None, None, "risk bound", listed=False),
