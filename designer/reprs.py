@@ -11,8 +11,9 @@ keyword with :class:`Record` as a base, so it answers the same four methods, spe
                    expensive (no solver, no Monte Carlo)
 ``__repr__()``     at most three lines: what it is, its size, its headline numbers
 
-A record changes what they show through hooks (:meth:`Record._repr_lines`, :meth:`Record._html_rows`, ...); the
-four methods themselves are defined here only.  Ground layer: no designer import, no solver, no matplotlib; every
+A record declares its data in :attr:`Keyed._keys` (:class:`Key`: renamed, nested, read along a path, left out
+when empty, given on request) and changes what the reprs show through hooks (:meth:`Record._repr_lines`,
+:meth:`Record._html_rows`, ...); the four methods themselves are defined here only.  Ground layer: no designer import, no solver, no matplotlib; every
 text in the HTML is escaped.
 """
 
