@@ -59,6 +59,10 @@ class Parameter:
         constant needs no other code than the equation that reads it (``conditions.constant(name)``).
     scale : a design variable's least scale in the NLP [SI]: IPOPT sees x / max(upper bound, scale), numbers
         near 1 (``designer.solvers.nlp``)
+    listed : a quantity of :data:`OUTPUT_TABLE` shown in the tables of one caster (the HTML of a
+        :class:`~designer.model.Caster`, ``designer evaluate``); False: in its data only
+    decimals : decimals of a force in the text tables, in N and in lbf (``designer evaluate``: the load to 0.1 N,
+        the turning effort to 1 mN)
     """
 
     name: str
@@ -76,6 +80,8 @@ class Parameter:
     bounds: tuple[float, float] | None = None
     store: str | None = None
     scale: float | None = None
+    listed: bool = True
+    decimals: int = 2
 
     @property
     def shown_unit(self) -> str:
@@ -86,6 +92,11 @@ class Parameter:
     def ascii_unit(self) -> str:
         """The SI unit in ASCII, as pint reads it ("N*m/rad", "kg*m**2"; "" when dimensionless): JSON records."""
         return DIMENSIONS[self.dimension][0]
+
+    @property
+    def label(self) -> str:
+        """The description with the symbol, for a table's row ("critical shimmy speed V_c")."""
+        return f"{self.description} {self.symbol}" if self.symbol else self.description
 
     @property
     def column(self) -> str:
@@ -126,7 +137,8 @@ no wheel to speak of, and the turning effort M/T (Eq. 9) or the sill force (Eq. 
 CONSTANT_TABLE: tuple[Parameter, ...] = (
     Parameter("load", "L", "N", "caster load", 178.0, (1.0, 1e5), "Table 1 (test load), Appendix C",
               key="conditions.load", dimension="force",
-              hint="a caster load of 0.1 kg to 10 t; was it given in another unit?", path="conditions.load"),
+              hint="a caster load of 0.1 kg to 10 t; was it given in another unit?", path="conditions.load",
+              decimals=1),
     Parameter("threshold_height", "h", "m", "door-sill height", 0.5 * INCH, (1e-4, 0.3), "Eq. 4A",
               key="conditions.threshold_height", dimension="length",
               hint="a sill of 0.1 mm to 30 cm; were inches written as metres?", path="conditions.threshold_height"),
@@ -187,6 +199,54 @@ CONSTANT_TABLE: tuple[Parameter, ...] = (
 )
 # fmt: on
 """The model constants: fixed quantities of a problem."""
+
+# --------------------------------------------------------------------------- quantities of an evaluated caster
+# What :func:`designer.model.evaluate` gives for each caster besides its design (the fields of ``Casters`` and
+# ``Caster``), in the order the tables show them.  A new quantity is one entry here and one line in the
+# evaluator (``designer.model._candidates._evaluate``): it then appears in ``Caster.to_dict``, ``to_pandas``, the
+# HTML repr and the table of ``designer evaluate`` (CONTRIBUTING.md).
+
+# a table, one quantity per line and read across: not reformatted
+# fmt: off
+OUTPUT_TABLE: tuple[Parameter, ...] = (
+    Parameter("inertia", "I_w", "kg·m²", "wheel inertia", None, None, "inertia model", dimension="inertia"),
+    Parameter("measured", "", "", "wheel inertia measured", None, None, "risk law", listed=False),
+    Parameter("extrapolated", "", "", "d outside Table 1's 4–8 in", None, None, "Table 1", listed=False),
+    Parameter("effective_trail", "T_eff", "m", "effective trail e + (d/2) sin φ", None, None, "stem tilt",
+              dimension="length", listed=False),
+    Parameter("critical_speed", "V_c", "m/s", "critical shimmy speed", None, None, "Eq. 7", dimension="speed"),
+    Parameter("confident_speed", "V_q", "m/s", "speed reached with probability 1 − α", None, None,
+              "risk law (shimmy_speed_quantile)", dimension="speed", listed=False),
+    Parameter("shimmy_amplitude", "θ_a", "rad", "shimmy amplitude at V_c", None, None,
+              "Eq. 4 at V_c: θ0 V_c/(ω T), the θ_a of Eq. 6 behind Eq. 7 (Eq. 6C)", dimension="angle"),
+    Parameter("threshold_force_ratio", "P/L", "", "threshold force ratio", None, None, "Eq. 4A"),
+    Parameter("threshold_force", "P", "N", "threshold force", None, None, "Eq. 4A", dimension="force"),
+    Parameter("turning_moment", "M_turn + M_d", "N·m", "turning moment", None, None,
+              "docs/model.md#turning-effort, Fig. 7", dimension="moment"),
+    Parameter("turning_effort", "F_turn", "N", "turning effort", None, None, "Eq. 9", dimension="force",
+              decimals=3),
+    Parameter("swept_radius", "T + d/2", "m", "swept radius", None, None, "", dimension="length"),
+    Parameter("shimmy_frequency", "ω", "rad/s", "shimmy frequency", None, None, "Eq. 15B"),
+    Parameter("g_risk", "", "", "risk constraint 1 − V_q/V_req", None, None, "risk bound", listed=False),
+    Parameter("g_radius", "", "", "radius constraint R_s/R_max − 1", None, None, "footrest", listed=False),
+    Parameter("risk_ok", "", "", "risk limit met", None, None, "risk bound", listed=False),
+    Parameter("radius_ok", "", "", "radius limit met", None, None, "footrest", listed=False),
+    Parameter("sill_ok", "", "", "climbs the sill (d > 2h)", None, None, "Eq. 4A", listed=False),
+    Parameter("feasible", "", "", "every limit met", None, None, "", listed=False),
+    Parameter("weighted", "J", "N", "weighted objective w_turn F_turn + w_threshold P", None, None, "",
+              dimension="force", listed=False),
+    Parameter("growth_rate", "μ", "1/s", "growth rate of the oscillatory mode", None, None, "Eq. 16B", listed=False),
+    Parameter("shimmy_probability", "", "", "P(shimmy) under the risk law", None, None, "Monte Carlo",
+              listed=False),
+    Parameter("shimmy_probability_se", "", "", "standard error of P(shimmy)", None, None, "Monte Carlo",
+              listed=False),
+)
+# fmt: on
+"""The quantities of an evaluated caster [SI], by the names of ``Casters``' fields; ``listed`` ones are shown in
+the tables of one caster (``designer evaluate``, ``Caster._repr_html_``)."""
+
+OUTPUTS: dict[str, Parameter] = {p.name: p for p in OUTPUT_TABLE}
+"""The quantities of an evaluated caster by name (not in :data:`PARAMETERS`: nothing reads them from a file)."""
 
 PARAMETERS: dict[str, Parameter] = {p.name: p for p in VARIABLE_TABLE + CONSTANT_TABLE}
 """Every entry by name."""
@@ -382,7 +442,31 @@ optimum to each constant that has a solver parameter (see `designer.parameters.S
 """
 
 
+def outputs_markdown_table() -> str:
+    """:data:`OUTPUT_TABLE` as Markdown: the quantities of an evaluated caster (``docs/parameters.md``)."""
+    lines = [
+        "| name | symbol | unit | description | source | in the tables of one caster |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
+    for p in OUTPUT_TABLE:
+        listed = "yes" if p.listed else "data only"
+        lines.append(
+            f"| {p.name} | {p.symbol or '–'} | {p.shown_unit} | {p.description} | {p.source or '–'} | {listed} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+OUTPUTS_HEADER = """
+## Quantities of an evaluated caster
+
+What `designer.model.evaluate` gives for each caster besides its design (`designer.parameters.OUTPUT_TABLE`):
+the fields and keys of `Casters` and `Caster`, their units in `to_pandas()`, the labels of a `Caster`'s HTML and
+the rows of `designer evaluate`.
+
+"""
+
+
 def write_docs(path: str = "docs/parameters.md") -> None:
-    """Write the table to ``path`` (run from the repository root after changing an entry)."""
+    """Write the tables to ``path`` (run from the repository root after changing an entry)."""
     with open(path, "w", encoding="utf-8") as out:
-        out.write(DOC_HEADER + markdown_table())
+        out.write(DOC_HEADER + markdown_table() + OUTPUTS_HEADER + outputs_markdown_table())

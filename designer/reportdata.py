@@ -16,7 +16,7 @@ import numpy as np
 from designer.data.paper import INCH
 from designer.physics.uncertainty import Uncertainty
 from designer.problem import Problem
-from designer.reprs import Record, dataframe
+from designer.reprs import Key, Record, dataframe
 
 if TYPE_CHECKING:  # record types for the checker only: designer.studies.front and .optimum load casadi
     from designer.studies.checks import Check
@@ -76,13 +76,9 @@ class ReportData(Record):
     degenerate_reason_short: str = ""
     run: dict[str, Any] = field(default_factory=dict)
 
-    def to_dict(self) -> dict[str, Any]:
-        """Plain data of everything the report shows: the problem, the fronts, the recommendation (with its
-        alternatives), the optimum, the checks, the trade-off table, the gaps and the run metadata (SI)."""
-        out = super().to_dict()
-        if self.recommendation is not None:
-            out["recommendation"] = self.recommendation.to_dict(alternatives=True)
-        return out
+    _keys = ("*", Key("recommendation", options={"alternatives": True}))
+    """Plain data of everything the report shows: the problem, the fronts, the recommendation (with its
+    alternatives), the optimum, the checks, the trade-off table, the gaps and the run metadata (SI)."""
 
     def to_pandas(self) -> Any:
         """The checks, one row per check: ``name``, ``kind``, ``outcome``, ``passed``, ``expected``, ``got``,

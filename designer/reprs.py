@@ -11,8 +11,9 @@ keyword with :class:`Record` as a base, so it answers the same four methods, spe
                    expensive (no solver, no Monte Carlo)
 ``__repr__()``     at most three lines: what it is, its size, its headline numbers
 
-A record changes what they show through hooks (:meth:`Record._repr_lines`, :meth:`Record._html_rows`, ...); the
-four methods themselves are defined here only.  Ground layer: no designer import, no solver, no matplotlib; every
+A record declares its data in :attr:`Keyed._keys` (:class:`Key`: renamed, nested, read along a path, left out
+when empty, given on request) and changes what the reprs show through hooks (:meth:`Record._repr_lines`,
+:meth:`Record._html_rows`, ...); the four methods themselves are defined here only.  Ground layer: no designer import, no solver, no matplotlib; every
 text in the HTML is escaped.
 """
 
@@ -20,7 +21,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from html import escape
 from typing import Any, ClassVar
 
@@ -274,7 +275,7 @@ def plain(value: Any) -> Any:
     from their repr left out), mappings with string keys, sequences as lists, NumPy as Python; other objects
     with a ``to_dict`` through it, anything else as its ``str``.  Non-finite floats stay (``jsonsafe.finite``
     turns them into None)."""
-    if isinstance(value, Record):
+    if isinstance(value, Keyed):
         return value.to_dict()
     if value is None or isinstance(value, (str, bool, int, float)):
         return value
@@ -318,7 +319,106 @@ def shown(value: Any) -> str:
     return str(value)
 
 
-class Record:
+@dataclasses.dataclass(frozen=True)
+class Key:
+    """One key of a record's :meth:`Record.to_dict`, declared in the record's :attr:`Record._keys`.
+
+    Attributes
+    ----------
+    name : the key; dots nest (``"turning.carpet_factor"`` -> ``{"turning": {"carpet_factor": ...}}``).  ``"*"``
+        stands for every field shown in the dataclass repr, in order (a later Key of the same name takes that
+        field's place); ``"**"`` spreads the mapping at ``source`` into the dict
+    source : where the value comes from: an attribute path from the record (``"conditions.load"``; a step
+        ``"digest()"`` is a method called without arguments), or a function of the record; None: ``name``
+    omit : ``"none"``: left out when the value is None; ``"empty"``: also when it is an empty list, tuple or mapping
+        (for ``"*"``: each field); ``""``: always there
+    option : kept only when ``to_dict(**{option: True})`` is asked for (``to_dict(alternatives=True)``)
+    options : passed to the value's own ``to_dict`` when the value is a record (a nested record with its option)
+    """
+
+    name: str
+    source: str | Callable[[Any], Any] | None = None
+    omit: str = ""
+    option: str | None = None
+    options: Mapping[str, bool] = dataclasses.field(default_factory=dict)
+
+    def value(self, record: Any) -> Any:
+        """The plain value of this key for ``record`` (:func:`plain`)."""
+        source = self.name if self.source is None else self.source
+        if callable(source):
+            value = source(record)
+        else:
+            value = record
+            for step in source.split("."):
+                value = getattr(value, step[:-2])() if step.endswith("()") else getattr(value, step)
+        if self.options and isinstance(value, Keyed):
+            return value.to_dict(**self.options)
+        return plain(value)
+
+    def omitted(self, value: Any) -> bool:
+        """Whether ``value`` (plain) is left out: by :attr:`omit`, when it is None (or empty)."""
+        if not self.omit:
+            return False
+        return value is None or (self.omit == "empty" and isinstance(value, (list, tuple, Mapping)) and not value)
+
+
+def _nest(out: dict[str, Any], name: str, value: Any) -> None:
+    """Put ``value`` at the dotted key ``name`` of ``out`` (nested dicts made as needed)."""
+    *parents, last = name.split(".")
+    for part in parents:
+        out = out.setdefault(part, {})
+    out[last] = value
+
+
+class Keyed:
+    """Plain data declared once: :meth:`to_dict` built from the class's :attr:`_keys` (by default every field shown
+    in the dataclass repr).  :class:`Record` derives from it; so do the small dataclasses that are parts of a
+    record without being shown on their own (a problem's stock and tolerances, a risk law's sources)."""
+
+    _keys: ClassVar[tuple[str | Key, ...]] = ("*",)
+    """The keys of :meth:`to_dict` (:class:`Key`, or a name for ``Key(name)``): every repr field by default.  A
+    record whose data has another shape declares it here instead of writing its own ``to_dict``."""
+
+    # ----------------------------------------------------------------- data
+    def _fields(self) -> list[str]:
+        """The fields of the record's data: the dataclass fields shown in its repr."""
+        return [f.name for f in dataclasses.fields(self) if f.repr] if dataclasses.is_dataclass(self) else []  # type: ignore[arg-type]
+
+    def _layout(self) -> list[Key]:
+        """The keys of :meth:`to_dict` in order: :attr:`_keys` with ``"*"`` expanded to the repr fields."""
+        keys: dict[str, Key] = {}
+        for entry in self._keys:
+            key = Key(entry) if isinstance(entry, str) else entry
+            if key.name == "*":
+                keys.update({name: Key(name, omit=key.omit) for name in self._fields()})
+            elif key.name == "**":
+                keys[f"**{len(keys)}"] = key
+            else:
+                keys[key.name] = key
+        return list(keys.values())
+
+    def to_dict(self, **options: bool) -> dict[str, Any]:
+        """The record as plain data, key by key of :attr:`_keys` (by default every repr field, :func:`plain`);
+        ``options`` (``alternatives=True``) add the keys declared with that ``option``.  JSON after
+        :func:`designer.jsonsafe.finite`."""
+        unknown = set(options) - {k.option for k in self._layout() if k.option}
+        if unknown:
+            raise TypeError(f"{type(self).__name__}.to_dict() got an unexpected option {sorted(unknown)[0]!r}")
+        out: dict[str, Any] = {}
+        for key in self._layout():
+            if key.option is not None and not options.get(key.option):
+                continue
+            value = key.value(self)
+            if key.omitted(value):
+                continue
+            if key.name == "**":
+                out.update(value)
+            else:
+                _nest(out, key.name, value)
+        return out
+
+
+class Record(Keyed):
     """The result protocol (module text): ``to_dict``, ``to_pandas``, ``_repr_html_`` and ``__repr__``.
 
     A record is a dataclass deriving from this class and built by keyword.  The defaults work from its fields
@@ -329,8 +429,9 @@ class Record:
     - :meth:`_repr_html_` a table of :meth:`_html_rows` under :meth:`_html_title`;
     - ``repr`` the :meth:`_repr_lines` (the class name and its short fields), at most :data:`MAX_REPR_LINES`.
 
-    A record overrides :meth:`to_dict` or :meth:`to_pandas` when it has a better shape (documented where it
-    round-trips: ``from_pandas``), and the hooks ``_repr_lines``, ``_html_title``, ``_html_rows``,
+    A record declares the shape of its data in :attr:`_keys` (renamed keys, values read along a path, nested
+    keys, keys left out when empty, keys given on request), overrides :meth:`to_pandas` when it has a better
+    table (documented where it round-trips: ``from_pandas``), and the hooks ``_repr_lines``, ``_html_title``, ``_html_rows``,
     ``_html_caption``, ``_html_extra`` to change what the reprs show; it never defines ``__repr__`` or
     ``_repr_html_`` itself (a TypeError at class creation), so the protocol is spelled once.  No hook may run a
     solver or a Monte Carlo.
@@ -348,15 +449,6 @@ class Record:
                 )
         # @dataclass writes its own __repr__ unless the class body has one: this one is the protocol's
         cls.__repr__ = Record.__repr__  # type: ignore[method-assign]
-
-    # ----------------------------------------------------------------- data
-    def _fields(self) -> list[str]:
-        """The fields of the record's data: the dataclass fields shown in its repr."""
-        return [f.name for f in dataclasses.fields(self) if f.repr] if dataclasses.is_dataclass(self) else []  # type: ignore[arg-type]
-
-    def to_dict(self) -> dict[str, Any]:
-        """The record as plain data, field by field (:func:`plain`); JSON after :func:`designer.jsonsafe.finite`."""
-        return {name: plain(getattr(self, name)) for name in self._fields()}
 
     def to_pandas(self) -> Any:
         """One row: the flattened :meth:`to_dict` (dotted column names), units in ``df.attrs["units"]``."""
@@ -410,6 +502,8 @@ class Record:
 
 __all__ = [
     "FrozenMapping",
+    "Key",
+    "Keyed",
     "MAX_REPR_LINES",
     "frozen",
     "Record",

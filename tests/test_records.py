@@ -398,3 +398,143 @@ def test_a_record_cannot_spell_its_own_repr():
         class Bad(Record):
             def __repr__(self) -> str:
                 return "bad"
+
+
+# --------------------------------------------------------------------------- one declaration per key and quantity
+
+SHARED_SHAPE_ONLY = {"designer/reprs.py"}
+"""Where ``def to_dict`` may be written: the protocol's own (``Keyed.to_dict``, from the record's ``_keys``)."""
+
+ANOTHER_BRANCH = {"designer/studies/retrofit/_records.py", "designer/studies/fleet/_fleet.py"}
+"""Records still spelling their own ``to_dict`` while another branch of issue 34 moves them to ``_keys``."""
+
+
+def test_records_declare_their_data_instead_of_writing_to_dict():
+    """A record's data is declared once (``_keys``): no module but designer/reprs.py defines ``to_dict`` (the
+    retrofit and fleet records excepted until their branch lands), so at most 6 definitions remain of 26."""
+    found = {
+        str(path.relative_to(ROOT))
+        for path in PACKAGE.rglob("*.py")
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+        if isinstance(node, ast.FunctionDef) and node.name == "to_dict"
+    }
+    assert found - ANOTHER_BRANCH == SHARED_SHAPE_ONLY
+
+
+def test_a_records_keys_rename_read_paths_nest_leave_out_and_add_on_request():
+    """The shapes the records declare with reprs.Key give the dict they used to write by hand: a renamed field, a
+    value along a path and a method's, a nested key, a key left out when None or empty, a key only on request
+    (``to_dict(full=True)``), a mapping spread in, a function's value; an unknown option is a TypeError."""
+    import dataclasses
+
+    from designer.reprs import Key
+
+    @dataclasses.dataclass
+    class Part:
+        size: float
+
+        def doubled(self) -> float:
+            return 2 * self.size
+
+    @dataclasses.dataclass(kw_only=True)
+    class Probe(Record):
+        name: str
+        part: Part
+        rms: float
+        notes: dict
+        rows: list
+        extra: list
+        hidden: int = dataclasses.field(default=0, repr=False)
+
+        _keys = (
+            "name",
+            Key("size", "part.size"),
+            Key("twice.size", "part.doubled()"),
+            Key("rms_residual", "rms"),
+            Key("rows", omit="empty"),
+            Key("nothing", lambda r: None, omit="none"),
+            Key("extra", option="full"),
+            Key("**", "notes"),
+            Key("count", lambda r: len(r.rows) + r.hidden),
+        )
+
+    probe = Probe(name="p", part=Part(0.5), rms=np.float64(0.1), notes={"K_s": 1250}, rows=[], extra=[1], hidden=3)
+    assert probe.to_dict() == {
+        "name": "p",
+        "size": 0.5,
+        "twice": {"size": 1.0},
+        "rms_residual": 0.1,
+        "K_s": 1250,
+        "count": 3,
+    }
+    assert list(probe.to_dict(full=True)) == ["name", "size", "twice", "rms_residual", "extra", "K_s", "count"]
+    with pytest.raises(TypeError, match="unexpected option 'alternative'"):
+        probe.to_dict(alternative=True)
+
+
+def _evaluate_table(capsys, *options: str) -> str:
+    from designer.cli import main
+
+    argv = ["evaluate", "--trail", "2.5in", "--diameter", "8in", "--groove", "0", "--damping", "1.3", *options]
+    assert main(list(argv)) == 0
+    return capsys.readouterr().out
+
+
+def test_a_quantity_of_the_table_reaches_every_view_of_a_caster(capsys):
+    """Each listed quantity of parameters.OUTPUT_TABLE (the shimmy amplitude at V_c of Eq. 4 among them, added
+    as one entry there and one line in the evaluator) is in Caster.to_dict, its to_pandas with the table's unit,
+    its HTML under the table's label, and the table and the --json of ``designer evaluate``; a batch carries it as
+    an attribute, a column and through row() and take()."""
+    from html import escape
+
+    from designer.model import Conditions, evaluate
+    from designer.parameters import OUTPUT_TABLE, OUTPUTS
+
+    listed = [p for p in OUTPUT_TABLE if p.listed]
+    assert "shimmy_amplitude" in {p.name for p in listed}
+    caster = evaluate(Design(trail="2.5 in", diameter="8 in", groove=0, damping=1.3), Conditions())
+    data, df, html = caster.to_dict(), caster.to_pandas(), caster._repr_html_()
+    table = _evaluate_table(capsys)
+    printed = json.loads(_evaluate_table(capsys, "--json"))
+    flat_table = " ".join(table.split())  # rich folds long cells over lines
+    for p in listed:
+        assert data[p.name] == pytest.approx(getattr(caster, p.name)) == pytest.approx(printed[p.name])
+        assert p.name in df.columns and df.attrs["units"].get(p.name, "") == p.unit
+        assert escape(p.label) in html
+        assert p.description in flat_table, p.name
+    assert "shimmy amplitude at V_c" in flat_table and "°)" in flat_table
+    batch = evaluate({"trail": [0.05, 0.0635], "diameter": 0.2, "groove": 0.0, "damping": 1.3}, Conditions())
+    assert batch.shimmy_amplitude.shape == (2,) and "shimmy_amplitude" in batch.to_pandas().columns
+    assert batch.row(1).shimmy_amplitude == pytest.approx(batch.shimmy_amplitude[1])
+    assert batch.take([1]).shimmy_amplitude == pytest.approx(batch.shimmy_amplitude[1:])
+    assert OUTPUTS["shimmy_amplitude"].unit == "rad"
+    with pytest.raises(TypeError, match="neither a field nor in parameters.OUTPUT_TABLE"):
+        type(batch).of(**{**{k: batch[k] for k in batch.keys()}, "shimmy_amplitud": 1.0})
+
+
+def test_the_shimmy_amplitude_is_eq4_at_the_critical_speed():
+    """θ_a = θ0 V_c/(ω T) (Eq. 4 at V = V_c, the amplitude Eq. 6 puts into Eq. 7) from the caster's own V_c, ω, T
+    and θ0; at Appendix C's numbers (V_c 2.53 m/s, ω 104.7 rad/s, T 0.0635 m, θ0 0.35 rad) it is the measured
+    0.14 rad less the knock's θ'0/ω = 0.7/104.7 of Eq. 7C."""
+    from designer.model import Conditions, evaluate
+    from designer.physics.shimmy import steady_shimmy_amplitude
+
+    conditions = Conditions()
+    caster = evaluate(Design(trail=0.05, diameter=0.2, groove=0.01, damping=2.0), conditions)
+    expected = conditions.disturbance_angle * caster.critical_speed / (caster.shimmy_frequency * caster.trail)
+    assert caster.shimmy_amplitude == pytest.approx(expected, rel=1e-12)
+    assert steady_shimmy_amplitude(2.53, 0.0635, 104.7, 0.35) == pytest.approx(0.14 - 0.7 / 104.7, abs=5e-4)
+
+
+def test_every_quantity_of_a_caster_is_in_the_parameter_table():
+    """The fields of Casters are the design variables and the entries of parameters.OUTPUT_TABLE (the rest in
+    ``quantities``), so every unit and label of a caster comes from the table."""
+    import dataclasses
+
+    from designer.model import Casters
+    from designer.parameters import OUTPUTS, VARIABLE_TABLE, VARIABLES
+
+    own = [f.name for f in dataclasses.fields(Casters) if f.name != "quantities"]
+    assert own[: len(VARIABLES)] == list(VARIABLES)
+    assert set(own[len(VARIABLES) :]) <= set(OUTPUTS)
+    assert Casters._units == {p.name: p.unit for p in (*VARIABLE_TABLE, *OUTPUTS.values()) if p.unit}

@@ -9,6 +9,8 @@ from designer.cli._terminal import console as terminal_console
 from designer.data.paper import INCH
 from designer.errors import InputError
 from designer.model import Conditions, Design, evaluate
+from designer.parameters import OUTPUT_TABLE, PARAMETERS, Parameter
+from designer.units import COMMON_UNITS
 from designer.physics.inertia import Fixed, PowerLaw
 from designer.physics.turning import DEFAULT_TURNING, MODES, SURFACES
 from designer.model import check_design
@@ -18,6 +20,10 @@ from designer.studies.dynamics.limit_cycles import knock_safe_speed
 from designer.studies.checks import knock_safe_table1_error
 from designer.physics.scatter import inertia_prediction
 from designer.physics.uncertainty import Uncertainty, risk_record
+
+
+LBF, MPH = COMMON_UNITS["lbf"][1], COMMON_UNITS["mph"][1]
+"""The pound-force [N] and the mile per hour [m/s] of the table's US units."""
 
 
 def register(sub) -> None:
@@ -162,6 +168,7 @@ def _results(design, conditions, values: dict, speed: float | None, knock_safe: 
         "swept_radius": values["swept_radius"],
         "shimmy_frequency": values["shimmy_frequency"],
     }
+    out.update({p.name: values[p.name] for p in OUTPUT_TABLE if p.listed and p.name in values and p.name not in out})
     out["extrapolated"] = bool(inertia_prediction().extrapolated(design.diameter))
     if speed is not None:
         out["target_speed"] = speed
@@ -199,37 +206,13 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
     table.add_column("quantity")
     table.add_column("value", justify="right")
     table.add_column("source", overflow="fold")  # a long link is folded, not cut
-    rows = [
-        ("caster load L", f"{conditions.load:.1f} N ({conditions.load / 4.44822:.1f} lbf)", values["sources"]["load"]),
-        (
-            "door-sill height h",
-            f"{conditions.threshold_height * 1000:.1f} mm ({conditions.threshold_height / INCH:.3f} in)",
-            values["sources"]["threshold_height"],
-        ),
-        ("wheel inertia I_w", f"{values['inertia']:.4g} kg·m²", conditions.inertia.describe()),
-        (
-            "critical shimmy speed V_c",
-            f"{values['critical_speed']:.3f} m/s ({values['critical_speed'] * 2.23694:.2f} mph)",
-            "Eq. 7",
-        ),
-        ("threshold force ratio P/L", f"{values['threshold_force_ratio']:.4f}", "Eq. 4A"),
-        (
-            "threshold force P",
-            f"{values['threshold_force']:.2f} N ({values['threshold_force'] / 4.44822:.2f} lbf)",
-            "Eq. 4A",
-        ),
-        ("turning moment", f"{values['turning_moment']:.4f} N·m", "docs/model.md#turning-effort, Fig. 7"),
-        (
-            "turning effort F_turn",
-            f"{values['turning_effort']:.3f} N ({values['turning_effort'] / 4.44822:.3f} lbf)",
-            "Eq. 9",
-        ),
-        (
-            "swept radius T + d/2",
-            f"{values['swept_radius'] * 1000:.1f} mm ({values['swept_radius'] / INCH:.3f} in)",
-            "",
-        ),
-        ("shimmy frequency ω", f"{values['shimmy_frequency']:.1f} rad/s", "Eq. 15B"),
+    given = {"load": values["sources"]["load"], "threshold_height": values["sources"]["threshold_height"]}
+    rows = [(PARAMETERS[n].label, shown_quantity(getattr(conditions, n), PARAMETERS[n]), given[n]) for n in given]
+    sources = {"inertia": conditions.inertia.describe()}  # which inertia model: beside I_w
+    rows += [
+        (p.label, shown_quantity(values[p.name], p), sources.get(p.name, p.source))
+        for p in OUTPUT_TABLE
+        if p.listed and p.name in values
     ]
     if knock_safe:  # beside V_c
         double = out["knock_safe_speed_double"]
@@ -259,6 +242,20 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
             f"warning: d = {design.diameter / INCH:.3g} in lies outside Table 1's 4–8 in: the inertia fit and "
             "Eq. 7's check are extrapolated"
         )
+
+
+def shown_quantity(value: float, p: Parameter) -> str:
+    """``value`` [SI] of entry ``p`` of the parameter table as the table shows it: lengths in mm and inches,
+    forces in N and lbf (to the entry's ``decimals``), speeds in m/s and mph, angles in rad and degrees, the rest in its SI unit."""
+    if p.dimension == "length":
+        return f"{value * 1000:.1f} mm ({value / INCH:.3f} in)"
+    if p.dimension == "force":
+        return f"{value:.{p.decimals}f} N ({value / LBF:.{p.decimals}f} lbf)"
+    if p.dimension == "speed":
+        return f"{value:.3f} m/s ({value / MPH:.2f} mph)"
+    if p.dimension == "angle":
+        return f"{value:.4g} rad ({math.degrees(value):.3g}°)"
+    return f"{value:.4g} {p.unit}".rstrip()
 
 
 def _speed_rows(values: dict, speed: float, risk: dict) -> list[tuple[str, str, str]]:

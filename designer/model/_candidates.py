@@ -15,14 +15,14 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 import warnings
-from dataclasses import dataclass, fields, replace
-from typing import Any
+from dataclasses import dataclass, field, fields, replace
+from typing import Any, Self
 
 import numpy as np
 
-from designer.parameters import PARAMETERS, VARIABLES
+from designer.parameters import OUTPUT_TABLE, OUTPUTS, PARAMETERS, VARIABLE_TABLE, VARIABLES
 from designer.units import parse_quantity
-from designer.reprs import Record, dataframe, plain
+from designer.reprs import Key, Record, dataframe, frozen, shown
 from designer.physics.geometry import effective_trail, swept_radius
 from designer.physics.scatter import inertia_prediction
 from designer.errors import InputError
@@ -30,6 +30,7 @@ from designer.physics.shimmy import (
     friction_damping_at_speed,
     growth_rate,
     shimmy_frequency,
+    steady_shimmy_amplitude,
     third_order_coefficients,
 )
 from designer.physics.uncertainty import (
@@ -135,6 +136,32 @@ class Casters(Record):
     growth_rate: np.ndarray | None = None
     shimmy_probability: np.ndarray | None = None
     shimmy_probability_se: np.ndarray | None = None
+    quantities: Mapping[str, Any] = field(default_factory=dict, repr=False)
+    """The quantities of :data:`designer.parameters.OUTPUT_TABLE` that have no field of their own, by name (read
+    as attributes and keys like the fields): a new quantity needs no field here."""
+
+    _keys = (Key("*", omit="none"), Key("**", "quantities"))
+    """``{quantity: values}``, the optional ones only when computed (a list per candidate; a number for one)."""
+
+    _units = {p.name: p.unit for p in VARIABLE_TABLE + OUTPUT_TABLE if p.unit}
+    """The units of the parameter table (:data:`designer.parameters.OUTPUT_TABLE`)."""
+
+    @classmethod
+    def of(cls, **columns: Any) -> Self:
+        """The record of ``columns`` by name: the fields, and the other quantities of
+        :data:`designer.parameters.OUTPUT_TABLE` in :attr:`quantities` (TypeError for a name in neither)."""
+        names = {f.name for f in fields(cls)}
+        unknown = [k for k in columns if k not in names and k not in OUTPUTS]
+        if unknown:
+            raise TypeError(f"{cls.__name__}.of: {unknown[0]!r} is neither a field nor in parameters.OUTPUT_TABLE")
+        quantities = {k: v for k, v in columns.items() if k not in names}
+        return cls(**{k: v for k, v in columns.items() if k in names}, quantities=frozen(quantities))
+
+    def __getattr__(self, name: str) -> Any:
+        quantities = self.__dict__.get("quantities") or {}
+        if name in quantities:
+            return quantities[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def __len__(self) -> int:
         return int(self.feasible.shape[0]) if self.feasible.ndim else 1
@@ -156,9 +183,10 @@ class Casters(Record):
         return out
 
     def keys(self) -> list[str]:
-        """The names of the fields that hold a value (the optional ones only when computed): the columns, read by key
-        as by attribute (``casters["threshold_force"]``)."""
-        return [f.name for f in fields(self) if getattr(self, f.name) is not None]
+        """The names of the quantities that hold a value (the optional ones only when computed): the columns, read
+        by key as by attribute (``casters["threshold_force"]``)."""
+        own = [f.name for f in fields(self) if f.name != "quantities" and getattr(self, f.name) is not None]
+        return own + list(self.quantities)
 
     def __getitem__(self, key: str) -> Any:
         if key not in self.keys():
@@ -172,46 +200,22 @@ class Casters(Record):
         """The field ``key``, or ``default`` when it holds no value."""
         return self[key] if key in self else default
 
+    def _column(self, name: str) -> np.ndarray:
+        """Quantity ``name`` broadcast to one value per candidate."""
+        return np.broadcast_to(np.asarray(getattr(self, name)), (len(self),))
+
     def row(self, i: int) -> "Caster":
-        """Caster ``i`` (the fields as Python scalars)."""
-        n = len(self)
-        values: dict[str, Any] = {}
-        for f in fields(self):
-            value = getattr(self, f.name)
-            values[f.name] = None if value is None else np.broadcast_to(np.asarray(value), (n,))[i].item()
-        return Caster(**values)
-
-    _units = {
-        "trail": "m",
-        "diameter": "m",
-        "groove": "m",
-        "damping": "N·m/rad",
-        "inertia": "kg·m²",
-        "effective_trail": "m",
-        "critical_speed": "m/s",
-        "confident_speed": "m/s",
-        "turning_effort": "N",
-        "turning_moment": "N·m",
-        "threshold_force": "N",
-        "swept_radius": "m",
-        "shimmy_frequency": "rad/s",
-        "weighted": "N",
-        "growth_rate": "1/s",
-    }
-
-    def to_dict(self) -> dict[str, Any]:
-        """``{field: list}`` per candidate (the Monte Carlo fields only when computed), plain data."""
-        return {
-            f.name: plain(np.asarray(getattr(self, f.name))) for f in fields(self) if getattr(self, f.name) is not None
-        }
+        """Caster ``i`` (the quantities as Python scalars)."""
+        values: dict[str, Any] = {f.name: None for f in fields(self) if f.name != "quantities"}
+        values.update({name: self._column(name)[i].item() for name in self.keys()})
+        return Caster.of(**values)
 
     def to_pandas(self) -> Any:
-        """One row per candidate, one column per field (the Monte Carlo ones only when computed); units in
+        """One row per candidate, one column per quantity (the Monte Carlo ones only when computed); units in
         ``df.attrs["units"]``."""
-        columns = [f.name for f in fields(self) if getattr(self, f.name) is not None]
-        n = len(self)
-        arrays = {c: np.broadcast_to(np.asarray(getattr(self, c)), (n,)) for c in columns}
-        rows = [{c: arrays[c][i].item() for c in columns} for i in range(n)]
+        columns = self.keys()
+        arrays = {c: self._column(c) for c in columns}
+        rows = [{c: arrays[c][i].item() for c in columns} for i in range(len(self))]
         return dataframe(
             f"{type(self).__name__}.to_pandas", rows, columns, {c: u for c, u in self._units.items() if c in columns}
         )
@@ -228,25 +232,25 @@ class Casters(Record):
         return "Candidate casters"
 
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        """The count and the range of every field over the candidates (no Monte Carlo runs)."""
+        """The count and the range of every quantity over the candidates (no Monte Carlo runs)."""
         rows: list[tuple[Any, Any, Any]] = [
             ("candidates (feasible)", f"{len(self)} ({int(np.count_nonzero(self.feasible))})", "")
         ]
-        for f in fields(self):
-            value = getattr(self, f.name)
-            if value is None or np.asarray(value).dtype == bool:
+        for name in self.keys():
+            value = np.asarray(getattr(self, name))
+            if value.dtype == bool:
                 continue
             a = np.asarray(value, float)
-            rows.append((f.name, f"{float(np.min(a)):.4g} – {float(np.max(a)):.4g}", self._units.get(f.name, "")))
+            rows.append((name, f"{float(np.min(a)):.4g} – {float(np.max(a)):.4g}", self._units.get(name, "")))
         return rows
 
     def take(self, index: Any) -> "Casters":
         """The candidates at ``index`` (a boolean mask or integer indices along the first axis)."""
         taken: dict[str, Any] = {
-            f.name: None if getattr(self, f.name) is None else np.asarray(getattr(self, f.name))[index]
-            for f in fields(self)
+            name: None if getattr(self, name) is None else np.asarray(self._column(name))[index]
+            for name in [f.name for f in fields(self) if f.name != "quantities"] + list(self.quantities)
         }
-        return Casters(**taken)
+        return Casters.of(**taken)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -265,6 +269,18 @@ class Caster(Casters):
             f"N·m/rad; F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, V_c "
             f"{self.critical_speed:.4g} m/s)"
         ]
+
+    def _html_title(self) -> str:
+        return "Caster"
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        """The design and each listed quantity of :data:`designer.parameters.OUTPUT_TABLE` it holds, labelled and
+        with units from the table (SI)."""
+        rows: list[tuple[Any, Any, Any]] = [(p.label, shown(getattr(self, p.name)), p.unit) for p in VARIABLE_TABLE]
+        for p in OUTPUT_TABLE:
+            if p.listed and p.name in self:
+                rows.append((p.label, shown(self[p.name]), p.unit))
+        return rows
 
 
 CandidateValues = Casters
@@ -450,7 +466,8 @@ def _evaluate(
     risk_ok, radius_ok = g_risk <= FEASIBILITY_TOLERANCE, g_radius <= FEASIBILITY_TOLERANCE
     turning = np.asarray(values["turning_effort"], dtype=float)
     shape = np.broadcast_shapes(turning.shape, force.shape, risk_ok.shape, radius_ok.shape, sill_ok.shape)
-    return Casters(
+    omega = np.asarray(shimmy_frequency(t_eff, i_w, cond.dynamics), dtype=float)
+    return Casters.of(  # the quantities of parameters.OUTPUT_TABLE: a new one is one line here
         trail=t,
         diameter=d,
         groove=b,
@@ -466,7 +483,8 @@ def _evaluate(
         threshold_force=force,
         threshold_force_ratio=ratio,
         swept_radius=radius,
-        shimmy_frequency=np.asarray(shimmy_frequency(t_eff, i_w, cond.dynamics), dtype=float),
+        shimmy_frequency=omega,
+        shimmy_amplitude=steady_shimmy_amplitude(values["critical_speed"], t_eff, omega, cond.disturbance_angle),
         g_risk=g_risk,
         g_radius=g_radius,
         risk_ok=risk_ok,

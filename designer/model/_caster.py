@@ -162,10 +162,6 @@ class Design(Record):
         """Build from a sequence in :data:`VARIABLES` order."""
         return cls(*(float(v) for v in np.asarray(x, dtype=float).ravel()[:4]))
 
-    def to_dict(self) -> dict[str, float]:
-        """``{name: value}`` in SI units."""
-        return {name: float(getattr(self, name)) for name in VARIABLES}
-
     def _repr_lines(self) -> list[str]:
         """Two lines: the SI constructor call and the sizes in inches (the industry's unit)."""
         return [

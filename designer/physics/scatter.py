@@ -47,6 +47,7 @@ from designer.data.paper import (
 )
 from designer.physics.shimmy import critical_shimmy_speed
 from designer.physics.types import Numeric, Scalar
+from designer.reprs import Keyed
 from designer.units import INCH
 
 KINDS = ("data", "assumed", "measured")
@@ -69,8 +70,10 @@ MEASURED_INERTIA_SOURCE = (
 
 
 @dataclass(frozen=True)
-class Source:
+class Source(Keyed):
     """Provenance of one scale of the risk law.
+
+    ``to_dict()`` (:class:`designer.reprs.Keyed`): name, distribution, scale, dof, kind, source, caveats.
 
     Attributes
     ----------
@@ -105,18 +108,6 @@ class Source:
         if self.dof <= 2:
             return math.inf
         return self.scale**2 * self.dof / (self.dof - 2)
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready: name, distribution, scale, dof, kind, source, caveats."""
-        return {
-            "name": self.name,
-            "distribution": self.distribution,
-            "scale": self.scale,
-            "dof": self.dof,
-            "kind": self.kind,
-            "source": self.source,
-            "caveats": list(self.caveats),
-        }
 
 
 # --------------------------------------------------------------------------- model error

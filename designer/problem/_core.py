@@ -21,7 +21,7 @@ import numpy as np
 from designer.data.paper import INCH, TABLE1
 from designer import parameters
 from designer.errors import ProblemError
-from designer.reprs import Record, frozen
+from designer.reprs import Key, Keyed, Record, frozen
 from designer.units import parse_quantity
 from designer.errors import InputError
 from designer.model import (
@@ -221,7 +221,7 @@ class StockWheel:
 
 
 @dataclass(frozen=True)
-class Stock:
+class Stock(Keyed):
     """The parts that can be built ([stock]); a variable left ``None`` stays continuous within its bounds.
 
     Attributes
@@ -288,18 +288,12 @@ class Stock:
         )
         return "; ".join(parts)
 
-    def to_dict(self) -> dict[str, Any]:
-        """Plain data in SI units."""
-        return {
-            "diameters": None if self.diameters is None else list(self.diameters),
-            "grooves": None if self.grooves is None else list(self.grooves),
-            "trail_step": self.trail_step,
-            "trails": None if self.trails is None else list(self.trails),
-            "dampings": None if self.dampings is None else list(self.dampings),
-            "wheels": None if self.wheels is None else [dataclasses.asdict(w) for w in self.wheels],
-            "costs": dict(self.costs),
-            "item_costs": {k: [[v, c] for v, c in sorted(d.items())] for k, d in self.item_costs.items()},
-        }
+    _keys = (
+        "*",
+        Key("item_costs", lambda s: {k: [[v, c] for v, c in sorted(d.items())] for k, d in s.item_costs.items()}),
+    )
+    """Plain data in SI units: every field; ``item_costs`` as ``{variable: [[value, cost], ...]}`` by value (JSON
+    keys are strings, the values are numbers)."""
 
 
 TOLERANCE_MAX_LENGTH = 1.0 * INCH
@@ -307,7 +301,7 @@ TOLERANCE_MAX_LENGTH = 1.0 * INCH
 
 
 @dataclass(frozen=True)
-class Tolerances:
+class Tolerances(Keyed):
     """``[tolerances]``: each part's manufacturing spread, ± about its nominal value (SI; None: not toleranced).
 
     Attributes
@@ -326,10 +320,6 @@ class Tolerances:
     friction_moment: float | None = None
     wheel: float | None = None
     enforce: bool = False
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain data (SI; ``wheel`` None: catalogue)."""
-        return dataclasses.asdict(self)
 
 
 @dataclass(frozen=True)
@@ -381,6 +371,39 @@ class Problem(Record):
     description: str = ""
     source: str | None = None
     units: str = field(default="in", compare=False)  # display only: equal problems may write sizes otherwise
+
+    _keys = (
+        "name",
+        "title",
+        *(Key(n, f"conditions.{n}") for n in ("load", "threshold_height", "surface", "turning_mode")),
+        *(Key(n, f"conditions.{n}") for n in ("disturbance_angle", "slip_coefficient")),
+        Key("inertia", "conditions.inertia.describe()"),
+        "target_speed",
+        "margin",
+        Key("bounds", lambda p: {k: [b.low, b.high] for k, b in p.bounds.items()}),
+        "swept_radius_max",
+        "weights",
+        "wheels",
+        Key("robust", "conditions.uncertainty"),
+        "stock",
+        "max_threshold_force",
+        "max_turning_effort",
+        "max_threshold_increase",
+        "max_turning_increase",
+        *(
+            Key(f"turning.{n}", f"conditions.turning.{n}")
+            for n in (
+                "tile_moment_per_load",
+                "carpet_factor",
+                "groove_coefficient",
+                "mode_factors",
+                "bare_fork_damping",
+            )
+        ),
+        Key("tolerances", omit="none"),
+    )
+    """The plain data of :meth:`to_dict` (SI): the conditions' numbers at the top level, the turning model's under
+    ``turning``, ``tolerances`` only when given; the digest is of this dict."""
 
     def __post_init__(self) -> None:
         prefix = f"{self.source}: " if self.source else ""
@@ -514,40 +537,6 @@ class Problem(Record):
     def digest(self) -> str:
         """SHA-256 of the problem's canonical content (for report metadata)."""
         return hashlib.sha256(json.dumps(self.to_dict(), sort_keys=True, default=str).encode()).hexdigest()[:16]
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain-data description of the problem in SI units."""
-        c = self.conditions
-        return {
-            "name": self.name,
-            "title": self.title,
-            "load": c.load,
-            "threshold_height": c.threshold_height,
-            "surface": c.surface,
-            "turning_mode": c.turning_mode,
-            "disturbance_angle": c.disturbance_angle,
-            "slip_coefficient": c.slip_coefficient,
-            "inertia": c.inertia.describe(),
-            "target_speed": self.target_speed,
-            "margin": self.margin,
-            "bounds": {k: [b.low, b.high] for k, b in self.bounds.items()},
-            "swept_radius_max": self.swept_radius_max,
-            "weights": list(self.weights),
-            "wheels": list(self.wheels),
-            "robust": None if c.uncertainty is None else dataclasses.asdict(c.uncertainty),
-            "stock": None if self.stock is None else self.stock.to_dict(),
-            "max_threshold_force": self.max_threshold_force,
-            "max_turning_effort": self.max_turning_effort,
-            "max_threshold_increase": self.max_threshold_increase,
-            "max_turning_increase": self.max_turning_increase,
-            "turning": {
-                "tile_moment_per_load": c.turning.tile_moment_per_load,
-                "carpet_factor": c.turning.carpet_factor,
-                "groove_coefficient": c.turning.groove_coefficient,
-                "mode_factors": dict(c.turning.mode_factors),
-                "bare_fork_damping": c.turning.bare_fork_damping,
-            },
-        } | ({} if self.tolerances is None else {"tolerances": self.tolerances.to_dict()})
 
 
 _FIELD_INDEX = {f.name: k for k, f in enumerate(dataclasses.fields(Problem))}

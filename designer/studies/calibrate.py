@@ -51,7 +51,7 @@ from designer.parameters import PARAMETERS
 from designer.model import critical_speed
 from designer.physics.shimmy import critical_speed_terms
 from designer.physics.turning import DEFAULT_TURNING
-from designer.reprs import Record, dataframe
+from designer.reprs import Key, Record, dataframe
 
 __all__ = [
     "CalibrationResult",
@@ -107,6 +107,16 @@ class CalibrationResult(Record):
     equation: str
     notes: dict[str, Any] = field(default_factory=dict)
 
+    _keys = (
+        *("kind", "name", "value", "unit", "stderr", "interval", Key("confidence", lambda r: 0.95), "n"),
+        Key("rms_residual", "rms"),
+        Key("rms_residual_unit", "y_unit"),
+        "equation",
+        Key("**", "notes"),
+    )
+    """Plain-Python summary: ``value`` and ``interval`` [low, high] (95 %) among others, the ``notes`` spread in
+    (no data arrays: :meth:`to_pandas` has the rows)."""
+
     @property
     def y_unit(self) -> str:
         """Unit of the ordinate (and of ``rms``), from ``y_label``'s brackets, e.g. "N·m" or "m/s"."""
@@ -118,24 +128,6 @@ class CalibrationResult(Record):
         """Measured − fitted [unit of y]."""
         residuals: np.ndarray = self.y - self.fitted
         return residuals
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain-Python summary: ``value`` and ``interval`` [low, high] (95 %) among others (no data arrays:
-        :meth:`to_pandas` has the rows)."""
-        return {
-            "kind": self.kind,
-            "name": self.name,
-            "value": self.value,
-            "unit": self.unit,
-            "stderr": self.stderr,
-            "interval": [self.interval[0], self.interval[1]],
-            "confidence": 0.95,
-            "n": self.n,
-            "rms_residual": self.rms,
-            "rms_residual_unit": self.y_unit,
-            "equation": self.equation,
-            **self.notes,
-        }
 
     def to_pandas(self) -> Any:
         """The data and the fit, one row per measurement: ``x``, ``y`` (measured), ``fitted`` and ``residual``

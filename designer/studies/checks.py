@@ -39,7 +39,7 @@ from designer.physics.shimmy import (
     critical_speed_hydraulic,
 )
 from designer.physics.turning import sliding_turning_moment
-from designer.reprs import Record, shown
+from designer.reprs import Key, Record, shown
 from designer.problem import Problem
 from designer.solvers.base import wheel_of
 from designer.studies.dynamics.limit_cycles import knock_safe_speed
@@ -112,20 +112,15 @@ class Check(Record):
     disagreements: list[str] = field(default_factory=list)
     rows: list[dict[str, Any]] = field(default_factory=list)
 
+    _keys = ("*", Key("rows", omit="empty"))
+    """JSON-ready: name, claim, expected, got, passed, detail, kind, outcome, disagreements (and rows when any)."""
+
     def __post_init__(self) -> None:
         if not self.outcome:
             self.outcome = REPRODUCED if self.passed else FAILS
         if self.outcome not in OUTCOMES or self.kind not in KINDS:
             raise ValueError(f"check {self.name}: outcome {self.outcome!r} / kind {self.kind!r} unknown")
         self.passed = self.outcome != FAILS
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dict: name, claim, expected, got, passed, detail, kind, outcome, disagreements (and rows)."""
-        d = asdict(self)
-        d["passed"] = bool(d["passed"])
-        if not d["rows"]:
-            del d["rows"]
-        return d
 
     def _repr_lines(self) -> list[str]:
         """One line: the check, its outcome, what the paper says and what the code got."""

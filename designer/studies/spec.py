@@ -33,7 +33,17 @@ from designer.physics.acceptance import (
 )
 from designer.model import Design, scatter_of
 from designer.problem import Problem, Tolerances
-from designer.reprs import Record
+from designer.reprs import Key, Record
+
+SPEC_PROBABILITY = {
+    "exact": "probability",
+    "monte_carlo": "mc_probability",
+    "monte_carlo_se": "mc_se",
+    "monte_carlo_samples": "mc_samples",
+    "monte_carlo_seed": "mc_seed",
+    "at_speed": "target_speed",
+}
+"""The keys of a spec's ``shimmy_probability`` record and the attributes they hold."""
 
 UNITS = {"trail": "m", "groove": "m", "diameter": "m", "friction_moment": "N·m", "wheel_inertia": "kg·m²"}
 """SI unit of each inspectable part (the JSON's ``units`` entry)."""
@@ -162,6 +172,22 @@ class Spec(Record):
     tolerances: Tolerances | None = None
     corner: dict[str, Any] | None = None
 
+    _keys = (
+        *(Key(f"nominal.{n}", n) for n in ("trail", "diameter", "groove", "friction_moment")),
+        Key("nominal.wheel_inertia", "inertia"),
+        Key("limits", lambda s: {lim.key: lim.value for lim in s.limits}),
+        Key("units", lambda s: {lim.key: lim.unit for lim in s.limits} | {"nominal": "SI (m, N·m, kg·m²)"}),
+        Key("no_limit", lambda s: {lim.key: lim.reason for lim in s.limits if lim.value is None}),
+        Key(
+            "limit_probability", lambda s: {lim.key: lim.probability for lim in s.limits if lim.probability is not None}
+        ),
+        *("disturbance_angle", "damping", "measured"),
+        *(Key(f"shimmy_probability.{k}", n) for k, n in SPEC_PROBABILITY.items()),
+        *("alpha", "required_speed", "tolerances", Key("worst_corner", "corner")),
+    )
+    """The JSON record (SI): nominal parts, ``limits`` by part and side with ``units`` beside them (None: no limit
+    inside the range, ``no_limit`` says why), the exact and Monte Carlo P, tolerances and worst corner."""
+
     def limit(self, part: str, side: str) -> Limit:
         """The :class:`Limit` of ``part`` on ``side`` ("trail", "min")."""
         for lim in self.limits:
@@ -202,38 +228,6 @@ class Spec(Record):
             }
             for part, label in PART_LABELS.items()
         ]
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON record (SI): nominal parts, ``limits`` by part and side with ``units`` beside them (None: no
-        limit inside the range, ``no_limit`` says why), the exact and Monte Carlo P, tolerances and worst corner."""
-        return {
-            "nominal": {
-                "trail": self.trail,
-                "diameter": self.diameter,
-                "groove": self.groove,
-                "friction_moment": self.friction_moment,
-                "wheel_inertia": self.inertia,
-            },
-            "limits": {lim.key: lim.value for lim in self.limits},
-            "units": {lim.key: lim.unit for lim in self.limits} | {"nominal": "SI (m, N·m, kg·m²)"},
-            "no_limit": {lim.key: lim.reason for lim in self.limits if lim.value is None},
-            "limit_probability": {lim.key: lim.probability for lim in self.limits if lim.probability is not None},
-            "disturbance_angle": self.disturbance_angle,
-            "damping": self.damping,
-            "measured": self.measured,
-            "shimmy_probability": {
-                "exact": self.probability,
-                "monte_carlo": self.mc_probability,
-                "monte_carlo_se": self.mc_se,
-                "monte_carlo_samples": self.mc_samples,
-                "monte_carlo_seed": self.mc_seed,
-                "at_speed": self.target_speed,
-            },
-            "alpha": self.alpha,
-            "required_speed": self.required_speed,
-            "tolerances": None if self.tolerances is None else self.tolerances.to_dict(),
-            "worst_corner": self.corner,
-        }
 
     def _repr_lines(self) -> list[str]:
         shown = ", ".join(f"{lim.key} {lim.value:.4g} {lim.unit}" for lim in self.limits if lim.value is not None)

@@ -20,7 +20,12 @@ BASE = {"shimmy": {"target_speed": "2.5 m/s"}}
 def test_docs_table_is_generated_from_the_table():
     """docs/parameters.md is exactly what ``python -m designer.parameters`` prints (regenerate it if this fails)."""
     text = (ROOT / "docs" / "parameters.md").read_text(encoding="utf-8")
-    assert text == parameters.DOC_HEADER + parameters.markdown_table()
+    assert text == (
+        parameters.DOC_HEADER
+        + parameters.markdown_table()
+        + parameters.OUTPUTS_HEADER
+        + parameters.outputs_markdown_table()
+    )
 
 
 def test_every_entry_is_complete():

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from designer.plots.simulation import plot_knock
-from designer.reprs import Record, dataframe, svg_sparkline
+from designer.reprs import Key, Record, dataframe, svg_sparkline
 
 
 @dataclass(kw_only=True)
@@ -64,6 +64,15 @@ class SimulationResult(Record):
     critical_speed: float
     switches: int
     extrema: np.ndarray = field(repr=False, default_factory=lambda: np.empty((0, 2)))
+
+    _keys = (
+        *("speed", "angle", "angular_velocity", "friction_moment", "inertia", "amplitude_ratio", "growth_ratio"),
+        *("early_amplitude", "late_amplitude", "grows", "diverged", "frequency", "predicted_frequency"),
+        *("predicted_amplitude", "critical_speed", "switches"),
+        Key("t", option="with_trace"),
+        Key("theta", option="with_trace"),
+    )
+    """The scalars as plain Python types; ``to_dict(with_trace=True)`` adds the trace ``t``, ``theta``."""
 
     _units = {
         "speed": "m/s",
@@ -168,31 +177,6 @@ class SimulationResult(Record):
             ax=ax,
         )
 
-    def to_dict(self, with_trace: bool = False) -> dict[str, Any]:
-        """Scalars (and with ``with_trace`` the trace t, θ) as plain Python types."""
-        out = {
-            "speed": self.speed,
-            "angle": self.angle,
-            "angular_velocity": self.angular_velocity,
-            "friction_moment": self.friction_moment,
-            "inertia": self.inertia,
-            "amplitude_ratio": self.amplitude_ratio,
-            "growth_ratio": self.growth_ratio,
-            "early_amplitude": self.early_amplitude,
-            "late_amplitude": self.late_amplitude,
-            "grows": bool(self.grows),
-            "diverged": bool(self.diverged),
-            "frequency": self.frequency,
-            "predicted_frequency": self.predicted_frequency,
-            "predicted_amplitude": self.predicted_amplitude,
-            "critical_speed": self.critical_speed,
-            "switches": self.switches,
-        }
-        if with_trace:
-            out["t"] = self.t.tolist()
-            out["theta"] = self.theta.tolist()
-        return out
-
 
 @dataclass(kw_only=True)
 class OnsetResult(Record):
@@ -238,10 +222,6 @@ class OnsetResult(Record):
 
     def __float__(self) -> float:
         return float(self.speed)
-
-    def to_dict(self) -> dict[str, Any]:
-        """All fields as plain floats (the count of simulations an int)."""
-        return {k: (float(v) if not isinstance(v, int) else v) for k, v in self.__dict__.items()}
 
     def _repr_lines(self) -> list[str]:
         """One line: the simulated onset, its bracket and Eq. 7's V_c."""

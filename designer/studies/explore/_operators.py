@@ -5,7 +5,6 @@ See :mod:`designer.studies.explore` for what the operators are and why they are 
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 import math
 import warnings
@@ -18,11 +17,16 @@ from designer.errors import InputError
 from designer.studies.front import nondominated
 from designer.model import VARIABLES, Design
 from designer.problem import Bound, Problem
-from designer.reprs import Record
+from designer.reprs import Key, Record
+
 from designer.physics.inertia import Catalog
 
 
 # --------------------------------------------------------------------------- operators
+
+
+ETAS = ("crossover_eta", "mutation_eta")
+"""The distribution indices of the operators: NaN when the operator has none (None in :meth:`Operators.to_dict`)."""
 
 
 @dataclass(frozen=True)
@@ -52,6 +56,12 @@ class Operators(Record):
     mutation_prob: float | None = None
     deduplicate: bool = True
 
+    _keys = (
+        "*",
+        *(Key(n, lambda o, n=n: getattr(o, n) if math.isfinite(getattr(o, n)) else None) for n in ETAS),
+    )
+    """The configuration as plain data (an unused η as None); :meth:`from_dict` reads it back."""
+
     @classmethod
     def for_budget(cls, trials: int, name: str = "tuned", population_size: int | None = None) -> "Operators":
         """Operators for a budget of ``trials`` trials.
@@ -80,13 +90,6 @@ class Operators(Record):
             raise InputError(f"operators = {name!r}: expected 'tuned' or 'optuna'")
         pop = population_size or int(min(100, max(20, round(math.sqrt(max(trials, 1))))))
         return cls(population_size=pop)
-
-    def to_dict(self) -> dict[str, Any]:
-        """The configuration as plain data (an unused η as None); :meth:`from_dict` reads it back."""
-        return {
-            k: (None if isinstance(v, float) and not math.isfinite(v) else v)
-            for k, v in dataclasses.asdict(self).items()
-        }
 
     def _repr_lines(self) -> list[str]:
         """One line: the name, the population and the two operators."""
@@ -255,6 +258,12 @@ class SearchSpace(Record):
     continuous: tuple
     categorical: tuple
 
+    _keys = (
+        Key("continuous", lambda s: {n: [lo, hi] for n, lo, hi in s.continuous}),
+        Key("categorical", lambda s: {n: list(c) for n, c in s.categorical}),
+    )
+    """{"continuous": {variable: [low, high]} [SI], "categorical": {dimension: [choices]}}."""
+
     @property
     def names(self) -> tuple[str, ...]:
         return tuple(name for name, _ in self.categorical) + tuple(name for name, _, _ in self.continuous)
@@ -263,13 +272,6 @@ class SearchSpace(Record):
         """Every combination of categorical values, as ((dimension, value), ...) tuples."""
         dims = [[(name, value) for value in choices] for name, choices in self.categorical]
         return [tuple(combo) for combo in itertools.product(*dims)] if dims else [()]
-
-    def to_dict(self) -> dict[str, Any]:
-        """{"continuous": {variable: [low, high]} [SI], "categorical": {dimension: [choices]}}."""
-        return {
-            "continuous": {n: [lo, hi] for n, lo, hi in self.continuous},
-            "categorical": {n: list(c) for n, c in self.categorical},
-        }
 
     def _repr_lines(self) -> list[str]:
         """One line: the continuous variables and the categorical dimensions with their sizes."""

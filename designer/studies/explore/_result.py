@@ -17,9 +17,18 @@ from designer.parameters import VARIABLE_TABLE
 from designer.versions import versions
 from designer.studies.front import hypervolume_2d, igd_plus, normalise
 from designer.problem import Problem
-from designer.reprs import Record, dataframe, svg_curve
+from designer.reprs import Key, Record, dataframe, svg_curve
 from designer.studies.explore._operators import Operators, category_problem, search_space
 from designer.studies.explore._storage import _atomic_write_many, _one_line
+
+UNITS = {
+    **{p.name: p.ascii_unit for p in VARIABLE_TABLE},
+    "turning_effort": "N",
+    "threshold_force": "N",
+    "critical_speed": "m/s",
+    "hypervolume": "N^2",
+}
+"""The units of explore.json's numbers (``"units"``), ASCII as pint reads them."""
 
 
 CATEGORICAL = ("wheel", "surface", "turning_mode")
@@ -71,6 +80,16 @@ class ExploreResult(Record):
     trials_run: int
     workers: int
     warnings: list[str] = field(default_factory=list)
+
+    _keys = (
+        Key("problem", "problem.name"),
+        Key("problem_digest", "problem.digest()"),
+        *(Key("study", "study_name"), "storage", "seed", "trials", "trials_run", "workers", "seconds"),
+        *("trials_per_second", Key("distinct_parameter_sets", "distinct"), Key("feasible_trials", "feasible")),
+        *("refined", "operators", Key("units", lambda r: UNITS), "hypervolume", "reference_point", "front"),
+        *("category_fronts", "comparison", "warnings", Key("versions", lambda r: versions())),
+    )
+    """Plain data for explore.json (SI units)."""
 
     @property
     def trials_per_second(self) -> float:
@@ -156,39 +175,6 @@ class ExploreResult(Record):
             problem=self.problem.name,
             study=self.study_name,
         )
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain data for explore.json (SI units)."""
-        return {
-            "problem": self.problem.name,
-            "problem_digest": self.problem.digest(),
-            "study": self.study_name,
-            "storage": self.storage,
-            "seed": self.seed,
-            "trials": self.trials,
-            "trials_run": self.trials_run,
-            "workers": self.workers,
-            "seconds": self.seconds,
-            "trials_per_second": self.trials_per_second,
-            "distinct_parameter_sets": self.distinct,
-            "feasible_trials": self.feasible,
-            "refined": self.refined,
-            "operators": self.operators.to_dict(),
-            "units": {
-                **{p.name: p.ascii_unit for p in VARIABLE_TABLE},
-                "turning_effort": "N",
-                "threshold_force": "N",
-                "critical_speed": "m/s",
-                "hypervolume": "N^2",
-            },
-            "hypervolume": self.hypervolume,
-            "reference_point": list(self.reference_point),
-            "front": self.front,
-            "category_fronts": self.category_fronts,
-            "comparison": self.comparison,
-            "warnings": self.warnings,
-            "versions": versions(),
-        }
 
     def write(self, out_dir: str | Path) -> tuple[Path, Path]:
         """Write explore.csv (every per-category front point, ``overall_front`` flag) and explore.json.

@@ -25,7 +25,7 @@ from designer.model import VARIABLES, Design
 from designer.parameters import DESIGN_UNITS, PARAMETERS
 from designer.problem import example_names, example_problem
 from designer.problem import Problem, family_of, load_problem
-from designer.reprs import Record, svg_curve
+from designer.reprs import Key, Record, svg_curve
 from designer.plots import fronts as front_plots
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
@@ -36,6 +36,10 @@ FRONT_CSV = first_line_kind(",".join([*VARIABLES, "turning_effort", "threshold_f
 
 REFERENCE_OFFSET = 0.1
 """Hypervolume reference point: 10 % beyond the nadir in normalised objectives, i.e. (1.1, 1.1)."""
+
+
+HYPERVOLUME_NORMALISATION = "(f - ideal) / (nadir - ideal), ideal and nadir of this front"
+"""How front.json's hypervolume normalises the objectives (``hypervolume_reference.normalisation``)."""
 
 
 @dataclass(kw_only=True)
@@ -124,6 +128,27 @@ class Front(Record):
     points: list[FrontPoint]
     failed: list[FrontPoint] = field(default_factory=list)
     meta: dict[str, Any] = field(default_factory=dict)
+
+    _keys = (
+        Key("problem", "problem.name"),
+        Key("points", "rows()"),
+        Key("failed", lambda f: [p.row() for p in f.failed]),
+        Key("hypervolume", lambda f: f.hypervolume() if f.points else None),
+        Key("hypervolume_reference.normalisation", lambda f: HYPERVOLUME_NORMALISATION),
+        Key("hypervolume_reference.ideal", lambda f: f.ideal_nadir()[0] if f.points else None),
+        Key("hypervolume_reference.nadir", lambda f: f.ideal_nadir()[1] if f.points else None),
+        Key("hypervolume_reference.reference_normalised", lambda f: [1 + REFERENCE_OFFSET] * 2),
+        Key("knee", lambda f: f._index(f.knee())),
+        Key("weighted_best", lambda f: f._index(f.weighted_best())),
+        Key("gaps", lambda f: [{"index": i, "what": what} for i, what in f.gaps()]),
+        "meta",
+    )
+    """Plain data (front.json): the points, the failed points, the indicators (the hypervolume of the front
+    normalised by its own ideal and nadir), the knee's and the weighted best's index, the gaps and run metadata."""
+
+    def _index(self, point: FrontPoint | None) -> int | None:
+        """The position of ``point`` among the points, or None."""
+        return self.points.index(point) if point is not None else None
 
     def __iter__(self) -> Iterator[FrontPoint]:
         return iter(self.points)
@@ -502,27 +527,6 @@ class Front(Record):
         write_file(
             path, csv_text(dict_rows(rows, columns + extra, "{:.10g}")), "to_csv", example="front.csv", kind=FRONT_CSV
         )
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain data: points, failed points, indicators and run metadata."""
-        knee = self.knee()
-        best = self.weighted_best()
-        return {
-            "problem": self.problem.name,
-            "points": self.rows(),
-            "failed": [p.row() for p in self.failed],
-            "hypervolume": self.hypervolume() if self.points else None,
-            "hypervolume_reference": {
-                "normalisation": "(f - ideal) / (nadir - ideal), ideal and nadir of this front",
-                "ideal": self.ideal_nadir()[0].tolist() if self.points else None,
-                "nadir": self.ideal_nadir()[1].tolist() if self.points else None,
-                "reference_normalised": [1 + REFERENCE_OFFSET] * 2,
-            },
-            "knee": self.points.index(knee) if knee is not None else None,
-            "weighted_best": self.points.index(best) if best is not None else None,
-            "gaps": [{"index": i, "what": what} for i, what in self.gaps()],
-            "meta": self.meta,
-        }
 
 
 def clean(points: list[FrontPoint]) -> list[FrontPoint]:

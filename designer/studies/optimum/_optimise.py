@@ -23,7 +23,7 @@ from designer.data.paper import INCH
 from designer.errors import InfeasibleError, SolverError
 from designer.model import VARIABLES, Design
 from designer.problem import Problem, problem_argument
-from designer.reprs import Record, dataframe
+from designer.reprs import Key, Record, dataframe
 from designer.solvers import PRIMARY, Optimum, one_solve_at_a_time, solver
 from designer.solvers.base import wheel_of
 from designer.solvers.nlp import PARAMETER_INFO, max_critical_speed
@@ -79,28 +79,21 @@ class Solution(Record):
     shimmy_probability: float | None = None
     shimmy_probability_se: float | None = None
 
+    _keys = (
+        *(
+            Key("problem", "problem.name"),
+            "design",
+            "objectives",
+            Key("weights", lambda s: [float(w) for w in s.weights]),
+        ),
+        *("critical_speed", Key("required_speed", "problem.required_speed"), "constraints", "active"),
+        *("sensitivities", Key("gp_duals", "gp_duals()"), "cross_check", "status", "wheel", "timings"),
+    )
+    """The keys of ``designer run --json``'s solution."""
+
     def __post_init__(self) -> None:
         if not self.weights:
             self.weights = tuple(self.problem.weights)
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dict with the keys of ``designer run --json``."""
-        return {
-            "problem": self.problem.name,
-            "design": self.design.to_dict(),
-            "objectives": dict(self.objectives),
-            "weights": [float(w) for w in self.weights],
-            "critical_speed": self.critical_speed,
-            "required_speed": self.problem.required_speed,
-            "constraints": dict(self.constraints),
-            "active": list(self.active),
-            "sensitivities": dict(self.sensitivities),
-            "gp_duals": self.gp_duals(),
-            "cross_check": dict(self.cross_check),
-            "status": self.status,
-            "wheel": self.wheel,
-            "timings": dict(self.timings),
-        }
 
     def gp_duals(self) -> dict[str, float]:
         """d log J / d log p from the geometric program's duals, where the GP defines them.

@@ -14,7 +14,7 @@ from designer.model import Design
 from designer.parameters import DESIGN_UNITS
 from designer.plots.caster import caster_svg, plot_caster
 from designer.problem import Problem
-from designer.reprs import Record, dataframe
+from designer.reprs import Key, Record, dataframe
 from designer.studies.spec import PART_LABELS, limit_shown
 
 if TYPE_CHECKING:  # the front's record for the checker only: designer.studies.front loads casadi
@@ -109,35 +109,15 @@ class Recommendation(Record):
         "swept_radius_max": "m",
     }
 
-    def to_dict(self, alternatives: bool = False) -> dict[str, Any]:
-        """The JSON record of ``designer run --json`` (SI)."""
-        out = {
-            "design": self.design.to_dict(),
-            "turning_effort": self.turning_effort,
-            "threshold_force": self.threshold_force,
-            "critical_speed": self.critical_speed,
-            "confident_speed": self.confident_speed,
-            "shimmy_probability": self.shimmy_probability,
-            "shimmy_probability_mc": self.shimmy_probability_mc,
-            "shimmy_probability_se": self.shimmy_probability_se,
-            "mc_samples": self.mc_samples,
-            "mc_seed": self.mc_seed,
-            "swept_radius": self.swept_radius,
-            "swept_radius_max": self.swept_radius_max,
-            "rule": self.rule,
-            "role": self.role,
-            "wheel": self.wheel,
-            "extrapolated": self.extrapolated,
-            "measured": self.measured,
-        }
-        for key in ("risk", "if_measured", "enforced"):
-            if getattr(self, key) is not None:
-                out[key] = getattr(self, key)
-        if self.spec is not None:
-            out["spec"] = self.spec.to_dict()
-        if alternatives:
-            out["alternatives"] = [a.to_dict() for a in self.alternatives]
-        return out
+    _keys = (
+        *("design", "turning_effort", "threshold_force", "critical_speed", "confident_speed", "shimmy_probability"),
+        *("shimmy_probability_mc", "shimmy_probability_se", "mc_samples", "mc_seed", "swept_radius"),
+        *("swept_radius_max", "rule", "role", "wheel", "extrapolated", "measured"),
+        *(Key(name, omit="none") for name in ("risk", "if_measured", "enforced", "spec")),
+        Key("alternatives", option="alternatives"),
+    )
+    """The JSON record of ``designer run --json`` (SI): ``risk``, ``if_measured``, ``enforced`` and ``spec`` only when
+    set; ``to_dict(alternatives=True)`` adds the alternatives (each without its own)."""
 
     def lines(self) -> list[str]:
         """The caster as text lines (inches and SI)."""

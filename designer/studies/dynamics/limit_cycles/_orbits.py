@@ -14,7 +14,7 @@ import numpy as np
 
 from designer.studies.dynamics.limit_cycles._system import CasterDynamics, _integrate
 from designer.errors import SolverError
-from designer.reprs import Record
+from designer.reprs import Key, Record
 
 Residual: TypeAlias = Callable[[np.ndarray], "np.ndarray | None"]
 """A shooting residual: the weighted return-map residual of the unknowns [rad], None where the map is undefined."""
@@ -48,6 +48,13 @@ class PeriodicOrbit(Record):
     residual: float
     iterations: int
 
+    _keys = (
+        *("amplitude", "speed", "period", "frequency", "stable", "closure", "residual", "iterations"),
+        Key("multipliers", lambda o: [[float(m.real), float(m.imag)] for m in o.multipliers]),
+        Key("max_abs_multiplier", lambda o: float(np.max(np.abs(o.multipliers)))),
+    )
+    """Plain floats, the complex multipliers as [re, im] pairs (not the section ``state``)."""
+
     @property
     def frequency(self) -> float:
         """2π / period [rad/s]."""
@@ -72,21 +79,6 @@ class PeriodicOrbit(Record):
 
     def _html_title(self) -> str:
         return "Periodic orbit (shimmy at constant amplitude)"
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain floats (multipliers as [re, im] pairs)."""
-        return {
-            "amplitude": self.amplitude,
-            "speed": self.speed,
-            "period": self.period,
-            "frequency": self.frequency,
-            "stable": bool(self.stable),
-            "closure": self.closure,
-            "residual": self.residual,
-            "iterations": self.iterations,
-            "multipliers": [[float(m.real), float(m.imag)] for m in self.multipliers],
-            "max_abs_multiplier": float(np.max(np.abs(self.multipliers))),
-        }
 
 
 def _weights(sys: CasterDynamics) -> np.ndarray:

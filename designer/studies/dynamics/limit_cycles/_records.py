@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -71,15 +70,13 @@ class OnsetBracket(Record):
     evaluations: int
 
     _units = {"low": "m/s", "high": "m/s", "speed": "m/s"}
+    _keys = ("low", "high", "speed", "evaluations")
+    """The bracket, its geometric mean and the number of knock simulations."""
 
     @property
     def speed(self) -> float:
         """Geometric mean of the bracket [m/s]."""
         return math.sqrt(self.low * self.high)
-
-    def to_dict(self) -> dict[str, Any]:
-        """The bracket, its geometric mean and the number of knock simulations."""
-        return {"low": self.low, "high": self.high, "speed": self.speed, "evaluations": self.evaluations}
 
     def _repr_lines(self) -> list[str]:
         return [
