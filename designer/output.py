@@ -151,10 +151,12 @@ def signed_kind(writer: str, what: str) -> FileKind:
     return FileKind(what, recognise)
 
 
-def first_line_kind(start: str, what: str) -> FileKind:
-    """The :class:`FileKind` of files whose first line starts with ``start`` (a header the tool always writes)."""
-    data = start.encode("utf-8")
-    return FileKind(what, lambda path: _head(path, len(data)) == data)
+def first_line_kind(start: str | tuple[str, ...], what: str) -> FileKind:
+    """The :class:`FileKind` of files whose first line starts with ``start`` (a header the tool always writes),
+    or with any of the tuple ``start`` (the header it writes now and those it wrote before: a rerun over an old
+    results folder replaces the file rather than refusing it)."""
+    starts = [x.encode("utf-8") for x in ((start,) if isinstance(start, str) else start)]
+    return FileKind(what, lambda path: any(_head(path, len(data)) == data for data in starts))
 
 
 SOFTWARE = "caster-designer"
