@@ -26,7 +26,7 @@ CSV_UNITS = {
     "angle": ("rad", 1.0),
     "angular_speed": ("rad_per_s", 1.0),
     "time": ("s", 1.0),
-    "inertia": ("kg_m2", 1.0),
+    "inertia": ("kgm2", 1.0),
     "mass": ("kg", 1.0),
     "stiffness": ("N_per_m", 1.0),
     "per_length": ("per_m", 1.0),
