@@ -14,10 +14,17 @@ SCHEMA_VERSION = 1
 goes away (CHANGELOG.md says what changed), not when a key is added."""
 
 
+RESOLVED_DIGITS = 12
+"""Significant digits of every number in the JSON the tool writes: more than anything the tool resolves (the
+solver's 9, designer.report.resolution), fewer than a float's 17, so 7 in is 0.1778, not 0.17779999999999999."""
+
+
 def stamped(kind: str, data: dict[str, Any]) -> dict[str, Any]:
     """``data`` with its ``schema`` first: ``"caster-designer/<kind>/<SCHEMA_VERSION>"`` (``kind``: the file, e.g.
-    ``"front.json"``, or the command of a ``--json`` output)."""
-    return {"schema": f"caster-designer/{kind}/{SCHEMA_VERSION}", **data}
+    ``"front.json"``, or the command of a ``--json`` output), as plain JSON data (:func:`finite`) with every number
+    at the precision it is resolved to (:func:`resolved_numbers`): every JSON file and ``--json`` output is stamped
+    here, so one rule writes their numbers."""
+    return {"schema": f"caster-designer/{kind}/{SCHEMA_VERSION}", **resolved_numbers(finite(data))}
 
 
 def finite(value: Any) -> Any:
@@ -38,4 +45,16 @@ def finite(value: Any) -> Any:
         return int(value)
     if isinstance(value, (np.floating, float)):
         return float(value) if math.isfinite(float(value)) else None
+    return value
+
+
+def resolved_numbers(value: Any, digits: int = RESOLVED_DIGITS) -> Any:
+    """A copy of plain JSON data (:func:`finite`'s output) with every float at ``digits`` significant digits
+    (:func:`designer.units.resolved`): 0.1778 for 7 in, not 0.17779999999999999."""
+    if isinstance(value, dict):
+        return {k: resolved_numbers(v, digits) for k, v in value.items()}
+    if isinstance(value, list):
+        return [resolved_numbers(v, digits) for v in value]
+    if type(value) is float:
+        return float(f"{value:.{digits}g}") if math.isfinite(value) else value
     return value

@@ -151,11 +151,12 @@ def signed_kind(writer: str, what: str) -> FileKind:
     return FileKind(what, recognise)
 
 
-def first_line_kind(start: str, what: str, *earlier: str) -> FileKind:
-    """The :class:`FileKind` of files that start with ``start`` (a header the tool always writes) or with one of
-    the ``earlier`` headers an earlier release wrote (a file of the tool's own, from before a column or key was
-    added: replaced by a rerun, never refused)."""
-    heads = [text.encode("utf-8") for text in (start, *earlier)]
+def first_line_kind(start: str | tuple[str, ...], what: str, *earlier: str) -> FileKind:
+    """The :class:`FileKind` of files whose first line starts with ``start`` (a header the tool always writes, or
+    any of a tuple of them) or with one of the ``earlier`` headers an earlier release wrote (a file of the tool's
+    own from before a column or key was added or renamed: a rerun over an old results folder replaces it rather
+    than refusing it)."""
+    heads = [x.encode("utf-8") for x in ((start,) if isinstance(start, str) else start) + earlier]
     return FileKind(what, lambda path: any(_head(path, len(data)) == data for data in heads))
 
 

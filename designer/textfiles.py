@@ -23,12 +23,13 @@ import os
 import re
 import stat
 import threading
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
 from designer.errors import InputError, ProblemError, os_reason
+from designer.units import csv_column
 
 FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
 """First characters that make a spreadsheet read a cell as a formula (OWASP, CSV injection)."""
@@ -231,17 +232,36 @@ def _quoted(value: Any) -> str:
     return text
 
 
-def dict_rows(rows: Iterable[dict[str, Any]], columns: Sequence[str], float_format: str = "{!r}") -> list[list[Any]]:
-    """The header ``columns`` and one list per dict of ``rows`` for :func:`csv_text`: a missing key or None as an
-    empty cell, a float formatted by ``float_format`` (``"{:.6g}"``)."""
-    out: list[list[Any]] = [list(columns)]
+def dict_rows(
+    rows: Iterable[dict[str, Any]],
+    columns: Sequence[str],
+    float_format: str = "{!r}",
+    quantities: Mapping[str, str] | None = None,
+    units: str = "in",
+) -> list[list[Any]]:
+    """The header and one list per dict of ``rows`` for :func:`csv_text`: a missing key or None as an empty cell,
+    a float formatted by ``float_format`` (``"{:.6g}"``).
+
+    ``quantities`` (key -> dimension: "length", "force", "speed", ...) is the one rule of the CSV files the tool
+    writes: the column of a quantity carries its unit in its name and its values are in that unit
+    (:func:`designer.units.csv_column`: ``trail_in`` or ``trail_mm`` as the problem writes lengths, ``units``;
+    ``turning_effort_N``, ``critical_speed_m_per_s``); the other columns (flags such as ``family``, ``status``
+    and ``buildable``, fractions, counts, names that already end in their unit) keep their names."""
+    named = {c: csv_column(c, (quantities or {}).get(c, ""), units) for c in columns}
+    out: list[list[Any]] = [[named[c][0] for c in columns]]
     for r in rows:
-        out.append(
-            [
-                "" if r.get(c) is None else (float_format.format(r[c]) if isinstance(r[c], float) else r[c])
-                for c in columns
-            ]
-        )
+        cells: list[Any] = []
+        for c in columns:
+            value = r.get(c)
+            if value is None:
+                cells.append("")
+            elif isinstance(value, float):
+                cells.append(float_format.format(value * named[c][1] if named[c][1] != 1.0 else value))
+            elif named[c][1] != 1.0 and isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+                cells.append(float_format.format(float(value) * named[c][1]))  # a quantity in its column's unit
+            else:
+                cells.append(value)
+        out.append(cells)
     return out
 
 

@@ -19,6 +19,62 @@ INCH = 0.0254
 package; plots, reports and messages show lengths in inches with it."""
 
 
+CSV_UNITS = {
+    "force": ("N", 1.0),
+    "speed": ("m_per_s", 1.0),
+    "damping": ("N_m_per_rad", 1.0),
+    "angle": ("rad", 1.0),
+    "angular_speed": ("rad_per_s", 1.0),
+    "time": ("s", 1.0),
+    "inertia": ("kgm2", 1.0),
+    "mass": ("kg", 1.0),
+    "stiffness": ("N_per_m", 1.0),
+    "per_length": ("per_m", 1.0),
+    "moment": ("N_m", 1.0),
+}
+"""The unit a CSV column of each dimension but length is written in: (name suffix, factor from SI)."""
+
+LENGTH_UNITS = {"in": ("in", 1 / INCH), "mm": ("mm", 1000.0), "m": ("m", 1.0)}
+"""The unit a CSV column of a length is written in, by the problem's units: (name suffix, factor from SI)."""
+
+
+def csv_column(name: str, dimension: str, units: str = "in") -> tuple[str, float]:
+    """The one rule for the CSV files the tool writes: the name a spreadsheet sees for a quantity's column and
+    the factor from SI to its values.  A length in the problem's units, ``("trail_in", 1 / INCH)`` or
+    ``("trail_mm", 1000)``; a force ``("threshold_force_N", 1)``, a speed ``..._m_per_s``, a damping
+    ``..._N_m_per_rad`` (:data:`CSV_UNITS`); anything else (flags, fractions, counts: ``dimension`` "" or
+    "dimensionless") keeps its name, factor 1.  A name that already ends in its unit is not named twice."""
+    if dimension == "length":
+        suffix, factor = LENGTH_UNITS.get(units, LENGTH_UNITS["in"])
+    else:
+        suffix, factor = CSV_UNITS.get(dimension, ("", 1.0))
+    if not suffix or name.endswith(f"_{suffix}"):
+        return name, factor
+    return f"{name}_{suffix}", factor
+
+
+_SUFFIXES = sorted(
+    [(s, f) for s, f in LENGTH_UNITS.values()] + [(s, f) for s, f in CSV_UNITS.values()],
+    key=lambda sf: -len(sf[0]),
+)
+
+
+def csv_quantity(column: str) -> tuple[str, float]:
+    """The inverse of :func:`csv_column`: the quantity a column names and the factor from SI to its values
+    (``"trail_in"`` -> ``("trail", 1 / INCH)``, ``"turning_effort_N"`` -> ``("turning_effort", 1)``); a name
+    without a unit (``"status"``, or a column written before the columns named their units) is itself, 1."""
+    for suffix, factor in _SUFFIXES:
+        if column.endswith(f"_{suffix}") and len(column) > len(suffix) + 1:
+            return column[: -len(suffix) - 1], factor
+    return column, 1.0
+
+
+def resolved(value: float, digits: int = 12) -> float:
+    """``value`` at ``digits`` significant digits: the precision a number is resolved to, so that JSON and
+    CSV show 0.1778 for 7 in and not 0.17779999999999999 (binary rounding of 7 times the inch)."""
+    return float(f"{value:.{digits}g}") if math.isfinite(value) else value
+
+
 def written_size(value: float | None, units: str = "in") -> str:
     """A length [m] as a user writes it: ``"7 in"``, ``"1/2 in"``, ``"2 1/2 in"`` (inches to the nearest 1/16, a
     fraction in lowest terms), or ``"13 mm"``, ``"177.8 mm"`` (millimetres to 0.1, no trailing zero).

@@ -135,8 +135,13 @@ def test_a_fleet_csv_with_formula_names_is_safe_and_reads_back(tmp_path, capsys)
     raw = list(csv.reader(io.StringIO((out / "fleet.csv").read_text(encoding="utf-8"))))
     written = [r[0] for r in raw[1:]]
     assert sorted(written) == sorted(["'=1+1", "'-chair", "'@risk", "chair", "plain"])  # the reader strips cells
-    numbers = [float(c) for r in raw[1:] for c in r[1:] if c and c[0] in "-0123456789"]
+    header = raw[0]  # each quantity names its unit; a part number carries its sizes ("1: T 2 in, d 6 in, ...")
+    assert {"trail_in", "turning_effort_N", "sku"} <= set(header) and "trail" not in header
+    numbers = [
+        float(c) for r in raw[1:] for h, c in zip(header[1:], r[1:]) if h != "sku" and c and c[0] in "-0123456789"
+    ]
     assert len(numbers) >= 2 * len(names)
+    assert all(r[header.index("sku")].split(":")[1].startswith(" T ") for r in raw[1:] if r[header.index("sku")])
     _, body, _ = csv_table((out / "fleet.csv").read_text(encoding="utf-8"), "fleet.csv")
     assert sorted(r[0] for r in body) == sorted(n.strip() for n in names)
 

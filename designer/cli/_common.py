@@ -6,7 +6,7 @@ import json
 import sys
 
 from designer.cli._terminal import fit
-from designer.jsonsafe import finite, stamped
+from designer.jsonsafe import finite, resolved_numbers, stamped
 from designer.errors import InputError
 from designer.output import FileKind, check_file, check_folder
 from designer.units import parse_quantity_text
@@ -37,7 +37,7 @@ def print_json(data, kind: str | None = None) -> None:
     (:func:`designer.jsonsafe.stamped`; ``kind``: default the command, ``designer <command> --json``)."""
     if isinstance(data, dict):
         data = stamped(kind or _command(), data)
-    print(json.dumps(finite(data), indent=2, sort_keys=False))
+    print(json.dumps(resolved_numbers(finite(data)), indent=2, sort_keys=False))  # 0.1524, not 0.15239999999999998
 
 
 RUNNING = {"command": ""}

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from designer.parameters import VARIABLES
+from designer.units import csv_quantity
 from designer.report.resolution import (
     AT_BOUND,
     DIFFERENCE_SCALE,
@@ -146,12 +147,25 @@ def _short(value, width: int = 60) -> str:
 
 
 def rule_for(key, parent=None) -> str:
-    """The :data:`RULES` key of the number stored under ``key`` (its dict's ``parent`` key: multiplier groups)."""
+    """The :data:`RULES` key of the number stored under ``key`` (its dict's ``parent`` key: multiplier groups); a
+    CSV column that names its unit (``trail_in``, ``trail_mm``: :func:`designer.units.csv_quantity`) follows the
+    rule of its quantity."""
     if parent in MULTIPLIER_GROUPS or isinstance(key, str) and key.startswith("lambda_"):
         return "multiplier"
-    if key in VARIABLES:
+    if key in VARIABLES or isinstance(key, str) and csv_quantity(key)[0] in VARIABLES:
         return "design"
     return "number"
+
+
+def variable_scale(key) -> float:
+    """The scale of the design variable stored under ``key`` in the unit it is written in (:data:`VARIABLE_SCALES`
+    [SI], times the factor of a column that names its unit: ``trail_in`` is on 2.5 in's scale), else 0."""
+    if not isinstance(key, str):
+        return 0.0
+    if key in VARIABLE_SCALES:
+        return VARIABLE_SCALES[key]
+    name, factor = csv_quantity(key)
+    return VARIABLE_SCALES.get(name, 0.0) * factor
 
 
 def tolerance(rule: str, a: float, b: float, scale: float = 0.0) -> float:
@@ -240,7 +254,7 @@ def _field(old, new, where, key, parent, siblings) -> Moved | None:
             spread = tuple(abs(1 - 2 * p) * float(x) ** 2 / (2 * p * (1 - p)) for x in (old, new))
             return _number(old, new, where, "monte carlo", se=spread)
     rule = rule_for(key, parent)
-    scale = VARIABLE_SCALES.get(key, 0.0) if rule == "design" else 0.0
+    scale = variable_scale(key) if rule == "design" else 0.0
     if parent == "constraints" and isinstance(key, str):  # an optimum's margin: on its constraint's scale
         rule, scale = "design", MARGIN_SCALES.get(key.split(".", 1)[0], MARGIN_SCALES["swept_radius"])
     elif key in DIFFERENCE_SCALE and siblings and _is_number(siblings[0].get(DIFFERENCE_SCALE[key])):

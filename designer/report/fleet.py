@@ -23,29 +23,31 @@ from designer.output import output_folder
 from designer.versions import versions
 from designer.plots.fleet import figure_distributions, figure_regret
 from designer.report.formatting import fmt
-from designer.units import written_size
+from designer.units import resolved, written_size
 from designer.report.writer import _render
 
-CSV_COLUMNS = (
-    "name",
-    "trail",
-    "diameter",
-    "groove",
-    "damping",
-    "turning_effort",
-    "threshold_force",
-    "shimmy_probability",
-    "shimmy_probability_mc",
-    "shimmy_probability_se",
-    "sku",
-    "sku_turning_effort",
-    "sku_threshold_force",
-    "sku_shimmy_probability",
-    "knee_regret_N",
-    "sku_regret_N",
-    "status",
-)
-"""Columns of fleet.csv (SI, as front.csv); the sku_* and *_regret_N columns only with part numbers."""
+CSV_COLUMNS = {
+    "name": "",
+    "trail": "length",
+    "diameter": "length",
+    "groove": "length",
+    "damping": "damping",
+    "turning_effort": "force",
+    "threshold_force": "force",
+    "shimmy_probability": "",
+    "shimmy_probability_mc": "",
+    "shimmy_probability_se": "",
+    "sku": "",
+    "sku_turning_effort": "force",
+    "sku_threshold_force": "force",
+    "sku_shimmy_probability": "",
+    "knee_regret_N": "",
+    "sku_regret_N": "",
+    "status": "",
+}
+"""The rows' keys written to fleet.csv and their dimensions: a quantity's column carries its unit in its name
+(:func:`designer.units.csv_column`: ``trail_in`` or ``trail_mm`` as the base problem writes lengths,
+``turning_effort_N``); the sku_* and *_regret_N columns only with part numbers."""
 
 OWNED = frozenset({"fleet.csv", "fleet.json", "report.md", "index.html", "figures", "run.json"})
 """What a fleet report owns in its folder (anything else there is never touched)."""
@@ -54,10 +56,27 @@ MARKER = "fleet.json"
 
 
 def csv_text(data: dict) -> str:
-    """fleet.csv: one row per chair (SI units; empty cells where a chair has no caster)."""
-    rows = data["rows"]
-    columns = [c for c in CSV_COLUMNS if not (c.startswith("sku") or "regret" in c) or data.get("k") is not None]
-    return write_csv_text(dict_rows(rows, columns, "{:.6g}"))  # the one CSV writer: chair names kept from formulas
+    """fleet.csv: one row per chair, each quantity in the unit its column names (lengths as the base problem
+    writes them, ``data["length_units"]``); a part number with its sizes (``3: T 2 1/2 in, d 6 in, B 3/4 in,
+    c_f 1.3 N·m/rad``); empty cells where a chair has no caster."""
+    units = data.get("length_units", "in")
+    keys = [c for c in CSV_COLUMNS if not (c.startswith("sku") or "regret" in c) or data.get("k") is not None]
+    labels = {s["id"]: sku_label(s, units) for s in data.get("skus") or []}
+    rows = [{**r, "sku": labels.get(r["sku"], r["sku"])} if r.get("sku") is not None else r for r in data["rows"]]
+    # the one CSV writer (designer.textfiles): each quantity's column names its unit; chair names and part
+    # numbers kept from formulas
+    return write_csv_text(dict_rows(rows, keys, "{:.6g}", quantities=CSV_COLUMNS, units=units))
+
+
+def sku_label(sku: dict, units: str = "in") -> str:
+    """A part number with its sizes: ``"3: T 2 1/2 in, d 6 in, B 3/4 in, c_f 1.3 N·m/rad"`` (a catalogue wheel's
+    name after d)."""
+    d = sku["design"]
+    wheel = f" ({sku['wheel']})" if sku.get("wheel") else ""
+    return (
+        f"{sku['id']}: T {written_size(d['trail'], units)}, d {written_size(d['diameter'], units)}{wheel}, "
+        f"B {written_size(d['groove'], units)}, c_f {d['damping']:.3g} N·m/rad"
+    )
 
 
 def run_data(run: dict | None) -> dict | None:
@@ -72,12 +91,13 @@ def json_text(data: dict, run: dict | None = None) -> str:
     The rows (one per chair, thousands) are written by the C encoder, one line each; a row that holds a
     NaN or an infinity goes through :func:`designer.jsonsafe.finite` first (NaN and infinities are null).
     """
-    head = stamped("fleet.json", finite({k: v for k, v in data.items() if k not in ("distributions", "rows")}))
+    head = stamped("fleet.json", {k: v for k, v in data.items() if k not in ("distributions", "rows")})
     if run is not None:
         head["run"] = run_data(run)
     text = json.dumps(head, indent=1, ensure_ascii=False)
     rows = []
     for row in data["rows"]:
+        row = {k: resolved(v) if type(v) is float else v for k, v in row.items()}  # 0.1778, not 0.17779999999999999
         try:
             rows.append(json.dumps(row, ensure_ascii=False, allow_nan=False))
         except ValueError:

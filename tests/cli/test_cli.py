@@ -417,13 +417,15 @@ def test_evaluate_target_speed_prints_the_risk_and_its_sources(capsys):
     --inertia the wheel is measured (σ 0.05); a 3 in wheel is flagged as outside Table 1."""
     from designer.physics.inertia import power_law_inertia
     from designer.physics.uncertainty import Uncertainty, risk_record
+    from designer.units import resolved
 
     args = ["evaluate", "--trail", "2.5in", "--diameter", "7in", "--groove", "0.5in", "--damping", "1.3"]
     assert main(args + ["--target-speed", "2.5m/s", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     inertia = float(power_law_inertia(7 * 0.0254))
     want = risk_record(2.5 * 0.0254, inertia, 0.5 * 0.0254, 1.3, 1250.0, 2.5, Uncertainty(), diameter=7 * 0.0254)
-    assert out["risk"]["probability"] == want["probability"] and out["risk"]["se"] == want["se"]
+    # --json gives numbers at the precision they are resolved to, 12 significant digits (designer.units.resolved)
+    assert out["risk"]["probability"] == resolved(want["probability"]) and out["risk"]["se"] == resolved(want["se"])
     assert out["extrapolated"] is False
     shares = {s["name"]: s["share"] for s in out["risk"]["sources"]}
     assert sum(shares.values()) == pytest.approx(1.0, abs=1e-12) and max(shares, key=shares.get).startswith("wheel")

@@ -21,7 +21,10 @@ from designer.report.agreement import (
     compare_json,
     compare_text,
     keep_agreeing,
+    rule_for,
+    variable_scale,
 )
+from designer.units import csv_quantity
 
 ROOT = Path(__file__).resolve().parents[2]
 COMMITTED = ROOT / "results" / "indoor-manual"
@@ -63,15 +66,32 @@ def test_a_design_variable_moved_by_1e_4_relative_fails(copy, variable):
 
     rows = (COMMITTED / "front.csv").read_text().splitlines()
     header = rows[0].split(",")
-    column = header.index(variable)
+    name = next(h for h in header if csv_quantity(h)[0] == variable)  # trail_in, damping_N_m_per_rad
+    column = header.index(name)
     row = next(i for i in range(1, len(rows)) if float(rows[i].split(",")[column]) != 0)
     cells = rows[row].split(",")
     cells[column] = repr(float(cells[column]) * 1.0001)
     rows[row] = ",".join(cells)
     (copy / "front.csv").write_text("\n".join(rows) + "\n")
-    assert [m.where for m in compare_files(COMMITTED / "front.csv", copy / "front.csv")] == [
-        f"front.csv row {row} {variable}"
-    ]
+    (m,) = compare_files(COMMITTED / "front.csv", copy / "front.csv")
+    assert m.where == f"front.csv row {row} {name}" and m.rule == "design"
+    assert m.tolerance < 1e-4 * abs(m.old)
+
+
+def test_a_column_that_names_its_unit_is_on_its_variables_scale():
+    """A front.csv column in inches or mm (``trail_in``, ``trail_mm``) is a design variable on its scale in that
+    unit: 2.5 in is 63.5 mm is 0.0635 m; a move of 1e-8 of the scale agrees, 1e-6 does not; a renamed column
+    (a front.csv of the bare SI names against one that names its units) is structural."""
+    assert rule_for("trail_in") == rule_for("trail_mm") == rule_for("trail") == "design"
+    assert variable_scale("trail_in") == pytest.approx(2.5) and variable_scale("trail_mm") == pytest.approx(63.5)
+    assert rule_for("turning_effort_N") == "number" and variable_scale("status") == 0.0
+    for name, value in (("trail_in", 2.0), ("trail_mm", 50.8)):
+        old = f"{name},status\n{value!r},Solve_Succeeded\n"
+        scale = variable_scale(name)
+        assert compare_csv(old, old.replace(repr(value), repr(value + 1e-8 * scale))) == []
+        (m,) = compare_csv(old, old.replace(repr(value), repr(value + 1e-6 * scale)))
+        assert m.rule == "design" and m.where == f" row 1 {name}"
+    assert compare_csv("trail,status\n0.0508,x\n", "trail_in,status\n2,x\n")[0].where == " (columns)"
 
 
 def test_a_changed_status_fails(copy):

@@ -13,6 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from designer.units import csv_quantity
+
 from designer.report.text import front_count_sentence
 from designer.report.writer import _inline_code
 
@@ -23,9 +25,14 @@ REPORTS = sorted(p.parent for p in RESULTS.glob("*/front.csv") if (p.parent / "f
 
 
 def _buildable_rows(folder: Path) -> list[dict]:
-    """The buildable rows of a committed ``front.csv``."""
+    """The buildable rows of a committed ``front.csv``, each quantity in SI under its bare name (the columns name
+    their units: ``trail_in`` is ``trail`` [m], designer.units.csv_quantity)."""
     with open(folder / "front.csv", newline="", encoding="utf-8") as f:
-        return [row for row in csv.DictReader(f) if row["buildable"] == "true"]
+        rows = [row for row in csv.DictReader(f) if row["buildable"] == "true"]
+    return [
+        {**r, **{csv_quantity(k)[0]: float(v) / csv_quantity(k)[1] for k, v in r.items() if k != csv_quantity(k)[0]}}
+        for r in rows
+    ]
 
 
 def _panel(html: str, name: str) -> str:

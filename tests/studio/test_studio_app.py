@@ -54,7 +54,15 @@ def _objectives(path: Path) -> list[tuple[str, ...]]:
         return [
             tuple(
                 row[k]
-                for k in ("trail", "diameter", "groove", "damping", "turning_effort", "threshold_force", "buildable")
+                for k in (
+                    "trail_in",
+                    "diameter_in",
+                    "groove_in",
+                    "damping_N_m_per_rad",
+                    "turning_effort_N",
+                    "threshold_force_N",
+                    "buildable",
+                )  # fmt: skip
                 if k in row
             )
             for row in csv.DictReader(fh)

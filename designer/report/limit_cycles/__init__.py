@@ -39,9 +39,32 @@ FILES = (
 )
 
 
+CSV_QUANTITIES = {
+    "speed": "speed",
+    "period": "time",
+    "amplitude_rad": "angle",
+    "closure_rad": "angle",
+    "inertia_kgm2": "inertia",
+    "mass_kg": "mass",
+    "measured": "speed",
+    "eq7": "speed",
+    "rolling_sim": "speed",
+    "tyre_sim": "speed",
+    "K": "stiffness",
+    "N": "mass",
+    "frequency": "angular_speed",
+    "rolling_onset": "speed",
+    "tyre_onset": "speed",
+    "stable_amplitude": "angle",
+}
+"""The quantities of the study's CSV files and their dimensions: each column names its unit (the one rule,
+:func:`designer.textfiles.dict_rows`: ``speed_m_per_s``, ``period_s``, ``K_N_per_m``, ``frequency_rad_per_s``);
+labels, flags, factors and counts keep their names."""
+
+
 def _csv(path: Path, rows: list[dict]) -> None:
     with open(path, "w", newline="", encoding="utf-8") as fh:
-        fh.write(csv_text(dict_rows(rows, list(rows[0]), "{:.6g}")))
+        fh.write(csv_text(dict_rows(rows, list(rows[0]), "{:.6g}", quantities=CSV_QUANTITIES)))
 
 
 def _png(fig, path: Path) -> None:

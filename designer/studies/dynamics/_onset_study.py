@@ -209,11 +209,24 @@ ONSET_KINDS = {
 """The onset study's files: an existing one is replaced only when the tool wrote it (:func:`designer.output.write_file`)."""
 
 
+ONSET_CSV_QUANTITIES = {
+    "eq7_critical_speed": "speed",
+    "onset_speed": "speed",
+    "onset_low": "speed",
+    "onset_high": "speed",
+    "omega_eq15b": "angular_speed",
+    "amplitude_sim": "angle",
+    "amplitude_eq29b": "angle",
+    "frequency_sim": "angular_speed",
+}
+"""The quantities of onset.csv that do not name their unit in the row's key, and their dimensions: each column names
+its unit (the one rule, :func:`designer.textfiles.dict_rows`: ``onset_speed_m_per_s``, ``omega_eq15b_rad_per_s``)."""
+
+
 def _write_csv(path: Path, rows: list[dict]) -> None:
-    """``onset.csv``: one line per case, floats to 6 significant digits."""
-    write_file(
-        path, csv_text(dict_rows(rows, list(rows[0]), "{:.6g}")), "--report", "onset.csv", kind=ONSET_KINDS["onset.csv"]
-    )
+    """``onset.csv``: one line per case, floats to 6 significant digits, each quantity's unit in its column."""
+    table = dict_rows(rows, list(rows[0]), "{:.6g}", quantities=ONSET_CSV_QUANTITIES)
+    write_file(path, csv_text(table), "--report", "onset.csv", kind=ONSET_KINDS["onset.csv"])
 
 
 def _summarise(rows) -> dict:

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from designer.textfiles import csv_text
+from designer.textfiles import csv_text, dict_rows
 from designer.jsonsafe import finite, stamped
 from designer.parameters import VARIABLE_TABLE
 from designer.versions import versions
@@ -34,8 +34,18 @@ UNITS = {
 CATEGORICAL = ("wheel", "surface", "turning_mode")
 """Categorical dimensions, in this order in category labels and CSV columns."""
 
-CSV_COLUMNS = ("trail", "diameter", "groove", "damping", "turning_effort", "threshold_force", "critical_speed")
-"""SI columns of explore.csv: T [m], d [m], B [m], c_f [N·m/rad], F_turn [N], P [N], V_c [m/s]."""
+CSV_COLUMNS = {
+    "trail": "length",
+    "diameter": "length",
+    "groove": "length",
+    "damping": "damping",
+    "turning_effort": "force",
+    "threshold_force": "force",
+    "critical_speed": "speed",
+}
+"""The quantities of explore.csv and their dimensions: T, d, B, c_f, F_turn, P, V_c; each column names its unit
+(:func:`designer.textfiles.dict_rows`: ``trail_in`` or ``trail_mm`` as the problem writes lengths,
+``damping_N_m_per_rad``, ``turning_effort_N``, ``critical_speed_m_per_s``)."""
 
 
 # --------------------------------------------------------------------------- result
@@ -162,7 +172,7 @@ class ExploreResult(Record):
         return svg_curve(f[order, 1], f[order, 0], "threshold force P [N]", "turning effort F_turn [N]")
 
     def to_pandas(self) -> Any:
-        """The explored front as a DataFrame, one row per point: the SI columns of ``explore.csv`` (``trail``,
+        """The explored front as a DataFrame, one row per point: the quantities of ``explore.csv`` in SI (``trail``,
         ``diameter``, ``groove``, ``damping``, ``turning_effort``, ``threshold_force``, ``critical_speed``), the
         categories that were explored, ``trial`` and ``refined``; units in ``df.attrs["units"]``."""
         columns = list(dict.fromkeys(k for r in self.front for k in r)) or list(CSV_COLUMNS)
@@ -186,16 +196,20 @@ class ExploreResult(Record):
         out = Path(out_dir)
         cats = [name for name in CATEGORICAL if any(name in r for rows in self.category_fronts.values() for r in rows)]
         overall = {(r["trial"], r["turning_effort"], r["threshold_force"]) for r in self.front}
-        table: list[list[object]] = [[*CSV_COLUMNS, *cats, "overall_front", "refined", "trial"]]
-        for rows in self.category_fronts.values():
-            for r in rows:
-                cells: list[object] = [*(f"{r[c]:.10g}" for c in CSV_COLUMNS), *(str(r[c]) for c in cats)]
-                cells += [
-                    str((r["trial"], r["turning_effort"], r["threshold_force"]) in overall).lower(),
-                    str(r["refined"]).lower(),
-                    str(r["trial"]),
-                ]
-                table.append(cells)
+        rows = [
+            {
+                **r,
+                **{c: str(r[c]) for c in cats},
+                "overall_front": str((r["trial"], r["turning_effort"], r["threshold_force"]) in overall).lower(),
+                "refined": str(r["refined"]).lower(),
+                "trial": str(r["trial"]),
+            }
+            for rows in self.category_fronts.values()
+            for r in rows
+        ]
+        columns = [*CSV_COLUMNS, *cats, "overall_front", "refined", "trial"]
+        # the one CSV writer (designer.textfiles): each quantity's column names its unit
+        table = dict_rows(rows, columns, "{:.10g}", quantities=CSV_COLUMNS, units=self.problem.units)
         csv_path, json_path = out / "explore.csv", out / "explore.json"
         _atomic_write_many(
             {

@@ -637,6 +637,7 @@ def fleet_data(result: FleetResult) -> dict[str, Any]:
     w = tuple(float(x) for x in problem.weights)
     return {
         "fleet": result.fleet.source,
+        "length_units": problem.units,
         "chairs": len(result.fleet),
         "feasible_chairs": int(ok.sum()),
         "units": int(result.fleet.count.sum()),

@@ -23,6 +23,7 @@ from designer.errors import InputError
 from designer.output import first_line_kind, write_file
 from designer.model import VARIABLES, Design
 from designer.parameters import DESIGN_UNITS, PARAMETERS
+from designer.units import csv_column, csv_quantity
 from designer.problem import example_names, example_problem
 from designer.problem import Problem, family_of, load_problem
 from designer.reprs import Key, Record, svg_curve
@@ -31,8 +32,16 @@ from designer.plots import fronts as front_plots
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
 
-FRONT_CSV = first_line_kind(",".join([*VARIABLES, "turning_effort", "threshold_force"]), "a front CSV")
-"""What :meth:`Front.to_csv` may replace: a front CSV (its header), never another file of the user's."""
+FRONT_CSV = first_line_kind(
+    (
+        ",".join(csv_column(v, PARAMETERS[v].dimension, "in")[0] for v in VARIABLES) + ",turning_effort_N,",
+        ",".join(csv_column(v, PARAMETERS[v].dimension, "mm")[0] for v in VARIABLES) + ",turning_effort_N,",
+        ",".join([*VARIABLES, "turning_effort", "threshold_force"]),  # written before the columns named their units
+    ),
+    "a front CSV",
+)
+"""What :meth:`Front.to_csv` may replace: a front CSV (its header, in inches or in mm, or the bare SI names of a
+file written before the columns named their units), never another file of the user's."""
 
 REFERENCE_OFFSET = 0.1
 """Hypervolume reference point: 10 % beyond the nadir in normalised objectives, i.e. (1.1, 1.1)."""
@@ -108,12 +117,45 @@ class FrontPoint(Record):
         if self.wheel:
             out["wheel"] = self.wheel
         for name, value in self.multipliers.items():
-            out[f"lambda_{name}"] = value
+            out[f"lambda_{name}"] = at_tolerance(value)
         return out
+
+
+MULTIPLIER_ZERO = 1e-8
+"""A constraint multiplier smaller than this in magnitude is zero: IPOPT's acceptable tolerance (the NLP's
+``ipopt.acceptable_tol``); below it the solver cannot tell the multiplier from 0 (-9.96e-17 is written 0)."""
+
+
+def at_tolerance(multiplier: float) -> float:
+    """``multiplier``, or 0.0 if it is within :data:`MULTIPLIER_ZERO` of zero (the solver's resolution)."""
+    return 0.0 if abs(multiplier) < MULTIPLIER_ZERO else multiplier
 
 
 _COLUMNS = {v: PARAMETERS[v].column for v in VARIABLES}
 """DataFrame column of each design variable, its SI unit in the name (``trail_m``, ``damping_N_m_per_rad``)."""
+
+CSV_QUANTITIES = {
+    **{v: PARAMETERS[v].dimension for v in VARIABLES},
+    "turning_effort": "force",
+    "threshold_force": "force",
+    "critical_speed": "speed",
+    "epsilon": "force",
+}
+"""The quantities of front.csv and their dimensions: each column carries its unit in its name
+(:func:`designer.units.csv_column`: ``trail_in`` or ``trail_mm`` as the problem writes lengths,
+``turning_effort_N``, ``critical_speed_m_per_s``); flags (family, status, buildable) and the multipliers
+keep their names."""
+
+
+def _csv_value(r: dict[str, str], key: str) -> float:
+    """The SI value of ``key`` in a front.csv row: from its unit-named column (``trail_in``, ``trail_mm``,
+    ``turning_effort_N``: :func:`designer.units.csv_quantity`), or from a file written before the columns named
+    their units (bare names, SI)."""
+    for column, value in r.items():
+        name, factor = csv_quantity(column)
+        if name == key and column != key:
+            return float(value) / factor
+    return float(r[key])
 
 
 @dataclass
@@ -392,7 +434,7 @@ class Front(Record):
                 wheel=p.wheel,
             )
             r.update({f"margin_{m}": p.margins.get(m, math.nan) for m in margins})
-            r.update({f"lambda_{m}": p.multipliers.get(m, math.nan) for m in lambdas})
+            r.update({f"lambda_{m}": at_tolerance(p.multipliers.get(m, math.nan)) for m in lambdas})
             if failed:
                 r["failed"] = bad
             records.append(r)
@@ -480,12 +522,12 @@ class Front(Record):
                 continue
             points.append(
                 FrontPoint(
-                    design=Design(*(float(r[v]) for v in VARIABLES)),
-                    turning_effort=float(r["turning_effort"]),
-                    threshold_force=float(r["threshold_force"]),
-                    critical_speed=float(r["critical_speed"]),
+                    design=Design(*(_csv_value(r, v) for v in VARIABLES)),
+                    turning_effort=_csv_value(r, "turning_effort"),
+                    threshold_force=_csv_value(r, "threshold_force"),
+                    critical_speed=_csv_value(r, "critical_speed"),
                     margins={},
-                    epsilon=float(r["epsilon"]),
+                    epsilon=_csv_value(r, "epsilon"),
                     status=r["status"],
                     success=True,
                     family=r["family"],
@@ -502,7 +544,9 @@ class Front(Record):
         return [p.row() for p in self.points]
 
     def to_csv(self, path: str | Path, buildable: "Front | None" = None) -> None:
-        """Write the valid points: trail, diameter, groove, damping, turning_effort, threshold_force, critical_speed, …
+        """Write the valid points: trail_in, diameter_in, groove_in, damping_N_m_per_rad, turning_effort_N,
+        threshold_force_N, critical_speed_m_per_s, epsilon_N, family, status, … (:data:`CSV_QUANTITIES`: each
+        quantity in the unit its column names, lengths as the problem writes them, ``in`` or ``mm``).
 
         ``buildable``: the buildable front (``Recommendation.buildable``, when the problem has ``[stock]``):
         its points are added as rows and a column ``buildable`` says true for them, false for this front's.
@@ -511,22 +555,15 @@ class Front(Record):
         (:func:`designer.output.write_file`).
         """
         rows = self.rows()
-        columns = list(VARIABLES) + [
-            "turning_effort",
-            "threshold_force",
-            "critical_speed",
-            "epsilon",
-            "family",
-            "status",
-        ]
+        columns = [*CSV_QUANTITIES, "family", "status"]
         if buildable is not None:
             rows = [{**r, "buildable": "false"} for r in rows] + [{**r, "buildable": "true"} for r in buildable.rows()]
             columns.append("buildable")
         extra = sorted({k for r in rows for k in r} - set(columns))
-        # the one CSV writer (designer.textfiles): names kept from formulas
-        write_file(
-            path, csv_text(dict_rows(rows, columns + extra, "{:.10g}")), "to_csv", example="front.csv", kind=FRONT_CSV
-        )
+        units = getattr(self.problem, "units", "in")
+        # the one CSV writer (designer.textfiles): each quantity's column names its unit; names kept from formulas
+        table = dict_rows(rows, columns + extra, "{:.10g}", quantities=CSV_QUANTITIES, units=units)
+        write_file(path, csv_text(table), "to_csv", example="front.csv", kind=FRONT_CSV)
 
 
 def clean(points: list[FrontPoint]) -> list[FrontPoint]:

@@ -243,7 +243,7 @@ def test_workers_need_shared_storage_and_resume_needs_study(capsys, tmp_path):
 
 
 def test_cli_writes_csv_and_json(tmp_path, capsys):
-    """The CLI writes explore.csv (SI columns, category column, front flags) and explore.json (fronts per category,
+    """The CLI writes explore.csv (each column's unit in its name, category column, front flags) and explore.json (fronts per category,
     HV, IGD+, study, storage, seed, trials, versions) atomically: no temporary files left."""
     code = main(
         ["explore", str(CATALOG), "--trials", "150", "--seed", "2", "--refine", "--json", "--out", str(tmp_path)]
@@ -251,7 +251,11 @@ def test_cli_writes_csv_and_json(tmp_path, capsys):
     assert code == 0
     printed = json.loads(capsys.readouterr().out)
     header = (tmp_path / "explore.csv").read_text().splitlines()[0].split(",")
-    assert tuple(header[:7]) == CSV_COLUMNS and "wheel" in header and "overall_front" in header
+    assert header[:7] == [
+        "trail_in", "diameter_in", "groove_in", "damping_N_m_per_rad", "turning_effort_N", "threshold_force_N",
+        "critical_speed_m_per_s",
+    ]  # fmt: skip
+    assert len(CSV_COLUMNS) == 7 and "wheel" in header and "overall_front" in header
     data = json.loads((tmp_path / "explore.json").read_text())
     assert data == printed
     for key in (

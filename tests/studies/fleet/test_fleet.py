@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import html
 import itertools
+import csv
 import json
 import math
 import pickle
@@ -521,23 +522,35 @@ def test_fleet_cli_writes_csv_json_and_report(tmp_path, capsys, root):
     header = (out / "fleet.csv").read_text().splitlines()[0].split(",")
     assert header == [
         "name",
-        "trail",
-        "diameter",
-        "groove",
-        "damping",
-        "turning_effort",
-        "threshold_force",
+        "trail_in",
+        "diameter_in",
+        "groove_in",
+        "damping_N_m_per_rad",
+        "turning_effort_N",
+        "threshold_force_N",
         "shimmy_probability",
         "shimmy_probability_mc",
         "shimmy_probability_se",
         "sku",
-        "sku_turning_effort",
-        "sku_threshold_force",
+        "sku_turning_effort_N",
+        "sku_threshold_force_N",
         "sku_shimmy_probability",
         "knee_regret_N",
         "sku_regret_N",
         "status",
     ]
+    rows = list(csv.DictReader(open(out / "fleet.csv", encoding="utf-8")))
+    sku = {s["id"]: s["design"] for s in data["skus"]}
+    served = next(r for r in rows if r["sku"])
+    ident = int(served["sku"].split(":")[0])  # a part number with its sizes: "3: T 2 1/2 in, d 7 in, ..."
+    assert served["sku"] == f"{ident}: " + ", ".join(
+        [f"T {written_size(sku[ident]['trail'])}", f"d {written_size(sku[ident]['diameter'])}",
+         f"B {written_size(sku[ident]['groove'])}", f"c_f {sku[ident]['damping']:.3g} N·m/rad"]
+    )  # fmt: skip
+    chair = next(r for r in data["rows"] if r["name"] == served["name"])
+    assert float(served["trail_in"]) == pytest.approx(chair["trail"] / INCH, rel=1e-5)
+    text = (out / "fleet.json").read_text()
+    assert not re.search(r"\d\.\d*(9999999|0000001)\d*", text)  # numbers as resolved: 0.1778, not 0.17779999999999999
     rows = data["rows"]
     assert len(rows) == 60
     for r in rows:

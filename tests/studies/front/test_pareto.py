@@ -186,15 +186,38 @@ def test_knee_and_weighted_best(fronts):
 
 
 def test_front_csv_columns(fronts, tmp_path):
-    """front.to_csv writes the required SI columns, one row per valid point."""
+    """front.to_csv writes one row per valid point, each quantity's unit in its column's name: lengths as the
+    problem writes them (inches: trail_in = T / 0.0254; a problem in mm: trail_mm), forces in N, V_c in m/s;
+    Front.from_csv reads them back to SI (and still reads a file of the bare SI names of before)."""
+    import csv
+
+    from designer.studies.front import Front
+
     front = fronts["sports-court"]
     path = tmp_path / "front.csv"
     front.to_csv(path)
     lines = path.read_text().splitlines()
     header = lines[0].split(",")
-    for col in ("trail", "diameter", "groove", "damping", "turning_effort", "threshold_force", "critical_speed"):
-        assert col in header
+    assert header[:10] == [
+        "trail_in", "diameter_in", "groove_in", "damping_N_m_per_rad", "turning_effort_N", "threshold_force_N",
+        "critical_speed_m_per_s", "epsilon_N", "family", "status",
+    ]  # fmt: skip
     assert len(lines) == len(front) + 1
+    row = next(csv.DictReader(open(path)))
+    assert float(row["trail_in"]) == pytest.approx(front.points[0].design.trail / 0.0254, rel=1e-9)
+    back = Front.from_csv(path, front.problem)
+    a, b = back.points[0].design, front.points[0].design
+    assert [a.trail, a.diameter, a.groove, a.damping] == pytest.approx(
+        [b.trail, b.diameter, b.groove, b.damping], rel=1e-9
+    )
+    mm = Front(front.problem.replace(units="mm"), front.points, [], {})
+    mm.to_csv(tmp_path / "mm.csv")
+    row = next(csv.DictReader(open(tmp_path / "mm.csv")))
+    assert float(row["groove_mm"]) == pytest.approx(front.points[0].design.groove * 1000, rel=1e-9, abs=1e-9)
+    old = tmp_path / "old.csv"  # written before the columns named their units
+    old.write_text("trail,diameter,groove,damping,turning_effort,threshold_force,critical_speed,epsilon,family,status\n"
+                   "0.05,0.2,0,1.3,9,100,3,100,bare fork,Solve_Succeeded\n")  # fmt: skip
+    assert Front.from_csv(old, front.problem).points[0].design.trail == 0.05
 
 
 def test_compare_tighter_front(fronts):

@@ -266,7 +266,7 @@ def test_front_csv_gains_buildable_rows(recs, tmp_path):
     front.to_csv(tmp_path / "front.csv", buildable=rec.buildable)
     rows = list(csv.DictReader(open(tmp_path / "front.csv")))
     assert [r["buildable"] for r in rows] == ["false"] + ["true"] * len(rec.buildable)
-    assert float(rows[1]["turning_effort"]) == pytest.approx(rec.buildable.points[0].turning_effort, rel=1e-9)
+    assert float(rows[1]["turning_effort_N"]) == pytest.approx(rec.buildable.points[0].turning_effort, rel=1e-9)
 
 
 def _mc(*args, **kwargs) -> tuple[float, float]:
