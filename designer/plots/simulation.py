@@ -210,8 +210,7 @@ def map_axes(
     import matplotlib.pyplot as plt  # heavy, only for figures
     from matplotlib.colors import LogNorm
 
-    cm = plt.get_cmap("RdBu_r" if center is not None else cmap).copy()
-    cm.set_bad("0.85")
+    cm = plt.get_cmap("RdBu_r" if center is not None else cmap).with_extremes(bad="0.85")
     if center is not None:
         im = ax.imshow(masked.T / center, origin="lower", cmap=cm, aspect="auto", norm=LogNorm(0.5, 2.0))
         unit = f"{unit} / default cell ({fmt.format(center)})"
