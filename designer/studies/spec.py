@@ -15,12 +15,10 @@ default scatter when the bound is off); the reported P(shimmy) is at V_target, l
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass
 from typing import Any
 
-from designer.data.paper import INCH
 from designer.parameters import PARAMETERS
 from designer.physics.acceptance import (
     Corner,
@@ -35,6 +33,7 @@ from designer.model import Design, scatter_of
 from designer.physics.geometry import effective_trail
 from designer.physics.uncertainty import Uncertainty
 from designer.problem import Problem, Tolerances
+from designer.units import limit_shown
 from designer.reprs import Record
 
 UNITS = {"trail": "m", "groove": "m", "diameter": "m", "friction_moment": "N·m", "wheel_inertia": "kg·m²"}
@@ -51,24 +50,6 @@ MEASURE = {
     "plane; I = m g a τ²/(4π²) − m a² (a: axis to hub, τ: period)",
 }
 """How goods-in measures each part (the inspection sheet's last column)."""
-
-
-def limit_shown(value: float | None, unit: str, side: str) -> str:
-    """A limit for an inspector: lengths in mm to 0.01 (and in to 0.001), N·m to 0.001, kg·m² to 3 significant
-    digits, each rounded toward the safe side (a min up, a max down) so the printed limit is never outside the
-    computed one; "none" when there is no limit."""
-    if value is None:
-        return "none"
-
-    def step(x: float) -> int:  # rounding noise (63.499999 mm for 2.5 in) is not a step
-        return (math.ceil if side == "min" else math.floor)(round(x, 6))
-
-    if unit == "m":
-        return f"{step(value * 1e5) / 100:.2f} mm ({step(value / INCH * 1000) / 1000:.3f} in)"
-    if unit == "N·m":
-        return f"{step(value * 1000) / 1000:.3f} N·m"
-    digits = 2 - math.floor(math.log10(abs(value)))
-    return f"{step(value * 10**digits) / 10**digits:.{max(digits, 0)}f} {unit}"
 
 
 PART_LABELS = {
