@@ -372,13 +372,15 @@ def caster_spec(
     law: Uncertainty | None = None,
     stem_angle: float = 0.0,
     calibration: float = 1.0,
+    probability: float | None = None,
 ) -> Spec:
     """The :class:`Spec` of one caster: limits (others at nominal), exact P at V_target beside the Monte Carlo
     ``(p, se, samples, seed)`` the caller has, and the worst corner when the problem has ``[tolerances]``.
 
     A retrofit gives its own risk law ``law`` (calibrated by an observed onset), the stem's tilt φ (the trail is
     then the fork offset e, the law sees e + (d/2) sin φ) and the calibration factor k (V_c,true is k times
-    Eq. 7's: P(k V_c < V) = P(V_c < V/k)); the limits are stated on the parts as built."""
+    Eq. 7's: P(k V_c < V) = P(V_c < V/k)); the limits are stated on the parts as built.  ``probability``: the
+    exact P at V_target the caller reports (the evaluator's), so the record and its spec say one number."""
     u = _law(problem, law)
     offset = stem_offset(design, stem_angle)
     caster = law_caster(problem, design, inertia, measured, offset)
@@ -425,7 +427,9 @@ def caster_spec(
         inertia=inertia,
         measured=measured,
         limits=limits,
-        probability=exact_probability(caster, problem.target_speed / calibration, u),
+        probability=exact_probability(caster, problem.target_speed / calibration, u)
+        if probability is None
+        else float(probability),
         mc_probability=p_mc,
         mc_se=se,
         mc_samples=samples,

@@ -412,6 +412,7 @@ class _Setting:
         p_mc, se = float(values.shimmy_probability[j]), float(values.shimmy_probability_se[j])
         draws = mc_draws(p_mc, se)
         measured = bool(values.measured[j])
+        p_exact = float(np.asarray(exact).ravel()[0]) if exact is not None else p_mc
         spec_of = None
         if current is not None and self.problem is not None:
             spec_of = functools.partial(
@@ -424,6 +425,7 @@ class _Setting:
                 law=self.report_u,
                 stem_angle=self.stem_angle,
                 calibration=self.factor,
+                probability=p_exact,
             )
         return CasterState(
             design=design,
@@ -436,7 +438,7 @@ class _Setting:
             calibrated_critical_speed=float(self.factor * values.critical_speed[j]),
             confident_speed=float(values.confident_speed[j]),
             meets_risk_bound=bool(values.feasible[j]),
-            shimmy_probability=float(np.asarray(exact).ravel()[0]) if exact is not None else p_mc,
+            shimmy_probability=p_exact,
             shimmy_probability_mc=p_mc,
             shimmy_probability_se=se,
             mc_samples=draws,
