@@ -362,6 +362,26 @@ def _reason(code: str, part: str, ranges: dict[str, Any], scale: float, unit: st
     return code
 
 
+def _limit(lim: Any, nominal: dict[str, float], theta0: float, offset: float, ranges: dict[str, Any]) -> Limit:
+    """The physics' :class:`~designer.physics.acceptance.PartLimit` as the spec states it: c_f as M_f = c_f θ0,
+    a risk-set trail on the fork offset e (the law saw e + ``offset``), the reason in words."""
+    part = _PARTS.get(lim.part, lim.part)
+    scale = theta0 if lim.part == "damping" else 1.0  # c_f -> M_f = c_f θ0
+    value = lim.value
+    if value is not None and lim.part == "trail" and lim.side == "min":
+        value -= offset  # the fork offset e the tyre sees as e + (d/2) sin φ
+    return Limit(
+        part=part,
+        side=lim.side,
+        value=None if value is None else value * scale,
+        nominal=nominal[lim.part] * scale,
+        unit=UNITS[part],
+        probability=lim.probability,
+        reason=_reason(lim.reason, lim.part, ranges, scale, UNITS[part]),
+        measure=MEASURE[part],
+    )
+
+
 def caster_spec(
     problem: Problem,
     design: Design,
@@ -396,25 +416,7 @@ def caster_spec(
     )
     theta0 = float(problem.conditions.disturbance_angle)
     nominal = {"trail": design.trail, "groove": design.groove, "damping": design.damping, "inertia": inertia}
-    limits = []
-    for lim in found:
-        part = _PARTS.get(lim.part, lim.part)
-        scale = theta0 if lim.part == "damping" else 1.0  # c_f -> M_f = c_f θ0
-        value = lim.value
-        if value is not None and lim.part == "trail" and lim.side == "min":
-            value -= offset  # the fork offset e the tyre sees as e + (d/2) sin φ
-        limits.append(
-            Limit(
-                part=part,
-                side=lim.side,
-                value=None if value is None else value * scale,
-                nominal=nominal[lim.part] * scale,
-                unit=UNITS[part],
-                probability=lim.probability,
-                reason=_reason(lim.reason, lim.part, ranges, scale, UNITS[part]),
-                measure=MEASURE[part],
-            )
-        )
+    limits = [_limit(lim, nominal, theta0, offset, ranges) for lim in found]
     corner = caster_corner(problem, design, inertia, measured, law=law, stem_angle=stem_angle, calibration=calibration)
     p_mc, se, samples, seed = monte_carlo
     return Spec(
