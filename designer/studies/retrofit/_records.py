@@ -237,17 +237,19 @@ class Calibration(Record):
     predicted_onset : V_c of Eq. 7 for the current caster [m/s]
     factor : k = V_obs / V_c,Eq.7 [-]; multiplies Eq. 7 for every modified caster
     scatter : σ of log V_obs [-] (replaces the population model error)
+    shift : how far calibration moved the current caster's V_c [m/s] (V_obs − V_c,Eq.7; set from the onsets)
+
+    Its JSON is the generic :meth:`designer.reprs.Record.to_dict`: the five fields.
     """
 
     observed_onset: float
     predicted_onset: float
     factor: float
     scatter: float
+    shift: float = field(init=False)
 
-    @property
-    def shift(self) -> float:
-        """How far calibration moved the current caster's V_c [m/s] (V_obs − V_c,Eq.7)."""
-        return self.observed_onset - self.predicted_onset
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "shift", self.observed_onset - self.predicted_onset)
 
     def describe(self) -> str:
         return (
@@ -268,16 +270,6 @@ class Calibration(Record):
 
     def _html_title(self) -> str:
         return "Calibration by an observed onset"
-
-    def to_dict(self) -> dict[str, Any]:
-        """The observed and predicted onsets [m/s], the factor k, the shift [m/s] and the scatter σ."""
-        return {
-            "observed_onset": self.observed_onset,
-            "predicted_onset": self.predicted_onset,
-            "factor": self.factor,
-            "shift": self.shift,
-            "scatter": self.scatter,
-        }
 
 
 @dataclass(kw_only=True)
