@@ -447,7 +447,7 @@ def _spec_lines(best, result) -> list[str]:
     with the others at nominal (the exact law gives P = α there), or why it has none, and how to measure it."""
     spec = best.spec
     out = [
-        f"Inspect the parts of fix 1 (acceptance limits, each with the other parts at nominal; at a risk limit the "
+        f"Inspect the parts of the best fix (acceptance limits, each with the other parts at nominal; at a risk limit the "
         f"exact law gives P(shimmy at {spec.required_speed:.2f} m/s) = {spec.alpha:.0%}): P(shimmy at "
         f"{result.target_speed:.2f} m/s) {best.shimmy_probability:.2%} exact ({_mc_text(best)}); "
         f"M_f = c_f θ0 = {spec.friction_moment:.3f} N·m (θ0 = {math.degrees(spec.disturbance_angle):.0f}°)"
