@@ -421,3 +421,21 @@ def _example(dimension: str) -> str:
 def inches(metres):
     """Convert metres to inches (for display only)."""
     return metres / INCH
+
+
+def limit_shown(value: float | None, unit: str, side: str) -> str:
+    """A limit for an inspector: lengths in mm to 0.01 (and in to 0.001), N·m to 0.001, kg·m² to 3 significant
+    digits, each rounded toward the safe side (a min up, a max down) so the printed limit is never outside the
+    computed one; "none" when there is no limit."""
+    if value is None:
+        return "none"
+
+    def step(x: float) -> int:  # rounding noise (63.499999 mm for 2.5 in) is not a step
+        return (math.ceil if side == "min" else math.floor)(round(x, 6))
+
+    if unit == "m":
+        return f"{step(value * 1e5) / 100:.2f} mm ({step(value / INCH * 1000) / 1000:.3f} in)"
+    if unit == "N·m":
+        return f"{step(value * 1000) / 1000:.3f} N·m"
+    digits = 2 - math.floor(math.log10(abs(value)))
+    return f"{step(value * 10**digits) / 10**digits:.{max(digits, 0)}f} {unit}"

@@ -9,6 +9,7 @@ from designer.cli._common import PROBLEM_HELP, print_json, quantity_option, rang
 from designer.studies.retrofit import ONSET_SCATTER, fix, parse_current
 from designer.errors import InputError
 from designer.problem import load_problem
+from designer.studies.spec import PART_LABELS, limit_shown
 from designer.units import written_size
 
 
@@ -184,6 +185,10 @@ def _print(result, problem, wide: bool = False, top: int = 10) -> None:
         )
     if any(f.extrapolated for f in shown):
         console.print("* a wheel outside Table 1's 4–8 in: its I_w and Eq. 7 are extrapolated (docs/retrofit.md).")
+    best = result.best
+    if best is not None and best.spec is not None:
+        for line in _spec_lines(best, result):
+            console.print(escape(line))
 
 
 def _print_current(console, result, problem, conf: str) -> None:
@@ -222,7 +227,7 @@ def _print_current(console, result, problem, conf: str) -> None:
         text += f"; calibrated: {cur.calibrated_critical_speed:.3f} m/s"
     console.print(
         text + f"; speed reached with {conf}: {cur.confident_speed:.3f} m/s; P(shimmy at {result.target_speed:.2f} "
-        f"m/s) = {cur.shimmy_probability:.2%} ± {cur.shimmy_probability_se:.2%} (Monte Carlo, 1 SE)"
+        f"m/s) = {cur.shimmy_probability:.2%} (exact law; {_mc_text(cur)})"
     )
     console.print(
         f"  turning effort {cur.turning_effort:.2f} N, sill force {cur.threshold_force:.2f} N, swept radius "
@@ -272,7 +277,7 @@ def _print_table(console, result, fixes, title: str, wide: bool, conf: str) -> N
 
     table = Table(title=escape(title), title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
     columns = [("#", "right"), ("change: from -> to", "left"), ("cost", "right"), ("F_turn [N]", "right")]
-    columns += [("P [N]", "right"), ("P(shimmy)" + (" ± SE" if wide else ""), "right")]
+    columns += [("P [N]", "right"), ("P(shimmy)" + (" (MC ± SE)" if wide else ""), "right")]
     if wide:
         calibrated = " / ×k" if result.calibration else ""
         columns += [("I_w [kg·m²]", "right"), ("loss [N]", "right"), (f"V_c Eq. 7{calibrated}", "right")]
@@ -281,7 +286,9 @@ def _print_table(console, result, fixes, title: str, wide: bool, conf: str) -> N
         table.add_column(escape(col), justify=just, overflow="fold", no_wrap=col.startswith("change"))
     for rank, f in enumerate(fixes, 1):
         change = _changes(f, result.units)
-        risk = f"{f.shimmy_probability:.2%}" + (f" ± {f.shimmy_probability_se:.2%}" if wide else "")
+        risk = f"{f.shimmy_probability:.2%}" + (
+            f" ({f.shimmy_probability_mc:.2%} ± {f.shimmy_probability_se:.2%})" if wide else ""
+        )
         cells = [
             str(rank),
             escape(change),
@@ -323,7 +330,8 @@ def _screen_paragraphs(result, problem) -> list[tuple[str, str]]:
     why = (
         f"the caster as it is (T = {size(d.trail)}, d = {size(d.diameter)}, B = {size(d.groove)}, "
         f"c_f = {d.damping:.3g} N·m/rad) has P(shimmy at {result.target_speed:.2f} m/s) = "
-        f"{cur.shimmy_probability:.2%} ± {cur.shimmy_probability_se:.2%} against {bound}; V_c (Eq. 7) "
+        f"{cur.shimmy_probability:.2%} (exact; Monte Carlo {cur.shimmy_probability_mc:.2%} ± "
+        f"{cur.shimmy_probability_se:.2%}) against {bound}; V_c (Eq. 7) "
         f"{cur.critical_speed:.2f} m/s"
     )
     out = [("Why", why + ("" if result.needs_fix else "; it needs no fix"))]
@@ -359,6 +367,8 @@ def _inspect_text(best, result, problem) -> str:
         )
     if best.extrapolated:
         text += f"; {written_size(best.design.diameter, units)} lies outside Table 1's 4–8 in (extrapolated)"
+    if best.spec is not None:
+        text += "; accept parts within " + _limits_short(best.spec, units) + " (--verbose: how to measure)"
     if result.if_measured is not None:
         text += ". " + _if_measured_text(result)
     return text
@@ -395,3 +405,65 @@ def _if_measured_text(result) -> str:
             else "the fix then: " + m["summary"].removeprefix("Best fix: ")
         )
     )
+
+
+def _mc_text(state) -> str:
+    """The Monte Carlo beside the exact P: ``Monte Carlo 61.88% ± 0.10%, 250000 draws, seed 20111``."""
+    return (
+        f"Monte Carlo {state.shimmy_probability_mc:.2%} ± {state.shimmy_probability_se:.2%}, "
+        f"{state.mc_samples} draws, seed {state.mc_seed}"
+    )
+
+
+_SYMBOLS = {"trail": "T", "groove": "B", "friction_moment": "M_f", "wheel_inertia": "I_w"}
+"""The short name of each inspectable part on the one-screen answer."""
+
+
+def _limits_short(spec, units: str) -> str:
+    """The acceptance limits in one phrase, sizes in the problem's units, each rounded toward the safe side:
+    ``T 1.727–2.125 in, B >= 0.652 in, M_f >= 0.197 N·m, I_w <= 0.00153 kg·m²`` (a part without a limit left out)."""
+
+    def short(lim) -> str:
+        text = limit_shown(lim.value, lim.unit, lim.side)
+        if lim.unit == "m":
+            mm, inch = text.split(" (")
+            return inch.rstrip(")") if units == "in" else mm
+        return text
+
+    out = []
+    for part, symbol in _SYMBOLS.items():
+        lims = {lim.side: lim for lim in spec.limits if lim.part == part and lim.value is not None}
+        if "min" in lims and "max" in lims:
+            low, high = short(lims["min"]), short(lims["max"])
+            out.append(f"{symbol} {low.rsplit(' ', 1)[0]}–{high}")
+        elif lims:
+            side, lim = next(iter(lims.items()))
+            out.append(f"{symbol} {'>=' if side == 'min' else '<='} {short(lim)}")
+    return ", ".join(out)
+
+
+def _spec_lines(best, result) -> list[str]:
+    """The best fix's spec for goods-in: P(shimmy) exact beside its Monte Carlo, then each part's acceptance limit
+    with the others at nominal (the exact law gives P = α there), or why it has none, and how to measure it."""
+    spec = best.spec
+    out = [
+        f"Inspect the parts of the best fix (acceptance limits, each with the other parts at nominal; at a risk limit the "
+        f"exact law gives P(shimmy at {spec.required_speed:.2f} m/s) = {spec.alpha:.0%}): P(shimmy at "
+        f"{result.target_speed:.2f} m/s) {best.shimmy_probability:.2%} exact ({_mc_text(best)}); "
+        f"M_f = c_f θ0 = {spec.friction_moment:.3f} N·m (θ0 = {math.degrees(spec.disturbance_angle):.0f}°)"
+    ]
+    for part in PART_LABELS:
+        for lim in (x for x in spec.limits if x.part == part):
+            shown = limit_shown(lim.value, lim.unit, lim.side)
+            why = "" if lim.reason == "risk" else f" ({lim.reason})"
+            out.append(f"  {lim.side} {PART_LABELS[part]}: {shown}{why}")
+    if spec.stem_angle:
+        out.append("  the trail is the fork offset e (the tyre sees e + (d/2) sin φ)")
+    out.append("  how to measure: docs/problem-file.md#tolerances; --json: every fix's limits")
+    if spec.corner is not None:
+        c = spec.corner
+        out.append(
+            f"  worst corner of the tolerances: P {c['probability']:.2%} (bound {spec.alpha:.0%}): "
+            + ("holds" if c["holds"] else "does NOT hold")
+        )
+    return out

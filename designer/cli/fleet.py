@@ -191,6 +191,11 @@ def _print(data: dict, run_info: dict, stock: int, out: Path, units: str) -> Non
                     f"  SKU {s['id']}: T {size(d['trail'])}, d {size(d['diameter'])}, B {size(d['groove'])}, c_f {d['damping']:.2f} N·m/rad: {s['chairs']} chairs, "
                     f"{s['count']} units"
                 )
+            if data["skus"] and "spec" in data["skus"][0]:
+                say(
+                    "  what goods-in accepts for each (acceptance limits from the exact law at the most demanding "
+                    "chair it serves) and its P(shimmy): the report, fleet.json skus[].spec"
+                )
         curve = ", ".join(
             f"{c['mean_regret_N']:.2f}" if c["mean_regret_N"] is not None else "–" for c in data["regret_curve"]
         )

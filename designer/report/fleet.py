@@ -23,7 +23,7 @@ from designer.output import output_folder
 from designer.versions import versions
 from designer.plots.fleet import figure_distributions, figure_regret
 from designer.report.formatting import fmt
-from designer.units import resolved, written_size
+from designer.units import limit_shown, resolved, written_size
 from designer.report.writer import _render
 
 CSV_COLUMNS = {
@@ -41,6 +41,8 @@ CSV_COLUMNS = {
     "sku_turning_effort": "force",
     "sku_threshold_force": "force",
     "sku_shimmy_probability": "",
+    "sku_shimmy_probability_mc": "",
+    "sku_shimmy_probability_se": "",
     "knee_regret_N": "",
     "sku_regret_N": "",
     "status": "",
@@ -183,8 +185,38 @@ def _sku_rows(data: dict) -> list[dict]:
                 "chairs": s["chairs"],
                 "units": f"{s['count']:,}",
             }
+            | _sku_spec(s.get("spec"))
         )
     return rows
+
+
+def _sku_spec(spec: dict | None) -> dict:
+    """A part number's spec, compactly: P(shimmy) exact with the Monte Carlo beside it at the most demanding
+    chair's V_target, and each acceptance limit (others at nominal) rounded toward the safe side ("none": no
+    limit inside the part's range)."""
+    if spec is None:
+        return {}
+    lim, units = spec["limits"], spec["units"]
+
+    def shown(key: str) -> str:
+        return limit_shown(lim.get(key), units.get(key, ""), key.rsplit("_", 1)[1])
+
+    p = spec["shimmy_probability"]
+    low, high = shown("trail_min"), shown("trail_max")
+    trail = f"≥ {low}; ≤ {high}"
+    if low != "none" and high != "none":  # "48.37 mm (1.905 in)" and "51.30 mm (2.020 in)" as one range
+        (low_mm, low_in), (high_mm, high_in) = (x.removesuffix(" in)").split(" mm (") for x in (low, high))
+        trail = f"{low_mm}–{high_mm} mm ({low_in}–{high_in} in)"
+    return {
+        "at": fmt(p["at_speed"], ".3g", "m/s"),
+        "p": f"{p['exact']:.2%}",
+        "mc": f"{p['monte_carlo']:.2%} ± {p['monte_carlo_se']:.2%}",
+        "draws": f"{p['monte_carlo_samples']:,} draws, seed {p['monte_carlo_seed']}",
+        "T_lim": trail,
+        "B_lim": "≥ " + shown("groove_min"),
+        "M_lim": "≥ " + shown("friction_moment_min"),
+        "I_lim": "≤ " + shown("wheel_inertia_max"),
+    }
 
 
 def _curve_rows(data: dict) -> list[dict]:

@@ -56,7 +56,26 @@ def _risk_lines(rec: Any) -> list[str]:
     corner = escape(corner_sentence(spec))
     if spec.corner is not None and not spec.corner["holds"]:
         corner = f'<span class="fail">{corner}</span>'
-    return [f"<p>{nominal}</p>", f"<p>{corner}</p>"]
+    return [f"<p>{nominal}</p>", f"<p>{corner}</p>", f"<p>{escape(enforce_sentence(rec))}</p>"]
+
+
+def enforce_sentence(rec: Any) -> str:
+    """How the caster was chosen with respect to its tolerances (``[tolerances] enforce``), from the record: among
+    the casters that hold the bound at their worst corner (and whether that changed the rule's pick), or at
+    nominal with the worst corner reported only, or at nominal with no tolerances given."""
+    tol = getattr(rec.problem, "tolerances", None)
+    if tol is None:
+        return (
+            "Chosen at nominal: the problem gives no [tolerances], so no worst corner was required "
+            "([tolerances] enforce = true would choose among the casters that hold the bound at their worst corner)."
+        )
+    if rec.enforced is not None:
+        return "Chosen among the casters that hold the bound at their worst corner: " + rec.enforced_sentence()
+    return (
+        "[tolerances] enforce = false: the caster was chosen at nominal among those that meet the risk bound; "
+        "its worst corner above is reported, not required (enforce = true would choose among the casters that "
+        "hold the bound at their worst corner)."
+    )
 
 
 def sheet_html(rec: Any) -> str:

@@ -15,12 +15,10 @@ default scatter when the bound is off); the reported P(shimmy) is at V_target, l
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass
 from typing import Any
 
-from designer.data.paper import INCH
 from designer.parameters import PARAMETERS
 from designer.physics.acceptance import (
     Corner,
@@ -32,7 +30,10 @@ from designer.physics.acceptance import (
     worst_corner,
 )
 from designer.model import Design, scatter_of
+from designer.physics.geometry import effective_trail
+from designer.physics.uncertainty import Uncertainty
 from designer.problem import Problem, Tolerances
+from designer.units import limit_shown
 from designer.reprs import Key, Record
 
 SPEC_PROBABILITY = {
@@ -59,24 +60,6 @@ MEASURE = {
     "plane; I = m g a τ²/(4π²) − m a² (a: axis to hub, τ: period)",
 }
 """How goods-in measures each part (the inspection sheet's last column)."""
-
-
-def limit_shown(value: float | None, unit: str, side: str) -> str:
-    """A limit for an inspector: lengths in mm to 0.01 (and in to 0.001), N·m to 0.001, kg·m² to 3 significant
-    digits, each rounded toward the safe side (a min up, a max down) so the printed limit is never outside the
-    computed one; "none" when there is no limit."""
-    if value is None:
-        return "none"
-
-    def step(x: float) -> int:  # rounding noise (63.499999 mm for 2.5 in) is not a step
-        return (math.ceil if side == "min" else math.floor)(round(x, 6))
-
-    if unit == "m":
-        return f"{step(value * 1e5) / 100:.2f} mm ({step(value / INCH * 1000) / 1000:.3f} in)"
-    if unit == "N·m":
-        return f"{step(value * 1000) / 1000:.3f} N·m"
-    digits = 2 - math.floor(math.log10(abs(value)))
-    return f"{step(value * 10**digits) / 10**digits:.{max(digits, 0)}f} {unit}"
 
 
 PART_LABELS = {
@@ -148,6 +131,10 @@ class Spec(Record):
     target_speed, required_speed : V_target and the bound's V_req [m/s]
     alpha : α [-]
     tolerances : the problem's ``[tolerances]`` (None: none given)
+    stem_angle : φ [rad] of a tilted stem (a retrofit's ``--stem-angle``): the trail is then the fork offset e
+        and the risk law sees e + (d/2) sin φ; 0 for an upright stem
+    calibration : k = V_obs / V_c,Eq.7 of a retrofit calibrated by an observed onset (1: none); the limits and
+        P are then the calibrated law's
     corner : the worst corner (None without tolerances): {"edges" {part: value [SI]}, "probability",
         "nominal_probability", "holds"}
     """
@@ -171,6 +158,8 @@ class Spec(Record):
     alpha: float
     tolerances: Tolerances | None = None
     corner: dict[str, Any] | None = None
+    stem_angle: float = 0.0
+    calibration: float = 1.0
 
     _keys = (
         *(Key(f"nominal.{n}", n) for n in ("trail", "diameter", "groove", "friction_moment")),
@@ -184,6 +173,8 @@ class Spec(Record):
         *("disturbance_angle", "damping", "measured"),
         *(Key(f"shimmy_probability.{k}", n) for k, n in SPEC_PROBABILITY.items()),
         *("alpha", "required_speed", "tolerances", Key("worst_corner", "corner")),
+        Key("**", lambda s: {"stem_angle": s.stem_angle} if s.stem_angle else {}),  # a tilted stem's retrofit
+        Key("**", lambda s: {"calibration": s.calibration} if s.calibration != 1.0 else {}),  # a calibrated law
     )
     """The JSON record (SI): nominal parts, ``limits`` by part and side with ``units`` beside them (None: no limit
     inside the range, ``no_limit`` says why), the exact and Monte Carlo P, tolerances and worst corner."""
@@ -239,10 +230,11 @@ class Spec(Record):
         return [f"Spec(P(shimmy) {self.probability:.3%} exact{corner})", f"  limits: {shown}"]
 
 
-def law_caster(problem: Problem, design: Design, inertia: float, measured: bool) -> LawCaster:
-    """The caster as the risk law sees it: a wheel known by its diameter keeps d (Table 1's prediction)."""
+def law_caster(problem: Problem, design: Design, inertia: float, measured: bool, offset: float = 0.0) -> LawCaster:
+    """The caster as the risk law sees it: a wheel known by its diameter keeps d (Table 1's prediction); the trail
+    is the one the tyre sees, T + ``offset`` ((d/2) sin φ of a tilted stem, :func:`stem_offset`)."""
     return LawCaster(
-        design.trail,
+        design.trail + offset,
         inertia,
         design.groove,
         design.damping,
@@ -251,8 +243,16 @@ def law_caster(problem: Problem, design: Design, inertia: float, measured: bool)
     )
 
 
-def _edges(problem: Problem, design: Design, caster: LawCaster) -> dict[str, tuple[Edge, Edge]]:
-    """Each toleranced part's two edges: its value [SI] and the caster fields it sets there."""
+def stem_offset(design: Design, stem_angle: float) -> float:
+    """What a stem tilted by φ adds to the fork offset e: T_eff − e = (d/2) sin φ [m] (0 upright)."""
+    if not stem_angle:
+        return 0.0
+    return float(effective_trail(design.trail, design.diameter / 2, stem_angle)) - design.trail
+
+
+def _edges(problem: Problem, design: Design, caster: LawCaster, offset: float = 0.0) -> dict[str, tuple[Edge, Edge]]:
+    """Each toleranced part's two edges: its value [SI] and the caster fields it sets (a trail's edge at the
+    fork offset, the caster's trail ``offset`` beyond it)."""
     tol = problem.tolerances
     assert tol is not None
     out: dict[str, tuple[Edge, Edge]] = {}
@@ -260,7 +260,7 @@ def _edges(problem: Problem, design: Design, caster: LawCaster) -> dict[str, tup
     theta0 = float(problem.conditions.disturbance_angle)
     if tol.trail is not None:
         lo_t = max(t - tol.trail, PARAMETERS["trail"].range[0])  # type: ignore[index]
-        out["trail"] = ((lo_t, {"trail": lo_t}), (t + tol.trail, {"trail": t + tol.trail}))
+        out["trail"] = ((lo_t, {"trail": lo_t + offset}), (t + tol.trail, {"trail": t + tol.trail + offset}))
     if tol.groove is not None:
         lo_b = max(b - tol.groove, 0.0)
         out["groove"] = ((lo_b, {"groove": lo_b}), (b + tol.groove, {"groove": b + tol.groove}))
@@ -290,13 +290,31 @@ def _edges(problem: Problem, design: Design, caster: LawCaster) -> dict[str, tup
     return out
 
 
-def caster_corner(problem: Problem, design: Design, inertia: float, measured: bool) -> Corner | None:
+def _law(problem: Problem, law: Uncertainty | None) -> Uncertainty:
+    """The risk law of the limits: ``law`` when given (a calibrated retrofit's), else the problem's bound, else
+    the default scatter."""
+    if law is not None:
+        return law
+    return problem.risk if problem.risk is not None else scatter_of(problem.conditions)
+
+
+def caster_corner(
+    problem: Problem,
+    design: Design,
+    inertia: float,
+    measured: bool,
+    *,
+    law: Uncertainty | None = None,
+    stem_angle: float = 0.0,
+    calibration: float = 1.0,
+) -> Corner | None:
     """The worst corner of ``problem``'s tolerance box about one caster (None without ``[tolerances]``)."""
     if problem.tolerances is None:
         return None
-    u = problem.risk if problem.risk is not None else scatter_of(problem.conditions)
-    caster = law_caster(problem, design, inertia, measured)
-    return worst_corner(caster, _edges(problem, design, caster), problem.required_speed, u)
+    offset = stem_offset(design, stem_angle)
+    caster = law_caster(problem, design, inertia, measured, offset)
+    edges = _edges(problem, design, caster, offset)
+    return worst_corner(caster, edges, problem.required_speed / calibration, _law(problem, law))
 
 
 def corner_probabilities(
@@ -309,6 +327,16 @@ def corner_probabilities(
         assert corner is not None
         out.append(corner.probability)
     return out
+
+
+def mc_draws(p: float, se: float) -> int:
+    """The draws behind a Monte Carlo estimate ``p`` with standard error ``se`` (the SE of
+    :func:`designer.model.shimmy_probability`: sqrt(max(p(1 − p), 1/n)/n)), recovered from the two."""
+    if not se > 0:
+        return 0
+    spread = p * (1 - p)
+    n = spread / se**2
+    return int(round(n if n > 0 and spread >= 1 / n else 1 / se))
 
 
 def exact_shimmy_probability(problem: Problem, design: Design, inertia: float, measured: bool, speed: float) -> float:
@@ -326,45 +354,62 @@ def _reason(code: str, part: str, ranges: dict[str, Any], scale: float, unit: st
     return code
 
 
+def _limit(lim: Any, nominal: dict[str, float], theta0: float, offset: float, ranges: dict[str, Any]) -> Limit:
+    """The physics' :class:`~designer.physics.acceptance.PartLimit` as the spec states it: c_f as M_f = c_f θ0,
+    a risk-set trail on the fork offset e (the law saw e + ``offset``), the reason in words."""
+    part = _PARTS.get(lim.part, lim.part)
+    scale = theta0 if lim.part == "damping" else 1.0  # c_f -> M_f = c_f θ0
+    value = lim.value
+    if value is not None and lim.part == "trail" and lim.side == "min":
+        value -= offset  # the fork offset e the tyre sees as e + (d/2) sin φ
+    return Limit(
+        part=part,
+        side=lim.side,
+        value=None if value is None else value * scale,
+        nominal=nominal[lim.part] * scale,
+        unit=UNITS[part],
+        probability=lim.probability,
+        reason=_reason(lim.reason, lim.part, ranges, scale, UNITS[part]),
+        measure=MEASURE[part],
+    )
+
+
 def caster_spec(
     problem: Problem,
     design: Design,
     inertia: float,
     measured: bool,
     monte_carlo: tuple[float, float, int, int],
+    *,
+    law: Uncertainty | None = None,
+    stem_angle: float = 0.0,
+    calibration: float = 1.0,
+    probability: float | None = None,
 ) -> Spec:
     """The :class:`Spec` of one caster: limits (others at nominal), exact P at V_target beside the Monte Carlo
-    ``(p, se, samples, seed)`` the caller has, and the worst corner when the problem has ``[tolerances]``."""
-    u = problem.risk if problem.risk is not None else scatter_of(problem.conditions)
-    caster = law_caster(problem, design, inertia, measured)
+    ``(p, se, samples, seed)`` the caller has, and the worst corner when the problem has ``[tolerances]``.
+
+    A retrofit gives its own risk law ``law`` (calibrated by an observed onset), the stem's tilt φ (the trail is
+    then the fork offset e, the law sees e + (d/2) sin φ) and the calibration factor k (V_c,true is k times
+    Eq. 7's: P(k V_c < V) = P(V_c < V/k)); the limits are stated on the parts as built.  ``probability``: the
+    exact P at V_target the caller reports (the evaluator's), so the record and its spec say one number."""
+    u = _law(problem, law)
+    offset = stem_offset(design, stem_angle)
+    caster = law_caster(problem, design, inertia, measured, offset)
     ranges = {name: PARAMETERS[name].range for name in ("trail", "groove", "damping")}
+    seen = dict(ranges) | {"trail": tuple(x + offset for x in ranges["trail"])}  # type: ignore[union-attr]
     found = acceptance_limits(
         caster,
-        problem.required_speed,
+        problem.required_speed / calibration,
         u,
-        ranges,
+        seen,  # type: ignore[arg-type]
         problem.swept_radius_max,
-        design.diameter,  # type: ignore[arg-type]
+        design.diameter,
     )
     theta0 = float(problem.conditions.disturbance_angle)
     nominal = {"trail": design.trail, "groove": design.groove, "damping": design.damping, "inertia": inertia}
-    limits = []
-    for lim in found:
-        part = _PARTS.get(lim.part, lim.part)
-        scale = theta0 if lim.part == "damping" else 1.0  # c_f -> M_f = c_f θ0
-        limits.append(
-            Limit(
-                part=part,
-                side=lim.side,
-                value=None if lim.value is None else lim.value * scale,
-                nominal=nominal[lim.part] * scale,
-                unit=UNITS[part],
-                probability=lim.probability,
-                reason=_reason(lim.reason, lim.part, ranges, scale, UNITS[part]),
-                measure=MEASURE[part],
-            )
-        )
-    corner = caster_corner(problem, design, inertia, measured)
+    limits = [_limit(lim, nominal, theta0, offset, ranges) for lim in found]
+    corner = caster_corner(problem, design, inertia, measured, law=law, stem_angle=stem_angle, calibration=calibration)
     p_mc, se, samples, seed = monte_carlo
     return Spec(
         trail=design.trail,
@@ -376,7 +421,9 @@ def caster_spec(
         inertia=inertia,
         measured=measured,
         limits=limits,
-        probability=exact_probability(caster, problem.target_speed, u),
+        probability=exact_probability(caster, problem.target_speed / calibration, u)
+        if probability is None
+        else float(probability),
         mc_probability=p_mc,
         mc_se=se,
         mc_samples=samples,
@@ -393,4 +440,6 @@ def caster_spec(
             "nominal_probability": corner.nominal_probability,
             "holds": corner.holds,
         },
+        stem_angle=float(stem_angle),
+        calibration=float(calibration),
     )

@@ -45,13 +45,14 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
     import numpy.typing as npt
 
 from designer.errors import InputError
-from designer.model import GRAVITY, scatter_of
+from designer.model import GRAVITY, Design, scatter_of
 from designer.parameters import VARIABLE_TABLE
 from designer.reprs import Record, dataframe
 
 from designer.studies.fleet._kmedian import ColumnDominance, KMedianSolution, kmedian_curve
 from designer.problem import Problem, example_problem, problem_argument
 from designer.solvers import one_solve_at_a_time
+from designer.studies.spec import Spec, caster_spec, mc_draws
 from designer.studies.fleet._table import (
     COLUMNS,
     EXAMPLE_RANGES,
@@ -135,6 +136,8 @@ _FLEET_UNITS = {
     "sku_turning_effort": ("sku_turning_effort_N", "N"),
     "sku_threshold_force": ("sku_threshold_force_N", "N"),
     "sku_shimmy_probability": ("sku_shimmy_probability", "-"),
+    "sku_shimmy_probability_mc": ("sku_shimmy_probability_mc", "-"),
+    "sku_shimmy_probability_se": ("sku_shimmy_probability_se", "-"),
     "knee_regret_N": ("knee_regret_N", "N"),
     "sku_regret_N": ("sku_regret_N", "N"),
 }
@@ -154,6 +157,11 @@ class FleetResult(Record):
         ``shimmy_probability_mc`` and ``_se`` (its Monte Carlo check))
     skus : the K-median solution for ``--skus K`` (or None), and ``curve`` K -> solution
     timings : wall times [s] per stage
+    specs : one :class:`designer.studies.spec.Spec` per part number (in ``skus.chosen``'s order): its acceptance
+        limits (trail min and max, groove min, bearing friction moment M_f = c_f θ0 min, measured wheel inertia
+        max, each with the others at nominal, from the exact law) for the most demanding of the chairs it serves
+        (the fastest V_target, the smallest swept-radius limit), and its P(shimmy) there, exact with the Monte
+        Carlo beside it
     """
 
     fleet: Fleet
@@ -167,6 +175,7 @@ class FleetResult(Record):
     regret_cost: dict[str, np.ndarray] | None = None
     suggested: dict[str, Any] | None = None
     candidates: int | None = None
+    specs: list[Spec] = field(default_factory=list)
 
     @property
     def feasible(self) -> np.ndarray:
@@ -199,8 +208,9 @@ class FleetResult(Record):
                 row["sku"] = sku_index.get(a) if a >= 0 else None
                 row["sku_turning_effort"] = float(cost["turning_effort"][position[i], col]) if a >= 0 else None
                 row["sku_threshold_force"] = float(cost["threshold_force"][position[i], col]) if a >= 0 else None
-                sp = ch.get("sku_shimmy_probability")
-                row["sku_shimmy_probability"] = None if sp is None or a < 0 else float(sp[i])
+                for key in ("sku_shimmy_probability", "sku_shimmy_probability_mc", "sku_shimmy_probability_se"):
+                    sp = ch.get(key)
+                    row[key] = None if sp is None or a < 0 else float(sp[i])
                 row["knee_regret_N"] = float(cost["knee_regret"][position[i]]) if j >= 0 else None
                 row["sku_regret_N"] = float(cost["regret"][position[i], col]) if a >= 0 else None
             row["status"] = "ok" if j >= 0 else str(ch["reason"][i])
@@ -255,7 +265,7 @@ class FleetResult(Record):
         Columns: ``name``, ``trail_m``, ``diameter_m``, ``groove_m``, ``damping_N_m_per_rad`` (the recommended
         stock caster), ``turning_effort_N``, ``threshold_force_N``, ``shimmy_probability`` [-] and its
         ``_se``, with ``--skus``: ``sku``, ``sku_turning_effort_N``, ``sku_threshold_force_N``,
-        ``sku_shimmy_probability``; ``status`` ("ok" or why the chair has no caster; its numbers are then
+        ``sku_shimmy_probability`` (exact) with its Monte Carlo ``_mc`` and ``_se``; ``status`` ("ok" or why the chair has no caster; its numbers are then
         missing).  Units also in ``df.attrs["units"]``.
         """
         rows = self.rows()
@@ -272,8 +282,10 @@ class FleetResult(Record):
         )
 
     def sku_records(self) -> list[dict[str, Any]]:
-        """``[{"id", "design", "wheel", "extrapolated", "chairs", "count"}]`` of the chosen part numbers
-        (``extrapolated``: the wheel's d lies outside Table 1's 4–8 in, as on every design record)."""
+        """``[{"id", "design", "wheel", "extrapolated", "chairs", "count", "spec"}]`` of the chosen part numbers
+        (``extrapolated``: the wheel's d lies outside Table 1's 4–8 in, as on every design record; ``spec``: its
+        acceptance limits by part and side with ``units`` beside them and its P(shimmy), exact with the Monte
+        Carlo beside it, at the most demanding chair it serves: :meth:`designer.studies.spec.Spec.to_dict`)."""
         if self.skus is None or self.skus.assignment is None:
             return []
         feasible = np.flatnonzero(self.feasible)
@@ -289,6 +301,7 @@ class FleetResult(Record):
                     "chairs": len(mine),
                     "count": int(self.fleet.count[mine].sum()),
                 }
+                | ({"spec": self.specs[k].to_dict()} if k < len(self.specs) else {})
             )
         return out
 
@@ -363,6 +376,10 @@ def fleet_recommendations(
             timings["skus"] = time.perf_counter() - start
             if monte_carlo and result.skus is not None and result.skus.assignment is not None:
                 _sku_monte_carlo(client, result, chunk)
+            if result.skus is not None and result.skus.assignment is not None:
+                start = time.perf_counter()
+                result.specs = sku_specs(result)
+                timings["specs"] = time.perf_counter() - start
     finally:
         if own:
             _close(client)
@@ -398,10 +415,49 @@ def _sku_monte_carlo(client: Any, result: FleetResult, chunk: int) -> None:
     if result.skus is None or result.skus.assignment is None:
         raise ValueError("no part numbers assigned: nothing to sample")
     assigned[result.feasible] = result.skus.assignment
-    result.chairs["sku_shimmy_probability"], _, _ = _monte_carlo(
+    ch = result.chairs
+    ch["sku_shimmy_probability"], ch["sku_shimmy_probability_mc"], ch["sku_shimmy_probability_se"] = _monte_carlo(
         client, result.stock, result.problem, assigned, fleet.target_speed, chunk=max(50, chunk // 20)
     )
     result.timings["sku_monte_carlo"] = time.perf_counter() - start
+
+
+def sku_specs(result: FleetResult) -> list[Spec]:
+    """The :class:`~designer.studies.spec.Spec` of each part number (``result.skus.chosen``'s order): the
+    acceptance limits of its parts, each with the others at nominal, from the exact law, for the most demanding
+    of the chairs it serves (the fastest V_target sets the risk limits, the smallest swept-radius limit the
+    trail's largest: a part within them serves every one of those chairs), and its P(shimmy) at that speed,
+    exact with the Monte Carlo beside it (the fleet's risk law, samples and seed)."""
+    sku = result.skus
+    if sku is None or sku.assignment is None:
+        return []
+    problem, stock, fleet = result.problem, result.stock, result.fleet
+    u = scatter_of(problem.conditions)
+    feasible = np.flatnonzero(result.feasible)
+    out = []
+    for j in sku.chosen:
+        mine = feasible[sku.assignment == j]
+        radius = fleet.swept_radius_max[mine]
+        radius = radius[np.isfinite(radius)]
+        demanding = problem.replace(
+            target_speed=float(np.max(fleet.target_speed[mine])),
+            swept_radius_max=float(np.min(radius)) if radius.size else None,
+        )
+        design = Design(**stock.design(j))
+        inertia, measured = float(stock.inertia[j]), bool(np.asarray(stock.measured, bool)[j])
+        row = np.array([[design.trail, design.diameter, design.groove, design.damping]])
+        _, p_mc, se = _mc_task(
+            row,
+            np.array([inertia]),
+            np.array([demanding.target_speed]),
+            problem.conditions.slip_coefficient,
+            u,
+            np.array([measured]),
+        )[0]
+        out.append(
+            caster_spec(demanding, design, inertia, measured, (float(p_mc), float(se), mc_draws(p_mc, se), u.seed))
+        )
+    return out
 
 
 def _monte_carlo(

@@ -41,11 +41,15 @@ def _evaluate(
     bound: Uncertainty | None,
     limits: tuple[float, float | None] | None = None,
     monte_carlo: tuple[float, Uncertainty, int, int] | None = None,
+    exact: bool = False,
 ) -> Casters:
     """The model's numbers of candidates {trail, diameter, groove, damping, inertia} (arrays): V_c on the
     effective trail, the bound's speed times the calibration ``factor``, F_turn, P, R_s; with ``limits``
-    (V_req, R_max) the limits met, with ``monte_carlo`` (V_target, scatter, samples, seed) P(shimmy) and its SE."""
+    (V_req, R_max) the limits met, with ``monte_carlo`` (V_target, scatter, samples, seed) P(shimmy) and its SE
+    by Monte Carlo, or with ``exact`` P(shimmy) by the exact law (quadrature; SE 0)."""
     speed, scatter, samples, seed = monte_carlo if monte_carlo is not None else (None, None, None, None)
+    if exact:
+        samples, seed = None, None
     return evaluate(
         {name: arrays[name] for name in VARIABLES},
         conditions.replace(uncertainty=bound),
@@ -56,6 +60,7 @@ def _evaluate(
         required_speed=None if limits is None else limits[0],
         swept_radius_max=None if limits is None else limits[1],
         risk=speed,
+        exact=exact,
         scatter=scatter,
         samples=samples,
         seed=seed,

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any, Callable
 
 from designer.data.paper import BARE_FORK_DAMPING, INCH
 from designer.model import Design
@@ -18,6 +18,9 @@ from designer.parameters import DESIGN_UNITS, PARAMETERS, VARIABLE_TABLE
 from designer.reprs import Record, dataframe
 from designer.units import written_size
 from designer.studies.retrofit._options import _show
+
+if TYPE_CHECKING:
+    from designer.studies.spec import Spec
 
 RULE = (
     "among the fixes that meet the risk bound and the swept-radius limit and raise the sill force by at most "
@@ -94,7 +97,14 @@ class CasterState(Record):
     calibrated_critical_speed : k·V_c [m/s] (= critical_speed without calibration)
     confident_speed : speed reached with probability 1 − α under the model in force [m/s]
     meets_risk_bound : confident_speed >= V_req (and the swept-radius limit)
-    shimmy_probability, shimmy_probability_se : Monte Carlo P(V_c,true < V_target) and its SE [-]
+    shimmy_probability : P(V_c,true < V_target) by the exact law (quadrature) [-]
+    shimmy_probability_mc, shimmy_probability_se : the Monte Carlo's P and its standard error beside it [-] (an
+        independent check)
+    mc_samples, mc_seed : the Monte Carlo's draws and seed
+    spec : a fix's spec (:class:`designer.studies.spec.Spec`, computed when first asked for): the acceptance
+        limit of each inspectable part with the others at nominal (trail min and max, groove min, bearing
+        friction moment M_f = c_f θ0 min, measured wheel inertia max), from the exact law of the retrofit
+        (calibrated, on the effective trail); None for the current caster
     changes : the parts changed against the current caster (empty for the current one)
     cost_turning_effort, cost_threshold_force, loss : ΔF_turn, ΔP and w_turn ΔF_turn + w_threshold ΔP [N]
     parts_cost : the sum of the [stock] costs of the parts changed (relative units; 0 for the current caster)
@@ -118,7 +128,10 @@ class CasterState(Record):
     confident_speed: float
     meets_risk_bound: bool
     shimmy_probability: float = math.nan
+    shimmy_probability_mc: float = math.nan
     shimmy_probability_se: float = math.nan
+    mc_samples: int = 0
+    mc_seed: int | None = None
     changes: tuple[Change, ...] = ()
     cost_turning_effort: float = 0.0
     cost_threshold_force: float = 0.0
@@ -129,6 +142,18 @@ class CasterState(Record):
     within_limit: bool = True
     extrapolated: bool = False
     measured: bool = True
+    spec_of: Callable[[], Spec] | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def spec(self) -> Spec | None:
+        """The fix's :class:`~designer.studies.spec.Spec` (acceptance limits, exact P beside the Monte Carlo),
+        computed on first use and kept; None for the current caster."""
+        if self.spec_of is None:
+            return None
+        if "_spec" not in self.__dict__:
+            object.__setattr__(self, "_spec", self.spec_of())
+        spec: Spec = self.__dict__["_spec"]
+        return spec
 
     @property
     def parts_changed(self) -> int:
@@ -162,7 +187,8 @@ class CasterState(Record):
         return "Caster" + (f" with {self.parts_changed} part(s) changed" if self.changes else " as it is")
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready record, SI units."""
+        """JSON-ready record, SI units: P(shimmy) exact with the Monte Carlo beside it; a fix's ``spec`` (its
+        acceptance ``limits`` by part and side, ``units`` beside them: :meth:`designer.studies.spec.Spec.to_dict`)."""
         out = {
             "design": self.design.to_dict(),
             "extrapolated": bool(self.extrapolated),
@@ -178,8 +204,14 @@ class CasterState(Record):
             "confident_speed": self.confident_speed,
             "meets_risk_bound": bool(self.meets_risk_bound),
             "shimmy_probability": self.shimmy_probability,
+            "shimmy_probability_mc": self.shimmy_probability_mc,
             "shimmy_probability_se": self.shimmy_probability_se,
+            "mc_samples": self.mc_samples,
+            "mc_seed": self.mc_seed,
         }
+        spec = self.spec
+        if spec is not None:
+            out["spec"] = spec.to_dict()
         if self.changes:
             out["parts_changed"] = self.parts_changed
             out["changes"] = [c.to_dict() for c in self.changes]
@@ -205,17 +237,19 @@ class Calibration(Record):
     predicted_onset : V_c of Eq. 7 for the current caster [m/s]
     factor : k = V_obs / V_c,Eq.7 [-]; multiplies Eq. 7 for every modified caster
     scatter : σ of log V_obs [-] (replaces the population model error)
+    shift : how far calibration moved the current caster's V_c [m/s] (V_obs − V_c,Eq.7; set from the onsets)
+
+    Its JSON is the generic :meth:`designer.reprs.Record.to_dict`: the five fields.
     """
 
     observed_onset: float
     predicted_onset: float
     factor: float
     scatter: float
+    shift: float = field(init=False)
 
-    @property
-    def shift(self) -> float:
-        """How far calibration moved the current caster's V_c [m/s] (V_obs − V_c,Eq.7)."""
-        return self.observed_onset - self.predicted_onset
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "shift", self.observed_onset - self.predicted_onset)
 
     def describe(self) -> str:
         return (
@@ -236,16 +270,6 @@ class Calibration(Record):
 
     def _html_title(self) -> str:
         return "Calibration by an observed onset"
-
-    def to_dict(self) -> dict[str, Any]:
-        """The observed and predicted onsets [m/s], the factor k, the shift [m/s] and the scatter σ."""
-        return {
-            "observed_onset": self.observed_onset,
-            "predicted_onset": self.predicted_onset,
-            "factor": self.factor,
-            "shift": self.shift,
-            "scatter": self.scatter,
-        }
 
 
 @dataclass(kw_only=True)
@@ -355,7 +379,8 @@ class FixResult(Record):
 
     def to_pandas(self) -> Any:
         """One row per caster, the current one first then the fixes in rank order: ``rank`` (0: current),
-        ``changes`` (in words), the design [SI], F_turn, P, V_c, the speed at 1 − α, P(shimmy) and its SE, the
+        ``changes`` (in words), the design [SI], F_turn, P, V_c, the speed at 1 − α, P(shimmy) (exact), the
+        Monte Carlo's and its SE, the
         loss [N]; units in ``df.attrs["units"]``."""
         rows = []
         for rank, state in enumerate([self.current, *self.fixes]):
@@ -373,6 +398,7 @@ class FixResult(Record):
                     "critical_speed_m_s": state.critical_speed,
                     "confident_speed_m_s": state.confident_speed,
                     "shimmy_probability": state.shimmy_probability,
+                    "shimmy_probability_mc": state.shimmy_probability_mc,
                     "shimmy_probability_se": state.shimmy_probability_se,
                     "meets_risk_bound": bool(state.meets_risk_bound),
                     "loss_N": state.loss,

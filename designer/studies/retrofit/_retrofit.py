@@ -39,6 +39,7 @@ holds the records and the rule; this module ranks (:func:`fix`) and re-exports t
 from __future__ import annotations
 
 import dataclasses
+import functools
 from dataclasses import dataclass
 
 from typing import Any
@@ -59,6 +60,7 @@ from designer.studies.retrofit._options import (
     combinations,
     part_options,
 )
+from designer.studies.spec import caster_spec, mc_draws
 from designer.studies.retrofit._records import (
     RULE,
     Calibration,
@@ -138,7 +140,7 @@ def fix(
     setting, calibration, base, now = _diagnosis(
         problem, current, inertia, shimmied_at, stem_angle, onset_scatter, samples, seed, measured
     )
-    current_state = setting.state(now, 0, current, inertia)
+    current_state = setting.state(now, 0, current, inertia, exact=setting.exact(base))
     options, sources = part_options(problem, current)
     result = _fix_result(problem, setting, calibration, current_state, stock_offer(problem, options, sources))
     if not measured:  # what measuring the current wheel (accepted at its power-law value) would change
@@ -162,7 +164,8 @@ def _if_measured(
 ) -> dict[str, object]:
     """The same retrofit for the current wheel measured at ``inertia`` [kg·m²] (its power-law value: the worst
     wheel of that size a measurement would accept), the measurement's scatter about it: {"inertia", "needs_fix",
-    "current_shimmy_probability", "current_shimmy_probability_se", "fix" (the top fix or None), "summary"}."""
+    "current_shimmy_probability" (exact law), "current_shimmy_probability_mc" and "_se" (the Monte Carlo beside
+    it), "fix" (the top fix or None), "summary"}."""
     alt = fix(
         problem,
         current,
@@ -178,6 +181,7 @@ def _if_measured(
         "inertia": inertia,
         "needs_fix": alt.needs_fix,
         "current_shimmy_probability": alt.current.shimmy_probability,
+        "current_shimmy_probability_mc": alt.current.shimmy_probability_mc,
         "current_shimmy_probability_se": alt.current.shimmy_probability_se,
         "fix": alt.fixes[0].to_dict() if alt.fixes else None,
         "summary": alt.summary(),
@@ -268,6 +272,7 @@ def _diagnosis(
         problem.weights,
         problem.max_threshold_increase,
         problem.max_turning_increase,
+        problem,
     )
     now = _evaluate(arrays, conditions, stem_angle, factor, bound, setting.limits, setting.monte_carlo)
     return setting, calibration, base, now
@@ -314,6 +319,7 @@ def _fix_states(
     chosen = np.asarray(chosen, dtype=int)
     picked = {key: value[chosen] for key, value in cands.items()}
     values = _evaluate(picked, s.conditions, s.stem_angle, s.factor, s.bound, s.limits, s.monte_carlo)
+    exact = s.exact(picked)
     fixes = []
     for n, j in enumerate(chosen):
         design = Design(
@@ -329,6 +335,7 @@ def _fix_states(
                 changes,
                 price=float(cands["price"][j]),
                 current=current_state,
+                exact=exact[n : n + 1],
             )
         )
     return fixes
@@ -351,6 +358,7 @@ class _Setting:
     weights: tuple[float, float]
     max_increase: float = 0.10
     max_turning: float = 0.10
+    problem: Any = None
 
     def overshoot(self, turning_effort: Any, threshold_force: Any, current: CasterState) -> Any:
         """How far a caster's rises exceed the limits [-]: max(ΔP/P − the sill limit, ΔF/F − the turning limit),
@@ -366,8 +374,17 @@ class _Setting:
 
     @property
     def monte_carlo(self) -> tuple[float, Uncertainty, int, int]:
-        """(V_target [m/s], scatter, samples, seed) of the reported P(shimmy)."""
+        """(V_target [m/s], scatter, samples, seed) of the reported P(shimmy)'s Monte Carlo."""
         return self.v_target, self.report_u, self.samples, self.seed
+
+    def exact(self, arrays: dict) -> np.ndarray:
+        """The reported P(shimmy at V_target) of candidates (arrays) by the exact law (quadrature) under the
+        scatter of the report, on the effective trail, calibrated: the evaluator's ``exact=True``."""
+        arrays = {k: np.atleast_1d(np.asarray(v)) for k, v in arrays.items()}
+        values = _evaluate(
+            arrays, self.conditions, self.stem_angle, self.factor, self.bound, None, self.monte_carlo, True
+        )
+        return np.asarray(values.shimmy_probability, dtype=float)
 
     def state(
         self,
@@ -378,10 +395,13 @@ class _Setting:
         changes=(),
         price: float = 0.0,
         current: CasterState | None = None,
+        exact: Any = None,
     ) -> CasterState:
         """Caster ``j`` of the evaluated ``values`` (with their Monte Carlo) as a :class:`CasterState`; ``price``
         the cost of its parts; ``current`` the caster as it is, which its changes, rises and limits are taken
-        against (None: this is the current caster)."""
+        against (None: this is the current caster); ``exact`` its P(shimmy) by the exact law (an array of one).
+        A fix carries its spec (acceptance limits, :func:`designer.studies.spec.caster_spec`), computed when
+        first asked for."""
         w_turn, w_threshold = self.weights
         f, p = float(values.turning_effort[j]), float(values.threshold_force[j])
         cost_turn = 0.0 if current is None else f - current.turning_effort
@@ -389,6 +409,24 @@ class _Setting:
         increase = 0.0 if current is None else cost_threshold / current.threshold_force
         turning = 0.0 if current is None else cost_turn / current.turning_effort
         within = current is None or bool(self.overshoot(f, p, current) <= 1e-12)
+        p_mc, se = float(values.shimmy_probability[j]), float(values.shimmy_probability_se[j])
+        draws = mc_draws(p_mc, se)
+        measured = bool(values.measured[j])
+        p_exact = float(np.asarray(exact).ravel()[0]) if exact is not None else p_mc
+        spec_of = None
+        if current is not None and self.problem is not None:
+            spec_of = functools.partial(
+                caster_spec,
+                self.problem,
+                design,
+                float(inertia),
+                measured,
+                (p_mc, se, draws, self.seed),
+                law=self.report_u,
+                stem_angle=self.stem_angle,
+                calibration=self.factor,
+                probability=p_exact,
+            )
         return CasterState(
             design=design,
             inertia=float(inertia),
@@ -400,8 +438,12 @@ class _Setting:
             calibrated_critical_speed=float(self.factor * values.critical_speed[j]),
             confident_speed=float(values.confident_speed[j]),
             meets_risk_bound=bool(values.feasible[j]),
-            shimmy_probability=float(values.shimmy_probability[j]),
-            shimmy_probability_se=float(values.shimmy_probability_se[j]),
+            shimmy_probability=p_exact,
+            shimmy_probability_mc=p_mc,
+            shimmy_probability_se=se,
+            mc_samples=draws,
+            mc_seed=self.seed,
+            spec_of=spec_of,
             changes=tuple(changes),
             cost_turning_effort=cost_turn,
             cost_threshold_force=cost_threshold,
@@ -411,7 +453,7 @@ class _Setting:
             turning_increase=turning,
             within_limit=within,
             extrapolated=bool(values.extrapolated[j]),
-            measured=bool(values.measured[j]),
+            measured=measured,
         )
 
 

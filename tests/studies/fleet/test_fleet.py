@@ -535,6 +535,8 @@ def test_fleet_cli_writes_csv_json_and_report(tmp_path, capsys, root):
         "sku_turning_effort_N",
         "sku_threshold_force_N",
         "sku_shimmy_probability",
+        "sku_shimmy_probability_mc",
+        "sku_shimmy_probability_se",
         "knee_regret_N",
         "sku_regret_N",
         "status",
