@@ -102,6 +102,7 @@ def run(args) -> int:
             stem_angle=angle,
             onset_scatter=ONSET_SCATTER if args.onset_scatter is None else args.onset_scatter,
             limit=args.top or None,
+            specs=None if args.json else 1,  # --json: each listed fix's limits; the text: the best fix's
         )
     except InputError as exc:  # name the option the value came from
         text = str(exc)

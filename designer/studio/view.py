@@ -393,7 +393,7 @@ def my_caster(problem, design: Design) -> dict:
     """A caster the user has: its numbers and risk for ``problem`` and the ranked fixes of :func:`designer.fix`."""
     out = {"numbers": design_numbers(problem, design), "fixes": None, "fix_note": None}
 
-    result = _quiet(fix, problem, current=design, limit=FIX_LIMIT)
+    result = _quiet(fix, problem, current=design, limit=FIX_LIMIT, specs=0)  # the list shows no limits
     out["found"] = int(getattr(result, "found", 0) or 0)
     out["command"] = fix_command(getattr(problem, "source", None) or f"{problem.name}.toml", design)
     out["summary"] = result.summary() if hasattr(result, "summary") else ""

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any
 
 from designer.data.paper import BARE_FORK_DAMPING, INCH
 from designer.model import Design
@@ -101,7 +101,8 @@ class CasterState(Record):
     shimmy_probability_mc, shimmy_probability_se : the Monte Carlo's P and its standard error beside it [-] (an
         independent check)
     mc_samples, mc_seed : the Monte Carlo's draws and seed
-    spec : a fix's spec (:class:`designer.studies.spec.Spec`, computed when first asked for): the acceptance
+    spec : a fix's spec (:class:`designer.studies.spec.Spec`; computed by :func:`designer.fix` for its first
+        ``specs`` fixes, else None): the acceptance
         limit of each inspectable part with the others at nominal (trail min and max, groove min, bearing
         friction moment M_f = c_f θ0 min, measured wheel inertia max), from the exact law of the retrofit
         (calibrated, on the effective trail); None for the current caster
@@ -142,18 +143,7 @@ class CasterState(Record):
     within_limit: bool = True
     extrapolated: bool = False
     measured: bool = True
-    spec_of: Callable[[], Spec] | None = field(default=None, repr=False, compare=False)
-
-    @property
-    def spec(self) -> Spec | None:
-        """The fix's :class:`~designer.studies.spec.Spec` (acceptance limits, exact P beside the Monte Carlo),
-        computed on first use and kept; None for the current caster."""
-        if self.spec_of is None:
-            return None
-        if "_spec" not in self.__dict__:
-            object.__setattr__(self, "_spec", self.spec_of())
-        spec: Spec = self.__dict__["_spec"]
-        return spec
+    spec: Spec | None = field(default=None, repr=False, compare=False)
 
     @property
     def parts_changed(self) -> int:

@@ -39,7 +39,6 @@ holds the records and the rule; this module ranks (:func:`fix`) and re-exports t
 from __future__ import annotations
 
 import dataclasses
-import functools
 from dataclasses import dataclass
 
 from typing import Any
@@ -97,6 +96,7 @@ def fix(
     limit: int | None = None,
     samples: int | None = None,
     seed: int | None = None,
+    specs: int | None = 10,
 ) -> FixResult:
     """Diagnose a caster that shimmies and rank the safe changes to it, cheapest first.
 
@@ -114,6 +114,9 @@ def fix(
         back; the effective trail is e + (d/2) sin φ (:func:`effective_trail`)
     onset_scatter : σ of log V_obs [-] (default 0.05)
     limit : keep the first ``limit`` fixes (None: all found)
+    specs : give the first ``specs`` fixes (and the first ``specs`` beyond the limits) their spec, the acceptance
+        limits from the exact law (:func:`designer.studies.spec.caster_spec`: about 0.1 s of CPU a fix); None:
+        every fix kept; 0: none (the studio's list)
     samples, seed : Monte Carlo of the reported P(shimmy) (default: the risk bound's, at least 50 000 draws
         and more until the SE is 0.1 percentage point; its own seed, never one that ranks)
 
@@ -152,8 +155,10 @@ def fix(
     cands, within, beyond, result.searched = _ranked(options, sources, base, setting, current_state)
     result.found, result.found_beyond = len(within), len(beyond)
     keep = slice(None) if limit is None else slice(limit)
+    n_within, n_beyond = len(within[keep]), len(beyond[keep])
+    wanted = np.concatenate([np.arange(n_within), np.arange(n_beyond)]) < (np.inf if specs is None else specs)
     states = _fix_states(
-        setting, current, inertia, current_state, cands, np.concatenate([within[keep], beyond[keep]]), options
+        setting, current, inertia, current_state, cands, np.concatenate([within[keep], beyond[keep]]), options, wanted
     )
     result.fixes, result.beyond = states[: len(within[keep])], states[len(within[keep]) :]
     return result
@@ -312,9 +317,11 @@ def _fix_states(
     cands: dict,
     chosen: np.ndarray,
     options: dict,
+    wanted: np.ndarray,
 ) -> list[CasterState]:
     """Step 3 of :func:`fix`: the chosen candidates as :class:`CasterState` records, in rank order, with their
-    changes, their cost against the current caster and P(shimmy) (the evaluator's batched Monte Carlo)."""
+    changes, their cost against the current caster, P(shimmy) (the evaluator's batched Monte Carlo) and, where
+    ``wanted``, their spec."""
     s = setting
     chosen = np.asarray(chosen, dtype=int)
     picked = {key: value[chosen] for key, value in cands.items()}
@@ -336,6 +343,7 @@ def _fix_states(
                 price=float(cands["price"][j]),
                 current=current_state,
                 exact=exact[n : n + 1],
+                with_spec=bool(wanted[n]),
             )
         )
     return fixes
@@ -396,12 +404,12 @@ class _Setting:
         price: float = 0.0,
         current: CasterState | None = None,
         exact: Any = None,
+        with_spec: bool = False,
     ) -> CasterState:
         """Caster ``j`` of the evaluated ``values`` (with their Monte Carlo) as a :class:`CasterState`; ``price``
         the cost of its parts; ``current`` the caster as it is, which its changes, rises and limits are taken
         against (None: this is the current caster); ``exact`` its P(shimmy) by the exact law (an array of one).
-        A fix carries its spec (acceptance limits, :func:`designer.studies.spec.caster_spec`), computed when
-        first asked for."""
+        With ``with_spec``, a fix carries its spec (acceptance limits, :func:`designer.studies.spec.caster_spec`)."""
         w_turn, w_threshold = self.weights
         f, p = float(values.turning_effort[j]), float(values.threshold_force[j])
         cost_turn = 0.0 if current is None else f - current.turning_effort
@@ -413,10 +421,9 @@ class _Setting:
         draws = mc_draws(p_mc, se)
         measured = bool(values.measured[j])
         p_exact = float(np.asarray(exact).ravel()[0]) if exact is not None else p_mc
-        spec_of = None
-        if current is not None and self.problem is not None:
-            spec_of = functools.partial(
-                caster_spec,
+        spec = None
+        if with_spec and current is not None and self.problem is not None:
+            spec = caster_spec(
                 self.problem,
                 design,
                 float(inertia),
@@ -443,7 +450,7 @@ class _Setting:
             shimmy_probability_se=se,
             mc_samples=draws,
             mc_seed=self.seed,
-            spec_of=spec_of,
+            spec=spec,
             changes=tuple(changes),
             cost_turning_effort=cost_turn,
             cost_threshold_force=cost_threshold,
