@@ -145,9 +145,14 @@ class FrictionPoint(Record):
     _units = {"fold_speed": "m/s", "fold_amplitude": "rad", "stable_amplitude": "rad", "closure": "rad"}
 
     def _repr_lines(self) -> list[str]:
+        stable = (
+            f"stable amplitude {self.stable_amplitude:.4g} rad"
+            if math.isfinite(self.stable_amplitude)
+            else "no stable orbit"
+        )
         return [
             f"FrictionPoint(μ {self.friction_coefficient:g}: fold {_speeds(self.fold_speed)} m/s at "
-            f"{_speeds(self.fold_amplitude)} rad, stable amplitude {_speeds(self.stable_amplitude)} rad)"
+            f"{_speeds(self.fold_amplitude)} rad, {stable})"
         ]
 
 
@@ -179,7 +184,8 @@ class Table1Row(Keyed):
 
     _keys = (
         *("wheel", "name", "inertia", "mass", "measured", "eq7", "rolling_sim", "tyre_sim"),
-        *("rolling_sim_bracket", "tyre_sim_bracket", Key("flagged_below_3.8", "flagged")),
+        *("rolling_sim_bracket", "tyre_sim_bracket"),
+        Key("**", lambda r: {"flagged_below_3.8": list(r.flagged)}),  # a dot in the key: spread, not nested
     )
 
     def prediction(self, key: str) -> float:
