@@ -33,7 +33,8 @@ def _tyre_dict(tyre: TyreParameters | None) -> dict[str, Any] | None:
     }
 
 
-def _speeds(value: float | None) -> str:
+def _number(value: float | None) -> str:
+    """A number to 4 significant digits, "none" for None or NaN (a speed not found, an orbit missing)."""
     return "none" if value is None or not math.isfinite(value) else f"{value:.4g}"
 
 
@@ -96,7 +97,7 @@ class BifurcationDiagram(Record):
         stable = sum(bool(o.stable) for o in self.orbits)
         return [
             f"BifurcationDiagram({self.model}: {len(self.orbits)} orbits ({stable} stable), fold "
-            f"{_speeds(self.fold_speed)} m/s, Eq. 7 V_c {self.eq7_critical_speed:.4g} m/s, max closure "
+            f"{_number(self.fold_speed)} m/s, Eq. 7 V_c {self.eq7_critical_speed:.4g} m/s, max closure "
             f"{self.max_closure:.1e} rad)"
         ]
 
@@ -106,7 +107,7 @@ class BifurcationDiagram(Record):
         return [
             ("tyre", self.model, ""),
             ("orbits (stable)", f"{len(self.orbits)} ({stable})", ""),
-            ("fold speed", _speeds(self.fold_speed), "m/s"),
+            ("fold speed", _number(self.fold_speed), "m/s"),
             ("Eq. 7 V_c", f"{self.eq7_critical_speed:.4g}", "m/s"),
             ("frequency ω (Eq. 15B)", f"{self.frequency:.4g}", "rad/s"),
             (
@@ -151,8 +152,8 @@ class FrictionPoint(Record):
             else "no stable orbit"
         )
         return [
-            f"FrictionPoint(μ {self.friction_coefficient:g}: fold {_speeds(self.fold_speed)} m/s at "
-            f"{_speeds(self.fold_amplitude)} rad, {stable})"
+            f"FrictionPoint(μ {self.friction_coefficient:g}: fold {_number(self.fold_speed)} m/s at "
+            f"{_number(self.fold_amplitude)} rad, {stable})"
         ]
 
 
@@ -366,7 +367,7 @@ class OnsetScan(Record):
 
     def _repr_lines(self) -> list[str]:
         return [
-            f"OnsetScan(onset {_speeds(self.speed)} m/s, {'monotone' if self.monotone else 'islands in speed'}"
+            f"OnsetScan(onset {_number(self.speed)} m/s, {'monotone' if self.monotone else 'islands in speed'}"
             f"{', below the scan' if self.below_scan else ''}, {self.evaluations} simulations)"
         ]
 
@@ -398,8 +399,8 @@ class KnockSafe(Record):
 
     def _repr_lines(self) -> list[str]:
         return [
-            f"KnockSafe({_speeds(self.knock_safe_speed)} m/s for a {math.degrees(self.knock_angle):.3g}° knock, "
-            f"{_speeds(self.knock_safe_speed_double)} m/s for {math.degrees(2 * self.knock_angle):.3g}°)"
+            f"KnockSafe({_number(self.knock_safe_speed)} m/s for a {math.degrees(self.knock_angle):.3g}° knock, "
+            f"{_number(self.knock_safe_speed_double)} m/s for {math.degrees(2 * self.knock_angle):.3g}°)"
         ]
 
 
@@ -464,7 +465,7 @@ class LimitCycleStudy(Record):
         ref = self.bifurcation.stable_at_reference
         amplitude = "none" if ref is None else f"{ref.amplitude:.3g} rad"
         return [
-            f"LimitCycleStudy({'quick' if self.quick else 'full'}): fold {_speeds(self.bifurcation.fold_speed)} m/s, "
+            f"LimitCycleStudy({'quick' if self.quick else 'full'}): fold {_number(self.bifurcation.fold_speed)} m/s, "
             f"stable amplitude at {self.measured_speed:.4g} m/s {amplitude} (measured {self.measured_amplitude:.3g} rad)",
             f"  {len(self.friction)} friction coefficients, {len(self.table1.rows)} Table 1 wheels, "
             f"{len(self.stiffness_mass_map.rows)} map cells, {self.seconds:.0f} s",
@@ -473,12 +474,12 @@ class LimitCycleStudy(Record):
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         ref = self.bifurcation.stable_at_reference
         rows: list[tuple[Any, Any, Any]] = [
-            ("fold speed (brush tyre)", _speeds(self.bifurcation.fold_speed), "m/s"),
+            ("fold speed (brush tyre)", _number(self.bifurcation.fold_speed), "m/s"),
             ("stable amplitude at the measured V_c", "none" if ref is None else f"{ref.amplitude:.4g}", "rad"),
             ("measured V_c", f"{self.measured_speed:.4g}", "m/s"),
             ("measured amplitude", f"{self.measured_amplitude:.4g}", "rad"),
         ]
-        rows += [(f"knock-safe speed {k}", _speeds(v), "m/s") for k, v in self.knock_safe.items()]
+        rows += [(f"knock-safe speed {k}", _number(v), "m/s") for k, v in self.knock_safe.items()]
         rows += [(f"Table 1 RMS error {k}", f"{100 * s.rms:.1f}", "%") for k, s in self.table1.stats.items()]
         return rows
 
