@@ -118,13 +118,15 @@ def price_of_stock(front: Front, recommendation: Recommendation | None) -> dict[
 
 
 def card_knock_safe(problem: Problem, recommendation: Recommendation) -> list[dict[str, float]]:
-    """Knock-safe speeds (θ0 and 2 θ0 knocks) of the recommendation and its alternatives, in card order [m/s]."""
+    """Knock-safe speeds (θ0 and 2 θ0 knocks) of the recommendation and its alternatives, in card order [m/s]: the
+    :class:`~designer.studies.dynamics.limit_cycles.KnockSafe` records as plain dicts (the report data's shape)."""
 
     casters = [recommendation, *(getattr(recommendation, "alternatives", None) or [])]
     # each caster's own I_w (a catalogue or stock wheel's measured one): the I_w its V_c was computed with
-    return knock_safe_speeds(
+    speeds = knock_safe_speeds(
         [c.design for c in casters], problem.conditions, inertias=[getattr(c, "inertia", None) for c in casters]
     )
+    return [k.to_dict() for k in speeds]
 
 
 class _Clock:

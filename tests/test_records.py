@@ -42,9 +42,24 @@ EXPENSIVE = [
 ]
 """Every solver and Monte Carlo entry point: patched to raise while the reprs and attributes are read."""
 
+MODEL = [
+    ("designer.model._candidates", "_evaluate"),
+    ("designer.physics.uncertainty", "shimmy_probability_exact"),
+    ("designer.physics.uncertainty", "max_measured_inertia"),
+    ("designer.physics.uncertainty", "law_draws"),
+    ("designer.studies.dynamics._simulate", "simulate"),
+    ("designer.studies.dynamics._simulate", "onset_speed"),
+    ("designer.studies.dynamics.limit_cycles._system", "_integrate"),
+    ("designer.studies.dynamics.limit_cycles._system", "simulate_knock"),
+    ("designer.studies.dynamics.limit_cycles._orbits", "_integrate"),
+    ("designer.studies.dynamics.limit_cycles._knock", "simulate_knock"),
+]
+"""The model's evaluations besides EXPENSIVE: the evaluator (designer.model.evaluate's body), the risk law's
+quadrature and draws, and the time-domain simulations (onset, knocks, periodic orbits)."""
 
-def _forbid(monkeypatch) -> None:
-    for module, name in EXPENSIVE:
+
+def _forbid(monkeypatch, entries=EXPENSIVE) -> None:
+    for module, name in entries:
         owner = importlib.import_module(module)
         *path, attr = name.split(".")
         for part in path:
@@ -114,6 +129,7 @@ def _recommend_examples(problem) -> dict[str, Record]:
     evaluator's values of a few candidates, with their Monte Carlo risk."""
     from designer.model import evaluate
     from designer.studies.front import pareto_front
+    from designer.studies.optimum import constraint_margins
     from designer.studies.recommend import recommend
 
     front = _quiet(lambda: pareto_front(problem, points=9))
@@ -127,6 +143,7 @@ def _recommend_examples(problem) -> dict[str, Record]:
         "Limit": rec.spec.limits[0],
         "Casters": values,
         "Caster": values.row(2),
+        "ConstraintMargins": constraint_margins(problem, rec.design, problem.evaluate(rec.design)),
     }
 
 
@@ -167,10 +184,12 @@ def _other_examples(problem) -> dict[str, Record]:
     """An exploration (optuna, in memory), its operators and search space, a calibration, a check."""
     from designer.studies.calibrate import EXAMPLES_DIR, calibrate_file
     from designer.studies.checks import check_eq8
-    from designer.studies.explore import Operators, explore, search_space
+    from designer.studies.explore import Operators, compare_fronts, explore, search_space
 
+    exact = np.array([[10.0, 60.0], [12.0, 50.0], [15.0, 45.0]])
     return {
         "ExploreResult": _quiet(lambda: explore(problem, trials=16, seed=0, compare=False)),
+        "FrontComparison": compare_fronts(exact[:2] * 1.01, exact, (16.5, 66.5)),
         "Operators": Operators.for_budget(500),
         "SearchSpace": search_space(load_problem(ROOT / "problems" / "catalog-retrofit.toml")),
         "CalibrationResult": calibrate_file("turning", EXAMPLES_DIR / "turning_tile.csv"),
@@ -186,6 +205,7 @@ def _dynamics_examples(problem) -> dict[str, Record]:
         caster_dynamics,
         continue_orbits,
         knock_onset_speed,
+        knock_safe_speeds,
         simulate_knock,
     )
 
@@ -193,13 +213,125 @@ def _dynamics_examples(problem) -> dict[str, Record]:
     design_c, conditions_c = appendix_c_caster()
     rolling = caster_dynamics(design_c, conditions_c, 2.0, None)
     branch = continue_orbits(rolling, [0.15, 0.16])
+    onset = onset_speed(design, problem.conditions, rtol=0.02)
     return {
         "SimulationResult": simulate(design, problem.conditions, speed=problem.target_speed, duration=1.0),
-        "OnsetResult": onset_speed(design, problem.conditions, rtol=0.02),
+        "OnsetResult": onset,
         "PeriodicOrbit": branch.orbits[0],
         "Branch": branch,
         "KnockResult": simulate_knock(rolling, 0.349, cycles=8, record=True),
         "OnsetBracket": knock_onset_speed(rolling, 0.349, rtol=0.05, cycles=8),
+        "KnockSafe": knock_safe_speeds([design_c], conditions_c)[0],
+        **_limit_cycle_examples(design_c, rolling, branch, onset),
+    }
+
+
+def _limit_cycle_examples(design, rolling, branch, onset) -> dict[str, Record]:
+    """The limit-cycle study's records, built by keyword from the small pieces above (the study itself takes
+    minutes): a rolling-tyre diagram of two orbits, a μ point, Table 1 and the (K, N) map of one cell each."""
+    from designer.physics.tyre import TyreParameters
+    from designer.studies.dynamics import OnsetStudy
+    from designer.studies.dynamics.limit_cycles import (
+        BifurcationDiagram,
+        ErrorStats,
+        FrictionPoint,
+        LimitCycleStudy,
+        MapCell,
+        OnsetScan,
+        RollingLimitCheck,
+        StiffnessMassMap,
+        Table1Comparison,
+        Table1Row,
+    )
+
+    orbit = branch.orbits[0]
+    diagram = BifurcationDiagram(
+        design=design,
+        model="rolling",
+        tyre=None,
+        inertia=rolling.inertia,
+        friction_moment=rolling.friction_moment,
+        frequency=rolling.frequency,
+        eq7_critical_speed=2.53,
+        disturbance_angle=0.349,
+        branches=branch.pieces(),
+        orbits=branch.orbits,
+        fold_speed=float("nan"),
+        reference_speed=2.53,
+        stable_at_reference=None,
+        max_closure=max(o.closure for o in branch.orbits),
+        failed_amplitudes=branch.failed,
+    )
+    point = FrictionPoint(
+        friction_coefficient=0.7,
+        fold_speed=orbit.speed,
+        fold_amplitude=orbit.amplitude,
+        stable_amplitude=float("nan"),
+        max_abs_multiplier=float("nan"),
+        closure=float("nan"),
+    )
+    row = Table1Row(
+        wheel="C",
+        name="wheel C",
+        inertia=rolling.inertia,
+        mass=0.444,
+        measured=2.5,
+        eq7=2.4,
+        rolling_sim=2.45,
+        tyre_sim=2.6,
+        rolling_sim_bracket=[2.44, 2.46],
+        tyre_sim_bracket=[2.59, 2.61],
+        flagged=[],
+    )
+    stats = {k: ErrorStats(rms=0.04, bias=-0.04, max_abs=0.04, n=1) for k in ("eq7", "rolling_sim", "tyre_sim")}
+    table = Table1Comparison(
+        rows=[row], stats=stats, angle=0.349, trail=0.0508, tyre=TyreParameters(load=160.0), stable_up_to=3.8
+    )
+    cell = MapCell(
+        caster="Appendix C",
+        stiffness=rolling.stiffness,
+        lateral_mass=rolling.lateral_mass,
+        stiffness_factor=1.0,
+        mass_factor=1.0,
+        frequency=rolling.frequency,
+        eq7=2.53,
+        measured=2.53,
+        rolling_onset=onset.speed,
+        tyre_onset=float("nan"),
+        tyre_onset_monotone=True,
+        tyre_onset_below_scan=False,
+        stable_amplitude=float("nan"),
+        stable_max_multiplier=float("nan"),
+    )
+    kn = StiffnessMassMap(
+        rows=[cell], stiffness=rolling.stiffness, lateral_mass=rolling.lateral_mass, factors=[1.0], angle=0.349
+    )
+    study = LimitCycleStudy(
+        bifurcation=diagram,
+        rolling=diagram,
+        friction=[point],
+        knock_safe={"rolling_1theta0": 2.4},
+        table1=table,
+        rolling_limit=RollingLimitCheck(
+            factor=30.0, today=onset.speed, tyre_limit=onset.speed, today_bracket=[1, 2], tyre_limit_bracket=[1, 2]
+        ),
+        stiffness_mass_map=kn,
+        measured_speed=2.53,
+        measured_amplitude=0.14,
+        seconds=1.0,
+        quick=True,
+    )
+    onset_row = {"trail_in": 2.0, "onset_speed": onset.speed, "relative_error": onset.relative_error}
+    return {
+        "BifurcationDiagram": diagram,
+        "FrictionPoint": point,
+        "Table1Comparison": table,
+        "StiffnessMassMap": kn,
+        "OnsetScan": OnsetScan(speed=onset.speed, monotone=True, below_scan=False, evaluations=onset.evaluations),
+        "LimitCycleStudy": study,
+        "OnsetStudy": OnsetStudy(
+            rows=[onset_row], summary={"cases": 1, "all": {"min_error": -0.01, "max_error": 0.01}, "seconds": 1.0}
+        ),
     }
 
 
@@ -242,7 +374,17 @@ NAMES = [
     "Branch",
     "KnockResult",
     "OnsetBracket",
+    "KnockSafe",
+    "BifurcationDiagram",
+    "FrictionPoint",
+    "Table1Comparison",
+    "StiffnessMassMap",
+    "OnsetScan",
+    "LimitCycleStudy",
+    "OnsetStudy",
     "ExploreResult",
+    "FrontComparison",
+    "ConstraintMargins",
     "Operators",
     "SearchSpace",
     "CalibrationResult",
@@ -311,6 +453,19 @@ def test_reprs_show_without_computing(examples, name, no_solvers):
     assert 1 <= len(lines) <= MAX_REPR_LINES and all(line.strip() for line in lines)
     html = record._repr_html_()
     assert html.startswith("<div") and "<table" in html
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_str_and_reprs_ask_nothing_of_the_model(examples, name, monkeypatch):
+    """str(), repr() and the HTML of every record (a Solution, a Recommendation, a Front, the limit-cycle study's
+    records, ...) show values the study function computed and stored: with every solver and Monte Carlo
+    (EXPENSIVE), the evaluator, the risk law's quadrature and draws and every time-domain simulation (MODEL)
+    patched to raise, all three run."""
+    _forbid(monkeypatch, EXPENSIVE + MODEL)
+    record = examples[name]
+    assert str(record) and repr(record) and record._repr_html_()
+    for part in [*(getattr(record, "alternatives", None) or ()), *(getattr(record, "points", None) or ())]:
+        assert str(part) and repr(part)
 
 
 POSITIONAL = {"Design": "the design vector x = (T, d, B, c_f) in VARIABLES order, written like a point"}

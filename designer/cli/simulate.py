@@ -168,8 +168,9 @@ def _bifurcation(args, design, conditions, angle: float, tyre) -> dict:
         points=max(3, points // 2),
         max_amplitude=1.5,
     )
+    data = bif.to_dict()
     out = {
-        k: bif[k]
+        k: data[k]
         for k in (
             "branches",
             "fold_speed",
@@ -181,7 +182,7 @@ def _bifurcation(args, design, conditions, angle: float, tyre) -> dict:
             "tyre",
         )
     }
-    out["rolling_branches"] = roll["branches"]
+    out["rolling_branches"] = roll.to_dict()["branches"]
     if args.plot:
         _plot_bifurcation(args.plot, design, angle, bif, roll, top)
         out["plot"] = args.plot
@@ -203,18 +204,18 @@ def _points(args) -> int:
     return points
 
 
-def _plot_bifurcation(path, design, angle: float, bif: dict, roll: dict, top: float) -> None:
+def _plot_bifurcation(path, design, angle: float, bif, roll, top: float) -> None:
     """Draw the bifurcation diagram of ``bif`` (brush tyre) and ``roll`` (rolling tyre) into an image file."""
     from designer.plots.figures import save_figure
 
     if not str(path).lower().endswith((".png", ".svg", ".pdf")):
         raise InputError(f"--plot {path}: expected a .png, .svg or .pdf file name")
     ax = bifurcation_axes(
-        bif["branches"],
-        bif["eq7_critical_speed"],
-        angle / (bif["frequency"] * design.trail),
-        roll["branches"],
-        bif["fold_speed"],
+        bif.branches,
+        bif.eq7_critical_speed,
+        angle / (bif.frequency * design.trail),
+        roll.branches,
+        bif.fold_speed,
         speed_range=(min(0.3, top / 4), top),
         title=design.describe(),
     )
@@ -394,7 +395,7 @@ def _report(args, write_simulation_report) -> int:
             eprint("")
         study = limit_cycle_study(progress=None if args.json else lambda text: eprint(f"limit cycles: {text}"))
         written = limit_cycle_files(study, tmp)
-    summary = result["summary"]
+    summary = result.summary
     if args.json:
         print_json({"report": args.report, "summary": summary})
     else:

@@ -339,7 +339,7 @@ def knock_safe(problem, design: Design) -> dict:
     """The design's knock-safe speeds for knocks of θ0 and 2 θ0 [m/s] (simulated, rolling tyre: the report's
     card, :func:`designer.studies.dynamics.limit_cycles.knock_safe_speeds`); about 0.05–0.1 s of CPU, so on a click only."""
 
-    return _quiet(knock_safe_speeds, [design], problem.conditions)[0]
+    return _quiet(knock_safe_speeds, [design], problem.conditions)[0].to_dict()
 
 
 def drawing_svg(problem, design: Design) -> str | None:

@@ -86,11 +86,12 @@ def fast_simulation_report(monkeypatch):
     import designer.report.limit_cycles as limit_cycles
     import designer.studies.dynamics as dynamics
     from designer.cli.simulate import ONSET_FILES
+    from designer.studies.dynamics import OnsetStudy
 
     def onset_study(out_dir, progress=None, **kw):
         for name in ONSET_FILES:
             (Path(out_dir) / name).write_text(f"onset stand-in {name}\n")
-        return {"summary": {"cases": 0, "all": {"min_error": 0.0, "max_error": 0.0}}}
+        return OnsetStudy(rows=[], summary={"cases": 0, "all": {"min_error": 0.0, "max_error": 0.0}})
 
     def limit_cycle_files(study, folder):
         for name in limit_cycles.FILES:

@@ -1,7 +1,8 @@
 """Render the shimmy-beyond-onset study into results/simulation: CSV, JSON, PNG, Markdown, HTML.
 
-Takes the dict of :func:`designer.studies.dynamics.limit_cycles.limit_cycle_study`; computes nothing but
-summaries of it (ratios, minima and maxima for the text).
+Takes the record of :func:`designer.studies.dynamics.limit_cycles.limit_cycle_study` (a ``LimitCycleStudy``,
+read by its attributes: this room imports no study); computes nothing but summaries of it (ratios, minima and
+maxima for the text).
 
 Modules
 -------
@@ -17,6 +18,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import Any
 
 from designer.textfiles import csv_text, dict_rows
 from designer.jsonsafe import finite, stamped
@@ -77,10 +79,11 @@ def _png(fig, path: Path) -> None:
         plt.close(fig)
 
 
-def _bifurcation_rows(study) -> list[dict]:
+def _bifurcation_rows(study: Any) -> list[dict]:
+    """bifurcation.csv: one row per periodic orbit, brush tyre then rolling tyre."""
     rows = []
-    for model, data in (("brush tyre", study["bifurcation"]), ("rolling tyre", study["rolling"])):
-        for o in data["orbits"]:
+    for model, diagram in (("brush tyre", study.bifurcation), ("rolling tyre", study.rolling)):
+        for o in diagram.to_dict()["orbits"]:
             rows.append(
                 {
                     "model": model,
@@ -96,27 +99,27 @@ def _bifurcation_rows(study) -> list[dict]:
     return rows
 
 
-def _table1_rows(table: dict) -> list[dict]:
+def _table1_rows(table: Any) -> list[dict]:
     """table1.csv: one row per Table 1 wheel, measured and predicted critical speeds [m/s]."""
     trows = []
-    for r in table["rows"]:
+    for r in table.rows:
         trows.append(
             {
-                "wheel": r["wheel"],
-                "name": r["name"],
-                "inertia_kgm2": r["inertia"],
-                "mass_kg": r["mass"],
-                "measured": "" if r["measured"] is None else r["measured"],
-                "eq7": r["eq7"],
-                "rolling_sim": r["rolling_sim"],
-                "tyre_sim": r["tyre_sim"],
-                "flagged_below_3.8": " ".join(r["flagged_below_3.8"]),
+                "wheel": r.wheel,
+                "name": r.name,
+                "inertia_kgm2": r.inertia,
+                "mass_kg": r.mass,
+                "measured": "" if r.measured is None else r.measured,
+                "eq7": r.eq7,
+                "rolling_sim": r.rolling_sim,
+                "tyre_sim": r.tyre_sim,
+                "flagged_below_3.8": " ".join(r.flagged),
             }
         )
     return trows
 
 
-def write_limit_cycle_report(study: dict, out_dir="results/simulation", option: str = "--report") -> list[str]:
+def write_limit_cycle_report(study: Any, out_dir="results/simulation", option: str = "--report") -> list[str]:
     """Write the files of :data:`FILES` into ``out_dir`` from a :func:`limit_cycle_study` result.
 
     Safely (:func:`designer.output.output_folder`): the nine files replace their previous versions at once;
@@ -126,10 +129,11 @@ def write_limit_cycle_report(study: dict, out_dir="results/simulation", option: 
         return limit_cycle_files(study, tmp)
 
 
-def limit_cycle_files(study: dict, folder) -> list[str]:
+def limit_cycle_files(study: Any, folder) -> list[str]:
     """Write the files of :data:`FILES` into ``folder`` as they are (a folder the caller prepared, e.g. the
     temporary folder of :func:`designer.output.output_folder`).  Returns the names written."""
     out = Path(folder)
+    data = study.to_dict()
     _csv(out / "bifurcation.csv", _bifurcation_rows(study))
     (out / "bifurcation.json").write_text(
         json.dumps(
@@ -137,9 +141,9 @@ def limit_cycle_files(study: dict, folder) -> list[str]:
                 "bifurcation.json",
                 finite(
                     {
-                        k: study[k]
+                        k: data[k]
                         for k in ("bifurcation", "rolling", "friction", "knock_safe", "measured", "rolling_limit")
-                        if k in study
+                        if k in data
                     }
                 ),
             ),
@@ -147,10 +151,10 @@ def limit_cycle_files(study: dict, folder) -> list[str]:
         )
     )
     _png(_figures.bifurcation_figure(study), out / "bifurcation.png")
-    _csv(out / "table1.csv", _table1_rows(study["table1"]))
-    _png(_figures.table1_figure(study["table1"]), out / "table1.png")
-    _csv(out / "stiffness_mass_map.csv", study["map"]["rows"])
-    _png(_figures.map_figure(study["map"]), out / "stiffness_mass_map.png")
+    _csv(out / "table1.csv", _table1_rows(study.table1))
+    _png(_figures.table1_figure(study.table1), out / "table1.png")
+    _csv(out / "stiffness_mass_map.csv", data["map"]["rows"])
+    _png(_figures.map_figure(study.stiffness_mass_map), out / "stiffness_mass_map.png")
     blocks = _text(study)
     (out / "limit_cycles.md").write_text(_blocks.to_markdown(blocks))
     (out / "limit_cycles.html").write_text(_blocks.to_html(blocks))

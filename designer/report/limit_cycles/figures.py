@@ -1,10 +1,12 @@
 """The limit-cycle report's three figures: bifurcation diagram, Table 1 comparison, (K, N) map.
 
-Each function picks its arguments out of the study dict and calls the drawing function of
+Each function picks its arguments out of the study record (``LimitCycleStudy`` and its parts, read by attribute) and calls the drawing function of
 :mod:`designer.plots.simulation`; it returns the matplotlib figure (the caller saves it).
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 import numpy as np
 
@@ -24,51 +26,50 @@ def _figure(nrows=1, ncols=1, figsize=(8, 5)):
 def _map_grid(rows, caster, key, factors):
     grid = np.full((len(factors), len(factors)), np.nan)
     for r in rows:
-        if r["caster"] == caster:
-            grid[factors.index(r["K_factor"]), factors.index(r["N_factor"])] = r[key]
+        if r.caster == caster:
+            grid[factors.index(r.stiffness_factor), factors.index(r.mass_factor)] = getattr(r, key)
     return grid
 
 
-def bifurcation_figure(study: dict):
+def bifurcation_figure(study: Any):
     """Periodic orbits against speed, brush and rolling tyre, with Eq. 7, Eq. 29B and the measured point."""
-    bif, roll, meas = study["bifurcation"], study["rolling"], study["measured"]
-    slope = bif["disturbance_angle"] / (bif["frequency"] * bif["design"]["trail"])
+    bif, roll = study.bifurcation, study.rolling
+    slope = bif.disturbance_angle / (bif.frequency * bif.design.trail)
     fig, axes = _figure(1, 1, (9, 5.5))
     bifurcation_axes(
-        bif["branches"],
-        bif["eq7_critical_speed"],
+        bif.branches,
+        bif.eq7_critical_speed,
         slope,
-        rolling_branches=roll["branches"],
-        fold_speed=bif["fold_speed"],
-        measured=(meas["speed"], meas["amplitude"]),
+        rolling_branches=roll.branches,
+        fold_speed=bif.fold_speed,
+        measured=(study.measured_speed, study.measured_amplitude),
         speed_range=(0.3, 4.0),
         ax=axes[0, 0],
         title="Appendix C caster (T = 2.5 in, bare fork, θ0 = 20°): periodic orbits, brush tyre "
-        f"(C = {bif['tyre']['cornering_stiffness']:.0f} N/rad, μ = "
-        f"{bif['tyre']['friction_coefficient']}, L = {bif['tyre']['load']:.0f} N)",
+        f"(C = {bif.tyre.cornering_stiffness:.0f} N/rad, μ = "
+        f"{bif.tyre.friction_coefficient}, L = {bif.tyre.load:.0f} N)",
     )
     fig.tight_layout()
     return fig
 
 
-def table1_figure(table: dict):
+def table1_figure(table: Any):
     """Measured critical speed of each Table 1 wheel against Eq. 7 and the two simulations."""
     fig, axes = _figure(1, 1, (9, 5))
-    st = table["stats"]
+    st = table.stats
     table1_axes(
-        [r["wheel"] for r in table["rows"]],
-        [r["measured"] for r in table["rows"]],
+        [r.wheel for r in table.rows],
+        [r.measured for r in table.rows],
         {
-            f"Eq. 7 (RMS {100 * st['eq7']['rms']:.1f} %, bias {_pct(st['eq7']['bias'])})": [
-                r["eq7"] for r in table["rows"]
+            f"Eq. 7 (RMS {100 * st['eq7'].rms:.1f} %, bias {_pct(st['eq7'].bias)})": [r.eq7 for r in table.rows],
+            f"rolling simulation (RMS {100 * st['rolling_sim'].rms:.1f} %, bias {_pct(st['rolling_sim'].bias)})": [
+                r.rolling_sim for r in table.rows
             ],
-            f"rolling simulation (RMS {100 * st['rolling_sim']['rms']:.1f} %, bias "
-            f"{_pct(st['rolling_sim']['bias'])})": [r["rolling_sim"] for r in table["rows"]],
-            f"brush-tyre simulation (RMS {100 * st['tyre_sim']['rms']:.1f} %, bias {_pct(st['tyre_sim']['bias'])})": [
-                r["tyre_sim"] for r in table["rows"]
+            f"brush-tyre simulation (RMS {100 * st['tyre_sim'].rms:.1f} %, bias {_pct(st['tyre_sim'].bias)})": [
+                r.tyre_sim for r in table.rows
             ],
         },
-        stable_up_to=table["stable_up_to"],
+        stable_up_to=table.stable_up_to,
         ax=axes[0, 0],
     )
     axes[0, 0].set_title(
@@ -79,24 +80,22 @@ def table1_figure(table: dict):
     return fig
 
 
-def map_figure(kn: dict):
+def map_figure(kn: Any):
     """Onsets (both tyres) and the stable amplitude over the (K, N) grid, one row of panels per caster."""
-    factors = list(kn["factors"])
-    casters = list(dict.fromkeys(r["caster"] for r in kn["rows"]))
+    factors = list(kn.factors)
+    casters = list(dict.fromkeys(r.caster for r in kn.rows))
     fig, axes = _figure(len(casters), 3, (15, 4.2 * len(casters)))
     for i, name in enumerate(casters):
-        measured = next(r["measured"] for r in kn["rows"] if r["caster"] == name)
+        measured = next(r.measured for r in kn.rows if r.caster == name)
         default = {
             r_key: next(
-                r[r_key] for r in kn["rows"] if r["caster"] == name and r["K_factor"] == 1.0 and r["N_factor"] == 1.0
+                getattr(r, r_key)
+                for r in kn.rows
+                if r.caster == name and r.stiffness_factor == 1.0 and r.mass_factor == 1.0
             )
             for r_key in ("rolling_onset", "tyre_onset")
         }
-        islands = (
-            _map_grid(kn["rows"], name, "tyre_onset_monotone", factors) == 0
-            if "tyre_onset_monotone" in kn["rows"][0]
-            else None
-        )
+        islands = _map_grid(kn.rows, name, "tyre_onset_monotone", factors) == 0
         for j, (key, label, unit, fmt) in enumerate(
             (
                 ("rolling_onset", "onset, rolling tyre", "m/s", "{:.2f}"),
@@ -107,7 +106,7 @@ def map_figure(kn: dict):
             map_axes(
                 factors,
                 factors,
-                _map_grid(kn["rows"], name, key, factors),
+                _map_grid(kn.rows, name, key, factors),
                 f"{name} (measured {measured:.2f} m/s): {label}",
                 unit,
                 fmt,
@@ -116,6 +115,8 @@ def map_figure(kn: dict):
                 center=default.get(key),
                 marks=islands if key == "tyre_onset" else None,
             )
-    fig.suptitle(f"Unknowns mapped: K0 = {kn['K0']:.0f} N/m, N0 = {kn['N0']:.2f} kg (20° knock)", fontsize=11)
+    fig.suptitle(
+        f"Unknowns mapped: K0 = {kn.stiffness:.0f} N/m, N0 = {kn.lateral_mass:.2f} kg (20° knock)", fontsize=11
+    )
     fig.tight_layout()
     return fig

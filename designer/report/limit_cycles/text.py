@@ -1,12 +1,14 @@
 """The limit-cycle report's text: its sections as blocks (see :mod:`designer.report.limit_cycles.blocks`).
 
-Every sentence is generated from the study dict of :func:`designer.studies.dynamics.limit_cycles.limit_cycle_study`;
-the only arithmetic is summaries of it (ratios, minima and maxima, counts of map cells).
+Every sentence is generated from the study record of :func:`designer.studies.dynamics.limit_cycles.limit_cycle_study`
+(a ``LimitCycleStudy``, read by attribute); the only arithmetic is summaries of it (ratios, minima and maxima, counts
+of map cells).
 """
 
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -19,20 +21,21 @@ def _num(x, spec=".3f") -> str:
     return "none" if x is None or not math.isfinite(x) else format(x, spec)
 
 
-def blocks(study: dict) -> list[tuple]:
+def blocks(study: Any) -> list[tuple]:
     """The report, one section after another: model, periodic orbits, friction, knock-safe speed, Table 1, map."""
+    meas = {"speed": study.measured_speed, "amplitude": study.measured_amplitude}
     B = _model_section(study)
-    B += _orbits_section(study["bifurcation"], study["rolling"], study["measured"])
-    B += _friction_text(study["friction"], study["measured"])
-    B += _knock_section(study["bifurcation"], study["knock_safe"])
-    B += _table1_section(study["table1"])
-    B += _map_section(study["map"])
+    B += _orbits_section(study.bifurcation, study.rolling, meas)
+    B += _friction_text(study.friction, meas)
+    B += _knock_section(study.bifurcation, study.knock_safe)
+    B += _table1_section(study.table1)
+    B += _map_section(study.stiffness_mass_map)
     return B
 
 
-def _model_section(study: dict) -> list[tuple]:
+def _model_section(study: Any) -> list[tuple]:
     """Title, provenance, the model (tyres, constants) and the rolling-limit check."""
-    tyre = study["bifurcation"]["tyre"]
+    tyre = study.bifurcation.tyre
     B: list[tuple] = [("h1", "Shimmy beyond onset: tyre saturation, limit cycles, Table 1, the unknowns K and N")]
     B.append(
         (
@@ -52,28 +55,28 @@ def _model_section(study: dict) -> list[tuple]:
             "(Eq. 6B, the *rolling* model, `designer simulate`), and a brush tyre whose contact may slip: "
             "F = −C σ + C²σ|σ|/(3μL) − C³σ³/(27μ²L²), saturating at μL for |σ| ≥ 3μL/C, with slip "
             "σ = (X' + Tθ' + Vθ)/V and the wheel mass M_W at the contact (`designer.physics.tyre`). "
-            f"C = {tyre['cornering_stiffness']:.0f} N/rad is the paper's K_s (Fig. 3C: the tyre held at "
+            f"C = {tyre.cornering_stiffness:.0f} N/rad is the paper's K_s (Fig. 3C: the tyre held at "
             "fixed angles to a treadmill belt, i.e. a cornering stiffness); μ = "
-            f"{tyre['friction_coefficient']} is estimated from the paper's turning data (Fig. 7A: 0.005 m "
-            f"of sliding moment per newton of load); L = {tyre['load']:.0f} N (Fig. 3C). K and N are not in "
+            f"{tyre.friction_coefficient} is estimated from the paper's turning data (Fig. 7A: 0.005 m "
+            f"of sliding moment per newton of load); L = {tyre.load:.0f} N (Fig. 3C). K and N are not in "
             "the paper (N = 0.5 kg guessed, K fitted to ω = 104.7 rad/s): mapped below.",
         )
     )
-    if "rolling_limit" in study:
-        rl = study["rolling_limit"]
+    rl = study.rolling_limit
+    if rl is not None:
         B.append(
             (
                 "p",
-                f"Rolling limit: with the saturation removed and C × {rl['factor']:.0f}, the onset of the "
-                f"20° knock on the Appendix C caster is {rl['tyre_limit']:.4f} m/s against "
-                f"{rl['today']:.4f} m/s for today's `designer.studies.dynamics._simulate` ({_pct(rl['tyre_limit'] / rl['today'] - 1)}"
+                f"Rolling limit: with the saturation removed and C × {rl.factor:.0f}, the onset of the "
+                f"20° knock on the Appendix C caster is {rl.tyre_limit:.4f} m/s against "
+                f"{rl.today:.4f} m/s for today's `designer.studies.dynamics._simulate` ({_pct(rl.tyre_limit / rl.today - 1)}"
                 "; brackets 0.2 %); the test suite checks it to 0.5 %.",
             )
         )
     return B
 
 
-def _orbits_section(bif: dict, roll: dict, meas: dict) -> list[tuple]:
+def _orbits_section(bif: Any, roll: Any, meas: dict) -> list[tuple]:
     """Periodic orbits, the bifurcation diagram and the stable amplitude against the measured one."""
     B: list[tuple] = [("h2", "Periodic orbits and the bifurcation diagram (Appendix C caster)")]
     B.append(
@@ -83,38 +86,38 @@ def _orbits_section(bif: dict, roll: dict, meas: dict) -> list[tuple]:
             "(Newton on the half-period map G = −H with the amplitude as parameter and the speed as "
             "unknown, so the branch is followed round its fold; the stable branch is then swept in "
             "speed). Every orbit is integrated over one full period without the symmetry: the largest "
-            f"closure error is {bif['max_closure']:.1e} rad (brush tyre) and {roll['max_closure']:.1e} rad "
+            f"closure error is {bif.max_closure:.1e} rad (brush tyre) and {roll.max_closure:.1e} rad "
             "(rolling tyre). Stability from the Floquet multipliers (squared eigenvalues of DG by central "
             "differences); the tests confirm them by perturbed simulations.",
         )
     )
     B.append(("img", "bifurcation.png", "bifurcation diagram"))
-    sref = bif["stable_at_reference"]
+    sref = bif.stable_at_reference
     unstable_near = min(
-        (o for o in bif["orbits"] if not o["stable"]), key=lambda o: abs(o["speed"] - meas["speed"]), default=None
+        (o for o in bif.orbits if not o.stable), key=lambda o: abs(o.speed - meas["speed"]), default=None
     )
     lines = [
         "Rolling tyre: only unstable orbits (every multiplier set has one outside the unit circle), "
         "amplitude ∝ 1/V as the describing function says; above it a knock grows without bound.",
-        f"Brush tyre: the unstable branch (knock threshold) folds at V = {_num(bif['fold_speed'], '.2f')} m/s "
+        f"Brush tyre: the unstable branch (knock threshold) folds at V = {_num(bif.fold_speed, '.2f')} m/s "
         "into a stable branch (sustained shimmy). With Coulomb friction the rest state is always stable, so "
-        f"above {_num(bif['fold_speed'], '.2f')} m/s rest and shimmy coexist: the hysteresis region; the knock "
+        f"above {_num(bif.fold_speed, '.2f')} m/s rest and shimmy coexist: the hysteresis region; the knock "
         "decides which one the caster takes, and once shimmying it keeps going down to the fold speed.",
     ]
     if unstable_near is not None:
         lines.append(
-            f"Unstable orbit nearest {meas['speed']} m/s: A = {unstable_near['amplitude']:.3f} rad at "
-            f"{unstable_near['speed']:.2f} m/s, |multipliers| max {unstable_near['max_abs_multiplier']:.3f}, "
-            f"closure {unstable_near['closure']:.1e} rad."
+            f"Unstable orbit nearest {meas['speed']} m/s: A = {unstable_near.amplitude:.3f} rad at "
+            f"{unstable_near.speed:.2f} m/s, |multipliers| max {float(np.max(np.abs(unstable_near.multipliers))):.3f}, "
+            f"closure {unstable_near.closure:.1e} rad."
         )
     if sref is not None:
-        ratio = sref["amplitude"] / meas["amplitude"]
+        ratio = sref.amplitude / meas["amplitude"]
         lines.append(
-            f"**Stable amplitude at {meas['speed']} m/s: {sref['amplitude']:.3f} rad = "
-            f"{math.degrees(sref['amplitude']):.0f}°, against the measured {meas['amplitude']} rad = 8° "
+            f"**Stable amplitude at {meas['speed']} m/s: {sref.amplitude:.3f} rad = "
+            f"{math.degrees(sref.amplitude):.0f}°, against the measured {meas['amplitude']} rad = 8° "
             f"(Fig. 1C): {ratio:.1f} × too large ({_pct(ratio - 1)}).** Floquet multipliers |λ| "
-            f"{', '.join(f'{math.hypot(*m):.3f}' for m in sref['multipliers'])}, closure "
-            f"{sref['closure']:.1e} rad, frequency {sref['frequency']:.1f} rad/s (Eq. 15B 104.7)."
+            f"{', '.join(f'{math.hypot(float(m.real), float(m.imag)):.3f}' for m in sref.multipliers)}, closure "
+            f"{sref.closure:.1e} rad, frequency {sref.frequency:.1f} rad/s (Eq. 15B 104.7)."
         )
     else:
         lines.append(f"No stable orbit was reached at {meas['speed']} m/s from knocks of 0.15–2.4 rad.")
@@ -122,7 +125,7 @@ def _orbits_section(bif: dict, roll: dict, meas: dict) -> list[tuple]:
     return B
 
 
-def _friction_text(fric, meas) -> list[tuple]:
+def _friction_text(fric: list, meas: dict) -> list[tuple]:
     out = [
         (
             "p",
@@ -133,12 +136,12 @@ def _friction_text(fric, meas) -> list[tuple]:
     ]
     rows = [
         [
-            f"{r['friction_coefficient']:g}",
-            _num(r.get("fold_speed", math.nan), ".2f"),
-            _num(r.get("fold_amplitude", math.nan)),
-            _num(r["stable_amplitude"]),
-            _num(math.degrees(r["stable_amplitude"]) if math.isfinite(r["stable_amplitude"]) else math.nan, ".1f"),
-            _num(r["max_abs_multiplier"]),
+            f"{r.friction_coefficient:g}",
+            _num(r.fold_speed, ".2f"),
+            _num(r.fold_amplitude),
+            _num(r.stable_amplitude),
+            _num(math.degrees(r.stable_amplitude) if math.isfinite(r.stable_amplitude) else math.nan, ".1f"),
+            _num(r.max_abs_multiplier),
         ]
         for r in fric
     ]
@@ -156,24 +159,24 @@ def _friction_text(fric, meas) -> list[tuple]:
             rows,
         )
     )
-    found = [r for r in fric if math.isfinite(r["stable_amplitude"])]
-    folds = [r for r in fric if math.isfinite(r.get("fold_speed", math.nan))]
+    found = [r for r in fric if math.isfinite(r.stable_amplitude)]
+    folds = [r for r in fric if math.isfinite(r.fold_speed)]
     text = []
     if folds:
-        prod = [r["fold_speed"] * r["fold_amplitude"] for r in folds]
+        prod = [r.fold_speed * r.fold_amplitude for r in folds]
         text.append(
             f"Fold speed × fold amplitude stays at {min(prod):.2f}–{max(prod):.2f} rad·m/s over μ = "
-            f"{folds[0]['friction_coefficient']:g}–{folds[-1]['friction_coefficient']:g}: a smaller μ gives "
+            f"{folds[0].friction_coefficient:g}–{folds[-1].friction_coefficient:g}: a smaller μ gives "
             "a smaller sustained shimmy but moves its lowest speed up."
         )
     if found:
-        best = min(found, key=lambda r: r["stable_amplitude"])
-        none = [r["friction_coefficient"] for r in fric if not math.isfinite(r["stable_amplitude"])]
+        best = min(found, key=lambda r: r.stable_amplitude)
+        none = [r.friction_coefficient for r in fric if not math.isfinite(r.stable_amplitude)]
         text.append(
             f"The smallest sustained amplitude at {meas['speed']} m/s over these μ is "
-            f"{best['stable_amplitude']:.3f} rad = {math.degrees(best['stable_amplitude']):.0f}° (μ = "
-            f"{best['friction_coefficient']:g}), "
-            f"{best['stable_amplitude'] / meas['amplitude']:.1f} × the measured 8°"
+            f"{best.stable_amplitude:.3f} rad = {math.degrees(best.stable_amplitude):.0f}° (μ = "
+            f"{best.friction_coefficient:g}), "
+            f"{best.stable_amplitude / meas['amplitude']:.1f} × the measured 8°"
             + (
                 f"; for μ ≤ {max(none):g} no stable cycle exists at {meas['speed']} m/s (the fold lies above it)"
                 if none
@@ -181,15 +184,15 @@ def _friction_text(fric, meas) -> list[tuple]:
             )
             + "."
         )
-        floor = min(r["fold_speed"] * r["fold_amplitude"] for r in folds) / meas["speed"] if folds else math.nan
-        mu07 = next((r for r in fric if r["friction_coefficient"] == 0.7), None)
+        floor = min(r.fold_speed * r.fold_amplitude for r in folds) / meas["speed"] if folds else math.nan
+        mu07 = next((r for r in fric if r.friction_coefficient == 0.7), None)
         text.append(
             "So tyre saturation does produce a stable limit cycle, but not the measured one: since fold "
             "speed × fold amplitude does not fall below the value above, no μ sustains a shimmy smaller "
             f"than about {floor:.2f} rad = {math.degrees(floor):.0f}° at {meas['speed']} m/s"
             + (
-                f", and with a polyurethane tyre's μ ≈ 0.7 it is {math.degrees(mu07['stable_amplitude']):.0f}°"
-                if mu07 is not None and math.isfinite(mu07["stable_amplitude"])
+                f", and with a polyurethane tyre's μ ≈ 0.7 it is {math.degrees(mu07.stable_amplitude):.0f}°"
+                if mu07 is not None and math.isfinite(mu07.stable_amplitude)
                 else ""
             )
             + ", outside the small-angle model. Other limiting mechanisms (frame and fork "
@@ -200,16 +203,16 @@ def _friction_text(fric, meas) -> list[tuple]:
     return out
 
 
-def _knock_section(bif: dict, ks: dict) -> list[tuple]:
+def _knock_section(bif: Any, ks: dict) -> list[tuple]:
     """Knock-safe speeds of the Appendix C caster for knocks of θ0 and 2θ0, both tyres."""
-    theta0 = bif["disturbance_angle"]
+    theta0 = bif.disturbance_angle
     B: list[tuple] = [("h2", "Knock-safe speed")]
     B.append(
         (
             "p",
             "The highest speed at which a knock decays (low end of a 0.5 % bisection bracket of simulated "
             f"knocks; `designer.knock_safe_speed(design, conditions, angle=None)`). Appendix C caster, Eq. 7 "
-            f"V_c = {bif['eq7_critical_speed']:.2f} m/s:",
+            f"V_c = {bif.eq7_critical_speed:.2f} m/s:",
         )
     )
     B.append(
@@ -240,31 +243,29 @@ def _knock_section(bif: dict, ks: dict) -> list[tuple]:
     return B
 
 
-def _table1_section(table: dict) -> list[tuple]:
+def _table1_section(table: Any) -> list[tuple]:
     """Table 1: measured critical speeds against Eq. 7 and both simulations, errors, the flagged wheels."""
-    st = table["stats"]
+    st = table.stats
     B: list[tuple] = [("h2", "Table 1")]
     B.append(
         (
             "p",
             "Test fork, T = 2 in, bare fork c_f = 1.3 N·m/rad, B = 0, each wheel's I_w and mass, "
-            f"L = {table['load']:.0f} N, 20° knock. Errors over wheels C–G (prediction/measured − 1).",
+            f"L = {table.tyre.load:.0f} N, 20° knock. Errors over wheels C–G (prediction/measured − 1).",
         )
     )
     B.append(("img", "table1.png", "Table 1 comparison"))
     rows = []
-    for r in table["rows"]:
+    for r in table.rows:
         rows.append(
             [
-                r["wheel"],
-                f"{r['inertia'] * 1e3:.2f}e-3",
-                "stable to 3.8" if r["measured"] is None else f"{r['measured']:.2f}",
-                f"{r['eq7']:.2f}",
-                f"{r['rolling_sim']:.2f}",
-                f"{r['tyre_sim']:.2f}",
-                ("**predicted below 3.8: " + ", ".join(r["flagged_below_3.8"]) + "**")
-                if r["flagged_below_3.8"]
-                else "",
+                r.wheel,
+                f"{r.inertia * 1e3:.2f}e-3",
+                "stable to 3.8" if r.measured is None else f"{r.measured:.2f}",
+                f"{r.eq7:.2f}",
+                f"{r.rolling_sim:.2f}",
+                f"{r.tyre_sim:.2f}",
+                ("**predicted below 3.8: " + ", ".join(r.flagged) + "**") if r.flagged else "",
             ]
         )
     B.append(
@@ -275,12 +276,12 @@ def _table1_section(table: dict) -> list[tuple]:
             "table",
             ["prediction", "RMS", "bias", "max |error|"],
             [
-                [k, f"{100 * st[k]['rms']:.1f} %", _pct(st[k]["bias"]), f"{100 * st[k]['max_abs']:.1f} %"]
+                [k, f"{100 * st[k].rms:.1f} %", _pct(st[k].bias), f"{100 * st[k].max_abs:.1f} %"]
                 for k in ("eq7", "rolling_sim", "tyre_sim")
             ],
         )
     )
-    flagged = [r for r in table["rows"] if r["flagged_below_3.8"]]
+    flagged = [r for r in table.rows if r.flagged]
     if flagged:
         names = {"eq7": "Eq. 7", "rolling_sim": "rolling simulation", "tyre_sim": "brush-tyre simulation"}
         B.append(
@@ -288,17 +289,17 @@ def _table1_section(table: dict) -> list[tuple]:
                 "p",
                 "**Flag:** "
                 + "; ".join(
-                    f"wheel {r['wheel']} was measured stable up to {table['stable_up_to']} m/s but is predicted to shimmy "
+                    f"wheel {r.wheel} was measured stable up to {table.stable_up_to} m/s but is predicted to shimmy "
                     "below it by "
                     + ", ".join(
-                        f"{names[k]} ({r[k]:.2f} m/s, {_pct(r[k] / table['stable_up_to'] - 1)})"
-                        for k in r["flagged_below_3.8"]
+                        f"{names[k]} ({r.prediction(k):.2f} m/s, {_pct(r.prediction(k) / table.stable_up_to - 1)})"
+                        for k in r.flagged
                     )
                     for r in flagged
                 )
                 + ". The measurement contradicts these predictions; the shortfall is inside the "
-                f"models' scatter on C–G (RMS {100 * min(v['rms'] for v in st.values()):.0f}–"
-                f"{100 * max(v['rms'] for v in st.values()):.0f} %).",
+                f"models' scatter on C–G (RMS {100 * min(v.rms for v in st.values()):.0f}–"
+                f"{100 * max(v.rms for v in st.values()):.0f} %).",
             )
         )
     else:
@@ -306,14 +307,14 @@ def _table1_section(table: dict) -> list[tuple]:
     return B
 
 
-def _map_section(kn: dict) -> list[tuple]:
+def _map_section(kn: Any) -> list[tuple]:
     """The unknowns K and N mapped: what moves over the grid and what does not."""
     B: list[tuple] = [("h2", "The unknowns K and N mapped")]
     B.append(
         (
             "p",
-            f"Frame stiffness K and lateral mass N each × {', '.join(f'{f:g}' for f in kn['factors'])} "
-            f"around K0 = {kn['K0']:.0f} N/m and N0 = {kn['N0']:.2f} kg; onset of the 20° knock with both "
+            f"Frame stiffness K and lateral mass N each × {', '.join(f'{f:g}' for f in kn.factors)} "
+            f"around K0 = {kn.stiffness:.0f} N/m and N0 = {kn.lateral_mass:.2f} kg; onset of the 20° knock with both "
             "tyres and the stable amplitude (brush tyre) at the caster's measured critical speed.",
         )
     )
@@ -325,25 +326,25 @@ def _map_section(kn: dict) -> list[tuple]:
 
 def _map_summary(kn) -> list[str]:
     lines = []
-    rows = kn["rows"]
-    for name in dict.fromkeys(r["caster"] for r in rows):
-        sel = [r for r in rows if r["caster"] == name]
-        base = next(r for r in sel if r["K_factor"] == 1.0 and r["N_factor"] == 1.0)
+    rows = kn.rows
+    for name in dict.fromkeys(r.caster for r in rows):
+        sel = [r for r in rows if r.caster == name]
+        base = next(r for r in sel if r.stiffness_factor == 1.0 and r.mass_factor == 1.0)
         for key, label in (("rolling_onset", "rolling-tyre onset"), ("tyre_onset", "brush-tyre onset")):
-            v = np.array([r[key] for r in sel], float)
+            v = np.array([getattr(r, key) for r in sel], float)
             lines.append(
                 f"{name}: {label} {np.nanmin(v):.2f}–{np.nanmax(v):.2f} m/s over the grid "
-                f"(default {base[key]:.2f}; measured {base['measured']:.2f}; Eq. 7 {base['eq7']:.2f}); "
-                f"within ±10 % of the default in {int(np.sum(np.abs(v / base[key] - 1) <= 0.10))} of "
+                f"(default {getattr(base, key):.2f}; measured {base.measured:.2f}; Eq. 7 {base.eq7:.2f}); "
+                f"within ±10 % of the default in {int(np.sum(np.abs(v / getattr(base, key) - 1) <= 0.10))} of "
                 f"{v.size} cells"
             )
-        a = np.array([r["stable_amplitude"] for r in sel], float)
+        a = np.array([r.stable_amplitude for r in sel], float)
         none = int(np.sum(~np.isfinite(a)))
         lines.append(
-            f"{name}: stable amplitude at {base['measured']:.2f} m/s "
+            f"{name}: stable amplitude at {base.measured:.2f} m/s "
             f"{_num(np.nanmin(a) if np.isfinite(a).any() else math.nan, '.2f')}–"
             f"{_num(np.nanmax(a) if np.isfinite(a).any() else math.nan, '.2f')} rad "
-            f"(default {_num(base['stable_amplitude'], '.2f')}); no stable cycle in {none} of {a.size} "
+            f"(default {_num(base.stable_amplitude, '.2f')}); no stable cycle in {none} of {a.size} "
             "cells; smallest "
             f"{_num(math.degrees(np.nanmin(a)) if np.isfinite(a).any() else math.nan, '.0f')}° "
             "against the measured 8°"
@@ -352,31 +353,29 @@ def _map_summary(kn) -> list[str]:
 
 
 def _map_conclusions(kn) -> list[tuple]:
-    rows = kn["rows"]
+    rows = kn.rows
     lines = []
     roll_ok = tyre_ok = total = 0
-    for name in dict.fromkeys(r["caster"] for r in rows):
-        sel = [r for r in rows if r["caster"] == name]
-        base = next(r for r in sel if r["K_factor"] == 1.0 and r["N_factor"] == 1.0)
+    for name in dict.fromkeys(r.caster for r in rows):
+        sel = [r for r in rows if r.caster == name]
+        base = next(r for r in sel if r.stiffness_factor == 1.0 and r.mass_factor == 1.0)
         total += len(sel)
-        roll_ok += sum(abs(r["rolling_onset"] / base["rolling_onset"] - 1) <= 0.10 for r in sel)
-        tyre_ok += sum(
-            math.isfinite(r["tyre_onset"]) and abs(r["tyre_onset"] / base["tyre_onset"] - 1) <= 0.10 for r in sel
-        )
-    islands = [r for r in rows if not r.get("tyre_onset_monotone", True)]
-    amps = np.array([r["stable_amplitude"] for r in rows], float)
+        roll_ok += sum(abs(r.rolling_onset / base.rolling_onset - 1) <= 0.10 for r in sel)
+        tyre_ok += sum(math.isfinite(r.tyre_onset) and abs(r.tyre_onset / base.tyre_onset - 1) <= 0.10 for r in sel)
+    islands = [r for r in rows if not r.tyre_onset_monotone]
+    amps = np.array([r.stable_amplitude for r in rows], float)
     lines.append(
         f"Robust to the guesses: the rolling-tyre (paper's) onset stays within ±10 % of its default in "
         f"{roll_ok} of {total} cells; the conclusions drawn from Eq. 7 and from `designer simulate` do "
         "not hinge on K and N."
     )
-    quiet = [r for r in rows if not math.isfinite(r["tyre_onset"])]
+    quiet = [r for r in rows if not math.isfinite(r.tyre_onset)]
     lines.append(
         f"Dependent on the guesses: the brush-tyre onset is within ±10 % of its default in {tyre_ok} of "
         f"{total} cells; it rises steeply on a stiff frame"
         + (
             f", and in {len(quiet)} cells ("
-            + ", ".join(f"{r['caster']} K×{r['K_factor']:g} N×{r['N_factor']:g}" for r in quiet)
+            + ", ".join(f"{r.caster} K×{r.stiffness_factor:g} N×{r.mass_factor:g}" for r in quiet)
             + ") the 20° knock is not sustained anywhere in the scan up to 4 × the measured speed"
             if quiet
             else ""

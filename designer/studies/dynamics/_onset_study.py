@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.textfiles import csv_text, dict_rows
+from designer.studies.dynamics._result import OnsetStudy
 from designer.studies.dynamics._simulate import onset_speed, simulate
 from designer.data.paper import INCH
 from designer.model import Conditions, Design, critical_speed
@@ -97,7 +98,7 @@ def write_simulation_report(
     damping: float = 1.3,
     rtol: float = 0.005,
     progress=None,
-) -> dict:
+) -> OnsetStudy:
     """Write the simulated-onset vs Eq. 7 comparison to ``out_dir``.
 
     Files: ``onset.csv`` and ``onset.json`` (one row per case of
@@ -117,8 +118,9 @@ def write_simulation_report(
 
     Returns
     -------
-    dict
-        ``rows`` (list of dicts) and ``summary`` (error statistics).
+    OnsetStudy
+        ``rows`` (list of dicts) and ``summary`` (error statistics); ``to_dict()`` gives the dict this function
+        returned before.
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -164,7 +166,7 @@ def write_simulation_report(
     write_file(
         out / "report.md", _report_markdown(rows, summary), "--report", "report.md", kind=ONSET_KINDS["report.md"]
     )
-    return {"rows": rows, "summary": summary}
+    return OnsetStudy(rows=rows, summary=summary)
 
 
 def _appendix_c(conditions: Conditions, rtol: float):

@@ -233,3 +233,43 @@ class OnsetResult(Record):
 
     def _html_title(self) -> str:
         return "Simulated shimmy onset beside Eq. 7"
+
+
+@dataclass(frozen=True, kw_only=True)
+class OnsetStudy(Record):
+    """The simulated-onset study of ``designer simulate --report`` (:func:`write_simulation_report`): what it wrote
+    into onset.csv, onset.json and report.md.
+
+    Attributes
+    ----------
+    rows : one dict per case of the grid (trail [in], I_w [kg·m²], groove [in], knock [deg], Eq. 7's V_c and
+        the simulated onset [m/s], its bracket, the relative error [-], the amplitudes [rad] and frequencies
+        [rad/s] simulated and predicted, the simulations run): the columns of onset.csv
+    summary : error statistics by group of cases, the Appendix C case, the conditions, ``cases`` and the run's
+        wall time ``seconds`` [s] (onset.json's ``summary`` without the time)
+    """
+
+    rows: list[dict[str, Any]]
+    summary: dict[str, Any]
+
+    _units = {"summary.seconds": "s"}
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the cases and the range of the simulated onset's error against Eq. 7."""
+        a = self.summary.get("all") or {}
+        spread = (
+            f": simulated onset vs Eq. 7 {100 * a['min_error']:+.1f} % to {100 * a['max_error']:+.1f} %"
+            if {"min_error", "max_error"} <= set(a)
+            else ""
+        )
+        return [f"OnsetStudy({len(self.rows)} cases{spread})"]
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        a = self.summary.get("all") or {}
+        rows: list[tuple[Any, Any, Any]] = [("cases", str(len(self.rows)), "")]
+        if {"min_error", "max_error"} <= set(a):
+            rows.append(("onset error vs Eq. 7", f"{100 * a['min_error']:+.1f} to {100 * a['max_error']:+.1f}", "%"))
+        return rows
+
+    def _html_title(self) -> str:
+        return "Simulated shimmy onset vs Eq. 7 (the report's grid)"

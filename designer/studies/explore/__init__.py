@@ -85,6 +85,7 @@ from designer.studies.explore._result import (
     CATEGORICAL,
     CSV_COLUMNS,
     ExploreResult,
+    FrontComparison,
     compare_fronts,
     versions,
 )
@@ -123,6 +124,7 @@ __all__ = [
     "category_label",
     "category_problem",
     "compare_fronts",
+    "FrontComparison",
     "explore",
     "lineage",
     "open_storage",

@@ -256,7 +256,62 @@ def _exact_front(problem: Problem) -> dict[str, Any] | None:
     return {"points": pts, "reference_point": ref}
 
 
-def compare_fronts(explored: np.ndarray, exact: np.ndarray, reference: Sequence[float]) -> dict[str, Any]:
+NORMALISATION_NOTE = (
+    "(f - ideal)/(nadir - ideal) with the exact front's ideal and nadir; HV in N² "
+    "and normalised with the exact front's reference point (nadir + 10 % of its "
+    "extent, i.e. (1.1, 1.1) normalised); IGD+ normalised"
+)
+"""How explore.json's comparison normalises (its ``normalisation.note``)."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class FrontComparison(Record):
+    """An explored front against the exact one (:func:`compare_fronts`): explore.json's ``comparison``.
+
+    Attributes
+    ----------
+    hypervolume_explored, hypervolume_exact : HV of each front with the same reference point [N²]
+    hypervolume_explored_normalised, hypervolume_exact_normalised : the same on normalised objectives [-]
+    hypervolume_ratio : explored / exact [-] (NaN when the exact HV is 0)
+    igd_plus : IGD+ of the explored front to the exact one, normalised [-]
+    reference_point : HV reference (F_turn, P) [N]
+    ideal, nadir : the exact front's ideal and nadir (F_turn, P) [N]; reference_normalised : the reference
+        normalised by them [-] (``normalisation.ideal``, ``.nadir``, ``.reference_normalised``, with a note)
+    exact_points : points of the exact front
+    """
+
+    hypervolume_explored: float
+    hypervolume_exact: float
+    hypervolume_explored_normalised: float
+    hypervolume_exact_normalised: float
+    hypervolume_ratio: float
+    igd_plus: float
+    reference_point: list[float]
+    ideal: list[float]
+    nadir: list[float]
+    reference_normalised: list[float]
+    exact_points: int
+
+    _keys = (
+        *("hypervolume_explored", "hypervolume_exact", "hypervolume_explored_normalised"),
+        *("hypervolume_exact_normalised", "hypervolume_ratio", "igd_plus", "reference_point"),
+        *(Key("normalisation.ideal", "ideal"), Key("normalisation.nadir", "nadir")),
+        Key("normalisation.reference_normalised", "reference_normalised"),
+        Key("normalisation.note", lambda c: NORMALISATION_NOTE),
+        "exact_points",
+    )
+    """explore.json's ``comparison`` keys."""
+
+    _units = {"hypervolume_explored": "N²", "hypervolume_exact": "N²"}
+
+    def _repr_lines(self) -> list[str]:
+        return [
+            f"FrontComparison(HV ratio {self.hypervolume_ratio:.4g}, IGD+ {self.igd_plus:.3g} (normalised), "
+            f"{self.exact_points} exact points)"
+        ]
+
+
+def compare_fronts(explored: np.ndarray, exact: np.ndarray, reference: Sequence[float]) -> FrontComparison:
     """Explored vs exact front: hypervolume with the same reference, ratio, IGD+ (normalised).
 
     Parameters
@@ -266,9 +321,10 @@ def compare_fronts(explored: np.ndarray, exact: np.ndarray, reference: Sequence[
 
     Returns
     -------
-    dict with ``hypervolume_explored`` and ``hypervolume_exact`` [N²], their
+    FrontComparison with ``hypervolume_explored`` and ``hypervolume_exact`` [N²], their
     ``hypervolume_ratio``, ``igd_plus`` on objectives normalised by the exact
-    front's ideal and nadir, ``reference_point`` and ``normalisation``.
+    front's ideal and nadir, ``reference_point`` and the normalisation; ``to_dict()`` is the dict this
+    function returned before (explore.json's ``comparison``).
     """
     exact = np.asarray(exact, float).reshape(-1, 2)
     explored = np.asarray(explored, float).reshape(-1, 2)
@@ -276,21 +332,16 @@ def compare_fronts(explored: np.ndarray, exact: np.ndarray, reference: Sequence[
     hv_exact = hypervolume_2d(exact, reference)
     hv = hypervolume_2d(explored, reference)
     ref_n = normalise(np.asarray(reference, float)[None, :], ideal, nadir)[0]
-    return {
-        "hypervolume_explored": hv,
-        "hypervolume_exact": hv_exact,
-        "hypervolume_explored_normalised": hypervolume_2d(normalise(explored, ideal, nadir), ref_n),
-        "hypervolume_exact_normalised": hypervolume_2d(normalise(exact, ideal, nadir), ref_n),
-        "hypervolume_ratio": hv / hv_exact if hv_exact > 0 else float("nan"),
-        "igd_plus": igd_plus(normalise(explored, ideal, nadir), normalise(exact, ideal, nadir)),
-        "reference_point": [float(v) for v in reference],
-        "normalisation": {
-            "ideal": ideal.tolist(),
-            "nadir": nadir.tolist(),
-            "reference_normalised": ref_n.tolist(),
-            "note": "(f - ideal)/(nadir - ideal) with the exact front's ideal and nadir; HV in N² "
-            "and normalised with the exact front's reference point (nadir + 10 % of its "
-            "extent, i.e. (1.1, 1.1) normalised); IGD+ normalised",
-        },
-        "exact_points": len(exact),
-    }
+    return FrontComparison(
+        hypervolume_explored=float(hv),
+        hypervolume_exact=float(hv_exact),
+        hypervolume_explored_normalised=float(hypervolume_2d(normalise(explored, ideal, nadir), ref_n)),
+        hypervolume_exact_normalised=float(hypervolume_2d(normalise(exact, ideal, nadir), ref_n)),
+        hypervolume_ratio=float(hv / hv_exact) if hv_exact > 0 else float("nan"),
+        igd_plus=float(igd_plus(normalise(explored, ideal, nadir), normalise(exact, ideal, nadir))),
+        reference_point=[float(v) for v in reference],
+        ideal=ideal.tolist(),
+        nadir=nadir.tolist(),
+        reference_normalised=ref_n.tolist(),
+        exact_points=len(exact),
+    )

@@ -372,7 +372,7 @@ def _collect(problem, space, study, complete, ops, refine, exact, reference) -> 
     objs = np.array([[r["turning_effort"], r["threshold_force"]] for r in overall], float).reshape(-1, 2)
     comparison = {}
     if exact is not None and "points" in exact:
-        comparison = compare_fronts(objs, exact["points"], exact["reference_point"])
+        comparison = compare_fronts(objs, exact["points"], exact["reference_point"]).to_dict()
     elif exact is not None:
         comparison = {"note": exact["note"]}
     return dict(

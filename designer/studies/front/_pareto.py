@@ -66,7 +66,7 @@ def _points(
         if values is not None and i in ok:
             row = values.row(ok.index(i))
             f, p, v = row["turning_effort"], row["threshold_force"], row["critical_speed"]
-            margins, _ = constraint_margins(problem, design, row)
+            margins = constraint_margins(problem, design, row).margins
         else:
             f, p, v = (float(a) for a in found.objectives[i])
             margins = {}

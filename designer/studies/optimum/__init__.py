@@ -7,6 +7,12 @@ _optimise  :func:`optimise` (multi-start NLP, GP and SLSQP cross-checks) and its
 
 from __future__ import annotations
 
-from designer.studies.optimum._optimise import Solution, constraint_margins, diagnose_infeasible, optimise
+from designer.studies.optimum._optimise import (
+    ConstraintMargins,
+    Solution,
+    constraint_margins,
+    diagnose_infeasible,
+    optimise,
+)
 
-__all__ = ["Solution", "constraint_margins", "diagnose_infeasible", "optimise"]
+__all__ = ["ConstraintMargins", "Solution", "constraint_margins", "diagnose_infeasible", "optimise"]

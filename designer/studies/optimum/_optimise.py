@@ -273,10 +273,42 @@ class Solution(Record):
         return "\n".join(lines)
 
 
-def constraint_margins(
-    problem: Problem, design: Design, values: Mapping[str, Any]
-) -> tuple[dict[str, float], list[str]]:
-    """Margins (>= 0 feasible) of every constraint and bound, and the active ones."""
+@dataclass(frozen=True, kw_only=True)
+class ConstraintMargins(Record):
+    """The margins of a design against its problem's constraints and bounds (:func:`constraint_margins`).
+
+    Attributes
+    ----------
+    margins : {name: margin}, >= 0 when met: ``shimmy`` (the speed held with the problem's confidence minus the
+        required speed) [m/s], ``swept_radius`` [m] when the problem limits it, ``<variable>.min`` and
+        ``<variable>.max`` of every free variable (SI: m, N·m/rad)
+    active : the names whose margin is within :data:`ACTIVE_TOL` of zero (relative to the required speed, the
+        swept-radius limit or the bound)
+    """
+
+    margins: dict[str, float]
+    active: list[str]
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the smallest margin and the active names."""
+        if not self.margins:
+            return ["ConstraintMargins(none)"]
+        name = min(self.margins, key=lambda k: self.margins[k])
+        return [
+            f"ConstraintMargins({len(self.margins)}: smallest {name} {self.margins[name]:+.4g} "
+            f"{_margin_unit(name)}; active {', '.join(self.active) or 'none'})"
+        ]
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        return [
+            (name + (" (active)" if name in self.active else ""), f"{value:+.4g}", _margin_unit(name))
+            for name, value in self.margins.items()
+        ]
+
+
+def constraint_margins(problem: Problem, design: Design, values: Mapping[str, Any]) -> ConstraintMargins:
+    """Margins (>= 0 feasible) of every constraint and bound, and the active ones (``to_dict()``: ``margins`` and
+    ``active``; the function returned them as a pair before)."""
     margins = {"shimmy": values["confident_speed"] - problem.required_speed}
     if problem.swept_radius_max is not None:
         margins["swept_radius"] = problem.swept_radius_max - values["swept_radius"]
@@ -293,7 +325,7 @@ def constraint_margins(
         ref = scale.get(name, max(abs(problem.bounds[name.split(".")[0]].high), 1e-3) if "." in name else 1.0)
         if abs(margin) <= ACTIVE_TOL * ref:
             active.append(name)
-    return margins, active
+    return ConstraintMargins(margins={k: float(v) for k, v in margins.items()}, active=active)
 
 
 @one_solve_at_a_time
@@ -353,7 +385,8 @@ def _optimise(problem: Problem, weights: Sequence[float] | None, cross_check: bo
     variant = found.problem
     # the optimum by the model's evaluator; its risk (Monte Carlo at V_req) when the problem has a bound
     values = variant.evaluate(design, weights=w, risk=None if problem.risk is None else problem.required_speed)
-    margins, active = constraint_margins(variant, design, values)
+    held = constraint_margins(variant, design, values)
+    margins, active = held.margins, held.active
     objectives = {
         "turning_effort": values.turning_effort,
         "threshold_force": values.threshold_force,

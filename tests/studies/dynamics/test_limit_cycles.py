@@ -255,13 +255,20 @@ def test_fast_knock_safe_speed_matches_the_dop853_bisection():
 
 
 def test_knock_safe_speeds_for_the_card():
-    """knock_safe_speeds gives, per design, the θ0 and 2 θ0 knock-safe speeds [m/s] (the 2 θ0 one lower) and
-    the knock angle, for the card of the report and the studio."""
-    from designer.studies.dynamics.limit_cycles import knock_safe_speeds
+    """knock_safe_speeds gives, per design, a KnockSafe record: the θ0 and 2 θ0 knock-safe speeds [m/s] (the 2 θ0
+    one lower) and the knock angle, for the card of the report and the studio (which read its to_dict())."""
+    from designer.studies.dynamics.limit_cycles import KnockSafe, knock_safe_speeds
 
     rows = knock_safe_speeds([DESIGN_C], COND_C)
     assert len(rows) == 1
     row = rows[0]
-    assert row["knock_angle"] == pytest.approx(COND_C.disturbance_angle)
-    assert row["knock_safe_speed"] == pytest.approx(TODAY_ONSET_C, rel=0.006)
-    assert 0 < row["knock_safe_speed_double"] < 0.9 * row["knock_safe_speed"]
+    assert isinstance(row, KnockSafe)
+    assert row.knock_angle == pytest.approx(COND_C.disturbance_angle)
+    assert row.knock_safe_speed == pytest.approx(TODAY_ONSET_C, rel=0.006)
+    assert 0 < row.knock_safe_speed_double < 0.9 * row.knock_safe_speed
+    assert row.to_dict() == {
+        "knock_angle": row.knock_angle,
+        "knock_safe_rtol": 0.005,
+        "knock_safe_speed": row.knock_safe_speed,
+        "knock_safe_speed_double": row.knock_safe_speed_double,
+    }

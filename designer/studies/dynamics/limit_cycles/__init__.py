@@ -28,6 +28,7 @@ T (N F + M_W K X)/(N + M_W) (tyre); the caster sticks while it is at most M_f.
 Docs: docs/limit-cycles.md.  Modules: :mod:`~designer.studies.dynamics.limit_cycles._system` (equations,
 integration, knocks), :mod:`~designer.studies.dynamics.limit_cycles._records` (the knocks' records),
 :mod:`~designer.studies.dynamics.limit_cycles._knock` (onset, knock-safe speed),
+:mod:`~designer.studies.dynamics.limit_cycles._results` (the records the studies return),
 :mod:`~designer.studies.dynamics.limit_cycles._orbits` (periodic orbits), :mod:`~designer.studies.dynamics.limit_cycles._studies`
 (bifurcation diagram, Table 1, (K, N) map).
 
@@ -44,6 +45,19 @@ period from it (closure) and by perturbed simulations.
 from __future__ import annotations
 
 from designer.studies.dynamics.limit_cycles._records import KnockResult, OnsetBracket
+from designer.studies.dynamics.limit_cycles._results import (
+    BifurcationDiagram,
+    ErrorStats,
+    FrictionPoint,
+    KnockSafe,
+    LimitCycleStudy,
+    MapCell,
+    OnsetScan,
+    RollingLimitCheck,
+    StiffnessMassMap,
+    Table1Comparison,
+    Table1Row,
+)
 from designer.studies.dynamics.limit_cycles._system import (
     CasterDynamics,
     _extrema,
@@ -83,6 +97,17 @@ __all__ = [
     "OnsetBracket",
     "PeriodicOrbit",
     "Branch",
+    "BifurcationDiagram",
+    "ErrorStats",
+    "FrictionPoint",
+    "KnockSafe",
+    "LimitCycleStudy",
+    "MapCell",
+    "OnsetScan",
+    "RollingLimitCheck",
+    "StiffnessMassMap",
+    "Table1Comparison",
+    "Table1Row",
     "MAP_FACTORS",
     "caster_dynamics",
     "simulate_knock",

@@ -5,9 +5,9 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Iterable
-from typing import Any
 
 from designer.studies.dynamics.limit_cycles._records import OnsetBracket
+from designer.studies.dynamics.limit_cycles._results import KnockSafe, OnsetScan
 from designer.studies.dynamics.limit_cycles._system import CasterDynamics, caster_dynamics, simulate_knock
 from designer.errors import InputError, SolverError
 from designer.studies.dynamics._work import bounded
@@ -138,7 +138,7 @@ def knock_safe_speeds(
     conditions: Conditions = Conditions(),
     rtol: float = 0.005,
     inertias: Iterable[float | None] | None = None,
-) -> list[dict[str, Any]]:
+) -> list[KnockSafe]:
     """Knock-safe speeds of a few designs (the recommendation card): knocks of θ0 and 2 θ0, rolling tyre.
 
     Each design costs two bisections of :func:`knock_safe_speed` with the closed-form integration (about
@@ -155,52 +155,60 @@ def knock_safe_speeds(
 
     Returns
     -------
-    list of dict
+    list of KnockSafe
         One per design: ``knock_safe_speed`` (θ0 knock) and ``knock_safe_speed_double`` (2 θ0 knock; None
         when 2 θ0 ≥ 90°) [m/s] (None with ``knock_safe_error`` when the onset could not be bracketed),
-        ``knock_angle`` θ0 [rad], ``knock_safe_rtol`` [-].
+        ``knock_angle`` θ0 [rad], ``knock_safe_rtol`` [-]; ``to_dict()`` gives the dict of before.
     """
     theta0 = float(conditions.disturbance_angle)
     items = list(designs)
     known: list[float | None] = [None] * len(items) if inertias is None else list(inertias)
-    out: list[dict[str, Any]] = []
+    out: list[KnockSafe] = []
     for design, inertia in zip(items, known):
         cond = conditions
         if inertia is not None and math.isfinite(float(inertia)):
             cond = conditions.replace(inertia=Fixed(float(inertia)))
-        row: dict[str, Any] = {"knock_angle": theta0, "knock_safe_rtol": rtol}
-        for key, factor in (("knock_safe_speed", 1.0), ("knock_safe_speed_double", 2.0)):
-            row[key] = None
+        speeds: list[float | None] = []
+        error = None
+        for factor in (1.0, 2.0):
+            speeds.append(None)
             if factor * theta0 >= math.pi / 2:
                 continue
             try:
-                row[key] = knock_safe_speed(design, cond, angle=factor * theta0, rtol=rtol)
+                speeds[-1] = knock_safe_speed(design, cond, angle=factor * theta0, rtol=rtol)
             except SolverError as exc:
-                row["knock_safe_error"] = str(exc)
-        out.append(row)
+                error = str(exc)
+        out.append(
+            KnockSafe(
+                knock_angle=theta0,
+                knock_safe_rtol=rtol,
+                knock_safe_speed=speeds[0],
+                knock_safe_speed_double=speeds[1],
+                knock_safe_error=error,
+            )
+        )
     return out
 
 
-def scanned_onset_speed(
-    sys: CasterDynamics, angle: float, speeds: Iterable[float], rtol: float = 0.01
-) -> dict[str, Any]:
+def scanned_onset_speed(sys: CasterDynamics, angle: float, speeds: Iterable[float], rtol: float = 0.01) -> OnsetScan:
     """Lowest speed at which a knock θ_i [rad] is sustained, from a scan over ``speeds`` [m/s] then bisection.
 
     Unlike :func:`knock_onset_speed` it does not assume one transition: the brush tyre on a stiff frame has
     islands of shimmy in speed.  Islands narrower than the scan spacing can be missed.
 
-    Returns {"speed" [m/s] (NaN if sustained nowhere in the scan), "monotone" (sustained at every scanned
-    speed above the first), "below_scan" (sustained already at the lowest scanned speed), "evaluations"}.
+    Returns an :class:`OnsetScan`: ``speed`` [m/s] (NaN if sustained nowhere in the scan), ``monotone``
+    (sustained at every scanned speed above the first), ``below_scan`` (sustained already at the lowest scanned
+    speed), ``evaluations``.
     """
     scan = [float(v) for v in speeds]
     outcomes = [simulate_knock(sys.at(v), angle).shimmy for v in scan]
     n = len(scan)
     if not any(outcomes):
-        return {"speed": math.nan, "monotone": True, "below_scan": False, "evaluations": n}
+        return OnsetScan(speed=math.nan, monotone=True, below_scan=False, evaluations=n)
     k = outcomes.index(True)
     monotone = all(outcomes[k:])
     if k == 0:
-        return {"speed": scan[0], "monotone": monotone, "below_scan": True, "evaluations": n}
+        return OnsetScan(speed=scan[0], monotone=monotone, below_scan=True, evaluations=n)
     low, high = scan[k - 1], scan[k]
     while high / low - 1 > rtol:
         mid = math.sqrt(low * high)
@@ -209,4 +217,4 @@ def scanned_onset_speed(
             high = mid
         else:
             low = mid
-    return {"speed": math.sqrt(low * high), "monotone": monotone, "below_scan": False, "evaluations": n}
+    return OnsetScan(speed=math.sqrt(low * high), monotone=monotone, below_scan=False, evaluations=n)

@@ -17,6 +17,18 @@ from designer.studies.dynamics.limit_cycles._orbits import (
     continue_orbits,
     speed_sweep,
 )
+from designer.studies.dynamics.limit_cycles._results import (
+    BifurcationDiagram,
+    ErrorStats,
+    FrictionPoint,
+    LimitCycleStudy,
+    MapCell,
+    RollingLimitCheck,
+    StiffnessMassMap,
+    Table1Comparison,
+    Table1Row,
+    max_abs_multiplier,
+)
 from designer.data.paper import (
     APPENDIX_C_CASE,
     BARE_FORK_DAMPING,
@@ -47,7 +59,7 @@ def bifurcation_diagram(
     points: int = 24,
     max_amplitude: float = 3.0,
     progress=None,
-) -> dict:
+) -> BifurcationDiagram:
     """Periodic orbits against speed: amplitude of the unstable (knock threshold) and stable (sustained
     shimmy) branches, with their Floquet multipliers.
 
@@ -67,11 +79,12 @@ def bifurcation_diagram(
 
     Returns
     -------
-    dict
+    BifurcationDiagram
         ``branches`` [{"kind": "stable" | "unstable", "speed": [m/s], "amplitude": [rad]}],
-        ``orbits`` (each orbit's speed, amplitude, period, multipliers, closure), ``fold_speed`` [m/s]
-        (lowest speed of a periodic orbit: below it every knock decays), ``eq7_critical_speed`` [m/s],
-        ``frequency`` (Eq. 15B) [rad/s], ``stable_at_reference`` (orbit dict or None), ``max_closure`` [rad].
+        ``orbits`` (each a :class:`PeriodicOrbit`: speed, amplitude, period, multipliers, closure),
+        ``fold_speed`` [m/s] (lowest speed of a periodic orbit: below it every knock decays),
+        ``eq7_critical_speed`` [m/s], ``frequency`` (Eq. 15B) [rad/s], ``stable_at_reference`` (an orbit or
+        None), ``max_closure`` [rad]; ``to_dict()`` gives the dict this function returned before.
     """
     lo, hi = (float(v) for v in speed_range)
     if not 0 < lo < hi:
@@ -101,23 +114,23 @@ def bifurcation_diagram(
     branches = _branch_dicts(unstable_part) + _branch_dicts(stable_all)
     every = unstable_part + stable_all
     fold = min((o.speed for o in every), default=math.nan) if stable_orbits or fold_part else math.nan
-    return {
-        "design": design.to_dict(),
-        "model": "rolling" if tyre is None else "brush tyre",
-        "tyre": None if tyre is None else _tyre_dict(tyre),
-        "inertia": inertia,
-        "friction_moment": sys.friction_moment,
-        "frequency": sys.frequency,
-        "eq7_critical_speed": v7,
-        "disturbance_angle": float(conditions.disturbance_angle),
-        "branches": branches,
-        "orbits": [o.to_dict() for o in every],
-        "fold_speed": fold,
-        "reference_speed": ref,
-        "stable_at_reference": None if stable_ref is None else stable_ref.to_dict(),
-        "max_closure": max((o.closure for o in every), default=math.nan),
-        "failed_amplitudes": unstable.failed,
-    }
+    return BifurcationDiagram(
+        design=design,
+        model="rolling" if tyre is None else "brush tyre",
+        tyre=tyre,
+        inertia=float(inertia),
+        friction_moment=float(sys.friction_moment),
+        frequency=float(sys.frequency),
+        eq7_critical_speed=v7,
+        disturbance_angle=float(conditions.disturbance_angle),
+        branches=branches,
+        orbits=every,
+        fold_speed=float(fold),
+        reference_speed=ref,
+        stable_at_reference=stable_ref,
+        max_closure=float(max((o.closure for o in every), default=math.nan)),
+        failed_amplitudes=[float(a) for a in unstable.failed],
+    )
 
 
 def _stable_branch(sys, tyre, ref: float, lo: float, hi: float, points: int):
@@ -135,25 +148,14 @@ def _stable_branch(sys, tyre, ref: float, lo: float, hi: float, points: int):
     return stable_ref, stable_orbits
 
 
-def _tyre_dict(tyre: TyreParameters) -> dict:
-    """The brush tyre's parameters as a record (SI)."""
-    return {
-        "cornering_stiffness": tyre.cornering_stiffness,
-        "friction_coefficient": tyre.friction_coefficient,
-        "load": tyre.load,
-        "wheel_mass": tyre.wheel_mass,
-        "saturation": tyre.saturation,
-    }
-
-
-def _stats(pred, meas) -> dict:
+def _stats(pred, meas) -> ErrorStats:
     e = np.asarray(pred, float) / np.asarray(meas, float) - 1
-    return {
-        "rms": float(np.sqrt(np.mean(e**2))),
-        "bias": float(np.mean(e)),
-        "max_abs": float(np.max(np.abs(e))),
-        "n": int(e.size),
-    }
+    return ErrorStats(
+        rms=float(np.sqrt(np.mean(e**2))),
+        bias=float(np.mean(e)),
+        max_abs=float(np.max(np.abs(e))),
+        n=int(e.size),
+    )
 
 
 def table1_comparison(
@@ -162,7 +164,7 @@ def table1_comparison(
     angle: float | None = None,
     rtol: float = 0.005,
     progress=None,
-) -> dict:
+) -> Table1Comparison:
     """Table 1 (test fork, T = 2 in, bare fork c_f = 1.3, B = 0): measured onset, Eq. 7, the rolling
     simulation (the paper's model, Coulomb friction) and the brush-tyre simulation, from the same knock.
 
@@ -172,9 +174,10 @@ def table1_comparison(
 
     Returns
     -------
-    dict
-        ``rows`` (per wheel: key, inertia, mass, measured, eq7, rolling_sim, tyre_sim (+ brackets),
-        flagged) and ``stats`` {eq7, rolling_sim, tyre_sim: {rms, bias, max_abs, n}}.
+    Table1Comparison
+        ``rows`` (per wheel a :class:`Table1Row`: key, inertia, mass, measured, eq7, rolling_sim, tyre_sim
+        (+ brackets), flagged) and ``stats`` {eq7, rolling_sim, tyre_sim: :class:`ErrorStats` (rms, bias,
+        max_abs, n)}; ``to_dict()`` gives the dict this function returned before.
     """
 
     theta = float(conditions.disturbance_angle if angle is None else angle)
@@ -199,34 +202,30 @@ def table1_comparison(
         predicted = {"eq7": v7, "rolling_sim": rolling.speed, "tyre_sim": slipping.speed}
         flagged = [k for k, v in predicted.items() if wheel.critical_speed is None and v < TABLE1_STABLE_UP_TO]
         rows.append(
-            {
-                "wheel": wheel.key,
-                "name": wheel.name,
-                "inertia": wheel.inertia,
-                "mass": wheel.mass,
-                "measured": wheel.critical_speed,
-                **predicted,
-                "rolling_sim_bracket": [rolling.low, rolling.high],
-                "tyre_sim_bracket": [slipping.low, slipping.high],
-                "flagged_below_3.8": flagged,
-            }
+            Table1Row(
+                wheel=wheel.key,
+                name=wheel.name,
+                inertia=wheel.inertia,
+                mass=wheel.mass,
+                measured=wheel.critical_speed,
+                eq7=v7,
+                rolling_sim=rolling.speed,
+                tyre_sim=slipping.speed,
+                rolling_sim_bracket=[rolling.low, rolling.high],
+                tyre_sim_bracket=[slipping.low, slipping.high],
+                flagged=flagged,
+            )
         )
         if progress is not None:
             progress(i + 1, len(TABLE1))
-    measured = [r for r in rows if r["measured"] is not None]
+    measured = [r for r in rows if r.measured is not None]
     stats = {
-        k: _stats([r[k] for r in measured], [r["measured"] for r in measured])
+        k: _stats([r.prediction(k) for r in measured], [r.measured for r in measured])
         for k in ("eq7", "rolling_sim", "tyre_sim")
     }
-    return {
-        "rows": rows,
-        "stats": stats,
-        "angle": theta,
-        "trail": TABLE1_TRAIL,
-        "load": tyre.load,
-        "tyre": {"cornering_stiffness": tyre.cornering_stiffness, "friction_coefficient": tyre.friction_coefficient},
-        "stable_up_to": TABLE1_STABLE_UP_TO,
-    }
+    return Table1Comparison(
+        rows=rows, stats=stats, angle=theta, trail=TABLE1_TRAIL, tyre=tyre, stable_up_to=TABLE1_STABLE_UP_TO
+    )
 
 
 MAP_FACTORS = (0.25, 1.0, 4.0)
@@ -241,7 +240,7 @@ def stiffness_mass_map(
     angle: float | None = None,
     rtol: float = 0.01,
     progress=None,
-) -> dict:
+) -> StiffnessMassMap:
     """Onset and sustained amplitude over a grid of frame stiffness K and lateral mass N.
 
     For each caster and each (K, N) = (f_K K0, f_N N0): the knock onset with the rolling tyre (bisection from
@@ -258,9 +257,10 @@ def stiffness_mass_map(
 
     Returns
     -------
-    dict
-        ``rows`` (caster, K, N, f_K, f_N, ω, rolling_onset, tyre_onset, stable_amplitude, eq7) and the
-        defaults ``K0``, ``N0``.
+    StiffnessMassMap
+        ``rows`` (a :class:`MapCell` each: caster, K, N, f_K, f_N, ω, rolling_onset, tyre_onset,
+        stable_amplitude, eq7) and the defaults K0 (``stiffness``), N0 (``lateral_mass``); ``to_dict()`` gives
+        the dict this function returned before.
     """
 
     K0, N0 = float(conditions.dynamics.stiffness), float(conditions.dynamics.lateral_mass)
@@ -284,30 +284,29 @@ def stiffness_mass_map(
                 t = tyre.replace(wheel_mass=mass)
                 sys_t = caster_dynamics(design, cond, 1.0, t)
                 scan = scanned_onset_speed(sys_t, theta, np.geomspace(0.2, 4.0, 13) * measured, rtol=rtol)
-                onset_t = scan["speed"]
                 orb = _find_stable(sys_t.at(measured))
                 rows.append(
-                    {
-                        "caster": name,
-                        "K": K0 * fk,
-                        "N": N0 * fn,
-                        "K_factor": fk,
-                        "N_factor": fn,
-                        "frequency": sys_t.frequency,
-                        "eq7": v7,
-                        "measured": measured,
-                        "rolling_onset": rolling,
-                        "tyre_onset": onset_t,
-                        "tyre_onset_monotone": scan["monotone"],
-                        "tyre_onset_below_scan": scan["below_scan"],
-                        "stable_amplitude": math.nan if orb is None else orb.amplitude,
-                        "stable_max_multiplier": math.nan if orb is None else float(np.max(np.abs(orb.multipliers))),
-                    }
+                    MapCell(
+                        caster=name,
+                        stiffness=K0 * fk,
+                        lateral_mass=N0 * fn,
+                        stiffness_factor=fk,
+                        mass_factor=fn,
+                        frequency=sys_t.frequency,
+                        eq7=v7,
+                        measured=measured,
+                        rolling_onset=rolling,
+                        tyre_onset=scan.speed,
+                        tyre_onset_monotone=scan.monotone,
+                        tyre_onset_below_scan=scan.below_scan,
+                        stable_amplitude=math.nan if orb is None else orb.amplitude,
+                        stable_max_multiplier=max_abs_multiplier(orb),
+                    )
                 )
                 done += 1
                 if progress is not None:
                     progress(done, total)
-    return {"rows": rows, "K0": K0, "N0": N0, "factors": list(factors), "angle": theta}
+    return StiffnessMassMap(rows=rows, stiffness=K0, lateral_mass=N0, factors=list(factors), angle=theta)
 
 
 def map_casters() -> dict:
@@ -333,11 +332,12 @@ def friction_sensitivity(
     speed: float,
     coefficients=(0.1, 0.15, 0.2, 0.3, 0.5, 0.7, 1.0),
     tyre: TyreParameters = TyreParameters(),
-) -> list[dict]:
+) -> list[FrictionPoint]:
     """Fold and stable shimmy amplitude for several tyre friction coefficients μ [-].
 
     For each μ: the orbit branch followed in amplitude (0.03–3 rad); the fold (lowest speed of any orbit
-    [m/s] and its amplitude [rad], the smallest sustained shimmy) and the stable amplitude at ``speed``.
+    [m/s] and its amplitude [rad], the smallest sustained shimmy) and the stable amplitude at ``speed``:
+    one :class:`FrictionPoint` per μ (``to_dict()``: the dict this function gave before).
     """
     rows = []
     for mu in coefficients:
@@ -347,14 +347,14 @@ def friction_sensitivity(
         fold = min(branch.orbits, key=lambda o: o.speed) if stable else None
         orb = _find_stable(sys, angles=(0.6, 1.2, 0.3, 2.4, 0.15))
         rows.append(
-            {
-                "friction_coefficient": float(mu),
-                "fold_speed": math.nan if fold is None else fold.speed,
-                "fold_amplitude": math.nan if fold is None else fold.amplitude,
-                "stable_amplitude": math.nan if orb is None else orb.amplitude,
-                "max_abs_multiplier": math.nan if orb is None else float(np.max(np.abs(orb.multipliers))),
-                "closure": math.nan if orb is None else orb.closure,
-            }
+            FrictionPoint(
+                friction_coefficient=float(mu),
+                fold_speed=math.nan if fold is None else fold.speed,
+                fold_amplitude=math.nan if fold is None else fold.amplitude,
+                stable_amplitude=math.nan if orb is None else orb.amplitude,
+                max_abs_multiplier=max_abs_multiplier(orb),
+                closure=math.nan if orb is None else orb.closure,
+            )
         )
     return rows
 
@@ -367,12 +367,13 @@ def appendix_c_caster() -> tuple[Design, Conditions]:
     return Design(case.trail, 0.2, 0.0, BARE_FORK_DAMPING), Conditions(inertia=Fixed(i_c))
 
 
-def limit_cycle_study(progress=None, quick: bool = False) -> dict:
+def limit_cycle_study(progress=None, quick: bool = False) -> LimitCycleStudy:
     """Everything the results/simulation limit-cycle report shows; minutes of CPU.
 
     Appendix C caster: bifurcation diagrams (brush tyre and rolling tyre), stable amplitude against the
     measured 8° and its dependence on μ, knock-safe speeds (θ0, 2θ0); Table 1 comparison; (K, N) map.
-    ``quick`` uses a 3 × 3 map and fewer orbits (for checking the pipeline, not for results).
+    ``quick`` uses a 3 × 3 map and fewer orbits (for checking the pipeline, not for results).  Returns a
+    :class:`LimitCycleStudy` (``to_dict()``: the dict this function returned before).
     """
 
     def say(text):
@@ -411,13 +412,13 @@ def limit_cycle_study(progress=None, quick: bool = False) -> dict:
         rtol=0.002,
         guess=today.speed,
     )
-    rolling_limit = {
-        "factor": factor,
-        "today": today.speed,
-        "tyre_limit": limit.speed,
-        "today_bracket": [today.low, today.high],
-        "tyre_limit_bracket": [limit.low, limit.high],
-    }
+    rolling_limit = RollingLimitCheck(
+        factor=factor,
+        today=today.speed,
+        tyre_limit=limit.speed,
+        today_bracket=[today.low, today.high],
+        tyre_limit_bracket=[limit.low, limit.high],
+    )
     say("Table 1")
     table = table1_comparison(rtol=0.01 if quick else 0.005)
     say("(K, N) map")
@@ -426,15 +427,16 @@ def limit_cycle_study(progress=None, quick: bool = False) -> dict:
         factors=(0.25, 1.0, 4.0) if quick else MAP_FACTORS,
         progress=None if progress is None else (lambda i, n: progress(f"map {i}/{n}")),
     )
-    return {
-        "bifurcation": bif,
-        "rolling": roll,
-        "friction": fric,
-        "knock_safe": knock,
-        "table1": table,
-        "rolling_limit": rolling_limit,
-        "map": kn,
-        "measured": {"speed": APPENDIX_C_CASE.critical_speed, "amplitude": APPENDIX_C_CASE.steady_amplitude},
-        "seconds": time.perf_counter() - t0,
-        "quick": quick,
-    }
+    return LimitCycleStudy(
+        bifurcation=bif,
+        rolling=roll,
+        friction=fric,
+        knock_safe=knock,
+        table1=table,
+        rolling_limit=rolling_limit,
+        stiffness_mass_map=kn,
+        measured_speed=APPENDIX_C_CASE.critical_speed,
+        measured_amplitude=APPENDIX_C_CASE.steady_amplitude,
+        seconds=time.perf_counter() - t0,
+        quick=quick,
+    )

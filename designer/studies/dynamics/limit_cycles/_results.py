@@ -1,0 +1,507 @@
+"""The records the limit-cycle studies return: a bifurcation diagram, a μ sensitivity point, the Table 1
+comparison, the (K, N) map, a scanned onset, a design's knock-safe speeds and the whole results/simulation
+limit-cycle study.  Built by :mod:`~designer.studies.dynamics.limit_cycles._studies` and
+:mod:`~designer.studies.dynamics.limit_cycles._knock`; rendered by :mod:`designer.report.limit_cycles`, which
+reads their attributes.  Their ``to_dict()`` is the dict the functions returned before (the keys of
+results/simulation/bifurcation.json and of ``designer simulate --bifurcation --json``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from designer.model import Design
+from designer.physics.tyre import TyreParameters
+from designer.reprs import Key, Keyed, Record, dataframe
+from designer.studies.dynamics.limit_cycles._orbits import PeriodicOrbit
+
+
+def _tyre_dict(tyre: TyreParameters | None) -> dict[str, Any] | None:
+    """The brush tyre's parameters as plain data (SI), None for the rolling tyre."""
+    if tyre is None:
+        return None
+    return {
+        "cornering_stiffness": tyre.cornering_stiffness,
+        "friction_coefficient": tyre.friction_coefficient,
+        "load": tyre.load,
+        "wheel_mass": tyre.wheel_mass,
+        "saturation": tyre.saturation,
+    }
+
+
+def _number(value: float | None) -> str:
+    """A number to 4 significant digits, "none" for None or NaN (a speed not found, an orbit missing)."""
+    return "none" if value is None or not math.isfinite(value) else f"{value:.4g}"
+
+
+@dataclass(frozen=True, kw_only=True)
+class BifurcationDiagram(Record):
+    """Periodic orbits of one caster against speed (:func:`bifurcation_diagram`).
+
+    Attributes
+    ----------
+    design : the caster (T, d, B [m], c_f [N·m/rad])
+    model : "brush tyre" or "rolling" (the paper's tyre, ``tyre`` None)
+    tyre : the brush tyre's parameters, None for the rolling tyre
+    inertia : I_w [kg·m²]
+    friction_moment : M_f = c_f θ0 [N·m]
+    frequency : ω of Eq. 15B [rad/s]
+    eq7_critical_speed : Eq. 7's V_c [m/s]
+    disturbance_angle : θ0 [rad]
+    branches : consecutive runs of equal stability, [{"kind": "stable" | "unstable", "speed": [m/s],
+        "amplitude": [rad]}] (plain data for the plot)
+    orbits : every periodic orbit of the diagram (unstable part, then the stable part by amplitude)
+    fold_speed : lowest speed of a periodic orbit [m/s] (below it every knock decays); NaN without a stable orbit
+    reference_speed : where the stable branch was first looked for [m/s]
+    stable_at_reference : the stable orbit at ``reference_speed``, or None
+    max_closure : largest closure error of the orbits over one full period [rad]
+    failed_amplitudes : amplitudes of the unstable branch where no orbit was found [rad]
+    """
+
+    design: Design
+    model: str
+    tyre: TyreParameters | None
+    inertia: float
+    friction_moment: float
+    frequency: float
+    eq7_critical_speed: float
+    disturbance_angle: float
+    branches: list[dict[str, Any]]
+    orbits: list[PeriodicOrbit]
+    fold_speed: float
+    reference_speed: float
+    stable_at_reference: PeriodicOrbit | None
+    max_closure: float
+    failed_amplitudes: list[float]
+
+    _keys = ("*", Key("tyre", lambda b: _tyre_dict(b.tyre)))
+    """Every field; the tyre as its five parameters (None for the rolling tyre)."""
+
+    _units = {
+        "inertia": "kg·m²",
+        "friction_moment": "N·m",
+        "frequency": "rad/s",
+        "eq7_critical_speed": "m/s",
+        "disturbance_angle": "rad",
+        "fold_speed": "m/s",
+        "reference_speed": "m/s",
+        "max_closure": "rad",
+    }
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the tyre, the orbits, the fold and Eq. 7's V_c."""
+        stable = sum(bool(o.stable) for o in self.orbits)
+        return [
+            f"BifurcationDiagram({self.model}: {len(self.orbits)} orbits ({stable} stable), fold "
+            f"{_number(self.fold_speed)} m/s, Eq. 7 V_c {self.eq7_critical_speed:.4g} m/s, max closure "
+            f"{self.max_closure:.1e} rad)"
+        ]
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        stable = sum(bool(o.stable) for o in self.orbits)
+        ref = self.stable_at_reference
+        return [
+            ("tyre", self.model, ""),
+            ("orbits (stable)", f"{len(self.orbits)} ({stable})", ""),
+            ("fold speed", _number(self.fold_speed), "m/s"),
+            ("Eq. 7 V_c", f"{self.eq7_critical_speed:.4g}", "m/s"),
+            ("frequency ω (Eq. 15B)", f"{self.frequency:.4g}", "rad/s"),
+            (
+                f"stable amplitude at {self.reference_speed:.4g} m/s",
+                "none" if ref is None else f"{ref.amplitude:.4g}",
+                "rad",
+            ),
+            ("max closure", f"{self.max_closure:.1e}", "rad"),
+        ]
+
+    def _html_title(self) -> str:
+        return "Bifurcation diagram (periodic orbits against speed)"
+
+
+@dataclass(frozen=True, kw_only=True)
+class FrictionPoint(Record):
+    """The orbit branch of one tyre friction coefficient μ (:func:`friction_sensitivity`).
+
+    Attributes
+    ----------
+    friction_coefficient : μ [-]
+    fold_speed, fold_amplitude : the fold of the branch: lowest speed of any orbit [m/s] and its amplitude [rad]
+        (the smallest sustained shimmy); NaN without a stable orbit
+    stable_amplitude : amplitude of the stable orbit at the study's speed [rad] (NaN: none found)
+    max_abs_multiplier : its largest |Floquet multiplier| [-]
+    closure : its closure error over one full period [rad]
+    """
+
+    friction_coefficient: float
+    fold_speed: float
+    fold_amplitude: float
+    stable_amplitude: float
+    max_abs_multiplier: float
+    closure: float
+
+    _units = {"fold_speed": "m/s", "fold_amplitude": "rad", "stable_amplitude": "rad", "closure": "rad"}
+
+    def _repr_lines(self) -> list[str]:
+        stable = (
+            f"stable amplitude {self.stable_amplitude:.4g} rad"
+            if math.isfinite(self.stable_amplitude)
+            else "no stable orbit"
+        )
+        return [
+            f"FrictionPoint(μ {self.friction_coefficient:g}: fold {_number(self.fold_speed)} m/s at "
+            f"{_number(self.fold_amplitude)} rad, {stable})"
+        ]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Table1Row(Keyed):
+    """One wheel of Table 1: measured and predicted critical speeds [m/s].
+
+    Attributes
+    ----------
+    wheel, name : Table 1's key and name of the wheel
+    inertia : I_w [kg·m²]; mass : M_W [kg]
+    measured : measured V_c [m/s], None for the wheels stable up to 3.8 m/s
+    eq7, rolling_sim, tyre_sim : Eq. 7, the rolling simulation and the brush-tyre simulation [m/s]
+    rolling_sim_bracket, tyre_sim_bracket : the simulations' bisection brackets [m/s]
+    flagged : the predictions below 3.8 m/s of a wheel measured stable up to there (``flagged_below_3.8``)
+    """
+
+    wheel: str
+    name: str
+    inertia: float
+    mass: float
+    measured: float | None
+    eq7: float
+    rolling_sim: float
+    tyre_sim: float
+    rolling_sim_bracket: list[float]
+    tyre_sim_bracket: list[float]
+    flagged: list[str]
+
+    _keys = (
+        *("wheel", "name", "inertia", "mass", "measured", "eq7", "rolling_sim", "tyre_sim"),
+        *("rolling_sim_bracket", "tyre_sim_bracket"),
+        Key("**", lambda r: {"flagged_below_3.8": list(r.flagged)}),  # a dot in the key: spread, not nested
+    )
+
+    def prediction(self, key: str) -> float:
+        """The prediction named ``key`` ("eq7", "rolling_sim" or "tyre_sim") [m/s]."""
+        return float({"eq7": self.eq7, "rolling_sim": self.rolling_sim, "tyre_sim": self.tyre_sim}[key])
+
+
+@dataclass(frozen=True, kw_only=True)
+class ErrorStats(Keyed):
+    """Errors prediction/measured − 1 over the measured wheels: RMS, mean (bias), largest |error| [-], count."""
+
+    rms: float
+    bias: float
+    max_abs: float
+    n: int
+
+
+@dataclass(frozen=True, kw_only=True)
+class Table1Comparison(Record):
+    """Table 1 against Eq. 7 and the two simulations (:func:`table1_comparison`).
+
+    Attributes
+    ----------
+    rows : one :class:`Table1Row` per wheel
+    stats : {"eq7", "rolling_sim", "tyre_sim": :class:`ErrorStats`} over the measured wheels (C–G)
+    angle : knock θ_i [rad]
+    trail : T [m]
+    tyre : the brush tyre (load L [N], cornering stiffness C [N/rad], μ [-]); each wheel its own mass
+    stable_up_to : speed up to which wheels A and B were measured stable [m/s]
+    """
+
+    rows: list[Table1Row]
+    stats: dict[str, ErrorStats]
+    angle: float
+    trail: float
+    tyre: TyreParameters
+    stable_up_to: float
+
+    _keys = (
+        *("rows", "stats", "angle", "trail", Key("load", "tyre.load")),
+        Key(
+            "tyre",
+            lambda t: {
+                "cornering_stiffness": t.tyre.cornering_stiffness,
+                "friction_coefficient": t.tyre.friction_coefficient,
+            },
+        ),
+        "stable_up_to",
+    )
+    _units = {"angle": "rad", "trail": "m", "load": "N", "stable_up_to": "m/s"}
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the wheels and the RMS error of each prediction."""
+        rms = ", ".join(f"{k} {100 * s.rms:.1f} %" for k, s in self.stats.items())
+        return [f"Table1Comparison({len(self.rows)} wheels; RMS error over the measured ones: {rms})"]
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        return [(f"{k} RMS / bias", f"{100 * s.rms:.1f} / {100 * s.bias:+.1f}", "%") for k, s in self.stats.items()] + [
+            ("wheels", str(len(self.rows)), ""),
+            ("knock θ_i", f"{self.angle:.4g}", "rad"),
+        ]
+
+    def to_pandas(self) -> Any:
+        """One row per wheel (the columns of :class:`Table1Row`), speeds in m/s."""
+        rows = [r.to_dict() for r in self.rows]
+        units = {"inertia": "kg·m²", "mass": "kg"} | {k: "m/s" for k in ("measured", "eq7", "rolling_sim", "tyre_sim")}
+        return dataframe("Table1Comparison.to_pandas", rows, list(rows[0]), units, angle=self.angle)
+
+
+@dataclass(frozen=True, kw_only=True)
+class MapCell(Keyed):
+    """One caster at one (K, N) of the map.
+
+    Attributes
+    ----------
+    caster : its name
+    stiffness, lateral_mass : K [N/m] and N [kg] (``K``, ``N``); stiffness_factor, mass_factor : K/K0, N/N0 [-]
+    frequency : ω of Eq. 15B with the brush tyre [rad/s]
+    eq7 : Eq. 7's V_c [m/s]; measured : the caster's measured V_c [m/s]
+    rolling_onset : knock onset with the rolling tyre [m/s] (NaN: not bracketed)
+    tyre_onset : knock onset with the brush tyre [m/s] (NaN: sustained nowhere in the scan)
+    tyre_onset_monotone : sustained at every scanned speed above the onset; tyre_onset_below_scan : sustained
+        already at the lowest scanned speed
+    stable_amplitude : stable shimmy amplitude at the measured speed [rad] (NaN: none found)
+    stable_max_multiplier : its largest |Floquet multiplier| [-]
+    """
+
+    caster: str
+    stiffness: float
+    lateral_mass: float
+    stiffness_factor: float
+    mass_factor: float
+    frequency: float
+    eq7: float
+    measured: float
+    rolling_onset: float
+    tyre_onset: float
+    tyre_onset_monotone: bool
+    tyre_onset_below_scan: bool
+    stable_amplitude: float
+    stable_max_multiplier: float
+
+    _keys = (
+        *("caster", Key("K", "stiffness"), Key("N", "lateral_mass")),
+        *(Key("K_factor", "stiffness_factor"), Key("N_factor", "mass_factor"), "frequency", "eq7", "measured"),
+        *("rolling_onset", "tyre_onset", "tyre_onset_monotone", "tyre_onset_below_scan", "stable_amplitude"),
+        "stable_max_multiplier",
+    )
+    """The columns of stiffness_mass_map.csv."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class StiffnessMassMap(Record):
+    """Onsets and the stable amplitude over a grid of frame stiffness K and lateral mass N
+    (:func:`stiffness_mass_map`).
+
+    Attributes
+    ----------
+    rows : one :class:`MapCell` per caster and (K, N)
+    stiffness, lateral_mass : the defaults K0 [N/m] and N0 [kg] (``K0``, ``N0``)
+    factors : the grid factors on K0 and N0 [-]
+    angle : knock θ_i [rad]
+    """
+
+    rows: list[MapCell]
+    stiffness: float
+    lateral_mass: float
+    factors: list[float]
+    angle: float
+
+    _keys = ("rows", Key("K0", "stiffness"), Key("N0", "lateral_mass"), "factors", "angle")
+    _units = {"K0": "N/m", "N0": "kg", "angle": "rad"}
+
+    def casters(self) -> list[str]:
+        """The casters of the map, in order."""
+        return list(dict.fromkeys(r.caster for r in self.rows))
+
+    def _repr_lines(self) -> list[str]:
+        return [
+            f"StiffnessMassMap({len(self.casters())} casters × {len(self.factors)}² cells around K0 "
+            f"{self.stiffness:.4g} N/m, N0 {self.lateral_mass:.4g} kg)"
+        ]
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        return [
+            ("casters", ", ".join(self.casters()), ""),
+            ("factors", ", ".join(f"{f:g}" for f in self.factors), ""),
+            ("K0", f"{self.stiffness:.4g}", "N/m"),
+            ("N0", f"{self.lateral_mass:.4g}", "kg"),
+        ]
+
+    def to_pandas(self) -> Any:
+        """One row per cell (the columns of stiffness_mass_map.csv)."""
+        rows = [r.to_dict() for r in self.rows]
+        units = {"K": "N/m", "N": "kg", "frequency": "rad/s", "stable_amplitude": "rad"}
+        units |= {k: "m/s" for k in ("eq7", "measured", "rolling_onset", "tyre_onset")}
+        return dataframe("StiffnessMassMap.to_pandas", rows, list(rows[0]), units, angle=self.angle)
+
+
+@dataclass(frozen=True, kw_only=True)
+class OnsetScan(Record):
+    """The lowest speed at which a knock is sustained, from a scan then bisection (:func:`scanned_onset_speed`).
+
+    Attributes
+    ----------
+    speed : the onset [m/s] (NaN if sustained nowhere in the scan)
+    monotone : sustained at every scanned speed above the first
+    below_scan : sustained already at the lowest scanned speed
+    evaluations : knock simulations
+    """
+
+    speed: float
+    monotone: bool
+    below_scan: bool
+    evaluations: int
+
+    _units = {"speed": "m/s"}
+
+    def _repr_lines(self) -> list[str]:
+        return [
+            f"OnsetScan(onset {_number(self.speed)} m/s, {'monotone' if self.monotone else 'islands in speed'}"
+            f"{', below the scan' if self.below_scan else ''}, {self.evaluations} simulations)"
+        ]
+
+
+@dataclass(frozen=True, kw_only=True)
+class KnockSafe(Record):
+    """One design's knock-safe speeds (:func:`knock_safe_speeds`, the recommendation card).
+
+    Attributes
+    ----------
+    knock_angle : θ0 [rad]
+    knock_safe_rtol : relative width of the onset bracket [-]
+    knock_safe_speed : for a θ0 knock [m/s] (None: not bracketed, see ``knock_safe_error``)
+    knock_safe_speed_double : for a 2 θ0 knock [m/s] (None when 2 θ0 ≥ 90° or not bracketed)
+    knock_safe_error : why an onset could not be bracketed (None when both were)
+    """
+
+    knock_angle: float
+    knock_safe_rtol: float
+    knock_safe_speed: float | None
+    knock_safe_speed_double: float | None
+    knock_safe_error: str | None = None
+
+    _keys = (
+        *("knock_angle", "knock_safe_rtol", "knock_safe_speed", "knock_safe_speed_double"),
+        Key("knock_safe_error", omit="none"),
+    )
+    _units = {"knock_angle": "rad", "knock_safe_speed": "m/s", "knock_safe_speed_double": "m/s"}
+
+    def _repr_lines(self) -> list[str]:
+        return [
+            f"KnockSafe({_number(self.knock_safe_speed)} m/s for a {math.degrees(self.knock_angle):.3g}° knock, "
+            f"{_number(self.knock_safe_speed_double)} m/s for {math.degrees(2 * self.knock_angle):.3g}°)"
+        ]
+
+
+@dataclass(frozen=True, kw_only=True)
+class RollingLimitCheck(Keyed):
+    """The brush tyre's rolling limit against today's rolling model: the onset of a θ0 knock on the same caster.
+
+    Attributes
+    ----------
+    factor : the cornering stiffness × this, saturation off [-]
+    today : onset by :mod:`designer.studies.dynamics._simulate` [m/s]
+    tyre_limit : onset of the brush tyre in that limit [m/s]
+    today_bracket, tyre_limit_bracket : their bisection brackets [m/s]
+    """
+
+    factor: float
+    today: float
+    tyre_limit: float
+    today_bracket: list[float]
+    tyre_limit_bracket: list[float]
+
+
+@dataclass(frozen=True, kw_only=True)
+class LimitCycleStudy(Record):
+    """Everything the results/simulation limit-cycle report shows (:func:`limit_cycle_study`), Appendix C caster.
+
+    Attributes
+    ----------
+    bifurcation, rolling : bifurcation diagrams with the brush tyre and with the rolling tyre
+    friction : the brush tyre's branch for each friction coefficient μ
+    knock_safe : knock-safe speeds [m/s] by ``"<rolling|brush>_<1|2>theta0"`` (knocks of θ0 and 2 θ0)
+    table1 : Table 1 comparison
+    rolling_limit : the brush tyre's rolling limit against today's model
+    stiffness_mass_map : the (K, N) map (``map``)
+    measured_speed, measured_amplitude : the Appendix C caster's measured V_c [m/s] and shimmy amplitude [rad]
+        (``measured.speed``, ``measured.amplitude``)
+    seconds : wall time of the study [s]
+    quick : the quick version (fewer orbits; for checking the pipeline, not for results)
+    """
+
+    bifurcation: BifurcationDiagram
+    rolling: BifurcationDiagram
+    friction: list[FrictionPoint]
+    knock_safe: dict[str, float]
+    table1: Table1Comparison
+    rolling_limit: RollingLimitCheck
+    stiffness_mass_map: StiffnessMassMap
+    measured_speed: float
+    measured_amplitude: float
+    seconds: float
+    quick: bool
+
+    _keys = (
+        *("bifurcation", "rolling", "friction", "knock_safe", "table1", "rolling_limit"),
+        Key("map", "stiffness_mass_map"),
+        *(Key("measured.speed", "measured_speed"), Key("measured.amplitude", "measured_amplitude"), "seconds", "quick"),
+    )
+    _units = {"measured.speed": "m/s", "measured.amplitude": "rad", "seconds": "s"}
+
+    def _repr_lines(self) -> list[str]:
+        """Two lines: the orbits' headline (fold, stable amplitude against the measured) and the other parts."""
+        ref = self.bifurcation.stable_at_reference
+        amplitude = "none" if ref is None else f"{ref.amplitude:.3g} rad"
+        return [
+            f"LimitCycleStudy({'quick' if self.quick else 'full'}): fold {_number(self.bifurcation.fold_speed)} m/s, "
+            f"stable amplitude at {self.measured_speed:.4g} m/s {amplitude} (measured {self.measured_amplitude:.3g} rad)",
+            f"  {len(self.friction)} friction coefficients, {len(self.table1.rows)} Table 1 wheels, "
+            f"{len(self.stiffness_mass_map.rows)} map cells, {self.seconds:.0f} s",
+        ]
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        ref = self.bifurcation.stable_at_reference
+        rows: list[tuple[Any, Any, Any]] = [
+            ("fold speed (brush tyre)", _number(self.bifurcation.fold_speed), "m/s"),
+            ("stable amplitude at the measured V_c", "none" if ref is None else f"{ref.amplitude:.4g}", "rad"),
+            ("measured V_c", f"{self.measured_speed:.4g}", "m/s"),
+            ("measured amplitude", f"{self.measured_amplitude:.4g}", "rad"),
+        ]
+        rows += [(f"knock-safe speed {k}", _number(v), "m/s") for k, v in self.knock_safe.items()]
+        rows += [(f"Table 1 RMS error {k}", f"{100 * s.rms:.1f}", "%") for k, s in self.table1.stats.items()]
+        return rows
+
+    def _html_title(self) -> str:
+        return "Shimmy beyond onset (limit-cycle study)"
+
+
+def max_abs_multiplier(orbit: PeriodicOrbit | None) -> float:
+    """Largest |Floquet multiplier| of ``orbit`` [-], NaN for None."""
+    return math.nan if orbit is None else float(np.max(np.abs(orbit.multipliers)))
+
+
+__all__ = [
+    "BifurcationDiagram",
+    "ErrorStats",
+    "FrictionPoint",
+    "KnockSafe",
+    "LimitCycleStudy",
+    "MapCell",
+    "OnsetScan",
+    "RollingLimitCheck",
+    "StiffnessMassMap",
+    "Table1Comparison",
+    "Table1Row",
+]
