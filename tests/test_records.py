@@ -560,20 +560,17 @@ def test_a_record_cannot_spell_its_own_repr():
 SHARED_SHAPE_ONLY = {"designer/reprs.py"}
 """Where ``def to_dict`` may be written: the protocol's own (``Keyed.to_dict``, from the record's ``_keys``)."""
 
-ANOTHER_BRANCH = {"designer/studies/retrofit/_records.py", "designer/studies/fleet/_fleet.py"}
-"""Records still spelling their own ``to_dict`` while another branch of issue 34 moves them to ``_keys``."""
-
 
 def test_records_declare_their_data_instead_of_writing_to_dict():
-    """A record's data is declared once (``_keys``): no module but designer/reprs.py defines ``to_dict`` (the
-    retrofit and fleet records excepted until their branch lands), so at most 6 definitions remain of 26."""
+    """A record's data is declared once (``_keys``): no module but designer/reprs.py defines ``to_dict``, so one
+    definition remains of 26."""
     found = {
         str(path.relative_to(ROOT))
         for path in PACKAGE.rglob("*.py")
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
         if isinstance(node, ast.FunctionDef) and node.name == "to_dict"
     }
-    assert found - ANOTHER_BRANCH == SHARED_SHAPE_ONLY
+    assert found == SHARED_SHAPE_ONLY
 
 
 def test_a_records_keys_rename_read_paths_nest_leave_out_and_add_on_request():

@@ -47,7 +47,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
 from designer.errors import InputError
 from designer.model import GRAVITY, Design, scatter_of
 from designer.parameters import VARIABLE_TABLE
-from designer.reprs import Record, dataframe
+from designer.reprs import Key, Record, dataframe
 
 from designer.studies.fleet._kmedian import ColumnDominance, KMedianSolution, kmedian_curve
 from designer.problem import Problem, example_problem, problem_argument
@@ -254,10 +254,9 @@ class FleetResult(Record):
         """Chairs, part numbers, ranges of F_turn and P (notebooks)."""
         return list(self._summary())
 
-    def to_dict(self) -> dict[str, Any]:
-        """The plain data of ``fleet.json`` (:func:`fleet_data`): settings, part numbers, regret curve, per-chair
-        rows, distributions; SI units."""
-        return fleet_data(self)
+    _keys = (Key("**", lambda r: fleet_data(r)),)
+    """The plain data of ``fleet.json`` (:func:`fleet_data`): settings, part numbers, regret curve, per-chair
+    rows, distributions; SI units."""
 
     def to_pandas(self) -> Any:
         """One row per chair, the columns of fleet.csv with SI units in their names (pandas: ``notebook`` extra).

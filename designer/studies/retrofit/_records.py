@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 from designer.data.paper import BARE_FORK_DAMPING, INCH
 from designer.model import Design
 from designer.parameters import DESIGN_UNITS, PARAMETERS, VARIABLE_TABLE
-from designer.reprs import Record, dataframe
+from designer.reprs import Key, Record, dataframe
 from designer.units import written_size
 from designer.studies.retrofit._options import _show
 
@@ -53,18 +53,15 @@ class Change(Record):
             + (f" ({self.name})" if self.name else "")
         )
 
-    def to_dict(self) -> dict[str, Any]:
-        """``part``, ``variable``, ``from``, ``to`` [SI], ``unit`` (and the wheel's ``name``)."""
-        out = {
-            "part": self.part,
-            "variable": self.variable,
-            "from": self.before,
-            "to": self.after,
-            "unit": _UNITS[self.variable],
-        }
-        if self.name:
-            out["name"] = self.name
-        return out
+    _keys = (
+        "part",
+        "variable",
+        Key("from", "before"),
+        Key("to", "after"),
+        Key("unit", lambda c: _UNITS[c.variable]),
+        Key("**", lambda c: {"name": c.name} if c.name else {}),
+    )
+    """``part``, ``variable``, ``from``, ``to`` [SI], ``unit`` (and the catalogue wheel's ``name``)."""
 
     def _repr_lines(self) -> list[str]:
         return [f"Change({self.describe()})"]
@@ -176,45 +173,40 @@ class CasterState(Record):
     def _html_title(self) -> str:
         return "Caster" + (f" with {self.parts_changed} part(s) changed" if self.changes else " as it is")
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready record, SI units: P(shimmy) exact with the Monte Carlo beside it; a fix's ``spec`` (its
-        acceptance ``limits`` by part and side, ``units`` beside them: :meth:`designer.studies.spec.Spec.to_dict`)."""
-        out = {
-            "design": self.design.to_dict(),
-            "extrapolated": bool(self.extrapolated),
-            "measured": bool(self.measured),
-            "inertia": self.inertia,
-            "effective_trail": self.effective_trail,
-            "objectives": {"turning_effort": self.turning_effort, "threshold_force": self.threshold_force},
-            "turning_effort": self.turning_effort,
-            "threshold_force": self.threshold_force,
-            "swept_radius": self.swept_radius,
-            "critical_speed": self.critical_speed,
-            "calibrated_critical_speed": self.calibrated_critical_speed,
-            "confident_speed": self.confident_speed,
-            "meets_risk_bound": bool(self.meets_risk_bound),
-            "shimmy_probability": self.shimmy_probability,
-            "shimmy_probability_mc": self.shimmy_probability_mc,
-            "shimmy_probability_se": self.shimmy_probability_se,
-            "mc_samples": self.mc_samples,
-            "mc_seed": self.mc_seed,
-        }
-        spec = self.spec
-        if spec is not None:
-            out["spec"] = spec.to_dict()
-        if self.changes:
-            out["parts_changed"] = self.parts_changed
-            out["changes"] = [c.to_dict() for c in self.changes]
-            out["cost"] = {
+    _keys = (
+        "design",
+        "extrapolated",
+        "measured",
+        "inertia",
+        "effective_trail",
+        Key("objectives.turning_effort", "turning_effort"),
+        Key("objectives.threshold_force", "threshold_force"),
+        *("turning_effort", "threshold_force", "swept_radius", "critical_speed", "calibrated_critical_speed"),
+        *("confident_speed", "meets_risk_bound", "shimmy_probability", "shimmy_probability_mc"),
+        *("shimmy_probability_se", "mc_samples", "mc_seed"),
+        Key("spec", omit="none"),
+        Key("**", lambda c: c._changed() if c.changes else {}),
+    )
+    """JSON-ready record, SI units: P(shimmy) exact with the Monte Carlo beside it; a fix's ``spec`` (its
+    acceptance ``limits`` by part and side, ``units`` beside them: :class:`designer.studies.spec.Spec`) and its
+    changes, costs and rises against the current caster."""
+
+    def _changed(self) -> dict[str, Any]:
+        """A fix's keys against the current caster: ``parts_changed``, ``changes``, ``cost`` [N], ``parts_cost``,
+        the rises and ``within_limit``."""
+        return {
+            "parts_changed": self.parts_changed,
+            "changes": [c.to_dict() for c in self.changes],
+            "cost": {
                 "turning_effort": self.cost_turning_effort,
                 "threshold_force": self.cost_threshold_force,
                 "loss": self.loss,
-            }
-            out["parts_cost"] = self.parts_cost
-            out["threshold_increase"] = self.threshold_increase
-            out["turning_increase"] = self.turning_increase
-            out["within_limit"] = bool(self.within_limit)
-        return out
+            },
+            "parts_cost": self.parts_cost,
+            "threshold_increase": self.threshold_increase,
+            "turning_increase": self.turning_increase,
+            "within_limit": bool(self.within_limit),
+        }
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -342,30 +334,22 @@ class FixResult(Record):
         )
         return lead + fix_sentence(best, self.current, self.units, self.probability)
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready: ``current``, ranked ``fixes`` and the assumptions, SI units."""
-        return {
-            "problem": self.problem,
-            "target_speed": self.target_speed,
-            "required_speed": self.required_speed,
-            "risk_probability": self.probability,
-            "stem_angle": self.stem_angle,
-            "calibration": None if self.calibration is None else self.calibration.to_dict(),
-            "scatter": self.scatter,
-            "rule": self.rule,
-            "stock": self.stock,
-            "needs_fix": self.needs_fix,
-            "single_part_fix_exists": self.single_part_fix_exists,
-            "summary": self.summary(),
-            "max_threshold_increase": self.max_threshold_increase,
-            "max_turning_increase": self.max_turning_increase,
-            "searched": self.searched,
-            "current": self.current.to_dict(),
-            "fixes_found": self.found,
-            "fixes": [f.to_dict() for f in self.fixes],
-            "fixes_beyond_limit_found": self.found_beyond,
-            "fixes_beyond_limit": [f.to_dict() for f in self.beyond],
-        } | ({} if self.if_measured is None else {"if_measured": self.if_measured})
+    _keys = (
+        *("problem", "target_speed", "required_speed", Key("risk_probability", "probability"), "stem_angle"),
+        *(
+            "calibration",
+            "scatter",
+            "rule",
+            "stock",
+            "needs_fix",
+            "single_part_fix_exists",
+            Key("summary", "summary()"),
+        ),
+        *("max_threshold_increase", "max_turning_increase", "searched", "current", Key("fixes_found", "found")),
+        *("fixes", Key("fixes_beyond_limit_found", "found_beyond"), Key("fixes_beyond_limit", "beyond")),
+        Key("if_measured", omit="none"),
+    )
+    """JSON-ready: ``current``, ranked ``fixes`` and the assumptions, SI units."""
 
     def to_pandas(self) -> Any:
         """One row per caster, the current one first then the fixes in rank order: ``rank`` (0: current),

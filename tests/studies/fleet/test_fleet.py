@@ -552,7 +552,10 @@ def test_fleet_cli_writes_csv_json_and_report(tmp_path, capsys, root):
     chair = next(r for r in data["rows"] if r["name"] == served["name"])
     assert float(served["trail_in"]) == pytest.approx(chair["trail"] / INCH, rel=1e-5)
     text = (out / "fleet.json").read_text()
-    assert not re.search(r"\d\.\d*(9999999|0000001)\d*", text)  # numbers as resolved: 0.1778, not 0.17779999999999999
+    # numbers as resolved, at most 12 significant digits: 0.1778, not 0.17779999999999999 (a limit's P may be
+    # 0.0499999998898: α to the root's precision, a true 12th digit)
+    digits = [len(m.group(1).replace(".", "").lstrip("0")) for m in re.finditer(r"(?<![\w.])-?(\d+\.\d+)", text)]
+    assert digits and max(digits) <= 12, max(digits)
     rows = data["rows"]
     assert len(rows) == 60
     for r in rows:
