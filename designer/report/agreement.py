@@ -38,6 +38,8 @@ from designer.report.resolution import (
     MULTIPLIER_FLOOR,
     MULTIPLIER_GROUPS,
     MULTIPLIER_SIGNIFICANT,
+    ROOT_GROUPS,
+    ROOT_SIGNIFICANT,
     SIGNIFICANT,
     VARIABLE_SCALES,
 )
@@ -111,6 +113,13 @@ RULES = {
         f"within {MONTE_CARLO_K:g} standard errors of the difference (sqrt(SE_a² + SE_b²), its SE field); its SE "
         "field, sqrt(p(1-p)/n), within as many of its own, |1-2p| SE²/(2p(1-p)), carried from p's",
     ),
+    "root": Rule(
+        "P(shimmy) at an acceptance limit",
+        10.0 ** (1 - ROOT_SIGNIFICANT),
+        0.0,
+        "relative: alpha by construction, written to 6 significant digits (the limit's root is found to 1e-9 of the "
+        "part, times P's elasticity in the part), one unit of the 6th digit",
+    ),
     "exact": Rule("string, count, status, boolean", 0.0, 0.0, "equal"),
     "drawing": Rule("drawing coordinate", 0.0, DRAWING_PX, "half a pixel (SVG geometry attributes, written to 0.1 px)"),
     "printed": Rule(
@@ -152,6 +161,8 @@ def rule_for(key, parent=None) -> str:
     rule of its quantity."""
     if parent in MULTIPLIER_GROUPS or isinstance(key, str) and key.startswith("lambda_"):
         return "multiplier"
+    if parent in ROOT_GROUPS:
+        return "root"
     if key in VARIABLES or isinstance(key, str) and csv_quantity(key)[0] in VARIABLES:
         return "design"
     return "number"

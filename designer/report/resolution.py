@@ -45,6 +45,12 @@ VARIABLE_SCALES = {name: max(abs(lo), abs(hi)) for name, (lo, hi) in DEFAULT_BOU
 """Scale of each design variable [SI]: the largest magnitude of its default bounds (the parameter table)."""
 MULTIPLIER_GROUPS = frozenset({"sensitivities", "gp_duals", "multipliers"})
 """Dict keys whose values are multipliers or sensitivities."""
+ROOT_SIGNIFICANT = 6
+"""Significant digits of P(shimmy) at an acceptance limit (a spec's ``limit_probability``): it is α by
+construction, found to the limit's root tolerance (1e-9 of the part, :data:`designer.physics.acceptance.LIMIT_RTOL`)
+times P's elasticity in the part (up to about 20), so its digits past the 7th are the root finder's, not results."""
+ROOT_GROUPS = frozenset({"limit_probability"})
+"""Dict keys whose values are P at a root (:data:`ROOT_SIGNIFICANT` digits)."""
 VARYING_RUN_KEYS = frozenset(
     {
         "date",
@@ -138,6 +144,8 @@ def _resolve(value, key, bounds, scales, siblings=None):  # noqa: C901 - one bra
                 out[k] = v
             elif k in MULTIPLIER_GROUPS and isinstance(v, dict):
                 out[k] = {name: multiplier(x) if _is_float(x) else x for name, x in v.items()}
+            elif k in ROOT_GROUPS and isinstance(v, dict):
+                out[k] = {name: on_scale(x, digits=ROOT_SIGNIFICANT) if _is_float(x) else x for name, x in v.items()}
             elif k == "constraints" and isinstance(v, dict):
                 out[k] = {name: _margin(name, x, value, scales) if _is_float(x) else x for name, x in v.items()}
             else:
@@ -190,6 +198,8 @@ __all__ = [
     "MULTIPLIER_FLOOR",
     "MULTIPLIER_GROUPS",
     "MULTIPLIER_SIGNIFICANT",
+    "ROOT_GROUPS",
+    "ROOT_SIGNIFICANT",
     "SIGNIFICANT",
     "VARIABLE_SCALES",
     "VARYING_RUN_KEYS",

@@ -199,6 +199,19 @@ def test_pareto_prints_the_rewritten_file(copy, monkeypatch, capsys):
     assert compare_files(COMMITTED / "front.json", copy / "front.json") == []
 
 
+def test_p_at_a_limit_is_held_to_the_roots_precision():
+    """P(shimmy) at an acceptance limit is α to the root's tolerance: the two sides of α a root on another CPU may
+    land on (0.0499999992, 0.0500000002: 2e-8 apart, beyond the 'number' rule) agree; the limit itself stays on
+    the 'number' rule, so a limit moved by 1e-7 of itself does not agree, nor does a P at the limit 1e-4 off."""
+    spec = {"limits": {"trail_min": 0.0357395948}, "limit_probability": {"trail_min": 0.0499999992}}
+    other = {"limits": {"trail_min": 0.0357395948}, "limit_probability": {"trail_min": 0.0500000002}}
+    assert compare_json(spec, other) == []
+    moved = compare_json(spec, {**other, "limits": {"trail_min": 0.0357395948 * (1 + 1e-7)}})
+    assert [(m.where, m.rule) for m in moved] == [("limits.trail_min", "number")]
+    off = compare_json(spec, {**other, "limit_probability": {"trail_min": 0.05 * (1 + 1e-4)}})
+    assert [(m.where, m.rule) for m in off] == [("limit_probability.trail_min", "root")]
+
+
 def test_the_docs_state_the_declared_tolerances():
     """docs/checks.md#when-two-result-files-agree states each tolerance of RULES as declared (words are data)."""
     text = (ROOT / "docs" / "checks.md").read_text(encoding="utf-8")
@@ -210,6 +223,7 @@ def test_the_docs_state_the_declared_tolerances():
     assert f"{g(RULES['design'].rtol)} of the variable's scale" in section
     assert f"{g(RULES['number'].rtol)} of its magnitude" in section
     assert f"{g(RULES['multiplier'].rtol)} of its magnitude, plus {g(RULES['multiplier'].atol)}" in section
+    assert f"{g(RULES['root'].rtol)} of its magnitude | it is α by construction" in section
     assert f"{MONTE_CARLO_K:g} standard errors of the difference" in section
     assert f"| {DRAWING_PX:g} px |" in section
 
