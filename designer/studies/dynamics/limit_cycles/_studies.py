@@ -91,15 +91,7 @@ def bifurcation_diagram(
         raise InputError(f"speed_range = {speed_range!r}: expected 0 < low < high [m/s]")
     sys = caster_dynamics(design, conditions, hi, tyre)
     inertia = sys.inertia
-    v7 = float(
-        critical_speed(
-            design.trail,
-            inertia,
-            design.groove,
-            design.damping,
-            conditions.slip_coefficient,
-        )
-    )
+    v7 = float(critical_speed(design.trail, inertia, design.groove, design.damping, conditions.slip_coefficient))
     ref = v7 if reference_speed is None else float(reference_speed)
     c_d_hi = inertia * hi / sys.trail - sys.groove_coefficient / hi
     a_lo = 4 * sys.friction_moment / (math.pi * sys.frequency * c_d_hi) if c_d_hi > 0 else 0.01
