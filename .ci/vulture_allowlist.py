@@ -59,3 +59,22 @@ _.binary_location
 dask_setup  # Dask's preload hook (designer/children.py: preload=["designer.children"] in studies/fleet)
 worker  # its argument
 _.turning_moment  # a Casters column read by key (designer evaluate's table)
+
+# record fields and methods read by name through a record's declared keys (designer.reprs.Key: "*" gives every
+# repr field to to_dict; a Key's source may name an attribute or a method, "part.doubled()")
+failed_amplitudes  # BifurcationDiagram (designer/studies/dynamics/limit_cycles/_results.py): bifurcation.json
+rolling_sim_bracket  # Table1Row: bifurcation.json's table1 rows
+tyre_sim_bracket
+tyre_onset_below_scan  # MapCell: stiffness_mass_map.csv
+stable_max_multiplier
+knock_safe_rtol  # LimitCycleStudy: bifurcation.json
+knock_safe_error
+today_bracket  # the rolling-limit record: bifurcation.json
+tyre_limit_bracket
+hypervolume_explored  # FrontComparison (designer/studies/explore/_result.py): explore.json's comparison
+hypervolume_exact
+hypervolume_explored_normalised
+hypervolume_exact_normalised
+reference_normalised
+_.single_part_fix_exists  # FixResult's key in designer fix --json (designer/studies/retrofit/_records.py)
+doubled  # tests/test_records.py: a method a Key reads by its path ("part.doubled()")
