@@ -283,6 +283,26 @@ class Caster(Casters):
         return rows
 
 
+class OfCaster:
+    """An attribute of a study's record read from the :class:`Caster` it holds (``record.caster.<name>``): the
+    caster's numbers live once, in the evaluator's row, and the record's documented attribute (``rec.turning_effort``)
+    reads it without computing anything.  A class attribute of the record, not a dataclass field::
+
+        caster: Caster
+        turning_effort = OfCaster()  # rec.turning_effort is rec.caster.turning_effort
+    """
+
+    name: str = ""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+
+    def __get__(self, record: Any, owner: type | None = None) -> Any:
+        if record is None:
+            return self
+        return getattr(record.caster, self.name)
+
+
 CandidateValues = Casters
 """The former name of :class:`Casters`."""
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import InfeasibleError, SolverError
-from designer.model import VARIABLES, Design
+from designer.model import VARIABLES, Caster, Design, OfCaster
 from designer.problem import Problem, problem_argument
 from designer.reprs import Key, Record, dataframe
 from designer.solvers import PRIMARY, Optimum, one_solve_at_a_time, solver
@@ -46,8 +46,11 @@ class Solution(Record):
     Attributes
     ----------
     problem : the problem solved (for a catalog problem: the chosen wheel's variant)
+    caster : the evaluator's row of the optimum (:class:`designer.model.Caster`, under the solved problem's
+        conditions, with J for ``weights`` and the risk at V_req): ``objectives``, ``critical_speed`` and
+        ``shimmy_probability`` (``_se``) are read from it
     design : optimal design (SI)
-    objectives : {"turning_effort": F_turn [N], "threshold_force": P [N], "weighted": J [N]}
+    objectives : {"turning_effort": F_turn [N], "threshold_force": P [N], "weighted": J [N]} of the caster
     critical_speed : V_c at the optimum [m/s] (Eq. 7)
     constraints : {name: margin}, margin >= 0 feasible (shimmy in m/s, swept radius in m, bounds in SI)
     active : names of the active constraints and bounds
@@ -63,9 +66,8 @@ class Solution(Record):
     """
 
     problem: Problem
+    caster: Caster = field(repr=False)
     design: Design
-    objectives: dict[str, float]
-    critical_speed: float
     constraints: dict[str, float]
     active: list[str]
     sensitivities: dict[str, float]
@@ -76,8 +78,16 @@ class Solution(Record):
     timings: dict[str, float] = field(default_factory=dict)
     starts: int = 0
     weights: tuple[float, ...] = ()
-    shimmy_probability: float | None = None
-    shimmy_probability_se: float | None = None
+
+    critical_speed = OfCaster()
+    shimmy_probability = OfCaster()
+    shimmy_probability_se = OfCaster()
+
+    @property
+    def objectives(self) -> dict[str, float]:
+        """{"turning_effort": F_turn [N], "threshold_force": P [N], "weighted": J [N]}, read from the caster."""
+        c: Any = self.caster  # one Caster: its fields are Python floats
+        return {"turning_effort": c.turning_effort, "threshold_force": c.threshold_force, "weighted": c.weighted}
 
     _keys = (
         *(
@@ -387,12 +397,7 @@ def _optimise(problem: Problem, weights: Sequence[float] | None, cross_check: bo
     values = variant.evaluate(design, weights=w, risk=None if problem.risk is None else problem.required_speed)
     held = constraint_margins(variant, design, values)
     margins, active = held.margins, held.active
-    objectives = {
-        "turning_effort": values.turning_effort,
-        "threshold_force": values.threshold_force,
-        "weighted": values.weighted,
-    }
-    checks = {PRIMARY: objectives["weighted"]}
+    checks = {PRIMARY: values.weighted}
     t0 = time.perf_counter()
     if cross_check:
         # SLSQP on the chosen variant, from the NLP optimum and random starts
@@ -402,11 +407,8 @@ def _optimise(problem: Problem, weights: Sequence[float] | None, cross_check: bo
     wheel = wheel_of(variant) if problem.wheels else None
     return Solution(
         problem=variant if problem.wheels else problem,
+        caster=values,
         design=design,
-        objectives=objectives,
-        critical_speed=values.critical_speed,
-        shimmy_probability=values.shimmy_probability,
-        shimmy_probability_se=values.shimmy_probability_se,
         constraints=margins,
         active=active,
         sensitivities=dict(found.sensitivities),

@@ -10,7 +10,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from designer.data.paper import INCH
-from designer.model import Design
+from designer.model import Caster, Design, OfCaster
 from designer.parameters import DESIGN_UNITS
 from designer.plots.caster import caster_svg, plot_caster
 from designer.problem import Problem
@@ -28,6 +28,9 @@ class Recommendation(Record):
 
     Attributes
     ----------
+    caster : the evaluator's row of this caster (:class:`designer.model.Caster`, under the problem's conditions):
+        ``turning_effort``, ``threshold_force``, ``critical_speed``, ``swept_radius``, ``inertia``, ``measured``
+        and ``extrapolated`` below are read from it
     design : the caster (trail, diameter, groove, damping)
     turning_effort : F_turn [N] (Eq. 9 with the turning model)
     threshold_force : P, force to climb the sill [N] (Eq. 4A)
@@ -67,20 +70,16 @@ class Recommendation(Record):
         measured already
     """
 
+    caster: Caster = field(repr=False)
     design: Design
-    turning_effort: float
-    threshold_force: float
-    critical_speed: float
     confident_speed: float
     shimmy_probability: float
     shimmy_probability_se: float
-    swept_radius: float
     swept_radius_max: float | None
     rule: str
     alternatives: list[Recommendation] = field(default_factory=list)
     buildable: Front | None = field(default=None, repr=False)
     wheel: str | None = None
-    inertia: float = math.nan
     role: str = "recommended"
     note: str = ""
     target_speed: float = math.nan
@@ -91,13 +90,19 @@ class Recommendation(Record):
     weights: tuple[float, float] = (1.0, 1.0)
     problem: Problem | None = field(default=None, repr=False)
     front: Front | None = field(default=None, repr=False)
-    measured: bool = True
-    extrapolated: bool = False
     shimmy_probability_mc: float = math.nan
     risk: dict[str, Any] | None = None
     spec: Spec | None = None
     if_measured: dict[str, Any] | None = None
     enforced: dict[str, Any] | None = None
+
+    turning_effort = OfCaster()
+    threshold_force = OfCaster()
+    critical_speed = OfCaster()
+    swept_radius = OfCaster()
+    inertia = OfCaster()
+    measured = OfCaster()
+    extrapolated = OfCaster()
 
     _units = {
         **DESIGN_UNITS,
