@@ -21,7 +21,7 @@ from designer.studies.front._indicators import hypervolume_2d, igd_plus, nondomi
 from designer.data.paper import INCH
 from designer.errors import InputError
 from designer.output import first_line_kind, write_file
-from designer.model import VARIABLES, Design
+from designer.model import VARIABLES, Caster, Design
 from designer.parameters import DESIGN_UNITS, PARAMETERS
 from designer.units import csv_column, csv_quantity
 from designer.problem import example_names, example_problem
@@ -68,6 +68,10 @@ class FrontPoint(Record):
     multipliers : {"shimmy": λ, "threshold_cap": λ, ...} (CasADi sign convention)
     family : "bare fork" | "groove" | "damper" | "groove+damper"
     wheel : Table 1 wheel for catalog problems
+    caster : the evaluator's row of the point (:class:`designer.model.Caster`, under the problem's conditions),
+        which ``turning_effort``, ``threshold_force`` and ``critical_speed`` were taken from; None for a failed
+        point (the solver's own numbers) and for a point read back by :meth:`Front.from_csv` or
+        :meth:`Front.from_pandas` (the file's numbers; nothing is evaluated again)
     """
 
     design: Design
@@ -81,6 +85,7 @@ class FrontPoint(Record):
     multipliers: dict[str, float] = field(default_factory=dict)
     family: str = ""
     wheel: str | None = None
+    caster: Caster | None = field(default=None, repr=False, compare=False)
 
     _units = {
         **DESIGN_UNITS,

@@ -280,6 +280,7 @@ def _buildable_front(problem, b: _Buildable, member: np.ndarray):
                 multipliers={},
                 family=family_of(problem, d),
                 wheel=str(b.wheel[i]) or None,
+                caster=b.values.row(i),
             )
         )
     return Front(
