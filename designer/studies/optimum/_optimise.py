@@ -22,6 +22,7 @@ import numpy as np
 from designer.data.paper import INCH
 from designer.errors import InfeasibleError, SolverError
 from designer.model import VARIABLES, Caster, Design, OfCaster
+from designer.parameters import OUTPUTS
 from designer.problem import Problem, problem_argument
 from designer.reprs import Key, Record, dataframe
 from designer.solvers import PRIMARY, Optimum, one_solve_at_a_time, solver
@@ -143,14 +144,11 @@ class Solution(Record):
         """The optimum as a compact table with units (notebooks; no solver or Monte Carlo runs)."""
         d, o = self.design, self.objectives
         return ([("wheel (Table 1)", self.wheel, "")] if self.wheel else []) + [
-            ("trail T", f"{d.trail / INCH:.3f} ({d.trail * 1000:.2f} mm)", "in"),
-            ("diameter d", f"{d.diameter / INCH:.3f} ({d.diameter * 1000:.2f} mm)", "in"),
-            ("groove B", f"{d.groove / INCH:.3f} ({d.groove * 1000:.2f} mm)", "in"),
-            ("damping c_f", f"{d.damping:.4g}", "N·m/rad"),
-            ("turning effort F_turn", f"{o['turning_effort']:.4g}", "N"),
-            ("threshold force P", f"{o['threshold_force']:.4g}", "N"),
+            *d.variable_rows(),
+            OUTPUTS["turning_effort"].row(f"{o['turning_effort']:.4g}"),
+            OUTPUTS["threshold_force"].row(f"{o['threshold_force']:.4g}"),
             (f"weighted J ({self.weights[0]:g}, {self.weights[1]:g})", f"{o['weighted']:.4g}", "N"),
-            ("critical speed V_c", f"{self.critical_speed:.4g}", "m/s"),
+            OUTPUTS["critical_speed"].row(f"{self.critical_speed:.4g}"),
             ("required speed", f"{self.problem.required_speed:.4g}", "m/s"),
             ("active", ", ".join(self.active) or "none", ""),
             ("solver agreement (relative J gap)", f"{self.agreement():.1e}", ""),
@@ -236,10 +234,7 @@ class Solution(Record):
         if self.wheel:
             lines.append(f"  chosen wheel          Table 1 wheel {self.wheel}")
         lines += [
-            f"  trail T               {d.trail / INCH:8.3f} in   {d.trail * 1000:8.2f} mm",
-            f"  diameter d            {d.diameter / INCH:8.3f} in   {d.diameter * 1000:8.2f} mm",
-            f"  groove B              {d.groove / INCH:8.3f} in   {d.groove * 1000:8.2f} mm",
-            f"  damping c_f           {d.damping:8.3f} N·m/rad",
+            *d.variable_lines(24),
             "",
             f"  turning effort        {self.objectives['turning_effort']:8.3f} N",
             f"  sill force            {self.objectives['threshold_force']:8.3f} N",

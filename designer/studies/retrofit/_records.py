@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 from designer.data.paper import BARE_FORK_DAMPING, INCH
 from designer.model import Caster, Design, OfCaster
-from designer.parameters import DESIGN_UNITS, PARAMETERS, VARIABLE_TABLE
+from designer.parameters import DESIGN_UNITS, OUTPUTS, PARAMETERS, VARIABLE_TABLE
 from designer.reprs import Key, Record, dataframe
 from designer.units import written_size
 from designer.studies.retrofit._options import _show
@@ -159,14 +159,12 @@ class CasterState(Record):
 
     _units = {
         **DESIGN_UNITS,
-        "inertia": "kg·m²",
-        "effective_trail": "m",
-        "turning_effort": "N",
-        "threshold_force": "N",
-        "swept_radius": "m",
-        "critical_speed": "m/s",
-        "calibrated_critical_speed": "m/s",
-        "confident_speed": "m/s",
+        **{
+            n: OUTPUTS[n].unit
+            for n in ("inertia", "effective_trail", "turning_effort", "threshold_force", "swept_radius")
+            + ("critical_speed", "confident_speed")
+        },
+        "calibrated_critical_speed": OUTPUTS["critical_speed"].unit,
     }
 
     def _repr_lines(self) -> list[str]:
