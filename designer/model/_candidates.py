@@ -262,6 +262,11 @@ class Caster(Casters):
     def __len__(self) -> int:
         return 1
 
+    @property
+    def design(self) -> Design:
+        """The caster's design (T, d, B, c_f), the same numbers as its fields."""
+        return Design(float(self.trail), float(self.diameter), float(self.groove), float(self.damping))
+
     def _repr_lines(self) -> list[str]:
         """One line: the caster and its forces."""
         return [

@@ -48,8 +48,8 @@ class Solution(Record):
     ----------
     problem : the problem solved (for a catalog problem: the chosen wheel's variant)
     caster : the evaluator's row of the optimum (:class:`designer.model.Caster`, under the solved problem's
-        conditions, with J for ``weights`` and the risk at V_req): ``objectives``, ``critical_speed`` and
-        ``shimmy_probability`` (``_se``) are read from it
+        conditions, with J for ``weights`` and the risk at V_req): ``design``, ``objectives``, ``critical_speed``
+        and ``shimmy_probability`` (``_se``) are read from it
     design : optimal design (SI)
     objectives : {"turning_effort": F_turn [N], "threshold_force": P [N], "weighted": J [N]} of the caster
     critical_speed : V_c at the optimum [m/s] (Eq. 7)
@@ -68,7 +68,6 @@ class Solution(Record):
 
     problem: Problem
     caster: Caster = field(repr=False)
-    design: Design
     constraints: dict[str, float]
     active: list[str]
     sensitivities: dict[str, float]
@@ -80,6 +79,7 @@ class Solution(Record):
     starts: int = 0
     weights: tuple[float, ...] = ()
 
+    design = OfCaster()
     critical_speed = OfCaster()
     shimmy_probability = OfCaster()
     shimmy_probability_se = OfCaster()
@@ -403,7 +403,6 @@ def _optimise(problem: Problem, weights: Sequence[float] | None, cross_check: bo
     return Solution(
         problem=variant if problem.wheels else problem,
         caster=values,
-        design=design,
         constraints=margins,
         active=active,
         sensitivities=dict(found.sensitivities),

@@ -219,7 +219,6 @@ def _record(
     q = v.confident_speed[i] if problem.risk is not None else risk.confident_speed[0]
     return Recommendation(
         caster=v.row(i),
-        design=design,
         confident_speed=float(q),
         shimmy_probability=p,
         shimmy_probability_mc=p_mc,

@@ -10,7 +10,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from designer.data.paper import INCH
-from designer.model import Caster, Design, OfCaster
+from designer.model import Caster, OfCaster
 from designer.parameters import DESIGN_UNITS, OUTPUTS
 from designer.plots.caster import caster_svg, plot_caster
 from designer.problem import Problem
@@ -29,8 +29,8 @@ class Recommendation(Record):
     Attributes
     ----------
     caster : the evaluator's row of this caster (:class:`designer.model.Caster`, under the problem's conditions):
-        ``turning_effort``, ``threshold_force``, ``critical_speed``, ``swept_radius``, ``inertia``, ``measured``
-        and ``extrapolated`` below are read from it
+        ``design``, ``turning_effort``, ``threshold_force``, ``critical_speed``, ``swept_radius``, ``inertia``,
+        ``measured`` and ``extrapolated`` below are read from it
     design : the caster (trail, diameter, groove, damping)
     turning_effort : F_turn [N] (Eq. 9 with the turning model)
     threshold_force : P, force to climb the sill [N] (Eq. 4A)
@@ -71,7 +71,6 @@ class Recommendation(Record):
     """
 
     caster: Caster = field(repr=False)
-    design: Design
     confident_speed: float
     shimmy_probability: float
     shimmy_probability_se: float
@@ -96,6 +95,7 @@ class Recommendation(Record):
     if_measured: dict[str, Any] | None = None
     enforced: dict[str, Any] | None = None
 
+    design = OfCaster()
     turning_effort = OfCaster()
     threshold_force = OfCaster()
     critical_speed = OfCaster()

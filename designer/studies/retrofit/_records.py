@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from designer.data.paper import BARE_FORK_DAMPING, INCH
-from designer.model import Caster, Design, OfCaster
+from designer.model import Caster, OfCaster
 from designer.parameters import DESIGN_UNITS, OUTPUTS, PARAMETERS, VARIABLE_TABLE
 from designer.reprs import Key, Record, dataframe
 from designer.units import written_size
@@ -85,7 +85,7 @@ class CasterState(Record):
     Attributes
     ----------
     caster : the evaluator's row of this caster (:class:`designer.model.Caster`, on the effective trail, calibrated,
-        under the retrofit's risk bound and limits): ``inertia``, ``effective_trail``, ``turning_effort``,
+        under the retrofit's risk bound and limits): ``design``, ``inertia``, ``effective_trail``, ``turning_effort``,
         ``threshold_force``, ``swept_radius``, ``critical_speed``, ``confident_speed``, ``meets_risk_bound``,
         ``extrapolated`` and ``measured`` are read from it
     design : Design (trail = fork offset e [m], diameter, groove, damping)
@@ -120,7 +120,6 @@ class CasterState(Record):
     """
 
     caster: Caster = field(repr=False)
-    design: Design
     calibrated_critical_speed: float
     shimmy_probability: float = math.nan
     shimmy_probability_mc: float = math.nan
@@ -137,6 +136,7 @@ class CasterState(Record):
     within_limit: bool = True
     spec: Spec | None = field(default=None, repr=False, compare=False)
 
+    design = OfCaster()
     inertia = OfCaster()
     effective_trail = OfCaster()
     turning_effort = OfCaster()

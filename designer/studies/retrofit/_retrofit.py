@@ -436,7 +436,6 @@ class _Setting:
             )
         return CasterState(
             caster=values.row(j),
-            design=design,
             calibrated_critical_speed=float(self.factor * values.critical_speed[j]),
             shimmy_probability=p_exact,
             shimmy_probability_mc=p_mc,
