@@ -99,6 +99,25 @@ class Parameter:
         return f"{self.description} {self.symbol}" if self.symbol else self.description
 
     @property
+    def header(self) -> str:
+        """The symbol with the SI unit in brackets, for a column of a text table ("F_turn [N]", "I_w [kg·m²]")."""
+        return f"{self.symbol} [{self.unit}]" if self.unit else self.symbol
+
+    def header_in(self, unit: str) -> str:
+        """The symbol with ``unit`` in brackets for a column shown in another unit than SI ("T [in]")."""
+        return f"{self.symbol} [{unit}]"
+
+    @property
+    def axis_label(self) -> str:
+        """The label with the unit in brackets, for a plot's axis ("threshold force P [N]")."""
+        return f"{self.label} [{self.unit}]" if self.unit else self.label
+
+    def row(self, value: str, note: str = "") -> tuple[str, str, str]:
+        """The (label, value, unit) row of a record's HTML table for ``value`` (already formatted): the label and
+        the SI unit from the table, ``note`` in brackets after the label ("critical shimmy speed V_c (Eq. 7)")."""
+        return (f"{self.label} ({note})" if note else self.label, value, self.unit)
+
+    @property
     def column(self) -> str:
         """The name with its SI unit, for a CSV or DataFrame column ("trail_m", "damping_N_m_per_rad")."""
         suffix = self.unit.replace("·", "_").replace("/", "_per_").replace("²", "2").replace("³", "3")

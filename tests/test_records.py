@@ -10,6 +10,7 @@ How long ``_repr_html_`` takes is measured in benchmarks/notebook_reprs.py, not 
 from __future__ import annotations
 
 import ast
+import dataclasses
 import importlib
 import json
 import pkgutil
@@ -527,6 +528,89 @@ def test_a_recommendation_carries_its_risk_spec_and_if_measured(examples, no_sol
     for alt in rec.alternatives:
         assert (alt.risk, alt.if_measured) == (None, None) and alt.spec is not None
         assert not {"risk", "if_measured"} & set(alt.to_dict()) and "spec" in alt.to_dict()
+
+
+CASTER_NUMBERS = {
+    "Recommendation": (
+        "turning_effort",
+        "threshold_force",
+        "critical_speed",
+        "swept_radius",
+        "inertia",
+        "measured",
+        "extrapolated",
+    ),
+    "Recommendation (alternative)": ("turning_effort", "threshold_force", "critical_speed", "swept_radius", "inertia"),
+    "CasterState": (
+        "inertia",
+        "effective_trail",
+        "turning_effort",
+        "threshold_force",
+        "swept_radius",
+        "critical_speed",
+        "confident_speed",
+        "measured",
+        "extrapolated",
+    ),
+    "CasterState (fix)": ("inertia", "turning_effort", "threshold_force", "critical_speed", "confident_speed"),
+    "Solution": ("critical_speed", "shimmy_probability", "shimmy_probability_se"),
+    "FrontPoint": ("turning_effort", "threshold_force", "critical_speed"),
+}
+"""Per record of a caster: the attributes that are the numbers of the Caster it holds."""
+
+
+@pytest.mark.parametrize("name", sorted(CASTER_NUMBERS))
+def test_a_record_of_a_caster_holds_one_caster_and_reads_its_numbers_from_it(examples, name, no_solvers):
+    """Issue 34 (Deliver 2): a Recommendation, a CasterState, a Solution and a FrontPoint hold the evaluator's row
+    of their caster (``.caster``, a :class:`designer.model.Caster` of that design), and their per-caster numbers
+    are that caster's (the same float, not a copy computed again); a Solution's objectives are the caster's F_turn,
+    P and J, a CasterState's meets_risk_bound its feasibility.  Nothing is computed meanwhile."""
+    from designer.model import Caster
+
+    record = examples[name]
+    caster = record.caster
+    assert type(caster) is Caster
+    assert (caster.trail, caster.diameter, caster.groove, caster.damping) == (
+        record.design.trail,
+        record.design.diameter,
+        record.design.groove,
+        record.design.damping,
+    )
+    if name != "FrontPoint":  # a front point keeps the solver's Design (a failed point has no caster)
+        assert record.design == caster.design and "design" not in {f.name for f in dataclasses.fields(record)}
+    for attribute in CASTER_NUMBERS[name]:
+        assert getattr(record, attribute) == getattr(caster, attribute), attribute
+    if name == "Solution":
+        assert record.objectives == {
+            "turning_effort": caster.turning_effort,
+            "threshold_force": caster.threshold_force,
+            "weighted": caster.weighted,
+        }
+    if name.startswith("CasterState"):
+        assert record.meets_risk_bound is bool(caster.feasible)
+    if name.startswith("Recommendation"):
+        assert record.to_dict()["turning_effort"] == caster.turning_effort
+
+
+def test_record_labels_and_units_come_from_the_parameter_table(examples, no_solvers):
+    """The HTML of a recommendation and of an optimum label F_turn, P and V_c and the design variables as the
+    parameter table does (one label per quantity: "threshold force P", never "sill force P")."""
+    from designer.parameters import OUTPUTS
+
+    for name in ("Recommendation", "Solution", "FleetResult"):
+        html = examples[name]._repr_html_()
+        assert "sill force P" not in html
+        assert OUTPUTS["threshold_force"].label in html and OUTPUTS["turning_effort"].label in html
+    for name in ("Recommendation", "Solution"):
+        rows = examples[name]._html_rows()
+        labels = [row[0] for row in rows]
+        assert labels[labels.index("trail T") : labels.index("trail T") + 4] == [
+            "trail T",
+            "diameter d",
+            "groove B",
+            "damping c_f",
+        ]
+        assert any(label.startswith(OUTPUTS["critical_speed"].label) for label in labels)
 
 
 def test_records_are_built_by_keyword():

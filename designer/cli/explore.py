@@ -9,6 +9,7 @@ from designer.cli._terminal import console as terminal_console
 from designer.cli._common import PROBLEM_HELP, SEED_MAX, check_output_folder, count_option, eprint, print_json
 from designer.data.paper import INCH
 from designer.errors import QuietAfterInterrupt
+from designer.parameters import OUTPUTS, VARIABLE_TABLE
 from designer.problem import load_problem
 
 EXPLORE_FILES = ("explore.csv", "explore.json")
@@ -130,7 +131,9 @@ def _print(result, csv_path, json_path) -> None:
                 table.add_row(label, "0", "no feasible trial", "")
         console.print(table)
     table = Table(title=f"Overall front ({len(result.front)} points)", title_justify="left")
-    for col in cats + ["T [in]", "d [in]", "B [in]", "c_f [N·m/rad]", "F_turn [N]", "P [N]", "V_c [m/s]", "trial"]:
+    design = [p.header_in("in") if p.dimension == "length" else p.header for p in VARIABLE_TABLE]
+    outputs = [OUTPUTS[name].header for name in ("turning_effort", "threshold_force", "critical_speed")]
+    for col in cats + design + outputs + ["trial"]:
         # escaped: rich reads "[in]" and "[m/s]" as markup tags and drops them (the units)
         table.add_column(escape(col), justify="right")
     for r in result.front:

@@ -8,6 +8,7 @@ from designer.cli._terminal import console as terminal_console
 from designer.cli._common import PROBLEM_HELP, print_json, quantity_option, ranged_option
 from designer.studies.retrofit import ONSET_SCATTER, fix, parse_current
 from designer.errors import InputError
+from designer.parameters import OUTPUTS
 from designer.problem import load_problem
 from designer.studies.spec import PART_LABELS, limit_shown
 from designer.units import written_size
@@ -277,11 +278,12 @@ def _print_table(console, result, fixes, title: str, wide: bool, conf: str) -> N
     from rich.table import Table
 
     table = Table(title=escape(title), title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
-    columns = [("#", "right"), ("change: from -> to", "left"), ("cost", "right"), ("F_turn [N]", "right")]
-    columns += [("P [N]", "right"), ("P(shimmy)" + (" (MC ± SE)" if wide else ""), "right")]
+    columns = [("#", "right"), ("change: from -> to", "left"), ("cost", "right")]
+    columns += [(OUTPUTS["turning_effort"].header, "right"), (OUTPUTS["threshold_force"].header, "right")]
+    columns += [("P(shimmy)" + (" (MC ± SE)" if wide else ""), "right")]
     if wide:
         calibrated = " / ×k" if result.calibration else ""
-        columns += [("I_w [kg·m²]", "right"), ("loss [N]", "right"), (f"V_c Eq. 7{calibrated}", "right")]
+        columns += [(OUTPUTS["inertia"].header, "right"), ("loss [N]", "right"), (f"V_c Eq. 7{calibrated}", "right")]
         columns += [(f"V at {conf}", "right"), ("swept", "right")]
     for col, just in columns:  # the changes never wrap inside a size ("2 1/2 in"): the numbers give way
         table.add_column(escape(col), justify=just, overflow="fold", no_wrap=col.startswith("change"))

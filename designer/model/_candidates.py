@@ -262,6 +262,11 @@ class Caster(Casters):
     def __len__(self) -> int:
         return 1
 
+    @property
+    def design(self) -> Design:
+        """The caster's design (T, d, B, c_f), the same numbers as its fields."""
+        return Design(float(self.trail), float(self.diameter), float(self.groove), float(self.damping))
+
     def _repr_lines(self) -> list[str]:
         """One line: the caster and its forces."""
         return [
@@ -281,6 +286,26 @@ class Caster(Casters):
             if p.listed and p.name in self:
                 rows.append((p.label, shown(self[p.name]), p.unit))
         return rows
+
+
+class OfCaster:
+    """An attribute of a study's record read from the :class:`Caster` it holds (``record.caster.<name>``): the
+    caster's numbers live once, in the evaluator's row, and the record's documented attribute (``rec.turning_effort``)
+    reads it without computing anything.  A class attribute of the record, not a dataclass field::
+
+        caster: Caster
+        turning_effort = OfCaster()  # rec.turning_effort is rec.caster.turning_effort
+    """
+
+    name: str = ""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+
+    def __get__(self, record: Any, owner: type | None = None) -> Any:
+        if record is None:
+            return self
+        return getattr(record.caster, self.name)
 
 
 CandidateValues = Casters

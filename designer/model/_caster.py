@@ -174,8 +174,9 @@ class Design(Record):
     def _html_title(self) -> str:
         return "Caster design"
 
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        """T, d, B in inches and mm, c_f [N·m/rad] and the swept radius (notebooks); names and units from the table."""
+    def variable_rows(self) -> list[tuple[Any, Any, Any]]:
+        """T, d, B in inches and mm and c_f [N·m/rad] as (label, value, unit) rows, names and units from the
+        parameter table: the design block of every record's HTML (a recommendation, an optimum, this design)."""
         rows: list[tuple[Any, Any, Any]] = []
         for p in parameters.VARIABLE_TABLE:
             value = getattr(self, p.name)
@@ -183,6 +184,25 @@ class Design(Record):
                 rows.append((f"{p.name} {p.symbol}", f"{value / INCH:.3f} ({value * 1000:.2f} mm)", "in"))
             else:
                 rows.append((f"{p.name} {p.symbol}", f"{value:.4g}", p.unit))
+        return rows
+
+    def variable_lines(self, width: int) -> list[str]:
+        """T, d, B in inches and mm and c_f as text lines, the label column ``width`` characters wide (two spaces
+        of indent included), names and units from the parameter table: the design block of
+        ``print(recommendation)`` and ``print(solution)``."""
+        lines = []
+        for p in parameters.VARIABLE_TABLE:
+            value = getattr(self, p.name)
+            label = f"  {p.name} {p.symbol}".ljust(width)
+            if p.dimension == "length":
+                lines.append(f"{label}{value / INCH:8.3f} in   {value * 1000:8.2f} mm")
+            else:
+                lines.append(f"{label}{value:8.3f} {p.unit}")
+        return lines
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        """T, d, B in inches and mm, c_f [N·m/rad] and the swept radius (notebooks); names and units from the table."""
+        rows = self.variable_rows()
         rs = float(swept_radius(self.trail, self.diameter))
         rows.append(("swept radius T + d/2", f"{rs / INCH:.3f} ({rs * 1000:.2f} mm)", "in"))
         return rows

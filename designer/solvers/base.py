@@ -39,6 +39,7 @@ from typing import TYPE_CHECKING, Any, Protocol, TypeVar, runtime_checkable
 import numpy as np
 
 from designer.model import Design
+from designer.parameters import OUTPUTS
 from designer.physics.inertia import Catalog
 from designer.problem import Problem
 from designer.reprs import Record, dataframe
@@ -189,8 +190,8 @@ class Designs(Record):
         if ok.any():
             f, p = self.objectives[ok, 0], self.objectives[ok, 1]
             rows += [
-                ("turning effort F_turn", f"{float(f.min()):.4g} – {float(f.max()):.4g}", "N"),
-                ("threshold force P", f"{float(p.min()):.4g} – {float(p.max()):.4g}", "N"),
+                OUTPUTS["turning_effort"].row(f"{float(f.min()):.4g} – {float(f.max()):.4g}"),
+                OUTPUTS["threshold_force"].row(f"{float(p.min()):.4g} – {float(p.max()):.4g}"),
             ]
         return rows
 

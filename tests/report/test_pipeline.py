@@ -266,7 +266,8 @@ def test_weights_sentence_matches_where_the_optimum_sits(indoor_data):
         assert "least-P end of the front" in line
     else:
         assert f"{frac:.0%} of the front's P range" in line and "is not the least-P end" in line
-    at_end = dataclasses.replace(s, objectives={**s.objectives, "threshold_force": float(p.min())})
+    at_end = dataclasses.replace(s, caster=dataclasses.replace(s.caster, threshold_force=float(p.min())))
+    assert at_end.objectives["threshold_force"] == float(p.min())  # the optimum's objectives are its caster's
     assert "the optimum is the least-P end" in text.weights_line(problem, at_end, front)
 
 

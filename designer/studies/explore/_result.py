@@ -13,7 +13,7 @@ import numpy as np
 
 from designer.textfiles import csv_text, dict_rows
 from designer.jsonsafe import finite, stamped
-from designer.parameters import VARIABLE_TABLE
+from designer.parameters import OUTPUTS, VARIABLE_TABLE
 from designer.versions import versions
 from designer.studies.front import hypervolume_2d, igd_plus, normalise
 from designer.problem import Problem
@@ -148,8 +148,8 @@ class ExploreResult(Record):
             ("trials: complete / run here", f"{self.trials} / {self.trials_run}", ""),
             ("feasible / distinct", f"{self.feasible} / {self.distinct}", ""),
             ("front points", f"{len(self.front)}", ""),
-            ("turning effort F_turn", f_range, "N"),
-            ("threshold force P", p_range, "N"),
+            OUTPUTS["turning_effort"].row(f_range),
+            OUTPUTS["threshold_force"].row(p_range),
             ("hypervolume", f"{self.hypervolume:.5g}", "N²"),
         ]
         if "hypervolume_ratio" in c:
@@ -169,7 +169,9 @@ class ExploreResult(Record):
         if not len(f):
             return ""
         order = np.argsort(f[:, 1])
-        return svg_curve(f[order, 1], f[order, 0], "threshold force P [N]", "turning effort F_turn [N]")
+        return svg_curve(
+            f[order, 1], f[order, 0], OUTPUTS["threshold_force"].axis_label, OUTPUTS["turning_effort"].axis_label
+        )
 
     def to_pandas(self) -> Any:
         """The explored front as a DataFrame, one row per point: the quantities of ``explore.csv`` in SI (``trail``,

@@ -46,7 +46,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
 
 from designer.errors import InputError
 from designer.model import GRAVITY, Design, scatter_of
-from designer.parameters import VARIABLE_TABLE
+from designer.parameters import OUTPUTS, VARIABLE_TABLE
 from designer.reprs import Key, Record, dataframe
 
 from designer.studies.fleet._kmedian import ColumnDominance, KMedianSolution, kmedian_curve
@@ -227,11 +227,15 @@ class FleetResult(Record):
         if ok.any():
             rows += [
                 (
-                    "turning effort F_turn: min – max (median)",
+                    OUTPUTS["turning_effort"].label + ": min – max (median)",
                     f"{f.min():.4g} – {f.max():.4g} ({float(np.median(f)):.4g})",
-                    "N",
+                    OUTPUTS["turning_effort"].unit,
                 ),
-                ("sill force P: min – max (median)", f"{p.min():.4g} – {p.max():.4g} ({float(np.median(p)):.4g})", "N"),
+                (
+                    OUTPUTS["threshold_force"].label + ": min – max (median)",
+                    f"{p.min():.4g} – {p.max():.4g} ({float(np.median(p)):.4g})",
+                    OUTPUTS["threshold_force"].unit,
+                ),
             ]
         shimmy = self.chairs.get("shimmy_probability")
         if shimmy is not None and ok.any():

@@ -21,8 +21,8 @@ from designer.studies.front._indicators import hypervolume_2d, igd_plus, nondomi
 from designer.data.paper import INCH
 from designer.errors import InputError
 from designer.output import first_line_kind, write_file
-from designer.model import VARIABLES, Design
-from designer.parameters import DESIGN_UNITS, PARAMETERS
+from designer.model import VARIABLES, Caster, Design
+from designer.parameters import DESIGN_UNITS, OUTPUTS, PARAMETERS
 from designer.units import csv_column, csv_quantity
 from designer.problem import example_names, example_problem
 from designer.problem import Problem, family_of, load_problem
@@ -68,6 +68,10 @@ class FrontPoint(Record):
     multipliers : {"shimmy": λ, "threshold_cap": λ, ...} (CasADi sign convention)
     family : "bare fork" | "groove" | "damper" | "groove+damper"
     wheel : Table 1 wheel for catalog problems
+    caster : the evaluator's row of the point (:class:`designer.model.Caster`, under the problem's conditions),
+        which ``turning_effort``, ``threshold_force`` and ``critical_speed`` were taken from; None for a failed
+        point (the solver's own numbers) and for a point read back by :meth:`Front.from_csv` or
+        :meth:`Front.from_pandas` (the file's numbers; nothing is evaluated again)
     """
 
     design: Design
@@ -81,13 +85,12 @@ class FrontPoint(Record):
     multipliers: dict[str, float] = field(default_factory=dict)
     family: str = ""
     wheel: str | None = None
+    caster: Caster | None = field(default=None, repr=False, compare=False)
 
     _units = {
         **DESIGN_UNITS,
-        "turning_effort": "N",
-        "threshold_force": "N",
-        "critical_speed": "m/s",
-        "epsilon": "N",
+        **{n: OUTPUTS[n].unit for n in ("turning_effort", "threshold_force", "critical_speed")},
+        "epsilon": OUTPUTS["threshold_force"].unit,
     }
 
     def _repr_lines(self) -> list[str]:
@@ -323,8 +326,8 @@ class Front(Record):
         d = k.design
         return [
             ("points (failed)", f"{len(self.points)} ({len(self.failed)})", ""),
-            ("turning effort F_turn", f"{f0:.4g} – {f1:.4g}", "N"),
-            ("threshold force P", f"{p0:.4g} – {p1:.4g}", "N"),
+            OUTPUTS["turning_effort"].row(f"{f0:.4g} – {f1:.4g}"),
+            OUTPUTS["threshold_force"].row(f"{p0:.4g} – {p1:.4g}"),
             ("knee F_turn / P", f"{k.turning_effort:.4g} / {k.threshold_force:.4g}", "N"),
             ("knee T / d / B", f"{d.trail / INCH:.3f} / {d.diameter / INCH:.3f} / {d.groove / INCH:.3f}", "in"),
             ("knee c_f", f"{d.damping:.4g}", "N·m/rad"),
@@ -342,8 +345,8 @@ class Front(Record):
         return svg_curve(
             f[:, 1],
             f[:, 0],
-            "threshold force P [N]",
-            "turning effort F_turn [N]",
+            OUTPUTS["threshold_force"].axis_label,
+            OUTPUTS["turning_effort"].axis_label,
             marks=[(k.threshold_force, k.turning_effort, "knee")],
         )
 

@@ -65,11 +65,11 @@ def _points(
         design = found.design(i)
         if values is not None and i in ok:
             row = values.row(ok.index(i))
-            f, p, v = row["turning_effort"], row["threshold_force"], row["critical_speed"]
+            f, p, v = row.turning_effort, row.threshold_force, row.critical_speed
             margins = constraint_margins(problem, design, row).margins
         else:
             f, p, v = (float(a) for a in found.objectives[i])
-            margins = {}
+            margins, row = {}, None
         out[i] = FrontPoint(
             design=design,
             turning_effort=f,
@@ -82,6 +82,7 @@ def _points(
             multipliers=dict(found.multipliers[i]) if found.multipliers else {},
             family=family_of(problem, design),
             wheel=wheel,
+            caster=row,
         )
     return [p for p in out if p is not None]
 

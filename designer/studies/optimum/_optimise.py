@@ -21,7 +21,8 @@ import numpy as np
 
 from designer.data.paper import INCH
 from designer.errors import InfeasibleError, SolverError
-from designer.model import VARIABLES, Design
+from designer.model import VARIABLES, Caster, Design, OfCaster
+from designer.parameters import OUTPUTS
 from designer.problem import Problem, problem_argument
 from designer.reprs import Key, Record, dataframe
 from designer.solvers import PRIMARY, Optimum, one_solve_at_a_time, solver
@@ -46,8 +47,11 @@ class Solution(Record):
     Attributes
     ----------
     problem : the problem solved (for a catalog problem: the chosen wheel's variant)
+    caster : the evaluator's row of the optimum (:class:`designer.model.Caster`, under the solved problem's
+        conditions, with J for ``weights`` and the risk at V_req): ``design``, ``objectives``, ``critical_speed``
+        and ``shimmy_probability`` (``_se``) are read from it
     design : optimal design (SI)
-    objectives : {"turning_effort": F_turn [N], "threshold_force": P [N], "weighted": J [N]}
+    objectives : {"turning_effort": F_turn [N], "threshold_force": P [N], "weighted": J [N]} of the caster
     critical_speed : V_c at the optimum [m/s] (Eq. 7)
     constraints : {name: margin}, margin >= 0 feasible (shimmy in m/s, swept radius in m, bounds in SI)
     active : names of the active constraints and bounds
@@ -63,9 +67,7 @@ class Solution(Record):
     """
 
     problem: Problem
-    design: Design
-    objectives: dict[str, float]
-    critical_speed: float
+    caster: Caster = field(repr=False)
     constraints: dict[str, float]
     active: list[str]
     sensitivities: dict[str, float]
@@ -76,8 +78,17 @@ class Solution(Record):
     timings: dict[str, float] = field(default_factory=dict)
     starts: int = 0
     weights: tuple[float, ...] = ()
-    shimmy_probability: float | None = None
-    shimmy_probability_se: float | None = None
+
+    design = OfCaster()
+    critical_speed = OfCaster()
+    shimmy_probability = OfCaster()
+    shimmy_probability_se = OfCaster()
+
+    @property
+    def objectives(self) -> dict[str, float]:
+        """{"turning_effort": F_turn [N], "threshold_force": P [N], "weighted": J [N]}, read from the caster."""
+        c: Any = self.caster  # one Caster: its fields are Python floats
+        return {"turning_effort": c.turning_effort, "threshold_force": c.threshold_force, "weighted": c.weighted}
 
     _keys = (
         *(
@@ -133,14 +144,11 @@ class Solution(Record):
         """The optimum as a compact table with units (notebooks; no solver or Monte Carlo runs)."""
         d, o = self.design, self.objectives
         return ([("wheel (Table 1)", self.wheel, "")] if self.wheel else []) + [
-            ("trail T", f"{d.trail / INCH:.3f} ({d.trail * 1000:.2f} mm)", "in"),
-            ("diameter d", f"{d.diameter / INCH:.3f} ({d.diameter * 1000:.2f} mm)", "in"),
-            ("groove B", f"{d.groove / INCH:.3f} ({d.groove * 1000:.2f} mm)", "in"),
-            ("damping c_f", f"{d.damping:.4g}", "N·m/rad"),
-            ("turning effort F_turn", f"{o['turning_effort']:.4g}", "N"),
-            ("threshold force P", f"{o['threshold_force']:.4g}", "N"),
+            *d.variable_rows(),
+            OUTPUTS["turning_effort"].row(f"{o['turning_effort']:.4g}"),
+            OUTPUTS["threshold_force"].row(f"{o['threshold_force']:.4g}"),
             (f"weighted J ({self.weights[0]:g}, {self.weights[1]:g})", f"{o['weighted']:.4g}", "N"),
-            ("critical speed V_c", f"{self.critical_speed:.4g}", "m/s"),
+            OUTPUTS["critical_speed"].row(f"{self.critical_speed:.4g}"),
             ("required speed", f"{self.problem.required_speed:.4g}", "m/s"),
             ("active", ", ".join(self.active) or "none", ""),
             ("solver agreement (relative J gap)", f"{self.agreement():.1e}", ""),
@@ -226,10 +234,7 @@ class Solution(Record):
         if self.wheel:
             lines.append(f"  chosen wheel          Table 1 wheel {self.wheel}")
         lines += [
-            f"  trail T               {d.trail / INCH:8.3f} in   {d.trail * 1000:8.2f} mm",
-            f"  diameter d            {d.diameter / INCH:8.3f} in   {d.diameter * 1000:8.2f} mm",
-            f"  groove B              {d.groove / INCH:8.3f} in   {d.groove * 1000:8.2f} mm",
-            f"  damping c_f           {d.damping:8.3f} N·m/rad",
+            *d.variable_lines(24),
             "",
             f"  turning effort        {self.objectives['turning_effort']:8.3f} N",
             f"  sill force            {self.objectives['threshold_force']:8.3f} N",
@@ -387,12 +392,7 @@ def _optimise(problem: Problem, weights: Sequence[float] | None, cross_check: bo
     values = variant.evaluate(design, weights=w, risk=None if problem.risk is None else problem.required_speed)
     held = constraint_margins(variant, design, values)
     margins, active = held.margins, held.active
-    objectives = {
-        "turning_effort": values.turning_effort,
-        "threshold_force": values.threshold_force,
-        "weighted": values.weighted,
-    }
-    checks = {PRIMARY: objectives["weighted"]}
+    checks = {PRIMARY: values.weighted}
     t0 = time.perf_counter()
     if cross_check:
         # SLSQP on the chosen variant, from the NLP optimum and random starts
@@ -402,11 +402,7 @@ def _optimise(problem: Problem, weights: Sequence[float] | None, cross_check: bo
     wheel = wheel_of(variant) if problem.wheels else None
     return Solution(
         problem=variant if problem.wheels else problem,
-        design=design,
-        objectives=objectives,
-        critical_speed=values.critical_speed,
-        shimmy_probability=values.shimmy_probability,
-        shimmy_probability_se=values.shimmy_probability_se,
+        caster=values,
         constraints=margins,
         active=active,
         sensitivities=dict(found.sensitivities),

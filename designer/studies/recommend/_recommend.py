@@ -218,19 +218,14 @@ def _record(
     extra = _risk(problem, v, i, u, p, (p_mc, se)) if role == "recommended" else {}
     q = v.confident_speed[i] if problem.risk is not None else risk.confident_speed[0]
     return Recommendation(
-        design=design,
-        turning_effort=float(v.turning_effort[i]),
-        threshold_force=float(v.threshold_force[i]),
-        critical_speed=float(v.critical_speed[i]),
+        caster=v.row(i),
         confident_speed=float(q),
         shimmy_probability=p,
         shimmy_probability_mc=p_mc,
         shimmy_probability_se=se,
-        swept_radius=float(v.swept_radius[i]),
         swept_radius_max=problem.swept_radius_max,
         rule=rule,
         wheel=str(b.wheel[i]) or None,
-        inertia=inertia,
         role=role,
         target_speed=problem.target_speed,
         required_speed=problem.required_speed,
@@ -239,8 +234,6 @@ def _record(
         mc_seed=mc_seed,
         weights=tuple(problem.weights),
         problem=problem,
-        measured=measured,
-        extrapolated=bool(v.extrapolated[i]),
         spec=spec,
         **extra,
     )
@@ -286,6 +279,7 @@ def _buildable_front(problem, b: _Buildable, member: np.ndarray):
                 multipliers={},
                 family=family_of(problem, d),
                 wheel=str(b.wheel[i]) or None,
+                caster=b.values.row(i),
             )
         )
     return Front(

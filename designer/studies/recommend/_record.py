@@ -10,8 +10,8 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from designer.data.paper import INCH
-from designer.model import Design
-from designer.parameters import DESIGN_UNITS
+from designer.model import Caster, OfCaster
+from designer.parameters import DESIGN_UNITS, OUTPUTS
 from designer.plots.caster import caster_svg, plot_caster
 from designer.problem import Problem
 from designer.reprs import Key, Record, dataframe
@@ -28,6 +28,9 @@ class Recommendation(Record):
 
     Attributes
     ----------
+    caster : the evaluator's row of this caster (:class:`designer.model.Caster`, under the problem's conditions):
+        ``design``, ``turning_effort``, ``threshold_force``, ``critical_speed``, ``swept_radius``, ``inertia``,
+        ``measured`` and ``extrapolated`` below are read from it
     design : the caster (trail, diameter, groove, damping)
     turning_effort : F_turn [N] (Eq. 9 with the turning model)
     threshold_force : P, force to climb the sill [N] (Eq. 4A)
@@ -67,20 +70,15 @@ class Recommendation(Record):
         measured already
     """
 
-    design: Design
-    turning_effort: float
-    threshold_force: float
-    critical_speed: float
+    caster: Caster = field(repr=False)
     confident_speed: float
     shimmy_probability: float
     shimmy_probability_se: float
-    swept_radius: float
     swept_radius_max: float | None
     rule: str
     alternatives: list[Recommendation] = field(default_factory=list)
     buildable: Front | None = field(default=None, repr=False)
     wheel: str | None = None
-    inertia: float = math.nan
     role: str = "recommended"
     note: str = ""
     target_speed: float = math.nan
@@ -91,22 +89,26 @@ class Recommendation(Record):
     weights: tuple[float, float] = (1.0, 1.0)
     problem: Problem | None = field(default=None, repr=False)
     front: Front | None = field(default=None, repr=False)
-    measured: bool = True
-    extrapolated: bool = False
     shimmy_probability_mc: float = math.nan
     risk: dict[str, Any] | None = None
     spec: Spec | None = None
     if_measured: dict[str, Any] | None = None
     enforced: dict[str, Any] | None = None
 
+    design = OfCaster()
+    turning_effort = OfCaster()
+    threshold_force = OfCaster()
+    critical_speed = OfCaster()
+    swept_radius = OfCaster()
+    inertia = OfCaster()
+    measured = OfCaster()
+    extrapolated = OfCaster()
+
     _units = {
         **DESIGN_UNITS,
-        "turning_effort": "N",
-        "threshold_force": "N",
-        "critical_speed": "m/s",
-        "confident_speed": "m/s",
-        "swept_radius": "m",
-        "swept_radius_max": "m",
+        **{n: OUTPUTS[n].unit for n in ("turning_effort", "threshold_force", "critical_speed", "confident_speed")},
+        "swept_radius": OUTPUTS["swept_radius"].unit,
+        "swept_radius_max": OUTPUTS["swept_radius"].unit,
     }
 
     _keys = (
@@ -143,12 +145,10 @@ class Recommendation(Record):
             extra.append(f"  {self.risk['dominant']}")
         if self.spec is not None:
             extra += spec_lines(self.spec)
+        design = d.variable_lines(22)
+        design[1] += f"   wheel {self.wheel}" if self.wheel else ""
         return [
-            f"  trail T             {d.trail / INCH:8.3f} in   {d.trail * 1000:8.2f} mm",
-            f"  diameter d          {d.diameter / INCH:8.3f} in   {d.diameter * 1000:8.2f} mm"
-            + (f"   wheel {self.wheel}" if self.wheel else ""),
-            f"  groove B            {d.groove / INCH:8.3f} in   {d.groove * 1000:8.2f} mm",
-            f"  damping c_f         {d.damping:8.3f} N·m/rad",
+            *design,
             f"  turning effort      {self.turning_effort:8.3f} N",
             f"  sill force          {self.threshold_force:8.3f} N",
             f"  V_c (Eq. 7)         {self.critical_speed:8.3f} m/s",
@@ -156,7 +156,8 @@ class Recommendation(Record):
             f"(required {self.required_speed:.3f})",
             f"  {risk}",
             f"  swept radius        {radius}",
-        ] + extra
+            *extra,
+        ]
 
     def headline(self, length: Callable[[float], str] | None = None) -> str:
         """One sentence: what to build for any wheel of its size, and what measuring the wheel allows.
@@ -317,15 +318,11 @@ class Recommendation(Record):
         """The caster as a compact table with units (notebooks; no solver runs)."""
         d = self.design
         rows: list[tuple[Any, Any, Any]] = [("wheel", self.wheel, "")] if self.wheel else []
-        rows += [
-            ("trail T", f"{d.trail / INCH:.3f} ({d.trail * 1000:.2f} mm)", "in"),
-            ("diameter d", f"{d.diameter / INCH:.3f} ({d.diameter * 1000:.2f} mm)", "in"),
-            ("groove B", f"{d.groove / INCH:.3f} ({d.groove * 1000:.2f} mm)", "in"),
-            ("damping c_f", f"{d.damping:.4g}", "N·m/rad"),
-            ("turning effort F_turn", f"{self.turning_effort:.4g}", "N"),
-            ("sill force P", f"{self.threshold_force:.4g}", "N"),
-            ("critical speed V_c (Eq. 7)", f"{self.critical_speed:.4g}", "m/s"),
-            ("confident speed V_q", f"{self.confident_speed:.4g}", "m/s"),
+        rows += d.variable_rows() + [
+            OUTPUTS["turning_effort"].row(f"{self.turning_effort:.4g}"),
+            OUTPUTS["threshold_force"].row(f"{self.threshold_force:.4g}"),
+            OUTPUTS["critical_speed"].row(f"{self.critical_speed:.4g}", "Eq. 7"),
+            OUTPUTS["confident_speed"].row(f"{self.confident_speed:.4g}"),
             ("required speed", f"{self.required_speed:.4g}", "m/s"),
             ("P(shimmy) (exact law)", f"{self.shimmy_probability:.3%}", ""),
             (

@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from designer.data.paper import BARE_FORK_DAMPING, INCH
-from designer.model import Design
-from designer.parameters import DESIGN_UNITS, PARAMETERS, VARIABLE_TABLE
+from designer.model import Caster, OfCaster
+from designer.parameters import DESIGN_UNITS, OUTPUTS, PARAMETERS, VARIABLE_TABLE
 from designer.reprs import Key, Record, dataframe
 from designer.units import written_size
 from designer.studies.retrofit._options import _show
@@ -84,6 +84,10 @@ class CasterState(Record):
 
     Attributes
     ----------
+    caster : the evaluator's row of this caster (:class:`designer.model.Caster`, on the effective trail, calibrated,
+        under the retrofit's risk bound and limits): ``design``, ``inertia``, ``effective_trail``, ``turning_effort``,
+        ``threshold_force``, ``swept_radius``, ``critical_speed``, ``confident_speed``, ``meets_risk_bound``,
+        ``extrapolated`` and ``measured`` are read from it
     design : Design (trail = fork offset e [m], diameter, groove, damping)
     inertia : I_w [kg·m²]
     effective_trail : T_eff = e + (d/2) sin φ [m] (what Eq. 7 and the turning effort see)
@@ -115,16 +119,8 @@ class CasterState(Record):
         (Table 1's prediction interval in the risk law)
     """
 
-    design: Design
-    inertia: float
-    effective_trail: float
-    turning_effort: float
-    threshold_force: float
-    swept_radius: float
-    critical_speed: float
+    caster: Caster = field(repr=False)
     calibrated_critical_speed: float
-    confident_speed: float
-    meets_risk_bound: bool
     shimmy_probability: float = math.nan
     shimmy_probability_mc: float = math.nan
     shimmy_probability_se: float = math.nan
@@ -138,9 +134,23 @@ class CasterState(Record):
     threshold_increase: float = 0.0
     turning_increase: float = 0.0
     within_limit: bool = True
-    extrapolated: bool = False
-    measured: bool = True
     spec: Spec | None = field(default=None, repr=False, compare=False)
+
+    design = OfCaster()
+    inertia = OfCaster()
+    effective_trail = OfCaster()
+    turning_effort = OfCaster()
+    threshold_force = OfCaster()
+    swept_radius = OfCaster()
+    critical_speed = OfCaster()
+    confident_speed = OfCaster()
+    extrapolated = OfCaster()
+    measured = OfCaster()
+
+    @property
+    def meets_risk_bound(self) -> bool:
+        """The caster meets the risk bound and the swept-radius limit (its ``feasible``)."""
+        return bool(self.caster.feasible)
 
     @property
     def parts_changed(self) -> int:
@@ -149,14 +159,12 @@ class CasterState(Record):
 
     _units = {
         **DESIGN_UNITS,
-        "inertia": "kg·m²",
-        "effective_trail": "m",
-        "turning_effort": "N",
-        "threshold_force": "N",
-        "swept_radius": "m",
-        "critical_speed": "m/s",
-        "calibrated_critical_speed": "m/s",
-        "confident_speed": "m/s",
+        **{
+            n: OUTPUTS[n].unit
+            for n in ("inertia", "effective_trail", "turning_effort", "threshold_force", "swept_radius")
+            + ("critical_speed", "confident_speed")
+        },
+        "calibrated_critical_speed": OUTPUTS["critical_speed"].unit,
     }
 
     def _repr_lines(self) -> list[str]:

@@ -435,16 +435,8 @@ class _Setting:
                 probability=p_exact,
             )
         return CasterState(
-            design=design,
-            inertia=float(inertia),
-            effective_trail=float(values.effective_trail[j]),
-            turning_effort=f,
-            threshold_force=p,
-            swept_radius=float(values.swept_radius[j]),
-            critical_speed=float(values.critical_speed[j]),
+            caster=values.row(j),
             calibrated_critical_speed=float(self.factor * values.critical_speed[j]),
-            confident_speed=float(values.confident_speed[j]),
-            meets_risk_bound=bool(values.feasible[j]),
             shimmy_probability=p_exact,
             shimmy_probability_mc=p_mc,
             shimmy_probability_se=se,
@@ -459,8 +451,6 @@ class _Setting:
             threshold_increase=increase,
             turning_increase=turning,
             within_limit=within,
-            extrapolated=bool(values.extrapolated[j]),
-            measured=measured,
         )
 
 
