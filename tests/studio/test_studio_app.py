@@ -183,20 +183,41 @@ def test_catalogue_points_carry_their_wheels_inertia():
     assert view.recommendation_record(rec)["inertia"] == pytest.approx(rec.inertia)
 
 
-def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster():
+def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path):
     """The studio's recommendation card lists each acceptance limit of the chosen caster as the spec rounds it
-    (trail min and max, groove min, friction moment min, wheel inertia max) under id rec-limits."""
+    (trail min and max, groove min, friction moment min, wheel inertia max) under id rec-limits: the trade-off's
+    callback sends the chart and the card with "computing…" there and the change's number in rec-pending; the
+    limits callback, chained to it, then fills in the limits of recommend(problem) (the CLI's spec); going back
+    to that state shows them at once."""
     from designer import load_problem
     from designer.studies.recommend import recommend
     from designer.studio import panels
+    from test_studio_updates import _post
 
-    problem = load_problem(PROBLEM.parent / "catalog-retrofit.toml")
-    rec = recommend(problem)
+    path = PROBLEM.parent / "catalog-retrofit.toml"
+    rec = recommend(load_problem(path))
     record = view.recommendation_record(rec)
     assert record["limits"] == [f"{x.side} {x.part.replace('_', ' ')} {x.shown}" for x in rec.spec.limits]
-    fronts = view.Fronts(problem=problem, recommendation=rec, continuous=None, risk=None, notes=[])
+    assert len(record["limits"]) >= 3
+    fronts = view.Fronts(problem=rec.problem, recommendation=rec, continuous=None, risk=None, notes=[])
     shown = [c for c in panels.recommendation_panel(fronts) if getattr(c, "id", None) == "rec-limits"]
     assert len(shown) == 1 and all(text in shown[0].children for text in record["limits"])
+
+    data, name = state.read_problem_data(path)
+    client = create_app(data, name, tmp_path).server.test_client()
+    keys = [c.key for c in state.all_controls()]
+    values = state.control_values(data)
+    first = _post(client, keys, values, "url.search", None)
+    card = json.dumps(first["recommendation"]["children"], ensure_ascii=False)
+    assert panels.LIMITS_PENDING in card and "rec-limits" in card
+    pending = first["rec-pending"]["data"]
+    assert isinstance(pending, int)
+    filled = _callback(client, [("rec-limits", "children")], [("rec-pending", "data", pending)], "rec-pending.data", [])
+    text = filled["rec-limits"]["children"]
+    assert text == panels.limits_text(record) and all(limit in text for limit in record["limits"])
+    again = _post(client, keys, values, "url.search", first["front-shown"]["data"])
+    card = json.dumps(again["recommendation"]["children"], ensure_ascii=False)
+    assert text in card and panels.LIMITS_PENDING not in card and "rec-pending" not in again
 
 
 def _guarded_client(tmp_path, debug=False):
