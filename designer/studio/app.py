@@ -21,7 +21,7 @@ from collections import OrderedDict
 from pathlib import Path
 
 import dash
-from dash import ALL, Input, Output, Patch, State, ctx, html, no_update
+from dash import ALL, MATCH, Input, Output, Patch, State, ctx, html, no_update
 from dash.exceptions import PreventUpdate
 
 from designer.errors import DesignerError
@@ -61,10 +61,8 @@ def create_app(data: dict, name: str, out_dir: Path):
     defaults = state.control_values(data)
     app = dash.Dash(__name__, title=f"studio · {name}", update_title=None, serve_locally=True, assets_ignore=".*")
     app.layout = build_layout(name, defaults)
-    # the card's limits (rec-limits) are in the recommendation panel, which the trade-off's callback returns
-    app.validation_layout = html.Div([app.layout, html.Div(id="rec-limits")])
-    # the problems whose limits the card waits for, by their change's number, and the newest panel's number
-    pending: dict = {"problems": OrderedDict(), "shown": 0}
+    # the problems whose limits a card waits for, by their change's number
+    pending: OrderedDict = OrderedDict()
     _trade_off_callback(app, data, defaults, pending)
     _limits_callback(app, pending)
     _card_callback(app)
@@ -73,14 +71,13 @@ def create_app(data: dict, name: str, out_dir: Path):
     return app
 
 
-def _trade_off_callback(app, data: dict, defaults: dict, pending: dict) -> None:
+def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -> None:
     """The callback that owns the trade-off: controls (or the URL) -> problem -> fronts -> chart, panel, URL.
 
     Only what changed goes to the browser: the chart's traces that differ from the ones it shows (a Dash
     ``Patch``, :func:`_chart`; the layout is sent with the first chart only), and the messages, URL and
-    problem data where they differ from the page's.  A panel without its limits (computed later) sets
-    ``rec-pending`` to the change's number, which ``pending["problems"]`` maps to its problem and key
-    (:func:`_limits_callback`); ``pending["shown"]`` is the number of the newest panel sent."""
+    problem data where they differ from the page's.  A panel without its limits (computed later) carries the
+    change's number, which ``pending`` maps to its problem and key (:func:`_limits_callback`)."""
     keys = [c.key for c in state.all_controls()]
     latest = {"n": 0}  # the newest change wins: changes that queued behind a computation are skipped
 
@@ -94,7 +91,6 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: dict) -> None:
         Output("status", "children"),
         Output("url", "search"),
         Output("problem-data", "data"),
-        Output("rec-pending", "data"),
         Input("url", "search"),
         Input({"type": "ctl", "key": ALL}, "value"),
         Input("mine-store", "data"),
@@ -120,7 +116,6 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: dict) -> None:
                 if generation != latest["n"] and view.cached(canonical) is None:
                     raise PreventUpdate  # a newer change is waiting: compute that one instead
                 fronts = view.compute_fronts(problem, key=canonical)
-                pending["shown"] = generation  # limits of an older panel are no longer wanted
         except DesignerError as exc:
             errors, general = _messages(exc, data, current, defaults, keys)
             # the last valid chart stays; only the messages change
@@ -134,45 +129,44 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: dict) -> None:
                 no_update,
                 no_update if from_url else state.to_query(current, defaults),
                 no_update,
-                no_update,
             )
         figure, shown_now = _chart(fronts, mine, shown)
         query = state.to_query(current, defaults)
         waiting = fronts.recommendation is not None and fronts.recommendation.spec is None
         if waiting:
-            waits = pending["problems"]
-            waits[generation] = (problem, canonical)
-            while len(waits) > 8:
-                waits.popitem(last=False)
+            pending[generation] = (problem, canonical)
+            while len(pending) > 16:
+                pending.popitem(last=False)
         return (
             values_out,
             _changed([""] * len(keys), errors_shown),
             _changed("", general_shown),
             figure,
             shown_now,
-            recommendation_panel(fronts),
+            recommendation_panel(fronts, generation if waiting else None),
             _status(problem, fronts),
             no_update if from_url and query == (search or "") else query,
             no_update if merged == last else merged,
-            generation if waiting else no_update,
         )
 
 
-def _limits_callback(app, pending: dict) -> None:
+def _limits_callback(app, pending: OrderedDict) -> None:
     """The second step of a change: the recommended caster's acceptance limits and worst corner
-    (:func:`designer.studio.view.compute_spec`, about 0.1 s) into the card's ``rec-limits``, once the chart is
-    drawn.  Skipped when a newer panel has been sent meanwhile (it asks for its own)."""
+    (:func:`designer.studio.view.compute_spec`, about 0.1 s) into the card, once the chart's answer is in.
+
+    A card waiting for its limits holds a store numbered by its change (``rec-pending``, made by
+    :func:`designer.studio.panels.recommendation_panel`): its appearance asks for them, and the answer goes to
+    the text of that card only (an older card replaced meanwhile takes no answer)."""
 
     @app.callback(
-        Output("rec-limits", "children"),
-        Input("rec-pending", "data"),
-        prevent_initial_call=True,
+        Output({"type": "rec-limits-text", "n": MATCH}, "children"),
+        Input({"type": "rec-pending", "n": MATCH}, "data"),
     )
     def fill_limits(generation):
         with view.LOCK:
-            if generation is None or generation not in pending["problems"] or pending["shown"] != generation:
+            if generation not in pending:
                 raise PreventUpdate
-            problem, key = pending["problems"][generation]
+            problem, key = pending[generation]
             try:
                 fronts = view.compute_spec(problem, key=key)
             except DesignerError as exc:

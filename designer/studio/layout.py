@@ -81,7 +81,6 @@ def build_layout(name: str, defaults: dict):
             dcc.Store(id="problem-data"),
             dcc.Store(id="mine-store"),
             dcc.Store(id="front-shown"),  # what the chart shows: [part, digest] per trace (app._chart)
-            dcc.Store(id="rec-pending"),  # the change whose card waits for its limits (app._limits_callback)
             html.H2(f"caster-designer studio: {name}", style={"margin": "4px 0", "fontSize": "1.3em"}),
             _first_controls(defaults),
             html.Div([_chart_column(), _card_column()], style=CSS["row"]),

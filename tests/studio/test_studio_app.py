@@ -183,12 +183,25 @@ def test_catalogue_points_carry_their_wheels_inertia():
     assert view.recommendation_record(rec)["inertia"] == pytest.approx(rec.inertia)
 
 
+def _find(component, key, value):
+    """The components under ``component`` (Dash components or their JSON) whose ``key`` is ``value``."""
+    if isinstance(component, dict):
+        props = component.get("props", component)
+        found = [component] if value in (component.get(key), props.get(key)) else []
+        return found + _find(props.get("children"), key, value)
+    if isinstance(component, (list, tuple)):
+        return [c for child in component for c in _find(child, key, value)]
+    if hasattr(component, "to_plotly_json"):
+        return _find(component.to_plotly_json(), key, value)
+    return []
+
+
 def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path):
     """The studio's recommendation card lists each acceptance limit of the chosen caster as the spec rounds it
     (trail min and max, groove min, friction moment min, wheel inertia max) under id rec-limits: the trade-off's
-    callback sends the chart and the card with "computing…" there and the change's number in rec-pending; the
-    limits callback, chained to it, then fills in the limits of recommend(problem) (the CLI's spec); going back
-    to that state shows them at once."""
+    callback sends the chart and the card with "computing…" there and a store numbered by the change; the limits
+    callback, asked by that store, then fills in the limits of recommend(problem) (the CLI's spec) for that card
+    only; going back to that state shows them at once."""
     from designer import load_problem
     from designer.studies.recommend import recommend
     from designer.studio import panels
@@ -200,24 +213,36 @@ def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path)
     assert record["limits"] == [f"{x.side} {x.part.replace('_', ' ')} {x.shown}" for x in rec.spec.limits]
     assert len(record["limits"]) >= 3
     fronts = view.Fronts(problem=rec.problem, recommendation=rec, continuous=None, risk=None, notes=[])
-    shown = [c for c in panels.recommendation_panel(fronts) if getattr(c, "id", None) == "rec-limits"]
-    assert len(shown) == 1 and all(text in shown[0].children for text in record["limits"])
+    shown = _find(panels.recommendation_panel(fronts), "id", "rec-limits")
+    assert len(shown) == 1 and all(text in shown[0]["props"]["children"] for text in record["limits"])
 
     data, name = state.read_problem_data(path)
     client = create_app(data, name, tmp_path).server.test_client()
     keys = [c.key for c in state.all_controls()]
     values = state.control_values(data)
     first = _post(client, keys, values, "url.search", None)
-    card = json.dumps(first["recommendation"]["children"], ensure_ascii=False)
-    assert panels.LIMITS_PENDING in card and "rec-limits" in card
-    pending = first["rec-pending"]["data"]
-    assert isinstance(pending, int)
-    filled = _callback(client, [("rec-limits", "children")], [("rec-pending", "data", pending)], "rec-pending.data", [])
-    text = filled["rec-limits"]["children"]
+    card = first["recommendation"]["children"]
+    (text_id,) = [c["props"]["id"] for c in _find(card, "type", "Span") if isinstance(c["props"].get("id"), dict)]
+    assert text_id["type"] == "rec-limits-text"
+    (store,) = [c["props"] for c in _find(card, "type", "Store")]
+    assert store["id"] == {"type": "rec-pending", "n": text_id["n"]} and store["data"] == text_id["n"]
+    assert panels.LIMITS_PENDING in json.dumps(card, ensure_ascii=False)
+    n = text_id["n"]
+    body = {
+        "output": '{"n":["MATCH"],"type":"rec-limits-text"}.children',
+        "outputs": {"id": text_id, "property": "children"},
+        "inputs": [{"id": store["id"], "property": "data", "value": n}],
+        "changedPropIds": [json.dumps(store["id"], separators=(",", ":"), sort_keys=True) + ".data"],
+        "state": [],
+    }
+    response = client.post("/_dash-update-component", json=body)
+    assert response.status_code == 200, response.data[:500]
+    text = json.loads(response.data)["response"][json.dumps(text_id, separators=(",", ":"), sort_keys=True)]
+    text = text["children"]
     assert text == panels.limits_text(record) and all(limit in text for limit in record["limits"])
     again = _post(client, keys, values, "url.search", first["front-shown"]["data"])
     card = json.dumps(again["recommendation"]["children"], ensure_ascii=False)
-    assert text in card and panels.LIMITS_PENDING not in card and "rec-pending" not in again
+    assert text in card and panels.LIMITS_PENDING not in card and "rec-pending" not in card
 
 
 def _guarded_client(tmp_path, debug=False):
