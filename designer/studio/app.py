@@ -156,15 +156,24 @@ def _limits_callback(app, pending: OrderedDict) -> None:
 
     A card waiting for its limits holds a store numbered by its change (``rec-pending``, made by
     :func:`designer.studio.panels.recommendation_panel`): its appearance asks for them, and the answer goes to
-    the text of that card only (an older card replaced meanwhile takes no answer)."""
+    the text of that card only (an older card replaced meanwhile takes no answer).  The browser asks once it
+    has painted the chart (``rec-go``, set after the next frame): the limits' computation on the server then
+    does not compete with the chart's redraw for the cores."""
+
+    app.clientside_callback(
+        "function (n) { return new Promise(done => requestAnimationFrame(() => setTimeout(() => done(n), 0))); }",
+        Output({"type": "rec-go", "n": MATCH}, "data"),
+        Input({"type": "rec-pending", "n": MATCH}, "data"),
+    )
 
     @app.callback(
         Output({"type": "rec-limits-text", "n": MATCH}, "children"),
-        Input({"type": "rec-pending", "n": MATCH}, "data"),
+        Input({"type": "rec-go", "n": MATCH}, "data"),
+        prevent_initial_call=True,
     )
     def fill_limits(generation):
         with view.LOCK:
-            if generation not in pending:
+            if generation is None or generation not in pending:
                 raise PreventUpdate
             problem, key = pending[generation]
             try:

@@ -97,6 +97,7 @@ def recommendation_panel(fronts: view.Fronts, pending: int | None = None):
                 [
                     html.Span(limits, id={"type": "rec-limits-text", "n": pending}),
                     dcc.Store(id={"type": "rec-pending", "n": pending}, data=pending),
+                    dcc.Store(id={"type": "rec-go", "n": pending}),
                 ],
                 id="rec-limits",
                 style={"fontSize": "12px"},

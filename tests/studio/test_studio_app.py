@@ -199,9 +199,9 @@ def _find(component, key, value):
 def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path):
     """The studio's recommendation card lists each acceptance limit of the chosen caster as the spec rounds it
     (trail min and max, groove min, friction moment min, wheel inertia max) under id rec-limits: the trade-off's
-    callback sends the chart and the card with "computing…" there and a store numbered by the change; the limits
-    callback, asked by that store, then fills in the limits of recommend(problem) (the CLI's spec) for that card
-    only; going back to that state shows them at once."""
+    callback sends the chart and the card with "computing…" there and stores numbered by the change; the limits
+    callback, asked through them once the browser has painted the chart, then fills in the limits of
+    recommend(problem) (the CLI's spec) for that card only; going back to that state shows them at once."""
     from designer import load_problem
     from designer.studies.recommend import recommend
     from designer.studio import panels
@@ -224,15 +224,16 @@ def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path)
     card = first["recommendation"]["children"]
     (text_id,) = [c["props"]["id"] for c in _find(card, "type", "Span") if isinstance(c["props"].get("id"), dict)]
     assert text_id["type"] == "rec-limits-text"
-    (store,) = [c["props"] for c in _find(card, "type", "Store")]
-    assert store["id"] == {"type": "rec-pending", "n": text_id["n"]} and store["data"] == text_id["n"]
-    assert panels.LIMITS_PENDING in json.dumps(card, ensure_ascii=False)
+    pending, go = [c["props"] for c in _find(card, "type", "Store")]
     n = text_id["n"]
+    assert pending["id"] == {"type": "rec-pending", "n": n} and pending["data"] == n
+    assert go["id"] == {"type": "rec-go", "n": n} and go.get("data") is None  # set by the browser once it painted
+    assert panels.LIMITS_PENDING in json.dumps(card, ensure_ascii=False)
     body = {
         "output": '{"n":["MATCH"],"type":"rec-limits-text"}.children',
         "outputs": {"id": text_id, "property": "children"},
-        "inputs": [{"id": store["id"], "property": "data", "value": n}],
-        "changedPropIds": [json.dumps(store["id"], separators=(",", ":"), sort_keys=True) + ".data"],
+        "inputs": [{"id": go["id"], "property": "data", "value": n}],
+        "changedPropIds": [json.dumps(go["id"], separators=(",", ":"), sort_keys=True) + ".data"],
         "state": [],
     }
     response = client.post("/_dash-update-component", json=body)
