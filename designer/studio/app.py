@@ -21,7 +21,7 @@ from collections import OrderedDict
 from pathlib import Path
 
 import dash
-from dash import ALL, MATCH, Input, Output, Patch, State, ctx, html, no_update
+from dash import ALL, Input, Output, Patch, State, ctx, html, no_update
 from dash.exceptions import PreventUpdate
 
 from designer.errors import DesignerError
@@ -61,6 +61,8 @@ def create_app(data: dict, name: str, out_dir: Path):
     defaults = state.control_values(data)
     app = dash.Dash(__name__, title=f"studio · {name}", update_title=None, serve_locally=True, assets_ignore=".*")
     app.layout = build_layout(name, defaults)
+    # the card's limits (rec-limits) are in the recommendation panel, which the trade-off's callback returns
+    app.validation_layout = html.Div([app.layout, html.Div(id="rec-limits")])
     # the problems whose limits a card waits for, by their change's number
     pending: OrderedDict = OrderedDict()
     _trade_off_callback(app, data, defaults, pending)
@@ -76,8 +78,9 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
 
     Only what changed goes to the browser: the chart's traces that differ from the ones it shows (a Dash
     ``Patch``, :func:`_chart`; the layout is sent with the first chart only), and the messages, URL and
-    problem data where they differ from the page's.  A panel without its limits (computed later) carries the
-    change's number, which ``pending`` maps to its problem and key (:func:`_limits_callback`)."""
+    problem data where they differ from the page's.  ``rec-pending`` is the number of the change whose card waits
+    for its limits (computed later: ``pending`` maps it to its problem and key, :func:`_limits_callback`), None
+    when the card has them."""
     keys = [c.key for c in state.all_controls()]
     latest = {"n": 0}  # the newest change wins: changes that queued behind a computation are skipped
 
@@ -91,6 +94,7 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
         Output("status", "children"),
         Output("url", "search"),
         Output("problem-data", "data"),
+        Output("rec-pending", "data"),
         Input("url", "search"),
         Input({"type": "ctl", "key": ALL}, "value"),
         Input("mine-store", "data"),
@@ -129,6 +133,7 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
                 no_update,
                 no_update if from_url else state.to_query(current, defaults),
                 no_update,
+                no_update,
             )
         figure, shown_now = _chart(fronts, mine, shown)
         query = state.to_query(current, defaults)
@@ -143,34 +148,38 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
             _changed("", general_shown),
             figure,
             shown_now,
-            recommendation_panel(fronts, generation if waiting else None),
+            recommendation_panel(fronts),
             _status(problem, fronts),
             no_update if from_url and query == (search or "") else query,
             no_update if merged == last else merged,
+            generation if waiting else None,
         )
 
 
 def _limits_callback(app, pending: OrderedDict) -> None:
     """The second step of a change: the recommended caster's acceptance limits and worst corner
-    (:func:`designer.studio.view.compute_spec`, about 0.1 s) into the card, once the chart's answer is in.
+    (:func:`designer.studio.view.compute_spec`, about 0.1 s) into the card's ``rec-limits``.
 
-    A card waiting for its limits holds a store numbered by its change (``rec-pending``, made by
-    :func:`designer.studio.panels.recommendation_panel`): its appearance asks for them, and the answer goes to
-    the text of that card only (an older card replaced meanwhile takes no answer).  The browser asks once it
-    has painted the chart (``rec-go``, set after the next frame): the limits' computation on the server then
-    does not compete with the chart's redraw for the cores."""
+    The trade-off's answer sets ``rec-pending`` (the change's number); the browser passes it on to ``rec-go``
+    once it has painted the chart (after the next frame: the computation then does not compete with the redraw
+    for the cores); the server answers ``{"n", "text"}`` in ``rec-answer``, which goes into the card only if it
+    is still the card of change ``n`` (a newer card meanwhile takes no older answer)."""
 
     app.clientside_callback(
         "function (n) { return new Promise(done => requestAnimationFrame(() => setTimeout(() => done(n), 0))); }",
-        Output({"type": "rec-go", "n": MATCH}, "data"),
-        Input({"type": "rec-pending", "n": MATCH}, "data"),
-    )
-
-    @app.callback(
-        Output({"type": "rec-limits-text", "n": MATCH}, "children"),
-        Input({"type": "rec-go", "n": MATCH}, "data"),
+        Output("rec-go", "data"),
+        Input("rec-pending", "data"),
         prevent_initial_call=True,
     )
+    app.clientside_callback(
+        "function (answer, n) { return answer && answer.n === n ? answer.text : window.dash_clientside.no_update; }",
+        Output("rec-limits", "children"),
+        Input("rec-answer", "data"),
+        State("rec-pending", "data"),
+        prevent_initial_call=True,
+    )
+
+    @app.callback(Output("rec-answer", "data"), Input("rec-go", "data"), prevent_initial_call=True)
     def fill_limits(generation):
         with view.LOCK:
             if generation is None or generation not in pending:
@@ -179,8 +188,8 @@ def _limits_callback(app, pending: OrderedDict) -> None:
             try:
                 fronts = view.compute_spec(problem, key=key)
             except DesignerError as exc:
-                return str(exc)
-            return limits_text(view.recommendation_record(fronts.recommendation))
+                return {"n": generation, "text": str(exc)}
+            return {"n": generation, "text": limits_text(view.recommendation_record(fronts.recommendation))}
 
 
 def _changed(new, shown):

@@ -31,9 +31,7 @@ def _design_text(d: dict) -> str:
     )
 
 
-def recommendation_panel(fronts: view.Fronts, pending: int | None = None):
-    """The recommendation's card; ``pending``: the number of the change whose limits are still to come (the
-    card then says they are being computed, and asks for them)."""
+def recommendation_panel(fronts: view.Fronts):
     rec = view.recommendation_record(fronts.recommendation)
     if rec is None:
         best = fronts.risk if fronts.risk is not None else fronts.continuous
@@ -85,24 +83,9 @@ def recommendation_panel(fronts: view.Fronts, pending: int | None = None):
             style=CSS["num"],
         ),
     ]
-    # the spec goods-in inspects against (each limit with the other parts at nominal); when the fronts were
-    # computed without it, filled in a moment after the chart (app._limits_callback) into this panel's own
-    # text (ids numbered by the change ``pending``: an answer for an older panel has nowhere to go)
-    limits = limits_text(rec)
-    if pending is None:
-        rows.append(html.Div(limits, id="rec-limits", style={"fontSize": "12px"}))
-    else:
-        rows.append(
-            html.Div(
-                [
-                    html.Span(limits, id={"type": "rec-limits-text", "n": pending}),
-                    dcc.Store(id={"type": "rec-pending", "n": pending}, data=pending),
-                    dcc.Store(id={"type": "rec-go", "n": pending}),
-                ],
-                id="rec-limits",
-                style={"fontSize": "12px"},
-            )
-        )
+    # the spec goods-in inspects against (each limit with the other parts at nominal); filled in a moment after
+    # the chart when the fronts were computed without it (app._limits_callback)
+    rows.append(html.Div(limits_text(rec), id="rec-limits", style={"fontSize": "12px"}))
     if rec.get("rule"):
         rows.append(html.Div(str(rec["rule"]), style={"fontSize": "12px", "color": "#555"}))
     for alt in rec["alternatives"]:

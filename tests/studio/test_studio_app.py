@@ -199,9 +199,9 @@ def _find(component, key, value):
 def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path):
     """The studio's recommendation card lists each acceptance limit of the chosen caster as the spec rounds it
     (trail min and max, groove min, friction moment min, wheel inertia max) under id rec-limits: the trade-off's
-    callback sends the chart and the card with "computing…" there and stores numbered by the change; the limits
-    callback, asked through them once the browser has painted the chart, then fills in the limits of
-    recommend(problem) (the CLI's spec) for that card only; going back to that state shows them at once."""
+    callback sends the chart and the card with "computing…" there and the change's number in rec-pending; the
+    limits callback, asked with that number once the browser has painted the chart (rec-go), answers the limits
+    of recommend(problem) (the CLI's spec) for that change; going back to that state shows them at once."""
     from designer import load_problem
     from designer.studies.recommend import recommend
     from designer.studio import panels
@@ -221,29 +221,18 @@ def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path)
     keys = [c.key for c in state.all_controls()]
     values = state.control_values(data)
     first = _post(client, keys, values, "url.search", None)
-    card = first["recommendation"]["children"]
-    (text_id,) = [c["props"]["id"] for c in _find(card, "type", "Span") if isinstance(c["props"].get("id"), dict)]
-    assert text_id["type"] == "rec-limits-text"
-    pending, go = [c["props"] for c in _find(card, "type", "Store")]
-    n = text_id["n"]
-    assert pending["id"] == {"type": "rec-pending", "n": n} and pending["data"] == n
-    assert go["id"] == {"type": "rec-go", "n": n} and go.get("data") is None  # set by the browser once it painted
-    assert panels.LIMITS_PENDING in json.dumps(card, ensure_ascii=False)
-    body = {
-        "output": '{"n":["MATCH"],"type":"rec-limits-text"}.children',
-        "outputs": {"id": text_id, "property": "children"},
-        "inputs": [{"id": go["id"], "property": "data", "value": n}],
-        "changedPropIds": [json.dumps(go["id"], separators=(",", ":"), sort_keys=True) + ".data"],
-        "state": [],
-    }
-    response = client.post("/_dash-update-component", json=body)
-    assert response.status_code == 200, response.data[:500]
-    text = json.loads(response.data)["response"][json.dumps(text_id, separators=(",", ":"), sort_keys=True)]
-    text = text["children"]
-    assert text == panels.limits_text(record) and all(limit in text for limit in record["limits"])
+    card = json.dumps(first["recommendation"]["children"], ensure_ascii=False)
+    assert panels.LIMITS_PENDING in card and "rec-limits" in card
+    n = first["rec-pending"]["data"]
+    assert isinstance(n, int)
+    answer = _callback(client, [("rec-answer", "data")], [("rec-go", "data", n)], "rec-go.data", [])
+    answer = answer["rec-answer"]["data"]
+    assert answer["n"] == n and answer["text"] == panels.limits_text(record)
+    assert all(limit in answer["text"] for limit in record["limits"])
     again = _post(client, keys, values, "url.search", first["front-shown"]["data"])
     card = json.dumps(again["recommendation"]["children"], ensure_ascii=False)
-    assert text in card and panels.LIMITS_PENDING not in card and "rec-pending" not in card
+    assert answer["text"] in card and panels.LIMITS_PENDING not in card
+    assert again["rec-pending"]["data"] is None  # an answer still on its way for the card before is not shown
 
 
 def _guarded_client(tmp_path, debug=False):
