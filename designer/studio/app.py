@@ -166,7 +166,8 @@ def _limits_callback(app, pending: OrderedDict) -> None:
     is still the card of change ``n`` (a newer card meanwhile takes no older answer)."""
 
     app.clientside_callback(
-        "function (n) { return new Promise(done => requestAnimationFrame(() => setTimeout(() => done(n), 0))); }",
+        "function (n) { return n == null ? window.dash_clientside.no_update"
+        " : new Promise(done => requestAnimationFrame(() => setTimeout(() => done(n), 0))); }",
         Output("rec-go", "data"),
         Input("rec-pending", "data"),
         prevent_initial_call=True,
