@@ -6,7 +6,9 @@ The page is built by :mod:`designer.studio.layout`, the panels the callbacks ret
 One callback owns the trade-off: it reads the controls (or, on load, the URL), validates them
 with the problem loader (:func:`designer.studio.state.build_problem`), recomputes the fronts and
 the recommendation, redraws, and writes the state back into the URL.  A bad value leaves the last
-valid chart on the page and puts the loader's one-line message beside the control.
+valid chart on the page and puts the loader's one-line message beside the control.  The recommended
+caster's acceptance limits (about a third of the computation) are left out of it: a second callback,
+chained to the first, computes them and fills them into the card a moment after the chart.
 
 Dash and plotly are imported here (and by layout and panels): these modules are loaded only by ``designer studio``.
 """
@@ -15,6 +17,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+from collections import OrderedDict
 from pathlib import Path
 
 import dash
@@ -29,10 +32,18 @@ import designer.studio.state as state
 import designer.studio.view as view
 from designer.problem import problem_from_dict
 from designer.studio.layout import CSS, build_layout
-from designer.studio.panels import card_panel, fixes_panel, numbers_table, recommendation_panel
+from designer.studio.panels import card_panel, fixes_panel, limits_text, numbers_table, recommendation_panel
 from designer.units import parse_quantity_text as quantity_option
 
-__all__ = ["build_layout", "card_panel", "create_app", "fixes_panel", "numbers_table", "recommendation_panel"]
+__all__ = [
+    "build_layout",
+    "card_panel",
+    "create_app",
+    "fixes_panel",
+    "limits_text",
+    "numbers_table",
+    "recommendation_panel",
+]
 
 
 # --------------------------------------------------------------------------- the app
@@ -50,19 +61,26 @@ def create_app(data: dict, name: str, out_dir: Path):
     defaults = state.control_values(data)
     app = dash.Dash(__name__, title=f"studio · {name}", update_title=None, serve_locally=True, assets_ignore=".*")
     app.layout = build_layout(name, defaults)
-    _trade_off_callback(app, data, defaults)
+    # the card's limits (rec-limits) are in the recommendation panel, which the trade-off's callback returns
+    app.validation_layout = html.Div([app.layout, html.Div(id="rec-limits")])
+    # the problems whose limits a card waits for, by their change's number
+    pending: OrderedDict = OrderedDict()
+    _trade_off_callback(app, data, defaults, pending)
+    _limits_callback(app, pending)
     _card_callback(app)
     _mine_callback(app, out_dir)
     _save_callback(app, out_dir)
     return app
 
 
-def _trade_off_callback(app, data: dict, defaults: dict) -> None:
+def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -> None:
     """The callback that owns the trade-off: controls (or the URL) -> problem -> fronts -> chart, panel, URL.
 
     Only what changed goes to the browser: the chart's traces that differ from the ones it shows (a Dash
     ``Patch``, :func:`_chart`; the layout is sent with the first chart only), and the messages, URL and
-    problem data where they differ from the page's."""
+    problem data where they differ from the page's.  ``rec-pending`` is the number of the change whose card waits
+    for its limits (computed later: ``pending`` maps it to its problem and key, :func:`_limits_callback`), None
+    when the card has them."""
     keys = [c.key for c in state.all_controls()]
     latest = {"n": 0}  # the newest change wins: changes that queued behind a computation are skipped
 
@@ -76,6 +94,7 @@ def _trade_off_callback(app, data: dict, defaults: dict) -> None:
         Output("status", "children"),
         Output("url", "search"),
         Output("problem-data", "data"),
+        Output("rec-pending", "data"),
         Input("url", "search"),
         Input({"type": "ctl", "key": ALL}, "value"),
         Input("mine-store", "data"),
@@ -114,9 +133,15 @@ def _trade_off_callback(app, data: dict, defaults: dict) -> None:
                 no_update,
                 no_update if from_url else state.to_query(current, defaults),
                 no_update,
+                no_update,
             )
         figure, shown_now = _chart(fronts, mine, shown)
         query = state.to_query(current, defaults)
+        waiting = fronts.recommendation is not None and fronts.recommendation.spec is None
+        if waiting:
+            pending[generation] = (problem, canonical)
+            while len(pending) > 16:
+                pending.popitem(last=False)
         return (
             values_out,
             _changed([""] * len(keys), errors_shown),
@@ -127,7 +152,45 @@ def _trade_off_callback(app, data: dict, defaults: dict) -> None:
             _status(problem, fronts),
             no_update if from_url and query == (search or "") else query,
             no_update if merged == last else merged,
+            generation if waiting else None,
         )
+
+
+def _limits_callback(app, pending: OrderedDict) -> None:
+    """The second step of a change: the recommended caster's acceptance limits and worst corner
+    (:func:`designer.studio.view.compute_spec`, about 0.1 s) into the card's ``rec-limits``.
+
+    The trade-off's answer sets ``rec-pending`` (the change's number); the browser passes it on to ``rec-go``
+    once it has painted the chart (after the next frame: the computation then does not compete with the redraw
+    for the cores); the server answers ``{"n", "text"}`` in ``rec-answer``, which goes into the card only if it
+    is still the card of change ``n`` (a newer card meanwhile takes no older answer)."""
+
+    app.clientside_callback(
+        "function (n) { return n == null ? window.dash_clientside.no_update"
+        " : new Promise(done => requestAnimationFrame(() => setTimeout(() => done(n), 0))); }",
+        Output("rec-go", "data"),
+        Input("rec-pending", "data"),
+        prevent_initial_call=True,
+    )
+    app.clientside_callback(
+        "function (answer, n) { return answer && answer.n === n ? answer.text : window.dash_clientside.no_update; }",
+        Output("rec-limits", "children"),
+        Input("rec-answer", "data"),
+        State("rec-pending", "data"),
+        prevent_initial_call=True,
+    )
+
+    @app.callback(Output("rec-answer", "data"), Input("rec-go", "data"), prevent_initial_call=True)
+    def fill_limits(generation):
+        with view.LOCK:
+            if generation is None or generation not in pending:
+                raise PreventUpdate
+            problem, key = pending[generation]
+            try:
+                fronts = view.compute_spec(problem, key=key)
+            except DesignerError as exc:
+                return {"n": generation, "text": str(exc)}
+            return {"n": generation, "text": limits_text(view.recommendation_record(fronts.recommendation))}
 
 
 def _changed(new, shown):

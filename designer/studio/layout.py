@@ -81,6 +81,11 @@ def build_layout(name: str, defaults: dict):
             dcc.Store(id="problem-data"),
             dcc.Store(id="mine-store"),
             dcc.Store(id="front-shown"),  # what the chart shows: [part, digest] per trace (app._chart)
+            # the card's limits, which come after the chart (app._limits_callback): the change whose card waits
+            # for them, the same once the browser has painted the chart, and the server's answer
+            dcc.Store(id="rec-pending"),
+            dcc.Store(id="rec-go"),
+            dcc.Store(id="rec-answer"),
             html.H2(f"caster-designer studio: {name}", style={"margin": "4px 0", "fontSize": "1.3em"}),
             _first_controls(defaults),
             html.Div([_chart_column(), _card_column()], style=CSS["row"]),

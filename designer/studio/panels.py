@@ -83,18 +83,9 @@ def recommendation_panel(fronts: view.Fronts):
             style=CSS["num"],
         ),
     ]
-    if rec.get("limits"):  # the spec goods-in inspects against (each limit with the other parts at nominal)
-        corner = rec.get("corner")
-        worst = (
-            ""
-            if corner is None
-            else f"; worst corner P(shimmy) {100 * corner[0]:.2f} %" + ("" if corner[1] else " (does NOT hold)")
-        )
-        rows.append(
-            html.Div(
-                "acceptance limits: " + "; ".join(rec["limits"]) + worst, id="rec-limits", style={"fontSize": "12px"}
-            )
-        )
+    # the spec goods-in inspects against (each limit with the other parts at nominal); filled in a moment after
+    # the chart when the fronts were computed without it (app._limits_callback)
+    rows.append(html.Div(limits_text(rec), id="rec-limits", style={"fontSize": "12px"}))
     if rec.get("rule"):
         rows.append(html.Div(str(rec["rule"]), style={"fontSize": "12px", "color": "#555"}))
     for alt in rec["alternatives"]:
@@ -106,6 +97,29 @@ def recommendation_panel(fronts: view.Fronts):
             )
         )
     return rows
+
+
+LIMITS_PENDING = "acceptance limits: computing…"
+"""What the card says while the recommended caster's limits are being computed."""
+
+
+def limits_text(rec: dict | None) -> str:
+    """The recommended caster's acceptance limits and worst corner as one line, from
+    :func:`designer.studio.view.recommendation_record` (:data:`LIMITS_PENDING` before its spec is computed,
+    "" when it has no limit)."""
+    if rec is None:
+        return ""
+    if rec.get("limits") is None:
+        return LIMITS_PENDING
+    if not rec["limits"]:
+        return ""
+    corner = rec.get("corner")
+    worst = (
+        ""
+        if corner is None
+        else f"; worst corner P(shimmy) {100 * corner[0]:.2f} %" + ("" if corner[1] else " (does NOT hold)")
+    )
+    return "acceptance limits: " + "; ".join(rec["limits"]) + worst
 
 
 def numbers_table(n: dict, prefix: str):

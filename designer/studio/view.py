@@ -27,7 +27,7 @@ from designer.units import INCH
 from designer.plots.caster import caster_svg
 from designer.studies.dynamics import simulate
 from designer.studies.dynamics.limit_cycles import knock_safe_speeds
-from designer.studies.recommend import recommend
+from designer.studies.recommend import recommend, with_spec
 from designer.studies.retrofit import fix
 
 if TYPE_CHECKING:  # record types for the checker only: designer.studies.front loads casadi
@@ -124,6 +124,21 @@ def compute_fronts(problem, key: str | None = None) -> Fronts:
         return _compute_fronts(problem, key)
 
 
+def compute_spec(problem, key: str | None = None) -> Fronts:
+    """:func:`compute_fronts` of ``problem`` with the recommended caster's spec (acceptance limits, worst corner:
+    :func:`designer.studies.recommend.with_spec`, the spec :func:`designer.recommend` gives).
+
+    The fronts are computed without it (about 0.1 s of CPU: the chart is drawn first); this adds it to the
+    fronts cached for ``key``, so going back to a state shows its limits at once.
+    """
+    with LOCK:
+        fronts = _compute_fronts(problem, key)
+        rec = fronts.recommendation
+        if rec is not None and rec.spec is None:
+            fronts.recommendation = _quiet(with_spec, rec)
+        return fronts
+
+
 def cached(key: str):
     """The fronts computed earlier for ``key``, or None."""
     with LOCK:
@@ -161,7 +176,8 @@ def _compute_fronts(problem, key):
     missing = [p for p in wanted if front_key(p) not in _FRONTS]
     away = missing[0] if missing else None
     job = helper.submit(away) if away is not None else None
-    rec = _quiet(recommend, problem, alternative_specs=False)  # the card shows the recommended caster's limits
+    # no spec: the chart first; the recommended caster's limits come a moment later (compute_spec)
+    rec = _quiet(recommend, problem, specs="none")
     out.recommendation = rec
     out.buildable = getattr(rec, "buildable", None)
     fronts = {id(p): _front(p) for p in wanted if p is not away}  # here, while the helper computes its front
@@ -239,8 +255,8 @@ def recommendation_record(rec) -> dict | None:
     inertia = getattr(rec, "inertia", None)
     out["inertia"] = float(inertia) if inertia is not None and math.isfinite(float(inertia)) else None
     spec = getattr(rec, "spec", None)
-    out["limits"] = (
-        [] if spec is None else [f"{lim.side} {lim.part.replace('_', ' ')} {lim.shown}" for lim in spec.limits]
+    out["limits"] = (  # None: not computed yet (compute_spec)
+        None if spec is None else [f"{lim.side} {lim.part.replace('_', ' ')} {lim.shown}" for lim in spec.limits]
     )
     corner = None if spec is None else spec.corner
     out["corner"] = None if corner is None else (corner["probability"], corner["holds"])

@@ -119,7 +119,7 @@ def _studio_data() -> str:
     data, name = state.read_problem_data(state.default_problem_path())
     values = state.control_values(data)
     problem, _ = state.build_problem(data, values)
-    fronts = view.compute_fronts(problem)
+    fronts = view.compute_spec(problem)  # the card as shown once its limits are filled in
     numbers = {
         part: None if f is None else f.objectives().tolist()
         for part, f in (("continuous", fronts.continuous), ("risk", fronts.risk), ("buildable", fronts.buildable))
@@ -272,6 +272,13 @@ def _stem_source() -> str:
     return _figure_data(stem_figure())
 
 
+def _limits_shown(text: str) -> bool:
+    """The studio card's ``rec-limits`` shows the limits (not the placeholder of the second callback)."""
+    from designer.studio.panels import LIMITS_PENDING
+
+    return text.startswith("acceptance limits") and text != LIMITS_PENDING
+
+
 def _studio(width: int, height: int, bad: bool = False):
     """Screenshot of ``designer studio`` (its own process) at ``width`` px; ``bad``: trail min 3 in > max."""
 
@@ -290,6 +297,8 @@ def _studio(width: int, height: int, bad: bool = False):
                 driver.get(url)
                 wait = WebDriverWait(driver, 120)
                 wait.until(lambda d: any("computed" in e.text for e in d.find_elements(By.ID, "status")))
+                # the card's acceptance limits come a moment after the chart (the studio's second callback)
+                wait.until(lambda d: any(_limits_shown(e.text) for e in d.find_elements(By.ID, "rec-limits")))
                 if bad:
                     box = driver.find_element(By.CSS_SELECTOR, '[data-key="trail_min"] input')
                     box.find_element(By.XPATH, "ancestor::details/summary").click()

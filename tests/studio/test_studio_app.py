@@ -183,20 +183,56 @@ def test_catalogue_points_carry_their_wheels_inertia():
     assert view.recommendation_record(rec)["inertia"] == pytest.approx(rec.inertia)
 
 
-def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster():
+def _find(component, key, value):
+    """The components under ``component`` (Dash components or their JSON) whose ``key`` is ``value``."""
+    if isinstance(component, dict):
+        props = component.get("props", component)
+        found = [component] if value in (component.get(key), props.get(key)) else []
+        return found + _find(props.get("children"), key, value)
+    if isinstance(component, (list, tuple)):
+        return [c for child in component for c in _find(child, key, value)]
+    if hasattr(component, "to_plotly_json"):
+        return _find(component.to_plotly_json(), key, value)
+    return []
+
+
+def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path):
     """The studio's recommendation card lists each acceptance limit of the chosen caster as the spec rounds it
-    (trail min and max, groove min, friction moment min, wheel inertia max) under id rec-limits."""
+    (trail min and max, groove min, friction moment min, wheel inertia max) under id rec-limits: the trade-off's
+    callback sends the chart and the card with "computing…" there and the change's number in rec-pending; the
+    limits callback, asked with that number once the browser has painted the chart (rec-go), answers the limits
+    of recommend(problem) (the CLI's spec) for that change; going back to that state shows them at once."""
     from designer import load_problem
     from designer.studies.recommend import recommend
     from designer.studio import panels
+    from test_studio_updates import _post
 
-    problem = load_problem(PROBLEM.parent / "catalog-retrofit.toml")
-    rec = recommend(problem)
+    path = PROBLEM.parent / "catalog-retrofit.toml"
+    rec = recommend(load_problem(path))
     record = view.recommendation_record(rec)
     assert record["limits"] == [f"{x.side} {x.part.replace('_', ' ')} {x.shown}" for x in rec.spec.limits]
-    fronts = view.Fronts(problem=problem, recommendation=rec, continuous=None, risk=None, notes=[])
-    shown = [c for c in panels.recommendation_panel(fronts) if getattr(c, "id", None) == "rec-limits"]
-    assert len(shown) == 1 and all(text in shown[0].children for text in record["limits"])
+    assert len(record["limits"]) >= 3
+    fronts = view.Fronts(problem=rec.problem, recommendation=rec, continuous=None, risk=None, notes=[])
+    shown = _find(panels.recommendation_panel(fronts), "id", "rec-limits")
+    assert len(shown) == 1 and all(text in shown[0]["props"]["children"] for text in record["limits"])
+
+    data, name = state.read_problem_data(path)
+    client = create_app(data, name, tmp_path).server.test_client()
+    keys = [c.key for c in state.all_controls()]
+    values = state.control_values(data)
+    first = _post(client, keys, values, "url.search", None)
+    card = json.dumps(first["recommendation"]["children"], ensure_ascii=False)
+    assert panels.LIMITS_PENDING in card and "rec-limits" in card
+    n = first["rec-pending"]["data"]
+    assert isinstance(n, int)
+    answer = _callback(client, [("rec-answer", "data")], [("rec-go", "data", n)], "rec-go.data", [])
+    answer = answer["rec-answer"]["data"]
+    assert answer["n"] == n and answer["text"] == panels.limits_text(record)
+    assert all(limit in answer["text"] for limit in record["limits"])
+    again = _post(client, keys, values, "url.search", first["front-shown"]["data"])
+    card = json.dumps(again["recommendation"]["children"], ensure_ascii=False)
+    assert answer["text"] in card and panels.LIMITS_PENDING not in card
+    assert again["rec-pending"]["data"] is None  # an answer still on its way for the card before is not shown
 
 
 def _guarded_client(tmp_path, debug=False):

@@ -31,7 +31,8 @@ def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last
     outputs = [{"id": i, "property": "value"} for i in ids]
     body = {
         "output": '..{"key":["ALL"],"type":"ctl"}.value...{"key":["ALL"],"type":"err"}.children...general-error.children'
-        "...front.figure...front-shown.data...recommendation.children...status.children...url.search...problem-data.data..",
+        "...front.figure...front-shown.data...recommendation.children...status.children...url.search...problem-data.data"
+        "...rec-pending.data..",
         "outputs": [
             outputs,
             [{"id": i, "property": "children"} for i in errs],
@@ -42,6 +43,7 @@ def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last
             {"id": "status", "property": "children"},
             {"id": "url", "property": "search"},
             {"id": "problem-data", "property": "data"},
+            {"id": "rec-pending", "property": "data"},
         ],
         "inputs": [
             {"id": "url", "property": "search", "value": search},

@@ -11,7 +11,7 @@ _stock      stock candidates and their risk screen
 from __future__ import annotations
 
 from designer.studies.recommend._record import Recommendation
-from designer.studies.recommend._recommend import recommend
+from designer.studies.recommend._recommend import recommend, with_spec
 from designer.studies.recommend._rule import select_rows, weights_meaning
 from designer.studies.recommend._stock import stock_candidates
 
@@ -21,4 +21,5 @@ __all__ = [
     "select_rows",
     "stock_candidates",
     "weights_meaning",
+    "with_spec",
 ]

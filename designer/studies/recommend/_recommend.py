@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.data.paper import INCH
-from designer.errors import InfeasibleError
+from designer.errors import InfeasibleError, InputError
 from designer.model import VARIABLES, Casters, Design, evaluate, scatter_of
 from designer.physics.inertia import Fixed, PowerLaw
 from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sources
@@ -56,6 +56,7 @@ from designer.studies.recommend._stock import (
 __all__ = [
     "RULES",
     "CandidateTable",
+    "SPECS",
     "Recommendation",
     "ScreenedTable",
     "candidate_table",
@@ -64,6 +65,7 @@ __all__ = [
     "select_rows",
     "stock_candidates",
     "weights_meaning",
+    "with_spec",
 ]
 
 
@@ -184,12 +186,12 @@ def _infeasible_message(problem, table: ScreenedTable | None) -> str:
 
 
 def _record(
-    problem, b: _Buildable, i: int, rule: str, role: str, samples=None, seed=None, with_spec: bool = True
+    problem, b: _Buildable, i: int, rule: str, role: str, samples=None, seed=None, wants_spec: bool = True
 ) -> Recommendation:
     """Candidate ``i`` as a :class:`Recommendation`, with its reported risk: P(shimmy at V_target) by the exact
     law (quadrature) under the problem's risk law (the default scatter when the bound is off, whose V_q it then
     reports too), the Monte Carlo beside it as an independent check; its spec (limits, worst corner) when
-    ``with_spec`` and it is not the "if measured" variant."""
+    ``wants_spec`` and it is not the "if measured" variant (:func:`with_spec` adds it later, the same)."""
     u = scatter_of(problem.conditions)
     v = b.values
     design = b.design(i)
@@ -209,12 +211,10 @@ def _record(
     )
     mc_seed = int(u.seed if seed is None else seed)
     inertia, measured = float(v.inertia[i]), bool(v.measured[i])
+    p = exact_shimmy_probability(problem, design, inertia, measured, problem.target_speed)
     spec = None
-    if role != "if measured" and with_spec:
-        spec = caster_spec(problem, design, inertia, measured, (p_mc, se, n, mc_seed))
-        p = spec.probability
-    else:
-        p = exact_shimmy_probability(problem, design, inertia, measured, problem.target_speed)
+    if role != "if measured" and wants_spec:
+        spec = _spec(problem, design, inertia, measured, (p_mc, se, n, mc_seed), p)
     extra = _risk(problem, v, i, u, p, (p_mc, se)) if role == "recommended" else {}
     q = v.confident_speed[i] if problem.risk is not None else risk.confident_speed[0]
     return Recommendation(
@@ -237,6 +237,24 @@ def _record(
         spec=spec,
         **extra,
     )
+
+
+def _spec(problem, design: Design, inertia: float, measured: bool, monte_carlo: tuple, p: float):
+    """The spec of one caster of a recommendation (:func:`designer.studies.spec.caster_spec`) with its exact P
+    ``p`` at V_target (the record's own): the one call of :func:`_record` and :func:`with_spec`."""
+    return caster_spec(problem, design, inertia, measured, monte_carlo, probability=p)
+
+
+def with_spec(rec: Recommendation) -> Recommendation:
+    """``rec`` with its spec (acceptance limits, worst corner), as :func:`recommend` gives it with ``specs="all"``
+    or ``"recommended"``: for a recommendation computed with ``specs="none"`` (the studio draws the chart first
+    and fills in the limits after).  Its alternatives are left as they are; ``rec`` itself when it has its spec
+    already or is the "if measured" variant (which has none)."""
+    if rec.spec is not None or rec.role == "if measured" or rec.problem is None:
+        return rec
+    monte_carlo = (rec.shimmy_probability_mc, rec.shimmy_probability_se, rec.mc_samples, rec.mc_seed)
+    spec = _spec(rec.problem, rec.design, rec.inertia, rec.measured, monte_carlo, rec.shimmy_probability)
+    return dataclasses.replace(rec, spec=spec)
 
 
 def _risk(problem, v: Casters, i: int, u: Uncertainty, p: float, mc: tuple[float, float]) -> dict:
@@ -290,9 +308,13 @@ def _buildable_front(problem, b: _Buildable, member: np.ndarray):
     )
 
 
+SPECS = ("all", "recommended", "none")
+"""The values of :func:`recommend`'s ``specs``: which casters get their spec."""
+
+
 @one_solve_at_a_time
 def recommend(
-    problem, samples: int | None = None, seed: int | None = None, *, front=None, alternative_specs: bool = True
+    problem, samples: int | None = None, seed: int | None = None, *, front=None, specs: str = "all"
 ) -> Recommendation:
     """``designer.recommend``: the caster to build for ``problem``, by the problem's rule.
 
@@ -303,10 +325,11 @@ def recommend(
         problem's ``[robust]`` ones: 50 000, seed 20111)
     front : the continuous risk-bounded front of ``problem`` when the caller has it (kept in
         ``Recommendation.front``; nothing here computes it)
-    alternative_specs : give every alternative its spec (acceptance limits and worst corner: about 0.1 s of
-        CPU each, the quadratures of :func:`designer.physics.acceptance.acceptance_limits`); False leaves
-        their ``spec`` None (the studio, which shows the recommended caster's limits at every key press); the
-        recommended caster always has its spec, and every caster its exact P(shimmy)
+    specs : which casters get their spec (acceptance limits and worst corner: about 0.1 s of CPU each, the
+        quadratures of :func:`designer.physics.acceptance.acceptance_limits`): "all" (the default: the
+        recommended caster and every alternative), "recommended" (the alternatives' ``spec`` None) or "none"
+        (every ``spec`` None: the studio at each key press, which adds the recommended caster's afterwards with
+        :func:`with_spec`, the same spec); every caster has its exact P(shimmy) whatever ``specs``
 
     Returns
     -------
@@ -320,6 +343,8 @@ def recommend(
         or none is within the cap of ``[objective]``.
     """
 
+    if specs not in SPECS:
+        raise InputError(f"specs={specs!r}: expected one of {', '.join(map(repr, SPECS))}")
     problem = problem_argument(problem)
     b = _buildable(problem)
     sel = _select(problem, b, np.ones(len(b), bool))
@@ -334,9 +359,9 @@ def recommend(
             raise _over_cap_error(problem, b, sel)
         raise _corner_error(problem, b, enforced[0])
     rule = rule_text(problem, size, bool(sel["knee"][0]))
-    rec = _record(problem, b, choice, rule, "recommended", samples, seed)
+    rec = _record(problem, b, choice, rule, "recommended", samples, seed, specs != "none")
     alts = [
-        _record(problem, b, i, rule, role, samples, seed, alternative_specs)
+        _record(problem, b, i, rule, role, samples, seed, specs == "all")
         for i, role in front_roles(b.values.turning_effort, sel)
         if i != choice
     ]

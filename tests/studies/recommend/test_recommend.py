@@ -443,12 +443,12 @@ def test_rule_takes_the_least_j_end_when_no_point_bulges_toward_the_ideal(recs):
 
 
 def test_alternatives_without_their_specs_keep_every_number(recs):
-    """recommend(..., alternative_specs=False) (the studio's call at each key press) leaves the alternatives'
-    spec None and changes nothing else: the same casters, roles and forces, the exact P(shimmy) of each
-    alternative equal to its spec's nominal P to quadrature precision (1e-12), the same Monte Carlo beside it, and
-    the recommended caster's spec as with every spec."""
+    """recommend(..., specs="recommended") leaves the alternatives' spec None and changes nothing else: the same
+    casters, roles and forces, the exact P(shimmy) of each alternative equal to its spec's nominal P to
+    quadrature precision (1e-12), the same Monte Carlo beside it, and the recommended caster's spec as with
+    every spec."""
     problem, full = recs["indoor-manual"]
-    light = recommend(problem, alternative_specs=False)
+    light = recommend(problem, specs="recommended")
     assert light.spec is not None and light.spec.limits == full.spec.limits
     assert len(light.alternatives) == len(full.alternatives) >= 2
     for a, b in zip(light.alternatives, full.alternatives):
@@ -461,3 +461,23 @@ def test_alternatives_without_their_specs_keep_every_number(recs):
         )
         assert a.shimmy_probability == pytest.approx(b.spec.probability, abs=1e-12)
         assert (a.shimmy_probability_mc, a.shimmy_probability_se) == (b.shimmy_probability_mc, b.shimmy_probability_se)
+
+
+@pytest.mark.parametrize("name", ["indoor-manual", "catalog-retrofit"])
+def test_a_spec_added_afterwards_is_the_one_recommend_gives(recs, name):
+    """recommend(..., specs="none") (the studio at each key press) then with_spec (the studio a moment later)
+    give exactly the recommendation and spec of recommend(problem): every number of the JSON record equal, not
+    just close; the alternatives keep no spec; a bad ``specs`` is refused."""
+    from designer.errors import InputError
+    from designer.studies.recommend import with_spec
+
+    problem, full = recs[name]
+    bare = recommend(problem, specs="none")
+    assert bare.spec is None and all(a.spec is None for a in bare.alternatives)
+    assert bare.shimmy_probability == full.shimmy_probability
+    later = with_spec(bare)
+    assert later.spec is not None and later.spec.to_dict() == full.spec.to_dict()
+    assert later.to_dict() == full.to_dict()
+    assert with_spec(later) is later
+    with pytest.raises(InputError, match="specs='some'"):
+        recommend(problem, specs="some")
