@@ -36,6 +36,8 @@ sum_quantile
 
 # web framework: Dash callbacks, Flask hooks and overrides (designer/studio)
 open_card
+fill_limits  # the card's acceptance limits, after the chart (designer/studio/app.py)
+_.validation_layout  # Dash: the ids a callback may target outside the first layout
 check_mine
 save
 _local_only
