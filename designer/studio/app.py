@@ -73,7 +73,7 @@ def create_app(data: dict, name: str, out_dir: Path):
     return app
 
 
-def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -> None:
+def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -> None:  # long: one callback, 9 outputs
     """The callback that owns the trade-off: controls (or the URL) -> problem -> fronts -> chart, panel, URL.
 
     Only what changed goes to the browser: the chart's traces that differ from the ones it shows (a Dash
