@@ -122,6 +122,8 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
     "stiffness": ("N/m", "N/m"),
     "per_length": ("1/m", "1/m"),
     "moment": ("N*m", "N·m"),
+    "angular_speed": ("rad/s", "rad/s"),
+    "rate": ("1/s", "1/s"),
     "dimensionless": ("", "-"),
 }
 

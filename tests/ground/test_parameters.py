@@ -198,3 +198,20 @@ def test_the_table_names_units_columns_and_scales_of_the_variables():
     x = np.array([0.05, 0.2, 0.01, 1.3])
     assert p.named(x)["groove"] == 0.01
     np.testing.assert_array_equal(p.named(np.vstack([x, 2 * x]))["damping"], [1.3, 2.6])
+
+
+def _unit_mismatches(table) -> list[tuple[str, str, str]]:
+    from designer.units import DIMENSIONS
+
+    return [(p.name, p.unit, p.dimension) for p in table if p.unit and DIMENSIONS[p.dimension][1] != p.unit]
+
+
+def test_every_quantity_prints_the_unit_of_its_dimension():
+    """Each entry of the parameter tables (inputs and the quantities of an evaluated caster) prints the unit of
+    its declared dimension, so its JSON unit (ascii_unit) and its CSV column name agree with what it shows; a
+    quantity in rad/s declared dimensionless (as ω was) is caught."""
+    from designer.parameters import OUTPUT_TABLE, PARAMETERS, Parameter
+
+    assert _unit_mismatches(list(PARAMETERS.values()) + list(OUTPUT_TABLE)) == []
+    planted = Parameter("omega", "ω", "rad/s", "shimmy frequency", None, None, "Eq. 15B")
+    assert _unit_mismatches([planted]) == [("omega", "rad/s", "dimensionless")]
