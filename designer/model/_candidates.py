@@ -73,7 +73,10 @@ def design_columns(designs: Any) -> dict[str, np.ndarray]:
         return {name: np.asarray(designs[name], dtype=float) for name in VARIABLES}
     if isinstance(designs, Sequence) and designs and isinstance(designs[0], Design):
         return {name: np.array([getattr(d, name) for d in designs], dtype=float) for name in VARIABLES}
-    array = np.asarray(designs, dtype=float).reshape(-1, len(VARIABLES))
+    array = np.asarray(designs, dtype=float)
+    if array.ndim == 0 or array.shape[-1] != len(VARIABLES):  # an (N, 3) array is not N casters of 4 numbers
+        raise ValueError(f"an array of shape {array.shape}: expected (N, {len(VARIABLES)}), columns {VARIABLES}")
+    array = array.reshape(-1, len(VARIABLES))
     return {name: array[:, k] for k, name in enumerate(VARIABLES)}
 
 
@@ -376,6 +379,12 @@ def evaluate(  # long: the docstring documents every argument
         raise InputError(f"conditions = {conditions!r}: expected a designer.Conditions, e.g. Conditions(load=178)")
     if speed is not None:
         speed = _speed(speed)
+    if risk is not None:
+        risk = _speed(risk, "risk")
+    if weights is not None:
+        weights = _weights(weights)
+    if not isinstance(exact, (bool, np.bool_)):
+        raise InputError(f"exact = {exact!r}: expected True (the exact law by quadrature) or False (Monte Carlo)")
     out = _evaluate(
         _columns(designs),
         conditions,
@@ -395,9 +404,11 @@ def evaluate(  # long: the docstring documents every argument
         extra["growth_rate"] = _growth_rate(out, conditions, speed)
     if risk is not None:
         law = scatter_of(out_conditions(conditions, load, threshold_height)) if scatter is None else scatter
-        extra["shimmy_probability"], extra["shimmy_probability_se"] = _risk(
-            out, conditions, risk, law, exact, calibration, samples, seed, target_se
-        )
+        p, se = _risk(out, conditions, risk, law, exact, calibration, samples, seed, target_se)
+        known = np.isfinite(np.asarray(out.critical_speed, dtype=float))  # a NaN caster has no risk, not P = 0
+        known = known.reshape(known.shape + (1,) * (np.ndim(p) - known.ndim))
+        extra["shimmy_probability"] = np.where(known, p, np.nan)
+        extra["shimmy_probability_se"] = np.where(known, se, np.nan)
     if extra:
         out = replace(out, **extra)
     return out.row(0) if single else out
@@ -408,27 +419,49 @@ def _columns(designs: Any) -> dict[str, np.ndarray]:
     one line naming it."""
     try:
         columns = design_columns(designs)
-    except (KeyError, TypeError, ValueError) as error:
+    except (AttributeError, KeyError, TypeError, ValueError) as error:
         raise InputError(
-            f"design = {designs!r}: expected a designer.Design (e.g. Design(trail='2 in', diameter='6 in', "
+            f"design = {_one_line(designs)}: expected a designer.Design (e.g. Design(trail='2 in', diameter='6 in', "
             f"groove=0, damping=1.3)) or a batch with the columns {', '.join(VARIABLES)} ({error})"
         ) from None
     return columns
 
 
-def _speed(speed: Any) -> Any:
-    """The growth rate's speed [m/s]: a number or a quantity with units (one, or one per caster), finite and
-    within the target speed's range of the parameter table."""
-    if isinstance(speed, (np.ndarray, list, tuple)):
-        values = np.asarray(speed, dtype=float)
-    else:
-        values = np.asarray(parse_quantity(speed, "speed", "speed"), dtype=float)
+def _one_line(value: Any, width: int = 80) -> str:
+    """``repr(value)`` on one line, at most ``width`` characters (a batch or a record's repr runs to several)."""
+    text = " ".join(repr(value).split())
+    return text if len(text) <= width else text[: width - 1] + "…"
+
+
+def _speed(speed: Any, name: str = "speed") -> Any:
+    """A speed argument [m/s] (``speed`` of the growth rate, ``risk`` of P(shimmy)): a number or a quantity with
+    units (one, or one per caster), finite and within the target speed's range of the parameter table."""
+    try:
+        if isinstance(speed, (np.ndarray, list, tuple)):
+            values = np.asarray(speed, dtype=float)
+        else:
+            values = np.asarray(parse_quantity(speed, "speed", name), dtype=float)
+    except InputError:
+        raise
+    except (TypeError, ValueError) as error:
+        raise InputError(f"{name} = {_one_line(speed)}: expected a speed [m/s] or one per caster ({error})") from None
     low, high = PARAMETERS["target_speed"].range or (0.0, np.inf)
     bad = ~((values >= low) & (values <= high))
     if np.any(bad):
         shown = float(values.ravel()[np.argmax(bad.ravel())])
-        raise InputError(f"speed = {shown:g} m/s: outside the model's range {low:g} to {high:g} m/s")
+        raise InputError(f"{name} = {shown:g} m/s: outside the model's range {low:g} to {high:g} m/s")
     return values if values.ndim else float(values)
+
+
+def _weights(weights: Any) -> tuple[float, float]:
+    """(w_turn, w_threshold) [-]: exactly two finite numbers, not both zero."""
+    try:
+        w = tuple(float(x) for x in weights)
+    except (TypeError, ValueError):
+        w = ()
+    if len(w) != 2 or not all(np.isfinite(w)) or min(w) < 0 or max(w) == 0:
+        raise InputError(f"weights = {weights!r}: expected two finite weights >= 0, not both 0 (w_turn, w_threshold)")
+    return w[0], w[1]
 
 
 def critical_speed(

@@ -246,3 +246,17 @@ def test_old_name_warns():
     with pytest.warns(DeprecationWarning, match="designer.model.evaluate"):
         values = old(DESIGNS, RISK, probability_at=2.5, samples=10_000, target_se=None)
     assert values.shimmy_probability.shape == (len(DESIGNS),)
+
+
+def test_a_caster_without_numbers_has_no_risk():
+    """A batch row with a NaN trail has V_c NaN and P(shimmy) NaN (by Monte Carlo and by the exact law), never
+    P = 0, which would call it safe; the other row keeps its risk, the same as alone."""
+    from designer.model import Conditions, Design, evaluate
+
+    batch = {"trail": [0.05, np.nan], "diameter": [0.15, 0.15], "groove": [0.0, 0.0], "damping": [1.3, 1.3]}
+    for exact in (False, True):
+        out = evaluate(batch, Conditions(), risk=1.0, exact=exact)
+        alone = evaluate(Design(0.05, 0.15, 0.0, 1.3), Conditions(), risk=1.0, exact=exact)
+        assert np.isnan(out.critical_speed[1]) and np.isnan(out.shimmy_probability[1])
+        assert out.shimmy_probability[0] == pytest.approx(alone.shimmy_probability, rel=1e-12)
+        assert 0 < out.shimmy_probability[0] < 1
