@@ -12,6 +12,7 @@ import threading
 import tomllib
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import designer
@@ -25,8 +26,18 @@ PROBLEM = ROOT / "problems" / "indoor-manual.toml"
 DESIGN = Design(trail="1.5 in", diameter="6 in", groove=0.0, damping=1.3)
 
 
+CURRENT = "T=1.5in,d=7.75in,B=0.5625in,c=1.3"
+"""A shimmying caster of the retrofit example."""
+
+
 def _problem():
     return load_problem(PROBLEM)
+
+
+def _with_spec(rec):
+    from designer.studies.recommend import with_spec
+
+    return with_spec(rec)
 
 
 # (label, call, expected text in the one-line message)
@@ -49,6 +60,25 @@ BAD_CALLS = [
     ("evaluate conditions 'tile'", lambda: designer.evaluate(DESIGN, "tile"), "conditions = 'tile': expected"),
     ("evaluate speed -1", lambda: designer.evaluate(DESIGN, Conditions(), speed=-1), "speed = -1 m/s: outside"),
     ("evaluate speed nan", lambda: designer.evaluate(DESIGN, Conditions(), speed=math.nan), "speed = nan"),
+    ("evaluate an (N, 3) array", lambda: designer.evaluate(np.zeros((4, 3)), Conditions()), "shape (4, 3)"),
+    ("evaluate a list with a string", lambda: designer.evaluate([DESIGN, "x"], Conditions()), "design = [Design("),
+    ("evaluate risk nan", lambda: designer.evaluate(DESIGN, Conditions(), risk=math.nan), "risk = nan"),
+    ("evaluate risk -1", lambda: designer.evaluate(DESIGN, Conditions(), risk=-1), "risk = -1 m/s: outside"),
+    (
+        "evaluate weights of one",
+        lambda: designer.evaluate(DESIGN, Conditions(), weights=[1]),
+        "weights = [1]: expected",
+    ),
+    ("evaluate weights of three", lambda: designer.evaluate(DESIGN, weights=[1, 2, 3]), "weights = [1, 2, 3]"),
+    ("evaluate weights nan", lambda: designer.evaluate(DESIGN, weights=[math.nan, 1]), "weights = [nan, 1]"),
+    ("evaluate exact 'no'", lambda: designer.evaluate(DESIGN, risk=1.0, exact="no"), "exact = 'no': expected"),
+    ("fix specs 'all'", lambda: designer.fix(_problem(), CURRENT, specs="all"), "specs = 'all': expected None"),
+    ("fix specs -1", lambda: designer.fix(_problem(), CURRENT, specs=-1), "specs = -1: expected None"),
+    ("fix specs 2.5", lambda: designer.fix(_problem(), CURRENT, specs=2.5), "specs = 2.5: expected None"),
+    ("fix limit -1", lambda: designer.fix(_problem(), CURRENT, limit=-1), "limit = -1: expected None"),
+    ("fix limit True", lambda: designer.fix(_problem(), CURRENT, limit=True), "limit = True: expected None"),
+    ("recommend specs an array", lambda: designer.recommend(_problem(), specs=np.array(["all"])), "specs=array("),
+    ("with_spec of None", lambda: _with_spec(None), "rec = None: expected a designer.Recommendation"),
     ("design trail -1", lambda: Design(-1, 0.15, 0, 1.3), "trail = -1: must be positive"),
     ("optimise a number", lambda: designer.optimise(3), "problem = 3: expected a designer.Problem"),
     ("optimise a missing path (the issue)", lambda: designer.optimise(Path("no-such.toml")), "no-such.toml: no such"),

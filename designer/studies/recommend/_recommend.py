@@ -30,12 +30,12 @@ candidates), the messages when nothing is buildable, and :func:`recommend`, whic
 from __future__ import annotations
 
 import dataclasses
-import math
 import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
+from designer.units import percent
 from designer.data.paper import INCH
 from designer.errors import InfeasibleError, InputError
 from designer.model import VARIABLES, Casters, Design, evaluate, scatter_of
@@ -44,7 +44,7 @@ from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sou
 from designer.problem import Bound, problem_argument
 from designer.solvers import one_solve_at_a_time
 from designer.studies.recommend._record import Recommendation
-from designer.studies.spec import caster_spec, corner_probabilities, exact_shimmy_probability
+from designer.studies.spec import caster_spec, corner_probabilities, exact_shimmy_probability, mc_draws
 from designer.studies.recommend._rule import RULES, front_roles, rule_text, select_rows, weights_meaning
 from designer.studies.recommend._stock import (
     CandidateTable,
@@ -180,7 +180,7 @@ def _infeasible_message(problem, table: ScreenedTable | None) -> str:
         f"{problem.name}: no stock combination meets the risk bound {bound}; the closest is "
         f"T = {d['trail'] / INCH:.3f} in, d = {d['diameter'] / INCH:.3f} in{wheel}, B = {d['groove'] / INCH:.3f} in, "
         f"c_f = {d['damping']:.3g} N·m/rad, reaching {table.values.confident_speed[j]:.3f} m/s with probability "
-        f"{1 - (risk.probability if risk is not None else 0):.0%} (needs {problem.required_speed:.3f}); relax: "
+        f"{percent(1 - (risk.probability if risk is not None else 0))} (needs {problem.required_speed:.3f}); relax: "
         + ", ".join(relax)
     )
 
@@ -205,10 +205,7 @@ def _record(
         seed=seed,
     )
     p_mc, se = float(risk.shimmy_probability[0]), float(risk.shimmy_probability_se[0])
-    n = max(
-        int(u.samples if samples is None else samples),
-        math.ceil(max(p_mc * (1 - p_mc), 1e-12) / 0.001**2) if p_mc > 0 else 0,
-    )
+    n = mc_draws(p_mc, se)  # the draws behind the estimate, as fixes and fleet rows state theirs
     mc_seed = int(u.seed if seed is None else seed)
     inertia, measured = float(v.inertia[i]), bool(v.measured[i])
     p = exact_shimmy_probability(problem, design, inertia, measured, problem.target_speed)
@@ -250,6 +247,8 @@ def with_spec(rec: Recommendation) -> Recommendation:
     or ``"recommended"``: for a recommendation computed with ``specs="none"`` (the studio draws the chart first
     and fills in the limits after).  Its alternatives are left as they are; ``rec`` itself when it has its spec
     already or is the "if measured" variant (which has none)."""
+    if not isinstance(rec, Recommendation):
+        raise InputError(f"rec = {rec!r:.80}: expected a designer.Recommendation (from designer.recommend)")
     if rec.spec is not None or rec.role == "if measured" or rec.problem is None:
         return rec
     monte_carlo = (rec.shimmy_probability_mc, rec.shimmy_probability_se, rec.mc_samples, rec.mc_seed)
@@ -343,7 +342,7 @@ def recommend(
         or none is within the cap of ``[objective]``.
     """
 
-    if specs not in SPECS:
+    if not isinstance(specs, str) or specs not in SPECS:
         raise InputError(f"specs={specs!r}: expected one of {', '.join(map(repr, SPECS))}")
     problem = problem_argument(problem)
     b = _buildable(problem)

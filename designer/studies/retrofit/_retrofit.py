@@ -45,6 +45,7 @@ from typing import Any
 
 import numpy as np
 
+from designer.errors import InputError
 from designer.model import Casters, Conditions, Design
 from designer.physics.uncertainty import Uncertainty
 from designer.problem import problem_argument
@@ -136,6 +137,9 @@ def fix(
         current = parse_current(current, "current")
     stem_angle = float(stem_angle)
     _check_inputs(problem, current, inertia, shimmied_at, stem_angle, onset_scatter)
+    for name, count in (("limit", limit), ("specs", specs)):  # how many fixes: None (all) or a whole number >= 0
+        if count is not None and (isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 0):
+            raise InputError(f"{name} = {count!r}: expected None (every fix) or a whole number >= 0")
     measured = True  # a given I_w is the current wheel's measurement
     if inertia is None:
         inertia, measured = _current_inertia(problem, current)
