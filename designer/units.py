@@ -420,6 +420,12 @@ def _example(dimension: str) -> str:
     }[dimension]
 
 
+def percent(probability: float) -> str:
+    """A probability [-] as a percentage to 3 significant digits: ``5%``, ``2.5%``, ``97.5%``, ``0.1%`` (the risk
+    bound α ranges from 0.001 to 0.5, so a whole-percent format would print α = 0.001 as "0%")."""
+    return f"{100 * float(probability):.3g}%"
+
+
 def inches(metres):
     """Convert metres to inches (for display only)."""
     return metres / INCH

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from designer.units import percent
 from designer.plots.svg import Figure
 from designer.units import INCH
 
@@ -120,7 +121,7 @@ def figure_distributions(values: dict, alpha: float | None = None) -> Figure:
             ax.bar(mid, counts, width=float(edges[1] - edges[0]) * 0.95, color=BLUE)
             ax.hover(mid, counts, [f"{a:.3g}–{b:.3g}: {c} chairs" for a, b, c in zip(edges, edges[1:], counts)])
         if key == "shimmy_probability" and alpha is not None:
-            ax.axvline(alpha * 100, color=RED, ls="--", label=f"α = {alpha:.0%}")
+            ax.axvline(alpha * 100, color=RED, ls="--", label=f"α = {percent(alpha)}")
             ax.legend(loc="upper right", fontsize=8)
         ax.set_xlabel(label)
         ax.set_ylabel("chairs")

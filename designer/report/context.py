@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from designer.units import percent
 from designer import parameters
 from designer.data.paper import INCH
 from designer.reportdata import ReportData
@@ -522,7 +523,7 @@ def corner_sentence(spec) -> str:
         f"scatter on top), P(shimmy at {spec.required_speed:.3g} m/s) = {c['probability']:.2%} against "
         f"{c['nominal_probability']:.2%} at nominal: the caster "
         + ("holds" if c["holds"] else "does NOT hold")
-        + f" the bound α = {spec.alpha:.0%}."
+        + f" the bound α = {percent(spec.alpha)}."
     )
 
 
@@ -534,7 +535,7 @@ def spec_panel(rec, units: str) -> Panel:
         id="spec",
         title="The spec to inspect against",
         text="Each part's acceptance limit is where, with every other part at nominal, the exact law gives "
-        f"P(shimmy) = α = {spec.alpha:.0%}; a part beyond its limit fails the risk bound on this caster. "
+        f"P(shimmy) = α = {percent(spec.alpha)}; a part beyond its limit fails the risk bound on this caster. "
         + corner_sentence(spec)
         + (f" {rec.enforced_sentence()}" if rec.enforced is not None else ""),
         table=PanelTable(
@@ -612,7 +613,7 @@ def _build_context(data: ReportData) -> dict:
         return {"available": False, "error": data.recommendation_error or "no recommendation"}
     d = rec.design
     units = data.problem.units
-    level = f"{1 - rec.alpha:.0%}" if rec.alpha is not None else "95% (default scatter)"
+    level = f"{percent(1 - rec.alpha)}" if rec.alpha is not None else "95% (default scatter)"
     return {
         "available": True,
         "lead": lead_sentence(data),

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from designer.units import percent
 from designer.plots import figures as _figures
 from designer.plots.figures import FIGURES
 from designer.units import INCH
@@ -120,7 +121,7 @@ def _front(data) -> dict:
     ends = [front.points[0], front.points[-1]] if len(f) > 1 else front.points[:1]
     risk = problem.conditions.uncertainty
     bound = (
-        f"P(V_c < {problem.required_speed:.2f} m/s) <= {risk.probability:.0%}"
+        f"P(V_c < {problem.required_speed:.2f} m/s) <= {percent(risk.probability)}"
         if risk is not None
         else f"V_c >= {problem.required_speed:.2f} m/s"
     )

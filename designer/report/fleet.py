@@ -17,6 +17,7 @@ import json
 import math
 from pathlib import Path
 
+from designer.units import percent
 from designer.textfiles import csv_text as write_csv_text, dict_rows
 from designer.jsonsafe import finite, stamped
 from designer.output import output_folder
@@ -299,7 +300,7 @@ def _summary(data: dict) -> list[str]:
     ]
     if data.get("risk"):
         out.append(
-            f"Risk bound: P(V_c < (1 + {data['risk']['margin']:g}) V_target) <= {data['risk']['probability']:.0%}, "
+            f"Risk bound: P(V_c < (1 + {data['risk']['margin']:g}) V_target) <= {percent(data['risk']['probability'])}, "
             f"decided by the deterministic quantile; the reported P(shimmy) is a Monte Carlo estimate "
             f"({data['monte_carlo']['samples']} samples per chair)."
         )

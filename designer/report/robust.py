@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from designer.units import percent
 from designer.jsonsafe import finite, stamped
 from designer.reportdata import RobustData
 from designer.report.agreement import compare_json, keep_agreeing
@@ -32,9 +33,7 @@ FIGURE = "figures/robust_fronts.png"
 
 def title(data: RobustData) -> str:
     """The report's title, also the title of its figure (one source, so they cannot disagree)."""
-    return (
-        f"Price of safety: {data.problem.name}, nominal against risk-bounded (α = {data.uncertainty.probability:.0%})"
-    )
+    return f"Price of safety: {data.problem.name}, nominal against risk-bounded (α = {percent(data.uncertainty.probability)})"
 
 
 def figure(data: RobustData):
@@ -61,7 +60,7 @@ def figure(data: RobustData):
                 "threshold_force": fr[:, 1],
                 "turning_effort": fr[:, 0],
                 "kind": "risk-bounded",
-                "label": f"risk-bounded: P(V_c < {problem.required_speed:.2f} m/s) <= {u.probability:.0%}",
+                "label": f"risk-bounded: P(V_c < {problem.required_speed:.2f} m/s) <= {percent(u.probability)}",
             }
         )
     draw_fronts(ax, curves)

@@ -13,6 +13,7 @@ import math
 from html import escape
 from typing import Any
 
+from designer.units import percent
 from designer.plots.caster import caster_svg
 from designer.report.context import corner_sentence, spec_rows
 from designer.report.formatting import size
@@ -51,7 +52,7 @@ def _risk_lines(rec: Any) -> list[str]:
     nominal = (
         f"P(shimmy at {spec.target_speed:.3g} m/s) at nominal: <b>{spec.probability:.2%}</b> by the exact law "
         f"(Monte Carlo check: {spec.mc_probability:.2%} ± {spec.mc_se:.2%}, {spec.mc_samples:,} draws, seed "
-        f"{spec.mc_seed}); bound α = {spec.alpha:.0%}."
+        f"{spec.mc_seed}); bound α = {percent(spec.alpha)}."
     )
     corner = escape(corner_sentence(spec))
     if spec.corner is not None and not spec.corner["holds"]:
@@ -112,7 +113,7 @@ def sheet_html(rec: Any) -> str:
             f"<h1>{escape(title)}</h1>",
             f'<p class="meta">Designed for: {escape(problem.title)}; {problem.conditions.load:.4g} N per caster, '
             f"sill {escape(size(problem.conditions.threshold_height, units))}, no shimmy below "
-            f"{problem.required_speed:.3g} m/s with probability {1 - spec.alpha:.0%}. Rule: {escape(rec.rule)}.</p>",
+            f"{problem.required_speed:.3g} m/s with probability {percent(1 - spec.alpha)}. Rule: {escape(rec.rule)}.</p>",
             f'<div class="drawing">{drawing}</div>',
             '<p class="meta">Drawn to scale, 1:5 when printed at 100 %.</p>',
             f"<p>Build: trail {escape(size(d.trail, units))}, wheel {escape(size(d.diameter, units))}{escape(wheel)}"

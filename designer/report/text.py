@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from designer.units import percent
 from designer.data.paper import BARE_FORK_DAMPING, INCH
 from designer.report.formatting import size
 
@@ -96,7 +97,7 @@ def lead_sentence(data) -> str:
     else:
         risk = (
             f"at {rec.target_speed:.3g} m/s it shimmies with probability {rec.shimmy_probability:.1%} "
-            f"(the bound is {rec.alpha:.0%})"
+            f"(the bound is {percent(rec.alpha)})"
         )
     text = plain_rule(problem, rec)
     return f"{text[0].upper()}{text[1:]}: {forces}; {risk}."
@@ -135,10 +136,10 @@ def risk_sentence(rec) -> str:
         )
     within = rec.shimmy_probability <= rec.alpha
     return (
-        f"With probability {1 - rec.alpha:.0%} it stays free of shimmy up to {rec.confident_speed:.3f} m/s "
+        f"With probability {percent(1 - rec.alpha)} it stays free of shimmy up to {rec.confident_speed:.3f} m/s "
         f"(needed: {rec.required_speed:.3f} m/s; Eq. 7 alone gives V_c = {rec.critical_speed:.3f} m/s); {mc}, "
         + ("within" if within else "ABOVE")
-        + f" the bound α = {rec.alpha:.0%}."
+        + f" the bound α = {percent(rec.alpha)}."
     )
 
 

@@ -129,3 +129,18 @@ def test_a_copied_size_makes_the_same_design():
     from designer import Design
 
     assert Design("2 1/2 in", "7 in", "3/4 in", 1.3).trail == pytest.approx(0.0635, rel=1e-12)
+
+
+def test_a_probability_is_shown_to_three_digits():
+    """designer.units.percent shows α and 1 − α as the problem file allows them (0.001 to 0.5): 0.001 is 0.1%,
+    not the 0% a whole-percent format printed; whole percentages read as before (5%, 95%)."""
+    from designer.units import percent
+
+    assert [percent(x) for x in (0.001, 0.025, 0.05, 1 - 0.05, 0.975, 0.5)] == [
+        "0.1%",
+        "2.5%",
+        "5%",
+        "95%",
+        "97.5%",
+        "50%",
+    ]

@@ -238,3 +238,22 @@ def test_the_sheet_says_how_the_caster_was_chosen_against_its_tolerances():
     assert enforce_sentence(plain).startswith("Chosen at nominal: the problem gives no [tolerances]")
     assert enforce_sentence(toleranced).startswith("Chosen among the casters that hold the bound at their worst")
     assert enforce_sentence(relaxed).startswith("[tolerances] enforce = false: the caster was chosen at nominal")
+
+
+def test_the_enforce_sentence_states_the_problems_own_bound(tmp_path):
+    """The sentence on [tolerances] enforce compares the worst corner with the problem's α, whether or not the
+    recommendation carries its spec (the studio asks for none at first): with [robust] probability = 0.03 it
+    says "above 3%", never the default 5%, and the same words with and without the spec."""
+    from designer.problem import load_problem
+    from designer.studies.recommend import recommend
+
+    text = (ROOT / "problems" / "indoor-manual-tolerances.toml").read_text(encoding="utf-8")
+    path = tmp_path / "alpha-3.toml"
+    path.write_text(text + "\n[robust]\nprobability = 0.03\n", encoding="utf-8")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        problem = load_problem(path)
+        full, bare = recommend(problem), recommend(problem, specs="none")
+    assert full.alpha == 0.03 and bare.spec is None
+    assert "above 3%" in full.enforced_sentence() and "5%" not in full.enforced_sentence()
+    assert bare.enforced_sentence() == full.enforced_sentence()

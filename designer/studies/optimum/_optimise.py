@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from designer.units import percent
 from designer.data.paper import INCH
 from designer.errors import InfeasibleError, SolverError
 from designer.model import VARIABLES, Caster, Design, OfCaster
@@ -244,7 +245,7 @@ class Solution(Record):
                 f"margin {self.constraints['shimmy']:+.3g} m/s)"
                 if p.risk is None
                 else f"  critical speed V_c    {self.critical_speed:8.3f} m/s (Eq. 7); held with probability "
-                f"{1 - float(p.risk.probability):.0%}: V_q {p.required_speed + self.constraints['shimmy']:.3f} m/s "
+                f"{percent(1 - float(p.risk.probability))}: V_q {p.required_speed + self.constraints['shimmy']:.3f} m/s "
                 f"(required {p.required_speed:.3f}, margin {self.constraints['shimmy']:+.2e} m/s)"
             ),
             "",
@@ -455,7 +456,7 @@ def diagnose_infeasible(problem: Problem) -> Exception:
         what = (
             "critical speed (Eq. 7)"
             if risk is None
-            else f"speed held with probability {1 - float(risk.probability):.0%} (V_q of the risk bound)"
+            else f"speed held with probability {percent(1 - float(risk.probability))} (V_q of the risk bound)"
         )
         return InfeasibleError(
             f"target speed {problem.required_speed:.3g} m/s (shimmy.target_speed × (1 + margin)) is out of reach: "

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+from designer.units import percent
 from designer.data.paper import INCH
 from designer.model import Caster, OfCaster
 from designer.parameters import DESIGN_UNITS, OUTPUTS
@@ -134,7 +135,7 @@ class Recommendation(Record):
             if self.swept_radius_max is not None
             else f"{self.swept_radius / INCH:.3f} in (no limit)"
         )
-        level = f"{1 - self.alpha:.0%}" if self.alpha is not None else "95% (default scatter; no risk bound)"
+        level = f"{percent(1 - self.alpha)}" if self.alpha is not None else "95% (default scatter; no risk bound)"
         extra = []
         if self.extrapolated:
             extra.append(
@@ -202,11 +203,11 @@ class Recommendation(Record):
         if e is None:
             return ""
         free = e["unenforced"]
-        alpha = self.spec.alpha if self.spec is not None else 0.05
+        alpha = self.alpha if self.alpha is not None else self.spec.alpha if self.spec is not None else math.nan
         if not e["changed"]:
             return (
                 f"[tolerances] enforce = true: the rule's pick holds at its worst corner "
-                f"(P(shimmy) {free['worst_corner_probability']:.2%} <= {alpha:.0%}), so it stays."
+                f"(P(shimmy) {free['worst_corner_probability']:.2%} <= {percent(alpha)}), so it stays."
             )
         d = free["design"]
         costs = []
@@ -217,7 +218,7 @@ class Recommendation(Record):
         return (
             f"[tolerances] enforce = true changed the caster: the rule's pick without it (T {d['trail'] / INCH:.3g} "
             f"in, d {d['diameter'] / INCH:.3g} in, B {d['groove'] / INCH:.3g} in, c_f {d['damping']:.3g} N·m/rad) "
-            f"reaches P(shimmy) {free['worst_corner_probability']:.2%} at its worst corner, above {alpha:.0%}; "
+            f"reaches P(shimmy) {free['worst_corner_probability']:.2%} at its worst corner, above {percent(alpha)}; "
             f"this one holds there, with {' and '.join(costs)} "
             f"({free['turning_effort']:.2f} → {self.turning_effort:.2f} N turning, "
             f"{free['threshold_force']:.1f} → {self.threshold_force:.1f} N over the sill)."
@@ -380,6 +381,6 @@ def spec_lines(spec: Spec) -> list[str]:
         c = spec.corner
         out.append(
             f"  worst corner of the tolerances: P(shimmy) {c['probability']:.2%} (nominal {c['nominal_probability']:.2%}"
-            f", bound {spec.alpha:.0%}): {'holds' if c['holds'] else 'does NOT hold'}"
+            f", bound {percent(spec.alpha)}): {'holds' if c['holds'] else 'does NOT hold'}"
         )
     return out

@@ -12,6 +12,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from designer.units import percent
 from designer.data.paper import BARE_FORK_DAMPING, INCH
 from designer.model import Caster, OfCaster
 from designer.parameters import DESIGN_UNITS, OUTPUTS, PARAMETERS, VARIABLE_TABLE
@@ -486,7 +487,7 @@ def fix_sentence(fix: CasterState, current: CasterState, units: str = "in", alph
             else f"a friction washer (c_f = {d.damping:.3g} N·m/rad)"
         )
         text += (" with " if text else "") + washer
-    risk = f"P(shimmy) {fix.shimmy_probability:.1%}" + (f" (bound {alpha:.0%})" if alpha is not None else "")
+    risk = f"P(shimmy) {fix.shimmy_probability:.1%}" + (f" (bound {percent(alpha)})" if alpha is not None else "")
     out = (
         f"{text}; sill force {current.threshold_force:.0f} → {fix.threshold_force:.0f} N "
         f"({fix.threshold_increase:+.1%}), turning effort {current.turning_effort:.1f} → {fix.turning_effort:.1f} N; "
