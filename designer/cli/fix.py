@@ -462,7 +462,7 @@ def _spec_lines(best, result) -> list[str]:
             out.append(f"  {lim.side} {PART_LABELS[part]}: {shown}{why}")
     if spec.stem_angle:
         out.append("  the trail is the fork offset e (the tyre sees e + (d/2) sin φ)")
-    out.append("  how to measure: docs/problem-file.md#tolerances; --json: every fix's limits")
+    out.append("  how to measure: docs/problem-file.md#tolerances; --json: listed fixes' limits")
     if spec.corner is not None:
         c = spec.corner
         out.append(
