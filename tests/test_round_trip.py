@@ -10,6 +10,7 @@ import csv
 import dataclasses
 import io
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -173,3 +174,28 @@ def _number(cell: str) -> bool:
     except ValueError:
         return False
     return True
+
+
+@pytest.mark.parametrize(
+    "edit, message",
+    [
+        (lambda h, r: (h.replace("damping_N_m_per_rad", "dampx"), r), "line 2: no column 'damping'"),
+        (lambda h, r: (h, [",".join([""] + r[0].split(",")[1:]), *r[1:]]), "line 2: column trail_in = '': not a"),
+        (lambda h, r: (h, [",".join(["two"] + r[0].split(",")[1:]), *r[1:]]), "column trail_in = 'two': not a"),
+        (lambda h, r: (h.replace("trail_in", "trail"), r), "line 2: trail = 2.5 m: outside the model's range"),
+    ],
+    ids=["missing column", "empty cell", "text cell", "inches in a bare SI column"],
+)
+def test_a_broken_front_csv_is_one_line_naming_file_line_and_column(edit, message, tmp_path):
+    """Front.from_csv, the reader of a report's front.csv: every kind of broken file (a column missing, a cell
+    empty or not a number, an old bare-SI header over inch values: a 2.5 m trail) is an InputError naming the
+    file, the line and the column, never a raw KeyError or ValueError, and never a caster 40 times too large."""
+    from designer.errors import InputError
+
+    header, *rows = (ROOT / "results" / "indoor-manual" / "front.csv").read_text(encoding="utf-8").splitlines()
+    header, rows = edit(header, rows)
+    path = tmp_path / "front.csv"
+    path.write_text("\n".join([header, *rows]) + "\n", encoding="utf-8")
+    with pytest.raises(InputError, match=re.escape(message)) as error:
+        Front.from_csv(path, "indoor-manual")
+    assert str(path) in str(error.value) and "\n" not in str(error.value)

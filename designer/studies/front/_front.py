@@ -21,7 +21,7 @@ from designer.studies.front._indicators import hypervolume_2d, igd_plus, nondomi
 from designer.data.paper import INCH
 from designer.errors import InputError
 from designer.output import first_line_kind, write_file
-from designer.model import VARIABLES, Caster, Design
+from designer.model import VARIABLES, Caster, Design, check_design
 from designer.parameters import DESIGN_UNITS, OUTPUTS, PARAMETERS
 from designer.units import csv_column, csv_quantity
 from designer.problem import example_names, example_problem
@@ -150,6 +150,32 @@ CSV_QUANTITIES = {
 keep their names."""
 
 
+def _csv_point(r: dict[str, str], where: str) -> "FrontPoint":
+    """A front.csv row as a :class:`FrontPoint` (SI); a missing column, a cell that is not a number or a design
+    outside the model's range (an old bare-SI file holding inches: a 2 m trail) is an InputError naming ``where``
+    (the file and line) and the column."""
+    try:
+        point = FrontPoint(
+            design=Design(*(_csv_value(r, v) for v in VARIABLES)),
+            turning_effort=_csv_value(r, "turning_effort"),
+            threshold_force=_csv_value(r, "threshold_force"),
+            critical_speed=_csv_value(r, "critical_speed"),
+            margins={},
+            epsilon=_csv_value(r, "epsilon"),
+            status=r["status"],
+            success=True,
+            family=r["family"],
+            multipliers={k[7:]: float(v) for k, v in r.items() if k.startswith("lambda_") and v not in ("", None)},
+            wheel=r.get("wheel") or None,
+        )
+    except KeyError as missing:
+        raise InputError(f"{where}: no column {missing} (a front.csv written by designer pareto)") from None
+    except ValueError as error:
+        raise InputError(f"{where}: {error}") from None
+    check_design(point.design, f"{where}: ", error=InputError)
+    return point
+
+
 def _csv_value(r: dict[str, str], key: str) -> float:
     """The SI value of ``key`` in a front.csv row: from its unit-named column (``trail_in``, ``trail_mm``,
     ``turning_effort_N``: :func:`designer.units.csv_quantity`), or from a file written before the columns named
@@ -157,8 +183,16 @@ def _csv_value(r: dict[str, str], key: str) -> float:
     for column, value in r.items():
         name, factor = csv_quantity(column)
         if name == key and column != key:
-            return float(value) / factor
-    return float(r[key])
+            return _cell_number(column, value) / factor
+    return _cell_number(key, r[key])
+
+
+def _cell_number(column: str, value: str) -> float:
+    """A number cell of front.csv; ValueError naming the column for any other text (an empty cell included)."""
+    try:
+        return float(value)
+    except ValueError:
+        raise ValueError(f"column {column} = {value!r}: not a number") from None
 
 
 @dataclass
@@ -517,29 +551,13 @@ class Front(Record):
         ``{"source": path}``.
         """
         problem = _problem_for_csv(path, problem)
-        header, body, _ = csv_table(read_input_text(path, "front CSV file", ".csv", error=InputError), str(path))
-        records = [dict(zip(header, row)) for row in body]
+        header, body, lines = csv_table(read_input_text(path, "front CSV file", ".csv", error=InputError), str(path))
         points = []
-        for r in records:
+        for row, line in zip(body, lines):
+            r = dict(zip(header, row))
             if (r.get("buildable", "false") == "true") != buildable:
                 continue
-            points.append(
-                FrontPoint(
-                    design=Design(*(_csv_value(r, v) for v in VARIABLES)),
-                    turning_effort=_csv_value(r, "turning_effort"),
-                    threshold_force=_csv_value(r, "threshold_force"),
-                    critical_speed=_csv_value(r, "critical_speed"),
-                    margins={},
-                    epsilon=_csv_value(r, "epsilon"),
-                    status=r["status"],
-                    success=True,
-                    family=r["family"],
-                    multipliers={
-                        k[7:]: float(v) for k, v in r.items() if k.startswith("lambda_") and v not in ("", None)
-                    },
-                    wheel=r.get("wheel") or None,
-                )
-            )
+            points.append(_csv_point(r, f"{path}: line {line}"))
         return cls(problem=problem, points=points, meta={"source": str(path)})
 
     def rows(self) -> list[dict[str, Any]]:
