@@ -202,9 +202,18 @@ def _sku_spec(spec: dict | None) -> dict:
     def shown(key: str) -> str:
         return limit_shown(lim.get(key), units.get(key, ""), key.rsplit("_", 1)[1])
 
+    def bound(sign: str, key: str) -> str:
+        """``≥ 16.76 mm (0.660 in)``, or ``none`` (no limit inside the part's range: nothing to compare with)."""
+        text = shown(key)
+        return text if text == "none" else f"{sign} {text}"
+
     p = spec["shimmy_probability"]
     low, high = shown("trail_min"), shown("trail_max")
-    trail = f"≥ {low}; ≤ {high}"
+    trail = (
+        "none"
+        if low == high == "none"
+        else "; ".join(x for x in (bound("≥", "trail_min"), bound("≤", "trail_max")) if x != "none")
+    )
     if low != "none" and high != "none":  # "48.37 mm (1.905 in)" and "51.30 mm (2.020 in)" as one range
         (low_mm, low_in), (high_mm, high_in) = (x.removesuffix(" in)").split(" mm (") for x in (low, high))
         trail = f"{low_mm}–{high_mm} mm ({low_in}–{high_in} in)"
@@ -214,9 +223,9 @@ def _sku_spec(spec: dict | None) -> dict:
         "mc": f"{p['monte_carlo']:.2%} ± {p['monte_carlo_se']:.2%}",
         "draws": f"{p['monte_carlo_samples']:,} draws, seed {p['monte_carlo_seed']}",
         "T_lim": trail,
-        "B_lim": "≥ " + shown("groove_min"),
-        "M_lim": "≥ " + shown("friction_moment_min"),
-        "I_lim": "≤ " + shown("wheel_inertia_max"),
+        "B_lim": bound("≥", "groove_min"),
+        "M_lim": bound("≥", "friction_moment_min"),
+        "I_lim": bound("≤", "wheel_inertia_max"),
     }
 
 

@@ -809,3 +809,24 @@ def test_fleet_cli_part_numbers_in_written_sizes_never_broken(tmp_path, monkeypa
         want = f"T {written_size(d['trail'])}, d {written_size(d['diameter'])}, B {written_size(d['groove'])}"
         assert want in line, (want, line)
         assert re.search(r"\d\.\d+ in", line) is None, line
+
+
+def test_a_part_without_a_limit_reads_none_in_the_goods_in_table():
+    """The fleet report's goods-in row of a part number: a part with no limit inside its range reads "none" (not
+    "≥ none"), a trail limited on one side only shows that side, and a limit shows its side and value."""
+    from designer.report.fleet import _sku_spec
+
+    units = {"trail_min": "m", "trail_max": "m", "groove_min": "m", "friction_moment_min": "N·m"}
+    p = {"at_speed": 2.5, "exact": 0.03, "monte_carlo": 0.031, "monte_carlo_se": 0.001}
+    p |= {"monte_carlo_samples": 50000, "monte_carlo_seed": 1}
+    limits = {"trail_min": None, "trail_max": 0.05, "groove_min": None, "friction_moment_min": 0.25}
+    row = _sku_spec(
+        {
+            "limits": limits | {"wheel_inertia_max": 0.002},
+            "units": units | {"wheel_inertia_max": "kg·m²"},
+            "shimmy_probability": p,
+        }
+    )
+    assert row["B_lim"] == "none" and row["T_lim"].startswith("≤ 50.00 mm") and "none" not in row["T_lim"]
+    assert row["M_lim"] == "≥ 0.250 N·m" and row["I_lim"].startswith("≤ 0.002")
+    assert not any("≥ none" in v or "≤ none" in v for v in row.values())
