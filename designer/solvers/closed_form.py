@@ -286,12 +286,12 @@ def _edge_shares(
     s = np.full(k.shape, 0.5)
     if diameter is not None:  # G depends on d too: the fixed points on the exact G (contraction <= 0.8)
         d = np.broadcast_to(np.asarray(diameter, float), k.shape)
-        for _ in range(400):
-            nxt = np.clip(base + sign * k * np.exp(-log_gain(u, s, d)), 0.0, 1.0)
-            moved = np.max(np.abs(nxt - s))
-            s = nxt
-            if moved <= 1e-15:
-                break
+
+        def step(x: np.ndarray) -> np.ndarray:
+            mapped: np.ndarray = np.clip(base + sign * k * np.exp(-log_gain(u, x, d)), 0.0, 1.0)
+            return mapped
+
+        s = _secant_fixed_point(step, s)
         return np.maximum(s[0], s[2]), np.minimum(s[1], s[3])
     grid, lg_table, slope_table = _gain_table(u)
     for _ in range(120):  # on the table: contraction <= 0.8 (typically 0.2)
@@ -310,6 +310,29 @@ def _edge_shares(
         if moved <= 1e-15:
             break
     return np.maximum(s[0], s[2]), np.minimum(s[1], s[3])
+
+
+def _secant_fixed_point(step: Callable[[np.ndarray], np.ndarray], s: np.ndarray, tol: float = 1e-15) -> np.ndarray:
+    """The fixed points s = step(s) of a contraction on [0, 1] (elementwise), from ``s``.
+
+    Secant steps on h(s) = s − step(s) (order 1.6: about 7 evaluations of ``step`` where the plain iteration
+    at a contraction of 0.2 takes 22), each kept only where it stays in [0, 1] and else replaced by the plain
+    step, which always converges; the last move is a plain step, below ``tol``.
+    """
+    prev, g_prev = s, step(s)
+    s = g_prev
+    for _ in range(400):
+        g = step(s)
+        h, h_prev = s - g, prev - g_prev
+        with np.errstate(divide="ignore", invalid="ignore"):
+            secant = s - h * (s - prev) / (h - h_prev)
+        ok = np.isfinite(secant) & (secant >= 0.0) & (secant <= 1.0) & (h != h_prev)
+        nxt = np.where(ok, secant, g)
+        moved = np.max(np.abs(g - s))
+        prev, g_prev, s = s, g, nxt
+        if moved <= tol:
+            return g
+    return s
 
 
 def _law(problem: Problem) -> Uncertainty:

@@ -306,7 +306,7 @@ class CasterNLP:
             z=z,
         )
 
-    BATCH_SIZES = (4, 16, 64)
+    BATCH_SIZES = (4, 16, 40, 64)
     """Block counts of the batched solvers (built lazily, once each per problem)."""
 
     WARM_OPTIONS = {

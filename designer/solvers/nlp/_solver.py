@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from designer.problem import Problem
+from designer.solvers.closed_form import CLOSED_FORM
 from designer.solvers.closed_form import applicable as closed_form_applicable
 from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, no_optimum, weights_of
 from designer.solvers.nlp._cache import shared_nlp
@@ -162,6 +163,18 @@ class NLPSolver:
             warm = None if guide is None else (guide.epsilon, list(guide.results))
             results, solves = sweeper.sweep(e, ends, guide=warm)
         return nlp_designs(sweeper.nlp, self.name, e[: len(results)], results, solves)
+
+    def first_pass(self, problem: Problem, eps: npt.ArrayLike, *, ends: Ends) -> Designs:
+        """A front's first pass: ε-optima at ``eps`` whose objectives space its second pass by arc length.
+
+        The structured sweep's are the closed form's ε-optima, not confirmed by the NLP (``results`` empty): the
+        front keeps only the second pass's points, each confirmed there, so a confirming solve here would cost
+        a batched solve per front (a third of a risk-bounded front's CPU time) and change nothing that is
+        kept.  The NLP sweep's are :meth:`front_designs` (solved; its second pass starts warm from them).
+        """
+        if self.sweep is StructuredSweep:
+            return CLOSED_FORM.front_designs(problem, eps)
+        return self.front_designs(problem, eps, ends=ends)
 
     def build_seconds(self, problem: Problem) -> float:
         """Wall time spent building the compiled NLP used for ``problem``'s front [s]."""

@@ -149,18 +149,21 @@ def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy:
                 progress(k + 1, len(variants))
             continue
         p_a, p_b = (float(v) for v in solver.ends_designs(variant, ends).epsilon)
-        eps = np.linspace(p_a, p_b, n)  # pass 1: uniform in ε
-        first = solver.front_designs(variant, eps, ends=ends)
+        eps = np.linspace(p_a, p_b, n)  # pass 1: uniform in ε (closed-form points are not confirmed here)
+        first = solver.first_pass(variant, eps, ends=ends)
         solves += first.solves
         if progress:
             progress(n, 2 * n)
         good = first.success
-        if np.count_nonzero(good) >= 3:  # pass 2: uniform in arc length of pass 1
+        if np.count_nonzero(good) >= 3:  # pass 2: uniform in arc length of pass 1, every point solved
             eps2 = _respace_objectives(first.objectives[good, :2], n)
-            second = solver.front_designs(variant, eps2, ends=ends, guide=first)
+            second = solver.front_designs(variant, eps2, ends=ends, guide=first if first.results else None)
             solves += second.solves
-        else:
+        elif first.results:  # pass 1 was solved: its points are the front
             second = first
+        else:
+            second = solver.front_designs(variant, eps, ends=ends)
+            solves += second.solves
         pts = _points(variant, second, wheel)
         if progress:
             progress(2 * n, 2 * n)
