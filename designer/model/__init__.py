@@ -29,6 +29,7 @@ from designer.model._caster import (
     caster_load,
     check_design,
     performance,
+    turning_effort,
 )
 from designer.model._candidates import (
     FEASIBILITY_TOLERANCE,
@@ -70,4 +71,5 @@ __all__ = [
     "check_design",
     "evaluate",
     "performance",
+    "turning_effort",
 ]

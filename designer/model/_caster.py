@@ -333,6 +333,23 @@ class Conditions:
         return parameters.read_path(self, where.split(".", 1)[1])
 
 
+def turning_moment(groove: Scalar, damping: Scalar, conditions: Conditions) -> Scalar:
+    """M_turn + M_d [N·m]: the sliding turning moment of the tyre (groove B [m]) and the moment of the added
+    damper (c_f [N·m/rad]) at the disturbance angle (docs/model.md#turning-effort).  Floats, arrays, CasADi."""
+    c = conditions
+    moment: Scalar = sliding_turning_moment(
+        c.load, groove, c.surface, c.turning_mode, c.turning
+    ) + added_damper_moment(damping, c.disturbance_angle, c.turning)
+    return moment
+
+
+def turning_effort(trail: Scalar, groove: Scalar, damping: Scalar, conditions: Conditions) -> Scalar:
+    """F_turn [N] (Eq. 9): :func:`turning_moment` over the trail T [m], alone (the closed form's searches along
+    the shimmy constraint compare it at thousands of designs without the rest of :func:`performance`)."""
+    effort: Scalar = turning_moment(groove, damping, conditions) / trail
+    return effort
+
+
 def performance(
     trail: Scalar,
     diameter: Scalar,
@@ -388,9 +405,7 @@ def performance(
             measured=measured,
         )
     ratio = threshold_force_ratio(diameter, c.threshold_height)
-    moment = sliding_turning_moment(c.load, groove, c.surface, c.turning_mode, c.turning) + added_damper_moment(
-        damping, c.disturbance_angle, c.turning
-    )
+    moment = turning_moment(groove, damping, c)
     return {
         "inertia": inertia,
         "critical_speed": critical_speed,
@@ -398,6 +413,6 @@ def performance(
         "threshold_force_ratio": ratio,
         "threshold_force": c.load * ratio,
         "turning_moment": moment,
-        "turning_effort": moment / trail,
+        "turning_effort": turning_effort(trail, groove, damping, c),
         "swept_radius": swept_radius(trail, diameter),
     }

@@ -58,7 +58,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from designer.model import Design, performance
+from designer.model import Design, performance, turning_effort
 from designer.physics.geometry import swept_radius
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_terms
 from designer.physics.uncertainty import Uncertainty, shimmy_speed_quantile
@@ -127,6 +127,12 @@ def _values(problem: Problem, x: np.ndarray) -> dict[str, Any]:
         return performance(x[..., 0], x[..., 1], x[..., 2], x[..., 3], problem.conditions)
 
 
+def _turning_effort(problem: Problem, x: np.ndarray) -> np.ndarray:
+    """F_turn [N] of designs ``x`` (..., 4) alone (Eq. 9; :func:`_values` computes every quantity)."""
+    effort: np.ndarray = np.asarray(turning_effort(x[..., 0], x[..., 2], x[..., 3], problem.conditions), float)
+    return effort
+
+
 CANDIDATES = (
     "groove from Eq. 7 at the least damping",
     "damping from Eq. 7 at the least groove",
@@ -168,8 +174,9 @@ def designs_at_diameter(
     n = len(d)
     lo, hi = problem.lower(), problem.upper()
     t, ok = largest_trail(problem, d)
-    probe = np.column_stack([t, d, np.ones(n), np.ones(n)])
-    inertia = np.asarray(_values(problem, probe)["inertia"], float) + 0 * d
+    with warnings.catch_warnings():  # an extrapolated I_w is reported once, by the front (pareto_front)
+        warnings.simplefilter("ignore", UserWarning)
+        inertia = np.asarray(problem.conditions.inertia(d), float) + 0 * d  # I_w(d), as model.performance
     # per unit c_f, B²
     a, b = (
         np.asarray(v, float) for v in critical_speed_terms(t, inertia, 1.0, 1.0, problem.conditions.slip_coefficient)
@@ -208,7 +215,7 @@ def designs_at_diameter(
         xs.append(np.column_stack([t, d, np.minimum(bb, b_hi), np.minimum(cc, c_hi)]))
         feas.append(f)
     x = np.stack(xs)  # (candidates, N, 4)
-    cost = np.asarray(_values(problem, x)["turning_effort"], float)
+    cost = _turning_effort(problem, x)
     cost = np.where(np.stack(feas), cost, np.inf)
     best = np.argmin(cost, axis=0)
     designs = x[best, np.arange(n)]
@@ -355,7 +362,7 @@ def _on_curve(
         g = np.clip(np.sqrt(np.maximum(0.0, (1 - s) * big / b)), lo.groove, hi.groove)
     t, d = np.broadcast_to(t, s.shape), np.broadcast_to(d, s.shape)
     x = np.stack([t, d, g, c], axis=-1)
-    return x, np.asarray(_values(problem, x)["turning_effort"], float) + 0 * s
+    return x, _turning_effort(problem, x) + 0 * s
 
 
 def _risk_designs(
@@ -434,7 +441,7 @@ def structured_ends(problem: Problem, rel: float = 1e-9, rounds: int = 9) -> tup
     x_lo, ok_lo = designs_at_diameter(problem, [lo.diameter])
     if not ok_lo[0]:
         return None
-    f_min = float(_values(problem, x_lo[0])["turning_effort"])
+    f_min = float(_turning_effort(problem, x_lo[0]))
 
     def largest(pred: Callable[[np.ndarray], np.ndarray]) -> float:
         """Largest d in [d_lo, d_hi] with pred(d) (pred monotone: true then false), by grid refinement."""
@@ -452,7 +459,7 @@ def structured_ends(problem: Problem, rel: float = 1e-9, rounds: int = 9) -> tup
 
     def flat(dd: np.ndarray) -> np.ndarray:
         x, ok = designs_at_diameter(problem, dd)
-        flat_at: np.ndarray = ok & (np.asarray(_values(problem, x)["turning_effort"], float) <= f_min * (1 + rel))
+        flat_at: np.ndarray = ok & (_turning_effort(problem, x) <= f_min * (1 + rel))
         return flat_at
 
     def feasible(dd: np.ndarray) -> np.ndarray:
