@@ -2,6 +2,7 @@
 
     python -m benchmarks.studio_latency [--steps 20] [--rounds 1] [--problem PATH] [--out DIR]
                                         [--before CHECKOUT] [--write]
+    python -m benchmarks.studio_latency --show     # the medians of the last run saved in --out
 
 Starts ``designer studio --port 0 --no-browser``, opens it in Debian's headless Chromium (Selenium) at a target
 speed of :data:`START` m/s (through the URL), and moves the target-speed slider one step (0.1 m/s) at a time
@@ -242,6 +243,34 @@ def markdown(summary: dict) -> list[str]:
     return lines
 
 
+SHOWN = {
+    "redraw_ms": "key press -> chart redrawn",
+    "compute_ms": "server: fronts + recommendation",
+    "compute_cpu_ms": "server: CPU time of that",
+    "browser_ms": "browser: answer -> redraw",
+}
+"""The rows of :func:`show` (medians) and their labels."""
+
+
+def show(summary: dict) -> list[str]:
+    """The medians of a saved run in a few lines of text at most 80 wide (docs/studio.md shows them)."""
+    runs = summary["runs"]
+    names = list(runs)
+    width = 34
+    lines = [
+        f"last run {summary['date'][:10]} ({summary['machine']}, load {summary['load_start'].split(',')[0]}),"
+        f" {summary['rounds']} x {summary['steps']} steps each; medians:",
+        " " * width + "".join(f"{name + ' ' + runs[name]['commit'][:7]:>16}" for name in names),
+    ]
+    for key, label in SHOWN.items():
+        lines.append(f"{label:<{width}}" + "".join(f"{runs[n]['summary'][key]['median']:>13.0f} ms" for n in names))
+    after = runs[names[-1]]["summary"]["redraw_ms"]["median"]
+    lines.append(
+        f"aim: key press -> redraw <= {AIM_MS:.0f} ms at the median: " + ("met" if after <= AIM_MS else "not met")
+    )
+    return lines
+
+
 def write_results(lines: list[str]) -> None:
     """Put ``lines`` between the studio markers of benchmarks/results.md (appended the first time)."""
     text = RESULTS.read_text(encoding="utf-8")
@@ -262,7 +291,11 @@ def main(argv=None) -> int:
     parser.add_argument("--before", default=None, help="a checkout of the code to compare with (its studio runs too)")
     parser.add_argument("--out", default=str(Path(__file__).resolve().parent))
     parser.add_argument("--write", action="store_true", help="also write the table into benchmarks/results.md")
+    parser.add_argument("--show", action="store_true", help="print the medians of the run saved in --out; run nothing")
     args = parser.parse_args(argv)
+    if args.show:
+        print("\n".join(show(json.loads((Path(args.out) / "studio_latency.json").read_text()))))
+        return 0
 
     trees = {"after": ROOT}
     if args.before:
