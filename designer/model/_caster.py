@@ -337,9 +337,9 @@ def turning_moment(groove: Scalar, damping: Scalar, conditions: Conditions) -> S
     """M_turn + M_d [N·m]: the sliding turning moment of the tyre (groove B [m]) and the moment of the added
     damper (c_f [N·m/rad]) at the disturbance angle (docs/model.md#turning-effort).  Floats, arrays, CasADi."""
     c = conditions
-    moment: Scalar = sliding_turning_moment(
-        c.load, groove, c.surface, c.turning_mode, c.turning
-    ) + added_damper_moment(damping, c.disturbance_angle, c.turning)
+    moment: Scalar = sliding_turning_moment(c.load, groove, c.surface, c.turning_mode, c.turning) + added_damper_moment(
+        damping, c.disturbance_angle, c.turning
+    )
     return moment
 
 
