@@ -23,6 +23,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
 
@@ -281,6 +282,30 @@ VARIABLE_INDEX: dict[str, int] = {name: k for k, name in enumerate(VARIABLES)}
 
 DESIGN_UNITS: dict[str, str] = {f"design.{p.name}": p.unit for p in VARIABLE_TABLE}
 """The units of a record's ``design.*`` fields, from the table (a record's ``_units`` starts from these)."""
+
+
+QUANTITY_PREFIXES = ("sku_",)
+"""Prefixes of a column holding another caster's value of a quantity (a fleet's part number: ``sku_turning_effort``)."""
+
+
+def _quantity(name: str) -> Parameter | None:
+    """The table's entry of a quantity ``name`` (a :data:`QUANTITY_PREFIXES` name as its quantity), or None."""
+    base = next((name[len(p) :] for p in QUANTITY_PREFIXES if name.startswith(p)), name)
+    return PARAMETERS.get(base) or OUTPUTS.get(base)
+
+
+def units_of(names: Iterable[str]) -> dict[str, str]:
+    """The SI unit of each of ``names`` that is a quantity of the tables with a unit (``{"trail": "m"}``): a
+    DataFrame's ``attrs["units"]``.  Other names are left out."""
+    return {name: entry.unit for name in names if (entry := _quantity(name)) is not None and entry.unit}
+
+
+def dimensions(names: Iterable[str]) -> dict[str, str]:
+    """The dimension of each of ``names`` that is a quantity of the tables with a unit (:data:`PARAMETERS`,
+    :data:`OUTPUTS`; a :data:`QUANTITY_PREFIXES` name as its quantity): the ``quantities`` of
+    :func:`designer.textfiles.dict_rows`, so a CSV column names its unit from the one table.  Other names
+    (flags, fractions, counts, text) are left out and keep their names."""
+    return {name: entry.dimension for name in names if (entry := _quantity(name)) is not None and entry.unit}
 
 
 def named(x: Any) -> dict[str, Any]:

@@ -18,6 +18,7 @@ import math
 from pathlib import Path
 
 from designer.units import percent
+from designer.parameters import VARIABLES, dimensions
 from designer.textfiles import csv_text as write_csv_text, dict_rows
 from designer.jsonsafe import finite, stamped
 from designer.output import output_folder
@@ -27,30 +28,28 @@ from designer.report.formatting import fmt
 from designer.units import limit_shown, resolved, written_size
 from designer.report.writer import _render
 
-CSV_COLUMNS = {
-    "name": "",
-    "trail": "length",
-    "diameter": "length",
-    "groove": "length",
-    "damping": "damping",
-    "turning_effort": "force",
-    "threshold_force": "force",
-    "shimmy_probability": "",
-    "shimmy_probability_mc": "",
-    "shimmy_probability_se": "",
-    "sku": "",
-    "sku_turning_effort": "force",
-    "sku_threshold_force": "force",
-    "sku_shimmy_probability": "",
-    "sku_shimmy_probability_mc": "",
-    "sku_shimmy_probability_se": "",
-    "knee_regret_N": "",
-    "sku_regret_N": "",
-    "status": "",
-}
-"""The rows' keys written to fleet.csv and their dimensions: a quantity's column carries its unit in its name
-(:func:`designer.units.csv_column`: ``trail_in`` or ``trail_mm`` as the base problem writes lengths,
-``turning_effort_N``); the sku_* and *_regret_N columns only with part numbers."""
+CSV_COLUMNS = (
+    "name",
+    *VARIABLES,
+    "turning_effort",
+    "threshold_force",
+    "shimmy_probability",
+    "shimmy_probability_mc",
+    "shimmy_probability_se",
+    "sku",
+    "sku_turning_effort",
+    "sku_threshold_force",
+    "sku_shimmy_probability",
+    "sku_shimmy_probability_mc",
+    "sku_shimmy_probability_se",
+    "knee_regret_N",
+    "sku_regret_N",
+    "status",
+)
+"""The rows' keys written to fleet.csv: a quantity's column carries its unit in its name, its dimension from the
+parameter table (:func:`designer.parameters.dimensions`; :func:`designer.units.csv_column`: ``trail_in`` or
+``trail_mm`` as the base problem writes lengths, ``turning_effort_N``); the sku_* and *_regret_N columns only
+with part numbers."""
 
 OWNED = frozenset({"fleet.csv", "fleet.json", "report.md", "index.html", "figures", "run.json"})
 """What a fleet report owns in its folder (anything else there is never touched)."""
@@ -68,7 +67,7 @@ def csv_text(data: dict) -> str:
     rows = [{**r, "sku": labels.get(r["sku"], r["sku"])} if r.get("sku") is not None else r for r in data["rows"]]
     # the one CSV writer (designer.textfiles): each quantity's column names its unit; chair names and part
     # numbers kept from formulas
-    return write_csv_text(dict_rows(rows, keys, "{:.6g}", quantities=CSV_COLUMNS, units=units))
+    return write_csv_text(dict_rows(rows, keys, "{:.6g}", quantities=dimensions(keys), units=units))
 
 
 def sku_label(sku: dict, units: str = "in") -> str:

@@ -16,6 +16,7 @@ Dash and plotly are imported here (and by layout and panels): these modules are 
 from __future__ import annotations
 
 import hashlib
+import logging
 import json
 from collections import OrderedDict
 from pathlib import Path
@@ -32,7 +33,14 @@ import designer.studio.state as state
 import designer.studio.view as view
 from designer.problem import problem_from_dict
 from designer.studio.layout import CSS, build_layout
-from designer.studio.panels import card_panel, fixes_panel, limits_text, numbers_table, recommendation_panel
+from designer.studio.panels import (
+    LIMITS_FAILED,
+    card_panel,
+    fixes_panel,
+    limits_text,
+    numbers_table,
+    recommendation_panel,
+)
 from designer.units import parse_quantity_text as quantity_option
 
 __all__ = [
@@ -156,6 +164,10 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
         )
 
 
+LOG = logging.getLogger("designer.studio")
+"""The studio's console (the logger :mod:`designer.studio.server` writes its one-line messages to)."""
+
+
 def _limits_callback(app, pending: OrderedDict) -> None:
     """The second step of a change: the recommended caster's acceptance limits and worst corner
     (:func:`designer.studio.view.compute_spec`, about 0.1 s) into the card's ``rec-limits``.
@@ -190,6 +202,9 @@ def _limits_callback(app, pending: OrderedDict) -> None:
                 fronts = view.compute_spec(problem, key=key)
             except DesignerError as exc:
                 return {"n": generation, "text": str(exc)}
+            except Exception as exc:  # noqa: BLE001 - the card must not keep "computing…": it says so, the console why
+                LOG.error("acceptance limits: %s: %s", type(exc).__name__, str(exc).splitlines()[0] if str(exc) else "")
+                return {"n": generation, "text": LIMITS_FAILED}
             return {"n": generation, "text": limits_text(view.recommendation_record(fronts.recommendation))}
 
 

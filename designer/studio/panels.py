@@ -102,6 +102,9 @@ def recommendation_panel(fronts: view.Fronts):
 LIMITS_PENDING = "acceptance limits: computing…"
 """What the card says while the recommended caster's limits are being computed."""
 
+LIMITS_FAILED = "acceptance limits: not computed (the studio's console says why; `designer spec` gives them)"
+"""What the card says when computing the limits failed in a way the model does not explain (an internal error)."""
+
 
 def limits_text(rec: dict | None) -> str:
     """The recommended caster's acceptance limits and worst corner as one line, from

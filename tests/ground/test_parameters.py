@@ -215,3 +215,26 @@ def test_every_quantity_prints_the_unit_of_its_dimension():
     assert _unit_mismatches(list(PARAMETERS.values()) + list(OUTPUT_TABLE)) == []
     planted = Parameter("omega", "ω", "rad/s", "shimmy frequency", None, None, "Eq. 15B")
     assert _unit_mismatches([planted]) == [("omega", "rad/s", "dimensionless")]
+
+
+def test_csv_columns_take_their_dimensions_from_the_table():
+    """parameters.dimensions gives the table's dimension of each quantity with a unit (a variable, a constant, an
+    output, a part number's sku_ value as its quantity) and leaves out flags, fractions and names it does not
+    know, so a CSV column names its unit from the one table; units_of gives the SI units the same way."""
+    names = ["trail", "damping", "load", "critical_speed", "sku_turning_effort", "shimmy_probability", "status"]
+    assert parameters.dimensions(names) == {
+        "trail": "length",
+        "damping": "damping",
+        "load": "force",
+        "critical_speed": "speed",
+        "sku_turning_effort": "force",
+    }
+    assert parameters.units_of(names) == {
+        "trail": "m",
+        "damping": "N·m/rad",
+        "load": "N",
+        "critical_speed": "m/s",
+        "sku_turning_effort": "N",
+    }
+    # a prefix names another caster's value, not a new word: "skull" is not sku_ + "ll"
+    assert parameters.dimensions(["skull", "sku_status"]) == {}

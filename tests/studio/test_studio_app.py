@@ -235,6 +235,29 @@ def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path)
     assert again["rec-pending"]["data"] is None  # an answer still on its way for the card before is not shown
 
 
+def test_a_failed_limits_computation_does_not_leave_the_card_computing(tmp_path, monkeypatch, caplog):
+    """When computing the limits fails for a reason the model does not give (an internal error, here a
+    RuntimeError), the card's answer says they were not computed and where to find them, not "computing…" for
+    ever, and the console gets one line naming the error."""
+    from designer.studio import panels
+    from test_studio_updates import _post
+
+    data, name = state.read_problem_data(PROBLEM)
+    client = create_app(data, name, tmp_path).server.test_client()
+    keys = [c.key for c in state.all_controls()]
+    first = _post(client, keys, state.control_values(data), "url.search", None)
+    n = first["rec-pending"]["data"]
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("quadrature did not converge\nsecond line")
+
+    monkeypatch.setattr(view, "compute_spec", broken)
+    answer = _callback(client, [("rec-answer", "data")], [("rec-go", "data", n)], "rec-go.data", [])
+    assert answer["rec-answer"]["data"] == {"n": n, "text": panels.LIMITS_FAILED}
+    assert panels.LIMITS_PENDING not in panels.LIMITS_FAILED
+    assert _studio_lines(caplog) == ["acceptance limits: RuntimeError: quadrature did not converge"]
+
+
 def _guarded_client(tmp_path, debug=False):
     """The app as `designer studio` serves it on 127.0.0.1:8050 (server.guard applied), as a test client."""
     from designer.studio.server import allowed_hosts, guard

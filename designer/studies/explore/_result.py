@@ -13,7 +13,7 @@ import numpy as np
 
 from designer.textfiles import csv_text, dict_rows
 from designer.jsonsafe import finite, stamped
-from designer.parameters import OUTPUTS, VARIABLE_TABLE
+from designer.parameters import OUTPUTS, VARIABLE_TABLE, VARIABLES, dimensions, units_of
 from designer.versions import versions
 from designer.studies.front import hypervolume_2d, igd_plus, normalise
 from designer.problem import Problem
@@ -34,17 +34,9 @@ UNITS = {
 CATEGORICAL = ("wheel", "surface", "turning_mode")
 """Categorical dimensions, in this order in category labels and CSV columns."""
 
-CSV_COLUMNS = {
-    "trail": "length",
-    "diameter": "length",
-    "groove": "length",
-    "damping": "damping",
-    "turning_effort": "force",
-    "threshold_force": "force",
-    "critical_speed": "speed",
-}
-"""The quantities of explore.csv and their dimensions: T, d, B, c_f, F_turn, P, V_c; each column names its unit
-(:func:`designer.textfiles.dict_rows`: ``trail_in`` or ``trail_mm`` as the problem writes lengths,
+CSV_COLUMNS = (*VARIABLES, "turning_effort", "threshold_force", "critical_speed")
+"""The quantities of explore.csv: T, d, B, c_f, F_turn, P, V_c; each column names its unit, its dimension from
+the parameter table (:func:`designer.parameters.dimensions`, :func:`designer.textfiles.dict_rows`: ``trail_in`` or ``trail_mm`` as the problem writes lengths,
 ``damping_N_m_per_rad``, ``turning_effort_N``, ``critical_speed_m_per_s``)."""
 
 
@@ -178,12 +170,11 @@ class ExploreResult(Record):
         ``diameter``, ``groove``, ``damping``, ``turning_effort``, ``threshold_force``, ``critical_speed``), the
         categories that were explored, ``trial`` and ``refined``; units in ``df.attrs["units"]``."""
         columns = list(dict.fromkeys(k for r in self.front for k in r)) or list(CSV_COLUMNS)
-        units = dict(zip(CSV_COLUMNS, ("m", "m", "m", "N·m/rad", "N", "N", "m/s")))
         return dataframe(
             "ExploreResult.to_pandas",
             [dict(r) for r in self.front],
             columns,
-            {k: u for k, u in units.items() if k in columns},
+            units_of(columns),
             problem=self.problem.name,
             study=self.study_name,
         )
@@ -211,7 +202,7 @@ class ExploreResult(Record):
         ]
         columns = [*CSV_COLUMNS, *cats, "overall_front", "refined", "trial"]
         # the one CSV writer (designer.textfiles): each quantity's column names its unit
-        table = dict_rows(rows, columns, "{:.10g}", quantities=CSV_COLUMNS, units=self.problem.units)
+        table = dict_rows(rows, columns, "{:.10g}", quantities=dimensions(CSV_COLUMNS), units=self.problem.units)
         csv_path, json_path = out / "explore.csv", out / "explore.json"
         _atomic_write_many(
             {

@@ -22,7 +22,7 @@ from designer.data.paper import INCH
 from designer.errors import InputError
 from designer.output import first_line_kind, write_file
 from designer.model import VARIABLES, Caster, Design, check_design
-from designer.parameters import DESIGN_UNITS, OUTPUTS, PARAMETERS
+from designer.parameters import DESIGN_UNITS, OUTPUTS, PARAMETERS, dimensions
 from designer.units import csv_column, csv_quantity
 from designer.problem import example_names, example_problem
 from designer.problem import Problem, family_of, load_problem
@@ -138,11 +138,8 @@ _COLUMNS = {v: PARAMETERS[v].column for v in VARIABLES}
 """DataFrame column of each design variable, its SI unit in the name (``trail_m``, ``damping_N_m_per_rad``)."""
 
 CSV_QUANTITIES = {
-    **{v: PARAMETERS[v].dimension for v in VARIABLES},
-    "turning_effort": "force",
-    "threshold_force": "force",
-    "critical_speed": "speed",
-    "epsilon": "force",
+    **dimensions([*VARIABLES, "turning_effort", "threshold_force", "critical_speed"]),
+    "epsilon": "force",  # the cap on P
 }
 """The quantities of front.csv and their dimensions: each column carries its unit in its name
 (:func:`designer.units.csv_column`: ``trail_in`` or ``trail_mm`` as the problem writes lengths,
