@@ -462,6 +462,7 @@ def nlp_costs(problem, repeats: int = 20) -> dict:
     return {
         "nlp_build_s": build,
         "batch_solver_build_s": batch_build,
+        "batch_sizes": list(CasterNLP.BATCH_SIZES),
         "single_cold": {**stats(cold_t), "iterations": cold_r[-1].iterations},
         "single_warm": {**stats(warm_t), "iterations": warm_r[-1].iterations},
         "batch64_cold_per_block": {**{k_: v / k if k_.endswith("_s") else v for k_, v in stats(bc_t).items()}},
@@ -696,8 +697,9 @@ def markdown(results: dict) -> str:
         "",
         f"- Vectorised model (`Problem.evaluate` → `model.evaluate` → `performance` on NumPy arrays): {th['designs_per_second']:.3g} "
         f"designs/s ({th['designs']:,} designs in {th['median_s'] * 1e3:.1f} ms, median of {th['repeats']}).",
-        f"- NLP build (CasADi SX + IPOPT): {nc['nlp_build_s'] * 1e3:.1f} ms; batched solvers (4, 16, 64 blocks, cold "
-        f"and warm variants, built lazily): {nc['batch_solver_build_s'] * 1e3:.0f} ms.",
+        f"- NLP build (CasADi SX + IPOPT): {nc['nlp_build_s'] * 1e3:.1f} ms; batched solvers "
+        + (f"({', '.join(map(str, nc['batch_sizes']))} blocks, " if nc.get("batch_sizes") else "(")
+        + f"cold and warm variants, built lazily as needed): {nc['batch_solver_build_s'] * 1e3:.0f} ms.",
         f"- One IPOPT solve, cold (box centre, no multipliers): {fmt_time(nc['single_cold'])}, "
         f"{nc['single_cold']['iterations']} iterations.",
         f"- One IPOPT solve, warm (neighbouring optimum and its multipliers, ε 0.1 % tighter): "
