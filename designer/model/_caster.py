@@ -413,6 +413,6 @@ def performance(
         "threshold_force_ratio": ratio,
         "threshold_force": c.load * ratio,
         "turning_moment": moment,
-        "turning_effort": turning_effort(trail, groove, damping, c),
+        "turning_effort": moment / trail,  # Eq. 9, as turning_effort (the moment once in a CasADi graph)
         "swept_radius": swept_radius(trail, diameter),
     }

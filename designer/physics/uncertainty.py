@@ -71,6 +71,7 @@ import copy
 import dataclasses
 import functools
 import math
+import operator
 import threading
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -814,7 +815,7 @@ class _DrawStream:
     after another: the kept ones, then new ones from a copy of the generator where the kept ones end.
     """
 
-    def __init__(self, seed: int, model_error_dof: int, inertia_dof: int):
+    def __init__(self, seed: int, model_error_dof: Any, inertia_dof: Any):
         self._law = Uncertainty(model_error_dof=model_error_dof)  # law_draws reads its model_error_dof only
         self._dof = inertia_dof
         self._rng = np.random.default_rng(seed)
@@ -825,12 +826,16 @@ class _DrawStream:
         for i in range(_KEPT_BLOCKS):
             with self._lock:
                 if i == len(self._kept):
-                    block = law_draws(self._law, self._rng, self._dof)
+                    # drawn from a copy, which becomes the stream's generator only once the block is whole: an
+                    # interrupt (Ctrl-C in a notebook) half-way through leaves the stream where it was
+                    rng = copy.deepcopy(self._rng)
+                    block = law_draws(self._law, rng, self._dof)
                     for values in block.values():
                         values.setflags(write=False)
                     self._kept.append(block)
+                    self._rng = rng
                 kept = self._kept[i]
-            yield kept
+            yield dict(kept)  # a caller's own dict of the shared read-only arrays
         with self._lock:  # every kept block is drawn: the generator stands after the last one
             rng = copy.deepcopy(self._rng)
         while True:
@@ -838,7 +843,7 @@ class _DrawStream:
 
 
 @functools.lru_cache(maxsize=8)
-def _draw_stream(seed: int, model_error_dof: int, inertia_dof: int) -> _DrawStream:
+def _draw_stream(seed: int, model_error_dof: Any, inertia_dof: Any) -> _DrawStream:
     """The :class:`_DrawStream` of a seed and the two Student-t degrees of freedom (one per process)."""
     return _DrawStream(seed, model_error_dof, inertia_dof)
 
@@ -908,7 +913,7 @@ def shimmy_probability_mc_many(
             -1
         )
         scale_i = np.where(is_measured, float(u.inertia), np.asarray(p_law.scale(d), dtype=float))
-    blocks = iter(_draw_stream(int(u.seed if seed is None else seed), int(u.model_error_dof), int(p_law.dof)))
+    blocks = iter(_draw_stream(operator.index(u.seed if seed is None else seed), u.model_error_dof, p_law.dof))
     want = np.full(v_req.shape, _blocks(int(u.samples if samples is None else samples)))  # per caster and speed
     hits = np.zeros(v_req.shape)
     drawn = 0

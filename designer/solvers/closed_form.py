@@ -324,22 +324,23 @@ def _secant_fixed_point(step: Callable[[np.ndarray], np.ndarray], s: np.ndarray,
 
     Secant steps on h(s) = s − step(s) (order 1.6: about 7 evaluations of ``step`` where the plain iteration
     at a contraction of 0.2 takes 22), each kept only where it stays in [0, 1] and else replaced by the plain
-    step, which always converges; the last move is a plain step, below ``tol``.
+    step, which always converges; the answer is a plain step from a point whose move is below ``tol`` (after
+    400 rounds without that, the last plain step).
     """
     prev, g_prev = s, step(s)
-    s = g_prev
+    s = g = g_prev
     for _ in range(400):
         g = step(s)
         h, h_prev = s - g, prev - g_prev
         with np.errstate(divide="ignore", invalid="ignore"):
             secant = s - h * (s - prev) / (h - h_prev)
         ok = np.isfinite(secant) & (secant >= 0.0) & (secant <= 1.0) & (h != h_prev)
-        nxt = np.where(ok, secant, g)
-        moved = np.max(np.abs(g - s))
-        prev, g_prev, s = s, g, nxt
+        residual = np.abs(h)
+        moved = float(np.max(residual[np.isfinite(residual)], initial=0.0))  # a NaN share stays NaN, not a loop
+        prev, g_prev, s = s, g, np.where(ok, secant, g)
         if moved <= tol:
-            return g
-    return s
+            break
+    return g
 
 
 def _law(problem: Problem) -> Uncertainty:

@@ -64,8 +64,9 @@ SAVED_PROBLEM = signed_kind(SAVE_WRITER, "a problem file saved by designer studi
 """What "Save problem" may replace: a problem file it saved, unchanged since (never one the user wrote)."""
 
 
-def create_app(data: dict, name: str, out_dir: Path):
-    """The Dash app for problem-file ``data`` (dict) named ``name``; saves and reports go to ``out_dir``."""
+def create_app(data: dict, name: str, out_dir: Path, debug: bool = False):
+    """The Dash app for problem-file ``data`` (dict) named ``name``; saves and reports go to ``out_dir``;
+    ``debug``: a failure a callback logs itself carries its traceback (``designer --debug studio``)."""
     defaults = state.control_values(data)
     app = dash.Dash(__name__, title=f"studio · {name}", update_title=None, serve_locally=True, assets_ignore=".*")
     app.layout = build_layout(name, defaults)
@@ -74,7 +75,7 @@ def create_app(data: dict, name: str, out_dir: Path):
     # the problems whose limits a card waits for, by their change's number
     pending: OrderedDict = OrderedDict()
     _trade_off_callback(app, data, defaults, pending)
-    _limits_callback(app, pending)
+    _limits_callback(app, pending, debug)
     _card_callback(app)
     _mine_callback(app, out_dir)
     _save_callback(app, out_dir)
@@ -168,7 +169,7 @@ LOG = logging.getLogger("designer.studio")
 """The studio's console (the logger :mod:`designer.studio.server` writes its one-line messages to)."""
 
 
-def _limits_callback(app, pending: OrderedDict) -> None:
+def _limits_callback(app, pending: OrderedDict, debug: bool = False) -> None:
     """The second step of a change: the recommended caster's acceptance limits and worst corner
     (:func:`designer.studio.view.compute_spec`, about 0.1 s) into the card's ``rec-limits``.
 
@@ -203,7 +204,8 @@ def _limits_callback(app, pending: OrderedDict) -> None:
             except DesignerError as exc:
                 return {"n": generation, "text": str(exc)}
             except Exception as exc:  # noqa: BLE001 - the card must not keep "computing…": it says so, the console why
-                LOG.error("acceptance limits: %s: %s", type(exc).__name__, str(exc).splitlines()[0] if str(exc) else "")
+                first = str(exc).splitlines()[0] if str(exc) else ""
+                LOG.error("acceptance limits: %s: %s", type(exc).__name__, first, exc_info=exc if debug else None)
                 return {"n": generation, "text": LIMITS_FAILED}
             return {"n": generation, "text": limits_text(view.recommendation_record(fronts.recommendation))}
 

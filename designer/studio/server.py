@@ -161,7 +161,7 @@ def make_server(
 
     data, name = state.read_problem_data(problem_path)
     check_port(host, int(port))  # before the solver warms up: a taken port is said at once
-    app = create_app(data, name, Path(out_dir))
+    app = create_app(data, name, Path(out_dir), debug=debug)
     problem, merged = state.build_problem(data, state.control_values(data))
 
     try:  # warm the solver and the cache: the first page then draws at once

@@ -349,3 +349,66 @@ def test_quantile_fit_evaluation_is_the_same_for_floats_arrays_and_casadi():
     casadi = np.array([float(symbolic(a, b)) for a, b in zip(x, y)])
     for got in (floats, arrays, casadi):
         assert np.max(np.abs(got - reference)) <= 1e-14 * np.max(np.abs(reference))
+
+
+def _blocks(seed, dof, n):
+    """n blocks of draws as the Monte Carlo defined them before the stream was kept: default_rng(seed), one block
+    after another."""
+    rng = np.random.default_rng(seed)
+    return [U.law_draws(U.Uncertainty(model_error_dof=dof), rng, 5) for _ in range(n)]
+
+
+def test_the_kept_draw_stream_is_the_seeded_stream():
+    """The Monte Carlo's kept stream gives, block for block, the draws of default_rng(seed) drawn one block after
+    another: the kept blocks and those after them, on a first and a second reading, from four threads reading at
+    once, and after a reading interrupted half-way through a block (Ctrl-C in a notebook) left the stream where it
+    was.  Each reader gets its own dict of read-only arrays."""
+    import itertools
+    import threading
+
+    seed, dof, n = 987_654, 5, U._KEPT_BLOCKS + 4
+    want = _blocks(seed, dof, n)
+
+    def same(got):
+        return all(np.array_equal(a[key], b[key]) for a, b in zip(want, got, strict=True) for key in a)
+
+    U._draw_stream.cache_clear()
+    stream = U._draw_stream(seed, dof, 5)
+    calls = {"n": 0}
+    original = U.law_draws
+
+    def interrupted(u, rng, inertia_dof):
+        calls["n"] += 1
+        if calls["n"] == 3:  # the third block: one variate drawn, then Ctrl-C
+            rng.standard_normal(10)
+            raise KeyboardInterrupt
+        return original(u, rng, inertia_dof)
+
+    U.law_draws = interrupted
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            list(itertools.islice(stream, n))
+    finally:
+        U.law_draws = original
+    assert same(list(itertools.islice(stream, n)))
+    assert same(list(itertools.islice(stream, n)))
+    U._draw_stream.cache_clear()
+    stream = U._draw_stream(seed, dof, 5)
+    results = [None] * 4
+    barrier = threading.Barrier(4)
+
+    def read(i):
+        barrier.wait()
+        results[i] = list(itertools.islice(stream, n))
+
+    threads = [threading.Thread(target=read, args=(i,)) for i in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert all(same(r) for r in results)
+    first = next(iter(stream))
+    first["model"] = None
+    with pytest.raises(ValueError):
+        next(iter(stream))["slip"][0] = 1.0
+    assert next(iter(stream))["model"] is not None

@@ -733,3 +733,56 @@ def test_zero_design_scatter_is_the_nominal_closed_form_at_a_raised_target(speed
     x_nom, ok_nom = structured.structured_front_designs(nominal, eps)
     assert ok_risk.any() and np.array_equal(ok_risk, ok_nom)
     assert np.allclose(x_risk[ok_risk], x_nom[ok_nom], rtol=1e-9, atol=1e-12)
+
+
+def _plain_fixed_point(step, s):
+    """The plain iteration s <- step(s) until a move is below 1e-15 (what the secant steps must agree with)."""
+    for _ in range(2000):
+        nxt = step(s)
+        moved = np.max(np.abs(nxt - s))
+        s = nxt
+        if moved <= 1e-15:
+            break
+    return s
+
+
+def test_secant_fixed_points_are_those_of_the_plain_iteration():
+    """_secant_fixed_point gives the fixed points of a contraction on [0, 1] that the plain iteration gives (both
+    within L/(1 − L)·1e-15 of it, L the contraction), for maps clipped at 0 or 1 (the edge maps of a curve that
+    misses an edge), contractions up to 0.99 and the real edge maps of a wheel known by its diameter; a NaN element stays NaN without stalling the rest."""
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        slope = rng.uniform(-0.9, 0.9, 64)
+        shift = rng.uniform(-0.5, 1.5, 64)  # fixed points inside, and clipped at 0 or 1
+        curve = rng.uniform(-0.3, 0.3, 64)
+
+        def step(s, slope=slope, shift=shift, curve=curve):
+            return np.clip(shift + slope * s + curve * np.sin(3 * s) * (1 - abs(slope)), 0.0, 1.0)
+
+        start = np.full(64, 0.5)
+        # both stop at a move <= 1e-15, so each is within L/(1 − L)·1e-15 of the fixed point (L: the contraction)
+        contraction = np.abs(slope) + 3 * np.abs(curve) * (1 - np.abs(slope))
+        gap = np.abs(structured._secant_fixed_point(step, start) - _plain_fixed_point(step, start))
+        assert np.all(gap <= 2e-15 / (1 - contraction) + 4e-16)
+    problem = load_problem("problems/indoor-manual.toml")
+    u = problem.conditions.uncertainty
+    k = np.vstack([np.geomspace(1e-6, 1e3, 40)] * 4)
+    d = np.full(k.shape, 0.15)
+    sign = np.array([1.0, 1.0, -1.0, -1.0])[:, None]
+    base = np.array([0.0, 0.0, 1.0, 1.0])[:, None]
+
+    def edge(s):
+        return np.clip(base + sign * k * np.exp(-structured.log_gain(u, s, d)), 0.0, 1.0)
+
+    start = np.full(k.shape, 0.5)
+    np.testing.assert_allclose(
+        structured._secant_fixed_point(edge, start), _plain_fixed_point(edge, start), rtol=0, atol=1e-14
+    )
+    calls = []
+
+    def with_nan(s):
+        calls.append(1)
+        return np.where(np.arange(3) == 1, np.nan, 0.25 + 0.5 * s)
+
+    out = structured._secant_fixed_point(with_nan, np.full(3, 0.5))
+    assert np.isnan(out[1]) and out[[0, 2]] == pytest.approx([0.5, 0.5], abs=1e-14) and len(calls) < 20

@@ -238,7 +238,7 @@ def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path)
 def test_a_failed_limits_computation_does_not_leave_the_card_computing(tmp_path, monkeypatch, caplog):
     """When computing the limits fails for a reason the model does not give (an internal error, here a
     RuntimeError), the card's answer says they were not computed and where to find them, not "computing…" for
-    ever, and the console gets one line naming the error."""
+    ever, and the console gets one line naming the error (with its traceback only under --debug)."""
     from designer.studio import panels
     from test_studio_updates import _post
 
@@ -256,6 +256,15 @@ def test_a_failed_limits_computation_does_not_leave_the_card_computing(tmp_path,
     assert answer["rec-answer"]["data"] == {"n": n, "text": panels.LIMITS_FAILED}
     assert panels.LIMITS_PENDING not in panels.LIMITS_FAILED
     assert _studio_lines(caplog) == ["acceptance limits: RuntimeError: quadrature did not converge"]
+    assert [r.exc_info for r in caplog.records if r.name == "designer.studio"] == [None]  # no traceback ...
+    caplog.clear()
+    monkeypatch.undo()
+    client = create_app(data, name, tmp_path, debug=True).server.test_client()
+    n = _post(client, keys, state.control_values(data), "url.search", None)["rec-pending"]["data"]
+    monkeypatch.setattr(view, "compute_spec", broken)
+    _callback(client, [("rec-answer", "data")], [("rec-go", "data", n)], "rec-go.data", [])
+    (record,) = [r for r in caplog.records if r.name == "designer.studio"]
+    assert record.exc_info is not None and record.exc_info[0] is RuntimeError  # ... but with --debug
 
 
 def _guarded_client(tmp_path, debug=False):

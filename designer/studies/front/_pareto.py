@@ -9,8 +9,10 @@ on the CasADi NLP built once per problem structure (``designer.solvers.nlp.Caste
 continuous sub-problem (one per catalog wheel):
 
 1. the two lexicographic ends are found (min F_turn then min P, min P then min F_turn);
-2. pass 1 solves ε evenly spaced between the ends' P;
-3. pass 2 re-spaces ε evenly by arc length along pass 1's normalised front and solves again;
+2. pass 1 gives the ε-optima at ε evenly spaced between the ends' P: the closed form's, unconfirmed, where it
+   applies (they only space pass 2), else the NLP's;
+3. pass 2 re-spaces ε evenly by arc length along pass 1's normalised front and solves every point by the NLP
+   (the closed form's optima confirmed);
 4. points that fail are kept as failed (never plotted or counted); dominated points are removed.
 
 How an ε-point is solved is the front solver's (:func:`designer.solvers.front_solver`, through the solver

@@ -231,3 +231,28 @@ def test_compare_tighter_front(fronts):
     assert cmp["hypervolume_other"] < cmp["hypervolume_self"]
     assert cmp["igd_plus_other"] > 0
     assert dominated_by_problem(front.problem, tighter) == (0, len(tighter))
+
+
+def test_a_first_pass_with_too_few_points_still_gives_a_front_the_nlp_solved(monkeypatch):
+    """The first pass (the closed form's ε-optima, unconfirmed: they only space the second) may have fewer than 3
+    good points; the front then solves its uniform ε by the NLP: every point carries the NLP's multipliers (the
+    closed form has none), the count is the one asked for, and the caps are evenly spaced."""
+    import dataclasses
+
+    from designer.solvers.nlp import NLPSolver
+
+    original = NLPSolver.first_pass
+
+    def sparse(self, problem, eps, *, ends):
+        found = original(self, problem, eps, ends=ends)
+        keep = np.zeros(len(found.success), dtype=bool)
+        keep[[0, -1]] = True
+        return dataclasses.replace(found, success=found.success & keep)
+
+    monkeypatch.setattr(NLPSolver, "first_pass", sparse)
+    front = pareto_front(load_problem(BY_NAME["indoor-manual"]), points=11)
+    assert front.meta["strategy"] == "structured"
+    assert len(front) == 11 and not front.failed
+    assert all(point.multipliers for point in front)
+    caps = np.sort([point.epsilon for point in front])
+    np.testing.assert_allclose(np.diff(caps), (caps[-1] - caps[0]) / 10, rtol=1e-9)
