@@ -35,6 +35,7 @@ from __future__ import annotations
 import argparse
 import datetime
 import json
+import re
 import os
 import platform
 import statistics
@@ -476,6 +477,30 @@ def nlp_costs(problem, repeats: int = 20) -> dict:
 # --------------------------------------------------------------------------- scaling
 
 
+def strategy_costs(problem, repeats: int = 5) -> dict:
+    """The default front of ``problem`` (risk-bounded, and its nominal twin) by each sweep strategy, warm: CPU
+    seconds (median of ``repeats``, this process only) and the NLP block solves of one front."""
+    from designer.studies.front import pareto_front
+
+    out = {}
+    for label, p in (("risk-bounded", problem if problem.risk is not None else None), ("nominal", problem.nominal())):
+        if p is None:
+            continue
+        for strategy in ("nlp", "auto"):
+            front = pareto_front(p, strategy=strategy)  # warm: the solvers are built
+            cpu = []
+            for _ in range(repeats):
+                c0 = time.process_time()
+                front = pareto_front(p, strategy=strategy)
+                cpu.append(time.process_time() - c0)
+            out[f"{label}, {front.meta['strategy']}"] = {
+                "cpu_median_s": float(statistics.median(cpu)),
+                "nlp_solves": int(front.meta["nlp_solves"]),
+                "points": len(front),
+            }
+    return out
+
+
 def configurations(problem, count: int) -> list:
     """``count`` chair configurations: caster load 120…300 N × target speed 1.8…2.8 m/s (a grid, row by row)."""
     side = int(np.ceil(np.sqrt(count)))
@@ -737,19 +762,100 @@ def markdown(results: dict) -> str:
         "",
         "## What the exact front does (designer/studies/front/_pareto.py, designer/solvers/nlp/_sweep.py)",
         "",
-        "ε-constraint sweep (min F_turn s.t. P <= ε) on the CasADi/IPOPT NLP built once per problem. The "
-        "points of a pass are solved together as block-diagonal NLPs (CasADi `map`, 4/16/64 blocks per IPOPT "
-        "call), pass 1 from the best feasible point of a vectorised Sobol sample under each ε, pass 2 "
-        "(re-spaced by arc length) warm from the neighbouring pass-1 optimum with its multipliers "
-        "(`warm_start_init_point`, small μ). Discontinuities are still searched for: family restarts "
-        "(grooved / damped) on every tenth point and at every family switch, and at each switch the "
+        "ε-constraint sweep (min F_turn s.t. P <= ε) on the CasADi/IPOPT NLP built once per problem structure: "
+        "the two lexicographic ends, then ε evenly spaced between them (pass 1), then ε re-spaced by arc length "
+        "along pass 1 (pass 2). How an ε-point is solved is the front solver's sweep "
+        "(`designer.solvers.front_solver`):",
+        "",
+        "- **structured** (wherever `designer.solvers.closed_form.applicable` holds, nominal and risk-bounded): the "
+        "closed-form ε-optima (smallest admissible d, largest admissible T, the cheapest point of the shimmy "
+        "constraint's curve in the (B, c_f) box) space pass 1 as they are, and one warm batched NLP solve confirms "
+        "each point of pass 2 and the ends (the NLP's result is what is reported); a point whose solve fails or "
+        "disagrees by more than 1e-9 goes through the NLP sweep.",
+        "- **nlp** (catalog wheels, a fixed diameter, a risk bound whose quantile varies too fast, or "
+        '`strategy="nlp"`): the points of a pass are solved together as block-diagonal NLPs (CasADi `map`, '
+        + "/".join(map(str, results["nlp"].get("batch_sizes") or ()))
+        + " blocks per IPOPT call), pass 1 from the best feasible point of a vectorised Sobol sample under each ε, "
+        "pass 2 warm from the neighbouring pass-1 optimum with its multipliers (`warm_start_init_point`, small "
+        "μ); family restarts (grooved / damped) on every tenth point and at every family switch, where the "
         "neighbours are re-solved from each other's optimum until nothing improves.",
         "",
     ]
+    strategies = results.get("strategies")
+    if strategies:
+        lines += [
+            f"The default front of {strategies['problem']} by each strategy, warm, in this run (CPU of this "
+            f"process, median of {results['config']['exact_repeats']}):",
+            "",
+            "| front, strategy | CPU | NLP block solves | points |",
+            "|---|---|---|---|",
+        ]
+        lines += [
+            f"| {name} | {1e3 * r['cpu_median_s']:.0f} ms | {r['nlp_solves']} | {r['points']} |"
+            for name, r in strategies.items()
+            if name != "problem"
+        ]
+        lines.append("")
     return "\n".join(lines)
 
 
 # --------------------------------------------------------------------------- main
+
+
+BEGIN, END = "<!-- benchmarks.run: begin -->", "<!-- benchmarks.run: end -->"
+"""The part of results.md this run writes; the other benchmarks write theirs between their own markers."""
+
+
+def write_markdown(path: Path, text: str) -> None:
+    """Put ``text`` into ``path`` between :data:`BEGIN` and :data:`END`, keeping the rest of the file (the
+    sections of benchmarks.coldstart, main_job, fleet and studio_latency).  A file without the markers yet keeps
+    everything from its first other section marker on; a new file is the block alone."""
+    block = f"{BEGIN}\n{text.rstrip()}\n{END}\n"
+    old = path.read_text(encoding="utf-8") if path.exists() else ""
+    if BEGIN in old and END in old:
+        head, rest = old.split(BEGIN, 1)
+        after = rest.split(END, 1)[1].lstrip("\n")
+        new = head + block + ("\n" + after if after else "")
+    else:
+        other = re.search(r"^<!-- [^\n]*: begin -->$", old, re.M)
+        new = block + ("\n" + old[other.start() :] if other else "")
+    path.write_text(new, encoding="utf-8")
+
+
+def _span(values, fmt: str) -> str:
+    """``"a–b"`` of ``values`` formatted by ``fmt`` (one value when they round alike)."""
+    lo, hi = fmt.format(min(values)), fmt.format(max(values))
+    return lo if lo == hi else f"{lo}–{hi}"
+
+
+def show(results: dict) -> list[str]:
+    """A saved full run in a few lines at most 80 wide (docs/benchmarks.md shows them): per method, how much
+    faster the exact 101-point front (warm) is and the method's hypervolume against it, as ranges over the
+    problems; then the exact front's cost per point and the cold start."""
+    problems = results["problems"]
+    exact = {name: res["methods"]["exact front N=101"] for name, res in problems.items()}
+    others = [m for m in next(iter(problems.values()))["methods"] if not m.startswith("exact front")]
+    lines = [
+        f"full run {results['date'][:10]} ({results['machine']['cpu_count']} CPUs): {', '.join(problems)}",
+        "exact 101-point front (warm) against:",
+        f"  {'method':<35}{'exact is':>17}{'their HV ratio':>16}",
+    ]
+    for method in others:
+        ratios, hv = [], []
+        for name, res in problems.items():
+            r = res["methods"][method]
+            ratios.append((r.get("time") or r["warm"])["median_s"] / exact[name]["warm"]["median_s"])
+            hv.append(r["hv_ratio"])
+        lines.append(f"  {method:<35}{_span(ratios, '{:.0f}') + '× faster':>17}{_span(hv, '{:.3f}'):>16}")
+    per_point = [e["ms_per_point_warm"] for e in exact.values()]
+    front_ms = [1e3 * e["warm"]["median_s"] for e in exact.values()]
+    cold = [res["speedup"][f"cold_vs_pymoo_{max(results['config']['pymoo_generations'])}"] for res in problems.values()]
+    lines += [
+        f"exact front, warm: {_span(per_point, '{:.2f}')} ms per point, {_span(front_ms, '{:.0f}')} ms per front",
+        f"cold (import {results['import_s']:.2f} s + build + solve): {_span(cold, '{:.1f}')}× faster than pymoo "
+        f"{max(results['config']['pymoo_generations'])} gen",
+    ]
+    return lines
 
 
 def main(argv=None) -> int:
@@ -766,7 +872,12 @@ def main(argv=None) -> int:
         help="output folder (default: benchmarks/ for a full run; benchmarks/quick/ for --quick, "
         "so a quick run never overwrites the committed full-run results)",
     )
+    parser.add_argument("--show", action="store_true", help="print the summary of the run saved in --out; run nothing")
     args = parser.parse_args(argv)
+    if args.show:
+        folder = Path(args.out) if args.out else Path(__file__).resolve().parent
+        print("\n".join(show(json.loads((folder / "results.json").read_text(encoding="utf-8")))))
+        return 0
     if args.out is None:
         here = Path(__file__).resolve().parent
         args.out = str(here / "quick" if args.quick else here)
@@ -845,6 +956,7 @@ def main(argv=None) -> int:
     results["throughput"] = model_throughput(base, cfg["throughput_n"])
     results["nlp"] = nlp_costs(base)
     results["scaling"] = scaling(problems, cfg)
+    results["strategies"] = {"problem": base.name, **strategy_costs(base, cfg["exact_repeats"])}
     print(
         f"model throughput {results['throughput']['designs_per_second']:.3g} designs/s; one NLP solve cold "
         f"{results['nlp']['single_cold']['median_s'] * 1e3:.2f} ms, warm {results['nlp']['single_warm']['median_s'] * 1e3:.2f} ms; "
@@ -867,7 +979,7 @@ def main(argv=None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     (out / "results.json").write_text(json.dumps(results, indent=2, default=float))
     figure(results, out / "scaling.png")
-    (out / "results.md").write_text(markdown(results))
+    write_markdown(out / "results.md", markdown(results))
     print(
         f"wrote {out / 'results.md'}, {out / 'results.json'}, {out / 'scaling.png'} in {results['run_seconds']:.0f} s"
     )

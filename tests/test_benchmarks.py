@@ -97,3 +97,40 @@ def test_quick_benchmark_quotes_the_before_numbers(quick_run):
         quoted = data["problems"][name]["legacy"]
         assert quoted["ms_per_point_before"] == before and quoted["commit"] == "085d726"
         assert f"{before:.2f} ms per point before (commit 085d726" in text
+
+
+def test_a_full_run_keeps_the_other_benchmarks_sections(tmp_path):
+    """benchmarks.run writes its part of results.md between its own markers and keeps the sections the other
+    benchmarks write (cold start, main job, fleet, studio latency) and the text between them: a first run over a
+    file without its markers replaces only what comes before the first other section, a second run only its block."""
+    from benchmarks.run import BEGIN, END, write_markdown
+
+    path = tmp_path / "results.md"
+    others = "<!-- coldstart: begin -->\nC\n<!-- coldstart: end -->\nnotes\n<!-- studio latency: begin -->\nS\n"
+    others += "<!-- studio latency: end -->\n"
+    path.write_text("# Benchmarks\nold tables\n\n" + others, encoding="utf-8")
+    write_markdown(path, "# Benchmarks\nfirst")
+    assert path.read_text(encoding="utf-8") == f"{BEGIN}\n# Benchmarks\nfirst\n{END}\n\n{others}"
+    write_markdown(path, "# Benchmarks\nsecond")
+    assert path.read_text(encoding="utf-8") == f"{BEGIN}\n# Benchmarks\nsecond\n{END}\n\n{others}"
+
+
+def test_the_shown_summary_is_the_saved_runs_ratios():
+    """benchmarks.run --show prints, from the committed results.json, each method's speed ratio against the exact
+    101-point front and its hypervolume ratio as ranges over the problems (the numbers docs/benchmarks.md shows),
+    each line at most 80 characters."""
+    from benchmarks.run import show
+
+    results = json.loads((ROOT / "benchmarks" / "results.json").read_text(encoding="utf-8"))
+    lines = show(results)
+    assert all(len(line) <= 80 for line in lines)
+    problems = results["problems"]
+    ratios = [
+        p["methods"]["pymoo NSGA-II 300 gen"]["warm" if "warm" in p["methods"]["pymoo NSGA-II 300 gen"] else "time"][
+            "median_s"
+        ]
+        / p["methods"]["exact front N=101"]["warm"]["median_s"]
+        for p in problems.values()
+    ]
+    row = next(line for line in lines if "pymoo NSGA-II 300 gen" in line)
+    assert f"{min(ratios):.0f}–{max(ratios):.0f}× faster" in row or f"{min(ratios):.0f}× faster" in row
