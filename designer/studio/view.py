@@ -36,9 +36,10 @@ if TYPE_CHECKING:  # record types for the checker only: designer.studies.front l
     from designer.studies.recommend import Recommendation
 
 FIX_LIMIT = 100
-"""Fixes listed for "my caster": the whole ranking up to this many (designer.fix evaluates each listed fix by
-Monte Carlo, about 2 ms each; the default problem finds 28 for a 1 in trail, 8 in wheel, 0.1 s in all).  A
-longer ranking says it is the top FIX_LIMIT of N and names ``designer fix`` for the rest."""
+"""Fixes listed for "my caster": the whole ranking within the limits up to this many (designer.fix evaluates
+each listed fix by Monte Carlo, within the limits and beyond them, so the cost grows with this cap; how many
+the default problem finds for a 1 in trail, 8 in wheel: docs/studio.md).  A longer ranking says it is the
+top FIX_LIMIT of N and names ``designer fix`` for the rest."""
 
 KNOCK_ANGLE = math.radians(20.0)
 """Size of the knock of the card's θ(t) [rad] (20°, the paper's design disturbance, Appendix C)."""

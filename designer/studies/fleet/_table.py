@@ -64,8 +64,8 @@ RANGES = {
 
 MAX_CHAIRS = 100_000
 """Largest fleet (rows of FLEET.csv, chairs of --example): what one machine carries in bounded time and
-memory (docs/fleet.md: 100 000 chairs about 10-20 s without the Monte Carlo, benchmarks/fleet.md); a larger
-product line is split into files of at most this many chairs."""
+memory (docs/fleet.md, "Size"; the recorded times: benchmarks/fleet.md); a larger product line is split into
+files of at most this many chairs."""
 
 MAX_FLEET_BYTES = 640 * MAX_CHAIRS
 """Largest fleet file read [bytes]: :data:`MAX_CHAIRS` rows of 640 characters (a row is about 60)."""

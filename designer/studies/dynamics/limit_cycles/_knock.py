@@ -16,8 +16,9 @@ from designer.physics.inertia import Fixed
 from designer.physics.tyre import TyreParameters
 
 FAST_BRACKET = (0.96, 1.04)
-"""Start of the knock-safe bisection around Eq. 7's V_c (c_f,eff = M_f/θ_i) [-]: over the default problem's
-front the simulated onset of the rolling model is 0.977–1.016 × that guess for θ0 and 2 θ0."""
+"""Start of the knock-safe bisection around Eq. 7's V_c (c_f,eff = M_f/θ_i) [-]: the simulated onset of the
+rolling model lies close to that guess, for θ0 and 2 θ0, and :func:`knock_onset_speed` widens a bracket that
+does not hold it."""
 
 
 @bounded("knock onset search")
@@ -87,7 +88,7 @@ def knock_safe_speed(
 
     The low end of the knock-onset bracket (:func:`knock_onset_speed`, relative width ``rtol``): the knock
     was simulated and seen to decay there.  Rolling tyre (``exact``): each knock is integrated in closed
-    form and the bisection starts at Eq. 7 × :data:`FAST_BRACKET`, about 6 simulations and 0.02–0.05 s of
+    form and the bisection starts at Eq. 7 × :data:`FAST_BRACKET`, a few simulations and 0.02–0.05 s of
     CPU on an idle machine.  ``exact=False`` (and the brush tyre) integrate with DOP853 from Eq. 7 × [0.8,
     1.25] (about 9 simulations, 0.3–1 s of CPU with the rolling tyre, seconds with the brush tyre): the
     results/simulation study uses that; the two agree within ``rtol`` (tests/studies/dynamics/test_limit_cycles.py).
