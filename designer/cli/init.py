@@ -59,8 +59,14 @@ def register(sub) -> None:
     )
     p.add_argument("path", metavar="PATH", help="the problem file to write (TOML), e.g. my-chair.toml")
     p.add_argument("--load", default=None, help="load per front caster, e.g. 178N (default the paper's 178 N)")
-    p.add_argument("--mass", default=None, help="user plus chair, e.g. 95kg (instead of --load)")
-    p.add_argument("--front-fraction", default=None, help=f"with --mass: {FRONT_FRACTION_NOTE}")
+    p.add_argument(
+        "--mass",
+        default=None,
+        help="the user plus the chair, e.g. 110kg for a 95 kg user in a 15 kg chair (instead of --load)",
+    )
+    p.add_argument(
+        "--front-fraction", default=None, help=f"with --mass (default {FRONT_FRACTION:g}): {FRONT_FRACTION_NOTE}"
+    )
     p.add_argument("--sill", default=None, help="door-sill height, e.g. 3/4in or 19mm (default 1/2 in)")
     p.add_argument("--floor", default=None, help="tile | carpet (default tile)")
     p.add_argument("--target-speed", default=None, help="speed without shimmy, e.g. 2.5m/s (default 2.5 m/s)")
@@ -94,10 +100,15 @@ def run(args) -> int:
     _check(text, path)
     write_file(path, text, "PATH", example="my-chair.toml", kind=NEW_FILE)
     if answers.load is not None:
-        load = f"{answers.load:.1f} N per front caster"
+        print(f"wrote {path}: {answers.load:.1f} N per front caster")
     else:
-        load = f"{float(caster_load(answers.mass, answers.front_fraction)):.1f} N per front caster: m g f / 2"
-    print(f"wrote {path} ({load}); next: designer run {path}")
+        f = answers.front_fraction
+        print(f"wrote {path}: {float(caster_load(answers.mass, f)):.1f} N per front caster = m g f / 2")
+        print(f"  with m = {answers.mass:g} kg (user plus chair), front fraction f = {f:g}")
+        if not interactive and args.front_fraction is None:
+            low, high = FRONT_FRACTION_TYPICAL
+            print(f"  f = {f:g} is the default (typically {low:g} to {high:g}); weigh yours: --front-fraction")
+    print(f"next: designer run {path}")
     return 0
 
 
@@ -205,7 +216,9 @@ def problem_text(a: Answers, name: str) -> str:
             f"# front_fraction: {FRONT_FRACTION_NOTE}",
             f"front_fraction = {a.front_fraction:g}",
         ]
-    b = base.bounds
+    b, stock = base.bounds, base.stock
+    assert stock is not None  # the shipped default problem has a [stock] section
+    lengths = lambda values: "[" + ", ".join(L(v) for v in values) + "]"  # noqa: E731
     lines = [
         "# A problem file written by designer init; every key is explained in docs/problem-file.md.",
         "# Check it, then: designer run THIS-FILE",
@@ -241,6 +254,18 @@ def problem_text(a: Answers, name: str) -> str:
         "[constraints]",
         "# swept_radius_max: the room the swivelling caster has (T + d/2), e.g. clear of the footrests",
         f"swept_radius_max = {L(base.swept_radius_max)}",
+        "",
+        "[stock]",
+        "# the parts a seating shop can fit (the shipped problem's): the recommendation is built from them;",
+        "# change them to what you can buy (docs/problem-file.md#stock)",
+        "# diameters: the wheel sizes on offer",
+        f"diameters = {lengths(stock.diameters)}",
+        "# grooves: the tyre grooves on offer (0: a single tread)",
+        f"grooves = {lengths(stock.grooves)}",
+        "# trail_step: the spacing of the fork's axle holes (the trails on offer, within the trail's range)",
+        f"trail_step = {L(stock.trail_step)}",
+        "# dampings: the bare bearing (1.3 N*m/rad) and the friction washers on offer",
+        "dampings = [" + ", ".join(f'"{c:g} N*m/rad"' for c in stock.dampings) + "]",
         "",
         "[report]",
         "# units: how reports write sizes, in (to 1/16) or mm",

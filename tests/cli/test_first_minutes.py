@@ -92,7 +92,8 @@ def _keys_with_comments(text: str) -> tuple[set[str], set[str]]:
 
 def test_init_then_run(tmp_path, monkeypatch, capsys):
     """``designer init`` without a terminal writes the defaults (the shipped indoor-manual problem's load,
-    sill, floor, speed), every key under a comment that explains it; ``designer run`` on it exits 0."""
+    sill, floor, speed and the parts on offer), every key under a comment that explains it; ``designer run`` on
+    it exits 0 and recommends a caster built from those parts."""
     monkeypatch.setattr("sys.stdin", io.StringIO(""))
     path = tmp_path / "my-chair.toml"
     assert main(["init", str(path)]) == 0
@@ -103,9 +104,14 @@ def test_init_then_run(tmp_path, monkeypatch, capsys):
     assert mine.conditions.load == base.conditions.load and mine.target_speed == base.target_speed
     assert mine.conditions.threshold_height == pytest.approx(base.conditions.threshold_height, rel=1e-12)
     assert mine.bounds == base.bounds
+    assert mine.stock.diameters == base.stock.diameters and mine.stock.dampings == base.stock.dampings
+    assert mine.stock.trails == base.stock.trails and mine.stock.grooves == base.stock.grooves
     capsys.readouterr()
     assert main(["run", str(path), "--no-cross-check"]) == 0
-    assert "Build this caster" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "Build this caster" in out
+    # a caster the shop can fit: the shipped stock's 7 in wheel and 3/4 in groove, as for indoor-manual
+    assert "diameter d             7.000 in" in out and "groove B               0.750 in" in out
 
 
 def test_init_options_mass_and_mm(tmp_path, capsys):
@@ -121,7 +127,20 @@ def test_init_options_mass_and_mm(tmp_path, capsys):
     assert p.conditions.load == pytest.approx(95 * 9.80665 * 0.3 / 2, rel=1e-12)
     assert p.conditions.threshold_height == pytest.approx(0.75 * INCH, rel=1e-9)
     assert p.conditions.surface == "carpet" and p.target_speed == 2.0 and p.units == "mm"
-    assert "139.7 N per front caster" in capsys.readouterr().out
+    assert p.stock.diameters == pytest.approx(load_problem("indoor-manual").stock.diameters, rel=1e-9)
+    out = capsys.readouterr().out
+    assert "139.7 N per front caster" in out and "front fraction f = 0.3" in out and "is the default" not in out
+
+
+def test_init_says_when_the_front_fraction_is_its_default(tmp_path, monkeypatch, capsys):
+    """--mass without --front-fraction takes f = 0.4, and the answer says so with its typical range (the load
+    depends on it as much as on the mass), in lines of at most 80 characters."""
+    monkeypatch.chdir(tmp_path)  # a short path: the lines' width is the answer's, not the temporary folder's
+    assert main(["init", "m.toml", "--mass", "110kg", "--defaults"]) == 0
+    out = capsys.readouterr().out
+    assert f"{110 * 9.80665 * 0.4 / 2:.1f} N per front caster" in out
+    assert "f = 0.4 is the default (typically 0.2 to 0.4); weigh yours: --front-fraction" in out
+    assert all(len(line) <= 80 for line in out.splitlines())
 
 
 def test_init_interactive(tmp_path, monkeypatch, capsys):
