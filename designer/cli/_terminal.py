@@ -2,7 +2,8 @@
 
 The width is the terminal's (``COLUMNS`` when set; 80 when standard output is not a terminal), at least
 :data:`NARROWEST`.  :func:`fit` is the rule: a line is stripped of trailing spaces, and a line wider than the
-width is wrapped at word boundaries with a hanging indent (a ``#`` comment's continuation stays a comment).
+width is wrapped at word boundaries with a hanging indent (a ``#`` comment's continuation stays a comment),
+never between a number and its unit.
 The command line (:func:`designer.cli.main`) sends every text a command prints to standard output through
 :class:`Fitted`, so no command can print past the width; tables are drawn at the width by rich
 (:func:`console`), their columns giving way (``--wide`` where a command has it).
@@ -22,6 +23,12 @@ WIDE = 150
 """The width of ``--wide`` [columns] (at least; a wider terminal keeps its own)."""
 
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
+_NUMBER_UNIT = re.compile(
+    r"(?<=\d) (?=(?:%|°|×|m/s\b|mm\b|in\b|N·m/rad|N·m\b|N\b|kg·m²|kg\b|rad/s\b|rad\b|ms\b|s\b|pp\b))"
+)
+"""The space between a number and its unit (``4.9 %``, ``2.392 m/s``, ``7 in``): never a line break."""
+_JOIN = "\ue000"
+"""Stands for such a space while a line is wrapped (a private-use character: not whitespace to textwrap)."""
 _TRAILING = re.compile(r"[ \t]+((?:\x1b\[[0-9;]*m)*)$")
 
 
@@ -35,7 +42,8 @@ def width(wide: bool = False) -> int:
 def fit_line(line: str, columns: int) -> str:
     """One line fitted to ``columns``: trailing spaces removed (also before a closing colour code); wider lines
     wrapped at word boundaries, continued with the line's indent plus two spaces (plus ``# `` for a comment,
-    so a TOML or shell comment stays one).  A word longer than the width is left whole."""
+    so a TOML or shell comment stays one).  A word longer than the width is left whole, and a number is never
+    parted from its unit (:data:`_NUMBER_UNIT`)."""
     line = _TRAILING.sub(r"\1", line)
     if len(_ANSI.sub("", line)) <= columns or "\x1b" in line:  # coloured lines are rich's, drawn at the width
         return line
@@ -43,13 +51,13 @@ def fit_line(line: str, columns: int) -> str:
     indent = line[: len(line) - len(body)]
     more = indent + ("# " if body.startswith("#") else "  ")
     return textwrap.fill(
-        body,
+        _NUMBER_UNIT.sub(_JOIN, body),
         columns,
         initial_indent=indent,
         subsequent_indent=more,
         break_on_hyphens=False,
         break_long_words=False,
-    )
+    ).replace(_JOIN, " ")
 
 
 def fit(text: str, columns: int | None = None) -> str:

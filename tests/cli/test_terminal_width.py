@@ -118,6 +118,18 @@ def test_fit_wraps_at_words():
     assert fit_line("table row   \x1b[0m", 80) == "table row\x1b[0m"
 
 
+def test_a_number_keeps_its_unit():
+    """A wrapped line never ends in a number whose unit starts the next line ("4.9" / "% ..."): each number
+    and unit break together, and the text is unchanged apart from the breaks."""
+    for unit in ("%", "m/s", "N", "in", "N·m/rad", "kg·m²", "mm", "°"):
+        for pad in range(60, 80):
+            line = "x" * pad + f" 12.5 {unit} and then some more words to wrap"
+            lines = fit_line(line, 80).split("\n")
+            assert all(len(ln) <= 80 for ln in lines)
+            assert f"12.5 {unit}" in "\n".join(lines), (pad, unit, lines)
+            assert " ".join(" ".join(lines).split()) == " ".join(line.split())
+
+
 def test_fitted_stream(monkeypatch):
     """The stream holds a partial line (a prompt) until flush and fits each whole line; COLUMNS sets the
     width, at least 40."""
