@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import re
 import shutil
+import sys
 import textwrap
 from typing import TextIO
 
@@ -25,8 +26,10 @@ WIDE = 150
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
 _NUMBER_UNIT = re.compile(
     r"(?<=\d) (?=(?:%|°|×|m/s\b|mm\b|in\b|N·m/rad|N·m\b|N\b|kg·m²|kg\b|rad/s\b|rad\b|ms\b|s\b|pp\b))"
+    r"|(?<=\bEq\.) (?=\d)|(?<=\bFig\.) (?=\d)|(?<=\bTable) (?=\d)"
 )
-"""The space between a number and its unit (``4.9 %``, ``2.392 m/s``, ``7 in``): never a line break."""
+"""The space between a number and its unit (``4.9 %``, ``2.392 m/s``, ``7 in``) or a reference and its number
+(``Eq. 7``, ``Table 1``): never a line break."""
 _JOIN = "\ue000"
 """Stands for such a space while a line is wrapped (a private-use character: not whitespace to textwrap)."""
 _TRAILING = re.compile(r"[ \t]+((?:\x1b\[[0-9;]*m)*)$")
@@ -51,7 +54,7 @@ def fit_line(line: str, columns: int) -> str:
     indent = line[: len(line) - len(body)]
     more = indent + ("# " if body.startswith("#") else "  ")
     return textwrap.fill(
-        _NUMBER_UNIT.sub(_JOIN, body),
+        joined(body),
         columns,
         initial_indent=indent,
         subsequent_indent=more,
@@ -98,13 +101,36 @@ class Fitted:
         return getattr(self._stream, name)
 
 
+def joined(text: str) -> str:
+    """``text`` with the space between each number and its unit made unbreakable for a wrapper that splits at
+    whitespace (rich's): :data:`_JOIN`, written back as a space by :class:`_Stdout`."""
+    return _NUMBER_UNIT.sub(_JOIN, text)
+
+
+class _Stdout:
+    """``sys.stdout`` as it is at each write (:class:`Fitted` under the command line), with :data:`_JOIN` written
+    as the space it stands for."""
+
+    def write(self, text: str) -> int:
+        sys.stdout.write(text.replace(_JOIN, " "))
+        return len(text)
+
+    def __getattr__(self, name: str):
+        return getattr(sys.stdout, name)
+
+
 def console(wide: bool = False):
-    """A rich console drawing at :func:`width` (``wide``: :data:`WIDE` at least), no highlighting of numbers.
+    """A rich console drawing at :func:`width` (``wide``: :data:`WIDE` at least), no highlighting of numbers;
+    the prose it prints (a string) never wraps between a number and its unit, as :func:`fit_line`.
 
     It writes to ``sys.stdout`` as it is when it prints, so its lines pass through :class:`Fitted`."""
     from rich.console import Console
 
-    return Console(width=width(wide), highlight=False)
+    class _Console(Console):
+        def print(self, *objects, **kwargs) -> None:
+            super().print(*(joined(o) if isinstance(o, str) else o for o in objects), **kwargs)
+
+    return _Console(width=width(wide), highlight=False, file=_Stdout())
 
 
 __all__ = ["NARROWEST", "WIDE", "Fitted", "console", "fit", "fit_line", "width"]
