@@ -130,6 +130,19 @@ def test_a_number_keeps_its_unit():
             assert " ".join(" ".join(lines).split()) == " ".join(line.split())
 
 
+def test_the_console_keeps_a_number_with_its_unit(monkeypatch, capsys):
+    """Prose printed by the commands' rich console wraps at the width without parting a number from its unit or
+    'Eq.' from its number, and the character that joins them while rich wraps never reaches the output."""
+    from designer.cli._terminal import console
+
+    monkeypatch.setenv("COLUMNS", "80")
+    for pad in range(60, 80):
+        console().print("x" * pad + " by 16.4 % (predicted lower), see Eq. 7 and more words to wrap")
+        out = capsys.readouterr().out
+        assert "16.4 %" in out and "Eq. 7" in out and "\ue000" not in out, (pad, out)
+        assert all(len(line) <= 80 for line in out.splitlines())
+
+
 def test_fitted_stream(monkeypatch):
     """The stream holds a partial line (a prompt) until flush and fits each whole line; COLUMNS sets the
     width, at least 40."""
