@@ -57,7 +57,7 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
         seen.add(text)
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     # once for the problem, and only if a design the report shows (front point, optimum) is extrapolated
-    for message in problem.model_warnings(summary.pop("reported_diameters")):
+    for message in problem.model_warnings(summary.pop("reported_diameters"), front=True):
         warnings.warn(message + " (the report says so in its model section)", UserWarning, stacklevel=2)
     summary["seconds"] = time.perf_counter() - t0
     return summary

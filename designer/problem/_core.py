@@ -469,11 +469,13 @@ class Problem(Record):
             )
         return out
 
-    def model_warnings(self, diameters: Iterable[float] | None = None) -> list[str]:
+    def model_warnings(self, diameters: Iterable[float] | None = None, front: bool = False) -> list[str]:
         """Where the problem leaves the data its model rests on (said once, not per evaluation).
 
         With ``diameters`` [m] (those of the designs the tool reports): a warning only if one of them
         lies outside the inertia fit's data (Table 1, 4–8 in); without: if the diameter bounds do.
+        ``front``: the diameters are a front's points, and the warning says so (the recommended caster
+        may well lie inside the data while the front's end does not).
         """
         out = []
         model = self.conditions.inertia
@@ -481,11 +483,14 @@ class Problem(Record):
         if data is not None and not self.wheels and diameters is not None:
             outside = [float(d) for d in diameters if not data[0] * 0.999 <= float(d) <= data[1] * 1.001]
             if outside:
+                span = f"{min(outside) / INCH:.3g}" + (
+                    f"–{max(outside) / INCH:.3g}" if max(outside) > min(outside) else ""
+                )
+                fit = f"outside the Table 1 inertia fit ({data[0] / INCH:.0f}–{data[1] / INCH:.0f} in)"
                 out.append(
-                    f"{self.name}: a reported design uses d = {min(outside) / INCH:.3g}"
-                    + (f"–{max(outside) / INCH:.3g}" if max(outside) > min(outside) else "")
-                    + f" in, outside the Table 1 inertia fit ({data[0] / INCH:.0f}–{data[1] / INCH:.0f} in): "
-                    f"its I_w is extrapolated"
+                    f"{self.name}: points of the front use d = {span} in, {fit}: their I_w is extrapolated"
+                    if front
+                    else f"{self.name}: a reported design uses d = {span} in, {fit}: its I_w is extrapolated"
                 )
         elif data is not None and not self.wheels:
             b = self.bounds["diameter"]

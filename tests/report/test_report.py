@@ -396,6 +396,9 @@ def test_extrapolation_warning_only_for_reported_diameters():
     assert problem.model_warnings([8 * 0.0254, 6 * 0.0254]) == []
     (message,) = problem.model_warnings([3.5 * 0.0254, 6 * 0.0254])
     assert "a reported design uses d = 3.5 in, outside the Table 1 inertia fit (4–8 in)" in message
+    # a front's points are called so: the recommended caster may lie inside 4–8 in while the front's end does not
+    (message,) = problem.model_warnings([3.5 * 0.0254, 3.75 * 0.0254, 6 * 0.0254], front=True)
+    assert "points of the front use d = 3.5–3.75 in, outside the Table 1 inertia fit (4–8 in)" in message
 
 
 def test_optimise_inside_table1_does_not_warn():

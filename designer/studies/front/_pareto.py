@@ -119,7 +119,7 @@ def pareto_front(
         warnings.filterwarnings("ignore", message="inertia power law used at")
         front = _pareto_front(problem, n, progress, strategy)
     # once, and only if a front point uses an extrapolated diameter (not because the bounds reach there)
-    for message in problem.model_warnings([p.design.diameter for p in front.points]):
+    for message in problem.model_warnings([p.design.diameter for p in front.points], front=True):
         warnings.warn(message, UserWarning, stacklevel=2)
     return front
 
