@@ -396,7 +396,8 @@ class FixResult(Record):
         """Two lines: the current caster (V_c, P(shimmy)) and the answer in one sentence."""
         return [
             f"FixResult({self.problem!r}, current V_c {self.current.critical_speed:.3f} m/s, "
-            f"P(shimmy) {self.current.shimmy_probability:.1%}, {self.found} fixes)",
+            f"P(shimmy) {self.current.shimmy_probability:.1%}, {self.found} fixes within the limits"
+            + (f", {len(self.fixes)} listed)" if len(self.fixes) < self.found else ")"),
             f"  {self.summary()}",
         ]
 

@@ -684,3 +684,14 @@ def test_without_inertia_the_predictive_law_and_what_measuring_is_worth(problem,
     for f in eq8.fixes + loose.fixes:
         assert f.extrapolated == (not 4 * INCH * 0.999 <= f.design.diameter <= 8 * INCH * 1.001)
         assert f.to_dict()["extrapolated"] == f.extrapolated
+
+
+def test_the_fix_results_repr_counts_what_it_found_and_what_it_lists():
+    """FixResult's first line gives the fixes found within the limits and, when ``limit`` lists fewer, how many
+    it lists (a newcomer read "6 fixes" beside len(result.fixes) == 3)."""
+    problem = load_problem(ROOT / "problems" / "indoor-manual.toml")
+    some = fix(problem, EQ8, limit=2, specs=0)
+    assert some.found > 2 and len(some.fixes) == 2
+    assert f"{some.found} fixes within the limits, 2 listed)" in repr(some).splitlines()[0]
+    every = fix(problem, EQ8, specs=0)
+    assert repr(every).splitlines()[0].endswith(f"{every.found} fixes within the limits)")
