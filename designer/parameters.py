@@ -62,8 +62,9 @@ class Parameter:
         near 1 (``designer.solvers.nlp``)
     listed : a quantity of :data:`OUTPUT_TABLE` shown in the tables of one caster (the HTML of a
         :class:`~designer.model.Caster`, ``designer evaluate``); False: in its data only
-    decimals : decimals of a force in the text tables, in N and in lbf (``designer evaluate``: the load to 0.1 N,
-        the turning effort to 1 mN)
+    digits : display precision in the quantity's shown unit (:mod:`designer.display`: decimals, or significant
+        digits where its dimension shows those); None: the dimension's default (a force to 0.01 N, a speed to
+        1 mm/s, a length to 0.001 in or 0.01 mm).  The load is shown to 0.1 N, the turning effort to 1 mN.
     """
 
     name: str
@@ -82,7 +83,7 @@ class Parameter:
     store: str | None = None
     scale: float | None = None
     listed: bool = True
-    decimals: int = 2
+    digits: int | None = None
 
     @property
     def shown_unit(self) -> str:
@@ -158,7 +159,7 @@ CONSTANT_TABLE: tuple[Parameter, ...] = (
     Parameter("load", "L", "N", "caster load", 178.0, (1.0, 1e5), "Table 1 (test load), Appendix C",
               key="conditions.load", dimension="force",
               hint="a caster load of 0.1 kg to 10 t; was it given in another unit?", path="conditions.load",
-              decimals=1),
+              digits=1),
     Parameter("threshold_height", "h", "m", "door-sill height", 0.5 * INCH, (1e-4, 0.3), "Eq. 4A",
               key="conditions.threshold_height", dimension="length",
               hint="a sill of 0.1 mm to 30 cm; were inches written as metres?", path="conditions.threshold_height"),
@@ -244,7 +245,7 @@ OUTPUT_TABLE: tuple[Parameter, ...] = (
     Parameter("turning_moment", "M_turn + M_d", "N·m", "turning moment", None, None,
               "docs/model.md#turning-effort, Fig. 7", dimension="moment"),
     Parameter("turning_effort", "F_turn", "N", "turning effort", None, None, "Eq. 9", dimension="force",
-              decimals=3),
+              digits=3),
     Parameter("swept_radius", "T + d/2", "m", "swept radius", None, None, "", dimension="length"),
     Parameter("shimmy_frequency", "ω", "rad/s", "shimmy frequency", None, None, "Eq. 15B", dimension="angular_speed"),
     Parameter("g_risk", "", "", "risk constraint 1 − V_q/V_req", None, None, "risk bound", listed=False),
@@ -260,9 +261,9 @@ OUTPUT_TABLE: tuple[Parameter, ...] = (
         listed=False,
     ),
     Parameter("shimmy_probability", "", "", "P(shimmy) under the risk law", None, None, "Monte Carlo",
-              listed=False),
+              dimension="probability", listed=False),
     Parameter("shimmy_probability_se", "", "", "standard error of P(shimmy)", None, None, "Monte Carlo",
-              listed=False),
+              dimension="probability", listed=False),
 )
 # fmt: on
 """The quantities of an evaluated caster [SI], by the names of ``Casters``' fields; ``listed`` ones are shown in

@@ -125,6 +125,7 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
     "angular_speed": ("rad/s", "rad/s"),
     "rate": ("1/s", "1/s"),
     "dimensionless": ("", "-"),
+    "probability": ("", "%"),
 }
 
 

@@ -26,6 +26,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
             "designer.jsonsafe",
             "designer.data",
             "designer.parameters",
+            "designer.display",
             "designer.reprs",
             "designer.versions",
         ),

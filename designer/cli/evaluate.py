@@ -246,11 +246,11 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
 
 def shown_quantity(value: float, p: Parameter) -> str:
     """``value`` [SI] of entry ``p`` of the parameter table as the table shows it: lengths in mm and inches,
-    forces in N and lbf (to the entry's ``decimals``), speeds in m/s and mph, angles in rad and degrees, the rest in its SI unit."""
+    forces in N and lbf (to the entry's ``digits``), speeds in m/s and mph, angles in rad and degrees, the rest in its SI unit."""
     if p.dimension == "length":
         return f"{value * 1000:.1f} mm ({value / INCH:.3f} in)"
     if p.dimension == "force":
-        return f"{value:.{p.decimals}f} N ({value / LBF:.{p.decimals}f} lbf)"
+        return f"{value:.{p.digits or 2}f} N ({value / LBF:.{p.digits or 2}f} lbf)"
     if p.dimension == "speed":
         return f"{value:.3f} m/s ({value / MPH:.2f} mph)"
     if p.dimension == "angle":
