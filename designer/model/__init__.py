@@ -30,6 +30,8 @@ from designer.model._caster import (
     check_design,
     performance,
     turning_effort,
+    weighted,
+    weighted_terms,
 )
 from designer.model._candidates import (
     FEASIBILITY_TOLERANCE,
@@ -72,4 +74,6 @@ __all__ = [
     "evaluate",
     "performance",
     "turning_effort",
+    "weighted",
+    "weighted_terms",
 ]

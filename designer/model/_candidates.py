@@ -39,7 +39,7 @@ from designer.physics.uncertainty import (
     shimmy_probability_exact,
     shimmy_probability_mc_many,
 )
-from designer.model._caster import Conditions, Design, check_design, performance
+from designer.model._caster import Conditions, Design, check_design, performance, weighted
 
 FEASIBILITY_TOLERANCE = 1e-9
 """Relative tolerance of the two limits a candidate must meet: V_q >= V_req (1 − tol) and R_s <= R_max (1 + tol).
@@ -172,7 +172,7 @@ class Casters(Record):
     def J(self, weights: Sequence[float]) -> np.ndarray:
         """J = w_turn F_turn + w_threshold P [N] for ``weights`` (w_turn, w_threshold): the weighted objective,
         written once."""
-        return weights[0] * np.asarray(self.turning_effort) + weights[1] * np.asarray(self.threshold_force)
+        return weighted(np.asarray(self.turning_effort), np.asarray(self.threshold_force), weights)
 
     def g(self) -> np.ndarray:
         """The constraint values (N, 2): g_risk, g_radius; g <= :data:`FEASIBILITY_TOLERANCE` is feasible."""

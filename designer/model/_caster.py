@@ -350,6 +350,19 @@ def turning_effort(trail: Scalar, groove: Scalar, damping: Scalar, conditions: C
     return effort
 
 
+def weighted_terms(turning_effort: Scalar, threshold_force: Scalar, weights: Any) -> tuple[Scalar, Scalar]:
+    """The two terms of the weighted objective, (w_turn F_turn, w_threshold P) [N], for ``weights``
+    (w_turn, w_threshold): the report says when one dominates.  Floats, arrays, CasADi."""
+    return weights[0] * turning_effort, weights[1] * threshold_force
+
+
+def weighted(turning_effort: Scalar, threshold_force: Scalar, weights: Any) -> Scalar:
+    """J = w_turn F_turn + w_threshold P [N] (docs/model.md#problems): the weighted objective, written once
+    for every solver, study and record (floats, arrays and CasADi symbols)."""
+    turning, threshold = weighted_terms(turning_effort, threshold_force, weights)
+    return turning + threshold
+
+
 def performance(
     trail: Scalar,
     diameter: Scalar,

@@ -12,6 +12,7 @@ import numpy as np
 from designer.units import percent
 from designer.data.paper import BARE_FORK_DAMPING, INCH
 from designer.report.formatting import size
+from designer.model import weighted_terms
 
 DOMINANCE = 5.0
 """A weighted term this many times the other one dominates J (the report then says so)."""
@@ -222,7 +223,7 @@ def weights_line(problem, solution, front) -> str:
         f"Weighted optimum{wheel} of {meaning}: {s.design.describe()}; F_turn {f_opt:.3f} N, P {p_opt:.2f} N, "
         f"V_c {s.critical_speed:.3f} m/s."
     )
-    f_part, p_part = w[0] * f_opt, w[1] * p_opt
+    f_part, p_part = weighted_terms(f_opt, p_opt, w)
     if min(f_part, p_part) > 0 and max(f_part, p_part) > DOMINANCE * min(f_part, p_part):
         big, small, k = (
             ("threshold-force", "turning-effort", 1) if p_part > f_part else ("turning-effort", "threshold-force", 0)

@@ -58,7 +58,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from designer.model import Design, performance, turning_effort
+from designer.model import Design, performance, turning_effort, weighted
 from designer.physics.geometry import swept_radius
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_terms
 from designer.physics.uncertainty import Uncertainty, shimmy_speed_quantile
@@ -542,7 +542,7 @@ class ClosedFormSolver:
             f, p = objectives_of(problem, x)[:, :2].T
             if caps.turning is not None:
                 ok = ok & (f <= caps.turning * (1 + 1e-12))
-            return x, np.where(ok, w[0] * f + w[1] * p, np.inf)
+            return x, np.where(ok, weighted(f, p, w), np.inf)
 
         low = p_b
         if caps.turning is not None:  # F_turn(x(ε)) does not increase with ε: the least ε meeting the cap

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from scipy.optimize import minimize
 
+from designer.model import weighted
 from designer.errors import check_interrupt
 from designer.model import Design, performance
 from designer.parameters import named
@@ -65,7 +66,7 @@ def slsqp(
 
     def objective(z: np.ndarray) -> float:
         v = perf(z)
-        return float((w[0] * v["turning_effort"] + w[1] * v["threshold_force"]) / (w[0] * f_ref + w[1] * p_ref))
+        return float(weighted(v["turning_effort"], v["threshold_force"], w) / weighted(f_ref, p_ref, w))
 
     cons = [{"type": "ineq", "fun": lambda z: float(perf(z)["confident_speed"]) / problem.required_speed - 1}]
     if problem.swept_radius_max is not None:
@@ -96,7 +97,7 @@ def slsqp(
             feasible &= float(v["turning_effort"]) <= turning_cap * (1 + 1e-7)
         if not feasible:
             continue
-        j = float(w[0] * v["turning_effort"] + w[1] * v["threshold_force"])
+        j = float(weighted(v["turning_effort"], v["threshold_force"], w))
         if best[0] is None or j < best[1]:
             best = (Design.from_array(z * scale), j)
     return best

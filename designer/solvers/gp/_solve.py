@@ -74,7 +74,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from designer.model import Design, performance
+from designer.model import Design, performance, weighted
 from designer.physics.threshold import (
     threshold_force_ratio,
     threshold_series_remainder_bound,
@@ -190,7 +190,7 @@ def exact_objective(problem: Problem, design: Design, weights: Sequence[float]) 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         v = performance(design.trail, design.diameter, design.groove, design.damping, problem.conditions)
-    return float(weights[0] * v["turning_effort"] + weights[1] * v["threshold_force"])
+    return float(weighted(v["turning_effort"], v["threshold_force"], weights))
 
 
 def _solve_continuous(

@@ -29,6 +29,7 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
+from designer.model import weighted
 from designer import parameters
 from designer.errors import check_interrupt
 from designer.model import VARIABLES, Design, performance
@@ -172,7 +173,7 @@ class CasterNLP:
         self.f_ref, self.p_ref = f_ref, p_ref
         v_req = (1 + problem.margin) * psym[self.param_names.index("target_speed")]
         # J = w_turn F + w_thr P, divided by its value at the box centre so IPOPT sees O(1)
-        objective = (w[0] * perf["turning_effort"] + w[1] * perf["threshold_force"]) / (w[0] * f_ref + w[1] * p_ref)
+        objective = weighted(perf["turning_effort"], perf["threshold_force"], w) / weighted(f_ref, p_ref, w)
         g = [
             perf["confident_speed"] / v_req - 1,
             (perf["threshold_force"] - eps[0]) / p_ref,
@@ -535,7 +536,7 @@ class CasterNLP:
         """J = w_turn F_turn + w_threshold P [N]."""
         f, p, _, _ = self.objectives(design)
         w = np.asarray(weights, float)
-        return float(w[0] * f + w[1] * p)
+        return float(weighted(f, p, w))
 
     def sensitivities(
         self,
@@ -554,7 +555,7 @@ class CasterNLP:
         z = result.z if result.z is not None else self.to_z(result.design)
         grad = np.asarray(self._dlag_dp(z, p, result.lam_g)).ravel()
         w = np.asarray(weights, float)
-        f_scaled = self.weighted(result.design, w) / (w[0] * self.f_ref + w[1] * self.p_ref)
+        f_scaled = self.weighted(result.design, w) / weighted(self.f_ref, self.p_ref, w)
         out: dict[str, float] = {}
         if f_scaled <= 0:
             return out

@@ -20,6 +20,7 @@ from designer.problem import Problem
 from designer.reprs import Key, Record, dataframe, svg_curve
 from designer.studies.explore._operators import Operators, category_problem, search_space
 from designer.studies.explore._storage import _atomic_write_many, _one_line
+from designer.model import weighted
 
 UNITS = {
     **{p.name: p.ascii_unit for p in VARIABLE_TABLE},
@@ -106,7 +107,7 @@ class ExploreResult(Record):
         w = self.problem.weights if weights is None else weights
         if not self.front:
             return None
-        return min(self.front, key=lambda r: w[0] * r["turning_effort"] + w[1] * r["threshold_force"])
+        return min(self.front, key=lambda r: weighted(r["turning_effort"], r["threshold_force"], w))
 
     def _ranges(self) -> tuple[str, str]:
         f = self.objectives()

@@ -66,6 +66,7 @@ from designer.studies.fleet._table import (
     read_fleet,
     write_fleet_csv,
 )
+from designer.model import weighted
 from designer.studies.fleet._rule import (
     DEFAULT_STOCK,
     RESULT_FIELDS,
@@ -605,7 +606,7 @@ def _regret_matrix(result: FleetResult, rows: np.ndarray) -> dict[str, np.ndarra
     def evaluate(part: np.ndarray, table: StockTable) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         ev = evaluate_chairs({key: v[part] for key, v in arrays.items()}, table, problem)
         f, p = ev["turning_effort"], ev["threshold_force"]
-        return np.where(ev["feasible"], w[0] * f + w[1] * p, np.inf), f, p
+        return np.where(ev["feasible"], weighted(f, p, w), np.inf), f, p
 
     dominance = ColumnDominance(len(stock))
     for part in parts:

@@ -23,6 +23,7 @@ from designer.problem import Stock
 from designer.studies.recommend import select_rows, stock_candidates
 
 from designer.studies.fleet._table import Fleet
+from designer.model import weighted
 
 
 # --------------------------------------------------------------------------- the stock
@@ -258,7 +259,7 @@ def recommend_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     gstock = perm[np.minimum(np.minimum.reduceat(position, starts, axis=1), s - 1)]
     gp = np.where(np.isfinite(gmin), np.take_along_axis(p, gstock, axis=1), np.inf)
     w = np.asarray(problem.weights, float)
-    j = np.where(ok, w[0] * f + w[1] * p, np.inf)
+    j = np.where(ok, weighted(f, p, w), np.inf)
     best_j = np.where(ok.any(axis=1), np.argmin(j, axis=1), -1)
     cap_p = getattr(problem, "max_threshold_force", None)
     cap_f = getattr(problem, "max_turning_effort", None)

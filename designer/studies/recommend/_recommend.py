@@ -35,6 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from designer.model import weighted
 from designer.units import percent
 from designer.data.paper import INCH
 from designer.errors import InfeasibleError, InputError
@@ -464,8 +465,8 @@ def _if_measured(problem, rec: Recommendation, samples, seed) -> dict | None:
     if measured.tolerances is not None and measured.tolerances.enforce:  # the worst corner decides here too
         sel = _enforce(measured, b, int(sel["choice"][0]))
     w = np.asarray(problem.weights, float)
-    cost = w[0] * b.values.turning_effort + w[1] * b.values.threshold_force
-    j_rec = w[0] * rec.turning_effort + w[1] * rec.threshold_force
+    cost = weighted(b.values.turning_effort, b.values.threshold_force, w)
+    j_rec = weighted(rec.turning_effort, rec.threshold_force, w)
     choice = int(sel["choice"][0])
     same = np.flatnonzero(
         np.all(np.isclose(_designs(b), rec.design.as_array()[None, :], rtol=1e-12, atol=1e-15), axis=1)

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from designer.model import weighted
+
 RULES = {
     "knee": "knee of the buildable risk-bounded front",
     "cap_threshold": "least turning effort with sill force <= {cap:.1f} N",
@@ -62,7 +64,7 @@ def select_rows(f: np.ndarray, p: np.ndarray, ok: np.ndarray, weights=(1.0, 1.0)
     easiest_turn = np.where(has, order[rows, last], -1)
     w = np.asarray(weights, float)
     with np.errstate(invalid="ignore"):
-        j = np.where(ok, w[0] * f + w[1] * p, np.inf)
+        j = np.where(ok, weighted(f, p, w), np.inf)
     best_j = np.where(has, np.argmin(j, axis=1), -1)
     over_cap = np.zeros(n, bool)
     knee = np.zeros(n, bool)

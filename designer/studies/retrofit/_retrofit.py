@@ -71,6 +71,7 @@ from designer.studies.retrofit._records import (
     fix_sentence,
 )
 from designer.units import written_size
+from designer.model import weighted
 
 ONSET_SCATTER = 0.05
 """σ of log V_obs [-]: a shimmy onset seen on a push or a ramp is known to about ±5 % (our estimate)."""
@@ -483,7 +484,7 @@ def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current
             searched = "one- and two-part fixes, then three- and four-part ones (none of the first within the limits)"
     d_turn = values.turning_effort - current_state.turning_effort
     d_force = values.threshold_force - current_state.threshold_force
-    loss = np.round(s.weights[0] * d_turn + s.weights[1] * d_force, 9)
+    loss = np.round(weighted(d_turn, d_force, s.weights), 9)
     price = np.round(cands["price"], 9)
     feasible = values.feasible
     inside = np.flatnonzero(feasible & (over <= 1e-12))
