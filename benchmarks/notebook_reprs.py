@@ -31,7 +31,7 @@ GOAL_MS = 50.0
 def objects() -> dict:
     """One object of every result record, for the indoor-manual example (built once, solvers run here)."""
     # late import: optuna, the fleet rule, the retrofit and the limit cycles, only for this benchmark
-    from designer.model import evaluate_candidates
+    from designer.model import design_columns, evaluate
     from designer.solvers import Caps, front_solver, solver
     from designer.studies.calibrate import EXAMPLES_DIR, calibrate_file
     from designer.studies.checks import check_eq8
@@ -72,8 +72,8 @@ def objects() -> dict:
         "TradeoffRow": groove_damper_tradeoff(problem)[12],
         "Solution": designer.optimise(problem, cross_check=True),
         "Recommendation": rec,
-        "CandidateValues (41 designs)": evaluate_candidates(
-            front.designs(), problem.conditions, probability_at=problem.target_speed
+        "CandidateValues (41 designs)": evaluate(
+            design_columns(front.designs()), problem.conditions, risk=problem.target_speed
         ),
         "SimulationResult": designer.simulate(rec.design, problem.conditions, speed=problem.target_speed),
         "OnsetResult": onset_speed(rec.design, problem.conditions),

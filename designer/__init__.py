@@ -24,13 +24,11 @@ _LAZY = {
     "InputError": "designer.errors",
     "ProblemError": "designer.errors",
     "SolverError": "designer.errors",
-    "CandidateValues": "designer.model",
     "Caster": "designer.model",
     "Casters": "designer.model",
     "Conditions": "designer.model",
     "Design": "designer.model",
     "evaluate": "designer.model",
-    "evaluate_candidates": "designer.model",
     "performance": "designer.model",
     "Uncertainty": "designer.physics.uncertainty",
     "Problem": "designer.problem",
@@ -72,7 +70,4 @@ def __dir__() -> list[str]:
     return sorted(set(globals()) | set(_LAZY))
 
 
-_DEPRECATED = {"CandidateValues", "evaluate_candidates"}
-"""Former names that still resolve for a release (CHANGELOG.md), kept out of ``__all__`` and the API pages."""
-
-__all__ = [name for name in _LAZY if name not in _DEPRECATED]
+__all__ = list(_LAZY)

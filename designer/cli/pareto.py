@@ -16,7 +16,6 @@ from pathlib import Path
 
 from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
 
-from designer.pipeline import TIGHTER_FACTOR  # noqa: F401  (re-exported: check 8c's factor)
 from designer.errors import InputError
 from designer.problem import load_problem
 from designer.problem import POINTS_RANGE

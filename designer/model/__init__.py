@@ -35,14 +35,12 @@ from designer.model._caster import (
 )
 from designer.model._candidates import (
     FEASIBILITY_TOLERANCE,
-    CandidateValues,
     Caster,
     Casters,
     OfCaster,
     critical_speed,
     design_columns,
     evaluate,
-    evaluate_candidates,
     scatter_of,
     shimmy_probability,
 )
@@ -56,13 +54,11 @@ __all__ = [
     "MASS_RANGE",
     "caster_load",
     "FEASIBILITY_TOLERANCE",
-    "CandidateValues",
     "Caster",
     "Casters",
     "OfCaster",
     "critical_speed",
     "design_columns",
-    "evaluate_candidates",
     "scatter_of",
     "shimmy_probability",
     "MODEL_RANGE",

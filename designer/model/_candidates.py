@@ -1,6 +1,6 @@
 """The one evaluator of candidate casters: a batch of designs and their conditions in, every number out.
 
-:func:`evaluate_candidates` is where the studies get the performance and the risk of their candidates:
+:func:`evaluate` is where the studies get the performance and the risk of their candidates:
 the stock screen and the records of ``designer.recommend``, the fixes of ``designer.fix``, the chairs ×
 stock casters of ``designer fleet``, the studio's card.  It composes :func:`designer.model.performance`
 (I_w, Eq. 7, the quantile of the risk law, Eq. 4A, Eq. 9) for arrays of candidates and adds what a
@@ -14,7 +14,6 @@ nowhere else in the studies.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-import warnings
 from dataclasses import dataclass, field, fields, replace
 from typing import Any, Self
 
@@ -309,10 +308,6 @@ class OfCaster:
         if record is None:
             return self
         return getattr(record.caster, self.name)
-
-
-CandidateValues = Casters
-"""The former name of :class:`Casters`."""
 
 
 def evaluate(  # long: the docstring documents every argument
@@ -621,17 +616,6 @@ def _risk(
         ]
     )
     return p, np.zeros(n)
-
-
-def evaluate_candidates(designs: Any, conditions: Conditions, *, probability_at: Any = None, **options: Any) -> Casters:
-    """Deprecated name of :func:`evaluate` for a batch (``probability_at`` is now ``risk``): always Casters."""
-    warnings.warn(
-        "designer.model.evaluate_candidates is deprecated: use designer.model.evaluate (probability_at -> risk)",
-        DeprecationWarning,
-        stacklevel=2,
-    )
-    out: Casters = evaluate(design_columns(designs), conditions, risk=probability_at, **options)
-    return out
 
 
 def _constraints(confident: np.ndarray, radius: np.ndarray, required: Any, r_max: Any) -> tuple[np.ndarray, np.ndarray]:

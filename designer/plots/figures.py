@@ -41,7 +41,7 @@ from designer.data.paper import (
 )
 from designer.model import Conditions, critical_speed, evaluate, performance
 from designer.output import PLOT, SOFTWARE, write_file
-from designer.plots.fronts import VARIABLE_PANELS, FAMILY_STYLE, draw_fronts, plot_front, plot_variables  # noqa: F401  (FAMILY_STYLE: re-exported)
+from designer.plots.fronts import VARIABLE_PANELS, draw_fronts, plot_front, plot_variables
 from designer.physics.threshold import threshold_force_ratio_approx
 from designer.plots.svg import Figure
 

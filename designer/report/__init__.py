@@ -19,6 +19,8 @@ calibration, fleet, limit_cycles   the reports of ``designer calibrate``, ``desi
 figures are drawn by :mod:`designer.plots`; nothing here imports a study or the pipeline)
 """
 
-from designer.report.writer import ReportData, build_context, write_report  # ReportData: from designer.reportdata
+from designer.report.context import build_context
+from designer.report.writer import write_report
+from designer.reportdata import ReportData
 
 __all__ = ["ReportData", "build_context", "write_report"]

@@ -32,11 +32,10 @@ from designer.model import Design
 from designer.reportdata import ReportData
 from designer.output import output_folder
 from designer.report.agreement import keep_agreeing
-from designer.report.files import REPORT_MARKERS, REPORT_OWNED, check_target, is_report  # noqa: F401
+from designer.report.files import REPORT_OWNED, check_target, is_report
 import designer.report.figures as _figures
 from designer.report.resolution import design_value, multiplier, on_scale, resolved, split_run
-from designer.report.context import FIGURE_INFO, build_context  # noqa: F401 (FIGURE_INFO: its old home)
-from designer.report.formatting import LBF, MPH, fmt, length  # noqa: F401 (fmt: robust and calibration use it)
+from designer.report.context import build_context
 
 RUN_FILE = "run.json"
 """The run's metadata beside the report (date, seconds, versions, solve counts): git-ignored, never committed."""

@@ -239,15 +239,6 @@ def test_exact_risk_matches_the_monte_carlo():
     assert abs(mc.shimmy_probability - exact.shimmy_probability) <= 3 * mc.shimmy_probability_se
 
 
-def test_old_name_warns():
-    """evaluate_candidates, the former name, still works for a release and says so (DeprecationWarning)."""
-    from designer.model import evaluate_candidates as old
-
-    with pytest.warns(DeprecationWarning, match="designer.model.evaluate"):
-        values = old(DESIGNS, RISK, probability_at=2.5, samples=10_000, target_se=None)
-    assert values.shimmy_probability.shape == (len(DESIGNS),)
-
-
 def test_a_caster_without_numbers_has_no_risk():
     """A batch row with a NaN trail has V_c NaN and P(shimmy) NaN (by Monte Carlo and by the exact law), never
     P = 0, which would call it safe; the other row keeps its risk, the same as alone."""

@@ -86,7 +86,6 @@ from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, objectives_of
 from designer.solvers.nlp import BIG, CasterNLP
 from designer.solvers.gp._family import BACKOFF, FLOOR, MAX_ITERATIONS, SOLVER_OPTIONS, STEP_TOLERANCE, _Family
 from designer.solvers.gp._terms import MAX_ORDER, SERIES_TOLERANCE, gp_terms, robust_speed_factor, series_order
-from designer.solvers.gp._terms import _constants, _parameters  # noqa: F401 - re-exported (tests build the terms)
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
