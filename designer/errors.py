@@ -14,6 +14,16 @@ import signal
 import threading
 
 
+class InertiaExtrapolationWarning(UserWarning):
+    """The Table 1 inertia power law evaluated outside its data (4–8 in), at each evaluation: the studies silence
+    this class and state the extrapolation once, for the designs they report (:class:`ModelRangeWarning`)."""
+
+
+class ModelRangeWarning(UserWarning):
+    """A design a study reports (a front point, an optimum) lies outside the data its model rests on
+    (``Problem.model_warnings``): said once per study; the report states it in its model section."""
+
+
 class DesignerError(Exception):
     """Base class: a failure the user can act on; the message says how."""
 

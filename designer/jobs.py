@@ -12,6 +12,7 @@ import time
 import warnings
 from pathlib import Path
 
+from designer.errors import InertiaExtrapolationWarning, ModelRangeWarning
 from designer.pipeline import report_data
 from designer.report.writer import write_report
 
@@ -52,13 +53,13 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
     seen = set()
     for w in caught:
         text = str(w.message)
-        if "inertia power law used at" in text or "inertia fit" in text and "extrapolated" in text or text in seen:
+        if issubclass(w.category, (InertiaExtrapolationWarning, ModelRangeWarning)) or text in seen:
             continue
         seen.add(text)
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     # once for the problem, and only if a design the report shows (front point, optimum) is extrapolated
     for message in problem.model_warnings(summary.pop("reported_diameters"), front=True):
-        warnings.warn(message + " (the report says so in its model section)", UserWarning, stacklevel=2)
+        warnings.warn(message + " (the report says so in its model section)", ModelRangeWarning, stacklevel=2)
     summary["seconds"] = time.perf_counter() - t0
     return summary
 

@@ -29,11 +29,12 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from designer.data.paper import INCH
-from designer.errors import DesignerError
+from designer.errors import DesignerError, InertiaExtrapolationWarning, ModelRangeWarning
 from designer.problem import Problem
 from designer.reportdata import ReportData, RobustData
 from designer.versions import versions
 from designer.studies import checks as study_checks
+from designer.studies.curves import report_curves
 from designer.studies.dynamics.limit_cycles import knock_safe_speeds
 from designer.studies.recommend import recommend
 from designer.studies.robust import ROBUST_POINTS, robust_comparison
@@ -208,9 +209,13 @@ def report_data(
     track = progress or (lambda label: None)
     tighter_error: CheckValue = None
     n_tight = None
+    recommendation_error = solution_error = ""
+    price: dict[str, float | None] | None = None
+    knock_safe: list[dict[str, float]] = []
+    band: dict[str, float] | None = None
     with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", message="inertia power law used at")
-        warnings.filterwarnings("ignore", message=".*inertia fit.*extrapolated")
+        warnings.simplefilter("ignore", InertiaExtrapolationWarning)
+        warnings.simplefilter("ignore", ModelRangeWarning)
         with clock("front"):
             if front is None:
                 front = pareto_front(problem, points, progress=track(f"{problem.name}: front"))
@@ -218,7 +223,6 @@ def report_data(
             from designer.studies.optimum import diagnose_infeasible
 
             raise diagnose_infeasible(problem)
-        data = ReportData(problem=problem, front=front)
         with clock("tighter"):
             if tighter is None and with_tighter and checks is None:
                 tighter_problem = problem.replace(target_speed=problem.target_speed * TIGHTER_FACTOR)
@@ -231,30 +235,25 @@ def report_data(
                     )
                 except DesignerError as exc:  # an unreachable tighter target only removes check 8c
                     tighter, tighter_error = None, str(exc)
-        data.tighter = tighter
         with clock("recommendation"):
             if recommendation is None and with_recommendation:
-                recommendation, data.recommendation_error = _recommend(problem, front)
+                recommendation, recommendation_error = _recommend(problem, front)
             elif recommendation is None:
-                data.recommendation_error = "not computed"
-        data.recommendation = recommendation
+                recommendation_error = "not computed"
         if recommendation is not None:
-            data.price_of_stock = price_of_stock(front, recommendation)
+            price = price_of_stock(front, recommendation)
             if with_knock_safe:
                 with clock("knock_safe"):
-                    data.knock_safe = card_knock_safe(problem, recommendation)
-                    angle = float(problem.conditions.disturbance_angle)
-                    data.knock_safe_band = study_checks.knock_safe_table1_error(angle)
+                    knock_safe = card_knock_safe(problem, recommendation)
+                    band = study_checks.knock_safe_table1_error(float(problem.conditions.disturbance_angle))
         with clock("optimum"):
             if solution is None and front.points:
                 try:
                     solution = optimise(problem, cross_check=cross_check)
                 except DesignerError as exc:
-                    data.solution_error = str(exc)
+                    solution_error = str(exc)
             elif solution is None:
-                data.solution_error = "no valid point on the front"
-        data.solution = solution
-        data.cross_checked = bool(solution is not None and len(getattr(solution, "cross_check", {})) > 1)
+                solution_error = "no valid point on the front"
         with clock("checks"):
             if checks is None:
                 # an empty tighter front: 8c not applicable
@@ -263,15 +262,16 @@ def report_data(
                 )
         if tighter is not None and not tighter.points:
             tighter_error = next((c.got for c in checks if c.name.startswith("8c")), "no point at the tighter target")
-            tighter = data.tighter = None
-        data.paper_checks = [c for c in checks if not c.name.startswith("8")]
-        data.front_checks = [c for c in checks if c.name.startswith("8")]
-        data.checks_summary = study_checks.summary_line(data.paper_checks + data.front_checks)
+            tighter = None
         with clock("tradeoff"):
-            data.tradeoff = groove_damper_tradeoff(problem) if tradeoff is None else tradeoff
-    data.gaps = front.gaps()
-    data.degenerate_reason, data.degenerate_reason_short = degenerate_reason(problem, front)
-    data.run = {
+            if tradeoff is None:
+                tradeoff = groove_damper_tradeoff(problem)
+        with clock("curves"):
+            curves = report_curves(problem, front, *_plane_design(problem, front, solution))
+    paper_checks = [c for c in checks if not c.name.startswith("8")]
+    front_checks = [c for c in checks if c.name.startswith("8")]
+    reason, reason_short = degenerate_reason(problem, front)
+    run = {
         "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         "versions": versions(),
         "problem_digest": problem.digest(),
@@ -288,9 +288,39 @@ def report_data(
         "cross_check": bool(cross_check),
         "compute_cpu_seconds": dict(clock.cpu),
         "compute_wall_seconds": time.perf_counter() - wall0,
+        **(run_meta or {}),
     }
-    data.run.update(run_meta or {})
-    return data
+    return ReportData(
+        problem=problem,
+        front=front,
+        tighter=tighter,
+        recommendation=recommendation,
+        recommendation_error=recommendation_error,
+        price_of_stock=price,
+        knock_safe=knock_safe,
+        solution=solution,
+        solution_error=solution_error,
+        cross_checked=bool(solution is not None and len(getattr(solution, "cross_check", {})) > 1),
+        paper_checks=paper_checks,
+        front_checks=front_checks,
+        checks_summary=study_checks.summary_line(paper_checks + front_checks),
+        knock_safe_band=band,
+        tradeoff=tradeoff,
+        curves=curves,
+        gaps=front.gaps(),
+        degenerate_reason=reason,
+        degenerate_reason_short=reason_short,
+        run=run,
+    )
+
+
+def _plane_design(problem: Problem, front: Front, solution: Solution | None) -> tuple[Any, Any]:
+    """The design of the groove–damper plane and its conditions: the weighted optimum's, else the front's
+    weighted best point's under the problem's conditions; (None, None) without either."""
+    if solution is not None:
+        return solution.design, solution.problem.conditions
+    best = front.weighted_best()
+    return (best.design, problem.conditions) if best is not None else (None, None)
 
 
 def robust_data(problem: Problem, points: int = ROBUST_POINTS) -> RobustData:
@@ -298,8 +328,8 @@ def robust_data(problem: Problem, points: int = ROBUST_POINTS) -> RobustData:
 
     c0 = time.process_time()
     with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", message="inertia power law used at")
-        warnings.filterwarnings("ignore", message=".*inertia fit.*extrapolated")
+        warnings.simplefilter("ignore", InertiaExtrapolationWarning)
+        warnings.simplefilter("ignore", ModelRangeWarning)
         result = robust_comparison(problem, points)
     run = {
         "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),

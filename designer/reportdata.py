@@ -51,6 +51,8 @@ class ReportData(Record):
         (:func:`designer.studies.checks.knock_safe_table1_error`: ``angle`` [rad], ``log_rms``, ``bias``); None
         without knock-safe speeds
     tradeoff : rows of :func:`designer.studies.front._tradeoff.groove_damper_tradeoff`
+    curves : the arrays of the paper figures and of the groove–damper plane
+        (:func:`designer.studies.curves.report_curves`); not in :meth:`to_dict`
     gaps : ``front.gaps()``
     degenerate_reason, degenerate_reason_short : why a front has fewer than two points ("" otherwise)
     run : metadata (date, versions, digest, solver settings, seconds per step)
@@ -71,6 +73,7 @@ class ReportData(Record):
     checks_summary: str = ""
     knock_safe_band: dict[str, float] | None = None
     tradeoff: list[TradeoffRow] = field(default_factory=list)
+    curves: dict[str, Any] = field(default_factory=dict, repr=False)
     gaps: list[tuple[int, str]] = field(default_factory=list)
     degenerate_reason: str = ""
     degenerate_reason_short: str = ""

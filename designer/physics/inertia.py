@@ -21,7 +21,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from designer.data.paper import TABLE1, Wheel, table1_wheel
-from designer.errors import InputError
+from designer.errors import InertiaExtrapolationWarning, InputError
 from designer.physics._checks import is_symbolic, require_positive
 from designer.physics.types import Scalar
 from designer.units import INCH
@@ -147,7 +147,7 @@ class PowerLaw(InertiaModel):
                 warnings.warn(
                     f"inertia power law used at d = {np.min(arr) / INCH:.2f}–{np.max(arr) / INCH:.2f} in, "
                     f"outside Table 1's 4–8 in: an extrapolation",
-                    UserWarning,
+                    InertiaExtrapolationWarning,
                     stacklevel=2,
                 )
         return power_law_inertia(diameter, c, n)

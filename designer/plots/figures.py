@@ -6,9 +6,8 @@ problem's bounds) and returns a :class:`designer.plots.svg.Figure` (``to_svg()``
 costs milliseconds, so the main job draws all six (benchmarks/results.md).
 The front and its design variables are drawn by the same functions as
 :meth:`Front.plot` and :meth:`Front.plot_variables`
-(:mod:`designer.plots.fronts`).  They compute
-every curve through the model's own functions (:mod:`designer.physics`,
-:func:`designer.model._caster.performance`); no equation is re-typed here.  Lengths
+(:mod:`designer.plots.fronts`).  They compute nothing: every curve is an array of
+:mod:`designer.studies.curves` (the report data's ``curves``), computed by the model.  Lengths
 are plotted in millimetres with inches on a secondary axis; only valid
 (successful) front points are drawn.
 
@@ -25,24 +24,13 @@ groove_damper  groove against damper: turning effort needed to reach V_req
 from __future__ import annotations
 
 import io
-import warnings
 from pathlib import Path
 
 import numpy as np
 
-from designer.data.paper import (
-    BARE_FORK_DAMPING,
-    INCH,
-    SLIP_COEFFICIENT,
-    TABLE1,
-    TABLE1_STABLE_UP_TO,
-    TABLE1_TRAIL,
-    WALKING_SPEED,
-)
-from designer.model import Conditions, critical_speed, evaluate, performance
+from designer.data.paper import INCH, TABLE1_STABLE_UP_TO, TABLE1_TRAIL, WALKING_SPEED
 from designer.output import PLOT, SOFTWARE, write_file
 from designer.plots.fronts import VARIABLE_PANELS, draw_fronts, plot_front, plot_variables
-from designer.physics.threshold import threshold_force_ratio_approx
 from designer.plots.svg import Figure
 
 FIGURES = ("front", "variables", "trail", "inertia", "threshold", "groove_damper")
@@ -246,10 +234,11 @@ def figure_variables(threshold_force, designs, families, bounds, gaps=(), hover=
 # --------------------------------------------------------------------------- paper figures
 
 
-def figure_trail(required_speed: float) -> Figure:
+def figure_trail(required_speed: float, curves: dict) -> Figure:
     """V_c [m/s] vs trail T [mm, in] for the Table 1 wheels (Eq. 7, B = 0, bare fork c_f = 1.3): Fig. 14.
 
-    ``required_speed``: the problem's V_req [m/s], drawn as a dashed line.
+    ``required_speed``: the problem's V_req [m/s], drawn as a dashed line; ``curves``: the wheels' curves
+    (:func:`designer.studies.curves.trail_curves`).
 
     Measured critical speeds at 2 in trail (wheels C–G) are points in the
     colour of their curve; wheels A and B, stable to 3.8 m/s on the
@@ -257,18 +246,17 @@ def figure_trail(required_speed: float) -> Figure:
     """
     fig = _new(7.5, 5.0, top=0.75)  # title and the inch axis on top
     ax = fig.add_subplot()
-    trail = np.linspace(0.5, 3.0, 200) * INCH
+    trail = np.asarray(curves["trail"], float)
     stable_offset = iter((-1.0, 1.0, 0.0))  # side by side: A and B were both stable at 2 in
-    for w, colour in zip(TABLE1, WHEEL_COLOURS):
-        v = critical_speed(trail, w.inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT)
-        ax.plot(trail * MM, v, color=colour, lw=1.4, label=f"{w.key} {w.name}, I_w {w.inertia * 1e3:.2f}e-3")
-        if w.critical_speed is not None:
-            ax.scatter([TABLE1_TRAIL * MM], [w.critical_speed], color=colour, edgecolor="black", s=40, zorder=4)
-            eq7 = float(critical_speed(TABLE1_TRAIL, w.inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT))
+    for w, colour in zip(curves["wheels"], WHEEL_COLOURS):
+        key, name, measured = w["key"], w["name"], w["measured"]
+        ax.plot(trail * MM, w["speeds"], color=colour, lw=1.4, label=f"{key} {name}, I_w {w['inertia'] * 1e3:.2f}e-3")
+        if measured is not None:
+            ax.scatter([TABLE1_TRAIL * MM], [measured], color=colour, edgecolor="black", s=40, zorder=4)
             ax.hover(
                 [TABLE1_TRAIL * MM],
-                [w.critical_speed],
-                [f"wheel {w.key} {w.name}: measured V_c {w.critical_speed:.2f} m/s at T = 2 in; Eq. 7 {eq7:.2f} m/s"],
+                [measured],
+                [f"wheel {key} {name}: measured V_c {measured:.2f} m/s at T = 2 in; Eq. 7 {w['eq7']:.2f} m/s"],
             )
         else:
             x = TABLE1_TRAIL * MM + next(stable_offset)
@@ -311,36 +299,36 @@ def figure_trail(required_speed: float) -> Figure:
     return fig
 
 
-def figure_inertia() -> Figure:
-    """V_c [m/s] vs wheel inertia I_w [kg·m²] at 2 in trail (Eq. 7, B = 0, c_f = 1.3) with Table 1's measurements: Fig. 15."""
+def figure_inertia(curves: dict) -> Figure:
+    """V_c [m/s] vs wheel inertia I_w [kg·m²] at 2 in trail (Eq. 7, B = 0, c_f = 1.3) with Table 1's measurements:
+    Fig. 15; ``curves``: :func:`designer.studies.curves.inertia_curve`."""
     fig = _new(7.5, 5.0)
     ax = fig.add_subplot()
-    inertia = np.linspace(0.1e-3, 3.8e-3, 300)
-    v = critical_speed(TABLE1_TRAIL, inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT)
-    ax.plot(inertia * 1e3, v, color="#1f77b4", lw=1.6, label="Eq. 7, T = 2 in, B = 0, c_f = 1.3 N·m/rad")
-    # the problem's wheel family for comparison (its groove and damping at the optimum are not applied)
-    measured = [w for w in TABLE1 if w.critical_speed is not None]
+    inertia = np.asarray(curves["inertia"], float)
+    ax.plot(inertia * 1e3, curves["speeds"], color="#1f77b4", lw=1.6, label="Eq. 7, T = 2 in, B = 0, c_f = 1.3 N·m/rad")
+    wheels = curves["wheels"]
+    measured = [w for w in wheels if w["measured"] is not None]
     ax.scatter(
-        [w.inertia * 1e3 for w in measured],
-        [w.critical_speed for w in measured],
+        [w["inertia"] * 1e3 for w in measured],
+        [w["measured"] for w in measured],
         color="#d62728",
         edgecolor="black",
         s=45,
         zorder=4,
         label="measured critical speed (Table 1)",
     )
-    for w in TABLE1:
-        if w.critical_speed is None:
+    for w in wheels:
+        if w["measured"] is None:
             ax.annotate(
                 "",
-                (w.inertia * 1e3, TABLE1_STABLE_UP_TO + 0.6),
-                (w.inertia * 1e3, TABLE1_STABLE_UP_TO),
+                (w["inertia"] * 1e3, TABLE1_STABLE_UP_TO + 0.6),
+                (w["inertia"] * 1e3, TABLE1_STABLE_UP_TO),
                 arrowprops=dict(arrowstyle="->", color="#d62728", lw=1.5),
             )
-            ax.scatter([w.inertia * 1e3], [TABLE1_STABLE_UP_TO], marker="_", s=120, color="#d62728")
+            ax.scatter([w["inertia"] * 1e3], [TABLE1_STABLE_UP_TO], marker="_", s=120, color="#d62728")
             ax.annotate(
-                w.key,
-                (w.inertia * 1e3, TABLE1_STABLE_UP_TO),
+                w["key"],
+                (w["inertia"] * 1e3, TABLE1_STABLE_UP_TO),
                 textcoords="offset points",
                 xytext=(6, 4),
                 fontsize=9,
@@ -348,8 +336,8 @@ def figure_inertia() -> Figure:
             )
         else:
             ax.annotate(
-                w.key,
-                (w.inertia * 1e3, w.critical_speed),
+                w["key"],
+                (w["inertia"] * 1e3, w["measured"]),
                 textcoords="offset points",
                 xytext=(6, 4),
                 fontsize=9,
@@ -365,17 +353,13 @@ def figure_inertia() -> Figure:
         label="A, B: no shimmy up to 3.8 m/s (treadmill limit)",
     )
     ax.hover(
-        [w.inertia * 1e3 for w in TABLE1],
-        [w.critical_speed if w.critical_speed is not None else TABLE1_STABLE_UP_TO for w in TABLE1],
+        [w["inertia"] * 1e3 for w in wheels],
+        [w["measured"] if w["measured"] is not None else TABLE1_STABLE_UP_TO for w in wheels],
         [
-            f"wheel {w.key} {w.name}: I_w {w.inertia * 1e3:.2f}e-3 kg·m², "
-            + (
-                f"measured V_c {w.critical_speed:.2f} m/s"
-                if w.critical_speed is not None
-                else "no shimmy up to 3.8 m/s"
-            )
-            + f"; Eq. 7 {float(critical_speed(TABLE1_TRAIL, w.inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT)):.2f} m/s"
-            for w in TABLE1
+            f"wheel {w['key']} {w['name']}: I_w {w['inertia'] * 1e3:.2f}e-3 kg·m², "
+            + (f"measured V_c {w['measured']:.2f} m/s" if w["measured"] is not None else "no shimmy up to 3.8 m/s")
+            + f"; Eq. 7 {w['eq7']:.2f} m/s"
+            for w in wheels
         ],
     )
     ax.axhline(WALKING_SPEED, color="0.4", ls=":", lw=1)
@@ -390,40 +374,32 @@ def figure_inertia() -> Figure:
     return fig
 
 
-def _sill_ratio(diameter, height: float) -> np.ndarray:
-    """P/L of Eq. 4A [-] for wheels of ``diameter`` [m] at a sill of ``height`` [m], by the model's evaluator."""
-    d = np.atleast_1d(np.asarray(diameter, float))
-    design = {"trail": np.full(d.shape, 0.05), "diameter": d, "groove": np.zeros(d.shape), "damping": np.ones(d.shape)}
-    return evaluate(design, Conditions(load=1.0, threshold_height=height), inertia=1e-3).threshold_force_ratio
-
-
-def figure_threshold(sill_height: float, load: float, diameter_bounds, front_diameters=()) -> Figure:
+def figure_threshold(sill_height: float, load: float, diameter_bounds, curves: dict) -> Figure:
     """P/L [-] vs wheel diameter d [mm, in]: exact Eq. 4A and approximate Eq. 5A, Fig. 2A.
 
     Drawn for the sill height h = ``sill_height`` [m] (and the paper's ½ in when h differs); the right axis
     gives P [N] for the caster ``load`` L [N]; ``diameter_bounds`` (an object with ``low``, ``high`` [m] and
-    ``fixed``) are shaded and the ``front_diameters`` [m] marked.
+    ``fixed``) are shaded and the front's diameters marked; ``curves``:
+    :func:`designer.studies.curves.threshold_curves`.
     """
     h = sill_height
     fig = _new(7.5, 5.0, top=0.75, right=0.75)  # title, inch axis on top, force axis on the right
     ax = fig.add_subplot()
-    d_hi = max(10 * INCH, diameter_bounds.high * 1.1)
-    d_lo = max(2.6 * h, 1 * INCH)
-    d = np.linspace(d_lo, d_hi, 400)
-    ax.plot(d * MM, _sill_ratio(d, h), color="#1f77b4", lw=1.8, label=f"exact, Eq. 4A (h = {h / INCH:.3g} in)")
+    d = np.asarray(curves["diameter"], float)
+    d_lo, d_hi = d[0], d[-1]
+    ax.plot(d * MM, curves["exact"], color="#1f77b4", lw=1.8, label=f"exact, Eq. 4A (h = {h / INCH:.3g} in)")
     ax.plot(
         d * MM,
-        threshold_force_ratio_approx(d, h),
+        curves["approximate"],
         color="#1f77b4",
         lw=1.2,
         ls="--",
         label="approximate, Eq. 5A: 2 sqrt(h/d)",
     )
-    if abs(h - 0.5 * INCH) > 1e-9:
-        d2 = d[d > 2.6 * 0.5 * INCH]
+    if curves["paper_diameter"] is not None:
         ax.plot(
-            d2 * MM,
-            _sill_ratio(d2, 0.5 * INCH),
+            np.asarray(curves["paper_diameter"], float) * MM,
+            curves["paper_exact"],
             color="0.5",
             lw=1.2,
             label="exact, paper's h = 0.5 in (Fig. 2A)",
@@ -433,9 +409,8 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, front_dia
         ax.axvline(b.low * MM, color="#ff7f0e", lw=1.2, label=f"fixed diameter {b.low / INCH:.3g} in")
     else:
         ax.axvspan(b.low * MM, b.high * MM, color="#ff7f0e", alpha=0.12, label="diameter bounds of the problem")
-    if len(front_diameters):
-        dd = np.asarray(front_diameters, float)
-        ratio = _sill_ratio(dd, h)
+    if len(curves["front_diameters"]):
+        dd, ratio = np.asarray(curves["front_diameters"], float), np.asarray(curves["front_ratio"], float)
         ax.scatter(dd * MM, ratio, color="black", s=12, zorder=4, label="front designs")
         ax.hover(
             dd * MM,
@@ -446,7 +421,7 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, front_dia
             ],
         )
     ax.set_xlim(d_lo * MM, d_hi * MM)
-    ax.set_ylim(0, min(3.0, float(_sill_ratio(d_lo, h)[0]) * 1.05))
+    ax.set_ylim(0, min(3.0, float(curves["exact"][0]) * 1.05))
     ax.set_xlabel("wheel diameter d [mm]")
     ax.set_ylabel("force per unit load P/L [-]")
     _inch_x(ax, "wheel diameter d [in]")
@@ -462,7 +437,14 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, front_dia
 
 
 def figure_groove_damper(
-    name: str, required_speed: float, bounds: dict, tradeoff, design=None, conditions=None, catalog: bool = False
+    name: str,
+    required_speed: float,
+    bounds: dict,
+    tradeoff,
+    design=None,
+    plane: dict | None = None,
+    robust: bool = False,
+    catalog: bool = False,
 ) -> Figure:
     """Groove against damper for the problem's conditions.
 
@@ -470,8 +452,8 @@ def figure_groove_damper(
     diameter by the groove alone, the damper alone and the optimum mix
     (exact NLP, trail free: the ``tradeoff`` rows of
     :func:`designer.studies.front._tradeoff.groove_damper_tradeoff`).  Right: at the weighted optimum's T and d
-    (``design``, with its ``conditions``), the (B, c_f) plane with turning-effort contours [N] and iso-V_c
-    lines [m/s] (:func:`designer.model._caster.performance`); the bold line is V_c = V_req, the star the optimum.
+    (``design``), the (B, c_f) plane with turning-effort contours [N] and iso-V_c lines [m/s] (``plane``, of
+    :func:`designer.studies.curves.groove_damper_plane`); the bold line is V_c = V_req, the star the optimum.
 
     Parameters
     ----------
@@ -479,7 +461,8 @@ def figure_groove_damper(
     required_speed : V_req [m/s]
     bounds : {"groove": Bound, "damping": Bound, ...} [SI] (objects with ``low``, ``high``, ``fixed``)
     tradeoff : rows with ``diameter`` [m], ``wheel``, ``effort`` {mechanism: F_turn [N] or None}, ``designs``
-    design, conditions : the weighted optimum and its conditions, or None ("no feasible design")
+    design, plane : the weighted optimum and its plane, or None ("no feasible design")
+    robust : the conditions carry a risk law (the legend says the bold line is the nominal Eq. 7)
     catalog : the diameters are catalog wheels (grouped bars instead of lines)
     """
     # suptitle, titles, inch axes on top; colour bar; the plane's legend under it (inside, it covered iso-V_c labels)
@@ -505,7 +488,7 @@ def figure_groove_damper(
     left.set_ylabel("least turning effort F_turn [N]")
     left.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0, 0.93))
     left.set_title(f"Least turning effort reaching V_req = {required_speed:.2f} m/s", fontsize=10)
-    _groove_damper_plane(right, bounds, required_speed, design, conditions)
+    _groove_damper_plane(right, bounds, required_speed, design, plane, robust)
     fig.suptitle(f"{name}: groove against damper (trail free on the left, fixed on the right)", fontsize=10)
     return fig
 
@@ -579,22 +562,14 @@ def _tradeoff_bars(left, catalog, rows) -> None:
         left.set_xlim(-1, 1)
 
 
-def _groove_damper_plane(ax, bounds, req, design, conditions) -> None:
-    if design is None:
+def _groove_damper_plane(ax, bounds, req, design, plane, robust: bool) -> None:
+    if design is None or plane is None:
         ax.text(0.5, 0.5, "no feasible design", transform=ax.transAxes, ha="center")
         return
     gb, cb = bounds["groove"], bounds["damping"]
-    g_hi = max(gb.high, design.groove * 1.2, 0.25 * INCH)
-    c_lo = min(cb.low, design.damping)
-    c_hi = max(cb.high, design.damping * 1.2, c_lo + 1.0)
-    g = np.linspace(0.0, g_hi, 161)
-    c = np.linspace(c_lo, c_hi, 161)
-    G, C = np.meshgrid(g, c)
-    with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", message="inertia power law used at")
-        values = performance(design.trail, design.diameter, G, C, conditions)
-    f = values["turning_effort"]
-    v = values["critical_speed"]
+    G, C = plane["groove"], plane["damping"]
+    g_hi, c_lo, c_hi = G.max(), C.min(), C.max()
+    f, v = plane["turning_effort"], plane["critical_speed"]
     filled = ax.contourf(G * MM, C, f, levels=14, cmap="Greens", alpha=0.85)
     cbar = ax.figure.colorbar(filled, ax=ax, pad=0.02)
     cbar.set_label("turning effort F_turn [N]")
@@ -612,7 +587,6 @@ def _groove_damper_plane(ax, bounds, req, design, conditions) -> None:
             fontsize=8.5,
             bbox=dict(facecolor="white", alpha=0.8, lw=0),
         )
-    robust = getattr(conditions, "uncertainty", None) is not None
     ax.plot(
         [],
         [],

@@ -161,18 +161,15 @@ def _variables(data) -> dict:
 def _groove_damper(data) -> dict:
     problem = data.problem
     best = data.front.weighted_best()
-    design = conditions = None
-    if data.solution is not None:
-        design, conditions = data.solution.design, data.solution.problem.conditions
-    elif best is not None:
-        design, conditions = best.design, problem.conditions
+    design = data.solution.design if data.solution is not None else best.design if best is not None else None
     return {
         "name": problem.name,
         "required_speed": problem.required_speed,
         "bounds": problem.bounds,
         "tradeoff": data.tradeoff,
         "design": design,
-        "conditions": conditions,
+        "plane": data.curves.get("plane"),
+        "robust": (data.solution.problem if data.solution is not None else problem).conditions.uncertainty is not None,
         "catalog": bool(problem.wheels),
     }
 
@@ -185,15 +182,15 @@ def arguments(name: str, data) -> dict:
     if name == "variables":
         return _variables(data)
     if name == "trail":
-        return {"required_speed": problem.required_speed}
+        return {"required_speed": problem.required_speed, "curves": data.curves["trail"]}
     if name == "inertia":
-        return {}
+        return {"curves": data.curves["inertia"]}
     if name == "threshold":
         return {
             "sill_height": problem.conditions.threshold_height,
             "load": problem.conditions.load,
             "diameter_bounds": problem.bounds["diameter"],
-            "front_diameters": [p.design.diameter for p in data.front.points],
+            "curves": data.curves["threshold"],
         }
     if name == "groove_damper":
         return _groove_damper(data)

@@ -27,6 +27,7 @@ from pathlib import Path
 
 from markupsafe import Markup, escape
 
+from designer.errors import InertiaExtrapolationWarning
 from designer.jsonsafe import finite, stamped
 from designer.model import Design
 from designer.reportdata import ReportData
@@ -146,7 +147,7 @@ def _write_all(folder: Path, data: ReportData, t0: float, target: Path | None = 
     context = build_context(data)
     c0 = time.process_time()
     with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", message="inertia power law used at")
+        warnings.simplefilter("ignore", InertiaExtrapolationWarning)
         for item in context["figures"]:
             item["svg"] = _figures.svg(item["name"], data, item["title"])
             (folder / item["file"]).write_text(item["svg"] + "\n", encoding="utf-8")

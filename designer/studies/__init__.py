@@ -14,8 +14,21 @@ explore    optuna exploration and shared studies
 robust     the price of safety (nominal against risk-bounded fronts)
 calibrate  the model's constants from the user's rig
 checks     the paper's checks and the checks of a front
+curves     the arrays the report's paper figures and the docs' stem figure draw
 
 The packages are not imported here: ``import designer.studies.front`` loads only what a front needs.
 """
 
-__all__ = ["calibrate", "checks", "dynamics", "explore", "fleet", "front", "optimum", "recommend", "retrofit", "robust"]
+__all__ = [
+    "calibrate",
+    "checks",
+    "curves",
+    "dynamics",
+    "explore",
+    "fleet",
+    "front",
+    "optimum",
+    "recommend",
+    "retrofit",
+    "robust",
+]

@@ -262,14 +262,16 @@ def _terminal_png(command: list[str], folder: Callable[[], str] | None = None):
 
 def _stem(png: Path) -> None:
     from designer.plots.stem import stem_angle_figure
+    from designer.studies.curves import stem_curves
 
-    stem_angle_figure(png)
+    stem_angle_figure(png, stem_curves())
 
 
 def _stem_source() -> str:
     from designer.plots.stem import stem_figure
+    from designer.studies.curves import stem_curves
 
-    return _figure_data(stem_figure())
+    return _figure_data(stem_figure(stem_curves()))
 
 
 def _limits_shown(text: str) -> bool:

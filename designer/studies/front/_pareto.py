@@ -34,7 +34,7 @@ import numpy as np
 from designer.studies.front._front import REFERENCE_OFFSET, Front, FrontPoint, clean
 from designer.studies.front._indicators import normalise
 from designer.studies.optimum import diagnose_infeasible, constraint_margins
-from designer.errors import InputError, SolverError
+from designer.errors import InertiaExtrapolationWarning, InputError, ModelRangeWarning, SolverError
 from designer.model import Design
 from designer.problem import POINTS_RANGE, Problem, family_of, problem_argument
 from designer.solvers import FRONT_STRATEGIES, Designs, front_solver, one_solve_at_a_time
@@ -116,11 +116,11 @@ def pareto_front(
     if strategy not in STRATEGY_CHOICES:
         raise InputError(f"strategy = {strategy!r}: expected one of {', '.join(STRATEGY_CHOICES)}")
     with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", message="inertia power law used at")
+        warnings.simplefilter("ignore", InertiaExtrapolationWarning)
         front = _pareto_front(problem, n, progress, strategy)
     # once, and only if a front point uses an extrapolated diameter (not because the bounds reach there)
     for message in problem.model_warnings([p.design.diameter for p in front.points], front=True):
-        warnings.warn(message, UserWarning, stacklevel=2)
+        warnings.warn(message, ModelRangeWarning, stacklevel=2)
     return front
 
 

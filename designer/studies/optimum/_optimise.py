@@ -21,7 +21,7 @@ import numpy as np
 
 from designer.units import percent
 from designer.data.paper import INCH
-from designer.errors import InfeasibleError, SolverError
+from designer.errors import InertiaExtrapolationWarning, InfeasibleError, ModelRangeWarning, SolverError
 from designer.model import VARIABLES, Caster, Design, OfCaster
 from designer.parameters import OUTPUTS
 from designer.problem import Problem, problem_argument
@@ -362,12 +362,12 @@ def optimise(
     """
     problem = problem_argument(problem)
     with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", message="inertia power law used at")
-        warnings.filterwarnings("ignore", message="Solution may be inaccurate")  # GP cross-check, polished below
+        warnings.simplefilter("ignore", InertiaExtrapolationWarning)
+        warnings.filterwarnings("ignore", category=UserWarning, module="cvxpy")  # GP cross-check, polished below
         solution = _optimise(problem, weights, cross_check, samples)
     # once, and only if the reported optimum uses an extrapolated diameter
     for message in problem.model_warnings([solution.design.diameter]):
-        warnings.warn(message, UserWarning, stacklevel=2)
+        warnings.warn(message, ModelRangeWarning, stacklevel=2)
     return solution
 
 

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from designer.errors import InertiaExtrapolationWarning
 from designer.model import VARIABLES, Casters, evaluate
 from designer.physics.inertia import Catalog
 
@@ -79,7 +80,7 @@ def _wheel_rows(problem, stock):
         return None
     if getattr(c.inertia, "measured", False):  # measured wheels: a fixed I_w, or the power law's value at d
         with warnings.catch_warnings():
-            warnings.filterwarnings("ignore", message="inertia power law used at")
+            warnings.simplefilter("ignore", InertiaExtrapolationWarning)
             return [(d, float(c.inertia(d)), None, "") for d in values]
     return [(d, None, None, "") for d in values]  # I_w from the inertia model (stock_candidates fills it in)
 
@@ -132,7 +133,7 @@ def stock_candidates(problem, stock=None) -> CandidateTable:
         measured = ~missing | bool(getattr(problem.conditions.inertia, "measured", False))
         if missing.any():
             with warnings.catch_warnings():
-                warnings.filterwarnings("ignore", message="inertia power law used at")
+                warnings.simplefilter("ignore", InertiaExtrapolationWarning)
                 d = np.array([r[1] for r in rows], float)
                 inertia[missing] = np.asarray(problem.conditions.inertia(d[missing]), float) + 0 * d[missing]
     note = (
