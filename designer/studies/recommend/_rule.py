@@ -123,8 +123,8 @@ def _knee_or_end(fs, ps, front, size, first, last, weights) -> tuple[np.ndarray,
     # weights, their stated meaning), the easiest-to-turn end on a tie
     w_ = np.asarray(weights, float)
     with np.errstate(invalid="ignore"):
-        j_last = w_[0] * fa + w_[1] * pa
-        j_first = w_[0] * fb + w_[1] * pb
+        j_last = weighted(fa, pa, w_)
+        j_first = weighted(fb, pb, w_)
     end = np.where(j_first < j_last, first, last)
     return np.where(small, end, knee), ~small
 
