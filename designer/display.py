@@ -17,14 +17,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from designer.parameters import OUTPUTS, PARAMETERS, Parameter
-from designer.units import DIMENSIONS, INCH
+from designer.units import DIMENSIONS, INCH, MISSING  # MISSING: the one mark of a value that does not exist
 
 SYSTEMS = ("in", "mm", "si")
 """The unit systems a problem can be shown in (``Problem.units``; ``"si"`` for the library's own records)."""
-
-MISSING = "n/a"
-"""The one mark of a value that does not exist (None, NaN, an infinity): every surface prints this."""
 
 
 @dataclass(frozen=True)
@@ -167,6 +166,17 @@ def percent(probability) -> str:
     """A probability [-] as a percentage to 3 significant digits ("2.98 %", "0.1 %", "97.5 %"); the risk bound
     α ranges from 0.001 to 0.5, so a whole-percent format would print 0.1 % as 0 %."""
     return shown(probability, dimension="probability")
+
+
+def rescale(from_units: str, to_units: str, dimension: str = "length"):
+    """The function taking numbers shown in ``from_units`` to ``to_units`` (arrays too): a chart's second axis
+    (millimetres on the axis, inches on its twin: ``rescale("mm", "in")`` and back ``rescale("in", "mm")``)."""
+    k = unit(dimension, to_units).factor / unit(dimension, from_units).factor
+
+    def convert(values):
+        return np.asarray(values, float) * k
+
+    return convert
 
 
 def check_units() -> None:

@@ -75,15 +75,20 @@ def resolved(value: float, digits: int = 12) -> float:
     return float(f"{value:.{digits}g}") if math.isfinite(value) else value
 
 
+MISSING = "n/a"
+"""The one mark of a value that does not exist (None, NaN, an infinity): every surface prints this
+(:data:`designer.display.MISSING`)."""
+
+
 def written_size(value: float | None, units: str = "in") -> str:
     """A length [m] as a user writes it: ``"7 in"``, ``"1/2 in"``, ``"2 1/2 in"`` (inches to the nearest 1/16, a
     fraction in lowest terms), or ``"13 mm"``, ``"177.8 mm"`` (millimetres to 0.1, no trailing zero).
 
     A length that is not within 1/128 in of a sixteenth (a continuous optimum's 2.139 in) is marked as rounded:
-    ``"≈ 2 1/8 in"``.  NaN or None is ``"n/a"``.  Display only (reports, ``designer fix``, the drawing).
+    ``"≈ 2 1/8 in"``.  NaN or None is :data:`MISSING`.  Display only (reports, ``designer fix``, the drawing).
     """
     if value is None or not math.isfinite(float(value)):
-        return "n/a"
+        return MISSING
     if units == "mm":
         text = f"{value * 1000:.1f}".rstrip("0").rstrip(".")
         return f"{'0' if text in ('-0', '') else text} mm"
@@ -425,11 +430,6 @@ def percent(probability: float) -> str:
     """A probability [-] as a percentage to 3 significant digits: ``5%``, ``2.5%``, ``97.5%``, ``0.1%`` (the risk
     bound α ranges from 0.001 to 0.5, so a whole-percent format would print α = 0.001 as "0%")."""
     return f"{100 * float(probability):.3g}%"
-
-
-def inches(metres):
-    """Convert metres to inches (for display only)."""
-    return metres / INCH
 
 
 def limit_shown(value: float | None, unit: str, side: str) -> str:

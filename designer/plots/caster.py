@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from html import escape
+from designer.display import shown
 from designer.units import INCH, written_size
 
 TREAD = 0.25 * INCH
@@ -76,10 +77,6 @@ def caster_geometry(
     )
 
 
-def _inches(value: float) -> str:
-    return f"{value / INCH:.3f} in"
-
-
 def draw_caster(
     ax_side,
     ax_top,
@@ -113,12 +110,19 @@ def draw_caster(
         s.plot([0, 0, ax * k, ax * k], [g.stem_top * k, g.crown_y * k, g.crown_y * k, ay * k], color="0.2", lw=3)
         s.plot([0, 0], [-0.3, g.stem_top * k + 0.2], color="#c0392b", ls="-.", lw=1)
         s.annotate("", (ax * k, -0.18), (0, -0.18), arrowprops=dict(arrowstyle="<->", lw=1))
-        s.text(ax * k / 2, -0.35, f"trail T = {_inches(g.trail)}", ha="center", va="top", fontsize=8)
-        s.text(ax * k, 0.27 * g.diameter * k, f"d = {_inches(g.diameter)}", ha="center", va="top", fontsize=8)
+        s.text(ax * k / 2, -0.35, f"trail T = {shown(g.trail, 'trail', 'in')}", ha="center", va="top", fontsize=8)
+        s.text(
+            ax * k,
+            0.27 * g.diameter * k,
+            f"d = {shown(g.diameter, 'diameter', 'in')}",
+            ha="center",
+            va="top",
+            fontsize=8,
+        )
         s.text(
             (g.sill_x + 0.7 * g.diameter) * k - 0.05,
             g.sill_height * k + 0.05,
-            f"sill h = {_inches(g.sill_height)}",
+            f"sill h = {shown(g.sill_height, 'threshold_height', 'in')}",
             fontsize=8,
             va="bottom",
             ha="right",
@@ -139,15 +143,15 @@ def draw_caster(
             t.add_patch(Rectangle(((ax - g.diameter / 2) * k, y0 * k), g.diameter * k, TREAD * k, color="#1f4e79"))
         t.plot([0, ax * k], [0, 0], color="0.2", lw=2)
         t.plot([0], [0], "o", color="#c0392b")
-        text = f"swept radius R_s = T + d/2 = {_inches(g.swept_radius)}"
+        text = f"swept radius R_s = T + d/2 = {shown(g.swept_radius, 'swept_radius', 'in')}"
         if g.swept_radius_max is not None:
-            text += f"\nfootrest limit R_max = {_inches(g.swept_radius_max)} (dashed)"
+            text += f"\nfootrest limit R_max = {shown(g.swept_radius_max, 'swept_radius_max', 'in')} (dashed)"
         t.text(0, -(max(g.swept_radius, g.swept_radius_max or 0) * k + 0.25), text, ha="center", va="top", fontsize=8)
         lim = max(g.swept_radius, g.swept_radius_max or 0) * k * 1.1
         t.set_aspect("equal")
         t.set_xlim(-lim, lim)
         t.set_ylim(-lim - 1.2, lim)
-        t.set_xlabel(f"top view [in] (groove B = {_inches(g.groove)})")
+        t.set_xlabel(f"top view [in] (groove B = {shown(g.groove, 'groove', 'in')})")
     return ax_side, ax_top
 
 
@@ -195,7 +199,7 @@ def caster_svg(  # noqa: C901 - one branch per optional part of the drawing (lim
     g = caster_geometry(trail, diameter, groove, sill_height, swept_radius_max)
 
     def size(value: float) -> str:
-        return _inches(value) if units is None else written_size(value, units)
+        return shown(value, dimension="length", units="in") if units is None else written_size(value, units)
 
     if scale is None:
         reach_in = max(g.swept_radius, g.swept_radius_max or 0.0) / INCH

@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from designer.display import axis, rescale
 from designer.data.paper import INCH, TABLE1_STABLE_UP_TO, TABLE1_TRAIL, WALKING_SPEED
 from designer.output import PLOT, SOFTWARE, write_file
 from designer.plots.fronts import VARIABLE_PANELS, draw_fronts, plot_front, plot_variables
@@ -45,16 +46,8 @@ MM = 1000.0
 WHEEL_COLOURS = ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d")
 
 
-def _mm_to_in(mm):
-    return np.asarray(mm, float) / (INCH * MM)
-
-
-def _in_to_mm(inches):
-    return np.asarray(inches, float) * INCH * MM
-
-
 def _inch_x(ax, label: str):
-    sec = ax.secondary_xaxis("top", functions=(_mm_to_in, _in_to_mm))
+    sec = ax.secondary_xaxis("top", functions=(rescale("mm", "in"), rescale("in", "mm")))
     sec.set_xlabel(label)
     return sec
 
@@ -142,8 +135,8 @@ def figure_front(
     """
     fig = _new(7.5, 5.0)
     ax = fig.add_subplot()
-    ax.set_xlabel("threshold (door-sill) force P [N]")
-    ax.set_ylabel("turning effort F_turn [N]")
+    ax.set_xlabel(axis("threshold_force"))
+    ax.set_ylabel(axis("turning_effort"))
     ax.grid(True, alpha=0.3)
     if tighter is not None:
         ax.plot(
@@ -291,7 +284,7 @@ def figure_trail(required_speed: float, curves: dict) -> Figure:
     ax.set_xlim(trail[0] * MM, trail[-1] * MM)
     ax.set_ylim(0, 7)
     ax.set_xlabel("trail T [mm]")
-    ax.set_ylabel("critical shimmy speed V_c [m/s]")
+    ax.set_ylabel(axis("critical_speed"))
     _inch_x(ax, "trail T [in]")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7.5, loc="upper left", title="Table 1 wheel, I_w [kg·m²]", title_fontsize=8)
@@ -367,7 +360,7 @@ def figure_inertia(curves: dict) -> Figure:
     ax.set_xlim(0, 3.8)
     ax.set_ylim(0, 7)
     ax.set_xlabel("wheel moment of inertia about a diameter I_w [10⁻³ kg·m²]")
-    ax.set_ylabel("critical shimmy speed V_c [m/s]")
+    ax.set_ylabel(axis("critical_speed"))
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, loc="upper right")
     ax.set_title("V_c vs wheel inertia at 2 in trail (cf. paper Fig. 15; letters: Table 1)", fontsize=10)
@@ -426,7 +419,7 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, curves: d
     ax.set_ylabel("force per unit load P/L [-]")
     _inch_x(ax, "wheel diameter d [in]")
     sec = ax.secondary_yaxis("right", functions=(lambda r: r * load, lambda p: p / load))
-    sec.set_ylabel(f"threshold force P [N] at L = {load:.0f} N")
+    sec.set_ylabel(f"{axis('threshold_force')} at L = {load:.0f} N")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, loc="upper right")
     ax.set_title("Force per unit load to climb a sill vs diameter (cf. paper Fig. 2A)", fontsize=10)
@@ -485,7 +478,7 @@ def figure_groove_damper(
             va="top",
         )
     left.grid(True, alpha=0.3)
-    left.set_ylabel("least turning effort F_turn [N]")
+    left.set_ylabel(f"least {axis('turning_effort')}")
     left.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0, 0.93))
     left.set_title(f"Least turning effort reaching V_req = {required_speed:.2f} m/s", fontsize=10)
     _groove_damper_plane(right, bounds, required_speed, design, plane, robust)
@@ -572,7 +565,7 @@ def _groove_damper_plane(ax, bounds, req, design, plane, robust: bool) -> None:
     f, v = plane["turning_effort"], plane["critical_speed"]
     filled = ax.contourf(G * MM, C, f, levels=14, cmap="Greens", alpha=0.85)
     cbar = ax.figure.colorbar(filled, ax=ax, pad=0.02)
-    cbar.set_label("turning effort F_turn [N]")
+    cbar.set_label(axis("turning_effort"))
     lines = ax.contour(G * MM, C, v, levels=8, colors="0.25", linewidths=0.8)
     ax.clabel(lines, fmt="%.1f m/s", fontsize=7)
     if v.min() < req < v.max():

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from designer.display import axis
 from designer.units import percent
 from designer.plots.svg import Figure
 from designer.units import INCH
@@ -96,8 +97,8 @@ def figure_distributions(values: dict, alpha: float | None = None) -> Figure:
         ("diameter", "wheel diameter d [in]", 1 / INCH, True),
         ("groove", "groove B [in]", 1 / INCH, True),
         ("damping", "damping c_f [N·m/rad]", 1.0, True),
-        ("turning_effort", "turning effort F_turn [N]", 1.0, False),
-        ("threshold_force", "sill force P [N]", 1.0, False),
+        ("turning_effort", axis("turning_effort"), 1.0, False),
+        ("threshold_force", axis("threshold_force"), 1.0, False),
         ("shimmy_probability", "P(shimmy at V_target) [%]", 100.0, False),
     ]
     panels = [p for p in panels if p[0] in values and np.isfinite(np.asarray(values[p[0]], float)).any()]

@@ -8,7 +8,7 @@ nominal front under the risk-bounded one, the price of safety) and marks single 
 from __future__ import annotations
 
 import numpy as np
-from designer.units import INCH
+from designer.display import axis, rescale
 
 CURVE_STYLE = {
     "continuous": dict(color="#1f77b4", lw=1.6, ls="-", marker=None, ms=0, zorder=2),
@@ -74,8 +74,8 @@ def draw_fronts(ax, curves, marks=(), legend: bool = True):
         ax.scatter(
             [m["threshold_force"]], [m["turning_effort"]], label=m["label"], **MARK_STYLE[m.get("kind", "alternative")]
         )
-    ax.set_xlabel("threshold (door-sill) force P [N]")
-    ax.set_ylabel("turning effort F_turn [N]")
+    ax.set_xlabel(axis("threshold_force"))
+    ax.set_ylabel(axis("turning_effort"))
     ax.grid(True, alpha=0.3)
     if legend:
         ax.legend(fontsize=7.5, loc="upper right", framealpha=0.92)
@@ -127,8 +127,8 @@ def plot_front(
     p = np.asarray(threshold_force, float).reshape(-1)
     if len(f) != len(p):
         raise ValueError(f"turning_effort has {len(f)} points, threshold_force {len(p)}: must be equal")
-    ax.set_xlabel("threshold (door-sill) force P [N]")
-    ax.set_ylabel("turning effort F_turn [N]")
+    ax.set_xlabel(axis("threshold_force"))
+    ax.set_ylabel(axis("turning_effort"))
     ax.grid(True, alpha=0.3)
     if not len(f):
         ax.text(0.5, 0.5, "no valid point on the front", transform=ax.transAxes, ha="center")
@@ -157,7 +157,7 @@ def _colour_values(color_by, designs, critical_speed, n):
     if color_by == "critical_speed":
         if critical_speed is None:
             raise ValueError("color_by='critical_speed' needs critical_speed")
-        return np.asarray(critical_speed, float).reshape(n), "critical shimmy speed V_c [m/s]"
+        return np.asarray(critical_speed, float).reshape(n), axis("critical_speed")
     if color_by not in COLOR_BY:
         raise ValueError(
             f"color_by = {color_by!r}: expected 'family', None, 'critical_speed' or one of "
@@ -176,14 +176,6 @@ VARIABLE_PANELS = (
     ("spindle damping c_f [N·m/rad]", None, 3, 1.0, False),
 )
 """Panels of :func:`plot_variables`: (label, inch label, design column, scale, inch axis)."""
-
-
-def _mm_to_in(mm):
-    return np.asarray(mm, float) / (INCH * MM)
-
-
-def _in_to_mm(inches):
-    return np.asarray(inches, float) * INCH * MM
 
 
 # long: four panels, their bounds, family switches and the shared legend in one figure
@@ -232,9 +224,9 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
         pad = 0.08 * (span if span > 0 else max(abs(low * scale), 1e-3))
         ax.set_ylim(low * scale - pad, high * scale + pad)
         if inches:
-            ax.secondary_yaxis("right", functions=(_mm_to_in, _in_to_mm)).set_ylabel(inch_label)
+            ax.secondary_yaxis("right", functions=(rescale("mm", "in"), rescale("in", "mm"))).set_ylabel(inch_label)
     for ax in axes[-1]:
-        ax.set_xlabel("threshold force P [N]")
+        ax.set_xlabel(axis("threshold_force"))
     handles = [
         axes.flat[0].scatter([], [], color=c, marker="o", s=16, label=f)
         for f, (c, _) in FAMILY_STYLE.items()

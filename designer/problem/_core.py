@@ -262,32 +262,6 @@ class Stock(Keyed):
                     return cost
         return self.costs.get(kind, DEFAULT_PART_COSTS[kind])
 
-    def describe(self) -> str:
-        """One line in inches and N·m/rad: what is on offer (``continuous`` where nothing is listed)."""
-
-        def inches(values: tuple[float, ...] | None) -> str:
-            return "continuous" if values is None else ", ".join(f"{v / INCH:g}" for v in values) + " in"
-
-        parts = []
-        if self.wheels is not None:
-            parts.append("wheels " + ", ".join(w.name for w in self.wheels))
-        else:
-            parts.append(f"diameters {inches(self.diameters)}")
-        if self.wheels is None or all(w.groove is None for w in self.wheels):
-            parts.append(f"grooves {inches(self.grooves)}")
-        parts.append(
-            "trails continuous"
-            if self.trails is None
-            else f"trails {self.trails[0] / INCH:g} to {self.trails[-1] / INCH:g} in every "
-            f"{(self.trail_step or 0.0) / INCH:g} in ({len(self.trails)} holes)"
-        )
-        parts.append(
-            "dampings continuous"
-            if self.dampings is None
-            else "dampings " + ", ".join(f"{v:g}" for v in self.dampings) + " N·m/rad"
-        )
-        return "; ".join(parts)
-
     _keys = (
         "*",
         Key("item_costs", lambda s: {k: [[v, c] for v, c in sorted(d.items())] for k, d in s.item_costs.items()}),

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from designer.units import percent
-from designer import parameters
+from designer import display, parameters
 from designer.data.paper import INCH
 from designer.reportdata import ReportData
 import designer.report.figures as _figures
@@ -360,9 +360,9 @@ def _tradeoff_rows(problem, rows) -> list[dict]:
 
 
 def _knock_cell(knock: dict | None, key: str) -> str:
-    """One knock-safe speed of one caster [m/s] ("–" where not computed)."""
+    """One knock-safe speed of one caster [m/s] (:data:`designer.display.MISSING` where not computed)."""
     value = (knock or {}).get(key)
-    return "–" if value is None else fmt(value, ".2f", "m/s")
+    return fmt(value, ".2f", "m/s")
 
 
 CARD_HEADER = [
@@ -548,11 +548,27 @@ def spec_panel(rec, units: str) -> Panel:
     )
 
 
+def caster_panel(caster, units: str) -> Panel:
+    """Every listed quantity of the caster to build (:data:`designer.parameters.OUTPUT_TABLE`) from its record's
+    :class:`~designer.model.Caster`: label, value, unit and precision from the table, lengths in ``units``.  A
+    quantity added to the table (and to the evaluator) appears here with no other edit."""
+    rows = [
+        [display.label(p.name), display.shown(caster[p.name], p.name, units)]
+        for p in parameters.OUTPUT_TABLE
+        if p.listed and p.name in caster and caster[p.name] is not None
+    ]
+    return Panel(
+        id="numbers",
+        title="The numbers of the caster to build",
+        table=PanelTable(header=["quantity", "value"], rows=rows, numeric=[False, True]),
+    )
+
+
 def _after_panels(data: ReportData, units: str, level: str) -> list[Panel]:
     """The panels under the card: the other casters from the same parts, the knock-safe speed as a second
     opinion, the terms."""
     rec = data.recommendation
-    out = _law_panels(data, units)
+    out = [caster_panel(rec.caster, units), *_law_panels(data, units)]
     if rec.alternatives:
         out.append(
             Panel(

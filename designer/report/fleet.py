@@ -230,7 +230,7 @@ def _sku_spec(spec: dict | None) -> dict:
 
 def _curve_rows(data: dict) -> list[dict]:
     def n(value, spec):
-        return "–" if value is None else fmt(value, spec)
+        return fmt(value, spec)
 
     return [
         {

@@ -1,15 +1,14 @@
-"""Display strings of numbers, shared by every report kind: table cells in SI and inches, "n/a" for no value.
+"""Display strings of numbers, shared by every report kind: table cells in a format spec, through
+:mod:`designer.display` (its one missing-value mark, its lengths in each unit system).
 
 Display only: the units here (lbf, mph) never enter a computation.
 """
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from designer.data.paper import INCH
+from designer.display import MISSING, number, shown
 from designer.units import written_size
 
 LBF = 4.4482216152605
@@ -19,22 +18,20 @@ MPH = 0.44704
 
 
 def fmt(value, spec: str = ".4g", unit: str = "") -> str:
-    """Format a number for a table; None, NaN and infinities become "n/a" (never "nan")."""
-    if value is None:
-        return "n/a"
+    """Format a number for a table in the format ``spec`` with ``unit`` after it; None, NaN and infinities are
+    :data:`designer.display.MISSING` (never "nan"), a flag "yes" or "no", text itself."""
     if isinstance(value, (bool, np.bool_)):
         return "yes" if value else "no"
-    if isinstance(value, (int, float, np.floating, np.integer)):
-        if not math.isfinite(float(value)):
-            return "n/a"
-        text = format(float(value), spec)
-        return f"{text} {unit}".rstrip()
-    return str(value)
+    if not isinstance(value, (int, float, np.floating, np.integer)) and value is not None:
+        return str(value)
+    if number(value) == MISSING:
+        return MISSING
+    return f"{format(float(value), spec)} {unit}".rstrip()
 
 
 def length(value: float, digits: int = 2) -> tuple[str, str]:
-    """(millimetres, inches) strings of a length in metres."""
-    return fmt(value * 1000, f".{digits}f", "mm"), fmt(value / INCH, ".3f", "in")
+    """(millimetres, inches) strings of a length in metres (:func:`designer.display.shown`)."""
+    return shown(value, dimension="length", units="mm", digits=digits), shown(value, dimension="length", units="in")
 
 
 size = written_size

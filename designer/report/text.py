@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from designer.units import percent
-from designer.data.paper import BARE_FORK_DAMPING, INCH
+from designer.data.paper import BARE_FORK_DAMPING
 from designer.report.formatting import size
 from designer.model import weighted_terms
 
@@ -20,11 +20,6 @@ AT_END = 0.01
 """A weighted optimum within this fraction of the front's P (or F_turn) range from an end is "at" that end."""
 ACTIVE_REL = 1e-6
 """A design with V_c within this relative distance of V_req sits on the shimmy constraint."""
-
-
-def inches(value: float) -> str:
-    """A length [m] as the report writes sizes: ``6.000 in``."""
-    return f"{value / INCH:.3f} in"
 
 
 def _damping_phrase(damping: float) -> str:
@@ -302,7 +297,6 @@ def summary_lines(data) -> list[str]:
 __all__ = [
     "build_lines",
     "caster_sentence",
-    "inches",
     "lead_sentence",
     "plain_rule",
     "margin_line",

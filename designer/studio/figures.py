@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import functools
 import math
+from designer.display import axis
 from designer.units import INCH
 
 
@@ -83,8 +84,8 @@ def front_layout(title: str = "") -> dict:
 
     return go.Layout(
         title=title,
-        xaxis_title="threshold (door-sill) force P [N]",  # P across, F_turn up: the report's and front.plot()'s
-        yaxis_title="turning effort F_turn [N]",
+        xaxis_title=axis("threshold_force"),  # P across, F_turn up: the report's and front.plot()'s (the table's)
+        yaxis_title=axis("turning_effort"),
         template="plotly_white",
         height=520,
         margin={"l": 60, "r": 20, "t": 40, "b": 50},

@@ -12,6 +12,7 @@ from designer.studies.front import pareto_front
 from designer.studies.recommend import recommend
 from designer.studies.dynamics import simulate
 from designer.data.paper import INCH
+from designer import display
 from designer.problem import load_problem
 
 from conftest import ROOT
@@ -57,7 +58,7 @@ def test_front_plot_line_is_the_front(front):
     knee = [c for c in ax.collections if c.get_label().startswith("knee")]
     k = front.knee()
     assert len(knee) == 1 and tuple(knee[0].get_offsets()[0]) == (k.threshold_force, k.turning_effort)
-    assert ax.get_xlabel() == "threshold (door-sill) force P [N]" and "[N]" in ax.get_ylabel()
+    assert ax.get_xlabel() == display.axis("threshold_force") == "threshold force P [N]" and "[N]" in ax.get_ylabel()
     buildable = Front(front.problem, front.points, meta={"buildable": True})  # as Recommendation.buildable
     stock = [c.get_label() for c in buildable.plot().collections]
     assert all(label.startswith(("buildable front: ", "knee")) for label in stock), stock

@@ -359,6 +359,7 @@ def test_front_convention_is_the_reports():
     import matplotlib
 
     matplotlib.use("Agg")
+    from designer.display import axis
     from designer.plots.figures import figure_front
     from designer.plots.fronts import draw_fronts
     from designer.studio.figures import front_figure
@@ -369,8 +370,9 @@ def test_front_convention_is_the_reports():
     ]
     rec = {**points[0], "critical_speed": 3.3}
     fig = front_figure(points, points, points, rec)
-    assert fig["layout"]["xaxis"]["title"]["text"].startswith("threshold (door-sill) force P")
-    assert fig["layout"]["yaxis"]["title"]["text"].startswith("turning effort F_turn")
+    labels = (axis("threshold_force"), axis("turning_effort"))  # the table's: one name per quantity
+    assert labels == ("threshold force P [N]", "turning effort F_turn [N]")
+    assert (fig["layout"]["xaxis"]["title"]["text"], fig["layout"]["yaxis"]["title"]["text"]) == labels
     for trace in fig["data"]:
         assert trace["x"] == [p["threshold_force"] for p in (points if len(trace["x"]) == 2 else [rec])]
         assert trace["y"] == [p["turning_effort"] for p in (points if len(trace["y"]) == 2 else [rec])]
@@ -378,12 +380,12 @@ def test_front_convention_is_the_reports():
     from matplotlib.figure import Figure
 
     ax = draw_fronts(Figure().add_subplot(), [{"threshold_force": [107.0], "turning_effort": [9.0], "label": "x"}], [])
-    assert (ax.get_xlabel(), ax.get_ylabel()) == ("threshold (door-sill) force P [N]", "turning effort F_turn [N]")
+    assert (ax.get_xlabel(), ax.get_ylabel()) == labels
     report = figure_front(
         {"turning_effort": [9.0, 7.0], "threshold_force": [107.0, 133.5], "family": ["bare fork"] * 2}, "t"
     )
     (axes, *_) = report.axes
-    assert (axes.xlabel, axes.ylabel) == ("threshold (door-sill) force P [N]", "turning effort F_turn [N]")
+    assert (axes.xlabel, axes.ylabel) == labels
     assert min(axes.data_x) == 107.0 and max(axes.data_y) == 9.0
 
 
