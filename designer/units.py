@@ -129,6 +129,7 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
     "moment": ("N*m", "N·m"),
     "angular_speed": ("rad/s", "rad/s"),
     "rate": ("1/s", "1/s"),
+    "frequency": ("Hz", "Hz"),
     "dimensionless": ("", "-"),
     "probability": ("", "%"),
 }
