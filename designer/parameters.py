@@ -248,6 +248,7 @@ OUTPUT_TABLE: tuple[Parameter, ...] = (
               digits=3),
     Parameter("swept_radius", "T + d/2", "m", "swept radius", None, None, "", dimension="length"),
     Parameter("shimmy_frequency", "ω", "rad/s", "shimmy frequency", None, None, "Eq. 15B", dimension="angular_speed"),
+    Parameter("shimmy_frequency_hz", "f = ω/2π", "Hz", "shimmy frequency in hertz", None, None, "Eq. 15B", dimension="frequency"),
     Parameter("g_risk", "", "", "risk constraint 1 − V_q/V_req", None, None, "risk bound", listed=False),
     Parameter("g_radius", "", "", "radius constraint R_s/R_max − 1", None, None, "footrest", listed=False),
     Parameter("risk_ok", "", "", "risk limit met", None, None, "risk bound", listed=False),

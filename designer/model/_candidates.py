@@ -537,6 +537,7 @@ def _evaluate(
         threshold_force_ratio=ratio,
         swept_radius=radius,
         shimmy_frequency=omega,
+        shimmy_frequency_hz=omega / (2 * np.pi),
         shimmy_amplitude=steady_shimmy_amplitude(values["critical_speed"], t_eff, omega, cond.disturbance_angle),
         g_risk=g_risk,
         g_radius=g_radius,
