@@ -9,6 +9,8 @@ from pathlib import Path
 
 import pytest
 
+from designer.errors import InertiaExtrapolationWarning
+
 ROOT = Path(__file__).resolve().parents[1]
 PROBLEMS = sorted((ROOT / "problems").glob("*.toml"))
 
@@ -37,7 +39,7 @@ from Eq. 7" candidate is needed here (tests/solvers/test_closed_form.py, tests/s
 def _quiet_extrapolation():
     """The Table 1 power-law extrapolation warning is tested on its own; silence it elsewhere."""
     with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", message="inertia power law used at")
+        warnings.simplefilter("ignore", InertiaExtrapolationWarning)
         yield
 
 

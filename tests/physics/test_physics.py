@@ -49,14 +49,18 @@ def test_table1_power_law_fit():
 
 
 def test_power_law_warns_outside_table1():
-    """Evaluating the Table 1 fit outside 4–8 in warns that it extrapolates; inside it does not."""
+    """Evaluating the Table 1 fit outside 4–8 in warns that it extrapolates, as an InertiaExtrapolationWarning (the
+    class the studies silence it by); inside it does not."""
+    from designer.errors import InertiaExtrapolationWarning
+
     law = ph.PowerLaw()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         law(6 * INCH)
         assert not caught
         law(3 * INCH)
-    assert any("outside Table 1" in str(w.message) for w in caught)
+    assert [w.category for w in caught] == [InertiaExtrapolationWarning]
+    assert "outside Table 1" in str(caught[0].message)
 
 
 def test_disc_reproduces_wheels_a_and_b():

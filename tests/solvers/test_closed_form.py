@@ -6,13 +6,14 @@ import warnings
 import numpy as np
 import pytest
 
+from designer.errors import InertiaExtrapolationWarning
 from designer.studies import front as pareto
 from designer.model import VARIABLES, Design
 from designer.problem import load_problem
 from designer.solvers import closed_form as structured
 from designer.solvers.nlp import CasterNLP, best_starts
 
-warnings.filterwarnings("ignore", message="inertia power law used at")
+warnings.simplefilter("ignore", InertiaExtrapolationWarning)
 NAMES = ["indoor-manual", "sports-court", "powered-chair"]
 
 
