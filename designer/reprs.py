@@ -13,14 +13,14 @@ keyword with :class:`Record` as a base, so it answers the same four methods, spe
 
 A record declares its data in :attr:`Keyed._keys` (:class:`Key`: renamed, nested, read along a path, left out
 when empty, given on request) and changes what the reprs show through hooks (:meth:`Record._repr_lines`,
-:meth:`Record._html_rows`, ...); the four methods themselves are defined here only.  Ground layer: no designer import, no solver, no matplotlib; every
+:meth:`Record._html_rows`, ...); the four methods themselves are defined here only.  A record's small chart is
+drawn by :mod:`designer.plots.svg` (:func:`~designer.plots.svg.svg_curve`, :func:`~designer.plots.svg.svg_sparkline`).  Ground layer: no designer import, no solver, no matplotlib; every
 text in the HTML is escaped.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
 from collections.abc import Callable, Iterable, Mapping
 from html import escape
 from typing import Any, ClassVar
@@ -121,123 +121,6 @@ def html_table(title: str, rows: Iterable[tuple[Any, Any, Any]], caption: str = 
             f'<div style="flex:none">{inner}</div><div style="flex:none">{extra}</div></div>'
         )
     return f"<div>{inner}</div>"
-
-
-def _tick_labels(
-    x0: float, x1: float, y0: float, y1: float, width: int, height: int, left: int, right: int, top: int, bottom: int
-) -> list[str]:
-    """The four end values of a small SVG plot's axes, at the corners of the plot box."""
-    return [
-        f'<text x="{left}" y="{height - bottom + 12}">{x0:.3g}</text>',
-        f'<text x="{width - right}" y="{height - bottom + 12}" text-anchor="end">{x1:.3g}</text>',
-        f'<text x="{left - 3}" y="{height - bottom}" text-anchor="end">{y0:.3g}</text>',
-        f'<text x="{left - 3}" y="{top + 9}" text-anchor="end">{y1:.3g}</text>',
-    ]
-
-
-def _axis_labels(
-    xlabel: str, ylabel: str, width: int, height: int, left: int, right: int, top: int, bottom: int, xlabel_gap: int
-) -> list[str]:
-    """The x label under the box, the y label turned along the left edge, and the closing tag."""
-    return [
-        f'<text x="{(left + width - right) / 2:.0f}" y="{height - xlabel_gap}" text-anchor="middle">'
-        f"{escape(xlabel)}</text>",
-        f'<text transform="translate(11,{(top + height - bottom) / 2:.0f}) rotate(-90)" '
-        f'text-anchor="middle">{escape(ylabel)}</text>',
-        "</svg>",
-    ]
-
-
-def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: int = 240, height: int = 170) -> str:
-    """A small line plot as an SVG string: the points (x, y) joined in order, axis labels with units.
-
-    ``marks``: (x, y, label) points drawn as dots (e.g. the knee).  Non-finite points are dropped.
-    """
-    pts = [(float(a), float(b)) for a, b in zip(x, y) if math.isfinite(a) and math.isfinite(b)]
-    left, right, top, bottom = 42, 8, 8, 32
-    out = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
-        f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="10">',
-        f"<title>{escape(ylabel)} against {escape(xlabel)}</title>",
-        f'<rect x="{left}" y="{top}" width="{width - left - right}" height="{height - top - bottom}" '
-        f'fill="none" stroke="#999"/>',
-    ]
-    if pts:
-        xs, ys = [p[0] for p in pts], [p[1] for p in pts]
-        x0, x1 = min(xs), max(xs)
-        y0, y1 = min(ys), max(ys)
-        x0, x1 = (x0 - 0.5, x1 + 0.5) if x1 == x0 else (x0, x1)
-        y0, y1 = (y0 - 0.5, y1 + 0.5) if y1 == y0 else (y0, y1)
-
-        def px(a: float) -> float:
-            return left + 4 + (a - x0) / (x1 - x0) * (width - left - right - 8)
-
-        def py(b: float) -> float:
-            return height - bottom - 4 - (b - y0) / (y1 - y0) * (height - top - bottom - 8)
-
-        line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
-        out.append(f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.5"/>')
-        for a, b in pts:
-            out.append(f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="1.6" fill="#1f77b4"/>')
-        for a, b, label in marks:
-            out.append(
-                f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="3.5" fill="#d62728">'
-                f"<title>{escape(label)}</title></circle>"
-            )
-        out += _tick_labels(x0, x1, y0, y1, width, height, left, right, top, bottom)
-    out += _axis_labels(xlabel, ylabel, width, height, left, right, top, bottom, xlabel_gap=4)
-    return "".join(out)
-
-
-def svg_sparkline(
-    x: Any,
-    y: Any,
-    xlabel: str,
-    ylabel: str,
-    band: float | None = None,
-    width: int = 260,
-    height: int = 120,
-    max_points: int = 400,
-) -> str:
-    """A small line (no dots) as an SVG string, e.g. θ(t): a zero line, optional ±``band`` dashed lines.
-
-    Long series are thinned to about ``max_points`` vertices (every k-th point, the last kept) so the repr
-    stays small; non-finite points are dropped.
-    """
-    pts = [(float(a), float(b)) for a, b in zip(x, y) if math.isfinite(a) and math.isfinite(b)]
-    step = max(1, math.ceil(len(pts) / max_points))
-    pts = pts[::step] + (pts[-1:] if pts and (len(pts) - 1) % step else [])
-    left, right, top, bottom = 38, 6, 6, 28
-    out = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
-        f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="10">',
-        f"<title>{escape(ylabel)} against {escape(xlabel)}</title>",
-    ]
-    if pts:
-        xs, ys = [p[0] for p in pts], [p[1] for p in pts]
-        x0, x1 = min(xs), max(xs)
-        reach = max([abs(v) for v in ys] + ([abs(band)] if band is not None and math.isfinite(band) else []))
-        y0, y1 = (-reach, reach) if reach > 0 else (-1.0, 1.0)
-        x1 = x1 if x1 > x0 else x0 + 1.0
-
-        def px(a: float) -> float:
-            return left + (a - x0) / (x1 - x0) * (width - left - right)
-
-        def py(b: float) -> float:
-            return height - bottom - (b - y0) / (y1 - y0) * (height - top - bottom)
-
-        out.append(f'<line x1="{left}" y1="{py(0):.1f}" x2="{width - right}" y2="{py(0):.1f}" stroke="#999"/>')
-        if band is not None and math.isfinite(band):
-            for b in (band, -band):
-                out.append(
-                    f'<line x1="{left}" y1="{py(b):.1f}" x2="{width - right}" y2="{py(b):.1f}" '
-                    f'stroke="#d62728" stroke-dasharray="4 3"/>'
-                )
-        line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
-        out.append(f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.2"/>')
-        out += _tick_labels(x0, x1, y0, y1, width, height, left, right, top, bottom)
-    out += _axis_labels(xlabel, ylabel, width, height, left, right, top, bottom, xlabel_gap=3)
-    return "".join(out)
 
 
 def require_pandas(what: str) -> Any:
@@ -513,6 +396,4 @@ __all__ = [
     "plain",
     "require_pandas",
     "shown",
-    "svg_curve",
-    "svg_sparkline",
 ]

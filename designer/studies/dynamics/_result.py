@@ -13,7 +13,8 @@ from typing import Any
 import numpy as np
 
 from designer.plots.simulation import plot_knock
-from designer.reprs import Key, Record, dataframe, svg_sparkline
+from designer.reprs import Key, Record, dataframe
+from designer.plots.svg import svg_sparkline
 
 
 @dataclass(kw_only=True)

@@ -17,7 +17,8 @@ from designer.parameters import OUTPUTS, VARIABLE_TABLE, VARIABLES, dimensions, 
 from designer.versions import versions
 from designer.studies.front import hypervolume_2d, igd_plus, normalise
 from designer.problem import Problem
-from designer.reprs import Key, Record, dataframe, svg_curve
+from designer.reprs import Key, Record, dataframe
+from designer.plots.svg import svg_curve
 from designer.studies.explore._operators import Operators, category_problem, search_space
 from designer.studies.explore._storage import _atomic_write_many, _one_line
 from designer.model import weighted

@@ -26,7 +26,8 @@ from designer.parameters import DESIGN_UNITS, OUTPUTS, PARAMETERS, dimensions
 from designer.units import csv_column, csv_quantity
 from designer.problem import example_names, example_problem
 from designer.problem import Problem, family_of, load_problem
-from designer.reprs import Key, Record, svg_curve
+from designer.reprs import Key, Record
+from designer.plots.svg import svg_curve
 from designer.plots import fronts as front_plots
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
