@@ -171,7 +171,7 @@ class Casters(Record):
     def J(self, weights: Sequence[float]) -> np.ndarray:
         """J = w_turn F_turn + w_threshold P [N] for ``weights`` (w_turn, w_threshold): the weighted objective,
         written once."""
-        return weighted(np.asarray(self.turning_effort), np.asarray(self.threshold_force), weights)
+        return np.asarray(weighted(np.asarray(self.turning_effort), np.asarray(self.threshold_force), weights))
 
     def g(self) -> np.ndarray:
         """The constraint values (N, 2): g_risk, g_radius; g <= :data:`FEASIBILITY_TOLERANCE` is feasible."""
