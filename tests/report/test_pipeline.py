@@ -28,9 +28,13 @@ INDOOR = ROOT / "problems" / "indoor-manual.toml"
 
 
 def _record(problem, design, f, p, role="recommended", prob=0.031, se=0.0008, alpha=0.05, rule="test rule"):
-    """A Recommendation-shaped record (the fields of COORD.md's interface) for rendering tests."""
+    """A Recommendation-shaped record (the fields of COORD.md's interface) for rendering tests; its ``caster`` is
+    the model's record of the design under the problem's conditions."""
+    from designer.model import evaluate
+
     return SimpleNamespace(
         design=design,
+        caster=evaluate(design, problem.conditions),
         turning_effort=f,
         threshold_force=p,
         critical_speed=3.1,

@@ -82,25 +82,26 @@ def test_optimum_with_the_fronts_build_equals_a_fresh_build(problem, monkeypatch
 
 
 def test_check_8c_batch_screen_agrees_with_single_solves(problem, monkeypatch):
-    """Check 8c's warm batched screen (checks._dominated_in_batch) finds every point of the tighter front
+    """Check 8c's warm batched screen (checks._front._dominated_in_batch) finds every point of the tighter front
     dominated, as the single cold solves do; a point at half its F_turn (below the optimum) is not screened and is
     counted as not dominated by the single solves."""
     import dataclasses
     from types import SimpleNamespace
 
     from designer.studies import checks
+    from designer.studies.checks import _front as checks_front
 
     pareto.pareto_front(problem, points=9)
     tighter = pareto.pareto_front(problem.replace(target_speed=problem.target_speed * 1.1), points=7)
     points = list(tighter.points)
     assert len(points) == 7
-    assert checks._dominated_in_batch(problem, points, 1e-7) == set(range(7))
+    assert checks_front._dominated_in_batch(problem, points, 1e-7) == set(range(7))
     assert checks.dominated_by_problem(problem, tighter) == (0, 7)
     cheaper = dataclasses.replace(points[3], turning_effort=points[3].turning_effort * 0.5)
     mixed = SimpleNamespace(points=points[:3] + [cheaper])
-    assert checks._dominated_in_batch(problem, mixed.points, 1e-7) == {0, 1, 2}
+    assert checks_front._dominated_in_batch(problem, mixed.points, 1e-7) == {0, 1, 2}
     assert checks.dominated_by_problem(problem, mixed) == (1, 4)
-    monkeypatch.setattr(checks, "_dominated_in_batch", lambda *args: set())  # the single solves alone
+    monkeypatch.setattr(checks_front, "_dominated_in_batch", lambda *args: set())  # the single solves alone
     assert checks.dominated_by_problem(problem, tighter) == (0, 7)
     assert checks.dominated_by_problem(problem, mixed) == (1, 4)
 

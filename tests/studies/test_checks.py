@@ -9,7 +9,10 @@ import pytest
 from designer.report.agreement import compare_text
 
 import designer.studies.checks as ck
+import designer.studies.checks._law as law
 from designer.cli import main
+from designer.physics.inertia import fit_table1_power_law
+from designer.studies.checks._paper import _disagreement
 from designer.data.paper import INCH, TABLE1, TABLE1_STABLE_UP_TO
 from designer.physics.shimmy import critical_shimmy_speed, routh_hurwitz_critical_speed
 from designer.physics.threshold import threshold_force_ratio
@@ -110,8 +113,8 @@ def test_table1_a_b_far_below_stable_fails():
         (ck.check_threshold_curve, {"ratio": lambda d, h: 1.0 - d / (20 * INCH)}),
         (ck.check_threshold_curve, {"ratio": lambda d, h: 1.05 * threshold_force_ratio(8 * INCH, h) + 0 * d}),
         (ck.check_routh_hurwitz, {"routh_hurwitz": lambda *a: routh_hurwitz_critical_speed(*a) * (1 + 1e-6)}),
-        (ck.check_inertia_fit, {"fit": lambda: (ck.fit_table1_power_law()[0], 3.52)}),
-        (ck.check_inertia_fit, {"fit": lambda: (ck.fit_table1_power_law()[0] * 1.01, ck.fit_table1_power_law()[1])}),
+        (ck.check_inertia_fit, {"fit": lambda: (fit_table1_power_law()[0], 3.52)}),
+        (ck.check_inertia_fit, {"fit": lambda: (fit_table1_power_law()[0] * 1.01, fit_table1_power_law()[1])}),
     ],
 )
 def test_each_paper_check_fails_on_a_perturbed_model(check, perturbed):
@@ -236,7 +239,7 @@ def test_8c_fails_when_tighter_front_beats_the_looser_by_1e_4(indoor):
 
 # ----------------------------------------------------------------------------------------------------
 # Issue 12.5, mutation testing, second round: what the paper checks and check 8 report, word for word, and
-# the edges of their tolerances (``designer/studies/checks.py``; benchmarks/mutation.md).  Check 8 is fed
+# the edges of their tolerances (``designer/studies/checks/``; benchmarks/mutation.md).  Check 8 is fed
 # hand-made fronts (FrontPoint records with round numbers), so no optimisation runs.
 import pytest
 
@@ -348,18 +351,18 @@ def test_summary_line_without_front_checks_and_without_not_applicable():
 def test_disagreement_bands_and_direction():
     """The band of a disagreement: |e| <= the one-wheel band is within it (the band exactly is within), beyond
     it outside; the direction is 'lower' for e < 0 and 'higher' for e >= 0."""
-    assert ck._disagreement("X", 1.25, 1.0, 0.15, 0.25).endswith(
+    assert _disagreement("X", 1.25, 1.0, 0.15, 0.25).endswith(
         "disagrees by 25.0 % (predicted higher), within ±25.0 %, the central 90 % of the paper's ±15 % scatter "
         "for one wheel"
     )
-    assert ck._disagreement("X", 0.7, 1.0, 0.15, 0.25) == (
+    assert _disagreement("X", 0.7, 1.0, 0.15, 0.25) == (
         "X: predicted 0.70 m/s against 1.00 m/s measured: disagrees by 30.0 % (predicted lower), outside "
         "±25.0 %, the central 90 % of the paper's ±15 % scatter for one wheel"
     )
-    assert ck._disagreement("X", 1.0, 1.0, 0.15, 0.25).startswith(
+    assert _disagreement("X", 1.0, 1.0, 0.15, 0.25).startswith(
         "X: predicted 1.00 m/s against 1.00 m/s measured: disagrees by 0.0 % (predicted higher), within"
     )
-    assert "outside ±16.4 %, the central 90 % of the paper's ±10 % scatter" in ck._disagreement(
+    assert "outside ±16.4 %, the central 90 % of the paper's ±10 % scatter" in _disagreement(
         "X", 1.2, 1.0, 0.1, 0.1645
     )
 
@@ -622,8 +625,8 @@ def test_threshold_curve_flat_models():
 def test_disagreement_prints_bands_in_percent():
     """The bands are printed as percentages of the fractions given: 0.9 and 1.0 give ±90 % and ±100.0 %."""
     band = "±100.0 %, the central 90 % of the paper's ±90 % scatter for one wheel"
-    assert ck._disagreement("X", 1.95, 1.0, 0.9, 1.0).endswith("within " + band)
-    assert ck._disagreement("X", 2.5, 1.0, 0.9, 1.0).endswith("outside " + band)
+    assert _disagreement("X", 1.95, 1.0, 0.9, 1.0).endswith("within " + band)
+    assert _disagreement("X", 2.5, 1.0, 0.9, 1.0).endswith("outside " + band)
 
 
 def test_carpet_and_inertia_fit_tolerances():
@@ -848,7 +851,7 @@ def test_table1_disagreement_lines_pinned():
         "F: predicted 1.46 m/s against 1.58 m/s measured: disagrees by 7.5 % (predicted lower), " + band,
         "G: predicted 1.12 m/s against 1.20 m/s measured: disagrees by 6.9 % (predicted lower), " + band,
     ]
-    assert ck._disagreement("X", 1.0, 2.0, 0.15, 0.25).endswith(
+    assert _disagreement("X", 1.0, 2.0, 0.15, 0.25).endswith(
         "outside ±25.0 %, the central 90 % of the paper's ±15 % scatter for one wheel"
     )
 
@@ -1016,7 +1019,7 @@ def test_leave_one_out_outcome_by_count(monkeypatch, inside, outcome):
         }
         for j, k in enumerate("CDEFG")
     ]
-    monkeypatch.setattr(ck, "leave_one_out_rows", lambda assumed=True: rows)
+    monkeypatch.setattr(law, "leave_one_out_rows", lambda assumed=True: rows)
     c = ck.check_leave_one_out()
     assert c.outcome == outcome and len(c.disagreements) == 5 - inside
     if inside < 5:
@@ -1062,9 +1065,9 @@ def test_stored_leave_one_out_tables_are_the_computed_ones():
     rewrite it with designer.studies.checks.write_leave_one_out_table() and `ruff format` the file."""
     from designer.data import leave_one_out
 
-    assert leave_one_out.DIGEST == ck._loo_inputs_digest()
+    assert leave_one_out.DIGEST == law._loo_inputs_digest()
     for assumed, key in ((True, "assumed"), (False, "bare")):
-        computed, stored = ck._pit_rows(assumed), leave_one_out.ROWS[key]
+        computed, stored = law._pit_rows(assumed), leave_one_out.ROWS[key]
         assert [r["wheel"] for r in stored] == [r["wheel"] for r in computed] == ["C", "D", "E", "F", "G"]
         for s, c in zip(stored, computed):
             assert s.keys() == c.keys()
@@ -1073,7 +1076,7 @@ def test_stored_leave_one_out_tables_are_the_computed_ones():
                     assert s[name] == pytest.approx(c[name], rel=1e-12, abs=1e-12), (key, c["wheel"], name)
                 else:
                     assert s[name] == c[name], (key, c["wheel"], name)
-        assert ck._stored_loo_rows(assumed) == stored
+        assert law._stored_loo_rows(assumed) == stored
 
 
 def test_written_leave_one_out_table_reads_back_as_the_stored_one(tmp_path):
@@ -1091,5 +1094,5 @@ def test_written_leave_one_out_table_reads_back_as_the_stored_one(tmp_path):
 def test_stored_leave_one_out_table_is_ignored_once_its_inputs_change(monkeypatch):
     """A changed input (here the interval level) moves the digest: the stored table is not used and the rows are
     computed (so a stale file can never put old numbers in a report)."""
-    monkeypatch.setattr(ck, "LOO_LEVEL", 0.8)
-    assert ck._stored_loo_rows(True) is None
+    monkeypatch.setattr(law, "LOO_LEVEL", 0.8)
+    assert law._stored_loo_rows(True) is None

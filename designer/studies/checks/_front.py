@@ -1,0 +1,185 @@
+"""Check 8 on a computed Pareto front: the trade-off, the active shimmy constraint, the tighter target dominated."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from designer.data.paper import INCH
+from designer.problem import Problem
+from designer.solvers.base import wheel_of
+from designer.studies.checks._record import NOT_APPLICABLE, Check
+
+if TYPE_CHECKING:  # record and solver types for the checker only: designer.studies.front loads casadi
+    from designer.solvers.nlp import CasterNLP
+    from designer.studies.front import Front, FrontPoint
+
+
+def front_checks(front: Front, tighter: Front | None = None, tol: float = 1e-6) -> list[Check]:
+    """Check 8 on a computed front: monotone trade-off, shimmy active where it can be, tighter target dominated.
+
+    Parameters
+    ----------
+    front : designer.studies.front._pareto.Front
+    tighter : optional front of the same problem with a higher V_target
+    """
+    checks = [_tradeoff_check(front.points, tol), _shimmy_active_check(front.problem, front.points, tol)]
+    if tighter is not None:
+        checks.append(_tighter_check(front, tighter))
+    for c in checks:
+        c.kind = "front"
+    return checks
+
+
+def _tradeoff_check(pts: Sequence[FrontPoint], tol: float) -> Check:
+    """8a: along decreasing threshold force P the diameter d and the turning effort F_turn do not fall."""
+    if len(pts) < 2:
+        return Check(
+            name="8a trade-off",
+            claim="along decreasing threshold force the diameter grows and the turning effort grows",
+            expected="monotone",
+            got=f"{len(pts)} point(s): nothing to compare",
+            passed=True,
+            detail="a front with fixed diameter or one dominant catalog wheel has a single point",
+        )
+    p = np.array([x.threshold_force for x in pts])
+    d = np.array([x.design.diameter for x in pts])
+    f = np.array([x.turning_effort for x in pts])
+    order = np.argsort(-p)
+    dd = np.diff(d[order])
+    df = np.diff(f[order])
+    bad_d = int(np.sum(dd < -tol * d.max()))
+    bad_f = int(np.sum(df < -tol * f.max()))
+    return Check(
+        name="8a trade-off",
+        claim="along decreasing threshold force the diameter grows and the turning effort grows",
+        expected="d and F_turn non-decreasing as P falls",
+        got=f"{bad_d} diameter and {bad_f} effort reversals in {len(pts)} points",
+        passed=bad_d == 0 and bad_f == 0,
+        detail=f"d {d.min() / INCH:.2f}–{d.max() / INCH:.2f} in, F_turn {f.min():.3f}–{f.max():.3f} N",
+    )
+
+
+def _shimmy_active_check(problem: Problem, pts: Sequence[FrontPoint], tol: float) -> Check:
+    """8b: the shimmy constraint (Eq. 7) is active wherever it can be."""
+    # shimmy active wherever it can be: inactive only at the bare minimum-effort caster for that d
+    lo = problem.lower()
+    offending = 0
+    for x in pts:
+        margin = x.margins.get("shimmy", x.critical_speed - problem.required_speed)
+        if margin <= tol * problem.required_speed:
+            continue
+        bare = x.design.groove <= lo.groove + 1e-9 and x.design.damping <= lo.damping * (1 + 1e-9)
+        if not bare:
+            offending += 1
+    inactive = sum(
+        1
+        for x in pts
+        if x.margins.get("shimmy", x.critical_speed - problem.required_speed) > tol * problem.required_speed
+    )
+    return Check(
+        name="8b shimmy active",
+        claim="the shimmy constraint is active wherever it can be",
+        expected="inactive only on bare-fork designs (no groove, no damper)",
+        got=f"{inactive} of {len(pts)} points inactive, {offending} of them with groove or damper",
+        passed=offending == 0,
+        detail="a groove or damper that is not needed for V_c only adds turning effort",
+    )
+
+
+def _tighter_check(front: Front, tighter: Front) -> Check:
+    """8c: the front of a higher V_target is weakly dominated by ``front`` (not applicable when the tighter
+    target is out of reach of the bounds)."""
+    problem = front.problem
+    if not tighter.points:
+        speed = highest_critical_speed(tighter.problem)
+        return Check(
+            name="8c tighter target",
+            claim="tightening V_target moves the front outward",
+            expected="every point of the tighter front weakly dominated by the looser front",
+            got=f"not applicable: the tighter target is out of reach (highest {'V_c' if problem.risk is None else 'V_q'} "
+            f"{speed:.3f} m/s "
+            f"< {tighter.problem.required_speed:.3f} m/s required)",
+            passed=True,
+            detail=f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} "
+            f"m/s: no design inside the bounds reaches it, so there is no tighter front to compare",
+            kind="front",
+            outcome=NOT_APPLICABLE,
+        )
+    worse, total = dominated_by_problem(problem, tighter)
+    cmp = front.compare(tighter)
+    return Check(
+        name="8c tighter target",
+        claim="tightening V_target moves the front outward",
+        expected="every point of the tighter front weakly dominated by the looser front",
+        got=f"{total - worse} of {total} dominated; HV {cmp['hypervolume_self']:.4f} vs "
+        f"{cmp['hypervolume_other']:.4f} (looser's normalisation)",
+        passed=worse == 0 and total > 0,
+        detail=f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} m/s; "
+        f"exact test: the looser problem's min F_turn at each tighter point's P",
+    )
+
+
+def highest_critical_speed(problem: Problem) -> float:
+    """Highest speed the shimmy constraint reaches inside the bounds of ``problem`` [m/s] (over its catalog
+    wheels), by IPOPT: V_q of the risk bound, or Eq. 7's V_c for a nominal problem."""
+    from designer.solvers.nlp import max_critical_speed
+
+    return max(max_critical_speed(v)[0] for v in problem.variants())
+
+
+def dominated_by_problem(problem: Problem, other_front: Front, rel_tol: float = 1e-7) -> tuple[int, int]:
+    """Count points of ``other_front`` NOT weakly dominated by ``problem``'s exact front.
+
+    For each point q, solves the ε-constraint NLP of ``problem`` at ε = P(q)
+    from q's design; q is dominated if the optimum's F_turn <= F_turn(q).
+    Returns (number not dominated, number of points).
+    """
+    from designer.solvers.nlp import shared_nlp
+
+    not_dominated = 0
+    cache: dict[object, CasterNLP] = {}
+    screened = _dominated_in_batch(problem, other_front.points, rel_tol)
+    for k, q in enumerate(other_front.points):
+        if k in screened:
+            continue
+        variants = problem.variants()
+        if problem.wheels:
+            variants = [v for v in variants if wheel_of(v) == q.wheel]
+        best = np.inf
+        for variant in variants:
+            key = id(variant) if not problem.wheels else q.wheel
+            # the front's compiled NLP (same scaling: the same solves as a new build)
+            nlp = cache.get(key) or cache.setdefault(key, shared_nlp(variant, same_scaling=True))
+            r = nlp.solve(q.design, (1.0, 0.0), q.threshold_force * (1 + 1e-12))
+            if r.success:
+                best = min(best, nlp.objectives(r.design)[0])
+        if not best <= q.turning_effort * (1 + rel_tol):
+            not_dominated += 1
+    return not_dominated, len(other_front.points)
+
+
+def _dominated_in_batch(problem: Problem, points: Sequence[FrontPoint], rel_tol: float) -> set[int]:
+    """Indices of ``points`` that ``problem`` is seen to dominate: the NLPs of :func:`dominated_by_problem` in one
+    warm batch per variant (``solve_many`` from q's multipliers as an optimum); a successful block with F_turn <=
+    F_turn(q)(1 + ``rel_tol``) is a feasible design dominating q.  The others get the single solves."""
+    from designer.solvers.nlp import shared_nlp
+
+    found: set[int] = set()
+    for variant in problem.variants():
+        wheel = wheel_of(variant) if problem.wheels else None
+        idx = [k for k, q in enumerate(points) if wheel is None or q.wheel == wheel]
+        if not idx:
+            continue
+        nlp = shared_nlp(variant, same_scaling=True)
+        x = np.array([points[k].design.as_array() for k in idx])
+        caps = np.array([points[k].threshold_force * (1 + 1e-12) for k in idx])
+        lam_g, lam_x = nlp.multipliers_many(x, (1.0, 0.0), caps)
+        results = nlp.solve_many(x, (1.0, 0.0), caps, lam_g0=lam_g, lam_x0=lam_x)
+        f = nlp.objectives_many([r.design for r in results])[:, 0]
+        found.update(
+            k for k, r, fk in zip(idx, results, f) if r.success and fk <= points[k].turning_effort * (1 + rel_tol)
+        )
+    return found
