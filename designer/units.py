@@ -433,10 +433,10 @@ def percent(probability: float) -> str:
     return f"{100 * float(probability):.3g}%"
 
 
-def limit_shown(value: float | None, unit: str, side: str) -> str:
-    """A limit for an inspector: lengths in mm to 0.01 (and in to 0.001), N·m to 0.001, kg·m² to 3 significant
-    digits, each rounded toward the safe side (a min up, a max down) so the printed limit is never outside the
-    computed one; "none" when there is no limit."""
+def limit_shown(value: float | None, unit: str, side: str, units: str = "mm") -> str:
+    """A limit for an inspector: lengths in mm to 0.01 and in to 0.001 (the problem's ``units`` first, the other
+    in brackets), N·m to 0.001, kg·m² to 3 significant digits, each rounded toward the safe side (a min up, a max
+    down) so the printed limit is never outside the computed one; "none" when there is no limit."""
     if value is None:
         return "none"
 
@@ -444,7 +444,8 @@ def limit_shown(value: float | None, unit: str, side: str) -> str:
         return (math.ceil if side == "min" else math.floor)(round(x, 6))
 
     if unit == "m":
-        return f"{step(value * 1e5) / 100:.2f} mm ({step(value / INCH * 1000) / 1000:.3f} in)"
+        mm, inches = f"{step(value * 1e5) / 100:.2f} mm", f"{step(value / INCH * 1000) / 1000:.3f} in"
+        return f"{inches} ({mm})" if units == "in" else f"{mm} ({inches})"
     if unit == "N·m":
         return f"{step(value * 1000) / 1000:.3f} N·m"
     digits = 2 - math.floor(math.log10(abs(value)))

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from designer.units import percent
+from designer.units import limit_shown, percent
 from designer import display, parameters
 from designer.data.paper import INCH
 from designer.reportdata import ReportData
@@ -501,8 +501,9 @@ def spec_rows(spec, units: str) -> list[list[str]]:
         elif row["part"] == "wheel_inertia":
             spread = tol if isinstance(tol, str) else f"≤ {tol:.3g} kg·m² measured"
         else:  # a spread is finer than the sizes' 1/16 in: always to 0.01 mm
-            spread = f"± {tol * 1000:.2f} mm ({tol / INCH:.3f} in)"
-        limit = "; ".join(f"{lim.side} {lim.shown}" for lim in row["limits"]) or "—"
+            spread = "± " + " (".join(length(tol)[:: -1 if units == "in" else 1]) + ")"
+        limit = "; ".join(f"{lim.side} {limit_shown(lim.value, lim.unit, lim.side, units)}" for lim in row["limits"])
+        limit = limit or "—"
         rows.append([row["label"], shown(row["nominal"], unit), spread, limit, row["measure"]])
     return rows
 

@@ -16,18 +16,19 @@ import numpy as np
 from designer.units import percent
 from designer.plots import figures as _figures
 from designer.plots.figures import FIGURES
-from designer.units import INCH
+from designer.display import shown
+from designer.parameters import VARIABLES
 
 __all__ = ["FIGURES", "arguments", "draw", "point_text", "svg"]
 
 
-def point_text(p) -> str:
-    """What a front point says on hover: its objectives, V_c and design (SI and inches)."""
+def point_text(p, units: str = "in") -> str:
+    """What a front point says on hover: its objectives, V_c and design (lengths in the problem's ``units``)."""
     d = p.design
+    sizes = ", ".join(f"{name} {shown(getattr(d, key), key, units)}" for name, key in zip("TdB", VARIABLES))
     return (
         f"P {p.threshold_force:.2f} N, F_turn {p.turning_effort:.3f} N, V_c {p.critical_speed:.3f} m/s; "
-        f"T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in, B {d.groove / INCH:.3f} in, "
-        f"c_f {d.damping:.3f} N·m/rad ({p.family}{', wheel ' + p.wheel if getattr(p, 'wheel', None) else ''})"
+        f"{sizes}, c_f {d.damping:.3f} N·m/rad ({p.family}{', wheel ' + p.wheel if getattr(p, 'wheel', None) else ''})"
     )
 
 
@@ -142,7 +143,7 @@ def _front(data) -> dict:
             for p in ends
         ],
         "note": data.degenerate_reason_short if len(f) == 1 else None,
-        "hover": [point_text(p) for p in front.points],
+        "hover": [point_text(p, data.problem.units) for p in front.points],
     }
 
 
@@ -154,7 +155,7 @@ def _variables(data) -> dict:
         "families": [p.family for p in front.points],
         "bounds": [data.problem.bounds[k] for k in ("trail", "diameter", "groove", "damping")],
         "gaps": data.gaps,
-        "hover": [point_text(p) for p in front.points],
+        "hover": [point_text(p, data.problem.units) for p in front.points],
     }
 
 

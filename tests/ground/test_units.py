@@ -144,3 +144,14 @@ def test_a_probability_is_shown_to_three_digits():
         "97.5%",
         "50%",
     ]
+
+
+def test_limit_shown_leads_with_the_problems_unit():
+    """A length limit is shown in the problem's unit first and the other in brackets, each rounded toward the safe
+    side: 2.5 in as a max is 2.500 in (63.50 mm) for an inch problem, 63.50 mm (2.500 in) for a mm problem."""
+    from designer.units import INCH, limit_shown
+
+    assert limit_shown(2.5 * INCH, "m", "max", "in") == "2.500 in (63.50 mm)"
+    assert limit_shown(2.5 * INCH, "m", "max", "mm") == "63.50 mm (2.500 in)"
+    assert limit_shown(0.0497, "m", "min", "in") == "1.957 in (49.70 mm)"
+    assert limit_shown(0.45, "N·m", "min", "in") == "0.450 N·m"

@@ -281,18 +281,22 @@ def test_tolerances_read_in_si():
 def test_spec_sheet_prints_on_one_page(enforced, tmp_path):
     """designer spec writes the sheet through the safe output module; headless Chromium prints it to a PDF of
     exactly one page (pdfinfo; .ci/run installs poppler-utils), and the sheet states each limit, the worst
-    corner's P and the problem it was designed for."""
+    corner's P and the problem it was designed for, each length limit in the problem's units first."""
     import shutil
     import subprocess
 
     from designer.cli import main
+    from designer.units import limit_shown
 
     out = tmp_path / "sheet.html"
     assert main(["spec", str(TOLERANCES), "--out", str(out)]) == 0
     html = out.read_text(encoding="utf-8")
     problem, rec = enforced
     for lim in rec.spec.limits:
-        assert lim.shown in html or lim.value is None
+        shown = limit_shown(lim.value, lim.unit, lim.side, problem.units)
+        assert shown in html or lim.value is None
+        if lim.unit == "m" and lim.value is not None:  # the problem's unit leads, the other in brackets
+            assert shown.split(" (")[0].endswith(" in" if problem.units == "in" else " mm"), shown
     assert f"{rec.spec.corner['probability']:.2%}" in html and problem.title in html and "1:5" in html
     chromium = shutil.which("chromium") or shutil.which("chromium-browser")
     assert chromium is not None and shutil.which("pdfinfo") is not None, "install chromium and poppler-utils"
