@@ -362,9 +362,7 @@ def test_disagreement_bands_and_direction():
     assert _disagreement("X", 1.0, 1.0, 0.15, 0.25).startswith(
         "X: predicted 1.00 m/s against 1.00 m/s measured: disagrees by 0.0 % (predicted higher), within"
     )
-    assert "outside ±16.4 %, the central 90 % of the paper's ±10 % scatter" in _disagreement(
-        "X", 1.2, 1.0, 0.1, 0.1645
-    )
+    assert "outside ±16.4 %, the central 90 % of the paper's ±10 % scatter" in _disagreement("X", 1.2, 1.0, 0.1, 0.1645)
 
 
 def test_eq8_check_uses_the_case_slip_coefficient():
