@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from designer.data.paper import INCH
+from designer.display import shown
 from designer.physics.uncertainty import Uncertainty
 from designer.problem import Problem
 from designer.reprs import Key, Record, dataframe
@@ -94,7 +94,9 @@ class ReportData(Record):
         """One line: the problem, the front, the recommendation and the checks that failed."""
         rec = self.recommendation
         built = (
-            f"build T {rec.design.trail / INCH:.3f} in, d {rec.design.diameter / INCH:.3f} in" if rec else "no caster"
+            f"build T {shown(rec.design.trail, 'trail', 'in')}, d {shown(rec.design.diameter, 'diameter', 'in')}"
+            if rec
+            else "no caster"
         )
         failed = [c.name for c in self.checks if not c.passed]
         return [

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from designer.display import axis, rescale
+from designer.display import axis, rescale, shown
 from designer.data.paper import INCH, TABLE1_STABLE_UP_TO, TABLE1_TRAIL, WALKING_SPEED
 from designer.output import PLOT, SOFTWARE, write_file
 from designer.plots.fronts import VARIABLE_PANELS, draw_fronts, plot_front, plot_variables
@@ -194,7 +194,10 @@ def _label_ends(ax, ends) -> None:
         ),
     ):
         ax.annotate(
-            f"d = {end['diameter'] / INCH:.2f} in\nT = {end['trail'] / INCH:.2f} in\nB = {end['groove'] / INCH:.2f} in",
+            "\n".join(
+                f"{s} = {shown(end[k], k, 'in', digits=2)}"
+                for s, k in (("d", "diameter"), ("T", "trail"), ("B", "groove"))
+            ),
             (end["threshold_force"], end["turning_effort"]),
             fontsize=8,
             color="0.25",
@@ -409,7 +412,7 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, curves: d
             dd * MM,
             ratio,
             [
-                f"d = {x / INCH:.3f} in ({x * MM:.1f} mm): P/L = {r:.4f}, P = {r * load:.2f} N"
+                f"d = {shown(x, 'diameter', 'in')} ({shown(x, 'diameter', 'mm', digits=1)}): P/L = {r:.4f}, P = {r * load:.2f} N"
                 for x, r in zip(dd, ratio)
             ],
         )
@@ -613,7 +616,7 @@ def _groove_damper_plane(ax, bounds, req, design, plane, robust: bool) -> None:
     ax.hover(
         [design.groove * MM],
         [design.damping],
-        [f"weighted optimum: B = {design.groove / INCH:.3f} in, c_f = {design.damping:.3f} N·m/rad"],
+        [f"weighted optimum: B = {shown(design.groove, 'groove', 'in')}, c_f = {design.damping:.3f} N·m/rad"],
     )
     ax.set_xlim(0, g_hi * MM)
     ax.set_ylim(c_lo, c_hi)
@@ -621,7 +624,7 @@ def _groove_damper_plane(ax, bounds, req, design, plane, robust: bool) -> None:
     ax.set_ylabel("spindle friction damping c_f [N·m/rad]")
     _inch_x(ax, "groove width B [in]")
     ax.legend(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.14), framealpha=0.9)
-    title = f"At the optimum's T = {design.trail / INCH:.2f} in, d = {design.diameter / INCH:.2f} in"
+    title = f"At the optimum's T = {shown(design.trail, 'trail', 'in', digits=2)}, d = {shown(design.diameter, 'diameter', 'in', digits=2)}"
     if cb.fixed or gb.fixed:
         title += " (beyond the problem's fixed values, for context)"
     ax.set_title(title, fontsize=10 if not (cb.fixed or gb.fixed) else 9)

@@ -361,8 +361,7 @@ def _tradeoff_rows(problem, rows) -> list[dict]:
 
 def _knock_cell(knock: dict | None, key: str) -> str:
     """One knock-safe speed of one caster [m/s] (:data:`designer.display.MISSING` where not computed)."""
-    value = (knock or {}).get(key)
-    return fmt(value, ".2f", "m/s")
+    return fmt((knock or {}).get(key), ".2f", "m/s")
 
 
 CARD_HEADER = [

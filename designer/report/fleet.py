@@ -229,17 +229,14 @@ def _sku_spec(spec: dict | None) -> dict:
 
 
 def _curve_rows(data: dict) -> list[dict]:
-    def n(value, spec):
-        return fmt(value, spec)
-
     return [
         {
             "k": c["k"],
-            "mean": n(c["mean_regret_N"], ".3f"),
-            "worst": n(c["worst_regret_N"], ".2f"),
-            "total": n(c["total_regret_N"], ".6g"),
-            "bound": n(c["lower_bound_N"] if c["total_regret_N"] is not None else None, ".6g"),
-            "gap": n(c["gap_N"] if c["total_regret_N"] is not None else None, ".1e"),
+            "mean": fmt(c["mean_regret_N"], ".3f"),
+            "worst": fmt(c["worst_regret_N"], ".2f"),
+            "total": fmt(c["total_regret_N"], ".6g"),
+            "bound": fmt(c["lower_bound_N"] if c["total_regret_N"] is not None else None, ".6g"),
+            "gap": fmt(c["gap_N"] if c["total_regret_N"] is not None else None, ".1e"),
             "status": c["status"],
             "method": c["method"],
             "mark": c["k"] == data.get("k"),
