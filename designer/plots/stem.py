@@ -86,12 +86,6 @@ def draw_speed_against_angle(ax, angles, speeds, marks=()):
     return ax
 
 
-def stem_angle_figure(path, curves: dict):
-    """Write the docs figure (:func:`stem_figure` of ``curves``) to ``path`` (120 dpi); returns ``path``."""
-    stem_figure(curves).savefig(path, dpi=120)
-    return path
-
-
 def stem_figure(curves: dict):
     """The docs figure (a matplotlib Figure) of :func:`designer.studies.curves.stem_curves`: the geometry drawn at
     its angle (large enough to see the angles) and V_c [m/s] (Eq. 7 at the effective trail of Eq. 8) against

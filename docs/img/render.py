@@ -261,10 +261,10 @@ def _terminal_png(command: list[str], folder: Callable[[], str] | None = None):
 
 
 def _stem(png: Path) -> None:
-    from designer.plots.stem import stem_angle_figure
+    from designer.plots.stem import stem_figure
     from designer.studies.curves import stem_curves
 
-    stem_angle_figure(png, stem_curves())
+    stem_figure(stem_curves()).savefig(png, dpi=120)
 
 
 def _stem_source() -> str:
