@@ -369,13 +369,14 @@ CARD_HEADER = [
     "diameter d",
     "groove B",
     "damping c_f",
-    "turning effort",
-    "sill force",
+    display.label("turning_effort"),
+    display.label("threshold_force"),
     "V_q: speed held with prob. {level}",
     "P(shimmy): exact (Monte Carlo ± SE)",
-    "swept radius",
+    display.label("swept_radius"),
 ]
-"""The columns of the caster to build (one row): sizes as the user writes them, then what it does."""
+"""The columns of the caster to build (one row): sizes as the user writes them, then what it does (the names of
+the quantities from the parameter table)."""
 
 
 def _caster_cells(rec, units: str) -> list[str]:

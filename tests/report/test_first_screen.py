@@ -89,7 +89,8 @@ def test_sill_in_mm_is_shown_in_mm(stub, tmp_path):
 def test_one_caster_in_plain_words_first(stub, tmp_path):
     """The card holds one caster: its headline, a plain-words lead (indoor-manual's buildable front has three
     points and no knee, so "the lowest combined force among the parts you can buy (turning effort plus sill force,
-    a newton of each counted alike)"; a knee would read "the best balance ..."), its drawing and a one-row table with "P(shimmy): exact (Monte Carlo ± SE)" and "swept radius"; the terms (knee, risk-bounded
+    a newton of each counted alike)"; a knee would read "the best balance ..."), its drawing and a one-row table with "P(shimmy): exact (Monte Carlo ± SE)" and the parameter table's names
+    ("threshold force P", "swept radius T + d/2"); the terms (knee, risk-bounded
     front, α + 2 SE) are in the glossary under it; the continuous knee and the weighted optimum only further
     down."""
     folder = write_report(stub, tmp_path / "r")
@@ -106,7 +107,8 @@ def test_one_caster_in_plain_words_first(stub, tmp_path):
     assert (
         table.count("<tr") == 2
         and "<th>P(shimmy): exact (Monte Carlo ± SE)</th>" in table
-        and "<th>swept radius</th>" in table
+        and "<th>swept radius T + d/2</th>" in table  # the table's name of the quantity, with its symbol
+        and "<th>threshold force P</th>" in table
     )
     assert "weighted optimum" not in card and "easiest" not in card and "continuous front" not in card
     terms = html[html.index('id="panel-terms"') :]
