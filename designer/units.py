@@ -9,8 +9,10 @@ here, never in the model's hot paths.
 from __future__ import annotations
 
 import math
+import numbers
 import re
 from functools import lru_cache
+from typing import Any
 
 from designer.errors import InputError
 
@@ -124,6 +126,7 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
     "moment": ("N*m", "N·m"),
     "angular_speed": ("rad/s", "rad/s"),
     "rate": ("1/s", "1/s"),
+    "time": ("s", "s"),
     "dimensionless": ("", "-"),
 }
 
@@ -161,23 +164,86 @@ def parse_quantity(value, dimension: str, key: str = "value") -> float:
         or infinite, unknown unit, or a unit of the wrong dimension.
     """
     target, shown = DIMENSIONS[dimension]
-    if isinstance(value, bool):
-        raise InputError(f"{key} = {value!r}: expected a number or a quantity with units, got a boolean")
-    if isinstance(value, (int, float)):
-        try:
-            number = float(value)
-        except OverflowError:
-            raise InputError(
-                f"{key}: an integer of about {int(int(value).bit_length() * 0.30103)} digits is too large"
-            ) from None
-    elif isinstance(value, str):
+    if isinstance(value, str):
         number = _parse_string(value, target, shown, dimension, key)
-    else:
+        if not math.isfinite(number):
+            raise InputError(f"{key} = {value!r}: must be a finite number")
+        return number
+    return real_number(
+        value, key, f"a number (SI, {shown}) or a string with units such as {_example(dimension)!r}"
+    )
+
+
+def _scalar(value: Any) -> Any:
+    """A NumPy 0-d array as its one value (``np.array(900.0)`` -> ``900.0``); anything else as it is.
+    Read by its attributes: this module does not import NumPy."""
+    if type(value).__module__ == "numpy" and getattr(value, "shape", None) == () and hasattr(value, "item"):
+        return value.item()
+    return value
+
+
+def _boolean(value: Any) -> bool:
+    """A boolean: Python's ``True``/``False`` or NumPy's ``np.bool_`` (a 0-d boolean array too)."""
+    return isinstance(value, bool) or type(value).__name__ in ("bool_", "bool") and type(value).__module__ == "numpy"
+
+
+def real_number(value: Any, key: str, expected: str = "a number") -> float:
+    """The one rule for a number at the package's boundary: ``value`` as a finite float, or one InputError line
+    naming ``key``, the value and the reason.
+
+    A number is a :class:`numbers.Real` (``int``, ``float``, ``fractions.Fraction``, NumPy's scalars such as
+    ``np.float32(900)`` and ``np.int64(900)``) or a NumPy 0-d array of one; a boolean (``True``, ``np.bool_``)
+    is never a number, however Python counts it; NaN and infinities are refused as such.  ``expected`` says
+    what was wanted, in the message for a value that is not a number.  Strings with units are read by
+    :func:`parse_quantity`, which calls this for everything else: the problem file, the command line and every
+    public function and record of the API use these two.
+    """
+    item = _scalar(value)
+    if _boolean(value) or _boolean(item):
+        raise InputError(f"{key} = {value!r}: expected {expected}, got a boolean")
+    if not isinstance(item, numbers.Real):
+        raise InputError(f"{key} = {value!r}: expected {expected}")
+    try:
+        number = float(item)
+    except OverflowError:
         raise InputError(
-            f"{key} = {value!r}: expected a number (SI, {shown}) or a string with units such as {_example(dimension)!r}"
-        )
+            f"{key}: an integer of about {int(int(item).bit_length() * 0.30103)} digits is too large"
+        ) from None
     if not math.isfinite(number):
         raise InputError(f"{key} = {value!r}: must be a finite number")
+    return number
+
+
+def whole_number(
+    value: Any, key: str, low: int | None = None, high: int | None = None, what: str = "", optional: bool = False
+) -> int:
+    """The one rule for a count or a seed at the boundary: ``value`` as an int within [``low``, ``high``] (either
+    end None: open), or one InputError line naming ``key``, the value and the range.
+
+    A count is a :class:`numbers.Integral` (``int``, ``np.int64``, ...) or a NumPy 0-d array of one; a
+    boolean, a float (``1024.0``, ``2.5``) and a string are refused, as the command line refuses them.
+    ``what`` names the thing counted in the message ("Monte Carlo draws"); ``optional``: the message says that
+    None is also taken (the caller passes None on before).
+    """
+    item = _scalar(value)
+    span = (
+        f"from {low} to {high}"
+        if low is not None and high is not None
+        else f", {low} or more"
+        if low is not None
+        else f", {high} or less"
+        if high is not None
+        else ""
+    )
+    expected = ("None or " if optional else "") + "a whole number" + (f" of {what}" if what else "")
+    expected += span if span.startswith(",") or not span else f" {span}"
+    if _boolean(value) or _boolean(item):
+        raise InputError(f"{key} = {value!r}: expected {expected}, got a boolean")
+    if not isinstance(item, numbers.Integral):
+        raise InputError(f"{key} = {value!r}: expected {expected}")
+    number = int(item)
+    if (low is not None and number < low) or (high is not None and number > high):
+        raise InputError(f"{key} = {number}: expected {expected}")
     return number
 
 
@@ -416,6 +482,9 @@ def _example(dimension: str) -> str:
         "stiffness": "10000 N/m",
         "per_length": "7 1/m",
         "moment": "0.45 N*m",
+        "time": "2 s",
+        "angular_speed": "0.5 rad/s",
+        "rate": "10 1/s",
         "dimensionless": "0.1",
     }[dimension]
 

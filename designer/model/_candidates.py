@@ -21,6 +21,7 @@ from typing import Any, Self
 import numpy as np
 
 from designer.parameters import OUTPUT_TABLE, OUTPUTS, PARAMETERS, VARIABLE_TABLE, VARIABLES
+from designer.boundary import SEED, Count, Instance, Quantity, Values, checked
 from designer.units import parse_quantity
 from designer.reprs import Key, Record, dataframe, frozen, shown
 from designer.physics.geometry import effective_trail, swept_radius
@@ -315,6 +316,19 @@ CandidateValues = Casters
 """The former name of :class:`Casters`."""
 
 
+@checked(
+    conditions=Instance((Conditions,), "a designer.Conditions, e.g. Conditions(load=178)"),
+    inertia=Values("inertia"),
+    load=Values("force"),
+    threshold_height=Values("length"),
+    required_speed=Values("speed"),
+    swept_radius_max=Values("length"),
+    stem_angle=Quantity("angle"),
+    calibration=Quantity("dimensionless"),
+    samples=Count(1, optional=True, what="Monte Carlo draws"),
+    seed=SEED,
+    target_se=Quantity("dimensionless", optional=True),
+)
 def evaluate(  # long: the docstring documents every argument
     designs: Any,
     conditions: Conditions = Conditions(),
@@ -375,8 +389,6 @@ def evaluate(  # long: the docstring documents every argument
     single = isinstance(designs, Design)
     if single:
         check_design(designs, error=InputError)  # an 8 m wheel is inches written as metres, not a caster
-    if not isinstance(conditions, Conditions):
-        raise InputError(f"conditions = {conditions!r}: expected a designer.Conditions, e.g. Conditions(load=178)")
     if speed is not None:
         speed = _speed(speed)
     if risk is not None:

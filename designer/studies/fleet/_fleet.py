@@ -44,6 +44,7 @@ import numpy as np
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
 
+from designer.boundary import Count, Quantity, checked
 from designer.errors import InputError
 from designer.model import GRAVITY, Design, scatter_of
 from designer.parameters import OUTPUTS, VARIABLE_TABLE
@@ -113,6 +114,9 @@ _LIFETIME = "designer.children"
 
 CHUNK = 5000
 """Chairs per chunk of vectorised work (bounds memory: chunk × casters × 8 bytes per array)."""
+
+MAX_K = 50
+"""Largest ``k_max`` (``--k-max``): the regret curve's mixed-integer solves grow with K."""
 
 DEFAULT_MAX_REGRET = 2.0
 """Default ``--max-regret`` [N]: the suggested number of part numbers is the smallest K whose mean regret
@@ -346,6 +350,8 @@ def fleet_recommendations(
             raise InputError(f"--skus {skus!r}: expected a whole number of part numbers, 1 or more")
     if not (isinstance(max_regret, (int, float)) and math.isfinite(max_regret) and max_regret >= 0):
         raise InputError(f"--max-regret {max_regret!r}: expected a mean regret in N, 0 or more")
+    if k_max is not None and not 1 <= k_max <= MAX_K:
+        raise InputError(f"--k-max {k_max}: expected 1 to {MAX_K}")
     timings: dict[str, float] = {}
     start = time.perf_counter()
     stock = stock_table(problem)
@@ -859,6 +865,11 @@ def _answer(result: FleetResult) -> tuple[str | None, str | None]:
     )
 
 
+@checked(
+    skus=Count(1, optional=True, what="part numbers", words=("auto",)),
+    k_max=Count(1, MAX_K, optional=True, what="part numbers on the regret curve"),
+    max_regret=Quantity("force"),
+)
 @one_solve_at_a_time
 def fleet(
     chairs: Fleet | str | Path,

@@ -32,6 +32,7 @@ from designer.solvers.nlp import PARAMETER_INFO, max_critical_speed
 import warnings
 from typing import TYPE_CHECKING, Any
 
+from designer.boundary import Count, checked
 from designer.errors import InputError
 from designer.problem import check_weights
 
@@ -334,6 +335,11 @@ def constraint_margins(problem: Problem, design: Design, values: Mapping[str, An
     return ConstraintMargins(margins={k: float(v) for k, v in margins.items()}, active=active)
 
 
+MAX_START_SAMPLES = 2**20
+"""Largest Sobol sample :func:`optimise` chooses its NLP starts from (memory grows with it: about 0.3 kB a design)."""
+
+
+@checked(samples=Count(1, MAX_START_SAMPLES, what="Sobol designs to choose the NLP starts from"))
 @one_solve_at_a_time
 def optimise(
     problem: Problem, weights: Sequence[float] | None = None, cross_check: bool = True, samples: int = 1024
