@@ -114,7 +114,7 @@ __all__ = [
 # --------------------------------------------------------------------------- result
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class GPResult(Record):
     """The GP / sequential-GP optimum of a problem.
 

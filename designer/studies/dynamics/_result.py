@@ -16,7 +16,7 @@ from designer.plots.simulation import plot_knock
 from designer.reprs import Key, Record, dataframe, svg_sparkline
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class SimulationResult(Record):
     """Outcome of one shimmy simulation (all SI).
 
@@ -178,7 +178,7 @@ class SimulationResult(Record):
         )
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class OnsetResult(Record):
     """Simulated shimmy onset speed beside Eq. 7.
 

@@ -42,7 +42,7 @@ if TYPE_CHECKING:  # the GP's record for the checker only: designer.solvers.gp l
 ACTIVE_TOL = 1e-6
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class Solution(Record):
     """The optimum of a caster problem and everything an engineer asks about it.
 
@@ -106,7 +106,7 @@ class Solution(Record):
 
     def __post_init__(self) -> None:
         if not self.weights:
-            self.weights = tuple(self.problem.weights)
+            object.__setattr__(self, "weights", tuple(self.problem.weights))  # frozen: set once, while built
 
     def gp_duals(self) -> dict[str, float]:
         """d log J / d log p from the geometric program's duals, where the GP defines them.

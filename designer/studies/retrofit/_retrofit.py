@@ -158,21 +158,27 @@ def fix(
     options, sources = part_options(problem, current)
     result = _fix_result(problem, setting, calibration, current_state, stock_offer(problem, options, sources))
     if not measured:  # what measuring the current wheel (accepted at its power-law value) would change
-        result.if_measured = _if_measured(
-            problem, current, inertia, shimmied_at, stem_angle, onset_scatter, samples, seed
+        result = dataclasses.replace(
+            result,
+            if_measured=_if_measured(problem, current, inertia, shimmied_at, stem_angle, onset_scatter, samples, seed),
         )
     if current_state.meets_risk_bound:
         return result
-    cands, within, beyond, result.searched = _ranked(options, sources, base, setting, current_state)
-    result.found, result.found_beyond = len(within), len(beyond)
+    cands, within, beyond, searched = _ranked(options, sources, base, setting, current_state)
     keep = slice(None) if limit is None else slice(limit)
     n_within, n_beyond = len(within[keep]), len(beyond[keep])
     wanted = np.concatenate([np.arange(n_within), np.arange(n_beyond)]) < (np.inf if specs is None else specs)
     states = _fix_states(
         setting, current, inertia, current_state, cands, np.concatenate([within[keep], beyond[keep]]), options, wanted
     )
-    result.fixes, result.beyond = states[: len(within[keep])], states[len(within[keep]) :]
-    return result
+    return dataclasses.replace(  # records do not change: the ranked fixes make a new one
+        result,
+        searched=searched,
+        found=len(within),
+        found_beyond=len(beyond),
+        fixes=states[: len(within[keep])],
+        beyond=states[len(within[keep]) :],
+    )
 
 
 def _if_measured(
