@@ -169,9 +169,7 @@ def parse_quantity(value, dimension: str, key: str = "value") -> float:
         if not math.isfinite(number):
             raise InputError(f"{key} = {value!r}: must be a finite number")
         return number
-    return real_number(
-        value, key, f"a number (SI, {shown}) or a string with units such as {_example(dimension)!r}"
-    )
+    return real_number(value, key, f"a number (SI, {shown}) or a string with units such as {_example(dimension)!r}")
 
 
 def _scalar(value: Any) -> Any:

@@ -22,7 +22,7 @@ import numpy as np
 
 from designer.parameters import OUTPUT_TABLE, OUTPUTS, PARAMETERS, VARIABLE_TABLE, VARIABLES
 from designer.boundary import SEED, Count, Instance, Quantity, Values, checked
-from designer.units import parse_quantity
+from designer.units import parse_quantity, real_number
 from designer.reprs import Key, Record, dataframe, frozen, shown
 from designer.physics.geometry import effective_trail, swept_radius
 from designer.physics.scatter import inertia_prediction
@@ -467,9 +467,9 @@ def _speed(speed: Any, name: str = "speed") -> Any:
 
 def _weights(weights: Any) -> tuple[float, float]:
     """(w_turn, w_threshold) [-]: exactly two finite numbers, not both zero."""
-    try:
-        w = tuple(float(x) for x in weights)
-    except (TypeError, ValueError):
+    try:  # each weight by the API's one rule for numbers (a boolean is not a weight)
+        w = tuple(real_number(x, "weights") for x in weights)
+    except (TypeError, InputError):
         w = ()
     if len(w) != 2 or not all(np.isfinite(w)) or min(w) < 0 or max(w) == 0:
         raise InputError(f"weights = {weights!r}: expected two finite weights >= 0, not both 0 (w_turn, w_threshold)")

@@ -242,7 +242,9 @@ class _StickSlip:
 
 
 @checked(
-    design=Instance((Design,), "a designer.Design, e.g. Design(trail='1.5 in', diameter='6 in', groove=0, damping=1.3)"),
+    design=Instance(
+        (Design,), "a designer.Design, e.g. Design(trail='1.5 in', diameter='6 in', groove=0, damping=1.3)"
+    ),
     conditions=Instance((Conditions,), "a designer.Conditions, e.g. Conditions(load=178)"),
     speed=Quantity("speed"),
     angle=Quantity("angle", optional=True),

@@ -77,7 +77,9 @@ def knock_onset_speed(
 
 
 @checked(
-    design=Instance((Design,), "a designer.Design, e.g. Design(trail='1.5 in', diameter='6 in', groove=0, damping=1.3)"),
+    design=Instance(
+        (Design,), "a designer.Design, e.g. Design(trail='1.5 in', diameter='6 in', groove=0, damping=1.3)"
+    ),
     conditions=Instance((Conditions,), "a designer.Conditions, e.g. Conditions(load=178)"),
     angle=Quantity("angle", optional=True),
     tyre=Instance((TyreParameters,), "None (the rolling tyre) or a designer.TyreParameters", optional=True),

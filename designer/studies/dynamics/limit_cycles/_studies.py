@@ -51,7 +51,9 @@ def _branch_dicts(orbits) -> list[dict]:
 
 
 @checked(
-    design=Instance((Design,), "a designer.Design, e.g. Design(trail='1.5 in', diameter='6 in', groove=0, damping=1.3)"),
+    design=Instance(
+        (Design,), "a designer.Design, e.g. Design(trail='1.5 in', diameter='6 in', groove=0, damping=1.3)"
+    ),
     conditions=Instance((Conditions,), "a designer.Conditions, e.g. Conditions(load=178)"),
     tyre=Instance((TyreParameters,), "None (the rolling tyre) or a designer.TyreParameters", optional=True),
     speed_range=Quantities("speed", 2),
@@ -146,7 +148,7 @@ def _stable_branch(sys, tyre, ref: float, lo: float, hi: float, points: int):
         if stable_ref is not None:
             down = speed_sweep(sys, np.geomspace(ref, lo, max(5, 2 * points // 3))[1:], stable_ref)
             up = speed_sweep(sys, np.geomspace(ref, hi, max(4, points // 3))[1:], stable_ref)
-            stable_orbits = down.orbits[::-1] + [stable_ref] + up.orbits
+            stable_orbits = [*down.orbits[::-1], stable_ref, *up.orbits]
     return stable_ref, stable_orbits
 
 
