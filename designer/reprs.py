@@ -418,7 +418,7 @@ class Keyed:
                 freeze_fields(self)
 
             checked_then_frozen._freezes = True  # type: ignore[attr-defined]
-            cls.__post_init__ = checked_then_frozen  # type: ignore[attr-defined]
+            cls.__post_init__ = checked_then_frozen  # type: ignore[method-assign]
 
     def __post_init__(self) -> None:
         """A record's containers made read-only once it is built (:func:`deep_frozen`); records are frozen

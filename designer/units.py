@@ -205,7 +205,7 @@ def real_number(value: Any, key: str, expected: str = "a number") -> float:
         number = float(item)
     except OverflowError:
         raise InputError(
-            f"{key}: an integer of about {int(int(item).bit_length() * 0.30103)} digits is too large"
+            f"{key}: an integer of about {int(getattr(item, 'bit_length', lambda: 0)() * 0.30103)} digits is too large"
         ) from None
     if not math.isfinite(number):
         raise InputError(f"{key} = {value!r}: must be a finite number")
