@@ -184,9 +184,12 @@ class Bound:
     def __post_init__(self) -> None:
         for name in ("low", "high"):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-                raise InputError(f"Bound({name}={value!r}): expected a number [SI]")
-            object.__setattr__(self, name, float(value))
+            if type(value) is not float:  # a float as it is (a NaN is refused by the problem, with its key)
+                try:  # else the package's one rule for a number: NumPy scalars and 0-d arrays, never a boolean
+                    value = real_number(value, name)
+                except InputError:
+                    raise InputError(f"Bound({name}={value!r}): expected a number [SI]") from None
+            object.__setattr__(self, name, value)
 
     @property
     def fixed(self) -> bool:
