@@ -16,7 +16,6 @@ from dataclasses import dataclass, field
 from collections.abc import Mapping
 from typing import Any, Callable, Iterable, NoReturn
 
-import numpy as np
 
 from designer.data.paper import INCH, TABLE1
 from designer import parameters
