@@ -12,6 +12,9 @@ runs:
 ``Instance(kinds)``      a record of the package (a ``Design``, ``Conditions``): anything else is one InputError
                          line naming the argument and what it expects, never an AttributeError deep inside
 
+(``Quantities`` is a fixed number of quantities, a speed range; ``Values`` a quantity given once or once per
+caster, ``evaluate``'s loads and limits.)
+
 The records (``Design``, ``Conditions``, ``Problem``, ``Uncertainty``, ``TyreParameters``) read their fields
 with the same two functions of :mod:`designer.units`, and the problem file and the command line too, so a value
 is refused alike wherever it enters.  The function's own range checks (an inertia within Table 1's span, a
