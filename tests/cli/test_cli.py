@@ -246,7 +246,7 @@ def test_pareto_front_api_rejects_huge_point_count():
     from designer.studies.front import pareto_front
     from designer.problem import load_problem
 
-    with pytest.raises(InputError, match="2 to 2001 points"):
+    with pytest.raises(InputError, match="front points from 2 to 2001"):
         pareto_front(load_problem(ROOT / "problems" / "indoor-manual.toml"), 100000)
 
 

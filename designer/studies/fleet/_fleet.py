@@ -313,7 +313,7 @@ class FleetResult(Record):
         return out
 
 
-def fleet_recommendations(
+def fleet_recommendations(  # long: its docstring documents every argument; the body builds the record once
     fleet: Fleet,
     problem: Problem,
     skus: int | str | None = None,

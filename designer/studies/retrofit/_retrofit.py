@@ -97,7 +97,7 @@ sill-force limit."""
     specs=Count(0, optional=True, what="fixes given a spec (None: every one)"),
 )
 @one_solve_at_a_time
-def fix(
+def fix(  # long: its docstring documents every argument and the ranking rule
     problem,
     current,
     inertia: float | None = None,
