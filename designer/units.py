@@ -332,6 +332,11 @@ def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) 
     try:
         magnitude = quantity.to(target).magnitude if target else quantity.to("dimensionless").magnitude
     except pint.errors.DimensionalityError:
+        if not dict(quantity.unit_items()):  # "3" for a speed: the true reason is the missing unit
+            raise InputError(
+                f"{key} = {text!r}: a number without its unit; give a number (SI, {shown}) or a string with "
+                f"its unit such as {_example(dimension)!r}"
+            ) from None
         hint = _mass_for_force_hint(quantity, stripped, key) if dimension == "force" else ""
         raise InputError(
             f"{key} = {text!r}: wrong dimension, expected {dimension} ({shown}), e.g. {_example(dimension)!r}{hint}"

@@ -111,7 +111,7 @@ def _rows() -> list[tuple[str, str, str, object, object]]:
                 for kind in KINDS:
                     given = _given(kind, number, unit_text, int(number) if float(number).is_integer() else 1)
                     if kind == "str" and rule.dimension not in ("dimensionless", "angle"):
-                        rows.append((fname, arg, kind, given, "wrong dimension"))  # a plain "2.5" has no unit
+                        rows.append((fname, arg, kind, given, "a number without its unit"))  # a plain "2.5" has no unit
                         continue
                     outcome = _quantity_outcome(kind)
                     rows.append((fname, arg, kind, given, outcome if outcome != "accepted" else si))
@@ -198,7 +198,7 @@ def _record_rows():
             for kind in KINDS:
                 given = _given(kind, number, unit_text, int(number) if float(number).is_integer() else 1)
                 if kind == "str" and dimension not in ("dimensionless", "angle"):
-                    expected: object = "wrong dimension"
+                    expected: object = "a number without its unit"
                 elif kind in ("int", "np.int64", "0-d array") and whole_refusal:
                     expected = whole_refusal  # no whole number [SI] is in this field's range: refused by its range
                 else:

@@ -592,7 +592,11 @@ def test_tyre_force_other_parameters_and_linear():
         ("load", float("inf"), "must be a finite number"),
         ("wheel_mass", float("nan"), "must be a finite number"),
         ("load", True, "expected a number (SI, N) or a string with units such as '178 N', got a boolean"),
-        ("wheel_mass", "1", "wrong dimension, expected mass (kg), e.g. '0.5 kg'"),
+        (
+            "wheel_mass",
+            "1",
+            "a number without its unit; give a number (SI, kg) or a string with its unit such as '0.5 kg'",
+        ),
     ],
 )
 def test_tyre_parameter_errors(name, value, reason):
