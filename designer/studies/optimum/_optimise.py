@@ -339,7 +339,7 @@ MAX_START_SAMPLES = 2**20
 """Largest Sobol sample :func:`optimise` chooses its NLP starts from (memory grows with it: about 0.3 kB a design)."""
 
 
-@checked(samples=Count(1, MAX_START_SAMPLES, what="Sobol designs to choose the NLP starts from"))
+@checked(samples=Count(1, MAX_START_SAMPLES, what="Sobol designs (the NLP starts are chosen among them)"))
 @one_solve_at_a_time
 def optimise(
     problem: Problem, weights: Sequence[float] | None = None, cross_check: bool = True, samples: int = 1024
