@@ -10,6 +10,7 @@ checked after every solver call (:func:`check_interrupt`).
 from __future__ import annotations
 
 import errno
+import re
 import signal
 import threading
 
@@ -108,8 +109,9 @@ OS_REASONS: dict[int, str] = {
 """The true reason of each operating-system error a user's setup can cause, by errno: the one table every
 message about a file or a folder uses (:func:`os_reason`)."""
 
-WRITE_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG, errno.ENAMETOOLONG})
-"""The errors that can only mean an output cannot be written (exit 7, :class:`OutputError`)."""
+WRITE_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG})
+"""The errors that can only mean an output cannot be written (exit 7, :class:`OutputError`); a name too long can
+be an input's too (every output is checked for it before any work, :mod:`designer.output`)."""
 
 
 def os_reason(exc: OSError) -> str:
@@ -138,6 +140,37 @@ def system_error(exc: BaseException) -> DesignerError | None:
             f"set PYTHONIOENCODING=utf-8 or a UTF-8 locale"
         )
     return None
+
+
+SECRET_KEYS = r"(?:[A-Za-z0-9_]*(?:password|passwd|pwd|secret|token)|pass|sslkey|odbc_connect)"
+"""Keys whose value is a secret, a regular expression matched case-insensitively: a URL's query (``?password=``,
+``?sslpassword=``, pymysql's ``passwd``, any ``*_token`` or ``*secret``, an ODBC connection string
+``odbc_connect``), libpq's ``key=value`` form (``host=db password=x``) and ODBC's ``PWD=x;``."""
+
+_USERINFO = re.compile(
+    r"(?P<lead>(?:[A-Za-z][A-Za-z0-9+.-]*:/{0,3}|/{2,3})?)"  # a scheme with none to three slashes, or bare '//'
+    r"(?P<user>[^\s:/@'\"]*):(?!/)(?P<secret>[^\s'\"]*)@"  # user:secret@, up to the last '@' of the host's word
+    r"(?=[^\s@'\"/]*(?:[\s/'\"?#]|$))"
+)
+"""``user:secret@host`` wherever it stands: after ``scheme://``, ``scheme:/``, ``scheme//`` or with no scheme at
+all (``caster:S3cretPW@db.example.com/studies``), a raw ``@`` or ``:`` inside the secret included."""
+
+_KEY_VALUE = re.compile(
+    rf"(?<![A-Za-z0-9_])(?P<key>{SECRET_KEYS})(?P<eq>\s*(?:=|%3D)\s*)"
+    r"(?P<value>'(?:[^'\\]|\\.)*'|\"[^\"]*\"|\{[^}]*\}|[^\s&;#'\"]+)",
+    re.IGNORECASE,
+)
+"""``password=secret`` (a URL's query, libpq's ``password='se cret'``, ODBC's ``PWD={x};``, percent-encoded
+``PWD%3Dsecret`` inside an ``odbc_connect``)."""
+
+
+def mask_secrets(text: str) -> str:
+    """``text`` with every secret that looks like a connection string's replaced by ``***``: ``user:secret@host``
+    in any URL form (with a scheme and ``://``, ``:/`` or ``//``, or without a scheme) and every secret key's
+    value (:data:`SECRET_KEYS`).  Applied to every message the command line prints (one place, so no message
+    can show a password), and by :func:`designer.studies.explore._storage.redact_url`."""
+    text = _USERINFO.sub(lambda m: f"{m['lead']}{m['user']}:***@", str(text))
+    return _KEY_VALUE.sub(lambda m: f"{m['key']}{m['eq']}***", text)
 
 
 class Terminated(KeyboardInterrupt):

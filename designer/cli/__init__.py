@@ -32,6 +32,7 @@ from designer.errors import (
     OutputError,
     interrupt_exit_code,
     interrupted,
+    mask_secrets,
     sigint_handler,
     system_error,
 )
@@ -196,11 +197,12 @@ def _error(exc: Exception, debug: bool) -> int:
     if debug:
         raise exc
     if isinstance(exc, DesignerError):
-        print(f"designer: error: {exc}", file=sys.stderr)
+        print(f"designer: error: {mask_secrets(str(exc))}", file=sys.stderr)  # no message shows a password
         return exc.exit_code
     # a bug: still one line unless --debug
     print(
-        f"designer: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)", file=sys.stderr
+        f"designer: internal error: {type(exc).__name__}: {mask_secrets(str(exc))} (run with --debug for the traceback)",
+        file=sys.stderr,
     )
     return 70
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import sys
 
 from designer.cli._terminal import fit
@@ -53,6 +54,22 @@ def eprint(*args) -> None:
     """Print to stderr (progress and notes that must not pollute --json output), fitted to the terminal's width
     (:func:`designer.cli._terminal.fit`)."""
     print(fit(" ".join(str(a) for a in args)), file=sys.stderr)
+
+
+def is_stdout(path) -> bool:
+    """True if ``path`` is this process's standard output (``/dev/stdout``, ``/dev/fd/1``, or the very file
+    stdout is redirected to): a command writing its file there says its notes on stderr, so the stream holds
+    the file alone (``designer fleet --example 5 --out /dev/stdout | cat``)."""
+    try:
+        return os.path.samestat(os.stat(path), os.fstat(sys.stdout.fileno()))
+    except (OSError, ValueError, AttributeError):  # no such path, or stdout is not a real file (captured)
+        return str(path) in ("/dev/stdout", "/dev/fd/1", "/proc/self/fd/1")
+
+
+def say(path):
+    """``print`` for the notes of a command that wrote ``path``, or :func:`eprint` when ``path`` is standard
+    output (:func:`is_stdout`)."""
+    return eprint if is_stdout(path) else print
 
 
 def check_output_folder(folder, option: str = "--out", **owned) -> None:

@@ -386,7 +386,7 @@ def _report(args, write_simulation_report) -> int:
     from designer.report.limit_cycles import FILES, limit_cycle_files
 
     owned = ONSET_FILES + FILES
-    with output_folder(args.report, owned, option="--report", marker="onset.json", command="designer simulate") as tmp:
+    with output_folder(args.report, owned, option="--report", command="designer simulate") as tmp:
         result = write_simulation_report(
             tmp,
             progress=None if args.json else lambda i, n: print(f"\rcase {i}/{n}", end="", file=sys.stderr, flush=True),

@@ -32,7 +32,7 @@ from designer.model import Design
 from designer.reportdata import ReportData
 from designer.output import output_folder
 from designer.report.agreement import keep_agreeing
-from designer.report.files import REPORT_MARKERS, REPORT_OWNED, check_target, is_report  # noqa: F401
+from designer.report.files import REPORT_OWNED, check_target  # noqa: F401
 import designer.report.figures as _figures
 from designer.report.resolution import design_value, multiplier, on_scale, resolved, split_run
 from designer.report.context import FIGURE_INFO, build_context  # noqa: F401 (FIGURE_INFO: its old home)
@@ -222,7 +222,7 @@ def write_report(data, out_dir=None, *, force: bool = False, option: str = "--ou
     # (a report of this tool, an empty folder, or a foreign one only with force): another command's report
     # written meanwhile is refused, never mixed with this one
     with output_folder(
-        target, REPORT_OWNED, option=option, marker=is_report, force=force, command="designer pareto"
+        target, REPORT_OWNED, option=option, force=force, command="designer pareto"
     ) as stage:
         _write_all(stage, data, t0, real)
     return target
