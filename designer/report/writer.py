@@ -221,8 +221,6 @@ def write_report(data, out_dir=None, *, force: bool = False, option: str = "--ou
     # check_target decided before computing; the commit checks again under the folder's lock, with the same rule
     # (a report of this tool, an empty folder, or a foreign one only with force): another command's report
     # written meanwhile is refused, never mixed with this one
-    with output_folder(
-        target, REPORT_OWNED, option=option, force=force, command="designer pareto"
-    ) as stage:
+    with output_folder(target, REPORT_OWNED, option=option, force=force, command="designer pareto") as stage:
         _write_all(stage, data, t0, real)
     return target
