@@ -10,8 +10,10 @@ checked after every solver call (:func:`check_interrupt`).
 from __future__ import annotations
 
 import errno
+import logging
 import re
 import signal
+import sys
 import threading
 
 
@@ -204,10 +206,26 @@ def check_interrupt() -> None:
         raise Terminated if _SIGNAL == signal.SIGTERM else KeyboardInterrupt
 
 
+def _silent(*_args) -> None:
+    """A hook that prints nothing (an unraisable exception or a thread's, after a signal)."""
+
+
+def quiet_after_signal() -> None:
+    """Once SIGINT or SIGTERM arrived the command prints one line, "interrupted", and nothing else: every logger
+    is silenced (Dask's ``distributed.*``, optuna's, asyncio's "Task exception was never retrieved"), and so are
+    the exceptions of threads and the "Exception ignored in ..." of shutting-down libraries (Dask's atexit
+    ``close_clusters``).  :class:`sigint_handler` restores them when its block ends (a caller in the same
+    process goes on); the command line then ends the process at once (:func:`designer.entry.main`)."""
+    logging.disable(logging.CRITICAL)
+    sys.unraisablehook = _silent
+    threading.excepthook = _silent
+
+
 def _on_signal(signum, frame):  # the flag survives a KeyboardInterrupt swallowed by a C extension
     global _INTERRUPTED, _SIGNAL
     _INTERRUPTED = True
     _SIGNAL = signum
+    quiet_after_signal()
     raise Terminated if signum == signal.SIGTERM else KeyboardInterrupt
 
 
@@ -228,6 +246,7 @@ class sigint_handler:
 
         global _INTERRUPTED, _SIGNAL
         _INTERRUPTED, _SIGNAL = False, 0
+        self._quiet = (logging.root.manager.disable, sys.unraisablehook, threading.excepthook)
         self._previous: dict = {}
         if threading.current_thread() is threading.main_thread():
             for signum in self.SIGNALS:
@@ -239,6 +258,9 @@ class sigint_handler:
         global _INTERRUPTED, _SIGNAL
         for signum, previous in self._previous.items():
             signal.signal(signum, previous)
+        if _INTERRUPTED:  # the loggers and hooks as they were before the signal (quiet_after_signal)
+            logging.disable(self._quiet[0])
+            sys.unraisablehook, threading.excepthook = self._quiet[1], self._quiet[2]
         _INTERRUPTED, _SIGNAL = False, 0
         return False
 

@@ -52,8 +52,35 @@ def _command() -> str:
 
 def eprint(*args) -> None:
     """Print to stderr (progress and notes that must not pollute --json output), fitted to the terminal's width
-    (:func:`designer.cli._terminal.fit`)."""
+    (:func:`designer.cli._terminal.fit`); a progress line left open (:func:`progress_line`) is ended first."""
+    end_progress_line()
     print(fit(" ".join(str(a) for a in args)), file=sys.stderr)
+
+
+_PROGRESS = {"open": False}
+"""Whether stderr's last line is a progress line written with ``\r`` and not yet ended."""
+
+
+def progress_line(text: str) -> None:
+    """Write ``text`` over the current line of stderr (``\r``, no newline), at a terminal only: a counter that
+    updates in place.  The next message (:func:`eprint`, an error, "interrupted") starts on a line of its own."""
+    try:
+        if not sys.stderr.isatty():  # a log file or a pipe: a counter rewritten in place is noise there
+            return
+    except (AttributeError, ValueError):
+        return
+    print(f"\r{text}", end="", file=sys.stderr, flush=True)
+    _PROGRESS["open"] = True
+
+
+def end_progress_line() -> None:
+    """End a progress line left open by :func:`progress_line` (a newline), so the next message is one line."""
+    if _PROGRESS["open"]:
+        _PROGRESS["open"] = False
+        try:
+            print(file=sys.stderr, flush=True)
+        except (OSError, ValueError):  # stderr closed: nothing to end
+            pass
 
 
 def is_stdout(path) -> bool:
