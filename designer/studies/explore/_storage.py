@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 
-from designer.errors import SECRET_KEYS, InputError, StorageError, mask_secrets
+from designer.errors import SECRET_KEYS, InputError, OutputError, StorageError, mask_secrets
 from designer.output import FileKind, check_file, output_folder
 from designer.textfiles import not_a_file
 import importlib.util
@@ -290,12 +290,43 @@ SQLITE = FileKind("an SQLite database of optuna's schema", _optuna_sqlite)
 
 
 def check_storage_file(spec: StorageSpec) -> None:
-    """OutputError (exit 7) unless the file of a journal or SQLite storage is new, empty or optuna's own
-    (:func:`designer.output.check_file`): a user's notes.log or database is never written into."""
+    """StorageError (exit 6, the code of every storage problem, docs/commands.md) unless the file of a journal or
+    SQLite storage can be written and is new, empty or optuna's own (:func:`designer.output.check_file`'s rule
+    and words): a user's notes.log or database is never written into, a read-only folder, a loop of links or
+    a name too long is named as such."""
+    try:
+        if spec.kind == "journal":
+            check_file(spec.url, "--storage", example="study.log", kind=JOURNAL)
+        elif storage_file(spec) is not None:
+            check_file(storage_file(spec), "--storage", example="study.db", kind=SQLITE)
+    except OutputError as exc:
+        raise StorageError(str(exc)) from None
+
+
+def storage_file(spec: StorageSpec) -> Path | None:
+    """The file of a journal or SQLite storage (None for memory and a database server)."""
     if spec.kind == "journal":
-        check_file(spec.url, "--storage", example="study.log", kind=JOURNAL)
-    elif spec.url is not None and spec.url.startswith("sqlite:///") and len(spec.url) > len("sqlite:///"):
-        check_file(spec.url[len("sqlite:///") :], "--storage", example="study.db", kind=SQLITE)
+        return Path(spec.url)
+    if spec.url is not None and spec.url.startswith("sqlite:///") and len(spec.url) > len("sqlite:///"):
+        return Path(spec.url[len("sqlite:///") :].split("?", 1)[0])
+    return None
+
+
+@contextlib.contextmanager
+def removed_if_failed(spec: StorageSpec):
+    """Context manager: a storage file this run creates is removed again if the run fails while it is still
+    empty (a full disk: optuna made the file and could not write a byte); nothing half-written stays behind.
+    A file that existed before, or holds anything, is left as it is (a study to resume)."""
+    path = storage_file(spec)
+    new = path is not None and not os.path.lexists(path)
+    try:
+        yield
+    except BaseException:
+        if new and path is not None and path.is_file() and path.stat().st_size == 0:
+            for leftover in (path, Path(f"{path}-journal"), Path(f"{path}.lock")):
+                with contextlib.suppress(OSError):
+                    leftover.unlink()
+        raise
 
 
 def open_storage(spec: StorageSpec, break_lock: bool = False):
@@ -314,7 +345,7 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
         path = Path(spec.url)
         if not path.parent.is_dir():
             raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
-        check_storage_file(spec)  # a folder, or a file that is not optuna's journal: OutputError, exit 7
+        check_storage_file(spec)  # a folder, or a file that is not optuna's journal: exit 6
         other = not_a_file(path)  # the readers' rule: a device (/dev/stdout) or a FIFO is not a journal
         if other is not None:
             raise StorageError(f"storage {spec.shown}: is {other}, expected a journal file")
