@@ -9,7 +9,9 @@ import contextlib
 import json
 import os
 import re
+import shutil
 import sqlite3
+import tempfile
 import time
 import warnings
 from dataclasses import dataclass
@@ -258,9 +260,10 @@ OPTUNA_TABLES = frozenset({"studies", "trials", "version_info"})
 def _optuna_sqlite(path: Path) -> bool:
     """True if ``path`` is an SQLite database of optuna's schema (or one without any table yet).
 
-    Read without writing anything: read-only first; a database left by a process killed in a transaction (a hot
-    ``-journal`` beside it, which a read-only reader may not roll back) or locked by a live writer is read as
-    the file stands (``immutable=1``: its schema is written once, when optuna creates the study's tables).
+    Read without changing anything: read-only first.  A database left by a process killed in a write
+    transaction (explore's worker under kill -9) has a hot ``-journal`` beside it that a read-only reader may
+    not roll back ("attempt to write a readonly database"): it is copied with its journal into a temporary
+    folder and read there, rolled back as SQLite itself will roll it back when the study is opened.
     """
     try:
         with open(path, "rb") as fh:
@@ -268,18 +271,31 @@ def _optuna_sqlite(path: Path) -> bool:
                 return False
     except OSError:
         return False
-    uri = Path(os.path.abspath(path)).as_uri()
-    for mode in ("mode=ro", "mode=ro&immutable=1"):
-        try:
-            con = sqlite3.connect(f"{uri}?{mode}", uri=True)
+    tables = _sqlite_tables(Path(os.path.abspath(path)).as_uri() + "?mode=ro")
+    if tables is None and any(os.path.exists(f"{path}{s}") for s in ("-journal", "-wal")):
+        with tempfile.TemporaryDirectory(prefix="designer-sqlite-") as tmp:
+            copy = Path(tmp) / "study.db"
             try:
-                tables = {row[0] for row in con.execute("select name from sqlite_master where type = 'table'")}
-            finally:
-                con.close()
-        except sqlite3.Error:
-            continue
-        return not tables or OPTUNA_TABLES <= tables
-    return False
+                shutil.copyfile(path, copy)
+                for suffix in ("-journal", "-wal"):
+                    if os.path.exists(f"{path}{suffix}"):
+                        shutil.copyfile(f"{path}{suffix}", f"{copy}{suffix}")
+            except OSError:
+                return False
+            tables = _sqlite_tables(str(copy))
+    return tables is not None and (not tables or OPTUNA_TABLES <= tables)
+
+
+def _sqlite_tables(uri: str) -> set[str] | None:
+    """The table names of the SQLite database at ``uri`` (a ``file:`` URI or a path), None if it cannot be read."""
+    try:
+        con = sqlite3.connect(uri, uri=uri.startswith("file:"))
+        try:
+            return {row[0] for row in con.execute("select name from sqlite_master where type = 'table'")}
+        finally:
+            con.close()
+    except sqlite3.Error:
+        return None
 
 
 JOURNAL = FileKind("an optuna journal (JSON lines written by designer explore)", _optuna_journal)
