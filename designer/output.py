@@ -4,16 +4,26 @@ Every command that writes goes through this module (``pareto``, ``robust``, ``fl
 and ``--plot``, ``calibrate --report/--plot/--snippet/examples``, ``explore --out`` and ``--storage``, the
 studio's "Save problem" and "Write report", :meth:`Front.to_csv <designer.studies.front.Front.to_csv>`):
 
-- :func:`check_folder` and :func:`check_file`, called before any computing: a regular file, a path under
-  one, a link to nothing, a place where nothing can be created, the filesystem root or the home folder as an
-  output folder, a folder holding files of the user's that the command would replace, or an existing file
-  that is not one of the tool's own of the same kind (:class:`FileKind`: a journal optuna wrote, a snippet
-  with the header line the tool writes), is an :class:`~designer.errors.OutputError` (exit 7).
+- Ownership is proved by content, in one place: every folder the tool writes files into gets a manifest
+  (:data:`MANIFEST`, ``.designer-manifest.json``) holding each file's sha256 and the command that wrote it,
+  updated in the same commit as the files.  A file (or a folder such as ``figures``) is the tool's to replace
+  only while the manifest holds every file of it with the digest of its present bytes, written by the same
+  command (:func:`is_owned`); a file the user edited, a file put into ``figures/``, another command's report,
+  a file of a release before manifests are the user's (:func:`foreign`).  Files that prove themselves by their
+  content are the tool's too: a snippet or a saved problem whose first line carries the digest of the rest
+  (:func:`signed_kind`), optuna's journal or SQLite study (``FileKind.recognise``).
+- :func:`check_folder` and :func:`check_file`, called before any computing: a regular file, a device or a
+  pipe as a folder, a path under one, a link to nothing, a loop of links, a name too long, a place where
+  nothing can be created, the filesystem root or the home folder as an output folder, a folder holding files
+  of the user's that the command would replace, or an existing file not proved the tool's, is an
+  :class:`~designer.errors.OutputError` (exit 7).
 - :func:`output_folder`: the command writes its files into a temporary folder inside the target; once they
-  are complete they are committed (below).  Nothing else in the folder is removed or moved; a link to a folder
-  is followed; the folder itself (its mode, its other files) is left as it was.
+  are complete they are committed (below), with the folder's manifest.  Nothing else in the folder is removed
+  or moved; a link to a folder is followed; the folder itself (its mode, its other files) is left as it was.
 - :func:`write_file`: one file replaced atomically (a temporary file beside it, renamed over it), its mode
-  kept, and only if it is new, empty, or of the same kind and written by the tool.
+  kept, its digest recorded in its folder's manifest, and only if it is new, empty, or proved the tool's; a
+  character device or a pipe (``/dev/stdout``) is written in place; ``FileKind.new_only`` (``init``) never
+  writes over anything.
 - :func:`write_error`: an OSError while writing as one line naming the path ("no space left on device").
 
 How a report of several files is committed: a write-ahead record
@@ -34,7 +44,10 @@ the commit is a write-ahead record in the folder, under an exclusive lock of the
 Every command that touches the folder (:func:`check_folder` before computing, the commit itself, a single
 file written there) first takes the lock and *recovers* (:func:`recover`): a ``commit`` record left by a
 process killed before the commit point is rolled back (each previous entry put back, each new one removed), a
-``done`` record is rolled forward (the entries kept aside removed).  A kill -9 at any instant therefore leaves,
+``done`` record is rolled forward (the entries kept aside removed).  A record is acted on only when its
+temporary folder is there and no live run holds it (a record copied with a report or planted in a shared
+folder touches nothing), and an entry is removed or replaced only when it has the digest the record says it
+installed.  A kill -9 at any instant therefore leaves,
 after the next run, the whole previous report or the whole new one, byte for byte.  A reader that does not
 take the lock (a browser) can meet the few milliseconds of step 2; every command of this tool cannot.
 
@@ -44,7 +57,7 @@ locked, found under the folder's lock, belongs to no live run and is removed.  O
 :data:`TEMP_PREFIX` are ever removed; nothing of the user's.
 
 Ownership is checked twice: before computing (a clear refusal before minutes of work) and again under the
-lock of the commit, with the same rule: another command that wrote the folder meanwhile is seen.
+lock of the commit, with the same rule (the manifest): another command that wrote the folder meanwhile is seen.
 
 Nothing here computes; the commands decide what to write.
 """

@@ -57,9 +57,9 @@ def register(sub) -> None:
     p.add_argument(
         "--force",
         action="store_true",
-        help="write the report into the --out folder even if it is not "
-        "a report of this tool (only the report's own files are written; "
-        "every other file there is left as it is)",
+        help="write the report's files into the --out folder even over files of those names that its "
+        "manifest does not prove the tool's (yours, edited, or of an older release); every other file "
+        "there is left as it is",
     )
     p.set_defaults(func=run)
 

@@ -198,9 +198,9 @@ def write_report(data, out_dir=None, *, force: bool = False, option: str = "--ou
     out_dir : str | Path, optional
         The report folder itself; default ``results/<problem name>``.
     force : bool
-        Write into ``out_dir`` even if it is a folder that is not a report of this tool
-        (by default such a folder is refused with :class:`~designer.errors.InputError`);
-        only the report's own names (:data:`REPORT_OWNED`) are replaced there.
+        Write the report's own names (:data:`REPORT_OWNED`) into ``out_dir`` even over files of those
+        names that its manifest does not prove the tool's, unedited (by default they are refused with
+        :class:`~designer.errors.OutputError`, exit 7); every other file there is left as it is.
     option : str
         How messages name the folder (the command-line option).
 
