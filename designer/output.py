@@ -128,14 +128,6 @@ class FileKind:
     new_only: bool = False
 
 
-def _head(path: Path, size: int = 4096) -> bytes:
-    try:
-        with open(path, "rb") as fh:
-            return fh.read(size)
-    except OSError:
-        return b""
-
-
 _SIGNATURE = re.compile(r"^# written by (?P<writer>[^\n]*?) \(sha256 (?P<digest>[0-9a-f]{16})\)[^\n]*\n")
 
 

@@ -333,11 +333,34 @@ def fleet_csv(tmp_path_factory) -> str:
     return str(folder / "fleet.csv")
 
 
-@pytest.mark.parametrize("name", list(WRITERS))
-def test_every_writer_against_every_kind_of_path(name, tmp_path, capsys, monkeypatch, fleet_csv):
-    """One writer through every kind of path (:data:`KINDS`): its exit code is :data:`EXPECTED`'s, a refusal is
-    one line on stderr and changes no file, a success writes the target, nothing of the user's changes in any
-    cell (bytes and mtimes), and no temporary entry is left."""
+def _cell(go: Callable[[Path], int], writer: Writer, template: Path, kind: str, work: Path, expected: int, capsys):
+    """What is wrong with one cell (empty: nothing): the writer ``go`` run on the path of ``kind`` made in
+    ``work``."""
+    work.mkdir()
+    with contextlib.ExitStack() as stack:
+        target, users = _make(kind, writer, template, work, stack)
+        before_all = _files(work)
+        before_users = {str(p): (p.read_bytes(), p.stat().st_mtime_ns) for p in users}
+        capsys.readouterr()
+        code = go(target)
+        err = capsys.readouterr().err
+        problems = []
+        if code != expected:
+            problems.append(f"exit {code}, expected {expected}: {err.strip()[:200]}")
+        if code != 0 and (err.count("\n") != 1 or "internal error" in err):
+            problems.append(f"not one line: {err!r}")
+        if code != 0 and _files(work) != before_all:
+            problems.append("a refusal changed a file")
+        if {str(p): (p.read_bytes(), p.stat().st_mtime_ns) for p in users if p.exists()} != before_users:
+            problems.append("a file of the user's changed or went")
+        if code == 0 and target != Path("/dev/null") and not os.path.exists(target):
+            problems.append("nothing written")
+        if _leftovers(work):
+            problems.append(f"leftovers {_leftovers(work)}")
+    return problems
+
+
+def _runner(name: str, fleet_csv: str, monkeypatch) -> Callable[[Path], int]:
     writer = WRITERS[name]
     if name == "simulate --report":
         _cheap_simulation(monkeypatch)
@@ -347,36 +370,47 @@ def test_every_writer_against_every_kind_of_path(name, tmp_path, capsys, monkeyp
             return main(["fleet", fleet_csv, "--problem", INVACARE, "--no-monte-carlo", "--out", str(target)])
         return writer.run(target)
 
+    return go
+
+
+@pytest.mark.parametrize("name", list(WRITERS))
+def test_every_writer_against_every_kind_of_path(name, tmp_path, capsys, monkeypatch, fleet_csv):
+    """One writer through every kind of path (:data:`KINDS`): its exit code is :data:`EXPECTED`'s, a refusal is
+    one line on stderr and changes no file, a success writes the target, nothing of the user's changes in any
+    cell (bytes and mtimes), and no temporary entry is left."""
+    writer = WRITERS[name]
+    go = _runner(name, fleet_csv, monkeypatch)
     template = tmp_path / "template"
     template.mkdir()
     assert go(template / writer.target) == 0, capsys.readouterr().err
     failures = []
     for kind in KINDS:
         expected = EXPECTED[name][kind]
-        if expected is None:
-            continue
-        work = tmp_path / kind.replace(" ", "-").replace("'", "")
-        work.mkdir()
-        with contextlib.ExitStack() as stack:
-            target, users = _make(kind, writer, template, work, stack)
-            before_all = _files(work)
-            before_users = {str(p): (p.read_bytes(), p.stat().st_mtime_ns) for p in users}
-            capsys.readouterr()
-            code = go(target)
-            err = capsys.readouterr().err
-            problems = []
-            if code != expected:
-                problems.append(f"exit {code}, expected {expected}: {err.strip()[:200]}")
-            if code != 0 and (err.count("\n") != 1 or "internal error" in err):
-                problems.append(f"not one line: {err!r}")
-            if code != 0 and _files(work) != before_all:
-                problems.append("a refusal changed a file")
-            if {str(p): (p.read_bytes(), p.stat().st_mtime_ns) for p in users} != before_users:
-                problems.append("a file of the user's changed")
-            if code == 0 and target != Path("/dev/null") and not os.path.exists(target):
-                problems.append("nothing written")
-            if _leftovers(work):
-                problems.append(f"leftovers {_leftovers(work)}")
+        if expected is not None:
+            work = tmp_path / kind.replace(" ", "-").replace("'", "")
+            problems = _cell(go, writer, template, kind, work, expected, capsys)
             if problems:
                 failures.append((kind, problems))
     assert failures == []
+
+
+def test_the_matrix_catches_ownership_by_name_and_a_trusted_record(tmp_path, capsys, monkeypatch, fleet_csv):
+    """Planted faults, the rules of the last release: a folder counted as the tool's by the names in it, and a
+    commit record acted on without its temporary folder.  The matrix's cells catch both: calibrate --report
+    into the user's folder writes over calibration.json and figures/ (exit 0, the user's files changed), and
+    a planted record beside fleet --example --out deletes the user's notes.txt."""
+    from designer import output
+
+    monkeypatch.setattr(output, "is_owned", lambda folder, name, manifest=None, by=None: True)
+    monkeypatch.setattr(output, "_stage_of", lambda folder, record: folder / record["stage"])
+    caught = {}
+    for name, kind in (("calibrate --report", "user's folder"), ("fleet --example --out", "planted record")):
+        writer = WRITERS[name]
+        go = _runner(name, fleet_csv, monkeypatch)
+        template = tmp_path / f"template-{writer.target}"
+        template.mkdir()
+        assert go(template / writer.target) == 0
+        work = tmp_path / name.replace(" ", "-")
+        caught[name] = _cell(go, writer, template, kind, work, EXPECTED[name][kind], capsys)
+    assert any("user's changed" in p for p in caught["calibrate --report"]), caught
+    assert any("user's changed or went" in p for p in caught["fleet --example --out"]), caught
