@@ -212,20 +212,42 @@ def tree_digests(path: Path, prefix: str = "") -> dict[str, str | None]:
     return out
 
 
-def read_manifest(folder: Path) -> dict[str, dict]:
-    """The entries of ``folder``'s manifest (name -> ``{"sha256": ..., "by": ...}``); empty without one.
+RUN_MANIFEST = ".designer-manifest-run.json"
+"""The second manifest, of the files that hold the run's own date and timings (:data:`VOLATILE`): their digests
+change with every run, so they are kept apart and the first manifest stays byte-identical across reruns (a
+committed report stays clean; the repository ignores run.json and this file)."""
 
-    A manifest that is not a regular file, not JSON of :data:`MANIFEST_SCHEMA`, or a link, proves nothing."""
-    path = Path(folder) / MANIFEST
-    if path.is_symlink() or not path.is_file():
+VOLATILE = frozenset({"run.json"})
+"""Names whose digests go to :data:`RUN_MANIFEST` (a Pareto report's run.json: the date, seconds, versions)."""
+
+
+def _read_one(path: Path) -> dict[str, dict] | None:
+    """The entries of one manifest file: empty when there is none, None when a file of that name is not a
+    manifest (not a regular file, a link, not JSON of :data:`MANIFEST_SCHEMA`): the user's, proving nothing."""
+    if not os.path.lexists(path):
         return {}
+    if path.is_symlink() or not path.is_file():
+        return None
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, ValueError):
-        return {}
+        return None
     if not isinstance(data, dict) or data.get("schema") != MANIFEST_SCHEMA or not isinstance(data.get("files"), dict):
-        return {}
+        return None
     return {k: v for k, v in data["files"].items() if isinstance(v, dict) and isinstance(v.get("sha256"), str)}
+
+
+def read_manifest(folder: Path) -> dict[str, dict]:
+    """The entries of ``folder``'s manifests (:data:`MANIFEST` and :data:`RUN_MANIFEST`; name ->
+    ``{"sha256": ..., "by": ...}``); empty without one.  A file of a manifest's name that is not one proves
+    nothing."""
+    return {**(_read_one(Path(folder) / MANIFEST) or {}), **(_read_one(Path(folder) / RUN_MANIFEST) or {})}
+
+
+def _split(entries: dict[str, dict]) -> tuple[dict[str, dict], dict[str, dict]]:
+    """``entries`` as (those of :data:`MANIFEST`, those of :data:`RUN_MANIFEST`)."""
+    run = {k: v for k, v in entries.items() if k.split("/", 1)[0] in VOLATILE}
+    return {k: v for k, v in entries.items() if k not in run}, run
 
 
 def manifest_text(entries: dict[str, dict]) -> str:
@@ -409,18 +431,8 @@ def foreign(folder: Path, names: Iterable[str], same_as: Path | None = None, by:
         for n in clashes(folder, names)
         if not is_owned(folder, n, manifest, by) and not (same_as is not None and _same_file(same_as / n, folder / n))
     ]
-    if _lexists(folder / MANIFEST) and not manifest and not _empty_manifest(folder / MANIFEST):
-        out.append(MANIFEST)
+    out += [m for m in (MANIFEST, RUN_MANIFEST) if _read_one(folder / m) is None]
     return out
-
-
-def _empty_manifest(path: Path) -> bool:
-    """True if ``path`` is a valid manifest without entries (the tool's, proving nothing)."""
-    try:
-        data = json.loads(path.read_text(encoding="utf-8")) if path.is_file() and not path.is_symlink() else None
-    except (OSError, UnicodeDecodeError, ValueError):
-        return False
-    return isinstance(data, dict) and data.get("schema") == MANIFEST_SCHEMA and data.get("files") == {}
 
 
 def _refused_place(real: Path, path: Path, option: str) -> None:
@@ -861,7 +873,7 @@ def _commit(stage: Path, real: Path, owned: set[str], force: bool, option: str, 
     updated in the same commit, removing the owned names of an older run that this one did not write again
     (only those the manifest proves the tool's); all or nothing.  Under the folder's lock, with signals held
     back; ownership is checked again under that lock."""
-    names = sorted(n for n in os.listdir(stage) if n != MANIFEST)
+    names = sorted(n for n in os.listdir(stage) if n not in (MANIFEST, RUN_MANIFEST))
     with _locked(real) as held, signals_held():
         if held:
             _tidy(real)
@@ -870,8 +882,12 @@ def _commit(stage: Path, real: Path, owned: set[str], force: bool, option: str, 
         if clash and not force:  # something of the user's, or edited, or another command's report meanwhile
             _refuse_clash(real, clash, option, command)
         stale = [n for n in sorted(owned - set(names)) if _lexists(real / n) and is_owned(real, n, manifest, command)]
-        (stage / MANIFEST).write_text(manifest_text(_updated(manifest, stage, names, stale, command)), "utf-8")
+        stable, run = _split(_updated(manifest, stage, names, stale, command))
+        (stage / MANIFEST).write_text(manifest_text(stable), "utf-8")
         names.append(MANIFEST)  # installed last: the files and their proof change together
+        if run or _lexists(real / RUN_MANIFEST):
+            (stage / RUN_MANIFEST).write_text(manifest_text(run), "utf-8")
+            names.append(RUN_MANIFEST)
         _sync_tree(stage)
         tag = uuid.uuid4().hex[:8]
         record = {
@@ -1057,11 +1073,12 @@ def _record(folder: Path, name: str, by: str) -> None:
     """Record ``folder/name``'s digest in the folder's manifest (written whole: a temporary file renamed over
     it), the folder's lock held.  A file of that name that is not a manifest (the user's) is left as it is: the
     file is then simply not proved the tool's next time."""
-    path = folder / MANIFEST
-    manifest = read_manifest(folder)
-    if _lexists(path) and not manifest and not _empty_manifest(path):
+    path = folder / (RUN_MANIFEST if name in VOLATILE else MANIFEST)
+    entries = _read_one(path)
+    if entries is None:
         return
-    text = manifest_text(_updated(manifest, folder, [name], [], by))
+    stable, run = _split(_updated(entries, folder, [name], [], by))
+    text = manifest_text(run if name in VOLATILE else stable)
     tmp = folder / f"{TEMP_PREFIX}manifest-{uuid.uuid4().hex[:8]}"
     try:
         with open(tmp, "w", encoding="utf-8") as fh:
@@ -1077,6 +1094,7 @@ def _record(folder: Path, name: str, by: str) -> None:
 __all__ = [
     "MANIFEST",
     "PLOT",
+    "RUN_MANIFEST",
     "SOFTWARE",
     "TEMP_PREFIX",
     "FileKind",

@@ -247,11 +247,13 @@ def test_failed_write_leaves_nothing(invacare, tmp_path, monkeypatch):
     old = tmp_path / "old"
     old.mkdir()
     (old / "index.html").write_text("previous report")
-    (old / "front.json").write_text('{"problem": "old", "points": []}')  # a previous report of this tool
+    (old / "front.json").write_text('{"problem": "old", "points": []}')
+    _prove_ours(old)  # a previous report of this tool: its manifest proves it
     with pytest.raises(RuntimeError):
         write_report(data, old)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["old"]
     assert (old / "index.html").read_text() == "previous report"
+    assert sorted(p.name for p in old.iterdir()) == [MANIFEST, "front.json", "index.html"]
 
 
 def test_cli_exit_1_when_a_front_check_fails(tmp_path, monkeypatch, capsys):
@@ -310,7 +312,7 @@ def _prove_ours(folder) -> None:
 
 def _replace(stage, target) -> None:
     """Commit the report in ``stage`` into ``target`` as write_report does (designer.output.output_folder)."""
-    with output_folder(target, REPORT_OWNED) as tmp:
+    with output_folder(target, REPORT_OWNED, command="designer pareto") as tmp:
         for entry in stage.iterdir():
             os.rename(entry, tmp / entry.name)
     stage.rmdir()
