@@ -25,7 +25,7 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
     problem : designer.problem.Problem
     points : number of front points (default the problem's)
     out : report folder (default ``results/<problem.name>``)
-    force : replace ``out`` even if it is not a report of this tool
+    force : write the report's files into ``out`` even over files of their names not proved the tool's
     cross_check : also run the GP/SLSQP cross-check of the weighted optimum
     progress : optional rich Progress to show the sweeps on
 

@@ -60,21 +60,37 @@ MAX_POPULATION = 10_000
 
 
 def run(args) -> int:
-    from designer.studies.explore import explore, parse_storage
-    from designer.studies.explore._runner import MAX_TRIALS, MAX_WORKERS
+    from designer.studies.explore import MAX_TRIALS, MAX_WORKERS, explore, parse_storage, removed_if_failed
 
     count_option(args.population, "--population", 2, MAX_POPULATION)
     count_option(args.seed, "--seed", 0, SEED_MAX)
     count_option(args.trials, "--trials", 1, MAX_TRIALS)  # named as the option (the API names its argument)
     count_option(args.workers, "--workers", 1, MAX_WORKERS)
-    parse_storage(args.storage)  # exit 6 for a malformed URL or an in-memory SQLite, before the problem is read
+    spec = parse_storage(args.storage)  # exit 6 for a malformed URL or an in-memory SQLite, before the problem is read
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / problem.name
     # before the study, not after it
-    check_output_folder(out, owned=EXPLORE_FILES, marker="explore.json", command="designer explore")
+    check_output_folder(out, owned=EXPLORE_FILES, command="designer explore")
     # after Ctrl-C, optuna's "Trial N failed ... KeyboardInterrupt" tracebacks are dropped: one line says it
     logging.getLogger("optuna.study._optimize").addFilter(_QUIET)
-    result = explore(
+    with removed_if_failed(spec):  # a storage file made by this run and left empty by a failure is removed
+        result = _explore(explore, problem, args)
+    csv_path, json_path = result.write(out)
+    for note in result.warnings:
+        eprint(f"designer: note: {note}")
+    if args.json:
+        print_json(result.to_dict(), kind="explore.json")  # the record explore.json holds
+        return 0
+    _print(result, csv_path, json_path)
+    return 0
+
+
+_QUIET = QuietAfterInterrupt()
+
+
+def _explore(explore, problem, args):
+    """The study of the command's arguments (:func:`designer.studies.explore.explore`)."""
+    return explore(
         problem,
         trials=args.trials,
         seed=args.seed,
@@ -88,17 +104,6 @@ def run(args) -> int:
         compare=not args.no_compare,
         progress=not args.json,
     )
-    csv_path, json_path = result.write(out)
-    for note in result.warnings:
-        eprint(f"designer: note: {note}")
-    if args.json:
-        print_json(result.to_dict(), kind="explore.json")  # the record explore.json holds
-        return 0
-    _print(result, csv_path, json_path)
-    return 0
-
-
-_QUIET = QuietAfterInterrupt()
 
 
 def _print(result, csv_path, json_path) -> None:

@@ -56,27 +56,30 @@ def register(sub) -> None:
     p.add_argument(
         "--force",
         action="store_true",
-        help="write the report into the --out folder even if it is not "
-        "a report of this tool (only the report's own files are written; "
-        "every other file there is left as it is)",
+        help="write the report's files into the --out folder even over files of those names that its "
+        "manifest does not prove the tool's (yours, edited, or of an older release); every other file "
+        "there is left as it is",
     )
     p.set_defaults(func=run)
 
 
 def _progress():
-    """A transient rich progress bar on stderr, or None without rich."""
+    """A transient rich progress bar on stderr, or None without rich or when stderr is not a terminal."""
     try:
         from rich.console import Console
 
         from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
     except ImportError:  # pragma: no cover - rich is a dependency
         return None
+    console = Console(stderr=True)
+    if not console.is_terminal:  # a log file or a pipe: no bar (an interruption leaves one line there)
+        return None
     progress = Progress(
         TextColumn("{task.description}"),
         BarColumn(),
         TaskProgressColumn(),
         TimeElapsedColumn(),
-        console=Console(stderr=True),
+        console=console,
         transient=True,
     )
     return progress

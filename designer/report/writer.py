@@ -33,7 +33,7 @@ from designer.model import Design
 from designer.reportdata import ReportData
 from designer.output import output_folder
 from designer.report.agreement import keep_agreeing
-from designer.report.files import REPORT_OWNED, check_target, is_report
+from designer.report.files import REPORT_OWNED, check_target
 import designer.report.figures as _figures
 from designer.report.resolution import design_value, multiplier, on_scale, resolved, split_run
 from designer.report.context import build_context
@@ -198,9 +198,9 @@ def write_report(data, out_dir=None, *, force: bool = False, option: str = "--ou
     out_dir : str | Path, optional
         The report folder itself; default ``results/<problem name>``.
     force : bool
-        Write into ``out_dir`` even if it is a folder that is not a report of this tool
-        (by default such a folder is refused with :class:`~designer.errors.InputError`);
-        only the report's own names (:data:`REPORT_OWNED`) are replaced there.
+        Write the report's own names (:data:`REPORT_OWNED`) into ``out_dir`` even over files of those
+        names that its manifest does not prove the tool's, unedited (by default they are refused with
+        :class:`~designer.errors.OutputError`, exit 7); every other file there is left as it is.
     option : str
         How messages name the folder (the command-line option).
 
@@ -221,8 +221,6 @@ def write_report(data, out_dir=None, *, force: bool = False, option: str = "--ou
     # check_target decided before computing; the commit checks again under the folder's lock, with the same rule
     # (a report of this tool, an empty folder, or a foreign one only with force): another command's report
     # written meanwhile is refused, never mixed with this one
-    with output_folder(
-        target, REPORT_OWNED, option=option, marker=is_report, force=force, command="designer pareto"
-    ) as stage:
+    with output_folder(target, REPORT_OWNED, option=option, force=force, command="designer pareto") as stage:
         _write_all(stage, data, t0, real)
     return target

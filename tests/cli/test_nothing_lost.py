@@ -82,32 +82,53 @@ def _journal_of_optuna(path: Path) -> None:
     )
 
 
+_KILLED_IN_A_TRANSACTION = """
+import os, signal, sqlite3, sys
+con = sqlite3.connect(sys.argv[1])
+con.execute("PRAGMA cache_size = 1")  # pages spill to the file: the -journal beside it is hot when we die
+con.execute("begin immediate")
+con.execute("create table designer_test_scratch (x)")
+for _ in range(5000):
+    con.execute("insert into designer_test_scratch values (?)", ("x" * 200,))
+os.kill(os.getpid(), signal.SIGKILL)
+"""
+
+
+def _sqlite_of_optuna_killed_in_a_write(path: Path) -> None:
+    """An optuna SQLite study (explore's), then a process killed with SIGKILL in the middle of a write
+    transaction on it (as explore's workers are by kill -9): a hot -journal beside it, which a read-only reader
+    may not roll back (the study was refused as foreign in one of two tries)."""
+    _journal_of_optuna(path)
+    proc = subprocess.run([sys.executable, "-c", _KILLED_IN_A_TRANSACTION, str(path)], capture_output=True)
+    assert proc.returncode == -signal.SIGKILL and Path(f"{path}-journal").stat().st_size > 0
+
+
 SINGLE_FILES = {
     # row: (argv with F for the file, how the file is made before the run, expected exit code)
     "explore --storage: one line without newline": (
         ["explore", INVACARE, "--trials", "4", "--no-compare", "--storage", "F.log"],
         lambda p: p.write_bytes(b"my notes about the chair"),
-        7,
+        6,
     ),
     "explore --storage: one line with newline": (
         ["explore", INVACARE, "--trials", "4", "--no-compare", "--storage", "F.log"],
         lambda p: p.write_bytes(b"my notes about the chair\n"),
-        7,
+        6,
     ),
     "explore --storage: JSON lines of another tool": (
         ["explore", INVACARE, "--trials", "4", "--no-compare", "--storage", "F.log"],
         lambda p: p.write_bytes(b'{"event": "start"}\n{"event": "stop"}\n'),
-        7,
+        6,
     ),
     "explore --storage: a text file named .db": (
         ["explore", INVACARE, "--trials", "4", "--no-compare", "--storage", "F.db"],
         lambda p: p.write_bytes(b"not a database\n"),
-        7,
+        6,
     ),
     "explore --storage: the user's SQLite database": (
         ["explore", INVACARE, "--trials", "4", "--no-compare", "--storage", "F.db"],
         _sqlite_with_table,
-        7,
+        6,
     ),
     "explore --storage: an empty file": (
         ["explore", INVACARE, "--trials", "4", "--no-compare", "--storage", "F.log"],
@@ -117,6 +138,11 @@ SINGLE_FILES = {
     "explore --storage: optuna's journal (resumed)": (
         ["explore", INVACARE, "--trials", "6", "--no-compare", "--storage", "F.log", "--resume"],
         _journal_of_optuna,
+        0,
+    ),
+    "explore --storage: optuna's SQLite after a kill -9 in a write (resumed)": (
+        ["explore", INVACARE, "--trials", "6", "--no-compare", "--storage", "F.db", "--resume"],
+        _sqlite_of_optuna_killed_in_a_write,
         0,
     ),
     "calibrate --snippet: the user's problem file": (
@@ -196,8 +222,10 @@ def test_a_file_the_tool_did_not_write_is_never_written(row, tmp_path, capsys):
         argv += ["--out", str(tmp_path / "explore-out")]
     assert main(argv) == code, capsys.readouterr().err
     err = capsys.readouterr().err
-    if code == 7:
-        assert err.count("\n") == 1 and f"{option} {path}: is a file this tool did not write" in err, err
+    if code in (6, 7):  # 6: a storage's refusal (docs/commands.md), 7: any other output's
+        edited = "edited" in row
+        why = "is a file you edited since this tool wrote it" if edited else "is a file this tool did not write"
+        assert err.count("\n") == 1 and f"{option} {path}: {why}" in err, err
         assert path.read_bytes() == before
     else:
         assert path.stat().st_size > 0 and (path.read_bytes() != before or path.stat().st_ino != inode)
@@ -220,12 +248,11 @@ def test_the_api_writers_follow_the_same_rule(tmp_path):
     first = ours.read_text()
     front.to_csv(ours)
     assert ours.read_text() == first and first.startswith("trail_in,diameter_in,groove_in,damping_N_m_per_rad,")
-    # a front CSV written before the columns named their units is the tool's too: a rerun replaces it
-    ours.write_text(
-        "trail,diameter,groove,damping,turning_effort,threshold_force,critical_speed\n0.05,0.15,0,1.3,8,100,3\n"
-    )
-    front.to_csv(ours)
-    assert ours.read_text() == first
+    # the user edits the tool's front CSV: it is the user's now, refused and kept
+    ours.write_text(first + "# my note\n")
+    with pytest.raises(OutputError, match="front.csv: is a file you edited since this tool wrote it"):
+        front.to_csv(ours)
+    assert ours.read_text() == first + "# my note\n"
 
 
 # --------------------------------------------------------------------------- folders: one rule for every command
@@ -241,7 +268,7 @@ def _fleet_csv(tmp: Path) -> str:
 
 FOLDER_COMMANDS = {
     # command: (argv with OUT, exit code for a foreign folder holding the names it writes)
-    "pareto": (["pareto", INVACARE, "--points", "3", "--out", "OUT"], 2),  # not a report: exit 2, names --force
+    "pareto": (["pareto", INVACARE, "--points", "3", "--out", "OUT"], 7),
     "robust": (["robust", INVACARE, "--points", "3", "--out", "OUT"], 7),
     "fleet": (["fleet", "FLEET", "--problem", INDOOR, "--no-monte-carlo", "--out", "OUT"], 7),
     "simulate --report": (["simulate", "--report", "OUT"], 7),
@@ -257,7 +284,7 @@ FILE_COMMANDS = {
     "calibrate --snippet": (["calibrate", "slip", str(EXAMPLES / "slip.csv"), "--snippet", "OUT"], 7),
     "simulate --plot": (["simulate", "--trail", "2in", "--speed", "1m/s", "--duration", "1", "--plot", "OUT"], 2),
     "fleet --example --out": (["fleet", "--example", "3", "--out", "OUT"], 7),
-    "explore --storage": (["explore", INVACARE, "--trials", "4", "--no-compare", "--storage", "journal://OUT"], 7),
+    "explore --storage": (["explore", INVACARE, "--trials", "4", "--no-compare", "--storage", "journal://OUT"], 6),
 }
 FOREIGN = {  # a user's folder holding names the command writes
     "pareto": ["index.html"],
@@ -302,8 +329,8 @@ def test_root_and_home_are_refused_by_every_command(command, place, tmp_path, ho
 
 @pytest.mark.parametrize("command", list(FOREIGN))
 def test_a_folder_with_the_users_files_is_refused_by_every_command(command, tmp_path, capsys):
-    """A folder of the user's holding files of the names the command writes: refused before computing (exit 7;
-    pareto: exit 2 naming --force), every file byte-identical, nothing temporary left."""
+    """A folder of the user's holding files of the names the command writes: refused before computing (exit 7,
+    pareto too), every file byte-identical, nothing temporary left."""
     folder = tmp_path / "mine"
     folder.mkdir()
     for name in FOREIGN[command]:
@@ -337,9 +364,9 @@ def hook(name):
         fh.write(name + "\\n")
 output._step_hook = hook
 if sys.argv[3] == "copy":  # the new report's files, committed as designer pareto commits them
-    from designer.report.files import REPORT_OWNED, is_report
+    from designer.report.files import REPORT_OWNED
     import shutil
-    with output.output_folder(target, REPORT_OWNED, marker=is_report, command="designer pareto") as stage:
+    with output.output_folder(target, REPORT_OWNED, command="designer pareto") as stage:
         for p in Path(sys.argv[4]).iterdir():
             (shutil.copytree if p.is_dir() else shutil.copy2)(p, stage / p.name)
     sys.exit(0)
@@ -412,8 +439,10 @@ def test_a_kill_at_each_step_of_the_commit_leaves_the_old_or_the_new_report(two_
         assert after == expected[which], (k, step)
         assert _leftovers(folder) == [], (k, step)
     assert expected["old"] != expected["new"]
-    for name in new.iterdir():  # the new report is the new one, byte for byte
-        assert expected["new"][name.name] == _tree(new)[name.name]
+    for name in new.iterdir():  # the new report is the new one, byte for byte (the manifest: the folder's own)
+        assert (
+            name.name in (output.MANIFEST, output.RUN_MANIFEST) or expected["new"][name.name] == _tree(new)[name.name]
+        )
     assert "run.json" in expected["old"] and "run.json" not in expected["new"] and "stale-figure-dir" in expected["new"]
     assert expected["new"]["notes.txt"] == expected["old"]["notes.txt"]
 
@@ -520,23 +549,21 @@ def test_the_studios_save_follows_the_same_rule(tmp_path):
     assert saved.read_text().startswith("# written by designer studio (sha256 ")
 
 
-def test_a_file_an_earlier_release_wrote_is_still_the_tools(tmp_path):
-    """A result file of the tool's own from before a key or a column was added (release 3's onset.json began
-    with "summary", the current one with its schema) is recognised as the tool's, so a rerun over an old results
-    folder replaces it; a JSON file of the user's with neither header is still refused."""
+def test_a_file_of_an_earlier_release_without_a_manifest_is_refused_with_the_way_on(tmp_path):
+    """A result file of the tool's own from before manifests (release 3's onset.json) proves nothing: it is
+    refused like a file of the user's (OutputError naming it and saying how to proceed) and kept byte-identical;
+    once removed the file is written, with its manifest entry, and the next run replaces it."""
     from designer.studies.dynamics._onset_study import ONSET_KINDS
 
     kind = ONSET_KINDS["onset.json"]
-    old = tmp_path / "old.json"
+    old = tmp_path / "onset.json"
     old.write_text('{\n  "summary": {\n    "single_tread_by_trail_inertia": {}\n  }\n}\n', encoding="utf-8")
-    new = tmp_path / "new.json"
-    new.write_text('{\n  "schema": "caster-designer/onset.json/1",\n  "summary": {}\n}\n', encoding="utf-8")
-    users = tmp_path / "users.json"
-    users.write_text('{\n  "summary": "my notes"\n}\n', encoding="utf-8")
-    assert kind.recognise(old) and kind.recognise(new)
-    assert not kind.recognise(users)
-    with pytest.raises(OutputError, match="users.json"):
-        output.write_file(users, "{}", "--report", "onset.json", kind=kind)
-    assert users.read_text(encoding="utf-8") == '{\n  "summary": "my notes"\n}\n'
+    before = old.read_bytes()
+    with pytest.raises(OutputError, match="onset.json: is a file this tool did not write.*remove it"):
+        output.write_file(old, "{}\n", "--report", "onset.json", kind=kind)
+    assert old.read_bytes() == before
+    old.unlink()
     output.write_file(old, "{}\n", "--report", "onset.json", kind=kind)
-    assert old.read_text(encoding="utf-8") == "{}\n"
+    output.write_file(old, "{ }\n", "--report", "onset.json", kind=kind)
+    assert old.read_text(encoding="utf-8") == "{ }\n"
+    assert output.read_manifest(tmp_path)["onset.json"]["sha256"] == hashlib.sha256(b"{ }\n").hexdigest()

@@ -99,6 +99,7 @@ from designer.studies.explore._storage import (
     redact_url,
     open_storage,
     parse_storage,
+    removed_if_failed,
 )
 
 __all__ = [
@@ -113,6 +114,7 @@ __all__ = [
     "MAX_WORKERS",
     "Operators",
     "redact_url",
+    "removed_if_failed",
     "RDB_SCHEMES",
     "RETRY_ATTR",
     "STREAM_STRIDE",

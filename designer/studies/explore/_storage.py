@@ -9,14 +9,16 @@ import contextlib
 import json
 import os
 import re
+import shutil
 import sqlite3
+import tempfile
 import time
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 
-from designer.errors import InputError, StorageError
+from designer.errors import SECRET_KEYS, InputError, OutputError, StorageError, mask_secrets
 from designer.output import FileKind, check_file, output_folder
 from designer.textfiles import not_a_file
 import importlib.util
@@ -116,28 +118,22 @@ def _postgres_driver(url: str) -> str:
     return url
 
 
-SECRET_QUERY_KEYS = r"(?:[A-Za-z0-9_]*(?:password|passwd|pwd|secret|token)|pass|sslkey|odbc_connect)"
-"""The query keys of a storage URL whose value is a secret, a regular expression matched case-insensitively:
-``?password=``, ``?sslpassword=``, pymysql's ``passwd``, ODBC's ``PWD``, any ``*_token`` or ``*secret``, and an
-ODBC connection string (``odbc_connect``, which carries its own ``PWD=``)."""
+SECRET_QUERY_KEYS = SECRET_KEYS
+"""The query keys of a storage URL whose value is a secret (:data:`designer.errors.SECRET_KEYS`)."""
 
 _SECRET_KEY = re.compile(f"^{SECRET_QUERY_KEYS}$", re.IGNORECASE)
 
-_USERINFO = re.compile(
-    r"^(?P<scheme>[A-Za-z][A-Za-z0-9+.-]*://)(?P<user>[^:/?#@]*)(?::[^/?#]*)?@(?=[^@/?#]*(?:[/?#]|$))"
-)
-"""The user information of a URL up to the last ``@`` before the host: ``user:secret@``, ``:secret@``, with
-``@`` inside a secret written raw."""
-
 
 def redact_url(url: str) -> str:
-    """``url`` with every password SQLAlchemy's URL accepts replaced by ``***``: the one function for every place a
-    storage URL is shown (explore.json, ``--json``, the terminal, error messages, logs).
+    """``url`` with every password replaced by ``***``: the one function for every place a storage URL is shown
+    (explore.json, ``--json``, the terminal, error messages, logs).
 
-    ``user:pw@``, an empty user (``:pw@``), a percent-encoded or raw-``@`` password, and the query's secret keys
-    (:data:`SECRET_QUERY_KEYS`: ``?password=``, ``?passwd=``, ...).  Parsed by SQLAlchemy
-    (``sqlalchemy.engine.make_url``, ``render_as_string(hide_password=True)``); a URL SQLAlchemy refuses has its
-    user information and query secrets masked all the same.  A URL without a secret is returned unchanged.
+    Every form SQLAlchemy's URL accepts (parsed by ``sqlalchemy.engine.make_url``,
+    ``render_as_string(hide_password=True)``, its query's secret keys :data:`SECRET_QUERY_KEYS` masked), then
+    :func:`designer.errors.mask_secrets` on the result: ``user:pw@`` with a raw ``@`` or ``:`` in it, an empty
+    user, and the strings that merely look like a URL (``caster:S3cretPW@db.example.com/studies`` without a
+    scheme, ``postgresql:/user:pw@...``, ``postgresql//user:pw@...``), libpq's ``host=... password=...`` and
+    ODBC's ``PWD=...;``.  A URL without a secret is returned unchanged.
     """
     text = str(url)
     try:
@@ -150,15 +146,7 @@ def redact_url(url: str) -> str:
             text = parsed.render_as_string(hide_password=True)
     except Exception:  # noqa: BLE001 - not a URL SQLAlchemy reads: the masks below still apply
         pass
-    masked = _USERINFO.sub(
-        lambda m: f"{m['scheme']}{m['user']}:***@" if ":" in m.group(0)[len(m["scheme"]) :] else m.group(0), text
-    )
-    return re.sub(
-        f"([?&;]{SECRET_QUERY_KEYS}=)[^&#]*",
-        r"\1***",
-        masked,
-        flags=re.IGNORECASE,
-    )
+    return mask_secrets(text)
 
 
 def scrub(text: str, url: str | None) -> str:
@@ -181,7 +169,7 @@ def scrub(text: str, url: str | None) -> str:
     for secret in secrets:
         if secret and len(str(secret)) >= 3:
             text = text.replace(str(secret), "***")
-    return text
+    return mask_secrets(text)
 
 
 def _one_line(exc: BaseException) -> str:
@@ -270,19 +258,44 @@ OPTUNA_TABLES = frozenset({"studies", "trials", "version_info"})
 
 
 def _optuna_sqlite(path: Path) -> bool:
-    """True if ``path`` is an SQLite database of optuna's schema (or one without any table yet)."""
+    """True if ``path`` is an SQLite database of optuna's schema (or one without any table yet).
+
+    Read without changing anything: read-only first.  A database left by a process killed in a write
+    transaction (explore's worker under kill -9) has a hot ``-journal`` beside it that a read-only reader may
+    not roll back ("attempt to write a readonly database"): it is copied with its journal into a temporary
+    folder and read there, rolled back as SQLite itself will roll it back when the study is opened.
+    """
     try:
         with open(path, "rb") as fh:
             if fh.read(16) != b"SQLite format 3\x00":
                 return False
-        con = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+    except OSError:
+        return False
+    tables = _sqlite_tables(Path(os.path.abspath(path)).as_uri() + "?mode=ro")
+    if tables is None and any(os.path.exists(f"{path}{s}") for s in ("-journal", "-wal")):
+        with tempfile.TemporaryDirectory(prefix="designer-sqlite-") as tmp:
+            copy = Path(tmp) / "study.db"
+            try:
+                shutil.copyfile(path, copy)
+                for suffix in ("-journal", "-wal"):
+                    if os.path.exists(f"{path}{suffix}"):
+                        shutil.copyfile(f"{path}{suffix}", f"{copy}{suffix}")
+            except OSError:
+                return False
+            tables = _sqlite_tables(str(copy))
+    return tables is not None and (not tables or OPTUNA_TABLES <= tables)
+
+
+def _sqlite_tables(uri: str) -> set[str] | None:
+    """The table names of the SQLite database at ``uri`` (a ``file:`` URI or a path), None if it cannot be read."""
+    try:
+        con = sqlite3.connect(uri, uri=uri.startswith("file:"))
         try:
-            tables = {row[0] for row in con.execute("select name from sqlite_master where type = 'table'")}
+            return {row[0] for row in con.execute("select name from sqlite_master where type = 'table'")}
         finally:
             con.close()
-    except (OSError, sqlite3.Error):
-        return False
-    return not tables or OPTUNA_TABLES <= tables
+    except sqlite3.Error:
+        return None
 
 
 JOURNAL = FileKind("an optuna journal (JSON lines written by designer explore)", _optuna_journal)
@@ -293,12 +306,43 @@ SQLITE = FileKind("an SQLite database of optuna's schema", _optuna_sqlite)
 
 
 def check_storage_file(spec: StorageSpec) -> None:
-    """OutputError (exit 7) unless the file of a journal or SQLite storage is new, empty or optuna's own
-    (:func:`designer.output.check_file`): a user's notes.log or database is never written into."""
+    """StorageError (exit 6, the code of every storage problem, docs/commands.md) unless the file of a journal or
+    SQLite storage can be written and is new, empty or optuna's own (:func:`designer.output.check_file`'s rule
+    and words): a user's notes.log or database is never written into, a read-only folder, a loop of links or
+    a name too long is named as such."""
+    try:
+        if spec.kind == "journal":
+            check_file(spec.url, "--storage", example="study.log", kind=JOURNAL)
+        elif storage_file(spec) is not None:
+            check_file(storage_file(spec), "--storage", example="study.db", kind=SQLITE)
+    except OutputError as exc:
+        raise StorageError(str(exc)) from None
+
+
+def storage_file(spec: StorageSpec) -> Path | None:
+    """The file of a journal or SQLite storage (None for memory and a database server)."""
     if spec.kind == "journal":
-        check_file(spec.url, "--storage", example="study.log", kind=JOURNAL)
-    elif spec.url is not None and spec.url.startswith("sqlite:///") and len(spec.url) > len("sqlite:///"):
-        check_file(spec.url[len("sqlite:///") :], "--storage", example="study.db", kind=SQLITE)
+        return Path(spec.url)
+    if spec.url is not None and spec.url.startswith("sqlite:///") and len(spec.url) > len("sqlite:///"):
+        return Path(spec.url[len("sqlite:///") :].split("?", 1)[0])
+    return None
+
+
+@contextlib.contextmanager
+def removed_if_failed(spec: StorageSpec):
+    """Context manager: a storage file this run creates is removed again if the run fails while it is still
+    empty (a full disk: optuna made the file and could not write a byte); nothing half-written stays behind.
+    A file that existed before, or holds anything, is left as it is (a study to resume)."""
+    path = storage_file(spec)
+    new = path is not None and not os.path.lexists(path)
+    try:
+        yield
+    except BaseException:
+        if new and path is not None and path.is_file() and path.stat().st_size == 0:
+            for leftover in (path, Path(f"{path}-journal"), Path(f"{path}.lock")):
+                with contextlib.suppress(OSError):
+                    leftover.unlink()
+        raise
 
 
 def open_storage(spec: StorageSpec, break_lock: bool = False):
@@ -317,7 +361,7 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
         path = Path(spec.url)
         if not path.parent.is_dir():
             raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
-        check_storage_file(spec)  # a folder, or a file that is not optuna's journal: OutputError, exit 7
+        check_storage_file(spec)  # a folder, or a file that is not optuna's journal: exit 6
         other = not_a_file(path)  # the readers' rule: a device (/dev/stdout) or a FIFO is not a journal
         if other is not None:
             raise StorageError(f"storage {spec.shown}: is {other}, expected a journal file")
@@ -377,7 +421,7 @@ def _atomic_write_many(files: dict, option: str = "--out") -> None:
     file is left behind."""
     (folder,) = {Path(p).parent for p in files}
     names = {Path(p).name for p in files}
-    with output_folder(folder, names, option=option, marker="explore.json", command="designer explore") as tmp:
+    with output_folder(folder, names, option=option, command="designer explore") as tmp:
         for path, text in files.items():
             with open(tmp / Path(path).name, "w", encoding="utf-8") as f:
                 f.write(text)

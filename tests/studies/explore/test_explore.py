@@ -273,7 +273,7 @@ def test_cli_writes_csv_and_json(tmp_path, capsys):
     assert data["trials"] == 150 and data["seed"] == 2 and data["storage"] == "memory"
     assert data["comparison"]["hypervolume_ratio"] == pytest.approx(1.0, abs=1e-6)
     assert data["comparison"]["igd_plus"] == pytest.approx(0.0, abs=1e-6)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["explore.csv", "explore.json"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".designer-manifest.json", "explore.csv", "explore.json"]
 
 
 def test_parse_storage_forms():
