@@ -109,9 +109,9 @@ def test_init_then_run(tmp_path, monkeypatch, capsys):
     capsys.readouterr()
     assert main(["run", str(path), "--no-cross-check"]) == 0
     out = capsys.readouterr().out
-    assert "Build this caster" in out
+    assert "The caster to build: a 7 in wheel with a 3/4 in groove" in out
     # a caster the shop can fit: the shipped stock's 7 in wheel and 3/4 in groove, as for indoor-manual
-    assert "diameter d             7.000 in" in out and "groove B               0.750 in" in out
+    assert "  T 2.500 in, d 7.000 in, B 0.750 in, c_f 1.30 N·m/rad" in out.splitlines()
 
 
 def test_init_options_mass_and_mm(tmp_path, capsys):
