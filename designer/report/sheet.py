@@ -17,6 +17,7 @@ from designer.units import percent
 from designer.plots.caster import caster_svg
 from designer.report.context import corner_sentence, spec_rows
 from designer.report.formatting import size
+from designer.report.text import plain_rule
 
 SHEET_HEAD = "<!DOCTYPE html><!-- inspection sheet written by caster-designer's designer spec -->"
 """The sheet's first line: how ``designer spec`` recognises a sheet of its own it may replace."""
@@ -113,7 +114,8 @@ def sheet_html(rec: Any) -> str:
             f"<h1>{escape(title)}</h1>",
             f'<p class="meta">Designed for: {escape(problem.title)}; {problem.conditions.load:.4g} N per caster, '
             f"sill {escape(size(problem.conditions.threshold_height, units))}, no shimmy below "
-            f"{problem.required_speed:.3g} m/s with probability {percent(1 - spec.alpha)}. Rule: {escape(rec.rule)}.</p>",
+            f"{problem.required_speed:.3g} m/s with probability {percent(1 - spec.alpha)}. Chosen as "
+            f"{escape(plain_rule(problem, rec))}.</p>",
             f'<div class="drawing">{drawing}</div>',
             '<p class="meta">Drawn to scale, 1:5 when printed at 100 %.</p>',
             f"<p>Build: trail {escape(size(d.trail, units))}, wheel {escape(size(d.diameter, units))}{escape(wheel)}"

@@ -196,26 +196,27 @@ def stock_sentence(price: dict | None, has_stock: bool) -> str:
             f"(continuous front: {price['threshold_force_continuous']:.2f} N)"
         )
     if not parts:
-        return "Price of stock: none; this stock caster lies on the continuous risk-bounded front."
-    return "Price of stock, against the continuous risk-bounded front: " + "; ".join(parts) + "."
+        return "Buying parts costs nothing here: this stock caster lies on the continuous front."
+    return "What buying parts costs against any sizes (the continuous front): " + "; ".join(parts) + "."
 
 
 def build_lines(data) -> list[str]:
-    """The "Build this" details under the lead sentence (empty without a recommendation): the rule by its name,
-    the forces and the risk in full, the swept radius."""
+    """The "Build this" details under the lead sentence (empty without a recommendation): the forces and the
+    risk in full, the swept radius, then the rule by its precise name (the lead said it in plain words)."""
     rec = data.recommendation
     if rec is None:
         return []
     problem = data.problem
     units = getattr(problem, "units", "in")
     out = [
-        f"Chosen by the rule: {rec.rule} (see Terms). F_turn = {rec.turning_effort:.3f} N; over the "
+        f"Turning effort F_turn = {rec.turning_effort:.3f} N; sill force over the "
         f"{size(problem.conditions.threshold_height, units)} sill P = {rec.threshold_force:.2f} N.",
         risk_sentence(rec),
         radius_sentence(rec, units),
     ]
     if getattr(rec, "note", ""):
         out.append(f"Note: {rec.note}.")
+    out.append(f"The rule by its name: {rec.rule} (see Terms).")
     return out
 
 
@@ -282,9 +283,9 @@ def summary_lines(data) -> list[str]:
     if front.points:
         f = front.objectives()
         d = np.array([p.design.diameter for p in front.points])
-        kind = "risk-bounded" if problem.conditions.uncertainty is not None else "nominal"
+        kind = "within the risk bound" if problem.conditions.uncertainty is not None else "without a risk bound"
         out.append(
-            f"Continuous {kind} front: {len(front)} valid point{'s' if len(front) != 1 else ''} (of "
+            f"With any sizes, not only the parts (the continuous front, {kind}): {len(front)} valid point{'s' if len(front) != 1 else ''} (of "
             f"{front.meta.get('points_requested', len(front))} requested, {len(front.failed)} failed): turning "
             f"effort {f[:, 0].min():.2f}–{f[:, 0].max():.2f} N, threshold force {f[:, 1].min():.1f}–"
             f"{f[:, 1].max():.1f} N, wheel diameter {size(d.min(), problem.units)}–{size(d.max(), problem.units)}."
