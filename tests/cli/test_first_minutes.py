@@ -151,7 +151,7 @@ def test_init_interactive(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr("builtins.input", lambda _prompt="": next(replies))
     path = tmp_path / "q.toml"
     assert main(["init", str(path)]) == 0
-    assert "--target-speed = 'fast'" in capsys.readouterr().err
+    assert "  'fast': not a number; e.g. 2.5 m/s" in capsys.readouterr().err.splitlines()
     p = load_problem(path)
     assert p.conditions.load == 250.0 and p.conditions.surface == "carpet" and p.target_speed == 3.0
 
@@ -163,7 +163,9 @@ def test_init_interactive(tmp_path, monkeypatch, capsys):
         (["--mass", "95kg", "--front-fraction", "1.5"], 2, "--front-fraction 1.5: must be above 0 and at most 1"),
         (["--mass", "95kg", "--load", "200N"], 2, "--load and --mass"),
         (["--floor", "grass"], 2, "--floor 'grass': expected one of tile, carpet"),
-        (["--sill", "5in"], 2, "the answers do not make a valid problem"),
+        (["--sill", "5in"], 2, "--sill 5in: out of range 0.1–2 in"),
+        (["--sill", "20in"], 2, "--sill 20in: out of range 0.1–2 in"),
+        (["--sill", "60mm", "--units", "mm"], 2, "--sill 60mm: out of range 2.54–50.8 mm"),
     ],
 )
 def test_init_bad_answers(extra, code, fragment, tmp_path, capsys):
@@ -181,3 +183,48 @@ def test_init_never_replaces(tmp_path, capsys):
     assert main(["init", str(path), "--defaults"]) == 7
     assert "exists" in capsys.readouterr().err and path.read_text() == "my notes\n"
     assert [p.name for p in tmp_path.iterdir()] == ["mine.toml"]
+
+
+@pytest.mark.parametrize(
+    "key, reply, reason",
+    [
+        ("front_fraction", "abc", "not a number; e.g. 0.3"),
+        ("front_fraction", "1.5", "out of range 0–1 (above 0)"),
+        ("sill", "grass", "not a number; e.g. 1/2 in or 13 mm"),
+        ("sill", "cm", "not a number; e.g. 1/2 in or 13 mm"),
+        ("sill", "mm", "not a number; e.g. 1/2 in or 13 mm"),
+        ("sill", "20 in", "out of range 0.1–2 in"),
+        ("sill", "5 kg", "not a length; e.g. 1/2 in or 13 mm"),
+        ("mass", "5000 kg", "out of range 1–2e+03 kg"),
+        ("floor", "grass", "not a floor this tool knows: tile or carpet"),
+        ("units", "cm", "not a unit system it writes: in or mm"),
+        ("sill", "3/4 in", None),
+        ("front_fraction", "0.3", None),
+    ],
+)
+def test_init_says_the_true_reason_of_a_bad_answer(key, reply, reason):
+    """Each bad answer at the terminal is refused for what is wrong with it: a word for a number is "not a
+    number" (not "a unit without a number"), a 20 in sill is "out of range" (not "inches written as metres")."""
+    from designer.cli.init import reply_reason
+
+    assert reply_reason(key, reply) == reason
+
+
+def test_init_prompts_fit_and_name_no_option(tmp_path, monkeypatch, capsys):
+    """Every question at the terminal, with its default, fits 80 columns and names no option (no "--"); bad
+    replies are refused with their reason and asked again, then the file is written."""
+    prompts = []
+    replies = iter(["95 kg", "abc", "0.3", "20 in", "3/4 in", "grass", "tile", "", "cm", "mm"])
+
+    def answer(prompt=""):
+        prompts.append(prompt)
+        return next(replies)
+
+    monkeypatch.setattr("sys.stdin.isatty", lambda: True, raising=False)
+    monkeypatch.setattr("builtins.input", answer)
+    assert main(["init", str(tmp_path / "p.toml")]) == 0
+    err = capsys.readouterr().err
+    assert "'abc': not a number" in err and "'20 in': out of range 0.1–2 in" in err and "'cm': not a unit" in err
+    assert len(prompts) == 10 and all(len(p) <= 80 and "--" not in p for p in prompts), prompts
+    p = load_problem(tmp_path / "p.toml")
+    assert p.units == "mm" and p.conditions.threshold_height == pytest.approx(0.75 * INCH, rel=1e-9)

@@ -344,16 +344,17 @@ class Front(Record):
         }
 
     def _repr_lines(self) -> list[str]:
-        """One line: problem, number of points, objective ranges and the knee (no solver runs)."""
+        """Two lines within 80 columns: the problem, the number of points and the objective ranges; the knee and
+        the hypervolume (no solver runs)."""
         name = getattr(self.problem, "name", "?")
         if not self.points:
             return [f"Front({name!r}: empty, {len(self.failed)} failed)"]
         (f0, p0), (f1, p1) = self.ideal_nadir()
         k = self.knee() or self.points[0]
         return [
-            f"Front({name!r}: {len(self.points)} points, F_turn {f0:.3g}–{f1:.3g} N, P {p0:.3g}–{p1:.3g} N, "
-            f"knee F_turn {k.turning_effort:.3g} N / P {k.threshold_force:.3g} N, "
-            f"hypervolume {self.hypervolume():.3f})"
+            f"Front({name!r}: {len(self.points)} points, F_turn {f0:.3g}–{f1:.3g} N, P {p0:.3g}–{p1:.3g} N,",
+            f"  knee F_turn {k.turning_effort:.3g} N / P {k.threshold_force:.3g} N, "
+            f"hypervolume {self.hypervolume():.3f})",
         ]
 
     def _html_title(self) -> str:
