@@ -43,8 +43,8 @@ def register(sub) -> None:
     p.add_argument("--load", default=None, help="caster load L per front caster (default 178 N, the paper's)")
     p.add_argument("--threshold-height", default=None, help="door-sill height h (default 0.5 in)")
     p.add_argument("--target-speed", default=None, help="speed to check for shimmy (optional)")
-    p.add_argument("--surface", default="tile", help="tile | carpet")
-    p.add_argument("--turning-mode", default="chair", help="chair | pivot")
+    p.add_argument("--surface", default="tile", help="tile | carpet").completion_choices = SURFACES
+    p.add_argument("--turning-mode", default="chair", help="chair | pivot").completion_choices = MODES
     p.add_argument("--disturbance-angle", default="20 deg", help="design disturbance θ0 (default 20 deg)")
     p.add_argument("--slip-coefficient", default="1250 N", help="tyre slip coefficient K_s (default 1250 N)")
     p.add_argument("--inertia", default=None, help="override I_w [kg·m²] (default: Table 1 power law of d)")

@@ -68,9 +68,11 @@ def register(sub) -> None:
         "--front-fraction", default=None, help=f"with --mass (default {FRONT_FRACTION:g}): {FRONT_FRACTION_NOTE}"
     )
     p.add_argument("--sill", default=None, help="door-sill height, e.g. 3/4in or 19mm (default 1/2 in)")
-    p.add_argument("--floor", default=None, help="tile | carpet (default tile)")
+    p.add_argument("--floor", default=None, help="tile | carpet (default tile)").completion_choices = SURFACES
     p.add_argument("--target-speed", default=None, help="speed without shimmy, e.g. 2.5m/s (default 2.5 m/s)")
-    p.add_argument("--units", default=None, help="in | mm: the unit of the lengths written (default in)")
+    p.add_argument(
+        "--units", default=None, help="in | mm: the unit of the lengths written (default in)"
+    ).completion_choices = REPORT_UNITS
     p.add_argument("--defaults", action="store_true", help="ask nothing: the options given, else the defaults")
     p.set_defaults(func=run)
 

@@ -228,3 +228,76 @@ def test_init_prompts_fit_and_name_no_option(tmp_path, monkeypatch, capsys):
     assert len(prompts) == 10 and all(len(p) <= 80 and "--" not in p for p in prompts), prompts
     p = load_problem(tmp_path / "p.toml")
     assert p.units == "mm" and p.conditions.threshold_height == pytest.approx(0.75 * INCH, rel=1e-9)
+
+
+def _options_with_choices() -> list[tuple[str, str, tuple[str, ...]]]:
+    """(command, option, choices) of every option whose help lists its choices as "a | b"."""
+    import argparse
+
+    out = []
+    for action in build_parser()._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sub in action.choices.items():
+                for option in sub._actions:
+                    words = re.findall(r"\w+", (option.help or "").split("(")[0].split(":")[-1])
+                    if option.option_strings and " | " in (option.help or "") and words:
+                        choices = option.choices or getattr(option, "completion_choices", ())
+                        out.append((name, option.option_strings[-1], tuple(choices)))
+    return out
+
+
+def test_every_option_with_choices_completes_them():
+    """Each option whose help lists choices ("tile | carpet") declares them for completion (evaluate's --surface
+    and --turning-mode, init's --floor and --units, calibrate's --surface): none is left to complete nothing."""
+    found = _options_with_choices()
+    assert {(c, o) for c, o, _ in found} >= {("evaluate", "--surface"), ("init", "--units"), ("init", "--floor")}
+    assert [(c, o) for c, o, choices in found if not choices] == []
+
+
+@pytest.mark.skipif(shutil.which("bash") is None, reason="needs bash")
+@pytest.mark.parametrize(
+    "words, expected",
+    [
+        (["evaluate", "--surface"], "tile carpet"),
+        (["evaluate", "--turning-mode"], "chair pivot"),
+        (["init", "x.toml", "--units"], "in mm"),
+        (["init", "x.toml", "--floor"], "tile carpet"),
+    ],
+)
+def test_bash_completes_an_options_choices(words, expected, tmp_path, capsys):
+    """``designer evaluate --surface <TAB>`` offers tile and carpet (bash, the script as printed)."""
+    main(["completion", "bash"])
+    script = tmp_path / "designer.bash"
+    script.write_text(capsys.readouterr().out)
+    line = " ".join(["designer", *words, ""])
+    call = (
+        f"source {script}; COMP_WORDS=(designer {' '.join(words)} ''); COMP_CWORD={len(words) + 1}; "
+        f"COMP_LINE='{line}'; COMP_POINT={len(line)}; _shtab_designer designer '' {words[-1]}; echo \"${{COMPREPLY[*]}}\""
+    )
+    done = subprocess.run(["bash", "-c", call], capture_output=True, text=True)
+    assert done.stdout.strip() == expected, done.stderr
+
+
+@pytest.mark.skipif(shutil.which("bash") is None, reason="needs bash")
+def test_the_documented_completion_install_works_on_a_fresh_home(tmp_path, monkeypatch, capsys):
+    """docs/commands.md's bash line, in a home with no such folder yet, writes the script (the designer of this
+    checkout standing for the installed one); ``completion --help`` at 80 columns keeps that path whole."""
+    import sys
+
+    from conftest import ROOT
+
+    text = (ROOT / "docs" / "commands.md").read_text()
+    line = next(ln for ln in text.splitlines() if ln.startswith("mkdir -p ~/.local/share/bash-completion"))
+    command = line.split("  #")[0].replace("designer completion", f"{sys.executable} -m designer completion")
+    home = tmp_path / "home"
+    home.mkdir()
+    env = {"HOME": str(home), "PATH": "/usr/bin:/bin", "PYTHONPATH": str(ROOT)}
+    done = subprocess.run(["bash", "-c", command], env=env, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert "complete" in (home / ".local/share/bash-completion/completions/designer").read_text()
+    monkeypatch.setenv("COLUMNS", "80")
+    with pytest.raises(SystemExit):
+        main(["completion", "--help"])
+    lines = capsys.readouterr().out.splitlines()
+    assert any("~/.local/share/bash-completion/completions/designer" in ln for ln in lines), lines
+    assert all(len(ln) <= 80 for ln in lines)
