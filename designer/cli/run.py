@@ -19,18 +19,23 @@ from designer.report.text import caster_sentence, plain_rule
 def register(sub) -> None:
     p = sub.add_parser(
         "run",
-        help="the caster to build for a problem file, and its weighted optimum",
-        description="Recommend one buildable caster within the risk bound (knee of the buildable "
-        "front, or the cap of [objective]) with every other caster of the buildable front; then minimise "
-        "J = w_turn F_turn + w_threshold P subject to the same bound: multi-start IPOPT, "
-        "cross-checked by a geometric program (cvxpy) and SLSQP.",
+        help="the caster to build for a problem file, in one screen",
+        description="The caster to build for a problem file, in one screen: what it is, why (the rule in plain "
+        "words: the best balance between turning and the sill among the parts you can buy, or the lowest combined "
+        "force), what it costs, the other casters of the trade-off and what to do next. --verbose adds each "
+        "caster in full with its acceptance limits, and the weighted optimum of J = w_turn F_turn + w_threshold P "
+        "under the same risk bound (multi-start IPOPT, cross-checked by a geometric program and SLSQP).",
     )
     p.add_argument("problem", help=PROBLEM_HELP)
     p.add_argument("--weights", default=None, help="w_turn,w_threshold (default: the problem's [objective])")
     p.add_argument("--target-speed", default=None, help="override shimmy.target_speed, e.g. 3m/s")
     p.add_argument("--no-cross-check", action="store_true", help="skip the GP and SLSQP cross-checks")
     p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.add_argument("--verbose", action="store_true", help="print build and solve times")
+    p.add_argument(
+        "--verbose",
+        action="store_true",
+        help="the details: each caster in full, the weighted optimum, the solvers' agreement and times",
+    )
     p.set_defaults(func=run)
 
 

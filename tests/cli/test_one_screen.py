@@ -102,7 +102,8 @@ def test_the_tour_is_parsed():
         assert verb in verbs, verbs
 
 
-def test_the_tour_and_the_commands_fit_one_screen(checkout, capsys):
+@pytest.mark.usefixtures("checkout")
+def test_the_tour_and_the_commands_fit_one_screen(capsys):
     """Every command of the README's tour, then each docs/commands.md example of run, fix, fleet, evaluate and
     validate: at most 24 lines (validate 45), every line at most 80 columns (an absolute path alone excepted),
     and the first screen of run, fix, fleet and evaluate free of J, knee, risk-bounded and solver words."""
@@ -121,7 +122,8 @@ def test_the_tour_and_the_commands_fit_one_screen(checkout, capsys):
     assert seen == set(LIMITS)
 
 
-def test_run_answers_first_in_the_problems_units(checkout, capsys):
+@pytest.mark.usefixtures("checkout")
+def test_run_answers_first_in_the_problems_units(capsys):
     """``designer run`` names the caster to build first, says why in plain words, what it costs and what to do
     next; on a problem written in millimetres by ``designer init --units mm`` it prints no inch value."""
     lines = _lines(["run", "problems/indoor-manual.toml"], capsys)
@@ -137,7 +139,8 @@ def test_run_answers_first_in_the_problems_units(checkout, capsys):
     assert "T 63.50 mm, d 177.80 mm, B 19.05 mm" in text and "a 12.7 mm sill" in text
 
 
-def test_fix_on_a_caster_that_needs_nothing_says_so_briefly(checkout, capsys):
+@pytest.mark.usefixtures("checkout")
+def test_fix_on_a_caster_that_needs_nothing_says_so_briefly(capsys):
     """``designer fix`` on the caster ``run`` recommends: one or two lines, its risk against the bound, and
     neither "Next: fit the parts" nor the count of other fixes."""
     lines = _lines(["fix", "indoor-manual", "--current", "T=2.5in,d=7in,B=0.75in,c=1.3"], capsys)
