@@ -4,6 +4,8 @@ docs/commands.md shows where each shell reads it from."""
 
 from __future__ import annotations
 
+import argparse
+
 from designer.cli import build_parser
 
 SHELLS = ("bash", "zsh", "fish")
@@ -35,8 +37,6 @@ def with_choices(parser):
     them for completion (``action.completion_choices``, e.g. ``--surface``: tile, carpet) set as argparse
     choices, which shtab completes; the parser that parses the command line checks them itself (one-line errors
     naming the choices)."""
-    import argparse
-
     stack = [parser]
     while stack:
         for action in stack.pop()._actions:

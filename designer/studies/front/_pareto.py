@@ -40,8 +40,7 @@ from designer.problem import POINTS_RANGE, Problem, family_of, problem_argument
 from designer.solvers import FRONT_STRATEGIES, Designs, front_solver, one_solve_at_a_time
 from designer.solvers.base import wheel_of
 from designer.solvers.closed_form import CLOSED_FORM
-from designer.solvers.nlp import BIG, NLPSolver
-from designer.solvers.nlp._sweep import Ends
+from designer.solvers.nlp import BIG, Ends, NLPSolver
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
