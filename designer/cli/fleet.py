@@ -178,9 +178,10 @@ def _print_screen(data: dict, run_info: dict, stock: int, out: Path, units: str)
             for j in steps
             if j <= len(curve) and curve[j - 1] is not None
         )
+        asked = "" if k == data["suggested_skus"]["count"] else f" Shown: {k} part numbers as asked (--skus)."
         say(
             "Why: a part number per chair would give each its own best caster (least turning effort plus sill "
-            f"force); sharing adds force, on average {fewer}{data['mean_regret_N']:.2f} N with {k}."
+            f"force); sharing adds force, on average {fewer}{data['mean_regret_N']:.2f} N with {k}.{asked}"
         )
         for sku in data["skus"][:SHOWN_SKUS]:
             d = sku["design"]
