@@ -11,6 +11,10 @@ frame
 _.terminal  # scipy solve_ivp event attributes (terminal, direction)
 study_  # optuna's trial callback argument (designer/studies/explore/_workers.py)
 _._rng  # optuna sampler attribute set for reseed_rng (designer/studies/explore/_operators.py)
+_._split_lines  # argparse.HelpFormatter's hooks, overridden (designer/cli/_parser.py)
+_.whitespace_split  # shlex.shlex settings (tests/cli/test_one_screen.py)
+_.commenters
+checkout  # a pytest fixture taken by name (usefixtures: tests/cli/test_one_screen.py)
 
 # called by name
 figure_trail  # report/figures.py: getattr(figures, f"figure_{name}") for each of plots.figures.FIGURES

@@ -668,13 +668,19 @@ def _regret_keys(node, path=""):
 
 def test_fleet_cli_answer_first_from_another_folder_and_json_units(tmp_path, monkeypatch, capsys):
     """From a folder outside the repository, without --problem (the shipped indoor-manual problem):
-    `designer fleet F --skus 2` prints the suggested count on its first line, the K asked on a later one,
-    and writes the report under ./results/fleet/<name>/; `--json` has suggested_skus {count, rule,
-    mean_regret_N}, "regret_unit": "N", and every number keyed by a regret ends in _N."""
+    `designer fleet F --skus 2` prints the suggested count on its first line and the two part numbers asked in
+    one screen (--verbose: the K asked on a later line), and writes the report under ./results/fleet/<name>/;
+    `--json` has suggested_skus {count, rule, mean_regret_N}, "regret_unit": "N", and every number keyed by a
+    regret ends in _N."""
     monkeypatch.chdir(tmp_path)
     path = _table.write_fleet_csv(_table.example_fleet(40, seed=6), tmp_path / "line.csv")
     assert main(["fleet", path.name, "--skus", "2", "--no-monte-carlo"]) == 0
+    screen = capsys.readouterr().out.splitlines()
+    assert len(screen) <= 24 and max(len(ln) for ln in screen) <= 80
+    assert [ln.split(":")[0] for ln in screen if ln.startswith("  part ")] == ["  part 1", "  part 2"]
+    assert main(["fleet", path.name, "--skus", "2", "--no-monte-carlo", "--verbose"]) == 0
     lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == screen[0]
     first = re.fullmatch(
         r"(\d+) part numbers? serve all 40 chairs within 2 N of their best caster on average", lines[0]
     )
@@ -691,6 +697,7 @@ def test_fleet_cli_answer_first_from_another_folder_and_json_units(tmp_path, mon
     assert suggested["mean_regret_N"] <= 2.0 and all(curve[k] > 2.0 for k in curve if k < suggested["count"])
     if suggested["count"] != 2:
         assert any(ln.startswith("K = 2 (asked with --skus)") for ln in lines)
+        assert "2 part numbers as asked (--skus)" in " ".join(" ".join(screen).split())
     keys = _regret_keys(data)
     assert keys and all(k.endswith("_N") for k in keys), [k for k in keys if not k.endswith("_N")]
     assert {"/total_regret_N", "/mean_regret_N", "/suggested_skus/mean_regret_N"} <= set(keys)
@@ -805,7 +812,7 @@ def test_fleet_cli_part_numbers_in_written_sizes_never_broken(tmp_path, monkeypa
     assert data["k"] == 3 and len(data["skus"]) == 3
     for s in data["skus"]:
         d = s["design"]
-        line = next(ln for ln in lines if ln.startswith(f"  SKU {s['id']}: "))
+        line = next(ln for ln in lines if ln.startswith(f"  part {s['id']}: "))
         want = f"T {written_size(d['trail'])}, d {written_size(d['diameter'])}, B {written_size(d['groove'])}"
         assert want in line, (want, line)
         assert re.search(r"\d\.\d+ in", line) is None, line
