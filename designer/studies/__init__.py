@@ -12,10 +12,23 @@ fleet      per-chair recommendations and part numbers (``designer fleet``)
 dynamics   shimmy in time: simulation, onset, limit cycles, knock-safe speeds
 explore    optuna exploration and shared studies
 robust     the price of safety (nominal against risk-bounded fronts)
+sweep      V_c against one part of a caster (the studio's card)
 calibrate  the model's constants from the user's rig
 checks     the paper's checks and the checks of a front
 
 The packages are not imported here: ``import designer.studies.front`` loads only what a front needs.
 """
 
-__all__ = ["calibrate", "checks", "dynamics", "explore", "fleet", "front", "optimum", "recommend", "retrofit", "robust"]
+__all__ = [
+    "calibrate",
+    "checks",
+    "dynamics",
+    "explore",
+    "fleet",
+    "front",
+    "optimum",
+    "recommend",
+    "retrofit",
+    "robust",
+    "sweep",
+]

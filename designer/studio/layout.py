@@ -71,7 +71,7 @@ def _group(title: str, controls: list, values: dict, open_: bool = False):
     )
 
 
-def build_layout(name: str, defaults: dict):
+def build_layout(name: str, defaults: dict, units: str = "in"):
     """The page: the first controls on top; the chart (the largest thing) with the recommendation and the card
     beside it; my caster, saving and the other controls (folded) below.  Columns wrap under each other on a
     narrow screen (a phone, 390 px wide) instead of scrolling sideways."""
@@ -86,10 +86,13 @@ def build_layout(name: str, defaults: dict):
             dcc.Store(id="rec-pending"),
             dcc.Store(id="rec-go"),
             dcc.Store(id="rec-answer"),
+            # each change of the controls, numbered by the browser, and the controls the answer shown is for
+            dcc.Store(id="request"),
+            dcc.Store(id="answered"),
             html.H2(f"caster-designer studio: {name}", style={"margin": "4px 0", "fontSize": "1.3em"}),
             _first_controls(defaults),
-            html.Div([_chart_column(), _card_column()], style=CSS["row"]),
-            html.Div([_more_controls(defaults), _tools_column()], style=CSS["row"]),
+            html.Div([_chart_column(), _card_column()], id="answer-box", className="waiting", style=CSS["row"]),
+            html.Div([_more_controls(defaults), _tools_column(units)], style=CSS["row"]),
         ],
         style=CSS["page"],
     )
@@ -128,7 +131,7 @@ def _more_controls(defaults: dict):
     )
 
 
-def _mine_inputs():
+def _mine_inputs(units: str):
     """The four text boxes of "My caster" (trail, diameter, groove, damping) with their starting values."""
     return html.Div(
         [
@@ -139,9 +142,9 @@ def _mine_inputs():
                 ]
             )
             for key, label, value in (
-                ("trail", "trail", "1 in"),
-                ("diameter", "diameter", "8 in"),
-                ("groove", "groove", "0 in"),
+                ("trail", "trail", "25.4 mm" if units == "mm" else "1 in"),
+                ("diameter", "diameter", "203.2 mm" if units == "mm" else "8 in"),
+                ("groove", "groove", "0 mm" if units == "mm" else "0 in"),
                 ("damping", "damping", "1.3 N*m/rad"),
             )
         ],
@@ -154,6 +157,7 @@ def _chart_column():
     return html.Div(
         [
             html.Div(id="status", style={"fontSize": "12px", "color": "#555"}),
+            html.Div(id="computing", className="computing", style={"fontSize": "13px", "color": "#8a5a00"}),
             html.Div(id="general-error", className="control-error", style=CSS["error"]),
             dcc.Graph(id="front", config={"displaylogo": False, "responsive": True}),
         ],
@@ -161,14 +165,14 @@ def _chart_column():
     )
 
 
-def _tools_column():
+def _tools_column(units: str):
     """My caster (its numbers and fixes), save and report buttons."""
     return html.Div(
         [
             html.Div(
                 [
                     html.H4("My caster", style={"margin": "2px 0"}),
-                    _mine_inputs(),
+                    _mine_inputs(units),
                     html.Button("Check my caster", id="mine-go", n_clicks=0, style={"marginTop": "6px"}),
                     html.Div(id="mine-error", className="control-error", style=CSS["error"]),
                     html.Div(id="mine-result"),
@@ -195,13 +199,7 @@ def _card_column():
         [
             html.Div(
                 [
-                    html.Div(id="recommendation"),
-                    html.Button(
-                        "Recommendation's card (with its knock-safe speed)",
-                        id="rec-card",
-                        n_clicks=0,
-                        style={"marginTop": "6px", "fontSize": "12px"},
-                    ),
+                    html.Div(id="recommendation", children=html.Button(id="rec-card", n_clicks=0, hidden=True)),
                 ],
                 style=CSS["panel"],
             ),
