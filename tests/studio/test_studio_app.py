@@ -379,25 +379,114 @@ def test_oversized_body_is_one_line(tmp_path, caplog):
     assert len(lines) == 1 and "413" in lines[0] and len(lines[0]) < 300 and "xxxx" not in lines[0]
 
 
+WRONG_CALLBACK = json.dumps(
+    {"output": "nope.children", "outputs": {"id": "nope", "property": "children"}, "inputs": [], "changedPropIds": []}
+).encode()
+"""A callback that does not exist."""
+
+MISSING_INPUTS = json.dumps(
+    {
+        "output": "card.children",
+        "outputs": {"id": "card", "property": "children"},
+        "inputs": [{"id": "front", "property": "clickData", "value": None}],
+        "changedPropIds": ["rec-card.n_clicks"],
+        "state": [],
+    }
+).encode()
+"""The card's callback with one of its three inputs."""
+
+
 @pytest.mark.parametrize(
     "body",
-    [b"[]", b"null", b'{"output": 1}', b'{"output": "x.y"}', b'{"output":"front.figure","inputs":5}', b"{", b""],
+    [b"[]", b"[1,2,3]", b"null", b'{"output": 1}', b'{"output": "x.y"}', b'{"output":"front.figure","inputs":5}']
+    + [b"{", b"", WRONG_CALLBACK, MISSING_INPUTS],
 )
-def test_malformed_callback_is_one_line_without_traceback(tmp_path, caplog, body):
-    """Issue 24.7: 15 malformed callback posts put 11 Python tracebacks on the console. Each is now answered
-    with an error status and logged as exactly one line, without a traceback (with `designer --debug studio`
-    the traceback is logged as well)."""
+def test_malformed_callback_is_a_4xx_in_one_line(tmp_path, caplog, body):
+    """Issue 42: a POST of the wrong shape ([1,2,3], a callback that does not exist, too few inputs) was a 500
+    whose console line named the exception.  Each is a 400 whose body is a fixed sentence (nothing of the
+    exception), logged as exactly one line without a traceback; a failure inside the studio's own callback
+    stays a 500 (the next test)."""
     client = _guarded_client(tmp_path)
     response = client.post("/_dash-update-component", data=body, content_type="application/json")
-    assert response.status_code in (400, 500)
+    assert response.status_code == 400
+    assert response.data.decode() in ("a malformed callback request (not one this studio's page sends)", "") or (
+        b"Bad Request" in response.data
+    )
+    assert not any(word in response.data for word in (b"Error", b"Traceback", b"nope", b"index"))
     records = [r for r in caplog.records if r.name == "designer.studio"]
     assert len(records) == 1 and "\n" not in records[0].getMessage() and records[0].exc_info is None
     assert not [r for r in caplog.records if r.exc_info and r.name != "designer.studio"]
-    caplog.clear()
-    debug = _guarded_client(tmp_path, debug=True)
-    debug.post("/_dash-update-component", data=body, content_type="application/json")
-    if response.status_code == 500:
-        assert [r for r in caplog.records if r.name == "designer.studio" and r.exc_info]
+
+
+@pytest.mark.parametrize("path", ["/_dash-component-suites/dash/nope.js", "/_dash-component-suites/nope/nope.js"])
+def test_an_unknown_component_file_is_a_404(tmp_path, caplog, path):
+    """Issue 42: a GET of a component file Dash does not have was a 500 naming Dash's DependencyException; it
+    is a 404 saying "no such file", one line on the console."""
+    response = _guarded_client(tmp_path).get(path)
+    assert (response.status_code, response.data) == (404, b"no such file")
+    assert len(_studio_lines(caplog)) == 1
+
+
+def test_a_failure_in_the_studios_own_code_stays_an_internal_error(tmp_path, caplog, monkeypatch):
+    """The 4xx rule is not a blanket: a callback that fails inside the studio's code (here the card, made to
+    raise) is a 500 with one console line, and the traceback with `designer --debug studio`: a planted fault is
+    not passed off as the user's malformed request."""
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("planted")
+
+    import designer.studio.app as app_module
+
+    monkeypatch.setattr(app_module, "card_panel", broken)
+    data, _ = state.read_problem_data(PROBLEM)
+    _, merged = state.build_problem(data, state.control_values(data))
+    body = {
+        "output": "card.children",
+        "outputs": {"id": "card", "property": "children"},
+        "inputs": [
+            {"id": "front", "property": "clickData", "value": None},
+            {"id": "rec-card", "property": "n_clicks", "value": 1},
+            [],
+        ],
+        "changedPropIds": ["rec-card.n_clicks"],
+        "state": [
+            {"id": "problem-data", "property": "data", "value": merged},
+            {"id": "mine-store", "property": "data", "value": None},
+        ],
+    }
+    for debug in (False, True):
+        caplog.clear()
+        response = _guarded_client(tmp_path, debug=debug).post("/_dash-update-component", json=body)
+        assert response.status_code == 500 and b"planted" not in response.data
+        (record,) = [r for r in caplog.records if r.name == "designer.studio"]
+        assert "RuntimeError: planted" in record.getMessage() and (record.exc_info is not None) == debug
+
+
+def test_every_answer_carries_the_security_headers(tmp_path):
+    """Issue 42: no answer said nosniff or refused framing, so another site could frame the studio and steer a
+    click on "Save problem".  Every answer, the page, its layout, a callback, a 403, a 404, a 400 and a 413,
+    carries X-Content-Type-Options: nosniff, X-Frame-Options: DENY and a CSP with frame-ancestors 'none'."""
+    from designer.studio.server import MAX_REQUEST_BYTES
+
+    client = _guarded_client(tmp_path)
+    answers = [
+        client.get("/"),
+        client.get("/_dash-layout"),
+        client.get("/", headers={"Host": "attacker.example"}),
+        client.get("/_dash-component-suites/dash/nope.js"),
+        client.post("/_dash-update-component", data=b"[1,2,3]", content_type="application/json"),
+        client.post(
+            "/_dash-update-component",
+            data=json.dumps({"x": "x" * MAX_REQUEST_BYTES}),
+            content_type="application/json",
+        ),
+        client.post("/_dash-update-component", data=WRONG_CALLBACK, content_type="application/json"),
+    ]
+    assert [a.status_code for a in answers] == [200, 200, 403, 404, 400, 413, 400]
+    for answer in answers:
+        assert answer.headers["X-Content-Type-Options"] == "nosniff"
+        assert answer.headers["X-Frame-Options"] == "DENY"
+        assert "frame-ancestors 'none'" in answer.headers["Content-Security-Policy"]
 
 
 def test_make_server_applies_the_guard(tmp_path):
