@@ -68,9 +68,27 @@ SAVED_PROBLEM = signed_kind(SAVE_WRITER, "a problem file saved by designer studi
 STYLE = """
 .waiting { opacity: 0.45; transition: opacity 0.1s; }
 .studio-button { min-height: 44px; min-width: 44px; font-size: 15px; margin: 4px 4px 0 0; padding: 4px 12px; }
+summary { min-height: 44px; box-sizing: border-box; padding: 12px 0; cursor: pointer; }
+.control { position: relative; width: 170px; }
+.control-error.overlay { position: absolute; top: 100%; left: 0; width: 100%; z-index: 10; background: #fff;
+  box-shadow: 0 1px 4px rgba(0, 0, 0, 0.3); padding: 2px 4px; box-sizing: border-box; }
+.control-error:empty { display: none; }
+@media (min-width: 601px) {
+  details .control-error.overlay { top: 0; left: 100%; margin-left: 8px; width: 260px; }
+}
+@media (max-width: 600px) {
+  input[type=text] { min-height: 44px; font-size: 16px; }
+  .dash-dropdown { min-height: 44px; }
+  .dash-slider-thumb { width: 44px; height: 44px; border: 10px solid transparent; background-clip: padding-box;
+    box-shadow: none; box-sizing: border-box; }
+  .slider-box { padding-top: 58px !important; }
+}
 """
-"""The page's own style sheet: the answer greyed while it is not the answer to the controls shown; buttons a
-finger can hit (44 px)."""
+"""The page's own style sheet: the answer greyed while it is not the answer to the controls shown; buttons and
+folded sections a finger can hit (44 px; on a phone the text boxes, menus and the slider's handle too: a 24 px
+disc in a transparent 44 px ring); a
+control's message shown over the page below it (beside it in the folded groups of a wide page, where the
+controls stand in one column), so it never moves another control."""
 
 INDEX = (
     "<!DOCTYPE html><html><head>{%metas%}<title>{%title%}</title>{%favicon%}{%css%}"
@@ -209,9 +227,7 @@ def _request_number(request) -> int:
 COMPUTING = "computing…"
 """What the page says while the answer shown is not the answer to the controls shown."""
 
-LAST_VALID = (
-    "a control holds a value that is not valid (its message says why): the answer shown is for the last valid controls"
-)
+LAST_VALID = "shown: the answer to the last valid values"
 """What the page says when the controls shown have no answer (a value the loader refuses)."""
 
 

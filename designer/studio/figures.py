@@ -11,6 +11,9 @@ import math
 from designer import display
 
 
+FONT = 13
+"""Font size of the charts' text [px]: read on a phone's 390 px screen (at least 11 px, issue "one screen")."""
+
 COLOURS = {
     "continuous": "#9aa0a6",
     "risk": "#1f6fb2",
@@ -115,6 +118,7 @@ def front_layout(title: str = "") -> dict:
         xaxis_title=display.axis("threshold_force"),  # P across, F_turn up: the report's and front.plot()'s
         yaxis_title=display.axis("turning_effort"),
         template="plotly_white",
+        font={"size": FONT},
         height=520,
         margin={"l": 60, "r": 20, "t": 40, "b": 50},
         # its top edge well under the x-axis title (anchored by its middle, a legend wrapped to two rows
@@ -244,8 +248,10 @@ def sweeps_figure(sweeps: dict, target: float, alpha: float | None, units: str =
         fig.add_hline(y=target, line={"dash": "dash", "color": COLOURS["mine"]}, row=1, col=col)
         fig.update_xaxes(title_text=f"{name} {display.header(name, units)}", row=1, col=col)
     fig.update_yaxes(title_text="speed [m/s]", row=1, col=1)
+    fig.update_annotations(font_size=FONT + 1)  # the subplot titles
     fig.update_layout(
         template="plotly_white",
+        font={"size": FONT},
         height=300,
         margin={"l": 50, "r": 10, "t": 30, "b": 40},
         legend={"orientation": "h", "y": -0.3},
@@ -269,6 +275,7 @@ def knock_figure(knock: dict, target: float):
     fig.update_layout(
         title=f"θ(t) after a 20° knock at {target:.3g} m/s ({verdict})",
         template="plotly_white",
+        font={"size": FONT},
         xaxis_title="t [s]",
         yaxis_title="θ [deg]",
         height=280,

@@ -20,8 +20,8 @@ CSS = {
     "row": {"display": "flex", "flexWrap": "wrap", "gap": "16px", "alignItems": "flex-start"},
     "panel": {"border": "1px solid #ddd", "borderRadius": "6px", "padding": "8px 10px", "marginBottom": "8px"},
     "label": {"fontSize": "13px", "color": "#333", "display": "block", "marginTop": "4px"},
-    "input": {"width": "150px", "fontSize": "13px"},
-    "error": {"color": "#b00020", "fontSize": "12px", "whiteSpace": "normal"},
+    "input": {"width": "160px", "fontSize": "14px", "boxSizing": "border-box"},
+    "error": {"color": "#b00020", "fontSize": "13px", "whiteSpace": "normal", "overflowWrap": "anywhere"},
     "num": {"fontVariantNumeric": "tabular-nums"},
 }
 
@@ -44,6 +44,7 @@ def _control(c: state.Control, value):
                 tooltip={"placement": "top", "always_visible": True},
                 **state.SLIDER,
             ),
+            className="slider-box",
             style={"width": "260px", "paddingTop": "46px"},
         )
     else:
@@ -52,9 +53,10 @@ def _control(c: state.Control, value):
         [
             html.Label(c.label, style=CSS["label"]),
             widget,
-            html.Div(id={"type": "err", "key": c.key}, className="control-error", style=CSS["error"]),
+            html.Div(id={"type": "err", "key": c.key}, className="control-error overlay", style=CSS["error"]),
         ],
         className="control",
+        style={"width": "270px", "maxWidth": "100%"} if c.kind == "slider" else None,
         **{"data-key": c.key},
     )
 
@@ -157,9 +159,21 @@ def _chart_column():
     return html.Div(
         [
             html.Div(id="status", style={"fontSize": "12px", "color": "#555"}),
-            html.Div(id="computing", className="computing", style={"fontSize": "13px", "color": "#8a5a00"}),
+            # one line of fixed height: its message never moves what is below it
+            html.Div(
+                id="computing",
+                className="computing",
+                style={
+                    "fontSize": "13px",
+                    "color": "#8a5a00",
+                    "height": "18px",
+                    "overflow": "hidden",
+                    "whiteSpace": "nowrap",
+                    "textOverflow": "ellipsis",
+                },
+            ),
             html.Div(id="general-error", className="control-error", style=CSS["error"]),
-            dcc.Graph(id="front", config={"displaylogo": False, "responsive": True}),
+            dcc.Graph(id="front", config={"displayModeBar": False, "responsive": True}),
         ],
         style={"flex": "3 1 560px", "minWidth": "0"},
     )
@@ -173,16 +187,21 @@ def _tools_column(units: str):
                 [
                     html.H4("My caster", style={"margin": "2px 0"}),
                     _mine_inputs(units),
-                    html.Button("Check my caster", id="mine-go", n_clicks=0, style={"marginTop": "6px"}),
-                    html.Div(id="mine-error", className="control-error", style=CSS["error"]),
+                    html.Div(
+                        [
+                            html.Button("Check my caster", id="mine-go", n_clicks=0, className="studio-button"),
+                            html.Div(id="mine-error", className="control-error overlay", style=CSS["error"]),
+                        ],
+                        className="control",
+                    ),
                     html.Div(id="mine-result"),
                 ],
                 style=CSS["panel"],
             ),
             html.Div(
                 [
-                    html.Button("Save problem", id="save", n_clicks=0),
-                    html.Button("Write report", id="report", n_clicks=0, style={"marginLeft": "8px"}),
+                    html.Button("Save problem", id="save", n_clicks=0, className="studio-button"),
+                    html.Button("Write report", id="report", n_clicks=0, className="studio-button"),
                     dcc.Loading(html.Div(id="save-result", style={"fontSize": "13px", "marginTop": "4px"})),
                     dcc.Download(id="download"),
                 ],
@@ -199,7 +218,11 @@ def _card_column():
         [
             html.Div(
                 [
-                    html.Div(id="recommendation", children=html.Button(id="rec-card", n_clicks=0, hidden=True)),
+                    html.Div(
+                        id="recommendation",
+                        children=html.Button(id="rec-card", n_clicks=0, hidden=True),
+                        style={"fontSize": "14px"},
+                    ),
                 ],
                 style=CSS["panel"],
             ),

@@ -123,7 +123,13 @@ def recommendation_panel(fronts: view.Fronts):
                     f"; turning {display.shown(alt['turning_effort'], 'turning_effort', units)}, sill "
                     f"{display.shown(alt['threshold_force'], 'threshold_force', units)}, chance of shimmy "
                     f"{display.shown(alt['shimmy_probability'], 'shimmy_probability', units)} ",
-                    html.Button("card", id={"type": "alt-card", "index": i}, n_clicks=0, className="studio-button"),
+                    html.Button(
+                        f"card: {role_name(alt['role'])}",
+                        id={"type": "alt-card", "index": i},
+                        n_clicks=0,
+                        className="studio-button",
+                        style={"display": "block"},
+                    ),
                 ],
                 className="alternative",
                 style={"fontSize": "13px", "marginTop": "2px"},
@@ -163,7 +169,7 @@ def limits_text(rec: dict | None) -> str:
         else f"; worst corner: chance of shimmy {display.percent(corner[0])}" + ("" if corner[1] else " (too high)")
     )
     parts = [f"{lim.part.replace('_', ' ')} {lim.side} {lim.shown}" for lim in rec["limits"]]
-    return "Accept parts within: " + "; ".join(parts) + worst
+    return "acceptance limits (accept a part within): " + "; ".join(parts) + worst
 
 
 def numbers_table(n: dict, problem, prefix: str):
@@ -222,7 +228,8 @@ def card_panel(problem, record, name: str):
     ]
     if data["svg"]:
         src = "data:image/svg+xml;base64," + base64.b64encode(data["svg"].encode()).decode()
-        parts.append(html.Img(src=src, id="card-drawing", style={"maxWidth": "100%", "maxHeight": "260px"}))
+        # at its own size (its text 11 px), in a box that scrolls sideways on a phone rather than shrink it
+        parts.append(html.Div(html.Img(src=src, id="card-drawing"), style={"overflowX": "auto", "maxWidth": "100%"}))
     parts.append(numbers_table(n, problem, "card"))
     risk = problem.risk
     parts.append(

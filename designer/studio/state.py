@@ -80,7 +80,7 @@ CONTROLS: list[Control] = [
     Control("sill", "sill height", ("conditions", "threshold_height"), "quantity", "length"),
     Control("surface", "surface", ("conditions", "surface"), "choice", options=("tile", "carpet")),
     Control("target", "target speed [m/s]", ("shimmy", "target_speed"), "slider", "speed"),
-    Control("alpha", "risk α (allowed P(shimmy))", ("robust", "probability"), "number", group="risk"),
+    Control("alpha", "allowed chance of shimmy α", ("robust", "probability"), "number", group="risk"),
     Control("mode", "turning mode", ("conditions", "turning_mode"), "choice", options=("chair", "pivot")),
     Control("s_model", "σ model error (log)", ("robust", "model_error"), "number", group="risk"),
     Control("s_damping", "σ damping (log)", ("robust", "damping"), "number", group="risk"),

@@ -349,7 +349,7 @@ def knock_safe(problem, design: Design, inertia: float | None = None) -> dict:
 
 
 def drawing_svg(problem, design: Design) -> str | None:
-    """The caster drawn to scale as SVG text (:func:`designer.plots.caster.caster_svg`)."""
+    """The caster drawn to scale as SVG text, its sizes in the problem's units (:func:`designer.plots.caster.caster_svg`)."""
 
     return _quiet(
         caster_svg,
@@ -358,6 +358,7 @@ def drawing_svg(problem, design: Design) -> str | None:
         design.groove,
         problem.conditions.threshold_height,
         problem.swept_radius_max,
+        units=problem.units,
     )
 
 
