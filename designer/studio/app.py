@@ -66,7 +66,7 @@ SAVED_PROBLEM = signed_kind(SAVE_WRITER, "a problem file saved by designer studi
 
 
 STYLE = """
-.waiting { opacity: 0.45; transition: opacity 0.1s; }
+.waiting { opacity: 0.45; }
 .studio-button { min-height: 44px; min-width: 44px; font-size: 15px; margin: 4px 4px 0 0; padding: 4px 12px; }
 summary { min-height: 44px; box-sizing: border-box; padding: 12px 0; cursor: pointer; }
 .control { position: relative; width: 170px; }
@@ -233,7 +233,8 @@ LAST_VALID = "shown: the answer to the last valid values"
 
 def _request_callbacks(app) -> None:
     """In the browser: number each change of the controls (``request``), and compare the controls shown with
-    the ones the answer on the page is for (``answered``): while they differ the panel is greyed and says
+    the ones the answer on the page is for (``answered``): while they differ the panel is greyed and the line
+    above the chart says
     :data:`COMPUTING` (or :data:`LAST_VALID`)."""
     app.clientside_callback(
         "function (values) { window.studioRequest = (window.studioRequest || 0) + 1;"

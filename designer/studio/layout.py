@@ -93,7 +93,7 @@ def build_layout(name: str, defaults: dict, units: str = "in"):
             dcc.Store(id="answered"),
             html.H2(f"caster-designer studio: {name}", style={"margin": "4px 0", "fontSize": "1.3em"}),
             _first_controls(defaults),
-            html.Div([_chart_column(), _card_column()], id="answer-box", className="waiting", style=CSS["row"]),
+            html.Div([_chart_column(), _card_column()], style=CSS["row"]),
             html.Div([_more_controls(defaults), _tools_column(units)], style=CSS["row"]),
         ],
         style=CSS["page"],
@@ -224,6 +224,10 @@ def _card_column():
                         style={"fontSize": "14px"},
                     ),
                 ],
+                # greyed while its answer is not the one to the controls shown (app._request_callbacks): the
+                # panel only, a small part of the page to restyle
+                id="answer-box",
+                className="waiting",
                 style=CSS["panel"],
             ),
             dcc.Loading(
