@@ -32,9 +32,10 @@ import designer.studio.figures as figures
 import designer.studio.state as state
 import designer.studio.view as view
 from designer.problem import problem_from_dict
-from designer.studio.layout import CSS, build_layout
+from designer.studio.layout import CSS, MAX_CARD_BUTTONS, build_layout
 from designer.studio.panels import (
     LIMITS_FAILED,
+    alternative_buttons,
     card_panel,
     fixes_panel,
     limits_text,
@@ -148,6 +149,8 @@ def _trade_off_callback(
         Output("problem-data", "data"),
         Output("rec-pending", "data"),
         Output("answered", "data"),
+        Output({"type": "alt-card", "index": ALL}, "children"),
+        Output({"type": "alt-card", "index": ALL}, "hidden"),
         Input("url", "search"),
         Input("request", "data"),
         Input("mine-store", "data"),
@@ -155,8 +158,9 @@ def _trade_off_callback(
         State("front-shown", "data"),
         State({"type": "err", "key": ALL}, "children"),
         State("general-error", "children"),
+        State({"type": "alt-card", "index": ALL}, "children"),
     )
-    def update(search, request, mine, last, shown, errors_shown, general_shown):
+    def update(search, request, mine, last, shown, errors_shown, general_shown, buttons_shown):
         n = _request_number(request)
         from_url = ctx.triggered_id in (None, "url") or not isinstance(request, dict)
         if from_url:
@@ -195,6 +199,8 @@ def _trade_off_callback(
                 no_update,
                 no_update,
                 {**answered, "valid": False},
+                [no_update] * MAX_CARD_BUTTONS,
+                [no_update] * MAX_CARD_BUTTONS,
             )
         figure, shown_now = _chart(fronts, mine, shown)
         query = state.to_query(current, defaults)
@@ -215,7 +221,20 @@ def _trade_off_callback(
             no_update if merged == last else merged,
             generation if waiting else None,
             answered,
+            *_buttons(fronts, buttons_shown),
         )
+
+
+def _buttons(fronts, shown) -> tuple[list, list]:
+    """The alternatives' card buttons' labels and hidden flags, each ``no_update`` where the page shows it
+    already (a label unchanged is not sent)."""
+    labels, hidden = alternative_buttons(fronts)
+    shown = shown if isinstance(shown, list) and len(shown) == len(labels) else [None] * len(labels)
+    same = [label == (old or "") for label, old in zip(labels, shown)]
+    return (
+        [no_update if s else label for s, label in zip(same, labels)],
+        [no_update if s else flag for s, flag in zip(same, hidden)],
+    )
 
 
 def _request_number(request) -> int:
@@ -388,10 +407,16 @@ def _status(problem, fronts) -> str:
     )
 
 
+CARDS = 16
+"""Cards kept by (problem, record): opening one again shows it at once."""
+
+
 def _card_callback(app) -> None:
     """A click on a point of the chart, on the card button of the caster to build or of an alternative, opens
     that caster's card: the record the chart or the panel shows (:func:`designer.studio.view.card_record`), never
     a caster evaluated again."""
+
+    cards: OrderedDict = OrderedDict()
 
     @app.callback(
         Output("card", "children"),
@@ -425,15 +450,25 @@ def _card_callback(app) -> None:
                 return card_panel(problem, view.mine_record(problem, design), "my caster")
             if part not in view.CARD_PARTS or not isinstance(index, int) or isinstance(index, bool):
                 raise PreventUpdate
+            key = json.dumps(merged, sort_keys=True)
+            with view.LOCK:  # a card opened before: its sweeps and simulations are not redone
+                if (key, part, index) in cards:
+                    cards.move_to_end((key, part, index))
+                    return cards[(key, part, index)]
             # the fronts of this state are cached: only the card is computed
-            fronts = view.compute_fronts(problem, key=json.dumps(merged, sort_keys=True))
+            fronts = view.compute_fronts(problem, key=key)
             try:
                 record = view.card_record(fronts, part, index)
             except (KeyError, IndexError):
                 raise PreventUpdate from None
             if name is None:
                 name = role_name(getattr(record, "role", None))
-            return card_panel(problem, record, name)
+            panel = card_panel(problem, record, name)
+            with view.LOCK:
+                cards[(key, part, index)] = panel
+                while len(cards) > CARDS:
+                    cards.popitem(last=False)
+            return panel
         except DesignerError as exc:
             return html.Div(str(exc), style=CSS["error"])
 

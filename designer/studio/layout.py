@@ -9,6 +9,9 @@ from dash import dcc, html
 
 import designer.studio.state as state
 
+MAX_CARD_BUTTONS = 6
+"""Card buttons of the other casters (:func:`designer.studio.panels.alternative_buttons` fills them in)."""
+
 CSS = {
     "page": {
         "fontFamily": "system-ui, sans-serif",
@@ -218,10 +221,26 @@ def _card_column():
         [
             html.Div(
                 [
+                    html.Div(id="recommendation", style={"fontSize": "14px"}),
+                    # the card buttons are the page's own (an answer fills in their labels): buttons drawn anew
+                    # with each answer would each ask the server for a card
                     html.Div(
-                        id="recommendation",
-                        children=html.Button(id="rec-card", n_clicks=0, hidden=True),
-                        style={"fontSize": "14px"},
+                        [
+                            html.Button(
+                                "Card of the caster to build", id="rec-card", n_clicks=0, className="studio-button"
+                            ),
+                            *[
+                                html.Button(
+                                    "",
+                                    id={"type": "alt-card", "index": i},
+                                    n_clicks=0,
+                                    hidden=True,
+                                    className="studio-button alt-card",
+                                )
+                                for i in range(MAX_CARD_BUTTONS)
+                            ],
+                        ],
+                        id="card-buttons",
                     ),
                 ],
                 # greyed while its answer is not the one to the controls shown (app._request_callbacks): the

@@ -15,7 +15,7 @@ from dash import dcc, html
 from designer import display
 import designer.studio.figures as figures
 import designer.studio.view as view
-from designer.studio.layout import CSS
+from designer.studio.layout import CSS, MAX_CARD_BUTTONS
 
 ROLE_NAMES = {"recommended": "the caster to build"}
 """A caster's name on the page by its role; the other roles are the recommendation's own words ("easiest to
@@ -83,9 +83,25 @@ def caster_sentences(n: dict, problem, prefix: str) -> list:
     ]
 
 
+def alternative_buttons(fronts: view.Fronts | None) -> tuple[list[str], list[bool]]:
+    """(label, hidden) of each of the :data:`~designer.studio.layout.MAX_CARD_BUTTONS` card buttons of the other
+    casters (the page's own, filled in by each answer; a longer list's casters are on the chart): "card: easiest
+    to turn (d 5.000 in)" for alternative i, hidden where there is none."""
+    rec = None if fronts is None else view.recommendation_record(fronts.recommendation)
+    alternatives = [] if rec is None else rec["alternatives"][:MAX_CARD_BUTTONS]
+    units = "in" if fronts is None else fronts.problem.units
+    labels = [
+        f"card: {role_name(alt['role'])} (d {display.shown(alt['design']['diameter'], 'diameter', units)})"
+        for alt in alternatives
+    ]
+    pad = MAX_CARD_BUTTONS - len(labels)
+    return labels + [""] * pad, [False] * len(labels) + [True] * pad
+
+
 def recommendation_panel(fronts: view.Fronts):
-    """The caster to build in plain words (its numbers from :func:`designer.recommend`'s record), a button for
-    its card and one for each alternative's, its acceptance limits, and how it was chosen (folded)."""
+    """The caster to build in plain words (its numbers from :func:`designer.recommend`'s record), its acceptance
+    limits, the other casters you can build, and how it was chosen (folded).  The card buttons are the page's
+    own (:func:`alternative_buttons`)."""
     problem = fronts.problem
     units = problem.units
     rec = view.recommendation_record(fronts.recommendation)
@@ -107,14 +123,13 @@ def recommendation_panel(fronts: view.Fronts):
                 ".",
             ]
         ),
-        html.Button("Its card (drawing, knock test)", id="rec-card", n_clicks=0, className="studio-button"),
         # the spec goods-in inspects against; filled in a moment after the chart when the fronts were computed
         # without it (app._limits_callback)
         html.Div(limits_text(rec), id="rec-limits", style={"fontSize": "13px", "marginTop": "4px"}),
     ]
     if rec["alternatives"]:
         rows.append(html.H5("Other casters you can build", style={"margin": "8px 0 2px"}))
-    for i, alt in enumerate(rec["alternatives"]):
+    for alt in rec["alternatives"]:
         rows.append(
             html.Div(
                 [
@@ -123,13 +138,6 @@ def recommendation_panel(fronts: view.Fronts):
                     f"; turning {display.shown(alt['turning_effort'], 'turning_effort', units)}, sill "
                     f"{display.shown(alt['threshold_force'], 'threshold_force', units)}, chance of shimmy "
                     f"{display.shown(alt['shimmy_probability'], 'shimmy_probability', units)} ",
-                    html.Button(
-                        f"card: {role_name(alt['role'])}",
-                        id={"type": "alt-card", "index": i},
-                        n_clicks=0,
-                        className="studio-button",
-                        style={"display": "block"},
-                    ),
                 ],
                 className="alternative",
                 style={"fontSize": "13px", "marginTop": "2px"},

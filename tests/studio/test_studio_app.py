@@ -578,3 +578,30 @@ def test_first_controls_on_top_the_rest_folded_in_callback_order():
     assert [k for k, _ in placed] == [c.key for c in state.all_controls()]
     assert [k for k, where in placed if where == "first"] == list(FIRST)
     assert {where for k, where in placed if k not in FIRST} == {"folded"}
+
+
+def test_a_card_opened_again_is_not_computed_again(tmp_path, monkeypatch):
+    """Opening the card of the caster to build twice computes it once (its sweeps, θ(t) and knock-safe speeds
+    are kept by the problem and the record): the second answer is the first, and view.card ran once."""
+    calls = []
+    card = view.card
+
+    def counted(*args, **kwargs):
+        calls.append(args[1])
+        return card(*args, **kwargs)
+
+    monkeypatch.setattr(view, "card", counted)
+    data, name = state.read_problem_data(PROBLEM)
+    _, merged = state.build_problem(data, state.control_values(data))
+    client = create_app(data, name, tmp_path).server.test_client()
+    replies = [
+        _callback(
+            client,
+            [("card", "children")],
+            [("front", "clickData", None), ("rec-card", "n_clicks", n), []],
+            "rec-card.n_clicks",
+            [("problem-data", "data", merged), ("mine-store", "data", None)],
+        )
+        for n in (1, 2)
+    ]
+    assert len(calls) == 1 and replies[0] == replies[1]

@@ -124,7 +124,8 @@ def test_panel_and_cards_show_designer_runs_numbers(tmp_path, millimetre_problem
         if units == "in":
             assert text(driver, "rec-probability") == text(driver, "card-probability") == "2.98 %"
 
-        button = driver.find_element(By.CSS_SELECTOR, ".alternative button")
+        button = driver.find_element(By.CSS_SELECTOR, ".alt-card")  # the first alternative's
+        assert button.text.startswith(f"card: {alternative['role']}")
         open_card(driver, wait, button, alternative["role"])
         assert shown_numbers(driver, "card") == expected(alternative, units)
         assert display.shown(alternative["design"]["diameter"], "diameter", units) in text(driver, "card-design")

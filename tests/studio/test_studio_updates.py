@@ -19,6 +19,7 @@ go = pytest.importorskip("plotly.graph_objects")
 from designer.studies.front import pareto_front  # noqa: E402
 from designer.studio import figures, state, view  # noqa: E402
 from designer.studio.app import create_app  # noqa: E402
+from designer.studio.layout import MAX_CARD_BUTTONS  # noqa: E402
 
 PROBLEM = state.default_problem_path()
 
@@ -36,11 +37,13 @@ def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last
         n = _NUMBER[0]
     ids = [{"type": "ctl", "key": k} for k in keys]
     errs = [{"type": "err", "key": k} for k in keys]
+    buttons = [{"type": "alt-card", "index": i} for i in range(MAX_CARD_BUTTONS)]
     outputs = [{"id": i, "property": "value"} for i in ids]
     body = {
         "output": '..{"key":["ALL"],"type":"ctl"}.value...{"key":["ALL"],"type":"err"}.children...general-error.children'
         "...front.figure...front-shown.data...recommendation.children...status.children...url.search...problem-data.data"
-        "...rec-pending.data...answered.data..",
+        "...rec-pending.data...answered.data"
+        '...{"index":["ALL"],"type":"alt-card"}.children...{"index":["ALL"],"type":"alt-card"}.hidden..',
         "outputs": [
             outputs,
             [{"id": i, "property": "children"} for i in errs],
@@ -53,6 +56,8 @@ def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last
             {"id": "problem-data", "property": "data"},
             {"id": "rec-pending", "property": "data"},
             {"id": "answered", "property": "data"},
+            [{"id": i, "property": "children"} for i in buttons],
+            [{"id": i, "property": "hidden"} for i in buttons],
         ],
         "inputs": [
             {"id": "url", "property": "search", "value": search},
@@ -65,6 +70,7 @@ def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last
             {"id": "front-shown", "property": "data", "value": shown},
             [{"id": i, "property": "children", "value": None} for i in errs],
             {"id": "general-error", "property": "children", "value": None},
+            [{"id": i, "property": "children", "value": ""} for i in buttons],
         ],
     }
     response = client.post("/_dash-update-component", json=body)
