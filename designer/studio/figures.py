@@ -23,27 +23,47 @@ COLOURS = {
     "fix": "#7b3294",
 }
 
-HOVER = "<b>%{customdata[2]}</b><br>%{customdata[3]}<extra></extra>"
-"""Each point's hover: its name and its numbers, written by :func:`_hover` (customdata [2] and [3])."""
+
+def _template(name: str, value: str, units: str) -> str:
+    """A plotly format of quantity ``name`` (``value``: "x", "customdata[3]") with the precision and the unit
+    :mod:`designer.display` gives it in ``units`` ("%{x:.2f} N", "%{customdata[4]:.2f} mm")."""
+    entry = display.quantity(name)
+    unit = display.unit(entry.dimension, units)
+    digits = entry.digits if entry.digits is not None and entry.dimension != "length" else unit.digits
+    return f"%{{{value}:.{digits}f}} {unit.text}"
 
 
-def _hover(p: dict, units: str) -> str:
-    """A point's numbers for its hover box, in ``units``: P, F_turn, V_c and the design."""
-    d = p["design"]
-    lines = [
-        f"P {display.shown(p['threshold_force'], 'threshold_force', units)}",
-        f"F_turn {display.shown(p['turning_effort'], 'turning_effort', units)}",
-        f"V_c {display.shown(p.get('critical_speed'), 'critical_speed', units)}",
-        f"T {display.shown(d['trail'], 'trail', units)}, d {display.shown(d['diameter'], 'diameter', units)}",
-        f"B {display.shown(d['groove'], 'groove', units)}, c_f {display.shown(d['damping'], 'damping', units)}",
-    ]
-    return "<br>".join(lines)
+@functools.lru_cache(maxsize=4)
+def hover(units: str) -> str:
+    """Each point's hover box in ``units``: its name, P, F_turn, V_c and the design (customdata [2] to [7],
+    lengths already in ``units``, :func:`_custom`); numbers formatted by plotly to :mod:`designer.display`'s
+    precision, so the page carries numbers, not one text per point."""
+    return (
+        f"<b>%{{customdata[2]}}</b><br>P {_template('threshold_force', 'x', units)}<br>"
+        f"F_turn {_template('turning_effort', 'y', units)}<br>"
+        f"V_c {_template('critical_speed', 'customdata[3]', units)}<br>"
+        f"T {_template('trail', 'customdata[4]', units)}, d {_template('diameter', 'customdata[5]', units)}<br>"
+        f"B {_template('groove', 'customdata[6]', units)}, c_f {_template('damping', 'customdata[7]', units)}"
+        "<extra></extra>"
+    )
 
 
 def _custom(p: dict, part: str, index: int, name: str, units: str) -> list:
-    """A point's ``customdata``: [part, index, name, hover text]; a click opens the card of record ``index`` of
-    ``part`` (:func:`designer.studio.view.card_record`)."""
-    return [part, index, name, _hover(p, units)]
+    """A point's ``customdata``: [part, index, name, V_c, T, d, B (in ``units``), c_f]; a click opens the card of
+    record ``index`` of ``part`` (:func:`designer.studio.view.card_record`), a hover shows :func:`hover`."""
+    d = p["design"]
+    factor = display.unit("length", units).factor
+    vc = p.get("critical_speed")
+    return [
+        part,
+        index,
+        name,
+        vc if vc is not None and math.isfinite(vc) else None,
+        d["trail"] * factor,
+        d["diameter"] * factor,
+        d["groove"] * factor,
+        d["damping"],
+    ]
 
 
 def front_figure(
@@ -157,7 +177,7 @@ def _front_traces(continuous: list, risk: list, buildable: list, units: str) -> 
                     _custom(p, key, i, f"{name} #{i + 1}" + (f" {p['label']}" if p.get("label") else ""), units)
                     for i, p in enumerate(points)
                 ],
-                "hovertemplate": HOVER,
+                "hovertemplate": hover(units),
                 "line": {"color": COLOURS[key], "width": 1.5},
                 "marker": {"color": COLOURS[key], "size": size, "symbol": symbol},
                 "meta": key,
@@ -175,7 +195,7 @@ def _recommendation_trace(recommendation: dict, units: str) -> dict:
     """The caster to build: a green star; a click opens its card (the recommendation's own record)."""
     return {
         "customdata": [_custom(recommendation, "recommendation", 0, "the caster to build", units)],
-        "hovertemplate": HOVER,
+        "hovertemplate": hover(units),
         "marker": {
             "color": COLOURS["recommendation"],
             "line": {"color": "white", "width": 1},
@@ -197,7 +217,7 @@ def _mine_trace(mine: dict, units: str) -> dict:
     risk_text = f"{display.shown(n.get('shimmy_probability'), 'shimmy_probability', units)} shimmy"
     return {
         "customdata": [_custom(n, "mine", 0, "my caster", units)],
-        "hovertemplate": HOVER,
+        "hovertemplate": hover(units),
         "marker": {"color": COLOURS["mine"], "size": 14, "symbol": "x"},
         "meta": "mine",
         "mode": "markers+text",

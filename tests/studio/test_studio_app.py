@@ -533,8 +533,7 @@ def test_front_convention_is_the_reports():
     for trace in fig["data"]:
         assert trace["x"] == [p["threshold_force"] for p in (points if len(trace["x"]) == 2 else [rec])]
         assert trace["y"] == [p["turning_effort"] for p in (points if len(trace["y"]) == 2 else [rec])]
-        hover = trace["customdata"][0][3]
-        assert hover.startswith(f"P {trace['x'][0]:.2f} N<br>F_turn {trace['y'][0]:.3f} N")
+        assert "P %{x:.2f} N<br>F_turn %{y:.3f} N" in trace["hovertemplate"]
     from matplotlib.figure import Figure
 
     ax = draw_fronts(Figure().add_subplot(), [{"threshold_force": [107.0], "turning_effort": [9.0], "label": "x"}], [])
