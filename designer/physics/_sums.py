@@ -150,14 +150,25 @@ class SumDistribution:
         total: Array = np.sqrt(sum((a**2 for a, _ in self.terms), self.normal**2))
         return total
 
-    def cdf(self, x: Numeric) -> Array:
-        """P(X <= x) per row: ``x`` broadcasts with the rows, or has one more trailing axis (several x per row)."""
+    @functools.cached_property
+    def _sine_weights(self) -> Array:
+        """w φ(s) / (π s) on the nodes (rows × nodes): F(x) = 1/2 + Σ_k sin(s_k x) · this."""
+        weights: Array = self.phi * self.w / (math.pi * self.s)
+        return weights
+
+    def cdf(self, x: Numeric, rows: slice | None = None) -> Array:
+        """P(X <= x) per row: ``x`` broadcasts with the rows, or has one more trailing axis (several x per row).
+
+        ``rows``: a slice of the first axis of a batch (``x`` then goes with those rows only)."""
         x = np.asarray(x, dtype=float)
-        several = x.ndim > len(self.shape)
-        xs = x if several else np.broadcast_to(x, self.shape)[..., None]
-        s, w, phi = (v[..., None, :] for v in (self.s, self.w, self.phi))
-        value = 0.5 + np.sum(np.sin(s * xs[..., None]) / s * phi * w, axis=-1) / math.pi
-        value = np.where(self.degenerate[..., None], (xs >= 0).astype(float), value)
+        degenerate, s, weights = self.degenerate, self.s, self._sine_weights
+        if rows is not None:
+            degenerate, s, weights = degenerate[rows], s[rows], weights[rows]
+        several = x.ndim > degenerate.ndim
+        xs = x if several else np.broadcast_to(x, degenerate.shape)[..., None]
+        s, weights = s[..., None, :], weights[..., :, None]
+        value = 0.5 + np.matmul(np.sin(s * xs[..., None]), weights)[..., 0]
+        value = np.where(degenerate[..., None], (xs >= 0).astype(float), value)
         out: Array = np.clip(value if several else value[..., 0], 0.0, 1.0)
         return out
 

@@ -24,12 +24,23 @@ stacking, see docs/problem-file.md#tolerances.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from statistics import NormalDist
 from dataclasses import dataclass
+from typing import Any
 
-from designer.physics.roots import bracketed_root
+import numpy as np
+
+from designer.physics.roots import bracketed_root, bracketed_roots
 from designer.physics.scatter import InertiaPrediction
-from designer.physics.uncertainty import Uncertainty, max_measured_inertia, shimmy_probability_exact
+from designer.physics.shimmy import critical_shimmy_speed
+from designer.physics.types import Array, Numeric
+from designer.physics.uncertainty import (
+    Uncertainty,
+    max_measured_inertia,
+    shimmy_probability_exact,
+    shimmy_probability_exact_many,
+)
 
 RISK_PARTS = ("trail", "groove", "damping")
 """The parts whose least acceptable value is a root of P = α (the inertia's largest is its own solver)."""
@@ -37,6 +48,11 @@ RISK_PARTS = ("trail", "groove", "damping")
 EXACT_NODES = 16
 """Gauss–Hermite nodes per axis of the limits' and corners' quadrature: P agrees with 32 nodes to 1e-15 on the
 recommended casters of the shipped problems (tests/studies/test_spec.py), at a sixth of the work."""
+
+LAW_NODES = 24
+"""Gauss–Hermite nodes of the batched law's one quadrature axis (:func:`exact_probabilities`): P agrees with the
+scalar 32 × 32 grid to about 3e-11 of itself on random casters (tests/physics/test_batched_law.py), where 16 nodes
+leave 6e-11 and move a c_f limit by 3e-9, above :data:`LIMIT_RTOL`."""
 
 LIMIT_RTOL = 1e-9
 """Relative tolerance of a limit's root [-]: far below any part's tolerance.  The root is sought on Φ⁻¹(P) −
@@ -193,6 +209,167 @@ def acceptance_limits(
     top = max_measured_inertia(c.trail, c.groove, c.damping, c.slip_coefficient, speed, uncertainty)
     at_top = exact_probability(c.with_fields({"inertia": top, "diameter": None}), speed, uncertainty)
     out.append(PartLimit("inertia", "max", top, at_top, "risk"))
+    return out
+
+
+def _columns(casters: Sequence[LawCaster]) -> dict[str, Array]:
+    """The casters' fields as arrays [SI] (a measured wheel's diameter nan)."""
+    return {
+        "trail": np.array([c.trail for c in casters], dtype=float),
+        "inertia": np.array([c.inertia for c in casters], dtype=float),
+        "groove": np.array([c.groove for c in casters], dtype=float),
+        "damping": np.array([c.damping for c in casters], dtype=float),
+        "slip_coefficient": np.array([c.slip_coefficient for c in casters], dtype=float),
+        "diameter": np.array([np.nan if c.diameter is None else c.diameter for c in casters], dtype=float),
+    }
+
+
+def exact_probabilities(
+    columns: dict[str, Array], speed: Numeric, uncertainty: Uncertainty, prediction: InertiaPrediction | None = None
+) -> Array:
+    """:func:`exact_probability` of many casters at once [-]: ``columns`` holds arrays of trail, inertia, groove,
+    damping, slip_coefficient [SI] and diameter [m] (nan: a measured wheel), ``speed`` [m/s] broadcasts.
+
+    :func:`designer.physics.uncertainty.shimmy_probability_exact_many` with :data:`LAW_NODES` nodes on its one
+    quadrature axis.
+    """
+    c = columns
+    return shimmy_probability_exact_many(
+        c["trail"],
+        c["inertia"],
+        c["groove"],
+        c["damping"],
+        c["slip_coefficient"],
+        speed,
+        uncertainty,
+        diameter=c["diameter"],
+        prediction=prediction,
+        nodes=LAW_NODES,
+    )
+
+
+def _probits(probability: Array) -> Array:
+    """:func:`_probit` of each probability [-] (statistics.NormalDist: no scipy import)."""
+    return np.array([_probit(float(p)) for p in np.ravel(probability)]).reshape(np.shape(probability))
+
+
+def least_parts(
+    columns: dict[str, Array],
+    part: str,
+    speed: Array,
+    uncertainty: Uncertainty,
+    low: float,
+    high: float,
+    prediction: InertiaPrediction | None = None,
+) -> list[PartLimit]:
+    """:func:`least_part` of many casters at once (``columns`` as :func:`exact_probabilities`, ``speed`` [m/s] one
+    per caster): the least T [m], B [m] or c_f [N·m/rad] at which P(V_c,true < speed) = α, the others nominal.
+
+    The same root of Φ⁻¹(P) − Φ⁻¹(α) in [low, high] by the same Illinois steps (:func:`bracketed_roots`), every
+    caster's quadrature of a step evaluated together; the same reasons when there is no limit in the range.
+    """
+    alpha = float(uncertainty.probability)
+    n = columns["trail"].size
+    target = _probit(alpha)
+
+    def excess(x: Array, rows: Any) -> Array:
+        cols = {k: v[rows] for k, v in columns.items()}
+        cols[part] = x
+        return _probits(exact_probabilities(cols, speed[rows], uncertainty, prediction)) - target
+
+    every = np.arange(n)
+    at_low, at_high = excess(np.full(n, low), every), excess(np.full(n, high), every)
+    found = (at_low > 0) & (at_high <= 0)
+    out: list[PartLimit] = [
+        PartLimit(part, "min", None, None, "holds at the low end" if at_low[i] <= 0 else "fails at the high end")
+        for i in range(n)
+    ]
+    rows = np.flatnonzero(found)
+    if rows.size:
+        xtol = 1e-15 * max(abs(high), 1e-12)
+
+        def on_rows(x: Array, sub: Any) -> Array:
+            return excess(x, rows[sub])
+
+        values = bracketed_roots(
+            on_rows,
+            np.full(rows.size, low),
+            np.full(rows.size, high),
+            xtol,
+            LIMIT_RTOL,
+            fa=at_low[rows],
+            fb=at_high[rows],
+        )
+        cols = {k: v[rows] for k, v in columns.items()}
+        cols[part] = values
+        p = exact_probabilities(cols, speed[rows], uncertainty, prediction)
+        for j, i in enumerate(rows):
+            out[i] = PartLimit(part, "min", float(values[j]), float(p[j]), "risk")
+    return out
+
+
+def max_measured_inertias(columns: dict[str, Array], speed: Array, uncertainty: Uncertainty) -> tuple[Array, Array]:
+    """The largest measured wheel inertia I* [kg·m²] of many casters at once, and P there [-].
+
+    :func:`~designer.physics.uncertainty.max_measured_inertia` (the inertia and diameter in ``columns`` are not
+    used): P(V_c,true < speed) = α with the measurement's lognormal scatter about I*, solved in log I* between
+    the I_w at which Eq. 7's V_c equals the speed and e^−12 of it, by :func:`bracketed_roots` on
+    Φ⁻¹(P) − Φ⁻¹(α) (1e-11 in log I*).
+    """
+    n = columns["trail"].size
+    cols = dict(columns) | {"inertia": np.ones(n), "diameter": np.full(n, np.nan)}
+    v_unit = critical_shimmy_speed(cols["trail"], 1.0, cols["groove"], cols["damping"], cols["slip_coefficient"])
+    top = 2 * np.log(v_unit / speed)  # the log I_w whose V_c is the speed (V_c ∝ I_w^−1/2, Eq. 7)
+    target = _probit(float(uncertainty.probability))
+
+    def excess(x: Array, rows: Any) -> Array:
+        sub = {k: v[rows] for k, v in cols.items()} | {"inertia": np.exp(x)}
+        return _probits(exact_probabilities(sub, speed[rows], uncertainty)) - target
+
+    log_i = bracketed_roots(excess, top - 12.0, top, 1e-11, 0.0)
+    at = exact_probabilities(cols | {"inertia": np.exp(log_i)}, speed, uncertainty)
+    return np.exp(log_i), at
+
+
+def acceptance_limits_many(
+    casters: Sequence[LawCaster],
+    speed: Numeric,
+    uncertainty: Uncertainty,
+    ranges: dict[str, tuple[float, float]],
+    swept_radius_max: float | None,
+    wheel_diameter: Numeric,
+    prediction: InertiaPrediction | None = None,
+) -> list[list[PartLimit]]:
+    """:func:`acceptance_limits` of many casters at once: one list of :class:`PartLimit` per caster, in the same
+    order (trail min, trail max, groove min, c_f min, I_w max) [SI].
+
+    ``speed`` [m/s] and ``wheel_diameter`` d [m] (the swept-radius limit's) broadcast with the casters.  Every
+    part's root search runs for all casters together (:func:`least_parts`, :func:`max_measured_inertias`): the
+    same limits as one caster at a time, to the root's tolerance.
+    """
+    n = len(casters)
+    if not n:
+        return []
+    columns = _columns(casters)
+    v = np.broadcast_to(np.asarray(speed, dtype=float), (n,)).copy()
+    d = np.broadcast_to(np.asarray(wheel_diameter, dtype=float), (n,))
+    parts = {part: least_parts(columns, part, v, uncertainty, *ranges[part], prediction) for part in RISK_PARTS}
+    top, at_top = max_measured_inertias(columns, v, uncertainty)
+    out = []
+    for i in range(n):
+        if swept_radius_max is None:
+            trail_max = PartLimit("trail", "max", None, None, "the problem has no swept-radius limit")
+        else:
+            trail_max = PartLimit("trail", "max", swept_radius_max - float(d[i]) / 2, None, "swept radius")
+        out.append(
+            [
+                parts["trail"][i],
+                trail_max,
+                parts["groove"][i],
+                parts["damping"][i],
+                PartLimit("inertia", "max", float(top[i]), float(at_top[i]), "risk"),
+            ]
+        )
     return out
 
 
