@@ -258,12 +258,13 @@ def least_parts(
     part: str,
     speed: Array,
     uncertainty: Uncertainty,
-    low: float,
-    high: float,
+    low: Numeric,
+    high: Numeric,
     prediction: InertiaPrediction | None = None,
 ) -> list[PartLimit]:
     """:func:`least_part` of many casters at once (``columns`` as :func:`exact_probabilities`, ``speed`` [m/s] one
-    per caster): the least T [m], B [m] or c_f [N·m/rad] at which P(V_c,true < speed) = α, the others nominal.
+    per caster): the least T [m], B [m] or c_f [N·m/rad] at which P(V_c,true < speed) = α, the others nominal,
+    searched in [low, high] (numbers, or one per caster).
 
     The same root of Φ⁻¹(P) − Φ⁻¹(α) in [low, high] by the same Illinois steps (:func:`bracketed_roots`), every
     caster's quadrature of a step evaluated together; the same reasons when there is no limit in the range.
@@ -278,7 +279,8 @@ def least_parts(
         return _probits(exact_probabilities(cols, speed[rows], uncertainty, prediction)) - target
 
     every = np.arange(n)
-    at_low, at_high = excess(np.full(n, low), every), excess(np.full(n, high), every)
+    low, high = (np.broadcast_to(np.asarray(x, dtype=float), (n,)) for x in (low, high))
+    at_low, at_high = excess(low, every), excess(high, every)
     found = (at_low > 0) & (at_high <= 0)
     out: list[PartLimit] = [
         PartLimit(part, "min", None, None, "holds at the low end" if at_low[i] <= 0 else "fails at the high end")
@@ -286,15 +288,15 @@ def least_parts(
     ]
     rows = np.flatnonzero(found)
     if rows.size:
-        xtol = 1e-15 * max(abs(high), 1e-12)
+        xtol = 1e-15 * np.maximum(np.abs(high[rows]), 1e-12)
 
         def on_rows(x: Array, sub: Any) -> Array:
             return excess(x, rows[sub])
 
         values = bracketed_roots(
             on_rows,
-            np.full(rows.size, low),
-            np.full(rows.size, high),
+            low[rows],
+            high[rows],
             xtol,
             LIMIT_RTOL,
             fa=at_low[rows],
@@ -335,15 +337,16 @@ def acceptance_limits_many(
     casters: Sequence[LawCaster],
     speed: Numeric,
     uncertainty: Uncertainty,
-    ranges: dict[str, tuple[float, float]],
-    swept_radius_max: float | None,
+    ranges: dict[str, tuple[Numeric, Numeric]],
+    swept_radius_max: float | None | Sequence[float | None],
     wheel_diameter: Numeric,
     prediction: InertiaPrediction | None = None,
 ) -> list[list[PartLimit]]:
     """:func:`acceptance_limits` of many casters at once: one list of :class:`PartLimit` per caster, in the same
     order (trail min, trail max, groove min, c_f min, I_w max) [SI].
 
-    ``speed`` [m/s] and ``wheel_diameter`` d [m] (the swept-radius limit's) broadcast with the casters.  Every
+    ``speed`` [m/s], ``wheel_diameter`` d [m] (the swept-radius limit's) and each range's ends broadcast with the
+    casters; ``swept_radius_max`` R_max [m] is one for all or one per caster (None: no limit).  Every
     part's root search runs for all casters together (:func:`least_parts`, :func:`max_measured_inertias`): the
     same limits as one caster at a time, to the root's tolerance.
     """
@@ -355,12 +358,14 @@ def acceptance_limits_many(
     d = np.broadcast_to(np.asarray(wheel_diameter, dtype=float), (n,))
     parts = {part: least_parts(columns, part, v, uncertainty, *ranges[part], prediction) for part in RISK_PARTS}
     top, at_top = max_measured_inertias(columns, v, uncertainty)
+    radius = list(swept_radius_max) if isinstance(swept_radius_max, Sequence) else [swept_radius_max] * n
     out = []
     for i in range(n):
-        if swept_radius_max is None:
+        r_max = radius[i]
+        if r_max is None:
             trail_max = PartLimit("trail", "max", None, None, "the problem has no swept-radius limit")
         else:
-            trail_max = PartLimit("trail", "max", swept_radius_max - float(d[i]) / 2, None, "swept radius")
+            trail_max = PartLimit("trail", "max", r_max - float(d[i]) / 2, None, "swept radius")
         out.append(
             [
                 parts["trail"][i],

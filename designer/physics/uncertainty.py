@@ -100,7 +100,7 @@ from designer.physics.scatter import (
     predicted_inertia_source,
     slip_coefficient_source,
 )
-from designer.physics._sums import SumDistribution
+from designer.physics._sums import SumDistribution, tabled_cdf
 from designer.physics._quantile_fits import STORED_PAIR_FITS
 from numpy.polynomial.hermite_e import hermegauss
 from numpy.polynomial.legendre import leggauss
@@ -798,7 +798,7 @@ def shimmy_probability_exact_many(
     diameter: Numeric | None = None,
     measured: Numeric | None = None,
     prediction: InertiaPrediction | None = None,
-    nodes: int = 16,
+    nodes: int = 24,
 ) -> Array:
     """P(V_c,true < speed) under the exact law for many casters at once, by quadrature [-].
 
@@ -854,18 +854,10 @@ def _inertia_scales(
     return np.where(flags, np.nan, np.broadcast_to(scale, t.shape))
 
 
-_CELLS_CDF = 1 << 20
-"""Rows × points × inversion nodes evaluated at once by :func:`_weighted_cdf` (8 MB per array)."""
-
-
 def _weighted_cdf(dist: SumDistribution, x: Array, weights: Array) -> Array:
-    """Σ_j w_j F_i(x_ij) per row i, F_i the row's CDF (rows × points) [-], in chunks of rows."""
-    rows, points = x.shape
-    step = max(1, _CELLS_CDF // (points * dist.s.shape[-1]))
-    out = np.empty(rows)
-    for start in range(0, rows, step):
-        part = slice(start, start + step)
-        out[start : start + step] = np.sum(weights[part] * dist.cdf(x[part], rows=part), axis=-1)
+    """Σ_j w_j F_i(x_ij) per row i, F_i the row's CDF (rows × points) [-]: casters that share a linear law (a
+    wheel size and kind) share its tabulated CDF when they are many (:func:`~designer.physics._sums.tabled_cdf`)."""
+    out: Array = np.sum(weights * tabled_cdf(dist, x), axis=-1)
     return out
 
 
@@ -995,22 +987,6 @@ def _draw_stream(seed: int, model_error_dof: Any, inertia_dof: Any) -> _DrawStre
     return _DrawStream(seed, model_error_dof, inertia_dof)
 
 
-def _true_speeds(
-    f: dict[str, Array], u: Uncertainty, iota: Array, t: Array, i_w: Array, b: Array, c: Array, k: Array
-) -> Array:
-    """V_c,true [m/s] of casters (rows) for one block of draws (columns): Eq. 7 with the scattered I_w (log
-    factor ``iota``), c_f and K_s, times the model error."""
-    v = critical_shimmy_speed(
-        t[:, None],
-        i_w[:, None] * np.exp(iota),
-        b[:, None],
-        c[:, None] * np.exp(u.damping * f["damping"]),
-        k[:, None] * np.exp(u.slip_coefficient * f["slip"]),
-    )
-    out: Array = np.asarray(v, dtype=float) * np.exp(u.model_error * f["model"])
-    return out
-
-
 def shimmy_probability_mc_many(
     trail: Numeric,
     inertia: Numeric,
@@ -1065,14 +1041,27 @@ def shimmy_probability_mc_many(
     hits = np.zeros(v_req.shape)
     drawn = 0
     active = np.arange(n)
+    # V_c,true < V  <=>  (a e^{σc Zc} + b e^{σK ZK}) e^{2 σm t} e^{−ι} < V²  (Eq. 7 squared, a and b its two terms
+    # at the nominal constants): the exponentials of a draw are shared by every caster, those of ι by the casters
+    # of one inertia law (a wheel size, or measured)
+    friction, groove_term = (np.asarray(x, dtype=float) for x in critical_speed_terms(t, i_w, b, c, k))
+    v_req2 = v_req**2
+    laws, law_of = np.unique(np.stack([is_measured.astype(float), scale_i], axis=1), axis=0, return_inverse=True)
+    law_of = law_of.reshape(-1)
     while active.size:
         f = next(blocks)
+        model = 2 * u.model_error * f["model"]
+        with_friction = np.exp(u.damping * f["damping"] + model)
+        with_groove = np.exp(u.slip_coefficient * f["slip"] + model)
         step = max(1, _CELLS // MC_BLOCK)
         for start in range(0, active.size, step):
             j = active[start : start + step]
-            iota = np.where(is_measured[j, None], f["inertia_z"], f["inertia_t"]) * scale_i[j, None]
-            v = _true_speeds(f, u, iota, t[j], i_w[j], b[j], c[j], k[j])
-            counts = np.count_nonzero(v[:, None, :] < v_req[j, :, None], axis=-1)
+            here, which = np.unique(law_of[j], return_inverse=True)
+            spread = np.exp(
+                -laws[here, 1, None] * np.where(laws[here, 0, None] > 0, f["inertia_z"], f["inertia_t"])
+            )  # e^{−ι}, one row per inertia law
+            v2 = (friction[j, None] * with_friction + groove_term[j, None] * with_groove) * spread[which.reshape(-1)]
+            counts = np.count_nonzero(v2[:, None, :] < v_req2[j, :, None], axis=-1)
             hits[j] += np.where(want[j] > drawn, counts, 0)  # a speed that stopped keeps its count
         drawn += MC_BLOCK
         reached = want == drawn

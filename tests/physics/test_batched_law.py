@@ -147,3 +147,80 @@ def test_batched_limits_equal_one_at_a_time_on_50_random_casters(monkeypatch):
             if theirs.probability is not None:
                 assert ours.probability == pytest.approx(theirs.probability, abs=1e-8)
     assert found["risk"] >= 60 and found["none"] >= 1  # most parts have a risk limit; some none in the range
+
+
+def test_casters_sharing_a_wheel_size_share_a_tabulated_cdf_and_the_same_p():
+    """60 casters on three wheel sizes (and measured wheels) bring many points per linear law: the batch tabulates
+    each law's CDF (designer.physics._sums.CdfTable) and P still equals the one-caster quadrature to 1e-10."""
+    from designer.physics import _sums
+
+    c = random_casters(4, n=60)
+    c["diameter"] = np.choose(np.arange(60) % 3, [0.127, 0.1524, 0.2032])
+    c["inertia"] = np.asarray(power_law_inertia(c["diameter"]), dtype=float)
+    v_c = critical_shimmy_speed(c["trail"], c["inertia"], c["groove"], c["damping"], SLIP)
+    c["speed"] = v_c * np.random.default_rng(5).uniform(0.4, 1.2, 60)
+    _sums._TABLES.clear()
+    law = U.data_law()
+    ours = batched(c, law)
+    assert len(_sums._TABLES) >= 3  # the table path ran
+    theirs = scalar_probabilities(c, law)
+    assert np.max(np.abs(ours - theirs) / theirs) <= 1e-10
+
+
+@pytest.mark.parametrize(
+    "terms, normal",
+    [
+        ([(0.10751, 5), (0.5 * 0.36, 5)], 0.5 * 0.0894),  # model error, a 5 in wheel's prediction, E's half
+        ([(0.10751, 5)], 0.5 * np.hypot(0.05, 0.0894)),  # a measured grooved wheel
+        ([(0.10751, 5)], 0.05),  # a measured wheel without groove
+    ],
+)
+def test_cdf_table_is_the_inversion_to_1e15(terms, normal):
+    """The quintic Hermite table equals the characteristic-function inversion within 1e-15 (absolute) over its
+    reach |x| <= 20 λ, tails included, and is symmetric: F(−x) = 1 − F(x)."""
+    from designer.physics._sums import TABLE_REACH, CdfTable, SumDistribution
+
+    dist = SumDistribution(terms, normal)
+    table = CdfTable(dist)
+    lam = float(dist.total_scale)
+    rng = np.random.default_rng(6)
+    x = np.concatenate([rng.standard_t(3, 4000) * lam, rng.uniform(-TABLE_REACH, TABLE_REACH, 2000) * lam])
+    x = x[table.inside(x)]
+    assert np.max(np.abs(table(x) - dist.cdf(x[:, None]).ravel())) <= 1e-15
+    assert np.max(np.abs(table(-x) - (1 - table(x)))) <= 1e-15
+
+
+def test_gauss_legendre_matches_numpy_and_integrates_better():
+    """The Newton Gauss–Legendre rule gives numpy's nodes to 1e-15 and integrates x^200 and cos(100 x) on [−1, 1]
+    to 1e-15 (numpy's eigenvalue weights: 1e-14)."""
+    from designer.physics._sums import gauss_legendre
+
+    x, w = gauss_legendre(512)
+    ref_x, ref_w = np.polynomial.legendre.leggauss(512)
+    assert np.max(np.abs(x - ref_x)) <= 1e-15 and np.max(np.abs(w - ref_w)) <= 1e-14
+    assert abs(np.sum(w * x**200) - 2 / 201) <= 1e-15
+    assert abs(np.sum(w * np.cos(100 * x)) - 2 * np.sin(100) / 100) <= 1e-15
+
+
+def test_monte_carlo_counts_are_eq7_on_the_stream_draws():
+    """The Monte Carlo (Eq. 7 squared, shared exponentials) counts the same draws below V as Eq. 7 evaluated draw
+    by draw on the seeded stream (designer.physics.uncertainty.law_draws): the same P to the last draw."""
+    law = U.data_law(samples=10_000)
+    c = random_casters(7, n=6)
+    p, _ = U.shimmy_probability_mc_many(
+        c["trail"], c["inertia"], c["groove"], c["damping"], SLIP, c["speed"], law,
+        diameter=c["diameter"], measured=c["measured"], target_se=None,
+    )  # fmt: skip
+    f = U.law_draws(law, np.random.default_rng(law.seed), U.inertia_prediction().dof)
+    for i in range(6):
+        scale = law.inertia if c["measured"][i] else float(U.inertia_prediction().scale(c["diameter"][i]))
+        iota = scale * (f["inertia_z"] if c["measured"][i] else f["inertia_t"])
+        v = critical_shimmy_speed(
+            c["trail"][i],
+            c["inertia"][i] * np.exp(iota),
+            c["groove"][i],
+            c["damping"][i] * np.exp(law.damping * f["damping"]),
+            SLIP * np.exp(law.slip_coefficient * f["slip"]),
+        ) * np.exp(law.model_error * f["model"])
+        assert p[i] == np.count_nonzero(v < c["speed"][i]) / 10_000
+    assert 0 < p.min() and p.max() < 1
