@@ -253,84 +253,76 @@ def _probits(probability: Array) -> Array:
     return np.array([_probit(float(p)) for p in np.ravel(probability)]).reshape(np.shape(probability))
 
 
-def least_parts(
+_SEARCHED = (*RISK_PARTS, "inertia")
+"""The parts searched by :func:`_limit_search`, in its blocks of rows (the inertia in log I_w)."""
+
+
+def _limit_search(
     columns: dict[str, Array],
-    part: str,
     speed: Array,
     uncertainty: Uncertainty,
-    low: Numeric,
-    high: Numeric,
+    ranges: dict[str, tuple[Numeric, Numeric]],
     prediction: InertiaPrediction | None = None,
-) -> list[PartLimit]:
-    """:func:`least_part` of many casters at once (``columns`` as :func:`exact_probabilities`, ``speed`` [m/s] one
-    per caster): the least T [m], B [m] or c_f [N·m/rad] at which P(V_c,true < speed) = α, the others nominal,
-    searched in [low, high] (numbers, or one per caster).
+) -> tuple[Array, Array, Array, Array]:
+    """Every risk limit of many casters in one root search: the least T [m], B [m] and c_f [N·m/rad] at which
+    P(V_c,true < speed) = α, the others nominal (:func:`least_part`), and the largest measured I_w
+    (:func:`~designer.physics.uncertainty.max_measured_inertia`), as one block of rows each.
 
-    The same root of Φ⁻¹(P) − Φ⁻¹(α) in [low, high] by the same Illinois steps (:func:`bracketed_roots`), every
-    caster's quadrature of a step evaluated together; the same reasons when there is no limit in the range.
-    """
-    alpha = float(uncertainty.probability)
-    n = columns["trail"].size
-    target = _probit(alpha)
+    Each row is a root of Φ⁻¹(P) − Φ⁻¹(α) by :func:`bracketed_roots` (the scalar searches' Illinois steps, row
+    by row) and every step's quadratures of all rows are one call of :func:`exact_probabilities`: T, B, c_f in
+    their ``ranges`` ([low, high], numbers or one per caster) to :data:`LIMIT_RTOL`; I_w measured (lognormal
+    scatter about it) in log I_w between the I_w at which Eq. 7's V_c equals the speed (V_c ∝ I_w^−1/2) and
+    e^−12 of it, to 1e-11.
 
-    def excess(x: Array, rows: Any) -> Array:
-        cols = {k: v[rows] for k, v in columns.items()}
-        cols[part] = x
-        return _probits(exact_probabilities(cols, speed[rows], uncertainty, prediction)) - target
-
-    every = np.arange(n)
-    low, high = (np.broadcast_to(np.asarray(x, dtype=float), (n,)) for x in (low, high))
-    at_low, at_high = excess(low, every), excess(high, every)
-    found = (at_low > 0) & (at_high <= 0)
-    out: list[PartLimit] = [
-        PartLimit(part, "min", None, None, "holds at the low end" if at_low[i] <= 0 else "fails at the high end")
-        for i in range(n)
-    ]
-    rows = np.flatnonzero(found)
-    if rows.size:
-        xtol = 1e-15 * np.maximum(np.abs(high[rows]), 1e-12)
-
-        def on_rows(x: Array, sub: Any) -> Array:
-            return excess(x, rows[sub])
-
-        values = bracketed_roots(
-            on_rows,
-            low[rows],
-            high[rows],
-            xtol,
-            LIMIT_RTOL,
-            fa=at_low[rows],
-            fb=at_high[rows],
-        )
-        cols = {k: v[rows] for k, v in columns.items()}
-        cols[part] = values
-        p = exact_probabilities(cols, speed[rows], uncertainty, prediction)
-        for j, i in enumerate(rows):
-            out[i] = PartLimit(part, "min", float(values[j]), float(p[j]), "risk")
-    return out
-
-
-def max_measured_inertias(columns: dict[str, Array], speed: Array, uncertainty: Uncertainty) -> tuple[Array, Array]:
-    """The largest measured wheel inertia I* [kg·m²] of many casters at once, and P there [-].
-
-    :func:`~designer.physics.uncertainty.max_measured_inertia` (the inertia and diameter in ``columns`` are not
-    used): P(V_c,true < speed) = α with the measurement's lognormal scatter about I*, solved in log I* between
-    the I_w at which Eq. 7's V_c equals the speed and e^−12 of it, by :func:`bracketed_roots` on
-    Φ⁻¹(P) − Φ⁻¹(α) (1e-11 in log I*).
+    Returns (values [SI], P at them [-], excess at the low end, excess at the high end), each parts × casters; a
+    T, B or c_f row without a sign change in its range is nan (excess at the low end <= 0: it holds there;
+    else it fails at the high end).
     """
     n = columns["trail"].size
-    cols = dict(columns) | {"inertia": np.ones(n), "diameter": np.full(n, np.nan)}
-    v_unit = critical_shimmy_speed(cols["trail"], 1.0, cols["groove"], cols["damping"], cols["slip_coefficient"])
-    top = 2 * np.log(v_unit / speed)  # the log I_w whose V_c is the speed (V_c ∝ I_w^−1/2, Eq. 7)
+    m = len(_SEARCHED)
+    kind = np.repeat(np.arange(m), n)
+    cols = {key: np.tile(value, m) for key, value in columns.items()}
+    is_inertia = kind == m - 1
+    cols["inertia"] = np.where(is_inertia, 1.0, cols["inertia"])
+    cols["diameter"] = np.where(is_inertia, np.nan, cols["diameter"])
+    v = np.tile(speed, m)
+    c = columns
+    v_unit = critical_shimmy_speed(c["trail"], 1.0, c["groove"], c["damping"], c["slip_coefficient"])
+    top = 2 * np.log(v_unit / speed)  # the log I_w whose V_c is the speed
+    ends = [np.broadcast_to(np.asarray(x, dtype=float), (n,)) for part in RISK_PARTS for x in ranges[part]]
+    low = np.concatenate([*ends[0::2], top - 12.0])
+    high = np.concatenate([*ends[1::2], top])
+    xtol = np.where(is_inertia, 1e-11, 1e-15 * np.maximum(np.abs(high), 1e-12))
+    rtol = np.where(is_inertia, 0.0, LIMIT_RTOL)
     target = _probit(float(uncertainty.probability))
 
-    def excess(x: Array, rows: Any) -> Array:
-        sub = {k: v[rows] for k, v in cols.items()} | {"inertia": np.exp(x)}
-        return _probits(exact_probabilities(sub, speed[rows], uncertainty)) - target
+    def probability(x: Array, rows: Any) -> Array:
+        sub = {key: value[rows] for key, value in cols.items()}
+        here = kind[rows]
+        for k, part in enumerate(RISK_PARTS):
+            sub[part] = np.where(here == k, x, sub[part])
+        sub["inertia"] = np.where(here == m - 1, np.exp(np.where(here == m - 1, x, 0.0)), sub["inertia"])
+        return exact_probabilities(sub, v[rows], uncertainty, prediction)
 
-    log_i = bracketed_roots(excess, top - 12.0, top, 1e-11, 0.0)
-    at = exact_probabilities(cols | {"inertia": np.exp(log_i)}, speed, uncertainty)
-    return np.exp(log_i), at
+    def excess(x: Array, rows: Any) -> Array:
+        return _probits(probability(x, rows)) - target
+
+    every = np.arange(m * n)
+    at_low, at_high = excess(low, every), excess(high, every)
+    found = ((at_low > 0) & (at_high <= 0)) | is_inertia
+    rows = np.flatnonzero(found)
+    values = np.full(m * n, np.nan)
+    p = np.full(m * n, np.nan)
+
+    def on_rows(x: Array, sub: Any) -> Array:
+        return excess(x, rows[sub])
+
+    roots = bracketed_roots(on_rows, low[rows], high[rows], xtol[rows], rtol[rows], fa=at_low[rows], fb=at_high[rows])
+    values[rows] = roots
+    p[rows] = probability(roots, rows)
+    values[is_inertia] = np.exp(values[is_inertia])
+    shape = (m, n)
+    return values.reshape(shape), p.reshape(shape), at_low.reshape(shape), at_high.reshape(shape)
 
 
 def acceptance_limits_many(
@@ -346,9 +338,9 @@ def acceptance_limits_many(
     order (trail min, trail max, groove min, c_f min, I_w max) [SI].
 
     ``speed`` [m/s], ``wheel_diameter`` d [m] (the swept-radius limit's) and each range's ends broadcast with the
-    casters; ``swept_radius_max`` R_max [m] is one for all or one per caster (None: no limit).  Every
-    part's root search runs for all casters together (:func:`least_parts`, :func:`max_measured_inertias`): the
-    same limits as one caster at a time, to the root's tolerance.
+    casters; ``swept_radius_max`` R_max [m] is one for all or one per caster (None: no limit).  Every part's
+    root search of every caster runs in one batch (:func:`_limit_search`): the same limits as one caster at a
+    time, to the root's tolerance.
     """
     n = len(casters)
     if not n:
@@ -356,25 +348,24 @@ def acceptance_limits_many(
     columns = _columns(casters)
     v = np.broadcast_to(np.asarray(speed, dtype=float), (n,)).copy()
     d = np.broadcast_to(np.asarray(wheel_diameter, dtype=float), (n,))
-    parts = {part: least_parts(columns, part, v, uncertainty, *ranges[part], prediction) for part in RISK_PARTS}
-    top, at_top = max_measured_inertias(columns, v, uncertainty)
+    values, p, at_low, _ = _limit_search(columns, v, uncertainty, ranges, prediction)
     radius = list(swept_radius_max) if isinstance(swept_radius_max, Sequence) else [swept_radius_max] * n
     out = []
     for i in range(n):
+        least = []
+        for k, part in enumerate(RISK_PARTS):
+            if np.isnan(values[k, i]):
+                reason = "holds at the low end" if at_low[k, i] <= 0 else "fails at the high end"
+                least.append(PartLimit(part, "min", None, None, reason))
+            else:
+                least.append(PartLimit(part, "min", float(values[k, i]), float(p[k, i]), "risk"))
         r_max = radius[i]
         if r_max is None:
             trail_max = PartLimit("trail", "max", None, None, "the problem has no swept-radius limit")
         else:
             trail_max = PartLimit("trail", "max", r_max - float(d[i]) / 2, None, "swept radius")
-        out.append(
-            [
-                parts["trail"][i],
-                trail_max,
-                parts["groove"][i],
-                parts["damping"][i],
-                PartLimit("inertia", "max", float(top[i]), float(at_top[i]), "risk"),
-            ]
-        )
+        inertia = PartLimit("inertia", "max", float(values[-1, i]), float(p[-1, i]), "risk")
+        out.append([least[0], trail_max, least[1], least[2], inertia])
     return out
 
 

@@ -104,7 +104,7 @@ def bracketed_roots(
     a: Array,
     b: Array,
     xtol: Array | float = 2e-12,
-    rtol: float = 4 * EPS,
+    rtol: Array | float = 4 * EPS,
     maxiter: int = 200,
     fa: Array | None = None,
     fb: Array | None = None,
@@ -113,8 +113,8 @@ def bracketed_roots(
 
     ``f(x, rows)`` returns f at the points ``x`` of the rows ``rows`` (indices into the brackets): only the rows
     still searching are evaluated, all together.  ``a``, ``b``: 1-D arrays of bracket ends, each with a sign
-    change of f (or a zero at an end); ``fa``, ``fb``: f there, when the caller has it.  ``xtol`` may differ from
-    row to row [units of x].  Returns x per row with |x − x*| ≤ 2 (xtol + rtol |x|), the end with the smaller
+    change of f (or a zero at an end); ``fa``, ``fb``: f there, when the caller has it.  ``xtol`` [units of x]
+    and ``rtol`` [-] may differ from row to row.  Returns x per row with |x − x*| ≤ 2 (xtol + rtol |x|), the end with the smaller
     |f| as :func:`bracketed_root` does.
 
     Raises
@@ -126,8 +126,9 @@ def bracketed_roots(
     """
     a, b = np.array(a, dtype=float), np.array(b, dtype=float)
     xtol = np.broadcast_to(np.asarray(xtol, dtype=float), a.shape)
-    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b)) and np.all(xtol >= 0) and rtol >= 0):
-        raise ValueError(f"brackets and tolerances must be finite, tolerances >= 0 (rtol {rtol!r})")
+    rtol = np.broadcast_to(np.asarray(rtol, dtype=float), a.shape)
+    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b)) and np.all(xtol >= 0) and np.all(rtol >= 0)):
+        raise ValueError("brackets and tolerances must be finite, tolerances >= 0")
     every = np.arange(a.size)
     fa = np.array(f(a, every) if fa is None else fa, dtype=np.float64)
     fb = np.array(f(b, every) if fb is None else fb, dtype=np.float64)
