@@ -14,7 +14,10 @@ P(V_c,true < V_req) = α:
 Each is a root of P(part) − α found by :func:`designer.physics.roots.bracketed_root` on the part's
 range (the parameter table's model range), P by :func:`~designer.physics.uncertainty.shimmy_probability_exact`
 (Gauss–Hermite quadrature of the exact law).  When P stays at or below α over the whole side of the range
-the part has no limit there (None, with the reason).
+the part has no limit there (None, with the reason).  :func:`acceptance_limits_many` finds every limit of
+many casters in one batch, what the specs use: the same roots by the same steps, row by row
+(:func:`designer.physics.roots.bracketed_roots`), P by the batched law
+(:func:`~designer.physics.uncertainty.shimmy_probability_exact_many`).
 
 The worst corner (:func:`worst_corner`): each toleranced part at the edge of its tolerance where P is the
 larger (others nominal), then all of them at once, the law's scatter on top: worst-case (arithmetic)

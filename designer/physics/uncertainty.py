@@ -57,7 +57,9 @@ normal quantiles is up to 0.7 % too small in Q for s ≈ 0.7; one t of scale
 √(σ_m² + σ_I²) for the two t's is up to 2.1 % too small: neither is conservative.)
 
 :func:`shimmy_probability_exact` integrates the exact law (the linear part by
-inversion, c_f and K_s through Eq. 7 itself by Gauss–Hermite);
+inversion, c_f and K_s through Eq. 7 itself by Gauss–Hermite), :func:`shimmy_probability_exact_many` the same
+law for many casters at once (one quadrature axis shared by all of them, the other normal folded into the
+linear part);
 :func:`shimmy_probability_mc_many` samples it for many casters and speeds with its
 own seed (the sampler behind the model's reported Monte Carlo, :func:`designer.model.shimmy_probability`);
 :func:`risk_record` says where a caster's risk comes from.

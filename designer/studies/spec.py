@@ -7,6 +7,8 @@ For one caster of a problem (the recommendation, an alternative, a fleet part nu
   part with the others at nominal (:func:`designer.physics.acceptance.acceptance_limits`: trail min and max,
   groove min, bearing friction moment M_f = c_f θ0 min, measured wheel inertia max), how to measure each,
   P(shimmy) from the exact law with the Monte Carlo beside it, and, with ``[tolerances]``, the worst corner;
+- :func:`caster_specs` builds the specs of many casters (a retrofit's fixes, a fleet's part numbers, a
+  recommendation and its alternatives), their limits searched in one batch;
 - :func:`corner_probabilities` gives the worst-corner P of many casters (``enforce = true`` screens with it).
 
 Limits and corners are at the bound's speed V_req = (1 + margin) V_target and the problem's risk law (the
