@@ -989,6 +989,7 @@ def _draw_stream(seed: int, model_error_dof: Any, inertia_dof: Any) -> _DrawStre
     return _DrawStream(seed, model_error_dof, inertia_dof)
 
 
+# long: one loop over the stream's blocks of draws (the shared exponentials, the counts, the top-up rule)
 def shimmy_probability_mc_many(
     trail: Numeric,
     inertia: Numeric,
