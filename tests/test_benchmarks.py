@@ -191,7 +191,8 @@ def test_speed_summary_shows_each_figure_with_its_ratio():
 
 def test_speed_section_replaces_only_its_block(tmp_path, monkeypatch):
     """benchmarks.speed --write puts its table between its markers in results.md (appended the first time,
-    replaced after), keeping the other sections, and saves the run to speed.json."""
+    replaced after, the file otherwise byte for byte the same), keeping the other sections, and saves the run to
+    speed.json."""
     from benchmarks import speed
 
     results, saved = tmp_path / "results.md", tmp_path / "speed.json"
@@ -199,8 +200,10 @@ def test_speed_section_replaces_only_its_block(tmp_path, monkeypatch):
     monkeypatch.setattr(speed, "RESULTS", results)
     monkeypatch.setattr(speed, "SAVED", saved)
     speed.write(_speed_run())
+    first = results.read_text(encoding="utf-8")
     speed.write(_speed_run())
     text = results.read_text(encoding="utf-8")
+    assert text == first  # a rewrite replaces the block alone (no blank line added after it)
     assert text.startswith("<!-- main job: begin -->\nM\n<!-- main job: end -->\n")
     assert text.count(speed.BEGIN) == 1 and text.count(speed.END) == 1
     assert "| 1.40 [1.30–1.50] | 7.0 | 0.70 |" in text

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import functools
 import math
+import threading
 from types import ModuleType
 from typing import Any, Sequence
 
@@ -328,6 +329,7 @@ _TABLES: dict[tuple[Any, ...], CdfTable] = {}
 """The tables built so far, by law (:func:`tabled_cdf`; a few dozen at most: one per wheel size and kind)."""
 
 _TABLES_KEPT = 64
+_TABLES_LOCK = threading.Lock()
 
 
 def tabled_cdf(dist: SumDistribution, x: Array, min_points: int = TABLE_MIN_POINTS) -> Array:
@@ -351,9 +353,10 @@ def tabled_cdf(dist: SumDistribution, x: Array, min_points: int = TABLE_MIN_POIN
         if table is None and members.size * points >= min_points and not dist.degenerate[members[0]]:
             one = SumDistribution(list(zip(law[:-1].tolist(), dofs)), float(law[-1]))
             table = CdfTable(one)
-            if len(_TABLES) >= _TABLES_KEPT:
-                _TABLES.pop(next(iter(_TABLES)))
-            _TABLES[key] = table
+            with _TABLES_LOCK:  # the studio's threads share the tables
+                while len(_TABLES) >= _TABLES_KEPT:
+                    _TABLES.pop(next(iter(_TABLES)))
+                _TABLES[key] = table
         if table is None:
             direct[members] = True
             continue
