@@ -32,6 +32,7 @@ from designer.physics.acceptance import (
 from designer.model import Design, scatter_of
 from designer.physics.geometry import effective_trail
 from designer.physics.uncertainty import Uncertainty
+from designer.studies.acceptance import JointLimits, joint_limits
 from designer.problem import Problem, Tolerances
 from designer.units import limit_shown
 from designer.reprs import Key, Record
@@ -160,6 +161,7 @@ class Spec(Record):
     corner: dict[str, Any] | None = None
     stem_angle: float = 0.0
     calibration: float = 1.0
+    joint: JointLimits | None = None
 
     _keys = (
         *(Key(f"nominal.{n}", n) for n in ("trail", "diameter", "groove", "friction_moment")),
@@ -173,6 +175,7 @@ class Spec(Record):
         *("disturbance_angle", "damping", "measured"),
         *(Key(f"shimmy_probability.{k}", n) for k, n in SPEC_PROBABILITY.items()),
         *("alpha", "required_speed", "tolerances", Key("worst_corner", "corner")),
+        Key("joint", omit="none"),
         Key("**", lambda s: {"stem_angle": s.stem_angle} if s.stem_angle else {}),  # a tilted stem's retrofit
         Key("**", lambda s: {"calibration": s.calibration} if s.calibration != 1.0 else {}),  # a calibrated law
     )
@@ -442,4 +445,5 @@ def caster_spec(
         },
         stem_angle=float(stem_angle),
         calibration=float(calibration),
+        joint=joint_limits(problem, design, inertia, measured, u, offset=offset, calibration=calibration),
     )
