@@ -142,6 +142,7 @@ def _recommend_examples(problem) -> dict[str, Record]:
         "Recommendation (alternative)": rec.alternatives[0],
         "Spec": rec.spec,
         "Limit": rec.spec.limits[0],
+        "JointLimits": rec.spec.joint,
         "Casters": values,
         "Caster": values.row(2),
         "ConstraintMargins": constraint_margins(problem, rec.design, problem.evaluate(rec.design)),
@@ -403,6 +404,7 @@ NAMES = [
     "Recommendation (alternative)",
     "Spec",
     "Limit",
+    "JointLimits",
     "Casters",
     "Caster",
 ]

@@ -287,7 +287,7 @@ def joint_limits(
         if trail_max <= t0 + 1e-12:
             edge = f" with the diameter at its +{tol_d * 1000:.2f} mm edge" if tol_d else ""
             notes["trail_max"] = (
-                "no window above nominal: the footrest limit T + d/2 <= R_max"
+                "no window above nominal: the footrest limit T + d/2 ≤ R_max"
                 + edge
                 + (" is below the nominal trail" if trail_max < t0 - 1e-12 else " equals the nominal trail")
                 + "; fix: a shorter trail step or a smaller wheel"
@@ -347,3 +347,95 @@ def joint_limits(
         required_speed=speed,
         notes=notes,
     )
+
+
+_BOX_PARTS = {
+    "trail": ("trail_min", "trail_max"),
+    "diameter": ("diameter_min", "diameter_max"),
+    "groove": ("groove_min", None),
+    "friction_moment": ("friction_moment_min", None),
+    "wheel_inertia": (None, "wheel_inertia_max"),
+}
+"""Each part's box limits (min key, max key; None: no such side)."""
+
+_UNITS = {"trail": "m", "diameter": "m", "groove": "m", "friction_moment": "N·m", "wheel_inertia": "kg·m²"}
+
+
+def box_cells(joint: JointLimits) -> dict[str, str]:
+    """{part: the box's interval as an inspector reads it} ("min 54.91 mm (2.162 in) [risk]; max 63.50 mm ...
+    [footrest; no window above nominal]"), rounded toward the safe side (:func:`designer.units.limit_shown`); "—" when the part
+    is not in the box."""
+    from designer.units import limit_shown
+
+    out: dict[str, str] = {}
+    lim = joint.limits
+    for part, keys in _BOX_PARTS.items():
+        cells = []
+        for side, key in zip(("min", "max"), keys):
+            if key is None or key not in lim:
+                continue
+            value = lim[key]
+            if value is None:
+                cells.append(f"{side} none [{joint.notes.get(key, 'no limit: P falls as the part grows')}]")
+                continue
+            tag = joint.protects.get(key, "risk")
+            if key in joint.notes:  # "no window above nominal", "no lower limit": the sentence says the fix
+                tag += "; " + joint.notes[key].split(":")[0]
+            cells.append(f"{side} {limit_shown(value, _UNITS[part], side)} [{tag}]")
+        out[part] = "; ".join(cells) or "—"
+    return out
+
+
+def box_sentence(joint: JointLimits) -> str:
+    """How the box was found and what it guarantees, one paragraph."""
+    shape = SHAPES[joint.shape]
+    scale = (
+        f"the stated tolerances × {joint.scale:.3g}" if joint.shape == "tolerances" else f"{joint.scale:.1%} of nominal"
+    )
+    fit = ""
+    if joint.shape == "tolerances":
+        fit = (
+            " (the stated tolerances fit inside)"
+            if joint.scale >= 1
+            else " (SMALLER than the stated tolerances: parts built to them can fail)"
+        )
+    return (
+        f"Joint acceptance box: a caster whose parts are all inside it meets P(shimmy at {joint.required_speed:.3g} "
+        f"m/s) ≤ α = {joint.alpha:.3g} (worst-case stack: P at all {joint.corners} corners by the exact law, the "
+        f"largest {joint.corner_max:.2%}; the wheel's I_w measured). Shape: {shape}; the risk windows are {scale}{fit}. "
+        + (
+            "P falls as trail, groove and M_f grow and rises with I_w (checked at every corner), so the risk side of "
+            "each part is one-sided."
+            if joint.monotone
+            else "The worst corner is not the one of every limit: P is not monotone here."
+        )
+        + "".join(f" {k}: {v}." for k, v in joint.notes.items() if k == "box")
+    )
+
+
+def box_short(joint: JointLimits) -> str:
+    """The box on one line, mm and SI ("T 54.91–63.50 mm (max: footrest, no window), B >= 16.48 mm, ..."), each
+    limit rounded toward the safe side; a geometric limit named as such."""
+    from designer.units import limit_shown
+
+    def shown(key: str, side: str) -> str:
+        value = getattr(joint, key)
+        return limit_shown(value, _UNITS[key.rsplit("_", 1)[0]], side).split(" (")[0]
+
+    def mark(key: str) -> str:
+        if joint.protects.get(key) != "footrest":
+            return ""
+        return " (max: footrest" + (", no window" if key in joint.notes else "") + ")"
+
+    trail = f"T >= {shown('trail_min', 'min')}"
+    if joint.trail_max is not None:
+        trail = f"T {shown('trail_min', 'min')}–{shown('trail_max', 'max')}{mark('trail_max')}"
+    out = [trail]
+    if joint.diameter_max is not None:
+        out.append(f"d {shown('diameter_min', 'min')}–{shown('diameter_max', 'max')}")
+    out += [
+        f"B >= {shown('groove_min', 'min')}",
+        f"M_f >= {shown('friction_moment_min', 'min')}",
+        f"I_w <= {shown('wheel_inertia_max', 'max')} measured",
+    ]
+    return ", ".join(out)

@@ -112,6 +112,22 @@ class Limit(Record):
         """The part and the side: "trail_min", "wheel_inertia_max" (the JSON key)."""
         return f"{self.part}_{self.side}"
 
+    @property
+    def protects(self) -> str | None:
+        """What the limit protects: "risk" (P = α), "footrest" (T + d/2 <= R_max, d at its tolerance's upper edge),
+        None when there is no limit."""
+        if self.value is None:
+            return None
+        return "footrest" if self.reason == "swept radius" else "risk"
+
+    @property
+    def no_window(self) -> bool:
+        """The limit leaves no window on its side of nominal (a max at or below nominal, a min at or above)."""
+        if self.value is None:
+            return False
+        gap = self.value - self.nominal if self.side == "max" else self.nominal - self.value
+        return gap <= 1e-12 * max(abs(self.nominal), 1e-12)
+
 
 @dataclass(kw_only=True)
 class Spec(Record):
@@ -293,6 +309,12 @@ def _edges(problem: Problem, design: Design, caster: LawCaster, offset: float = 
     return out
 
 
+def _diameter_tolerance(problem: Problem) -> float:
+    """The diameter's stated ± [m] (0 when none is stated)."""
+    tol = problem.tolerances
+    return 0.0 if tol is None or tol.diameter is None else float(tol.diameter)
+
+
 def _law(problem: Problem, law: Uncertainty | None) -> Uncertainty:
     """The risk law of the limits: ``law`` when given (a calibrated retrofit's), else the problem's bound, else
     the default scatter."""
@@ -407,7 +429,7 @@ def caster_spec(
         u,
         seen,  # type: ignore[arg-type]
         problem.swept_radius_max,
-        design.diameter,
+        design.diameter + _diameter_tolerance(problem),  # the footrest's trail max with d at its upper edge
     )
     theta0 = float(problem.conditions.disturbance_angle)
     nominal = {"trail": design.trail, "groove": design.groove, "damping": design.damping, "inertia": inertia}

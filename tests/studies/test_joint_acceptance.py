@@ -146,3 +146,27 @@ def test_array_law_matches_the_exact_law_caster_by_caster():
         ref = float(shimmy_probability_exact(t[k], i[k], b[k], c[k], ks, 2.5, law, None, None, 16))
         assert math.isclose(got[k], ref, rel_tol=1e-12, abs_tol=1e-15)
     assert got[4] == 1.0
+
+
+def test_default_sheet_marks_the_trail_maximum_as_the_footrest_limit_with_no_window():
+    """indoor-manual's sheet: the trail row's maximum 63.50 mm is tagged [footrest] (not [risk]) in both the joint box
+    and the one-at-a-time column, the minimum [risk]; a sentence says the maximum leaves no window and names the fix;
+    the old claim "a part beyond its limit fails the risk bound" (read as: inside passes) is gone."""
+    from designer.report.sheet import sheet_html
+
+    problem, rec = _recommended("indoor-manual")
+    html = sheet_html(rec)
+    row = html[html.index('<td class="part">trail T</td>') :].split("</tr>")[0]
+    assert row.count("max 63.50 mm (2.500 in) [footrest") == 2 and row.count("[risk]") == 2
+    assert "no window above the nominal trail: fix: a shorter trail step or a smaller wheel" in html
+    assert "A part beyond its limit fails the risk bound" not in html
+    assert "joint box: accept when every part is inside" in html
+
+
+def test_one_at_a_time_trail_maximum_applies_the_diameters_tolerance():
+    """indoor-manual-tolerances (6 in wheel, d ± 1 mm, R_max 6 in): the one-at-a-time trail maximum is
+    R_max − (d + 1 mm)/2 = 75.70 mm, not R_max − d/2 = 76.20 mm, and is labelled footrest."""
+    problem, rec = _recommended("indoor-manual-tolerances")
+    lim = rec.spec.limit("trail", "max")
+    assert lim.value * 1000 == pytest.approx(75.70, abs=1e-9) and lim.protects == "footrest"
+    assert rec.spec.limit("trail", "min").protects == "risk"

@@ -16,7 +16,8 @@ from designer.parameters import DESIGN_UNITS, OUTPUTS
 from designer.plots.caster import caster_svg, plot_caster
 from designer.problem import Problem
 from designer.reprs import Key, Record, dataframe
-from designer.studies.spec import PART_LABELS, limit_shown
+from designer.studies.acceptance import box_short
+from designer.studies.spec import limit_shown
 
 if TYPE_CHECKING:  # the front's record for the checker only: designer.studies.front loads casadi
     from designer.studies.front import Front
@@ -369,14 +370,22 @@ class Recommendation(Record):
 def spec_lines(spec: Spec) -> list[str]:
     """The spec as text lines: each limit (others at nominal), and the worst corner when there are tolerances."""
     out = [
-        f"  spec: M_f = c_f θ0 = {spec.friction_moment:.3f} N·m (θ0 = {spec.disturbance_angle * 180 / math.pi:.0f}°);"
-        " acceptance limits, each with the other parts at nominal:"
+        f"  spec: M_f = c_f θ0 = {spec.friction_moment:.3f} N·m (θ0 = {spec.disturbance_angle * 180 / math.pi:.0f}°)"
     ]
-    for lim in spec.limits:
-        shown = limit_shown(lim.value, lim.unit, lim.side)
+    if spec.joint is not None:
         out.append(
-            f"    {lim.side} {PART_LABELS[lim.part]}: {shown}" + (f" ({lim.reason})" if lim.value is None else "")
+            f"  accept when every part is inside the joint box (P <= α at all {spec.joint.corners} corners): "
+            + box_short(spec.joint)
         )
+    short = {"trail": "T", "groove": "B", "friction_moment": "M_f", "wheel_inertia": "I_w"}
+    one = ", ".join(
+        f"{short[lim.part]} {'>=' if lim.side == 'min' else '<='} "
+        + limit_shown(lim.value, lim.unit, lim.side).split(" (")[0]
+        + (" (footrest" + (", no window" if lim.no_window else "") + ")" if lim.protects == "footrest" else "")
+        for lim in spec.limits
+        if lim.value is not None
+    )
+    out.append(f"  one part at a time (others at nominal): {one}")
     if spec.corner is not None:
         c = spec.corner
         out.append(
