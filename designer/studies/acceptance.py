@@ -11,8 +11,8 @@ For one caster (T, B, c_f, I_w, d) the box has one interval per inspectable part
   T grows); without a swept-radius limit there is no trail maximum;
 - groove B >= groove_min, bearing friction moment M_f = c_f θ0 >= friction_moment_min, measured wheel inertia
   I_w <= wheel_inertia_max: risk limits;
-- diameter d in [diameter_min, diameter_max] when the footrest depends on it (a swept-radius limit) or the problem
-  tolerances it: the stated ± (0 when none is stated).
+- diameter d <= diameter_max when the footrest depends on it (a swept-radius limit: d + its stated ±, the nominal
+  when none is stated) and >= diameter_min when the problem states a diameter tolerance (the stated ±).
 
 **The risk corners.**  A corner's wheel is a measured wheel at the box's I_w bound (the measured-wheel law of
 :func:`designer.physics.uncertainty.shimmy_probability_exact`, as the one-at-a-time I_w limit uses): its diameter
@@ -162,8 +162,9 @@ class JointLimits(Record):
     def limits(self) -> dict[str, float | None]:
         """{key: value [SI]} of the box (the diameter's only when it is in the box)."""
         out = {k: getattr(self, k) for k in BOX_KEYS}
-        if self.diameter_max is not None:
-            out |= {"diameter_min": self.diameter_min, "diameter_max": self.diameter_max}
+        for key in ("diameter_min", "diameter_max"):
+            if getattr(self, key) is not None:
+                out[key] = getattr(self, key)
         return out
 
     def window(self, part: str) -> float:
@@ -172,18 +173,25 @@ class JointLimits(Record):
         return self.scale * self.weights.get(part, 0.0)
 
     def contains(self, parts: dict[str, float]) -> bool:
-        """Whether a measured caster {trail, groove, friction_moment, wheel_inertia[, diameter]} [SI] lies inside."""
-        lim = self.limits
+        """Whether a measured caster {trail, groove, friction_moment, wheel_inertia[, diameter]} [SI] lies inside
+        (to 1e-9 relative: a diameter written in mm and the box's in inches agree)."""
+        lim, eps = self.limits, 1e-9
+
+        def above(value: float, bound: float | None) -> bool:
+            return bound is None or value >= bound * (1 - eps)
+
+        def below(value: float, bound: float | None) -> bool:
+            return bound is None or value <= bound * (1 + eps)
+
         inside = (
-            parts["trail"] >= lim["trail_min"]
-            and (lim["trail_max"] is None or parts["trail"] <= lim["trail_max"])
-            and parts["groove"] >= lim["groove_min"]
-            and parts["friction_moment"] >= lim["friction_moment_min"]
-            and parts["wheel_inertia"] <= lim["wheel_inertia_max"]
+            above(parts["trail"], lim["trail_min"])
+            and below(parts["trail"], lim["trail_max"])
+            and above(parts["groove"], lim["groove_min"])
+            and above(parts["friction_moment"], lim["friction_moment_min"])
+            and below(parts["wheel_inertia"], lim["wheel_inertia_max"])
         )
-        if inside and self.diameter_max is not None and "diameter" in parts:
-            assert self.diameter_min is not None
-            inside = self.diameter_min <= parts["diameter"] <= self.diameter_max
+        if inside and "diameter" in parts:
+            inside = above(parts["diameter"], self.diameter_min) and below(parts["diameter"], self.diameter_max)
         return bool(inside)
 
     def _repr_lines(self) -> list[str]:
@@ -277,7 +285,10 @@ def joint_limits(
     r_max = problem.swept_radius_max
     tol_d = tol.diameter if tol is not None and tol.diameter is not None else 0.0
     in_box = r_max is not None or (tol is not None and tol.diameter is not None)
-    d_min, d_max = (design.diameter - tol_d, design.diameter + tol_d) if in_box else (None, None)
+    d_max = design.diameter + tol_d if in_box else None
+    # the diameter's least protects nothing of the risk (a measured wheel's law has no d) nor the footrest: it is
+    # the stated tolerance's, or none
+    d_min = design.diameter - tol_d if tol is not None and tol.diameter is not None else None
     trail_min = low(t0, wt, scale)
     protects = {k: "risk" for k in RISK_KEYS}
     if r_max is not None:
@@ -293,11 +304,12 @@ def joint_limits(
                 + "; fix: a shorter trail step or a smaller wheel"
             )
         protects["diameter_max"] = "footrest"
-        protects["diameter_min"] = "tolerance"
     else:
         trail_max = None
         if d_max is not None:
-            protects["diameter_min"] = protects["diameter_max"] = "tolerance"
+            protects["diameter_max"] = "tolerance"
+    if d_min is not None:
+        protects["diameter_min"] = "tolerance"
     for key, (nom, weight) in {"groove_min": (b0, wb), "friction_moment_min": (c0, wc)}.items():
         if nom > 0 and scale * weight >= 1:
             notes[key] = "no lower limit: the worst corner meets the bound with this part at zero"
@@ -432,7 +444,8 @@ def box_short(joint: JointLimits) -> str:
         trail = f"T {shown('trail_min', 'min')}–{shown('trail_max', 'max')}{mark('trail_max')}"
     out = [trail]
     if joint.diameter_max is not None:
-        out.append(f"d {shown('diameter_min', 'min')}–{shown('diameter_max', 'max')}")
+        d_max = f"{shown('diameter_max', 'max')}{mark('diameter_max').replace(', no window', '')}"
+        out.append(f"d {shown('diameter_min', 'min')}–{d_max}" if joint.diameter_min is not None else f"d <= {d_max}")
     out += [
         f"B >= {shown('groove_min', 'min')}",
         f"M_f >= {shown('friction_moment_min', 'min')}",
