@@ -24,6 +24,7 @@ stacking, see docs/problem-file.md#tolerances.
 from __future__ import annotations
 
 import dataclasses
+import math
 from statistics import NormalDist
 from dataclasses import dataclass
 
@@ -260,3 +261,55 @@ def worst_corner(
 def friction_moment(damping: float, disturbance_angle: float) -> float:
     """The bearing friction moment M_f = c_f θ0 [N·m] of a spindle damping c_f [N·m/rad] (Eq. 7, Eq. 11C)."""
     return damping * disturbance_angle
+
+
+QUANTILE_NODES = 32
+"""Gauss–Hermite nodes per axis of :func:`exact_speed_quantile` (P at the quantile agrees with 48 nodes to
+about 1e-12 on the shipped problems' recommendations: tests/studies/test_joint_acceptance.py)."""
+
+
+def exact_speed_quantile(
+    caster: LawCaster, uncertainty: Uncertainty, prediction: InertiaPrediction | None = None
+) -> float:
+    """The speed reached with probability 1 − α: the V_q at which the exact law gives P(V_c,true < V_q) = α [m/s].
+
+    The exact law's α-quantile of V_c,true (:func:`~designer.physics.uncertainty.shimmy_probability_exact`,
+    :data:`QUANTILE_NODES` Gauss–Hermite nodes a side), found by :func:`designer.physics.roots.bracketed_root` on
+    Φ⁻¹(P) − Φ⁻¹(α) in log V (relative tolerance 1e-12), the bracket grown from Eq. 7's V_c until it holds the
+    root.  Not the risk bound's V_q of :func:`~designer.physics.uncertainty.shimmy_speed_quantile`, which is a
+    conservative bound (first order in c_f and K_s, its fit shifted up): the solvers constrain that one; this one
+    is the number the tool prints as "speed reached with probability 1 − α".  0 when Eq. 7's V_c is zero.
+    """
+    c = caster
+    if c.trail <= 0 or (c.damping <= 0 and c.groove <= 0):
+        return 0.0
+    alpha = float(uncertainty.probability)
+    from designer.physics.shimmy import critical_shimmy_speed
+
+    v_c = float(critical_shimmy_speed(c.trail, c.inertia, c.groove, c.damping, c.slip_coefficient))
+
+    def excess(log_v: float) -> float:
+        p = shimmy_probability_exact(
+            c.trail,
+            c.inertia,
+            c.groove,
+            c.damping,
+            c.slip_coefficient,
+            math.exp(log_v),
+            uncertainty,
+            c.diameter,
+            prediction,
+            QUANTILE_NODES,
+        )
+        return _probit(float(p)) - _probit(alpha)
+
+    lo, hi = math.log(v_c) - 1.0, math.log(v_c)
+    for _ in range(60):  # P rises with V: lower lo until P < α, raise hi until P > α
+        if excess(lo) < 0:
+            break
+        lo -= 1.0
+    for _ in range(60):
+        if excess(hi) > 0:
+            break
+        hi += 1.0
+    return math.exp(bracketed_root(excess, lo, hi, xtol=1e-14, rtol=1e-12))

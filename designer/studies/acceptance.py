@@ -325,7 +325,7 @@ def joint_limits(
         "inertia": (i0 * (1 + scale * wi), i0 * (1 - scale * wi)),
     }
     live = [k for k, (lo, hi_) in axes.items() if lo != hi_]
-    grid = np.array(list(itertools.product((0, 1), repeat=len(live))), dtype=int).reshape(-1, len(live))
+    grid = np.array(list(itertools.product((0, 1), repeat=len(live))), dtype=int).reshape(2 ** len(live), len(live))
     values = {k: np.array(axes[k])[grid[:, live.index(k)]] if k in live else np.array(axes[k][0]) for k in axes}
     p = measured_probabilities(
         values["trail"] + offset, values["inertia"], values["groove"], values["damping"], ks, speed, uncertainty

@@ -44,7 +44,14 @@ from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sou
 from designer.problem import Bound, problem_argument
 from designer.solvers import one_solve_at_a_time
 from designer.studies.recommend._record import Recommendation
-from designer.studies.spec import caster_spec, corner_probabilities, exact_shimmy_probability, mc_draws
+from designer.physics.acceptance import exact_speed_quantile
+from designer.studies.spec import (
+    caster_spec,
+    corner_probabilities,
+    exact_shimmy_probability,
+    law_caster,
+    mc_draws,
+)
 from designer.studies.recommend._rule import RULES, front_roles, rule_text, select_rows, weights_meaning
 from designer.studies.recommend._stock import (
     CandidateTable,
@@ -213,7 +220,9 @@ def _record(
     if role != "if measured" and wants_spec:
         spec = _spec(problem, design, inertia, measured, (p_mc, se, n, mc_seed), p)
     extra = _risk(problem, v, i, u, p, (p_mc, se)) if role == "recommended" else {}
-    q = v.confident_speed[i] if problem.risk is not None else risk.confident_speed[0]
+    # the speed reached with probability 1 − α: the exact law's quantile (the solvers' V_q is a conservative bound)
+    law = problem.risk if problem.risk is not None else u
+    q = exact_speed_quantile(law_caster(problem, design, inertia, measured), law)
     return Recommendation(
         caster=v.row(i),
         confident_speed=float(q),

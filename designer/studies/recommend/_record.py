@@ -37,7 +37,8 @@ class Recommendation(Record):
     turning_effort : F_turn [N] (Eq. 9 with the turning model)
     threshold_force : P, force to climb the sill [N] (Eq. 4A)
     critical_speed : V_c of Eq. 7 [m/s]
-    confident_speed : the speed reached with probability 1 − α, V_q [m/s]
+    confident_speed : the speed reached with probability 1 − α, V_q [m/s]: the exact law's α-quantile of V_c,true
+        (:func:`designer.physics.acceptance.exact_speed_quantile`), not the solvers' conservative bound
     shimmy_probability : P(V_c,true < V_target) by the exact law (quadrature) [-]
     shimmy_probability_mc : the same by Monte Carlo (own seed: ``mc_seed``, ``mc_samples`` draws), an
         independent check [-]
