@@ -27,15 +27,15 @@ SHEET_SCALE = 19.2
 CSS = """
 @page { size: auto; margin: 12mm; }
 * { box-sizing: border-box; }
-body { font-family: sans-serif; font-size: 9pt; color: #111; margin: 0; max-width: 186mm; }
+body { font-family: sans-serif; font-size: 8.5pt; color: #111; margin: 0; max-width: 186mm; }
 h1 { font-size: 14pt; margin: 0 0 2mm 0; }
 p { margin: 1.2mm 0; }
 .meta { color: #444; font-size: 8.5pt; }
 table { border-collapse: collapse; width: 100%; margin: 2mm 0; }
-th, td { border: 0.3mm solid #999; padding: 1mm 1.5mm; text-align: left; vertical-align: top; }
+th, td { border: 0.3mm solid #999; padding: 0.7mm 1.2mm; text-align: left; vertical-align: top; }
 th { background: #eee; }
 td.num { white-space: nowrap; font-variant-numeric: tabular-nums; }
-td.how { font-size: 7.5pt; color: #333; }
+td.how { font-size: 7pt; color: #333; }
 td.box { font-variant-numeric: tabular-nums; font-weight: bold; }
 table.parts { table-layout: fixed; }
 table.parts td.num { white-space: normal; }

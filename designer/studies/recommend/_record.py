@@ -210,6 +210,7 @@ class Recommendation(Record):
             return (
                 f"[tolerances] enforce = true: the rule's pick holds at its worst corner "
                 f"(P(shimmy) {free['worst_corner_probability']:.2%} <= {percent(alpha)}), so it stays."
+                + self.price_sentence()
             )
         d = free["design"]
         costs = []
@@ -223,7 +224,36 @@ class Recommendation(Record):
             f"reaches P(shimmy) {free['worst_corner_probability']:.2%} at its worst corner, above {percent(alpha)}; "
             f"this one holds there, with {' and '.join(costs)} "
             f"({free['turning_effort']:.2f} → {self.turning_effort:.2f} N turning, "
-            f"{free['threshold_force']:.1f} → {self.threshold_force:.1f} N over the sill)."
+            f"{free['threshold_force']:.1f} → {self.threshold_force:.1f} N over the sill)." + self.price_sentence()
+        )
+
+    def price_sentence(self) -> str:
+        """The price of the tolerances apart from the rule's choice: the least-J caster that holds the bound at
+        its worst corner against the least-J caster without tolerances ("" when not computed)."""
+        price = (self.enforced or {}).get("price")
+        if not price:
+            return ""
+        free, hold = price["least_objective_without_tolerances"], price["least_objective_holding"]
+
+        def caster(x: dict) -> str:
+            d = x["design"]
+            return (
+                f"T {d['trail'] / INCH:.3g} in, d {d['diameter'] / INCH:.3g} in, B {d['groove'] / INCH:.3g} in, "
+                f"c_f {d['damping']:.3g} N·m/rad, J = {x['objective']:.2f} N"
+            )
+
+        if hold is None:
+            return " No buildable caster holds at its worst corner: the tolerances cannot be met."
+        if price["objective_price"] <= 1e-9:
+            return (
+                f" The tolerances cost nothing in J: the least-J caster ({caster(free)}) holds at its worst corner "
+                f"({hold['worst_corner_probability']:.2%}); any difference from it is the rule's choice."
+            )
+        return (
+            f" Price of the tolerances: the least-J caster that holds at its worst corner ({caster(hold)}, "
+            f"{hold['worst_corner_probability']:.2%} there) against the least-J caster without them ({caster(free)}, "
+            f"{free['worst_corner_probability']:.2%} at its worst corner): {price['objective_price']:.2f} N of J; "
+            "the rest of any difference between the picks is the rule's choice."
         )
 
     def __str__(self) -> str:
