@@ -87,3 +87,24 @@ def _design(spec):
     from designer.model import Design
 
     return Design(trail=spec.trail, diameter=spec.diameter, groove=spec.groove, damping=spec.damping)
+
+
+def test_fix_ranks_only_fixes_that_hold_at_the_worst_corner_when_tolerances_are_stated():
+    """designer.fix on indoor-manual-tolerances (current caster T 1.25 in, d 8 in, plain tyre, bare bearing): every
+    ranked fix holds P <= α at the worst corner of [tolerances] (its spec's exact corner, computed for all of them),
+    and the same retrofit without [tolerances] ranks first a fix that fails there (the screen changes the answer)."""
+    import designer
+    from designer.studies.spec import caster_corner
+
+    problem = load_problem(ROOT / "problems" / "indoor-manual-tolerances.toml")
+    current = "T=1.25in,d=8in,B=0,c=1.3"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        held = designer.fix(problem, current, specs=100)
+        bare = designer.fix(problem.replace(tolerances=None), current, specs=1)
+    assert held.fixes
+    for f in held.fixes:
+        assert f.spec is not None and f.spec.corner["holds"]
+    first = bare.fixes[0]
+    corner = caster_corner(problem, first.design, float(first.caster.inertia), bool(first.caster.measured))
+    assert not corner.holds
