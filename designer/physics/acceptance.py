@@ -263,22 +263,26 @@ def friction_moment(damping: float, disturbance_angle: float) -> float:
     return damping * disturbance_angle
 
 
-QUANTILE_NODES = 32
-"""Gauss–Hermite nodes per axis of :func:`exact_speed_quantile` (P at the quantile agrees with 48 nodes to
-about 1e-12 on the shipped problems' recommendations: tests/studies/test_joint_acceptance.py)."""
+QUANTILE_NODES = EXACT_NODES
+"""Gauss–Hermite nodes per axis of :func:`exact_speed_quantile` (16: P at the quantile agrees with 48 nodes to
+1e-9 relative on the default problem's recommendation, tests/studies/test_joint_acceptance.py)."""
 
 
 def exact_speed_quantile(
-    caster: LawCaster, uncertainty: Uncertainty, prediction: InertiaPrediction | None = None
+    caster: LawCaster,
+    uncertainty: Uncertainty,
+    prediction: InertiaPrediction | None = None,
+    guess: float | None = None,
 ) -> float:
     """The speed reached with probability 1 − α: the V_q at which the exact law gives P(V_c,true < V_q) = α [m/s].
 
     The exact law's α-quantile of V_c,true (:func:`~designer.physics.uncertainty.shimmy_probability_exact`,
     :data:`QUANTILE_NODES` Gauss–Hermite nodes a side), found by :func:`designer.physics.roots.bracketed_root` on
-    Φ⁻¹(P) − Φ⁻¹(α) in log V (relative tolerance 1e-12), the bracket grown from Eq. 7's V_c until it holds the
-    root.  Not the risk bound's V_q of :func:`~designer.physics.uncertainty.shimmy_speed_quantile`, which is a
-    conservative bound (first order in c_f and K_s, its fit shifted up): the solvers constrain that one; this one
-    is the number the tool prints as "speed reached with probability 1 − α".  0 when Eq. 7's V_c is zero.
+    Φ⁻¹(P) − Φ⁻¹(α) in log V (to 1e-10 in log V), the bracket grown from ``guess`` (the risk bound's V_q, which lies
+    just below the quantile: 4–6 quadratures) or from Eq. 7's V_c until it holds the root.  Not the risk bound's
+    V_q of :func:`~designer.physics.uncertainty.shimmy_speed_quantile`, which is a conservative bound (first order
+    in c_f and K_s, its fit shifted up): the solvers constrain that one; this one is the number the tool prints as
+    "speed reached with probability 1 − α".  0 when Eq. 7's V_c is zero.
     """
     c = caster
     if c.trail <= 0 or (c.damping <= 0 and c.groove <= 0):
@@ -287,29 +291,35 @@ def exact_speed_quantile(
     from designer.physics.shimmy import critical_shimmy_speed
 
     v_c = float(critical_shimmy_speed(c.trail, c.inertia, c.groove, c.damping, c.slip_coefficient))
+    seen: dict[float, float] = {}
 
     def excess(log_v: float) -> float:
-        p = shimmy_probability_exact(
-            c.trail,
-            c.inertia,
-            c.groove,
-            c.damping,
-            c.slip_coefficient,
-            math.exp(log_v),
-            uncertainty,
-            c.diameter,
-            prediction,
-            QUANTILE_NODES,
-        )
-        return _probit(float(p)) - _probit(alpha)
+        if log_v not in seen:
+            p = shimmy_probability_exact(
+                c.trail,
+                c.inertia,
+                c.groove,
+                c.damping,
+                c.slip_coefficient,
+                math.exp(log_v),
+                uncertainty,
+                c.diameter,
+                prediction,
+                QUANTILE_NODES,
+            )
+            seen[log_v] = _probit(float(p)) - _probit(alpha)
+        return seen[log_v]
 
-    lo, hi = math.log(v_c) - 1.0, math.log(v_c)
+    if guess is not None and guess > 0:
+        lo, hi, step = math.log(guess) - 0.002, math.log(guess) + 0.01, 0.05
+    else:
+        lo, hi, step = math.log(v_c) - 1.0, math.log(v_c), 1.0
     for _ in range(60):  # P rises with V: lower lo until P < α, raise hi until P > α
         if excess(lo) < 0:
             break
-        lo -= 1.0
+        lo, step = lo - step, 2 * step
     for _ in range(60):
         if excess(hi) > 0:
             break
-        hi += 1.0
-    return math.exp(bracketed_root(excess, lo, hi, xtol=1e-14, rtol=1e-12))
+        hi, step = hi + step, 2 * step
+    return math.exp(bracketed_root(excess, lo, hi, xtol=1e-10, rtol=0.0))

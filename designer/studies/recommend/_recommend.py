@@ -222,7 +222,8 @@ def _record(
     extra = _risk(problem, v, i, u, p, (p_mc, se)) if role == "recommended" else {}
     # the speed reached with probability 1 − α: the exact law's quantile (the solvers' V_q is a conservative bound)
     law = problem.risk if problem.risk is not None else u
-    q = exact_speed_quantile(law_caster(problem, design, inertia, measured), law)
+    bound = v.confident_speed[i] if problem.risk is not None else risk.confident_speed[0]  # the solvers' V_q
+    q = exact_speed_quantile(law_caster(problem, design, inertia, measured), law, guess=float(bound))
     return Recommendation(
         caster=v.row(i),
         confident_speed=float(q),
