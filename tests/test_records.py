@@ -139,7 +139,12 @@ def _recommend_examples(problem) -> dict[str, Record]:
     rec = _quiet(lambda: recommend(problem, front=front))
     designs = [problem.lower(), problem.upper(), rec.design]
     values = evaluate(designs, problem.conditions, risk=problem.target_speed, samples=2000)
+    from designer.studies.inspect import inspect
+
+    lot = inspect(problem, ROOT / "docs" / "examples" / "measured-casters.csv", rec)
     return {
+        "Inspection": lot,
+        "InspectedCaster": lot.casters[0],
         "Recommendation": rec,
         "Recommendation (alternative)": rec.alternatives[0],
         "Spec": rec.spec,
@@ -407,6 +412,8 @@ NAMES = [
     "Spec",
     "Limit",
     "JointLimits",
+    "Inspection",
+    "InspectedCaster",
     "Casters",
     "Caster",
 ]

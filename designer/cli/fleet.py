@@ -31,7 +31,7 @@ from designer.studies.fleet import (
     write_fleet_csv,
 )
 from designer.errors import InputError
-from designer.problem import example_problem, load_problem
+from designer.problem import example_problem, load_problem, tolerances_option
 from designer.units import written_size
 
 
@@ -129,8 +129,6 @@ def run(args) -> int:
     max_regret = quantity_option(args.max_regret, "force", "--max-regret", DEFAULT_MAX_REGRET)
     problem = example_problem("indoor-manual") if args.problem is None else load_problem(args.problem)
     if args.tolerances is not None:
-        from designer.problem._loader import tolerances_option
-
         problem = problem.replace(tolerances=tolerances_option(args.tolerances))
     fleet = read_fleet(args.fleet)
     out = Path(args.out) if args.out else Path("results") / "fleet" / Path(args.fleet).stem

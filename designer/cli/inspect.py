@@ -10,9 +10,11 @@ import warnings
 from pathlib import Path
 
 from designer.cli._common import PROBLEM_HELP, check_output_file, print_json
-from designer.errors import OutputError
+from designer.errors import InputError, OutputError
 from designer.output import first_line_kind, write_file
 from designer.problem import load_problem
+from designer.studies.inspect import TEMPLATE_HEAD, inspect, read_measured, template_text
+from designer.studies.recommend import recommend
 
 EXIT_BAD_ROWS = 2
 """Exit code when some rows could not be graded (after the good rows are graded and printed)."""
@@ -40,8 +42,6 @@ def register(sub) -> None:
 
 
 def _template(problem_arg: str, out: str) -> int:
-    from designer.studies.inspect import TEMPLATE_HEAD, template_text
-
     path = Path(out)
     if os.path.lexists(path):
         raise OutputError(f"--template {path}: already exists; it is left as it is; choose a new file name")
@@ -54,17 +54,12 @@ def _template(problem_arg: str, out: str) -> int:
 
 
 def run(args) -> int:
-    from designer.errors import InputError
-
     if args.template is not None:
         if args.measured is not None:
             raise InputError("designer inspect: give either MEASURED or --template FILE, not both")
         return _template(args.problem, args.template)
     if args.measured is None:
         raise InputError("designer inspect: MEASURED missing: a CSV of measured casters (--template FILE writes one)")
-    from designer.studies.inspect import inspect, read_measured
-    from designer.studies.recommend import recommend
-
     problem = load_problem(args.problem)
     read_measured(args.measured, float(problem.conditions.disturbance_angle))  # a header error before the solve
     with warnings.catch_warnings():

@@ -491,9 +491,7 @@ def spec_rows(spec, units: str) -> list[list[str]]:
             return value
         return size(value, units) if unit == "m" else (f"{value:.3f} N·m" if unit == "N·m" else f"{value:.3g} {unit}")
 
-    from designer.studies.acceptance import box_cells
-
-    box = {} if spec.joint is None else box_cells(spec.joint)
+    box = {} if spec.joint is None else spec.joint.cells()
     rows = []
     for row in spec.parts():
         tol, unit = row["tolerance"], row["unit"]
@@ -588,9 +586,7 @@ def spec_panel(rec, units: str) -> Panel:
 def acceptance_text(spec) -> str:
     """What the two kinds of limits mean: the joint box (any caster inside passes) and the one-at-a-time limits
     (each at α with the others at nominal: parts inside them can fail together); risk against footrest."""
-    from designer.studies.acceptance import box_sentence
-
-    joint = "" if spec.joint is None else box_sentence(spec.joint) + " "
+    joint = "" if spec.joint is None else spec.joint.sentence() + " "
     return (
         joint + "The one-part-at-a-time limits are each where, with every OTHER part at nominal, the exact law gives "
         f"P(shimmy) = α = {percent(spec.alpha)}: a part beyond one fails, but parts each inside them can together "

@@ -35,18 +35,17 @@ on Φ⁻¹(P) − Φ⁻¹(α) like the one-at-a-time limits); s >= 1 means the s
 from __future__ import annotations
 
 import itertools
-import math
 import warnings
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from designer.physics.acceptance import EXACT_NODES, LIMIT_RTOL, _probit, friction_moment
+from designer.physics.acceptance import LIMIT_RTOL, friction_moment, measured_probabilities, probit
 from designer.physics.roots import bracketed_root
-from designer.physics.shimmy import critical_shimmy_speed
-from designer.physics.uncertainty import Uncertainty, _hermite_nodes, _linear_part
+from designer.physics.uncertainty import Uncertainty
 from designer.reprs import Key, Record
+from designer.units import limit_shown
 
 if TYPE_CHECKING:
     from designer.model import Design
@@ -63,60 +62,6 @@ SHAPES = {
     "equal relative": "the largest equal relative window (no [tolerances] stated)",
 }
 """How the box is shaped, in words."""
-
-
-def measured_probabilities(
-    trail: Any, inertia: Any, groove: Any, damping: Any, slip_coefficient: float, speed: float, uncertainty: Uncertainty
-) -> np.ndarray:
-    """P(V_c,true < speed) of many casters with measured wheels by the exact law [-] (arrays broadcast together).
-
-    The same law as :func:`designer.physics.uncertainty.shimmy_probability_exact` with ``diameter=None`` and
-    :data:`~designer.physics.acceptance.EXACT_NODES` Gauss–Hermite nodes a side, in one array call: the linear
-    part (model error, σ_I/2 of the measured inertia) is the same distribution for every caster (log V_c's slope
-    in log I_w is −1/2 whatever B, Eq. 7), so P = Σ w F(log v − log V_c(nodes)) over a (casters × nodes) grid.
-    A caster without trail, or without both friction and groove (V_c = 0), gets 1.
-    """
-    t, i, b, c = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (trail, inertia, groove, damping)))
-    u = uncertainty
-    zn, zw = _hermite_nodes(EXACT_NODES)
-    a_, b_ = np.meshgrid(zn, zn, indexing="ij")
-    zc, zk, w = a_.ravel(), b_.ravel(), np.outer(zw, zw).ravel()
-    dead = (t <= 0) | ((c <= 0) & (b <= 0))
-    safe = [np.where(dead, 1.0, x)[..., None] for x in (t, i, b, c)]
-    v = critical_shimmy_speed(
-        safe[0], safe[1], safe[2], safe[3] * np.exp(u.damping * zc), slip_coefficient * np.exp(u.slip_coefficient * zk)
-    )
-    gap = math.log(speed) - np.log(v)
-    p = np.sum(w * measured_linear_cdf(gap, slip_coefficient, u), axis=-1)
-    return np.where(dead, 1.0, p)
-
-
-LINEAR_NODES = 16
-"""Gauss–Hermite nodes over the measured inertia's normal part in :func:`measured_linear_cdf` (10 already agree
-with the characteristic-function inversion to its own precision, 7e-13, on the data law)."""
-
-
-def measured_linear_cdf(x: np.ndarray, slip_coefficient: float, uncertainty: Uncertainty) -> np.ndarray:
-    """CDF of the exact law's linear part for a measured wheel, X = σ_m t_ν + (σ_I/2) Z, at ``x`` [-].
-
-    For an odd ν (the data law's 5) by Gauss–Hermite over Z with the Student-t CDF in closed form
-    (F = 1/2 + (θ + sin θ Σ_k a_k cos^{2k+1} θ)/π, θ = atan(t/√ν)): the same distribution as
-    :class:`~designer.physics._sums.SumDistribution`'s inversion (which it matches to 7e-13, that inversion's own
-    precision) at a twentieth of the work; any other law falls back to the inversion."""
-    u = uncertainty
-    a, dof, c = float(u.model_error), int(u.model_error_dof), 0.5 * float(u.inertia)
-    if not (a > 0 and dof % 2 == 1):
-        dist = _linear_part(1.0, 1.0, 0.0, 1.0, slip_coefficient, u, None, None)
-        return np.asarray(dist.cdf(x.reshape(1, -1))).reshape(x.shape)
-    zn, zw = _hermite_nodes(LINEAR_NODES) if c > 0 else (np.zeros(1), np.ones(1))
-    theta = np.arctan((x[..., None] - c * zn) / (a * math.sqrt(dof)))
-    cos = np.cos(theta)
-    term, total = cos, cos
-    for k in range(1, (dof - 1) // 2):
-        term = term * cos * cos * (2 * k) / (2 * k + 1)
-        total = total + term
-    cdf = 0.5 + (theta + (np.sin(theta) * total if dof > 1 else 0.0)) / math.pi
-    return np.asarray(np.sum(zw * cdf, axis=-1))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -221,6 +166,56 @@ class JointLimits(Record):
             inside = above(parts["diameter"], self.diameter_min) and below(parts["diameter"], self.diameter_max)
         return bool(inside)
 
+    def cells(self) -> dict[str, str]:
+        """{part: the box's interval as an inspector reads it} ("min 54.91 mm (2.162 in) [risk]; max 63.50 mm ...
+        [footrest; no window above nominal]"), rounded toward the safe side (:func:`designer.units.limit_shown`); "—" when the part
+        is not in the box."""
+        out: dict[str, str] = {}
+        lim = self.limits
+        for part, keys in _BOX_PARTS.items():
+            cells = []
+            for side, key in zip(("min", "max"), keys):
+                if key is None or key not in lim:
+                    continue
+                value = lim[key]
+                if value is None:
+                    cells.append(f"{side} none [{self.notes.get(key, 'no limit: P falls as the part grows')}]")
+                    continue
+                tag = self.protects.get(key, "risk")
+                if key in self.notes:  # "no window above nominal", "no lower limit": the sentence says the fix
+                    tag += "; " + self.notes[key].split(":")[0]
+                cells.append(f"{side} {limit_shown(value, _UNITS[part], side)} [{tag}]")
+            out[part] = "; ".join(cells) or "—"
+        return out
+
+    def sentence(self) -> str:
+        """How the box was found and what it guarantees, one paragraph."""
+        shape = SHAPES[self.shape]
+        scale = (
+            f"the stated tolerances × {self.scale:.3g}"
+            if self.shape == "tolerances"
+            else f"{self.scale:.1%} of nominal"
+        )
+        fit = ""
+        if self.shape == "tolerances":
+            fit = (
+                " (the stated tolerances fit inside)"
+                if self.scale >= 1
+                else " (SMALLER than the stated tolerances: parts built to them can fail)"
+            )
+        return (
+            f"Joint acceptance box: a caster whose parts are all inside it meets P(shimmy at {self.required_speed:.3g} "
+            f"m/s) ≤ α = {self.alpha:.3g} (worst-case stack: P at all {self.corners} corners by the exact law, the "
+            f"largest {self.corner_max:.2%}; the wheel's I_w measured). Shape: {shape}; the risk windows are {scale}{fit}. "
+            + (
+                "P falls as trail, groove and M_f grow and rises with I_w (checked at every corner), so the risk side of "
+                "each part is one-sided."
+                if self.monotone
+                else "The worst corner is not the one of every limit: P is not monotone here."
+            )
+            + "".join(f" {k}: {v}." for k, v in self.notes.items() if k == "box")
+        )
+
     def _repr_lines(self) -> list[str]:
         return [
             f"JointLimits({self.shape}, scale {self.scale:.3g}; worst of {self.corners} corners P "
@@ -256,6 +251,59 @@ def _weights(problem: Problem, design: Design, inertia: float, measured: bool, o
     return "tolerances", {p: stated.get(p, fill) for p in parts}
 
 
+def _footrest(
+    problem: Problem, design: Design, notes: dict[str, str]
+) -> tuple[float | None, float | None, float | None, dict[str, str]]:
+    """The box's geometric limits: the trail's and the diameter's largest (the footrest T + d/2 <= R_max with d at
+    its stated upper edge), the diameter's least (the stated tolerance's), what each key protects; a note (with
+    the fix) in ``notes`` when the footrest leaves the trail no window above nominal."""
+    tol = problem.tolerances
+    r_max = problem.swept_radius_max
+    tol_d = tol.diameter if tol is not None and tol.diameter is not None else 0.0
+    in_box = r_max is not None or (tol is not None and tol.diameter is not None)
+    d_max = design.diameter + tol_d if in_box else None
+    # the diameter's least protects nothing of the risk (a measured wheel's law has no d) nor the footrest: it is
+    # the stated tolerance's, or none
+    d_min = design.diameter - tol_d if tol is not None and tol.diameter is not None else None
+    protects = {k: "risk" for k in RISK_KEYS}
+    if r_max is not None:
+        trail_max: float | None = r_max - (design.diameter + tol_d) / 2
+        protects["trail_max"] = "footrest"
+        assert trail_max is not None
+        if trail_max <= design.trail + 1e-12:
+            edge = f" with the diameter at its +{tol_d * 1000:.2f} mm edge" if tol_d else ""
+            notes["trail_max"] = (
+                "no window above nominal: the footrest limit T + d/2 ≤ R_max"
+                + edge
+                + (" is below the nominal trail" if trail_max < design.trail - 1e-12 else " equals the nominal trail")
+                + "; fix: a shorter trail step or a smaller wheel"
+            )
+        protects["diameter_max"] = "footrest"
+    else:
+        trail_max = None
+        if d_max is not None:
+            protects["diameter_max"] = "tolerance"
+    if d_min is not None:
+        protects["diameter_min"] = "tolerance"
+    return trail_max, d_min, d_max, protects
+
+
+def _corner_probabilities(
+    axes: dict[str, tuple[float, float]], offset: float, slip_coefficient: float, speed: float, law: Uncertainty
+) -> np.ndarray:
+    """P(V_c,true < speed) at every corner of the box, in one array call of the exact law: ``axes`` {trail, groove,
+    damping, inertia: (the risk limit, the other end)}; row 0 has every part at its risk limit; a part whose two ends
+    agree adds no corner (2^k rows, k the parts with a window)."""
+    live = [k for k, (lo, hi_) in axes.items() if lo != hi_]
+    grid = np.array(list(itertools.product((0, 1), repeat=len(live))), dtype=int).reshape(2 ** len(live), len(live))
+    values = {k: np.array(axes[k])[grid[:, live.index(k)]] if k in live else np.array(axes[k][0]) for k in axes}
+    p = measured_probabilities(
+        values["trail"] + offset, values["inertia"], values["groove"], values["damping"], slip_coefficient, speed, law
+    )
+    return np.atleast_1d(p)
+
+
+# long: the scale's root, the notes it leaves and the record are one computation (footrest and corners are helpers)
 def joint_limits(
     problem: Problem,
     design: Design,
@@ -305,38 +353,11 @@ def joint_limits(
         )
     else:
         hi = top * (1 - 1e-9)
-        scale = bracketed_root(lambda s: _probit(worst(s)) - _probit(alpha), 0.0, hi, xtol=1e-15, rtol=LIMIT_RTOL)
+        scale = bracketed_root(lambda s: probit(worst(s)) - probit(alpha), 0.0, hi, xtol=1e-15, rtol=LIMIT_RTOL)
         while worst(scale) > alpha:  # the root's tolerance left the corner a hair above α: step inside
             scale *= 1 - 4 * LIMIT_RTOL
-    tol = problem.tolerances
-    r_max = problem.swept_radius_max
-    tol_d = tol.diameter if tol is not None and tol.diameter is not None else 0.0
-    in_box = r_max is not None or (tol is not None and tol.diameter is not None)
-    d_max = design.diameter + tol_d if in_box else None
-    # the diameter's least protects nothing of the risk (a measured wheel's law has no d) nor the footrest: it is
-    # the stated tolerance's, or none
-    d_min = design.diameter - tol_d if tol is not None and tol.diameter is not None else None
     trail_min = low(t0, wt, scale)
-    protects = {k: "risk" for k in RISK_KEYS}
-    if r_max is not None:
-        trail_max: float | None = r_max - (design.diameter + tol_d) / 2
-        protects["trail_max"] = "footrest"
-        assert trail_max is not None
-        if trail_max <= t0 + 1e-12:
-            edge = f" with the diameter at its +{tol_d * 1000:.2f} mm edge" if tol_d else ""
-            notes["trail_max"] = (
-                "no window above nominal: the footrest limit T + d/2 ≤ R_max"
-                + edge
-                + (" is below the nominal trail" if trail_max < t0 - 1e-12 else " equals the nominal trail")
-                + "; fix: a shorter trail step or a smaller wheel"
-            )
-        protects["diameter_max"] = "footrest"
-    else:
-        trail_max = None
-        if d_max is not None:
-            protects["diameter_max"] = "tolerance"
-    if d_min is not None:
-        protects["diameter_min"] = "tolerance"
+    trail_max, d_min, d_max, protects = _footrest(problem, design, notes)
     for key, (nom, weight) in {"groove_min": (b0, wb), "friction_moment_min": (c0, wc)}.items():
         if nom > 0 and scale * weight >= 1:
             notes[key] = "no lower limit: the worst corner meets the bound with this part at zero"
@@ -351,13 +372,7 @@ def joint_limits(
         "damping": (low(c0, wc, scale), c0 * (1 + scale * wc)),
         "inertia": (i0 * (1 + scale * wi), i0 * (1 - scale * wi)),
     }
-    live = [k for k, (lo, hi_) in axes.items() if lo != hi_]
-    grid = np.array(list(itertools.product((0, 1), repeat=len(live))), dtype=int).reshape(2 ** len(live), len(live))
-    values = {k: np.array(axes[k])[grid[:, live.index(k)]] if k in live else np.array(axes[k][0]) for k in axes}
-    p = measured_probabilities(
-        values["trail"] + offset, values["inertia"], values["groove"], values["damping"], ks, speed, uncertainty
-    )
-    p = np.atleast_1d(p)
+    p = _corner_probabilities(axes, offset, ks, speed, uncertainty)
     probability = float(p[0])  # row 0: every part at its risk limit
     return JointLimits(
         trail_min=trail_min,
@@ -400,62 +415,9 @@ _BOX_PARTS = {
 _UNITS = {"trail": "m", "diameter": "m", "groove": "m", "friction_moment": "N·m", "wheel_inertia": "kg·m²"}
 
 
-def box_cells(joint: JointLimits) -> dict[str, str]:
-    """{part: the box's interval as an inspector reads it} ("min 54.91 mm (2.162 in) [risk]; max 63.50 mm ...
-    [footrest; no window above nominal]"), rounded toward the safe side (:func:`designer.units.limit_shown`); "—" when the part
-    is not in the box."""
-    from designer.units import limit_shown
-
-    out: dict[str, str] = {}
-    lim = joint.limits
-    for part, keys in _BOX_PARTS.items():
-        cells = []
-        for side, key in zip(("min", "max"), keys):
-            if key is None or key not in lim:
-                continue
-            value = lim[key]
-            if value is None:
-                cells.append(f"{side} none [{joint.notes.get(key, 'no limit: P falls as the part grows')}]")
-                continue
-            tag = joint.protects.get(key, "risk")
-            if key in joint.notes:  # "no window above nominal", "no lower limit": the sentence says the fix
-                tag += "; " + joint.notes[key].split(":")[0]
-            cells.append(f"{side} {limit_shown(value, _UNITS[part], side)} [{tag}]")
-        out[part] = "; ".join(cells) or "—"
-    return out
-
-
-def box_sentence(joint: JointLimits) -> str:
-    """How the box was found and what it guarantees, one paragraph."""
-    shape = SHAPES[joint.shape]
-    scale = (
-        f"the stated tolerances × {joint.scale:.3g}" if joint.shape == "tolerances" else f"{joint.scale:.1%} of nominal"
-    )
-    fit = ""
-    if joint.shape == "tolerances":
-        fit = (
-            " (the stated tolerances fit inside)"
-            if joint.scale >= 1
-            else " (SMALLER than the stated tolerances: parts built to them can fail)"
-        )
-    return (
-        f"Joint acceptance box: a caster whose parts are all inside it meets P(shimmy at {joint.required_speed:.3g} "
-        f"m/s) ≤ α = {joint.alpha:.3g} (worst-case stack: P at all {joint.corners} corners by the exact law, the "
-        f"largest {joint.corner_max:.2%}; the wheel's I_w measured). Shape: {shape}; the risk windows are {scale}{fit}. "
-        + (
-            "P falls as trail, groove and M_f grow and rises with I_w (checked at every corner), so the risk side of "
-            "each part is one-sided."
-            if joint.monotone
-            else "The worst corner is not the one of every limit: P is not monotone here."
-        )
-        + "".join(f" {k}: {v}." for k, v in joint.notes.items() if k == "box")
-    )
-
-
 def box_short(joint: JointLimits) -> str:
     """The box on one line, mm and SI ("T 54.91–63.50 mm (max: footrest, no window), B >= 16.48 mm, ..."), each
     limit rounded toward the safe side; a geometric limit named as such."""
-    from designer.units import limit_shown
 
     def shown(key: str, side: str) -> str:
         value = getattr(joint, key)

@@ -6,7 +6,7 @@ the header, e.g. ``trail_mm``, ``friction_moment_N_m``, ``wheel_inertia_kg_m2``;
 :func:`inspect` grades every good row:
 
 - P(shimmy): P(V_c,true < V_req) of that caster by the exact law (quadrature,
-  :func:`designer.studies.acceptance.measured_probabilities`: the wheel is measured, so its I_w scatters by the
+  :func:`designer.physics.acceptance.measured_probabilities`: the wheel is measured, so its I_w scatters by the
   measurement's σ_I only), at the problem's required speed V_req = (1 + margin) V_target under its risk law;
 - pass: P <= α (the problem's bound); whether it fits the footrest (T + d/2 <= R_max) is said beside it;
 - driver: the part that, put back to the nominal of the problem's recommended caster with the others as
@@ -30,8 +30,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from designer.errors import InputError
+from designer.model import scatter_of
 from designer.reprs import Key, Record
-from designer.studies.acceptance import measured_probabilities
+from designer.studies.recommend import recommend
+from designer.studies.spec import MEASURE
+from designer.physics.acceptance import measured_probabilities
 from designer.textfiles import csv_table, read_input_text
 from designer.units import parse_quantity
 
@@ -250,11 +253,7 @@ def inspect(problem: Problem, table: Any, rec: Recommendation | None = None) -> 
     ``rec``: the problem's recommendation (its nominal caster, joint box and one-at-a-time limits); computed when
     not given.  All casters' P, and each with one part back at nominal, in one array call of the exact law.
     """
-    from designer.model import scatter_of
-
     if rec is None:
-        from designer.studies.recommend import recommend
-
         rec = recommend(problem)
     theta0 = float(problem.conditions.disturbance_angle)
     rows, bad, source = read_measured(table, theta0)
@@ -326,8 +325,6 @@ TEMPLATE_HEAD = "# goods-in inspection form written by caster-designer's designe
 def template_text(problem: Problem) -> str:
     """The empty form an inspector fills in: a comment naming the problem and how to measure, then the header in
     the problem's units (lengths in inches or millimetres; M_f in N·m, I_w in kg·m²)."""
-    from designer.studies.spec import MEASURE
-
     unit = "in" if getattr(problem, "units", "in") == "in" else "mm"
     header = [
         "serial",

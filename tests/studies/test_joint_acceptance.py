@@ -13,7 +13,7 @@ import pytest
 
 from designer.physics.uncertainty import shimmy_probability_exact
 from designer.problem import load_problem
-from designer.studies.acceptance import measured_probabilities
+from designer.physics.acceptance import measured_probabilities
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -237,7 +237,7 @@ def test_measured_linear_cdf_is_the_inversions_distribution(dof):
     characteristic-function inversion's CDF to 2e-12 over ±2 (ν = 1, 3, 5, 7); an even ν and the normal model
     error (ν = 0) take the inversion itself."""
     from designer.physics.uncertainty import _linear_part, data_law
-    from designer.studies.acceptance import measured_linear_cdf
+    from designer.physics.acceptance import measured_linear_cdf
 
     law = data_law(model_error_dof=dof)
     x = np.linspace(-2, 2, 4001)

@@ -10,11 +10,13 @@ model's evaluator (:func:`designer.model.evaluate`, :func:`designer.model.shimmy
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from designer.data.paper import INCH
+from designer.parameters import PARAMETERS
 from designer.errors import ProblemError
 from designer.model import VARIABLES, evaluate, shimmy_probability
 from designer.physics.acceptance import LawCaster, exact_probability
@@ -139,10 +141,6 @@ def _toleranced(table: StockTable, problem) -> None:
     upper edges, so the box's trail window upward is at least the trail's tolerance).  The speeds are the risk
     bound's V_q (:func:`designer.physics.uncertainty.shimmy_speed_quantile`, vectorised): a conservative screen —
     a caster it keeps holds at its corner by the exact law too — used to choose, never printed."""
-    import warnings
-
-    from designer.parameters import PARAMETERS
-
     tol = problem.tolerances
     t_lo = float(PARAMETERS["trail"].range[0])  # type: ignore[index]
     trail = np.maximum(table.trail - (tol.trail or 0.0), t_lo)

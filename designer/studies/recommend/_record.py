@@ -235,7 +235,7 @@ class Recommendation(Record):
             return ""
         free, hold = price["least_objective_without_tolerances"], price["least_objective_holding"]
 
-        def caster(x: dict) -> str:
+        def caster(x: dict[str, Any]) -> str:
             d = x["design"]
             return (
                 f"T {d['trail'] / INCH:.3g} in, d {d['diameter'] / INCH:.3g} in, B {d['groove'] / INCH:.3g} in, "

@@ -38,6 +38,7 @@ holds the records and the rule; this module ranks (:func:`fix`) and re-exports t
 
 from __future__ import annotations
 
+import warnings
 import dataclasses
 from dataclasses import dataclass
 
@@ -45,6 +46,7 @@ from typing import Any
 
 import numpy as np
 
+from designer.parameters import PARAMETERS
 from designer.errors import InputError
 from designer.model import Casters, Conditions, Design
 from designer.physics.uncertainty import Uncertainty
@@ -512,10 +514,6 @@ def _holds_at_corner(cands: dict, s: _Setting) -> np.ndarray:
     wheel at the accepted I_w): the bound's speed V_q at each corner against V_req, vectorised.  V_q is a
     conservative bound of the exact law's quantile, so a candidate kept holds there by the exact law too (its spec's
     worst corner says so); used to rank, never printed."""
-    import warnings
-
-    from designer.parameters import PARAMETERS
-
     tol = s.problem.tolerances
     t_lo = float(PARAMETERS["trail"].range[0])  # type: ignore[index]
     corner = {
