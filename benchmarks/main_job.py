@@ -250,7 +250,8 @@ def _write(args, r: dict, load_start: list, load_end: list) -> None:
     text = RESULTS.read_text(encoding="utf-8")
     if BEGIN in text and END in text:
         head, rest = text.split(BEGIN, 1)
-        text = head + block + rest.split(END, 1)[1]
+        after = rest.split(END, 1)[1]
+        text = head + block + (after[1:] if after.startswith("\n") else after)  # the block ends in its newline
     else:
         text = text.rstrip("\n") + "\n\n" + block
     RESULTS.write_text(text, encoding="utf-8")

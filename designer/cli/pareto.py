@@ -12,6 +12,8 @@ propagate to the one-line handler of :mod:`designer.cli`.
 
 from __future__ import annotations
 
+import sys
+
 from pathlib import Path
 
 from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
@@ -65,7 +67,10 @@ def register(sub) -> None:
 
 
 def _progress():
-    """A transient rich progress bar on stderr, or None without rich."""
+    """A transient rich progress bar on stderr, or None without rich or without a terminal to show it on (a
+    transient bar never shows elsewhere: rich need not be imported, 0.03 s of CPU)."""
+    if not sys.stderr.isatty():
+        return None
     try:
         from rich.console import Console
 
