@@ -442,11 +442,6 @@ def friction_moment(damping: float, disturbance_angle: float) -> float:
     return damping * disturbance_angle
 
 
-QUANTILE_NODES = EXACT_NODES
-"""Gauss–Hermite nodes per axis of :func:`exact_speed_quantile` (16: P at the quantile agrees with 48 nodes to
-1e-9 relative on the default problem's recommendation, tests/studies/test_joint_acceptance.py)."""
-
-
 def exact_speed_quantile(
     caster: LawCaster,
     uncertainty: Uncertainty,
@@ -455,8 +450,8 @@ def exact_speed_quantile(
 ) -> float:
     """The speed reached with probability 1 − α: the V_q at which the exact law gives P(V_c,true < V_q) = α [m/s].
 
-    The exact law's α-quantile of V_c,true (:func:`~designer.physics.uncertainty.shimmy_probability_exact`,
-    :data:`QUANTILE_NODES` Gauss–Hermite nodes a side), found by :func:`designer.physics.roots.bracketed_root` on
+    The exact law's α-quantile of V_c,true (:func:`~designer.physics.uncertainty.shimmy_probability_exact_many`,
+    the batched quadrature, equal to the one-caster law to about 1e-12), found by :func:`designer.physics.roots.bracketed_root` on
     Φ⁻¹(P) − Φ⁻¹(α) in log V (to 1e-10 in log V), the bracket grown from ``guess`` (the risk bound's V_q, which lies
     just below the quantile: 4–6 quadratures) or from Eq. 7's V_c until it holds the root.  Not the risk bound's
     V_q of :func:`~designer.physics.uncertainty.shimmy_speed_quantile`, which is a conservative bound (first order
@@ -472,7 +467,7 @@ def exact_speed_quantile(
 
     def excess(log_v: float) -> float:
         if log_v not in seen:
-            p = shimmy_probability_exact(
+            p = shimmy_probability_exact_many(
                 c.trail,
                 c.inertia,
                 c.groove,
@@ -480,9 +475,8 @@ def exact_speed_quantile(
                 c.slip_coefficient,
                 math.exp(log_v),
                 uncertainty,
-                c.diameter,
-                prediction,
-                QUANTILE_NODES,
+                diameter=c.diameter,
+                prediction=prediction,
             )
             seen[log_v] = probit(float(p)) - probit(alpha)
         return seen[log_v]
