@@ -239,7 +239,7 @@ OUTPUT_TABLE: tuple[Parameter, ...] = (
     Parameter("confident_speed", "V_q", "m/s", "speed reached with probability 1 − α", None, None,
               "risk law (shimmy_speed_quantile)", dimension="speed", listed=False),
     Parameter("shimmy_amplitude", "θ_a", "rad", "shimmy amplitude at V_c", None, None,
-              "Eq. 4 at V_c: θ0 V_c/(ω T), the θ_a of Eq. 6 behind Eq. 7 (Eq. 6C)", dimension="angle"),
+              "Eq. 3's full amplitude at V_c: θ0/√(1 + (ω T/V_c)²) (Eq. 4's θ0 V_c/(ω T), behind Eq. 7, only when ω T/V_c ≫ 1)", dimension="angle"),
     Parameter("threshold_force_ratio", "P/L", "", "sill force ratio", None, None, "Eq. 4A"),
     Parameter("threshold_force", "P", "N", "sill force", None, None, "Eq. 4A", dimension="force"),
     Parameter("turning_moment", "M_turn + M_d", "N·m", "turning moment", None, None,

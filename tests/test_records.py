@@ -9,6 +9,8 @@ How long ``_repr_html_`` takes is measured in benchmarks/notebook_reprs.py, not 
 
 from __future__ import annotations
 
+import math
+
 import ast
 import dataclasses
 import importlib
@@ -137,11 +139,17 @@ def _recommend_examples(problem) -> dict[str, Record]:
     rec = _quiet(lambda: recommend(problem, front=front))
     designs = [problem.lower(), problem.upper(), rec.design]
     values = evaluate(designs, problem.conditions, risk=problem.target_speed, samples=2000)
+    from designer.studies.inspect import inspect
+
+    lot = inspect(problem, ROOT / "docs" / "examples" / "measured-casters.csv", rec)
     return {
+        "Inspection": lot,
+        "InspectedCaster": lot.casters[0],
         "Recommendation": rec,
         "Recommendation (alternative)": rec.alternatives[0],
         "Spec": rec.spec,
         "Limit": rec.spec.limits[0],
+        "JointLimits": rec.spec.joint,
         "Casters": values,
         "Caster": values.row(2),
         "ConstraintMargins": constraint_margins(problem, rec.design, problem.evaluate(rec.design)),
@@ -403,6 +411,9 @@ NAMES = [
     "Recommendation (alternative)",
     "Spec",
     "Limit",
+    "JointLimits",
+    "Inspection",
+    "InspectedCaster",
     "Casters",
     "Caster",
 ]
@@ -748,17 +759,21 @@ def test_a_quantity_of_the_table_reaches_every_view_of_a_caster(capsys):
         type(batch).of(**{**{k: batch[k] for k in batch.keys()}, "shimmy_amplitud": 1.0})
 
 
-def test_the_shimmy_amplitude_is_eq4_at_the_critical_speed():
-    """θ_a = θ0 V_c/(ω T) (Eq. 4 at V = V_c, the amplitude Eq. 6 puts into Eq. 7) from the caster's own V_c, ω, T
-    and θ0; at Appendix C's numbers (V_c 2.53 m/s, ω 104.7 rad/s, T 0.0635 m, θ0 0.35 rad) it is the measured
-    0.14 rad less the knock's θ'0/ω = 0.7/104.7 of Eq. 7C."""
+def test_the_shimmy_amplitude_is_eq3s_full_amplitude_at_the_critical_speed():
+    """The reported θ_a is Eq. 3's full amplitude θ0/√(1 + (ω T/V_c)²) from the caster's own V_c, ω, T and θ0, not
+    Eq. 4's θ0 V_c/(ω T) (its limit for ω T/V_c ≫ 1, here 20 % higher: the check would catch Eq. 4); Eq. 4 itself, at
+    Appendix C's numbers (V_c 2.53 m/s, ω 104.7 rad/s, T 0.0635 m, θ0 0.35 rad), is the measured 0.14 rad less the
+    knock's θ'0/ω = 0.7/104.7 of Eq. 7C."""
     from designer.model import Conditions, evaluate
     from designer.physics.shimmy import steady_shimmy_amplitude
 
     conditions = Conditions()
     caster = evaluate(Design(trail=0.05, diameter=0.2, groove=0.01, damping=2.0), conditions)
-    expected = conditions.disturbance_angle * caster.critical_speed / (caster.shimmy_frequency * caster.trail)
+    ratio = caster.shimmy_frequency * caster.trail / caster.critical_speed
+    expected = conditions.disturbance_angle / math.sqrt(1 + ratio**2)
     assert caster.shimmy_amplitude == pytest.approx(expected, rel=1e-12)
+    eq4 = conditions.disturbance_angle / ratio
+    assert eq4 > 1.05 * caster.shimmy_amplitude
     assert steady_shimmy_amplitude(2.53, 0.0635, 104.7, 0.35) == pytest.approx(0.14 - 0.7 / 104.7, abs=5e-4)
 
 

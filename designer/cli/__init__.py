@@ -43,7 +43,7 @@ for a Unix tool that SIGPIPE ended; quietly, without a message."""
 
 COMMANDS = ["init", "evaluate", "validate", "run", "pareto", "explore", "robust", "simulate", "calibrate", "fleet"]
 """Sub-command modules in designer.cli; each defines ``register(subparsers)``."""
-COMMANDS += ["studio", "fix", "spec", "completion"]  # spec: the inspection sheet
+COMMANDS += ["studio", "fix", "spec", "inspect", "completion"]  # spec: the inspection sheet; inspect: goods-in
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -32,7 +32,7 @@ from designer.studies.fleet import (
     write_fleet_csv,
 )
 from designer.errors import InputError
-from designer.problem import example_problem, load_problem
+from designer.problem import example_problem, load_problem, tolerances_option
 from designer.display import shown
 from designer.units import written_size
 
@@ -70,6 +70,13 @@ def register(sub) -> None:
         "--problem",
         default=None,
         help="base problem: bounds, stock, risk, weights (default the shipped indoor-manual problem)",
+    )
+    p.add_argument(
+        "--tolerances",
+        default=None,
+        metavar="SPEC",
+        help="manufacturing tolerances every part number must hold at its worst corner, replacing the base "
+        "problem's [tolerances], e.g. 'trail=1.5mm,groove=0.4mm,diameter=1mm,friction_moment=30%%'",
     )
     p.add_argument("--out", default=None, help="output folder (with --example: the CSV file to write)")
     p.add_argument(
@@ -127,6 +134,8 @@ def run(args) -> int:
         raise InputError(f"--k-max {args.k_max}: expected 1 to 50")
     max_regret = quantity_option(args.max_regret, "force", "--max-regret", DEFAULT_MAX_REGRET)
     problem = example_problem("indoor-manual") if args.problem is None else load_problem(args.problem)
+    if args.tolerances is not None:
+        problem = problem.replace(tolerances=tolerances_option(args.tolerances))
     fleet = read_fleet(args.fleet)
     out = Path(args.out) if args.out else Path("results") / "fleet" / Path(args.fleet).stem
     from designer.report.fleet import OWNED, json_text, write_fleet_report

@@ -30,7 +30,7 @@ from designer.physics.shimmy import (
     friction_damping_at_speed,
     growth_rate,
     shimmy_frequency,
-    steady_shimmy_amplitude,
+    full_shimmy_amplitude,
     third_order_coefficients,
 )
 from designer.physics.uncertainty import (
@@ -550,7 +550,7 @@ def _evaluate(
         swept_radius=radius,
         shimmy_frequency=omega,
         shimmy_frequency_hz=omega / (2 * np.pi),
-        shimmy_amplitude=steady_shimmy_amplitude(values["critical_speed"], t_eff, omega, cond.disturbance_angle),
+        shimmy_amplitude=full_shimmy_amplitude(values["critical_speed"], t_eff, omega, cond.disturbance_angle),
         g_risk=g_risk,
         g_radius=g_radius,
         risk_ok=risk_ok,

@@ -46,6 +46,7 @@ from designer.physics.shimmy import (
     routh_hurwitz_critical_speed,
     routh_hurwitz_margin,
     shimmy_frequency,
+    full_shimmy_amplitude,
     steady_shimmy_amplitude,
     third_order_coefficients,
 )
@@ -88,6 +89,7 @@ __all__ = [
     "routh_hurwitz_margin",
     "shimmy_frequency",
     "sliding_turning_moment",
+    "full_shimmy_amplitude",
     "steady_shimmy_amplitude",
     "swept_radius",
     "third_order_coefficients",

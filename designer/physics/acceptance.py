@@ -27,6 +27,7 @@ stacking, see docs/problem-file.md#tolerances.
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Sequence
 from statistics import NormalDist
 from dataclasses import dataclass
@@ -40,6 +41,8 @@ from designer.physics.shimmy import critical_shimmy_speed
 from designer.physics.types import Array, Numeric
 from designer.physics.uncertainty import (
     Uncertainty,
+    _hermite_nodes,
+    _linear_part,
     max_measured_inertia,
     shimmy_probability_exact,
     shimmy_probability_exact_many,
@@ -167,7 +170,7 @@ def least_part(
         """P − α in probit units, Φ⁻¹(P) − Φ⁻¹(α): the same root, but nearly straight in the part, where P itself
         runs from 1 to 0 in a narrow step (the root finder then needs 6–8 quadratures instead of about 18)."""
         seen[value] = exact_probability(caster.with_part(part, value), speed, uncertainty, prediction)
-        return _probit(seen[value]) - _probit(alpha)
+        return probit(seen[value]) - probit(alpha)
 
     at_low, at_high = excess(low), excess(high)
     if at_low <= 0:
@@ -183,8 +186,9 @@ def least_part(
 _UNIT_NORMAL = NormalDist()
 
 
-def _probit(probability: float) -> float:
-    """Φ⁻¹(P) [-] of a probability, P held inside (1e-300, 1 − 1e-16) so that 0 and 1 keep their sign."""
+def probit(probability: float) -> float:
+    """Φ⁻¹(P) [-] of a probability, P held inside (1e-300, 1 − 1e-16) so that 0 and 1 keep their sign: the scale on
+    which the limits' roots are sought (nearly straight in a part where P runs from 1 to 0 in a narrow step)."""
     return _UNIT_NORMAL.inv_cdf(min(max(probability, 1e-300), 1.0 - 1e-16))
 
 
@@ -252,8 +256,8 @@ def exact_probabilities(
 
 
 def _probits(probability: Array) -> Array:
-    """:func:`_probit` of each probability [-] (statistics.NormalDist: no scipy import)."""
-    return np.array([_probit(float(p)) for p in np.ravel(probability)]).reshape(np.shape(probability))
+    """:func:`probit` of each probability [-] (statistics.NormalDist: no scipy import)."""
+    return np.array([probit(float(p)) for p in np.ravel(probability)]).reshape(np.shape(probability))
 
 
 _SEARCHED = (*RISK_PARTS, "inertia")
@@ -297,7 +301,7 @@ def _limit_search(
     high = np.concatenate([*ends[1::2], top])
     xtol = np.where(is_inertia, 1e-11, 1e-15 * np.maximum(np.abs(high), 1e-12))
     rtol = np.where(is_inertia, 0.0, LIMIT_RTOL)
-    target = _probit(float(uncertainty.probability))
+    target = probit(float(uncertainty.probability))
 
     def probability(x: Array, rows: Any) -> Array:
         sub = {key: value[rows] for key, value in cols.items()}
@@ -436,3 +440,118 @@ def worst_corner(
 def friction_moment(damping: float, disturbance_angle: float) -> float:
     """The bearing friction moment M_f = c_f θ0 [N·m] of a spindle damping c_f [N·m/rad] (Eq. 7, Eq. 11C)."""
     return damping * disturbance_angle
+
+
+def exact_speed_quantile(
+    caster: LawCaster,
+    uncertainty: Uncertainty,
+    prediction: InertiaPrediction | None = None,
+    guess: float | None = None,
+) -> float:
+    """The speed reached with probability 1 − α: the V_q at which the exact law gives P(V_c,true < V_q) = α [m/s].
+
+    The exact law's α-quantile of V_c,true (:func:`~designer.physics.uncertainty.shimmy_probability_exact_many`,
+    the batched quadrature, equal to the one-caster law to about 1e-12), found by :func:`designer.physics.roots.bracketed_root` on
+    Φ⁻¹(P) − Φ⁻¹(α) in log V (to 1e-10 in log V), the bracket grown from ``guess`` (the risk bound's V_q, which lies
+    just below the quantile: 4–6 quadratures) or from Eq. 7's V_c until it holds the root.  Not the risk bound's
+    V_q of :func:`~designer.physics.uncertainty.shimmy_speed_quantile`, which is a conservative bound (first order
+    in c_f and K_s, its fit shifted up): the solvers constrain that one; this one is the number the tool prints as
+    "speed reached with probability 1 − α".  0 when Eq. 7's V_c is zero.
+    """
+    c = caster
+    if c.trail <= 0 or (c.damping <= 0 and c.groove <= 0):
+        return 0.0
+    alpha = float(uncertainty.probability)
+    v_c = float(critical_shimmy_speed(c.trail, c.inertia, c.groove, c.damping, c.slip_coefficient))
+    seen: dict[float, float] = {}
+
+    def excess(log_v: float) -> float:
+        if log_v not in seen:
+            p = shimmy_probability_exact_many(
+                c.trail,
+                c.inertia,
+                c.groove,
+                c.damping,
+                c.slip_coefficient,
+                math.exp(log_v),
+                uncertainty,
+                diameter=c.diameter,
+                prediction=prediction,
+            )
+            seen[log_v] = probit(float(p)) - probit(alpha)
+        return seen[log_v]
+
+    if guess is not None and guess > 0:
+        lo, hi, step = math.log(guess) - 0.002, math.log(guess) + 0.01, 0.05
+    else:
+        lo, hi, step = math.log(v_c) - 1.0, math.log(v_c), 1.0
+    for _ in range(60):  # P rises with V: lower lo until P < α, raise hi until P > α
+        if excess(lo) < 0:
+            break
+        lo, step = lo - step, 2 * step
+    for _ in range(60):
+        if excess(hi) > 0:
+            break
+        hi, step = hi + step, 2 * step
+    return math.exp(bracketed_root(excess, lo, hi, xtol=1e-10, rtol=0.0))
+
+
+def measured_probabilities(
+    trail: Numeric,
+    inertia: Numeric,
+    groove: Numeric,
+    damping: Numeric,
+    slip_coefficient: float,
+    speed: float,
+    uncertainty: Uncertainty,
+) -> Array:
+    """P(V_c,true < speed) of many casters with measured wheels by the exact law [-] (arrays broadcast together).
+
+    The same law as :func:`designer.physics.uncertainty.shimmy_probability_exact` with ``diameter=None`` and
+    :data:`EXACT_NODES` Gauss–Hermite nodes a side, in one array call: the linear
+    part (model error, σ_I/2 of the measured inertia) is the same distribution for every caster (log V_c's slope
+    in log I_w is −1/2 whatever B, Eq. 7), so P = Σ w F(log v − log V_c(nodes)) over a (casters × nodes) grid.
+    A caster without trail, or without both friction and groove (V_c = 0), gets 1.
+    """
+    t, i, b, c = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (trail, inertia, groove, damping)))
+    u = uncertainty
+    zn, zw = _hermite_nodes(EXACT_NODES)
+    a_, b_ = np.meshgrid(zn, zn, indexing="ij")
+    zc, zk, w = a_.ravel(), b_.ravel(), np.outer(zw, zw).ravel()
+    dead = (t <= 0) | ((c <= 0) & (b <= 0))
+    safe = [np.where(dead, 1.0, x)[..., None] for x in (t, i, b, c)]
+    v = critical_shimmy_speed(
+        safe[0], safe[1], safe[2], safe[3] * np.exp(u.damping * zc), slip_coefficient * np.exp(u.slip_coefficient * zk)
+    )
+    gap = math.log(speed) - np.log(v)
+    p = np.sum(w * measured_linear_cdf(gap, slip_coefficient, u), axis=-1)
+    return np.where(dead, 1.0, p)
+
+
+LINEAR_NODES = 10
+"""Gauss–Hermite nodes over the measured inertia's normal part in :func:`measured_linear_cdf` (10 agree
+with the characteristic-function inversion to its own precision, 7e-13, on the data law)."""
+
+
+def measured_linear_cdf(x: Array, slip_coefficient: float, uncertainty: Uncertainty) -> Array:
+    """CDF of the exact law's linear part for a measured wheel, X = σ_m t_ν + (σ_I/2) Z, at ``x`` [-].
+
+    For an odd ν (the data law's 5) by Gauss–Hermite over Z with the Student-t CDF in closed form
+    (F = 1/2 + (θ + sin θ Σ_k a_k cos^{2k+1} θ)/π, θ = atan(t/√ν)): the same distribution as
+    :class:`~designer.physics._sums.SumDistribution`'s inversion (which it matches to 7e-13, that inversion's own
+    precision) at a twentieth of the work; any other law falls back to the inversion."""
+    u = uncertainty
+    a, dof, c = float(u.model_error), int(u.model_error_dof), 0.5 * float(u.inertia)
+    if not (a > 0 and dof % 2 == 1):
+        dist = _linear_part(1.0, 1.0, 0.0, 1.0, slip_coefficient, u, None, None)
+        return np.asarray(dist.cdf(x.reshape(1, -1))).reshape(x.shape)
+    nodes = LINEAR_NODES if dof >= 3 else 2 * LINEAR_NODES  # a Cauchy's (ν = 1) heavy tails take more
+    zn, zw = _hermite_nodes(nodes) if c > 0 else (np.zeros(1), np.ones(1))
+    theta = np.arctan((x[..., None] - c * zn) / (a * math.sqrt(dof)))
+    cos = np.cos(theta)
+    term, total = cos, cos
+    for k in range(1, (dof - 1) // 2):
+        term = term * cos * cos * (2 * k) / (2 * k + 1)
+        total = total + term
+    cdf = 0.5 + (theta + (np.sin(theta) * total if dof > 1 else 0.0)) / math.pi
+    return np.asarray(np.sum(zw * cdf, axis=-1))

@@ -116,6 +116,18 @@ def steady_shimmy_amplitude(speed: Scalar, trail: Scalar, frequency: Scalar, dis
     return disturbance_angle * speed / (frequency * trail)
 
 
+def full_shimmy_amplitude(speed: Scalar, trail: Scalar, frequency: Scalar, disturbance_angle: Scalar) -> Scalar:
+    """Steady amplitude of the oscillating term of Eq. 3 [rad]: θ_a = θ0 / √(1 + (ω T/V)²).
+
+    Eq. 3's second term, θ0 cos(ωt − φ)/√(1 + ω²T²/V²), without Eq. 4's simplification; Eq. 4's θ0 V/(ω T)
+    (:func:`steady_shimmy_amplitude`) is its limit for ω T/V ≫ 1 and overstates it by √(1 + (V/(ω T))²) − 1:
+    19 % at ω T/V = 1.54 (indoor-manual's caster at V_c), 1 % only when ω T/V >= 7.  Works on floats, arrays
+    and CasADi symbols.
+    """
+    ratio = frequency * trail / speed
+    return disturbance_angle / (1 + ratio**2) ** 0.5
+
+
 def friction_damping_at_speed(damping: Scalar, trail: Scalar, speed: Scalar) -> Scalar:
     """Equivalent hydraulic damping of spindle friction at speed V [N·m·s/rad].
 

@@ -53,9 +53,11 @@ from designer.problem._loader import (
     problem_from_dict,
     problem_from_toml,
     problem_path,
+    tolerances_option,
 )
 
 __all__ = [
+    "tolerances_option",
     "DEFAULT_BOUNDS",
     "DEFAULT_MAX_THRESHOLD_INCREASE",
     "DEFAULT_MAX_TURNING_INCREASE",

@@ -323,6 +323,24 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
     )
 
 
+def tolerances_option(text: str, option: str = "--tolerances") -> Tolerances:
+    """``[tolerances]`` from a command line: ``"trail=1.5mm,groove=0.4mm,diameter=1mm,friction_moment=30%"``
+    (keys and values as in a problem file's ``[tolerances]``; ``wheel=catalogue`` or an I_w); one-line InputError."""
+    table: dict[str, Any] = {}
+    for item in (x.strip() for x in text.split(",") if x.strip()):
+        key, sep, value = item.partition("=")
+        if not sep or key.strip() not in ("trail", "groove", "diameter", "friction_moment", "wheel"):
+            raise InputError(
+                f"{option} {text!r}: {item!r}: expected key=value with key trail, groove, diameter, friction_moment "
+                "or wheel (e.g. trail=1.5mm,groove=0.4mm,friction_moment=30%)"
+            )
+        table[key.strip()] = value.strip()
+    try:
+        return _tolerances(_Reader({"tolerances": table}, f"{option}: "))
+    except ProblemError as exc:
+        raise InputError(str(exc)) from None
+
+
 def _tolerances(r: _Reader) -> Tolerances:
     """``[tolerances]``: the ± spread of trail, groove and diameter (lengths from 0 to 1 in), of the friction
     moment (a fraction below 1: "20 %"), the wheel ("catalogue" or the largest measured I_w accepted) and

@@ -491,6 +491,7 @@ def spec_rows(spec, units: str) -> list[list[str]]:
             return value
         return size(value, units) if unit == "m" else (f"{value:.3f} N·m" if unit == "N·m" else f"{value:.3g} {unit}")
 
+    box = {} if spec.joint is None else spec.joint.cells()
     rows = []
     for row in spec.parts():
         tol, unit = row["tolerance"], row["unit"]
@@ -502,10 +503,39 @@ def spec_rows(spec, units: str) -> list[list[str]]:
             spread = tol if isinstance(tol, str) else f"≤ {tol:.3g} kg·m² measured"
         else:  # a spread is finer than the sizes' 1/16 in: always to 0.01 mm
             spread = "± " + " (".join(length(tol)[:: -1 if units == "in" else 1]) + ")"
-        limit = "; ".join(f"{lim.side} {limit_shown(lim.value, lim.unit, lim.side, units)}" for lim in row["limits"])
-        limit = limit or "—"
-        rows.append([row["label"], shown(row["nominal"], unit), spread, limit, row["measure"]])
+        limit = "; ".join(_limit_cell(lim, units) for lim in row["limits"]) or "—"
+        joint = box.get(row["part"], "—")
+        rows.append([row["label"], shown(row["nominal"], unit), spread, joint, limit, row["measure"]])
     return rows
+
+
+def _limit_cell(lim, units: str = "mm") -> str:
+    """A one-at-a-time limit in the problem's unit first, with what it protects ("min 56.11 mm (2.209 in) [risk]";
+    "max ... [footrest; no window above nominal]")."""
+    if lim.value is None:
+        return f"{lim.side} none"
+    return (
+        f"{lim.side} {limit_shown(lim.value, lim.unit, lim.side, units)} [{lim.protects}"
+        + ("; no window" if lim.no_window else "")
+        + "]"
+    )
+
+
+def limit_notes(spec) -> list[str]:
+    """Sentences for the limits that leave no window, with the fix they suggest (one-at-a-time and joint box)."""
+    out = []
+    for lim in spec.limits:
+        if lim.no_window and lim.protects == "footrest":
+            out.append(
+                f"The trail maximum {lim.shown} is the footrest limit T + d/2 ≤ R_max, not a risk limit, and it "
+                "leaves no window above the nominal trail: fix: a shorter trail step or a smaller wheel."
+            )
+    joint = spec.joint
+    if joint is not None:
+        out += [
+            f"Joint box, {key.replace('_', ' ')}: {text}." for key, text in joint.notes.items() if key != "trail_max"
+        ]
+    return out
 
 
 def corner_sentence(spec) -> str:
@@ -535,17 +565,37 @@ def spec_panel(rec, units: str) -> Panel:
     return Panel(
         id="spec",
         title="The spec to inspect against",
-        text="Each part's acceptance limit is where, with every other part at nominal, the exact law gives "
-        f"P(shimmy) = α = {percent(spec.alpha)}; a part beyond its limit fails the risk bound on this caster. "
+        text=acceptance_text(spec)
+        + " "
         + corner_sentence(spec)
         + (f" {rec.enforced_sentence()}" if rec.enforced is not None else ""),
         table=PanelTable(
-            header=["part", "nominal", "tolerance", "acceptance limit", "how to measure"],
+            header=[
+                "part",
+                "nominal",
+                "tolerance",
+                "joint box (accept: every part inside)",
+                "one part at a time (others at nominal)",
+                "how to measure",
+            ],
             rows=spec_rows(spec, units),
-            numeric=[False, True, True, True, False],
+            numeric=[False, True, True, True, True, False],
         ),
         caption=f"M_f = c_f θ0 with θ0 = {math.degrees(spec.disturbance_angle):.0f}° (Eq. 7). "
-        + ("No limit inside the model's range: " + "; ".join(no_limit) + "." if no_limit else ""),
+        + ("No limit inside the model's range: " + "; ".join(no_limit) + ". " if no_limit else "")
+        + " ".join(limit_notes(spec)),
+    )
+
+
+def acceptance_text(spec) -> str:
+    """What the two kinds of limits mean: the joint box (any caster inside passes) and the one-at-a-time limits
+    (each at α with the others at nominal: parts inside them can fail together); risk against footrest."""
+    joint = "" if spec.joint is None else spec.joint.sentence() + " "
+    return (
+        joint + "The one-part-at-a-time limits are each where, with every OTHER part at nominal, the exact law gives "
+        f"P(shimmy) = α = {percent(spec.alpha)}: a part beyond one fails, but parts each inside them can together "
+        "exceed α, so accept by the joint box. [risk] marks a limit set by P = α, [footrest] the swept radius "
+        "T + d/2 ≤ R_max (geometry, with the diameter at its tolerance's upper edge; P falls as the trail grows)."
     )
 
 

@@ -15,14 +15,21 @@ from typing import Any
 
 from designer.units import percent
 from designer.plots.caster import caster_svg
-from designer.report.context import corner_sentence, spec_rows
+from designer.report.context import corner_sentence, limit_notes, spec_rows
 from designer.report.formatting import size
 from designer.report.text import plain_rule
 
 SHEET_HEAD = "<!DOCTYPE html><!-- inspection sheet written by caster-designer's designer spec -->"
 """The sheet's first line: how ``designer spec`` recognises a sheet of its own it may replace."""
 
-COLUMNS = ("part", "nominal", "tolerance", "acceptance limit (others at nominal)", "how to measure")
+COLUMNS = (
+    "part",
+    "nominal",
+    "tolerance",
+    "joint box: accept when every part is inside",
+    "one part at a time (others at nominal)",
+    "how to measure",
+)
 """The headings of the sheet's table (on a phone each cell is one line under its part, named by its heading)."""
 
 SHEET_SCALE = 19.2
@@ -31,15 +38,18 @@ SHEET_SCALE = 19.2
 CSS = """
 @page { size: auto; margin: 12mm; }
 * { box-sizing: border-box; }
-body { font-family: sans-serif; font-size: 9pt; color: #111; margin: 0; max-width: 186mm; }
+body { font-family: sans-serif; font-size: 8.5pt; color: #111; margin: 0; max-width: 186mm; }
 h1 { font-size: 14pt; margin: 0 0 2mm 0; }
 p { margin: 1.2mm 0; }
 .meta { color: #444; font-size: 8.5pt; }
 table { border-collapse: collapse; width: 100%; margin: 2mm 0; }
-th, td { border: 0.3mm solid #999; padding: 1mm 1.5mm; text-align: left; vertical-align: top; }
+th, td { border: 0.3mm solid #999; padding: 0.7mm 1.2mm; text-align: left; vertical-align: top; }
 th { background: #eee; }
 td.num { white-space: nowrap; font-variant-numeric: tabular-nums; }
-td.how { font-size: 7.5pt; color: #333; }
+td.how { font-size: 7pt; color: #333; }
+td.box { font-variant-numeric: tabular-nums; font-weight: bold; }
+table.parts { table-layout: fixed; }
+table.parts td.num { white-space: normal; }
 .risk { border: 0.5mm solid #333; padding: 1.5mm 2mm; margin: 2mm 0; }
 .fail { color: #b00; font-weight: bold; }
 .drawing svg { display: block; }
@@ -74,6 +84,29 @@ def _risk_lines(rec: Any) -> list[str]:
     if spec.corner is not None and not spec.corner["holds"]:
         corner = f'<span class="fail">{corner}</span>'
     return [f"<p>{nominal}</p>", f"<p>{corner}</p>", f"<p>{escape(enforce_sentence(rec))}</p>"]
+
+
+def _legend(spec: Any) -> str:
+    """The table's legend: what the joint box guarantees, what the one-at-a-time limits do not, [risk] and
+    [footrest] (the long form is the report's :func:`~designer.report.context.acceptance_text`)."""
+    joint = spec.joint
+    box = ""
+    if joint is not None:
+        scale = (
+            f"the stated tolerances × {joint.scale:.3g}"
+            if joint.shape == "tolerances"
+            else f"{joint.scale:.1%} of nominal each"
+        )
+        box = (
+            "Accept a caster when every part is inside the joint box: then P(shimmy) ≤ α at every corner "
+            f"(worst-case stack, exact law, all {joint.corners} corners; the wheel's I_w measured). Its risk windows "
+            f"are {scale}. "
+        )
+    return (
+        box + "One part at a time: each limit is P = α with every other part at nominal; parts each inside them can "
+        "together exceed α. [risk]: set by P = α; [footrest]: T + d/2 ≤ R_max with d at its upper edge. "
+        "Printed limits are rounded toward the safe side."
+    )
 
 
 def enforce_sentence(rec: Any) -> str:
@@ -113,7 +146,7 @@ def sheet_html(rec: Any) -> str:
         "<tr>"
         + "".join(
             f'<td class="{cls}" data-label="{label}">{escape(cell)}</td>'
-            for cls, label, cell in zip(("part", "num", "num", "num", "how"), COLUMNS, row)
+            for cls, label, cell in zip(("part", "num", "num", "box", "num", "how"), COLUMNS, row)
         )
         + "</tr>"
         for row in spec_rows(spec, units)
@@ -139,9 +172,11 @@ def sheet_html(rec: Any) -> str:
             f" ({escape(kind)}, I_w {spec.inertia:.3g} kg·m²), groove {escape(size(d.groove, units))}, bearing friction "
             f"moment M_f = {spec.friction_moment:.3f} N·m (c_f = {d.damping:.3g} N·m/rad at θ0 = "
             f"{math.degrees(spec.disturbance_angle):.0f}°).</p>",
-            "<table><tr>" + "".join(f"<th>{c}</th>" for c in COLUMNS) + f"</tr>{rows}</table>",
-            '<p class="meta">A limit is where, with every other part at nominal, the exact law gives P(shimmy) = α; '
-            "printed limits are rounded toward the safe side. A part beyond its limit fails the risk bound.</p>",
+            '<table class="parts"><colgroup><col style="width:12%"><col style="width:9%"><col style="width:12%">'
+            '<col style="width:24%"><col style="width:20%"><col style="width:23%"></colgroup>'
+            "<tr>" + "".join(f"<th>{c}</th>" for c in COLUMNS) + f"</tr>{rows}</table>",
+            f'<p class="meta">{escape(_legend(spec))}</p>',
+            *(f'<p class="meta fail">{escape(note)}</p>' for note in limit_notes(spec)),
             '<div class="risk">',
             *_risk_lines(rec),
             "</div>",

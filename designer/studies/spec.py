@@ -37,6 +37,7 @@ from designer.physics.acceptance import (
 from designer.model import Design, scatter_of
 from designer.physics.geometry import effective_trail
 from designer.physics.uncertainty import Uncertainty
+from designer.studies.acceptance import JointLimits, joint_limits
 from designer.problem import Problem, Tolerances
 from designer.units import limit_shown
 from designer.reprs import Key, Record
@@ -116,6 +117,22 @@ class Limit(Record):
         """The part and the side: "trail_min", "wheel_inertia_max" (the JSON key)."""
         return f"{self.part}_{self.side}"
 
+    @property
+    def protects(self) -> str | None:
+        """What the limit protects: "risk" (P = α), "footrest" (T + d/2 <= R_max, d at its tolerance's upper edge),
+        None when there is no limit."""
+        if self.value is None:
+            return None
+        return "footrest" if self.reason == "swept radius" else "risk"
+
+    @property
+    def no_window(self) -> bool:
+        """The limit leaves no window on its side of nominal (a max at or below nominal, a min at or above)."""
+        if self.value is None:
+            return False
+        gap = self.value - self.nominal if self.side == "max" else self.nominal - self.value
+        return gap <= 1e-12 * max(abs(self.nominal), 1e-12)
+
 
 @dataclass(frozen=True, kw_only=True)
 class Spec(Record):
@@ -165,6 +182,7 @@ class Spec(Record):
     corner: dict[str, Any] | None = None
     stem_angle: float = 0.0
     calibration: float = 1.0
+    joint: JointLimits | None = None
 
     _keys = (
         *(Key(f"nominal.{n}", n) for n in ("trail", "diameter", "groove", "friction_moment")),
@@ -178,6 +196,7 @@ class Spec(Record):
         *("disturbance_angle", "damping", "measured"),
         *(Key(f"shimmy_probability.{k}", n) for k, n in SPEC_PROBABILITY.items()),
         *("alpha", "required_speed", "tolerances", Key("worst_corner", "corner")),
+        Key("joint", omit="none"),
         Key("**", lambda s: {"stem_angle": s.stem_angle} if s.stem_angle else {}),  # a tilted stem's retrofit
         Key("**", lambda s: {"calibration": s.calibration} if s.calibration != 1.0 else {}),  # a calibrated law
     )
@@ -295,6 +314,12 @@ def _edges(problem: Problem, design: Design, caster: LawCaster, offset: float = 
     return out
 
 
+def _diameter_tolerance(problem: Problem) -> float:
+    """The diameter's stated ± [m] (0 when none is stated)."""
+    tol = problem.tolerances
+    return 0.0 if tol is None or tol.diameter is None else float(tol.diameter)
+
+
 def _law(problem: Problem, law: Uncertainty | None) -> Uncertainty:
     """The risk law of the limits: ``law`` when given (a calibrated retrofit's), else the problem's bound, else
     the default scatter."""
@@ -399,7 +424,7 @@ def _search_limits(
         law,
         ranges,
         [p.swept_radius_max for p in problems],
-        np.array([d.diameter for d in designs]),
+        np.array([d.diameter + _diameter_tolerance(p) for d, p in zip(designs, problems)]),  # footrest: d's top edge
     )
 
 
@@ -509,4 +534,5 @@ def caster_spec(
         },
         stem_angle=float(stem_angle),
         calibration=float(calibration),
+        joint=joint_limits(problem, design, inertia, measured, u, offset=offset, calibration=calibration),
     )

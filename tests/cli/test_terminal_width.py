@@ -51,6 +51,10 @@ def _examples() -> dict[str, list[list[str]]]:
         ],
         "studio": [["studio", "--help"]],
         "spec": [["spec", "indoor-manual", "--out", "spec.html"]],
+        "inspect": [
+            ["inspect", "indoor-manual", "--template", "measured.csv"],
+            ["inspect", "indoor-manual", str(ROOT / "docs/examples/measured-casters.csv")],
+        ],
         "fix": [
             ["fix", "indoor-manual", "--current", _CURRENT, "--inertia", "0.00127"],
             ["fix", "indoor-manual", "--current", _CURRENT],

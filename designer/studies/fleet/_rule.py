@@ -10,11 +10,13 @@ model's evaluator (:func:`designer.model.evaluate`, :func:`designer.model.shimmy
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from designer.data.paper import INCH
+from designer.parameters import PARAMETERS
 from designer.errors import ProblemError
 from designer.model import VARIABLES, evaluate, shimmy_probability
 from designer.physics.acceptance import LawCaster, exact_probability
@@ -127,7 +129,46 @@ def stock_table(problem) -> StockTable:
     table.confident_speed = values.confident_speed
     table.swept_radius = values.swept_radius
     table.extrapolated = np.asarray(values.extrapolated, bool)
+    if getattr(problem, "tolerances", None) is not None:
+        _toleranced(table, problem)
     return table
+
+
+def _toleranced(table: StockTable, problem) -> None:
+    """With ``[tolerances]``, a stock caster serves a chair only if it holds at the worst corner of the stated
+    tolerances: its ``confident_speed`` becomes the least over its nominal and its corners (trail − ±, groove − ±,
+    M_f − its fraction, the diameter at either edge with the inertia model's I_w there, or a measured wheel at the
+    accepted I_w), and its ``swept_radius`` T + d/2 grows by ± trail + ± d/2 (the footrest with both at their
+    upper edges, so the box's trail window upward is at least the trail's tolerance).  The speeds are the risk
+    bound's V_q (:func:`designer.physics.uncertainty.shimmy_speed_quantile`, vectorised): a conservative screen —
+    a caster it keeps holds at its corner by the exact law too — used to choose, never printed."""
+    tol = problem.tolerances
+    t_lo = float(PARAMETERS["trail"].range[0])  # type: ignore[index]
+    trail = np.maximum(table.trail - (tol.trail or 0.0), t_lo)
+    groove = np.maximum(table.groove - (tol.groove or 0.0), 0.0)
+    damping = table.damping * (1 - (tol.friction_moment or 0.0))
+    tol_d = tol.diameter or 0.0
+    model = problem.conditions.inertia
+    speeds = [np.asarray(table.confident_speed, float)]
+    for sign in (-1.0, 1.0):
+        d = table.diameter + sign * tol_d
+        measured = np.asarray(table.measured, bool)
+        with warnings.catch_warnings():  # a 4 in wheel's low edge leaves Table 1 by a hair: said elsewhere
+            warnings.simplefilter("ignore", UserWarning)
+            inertia = np.where(measured, table.inertia, np.asarray(model(d), float))
+        if tol.wheel is not None:
+            inertia, measured = np.full_like(inertia, tol.wheel), np.ones_like(measured)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            corner = evaluate(
+                {"trail": trail, "diameter": d, "groove": groove, "damping": damping},
+                problem.conditions,
+                inertia=inertia,
+                measured=measured,
+            )
+        speeds.append(np.asarray(corner.confident_speed, float))
+    table.confident_speed = np.minimum.reduce(speeds)
+    table.swept_radius = np.asarray(table.swept_radius, float) + (tol.trail or 0.0) + tol_d / 2
 
 
 def _default_stock(problem):
@@ -213,6 +254,10 @@ def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
                 ok[key][rows] = getattr(values, key)
     effort, force = out["turning_effort"], out["threshold_force"]
     risk_ok, radius_ok, sill_ok = ok["risk_ok"], ok["radius_ok"], ok["sill_ok"]
+    if getattr(problem, "tolerances", None) is not None:  # the stock's corner speeds and toleranced swept radius
+        risk_ok &= np.asarray(stock.confident_speed, float)[None, :] >= required[:, None]
+        r_max = np.asarray(chairs["swept_radius_max"], float)[:, None]
+        radius_ok &= ~np.isfinite(r_max) | (np.asarray(stock.swept_radius, float)[None, :] <= r_max * (1 + 1e-12))
     return {
         "turning_effort": effort,
         "threshold_force": force,

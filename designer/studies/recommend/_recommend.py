@@ -46,11 +46,13 @@ from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sou
 from designer.problem import MAX_SAMPLES, Bound, problem_argument
 from designer.solvers import one_solve_at_a_time
 from designer.studies.recommend._record import Recommendation
+from designer.physics.acceptance import exact_speed_quantile
 from designer.studies.spec import (
     caster_spec,
     caster_specs,
     corner_probabilities,
     exact_shimmy_probability,
+    law_caster,
     mc_draws,
 )
 from designer.studies.recommend._rule import RULES, front_roles, rule_text, select_rows, weights_meaning
@@ -221,7 +223,10 @@ def _record(
     if role != "if measured" and wants_spec:
         spec = _spec(problem, design, inertia, measured, (p_mc, se, n, mc_seed), p)
     extra = _risk(problem, v, i, u, p, (p_mc, se)) if role == "recommended" else {}
-    q = v.confident_speed[i] if problem.risk is not None else risk.confident_speed[0]
+    # the speed reached with probability 1 − α: the exact law's quantile (the solvers' V_q is a conservative bound)
+    law = problem.risk if problem.risk is not None else u
+    bound = v.confident_speed[i] if problem.risk is not None else risk.confident_speed[0]  # the solvers' V_q
+    q = exact_speed_quantile(law_caster(problem, design, inertia, measured), law, guess=float(bound))
     return Recommendation(
         caster=v.row(i),
         confident_speed=float(q),
@@ -459,6 +464,52 @@ def _enforced(problem, b: _Buildable, rec: Recommendation, free: int) -> dict:
         },
         "costs_turning_effort": rec.turning_effort - float(v.turning_effort[free]),
         "costs_threshold_force": rec.threshold_force - float(v.threshold_force[free]),
+        "price": _price(problem, b),
+    }
+
+
+PRICE_CHUNK = 8
+"""Casters whose worst corner is computed at once while looking for the least-J one that holds."""
+
+
+def _price(problem, b: _Buildable) -> dict:
+    """The price of the tolerances apart from the rule's choice: the least-J buildable caster without them against
+    the least-J one that holds the bound at its worst corner (J = w_turn F_turn + w_threshold P [N]); the casters
+    are taken in order of J and their worst corners computed a few at a time until one holds."""
+    v = b.values
+    w_turn, w_sill = problem.weights
+    j = w_turn * np.asarray(v.turning_effort, float) + w_sill * np.asarray(v.threshold_force, float)
+    order = np.argsort(j, kind="stable")
+    alpha = problem.risk.probability if problem.risk is not None else scatter_of(problem.conditions).probability
+    corner: dict[int, float] = {}
+    hold = None
+    for start in range(0, len(order), PRICE_CHUNK):
+        chunk = [int(k) for k in order[start : start + PRICE_CHUNK]]
+        found = corner_probabilities(
+            problem, [b.design(k) for k in chunk], list(v.inertia[chunk]), list(v.measured[chunk])
+        )
+        corner.update(zip(chunk, found))
+        hold = next((k for k in chunk if corner[k] <= alpha), None)
+        if hold is not None:
+            break
+
+    def brief(i: int | None) -> dict | None:
+        if i is None:
+            return None
+        return {
+            "design": b.design(i).to_dict(),
+            "wheel": str(b.wheel[i]) or None,
+            "objective": float(j[i]),
+            "turning_effort": float(v.turning_effort[i]),
+            "threshold_force": float(v.threshold_force[i]),
+            "worst_corner_probability": corner[i],
+        }
+
+    free = int(order[0])
+    return {
+        "least_objective_without_tolerances": brief(free),
+        "least_objective_holding": brief(hold),
+        "objective_price": None if hold is None else float(j[hold] - j[free]),
     }
 
 

@@ -16,7 +16,8 @@ from designer.parameters import DESIGN_UNITS, OUTPUTS
 from designer.plots.caster import caster_svg, plot_caster
 from designer.problem import Problem
 from designer.reprs import Key, Record, dataframe
-from designer.studies.spec import PART_LABELS, limit_shown
+from designer.studies.acceptance import box_short
+from designer.studies.spec import limit_shown
 
 if TYPE_CHECKING:  # the front's record for the checker only: designer.studies.front loads casadi
     from designer.studies.front import Front
@@ -36,7 +37,8 @@ class Recommendation(Record):
     turning_effort : F_turn [N] (Eq. 9 with the turning model)
     threshold_force : P, force to climb the sill [N] (Eq. 4A)
     critical_speed : V_c of Eq. 7 [m/s]
-    confident_speed : the speed reached with probability 1 − α, V_q [m/s]
+    confident_speed : the speed reached with probability 1 − α, V_q [m/s]: the exact law's α-quantile of V_c,true
+        (:func:`designer.physics.acceptance.exact_speed_quantile`), not the solvers' conservative bound
     shimmy_probability : P(V_c,true < V_target) by the exact law (quadrature) [-]
     shimmy_probability_mc : the same by Monte Carlo (own seed: ``mc_seed``, ``mc_samples`` draws), an
         independent check [-]
@@ -208,6 +210,7 @@ class Recommendation(Record):
             return (
                 f"[tolerances] enforce = true: the rule's pick holds at its worst corner "
                 f"(P(shimmy) {free['worst_corner_probability']:.2%} <= {percent(alpha)}), so it stays."
+                + self.price_sentence()
             )
         d = free["design"]
         costs = []
@@ -221,7 +224,36 @@ class Recommendation(Record):
             f"reaches P(shimmy) {free['worst_corner_probability']:.2%} at its worst corner, above {percent(alpha)}; "
             f"this one holds there, with {' and '.join(costs)} "
             f"({free['turning_effort']:.2f} → {self.turning_effort:.2f} N turning, "
-            f"{free['threshold_force']:.1f} → {self.threshold_force:.1f} N over the sill)."
+            f"{free['threshold_force']:.1f} → {self.threshold_force:.1f} N over the sill)." + self.price_sentence()
+        )
+
+    def price_sentence(self) -> str:
+        """The price of the tolerances apart from the rule's choice: the least-J caster that holds the bound at
+        its worst corner against the least-J caster without tolerances ("" when not computed)."""
+        price = (self.enforced or {}).get("price")
+        if not price:
+            return ""
+        free, hold = price["least_objective_without_tolerances"], price["least_objective_holding"]
+
+        def caster(x: dict[str, Any]) -> str:
+            d = x["design"]
+            return (
+                f"T {d['trail'] / INCH:.3g} in, d {d['diameter'] / INCH:.3g} in, B {d['groove'] / INCH:.3g} in, "
+                f"c_f {d['damping']:.3g} N·m/rad, J = {x['objective']:.2f} N"
+            )
+
+        if hold is None:
+            return " No buildable caster holds at its worst corner: the tolerances cannot be met."
+        if price["objective_price"] <= 1e-9:
+            return (
+                f" The tolerances cost nothing in J: the least-J caster ({caster(free)}) holds at its worst corner "
+                f"({hold['worst_corner_probability']:.2%}); any difference from it is the rule's choice."
+            )
+        return (
+            f" Price of the tolerances: the least-J caster that holds at its worst corner ({caster(hold)}, "
+            f"{hold['worst_corner_probability']:.2%} there) against the least-J caster without them ({caster(free)}, "
+            f"{free['worst_corner_probability']:.2%} at its worst corner): {price['objective_price']:.2f} N of J; "
+            "the rest of any difference between the picks is the rule's choice."
         )
 
     def __str__(self) -> str:
@@ -369,14 +401,22 @@ class Recommendation(Record):
 def spec_lines(spec: Spec) -> list[str]:
     """The spec as text lines: each limit (others at nominal), and the worst corner when there are tolerances."""
     out = [
-        f"  spec: M_f = c_f θ0 = {spec.friction_moment:.3f} N·m (θ0 = {spec.disturbance_angle * 180 / math.pi:.0f}°);"
-        " acceptance limits, each with the other parts at nominal:"
+        f"  spec: M_f = c_f θ0 = {spec.friction_moment:.3f} N·m (θ0 = {spec.disturbance_angle * 180 / math.pi:.0f}°)"
     ]
-    for lim in spec.limits:
-        shown = limit_shown(lim.value, lim.unit, lim.side)
+    if spec.joint is not None:
         out.append(
-            f"    {lim.side} {PART_LABELS[lim.part]}: {shown}" + (f" ({lim.reason})" if lim.value is None else "")
+            f"  accept when every part is inside the joint box (P <= α at all {spec.joint.corners} corners): "
+            + box_short(spec.joint)
         )
+    short = {"trail": "T", "groove": "B", "friction_moment": "M_f", "wheel_inertia": "I_w"}
+    one = ", ".join(
+        f"{short[lim.part]} {'>=' if lim.side == 'min' else '<='} "
+        + limit_shown(lim.value, lim.unit, lim.side).split(" (")[0]
+        + (" (footrest" + (", no window" if lim.no_window else "") + ")" if lim.protects == "footrest" else "")
+        for lim in spec.limits
+        if lim.value is not None
+    )
+    out.append(f"  one part at a time (others at nominal): {one}")
     if spec.corner is not None:
         c = spec.corner
         out.append(

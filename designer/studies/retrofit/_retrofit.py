@@ -38,6 +38,7 @@ holds the records and the rule; this module ranks (:func:`fix`) and re-exports t
 
 from __future__ import annotations
 
+import warnings
 import dataclasses
 from dataclasses import dataclass
 
@@ -46,6 +47,8 @@ from typing import Any
 import numpy as np
 
 from designer.boundary import SEED, Count, Instance, Quantity, checked
+from designer.parameters import PARAMETERS
+from designer.errors import InputError
 from designer.model import Casters, Conditions, Design
 from designer.physics.uncertainty import Uncertainty
 from designer.problem import MAX_SAMPLES, problem_argument
@@ -517,6 +520,8 @@ def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current
     loss = np.round(weighted(d_turn, d_force, s.weights), 9)
     price = np.round(cands["price"], 9)
     feasible = values.feasible
+    if getattr(s.problem, "tolerances", None) is not None:  # only fixes that hold at the tolerances' worst corner
+        feasible = feasible & _holds_at_corner(cands, s)
     inside = np.flatnonzero(feasible & (over <= 1e-12))
     outside = np.flatnonzero(feasible & (over > 1e-12))
     ranked = inside[
@@ -533,6 +538,44 @@ def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current
     ]
     apart = outside[np.lexsort((cands["order"][outside], loss[outside], price[outside], np.round(over[outside], 9)))]
     return cands, ranked, apart, searched
+
+
+def _holds_at_corner(cands: dict, s: _Setting) -> np.ndarray:
+    """Which candidates meet the risk bound at the worst corner of the problem's ``[tolerances]`` (trail − ±,
+    groove − ±, M_f − its fraction, the diameter at either edge with the inertia model's I_w there, or a measured
+    wheel at the accepted I_w): the bound's speed V_q at each corner against V_req, vectorised.  V_q is a
+    conservative bound of the exact law's quantile, so a candidate kept holds there by the exact law too (its spec's
+    worst corner says so); used to rank, never printed."""
+    tol = s.problem.tolerances
+    t_lo = float(PARAMETERS["trail"].range[0])  # type: ignore[index]
+    corner = {
+        "trail": np.maximum(cands["trail"] - (tol.trail or 0.0), t_lo),
+        "groove": np.maximum(cands["groove"] - (tol.groove or 0.0), 0.0),
+        "damping": cands["damping"] * (1 - (tol.friction_moment or 0.0)),
+    }
+    measured = np.broadcast_to(np.asarray(cands.get("measured", True), bool), np.shape(cands["trail"]))
+    holds = np.ones(np.shape(cands["trail"]), bool)
+    model = s.problem.conditions.inertia
+    for sign in (-1.0, 1.0):
+        d = cands["diameter"] + sign * (tol.diameter or 0.0)
+        with warnings.catch_warnings():  # a wheel's edge just outside Table 1: said for the caster itself
+            warnings.simplefilter("ignore", UserWarning)
+            inertia = np.where(measured, cands["inertia"], np.asarray(model(d), float))
+        flags = measured
+        if tol.wheel is not None:
+            inertia, flags = np.full(np.shape(d), tol.wheel), np.ones(np.shape(d), bool)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            values = _evaluate(
+                corner | {"diameter": d, "inertia": inertia, "measured": flags},
+                s.conditions,
+                s.stem_angle,
+                s.factor,
+                s.bound,
+                s.limits,
+            )
+        holds &= np.asarray(values.risk_ok, bool)
+    return holds
 
 
 def _changes(current: Design, inertia: float, cands: dict, j: int, wheels: list) -> tuple[Change, ...]:
