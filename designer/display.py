@@ -52,6 +52,7 @@ _SI = {
     "angular_speed": Unit("rad/s", 1.0, 1),
     "rate": Unit("1/s", 1.0, 3, significant=True),
     "frequency": Unit("Hz", 1.0, 2),
+    "time": Unit("s", 1.0, 3, significant=True),
     "probability": Unit("%", 100.0, 3, significant=True),
     "dimensionless": Unit("", 1.0, 4, significant=True),
 }

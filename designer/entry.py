@@ -9,6 +9,9 @@ itself loads nothing heavy, so only the interpreter's own start-up comes before 
 
 import os
 import signal
+import sys
+
+from designer.errors import quiet_after_signal  # light: the handlers below come before every heavy import
 
 
 def _startup_signal(signum, frame):  # pragma: no cover - ends the process
@@ -33,10 +36,6 @@ def _end_quietly(code: int) -> None:  # pragma: no cover - ends the process
     Child processes (explore's workers, Dask's) are killed rather than shut down (a shutdown logs about the
     scheduler going away), and the interpreter's exit handlers are skipped (Dask's ``close_clusters`` would
     print tracebacks about the closed loop): nothing but the one line reaches stderr."""
-    import sys
-
-    from designer.errors import quiet_after_signal
-
     quiet_after_signal()
     multiprocessing = sys.modules.get("multiprocessing")
     if multiprocessing is not None:

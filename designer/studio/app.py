@@ -119,9 +119,8 @@ def create_app(data: dict, name: str, out_dir: Path, debug: bool = False):
     return app
 
 
-def _trade_off_callback(
-    app, data: dict, defaults: dict, pending: OrderedDict
-) -> None:  # long: one callback, 11 outputs
+# long: one callback, 11 outputs
+def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -> None:
     """The callback that owns the trade-off: controls (or the URL) -> problem -> fronts -> chart, panel, URL.
 
     Only what changed goes to the browser: the chart's traces that differ from the ones it shows (a Dash

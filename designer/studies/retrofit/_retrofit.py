@@ -48,7 +48,6 @@ import numpy as np
 
 from designer.boundary import SEED, Count, Instance, Quantity, checked
 from designer.parameters import PARAMETERS
-from designer.errors import InputError
 from designer.model import Casters, Conditions, Design
 from designer.physics.uncertainty import Uncertainty
 from designer.problem import MAX_SAMPLES, problem_argument
