@@ -286,7 +286,7 @@ def main(argv=None) -> int:
     for n in (1000, 10000):
         r = fl.fleet_recommendations(fleets[n], base, monte_carlo=False)
         t = time.perf_counter()
-        fl.choose_skus(r, k_max, k_max=k_max)
+        r = fl.choose_skus(r, k_max, k_max=k_max)
         res["kmedian"][n] = {
             "seconds": time.perf_counter() - t,
             "candidates": r.candidates,

@@ -58,6 +58,8 @@ class ReportData(Record):
     run : metadata (date, versions, digest, solver settings, seconds per step)
     """
 
+    _open = "the report's working data: the writer adds its run record (timings, files moved) as it writes"
+
     problem: Problem
     front: Front
     tighter: Front | None = None
@@ -151,6 +153,8 @@ class RobustData(Record):
     uncertainty : the :class:`~designer.physics.uncertainty.Uncertainty` of the bound
     run : metadata (date, versions, digest, CPU seconds)
     """
+
+    _open = "the report's working data: the writer adds its run record (timings, files moved) as it writes"
 
     problem: Problem
     nominal: Front

@@ -21,6 +21,7 @@ text in the HTML is escaped.
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Callable, Iterable, Mapping
 from html import escape
 from typing import Any, ClassVar
@@ -85,6 +86,36 @@ class FrozenMapping(Mapping[Any, Any]):
 
     def __delitem__(self, key: Any) -> None:
         self.__setitem__(key, None)
+
+
+def deep_frozen(value: Any) -> Any:
+    """``value`` with its containers made read-only, all the way down: a list or a tuple as a tuple, a mapping as a
+    :class:`FrozenMapping`, a set as a frozenset; records, strings, numbers, arrays and other objects as they are.
+    What a record's fields are turned into when it is built (:meth:`Keyed.__post_init__`): a user's
+    ``rec.alternatives.clear()`` or ``front.meta["x"] = 1`` raises instead of changing a result in place.  A list
+    a user indexes still indexes (``rec.alternatives[0]``); ``to_dict`` and JSON give lists as before."""
+    if value is None or isinstance(value, (str, bytes, int, float, Keyed, FrozenMapping, frozenset)):
+        return value
+    if isinstance(value, Mapping):
+        return FrozenMapping({k: deep_frozen(v) for k, v in value.items()})
+    if isinstance(value, list) or type(value) is tuple:
+        items = tuple(deep_frozen(v) for v in value)
+        return value if type(value) is tuple and all(a is b for a, b in zip(items, value)) else items
+    if isinstance(value, (set, bytearray)):
+        return frozenset(value) if isinstance(value, set) else bytes(value)
+    return value
+
+
+def freeze_fields(record: Any) -> None:
+    """Every dataclass field of ``record`` through :func:`deep_frozen` (in place, frozen dataclass or not), unless
+    its class says why it stays open (:attr:`Keyed._open`)."""
+    if getattr(type(record), "_open", ""):
+        return
+    for f in dataclasses.fields(record):
+        value = getattr(record, f.name)
+        kept = deep_frozen(value)
+        if kept is not value:
+            object.__setattr__(record, f.name, kept)
 
 
 def frozen(data: Any) -> FrozenMapping:
@@ -258,6 +289,32 @@ class Keyed:
     in the dataclass repr).  :class:`Record` derives from it; so do the small dataclasses that are parts of a
     record without being shown on their own (a problem's stock and tolerances, a risk law's sources)."""
 
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        # a subclass's own __post_init__ (its checks) is followed by the freezing of its containers
+        post = cls.__dict__.get("__post_init__")
+        if post is not None and not getattr(post, "_freezes", False):
+
+            @functools.wraps(post)
+            def checked_then_frozen(self: Any, *args: Any, **kw: Any) -> None:
+                post(self, *args, **kw)
+                freeze_fields(self)
+
+            checked_then_frozen._freezes = True  # type: ignore[attr-defined]
+            cls.__post_init__ = checked_then_frozen  # type: ignore[method-assign]
+
+    def __post_init__(self) -> None:
+        """A record's containers made read-only once it is built (:func:`deep_frozen`); records are frozen
+        dataclasses, so with this nothing of a result changes after it is returned."""
+        if dataclasses.is_dataclass(self):
+            freeze_fields(self)
+
+    __post_init__._freezes = True  # type: ignore[attr-defined]
+
+    _open: ClassVar[str] = ""
+    """Why a record stays mutable (its containers too), or "" (the rule: frozen, its containers read-only).  Only
+    the report's own working data says a reason; tests/test_records.py lists the classes that do."""
+
     _keys: ClassVar[tuple[str | Key, ...]] = ("*",)
     """The keys of :meth:`to_dict` (:class:`Key`, or a name for ``Key(name)``): every repr field by default.  A
     record whose data has another shape declares it here instead of writing its own ``to_dict``."""
@@ -385,6 +442,8 @@ class Record(Keyed):
 
 __all__ = [
     "FrozenMapping",
+    "deep_frozen",
+    "freeze_fields",
     "Key",
     "Keyed",
     "MAX_REPR_LINES",

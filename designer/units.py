@@ -9,8 +9,10 @@ here, never in the model's hot paths.
 from __future__ import annotations
 
 import math
+import numbers
 import re
 from functools import lru_cache
+from typing import Any
 
 from designer.errors import InputError
 
@@ -130,6 +132,7 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
     "angular_speed": ("rad/s", "rad/s"),
     "rate": ("1/s", "1/s"),
     "frequency": ("Hz", "Hz"),
+    "time": ("s", "s"),
     "dimensionless": ("", "-"),
     "probability": ("", "%"),
 }
@@ -168,23 +171,84 @@ def parse_quantity(value, dimension: str, key: str = "value") -> float:
         or infinite, unknown unit, or a unit of the wrong dimension.
     """
     target, shown = DIMENSIONS[dimension]
-    if isinstance(value, bool):
-        raise InputError(f"{key} = {value!r}: expected a number or a quantity with units, got a boolean")
-    if isinstance(value, (int, float)):
-        try:
-            number = float(value)
-        except OverflowError:
-            raise InputError(
-                f"{key}: an integer of about {int(int(value).bit_length() * 0.30103)} digits is too large"
-            ) from None
-    elif isinstance(value, str):
+    if isinstance(value, str):
         number = _parse_string(value, target, shown, dimension, key)
-    else:
+        if not math.isfinite(number):
+            raise InputError(f"{key} = {value!r}: must be a finite number")
+        return number
+    return real_number(value, key, f"a number (SI, {shown}) or a string with units such as {_example(dimension)!r}")
+
+
+def _scalar(value: Any) -> Any:
+    """A NumPy 0-d array as its one value (``np.array(900.0)`` -> ``900.0``); anything else as it is.
+    Read by its attributes: this module does not import NumPy."""
+    if type(value).__module__ == "numpy" and getattr(value, "shape", None) == () and hasattr(value, "item"):
+        return value.item()
+    return value
+
+
+def _boolean(value: Any) -> bool:
+    """A boolean: Python's ``True``/``False`` or NumPy's ``np.bool_`` (a 0-d boolean array too)."""
+    return isinstance(value, bool) or type(value).__name__ in ("bool_", "bool") and type(value).__module__ == "numpy"
+
+
+def real_number(value: Any, key: str, expected: str = "a number") -> float:
+    """The one rule for a number at the package's boundary: ``value`` as a finite float, or one InputError line
+    naming ``key``, the value and the reason.
+
+    A number is a :class:`numbers.Real` (``int``, ``float``, ``fractions.Fraction``, NumPy's scalars such as
+    ``np.float32(900)`` and ``np.int64(900)``) or a NumPy 0-d array of one; a boolean (``True``, ``np.bool_``)
+    is never a number, however Python counts it; NaN and infinities are refused as such.  ``expected`` says
+    what was wanted, in the message for a value that is not a number.  Strings with units are read by
+    :func:`parse_quantity`, which calls this for everything else: the problem file, the command line and every
+    public function and record of the API use these two.
+    """
+    item = _scalar(value)
+    if _boolean(value) or _boolean(item):
+        raise InputError(f"{key} = {value!r}: expected {expected}, got a boolean")
+    if not isinstance(item, numbers.Real):
+        raise InputError(f"{key} = {value!r}: expected {expected}")
+    try:
+        number = float(item)
+    except OverflowError:
         raise InputError(
-            f"{key} = {value!r}: expected a number (SI, {shown}) or a string with units such as {_example(dimension)!r}"
-        )
+            f"{key}: an integer of about {int(getattr(item, 'bit_length', lambda: 0)() * 0.30103)} digits is too large"
+        ) from None
     if not math.isfinite(number):
         raise InputError(f"{key} = {value!r}: must be a finite number")
+    return number
+
+
+def whole_number(
+    value: Any, key: str, low: int | None = None, high: int | None = None, what: str = "", optional: bool = False
+) -> int:
+    """The one rule for a count or a seed at the boundary: ``value`` as an int within [``low``, ``high``] (either
+    end None: open), or one InputError line naming ``key``, the value and the range.
+
+    A count is a :class:`numbers.Integral` (``int``, ``np.int64``, ...) or a NumPy 0-d array of one; a
+    boolean, a float (``1024.0``, ``2.5``) and a string are refused, as the command line refuses them.
+    ``what`` names the thing counted in the message ("Monte Carlo draws"); ``optional``: the message says that
+    None is also taken (the caller passes None on before).
+    """
+    item = _scalar(value)
+    span = (
+        f"from {low} to {high}"
+        if low is not None and high is not None
+        else f", {low} or more"
+        if low is not None
+        else f", {high} or less"
+        if high is not None
+        else ""
+    )
+    expected = ("None or " if optional else "") + "a whole number" + (f" of {what}" if what else "")
+    expected += span if span.startswith(",") or not span else f" {span}"
+    if _boolean(value) or _boolean(item):
+        raise InputError(f"{key} = {value!r}: expected {expected}, got a boolean")
+    if not isinstance(item, numbers.Integral):
+        raise InputError(f"{key} = {value!r}: expected {expected}")
+    number = int(item)
+    if (low is not None and number < low) or (high is not None and number > high):
+        raise InputError(f"{key} = {number}: expected {expected}")
     return number
 
 
@@ -275,6 +339,11 @@ def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) 
     try:
         magnitude = quantity.to(target).magnitude if target else quantity.to("dimensionless").magnitude
     except pint.errors.DimensionalityError:
+        if not dict(quantity.unit_items()):  # "3" for a speed: the true reason is the missing unit
+            raise InputError(
+                f"{key} = {text!r}: a number without its unit; give a number (SI, {shown}) or a string with "
+                f"its unit such as {_example(dimension)!r}"
+            ) from None
         hint = _mass_for_force_hint(quantity, stripped, key) if dimension == "force" else ""
         raise InputError(
             f"{key} = {text!r}: wrong dimension, expected {dimension} ({shown}), e.g. {_example(dimension)!r}{hint}"
@@ -423,6 +492,9 @@ def _example(dimension: str) -> str:
         "stiffness": "10000 N/m",
         "per_length": "7 1/m",
         "moment": "0.45 N*m",
+        "time": "2 s",
+        "angular_speed": "0.5 rad/s",
+        "rate": "10 1/s",
         "dimensionless": "0.1",
     }[dimension]
 

@@ -23,6 +23,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
             "designer.textfiles",
             "designer.output",
             "designer.units",
+            "designer.boundary",
             "designer.jsonsafe",
             "designer.data",
             "designer.parameters",

@@ -774,3 +774,132 @@ def test_every_quantity_of_a_caster_is_in_the_parameter_table():
     assert own[: len(VARIABLES)] == list(VARIABLES)
     assert set(own[len(VARIABLES) :]) <= set(OUTPUTS)
     assert Casters._units == {p.name: p.unit for p in (*VARIABLE_TABLE, *OUTPUTS.values()) if p.unit}
+
+
+# --------------------------------------------------------------------------- records do not change
+
+
+OPEN = {"ReportData", "RobustData"}
+"""The records that stay mutable, each saying why in ``_open`` (the report's working data, filled as it is
+written).  A new record class is frozen or fails test_only_the_report_data_stays_open."""
+
+
+def _containers(value, where: str, seen: set[int]):
+    """(where, container) for every container inside ``value``: tuples, mappings, sets, lists, NumPy arrays kept out
+    (an array is a column of numbers, not a container of records); other records are checked on their own."""
+    if id(value) in seen or isinstance(value, (str, bytes, int, float, np.ndarray, type(None))):
+        return
+    seen.add(id(value))
+    if isinstance(value, Record):
+        return
+    if isinstance(value, (list, tuple, set, frozenset, bytearray)):
+        yield where, value
+        for i, item in enumerate(value):
+            yield from _containers(item, f"{where}[{i}]", seen)
+    elif isinstance(value, dict) or hasattr(value, "keys") and hasattr(value, "__getitem__"):
+        yield where, value
+        for key in list(value.keys()):
+            yield from _containers(value[key], f"{where}[{key!r}]", seen)
+    elif dataclasses.is_dataclass(value) and not isinstance(value, type):
+        for f in dataclasses.fields(value):
+            yield from _containers(getattr(value, f.name), f"{where}.{f.name}", seen)
+
+
+def _mutable_parts(record) -> list[str]:
+    """What of ``record`` can be changed in place: a field that can be assigned, a list, dict, set or bytearray
+    anywhere in its fields, a mapping that takes an item.  Empty for a record that does not change."""
+    found = []
+    cls = type(record)
+    for f in dataclasses.fields(record):
+        value = getattr(record, f.name)
+        try:
+            object.__getattribute__(record, "__setattr__")(f.name, value)  # the record's own __setattr__
+            found.append(f"{cls.__name__}.{f.name} = ... is accepted")
+        except dataclasses.FrozenInstanceError:
+            pass
+        for where, container in _containers(value, f"{cls.__name__}.{f.name}", set()):
+            if isinstance(container, (list, dict, set, bytearray)):
+                found.append(f"{where} is a {type(container).__name__}")
+            elif not isinstance(container, (tuple, frozenset)):
+                keys = list(container.keys())
+                try:
+                    container[keys[0] if keys else "x"] = None
+                    found.append(f"{where} takes an item")
+                except TypeError:
+                    pass
+    return found
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_every_record_is_frozen_down_to_its_containers(examples, name):
+    """Every record class of the package (the examples cover each, test_every_record_class_has_an_example) is a
+    frozen dataclass whose containers are tuples and read-only mappings: no field can be assigned, no list,
+    dict or set is left inside; only the report's working data says why it stays open (OPEN)."""
+    record = examples[name]
+    if type(record).__name__ in OPEN:
+        assert type(record)._open and _mutable_parts(record)  # open, and says why
+        return
+    assert _mutable_parts(record) == []
+
+
+def test_only_the_report_data_stays_open():
+    """The classes that opt out of freezing (``_open``) are exactly OPEN; every other Record subclass of the
+    package is a frozen dataclass (found by introspection, so a new mutable record fails here)."""
+    classes = _record_classes()
+    assert {c.__name__ for c in classes if c._open} == OPEN
+    thawed = sorted(
+        c.__name__
+        for c in classes
+        if c.__name__ not in OPEN and not (dataclasses.is_dataclass(c) and c.__dataclass_params__.frozen)
+    )
+    assert thawed == []
+
+
+def test_the_check_finds_a_mutable_record():
+    """The check above catches what it is for: a record that is not frozen (its field assignable) and one that
+    opts out (a list left in it) are both reported."""
+
+    @dataclasses.dataclass(kw_only=True)
+    class Loose(Record):
+        items: list = dataclasses.field(default_factory=list)
+
+    @dataclasses.dataclass(frozen=True, kw_only=True)
+    class Opened(Record):
+        _open = "a test's own"
+        items: list = dataclasses.field(default_factory=list)
+
+    assert _mutable_parts(Loose(items=[1])) == ["Loose.items = ... is accepted"]
+    assert _mutable_parts(Opened(items=[1])) == ["Opened.items is a list"]
+    assert Loose(items=[1]).items == (1,)  # its containers are still frozen when it is built
+
+
+def _attempts(examples):
+    rec, front, fix = examples["Recommendation"], examples["Front"], examples["FixResult"]
+    return [
+        ("rec.caster = None", lambda: setattr(rec, "caster", None)),
+        ("rec.alternatives.clear()", lambda: rec.alternatives.clear()),
+        ("rec.alternatives.append(rec)", lambda: rec.alternatives.append(rec)),
+        ("front.points.clear()", lambda: front.points.clear()),
+        ("front.points[0] = None", lambda: front.points.__setitem__(0, None)),
+        ("front.meta['x'] = 1", lambda: front.meta.__setitem__("x", 1)),
+        ("fix.fixes.clear()", lambda: fix.fixes.clear()),
+        ("fix.current = None", lambda: setattr(fix, "current", None)),
+        ("solution.constraints['shimmy'] = 0", lambda: examples["Solution"].constraints.__setitem__("shimmy", 0.0)),
+        ("point.margins['shimmy'] = 0", lambda: examples["FrontPoint"].margins.__setitem__("shimmy", 0.0)),
+    ]
+
+
+def test_the_issues_mutations_fail_and_leave_the_records_as_they_were(examples):
+    """The issue's cases (``rec.caster = None``, ``rec.alternatives.clear()``, ``front.points.clear()``,
+    ``fix(...).fixes.clear()``) and more of the same class each raise; the records keep their data, a list a
+    user indexes still indexes, and to_dict (the JSON) still gives lists."""
+    before = {name: json.dumps(finite(examples[name].to_dict()), sort_keys=True) for name in NAMES}
+    for label, attempt in _attempts(examples):
+        with pytest.raises((dataclasses.FrozenInstanceError, AttributeError, TypeError)):
+            attempt()
+        assert label  # named in the failure of pytest.raises above
+    assert {name: json.dumps(finite(examples[name].to_dict()), sort_keys=True) for name in NAMES} == before
+    rec = examples["Recommendation"]
+    assert rec.alternatives[0] is list(rec.alternatives)[0]
+    assert isinstance(rec.to_dict(alternatives=True)["alternatives"], list)
+    assert isinstance(examples["Front"].to_dict()["points"], list)

@@ -102,7 +102,7 @@ def test_a_fleet_with_hostile_names_round_trips_through_every_file(tmp_path, cap
     fleet = dataclasses.replace(fleet, names=[f"{text} #{k}" for k, text in enumerate(HOSTILE)])
     path = write_fleet_csv(fleet, tmp_path / "fleet-in.csv")
     expected = [name.strip() for name in fleet.names]
-    assert read_fleet(path).names == expected
+    assert list(read_fleet(path).names) == expected
     out = tmp_path / "report"
     assert main(["fleet", str(path), "--problem", "indoor-manual", "--no-skus", "--out", str(out)]) == 0
     capsys.readouterr()

@@ -61,9 +61,12 @@ MAX_POPULATION = 10_000
 
 def run(args) -> int:
     from designer.studies.explore import explore, parse_storage
+    from designer.studies.explore._runner import MAX_TRIALS, MAX_WORKERS
 
     count_option(args.population, "--population", 2, MAX_POPULATION)
     count_option(args.seed, "--seed", 0, SEED_MAX)
+    count_option(args.trials, "--trials", 1, MAX_TRIALS)  # named as the option (the API names its argument)
+    count_option(args.workers, "--workers", 1, MAX_WORKERS)
     parse_storage(args.storage)  # exit 6 for a malformed URL or an in-memory SQLite, before the problem is read
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / problem.name

@@ -20,7 +20,8 @@ from typing import Any, Self
 import numpy as np
 
 from designer.parameters import OUTPUT_TABLE, OUTPUTS, PARAMETERS, VARIABLE_TABLE, VARIABLES
-from designer.units import parse_quantity
+from designer.boundary import SEED, Count, Instance, Quantity, Values, checked
+from designer.units import parse_quantity, real_number
 from designer.reprs import Key, Record, dataframe, frozen, shown
 from designer.physics.geometry import effective_trail, swept_radius
 from designer.physics.scatter import inertia_prediction
@@ -310,6 +311,19 @@ class OfCaster:
         return getattr(record.caster, self.name)
 
 
+@checked(
+    conditions=Instance((Conditions,), "a designer.Conditions, e.g. Conditions(load=178)"),
+    inertia=Values("inertia"),
+    load=Values("force"),
+    threshold_height=Values("length"),
+    required_speed=Values("speed"),
+    swept_radius_max=Values("length"),
+    stem_angle=Quantity("angle"),
+    calibration=Quantity("dimensionless"),
+    samples=Count(1, optional=True, what="Monte Carlo draws"),
+    seed=SEED,
+    target_se=Quantity("dimensionless", optional=True),
+)
 def evaluate(  # long: the docstring documents every argument
     designs: Any,
     conditions: Conditions = Conditions(),
@@ -370,8 +384,6 @@ def evaluate(  # long: the docstring documents every argument
     single = isinstance(designs, Design)
     if single:
         check_design(designs, error=InputError)  # an 8 m wheel is inches written as metres, not a caster
-    if not isinstance(conditions, Conditions):
-        raise InputError(f"conditions = {conditions!r}: expected a designer.Conditions, e.g. Conditions(load=178)")
     if speed is not None:
         speed = _speed(speed)
     if risk is not None:
@@ -450,9 +462,9 @@ def _speed(speed: Any, name: str = "speed") -> Any:
 
 def _weights(weights: Any) -> tuple[float, float]:
     """(w_turn, w_threshold) [-]: exactly two finite numbers, not both zero."""
-    try:
-        w = tuple(float(x) for x in weights)
-    except (TypeError, ValueError):
+    try:  # each weight by the API's one rule for numbers (a boolean is not a weight)
+        w = tuple(real_number(x, "weights") for x in weights)
+    except (TypeError, InputError):
         w = ()
     if len(w) != 2 or not all(np.isfinite(w)) or min(w) < 0 or max(w) == 0:
         raise InputError(f"weights = {weights!r}: expected two finite weights >= 0, not both 0 (w_turn, w_threshold)")

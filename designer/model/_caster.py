@@ -136,17 +136,7 @@ class Design(Record):
 
         for entry in parameters.VARIABLE_TABLE:
             name = entry.name
-            value = getattr(self, name)
-            if isinstance(value, str):
-                value = parse_quantity(value, entry.dimension, name)
-            try:
-                value = float(value)
-            except (TypeError, ValueError):
-                raise InputError(
-                    f"{name} = {getattr(self, name)!r}: expected a number (SI) or a string with units such as '2 in'"
-                ) from None
-            if not np.isfinite(value):
-                raise InputError(f"{name} = {value}: must be finite")
+            value = parse_quantity(getattr(self, name), entry.dimension, name)  # the one rule: units.real_number
             positive = name in ("trail", "diameter")
             # a solver may return −1e-12 on a zero bound: tolerate round-off, not real negatives
             if value < -1e-9 or (positive and value <= 0):
@@ -251,9 +241,9 @@ def condition_refusal(name: str, value: Any, label: str | None = None) -> str | 
 
 
 def _symbolic(value: Any) -> bool:
-    """A NumPy array or a CasADi expression: the solvers' and the vectorised model's own conditions, not a user's
-    number (checked where it was read)."""
-    return isinstance(value, np.ndarray) or type(value).__module__.startswith("casadi")
+    """A NumPy array of values (one per design) or a CasADi expression: the solvers' and the vectorised model's own
+    conditions, not a user's number (checked where it was read).  A 0-d array is one number: the boundary's."""
+    return (isinstance(value, np.ndarray) and value.ndim > 0) or type(value).__module__.startswith("casadi")
 
 
 @dataclass(frozen=True)

@@ -53,6 +53,7 @@ import numpy as np
 from designer.data.paper import SLIP_COEFFICIENT
 from designer.errors import InputError
 from designer.physics.types import Array, Numeric
+from designer.units import parse_quantity
 
 TYRE_FRICTION_COEFFICIENT = 0.7
 """Tyre-floor friction coefficient μ [-] (vinyl tile); estimated from the paper's sliding turning moment,
@@ -60,6 +61,15 @@ Fig. 7A (0.005 m per newton of load over a ~20 × 24 mm patch; ``TurningConstant
 
 TYRE_TEST_LOAD = 178.0
 """Caster load L [N] of the paper's slip-coefficient test (Appendix C, Fig. 3C)."""
+
+
+TYRE_DIMENSIONS = {
+    "cornering_stiffness": "force",
+    "friction_coefficient": "dimensionless",
+    "load": "force",
+    "wheel_mass": "mass",
+}
+"""The dimension of each number of :class:`TyreParameters` (read by :func:`designer.units.parse_quantity`)."""
 
 
 @dataclass(frozen=True)
@@ -87,9 +97,10 @@ class TyreParameters:
     def __post_init__(self) -> None:
 
         for name in ("cornering_stiffness", "friction_coefficient", "load", "wheel_mass"):
-            value = getattr(self, name)
-            if not isinstance(value, (int, float)) or isinstance(value, bool) or not np.isfinite(value) or value <= 0:
+            value = parse_quantity(getattr(self, name), TYRE_DIMENSIONS[name], f"tyre {name}")  # the one rule
+            if value <= 0:
                 raise InputError(f"tyre {name} = {value!r}: must be a positive finite number")
+            object.__setattr__(self, name, value)
 
     @property
     def friction_limit(self) -> float:

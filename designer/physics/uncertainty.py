@@ -81,6 +81,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from designer.errors import InputError
+from designer.units import parse_quantity, whole_number
+
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
 
@@ -185,6 +188,22 @@ class Uncertainty:
     model_error_dof: int = TABLE1_DOF
     samples: int = MC_SAMPLES
     seed: int = MC_SEED
+
+    def __post_init__(self) -> None:
+        # the API's boundary (designer.units.parse_quantity / whole_number, as every record): np.float32(0.05) is a
+        # number, True is not; the problem file's [robust] ranges are checked where it is read
+        for name in ("probability", "model_error", "damping", "slip_coefficient", "inertia"):
+            value = getattr(self, name)
+            if (isinstance(value, np.ndarray) and value.ndim > 0) or type(value).__module__.startswith("casadi"):
+                continue  # a solver's or a vectorised study's own values
+            value = parse_quantity(value, "dimensionless", name)  # a number, or "5 %"
+            if name == "probability" and not 0 < value < 1:
+                raise InputError(f"probability = {value:g}: a probability of shimmy α is between 0 and 1, e.g. 0.05")
+            if name != "probability" and value < 0:
+                raise InputError(f"{name} = {value:g}: a standard deviation of the log is 0 or more")
+            object.__setattr__(self, name, value)
+        for name, low, high in (("model_error_dof", 0, 1000), ("samples", 1, None), ("seed", 0, 2**32 - 1)):
+            object.__setattr__(self, name, whole_number(getattr(self, name), name, low, high))
 
     @property
     def z(self) -> float:

@@ -16,13 +16,12 @@ from dataclasses import dataclass, field
 from collections.abc import Mapping
 from typing import Any, Callable, Iterable, NoReturn
 
-import numpy as np
 
 from designer.data.paper import INCH, TABLE1
 from designer import parameters
 from designer.errors import ProblemError
 from designer.reprs import Key, Keyed, Record, frozen
-from designer.units import parse_quantity
+from designer.units import parse_quantity, real_number, whole_number
 from designer.errors import InputError
 from designer.model import (
     CONDITION_CHOICES,
@@ -100,9 +99,11 @@ def check_weights(
     Raises ``error`` (default :class:`ProblemError`) unless there are two finite,
     non-negative numbers whose larger lies in :data:`WEIGHT_RANGE`.
     """
-    try:
-        w = tuple(float(v) for v in weights)
-    except (TypeError, ValueError, OverflowError):
+    try:  # each weight by the API's one rule for numbers (a boolean is not a weight)
+        w = tuple(real_number(v, f"{key}[{i}]") for i, v in enumerate(weights))
+    except InputError as exc:
+        raise error(f"{key} = {weights!r}: expected two numbers (w_turn, w_threshold); {exc}") from None
+    except TypeError:
         raise error(f"{key} = {weights!r}: expected two numbers (w_turn, w_threshold)") from None
     if len(w) != 2 or any((not math.isfinite(x)) or x < 0 for x in w) or sum(w) <= 0:
         raise error(f"{key} = {list(weights)}: weights must be finite, non-negative and not all zero")
@@ -182,9 +183,12 @@ class Bound:
     def __post_init__(self) -> None:
         for name in ("low", "high"):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-                raise InputError(f"Bound({name}={value!r}): expected a number [SI]")
-            object.__setattr__(self, name, float(value))
+            if type(value) is not float:  # a float as it is (a NaN is refused by the problem, with its key)
+                try:  # else the package's one rule for a number: NumPy scalars and 0-d arrays, never a boolean
+                    value = real_number(value, name)
+                except InputError:
+                    raise InputError(f"Bound({name}={value!r}): expected a number [SI]") from None
+            object.__setattr__(self, name, value)
 
     @property
     def fixed(self) -> bool:
@@ -545,6 +549,16 @@ _NUMBER_FIELDS = {
 default is None)."""
 
 
+def _normalise_numbers(problem: Problem, put: Callable[[str, Any], None], fail: Callable[[str], NoReturn]) -> None:
+    """The weights and the front's point count by the API's one rule (:mod:`designer.units`): ``np.int64(41)`` is
+    a count, ``True`` and ``41.0`` are not; a weight is a number, never a boolean."""
+    try:
+        put("weights", tuple(real_number(w, f"weights[{i}]") for i, w in enumerate(problem.weights)))
+        put("pareto_points", whole_number(problem.pareto_points, "pareto.points", POINTS_RANGE[0], POINTS_RANGE[1]))
+    except InputError as exc:
+        fail(str(exc))
+
+
 def _normalise(problem: Problem, prefix: str) -> None:
     """The fields of a Problem built by the API as the loader gives them: numbers (or strings with units) as
     floats [SI], the bounds (Bound or a (min, max) pair) and the choices as read-only mappings, the wheels and
@@ -585,6 +599,7 @@ def _normalise(problem: Problem, prefix: str) -> None:
         if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, Iterable):
             fail(f"{name} = {value!r}: expected a sequence")
         put(name, tuple(value))
+    _normalise_numbers(problem, put, fail)
     if problem.stock is not None and not isinstance(problem.stock, Stock):
         fail(f"stock = {problem.stock!r}: expected None or a Stock")
 

@@ -33,7 +33,7 @@ from designer.model import (
 )
 from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
 from designer.physics.turning import MODES, SURFACES, TurningConstants
-from designer.units import InputError, outside_range, parse_quantity
+from designer.units import InputError, outside_range, parse_quantity, real_number
 from designer.physics.uncertainty import Uncertainty
 
 from designer.problem._stock import read_stock
@@ -219,13 +219,10 @@ class _Reader:
     def number(self, sec: str, key: str, default: float) -> float:
         table = self.section(sec)
         value = table.get(key, default)
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            self.fail(f"{sec}.{key} = {value!r}: expected a number")
-        if isinstance(value, int) and abs(value) > 1e300:
-            self.fail(f"{sec}.{key}: an integer of about {int(value.bit_length() * 0.30103)} digits is too large")
-        if not math.isfinite(value):
-            self.fail(f"{sec}.{key} = {value!r}: must be finite")
-        return float(value)
+        try:  # the package's one rule for a number (designer.units.real_number), as the API's
+            return real_number(value, f"{sec}.{key}")
+        except InputError as exc:
+            self.fail(str(exc))
 
 
 def _retrofit_limits(r: Any, data: dict[str, Any]) -> tuple[float, float]:

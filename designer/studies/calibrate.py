@@ -71,7 +71,7 @@ MIN_ROWS = 3
 """Fewest data rows a fit accepts (one parameter, a meaningful interval)."""
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class CalibrationResult(Record):
     """A fitted constant with its 95 % confidence interval.
 

@@ -75,7 +75,7 @@ _PARTS = {"damping": "friction_moment", "inertia": "wheel_inertia"}
 """The physics' part names that the spec states otherwise (c_f as M_f = c_f θ0; I_w as the wheel's inertia)."""
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class Limit(Record):
     """One part's acceptance limit (SI), with the others at nominal.
 
@@ -112,7 +112,7 @@ class Limit(Record):
         return f"{self.part}_{self.side}"
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class Spec(Record):
     """The spec of one caster (SI): nominal parts, acceptance limits, exact risk, worst corner.
 

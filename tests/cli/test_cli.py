@@ -246,7 +246,7 @@ def test_pareto_front_api_rejects_huge_point_count():
     from designer.studies.front import pareto_front
     from designer.problem import load_problem
 
-    with pytest.raises(InputError, match="2 to 2001 points"):
+    with pytest.raises(InputError, match="front points from 2 to 2001"):
         pareto_front(load_problem(ROOT / "problems" / "indoor-manual.toml"), 100000)
 
 
@@ -256,7 +256,7 @@ def test_explore_trials_bounded(tmp_path, capsys):
         main(["explore", str(ROOT / "problems" / "indoor-manual.toml"), "--trials", "10000000", "--out", str(tmp_path)])
         == 2
     )
-    assert "--trials 10000000: must be a whole number from 1 to 1000000" in capsys.readouterr().err
+    assert "--trials 10000000: expected a whole number from 1 to 1000000" in capsys.readouterr().err
 
 
 def test_out_under_regular_file_exit_7(tmp_path, capsys):

@@ -589,26 +589,27 @@ def test_tyre_force_other_parameters_and_linear():
 
 
 @pytest.mark.parametrize(
-    "name, value",
+    "name, value, reason",
     [
-        ("cornering_stiffness", 0.0),
-        ("friction_coefficient", -0.1),
-        ("load", float("inf")),
-        ("wheel_mass", float("nan")),
-        ("load", True),
-        ("wheel_mass", "1"),
+        ("cornering_stiffness", 0.0, "must be a positive finite number"),
+        ("friction_coefficient", -0.1, "must be a positive finite number"),
+        ("load", float("inf"), "must be a finite number"),
+        ("wheel_mass", float("nan"), "must be a finite number"),
+        ("load", True, "expected a number (SI, N) or a string with units such as '178 N', got a boolean"),
+        (
+            "wheel_mass",
+            "1",
+            "a number without its unit; give a number (SI, kg) or a string with its unit such as '0.5 kg'",
+        ),
     ],
 )
-def test_tyre_parameter_errors(name, value):
-    """Each tyre parameter must be a positive finite number (not a bool, not a string); the one-line error names
-    the parameter and shows the value."""
+def test_tyre_parameter_errors(name, value, reason):
+    """Each tyre parameter must be a positive finite number (not a bool, not a string without its unit), read by
+    the package's one rule (designer.units.parse_quantity); the one-line error names the parameter, shows the
+    value and gives the true reason."""
     from designer.physics.tyre import TyreParameters
 
-    with pytest.raises(
-        InputError,
-        match=rf"^tyre {name} = {re.escape(repr(value))}: must be a positive finite "
-        r"number$",
-    ):
+    with pytest.raises(InputError, match=rf"^tyre {name} = {re.escape(repr(value))}: {re.escape(reason)}$"):
         TyreParameters(**{name: value})
     assert getattr(TyreParameters(**{name: 2}), name) == 2  # an int is fine
 

@@ -26,9 +26,10 @@ def test_default_risk_bound_and_enabled_false():
     """No [robust]: α = 0.05 with the data law (Table 1's log RMS 0.10751 as a t_5 model error, a measured wheel's
     σ 0.05, the assumed 0.10 and 0.20 for M_f/θ0 and K_s); enabled = false: none."""
     p = problem_from_toml(BASE)
+    assert p.risk.model_error == pytest.approx(0.10751, abs=5e-6)  # Uncertainty reads numbers only (its boundary)
     assert p.risk == Uncertainty(
         probability=0.05,
-        model_error=pytest.approx(0.10751, abs=5e-6),
+        model_error=p.risk.model_error,
         damping=0.10,
         slip_coefficient=0.20,
         inertia=0.05,

@@ -3,6 +3,8 @@ outcomes; validate counts paper checks and implementation identities apart and e
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -206,7 +208,8 @@ def test_8a_fails_on_a_diameter_reversal(indoor):
 
     a, b = _optimal_points(indoor, [105.0, 120.0])  # b: smaller d, larger P
     assert ck.front_checks(Front(indoor, [b, a]))[0].outcome == ck.REPRODUCED
-    b.threshold_force, a.threshold_force = a.threshold_force, b.threshold_force
+    # records do not change: the wrong front is built from changed copies
+    a, b = replace(a, threshold_force=b.threshold_force), replace(b, threshold_force=a.threshold_force)
     c8a = ck.front_checks(Front(indoor, [a, b]))[0]
     assert c8a.name.startswith("8a") and c8a.outcome == ck.FAILS
 
@@ -232,7 +235,7 @@ def test_8c_fails_when_tighter_front_beats_the_looser_by_1e_4(indoor):
     (q,) = _optimal_points(indoor, [112.0])
     ok = [c for c in ck.front_checks(looser, Front(indoor, [q])) if c.name.startswith("8c")][0]
     assert ok.outcome == ck.REPRODUCED
-    q.turning_effort *= 1 - 1e-4
+    q = replace(q, turning_effort=q.turning_effort * (1 - 1e-4))
     bad = [c for c in ck.front_checks(looser, Front(indoor, [q])) if c.name.startswith("8c")][0]
     assert bad.outcome == ck.FAILS and bad.got.startswith("0 of 1 dominated")
 
@@ -389,7 +392,7 @@ def test_table1_a_and_b_bounds():
     assert within.disagreements[0].startswith("A: predicted to shimmy at 2.90 m/s, below the 3.80 m/s")
     assert ck.check_table1(_table1_model(factor=1.0, stable=2.8)).outcome == ck.FAILS
     exact = ck.check_table1(_table1_model(factor=1.0, stable=3.8))
-    assert exact.outcome == ck.REPRODUCED and exact.disagreements == []
+    assert exact.outcome == ck.REPRODUCED and list(exact.disagreements) == []
     half_percent = ck.check_table1(_table1_model(factor=1.005, stable=5.0))
     assert half_percent.outcome == ck.REPRODUCED and half_percent.got == "RMS 0.5%, worst 0.5%"
 
@@ -821,7 +824,7 @@ def test_paper_check_records_pinned():
             "detail": c.detail,
             "kind": kind,
             "outcome": c.outcome,
-            "disagreements": c.disagreements,
+            "disagreements": list(c.disagreements),
         }
     eq8, table1 = checks[0], checks[1]
     assert "error +0.04% (tolerance ±0.5%" in eq8.detail and "6.51 mph" in eq8.detail
@@ -840,7 +843,7 @@ def test_paper_check_records_pinned():
 def test_table1_disagreement_lines_pinned():
     """The six disagreement lines of check 2, word for word (size, direction, band)."""
     band = "within ±24.7 %, the central 90 % of the paper's ±15 % scatter for one wheel"
-    assert ck.check_table1().disagreements == [
+    assert list(ck.check_table1().disagreements) == [
         "B: predicted to shimmy at 3.60 m/s, below the 3.80 m/s up to which it was measured stable: disagrees "
         "by at least 5.3 %, " + band,
         "C: predicted 2.00 m/s against 2.39 m/s measured: disagrees by 16.4 % (predicted lower), " + band,

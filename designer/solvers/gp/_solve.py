@@ -113,7 +113,7 @@ __all__ = [
 # --------------------------------------------------------------------------- result
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class GPResult(Record):
     """The GP / sequential-GP optimum of a problem.
 

@@ -100,7 +100,7 @@ PARAMETER_INFO = {p.name: (p.symbol, p.shown_unit, p.description) for p in param
 """Fixed parameters whose sensitivity d log J / d log p is reported (from :mod:`designer.parameters`)."""
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class NLPResult(Record):
     """One IPOPT solve.
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
@@ -28,9 +30,7 @@ def front_checks(front: Front, tighter: Front | None = None, tol: float = 1e-6) 
     checks = [_tradeoff_check(front.points, tol), _shimmy_active_check(front.problem, front.points, tol)]
     if tighter is not None:
         checks.append(_tighter_check(front, tighter))
-    for c in checks:
-        c.kind = "front"
-    return checks
+    return [dataclasses.replace(c, kind="front") for c in checks]  # records do not change: new ones
 
 
 def _tradeoff_check(pts: Sequence[FrontPoint], tol: float) -> Check:

@@ -32,7 +32,7 @@ CheckValue: TypeAlias = float | int | str | bool | None
 """What a check expects or got: a number, a property in words, or None."""
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class Check(Record):
     """One check of the paper's trade-offs (docs/checks.md).
 
@@ -65,11 +65,11 @@ class Check(Record):
     """JSON-ready: name, claim, expected, got, passed, detail, kind, outcome, disagreements (and rows when any)."""
 
     def __post_init__(self) -> None:
-        if not self.outcome:
-            self.outcome = REPRODUCED if self.passed else FAILS
+        if not self.outcome:  # frozen: the outcome and the flag are set once, while the check is built
+            object.__setattr__(self, "outcome", REPRODUCED if self.passed else FAILS)
         if self.outcome not in OUTCOMES or self.kind not in KINDS:
             raise ValueError(f"check {self.name}: outcome {self.outcome!r} / kind {self.kind!r} unknown")
-        self.passed = self.outcome != FAILS
+        object.__setattr__(self, "passed", self.outcome != FAILS)
 
     def _repr_lines(self) -> list[str]:
         """One line: the check, its outcome, what the paper says and what the code got."""

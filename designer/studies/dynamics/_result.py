@@ -17,7 +17,7 @@ from designer.reprs import Key, Record, dataframe
 from designer.plots.svg import svg_sparkline
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class SimulationResult(Record):
     """Outcome of one shimmy simulation (all SI).
 
@@ -179,7 +179,7 @@ class SimulationResult(Record):
         )
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class OnsetResult(Record):
     """Simulated shimmy onset speed beside Eq. 7.
 

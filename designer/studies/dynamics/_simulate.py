@@ -49,8 +49,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from designer.boundary import Count, Instance, Quantity, checked
 from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design, critical_speed
+from designer.units import real_number
 from designer.physics.motion import (
     held_moment,
     knock_lateral,
@@ -72,8 +74,7 @@ __all__ = [
 
 
 def _check(name: str, value: float, allow_zero: bool = False) -> None:
-    if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
-        raise InputError(f"{name} = {value!r}: must be a finite number")
+    value = real_number(value, name)  # the boundary's one rule (numpy scalars pass, booleans do not)
     if value < 0 or (value == 0 and not allow_zero):
         raise InputError(f"{name} = {value:g}: must be {'non-negative' if allow_zero else 'positive'}")
 
@@ -240,6 +241,20 @@ class _StickSlip:
         return False
 
 
+@checked(
+    design=Instance(
+        (Design,), "a designer.Design, e.g. Design(trail='1.5 in', diameter='6 in', groove=0, damping=1.3)"
+    ),
+    conditions=Instance((Conditions,), "a designer.Conditions, e.g. Conditions(load=178)"),
+    speed=Quantity("speed"),
+    angle=Quantity("angle", optional=True),
+    angular_velocity=Quantity("angular_speed"),
+    duration=Quantity("time", optional=True),
+    cycles=Quantity("dimensionless"),
+    angle_limit=Quantity("angle"),
+    rtol=Quantity("dimensionless"),
+    samples_per_period=Count(1, 100_000, what="steps a period"),
+)
 @bounded("shimmy simulation")
 def simulate(  # long: its docstring documents every argument; the body (30 lines) is _knock, _StickSlip, measure
     design: Design,

@@ -45,7 +45,7 @@ the parameter table (:func:`designer.parameters.dimensions`, :func:`designer.tex
 # --------------------------------------------------------------------------- result
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class ExploreResult(Record):
     """The outcome of :func:`explore`.
 

@@ -11,6 +11,7 @@ import warnings
 
 import numpy as np
 
+from designer.boundary import SEED, Count, checked
 from designer.errors import DesignerError, InputError, StorageError, os_reason
 from designer.studies.front import hypervolume_2d
 from designer.problem import Problem, problem_argument
@@ -36,6 +37,9 @@ MAX_TRIALS = 1_000_000
 """Largest --trials: an optuna study keeps every trial in memory (about 2 kB each)."""
 MAX_WORKERS = 256
 """Largest --workers (processes on this machine)."""
+
+MAX_POPULATION = 10_000
+"""Largest NSGA-II population (a generation; ``trials`` bounds the study), as ``designer explore --population``."""
 
 
 def _prepare_resume(study, spec: StorageSpec, search_space_names, trials: int) -> list[str]:
@@ -84,6 +88,12 @@ def _prepare_resume(study, spec: StorageSpec, search_space_names, trials: int) -
 
 
 # long only by its docstring, which documents every option; the body is about 55 lines
+@checked(
+    trials=Count(1, MAX_TRIALS, what="trials"),
+    seed=SEED,
+    workers=Count(1, MAX_WORKERS, what="worker processes"),
+    population_size=Count(2, MAX_POPULATION, optional=True, what="NSGA-II's population"),
+)
 @one_solve_at_a_time
 def explore(
     problem: Problem,

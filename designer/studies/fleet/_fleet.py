@@ -44,6 +44,7 @@ import numpy as np
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
 
+from designer.boundary import Count, Quantity, checked
 from designer.errors import InputError
 from designer.model import GRAVITY, Design, scatter_of
 from designer.parameters import OUTPUTS, VARIABLE_TABLE
@@ -115,6 +116,9 @@ _LIFETIME = "designer.children"
 CHUNK = 5000
 """Chairs per chunk of vectorised work (bounds memory: chunk × casters × 8 bytes per array)."""
 
+MAX_K = 50
+"""Largest ``k_max`` (``--k-max``): the regret curve's mixed-integer solves grow with K."""
+
 DEFAULT_MAX_REGRET = 2.0
 """Default ``--max-regret`` [N]: the suggested number of part numbers is the smallest K whose mean regret
 (J with the part number − the chair's least J, averaged over the units sold) is at most this.  2 N is
@@ -145,7 +149,7 @@ _FLEET_UNITS = {
 """fleet.csv column -> (DataFrame column with its SI unit, unit) for :meth:`FleetResult.to_pandas`."""
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class FleetResult(Record):
     """Per-chair recommendations of a fleet, and the part numbers when asked for.
 
@@ -310,7 +314,7 @@ class FleetResult(Record):
         return out
 
 
-def fleet_recommendations(
+def fleet_recommendations(  # long: its docstring documents every argument; the body builds the record once
     fleet: Fleet,
     problem: Problem,
     skus: int | str | None = None,
@@ -347,6 +351,8 @@ def fleet_recommendations(
             raise InputError(f"--skus {skus!r}: expected a whole number of part numbers, 1 or more")
     if not (isinstance(max_regret, (int, float)) and math.isfinite(max_regret) and max_regret >= 0):
         raise InputError(f"--max-regret {max_regret!r}: expected a mean regret in N, 0 or more")
+    if k_max is not None and not 1 <= k_max <= MAX_K:
+        raise InputError(f"--k-max {k_max}: expected 1 to {MAX_K}")
     timings: dict[str, float] = {}
     start = time.perf_counter()
     stock = stock_table(problem)
@@ -359,6 +365,14 @@ def fleet_recommendations(
         start = time.perf_counter()
         chairs = _recommend_all(client, fleet, stock, problem, chunk)
         timings["recommend"] = time.perf_counter() - start
+        if monte_carlo:
+            start = time.perf_counter()
+            risk = _monte_carlo(
+                client, stock, problem, chairs["choice"], fleet.target_speed, chunk=max(50, chunk // 20)
+            )
+            chairs["shimmy_probability"], chairs["shimmy_probability_mc"], chairs["shimmy_probability_se"] = risk
+            timings["monte_carlo"] = time.perf_counter() - start
+        # the record is built once its columns are complete, and each later step returns a new one
         result = FleetResult(
             fleet=fleet,
             stock=stock,
@@ -367,23 +381,18 @@ def fleet_recommendations(
             timings=timings,
             scheduler=None if client is None else _address(client),
         )
-        if monte_carlo:
-            start = time.perf_counter()
-            risk = _monte_carlo(
-                client, stock, problem, chairs["choice"], fleet.target_speed, chunk=max(50, chunk // 20)
-            )
-            chairs["shimmy_probability"], chairs["shimmy_probability_mc"], chairs["shimmy_probability_se"] = risk
-            timings["monte_carlo"] = time.perf_counter() - start
         if skus is not None:
             start = time.perf_counter()
-            choose_skus(result, skus, k_max=k_max, time_limit=time_limit, max_regret=max_regret)
+            result = choose_skus(result, skus, k_max=k_max, time_limit=time_limit, max_regret=max_regret)
             timings["skus"] = time.perf_counter() - start
             if monte_carlo and result.skus is not None and result.skus.assignment is not None:
-                _sku_monte_carlo(client, result, chunk)
+                result = _sku_monte_carlo(client, result, chunk)
+                timings.update(result.timings)
             if result.skus is not None and result.skus.assignment is not None:
                 start = time.perf_counter()
-                result.specs = sku_specs(result)
+                result = dataclasses.replace(result, specs=sku_specs(result))
                 timings["specs"] = time.perf_counter() - start
+            result = dataclasses.replace(result, timings=timings)
     finally:
         if own:
             _close(client)
@@ -410,8 +419,8 @@ def _recommend_all(client: Any, fleet: Fleet, stock: StockTable, problem: Proble
     return {k: np.concatenate([r[k] for r in results]) for k in results[0]}
 
 
-def _sku_monte_carlo(client: Any, result: FleetResult, chunk: int) -> None:
-    """P(shimmy) of each chair with the part number the K-median program assigned it
+def _sku_monte_carlo(client: Any, result: FleetResult, chunk: int) -> FleetResult:
+    """``result`` with the P(shimmy) of each chair with the part number the K-median program assigned it
     (``chairs["sku_shimmy_probability"]``, NaN for a chair without one), timed as ``sku_monte_carlo``."""
     start = time.perf_counter()
     fleet = result.fleet
@@ -419,11 +428,12 @@ def _sku_monte_carlo(client: Any, result: FleetResult, chunk: int) -> None:
     if result.skus is None or result.skus.assignment is None:
         raise ValueError("no part numbers assigned: nothing to sample")
     assigned[result.feasible] = result.skus.assignment
-    ch = result.chairs
+    ch = dict(result.chairs)
     ch["sku_shimmy_probability"], ch["sku_shimmy_probability_mc"], ch["sku_shimmy_probability_se"] = _monte_carlo(
         client, result.stock, result.problem, assigned, fleet.target_speed, chunk=max(50, chunk // 20)
     )
-    result.timings["sku_monte_carlo"] = time.perf_counter() - start
+    timings = {**result.timings, "sku_monte_carlo": time.perf_counter() - start}
+    return dataclasses.replace(result, chairs=ch, timings=timings)
 
 
 def sku_specs(result: FleetResult) -> list[Spec]:
@@ -508,9 +518,9 @@ def choose_skus(
     k_max: int | None = None,
     time_limit: float = 120.0,
     max_regret: float = DEFAULT_MAX_REGRET,
-) -> None:
-    """Solve the K-median over the stock for the feasible chairs; fill ``result.skus``, the regret curve and
-    the suggested count.
+) -> FleetResult:
+    """Solve the K-median over the stock for the feasible chairs: ``result`` with ``skus``, the regret curve
+    and the suggested count filled in (a new record: records do not change).
 
     Regret of chair i with caster j: J_ij − min_j' J_ij' over the chair's own allowed stock (never
     negative), J = w_turn F_turn + w_threshold P with the base problem's weights [N]; +inf where caster j
@@ -522,11 +532,9 @@ def choose_skus(
     rows = np.flatnonzero(result.feasible)
     if not len(rows):
         raise InputError("--skus: no chair of the fleet has a feasible stock caster, nothing to choose")
-    result.regret_cost = _regret_matrix(result, rows)
-    result.regret_cost["knee_regret"] = np.maximum(
-        0.0, result.chairs["objective"][rows] - result.regret_cost["least_objective"]
-    )
-    cost, columns = result.regret_cost["regret"], result.regret_cost["columns"]
+    regret_cost = _regret_matrix(result, rows)
+    regret_cost["knee_regret"] = np.maximum(0.0, result.chairs["objective"][rows] - regret_cost["least_objective"])
+    cost, columns = regret_cost["regret"], regret_cost["columns"]
     weights = fleet.count[rows]
     asked = None if k == "auto" else int(k)
     # without --k-max the curve goes on past 8 until the threshold is met, so the suggestion always exists
@@ -534,14 +542,24 @@ def choose_skus(
     k_max = max(asked or 1, 8) if k_max is None else max(asked or 1, k_max)
     curve = kmedian_curve(cost, weights, range(1, k_max + 1), time_limit=time_limit, until=until)
     useful = curve[1].candidates
-    for solution in curve.values():  # back to stock indices
-        solution.chosen = [int(columns[j]) for j in solution.chosen]
-        if solution.assignment is not None:
-            solution.assignment = columns[solution.assignment]
-    result.curve = {kk: s for kk, s in curve.items() if kk <= max(useful, asked or 1)}
-    result.candidates = useful
-    result.suggested = suggest_skus(result.curve, float(weights.sum()), max_regret)
-    result.skus = result.curve[asked if asked is not None else result.suggested["count"]]
+    kept = {  # back to stock indices
+        kk: dataclasses.replace(
+            s,
+            chosen=[int(columns[j]) for j in s.chosen],
+            assignment=None if s.assignment is None else columns[s.assignment],
+        )
+        for kk, s in curve.items()
+        if kk <= max(useful, asked or 1)
+    }
+    suggested = suggest_skus(kept, float(weights.sum()), max_regret)
+    return dataclasses.replace(
+        result,
+        regret_cost=regret_cost,
+        curve=kept,
+        candidates=useful,
+        suggested=suggested,
+        skus=kept[asked if asked is not None else suggested["count"]],
+    )
 
 
 def suggest_skus(
@@ -860,6 +878,11 @@ def _answer(result: FleetResult) -> tuple[str | None, str | None]:
     )
 
 
+@checked(
+    skus=Count(1, optional=True, what="part numbers", words=("auto",)),
+    k_max=Count(1, MAX_K, optional=True, what="part numbers on the regret curve"),
+    max_regret=Quantity("force"),
+)
 @one_solve_at_a_time
 def fleet(
     chairs: Fleet | str | Path,

@@ -45,7 +45,7 @@ import itertools
 import math
 import time
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -59,7 +59,7 @@ LAGRANGIAN_ITERATIONS = 300
 """Most subgradient steps per K before the remaining casters go to the exact MIP."""
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class KMedianSolution(Record):
     """One K: the chosen casters, the assignment, the regret and its proof.
 
@@ -423,12 +423,10 @@ def _solve(
     t0 = time.perf_counter()
     out = KMedianSolution(k=k, candidates=inst.n)
     if not inst.served:
-        out.message = "some chair has no allowed caster"
-        return _done(out, t0), lam
+        return _done(replace(out, message="some chair has no allowed caster"), t0), lam
     if k < len(inst.cover):
-        out.message = f"no {k} casters serve every chair: the fewest that do are {len(inst.cover)} (set cover, HiGHS)"
-        out.method = "set cover (HiGHS)"
-        return _done(out, t0), lam
+        message = f"no {k} casters serve every chair: the fewest that do are {len(inst.cover)} (set cover, HiGHS)"
+        return _done(replace(out, message=message, method="set cover (HiGHS)"), t0), lam
     if k >= inst.n:  # every useful caster stocked: each chair gets its own best (regret 0)
         return _finish(inst, out, list(range(inst.n)), None, "optimal", "all useful casters", t0), lam
     chosen = _greedy(inst, k, start)
@@ -454,9 +452,7 @@ def _solve(
     # no set better than `upper` lies outside `keep`: the MIP's bound holds globally up to `upper`
     bound = max(bound, min(upper, mip_bound))
     status = "optimal" if upper - bound <= TOLERANCE * max(1.0, abs(upper)) else "time limit"
-    out = _finish(inst, out, chosen, bound, status, method, t0)
-    out.message = str(res.message)
-    return out, lam
+    return replace(_finish(inst, out, chosen, bound, status, method, t0), message=str(res.message)), lam
 
 
 def _finish(
@@ -470,18 +466,24 @@ def _finish(
 ) -> KMedianSolution:
     columns = np.array(sorted(chosen), int)
     pick = columns[np.argmin(inst.full[:, columns], axis=1)]
-    out.chosen = [int(inst.cols[j]) for j in columns]
-    out.assignment = inst.cols[pick]
-    out.regret = inst.value(columns)
-    out.lower_bound = out.regret if bound is None else min(float(bound), out.regret)
-    out.gap = out.regret - out.lower_bound
-    out.status, out.method = status, method
+    regret = inst.value(columns)
+    lower = regret if bound is None else min(float(bound), regret)
+    out = replace(
+        out,
+        chosen=[int(inst.cols[j]) for j in columns],
+        assignment=inst.cols[pick],
+        regret=regret,
+        lower_bound=lower,
+        gap=regret - lower,
+        status=status,
+        method=method,
+    )
     return _done(out, t0)
 
 
 def _done(out: KMedianSolution, t0: float) -> KMedianSolution:
-    out.seconds = time.perf_counter() - t0
-    return out
+    """``out`` with the seconds since ``t0`` (a new record: records do not change)."""
+    return replace(out, seconds=time.perf_counter() - t0)
 
 
 def kmedian_curve(
@@ -518,7 +520,8 @@ def kmedian_curve(
             todo.pop(0)
         k = todo[0] if todo else k + 1
     if out:
-        out[min(out)].seconds += setup  # the shared reduction, counted once
+        first = out[min(out)]  # the shared reduction, counted once
+        out[min(out)] = replace(first, seconds=first.seconds + setup)
     return out
 
 

@@ -74,7 +74,7 @@ MAX_FLEET_BYTES = 640 * MAX_CHAIRS
 # --------------------------------------------------------------------------- the fleet table
 
 
-@dataclass
+@dataclass(frozen=True)
 class Fleet:
     """Chair configurations, one entry per chair, SI units.
 
@@ -102,6 +102,9 @@ class Fleet:
     count: np.ndarray
     rows: np.ndarray | None = None
     source: str = "fleet"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "names", tuple(self.names))  # read-only, as the records that hold it
 
     def __len__(self) -> int:
         return len(self.names)

@@ -52,7 +52,7 @@ HYPERVOLUME_NORMALISATION = "(f - ideal) / (nadir - ideal), ideal and nadir of t
 """How front.json's hypervolume normalises the objectives (``hypervolume_reference.normalisation``)."""
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class FrontPoint(Record):
     """One point of the front.
 
@@ -193,7 +193,7 @@ def _cell_number(column: str, value: str) -> float:
         raise ValueError(f"column {column} = {value!r}: not a number") from None
 
 
-@dataclass
+@dataclass(frozen=True)
 class Front(Record):
     """An exact Pareto front (valid points sorted by decreasing threshold force).
 
@@ -548,8 +548,9 @@ class Front(Record):
         The margins are not in the CSV (empty dicts); the multipliers are (``lambda_*`` columns).  ``meta`` is
         ``{"source": path}``.
         """
+        text = read_input_text(path, "front CSV file", ".csv", error=InputError)  # first: a missing CSV is the reason
         problem = _problem_for_csv(path, problem)
-        header, body, lines = csv_table(read_input_text(path, "front CSV file", ".csv", error=InputError), str(path))
+        header, body, lines = csv_table(text, str(path))
         points = []
         for row, line in zip(body, lines):
             r = dict(zip(header, row))

@@ -34,6 +34,7 @@ import numpy as np
 from designer.studies.front._front import REFERENCE_OFFSET, Front, FrontPoint, clean
 from designer.studies.front._indicators import normalise
 from designer.studies.optimum import diagnose_infeasible, constraint_margins
+from designer.boundary import Count, checked
 from designer.errors import InertiaExtrapolationWarning, InputError, ModelRangeWarning, SolverError
 from designer.model import Design
 from designer.problem import POINTS_RANGE, Problem, family_of, problem_argument
@@ -89,6 +90,7 @@ def _points(
     return [p for p in out if p is not None]
 
 
+@checked(points=Count(2, POINTS_RANGE[1], optional=True, what="front points"))
 @one_solve_at_a_time
 def pareto_front(
     problem: Problem, points: int | None = None, progress: Progress | None = None, strategy: str = "auto"
@@ -108,11 +110,8 @@ def pareto_front(
     Front
     """
     problem = problem_argument(problem)
-    if points is not None and (isinstance(points, bool) or not isinstance(points, (int, np.integer))):
-        raise InputError(f"points = {points!r}: expected a whole number of front points, e.g. 41")
-    n = problem.pareto_points if points is None else int(points)  # 0 is refused, not the problem's 41
-    if not 2 <= n <= POINTS_RANGE[1]:  # its two ends at least; memory grows with n × the 1024-design sample
-        raise InputError(f"points = {n}: a front needs 2 to {POINTS_RANGE[1]} points")
+    # points: its two ends at least (0 is refused, not the problem's 41); memory grows with n × the 1024-design sample
+    n = problem.pareto_points if points is None else points
     if strategy not in STRATEGY_CHOICES:
         raise InputError(f"strategy = {strategy!r}: expected one of {', '.join(STRATEGY_CHOICES)}")
     with warnings.catch_warnings():

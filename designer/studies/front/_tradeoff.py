@@ -50,7 +50,7 @@ GROOVE_GRID = 33
 """Grooves tried along the risk-bounded constraint curve for the optimum mix (besides the edges)."""
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class TradeoffRow(Record):
     """Least turning effort at one diameter for each mechanism.
 
@@ -211,13 +211,13 @@ def groove_damper_tradeoff(problem: Problem, count: int = 25) -> list[TradeoffRo
             effort = np.asarray(_values(sub, **named(designs))["turning_effort"], float)
             found[mechanism] = (designs, feasible & np.isfinite(effort), effort)
         for i, (d, wheel) in enumerate(items):
-            row = TradeoffRow(diameter=float(d), wheel=wheel)
-            for mechanism, (designs, feasible, effort) in found.items():
-                if feasible[i]:
-                    row.effort[mechanism] = float(effort[i])
-                    row.designs[mechanism] = Design.from_array(designs[i])
-                else:
-                    row.effort[mechanism], row.designs[mechanism] = None, None
+            ok = {mechanism: bool(f[i]) for mechanism, (_, f, _) in found.items()}
+            row = TradeoffRow(  # built once: a record does not change
+                diameter=float(d),
+                wheel=wheel,
+                effort={m: float(e[i]) if ok[m] else None for m, (_, _, e) in found.items()},
+                designs={m: Design.from_array(x[i]) if ok[m] else None for m, (x, _, _) in found.items()},
+            )
             rows.append(row)
     rows.sort(key=lambda r: (r.diameter, r.wheel or ""))
     return rows

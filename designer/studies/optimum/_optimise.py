@@ -32,6 +32,7 @@ from designer.solvers.nlp import PARAMETER_INFO, max_critical_speed
 import warnings
 from typing import TYPE_CHECKING, Any
 
+from designer.boundary import Count, checked
 from designer.errors import InputError
 from designer.problem import check_weights
 
@@ -41,7 +42,7 @@ if TYPE_CHECKING:  # the GP's record for the checker only: designer.solvers.gp l
 ACTIVE_TOL = 1e-6
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class Solution(Record):
     """The optimum of a caster problem and everything an engineer asks about it.
 
@@ -105,7 +106,7 @@ class Solution(Record):
 
     def __post_init__(self) -> None:
         if not self.weights:
-            self.weights = tuple(self.problem.weights)
+            object.__setattr__(self, "weights", tuple(self.problem.weights))  # frozen: set once, while built
 
     def gp_duals(self) -> dict[str, float]:
         """d log J / d log p from the geometric program's duals, where the GP defines them.
@@ -334,6 +335,11 @@ def constraint_margins(problem: Problem, design: Design, values: Mapping[str, An
     return ConstraintMargins(margins={k: float(v) for k, v in margins.items()}, active=active)
 
 
+MAX_START_SAMPLES = 2**20
+"""Largest Sobol sample :func:`optimise` chooses its NLP starts from (memory grows with it: about 0.3 kB a design)."""
+
+
+@checked(samples=Count(1, MAX_START_SAMPLES, what="Sobol designs to choose the NLP starts from"))
 @one_solve_at_a_time
 def optimise(
     problem: Problem, weights: Sequence[float] | None = None, cross_check: bool = True, samples: int = 1024

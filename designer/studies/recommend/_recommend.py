@@ -36,13 +36,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.model import weighted
+from designer.boundary import SEED, Count, checked
 from designer.units import percent
 from designer.data.paper import INCH
 from designer.errors import InfeasibleError, InputError
 from designer.model import VARIABLES, Casters, Design, evaluate, scatter_of
 from designer.physics.inertia import Fixed, PowerLaw
 from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sources
-from designer.problem import Bound, problem_argument
+from designer.problem import MAX_SAMPLES, Bound, problem_argument
 from designer.solvers import one_solve_at_a_time
 from designer.studies.recommend._record import Recommendation
 from designer.studies.spec import caster_spec, corner_probabilities, exact_shimmy_probability, mc_draws
@@ -312,6 +313,7 @@ SPECS = ("all", "recommended", "none")
 """The values of :func:`recommend`'s ``specs``: which casters get their spec."""
 
 
+@checked(samples=Count(100, MAX_SAMPLES, optional=True, what="Monte Carlo draws"), seed=SEED)
 @one_solve_at_a_time
 def recommend(
     problem, samples: int | None = None, seed: int | None = None, *, front=None, specs: str = "all"

@@ -23,7 +23,7 @@ if TYPE_CHECKING:  # the front's record for the checker only: designer.studies.f
     from designer.studies.spec import Spec
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class Recommendation(Record):
     """One caster to build, its numbers, and the fronts behind it (SI units).
 

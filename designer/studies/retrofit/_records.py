@@ -263,7 +263,7 @@ class Calibration(Record):
         return "Calibration by an observed onset"
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class FixResult(Record):
     """Diagnosis of the current caster and the ranked fixes.
 

@@ -45,10 +45,10 @@ from typing import Any
 
 import numpy as np
 
-from designer.errors import InputError
+from designer.boundary import SEED, Count, Instance, Quantity, checked
 from designer.model import Casters, Conditions, Design
 from designer.physics.uncertainty import Uncertainty
-from designer.problem import problem_argument
+from designer.problem import MAX_SAMPLES, problem_argument
 from designer.solvers import one_solve_at_a_time
 from designer.studies.retrofit._diagnosis import _calibrated, _current_inertia, _evaluate, _risk_of
 from designer.studies.retrofit._input import MAX_STEM_ANGLE, _check_inputs, parse_current
@@ -86,8 +86,19 @@ one- and two-part fixes are searched, and three- and four-part ones only when no
 sill-force limit."""
 
 
+@checked(
+    current=Instance((Design, str), 'a designer.Design or "T=1.5in,d=7.75in,B=0.5625in,c=1.3"'),
+    inertia=Quantity("inertia", optional=True),
+    shimmied_at=Quantity("speed", optional=True),
+    stem_angle=Quantity("angle"),
+    onset_scatter=Quantity("dimensionless"),
+    limit=Count(0, optional=True, what="fixes (None: every one)"),
+    samples=Count(100, MAX_SAMPLES, optional=True, what="Monte Carlo draws"),
+    seed=SEED,
+    specs=Count(0, optional=True, what="fixes given a spec (None: every one)"),
+)
 @one_solve_at_a_time
-def fix(
+def fix(  # long: its docstring documents every argument and the ranking rule
     problem,
     current,
     inertia: float | None = None,
@@ -136,11 +147,7 @@ def fix(
     problem = problem_argument(problem)
     if isinstance(current, str):
         current = parse_current(current, "current")
-    stem_angle = float(stem_angle)
     _check_inputs(problem, current, inertia, shimmied_at, stem_angle, onset_scatter)
-    for name, count in (("limit", limit), ("specs", specs)):  # how many fixes: None (all) or a whole number >= 0
-        if count is not None and (isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 0):
-            raise InputError(f"{name} = {count!r}: expected None (every fix) or a whole number >= 0")
     measured = True  # a given I_w is the current wheel's measurement
     if inertia is None:
         inertia, measured = _current_inertia(problem, current)
@@ -152,21 +159,27 @@ def fix(
     options, sources = part_options(problem, current)
     result = _fix_result(problem, setting, calibration, current_state, stock_offer(problem, options, sources))
     if not measured:  # what measuring the current wheel (accepted at its power-law value) would change
-        result.if_measured = _if_measured(
-            problem, current, inertia, shimmied_at, stem_angle, onset_scatter, samples, seed
+        result = dataclasses.replace(
+            result,
+            if_measured=_if_measured(problem, current, inertia, shimmied_at, stem_angle, onset_scatter, samples, seed),
         )
     if current_state.meets_risk_bound:
         return result
-    cands, within, beyond, result.searched = _ranked(options, sources, base, setting, current_state)
-    result.found, result.found_beyond = len(within), len(beyond)
+    cands, within, beyond, searched = _ranked(options, sources, base, setting, current_state)
     keep = slice(None) if limit is None else slice(limit)
     n_within, n_beyond = len(within[keep]), len(beyond[keep])
     wanted = np.concatenate([np.arange(n_within), np.arange(n_beyond)]) < (np.inf if specs is None else specs)
     states = _fix_states(
         setting, current, inertia, current_state, cands, np.concatenate([within[keep], beyond[keep]]), options, wanted
     )
-    result.fixes, result.beyond = states[: len(within[keep])], states[len(within[keep]) :]
-    return result
+    return dataclasses.replace(  # records do not change: the ranked fixes make a new one
+        result,
+        searched=searched,
+        found=len(within),
+        found_beyond=len(beyond),
+        fixes=states[: len(within[keep])],
+        beyond=states[len(within[keep]) :],
+    )
 
 
 def _if_measured(

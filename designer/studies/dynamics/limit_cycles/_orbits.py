@@ -20,7 +20,7 @@ Residual: TypeAlias = Callable[[np.ndarray], "np.ndarray | None"]
 """A shooting residual: the weighted return-map residual of the unknowns [rad], None where the map is undefined."""
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class PeriodicOrbit(Record):
     """A symmetric periodic orbit (shimmy at constant amplitude) and its stability.
 
@@ -219,7 +219,7 @@ def periodic_orbit(
     return _orbit(sys.at(float(u[-1])), section(u), r, iterations)
 
 
-@dataclass
+@dataclass(frozen=True)
 class Branch(Record):
     """Periodic orbits along amplitude, split into stable and unstable pieces for the diagram."""
 
@@ -274,7 +274,8 @@ def continue_orbits(
     Each orbit starts from the previous one (secant prediction of the unknowns scaled by A); a point where
     Newton fails is recorded in ``Branch.failed`` and the next point restarts from the last good orbit.
     """
-    branch = Branch()
+    orbits: list[PeriodicOrbit] = []
+    failed: list[float] = []  # the Branch is built once, at the end (records do not change)
     prev: list[tuple[float, np.ndarray]] = []
     amplitudes = [float(a) for a in amplitudes]
     for i, A in enumerate(amplitudes):
@@ -296,16 +297,16 @@ def continue_orbits(
                     g2 = u2 * np.concatenate([np.full(len(u2) - 1, A / a2), [1.0]])
                     orb = periodic_orbit(sys.at(g2[-1]), A, g2)
                 except SolverError:
-                    branch.failed.append(A)
+                    failed.append(A)
                     continue
             else:
-                branch.failed.append(A)
+                failed.append(A)
                 continue
-        branch.orbits.append(orb)
+        orbits.append(orb)
         prev.append((A, np.concatenate([orb.state[:-2], [orb.speed]])))
         if progress is not None:
             progress(i + 1, len(amplitudes))
-    return branch
+    return Branch(orbits=orbits, failed=failed)
 
 
 def _orbit(at: CasterDynamics, z: np.ndarray, r: np.ndarray, iterations: int) -> PeriodicOrbit:
@@ -396,17 +397,18 @@ def stable_orbit(
 
 def speed_sweep(sys: CasterDynamics, speeds: Iterable[float], start: PeriodicOrbit) -> Branch:
     """Follow an orbit in speed (each Newton solve starts from the last orbit); stops at the first failure."""
-    branch = Branch()
+    orbits: list[PeriodicOrbit] = []
+    failed: list[float] = []
     z = start.state
     for v in speeds:
         try:
             orb = periodic_orbit_at_speed(sys.at(v), z)
         except SolverError:
-            branch.failed.append(float(v))
+            failed.append(float(v))
             break
-        branch.orbits.append(orb)
+        orbits.append(orb)
         z = orb.state
-    return branch
+    return Branch(orbits=orbits, failed=failed)
 
 
 def _find_stable(sys: CasterDynamics, angles: Iterable[float] = (0.6, 1.2, 0.3, 2.4)) -> PeriodicOrbit | None:

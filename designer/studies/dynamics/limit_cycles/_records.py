@@ -14,7 +14,7 @@ import numpy as np
 from designer.reprs import Record
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class KnockResult(Record):
     """What a knock does: the trace, the amplitudes and the verdict.
 
@@ -61,7 +61,7 @@ class KnockResult(Record):
         return "Knock simulation"
 
 
-@dataclass(kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class OnsetBracket(Record):
     """Knock onset by bisection: the knock decays at ``low`` and is sustained at ``high`` [m/s]."""
 

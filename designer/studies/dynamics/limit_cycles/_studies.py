@@ -37,6 +37,7 @@ from designer.data.paper import (
     TABLE1_TRAIL,
     table1_wheel,
 )
+from designer.boundary import Count, Instance, Quantities, Quantity, checked
 from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design, critical_speed
 from designer.physics.inertia import Fixed
@@ -49,6 +50,17 @@ def _branch_dicts(orbits) -> list[dict]:
     return Branch(orbits=list(orbits)).pieces()
 
 
+@checked(
+    design=Instance(
+        (Design,), "a designer.Design, e.g. Design(trail='1.5 in', diameter='6 in', groove=0, damping=1.3)"
+    ),
+    conditions=Instance((Conditions,), "a designer.Conditions, e.g. Conditions(load=178)"),
+    tyre=Instance((TyreParameters,), "None (the rolling tyre) or a designer.TyreParameters", optional=True),
+    speed_range=Quantities("speed", 2),
+    reference_speed=Quantity("speed", optional=True),
+    points=Count(2, 10_000, what="amplitudes"),
+    max_amplitude=Quantity("angle"),
+)
 @bounded("bifurcation diagram", scale="points")
 def bifurcation_diagram(
     design: Design,
@@ -136,7 +148,7 @@ def _stable_branch(sys, tyre, ref: float, lo: float, hi: float, points: int):
         if stable_ref is not None:
             down = speed_sweep(sys, np.geomspace(ref, lo, max(5, 2 * points // 3))[1:], stable_ref)
             up = speed_sweep(sys, np.geomspace(ref, hi, max(4, points // 3))[1:], stable_ref)
-            stable_orbits = down.orbits[::-1] + [stable_ref] + up.orbits
+            stable_orbits = [*down.orbits[::-1], stable_ref, *up.orbits]
     return stable_ref, stable_orbits
 
 
