@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
+import logging
 import os
 import signal
 import sys
@@ -69,10 +70,21 @@ def bind_to_parent(parent: int | None = None) -> None:
         threading.Thread(target=_watch, args=(expected,), name="parent-watch", daemon=True).start()
 
 
+WORKER_LOG_LEVEL = logging.ERROR
+"""Least level a Dask worker process of the tool logs at: its warnings (a task cancelled when the command is
+interrupted, "Async instruction ... ended with CancelledError") are not the user's business; the command
+reports what matters itself, and a task's error reaches the command as its exception."""
+
+
 def dask_setup(worker: object) -> None:
     """Dask's preload hook (``preload=["designer.children"]``): a Dask worker process binds itself to the
-    process that started it (:func:`bind_to_parent`)."""
+    process that started it (:func:`bind_to_parent`), leaves Ctrl-C to it (SIGINT reaches the whole process group
+    at a terminal; the command stops its workers itself and prints one line) and logs only errors
+    (:data:`WORKER_LOG_LEVEL`)."""
     bind_to_parent()
+    logging.getLogger("distributed").setLevel(WORKER_LOG_LEVEL)
+    with contextlib.suppress(ValueError):  # not the main thread of the worker process: the parent ends it anyway
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-__all__ = ["EXIT_ORPHANED", "POLL_SECONDS", "bind_to_parent", "dask_setup"]
+__all__ = ["EXIT_ORPHANED", "POLL_SECONDS", "WORKER_LOG_LEVEL", "bind_to_parent", "dask_setup"]

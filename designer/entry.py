@@ -22,7 +22,39 @@ def main() -> int:
     signal.signal(signal.SIGTERM, _startup_signal)
     from designer.cli import main as cli_main  # the heavy imports, under the handlers above
 
-    return cli_main()
+    code = cli_main()
+    if code in (128 + signal.SIGINT, 128 + signal.SIGTERM):
+        _end_quietly(code)
+    return code
+
+
+def _end_quietly(code: int) -> None:  # pragma: no cover - ends the process
+    """After an interruption, its one line printed and every clean-up of the command done: end the process now.
+    Child processes (explore's workers, Dask's) are killed rather than shut down (a shutdown logs about the
+    scheduler going away), and the interpreter's exit handlers are skipped (Dask's ``close_clusters`` would
+    print tracebacks about the closed loop): nothing but the one line reaches stderr."""
+    import sys
+
+    from designer.errors import quiet_after_signal
+
+    quiet_after_signal()
+    multiprocessing = sys.modules.get("multiprocessing")
+    if multiprocessing is not None:
+        for child in multiprocessing.active_children():
+            try:
+                child.kill()
+            except (OSError, ValueError, AttributeError):  # gone already
+                pass
+        try:  # multiprocessing's own exit: children joined, its semaphores unlinked (no "leaked semaphore" warning)
+            multiprocessing.util._exit_function()
+        except Exception:  # noqa: BLE001 - the process ends in any case
+            pass
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError, AttributeError):
+            pass
+    os._exit(code)
 
 
 __all__ = ["main"]

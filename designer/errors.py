@@ -10,7 +10,10 @@ checked after every solver call (:func:`check_interrupt`).
 from __future__ import annotations
 
 import errno
+import logging
+import re
 import signal
+import sys
 import threading
 
 
@@ -118,8 +121,9 @@ OS_REASONS: dict[int, str] = {
 """The true reason of each operating-system error a user's setup can cause, by errno: the one table every
 message about a file or a folder uses (:func:`os_reason`)."""
 
-WRITE_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG, errno.ENAMETOOLONG})
-"""The errors that can only mean an output cannot be written (exit 7, :class:`OutputError`)."""
+WRITE_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG})
+"""The errors that can only mean an output cannot be written (exit 7, :class:`OutputError`); a name too long can
+be an input's too (every output is checked for it before any work, :mod:`designer.output`)."""
 
 
 def os_reason(exc: OSError) -> str:
@@ -148,6 +152,37 @@ def system_error(exc: BaseException) -> DesignerError | None:
             f"set PYTHONIOENCODING=utf-8 or a UTF-8 locale"
         )
     return None
+
+
+SECRET_KEYS = r"(?:[A-Za-z0-9_]*(?:password|passwd|pwd|secret|token)|pass|sslkey|odbc_connect)"
+"""Keys whose value is a secret, a regular expression matched case-insensitively: a URL's query (``?password=``,
+``?sslpassword=``, pymysql's ``passwd``, any ``*_token`` or ``*secret``, an ODBC connection string
+``odbc_connect``), libpq's ``key=value`` form (``host=db password=x``) and ODBC's ``PWD=x;``."""
+
+_USERINFO = re.compile(
+    r"(?P<lead>(?:[A-Za-z][A-Za-z0-9+.-]*:/{0,3}|/{2,3})?)"  # a scheme with none to three slashes, or bare '//'
+    r"(?P<user>[^\s:/@'\"]*):(?!/)(?P<secret>[^\s'\"]*)@"  # user:secret@, up to the last '@' of the host's word
+    r"(?=[^\s@'\"/]*(?:[\s/'\"?#]|$))"
+)
+"""``user:secret@host`` wherever it stands: after ``scheme://``, ``scheme:/``, ``scheme//`` or with no scheme at
+all (``caster:S3cretPW@db.example.com/studies``), a raw ``@`` or ``:`` inside the secret included."""
+
+_KEY_VALUE = re.compile(
+    rf"(?<![A-Za-z0-9_])(?P<key>{SECRET_KEYS})(?P<eq>\s*(?:=|%3D)\s*)"
+    r"(?P<value>'(?:[^'\\]|\\.)*'|\"[^\"]*\"|\{[^}]*\}|[^\s&;#'\"]+)",
+    re.IGNORECASE,
+)
+"""``password=secret`` (a URL's query, libpq's ``password='se cret'``, ODBC's ``PWD={x};``, percent-encoded
+``PWD%3Dsecret`` inside an ``odbc_connect``)."""
+
+
+def mask_secrets(text: str) -> str:
+    """``text`` with every secret that looks like a connection string's replaced by ``***``: ``user:secret@host``
+    in any URL form (with a scheme and ``://``, ``:/`` or ``//``, or without a scheme) and every secret key's
+    value (:data:`SECRET_KEYS`).  Applied to every message the command line prints (one place, so no message
+    can show a password), and by :func:`designer.studies.explore._storage.redact_url`."""
+    text = _USERINFO.sub(lambda m: f"{m['lead']}{m['user']}:***@", str(text))
+    return _KEY_VALUE.sub(lambda m: f"{m['key']}{m['eq']}***", text)
 
 
 class Terminated(KeyboardInterrupt):
@@ -181,10 +216,26 @@ def check_interrupt() -> None:
         raise Terminated if _SIGNAL == signal.SIGTERM else KeyboardInterrupt
 
 
+def _silent(*_args) -> None:
+    """A hook that prints nothing (an unraisable exception or a thread's, after a signal)."""
+
+
+def quiet_after_signal() -> None:
+    """Once SIGINT or SIGTERM arrived the command prints one line, "interrupted", and nothing else: every logger
+    is silenced (Dask's ``distributed.*``, optuna's, asyncio's "Task exception was never retrieved"), and so are
+    the exceptions of threads and the "Exception ignored in ..." of shutting-down libraries (Dask's atexit
+    ``close_clusters``).  :class:`sigint_handler` restores them when its block ends (a caller in the same
+    process goes on); the command line then ends the process at once (:func:`designer.entry.main`)."""
+    logging.disable(logging.CRITICAL)
+    sys.unraisablehook = _silent
+    threading.excepthook = _silent
+
+
 def _on_signal(signum, frame):  # the flag survives a KeyboardInterrupt swallowed by a C extension
     global _INTERRUPTED, _SIGNAL
     _INTERRUPTED = True
     _SIGNAL = signum
+    quiet_after_signal()
     raise Terminated if signum == signal.SIGTERM else KeyboardInterrupt
 
 
@@ -205,6 +256,7 @@ class sigint_handler:
 
         global _INTERRUPTED, _SIGNAL
         _INTERRUPTED, _SIGNAL = False, 0
+        self._quiet = (logging.root.manager.disable, sys.unraisablehook, threading.excepthook)
         self._previous: dict = {}
         if threading.current_thread() is threading.main_thread():
             for signum in self.SIGNALS:
@@ -216,6 +268,9 @@ class sigint_handler:
         global _INTERRUPTED, _SIGNAL
         for signum, previous in self._previous.items():
             signal.signal(signum, previous)
+        if _INTERRUPTED:  # the loggers and hooks as they were before the signal (quiet_after_signal)
+            logging.disable(self._quiet[0])
+            sys.unraisablehook, threading.excepthook = self._quiet[1], self._quiet[2]
         _INTERRUPTED, _SIGNAL = False, 0
         return False
 

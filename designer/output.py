@@ -85,9 +85,6 @@ _FULL = {errno.ENOSPC: "no space left on device", errno.EDQUOT: "no space left (
 _WRITE_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS}
 """Errors that can only come from writing: an OSError with one of these is the output's, wherever it arose."""
 
-Marker = str | Callable[[Path], bool] | None
-"""What makes an existing folder the command's own: a file name it always writes, or a test of the folder."""
-
 _step_hook: Callable[[str], None] | None = None
 """Test hook: called with the name of each step of a commit (``staged``, ``record``, ``aside <name>``,
 ``install <name>``, ``remove <name>``, ``commit``, ``drop <name>``, ``done``); None in normal runs."""
@@ -103,15 +100,19 @@ def _step(name: str) -> None:
 
 @dataclass(frozen=True)
 class FileKind:
-    """A kind of single file a command writes, and how to recognise one the tool wrote.
+    """A kind of single file a command writes, and how to prove an existing one is the tool's.
 
-    ``what``: how messages name it ("an optuna journal", "a snippet written by designer calibrate");
-    ``recognise(path)``: True if the existing, non-empty regular file at ``path`` is of this kind and the
-    tool's (it may be replaced, or written into).  A new or empty file is always the tool's to write.
+    ``what``: how messages name it ("an example fleet written by designer fleet --example").  An existing file
+    is the tool's when the manifest of its folder (:data:`MANIFEST`) holds its name with the sha256 of its
+    bytes, or when ``recognise(path)`` proves it by its content alone (a file that carries its own digest,
+    :func:`signed_kind`; optuna's journal or SQLite study, which optuna itself keeps writing).  ``new_only``:
+    nothing that exists is ever written over, not even an empty file or a device (``designer init``).
+    A new or empty regular file is otherwise always the tool's to write.
     """
 
     what: str
-    recognise: Callable[[Path], bool]
+    recognise: Callable[[Path], bool] | None = None
+    new_only: bool = False
 
 
 def _head(path: Path, size: int = 4096) -> bytes:
@@ -138,7 +139,7 @@ def signed(body: str, writer: str) -> str:
 
 def signed_kind(writer: str, what: str) -> FileKind:
     """The :class:`FileKind` of the files :func:`signed` writes for ``writer``: the first line names ``writer``
-    and the digest matches the rest (the user has not edited it)."""
+    and the digest matches the rest (the user has not edited it) -- proved by the content, a manifest or not."""
 
     def recognise(path: Path) -> bool:
         try:
@@ -151,31 +152,111 @@ def signed_kind(writer: str, what: str) -> FileKind:
     return FileKind(what, recognise)
 
 
-def first_line_kind(start: str | tuple[str, ...], what: str, *earlier: str) -> FileKind:
-    """The :class:`FileKind` of files whose first line starts with ``start`` (a header the tool always writes, or
-    any of a tuple of them) or with one of the ``earlier`` headers an earlier release wrote (a file of the tool's
-    own from before a column or key was added or renamed: a rerun over an old results folder replaces it rather
-    than refusing it)."""
-    heads = [x.encode("utf-8") for x in ((start,) if isinstance(start, str) else start) + earlier]
-    return FileKind(what, lambda path: any(_head(path, len(data)) == data for data in heads))
-
-
 SOFTWARE = "caster-designer"
 """The name figures carry in their metadata (a PNG's Software text, an SVG's or PDF's Creator)."""
 
+PLOT = FileKind(f"a figure written by {SOFTWARE}")
+"""A figure of ``--plot``: replaced only while the manifest of its folder proves it the tool's, unedited."""
 
-def _our_figure(path: Path) -> bool:
-    head = _head(path)
-    if head[:8] == b"\x89PNG\r\n\x1a\n":  # the text chunks come before the image data
-        return b"Software\x00" + SOFTWARE.encode() in head
+
+# --------------------------------------------------------------------------- ownership: the manifest
+
+MANIFEST = ".designer-manifest.json"
+"""The manifest the tool writes into every folder it writes files into: each file's name (``figures/fit.png``
+for a file inside a folder the tool writes whole), the sha256 of its bytes and the command that wrote it.
+It is the one proof of ownership: a file is the tool's only while the manifest holds its name with the digest
+of its present bytes (a file edited since is the user's); a folder entry (``figures``) only while every file in
+it is (a file of the user's put in it makes the folder the user's)."""
+
+MANIFEST_SCHEMA = "caster-designer/manifest/1"
+"""The ``schema`` of a manifest; a file of that name with anything else in it is not the tool's."""
+
+
+def file_sha256(path: Path) -> str | None:
+    """The sha256 of the regular file at ``path`` (not following a link), None for anything else."""
     try:
-        return SOFTWARE.encode() in path.read_bytes()  # an SVG's or a PDF's Creator
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0))
     except OSError:
+        return None
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            return None
+        sha = hashlib.sha256()
+        while chunk := os.read(fd, 1 << 20):
+            sha.update(chunk)
+        return sha.hexdigest()
+    except OSError:
+        return None
+    finally:
+        os.close(fd)
+
+
+def tree_digests(path: Path, prefix: str = "") -> dict[str, str | None]:
+    """Every file under ``path`` (itself if a file) by its name relative to ``path``'s folder, with its sha256;
+    a link, a device or a FIFO with None (never the tool's: it writes none)."""
+    name = prefix or path.name
+    if path.is_symlink() or not path.is_dir():
+        return {name: file_sha256(path)}
+    out: dict[str, str | None] = {}
+    try:
+        entries = sorted(os.listdir(path))
+    except OSError:
+        return {name + "/": None}
+    for entry in entries:
+        out.update(tree_digests(path / entry, f"{name}/{entry}"))
+    return out
+
+
+def read_manifest(folder: Path) -> dict[str, dict]:
+    """The entries of ``folder``'s manifest (name -> ``{"sha256": ..., "by": ...}``); empty without one.
+
+    A manifest that is not a regular file, not JSON of :data:`MANIFEST_SCHEMA`, or a link, proves nothing."""
+    path = Path(folder) / MANIFEST
+    if path.is_symlink() or not path.is_file():
+        return {}
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError):
+        return {}
+    if not isinstance(data, dict) or data.get("schema") != MANIFEST_SCHEMA or not isinstance(data.get("files"), dict):
+        return {}
+    return {k: v for k, v in data["files"].items() if isinstance(v, dict) and isinstance(v.get("sha256"), str)}
+
+
+def manifest_text(entries: dict[str, dict]) -> str:
+    """A manifest's bytes: sorted, no time stamp (a rerun that writes the same files writes the same manifest)."""
+    return json.dumps({"schema": MANIFEST_SCHEMA, "files": dict(sorted(entries.items()))}, indent=1) + "\n"
+
+
+def is_owned(folder: Path, name: str, manifest: dict[str, dict] | None = None, by: str | None = None) -> bool:
+    """True if the entry ``name`` of ``folder`` is the tool's, unedited: every file of it (itself, or each file
+    in it for a folder) is in the manifest with the sha256 of its present bytes (and, with ``by``, written by
+    that command: another command's report of the same names is not this one's to replace).  An absent name
+    is not owned; a link, a device, a FIFO never are."""
+    manifest = read_manifest(folder) if manifest is None else manifest
+    path = Path(folder) / name
+    if not os.path.lexists(path):
         return False
+    digests = tree_digests(path, name)
+    entries = [manifest.get(k, {}) for k in digests]
+    return (
+        bool(digests)
+        and all(d is not None and e.get("sha256") == d for e, d in zip(entries, digests.values(), strict=True))
+        and (by is None or all(e.get("by") == by for e in entries))
+    )
 
 
-PLOT = FileKind(f"a figure written by {SOFTWARE}", _our_figure)
-"""A figure of ``--plot``: its metadata names :data:`SOFTWARE` (a PNG in its first chunks)."""
+def _updated(manifest: dict[str, dict], folder: Path, names: Iterable[str], gone: Iterable[str], by: str) -> dict:
+    """``manifest`` with the entries of ``names`` (now in ``folder``) digested anew and those of ``gone`` dropped."""
+    out = dict(manifest)
+    for name in [*names, *gone]:
+        for key in [k for k in out if k == name or k.startswith(name + "/")]:
+            del out[key]
+    for name in names:
+        for key, digest in tree_digests(folder / name, name).items():
+            if digest is not None:
+                out[key] = {"sha256": digest, "by": by}
+    return out
 
 
 # --------------------------------------------------------------------------- messages
@@ -239,8 +320,44 @@ def _probe(place: Path, path: Path, option: str, hint: str) -> None:
         os.rmdir(made)
 
 
+def link_chain(path: Path, limit: int = 8) -> str:
+    """``l1 -> l2 -> l1``: the links ``path`` leads through, until one repeats (or ``limit`` of them)."""
+    seen: list[str] = [str(path)]
+    here = Path(path)
+    for _ in range(limit):
+        try:
+            target = os.readlink(here)
+        except OSError:
+            break
+        here = here.parent / target
+        shown = os.path.normpath(str(here))
+        seen.append(target)
+        if shown in {os.path.normpath(str(x if Path(x).is_absolute() else Path(path).parent / x)) for x in seen[:-1]}:
+            break
+    return " -> ".join(seen)
+
+
+def _path_problem(path: Path, option: str) -> None:
+    """OutputError naming the true reason when ``path`` itself cannot be looked up: a loop of links
+    (``l1 -> l2 -> l1``), a name longer than the file system allows; nothing otherwise."""
+    try:
+        os.stat(path)
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            raise OutputError(
+                f"{option} {path}: is a loop of symbolic links ({link_chain(path)}); choose another {option}"
+            ) from None
+        if exc.errno == errno.ENAMETOOLONG:
+            longest = max(len(p.encode()) for p in path.parts)
+            raise OutputError(
+                f"{option} {path}: a name longer than the file system allows ({longest} bytes in one name, or "
+                f"{len(str(path).encode())} in the path); choose a shorter {option}"
+            ) from None
+
+
 def _refuse_files_on_the_way(path: Path, option: str, what: str) -> Path:
     """The nearest existing ancestor of ``path`` (``path`` itself if it exists); OutputError if it is not a folder."""
+    _path_problem(path, option)
     if path.is_symlink() and not path.exists():
         raise OutputError(
             f"{option} {path}: is a link to {os.readlink(path)}, which does not exist; choose another {option}"
@@ -248,22 +365,57 @@ def _refuse_files_on_the_way(path: Path, option: str, what: str) -> Path:
     probe = _nearest_existing(path)
     if probe.exists() and not probe.is_dir():
         where = "is" if probe == path else f"lies under {probe}, which is"
-        raise OutputError(f"{option} {path}: {where} a regular file, not a folder; choose another {option}{what}")
+        kind = _not_regular(probe) or "a regular file"
+        raise OutputError(f"{option} {path}: {where} {kind}, not a folder; choose another {option}{what}")
     return probe
 
 
-def is_ours(folder: Path, marker: Marker) -> bool:
-    """True if ``folder`` is one the command wrote before (its ``marker`` file exists, or ``marker(folder)``)."""
-    if marker is None:
+def _not_regular(path: Path) -> str | None:
+    """What ``path`` is when it is a device, a pipe or a socket ("a character device"), else None."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return None
+    for test, name in (
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISFIFO, "a pipe (FIFO)"),
+        (stat.S_ISSOCK, "a socket"),
+    ):
+        if test(mode):
+            return name
+    return None
+
+
+def clashes(folder: Path, names: Iterable[str]) -> list[str]:
+    """The names of ``names`` that exist in ``folder`` (files, folders or links)."""
+    return sorted(n for n in set(names) if (folder / n).exists() or (folder / n).is_symlink())
+
+
+def foreign(folder: Path, names: Iterable[str], same_as: Path | None = None, by: str | None = None) -> list[str]:
+    """The names of ``names`` in ``folder`` that are not the tool's (:func:`is_owned`, by the manifest), and the
+    manifest itself when a file of that name is not one (the user's): what a command must not replace.  With
+    ``same_as`` (a temporary folder), an entry whose bytes equal the new one's there is not counted (replacing it
+    loses nothing).  ``by``: the command that would write them (:func:`is_owned`)."""
+    folder = Path(folder)
+    manifest = read_manifest(folder)
+    out = [
+        n
+        for n in clashes(folder, names)
+        if not is_owned(folder, n, manifest, by) and not (same_as is not None and _same_file(same_as / n, folder / n))
+    ]
+    if _lexists(folder / MANIFEST) and not manifest and not _empty_manifest(folder / MANIFEST):
+        out.append(MANIFEST)
+    return out
+
+
+def _empty_manifest(path: Path) -> bool:
+    """True if ``path`` is a valid manifest without entries (the tool's, proving nothing)."""
+    try:
+        data = json.loads(path.read_text(encoding="utf-8")) if path.is_file() and not path.is_symlink() else None
+    except (OSError, UnicodeDecodeError, ValueError):
         return False
-    if callable(marker):
-        return bool(marker(folder))
-    return (folder / marker).is_file()
-
-
-def clashes(folder: Path, owned: Iterable[str]) -> list[str]:
-    """The names of ``owned`` that exist in ``folder`` (files, folders or links)."""
-    return sorted(n for n in set(owned) if (folder / n).exists() or (folder / n).is_symlink())
+    return isinstance(data, dict) and data.get("schema") == MANIFEST_SCHEMA and data.get("files") == {}
 
 
 def _refused_place(real: Path, path: Path, option: str) -> None:
@@ -285,9 +437,15 @@ def _refused_place(real: Path, path: Path, option: str) -> None:
 
 
 def _refuse_clash(real: Path, clash: list[str], option: str, command: str) -> None:
+    manifest = read_manifest(real)
+    others = sorted(
+        {e.get("by", "") for k, e in manifest.items() for n in clash if k == n or k.startswith(n + "/")} - {command}
+    )
+    why = f"another command's ({', '.join(others)})" if others else "your files, or files edited since"
     raise OutputError(
-        f"{option} {real}: holds {', '.join(clash)}, which {command} would replace, and is not a folder "
-        f"{command} wrote; choose another {option} (your files are left as they are)"
+        f"{option} {real}: holds {', '.join(clash)}, which {command} would replace, and the folder's manifest "
+        f"({MANIFEST}) does not prove them its own, unedited ({why}, or a report of a release before manifests); "
+        f"they are left as they are: move them away or choose another {option}"
     )
 
 
@@ -295,18 +453,18 @@ def check_folder(
     folder,
     option: str = "--out",
     owned: Iterable[str] = (),
-    marker: Marker = None,
     force: bool = False,
     command: str = "the command",
 ) -> Path:
     """Raise OutputError (exit 7) unless ``command`` can write its ``owned`` files into ``folder``.
 
     Called before any computing.  ``folder`` may be absent (it will be made), a folder, or a link to a folder
-    (followed).  Refused: a regular file or a path under one, a link to nothing, a place where nothing can be
-    created (read-only, no permission), the filesystem root and the home folder (even with ``force``), and a
-    folder that holds an ``owned`` name while it is not one the command wrote (``marker``) -- those are the
-    user's files, unless ``force``.  Its one side effect: an existing folder is recovered first
-    (:func:`recover`: an interrupted commit rolled back or forward, leftovers of dead runs removed).
+    (followed).  Refused: a regular file, a device or a pipe, a path under one, a link to nothing, a loop of
+    links, a name too long, a place where nothing can be created (read-only, no permission), the filesystem root
+    and the home folder (even with ``force``), and a folder holding an ``owned`` name that its manifest does not
+    prove the tool's, unedited (:func:`foreign`) -- those are the user's files, unless ``force``.  Its one side
+    effect: an existing folder is recovered first (:func:`recover`: an interrupted commit rolled back or
+    forward, leftovers of dead runs removed).
 
     Returns
     -------
@@ -321,33 +479,55 @@ def check_folder(
     if real.is_dir():
         recover(real)
         if not force:
-            clash = clashes(real, owned)
-            if clash and not is_ours(real, marker):
+            clash = foreign(real, owned, by=command)
+            if clash:
                 _refuse_clash(real, clash, option, command)
     return real
 
 
 def _refuse_foreign(real: Path, path: Path, option: str, kind: FileKind) -> None:
-    """OutputError unless the file at ``real`` is new, empty, not a regular file, or ``kind``'s and the tool's."""
+    """OutputError unless the file at ``real`` is new, empty, a device or a pipe (written in place), or proved
+    the tool's: by the manifest of its folder with the digest of its present bytes, or by its own content
+    (``kind.recognise``)."""
     try:
         st = os.stat(real)
     except FileNotFoundError:
         return
-    if not stat.S_ISREG(st.st_mode) or st.st_size == 0 or kind.recognise(real):
+    if kind.new_only:
+        raise OutputError(
+            f"{option} {path}: already exists; this command never writes over a file, a folder or a device; "
+            f"choose another {option}"
+        )
+    if not stat.S_ISREG(st.st_mode) or st.st_size == 0:
         return
+    if is_owned(real.parent, real.name, by=kind.what) or (kind.recognise is not None and kind.recognise(real)):
+        return
+    entry = read_manifest(real.parent).get(real.name)
+    if entry is not None and entry.get("by") != kind.what:
+        raise OutputError(
+            f"{option} {path}: was written by {entry.get('by')}, not as {kind.what}; it is left as it is; "
+            f"choose another {option}"
+        )
+    if entry is not None:
+        raise OutputError(
+            f"{option} {path}: is a file you edited since this tool wrote it (its sha256 differs from the one in "
+            f"{MANIFEST}); it is left as it is; choose another {option}, or remove it to have it written anew"
+        )
     raise OutputError(
-        f"{option} {path}: is a file this tool did not write (not {kind.what}); it is left as it is; "
-        f"choose another {option}"
+        f"{option} {path}: is a file this tool did not write (nothing proves it {kind.what}: no entry in the "
+        f"folder's {MANIFEST}); it is left as it is; choose another {option}, or remove it if it is an "
+        f"earlier run's"
     )
 
 
 def check_file(path, option: str = "--out", example: str = "out.csv", *, kind: FileKind) -> Path:
     """Raise OutputError (exit 7) unless the file ``path`` can be written; no side effect; called before computing.
 
-    Refused: a folder (the file needs a name), a path under a regular file, a link to nothing, a folder where
-    nothing can be created, and an existing non-empty file that is not ``kind``'s written by the tool (a
-    user's notes named as a journal, a user's problem file named as a snippet).  A link to a file is followed
-    (the file it names is replaced, the link kept).
+    Refused: a folder (the file needs a name), a path under a regular file, a link to nothing, a loop of links,
+    a name too long, a folder where nothing can be created, and an existing non-empty file that is not proved
+    the tool's (:func:`_refuse_foreign`: the manifest of its folder, or its own content).  A link to a file is
+    followed (the file it names is replaced, the link kept).  A character device or a pipe (``/dev/stdout``,
+    ``>(cat)``) is written in place, unless ``kind.new_only``.
 
     Returns
     -------
@@ -355,10 +535,20 @@ def check_file(path, option: str = "--out", example: str = "out.csv", *, kind: F
         The file with links resolved (where the bytes will go).
     """
     path = Path(path)
+    if kind.new_only and _lexists(path):
+        what = "a link" if path.is_symlink() else _not_regular(path) or ("a folder" if path.is_dir() else "a file")
+        raise OutputError(
+            f"{option} {path}: already exists ({what}); this command never writes over an existing path; "
+            f"choose another {option}"
+        )
+    _path_problem(path, option)
     if path.is_dir():
         raise OutputError(f"{option} {path}: is a folder; give a file name, e.g. {path / example}")
-    if path.exists() and not _regular(path):  # a device or a pipe (/dev/stdout): written in place
-        return Path(os.path.realpath(path))
+    other = _not_regular(path) if path.exists() else None
+    if other in ("a character device", "a pipe (FIFO)"):  # /dev/stdout, /dev/null, a pipe: written in place
+        return path  # as given: /dev/stdout resolves to /proc/<pid>/fd/pipe:[...], a name that cannot be opened
+    if other is not None:
+        raise OutputError(f"{option} {path}: is {other}, not a file; choose another {option}")
     if path.exists():  # a file (or a link to one): its folder must take a temporary file
         place = Path(os.path.realpath(path)).parent
         _refuse_foreign(Path(os.path.realpath(path)), path, option, kind)
@@ -450,12 +640,25 @@ def _real_dir(path: Path) -> bool:
     return path.is_dir() and not path.is_symlink()
 
 
-def _put_back(folder: Path, name: str, aside: str | None, installed: bool) -> None:
+def entry_digest(path: Path) -> str | None:
+    """One sha256 of the entry at ``path``: a file's bytes, or every file of a folder by its relative name; None
+    for an absent entry or one holding a link, a device or a pipe (the tool installs none)."""
+    if not _lexists(path):
+        return None
+    digests = tree_digests(path, ".")
+    if any(d is None for d in digests.values()):
+        return None
+    return hashlib.sha256(json.dumps(sorted(digests.items())).encode("utf-8")).hexdigest()
+
+
+def _put_back(folder: Path, name: str, aside: str | None, installed: bool, digest: str | None) -> None:
     """Undo one entry of a commit: the previous ``name`` (kept as ``aside``, None if there was none) back in
-    place; the new one removed if it was ``installed`` (renamed out of the temporary folder)."""
+    place; the new one removed if it was ``installed`` (renamed out of the temporary folder) and it is still the
+    entry the record installed (its ``digest``): an entry of anyone else's is never removed or replaced."""
     dst = folder / name
+    ours = installed and digest is not None and entry_digest(dst) == digest
     if aside is None:
-        if installed and _lexists(dst):
+        if ours:
             _remove(dst)
         return
     old = folder / aside
@@ -465,8 +668,8 @@ def _put_back(folder: Path, name: str, aside: str | None, installed: bool) -> No
         if os.path.samestat(os.lstat(old), os.lstat(dst)):
             os.unlink(old)  # a hard link of a file that was never replaced
             return
-        if not installed:
-            return  # not this commit's entry (cannot happen under the lock): left as it is
+        if not ours:
+            return  # not this commit's entry: left as it is (the aside goes with the leftovers)
         if _real_dir(dst) or _real_dir(old):
             _remove(dst)  # the new folder (a rename cannot replace a folder by a file or a full folder)
     os.replace(old, dst)
@@ -475,10 +678,11 @@ def _put_back(folder: Path, name: str, aside: str | None, installed: bool) -> No
 def _roll_back(folder: Path, record: dict) -> None:
     """Undo an interrupted commit described by ``record``: the folder as it was before it."""
     stage = folder / record["stage"]
+    digests = record["digests"]
     for name, aside in reversed(record["remove"]):
-        _put_back(folder, name, aside, installed=False)
+        _put_back(folder, name, aside, installed=False, digest=None)
     for name, aside in reversed(record["install"]):
-        _put_back(folder, name, aside, installed=not _lexists(stage / name))
+        _put_back(folder, name, aside, installed=not _lexists(stage / name), digest=digests.get(name))
 
 
 def _roll_forward(folder: Path, record: dict) -> None:
@@ -489,14 +693,23 @@ def _roll_forward(folder: Path, record: dict) -> None:
 
 
 def _read_record(path: Path) -> dict | None:
+    """A commit record, or None when it is not one this release writes (every entry a plain name, the
+    temporary folder a name of the tool's, the digest of every entry it installs)."""
     try:
         record = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, ValueError):
         return None
-    valid = isinstance(record, dict) and isinstance(record.get("stage"), str)
+    stage = record.get("stage") if isinstance(record, dict) else None
+    valid = isinstance(stage, str) and stage.startswith(TEMP_PREFIX) and _plain(stage)
     for key in ("install", "remove"):
         valid = valid and isinstance(record.get(key), list) and all(_entry(e) for e in record[key])
+    digests = record.get("digests") if valid else None
+    valid = valid and isinstance(digests, dict) and all(isinstance(v, str) for v in digests.values())
     return record if valid else None
+
+
+def _plain(name: str) -> bool:
+    return bool(name) and "/" not in name and os.sep not in name and name not in (".", "..")
 
 
 def _entry(item) -> bool:
@@ -504,21 +717,38 @@ def _entry(item) -> bool:
     ok = isinstance(item, list) and len(item) == 2 and isinstance(item[0], str)
     names = [n for n in item if isinstance(n, str)] if ok else []
     ok = ok and (item[1] is None or isinstance(item[1], str) and item[1].startswith(OLD_PREFIX))
-    return ok and all(n and "/" not in n and os.sep not in n and n not in (".", "..") for n in names)
+    return ok and all(_plain(n) for n in names)
+
+
+def _stage_of(folder: Path, record: dict) -> Path | None:
+    """The temporary folder ``record`` names, if it exists (a folder, not a link) and no live run holds it;
+    a record without it (copied with a report, planted in a shared folder) is acted on in no way."""
+    stage = folder / record["stage"]
+    if not _real_dir(stage):
+        return None
+    fd = _hold(stage, blocking=False)
+    if fd is None:
+        return None  # a live run's (or one this process cannot open)
+    os.close(fd)
+    return stage
 
 
 def _recover_records(folder: Path) -> None:
+    """Roll back (``commit-``) or forward (``done-``) each record whose temporary folder is there, then drop the
+    record, then the temporary folder; a record that is not one of this release's, or without its temporary
+    folder, touches nothing (it is removed with the leftovers)."""
     for entry in sorted(os.listdir(folder)):
         if not entry.startswith((COMMIT_PREFIX, DONE_PREFIX)) or not entry.endswith(".json"):
             continue
         record = _read_record(folder / entry)
-        if record is not None:
+        stage = _stage_of(folder, record) if record is not None else None
+        if record is not None and stage is not None:
             (_roll_forward if entry.startswith(DONE_PREFIX) else _roll_back)(folder, record)
-            stage = folder / record["stage"]
-            if record["stage"].startswith(TEMP_PREFIX) and "/" not in record["stage"]:
-                _remove(stage)
-        _sync(folder)
+            _sync(folder)
         os.unlink(folder / entry)
+        _sync(folder)
+        if stage is not None:
+            _remove(stage)
 
 
 def _remove_dead_leftovers(folder: Path) -> None:
@@ -621,25 +851,29 @@ def _apply(real: Path, stage: Path, record: dict) -> None:
         _step(f"remove {name}")
 
 
-def _commit(stage: Path, real: Path, owned: set[str], marker: Marker, force: bool, option: str, command: str) -> None:
-    """Commit the entries of ``stage`` into ``real`` (the module's write-ahead record), removing the owned names
-    of an older run that this one did not write again; all or nothing.  Under the folder's lock, with
-    signals held back; ownership is checked again under that lock."""
-    names = sorted(os.listdir(stage), key=lambda n: (isinstance(marker, str) and n == marker, n))
-    _sync_tree(stage)
+def _commit(stage: Path, real: Path, owned: set[str], force: bool, option: str, command: str) -> None:
+    """Commit the entries of ``stage`` into ``real`` (the module's write-ahead record), with the folder's manifest
+    updated in the same commit, removing the owned names of an older run that this one did not write again
+    (only those the manifest proves the tool's); all or nothing.  Under the folder's lock, with signals held
+    back; ownership is checked again under that lock."""
+    names = sorted(n for n in os.listdir(stage) if n != MANIFEST)
     with _locked(real) as held, signals_held():
         if held:
             _tidy(real)
-        ours = is_ours(real, marker)
-        clash = [n for n in clashes(real, set(names) | owned) if not _same_file(stage / n, real / n)]
-        if clash and not (ours or force):  # something of the user's, or another command's report, meanwhile
+        manifest = read_manifest(real)
+        clash = foreign(real, set(names) | owned, same_as=stage, by=command)
+        if clash and not force:  # something of the user's, or edited, or another command's report meanwhile
             _refuse_clash(real, clash, option, command)
+        stale = [n for n in sorted(owned - set(names)) if _lexists(real / n) and is_owned(real, n, manifest, command)]
+        (stage / MANIFEST).write_text(manifest_text(_updated(manifest, stage, names, stale, command)), "utf-8")
+        names.append(MANIFEST)  # installed last: the files and their proof change together
+        _sync_tree(stage)
         tag = uuid.uuid4().hex[:8]
-        stale = [n for n in sorted(owned - set(names)) if ours and _lexists(real / n)]
         record = {
             "stage": stage.name,
             "install": [[n, f"{OLD_PREFIX}{tag}-{n}" if _lexists(real / n) else None] for n in names],
             "remove": [[n, f"{OLD_PREFIX}{tag}-{n}"] for n in stale],
+            "digests": {n: d for n in names if (d := entry_digest(stage / n)) is not None},
         }
         journal = _write_record(real, f"{COMMIT_PREFIX}{tag}.json", record)
         _step("record")
@@ -687,7 +921,6 @@ def output_folder(
     owned: Iterable[str],
     *,
     option: str = "--out",
-    marker: Marker = None,
     force: bool = False,
     command: str = "the command",
 ) -> Iterator[Path]:
@@ -695,18 +928,18 @@ def output_folder(
     those of ``folder`` (committed whole: see the module's docstring).
 
     ``owned``: the names the command writes in ``folder`` (files, or folders such as ``figures`` that are
-    replaced whole); nothing else there is touched.  ``marker``: a file name (or test) that makes an existing
-    folder one the command wrote before; in any other folder an owned name is the user's, and the command is
-    refused (OutputError, exit 7) unless ``force``, or unless the file there has the very bytes about to be
-    written (checked again under the lock of the commit, for every name written).  The checks of
-    :func:`check_folder` run first.
+    replaced whole); nothing else there is touched.  An owned name already in ``folder`` is replaced only while
+    the folder's manifest (:data:`MANIFEST`) proves it the tool's, unedited, or it has the very bytes about to be
+    written; anything else there is the user's, and the command is refused (OutputError, exit 7) unless
+    ``force`` (checked again under the lock of the commit, for every name written).  The manifest is updated
+    in the same commit.  The checks of :func:`check_folder` run first.
 
     An exception or a signal in the block, or an OSError while committing, removes the temporary folder
     (and ``folder`` if it was made for this run and holds nothing else); an OSError from writing becomes an
     OutputError line naming the path (:func:`write_error`).
     """
     owned = set(owned)
-    real = check_folder(folder, option, owned, marker, force, command)
+    real = check_folder(folder, option, owned, force, command)
     made: list[Path] = []
     stage: Path | None = None
     held: int | None = None
@@ -720,7 +953,7 @@ def output_folder(
         _step("staged")
         try:
             yield stage
-            _commit(stage, real, owned, marker, force, option, command)
+            _commit(stage, real, owned, force, option, command)
         except OSError as exc:
             if _is_write_error(exc, real, stage):
                 raise write_error(folder, exc, option) from None
@@ -742,14 +975,15 @@ def output_folder(
 
 
 def write_file(path, content: str | bytes, option: str = "--out", example: str = "out.csv", *, kind: FileKind) -> Path:
-    """Replace the file ``path`` with ``content`` atomically (a temporary file beside it, renamed over it).
+    """Replace the file ``path`` with ``content`` atomically (a temporary file beside it, renamed over it), and
+    record its sha256 in the manifest of its folder (:data:`MANIFEST`), the proof that the next run may replace it.
 
-    Only a new or empty file, or one of ``kind`` the tool wrote, is replaced (:func:`check_file`; checked again
-    under the lock of the folder, just before the rename): anything else is an OutputError naming ``option``.
-    A link to a file is followed (the file is replaced, the link kept); an existing file keeps its mode, a new
-    one gets the usual mode (0666 less the umask); missing parent folders are made.  Refusals and write
-    failures are OutputError lines (exit 7); the temporary file is removed on any failure or signal (and by
-    the next run after a kill).
+    Only a new or empty file, or one the tool wrote and nobody edited since, is replaced (:func:`check_file`;
+    checked again under the lock of the folder, just before the rename): anything else is an OutputError naming
+    ``option``.  A link to a file is followed (the file is replaced, the link kept); a character device or a pipe
+    (``/dev/stdout``) is written in place; an existing file keeps its mode, a new one gets the usual mode (0666
+    less the umask); missing parent folders are made.  Refusals and write failures are OutputError lines (exit
+    7); the temporary file is removed on any failure or signal (and by the next run after a kill).
 
     Returns
     -------
@@ -760,11 +994,7 @@ def write_file(path, content: str | bytes, option: str = "--out", example: str =
     real = check_file(path, option, example, kind=kind)
     data = content.encode("utf-8") if isinstance(content, str) else bytes(content)
     if real.exists() and not _regular(real):  # a device or a pipe: nothing to replace, nothing to leave behind
-        try:
-            with open(real, "wb") as fh:
-                fh.write(data)
-        except OSError as exc:
-            raise write_error(path, exc, option) from None
+        _write_in_place(real, path, data, option)
         return path
     tmp = real.with_name(f"{TEMP_PREFIX}{real.name[:100]}-{uuid.uuid4().hex[:8]}")
     try:
@@ -781,8 +1011,14 @@ def write_file(path, content: str | bytes, option: str = "--out", example: str =
                 os.fsync(fh.fileno())
             if mode is not None:
                 os.chmod(tmp, mode)
-            os.replace(tmp, real)
+            if kind.new_only:
+                os.link(tmp, real)  # never over anything that appeared meanwhile (EEXIST)
+            else:
+                os.replace(tmp, real)
+            _record(real.parent, real.name, kind.what)
     except OSError as exc:
+        if kind.new_only and exc.errno == errno.EEXIST:
+            raise OutputError(f"{option} {path}: already exists; choose another {option}") from None
         raise write_error(path, exc, option) from None
     finally:
         with signals_held(), contextlib.suppress(FileNotFoundError):
@@ -790,7 +1026,51 @@ def write_file(path, content: str | bytes, option: str = "--out", example: str =
     return path
 
 
+def _write_in_place(real: Path, path: Path, data: bytes, option: str) -> None:
+    """Write ``data`` into a character device or a pipe (``/dev/stdout``, ``>(cat)``, a FIFO).  A FIFO that
+    nothing reads is refused at once (its open would wait for a reader for ever)."""
+    try:
+        fd = os.open(real, os.O_WRONLY | getattr(os, "O_NONBLOCK", 0))
+    except OSError as exc:
+        if exc.errno == errno.ENXIO:
+            raise OutputError(
+                f"{option} {path}: is a pipe (FIFO) that nothing reads; start its reader first, or choose "
+                f"another {option}"
+            ) from None
+        raise write_error(path, exc, option) from None
+    try:
+        os.set_blocking(fd, True)
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+    except BrokenPipeError:
+        raise OutputError(f"{option} {path}: the pipe's reader went away; the output is incomplete") from None
+    except OSError as exc:
+        raise write_error(path, exc, option) from None
+
+
+def _record(folder: Path, name: str, by: str) -> None:
+    """Record ``folder/name``'s digest in the folder's manifest (written whole: a temporary file renamed over
+    it), the folder's lock held.  A file of that name that is not a manifest (the user's) is left as it is: the
+    file is then simply not proved the tool's next time."""
+    path = folder / MANIFEST
+    manifest = read_manifest(folder)
+    if _lexists(path) and not manifest and not _empty_manifest(path):
+        return
+    text = manifest_text(_updated(manifest, folder, [name], [], by))
+    tmp = folder / f"{TEMP_PREFIX}manifest-{uuid.uuid4().hex[:8]}"
+    try:
+        with open(tmp, "w", encoding="utf-8") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+
+
 __all__ = [
+    "MANIFEST",
     "PLOT",
     "SOFTWARE",
     "TEMP_PREFIX",
@@ -798,9 +1078,13 @@ __all__ = [
     "check_file",
     "check_folder",
     "clashes",
-    "first_line_kind",
-    "is_ours",
+    "entry_digest",
+    "file_sha256",
+    "foreign",
+    "is_owned",
+    "link_chain",
     "output_folder",
+    "read_manifest",
     "recover",
     "signed",
     "signed_kind",

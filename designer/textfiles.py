@@ -2,8 +2,8 @@
 
 Readers (the TOML problem file, the CSV data of ``designer calibrate`` and ``designer fleet``, a front's
 ``front.csv``) read through :func:`read_input_text` and :func:`csv_table`, so they refuse the same things with
-the same one-line messages: a path that is not a regular file (a folder, a character device such as
-``/dev/zero``, a FIFO), a symbolic link loop or any other system error by its true reason
+the same one-line messages: a path that is neither a regular file nor a pipe (a folder, a character device such
+as ``/dev/zero``, a socket; a pipe such as ``<(cat f)`` is read once, under the same size limit), a symbolic link loop or any other system error by its true reason
 (:func:`designer.errors.os_reason`), a UTF-16/UTF-32 file (a byte-order mark: text, but not UTF-8), bytes that
 are not UTF-8, a file over its size limit, a CSV cell over :data:`MAX_CELL` characters, a column named twice.
 
@@ -21,6 +21,7 @@ import io
 import math
 import os
 import re
+import select
 import stat
 import threading
 from collections.abc import Iterable, Mapping, Sequence
@@ -37,6 +38,12 @@ FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
 MAX_CELL = 10_000
 """Longest CSV cell a reader accepts [characters]: a name or a number is a few dozen; a longer cell is
 another file's content (the csv module's own limit, 131 072, would end in its own error instead)."""
+
+PIPE_LIMIT = 64 * 2**20
+"""Most bytes read from a pipe when the reader has no limit of its own [bytes]."""
+
+PIPE_WAIT_SECONDS = 5.0
+"""How long a reader waits for a process to write into a named FIFO before it gives up [s]."""
 
 _NUMBER = re.compile(r"^[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?$")
 
@@ -102,16 +109,20 @@ def read_input_text(
         reason = f"no such {kind}" if isinstance(exc, FileNotFoundError) else os_reason(exc)
         raise error(f"{source}: {reason}") from None
     other = _kind_of_file(st.st_mode)
-    if other is not None:
+    if other is not None and not stat.S_ISFIFO(st.st_mode):  # a pipe (<(cat f), a named FIFO) is read once
         raise error(f"{source}: is {other}, expected a {suffix} {kind}")
     try:
-        with open(path, "rb") as f:
-            data = f.read() if limit is None else f.read(limit + 1)
+        if stat.S_ISFIFO(st.st_mode):  # read once, never without end, never waiting for ever for a writer
+            data = _read_pipe(path, source, PIPE_LIMIT if limit is None else limit, error)
+        else:
+            with open(path, "rb") as f:
+                data = f.read() if limit is None else f.read(limit + 1)
     except OSError as exc:
         raise error(f"{source}: cannot read it ({os_reason(exc)})") from None
     if limit is not None and len(data) > limit:
+        size = f"{st.st_size:,} bytes" if stat.S_ISREG(st.st_mode) else f"more than {limit:,} bytes from a pipe"
         raise error(
-            f"{source}: larger than the {_bytes(limit)} a {kind} may have ({st.st_size:,} bytes); a {kind} is a "
+            f"{source}: larger than the {_bytes(limit)} a {kind} may have ({size}); a {kind} is a "
             f"few kB of text: is this the right file?"
         )
     for mark, name in _WIDE_MARKS:
@@ -123,6 +134,28 @@ def read_input_text(
         line = data[: exc.start].count(b"\n") + 1
         raise error(f"{source}: line {line}: not UTF-8 text (byte 0x{data[exc.start]:02x}); save it as UTF-8") from None
     return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
+def _read_pipe(path, source: str, limit: int, error: type[InputError]) -> bytes:
+    """At most ``limit`` + 1 bytes of a pipe (``<(cat f)``, a named FIFO), read once.  A FIFO that no process
+    writes to within :data:`PIPE_WAIT_SECONDS` is ``error`` (its plain open would wait for ever)."""
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)  # returns at once, a writer or not
+    try:
+        poll = select.poll()
+        poll.register(fd, select.POLLIN | select.POLLHUP)
+        if not poll.poll(int(PIPE_WAIT_SECONDS * 1000)):
+            raise error(
+                f"{source}: a pipe (FIFO) that nothing writes to (waited {PIPE_WAIT_SECONDS:g} s); start its writer "
+                f"first, or give the file itself"
+            )
+        os.set_blocking(fd, True)
+        chunks, size = [], 0
+        while size <= limit and (chunk := os.read(fd, min(1 << 16, limit + 1 - size))):
+            chunks.append(chunk)
+            size += len(chunk)
+        return b"".join(chunks)
+    finally:
+        os.close(fd)
 
 
 def _bytes(n: int) -> str:

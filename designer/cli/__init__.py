@@ -24,7 +24,7 @@ import warnings
 from collections.abc import Iterator
 
 import designer
-from designer.cli._common import RUNNING
+from designer.cli._common import RUNNING, end_progress_line
 from designer.cli._parser import Parser
 from designer.cli._terminal import Fitted, fit, width
 from designer.errors import (
@@ -32,6 +32,7 @@ from designer.errors import (
     OutputError,
     interrupt_exit_code,
     interrupted,
+    mask_secrets,
     sigint_handler,
     system_error,
 )
@@ -133,7 +134,8 @@ def _interrupted(exc: KeyboardInterrupt) -> int:
     """One line for an interruption (its message if it has one, e.g. how to resume) and its exit code."""
     code = interrupt_exit_code(exc)
     text = str(exc) or ("terminated (SIGTERM)" if code == 143 else "interrupted")
-    print(f"designer: {text}", file=sys.stderr)
+    end_progress_line()  # a "\rcase 3/12" counter: the message on a line of its own
+    print(f"designer: {text}", file=sys.stderr, flush=True)
     return code
 
 
@@ -195,12 +197,14 @@ def _error(exc: Exception, debug: bool) -> int:
     """Print ``exc`` on one line on stderr and return its exit code (re-raise it with --debug)."""
     if debug:
         raise exc
+    end_progress_line()
     if isinstance(exc, DesignerError):
-        print(f"designer: error: {exc}", file=sys.stderr)
+        print(f"designer: error: {mask_secrets(str(exc))}", file=sys.stderr)  # no message shows a password
         return exc.exit_code
     # a bug: still one line unless --debug
     print(
-        f"designer: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)", file=sys.stderr
+        f"designer: internal error: {type(exc).__name__}: {mask_secrets(str(exc))} (run with --debug for the traceback)",
+        file=sys.stderr,
     )
     return 70
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import sys
 
 from designer.cli._terminal import fit
@@ -51,8 +52,51 @@ def _command() -> str:
 
 def eprint(*args) -> None:
     """Print to stderr (progress and notes that must not pollute --json output), fitted to the terminal's width
-    (:func:`designer.cli._terminal.fit`)."""
+    (:func:`designer.cli._terminal.fit`); a progress line left open (:func:`progress_line`) is ended first."""
+    end_progress_line()
     print(fit(" ".join(str(a) for a in args)), file=sys.stderr)
+
+
+_PROGRESS = {"open": False}
+"""Whether stderr's last line is a progress line written with ``\r`` and not yet ended."""
+
+
+def progress_line(text: str) -> None:
+    """Write ``text`` over the current line of stderr (``\r``, no newline), at a terminal only: a counter that
+    updates in place.  The next message (:func:`eprint`, an error, "interrupted") starts on a line of its own."""
+    try:
+        if not sys.stderr.isatty():  # a log file or a pipe: a counter rewritten in place is noise there
+            return
+    except (AttributeError, ValueError):
+        return
+    print(f"\r{text}", end="", file=sys.stderr, flush=True)
+    _PROGRESS["open"] = True
+
+
+def end_progress_line() -> None:
+    """End a progress line left open by :func:`progress_line` (a newline), so the next message is one line."""
+    if _PROGRESS["open"]:
+        _PROGRESS["open"] = False
+        try:
+            print(file=sys.stderr, flush=True)
+        except (OSError, ValueError):  # stderr closed: nothing to end
+            pass
+
+
+def is_stdout(path) -> bool:
+    """True if ``path`` is this process's standard output (``/dev/stdout``, ``/dev/fd/1``, or the very file
+    stdout is redirected to): a command writing its file there says its notes on stderr, so the stream holds
+    the file alone (``designer fleet --example 5 --out /dev/stdout | cat``)."""
+    try:
+        return os.path.samestat(os.stat(path), os.fstat(sys.stdout.fileno()))
+    except (OSError, ValueError, AttributeError):  # no such path, or stdout is not a real file (captured)
+        return str(path) in ("/dev/stdout", "/dev/fd/1", "/proc/self/fd/1")
+
+
+def say(path):
+    """``print`` for the notes of a command that wrote ``path``, or :func:`eprint` when ``path`` is standard
+    output (:func:`is_stdout`)."""
+    return eprint if is_stdout(path) else print
 
 
 def check_output_folder(folder, option: str = "--out", **owned) -> None:

@@ -118,13 +118,13 @@ def run(args) -> int:
 
 def _check_outputs(args) -> None:
     """Every place the fit will be written to, checked before the fit (exit 2 for a bad name, 7 for a bad place)."""
-    from designer.report.calibration import MARKER, OWNED, check_plot_name
+    from designer.report.calibration import OWNED, check_plot_name
 
     if args.plot:
         check_plot_name(args.plot)
         check_output_file(args.plot, "--plot", example="fit.png", kind=PLOT)
     if args.report:
-        check_output_folder(args.report, "--report", owned=OWNED, marker=MARKER, command="designer calibrate")
+        check_output_folder(args.report, "--report", owned=OWNED, command="designer calibrate")
     if args.snippet:
         check_output_file(args.snippet, "--snippet", example="calibration.toml", kind=SNIPPET)
 

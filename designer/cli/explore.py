@@ -71,7 +71,7 @@ def run(args) -> int:
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / problem.name
     # before the study, not after it
-    check_output_folder(out, owned=EXPLORE_FILES, marker="explore.json", command="designer explore")
+    check_output_folder(out, owned=EXPLORE_FILES, command="designer explore")
     # after Ctrl-C, optuna's "Trial N failed ... KeyboardInterrupt" tracebacks are dropped: one line says it
     logging.getLogger("optuna.study._optimize").addFilter(_QUIET)
     result = explore(

@@ -12,6 +12,7 @@ from pathlib import Path
 from designer.cli._common import (
     SEED_MAX,
     check_output_file,
+    say,
     check_output_folder,
     count_option,
     eprint,
@@ -107,9 +108,10 @@ def run(args) -> int:
                 }
             )
         else:
-            print(f"wrote {path} ({len(fleet)} chairs)")
+            note = say(path)  # onto stderr when the fleet went to stdout
+            note(f"wrote {path} ({len(fleet)} chairs)")
             for key, (span, source) in EXAMPLE_RANGES.items():
-                print(f"  {key}: {span} ({source})")
+                note(f"  {key}: {span} ({source})")
         return 0
     if args.fleet is None:
         raise InputError("designer fleet: give FLEET.csv, or --example N to write one")
@@ -123,9 +125,9 @@ def run(args) -> int:
     problem = example_problem("indoor-manual") if args.problem is None else load_problem(args.problem)
     fleet = read_fleet(args.fleet)
     out = Path(args.out) if args.out else Path("results") / "fleet" / Path(args.fleet).stem
-    from designer.report.fleet import MARKER, OWNED, json_text, write_fleet_report
+    from designer.report.fleet import OWNED, json_text, write_fleet_report
 
-    check_output_folder(out, owned=OWNED, marker=MARKER, command="designer fleet")  # before the work
+    check_output_folder(out, owned=OWNED, command="designer fleet")  # before the work
     result = fleet_recommendations(
         fleet,
         problem,

@@ -22,7 +22,7 @@ from designer.output import FileKind, check_file, write_file
 from designer.problem import REPORT_UNITS, load_problem, problem_from_toml
 from designer.units import INCH
 
-NEW_FILE = FileKind("a new file", lambda _path: False)
+NEW_FILE = FileKind("a new file", new_only=True)
 """What designer init writes: only a new (or empty) file; no existing file is ever its to replace."""
 
 DEFAULT_PROBLEM = "indoor-manual"

@@ -64,19 +64,22 @@ def register(sub) -> None:
 
 
 def _progress():
-    """A transient rich progress bar on stderr, or None without rich."""
+    """A transient rich progress bar on stderr, or None without rich or when stderr is not a terminal."""
     try:
         from rich.console import Console
 
         from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
     except ImportError:  # pragma: no cover - rich is a dependency
         return None
+    console = Console(stderr=True)
+    if not console.is_terminal:  # a log file or a pipe: no bar (an interruption leaves one line there)
+        return None
     progress = Progress(
         TextColumn("{task.description}"),
         BarColumn(),
         TaskProgressColumn(),
         TimeElapsedColumn(),
-        console=Console(stderr=True),
+        console=console,
         transient=True,
     )
     return progress

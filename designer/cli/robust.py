@@ -31,14 +31,14 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from designer.report.robust import MARKER, OWNED, write_robust_report
+    from designer.report.robust import OWNED, write_robust_report
 
     if args.points < 2 or args.points > 501:
         raise InputError(f"--points {args.points}: must be between 2 and 501")
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / "robust" / problem.name
 
-    check_output_folder(out, owned=OWNED, marker=MARKER, command="designer robust")  # before the fronts
+    check_output_folder(out, owned=OWNED, command="designer robust")  # before the fronts
     data = robust_data(problem, args.points)
     write_robust_report(data, out)
     extra = [r["extra_effort"] for r in data.rows if r["extra_effort"] == r["extra_effort"]]

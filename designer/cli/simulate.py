@@ -3,9 +3,16 @@
 from __future__ import annotations
 
 import math
-import sys
 
-from designer.cli._common import check_output_file, eprint, print_json, quantity_option, ranged_option
+from designer.cli._common import (
+    check_output_file,
+    end_progress_line,
+    eprint,
+    print_json,
+    progress_line,
+    quantity_option,
+    ranged_option,
+)
 from designer.errors import InputError
 from designer.output import PLOT, output_folder
 from designer.model import Conditions, Design
@@ -386,13 +393,12 @@ def _report(args, write_simulation_report) -> int:
     from designer.report.limit_cycles import FILES, limit_cycle_files
 
     owned = ONSET_FILES + FILES
-    with output_folder(args.report, owned, option="--report", marker="onset.json", command="designer simulate") as tmp:
+    with output_folder(args.report, owned, option="--report", command="designer simulate") as tmp:
         result = write_simulation_report(
             tmp,
-            progress=None if args.json else lambda i, n: print(f"\rcase {i}/{n}", end="", file=sys.stderr, flush=True),
+            progress=None if args.json else lambda i, n: progress_line(f"case {i}/{n}"),
         )
-        if not args.json:
-            eprint("")
+        end_progress_line()
         study = limit_cycle_study(progress=None if args.json else lambda text: eprint(f"limit cycles: {text}"))
         written = limit_cycle_files(study, tmp)
     summary = result.summary

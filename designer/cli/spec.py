@@ -5,10 +5,10 @@ from __future__ import annotations
 import warnings
 from pathlib import Path
 
-from designer.output import first_line_kind, write_file
+from designer.output import FileKind, write_file
 from designer.problem import load_problem
 from designer.studies.recommend import recommend
-from designer.cli._common import PROBLEM_HELP, check_output_file
+from designer.cli._common import PROBLEM_HELP, check_output_file, say
 
 
 def register(sub) -> None:
@@ -26,9 +26,9 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from designer.report.sheet import SHEET_HEAD, sheet_html  # the report package loads matplotlib
+    from designer.report.sheet import sheet_html  # the report package loads matplotlib
 
-    kind = first_line_kind(SHEET_HEAD, "an inspection sheet written by designer spec")
+    kind = FileKind("an inspection sheet written by designer spec")
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / problem.name / "spec.html"
     check_output_file(out, "--out", "spec.html", kind=kind)  # before computing: never over a file of the user's
@@ -42,6 +42,7 @@ def run(args) -> int:
         if spec.corner is None
         else f"; worst corner {spec.corner['probability']:.2%} ({'holds' if spec.corner['holds'] else 'does NOT hold'})"
     )
-    print(f"P(shimmy) {spec.probability:.2%} at nominal (exact law){corner}; bound {spec.alpha:.0%}")
-    print(f"inspection sheet: {out.resolve()}")
+    note = say(out)  # onto stderr when the sheet went to stdout
+    note(f"P(shimmy) {spec.probability:.2%} at nominal (exact law){corner}; bound {spec.alpha:.0%}")
+    note(f"inspection sheet: {out if note is not print else out.resolve()}")
     return 0

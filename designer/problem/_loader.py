@@ -140,6 +140,17 @@ def problem_argument(value: Any, argument: str = "problem") -> Problem:
     )
 
 
+def _missing(path: Path) -> bool:
+    """True only when nothing is at ``path`` (not for a name too long or a link loop: their own reasons)."""
+    try:
+        os.lstat(path)
+    except FileNotFoundError:
+        return True
+    except OSError:
+        return False
+    return False
+
+
 def load_problem(path: str | os.PathLike[str]) -> Problem:
     """Read and validate a problem file (TOML, docs/problem-file.md); at most :data:`MAX_PROBLEM_BYTES` are read.
 
@@ -154,7 +165,7 @@ def load_problem(path: str | os.PathLike[str]) -> Problem:
     """
     given = Path(path)
     path = problem_path(given)
-    if not os.path.lexists(path) and given.parent == Path("."):  # a link to itself exists: read_input_text says so
+    if given.parent == Path(".") and _missing(path):  # a link loop, a name too long: read_input_text says so
         raise ProblemError(
             f"{given}: no such problem file, nor a shipped problem of that name ({', '.join(shipped_names())})"
         )

@@ -22,8 +22,6 @@ from designer.plots.figures import png_bytes
 
 OWNED = frozenset({"index.html", "report.md", "calibration.json", "figures"})
 """What a calibration report owns in its folder (anything else there is kept on replace)."""
-MARKER = "calibration.json"
-"""The file that makes a folder a calibration report."""
 FIGURE = "figures/fit.png"
 
 
@@ -67,7 +65,7 @@ def write_calibration_report(result, out_dir, data_file: str = "", option: str =
     in the folder is never touched.
     """
 
-    with output_folder(out_dir, OWNED, option=option, marker=MARKER, command="designer calibrate") as tmp:
+    with output_folder(out_dir, OWNED, option=option, command="designer calibrate") as tmp:
         (tmp / "figures").mkdir()
         png = png_bytes(fit_figure(result))
         (tmp / FIGURE).write_bytes(png)
@@ -100,4 +98,4 @@ def write_calibration_report(result, out_dir, data_file: str = "", option: str =
     return Path(out_dir)
 
 
-__all__ = ["MARKER", "OWNED", "check_plot_name", "plot_fit", "sentences", "title", "write_calibration_report"]
+__all__ = ["OWNED", "check_plot_name", "plot_fit", "sentences", "title", "write_calibration_report"]

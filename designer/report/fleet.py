@@ -53,8 +53,6 @@ with part numbers."""
 
 OWNED = frozenset({"fleet.csv", "fleet.json", "report.md", "index.html", "figures", "run.json"})
 """What a fleet report owns in its folder (anything else there is never touched)."""
-MARKER = "fleet.json"
-"""The file that makes a folder a fleet report."""
 
 
 def csv_text(data: dict) -> str:
@@ -353,7 +351,7 @@ def write_fleet_report(data: dict, out_dir, run: dict | None = None, option: str
     Only these names (:data:`OWNED`) are replaced; the user's files in the folder are never touched, and a
     folder holding an owned name without being a fleet report is refused (OutputError, exit 7).
     """
-    with output_folder(out_dir, OWNED, option=option, marker=MARKER, command="designer fleet") as tmp:
+    with output_folder(out_dir, OWNED, option=option, command="designer fleet") as tmp:
         figures = _figures(data)
         (tmp / "figures").mkdir()
         for item in figures:

@@ -26,8 +26,6 @@ from designer.plots.fronts import draw_fronts
 
 OWNED = frozenset({"index.html", "robust.md", "robust.json", "figures", "robust_fronts.png", RUN_FILE})
 """What a robust report owns in its folder (anything else there is kept on replace)."""
-MARKER = "robust.json"
-"""The file that makes a folder a robust report (one this command wrote before)."""
 FIGURE = "figures/robust_fronts.png"
 
 
@@ -187,7 +185,7 @@ def write_robust_report(data: RobustData, out_dir, option: str = "--out") -> Pat
 
     if not isinstance(data, RobustData):
         raise TypeError("write_robust_report renders a RobustData; build one with designer.pipeline.robust_data")
-    with output_folder(out_dir, OWNED, option=option, marker=MARKER, command="designer robust") as tmp:
+    with output_folder(out_dir, OWNED, option=option, command="designer robust") as tmp:
         page_title = title(data)
         (tmp / "figures").mkdir()
         numbers = stamped("robust.json", _json(data, page_title))
@@ -226,4 +224,4 @@ def _kept_figure(folder: Path, numbers: dict) -> bytes | None:
     return None
 
 
-__all__ = ["MARKER", "OWNED", "bound_sentence", "figure", "sentences", "title", "write_robust_report"]
+__all__ = ["OWNED", "bound_sentence", "figure", "sentences", "title", "write_robust_report"]

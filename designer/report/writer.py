@@ -33,7 +33,7 @@ from designer.model import Design
 from designer.reportdata import ReportData
 from designer.output import output_folder
 from designer.report.agreement import keep_agreeing
-from designer.report.files import REPORT_OWNED, check_target, is_report
+from designer.report.files import REPORT_OWNED, check_target
 import designer.report.figures as _figures
 from designer.report.resolution import design_value, multiplier, on_scale, resolved, split_run
 from designer.report.context import build_context
@@ -221,8 +221,6 @@ def write_report(data, out_dir=None, *, force: bool = False, option: str = "--ou
     # check_target decided before computing; the commit checks again under the folder's lock, with the same rule
     # (a report of this tool, an empty folder, or a foreign one only with force): another command's report
     # written meanwhile is refused, never mixed with this one
-    with output_folder(
-        target, REPORT_OWNED, option=option, marker=is_report, force=force, command="designer pareto"
-    ) as stage:
+    with output_folder(target, REPORT_OWNED, option=option, force=force, command="designer pareto") as stage:
         _write_all(stage, data, t0, real)
     return target

@@ -326,10 +326,11 @@ def test_interrupted_report_leaves_nothing(invacare_front, tmp_path, monkeypatch
     assert not [p.name for p in (tmp_path / "r").iterdir() if p.name.startswith(TEMP_PREFIX)]
 
 
-def test_out_refuses_a_foreign_folder_unless_force(invacare_front, tmp_path, capsys):
-    """--out pointing at a folder that is not a report of this tool is refused (exit 2, before any work and
-    without touching it); --force writes the report into it, keeping its other files; a previous report is
-    replaced without --force."""
+def test_out_refuses_the_users_report_names_unless_force(invacare_front, tmp_path, capsys):
+    """--out pointing at a folder holding the user's own index.html (a name the report writes, not proved the
+    tool's by a manifest) is refused (exit 7, the one code of this refusal, before any work and without touching
+    it); --force writes the report into it, keeping its other files; a previous report is replaced without
+    --force; a file as the folder is exit 7 too."""
     from designer.pipeline import report_data
     from designer.report import write_report
 
@@ -338,12 +339,14 @@ def test_out_refuses_a_foreign_folder_unless_force(invacare_front, tmp_path, cap
     mine = tmp_path / "thesis"
     mine.mkdir()
     (mine / "chapter1.tex").write_text("precious")
-    with pytest.raises(InputError, match="not a report of this tool"):
+    (mine / "index.html").write_text("<h1>my thesis</h1>")
+    with pytest.raises(OutputError, match="holds index.html, which designer pareto would replace"):
         write_report(data, mine)
-    assert main(["pareto", str(INVACARE), "--out", str(mine)]) == 2
+    assert main(["pareto", str(INVACARE), "--out", str(mine)]) == 7
     err = capsys.readouterr().err
-    assert "--force" in err and err.count("\n") == 1
+    assert "index.html" in err and err.count("\n") == 1
     assert (mine / "chapter1.tex").read_text() == "precious"
+    assert (mine / "index.html").read_text() == "<h1>my thesis</h1>"
     (tmp_path / "file").write_text("x")
     with pytest.raises(OutputError, match="is a regular file, not a folder"):  # the user's setup: exit 7
         write_report(data, tmp_path / "file")
@@ -377,7 +380,7 @@ def test_commits_to_one_folder_take_turns(tmp_path, monkeypatch):
     monkeypatch.setattr(os, "replace", slow_replace)
 
     def writer(tag):
-        with output_folder(target, names, marker="f00.txt") as tmp:
+        with output_folder(target, names) as tmp:
             for n in names:
                 (tmp / n).write_text(tag)
 
@@ -388,7 +391,7 @@ def test_commits_to_one_folder_take_turns(tmp_path, monkeypatch):
     first.join(10)
     contents = [(target / n).read_text() for n in names]
     assert contents == ["second"] * len(names)
-    assert sorted(p.name for p in target.iterdir()) == names
+    assert sorted(p.name for p in target.iterdir()) == sorted([*names, ".designer-manifest.json"])
 
 
 def test_title_script_is_escaped_via_cli(tmp_path):

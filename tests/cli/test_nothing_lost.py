@@ -197,7 +197,9 @@ def test_a_file_the_tool_did_not_write_is_never_written(row, tmp_path, capsys):
     assert main(argv) == code, capsys.readouterr().err
     err = capsys.readouterr().err
     if code == 7:
-        assert err.count("\n") == 1 and f"{option} {path}: is a file this tool did not write" in err, err
+        edited = "edited" in row
+        why = "is a file you edited since this tool wrote it" if edited else "is a file this tool did not write"
+        assert err.count("\n") == 1 and f"{option} {path}: {why}" in err, err
         assert path.read_bytes() == before
     else:
         assert path.stat().st_size > 0 and (path.read_bytes() != before or path.stat().st_ino != inode)
@@ -220,12 +222,11 @@ def test_the_api_writers_follow_the_same_rule(tmp_path):
     first = ours.read_text()
     front.to_csv(ours)
     assert ours.read_text() == first and first.startswith("trail_in,diameter_in,groove_in,damping_N_m_per_rad,")
-    # a front CSV written before the columns named their units is the tool's too: a rerun replaces it
-    ours.write_text(
-        "trail,diameter,groove,damping,turning_effort,threshold_force,critical_speed\n0.05,0.15,0,1.3,8,100,3\n"
-    )
-    front.to_csv(ours)
-    assert ours.read_text() == first
+    # the user edits the tool's front CSV: it is the user's now, refused and kept
+    ours.write_text(first + "# my note\n")
+    with pytest.raises(OutputError, match="front.csv: is a file you edited since this tool wrote it"):
+        front.to_csv(ours)
+    assert ours.read_text() == first + "# my note\n"
 
 
 # --------------------------------------------------------------------------- folders: one rule for every command
@@ -241,7 +242,7 @@ def _fleet_csv(tmp: Path) -> str:
 
 FOLDER_COMMANDS = {
     # command: (argv with OUT, exit code for a foreign folder holding the names it writes)
-    "pareto": (["pareto", INVACARE, "--points", "3", "--out", "OUT"], 2),  # not a report: exit 2, names --force
+    "pareto": (["pareto", INVACARE, "--points", "3", "--out", "OUT"], 7),
     "robust": (["robust", INVACARE, "--points", "3", "--out", "OUT"], 7),
     "fleet": (["fleet", "FLEET", "--problem", INDOOR, "--no-monte-carlo", "--out", "OUT"], 7),
     "simulate --report": (["simulate", "--report", "OUT"], 7),
@@ -302,8 +303,8 @@ def test_root_and_home_are_refused_by_every_command(command, place, tmp_path, ho
 
 @pytest.mark.parametrize("command", list(FOREIGN))
 def test_a_folder_with_the_users_files_is_refused_by_every_command(command, tmp_path, capsys):
-    """A folder of the user's holding files of the names the command writes: refused before computing (exit 7;
-    pareto: exit 2 naming --force), every file byte-identical, nothing temporary left."""
+    """A folder of the user's holding files of the names the command writes: refused before computing (exit 7,
+    pareto too), every file byte-identical, nothing temporary left."""
     folder = tmp_path / "mine"
     folder.mkdir()
     for name in FOREIGN[command]:
@@ -337,9 +338,9 @@ def hook(name):
         fh.write(name + "\\n")
 output._step_hook = hook
 if sys.argv[3] == "copy":  # the new report's files, committed as designer pareto commits them
-    from designer.report.files import REPORT_OWNED, is_report
+    from designer.report.files import REPORT_OWNED
     import shutil
-    with output.output_folder(target, REPORT_OWNED, marker=is_report, command="designer pareto") as stage:
+    with output.output_folder(target, REPORT_OWNED, command="designer pareto") as stage:
         for p in Path(sys.argv[4]).iterdir():
             (shutil.copytree if p.is_dir() else shutil.copy2)(p, stage / p.name)
     sys.exit(0)
@@ -412,8 +413,8 @@ def test_a_kill_at_each_step_of_the_commit_leaves_the_old_or_the_new_report(two_
         assert after == expected[which], (k, step)
         assert _leftovers(folder) == [], (k, step)
     assert expected["old"] != expected["new"]
-    for name in new.iterdir():  # the new report is the new one, byte for byte
-        assert expected["new"][name.name] == _tree(new)[name.name]
+    for name in new.iterdir():  # the new report is the new one, byte for byte (the manifest: the folder's own)
+        assert name.name == output.MANIFEST or expected["new"][name.name] == _tree(new)[name.name]
     assert "run.json" in expected["old"] and "run.json" not in expected["new"] and "stale-figure-dir" in expected["new"]
     assert expected["new"]["notes.txt"] == expected["old"]["notes.txt"]
 
@@ -520,23 +521,21 @@ def test_the_studios_save_follows_the_same_rule(tmp_path):
     assert saved.read_text().startswith("# written by designer studio (sha256 ")
 
 
-def test_a_file_an_earlier_release_wrote_is_still_the_tools(tmp_path):
-    """A result file of the tool's own from before a key or a column was added (release 3's onset.json began
-    with "summary", the current one with its schema) is recognised as the tool's, so a rerun over an old results
-    folder replaces it; a JSON file of the user's with neither header is still refused."""
+def test_a_file_of_an_earlier_release_without_a_manifest_is_refused_with_the_way_on(tmp_path):
+    """A result file of the tool's own from before manifests (release 3's onset.json) proves nothing: it is
+    refused like a file of the user's (OutputError naming it and saying how to proceed) and kept byte-identical;
+    once removed the file is written, with its manifest entry, and the next run replaces it."""
     from designer.studies.dynamics._onset_study import ONSET_KINDS
 
     kind = ONSET_KINDS["onset.json"]
-    old = tmp_path / "old.json"
+    old = tmp_path / "onset.json"
     old.write_text('{\n  "summary": {\n    "single_tread_by_trail_inertia": {}\n  }\n}\n', encoding="utf-8")
-    new = tmp_path / "new.json"
-    new.write_text('{\n  "schema": "caster-designer/onset.json/1",\n  "summary": {}\n}\n', encoding="utf-8")
-    users = tmp_path / "users.json"
-    users.write_text('{\n  "summary": "my notes"\n}\n', encoding="utf-8")
-    assert kind.recognise(old) and kind.recognise(new)
-    assert not kind.recognise(users)
-    with pytest.raises(OutputError, match="users.json"):
-        output.write_file(users, "{}", "--report", "onset.json", kind=kind)
-    assert users.read_text(encoding="utf-8") == '{\n  "summary": "my notes"\n}\n'
+    before = old.read_bytes()
+    with pytest.raises(OutputError, match="onset.json: is a file this tool did not write.*remove it"):
+        output.write_file(old, "{}\n", "--report", "onset.json", kind=kind)
+    assert old.read_bytes() == before
+    old.unlink()
     output.write_file(old, "{}\n", "--report", "onset.json", kind=kind)
-    assert old.read_text(encoding="utf-8") == "{}\n"
+    output.write_file(old, "{ }\n", "--report", "onset.json", kind=kind)
+    assert old.read_text(encoding="utf-8") == "{ }\n"
+    assert output.read_manifest(tmp_path)["onset.json"]["sha256"] == hashlib.sha256(b"{ }\n").hexdigest()

@@ -170,14 +170,20 @@ def test_every_writing_command_keeps_the_users_folder(name, tmp_path, fleet_csv,
     assert sorted(p.name for p in tmp_path.iterdir()) == ["link", "mine"]
 
 
-def test_pareto_refuses_the_users_folder_without_force(tmp_path, capsys):
-    """``designer pareto --out`` a folder that is not a report: refused (exit 2, naming --force) before any
-    work, and the folder is untouched."""
+def test_pareto_refuses_the_users_files_of_its_names_without_force(tmp_path, capsys):
+    """``designer pareto --out`` a folder holding the user's own index.html (a name a report writes, that no
+    manifest proves the tool's): refused before any work with exit 7, as every command refuses it; the folder is
+    untouched.  With --force the report's files are written and the user's other files are left as they are."""
     folder = _user_folder(tmp_path / "mine")
+    (folder / "index.html").write_text("<h1>my page</h1>")
     before = _snapshot(folder)
-    assert main(["pareto", INVACARE, "--out", str(folder)]) == 2
-    assert "--force" in capsys.readouterr().err
+    assert main(["pareto", INVACARE, "--points", "3", "--out", str(folder)]) == 7
+    err = capsys.readouterr().err
+    assert "index.html" in err and "would replace" in err and err.count("\n") == 1, err
     assert _snapshot(folder) == before
+    assert main(["pareto", INVACARE, "--points", "3", "--out", str(folder), "--force"]) == 0
+    after = _snapshot(folder)
+    assert all(after[k] == v for k, v in before.items() if k not in (".", "index.html"))
 
 
 def test_the_users_files_of_the_same_name_are_never_replaced(tmp_path, fleet_csv, capsys):

@@ -31,7 +31,7 @@ ERRNOS = [
     (errno.ENOSPC, 7, "no space left on device"),
     (errno.EDQUOT, 7, "disk quota exceeded"),
     (errno.EROFS, 7, "read-only file system"),
-    (errno.ENAMETOOLONG, 7, "a name longer than the file system allows"),
+    (errno.ENAMETOOLONG, 2, "a name longer than the file system allows"),
     (errno.EFBIG, 7, "file too large"),
     (errno.ELOOP, 2, "a symbolic link loop"),
     (errno.EISDIR, 2, "is a folder"),
@@ -78,8 +78,8 @@ def _cases(tmp: Path) -> list[tuple[str, list[str], int, str]]:
     return [
         ("symlink loop", ["run", str(tmp / "loop.toml")], 3, "loop.toml: a symbolic link loop"),
         ("character device", ["run", "/dev/zero"], 3, "/dev/zero: is a character device, expected a .toml"),
-        ("FIFO as fleet", ["fleet", str(tmp / "pipe.csv")], 3, "pipe.csv: is a pipe (FIFO), expected a .csv"),
-        ("FIFO as calibration data", ["calibrate", "turning", str(tmp / "pipe.csv")], 2, "is a pipe (FIFO)"),
+        ("FIFO nobody writes, as fleet", ["fleet", str(tmp / "pipe.csv")], 3, "pipe.csv: a pipe (FIFO) that nothing"),
+        ("FIFO nobody writes, as data", ["calibrate", "turning", str(tmp / "pipe.csv")], 2, "that nothing writes to"),
         ("folder as problem", ["run", str(tmp)], 3, "is a folder, expected a .toml problem file"),
         ("path under a file", ["run", str(tmp / "file" / "p.toml")], 3, "a part of the path is a file"),
         ("100 000 levels of nesting", ["run", str(tmp / "deep.toml")], 3, "nested too deeply to read"),
@@ -153,11 +153,14 @@ def _cases(tmp: Path) -> list[tuple[str, list[str], int, str]]:
     ]
 
 
-def test_system_and_input_errors_through_the_command_line(tmp_path, capsys):
+def test_system_and_input_errors_through_the_command_line(tmp_path, capsys, monkeypatch):
     """Each row through ``designer``: its exit code and one stderr line with the true reason (the issue's cases:
     a symlink loop, a character device, 100 000 levels of nesting, a 200 kB cell, a duplicate calibration column,
     a malformed --scheduler, an output name too long, sqlite:///; and more: a FIFO, UTF-16 data, an unclosed
     quote, a journal on a device)."""
+    import designer.textfiles
+
+    monkeypatch.setattr(designer.textfiles, "PIPE_WAIT_SECONDS", 0.2)  # a FIFO nobody writes to: not 5 s each
     failures = []
     for label, argv, code, text in _cases(tmp_path):
         got = main(argv)

@@ -279,8 +279,8 @@ def test_cli_exit_1_when_a_front_check_fails(tmp_path, monkeypatch, capsys):
 # Issue 12.4 and 24.1: replacing a report keeps the files of the folder that the report does not own.
 import os
 
-from designer.output import TEMP_PREFIX, output_folder
-from designer.report.files import REPORT_OWNED, is_report
+from designer.output import MANIFEST, TEMP_PREFIX, output_folder
+from designer.report.files import REPORT_OWNED
 
 
 def _report(folder, marker: str) -> None:
@@ -292,9 +292,25 @@ def _report(folder, marker: str) -> None:
     (folder / "front.json").write_text('{"problem": "%s", "points": []}' % marker)
 
 
+def _prove_ours(folder) -> None:
+    """The manifest a run of the tool leaves beside its report: every file of it by its sha256."""
+    import hashlib
+    import json
+
+    files = {
+        p.relative_to(folder).as_posix(): {
+            "sha256": hashlib.sha256(p.read_bytes()).hexdigest(),
+            "by": "designer pareto",
+        }
+        for p in folder.rglob("*")
+        if p.is_file() and p.name != MANIFEST
+    }
+    (folder / MANIFEST).write_text(json.dumps({"schema": "caster-designer/manifest/1", "files": files}))
+
+
 def _replace(stage, target) -> None:
     """Commit the report in ``stage`` into ``target`` as write_report does (designer.output.output_folder)."""
-    with output_folder(target, REPORT_OWNED, marker=is_report) as tmp:
+    with output_folder(target, REPORT_OWNED) as tmp:
         for entry in stage.iterdir():
             os.rename(entry, tmp / entry.name)
     stage.rmdir()
@@ -309,7 +325,10 @@ def test_replace_keeps_explore_files_and_user_files(tmp_path):
     (target / "explore.json").write_text('{"trials": 500}')
     (target / "notes").mkdir()
     (target / "notes" / "why.txt").write_text("mine")
-    (target / "figures" / "stale.svg").write_text("old")  # inside the report's own folder: replaced whole
+    (target / "figures" / "stale.svg").write_text("old")  # an older run's figure: replaced whole
+    _prove_ours(target)
+    (target / "explore.csv").write_text("trail,diameter\n0.05,0.2\n")  # explore's own, not the report's
+    (target / "notes" / "why.txt").write_text("mine")
     _report(stage, "new")
     _replace(stage, target)
     assert (target / "explore.csv").read_text() == "trail,diameter\n0.05,0.2\n"
@@ -326,6 +345,7 @@ def test_replace_failure_keeps_old_report_whole(tmp_path, monkeypatch):
     the old report, whole (no mixture of old and new), explore.csv is untouched, nothing temporary is left."""
     target, stage = tmp_path / "r", tmp_path / "stage"
     _report(target, "old")
+    _prove_ours(target)
     (target / "explore.csv").write_text("keep")
     _report(stage, "new")
     real_replace = os.replace
@@ -347,7 +367,7 @@ def test_replace_failure_keeps_old_report_whole(tmp_path, monkeypatch):
         assert (target / name).read_text() == "old", name
     assert '"old"' in (target / "front.json").read_text()
     assert sorted(p.name for p in target.iterdir()) == sorted(
-        ["explore.csv", "figures", "index.html", "report.md", "front.csv", "front.json", "checks.json"]
+        ["explore.csv", "figures", "index.html", "report.md", "front.csv", "front.json", "checks.json", MANIFEST]
     )
 
 

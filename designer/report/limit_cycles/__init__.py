@@ -125,7 +125,7 @@ def write_limit_cycle_report(study: Any, out_dir="results/simulation", option: s
     Safely (:func:`designer.output.output_folder`): the nine files replace their previous versions at once;
     nothing else in the folder is touched.  Returns the names written.
     """
-    with output_folder(out_dir, FILES, option=option, marker="bifurcation.json", command="designer simulate") as tmp:
+    with output_folder(out_dir, FILES, option=option, command="designer simulate") as tmp:
         return limit_cycle_files(study, tmp)
 
 

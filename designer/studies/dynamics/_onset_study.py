@@ -25,7 +25,7 @@ from designer.studies.dynamics._simulate import onset_speed, simulate
 from designer.data.paper import INCH
 from designer.model import Conditions, Design, critical_speed
 from designer.jsonsafe import stamped
-from designer.output import PLOT, SOFTWARE, first_line_kind, write_file
+from designer.output import PLOT, SOFTWARE, FileKind, write_file
 from designer.physics.inertia import Fixed
 from designer.plots.simulation import figure_onset_comparison
 from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING
@@ -199,16 +199,13 @@ def _appendix_c(conditions: Conditions, rtol: float):
 
 
 ONSET_KINDS = {
-    "onset.json": first_line_kind(
-        '{\n  "schema": "caster-designer/onset.json/',
-        "an onset.json of designer simulate",
-        '{\n  "summary": {\n    "single_tread_by_trail_inertia"',  # before the schema key (release 3)
-    ),
-    "onset.csv": first_line_kind("trail_in,inertia_kgm2,", "an onset.csv of designer simulate"),
-    "report.md": first_line_kind("# Simulated shimmy onset vs Eq. 7", "the onset report of designer simulate"),
+    "onset.json": FileKind("an onset.json of designer simulate"),
+    "onset.csv": FileKind("an onset.csv of designer simulate"),
+    "report.md": FileKind("the onset report of designer simulate"),
     "onset.png": PLOT,
 }
-"""The onset study's files: an existing one is replaced only when the tool wrote it (:func:`designer.output.write_file`)."""
+"""The onset study's files: an existing one is replaced only while the manifest of its folder proves it the tool's,
+unedited (:func:`designer.output.write_file`)."""
 
 
 ONSET_CSV_QUANTITIES = {

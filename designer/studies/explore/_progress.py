@@ -50,6 +50,10 @@ class _Progress:
                 TimeRemainingColumn,
             )
 
+            console = Console(stderr=True)
+            if not console.is_terminal:  # a log file or a pipe: no bar (rich would print its last state at the end)
+                self.enabled = False
+                return self
             self.progress = Progress(
                 TextColumn("explore"),
                 BarColumn(),
@@ -57,7 +61,7 @@ class _Progress:
                 TextColumn("front {task.fields[front]:>3}  HV {task.fields[hv]:.5g} N²"),
                 TimeElapsedColumn(),
                 TimeRemainingColumn(),
-                console=Console(stderr=True),
+                console=console,
                 transient=False,
             )
             self.progress.__enter__()
@@ -75,5 +79,7 @@ class _Progress:
 
     def __exit__(self, *exc):
         if self.enabled:
+            if isinstance(exc[1], KeyboardInterrupt):  # interrupted: the bar goes, "interrupted" is the one line
+                self.progress.live.transient = True
             self.progress.__exit__(*exc)
         return False

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 
-from designer.errors import InputError, StorageError
+from designer.errors import SECRET_KEYS, InputError, StorageError, mask_secrets
 from designer.output import FileKind, check_file, output_folder
 from designer.textfiles import not_a_file
 import importlib.util
@@ -116,28 +116,22 @@ def _postgres_driver(url: str) -> str:
     return url
 
 
-SECRET_QUERY_KEYS = r"(?:[A-Za-z0-9_]*(?:password|passwd|pwd|secret|token)|pass|sslkey|odbc_connect)"
-"""The query keys of a storage URL whose value is a secret, a regular expression matched case-insensitively:
-``?password=``, ``?sslpassword=``, pymysql's ``passwd``, ODBC's ``PWD``, any ``*_token`` or ``*secret``, and an
-ODBC connection string (``odbc_connect``, which carries its own ``PWD=``)."""
+SECRET_QUERY_KEYS = SECRET_KEYS
+"""The query keys of a storage URL whose value is a secret (:data:`designer.errors.SECRET_KEYS`)."""
 
 _SECRET_KEY = re.compile(f"^{SECRET_QUERY_KEYS}$", re.IGNORECASE)
 
-_USERINFO = re.compile(
-    r"^(?P<scheme>[A-Za-z][A-Za-z0-9+.-]*://)(?P<user>[^:/?#@]*)(?::[^/?#]*)?@(?=[^@/?#]*(?:[/?#]|$))"
-)
-"""The user information of a URL up to the last ``@`` before the host: ``user:secret@``, ``:secret@``, with
-``@`` inside a secret written raw."""
-
 
 def redact_url(url: str) -> str:
-    """``url`` with every password SQLAlchemy's URL accepts replaced by ``***``: the one function for every place a
-    storage URL is shown (explore.json, ``--json``, the terminal, error messages, logs).
+    """``url`` with every password replaced by ``***``: the one function for every place a storage URL is shown
+    (explore.json, ``--json``, the terminal, error messages, logs).
 
-    ``user:pw@``, an empty user (``:pw@``), a percent-encoded or raw-``@`` password, and the query's secret keys
-    (:data:`SECRET_QUERY_KEYS`: ``?password=``, ``?passwd=``, ...).  Parsed by SQLAlchemy
-    (``sqlalchemy.engine.make_url``, ``render_as_string(hide_password=True)``); a URL SQLAlchemy refuses has its
-    user information and query secrets masked all the same.  A URL without a secret is returned unchanged.
+    Every form SQLAlchemy's URL accepts (parsed by ``sqlalchemy.engine.make_url``,
+    ``render_as_string(hide_password=True)``, its query's secret keys :data:`SECRET_QUERY_KEYS` masked), then
+    :func:`designer.errors.mask_secrets` on the result: ``user:pw@`` with a raw ``@`` or ``:`` in it, an empty
+    user, and the strings that merely look like a URL (``caster:S3cretPW@db.example.com/studies`` without a
+    scheme, ``postgresql:/user:pw@...``, ``postgresql//user:pw@...``), libpq's ``host=... password=...`` and
+    ODBC's ``PWD=...;``.  A URL without a secret is returned unchanged.
     """
     text = str(url)
     try:
@@ -150,15 +144,7 @@ def redact_url(url: str) -> str:
             text = parsed.render_as_string(hide_password=True)
     except Exception:  # noqa: BLE001 - not a URL SQLAlchemy reads: the masks below still apply
         pass
-    masked = _USERINFO.sub(
-        lambda m: f"{m['scheme']}{m['user']}:***@" if ":" in m.group(0)[len(m["scheme"]) :] else m.group(0), text
-    )
-    return re.sub(
-        f"([?&;]{SECRET_QUERY_KEYS}=)[^&#]*",
-        r"\1***",
-        masked,
-        flags=re.IGNORECASE,
-    )
+    return mask_secrets(text)
 
 
 def scrub(text: str, url: str | None) -> str:
@@ -181,7 +167,7 @@ def scrub(text: str, url: str | None) -> str:
     for secret in secrets:
         if secret and len(str(secret)) >= 3:
             text = text.replace(str(secret), "***")
-    return text
+    return mask_secrets(text)
 
 
 def _one_line(exc: BaseException) -> str:
@@ -270,19 +256,30 @@ OPTUNA_TABLES = frozenset({"studies", "trials", "version_info"})
 
 
 def _optuna_sqlite(path: Path) -> bool:
-    """True if ``path`` is an SQLite database of optuna's schema (or one without any table yet)."""
+    """True if ``path`` is an SQLite database of optuna's schema (or one without any table yet).
+
+    Read without writing anything: read-only first; a database left by a process killed in a transaction (a hot
+    ``-journal`` beside it, which a read-only reader may not roll back) or locked by a live writer is read as
+    the file stands (``immutable=1``: its schema is written once, when optuna creates the study's tables).
+    """
     try:
         with open(path, "rb") as fh:
             if fh.read(16) != b"SQLite format 3\x00":
                 return False
-        con = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
-        try:
-            tables = {row[0] for row in con.execute("select name from sqlite_master where type = 'table'")}
-        finally:
-            con.close()
-    except (OSError, sqlite3.Error):
+    except OSError:
         return False
-    return not tables or OPTUNA_TABLES <= tables
+    uri = Path(os.path.abspath(path)).as_uri()
+    for mode in ("mode=ro", "mode=ro&immutable=1"):
+        try:
+            con = sqlite3.connect(f"{uri}?{mode}", uri=True)
+            try:
+                tables = {row[0] for row in con.execute("select name from sqlite_master where type = 'table'")}
+            finally:
+                con.close()
+        except sqlite3.Error:
+            continue
+        return not tables or OPTUNA_TABLES <= tables
+    return False
 
 
 JOURNAL = FileKind("an optuna journal (JSON lines written by designer explore)", _optuna_journal)
@@ -377,7 +374,7 @@ def _atomic_write_many(files: dict, option: str = "--out") -> None:
     file is left behind."""
     (folder,) = {Path(p).parent for p in files}
     names = {Path(p).name for p in files}
-    with output_folder(folder, names, option=option, marker="explore.json", command="designer explore") as tmp:
+    with output_folder(folder, names, option=option, command="designer explore") as tmp:
         for path, text in files.items():
             with open(tmp / Path(path).name, "w", encoding="utf-8") as f:
                 f.write(text)

@@ -28,7 +28,7 @@ import warnings
 import numpy as np
 
 from designer.children import bind_to_parent
-from designer.errors import StorageError
+from designer.errors import StorageError, quiet_after_signal
 from designer.model import FEASIBILITY_TOLERANCE, VARIABLES, Caster
 from designer.problem import Problem
 from designer.studies.explore._operators import Operators, SearchSpace, category_problem, search_space
@@ -307,10 +307,29 @@ def _stop_workers(procs) -> None:
             p.join(timeout=5)
 
 
+_signalled: list[int] = []
+"""The signals a pool worker received (its parent sends SIGINT to stop it): an error after one is the stop's."""
+
+
+def _note_signals() -> None:
+    """In a pool worker: SIGINT and SIGTERM still raise KeyboardInterrupt, and are remembered (:data:`_signalled`),
+    so an error they cause inside a library (a storage's commit cut short) ends the worker quietly."""
+
+    def note(signum, frame):
+        _signalled.append(signum)
+        quiet_after_signal()  # a KeyboardInterrupt inside a weakref callback is not printed as "Exception ignored"
+        raise KeyboardInterrupt
+
+    with contextlib.suppress(ValueError):  # not the main thread
+        signal.signal(signal.SIGINT, note)
+        signal.signal(signal.SIGTERM, note)
+
+
 def _worker_entry(args, notes=None, parent: int | None = None) -> None:  # top level: picklable for multiprocessing
     """One pool worker: run the study, put its notes on the ``notes`` queue (if given).  It ends with its
     parent ``parent`` (a pid), however the parent ends (:func:`designer.children.bind_to_parent`)."""
     bind_to_parent(parent)
+    _note_signals()
     try:
         found = _run_worker(*args)
         if notes is not None:
@@ -318,6 +337,8 @@ def _worker_entry(args, notes=None, parent: int | None = None) -> None:  # top l
     except KeyboardInterrupt:
         pass
     except Exception as exc:  # one line, no traceback: the parent says which workers failed and what to do
+        if _signalled:  # a commit cut short by the parent's SIGINT (StorageInternalError): the parent says it
+            return
         line = scrub(_one_line(exc), args[1] if len(args) > 1 else None)  # args[1]: the storage URL (no password)
         print(f"designer: explore worker: {type(exc).__name__}: {line}", file=sys.stderr, flush=True)
         sys.exit(1)

@@ -10,6 +10,7 @@ import difflib
 import math
 import re
 from dataclasses import dataclass
+import os
 from pathlib import Path
 
 import numpy as np
@@ -18,7 +19,7 @@ from designer.data.paper import INCH
 from designer.errors import InputError, ProblemError
 from designer.textfiles import csv_table, csv_text, read_input_text
 from designer.model import MASS_RANGE, caster_load
-from designer.output import first_line_kind, write_file
+from designer.output import FileKind, write_file
 from designer.physics.turning import MODES, SURFACES
 from designer.units import parse_quantity
 
@@ -215,12 +216,12 @@ def read_fleet(path, base=None) -> Fleet:
         empty cell, a value outside the model's range, an unknown surface or turning mode.
     """
     path = Path(path)
-    if path.is_file() and path.stat().st_size > MAX_FLEET_BYTES:
+    if os.path.isfile(path) and path.stat().st_size > MAX_FLEET_BYTES:  # a name too long: read_input_text says so
         raise ProblemError(
             f"{path}: {path.stat().st_size:,} bytes; a fleet file is at most {MAX_FLEET_BYTES:,} bytes "
             f"({MAX_CHAIRS:,} chairs): split the fleet into files of at most {MAX_CHAIRS:,} chairs"
         )
-    text = read_input_text(path, "fleet file", ".csv")
+    text = read_input_text(path, "fleet file", ".csv", limit=MAX_FLEET_BYTES)
     return fleet_from_text(text, source=str(path))
 
 
@@ -521,8 +522,9 @@ def example_fleet(n: int, seed: int = 0) -> Fleet:
 EXAMPLE_HEADER = "# Example fleet written by `designer fleet --example`; ranges and their sources: docs/fleet.md"
 """The first line of an example fleet CSV (a comment :func:`read_fleet` skips)."""
 
-EXAMPLE_KIND = first_line_kind(EXAMPLE_HEADER, "an example fleet written by designer fleet --example")
-"""What ``fleet --example --out FILE`` may replace: an example fleet it wrote (never a fleet of the user's)."""
+EXAMPLE_KIND = FileKind("an example fleet written by designer fleet --example")
+"""What ``fleet --example --out FILE`` may replace: an example fleet it wrote, unedited (the manifest of its folder
+proves it); never a fleet of the user's, nor an example the user edited."""
 
 
 def write_fleet_csv(fleet: Fleet, path) -> Path:

@@ -20,10 +20,10 @@ from designer.textfiles import csv_table, csv_text, dict_rows, read_input_text
 from designer.studies.front._indicators import hypervolume_2d, igd_plus, nondominated, normalise
 from designer.data.paper import INCH
 from designer.errors import InputError
-from designer.output import first_line_kind, write_file
+from designer.output import FileKind, write_file
 from designer.model import VARIABLES, Caster, Design, check_design
 from designer.parameters import DESIGN_UNITS, OUTPUTS, PARAMETERS, dimensions
-from designer.units import csv_column, csv_quantity
+from designer.units import csv_quantity
 from designer.problem import example_names, example_problem
 from designer.problem import Problem, family_of, load_problem
 from designer.reprs import Key, Record
@@ -33,16 +33,9 @@ from designer.plots import fronts as front_plots
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
 
-FRONT_CSV = first_line_kind(
-    (
-        ",".join(csv_column(v, PARAMETERS[v].dimension, "in")[0] for v in VARIABLES) + ",turning_effort_N,",
-        ",".join(csv_column(v, PARAMETERS[v].dimension, "mm")[0] for v in VARIABLES) + ",turning_effort_N,",
-        ",".join([*VARIABLES, "turning_effort", "threshold_force"]),  # written before the columns named their units
-    ),
-    "a front CSV",
-)
-"""What :meth:`Front.to_csv` may replace: a front CSV (its header, in inches or in mm, or the bare SI names of a
-file written before the columns named their units), never another file of the user's."""
+FRONT_CSV = FileKind("a front CSV")
+"""What :meth:`Front.to_csv` may replace: a front CSV it wrote, unedited (the manifest of its folder proves it),
+never another file of the user's."""
 
 REFERENCE_OFFSET = 0.1
 """Hypervolume reference point: 10 % beyond the nadir in normalised objectives, i.e. (1.1, 1.1)."""
