@@ -26,6 +26,11 @@ front; hypervolume with reference point (1.1, 1.1) in normalised units,
 reported as HV / HV_exact101; IGD+ against the exact 101-point front (same
 normalisation).  Only feasible, non-dominated points of a method count.
 
+Then the speed guards of issue 44 (:mod:`benchmarks.speed`, one cold run each with ``--quick``, three
+otherwise): the main job's CPU and its ratio to ``python -c "import numpy"``, the spec batch's CPU (``designer
+fix ... --json --top 0``), each beside the ``--before`` checkout's when given, and the studio's last saved
+key-press-to-redraw medians.
+
 Writes ``results.md``, ``results.json`` and ``scaling.png`` into ``--out`` (default ``benchmarks/`` for
 the full run, ``benchmarks/quick/`` for ``--quick``).
 """
@@ -874,6 +879,11 @@ def main(argv=None) -> int:
         "so a quick run never overwrites the committed full-run results)",
     )
     parser.add_argument("--show", action="store_true", help="print the summary of the run saved in --out; run nothing")
+    parser.add_argument(
+        "--before",
+        type=Path,
+        help="a checkout of earlier code with its own .venv: the speed guards (benchmarks.speed) measure it beside",
+    )
     args = parser.parse_args(argv)
     if args.show:
         folder = Path(args.out) if args.out else Path(__file__).resolve().parent
@@ -966,6 +976,12 @@ def main(argv=None) -> int:
         f"{results['nlp']['batch64_warm_per_block']['median_s'] * 1e3:.3f} ms",
         flush=True,
     )
+    # the speed guards of issue 44 (benchmarks.speed): the main job's CPU against the numpy import's, the spec
+    # batch's CPU, each beside the before checkout's when given, and the studio's last saved medians
+    from benchmarks import speed
+
+    results["speed"] = speed.measure(1 if args.quick else 3, args.before)
+    print("\n".join(speed.summary(results["speed"])), flush=True)
     results["run_seconds"] = time.perf_counter() - t_run
     results["date"] = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
     results["machine"] = {
@@ -981,7 +997,11 @@ def main(argv=None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     (out / "results.json").write_text(json.dumps(results, indent=2, default=float))
     figure(results, out / "scaling.png")
-    write_markdown(out / "results.md", markdown(results))
+    text = markdown(results)
+    if "speed" in results:
+        text = text.rstrip() + "\n\n### Speed guards (issue 44, `benchmarks.speed`)\n\n```text\n"
+        text += "\n".join(speed.summary(results["speed"])) + "\n```\n"
+    write_markdown(out / "results.md", text)
     print(
         f"wrote {out / 'results.md'}, {out / 'results.json'}, {out / 'scaling.png'} in {results['run_seconds']:.0f} s"
     )

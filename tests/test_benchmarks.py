@@ -134,3 +134,74 @@ def test_the_shown_summary_is_the_saved_runs_ratios():
     ]
     row = next(line for line in lines if "pymoo NSGA-II 300 gen" in line)
     assert f"{min(ratios):.0f}–{max(ratios):.0f}× faster" in row or f"{min(ratios):.0f}× faster" in row
+
+
+def test_quick_benchmark_reports_the_speed_guards(quick_run):
+    """The quick run measures the speed guards of issue 44 (benchmarks.speed): the numpy import, the main job and
+    the spec batch, each with a positive CPU and its ratio to the numpy import, and prints them in its tables."""
+    proc, out = quick_run
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    runs = json.loads((out / "results.json").read_text(encoding="utf-8"))["speed"]["runs"]
+    assert set(runs) == {"numpy import", "after: main job", "after: spec batch"}
+    numpy_cpu = runs["numpy import"]["cpu"]
+    for r in runs.values():
+        assert r["cpu"] > 0 and r["x_numpy"] == pytest.approx(r["cpu"] / numpy_cpu)
+    text = (out / "results.md").read_text(encoding="utf-8")
+    assert "main job (pareto)" in text and "spec batch (fix, 329)" in text
+
+
+def _speed_run() -> dict:
+    """A made-up benchmarks.speed result with a before checkout (numbers chosen to check the arithmetic)."""
+    runs = {
+        "numpy import": {"cpu": 0.2, "cpu_range": [0.19, 0.21], "wall": 0.3},
+        "after: main job": {"cpu": 1.4, "cpu_range": [1.3, 1.5], "wall": 2.0},
+        "after: spec batch": {"cpu": 1.2, "cpu_range": [1.1, 1.3], "wall": 1.5},
+        "before: main job": {"cpu": 2.0, "cpu_range": [1.9, 2.1], "wall": 2.5},
+        "before: spec batch": {"cpu": 20.0, "cpu_range": [19.0, 21.0], "wall": 22.0},
+    }
+    for name, r in runs.items():
+        r["x_numpy"] = r["cpu"] / 0.2
+        if name.startswith("after: "):
+            r["x_before"] = r["cpu"] / runs["before: " + name[7:]]["cpu"]
+    return {
+        "date": "2026-12-07T14:00:00+00:00",
+        "cpus": 2,
+        "repeats": 3,
+        "before": "/tmp/before",
+        "load_start": [1.5, 1.0, 1.0],
+        "load_end": [2.0, 1.0, 1.0],
+        "runs": runs,
+        "studio": {"date": "2026-12-05T12:01:11+00:00", "redraw_ms": {"before": 406.0, "after": 242.0}},
+    }
+
+
+def test_speed_summary_shows_each_figure_with_its_ratio():
+    """benchmarks.speed's summary (docs/benchmarks.md's block) states the main job as 7.0 x the numpy import
+    (1.4 s / 0.2 s), the spec batch's CPU, the after/before ratios 0.70 and 0.060, and the studio medians; every
+    line at most 80 characters."""
+    from benchmarks.speed import summary
+
+    lines = summary(_speed_run())
+    text = "\n".join(lines)
+    assert all(len(line) <= 80 for line in lines)
+    assert "1.40 =  7.0 x numpy" in text and "1.20" in text
+    assert "after/before 0.70" in text and "after/before 0.060" in text
+    assert "before 406 ms, after 242 ms" in text
+
+
+def test_speed_section_replaces_only_its_block(tmp_path, monkeypatch):
+    """benchmarks.speed --write puts its table between its markers in results.md (appended the first time,
+    replaced after), keeping the other sections, and saves the run to speed.json."""
+    from benchmarks import speed
+
+    results, saved = tmp_path / "results.md", tmp_path / "speed.json"
+    results.write_text("<!-- main job: begin -->\nM\n<!-- main job: end -->\n", encoding="utf-8")
+    monkeypatch.setattr(speed, "RESULTS", results)
+    monkeypatch.setattr(speed, "SAVED", saved)
+    speed.write(_speed_run())
+    speed.write(_speed_run())
+    text = results.read_text(encoding="utf-8")
+    assert text.startswith("<!-- main job: begin -->\nM\n<!-- main job: end -->\n")
+    assert text.count(speed.BEGIN) == 1 and text.count(speed.END) == 1
+    assert "| 1.40 [1.30–1.50] | 7.0 | 0.70 |" in text
+    assert json.loads(saved.read_text(encoding="utf-8"))["runs"]["after: main job"]["cpu"] == 1.4

@@ -36,7 +36,7 @@ from designer.physics.shimmy import (
 from designer.physics.uncertainty import (
     MC_TARGET_SE,
     Uncertainty,
-    shimmy_probability_exact,
+    shimmy_probability_exact_many,
     shimmy_probability_mc_many,
 )
 from designer.model._caster import Conditions, Design, check_design, performance, weighted
@@ -607,26 +607,19 @@ def _risk(
         )
     n = len(out)
     col = {
-        k: np.broadcast_to(np.asarray(getattr(out, k)), (n,))
+        k: np.broadcast_to(np.asarray(getattr(out, k), dtype=float), (n,))
         for k in ("effective_trail", "inertia", "groove", "damping", "diameter", "measured")
     }
-    v = np.broadcast_to(speed, (n,))
-    p = np.array(
-        [
-            float(
-                shimmy_probability_exact(
-                    float(col["effective_trail"][k]),
-                    float(col["inertia"][k]),
-                    float(col["groove"][k]),
-                    float(col["damping"][k]),
-                    float(conditions.slip_coefficient),
-                    float(v[k]),
-                    law,
-                    diameter=None if col["measured"][k] else float(col["diameter"][k]),
-                )
-            )
-            for k in range(n)
-        ]
+    p = shimmy_probability_exact_many(
+        col["effective_trail"],
+        col["inertia"],
+        col["groove"],
+        col["damping"],
+        float(conditions.slip_coefficient),
+        np.broadcast_to(speed, (n,)),
+        law,
+        diameter=col["diameter"],
+        measured=col["measured"].astype(bool),
     )
     return p, np.zeros(n)
 

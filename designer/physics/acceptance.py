@@ -24,12 +24,23 @@ stacking, see docs/problem-file.md#tolerances.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from statistics import NormalDist
 from dataclasses import dataclass
+from typing import Any
 
-from designer.physics.roots import bracketed_root
+import numpy as np
+
+from designer.physics.roots import bracketed_root, bracketed_roots
 from designer.physics.scatter import InertiaPrediction
-from designer.physics.uncertainty import Uncertainty, max_measured_inertia, shimmy_probability_exact
+from designer.physics.shimmy import critical_shimmy_speed
+from designer.physics.types import Array, Numeric
+from designer.physics.uncertainty import (
+    Uncertainty,
+    max_measured_inertia,
+    shimmy_probability_exact,
+    shimmy_probability_exact_many,
+)
 
 RISK_PARTS = ("trail", "groove", "damping")
 """The parts whose least acceptable value is a root of P = α (the inertia's largest is its own solver)."""
@@ -37,6 +48,11 @@ RISK_PARTS = ("trail", "groove", "damping")
 EXACT_NODES = 16
 """Gauss–Hermite nodes per axis of the limits' and corners' quadrature: P agrees with 32 nodes to 1e-15 on the
 recommended casters of the shipped problems (tests/studies/test_spec.py), at a sixth of the work."""
+
+LAW_NODES = 24
+"""Gauss–Hermite nodes of the batched law's one quadrature axis (:func:`exact_probabilities`): P agrees with the
+scalar 32 × 32 grid to about 3e-11 of itself on random casters (tests/physics/test_batched_law.py), where 16 nodes
+leave 6e-11 and move a c_f limit by 3e-9, above :data:`LIMIT_RTOL`."""
 
 LIMIT_RTOL = 1e-9
 """Relative tolerance of a limit's root [-]: far below any part's tolerance.  The root is sought on Φ⁻¹(P) −
@@ -193,6 +209,163 @@ def acceptance_limits(
     top = max_measured_inertia(c.trail, c.groove, c.damping, c.slip_coefficient, speed, uncertainty)
     at_top = exact_probability(c.with_fields({"inertia": top, "diameter": None}), speed, uncertainty)
     out.append(PartLimit("inertia", "max", top, at_top, "risk"))
+    return out
+
+
+def _columns(casters: Sequence[LawCaster]) -> dict[str, Array]:
+    """The casters' fields as arrays [SI] (a measured wheel's diameter nan)."""
+    return {
+        "trail": np.array([c.trail for c in casters], dtype=float),
+        "inertia": np.array([c.inertia for c in casters], dtype=float),
+        "groove": np.array([c.groove for c in casters], dtype=float),
+        "damping": np.array([c.damping for c in casters], dtype=float),
+        "slip_coefficient": np.array([c.slip_coefficient for c in casters], dtype=float),
+        "diameter": np.array([np.nan if c.diameter is None else c.diameter for c in casters], dtype=float),
+    }
+
+
+def exact_probabilities(
+    columns: dict[str, Array], speed: Numeric, uncertainty: Uncertainty, prediction: InertiaPrediction | None = None
+) -> Array:
+    """:func:`exact_probability` of many casters at once [-]: ``columns`` holds arrays of trail, inertia, groove,
+    damping, slip_coefficient [SI] and diameter [m] (nan: a measured wheel), ``speed`` [m/s] broadcasts.
+
+    :func:`designer.physics.uncertainty.shimmy_probability_exact_many` with :data:`LAW_NODES` nodes on its one
+    quadrature axis.
+    """
+    c = columns
+    return shimmy_probability_exact_many(
+        c["trail"],
+        c["inertia"],
+        c["groove"],
+        c["damping"],
+        c["slip_coefficient"],
+        speed,
+        uncertainty,
+        diameter=c["diameter"],
+        prediction=prediction,
+        nodes=LAW_NODES,
+    )
+
+
+def _probits(probability: Array) -> Array:
+    """:func:`_probit` of each probability [-] (statistics.NormalDist: no scipy import)."""
+    return np.array([_probit(float(p)) for p in np.ravel(probability)]).reshape(np.shape(probability))
+
+
+_SEARCHED = (*RISK_PARTS, "inertia")
+"""The parts searched by :func:`_limit_search`, in its blocks of rows (the inertia in log I_w)."""
+
+
+def _limit_search(
+    columns: dict[str, Array],
+    speed: Array,
+    uncertainty: Uncertainty,
+    ranges: dict[str, tuple[Numeric, Numeric]],
+    prediction: InertiaPrediction | None = None,
+) -> tuple[Array, Array, Array, Array]:
+    """Every risk limit of many casters in one root search: the least T [m], B [m] and c_f [N·m/rad] at which
+    P(V_c,true < speed) = α, the others nominal (:func:`least_part`), and the largest measured I_w
+    (:func:`~designer.physics.uncertainty.max_measured_inertia`), as one block of rows each.
+
+    Each row is a root of Φ⁻¹(P) − Φ⁻¹(α) by :func:`bracketed_roots` (the scalar searches' Illinois steps, row
+    by row) and every step's quadratures of all rows are one call of :func:`exact_probabilities`: T, B, c_f in
+    their ``ranges`` ([low, high], numbers or one per caster) to :data:`LIMIT_RTOL`; I_w measured (lognormal
+    scatter about it) in log I_w between the I_w at which Eq. 7's V_c equals the speed (V_c ∝ I_w^−1/2) and
+    e^−12 of it, to 1e-11.
+
+    Returns (values [SI], P at them [-], excess at the low end, excess at the high end), each parts × casters; a
+    T, B or c_f row without a sign change in its range is nan (excess at the low end <= 0: it holds there;
+    else it fails at the high end).
+    """
+    n = columns["trail"].size
+    m = len(_SEARCHED)
+    kind = np.repeat(np.arange(m), n)
+    cols = {key: np.tile(value, m) for key, value in columns.items()}
+    is_inertia = kind == m - 1
+    cols["inertia"] = np.where(is_inertia, 1.0, cols["inertia"])
+    cols["diameter"] = np.where(is_inertia, np.nan, cols["diameter"])
+    v = np.tile(speed, m)
+    c = columns
+    v_unit = critical_shimmy_speed(c["trail"], 1.0, c["groove"], c["damping"], c["slip_coefficient"])
+    top = 2 * np.log(v_unit / speed)  # the log I_w whose V_c is the speed
+    ends = [np.broadcast_to(np.asarray(x, dtype=float), (n,)) for part in RISK_PARTS for x in ranges[part]]
+    low = np.concatenate([*ends[0::2], top - 12.0])
+    high = np.concatenate([*ends[1::2], top])
+    xtol = np.where(is_inertia, 1e-11, 1e-15 * np.maximum(np.abs(high), 1e-12))
+    rtol = np.where(is_inertia, 0.0, LIMIT_RTOL)
+    target = _probit(float(uncertainty.probability))
+
+    def probability(x: Array, rows: Any) -> Array:
+        sub = {key: value[rows] for key, value in cols.items()}
+        here = kind[rows]
+        for k, part in enumerate(RISK_PARTS):
+            sub[part] = np.where(here == k, x, sub[part])
+        sub["inertia"] = np.where(here == m - 1, np.exp(np.where(here == m - 1, x, 0.0)), sub["inertia"])
+        return exact_probabilities(sub, v[rows], uncertainty, prediction)
+
+    def excess(x: Array, rows: Any) -> Array:
+        return _probits(probability(x, rows)) - target
+
+    every = np.arange(m * n)
+    at_low, at_high = excess(low, every), excess(high, every)
+    found = ((at_low > 0) & (at_high <= 0)) | is_inertia
+    rows = np.flatnonzero(found)
+    values = np.full(m * n, np.nan)
+    p = np.full(m * n, np.nan)
+
+    def on_rows(x: Array, sub: Any) -> Array:
+        return excess(x, rows[sub])
+
+    roots = bracketed_roots(on_rows, low[rows], high[rows], xtol[rows], rtol[rows], fa=at_low[rows], fb=at_high[rows])
+    values[rows] = roots
+    p[rows] = probability(roots, rows)
+    values[is_inertia] = np.exp(values[is_inertia])
+    shape = (m, n)
+    return values.reshape(shape), p.reshape(shape), at_low.reshape(shape), at_high.reshape(shape)
+
+
+def acceptance_limits_many(
+    casters: Sequence[LawCaster],
+    speed: Numeric,
+    uncertainty: Uncertainty,
+    ranges: dict[str, tuple[Numeric, Numeric]],
+    swept_radius_max: float | None | Sequence[float | None],
+    wheel_diameter: Numeric,
+    prediction: InertiaPrediction | None = None,
+) -> list[list[PartLimit]]:
+    """:func:`acceptance_limits` of many casters at once: one list of :class:`PartLimit` per caster, in the same
+    order (trail min, trail max, groove min, c_f min, I_w max) [SI].
+
+    ``speed`` [m/s], ``wheel_diameter`` d [m] (the swept-radius limit's) and each range's ends broadcast with the
+    casters; ``swept_radius_max`` R_max [m] is one for all or one per caster (None: no limit).  Every part's
+    root search of every caster runs in one batch (:func:`_limit_search`): the same limits as one caster at a
+    time, to the root's tolerance.
+    """
+    n = len(casters)
+    if not n:
+        return []
+    columns = _columns(casters)
+    v = np.broadcast_to(np.asarray(speed, dtype=float), (n,)).copy()
+    d = np.broadcast_to(np.asarray(wheel_diameter, dtype=float), (n,))
+    values, p, at_low, _ = _limit_search(columns, v, uncertainty, ranges, prediction)
+    radius = list(swept_radius_max) if isinstance(swept_radius_max, Sequence) else [swept_radius_max] * n
+    out = []
+    for i in range(n):
+        least = []
+        for k, part in enumerate(RISK_PARTS):
+            if np.isnan(values[k, i]):
+                reason = "holds at the low end" if at_low[k, i] <= 0 else "fails at the high end"
+                least.append(PartLimit(part, "min", None, None, reason))
+            else:
+                least.append(PartLimit(part, "min", float(values[k, i]), float(p[k, i]), "risk"))
+        r_max = radius[i]
+        if r_max is None:
+            trail_max = PartLimit("trail", "max", None, None, "the problem has no swept-radius limit")
+        else:
+            trail_max = PartLimit("trail", "max", r_max - float(d[i]) / 2, None, "swept radius")
+        inertia = PartLimit("inertia", "max", float(values[-1, i]), float(p[-1, i]), "risk")
+        out.append([least[0], trail_max, least[1], least[2], inertia])
     return out
 
 

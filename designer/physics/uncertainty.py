@@ -88,7 +88,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
     import numpy.typing as npt
 
 from designer.physics.types import Array, Numeric, Scalar
-from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities
+from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities, critical_speed_terms
 from designer.physics.scatter import (
     ASSUMED_DAMPING_SCATTER,
     ASSUMED_SLIP_SCATTER,
@@ -103,7 +103,7 @@ from designer.physics.scatter import (
     predicted_inertia_source,
     slip_coefficient_source,
 )
-from designer.physics._sums import SumDistribution
+from designer.physics._sums import SumDistribution, tabled_cdf
 from designer.physics._quantile_fits import STORED_PAIR_FITS
 from numpy.polynomial.hermite_e import hermegauss
 from numpy.polynomial.legendre import leggauss
@@ -742,6 +742,144 @@ def shimmy_probability_exact(
     return float(p) if p.ndim == 0 else p
 
 
+def _exact_law_many(
+    trail: Array,
+    inertia: Array,
+    groove: Array,
+    damping: Array,
+    slip_coefficient: Array,
+    uncertainty: Uncertainty,
+    inertia_scale: Array,
+    inertia_dof: int,
+    nodes: int,
+) -> tuple[Any, SumDistribution | None, Array, Array, Any]:
+    """The exact law of many casters (1-D arrays of one length) reduced to one quadrature axis.
+
+    Eq. 7 with the scattered constants, V_c² = a e^{ξc} + b e^{ξK} (a = 4 c_f T²/(π I_w), b = K_s B² T/(2 I_w)),
+    depends on (ξc, ξK) through D = ξc − ξK and E = ξK − βD, β = −σ_K²/(σ_c² + σ_K²), two independent normals
+    (var D = σ_c² + σ_K², var E = σ_c² σ_K²/(σ_c² + σ_K²)):
+
+        log V_c = ½ E + ½ β D + ½ log(a e^D + b),
+
+    so ½ E joins the exactly linear part (model error, inertia) and only D is integrated, by Gauss–Hermite with
+    ``nodes`` points.  A caster with b = 0 (no groove) or a = 0 is linear in ξc or ξK alone: its law is the
+    linear part's with ½ ξc (or ½ ξK) in the normal term, no quadrature.  ``inertia_scale``: the scale of the
+    inertia's Student-t term of a wheel known by its diameter (nan: a measured wheel, whose normal σ_I/2 joins
+    the normal term); V_c ∝ I_w^−1/2, so the inertia enters with slope −1/2 whatever B.
+
+    Returns: the casters' flags, V_c > 0 (else P = 1 at any speed), and of the casters with one, in their order
+    within the batch with quadrature first: the linear part's distribution (one row per caster), log V_c
+    [log m/s] at the nodes (casters × nodes; one column for a caster without quadrature), the weights (the
+    same shape, each row summing to 1) and the casters' indices.
+    """
+    u = uncertainty
+    sc, sk = float(u.damping), float(u.slip_coefficient)
+    a, b = critical_speed_terms(trail, inertia, groove, damping, slip_coefficient)
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    with np.errstate(invalid="ignore"):
+        alive = (trail > 0) & (a + b > 0)
+    var_d = sc**2 + sk**2
+    beta = -(sk**2) / var_d if var_d > 0 else 0.0
+    var_e = sc**2 * sk**2 / var_d if var_d > 0 else 0.0
+    both = alive & (a > 0) & (b > 0) & (var_d > 0)
+    line = alive & ~both
+    order = np.concatenate([np.flatnonzero(both), np.flatnonzero(line)])
+    # the normal part beside the integrated term: E's half, or ξc's (b = 0) or ξK's (a = 0) half
+    normal2 = np.where(both, var_e, np.where(b > 0, sk**2, sc**2)) / 4
+    measured = np.isnan(inertia_scale)
+    normal2 = (normal2 + np.where(measured, (0.5 * float(u.inertia)) ** 2, 0.0))[order]
+    terms: list[tuple[Numeric, int]] = [(float(u.model_error), int(u.model_error_dof))]
+    if not measured[order].all():
+        terms.append((np.where(measured, 0.0, inertia_scale)[order], inertia_dof))
+    dist = SumDistribution(terms, np.sqrt(normal2)) if order.size else None
+    zn, zw = _hermite_nodes(nodes)
+    d = math.sqrt(var_d) * zn
+    k = int(both.sum())
+    log_v = np.zeros((order.size, nodes if k else 1))
+    weights = np.zeros_like(log_v)
+    if k:
+        ab, bb = a[both][:, None], b[both][:, None]
+        log_v[:k] = 0.5 * (beta * d + np.log(ab * np.exp(d) + bb))
+        weights[:k] = zw
+    log_v[k:, 0] = 0.5 * np.log(a[line] + b[line])
+    weights[k:, 0] = 1.0
+    return alive, dist, log_v, weights, order
+
+
+def shimmy_probability_exact_many(
+    trail: Numeric,
+    inertia: Numeric,
+    groove: Numeric,
+    damping: Numeric,
+    slip_coefficient: Numeric,
+    speed: Numeric,
+    uncertainty: Uncertainty,
+    diameter: Numeric | None = None,
+    measured: Numeric | None = None,
+    prediction: InertiaPrediction | None = None,
+    nodes: int = 24,
+) -> Array:
+    """P(V_c,true < speed) under the exact law for many casters at once, by quadrature [-].
+
+    The batched :func:`shimmy_probability_exact` (the same law, the same numbers to about 1e-12): every argument
+    broadcasts with the others (SI: trail T [m], inertia I_w [kg·m²], groove B [m], damping c_f [N·m/rad],
+    slip_coefficient K_s [N], speed V [m/s]).  ``diameter`` d [m] of a wheel known by its diameter only (I_w is
+    then the power law's value at d and the inertia scatters by Table 1's Student-t prediction,
+    :func:`inertia_log_scale`); None, or nan for one caster, or ``measured`` True: a measured wheel (lognormal
+    σ ``uncertainty.inertia`` about I_w).
+
+    The law: log V_c,true = log V_c,Eq.7(T, I_w e^ι, B, c_f e^{ξc}, K_s e^{ξK}) + σ_m t_νm, Eq. 7
+    V_c² = 4 c_f T²/(π I_w) + K_s B² T/(2 I_w).  The model error and ι enter linearly, as does one normal
+    combination of ξc and ξK (:func:`_exact_law_many`); their sum's CDF F is exact (characteristic-function
+    inversion, :class:`~designer.physics._sums.SumDistribution`), and the remaining normal D = ξc − ξK is
+    integrated by Gauss–Hermite with ``nodes`` points shared by every caster:
+    P = Σ_j w_j F(log V − log V_c(D_j)).  1 where Eq. 7's V_c is 0 (no trail, or neither friction nor groove).
+    Returns an array of the broadcast shape.
+    """
+    cols = np.broadcast_arrays(
+        *(np.asarray(v, dtype=float) for v in (trail, inertia, groove, damping, slip_coefficient, speed))
+    )
+    shape = cols[0].shape
+    t, i_w, b, c, k, v = (np.ascontiguousarray(x).reshape(-1) for x in cols)
+    scale = _inertia_scales(t, i_w, b, c, k, shape, diameter, measured, prediction)
+    p_law = inertia_prediction() if prediction is None else prediction
+    alive, dist, log_v, weights, order = _exact_law_many(t, i_w, b, c, k, uncertainty, scale, p_law.dof, nodes)
+    out = np.ones(t.size)
+    if dist is not None:
+        out[order] = _weighted_cdf(dist, np.log(v[order])[:, None] - log_v, weights)
+    return out.reshape(shape)
+
+
+def _inertia_scales(
+    t: Array,
+    i_w: Array,
+    b: Array,
+    c: Array,
+    k: Array,
+    shape: tuple[int, ...],
+    diameter: Numeric | None,
+    measured: Numeric | None,
+    prediction: InertiaPrediction | None,
+) -> Array:
+    """Scale of each caster's Student-t inertia term (:func:`inertia_log_scale`), nan for a measured wheel."""
+    if diameter is None:
+        return np.full(t.size, np.nan)
+    d = np.broadcast_to(np.asarray(diameter, dtype=float), shape).reshape(-1)
+    flags = np.isnan(d)
+    if measured is not None:
+        flags = flags | np.broadcast_to(np.asarray(measured, dtype=bool), shape).reshape(-1)
+    with np.errstate(invalid="ignore"):
+        scale = np.asarray(inertia_log_scale(t, i_w, b, c, k, np.where(flags, 1.0, d), prediction), dtype=float)
+    return np.where(flags, np.nan, np.broadcast_to(scale, t.shape))
+
+
+def _weighted_cdf(dist: SumDistribution, x: Array, weights: Array) -> Array:
+    """Σ_j w_j F_i(x_ij) per row i, F_i the row's CDF (rows × points) [-]: casters that share a linear law (a
+    wheel size and kind) share its tabulated CDF when they are many (:func:`~designer.physics._sums.tabled_cdf`)."""
+    out: Array = np.sum(weights * tabled_cdf(dist, x), axis=-1)
+    return out
+
+
 def max_measured_inertia(
     trail: float,
     groove: float,
@@ -749,6 +887,7 @@ def max_measured_inertia(
     slip_coefficient: float,
     speed: float,
     uncertainty: Uncertainty,
+    nodes: int = 16,
 ) -> float:
     """The largest measured wheel inertia I* [kg·m²] at which the caster still meets the risk bound.
 
@@ -756,7 +895,7 @@ def max_measured_inertia(
     P(V_c,true < speed) = α (:func:`shimmy_probability_exact`, quadrature; P rises with I*): the purchasing spec's
     acceptance limit for a wheel measured before it is fitted.  Solved in log I
     between the I_w at which Eq. 7's V_c equals the speed (P about 1/2 there) and e^−12 of it (P ≈ 0), by a
-    safeguarded Newton iteration (the law's density gives P's slope).
+    safeguarded Newton iteration (the law's density gives P's slope); ``nodes`` Gauss–Hermite nodes per axis.
     """
     alpha = float(uncertainty.probability)
     v_unit = float(critical_shimmy_speed(trail, 1.0, groove, damping, slip_coefficient))  # V_c at I_w = 1 kg·m²
@@ -765,7 +904,7 @@ def max_measured_inertia(
     # the same (its inertia slope is 1/2 whatever I*): the law is built once, each step is one CDF
     # 16 Gauss–Hermite nodes per axis: P at the 32-node I* is α to 7e-13 (24 nodes: to rounding) over grooved
     # and damped casters of the shipped problems, a quarter of the 32 × 32 grid's work
-    dist, w, log_v = _exact_law(trail, 1.0, groove, damping, slip_coefficient, uncertainty, None, None, 16)
+    dist, w, log_v = _exact_law(trail, 1.0, groove, damping, slip_coefficient, uncertainty, None, None, nodes)
     gap = (math.log(speed) - log_v)[None, :]
 
     def excess(log_i: float) -> float:
@@ -867,22 +1006,6 @@ def _draw_stream(seed: int, model_error_dof: Any, inertia_dof: Any) -> _DrawStre
     return _DrawStream(seed, model_error_dof, inertia_dof)
 
 
-def _true_speeds(
-    f: dict[str, Array], u: Uncertainty, iota: Array, t: Array, i_w: Array, b: Array, c: Array, k: Array
-) -> Array:
-    """V_c,true [m/s] of casters (rows) for one block of draws (columns): Eq. 7 with the scattered I_w (log
-    factor ``iota``), c_f and K_s, times the model error."""
-    v = critical_shimmy_speed(
-        t[:, None],
-        i_w[:, None] * np.exp(iota),
-        b[:, None],
-        c[:, None] * np.exp(u.damping * f["damping"]),
-        k[:, None] * np.exp(u.slip_coefficient * f["slip"]),
-    )
-    out: Array = np.asarray(v, dtype=float) * np.exp(u.model_error * f["model"])
-    return out
-
-
 def shimmy_probability_mc_many(
     trail: Numeric,
     inertia: Numeric,
@@ -937,14 +1060,27 @@ def shimmy_probability_mc_many(
     hits = np.zeros(v_req.shape)
     drawn = 0
     active = np.arange(n)
+    # V_c,true < V  <=>  (a e^{σc Zc} + b e^{σK ZK}) e^{2 σm t} e^{−ι} < V²  (Eq. 7 squared, a and b its two terms
+    # at the nominal constants): the exponentials of a draw are shared by every caster, those of ι by the casters
+    # of one inertia law (a wheel size, or measured)
+    friction, groove_term = (np.asarray(x, dtype=float) for x in critical_speed_terms(t, i_w, b, c, k))
+    v_req2 = v_req**2
+    laws, law_of = np.unique(np.stack([is_measured.astype(float), scale_i], axis=1), axis=0, return_inverse=True)
+    law_of = law_of.reshape(-1)
     while active.size:
         f = next(blocks)
+        model = 2 * u.model_error * f["model"]
+        with_friction = np.exp(u.damping * f["damping"] + model)
+        with_groove = np.exp(u.slip_coefficient * f["slip"] + model)
         step = max(1, _CELLS // MC_BLOCK)
         for start in range(0, active.size, step):
             j = active[start : start + step]
-            iota = np.where(is_measured[j, None], f["inertia_z"], f["inertia_t"]) * scale_i[j, None]
-            v = _true_speeds(f, u, iota, t[j], i_w[j], b[j], c[j], k[j])
-            counts = np.count_nonzero(v[:, None, :] < v_req[j, :, None], axis=-1)
+            here, which = np.unique(law_of[j], return_inverse=True)
+            spread = np.exp(
+                -laws[here, 1, None] * np.where(laws[here, 0, None] > 0, f["inertia_z"], f["inertia_t"])
+            )  # e^{−ι}, one row per inertia law
+            v2 = (friction[j, None] * with_friction + groove_term[j, None] * with_groove) * spread[which.reshape(-1)]
+            counts = np.count_nonzero(v2[:, None, :] < v_req2[j, :, None], axis=-1)
             hits[j] += np.where(want[j] > drawn, counts, 0)  # a speed that stopped keeps its count
         drawn += MC_BLOCK
         reached = want == drawn

@@ -369,6 +369,9 @@ def compare_text(old: str, new: str, where: str = "", markup: bool = True) -> li
     out: list[Moved] = []
     line = 1
     for (kind, x), (_, y) in zip(a, b):
+        if x == y:  # the same text agrees: only its lines are counted
+            line += x.count("\n")
+            continue
         (px, nx), (py, ny) = _numbers(x), _numbers(y)
         if px != py:
             first = next(i for i, (p, q) in enumerate(zip(px + [""], py + [""])) if p != q)
@@ -406,6 +409,8 @@ def compare_files(old: Path, new: Path) -> list[Moved]:
         a, b = Path(old).read_text(encoding="utf-8"), Path(new).read_text(encoding="utf-8")
     except UnicodeDecodeError:
         return [Moved(name, "(bytes)", "(not UTF-8 text)", "exact")]
+    if a == b:  # the same text agrees whatever its type (a rerun's usual case: no parsing needed)
+        return []
     if suffix == ".json":
         try:
             return compare_json(json.loads(a), json.loads(b), name)

@@ -19,12 +19,15 @@ import warnings
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from designer.parameters import PARAMETERS
 from designer.physics.acceptance import (
     Corner,
     Edge,
     LawCaster,
-    acceptance_limits,
+    PartLimit,
+    acceptance_limits_many,
     exact_probability,
     friction_moment,
     worst_corner,
@@ -374,6 +377,73 @@ def _limit(lim: Any, nominal: dict[str, float], theta0: float, offset: float, ra
     )
 
 
+def _search_limits(
+    problems: list[Problem],
+    designs: list[Design],
+    casters: list[LawCaster],
+    offsets: list[float],
+    law: Uncertainty,
+    calibration: float,
+) -> list[list[PartLimit]]:
+    """The physics' acceptance limits of casters under one risk law, all searched together
+    (:func:`designer.physics.acceptance.acceptance_limits_many`): each at its problem's V_req (calibrated), its
+    swept-radius limit, and the trail's range as the tyre sees it (the fork offset's range + the caster's offset)."""
+    ranges: dict[str, Any] = {name: PARAMETERS[name].range for name in ("trail", "groove", "damping")}
+    shift = np.asarray(offsets, dtype=float)
+    ranges["trail"] = (ranges["trail"][0] + shift, ranges["trail"][1] + shift)
+    return acceptance_limits_many(
+        casters,
+        np.array([p.required_speed for p in problems]) / calibration,
+        law,
+        ranges,
+        [p.swept_radius_max for p in problems],
+        np.array([d.diameter for d in designs]),
+    )
+
+
+def caster_specs(
+    problems: Problem | list[Problem],
+    designs: list[Design],
+    inertia: list[float],
+    measured: list[bool],
+    monte_carlo: list[tuple[float, float, int, int]],
+    *,
+    law: Uncertainty | None = None,
+    stem_angle: float = 0.0,
+    calibration: float = 1.0,
+    probability: list[float] | None = None,
+) -> list[Spec]:
+    """:func:`caster_spec` of many casters, their acceptance limits searched in one batch (the casters under one
+    risk law together): ``problems`` one for all or one per caster (a fleet's part number is specified for the
+    most demanding of its chairs), the other lists one entry per caster, as :func:`caster_spec` takes them."""
+    n = len(designs)
+    each = problems if isinstance(problems, list) else [problems] * n
+    offsets = [stem_offset(d, stem_angle) for d in designs]
+    casters = [law_caster(p, d, i, m, o) for p, d, i, m, o in zip(each, designs, inertia, measured, offsets)]
+    laws = [_law(p, law) for p in each]
+    found: list[list[PartLimit]] = [[] for _ in range(n)]
+    for u in dict.fromkeys(laws):
+        rows = [i for i in range(n) if laws[i] == u]
+        pick = [[seq[i] for i in rows] for seq in (each, designs, casters, offsets)]
+        for i, limits in zip(rows, _search_limits(*pick, u, calibration)):  # type: ignore[arg-type]
+            found[i] = limits
+    return [
+        caster_spec(
+            each[i],
+            designs[i],
+            inertia[i],
+            measured[i],
+            monte_carlo[i],
+            law=law,
+            stem_angle=stem_angle,
+            calibration=calibration,
+            probability=None if probability is None else probability[i],
+            found=found[i],
+        )
+        for i in range(n)
+    ]
+
+
 def caster_spec(
     problem: Problem,
     design: Design,
@@ -385,6 +455,7 @@ def caster_spec(
     stem_angle: float = 0.0,
     calibration: float = 1.0,
     probability: float | None = None,
+    found: list[PartLimit] | None = None,
 ) -> Spec:
     """The :class:`Spec` of one caster: limits (others at nominal), exact P at V_target beside the Monte Carlo
     ``(p, se, samples, seed)`` the caller has, and the worst corner when the problem has ``[tolerances]``.
@@ -392,20 +463,14 @@ def caster_spec(
     A retrofit gives its own risk law ``law`` (calibrated by an observed onset), the stem's tilt φ (the trail is
     then the fork offset e, the law sees e + (d/2) sin φ) and the calibration factor k (V_c,true is k times
     Eq. 7's: P(k V_c < V) = P(V_c < V/k)); the limits are stated on the parts as built.  ``probability``: the
-    exact P at V_target the caller reports (the evaluator's), so the record and its spec say one number."""
+    exact P at V_target the caller reports (the evaluator's), so the record and its spec say one number.
+    ``found``: the physics' limits when the caller searched them in a batch (:func:`caster_specs`)."""
     u = _law(problem, law)
     offset = stem_offset(design, stem_angle)
     caster = law_caster(problem, design, inertia, measured, offset)
     ranges = {name: PARAMETERS[name].range for name in ("trail", "groove", "damping")}
-    seen = dict(ranges) | {"trail": tuple(x + offset for x in ranges["trail"])}  # type: ignore[union-attr]
-    found = acceptance_limits(
-        caster,
-        problem.required_speed / calibration,
-        u,
-        seen,  # type: ignore[arg-type]
-        problem.swept_radius_max,
-        design.diameter,
-    )
+    if found is None:
+        found = _search_limits([problem], [design], [caster], [offset], u, calibration)[0]
     theta0 = float(problem.conditions.disturbance_angle)
     nominal = {"trail": design.trail, "groove": design.groove, "damping": design.damping, "inertia": inertia}
     limits = [_limit(lim, nominal, theta0, offset, ranges) for lim in found]

@@ -61,3 +61,34 @@ def test_too_few_steps_is_an_error():
     """A tolerance not reached within maxiter evaluations raises instead of returning a rough value."""
     with pytest.raises(RuntimeError, match="no root within tolerance after 3 steps"):
         bracketed_root(lambda x: math.cos(x) - x, 0.0, 1.0, xtol=0.0, rtol=4 * EPS, maxiter=3)
+
+
+def test_bracketed_roots_take_the_scalar_steps():
+    """The batched finder returns, row by row, the scalar finder's root on every case at once (each row its own
+    Illinois steps: the same iterates, so the same end to rounding), and evaluates only the rows still searching."""
+    import numpy as np
+
+    from designer.physics.roots import bracketed_roots
+
+    seen_rows = []
+
+    def f(x, rows):
+        seen_rows.append(len(rows))
+        return np.array([CASES[r][0](float(v)) for v, r in zip(x, rows)])
+
+    a = np.array([c[1] for c in CASES])
+    b = np.array([c[2] for c in CASES])
+    batched = bracketed_roots(f, a, b, xtol=1e-14, rtol=4 * EPS)
+    for k, (g, lo, hi) in enumerate(CASES):
+        assert batched[k] == pytest.approx(bracketed_root(g, lo, hi, xtol=1e-14, rtol=4 * EPS), abs=1e-15, rel=4 * EPS)
+    assert seen_rows[0] == len(CASES) and min(seen_rows) < len(CASES)  # rows that converged stop being evaluated
+
+
+def test_bracketed_roots_refuse_a_bracket_without_a_sign_change():
+    """A row whose ends have the same sign is an error naming its ends, as for the scalar finder."""
+    import numpy as np
+
+    from designer.physics.roots import bracketed_roots
+
+    with pytest.raises(ValueError, match="must hold a sign change"):
+        bracketed_roots(lambda x, rows: x**2 - 4, np.array([0.0, 3.0]), np.array([3.0, 5.0]))

@@ -53,7 +53,7 @@ from designer.reprs import Key, Record, dataframe
 from designer.studies.fleet._kmedian import ColumnDominance, KMedianSolution, kmedian_curve
 from designer.problem import Problem, example_problem, problem_argument
 from designer.solvers import one_solve_at_a_time
-from designer.studies.spec import Spec, caster_spec, mc_draws
+from designer.studies.spec import Spec, caster_specs, mc_draws
 from designer.studies.fleet._table import (
     COLUMNS,
     EXAMPLE_RANGES,
@@ -448,7 +448,7 @@ def sku_specs(result: FleetResult) -> list[Spec]:
     problem, stock, fleet = result.problem, result.stock, result.fleet
     u = scatter_of(problem.conditions)
     feasible = np.flatnonzero(result.feasible)
-    out = []
+    problems, designs, inertias, flags, monte_carlo = [], [], [], [], []
     for j in sku.chosen:
         mine = feasible[sku.assignment == j]
         radius = fleet.swept_radius_max[mine]
@@ -468,10 +468,13 @@ def sku_specs(result: FleetResult) -> list[Spec]:
             u,
             np.array([measured]),
         )[0]
-        out.append(
-            caster_spec(demanding, design, inertia, measured, (float(p_mc), float(se), mc_draws(p_mc, se), u.seed))
-        )
-    return out
+        problems.append(demanding)
+        designs.append(design)
+        inertias.append(inertia)
+        flags.append(measured)
+        monte_carlo.append((float(p_mc), float(se), mc_draws(p_mc, se), u.seed))
+    # every part number's acceptance limits searched together
+    return caster_specs(problems, designs, inertias, flags, monte_carlo)
 
 
 def _monte_carlo(

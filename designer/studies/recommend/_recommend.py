@@ -46,7 +46,13 @@ from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sou
 from designer.problem import MAX_SAMPLES, Bound, problem_argument
 from designer.solvers import one_solve_at_a_time
 from designer.studies.recommend._record import Recommendation
-from designer.studies.spec import caster_spec, corner_probabilities, exact_shimmy_probability, mc_draws
+from designer.studies.spec import (
+    caster_spec,
+    caster_specs,
+    corner_probabilities,
+    exact_shimmy_probability,
+    mc_draws,
+)
 from designer.studies.recommend._rule import RULES, front_roles, rule_text, select_rows, weights_meaning
 from designer.studies.recommend._stock import (
     CandidateTable,
@@ -258,6 +264,24 @@ def with_spec(rec: Recommendation) -> Recommendation:
     return dataclasses.replace(rec, spec=spec)
 
 
+def _with_specs(records: list[Recommendation], wanted: list[bool]) -> list[Recommendation]:
+    """The records, those ``wanted`` with their specs (as :func:`with_spec` gives each), the acceptance limits of
+    all of them searched in one batch (:func:`designer.studies.spec.caster_specs`)."""
+    todo = [r for r, w in zip(records, wanted) if w and r.spec is None and r.role != "if measured" and r.problem]
+    if not todo:
+        return records
+    specs = caster_specs(
+        [r.problem for r in todo],
+        [r.design for r in todo],
+        [r.inertia for r in todo],
+        [r.measured for r in todo],
+        [(r.shimmy_probability_mc, r.shimmy_probability_se, r.mc_samples, r.mc_seed) for r in todo],
+        probability=[r.shimmy_probability for r in todo],
+    )
+    done = {id(r): spec for r, spec in zip(todo, specs)}
+    return [dataclasses.replace(r, spec=done[id(r)]) if id(r) in done else r for r in records]
+
+
 def _risk(problem, v: Casters, i: int, u: Uncertainty, p: float, mc: tuple[float, float]) -> dict:
     """The recommended caster's risk record: its exact P, the Monte Carlo P ± SE beside it, and the law's
     sources, each with its share of the variance of log V_c."""
@@ -361,12 +385,13 @@ def recommend(
             raise _over_cap_error(problem, b, sel)
         raise _corner_error(problem, b, enforced[0])
     rule = rule_text(problem, size, bool(sel["knee"][0]))
-    rec = _record(problem, b, choice, rule, "recommended", samples, seed, specs != "none")
+    rec = _record(problem, b, choice, rule, "recommended", samples, seed, False)
     alts = [
-        _record(problem, b, i, rule, role, samples, seed, specs == "all")
+        _record(problem, b, i, rule, role, samples, seed, False)
         for i, role in front_roles(b.values.turning_effort, sel)
         if i != choice
     ]
+    rec, *alts = _with_specs([rec, *alts], [specs != "none"] + [specs == "all"] * len(alts))
     return dataclasses.replace(
         rec,
         alternatives=alts,

@@ -60,7 +60,7 @@ from designer.studies.retrofit._options import (
     combinations,
     part_options,
 )
-from designer.studies.spec import caster_spec, mc_draws
+from designer.studies.spec import caster_specs, mc_draws
 from designer.studies.retrofit._records import (
     RULE,
     Calibration,
@@ -345,23 +345,27 @@ def _fix_states(
     picked = {key: value[chosen] for key, value in cands.items()}
     values = _evaluate(picked, s.conditions, s.stem_angle, s.factor, s.bound, s.limits, s.monte_carlo)
     exact = s.exact(picked)
-    fixes = []
-    for n, j in enumerate(chosen):
-        design = Design(
+    designs = [
+        Design(
             float(cands["trail"][j]), float(cands["diameter"][j]), float(cands["groove"][j]), float(cands["damping"][j])
         )
+        for j in chosen
+    ]
+    specs = setting.specs(values, designs, [float(cands["inertia"][j]) for j in chosen], exact, wanted)
+    fixes = []
+    for n, j in enumerate(chosen):
         changes = _changes(current, inertia, cands, j, options["wheel"])
         fixes.append(
             setting.state(
                 values,
                 n,
-                design,
+                designs[n],
                 float(cands["inertia"][j]),
                 changes,
                 price=float(cands["price"][j]),
                 current=current_state,
                 exact=exact[n : n + 1],
-                with_spec=bool(wanted[n]),
+                spec=specs[n],
             )
         )
     return fixes
@@ -412,6 +416,33 @@ class _Setting:
         )
         return np.asarray(values.shimmy_probability, dtype=float)
 
+    def specs(self, values: Casters, designs: list[Design], inertia: list[float], exact: Any, wanted: Any) -> list:
+        """The specs of the fixes ``wanted`` (None for the others), their acceptance limits searched in one batch
+        (:func:`designer.studies.spec.caster_specs`): caster k of ``values`` is ``designs[k]`` with wheel
+        inertia ``inertia[k]`` [kg·m²] and exact P(shimmy) ``exact[k]``."""
+        rows = [k for k in range(len(designs)) if wanted[k]] if self.problem is not None else []
+        out: list = [None] * len(designs)
+        if not rows:
+            return out
+        mc = []
+        for k in rows:
+            p_mc, se = float(values.shimmy_probability[k]), float(values.shimmy_probability_se[k])
+            mc.append((p_mc, se, mc_draws(p_mc, se), self.seed))
+        found = caster_specs(
+            self.problem,
+            [designs[k] for k in rows],
+            [float(inertia[k]) for k in rows],
+            [bool(values.measured[k]) for k in rows],
+            mc,
+            law=self.report_u,
+            stem_angle=self.stem_angle,
+            calibration=self.factor,
+            probability=[float(np.asarray(exact).ravel()[k]) for k in rows],
+        )
+        for k, spec in zip(rows, found):
+            out[k] = spec
+        return out
+
     def state(
         self,
         values: Casters,
@@ -422,12 +453,12 @@ class _Setting:
         price: float = 0.0,
         current: CasterState | None = None,
         exact: Any = None,
-        with_spec: bool = False,
+        spec: Any = None,
     ) -> CasterState:
         """Caster ``j`` of the evaluated ``values`` (with their Monte Carlo) as a :class:`CasterState`; ``price``
         the cost of its parts; ``current`` the caster as it is, which its changes, rises and limits are taken
         against (None: this is the current caster); ``exact`` its P(shimmy) by the exact law (an array of one).
-        With ``with_spec``, a fix carries its spec (acceptance limits, :func:`designer.studies.spec.caster_spec`)."""
+        ``spec``: the fix's spec when it has one (:meth:`specs`)."""
         w_turn, w_threshold = self.weights
         f, p = float(values.turning_effort[j]), float(values.threshold_force[j])
         cost_turn = 0.0 if current is None else f - current.turning_effort
@@ -437,21 +468,7 @@ class _Setting:
         within = current is None or bool(self.overshoot(f, p, current) <= 1e-12)
         p_mc, se = float(values.shimmy_probability[j]), float(values.shimmy_probability_se[j])
         draws = mc_draws(p_mc, se)
-        measured = bool(values.measured[j])
         p_exact = float(np.asarray(exact).ravel()[0]) if exact is not None else p_mc
-        spec = None
-        if with_spec and current is not None and self.problem is not None:
-            spec = caster_spec(
-                self.problem,
-                design,
-                float(inertia),
-                measured,
-                (p_mc, se, draws, self.seed),
-                law=self.report_u,
-                stem_angle=self.stem_angle,
-                calibration=self.factor,
-                probability=p_exact,
-            )
         return CasterState(
             caster=values.row(j),
             calibrated_critical_speed=float(self.factor * values.critical_speed[j]),
