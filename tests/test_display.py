@@ -48,7 +48,7 @@ def test_headers_and_labels_come_from_the_table():
     assert display.header("trail", "mm") == "T [mm]"
     assert display.header("turning_effort", "in") == "F_turn [N]"
     assert display.label("critical_speed") == "critical shimmy speed V_c"
-    assert display.axis("threshold_force") == "threshold force P [N]"
+    assert display.axis("threshold_force") == "sill force P [N]"
 
 
 def test_an_unknown_quantity_or_unit_system_is_refused_with_its_name():

@@ -594,12 +594,12 @@ def test_a_record_of_a_caster_holds_one_caster_and_reads_its_numbers_from_it(exa
 
 def test_record_labels_and_units_come_from_the_parameter_table(examples, no_solvers):
     """The HTML of a recommendation and of an optimum label F_turn, P and V_c and the design variables as the
-    parameter table does (one label per quantity: "threshold force P", never "sill force P")."""
+    parameter table does (one label per quantity: "sill force P", never "threshold force P")."""
     from designer.parameters import OUTPUTS
 
     for name in ("Recommendation", "Solution", "FleetResult"):
         html = examples[name]._repr_html_()
-        assert "sill force P" not in html
+        assert "threshold force P" not in html
         assert OUTPUTS["threshold_force"].label in html and OUTPUTS["turning_effort"].label in html
     for name in ("Recommendation", "Solution"):
         rows = examples[name]._html_rows()

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import argparse
 import difflib
+import re
+import textwrap
 
 CUTOFF = 0.6
 """Least similarity (difflib's ratio, 0 to 1) of a suggestion to the word typed: 0.6 is difflib's own default,
@@ -19,6 +21,24 @@ def suggestion(word: str, choices) -> str:
     return f"; did you mean {close[0]!r}?" if close else ""
 
 
+class Formatter(argparse.HelpFormatter):
+    """argparse's help layout, wrapped at spaces only: a path (``~/.local/share/bash-completion/...``), an
+    option or a hyphenated word is never split across two lines."""
+
+    def _split_lines(self, text: str, width: int) -> list[str]:
+        return textwrap.wrap(re.sub(r"\s+", " ", text).strip(), width, break_on_hyphens=False, break_long_words=False)
+
+    def _fill_text(self, text: str, width: int, indent: str) -> str:
+        return textwrap.fill(
+            re.sub(r"\s+", " ", text).strip(),
+            width,
+            initial_indent=indent,
+            subsequent_indent=indent,
+            break_on_hyphens=False,
+            break_long_words=False,
+        )
+
+
 class Parser(argparse.ArgumentParser):
     """argparse with the project's error line (``designer: error: ...``, exit 2) that names a misspelled option
     or sub-command with the closest valid one.
@@ -27,6 +47,10 @@ class Parser(argparse.ArgumentParser):
     ``--trial`` (did you mean ``--trail``?) and not that ``--trail`` is missing.  A sub-command's parser checks
     its own options; the top parser checks those before the sub-command and the sub-command's name.
     """
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("formatter_class", Formatter)
+        super().__init__(*args, **kwargs)
 
     def error(self, message):  # one line, exit 2, like every input error
         self.exit(2, f"designer: error: {message}\n")
@@ -73,4 +97,4 @@ class Parser(argparse.ArgumentParser):
         return self.allow_abbrev and len([k for k in known if k.startswith(name)]) == 1
 
 
-__all__ = ["CUTOFF", "Parser", "suggestion"]
+__all__ = ["CUTOFF", "Formatter", "Parser", "suggestion"]

@@ -55,7 +55,9 @@ def register(sub) -> None:
         if kind == "damping":
             k.add_argument("--slip-coefficient", default="1250 N", help="K_s held fixed (default 1250 N)")
         if kind == "turning":
-            k.add_argument("--surface", default="tile", help="surface tested: tile (default) | carpet")
+            k.add_argument(
+                "--surface", default="tile", help="surface tested: tile (default) | carpet"
+            ).completion_choices = ("tile", "carpet")
         k.set_defaults(func=run)
     e = kinds.add_parser("examples", help="write the example CSVs (model + stated noise, seed 7)")
     e.add_argument("out", nargs="?", default=None, help="directory (default: the package's data/examples)")

@@ -8,8 +8,10 @@ from designer.cli._common import choice_option, print_json, quantity_option
 from designer.cli._terminal import console as terminal_console
 from designer.data.paper import INCH
 from designer.errors import InputError
-from designer.model import Conditions, Design, evaluate
-from designer.parameters import OUTPUT_TABLE, PARAMETERS, Parameter
+from designer.model import Conditions, Design
+from designer.display import MISSING, percent, shown
+from designer.parameters import OUTPUT_TABLE, OUTPUTS, PARAMETERS, Parameter
+from designer.units import written_size
 from designer.units import COMMON_UNITS
 from designer.physics.inertia import Fixed, PowerLaw
 from designer.physics.turning import DEFAULT_TURNING, MODES, SURFACES
@@ -18,8 +20,8 @@ from designer.problem import INERTIA_RANGE, PHYSICAL_RANGE
 import warnings
 from designer.studies.dynamics.limit_cycles import knock_safe_speed
 from designer.studies.checks import knock_safe_table1_error
-from designer.physics.scatter import inertia_prediction
-from designer.physics.uncertainty import Uncertainty, risk_record
+from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sources
+import designer
 
 
 LBF, MPH = COMMON_UNITS["lbf"][1], COMMON_UNITS["mph"][1]
@@ -41,12 +43,15 @@ def register(sub) -> None:
     p.add_argument("--load", default=None, help="caster load L per front caster (default 178 N, the paper's)")
     p.add_argument("--threshold-height", default=None, help="door-sill height h (default 0.5 in)")
     p.add_argument("--target-speed", default=None, help="speed to check for shimmy (optional)")
-    p.add_argument("--surface", default="tile", help="tile | carpet")
-    p.add_argument("--turning-mode", default="chair", help="chair | pivot")
+    p.add_argument("--surface", default="tile", help="tile | carpet").completion_choices = SURFACES
+    p.add_argument("--turning-mode", default="chair", help="chair | pivot").completion_choices = MODES
     p.add_argument("--disturbance-angle", default="20 deg", help="design disturbance θ0 (default 20 deg)")
     p.add_argument("--slip-coefficient", default="1250 N", help="tyre slip coefficient K_s (default 1250 N)")
     p.add_argument("--inertia", default=None, help="override I_w [kg·m²] (default: Table 1 power law of d)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.add_argument(
+        "--verbose", action="store_true", help="the full table: each quantity's source, where the risk comes from"
+    )
     p.add_argument(
         "--knock-safe",
         action="store_true",
@@ -126,7 +131,7 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        values = dict(evaluate(design, conditions, speed))
+        values = dict(designer.evaluate(design, conditions, speed, risk=speed))
     values["warnings"] = [str(w.message) for w in caught]
     values["sources"] = {  # where the load and the sill came from: shown beside them
         "load": "--load" if args.load else "default: the paper's test load (App. C)",
@@ -149,49 +154,104 @@ def run(args) -> int:
     if args.json:
         print_json(out)
         return 0
-    _print_table(design, conditions, values, speed, out, args.knock_safe)
+    if args.verbose:
+        _print_table(design, conditions, values, speed, out, args.knock_safe)
+    else:
+        _print_screen(design, conditions, values, speed, out, args.knock_safe)
     return 0
+
+
+def _print_screen(design, conditions, values: dict, speed: float | None, out: dict, knock_safe: bool) -> None:
+    """The caster's numbers in one screen: one line a quantity (its name, value and the paper's equation), the
+    verdict at the target speed, what to do next; each source in full behind ``--verbose``."""
+    given = values["sources"]
+    lines = [f"Caster: {design.describe()}"]
+    rows = [(PARAMETERS[n].label, shown_quantity(getattr(conditions, n), PARAMETERS[n]), given[n]) for n in given]
+    rows += [
+        (p.label, shown_quantity(values[p.name], p), p.source)
+        for p in OUTPUT_TABLE
+        if p.listed and p.name in values and p.name != "inertia"
+    ]
+    inertia = OUTPUTS["inertia"]
+    rows.insert(
+        2,
+        (
+            inertia.label,
+            shown_quantity(values["inertia"], inertia),
+            "measured" if values["measured"] else "Table 1's power law",
+        ),
+    )
+    if knock_safe:
+        double = out["knock_safe_speed_double"]
+        rows.insert(
+            4,
+            (
+                "knock-safe speed, θ0 / 2 θ0 knock",
+                f"{out['knock_safe_speed']:.3f} / " + (MISSING if double is None else f"{double:.3f}") + " m/s",
+                "simulated",
+            ),
+        )
+    name_width = max(len(r[0]) for r in rows)
+    value_width = max(len(r[1]) for r in rows)
+    for name, value, source in rows:
+        short = source if len(source) <= 20 and source.startswith(("Eq.", "Table", "measured", "--")) else ""
+        if source.startswith("default"):
+            short = "default"
+        lines.append(f"  {name:<{name_width}}  {value:>{value_width}}  {short}".rstrip())
+    if speed is not None:
+        risk = out["risk"]
+        at = shown(speed, "target_speed")
+        verdict = (
+            f"At {at}: Eq. 7 alone says it {'is stable' if values['critical_speed'] >= speed else 'shimmies'}; "
+            f"with the model's scatter it shimmies with probability {percent(risk['probability'])} "
+            f"(± {shown(risk['se'], dimension='probability', digits=2)})."
+        )
+        lines.append(verdict)
+    lines.append(
+        "Next: designer run PROBLEM for the caster to build; --verbose: each quantity's source"
+        + (" and where the risk comes from" if speed is not None else "")
+        + "."
+    )
+    print("\n".join(lines))
+    for w in values["warnings"]:
+        print(f"warning: {w}")
+    if out["extrapolated"] and not values["warnings"]:
+        print(f"warning: d = {written_size(design.diameter, 'in')} lies outside Table 1's 4–8 in: extrapolated")
 
 
 def _results(design, conditions, values: dict, speed: float | None, knock_safe: bool) -> dict:
     """The numbers of ``--json`` (SI units); the knock-safe speeds are simulated only when asked for."""
-    out = {
-        "design": design.to_dict(),
-        "load": conditions.load,
-        "threshold_height": conditions.threshold_height,
-        "critical_speed": values["critical_speed"],
-        "inertia": values["inertia"],
-        "threshold_force_ratio": values["threshold_force_ratio"],
-        "threshold_force": values["threshold_force"],
-        "turning_moment": values["turning_moment"],
-        "turning_effort": values["turning_effort"],
-        "swept_radius": values["swept_radius"],
-        "shimmy_frequency": values["shimmy_frequency"],
-    }
-    out.update({p.name: values[p.name] for p in OUTPUT_TABLE if p.listed and p.name in values and p.name not in out})
-    out["extrapolated"] = bool(inertia_prediction().extrapolated(design.diameter))
+    out = {"design": design.to_dict(), "load": conditions.load, "threshold_height": conditions.threshold_height}
+    out.update({p.name: values[p.name] for p in OUTPUT_TABLE if p.listed and p.name in values})
+    out["extrapolated"] = bool(values["extrapolated"])
     if speed is not None:
         out["target_speed"] = speed
         out["shimmy_margin"] = values["critical_speed"] - speed
         out["stable_at_target"] = values["critical_speed"] >= speed
         out["growth_rate"] = values["growth_rate"]
-        measured = bool(getattr(conditions.inertia, "measured", False))
-        out["risk"] = risk_record(
+        sources = law_sources(
             design.trail,
             values["inertia"],
             design.groove,
             design.damping,
             conditions.slip_coefficient,
-            speed,
             Uncertainty(),
-            diameter=None if measured else design.diameter,
+            diameter=None if values["measured"] else design.diameter,
         )
+        out["risk"] = {
+            "probability": values["shimmy_probability"],
+            "se": values["shimmy_probability_se"],
+            "sources": sources,
+            "dominant": dominant_sentence(sources),
+        }
     if knock_safe:  # simulated, about 1-2 s: only on request
         theta0 = conditions.disturbance_angle
-        out["knock_safe_speed"] = knock_safe_speed(design, conditions)
-        out["knock_safe_speed_double"] = (
-            knock_safe_speed(design, conditions, angle=2 * theta0) if 2 * theta0 < 1.5708 else None
-        )
+        with warnings.catch_warnings():  # the same extrapolation as the evaluation's, said once
+            warnings.simplefilter("ignore", UserWarning)
+            out["knock_safe_speed"] = knock_safe_speed(design, conditions)
+            out["knock_safe_speed_double"] = (
+                knock_safe_speed(design, conditions, angle=2 * theta0) if 2 * theta0 < 1.5708 else None
+            )
         band = knock_safe_table1_error(theta0)
         out["knock_safe_table1"] = {"log_rms": band["log_rms"], "bias": band["bias"], "angle": band["angle"]}
     out["warnings"] = values["warnings"]
@@ -203,9 +263,10 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
     from rich.table import Table
 
     table = Table(title=f"Caster: {design.describe()}", title_justify="left")
-    table.add_column("quantity")
-    table.add_column("value", justify="right")
-    table.add_column("source", overflow="fold")  # a long link is folded, not cut
+    words = [w for p in OUTPUT_TABLE if p.listed for w in p.source.split()]
+    table.add_column("quantity", max_width=20)
+    table.add_column("value", justify="right", max_width=20)
+    table.add_column("source", min_width=max(map(len, words)))  # wrapped at words: a link is never split
     given = {"load": values["sources"]["load"], "threshold_height": values["sources"]["threshold_height"]}
     rows = [(PARAMETERS[n].label, shown_quantity(getattr(conditions, n), PARAMETERS[n]), given[n]) for n in given]
     sources = {"inertia": conditions.inertia.describe()}  # which inertia model: beside I_w

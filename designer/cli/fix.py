@@ -7,6 +7,7 @@ import math
 from designer.cli._terminal import console as terminal_console
 from designer.cli._common import PROBLEM_HELP, print_json, quantity_option, ranged_option
 from designer.studies.retrofit import ONSET_SCATTER, fix, parse_current
+from designer.display import percent, shown
 from designer.errors import InputError
 from designer.parameters import OUTPUTS
 from designer.problem import load_problem
@@ -314,9 +315,28 @@ def _print_screen(result, problem) -> None:
     from rich.markup import escape
 
     console = terminal_console()
+    if not result.needs_fix:
+        console.print(f"[bold]No fix needed:[/bold] {escape(_no_fix_text(result, problem))}")
+        return
     console.print(f"[bold]{escape(result.summary())}[/bold]")
     for head, text in _screen_paragraphs(result, problem):
         console.print(f"[bold]{head}:[/bold] {escape(text)}")
+
+
+def _no_fix_text(result, problem) -> str:
+    """Why a caster needs nothing, in one sentence: its risk against the bound (or V_c against the speed) and the
+    footrests."""
+    cur = result.current
+    speed = shown(result.target_speed, "target_speed", digits=1)
+    if result.probability is not None:
+        risk = (
+            f"at {speed} it shimmies with probability {percent(cur.shimmy_probability)} "
+            f"(allowed {percent(result.probability)})"
+        )
+    else:
+        risk = f"it is stable to {shown(cur.critical_speed, 'critical_speed')} (needed {speed})"
+    room = " and it fits the footrests" if problem.swept_radius_max is not None else ""
+    return f"the caster as it is meets the limits: {risk}{room}."
 
 
 def _screen_paragraphs(result, problem) -> list[tuple[str, str]]:

@@ -33,6 +33,7 @@ from designer.studies.fleet import (
 )
 from designer.errors import InputError
 from designer.problem import example_problem, load_problem
+from designer.display import shown
 from designer.units import written_size
 
 
@@ -83,6 +84,9 @@ def register(sub) -> None:
         help="skip the reported Monte Carlo P(shimmy) per chair (the screening stays deterministic)",
     )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.add_argument(
+        "--verbose", action="store_true", help="the details: the ranking rule, the regret per K, the timings"
+    )
     p.set_defaults(func=run)
 
 
@@ -142,7 +146,7 @@ def run(args) -> int:
     if args.json:
         print(json_text(data, run_info))
     else:
-        _print(data, run_info, len(result.stock), out, problem.units)
+        (_print if args.verbose else _print_screen)(data, run_info, len(result.stock), out, problem.units)
     if data["feasible_chairs"] < data["chairs"]:
         eprint(
             f"designer: note: {data['chairs'] - data['feasible_chairs']} chairs have no feasible stock caster "
@@ -153,6 +157,70 @@ def run(args) -> int:
 
 KEEP = "\u00a0"
 """A no-break space: joins the words of a size while a line is wrapped (then written as a plain space)."""
+
+
+SHOWN_SKUS = 12
+"""Part numbers listed on the first screen (the rest: ``--verbose``, the report)."""
+
+
+def _print_screen(data: dict, run_info: dict, stock: int, out: Path, units: str) -> None:
+    """The answer in one screen (at most 24 lines at 80 columns): how many part numbers, why that many, each part
+    number, what it costs the chairs, what next; the rule, the regret per K and the timings behind ``--verbose``."""
+    say = _sayer()
+    if data["answer"]:
+        print(data["answer"])
+    else:
+        say(f"{data['feasible_chairs']} of {data['chairs']} chairs have a caster ({stock} stock casters)")
+    curve = [c["mean_regret_N"] for c in data["regret_curve"]]
+    if data["k"] is not None and data["mean_regret_N"] is not None:
+        k = data["k"]
+        steps = sorted({1, (k + 1) // 2} - {k})
+        fewer = "".join(
+            f"{curve[j - 1]:.1f} N with {j} part number{'s' if j > 1 else ''}, "
+            for j in steps
+            if j <= len(curve) and curve[j - 1] is not None
+        )
+        say(
+            "Why: a part number per chair would give each its own best caster (least turning effort plus sill "
+            f"force); sharing adds force, on average {fewer}{data['mean_regret_N']:.2f} N with {k}."
+        )
+        for sku in data["skus"][:SHOWN_SKUS]:
+            d = sku["design"]
+            say(
+                f"  part {sku['id']}: T {_size(d['trail'], units)}, d {_size(d['diameter'], units)}, "
+                f"B {_size(d['groove'], units)}, c_f {shown(d['damping'], 'damping')}: {sku['chairs']} chair{'s' if sku['chairs'] != 1 else ''}, "
+                f"{sku['count']} units"
+            )
+        if len(data["skus"]) > SHOWN_SKUS:
+            say(f"  and {len(data['skus']) - SHOWN_SKUS} more part numbers (the report, --verbose)")
+        say(
+            f"Cost: {data['mean_regret_N']:.2f} N more force per unit sold than each chair's own best caster, "
+            f"{data['worst_regret_N']:.1f} N for the worst-served chair."
+        )
+    if data["k"] is None:
+        say(f"Next: open {out / 'index.html'} (each chair's caster); without --no-skus: the part numbers.")
+    else:
+        say(
+            f"Next: open {out / 'index.html'} (each part number's acceptance limits for goods-in); "
+            "--skus K to choose another count; --verbose for the rule and the timings."
+        )
+
+
+def _size(value: float, units: str) -> str:
+    """A size as the user writes it, its words joined (:data:`KEEP`) so that a wrap never parts them."""
+    return written_size(value, units).replace(" ", KEEP)
+
+
+def _sayer():
+    """A printer of one paragraph wrapped to the terminal's width, continued two columns in."""
+    width = max(40, shutil.get_terminal_size((80, 24)).columns)
+
+    def say(text: str) -> None:
+        indent = " " * (len(text) - len(text.lstrip()) + 2)
+        lines = textwrap.fill(text, width, subsequent_indent=indent, break_on_hyphens=False, break_long_words=False)
+        print(lines.replace(KEEP, " "))  # a size ("2 1/2 in") is never broken across lines
+
+    return say
 
 
 def _print(data: dict, run_info: dict, stock: int, out: Path, units: str) -> None:

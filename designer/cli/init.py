@@ -68,9 +68,11 @@ def register(sub) -> None:
         "--front-fraction", default=None, help=f"with --mass (default {FRONT_FRACTION:g}): {FRONT_FRACTION_NOTE}"
     )
     p.add_argument("--sill", default=None, help="door-sill height, e.g. 3/4in or 19mm (default 1/2 in)")
-    p.add_argument("--floor", default=None, help="tile | carpet (default tile)")
+    p.add_argument("--floor", default=None, help="tile | carpet (default tile)").completion_choices = SURFACES
     p.add_argument("--target-speed", default=None, help="speed without shimmy, e.g. 2.5m/s (default 2.5 m/s)")
-    p.add_argument("--units", default=None, help="in | mm: the unit of the lengths written (default in)")
+    p.add_argument(
+        "--units", default=None, help="in | mm: the unit of the lengths written (default in)"
+    ).completion_choices = REPORT_UNITS
     p.add_argument("--defaults", action="store_true", help="ask nothing: the options given, else the defaults")
     p.set_defaults(func=run)
 
@@ -112,16 +114,57 @@ def run(args) -> int:
     return 0
 
 
+SILL_RANGE = (0.1 * INCH, 2 * INCH)
+"""Door-sill heights ``designer init`` accepts [m]: a floor transition to a 2 in step (the US accessibility limit
+for a door threshold is 1/2 in, 3/4 in for an existing sliding door: 2010 ADA Standards 404.2.5; a higher step
+is climbed by no caster of the shipped stock, whose largest wheel, 8 in, needs d > 2 h)."""
+
 _QUESTIONS = (
-    ("mass", "User plus chair mass (e.g. 90kg; empty: give the load per caster instead)"),
-    ("front_fraction", f"Front fraction f, {FRONT_FRACTION_NOTE}"),
-    ("load", "Load per front caster"),
-    ("sill", "Door-sill height"),
-    ("floor", "Floor (tile | carpet)"),
-    ("target_speed", "Speed without shimmy"),
-    ("units", "Units of the lengths in the file (in | mm)"),
+    ("mass", "User plus chair mass, e.g. 90 kg (empty: give the load instead)"),
+    ("front_fraction", "Front fraction f: weight on the front casters / total (0.2–0.4)"),
+    ("load", "Load per front caster, e.g. 178 N"),
+    ("sill", "Door-sill height, e.g. 1/2 in or 13 mm"),
+    ("floor", "Floor (tile or carpet)"),
+    ("target_speed", "Fastest speed without shimmy, e.g. 2.5 m/s"),
+    ("units", "Units of the lengths in the file (in or mm)"),
 )
-"""What ``designer init`` asks at a terminal, in order (an option given answers its question)."""
+"""What ``designer init`` asks at a terminal, in order (an option given answers its question); each prompt with
+its default fits 80 columns and names no option."""
+
+_KINDS = {
+    "mass": ("mass", "kg", 1.0, MASS_RANGE, "e.g. 90 kg"),
+    "front_fraction": ("dimensionless", "", 1.0, (0.0, 1.0), "e.g. 0.3"),
+    "load": ("force", "N", 1.0, (1.0, 1e5), "e.g. 178 N"),
+    "sill": ("length", "in", INCH, SILL_RANGE, "e.g. 1/2 in or 13 mm"),
+    "target_speed": ("speed", "m/s", 1.0, (0.01, 100.0), "e.g. 2.5 m/s"),
+}
+"""Each numeric question: its dimension, the unit its range is said in (and that unit in SI), its range [SI] and
+an example answer."""
+
+_CHOICES = {"floor": (SURFACES, "a floor this tool knows"), "units": (REPORT_UNITS, "a unit system it writes")}
+"""Each question with a fixed set of answers, and what a wrong answer is not."""
+
+
+def reply_reason(key: str, reply: str, units: str = "in") -> str | None:
+    """Why ``reply`` to the question ``key`` cannot be taken, in plain words ("not a number", "out of range
+    0.1–2 in", "not a floor this tool knows: tile or carpet"), or None when it can; ``units``: the system a length's
+    range is said in."""
+    if key in _CHOICES:
+        allowed, what = _CHOICES[key]
+        return None if reply in allowed else f"not {what}: {' or '.join(allowed)}"
+    dimension, unit, factor, (low, high), example = _KINDS[key]
+    if not any(ch.isdigit() for ch in reply):
+        return f"not a number; {example}"
+    try:
+        value = quantity_option(reply, dimension, "answer")
+    except InputError:
+        return f"not a {'number' if dimension == 'dimensionless' else dimension}; {example}"
+    if dimension == "length" and units == "mm":
+        unit, factor = "mm", 0.001
+    if not low < value <= high if key == "front_fraction" else not low <= value <= high:
+        span = f"{low / factor:.3g}–{high / factor:.3g}{' ' + unit if unit else ''}"
+        return f"out of range {span}" + (" (above 0)" if key == "front_fraction" else "")
+    return None
 
 
 def _ask(args) -> Answers:
@@ -142,6 +185,10 @@ def _ask(args) -> Answers:
             except EOFError:
                 reply = ""
             given[key] = reply or (default if key != "mass" else None)
+            reason = reply_reason(key, reply, given.get("units") or defaults["units"]) if reply else None
+            if reason is not None:
+                print(f"  {reply!r}: {reason}", file=sys.stderr)
+                continue
             try:
                 _answers({**given, **{k: None for k, _ in _QUESTIONS if k not in given}})
                 break
@@ -185,13 +232,22 @@ def _answers(given: dict) -> Answers:
         load=load,
         mass=m,
         front_fraction=f,
-        sill=ranged_option(given.get("sill") or defaults["sill"], "threshold_height", "--sill", positive=True),
+        sill=_sill(given.get("sill") or defaults["sill"], units),
         floor=choice_option(given.get("floor") or defaults["floor"], SURFACES, "--floor"),
         target_speed=ranged_option(
             given.get("target_speed") or defaults["target_speed"], "target_speed", "--target-speed", positive=True
         ),
         units=units,
     )
+
+
+def _sill(text: str, units: str) -> float:
+    """The sill height [m] of ``--sill`` (or its reply), within :data:`SILL_RANGE`: InputError naming the option
+    and the true reason ("out of range 0.1–2 in") otherwise."""
+    reason = reply_reason("sill", text, units)
+    if reason is not None:
+        raise InputError(f"--sill {text}: {reason}")
+    return float(ranged_option(text, "threshold_height", "--sill", positive=True))
 
 
 def _length(value: float, units: str) -> str:

@@ -20,7 +20,10 @@ from designer.errors import InputError
 from designer.problem import load_problem
 from designer.problem import POINTS_RANGE
 from designer.problem import problem_files
-from designer.units import INCH
+from types import SimpleNamespace
+
+from designer.display import quantity, shown
+from designer.report.text import plain_rule
 
 
 def register(sub) -> None:
@@ -85,7 +88,14 @@ def _progress():
     return progress
 
 
-def _print_summary(s: dict) -> None:
+def _sizes(design: dict, units: str) -> str:
+    """The four parts by their symbols, in the problem's units: "T 63.50 mm, d 177.80 mm, ..."."""
+    return ", ".join(
+        f"{quantity(n).symbol} {shown(design[n], n, units)}" for n in ("trail", "diameter", "groove", "damping")
+    )
+
+
+def _print_summary(s: dict, problem) -> None:
     print(
         f"{s['problem']}: {s['points']} front points ({s['failed_points']} failed), "
         f"checks {s['checks_passed']}/{s['checks_total']} pass"
@@ -94,19 +104,16 @@ def _print_summary(s: dict) -> None:
     )
     rec = s.get("recommendation")
     if rec is not None:
-        d = rec["design"]
+        why = plain_rule(problem, SimpleNamespace(rule=rec["rule"]))
         print(
-            f"  build this: T = {d['trail'] / INCH:.3f} in, d = {d['diameter'] / INCH:.3f} in, "
-            f"B = {d['groove'] / INCH:.3f} in, c_f = {d['damping']:.3f} N·m/rad; "
-            f"F_turn {rec['turning_effort']:.3f} N, P {rec['threshold_force']:.2f} N ({rec['rule']})"
+            f"  the caster to build: {_sizes(rec['design'], problem.units)}; "
+            f"F_turn {rec['turning_effort']:.3f} N, P {rec['threshold_force']:.2f} N ({why})"
         )
     opt = s["optimum"]
     if opt is not None:
-        d = opt["design"]
         wheel = f"wheel {opt['wheel']}, " if opt.get("wheel") else ""
         print(
-            f"  weighted optimum: {wheel}T = {d['trail'] / INCH:.3f} in, d = {d['diameter'] / INCH:.3f} in, "
-            f"B = {d['groove'] / INCH:.3f} in, c_f = {d['damping']:.3f} N·m/rad; "
+            f"  with any sizes: {wheel}{_sizes(opt['design'], problem.units)}; "
             f"F_turn {opt['objectives']['turning_effort']:.3f} N, P {opt['objectives']['threshold_force']:.2f} N"
         )
     for line in s.get("moved", {}).values():  # files of the existing report whose values moved (the rest kept)
@@ -149,7 +156,7 @@ def run(args) -> int:
         for problem, out in jobs:
             summaries.append(compute_and_write(problem, args.points, out, progress, args.force, args.cross_check))
             if not args.json:
-                _print_summary(summaries[-1])
+                _print_summary(summaries[-1], problem)
     finally:
         if progress is not None:
             progress.stop()

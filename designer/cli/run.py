@@ -4,15 +4,16 @@ problem as posed with margins, sensitivities and solver agreement."""
 from __future__ import annotations
 
 import math
-import shutil
-import textwrap
 
+from designer.cli._terminal import fit, width
 from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
 from designer.errors import InputError
 from designer.physics.scatter import inertia_prediction
 from designer.studies.recommend import recommend, weights_meaning
 from designer.problem import check_weights, load_problem
 from designer.units import written_size
+from designer.display import label, percent, quantity, shown
+from designer.report.text import caster_sentence, plain_rule
 
 
 def register(sub) -> None:
@@ -54,26 +55,9 @@ def parse_weights(text: str | None):
 
 
 def wrapped(text: str) -> str:
-    """``text`` with every line wider than the terminal (``COLUMNS``; 80 when not a terminal) wrapped at word
-    boundaries, its continuation indented two more than the line; narrower lines (the aligned tables) as they are."""
-    width = max(40, shutil.get_terminal_size((80, 24)).columns)
-    out = []
-    for line in text.splitlines():
-        if len(line) <= width:
-            out.append(line)
-            continue
-        indent = " " * (len(line) - len(line.lstrip()))
-        out.append(
-            textwrap.fill(
-                line.strip(),
-                width,
-                initial_indent=indent,
-                subsequent_indent=indent + "  ",
-                break_on_hyphens=False,
-                break_long_words=False,
-            )
-        )
-    return "\n".join(out)
+    """``text`` fitted to the terminal's width (:func:`designer.cli._terminal.fit`: wrapped at words, never
+    between a number and its unit; the aligned tables, narrower, as they are)."""
+    return fit(text, width())
 
 
 def conditions_line(problem) -> str:
@@ -86,6 +70,143 @@ def conditions_line(problem) -> str:
     )
 
 
+ROLES = {
+    "easiest to turn": "easiest to turn",
+    "between the ends": "in between",
+    "easiest over the sill": "lightest over the sill",
+}
+"""What each other caster of the trade-off is for, as the first screen names it (the record's ``role``)."""
+
+SOURCES = {
+    "model error": "Eq. 7's own error against the paper's measured wheels",
+    "wheel inertia (diameter only)": "the wheel's inertia, known from its size only",
+    "wheel inertia (measured)": "the scatter of the measured wheel's inertia",
+    "M_f/θ0": "the scatter of the bearing friction",
+    "K_s": "the scatter of the tyre's slip",
+}
+"""Where the risk comes from, in plain words (``Recommendation.risk["sources"]`` names)."""
+
+
+def caster_line(rec, units: str) -> str:
+    """The four parts in one line, by their symbols, in the problem's units: "T 2.500 in, d 7.000 in, ..."."""
+    d = rec.design
+    return "  " + ", ".join(symbol_shown(getattr(d, n), n, units) for n in ("trail", "diameter", "groove", "damping"))
+
+
+def cost_sentence(problem, rec) -> str:
+    """What the caster costs the user: the two forces, the shimmy risk, the footrests' room."""
+    units = problem.units
+    out = (
+        f"Cost: {label('turning_effort')} {shown(rec.turning_effort, 'turning_effort', units)}, "
+        f"{label('threshold_force')} {shown(rec.threshold_force, 'threshold_force', units)}"
+    )
+    if rec.alpha is not None:
+        out += (
+            f"; P(shimmy) at {shown(rec.target_speed, 'target_speed', units, digits=1)} "
+            f"{percent(rec.shimmy_probability)} (allowed {percent(rec.alpha)})"
+        )
+    if rec.swept_radius_max is not None:
+        out += (
+            f"; it sweeps {written_size(rec.swept_radius, units)} of the "
+            f"{written_size(rec.swept_radius_max, units)} the footrests allow"
+        )
+    return out + "."
+
+
+def risk_sentence(problem, rec) -> str:
+    """Where the risk comes from and what measuring the wheel would allow, in one or two plain sentences."""
+    units = problem.units
+    out = ""
+    if rec.risk is not None and rec.risk.get("sources"):
+        top = max(rec.risk["sources"], key=lambda src: src["share"])
+        out = f"Most of the risk ({100 * top['share']:.0f} %) comes from {SOURCES.get(top['name'], top['name'])}."
+    m = rec.if_measured
+    if m is not None:
+        md, d = m["design"], rec.design
+        changes = [
+            f"{quantity(n).symbol} {written_size(md[n], units) if n != 'damping' else shown(md[n], n, units)}"
+            for n in ("diameter", "trail", "groove", "damping")
+            if abs(md[n] - getattr(d, n)) > 1e-12
+        ]
+        limit = shown(m["inertia"], "inertia", units)
+        if not changes:
+            out += f" A wheel measured at or under {limit} changes no part."
+        else:
+            gains = [
+                f"{shown(abs(m[key]), 'turning_effort', units, digits=1)} {easier if m[key] > 0 else harder}"
+                for key, easier, harder in (
+                    ("saves_turning_effort", "easier to turn", "harder to turn"),
+                    ("saves_threshold_force", "easier over the sill", "harder over the sill"),
+                )
+                if abs(m[key]) >= 0.005
+            ]
+            out += (
+                f" Measure the wheel: at or under {limit} it allows {', '.join(changes)}"
+                + (f" ({' and '.join(gains)})" if gains else "")
+                + "."
+            )
+    return out.strip()
+
+
+def others_lines(problem, rec, most: int = 3) -> list[str]:
+    """The other casters of the trade-off, each named by what it is for, with its two forces (at most ``most``:
+    the two ends first; the rest counted)."""
+    alts = [a for a in rec.alternatives if a.role in ROLES]
+    if not alts:
+        return []
+    ends = [a for a in alts if a.role != "between the ends"]
+    middle = [a for a in alts if a.role == "between the ends"]
+    shown_alts = (ends + middle)[:most]
+    shown_alts.sort(key=lambda a: a.turning_effort)
+    units = problem.units
+    out = ["Other casters on the trade-off:"]
+    for a in shown_alts:
+        d = a.design
+        out.append(
+            f"  {ROLES[a.role]}: {written_size(d.diameter, units)} wheel, T {written_size(d.trail, units)}, "
+            f"B {written_size(d.groove, units)}: {symbol_shown(a.turning_effort, 'turning_effort', units)}, "
+            f"{symbol_shown(a.threshold_force, 'threshold_force', units)}"
+        )
+    rest = len(alts) - len(shown_alts)
+    if rest:
+        out.append(f"  and {rest} more (--verbose)")
+    return out
+
+
+def symbol_shown(value: float, name: str, units: str) -> str:
+    """A quantity by its symbol and value: "F_turn 7.01 N"."""
+    return f"{quantity(name).symbol} {shown(value, name, units)}"
+
+
+def answer(problem, rec) -> str:
+    """The first screen of ``designer run``: the caster to build, why, what it costs, the others, what next."""
+    units = problem.units
+    name = problem.name
+    out = [
+        conditions_line(problem),
+        f"The caster to build: {caster_sentence(rec, units)}.",
+        caster_line(rec, units),
+        f"Why: {plain_rule(problem, rec)}.",
+        cost_sentence(problem, rec),
+    ]
+    risk = risk_sentence(problem, rec)
+    if risk:
+        out.append(risk)
+    if rec.enforced is not None and rec.enforced["changed"]:
+        out.append(
+            "At the worst corner of the tolerances the first pick shimmied too often; this one holds there "
+            "(--verbose: what it costs)."
+        )
+    if not rec.alternatives:
+        out.append("No other caster you can build is better on either force.")
+    out += others_lines(problem, rec)
+    out.append(
+        f"Next: designer spec {name} (the inspection sheet), designer pareto {name} (the report); "
+        "--verbose: acceptance limits, the weighted optimum, the solvers' agreement."
+    )
+    return "\n".join(out)
+
+
 def run(args) -> int:
     weights = parse_weights(args.weights)  # the options first: a bad one is named before the file is read
     speed = ranged_option(args.target_speed, "target_speed", "--target-speed")
@@ -95,8 +216,17 @@ def run(args) -> int:
     from designer.studies.optimum import optimise
 
     rec = recommend(problem)  # exit 4 when no stock combination meets the risk bound
-    solution = optimise(problem, weights, cross_check=not args.no_cross_check)
     used = [float(w) for w in (weights if weights is not None else problem.weights)]
+    if not args.json and not args.verbose:
+        text = answer(problem, rec)
+        if args.weights is not None:
+            text += (
+                f"\n--weights {args.weights} sets the weighted optimum (--verbose shows it); the caster to build "
+                "follows the problem's [objective]."
+            )
+        print(wrapped(text))
+        return 0
+    solution = optimise(problem, weights, cross_check=not args.no_cross_check)
     if args.json:
         data = solution.to_dict()
         data["extrapolated"] = bool(inertia_prediction().extrapolated(solution.design.diameter))
@@ -117,7 +247,9 @@ def run(args) -> int:
     else:
         text = "\n".join(
             [
-                conditions_line(problem),
+                answer(problem, rec),
+                "",
+                "In full:",
                 str(rec),
                 "",
                 f"Weighted optimum of the problem as posed, continuous and "

@@ -4,7 +4,16 @@ from __future__ import annotations
 
 import warnings
 
-from designer.studies.checks import FAILS, law_checks, paper_checks, summary_line
+from designer.studies.checks import (
+    FAILS,
+    NOT_APPLICABLE,
+    REPRODUCED,
+    WITHIN_SCATTER,
+    law_checks,
+    paper_checks,
+    summary_line,
+)
+from designer.cli._terminal import fit, width
 from designer.cli._common import print_json
 from designer.cli._terminal import console as terminal_console
 from designer.units import INCH
@@ -22,7 +31,56 @@ def register(sub) -> None:
         "Check 8 runs on every front computed by 'designer pareto'.",
     )
     p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.add_argument("--verbose", action="store_true", help="the full tables: each paper's claim, the details")
     p.set_defaults(func=run)
+
+
+RESULT = {
+    REPRODUCED: "agrees",
+    WITHIN_SCATTER: "agrees within the paper's scatter",
+    FAILS: "DISAGREES",
+    NOT_APPLICABLE: "not applicable",
+}
+"""Each outcome as the list says it: a passing check agrees (within the paper's scatter where that is the
+criterion), a failing one disagrees."""
+
+KINDS = (
+    ("paper", "Against the paper's measurements and stated results"),
+    ("identity", "The paper's numbers built into the model (each must hold)"),
+    ("law", "The risk law against each Table 1 wheel it was fitted without"),
+)
+"""The three groups of checks, in order, each with its heading."""
+
+
+def count_line(checks) -> str:
+    """The count in the words of ``designer pareto``: "checks 11/11 pass"; the failing ones named."""
+    failed = [c for c in checks if c.outcome == FAILS]
+    text = f"checks {len(checks) - len(failed)}/{len(checks)} pass"
+    return text + (f"; disagreeing: {', '.join(_name(c) for c in failed)}" if failed else "")
+
+
+def _name(check) -> str:
+    """A check's name without the number docs/checks.md gives it ("Eq. 8" for "1 Eq. 8")."""
+    head, _, rest = check.name.partition(" ")
+    return rest if head.isdigit() and rest else check.name
+
+
+def _print_list(checks) -> None:
+    """The checks as a numbered list in one screen (about 40 lines at 80 columns): each check's result, what
+    the paper expects and what the model gives; the claims and details behind ``--verbose``."""
+    out = [f"The paper's checks (docs/checks.md): {count_line(checks)}."]
+    number = 0
+    for kind, title in KINDS:
+        group = [c for c in checks if c.kind == kind]
+        if not group:
+            continue
+        out.append(f"{title}:")
+        for c in group:
+            number += 1
+            out.append(f"{number:2d}. {_name(c)}: {RESULT.get(c.outcome, c.outcome)}")
+            out.append(f"    expected {c.expected}; ours {c.got}")
+    out.append("--verbose: each claim in the paper's words and the details.")
+    print(fit("\n".join(out), width()))
 
 
 def run(args) -> int:
@@ -32,6 +90,9 @@ def run(args) -> int:
     failed = [c for c in checks if c.outcome == FAILS]
     if args.json:
         print_json([c.to_dict() for c in checks])
+        return 1 if failed else 0
+    if not args.verbose:
+        _print_list(checks)
         return 1 if failed else 0
     from rich.markup import escape
 
@@ -53,7 +114,7 @@ def run(args) -> int:
                     escape(c.claim),
                     escape(str(c.expected)),
                     escape(str(c.got)),
-                    c.outcome.upper() if c.outcome == FAILS else c.outcome,
+                    RESULT.get(c.outcome, c.outcome),
                 )
         console.print(table)
     for c in checks:
@@ -62,9 +123,9 @@ def run(args) -> int:
     for c in checks:
         console.print(f"[bold]{escape(c.name)}[/bold]: {escape(c.detail)}")
         for line in c.disagreements:
-            console.print(f"  disagrees: {escape(line)}")
+            console.print(f"  apart: {escape(line)}")
     console.print(summary_line(checks))
-    console.print(f"{len(checks) - len(failed)} do not fail, {len(failed)} failed")
+    console.print(count_line(checks))
     for c in failed:
         console.print(f"FAILED {escape(c.name)}: expected {escape(str(c.expected))}, got {escape(str(c.got))}")
     return 1 if failed else 0

@@ -716,7 +716,8 @@ def _indicators(front, problem, knee, best) -> list[dict]:
         ),
         (
             "knee",
-            f"point {front.points.index(knee)}: F_turn {fmt(knee.turning_effort, '.3f', 'N')}, "
+            ("solved on the continuous front" if knee not in front.points else f"point {front.points.index(knee)}")
+            + f": F_turn {fmt(knee.turning_effort, '.3f', 'N')}, "
             f"P {fmt(knee.threshold_force, '.2f', 'N')}; {knee.design.describe()}",
             "farthest from the chord between the two ends, in normalised objectives",
         ),

@@ -17,9 +17,13 @@ from designer.units import percent
 from designer.plots.caster import caster_svg
 from designer.report.context import corner_sentence, spec_rows
 from designer.report.formatting import size
+from designer.report.text import plain_rule
 
 SHEET_HEAD = "<!DOCTYPE html><!-- inspection sheet written by caster-designer's designer spec -->"
 """The sheet's first line: how ``designer spec`` recognises a sheet of its own it may replace."""
+
+COLUMNS = ("part", "nominal", "tolerance", "acceptance limit (others at nominal)", "how to measure")
+"""The headings of the sheet's table (on a phone each cell is one line under its part, named by its heading)."""
 
 SHEET_SCALE = 19.2
 """Pixels per inch of the sheet's drawing: CSS prints 96 px to the inch, so the drawing is 1:5 at 100 %."""
@@ -42,8 +46,20 @@ td.how { font-size: 7.5pt; color: #333; }
 .sign { margin-top: 4mm; display: flex; gap: 10mm; font-size: 8.5pt; }
 .sign span { flex: 1; border-top: 0.3mm solid #333; padding-top: 1mm; }
 @media print { body { max-width: none; } .sheet { page-break-inside: avoid; break-inside: avoid; } }
+@media screen and (max-width: 640px) {
+  body { padding: 0 10px; font-size: 12px; }
+  .meta, td.how, .sign { font-size: 11px; }
+  .drawing { overflow-x: auto; }
+  table, tbody, tr, td { display: block; width: auto; }
+  tr:first-child { display: none; }
+  tr { border: 0.3mm solid #999; margin: 0 0 3mm; }
+  td, td.num { border: none; border-bottom: 1px solid #eee; white-space: normal; }
+  td.part { font-weight: bold; background: #eee; }
+  td:not(.part)::before { content: attr(data-label) ": "; color: #444; }
+}
 """
-"""The sheet's stylesheet: one column, print margins, no page break inside."""
+"""The sheet's stylesheet: one column, print margins, no page break inside; on a phone's screen (390 px) the page
+fits the width, its text at least 11 px, the 1:5 drawing and the table scrolling sideways in their frames."""
 
 
 def _risk_lines(rec: Any) -> list[str]:
@@ -96,7 +112,8 @@ def sheet_html(rec: Any) -> str:
     rows = "".join(
         "<tr>"
         + "".join(
-            f'<td class="{cls}">{escape(cell)}</td>' for cls, cell in zip(("part", "num", "num", "num", "how"), row)
+            f'<td class="{cls}" data-label="{label}">{escape(cell)}</td>'
+            for cls, label, cell in zip(("part", "num", "num", "num", "how"), COLUMNS, row)
         )
         + "</tr>"
         for row in spec_rows(spec, units)
@@ -107,21 +124,22 @@ def sheet_html(rec: Any) -> str:
     return "\n".join(
         [
             SHEET_HEAD,
-            '<html lang="en"><head><meta charset="utf-8">',
+            '<html lang="en"><head><meta charset="utf-8">'
+            '<meta name="viewport" content="width=device-width, initial-scale=1">',
             f"<title>{escape(title)}</title><style>{CSS}</style></head>",
             '<body><div class="sheet">',
             f"<h1>{escape(title)}</h1>",
             f'<p class="meta">Designed for: {escape(problem.title)}; {problem.conditions.load:.4g} N per caster, '
             f"sill {escape(size(problem.conditions.threshold_height, units))}, no shimmy below "
-            f"{problem.required_speed:.3g} m/s with probability {percent(1 - spec.alpha)}. Rule: {escape(rec.rule)}.</p>",
+            f"{problem.required_speed:.3g} m/s with probability {percent(1 - spec.alpha)}. Chosen as "
+            f"{escape(plain_rule(problem, rec))}.</p>",
             f'<div class="drawing">{drawing}</div>',
             '<p class="meta">Drawn to scale, 1:5 when printed at 100 %.</p>',
             f"<p>Build: trail {escape(size(d.trail, units))}, wheel {escape(size(d.diameter, units))}{escape(wheel)}"
             f" ({escape(kind)}, I_w {spec.inertia:.3g} kg·m²), groove {escape(size(d.groove, units))}, bearing friction "
             f"moment M_f = {spec.friction_moment:.3f} N·m (c_f = {d.damping:.3g} N·m/rad at θ0 = "
             f"{math.degrees(spec.disturbance_angle):.0f}°).</p>",
-            "<table><tr><th>part</th><th>nominal</th><th>tolerance</th><th>acceptance limit (others at nominal)"
-            f"</th><th>how to measure</th></tr>{rows}</table>",
+            "<table><tr>" + "".join(f"<th>{c}</th>" for c in COLUMNS) + f"</tr>{rows}</table>",
             '<p class="meta">A limit is where, with every other part at nominal, the exact law gives P(shimmy) = α; '
             "printed limits are rounded toward the safe side. A part beyond its limit fails the risk bound.</p>",
             '<div class="risk">',

@@ -40,8 +40,10 @@ def caster_sentence(rec, units: str = "in") -> str:
     washer)"."""
     d = rec.design
     wheel = f" ({rec.wheel})" if getattr(rec, "wheel", None) else ""
+    wheel_size = size(d.diameter, units)
+    article = "an" if wheel_size.startswith(("8", "11", "18", "≈ 8", "≈ 11", "≈ 18")) else "a"
     return (
-        f"a {size(d.diameter, units)} wheel{wheel} with {_groove_phrase(d.groove, units)} in a fork of "
+        f"{article} {wheel_size} wheel{wheel} with {_groove_phrase(d.groove, units)} in a fork of "
         f"{size(d.trail, units)} trail, {_damping_phrase(d.damping)}"
     )
 
@@ -50,10 +52,19 @@ PLAIN_RULES = {
     "knee": "the best balance between turning and the sill among {what}",
     "cap_threshold": "the easiest to turn among {what} that climb the sill with at most {cap:.0f} N",
     "cap_turning": "the easiest over the sill among {what} that turn with at most {cap:.1f} N",
-    "end": "the best of the few casters {what} allow (least J = {w0:g} F_turn + {w1:g} P)",
+    "end": "the best of the few casters {what} allow ({j})",
     "concave": "the lowest combined force among {what} ({j})",
 }
-"""The recommendation's rule in plain words, by kind (the terms are in the report's glossary)."""
+"""The recommendation's rule in plain words, by kind (the precise rule: docs/model.md#the-recommendation)."""
+
+
+def combined_force(weights) -> str:
+    """What the problem's weights add up, in words: "turning effort plus sill force, a newton of each counted
+    alike" for (1, 1); "2 × turning effort + 1 × sill force, the problem's weights" otherwise."""
+    w0, w1 = (float(w) for w in weights)
+    if w0 == w1:
+        return "turning effort plus sill force, a newton of each counted alike"
+    return f"{w0:g} × turning effort + {w1:g} × sill force, the problem's weights"
 
 
 def plain_rule(problem, rec) -> str:
@@ -66,23 +77,24 @@ def plain_rule(problem, rec) -> str:
         return PLAIN_RULES["cap_turning"].format(what=what, cap=problem.max_turning_effort)
     if rec.rule.startswith("knee"):
         return PLAIN_RULES["knee"].format(what=what)
+    j = combined_force(problem.weights)
     if rec.rule.startswith("least J") and "has no knee" in rec.rule:
-        w0, w1 = problem.weights
-        j = (
-            "turning effort plus sill force, a newton of each counted alike"
-            if (w0, w1) == (1, 1)
-            else f"{w0:g} × turning effort + {w1:g} × sill force, the problem's weights"
-        )
         return PLAIN_RULES["concave"].format(what=what, j=j)
     if rec.rule.startswith("least J"):
-        w0, w1 = problem.weights
-        return PLAIN_RULES["end"].format(what="the parts" if problem.stock is not None else "the sizes", w0=w0, w1=w1)
+        return PLAIN_RULES["end"].format(what="the parts" if problem.stock is not None else "the sizes", j=j)
     return f"chosen by the rule: {rec.rule}"
 
 
 def lead_sentence(data) -> str:
     """The first screen's first sentence, in plain words: why this caster, the two forces, the risk."""
-    rec, problem = data.recommendation, data.problem
+    return answer_sentence(data.problem, data.recommendation)
+
+
+def answer_sentence(problem, rec) -> str:
+    """Why this caster, the two forces and the risk in one plain sentence (the report's first sentence and the
+    "Why" of ``designer run``): "The lowest combined force among the parts you can buy (...): it turns with
+    7.9 N of effort and climbs the 1/2 in sill with 107 N; at 2.5 m/s it shimmies with probability 2.98 % (the
+    bound is 5 %)."."""
     units = getattr(problem, "units", "in")
     forces = (
         f"it turns with {rec.turning_effort:.1f} N of effort and climbs the "
@@ -180,26 +192,27 @@ def stock_sentence(price: dict | None, has_stock: bool) -> str:
             f"(continuous front: {price['threshold_force_continuous']:.2f} N)"
         )
     if not parts:
-        return "Price of stock: none; this stock caster lies on the continuous risk-bounded front."
-    return "Price of stock, against the continuous risk-bounded front: " + "; ".join(parts) + "."
+        return "Buying parts costs nothing here: this stock caster lies on the continuous front."
+    return "What buying parts costs against any sizes (the continuous front): " + "; ".join(parts) + "."
 
 
 def build_lines(data) -> list[str]:
-    """The "Build this" details under the lead sentence (empty without a recommendation): the rule by its name,
-    the forces and the risk in full, the swept radius."""
+    """The "Build this" details under the lead sentence (empty without a recommendation): the forces and the
+    risk in full, the swept radius, then the rule by its precise name (the lead said it in plain words)."""
     rec = data.recommendation
     if rec is None:
         return []
     problem = data.problem
     units = getattr(problem, "units", "in")
     out = [
-        f"Chosen by the rule: {rec.rule} (see Terms). F_turn = {rec.turning_effort:.3f} N; over the "
+        f"Turning effort F_turn = {rec.turning_effort:.3f} N; sill force over the "
         f"{size(problem.conditions.threshold_height, units)} sill P = {rec.threshold_force:.2f} N.",
         risk_sentence(rec),
         radius_sentence(rec, units),
     ]
     if getattr(rec, "note", ""):
         out.append(f"Note: {rec.note}.")
+    out.append(f"The rule by its name: {rec.rule} (see Terms).")
     return out
 
 
@@ -266,9 +279,9 @@ def summary_lines(data) -> list[str]:
     if front.points:
         f = front.objectives()
         d = np.array([p.design.diameter for p in front.points])
-        kind = "risk-bounded" if problem.conditions.uncertainty is not None else "nominal"
+        kind = "within the risk bound" if problem.conditions.uncertainty is not None else "without a risk bound"
         out.append(
-            f"Continuous {kind} front: {len(front)} valid point{'s' if len(front) != 1 else ''} (of "
+            f"With any sizes, not only the parts (the continuous front, {kind}): {len(front)} valid point{'s' if len(front) != 1 else ''} (of "
             f"{front.meta.get('points_requested', len(front))} requested, {len(front.failed)} failed): turning "
             f"effort {f[:, 0].min():.2f}–{f[:, 0].max():.2f} N, threshold force {f[:, 1].min():.1f}–"
             f"{f[:, 1].max():.1f} N, wheel diameter {size(d.min(), problem.units)}–{size(d.max(), problem.units)}."

@@ -15,7 +15,7 @@ command redraws it.
 The images: the notebook reprs (``_repr_html_``) and plot methods; the report's first screen at 1400 and
 390 px and its figures (results/indoor-manual/index.html); ``designer fix`` and ``designer fleet`` at
 ``COLUMNS=80`` (docs/img/terminal.py); a fleet report's first screen; the tilted-stem figure
-(:mod:`designer.plots.stem`); the inspection sheet of ``designer spec``; the studio at 1400 and 390 px and with a bad value.
+(:mod:`designer.plots.stem`); the inspection sheet of ``designer spec`` (A4 and a 390 px phone); the studio at 1400 and 390 px and with a bad value.
 """
 
 from __future__ import annotations
@@ -343,6 +343,7 @@ IMAGES: dict[str, tuple[Callable[[], str], Callable[[Path], None]]] = {
     ),
     "img/fleet-first-screen.png": (lambda: _page_text(_fleet_page()), _page_shot(_fleet_page, 1400, 1000)),
     "img/spec-sheet.png": (lambda: _page_text(_spec_page()), _page_shot(_spec_page, 765, 990)),
+    "img/sheet-390.png": (lambda: _page_text(_spec_page()), _page_shot(_spec_page, 390, 1400)),
     "retrofit-stem.png": (_stem_source, _stem),
     "img/studio-1400.png": (_studio_data, _studio(1400, 1000)),
     "img/studio-390.png": (_studio_data, _studio(390, 1500)),

@@ -36,10 +36,15 @@ def test_evaluate_json_eq8(capsys):
 
 
 def test_evaluate_table(capsys):
-    """Without --json a readable table in SI and inches, with the stability verdict at a target speed."""
+    """Without --json a readable table in SI and inches, with the stability verdict at a target speed (one
+    screen), and the same in full with each quantity's source under --verbose."""
     assert main(EVAL + ["--target-speed", "3 m/s"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "critical shimmy speed V_c" in text and "At 3.000 m/s: Eq. 7 alone says it shimmies" in text
+    assert "in)" in text
+    assert main(EVAL + ["--target-speed", "3 m/s", "--verbose"]) == 0
     text = capsys.readouterr().out
-    assert "critical shimmy speed" in text and "SHIMMIES" in text and "in)" in text
+    assert "critical shimmy" in text and "SHIMMIES" in text and "docs/model.md#turning-effort," in text
 
 
 @pytest.mark.parametrize(
@@ -72,12 +77,23 @@ def test_evaluate_bad_input(args, fragment, capsys):
 
 
 def test_validate_passes(capsys):
-    """designer validate: all paper checks pass, exit 0, table lists every check."""
+    """designer validate: all paper checks pass, exit 0; the list numbers every check 1..n with its result in
+    words, counted as pareto counts ("checks n/n pass"); --verbose: the tables with the checks' own names."""
+    from designer.studies.checks import law_checks, paper_checks
+
     assert main(["validate"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    n = len(paper_checks()) + len(law_checks())
+    assert lines[0] == f"The paper's checks (docs/checks.md): checks {n}/{n} pass."
+    numbered = [ln for ln in lines if ln[:2].strip().isdigit() and ln[2:4] == ". "]
+    assert [int(ln[:2]) for ln in numbered] == list(range(1, n + 1))
+    assert " 1. Eq. 8: agrees" in lines and " 2. Table 1: agrees within the paper's scatter" in lines
+    assert not any("disagree" in ln.lower() for ln in lines)
+    assert main(["validate", "--verbose"]) == 0
     out = capsys.readouterr().out
     for name in ("1 Eq. 8", "2 Table 1", "7 P/L vs d", "9 Routh", "10 Quadra"):
         assert name in out
-    assert "0 failed" in out
+    assert f"checks {n}/{n} pass" in out
 
 
 def test_validate_fails_loudly(monkeypatch, capsys):
@@ -87,6 +103,10 @@ def test_validate_fails_loudly(monkeypatch, capsys):
     bad = checks.Check(name="x broken", claim="claim", expected=1.0, got=2.0, passed=False, detail="")
     monkeypatch.setattr("designer.cli.validate.paper_checks", lambda: [bad])
     assert main(["validate"]) == 1
+    out = capsys.readouterr().out
+    assert "checks 1/2 pass; disagreeing: x broken" in out  # the law check still runs
+    assert " 1. x broken: DISAGREES\n    expected 1.0; ours 2.0" in out
+    assert main(["validate", "--verbose"]) == 1
     assert "FAILED x broken: expected 1.0, got 2.0" in capsys.readouterr().out
 
 
@@ -434,7 +454,10 @@ def test_evaluate_target_speed_prints_the_risk_and_its_sources(capsys):
     assert measured[1]["name"] == "wheel inertia (measured)" and measured[1]["scale"] == 0.05
     assert main(args + ["--target-speed", "2.5m/s"]) == 0
     text = " ".join(capsys.readouterr().out.split())  # the console wraps lines
-    assert "P(shimmy at 2.50 m/s)" in text and "Where the risk comes from" in text and "dominates the risk" in text
+    assert f"it shimmies with probability {100 * want['probability']:.3g} %" in text
+    assert main(args + ["--target-speed", "2.5m/s", "--verbose"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "P(shimmy at 2.50" in text and "Where the risk comes from" in text and "dominates the risk" in text
     small = ["evaluate", "--trail", "2.5in", "--diameter", "3in", "--groove", "0in", "--damping", "1.3"]
     assert main(small + ["--inertia", "0.0002", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["extrapolated"] is True

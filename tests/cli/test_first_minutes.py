@@ -109,9 +109,9 @@ def test_init_then_run(tmp_path, monkeypatch, capsys):
     capsys.readouterr()
     assert main(["run", str(path), "--no-cross-check"]) == 0
     out = capsys.readouterr().out
-    assert "Build this caster" in out
+    assert "The caster to build: a 7 in wheel with a 3/4 in groove" in out
     # a caster the shop can fit: the shipped stock's 7 in wheel and 3/4 in groove, as for indoor-manual
-    assert "diameter d             7.000 in" in out and "groove B               0.750 in" in out
+    assert "  T 2.500 in, d 7.000 in, B 0.750 in, c_f 1.30 N·m/rad" in out.splitlines()
 
 
 def test_init_options_mass_and_mm(tmp_path, capsys):
@@ -151,7 +151,7 @@ def test_init_interactive(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr("builtins.input", lambda _prompt="": next(replies))
     path = tmp_path / "q.toml"
     assert main(["init", str(path)]) == 0
-    assert "--target-speed = 'fast'" in capsys.readouterr().err
+    assert "  'fast': not a number; e.g. 2.5 m/s" in capsys.readouterr().err.splitlines()
     p = load_problem(path)
     assert p.conditions.load == 250.0 and p.conditions.surface == "carpet" and p.target_speed == 3.0
 
@@ -163,7 +163,9 @@ def test_init_interactive(tmp_path, monkeypatch, capsys):
         (["--mass", "95kg", "--front-fraction", "1.5"], 2, "--front-fraction 1.5: must be above 0 and at most 1"),
         (["--mass", "95kg", "--load", "200N"], 2, "--load and --mass"),
         (["--floor", "grass"], 2, "--floor 'grass': expected one of tile, carpet"),
-        (["--sill", "5in"], 2, "the answers do not make a valid problem"),
+        (["--sill", "5in"], 2, "--sill 5in: out of range 0.1–2 in"),
+        (["--sill", "20in"], 2, "--sill 20in: out of range 0.1–2 in"),
+        (["--sill", "60mm", "--units", "mm"], 2, "--sill 60mm: out of range 2.54–50.8 mm"),
     ],
 )
 def test_init_bad_answers(extra, code, fragment, tmp_path, capsys):
@@ -181,3 +183,121 @@ def test_init_never_replaces(tmp_path, capsys):
     assert main(["init", str(path), "--defaults"]) == 7
     assert "exists" in capsys.readouterr().err and path.read_text() == "my notes\n"
     assert [p.name for p in tmp_path.iterdir()] == ["mine.toml"]
+
+
+@pytest.mark.parametrize(
+    "key, reply, reason",
+    [
+        ("front_fraction", "abc", "not a number; e.g. 0.3"),
+        ("front_fraction", "1.5", "out of range 0–1 (above 0)"),
+        ("sill", "grass", "not a number; e.g. 1/2 in or 13 mm"),
+        ("sill", "cm", "not a number; e.g. 1/2 in or 13 mm"),
+        ("sill", "mm", "not a number; e.g. 1/2 in or 13 mm"),
+        ("sill", "20 in", "out of range 0.1–2 in"),
+        ("sill", "5 kg", "not a length; e.g. 1/2 in or 13 mm"),
+        ("mass", "5000 kg", "out of range 1–2e+03 kg"),
+        ("floor", "grass", "not a floor this tool knows: tile or carpet"),
+        ("units", "cm", "not a unit system it writes: in or mm"),
+        ("sill", "3/4 in", None),
+        ("front_fraction", "0.3", None),
+    ],
+)
+def test_init_says_the_true_reason_of_a_bad_answer(key, reply, reason):
+    """Each bad answer at the terminal is refused for what is wrong with it: a word for a number is "not a
+    number" (not "a unit without a number"), a 20 in sill is "out of range" (not "inches written as metres")."""
+    from designer.cli.init import reply_reason
+
+    assert reply_reason(key, reply) == reason
+
+
+def test_init_prompts_fit_and_name_no_option(tmp_path, monkeypatch, capsys):
+    """Every question at the terminal, with its default, fits 80 columns and names no option (no "--"); bad
+    replies are refused with their reason and asked again, then the file is written."""
+    prompts = []
+    replies = iter(["95 kg", "abc", "0.3", "20 in", "3/4 in", "grass", "tile", "", "cm", "mm"])
+
+    def answer(prompt=""):
+        prompts.append(prompt)
+        return next(replies)
+
+    monkeypatch.setattr("sys.stdin.isatty", lambda: True, raising=False)
+    monkeypatch.setattr("builtins.input", answer)
+    assert main(["init", str(tmp_path / "p.toml")]) == 0
+    err = capsys.readouterr().err
+    assert "'abc': not a number" in err and "'20 in': out of range 0.1–2 in" in err and "'cm': not a unit" in err
+    assert len(prompts) == 10 and all(len(p) <= 80 and "--" not in p for p in prompts), prompts
+    p = load_problem(tmp_path / "p.toml")
+    assert p.units == "mm" and p.conditions.threshold_height == pytest.approx(0.75 * INCH, rel=1e-9)
+
+
+def _options_with_choices() -> list[tuple[str, str, tuple[str, ...]]]:
+    """(command, option, choices) of every option whose help lists its choices as "a | b"."""
+    import argparse
+
+    out = []
+    for action in build_parser()._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sub in action.choices.items():
+                for option in sub._actions:
+                    words = re.findall(r"\w+", (option.help or "").split("(")[0].split(":")[-1])
+                    if option.option_strings and " | " in (option.help or "") and words:
+                        choices = option.choices or getattr(option, "completion_choices", ())
+                        out.append((name, option.option_strings[-1], tuple(choices)))
+    return out
+
+
+def test_every_option_with_choices_completes_them():
+    """Each option whose help lists choices ("tile | carpet") declares them for completion (evaluate's --surface
+    and --turning-mode, init's --floor and --units, calibrate's --surface): none is left to complete nothing."""
+    found = _options_with_choices()
+    assert {(c, o) for c, o, _ in found} >= {("evaluate", "--surface"), ("init", "--units"), ("init", "--floor")}
+    assert [(c, o) for c, o, choices in found if not choices] == []
+
+
+@pytest.mark.skipif(shutil.which("bash") is None, reason="needs bash")
+@pytest.mark.parametrize(
+    "words, expected",
+    [
+        (["evaluate", "--surface"], "tile carpet"),
+        (["evaluate", "--turning-mode"], "chair pivot"),
+        (["init", "x.toml", "--units"], "in mm"),
+        (["init", "x.toml", "--floor"], "tile carpet"),
+    ],
+)
+def test_bash_completes_an_options_choices(words, expected, tmp_path, capsys):
+    """``designer evaluate --surface <TAB>`` offers tile and carpet (bash, the script as printed)."""
+    main(["completion", "bash"])
+    script = tmp_path / "designer.bash"
+    script.write_text(capsys.readouterr().out)
+    line = " ".join(["designer", *words, ""])
+    call = (
+        f"source {script}; COMP_WORDS=(designer {' '.join(words)} ''); COMP_CWORD={len(words) + 1}; "
+        f"COMP_LINE='{line}'; COMP_POINT={len(line)}; _shtab_designer designer '' {words[-1]}; echo \"${{COMPREPLY[*]}}\""
+    )
+    done = subprocess.run(["bash", "-c", call], capture_output=True, text=True)
+    assert done.stdout.strip() == expected, done.stderr
+
+
+@pytest.mark.skipif(shutil.which("bash") is None, reason="needs bash")
+def test_the_documented_completion_install_works_on_a_fresh_home(tmp_path, monkeypatch, capsys):
+    """docs/commands.md's bash line, in a home with no such folder yet, writes the script (the designer of this
+    checkout standing for the installed one); ``completion --help`` at 80 columns keeps that path whole."""
+    import sys
+
+    from conftest import ROOT
+
+    text = (ROOT / "docs" / "commands.md").read_text()
+    line = next(ln for ln in text.splitlines() if ln.startswith("mkdir -p ~/.local/share/bash-completion"))
+    command = line.split("  #")[0].replace("designer completion", f"{sys.executable} -m designer completion")
+    home = tmp_path / "home"
+    home.mkdir()
+    env = {"HOME": str(home), "PATH": "/usr/bin:/bin", "PYTHONPATH": str(ROOT)}
+    done = subprocess.run(["bash", "-c", command], env=env, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert "complete" in (home / ".local/share/bash-completion/completions/designer").read_text()
+    monkeypatch.setenv("COLUMNS", "80")
+    with pytest.raises(SystemExit):
+        main(["completion", "--help"])
+    lines = capsys.readouterr().out.splitlines()
+    assert any("~/.local/share/bash-completion/completions/designer" in ln for ln in lines), lines
+    assert all(len(ln) <= 80 for ln in lines)

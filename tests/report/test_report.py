@@ -435,9 +435,12 @@ def test_optimise_inside_table1_does_not_warn():
 
 
 def test_run_weights_printed_and_recorded(capsys):
-    """run --weights 10,1 prints the weights used (was the problem's '1, 1') and JSON records them."""
-    assert main(["run", INDOOR, "--weights", "10,1", "--no-cross-check"]) == 0
+    """run --weights 10,1 prints the weights used (was the problem's '1, 1') and JSON records them; the one-screen
+    answer says where they act (the weighted optimum, shown by --verbose)."""
+    assert main(["run", INDOOR, "--weights", "10,1", "--no-cross-check", "--verbose"]) == 0
     assert "(weights 10, 1)" in capsys.readouterr().out
+    assert main(["run", INDOOR, "--weights", "10,1", "--no-cross-check"]) == 0
+    assert "--weights 10,1 sets the weighted optimum" in " ".join(capsys.readouterr().out.split())
     assert main(["run", INDOOR, "--weights", "10,1", "--no-cross-check", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["weights"] == [10.0, 1.0]
 

@@ -152,13 +152,15 @@ def test_validate_exits_0_on_disagreement_within_scatter_and_1_on_failure(monkey
     )
     ident = ck.Check(name="3 y", claim="claim", expected=1.0, got=1.0, passed=True, detail="", kind="identity")
     monkeypatch.setattr("designer.cli.validate.paper_checks", lambda: [within, ident])
-    assert main(["validate"]) == 0
+    assert main(["validate", "--verbose"]) == 0
     out = capsys.readouterr().out
     assert (
         "0 paper checks reproduced, 1 disagree within the paper's stated scatter, 0 fail; 1 of 1 "
         "implementation identities hold" in out
     )
-    assert "disagrees: x: 10 %" in out
+    assert "apart: x: 10 %" in out
+    assert main(["validate"]) == 0
+    assert " 1. x: agrees within the paper's scatter" in capsys.readouterr().out
     bad = ck.Check(name="2 x", claim="claim", expected=1.0, got=2.0, passed=False, detail="")
     monkeypatch.setattr("designer.cli.validate.paper_checks", lambda: [bad, ident])
     assert main(["validate"]) == 1
@@ -1034,7 +1036,7 @@ def test_validate_shows_the_leave_one_out_table(capsys):
     """designer validate prints check 11's per-wheel table and counts it; --json carries its rows."""
     import json
 
-    assert main(["validate"]) == 0
+    assert main(["validate", "--verbose"]) == 0
     out = capsys.readouterr().out
     assert "11 leave-one-out: the risk law refitted without each wheel (coarse: five wheels)" in out
     assert "risk-law checks: 1 reproduced" in out or "risk-law checks: 0 reproduced" in out

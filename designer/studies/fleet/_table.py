@@ -469,7 +469,7 @@ def _cell_quantity(cell: str, dimension: str, key: str) -> float:
 EXAMPLE_RANGES = {
     "load": (
         "120–300 N per caster",
-        "assumption: the spread the product-line issue asks for; the paper's "
+        "assumption: light to heavy users of one product line; the paper's "
         "slip and turning tests used 178 N (40 lb) per caster (Appendix C, Fig. 7), near the middle",
     ),
     "threshold_height": (

@@ -198,6 +198,9 @@ class Front(Record):
     points: list[FrontPoint]
     failed: list[FrontPoint] = field(default_factory=list)
     meta: dict[str, Any] = field(default_factory=dict)
+    continuous_knee: FrontPoint | None = field(default=None, repr=False)
+    """The knee of the continuous front, solved for (:func:`designer.studies.front._pareto._continuous_knee`);
+    None: the samples' own (a front read from a file, a catalog front of one point per wheel)."""
 
     _keys = (
         Key("problem", "problem.name"),
@@ -209,6 +212,7 @@ class Front(Record):
         Key("hypervolume_reference.nadir", lambda f: f.ideal_nadir()[1] if f.points else None),
         Key("hypervolume_reference.reference_normalised", lambda f: [1 + REFERENCE_OFFSET] * 2),
         Key("knee", lambda f: f._index(f.knee())),
+        Key("knee_point", lambda f: f.continuous_knee.row() if f.continuous_knee is not None else None),
         Key("weighted_best", lambda f: f._index(f.weighted_best())),
         Key("gaps", lambda f: [{"index": i, "what": what} for i, what in f.gaps()]),
         "meta",
@@ -217,8 +221,12 @@ class Front(Record):
     normalised by its own ideal and nadir), the knee's and the weighted best's index, the gaps and run metadata."""
 
     def _index(self, point: FrontPoint | None) -> int | None:
-        """The position of ``point`` among the points, or None."""
-        return self.points.index(point) if point is not None else None
+        """The position of ``point`` among the points (the sample nearest in P for the continuous knee), or None."""
+        if point is None or not self.points:
+            return None
+        if point in self.points:
+            return self.points.index(point)
+        return int(np.argmin([abs(p.threshold_force - point.threshold_force) for p in self.points]))
 
     def __iter__(self) -> Iterator[FrontPoint]:
         return iter(self.points)
@@ -261,7 +269,11 @@ class Front(Record):
         return hypervolume_2d(normalise(self.objectives(), ideal, nadir), ref)
 
     def knee(self) -> FrontPoint | None:
-        """The knee: the point farthest from the chord between the two ends, in normalised objectives."""
+        """The knee: the point farthest from the chord between the two ends, in normalised objectives: the
+        continuous front's, solved for, when :func:`~designer.studies.front.pareto_front` found one
+        (``continuous_knee``), else the farthest of the points."""
+        if self.continuous_knee is not None:
+            return self.continuous_knee
         if len(self.points) < 3:
             return self.points[0] if self.points else None
         ideal, nadir = self.ideal_nadir()
@@ -326,16 +338,17 @@ class Front(Record):
         }
 
     def _repr_lines(self) -> list[str]:
-        """One line: problem, number of points, objective ranges and the knee (no solver runs)."""
+        """Two lines within 80 columns: the problem, the number of points and the objective ranges; the knee and
+        the hypervolume (no solver runs)."""
         name = getattr(self.problem, "name", "?")
         if not self.points:
             return [f"Front({name!r}: empty, {len(self.failed)} failed)"]
         (f0, p0), (f1, p1) = self.ideal_nadir()
         k = self.knee() or self.points[0]
         return [
-            f"Front({name!r}: {len(self.points)} points, F_turn {f0:.3g}–{f1:.3g} N, P {p0:.3g}–{p1:.3g} N, "
-            f"knee F_turn {k.turning_effort:.3g} N / P {k.threshold_force:.3g} N, "
-            f"hypervolume {self.hypervolume():.3f})"
+            f"Front({name!r}: {len(self.points)} points, F_turn {f0:.3g}–{f1:.3g} N, P {p0:.3g}–{p1:.3g} N,",
+            f"  knee F_turn {k.turning_effort:.3g} N / P {k.threshold_force:.3g} N, "
+            f"hypervolume {self.hypervolume():.3f})",
         ]
 
     def _html_title(self) -> str:

@@ -40,7 +40,9 @@ from designer.model import Design
 from designer.problem import POINTS_RANGE, Problem, family_of, problem_argument
 from designer.solvers import FRONT_STRATEGIES, Designs, front_solver, one_solve_at_a_time
 from designer.solvers.base import wheel_of
-from designer.solvers.nlp import BIG
+from designer.solvers.closed_form import CLOSED_FORM
+from designer.solvers.nlp import BIG, NLPSolver
+from designer.solvers.nlp._sweep import Ends
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -133,6 +135,9 @@ def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy:
     end_statuses: set[str] = set()
     used: dict[str, str] = {}
     variants = problem.variants()
+    sweep: tuple[Problem, NLPSolver, Ends, Designs, str | None] | None = (
+        None  # the one continuous sweep's (problem, solver, ends, second pass, wheel): its knee
+    )
     for k, variant in enumerate(variants):
         solver = front_solver(variant, strategy)
         used[solver.strategy] = solver.method
@@ -166,6 +171,7 @@ def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy:
             second = solver.front_designs(variant, eps, ends=ends)
             solves += second.solves
         pts = _points(variant, second, wheel)
+        sweep = (variant, solver, ends, second, wheel)
         if progress:
             progress(2 * n, 2 * n)
         all_points += [p for p in pts if p.success]
@@ -181,6 +187,7 @@ def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy:
                 f"start (IPOPT status: {', '.join(sorted(end_statuses)) or 'unknown'}); {error}"
             )
     valid = clean(all_points)
+    knee = _continuous_knee(valid, *sweep) if sweep is not None and len(variants) == 1 else None
     meta = {
         "points_requested": n,
         "points_valid": len(valid),
@@ -192,7 +199,94 @@ def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy:
         "method": "; ".join(used.values()),
         "solver": "ipopt (tol 1e-10, exact Hessian)",
     }
-    return Front(problem=problem, points=valid, failed=failed, meta=meta)
+    return Front(problem=problem, points=valid, failed=failed, meta=meta, continuous_knee=knee)
+
+
+KNEE_TOLERANCE = 1e-6
+"""The knee's ε is found to this fraction of the front's P range [-] (far below the 1 % at which two samplings of
+one front must agree: the knee then moves by less than the solver's own tolerance)."""
+
+
+GOLDEN = (5**0.5 - 1) / 2
+"""The golden ratio's conjugate 0.618...: each step of :func:`golden_section` keeps this fraction of the bracket."""
+
+
+def golden_section(func: Callable[[float], float], low: float, high: float, tolerance: float) -> float:
+    """The minimiser of a unimodal ``func`` on [low, high] to ``tolerance`` by golden-section search (one new
+    evaluation a step, the bracket shrinking by 0.618; Kiefer 1953).  Hand-written rather than SciPy's bounded
+    Brent: the main job's process imports no SciPy (tests/report/test_pipeline.py), and the knee needs nothing
+    faster (about 25 evaluations of a cheap ε-optimum)."""
+    a, b = low, high
+    c, d = b - GOLDEN * (b - a), a + GOLDEN * (b - a)
+    fc, fd = func(c), func(d)
+    while b - a > tolerance:
+        if fc <= fd:
+            b, d, fd = d, c, fc
+            c = b - GOLDEN * (b - a)
+            fc = func(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + GOLDEN * (b - a)
+            fd = func(d)
+    return c if fc <= fd else d
+
+
+def _continuous_knee(
+    points: list[FrontPoint], problem: Problem, solver: NLPSolver, ends: Ends, guide: Designs, wheel: str | None
+) -> FrontPoint | None:
+    """The knee of the continuous front: the ε-optimum farthest from the chord between the front's two ends, in
+    objectives normalised by the front's ideal and nadir, on the ideal's side; None when no point bulges toward
+    the ideal (a concave or straight front) or the front has fewer than three points.
+
+    The samples only bracket it: a bounded scalar search (:func:`golden_section`) on ε between the neighbours
+    of the farthest sample solves the ε-constrained problem min F_turn s.t. P <= ε at
+    each trial ε (the closed form where it applies, else the NLP warm from the sweep), and the knee's ε-optimum
+    is solved and confirmed as every front point is.  So the knee is a point of the front, not of its sampling:
+    11 and 41 points give the same knee."""
+    if len(points) < 3:
+        return None
+    f = np.array([[p.turning_effort, p.threshold_force] for p in points])
+    ideal, nadir = f.min(axis=0), f.max(axis=0)
+    span = nadir - ideal
+    if np.any(span <= 0):
+        return None
+    a, b = (f[0] - ideal) / span, (f[-1] - ideal) / span
+    chord = b - a
+    norm = float(np.hypot(*chord))
+
+    def bulge(objectives: np.ndarray) -> np.ndarray:
+        """Signed distance from the chord, positive toward the ideal [-]."""
+        g = (np.atleast_2d(objectives) - ideal) / span
+        return np.asarray(((g[:, 0] - a[0]) * chord[1] - (g[:, 1] - a[1]) * chord[0]) / norm, dtype=float)
+
+    distance = bulge(f)
+    i = int(np.argmax(distance))
+    if distance[i] <= 0 or i in (0, len(points) - 1):
+        return None
+    low, high = points[i + 1].threshold_force, points[i - 1].threshold_force  # points by decreasing P
+    closed = solver.strategy == "structured"
+
+    def solved(eps: float) -> Designs:
+        if closed:
+            return CLOSED_FORM.front_designs(problem, [eps])
+        found: Designs = solver.front_designs(
+            problem, [high, eps, low], ends=ends, guide=guide if guide.results else None
+        )
+        return found
+
+    def worst(eps: float) -> float:
+        found = solved(eps)
+        row = 1 if len(found) == 3 else 0
+        if not found.success[row]:
+            return 1.0  # a failed trial is never the knee
+        return -float(bulge(found.objectives[row, :2])[0])
+
+    eps = golden_section(worst, low, high, KNEE_TOLERANCE * span[1])
+    found = solver.front_designs(problem, [high, eps, low], ends=ends, guide=guide if guide.results else None)
+    point = _points(problem, found, wheel)[1]
+    if not point.success or bulge(np.array([point.turning_effort, point.threshold_force]))[0] < distance[i]:
+        return points[i]  # the search could not better the farthest sample: it is the knee to the solver's accuracy
+    return point
 
 
 def _respace_objectives(f: np.ndarray, n: int) -> np.ndarray:
