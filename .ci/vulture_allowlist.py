@@ -41,6 +41,8 @@ _.validation_layout  # Dash: the ids a callback may target outside the first lay
 check_mine
 save
 _local_only
+_headers  # Flask after_request: the security headers of every answer (designer/studio/server.py)
+_.index_string  # Dash: the page with the studio's style sheet
 _.log_request
 
 # pytest and test helpers: hooks and fixtures used by name, HTMLParser and Selenium overrides

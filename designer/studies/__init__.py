@@ -12,6 +12,7 @@ fleet      per-chair recommendations and part numbers (``designer fleet``)
 dynamics   shimmy in time: simulation, onset, limit cycles, knock-safe speeds
 explore    optuna exploration and shared studies
 robust     the price of safety (nominal against risk-bounded fronts)
+sweep      V_c against one part of a caster (the studio's card)
 calibrate  the model's constants from the user's rig
 checks     the paper's checks and the checks of a front
 curves     the arrays the report's paper figures and the docs' stem figure draw
@@ -31,4 +32,5 @@ __all__ = [
     "recommend",
     "retrofit",
     "robust",
+    "sweep",
 ]

@@ -40,6 +40,7 @@ from designer.studio.panels import (
     limits_text,
     numbers_table,
     recommendation_panel,
+    role_name,
 )
 from designer.units import parse_quantity_text as quantity_option
 
@@ -64,17 +65,52 @@ SAVED_PROBLEM = signed_kind(SAVE_WRITER, "a problem file saved by designer studi
 """What "Save problem" may replace: a problem file it saved, unchanged since (never one the user wrote)."""
 
 
+STYLE = """
+.waiting { opacity: 0.45; }
+.studio-button { min-height: 44px; min-width: 44px; font-size: 15px; margin: 4px 4px 0 0; padding: 4px 12px; }
+summary { min-height: 44px; box-sizing: border-box; padding: 12px 0; cursor: pointer; }
+.control { position: relative; width: 170px; }
+.control-error.overlay { position: absolute; top: 100%; left: 0; width: 100%; z-index: 10; background: #fff;
+  box-shadow: 0 1px 4px rgba(0, 0, 0, 0.3); padding: 2px 4px; box-sizing: border-box; }
+.control-error:empty { display: none; }
+@media (min-width: 601px) {
+  details .control-error.overlay { top: 0; left: 100%; margin-left: 8px; width: 260px; }
+}
+@media (max-width: 600px) {
+  input[type=text] { min-height: 44px; font-size: 16px; }
+  .dash-dropdown { min-height: 44px; }
+  .dash-slider-thumb { width: 44px; height: 44px; border: 10px solid transparent; background-clip: padding-box;
+    box-shadow: none; box-sizing: border-box; }
+  .slider-box { padding-top: 58px !important; }
+}
+"""
+"""The page's own style sheet: the answer greyed while it is not the answer to the controls shown; buttons and
+folded sections a finger can hit (44 px; on a phone the text boxes, menus and the slider's handle too: a 24 px
+disc in a transparent 44 px ring); a
+control's message shown over the page below it (beside it in the folded groups of a wide page, where the
+controls stand in one column), so it never moves another control."""
+
+INDEX = (
+    "<!DOCTYPE html><html><head>{%metas%}<title>{%title%}</title>{%favicon%}{%css%}"
+    f"<style>{STYLE}</style></head><body>{{%app_entry%}}<footer>{{%config%}}{{%scripts%}}{{%renderer%}}</footer>"
+    "</body></html>"
+)
+"""Dash's page with :data:`STYLE` in its head."""
+
+
 def create_app(data: dict, name: str, out_dir: Path, debug: bool = False):
     """The Dash app for problem-file ``data`` (dict) named ``name``; saves and reports go to ``out_dir``;
     ``debug``: a failure a callback logs itself carries its traceback (``designer --debug studio``)."""
     defaults = state.control_values(data)
     app = dash.Dash(__name__, title=f"studio · {name}", update_title=None, serve_locally=True, assets_ignore=".*")
-    app.layout = build_layout(name, defaults)
+    app.index_string = INDEX
+    app.layout = build_layout(name, defaults, problem_from_dict(data).units)
     # the card's limits (rec-limits) are in the recommendation panel, which the trade-off's callback returns
     app.validation_layout = html.Div([app.layout, html.Div(id="rec-limits")])
     # the problems whose limits a card waits for, by their change's number
     pending: OrderedDict = OrderedDict()
     _trade_off_callback(app, data, defaults, pending)
+    _request_callbacks(app)
     _limits_callback(app, pending, debug)
     _card_callback(app)
     _mine_callback(app, out_dir)
@@ -82,16 +118,23 @@ def create_app(data: dict, name: str, out_dir: Path, debug: bool = False):
     return app
 
 
-def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -> None:  # long: one callback, 9 outputs
+def _trade_off_callback(
+    app, data: dict, defaults: dict, pending: OrderedDict
+) -> None:  # long: one callback, 11 outputs
     """The callback that owns the trade-off: controls (or the URL) -> problem -> fronts -> chart, panel, URL.
 
     Only what changed goes to the browser: the chart's traces that differ from the ones it shows (a Dash
-    ``Patch``, :func:`_chart`; the layout is sent with the first chart only), and the messages, URL and
-    problem data where they differ from the page's.  ``rec-pending`` is the number of the change whose card waits
-    for its limits (computed later: ``pending`` maps it to its problem and key, :func:`_limits_callback`), None
-    when the card has them."""
+    ``Patch``, :func:`_chart`; the layout is sent with the first chart only, then its axes), and the messages,
+    URL and problem data where they differ from the page's.  ``rec-pending`` is the number of the change whose
+    card waits for its limits (computed later: ``pending`` maps it to its problem and key,
+    :func:`_limits_callback`), None when the card has them.
+
+    Never a stale answer: the browser numbers each change of the controls (``request``: ``{"n", "values"}``,
+    :func:`_request_callbacks`); a change that a newer one has overtaken is not computed (the browser has
+    dropped it already), and every answer names the controls it answers (``answered``), so the page says
+    "computing…" while the controls shown differ from the answer's."""
     keys = [c.key for c in state.all_controls()]
-    latest = {"n": 0}  # the newest change wins: changes that queued behind a computation are skipped
+    newest = {"n": 0, "generation": 0}  # the newest change the browser numbered; the server's count of answers
 
     @app.callback(
         Output({"type": "ctl", "key": ALL}, "value"),
@@ -104,34 +147,42 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
         Output("url", "search"),
         Output("problem-data", "data"),
         Output("rec-pending", "data"),
+        Output("answered", "data"),
         Input("url", "search"),
-        Input({"type": "ctl", "key": ALL}, "value"),
+        Input("request", "data"),
         Input("mine-store", "data"),
         State("problem-data", "data"),
         State("front-shown", "data"),
         State({"type": "err", "key": ALL}, "children"),
         State("general-error", "children"),
     )
-    def update(search, values, mine, last, shown, errors_shown, general_shown):
-        latest["n"] += 1
-        generation = latest["n"]
-        from_url = ctx.triggered_id in (None, "url")
+    def update(search, request, mine, last, shown, errors_shown, general_shown):
+        n = _request_number(request)
+        from_url = ctx.triggered_id in (None, "url") or not isinstance(request, dict)
         if from_url:
             current = state.from_query(search, defaults)
             values_out = [current[k] for k in keys]
         else:
+            values = request.get("values")
+            if not isinstance(values, list) or len(values) != len(keys):
+                raise PreventUpdate
             current = dict(zip(keys, values))
             values_out = [no_update] * len(keys)
+        with view.LOCK:
+            newest["n"] = max(newest["n"], n)
+        answered = {"values": [current[k] for k in keys], "valid": True}
         try:
             problem, merged = state.build_problem(data, current)
             canonical = json.dumps(merged, sort_keys=True)
             with view.LOCK:
-                if generation != latest["n"] and view.cached(canonical) is None:
-                    raise PreventUpdate  # a newer change is waiting: compute that one instead
+                if n < newest["n"] and view.cached(canonical) is None:
+                    raise PreventUpdate  # overtaken by a newer change, which the browser waits for instead
                 fronts = view.compute_fronts(problem, key=canonical)
+                newest["generation"] += 1
+                generation = newest["generation"]
         except DesignerError as exc:
             errors, general = _messages(exc, data, current, defaults, keys)
-            # the last valid chart stays; only the messages change
+            # the last valid chart stays; only the messages change (and the page says it shows the last valid answer)
             return (
                 values_out,
                 _changed(errors, errors_shown),
@@ -143,6 +194,7 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
                 no_update if from_url else state.to_query(current, defaults),
                 no_update,
                 no_update,
+                {**answered, "valid": False},
             )
         figure, shown_now = _chart(fronts, mine, shown)
         query = state.to_query(current, defaults)
@@ -162,7 +214,46 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
             no_update if from_url and query == (search or "") else query,
             no_update if merged == last else merged,
             generation if waiting else None,
+            answered,
         )
+
+
+def _request_number(request) -> int:
+    """The number the browser gave a change of the controls (0 for none, or one that is not a whole number)."""
+    n = request.get("n") if isinstance(request, dict) else None
+    return n if isinstance(n, int) and not isinstance(n, bool) else 0
+
+
+COMPUTING = "computing…"
+"""What the page says while the answer shown is not the answer to the controls shown."""
+
+LAST_VALID = "shown: the answer to the last valid values"
+"""What the page says when the controls shown have no answer (a value the loader refuses)."""
+
+
+def _request_callbacks(app) -> None:
+    """In the browser: number each change of the controls (``request``), and compare the controls shown with
+    the ones the answer on the page is for (``answered``): while they differ the panel is greyed and the line
+    above the chart says
+    :data:`COMPUTING` (or :data:`LAST_VALID`)."""
+    app.clientside_callback(
+        "function (values) { window.studioRequest = (window.studioRequest || 0) + 1;"
+        " return {n: window.studioRequest, values: values}; }",
+        Output("request", "data"),
+        Input({"type": "ctl", "key": ALL}, "value"),
+    )
+    app.clientside_callback(
+        "function (values, answered) {"
+        " if (!answered) { return [" + json.dumps(COMPUTING) + ", 'waiting']; }"
+        " if (JSON.stringify(values) !== JSON.stringify(answered.values)) { return ["
+        + json.dumps(COMPUTING)
+        + ", 'waiting']; }"
+        " return answered.valid ? ['', 'answered'] : [" + json.dumps(LAST_VALID) + ", 'answered invalid']; }",
+        Output("computing", "children"),
+        Output("answer-box", "className"),
+        Input({"type": "ctl", "key": ALL}, "value"),
+        Input("answered", "data"),
+    )
 
 
 LOG = logging.getLogger("designer.studio")
@@ -224,8 +315,9 @@ def _chart(fronts, mine, shown) -> tuple:
     ``shown`` is what the chart shows: a [part, digest] pair per trace (``meta`` and a hash of the trace), as
     this function returned it last time (None before the first chart).  The update is the whole figure the
     first time; a ``Patch`` of the traces whose digest changed when the same parts are drawn (no_update
-    if none did); otherwise a ``Patch`` of the data alone.  Of the layout only ``datarevision`` changes after
-    the first chart (a digest of the traces drawn).
+    if none did); otherwise a ``Patch`` of the data alone.  Of the layout only the axes' ranges (fitted to the
+    points, :func:`designer.studio.figures.axis_ranges`) and ``datarevision`` (a digest of the traces drawn)
+    change after the first chart.
     """
     traces = figures.front_traces(
         view.front_points(fronts.continuous),
@@ -233,13 +325,18 @@ def _chart(fronts, mine, shown) -> tuple:
         view.front_points(fronts.buildable),
         view.recommendation_record(fronts.recommendation),
         mine,
+        fronts.problem.units,
     )
+    ranges = figures.axis_ranges(traces)
     now = [[t["meta"], _digest(t)] for t in traces]
     # layout.datarevision names the data drawn: plotly.js then redraws from the new traces without comparing
     # them with the old ones (about half its time per redraw in Chromium)
     revision = _digest({"traces": now})
     if not shown:
-        return {"data": traces, "layout": {**figures.front_layout(), "datarevision": revision}}, now
+        return {
+            "data": traces,
+            "layout": {**figures.with_ranges(figures.front_layout(), ranges), "datarevision": revision},
+        }, now
     patch = Patch()
     if [m for m, _ in shown] != [m for m, _ in now]:
         patch["data"] = traces
@@ -249,6 +346,9 @@ def _chart(fronts, mine, shown) -> tuple:
             return no_update, no_update
         for i in changed:
             patch["data"][i] = traces[i]
+    for axis, value in ranges.items():  # the axes follow the data
+        patch["layout"][axis]["range"] = value["range"]
+        patch["layout"][axis]["autorange"] = False
     patch["layout"]["datarevision"] = revision
     return patch, now
 
@@ -279,41 +379,61 @@ def _messages(exc: DesignerError, data: dict, current: dict, defaults: dict, key
 
 
 def _status(problem, fronts) -> str:
-    """The line above the chart: how many points of each front, and the time they took."""
+    """The line above the chart: how many casters the chart shows, and the time they took."""
     return (
-        f"{problem.name}: {len(fronts.continuous)} continuous, "
-        f"{0 if fronts.risk is None else len(fronts.risk)} risk-bounded, "
-        f"{0 if fronts.buildable is None else len(fronts.buildable)} buildable points; "
+        f"{problem.name}: {len(fronts.continuous)} best possible, "
+        f"{0 if fronts.risk is None else len(fronts.risk)} within the shimmy risk, "
+        f"{0 if fronts.buildable is None else len(fronts.buildable)} from stock; "
         f"computed in {1000 * fronts.seconds:.0f} ms ({1000 * fronts.cpu_seconds:.0f} ms CPU)"
     )
 
 
 def _card_callback(app) -> None:
-    """A click on a point of the chart (or the recommendation's button) opens that design's card."""
+    """A click on a point of the chart, on the card button of the caster to build or of an alternative, opens
+    that caster's card: the record the chart or the panel shows (:func:`designer.studio.view.card_record`), never
+    a caster evaluated again."""
 
     @app.callback(
         Output("card", "children"),
         Input("front", "clickData"),
         Input("rec-card", "n_clicks"),
+        Input({"type": "alt-card", "index": ALL}, "n_clicks"),
         State("problem-data", "data"),
+        State("mine-store", "data"),
         prevent_initial_call=True,
     )
-    def open_card(click, _n, merged):
-        if not merged:
-            return no_update
+    def open_card(click, _n, _alts, merged, mine):
+        if not merged or not ctx.triggered or not ctx.triggered[0].get("value"):
+            raise PreventUpdate  # a button drawn anew (n_clicks 0), not a click
+        trigger = ctx.triggered_id
+        if trigger == "rec-card":
+            part, index, name = "recommendation", 0, "the caster to build"
+        elif isinstance(trigger, dict) and trigger.get("type") == "alt-card":
+            part, index, name = "alternative", trigger.get("index"), None
+        else:
+            point = (click or {}).get("points", [{}])[0] if isinstance(click, dict) else {}
+            custom = point.get("customdata") if isinstance(point, dict) else None
+            if not isinstance(custom, list) or len(custom) < 3:
+                raise PreventUpdate
+            part, index, name = custom[0], custom[1], custom[2]
         try:
             problem = problem_from_dict(merged)
-            if ctx.triggered_id == "rec-card":  # the fronts of this state are cached: only the card is computed
-                rec = view.compute_fronts(problem, key=json.dumps(merged, sort_keys=True)).recommendation
-                if rec is None:
-                    return html.Div("no recommendation for this problem", style=CSS["error"])
-                return card_panel(problem, rec.design, "recommendation", getattr(rec, "inertia", None))
-            if not click:
-                return no_update
-            custom = click["points"][0].get("customdata")
-            if not custom:
-                return no_update
-            return card_panel(problem, Design(*custom[:4]), custom[4], custom[9] if len(custom) > 9 else None)
+            if part == "mine":
+                if not mine:
+                    raise PreventUpdate
+                design = Design(**mine["numbers"]["design"])
+                return card_panel(problem, view.mine_record(problem, design), "my caster")
+            if part not in view.CARD_PARTS or not isinstance(index, int) or isinstance(index, bool):
+                raise PreventUpdate
+            # the fronts of this state are cached: only the card is computed
+            fronts = view.compute_fronts(problem, key=json.dumps(merged, sort_keys=True))
+            try:
+                record = view.card_record(fronts, part, index)
+            except (KeyError, IndexError):
+                raise PreventUpdate from None
+            if name is None:
+                name = role_name(getattr(record, "role", None))
+            return card_panel(problem, record, name)
         except DesignerError as exc:
             return html.Div(str(exc), style=CSS["error"])
 
@@ -348,11 +468,13 @@ def _mine_callback(app, out_dir: Path) -> None:
             )
             problem = problem_from_dict(merged)
             result = view.my_caster(problem, design)
-            result["command"] = "Save problem, then " + view.fix_command(out_dir / f"{problem.name}.toml", design)
+            result["command"] = "Save problem, then " + view.fix_command(
+                out_dir / f"{problem.name}.toml", design, problem.units
+            )
         except DesignerError as exc:
             return no_update, no_update, str(exc)
-        store = {"numbers": {k: v for k, v in result["numbers"].items()}, "fixes": result["fixes"]}
-        return json.loads(json.dumps(store, default=float)), fixes_panel(result), ""
+        store = {"numbers": result["numbers"]}
+        return json.loads(json.dumps(store, default=float)), fixes_panel(result, problem), ""
 
 
 def _save_callback(app, out_dir: Path) -> None:

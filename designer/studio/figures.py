@@ -7,9 +7,12 @@ from __future__ import annotations
 
 import functools
 import math
-from designer.display import axis
-from designer.units import INCH
 
+from designer import display
+
+
+FONT = 13
+"""Font size of the charts' text [px]: read on a phone's 390 px screen (at least 11 px, issue "one screen")."""
 
 COLOURS = {
     "continuous": "#9aa0a6",
@@ -20,27 +23,27 @@ COLOURS = {
     "fix": "#7b3294",
 }
 
-HOVER = (
-    "<b>%{customdata[4]}</b><br>P %{x:.2f} N<br>F_turn %{y:.3f} N<br>V_c %{customdata[5]:.3f} m/s<br>"
-    "T %{customdata[6]:.3f} in, d %{customdata[7]:.3f} in<br>B %{customdata[8]:.3f} in, "
-    "c_f %{customdata[3]:.3f} N·m/rad<extra></extra>"
-)
+HOVER = "<b>%{customdata[2]}</b><br>%{customdata[3]}<extra></extra>"
+"""Each point's hover: its name and its numbers, written by :func:`_hover` (customdata [2] and [3])."""
 
 
-def _custom(p: dict, name: str) -> list:
+def _hover(p: dict, units: str) -> str:
+    """A point's numbers for its hover box, in ``units``: P, F_turn, V_c and the design."""
     d = p["design"]
-    return [
-        d["trail"],
-        d["diameter"],
-        d["groove"],
-        d["damping"],
-        name,
-        p.get("critical_speed", math.nan),
-        d["trail"] / INCH,
-        d["diameter"] / INCH,
-        d["groove"] / INCH,
-        p.get("inertia"),
+    lines = [
+        f"P {display.shown(p['threshold_force'], 'threshold_force', units)}",
+        f"F_turn {display.shown(p['turning_effort'], 'turning_effort', units)}",
+        f"V_c {display.shown(p.get('critical_speed'), 'critical_speed', units)}",
+        f"T {display.shown(d['trail'], 'trail', units)}, d {display.shown(d['diameter'], 'diameter', units)}",
+        f"B {display.shown(d['groove'], 'groove', units)}, c_f {display.shown(d['damping'], 'damping', units)}",
     ]
+    return "<br>".join(lines)
+
+
+def _custom(p: dict, part: str, index: int, name: str, units: str) -> list:
+    """A point's ``customdata``: [part, index, name, hover text]; a click opens the card of record ``index`` of
+    ``part`` (:func:`designer.studio.view.card_record`)."""
+    return [part, index, name, _hover(p, units)]
 
 
 def front_figure(
@@ -50,30 +53,58 @@ def front_figure(
     recommendation: dict | None,
     mine: dict | None = None,
     title: str = "",
+    units: str = "in",
 ) -> dict:
     """The trade-off chart as a plotly figure dict: every front with the threshold force P across and the turning
     effort F_turn up (as the report and ``Front.plot()`` draw it), the recommendation, my caster
     (:func:`front_traces` and :func:`front_layout`).
 
-    Each point carries its design in ``customdata`` (T, d, B, c_f [SI], name, V_c, T, d, B [in], the wheel's
-    own I_w [kg·m²] or None), which the card callback reads on a click.
+    Each point carries in ``customdata`` the record it shows (its part and index), which the card callback reads
+    on a click, and its hover text in ``units``.
     """
-    return {"data": front_traces(continuous, risk, buildable, recommendation, mine), "layout": front_layout(title)}
+    traces = front_traces(continuous, risk, buildable, recommendation, mine, units)
+    return {"data": traces, "layout": with_ranges(front_layout(title), axis_ranges(traces))}
 
 
-def front_traces(continuous: list, risk: list, buildable: list, recommendation: dict | None, mine: dict | None) -> list:
+def front_traces(
+    continuous: list, risk: list, buildable: list, recommendation: dict | None, mine: dict | None, units: str = "in"
+) -> list:
     """The chart's traces as plain plotly dicts, in drawing order: the non-empty fronts (continuous, risk-bounded,
     buildable), the recommendation, my caster; each names its part in ``meta``.
 
     Plain dicts, not ``plotly.graph_objects``: validating them costs about 20 ms of CPU per redraw, and they are
     the dicts ``go.Scatter(...).to_plotly_json()`` gives (tests/studio/test_studio_app.py checks that).
     """
-    traces = _front_traces(continuous, risk, buildable)
+    traces = _front_traces(continuous, risk, buildable, units)
     if recommendation is not None:
-        traces.append(_recommendation_trace(recommendation))
+        traces.append(_recommendation_trace(recommendation, units))
     if mine is not None:
-        traces.append(_mine_trace(mine))
+        traces.append(_mine_trace(mine, units))
     return traces
+
+
+PAD = 0.06
+"""Room around the points on each axis, as a fraction of their span (the markers are not cut at the edge)."""
+
+
+def with_ranges(layout: dict, ranges: dict) -> dict:
+    """A copy of ``layout`` with the axes' ``ranges`` (:func:`axis_ranges`) merged into its axes."""
+    return {**layout, **{axis: {**layout.get(axis, {}), **value} for axis, value in ranges.items()}}
+
+
+def axis_ranges(traces: list) -> dict:
+    """The chart's axes fitted to ``traces``' points: ``{"xaxis": {"range": [lo, hi], ...}, "yaxis": ...}``, each
+    range holding every finite point with :data:`PAD` of room, so a change of the fronts moves the axes with
+    them (an axis left as it was shows an empty chart when the fronts move off it)."""
+    out = {}
+    for axis, key in (("xaxis", "x"), ("yaxis", "y")):
+        values = [float(v) for t in traces for v in t.get(key, ()) if v is not None and math.isfinite(float(v))]
+        if not values:
+            continue
+        lo, hi = min(values), max(values)
+        pad = PAD * (hi - lo) if hi > lo else 0.05 * abs(hi) + 1.0
+        out[axis] = {"range": [lo - pad, hi + pad], "autorange": False}
+    return out
 
 
 @functools.lru_cache(maxsize=8)
@@ -84,9 +115,10 @@ def front_layout(title: str = "") -> dict:
 
     return go.Layout(
         title=title,
-        xaxis_title=axis("threshold_force"),  # P across, F_turn up: the report's and front.plot()'s (the table's)
-        yaxis_title=axis("turning_effort"),
+        xaxis_title=display.axis("threshold_force"),  # P across, F_turn up: the report's and front.plot()'s
+        yaxis_title=display.axis("turning_effort"),
         template="plotly_white",
+        font={"size": FONT},
         height=520,
         margin={"l": 60, "r": 20, "t": 40, "b": 50},
         # its top edge well under the x-axis title (anchored by its middle, a legend wrapped to two rows
@@ -99,20 +131,30 @@ def front_layout(title: str = "") -> dict:
     ).to_plotly_json()
 
 
-def _front_traces(continuous: list, risk: list, buildable: list) -> list:
-    """One line (or markers) per non-empty front: continuous, risk-bounded, buildable; each point names its design."""
+FRONT_NAMES = {
+    "continuous": "best possible (no scatter)",
+    "risk": "best within the shimmy risk",
+    "buildable": "buildable from stock",
+}
+"""Each front's name in the legend, in plain words: the continuous front of the nominal model (Eq. 7 without
+scatter), the continuous front whose casters keep P(shimmy) within α, and the stock's front."""
+
+
+def _front_traces(continuous: list, risk: list, buildable: list, units: str) -> list:
+    """One line (or markers) per non-empty front: continuous, risk-bounded, buildable; each point names its record."""
     traces = []
-    for key, points, name, mode, symbol, size in (
-        ("continuous", continuous, "continuous front (nominal V_c)", "lines+markers", "circle", 6),
-        ("risk", risk, "risk-bounded front (P(shimmy) ≤ α)", "lines+markers", "circle", 8),
-        ("buildable", buildable, "buildable front (stock)", "markers", "square", 10),
+    for key, points, mode, symbol, size in (
+        ("continuous", continuous, "lines+markers", "circle", 6),
+        ("risk", risk, "lines+markers", "circle", 8),
+        ("buildable", buildable, "markers", "square", 10),
     ):
         if not points:
             continue
+        name = FRONT_NAMES[key]
         traces.append(
             {
                 "customdata": [
-                    _custom(p, f"{name.split(' (')[0]} #{i + 1}" + (f" {p['label']}" if p.get("label") else ""))
+                    _custom(p, key, i, f"{name} #{i + 1}" + (f" {p['label']}" if p.get("label") else ""), units)
                     for i, p in enumerate(points)
                 ],
                 "hovertemplate": HOVER,
@@ -129,17 +171,10 @@ def _front_traces(continuous: list, risk: list, buildable: list) -> list:
     return traces
 
 
-def _recommendation_trace(recommendation: dict) -> dict:
-    """The recommendation: a green star carrying its design (and its wheel's I_w) for the card."""
-    rec = {
-        "design": recommendation["design"],
-        "turning_effort": recommendation["turning_effort"],
-        "threshold_force": recommendation["threshold_force"],
-        "critical_speed": recommendation.get("critical_speed") or math.nan,
-        "inertia": recommendation.get("inertia"),
-    }
+def _recommendation_trace(recommendation: dict, units: str) -> dict:
+    """The caster to build: a green star; a click opens its card (the recommendation's own record)."""
     return {
-        "customdata": [_custom(rec, "recommendation")],
+        "customdata": [_custom(recommendation, "recommendation", 0, "the caster to build", units)],
         "hovertemplate": HOVER,
         "marker": {
             "color": COLOURS["recommendation"],
@@ -149,25 +184,19 @@ def _recommendation_trace(recommendation: dict) -> dict:
         },
         "meta": "recommendation",
         "mode": "markers",
-        "name": "recommendation",
-        "x": [rec["threshold_force"]],
-        "y": [rec["turning_effort"]],
+        "name": "the caster to build",
+        "x": [recommendation["threshold_force"]],
+        "y": [recommendation["turning_effort"]],
         "type": "scatter",
     }
 
 
-def _mine_trace(mine: dict) -> dict:
-    """My caster: a red cross labelled with its P(shimmy) when known."""
+def _mine_trace(mine: dict, units: str) -> dict:
+    """My caster: a red cross labelled with its chance of shimmy."""
     n = mine["numbers"]
-    risk_text = "" if n.get("shimmy_probability") is None else f"P(shimmy) {100 * n['shimmy_probability']:.1f} %"
-    p = {
-        "design": n["design"],
-        "turning_effort": n["turning_effort"],
-        "threshold_force": n["threshold_force"],
-        "critical_speed": n["critical_speed"],
-    }
+    risk_text = f"{display.shown(n.get('shimmy_probability'), 'shimmy_probability', units)} shimmy"
     return {
-        "customdata": [_custom(p, "my caster")],
+        "customdata": [_custom(n, "mine", 0, "my caster", units)],
         "hovertemplate": HOVER,
         "marker": {"color": COLOURS["mine"], "size": 14, "symbol": "x"},
         "meta": "mine",
@@ -175,21 +204,23 @@ def _mine_trace(mine: dict) -> dict:
         "name": "my caster",
         "text": [f"my caster {risk_text}"],
         "textposition": "top left",
-        "x": [p["threshold_force"]],
-        "y": [p["turning_effort"]],
+        "textfont": {"size": 13},
+        "x": [n["threshold_force"]],
+        "y": [n["turning_effort"]],
         "type": "scatter",
     }
 
 
-def sweeps_figure(sweeps: dict, target: float, alpha: float | None):
-    """V_c against trail and against diameter around a design (two panels, lengths in inches)."""
+def sweeps_figure(sweeps: dict, target: float, alpha: float | None, units: str = "in"):
+    """V_c against trail and against diameter around a design (two panels, lengths in ``units``)."""
     import plotly.graph_objects as go  # the studio's dependency
     from plotly.subplots import make_subplots
 
     fig = make_subplots(rows=1, cols=2, subplot_titles=("V_c vs trail", "V_c vs diameter"))
     for col, name in ((1, "trail"), (2, "diameter")):
         s = sweeps[name]
-        x = [v / INCH for v in s["x"]]
+        factor = display.unit("length", units).factor
+        x = [v * factor for v in s["x"]]
         fig.add_trace(
             go.Scatter(
                 x=x,
@@ -206,19 +237,21 @@ def sweeps_figure(sweeps: dict, target: float, alpha: float | None):
                 go.Scatter(
                     x=x,
                     y=list(s["confident_speed"]),
-                    name=f"speed reached w.p. {1 - alpha:.0%}",
+                    name=f"speed reached ({display.percent(1 - alpha)} sure)",
                     showlegend=col == 1,
                     line={"color": COLOURS["risk"]},
                 ),
                 row=1,
                 col=col,
             )
-        fig.add_vline(x=s["value"] / INCH, line={"dash": "dot", "color": "black"}, row=1, col=col)
+        fig.add_vline(x=s["value"] * factor, line={"dash": "dot", "color": "black"}, row=1, col=col)
         fig.add_hline(y=target, line={"dash": "dash", "color": COLOURS["mine"]}, row=1, col=col)
-        fig.update_xaxes(title_text=f"{name} [in]", row=1, col=col)
+        fig.update_xaxes(title_text=f"{name} {display.header(name, units)}", row=1, col=col)
     fig.update_yaxes(title_text="speed [m/s]", row=1, col=1)
+    fig.update_annotations(font_size=FONT + 1)  # the subplot titles
     fig.update_layout(
         template="plotly_white",
+        font={"size": FONT},
         height=300,
         margin={"l": 50, "r": 10, "t": 30, "b": 40},
         legend={"orientation": "h", "y": -0.3},
@@ -242,6 +275,7 @@ def knock_figure(knock: dict, target: float):
     fig.update_layout(
         title=f"θ(t) after a 20° knock at {target:.3g} m/s ({verdict})",
         template="plotly_white",
+        font={"size": FONT},
         xaxis_title="t [s]",
         yaxis_title="θ [deg]",
         height=280,

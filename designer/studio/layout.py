@@ -20,8 +20,8 @@ CSS = {
     "row": {"display": "flex", "flexWrap": "wrap", "gap": "16px", "alignItems": "flex-start"},
     "panel": {"border": "1px solid #ddd", "borderRadius": "6px", "padding": "8px 10px", "marginBottom": "8px"},
     "label": {"fontSize": "13px", "color": "#333", "display": "block", "marginTop": "4px"},
-    "input": {"width": "150px", "fontSize": "13px"},
-    "error": {"color": "#b00020", "fontSize": "12px", "whiteSpace": "normal"},
+    "input": {"width": "160px", "fontSize": "14px", "boxSizing": "border-box"},
+    "error": {"color": "#b00020", "fontSize": "13px", "whiteSpace": "normal", "overflowWrap": "anywhere"},
     "num": {"fontVariantNumeric": "tabular-nums"},
 }
 
@@ -44,6 +44,7 @@ def _control(c: state.Control, value):
                 tooltip={"placement": "top", "always_visible": True},
                 **state.SLIDER,
             ),
+            className="slider-box",
             style={"width": "260px", "paddingTop": "46px"},
         )
     else:
@@ -52,9 +53,10 @@ def _control(c: state.Control, value):
         [
             html.Label(c.label, style=CSS["label"]),
             widget,
-            html.Div(id={"type": "err", "key": c.key}, className="control-error", style=CSS["error"]),
+            html.Div(id={"type": "err", "key": c.key}, className="control-error overlay", style=CSS["error"]),
         ],
         className="control",
+        style={"width": "270px", "maxWidth": "100%"} if c.kind == "slider" else None,
         **{"data-key": c.key},
     )
 
@@ -71,7 +73,7 @@ def _group(title: str, controls: list, values: dict, open_: bool = False):
     )
 
 
-def build_layout(name: str, defaults: dict):
+def build_layout(name: str, defaults: dict, units: str = "in"):
     """The page: the first controls on top; the chart (the largest thing) with the recommendation and the card
     beside it; my caster, saving and the other controls (folded) below.  Columns wrap under each other on a
     narrow screen (a phone, 390 px wide) instead of scrolling sideways."""
@@ -86,10 +88,13 @@ def build_layout(name: str, defaults: dict):
             dcc.Store(id="rec-pending"),
             dcc.Store(id="rec-go"),
             dcc.Store(id="rec-answer"),
+            # each change of the controls, numbered by the browser, and the controls the answer shown is for
+            dcc.Store(id="request"),
+            dcc.Store(id="answered"),
             html.H2(f"caster-designer studio: {name}", style={"margin": "4px 0", "fontSize": "1.3em"}),
             _first_controls(defaults),
             html.Div([_chart_column(), _card_column()], style=CSS["row"]),
-            html.Div([_more_controls(defaults), _tools_column()], style=CSS["row"]),
+            html.Div([_more_controls(defaults), _tools_column(units)], style=CSS["row"]),
         ],
         style=CSS["page"],
     )
@@ -128,7 +133,7 @@ def _more_controls(defaults: dict):
     )
 
 
-def _mine_inputs():
+def _mine_inputs(units: str):
     """The four text boxes of "My caster" (trail, diameter, groove, damping) with their starting values."""
     return html.Div(
         [
@@ -139,9 +144,9 @@ def _mine_inputs():
                 ]
             )
             for key, label, value in (
-                ("trail", "trail", "1 in"),
-                ("diameter", "diameter", "8 in"),
-                ("groove", "groove", "0 in"),
+                ("trail", "trail", "25.4 mm" if units == "mm" else "1 in"),
+                ("diameter", "diameter", "203.2 mm" if units == "mm" else "8 in"),
+                ("groove", "groove", "0 mm" if units == "mm" else "0 in"),
                 ("damping", "damping", "1.3 N*m/rad"),
             )
         ],
@@ -154,31 +159,49 @@ def _chart_column():
     return html.Div(
         [
             html.Div(id="status", style={"fontSize": "12px", "color": "#555"}),
+            # one line of fixed height: its message never moves what is below it
+            html.Div(
+                id="computing",
+                className="computing",
+                style={
+                    "fontSize": "13px",
+                    "color": "#8a5a00",
+                    "height": "18px",
+                    "overflow": "hidden",
+                    "whiteSpace": "nowrap",
+                    "textOverflow": "ellipsis",
+                },
+            ),
             html.Div(id="general-error", className="control-error", style=CSS["error"]),
-            dcc.Graph(id="front", config={"displaylogo": False, "responsive": True}),
+            dcc.Graph(id="front", config={"displayModeBar": False, "responsive": True}),
         ],
         style={"flex": "3 1 560px", "minWidth": "0"},
     )
 
 
-def _tools_column():
+def _tools_column(units: str):
     """My caster (its numbers and fixes), save and report buttons."""
     return html.Div(
         [
             html.Div(
                 [
                     html.H4("My caster", style={"margin": "2px 0"}),
-                    _mine_inputs(),
-                    html.Button("Check my caster", id="mine-go", n_clicks=0, style={"marginTop": "6px"}),
-                    html.Div(id="mine-error", className="control-error", style=CSS["error"]),
+                    _mine_inputs(units),
+                    html.Div(
+                        [
+                            html.Button("Check my caster", id="mine-go", n_clicks=0, className="studio-button"),
+                            html.Div(id="mine-error", className="control-error overlay", style=CSS["error"]),
+                        ],
+                        className="control",
+                    ),
                     html.Div(id="mine-result"),
                 ],
                 style=CSS["panel"],
             ),
             html.Div(
                 [
-                    html.Button("Save problem", id="save", n_clicks=0),
-                    html.Button("Write report", id="report", n_clicks=0, style={"marginLeft": "8px"}),
+                    html.Button("Save problem", id="save", n_clicks=0, className="studio-button"),
+                    html.Button("Write report", id="report", n_clicks=0, className="studio-button"),
                     dcc.Loading(html.Div(id="save-result", style={"fontSize": "13px", "marginTop": "4px"})),
                     dcc.Download(id="download"),
                 ],
@@ -195,14 +218,16 @@ def _card_column():
         [
             html.Div(
                 [
-                    html.Div(id="recommendation"),
-                    html.Button(
-                        "Recommendation's card (with its knock-safe speed)",
-                        id="rec-card",
-                        n_clicks=0,
-                        style={"marginTop": "6px", "fontSize": "12px"},
+                    html.Div(
+                        id="recommendation",
+                        children=html.Button(id="rec-card", n_clicks=0, hidden=True),
+                        style={"fontSize": "14px"},
                     ),
                 ],
+                # greyed while its answer is not the one to the controls shown (app._request_callbacks): the
+                # panel only, a small part of the page to restyle
+                id="answer-box",
+                className="waiting",
                 style=CSS["panel"],
             ),
             dcc.Loading(

@@ -1,7 +1,8 @@
-"""The studio's panels: the recommendation, a design's numbers, its card, the fixes of my caster (Dash components).
+"""The studio's panels: the caster to build, a caster's card, the fixes of my caster (Dash components).
 
-Each function turns records of :mod:`designer.studio.view` into components; the callbacks of
-:mod:`designer.studio.app` put them on the page.
+Each function turns the plain records of :mod:`designer.studio.view` (numbers read from the study records) into
+components; the callbacks of :mod:`designer.studio.app` put them on the page.  Every number is written by
+:mod:`designer.display` in the problem's unit system (``problem.units``: a millimetre problem answers in mm).
 """
 
 from __future__ import annotations
@@ -11,99 +12,144 @@ import math
 
 from dash import dcc, html
 
-from designer.model import Design
+from designer import display
 import designer.studio.figures as figures
 import designer.studio.view as view
 from designer.studio.layout import CSS
-from designer.units import INCH
+
+ROLE_NAMES = {"recommended": "the caster to build"}
+"""A caster's name on the page by its role; the other roles are the recommendation's own words ("easiest to
+turn", "easiest over the sill", "between the ends")."""
 
 
-def _fmt(value, spec=".4g", unit=""):
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "–"
-    return f"{value:{spec}}{(' ' + unit) if unit else ''}"
+def role_name(role: str | None) -> str:
+    """What a caster is for, in words: "the caster to build", "easiest to turn", …"""
+    return ROLE_NAMES.get(role or "", role or "a caster of the front")
 
 
-def _design_text(d: dict) -> str:
-    return (
-        f"T {d['trail'] / INCH:.3f} in, d {d['diameter'] / INCH:.3f} in, B {d['groove'] / INCH:.3f} in, "
-        f"c_f {d['damping']:.3f} N·m/rad"
+def design_text(d: dict, units: str) -> str:
+    """A design as one line in ``units``: "T 63.50 mm, d 177.80 mm, B 19.05 mm, c_f 1.30 N·m/rad"."""
+    return ", ".join(
+        f"{symbol} {display.shown(d[name], name, units)}"
+        for symbol, name in (("T", "trail"), ("d", "diameter"), ("B", "groove"), ("c_f", "damping"))
     )
 
 
-def recommendation_panel(fronts: view.Fronts):
-    rec = view.recommendation_record(fronts.recommendation)
-    if rec is None:
-        best = fronts.risk if fronts.risk is not None else fronts.continuous
-        knee = best.weighted_best() if best is not None and len(best) else None
-        notes = [html.P(n, style={"color": "#666", "fontSize": "12px"}) for n in fronts.notes]
-        if knee is None:
-            return notes
-        return [
-            html.H4("Weighted optimum on the front (no recommendation in this version)", style={"margin": 0}),
-            html.Div(_design_text(knee.design.to_dict()), id="rec-design"),
-            html.Div(
-                [
-                    "F_turn ",
-                    html.Span(_fmt(knee.turning_effort), id="rec-turning"),
-                    " N, P ",
-                    html.Span(_fmt(knee.threshold_force), id="rec-threshold"),
-                    " N",
-                ],
-                style=CSS["num"],
-            ),
-            *notes,
-        ]
-    alpha = fronts.problem.risk
-    p = rec.get("shimmy_probability")
-    rows = [
-        html.H4("Recommendation", style={"margin": 0}),
-        html.Div(_design_text(rec["design"]), id="rec-design"),
+def _value(n: dict, name: str, units: str, element_id: str | None = None):
+    """Quantity ``name`` of the numbers ``n`` with its unit, as a span with ``element_id`` (for the tests)."""
+    text = display.shown(n.get(name), name, units)
+    return html.Span(text, id=element_id, style=CSS["num"]) if element_id else text
+
+
+def _level(alpha: float | None) -> str:
+    """ "95 %" for α 0.05 (the probability the speed is reached with)."""
+    return display.percent(1 - (0.05 if alpha is None else alpha))
+
+
+def caster_sentences(n: dict, problem, prefix: str) -> list:
+    """The plain-words first lines of a caster: how hard it turns and climbs the sill, its chance of shimmy at
+    the target speed, and the speed it reaches; each number a span ``<prefix>-turning``, ``-threshold``,
+    ``-probability``, ``-vc``, ``-confident``."""
+    units = problem.units
+    alpha = None if problem.risk is None else problem.risk.probability
+    allowed = "" if alpha is None else f" (allowed: {display.percent(alpha)})"
+    return [
         html.Div(
             [
-                "F_turn ",
-                html.Span(_fmt(rec["turning_effort"]), id="rec-turning"),
-                " N · P ",
-                html.Span(_fmt(rec["threshold_force"]), id="rec-threshold"),
-                " N · V_c ",
-                html.Span(_fmt(rec["critical_speed"]), id="rec-vc"),
-                " m/s",
-            ],
-            style=CSS["num"],
+                "Turning it takes ",
+                _value(n, "turning_effort", units, f"{prefix}-turning"),
+                "; climbing the sill ",
+                _value(n, "threshold_force", units, f"{prefix}-threshold"),
+                ".",
+            ]
         ),
         html.Div(
             [
-                f"speed reached w.p. {1 - alpha.probability:.0%}: " if alpha is not None else "speed reached: ",
-                html.Span(_fmt(rec.get("confident_speed")), id="rec-confident"),
-                " m/s · P(shimmy at target) ",
-                html.Span("–" if p is None else f"{100 * p:.2f} %", id="rec-probability"),
-                " · swept radius ",
-                _fmt((rec.get("swept_radius") or math.nan) / INCH, ".3f", "in"),
-            ],
-            style=CSS["num"],
+                f"Chance of shimmy at {display.shown(problem.target_speed, 'target_speed', units)}: ",
+                _value(n, "shimmy_probability", units, f"{prefix}-probability"),
+                allowed,
+                ".",
+            ]
+        ),
+        html.Div(
+            [
+                f"Speed reached without shimmy ({_level(alpha)} sure): ",
+                _value(n, "confident_speed", units, f"{prefix}-confident"),
+                "; shimmy speed V_c (Eq. 7) ",
+                _value(n, "critical_speed", units, f"{prefix}-vc"),
+                ".",
+            ]
         ),
     ]
-    # the spec goods-in inspects against (each limit with the other parts at nominal); filled in a moment after
-    # the chart when the fronts were computed without it (app._limits_callback)
-    rows.append(html.Div(limits_text(rec), id="rec-limits", style={"fontSize": "12px"}))
-    if rec.get("rule"):
-        rows.append(html.Div(str(rec["rule"]), style={"fontSize": "12px", "color": "#555"}))
-    for alt in rec["alternatives"]:
+
+
+def recommendation_panel(fronts: view.Fronts):
+    """The caster to build in plain words (its numbers from :func:`designer.recommend`'s record), a button for
+    its card and one for each alternative's, its acceptance limits, and how it was chosen (folded)."""
+    problem = fronts.problem
+    units = problem.units
+    rec = view.recommendation_record(fronts.recommendation)
+    if rec is None:
+        return [html.P(n, style={"color": "#666", "fontSize": "13px"}) for n in fronts.notes] or [
+            html.P("No caster to build for these controls.", style={"fontSize": "13px"})
+        ]
+    rows = [
+        html.H4("The caster to build", style={"margin": 0}),
+        html.Div(design_text(rec["design"], units), id="rec-design", style={"fontWeight": "600"}),
+        *caster_sentences(rec, problem, "rec"),
+        html.Div(
+            [
+                "It sweeps a circle of radius ",
+                _value(rec, "swept_radius", units),
+                ""
+                if problem.swept_radius_max is None
+                else f" (room: {display.shown(problem.swept_radius_max, 'swept_radius', units)})",
+                ".",
+            ]
+        ),
+        html.Button("Its card (drawing, knock test)", id="rec-card", n_clicks=0, className="studio-button"),
+        # the spec goods-in inspects against; filled in a moment after the chart when the fronts were computed
+        # without it (app._limits_callback)
+        html.Div(limits_text(rec), id="rec-limits", style={"fontSize": "13px", "marginTop": "4px"}),
+    ]
+    if rec["alternatives"]:
+        rows.append(html.H5("Other casters you can build", style={"margin": "8px 0 2px"}))
+    for i, alt in enumerate(rec["alternatives"]):
         rows.append(
             html.Div(
-                f"{alt['label']}: {_design_text(alt['design'])}; F_turn {alt['turning_effort']:.3f} N,"
-                f" P {alt['threshold_force']:.2f} N",
-                style={"fontSize": "12px"},
+                [
+                    html.B(f"{role_name(alt['role'])}: "),
+                    design_text(alt["design"], units),
+                    f"; turning {display.shown(alt['turning_effort'], 'turning_effort', units)}, sill "
+                    f"{display.shown(alt['threshold_force'], 'threshold_force', units)}, chance of shimmy "
+                    f"{display.shown(alt['shimmy_probability'], 'shimmy_probability', units)} ",
+                    html.Button(
+                        f"card: {role_name(alt['role'])}",
+                        id={"type": "alt-card", "index": i},
+                        n_clicks=0,
+                        className="studio-button",
+                        style={"display": "block"},
+                    ),
+                ],
+                className="alternative",
+                style={"fontSize": "13px", "marginTop": "2px"},
+            )
+        )
+    if rec.get("rule"):
+        rows.append(
+            html.Details(
+                [html.Summary("How it was chosen"), html.Div(str(rec["rule"]))],
+                style={"fontSize": "13px", "color": "#555", "marginTop": "4px"},
             )
         )
     return rows
 
 
 LIMITS_PENDING = "acceptance limits: computing…"
-"""What the card says while the recommended caster's limits are being computed."""
+"""What the panel says while the recommended caster's limits are being computed."""
 
 LIMITS_FAILED = "acceptance limits: not computed (the studio's console says why; `designer spec` gives them)"
-"""What the card says when computing the limits failed in a way the model does not explain (an internal error)."""
+"""What the panel says when computing the limits failed in a way the model does not explain (an internal error)."""
 
 
 def limits_text(rec: dict | None) -> str:
@@ -120,78 +166,77 @@ def limits_text(rec: dict | None) -> str:
     worst = (
         ""
         if corner is None
-        else f"; worst corner P(shimmy) {100 * corner[0]:.2f} %" + ("" if corner[1] else " (does NOT hold)")
+        else f"; worst corner: chance of shimmy {display.percent(corner[0])}" + ("" if corner[1] else " (too high)")
     )
-    return "acceptance limits: " + "; ".join(rec["limits"]) + worst
+    parts = [f"{lim.part.replace('_', ' ')} {lim.side} {lim.shown}" for lim in rec["limits"]]
+    return "acceptance limits (accept a part within): " + "; ".join(parts) + worst
 
 
-def numbers_table(n: dict, prefix: str):
+def numbers_table(n: dict, problem, prefix: str):
+    """A caster's numbers as a table, each in ``problem``'s units; the values' ids ``<prefix>-<key>``."""
+    units = problem.units
+    alpha = None if problem.risk is None else problem.risk.probability
     rows = [
-        ("F_turn (turning effort)", _fmt(n["turning_effort"], ".4g", "N")),
-        ("P (threshold force)", _fmt(n["threshold_force"], ".4g", "N")),
-        ("V_c (Eq. 7)", _fmt(n["critical_speed"], ".4g", "m/s")),
-        ("target speed", _fmt(n["target_speed"], ".3g", "m/s")),
+        ("turning", "turning effort F_turn", _value(n, "turning_effort", units)),
+        ("threshold", "sill force P", _value(n, "threshold_force", units)),
+        ("vc", "shimmy speed V_c (Eq. 7)", _value(n, "critical_speed", units)),
     ]
-    if n.get("shimmy_probability") is not None:
-        rows += [
-            (
-                "P(shimmy) at target",
-                f"{100 * n['shimmy_probability']:.2f} % (± {100 * n['shimmy_probability_se']:.2f})",
-            ),
-            (f"speed reached w.p. {1 - n['alpha']:.0%}", _fmt(n["confident_speed"], ".4g", "m/s")),
-        ]
-    rows += [
-        (
-            "swept radius T + d/2",
-            _fmt(n["swept_radius"] / INCH, ".3f", "in")
-            + ("" if n.get("swept_radius_max") is None else f" (max {n['swept_radius_max'] / INCH:.3g} in)"),
-        ),
-        ("I_w", _fmt(n["inertia"], ".3g", "kg·m²")),
-    ]
-    keys = ["turning", "threshold", "vc", "target", "probability", "confident", "swept", "inertia"]
-    if n.get("shimmy_probability") is None:
-        keys = ["turning", "threshold", "vc", "target", "swept", "inertia"]
     if "knock_safe_speed" in n:  # beside V_c: simulated, so only on the card (a click)
         theta0 = math.degrees(n["knock_angle"])
-        rows.insert(
-            3,
+        rows.append(
             (
+                "knocksafe",
                 f"knock-safe speed, {theta0:.0f}° / {2 * theta0:.0f}° knock",
-                f"{_fmt(n['knock_safe_speed'], '.3g')} / {_fmt(n['knock_safe_speed_double'], '.3g')} m/s",
-            ),
+                f"{display.number(n['knock_safe_speed'], 'critical_speed', units)} / "
+                f"{display.shown(n['knock_safe_speed_double'], 'critical_speed', units)}",
+            )
         )
-        keys.insert(3, "knocksafe")
+    rows += [
+        ("target", "target speed", display.shown(problem.target_speed, "target_speed", units)),
+        ("probability", "chance of shimmy at the target", _value(n, "shimmy_probability", units)),
+        ("confident", f"speed reached ({_level(alpha)} sure)", _value(n, "confident_speed", units)),
+        (
+            "swept",
+            "swept radius T + d/2",
+            _value(n, "swept_radius", units)
+            + (
+                ""
+                if problem.swept_radius_max is None
+                else f" (room {display.shown(problem.swept_radius_max, 'swept_radius', units)})"
+            ),
+        ),
+        ("inertia", "wheel inertia I_w" + (" (measured)" if n.get("measured") else ""), _value(n, "inertia", units)),
+    ]
     return html.Table(
-        [html.Tr([html.Td(k), html.Td(v, id=f"{prefix}-{key}", style=CSS["num"])]) for (k, v), key in zip(rows, keys)],
+        [
+            html.Tr([html.Td(label), html.Td(value, id=f"{prefix}-{key}", style=CSS["num"])])
+            for key, label, value in rows
+        ],
         style={"fontSize": "13px"},
     )
 
 
-def card_panel(problem, design: Design, name: str, inertia: float | None = None):
-    data = view.card(problem, design, inertia=inertia)
+def card_panel(problem, record, name: str):
+    """The card of one caster: its record's numbers (:func:`designer.studio.view.card`), drawing, sweeps and
+    θ(t) after a knock."""
+    data = view.card(problem, record)
     n = data["numbers"]
+    units = problem.units
     parts = [
         html.H4(f"Card: {name}", id="card-title", style={"margin": "2px 0"}),
-        html.Div(_design_text(n["design"]), style={"fontSize": "13px"}),
+        html.Div(design_text(n["design"], units), id="card-design", style={"fontSize": "13px"}),
     ]
     if data["svg"]:
         src = "data:image/svg+xml;base64," + base64.b64encode(data["svg"].encode()).decode()
-        parts.append(html.Img(src=src, id="card-drawing", style={"maxWidth": "100%", "maxHeight": "260px"}))
-    else:
-        parts.append(
-            html.Div(
-                "drawing: designer.plots.caster is not in this version",
-                id="card-drawing",
-                style={"color": "#666", "fontSize": "12px"},
-            )
-        )
-    parts.append(numbers_table(n, "card"))
+        # at its own size (its text 11 px), in a box that scrolls sideways on a phone rather than shrink it
+        parts.append(html.Div(html.Img(src=src, id="card-drawing"), style={"overflowX": "auto", "maxWidth": "100%"}))
+    parts.append(numbers_table(n, problem, "card"))
     risk = problem.risk
     parts.append(
         dcc.Graph(
             id="card-sweeps",
             figure=figures.sweeps_figure(
-                data["sweeps"], problem.target_speed, None if risk is None else risk.probability
+                data["sweeps"], problem.target_speed, None if risk is None else risk.probability, units
             ),
             config={"displayModeBar": False},
         )
@@ -209,44 +254,43 @@ def card_panel(problem, design: Design, name: str, inertia: float | None = None)
     return parts
 
 
-def fixes_panel(result: dict):
+def fixes_panel(result: dict, problem):
+    """My caster's numbers and its ranked fixes (records of :func:`designer.fix`), in ``problem``'s units."""
+    units = problem.units
     n = result["numbers"]
-    p = n.get("shimmy_probability")
     head = html.Div(
         [
             html.B("my caster: "),
-            f"V_c {n['critical_speed']:.3f} m/s, ",
+            f"shimmy speed V_c {display.shown(n['critical_speed'], 'critical_speed', units)}, ",
             html.Span(
-                "–" if p is None else f"P(shimmy at {n['target_speed']:.3g} m/s) {100 * p:.1f} %", id="mine-probability"
+                f"chance of shimmy at {display.shown(problem.target_speed, 'target_speed', units)} "
+                f"{display.shown(n['shimmy_probability'], 'shimmy_probability', units)}",
+                id="mine-probability",
             ),
-            f", F_turn {n['turning_effort']:.3f} N, P {n['threshold_force']:.2f} N",
+            f", turning {display.shown(n['turning_effort'], 'turning_effort', units)}, "
+            f"sill {display.shown(n['threshold_force'], 'threshold_force', units)}",
         ],
         style={"fontSize": "13px"},
     )
-    if result["fixes"] is None:
-        return [head, html.Div(result["fix_note"], style={"color": "#666", "fontSize": "12px"})]
-    summary = html.Div(result.get("summary") or "", id="fix-summary", style={"fontSize": "12px"})
+    summary = html.Div(result.get("summary") or "", id="fix-summary", style={"fontSize": "13px"})
     if not result["fixes"]:
         return [head, summary, html.Div("no fix listed", id="fixes")]
     items = []
     for row in result["fixes"]:
-        text = row.get("description") or row.get("action") or row.get("label") or row.get("change") or ""
-        extra = []
-        if "shimmy_probability" in row:
-            extra.append(f"P(shimmy) {100 * row['shimmy_probability']:.2f} %")
-        if "confident_speed" in row:
-            extra.append(f"reaches {row['confident_speed']:.3f} m/s w.p. 1 − α")
-        for key, label, unit, spec in (("turning_effort", "F_turn", "N", ".3f"), ("threshold_force", "P", "N", ".2f")):
-            if key in row:
-                extra.append(f"{label} {row[key]:{spec}} {unit}")
+        extra = [
+            f"chance of shimmy {display.shown(row['shimmy_probability'], 'shimmy_probability', units)}",
+            f"reaches {display.shown(row['confident_speed'], 'confident_speed', units)} ({_level(problem.risk and problem.risk.probability)} sure)",
+            f"turning {display.shown(row['turning_effort'], 'turning_effort', units)}",
+            f"sill {display.shown(row['threshold_force'], 'threshold_force', units)}",
+        ]
         items.append(
             html.Li(
                 [
-                    html.Span(str(text), style={"fontWeight": "600"}),
-                    html.Span(" · " + "; ".join(extra) if extra else ""),
+                    html.Span(str(row.get("description") or ""), style={"fontWeight": "600"}),
+                    html.Span(" · " + "; ".join(extra)),
                 ],
                 className="fix",
-                style={"fontSize": "12px"},
+                style={"fontSize": "13px"},
             )
         )
     found = result.get("found") or len(items)
@@ -257,7 +301,7 @@ def fixes_panel(result: dict):
             html.Div(
                 ["the full list: ", html.Code(result.get("command") or "designer fix")],
                 id="fixes-more",
-                style={"fontSize": "12px"},
+                style={"fontSize": "13px"},
             )
         )
     else:

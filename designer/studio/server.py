@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import errno
 import logging
+import os
 import re
 import sys
 import threading
@@ -72,10 +73,48 @@ def _short(text: str) -> str:
     return first if len(first) <= _SHOWN_CHARS else first[:_SHOWN_CHARS] + "…"
 
 
+SECURITY_HEADERS = {
+    "X-Content-Type-Options": "nosniff",
+    "X-Frame-Options": "DENY",
+    "Content-Security-Policy": "frame-ancestors 'none'",
+    "Referrer-Policy": "no-referrer",
+}
+"""Headers of every answer: no content sniffing, and no other site may show the studio in a frame (a framed
+page could steer a click on "Save problem" or "Write report" past the Origin check)."""
+
+MALFORMED = {
+    400: "a malformed callback request (not one this studio's page sends)",
+    404: "no such file",
+}
+"""The body of a 4xx answer to a malformed request, by status: a fixed sentence, nothing of the exception."""
+
+_OWN_CODE = str(Path(__file__).resolve().parents[1]) + os.sep
+"""The package's folder: a failure inside a callback passes through a frame of it; one raised by Dash while it
+reads the request (a body of the wrong shape, a callback that does not exist, an unknown file) does not."""
+
+
+def _malformed(exc: BaseException, path: str) -> int | None:
+    """The 4xx status of a request Dash could not read (``exc`` raised by Dash itself, before any function of
+    the package ran): 400 for a callback post, 404 for a component file; None for a failure of the studio's own
+    code (a 500, an internal error)."""
+    frame = exc.__traceback__
+    while frame is not None:
+        if frame.tb_frame.f_code.co_filename.startswith(_OWN_CODE):
+            return None
+        frame = frame.tb_next
+    if path.startswith("/_dash-component-suites/"):
+        return 404
+    if path.startswith("/_dash-"):
+        return 400
+    return None
+
+
 def guard(flask_app, hosts: frozenset[str], debug: bool = False) -> None:
     """Keep the studio's Flask app a local server: 403 for a ``Host`` not in ``hosts``, 413 for a body above
-    :data:`MAX_REQUEST_BYTES`, and one :data:`LOG` line per bad request or failed callback (with the
-    traceback only when ``debug``) instead of Flask's traceback on the console."""
+    :data:`MAX_REQUEST_BYTES`, 400 for a callback request Dash cannot read and 404 for an unknown component file
+    (:func:`_malformed`: a fixed sentence, nothing of the exception), :data:`SECURITY_HEADERS` on every answer,
+    and one :data:`LOG` line per bad request or failed callback (with the traceback only when ``debug``) instead
+    of Flask's traceback on the console."""
     from flask import abort, request
     from werkzeug.exceptions import HTTPException
 
@@ -94,6 +133,11 @@ def guard(flask_app, hosts: frozenset[str], debug: bool = False) -> None:
         if length is not None and length > MAX_REQUEST_BYTES:
             abort(413, description=f"a body of {length} bytes; at most {MAX_REQUEST_BYTES}")
 
+    @flask_app.after_request
+    def _headers(response):
+        response.headers.update(SECURITY_HEADERS)
+        return response
+
     @flask_app.errorhandler(Exception)
     def _one_line(exc):
         where = f"{request.method} {_short(request.path)}"
@@ -101,6 +145,10 @@ def guard(flask_app, hosts: frozenset[str], debug: bool = False) -> None:
             if exc.code != 404:
                 LOG.warning("%s: %s %s: %s", where, exc.code, exc.name, _short(exc.description or ""))
             return exc
+        malformed = _malformed(exc, request.path)
+        if malformed is not None:  # the request's fault, found by Dash before any of the studio's code ran
+            LOG.warning("%s: %s: %s: %s", where, malformed, type(exc).__name__, _short(str(exc)))
+            return MALFORMED[malformed], malformed
         LOG.error("%s: %s: %s", where, type(exc).__name__, _short(str(exc)), exc_info=exc if debug else None)
         return "the studio could not answer this request (one line on its console says why)", 500
 

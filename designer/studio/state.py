@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import parse_qsl, urlencode
 
-from designer.data.paper import INCH
+from designer import display
 from designer.errors import DesignerError, ProblemError
 from designer.physics.uncertainty import Uncertainty
 from designer.parameters import VARIABLE_TABLE
@@ -80,7 +80,7 @@ CONTROLS: list[Control] = [
     Control("sill", "sill height", ("conditions", "threshold_height"), "quantity", "length"),
     Control("surface", "surface", ("conditions", "surface"), "choice", options=("tile", "carpet")),
     Control("target", "target speed [m/s]", ("shimmy", "target_speed"), "slider", "speed"),
-    Control("alpha", "risk α (allowed P(shimmy))", ("robust", "probability"), "number", group="risk"),
+    Control("alpha", "allowed chance of shimmy α", ("robust", "probability"), "number", group="risk"),
     Control("mode", "turning mode", ("conditions", "turning_mode"), "choice", options=("chair", "pivot")),
     Control("s_model", "σ model error (log)", ("robust", "model_error"), "number", group="risk"),
     Control("s_damping", "σ damping (log)", ("robust", "damping"), "number", group="risk"),
@@ -161,12 +161,14 @@ def default_problem_path() -> Path:
     return here if here.exists() else Path("problems") / DEFAULT_PROBLEM
 
 
-def _show(value, dimension: str) -> str:
-    """A value of the problem file as the text box shows it (strings as written, SI numbers with their unit)."""
+def _show(value, dimension: str, units: str = "in") -> str:
+    """A value of the problem file as the text box shows it: strings as written, SI numbers with their unit (a
+    length in the problem's ``units``, "in" or "mm", :func:`designer.display.unit`)."""
     if isinstance(value, str):
         return value
     if dimension == "length":
-        return f"{value / INCH:.6g} in"
+        length = display.unit("length", units)
+        return f"{value * length.factor:.6g} {length.text}"
     unit = DIMENSIONS[dimension][0] if dimension else ""
     return f"{value:.6g} {unit}".strip()
 
@@ -179,15 +181,15 @@ _COST = re.compile(r"^(?P<value>.*?)\s*\(cost\s+(?P<cost>[-+0-9.eE]+)\)$")
 """A stock item shown with its own cost: ``7 in (cost 6)``."""
 
 
-def _show_item(item, dimension: str) -> str:
+def _show_item(item, dimension: str, units: str = "in") -> str:
     """One item of a [stock] list as its text box shows it: a value (``7 in``), a value with its own cost
     (``{ value = "7 in", cost = 6 }`` -> ``7 in (cost 6)``), a named wheel by its name."""
     if isinstance(item, dict):
         if "name" in item:
             return str(item["name"])
-        shown = _show(item.get("value", ""), dimension)
+        shown = _show(item.get("value", ""), dimension, units)
         return f"{shown} (cost {item['cost']:g})" if isinstance(item.get("cost"), (int, float)) else shown
-    return _show(item, dimension)
+    return _show(item, dimension, units)
 
 
 def _list_items(text: str, before) -> list:
@@ -226,10 +228,18 @@ four digits tell it from a rounded value).  A box left as shown leaves the probl
 (:func:`apply`)."""
 
 
+def units_of(data: dict) -> str:
+    """The unit system of problem-file ``data`` (``[report] units``: "in" or "mm"; "in" when it names none or
+    another, which the loader refuses with its own message)."""
+    units = (get(data, ("report", "units")) or "in") if isinstance(data, dict) else "in"
+    return units if units in ("in", "mm") else "in"
+
+
 def control_values(data: dict) -> dict:
     """The value every control shows for problem-file ``data`` (defaults filled in as the loader would)."""
 
     defaults = Uncertainty()
+    units = units_of(data)
     out = {}
     for c in all_controls():
         value = get(data, c.path)
@@ -250,9 +260,9 @@ def control_values(data: dict) -> dict:
         elif c.kind == "choice":
             out[c.key] = value if value is not None else c.options[0]
         elif c.kind == "list":
-            out[c.key] = "" if value is None else ", ".join(_show_item(v, c.dimension) for v in _as_list(value))
+            out[c.key] = "" if value is None else ", ".join(_show_item(v, c.dimension, units) for v in _as_list(value))
         else:
-            out[c.key] = "" if value is None else _show(value, c.dimension)
+            out[c.key] = "" if value is None else _show(value, c.dimension, units)
     return out
 
 

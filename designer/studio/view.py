@@ -1,10 +1,10 @@
 """What the studio shows, computed through the package's API (no web framework here).
 
-The studio is a thin view: the fronts come from :func:`designer.pareto_front`, the recommendation and the
-buildable front from :func:`designer.recommend`, the fixes of "my caster" from :func:`designer.fix`, a
-design's numbers from :func:`designer.evaluate` and its risk from the model's evaluator
-(:func:`designer.model.evaluate`), θ(t) from :func:`designer.simulate`.  Nothing here re-states an
-equation.
+The studio is a thin view of the records the studies return: the fronts come from :func:`designer.pareto_front`,
+the recommendation, its alternatives and the buildable front from :func:`designer.recommend`, my caster and
+its fixes (and the risk of a front point, which its record does not hold) from :func:`designer.fix`, the card's
+sweeps from :func:`designer.studies.sweep.speed_sweeps`, θ(t) from :func:`designer.simulate`.  Nothing here
+evaluates the model or re-states an equation: a number shown is a record's.
 """
 
 from __future__ import annotations
@@ -19,16 +19,16 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from designer import display
 from designer.errors import DesignerError
 import designer.studio.helper as helper
-from designer.model import Design, evaluate
-from designer.physics.inertia import Catalog, Fixed
-from designer.units import INCH
+from designer.model import Design
 from designer.plots.caster import caster_svg
 from designer.studies.dynamics import simulate
 from designer.studies.dynamics.limit_cycles import knock_safe_speeds
 from designer.studies.recommend import recommend, with_spec
 from designer.studies.retrofit import fix
+from designer.studies.sweep import speed_sweeps
 
 if TYPE_CHECKING:  # record types for the checker only: designer.studies.front loads casadi
     from designer.problem import Problem
@@ -196,149 +196,137 @@ def _compute_fronts(problem, key):
     return out
 
 
-def wheel_inertia(problem, wheel) -> float | None:
-    """The measured I_w [kg·m²] of a named wheel of ``problem`` (a Table 1 catalogue wheel or a ``[stock]``
-    wheel), None for an unnamed one (then the problem's inertia model at the diameter applies)."""
-    if problem is None or not wheel:
-        return None
-    if wheel in (getattr(problem, "wheels", None) or ()):
-        return float(Catalog.from_key(wheel).wheel.inertia)
-    stock = getattr(problem, "stock", None)
-    for w in getattr(stock, "wheels", None) or ():
-        if getattr(w, "name", None) == wheel and getattr(w, "inertia", None) is not None:
-            return float(w.inertia)
-    return None
+def _points(front) -> list:
+    """The points of ``front`` the chart draws (those with a design), in order; [] for None."""
+    if front is None:
+        return []
+    return [p for p in getattr(front, "points", front) if getattr(p, "design", None) is not None]
 
 
 def front_points(front) -> list[dict]:
-    """Plain records of a front's points (design SI, F_turn, P, V_c, the wheel's own I_w or None) for the
-    chart; [] for None."""
-    if front is None:
-        return []
-    points = getattr(front, "points", front)
-    problem = getattr(front, "problem", None)
-    out = []
-    for p in points:
-        design = getattr(p, "design", None)
-        if design is None:
-            continue
-        out.append(
-            {
-                "design": design.to_dict(),
-                "turning_effort": float(p.turning_effort),
-                "threshold_force": float(p.threshold_force),
-                "critical_speed": float(getattr(p, "critical_speed", float("nan"))),
-                "family": getattr(p, "family", "") or "",
-                "label": getattr(p, "label", None) or getattr(p, "wheel", None) or "",
-                "inertia": wheel_inertia(problem, getattr(p, "wheel", None)),
-            }
-        )
-    return out
+    """Plain records of a front's points for the chart: the design, F_turn, P, V_c (each read from the point's
+    record, :class:`designer.FrontPoint`) and its wheel's name; [] for None."""
+    return [
+        {
+            "design": p.design.to_dict(),
+            "turning_effort": float(p.turning_effort),
+            "threshold_force": float(p.threshold_force),
+            "critical_speed": float(p.critical_speed),
+            "label": getattr(p, "wheel", None) or "",
+        }
+        for p in _points(front)
+    ]
 
 
 def recommendation_record(rec) -> dict | None:
-    """The recommendation's headline numbers as plain data (None without a recommendation)."""
+    """The recommendation's headline numbers as plain data, each read from the record :func:`designer.recommend`
+    returned (None without a recommendation): the caster to build, then every alternative with its role."""
     if rec is None:
         return None
-    keys = (
-        "turning_effort",
-        "threshold_force",
-        "critical_speed",
-        "confident_speed",
-        "shimmy_probability",
-        "shimmy_probability_se",
-        "swept_radius",
-        "swept_radius_max",
-        "rule",
-    )
-    out = {k: getattr(rec, k, None) for k in keys}
-    out["design"] = rec.design.to_dict()
-    inertia = getattr(rec, "inertia", None)
-    out["inertia"] = float(inertia) if inertia is not None and math.isfinite(float(inertia)) else None
+    out = numbers_of(rec)
+    out["rule"] = getattr(rec, "rule", None)
     spec = getattr(rec, "spec", None)
-    out["limits"] = (  # None: not computed yet (compute_spec)
-        None if spec is None else [f"{lim.side} {lim.part.replace('_', ' ')} {lim.shown}" for lim in spec.limits]
-    )
+    out["limits"] = None if spec is None else list(spec.limits)  # None: not computed yet (compute_spec)
     corner = None if spec is None else spec.corner
     out["corner"] = None if corner is None else (corner["probability"], corner["holds"])
-    out["alternatives"] = []
-    for alt in getattr(rec, "alternatives", None) or []:
-        out["alternatives"].append(
-            {
-                "label": getattr(alt, "role", None) or getattr(alt, "rule", ""),
-                "design": alt.design.to_dict(),
-                "turning_effort": alt.turning_effort,
-                "threshold_force": alt.threshold_force,
-            }
-        )
+    out["alternatives"] = [numbers_of(alt) for alt in getattr(rec, "alternatives", None) or []]
     return out
 
 
-# --------------------------------------------------------------------------- one design: the card
+NUMBERS = (
+    "turning_effort",
+    "threshold_force",
+    "critical_speed",
+    "confident_speed",
+    "shimmy_probability",
+    "swept_radius",
+    "inertia",
+)
+"""The numbers of a caster the studio shows: F_turn, P, V_c, the speed reached w.p. 1 − α, P(shimmy) at the
+target speed (the exact law), the swept radius and I_w."""
 
 
-def design_numbers(problem, design: Design) -> dict:
-    """A design's numbers for ``problem``: objectives, V_c, ω, P(shimmy) at the target, the speed reached w.p. 1-α.
+def numbers_of(record, risk=None) -> dict:
+    """A caster's numbers as plain data, each read from ``record`` (a :class:`designer.Recommendation` or one
+    of its alternatives, a :class:`designer.FrontPoint`, the ``current`` caster of :func:`designer.fix`) or from
+    the :class:`~designer.model.Caster` it holds; ``risk``: the record of the same caster under the problem's
+    risk law (:func:`designer.fix`'s diagnosis) for the speed reached and P(shimmy), which a front point does
+    not hold.  A number no record has is None (shown as :data:`designer.display.MISSING`)."""
+    caster = getattr(record, "caster", None)
+    out: dict = {"design": record.design.to_dict()}
+    for key in NUMBERS:
+        source = risk if risk is not None and key in ("confident_speed", "shimmy_probability") else record
+        value = getattr(source, key, None)
+        if value is None and caster is not None and source is record:
+            value = caster.get(key)
+        out[key] = None if value is None or not math.isfinite(float(value)) else float(value)
+    measured = getattr(record, "measured", None)
+    out["measured"] = bool(caster.get("measured") if measured is None and caster is not None else measured)
+    out["role"] = getattr(record, "role", None)
+    out["wheel"] = getattr(record, "wheel", None)
+    return out
 
-    ``shimmy_probability`` is the Monte Carlo estimate of P(V_c,true < V_target) with the problem's scatter;
-    ``confident_speed`` is the α-quantile of V_c,true, the speed reached without shimmy with probability
-    1 − α (both from the model's evaluator, :func:`designer.model.evaluate`).  Both are None when the
-    problem has no risk.
-    """
 
-    conditions = problem.conditions
-    risk = problem.risk
-    values = _quiet(
-        evaluate, design, conditions, speed=problem.target_speed, risk=None if risk is None else problem.target_speed
-    )
+# --------------------------------------------------------------------------- one caster: the card
+
+CARD_PARTS = ("recommendation", "alternative", "continuous", "risk", "buildable")
+"""What a card can show: the caster to build, one of its alternatives (by index), a point of a front."""
+
+
+def card_record(fronts: Fronts, part: str, index: int = 0):
+    """The record a card shows: the recommendation itself (``part`` "recommendation"), its alternative
+    ``index``, or point ``index`` of the ``part`` front.  A point of the buildable front is the recommendation or
+    the alternative it is (the same caster: their records hold its P(shimmy)).  KeyError, IndexError for a
+    part or index the fronts do not have."""
+    rec = fronts.recommendation
+    if part == "recommendation":
+        if rec is None:
+            raise KeyError(part)
+        return rec
+    if part == "alternative":
+        return (rec.alternatives if rec is not None else [])[index]
+    if part not in CARD_PARTS:
+        raise KeyError(part)
+    point = _points({"continuous": fronts.continuous, "risk": fronts.risk, "buildable": fronts.buildable}[part])[index]
+    if part == "buildable" and rec is not None:
+        for candidate in (rec, *rec.alternatives):
+            if candidate.design == point.design:
+                return candidate
+    return point
+
+
+def card(problem, record, with_simulation: bool = True) -> dict:
+    """Everything a caster's card shows: its numbers (from ``record``, :func:`numbers_of`; a front point's speed
+    reached and P(shimmy) from :func:`designer.fix`'s diagnosis of it, the same risk law as the recommendation's),
+    the knock-safe speeds, V_c against trail and diameter (:func:`designer.studies.sweep.speed_sweeps`), θ(t)
+    after a knock and the drawing.  Nothing is evaluated twice: a recommendation's numbers are its own."""
+    risk = None
+    if getattr(record, "shimmy_probability", None) is None:  # a front point: no risk numbers of its own
+        risk = _quiet(fix, problem, record.design, limit=0, specs=0).current
+    numbers = numbers_of(record, risk)
+    design = record.design
     out = {
-        k: float(values[k])
-        for k in ("turning_effort", "threshold_force", "critical_speed", "swept_radius", "inertia", "shimmy_frequency")
-        if k in values
+        "numbers": numbers,
+        "sweeps": _quiet(speed_sweeps, problem, design, numbers["inertia"], numbers["measured"]),
+        "knock": None,
     }
-    out["design"] = design.to_dict()
-    out["target_speed"] = problem.target_speed
-    out["swept_radius_max"] = problem.swept_radius_max
-    out["alpha"] = None if risk is None else risk.probability
-    out["shimmy_probability"] = out["shimmy_probability_se"] = out["confident_speed"] = None
-    if risk is not None:
-        out["shimmy_probability"] = float(values.shimmy_probability)
-        out["shimmy_probability_se"] = float(values.shimmy_probability_se)
-        out["confident_speed"] = float(values.confident_speed)
-    return out
-
-
-def speed_sweeps(problem, design: Design, n: int = 61) -> dict:
-    """V_c (and its α-quantile with risk) against trail and against diameter around ``design``.
-
-    Each sweep spans the problem's bounds of that variable (and ±50 % of the design's value if the
-    bounds are fixed), the other variables held at the design's values; evaluated vectorised by
-    :func:`designer.model.evaluate`.  Returns {"trail": {...}, "diameter": {...}} of arrays [SI].
-    """
-    conditions = problem.conditions
-    out = {}
-    for name in ("trail", "diameter"):
-        b = problem.bounds[name]
-        value = getattr(design, name)
-        lo, hi = (b.low, b.high) if b.high > b.low else (0.5 * value, 1.5 * value)
-        lo, hi = min(lo, value), max(hi, value)
-        if name == "diameter":
-            lo = max(lo, 2.05 * conditions.threshold_height)
-        x = np.linspace(lo, hi, n)
-        args = {k: np.full(n, getattr(design, k)) for k in ("trail", "diameter", "groove", "damping")}
-        args[name] = x
-        values = _quiet(evaluate, args, conditions)
-        out[name] = {
-            "x": x,
-            "critical_speed": np.asarray(values.critical_speed, float),
-            "confident_speed": np.asarray(values.confident_speed, float),
-            "value": value,
-        }
+    if with_simulation:
+        try:
+            out["knock"] = knock_response(problem, design)
+        except DesignerError as exc:
+            out["knock_error"] = str(exc)
+        try:
+            own = numbers["inertia"] if numbers["measured"] else None
+            out["numbers"].update(knock_safe(problem, design, own))
+        except DesignerError as exc:
+            out["numbers"]["knock_safe_error"] = str(exc)
+    out["svg"] = drawing_svg(problem, design)
     return out
 
 
 def knock_response(problem, design: Design, angle: float = KNOCK_ANGLE) -> dict:
-    """θ(t) after a knock of ``angle`` [rad] at the target speed (:func:`designer.studies.dynamics._simulate.simulate`)."""
+    """θ(t) after a knock of ``angle`` [rad] at the target speed (:func:`designer.simulate`, the problem's
+    conditions)."""
 
     result = _quiet(
         simulate, design, problem.conditions, speed=problem.target_speed, angle=angle, samples_per_period=24
@@ -352,15 +340,16 @@ def knock_response(problem, design: Design, angle: float = KNOCK_ANGLE) -> dict:
     }
 
 
-def knock_safe(problem, design: Design) -> dict:
-    """The design's knock-safe speeds for knocks of θ0 and 2 θ0 [m/s] (simulated, rolling tyre: the report's
-    card, :func:`designer.studies.dynamics.limit_cycles.knock_safe_speeds`); about 0.05–0.1 s of CPU, so on a click only."""
+def knock_safe(problem, design: Design, inertia: float | None = None) -> dict:
+    """The design's knock-safe speeds for knocks of θ0 and 2 θ0 [m/s] (simulated, rolling tyre,
+    :func:`designer.studies.dynamics.limit_cycles.knock_safe_speeds`; ``inertia``: a measured wheel's own I_w);
+    about 0.05–0.1 s of CPU, so on a click only."""
 
-    return _quiet(knock_safe_speeds, [design], problem.conditions)[0].to_dict()
+    return _quiet(knock_safe_speeds, [design], problem.conditions, inertias=[inertia])[0].to_dict()
 
 
 def drawing_svg(problem, design: Design) -> str | None:
-    """The caster drawn to scale as SVG text (:func:`designer.plots.caster.caster_svg`)."""
+    """The caster drawn to scale as SVG text, its sizes in the problem's units (:func:`designer.plots.caster.caster_svg`)."""
 
     return _quiet(
         caster_svg,
@@ -369,69 +358,51 @@ def drawing_svg(problem, design: Design) -> str | None:
         design.groove,
         problem.conditions.threshold_height,
         problem.swept_radius_max,
+        units=problem.units,
     )
-
-
-def card(problem, design: Design, with_simulation: bool = True, inertia: float | None = None) -> dict:
-    """Everything a point's card shows: numbers (with the knock-safe speeds), sweeps, θ(t) and the drawing.
-
-    ``inertia`` [kg·m²]: the wheel's own I_w when it is known (a catalogue or stock wheel, e.g. the
-    recommendation's), else the problem's inertia model at the design's diameter.
-    """
-    if inertia is not None and math.isfinite(float(inertia)):
-        problem = problem.replace(conditions=problem.conditions.replace(inertia=Fixed(float(inertia))))
-    out = {"numbers": design_numbers(problem, design), "sweeps": speed_sweeps(problem, design)}
-    out["knock"] = None
-    if with_simulation:
-        try:
-            out["knock"] = knock_response(problem, design)
-        except DesignerError as exc:
-            out["knock_error"] = str(exc)
-        try:
-            out["numbers"].update(knock_safe(problem, design))
-        except DesignerError as exc:
-            out["numbers"]["knock_safe_error"] = str(exc)
-    out["svg"] = drawing_svg(problem, design)
-    return out
 
 
 # --------------------------------------------------------------------------- my caster
 
 
-def fix_command(path, design: Design) -> str:
-    """The ``designer fix`` command line that lists every fix of ``design`` for the problem file ``path``."""
+def fix_command(path, design: Design, units: str = "in") -> str:
+    """The ``designer fix`` command line that lists every fix of ``design`` for the problem file ``path``, its
+    sizes in ``units`` (the problem's)."""
+
+    def size(name: str) -> str:
+        value = getattr(design, name)
+        return display.number(value, name, units).rstrip("0").rstrip(".") + display.unit_text(name, units)
+
     return (
-        f'designer fix {path} --current "T={design.trail / INCH:.4g}in,d={design.diameter / INCH:.4g}in,'
-        f'B={design.groove / INCH:.4g}in,c={design.damping:.4g}"'
+        f'designer fix {path} --current "T={size("trail")},d={size("diameter")},B={size("groove")},'
+        f'c={display.number(design.damping, "damping", units)}"'
     )
 
 
-def my_caster(problem, design: Design) -> dict:
-    """A caster the user has: its numbers and risk for ``problem`` and the ranked fixes of :func:`designer.fix`."""
-    out = {"numbers": design_numbers(problem, design), "fixes": None, "fix_note": None}
+def mine_record(problem, design: Design):
+    """The record of a caster the user has: :func:`designer.fix`'s diagnosis of it (``current``: its numbers and
+    its risk under the problem's risk law, the exact P(shimmy))."""
+    return _quiet(fix, problem, current=design, limit=0, specs=0).current
 
+
+def my_caster(problem, design: Design) -> dict:
+    """A caster the user has: its numbers and risk for ``problem`` and its ranked fixes, each read from the
+    record :func:`designer.fix` returns (``current`` and ``fixes``)."""
     result = _quiet(fix, problem, current=design, limit=FIX_LIMIT, specs=0)  # the list shows no limits
+    out = {"numbers": numbers_of(result.current), "fix_note": None}
     out["found"] = int(getattr(result, "found", 0) or 0)
-    out["command"] = fix_command(getattr(problem, "source", None) or f"{problem.name}.toml", design)
+    out["command"] = fix_command(getattr(problem, "source", None) or f"{problem.name}.toml", design, problem.units)
     out["summary"] = result.summary() if hasattr(result, "summary") else ""
-    current = getattr(result, "current", None)
-    if current is not None:  # the retrofit's own diagnosis of the caster as it is (same model)
-        out["meets_risk_bound"] = bool(getattr(current, "meets_risk_bound", False))
+    out["meets_risk_bound"] = bool(result.current.meets_risk_bound)
     rows = []
     for rank, item in enumerate(getattr(result, "fixes", None) or [], start=1):
         changes = getattr(item, "changes", ()) or ()
-        row = {
-            "rank": rank,
-            "description": "; ".join(c.describe() for c in changes) if changes else str(item),
-            "parts_changed": getattr(item, "parts_changed", len(changes)),
-        }
-        for attr in ("turning_effort", "threshold_force", "critical_speed", "confident_speed", "shimmy_probability"):
-            value = getattr(item, attr, None)
-            if value is not None and math.isfinite(float(value)):
-                row[attr] = float(value)
-        design_ = getattr(item, "design", None)
-        if design_ is not None:
-            row["design"] = design_.to_dict()
+        row = numbers_of(item)
+        row.update(
+            rank=rank,
+            description="; ".join(c.describe() for c in changes) if changes else str(item),
+            parts_changed=getattr(item, "parts_changed", len(changes)),
+        )
         rows.append(row)
     out["fixes"] = rows
     return out

@@ -9,10 +9,12 @@ import csv
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 pytest.importorskip("dash")
 
+from designer import display  # noqa: E402
 from designer.cli import main  # noqa: E402
 from designer.model import Design  # noqa: E402
 from designer.problem import problem_from_dict  # noqa: E402
@@ -27,7 +29,7 @@ POINTS = 5
 def _callback(
     client,
     outputs: list[tuple[str, str]],
-    inputs: list[tuple[str, str, object]],
+    inputs: list,
     changed: str,
     states: list[tuple[str, str, object]],
 ) -> dict:
@@ -40,7 +42,7 @@ def _callback(
         "outputs": {"id": outputs[0][0], "property": outputs[0][1]}
         if single
         else [{"id": i, "property": p} for i, p in outputs],
-        "inputs": [{"id": i, "property": p, "value": v} for i, p, v in inputs],
+        "inputs": [{"id": x[0], "property": x[1], "value": x[2]} if isinstance(x, tuple) else x for x in inputs],
         "changedPropIds": [changed],
         "state": [{"id": i, "property": p, "value": v} for i, p, v in states],
     }
@@ -96,91 +98,160 @@ def test_write_report_is_designer_pareto(tmp_path):
 def test_fixes_panel_says_when_the_list_is_cut():
     """ "My caster" lists the whole ranking when it is short ("all N found"); a ranking cut at FIX_LIMIT says it
     is the top n of N and names the `designer fix` command that lists every fix."""
+    problem = problem_from_dict(state.read_problem_data(PROBLEM)[0])
     numbers = {
         "critical_speed": 0.75,
+        "confident_speed": 0.6,
         "shimmy_probability": 1.0,
-        "target_speed": 2.5,
         "turning_effort": 17.5,
         "threshold_force": 98.5,
     }
-    rows = [{"rank": i + 1, "description": f"fix {i + 1}", "shimmy_probability": 0.01} for i in range(3)]
-    text = json.dumps(fixes_panel({"numbers": numbers, "fixes": rows, "found": 3}), default=str)
+    rows = [{**numbers, "rank": i + 1, "description": f"fix {i + 1}", "shimmy_probability": 0.01} for i in range(3)]
+    text = json.dumps(fixes_panel({"numbers": numbers, "fixes": rows, "found": 3}, problem), default=str)
     assert "all 3 found" in text and "designer fix" not in text
     command = 'designer fix out/p.toml --current "T=1in,d=8in,B=0in,c=1.3"'
-    text = json.dumps(fixes_panel({"numbers": numbers, "fixes": rows, "found": 250, "command": command}), default=str)
+    result = {"numbers": numbers, "fixes": rows, "found": 250, "command": command}
+    text = json.dumps(fixes_panel(result, problem), default=str)
     assert "top 3 of 250" in text and "designer fix out/p.toml" in text
 
 
 def test_my_caster_lists_the_full_ranking():
     """For the default problem and a 1 in trail, 8 in wheel, bare fork: every fix designer.fix finds is listed
-    (the ranking is shorter than FIX_LIMIT)."""
+    (the ranking is shorter than FIX_LIMIT), and my caster's numbers are fix's own record of it."""
+    from designer import fix
+
     problem = problem_from_dict(state.read_problem_data(PROBLEM)[0])
-    result = view.my_caster(problem, Design(0.0254, 0.2032, 0.0, 1.3))
+    design = Design(0.0254, 0.2032, 0.0, 1.3)
+    result = view.my_caster(problem, design)
     assert result["found"] <= view.FIX_LIMIT
     assert len(result["fixes"]) == result["found"] > 10
+    current = fix(problem, design, limit=0, specs=0).current
+    assert result["numbers"]["shimmy_probability"] == current.shimmy_probability > 0.99
+    assert result["numbers"]["critical_speed"] == current.critical_speed
+
+
+def _default_fronts():
+    data, _ = state.read_problem_data(PROBLEM)
+    problem, merged = state.build_problem(data, state.control_values(data))
+    return problem, view.compute_fronts(problem, key=json.dumps(merged, sort_keys=True))
 
 
 def test_card_shows_the_knock_safe_speeds():
     """A card's numbers carry the knock-safe speeds of the θ0 = 20° and 40° knocks [m/s] (simulated on the click),
     shown as a row beside V_c; the 40° knock's is lower."""
-    problem = problem_from_dict(state.read_problem_data(PROBLEM)[0])
-    n = view.card(problem, Design(0.0635, 0.1778, 0.0127, 1.3))["numbers"]
+    problem, fronts = _default_fronts()
+    n = view.card(problem, fronts.recommendation)["numbers"]
     assert 0 < n["knock_safe_speed_double"] < n["knock_safe_speed"]
     assert n["knock_safe_speed"] == pytest.approx(n["critical_speed"], rel=0.05)
     table = json.dumps(
-        numbers_table(n, "card").to_plotly_json(), default=lambda o: o.to_plotly_json(), ensure_ascii=False
+        numbers_table(n, problem, "card").to_plotly_json(), default=lambda o: o.to_plotly_json(), ensure_ascii=False
     )
-    assert "knock-safe speed, 20° / 40° knock" in table and f"{n['knock_safe_speed']:.3g} / " in table
+    assert "knock-safe speed, 20° / 40° knock" in table
+    assert f"{display.number(n['knock_safe_speed'], 'critical_speed')} / " in table
+
+
+def test_the_card_of_the_caster_to_build_is_the_recommendations_record():
+    """Issue 41: the card of the recommended caster said P(shimmy) 0.26 % beside the panel's 2.98 % (it evaluated
+    the caster again with its power-law I_w as a measured wheel).  Its numbers are now the recommendation's own
+    record, the default problem's 2.98 %; the same for an alternative's card and a buildable point's."""
+    problem, fronts = _default_fronts()
+    rec = fronts.recommendation
+    n = view.card(problem, view.card_record(fronts, "recommendation"), with_simulation=False)["numbers"]
+    for key in ("shimmy_probability", "critical_speed", "confident_speed", "turning_effort", "threshold_force"):
+        assert n[key] == getattr(rec, key), key
+    assert display.shown(n["shimmy_probability"], "shimmy_probability") == "2.98 %"
+    alt = view.card_record(fronts, "alternative", 0)
+    assert alt is rec.alternatives[0]
+    for i, point in enumerate(rec.buildable):  # a buildable point's card is the record of that caster
+        record = view.card_record(fronts, "buildable", i)
+        assert record in (rec, *rec.alternatives) and record.design == point.design
+
+
+def test_a_front_points_card_is_the_points_record():
+    """A point of the front within the risk: its card's forces and V_c are the point's record (FrontPoint), its
+    risk numbers fix's diagnosis of the same caster (the recommendation's exact law): P(shimmy) at the target
+    is about α for a point on the risk bound, and the speed reached w.p. 1 − α is V_req."""
+    from designer import fix
+
+    problem, fronts = _default_fronts()
+    point = fronts.risk.points[len(fronts.risk.points) // 2]
+    assert view.card_record(fronts, "risk", len(fronts.risk.points) // 2) is point
+    n = view.card(problem, point, with_simulation=False)["numbers"]
+    assert (n["turning_effort"], n["threshold_force"], n["critical_speed"]) == (
+        point.turning_effort,
+        point.threshold_force,
+        point.critical_speed,
+    )
+    current = fix(problem, point.design, limit=0, specs=0).current
+    assert n["shimmy_probability"] == current.shimmy_probability
+    assert n["confident_speed"] == pytest.approx(problem.required_speed, rel=1e-6)
+
+
+def test_the_diameter_sweep_follows_the_wheels_inertia():
+    """Issue 41: the card's "V_c vs diameter" was a flat line (one wheel's I_w held at every diameter).  Each
+    diameter now takes the problem's inertia model: V_c falls by more than half from the smallest wheel to the
+    largest (I_w grows about as d^3.7, Table 1), and both sweeps pass through the caster's own V_c."""
+    problem, fronts = _default_fronts()
+    rec = fronts.recommendation
+    sweeps = view.card(problem, rec, with_simulation=False)["sweeps"]
+    vc = sweeps["diameter"]["critical_speed"]
+    assert vc[0] > 2 * vc[-1] and np.all(np.diff(vc) < 0)
+    for name in ("trail", "diameter"):
+        s = sweeps[name]
+        at = float(np.interp(s["value"], s["x"], s["critical_speed"]))
+        assert at == pytest.approx(rec.critical_speed, rel=0.02), name
 
 
 def test_recommendations_card_uses_its_wheels_inertia():
-    """Catalogue problem: the recommendation's card (the button under the recommendation) evaluates the
-    recommended wheel with its own measured I_w: V_c equals the recommendation's, the knock-safe speed is
-    within 5 % of it."""
+    """Catalogue problem: the recommendation's card shows the recommended wheel's own numbers (its measured
+    I_w): V_c and P(shimmy) are the recommendation's, the knock-safe speed is within 5 % of V_c."""
     from designer import load_problem
     from designer.studies.recommend import recommend
 
     problem = load_problem(PROBLEM.parent / "catalog-retrofit.toml")
     rec = recommend(problem)
-    n = view.card(problem, rec.design, inertia=rec.inertia)["numbers"]
-    assert n["critical_speed"] == pytest.approx(rec.critical_speed, rel=1e-9)
+    n = view.card(problem, rec)["numbers"]
+    assert n["critical_speed"] == rec.critical_speed and n["shimmy_probability"] == rec.shimmy_probability
+    assert n["measured"] and n["inertia"] == rec.inertia
     assert n["knock_safe_speed"] == pytest.approx(rec.critical_speed, rel=0.05)
 
 
 def test_recommendations_card_button_opens_its_card(tmp_path):
-    """The button under the recommendation (its callback, over HTTP) opens the recommendation's card with the
-    knock-safe speed row beside V_c."""
+    """The card button of the caster to build (its callback, over HTTP) opens its card with the knock-safe speed
+    row beside V_c and the recommendation's own P(shimmy), 2.98 %."""
     data, name = state.read_problem_data(PROBLEM)
     problem, merged = state.build_problem(data, state.control_values(data))
     app = create_app(data, name, tmp_path)
     reply = _callback(
         app.server.test_client(),
         [("card", "children")],
-        [("front", "clickData", None), ("rec-card", "n_clicks", 1)],
+        [("front", "clickData", None), ("rec-card", "n_clicks", 1), []],
         "rec-card.n_clicks",
-        [("problem-data", "data", merged)],
+        [("problem-data", "data", merged), ("mine-store", "data", None)],
     )
     text = json.dumps(reply["card"]["children"], ensure_ascii=False)
-    assert "Card: recommendation" in text and "knock-safe speed, 20° / 40° knock" in text
+    assert "Card: the caster to build" in text and "knock-safe speed, 20° / 40° knock" in text
     assert "card-knocksafe" in text
+    (probability,) = _find(reply["card"]["children"], "id", "card-probability")
+    assert json.dumps(probability, ensure_ascii=False).count("2.98 %") == 1
 
 
-def test_catalogue_points_carry_their_wheels_inertia():
-    """Catalogue problem: each buildable point of the chart carries its Table 1 wheel's measured I_w, and a card
-    opened with it shows the point's own V_c (not the default wheel's)."""
+def test_catalogue_points_are_their_casters_records():
+    """Catalogue problem: each buildable point of the chart opens the card of its own caster's record (the
+    recommendation or an alternative, with its Table 1 wheel's measured I_w): the card's V_c is the point's."""
     from designer import load_problem
     from designer.studies.recommend import recommend
 
     problem = load_problem(PROBLEM.parent / "catalog-retrofit.toml")
     rec = recommend(problem)
+    fronts = view.Fronts(problem=problem, continuous=None, buildable=rec.buildable, recommendation=rec)
     points = view.front_points(rec.buildable)
-    assert points and all(p["inertia"] is not None for p in points)
-    assert len({p["inertia"] for p in points}) == len({p["label"] for p in points})
-    for p in points:
-        design = Design(**p["design"])
-        card = view.card(problem, design, with_simulation=False, inertia=p["inertia"])
-        assert card["numbers"]["critical_speed"] == pytest.approx(p["critical_speed"], rel=1e-9)
-    assert view.recommendation_record(rec)["inertia"] == pytest.approx(rec.inertia)
+    assert points and all(p["label"] for p in points)
+    for i, p in enumerate(points):
+        record = view.card_record(fronts, "buildable", i)
+        assert record.wheel == p["label"] and record.measured
+        card = view.card(problem, record, with_simulation=False)
+        assert card["numbers"]["critical_speed"] == p["critical_speed"]
 
 
 def _find(component, key, value):
@@ -210,11 +281,10 @@ def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path)
     path = PROBLEM.parent / "catalog-retrofit.toml"
     rec = recommend(load_problem(path))
     record = view.recommendation_record(rec)
-    assert record["limits"] == [f"{x.side} {x.part.replace('_', ' ')} {x.shown}" for x in rec.spec.limits]
-    assert len(record["limits"]) >= 3
+    assert record["limits"] == list(rec.spec.limits) and len(record["limits"]) >= 3
     fronts = view.Fronts(problem=rec.problem, recommendation=rec, continuous=None, risk=None, notes=[])
     shown = _find(panels.recommendation_panel(fronts), "id", "rec-limits")
-    assert len(shown) == 1 and all(text in shown[0]["props"]["children"] for text in record["limits"])
+    assert len(shown) == 1 and all(limit.shown in shown[0]["props"]["children"] for limit in record["limits"])
 
     data, name = state.read_problem_data(path)
     client = create_app(data, name, tmp_path).server.test_client()
@@ -228,7 +298,7 @@ def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path)
     answer = _callback(client, [("rec-answer", "data")], [("rec-go", "data", n)], "rec-go.data", [])
     answer = answer["rec-answer"]["data"]
     assert answer["n"] == n and answer["text"] == panels.limits_text(record)
-    assert all(limit in answer["text"] for limit in record["limits"])
+    assert all(limit.shown in answer["text"] for limit in record["limits"])
     again = _post(client, keys, values, "url.search", first["front-shown"]["data"])
     card = json.dumps(again["recommendation"]["children"], ensure_ascii=False)
     assert answer["text"] in card and panels.LIMITS_PENDING not in card
@@ -309,25 +379,114 @@ def test_oversized_body_is_one_line(tmp_path, caplog):
     assert len(lines) == 1 and "413" in lines[0] and len(lines[0]) < 300 and "xxxx" not in lines[0]
 
 
+WRONG_CALLBACK = json.dumps(
+    {"output": "nope.children", "outputs": {"id": "nope", "property": "children"}, "inputs": [], "changedPropIds": []}
+).encode()
+"""A callback that does not exist."""
+
+MISSING_INPUTS = json.dumps(
+    {
+        "output": "card.children",
+        "outputs": {"id": "card", "property": "children"},
+        "inputs": [{"id": "front", "property": "clickData", "value": None}],
+        "changedPropIds": ["rec-card.n_clicks"],
+        "state": [],
+    }
+).encode()
+"""The card's callback with one of its three inputs."""
+
+
 @pytest.mark.parametrize(
     "body",
-    [b"[]", b"null", b'{"output": 1}', b'{"output": "x.y"}', b'{"output":"front.figure","inputs":5}', b"{", b""],
+    [b"[]", b"[1,2,3]", b"null", b'{"output": 1}', b'{"output": "x.y"}', b'{"output":"front.figure","inputs":5}']
+    + [b"{", b"", WRONG_CALLBACK, MISSING_INPUTS],
 )
-def test_malformed_callback_is_one_line_without_traceback(tmp_path, caplog, body):
-    """Issue 24.7: 15 malformed callback posts put 11 Python tracebacks on the console. Each is now answered
-    with an error status and logged as exactly one line, without a traceback (with `designer --debug studio`
-    the traceback is logged as well)."""
+def test_malformed_callback_is_a_4xx_in_one_line(tmp_path, caplog, body):
+    """Issue 42: a POST of the wrong shape ([1,2,3], a callback that does not exist, too few inputs) was a 500
+    whose console line named the exception.  Each is a 400 whose body is a fixed sentence (nothing of the
+    exception), logged as exactly one line without a traceback; a failure inside the studio's own callback
+    stays a 500 (the next test)."""
     client = _guarded_client(tmp_path)
     response = client.post("/_dash-update-component", data=body, content_type="application/json")
-    assert response.status_code in (400, 500)
+    assert response.status_code == 400
+    assert response.data.decode() in ("a malformed callback request (not one this studio's page sends)", "") or (
+        b"Bad Request" in response.data
+    )
+    assert not any(word in response.data for word in (b"Error", b"Traceback", b"nope", b"index"))
     records = [r for r in caplog.records if r.name == "designer.studio"]
     assert len(records) == 1 and "\n" not in records[0].getMessage() and records[0].exc_info is None
     assert not [r for r in caplog.records if r.exc_info and r.name != "designer.studio"]
-    caplog.clear()
-    debug = _guarded_client(tmp_path, debug=True)
-    debug.post("/_dash-update-component", data=body, content_type="application/json")
-    if response.status_code == 500:
-        assert [r for r in caplog.records if r.name == "designer.studio" and r.exc_info]
+
+
+@pytest.mark.parametrize("path", ["/_dash-component-suites/dash/nope.js", "/_dash-component-suites/nope/nope.js"])
+def test_an_unknown_component_file_is_a_404(tmp_path, caplog, path):
+    """Issue 42: a GET of a component file Dash does not have was a 500 naming Dash's DependencyException; it
+    is a 404 saying "no such file", one line on the console."""
+    response = _guarded_client(tmp_path).get(path)
+    assert (response.status_code, response.data) == (404, b"no such file")
+    assert len(_studio_lines(caplog)) == 1
+
+
+def test_a_failure_in_the_studios_own_code_stays_an_internal_error(tmp_path, caplog, monkeypatch):
+    """The 4xx rule is not a blanket: a callback that fails inside the studio's code (here the card, made to
+    raise) is a 500 with one console line, and the traceback with `designer --debug studio`: a planted fault is
+    not passed off as the user's malformed request."""
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("planted")
+
+    import designer.studio.app as app_module
+
+    monkeypatch.setattr(app_module, "card_panel", broken)
+    data, _ = state.read_problem_data(PROBLEM)
+    _, merged = state.build_problem(data, state.control_values(data))
+    body = {
+        "output": "card.children",
+        "outputs": {"id": "card", "property": "children"},
+        "inputs": [
+            {"id": "front", "property": "clickData", "value": None},
+            {"id": "rec-card", "property": "n_clicks", "value": 1},
+            [],
+        ],
+        "changedPropIds": ["rec-card.n_clicks"],
+        "state": [
+            {"id": "problem-data", "property": "data", "value": merged},
+            {"id": "mine-store", "property": "data", "value": None},
+        ],
+    }
+    for debug in (False, True):
+        caplog.clear()
+        response = _guarded_client(tmp_path, debug=debug).post("/_dash-update-component", json=body)
+        assert response.status_code == 500 and b"planted" not in response.data
+        (record,) = [r for r in caplog.records if r.name == "designer.studio"]
+        assert "RuntimeError: planted" in record.getMessage() and (record.exc_info is not None) == debug
+
+
+def test_every_answer_carries_the_security_headers(tmp_path):
+    """Issue 42: no answer said nosniff or refused framing, so another site could frame the studio and steer a
+    click on "Save problem".  Every answer, the page, its layout, a callback, a 403, a 404, a 400 and a 413,
+    carries X-Content-Type-Options: nosniff, X-Frame-Options: DENY and a CSP with frame-ancestors 'none'."""
+    from designer.studio.server import MAX_REQUEST_BYTES
+
+    client = _guarded_client(tmp_path)
+    answers = [
+        client.get("/"),
+        client.get("/_dash-layout"),
+        client.get("/", headers={"Host": "attacker.example"}),
+        client.get("/_dash-component-suites/dash/nope.js"),
+        client.post("/_dash-update-component", data=b"[1,2,3]", content_type="application/json"),
+        client.post(
+            "/_dash-update-component",
+            data=json.dumps({"x": "x" * MAX_REQUEST_BYTES}),
+            content_type="application/json",
+        ),
+        client.post("/_dash-update-component", data=WRONG_CALLBACK, content_type="application/json"),
+    ]
+    assert [a.status_code for a in answers] == [200, 200, 403, 404, 400, 413, 400]
+    for answer in answers:
+        assert answer.headers["X-Content-Type-Options"] == "nosniff"
+        assert answer.headers["X-Frame-Options"] == "DENY"
+        assert "frame-ancestors 'none'" in answer.headers["Content-Security-Policy"]
 
 
 def test_make_server_applies_the_guard(tmp_path):
@@ -359,7 +518,6 @@ def test_front_convention_is_the_reports():
     import matplotlib
 
     matplotlib.use("Agg")
-    from designer.display import axis
     from designer.plots.figures import figure_front
     from designer.plots.fronts import draw_fronts
     from designer.studio.figures import front_figure
@@ -370,13 +528,13 @@ def test_front_convention_is_the_reports():
     ]
     rec = {**points[0], "critical_speed": 3.3}
     fig = front_figure(points, points, points, rec)
-    labels = (axis("threshold_force"), axis("turning_effort"))  # the table's: one name per quantity
-    assert labels == ("threshold force P [N]", "turning effort F_turn [N]")
+    labels = (display.axis("threshold_force"), display.axis("turning_effort"))  # the table's: one name per quantity
     assert (fig["layout"]["xaxis"]["title"]["text"], fig["layout"]["yaxis"]["title"]["text"]) == labels
     for trace in fig["data"]:
         assert trace["x"] == [p["threshold_force"] for p in (points if len(trace["x"]) == 2 else [rec])]
         assert trace["y"] == [p["turning_effort"] for p in (points if len(trace["y"]) == 2 else [rec])]
-        assert "P %{x:.2f} N<br>F_turn %{y:.3f} N" in trace["hovertemplate"]
+        hover = trace["customdata"][0][3]
+        assert hover.startswith(f"P {trace['x'][0]:.2f} N<br>F_turn {trace['y'][0]:.3f} N")
     from matplotlib.figure import Figure
 
     ax = draw_fronts(Figure().add_subplot(), [{"threshold_force": [107.0], "turning_effort": [9.0], "label": "x"}], [])

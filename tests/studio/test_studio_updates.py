@@ -23,16 +23,24 @@ from designer.studio.app import create_app  # noqa: E402
 PROBLEM = state.default_problem_path()
 
 
-def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last=None, search="") -> dict:
-    """POST the trade-off callback as the page does (controls ``values``, the URL query ``search``, the chart
-    showing ``shown``)."""
+_NUMBER = [0]
+
+
+def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last=None, search="", n=None) -> dict:
+    """POST the trade-off callback as the page does (controls ``values`` as the browser's change number ``n``,
+    default the next one, the URL query ``search``, the chart showing ``shown``)."""
+    if changed.startswith('{"key"'):
+        changed = "request.data"  # a control's change reaches the server as the browser's numbered request
+    if n is None:
+        _NUMBER[0] += 1
+        n = _NUMBER[0]
     ids = [{"type": "ctl", "key": k} for k in keys]
     errs = [{"type": "err", "key": k} for k in keys]
     outputs = [{"id": i, "property": "value"} for i in ids]
     body = {
         "output": '..{"key":["ALL"],"type":"ctl"}.value...{"key":["ALL"],"type":"err"}.children...general-error.children'
         "...front.figure...front-shown.data...recommendation.children...status.children...url.search...problem-data.data"
-        "...rec-pending.data..",
+        "...rec-pending.data...answered.data..",
         "outputs": [
             outputs,
             [{"id": i, "property": "children"} for i in errs],
@@ -44,10 +52,11 @@ def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last
             {"id": "url", "property": "search"},
             {"id": "problem-data", "property": "data"},
             {"id": "rec-pending", "property": "data"},
+            {"id": "answered", "property": "data"},
         ],
         "inputs": [
             {"id": "url", "property": "search", "value": search},
-            [{"id": i, "property": "value", "value": values[k]} for i, k in zip(ids, keys)],
+            {"id": "request", "property": "data", "value": {"n": n, "values": [values[k] for k in keys]}},
             {"id": "mine-store", "property": "data", "value": mine},
         ],
         "changedPropIds": [changed],
@@ -59,6 +68,8 @@ def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last
         ],
     }
     response = client.post("/_dash-update-component", json=body)
+    if response.status_code == 204:  # PreventUpdate: nothing sent
+        return {}
     assert response.status_code == 200, response.data[:500]
     return json.loads(response.data)["response"]
 
@@ -79,7 +90,7 @@ def _apply(figure: dict, patch: dict) -> dict:
 
 def _mine(problem) -> dict:
     """The mine-store the "Check my caster" button writes for a 1 in trail, 8 in wheel, bare fork."""
-    numbers = view.design_numbers(problem, view.Design(0.0254, 0.2032, 0.0, 1.3))
+    numbers = view.numbers_of(view.mine_record(problem, view.Design(0.0254, 0.2032, 0.0, 1.3)))
     return json.loads(json.dumps({"numbers": numbers}, default=float))
 
 
@@ -96,7 +107,7 @@ def studio(tmp_path_factory):
 
 def test_chart_is_sent_as_the_traces_that_changed(studio):
     """First chart: the whole figure (layout included). The same state again: no figure at all. A new target:
-    a Patch of the four traces that changed and of the layout's datarevision alone, which applied to the first
+    a Patch of the four traces that changed, the axes' ranges and the layout's datarevision, which applied to the first
     chart gives exactly the chart a fresh page draws for that target. My caster added: the data alone. α changed: the nominal front's
     trace is not sent (it does not depend on α), the risk-bounded one is."""
     client, keys, defaults = studio
@@ -113,7 +124,8 @@ def test_chart_is_sent_as_the_traces_that_changed(studio):
 
     moved = dict(defaults, target=3.0)
     patch = _post(client, keys, moved, '{"key":"target","type":"ctl"}.value', shown)
-    assert _locations(patch["front"]["figure"]) == [["data", i] for i in range(4)] + [["layout", "datarevision"]]
+    axes = [["layout", axis, key] for axis in ("xaxis", "yaxis") for key in ("range", "autorange")]
+    assert _locations(patch["front"]["figure"]) == [["data", i] for i in range(4)] + axes + [["layout", "datarevision"]]
     fresh = _post(client, keys, moved, "url.search", None, search=state.to_query(moved, defaults))["front"]["figure"]
     assert _apply(figure, patch["front"]["figure"]) == fresh
     figure, shown = fresh, patch["front-shown"]["data"]
@@ -121,7 +133,7 @@ def test_chart_is_sent_as_the_traces_that_changed(studio):
     problem, _ = state.build_problem(state.read_problem_data(PROBLEM)[0], moved)
     mine = _mine(problem)
     with_mine = _post(client, keys, moved, "mine-store.data", shown, mine=mine)
-    assert _locations(with_mine["front"]["figure"]) == [["data"], ["layout", "datarevision"]]
+    assert _locations(with_mine["front"]["figure"]) == [["data"], *axes, ["layout", "datarevision"]]
     figure = _apply(figure, with_mine["front"]["figure"])
     assert [t["meta"] for t in figure["data"]][-1] == "mine"
     shown = with_mine["front-shown"]["data"]
