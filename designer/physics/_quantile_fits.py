@@ -232,5 +232,5 @@ STORED_PAIR_FITS: dict[tuple[float, int, int, tuple[int, int]], tuple[tuple[floa
             -1.21322845946939e-13,
         ),
         1.3614294076453287e-05,
-    ),
+    )
 }

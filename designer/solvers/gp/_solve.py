@@ -75,10 +75,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from designer.model import Design, performance, weighted
-from designer.physics.threshold import (
-    threshold_force_ratio,
-    threshold_series_remainder_bound,
-)
+from designer.physics.threshold import threshold_force_ratio, threshold_series_remainder_bound
 from designer.problem import Problem
 from designer.errors import InfeasibleError
 from designer.reprs import Record

@@ -155,10 +155,7 @@ def _stable_branch(sys, tyre, ref: float, lo: float, hi: float, points: int):
 def _stats(pred, meas) -> ErrorStats:
     e = np.asarray(pred, float) / np.asarray(meas, float) - 1
     return ErrorStats(
-        rms=float(np.sqrt(np.mean(e**2))),
-        bias=float(np.mean(e)),
-        max_abs=float(np.max(np.abs(e))),
-        n=int(e.size),
+        rms=float(np.sqrt(np.mean(e**2))), bias=float(np.mean(e)), max_abs=float(np.max(np.abs(e))), n=int(e.size)
     )
 
 

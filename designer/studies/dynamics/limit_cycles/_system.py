@@ -341,12 +341,7 @@ def _root(f, a: float, b: float) -> float:
 
 # long: the stick/slip event loop of _integrate, with each phase solved in closed form
 def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per event, as _integrate
-    sys: CasterDynamics,
-    y0,
-    t_end: float,
-    angle_limit: float = math.inf,
-    grid: int = 64,
-    max_switches: int = 20_000,
+    sys: CasterDynamics, y0, t_end: float, angle_limit: float = math.inf, grid: int = 64, max_switches: int = 20_000
 ) -> _Run | None:
     """:func:`_integrate` for the rolling model (no ``record``, no section stop) with each phase in closed
     form: a slip by :class:`_LinearSlip` (events found on ``grid`` points per period of Eq. 15B, then to
