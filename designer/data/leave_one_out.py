@@ -48,7 +48,7 @@ G 0.2032 1.2 0.00342 0.0015893448668716534 0.19360112356989073 4
 }
 
 
-def _value(text):
+def _value(text: str) -> object:
     """A stored cell: True or False, an int, a float (its repr: exact), else the text (the wheel)."""
     if text in ("True", "False"):
         return text == "True"
@@ -60,7 +60,7 @@ def _value(text):
     return text
 
 
-def _rows(table):
+def _rows(table: str) -> list[dict[str, object]]:
     values = [_value(v) for v in table.split()]
     return [dict(zip(COLUMNS, values[k : k + len(COLUMNS)])) for k in range(0, len(values), len(COLUMNS))]
 

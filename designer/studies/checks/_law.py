@@ -135,7 +135,7 @@ def _loo_module(rows: dict[str, list[dict[str, Any]]]) -> str:
         f"DIGEST = {_loo_inputs_digest()!r}\n\nCOLUMNS = {columns!r}\n\n_TABLES = {{\n"
         + "".join(f'    "{key}": """\n{table(key)}""",\n' for key in rows)
         + "}\n\n\n"
-        "def _value(text):\n"
+        "def _value(text: str) -> object:\n"
         '    """A stored cell: True or False, an int, a float (its repr: exact), else the text (the wheel)."""\n'
         '    if text in ("True", "False"):\n'
         '        return text == "True"\n'
@@ -145,7 +145,7 @@ def _loo_module(rows: dict[str, list[dict[str, Any]]]) -> str:
         "        except ValueError:\n"
         "            pass\n"
         "    return text\n\n\n"
-        "def _rows(table):\n"
+        "def _rows(table: str) -> list[dict[str, object]]:\n"
         "    values = [_value(v) for v in table.split()]\n"
         "    return [dict(zip(COLUMNS, values[k : k + len(COLUMNS)])) for k in range(0, len(values), len(COLUMNS))]\n\n\n"
         "ROWS = {key: _rows(table) for key, table in _TABLES.items()}\n"
