@@ -56,8 +56,7 @@ def csv_column(name: str, dimension: str, units: str = "in") -> tuple[str, float
 
 
 _SUFFIXES = sorted(
-    [(s, f) for s, f in LENGTH_UNITS.values()] + [(s, f) for s, f in CSV_UNITS.values()],
-    key=lambda sf: -len(sf[0]),
+    [(s, f) for s, f in LENGTH_UNITS.values()] + [(s, f) for s, f in CSV_UNITS.values()], key=lambda sf: -len(sf[0])
 )
 
 

@@ -164,10 +164,8 @@ def run(args) -> int:
 def _print_screen(design, conditions, values: dict, speed: float | None, out: dict, knock_safe: bool) -> None:
     """The caster's numbers in one screen: one line a quantity (its name, value and the paper's equation), the
     verdict at the target speed, what to do next; each source in full behind ``--verbose``."""
-    given = values["sources"]
     lines = [f"Caster: {design.describe()}"]
-    rows = [(PARAMETERS[n].label, shown_quantity(getattr(conditions, n), PARAMETERS[n]), given[n]) for n in given]
-    rows += [
+    rows = _given_rows(conditions, values) + [
         (p.label, shown_quantity(values[p.name], p), p.source)
         for p in OUTPUT_TABLE
         if p.listed and p.name in values and p.name != "inertia"
@@ -182,15 +180,7 @@ def _print_screen(design, conditions, values: dict, speed: float | None, out: di
         ),
     )
     if knock_safe:
-        double = out["knock_safe_speed_double"]
-        rows.insert(
-            4,
-            (
-                "knock-safe speed, θ0 / 2 θ0 knock",
-                f"{out['knock_safe_speed']:.3f} / " + (MISSING if double is None else f"{double:.3f}") + " m/s",
-                "simulated",
-            ),
-        )
+        rows.insert(4, ("knock-safe speed, θ0 / 2 θ0 knock", _knock_safe_value(out), "simulated"))
     name_width = max(len(r[0]) for r in rows)
     value_width = max(len(r[1]) for r in rows)
     for name, value, source in rows:
@@ -213,10 +203,30 @@ def _print_screen(design, conditions, values: dict, speed: float | None, out: di
         + "."
     )
     print("\n".join(lines))
+    _print_warnings(design, values, out)
+
+
+def _given_rows(conditions, values: dict) -> list[tuple[str, str, str]]:
+    """The load and the sill, each with where it came from (the option or the paper's default)."""
+    given = values["sources"]
+    return [(PARAMETERS[n].label, shown_quantity(getattr(conditions, n), PARAMETERS[n]), given[n]) for n in given]
+
+
+def _knock_safe_value(out: dict) -> str:
+    """The knock-safe speeds for a θ0 and a 2 θ0 knock [m/s] (the second missing at or beyond 90°)."""
+    double = out["knock_safe_speed_double"]
+    return f"{out['knock_safe_speed']:.3f} / " + (MISSING if double is None else f"{double:.3f}") + " m/s"
+
+
+def _print_warnings(design, values: dict, out: dict) -> None:
+    """The evaluation's warnings, or the extrapolation of the inertia fit when none said it."""
     for w in values["warnings"]:
         print(f"warning: {w}")
     if out["extrapolated"] and not values["warnings"]:
-        print(f"warning: d = {written_size(design.diameter, 'in')} lies outside Table 1's 4–8 in: extrapolated")
+        print(
+            f"warning: d = {written_size(design.diameter, 'in')} lies outside Table 1's 4–8 in: the inertia fit and "
+            "Eq. 7's check are extrapolated"
+        )
 
 
 def _results(design, conditions, values: dict, speed: float | None, knock_safe: bool) -> dict:
@@ -267,8 +277,7 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
     table.add_column("quantity", max_width=20)
     table.add_column("value", justify="right", max_width=20)
     table.add_column("source", min_width=max(map(len, words)))  # wrapped at words: a link is never split
-    given = {"load": values["sources"]["load"], "threshold_height": values["sources"]["threshold_height"]}
-    rows = [(PARAMETERS[n].label, shown_quantity(getattr(conditions, n), PARAMETERS[n]), given[n]) for n in given]
+    rows = _given_rows(conditions, values)
     sources = {"inertia": conditions.inertia.describe()}  # which inertia model: beside I_w
     rows += [
         (p.label, shown_quantity(values[p.name], p), sources.get(p.name, p.source))
@@ -276,13 +285,12 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
         if p.listed and p.name in values
     ]
     if knock_safe:  # beside V_c
-        double = out["knock_safe_speed_double"]
         rows.insert(
             2,
             (
                 f"knock-safe speed, {math.degrees(conditions.disturbance_angle):.0f}° / "
                 f"{math.degrees(2 * conditions.disturbance_angle):.0f}° knock",
-                f"{out['knock_safe_speed']:.3f} / " + ("n/a" if double is None else f"{double:.3f}") + " m/s",
+                _knock_safe_value(out),
                 "simulated (App. B); against Table 1 C–G: log RMS "
                 f"{out['knock_safe_table1']['log_rms']:.3f}, bias {out['knock_safe_table1']['bias']:+.3f} "
                 "(a second opinion: the criterion is the Eq. 7 risk bound)",
@@ -296,13 +304,7 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
     console.print(table)
     if speed is not None:
         _print_sources(console, out["risk"])
-    for w in values["warnings"]:
-        print(f"warning: {w}")
-    if out["extrapolated"] and not values["warnings"]:
-        print(
-            f"warning: d = {design.diameter / INCH:.3g} in lies outside Table 1's 4–8 in: the inertia fit and "
-            "Eq. 7's check are extrapolated"
-        )
+    _print_warnings(design, values, out)
 
 
 def shown_quantity(value: float, p: Parameter) -> str:

@@ -136,8 +136,7 @@ def _pit_table(check):
     from rich.table import Table
 
     table = Table(
-        title=f"{check.name}: the risk law refitted without each wheel (coarse: five wheels)",
-        title_justify="left",
+        title=f"{check.name}: the risk law refitted without each wheel (coarse: five wheels)", title_justify="left"
     )
     for col in (
         "wheel",

@@ -308,13 +308,7 @@ def predicted_inertia_source(diameter: float, prediction: InertiaPrediction | No
         f"at d = {diameter / INCH:.3g} in"
     )
     return Source(
-        "wheel inertia (diameter only)",
-        "Student-t",
-        float(p.scale(diameter)),
-        p.dof,
-        "data",
-        text,
-        tuple(caveats),
+        "wheel inertia (diameter only)", "Student-t", float(p.scale(diameter)), p.dof, "data", text, tuple(caveats)
     )
 
 

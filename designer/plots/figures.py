@@ -314,31 +314,11 @@ def figure_inertia(curves: dict) -> Figure:
         label="measured critical speed (Table 1)",
     )
     for w in wheels:
+        x, y = w["inertia"] * 1e3, TABLE1_STABLE_UP_TO if w["measured"] is None else w["measured"]
         if w["measured"] is None:
-            ax.annotate(
-                "",
-                (w["inertia"] * 1e3, TABLE1_STABLE_UP_TO + 0.6),
-                (w["inertia"] * 1e3, TABLE1_STABLE_UP_TO),
-                arrowprops=dict(arrowstyle="->", color="#d62728", lw=1.5),
-            )
-            ax.scatter([w["inertia"] * 1e3], [TABLE1_STABLE_UP_TO], marker="_", s=120, color="#d62728")
-            ax.annotate(
-                w["key"],
-                (w["inertia"] * 1e3, TABLE1_STABLE_UP_TO),
-                textcoords="offset points",
-                xytext=(6, 4),
-                fontsize=9,
-                weight="bold",
-            )
-        else:
-            ax.annotate(
-                w["key"],
-                (w["inertia"] * 1e3, w["measured"]),
-                textcoords="offset points",
-                xytext=(6, 4),
-                fontsize=9,
-                weight="bold",
-            )
+            ax.annotate("", (x, y + 0.6), (x, y), arrowprops=dict(arrowstyle="->", color="#d62728", lw=1.5))
+            ax.scatter([x], [y], marker="_", s=120, color="#d62728")
+        ax.annotate(w["key"], (x, y), textcoords="offset points", xytext=(6, 4), fontsize=9, weight="bold")
     ax.plot(
         [],
         [],
@@ -384,14 +364,7 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, curves: d
     d = np.asarray(curves["diameter"], float)
     d_lo, d_hi = d[0], d[-1]
     ax.plot(d * MM, curves["exact"], color="#1f77b4", lw=1.8, label=f"exact, Eq. 4A (h = {h / INCH:.3g} in)")
-    ax.plot(
-        d * MM,
-        curves["approximate"],
-        color="#1f77b4",
-        lw=1.2,
-        ls="--",
-        label="approximate, Eq. 5A: 2 sqrt(h/d)",
-    )
+    ax.plot(d * MM, curves["approximate"], color="#1f77b4", lw=1.2, ls="--", label="approximate, Eq. 5A: 2 sqrt(h/d)")
     if curves["paper_diameter"] is not None:
         ax.plot(
             np.asarray(curves["paper_diameter"], float) * MM,

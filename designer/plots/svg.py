@@ -32,24 +32,11 @@ FONT = "DejaVu Sans, Verdana, Arial, Helvetica, sans-serif"
 BASE_FONT = 10.0
 """Default font size [pt] (matplotlib's)."""
 
-_NAMED = {
-    "black": "#000000",
-    "white": "#ffffff",
-    "gold": "#ffd700",
-    "red": "#ff0000",
-    "blue": "#0000ff",
-    "green": "#008000",
-    "grey": "#808080",
-    "gray": "#808080",
-    "k": "#000000",
-    "w": "#ffffff",
-    "tab:blue": "#1f77b4",
-    "tab:orange": "#ff7f0e",
-    "tab:green": "#2ca02c",
-    "tab:red": "#d62728",
-    "tab:purple": "#9467bd",
-    "tab:gray": "#7f7f7f",
-}
+_NAMED = {"black": "#000000", "white": "#ffffff", "gold": "#ffd700", "red": "#ff0000", "blue": "#0000ff"}
+_NAMED.update({"green": "#008000", "grey": "#808080", "gray": "#808080", "k": "#000000", "w": "#ffffff"})
+_NAMED.update({"tab:blue": "#1f77b4", "tab:orange": "#ff7f0e", "tab:green": "#2ca02c", "tab:red": "#d62728"})
+_NAMED.update({"tab:purple": "#9467bd", "tab:gray": "#7f7f7f"})
+"""matplotlib's colour names the figures use, as SVG colours."""
 _DASH = {"-": None, "solid": None, "--": (3.7, 1.6), "dashed": (3.7, 1.6), ":": (1, 1.65), "dotted": (1, 1.65)}
 _DASH.update({"-.": (6.4, 1.6, 1, 1.6), "dashdot": (6.4, 1.6, 1, 1.6)})
 """Dash patterns in units of the line width (matplotlib's defaults)."""

@@ -13,15 +13,7 @@ from typing import Any, Callable, NoReturn
 from designer.data.paper import INCH
 from designer.model import VARIABLE_UNITS
 from designer.physics.inertia import Fixed, InertiaModel
-from designer.problem._core import (
-    DEFAULT_PART_COSTS,
-    INERTIA_RANGE,
-    PART_KINDS,
-    Bound,
-    Stock,
-    StockWheel,
-    show_key,
-)
+from designer.problem._core import DEFAULT_PART_COSTS, INERTIA_RANGE, PART_KINDS, Bound, Stock, StockWheel, show_key
 from designer.units import InputError, parse_quantity
 
 

@@ -14,7 +14,6 @@ from designer.model import Design, performance
 from designer.physics.threshold import threshold_force_ratio, threshold_series_remainder_bound
 from designer.problem import Bound, load_problem
 from designer.solvers import gp
-from designer.solvers.gp import _solve as gp_solve_module
 from designer.solvers.gp import _terms as gp_terms_module
 from designer.solvers.nlp import CasterNLP, best_starts, solve_best
 
@@ -147,8 +146,8 @@ def test_series_truncation_bound_holds_against_exact_eq_4a():
         assert np.all(gap >= -1e-15)
         assert np.all(gap <= threshold_series_remainder_bound(s, order) * (1 + 1e-12) + 1e-15)
     for name in NAMES:
-        order, bound = gp_solve_module.series_order(_problem(name))
-        assert bound < gp_solve_module.SERIES_TOLERANCE and order <= 40, (name, order, bound)
+        order, bound = gp_terms_module.series_order(_problem(name))
+        assert bound < gp_terms_module.SERIES_TOLERANCE and order <= 40, (name, order, bound)
 
 
 def test_bare_fork_family_is_exact_and_global():

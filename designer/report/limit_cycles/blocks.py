@@ -16,10 +16,8 @@ def to_markdown(blocks) -> str:
     out = []
     for b in blocks:
         kind = b[0]
-        if kind == "h1":
-            out.append(f"# {b[1]}\n")
-        elif kind == "h2":
-            out.append(f"## {b[1]}\n")
+        if kind in ("h1", "h2"):
+            out.append("#" * int(kind[1]) + f" {b[1]}\n")
         elif kind == "p":
             out.append(b[1] + "\n")
         elif kind == "img":
@@ -27,21 +25,12 @@ def to_markdown(blocks) -> str:
         elif kind == "ul":
             out.append("\n".join(f"- {line}" for line in b[1]) + "\n")
         elif kind == "table":
-            head, rows = b[1], b[2]
-            out.append(
-                "| "
-                + " | ".join(head)
-                + " |\n|"
-                + "---|" * len(head)
-                + "\n"
-                + "\n".join("| " + " | ".join(r) + " |" for r in rows)
-                + "\n"
-            )
+            lines = ["| " + " | ".join(b[1]) + " |", "|" + "---|" * len(b[1])]
+            out.append("\n".join(lines + ["| " + " | ".join(r) + " |" for r in b[2]]) + "\n")
     return "\n".join(out)
 
 
 def _inline(text: str) -> str:
-
     t = html.escape(text)
     t = re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", t)
     t = re.sub(r"(?<![\w*])\*(\w[^*]*?)\*(?![\w*])", r"<em>\1</em>", t)  # *word*, not N*m

@@ -1,6 +1,6 @@
 """One family of the GP (bare fork, groove, damper, groove+damper): the sequential GP and its duals.
 
-Part of :mod:`designer.solvers.gp._solve` (which re-exports every name; the method is in its docstring).
+Part of :mod:`designer.solvers.gp._solve` (the method is in its docstring).
 """
 
 from __future__ import annotations

@@ -9,7 +9,7 @@ variables (T, d, B, c_d):
 - threshold force (Eq. 1 = Eq. 4A expanded in s = h/d)
   P = L · 2 s^½ Σ_{k<=N} c_k s^k, every c_k > 0 (truncated; it *under*-estimates
   the exact P by at most L·2 s^½ (2s)^(N+1)/(1 − 2s), and N is chosen so that
-  this is below :data:`SERIES_TOLERANCE` relative over the diameter range);
+  this is below :data:`~designer.solvers.gp._terms.SERIES_TOLERANCE` relative over the diameter range);
 - wheel inertia (docs/model.md#wheel-inertia): a monomial C d^n (power law), a posynomial
   (disc) or a constant (fixed / catalog wheel);
 - swept radius T + d/2 <= R_max.
@@ -49,7 +49,7 @@ speed enters the shimmy constraint as V² on the left, so its sensitivity is
 2 λ_shimmy; R_max enters as (T + d/2)/R_max <= 1, so it is −λ_swept; an active
 upper bound x <= b gives d log J/d log b = −λ.  The partial derivatives are
 taken numerically (central difference in log p, step 1e-5) on the same term
-function the GP is built from (:func:`gp_terms`), with the *exact* right side
+function the GP is built from (:func:`~designer.solvers.gp._terms.gp_terms`), with the *exact* right side
 of the shimmy constraint (at an SGP fixed point the condensed and exact sides
 agree in value and log-gradient).  The names are those of
 :data:`designer.solvers.nlp.PARAMETER_INFO` plus ``"<variable>.min|max"`` for
@@ -60,7 +60,7 @@ the GP holds c_d = c_f − c_0 (its variable) when c_0 changes, so its
 
 Public API: :func:`solve_gp`, :class:`GPResult`, :func:`polish`,
 :func:`gp_starts` (cheap NLP starts).  The terms are in :mod:`designer.solvers.gp._terms`, one family's
-sequential GP and duals in :mod:`designer.solvers.gp._family`; their names are re-exported here.
+sequential GP and duals in :mod:`designer.solvers.gp._family`.
 """
 
 from __future__ import annotations
@@ -75,40 +75,19 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from designer.model import Design, performance, weighted
-from designer.physics.threshold import (
-    threshold_force_ratio,
-    threshold_series_remainder_bound,
-)
+from designer.physics.threshold import threshold_force_ratio, threshold_series_remainder_bound
 from designer.problem import Problem
 from designer.errors import InfeasibleError
 from designer.reprs import Record
 from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, objectives_of, no_optimum, weights_of, wheel_of
 from designer.solvers.nlp import BIG, CasterNLP
-from designer.solvers.gp._family import BACKOFF, FLOOR, MAX_ITERATIONS, SOLVER_OPTIONS, STEP_TOLERANCE, _Family
-from designer.solvers.gp._terms import MAX_ORDER, SERIES_TOLERANCE, gp_terms, robust_speed_factor, series_order
+from designer.solvers.gp._family import MAX_ITERATIONS, _Family
+from designer.solvers.gp._terms import series_order
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
 
-__all__ = [
-    "BACKOFF",
-    "FLOOR",
-    "GP",
-    "GPSolver",
-    "GPResult",
-    "MAX_ITERATIONS",
-    "MAX_ORDER",
-    "SERIES_TOLERANCE",
-    "SOLVER_OPTIONS",
-    "STEP_TOLERANCE",
-    "exact_objective",
-    "gp_starts",
-    "gp_terms",
-    "polish",
-    "robust_speed_factor",
-    "series_order",
-    "solve_gp",
-]
+__all__ = ["GP", "GPResult", "GPSolver", "exact_objective", "gp_starts", "polish", "solve_gp"]
 
 # --------------------------------------------------------------------------- result
 
@@ -120,7 +99,7 @@ class GPResult(Record):
     Attributes
     ----------
     design : the optimum (SI); c_f = c_0 + c_d; B and c_d are exactly 0 in the
-        families that fix them, a tiny floor (see :data:`FLOOR`) otherwise
+        families that fix them, a tiny floor (see :data:`~designer.solvers.gp._family.FLOOR`) otherwise
     objective : J = w_turn F_turn + w_threshold P [N] of ``design`` with the
         exact model (:func:`designer.model._caster.performance`, exact Eq. 4A)
     gp_objective : the GP's own optimal value [N] (truncated P series)
@@ -406,7 +385,7 @@ class GPSolver:
     tolerance = 1e-4
 
     def applicable(self, problem: Problem) -> bool:
-        """The GP takes every problem (risk-bounded ones conservatively: :func:`robust_speed_factor`)."""
+        """The GP takes every problem (risk-bounded ones conservatively: :func:`~designer.solvers.gp._terms.robust_speed_factor`)."""
         return True
 
     def optimum(

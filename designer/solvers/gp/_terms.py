@@ -1,6 +1,6 @@
 """The posynomials of the GP, written once: parameters, series order, and every term of the model.
 
-Part of :mod:`designer.solvers.gp._solve` (which re-exports every name; the method is in its docstring): the
+Part of :mod:`designer.solvers.gp._solve` (the method is in its docstring): the
 parameter values of a problem (:func:`_parameters`, from :mod:`designer.parameters`), the constants the
 terms need, the order of the threshold-force series (:func:`series_order`) and :func:`gp_terms`, the one
 function every GP, condensation and sensitivity is built from.

@@ -33,13 +33,7 @@ import numpy as np
 from designer.model import Design
 from designer.problem import Problem, family_of
 from designer.solvers.closed_form import CLOSED_FORM, structured_ends
-from designer.solvers.nlp._casadi import (
-    BIG,
-    CasterNLP,
-    NLPResult,
-    best_starts,
-    sample_designs,
-)
+from designer.solvers.nlp._casadi import BIG, CasterNLP, NLPResult, best_starts, sample_designs
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -424,11 +418,7 @@ class _Sweep:
         return self._try(idx, starts, np.array(lg), np.array(lx)) if idx else set()
 
     def _try(
-        self,
-        idx: list[int],
-        starts: npt.ArrayLike,
-        lam_g: np.ndarray | None = None,
-        lam_x: np.ndarray | None = None,
+        self, idx: list[int], starts: npt.ArrayLike, lam_g: np.ndarray | None = None, lam_x: np.ndarray | None = None
     ) -> set[int]:
         if not len(idx):
             return set()

@@ -65,13 +65,6 @@ from designer.physics.shimmy import shimmy_frequency, steady_shimmy_amplitude
 from designer.studies.dynamics._result import OnsetResult, SimulationResult
 from designer.studies.dynamics._work import SPEED_RANGE, bounded, counted, spend
 
-__all__ = [
-    "SimulationResult",
-    "OnsetResult",
-    "simulate",
-    "onset_speed",
-]
-
 
 def _check(name: str, value: float, allow_zero: bool = False) -> None:
     value = real_number(value, name)  # the boundary's one rule (numpy scalars pass, booleans do not)

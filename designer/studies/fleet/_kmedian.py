@@ -41,7 +41,6 @@ How it is solved (:func:`kmedian_curve`, :func:`solve_kmedian`); every step is e
 
 from __future__ import annotations
 
-import itertools
 import math
 import time
 from collections.abc import Iterable
@@ -540,19 +539,3 @@ def solve_kmedian(cost: np.ndarray, weights: np.ndarray, k: int, time_limit: flo
     KMedianSolution, proved optimal ("optimal" or "optimal-by-bound") or infeasible, unless the time limit hit.
     """
     return kmedian_curve(cost, weights, [k], time_limit=time_limit)[k]
-
-
-def brute_force_kmedian(cost: np.ndarray, weights: np.ndarray, k: int) -> tuple[float, tuple[int, ...]]:
-    """Enumerate every k-subset of columns; (least weighted regret, its columns) with every row served.
-
-    For tests: C(n, k) subsets, so only for small n (12 candidates and k = 3 is 220 subsets).
-    """
-    cost = np.asarray(cost, float)
-    best: tuple[float, tuple[int, ...]] = (math.inf, ())
-    for subset in itertools.combinations(range(cost.shape[1]), k):
-        values = cost[:, list(subset)].min(axis=1)
-        if np.all(np.isfinite(values)):
-            total = float(np.dot(weights, values))
-            if total < best[0] - 1e-12:
-                best = (total, subset)
-    return best

@@ -86,7 +86,7 @@ def test_rolling_orbit_is_the_describing_function_threshold():
     assert orb.closure < 1e-6
     assert not orb.stable and np.max(np.abs(orb.multipliers)) > 1.05
     at = sys.at(orb.speed)
-    from designer.studies.dynamics.limit_cycles import _integrate
+    from designer.studies.dynamics.limit_cycles._system import _integrate
 
     for factor, grows in ((1.02, True), (0.98, False)):
         run = _integrate(at, orb.state * factor, 40 * orb.period, angle_limit=0.3)
@@ -107,7 +107,7 @@ def test_saturating_tyre_has_a_stable_large_cycle():
     assert top.closure < 1e-6
     speeds = [o.speed for o in branch.orbits]
     assert min(speeds) < speeds[0] and min(speeds) < speeds[-1]  # the fold
-    from designer.studies.dynamics.limit_cycles import _extrema, _integrate
+    from designer.studies.dynamics.limit_cycles._system import _extrema, _integrate
 
     at = sys.at(top.speed)
     run = _integrate(at, top.state * 1.05, 30 * top.period)

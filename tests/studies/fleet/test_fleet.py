@@ -20,10 +20,27 @@ import designer
 from designer.studies.fleet import _fleet, _rule, _table
 from designer.units import written_size
 from designer.studies.fleet import _kmedian
-from designer.studies.fleet._kmedian import brute_force_kmedian, kmedian_curve, solve_kmedian
+from designer.studies.fleet._kmedian import kmedian_curve, solve_kmedian
 from designer.cli import main
 from designer.data.paper import INCH
 from designer.model import performance, scatter_of
+
+
+def brute_force_kmedian(cost: np.ndarray, weights: np.ndarray, k: int) -> tuple[float, tuple[int, ...]]:
+    """Enumerate every k-subset of columns; (least weighted regret, its columns) with every row served.
+
+    The tests' exact reference: C(n, k) subsets, so only for small n (12 candidates and k = 3 is 220 subsets).
+    """
+    cost = np.asarray(cost, float)
+    best: tuple[float, tuple[int, ...]] = (math.inf, ())
+    for subset in itertools.combinations(range(cost.shape[1]), k):
+        values = cost[:, list(subset)].min(axis=1)
+        if np.all(np.isfinite(values)):
+            total = float(np.dot(weights, values))
+            if total < best[0] - 1e-12:
+                best = (total, subset)
+    return best
+
 
 GOOD = """name,load_N,threshold_height_in,target_speed_m/s,swept_radius_max_in,surface,turning_mode,count
 a,178,0.5,2.5,6,tile,chair,10

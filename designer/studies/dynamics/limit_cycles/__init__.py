@@ -58,13 +58,7 @@ from designer.studies.dynamics.limit_cycles._results import (
     Table1Comparison,
     Table1Row,
 )
-from designer.studies.dynamics.limit_cycles._system import (
-    CasterDynamics,
-    _extrema,
-    _integrate,
-    caster_dynamics,
-    simulate_knock,
-)
+from designer.studies.dynamics.limit_cycles._system import CasterDynamics, caster_dynamics, simulate_knock
 from designer.studies.dynamics.limit_cycles._knock import (
     knock_onset_speed,
     knock_safe_speed,
@@ -127,6 +121,4 @@ __all__ = [
     "friction_sensitivity",
     "appendix_c_caster",
     "limit_cycle_study",
-    "_extrema",
-    "_integrate",
 ]

@@ -490,18 +490,3 @@ class LimitCycleStudy(Record):
 def max_abs_multiplier(orbit: PeriodicOrbit | None) -> float:
     """Largest |Floquet multiplier| of ``orbit`` [-], NaN for None."""
     return math.nan if orbit is None else float(np.max(np.abs(orbit.multipliers)))
-
-
-__all__ = [
-    "BifurcationDiagram",
-    "ErrorStats",
-    "FrictionPoint",
-    "KnockSafe",
-    "LimitCycleStudy",
-    "MapCell",
-    "OnsetScan",
-    "RollingLimitCheck",
-    "StiffnessMassMap",
-    "Table1Comparison",
-    "Table1Row",
-]

@@ -46,10 +46,6 @@ from designer.physics.tyre import TyreParameters
 from designer.studies.dynamics._simulate import onset_speed as _today_onset  # today's model: the reduction check
 
 
-def _branch_dicts(orbits) -> list[dict]:
-    return Branch(orbits=list(orbits)).pieces()
-
-
 @checked(
     design=Instance(
         (Design,), "a designer.Design, e.g. Design(trail='1.5 in', diameter='6 in', groove=0, damping=1.3)"
@@ -115,7 +111,7 @@ def bifurcation_diagram(
     unstable_part = [o for o in orbits if not o.stable]
     fold_part = [o for o in orbits if o.stable and (not stable_orbits or o.amplitude < stable_orbits[0].amplitude)]
     stable_all = sorted(fold_part + stable_orbits, key=lambda o: o.amplitude)
-    branches = _branch_dicts(unstable_part) + _branch_dicts(stable_all)
+    branches = Branch(orbits=unstable_part).pieces() + Branch(orbits=stable_all).pieces()
     every = unstable_part + stable_all
     fold = min((o.speed for o in every), default=math.nan) if stable_orbits or fold_part else math.nan
     return BifurcationDiagram(
@@ -155,10 +151,7 @@ def _stable_branch(sys, tyre, ref: float, lo: float, hi: float, points: int):
 def _stats(pred, meas) -> ErrorStats:
     e = np.asarray(pred, float) / np.asarray(meas, float) - 1
     return ErrorStats(
-        rms=float(np.sqrt(np.mean(e**2))),
-        bias=float(np.mean(e)),
-        max_abs=float(np.max(np.abs(e))),
-        n=int(e.size),
+        rms=float(np.sqrt(np.mean(e**2))), bias=float(np.mean(e)), max_abs=float(np.max(np.abs(e))), n=int(e.size)
     )
 
 

@@ -194,6 +194,18 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
     ts, ys, ends = ([t], [y.copy()], []) if record else ([], [], [])
     switches = 0
 
+    def phase(sign: float, event):  # one stick (sign 0) or slip phase from (t, y) until ``event`` or t_end
+        return solve_ivp(
+            counted(sys.rhs(sign)),
+            (t, t_end),
+            y,
+            method="DOP853",
+            rtol=rtol,
+            atol=atol,
+            max_step=max_step,
+            events=[event] if sign == 0.0 else [event, limit],
+        )
+
     def decide(state) -> float:
         h = sys.hold_moment(state)
         return float(np.sign(h)) if abs(h) > M_f else 0.0
@@ -217,16 +229,7 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
 
             unstick.terminal = True
             unstick.direction = 1
-            sol = solve_ivp(
-                counted(sys.rhs(0.0)),
-                (t, t_end),
-                y,
-                method="DOP853",
-                rtol=rtol,
-                atol=atol,
-                max_step=max_step,
-                events=[unstick],
-            )
+            sol = phase(0.0, unstick)
             graze_level = None
             if sol.status < 0:
                 raise SolverError(f"shimmy integration failed in stick at t = {t:.4g} s: {sol.message}")
@@ -248,16 +251,7 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
 
         stop.terminal = True
         stop.direction = -1
-        sol = solve_ivp(
-            counted(sys.rhs(s)),
-            (t, t_end),
-            y,
-            method="DOP853",
-            rtol=rtol,
-            atol=atol,
-            max_step=max_step,
-            events=[stop, limit],
-        )
+        sol = phase(s, stop)
         if sol.status < 0:
             raise SolverError(f"shimmy integration failed at t = {t:.4g} s: {sol.message}")
         if record:
@@ -341,12 +335,7 @@ def _root(f, a: float, b: float) -> float:
 
 # long: the stick/slip event loop of _integrate, with each phase solved in closed form
 def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per event, as _integrate
-    sys: CasterDynamics,
-    y0,
-    t_end: float,
-    angle_limit: float = math.inf,
-    grid: int = 64,
-    max_switches: int = 20_000,
+    sys: CasterDynamics, y0, t_end: float, angle_limit: float = math.inf, grid: int = 64, max_switches: int = 20_000
 ) -> _Run | None:
     """:func:`_integrate` for the rolling model (no ``record``, no section stop) with each phase in closed
     form: a slip by :class:`_LinearSlip` (events found on ``grid`` points per period of Eq. 15B, then to
