@@ -11,9 +11,9 @@ from pathlib import Path
 
 from designer.cli._common import PROBLEM_HELP, check_output_file, print_json
 from designer.errors import InputError, OutputError
-from designer.output import first_line_kind, write_file
+from designer.output import FileKind, write_file
 from designer.problem import load_problem
-from designer.studies.inspect import TEMPLATE_HEAD, inspect, read_measured, template_text
+from designer.studies.inspect import inspect, read_measured, template_text
 from designer.studies.recommend import recommend
 
 EXIT_BAD_ROWS = 2
@@ -45,7 +45,7 @@ def _template(problem_arg: str, out: str) -> int:
     path = Path(out)
     if os.path.lexists(path):
         raise OutputError(f"--template {path}: already exists; it is left as it is; choose a new file name")
-    kind = first_line_kind(TEMPLATE_HEAD, "an inspection form written by designer inspect")
+    kind = FileKind("an inspection form written by designer inspect", new_only=True)  # never over anything
     check_output_file(path, "--template", "measured.csv", kind=kind)
     problem = load_problem(problem_arg)
     write_file(path, template_text(problem), "--template", "measured.csv", kind=kind)
