@@ -477,7 +477,7 @@ def _spec_lines(best, result) -> list[str]:
     ]
     for part in PART_LABELS:
         for lim in (x for x in spec.limits if x.part == part):
-            shown = limit_shown(lim.value, lim.unit, lim.side)
+            shown = lim.shown_in(result.units)
             why = "" if lim.reason == "risk" else f" ({lim.reason})"
             out.append(f"  {lim.side} {PART_LABELS[part]}: {shown}{why}")
     if spec.stem_angle:

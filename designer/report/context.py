@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from designer.units import limit_shown, percent
+from designer.units import percent
 from designer import display, parameters
 from designer.data.paper import INCH
 from designer.reportdata import ReportData
@@ -491,7 +491,7 @@ def spec_rows(spec, units: str) -> list[list[str]]:
             return value
         return size(value, units) if unit == "m" else (f"{value:.3f} N·m" if unit == "N·m" else f"{value:.3g} {unit}")
 
-    box = {} if spec.joint is None else spec.joint.cells()
+    box = {} if spec.joint is None else spec.joint.cells(units)
     rows = []
     for row in spec.parts():
         tol, unit = row["tolerance"], row["unit"]
@@ -514,20 +514,17 @@ def _limit_cell(lim, units: str = "mm") -> str:
     "max ... [footrest; no window above nominal]")."""
     if lim.value is None:
         return f"{lim.side} none"
-    return (
-        f"{lim.side} {limit_shown(lim.value, lim.unit, lim.side, units)} [{lim.protects}"
-        + ("; no window" if lim.no_window else "")
-        + "]"
-    )
+    return f"{lim.side} {lim.shown_in(units)} [{lim.protects}" + ("; no window" if lim.no_window else "") + "]"
 
 
-def limit_notes(spec) -> list[str]:
-    """Sentences for the limits that leave no window, with the fix they suggest (one-at-a-time and joint box)."""
+def limit_notes(spec, units: str = "mm") -> list[str]:
+    """Sentences for the limits that leave no window, with the fix they suggest (one-at-a-time and joint box),
+    lengths in the problem's ``units`` first."""
     out = []
     for lim in spec.limits:
         if lim.no_window and lim.protects == "footrest":
             out.append(
-                f"The trail maximum {lim.shown} is the footrest limit T + d/2 ≤ R_max, not a risk limit, and it "
+                f"The trail maximum {lim.shown_in(units)} is the footrest limit T + d/2 ≤ R_max, not a risk limit, and it "
                 "leaves no window above the nominal trail: fix: a shorter trail step or a smaller wheel."
             )
     joint = spec.joint
@@ -583,7 +580,7 @@ def spec_panel(rec, units: str) -> Panel:
         ),
         caption=f"M_f = c_f θ0 with θ0 = {math.degrees(spec.disturbance_angle):.0f}° (Eq. 7). "
         + ("No limit inside the model's range: " + "; ".join(no_limit) + ". " if no_limit else "")
-        + " ".join(limit_notes(spec)),
+        + " ".join(limit_notes(spec, units)),
     )
 
 

@@ -176,7 +176,7 @@ def sheet_html(rec: Any) -> str:
             '<col style="width:24%"><col style="width:20%"><col style="width:23%"></colgroup>'
             "<tr>" + "".join(f"<th>{c}</th>" for c in COLUMNS) + f"</tr>{rows}</table>",
             f'<p class="meta">{escape(_legend(spec))}</p>',
-            *(f'<p class="meta fail">{escape(note)}</p>' for note in limit_notes(spec)),
+            *(f'<p class="meta fail">{escape(note)}</p>' for note in limit_notes(spec, units)),
             '<div class="risk">',
             *_risk_lines(rec),
             "</div>",

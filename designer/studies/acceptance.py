@@ -170,10 +170,10 @@ class JointLimits(Record):
             inside = above(parts["diameter"], self.diameter_min) and below(parts["diameter"], self.diameter_max)
         return bool(inside)
 
-    def cells(self) -> dict[str, str]:
-        """{part: the box's interval as an inspector reads it} ("min 54.91 mm (2.162 in) [risk]; max 63.50 mm ...
-        [footrest; no window above nominal]"), rounded toward the safe side (:func:`designer.units.limit_shown`); "—" when the part
-        is not in the box."""
+    def cells(self, units: str = "mm") -> dict[str, str]:
+        """{part: the box's interval as an inspector reads it, lengths in the problem's ``units`` first} ("min
+        54.91 mm (2.162 in) [risk]; max 63.50 mm ... [footrest; no window above nominal]"), rounded toward the safe
+        side (:func:`designer.units.limit_shown`); "—" when the part is not in the box."""
         out: dict[str, str] = {}
         lim = self.limits
         for part, keys in _BOX_PARTS.items():
@@ -188,7 +188,7 @@ class JointLimits(Record):
                 tag = self.protects.get(key, "risk")
                 if key in self.notes:  # "no window above nominal", "no lower limit": the sentence says the fix
                     tag += "; " + self.notes[key].split(":")[0]
-                cells.append(f"{side} {limit_shown(value, _UNITS[part], side)} [{tag}]")
+                cells.append(f"{side} {limit_shown(value, _UNITS[part], side, units)} [{tag}]")
             out[part] = "; ".join(cells) or "—"
         return out
 
@@ -419,13 +419,13 @@ _BOX_PARTS = {
 _UNITS = {"trail": "m", "diameter": "m", "groove": "m", "friction_moment": "N·m", "wheel_inertia": "kg·m²"}
 
 
-def box_short(joint: JointLimits) -> str:
-    """The box on one line, mm and SI ("T 54.91–63.50 mm (max: footrest, no window), B >= 16.48 mm, ..."), each
-    limit rounded toward the safe side; a geometric limit named as such."""
+def box_short(joint: JointLimits, units: str = "mm") -> str:
+    """The box on one line, lengths in the problem's ``units`` and the rest SI ("T 54.91–63.50 mm (max: footrest,
+    no window), B >= 16.48 mm, ..."), each limit rounded toward the safe side; a geometric limit named as such."""
 
     def shown(key: str, side: str) -> str:
         value = getattr(joint, key)
-        return limit_shown(value, _UNITS[key.rsplit("_", 1)[0]], side).split(" (")[0]
+        return limit_shown(value, _UNITS[key.rsplit("_", 1)[0]], side, units).split(" (")[0]
 
     def mark(key: str) -> str:
         if joint.protects.get(key) != "footrest":

@@ -316,7 +316,10 @@ def _limits_callback(app, pending: OrderedDict, debug: bool = False) -> None:
                 first = str(exc).splitlines()[0] if str(exc) else ""
                 LOG.error("acceptance limits: %s: %s", type(exc).__name__, first, exc_info=exc if debug else None)
                 return {"n": generation, "text": LIMITS_FAILED}
-            return {"n": generation, "text": limits_text(view.recommendation_record(fronts.recommendation))}
+            return {
+                "n": generation,
+                "text": limits_text(view.recommendation_record(fronts.recommendation), fronts.problem.units),
+            }
 
 
 def _changed(new, shown):

@@ -13,6 +13,7 @@ import math
 from dash import dcc, html
 
 from designer import display
+from designer.studies.acceptance import box_short
 import designer.studio.figures as figures
 import designer.studio.view as view
 from designer.studio.layout import CSS, MAX_CARD_BUTTONS
@@ -125,7 +126,7 @@ def recommendation_panel(fronts: view.Fronts):
         ),
         # the spec goods-in inspects against; filled in a moment after the chart when the fronts were computed
         # without it (app._limits_callback)
-        html.Div(limits_text(rec), id="rec-limits", style={"fontSize": "13px", "marginTop": "4px"}),
+        html.Div(limits_text(rec, units), id="rec-limits", style={"fontSize": "13px", "marginTop": "4px"}),
     ]
     if rec["alternatives"]:
         rows.append(html.H5("Other casters you can build", style={"margin": "8px 0 2px"}))
@@ -160,10 +161,11 @@ LIMITS_FAILED = "acceptance limits: not computed (the studio's console says why;
 """What the panel says when computing the limits failed in a way the model does not explain (an internal error)."""
 
 
-def limits_text(rec: dict | None) -> str:
-    """The recommended caster's acceptance limits and worst corner as one line, from
-    :func:`designer.studio.view.recommendation_record` (:data:`LIMITS_PENDING` before its spec is computed,
-    "" when it has no limit)."""
+def limits_text(rec: dict | None, units: str = "in") -> str:
+    """The recommended caster's acceptance limits and worst corner as one line, lengths in the problem's
+    ``units``, from :func:`designer.studio.view.recommendation_record` (:data:`LIMITS_PENDING` before its spec is
+    computed, "" when it has no limit): the joint box (a caster whose parts are all inside passes) where the
+    spec has one, else the limits of one part at a time, labelled as such."""
     if rec is None:
         return ""
     if rec.get("limits") is None:
@@ -176,8 +178,11 @@ def limits_text(rec: dict | None) -> str:
         if corner is None
         else f"; worst corner: chance of shimmy {display.percent(corner[0])}" + ("" if corner[1] else " (too high)")
     )
-    parts = [f"{lim.part.replace('_', ' ')} {lim.side} {lim.shown}" for lim in rec["limits"]]
-    return "acceptance limits (accept a part within): " + "; ".join(parts) + worst
+    joint = rec.get("joint")
+    if joint is not None:
+        return "accept a caster when every part is inside: " + box_short(joint, units) + worst
+    parts = [f"{lim.part.replace('_', ' ')} {lim.side} {lim.shown_in(units)}" for lim in rec["limits"]]
+    return "limits of one part at a time (the others at nominal): " + "; ".join(parts) + worst
 
 
 def numbers_table(n: dict, problem, prefix: str):

@@ -227,6 +227,7 @@ def recommendation_record(rec) -> dict | None:
     out["rule"] = getattr(rec, "rule", None)
     spec = getattr(rec, "spec", None)
     out["limits"] = None if spec is None else list(spec.limits)  # None: not computed yet (compute_spec)
+    out["joint"] = None if spec is None else spec.joint
     corner = None if spec is None else spec.corner
     out["corner"] = None if corner is None else (corner["probability"], corner["holds"])
     out["alternatives"] = [numbers_of(alt) for alt in getattr(rec, "alternatives", None) or []]
