@@ -217,8 +217,10 @@ RUN_MANIFEST = ".designer-manifest-run.json"
 change with every run, so they are kept apart and the first manifest stays byte-identical across reruns (a
 committed report stays clean; the repository ignores run.json and this file)."""
 
-VOLATILE = frozenset({"run.json"})
-"""Names whose digests go to :data:`RUN_MANIFEST` (a Pareto report's run.json: the date, seconds, versions)."""
+VOLATILE = frozenset({"run.json", "spec.html"})
+"""Names whose digests go to :data:`RUN_MANIFEST`: a Pareto report's run.json (the date, seconds, versions) and
+the inspection sheet ``designer spec`` writes beside a report by default (the user's print-out, ignored by the
+repository like run.json), so neither changes the committed manifest."""
 
 
 def _read_one(path: Path) -> dict[str, dict] | None:

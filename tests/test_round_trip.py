@@ -15,6 +15,8 @@ from pathlib import Path
 
 import pytest
 
+from designer.output import MANIFEST, MANIFEST_SCHEMA
+
 from designer.cli import main
 from designer.problem import load_problem
 from designer.studio import state
@@ -151,7 +153,8 @@ def test_every_result_file_reads_back_by_the_shared_readers(path):
     """Every CSV and JSON file in results/ reads back by the readers the commands use: a CSV by
     designer.textfiles.csv_table (one header, rows as wide as it, no text cell a spreadsheet would run as a
     formula, LF line ends), a JSON by json with its schema stamp ``caster-designer/<file>/<version>`` first
-    (in each record of a list)."""
+    (in each record of a list); a folder's manifest (designer.output.MANIFEST, the proof of what the tool wrote)
+    carries the one stamp of every manifest, :data:`designer.output.MANIFEST_SCHEMA`."""
     text = path.read_text(encoding="utf-8")
     if path.suffix == ".csv":
         assert "\r" not in text, f"{path.name}: CR line ends"
@@ -165,6 +168,9 @@ def test_every_result_file_reads_back_by_the_shared_readers(path):
     records = data if isinstance(data, list) else [data]
     for record in records:
         assert next(iter(record)) == "schema", f"{path.name}: no schema key first"
+        if path.name == MANIFEST:
+            assert record["schema"] == MANIFEST_SCHEMA and isinstance(record["files"], dict), path
+            continue
         assert record["schema"].startswith(f"caster-designer/{path.name}/"), record["schema"]
 
 

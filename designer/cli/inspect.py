@@ -9,12 +9,11 @@ import sys
 import warnings
 from pathlib import Path
 
+from designer import load_problem, recommend
 from designer.cli._common import PROBLEM_HELP, check_output_file, print_json
 from designer.errors import InputError, OutputError
 from designer.output import FileKind, write_file
-from designer.problem import load_problem
 from designer.studies.inspect import inspect, read_measured, template_text
-from designer.studies.recommend import recommend
 
 EXIT_BAD_ROWS = 2
 """Exit code when some rows could not be graded (after the good rows are graded and printed)."""

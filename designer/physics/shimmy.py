@@ -124,8 +124,7 @@ def full_shimmy_amplitude(speed: Scalar, trail: Scalar, frequency: Scalar, distu
     19 % at ω T/V = 1.54 (indoor-manual's caster at V_c), 1 % only when ω T/V >= 7.  Works on floats, arrays
     and CasADi symbols.
     """
-    ratio = frequency * trail / speed
-    return disturbance_angle / (1 + ratio**2) ** 0.5
+    return disturbance_angle * speed / (speed**2 + (frequency * trail) ** 2) ** 0.5  # = θ0/√(1 + (ωT/V)²), 0 at V = 0
 
 
 def friction_damping_at_speed(damping: Scalar, trail: Scalar, speed: Scalar) -> Scalar:

@@ -1,4 +1,4 @@
-"""Joint acceptance limits: a box of part limits inside which every caster meets the risk bound (issue 43).
+"""Joint acceptance limits: a box of part limits inside which every caster meets the risk bound.
 
 The one-at-a-time limits of :mod:`designer.studies.spec` are each where P(shimmy) = α with every *other* part at
 nominal: parts inspected one by one can pass together and still shimmy.  A drawing's tolerances are chosen so that

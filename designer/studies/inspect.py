@@ -1,4 +1,4 @@
-"""Goods-in inspection: a verdict on each caster a factory measured (issue 43, docs/inspection.md).
+"""Goods-in inspection: a verdict on each caster a factory measured (docs/inspection.md).
 
 An inspector measures each caster's parts (trail T, wheel diameter d, groove B, bearing friction moment M_f or
 the damping c_f = M_f/θ0, the wheel's inertia I_w) and writes one row per caster (``measured.csv``; units in

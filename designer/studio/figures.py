@@ -12,7 +12,7 @@ from designer import display
 
 
 FONT = 13
-"""Font size of the charts' text [px]: read on a phone's 390 px screen (at least 11 px, issue "one screen")."""
+"""Font size of the charts' text [px]: read on a phone's 390 px screen (at least 11 px)."""
 
 COLOURS = {
     "continuous": "#9aa0a6",

@@ -180,9 +180,9 @@ def limits_text(rec: dict | None, units: str = "in") -> str:
     )
     joint = rec.get("joint")
     if joint is not None:
-        return "accept a caster when every part is inside: " + box_short(joint, units) + worst
+        return "acceptance limits: accept a caster when every part is inside: " + box_short(joint, units) + worst
     parts = [f"{lim.part.replace('_', ' ')} {lim.side} {lim.shown_in(units)}" for lim in rec["limits"]]
-    return "limits of one part at a time (the others at nominal): " + "; ".join(parts) + worst
+    return "acceptance limits, one part at a time (the others at nominal): " + "; ".join(parts) + worst
 
 
 def numbers_table(n: dict, problem, prefix: str):

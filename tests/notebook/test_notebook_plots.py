@@ -58,7 +58,7 @@ def test_front_plot_line_is_the_front(front):
     knee = [c for c in ax.collections if c.get_label().startswith("knee")]
     k = front.knee()
     assert len(knee) == 1 and tuple(knee[0].get_offsets()[0]) == (k.threshold_force, k.turning_effort)
-    assert ax.get_xlabel() == display.axis("threshold_force") == "threshold force P [N]" and "[N]" in ax.get_ylabel()
+    assert ax.get_xlabel() == display.axis("threshold_force") == "sill force P [N]" and "[N]" in ax.get_ylabel()
     buildable = Front(front.problem, front.points, meta={"buildable": True})  # as Recommendation.buildable
     stock = [c.get_label() for c in buildable.plot().collections]
     assert all(label.startswith(("buildable front: ", "knee")) for label in stock), stock

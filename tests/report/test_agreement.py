@@ -4,6 +4,7 @@ lets the last digit of a multiplier or a contour vertex move as another CPU move
 
 from __future__ import annotations
 
+import hashlib
 import json
 import shutil
 from pathlib import Path
@@ -24,6 +25,7 @@ from designer.report.agreement import (
     rule_for,
     variable_scale,
 )
+from designer.output import MANIFEST, RUN_MANIFEST
 from designer.units import csv_quantity
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -183,12 +185,20 @@ def test_keep_agreeing_keeps_the_old_bytes_and_names_what_moved(copy, tmp_path):
 
 
 def test_pareto_prints_the_rewritten_file(copy, monkeypatch, capsys):
-    """`designer pareto` into a report whose front.json has one multiplier changed by 10 % rewrites front.json whole
-    and prints one line naming it and the value; every other file keeps its bytes."""
+    """`designer pareto` into a report whose front.json has one multiplier changed by 10 % (as an earlier run of
+    the tool wrote it: its manifest holds the digest of those bytes) rewrites front.json whole and prints one line
+    naming it and the value; every other file keeps its bytes."""
     _edit_json(
         copy / "front.json", lambda d: d["points"][0].update(lambda_shimmy=d["points"][0]["lambda_shimmy"] * 1.1)
     )
-    others = {p: p.read_bytes() for p in copy.rglob("*") if p.is_file() and p.name != "front.json"}
+    manifest = json.loads((copy / MANIFEST).read_text(encoding="utf-8"))
+    manifest["files"]["front.json"]["sha256"] = hashlib.sha256((copy / "front.json").read_bytes()).hexdigest()
+    (copy / MANIFEST).write_text(json.dumps(manifest), encoding="utf-8")
+    others = {  # the manifests record the new front.json's digest
+        p: p.read_bytes()
+        for p in copy.rglob("*")
+        if p.is_file() and p.name not in ("front.json", MANIFEST, RUN_MANIFEST)
+    }
     monkeypatch.chdir(ROOT)
     assert main(["pareto", "problems/indoor-manual.toml", "--out", str(copy)]) == 0
     lines = [line for line in capsys.readouterr().out.splitlines() if "rewritten" in line]

@@ -108,7 +108,7 @@ def test_one_caster_in_plain_words_first(stub, tmp_path):
         table.count("<tr") == 2
         and "<th>P(shimmy): exact (Monte Carlo ± SE)</th>" in table
         and "<th>swept radius T + d/2</th>" in table  # the table's name of the quantity, with its symbol
-        and "<th>threshold force P</th>" in table
+        and "<th>sill force P</th>" in table
     )
     assert "weighted optimum" not in card and "easiest" not in card and "continuous front" not in card
     terms = html[html.index('id="panel-terms"') :]
@@ -169,7 +169,7 @@ CHROMEDRIVER = shutil.which("chromedriver")
 def test_card_fits_at_1400_px_in_chromium():
     """The committed results/indoor-manual/index.html in Chromium at 1400 px: the card's table needs no sideways
     scroll (its width within its box, the page no wider than the window) and its "P(shimmy): exact (Monte Carlo ± SE)" and
-    "swept radius" headers lie inside the window."""
+    "swept radius T + d/2" headers lie inside the window."""
     webdriver = pytest.importorskip("selenium.webdriver")
     options = webdriver.ChromeOptions()
     options.binary_location = CHROMIUM
@@ -194,4 +194,4 @@ def test_card_fits_at_1400_px_in_chromium():
         driver.quit()
     assert m["table"] <= m["box"] and m["page"] <= m["window"], m
     right = dict(m["th"])
-    assert right["P(shimmy): exact (Monte Carlo ± SE)"] <= m["window"] and right["swept radius"] <= m["window"], m
+    assert right["P(shimmy): exact (Monte Carlo ± SE)"] <= m["window"] and right["swept radius T + d/2"] <= m["window"], m

@@ -149,15 +149,15 @@ def test_array_law_matches_the_exact_law_caster_by_caster():
 
 
 def test_default_sheet_marks_the_trail_maximum_as_the_footrest_limit_with_no_window():
-    """indoor-manual's sheet: the trail row's maximum 63.50 mm is tagged [footrest] (not [risk]) in both the joint box
+    """indoor-manual's sheet (an inch problem: inches first): the trail row's maximum 2.500 in is tagged [footrest] (not [risk]) in both the joint box
     and the one-at-a-time column, the minimum [risk]; a sentence says the maximum leaves no window and names the fix;
     the old claim "a part beyond its limit fails the risk bound" (read as: inside passes) is gone."""
     from designer.report.sheet import sheet_html
 
     problem, rec = _recommended("indoor-manual")
     html = sheet_html(rec)
-    row = html[html.index('<td class="part">trail T</td>') :].split("</tr>")[0]
-    assert row.count("max 63.50 mm (2.500 in) [footrest") == 2 and row.count("[risk]") == 2
+    row = html[html.index('<td class="part" data-label="part">trail T</td>') :].split("</tr>")[0]
+    assert row.count("max 2.500 in (63.50 mm) [footrest") == 2 and row.count("[risk]") == 2
     assert "no window above the nominal trail: fix: a shorter trail step or a smaller wheel" in html
     assert "A part beyond its limit fails the risk bound" not in html
     assert "joint box: accept when every part is inside" in html

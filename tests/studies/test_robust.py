@@ -139,7 +139,15 @@ def test_robust_command_writes_report(tmp_path, capsys):
 
     out = tmp_path / "robust"
     assert main(["robust", str(ROBUST), "--points", "7", "--out", str(out)]) == 0
-    assert {p.name for p in out.iterdir()} == {"index.html", "robust.md", "robust.json", "figures", "run.json"}
+    assert {p.name for p in out.iterdir()} == {
+        "index.html",
+        "robust.md",
+        "robust.json",
+        "figures",
+        "run.json",
+        ".designer-manifest.json",  # what the tool wrote, with each file's sha256: the proof a rerun may replace it
+        ".designer-manifest-run.json",  # run.json's digest, kept apart (it changes with every run)
+    }
     assert (out / "figures" / "robust_fronts.png").stat().st_size > 0
     import json
 
