@@ -194,4 +194,6 @@ def test_card_fits_at_1400_px_in_chromium():
         driver.quit()
     assert m["table"] <= m["box"] and m["page"] <= m["window"], m
     right = dict(m["th"])
-    assert right["P(shimmy): exact (Monte Carlo ± SE)"] <= m["window"] and right["swept radius T + d/2"] <= m["window"], m
+    assert (
+        right["P(shimmy): exact (Monte Carlo ± SE)"] <= m["window"] and right["swept radius T + d/2"] <= m["window"]
+    ), m
