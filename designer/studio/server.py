@@ -238,7 +238,7 @@ def serve(
     debug: bool = False,
 ) -> int:
     """Run the studio until Ctrl-C; prints its URL (and opens it unless ``open_browser`` is False), and each
-    bad request as one line on stderr. Returns 0."""
+    bad request as one line on stderr. Returns 0 after Ctrl-C (the way to stop a server), 143 after SIGTERM."""
     if not LOG.handlers:
         console = logging.StreamHandler(sys.stderr)
         console.setFormatter(logging.Formatter("designer studio: %(message)s"))
@@ -249,7 +249,10 @@ def serve(
     if open_browser:
         threading.Timer(0.5, webbrowser.open, args=(url,)).start()
 
-    def _stop(_signum, _frame):  # `kill` stops it as cleanly as Ctrl-C
+    terminated = []
+
+    def _stop(_signum, _frame):  # `kill` stops it as cleanly as Ctrl-C, and says so as every command does
+        terminated.append(True)
         raise KeyboardInterrupt
 
     signal.signal(signal.SIGTERM, _stop)
@@ -260,5 +263,8 @@ def serve(
     finally:
         server.server_close()
         helper.stop()
+    if terminated:  # SIGTERM (a service manager, logout): one line and 143, as docs/commands.md's exit codes say
+        print("designer: terminated (SIGTERM)", file=sys.stderr)
+        return 128 + signal.SIGTERM
     print("designer studio: stopped", file=sys.stderr)
     return 0

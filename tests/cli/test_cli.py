@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import subprocess
 import sys
@@ -9,6 +10,7 @@ import sys
 import pytest
 
 from designer.cli import main
+from designer.output import MANIFEST, manifest_text
 
 from conftest import ROOT
 
@@ -369,6 +371,11 @@ def test_sigint_exits_130_within_a_second_report_intact(when, tmp_path):
     out.mkdir()
     (out / "index.html").write_text("<p>previous</p>")
     (out / "front.json").write_text(json.dumps({"problem": "indoor-manual", "points": []}))
+    # the previous report is the tool's: its manifest holds each file's digest (designer.output)
+    digests = {
+        p.name: {"sha256": hashlib.sha256(p.read_bytes()).hexdigest(), "by": "designer pareto"} for p in out.iterdir()
+    }
+    (out / MANIFEST).write_text(manifest_text(digests))
     before = {p.name: p.read_bytes() for p in out.iterdir()}
     proc = subprocess.Popen(
         [sys.executable, "-c", SCRIPT, "pareto", str(ROOT / "problems" / "indoor-manual.toml"), "--points", "400"]

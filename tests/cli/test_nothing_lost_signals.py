@@ -57,7 +57,7 @@ def _alive(pid: int) -> bool:
 def _fleet_csv(tmp: Path) -> str:
     path = tmp / "fleet.csv"
     subprocess.run(
-        [sys.executable, "-m", "designer", "fleet", "--example", "40", "--out", str(path)],
+        [sys.executable, "-m", "designer", "fleet", "--example", "10000", "--out", str(path)],
         env=ENV,
         cwd=tmp,
         check=True,
@@ -70,14 +70,15 @@ ROWS = {
     # row: (argv, child processes to wait for, seconds of work after that before the signal)
     "pareto": (["pareto", INDOOR, "--points", "400", "--out", "OUT"], 0, 3.0),
     "robust": (["robust", INDOOR, "--points", "200", "--out", "OUT"], 0, 3.0),
-    "fix": (["fix", INDOOR, "--current", "T=1.5in,d=7.75in,B=0.5625in,c=1.3", "--top", "50"], 0, 2.0),
+    # every fix's spec in one batch: about 2 s in all, so the signal comes 0.5 s after the interpreter is up
+    "fix": (["fix", INDOOR, "--current", "T=1.25in,d=8in,B=0,c=1.3", "--top", "0", "--json"], 0, 0.5),
     "simulate --report": (["simulate", "--report", "OUT"], 0, 3.0),
     "explore --workers 2": (
         ["explore", INDOOR, "--trials", "5000", "--workers", "2", "--storage", "STORE", "--out", "OUT"],
         2,
         2.0,
     ),
-    "fleet --scheduler local": (["fleet", "FLEET", "--scheduler", "local", "--out", "OUT"], 2, 3.0),
+    "fleet --scheduler local": (["fleet", "FLEET", "--scheduler", "local", "--out", "OUT"], 2, 2.0),
     "studio": (["studio", "--no-browser", "--port", "0", "--out", "OUT"], 0, 4.0),
 }
 CASES = [

@@ -268,13 +268,14 @@ def _find(component, key, value):
 
 
 def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path):
-    """The studio's recommendation card lists each acceptance limit of the chosen caster as the spec rounds it
-    (trail min and max, groove min, friction moment min, wheel inertia max) under id rec-limits: the trade-off's
+    """The studio's recommendation card gives the chosen caster's joint acceptance box as the spec rounds it
+    (trail, groove min, friction moment min, wheel inertia max; accept when every part is inside) under id rec-limits: the trade-off's
     callback sends the chart and the card with "computing…" there and the change's number in rec-pending; the
     limits callback, asked with that number once the browser has painted the chart (rec-go), answers the limits
     of recommend(problem) (the CLI's spec) for that change; going back to that state shows them at once."""
     from designer import load_problem
     from designer.studies.recommend import recommend
+    from designer.studies.acceptance import box_short
     from designer.studio import panels
     from test_studio_updates import _post
 
@@ -284,7 +285,10 @@ def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path)
     assert record["limits"] == list(rec.spec.limits) and len(record["limits"]) >= 3
     fronts = view.Fronts(problem=rec.problem, recommendation=rec, continuous=None, risk=None, notes=[])
     shown = _find(panels.recommendation_panel(fronts), "id", "rec-limits")
-    assert len(shown) == 1 and all(limit.shown in shown[0]["props"]["children"] for limit in record["limits"])
+    # the joint box (a caster whose parts are all inside passes), in the problem's units, not the one-at-a-time limits
+    text = shown[0]["props"]["children"]
+    assert len(shown) == 1 and text.startswith("acceptance limits: accept a caster when every part is inside: ")
+    assert box_short(rec.spec.joint, rec.problem.units) in text and "one part at a time" not in text
 
     data, name = state.read_problem_data(path)
     client = create_app(data, name, tmp_path).server.test_client()
@@ -297,8 +301,7 @@ def test_the_recommendation_card_shows_the_limits_of_the_chosen_caster(tmp_path)
     assert isinstance(n, int)
     answer = _callback(client, [("rec-answer", "data")], [("rec-go", "data", n)], "rec-go.data", [])
     answer = answer["rec-answer"]["data"]
-    assert answer["n"] == n and answer["text"] == panels.limits_text(record)
-    assert all(limit.shown in answer["text"] for limit in record["limits"])
+    assert answer["n"] == n and answer["text"] == panels.limits_text(record, rec.problem.units) == text
     again = _post(client, keys, values, "url.search", first["front-shown"]["data"])
     card = json.dumps(again["recommendation"]["children"], ensure_ascii=False)
     assert answer["text"] in card and panels.LIMITS_PENDING not in card
