@@ -107,8 +107,14 @@ def traces(driver) -> dict:
 
 
 def text(driver, element_id) -> str:
-    found = driver.find_elements(By.ID, element_id)
-    return found[0].text if found else ""
+    """The element's text, "" while it is absent or being replaced by the page (a stale reference: read again)."""
+    from selenium.common.exceptions import StaleElementReferenceException
+
+    try:
+        found = driver.find_elements(By.ID, element_id)
+        return found[0].text if found else ""
+    except StaleElementReferenceException:  # Dash replaced the element between finding and reading it
+        return ""
 
 
 def api_view(values: dict):
