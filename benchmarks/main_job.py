@@ -112,16 +112,18 @@ def measure(problem: str, repeats: int, before: Path | None = None) -> dict:
         trees["before "] = (before, str(before / ".venv" / "bin" / "python"))
     rows: dict[str, list] = {"numpy": []}
     with tempfile.TemporaryDirectory() as tmp:
+        # each checkout writes its own folders: a report of one release is not the other's to replace (manifests)
+        slot = {tag: f"{tmp}/{'before' if tag else 'after'}" for tag in trees}
         for tag, (tree, python) in trees.items():
-            run([python, "-m", "designer", "pareto", problem, "--out", f"{tmp}/w"], tree)  # unmeasured: caches
+            run([python, "-m", "designer", "pareto", problem, "--out", f"{slot[tag]}-w"], tree)  # unmeasured: caches
             rows[f"{tag}process"], rows[f"{tag}split"] = [], []
         for _ in range(repeats):
             rows["numpy"].append(run(numpy_cmd)[:2])
             for tag, (tree, python) in trees.items():
                 rows[f"{tag}process"].append(
-                    run([python, "-m", "designer", "pareto", problem, "--out", f"{tmp}/p"], tree)[:2]
+                    run([python, "-m", "designer", "pareto", problem, "--out", f"{slot[tag]}-p"], tree)[:2]
                 )
-                out = run([python, "-c", CHILD, problem, f"{tmp}/s"], tree)[2]
+                out = run([python, "-c", CHILD, problem, f"{slot[tag]}-s"], tree)[2]
                 rows[f"{tag}split"].append(json.loads(out.strip().splitlines()[-1]))
     med = statistics.median
     result: dict = {
