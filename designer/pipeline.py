@@ -232,6 +232,7 @@ def report_data(
                         tighter_problem,
                         n_tight,
                         progress=track(f"{problem.name}: front at {tighter_problem.target_speed:.3g} m/s"),
+                        knee=False,  # check 8c reads its points, never its knee
                     )
                 except DesignerError as exc:  # an unreachable tighter target only removes check 8c
                     tighter, tighter_error = None, str(exc)

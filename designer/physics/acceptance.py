@@ -255,7 +255,7 @@ def exact_probabilities(
     )
 
 
-def _probits(probability: Array) -> Array:
+def probits(probability: Array) -> Array:
     """:func:`probit` of each probability [-] (statistics.NormalDist: no scipy import)."""
     return np.array([probit(float(p)) for p in np.ravel(probability)]).reshape(np.shape(probability))
 
@@ -312,7 +312,7 @@ def _limit_search(
         return exact_probabilities(sub, v[rows], uncertainty, prediction)
 
     def excess(x: Array, rows: Any) -> Array:
-        return _probits(probability(x, rows)) - target
+        return probits(probability(x, rows)) - target
 
     every = np.arange(m * n)
     at_low, at_high = excess(low, every), excess(high, every)
@@ -502,10 +502,11 @@ def measured_probabilities(
     groove: Numeric,
     damping: Numeric,
     slip_coefficient: float,
-    speed: float,
+    speed: Numeric,
     uncertainty: Uncertainty,
 ) -> Array:
-    """P(V_c,true < speed) of many casters with measured wheels by the exact law [-] (arrays broadcast together).
+    """P(V_c,true < speed) of many casters with measured wheels by the exact law [-] (arrays, the speed [m/s]
+    included, broadcast together).
 
     The same law as :func:`designer.physics.uncertainty.shimmy_probability_exact` with ``diameter=None`` and
     :data:`EXACT_NODES` Gauss–Hermite nodes a side, in one array call: the linear
@@ -513,7 +514,7 @@ def measured_probabilities(
     in log I_w is −1/2 whatever B, Eq. 7), so P = Σ w F(log v − log V_c(nodes)) over a (casters × nodes) grid.
     A caster without trail, or without both friction and groove (V_c = 0), gets 1.
     """
-    t, i, b, c = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (trail, inertia, groove, damping)))
+    t, i, b, c, s = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (trail, inertia, groove, damping, speed)))
     u = uncertainty
     zn, zw = _hermite_nodes(EXACT_NODES)
     a_, b_ = np.meshgrid(zn, zn, indexing="ij")
@@ -523,10 +524,13 @@ def measured_probabilities(
     v = critical_shimmy_speed(
         safe[0], safe[1], safe[2], safe[3] * np.exp(u.damping * zc), slip_coefficient * np.exp(u.slip_coefficient * zk)
     )
-    gap = math.log(speed) - np.log(v)
+    gap = np.log(s[..., None]) - np.log(v)
     p = np.sum(w * measured_linear_cdf(gap, slip_coefficient, u), axis=-1)
     return np.where(dead, 1.0, p)
 
+
+CHUNK = 8192
+"""Points of :func:`measured_linear_cdf` per block (× its nodes, about 0.7 MB of doubles a temporary)."""
 
 LINEAR_NODES = 10
 """Gauss–Hermite nodes over the measured inertia's normal part in :func:`measured_linear_cdf` (10 agree
@@ -537,7 +541,8 @@ def measured_linear_cdf(x: Array, slip_coefficient: float, uncertainty: Uncertai
     """CDF of the exact law's linear part for a measured wheel, X = σ_m t_ν + (σ_I/2) Z, at ``x`` [-].
 
     For an odd ν (the data law's 5) by Gauss–Hermite over Z with the Student-t CDF in closed form
-    (F = 1/2 + (θ + sin θ Σ_k a_k cos^{2k+1} θ)/π, θ = atan(t/√ν)): the same distribution as
+    (F = 1/2 + (θ + sin θ Σ_k a_k cos^{2k+1} θ)/π, θ = atan(r), r = t/√ν, written with q = cos²θ = 1/(1 + r²) and
+    sin θ cos^{2k+1} θ = r q^{k+1} so that atan is the one transcendental call): the same distribution as
     :class:`~designer.physics._sums.SumDistribution`'s inversion (which it matches to 7e-13, that inversion's own
     precision) at a twentieth of the work; any other law falls back to the inversion."""
     u = uncertainty
@@ -547,11 +552,14 @@ def measured_linear_cdf(x: Array, slip_coefficient: float, uncertainty: Uncertai
         return np.asarray(dist.cdf(x.reshape(1, -1))).reshape(x.shape)
     nodes = LINEAR_NODES if dof >= 3 else 2 * LINEAR_NODES  # a Cauchy's (ν = 1) heavy tails take more
     zn, zw = _hermite_nodes(nodes) if c > 0 else (np.zeros(1), np.ones(1))
-    theta = np.arctan((x[..., None] - c * zn) / (a * math.sqrt(dof)))
-    cos = np.cos(theta)
-    term, total = cos, cos
-    for k in range(1, (dof - 1) // 2):
-        term = term * cos * cos * (2 * k) / (2 * k + 1)
-        total = total + term
-    cdf = 0.5 + (theta + (np.sin(theta) * total if dof > 1 else 0.0)) / math.pi
-    return np.asarray(np.sum(zw * cdf, axis=-1))
+    flat, out = np.ravel(x), np.empty(np.size(x))
+    for start in range(0, flat.size, CHUNK):  # blocks that stay in cache: no page faults for a fleet's corners
+        r = (flat[start : start + CHUNK, None] - c * zn) / (a * math.sqrt(dof))
+        q = 1.0 / (1.0 + r * r)
+        term, total = q, q
+        for k in range(1, (dof - 1) // 2):
+            term = term * q * ((2 * k) / (2 * k + 1))
+            total = total + term
+        cdf = 0.5 + (np.arctan(r) + (r * total if dof > 1 else 0.0)) / math.pi
+        out[start : start + CHUNK] = np.sum(zw * cdf, axis=-1)
+    return out.reshape(np.shape(x))

@@ -41,8 +41,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from designer.physics.acceptance import friction_moment, measured_probabilities, probit
-from designer.physics.roots import bracketed_root
+from designer.physics.acceptance import friction_moment, measured_probabilities, probit, probits
+from designer.physics.roots import bracketed_roots
 from designer.physics.uncertainty import Uncertainty
 from designer.reprs import Key, Record
 from designer.units import limit_shown
@@ -292,22 +292,139 @@ def _footrest(
     return trail_max, d_min, d_max, protects
 
 
-def _corner_probabilities(
-    axes: dict[str, tuple[float, float]], offset: float, slip_coefficient: float, speed: float, law: Uncertainty
-) -> np.ndarray:
-    """P(V_c,true < speed) at every corner of the box, in one array call of the exact law: ``axes`` {trail, groove,
-    damping, inertia: (the risk limit, the other end)}; row 0 has every part at its risk limit; a part whose two ends
-    agree adds no corner (2^k rows, k the parts with a window)."""
+def _corners(axes: dict[str, tuple[float, float]]) -> dict[str, np.ndarray]:
+    """Every corner of one box: ``axes`` {trail, groove, damping, inertia: (the risk limit, the other end)}; row 0
+    has every part at its risk limit; a part whose two ends agree adds no corner (2^k rows, k the parts with a
+    window)."""
     live = [k for k, (lo, hi_) in axes.items() if lo != hi_]
     grid = np.array(list(itertools.product((0, 1), repeat=len(live))), dtype=int).reshape(2 ** len(live), len(live))
-    values = {k: np.array(axes[k])[grid[:, live.index(k)]] if k in live else np.array(axes[k][0]) for k in axes}
-    p = measured_probabilities(
-        values["trail"] + offset, values["inertia"], values["groove"], values["damping"], slip_coefficient, speed, law
+    rows = len(grid)
+    return {k: np.array(axes[k])[grid[:, live.index(k)]] if k in live else np.full(rows, axes[k][0]) for k in axes}
+
+
+# long: the scales' roots, the notes they leave and the records are one computation (footrest and corners are helpers)
+def joint_limits_many(
+    problems: list[Problem],
+    designs: list[Design],
+    inertia: list[float],
+    measured: list[bool],
+    uncertainty: Uncertainty,
+    *,
+    offsets: list[float] | None = None,
+    calibration: float = 1.0,
+) -> list[JointLimits]:
+    """The joint acceptance box of many casters under one risk law (module text), all searched together: for each,
+    P(V_c,true < V_req) <= α at every corner.
+
+    One entry per caster in ``problems`` (its V_req, tolerances and swept-radius limit), ``designs``, ``inertia``
+    (the nominal I_w [kg·m²]: the power law's at d for a wheel known by its diameter), ``measured`` and
+    ``offsets`` (what a tilted stem adds to the fork offset [m]: the law sees T + offset; the box states the trail
+    as built); ``uncertainty``: the risk law (the problem's bound, a retrofit's calibrated law) with the problems'
+    one slip coefficient; ``calibration``: k of a calibrated retrofit (the law is at V_req / k).  Each box's scale s
+    is the root of Φ⁻¹(P_worst(s)) = Φ⁻¹(α) on [0, s_max) (s_max: where the trail reaches zero, P = 1), by
+    :func:`designer.physics.roots.bracketed_roots` for all casters at once; then every caster's 2^k corners are
+    evaluated in one call of :func:`measured_probabilities`.
+    """
+    n = len(designs)
+    if not n:
+        return []
+    offset = np.zeros(n) if offsets is None else np.asarray(offsets, dtype=float)
+    speed = np.array([p.required_speed for p in problems]) / calibration
+    alpha = float(uncertainty.probability)
+    ks = float(problems[0].conditions.slip_coefficient)
+    nominal = np.array([[d.trail, d.groove, d.damping, i] for d, i in zip(designs, inertia)]).reshape(n, 4)
+    shapes = [_weights(p, d, i, m, o) for p, d, i, m, o in zip(problems, designs, inertia, measured, offset)]
+    w = np.array(
+        [[ws.get(k, 0.0) for k in ("trail", "groove", "friction_moment", "wheel_inertia")] for _, ws in shapes]
     )
-    return np.atleast_1d(p)
+
+    def box(s: np.ndarray, rows: np.ndarray | slice = slice(None)) -> np.ndarray:
+        """The worst corner at scale s of the rows (T, B, c_f held at zero at the least, I_w above nominal)."""
+        low = nominal[rows, :3] * np.maximum(1 - np.asarray(s)[:, None] * w[rows, :3], 0.0)
+        return np.column_stack([low, nominal[rows, 3] * (1 + s * w[rows, 3])])
+
+    def worst(s: np.ndarray, rows: np.ndarray | slice = slice(None)) -> np.ndarray:
+        t, b, c, i = box(s, rows).T
+        return measured_probabilities(t + offset[rows], i, b, c, ks, speed[rows], uncertainty)
+
+    at_zero = worst(np.zeros(n))
+    scale = np.zeros(n)
+    live = np.flatnonzero(at_zero <= alpha)
+    if live.size:
+        top = (1 - 1e-9) / w[live, 0]  # the trail reaches zero: V_c = 0 (Eq. 7), P = 1
+        scale[live] = bracketed_roots(
+            lambda s, rows: probits(worst(s, live[rows])) - probit(alpha), np.zeros(live.size), top, 1e-15, SCALE_RTOL
+        )
+        while (above := live[worst(scale[live], live) > alpha]).size:  # a root a hair above α: step inside
+            scale[above] *= 1 - 4 * SCALE_RTOL
+    limits = box(scale)
+    # every corner of every box: each risk part at its limit or its mirror about nominal, the trail's upper end the
+    # footrest's, all casters' corners in one call of the law
+    out, corners = [], []
+    for k in range(n):
+        problem, design, s = problems[k], designs[k], float(scale[k])
+        notes: dict[str, str] = {}
+        if s == 0.0:
+            notes["box"] = (
+                f"no window: even at nominal, with a measured wheel, P = {at_zero[k]:.2%} > α; the caster itself must "
+                "change (a longer trail, more groove or friction, a lighter wheel)"
+            )
+        trail_max, d_min, d_max, protects = _footrest(problem, design, notes)
+        for key, j in {"groove_min": 1, "friction_moment_min": 2}.items():
+            if nominal[k, j] > 0 and s * w[k, j] >= 1:
+                notes[key] = "no lower limit: the worst corner meets the bound with this part at zero"
+        if s == 0.0:
+            for key in RISK_KEYS:
+                notes.setdefault(key, "no window: the limit equals the nominal (see box)")
+        mirror = nominal[k] * (1 + np.array([1, 1, 1, -1]) * s * w[k])
+        t_hi = trail_max if trail_max is not None else mirror[0]
+        ends = zip(("trail", "groove", "damping", "inertia"), limits[k], (t_hi, *mirror[1:]))
+        corners.append(_corners({key: (float(lo), float(hi)) for key, lo, hi in ends}))
+        out.append((notes, trail_max, d_min, d_max, protects))
+    sizes = [len(c["trail"]) for c in corners]
+    cat = {key: np.concatenate([c[key] for c in corners]) for key in corners[0]}
+    each = np.repeat(np.arange(n), sizes)
+    p_all = measured_probabilities(
+        cat["trail"] + offset[each], cat["inertia"], cat["groove"], cat["damping"], ks, speed[each], uncertainty
+    )
+    found = []
+    theta0 = [float(p.conditions.disturbance_angle) for p in problems]
+    for k, (p, (notes, trail_max, d_min, d_max, protects)) in enumerate(
+        zip(np.split(p_all, np.cumsum(sizes)[:-1]), out)
+    ):
+        t_min, b_min, c_min, i_max = (float(v) for v in limits[k])
+        found.append(
+            JointLimits(
+                trail_min=t_min,
+                trail_max=trail_max,
+                groove_min=b_min,
+                friction_moment_min=friction_moment(c_min, theta0[k]),
+                wheel_inertia_max=i_max,
+                diameter_min=d_min,
+                diameter_max=d_max,
+                nominal={
+                    "trail": designs[k].trail,
+                    "groove": designs[k].groove,
+                    "friction_moment": friction_moment(designs[k].damping, theta0[k]),
+                    "wheel_inertia": float(inertia[k]),
+                    "diameter": designs[k].diameter,
+                },
+                protects=protects,
+                shape=shapes[k][0],
+                weights=shapes[k][1],
+                scale=float(scale[k]),
+                probability=float(p[0]),  # row 0: every part at its risk limit
+                corners=int(len(p)),
+                corner_max=float(np.max(p)),
+                monotone=bool(np.argmax(p) == 0 or np.max(p) <= p[0] * (1 + 1e-12)),
+                alpha=alpha,
+                required_speed=float(speed[k]),
+                notes=notes,
+            )
+        )
+    return found
 
 
-# long: the scale's root, the notes it leaves and the record are one computation (footrest and corners are helpers)
 def joint_limits(
     problem: Problem,
     design: Design,
@@ -318,93 +435,10 @@ def joint_limits(
     offset: float = 0.0,
     calibration: float = 1.0,
 ) -> JointLimits:
-    """The joint acceptance box of one caster (module text): P(V_c,true < V_req) <= α at every corner.
-
-    ``inertia``: the nominal I_w [kg·m²] (the power law's at d for a wheel known by its diameter); ``uncertainty``:
-    the risk law (the problem's bound, a retrofit's calibrated law); ``offset``: what a tilted stem adds to the fork
-    offset (the law sees T + offset; the box states the trail as built); ``calibration``: k of a calibrated
-    retrofit (the law is at V_req / k).  The scale s of the box is the root of Φ⁻¹(P_worst(s)) = Φ⁻¹(α) by
-    :func:`designer.physics.roots.bracketed_root` on [0, s_max) (s_max: where a risk part reaches zero, P = 1);
-    then all 2^k corners are evaluated in one call of :func:`measured_probabilities`.
-    """
-    speed = problem.required_speed / calibration
-    alpha = float(uncertainty.probability)
-    theta0 = float(problem.conditions.disturbance_angle)
-    ks = float(problem.conditions.slip_coefficient)
-    t0, b0, c0, i0 = design.trail, design.groove, design.damping, inertia
-    shape, w = _weights(problem, design, inertia, measured, offset)
-    wt, wb, wc, wi = (w.get(p, 0.0) for p in ("trail", "groove", "friction_moment", "wheel_inertia"))
-
-    def low(nominal: float, weight: float, s: float) -> float:
-        """A risk part's least value at scale s, held at zero (a part that reaches zero has no lower limit)."""
-        return nominal * max(1 - s * weight, 0.0)
-
-    def worst(s: float) -> float:
-        return float(
-            measured_probabilities(
-                low(t0, wt, s) + offset, i0 * (1 + s * wi), low(b0, wb, s), low(c0, wc, s), ks, speed, uncertainty
-            )[()]
-        )
-
-    top = 1.0 / wt  # the trail reaches zero: V_c = 0 (Eq. 7), P = 1
-    at_zero = worst(0.0)
-    notes: dict[str, str] = {}
-    if at_zero > alpha:
-        scale = 0.0
-        notes["box"] = (
-            f"no window: even at nominal, with a measured wheel, P = {at_zero:.2%} > α; the caster itself must change "
-            "(a longer trail, more groove or friction, a lighter wheel)"
-        )
-    else:
-        hi = top * (1 - 1e-9)
-        scale = bracketed_root(lambda s: probit(worst(s)) - probit(alpha), 0.0, hi, xtol=1e-15, rtol=SCALE_RTOL)
-        while worst(scale) > alpha:  # the root's tolerance left the corner a hair above α: step inside
-            scale *= 1 - 4 * SCALE_RTOL
-    trail_min = low(t0, wt, scale)
-    trail_max, d_min, d_max, protects = _footrest(problem, design, notes)
-    for key, (nom, weight) in {"groove_min": (b0, wb), "friction_moment_min": (c0, wc)}.items():
-        if nom > 0 and scale * weight >= 1:
-            notes[key] = "no lower limit: the worst corner meets the bound with this part at zero"
-    if scale == 0.0:
-        for key in RISK_KEYS:
-            notes.setdefault(key, "no window: the limit equals the nominal (see box)")
-    # every corner: each risk part at its limit or its mirror about nominal, the trail's upper end the footrest
-    t_hi = trail_max if trail_max is not None else t0 * (1 + scale * wt)
-    axes = {
-        "trail": (trail_min, t_hi),
-        "groove": (low(b0, wb, scale), b0 * (1 + scale * wb)),
-        "damping": (low(c0, wc, scale), c0 * (1 + scale * wc)),
-        "inertia": (i0 * (1 + scale * wi), i0 * (1 - scale * wi)),
-    }
-    p = _corner_probabilities(axes, offset, ks, speed, uncertainty)
-    probability = float(p[0])  # row 0: every part at its risk limit
-    return JointLimits(
-        trail_min=trail_min,
-        trail_max=trail_max,
-        groove_min=low(b0, wb, scale),
-        friction_moment_min=friction_moment(low(c0, wc, scale), theta0),
-        wheel_inertia_max=i0 * (1 + scale * wi),
-        diameter_min=d_min,
-        diameter_max=d_max,
-        nominal={
-            "trail": t0,
-            "groove": b0,
-            "friction_moment": friction_moment(c0, theta0),
-            "wheel_inertia": i0,
-            "diameter": design.diameter,
-        },
-        protects=protects,
-        shape=shape,
-        weights=w,
-        scale=float(scale),
-        probability=probability,
-        corners=int(len(p)),
-        corner_max=float(np.max(p)),
-        monotone=bool(np.argmax(p) == 0 or np.max(p) <= probability * (1 + 1e-12)),
-        alpha=alpha,
-        required_speed=speed,
-        notes=notes,
-    )
+    """The joint acceptance box of one caster: :func:`joint_limits_many` of one (its arguments, one value each)."""
+    return joint_limits_many(
+        [problem], [design], [inertia], [measured], uncertainty, offsets=[offset], calibration=calibration
+    )[0]
 
 
 _BOX_PARTS = {

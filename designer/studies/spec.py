@@ -37,7 +37,7 @@ from designer.physics.acceptance import (
 from designer.model import Design, scatter_of
 from designer.physics.geometry import effective_trail
 from designer.physics.uncertainty import Uncertainty
-from designer.studies.acceptance import JointLimits, joint_limits
+from designer.studies.acceptance import JointLimits, joint_limits, joint_limits_many
 from designer.problem import Problem, Tolerances
 from designer.units import limit_shown
 from designer.reprs import Key, Record
@@ -454,11 +454,18 @@ def caster_specs(
     casters = [law_caster(p, d, i, m, o) for p, d, i, m, o in zip(each, designs, inertia, measured, offsets)]
     laws = [_law(p, law) for p in each]
     found: list[list[PartLimit]] = [[] for _ in range(n)]
+    joints: list[JointLimits | None] = [None] * n
     for u in dict.fromkeys(laws):
         rows = [i for i in range(n) if laws[i] == u]
         pick = [[seq[i] for i in rows] for seq in (each, designs, casters, offsets)]
         for i, limits in zip(rows, _search_limits(*pick, u, calibration)):  # type: ignore[arg-type]
             found[i] = limits
+        for ks in dict.fromkeys(float(each[i].conditions.slip_coefficient) for i in rows):  # one K_s a batch
+            same = [i for i in rows if float(each[i].conditions.slip_coefficient) == ks]
+            picked = [[seq[i] for i in same] for seq in (each, designs, inertia, measured)]
+            boxes = joint_limits_many(*picked, u, offsets=[offsets[i] for i in same], calibration=calibration)  # type: ignore[arg-type]
+            for i, box in zip(same, boxes):
+                joints[i] = box
     return [
         caster_spec(
             each[i],
@@ -471,6 +478,7 @@ def caster_specs(
             calibration=calibration,
             probability=None if probability is None else probability[i],
             found=found[i],
+            joint=joints[i],
         )
         for i in range(n)
     ]
@@ -488,6 +496,7 @@ def caster_spec(
     calibration: float = 1.0,
     probability: float | None = None,
     found: list[PartLimit] | None = None,
+    joint: JointLimits | None = None,
 ) -> Spec:
     """The :class:`Spec` of one caster: limits (others at nominal), exact P at V_target beside the Monte Carlo
     ``(p, se, samples, seed)`` the caller has, and the worst corner when the problem has ``[tolerances]``.
@@ -496,7 +505,8 @@ def caster_spec(
     then the fork offset e, the law sees e + (d/2) sin φ) and the calibration factor k (V_c,true is k times
     Eq. 7's: P(k V_c < V) = P(V_c < V/k)); the limits are stated on the parts as built.  ``probability``: the
     exact P at V_target the caller reports (the evaluator's), so the record and its spec say one number.
-    ``found``: the physics' limits when the caller searched them in a batch (:func:`caster_specs`)."""
+    ``found``, ``joint``: the physics' limits and the joint box when the caller searched them in a batch
+    (:func:`caster_specs`)."""
     u = _law(problem, law)
     offset = stem_offset(design, stem_angle)
     caster = law_caster(problem, design, inertia, measured, offset)
@@ -539,5 +549,7 @@ def caster_spec(
         },
         stem_angle=float(stem_angle),
         calibration=float(calibration),
-        joint=joint_limits(problem, design, inertia, measured, u, offset=offset, calibration=calibration),
+        joint=joint_limits(problem, design, inertia, measured, u, offset=offset, calibration=calibration)
+        if joint is None
+        else joint,
     )

@@ -243,3 +243,45 @@ def test_measured_linear_cdf_is_the_inversions_distribution(dof):
     x = np.linspace(-2, 2, 4001)
     ref = _linear_part(1.0, 1.0, 0.0, 1.0, 1250.0, law, None, None).cdf(x.reshape(1, -1))[0]
     assert np.max(np.abs(measured_linear_cdf(x, 1250.0, law) - ref)) < 2e-12
+
+
+def test_joint_boxes_searched_together_equal_each_searched_alone():
+    """joint_limits_many (one root search and one corner call for all casters) gives each of 40 random casters of
+    two problems (the default, V_req 2.5 m/s, and the tolerances example at V_target 2.8 m/s, its box in proportion to
+    its tolerances) the box it
+    gets alone, to the scale's root tolerance (SCALE_RTOL), with the same corner count and the same notes; and
+    measured_probabilities with one speed per caster equals a call per speed."""
+    from designer.model import Design
+    from designer.studies.acceptance import SCALE_RTOL, joint_limits, joint_limits_many
+
+    problems = [load_problem(ROOT / "problems" / f"{n}.toml") for n in ("indoor-manual", "indoor-manual-tolerances")]
+    problems[1] = problems[1].replace(target_speed=2.8)
+    rng = np.random.default_rng(44)
+    each, designs, inertia = [], [], []
+    for k in range(40):
+        each.append(problems[k % 2])
+        designs.append(
+            Design(
+                trail=rng.uniform(0.03, 0.07),
+                diameter=rng.uniform(0.1, 0.2),
+                groove=rng.choice([0.0, rng.uniform(0.005, 0.02)]),
+                damping=rng.uniform(0.5, 3.0),
+            )
+        )
+        inertia.append(rng.uniform(0.4e-3, 2.0e-3))
+    measured = [False] * 40
+    together = joint_limits_many(each, designs, inertia, measured, problems[0].risk)
+    assert len({j.required_speed for j in together}) == 2
+    for p, d, i, box in zip(each, designs, inertia, together):
+        alone = joint_limits(p, d, i, False, problems[0].risk)
+        assert box.corners == alone.corners and box.notes == alone.notes and box.shape == alone.shape
+        assert box.scale == pytest.approx(alone.scale, rel=4 * SCALE_RTOL, abs=1e-12)
+        if box.scale > 0:  # the worst corner at α, from inside
+            assert box.alpha * (1 - 1e-5) <= box.probability <= box.alpha
+        else:  # no window: even the nominal caster with a measured wheel is above α
+            assert box.probability > box.alpha and "box" in box.notes
+    assert any(j.scale == 0.0 for j in together) and any(j.scale > 0 for j in together)  # both branches
+    law, ks = problems[0].risk, float(problems[0].conditions.slip_coefficient)
+    speeds = np.array([2.2, 2.5, 2.9])
+    got = measured_probabilities(0.05, 1e-3, 0.01, 1.3, ks, speeds, law)
+    assert np.array_equal(got, [measured_probabilities(0.05, 1e-3, 0.01, 1.3, ks, v, law) for v in speeds])

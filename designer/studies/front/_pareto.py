@@ -94,7 +94,12 @@ def _points(
 @checked(points=Count(2, POINTS_RANGE[1], optional=True, what="front points"))
 @one_solve_at_a_time
 def pareto_front(
-    problem: Problem, points: int | None = None, progress: Progress | None = None, strategy: str = "auto"
+    problem: Problem,
+    points: int | None = None,
+    progress: Progress | None = None,
+    strategy: str = "auto",
+    *,
+    knee: bool = True,
 ) -> Front:
     """Exact Pareto front of (turning effort, threshold force) for ``problem``.
 
@@ -105,6 +110,8 @@ def pareto_front(
     progress : optional callable ``progress(done, total)`` for long runs
     strategy : "auto" (closed-form ε-optima confirmed by the NLP where they apply, else the NLP sweep)
         or "nlp" (the NLP sweep everywhere); :func:`designer.solvers.front_solver`
+    knee : search the continuous front's knee (:func:`_continuous_knee`, a dozen ε-solves); False leaves
+        ``continuous_knee`` None (``Front.knee`` is then the farthest sample), for a front whose knee nothing reads
 
     Returns
     -------
@@ -117,7 +124,7 @@ def pareto_front(
         raise InputError(f"strategy = {strategy!r}: expected one of {', '.join(STRATEGY_CHOICES)}")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InertiaExtrapolationWarning)
-        front = _pareto_front(problem, n, progress, strategy)
+        front = _pareto_front(problem, n, progress, strategy, knee)
     # once, and only if a front point uses an extrapolated diameter (not because the bounds reach there)
     for message in problem.model_warnings([p.design.diameter for p in front.points], front=True):
         warnings.warn(message, ModelRangeWarning, stacklevel=2)
@@ -125,7 +132,7 @@ def pareto_front(
 
 
 # long: the per-variant steps (ends, two passes, points) and the run metadata in one readable loop
-def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy: str) -> Front:
+def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy: str, knee: bool = True) -> Front:
     t0 = time.perf_counter()
     all_points: list[FrontPoint] = []
     failed: list[FrontPoint] = []
@@ -186,7 +193,7 @@ def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy:
                 f"start (IPOPT status: {', '.join(sorted(end_statuses)) or 'unknown'}); {error}"
             )
     valid = clean(all_points)
-    knee = _continuous_knee(valid, *sweep) if sweep is not None and len(variants) == 1 else None
+    found = _continuous_knee(valid, *sweep) if knee and sweep is not None and len(variants) == 1 else None
     meta = {
         "points_requested": n,
         "points_valid": len(valid),
@@ -198,7 +205,7 @@ def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy:
         "method": "; ".join(used.values()),
         "solver": "ipopt (tol 1e-10, exact Hessian)",
     }
-    return Front(problem=problem, points=valid, failed=failed, meta=meta, continuous_knee=knee)
+    return Front(problem=problem, points=valid, failed=failed, meta=meta, continuous_knee=found)
 
 
 KNEE_TOLERANCE = 1e-6
