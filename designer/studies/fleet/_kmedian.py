@@ -467,6 +467,8 @@ def _finish(
     pick = columns[np.argmin(inst.full[:, columns], axis=1)]
     regret = inst.value(columns)
     lower = regret if bound is None else min(float(bound), regret)
+    if regret - lower <= len(inst.full) * np.finfo(float).eps * max(1.0, abs(regret)):
+        lower = regret  # a bound equal to the value up to the rounding of a sum of one regret a chair: no gap
     out = replace(
         out,
         chosen=[int(inst.cols[j]) for j in columns],
