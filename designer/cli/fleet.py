@@ -206,6 +206,7 @@ def _print_screen(data: dict, run_info: dict, stock: int, out: Path, units: str)
         say(
             f"Cost: {data['mean_regret_N']:.2f} N more force per unit sold than each chair's own best caster, "
             f"{data['worst_regret_N']:.1f} N for the worst-served chair."
+            + (" " + data["tolerance_price"]["sentence"] if data.get("tolerance_price") else "")
         )
     if data["k"] is None:
         say(f"Next: open {out / 'index.html'} (each chair's caster); without --no-skus: the part numbers.")
@@ -250,6 +251,8 @@ def _print(data: dict, run_info: dict, stock: int, out: Path, units: str) -> Non
         print(data["answer"])
         say(f"  {data['answer_detail']}")
         say(f"  rule: {data['suggested_skus']['rule']}")
+        if data.get("tolerance_price"):
+            say(f"  {data['tolerance_price']['sentence']}")
     say(
         f"{data['feasible_chairs']} of {data['chairs']} chairs have a caster ({stock} stock casters; own "
         f"recommendation: {data['rule']})"

@@ -251,6 +251,8 @@ def _headline(data: dict) -> dict:
         lines.append(data["answer_detail"][0].upper() + data["answer_detail"][1:] + ".")
     if s is not None:
         lines.append(f"Rule: {s['rule']}.")
+    if data.get("tolerance_price"):
+        lines.append(data["tolerance_price"]["sentence"])
     if data.get("k") is not None and (s is None or data["k"] != s["count"]):
         if data.get("mean_regret_N") is None:
             lines.append(f"K = {data['k']} asked with --skus: no {data['k']} stock casters serve every chair.")

@@ -53,7 +53,9 @@ def test_fleet_part_numbers_hold_at_their_worst_corner_with_windows_at_least_the
     groove ±0.4 mm, d ±1 mm, friction −30 %): every part number's spec holds P <= α at the worst corner of the
     tolerances (exact law), its joint box is at least the stated tolerances (scale >= 1 on every risk part) and its
     footrest trail maximum leaves at least the trail's ±1.5 mm above nominal (with d at +1 mm).  Without the
-    tolerances the same fleet's part numbers fail there (the issue's 4.6–4.9 % part numbers): the check can fail."""
+    tolerances the same fleet's part numbers fail there (the issue's 4.6–4.9 % part numbers): the check can fail.
+    The price of the tolerances in part numbers is the separate run's suggested count against this one's: 9 and 9,
+    so they cost no part number on this fleet."""
     from designer.studies.fleet import example_fleet, fleet_recommendations
 
     problem = load_problem(ROOT / "problems" / "indoor-manual-tolerances.toml")
@@ -63,6 +65,13 @@ def test_fleet_part_numbers_hold_at_their_worst_corner_with_windows_at_least_the
         result = fleet_recommendations(chairs, problem, skus="auto", monte_carlo=False)
         bare = fleet_recommendations(chairs, problem.replace(tolerances=None), skus="auto", monte_carlo=False)
     tol = problem.tolerances
+    assert bare.tolerance_price is None and bare.suggested["count"] == 9 == result.suggested["count"]
+    assert result.tolerance_price == {
+        "part_numbers": 0,
+        "with_tolerances": 9,
+        "without_tolerances": 9,
+        "sentence": "The tolerances cost no part number: 9 with them, 9 without.",
+    }
     assert result.specs
     for spec in result.specs:
         assert spec.corner is not None and spec.corner["holds"]
@@ -81,6 +90,36 @@ def test_fleet_part_numbers_hold_at_their_worst_corner_with_windows_at_least_the
         ).holds
     ]
     assert failing, "without tolerances some part number should fail at the worst corner"
+
+
+def test_fleet_report_states_what_the_tolerances_cost_in_part_numbers(tmp_path, capsys):
+    """designer fleet on the 200-chair example of seed 1 with the tolerances example: 9 part numbers with them, 7
+    without (a separate run of the same fleet with [tolerances] removed), stated once in --json, fleet.json, the
+    report's first screen (report.md, index.html) and the screen's answer."""
+    import json
+
+    from designer.cli import main
+    from designer.studies.fleet import example_fleet, fleet_recommendations, write_fleet_csv
+
+    problem = ROOT / "problems" / "indoor-manual-tolerances.toml"
+    chairs = example_fleet(200, seed=1)
+    csv = write_fleet_csv(chairs, tmp_path / "fleet.csv")
+    argv = ["fleet", str(csv), "--problem", str(problem), "--out", str(tmp_path / "r"), "--no-monte-carlo"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        bare = fleet_recommendations(
+            chairs, load_problem(problem).replace(tolerances=None), skus="auto", monte_carlo=False
+        )
+        assert main([*argv, "--json"]) == 0
+        price = json.loads(capsys.readouterr().out)["tolerance_price"]
+        assert main(argv) == 0
+    assert bare.suggested["count"] == price["without_tolerances"] == 7 < price["with_tolerances"] == 9
+    sentence = "The tolerances cost 2 part numbers: 9 with them, 7 without."
+    assert price == {"part_numbers": 2, "with_tolerances": 9, "without_tolerances": 7, "sentence": sentence}
+    assert json.loads((tmp_path / "r" / "fleet.json").read_text(encoding="utf-8"))["tolerance_price"] == price
+    for name in ("report.md", "index.html"):
+        assert (tmp_path / "r" / name).read_text(encoding="utf-8").count(sentence) == 1
+    assert sentence in " ".join(capsys.readouterr().out.split())
 
 
 def _design(spec):

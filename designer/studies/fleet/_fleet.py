@@ -167,6 +167,8 @@ class FleetResult(Record):
         max, each with the others at nominal, from the exact law) for the most demanding of the chairs it serves
         (the fastest V_target, the smallest swept-radius limit), and its P(shimmy) there, exact with the Monte
         Carlo beside it
+    tolerance_price : with ``[tolerances]``, the suggested count with them against that of the same fleet without
+        them (:func:`_tolerance_price`), else None
     """
 
     fleet: Fleet
@@ -181,6 +183,7 @@ class FleetResult(Record):
     suggested: dict[str, Any] | None = None
     candidates: int | None = None
     specs: list[Spec] = field(default_factory=list)
+    tolerance_price: dict[str, Any] | None = None
 
     @property
     def feasible(self) -> np.ndarray:
@@ -385,6 +388,11 @@ def fleet_recommendations(  # long: its docstring documents every argument; the 
             start = time.perf_counter()
             result = choose_skus(result, skus, k_max=k_max, time_limit=time_limit, max_regret=max_regret)
             timings["skus"] = time.perf_counter() - start
+            if problem.tolerances is not None and result.suggested is not None and result.suggested["within"]:
+                start = time.perf_counter()
+                price = _tolerance_price(result, client, chunk, time_limit, max_regret)
+                result = dataclasses.replace(result, tolerance_price=price)
+                timings["without_tolerances"] = time.perf_counter() - start
             if monte_carlo and result.skus is not None and result.skus.assignment is not None:
                 result = _sku_monte_carlo(client, result, chunk)
                 timings.update(result.timings)
@@ -397,6 +405,24 @@ def fleet_recommendations(  # long: its docstring documents every argument; the 
         if own:
             _close(client)
     return result
+
+
+def _tolerance_price(
+    result: FleetResult, client: Any, chunk: int, time_limit: float, max_regret: float
+) -> dict[str, Any]:
+    """The price of the tolerances in part numbers: the suggested count with them against the suggested count of
+    the same fleet and stock without them (the nominal screen, the K-median solved for K = 1, 2, … only until the
+    threshold is met: no Monte Carlo, no specs), and the sentence that states it."""
+    free = dataclasses.replace(result, problem=result.problem.replace(tolerances=None))
+    rows = np.flatnonzero(_recommend_all(client, result.fleet, result.stock, free.problem, chunk)["choice"] >= 0)
+    units = result.fleet.count[rows]
+    curve = kmedian_curve(_regret_matrix(free, rows)["regret"], units, [1], time_limit, float(units.sum()) * max_regret)
+    held, without = (result.suggested or {})["count"], suggest_skus(curve, float(units.sum()), max_regret)["count"]
+    n = held - without
+    cost = f"cost {n} part number{'s' * (n != 1)}" if n > 0 else "cost no part number"
+    why = " (regret is then counted from each chair's best caster that holds)" if n < 0 else ""
+    text = f"The tolerances {cost}: {held} with them, {without} without{why}."
+    return {"part_numbers": n, "with_tolerances": held, "without_tolerances": without, "sentence": text}
 
 
 def _address(client: Any) -> str:
@@ -748,6 +774,7 @@ def fleet_data(result: FleetResult) -> dict[str, Any]:
         "sku_status": None if sku is None else sku.status,
         "sku_proof": None if sku is None else sku.method,
         "suggested_skus": result.suggested,
+        "tolerance_price": result.tolerance_price,
         "answer": _answer(result)[0],
         "answer_detail": _answer(result)[1],
         "regret_curve": curve,
