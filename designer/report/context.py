@@ -114,24 +114,21 @@ def _check_row(c) -> dict:
 
 
 def _design_cells(design) -> dict:
-    t_mm, t_in = length(design.trail)
-    d_mm, d_in = length(design.diameter)
-    b_mm, b_in = length(design.groove)
-    return {
-        "T_mm": t_mm,
-        "T_in": t_in,
-        "d_mm": d_mm,
-        "d_in": d_in,
-        "B_mm": b_mm,
-        "B_in": b_in,
-        "c_f": fmt(design.damping, ".3f", "N·m/rad"),
-    }
+    cells = {"c_f": fmt(design.damping, ".3f", "N·m/rad")}
+    for key, variable in (("T", "trail"), ("d", "diameter"), ("B", "groove")):
+        cells[f"{key}_mm"], cells[f"{key}_in"] = length(getattr(design, variable))
+    return cells
 
 
 def _problem_rows(problem) -> list[dict]:
     """The problem table: its use (load, sill, speeds), its bounds, then the turning model's constants."""
     rows = _use_rows(problem) + _bound_rows(problem) + _constant_rows(problem)
     return [{"quantity": q, "symbol": s, "si": si, "other": other} for q, s, si, other in rows]
+
+
+def _speed(value: float) -> tuple[str, str]:
+    """(m/s, mph) strings of a speed [m/s]."""
+    return fmt(value, ".3f", "m/s"), fmt(value / MPH, ".2f", "mph")
 
 
 def _use_rows(problem) -> list[tuple]:
@@ -144,19 +141,9 @@ def _use_rows(problem) -> list[tuple]:
         ("threshold (sill) height", "h", *length(c.threshold_height)),
         ("surface", "", c.surface, ""),
         ("turning mode", "", c.turning_mode, f"m_mode = {c.turning.mode_factor(c.turning_mode):g}"),
-        (
-            "target speed",
-            "V_target",
-            fmt(problem.target_speed, ".3f", "m/s"),
-            fmt(problem.target_speed / MPH, ".2f", "mph"),
-        ),
+        ("target speed", "V_target", *_speed(problem.target_speed)),
         ("safety margin", "", fmt(problem.margin * 100, ".1f", "%"), ""),
-        (
-            "required critical speed",
-            "V_req = (1 + margin) V_target",
-            fmt(problem.required_speed, ".3f", "m/s"),
-            fmt(problem.required_speed / MPH, ".2f", "mph"),
-        ),
+        ("required critical speed", "V_req = (1 + margin) V_target", *_speed(problem.required_speed)),
         (
             "design disturbance angle",
             "θ0",
@@ -727,6 +714,11 @@ def _knock_band(data: ReportData) -> str:
     )
 
 
+def _pair(point) -> str:
+    """An (F_turn, P) point of the objectives [N] as one cell."""
+    return f"F_turn {fmt(point[0], '.4f', 'N')}, P {fmt(point[1], '.3f', 'N')}"
+
+
 def _indicators(front, problem, knee, best) -> list[dict]:
     """The front's indicators (hypervolume, reference, ideal and nadir points, knee, best J); none for an empty front."""
     if not front.points:
@@ -749,19 +741,11 @@ def _indicators(front, problem, knee, best) -> list[dict]:
         ),
         (
             "hypervolume reference point",
-            f"F_turn {fmt(ref[0], '.4f', 'N')}, P {fmt(ref[1], '.3f', 'N')}",
+            _pair(ref),
             "nadir + 10 % of the front's extent (1 N where the extent is zero)",
         ),
-        (
-            "ideal point",
-            f"F_turn {fmt(ideal[0], '.4f', 'N')}, P {fmt(ideal[1], '.3f', 'N')}",
-            "best value of each objective on the front",
-        ),
-        (
-            "nadir point",
-            f"F_turn {fmt(nadir[0], '.4f', 'N')}, P {fmt(nadir[1], '.3f', 'N')}",
-            "worst value of each objective on the front",
-        ),
+        ("ideal point", _pair(ideal), "best value of each objective on the front"),
+        ("nadir point", _pair(nadir), "worst value of each objective on the front"),
         (
             "knee",
             ("solved on the continuous front" if knee not in front.points else f"point {front.points.index(knee)}")

@@ -32,6 +32,17 @@ def point_text(p, units: str = "in") -> str:
     )
 
 
+def mark(kind: str, label: str, threshold_force, turning_effort) -> dict:
+    """A curve (arrays) or a marked design (numbers) of a front figure: its P and F_turn [N], its ``kind`` (the
+    style :func:`designer.plots.fronts.draw_fronts` draws it in) and its legend ``label``."""
+    return {"threshold_force": threshold_force, "turning_effort": turning_effort, "kind": kind, "label": label}
+
+
+def curve(kind: str, label: str, objectives) -> dict:
+    """A front's (F_turn, P) rows [N] (``Front.objectives()``) as a curve of the front figure (:func:`mark`)."""
+    return mark(kind, label, objectives[:, 1], objectives[:, 0])
+
+
 def _front_marks(data) -> tuple[list, list]:
     """The buildable front (with [stock]) and the marked designs: recommendation, alternatives, knee, optimum."""
     front, problem, rec = data.front, data.problem, getattr(data, "recommendation", None)
@@ -40,50 +51,25 @@ def _front_marks(data) -> tuple[list, list]:
     if stocked and rec is not None and getattr(rec, "buildable", None) is not None and len(rec.buildable.points):
         b = rec.buildable.objectives()
         curves.append(
-            {
-                "threshold_force": b[:, 1],
-                "turning_effort": b[:, 0],
-                "kind": "buildable",
-                "label": f"buildable front (stock parts): {len(b)} point{'s' if len(b) != 1 else ''}",
-            }
+            curve("buildable", f"buildable front (stock parts): {len(b)} point{'s' if len(b) != 1 else ''}", b)
         )
     if rec is not None:
-        marks.append(
-            {
-                "threshold_force": rec.threshold_force,
-                "turning_effort": rec.turning_effort,
-                "kind": "recommended",
-                "label": f"build this: P {rec.threshold_force:.1f} N, F {rec.turning_effort:.2f} N",
-            }
-        )
+        at = f"P {rec.threshold_force:.1f} N, F {rec.turning_effort:.2f} N"
+        marks.append(mark("recommended", f"build this: {at}", rec.threshold_force, rec.turning_effort))
         for alt in rec.alternatives:
-            marks.append(
-                {
-                    "threshold_force": alt.threshold_force,
-                    "turning_effort": alt.turning_effort,
-                    "kind": "alternative",
-                    "label": f"{alt.role}: P {alt.threshold_force:.1f} N, F {alt.turning_effort:.2f} N",
-                }
-            )
+            at = f"P {alt.threshold_force:.1f} N, F {alt.turning_effort:.2f} N"
+            marks.append(mark("alternative", f"{alt.role}: {at}", alt.threshold_force, alt.turning_effort))
     knee = front.knee() if len(front) >= 3 else None
     at_knee = f"P {knee.threshold_force:.1f} N, F {knee.turning_effort:.2f} N" if knee is not None else ""
     if knee is not None:
         marks.append(
-            {
-                "threshold_force": knee.threshold_force,
-                "turning_effort": knee.turning_effort,
-                "kind": "knee",
-                "label": f"knee of the continuous front: {at_knee}",
-            }
+            mark("knee", f"knee of the continuous front: {at_knee}", knee.threshold_force, knee.turning_effort)
         )
     if data.solution is not None:  # the exact optimum, not only the nearest front point
         w = np.asarray(problem.weights, float)
-        weighted = {
-            "threshold_force": data.solution.objectives["threshold_force"],
-            "turning_effort": data.solution.objectives["turning_effort"],
-            "kind": "weighted",
-            "label": f"weighted optimum (w = {w[0]:g}, {w[1]:g}; not the recommendation)",
-        }
+        label = f"weighted optimum (w = {w[0]:g}, {w[1]:g}; not the recommendation)"
+        objectives = data.solution.objectives
+        weighted = mark("weighted", label, objectives["threshold_force"], objectives["turning_effort"])
         if knee is not None and _coincide(marks[-1], weighted, front.objectives()):
             # one spot, one legend entry: the cross is drawn inside the knee's circle
             marks[-1]["label"] = f"knee of the continuous front = weighted optimum (w = {w[0]:g}, {w[1]:g}): {at_knee}"

@@ -23,6 +23,7 @@ from designer.output import output_folder
 from designer.report.writer import RUN_FILE, _render, _write_json
 from designer.plots.figures import png_bytes
 from designer.plots.fronts import draw_fronts
+from designer.report.figures import curve
 
 OWNED = frozenset({"index.html", "robust.md", "robust.json", "figures", "robust_fronts.png", RUN_FILE})
 """What a robust report owns in its folder (anything else there is kept on replace)."""
@@ -42,26 +43,10 @@ def figure(data: RobustData):
     fn, fr = data.nominal.objectives(), data.robust.objectives()
     fig = Figure(figsize=(7.5, 4.8), layout="constrained")
     ax = fig.add_subplot()
-    curves = []
-    if len(fn):
-        curves.append(
-            {
-                "threshold_force": fn[:, 1],
-                "turning_effort": fn[:, 0],
-                "kind": "nominal",
-                "label": f"nominal: V_c >= {problem.required_speed:.2f} m/s (Eq. 7)",
-            }
-        )
-    if len(fr):
-        curves.append(
-            {
-                "threshold_force": fr[:, 1],
-                "turning_effort": fr[:, 0],
-                "kind": "risk-bounded",
-                "label": f"risk-bounded: P(V_c < {problem.required_speed:.2f} m/s) <= {percent(u.probability)}",
-            }
-        )
-    draw_fronts(ax, curves)
+    v = f"{problem.required_speed:.2f} m/s"
+    nominal = curve("nominal", f"nominal: V_c >= {v} (Eq. 7)", fn)
+    bounded = curve("risk-bounded", f"risk-bounded: P(V_c < {v}) <= {percent(u.probability)}", fr)
+    draw_fronts(ax, [c for c, f in ((nominal, fn), (bounded, fr)) if len(f)])
     ax.set_title(title(data), fontsize=10)
     return fig
 

@@ -329,6 +329,18 @@ def _interval(value: float, stderr: float, n: int) -> tuple[float, float]:
     return (float(value - t * stderr), float(value + t * stderr))
 
 
+def _result(
+    value: float, stderr: float, x: np.ndarray, y: np.ndarray, fitted: np.ndarray, **fields: Any
+) -> CalibrationResult:
+    """The :class:`CalibrationResult` of a fit: its 95 % interval, row count and RMS residual from the data."""
+    n = len(y)
+    rms = float(np.sqrt(np.mean((y - fitted) ** 2)))
+    interval = _interval(value, stderr, n)
+    return CalibrationResult(
+        value=value, stderr=stderr, interval=interval, n=n, x=x, y=y, fitted=fitted, rms=rms, **fields
+    )
+
+
 def _through_origin(x: np.ndarray, y: np.ndarray, columns: str, source: str) -> tuple[float, float]:
     """Slope k of y = k x by least squares (scipy ``curve_fit``) and its standard error (inf when the
     covariance cannot be estimated); InputError naming the abscissa column when every value of it is 0.
@@ -381,21 +393,17 @@ def fit_turning(
         _check_result(k, se, "carpet_factor", columns, source, scale=DEFAULT_TURNING.tile_moment_per_load)
     else:
         _check_result(k, se, "tile_moment_per_load", columns, source)
-    fitted = k * x
-    return CalibrationResult(
+    return _result(
+        k,
+        se,
+        x,
+        y,
+        k * x,
         kind="turning",
         name="tile_moment_per_load" if surface == "tile" else "carpet_moment_per_load",
-        value=k,
         unit="m",
-        stderr=se,
-        interval=_interval(k, se, len(x)),
-        n=len(x),
-        x=x,
-        y=y,
-        fitted=fitted,
         x_label="caster load L [N]",
         y_label="sliding turning moment [N·m]",
-        rms=float(np.sqrt(np.mean((y - fitted) ** 2))),
         equation="Fig. 7, M = k L",
         notes={"surface": surface},
     )
@@ -467,9 +475,6 @@ def fit_damping(
             "in the wrong unit?)"
         )
 
-    def model(_x: Any, c_f: float) -> Any:
-        return np.sqrt(per_damping * c_f + groove_term)
-
     c_f, se = _log_fit(per_damping, groove_term, v, low, high)
     if c_f <= low * (1 + 1e-6) or c_f >= high * (1 - 1e-6):
         end = "below" if c_f <= low * (1 + 1e-6) else "above"
@@ -478,22 +483,18 @@ def fit_damping(
             f"(the fit stops at {c_f:.6g}; {PARAMETERS['bare_fork_damping'].hint}); check the units of the columns"
         )
     _check_result(c_f, se, "bare_fork_damping", columns, source)
-    fitted = model(None, c_f)
-    x = fitted  # measured against fitted: points on the line x = y agree
-    return CalibrationResult(
+    fitted = np.sqrt(per_damping * c_f + groove_term)
+    return _result(
+        c_f,
+        se,
+        fitted,  # measured against fitted: points on the line x = y agree
+        v,
+        fitted,
         kind="damping",
         name="damping",
-        value=c_f,
         unit="N·m/rad",
-        stderr=se,
-        interval=_interval(c_f, se, len(v)),
-        n=len(v),
-        x=x,
-        y=v,
-        fitted=fitted,
         x_label="Eq. 7 with the fitted c_f, V_c [m/s]",
         y_label="measured critical speed V_c [m/s]",
-        rms=float(np.sqrt(np.mean((v - fitted) ** 2))),
         equation="Eq. 7 / 10C",
         notes={"slip_coefficient": float(slip_coefficient)},
     )
@@ -521,21 +522,17 @@ def fit_slip(slip_ratio: npt.ArrayLike, force: npt.ArrayLike, source: str = "") 
     columns = "'force_N' against 'slip_ratio'"
     k, se = _through_origin(x, y, columns, source)
     _check_result(k, se, "slip_coefficient", columns, source)
-    fitted = k * x
-    return CalibrationResult(
+    return _result(
+        k,
+        se,
+        x,
+        y,
+        k * x,
         kind="slip",
         name="slip_coefficient",
-        value=k,
         unit="N",
-        stderr=se,
-        interval=_interval(k, se, len(x)),
-        n=len(x),
-        x=x,
-        y=y,
-        fitted=fitted,
         x_label="slip ratio ΔV/V [-]",
         y_label="tread force F_T [N]",
-        rms=float(np.sqrt(np.mean((y - fitted) ** 2))),
         equation="Eq. 12C, F_T = K_s ΔV/V",
     )
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
@@ -35,10 +36,13 @@ def front_checks(front: Front, tighter: Front | None = None, tol: float = 1e-6) 
 
 def _tradeoff_check(pts: Sequence[FrontPoint], tol: float) -> Check:
     """8a: along decreasing threshold force P the diameter d and the turning effort F_turn do not fall."""
+    check = functools.partial(
+        Check,
+        name="8a trade-off",
+        claim="along decreasing threshold force the diameter grows and the turning effort grows",
+    )
     if len(pts) < 2:
-        return Check(
-            name="8a trade-off",
-            claim="along decreasing threshold force the diameter grows and the turning effort grows",
+        return check(
             expected="monotone",
             got=f"{len(pts)} point(s): nothing to compare",
             passed=True,
@@ -52,9 +56,7 @@ def _tradeoff_check(pts: Sequence[FrontPoint], tol: float) -> Check:
     df = np.diff(f[order])
     bad_d = int(np.sum(dd < -tol * d.max()))
     bad_f = int(np.sum(df < -tol * f.max()))
-    return Check(
-        name="8a trade-off",
-        claim="along decreasing threshold force the diameter grows and the turning effort grows",
+    return check(
         expected="d and F_turn non-decreasing as P falls",
         got=f"{bad_d} diameter and {bad_f} effort reversals in {len(pts)} points",
         passed=bad_d == 0 and bad_f == 0,
@@ -66,18 +68,14 @@ def _shimmy_active_check(problem: Problem, pts: Sequence[FrontPoint], tol: float
     """8b: the shimmy constraint (Eq. 7) is active wherever it can be."""
     # shimmy active wherever it can be: inactive only at the bare minimum-effort caster for that d
     lo = problem.lower()
-    offending = 0
-    for x in pts:
-        margin = x.margins.get("shimmy", x.critical_speed - problem.required_speed)
-        if margin <= tol * problem.required_speed:
-            continue
-        bare = x.design.groove <= lo.groove + 1e-9 and x.design.damping <= lo.damping * (1 + 1e-9)
-        if not bare:
-            offending += 1
-    inactive = sum(
-        1
+    loose = [
+        x
         for x in pts
         if x.margins.get("shimmy", x.critical_speed - problem.required_speed) > tol * problem.required_speed
+    ]
+    inactive = len(loose)
+    offending = sum(
+        not (x.design.groove <= lo.groove + 1e-9 and x.design.damping <= lo.damping * (1 + 1e-9)) for x in loose
     )
     return Check(
         name="8b shimmy active",
@@ -93,27 +91,26 @@ def _tighter_check(front: Front, tighter: Front) -> Check:
     """8c: the front of a higher V_target is weakly dominated by ``front`` (not applicable when the tighter
     target is out of reach of the bounds)."""
     problem = front.problem
+    check = functools.partial(
+        Check,
+        name="8c tighter target",
+        claim="tightening V_target moves the front outward",
+        expected="every point of the tighter front weakly dominated by the looser front",
+    )
     if not tighter.points:
         speed = highest_critical_speed(tighter.problem)
-        return Check(
-            name="8c tighter target",
-            claim="tightening V_target moves the front outward",
-            expected="every point of the tighter front weakly dominated by the looser front",
+        return check(
             got=f"not applicable: the tighter target is out of reach (highest {'V_c' if problem.risk is None else 'V_q'} "
             f"{speed:.3f} m/s "
             f"< {tighter.problem.required_speed:.3f} m/s required)",
             passed=True,
             detail=f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} "
             f"m/s: no design inside the bounds reaches it, so there is no tighter front to compare",
-            kind="front",
             outcome=NOT_APPLICABLE,
         )
     worse, total = dominated_by_problem(problem, tighter)
     cmp = front.compare(tighter)
-    return Check(
-        name="8c tighter target",
-        claim="tightening V_target moves the front outward",
-        expected="every point of the tighter front weakly dominated by the looser front",
+    return check(
         got=f"{total - worse} of {total} dominated; HV {cmp['hypervolume_self']:.4f} vs "
         f"{cmp['hypervolume_other']:.4f} (looser's normalisation)",
         passed=worse == 0 and total > 0,

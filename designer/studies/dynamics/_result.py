@@ -76,19 +76,9 @@ class SimulationResult(Record):
     """The scalars as plain Python types; ``to_dict(with_trace=True)`` adds the trace ``t``, ``theta``."""
 
     _units = {
-        "speed": "m/s",
-        "angle": "rad",
-        "angular_velocity": "rad/s",
-        "friction_moment": "N·m",
-        "inertia": "kg·m²",
-        "early_amplitude": "rad",
-        "late_amplitude": "rad",
-        "frequency": "rad/s",
-        "predicted_frequency": "rad/s",
-        "predicted_amplitude": "rad",
-        "critical_speed": "m/s",
-        "t": "s",
-        "theta": "rad",
+        **dict.fromkeys(("angle", "early_amplitude", "late_amplitude", "predicted_amplitude", "theta"), "rad"),
+        **dict.fromkeys(("angular_velocity", "frequency", "predicted_frequency"), "rad/s"),
+        **{"speed": "m/s", "critical_speed": "m/s", "friction_moment": "N·m", "inertia": "kg·m²", "t": "s"},
     }
 
     def _repr_lines(self) -> list[str]:
@@ -210,15 +200,9 @@ class OnsetResult(Record):
     predicted_frequency: float
 
     _units = {
-        "speed": "m/s",
-        "low": "m/s",
-        "high": "m/s",
-        "critical_speed": "m/s",
-        "angle": "rad",
-        "amplitude_at_onset": "rad",
-        "predicted_amplitude": "rad",
-        "frequency_at_onset": "rad/s",
-        "predicted_frequency": "rad/s",
+        **dict.fromkeys(("speed", "low", "high", "critical_speed"), "m/s"),
+        **dict.fromkeys(("angle", "amplitude_at_onset", "predicted_amplitude"), "rad"),
+        **dict.fromkeys(("frequency_at_onset", "predicted_frequency"), "rad/s"),
     }
 
     def __float__(self) -> float:

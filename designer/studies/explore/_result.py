@@ -21,7 +21,6 @@ from designer.reprs import Key, Record, dataframe
 from designer.plots.svg import svg_curve
 from designer.studies.explore._operators import Operators, category_problem, search_space
 from designer.studies.explore._storage import _atomic_write_many, _one_line
-from designer.model import weighted
 
 UNITS = {
     **{p.name: p.ascii_unit for p in VARIABLE_TABLE},
@@ -102,13 +101,6 @@ class ExploreResult(Record):
     def objectives(self) -> np.ndarray:
         """(n, 2) array of (F_turn, P) [N] of the overall front."""
         return np.array([[r["turning_effort"], r["threshold_force"]] for r in self.front], float).reshape(-1, 2)
-
-    def best_weighted(self, weights: Sequence[float] | None = None) -> dict[str, Any] | None:
-        """The front point minimising J = w_turn F_turn + w_threshold P [N] (problem weights by default)."""
-        w = self.problem.weights if weights is None else weights
-        if not self.front:
-            return None
-        return min(self.front, key=lambda r: weighted(r["turning_effort"], r["threshold_force"], w))
 
     def _ranges(self) -> tuple[str, str]:
         f = self.objectives()

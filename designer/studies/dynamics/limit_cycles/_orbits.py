@@ -61,12 +61,10 @@ class PeriodicOrbit(Record):
         return 2 * math.pi / self.period
 
     _units = {
-        "amplitude": "rad",
+        **dict.fromkeys(("amplitude", "closure", "residual"), "rad"),
         "speed": "m/s",
         "period": "s",
         "frequency": "rad/s",
-        "closure": "rad",
-        "residual": "rad",
     }
 
     def _repr_lines(self) -> list[str]:

@@ -40,14 +40,7 @@ class KnockResult(Record):
     speed: float = 0.0
     angle: float = 0.0
 
-    _units = {
-        "t": "s",
-        "theta": "rad",
-        "early_amplitude": "rad",
-        "late_amplitude": "rad",
-        "speed": "m/s",
-        "angle": "rad",
-    }
+    _units = {**dict.fromkeys(("theta", "early_amplitude", "late_amplitude", "angle"), "rad"), "t": "s", "speed": "m/s"}
 
     def _repr_lines(self) -> list[str]:
         """One line: the knock, the verdict and the amplitudes."""

@@ -82,14 +82,9 @@ class BifurcationDiagram(Record):
     """Every field; the tyre as its five parameters (None for the rolling tyre)."""
 
     _units = {
-        "inertia": "kg·m²",
-        "friction_moment": "N·m",
+        **dict.fromkeys(("eq7_critical_speed", "fold_speed", "reference_speed"), "m/s"),
+        **{"disturbance_angle": "rad", "max_closure": "rad", "inertia": "kg·m²", "friction_moment": "N·m"},
         "frequency": "rad/s",
-        "eq7_critical_speed": "m/s",
-        "disturbance_angle": "rad",
-        "fold_speed": "m/s",
-        "reference_speed": "m/s",
-        "max_closure": "rad",
     }
 
     def _repr_lines(self) -> list[str]:
