@@ -186,7 +186,8 @@ def limits_text(rec: dict | None, units: str = "in") -> str:
 
 
 def numbers_table(n: dict, problem, prefix: str):
-    """A caster's numbers as a table, each in ``problem``'s units; the values' ids ``<prefix>-<key>``."""
+    """A caster's numbers as a table, each in ``problem``'s units; the values' ids ``<prefix>-<key>`` (the table's
+    other listed quantities, ``n["more"]``, by their own names: label and precision from the parameter table)."""
     units = problem.units
     alpha = None if problem.risk is None else problem.risk.probability
     rows = [
@@ -220,6 +221,7 @@ def numbers_table(n: dict, problem, prefix: str):
         ),
         ("inertia", "wheel inertia I_w" + (" (measured)" if n.get("measured") else ""), _value(n, "inertia", units)),
     ]
+    rows += [(key, display.label(key), display.shown(value, key, units)) for key, value in n.get("more", {}).items()]
     return html.Table(
         [
             html.Tr([html.Td(label), html.Td(value, id=f"{prefix}-{key}", style=CSS["num"])])

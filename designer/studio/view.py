@@ -23,6 +23,7 @@ from designer import display
 from designer.errors import DesignerError
 import designer.studio.helper as helper
 from designer.model import Design
+from designer.parameters import OUTPUT_TABLE
 from designer.plots.caster import caster_svg
 from designer.studies.dynamics import simulate
 from designer.studies.dynamics.limit_cycles import knock_safe_speeds
@@ -252,7 +253,8 @@ def numbers_of(record, risk=None) -> dict:
     of its alternatives, a :class:`designer.FrontPoint`, the ``current`` caster of :func:`designer.fix`) or from
     the :class:`~designer.model.Caster` it holds; ``risk``: the record of the same caster under the problem's
     risk law (:func:`designer.fix`'s diagnosis) for the speed reached and P(shimmy), which a front point does
-    not hold.  A number no record has is None (shown as :data:`designer.display.MISSING`)."""
+    not hold.  A number no record has is None (shown as :data:`designer.display.MISSING`); ``more``: every other
+    listed quantity of :data:`designer.parameters.OUTPUT_TABLE` the record's caster holds, by name."""
     caster = getattr(record, "caster", None)
     out: dict = {"design": record.design.to_dict()}
     for key in NUMBERS:
@@ -261,6 +263,12 @@ def numbers_of(record, risk=None) -> dict:
         if value is None and caster is not None and source is record:
             value = caster.get(key)
         out[key] = None if value is None or not math.isfinite(float(value)) else float(value)
+    # every other quantity of the table the caster holds (θ_a, ω, ...): a quantity added to the table appears here
+    out["more"] = {
+        p.name: float(caster[p.name])
+        for p in OUTPUT_TABLE
+        if caster is not None and p.listed and p.name not in NUMBERS and caster.get(p.name) is not None
+    }
     measured = getattr(record, "measured", None)
     out["measured"] = bool(caster.get("measured") if measured is None and caster is not None else measured)
     out["role"] = getattr(record, "role", None)

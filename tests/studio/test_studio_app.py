@@ -607,3 +607,28 @@ def test_a_card_opened_again_is_not_computed_again(tmp_path, monkeypatch):
         for n in (1, 2)
     ]
     assert len(calls) == 1 and replies[0] == replies[1]
+
+
+def test_every_listed_quantity_of_the_table_is_on_the_card_and_in_the_report():
+    """Issue 41: a quantity declared once in parameters.OUTPUT_TABLE (and computed by the evaluator) reaches the
+    studio's card and the report's caster table with no other edit: the shimmy frequency in hertz of Eq. 15B,
+    planted that way, is on the card of the caster to build with its label and its value at the table's precision,
+    as are θ_a and ω; the report's numbers of that caster list the same quantities with the same text."""
+    from designer.parameters import OUTPUT_TABLE
+    from designer.report.context import caster_panel
+
+    problem, fronts = _default_fronts()
+    record = view.card_record(fronts, "recommendation")
+    n = view.card(problem, record, with_simulation=False)["numbers"]
+    listed = [p.name for p in OUTPUT_TABLE if p.listed and record.caster.get(p.name) is not None]
+    assert {"shimmy_frequency_hz", "shimmy_amplitude", "shimmy_frequency"} <= set(listed)
+    table = json.dumps(
+        numbers_table(n, problem, "card").to_plotly_json(), default=lambda o: o.to_plotly_json(), ensure_ascii=False
+    )
+    report = caster_panel(record.caster, problem.units).table.rows
+    for name in set(listed) - {"inertia", "critical_speed", "turning_effort", "threshold_force", "swept_radius"}:
+        text = display.shown(record.caster[name], name, problem.units)
+        assert f'"{display.label(name)}"' in table and f'"{text}"' in table, name
+        assert [display.label(name), text] in report, name
+    hz = record.caster["shimmy_frequency_hz"]
+    assert hz == pytest.approx(record.caster["shimmy_frequency"] / (2 * np.pi), rel=1e-12) and 5 < hz < 50
