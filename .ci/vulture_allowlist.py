@@ -36,8 +36,6 @@ first_row_marked  # read by the Jinja templates (report/templates/_panels.*.j2)
 write_docs  # the documented command that regenerates docs/parameters.md (CONTRIBUTING)
 stem_figure  # docs/img/render.py draws docs/retrofit-stem.png with it (the documented regeneration)
 _.residuals  # public property of a calibration result (notebooks)
-sum_cdf  # the exact law's sums of scaled Student-t and normal terms, public helpers (physics/_sums.py)
-sum_quantile
 
 # web framework: Dash callbacks, Flask hooks and overrides (designer/studio)
 open_card

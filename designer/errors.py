@@ -239,9 +239,6 @@ def _on_signal(signum, frame):  # the flag survives a KeyboardInterrupt swallowe
     raise Terminated if signum == signal.SIGTERM else KeyboardInterrupt
 
 
-_on_sigint = _on_signal  # its former name
-
-
 class sigint_handler:
     """Context manager: install the flag-setting handler of SIGINT and SIGTERM (main thread only), restore on exit.
 

@@ -80,7 +80,7 @@ from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from designer.errors import OutputError
+from designer.errors import OS_REASONS, WRITE_ERRNOS, OutputError
 
 TEMP_PREFIX = ".designer-tmp-"
 """Name prefix of every temporary entry (hidden; removed on any failure or signal, or by the next run)."""
@@ -94,9 +94,7 @@ COMMIT_PREFIX = TEMP_PREFIX + "commit-"
 DONE_PREFIX = TEMP_PREFIX + "done-"
 """Name prefix of a commit's record after its commit point (rolled forward by :func:`recover`)."""
 
-_FULL = {errno.ENOSPC: "no space left on device", errno.EDQUOT: "no space left (disk quota exceeded)"}
-_WRITE_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS}
-"""Errors that can only come from writing: an OSError with one of these is the output's, wherever it arose."""
+_FULL = {e: OS_REASONS[e] for e in (errno.ENOSPC, errno.EDQUOT)}
 
 _step_hook: Callable[[str], None] | None = None
 """Test hook: called with the name of each step of a commit (``staged``, ``record``, ``aside <name>``,
@@ -314,7 +312,7 @@ def write_error(path, exc: OSError, option: str | None = None) -> OutputError:
 
 def _is_write_error(exc: OSError, *places: Path) -> bool:
     """True if ``exc`` came from writing: a writing-only errno, or an error on a path inside ``places``."""
-    if exc.errno in _WRITE_ERRNOS:
+    if exc.errno in WRITE_ERRNOS:  # errors that can only come from writing, wherever they arose
         return True
     for name in (exc.filename, exc.filename2):
         if isinstance(name, str | os.PathLike):

@@ -22,9 +22,9 @@ from __future__ import annotations
 import contextlib
 import datetime as _dt
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 import warnings
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -137,19 +137,14 @@ class _Clock:
         self.cpu: dict[str, float] = {}
         self.wall: dict[str, float] = {}
 
-    def __call__(self, name: str) -> contextlib.AbstractContextManager[None]:
-        clock = self
-
-        class _Step:
-            def __enter__(self) -> None:
-                self.c, self.w = time.process_time(), time.perf_counter()
-
-            def __exit__(self, *exc: object) -> Literal[False]:
-                clock.cpu[name] = clock.cpu.get(name, 0.0) + time.process_time() - self.c
-                clock.wall[name] = clock.wall.get(name, 0.0) + time.perf_counter() - self.w
-                return False
-
-        return _Step()
+    @contextlib.contextmanager
+    def __call__(self, name: str) -> Iterator[None]:
+        cpu, wall = time.process_time(), time.perf_counter()
+        try:
+            yield
+        finally:
+            self.cpu[name] = self.cpu.get(name, 0.0) + time.process_time() - cpu
+            self.wall[name] = self.wall.get(name, 0.0) + time.perf_counter() - wall
 
 
 def _recommend(problem: Problem, front: Front) -> tuple[Recommendation | None, str]:
@@ -339,15 +334,8 @@ def robust_data(problem: Problem, points: int = ROBUST_POINTS) -> RobustData:
         "points": points,
         "compute_cpu_seconds": time.process_time() - c0,
     }
-    return RobustData(
-        problem=problem,
-        nominal=result["nominal"],
-        robust=result["robust"],
-        rows=result["rows"],
-        compare=result["compare"],
-        uncertainty=result["uncertainty"],
-        run=run,
-    )
+    parts = {k: result[k] for k in ("nominal", "robust", "rows", "compare", "uncertainty")}
+    return RobustData(problem=problem, **parts, run=run)
 
 
 __all__ = [

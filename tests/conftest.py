@@ -35,6 +35,25 @@ enabled = false
 from Eq. 7" candidate is needed here (tests/solvers/test_closed_form.py, tests/studies/test_checks.py)."""
 
 
+def first_order_probability(trail, inertia, groove, damping, slip_coefficient, speed, law, diameter=None):
+    """P(log V_c + X < log speed), X the first-order law of log V_c,true − log V_c (the model error; the inertia, a
+    Student-t for a wheel known by its ``diameter``, else normal; c_f and K_s through Eq. 7's elasticities): the
+    probability the deterministic bound controls, α at V_q (the reference of the quantile fit's tests)."""
+    import math
+
+    from designer.physics import uncertainty as U
+    from designer.physics._sums import SumDistribution
+    from designer.physics.scatter import inertia_prediction
+
+    x = (trail, inertia, groove, damping, slip_coefficient)
+    terms = [(law.model_error, law.model_error_dof)]
+    if diameter is not None:
+        terms.append((U.inertia_log_scale(*x, diameter), inertia_prediction().dof))
+    rest = U.rest_log_std(*x, law, measured=diameter is None)
+    gap = math.log(speed) - math.log(float(U.critical_shimmy_speed(*x)))
+    return float(SumDistribution(terms, rest).cdf(gap))
+
+
 @pytest.fixture(autouse=True)
 def _quiet_extrapolation():
     """The Table 1 power-law extrapolation warning is tested on its own; silence it elsewhere."""

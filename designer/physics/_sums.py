@@ -50,21 +50,21 @@ def gauss_legendre(nodes: int) -> tuple[Array, Array]:
     P_n from the asymptotic guesses x_k = cos(π (k − 1/4)/(n + 1/2)), all nodes at once (the three-term
     recurrence): about 2 ms for 512 nodes where ``leggauss``'s eigensolver takes 0.3-0.6 s of CPU on its threads.
     w_k = 2/((1 − x_k²) P_n'(x_k)²); nodes within a few ulps of ``leggauss``'s, weights to 1e-15 of them."""
-    k = np.arange(1, nodes + 1)
-    x = np.cos(np.pi * (k - 0.25) / (nodes + 0.5))
-    for _ in range(100):
+
+    def legendre(x: Array) -> tuple[Array, Array]:  # P_n(x) and P_n'(x)
         p0, p1 = np.ones_like(x), x.copy()
         for j in range(2, nodes + 1):
             p0, p1 = p1, ((2 * j - 1) * x * p1 - (j - 1) * p0) / j
-        slope = nodes * (x * p1 - p0) / (x * x - 1)
-        step = p1 / slope
+        return p1, nodes * (x * p1 - p0) / (x * x - 1)
+
+    x = np.cos(np.pi * (np.arange(1, nodes + 1) - 0.25) / (nodes + 0.5))
+    for _ in range(100):
+        value, slope = legendre(x)
+        step = value / slope
         x = x - step
         if np.max(np.abs(step)) < 1e-16:
             break
-    p0, p1 = np.ones_like(x), x.copy()
-    for j in range(2, nodes + 1):
-        p0, p1 = p1, ((2 * j - 1) * x * p1 - (j - 1) * p0) / j
-    slope = nodes * (x * p1 - p0) / (x * x - 1)
+    slope = legendre(x)[1]
     weights: Array = 2 / ((1 - x * x) * slope**2)
     nodes_: Array = x[::-1].copy()
     return nodes_, weights[::-1].copy()
@@ -244,16 +244,6 @@ class SumDistribution:
                 break
         out: Array = np.where(self.degenerate, 0.0, x)
         return out
-
-
-def sum_cdf(x: Numeric, t_terms: Sequence[tuple[Numeric, int]], normal: Numeric = 0.0) -> Array:
-    """P(Σ a_k T_{ν_k} + c Z <= x) (arrays broadcast) [-]."""
-    return SumDistribution(t_terms, normal).cdf(x)
-
-
-def sum_quantile(probability: Numeric, t_terms: Sequence[tuple[Numeric, int]], normal: Numeric = 0.0) -> Array:
-    """The ``probability``-quantile of Σ a_k T_{ν_k} + c Z (arrays broadcast) [-]."""
-    return SumDistribution(t_terms, normal).quantile(probability)
 
 
 TABLE_NODES = 1024

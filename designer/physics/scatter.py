@@ -322,27 +322,21 @@ def measured_inertia_source(sigma: float = MEASURED_INERTIA_SCATTER) -> Source:
     return Source("wheel inertia (measured)", "normal", float(sigma), None, "measured", text, caveats)
 
 
+def _assumed(name: str, sigma: float, source: str, caveat: str) -> Source:
+    """Provenance of an assumed lognormal scatter σ of a constant: its ``source`` and one ``caveat``."""
+    return Source(
+        name, "normal", float(sigma), None, "assumed", f"{source}; σ = {sigma:g} of the log is assumed", (caveat,)
+    )
+
+
 def damping_source(sigma: float = ASSUMED_DAMPING_SCATTER) -> Source:
     """Provenance of the scatter of M_f/θ0 (an assumption)."""
-    return Source(
-        "M_f/θ0",
-        "normal",
-        float(sigma),
-        None,
-        "assumed",
-        f"{DAMPING_SOURCE}; σ = {sigma:g} of the log is assumed",
-        ("the bare-fork value 1.3 and a friction washer's rating are both taken at face value, scattered by σ",),
-    )
+    caveat = "the bare-fork value 1.3 and a friction washer's rating are both taken at face value, scattered by σ"
+    return _assumed("M_f/θ0", sigma, DAMPING_SOURCE, caveat)
 
 
 def slip_coefficient_source(sigma: float = ASSUMED_SLIP_SCATTER) -> Source:
     """Provenance of the scatter of K_s (an assumption)."""
-    return Source(
-        "K_s",
-        "normal",
-        float(sigma),
-        None,
-        "assumed",
-        f"{SLIP_COEFFICIENT_SOURCE}; σ = {sigma:g} of the log is assumed",
-        ("matters only with a groove (B > 0); zero sensitivity at B = 0",),
+    return _assumed(
+        "K_s", sigma, SLIP_COEFFICIENT_SOURCE, "matters only with a groove (B > 0); zero sensitivity at B = 0"
     )

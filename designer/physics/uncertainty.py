@@ -234,11 +234,8 @@ _NODES = 64
 
 @functools.lru_cache(maxsize=8)
 def _quadrature(dof: int) -> tuple[Array, Array, Numeric, Array]:
-
-    zn, zw = hermegauss(_NODES)
     un, uw = leggauss(4 * _NODES)
-    u = (un + 1) / 2
-    return zn, zw / math.sqrt(2 * math.pi), stdtrit(dof, u), uw / 2
+    return *_hermite_nodes(_NODES), stdtrit(dof, (un + 1) / 2), uw / 2
 
 
 def _sum_cdf(x: Numeric, share: Numeric, dof: int) -> Array:
@@ -307,8 +304,7 @@ _STORED_FITS: dict[tuple[float, int, int, int], tuple[tuple[float, ...], float]]
 def _compute_fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], float]:
     """Chebyshev coefficients (on s ∈ [0, 1]) of the quantile, shifted up by its fit error; and the shift."""
 
-    k = np.arange(_DEGREE + 1)
-    nodes = (np.cos(np.pi * (k + 0.5) / (_DEGREE + 1))[::-1] + 1) / 2
+    nodes = _chebyshev_nodes(_DEGREE)
     check = np.linspace(0, 1, 4 * _DEGREE + 1)
     s = np.concatenate([nodes, check])
     q = exact_sum_quantile(s, probability, dof)
@@ -343,21 +339,14 @@ def _clenshaw(coef: npt.NDArray[np.floating[Any]], x: Scalar) -> Scalar:
     if _numeric(x):
         one: Scalar = np.asarray(C.chebval(x, coef), dtype=float)
         return one if np.ndim(one) else float(one)
-    b1 = 0 * x
-    b2 = 0 * x
-    for c in coef[:0:-1]:
-        b1, b2 = 2 * x * b1 - b2 + float(c), b1
-    return x * b1 - b2 + float(coef[0])
+    return _clenshaw_values([float(c) for c in coef], x)
 
 
 def _one_t_quantile(t_scale: float, dof: int, normal: Scalar, probability: float) -> Scalar:
     """Q_{1−α}(a t_ν + c Z) from the stored or computed 1-D fit in the normal share s = c²/(a² + c²) [-]."""
     if not dof or t_scale == 0:
         return float(ndtri(1 - probability)) * np.sqrt(t_scale**2 + normal**2)
-    total = t_scale**2 + normal**2
-    share = normal**2 / total
-    coef, _ = _fit(float(probability), int(dof))
-    return np.sqrt(total) * _clenshaw(coef, 2 * share - 1)
+    return _one_t_quantile_symbolic(t_scale, dof, normal, probability)
 
 
 def log_speed_quantile(sigma_model: float, sigma_rest: Scalar, uncertainty: Uncertainty) -> Scalar:
@@ -393,14 +382,6 @@ def rest_log_std(
     if measured:
         variance = variance + (e["inertia"] * u.inertia) ** 2
     return np.sqrt(variance)
-
-
-def log_speed_std(
-    trail: Scalar, inertia: Scalar, groove: Scalar, damping: Scalar, slip_coefficient: Scalar, uncertainty: Uncertainty
-) -> Scalar:
-    """Standard deviation of log V_c,true to first order [-] (the t part counted by its scale σ_m)."""
-    rest = rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty)
-    return np.sqrt(uncertainty.model_error**2 + rest**2)
 
 
 def inertia_log_scale(
@@ -496,62 +477,6 @@ def shimmy_speed_quantile(
     p = inertia_prediction() if prediction is None else prediction
     sigma_i = inertia_log_scale(trail, inertia, groove, damping, slip_coefficient, diameter, p)
     return v * np.exp(-law_quantile(uncertainty.model_error, sigma_i, rest, uncertainty, p.dof))
-
-
-def first_order_terms(
-    trail: Numeric,
-    inertia: Numeric,
-    groove: Numeric,
-    damping: Numeric,
-    slip_coefficient: Numeric,
-    uncertainty: Uncertainty,
-    diameter: Numeric | None = None,
-    prediction: InertiaPrediction | None = None,
-) -> tuple[list[tuple[Array, int]], Array]:
-    """The linear (first-order) law of log V_c,true − log V_c as (t terms [(scale, ν)], normal scale) [-].
-
-    The model error σ_m t_νm (normal when ν = 0); the inertia, a Student-t of scale
-    :func:`inertia_log_scale` for a wheel known by its diameter or inside the normal part when measured;
-    c_f and K_s through Eq. 7's elasticities, normal.  Numeric (arrays broadcast).
-    """
-    u = uncertainty
-    rest = np.asarray(rest_log_std(trail, inertia, groove, damping, slip_coefficient, u, measured=diameter is None))
-    terms: list[tuple[Array, int]] = [(np.asarray(float(u.model_error)), int(u.model_error_dof))]
-    if diameter is not None:
-        p = inertia_prediction() if prediction is None else prediction
-        scale = inertia_log_scale(trail, inertia, groove, damping, slip_coefficient, diameter, p)
-        terms.append((np.asarray(scale, dtype=float), p.dof))
-    return terms, rest
-
-
-def shimmy_probability_first_order(
-    trail: float,
-    inertia: float,
-    groove: float,
-    damping: float,
-    slip_coefficient: float,
-    speed: float,
-    uncertainty: Uncertainty,
-    diameter: float | None = None,
-    prediction: InertiaPrediction | None = None,
-) -> float:
-    """P(log V_c + X < log speed), X the first-order law: the probability the deterministic bound controls [-].
-
-    ``diameter`` as :func:`shimmy_speed_quantile` (None: a measured wheel).
-    """
-    u = uncertainty
-    v = float(critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient))
-    gap = math.log(speed) - math.log(v)
-    if diameter is not None:
-        terms, rest = first_order_terms(trail, inertia, groove, damping, slip_coefficient, u, diameter, prediction)
-        return float(SumDistribution(terms, rest).cdf(gap))
-    sigma_r = float(rest_log_std(trail, inertia, groove, damping, slip_coefficient, u))
-    total = math.sqrt(u.model_error**2 + sigma_r**2)
-    if total == 0:
-        return float(gap > 0)
-    if not u.model_error_dof or u.model_error == 0:
-        return float(ndtr(gap / total))
-    return float(_sum_cdf(np.array([gap / total]), np.array([sigma_r**2 / total**2]), int(u.model_error_dof))[0])
 
 
 # --------------------------------------------------------------------------- two Student-t terms and a normal

@@ -270,6 +270,13 @@ class Axes:
         return axis
 
     # -- artists -----------------------------------------------------------------------------------
+    def _handle(self, label: str | None, kind: str, **style) -> _Handle:
+        """The artist's legend handle, listed in the legend when labelled (not "_…", as matplotlib)."""
+        handle = _Handle(label or "", kind, **style)
+        if label and not label.startswith("_"):
+            self.handles.append(handle)
+        return handle
+
     def plot(
         self,
         x,
@@ -298,10 +305,7 @@ class Axes:
         if len(x):
             self._extent(x, y)
             self._add("line", zorder, x, y, col, lw, ls, marker or None, ms, drawstyle)
-        handle = _Handle(label or "", "line", color=col, lw=lw, ls=ls, marker=marker or None, ms=ms)
-        if label and not label.startswith("_"):
-            self.handles.append(handle)
-        return [handle]
+        return [self._handle(label, "line", color=col, lw=lw, ls=ls, marker=marker or None, ms=ms)]
 
     def scatter(
         self,
@@ -338,10 +342,7 @@ class Axes:
         key_fill = (
             fills[0] if fills else colour(fill, "#1f77b4") if not isinstance(fill, (list, np.ndarray)) else "#888"
         )
-        handle = _Handle(label or "", "marker", fill=key_fill, edge=edge, lw=lw, marker=marker, ms=size)
-        if label and not label.startswith("_"):
-            self.handles.append(handle)
-        return handle
+        return self._handle(label, "marker", fill=key_fill, edge=edge, lw=lw, marker=marker, ms=size)
 
     def axhline(self, y: float, color=None, ls: str = "-", lw: float = 1.5, label: str | None = None, zorder=2, **_):
         """A horizontal line across the axes at ``y`` [data units]; ``lw`` [pt]."""
@@ -349,30 +350,21 @@ class Axes:
         if np.isfinite(y):
             self._extent((), [y])
             self._add("hline", zorder, float(y), col, lw, ls)
-        handle = _Handle(label or "", "line", color=col, lw=lw, ls=ls, marker=None, ms=0)
-        if label:
-            self.handles.append(handle)
-        return handle
+        return self._handle(label, "line", color=col, lw=lw, ls=ls, marker=None, ms=0)
 
     def axvline(self, x: float, color=None, ls: str = "-", lw: float = 1.5, label: str | None = None, zorder=2, **_):
         """A vertical line across the axes at ``x`` [data units]; ``lw`` [pt]."""
         col = colour(color, "#1f77b4")
         self._extent([x], ())
         self._add("vline", zorder, float(x), col, lw, ls)
-        handle = _Handle(label or "", "line", color=col, lw=lw, ls=ls, marker=None, ms=0)
-        if label:
-            self.handles.append(handle)
-        return handle
+        return self._handle(label, "line", color=col, lw=lw, ls=ls, marker=None, ms=0)
 
     def axvspan(self, x0: float, x1: float, color=None, alpha: float = 1.0, label: str | None = None, **_):
         """A shaded band from ``x0`` to ``x1`` [data units] across the axes' height."""
         col = colour(color, "#1f77b4")
         self._extent([x0, x1], ())
         self._add("vspan", 1, float(x0), float(x1), col, alpha)
-        handle = _Handle(label or "", "patch", fill=col, alpha=alpha)
-        if label:
-            self.handles.append(handle)
-        return handle
+        return self._handle(label, "patch", fill=col, alpha=alpha)
 
     def rectangle(
         self,
@@ -390,10 +382,7 @@ class Axes:
     ):
         """An unfilled (or filled) rectangle in data coordinates (matplotlib: ``add_patch(Rectangle(...))``)."""
         self._add("rect", zorder, x, y, width, height, colour(edgecolor), ls, lw, colour(facecolor, "none"))
-        handle = _Handle(label or "", "line", color=colour(edgecolor), lw=lw, ls=ls, marker=None, ms=0)
-        if label:
-            self.handles.append(handle)
-        return handle
+        return self._handle(label, "line", color=colour(edgecolor), lw=lw, ls=ls, marker=None, ms=0)
 
     def bar(self, x, height, width: float = 0.8, color=None, label: str | None = None, **_):
         """Bars centred at ``x`` of ``height`` and ``width`` [data units], from 0."""
@@ -403,10 +392,7 @@ class Axes:
         if len(x):
             self._extent(np.concatenate([x - width / 2, x + width / 2]), np.concatenate([h, [0.0]]))
             self._add("bars", 1, x, h, width, col)
-        handle = _Handle(label or "", "patch", fill=col, alpha=1.0)
-        if label:
-            self.handles.append(handle)
-        return handle
+        return self._handle(label, "patch", fill=col, alpha=1.0)
 
     def legend_patch(self, label: str, color) -> _Handle:
         """A legend entry with a filled square key and no artist (matplotlib: an empty Rectangle patch)."""
@@ -433,22 +419,8 @@ class Axes:
     ):
         """Text at data coordinates, or axes fractions with ``transform=ax.transAxes``."""
         where = "axes" if transform == "axes" else "data"
-        self._add(
-            "text",
-            zorder,
-            where,
-            float(x),
-            float(y),
-            str(s),
-            ha,
-            va,
-            fontsize,
-            colour(color),
-            weight,
-            rotation,
-            bbox is not None,
-            wrap,
-        )
+        args = (where, float(x), float(y), str(s), ha, va, fontsize, colour(color), weight, rotation, bbox is not None)
+        self._add("text", zorder, *args, wrap)
 
     def annotate(
         self,
@@ -466,20 +438,8 @@ class Axes:
     ):
         """Text at ``xytext`` (data, "offset points" from ``xy`` or "axes fraction"), with an optional line
         or arrow to ``xy`` (``arrowprops``: ``arrowstyle`` "-", "->" or "<->", ``color``, ``lw``)."""
-        self._add(
-            "annotate",
-            3,
-            str(text),
-            tuple(map(float, xy)),
-            xytext,
-            textcoords,
-            arrowprops,
-            fontsize,
-            colour(color),
-            ha,
-            va,
-            weight,
-        )
+        args = (str(text), tuple(map(float, xy)), xytext, textcoords, arrowprops, fontsize, colour(color), ha, va)
+        self._add("annotate", 3, *args, weight)
 
     def hover(self, x, y, texts) -> None:
         """Invisible hover targets: each point's ``texts`` entry shows as its tooltip (an SVG ``<title>``)."""
@@ -855,18 +815,9 @@ class Axes:
         return [hd for hd in (handles if handles is not None else self.handles) if hd.get_label()]
 
     def _draw_legend(self, out, handles, loc, fontsize, framealpha, title, title_fontsize, anchor, ncol) -> None:
-        x0, y0, w, h = self.box
+        box = tuple(self.box)
         draw_legend(
-            out,
-            self._legend_entries(handles),
-            (x0, y0, w, h),
-            loc,
-            fontsize,
-            framealpha,
-            title,
-            title_fontsize,
-            anchor,
-            ncol,
+            out, self._legend_entries(handles), box, loc, fontsize, framealpha, title, title_fontsize, anchor, ncol
         )
 
 
@@ -1032,29 +983,13 @@ def _marker(kind: str, x: float, y: float, size: float, fill: str, edge: str, lw
     shapes = {
         "D": [(0, -1), (0.7, 0), (0, 1), (-0.7, 0)],
         "^": [(0, -1), (0.87, 0.5), (-0.87, 0.5)],
-        "*": [
-            (
-                math.sin(k * math.pi / 5) * (1 if k % 2 == 0 else 0.4),
-                -math.cos(k * math.pi / 5) * (1 if k % 2 == 0 else 0.4),
-            )
-            for k in range(10)
-        ],
-        "X": [
+        "*": [(math.sin(k * math.pi / 5) * r_, -math.cos(k * math.pi / 5) * r_) for k, r_ in enumerate([1, 0.4] * 5)],
+        "X": [  # a plus sign of arms 1 long and 0.6 wide, turned by 45°
             (a * math.cos(t) - b * math.sin(t), a * math.sin(t) + b * math.cos(t))
             for t in (math.pi / 4,)
-            for a, b in (
-                (1, 0.3),
-                (0.3, 0.3),
-                (0.3, 1),
-                (-0.3, 1),
-                (-0.3, 0.3),
-                (-1, 0.3),
-                (-1, -0.3),
-                (-0.3, -0.3),
-                (-0.3, -1),
-                (0.3, -1),
-                (0.3, -0.3),
-                (1, -0.3),
+            for a, b in zip(
+                (1, 0.3, 0.3, -0.3, -0.3, -1, -1, -0.3, -0.3, 0.3, 0.3, 1),
+                (0.3, 0.3, 1, 1, 0.3, 0.3, -0.3, -0.3, -1, -1, -0.3, -0.3),
             )
         ],
     }

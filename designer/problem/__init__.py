@@ -46,7 +46,6 @@ from designer.problem._core import (
 )
 from designer.problem._examples import example_names, example_problem, example_text
 from designer.problem._loader import (
-    check_utf8,
     load_problem,
     problem_argument,
     problem_files,
@@ -84,7 +83,6 @@ __all__ = [
     "example_names",
     "example_problem",
     "example_text",
-    "check_utf8",
     "family_of",
     "load_problem",
     "problem_argument",

@@ -72,30 +72,6 @@ def problem_files(where: str | Path = "problems") -> list[Path]:
     return files
 
 
-_WIDE_MARKS = (
-    (b"\xff\xfe\x00\x00", "UTF-32"),
-    (b"\x00\x00\xfe\xff", "UTF-32"),
-    (b"\xff\xfe", "UTF-16"),
-    (b"\xfe\xff", "UTF-16"),
-)
-"""Byte-order marks of the wide Unicode encodings, longest first (UTF-32 LE starts as UTF-16 LE does)."""
-
-
-def check_utf8(path: str | Path, kind: str = "problem file") -> None:
-    """ProblemError (one line) when the file at ``path`` starts with a UTF-16 or UTF-32 byte-order mark: such
-    a file is text, but not UTF-8 (Windows editors offer "Unicode"); said so instead of a decoding error."""
-    try:
-        with open(path, "rb") as f:
-            head = f.read(4)
-    except OSError:
-        return  # read_input_text says why
-    for mark, name in _WIDE_MARKS:
-        if head.startswith(mark):
-            raise ProblemError(
-                f"{path}: {name} text (it starts with a {name} byte-order mark); save the {kind} as UTF-8"
-            )
-
-
 MAX_PROBLEM_BYTES = 2**20
 """A problem file is a few kB of TOML; a larger one (or an endless one such as /dev/zero) is refused unread."""
 

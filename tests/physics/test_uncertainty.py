@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from scipy.special import ndtri, stdtrit
 
+from conftest import first_order_probability
 from designer.physics import uncertainty as U
 
 
@@ -47,7 +48,7 @@ def test_monte_carlo_at_the_bound_is_at_most_alpha(design):
     p, se = _mc(t, i, b, c, 1250.0, v_q, u, samples=200_000, seed=4242)
     assert se <= 0.001
     assert p <= u.probability + 2 * se
-    assert U.shimmy_probability_first_order(t, i, b, c, 1250.0, v_q, u) == pytest.approx(0.05, abs=1e-5)
+    assert first_order_probability(t, i, b, c, 1250.0, v_q, u) == pytest.approx(0.05, abs=1e-5)
 
 
 def test_reported_monte_carlo_reaches_its_standard_error():
@@ -224,7 +225,7 @@ def test_first_order_probability_controls_the_bound():
     t, i, b, c, k, d = _default_recommendation()
     law = U.data_law()
     v_q = float(U.shimmy_speed_quantile(t, i, b, c, k, law, diameter=d))
-    assert U.shimmy_probability_first_order(t, i, b, c, k, v_q, law, diameter=d) == pytest.approx(0.05, abs=1e-5)
+    assert first_order_probability(t, i, b, c, k, v_q, law, diameter=d) == pytest.approx(0.05, abs=1e-5)
     assert U.shimmy_probability_exact(t, i, b, c, k, v_q, law, diameter=d) < 0.05
 
 

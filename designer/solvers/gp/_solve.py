@@ -194,24 +194,12 @@ def _solve_continuous(
             duals = fam.duals(values) if _last_solution_is(fam, values) else {}
             if best is None or j < best[2] - 1e-12 * abs(j):
                 best = (status, values, j, iterations, duals)
-        if best is None:
-            rows.append(dict(family=fam.name, exact=fam.exact, status="infeasible", solves=fam.solves))
-            continue
-        status, values, j, iterations, duals = best
-        design = fam.design(values)
-        rows.append(
-            dict(
-                family=fam.name,
-                exact=fam.exact,
-                status=status,
-                solves=fam.solves,
-                design=design,
-                gp_objective=j,
-                objective=exact_objective(problem, design, weights),
-                iterations=iterations,
-                duals=duals or {},
-            )
-        )
+        row = dict(family=fam.name, exact=fam.exact, status="infeasible", solves=fam.solves)
+        if best is not None:
+            row["status"], values, j, row["iterations"], duals = best
+            row["design"] = design = fam.design(values)
+            row.update(gp_objective=j, objective=exact_objective(problem, design, weights), duals=duals or {})
+        rows.append(row)
     return rows
 
 
@@ -282,15 +270,11 @@ def solve_gp(
     s = h / design.diameter
     truncation = float(threshold_series_remainder_bound(s, order) / threshold_force_ratio(design.diameter, h))
     return GPResult(
-        design=design,
-        objective=row["objective"],
-        gp_objective=row["gp_objective"],
-        family=row["family"],
-        exact=row["exact"],
-        iterations=row["iterations"],
-        duals=row["duals"],
+        **{
+            k: row[k]
+            for k in ("design", "objective", "gp_objective", "family", "exact", "iterations", "duals", "status")
+        },
         truncation_error=truncation,
-        status=row["status"],
         families=families,
         wheel=wheel,
         problem=variant,
