@@ -31,6 +31,8 @@ _LAZY = {
     "evaluate": "designer.model",
     "performance": "designer.model",
     "Uncertainty": "designer.physics.uncertainty",
+    "PowerLaw": "designer.physics.inertia",
+    "Fixed": "designer.physics.inertia",
     "Problem": "designer.problem",
     "load_problem": "designer.problem",
     "problem_from_dict": "designer.problem",

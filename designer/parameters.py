@@ -221,6 +221,15 @@ CONSTANT_TABLE: tuple[Parameter, ...] = (
 # fmt: on
 """The model constants: fixed quantities of a problem."""
 
+SURFACES = ("tile", "carpet")
+"""The floors of the turning model (Fig. 7): the choices of ``conditions.surface``."""
+
+MODES = ("chair", "pivot")
+"""The turning modes (the chair turned in place, a non-rolling wheel): the choices of ``conditions.turning_mode``."""
+
+MASS_RANGE = (1.0, 2000.0)
+"""Mass of the user plus the chair [kg] the problem file and the fleet table accept (0.1 kg to 2 t)."""
+
 # --------------------------------------------------------------------------- quantities of an evaluated caster
 # What :func:`designer.model.evaluate` gives for each caster besides its design (the fields of ``Casters`` and
 # ``Caster``), in the order the tables show them.  A new quantity is one entry here and one line in the

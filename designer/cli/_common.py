@@ -6,12 +6,14 @@ import json
 import os
 import sys
 
+from designer import Fixed, PowerLaw
 from designer.cli._terminal import fit
 from designer.jsonsafe import finite, resolved_numbers, stamped
 from designer.errors import InputError
 from designer.output import FileKind, check_file, check_folder
 from designer.units import parse_quantity_text
 from designer.parameters import PARAMETERS
+from designer.problem import INERTIA_RANGE
 from designer.units import outside_range
 
 
@@ -135,6 +137,20 @@ def ranged_option(value: str | None, entry: str, option: str, default=None, posi
             outside_range(option, value, number, low, high, p.dimension) + (f" ({p.hint})" if p.hint else "")
         )
     return number
+
+
+def inertia_option(text: str | None):
+    """The wheel's inertia model of ``--inertia`` [kg·m²]: a measured wheel (:class:`designer.Fixed`) within the
+    problem file's INERTIA_RANGE (as designer fix takes it), or Table 1's power law of d when not given."""
+    if text is None:
+        return PowerLaw()
+    value = quantity_option(text, "inertia", "--inertia")
+    if not INERTIA_RANGE[0] <= value <= INERTIA_RANGE[1]:
+        raise InputError(
+            f"--inertia {text}: must be between {INERTIA_RANGE[0]:g} and {INERTIA_RANGE[1]:g} kg·m² "
+            "(Table 1: 0.00026 to 0.0046)"
+        )
+    return Fixed(value)
 
 
 SEED_MAX = 2**32 - 1

@@ -3,25 +3,18 @@
 from __future__ import annotations
 
 import math
-
-from designer.cli._common import choice_option, print_json, quantity_option
-from designer.cli._terminal import console as terminal_console
-from designer.data.paper import INCH
-from designer.errors import InputError
-from designer.model import Conditions, Design
-from designer.display import MISSING, percent, shown
-from designer.parameters import OUTPUT_TABLE, OUTPUTS, PARAMETERS, Parameter
-from designer.units import written_size
-from designer.units import COMMON_UNITS
-from designer.physics.inertia import Fixed, PowerLaw
-from designer.physics.turning import DEFAULT_TURNING, MODES, SURFACES
-from designer.model import check_design
-from designer.problem import INERTIA_RANGE, PHYSICAL_RANGE
 import warnings
-from designer.studies.dynamics.limit_cycles import knock_safe_speed
-from designer.studies.checks import knock_safe_table1_error
-from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sources
+
 import designer
+from designer import Conditions, Design, knock_safe_speed
+from designer.cli._common import choice_option, inertia_option, print_json, quantity_option, ranged_option
+from designer.cli._terminal import console as terminal_console
+from designer.errors import InputError
+from designer.display import MISSING, percent, shown
+from designer.parameters import MODES, OUTPUT_TABLE, OUTPUTS, PARAMETERS, SURFACES, Parameter
+from designer.units import COMMON_UNITS, INCH, written_size
+from designer.problem import PHYSICAL_RANGE
+from designer.studies.checks import knock_safe_table1_error
 
 
 LBF, MPH = COMMON_UNITS["lbf"][1], COMMON_UNITS["mph"][1]
@@ -77,9 +70,8 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
                 f"--{name} {given!r} ({value:g} {'N·m/rad' if name == 'damping' else 'm'}): must be "
                 f"{'non-negative' if allow_zero else 'positive'}"
             )
-    design = Design(**values)
-    check_design(design, "--", error=InputError, given={name: getattr(args, name) for name in values})
-    c0 = DEFAULT_TURNING.bare_fork_damping
+    design = Design(**{name: ranged_option(getattr(args, name), name, f"--{name}") for name in values})
+    c0 = PARAMETERS["bare_fork_damping"].default
     if design.damping < c0:
         raise InputError(
             f"--damping {design.damping:g} N·m/rad: below the bare ball-bearing fork's {c0:g} N·m/rad "
@@ -98,15 +90,7 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
             f"--diameter {args.diameter}: must exceed twice the threshold height ({2 * height / INCH:.3g} in); "
             f"d/h = {design.diameter / height:.3g} <= 2 cannot climb the sill (Eq. 4A)"
         )
-    inertia_model = PowerLaw()
-    if args.inertia is not None:
-        value = quantity_option(args.inertia, "inertia", "--inertia")
-        if not INERTIA_RANGE[0] <= value <= INERTIA_RANGE[1]:
-            raise InputError(
-                f"--inertia {args.inertia}: must be between {INERTIA_RANGE[0]:g} and "
-                f"{INERTIA_RANGE[1]:g} kg·m² (Table 1: 0.00026 to 0.0046)"
-            )
-        inertia_model = Fixed(value)
+    inertia_model = inertia_option(args.inertia)
     angle = quantity_option(args.disturbance_angle, "angle", "--disturbance-angle")
     if not 0 < angle < 1.5708:
         raise InputError(f"--disturbance-angle {args.disturbance_angle}: must be between 0 and 90 deg")
@@ -131,7 +115,8 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        values = dict(designer.evaluate(design, conditions, speed, risk=speed))
+        caster = designer.evaluate(design, conditions, speed, risk=speed)
+    values = dict(caster, risk_law=caster.risk_law)  # and where the risk comes from (None without a speed)
     values["warnings"] = [str(w.message) for w in caught]
     values["sources"] = {  # where the load and the sill came from: shown beside them
         "load": "--load" if args.load else "default: the paper's test load (App. C)",
@@ -239,21 +224,8 @@ def _results(design, conditions, values: dict, speed: float | None, knock_safe: 
         out["shimmy_margin"] = values["critical_speed"] - speed
         out["stable_at_target"] = values["critical_speed"] >= speed
         out["growth_rate"] = values["growth_rate"]
-        sources = law_sources(
-            design.trail,
-            values["inertia"],
-            design.groove,
-            design.damping,
-            conditions.slip_coefficient,
-            Uncertainty(),
-            diameter=None if values["measured"] else design.diameter,
-        )
-        out["risk"] = {
-            "probability": values["shimmy_probability"],
-            "se": values["shimmy_probability_se"],
-            "sources": sources,
-            "dominant": dominant_sentence(sources),
-        }
+        out["risk"] = {"probability": values["shimmy_probability"], "se": values["shimmy_probability_se"]}
+        out["risk"].update(values["risk_law"])  # its sources, each with its share, and the dominant one
     if knock_safe:  # simulated, about 1-2 s: only on request
         theta0 = conditions.disturbance_angle
         with warnings.catch_warnings():  # the same extrapolation as the evaluation's, said once

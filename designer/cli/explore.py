@@ -5,12 +5,12 @@ from __future__ import annotations
 import logging
 from pathlib import Path
 
+import designer
 from designer.cli._terminal import console as terminal_console
 from designer.cli._common import PROBLEM_HELP, SEED_MAX, check_output_folder, count_option, eprint, print_json
-from designer.data.paper import INCH
 from designer.errors import QuietAfterInterrupt
 from designer.parameters import OUTPUTS, VARIABLE_TABLE
-from designer.problem import load_problem
+from designer.units import INCH
 
 EXPLORE_FILES = ("explore.csv", "explore.json")
 """What ``designer explore`` writes into --out (explore.json marks a folder it wrote before); nothing else."""
@@ -60,21 +60,21 @@ MAX_POPULATION = 10_000
 
 
 def run(args) -> int:
-    from designer.studies.explore import MAX_TRIALS, MAX_WORKERS, explore, parse_storage, removed_if_failed
+    from designer.studies.explore import MAX_TRIALS, MAX_WORKERS, parse_storage, removed_if_failed
 
     count_option(args.population, "--population", 2, MAX_POPULATION)
     count_option(args.seed, "--seed", 0, SEED_MAX)
     count_option(args.trials, "--trials", 1, MAX_TRIALS)  # named as the option (the API names its argument)
     count_option(args.workers, "--workers", 1, MAX_WORKERS)
     spec = parse_storage(args.storage)  # exit 6 for a malformed URL or an in-memory SQLite, before the problem is read
-    problem = load_problem(args.problem)
+    problem = designer.load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / problem.name
     # before the study, not after it
     check_output_folder(out, owned=EXPLORE_FILES, command="designer explore")
     # after Ctrl-C, optuna's "Trial N failed ... KeyboardInterrupt" tracebacks are dropped: one line says it
     logging.getLogger("optuna.study._optimize").addFilter(_QUIET)
     with removed_if_failed(spec):  # a storage file made by this run and left empty by a failure is removed
-        result = _explore(explore, problem, args)
+        result = _explore(designer.explore, problem, args)
     csv_path, json_path = result.write(out)
     for note in result.warnings:
         eprint(f"designer: note: {note}")

@@ -6,11 +6,11 @@ import math
 
 from designer.cli._terminal import console as terminal_console
 from designer.cli._common import PROBLEM_HELP, print_json, quantity_option, ranged_option
-from designer.studies.retrofit import ONSET_SCATTER, fix, parse_current
+from designer import fix, load_problem
+from designer.studies.retrofit import ONSET_SCATTER, parse_current
 from designer.display import percent, shown
 from designer.errors import InputError
 from designer.parameters import OUTPUTS
-from designer.problem import load_problem
 from designer.studies.spec import PART_LABELS, limit_shown
 from designer.units import written_size
 

@@ -32,7 +32,8 @@ from designer.studies.fleet import (
     write_fleet_csv,
 )
 from designer.errors import InputError
-from designer.problem import example_problem, load_problem, tolerances_option
+from designer import example_problem, load_problem
+from designer.problem import tolerances_option
 from designer.display import shown
 from designer.units import written_size
 

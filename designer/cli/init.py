@@ -14,12 +14,12 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
+from designer import load_problem, problem_from_toml
 from designer.cli._common import choice_option, quantity_option, ranged_option
 from designer.errors import DesignerError, InputError, OutputError
-from designer.physics.turning import SURFACES
-from designer.model import MASS_RANGE, caster_load
 from designer.output import FileKind, check_file, write_file
-from designer.problem import REPORT_UNITS, load_problem, problem_from_toml
+from designer.parameters import MASS_RANGE, SURFACES
+from designer.problem import REPORT_UNITS
 from designer.units import INCH
 
 NEW_FILE = FileKind("a new file", new_only=True)
@@ -99,13 +99,13 @@ def run(args) -> int:
     interactive = sys.stdin is not None and sys.stdin.isatty() and not args.defaults
     answers = _ask(args) if interactive else _answers(vars(args))
     text = problem_text(answers, path.stem)
-    _check(text, path)
+    load = _check(text, path).conditions.load  # L = m g f / 2 of the loader when given the mass
     write_file(path, text, "PATH", example="my-chair.toml", kind=NEW_FILE)
     if answers.load is not None:
         print(f"wrote {path}: {answers.load:.1f} N per front caster")
     else:
         f = answers.front_fraction
-        print(f"wrote {path}: {float(caster_load(answers.mass, f)):.1f} N per front caster = m g f / 2")
+        print(f"wrote {path}: {load:.1f} N per front caster = m g f / 2")
         print(f"  with m = {answers.mass:g} kg (user plus chair), front fraction f = {f:g}")
         if not interactive and args.front_fraction is None:
             low, high = FRONT_FRACTION_TYPICAL
@@ -330,9 +330,9 @@ def problem_text(a: Answers, name: str) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _check(text: str, path: Path) -> None:
-    """InputError (exit 2) if the problem loader refuses ``text``: nothing is written then."""
+def _check(text: str, path: Path):
+    """The problem of ``text``, or InputError (exit 2) if the problem loader refuses it: nothing is written then."""
     try:
-        problem_from_toml(text, source=str(path), default_name=path.stem)
+        return problem_from_toml(text, source=str(path), default_name=path.stem)
     except DesignerError as exc:
         raise InputError(f"the answers do not make a valid problem: {exc}") from None

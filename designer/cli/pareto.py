@@ -19,9 +19,8 @@ from pathlib import Path
 from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
 
 from designer.errors import InputError
-from designer.problem import load_problem
-from designer.problem import POINTS_RANGE
-from designer.problem import problem_files
+from designer import load_problem
+from designer.problem import POINTS_RANGE, problem_files
 from types import SimpleNamespace
 
 from designer.display import quantity, shown

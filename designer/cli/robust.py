@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from designer.problem import load_problem
+from designer import load_problem
 from designer.errors import InputError
 from designer.pipeline import ROBUST_POINTS, robust_data
 from designer.cli._common import PROBLEM_HELP, check_output_folder

@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import math
 
+import designer
 from designer.cli._terminal import fit, width
 from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
 from designer.errors import InputError
-from designer.physics.scatter import inertia_prediction
-from designer.studies.recommend import recommend, weights_meaning
-from designer.problem import check_weights, load_problem
+from designer import load_problem, recommend
+from designer.problem import check_weights
+from designer.studies.recommend import weights_meaning
 from designer.units import written_size
 from designer.display import label, percent, quantity, shown
 from designer.report.text import caster_sentence, plain_rule
@@ -218,8 +219,6 @@ def run(args) -> int:
     problem = load_problem(args.problem)
     if speed is not None:
         problem = problem.replace(target_speed=speed)
-    from designer.studies.optimum import optimise
-
     rec = recommend(problem)  # exit 4 when no stock combination meets the risk bound
     used = [float(w) for w in (weights if weights is not None else problem.weights)]
     if not args.json and not args.verbose:
@@ -231,10 +230,10 @@ def run(args) -> int:
             )
         print(wrapped(text))
         return 0
-    solution = optimise(problem, weights, cross_check=not args.no_cross_check)
+    solution = designer.optimise(problem, weights, cross_check=not args.no_cross_check)
     if args.json:
         data = solution.to_dict()
-        data["extrapolated"] = bool(inertia_prediction().extrapolated(solution.design.diameter))
+        data["extrapolated"] = bool(solution.caster.extrapolated)
         data["recommendation"] = rec.to_dict()
         data["alternatives"] = [a.to_dict() for a in rec.alternatives]
         data["weights"] = used

@@ -3,27 +3,16 @@
 from __future__ import annotations
 
 import math
+import warnings
 
-from designer.cli._common import (
-    check_output_file,
-    end_progress_line,
-    eprint,
-    print_json,
-    progress_line,
-    quantity_option,
-    ranged_option,
-)
+from designer import Conditions, Design, TyreParameters, bifurcation_diagram, knock_safe_speed, simulate
+from designer.cli._common import check_output_file, end_progress_line, eprint, inertia_option, print_json
+from designer.cli._common import progress_line, quantity_option, ranged_option
 from designer.errors import InputError
 from designer.output import PLOT, output_folder
-from designer.model import Conditions, Design
-from designer.physics.inertia import Fixed, PowerLaw
-from designer.physics.tyre import TyreParameters
-from designer.problem import INERTIA_RANGE
-from designer.studies.dynamics.limit_cycles import bifurcation_diagram, knock_safe_speed
-import warnings
 from designer.studies.dynamics.limit_cycles import limit_cycle_study
 from designer.plots.simulation import bifurcation_axes
-from designer.studies.dynamics import onset_speed, scaled_budget, simulate, work_limit
+from designer.studies.dynamics import onset_speed, scaled_budget, work_limit
 from designer.studies import dynamics
 
 
@@ -272,17 +261,6 @@ def _positive(option, text, dimension, allow_zero=False):
     return value
 
 
-def _inertia(text: str) -> float:
-    """--inertia [kg·m²] within the model's INERTIA_RANGE (as evaluate and fix take it)."""
-    value = quantity_option(text, "inertia", "--inertia")
-    if not INERTIA_RANGE[0] <= value <= INERTIA_RANGE[1]:
-        raise InputError(
-            f"--inertia {text}: must be between {INERTIA_RANGE[0]:g} and {INERTIA_RANGE[1]:g} kg·m² "
-            "(Table 1: 0.00026 to 0.0046)"
-        )
-    return value
-
-
 def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
     """Options → (design, conditions, speed, angle, angular velocity, duration); InputError on bad input."""
     for option, value in (("--trail", args.trail), ("--speed", args.speed)):
@@ -311,7 +289,7 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
             f"--angular-velocity {args.angular_velocity}: must be between -{MAX_ANGULAR_VELOCITY:g} and "
             f"{MAX_ANGULAR_VELOCITY:g} rad/s (a knock's θ'_i; App. C estimates 0.7 rad/s)"
         )
-    inertia = PowerLaw() if args.inertia is None else Fixed(_inertia(args.inertia))
+    inertia = inertia_option(args.inertia)
     slip = ranged_option(args.slip_coefficient, "slip_coefficient", "--slip-coefficient")
     duration = None
     if args.duration is not None:

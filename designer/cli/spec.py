@@ -6,8 +6,7 @@ import warnings
 from pathlib import Path
 
 from designer.output import FileKind, write_file
-from designer.problem import load_problem
-from designer.studies.recommend import recommend
+from designer import load_problem, recommend
 from designer.cli._common import PROBLEM_HELP, check_output_file, say
 
 

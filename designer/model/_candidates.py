@@ -36,6 +36,8 @@ from designer.physics.shimmy import (
 from designer.physics.uncertainty import (
     MC_TARGET_SE,
     Uncertainty,
+    dominant_sentence,
+    law_sources,
     shimmy_probability_exact_many,
     shimmy_probability_mc_many,
 )
@@ -188,7 +190,7 @@ class Casters(Record):
     def keys(self) -> list[str]:
         """The names of the quantities that hold a value (the optional ones only when computed): the columns, read
         by key as by attribute (``casters["threshold_force"]``)."""
-        own = [f.name for f in fields(self) if f.name != "quantities" and getattr(self, f.name) is not None]
+        own = [f.name for f in fields(self) if f.repr and getattr(self, f.name) is not None]
         return own + list(self.quantities)
 
     def __getitem__(self, key: str) -> Any:
@@ -251,7 +253,7 @@ class Casters(Record):
         """The candidates at ``index`` (a boolean mask or integer indices along the first axis)."""
         taken: dict[str, Any] = {
             name: None if getattr(self, name) is None else np.asarray(self._column(name))[index]
-            for name in [f.name for f in fields(self) if f.name != "quantities"] + list(self.quantities)
+            for name in [f.name for f in fields(self) if f.repr] + list(self.quantities)
         }
         return Casters.of(**taken)
 
@@ -260,7 +262,13 @@ class Casters(Record):
 class Caster(Casters):
     """One evaluated caster (:meth:`Casters.row`, or :func:`evaluate` of one :class:`Design`): the fields of
     :class:`Casters` as Python scalars, also read by key (``caster["threshold_force"]``, ``dict(caster)``), as
-    the dict that ``designer.evaluate`` returned before."""
+    the dict that ``designer.evaluate`` returned before.
+
+    ``risk_law`` (not a column: not in ``keys()``): where the risk comes from, for one :class:`Design` evaluated
+    with ``risk``: ``{"sources": [...], "dominant": sentence}``, each source of the law with its share of the
+    variance of log V_c (:func:`designer.physics.uncertainty.law_sources`); None otherwise."""
+
+    risk_law: Mapping[str, Any] | None = field(default=None, repr=False)
 
     def __len__(self) -> int:
         return 1
@@ -359,7 +367,7 @@ def evaluate(  # long: the docstring documents every argument
     weights : (w_turn, w_threshold): give ``weighted`` = J = w_turn F_turn + w_threshold P [N]
     risk : a speed [m/s] (one, or one per caster) at which to give P(V_c,true < speed) under the risk law
         (``scatter``, default :func:`scatter_of` the conditions): by Monte Carlo with its SE, or by quadrature
-        of the exact law with ``exact=True`` (one caster at a time; SE 0)
+        of the exact law with ``exact=True`` (one caster at a time; SE 0); for one Design also ``risk_law``
     inertia : I_w per caster [kg·m²] (a measured or catalogue wheel); None: ``conditions.inertia(d)``
     measured : whether each caster's I_w was measured (True, False or one flag per caster); default: the
         inertia model's own when ``inertia`` is None (catalogue and fixed wheels measured, the power law not),
@@ -418,7 +426,15 @@ def evaluate(  # long: the docstring documents every argument
         extra["shimmy_probability_se"] = np.where(known, se, np.nan)
     if extra:
         out = replace(out, **extra)
-    return out.row(0) if single else out
+    if not single:
+        return out
+    one = out.row(0)
+    if risk is None:
+        return one
+    wheel = None if one.measured else float(one.diameter)  # where one caster's risk comes from
+    t, i_w, b, c = (float(one[name]) for name in ("effective_trail", "inertia", "groove", "damping"))
+    sources = law_sources(t, i_w, b, c, conditions.slip_coefficient, law, wheel)
+    return replace(one, risk_law={"sources": sources, "dominant": dominant_sentence(sources)})
 
 
 def _columns(designs: Any) -> dict[str, np.ndarray]:

@@ -56,8 +56,8 @@ were written as metres."""
 GRAVITY = 9.80665
 """Standard gravity g [m/s²] (CGPM 1901): the weight m g of the user and the chair."""
 
-MASS_RANGE = (1.0, 2000.0)
-"""Mass of the user plus the chair [kg] the problem file and the fleet table accept (0.1 kg to 2 t)."""
+MASS_RANGE = parameters.MASS_RANGE
+"""Mass of the user plus the chair [kg] the problem file and the fleet table accept (:mod:`designer.parameters`)."""
 
 
 def caster_load(mass: Scalar, front_fraction: Scalar) -> Scalar:

@@ -19,11 +19,8 @@ from dataclasses import dataclass, field
 from designer.data.paper import DISTURBANCE_ANGLE
 from designer.errors import InputError
 from designer.reprs import frozen
-from designer.parameters import default  # the defaults: one table (designer/parameters.py)
+from designer.parameters import MODES as MODES, SURFACES as SURFACES, default  # the choices, the defaults: one table
 from designer.physics.types import Scalar
-
-SURFACES = ("tile", "carpet")
-MODES = ("chair", "pivot")
 
 
 @dataclass(frozen=True)

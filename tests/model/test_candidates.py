@@ -220,6 +220,23 @@ def test_one_design_is_a_caster_read_by_key():
         evaluate(Design(0.06, 8.0, 0.0, 1.3), RISK)
 
 
+def test_one_design_with_risk_says_where_the_risk_comes_from():
+    """evaluate() of one Design with ``risk`` gives the risk law's sources at the caster (law_sources on its
+    trail, I_w, groove, damping and K_s, the wheel by its diameter unless measured) and the dominant one, which
+    designer evaluate renders; not a column (not in keys()), None without risk and for a batch's row."""
+    from designer.physics.uncertainty import dominant_sentence, law_sources
+    from designer.reprs import deep_frozen
+
+    for inertia in (None, 0.0012):
+        one = evaluate(DESIGNS[0], Conditions(), risk=2.5, inertia=inertia)
+        d = None if inertia else DESIGNS[0].diameter
+        sources = law_sources(one.trail, one.inertia, one.groove, one.damping, 1250.0, Uncertainty(), d)
+        assert one.risk_law == deep_frozen({"sources": sources, "dominant": dominant_sentence(sources)})
+        assert "risk_law" not in one.keys() and "risk_law" not in dict(one) and "risk_law" not in one.to_dict()
+    assert evaluate(DESIGNS[0], Conditions()).risk_law is None
+    assert evaluate(DESIGNS, Conditions(), risk=2.5).row(0).risk_law is None
+
+
 def test_feasibility_is_g_within_the_one_tolerance():
     """feasible <=> every g <= FEASIBILITY_TOLERANCE: a caster whose V_q is 2 tolerances short of V_req fails,
     one half a tolerance short passes, and violation() is the sum of the positive g."""
