@@ -38,14 +38,15 @@ def _begin(parent: int) -> None:
 
 
 def front_job(problem):
-    """(designer.pareto_front(problem), its CPU seconds) in the helper, warnings off as in the studio's view."""
+    """(designer.pareto_front(problem), its CPU seconds) in the helper, warnings off as in the studio's view; no
+    knee search (nothing of the studio reads it: :data:`designer.studio.view.KNEE`)."""
     from designer.studies.front import pareto_front  # casadi: loaded in the helper when its first job runs
 
     c0 = time.process_time()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         with np.errstate(all="ignore"):
-            front = pareto_front(problem)
+            front = pareto_front(problem, knee=False)
     return front, time.process_time() - c0
 
 

@@ -107,6 +107,11 @@ FRONT_INDEPENDENT = (
 exploration's choices."""
 
 
+KNEE = False
+"""Whether the studio's fronts search their knee: nothing of the studio reads it (the chart marks the recommendation;
+"Write report" computes its own report as ``designer pareto`` does), and the search is half a front's time."""
+
+
 def front_key(problem) -> str:
     """What a front of ``problem`` depends on: every field of the problem but :data:`FRONT_INDEPENDENT` (the
     conditions with the risk bound, the target speed and margin, the bounds, the swept-radius limit, the number
@@ -157,7 +162,7 @@ def _front(problem, computed=None):
     if front is None:
         front = computed
     if front is None:
-        front = _quiet(pareto_front, problem)
+        front = _quiet(pareto_front, problem, knee=KNEE)
     _FRONTS[key] = front
     while len(_FRONTS) > _CACHE_SIZE:
         _FRONTS.popitem(last=False)
