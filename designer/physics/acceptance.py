@@ -442,58 +442,71 @@ def friction_moment(damping: float, disturbance_angle: float) -> float:
     return damping * disturbance_angle
 
 
+def exact_speed_quantiles(
+    casters: list[LawCaster],
+    uncertainty: Uncertainty,
+    prediction: InertiaPrediction | None = None,
+    guesses: list[float | None] | None = None,
+) -> Array:
+    """The speed reached with probability 1 − α of each caster: the V_q at which the exact law gives
+    P(V_c,true < V_q) = α [m/s], all casters searched together.
+
+    The exact law's α-quantile of V_c,true (:func:`~designer.physics.uncertainty.shimmy_probability_exact_many`,
+    the batched quadrature, equal to the one-caster law to about 1e-12), found by
+    :func:`designer.physics.roots.bracketed_roots` on Φ⁻¹(P) − Φ⁻¹(α) in log V (to 1e-10 in log V), each bracket
+    grown from its ``guesses`` entry (the risk bound's V_q, which lies just below the quantile: 4–6 quadratures)
+    or from Eq. 7's V_c until it holds the root.  Not the risk bound's V_q of
+    :func:`~designer.physics.uncertainty.shimmy_speed_quantile`, which is a conservative bound (first order in c_f
+    and K_s, its fit shifted up): the solvers constrain that one; this one is the number the tool prints as "speed
+    reached with probability 1 − α".  0 where Eq. 7's V_c is zero.
+    """
+    n = len(casters)
+    fields = ("trail", "inertia", "groove", "damping", "slip_coefficient")
+    t, i, b, c, k = (np.array([getattr(x, f) for x in casters], dtype=float) for f in fields)
+    d = np.array([np.nan if x.diameter is None else x.diameter for x in casters], dtype=float)
+    live = np.flatnonzero((t > 0) & ((c > 0) | (b > 0)))
+    out = np.zeros(n)
+    if not live.size:
+        return out
+    target = probit(float(uncertainty.probability))
+
+    def excess(log_v: Array, rows: Any) -> Array:
+        r = live[rows]
+        p = shimmy_probability_exact_many(
+            t[r], i[r], b[r], c[r], k[r], np.exp(log_v), uncertainty, diameter=d[r], prediction=prediction
+        )
+        return probits(p) - target
+
+    every = np.arange(live.size)
+    guess = np.array([np.nan if g is None or not g > 0 else g for g in (guesses or [None] * n)], dtype=float)[live]
+    v_c = np.asarray(critical_shimmy_speed(t[live], i[live], b[live], c[live], k[live]), dtype=float)
+    given = np.isfinite(guess)
+    lo = np.where(given, np.log(np.where(given, guess, 1.0)) - 0.002, np.log(v_c) - 1.0)
+    hi = np.where(given, np.log(np.where(given, guess, 1.0)) + 0.01, np.log(v_c))
+    step = np.where(given, 0.05, 1.0)
+    f_lo, f_hi = excess(lo, every), excess(hi, every)
+    for _ in range(60):  # P rises with V: lower lo until P < α (the step doubling), then raise hi until P > α
+        if not (bad := np.flatnonzero(f_lo >= 0)).size:
+            break
+        lo[bad], step[bad] = lo[bad] - step[bad], 2 * step[bad]
+        f_lo[bad] = excess(lo[bad], bad)
+    for _ in range(60):
+        if not (bad := np.flatnonzero(f_hi <= 0)).size:
+            break
+        hi[bad], step[bad] = hi[bad] + step[bad], 2 * step[bad]
+        f_hi[bad] = excess(hi[bad], bad)
+    out[live] = np.exp(bracketed_roots(excess, lo, hi, xtol=1e-10, rtol=0.0, fa=f_lo, fb=f_hi))
+    return out
+
+
 def exact_speed_quantile(
     caster: LawCaster,
     uncertainty: Uncertainty,
     prediction: InertiaPrediction | None = None,
     guess: float | None = None,
 ) -> float:
-    """The speed reached with probability 1 − α: the V_q at which the exact law gives P(V_c,true < V_q) = α [m/s].
-
-    The exact law's α-quantile of V_c,true (:func:`~designer.physics.uncertainty.shimmy_probability_exact_many`,
-    the batched quadrature, equal to the one-caster law to about 1e-12), found by :func:`designer.physics.roots.bracketed_root` on
-    Φ⁻¹(P) − Φ⁻¹(α) in log V (to 1e-10 in log V), the bracket grown from ``guess`` (the risk bound's V_q, which lies
-    just below the quantile: 4–6 quadratures) or from Eq. 7's V_c until it holds the root.  Not the risk bound's
-    V_q of :func:`~designer.physics.uncertainty.shimmy_speed_quantile`, which is a conservative bound (first order
-    in c_f and K_s, its fit shifted up): the solvers constrain that one; this one is the number the tool prints as
-    "speed reached with probability 1 − α".  0 when Eq. 7's V_c is zero.
-    """
-    c = caster
-    if c.trail <= 0 or (c.damping <= 0 and c.groove <= 0):
-        return 0.0
-    alpha = float(uncertainty.probability)
-    v_c = float(critical_shimmy_speed(c.trail, c.inertia, c.groove, c.damping, c.slip_coefficient))
-    seen: dict[float, float] = {}
-
-    def excess(log_v: float) -> float:
-        if log_v not in seen:
-            p = shimmy_probability_exact_many(
-                c.trail,
-                c.inertia,
-                c.groove,
-                c.damping,
-                c.slip_coefficient,
-                math.exp(log_v),
-                uncertainty,
-                diameter=c.diameter,
-                prediction=prediction,
-            )
-            seen[log_v] = probit(float(p)) - probit(alpha)
-        return seen[log_v]
-
-    if guess is not None and guess > 0:
-        lo, hi, step = math.log(guess) - 0.002, math.log(guess) + 0.01, 0.05
-    else:
-        lo, hi, step = math.log(v_c) - 1.0, math.log(v_c), 1.0
-    for _ in range(60):  # P rises with V: lower lo until P < α, raise hi until P > α
-        if excess(lo) < 0:
-            break
-        lo, step = lo - step, 2 * step
-    for _ in range(60):
-        if excess(hi) > 0:
-            break
-        hi, step = hi + step, 2 * step
-    return math.exp(bracketed_root(excess, lo, hi, xtol=1e-10, rtol=0.0))
+    """The speed reached with probability 1 − α of one caster [m/s]: :func:`exact_speed_quantiles` of one."""
+    return float(exact_speed_quantiles([caster], uncertainty, prediction, [guess])[0])
 
 
 def measured_probabilities(

@@ -285,3 +285,33 @@ def test_joint_boxes_searched_together_equal_each_searched_alone():
     speeds = np.array([2.2, 2.5, 2.9])
     got = measured_probabilities(0.05, 1e-3, 0.01, 1.3, ks, speeds, law)
     assert np.array_equal(got, [measured_probabilities(0.05, 1e-3, 0.01, 1.3, ks, v, law) for v in speeds])
+
+
+def test_speed_quantiles_found_together_equal_each_found_alone():
+    """exact_speed_quantiles (one bracketed search for many casters) gives each of 12 casters (wheels known by their
+    diameter and measured ones, with and without the solvers' V_q as a start, one without trail) the quantile it gets
+    alone, to the search's 1e-10 in log V, and P(V_c,true < V_q) = α there by the 32-node quadrature to 1e-4."""
+    from designer.physics.acceptance import LawCaster, exact_speed_quantile, exact_speed_quantiles
+
+    problem = load_problem(ROOT / "problems" / "indoor-manual.toml")
+    law, ks = problem.risk, float(problem.conditions.slip_coefficient)
+    rng = np.random.default_rng(43)
+    casters = [
+        LawCaster(
+            trail=0.0 if k == 5 else rng.uniform(0.03, 0.07),
+            inertia=rng.uniform(0.4e-3, 2e-3),
+            groove=rng.uniform(0.0, 0.02),
+            damping=rng.uniform(0.5, 3.0),
+            slip_coefficient=ks,
+            diameter=None if k % 3 == 0 else rng.uniform(0.1, 0.2),
+        )
+        for k in range(12)
+    ]
+    guesses = [None if k % 2 else 2.0 for k in range(12)]
+    together = exact_speed_quantiles(casters, law, guesses=guesses)
+    assert together[5] == 0.0
+    for c, g, q in zip(casters, guesses, together):
+        assert q == pytest.approx(exact_speed_quantile(c, law, guess=g), rel=3e-10, abs=0.0)
+        if q > 0:
+            p = shimmy_probability_exact(c.trail, c.inertia, c.groove, c.damping, ks, q, law, c.diameter, None, 32)
+            assert float(p) == pytest.approx(law.probability, rel=1e-4)

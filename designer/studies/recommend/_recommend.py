@@ -46,7 +46,7 @@ from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sou
 from designer.problem import MAX_SAMPLES, Bound, problem_argument
 from designer.solvers import one_solve_at_a_time
 from designer.studies.recommend._record import Recommendation
-from designer.physics.acceptance import exact_speed_quantile
+from designer.physics.acceptance import exact_speed_quantile, exact_speed_quantiles
 from designer.studies.spec import (
     caster_spec,
     caster_specs,
@@ -196,12 +196,21 @@ def _infeasible_message(problem, table: ScreenedTable | None) -> str:
 
 
 def _record(
-    problem, b: _Buildable, i: int, rule: str, role: str, samples=None, seed=None, wants_spec: bool = True
+    problem,
+    b: _Buildable,
+    i: int,
+    rule: str,
+    role: str,
+    samples=None,
+    seed=None,
+    wants_spec: bool = True,
+    quantile: float | None = None,
 ) -> Recommendation:
     """Candidate ``i`` as a :class:`Recommendation`, with its reported risk: P(shimmy at V_target) by the exact
     law (quadrature) under the problem's risk law (the default scatter when the bound is off, whose V_q it then
     reports too), the Monte Carlo beside it as an independent check; its spec (limits, worst corner) when
-    ``wants_spec`` and it is not the "if measured" variant (:func:`with_spec` adds it later, the same)."""
+    ``wants_spec`` and it is not the "if measured" variant (:func:`with_spec` adds it later, the same).
+    ``quantile``: its speed reached w.p. 1 − α when the caller found it in a batch (:func:`_quantiles`)."""
     u = scatter_of(problem.conditions)
     v = b.values
     design = b.design(i)
@@ -226,7 +235,11 @@ def _record(
     # the speed reached with probability 1 − α: the exact law's quantile (the solvers' V_q is a conservative bound)
     law = problem.risk if problem.risk is not None else u
     bound = v.confident_speed[i] if problem.risk is not None else risk.confident_speed[0]  # the solvers' V_q
-    q = exact_speed_quantile(law_caster(problem, design, inertia, measured), law, guess=float(bound))
+    q = (
+        quantile
+        if quantile is not None
+        else exact_speed_quantile(law_caster(problem, design, inertia, measured), law, guess=float(bound))
+    )
     return Recommendation(
         caster=v.row(i),
         confident_speed=float(q),
@@ -247,6 +260,18 @@ def _record(
         spec=spec,
         **extra,
     )
+
+
+def _quantiles(problem, b: _Buildable, rows: list[int]) -> list[float | None]:
+    """The speed reached w.p. 1 − α of candidates ``rows`` under the problem's risk bound, all found together
+    (:func:`designer.physics.acceptance.exact_speed_quantiles`, each from the solvers' V_q); None each when the
+    problem has no bound (:func:`_record` then finds it under the default scatter, from that law's V_q)."""
+    if problem.risk is None:
+        return [None] * len(rows)
+    v = b.values
+    casters = [law_caster(problem, b.design(i), float(v.inertia[i]), bool(v.measured[i])) for i in rows]
+    found = exact_speed_quantiles(casters, problem.risk, guesses=[float(v.confident_speed[i]) for i in rows])
+    return [float(x) for x in found]
 
 
 def _spec(problem, design: Design, inertia: float, measured: bool, monte_carlo: tuple, p: float):
@@ -390,12 +415,9 @@ def recommend(
             raise _over_cap_error(problem, b, sel)
         raise _corner_error(problem, b, enforced[0])
     rule = rule_text(problem, size, bool(sel["knee"][0]))
-    rec = _record(problem, b, choice, rule, "recommended", samples, seed, False)
-    alts = [
-        _record(problem, b, i, rule, role, samples, seed, False)
-        for i, role in front_roles(b.values.turning_effort, sel)
-        if i != choice
-    ]
+    items = [(choice, "recommended")] + [(i, r) for i, r in front_roles(b.values.turning_effort, sel) if i != choice]
+    q = _quantiles(problem, b, [i for i, _ in items])
+    rec, *alts = [_record(problem, b, i, rule, r, samples, seed, False, q) for (i, r), q in zip(items, q)]
     rec, *alts = _with_specs([rec, *alts], [specs != "none"] + [specs == "all"] * len(alts))
     return dataclasses.replace(
         rec,
