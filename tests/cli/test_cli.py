@@ -501,3 +501,15 @@ def test_run_json_has_risk_spec_if_measured_and_extrapolated(capsys):
     wheels = {round(a["design"]["diameter"] / 0.0254, 6): a["role"] for a in out["alternatives"]}
     assert round(rec["design"]["diameter"] / 0.0254, 6) == 7
     assert wheels == {5: "easiest to turn", 6: "between the ends"}
+
+
+@pytest.mark.parametrize("user, expected", [(None, "1"), ("3", "3")])
+def test_the_command_runs_one_blas_thread_unless_the_user_says_otherwise(user, expected):
+    """The command's process sets OPENBLAS_NUM_THREADS=1 before NumPy loads (its matrices are small: more threads
+    only spin, 0.2 s of CPU on the main job), and a value the user set stands."""
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    if user is not None:
+        env["OPENBLAS_NUM_THREADS"] = user
+    code = "import os, designer.entry as e; e.single_thread_blas(); print(os.environ['OPENBLAS_NUM_THREADS'])"
+    done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == expected
