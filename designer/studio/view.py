@@ -112,6 +112,12 @@ KNEE = False
 "Write report" computes its own report as ``designer pareto`` does), and the search is half a front's time."""
 
 
+IF_MEASURED = False
+"""Whether the studio's recommendation finds its "if measured" variant (:func:`designer.recommend`'s
+``if_measured``): nothing of the studio shows it, and it is a second pass over the stock (about 12 of a key
+press's 35 ms of CPU of the recommendation); "Write report" computes its own as ``designer pareto`` does."""
+
+
 def front_key(problem) -> str:
     """What a front of ``problem`` depends on: every field of the problem but :data:`FRONT_INDEPENDENT` (the
     conditions with the risk bound, the target speed and margin, the bounds, the swept-radius limit, the number
@@ -184,7 +190,7 @@ def _compute_fronts(problem, key):
     away = missing[0] if missing else None
     job = helper.submit(away) if away is not None else None
     # no spec: the chart first; the recommended caster's limits come a moment later (compute_spec)
-    rec = _quiet(recommend, problem, specs="none")
+    rec = _quiet(recommend, problem, specs="none", if_measured=IF_MEASURED)
     out.recommendation = rec
     out.buildable = getattr(rec, "buildable", None)
     fronts = {id(p): _front(p) for p in wanted if p is not away}  # here, while the helper computes its front

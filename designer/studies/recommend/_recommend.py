@@ -370,7 +370,13 @@ SPECS = ("all", "recommended", "none")
 @checked(samples=Count(100, MAX_SAMPLES, optional=True, what="Monte Carlo draws"), seed=SEED)
 @one_solve_at_a_time
 def recommend(
-    problem, samples: int | None = None, seed: int | None = None, *, front=None, specs: str = "all"
+    problem,
+    samples: int | None = None,
+    seed: int | None = None,
+    *,
+    front=None,
+    specs: str = "all",
+    if_measured: bool = True,
 ) -> Recommendation:
     """``designer.recommend``: the caster to build for ``problem``, by the problem's rule.
 
@@ -386,6 +392,9 @@ def recommend(
         recommended caster and every alternative), "recommended" (the alternatives' ``spec`` None) or "none"
         (every ``spec`` None: the studio at each key press, which adds the recommended caster's afterwards with
         :func:`with_spec`, the same spec); every caster has its exact P(shimmy) whatever ``specs``
+    if_measured : whether to find ``Recommendation.if_measured`` (the recommendation for wheels that will be
+        measured: a second pass over the stock, about a third of the time at a key press); False leaves it None
+        (the studio, which does not show it); nothing else changes
 
     Returns
     -------
@@ -425,7 +434,7 @@ def recommend(
         buildable=_buildable_front(problem, b, sel["front"][0]),
         front=front,
         note=_note(problem, rec, size),
-        if_measured=_if_measured(problem, rec, samples, seed),
+        if_measured=_if_measured(problem, rec, samples, seed) if if_measured else None,
         enforced=None if enforced is None else _enforced(problem, b, rec, int(enforced[0]["choice"][0])),
     )
 

@@ -4,6 +4,7 @@ monotonicity in α and V_target; caps; exit 4; the JSON of `designer run`."""
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import json
 import math
@@ -474,3 +475,17 @@ def test_a_spec_added_afterwards_is_the_one_recommend_gives(recs, name):
     assert with_spec(later) is later
     with pytest.raises(InputError, match="specs='some'"):
         recommend(problem, specs="some")
+
+
+@pytest.mark.parametrize("name", ["indoor-manual", "catalog-retrofit"])
+def test_without_if_measured_only_that_variant_is_left_out(recs, name):
+    """recommend(..., if_measured=False) (the studio, which does not show the variant) gives the same record,
+    every number equal, with ``if_measured`` None."""
+    problem, full = recs[name]
+    bare = recommend(problem, specs="none", if_measured=False)
+    assert bare.if_measured is None
+    same = recommend(problem, specs="none")
+    assert {k: v for k, v in bare.to_dict().items() if k != "if_measured"} == {
+        k: v for k, v in same.to_dict().items() if k != "if_measured"
+    }
+    assert dataclasses.replace(bare, if_measured=same.if_measured).to_dict() == same.to_dict()
