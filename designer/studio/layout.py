@@ -91,8 +91,7 @@ def build_layout(name: str, defaults: dict, units: str = "in"):
             dcc.Store(id="rec-pending"),
             dcc.Store(id="rec-go"),
             dcc.Store(id="rec-answer"),
-            # each change of the controls, numbered by the browser, and the controls the answer shown is for
-            dcc.Store(id="request"),
+            # the controls the answer shown is for
             dcc.Store(id="answered"),
             html.H2(f"caster-designer studio: {name}", style={"margin": "4px 0", "fontSize": "1.3em"}),
             _first_controls(defaults),
