@@ -22,7 +22,6 @@ from collections import OrderedDict
 from pathlib import Path
 
 import dash
-import flask
 from dash import ALL, Input, Output, Patch, State, ctx, html, no_update
 from dash.exceptions import PreventUpdate
 
@@ -104,14 +103,7 @@ def create_app(data: dict, name: str, out_dir: Path, debug: bool = False):
     """The Dash app for problem-file ``data`` (dict) named ``name``; saves and reports go to ``out_dir``;
     ``debug``: a failure a callback logs itself carries its traceback (``designer --debug studio``)."""
     defaults = state.control_values(data)
-    app = dash.Dash(
-        __name__,
-        title=f"studio · {name}",
-        update_title=None,
-        serve_locally=True,
-        assets_ignore=".*",
-        hooks={"request_pre": NUMBER_REQUEST},
-    )
+    app = dash.Dash(__name__, title=f"studio · {name}", update_title=None, serve_locally=True, assets_ignore=".*")
     app.index_string = INDEX
     app.layout = build_layout(name, defaults, problem_from_dict(data).units)
     # the card's limits (rec-limits) are in the recommendation panel, which the trade-off's callback returns
@@ -137,10 +129,10 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
     card waits for its limits (computed later: ``pending`` maps it to its problem and key,
     :func:`_limits_callback`), None when the card has them.
 
-    Never a stale answer: the browser numbers each request of this callback as it sends it (the request's
-    :data:`REQUEST_NUMBER`, :data:`NUMBER_REQUEST`); a change that a newer one has overtaken is not computed
-    (the browser has dropped it already), and every answer names the controls it answers (``answered``), so the
-    page says "computing…" while the controls shown differ from the answer's (:func:`_request_callbacks`)."""
+    Never a stale answer: the browser numbers each change of the controls (``request``: ``{"n", "values"}``,
+    :func:`_request_callbacks`); a change that a newer one has overtaken is not computed (the browser has
+    dropped it already), and every answer names the controls it answers (``answered``), so the page says
+    "computing…" while the controls shown differ from the answer's."""
     keys = [c.key for c in state.all_controls()]
     newest = {"n": 0, "generation": 0}  # the newest change the browser numbered; the server's count of answers
 
@@ -159,7 +151,7 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
         Output({"type": "alt-card", "index": ALL}, "children"),
         Output({"type": "alt-card", "index": ALL}, "hidden"),
         Input("url", "search"),
-        Input({"type": "ctl", "key": ALL}, "value"),
+        Input("request", "data"),
         Input("mine-store", "data"),
         State("problem-data", "data"),
         State("front-shown", "data"),
@@ -167,13 +159,14 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
         State("general-error", "children"),
         State({"type": "alt-card", "index": ALL}, "children"),
     )
-    def update(search, values, mine, last, shown, errors_shown, general_shown, buttons_shown):
-        n = _request_number(flask.request.get_json(silent=True))
-        from_url = ctx.triggered_id in (None, "url")
+    def update(search, request, mine, last, shown, errors_shown, general_shown, buttons_shown):
+        n = _request_number(request)
+        from_url = ctx.triggered_id in (None, "url") or not isinstance(request, dict)
         if from_url:
             current = state.from_query(search, defaults)
             values_out = [current[k] for k in keys]
         else:
+            values = request.get("values")
             if not isinstance(values, list) or len(values) != len(keys):
                 raise PreventUpdate
             current = dict(zip(keys, values))
@@ -243,26 +236,9 @@ def _buttons(fronts, shown) -> tuple[list, list]:
     )
 
 
-REQUEST_NUMBER = "studio_request"
-"""The key of a trade-off request's body that holds the browser's number of it (:data:`NUMBER_REQUEST`)."""
-
-NUMBER_REQUEST = (
-    "function (payload) { if (String(payload.output).indexOf('front.figure') >= 0) {"
-    " window.studioRequest = (window.studioRequest || 0) + 1; payload."
-    + REQUEST_NUMBER
-    + " = window.studioRequest; } }"
-)
-"""Dash's ``request_pre`` hook (run in the browser on each callback request before it is sent): it numbers the
-requests of the trade-off callback (the one whose outputs hold ``front.figure``) in the order they leave the
-page.  The number rides in the request's body, so a change of the controls goes to the server at once (a
-clientside callback that numbered the change and passed it on as a second step delayed every request by a
-round of Dash's callback machinery: key press -> request sent 24 ms against 14 ms before it)."""
-
-
-def _request_number(body) -> int:
-    """The number the browser gave a trade-off request (its body's :data:`REQUEST_NUMBER`; 0 for none, or one
-    that is not a whole number)."""
-    n = body.get(REQUEST_NUMBER) if isinstance(body, dict) else None
+def _request_number(request) -> int:
+    """The number the browser gave a change of the controls (0 for none, or one that is not a whole number)."""
+    n = request.get("n") if isinstance(request, dict) else None
     return n if isinstance(n, int) and not isinstance(n, bool) else 0
 
 
@@ -274,9 +250,16 @@ LAST_VALID = "shown: the answer to the last valid values"
 
 
 def _request_callbacks(app) -> None:
-    """In the browser: compare the controls shown with the ones the answer on the page is for (``answered``):
-    while they differ the panel is greyed and the line above the chart says :data:`COMPUTING` (or
-    :data:`LAST_VALID`)."""
+    """In the browser: number each change of the controls (``request``), and compare the controls shown with
+    the ones the answer on the page is for (``answered``): while they differ the panel is greyed and the line
+    above the chart says
+    :data:`COMPUTING` (or :data:`LAST_VALID`)."""
+    app.clientside_callback(
+        "function (values) { window.studioRequest = (window.studioRequest || 0) + 1;"
+        " return {n: window.studioRequest, values: values}; }",
+        Output("request", "data"),
+        Input({"type": "ctl", "key": ALL}, "value"),
+    )
     app.clientside_callback(
         "function (values, answered) {"
         " if (!answered) { return [" + json.dumps(COMPUTING) + ", 'waiting']; }"
@@ -400,8 +383,9 @@ def _digest(trace: dict) -> str:
 def _messages(exc: DesignerError, data: dict, current: dict, defaults: dict, keys: list) -> tuple[list, str]:
     """(message beside each control, general message) for a problem the loader refused or cannot reach."""
     key = getattr(exc, "key", None)
-    if key is None:  # the problem is valid but out of reach: say it beside the control the message names
-        key = state.blame(str(exc))
+    if key is None:  # the problem is valid but out of reach: say it beside the control just moved
+        moved = ctx.triggered_id.get("key") if isinstance(ctx.triggered_id, dict) else None
+        key = moved or state.blame(str(exc))
     messages = state.control_errors(data, current, defaults)
     if not messages:  # only the combination is wrong (e.g. a target out of reach)
         messages = {key: str(exc)}

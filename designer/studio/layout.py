@@ -91,7 +91,8 @@ def build_layout(name: str, defaults: dict, units: str = "in"):
             dcc.Store(id="rec-pending"),
             dcc.Store(id="rec-go"),
             dcc.Store(id="rec-answer"),
-            # the controls the answer shown is for
+            # each change of the controls, numbered by the browser, and the controls the answer shown is for
+            dcc.Store(id="request"),
             dcc.Store(id="answered"),
             html.H2(f"caster-designer studio: {name}", style={"margin": "4px 0", "fontSize": "1.3em"}),
             _first_controls(defaults),

@@ -18,7 +18,7 @@ go = pytest.importorskip("plotly.graph_objects")
 
 from designer.studies.front import pareto_front  # noqa: E402
 from designer.studio import figures, state, view  # noqa: E402
-from designer.studio.app import REQUEST_NUMBER, create_app  # noqa: E402
+from designer.studio.app import create_app  # noqa: E402
 from designer.studio.layout import MAX_CARD_BUTTONS  # noqa: E402
 
 PROBLEM = state.default_problem_path()
@@ -28,8 +28,10 @@ _NUMBER = [0]
 
 
 def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last=None, search="", n=None) -> dict:
-    """POST the trade-off callback as the page does (controls ``values`` in the browser's request number ``n``,
+    """POST the trade-off callback as the page does (controls ``values`` as the browser's change number ``n``,
     default the next one, the URL query ``search``, the chart showing ``shown``)."""
+    if changed.startswith('{"key"'):
+        changed = "request.data"  # a control's change reaches the server as the browser's numbered request
     if n is None:
         _NUMBER[0] += 1
         n = _NUMBER[0]
@@ -59,7 +61,7 @@ def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last
         ],
         "inputs": [
             {"id": "url", "property": "search", "value": search},
-            [{"id": i, "property": "value", "value": values[k]} for i, k in zip(ids, keys)],
+            {"id": "request", "property": "data", "value": {"n": n, "values": [values[k] for k in keys]}},
             {"id": "mine-store", "property": "data", "value": mine},
         ],
         "changedPropIds": [changed],
@@ -70,7 +72,6 @@ def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last
             {"id": "general-error", "property": "children", "value": None},
             [{"id": i, "property": "children", "value": ""} for i in buttons],
         ],
-        REQUEST_NUMBER: n,  # the number the page's request_pre hook gives each trade-off request
     }
     response = client.post("/_dash-update-component", json=body)
     if response.status_code == 204:  # PreventUpdate: nothing sent
