@@ -320,7 +320,7 @@ def joint_limits_many(
     (the nominal I_w [kg·m²]: the power law's at d for a wheel known by its diameter), ``measured`` and
     ``offsets`` (what a tilted stem adds to the fork offset [m]: the law sees T + offset; the box states the trail
     as built); ``uncertainty``: the risk law (the problem's bound, a retrofit's calibrated law) with the problems'
-    one slip coefficient; ``calibration``: k of a calibrated retrofit (the law is at V_req / k).  Each box's scale s
+    one slip coefficient (ValueError for a batch that mixes them: :func:`designer.studies.spec.caster_specs` groups); ``calibration``: k of a calibrated retrofit (the law is at V_req / k).  Each box's scale s
     is the root of Φ⁻¹(P_worst(s)) = Φ⁻¹(α) on [0, s_max) (s_max: where the trail reaches zero, P = 1), by
     :func:`designer.physics.roots.bracketed_roots` for all casters at once; then every caster's 2^k corners are
     evaluated in one call of :func:`measured_probabilities`.
@@ -332,6 +332,8 @@ def joint_limits_many(
     speed = np.array([p.required_speed for p in problems]) / calibration
     alpha = float(uncertainty.probability)
     ks = float(problems[0].conditions.slip_coefficient)
+    if any(float(p.conditions.slip_coefficient) != ks for p in problems):
+        raise ValueError("joint_limits_many: one slip coefficient K_s a batch (the law's linear part depends on it)")
     nominal = np.array([[d.trail, d.groove, d.damping, i] for d, i in zip(designs, inertia)]).reshape(n, 4)
     shapes = [_weights(p, d, i, m, o) for p, d, i, m, o in zip(problems, designs, inertia, measured, offset)]
     w = np.array(

@@ -28,6 +28,11 @@ from designer.children import bind_to_parent
 
 _POOL: ProcessPoolExecutor | None = None
 
+KNEE = False
+"""Whether the studio's fronts (here and in the view) search their knee: nothing of the studio reads it (the chart
+marks the recommendation; "Write report" computes its own report as ``designer pareto`` does), and the search is
+half a front's time."""
+
 
 def _begin(parent: int) -> None:
     """The helper's start.  Ctrl-C reaches every process of the terminal: the server stops, and stops this one.
@@ -38,15 +43,15 @@ def _begin(parent: int) -> None:
 
 
 def front_job(problem):
-    """(designer.pareto_front(problem), its CPU seconds) in the helper, warnings off as in the studio's view; no
-    knee search (nothing of the studio reads it: :data:`designer.studio.view.KNEE`)."""
+    """(designer.pareto_front(problem), its CPU seconds) in the helper, warnings off as in the studio's view; its
+    knee searched only if :data:`KNEE`."""
     from designer.studies.front import pareto_front  # casadi: loaded in the helper when its first job runs
 
     c0 = time.process_time()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         with np.errstate(all="ignore"):
-            front = pareto_front(problem, knee=False)
+            front = pareto_front(problem, knee=KNEE)
     return front, time.process_time() - c0
 
 

@@ -107,11 +107,6 @@ FRONT_INDEPENDENT = (
 exploration's choices."""
 
 
-KNEE = False
-"""Whether the studio's fronts search their knee: nothing of the studio reads it (the chart marks the recommendation;
-"Write report" computes its own report as ``designer pareto`` does), and the search is half a front's time."""
-
-
 IF_MEASURED = False
 """Whether the studio's recommendation finds its "if measured" variant (:func:`designer.recommend`'s
 ``if_measured``): nothing of the studio shows it, and it is a second pass over the stock (about 12 of a key
@@ -168,7 +163,7 @@ def _front(problem, computed=None):
     if front is None:
         front = computed
     if front is None:
-        front = _quiet(pareto_front, problem, knee=KNEE)
+        front = _quiet(pareto_front, problem, knee=helper.KNEE)
     _FRONTS[key] = front
     while len(_FRONTS) > _CACHE_SIZE:
         _FRONTS.popitem(last=False)
