@@ -420,6 +420,7 @@ def _tolerance_price(
     held, without = (result.suggested or {})["count"], suggest_skus(curve, float(units.sum()), max_regret)["count"]
     n = held - without
     cost = f"cost {n} part number{'s' * (n != 1)}" if n > 0 else "cost no part number"
+    cost = f"need {-n} part number{'s' * (n != -1)} fewer" if n < 0 else cost
     why = " (regret is then counted from each chair's best caster that holds)" if n < 0 else ""
     text = f"The tolerances {cost}: {held} with them, {without} without{why}."
     return {"part_numbers": n, "with_tolerances": held, "without_tolerances": without, "sentence": text}
