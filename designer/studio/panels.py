@@ -224,7 +224,9 @@ def numbers_table(n: dict, problem, prefix: str):
     rows += [(key, display.label(key), display.shown(value, key, units)) for key, value in n.get("more", {}).items()]
     return html.Table(
         [
-            html.Tr([html.Td(label), html.Td(value, id=f"{prefix}-{key}", style=CSS["num"])])
+            html.Tr(
+                [html.Td(label, style={"paddingRight": "8px"}), html.Td(value, id=f"{prefix}-{key}", style=CSS["num"])]
+            )
             for key, label, value in rows
         ],
         style={"fontSize": "13px"},
