@@ -33,7 +33,14 @@ def finite(value: Any) -> Any:
     Reports, ``--json`` output and exploration files all pass through this, so
     no NaN or infinity ever reaches a file or a terminal as a number.
     """
-    if isinstance(value, Mapping):  # a dict, or a record's read-only mapping (designer.reprs.FrozenMapping)
+    kind = type(value)
+    if kind is float:  # the common cases first, by exact type: a report holds some 10^5 values
+        return value if math.isfinite(value) else None
+    if kind is str or kind is int or kind is bool or value is None:
+        return value
+    if kind is dict:
+        return {k if type(k) is str else str(k): finite(v) for k, v in value.items()}
+    if isinstance(value, Mapping):  # a record's read-only mapping (designer.reprs.FrozenMapping), other mappings
         return {str(k): finite(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
         return [finite(v) for v in value]
@@ -51,10 +58,11 @@ def finite(value: Any) -> Any:
 def resolved_numbers(value: Any, digits: int = RESOLVED_DIGITS) -> Any:
     """A copy of plain JSON data (:func:`finite`'s output) with every float at ``digits`` significant digits
     (:func:`designer.units.resolved`): 0.1778 for 7 in, not 0.17779999999999999."""
-    if isinstance(value, dict):
-        return {k: resolved_numbers(v, digits) for k, v in value.items()}
-    if isinstance(value, list):
-        return [resolved_numbers(v, digits) for v in value]
-    if type(value) is float:
+    kind = type(value)
+    if kind is float:
         return float(f"{value:.{digits}g}") if math.isfinite(value) else value
+    if kind is dict or (kind is not str and isinstance(value, dict)):
+        return {k: resolved_numbers(v, digits) for k, v in value.items()}
+    if kind is list or (kind is not str and isinstance(value, list)):
+        return [resolved_numbers(v, digits) for v in value]
     return value
