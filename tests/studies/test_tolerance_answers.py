@@ -147,3 +147,24 @@ def test_fix_ranks_only_fixes_that_hold_at_the_worst_corner_when_tolerances_are_
     first = bare.fixes[0]
     corner = caster_corner(problem, first.design, float(first.caster.inertia), bool(first.caster.measured))
     assert not corner.holds
+
+
+def test_fewer_part_numbers_with_the_tolerances_is_said_so_and_the_docs_quote_the_runs():
+    """On the 100-chair example (seed 0) the tolerances need one part number fewer (6 against 7: regret counts from
+    each chair's best caster that holds), said as such, with the separate run without them giving the 7; the
+    sentences docs/inspection.md quotes for this fleet and for the 200-chair example of seed 1 are the program's."""
+    from designer.studies.fleet import example_fleet, fleet_recommendations
+
+    problem = load_problem(ROOT / "problems" / "indoor-manual-tolerances.toml")
+    chairs = example_fleet(100, seed=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        result = fleet_recommendations(chairs, problem, skus="auto", monte_carlo=False)
+        bare = fleet_recommendations(chairs, problem.replace(tolerances=None), skus="auto", monte_carlo=False)
+    sentence = "The tolerances need 1 part number fewer: 6 with them, 7 without"
+    assert bare.suggested["count"] == result.tolerance_price["without_tolerances"] == 7
+    assert result.tolerance_price["part_numbers"] == -1 and result.tolerance_price["sentence"].startswith(sentence)
+    docs = " ".join((ROOT / "docs" / "inspection.md").read_text(encoding="utf-8").split())
+    assert f'"{sentence}", on `--example 100`' in docs
+    assert '"The tolerances cost 2 part numbers: 9 with them, 7 without." on `--example 200 --seed 1`' in docs
+    assert "seed-0 example: none, 9 and 9" in docs
