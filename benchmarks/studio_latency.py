@@ -47,8 +47,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results.md"
 BEGIN, END = "<!-- studio latency: begin -->", "<!-- studio latency: end -->"
-AIM_MS = 300.0
-"""Issues 14 and 29.2: key press to redraw <= 300 ms at the median."""
+AIM_MS = 150.0
+"""Issue 44: key press to redraw <= 150 ms at the median (issues 14 and 29.2 asked for 300 ms)."""
 START = 2.6
 """Target speed [m/s] the session opens at (through the URL); the steps go up from there, so none reaches the
 default 2.5 m/s that the studio computes while it starts."""
@@ -232,7 +232,7 @@ def markdown(summary: dict) -> list[str]:
     after = runs[names[-1]]["summary"]["redraw_ms"]["median"]
     lines += [
         "",
-        f"Aim (issues 14, 29.2): key press to redraw <= {AIM_MS:.0f} ms at the median; this run: {after:.0f} ms "
+        f"Aim (issue 44): key press to redraw <= {AIM_MS:.0f} ms at the median; this run: {after:.0f} ms "
         + ("(met)." if after <= AIM_MS else "(not met)."),
         "The server's times come from the studio's status line (the compute of the fronts and the recommendation, "
         "CPU time of both studio processes); on a shared machine the wall times include waiting for a core (see "
