@@ -342,13 +342,6 @@ def _clenshaw(coef: npt.NDArray[np.floating[Any]], x: Scalar) -> Scalar:
     return _clenshaw_values([float(c) for c in coef], x)
 
 
-def _one_t_quantile(t_scale: float, dof: int, normal: Scalar, probability: float) -> Scalar:
-    """Q_{1−α}(a t_ν + c Z) from the stored or computed 1-D fit in the normal share s = c²/(a² + c²) [-]."""
-    if not dof or t_scale == 0:
-        return float(ndtri(1 - probability)) * np.sqrt(t_scale**2 + normal**2)
-    return _one_t_quantile_symbolic(t_scale, dof, normal, probability)
-
-
 def log_speed_quantile(sigma_model: float, sigma_rest: Scalar, uncertainty: Uncertainty) -> Scalar:
     """Q_{1−α}(σ_m t_ν + σ_r Z): how far log V_c must exceed log V_req for the risk bound [-].
 
@@ -361,8 +354,10 @@ def log_speed_quantile(sigma_model: float, sigma_rest: Scalar, uncertainty: Unce
     Exact up to the fit, never below the exact quantile (the fit is shifted up by its error,
     ≈1e-7).  Increasing in σ_r.  ν = 0 or σ_m = 0: the normal quantile z √(σ_m² + σ_r²).
     """
-    u = uncertainty
-    return _one_t_quantile(float(sigma_model), int(u.model_error_dof), sigma_rest, float(u.probability))
+    sm, dof, alpha = float(sigma_model), int(uncertainty.model_error_dof), float(uncertainty.probability)
+    if not dof or sm == 0:
+        return float(ndtri(1 - alpha)) * np.sqrt(sm**2 + sigma_rest**2)
+    return _one_t_quantile(sm, dof, sigma_rest, alpha)
 
 
 def rest_log_std(
@@ -424,15 +419,16 @@ def law_quantile(
     nu_i = inertia_prediction().dof if inertia_dof is None else int(inertia_dof)
     sm = float(sigma_model)
     if not u.model_error_dof or sm == 0:  # one t (the inertia): the model error joins the normal rest
-        return _one_t_quantile_symbolic(sigma_inertia, nu_i, np.sqrt(sm**2 + sigma_rest**2), float(u.probability))
+        return _one_t_quantile(sigma_inertia, nu_i, np.sqrt(sm**2 + sigma_rest**2), float(u.probability))
     pair = sm**2 + sigma_inertia**2
     total = pair + sigma_rest**2
     coef, _ = _fit2(float(u.probability), int(u.model_error_dof), nu_i)
     return np.sqrt(total) * _clenshaw2(coef, 2 * sigma_inertia**2 / pair - 1, 2 * sigma_rest**2 / total - 1)
 
 
-def _one_t_quantile_symbolic(t_scale: Scalar, dof: int, normal: Scalar, probability: float) -> Scalar:
-    """:func:`_one_t_quantile` with the t scale an expression (never zero) [-]."""
+def _one_t_quantile(t_scale: Scalar, dof: int, normal: Scalar, probability: float) -> Scalar:
+    """Q_{1−α}(a t_ν + c Z) from the stored or computed 1-D fit in the normal share s = c²/(a² + c²) [-] (a t_ν
+    with ν > 0 and a scale a that is never zero, a number or an expression)."""
     total = t_scale**2 + normal**2
     coef, _ = _fit(float(probability), int(dof))
     return np.sqrt(total) * _clenshaw(coef, 2 * normal**2 / total - 1)
@@ -540,25 +536,13 @@ def _clenshaw_values(values: list[Scalar], x: Scalar) -> Scalar:
     return x * b1 - b2 + values[0]
 
 
-def _clenshaw_float(rows: list[list[float]], x: float, y: float) -> float:
-    """Σ_jk c_jk T_j(x) T_k(y) for two Python floats, by Clenshaw's recurrence in plain Python: a few µs where
-    NumPy's chebval2d spends ~90 µs on call overhead (the closed-form front asks ~800 quantiles one by one)."""
-    inner = []
-    for row in rows:
-        b1 = b2 = 0.0
-        for c in row[:0:-1]:
-            b1, b2 = 2.0 * y * b1 - b2 + c, b1
-        inner.append(y * b1 - b2 + row[0])
-    b1 = b2 = 0.0
-    for c in inner[:0:-1]:
-        b1, b2 = 2.0 * x * b1 - b2 + c, b1
-    return x * b1 - b2 + inner[0]
-
-
 def _clenshaw2(coef: Array, x: Scalar, y: Scalar) -> Scalar:
-    """Σ_jk c_jk T_j(x) T_k(y) (floats, arrays, CasADi symbols)."""
+    """Σ_jk c_jk T_j(x) T_k(y) (floats, arrays, CasADi symbols).  Two floats by Clenshaw's recurrence in plain
+    Python: a few µs where NumPy's chebval2d spends ~90 µs on call overhead (the closed-form front asks ~800
+    quantiles one by one)."""
     if isinstance(x, (float, np.floating)) and isinstance(y, (float, np.floating)):
-        return _clenshaw_float(np.asarray(coef, dtype=float).tolist(), float(x), float(y))
+        rows = np.asarray(coef, dtype=float).tolist()
+        return _clenshaw_values([_clenshaw_values(row, float(y)) for row in rows], float(x))
     if _numeric(x, y):
         value: Scalar = np.asarray(C.chebval2d(x, y, coef), dtype=float)
         return value if np.ndim(value) else float(value)
@@ -772,8 +756,8 @@ def shimmy_probability_exact_many(
     p_law = inertia_prediction() if prediction is None else prediction
     alive, dist, log_v, weights, order = _exact_law_many(t, i_w, b, c, k, uncertainty, scale, p_law.dof, nodes)
     out = np.ones(t.size)
-    if dist is not None:
-        out[order] = _weighted_cdf(dist, np.log(v[order])[:, None] - log_v, weights)
+    if dist is not None:  # casters that share a linear law (a wheel size and kind) share its tabulated CDF
+        out[order] = np.sum(weights * tabled_cdf(dist, np.log(v[order])[:, None] - log_v), axis=-1)
     return out.reshape(shape)
 
 
@@ -798,13 +782,6 @@ def _inertia_scales(
     with np.errstate(invalid="ignore"):
         scale = np.asarray(inertia_log_scale(t, i_w, b, c, k, np.where(flags, 1.0, d), prediction), dtype=float)
     return np.where(flags, np.nan, np.broadcast_to(scale, t.shape))
-
-
-def _weighted_cdf(dist: SumDistribution, x: Array, weights: Array) -> Array:
-    """Σ_j w_j F_i(x_ij) per row i, F_i the row's CDF (rows × points) [-]: casters that share a linear law (a
-    wheel size and kind) share its tabulated CDF when they are many (:func:`~designer.physics._sums.tabled_cdf`)."""
-    out: Array = np.sum(weights * tabled_cdf(dist, x), axis=-1)
-    return out
 
 
 def max_measured_inertia(
