@@ -69,12 +69,14 @@ def slsqp(
         return float(weighted(v["turning_effort"], v["threshold_force"], w) / weighted(f_ref, p_ref, w))
 
     cons = [{"type": "ineq", "fun": lambda z: float(perf(z)["confident_speed"]) / problem.required_speed - 1}]
-    if problem.swept_radius_max is not None:
-        cons.append({"type": "ineq", "fun": lambda z: 1 - float(perf(z)["swept_radius"]) / problem.swept_radius_max})
-    if threshold_cap is not None:
-        cons.append({"type": "ineq", "fun": lambda z: (threshold_cap - float(perf(z)["threshold_force"])) / p_ref})
-    if turning_cap is not None:
-        cons.append({"type": "ineq", "fun": lambda z: (turning_cap - float(perf(z)["turning_effort"])) / f_ref})
+    # the upper limits: R_s <= R_max (relative), the ε caps P <= ε_P, F_turn <= ε_F (scaled by the box centre's)
+    limits = (("swept_radius", problem.swept_radius_max, None), ("threshold_force", threshold_cap, p_ref))
+    upper = [(k, cap, ref) for k, cap, ref in (*limits, ("turning_effort", turning_cap, f_ref)) if cap is not None]
+    for key, cap, ref in upper:
+        if ref is None:
+            cons.append({"type": "ineq", "fun": lambda z, k=key, m=cap: 1 - float(perf(z)[k]) / m})
+        else:
+            cons.append({"type": "ineq", "fun": lambda z, k=key, m=cap, r=ref: (m - float(perf(z)[k])) / r})
     rng = np.random.default_rng(seed)
     all_starts = [np.asarray(s.as_array() if isinstance(s, Design) else s, float) for s in starts]
     all_starts += [lo + rng.random(4) * (hi - lo) for _ in range(random_starts)]
@@ -89,13 +91,7 @@ def slsqp(
         z = np.clip(res.x, lo / scale, hi / scale)
         v = perf(z)
         feasible = float(v["confident_speed"]) >= problem.required_speed * (1 - 1e-7)
-        if problem.swept_radius_max is not None:
-            feasible &= float(v["swept_radius"]) <= problem.swept_radius_max * (1 + 1e-7)
-        if threshold_cap is not None:
-            feasible &= float(v["threshold_force"]) <= threshold_cap * (1 + 1e-7)
-        if turning_cap is not None:
-            feasible &= float(v["turning_effort"]) <= turning_cap * (1 + 1e-7)
-        if not feasible:
+        if not (feasible and all(float(v[k]) <= cap * (1 + 1e-7) for k, cap, _ in upper)):
             continue
         j = float(weighted(v["turning_effort"], v["threshold_force"], w))
         if best[0] is None or j < best[1]:
