@@ -536,13 +536,25 @@ def _clenshaw_values(values: list[Scalar], x: Scalar) -> Scalar:
     return x * b1 - b2 + values[0]
 
 
+def _clenshaw_float(rows: list[list[float]], x: float, y: float) -> float:
+    """Σ_jk c_jk T_j(x) T_k(y) for two Python floats, by Clenshaw's recurrence in plain Python: a few µs where
+    NumPy's chebval2d spends ~90 µs on call overhead (the closed-form front asks ~800 quantiles one by one)."""
+    inner = []
+    for row in rows:
+        b1 = b2 = 0.0
+        for c in row[:0:-1]:
+            b1, b2 = 2.0 * y * b1 - b2 + c, b1
+        inner.append(y * b1 - b2 + row[0])
+    b1 = b2 = 0.0
+    for c in inner[:0:-1]:
+        b1, b2 = 2.0 * x * b1 - b2 + c, b1
+    return x * b1 - b2 + inner[0]
+
+
 def _clenshaw2(coef: Array, x: Scalar, y: Scalar) -> Scalar:
-    """Σ_jk c_jk T_j(x) T_k(y) (floats, arrays, CasADi symbols).  Two floats by Clenshaw's recurrence in plain
-    Python: a few µs where NumPy's chebval2d spends ~90 µs on call overhead (the closed-form front asks ~800
-    quantiles one by one)."""
+    """Σ_jk c_jk T_j(x) T_k(y) (floats, arrays, CasADi symbols)."""
     if isinstance(x, (float, np.floating)) and isinstance(y, (float, np.floating)):
-        rows = np.asarray(coef, dtype=float).tolist()
-        return _clenshaw_values([_clenshaw_values(row, float(y)) for row in rows], float(x))
+        return _clenshaw_float(np.asarray(coef, dtype=float).tolist(), float(x), float(y))
     if _numeric(x, y):
         value: Scalar = np.asarray(C.chebval2d(x, y, coef), dtype=float)
         return value if np.ndim(value) else float(value)
