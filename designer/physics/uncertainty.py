@@ -455,17 +455,14 @@ def shimmy_speed_quantile(
     flag per caster (numeric) saying which wheels were measured after all.  Works on floats, NumPy arrays and
     CasADi symbols.
     """
-    if measured is not None and diameter is not None:
-        if isinstance(measured, bool):
-            diameter = None if measured else diameter
-        else:  # numeric, one flag per caster
-            mask = np.asarray(measured, dtype=bool)
-            if mask.all():
-                diameter = None
-            elif mask.any():
-                args = (trail, inertia, groove, damping, slip_coefficient, uncertainty)
-                both = shimmy_speed_quantile(*args), shimmy_speed_quantile(*args, diameter, prediction)
-                return np.where(mask, *both)
+    if measured is not None and diameter is not None:  # True, False or one flag per caster
+        mask = np.asarray(measured, dtype=bool)
+        if mask.all():
+            diameter = None
+        elif mask.any():
+            args = (trail, inertia, groove, damping, slip_coefficient, uncertainty)
+            both = shimmy_speed_quantile(*args), shimmy_speed_quantile(*args, diameter, prediction)
+            return np.where(mask, *both)
     v = critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient)
     rest = rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty, measured=diameter is None)
     if diameter is None:
