@@ -20,7 +20,7 @@ from designer.errors import check_interrupt
 from designer.model import Design, performance
 from designer.parameters import named
 from designer.problem import Problem
-from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, objectives_of, no_optimum, weights_of
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, no_optimum, optima_designs, weights_of
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -148,24 +148,11 @@ class SLSQPSolver:
     def front_designs(self, problem: Problem, eps: npt.ArrayLike) -> Designs:
         """min F_turn s.t. P <= ε at each ε of a continuous problem (warm from the previous ε's optimum)."""
         e = np.asarray(eps, float).ravel()
-        rows: list[np.ndarray] = []
-        ok: list[bool] = []
-        start: list[Design] = []
+        found: list[Optimum] = []
         for cap in e:
-            design, _ = slsqp(problem, (1.0, 0.0), start, self.random_starts, self.seed, float(cap))
-            ok.append(design is not None)
-            rows.append(problem.upper().as_array() if design is None else design.as_array())
-            start = [] if design is None else [design]
-        x = np.array(rows, float).reshape(-1, 4)
-        return Designs(
-            solver=self.name,
-            epsilon=e,
-            designs=x,
-            success=np.array(ok, dtype=bool),
-            objectives=objectives_of(problem, x),
-            status=tuple("optimal" if k else "infeasible" for k in ok),
-            solves=len(e) * (1 + self.random_starts),
-        )
+            start = [] if not found or found[-1].design is None else [found[-1].design]
+            found.append(self.optimum(problem, (1.0, 0.0), Caps(threshold=float(cap)), starts=start))
+        return optima_designs(self.name, problem, e, found, solves=len(e) * (1 + self.random_starts))
 
 
 SLSQP = SLSQPSolver()
