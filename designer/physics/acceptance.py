@@ -220,15 +220,11 @@ def acceptance_limits(
 
 
 def _columns(casters: Sequence[LawCaster]) -> dict[str, Array]:
-    """The casters' fields as arrays [SI] (a measured wheel's diameter nan)."""
-    return {
-        "trail": np.array([c.trail for c in casters], dtype=float),
-        "inertia": np.array([c.inertia for c in casters], dtype=float),
-        "groove": np.array([c.groove for c in casters], dtype=float),
-        "damping": np.array([c.damping for c in casters], dtype=float),
-        "slip_coefficient": np.array([c.slip_coefficient for c in casters], dtype=float),
-        "diameter": np.array([np.nan if c.diameter is None else c.diameter for c in casters], dtype=float),
-    }
+    """The casters' fields as arrays [SI], in the order of :class:`LawCaster` (a measured wheel's diameter nan)."""
+    fields = ("trail", "inertia", "groove", "damping", "slip_coefficient")
+    columns = {name: np.array([getattr(c, name) for c in casters], dtype=float) for name in fields}
+    columns["diameter"] = np.array([np.nan if c.diameter is None else c.diameter for c in casters], dtype=float)
+    return columns
 
 
 def exact_probabilities(
@@ -461,9 +457,7 @@ def exact_speed_quantiles(
     reached with probability 1 − α".  0 where Eq. 7's V_c is zero.
     """
     n = len(casters)
-    fields = ("trail", "inertia", "groove", "damping", "slip_coefficient")
-    t, i, b, c, k = (np.array([getattr(x, f) for x in casters], dtype=float) for f in fields)
-    d = np.array([np.nan if x.diameter is None else x.diameter for x in casters], dtype=float)
+    t, i, b, c, k, d = _columns(casters).values()
     live = np.flatnonzero((t > 0) & ((c > 0) | (b > 0)))
     out = np.zeros(n)
     if not live.size:

@@ -54,9 +54,7 @@ def ground_trail(offset: Scalar, radius: Scalar, stem_angle: Scalar) -> Scalar:
 
     Works on floats, NumPy arrays and CasADi symbols.
     """
-    if is_symbolic(offset, radius, stem_angle):
-        pass  # NumPy mode is on: np.sin/np.cos of a symbol are CasADi expressions
-    return (offset + radius * np.sin(stem_angle)) / np.cos(stem_angle)
+    return effective_trail(offset, radius, stem_angle) / np.cos(stem_angle)  # t_g = T_eff / cos φ
 
 
 def effective_trail(offset: Scalar, radius: Scalar, stem_angle: Scalar) -> Scalar:
@@ -80,6 +78,5 @@ def effective_trail(offset: Scalar, radius: Scalar, stem_angle: Scalar) -> Scala
 
     Works on floats, NumPy arrays and CasADi symbols.
     """
-    if is_symbolic(offset, radius, stem_angle):
-        pass  # NumPy mode is on: np.sin of a symbol is a CasADi expression
+    is_symbolic(offset, radius, stem_angle)  # switches CasADi's NumPy mode on for a symbol (np.sin of it)
     return offset + radius * np.sin(stem_angle)

@@ -342,13 +342,6 @@ def _clenshaw(coef: npt.NDArray[np.floating[Any]], x: Scalar) -> Scalar:
     return _clenshaw_values([float(c) for c in coef], x)
 
 
-def _one_t_quantile(t_scale: float, dof: int, normal: Scalar, probability: float) -> Scalar:
-    """Q_{1−α}(a t_ν + c Z) from the stored or computed 1-D fit in the normal share s = c²/(a² + c²) [-]."""
-    if not dof or t_scale == 0:
-        return float(ndtri(1 - probability)) * np.sqrt(t_scale**2 + normal**2)
-    return _one_t_quantile_symbolic(t_scale, dof, normal, probability)
-
-
 def log_speed_quantile(sigma_model: float, sigma_rest: Scalar, uncertainty: Uncertainty) -> Scalar:
     """Q_{1−α}(σ_m t_ν + σ_r Z): how far log V_c must exceed log V_req for the risk bound [-].
 
@@ -361,8 +354,10 @@ def log_speed_quantile(sigma_model: float, sigma_rest: Scalar, uncertainty: Unce
     Exact up to the fit, never below the exact quantile (the fit is shifted up by its error,
     ≈1e-7).  Increasing in σ_r.  ν = 0 or σ_m = 0: the normal quantile z √(σ_m² + σ_r²).
     """
-    u = uncertainty
-    return _one_t_quantile(float(sigma_model), int(u.model_error_dof), sigma_rest, float(u.probability))
+    sm, dof, alpha = float(sigma_model), int(uncertainty.model_error_dof), float(uncertainty.probability)
+    if not dof or sm == 0:
+        return float(ndtri(1 - alpha)) * np.sqrt(sm**2 + sigma_rest**2)
+    return _one_t_quantile(sm, dof, sigma_rest, alpha)
 
 
 def rest_log_std(
@@ -424,15 +419,16 @@ def law_quantile(
     nu_i = inertia_prediction().dof if inertia_dof is None else int(inertia_dof)
     sm = float(sigma_model)
     if not u.model_error_dof or sm == 0:  # one t (the inertia): the model error joins the normal rest
-        return _one_t_quantile_symbolic(sigma_inertia, nu_i, np.sqrt(sm**2 + sigma_rest**2), float(u.probability))
+        return _one_t_quantile(sigma_inertia, nu_i, np.sqrt(sm**2 + sigma_rest**2), float(u.probability))
     pair = sm**2 + sigma_inertia**2
     total = pair + sigma_rest**2
     coef, _ = _fit2(float(u.probability), int(u.model_error_dof), nu_i)
     return np.sqrt(total) * _clenshaw2(coef, 2 * sigma_inertia**2 / pair - 1, 2 * sigma_rest**2 / total - 1)
 
 
-def _one_t_quantile_symbolic(t_scale: Scalar, dof: int, normal: Scalar, probability: float) -> Scalar:
-    """:func:`_one_t_quantile` with the t scale an expression (never zero) [-]."""
+def _one_t_quantile(t_scale: Scalar, dof: int, normal: Scalar, probability: float) -> Scalar:
+    """Q_{1−α}(a t_ν + c Z) from the stored or computed 1-D fit in the normal share s = c²/(a² + c²) [-] (a t_ν
+    with ν > 0 and a scale a that is never zero, a number or an expression)."""
     total = t_scale**2 + normal**2
     coef, _ = _fit(float(probability), int(dof))
     return np.sqrt(total) * _clenshaw(coef, 2 * normal**2 / total - 1)
@@ -459,17 +455,14 @@ def shimmy_speed_quantile(
     flag per caster (numeric) saying which wheels were measured after all.  Works on floats, NumPy arrays and
     CasADi symbols.
     """
-    if measured is not None and diameter is not None:
-        if isinstance(measured, bool):
-            diameter = None if measured else diameter
-        else:  # numeric, one flag per caster
-            mask = np.asarray(measured, dtype=bool)
-            if mask.all():
-                diameter = None
-            elif mask.any():
-                args = (trail, inertia, groove, damping, slip_coefficient, uncertainty)
-                both = shimmy_speed_quantile(*args), shimmy_speed_quantile(*args, diameter, prediction)
-                return np.where(mask, *both)
+    if measured is not None and diameter is not None:  # True, False or one flag per caster
+        mask = np.asarray(measured, dtype=bool)
+        if mask.all():
+            diameter = None
+        elif mask.any():
+            args = (trail, inertia, groove, damping, slip_coefficient, uncertainty)
+            both = shimmy_speed_quantile(*args), shimmy_speed_quantile(*args, diameter, prediction)
+            return np.where(mask, *both)
     v = critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient)
     rest = rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty, measured=diameter is None)
     if diameter is None:
@@ -772,8 +765,8 @@ def shimmy_probability_exact_many(
     p_law = inertia_prediction() if prediction is None else prediction
     alive, dist, log_v, weights, order = _exact_law_many(t, i_w, b, c, k, uncertainty, scale, p_law.dof, nodes)
     out = np.ones(t.size)
-    if dist is not None:
-        out[order] = _weighted_cdf(dist, np.log(v[order])[:, None] - log_v, weights)
+    if dist is not None:  # casters that share a linear law (a wheel size and kind) share its tabulated CDF
+        out[order] = np.sum(weights * tabled_cdf(dist, np.log(v[order])[:, None] - log_v), axis=-1)
     return out.reshape(shape)
 
 
@@ -798,13 +791,6 @@ def _inertia_scales(
     with np.errstate(invalid="ignore"):
         scale = np.asarray(inertia_log_scale(t, i_w, b, c, k, np.where(flags, 1.0, d), prediction), dtype=float)
     return np.where(flags, np.nan, np.broadcast_to(scale, t.shape))
-
-
-def _weighted_cdf(dist: SumDistribution, x: Array, weights: Array) -> Array:
-    """Σ_j w_j F_i(x_ij) per row i, F_i the row's CDF (rows × points) [-]: casters that share a linear law (a
-    wheel size and kind) share its tabulated CDF when they are many (:func:`~designer.physics._sums.tabled_cdf`)."""
-    out: Array = np.sum(weights * tabled_cdf(dist, x), axis=-1)
-    return out
 
 
 def max_measured_inertia(

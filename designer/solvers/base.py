@@ -285,6 +285,23 @@ def best_variant(problem: Problem, solve: Callable[[Problem], Optimum]) -> Optim
     return dataclasses.replace(chosen, solves=sum(o.solves for o in found), seconds=sum(o.seconds for o in found))
 
 
+def optima_designs(solver: str, problem: Problem, eps: np.ndarray, found: Sequence[Optimum], **fields: Any) -> Designs:
+    """The :class:`Designs` of one :class:`Optimum` per ε (``fields``: the rest, by keyword): a row without a design
+    holds the box's upper corner; the objectives by :func:`objectives_of`."""
+    x = np.array(
+        [o.design.as_array() if o.design is not None else problem.upper().as_array() for o in found], float
+    ).reshape(-1, 4)
+    return Designs(
+        solver=solver,
+        epsilon=eps,
+        designs=x,
+        success=np.array([o.success for o in found], dtype=bool),
+        objectives=objectives_of(problem, x),
+        status=tuple(o.status for o in found),
+        **fields,
+    )
+
+
 def wheel_of(problem: Problem) -> str | None:
     """The Table 1 wheel of a catalog variant (its inertia model is that wheel's), else None."""
     inertia = problem.conditions.inertia
@@ -315,6 +332,7 @@ __all__ = [
     "best_variant",
     "objectives_of",
     "no_optimum",
+    "optima_designs",
     "weights_of",
     "wheel_of",
 ]

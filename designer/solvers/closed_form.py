@@ -405,16 +405,21 @@ def _risk_designs(
     return designs, corner_ok | curve_ok
 
 
+def _require(problem: Problem, what: str) -> None:
+    """ValueError naming ``what`` the closed form was asked for when it does not apply (:func:`applicable`)."""
+    if not applicable(problem):
+        raise ValueError(
+            f"the closed-form {what} need a continuous problem with a positive moment "
+            "(and a risk bound whose quantile factor varies slowly with the friction share)"
+        )
+
+
 def structured_front_designs(problem: Problem, eps_array: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """ε-constraint optima min F_turn s.t. P <= ε for every ε: ((N, 4) designs, feasible mask).
 
     Raises ValueError when the closed form does not apply (see :func:`applicable`).
     """
-    if not applicable(problem):
-        raise ValueError(
-            "the closed-form ε-optima need a continuous problem with a positive moment "
-            "(and a risk bound whose quantile factor varies slowly with the friction share)"
-        )
+    _require(problem, "ε-optima")
     eps = np.asarray(eps_array, float).ravel()
     lo, hi = problem.lower(), problem.upper()
     with np.errstate(invalid="ignore"):
@@ -433,30 +438,12 @@ def structured_ends(problem: Problem, rel: float = 1e-9, rounds: int = 9) -> tup
     with d) gives the least P; the end is the ε-optimum at ε = P_min (1 + rel).  ``rel`` is the
     tolerance of the NLP's second lexicographic stage (:func:`designer.solvers.nlp.lexicographic_ends`).
     """
-    if not applicable(problem):
-        raise ValueError(
-            "the closed-form ends need a continuous problem with a positive moment "
-            "(and a risk bound whose quantile factor varies slowly with the friction share)"
-        )
+    _require(problem, "ends")
     lo, hi = problem.lower(), problem.upper()
     x_lo, ok_lo = designs_at_diameter(problem, [lo.diameter])
     if not ok_lo[0]:
         return None
     f_min = float(_turning_effort(problem, x_lo[0]))
-
-    def largest(pred: Callable[[np.ndarray], np.ndarray]) -> float:
-        """Largest d in [d_lo, d_hi] with pred(d) (pred monotone: true then false), by grid refinement."""
-        a, b = lo.diameter, hi.diameter
-        if pred(np.array([b]))[0]:
-            return float(b)
-        for _ in range(rounds):
-            grid = np.linspace(a, b, 65)
-            ok = pred(grid)
-            k = int(np.flatnonzero(ok).max()) if ok.any() else 0
-            a, b = grid[k], grid[min(k + 1, 64)]
-            if b - a <= 1e-15 * b:
-                break
-        return float(a)
 
     def flat(dd: np.ndarray) -> np.ndarray:
         x, ok = designs_at_diameter(problem, dd)
@@ -466,7 +453,7 @@ def structured_ends(problem: Problem, rel: float = 1e-9, rounds: int = 9) -> tup
     def feasible(dd: np.ndarray) -> np.ndarray:
         return designs_at_diameter(problem, dd, search=False)[1]
 
-    d_a, d_b = largest(flat), largest(feasible)
+    d_a, d_b = (_least(pred, lo.diameter, hi.diameter, rounds, largest=True) for pred in (flat, feasible))
     xa, _ = designs_at_diameter(problem, [d_a])
     xb, _ = designs_at_diameter(problem, [d_b])
     p_min = float(_values(problem, xb[0])["threshold_force"])
@@ -579,16 +566,25 @@ class ClosedFormSolver:
         )
 
 
-def _least(pred: Callable[[np.ndarray], np.ndarray], a: float, b: float, rounds: int = 9) -> float:
-    """The least x in [a, b] with pred(x), pred monotone (false then true, true at b), by grid refinement."""
+def _least(
+    pred: Callable[[np.ndarray], np.ndarray], a: float, b: float, rounds: int = 9, *, largest: bool = False
+) -> float:
+    """The least x in [a, b] with pred(x), pred monotone (false then true, true at b), by grid refinement; with
+    ``largest`` the largest x with pred(x) (pred true then false; b when pred(b))."""
+    if largest and pred(np.array([b]))[0]:
+        return float(b)
     for _ in range(rounds):
         grid = np.linspace(a, b, 65)
         ok = pred(grid)
-        k = int(np.flatnonzero(ok).min()) if ok.any() else 64
-        a, b = grid[max(k - 1, 0)], grid[k]
+        if largest:
+            k = int(np.flatnonzero(ok).max()) if ok.any() else 0
+            a, b = grid[k], grid[min(k + 1, 64)]
+        else:
+            k = int(np.flatnonzero(ok).min()) if ok.any() else 64
+            a, b = grid[max(k - 1, 0)], grid[k]
         if b - a <= 1e-15 * b:
             break
-    return float(b)
+    return float(a if largest else b)
 
 
 CLOSED_FORM = ClosedFormSolver()

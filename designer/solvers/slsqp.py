@@ -20,7 +20,7 @@ from designer.errors import check_interrupt
 from designer.model import Design, performance
 from designer.parameters import named
 from designer.problem import Problem
-from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, objectives_of, no_optimum, weights_of
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, no_optimum, optima_designs, weights_of
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -69,12 +69,14 @@ def slsqp(
         return float(weighted(v["turning_effort"], v["threshold_force"], w) / weighted(f_ref, p_ref, w))
 
     cons = [{"type": "ineq", "fun": lambda z: float(perf(z)["confident_speed"]) / problem.required_speed - 1}]
-    if problem.swept_radius_max is not None:
-        cons.append({"type": "ineq", "fun": lambda z: 1 - float(perf(z)["swept_radius"]) / problem.swept_radius_max})
-    if threshold_cap is not None:
-        cons.append({"type": "ineq", "fun": lambda z: (threshold_cap - float(perf(z)["threshold_force"])) / p_ref})
-    if turning_cap is not None:
-        cons.append({"type": "ineq", "fun": lambda z: (turning_cap - float(perf(z)["turning_effort"])) / f_ref})
+    # the upper limits: R_s <= R_max (relative), the ε caps P <= ε_P, F_turn <= ε_F (scaled by the box centre's)
+    limits = (("swept_radius", problem.swept_radius_max, None), ("threshold_force", threshold_cap, p_ref))
+    upper = [(k, cap, ref) for k, cap, ref in (*limits, ("turning_effort", turning_cap, f_ref)) if cap is not None]
+    for key, cap, ref in upper:
+        if ref is None:
+            cons.append({"type": "ineq", "fun": lambda z, k=key, m=cap: 1 - float(perf(z)[k]) / m})
+        else:
+            cons.append({"type": "ineq", "fun": lambda z, k=key, m=cap, r=ref: (m - float(perf(z)[k])) / r})
     rng = np.random.default_rng(seed)
     all_starts = [np.asarray(s.as_array() if isinstance(s, Design) else s, float) for s in starts]
     all_starts += [lo + rng.random(4) * (hi - lo) for _ in range(random_starts)]
@@ -89,13 +91,7 @@ def slsqp(
         z = np.clip(res.x, lo / scale, hi / scale)
         v = perf(z)
         feasible = float(v["confident_speed"]) >= problem.required_speed * (1 - 1e-7)
-        if problem.swept_radius_max is not None:
-            feasible &= float(v["swept_radius"]) <= problem.swept_radius_max * (1 + 1e-7)
-        if threshold_cap is not None:
-            feasible &= float(v["threshold_force"]) <= threshold_cap * (1 + 1e-7)
-        if turning_cap is not None:
-            feasible &= float(v["turning_effort"]) <= turning_cap * (1 + 1e-7)
-        if not feasible:
+        if not (feasible and all(float(v[k]) <= cap * (1 + 1e-7) for k, cap, _ in upper)):
             continue
         j = float(weighted(v["turning_effort"], v["threshold_force"], w))
         if best[0] is None or j < best[1]:
@@ -152,24 +148,11 @@ class SLSQPSolver:
     def front_designs(self, problem: Problem, eps: npt.ArrayLike) -> Designs:
         """min F_turn s.t. P <= ε at each ε of a continuous problem (warm from the previous ε's optimum)."""
         e = np.asarray(eps, float).ravel()
-        rows: list[np.ndarray] = []
-        ok: list[bool] = []
-        start: list[Design] = []
+        found: list[Optimum] = []
         for cap in e:
-            design, _ = slsqp(problem, (1.0, 0.0), start, self.random_starts, self.seed, float(cap))
-            ok.append(design is not None)
-            rows.append(problem.upper().as_array() if design is None else design.as_array())
-            start = [] if design is None else [design]
-        x = np.array(rows, float).reshape(-1, 4)
-        return Designs(
-            solver=self.name,
-            epsilon=e,
-            designs=x,
-            success=np.array(ok, dtype=bool),
-            objectives=objectives_of(problem, x),
-            status=tuple("optimal" if k else "infeasible" for k in ok),
-            solves=len(e) * (1 + self.random_starts),
-        )
+            start = [] if not found or found[-1].design is None else [found[-1].design]
+            found.append(self.optimum(problem, (1.0, 0.0), Caps(threshold=float(cap)), starts=start))
+        return optima_designs(self.name, problem, e, found, solves=len(e) * (1 + self.random_starts))
 
 
 SLSQP = SLSQPSolver()

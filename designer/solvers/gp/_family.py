@@ -62,10 +62,7 @@ class _Family:
         self.speed_factor, self.speed_exact = robust_speed_factor(problem, groove_present)
         self.constants = _constants(problem, self.params, self.speed_factor)
         self._build_variables(groove_free, damper_free)
-        terms = gp_terms(
-            self.x["trail"], self.x["diameter"], self.x["groove"], self.x["added_damping"], self.constants, order, s_max
-        )
-        self.terms = terms
+        self.terms = terms = self._terms(self.x)
         constraints: dict[str, Any] = {}
         self.infeasible_constant = False
         self._shimmy_constraint(terms, constraints)
@@ -133,25 +130,19 @@ class _Family:
             lo, hi = self.box[name]
             constraints[f"{name}.max"] = var <= hi
             constraints[f"{name}.min"] = var >= (lo if lo > 0 else self.floor[name])
-        if self.constants.swept_radius_max is not None:
-            if _constant(terms["swept_radius"]):
-                self.infeasible_constant |= _value(terms["swept_radius"]) > self.constants.swept_radius_max * (
-                    1 + 1e-12
-                )
-            else:
-                constraints["swept_radius"] = terms["swept_radius"] <= self.constants.swept_radius_max
         self.threshold_cap = threshold_cap
-        if threshold_cap is not None:
-            capped = terms["threshold_force"] + terms["threshold_remainder"]
-            if _constant(capped):
-                self.infeasible_constant |= _value(capped) > threshold_cap
+        for name, limit, slack in (
+            ("swept_radius", self.constants.swept_radius_max, 1 + 1e-12),
+            ("threshold_cap", threshold_cap, 1),
+            ("turning_cap", self.turning_cap, 1),
+        ):
+            if limit is None:
+                continue
+            limited = _limited(terms, name)
+            if _constant(limited):
+                self.infeasible_constant |= _value(limited) > limit * slack
             else:
-                constraints["threshold_cap"] = capped <= threshold_cap
-        if self.turning_cap is not None:
-            if _constant(terms["turning_effort"]):
-                self.infeasible_constant |= _value(terms["turning_effort"]) > self.turning_cap
-            else:
-                constraints["turning_cap"] = terms["turning_effort"] <= self.turning_cap
+                constraints[name] = limited <= limit
 
     def _minimised(self, terms: dict[str, Any], weights: tuple[float, float]) -> Any:
         """The objective J = w_turn F_turn + w_threshold P in GP form."""
@@ -172,17 +163,13 @@ class _Family:
         c0 = self.problem.conditions.turning.bare_fork_damping
         return Design(x["trail"], x["diameter"], x["groove"], c0 + x["added_damping"])
 
+    def _terms(self, x: dict[str, Any], constants: _Constants | None = None) -> dict[str, Any]:
+        """:func:`gp_terms` of the four GP variables ``x`` (cvxpy, float or complex values)."""
+        c = constants or self.constants
+        return gp_terms(x["trail"], x["diameter"], x["groove"], x["added_damping"], c, self.order, self.s_max)
+
     def float_terms(self, values: dict[str, float], constants: _Constants | None = None) -> dict[str, Any]:
-        x = self.full(values)
-        return gp_terms(
-            x["trail"],
-            x["diameter"],
-            x["groove"],
-            x["added_damping"],
-            constants or self.constants,
-            self.order,
-            self.s_max,
-        )
+        return self._terms(self.full(values), constants)
 
     def condense(self, values: dict[str, float]) -> None:
         """Set the condensed monomial r̂ of the shimmy right side at ``values`` (AM–GM)."""
@@ -193,17 +180,7 @@ class _Family:
         for k in self.rhs_variables:
             shifted: dict[str, Any] = dict(x)
             shifted[k] = x[k] * (1 + 1j * eps)  # complex step: Im(r)/eps = ∂r/∂log x_k
-            rc = sum(
-                gp_terms(
-                    shifted["trail"],
-                    shifted["diameter"],
-                    shifted["groove"],
-                    shifted["added_damping"],
-                    self.constants,
-                    self.order,
-                    self.s_max,
-                )["shimmy_rhs"]
-            )
+            rc = sum(self._terms(shifted)["shimmy_rhs"])
             g = float(np.imag(rc)) / eps / r0
             self.g_param[k].value = g
             log_k -= g * math.log(x[k])
@@ -342,10 +319,9 @@ class _Family:
             if not damping_fixed and abs(mu * c0) > 1e-9:
                 out["damping.min"] = mu * c0
             out["bare_fork_damping"] -= mu * c0
-        if "threshold_cap" in self.constraints:
-            out["threshold_cap"] = -lam["threshold_cap"]
-        if "turning_cap" in self.constraints:
-            out["turning_cap"] = -lam["turning_cap"]
+        for cap in ("threshold_cap", "turning_cap"):
+            if cap in self.constraints:
+                out[cap] = -lam[cap]
         return out
 
     def _log_parts(self, x: dict[str, Any], consts: _Constants) -> tuple[Any, dict[str, Any]]:
@@ -353,19 +329,25 @@ class _Family:
 
         Works on float and complex values (complex step).
         """
-        t = gp_terms(x["trail"], x["diameter"], x["groove"], x["added_damping"], consts, self.order, self.s_max)
+        t = self._terms(x, consts)
         objective: Any = _objective(t, self.weights)
         j = np.log(objective + 0j)
         g: dict[str, Any] = {}
         if "shimmy" in self.constraints:
             g["shimmy"] = np.log(t["shimmy_lhs"] + 0j) - np.log(sum(t["shimmy_rhs"]) + 0j)
-        if "swept_radius" in self.constraints:
-            g["swept_radius"] = np.log(t["swept_radius"] / consts.swept_radius_max + 0j)
-        if "threshold_cap" in self.constraints:
-            g["threshold_cap"] = np.log((t["threshold_force"] + t["threshold_remainder"]) / self.threshold_cap + 0j)
-        if "turning_cap" in self.constraints:
-            g["turning_cap"] = np.log(t["turning_effort"] / self.turning_cap + 0j)
+        caps = (consts.swept_radius_max, self.threshold_cap, self.turning_cap)
+        for name, limit in zip(("swept_radius", "threshold_cap", "turning_cap"), caps):
+            if name in self.constraints:
+                g[name] = np.log(_limited(t, name) / limit + 0j)
         return j, g
+
+
+def _limited(terms: dict[str, Any], name: str) -> Any:
+    """The side of the limit ``name`` ("swept_radius", "threshold_cap", "turning_cap") that is capped: R_s, the P
+    series with its remainder bound, F_turn."""
+    if name == "threshold_cap":
+        return terms["threshold_force"] + terms["threshold_remainder"]
+    return terms["turning_effort" if name == "turning_cap" else name]
 
 
 def _constant(expr: Any) -> bool:

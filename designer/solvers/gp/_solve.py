@@ -79,7 +79,7 @@ from designer.physics.threshold import threshold_force_ratio, threshold_series_r
 from designer.problem import Problem
 from designer.errors import InfeasibleError
 from designer.reprs import Record
-from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, objectives_of, no_optimum, weights_of, wheel_of
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, no_optimum, optima_designs, weights_of, wheel_of
 from designer.solvers.nlp import BIG, CasterNLP
 from designer.solvers.gp._family import MAX_ITERATIONS, _Family
 from designer.solvers.gp._terms import series_order
@@ -406,18 +406,9 @@ class GPSolver:
         """min F_turn s.t. P <= ε by :func:`solve_gp` at each ε of a continuous problem."""
         e = np.asarray(eps, float).ravel()
         found = [self.optimum(problem, (1.0, 0.0), Caps(threshold=float(cap))) for cap in e]
-        x = np.array(
-            [o.design.as_array() if o.design is not None else problem.upper().as_array() for o in found], float
-        ).reshape(-1, 4)
-        return Designs(
-            solver=self.name,
-            epsilon=e,
-            designs=x,
-            success=np.array([o.success for o in found], dtype=bool),
-            objectives=objectives_of(problem, x),
-            status=tuple(o.status for o in found),
-            multipliers=tuple(o.sensitivities for o in found),
-            solves=sum(o.solves for o in found),
+        multipliers = tuple(o.sensitivities for o in found)
+        return optima_designs(
+            self.name, problem, e, found, multipliers=multipliers, solves=sum(o.solves for o in found)
         )
 
 

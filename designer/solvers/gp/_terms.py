@@ -140,10 +140,8 @@ def _inertia(diameter: Any, model: InertiaModel) -> Any:
         return power_law_inertia(diameter, c, n)
     if isinstance(model, Disc):
         return disc_inertia(diameter, model.tyre_width, model.density)
-    if isinstance(model, Catalog):
-        return model.wheel.inertia
-    if isinstance(model, Fixed):
-        return model.inertia
+    if isinstance(model, (Catalog, Fixed)):  # a measured wheel: its I_w, a constant
+        return model.parameters()["wheel_inertia"]
     raise TypeError(f"inertia model {type(model).__name__}: not expressible as a GP")
 
 
