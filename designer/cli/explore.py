@@ -147,9 +147,7 @@ def _print(result, csv_path, json_path) -> None:
     for r in result.front:
         table.add_row(
             *[str(r[c]) for c in cats],
-            f"{r['trail'] / INCH:.3f}",
-            f"{r['diameter'] / INCH:.3f}",
-            f"{r['groove'] / INCH:.3f}",
+            *(f"{r[name] / INCH:.3f}" for name in ("trail", "diameter", "groove")),
             f"{r['damping']:.3f}",
             f"{r['turning_effort']:.3f}",
             f"{r['threshold_force']:.2f}",

@@ -164,27 +164,16 @@ def _print(result, problem, wide: bool = False, top: int = 10) -> None:
     limit = f"+{result.max_threshold_increase:.0%} sill force and +{result.max_turning_increase:.0%} turning effort"
     shown = list(result.fixes)
     if result.fixes:
-        _print_table(
-            console,
-            result,
-            result.fixes,
-            f"Fixes within {limit} ({result.found} found, {len(result.fixes)} shown)",
-            wide,
-            conf,
-        )
+        title = f"Fixes within {limit} ({result.found} found, {len(result.fixes)} shown)"
+        _print_table(console, result, result.fixes, title, wide, conf)
     else:
         console.print(f"No fix keeps within {limit} of the current caster's.")
     if result.beyond:
         apart = result.beyond if not result.fixes or wide else result.beyond[: min(3, top or 3)]
         shown += apart
+        found = f"{result.found_beyond} found, {len(apart)} shown"
         _print_table(
-            console,
-            result,
-            apart,
-            f"Beyond the limits, listed apart ({result.found_beyond} found, {len(apart)} shown; --json --top 0 lists "
-            "all)",
-            wide,
-            conf,
+            console, result, apart, f"Beyond the limits, listed apart ({found}; --json --top 0 lists all)", wide, conf
         )
     if any(f.extrapolated for f in shown):
         console.print("* a wheel outside Table 1's 4–8 in: its I_w and Eq. 7 are extrapolated (docs/retrofit.md).")

@@ -131,6 +131,10 @@ def run(args) -> int:
     return 1 if failed else 0
 
 
+PIT_COLUMNS = ("wheel", "d (in)", "V measured (m/s)", "I_w scale (ν)", "model error (ν)", "PIT from d", "PIT from I_w")
+"""The columns of check 11's table."""
+
+
 def _pit_table(check):
     """Check 11's table: each Table 1 wheel left out, the law refitted without it, the PIT of its onset."""
     from rich.table import Table
@@ -138,15 +142,7 @@ def _pit_table(check):
     table = Table(
         title=f"{check.name}: the risk law refitted without each wheel (coarse: five wheels)", title_justify="left"
     )
-    for col in (
-        "wheel",
-        "d (in)",
-        "V measured (m/s)",
-        "I_w scale (ν)",
-        "model error (ν)",
-        "PIT from d",
-        "PIT from I_w",
-    ):
+    for col in PIT_COLUMNS:
         table.add_column(col)
     for r in check.rows:
         table.add_row(

@@ -73,6 +73,15 @@ MAX_SAMPLES = 10_000_000
 """Largest Monte Carlo sample of [robust] (memory grows with it)."""
 
 
+def parsed(value: Any, dimension: str, key: str, fail: Callable[[str], NoReturn]) -> float:
+    """:func:`designer.units.parse_quantity` of ``value`` named ``key``; its InputError raised through ``fail``
+    (the problem's one-line error, with the file's name)."""
+    try:
+        return parse_quantity(value, dimension, key)
+    except InputError as exc:
+        fail(str(exc))
+
+
 def check_range(key: str, value: float, prefix: str = "") -> None:
     """Raise :class:`ProblemError` if ``value`` [SI] is outside :data:`PHYSICAL_RANGE` of ``key``.
 
@@ -574,10 +583,7 @@ def _normalise(problem: Problem, prefix: str) -> None:
         value = getattr(problem, name)
         if value is None and dataclasses.fields(problem)[_FIELD_INDEX[name]].default is None:
             continue
-        try:
-            put(name, parse_quantity(value, dimension, key))
-        except InputError as exc:
-            fail(str(exc))
+        put(name, parsed(value, dimension, key, fail))
     if not isinstance(problem.bounds, Mapping):
         fail(f"bounds = {problem.bounds!r}: expected a mapping of variable names to Bound(min, max) [SI]")
     bounds = {}
@@ -615,16 +621,13 @@ def _validate(problem: Problem, prefix: str = "") -> None:
             f"name = {problem.name!r}: must be 1–64 letters, digits, '-', '_' or '.', starting with a letter "
             f"or digit (it names the results folder)"
         )
-    if not (math.isfinite(problem.max_threshold_increase) and 0 <= problem.max_threshold_increase <= 10):
-        fail(
-            f"retrofit.max_threshold_increase = {problem.max_threshold_increase:g}: must be from 0 to 10 "
-            "(0.1 or '10 %': a fix may raise the sill force by 10 % of the current caster's)"
-        )
-    if not (math.isfinite(problem.max_turning_increase) and 0 <= problem.max_turning_increase <= 10):
-        fail(
-            f"retrofit.max_turning_increase = {problem.max_turning_increase:g}: must be from 0 to 10 "
-            "(0.1 or '10 %': a fix may raise the turning effort by 10 % of the current caster's)"
-        )
+    for key, force in (("max_threshold_increase", "sill force"), ("max_turning_increase", "turning effort")):
+        value = getattr(problem, key)
+        if not (math.isfinite(value) and 0 <= value <= 10):
+            fail(
+                f"retrofit.{key} = {value:g}: must be from 0 to 10 "
+                f"(0.1 or '10 %': a fix may raise the {force} by 10 % of the current caster's)"
+            )
     if problem.units not in REPORT_UNITS:
         fail(f"report.units = {problem.units!r}: expected one of {', '.join(REPORT_UNITS)}")
     if problem.target_speed <= 0:
@@ -640,10 +643,6 @@ def _validate(problem: Problem, prefix: str = "") -> None:
     check_weights(problem.weights, prefix + "objective")
     if not problem.wheels:
         _validate_inertia(problem, fail)
-    if not isinstance(problem.pareto_points, int) or not POINTS_RANGE[0] <= problem.pareto_points <= POINTS_RANGE[1]:
-        fail(
-            f"pareto.points = {problem.pareto_points!r}: must be an integer from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}"
-        )
 
 
 def _validate_conditions(problem: Problem, prefix: str, fail: Callable[[str], NoReturn]) -> None:
