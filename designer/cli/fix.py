@@ -15,6 +15,10 @@ from designer.studies.spec import PART_LABELS, limit_shown
 from designer.units import written_size
 
 
+LIMITS = {"max_threshold_increase": "sill force", "max_turning_increase": "turning effort"}
+"""The [retrofit] limits a command-line option overrides, each with the force it limits."""
+
+
 def register(sub) -> None:
     p = sub.add_parser(
         "fix",
@@ -53,20 +57,10 @@ def register(sub) -> None:
     p.add_argument(
         "--onset-scatter", type=float, default=None, help="σ of the log of the observed onset (default 0.05)"
     )
-    p.add_argument(
-        "--max-threshold-increase",
-        default=None,
-        metavar="FRACTION",
-        help="override [retrofit] max_threshold_increase: how much a fix may raise the sill force, e.g. 0.15 or "
-        "'15 %%' (default the problem's, 10 %%)",
-    )
-    p.add_argument(
-        "--max-turning-increase",
-        default=None,
-        metavar="FRACTION",
-        help="override [retrofit] max_turning_increase: how much a fix may raise the turning effort, e.g. 0.15 "
-        "or '15 %%' (default the problem's, 10 %%)",
-    )
+    for key, what in LIMITS.items():
+        option, fraction = "--" + key.replace("_", "-"), "e.g. 0.15 or '15 %%' (default the problem's, 10 %%)"
+        text = f"override [retrofit] {key}: how much a fix may raise the {what}, {fraction}"
+        p.add_argument(option, default=None, metavar="FRACTION", help=text)
     p.add_argument("--top", type=int, default=10, help="fixes to list (0: all found; default 10)")
     p.add_argument("--wide", action="store_true", help="every column of the table (wider than 80 characters)")
     p.add_argument(
@@ -79,21 +73,17 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    speed = ranged_option(args.target_speed, "target_speed", "--target-speed")  # options before the file
-    increase = _increase(args.max_threshold_increase)
-    turning = _increase(args.max_turning_increase, "--max-turning-increase")
+    changes = {"target_speed": ranged_option(args.target_speed, "target_speed", "--target-speed")}  # before the file
+    for key in LIMITS:  # each checked as its option (a fraction from 0 to 10), so the problem stays valid
+        changes[key] = _increase(getattr(args, key), "--" + key.replace("_", "-"))
     if args.top < 0:
         raise InputError(f"--top {args.top}: must be 0 (all) or a positive number")
     problem = load_problem(args.problem)
-    if speed is not None:
-        problem = problem.replace(target_speed=speed)
-    if increase is not None:
-        problem = problem.replace(max_threshold_increase=increase)
-    if turning is not None:
-        problem = problem.replace(max_turning_increase=turning)
+    if any(v is not None for v in changes.values()):
+        problem = problem.replace(**{k: v for k, v in changes.items() if v is not None})
     current = parse_current(args.current)
-    inertia = None if args.inertia is None else quantity_option(args.inertia, "inertia", "--inertia")
-    shimmied = None if args.shimmied_at is None else quantity_option(args.shimmied_at, "speed", "--shimmied-at")
+    inertia = quantity_option(args.inertia, "inertia", "--inertia")
+    shimmied = quantity_option(args.shimmied_at, "speed", "--shimmied-at")
     angle = quantity_option(args.stem_angle, "angle", "--stem-angle")
     try:
         result = fix(
@@ -129,7 +119,7 @@ def run(args) -> int:
     return 0
 
 
-def _increase(text: str | None, option: str = "--max-threshold-increase") -> float | None:
+def _increase(text: str | None, option: str) -> float | None:
     """``--max-threshold-increase`` or ``--max-turning-increase``: a fraction from 0 to 10 (``0.15`` or
     ``"15 %"``); InputError naming it."""
     if text is None:

@@ -309,6 +309,10 @@ class Tolerances(Keyed):
     enforce: bool = False
 
 
+TURNING_KEYS = ("tile_moment_per_load", "carpet_factor", "groove_coefficient", "mode_factors", "bare_fork_damping")
+"""The turning model's constants in :meth:`Problem.to_dict` (under ``turning``), in this order."""
+
+
 @dataclass(frozen=True)
 class Problem(Record):
     """A validated caster design problem (immutable).
@@ -377,16 +381,7 @@ class Problem(Record):
         "max_turning_effort",
         "max_threshold_increase",
         "max_turning_increase",
-        *(
-            Key(f"turning.{n}", f"conditions.turning.{n}")
-            for n in (
-                "tile_moment_per_load",
-                "carpet_factor",
-                "groove_coefficient",
-                "mode_factors",
-                "bare_fork_damping",
-            )
-        ),
+        *(Key(f"turning.{n}", f"conditions.turning.{n}") for n in TURNING_KEYS),
         Key("tolerances", omit="none"),
     )
     """The plain data of :meth:`to_dict` (SI): the conditions' numbers at the top level, the turning model's under

@@ -596,12 +596,7 @@ def _uncertainty(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> Unce
     values: dict[str, Any] = {}
     for key in ("probability", "model_error", "damping", "slip_coefficient", "inertia"):
         value = table.get(key, getattr(defaults, key))
-        if (
-            isinstance(value, bool)
-            or not isinstance(value, (int, float))
-            or abs(value) > 1e300
-            or not math.isfinite(value)
-        ):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not abs(value) <= 1e300:  # NaN, inf
             fail(f"robust.{key} = {value!r}: expected a finite number")
         values[key] = float(value)
     low, high = PROBABILITY_RANGE
