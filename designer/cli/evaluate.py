@@ -11,7 +11,7 @@ from designer.cli._common import choice_option, inertia_option, print_json, quan
 from designer.cli._terminal import console as terminal_console
 from designer.errors import InputError
 from designer.display import MISSING, percent, shown
-from designer.parameters import MODES, OUTPUT_TABLE, PARAMETERS, SURFACES, Parameter
+from designer.parameters import MODES, OUTPUT_TABLE, PARAMETERS, SURFACES, VARIABLE_TABLE, Parameter
 from designer.units import COMMON_UNITS, INCH, written_size
 from designer.problem import PHYSICAL_RANGE
 from designer.studies.checks import knock_safe_table1_error
@@ -56,14 +56,10 @@ def register(sub) -> None:
 
 def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
     """Parse the options and evaluate; InputError names the option on bad input."""
-    values = {
-        "trail": quantity_option(args.trail, "length", "--trail"),
-        "diameter": quantity_option(args.diameter, "length", "--diameter"),
-        "groove": quantity_option(args.groove, "length", "--groove"),
-        "damping": quantity_option(args.damping, "damping", "--damping"),
-    }
-    for name, allow_zero in (("trail", False), ("diameter", False), ("groove", True), ("damping", True)):
-        value = values[name]
+    # trail, diameter, groove, damping: each parsed first (a unit error before a sign error)
+    values = {p.name: quantity_option(getattr(args, p.name), p.dimension, f"--{p.name}") for p in VARIABLE_TABLE}
+    for name, value in values.items():
+        allow_zero = name in ("groove", "damping")
         if value < 0 or (value == 0 and not allow_zero):
             given = getattr(args, name)
             raise InputError(

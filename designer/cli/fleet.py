@@ -5,7 +5,6 @@
 
 from __future__ import annotations
 
-import shutil
 import textwrap
 from pathlib import Path
 
@@ -19,6 +18,7 @@ from designer.cli._common import (
     print_json,
     quantity_option,
 )
+from designer.cli._terminal import width
 from designer.studies.fleet import (
     DEFAULT_MAX_REGRET,
     EXAMPLE_KIND,
@@ -223,11 +223,11 @@ def _size(value: float, units: str) -> str:
 
 def _sayer():
     """A printer of one paragraph wrapped to the terminal's width, continued two columns in."""
-    width = max(40, shutil.get_terminal_size((80, 24)).columns)
+    columns = width()
 
     def say(text: str) -> None:
         indent = " " * (len(text) - len(text.lstrip()) + 2)
-        lines = textwrap.fill(text, width, subsequent_indent=indent, break_on_hyphens=False, break_long_words=False)
+        lines = textwrap.fill(text, columns, subsequent_indent=indent, break_on_hyphens=False, break_long_words=False)
         print(lines.replace(KEEP, " "))  # a size ("2 1/2 in") is never broken across lines
 
     return say

@@ -13,7 +13,7 @@ from designer.studies.checks import (
     paper_checks,
     summary_line,
 )
-from designer.cli._terminal import fit, width
+from designer.cli._terminal import fit
 from designer.cli._common import print_json
 from designer.cli._terminal import console as terminal_console
 from designer.units import INCH
@@ -80,7 +80,7 @@ def _print_list(checks) -> None:
             out.append(f"{number:2d}. {_name(c)}: {RESULT.get(c.outcome, c.outcome)}")
             out.append(f"    expected {c.expected}; ours {c.got}")
     out.append("--verbose: each claim in the paper's words and the details.")
-    print(fit("\n".join(out), width()))
+    print(fit("\n".join(out)))
 
 
 def run(args) -> int:
