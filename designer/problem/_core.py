@@ -213,11 +213,11 @@ DEFAULT_PART_COSTS = {"washer": 1.0, "tyre": 2.0, "fork hole": 3.0, "wheel": 4.0
 sees (a friction washer, a tyre, another fork hole or a new fork, a wheel); relative units, any currency."""
 
 DEFAULT_MAX_THRESHOLD_INCREASE = 0.10
+"""``[retrofit] max_threshold_increase``: a fix may raise the sill force by at most 10 % of the current caster's
+(a clinician's limit: about 10 N on a 100 N sill force, what a user notices over a door sill)."""
 DEFAULT_MAX_TURNING_INCREASE = 0.10
 """``[retrofit] max_turning_increase``: a fix may raise the turning effort by at most 10 % of the current
 caster's (a cheap fix that makes the chair much harder to turn is not one a clinician fits)."""
-"""``[retrofit] max_threshold_increase``: a fix may raise the sill force by at most 10 % of the current caster's
-(a clinician's limit: about 10 N on a 100 N sill force, what a user notices over a door sill)."""
 
 
 @dataclass(frozen=True)
