@@ -15,6 +15,10 @@ from designer.studies.spec import PART_LABELS, limit_shown
 from designer.units import written_size
 
 
+API_NAMES = {"current ": "--current ", "shimmied at": "--shimmied-at", "stem angle": "--stem-angle"}
+API_NAMES |= {"inertia": "--inertia", "onset scatter": "--onset-scatter"}
+"""How :func:`designer.fix`'s messages name an argument, and the option it came from on the command line."""
+
 LIMITS = {"max_threshold_increase": "sill force", "max_turning_increase": "turning effort"}
 """The [retrofit] limits a command-line option overrides, each with the force it limits."""
 
@@ -98,17 +102,8 @@ def run(args) -> int:
         )
     except InputError as exc:  # name the option the value came from
         text = str(exc)
-        for prefix, option in (
-            ("current ", "--current "),
-            ("shimmied at", "--shimmied-at"),
-            ("stem angle", "--stem-angle"),
-            ("inertia", "--inertia"),
-            ("onset scatter", "--onset-scatter"),
-        ):
-            if text.startswith(prefix):
-                text = option + text[len(prefix) :]
-                break
-        raise InputError(text) from None
+        prefix = next((p for p in API_NAMES if text.startswith(p)), "")
+        raise InputError(API_NAMES.get(prefix, "") + text[len(prefix) :]) from None
     if args.json:
         print_json(result.to_dict())
         return 0
