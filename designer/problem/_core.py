@@ -553,16 +553,6 @@ _NUMBER_FIELDS = {
 default is None)."""
 
 
-def _normalise_numbers(problem: Problem, put: Callable[[str, Any], None], fail: Callable[[str], NoReturn]) -> None:
-    """The weights and the front's point count by the API's one rule (:mod:`designer.units`): ``np.int64(41)`` is
-    a count, ``True`` and ``41.0`` are not; a weight is a number, never a boolean."""
-    try:
-        put("weights", tuple(real_number(w, f"weights[{i}]") for i, w in enumerate(problem.weights)))
-        put("pareto_points", whole_number(problem.pareto_points, "pareto.points", POINTS_RANGE[0], POINTS_RANGE[1]))
-    except InputError as exc:
-        fail(str(exc))
-
-
 def _normalise(problem: Problem, prefix: str) -> None:
     """The fields of a Problem built by the API as the loader gives them: numbers (or strings with units) as
     floats [SI], the bounds (Bound or a (min, max) pair) and the choices as read-only mappings, the wheels and
@@ -600,7 +590,11 @@ def _normalise(problem: Problem, prefix: str) -> None:
         if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, Iterable):
             fail(f"{name} = {value!r}: expected a sequence")
         put(name, tuple(value))
-    _normalise_numbers(problem, put, fail)
+    try:  # by the API's one rule (designer.units): np.int64(41) is a count, True and 41.0 are not; nor is True a weight
+        put("weights", tuple(real_number(w, f"weights[{i}]") for i, w in enumerate(problem.weights)))
+        put("pareto_points", whole_number(problem.pareto_points, "pareto.points", POINTS_RANGE[0], POINTS_RANGE[1]))
+    except InputError as exc:
+        fail(str(exc))
     if problem.stock is not None and not isinstance(problem.stock, Stock):
         fail(f"stock = {problem.stock!r}: expected None or a Stock")
 
