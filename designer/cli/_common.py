@@ -10,11 +10,10 @@ from designer import Fixed, PowerLaw
 from designer.cli._terminal import fit
 from designer.jsonsafe import finite, resolved_numbers, stamped
 from designer.errors import InputError
-from designer.output import FileKind, check_file, check_folder
-from designer.units import parse_quantity_text
+from designer.output import check_file, check_folder
 from designer.parameters import PARAMETERS
 from designer.problem import INERTIA_RANGE
-from designer.units import outside_range
+from designer.units import outside_range, parse_quantity_text
 
 
 PROBLEM_HELP = (
@@ -23,9 +22,9 @@ PROBLEM_HELP = (
 """The help of every PROBLEM argument: a shipped problem is found by its name from any folder."""
 
 
-def quantity_option(value: str | None, dimension: str, option: str, default=None):
-    """Parse a command-line quantity ("2in", "2 in", "50.8 mm", plain SI number): :func:`designer.units.parse_quantity_text`."""
-    return parse_quantity_text(value, dimension, option, default)
+quantity_option = parse_quantity_text
+"""Parse a command-line quantity ("2in", "2 in", "50.8 mm", plain SI number):
+:func:`designer.units.parse_quantity_text`."""
 
 
 def choice_option(value: str, allowed: tuple[str, ...], option: str) -> str:
@@ -101,21 +100,18 @@ def say(path):
     return eprint if is_stdout(path) else print
 
 
-def check_output_folder(folder, option: str = "--out", **owned) -> None:
-    """Raise OutputError (exit 7) unless ``folder`` can be created and written; called before any computing.
+check_output_folder = check_folder
+"""Raise OutputError (exit 7) unless ``folder`` can be created and written; called before any computing.
 
-    :func:`designer.output.check_folder`: a regular file or a path under one, a link to nothing, a read-only
-    or forbidden place are refused; a link to a folder is followed.  Keyword arguments (``owned``, ``marker``,
-    ``command``) also refuse a folder holding files of the user's that the command would replace.
-    """
-    check_folder(folder, option, **owned)
+:func:`designer.output.check_folder`: a regular file or a path under one, a link to nothing, a read-only
+or forbidden place are refused; a link to a folder is followed.  Keyword arguments (``owned``, ``marker``,
+``command``) also refuse a folder holding files of the user's that the command would replace.
+"""
 
-
-def check_output_file(path, option: str, example: str = "out.csv", *, kind: FileKind) -> None:
-    """Raise OutputError (exit 7) unless the file ``path`` can be written (not a folder, not under a regular
-    file, in a writable folder, new or empty or of ``kind`` and written by the tool); called before any
-    computing (:func:`designer.output.check_file`)."""
-    check_file(path, option, example, kind=kind)
+check_output_file = check_file
+"""Raise OutputError (exit 7) unless the file ``path`` can be written (not a folder, not under a regular
+file, in a writable folder, new or empty or of ``kind`` and written by the tool); called before any
+computing (:func:`designer.output.check_file`)."""
 
 
 def ranged_option(value: str | None, entry: str, option: str, default=None, positive: bool = False):

@@ -90,12 +90,7 @@ def run(args) -> int:
         write_file(args.snippet, text, "--snippet", example="calibration.toml", kind=SNIPPET)
     out = result.to_dict()
     out["data"] = str(args.data)
-    if args.plot:
-        out["plot"] = args.plot
-    if args.report:
-        out["report"] = args.report
-    if args.snippet:
-        out["snippet"] = args.snippet
+    out.update({key: getattr(args, key) for key in ("plot", "report", "snippet") if getattr(args, key)})
     if args.json:
         print_json(out)
         return 0

@@ -11,7 +11,7 @@ from designer.cli._common import choice_option, inertia_option, print_json, quan
 from designer.cli._terminal import console as terminal_console
 from designer.errors import InputError
 from designer.display import MISSING, percent, shown
-from designer.parameters import MODES, OUTPUT_TABLE, OUTPUTS, PARAMETERS, SURFACES, Parameter
+from designer.parameters import MODES, OUTPUT_TABLE, PARAMETERS, SURFACES, VARIABLE_TABLE, Parameter
 from designer.units import COMMON_UNITS, INCH, written_size
 from designer.problem import PHYSICAL_RANGE
 from designer.studies.checks import knock_safe_table1_error
@@ -56,14 +56,10 @@ def register(sub) -> None:
 
 def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
     """Parse the options and evaluate; InputError names the option on bad input."""
-    values = {
-        "trail": quantity_option(args.trail, "length", "--trail"),
-        "diameter": quantity_option(args.diameter, "length", "--diameter"),
-        "groove": quantity_option(args.groove, "length", "--groove"),
-        "damping": quantity_option(args.damping, "damping", "--damping"),
-    }
-    for name, allow_zero in (("trail", False), ("diameter", False), ("groove", True), ("damping", True)):
-        value = values[name]
+    # trail, diameter, groove, damping: each parsed first (a unit error before a sign error)
+    values = {p.name: quantity_option(getattr(args, p.name), p.dimension, f"--{p.name}") for p in VARIABLE_TABLE}
+    for name, value in values.items():
+        allow_zero = name in ("groove", "damping")
         if value < 0 or (value == 0 and not allow_zero):
             given = getattr(args, name)
             raise InputError(
@@ -150,20 +146,7 @@ def _print_screen(design, conditions, values: dict, speed: float | None, out: di
     """The caster's numbers in one screen: one line a quantity (its name, value and the paper's equation), the
     verdict at the target speed, what to do next; each source in full behind ``--verbose``."""
     lines = [f"Caster: {design.describe()}"]
-    rows = _given_rows(conditions, values) + [
-        (p.label, shown_quantity(values[p.name], p), p.source)
-        for p in OUTPUT_TABLE
-        if p.listed and p.name in values and p.name != "inertia"
-    ]
-    inertia = OUTPUTS["inertia"]
-    rows.insert(
-        2,
-        (
-            inertia.label,
-            shown_quantity(values["inertia"], inertia),
-            "measured" if values["measured"] else "Table 1's power law",
-        ),
-    )
+    rows = _rows(conditions, values, "measured" if values["measured"] else "Table 1's power law")
     if knock_safe:
         rows.insert(4, ("knock-safe speed, θ0 / 2 θ0 knock", _knock_safe_value(out), "simulated"))
     name_width = max(len(r[0]) for r in rows)
@@ -191,10 +174,16 @@ def _print_screen(design, conditions, values: dict, speed: float | None, out: di
     _print_warnings(design, values, out)
 
 
-def _given_rows(conditions, values: dict) -> list[tuple[str, str, str]]:
-    """The load and the sill, each with where it came from (the option or the paper's default)."""
-    given = values["sources"]
-    return [(PARAMETERS[n].label, shown_quantity(getattr(conditions, n), PARAMETERS[n]), given[n]) for n in given]
+def _rows(conditions, values: dict, inertia_source: str) -> list[tuple[str, str, str]]:
+    """(name, value, source) of the load and the sill, each with where it came from (the option or the paper's
+    default), then of each listed output in the parameter table's order (I_w first, ``inertia_source`` beside it)."""
+    given, sources = values["sources"], {"inertia": inertia_source}
+    rows = [(PARAMETERS[n].label, shown_quantity(getattr(conditions, n), PARAMETERS[n]), given[n]) for n in given]
+    return rows + [
+        (p.label, shown_quantity(values[p.name], p), sources.get(p.name, p.source))
+        for p in OUTPUT_TABLE
+        if p.listed and p.name in values
+    ]
 
 
 def _knock_safe_value(out: dict) -> str:
@@ -249,25 +238,14 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
     table.add_column("quantity", max_width=20)
     table.add_column("value", justify="right", max_width=20)
     table.add_column("source", min_width=max(map(len, words)))  # wrapped at words: a link is never split
-    rows = _given_rows(conditions, values)
-    sources = {"inertia": conditions.inertia.describe()}  # which inertia model: beside I_w
-    rows += [
-        (p.label, shown_quantity(values[p.name], p), sources.get(p.name, p.source))
-        for p in OUTPUT_TABLE
-        if p.listed and p.name in values
-    ]
+    rows = _rows(conditions, values, conditions.inertia.describe())  # which inertia model: beside I_w
     if knock_safe:  # beside V_c
-        rows.insert(
-            2,
-            (
-                f"knock-safe speed, {math.degrees(conditions.disturbance_angle):.0f}° / "
-                f"{math.degrees(2 * conditions.disturbance_angle):.0f}° knock",
-                _knock_safe_value(out),
-                "simulated (App. B); against Table 1 C–G: log RMS "
-                f"{out['knock_safe_table1']['log_rms']:.3f}, bias {out['knock_safe_table1']['bias']:+.3f} "
-                "(a second opinion: the criterion is the Eq. 7 risk bound)",
-            ),
+        theta0, band = math.degrees(conditions.disturbance_angle), out["knock_safe_table1"]
+        source = (
+            f"simulated (App. B); against Table 1 C–G: log RMS {band['log_rms']:.3f}, bias {band['bias']:+.3f} "
+            "(a second opinion: the criterion is the Eq. 7 risk bound)"
         )
+        rows.insert(2, (f"knock-safe speed, {theta0:.0f}° / {2 * theta0:.0f}° knock", _knock_safe_value(out), source))
     if speed is not None:
         rows += _speed_rows(values, speed, out["risk"])
     for row in rows:

@@ -74,7 +74,20 @@ def run(args) -> int:
     # after Ctrl-C, optuna's "Trial N failed ... KeyboardInterrupt" tracebacks are dropped: one line says it
     logging.getLogger("optuna.study._optimize").addFilter(_QUIET)
     with removed_if_failed(spec):  # a storage file made by this run and left empty by a failure is removed
-        result = _explore(designer.explore, problem, args)
+        result = designer.explore(
+            problem,
+            trials=args.trials,
+            seed=args.seed,
+            storage=args.storage,
+            study_name=args.study,
+            workers=args.workers,
+            resume=args.resume,
+            refine=args.refine,
+            operators=args.operators,
+            population_size=args.population,
+            compare=not args.no_compare,
+            progress=not args.json,
+        )
     csv_path, json_path = result.write(out)
     for note in result.warnings:
         eprint(f"designer: note: {note}")
@@ -86,24 +99,6 @@ def run(args) -> int:
 
 
 _QUIET = QuietAfterInterrupt()
-
-
-def _explore(explore, problem, args):
-    """The study of the command's arguments (:func:`designer.studies.explore.explore`)."""
-    return explore(
-        problem,
-        trials=args.trials,
-        seed=args.seed,
-        storage=args.storage,
-        study_name=args.study,
-        workers=args.workers,
-        resume=args.resume,
-        refine=args.refine,
-        operators=args.operators,
-        population_size=args.population,
-        compare=not args.no_compare,
-        progress=not args.json,
-    )
 
 
 def _print(result, csv_path, json_path) -> None:
@@ -147,9 +142,7 @@ def _print(result, csv_path, json_path) -> None:
     for r in result.front:
         table.add_row(
             *[str(r[c]) for c in cats],
-            f"{r['trail'] / INCH:.3f}",
-            f"{r['diameter'] / INCH:.3f}",
-            f"{r['groove'] / INCH:.3f}",
+            *(f"{r[name] / INCH:.3f}" for name in ("trail", "diameter", "groove")),
             f"{r['damping']:.3f}",
             f"{r['turning_effort']:.3f}",
             f"{r['threshold_force']:.2f}",

@@ -15,6 +15,14 @@ from designer.studies.spec import PART_LABELS, limit_shown
 from designer.units import written_size
 
 
+API_NAMES = {"current ": "--current ", "shimmied at": "--shimmied-at", "stem angle": "--stem-angle"}
+API_NAMES |= {"inertia": "--inertia", "onset scatter": "--onset-scatter"}
+"""How :func:`designer.fix`'s messages name an argument, and the option it came from on the command line."""
+
+LIMITS = {"max_threshold_increase": "sill force", "max_turning_increase": "turning effort"}
+"""The [retrofit] limits a command-line option overrides, each with the force it limits."""
+
+
 def register(sub) -> None:
     p = sub.add_parser(
         "fix",
@@ -53,20 +61,10 @@ def register(sub) -> None:
     p.add_argument(
         "--onset-scatter", type=float, default=None, help="σ of the log of the observed onset (default 0.05)"
     )
-    p.add_argument(
-        "--max-threshold-increase",
-        default=None,
-        metavar="FRACTION",
-        help="override [retrofit] max_threshold_increase: how much a fix may raise the sill force, e.g. 0.15 or "
-        "'15 %%' (default the problem's, 10 %%)",
-    )
-    p.add_argument(
-        "--max-turning-increase",
-        default=None,
-        metavar="FRACTION",
-        help="override [retrofit] max_turning_increase: how much a fix may raise the turning effort, e.g. 0.15 "
-        "or '15 %%' (default the problem's, 10 %%)",
-    )
+    for key, what in LIMITS.items():
+        option, fraction = "--" + key.replace("_", "-"), "e.g. 0.15 or '15 %%' (default the problem's, 10 %%)"
+        text = f"override [retrofit] {key}: how much a fix may raise the {what}, {fraction}"
+        p.add_argument(option, default=None, metavar="FRACTION", help=text)
     p.add_argument("--top", type=int, default=10, help="fixes to list (0: all found; default 10)")
     p.add_argument("--wide", action="store_true", help="every column of the table (wider than 80 characters)")
     p.add_argument(
@@ -79,21 +77,17 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    speed = ranged_option(args.target_speed, "target_speed", "--target-speed")  # options before the file
-    increase = _increase(args.max_threshold_increase)
-    turning = _increase(args.max_turning_increase, "--max-turning-increase")
+    changes = {"target_speed": ranged_option(args.target_speed, "target_speed", "--target-speed")}  # before the file
+    for key in LIMITS:  # each checked as its option (a fraction from 0 to 10), so the problem stays valid
+        changes[key] = _increase(getattr(args, key), "--" + key.replace("_", "-"))
     if args.top < 0:
         raise InputError(f"--top {args.top}: must be 0 (all) or a positive number")
     problem = load_problem(args.problem)
-    if speed is not None:
-        problem = problem.replace(target_speed=speed)
-    if increase is not None:
-        problem = problem.replace(max_threshold_increase=increase)
-    if turning is not None:
-        problem = problem.replace(max_turning_increase=turning)
+    if any(v is not None for v in changes.values()):
+        problem = problem.replace(**{k: v for k, v in changes.items() if v is not None})
     current = parse_current(args.current)
-    inertia = None if args.inertia is None else quantity_option(args.inertia, "inertia", "--inertia")
-    shimmied = None if args.shimmied_at is None else quantity_option(args.shimmied_at, "speed", "--shimmied-at")
+    inertia = quantity_option(args.inertia, "inertia", "--inertia")
+    shimmied = quantity_option(args.shimmied_at, "speed", "--shimmied-at")
     angle = quantity_option(args.stem_angle, "angle", "--stem-angle")
     try:
         result = fix(
@@ -108,17 +102,8 @@ def run(args) -> int:
         )
     except InputError as exc:  # name the option the value came from
         text = str(exc)
-        for prefix, option in (
-            ("current ", "--current "),
-            ("shimmied at", "--shimmied-at"),
-            ("stem angle", "--stem-angle"),
-            ("inertia", "--inertia"),
-            ("onset scatter", "--onset-scatter"),
-        ):
-            if text.startswith(prefix):
-                text = option + text[len(prefix) :]
-                break
-        raise InputError(text) from None
+        prefix = next((p for p in API_NAMES if text.startswith(p)), "")
+        raise InputError(API_NAMES.get(prefix, "") + text[len(prefix) :]) from None
     if args.json:
         print_json(result.to_dict())
         return 0
@@ -129,7 +114,7 @@ def run(args) -> int:
     return 0
 
 
-def _increase(text: str | None, option: str = "--max-threshold-increase") -> float | None:
+def _increase(text: str | None, option: str) -> float | None:
     """``--max-threshold-increase`` or ``--max-turning-increase``: a fraction from 0 to 10 (``0.15`` or
     ``"15 %"``); InputError naming it."""
     if text is None:
@@ -164,27 +149,16 @@ def _print(result, problem, wide: bool = False, top: int = 10) -> None:
     limit = f"+{result.max_threshold_increase:.0%} sill force and +{result.max_turning_increase:.0%} turning effort"
     shown = list(result.fixes)
     if result.fixes:
-        _print_table(
-            console,
-            result,
-            result.fixes,
-            f"Fixes within {limit} ({result.found} found, {len(result.fixes)} shown)",
-            wide,
-            conf,
-        )
+        title = f"Fixes within {limit} ({result.found} found, {len(result.fixes)} shown)"
+        _print_table(console, result, result.fixes, title, wide, conf)
     else:
         console.print(f"No fix keeps within {limit} of the current caster's.")
     if result.beyond:
         apart = result.beyond if not result.fixes or wide else result.beyond[: min(3, top or 3)]
         shown += apart
+        found = f"{result.found_beyond} found, {len(apart)} shown"
         _print_table(
-            console,
-            result,
-            apart,
-            f"Beyond the limits, listed apart ({result.found_beyond} found, {len(apart)} shown; --json --top 0 lists "
-            "all)",
-            wide,
-            conf,
+            console, result, apart, f"Beyond the limits, listed apart ({found}; --json --top 0 lists all)", wide, conf
         )
     if any(f.extrapolated for f in shown):
         console.print("* a wheel outside Table 1's 4–8 in: its I_w and Eq. 7 are extrapolated (docs/retrofit.md).")

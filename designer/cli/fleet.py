@@ -5,7 +5,6 @@
 
 from __future__ import annotations
 
-import shutil
 import textwrap
 from pathlib import Path
 
@@ -19,6 +18,7 @@ from designer.cli._common import (
     print_json,
     quantity_option,
 )
+from designer.cli._terminal import width
 from designer.studies.fleet import (
     DEFAULT_MAX_REGRET,
     EXAMPLE_KIND,
@@ -99,16 +99,14 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-
     count_option(args.seed, "--seed", 0, SEED_MAX)
     count_option(args.example, "--example", 1, MAX_CHAIRS, " chairs (docs/fleet.md)")
     if args.example is not None:
         if args.fleet is not None:
             raise InputError(f"--example {args.example}: writes a fleet; do not also give FLEET.csv ({args.fleet})")
         target = args.out or f"fleet-example-{args.example}.csv"
-        check_output_file(
-            target, "--out", example=f"fleet-example-{args.example}.csv", kind=EXAMPLE_KIND
-        )  # before the fleet is made
+        # before the fleet is made
+        check_output_file(target, "--out", example=f"fleet-example-{args.example}.csv", kind=EXAMPLE_KIND)
         fleet = example_fleet(args.example, seed=args.seed)
         path = write_fleet_csv(fleet, target)
         if args.json:
@@ -225,11 +223,11 @@ def _size(value: float, units: str) -> str:
 
 def _sayer():
     """A printer of one paragraph wrapped to the terminal's width, continued two columns in."""
-    width = max(40, shutil.get_terminal_size((80, 24)).columns)
+    columns = width()
 
     def say(text: str) -> None:
         indent = " " * (len(text) - len(text.lstrip()) + 2)
-        lines = textwrap.fill(text, width, subsequent_indent=indent, break_on_hyphens=False, break_long_words=False)
+        lines = textwrap.fill(text, columns, subsequent_indent=indent, break_on_hyphens=False, break_long_words=False)
         print(lines.replace(KEEP, " "))  # a size ("2 1/2 in") is never broken across lines
 
     return say
@@ -238,16 +236,8 @@ def _sayer():
 def _print(data: dict, run_info: dict, stock: int, out: Path, units: str) -> None:
     """The answer first (how many part numbers), then the part numbers, the chairs and the timings; lines
     wrapped to the terminal's width (``COLUMNS``; 80 when not a terminal)."""
-    width = max(40, shutil.get_terminal_size((80, 24)).columns)
-
-    def say(text: str) -> None:
-        indent = " " * (len(text) - len(text.lstrip()) + 2)
-        lines = textwrap.fill(text, width, subsequent_indent=indent, break_on_hyphens=False, break_long_words=False)
-        print(lines.replace(KEEP, " "))  # a size ("2 1/2 in") is never broken across lines
-
-    def size(value: float) -> str:
-        return written_size(value, units).replace(" ", KEEP)
-
+    say = _sayer()
+    size = lambda value: _size(value, units)  # noqa: E731 - one short local formatter
     if data["answer"]:
         print(data["answer"])
         say(f"  {data['answer_detail']}")

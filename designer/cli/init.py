@@ -172,11 +172,8 @@ def _ask(args) -> Answers:
     given = dict(vars(args))
     defaults = _defaults()
     for key, question in _QUESTIONS:
-        if given.get(key) is not None:
-            continue
-        if key == "front_fraction" and given.get("mass") is None:
-            continue
-        if key == "load" and given.get("mass") is not None:
+        by_mass = given.get("mass") is not None  # the front fraction with the mass, else the load
+        if given.get(key) is not None or key == ("load" if by_mass else "front_fraction"):
             continue
         default = f"{FRONT_FRACTION:g}" if key == "front_fraction" else (defaults.get(key) or "")
         while True:

@@ -12,6 +12,7 @@ propagate to the one-line handler of :mod:`designer.cli`.
 
 from __future__ import annotations
 
+import contextlib
 import sys
 
 from pathlib import Path
@@ -81,15 +82,8 @@ def _progress():
     console = Console(stderr=True)
     if not console.is_terminal:  # a log file or a pipe: no bar (an interruption leaves one line there)
         return None
-    progress = Progress(
-        TextColumn("{task.description}"),
-        BarColumn(),
-        TaskProgressColumn(),
-        TimeElapsedColumn(),
-        console=console,
-        transient=True,
-    )
-    return progress
+    columns = (TextColumn("{task.description}"), BarColumn(), TaskProgressColumn(), TimeElapsedColumn())
+    return Progress(*columns, console=console, transient=True)
 
 
 def _sizes(design: dict, units: str) -> str:
@@ -126,7 +120,6 @@ def _print_summary(s: dict, problem) -> None:
 
 
 def run(args) -> int:
-
     if args.points is not None and not POINTS_RANGE[0] <= args.points <= POINTS_RANGE[1]:
         raise InputError(
             f"--points {args.points}: must be a whole number from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}, "
@@ -136,8 +129,7 @@ def run(args) -> int:
     if args.all:
         files = problem_files(args.problem or "problems")
         parent = Path(args.out or "results")
-        jobs = [(load_problem(f), None) for f in files]
-        jobs = [(p, parent / p.name) for p, _ in jobs]
+        jobs = [(p, parent / p.name) for p in map(load_problem, files)]
     else:
         if not args.problem:
             raise InputError("designer pareto: give a PROBLEM file, or --all")
@@ -154,16 +146,11 @@ def run(args) -> int:
         check_target(target, args.force)
     summaries = []
     progress = _progress()
-    if progress is not None:
-        progress.start()
-    try:
+    with progress if progress is not None else contextlib.nullcontext():  # Progress stops itself on the way out
         for problem, out in jobs:
             summaries.append(compute_and_write(problem, args.points, out, progress, args.force, args.cross_check))
             if not args.json:
                 _print_summary(summaries[-1], problem)
-    finally:
-        if progress is not None:
-            progress.stop()
     if args.json:
         print_json(summaries if args.all else summaries[0])
     bad = [s for s in summaries if s["failing_front_checks"]]

@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 import designer
-from designer.cli._terminal import fit, width
+from designer.cli._terminal import fit
 from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
 from designer.errors import InputError
 from designer import load_problem, recommend
@@ -58,12 +58,6 @@ def parse_weights(text: str | None):
         raise InputError(f"--weights {text}: the weights must not both be zero")
 
     return check_weights(values, "--weights", error=InputError)
-
-
-def wrapped(text: str) -> str:
-    """``text`` fitted to the terminal's width (:func:`designer.cli._terminal.fit`: wrapped at words, never
-    between a number and its unit; the aligned tables, narrower, as they are)."""
-    return fit(text, width())
 
 
 def conditions_line(problem) -> str:
@@ -228,7 +222,7 @@ def run(args) -> int:
                 f"\n--weights {args.weights} sets the weighted optimum (--verbose shows it); the caster to build "
                 "follows the problem's [objective]."
             )
-        print(wrapped(text))
+        print(fit(text))  # at the terminal's width, never between a number and its unit
         return 0
     solution = designer.optimise(problem, weights, cross_check=not args.no_cross_check)
     if args.json:
@@ -261,7 +255,7 @@ def run(args) -> int:
                 str(solution),
             ]
         )
-        print(wrapped(text))
+        print(fit(text))  # at the terminal's width, never between a number and its unit
     if args.verbose:
         t = solution.timings
         eprint(

@@ -155,35 +155,24 @@ def _bifurcation(args, design, conditions, angle: float, tyre) -> dict:
     """Periodic orbits against speed, brush tyre and rolling tyre (``--points``, ``--max-speed``); ``--plot`` draws them."""
     points = _points(args)
     top = ranged_option(args.max_speed, "target_speed", "--max-speed")
-    bif = bifurcation_diagram(design, conditions, tyre, speed_range=(min(0.3, top / 4), top), points=points)
+    span = (min(0.3, top / 4), top)
+    bif = bifurcation_diagram(design, conditions, tyre, speed_range=span, points=points)
     roll = bifurcation_diagram(
-        design,
-        conditions,
-        None,
-        speed_range=(min(0.3, top / 4), top),
-        points=max(3, points // 2),
-        max_amplitude=1.5,
+        design, conditions, None, speed_range=span, points=max(3, points // 2), max_amplitude=1.5
     )
     data = bif.to_dict()
-    out = {
-        k: data[k]
-        for k in (
-            "branches",
-            "fold_speed",
-            "eq7_critical_speed",
-            "frequency",
-            "orbits",
-            "stable_at_reference",
-            "max_closure",
-            "tyre",
-        )
-    }
+    out = {k: data[k] for k in BIFURCATION_KEYS}
     out["rolling_branches"] = roll.to_dict()["branches"]
     if args.plot:
         _plot_bifurcation(args.plot, design, angle, bif, roll, top)
         out["plot"] = args.plot
     return out
 
+
+BIFURCATION_KEYS = (
+    "branches fold_speed eq7_critical_speed frequency orbits stable_at_reference max_closure tyre".split()
+)
+"""What --bifurcation's output takes of the brush tyre's diagram (:meth:`BifurcationDiagram.to_dict`)."""
 
 DEFAULT_POINTS = 24
 """Orbits on the unstable branch of --bifurcation by default (its work budget grows with --points over this)."""
@@ -201,11 +190,10 @@ def _points(args) -> int:
 
 
 def _plot_bifurcation(path, design, angle: float, bif, roll, top: float) -> None:
-    """Draw the bifurcation diagram of ``bif`` (brush tyre) and ``roll`` (rolling tyre) into an image file."""
+    """Draw the bifurcation diagram of ``bif`` (brush tyre) and ``roll`` (rolling tyre) into an image file (its
+    suffix checked by :func:`run` before the work)."""
     from designer.plots.figures import save_figure
 
-    if not str(path).lower().endswith((".png", ".svg", ".pdf")):
-        raise InputError(f"--plot {path}: expected a .png, .svg or .pdf file name")
     ax = bifurcation_axes(
         bif.branches,
         bif.eq7_critical_speed,
@@ -393,8 +381,7 @@ def _report(args, write_simulation_report) -> int:
 
 
 def _plot(result, path, onset=None) -> None:
-    if not str(path).lower().endswith((".png", ".svg", ".pdf")):
-        raise InputError(f"--plot {path}: expected a .png, .svg or .pdf file name")
+    """Draw θ(t) of ``result`` into the image file ``path`` (its suffix checked by :func:`run` before the work)."""
     ax = result.plot(onset_speed=onset.speed if onset is not None else None)
     from designer.plots.figures import save_figure
 

@@ -13,7 +13,7 @@ from designer.studies.checks import (
     paper_checks,
     summary_line,
 )
-from designer.cli._terminal import fit, width
+from designer.cli._terminal import fit
 from designer.cli._common import print_json
 from designer.cli._terminal import console as terminal_console
 from designer.units import INCH
@@ -80,7 +80,7 @@ def _print_list(checks) -> None:
             out.append(f"{number:2d}. {_name(c)}: {RESULT.get(c.outcome, c.outcome)}")
             out.append(f"    expected {c.expected}; ours {c.got}")
     out.append("--verbose: each claim in the paper's words and the details.")
-    print(fit("\n".join(out), width()))
+    print(fit("\n".join(out)))
 
 
 def run(args) -> int:
@@ -131,6 +131,10 @@ def run(args) -> int:
     return 1 if failed else 0
 
 
+PIT_COLUMNS = ("wheel", "d (in)", "V measured (m/s)", "I_w scale (ν)", "model error (ν)", "PIT from d", "PIT from I_w")
+"""The columns of check 11's table."""
+
+
 def _pit_table(check):
     """Check 11's table: each Table 1 wheel left out, the law refitted without it, the PIT of its onset."""
     from rich.table import Table
@@ -138,15 +142,7 @@ def _pit_table(check):
     table = Table(
         title=f"{check.name}: the risk law refitted without each wheel (coarse: five wheels)", title_justify="left"
     )
-    for col in (
-        "wheel",
-        "d (in)",
-        "V measured (m/s)",
-        "I_w scale (ν)",
-        "model error (ν)",
-        "PIT from d",
-        "PIT from I_w",
-    ):
+    for col in PIT_COLUMNS:
         table.add_column(col)
     for r in check.rows:
         table.add_row(

@@ -73,6 +73,15 @@ MAX_SAMPLES = 10_000_000
 """Largest Monte Carlo sample of [robust] (memory grows with it)."""
 
 
+def parsed(value: Any, dimension: str, key: str, fail: Callable[[str], NoReturn]) -> float:
+    """:func:`designer.units.parse_quantity` of ``value`` named ``key``; its InputError raised through ``fail``
+    (the problem's one-line error, with the file's name)."""
+    try:
+        return parse_quantity(value, dimension, key)
+    except InputError as exc:
+        fail(str(exc))
+
+
 def check_range(key: str, value: float, prefix: str = "") -> None:
     """Raise :class:`ProblemError` if ``value`` [SI] is outside :data:`PHYSICAL_RANGE` of ``key``.
 
@@ -204,11 +213,11 @@ DEFAULT_PART_COSTS = {"washer": 1.0, "tyre": 2.0, "fork hole": 3.0, "wheel": 4.0
 sees (a friction washer, a tyre, another fork hole or a new fork, a wheel); relative units, any currency."""
 
 DEFAULT_MAX_THRESHOLD_INCREASE = 0.10
+"""``[retrofit] max_threshold_increase``: a fix may raise the sill force by at most 10 % of the current caster's
+(a clinician's limit: about 10 N on a 100 N sill force, what a user notices over a door sill)."""
 DEFAULT_MAX_TURNING_INCREASE = 0.10
 """``[retrofit] max_turning_increase``: a fix may raise the turning effort by at most 10 % of the current
 caster's (a cheap fix that makes the chair much harder to turn is not one a clinician fits)."""
-"""``[retrofit] max_threshold_increase``: a fix may raise the sill force by at most 10 % of the current caster's
-(a clinician's limit: about 10 N on a 100 N sill force, what a user notices over a door sill)."""
 
 
 @dataclass(frozen=True)
@@ -300,6 +309,10 @@ class Tolerances(Keyed):
     enforce: bool = False
 
 
+TURNING_KEYS = ("tile_moment_per_load", "carpet_factor", "groove_coefficient", "mode_factors", "bare_fork_damping")
+"""The turning model's constants in :meth:`Problem.to_dict` (under ``turning``), in this order."""
+
+
 @dataclass(frozen=True)
 class Problem(Record):
     """A validated caster design problem (immutable).
@@ -368,16 +381,7 @@ class Problem(Record):
         "max_turning_effort",
         "max_threshold_increase",
         "max_turning_increase",
-        *(
-            Key(f"turning.{n}", f"conditions.turning.{n}")
-            for n in (
-                "tile_moment_per_load",
-                "carpet_factor",
-                "groove_coefficient",
-                "mode_factors",
-                "bare_fork_damping",
-            )
-        ),
+        *(Key(f"turning.{n}", f"conditions.turning.{n}") for n in TURNING_KEYS),
         Key("tolerances", omit="none"),
     )
     """The plain data of :meth:`to_dict` (SI): the conditions' numbers at the top level, the turning model's under
@@ -549,16 +553,6 @@ _NUMBER_FIELDS = {
 default is None)."""
 
 
-def _normalise_numbers(problem: Problem, put: Callable[[str, Any], None], fail: Callable[[str], NoReturn]) -> None:
-    """The weights and the front's point count by the API's one rule (:mod:`designer.units`): ``np.int64(41)`` is
-    a count, ``True`` and ``41.0`` are not; a weight is a number, never a boolean."""
-    try:
-        put("weights", tuple(real_number(w, f"weights[{i}]") for i, w in enumerate(problem.weights)))
-        put("pareto_points", whole_number(problem.pareto_points, "pareto.points", POINTS_RANGE[0], POINTS_RANGE[1]))
-    except InputError as exc:
-        fail(str(exc))
-
-
 def _normalise(problem: Problem, prefix: str) -> None:
     """The fields of a Problem built by the API as the loader gives them: numbers (or strings with units) as
     floats [SI], the bounds (Bound or a (min, max) pair) and the choices as read-only mappings, the wheels and
@@ -574,10 +568,7 @@ def _normalise(problem: Problem, prefix: str) -> None:
         value = getattr(problem, name)
         if value is None and dataclasses.fields(problem)[_FIELD_INDEX[name]].default is None:
             continue
-        try:
-            put(name, parse_quantity(value, dimension, key))
-        except InputError as exc:
-            fail(str(exc))
+        put(name, parsed(value, dimension, key, fail))
     if not isinstance(problem.bounds, Mapping):
         fail(f"bounds = {problem.bounds!r}: expected a mapping of variable names to Bound(min, max) [SI]")
     bounds = {}
@@ -599,7 +590,11 @@ def _normalise(problem: Problem, prefix: str) -> None:
         if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, Iterable):
             fail(f"{name} = {value!r}: expected a sequence")
         put(name, tuple(value))
-    _normalise_numbers(problem, put, fail)
+    try:  # by the API's one rule (designer.units): np.int64(41) is a count, True and 41.0 are not; nor is True a weight
+        put("weights", tuple(real_number(w, f"weights[{i}]") for i, w in enumerate(problem.weights)))
+        put("pareto_points", whole_number(problem.pareto_points, "pareto.points", POINTS_RANGE[0], POINTS_RANGE[1]))
+    except InputError as exc:
+        fail(str(exc))
     if problem.stock is not None and not isinstance(problem.stock, Stock):
         fail(f"stock = {problem.stock!r}: expected None or a Stock")
 
@@ -615,16 +610,13 @@ def _validate(problem: Problem, prefix: str = "") -> None:
             f"name = {problem.name!r}: must be 1–64 letters, digits, '-', '_' or '.', starting with a letter "
             f"or digit (it names the results folder)"
         )
-    if not (math.isfinite(problem.max_threshold_increase) and 0 <= problem.max_threshold_increase <= 10):
-        fail(
-            f"retrofit.max_threshold_increase = {problem.max_threshold_increase:g}: must be from 0 to 10 "
-            "(0.1 or '10 %': a fix may raise the sill force by 10 % of the current caster's)"
-        )
-    if not (math.isfinite(problem.max_turning_increase) and 0 <= problem.max_turning_increase <= 10):
-        fail(
-            f"retrofit.max_turning_increase = {problem.max_turning_increase:g}: must be from 0 to 10 "
-            "(0.1 or '10 %': a fix may raise the turning effort by 10 % of the current caster's)"
-        )
+    for key, force in (("max_threshold_increase", "sill force"), ("max_turning_increase", "turning effort")):
+        value = getattr(problem, key)
+        if not (math.isfinite(value) and 0 <= value <= 10):
+            fail(
+                f"retrofit.{key} = {value:g}: must be from 0 to 10 "
+                f"(0.1 or '10 %': a fix may raise the {force} by 10 % of the current caster's)"
+            )
     if problem.units not in REPORT_UNITS:
         fail(f"report.units = {problem.units!r}: expected one of {', '.join(REPORT_UNITS)}")
     if problem.target_speed <= 0:
@@ -640,10 +632,6 @@ def _validate(problem: Problem, prefix: str = "") -> None:
     check_weights(problem.weights, prefix + "objective")
     if not problem.wheels:
         _validate_inertia(problem, fail)
-    if not isinstance(problem.pareto_points, int) or not POINTS_RANGE[0] <= problem.pareto_points <= POINTS_RANGE[1]:
-        fail(
-            f"pareto.points = {problem.pareto_points!r}: must be an integer from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}"
-        )
 
 
 def _validate_conditions(problem: Problem, prefix: str, fail: Callable[[str], NoReturn]) -> None:

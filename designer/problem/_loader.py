@@ -38,6 +38,7 @@ from designer.physics.uncertainty import Uncertainty
 
 from designer.problem._stock import read_stock
 from designer.problem._core import (
+    parsed,
     show_key,
     DEFAULT_BOUNDS,
     DEFAULT_MAX_THRESHOLD_INCREASE,
@@ -191,10 +192,7 @@ class _Reader:
         table = self.data if sec == "" else self.section(sec)
         if key not in table:
             return default
-        try:
-            return parse_quantity(table[key], dimension, f"{sec}.{key}" if sec else key)
-        except InputError as exc:
-            self.fail(str(exc))
+        return parsed(table[key], dimension, f"{sec}.{key}" if sec else key, self.fail)
 
     def text_value(self, sec: str, key: str, default: str) -> str:
         table = self.data if sec == "" else self.section(sec)
@@ -491,17 +489,11 @@ def _bound(r: _Reader, var: str, spec: object) -> Bound:
         if "min" not in spec or "max" not in spec:
             missing = "min" if "min" not in spec else "max"
             r.fail(f"variables.{var}.{missing}: missing; give both min and max, or a single value to fix it")
-        try:
-            lo = parse_quantity(spec["min"], dim, f"variables.{var}.min")
-            hi = parse_quantity(spec["max"], dim, f"variables.{var}.max")
-        except InputError as exc:
-            r.fail(str(exc))
+        lo = parsed(spec["min"], dim, f"variables.{var}.min", r.fail)
+        hi = parsed(spec["max"], dim, f"variables.{var}.max", r.fail)
         given = {f"variables.{var}.min": (spec["min"], lo), f"variables.{var}.max": (spec["max"], hi)}
     else:
-        try:
-            lo = hi = parse_quantity(spec, dim, f"variables.{var}")
-        except InputError as exc:
-            r.fail(str(exc))
+        lo = hi = parsed(spec, dim, f"variables.{var}", r.fail)
         given = {f"variables.{var}": (spec, lo)}
     for key, (text, value) in given.items():  # said in the user's unit (validate() repeats it in SI)
         if value > MODEL_RANGE[var][1] or 0 < value < MODEL_RANGE[var][0]:
@@ -604,12 +596,7 @@ def _uncertainty(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> Unce
     values: dict[str, Any] = {}
     for key in ("probability", "model_error", "damping", "slip_coefficient", "inertia"):
         value = table.get(key, getattr(defaults, key))
-        if (
-            isinstance(value, bool)
-            or not isinstance(value, (int, float))
-            or abs(value) > 1e300
-            or not math.isfinite(value)
-        ):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not abs(value) <= 1e300:  # NaN, inf
             fail(f"robust.{key} = {value!r}: expected a finite number")
         values[key] = float(value)
     low, high = PROBABILITY_RANGE

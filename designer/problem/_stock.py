@@ -13,8 +13,16 @@ from typing import Any, Callable, NoReturn
 from designer.data.paper import INCH
 from designer.model import VARIABLE_UNITS
 from designer.physics.inertia import Fixed, InertiaModel
-from designer.problem._core import DEFAULT_PART_COSTS, INERTIA_RANGE, PART_KINDS, Bound, Stock, StockWheel, show_key
-from designer.units import InputError, parse_quantity
+from designer.problem._core import (
+    DEFAULT_PART_COSTS,
+    INERTIA_RANGE,
+    PART_KINDS,
+    Bound,
+    Stock,
+    StockWheel,
+    parsed,
+    show_key,
+)
 
 
 def _cost(raw: object, key: str, fail: Callable[[str], NoReturn]) -> float:
@@ -62,10 +70,7 @@ def _stock_values(
     out = []
     b = bounds[variable]
     for i, raw in enumerate(values):
-        try:
-            v = parse_quantity(raw, dimension, f"stock.{key}[{i}]")
-        except InputError as exc:
-            fail(str(exc))
+        v = parsed(raw, dimension, f"stock.{key}[{i}]", fail)
         if not b.low * (1 - 1e-9) - 1e-12 <= v <= b.high * (1 + 1e-9) + 1e-12:
             unit = VARIABLE_UNITS[variable]
             shown = (
@@ -92,6 +97,10 @@ def _kind_costs(raw: object, fail: Callable[[str], NoReturn]) -> dict[str, float
             fail(f"stock.costs.{show_key(key)}: unknown part; expected washer, tyre, fork_hole, wheel")
         costs[kind] = _cost(value, f"stock.costs.{key}", fail)
     return costs
+
+
+STOCK_LISTS = (("diameters", "length", "diameter"), ("grooves", "length", "groove"), ("dampings", "damping", "damping"))
+"""The [stock] lists of values: key, dimension, design variable."""
 
 
 def read_stock(
@@ -124,12 +133,9 @@ def read_stock(
     if "diameters" in table and "wheels" in table:
         fail("stock: give diameters (and grooves) or wheels, not both")
     items: dict[str, dict[float, float]] = {}
-    diameters = (
-        _stock_values(table, "diameters", "length", "diameter", bounds, fail, items) if "diameters" in table else None
-    )
-    grooves = _stock_values(table, "grooves", "length", "groove", bounds, fail, items) if "grooves" in table else None
-    dampings = (
-        _stock_values(table, "dampings", "damping", "damping", bounds, fail, items) if "dampings" in table else None
+    diameters, grooves, dampings = (
+        _stock_values(table, key, dimension, variable, bounds, fail, items) if key in table else None
+        for key, dimension, variable in STOCK_LISTS
     )
     trails = step = None
     if "trail_step" in table:
@@ -152,21 +158,16 @@ def read_stock(
 
 def _stock_trails(table: dict[str, Any], b: Bound, fail: Callable[[str], NoReturn]) -> tuple[float, tuple[float, ...]]:
     """``stock.trail_step``: the step [m] and the fork holes from ``variables.trail.min`` every step up to max."""
-    try:
-        step = parse_quantity(table["trail_step"], "length", "stock.trail_step")
-    except InputError as exc:
-        fail(str(exc))
+    step = parsed(table["trail_step"], "length", "stock.trail_step", fail)
     span = max(b.high - b.low, 0.0)  # inverted bounds are validate()'s one-line error, not the step's
     if not step > 0 or not math.isfinite(step):
         fail(f'stock.trail_step = {table["trail_step"]!r}: must be a positive length, e.g. "0.25 in"')
-    if b.low > b.high:
-        pass  # inverted trail bounds: validate() names variables.trail (min greater than max)
-    elif span <= 0:
+    if b.low <= b.high and span <= 0:  # inverted trail bounds: validate() names variables.trail (min > max)
         fail(
             f"stock.trail_step = {table['trail_step']!r}: variables.trail is fixed at {b.low / INCH:.4g} in; "
             f"leave trail_step out"
         )
-    elif step > span * (1 + 1e-9):
+    if b.low <= b.high and step > span * (1 + 1e-9):
         fail(
             f"stock.trail_step = {step / INCH:.4g} in: larger than the trail range "
             f"{b.low / INCH:.4g} to {b.high / INCH:.4g} in ({span / INCH:.4g} in); use a smaller step"
@@ -229,10 +230,7 @@ def _stock_wheel(
     )
     inertia_w = None
     if "inertia" in w:
-        try:
-            inertia_w = parse_quantity(w["inertia"], "inertia", f"stock.wheels[{i}].inertia")
-        except InputError as exc:
-            fail(str(exc))
+        inertia_w = parsed(w["inertia"], "inertia", f"stock.wheels[{i}].inertia", fail)
         if not INERTIA_RANGE[0] <= inertia_w <= INERTIA_RANGE[1]:
             fail(
                 f"stock.wheels[{i}].inertia = {inertia_w:g} kg·m²: outside {INERTIA_RANGE[0]:g} to "
