@@ -18,6 +18,7 @@ charts of the records' notebook reprs (:func:`svg_curve`, :func:`svg_sparkline`)
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 from html import escape
 from typing import Any
 
@@ -162,18 +163,10 @@ class _Axis:
     set_ylabel = set_label = set_xlabel
 
 
-class _Mappable:
-    """What ``contourf`` returns: its levels and colours, for ``colorbar``."""
-
-    def __init__(self, levels, colours, alpha):
-        self.levels, self.colours, self.alpha = levels, colours, alpha
-
-
-class _Lines:
-    """What ``contour`` returns: (level, [polyline arrays]) pairs, for ``clabel``."""
-
-    def __init__(self, paths, colour, width):
-        self.paths, self.colour, self.width = paths, colour, width
+_Mappable = namedtuple("_Mappable", "levels colours alpha")
+"""What ``contourf`` returns: its levels and colours, for ``colorbar``."""
+_Lines = namedtuple("_Lines", "paths colour width")
+"""What ``contour`` returns: (level, [polyline arrays]) pairs, for ``clabel``."""
 
 
 class _Handle:
@@ -257,17 +250,16 @@ class Axes:
         """Ticks at ``ticks`` [data units] with ``labels`` (multi-line text allowed), ``fontsize`` [pt]."""
         self.xticks = (list(map(float, ticks)), list(labels) if labels is not None else None, fontsize)
 
-    def secondary_xaxis(self, where: str, functions) -> _Axis:
-        """A second x axis (``"top"``) in other units: ``functions`` = (forward, inverse) from these units."""
-        axis = _Axis("top" if where == "top" else "bottom", functions)
+    def secondary_xaxis(self, where: str, functions, _sides=("top", "bottom")) -> _Axis:
+        """A second x axis (``"top"``) in other units: ``functions`` = (forward, inverse) from these units; also
+        ``secondary_yaxis`` (``"right"``)."""
+        axis = _Axis(where if where == _sides[0] else _sides[1], functions)
         self.secondary.append(axis)
         return axis
 
     def secondary_yaxis(self, where: str, functions) -> _Axis:
-        """A second y axis (``"right"``) in other units: ``functions`` = (forward, inverse) from these units."""
-        axis = _Axis("right" if where == "right" else "left", functions)
-        self.secondary.append(axis)
-        return axis
+        """A second y axis (``"right"``) in other units (:meth:`secondary_xaxis`)."""
+        return self.secondary_xaxis(where, functions, ("right", "left"))
 
     # -- artists -----------------------------------------------------------------------------------
     def _handle(self, label: str | None, kind: str, **style) -> _Handle:
@@ -291,14 +283,12 @@ class Axes:
         label: str | None = None,
         zorder: float = 2,
         drawstyle: str = "default",
-        linewidth: float | None = None,
         **_,
     ):
         """A polyline (with markers); ``fmt`` as matplotlib's short strings ("o", "--", ":")."""
         if fmt:
             marker = fmt if fmt in ("o", ".", "s", "^", "D", "x") else marker
             ls = fmt if fmt in _DASH else ("none" if marker == fmt else ls)
-        lw = linewidth if linewidth is not None else lw
         x = np.asarray(x, float).reshape(-1)
         y = np.asarray(y, float).reshape(-1) if np.ndim(y) else np.full(len(x), float(y))
         col = colour(color, "#1f77b4")
@@ -319,12 +309,9 @@ class Axes:
         facecolor=None,
         edgecolor=None,
         lw: float = 1.0,
-        linewidths=None,
         label: str | None = None,
         zorder: float = 1,
-        alpha=None,
         clip_on: bool = True,
-        cmap=None,
         **_,
     ):
         """Markers of area ``s`` [pt²]; ``c``/``color`` one colour or one per point."""
@@ -344,20 +331,17 @@ class Axes:
         )
         return self._handle(label, "marker", fill=key_fill, edge=edge, lw=lw, marker=marker, ms=size)
 
-    def axhline(self, y: float, color=None, ls: str = "-", lw: float = 1.5, label: str | None = None, zorder=2, **_):
-        """A horizontal line across the axes at ``y`` [data units]; ``lw`` [pt]."""
+    def axhline(self, y: float, color=None, ls: str = "-", lw: float = 1.5, label=None, zorder=2, _kind="h", **_):
+        """A horizontal line across the axes at ``y`` [data units]; ``lw`` [pt] (``axvline``: vertical at x)."""
         col = colour(color, "#1f77b4")
         if np.isfinite(y):
-            self._extent((), [y])
-            self._add("hline", zorder, float(y), col, lw, ls)
+            self._extent(*(((), [y]) if _kind == "h" else ([y], ())))
+            self._add("axline", zorder, _kind, float(y), col, lw, ls)
         return self._handle(label, "line", color=col, lw=lw, ls=ls, marker=None, ms=0)
 
-    def axvline(self, x: float, color=None, ls: str = "-", lw: float = 1.5, label: str | None = None, zorder=2, **_):
-        """A vertical line across the axes at ``x`` [data units]; ``lw`` [pt]."""
-        col = colour(color, "#1f77b4")
-        self._extent([x], ())
-        self._add("vline", zorder, float(x), col, lw, ls)
-        return self._handle(label, "line", color=col, lw=lw, ls=ls, marker=None, ms=0)
+    def axvline(self, x: float, color=None, ls: str = "-", lw: float = 1.5, label=None, zorder=2, **_):
+        """A vertical line across the axes at ``x`` [data units] (:meth:`axhline`)."""
+        return self.axhline(x, color, ls, lw, label, zorder, "v")
 
     def axvspan(self, x0: float, x1: float, color=None, alpha: float = 1.0, label: str | None = None, **_):
         """A shaded band from ``x0`` to ``x1`` [data units] across the axes' height."""
@@ -569,19 +553,16 @@ class Axes:
     def _draw_ticks(self, out, sx, sy, xt, yt) -> None:
         x0, y0, w, h = self.box
         size = BASE_FONT * PT
-        marks = []
         labels = self.xticks[1] if self.xticks and self.xticks[1] is not None else _tick_labels(xt)
         fs = self.xticks[2] if self.xticks else BASE_FONT
+        marks = ""
         for t, lab in zip(xt, labels):
             px = float(sx(t))
-            marks.append(f"M{_f(px)} {_f(y0 + h)}v{_f(3.5 * PT)}")
+            marks += f"M{_f(px)} {_f(y0 + h)}v{_f(3.5 * PT)}"
             if not self.hide_xticklabels:
-                out.append(_multiline(px, y0 + h + 3.5 * PT + fs * PT * 1.05, lab, fs, "middle"))
-        for t, lab in zip(yt, _tick_labels(yt)):
-            py = float(sy(t))
-            marks.append(f"M{_f(x0)} {_f(py)}h{_f(-3.5 * PT)}")
-            out.append(_text(x0 - 5.5 * PT, py + 0.35 * size, lab, BASE_FONT, "end"))
-        out.append(f'<path d="{"".join(marks)}" stroke="#000" stroke-width="0.8"/>')
+                out.append(_text(px, y0 + h + 3.5 * PT + fs * PT * 1.05, lab, fs, "middle"))
+        ymarks, width = _vticks(out, x0, -1, [float(sy(t)) for t in yt], _tick_labels(yt))
+        out.append(_marks(marks + ymarks))
         tick_h = (
             (fs * PT * 1.2 * (max(str(x).count("\n") for x in labels) + 1))
             if labels and not self.hide_xticklabels
@@ -590,7 +571,6 @@ class Axes:
         if self.xlabel:
             out.append(_text(x0 + w / 2, y0 + h + 3.5 * PT + tick_h + size * 1.15, self.xlabel, BASE_FONT, "middle"))
         if self.ylabel:
-            width = max((text_width(lab, BASE_FONT) for lab in _tick_labels(yt)), default=0)
             px = x0 - 5.5 * PT - width - 0.7 * size  # turned text: glyphs from 0.8 size left to 0.25 right
             out.append(_text(px, y0 + h / 2, self.ylabel, BASE_FONT, "middle", rotate=-90))
         top = y0
@@ -603,39 +583,30 @@ class Axes:
         """Ticks and label of a secondary axis; returns the y [px] above which the title goes."""
         x0, y0, w, h = self.box
         size = BASE_FONT * PT
-        xl, xh = self._resolved_xlim()
-        yl, yh = self._resolved_ylim()
         vertical = axis.where in ("left", "right")
-        lo, hi = (yl, yh) if vertical else (xl, xh)
+        lo, hi = self._resolved_ylim() if vertical else self._resolved_xlim()
         a, b = sorted((float(axis.forward(lo)), float(axis.forward(hi))))
         ticks = nice_ticks(a, b, _bins(h if vertical else w, vertical))
         labels = _tick_labels(ticks)
-        marks = []
         if vertical:
-            side = x0 + w if axis.where == "right" else x0
-            sign = 1 if axis.where == "right" else -1
-            for t, lab in zip(ticks, labels):
-                py = float(sy(float(axis.inverse(t))))
-                marks.append(f"M{_f(side)} {_f(py)}h{_f(sign * 3.5 * PT)}")
-                out.append(
-                    _text(side + sign * 5.5 * PT, py + 0.35 * size, lab, BASE_FONT, "start" if sign > 0 else "end")
-                )
-            width = max((text_width(lab, BASE_FONT) for lab in labels), default=0)
+            side, sign = (x0 + w, 1) if axis.where == "right" else (x0, -1)
+            marks, width = _vticks(out, side, sign, [float(sy(float(axis.inverse(t)))) for t in ticks], labels)
             if axis.label:
                 px = side + sign * (5.5 * PT + width) + (1.15 if sign > 0 else -0.7) * size
                 out.append(_text(px, y0 + h / 2, axis.label, BASE_FONT, "middle", rotate=-90))
             if axis.where == "right":
                 out.append(f'<path d="M{_f(side)} {_f(y0)}v{_f(h)}" stroke="#000" stroke-width="0.9"/>')
         else:
+            marks = ""
             for t, lab in zip(ticks, labels):
                 px = float(sx(float(axis.inverse(t))))
-                marks.append(f"M{_f(px)} {_f(y0)}v{_f(-3.5 * PT)}")
+                marks += f"M{_f(px)} {_f(y0)}v{_f(-3.5 * PT)}"
                 out.append(_text(px, y0 - 5.5 * PT, lab, BASE_FONT, "middle"))
             top = y0 - 5.5 * PT - size * 1.1
             if axis.label:
                 out.append(_text(x0 + w / 2, top, axis.label, BASE_FONT, "middle"))
                 top -= size * 1.2
-        out.append(f'<path d="{"".join(marks)}" stroke="#000" stroke-width="0.8"/>')
+        out.append(_marks(marks))
         return top
 
     def _draw_line(self, out, sx, sy, x, y, col, lw, ls, marker, ms, drawstyle) -> None:
@@ -660,19 +631,14 @@ class Axes:
         for a, b, fill in zip(sx(x), sy(y), fills):
             out.append(_marker(marker, float(a), float(b), size * PT, fill, edge or fill, lw * PT))
 
-    def _draw_hline(self, out, sx, sy, y, col, lw, ls) -> None:
-        x0, _, w, _ = self.box
-        py = float(sy(y))
-        out.append(
-            f'<path d="M{_f(x0)} {_f(py)}H{_f(x0 + w)}" stroke="{col}" stroke-width="{_f(lw * PT)}"{_dash(ls, lw)}/>'
+    def _draw_axline(self, out, sx, sy, kind, v, col, lw, ls) -> None:
+        x0, y0, w, h = self.box
+        d = (
+            f"M{_f(x0)} {_f(float(sy(v)))}H{_f(x0 + w)}"
+            if kind == "h"
+            else f"M{_f(float(sx(v)))} {_f(y0)}V{_f(y0 + h)}"
         )
-
-    def _draw_vline(self, out, sx, sy, x, col, lw, ls) -> None:
-        _, y0, _, h = self.box
-        px = float(sx(x))
-        out.append(
-            f'<path d="M{_f(px)} {_f(y0)}V{_f(y0 + h)}" stroke="{col}" stroke-width="{_f(lw * PT)}"{_dash(ls, lw)}/>'
-        )
+        out.append(f'<path d="{d}" stroke="{col}" stroke-width="{_f(lw * PT)}"{_dash(ls, lw)}/>')
 
     def _draw_vspan(self, out, sx, sy, a, b, col, alpha) -> None:
         _, y0, _, h = self.box
@@ -767,7 +733,7 @@ class Axes:
             out.append(
                 f'<rect x="{_f(left)}" y="{_f(first - 0.95 * size)}" width="{_f(width)}" height="{_f(n * 1.2 * size + 0.3 * size)}" fill="#ffffff" fill-opacity="0.8"/>'
             )
-        out.append(_multiline(px, first, "\n".join(lines), fontsize, anchor, col, weight))
+        out.append(_text(px, first, "\n".join(lines), fontsize, anchor, col, weight))
 
     def _draw_annotate(
         self, out, sx, sy, text, xy, xytext, textcoords, arrowprops, fontsize, col, ha, va, weight
@@ -864,7 +830,7 @@ def draw_legend(out, entries, box, loc, fontsize, framealpha=0.8, title=None, ti
     for hd, lines, wd, ht in zip(entries, lines_of, widths, heights):
         cy = y + row / 2
         _legend_key(out, hd, x, cy, key, size)
-        out.append(_multiline(x + key + 0.6 * size, cy + 0.35 * size, "\n".join(lines), fontsize, "start"))
+        out.append(_text(x + key + 0.6 * size, cy + 0.35 * size, "\n".join(lines), fontsize, "start"))
         if ncol > 1:
             x += key + 0.6 * size + wd + 1.2 * size
         else:
@@ -893,6 +859,22 @@ def _legend_key(out, hd: _Handle, x: float, cy: float, key: float, size: float) 
         )
 
 
+def _vticks(out, x: float, sign: int, ys, labels) -> tuple[str, float]:
+    """Tick labels along a vertical edge at ``x`` [px] (``sign`` 1: labels right of it, -1: left) at ``ys`` [px];
+    returns the tick marks' path data and the widest label [px]."""
+    for py, lab in zip(ys, labels):
+        out.append(
+            _text(x + sign * 5.5 * PT, py + 0.35 * (BASE_FONT * PT), lab, BASE_FONT, "start" if sign > 0 else "end")
+        )
+    marks = "".join(f"M{_f(x)} {_f(py)}h{_f(sign * 3.5 * PT)}" for py in ys)
+    return marks, max((text_width(lab, BASE_FONT) for lab in labels), default=0)
+
+
+def _marks(d: str) -> str:
+    """Tick marks of path data ``d``."""
+    return f'<path d="{d}" stroke="#000" stroke-width="0.8"/>'
+
+
 def _dash(ls: str, lw: float) -> str:
     pattern = _DASH.get(ls)
     if not pattern:
@@ -902,23 +884,17 @@ def _dash(ls: str, lw: float) -> str:
 
 
 def _text(x, y, s, fontsize, anchor="start", col="#000000", weight="normal", rotate: float = 0.0) -> str:
+    """A ``<text>`` element; each line of a multi-line ``s`` a ``<tspan>``, 1.2 font sizes apart."""
+    lines = str(s).split("\n")
     extra = f' transform="rotate({rotate:g} {_f(x)} {_f(y)})"' if rotate else ""
     fill = "" if col in ("#000000", None) else f' fill="{col}"'
     bold = ' font-weight="bold"' if weight == "bold" else ""
-    return f'<text x="{_f(x)}" y="{_f(y)}" font-size="{_f(fontsize * PT)}" text-anchor="{anchor}"{fill}{bold}{extra}>{escape(s)}</text>'
-
-
-def _multiline(x, y, s, fontsize, anchor="start", col="#000000", weight="normal") -> str:
-    lines = str(s).split("\n")
-    if len(lines) == 1:
-        return _text(x, y, lines[0], fontsize, anchor, col, weight)
-    fill = "" if col in ("#000000", None) else f' fill="{col}"'
-    bold = ' font-weight="bold"' if weight == "bold" else ""
-    spans = "".join(
+    body = "".join(
         f'<tspan x="{_f(x)}" dy="{"0" if i == 0 else _f(1.2 * fontsize * PT)}">{escape(line)}</tspan>'
         for i, line in enumerate(lines)
     )
-    return f'<text x="{_f(x)}" y="{_f(y)}" font-size="{_f(fontsize * PT)}" text-anchor="{anchor}"{fill}{bold}>{spans}</text>'
+    body = escape(lines[0]) if len(lines) == 1 else body
+    return f'<text x="{_f(x)}" y="{_f(y)}" font-size="{_f(fontsize * PT)}" text-anchor="{anchor}"{fill}{bold}{extra}>{body}</text>'
 
 
 def _wrap(line: str, fontsize: float, width: float) -> list[str]:
@@ -1085,15 +1061,10 @@ class Figure:
             f'<rect x="{_f(x)}" y="{_f(y)}" width="{_f(w)}" height="{_f(h)}" fill="none" stroke="#000" stroke-width="0.8"/>'
         )
         ticks = nice_ticks(lo, hi, _bins(h, True))
-        size = BASE_FONT * PT
-        marks = []
-        for t, lab in zip(ticks, _tick_labels(ticks)):
-            py = y + h * (1 - (t - lo) / (hi - lo))
-            marks.append(f"M{_f(x + w)} {_f(py)}h{_f(3.5 * PT)}")
-            out.append(_text(x + w + 5.5 * PT, py + 0.35 * size, lab, BASE_FONT, "start"))
-        out.append(f'<path d="{"".join(marks)}" stroke="#000" stroke-width="0.8"/>')
-        width = max((text_width(lab, BASE_FONT) for lab in _tick_labels(ticks)), default=0)
+        marks, width = _vticks(out, x + w, 1, [y + h * (1 - (t - lo) / (hi - lo)) for t in ticks], _tick_labels(ticks))
+        out.append(_marks(marks))
         if label:
+            size = BASE_FONT * PT
             out.append(_text(x + w + 5.5 * PT + width + 1.15 * size, y + h / 2, label, BASE_FONT, "middle", rotate=-90))
 
     def to_svg(self, uid: str = "fig", title: str | None = None) -> str:
