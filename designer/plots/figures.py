@@ -31,7 +31,7 @@ import numpy as np
 from designer.display import axis, rescale, shown
 from designer.data.paper import INCH, TABLE1_STABLE_UP_TO, TABLE1_TRAIL, WALKING_SPEED
 from designer.output import PLOT, SOFTWARE, write_file
-from designer.plots.fronts import VARIABLE_PANELS, draw_fronts, plot_front, plot_variables
+from designer.plots.fronts import VARIABLE_PANELS, dress, draw_fronts, plot_front, plot_variables
 from designer.plots.svg import Figure
 
 FIGURES = ("front", "variables", "trail", "inertia", "threshold", "groove_damper")
@@ -61,6 +61,7 @@ def _new(
     bottom: float = 0.5,
     top: float = 0.35,
     wspace: float = 0.2,
+    hspace: float = 0.2,
 ) -> Figure:
     """A figure of ``width`` x ``height`` inches with fixed margins [in] around the axes.
 
@@ -69,7 +70,12 @@ def _new(
     """
     fig = Figure(figsize=(width, height))
     fig.subplots_adjust(
-        left=left / width, right=1 - right / width, bottom=bottom / height, top=1 - top / height, wspace=wspace
+        left=left / width,
+        right=1 - right / width,
+        bottom=bottom / height,
+        top=1 - top / height,
+        wspace=wspace,
+        hspace=hspace,
     )
     return fig
 
@@ -135,9 +141,6 @@ def figure_front(
     """
     fig = _new(7.5, 5.0)
     ax = fig.add_subplot()
-    ax.set_xlabel(axis("threshold_force"))
-    ax.set_ylabel(axis("turning_effort"))
-    ax.grid(True, alpha=0.3)
     if tighter is not None:
         ax.plot(
             tighter["threshold_force"],
@@ -286,12 +289,10 @@ def figure_trail(required_speed: float, curves: dict) -> Figure:
     )
     ax.set_xlim(trail[0] * MM, trail[-1] * MM)
     ax.set_ylim(0, 7)
-    ax.set_xlabel("trail T [mm]")
-    ax.set_ylabel(axis("critical_speed"))
     _inch_x(ax, "trail T [in]")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7.5, loc="upper left", title="Table 1 wheel, I_w [kg·m²]", title_fontsize=8)
-    ax.set_title("V_c vs trail, Table 1 wheels, Eq. 7 (B = 0, c_f = 1.3 N·m/rad) (cf. paper Fig. 14)", fontsize=10)
+    title = "V_c vs trail, Table 1 wheels, Eq. 7 (B = 0, c_f = 1.3 N·m/rad) (cf. paper Fig. 14)"
+    legend = dict(fontsize=7.5, loc="upper left", title="Table 1 wheel, I_w [kg·m²]", title_fontsize=8)
+    dress(ax, "trail T [mm]", axis("critical_speed"), title, legend)
     return fig
 
 
@@ -342,11 +343,9 @@ def figure_inertia(curves: dict) -> Figure:
     ax.text(2.2, WALKING_SPEED - 0.22, "walking speed 1 m/s", fontsize=8, color="0.3")
     ax.set_xlim(0, 3.8)
     ax.set_ylim(0, 7)
-    ax.set_xlabel("wheel moment of inertia about a diameter I_w [10⁻³ kg·m²]")
-    ax.set_ylabel(axis("critical_speed"))
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, loc="upper right")
-    ax.set_title("V_c vs wheel inertia at 2 in trail (cf. paper Fig. 15; letters: Table 1)", fontsize=10)
+    xlabel = "wheel moment of inertia about a diameter I_w [10⁻³ kg·m²]"
+    title = "V_c vs wheel inertia at 2 in trail (cf. paper Fig. 15; letters: Table 1)"
+    dress(ax, xlabel, axis("critical_speed"), title, dict(fontsize=8, loc="upper right"))
     return fig
 
 
@@ -391,14 +390,11 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, curves: d
         )
     ax.set_xlim(d_lo * MM, d_hi * MM)
     ax.set_ylim(0, min(3.0, float(curves["exact"][0]) * 1.05))
-    ax.set_xlabel("wheel diameter d [mm]")
-    ax.set_ylabel("force per unit load P/L [-]")
     _inch_x(ax, "wheel diameter d [in]")
     sec = ax.secondary_yaxis("right", functions=(lambda r: r * load, lambda p: p / load))
     sec.set_ylabel(f"{axis('threshold_force')} at L = {load:.0f} N")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, loc="upper right")
-    ax.set_title("Force per unit load to climb a sill vs diameter (cf. paper Fig. 2A)", fontsize=10)
+    title = "Force per unit load to climb a sill vs diameter (cf. paper Fig. 2A)"
+    dress(ax, "wheel diameter d [mm]", "force per unit load P/L [-]", title, dict(fontsize=8, loc="upper right"))
     return fig
 
 
@@ -593,14 +589,13 @@ def _groove_damper_plane(ax, bounds, req, design, plane, robust: bool) -> None:
     )
     ax.set_xlim(0, g_hi * MM)
     ax.set_ylim(c_lo, c_hi)
-    ax.set_xlabel("groove width B [mm]")
-    ax.set_ylabel("spindle friction damping c_f [N·m/rad]")
     _inch_x(ax, "groove width B [in]")
-    ax.legend(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.14), framealpha=0.9)
+    legend = dict(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.14), framealpha=0.9)
     title = f"At the optimum's T = {shown(design.trail, 'trail', 'in', digits=2)}, d = {shown(design.diameter, 'diameter', 'in', digits=2)}"
     if cb.fixed or gb.fixed:
         title += " (beyond the problem's fixed values, for context)"
-    ax.set_title(title, fontsize=10 if not (cb.fixed or gb.fixed) else 9)
+    size = 10 if not (cb.fixed or gb.fixed) else 9
+    dress(ax, "groove width B [mm]", "spindle friction damping c_f [N·m/rad]", title, legend, size, grid=False)
 
 
 def is_bare_fork(bounds, design) -> bool:

@@ -49,6 +49,22 @@ COLOR_BY = {
 """``color_by`` choices of :func:`plot_front` besides "family", "critical_speed" and None: (label, design column,
 scale to the plotted unit)."""
 MM = 1000.0
+LEGEND = dict(fontsize=7.5, loc="upper right", framealpha=0.92)
+"""The legend of a front's Axes."""
+
+
+def dress(ax, xlabel: str, ylabel: str, title: str | None = None, legend=None, title_size: float = 10, grid=True):
+    """Finish ``ax`` (matplotlib's or the SVG canvas's): its axis labels, the light grid (``grid``), the legend
+    when ``legend`` gives its options (call it after the labelled artists) and the ``title`` (``title_size`` [pt])."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if grid:
+        ax.grid(True, alpha=0.3)
+    if legend is not None:
+        ax.legend(**legend)
+    if title is not None:
+        ax.set_title(title, fontsize=title_size)
+    return ax
 
 
 def draw_fronts(ax, curves, marks=(), legend: bool = True):
@@ -74,12 +90,7 @@ def draw_fronts(ax, curves, marks=(), legend: bool = True):
         ax.scatter(
             [m["threshold_force"]], [m["turning_effort"]], label=m["label"], **MARK_STYLE[m.get("kind", "alternative")]
         )
-    ax.set_xlabel(axis("threshold_force"))
-    ax.set_ylabel(axis("turning_effort"))
-    ax.grid(True, alpha=0.3)
-    if legend:
-        ax.legend(fontsize=7.5, loc="upper right", framealpha=0.92)
-    return ax
+    return dress(ax, axis("threshold_force"), axis("turning_effort"), legend=LEGEND if legend else None)
 
 
 def new_axes(ax=None, figsize=(7.5, 5.0)):
@@ -127,9 +138,7 @@ def plot_front(
     p = np.asarray(threshold_force, float).reshape(-1)
     if len(f) != len(p):
         raise ValueError(f"turning_effort has {len(f)} points, threshold_force {len(p)}: must be equal")
-    ax.set_xlabel(axis("threshold_force"))
-    ax.set_ylabel(axis("turning_effort"))
-    ax.grid(True, alpha=0.3)
+    dress(ax, axis("threshold_force"), axis("turning_effort"))
     if not len(f):
         ax.text(0.5, 0.5, "no valid point on the front", transform=ax.transAxes, ha="center")
         return ax
@@ -148,7 +157,7 @@ def plot_front(
         points = ax.scatter(p, f, c=values, cmap="viridis", s=28, zorder=3, label=label)
         ax.figure.colorbar(points, ax=ax, label=what)
     if legend:
-        ax.legend(fontsize=7.5, loc="upper right", framealpha=0.92)
+        ax.legend(**LEGEND)
     return ax
 
 

@@ -278,18 +278,23 @@ _MARKERS = {10.0: "v", 20.0: "o", 40.0: "^"}
 """Marker of each knock angle θ_i [deg] in the onset study's scatter panels."""
 
 
+def _scatter_cases(ax, x, y, grooved, ang, labelled: bool = False) -> None:
+    """The onset study's cases: blue B = 0, orange grooved, one marker per knock angle (:data:`_MARKERS`);
+    ``labelled``: each group named in the legend."""
+    for g, colour, label in ((False, "tab:blue", "B = 0"), (True, "tab:orange", "B = 9/16 in")):
+        for a, m in _MARKERS.items():
+            sel = (grooved == g) & np.isclose(ang, a)
+            extra = {"label": f"{label}, θ_i = {a:.0f}°"} if labelled else {}
+            ax.scatter(x[sel], y[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4, **extra)
+
+
 def _onset_panel(ax, v7, vs, grooved, ang) -> None:
     """(a) simulated onset against Eq. 7's V_c [m/s], log-log, with the ±10 % band."""
     lim = (0.8 * min(v7.min(), vs.min()), 1.2 * max(v7.max(), vs.max()))
     xx = np.geomspace(*lim, 50)
     ax.fill_between(xx, 0.9 * xx, 1.1 * xx, color="0.9", label="±10 %")
     ax.plot(xx, xx, "k-", lw=1, label="simulated = Eq. 7")
-    for g, colour, label in ((False, "tab:blue", "B = 0"), (True, "tab:orange", "B = 9/16 in")):
-        for a, m in _MARKERS.items():
-            sel = (grooved == g) & np.isclose(ang, a)
-            ax.scatter(
-                v7[sel], vs[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4, label=f"{label}, θ_i = {a:.0f}°"
-            )
+    _scatter_cases(ax, v7, vs, grooved, ang, labelled=True)
     ax.set_xscale("log"), ax.set_yscale("log")
     ax.set_xlim(lim), ax.set_ylim(lim)
     ax.set_xlabel("Eq. 7 critical speed V_c [m/s] (c_f,eff = M_f/θ_i)")
@@ -303,10 +308,7 @@ def _error_panel(ax, implied, err, grooved, ang) -> None:
     lo, hi = min(implied.min(), err.min()) - 2, max(implied.max(), err.max()) + 2
     ax.axhspan(-10, 10, color="0.9")
     ax.plot([lo, hi], [lo, hi], "k-", lw=1, label="error = (θ_a,29B / θ_a,sim)^½ − 1")
-    for g, colour, _label in ((False, "tab:blue", "B = 0"), (True, "tab:orange", "B = 9/16 in")):
-        for a, m in _MARKERS.items():
-            sel = (grooved == g) & np.isclose(ang, a)
-            ax.scatter(implied[sel], err[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4)
+    _scatter_cases(ax, implied, err, grooved, ang)
     ax.set_xlim(lo, hi), ax.set_ylim(lo, hi)
     ax.set_xlabel("error implied by the amplitude of Eq. 29B: (θ_a,29B/θ_a,sim)^½ − 1 [%]")
     ax.set_ylabel("onset error (simulated − Eq. 7)/Eq. 7 [%]")
@@ -318,10 +320,7 @@ def _amplitude_panel(ax, amp_p, amp_s, grooved, ang) -> None:
     """(c) simulated amplitude after the transient against Eq. 4/29B's [rad]."""
     top = 1.1 * max(amp_s.max(), amp_p.max())
     ax.plot([0, top], [0, top], "k-", lw=1)
-    for g, colour in ((False, "tab:blue"), (True, "tab:orange")):
-        for a, m in _MARKERS.items():
-            sel = (grooved == g) & np.isclose(ang, a)
-            ax.scatter(amp_p[sel], amp_s[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4)
+    _scatter_cases(ax, amp_p, amp_s, grooved, ang)
     ax.set_xlim(0, top), ax.set_ylim(0, top)
     ax.set_xlabel("Eq. 4 / 29B amplitude θ_i V/(ωT) at onset [rad]")
     ax.set_ylabel("simulated amplitude after the transient [rad]")

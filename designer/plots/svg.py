@@ -229,22 +229,11 @@ class Axes:
 
     def set_xlim(self, left=None, right=None) -> None:
         """x limits [data units] (shared by the axes of ``subplots(sharex=True)``); None keeps the automatic one."""
-        if isinstance(left, (tuple, list)):
-            left, right = left
-        self._limits().__setitem__(0, left) if left is not None else None
-        self._limits()[1] = right if right is not None else self._limits()[1]
-
-    def _limits(self) -> list:
-        return self.sharex.xlim if self.sharex is not None else self.xlim
+        _set_limits(self.sharex.xlim if self.sharex is not None else self.xlim, left, right)
 
     def set_ylim(self, bottom=None, top=None) -> None:
         """y limits [data units]; None keeps the automatic one (data range ± 5 %)."""
-        if isinstance(bottom, (tuple, list)):
-            bottom, top = bottom
-        if bottom is not None:
-            self.ylim[0] = float(bottom)
-        if top is not None:
-            self.ylim[1] = float(top)
+        _set_limits(self.ylim, bottom, top)
 
     def set_xticks(self, ticks, labels=None, fontsize: float = BASE_FONT * 0.9) -> None:
         """Ticks at ``ticks`` [data units] with ``labels`` (multi-line text allowed), ``fontsize`` [pt]."""
@@ -859,6 +848,12 @@ def _legend_key(out, hd: _Handle, x: float, cy: float, key: float, size: float) 
         )
 
 
+def _set_limits(lim: list, low, high) -> None:
+    """Set ``lim`` ([low, high]) to ``low``, ``high`` [data units] (or the pair ``low``); None keeps a limit."""
+    low, high = low if isinstance(low, (tuple, list)) else (low, high)
+    lim[:] = [float(v) if v is not None else old for v, old in zip((low, high), lim)]
+
+
 def _vticks(out, x: float, sign: int, ys, labels) -> tuple[str, float]:
     """Tick labels along a vertical edge at ``x`` [px] (``sign`` 1: labels right of it, -1: left) at ``ys`` [px];
     returns the tick marks' path data and the widest label [px]."""
@@ -1097,29 +1092,38 @@ class Figure:
 # --------------------------------------------------------------------------- the records' small charts
 
 
-def _corner_labels(
-    x0: float, x1: float, y0: float, y1: float, width: int, height: int, left: int, right: int, top: int, bottom: int
-) -> list[str]:
-    """The four end values of a small SVG plot's axes, at the corners of the plot box."""
-    return [
-        f'<text x="{left}" y="{height - bottom + 12}">{x0:.3g}</text>',
-        f'<text x="{width - right}" y="{height - bottom + 12}" text-anchor="end">{x1:.3g}</text>',
-        f'<text x="{left - 3}" y="{height - bottom}" text-anchor="end">{y0:.3g}</text>',
-        f'<text x="{left - 3}" y="{top + 9}" text-anchor="end">{y1:.3g}</text>',
+def _small_chart(xlabel, ylabel, width, height, box, xlabel_gap, body, ends=None, frame=False) -> str:
+    """A small SVG plot: ``body`` (elements) in the plot ``box`` (left, right, top, bottom margins [px]), the four
+    ``ends`` (x0, x1, y0, y1) of its axes at the box's corners, the x label under it, the y label turned along
+    the left edge; ``frame`` draws the box."""
+    left, right, top, bottom = box
+    out = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
+        f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="10">',
+        f"<title>{escape(ylabel)} against {escape(xlabel)}</title>",
     ]
-
-
-def _small_axis_labels(
-    xlabel: str, ylabel: str, width: int, height: int, left: int, right: int, top: int, bottom: int, xlabel_gap: int
-) -> list[str]:
-    """The x label under the box, the y label turned along the left edge, and the closing tag."""
-    return [
+    if frame:
+        out.append(
+            f'<rect x="{left}" y="{top}" width="{width - left - right}" height="{height - top - bottom}" '
+            f'fill="none" stroke="#999"/>'
+        )
+    out += body
+    if ends is not None:
+        x0, x1, y0, y1 = ends
+        out += [
+            f'<text x="{left}" y="{height - bottom + 12}">{x0:.3g}</text>',
+            f'<text x="{width - right}" y="{height - bottom + 12}" text-anchor="end">{x1:.3g}</text>',
+            f'<text x="{left - 3}" y="{height - bottom}" text-anchor="end">{y0:.3g}</text>',
+            f'<text x="{left - 3}" y="{top + 9}" text-anchor="end">{y1:.3g}</text>',
+        ]
+    out += [
         f'<text x="{(left + width - right) / 2:.0f}" y="{height - xlabel_gap}" text-anchor="middle">'
         f"{escape(xlabel)}</text>",
         f'<text transform="translate(11,{(top + height - bottom) / 2:.0f}) rotate(-90)" '
         f'text-anchor="middle">{escape(ylabel)}</text>',
         "</svg>",
     ]
+    return "".join(out)
 
 
 def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: int = 240, height: int = 170) -> str:
@@ -1128,39 +1132,29 @@ def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: 
     ``marks``: (x, y, label) points drawn as dots (e.g. the knee).  Non-finite points are dropped.
     """
     pts = [(float(a), float(b)) for a, b in zip(x, y) if math.isfinite(a) and math.isfinite(b)]
-    left, right, top, bottom = 42, 8, 8, 32
-    out = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
-        f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="10">',
-        f"<title>{escape(ylabel)} against {escape(xlabel)}</title>",
-        f'<rect x="{left}" y="{top}" width="{width - left - right}" height="{height - top - bottom}" '
-        f'fill="none" stroke="#999"/>',
+    box = left, right, top, bottom = 42, 8, 8, 32
+    if not pts:
+        return _small_chart(xlabel, ylabel, width, height, box, 4, [], frame=True)
+    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    x0, x1 = min(xs), max(xs)
+    y0, y1 = min(ys), max(ys)
+    x0, x1 = (x0 - 0.5, x1 + 0.5) if x1 == x0 else (x0, x1)
+    y0, y1 = (y0 - 0.5, y1 + 0.5) if y1 == y0 else (y0, y1)
+
+    def px(a: float) -> float:
+        return left + 4 + (a - x0) / (x1 - x0) * (width - left - right - 8)
+
+    def py(b: float) -> float:
+        return height - bottom - 4 - (b - y0) / (y1 - y0) * (height - top - bottom - 8)
+
+    line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
+    body = [f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.5"/>']
+    body += [f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="1.6" fill="#1f77b4"/>' for a, b in pts]
+    body += [
+        f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="3.5" fill="#d62728"><title>{escape(label)}</title></circle>'
+        for a, b, label in marks
     ]
-    if pts:
-        xs, ys = [p[0] for p in pts], [p[1] for p in pts]
-        x0, x1 = min(xs), max(xs)
-        y0, y1 = min(ys), max(ys)
-        x0, x1 = (x0 - 0.5, x1 + 0.5) if x1 == x0 else (x0, x1)
-        y0, y1 = (y0 - 0.5, y1 + 0.5) if y1 == y0 else (y0, y1)
-
-        def px(a: float) -> float:
-            return left + 4 + (a - x0) / (x1 - x0) * (width - left - right - 8)
-
-        def py(b: float) -> float:
-            return height - bottom - 4 - (b - y0) / (y1 - y0) * (height - top - bottom - 8)
-
-        line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
-        out.append(f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.5"/>')
-        for a, b in pts:
-            out.append(f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="1.6" fill="#1f77b4"/>')
-        for a, b, label in marks:
-            out.append(
-                f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="3.5" fill="#d62728">'
-                f"<title>{escape(label)}</title></circle>"
-            )
-        out += _corner_labels(x0, x1, y0, y1, width, height, left, right, top, bottom)
-    out += _small_axis_labels(xlabel, ylabel, width, height, left, right, top, bottom, xlabel_gap=4)
-    return "".join(out)
+    return _small_chart(xlabel, ylabel, width, height, box, 4, body, (x0, x1, y0, y1), frame=True)
 
 
 def svg_sparkline(
@@ -1181,37 +1175,31 @@ def svg_sparkline(
     pts = [(float(a), float(b)) for a, b in zip(x, y) if math.isfinite(a) and math.isfinite(b)]
     step = max(1, math.ceil(len(pts) / max_points))
     pts = pts[::step] + (pts[-1:] if pts and (len(pts) - 1) % step else [])
-    left, right, top, bottom = 38, 6, 6, 28
-    out = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
-        f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="10">',
-        f"<title>{escape(ylabel)} against {escape(xlabel)}</title>",
+    box = left, right, top, bottom = 38, 6, 6, 28
+    if not pts:
+        return _small_chart(xlabel, ylabel, width, height, box, 3, [])
+    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    x0, x1 = min(xs), max(xs)
+    banded = band is not None and math.isfinite(band)
+    reach = max([abs(v) for v in ys] + ([abs(band)] if banded else []))
+    y0, y1 = (-reach, reach) if reach > 0 else (-1.0, 1.0)
+    x1 = x1 if x1 > x0 else x0 + 1.0
+
+    def px(a: float) -> float:
+        return left + (a - x0) / (x1 - x0) * (width - left - right)
+
+    def py(b: float) -> float:
+        return height - bottom - (b - y0) / (y1 - y0) * (height - top - bottom)
+
+    body = [f'<line x1="{left}" y1="{py(0):.1f}" x2="{width - right}" y2="{py(0):.1f}" stroke="#999"/>']
+    body += [
+        f'<line x1="{left}" y1="{py(b):.1f}" x2="{width - right}" y2="{py(b):.1f}" '
+        f'stroke="#d62728" stroke-dasharray="4 3"/>'
+        for b in ((band, -band) if banded else ())
     ]
-    if pts:
-        xs, ys = [p[0] for p in pts], [p[1] for p in pts]
-        x0, x1 = min(xs), max(xs)
-        reach = max([abs(v) for v in ys] + ([abs(band)] if band is not None and math.isfinite(band) else []))
-        y0, y1 = (-reach, reach) if reach > 0 else (-1.0, 1.0)
-        x1 = x1 if x1 > x0 else x0 + 1.0
-
-        def px(a: float) -> float:
-            return left + (a - x0) / (x1 - x0) * (width - left - right)
-
-        def py(b: float) -> float:
-            return height - bottom - (b - y0) / (y1 - y0) * (height - top - bottom)
-
-        out.append(f'<line x1="{left}" y1="{py(0):.1f}" x2="{width - right}" y2="{py(0):.1f}" stroke="#999"/>')
-        if band is not None and math.isfinite(band):
-            for b in (band, -band):
-                out.append(
-                    f'<line x1="{left}" y1="{py(b):.1f}" x2="{width - right}" y2="{py(b):.1f}" '
-                    f'stroke="#d62728" stroke-dasharray="4 3"/>'
-                )
-        line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
-        out.append(f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.2"/>')
-        out += _corner_labels(x0, x1, y0, y1, width, height, left, right, top, bottom)
-    out += _small_axis_labels(xlabel, ylabel, width, height, left, right, top, bottom, xlabel_gap=3)
-    return "".join(out)
+    line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
+    body.append(f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.2"/>')
+    return _small_chart(xlabel, ylabel, width, height, box, 3, body, (x0, x1, y0, y1))
 
 
 __all__ = ["Axes", "DPI", "Figure", "colour", "draw_legend", "nice_ticks", "svg_curve", "svg_sparkline", "text_width"]
