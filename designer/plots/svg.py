@@ -535,7 +535,9 @@ class Axes:
         for _z, _i, kind, args in sorted(unclipped + [i for i in self.items if i[2] in ("text", "annotate", "clabel")]):
             getattr(self, f"_draw_{kind}")(out, sx, sy, *args)
         if self.legend_args is not None:
-            self._draw_legend(out, **self.legend_args)
+            handles = self.legend_args["handles"]
+            args = self.legend_args | {"handles": self.handles if handles is None else handles}
+            draw_legend(out, box=tuple(self.box), **args)
         for _z, _i, _kind, args in (i for i in self.items if i[2] == "hover"):
             self._draw_hover(out, sx, sy, *args)
 
@@ -766,18 +768,10 @@ class Axes:
                 )
         out.append("</g>")
 
-    def _legend_entries(self, handles):
-        return [hd for hd in (handles if handles is not None else self.handles) if hd.get_label()]
 
-    def _draw_legend(self, out, handles, loc, fontsize, framealpha, title, title_fontsize, anchor, ncol) -> None:
-        box = tuple(self.box)
-        draw_legend(
-            out, self._legend_entries(handles), box, loc, fontsize, framealpha, title, title_fontsize, anchor, ncol
-        )
-
-
-def draw_legend(out, entries, box, loc, fontsize, framealpha=0.8, title=None, title_fontsize=None, anchor=None, ncol=1):
-    """A legend box of ``entries`` (handles) placed at ``loc`` of ``box`` (x, y, w, h [px])."""
+def draw_legend(out, handles, box, loc, fontsize, framealpha=0.8, title=None, title_fontsize=None, anchor=None, ncol=1):
+    """A legend box of the labelled ``handles`` placed at ``loc`` of ``box`` (x, y, w, h [px])."""
+    entries = [hd for hd in handles if hd.get_label()]
     if not entries:
         return
     size = fontsize * PT
@@ -1032,7 +1026,7 @@ class Figure:
 
     def legend(self, handles, loc: str = "lower center", ncol: int = 1, fontsize: float = BASE_FONT, **_) -> None:
         """A figure legend of ``handles`` at ``loc`` (``"lower center"``), in ``ncol`` columns."""
-        self.legend_args = dict(handles=handles, loc=loc, ncol=ncol, fontsize=fontsize)
+        self.legend_args = dict(handles=handles, loc=loc, ncol=ncol, fontsize=fontsize, framealpha=1.0)
 
     def colorbar(self, mappable: _Mappable, ax: Axes, pad: float = 0.05, label: str = "", **_):
         """A vertical colour bar right of ``ax``, which gives up 15 % of its width for it."""
@@ -1082,9 +1076,7 @@ class Figure:
                 )
             )
         if self.legend_args is not None:
-            a = self.legend_args
-            entries = [hd for hd in a["handles"] if hd.get_label()]
-            draw_legend(out, entries, (0, 0, self.width, self.height), a["loc"], a["fontsize"], 1.0, ncol=a["ncol"])
+            draw_legend(out, box=(0, 0, self.width, self.height), **self.legend_args)
         out.append("</svg>")
         return "\n".join(out)
 
