@@ -239,9 +239,11 @@ def caster_svg(  # noqa: C901 - one branch per optional part of the drawing (lim
 
     out = [
         f'<svg xmlns="http://www.w3.org/2000/svg" class="caster-drawing" width="{width:.0f}" '
-        f'height="{height:.0f}" viewBox="0 0 {width:.1f} {height:.1f}" font-family="sans-serif" font-size="11">'
+        f'height="{height:.0f}" viewBox="0 0 {width:.1f} {height:.1f}" font-family="sans-serif" font-size="11">',
+        '<defs><marker id="caster-arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="6" markerHeight="6" '
+        'orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10 z"/></marker></defs>',
+        f"<title>{escape(label or 'caster drawn to scale')}</title>",
     ]
-    out.append(f"<title>{escape(label or 'caster drawn to scale')}</title>")
     # side view
     out.append(f'<line x1="0" y1="{sy(0):.1f}" x2="{side_w:.1f}" y2="{sy(0):.1f}" stroke="#555" stroke-width="1"/>')
     out.append(
@@ -267,22 +269,13 @@ def caster_svg(  # noqa: C901 - one branch per optional part of the drawing (lim
         f'<line x1="{sx(ax):.1f}" y1="{ya:.1f}" x2="{sx(0):.1f}" y2="{ya:.1f}" stroke="#000" '
         f'marker-start="url(#caster-arrow)" marker-end="url(#caster-arrow)"/>'
     )
-    out.append(
-        f'<text x="{sx(ax / 2):.1f}" y="{max(ya + 14, sy(-0.7 * INCH)):.1f}" text-anchor="middle">'
-        f"trail T = {escape(size(g.trail))}</text>"
-    )  # below the arrow at any scale
-    out.append(
-        f'<text x="{sx(ax) + 0.1 * g.diameter * s + 4:.1f}" y="{sy(ay) + 4:.1f}">d = {escape(size(g.diameter))}</text>'
-    )  # right of the hub, clear of the fork leg
-    out.append(
-        f'<text x="{side_w - 2:.1f}" y="{sy(g.sill_height) - 4:.1f}" text-anchor="end">sill h = '
-        f"{escape(size(g.sill_height))}</text>"
-    )
-    out.append(f'<text x="{sx(0) + 4:.1f}" y="{sy(g.stem_top) + 4:.1f}" fill="#c0392b">swivel axis</text>')
-    out.append(
-        f'<text class="caption" x="{side_w / 2:.1f}" y="{side_h + 16:.1f}" text-anchor="middle">'
-        "side view, rolling to the right</text>"
-    )
+    middle = ' text-anchor="middle"'
+    # the trail below the arrow at any scale; the diameter right of the hub, clear of the fork leg
+    out.append(_label(sx(ax / 2), max(ya + 14, sy(-0.7 * INCH)), f"trail T = {size(g.trail)}", middle))
+    out.append(_label(sx(ax) + 0.1 * g.diameter * s + 4, sy(ay) + 4, f"d = {size(g.diameter)}"))
+    out.append(_label(side_w - 2, sy(g.sill_height) - 4, f"sill h = {size(g.sill_height)}", ' text-anchor="end"'))
+    out.append(_label(sx(0) + 4, sy(g.stem_top) + 4, "swivel axis", ' fill="#c0392b"'))
+    out.append(_label(side_w / 2, side_h + 16, "side view, rolling to the right", middle, "caption"))
     # top view: the swept disc, then the footrest limit wide and dashed, then the swept circle's thin line over
     # it: the limit shows even where it equals the swept radius
     r_s = g.swept_radius * s
@@ -307,26 +300,19 @@ def caster_svg(  # noqa: C901 - one branch per optional part of the drawing (lim
     out.append(f'<circle cx="{tx(0):.1f}" cy="{ty(0):.1f}" r="3" fill="#c0392b"/>')
     if g.groove > 1e-9:
         tread_labels = ((g.tyre_width / 2, -4, "tread"), (-g.tyre_width / 2, 12, "tread"))
-        out.append(
-            f'<text x="{tx(ax + g.diameter / 2) + 4:.1f}" y="{ty(0) + 4:.1f}">groove B = {escape(size(g.groove))}'
-            "</text>"
-        )
+        out.append(_label(tx(ax + g.diameter / 2) + 4, ty(0) + 4, f"groove B = {size(g.groove)}"))
     else:
         tread_labels = ((g.tyre_width / 2, -4, "one tread (no groove)"),)
-    for yy, dy, text in tread_labels:
-        out.append(f'<text x="{tx(ax):.1f}" y="{ty(yy) + dy:.1f}" text-anchor="middle">{text}</text>')
-    for i, line in enumerate(top_lines):
-        out.append(
-            f'<text class="caption" x="{ox:.1f}" y="{top_h + 8 + 14 * i:.1f}" text-anchor="middle">'
-            f"{escape(line)}</text>"
-        )
-    out.insert(
-        1,
-        '<defs><marker id="caster-arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="6" markerHeight="6" '
-        'orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10 z"/></marker></defs>',
-    )
+    out += [_label(tx(ax), ty(yy) + dy, text, middle) for yy, dy, text in tread_labels]
+    out += [_label(ox, top_h + 8 + 14 * i, line, middle, "caption") for i, line in enumerate(top_lines)]
     out.append("</svg>")
     return "\n".join(out)
+
+
+def _label(x: float, y: float, text: str, attrs: str = "", cls: str = "") -> str:
+    """An SVG ``<text>`` of ``text`` (escaped) at (x, y) [px]; ``attrs``: its further attributes, ``cls``: its class."""
+    cls = f' class="{cls}"' if cls else ""
+    return f'<text{cls} x="{x:.1f}" y="{y:.1f}"{attrs}>{escape(text)}</text>'
 
 
 __all__ = ["CasterGeometry", "caster_geometry", "caster_svg", "draw_caster"]

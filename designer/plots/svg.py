@@ -324,8 +324,8 @@ class Axes:
         """A horizontal line across the axes at ``y`` [data units]; ``lw`` [pt] (``axvline``: vertical at x)."""
         col = colour(color, "#1f77b4")
         if np.isfinite(y):
-            self._extent(*(((), [y]) if _kind == "h" else ([y], ())))
-            self._add("axline", zorder, _kind, float(y), col, lw, ls)
+            self._extent(**{"ys" if _kind == "h" else "xs": [y]})
+            self._add("hline", zorder, _kind, float(y), col, lw, ls)
         return self._handle(label, "line", color=col, lw=lw, ls=ls, marker=None, ms=0)
 
     def axvline(self, x: float, color=None, ls: str = "-", lw: float = 1.5, label=None, zorder=2, **_):
@@ -622,7 +622,8 @@ class Axes:
         for a, b, fill in zip(sx(x), sy(y), fills):
             out.append(_marker(marker, float(a), float(b), size * PT, fill, edge or fill, lw * PT))
 
-    def _draw_axline(self, out, sx, sy, kind, v, col, lw, ls) -> None:
+    def _draw_hline(self, out, sx, sy, kind, v, col, lw, ls) -> None:
+        """A line across the axes: horizontal at y = ``v`` (``kind`` "h") or vertical at x = ``v`` ("v")."""
         x0, y0, w, h = self.box
         d = (
             f"M{_f(x0)} {_f(float(sy(v)))}H{_f(x0 + w)}"
