@@ -43,6 +43,8 @@ MECHANISM_STYLE = {
     "optimum mix": ("#2ca02c", ":", "D"),
 }
 MM = 1000.0
+BOXED = dict(bbox=dict(facecolor="white", alpha=0.8, lw=0))
+"""A note's white box."""
 WHEEL_COLOURS = ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d")
 
 
@@ -50,6 +52,19 @@ def _inch_x(ax, label: str):
     sec = ax.secondary_xaxis("top", functions=(rescale("mm", "in"), rescale("in", "mm")))
     sec.set_xlabel(label)
     return sec
+
+
+def _stable(ax, x: float, y: float, colour: str, rise: float, lw: float, s: float, zorder: float = 1) -> None:
+    """A wheel that did not shimmy up to speed ``y`` [m/s] (the treadmill's limit): a bar at it with an arrow
+    ``rise`` [m/s] up, at ``x``."""
+    ax.annotate("", (x, y + rise), (x, y), arrowprops=dict(arrowstyle="->", color=colour, lw=lw))
+    ax.scatter([x], [y], marker="_", s=s, color=colour, zorder=zorder)
+
+
+def _walking(ax, x: float, dy: float) -> None:
+    """The walking speed, a dotted line labelled at ``x`` [data units], ``dy`` [m/s] above it."""
+    ax.axhline(WALKING_SPEED, color="0.4", ls=":", lw=1)
+    ax.text(x, WALKING_SPEED + dy, "walking speed 1 m/s", fontsize=8, color="0.3")
 
 
 def _new(
@@ -161,16 +176,8 @@ def figure_front(
         if len(f) == 1:
             ax.set_xlim(p[0] * 0.9, p[0] * 1.1)
             ax.set_ylim(f[0] * 0.8, f[0] * 1.2)
-            ax.text(
-                0.5,
-                0.08,
-                "single-point front: " + (note or ""),
-                transform=ax.transAxes,
-                ha="center",
-                fontsize=8.5,
-                wrap=True,
-                color="0.2",
-            )
+            note = "single-point front: " + (note or "")
+            ax.text(0.5, 0.08, note, transform=ax.transAxes, ha="center", fontsize=8.5, wrap=True, color="0.2")
         else:
             t = np.asarray(tighter["turning_effort"], float) if tighter is not None else f
             lo, hi = min(f.min(), t.min()), max(f.max(), t.max())
@@ -258,14 +265,7 @@ def figure_trail(required_speed: float, curves: dict) -> Figure:
                 [f"wheel {key} {name}: measured V_c {measured:.2f} m/s at T = 2 in; Eq. 7 {w['eq7']:.2f} m/s"],
             )
         else:
-            x = TABLE1_TRAIL * MM + next(stable_offset)
-            ax.annotate(
-                "",
-                (x, TABLE1_STABLE_UP_TO + 0.5),
-                (x, TABLE1_STABLE_UP_TO),
-                arrowprops=dict(arrowstyle="->", color=colour, lw=1.8),
-            )
-            ax.scatter([x], [TABLE1_STABLE_UP_TO], marker="_", s=60, color=colour, zorder=4)
+            _stable(ax, TABLE1_TRAIL * MM + next(stable_offset), TABLE1_STABLE_UP_TO, colour, 0.5, 1.8, 60, zorder=4)
     ax.scatter([], [], color="white", edgecolor="black", s=40, label="measured at 2 in (Table 1)")
     ax.annotate(
         "A, B: stable to 3.8 m/s\n(treadmill limit)",
@@ -274,19 +274,11 @@ def figure_trail(required_speed: float, curves: dict) -> Figure:
         xytext=(8, -22),
         fontsize=8,
     )
-    ax.axhline(WALKING_SPEED, color="0.4", ls=":", lw=1)
-    ax.text(trail[0] * MM + 1, WALKING_SPEED + 0.08, "walking speed 1 m/s", fontsize=8, color="0.3")
+    _walking(ax, trail[0] * MM + 1, 0.08)
     req = required_speed
     ax.axhline(req, color="black", ls="--", lw=1)
     # at the right end: the legend fills the upper left, and at the left a fast target's label went under it
-    ax.text(
-        trail[-1] * MM - 1,
-        req + 0.08,
-        f"this problem's V_req = {req:.2f} m/s",
-        fontsize=8,
-        ha="right",
-        bbox=dict(facecolor="white", alpha=0.8, lw=0),
-    )
+    ax.text(trail[-1] * MM - 1, req + 0.08, f"this problem's V_req = {req:.2f} m/s", fontsize=8, ha="right", **BOXED)
     ax.set_xlim(trail[0] * MM, trail[-1] * MM)
     ax.set_ylim(0, 7)
     _inch_x(ax, "trail T [in]")
@@ -305,30 +297,15 @@ def figure_inertia(curves: dict) -> Figure:
     ax.plot(inertia * 1e3, curves["speeds"], color="#1f77b4", lw=1.6, label="Eq. 7, T = 2 in, B = 0, c_f = 1.3 N·m/rad")
     wheels = curves["wheels"]
     measured = [w for w in wheels if w["measured"] is not None]
-    ax.scatter(
-        [w["inertia"] * 1e3 for w in measured],
-        [w["measured"] for w in measured],
-        color="#d62728",
-        edgecolor="black",
-        s=45,
-        zorder=4,
-        label="measured critical speed (Table 1)",
-    )
+    mx, my = [w["inertia"] * 1e3 for w in measured], [w["measured"] for w in measured]
+    ax.scatter(mx, my, color="#d62728", edgecolor="black", s=45, zorder=4, label="measured critical speed (Table 1)")
     for w in wheels:
         x, y = w["inertia"] * 1e3, TABLE1_STABLE_UP_TO if w["measured"] is None else w["measured"]
         if w["measured"] is None:
-            ax.annotate("", (x, y + 0.6), (x, y), arrowprops=dict(arrowstyle="->", color="#d62728", lw=1.5))
-            ax.scatter([x], [y], marker="_", s=120, color="#d62728")
+            _stable(ax, x, y, "#d62728", 0.6, 1.5, 120)
         ax.annotate(w["key"], (x, y), textcoords="offset points", xytext=(6, 4), fontsize=9, weight="bold")
-    ax.plot(
-        [],
-        [],
-        color="#d62728",
-        marker="uarrow",
-        ls="none",
-        ms=10,
-        label="A, B: no shimmy up to 3.8 m/s (treadmill limit)",
-    )
+    stable = "A, B: no shimmy up to 3.8 m/s (treadmill limit)"
+    ax.plot([], [], color="#d62728", marker="uarrow", ls="none", ms=10, label=stable)
     ax.hover(
         [w["inertia"] * 1e3 for w in wheels],
         [w["measured"] if w["measured"] is not None else TABLE1_STABLE_UP_TO for w in wheels],
@@ -339,8 +316,7 @@ def figure_inertia(curves: dict) -> Figure:
             for w in wheels
         ],
     )
-    ax.axhline(WALKING_SPEED, color="0.4", ls=":", lw=1)
-    ax.text(2.2, WALKING_SPEED - 0.22, "walking speed 1 m/s", fontsize=8, color="0.3")
+    _walking(ax, 2.2, -0.22)
     ax.set_xlim(0, 3.8)
     ax.set_ylim(0, 7)
     xlabel = "wheel moment of inertia about a diameter I_w [10⁻³ kg·m²]"
@@ -440,15 +416,8 @@ def figure_groove_damper(
         _tradeoff_lines(left, bounds, rows)
     fixed = [name for name in ("groove", "damping") if bounds[name].fixed]
     if fixed:
-        left.text(
-            0.02,
-            0.97,
-            f"{' and '.join(fixed)} fixed by the problem",
-            transform=left.transAxes,
-            fontsize=8,
-            color="0.3",
-            va="top",
-        )
+        note = f"{' and '.join(fixed)} fixed by the problem"
+        left.text(0.02, 0.97, note, transform=left.transAxes, fontsize=8, color="0.3", va="top")
     left.grid(True, alpha=0.3)
     left.set_ylabel(f"least {axis('turning_effort')}")
     left.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0, 0.93))
@@ -485,14 +454,8 @@ def _tradeoff_lines(left, bounds, rows) -> None:
     if bare and len(rows) > 1:
         step = (xs[-1] - xs[0]) / (len(xs) - 1) / 2
         left.axvspan(min(bare) - step, max(bare) + step, color="0.85", alpha=0.5, lw=0)
-        left.text(
-            0.5 * (min(bare) + max(bare)),
-            0.5,
-            "trail alone suffices:\nno groove, no damper",
-            ha="center",
-            fontsize=8,
-            color="0.3",
-        )
+        note = "trail alone suffices:\nno groove, no damper"
+        left.text(0.5 * (min(bare) + max(bare)), 0.5, note, ha="center", fontsize=8, color="0.3")
     left.set_xlabel("wheel diameter d [mm]")
     _inch_x(left, "wheel diameter d [in]")
     left.set_ylim(bottom=0)
@@ -543,15 +506,8 @@ def _groove_damper_plane(ax, bounds, req, design, plane, robust: bool) -> None:
     if v.min() < req < v.max():
         ax.contour(G * MM, C, v, levels=[req], colors="black", linewidths=2.2)
     elif v.min() >= req:
-        ax.text(
-            0.5,
-            0.12,
-            "V_c > V_req everywhere in this plane:\nstable without groove or damper",
-            transform=ax.transAxes,
-            ha="center",
-            fontsize=8.5,
-            bbox=dict(facecolor="white", alpha=0.8, lw=0),
-        )
+        note = "V_c > V_req everywhere in this plane:\nstable without groove or damper"
+        ax.text(0.5, 0.12, note, transform=ax.transAxes, ha="center", fontsize=8.5, **BOXED)
     ax.plot(
         [],
         [],
@@ -561,32 +517,13 @@ def _groove_damper_plane(ax, bounds, req, design, plane, robust: bool) -> None:
         + ("\nnominal Eq. 7; the robust optimum keeps a margin" if robust else ""),
     )
     ax.plot([], [], color="0.25", lw=0.8, label="iso-V_c lines [m/s]")
-    ax.rectangle(
-        gb.low * MM,
-        cb.low,
-        max((gb.high - gb.low) * MM, 1e-9),
-        max(cb.high - cb.low, 1e-9),
-        edgecolor="#bb5500",
-        ls=":",
-        lw=1.2,
-    )
+    width, height = max((gb.high - gb.low) * MM, 1e-9), max(cb.high - cb.low, 1e-9)
+    ax.rectangle(gb.low * MM, cb.low, width, height, edgecolor="#bb5500", ls=":", lw=1.2)
     ax.plot([], [], color="#bb5500", ls=":", label="bounds")
-    ax.scatter(
-        [design.groove * MM],
-        [design.damping],
-        marker="*",
-        s=260,
-        facecolor="gold",
-        edgecolor="black",
-        zorder=5,
-        clip_on=False,
-        label="weighted optimum",
-    )
-    ax.hover(
-        [design.groove * MM],
-        [design.damping],
-        [f"weighted optimum: B = {shown(design.groove, 'groove', 'in')}, c_f = {design.damping:.3f} N·m/rad"],
-    )
+    at = [design.groove * MM], [design.damping]
+    style = dict(marker="*", s=260, facecolor="gold", edgecolor="black", zorder=5, clip_on=False)
+    ax.scatter(*at, label="weighted optimum", **style)
+    ax.hover(*at, [f"weighted optimum: B = {shown(design.groove, 'groove', 'in')}, c_f = {design.damping:.3f} N·m/rad"])
     ax.set_xlim(0, g_hi * MM)
     ax.set_ylim(c_lo, c_hi)
     _inch_x(ax, "groove width B [in]")
