@@ -339,23 +339,9 @@ class Axes:
         self._add("vspan", 1, float(x0), float(x1), col, alpha)
         return self._handle(label, "patch", fill=col, alpha=alpha)
 
-    def rectangle(
-        self,
-        x: float,
-        y: float,
-        width: float,
-        height: float,
-        *,
-        edgecolor=None,
-        ls: str = "-",
-        lw: float = 1.0,
-        facecolor="none",
-        label: str | None = None,
-        zorder: float = 1,
-    ):
-        """An unfilled (or filled) rectangle in data coordinates (matplotlib: ``add_patch(Rectangle(...))``)."""
-        self._add("rect", zorder, x, y, width, height, colour(edgecolor), ls, lw, colour(facecolor, "none"))
-        return self._handle(label, "line", color=colour(edgecolor), lw=lw, ls=ls, marker=None, ms=0)
+    def rectangle(self, x: float, y: float, width: float, height: float, *, edgecolor=None, ls="-", lw=1.0) -> None:
+        """An unfilled rectangle in data coordinates (matplotlib: ``add_patch(Rectangle(..., fill=False))``)."""
+        self._add("rect", 1, x, y, width, height, colour(edgecolor), ls, lw)
 
     def bar(self, x, height, width: float = 0.8, color=None, label: str | None = None, **_):
         """Bars centred at ``x`` of ``height`` and ``width`` [data units], from 0."""
@@ -369,9 +355,7 @@ class Axes:
 
     def legend_patch(self, label: str, color) -> _Handle:
         """A legend entry with a filled square key and no artist (matplotlib: an empty Rectangle patch)."""
-        handle = _Handle(label, "patch", fill=colour(color), alpha=1.0)
-        self.handles.append(handle)
-        return handle
+        return self._handle(label, "patch", fill=colour(color), alpha=1.0)
 
     def text(
         self,
@@ -508,10 +492,8 @@ class Axes:
         x0, y0, w, h = self.box
         sx, sy, (xl, xh), (yl, yh) = self._scales()
         clip = f"{uid}-clip"
-        out.append(
-            f'<clipPath id="{clip}"><rect x="{_f(x0)}" y="{_f(y0)}" width="{_f(w)}" height="{_f(h)}"/></clipPath>'
-        )
-        out.append(f'<rect x="{_f(x0)}" y="{_f(y0)}" width="{_f(w)}" height="{_f(h)}" fill="#ffffff"/>')
+        out.append(f'<clipPath id="{clip}">{_rect(x0, y0, w, h)}</clipPath>')
+        out.append(_rect(x0, y0, w, h, ' fill="#ffffff"'))
         xt = self.xticks[0] if self.xticks else nice_ticks(min(xl, xh), max(xl, xh), _bins(w))
         yt = nice_ticks(min(yl, yh), max(yl, yh), _bins(h, True))
         if self.show_grid:
@@ -528,9 +510,7 @@ class Axes:
         ):
             getattr(self, f"_draw_{kind}")(out, sx, sy, *args)
         out.append("</g>")
-        out.append(
-            f'<rect x="{_f(x0)}" y="{_f(y0)}" width="{_f(w)}" height="{_f(h)}" fill="none" stroke="#000" stroke-width="0.9"/>'
-        )
+        out.append(_rect(x0, y0, w, h, ' fill="none" stroke="#000" stroke-width="0.9"'))
         self._draw_ticks(out, sx, sy, xt, yt)
         for _z, _i, kind, args in sorted(unclipped + [i for i in self.items if i[2] in ("text", "annotate", "clabel")]):
             getattr(self, f"_draw_{kind}")(out, sx, sy, *args)
@@ -610,9 +590,7 @@ class Axes:
             else:
                 pts = list(zip(px, py))
             d = "M" + "L".join(f"{_f(a)} {_f(b)}" for a, b in pts if np.isfinite(a) and np.isfinite(b))
-            out.append(
-                f'<path d="{d}" fill="none" stroke="{col}" stroke-width="{_f(lw * PT)}"{_dash(ls, lw)} stroke-linejoin="round"/>'
-            )
+            out.append(f'<path d="{d}" fill="none"{_stroke(col, lw, ls)} stroke-linejoin="round"/>')
         if marker:
             size = ms if marker != "." else ms * 0.5
             for a, b in zip(px, py):
@@ -630,27 +608,23 @@ class Axes:
             if kind == "h"
             else f"M{_f(float(sx(v)))} {_f(y0)}V{_f(y0 + h)}"
         )
-        out.append(f'<path d="{d}" stroke="{col}" stroke-width="{_f(lw * PT)}"{_dash(ls, lw)}/>')
+        out.append(f'<path d="{d}"{_stroke(col, lw, ls)}/>')
 
     def _draw_vspan(self, out, sx, sy, a, b, col, alpha) -> None:
         _, y0, _, h = self.box
         pa, pb = sorted((float(sx(a)), float(sx(b))))
-        out.append(
-            f'<rect x="{_f(pa)}" y="{_f(y0)}" width="{_f(pb - pa)}" height="{_f(h)}" fill="{col}" fill-opacity="{alpha:g}"/>'
-        )
+        out.append(_rect(pa, y0, pb - pa, h, f' fill="{col}" fill-opacity="{alpha:g}"'))
 
-    def _draw_rect(self, out, sx, sy, x, y, width, height, edge, ls, lw, face) -> None:
+    def _draw_rect(self, out, sx, sy, x, y, width, height, edge, ls, lw) -> None:
         xa, xb = sorted((float(sx(x)), float(sx(x + width))))
         ya, yb = sorted((float(sy(y)), float(sy(y + height))))
-        out.append(
-            f'<rect x="{_f(xa)}" y="{_f(ya)}" width="{_f(xb - xa)}" height="{_f(yb - ya)}" fill="{face}" stroke="{edge}" stroke-width="{_f(lw * PT)}"{_dash(ls, lw)}/>'
-        )
+        out.append(_rect(xa, ya, xb - xa, yb - ya, f' fill="none"{_stroke(edge, lw, ls)}'))
 
     def _draw_bars(self, out, sx, sy, x, h, width, col) -> None:
         for a, v in zip(x, h):
             xa, xb = sorted((float(sx(a - width / 2)), float(sx(a + width / 2))))
             ya, yb = sorted((float(sy(0.0)), float(sy(v))))
-            out.append(f'<rect x="{_f(xa)}" y="{_f(ya)}" width="{_f(xb - xa)}" height="{_f(yb - ya)}" fill="{col}"/>')
+            out.append(_rect(xa, ya, xb - xa, yb - ya, f' fill="{col}"'))
 
     def _draw_bands(self, out, sx, sy, bands, alpha) -> None:
         for (points, codes), col in bands:
@@ -723,7 +697,9 @@ class Axes:
             width = max(text_width(line, fontsize) for line in lines) + 0.6 * size
             left = {"start": px - 0.3 * size, "middle": px - width / 2, "end": px - width + 0.3 * size}[anchor]
             out.append(
-                f'<rect x="{_f(left)}" y="{_f(first - 0.95 * size)}" width="{_f(width)}" height="{_f(n * 1.2 * size + 0.3 * size)}" fill="#ffffff" fill-opacity="0.8"/>'
+                _rect(
+                    left, first - 0.95 * size, width, n * 1.2 * size + 0.3 * size, ' fill="#ffffff" fill-opacity="0.8"'
+                )
             )
         out.append(_text(px, first, "\n".join(lines), fontsize, anchor, col, weight))
 
@@ -804,10 +780,8 @@ def draw_legend(out, handles, box, loc, fontsize, framealpha=0.8, title=None, ti
         ay_ = {"upper": y0 + gap, "lower": y0 + h - gap, "center": y0 + h / 2}[loc.split()[0]]
     left = {"right": ax_ - width, "left": ax_, "center": ax_ - width / 2}[loc.split()[-1]]
     top = {"upper": ay_, "lower": ay_ - height, "center": ay_ - height / 2}[loc.split()[0]]
-    out.append(
-        f'<g class="legend"><rect x="{_f(left)}" y="{_f(top)}" width="{_f(width)}" height="{_f(height)}" rx="3" '
-        f'fill="#ffffff" fill-opacity="{framealpha:g}" stroke="#cccccc" stroke-width="0.8"/>'
-    )
+    frame = f' rx="3" fill="#ffffff" fill-opacity="{framealpha:g}" stroke="#cccccc" stroke-width="0.8"'
+    out.append('<g class="legend">' + _rect(left, top, width, height, frame))
     if title:
         out.append(_text(left + width / 2, top + pad + 0.8 * title_h, title, title_fontsize or fontsize, "middle"))
     x, y = left + pad, top + pad + title_h
@@ -826,9 +800,7 @@ def _legend_key(out, hd: _Handle, x: float, cy: float, key: float, size: float) 
     st = hd.style
     if hd.kind == "line":
         if st.get("ls") not in ("none", "None", "", " "):
-            out.append(
-                f'<path d="M{_f(x)} {_f(cy)}h{_f(key)}" stroke="{st["color"]}" stroke-width="{_f(st["lw"] * PT)}"{_dash(st["ls"], st["lw"])}/>'
-            )
+            out.append(f'<path d="M{_f(x)} {_f(cy)}h{_f(key)}"{_stroke(st["color"], st["lw"], st["ls"])}/>')
         if st.get("marker"):
             ms = st["ms"] if st["marker"] != "." else st["ms"] * 0.5
             out.append(_marker(st["marker"], x + key / 2, cy, ms * PT, st["color"], st["color"], 0.5 * PT))
@@ -838,9 +810,8 @@ def _legend_key(out, hd: _Handle, x: float, cy: float, key: float, size: float) 
             _marker(st["marker"], x + key / 2, cy, ms * PT, st["fill"], st.get("edge") or st["fill"], st["lw"] * PT)
         )
     else:
-        out.append(
-            f'<rect x="{_f(x)}" y="{_f(cy - 0.35 * size)}" width="{_f(key)}" height="{_f(0.7 * size)}" fill="{st["fill"]}" fill-opacity="{max(st.get("alpha", 1.0), 0.25):g}"/>'
-        )
+        fill = f' fill="{st["fill"]}" fill-opacity="{max(st.get("alpha", 1.0), 0.25):g}"'
+        out.append(_rect(x, cy - 0.35 * size, key, 0.7 * size, fill))
 
 
 def _set_limits(lim: list, low, high) -> None:
@@ -865,12 +836,17 @@ def _marks(d: str) -> str:
     return f'<path d="{d}" stroke="#000" stroke-width="0.8"/>'
 
 
-def _dash(ls: str, lw: float) -> str:
+def _rect(x: float, y: float, width: float, height: float, attrs: str = "") -> str:
+    """A ``<rect>`` at (x, y) of ``width`` × ``height`` [px]; ``attrs``: its further attributes."""
+    return f'<rect x="{_f(x)}" y="{_f(y)}" width="{_f(width)}" height="{_f(height)}"{attrs}/>'
+
+
+def _stroke(col: str, lw: float, ls: str) -> str:
+    """The stroke attributes of a line of colour ``col``, width ``lw`` [pt] and style ``ls`` (its dashes)."""
     pattern = _DASH.get(ls)
-    if not pattern:
-        return ""
     scale = max(lw, 1.0) * PT
-    return f' stroke-dasharray="{",".join(_f(p * scale) for p in pattern)}"'
+    dash = f' stroke-dasharray="{",".join(_f(p * scale) for p in pattern)}"' if pattern else ""
+    return f' stroke="{col}" stroke-width="{_f(lw * PT)}"{dash}'
 
 
 def _text(x, y, s, fontsize, anchor="start", col="#000000", weight="normal", rotate: float = 0.0) -> str:
@@ -936,7 +912,7 @@ def _marker(kind: str, x: float, y: float, size: float, fill: str, edge: str, lw
     if kind in ("o", "."):
         return f'<circle cx="{_f(x)}" cy="{_f(y)}" r="{_f(r)}" {stroke}/>'
     if kind == "s":
-        return f'<rect x="{_f(x - r)}" y="{_f(y - r)}" width="{_f(size)}" height="{_f(size)}" {stroke}/>'
+        return _rect(x - r, y - r, size, size, " " + stroke)
     if kind == "_":
         return f'<path d="M{_f(x - r)} {_f(y)}h{_f(size)}" stroke="{fill}" stroke-width="{_f(max(lw, 1.5))}"/>'
     if kind == "x":
@@ -1001,9 +977,7 @@ class Figure:
 
     def add_subplot(self) -> Axes:
         """One axes filling the figure inside its margins."""
-        ax = Axes(self, self._grid(1, 1)[0])
-        self.axes.append(ax)
-        return ax
+        return self.subplots()
 
     def subplots(self, nrows: int = 1, ncols: int = 1, sharex: bool = False, width_ratios=None):
         """A grid of axes (one Axes, a 1-d array or an nrows × ncols array, as matplotlib's)."""
@@ -1044,12 +1018,8 @@ class Figure:
         lo, hi = float(lv[0]), float(lv[-1])
         for a, b, col in zip(lv[:-1], lv[1:], mappable.colours):
             ya, yb = y + h * (1 - (b - lo) / (hi - lo)), y + h * (1 - (a - lo) / (hi - lo))
-            out.append(
-                f'<rect x="{_f(x)}" y="{_f(ya)}" width="{_f(w)}" height="{_f(yb - ya + 0.3)}" fill="{col}" fill-opacity="{mappable.alpha:g}"/>'
-            )
-        out.append(
-            f'<rect x="{_f(x)}" y="{_f(y)}" width="{_f(w)}" height="{_f(h)}" fill="none" stroke="#000" stroke-width="0.8"/>'
-        )
+            out.append(_rect(x, ya, w, yb - ya + 0.3, f' fill="{col}" fill-opacity="{mappable.alpha:g}"'))
+        out.append(_rect(x, y, w, h, ' fill="none" stroke="#000" stroke-width="0.8"'))
         ticks = nice_ticks(lo, hi, _bins(h, True))
         marks, width = _vticks(out, x + w, 1, [y + h * (1 - (t - lo) / (hi - lo)) for t in ticks], _tick_labels(ticks))
         out.append(_marks(marks))
