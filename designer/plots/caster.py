@@ -111,22 +111,13 @@ def draw_caster(
         s.plot([0, 0], [-0.3, g.stem_top * k + 0.2], color="#c0392b", ls="-.", lw=1)
         s.annotate("", (ax * k, -0.18), (0, -0.18), arrowprops=dict(arrowstyle="<->", lw=1))
         s.text(ax * k / 2, -0.35, f"trail T = {shown(g.trail, 'trail', 'in')}", ha="center", va="top", fontsize=8)
-        s.text(
-            ax * k,
-            0.27 * g.diameter * k,
-            f"d = {shown(g.diameter, 'diameter', 'in')}",
-            ha="center",
-            va="top",
-            fontsize=8,
-        )
-        s.text(
+        d_text = f"d = {shown(g.diameter, 'diameter', 'in')}"
+        s.text(ax * k, 0.27 * g.diameter * k, d_text, ha="center", va="top", fontsize=8)
+        sill_x, sill = (
             (g.sill_x + 0.7 * g.diameter) * k - 0.05,
-            g.sill_height * k + 0.05,
             f"sill h = {shown(g.sill_height, 'threshold_height', 'in')}",
-            fontsize=8,
-            va="bottom",
-            ha="right",
         )
+        s.text(sill_x, g.sill_height * k + 0.05, sill, fontsize=8, va="bottom", ha="right")
         s.text(0.1, g.stem_top * k, "swivel axis", color="#c0392b", fontsize=8, va="top")
         s.set_aspect("equal")
         s.set_xlim((ax - g.diameter * 0.65) * k, (g.sill_x + 0.7 * g.diameter) * k)

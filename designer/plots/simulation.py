@@ -98,12 +98,8 @@ def bifurcation_axes(
     ax.plot(v, eq29b_slope * v, ":", color="k", lw=1.2, label="Eq. 29B/6C amplitude θ0 V/(ωT)")
     ax.axvline(eq7_speed, color="tab:green", lw=1.2, label=f"Eq. 7 V_c = {eq7_speed:.2f} m/s")
     if measured is not None:
-        ax.plot(
-            *measured,
-            "k*",
-            ms=13,
-            label=f"measured (Fig. 1C): {math.degrees(measured[1]):.0f}° at {measured[0]:.2f} m/s",
-        )
+        label = f"measured (Fig. 1C): {math.degrees(measured[1]):.0f}° at {measured[0]:.2f} m/s"
+        ax.plot(*measured, "k*", ms=13, label=label)
     ax.set_xlim(lo, hi)
     ax.set_yscale("log")
     ax.set_xlabel("wheelchair speed V [m/s]")
@@ -117,37 +113,23 @@ def bifurcation_axes(
     return ax
 
 
+_BRANCH_STYLE = {
+    True: dict(color="tab:red", ls="-", lw=2.2, marker="o"),
+    False: dict(color="tab:blue", ls="--", lw=1.8, marker=None),
+}
+"""Line style of a stable (True) and an unstable periodic-orbit branch of the brush tyre."""
+
+
 def _branches(ax, branches, rolling_branches) -> None:
     """The periodic-orbit branches of the bifurcation diagram: rolling tyre grey dashes, brush tyre stable red
     (sustained shimmy) and unstable blue dashes (knock threshold), each kind labelled once."""
-    for b in rolling_branches:
-        ax.plot(
-            b["speed"],
-            b["amplitude"],
-            color="0.55",
-            ls="--",
-            lw=1.5,
-            label="rolling tyre (paper's model): unstable" if b is rolling_branches[0] else None,
-        )
-    seen = set()
+    for k, b in enumerate(rolling_branches):
+        label = "rolling tyre (paper's model): unstable" if k == 0 else None
+        ax.plot(b["speed"], b["amplitude"], color="0.55", ls="--", lw=1.5, label=label)
+    labels = {"stable": "brush tyre: stable (sustained shimmy)", "unstable": "brush tyre: unstable (knock threshold)"}
     for b in branches:
-        stable = b["kind"] == "stable"
-        label = (
-            None
-            if b["kind"] in seen
-            else ("brush tyre: stable (sustained shimmy)" if stable else "brush tyre: unstable (knock threshold)")
-        )
-        seen.add(b["kind"])
-        ax.plot(
-            b["speed"],
-            b["amplitude"],
-            color="tab:red" if stable else "tab:blue",
-            ls="-" if stable else "--",
-            lw=2.2 if stable else 1.8,
-            marker="o" if stable else None,
-            ms=3,
-            label=label,
-        )
+        style = _BRANCH_STYLE[b["kind"] == "stable"]
+        ax.plot(b["speed"], b["amplitude"], ms=3, label=labels.pop(b["kind"], None), **style)
 
 
 def table1_axes(wheels, measured, predictions: dict, stable_up_to: float | None = None, ax=None):
@@ -331,13 +313,8 @@ def _trace_panel(ax, traces, onset_c) -> None:
     """(d) θ(t) [deg] of the Appendix C caster at 0.9, 1.0 and 1.1 × its onset speed."""
     for f, colour in ((0.9, "tab:green"), (1.0, "tab:gray"), (1.1, "tab:red")):
         r = traces[f]
-        ax.plot(
-            r.t,
-            np.degrees(r.theta),
-            color=colour,
-            lw=1,
-            label=f"V = {r.speed:.2f} m/s ({f:.1f} × onset): {'grows' if r.grows else 'decays'}",
-        )
+        label = f"V = {r.speed:.2f} m/s ({f:.1f} × onset): {'grows' if r.grows else 'decays'}"
+        ax.plot(r.t, np.degrees(r.theta), color=colour, lw=1, label=label)
     ax.axhline(0, color="k", lw=0.5)
     ax.set_xlabel("time [s]")
     ax.set_ylabel("caster angle θ [deg]")

@@ -41,29 +41,13 @@ def draw_stem_geometry(ax, geometry: dict):
     ax.annotate(
         "", xy=(0, -0.35), xytext=(contact[0] * scale, -0.35), arrowprops={"arrowstyle": "<->", "color": "tab:green"}
     )
-    ax.text(
-        contact[0] * scale / 2,
-        -0.75,
-        f"floor trail t_g = {t_g * scale:.3f} in",
-        ha="center",
-        color="tab:green",
-        fontsize=8,
-    )
+    text = f"floor trail t_g = {t_g * scale:.3f} in"
+    ax.text(contact[0] * scale / 2, -0.75, text, ha="center", color="tab:green", fontsize=8)
     proj = g["projection"]  # foot of the perpendicular from the contact to the axis
-    ax.plot(
-        *(np.array([contact, proj]).T * scale),
-        color="tab:purple",
-        lw=2,
-        label=f"effective trail T_eff = e + R sin φ = {t_eff * scale:.3f} in",
-    )
-    ax.text(
-        top[0] * scale - 0.2,
-        top[1] * scale + 0.1,
-        f"φ = {math.degrees(angle):.0f}°",
-        color="tab:blue",
-        fontsize=9,
-        ha="right",
-    )
+    label = f"effective trail T_eff = e + R sin φ = {t_eff * scale:.3f} in"
+    ax.plot(*(np.array([contact, proj]).T * scale), color="tab:purple", lw=2, label=label)
+    text = f"φ = {math.degrees(angle):.0f}°"
+    ax.text(top[0] * scale - 0.2, top[1] * scale + 0.1, text, color="tab:blue", fontsize=9, ha="right")
     ax.plot([0, 0], [0, top[1] * scale], ":", color="0.6", lw=1)
     ax.set_aspect("equal")
     ax.set_xlabel("x, forward [in]")
