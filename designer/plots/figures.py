@@ -157,16 +157,8 @@ def figure_front(
     fig = _new(7.5, 5.0)
     ax = fig.add_subplot()
     if tighter is not None:
-        ax.plot(
-            tighter["threshold_force"],
-            tighter["turning_effort"],
-            color="0.65",
-            lw=1.5,
-            ls="--",
-            marker=".",
-            ms=4,
-            label=tighter["label"],
-        )
+        style = dict(color="0.65", lw=1.5, ls="--", marker=".", ms=4)
+        ax.plot(tighter["threshold_force"], tighter["turning_effort"], label=tighter["label"], **style)
     f = np.asarray(front["turning_effort"], float)
     p = np.asarray(front["threshold_force"], float)
     plot_front(f, p, front["family"], ax=ax, legend=False)
@@ -196,24 +188,15 @@ def figure_front(
 
 def _label_ends(ax, ends) -> None:
     """Label the front's ends with their sizes [in], on the empty ideal side (below-left), with a line to each."""
-    for end, where in zip(
-        ends,
-        (
-            dict(xytext=(-25, -30), textcoords="offset points", ha="right"),
-            dict(xytext=(0.03, 0.05), textcoords="axes fraction", ha="left", va="bottom"),
-        ),
-    ):
-        ax.annotate(
-            "\n".join(
-                f"{s} = {shown(end[k], k, 'in', digits=2)}"
-                for s, k in (("d", "diameter"), ("T", "trail"), ("B", "groove"))
-            ),
-            (end["threshold_force"], end["turning_effort"]),
-            fontsize=8,
-            color="0.25",
-            arrowprops=dict(arrowstyle="-", color="0.5", lw=0.8),
-            **{"va": "top", **where},
-        )
+    places = (
+        dict(xytext=(-25, -30), textcoords="offset points", ha="right", va="top"),
+        dict(xytext=(0.03, 0.05), textcoords="axes fraction", ha="left", va="bottom"),
+    )
+    line, sizes = dict(arrowstyle="-", color="0.5", lw=0.8), (("d", "diameter"), ("T", "trail"), ("B", "groove"))
+    for end, place in zip(ends, places):
+        text = "\n".join(f"{s} = {shown(end[k], k, 'in', digits=2)}" for s, k in sizes)
+        at = (end["threshold_force"], end["turning_effort"])
+        ax.annotate(text, at, fontsize=8, color="0.25", arrowprops=line, **place)
 
 
 # --------------------------------------------------------------------------- variables
@@ -267,13 +250,8 @@ def figure_trail(required_speed: float, curves: dict) -> Figure:
         else:
             _stable(ax, TABLE1_TRAIL * MM + next(stable_offset), TABLE1_STABLE_UP_TO, colour, 0.5, 1.8, 60, zorder=4)
     ax.scatter([], [], color="white", edgecolor="black", s=40, label="measured at 2 in (Table 1)")
-    ax.annotate(
-        "A, B: stable to 3.8 m/s\n(treadmill limit)",
-        (TABLE1_TRAIL * MM, TABLE1_STABLE_UP_TO),
-        textcoords="offset points",
-        xytext=(8, -22),
-        fontsize=8,
-    )
+    note = "A, B: stable to 3.8 m/s\n(treadmill limit)"
+    ax.annotate(note, (TABLE1_TRAIL * MM, TABLE1_STABLE_UP_TO), textcoords="offset points", xytext=(8, -22), fontsize=8)
     _walking(ax, trail[0] * MM + 1, 0.08)
     req = required_speed
     ax.axhline(req, color="black", ls="--", lw=1)
@@ -341,13 +319,8 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, curves: d
     ax.plot(d * MM, curves["exact"], color="#1f77b4", lw=1.8, label=f"exact, Eq. 4A (h = {h / INCH:.3g} in)")
     ax.plot(d * MM, curves["approximate"], color="#1f77b4", lw=1.2, ls="--", label="approximate, Eq. 5A: 2 sqrt(h/d)")
     if curves["paper_diameter"] is not None:
-        ax.plot(
-            np.asarray(curves["paper_diameter"], float) * MM,
-            curves["paper_exact"],
-            color="0.5",
-            lw=1.2,
-            label="exact, paper's h = 0.5 in (Fig. 2A)",
-        )
+        paper = np.asarray(curves["paper_diameter"], float) * MM
+        ax.plot(paper, curves["paper_exact"], color="0.5", lw=1.2, label="exact, paper's h = 0.5 in (Fig. 2A)")
     b = diameter_bounds
     if b.fixed:
         ax.axvline(b.low * MM, color="#ff7f0e", lw=1.2, label=f"fixed diameter {b.low / INCH:.3g} in")
@@ -434,14 +407,8 @@ def _tradeoff_lines(left, bounds, rows) -> None:
         y = np.array([r.effort.get(mechanism) if r.effort.get(mechanism) is not None else np.nan for r in rows])
         ok = np.isfinite(y)
         left.plot(xs[ok], y[ok], color=colour, ls=ls, marker=marker, ms=4, lw=1.5, label=mechanism)
-        left.hover(
-            xs[ok],
-            y[ok],
-            [
-                f"{mechanism}: d = {x / (INCH * MM):.3f} in ({x:.1f} mm), least F_turn {v:.3f} N"
-                for x, v in zip(xs[ok], y[ok])
-            ],
-        )
+        says = "{}: d = {:.3f} in ({:.1f} mm), least F_turn {:.3f} N"
+        left.hover(xs[ok], y[ok], [says.format(mechanism, x / (INCH * MM), x, v) for x, v in zip(xs[ok], y[ok])])
         if np.any(~ok):
             left.scatter(xs[~ok], np.zeros((~ok).sum()), color=colour, marker="x", s=40, clip_on=False, zorder=4)
     if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
@@ -508,14 +475,9 @@ def _groove_damper_plane(ax, bounds, req, design, plane, robust: bool) -> None:
     elif v.min() >= req:
         note = "V_c > V_req everywhere in this plane:\nstable without groove or damper"
         ax.text(0.5, 0.12, note, transform=ax.transAxes, ha="center", fontsize=8.5, **BOXED)
-    ax.plot(
-        [],
-        [],
-        color="black",
-        lw=2.2,
-        label=f"V_c = V_req = {req:.2f} m/s (stable above/right)"
-        + ("\nnominal Eq. 7; the robust optimum keeps a margin" if robust else ""),
-    )
+    label = f"V_c = V_req = {req:.2f} m/s (stable above/right)"
+    label += "\nnominal Eq. 7; the robust optimum keeps a margin" if robust else ""
+    ax.plot([], [], color="black", lw=2.2, label=label)
     ax.plot([], [], color="0.25", lw=0.8, label="iso-V_c lines [m/s]")
     width, height = max((gb.high - gb.low) * MM, 1e-9), max(cb.high - cb.low, 1e-9)
     ax.rectangle(gb.low * MM, cb.low, width, height, edgecolor="#bb5500", ls=":", lw=1.2)

@@ -87,13 +87,8 @@ def bifurcation_axes(
     _branches(ax, branches, rolling_branches)
     lo, hi = speed_range if speed_range is not None else ax.get_xlim()
     if fold_speed is not None and math.isfinite(fold_speed):
-        ax.axvspan(
-            fold_speed,
-            hi,
-            color="tab:orange",
-            alpha=0.08,
-            label=f"hysteresis: rest and shimmy both stable (V > {fold_speed:.2f} m/s)",
-        )
+        label = f"hysteresis: rest and shimmy both stable (V > {fold_speed:.2f} m/s)"
+        ax.axvspan(fold_speed, hi, color="tab:orange", alpha=0.08, label=label)
     v = np.linspace(lo, hi, 50)
     ax.plot(v, eq29b_slope * v, ":", color="k", lw=1.2, label="Eq. 29B/6C amplitude θ0 V/(ωT)")
     ax.axvline(eq7_speed, color="tab:green", lw=1.2, label=f"Eq. 7 V_c = {eq7_speed:.2f} m/s")
