@@ -31,7 +31,7 @@ import numpy as np
 from designer.display import axis, rescale, shown
 from designer.data.paper import INCH, TABLE1_STABLE_UP_TO, TABLE1_TRAIL, WALKING_SPEED
 from designer.output import PLOT, SOFTWARE, write_file
-from designer.plots.fronts import VARIABLE_PANELS, dress, draw_fronts, plot_front, plot_variables
+from designer.plots.fronts import COLOR_BY, dress, draw_fronts, plot_front, plot_variables
 from designer.plots.svg import Figure
 
 FIGURES = ("front", "variables", "trail", "inertia", "threshold", "groove_damper")
@@ -215,7 +215,7 @@ def figure_variables(threshold_force, designs, families, bounds, gaps=(), hover=
     if hover is not None:
         x = np.asarray(threshold_force, float).reshape(-1)
         d = np.asarray(designs, float).reshape(-1, 4)
-        for ax, (_, _, k, scale, _) in zip(axes.ravel(), VARIABLE_PANELS):
+        for ax, (_, k, scale) in zip(axes.ravel(), COLOR_BY.values()):
             ax.hover(x, d[:, k] * scale, hover)
     return fig
 

@@ -48,7 +48,6 @@ COLOR_BY = {
 }
 """``color_by`` choices of :func:`plot_front` besides "family", "critical_speed" and None: (label, design column,
 scale to the plotted unit)."""
-MM = 1000.0
 LEGEND = dict(fontsize=7.5, loc="upper right", framealpha=0.92)
 """The legend of a front's Axes."""
 
@@ -178,13 +177,8 @@ def _colour_values(color_by, designs, critical_speed, n):
     return np.asarray(designs, float).reshape(n, 4)[:, column] * scale, what
 
 
-VARIABLE_PANELS = (
-    ("trail T [mm]", "T [in]", 0, MM, True),
-    ("wheel diameter d [mm]", "d [in]", 1, MM, True),
-    ("groove width B [mm]", "B [in]", 2, MM, True),
-    ("spindle damping c_f [N·m/rad]", None, 3, 1.0, False),
-)
-"""Panels of :func:`plot_variables`: (label, inch label, design column, scale, inch axis)."""
+INCH_LABELS = {"trail": "T [in]", "diameter": "d [in]", "groove": "B [in]"}
+"""The inch axis of each length's panel of :func:`plot_variables` (one panel per :data:`COLOR_BY` variable)."""
 
 
 # long: four panels, their bounds, family switches and the shared legend in one figure
@@ -217,7 +211,7 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
     x = np.asarray(threshold_force, float).reshape(-1)
     designs = np.asarray(designs, float).reshape(-1, 4)
     families = list(families)
-    for ax, (label, inch_label, k, scale, inches) in zip(axes.ravel(), VARIABLE_PANELS):
+    for ax, (name, (label, k, scale)) in zip(axes.ravel(), COLOR_BY.items()):
         if len(x):
             colours = [FAMILY_STYLE.get(f, ("k", "o"))[0] for f in families]
             ax.plot(x, designs[:, k] * scale, color="0.35", lw=1)
@@ -232,8 +226,10 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
         span = (high - low) * scale
         pad = 0.08 * (span if span > 0 else max(abs(low * scale), 1e-3))
         ax.set_ylim(low * scale - pad, high * scale + pad)
-        if inches:
-            ax.secondary_yaxis("right", functions=(rescale("mm", "in"), rescale("in", "mm"))).set_ylabel(inch_label)
+        if name in INCH_LABELS:
+            ax.secondary_yaxis("right", functions=(rescale("mm", "in"), rescale("in", "mm"))).set_ylabel(
+                INCH_LABELS[name]
+            )
     for ax in axes[-1]:
         ax.set_xlabel(axis("threshold_force"))
     handles = [

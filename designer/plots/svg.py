@@ -958,7 +958,12 @@ class Figure:
             if value is not None:
                 self.margins[key] = value
 
-    def _grid(self, nrows: int, ncols: int, width_ratios=None):
+    def add_subplot(self) -> Axes:
+        """One axes filling the figure inside its margins."""
+        return self.subplots()
+
+    def subplots(self, nrows: int = 1, ncols: int = 1, sharex: bool = False, width_ratios=None):
+        """A grid of axes (one Axes, a 1-d array or an nrows × ncols array, as matplotlib's)."""
         m = self.margins
         left, right = m["left"] * self.width, m["right"] * self.width
         top, bottom = (1 - m["top"]) * self.height, (1 - m["bottom"]) * self.height
@@ -967,22 +972,12 @@ class Figure:
         gap_w = m["wspace"] * cell_w * sum(ratios) / ncols
         cell_h = (bottom - top) / (nrows + m["hspace"] * (nrows - 1))
         gap_h = m["hspace"] * cell_h
-        boxes = []
+        axes = []
         for r in range(nrows):
             x = left
             for c in range(ncols):
-                boxes.append((x, top + r * (cell_h + gap_h), cell_w * ratios[c], cell_h))
+                axes.append(Axes(self, (x, top + r * (cell_h + gap_h), cell_w * ratios[c], cell_h)))
                 x += cell_w * ratios[c] + gap_w
-        return boxes
-
-    def add_subplot(self) -> Axes:
-        """One axes filling the figure inside its margins."""
-        return self.subplots()
-
-    def subplots(self, nrows: int = 1, ncols: int = 1, sharex: bool = False, width_ratios=None):
-        """A grid of axes (one Axes, a 1-d array or an nrows × ncols array, as matplotlib's)."""
-        boxes = self._grid(nrows, ncols, width_ratios)
-        axes = [Axes(self, b) for b in boxes]
         self.axes.extend(axes)
         if sharex:
             for ax in axes[1:]:
@@ -1041,11 +1036,8 @@ class Figure:
         for mappable, box, bar in self.bars:
             self._draw_colorbar(out, mappable, box, bar.label)
         if self.title:
-            out.append(
-                _text(
-                    self.width / 2, 0.3 * DPI * 0.55 + self.title_size * PT * 0.5, self.title, self.title_size, "middle"
-                )
-            )
+            y = 0.3 * DPI * 0.55 + self.title_size * PT * 0.5
+            out.append(_text(self.width / 2, y, self.title, self.title_size, "middle"))
         if self.legend_args is not None:
             draw_legend(out, box=(0, 0, self.width, self.height), **self.legend_args)
         out.append("</svg>")
