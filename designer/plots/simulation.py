@@ -141,16 +141,12 @@ def table1_axes(wheels, measured, predictions: dict, stable_up_to: float | None 
     x = np.arange(len(wheels))
     width = 0.8 / (len(predictions) + 1)
     meas = np.array([np.nan if m is None else m for m in measured], float)
-    ax.bar(x - 0.4 + width / 2, np.nan_to_num(meas), width, color="k", label="measured")
+    left = x - 0.4 + width / 2  # the measured bars
+    ax.bar(left, np.nan_to_num(meas), width, color="k", label="measured")
     if stable_up_to is not None:
-        for xi in x[np.isnan(meas)]:
-            ax.bar(xi - 0.4 + width / 2, stable_up_to, width, color="none", edgecolor="k", hatch="//")
-            ax.annotate(
-                "",
-                (xi - 0.4 + width / 2, stable_up_to + 0.5),
-                (xi - 0.4 + width / 2, stable_up_to),
-                arrowprops={"arrowstyle": "->"},
-            )
+        for xi in left[np.isnan(meas)]:
+            ax.bar(xi, stable_up_to, width, color="none", edgecolor="k", hatch="//")
+            ax.annotate("", (xi, stable_up_to + 0.5), (xi, stable_up_to), arrowprops={"arrowstyle": "->"})
         ax.axhline(stable_up_to, color="k", lw=0.6, ls=":")
         ax.bar([], [], color="none", edgecolor="k", hatch="//", label=f"stable up to {stable_up_to} m/s (A, B)")
     colours = ["tab:green", "tab:blue", "tab:red", "tab:purple"]
