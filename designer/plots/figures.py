@@ -382,26 +382,25 @@ def figure_groove_damper(
     # suptitle, titles, inch axes on top; colour bar; the plane's legend under it (inside, it covered iso-V_c labels)
     fig = _new(11.5, 6.3, top=0.95, right=0.1, bottom=1.8, wspace=0.17)
     left, right = fig.subplots(1, 2, width_ratios=(1, 1.1))
-    rows = tradeoff
-    if catalog or len(rows) == 1:
-        _tradeoff_bars(left, catalog, rows)
-    else:
-        _tradeoff_lines(left, bounds, rows)
+    rows, bars = tradeoff, catalog or len(tradeoff) == 1
+    xlabel = _tradeoff_bars(left, catalog, rows) if bars else _tradeoff_lines(left, bounds, rows)
+    if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
+        label = "× cannot reach V_req" if bars else "cannot reach V_req (plotted at 0)"
+        left.scatter([], [], color="0.3", marker="x", label=label)
     fixed = [name for name in ("groove", "damping") if bounds[name].fixed]
     if fixed:
         note = f"{' and '.join(fixed)} fixed by the problem"
         left.text(0.02, 0.97, note, transform=left.transAxes, fontsize=8, color="0.3", va="top")
-    left.grid(True, alpha=0.3)
-    left.set_ylabel(f"least {axis('turning_effort')}")
-    left.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0, 0.93))
-    left.set_title(f"Least turning effort reaching V_req = {required_speed:.2f} m/s", fontsize=10)
+    title = f"Least turning effort reaching V_req = {required_speed:.2f} m/s"
+    legend = dict(fontsize=8, loc="upper left", bbox_to_anchor=(0, 0.93))
+    dress(left, xlabel, f"least {axis('turning_effort')}", title, legend)
     _groove_damper_plane(right, bounds, required_speed, design, plane, robust)
     fig.suptitle(f"{name}: groove against damper (trail free on the left, fixed on the right)", fontsize=10)
     return fig
 
 
-def _tradeoff_lines(left, bounds, rows) -> None:
-    """Least F_turn vs diameter, one line per mechanism (continuous diameter)."""
+def _tradeoff_lines(left, bounds, rows) -> str:
+    """Least F_turn vs diameter, one line per mechanism (continuous diameter); returns the x label."""
     xs = np.array([r.diameter for r in rows]) * MM
     for mechanism, (colour, ls, marker) in MECHANISM_STYLE.items():
         y = np.array([r.effort.get(mechanism) if r.effort.get(mechanism) is not None else np.nan for r in rows])
@@ -411,8 +410,6 @@ def _tradeoff_lines(left, bounds, rows) -> None:
         left.hover(xs[ok], y[ok], [says.format(mechanism, x / (INCH * MM), x, v) for x, v in zip(xs[ok], y[ok])])
         if np.any(~ok):
             left.scatter(xs[~ok], np.zeros((~ok).sum()), color=colour, marker="x", s=40, clip_on=False, zorder=4)
-    if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
-        left.scatter([], [], color="0.3", marker="x", label="cannot reach V_req (plotted at 0)")
     bare = [
         r.diameter * MM
         for r in rows
@@ -423,13 +420,13 @@ def _tradeoff_lines(left, bounds, rows) -> None:
         left.axvspan(min(bare) - step, max(bare) + step, color="0.85", alpha=0.5, lw=0)
         note = "trail alone suffices:\nno groove, no damper"
         left.text(0.5 * (min(bare) + max(bare)), 0.5, note, ha="center", fontsize=8, color="0.3")
-    left.set_xlabel("wheel diameter d [mm]")
     _inch_x(left, "wheel diameter d [in]")
     left.set_ylim(bottom=0)
+    return "wheel diameter d [mm]"
 
 
-def _tradeoff_bars(left, catalog, rows) -> None:
-    """Grouped bars per wheel (catalog) or for the one fixed diameter."""
+def _tradeoff_bars(left, catalog, rows) -> str:
+    """Grouped bars per wheel (catalog) or for the one fixed diameter; returns the x label."""
     x = np.arange(len(rows))
     width = 0.26
     top = max([v for r in rows for v in r.effort.values() if v is not None] or [1.0])
@@ -445,16 +442,14 @@ def _tradeoff_bars(left, catalog, rows) -> None:
                 left.text(p, 0.02 * top, "×", ha="center", va="bottom", color=colour, fontsize=13, weight="bold")
             else:
                 left.text(p, v + 0.01 * top, f"{v:.1f}", ha="center", va="bottom", fontsize=6.5, rotation=90)
-    if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
-        left.scatter([], [], color="0.3", marker="x", label="× cannot reach V_req")
     labels = [
         (f"{r.wheel}\n" if r.wheel else "") + f"{r.diameter / INCH:.3g} in\n{r.diameter * MM:.0f} mm" for r in rows
     ]
     left.set_xticks(x, labels, fontsize=8)
-    left.set_xlabel("Table 1 wheel, diameter d [in, mm]" if catalog else "wheel diameter d (fixed) [in, mm]")
     left.set_ylim(0, top * 1.35)
     if len(rows) == 1:
         left.set_xlim(-1, 1)
+    return "Table 1 wheel, diameter d [in, mm]" if catalog else "wheel diameter d (fixed) [in, mm]"
 
 
 def _groove_damper_plane(ax, bounds, req, design, plane, robust: bool) -> None:

@@ -444,16 +444,8 @@ class Axes:
     ):
         """The legend of the labelled artists (or ``handles``) at ``loc`` ("upper right", "upper left", ...) or
         with its ``loc`` corner at ``bbox_to_anchor`` (axes fractions); ``fontsize`` [pt]."""
-        self.legend_args = dict(
-            handles=handles,
-            loc=loc,
-            fontsize=fontsize,
-            framealpha=framealpha,
-            title=title,
-            title_fontsize=title_fontsize or fontsize,
-            anchor=bbox_to_anchor,
-            ncol=ncol,
-        )
+        self.legend_args = dict(handles=handles, loc=loc, fontsize=fontsize, framealpha=framealpha, ncol=ncol)
+        self.legend_args |= dict(title=title, title_fontsize=title_fontsize or fontsize, anchor=bbox_to_anchor)
 
     # -- drawing -----------------------------------------------------------------------------------
     def _resolved_xlim(self) -> tuple[float, float]:
