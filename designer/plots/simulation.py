@@ -9,6 +9,8 @@ import math
 
 import numpy as np
 
+from designer.plots.fronts import dress
+
 
 def _axes(ax, figsize=(7, 4.5), **layout):
     if ax is None:
@@ -53,10 +55,7 @@ def plot_knock(
     title = f"V = {speed:.2f} m/s: {'grows' if grows else 'decays'}; Eq. 7 V_c = {critical_speed:.2f} m/s"
     if onset_speed is not None:
         title += f", simulated onset {onset_speed:.2f} m/s"
-    ax.set_title(title, fontsize=10)
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("caster angle θ [deg]")
-    ax.legend(fontsize=8)
+    dress(ax, "time [s]", "caster angle θ [deg]", title, dict(fontsize=8), grid=False)
     return ax
 
 
@@ -97,13 +96,9 @@ def bifurcation_axes(
         ax.plot(*measured, "k*", ms=13, label=label)
     ax.set_xlim(lo, hi)
     ax.set_yscale("log")
-    ax.set_xlabel("wheelchair speed V [m/s]")
-    ax.set_ylabel("shimmy amplitude θ_a [rad]")
-    sec = ax.secondary_yaxis("right", functions=(np.degrees, np.radians))
-    sec.set_ylabel("[deg]")
-    if title:
-        ax.set_title(title, fontsize=10)
-    ax.legend(fontsize=7.5, loc="lower left")
+    ax.secondary_yaxis("right", functions=(np.degrees, np.radians)).set_ylabel("[deg]")
+    legend = dict(fontsize=7.5, loc="lower left")
+    dress(ax, "wheelchair speed V [m/s]", "shimmy amplitude θ_a [rad]", title or None, legend, grid=False)
     ax.grid(True, which="both", alpha=0.25)
     return ax
 
@@ -153,9 +148,8 @@ def table1_axes(wheels, measured, predictions: dict, stable_up_to: float | None 
     for k, (label, values) in enumerate(predictions.items()):
         ax.bar(x - 0.4 + width * (k + 1.5), values, width, color=colours[k % 4], label=label)
     ax.set_xticks(x, wheels)
-    ax.set_xlabel("Table 1 wheel (T = 2 in, bare fork c_f = 1.3 N·m/rad, B = 0)")
-    ax.set_ylabel("critical shimmy speed [m/s]")
-    ax.legend(fontsize=7.5, loc="upper right")
+    xlabel = "Table 1 wheel (T = 2 in, bare fork c_f = 1.3 N·m/rad, B = 0)"
+    dress(ax, xlabel, "critical shimmy speed [m/s]", legend=dict(fontsize=7.5, loc="upper right"), grid=False)
     ax.grid(True, axis="y", alpha=0.3)
     return ax
 
@@ -307,11 +301,6 @@ def _trace_panel(ax, traces, onset_c) -> None:
         label = f"V = {r.speed:.2f} m/s ({f:.1f} × onset): {'grows' if r.grows else 'decays'}"
         ax.plot(r.t, np.degrees(r.theta), color=colour, lw=1, label=label)
     ax.axhline(0, color="k", lw=0.5)
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("caster angle θ [deg]")
-    ax.set_title(
-        f"(d) Appendix C caster (T = 2.5 in, θ_i = 20°): onset {onset_c.speed:.2f} m/s, "
-        f"Eq. 7 {onset_c.critical_speed:.2f} m/s",
-        fontsize=9,
-    )
-    ax.legend(fontsize=8, loc="lower right")
+    title = f"(d) Appendix C caster (T = 2.5 in, θ_i = 20°): onset {onset_c.speed:.2f} m/s, "
+    title += f"Eq. 7 {onset_c.critical_speed:.2f} m/s"
+    dress(ax, "time [s]", "caster angle θ [deg]", title, dict(fontsize=8, loc="lower right"), 9, grid=False)
