@@ -53,12 +53,10 @@ def figure_regret(
         ax.axvline(kk, color=GREY, ls=":", lw=1)
     if max_regret is not None:
         ax.axhline(max_regret, color=GREEN, ls="--", lw=1.2, label=f"--max-regret {max_regret:g} {unit}")
-    if suggested is not None and suggested in set(k[ok].tolist()):
-        i = int(np.flatnonzero(k == suggested)[0])
-        ax.plot([suggested], [regret[i]], "D", color=GREEN, ms=10, label=f"suggested: K = {suggested}")
-    if asked is not None and asked != suggested and asked in set(k[ok].tolist()):
-        i = int(np.flatnonzero(k == asked)[0])
-        ax.plot([asked], [regret[i]], "s", color=RED, ms=9, label=f"asked: K = {asked}")
+    for word, kk, fmt, colour, ms in (("suggested", suggested, "D", GREEN, 10), ("asked", asked, "s", RED, 9)):
+        if kk is not None and (word == "suggested" or kk != suggested) and kk in set(k[ok].tolist()):
+            i = int(np.flatnonzero(k == kk)[0])
+            ax.plot([kk], [regret[i]], fmt, color=colour, ms=ms, label=f"{word}: K = {kk}")
     if hover is not None:
         ax.hover(k[ok], regret[ok], [t for t, good in zip(hover, ok) if good])
     ax.set_xticks(k.tolist())

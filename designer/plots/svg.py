@@ -371,13 +371,12 @@ class Axes:
         rotation: float = 0.0,
         bbox=None,
         wrap: bool = False,
-        zorder: float = 3,
         **_,
     ):
         """Text at data coordinates, or axes fractions with ``transform=ax.transAxes``."""
         where = "axes" if transform == "axes" else "data"
         args = (where, float(x), float(y), str(s), ha, va, fontsize, colour(color), weight, rotation, bbox is not None)
-        self._add("text", zorder, *args, wrap)
+        self._add("text", 3, *args, wrap)
 
     def annotate(
         self,
