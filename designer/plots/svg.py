@@ -75,20 +75,14 @@ def colour(value, default: str = "#000000") -> str:
     """An SVG colour from a matplotlib colour: hex, a name, ``"tab:…"``, a grey level string ``"0.65"``."""
     if value is None:
         return default
-    if isinstance(value, (tuple, list)):
-        r, g, b = (int(round(255 * float(v))) for v in value[:3])
-        return f"#{r:02x}{g:02x}{b:02x}"
     text = str(value)
-    if text.startswith("#") or text == "none":
-        return text
-    if text in _NAMED:
-        return _NAMED[text]
+    if text.startswith("#") or text == "none" or text in _NAMED:
+        return _NAMED.get(text, text)
     try:
-        level = float(text)
+        rgb = value[:3] if isinstance(value, (tuple, list)) else [float(text)] * 3
     except ValueError:
         return text
-    v = int(round(255 * level))
-    return f"#{v:02x}{v:02x}{v:02x}"
+    return "#" + "".join(f"{int(round(255 * float(v))):02x}" for v in rgb)
 
 
 def _f(x: float) -> str:
