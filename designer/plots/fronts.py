@@ -227,9 +227,8 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
         pad = 0.08 * (span if span > 0 else max(abs(low * scale), 1e-3))
         ax.set_ylim(low * scale - pad, high * scale + pad)
         if name in INCH_LABELS:
-            ax.secondary_yaxis("right", functions=(rescale("mm", "in"), rescale("in", "mm"))).set_ylabel(
-                INCH_LABELS[name]
-            )
+            inches = ax.secondary_yaxis("right", functions=(rescale("mm", "in"), rescale("in", "mm")))
+            inches.set_ylabel(INCH_LABELS[name])
     for ax in axes[-1]:
         ax.set_xlabel(axis("threshold_force"))
     handles = [
