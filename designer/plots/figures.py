@@ -178,9 +178,7 @@ def figure_front(
     if hover is not None:
         ax.hover(p, f, hover)
         named = [m for m in marks if m["label"]]  # a mark drawn on another's spot shares its label
-        ax.hover(
-            [m["threshold_force"] for m in named], [m["turning_effort"] for m in named], [m["label"] for m in named]
-        )
+        ax.hover(*([m[k] for m in named] for k in ("threshold_force", "turning_effort", "label")))
     ax.legend(fontsize=7.5, loc="upper right", framealpha=0.9)
     ax.set_title(title, fontsize=10)
     return fig
@@ -329,14 +327,8 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, curves: d
     if len(curves["front_diameters"]):
         dd, ratio = np.asarray(curves["front_diameters"], float), np.asarray(curves["front_ratio"], float)
         ax.scatter(dd * MM, ratio, color="black", s=12, zorder=4, label="front designs")
-        ax.hover(
-            dd * MM,
-            ratio,
-            [
-                f"d = {shown(x, 'diameter', 'in')} ({shown(x, 'diameter', 'mm', digits=1)}): P/L = {r:.4f}, P = {r * load:.2f} N"
-                for x, r in zip(dd, ratio)
-            ],
-        )
+        sizes = [f"d = {shown(x, 'diameter', 'in')} ({shown(x, 'diameter', 'mm', digits=1)})" for x in dd]
+        ax.hover(dd * MM, ratio, [f"{d}: P/L = {r:.4f}, P = {r * load:.2f} N" for d, r in zip(sizes, ratio)])
     ax.set_xlim(d_lo * MM, d_hi * MM)
     ax.set_ylim(0, min(3.0, float(curves["exact"][0]) * 1.05))
     _inch_x(ax, "wheel diameter d [in]")
