@@ -568,12 +568,9 @@ class Axes:
     def _draw_line(self, out, sx, sy, x, y, col, lw, ls, marker, ms, drawstyle) -> None:
         px, py = sx(x), sy(y)
         if ls not in ("none", "None", "", " ") and len(x) > 1:
-            if drawstyle == "steps-post":
-                pts = [(px[0], py[0])]
-                for k in range(1, len(px)):
-                    pts += [(px[k], py[k - 1]), (px[k], py[k])]
-            else:
-                pts = list(zip(px, py))
+            pts = list(zip(px, py))
+            if drawstyle == "steps-post":  # across at each point's y to the next x, then up or down
+                pts = pts[:1] + [p for k in range(1, len(px)) for p in ((px[k], py[k - 1]), (px[k], py[k]))]
             d = "M" + "L".join(f"{_f(a)} {_f(b)}" for a, b in pts if np.isfinite(a) and np.isfinite(b))
             out.append(f'<path d="{d}" fill="none"{_stroke(col, lw, ls)} stroke-linejoin="round"/>')
         if marker:
