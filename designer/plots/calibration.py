@@ -47,17 +47,9 @@ def fit_figure(result):
     fig = Figure(figsize=(7, 6), layout="constrained")
     ax, ax2 = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [2, 1]})
     lo, hi = result.interval
-    draw_fit(
-        ax,
-        ax2,
-        result.x,
-        result.y,
-        result.fitted,
-        result.x_label,
-        result.y_label,
-        title=f"{result.kind}: {result.name} = {result.value:.4g} {result.unit} "
-        f"(95 % CI {lo:.4g}–{hi:.4g}), {result.equation}",
-    )
+    title = f"{result.kind}: {result.name} = {result.value:.4g} {result.unit} "
+    title += f"(95 % CI {lo:.4g}–{hi:.4g}), {result.equation}"
+    draw_fit(ax, ax2, result.x, result.y, result.fitted, result.x_label, result.y_label, title=title)
     return fig
 
 

@@ -111,22 +111,13 @@ def draw_caster(
         s.plot([0, 0], [-0.3, g.stem_top * k + 0.2], color="#c0392b", ls="-.", lw=1)
         s.annotate("", (ax * k, -0.18), (0, -0.18), arrowprops=dict(arrowstyle="<->", lw=1))
         s.text(ax * k / 2, -0.35, f"trail T = {shown(g.trail, 'trail', 'in')}", ha="center", va="top", fontsize=8)
-        s.text(
-            ax * k,
-            0.27 * g.diameter * k,
-            f"d = {shown(g.diameter, 'diameter', 'in')}",
-            ha="center",
-            va="top",
-            fontsize=8,
-        )
-        s.text(
+        d_text = f"d = {shown(g.diameter, 'diameter', 'in')}"
+        s.text(ax * k, 0.27 * g.diameter * k, d_text, ha="center", va="top", fontsize=8)
+        sill_x, sill = (
             (g.sill_x + 0.7 * g.diameter) * k - 0.05,
-            g.sill_height * k + 0.05,
             f"sill h = {shown(g.sill_height, 'threshold_height', 'in')}",
-            fontsize=8,
-            va="bottom",
-            ha="right",
         )
+        s.text(sill_x, g.sill_height * k + 0.05, sill, fontsize=8, va="bottom", ha="right")
         s.text(0.1, g.stem_top * k, "swivel axis", color="#c0392b", fontsize=8, va="top")
         s.set_aspect("equal")
         s.set_xlim((ax - g.diameter * 0.65) * k, (g.sill_x + 0.7 * g.diameter) * k)
@@ -239,94 +230,68 @@ def caster_svg(  # noqa: C901 - one branch per optional part of the drawing (lim
 
     out = [
         f'<svg xmlns="http://www.w3.org/2000/svg" class="caster-drawing" width="{width:.0f}" '
-        f'height="{height:.0f}" viewBox="0 0 {width:.1f} {height:.1f}" font-family="sans-serif" font-size="11">'
+        f'height="{height:.0f}" viewBox="0 0 {width:.1f} {height:.1f}" font-family="sans-serif" font-size="11">',
+        '<defs><marker id="caster-arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="6" markerHeight="6" '
+        'orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10 z"/></marker></defs>',
+        f"<title>{escape(label or 'caster drawn to scale')}</title>",
     ]
-    out.append(f"<title>{escape(label or 'caster drawn to scale')}</title>")
     # side view
-    out.append(f'<line x1="0" y1="{sy(0):.1f}" x2="{side_w:.1f}" y2="{sy(0):.1f}" stroke="#555" stroke-width="1"/>')
-    out.append(
-        f'<rect x="{sx(g.sill_x):.1f}" y="{sy(g.sill_height):.1f}" width="{(x1 - g.sill_x) * s:.1f}" '
-        f'height="{g.sill_height * s:.1f}" fill="#bbb"/>'
-    )
-    out.append(
-        f'<circle cx="{sx(ax):.1f}" cy="{sy(ay):.1f}" r="{g.diameter / 2 * s:.1f}" fill="none" '
-        f'stroke="#1f4e79" stroke-width="3"/>'
-    )
-    out.append(f'<circle cx="{sx(ax):.1f}" cy="{sy(ay):.1f}" r="{0.08 * g.diameter * s:.1f}" fill="#1f4e79"/>')
-    out.append(
-        f'<polyline points="{sx(0):.1f},{sy(g.stem_top):.1f} {sx(0):.1f},{sy(g.crown_y):.1f} '
-        f'{sx(ax):.1f},{sy(g.crown_y):.1f} {sx(ax):.1f},{sy(ay):.1f}" fill="none" stroke="#333" '
-        f'stroke-width="4"/>'
-    )
-    out.append(
-        f'<line x1="{sx(0):.1f}" y1="{sy(y1 - pad / 2):.1f}" x2="{sx(0):.1f}" y2="{sy(-0.2 * INCH):.1f}" '
-        f'stroke="#c0392b" stroke-dasharray="6,3,2,3"/>'
-    )
+    out.append(_el("line", x1="0", y1=sy(0), x2=side_w, y2=sy(0), extra=' stroke="#555" stroke-width="1"'))
+    sill = dict(x=sx(g.sill_x), y=sy(g.sill_height), width=(x1 - g.sill_x) * s, height=g.sill_height * s)
+    out.append(_el("rect", **sill, extra=' fill="#bbb"'))
+    wheel = ' fill="none" stroke="#1f4e79" stroke-width="3"'
+    out.append(_el("circle", cx=sx(ax), cy=sy(ay), r=g.diameter / 2 * s, extra=wheel))
+    out.append(_el("circle", cx=sx(ax), cy=sy(ay), r=0.08 * g.diameter * s, extra=' fill="#1f4e79"'))
+    fork = " ".join(f"{sx(a):.1f},{sy(b):.1f}" for a, b in ((0, g.stem_top), (0, g.crown_y), (ax, g.crown_y), (ax, ay)))
+    out.append(f'<polyline points="{fork}" fill="none" stroke="#333" stroke-width="4"/>')  # stem, crown, leg
+    axis = ' stroke="#c0392b" stroke-dasharray="6,3,2,3"'
+    out.append(_el("line", x1=sx(0), y1=sy(y1 - pad / 2), x2=sx(0), y2=sy(-0.2 * INCH), extra=axis))
     ya = sy(-0.25 * INCH)
-    out.append(
-        f'<line x1="{sx(ax):.1f}" y1="{ya:.1f}" x2="{sx(0):.1f}" y2="{ya:.1f}" stroke="#000" '
-        f'marker-start="url(#caster-arrow)" marker-end="url(#caster-arrow)"/>'
-    )
-    out.append(
-        f'<text x="{sx(ax / 2):.1f}" y="{max(ya + 14, sy(-0.7 * INCH)):.1f}" text-anchor="middle">'
-        f"trail T = {escape(size(g.trail))}</text>"
-    )  # below the arrow at any scale
-    out.append(
-        f'<text x="{sx(ax) + 0.1 * g.diameter * s + 4:.1f}" y="{sy(ay) + 4:.1f}">d = {escape(size(g.diameter))}</text>'
-    )  # right of the hub, clear of the fork leg
-    out.append(
-        f'<text x="{side_w - 2:.1f}" y="{sy(g.sill_height) - 4:.1f}" text-anchor="end">sill h = '
-        f"{escape(size(g.sill_height))}</text>"
-    )
-    out.append(f'<text x="{sx(0) + 4:.1f}" y="{sy(g.stem_top) + 4:.1f}" fill="#c0392b">swivel axis</text>')
-    out.append(
-        f'<text class="caption" x="{side_w / 2:.1f}" y="{side_h + 16:.1f}" text-anchor="middle">'
-        "side view, rolling to the right</text>"
-    )
+    arrows = ' stroke="#000" marker-start="url(#caster-arrow)" marker-end="url(#caster-arrow)"'
+    out.append(_el("line", x1=sx(ax), y1=ya, x2=sx(0), y2=ya, extra=arrows))
+    middle = ' text-anchor="middle"'
+    # the trail below the arrow at any scale; the diameter right of the hub, clear of the fork leg
+    out.append(_label(sx(ax / 2), max(ya + 14, sy(-0.7 * INCH)), f"trail T = {size(g.trail)}", middle))
+    out.append(_label(sx(ax) + 0.1 * g.diameter * s + 4, sy(ay) + 4, f"d = {size(g.diameter)}"))
+    out.append(_label(side_w - 2, sy(g.sill_height) - 4, f"sill h = {size(g.sill_height)}", ' text-anchor="end"'))
+    out.append(_label(sx(0) + 4, sy(g.stem_top) + 4, "swivel axis", ' fill="#c0392b"'))
+    out.append(_label(side_w / 2, side_h + 16, "side view, rolling to the right", middle, "caption"))
     # top view: the swept disc, then the footrest limit wide and dashed, then the swept circle's thin line over
     # it: the limit shows even where it equals the swept radius
     r_s = g.swept_radius * s
-    out.append(f'<circle cx="{ox:.1f}" cy="{oy:.1f}" r="{r_s:.1f}" fill="#eef4fb" stroke="none"/>')
+    out.append(_el("circle", cx=ox, cy=oy, r=r_s, extra=' fill="#eef4fb" stroke="none"'))
     if g.swept_radius_max is not None:
-        out.append(
-            f'<circle class="footrest-limit" cx="{ox:.1f}" cy="{oy:.1f}" r="{g.swept_radius_max * s:.1f}" '
-            f'fill="none" stroke="#c0392b" stroke-opacity="0.75" stroke-width="6" stroke-dasharray="9,6"/>'
-        )
-    out.append(
-        f'<circle class="swept" cx="{ox:.1f}" cy="{oy:.1f}" r="{r_s:.1f}" fill="none" stroke="#1f4e79" '
-        f'stroke-width="1.5"/>'
-    )
+        dashes = ' fill="none" stroke="#c0392b" stroke-opacity="0.75" stroke-width="6" stroke-dasharray="9,6"'
+        out.append(_el("circle", "footrest-limit", cx=ox, cy=oy, r=g.swept_radius_max * s, extra=dashes))
+    out.append(_el("circle", "swept", cx=ox, cy=oy, r=r_s, extra=' fill="none" stroke="#1f4e79" stroke-width="1.5"'))
     for yy in (g.tyre_width / 2, -g.groove / 2):
-        out.append(
-            f'<rect class="tread" x="{tx(ax - g.diameter / 2):.1f}" y="{ty(yy):.1f}" width="{g.diameter * s:.1f}" '
-            f'height="{TREAD * s:.1f}" fill="#1f4e79"/>'
-        )
-    out.append(
-        f'<line x1="{tx(0):.1f}" y1="{ty(0):.1f}" x2="{tx(ax):.1f}" y2="{ty(0):.1f}" stroke="#333" stroke-width="2"/>'
-    )
-    out.append(f'<circle cx="{tx(0):.1f}" cy="{ty(0):.1f}" r="3" fill="#c0392b"/>')
+        tread = dict(x=tx(ax - g.diameter / 2), y=ty(yy), width=g.diameter * s, height=TREAD * s)
+        out.append(_el("rect", "tread", **tread, extra=' fill="#1f4e79"'))
+    out.append(_el("line", x1=tx(0), y1=ty(0), x2=tx(ax), y2=ty(0), extra=' stroke="#333" stroke-width="2"'))
+    out.append(_el("circle", cx=tx(0), cy=ty(0), extra=' r="3" fill="#c0392b"'))
     if g.groove > 1e-9:
         tread_labels = ((g.tyre_width / 2, -4, "tread"), (-g.tyre_width / 2, 12, "tread"))
-        out.append(
-            f'<text x="{tx(ax + g.diameter / 2) + 4:.1f}" y="{ty(0) + 4:.1f}">groove B = {escape(size(g.groove))}'
-            "</text>"
-        )
+        out.append(_label(tx(ax + g.diameter / 2) + 4, ty(0) + 4, f"groove B = {size(g.groove)}"))
     else:
         tread_labels = ((g.tyre_width / 2, -4, "one tread (no groove)"),)
-    for yy, dy, text in tread_labels:
-        out.append(f'<text x="{tx(ax):.1f}" y="{ty(yy) + dy:.1f}" text-anchor="middle">{text}</text>')
-    for i, line in enumerate(top_lines):
-        out.append(
-            f'<text class="caption" x="{ox:.1f}" y="{top_h + 8 + 14 * i:.1f}" text-anchor="middle">'
-            f"{escape(line)}</text>"
-        )
-    out.insert(
-        1,
-        '<defs><marker id="caster-arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="6" markerHeight="6" '
-        'orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10 z"/></marker></defs>',
-    )
+    out += [_label(tx(ax), ty(yy) + dy, text, middle) for yy, dy, text in tread_labels]
+    out += [_label(ox, top_h + 8 + 14 * i, line, middle, "caption") for i, line in enumerate(top_lines)]
     out.append("</svg>")
     return "\n".join(out)
+
+
+def _el(tag: str, cls: str = "", text: str | None = None, extra: str = "", **at) -> str:
+    """An SVG element ``tag`` of class ``cls`` with the attributes ``at`` (numbers [px] to 0.1 px) and then
+    ``extra`` (attribute text), holding ``text`` (escaped) if given."""
+    attrs = (f' class="{cls}"' if cls else "") + "".join(
+        f' {k}="{v if isinstance(v, str) else f"{v:.1f}"}"' for k, v in at.items()
+    )
+    return f"<{tag}{attrs}{extra}>{escape(text)}</{tag}>" if text is not None else f"<{tag}{attrs}{extra}/>"
+
+
+def _label(x: float, y: float, text: str, attrs: str = "", cls: str = "") -> str:
+    """An SVG ``<text>`` of ``text`` (escaped) at (x, y) [px]; ``attrs``: its further attributes, ``cls``: its class."""
+    return _el("text", cls, text, attrs, x=x, y=y)
 
 
 __all__ = ["CasterGeometry", "caster_geometry", "caster_svg", "draw_caster"]

@@ -31,7 +31,7 @@ import numpy as np
 from designer.display import axis, rescale, shown
 from designer.data.paper import INCH, TABLE1_STABLE_UP_TO, TABLE1_TRAIL, WALKING_SPEED
 from designer.output import PLOT, SOFTWARE, write_file
-from designer.plots.fronts import VARIABLE_PANELS, draw_fronts, plot_front, plot_variables
+from designer.plots.fronts import COLOR_BY, dress, draw_fronts, plot_front, plot_variables
 from designer.plots.svg import Figure
 
 FIGURES = ("front", "variables", "trail", "inertia", "threshold", "groove_damper")
@@ -43,6 +43,8 @@ MECHANISM_STYLE = {
     "optimum mix": ("#2ca02c", ":", "D"),
 }
 MM = 1000.0
+BOXED = dict(bbox=dict(facecolor="white", alpha=0.8, lw=0))
+"""A note's white box."""
 WHEEL_COLOURS = ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d")
 
 
@@ -50,6 +52,19 @@ def _inch_x(ax, label: str):
     sec = ax.secondary_xaxis("top", functions=(rescale("mm", "in"), rescale("in", "mm")))
     sec.set_xlabel(label)
     return sec
+
+
+def _stable(ax, x: float, y: float, colour: str, rise: float, lw: float, s: float, zorder: float = 1) -> None:
+    """A wheel that did not shimmy up to speed ``y`` [m/s] (the treadmill's limit): a bar at it with an arrow
+    ``rise`` [m/s] up, at ``x``."""
+    ax.annotate("", (x, y + rise), (x, y), arrowprops=dict(arrowstyle="->", color=colour, lw=lw))
+    ax.scatter([x], [y], marker="_", s=s, color=colour, zorder=zorder)
+
+
+def _walking(ax, x: float, dy: float) -> None:
+    """The walking speed, a dotted line labelled at ``x`` [data units], ``dy`` [m/s] above it."""
+    ax.axhline(WALKING_SPEED, color="0.4", ls=":", lw=1)
+    ax.text(x, WALKING_SPEED + dy, "walking speed 1 m/s", fontsize=8, color="0.3")
 
 
 def _new(
@@ -61,6 +76,7 @@ def _new(
     bottom: float = 0.5,
     top: float = 0.35,
     wspace: float = 0.2,
+    hspace: float = 0.2,
 ) -> Figure:
     """A figure of ``width`` x ``height`` inches with fixed margins [in] around the axes.
 
@@ -69,7 +85,12 @@ def _new(
     """
     fig = Figure(figsize=(width, height))
     fig.subplots_adjust(
-        left=left / width, right=1 - right / width, bottom=bottom / height, top=1 - top / height, wspace=wspace
+        left=left / width,
+        right=1 - right / width,
+        bottom=bottom / height,
+        top=1 - top / height,
+        wspace=wspace,
+        hspace=hspace,
     )
     return fig
 
@@ -135,20 +156,9 @@ def figure_front(
     """
     fig = _new(7.5, 5.0)
     ax = fig.add_subplot()
-    ax.set_xlabel(axis("threshold_force"))
-    ax.set_ylabel(axis("turning_effort"))
-    ax.grid(True, alpha=0.3)
     if tighter is not None:
-        ax.plot(
-            tighter["threshold_force"],
-            tighter["turning_effort"],
-            color="0.65",
-            lw=1.5,
-            ls="--",
-            marker=".",
-            ms=4,
-            label=tighter["label"],
-        )
+        style = dict(color="0.65", lw=1.5, ls="--", marker=".", ms=4)
+        ax.plot(tighter["threshold_force"], tighter["turning_effort"], label=tighter["label"], **style)
     f = np.asarray(front["turning_effort"], float)
     p = np.asarray(front["threshold_force"], float)
     plot_front(f, p, front["family"], ax=ax, legend=False)
@@ -158,16 +168,8 @@ def figure_front(
         if len(f) == 1:
             ax.set_xlim(p[0] * 0.9, p[0] * 1.1)
             ax.set_ylim(f[0] * 0.8, f[0] * 1.2)
-            ax.text(
-                0.5,
-                0.08,
-                "single-point front: " + (note or ""),
-                transform=ax.transAxes,
-                ha="center",
-                fontsize=8.5,
-                wrap=True,
-                color="0.2",
-            )
+            note = "single-point front: " + (note or "")
+            ax.text(0.5, 0.08, note, transform=ax.transAxes, ha="center", fontsize=8.5, wrap=True, color="0.2")
         else:
             t = np.asarray(tighter["turning_effort"], float) if tighter is not None else f
             lo, hi = min(f.min(), t.min()), max(f.max(), t.max())
@@ -176,9 +178,7 @@ def figure_front(
     if hover is not None:
         ax.hover(p, f, hover)
         named = [m for m in marks if m["label"]]  # a mark drawn on another's spot shares its label
-        ax.hover(
-            [m["threshold_force"] for m in named], [m["turning_effort"] for m in named], [m["label"] for m in named]
-        )
+        ax.hover(*([m[k] for m in named] for k in ("threshold_force", "turning_effort", "label")))
     ax.legend(fontsize=7.5, loc="upper right", framealpha=0.9)
     ax.set_title(title, fontsize=10)
     return fig
@@ -186,24 +186,15 @@ def figure_front(
 
 def _label_ends(ax, ends) -> None:
     """Label the front's ends with their sizes [in], on the empty ideal side (below-left), with a line to each."""
-    for end, where in zip(
-        ends,
-        (
-            dict(xytext=(-25, -30), textcoords="offset points", ha="right"),
-            dict(xytext=(0.03, 0.05), textcoords="axes fraction", ha="left", va="bottom"),
-        ),
-    ):
-        ax.annotate(
-            "\n".join(
-                f"{s} = {shown(end[k], k, 'in', digits=2)}"
-                for s, k in (("d", "diameter"), ("T", "trail"), ("B", "groove"))
-            ),
-            (end["threshold_force"], end["turning_effort"]),
-            fontsize=8,
-            color="0.25",
-            arrowprops=dict(arrowstyle="-", color="0.5", lw=0.8),
-            **{"va": "top", **where},
-        )
+    places = (
+        dict(xytext=(-25, -30), textcoords="offset points", ha="right", va="top"),
+        dict(xytext=(0.03, 0.05), textcoords="axes fraction", ha="left", va="bottom"),
+    )
+    line, sizes = dict(arrowstyle="-", color="0.5", lw=0.8), (("d", "diameter"), ("T", "trail"), ("B", "groove"))
+    for end, place in zip(ends, places):
+        text = "\n".join(f"{s} = {shown(end[k], k, 'in', digits=2)}" for s, k in sizes)
+        at = (end["threshold_force"], end["turning_effort"])
+        ax.annotate(text, at, fontsize=8, color="0.25", arrowprops=line, **place)
 
 
 # --------------------------------------------------------------------------- variables
@@ -222,7 +213,7 @@ def figure_variables(threshold_force, designs, families, bounds, gaps=(), hover=
     if hover is not None:
         x = np.asarray(threshold_force, float).reshape(-1)
         d = np.asarray(designs, float).reshape(-1, 4)
-        for ax, (_, _, k, scale, _) in zip(axes.ravel(), VARIABLE_PANELS):
+        for ax, (_, k, scale) in zip(axes.ravel(), COLOR_BY.values()):
             ax.hover(x, d[:, k] * scale, hover)
     return fig
 
@@ -255,43 +246,21 @@ def figure_trail(required_speed: float, curves: dict) -> Figure:
                 [f"wheel {key} {name}: measured V_c {measured:.2f} m/s at T = 2 in; Eq. 7 {w['eq7']:.2f} m/s"],
             )
         else:
-            x = TABLE1_TRAIL * MM + next(stable_offset)
-            ax.annotate(
-                "",
-                (x, TABLE1_STABLE_UP_TO + 0.5),
-                (x, TABLE1_STABLE_UP_TO),
-                arrowprops=dict(arrowstyle="->", color=colour, lw=1.8),
-            )
-            ax.scatter([x], [TABLE1_STABLE_UP_TO], marker="_", s=60, color=colour, zorder=4)
+            _stable(ax, TABLE1_TRAIL * MM + next(stable_offset), TABLE1_STABLE_UP_TO, colour, 0.5, 1.8, 60, zorder=4)
     ax.scatter([], [], color="white", edgecolor="black", s=40, label="measured at 2 in (Table 1)")
-    ax.annotate(
-        "A, B: stable to 3.8 m/s\n(treadmill limit)",
-        (TABLE1_TRAIL * MM, TABLE1_STABLE_UP_TO),
-        textcoords="offset points",
-        xytext=(8, -22),
-        fontsize=8,
-    )
-    ax.axhline(WALKING_SPEED, color="0.4", ls=":", lw=1)
-    ax.text(trail[0] * MM + 1, WALKING_SPEED + 0.08, "walking speed 1 m/s", fontsize=8, color="0.3")
+    note = "A, B: stable to 3.8 m/s\n(treadmill limit)"
+    ax.annotate(note, (TABLE1_TRAIL * MM, TABLE1_STABLE_UP_TO), textcoords="offset points", xytext=(8, -22), fontsize=8)
+    _walking(ax, trail[0] * MM + 1, 0.08)
     req = required_speed
     ax.axhline(req, color="black", ls="--", lw=1)
     # at the right end: the legend fills the upper left, and at the left a fast target's label went under it
-    ax.text(
-        trail[-1] * MM - 1,
-        req + 0.08,
-        f"this problem's V_req = {req:.2f} m/s",
-        fontsize=8,
-        ha="right",
-        bbox=dict(facecolor="white", alpha=0.8, lw=0),
-    )
+    ax.text(trail[-1] * MM - 1, req + 0.08, f"this problem's V_req = {req:.2f} m/s", fontsize=8, ha="right", **BOXED)
     ax.set_xlim(trail[0] * MM, trail[-1] * MM)
     ax.set_ylim(0, 7)
-    ax.set_xlabel("trail T [mm]")
-    ax.set_ylabel(axis("critical_speed"))
     _inch_x(ax, "trail T [in]")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7.5, loc="upper left", title="Table 1 wheel, I_w [kg·m²]", title_fontsize=8)
-    ax.set_title("V_c vs trail, Table 1 wheels, Eq. 7 (B = 0, c_f = 1.3 N·m/rad) (cf. paper Fig. 14)", fontsize=10)
+    title = "V_c vs trail, Table 1 wheels, Eq. 7 (B = 0, c_f = 1.3 N·m/rad) (cf. paper Fig. 14)"
+    legend = dict(fontsize=7.5, loc="upper left", title="Table 1 wheel, I_w [kg·m²]", title_fontsize=8)
+    dress(ax, "trail T [mm]", axis("critical_speed"), title, legend)
     return fig
 
 
@@ -304,30 +273,15 @@ def figure_inertia(curves: dict) -> Figure:
     ax.plot(inertia * 1e3, curves["speeds"], color="#1f77b4", lw=1.6, label="Eq. 7, T = 2 in, B = 0, c_f = 1.3 N·m/rad")
     wheels = curves["wheels"]
     measured = [w for w in wheels if w["measured"] is not None]
-    ax.scatter(
-        [w["inertia"] * 1e3 for w in measured],
-        [w["measured"] for w in measured],
-        color="#d62728",
-        edgecolor="black",
-        s=45,
-        zorder=4,
-        label="measured critical speed (Table 1)",
-    )
+    mx, my = [w["inertia"] * 1e3 for w in measured], [w["measured"] for w in measured]
+    ax.scatter(mx, my, color="#d62728", edgecolor="black", s=45, zorder=4, label="measured critical speed (Table 1)")
     for w in wheels:
         x, y = w["inertia"] * 1e3, TABLE1_STABLE_UP_TO if w["measured"] is None else w["measured"]
         if w["measured"] is None:
-            ax.annotate("", (x, y + 0.6), (x, y), arrowprops=dict(arrowstyle="->", color="#d62728", lw=1.5))
-            ax.scatter([x], [y], marker="_", s=120, color="#d62728")
+            _stable(ax, x, y, "#d62728", 0.6, 1.5, 120)
         ax.annotate(w["key"], (x, y), textcoords="offset points", xytext=(6, 4), fontsize=9, weight="bold")
-    ax.plot(
-        [],
-        [],
-        color="#d62728",
-        marker="uarrow",
-        ls="none",
-        ms=10,
-        label="A, B: no shimmy up to 3.8 m/s (treadmill limit)",
-    )
+    stable = "A, B: no shimmy up to 3.8 m/s (treadmill limit)"
+    ax.plot([], [], color="#d62728", marker="uarrow", ls="none", ms=10, label=stable)
     ax.hover(
         [w["inertia"] * 1e3 for w in wheels],
         [w["measured"] if w["measured"] is not None else TABLE1_STABLE_UP_TO for w in wheels],
@@ -338,15 +292,12 @@ def figure_inertia(curves: dict) -> Figure:
             for w in wheels
         ],
     )
-    ax.axhline(WALKING_SPEED, color="0.4", ls=":", lw=1)
-    ax.text(2.2, WALKING_SPEED - 0.22, "walking speed 1 m/s", fontsize=8, color="0.3")
+    _walking(ax, 2.2, -0.22)
     ax.set_xlim(0, 3.8)
     ax.set_ylim(0, 7)
-    ax.set_xlabel("wheel moment of inertia about a diameter I_w [10⁻³ kg·m²]")
-    ax.set_ylabel(axis("critical_speed"))
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, loc="upper right")
-    ax.set_title("V_c vs wheel inertia at 2 in trail (cf. paper Fig. 15; letters: Table 1)", fontsize=10)
+    xlabel = "wheel moment of inertia about a diameter I_w [10⁻³ kg·m²]"
+    title = "V_c vs wheel inertia at 2 in trail (cf. paper Fig. 15; letters: Table 1)"
+    dress(ax, xlabel, axis("critical_speed"), title, dict(fontsize=8, loc="upper right"))
     return fig
 
 
@@ -366,13 +317,8 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, curves: d
     ax.plot(d * MM, curves["exact"], color="#1f77b4", lw=1.8, label=f"exact, Eq. 4A (h = {h / INCH:.3g} in)")
     ax.plot(d * MM, curves["approximate"], color="#1f77b4", lw=1.2, ls="--", label="approximate, Eq. 5A: 2 sqrt(h/d)")
     if curves["paper_diameter"] is not None:
-        ax.plot(
-            np.asarray(curves["paper_diameter"], float) * MM,
-            curves["paper_exact"],
-            color="0.5",
-            lw=1.2,
-            label="exact, paper's h = 0.5 in (Fig. 2A)",
-        )
+        paper = np.asarray(curves["paper_diameter"], float) * MM
+        ax.plot(paper, curves["paper_exact"], color="0.5", lw=1.2, label="exact, paper's h = 0.5 in (Fig. 2A)")
     b = diameter_bounds
     if b.fixed:
         ax.axvline(b.low * MM, color="#ff7f0e", lw=1.2, label=f"fixed diameter {b.low / INCH:.3g} in")
@@ -381,24 +327,15 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, curves: d
     if len(curves["front_diameters"]):
         dd, ratio = np.asarray(curves["front_diameters"], float), np.asarray(curves["front_ratio"], float)
         ax.scatter(dd * MM, ratio, color="black", s=12, zorder=4, label="front designs")
-        ax.hover(
-            dd * MM,
-            ratio,
-            [
-                f"d = {shown(x, 'diameter', 'in')} ({shown(x, 'diameter', 'mm', digits=1)}): P/L = {r:.4f}, P = {r * load:.2f} N"
-                for x, r in zip(dd, ratio)
-            ],
-        )
+        sizes = [f"d = {shown(x, 'diameter', 'in')} ({shown(x, 'diameter', 'mm', digits=1)})" for x in dd]
+        ax.hover(dd * MM, ratio, [f"{d}: P/L = {r:.4f}, P = {r * load:.2f} N" for d, r in zip(sizes, ratio)])
     ax.set_xlim(d_lo * MM, d_hi * MM)
     ax.set_ylim(0, min(3.0, float(curves["exact"][0]) * 1.05))
-    ax.set_xlabel("wheel diameter d [mm]")
-    ax.set_ylabel("force per unit load P/L [-]")
     _inch_x(ax, "wheel diameter d [in]")
     sec = ax.secondary_yaxis("right", functions=(lambda r: r * load, lambda p: p / load))
     sec.set_ylabel(f"{axis('threshold_force')} at L = {load:.0f} N")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, loc="upper right")
-    ax.set_title("Force per unit load to climb a sill vs diameter (cf. paper Fig. 2A)", fontsize=10)
+    title = "Force per unit load to climb a sill vs diameter (cf. paper Fig. 2A)"
+    dress(ax, "wheel diameter d [mm]", "force per unit load P/L [-]", title, dict(fontsize=8, loc="upper right"))
     return fig
 
 
@@ -437,50 +374,34 @@ def figure_groove_damper(
     # suptitle, titles, inch axes on top; colour bar; the plane's legend under it (inside, it covered iso-V_c labels)
     fig = _new(11.5, 6.3, top=0.95, right=0.1, bottom=1.8, wspace=0.17)
     left, right = fig.subplots(1, 2, width_ratios=(1, 1.1))
-    rows = tradeoff
-    if catalog or len(rows) == 1:
-        _tradeoff_bars(left, catalog, rows)
-    else:
-        _tradeoff_lines(left, bounds, rows)
+    rows, bars = tradeoff, catalog or len(tradeoff) == 1
+    xlabel = _tradeoff_bars(left, catalog, rows) if bars else _tradeoff_lines(left, bounds, rows)
+    if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
+        label = "× cannot reach V_req" if bars else "cannot reach V_req (plotted at 0)"
+        left.scatter([], [], color="0.3", marker="x", label=label)
     fixed = [name for name in ("groove", "damping") if bounds[name].fixed]
     if fixed:
-        left.text(
-            0.02,
-            0.97,
-            f"{' and '.join(fixed)} fixed by the problem",
-            transform=left.transAxes,
-            fontsize=8,
-            color="0.3",
-            va="top",
-        )
-    left.grid(True, alpha=0.3)
-    left.set_ylabel(f"least {axis('turning_effort')}")
-    left.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0, 0.93))
-    left.set_title(f"Least turning effort reaching V_req = {required_speed:.2f} m/s", fontsize=10)
+        note = f"{' and '.join(fixed)} fixed by the problem"
+        left.text(0.02, 0.97, note, transform=left.transAxes, fontsize=8, color="0.3", va="top")
+    title = f"Least turning effort reaching V_req = {required_speed:.2f} m/s"
+    legend = dict(fontsize=8, loc="upper left", bbox_to_anchor=(0, 0.93))
+    dress(left, xlabel, f"least {axis('turning_effort')}", title, legend)
     _groove_damper_plane(right, bounds, required_speed, design, plane, robust)
     fig.suptitle(f"{name}: groove against damper (trail free on the left, fixed on the right)", fontsize=10)
     return fig
 
 
-def _tradeoff_lines(left, bounds, rows) -> None:
-    """Least F_turn vs diameter, one line per mechanism (continuous diameter)."""
+def _tradeoff_lines(left, bounds, rows) -> str:
+    """Least F_turn vs diameter, one line per mechanism (continuous diameter); returns the x label."""
     xs = np.array([r.diameter for r in rows]) * MM
     for mechanism, (colour, ls, marker) in MECHANISM_STYLE.items():
         y = np.array([r.effort.get(mechanism) if r.effort.get(mechanism) is not None else np.nan for r in rows])
         ok = np.isfinite(y)
         left.plot(xs[ok], y[ok], color=colour, ls=ls, marker=marker, ms=4, lw=1.5, label=mechanism)
-        left.hover(
-            xs[ok],
-            y[ok],
-            [
-                f"{mechanism}: d = {x / (INCH * MM):.3f} in ({x:.1f} mm), least F_turn {v:.3f} N"
-                for x, v in zip(xs[ok], y[ok])
-            ],
-        )
+        says = "{}: d = {:.3f} in ({:.1f} mm), least F_turn {:.3f} N"
+        left.hover(xs[ok], y[ok], [says.format(mechanism, x / (INCH * MM), x, v) for x, v in zip(xs[ok], y[ok])])
         if np.any(~ok):
             left.scatter(xs[~ok], np.zeros((~ok).sum()), color=colour, marker="x", s=40, clip_on=False, zorder=4)
-    if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
-        left.scatter([], [], color="0.3", marker="x", label="cannot reach V_req (plotted at 0)")
     bare = [
         r.diameter * MM
         for r in rows
@@ -489,21 +410,15 @@ def _tradeoff_lines(left, bounds, rows) -> None:
     if bare and len(rows) > 1:
         step = (xs[-1] - xs[0]) / (len(xs) - 1) / 2
         left.axvspan(min(bare) - step, max(bare) + step, color="0.85", alpha=0.5, lw=0)
-        left.text(
-            0.5 * (min(bare) + max(bare)),
-            0.5,
-            "trail alone suffices:\nno groove, no damper",
-            ha="center",
-            fontsize=8,
-            color="0.3",
-        )
-    left.set_xlabel("wheel diameter d [mm]")
+        note = "trail alone suffices:\nno groove, no damper"
+        left.text(0.5 * (min(bare) + max(bare)), 0.5, note, ha="center", fontsize=8, color="0.3")
     _inch_x(left, "wheel diameter d [in]")
     left.set_ylim(bottom=0)
+    return "wheel diameter d [mm]"
 
 
-def _tradeoff_bars(left, catalog, rows) -> None:
-    """Grouped bars per wheel (catalog) or for the one fixed diameter."""
+def _tradeoff_bars(left, catalog, rows) -> str:
+    """Grouped bars per wheel (catalog) or for the one fixed diameter; returns the x label."""
     x = np.arange(len(rows))
     width = 0.26
     top = max([v for r in rows for v in r.effort.values() if v is not None] or [1.0])
@@ -519,16 +434,14 @@ def _tradeoff_bars(left, catalog, rows) -> None:
                 left.text(p, 0.02 * top, "×", ha="center", va="bottom", color=colour, fontsize=13, weight="bold")
             else:
                 left.text(p, v + 0.01 * top, f"{v:.1f}", ha="center", va="bottom", fontsize=6.5, rotation=90)
-    if any(r.effort.get(m) is None for r in rows for m in MECHANISM_STYLE):
-        left.scatter([], [], color="0.3", marker="x", label="× cannot reach V_req")
     labels = [
         (f"{r.wheel}\n" if r.wheel else "") + f"{r.diameter / INCH:.3g} in\n{r.diameter * MM:.0f} mm" for r in rows
     ]
     left.set_xticks(x, labels, fontsize=8)
-    left.set_xlabel("Table 1 wheel, diameter d [in, mm]" if catalog else "wheel diameter d (fixed) [in, mm]")
     left.set_ylim(0, top * 1.35)
     if len(rows) == 1:
         left.set_xlim(-1, 1)
+    return "Table 1 wheel, diameter d [in, mm]" if catalog else "wheel diameter d (fixed) [in, mm]"
 
 
 def _groove_damper_plane(ax, bounds, req, design, plane, robust: bool) -> None:
@@ -547,60 +460,28 @@ def _groove_damper_plane(ax, bounds, req, design, plane, robust: bool) -> None:
     if v.min() < req < v.max():
         ax.contour(G * MM, C, v, levels=[req], colors="black", linewidths=2.2)
     elif v.min() >= req:
-        ax.text(
-            0.5,
-            0.12,
-            "V_c > V_req everywhere in this plane:\nstable without groove or damper",
-            transform=ax.transAxes,
-            ha="center",
-            fontsize=8.5,
-            bbox=dict(facecolor="white", alpha=0.8, lw=0),
-        )
-    ax.plot(
-        [],
-        [],
-        color="black",
-        lw=2.2,
-        label=f"V_c = V_req = {req:.2f} m/s (stable above/right)"
-        + ("\nnominal Eq. 7; the robust optimum keeps a margin" if robust else ""),
-    )
+        note = "V_c > V_req everywhere in this plane:\nstable without groove or damper"
+        ax.text(0.5, 0.12, note, transform=ax.transAxes, ha="center", fontsize=8.5, **BOXED)
+    label = f"V_c = V_req = {req:.2f} m/s (stable above/right)"
+    label += "\nnominal Eq. 7; the robust optimum keeps a margin" if robust else ""
+    ax.plot([], [], color="black", lw=2.2, label=label)
     ax.plot([], [], color="0.25", lw=0.8, label="iso-V_c lines [m/s]")
-    ax.rectangle(
-        gb.low * MM,
-        cb.low,
-        max((gb.high - gb.low) * MM, 1e-9),
-        max(cb.high - cb.low, 1e-9),
-        edgecolor="#bb5500",
-        ls=":",
-        lw=1.2,
-    )
+    width, height = max((gb.high - gb.low) * MM, 1e-9), max(cb.high - cb.low, 1e-9)
+    ax.rectangle(gb.low * MM, cb.low, width, height, edgecolor="#bb5500", ls=":", lw=1.2)
     ax.plot([], [], color="#bb5500", ls=":", label="bounds")
-    ax.scatter(
-        [design.groove * MM],
-        [design.damping],
-        marker="*",
-        s=260,
-        facecolor="gold",
-        edgecolor="black",
-        zorder=5,
-        clip_on=False,
-        label="weighted optimum",
-    )
-    ax.hover(
-        [design.groove * MM],
-        [design.damping],
-        [f"weighted optimum: B = {shown(design.groove, 'groove', 'in')}, c_f = {design.damping:.3f} N·m/rad"],
-    )
+    at = [design.groove * MM], [design.damping]
+    style = dict(marker="*", s=260, facecolor="gold", edgecolor="black", zorder=5, clip_on=False)
+    ax.scatter(*at, label="weighted optimum", **style)
+    ax.hover(*at, [f"weighted optimum: B = {shown(design.groove, 'groove', 'in')}, c_f = {design.damping:.3f} N·m/rad"])
     ax.set_xlim(0, g_hi * MM)
     ax.set_ylim(c_lo, c_hi)
-    ax.set_xlabel("groove width B [mm]")
-    ax.set_ylabel("spindle friction damping c_f [N·m/rad]")
     _inch_x(ax, "groove width B [in]")
-    ax.legend(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.14), framealpha=0.9)
+    legend = dict(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.14), framealpha=0.9)
     title = f"At the optimum's T = {shown(design.trail, 'trail', 'in', digits=2)}, d = {shown(design.diameter, 'diameter', 'in', digits=2)}"
     if cb.fixed or gb.fixed:
         title += " (beyond the problem's fixed values, for context)"
-    ax.set_title(title, fontsize=10 if not (cb.fixed or gb.fixed) else 9)
+    size = 10 if not (cb.fixed or gb.fixed) else 9
+    dress(ax, "groove width B [mm]", "spindle friction damping c_f [N·m/rad]", title, legend, size, grid=False)
 
 
 def is_bare_fork(bounds, design) -> bool:

@@ -15,24 +15,12 @@ import numpy as np
 
 from designer.display import axis
 from designer.units import percent
+from designer.plots.figures import _new
+from designer.plots.fronts import dress
 from designer.plots.svg import Figure
 from designer.units import INCH
 
 BLUE, RED, GREEN, GREY = "#1f77b4", "#d62728", "#2e7d32", "#7f7f7f"
-
-
-def _new(width: float, height: float, left=0.75, right=0.2, bottom=0.55, top=0.4, wspace=0.35, hspace=0.6) -> Figure:
-    """A figure of ``width`` × ``height`` inches with fixed margins [in] (the canvas measures no text)."""
-    fig = Figure(figsize=(width, height))
-    fig.subplots_adjust(
-        left=left / width,
-        right=1 - right / width,
-        bottom=bottom / height,
-        top=1 - top / height,
-        wspace=wspace,
-        hspace=hspace,
-    )
-    return fig
 
 
 def figure_regret(
@@ -65,21 +53,16 @@ def figure_regret(
         ax.axvline(kk, color=GREY, ls=":", lw=1)
     if max_regret is not None:
         ax.axhline(max_regret, color=GREEN, ls="--", lw=1.2, label=f"--max-regret {max_regret:g} {unit}")
-    if suggested is not None and suggested in set(k[ok].tolist()):
-        i = int(np.flatnonzero(k == suggested)[0])
-        ax.plot([suggested], [regret[i]], "D", color=GREEN, ms=10, label=f"suggested: K = {suggested}")
-    if asked is not None and asked != suggested and asked in set(k[ok].tolist()):
-        i = int(np.flatnonzero(k == asked)[0])
-        ax.plot([asked], [regret[i]], "s", color=RED, ms=9, label=f"asked: K = {asked}")
+    for word, kk, fmt, colour, ms in (("suggested", suggested, "D", GREEN, 10), ("asked", asked, "s", RED, 9)):
+        if kk is not None and (word == "suggested" or kk != suggested) and kk in set(k[ok].tolist()):
+            i = int(np.flatnonzero(k == kk)[0])
+            ax.plot([kk], [regret[i]], fmt, color=colour, ms=ms, label=f"{word}: K = {kk}")
     if hover is not None:
         ax.hover(k[ok], regret[ok], [t for t, good in zip(hover, ok) if good])
-    ax.set_xlabel("part numbers K")
-    ax.set_ylabel(f"mean regret per unit sold [{unit}]")
-    ax.set_title("What each added part number buys", fontsize=10.5)
     ax.set_xticks(k.tolist())
     ax.set_ylim(0, None)
-    ax.grid(alpha=0.3)
-    ax.legend(loc="upper right", fontsize=8.5)
+    legend = dict(loc="upper right", fontsize=8.5)
+    dress(ax, "part numbers K", f"mean regret per unit sold [{unit}]", "What each added part number buys", legend, 10.5)
     return fig
 
 
@@ -121,12 +104,11 @@ def figure_distributions(values: dict, alpha: float | None = None) -> Figure:
             mid = (edges[:-1] + edges[1:]) / 2
             ax.bar(mid, counts, width=float(edges[1] - edges[0]) * 0.95, color=BLUE)
             ax.hover(mid, counts, [f"{a:.3g}–{b:.3g}: {c} chairs" for a, b, c in zip(edges, edges[1:], counts)])
+        legend = None
         if key == "shimmy_probability" and alpha is not None:
             ax.axvline(alpha * 100, color=RED, ls="--", label=f"α = {percent(alpha)}")
-            ax.legend(loc="upper right", fontsize=8)
-        ax.set_xlabel(label)
-        ax.set_ylabel("chairs")
-        ax.grid(alpha=0.3)
+            legend = dict(loc="upper right", fontsize=8)
+        dress(ax, label, "chairs", legend=legend)
     for ax in axes[len(panels) :]:  # the grid's empty cells are not drawn
         fig.axes.remove(ax)
     fig.suptitle("What each chair's own recommendation is (chairs with a caster)", fontsize=11)

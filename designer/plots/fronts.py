@@ -48,7 +48,22 @@ COLOR_BY = {
 }
 """``color_by`` choices of :func:`plot_front` besides "family", "critical_speed" and None: (label, design column,
 scale to the plotted unit)."""
-MM = 1000.0
+LEGEND = dict(fontsize=7.5, loc="upper right", framealpha=0.92)
+"""The legend of a front's Axes."""
+
+
+def dress(ax, xlabel: str, ylabel: str, title: str | None = None, legend=None, title_size: float = 10, grid=True):
+    """Finish ``ax`` (matplotlib's or the SVG canvas's): its axis labels, the light grid (``grid``), the legend
+    when ``legend`` gives its options (call it after the labelled artists) and the ``title`` (``title_size`` [pt])."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if grid:
+        ax.grid(True, alpha=0.3)
+    if legend is not None:
+        ax.legend(**legend)
+    if title is not None:
+        ax.set_title(title, fontsize=title_size)
+    return ax
 
 
 def draw_fronts(ax, curves, marks=(), legend: bool = True):
@@ -74,12 +89,7 @@ def draw_fronts(ax, curves, marks=(), legend: bool = True):
         ax.scatter(
             [m["threshold_force"]], [m["turning_effort"]], label=m["label"], **MARK_STYLE[m.get("kind", "alternative")]
         )
-    ax.set_xlabel(axis("threshold_force"))
-    ax.set_ylabel(axis("turning_effort"))
-    ax.grid(True, alpha=0.3)
-    if legend:
-        ax.legend(fontsize=7.5, loc="upper right", framealpha=0.92)
-    return ax
+    return dress(ax, axis("threshold_force"), axis("turning_effort"), legend=LEGEND if legend else None)
 
 
 def new_axes(ax=None, figsize=(7.5, 5.0)):
@@ -127,9 +137,7 @@ def plot_front(
     p = np.asarray(threshold_force, float).reshape(-1)
     if len(f) != len(p):
         raise ValueError(f"turning_effort has {len(f)} points, threshold_force {len(p)}: must be equal")
-    ax.set_xlabel(axis("threshold_force"))
-    ax.set_ylabel(axis("turning_effort"))
-    ax.grid(True, alpha=0.3)
+    dress(ax, axis("threshold_force"), axis("turning_effort"))
     if not len(f):
         ax.text(0.5, 0.5, "no valid point on the front", transform=ax.transAxes, ha="center")
         return ax
@@ -148,7 +156,7 @@ def plot_front(
         points = ax.scatter(p, f, c=values, cmap="viridis", s=28, zorder=3, label=label)
         ax.figure.colorbar(points, ax=ax, label=what)
     if legend:
-        ax.legend(fontsize=7.5, loc="upper right", framealpha=0.92)
+        ax.legend(**LEGEND)
     return ax
 
 
@@ -169,13 +177,8 @@ def _colour_values(color_by, designs, critical_speed, n):
     return np.asarray(designs, float).reshape(n, 4)[:, column] * scale, what
 
 
-VARIABLE_PANELS = (
-    ("trail T [mm]", "T [in]", 0, MM, True),
-    ("wheel diameter d [mm]", "d [in]", 1, MM, True),
-    ("groove width B [mm]", "B [in]", 2, MM, True),
-    ("spindle damping c_f [N·m/rad]", None, 3, 1.0, False),
-)
-"""Panels of :func:`plot_variables`: (label, inch label, design column, scale, inch axis)."""
+INCH_LABELS = {"trail": "T [in]", "diameter": "d [in]", "groove": "B [in]"}
+"""The inch axis of each length's panel of :func:`plot_variables` (one panel per :data:`COLOR_BY` variable)."""
 
 
 # long: four panels, their bounds, family switches and the shared legend in one figure
@@ -208,7 +211,7 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
     x = np.asarray(threshold_force, float).reshape(-1)
     designs = np.asarray(designs, float).reshape(-1, 4)
     families = list(families)
-    for ax, (label, inch_label, k, scale, inches) in zip(axes.ravel(), VARIABLE_PANELS):
+    for ax, (name, (label, k, scale)) in zip(axes.ravel(), COLOR_BY.items()):
         if len(x):
             colours = [FAMILY_STYLE.get(f, ("k", "o"))[0] for f in families]
             ax.plot(x, designs[:, k] * scale, color="0.35", lw=1)
@@ -223,8 +226,9 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
         span = (high - low) * scale
         pad = 0.08 * (span if span > 0 else max(abs(low * scale), 1e-3))
         ax.set_ylim(low * scale - pad, high * scale + pad)
-        if inches:
-            ax.secondary_yaxis("right", functions=(rescale("mm", "in"), rescale("in", "mm"))).set_ylabel(inch_label)
+        if name in INCH_LABELS:
+            inches = ax.secondary_yaxis("right", functions=(rescale("mm", "in"), rescale("in", "mm")))
+            inches.set_ylabel(INCH_LABELS[name])
     for ax in axes[-1]:
         ax.set_xlabel(axis("threshold_force"))
     handles = [

@@ -9,6 +9,8 @@ import math
 
 import numpy as np
 
+from designer.plots.fronts import dress
+
 
 def _axes(ax, figsize=(7, 4.5), **layout):
     if ax is None:
@@ -53,10 +55,7 @@ def plot_knock(
     title = f"V = {speed:.2f} m/s: {'grows' if grows else 'decays'}; Eq. 7 V_c = {critical_speed:.2f} m/s"
     if onset_speed is not None:
         title += f", simulated onset {onset_speed:.2f} m/s"
-    ax.set_title(title, fontsize=10)
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("caster angle θ [deg]")
-    ax.legend(fontsize=8)
+    dress(ax, "time [s]", "caster angle θ [deg]", title, dict(fontsize=8), grid=False)
     return ax
 
 
@@ -87,67 +86,40 @@ def bifurcation_axes(
     _branches(ax, branches, rolling_branches)
     lo, hi = speed_range if speed_range is not None else ax.get_xlim()
     if fold_speed is not None and math.isfinite(fold_speed):
-        ax.axvspan(
-            fold_speed,
-            hi,
-            color="tab:orange",
-            alpha=0.08,
-            label=f"hysteresis: rest and shimmy both stable (V > {fold_speed:.2f} m/s)",
-        )
+        label = f"hysteresis: rest and shimmy both stable (V > {fold_speed:.2f} m/s)"
+        ax.axvspan(fold_speed, hi, color="tab:orange", alpha=0.08, label=label)
     v = np.linspace(lo, hi, 50)
     ax.plot(v, eq29b_slope * v, ":", color="k", lw=1.2, label="Eq. 29B/6C amplitude θ0 V/(ωT)")
     ax.axvline(eq7_speed, color="tab:green", lw=1.2, label=f"Eq. 7 V_c = {eq7_speed:.2f} m/s")
     if measured is not None:
-        ax.plot(
-            *measured,
-            "k*",
-            ms=13,
-            label=f"measured (Fig. 1C): {math.degrees(measured[1]):.0f}° at {measured[0]:.2f} m/s",
-        )
+        label = f"measured (Fig. 1C): {math.degrees(measured[1]):.0f}° at {measured[0]:.2f} m/s"
+        ax.plot(*measured, "k*", ms=13, label=label)
     ax.set_xlim(lo, hi)
     ax.set_yscale("log")
-    ax.set_xlabel("wheelchair speed V [m/s]")
-    ax.set_ylabel("shimmy amplitude θ_a [rad]")
-    sec = ax.secondary_yaxis("right", functions=(np.degrees, np.radians))
-    sec.set_ylabel("[deg]")
-    if title:
-        ax.set_title(title, fontsize=10)
-    ax.legend(fontsize=7.5, loc="lower left")
+    ax.secondary_yaxis("right", functions=(np.degrees, np.radians)).set_ylabel("[deg]")
+    legend = dict(fontsize=7.5, loc="lower left")
+    dress(ax, "wheelchair speed V [m/s]", "shimmy amplitude θ_a [rad]", title or None, legend, grid=False)
     ax.grid(True, which="both", alpha=0.25)
     return ax
+
+
+_BRANCH_STYLE = {
+    True: dict(color="tab:red", ls="-", lw=2.2, marker="o"),
+    False: dict(color="tab:blue", ls="--", lw=1.8, marker=None),
+}
+"""Line style of a stable (True) and an unstable periodic-orbit branch of the brush tyre."""
 
 
 def _branches(ax, branches, rolling_branches) -> None:
     """The periodic-orbit branches of the bifurcation diagram: rolling tyre grey dashes, brush tyre stable red
     (sustained shimmy) and unstable blue dashes (knock threshold), each kind labelled once."""
-    for b in rolling_branches:
-        ax.plot(
-            b["speed"],
-            b["amplitude"],
-            color="0.55",
-            ls="--",
-            lw=1.5,
-            label="rolling tyre (paper's model): unstable" if b is rolling_branches[0] else None,
-        )
-    seen = set()
+    for k, b in enumerate(rolling_branches):
+        label = "rolling tyre (paper's model): unstable" if k == 0 else None
+        ax.plot(b["speed"], b["amplitude"], color="0.55", ls="--", lw=1.5, label=label)
+    labels = {"stable": "brush tyre: stable (sustained shimmy)", "unstable": "brush tyre: unstable (knock threshold)"}
     for b in branches:
-        stable = b["kind"] == "stable"
-        label = (
-            None
-            if b["kind"] in seen
-            else ("brush tyre: stable (sustained shimmy)" if stable else "brush tyre: unstable (knock threshold)")
-        )
-        seen.add(b["kind"])
-        ax.plot(
-            b["speed"],
-            b["amplitude"],
-            color="tab:red" if stable else "tab:blue",
-            ls="-" if stable else "--",
-            lw=2.2 if stable else 1.8,
-            marker="o" if stable else None,
-            ms=3,
-            label=label,
-        )
+        style = _BRANCH_STYLE[b["kind"] == "stable"]
+        ax.plot(b["speed"], b["amplitude"], ms=3, label=labels.pop(b["kind"], None), **style)
 
 
 def table1_axes(wheels, measured, predictions: dict, stable_up_to: float | None = None, ax=None):
@@ -164,25 +136,20 @@ def table1_axes(wheels, measured, predictions: dict, stable_up_to: float | None 
     x = np.arange(len(wheels))
     width = 0.8 / (len(predictions) + 1)
     meas = np.array([np.nan if m is None else m for m in measured], float)
-    ax.bar(x - 0.4 + width / 2, np.nan_to_num(meas), width, color="k", label="measured")
+    left = x - 0.4 + width / 2  # the measured bars
+    ax.bar(left, np.nan_to_num(meas), width, color="k", label="measured")
     if stable_up_to is not None:
-        for xi in x[np.isnan(meas)]:
-            ax.bar(xi - 0.4 + width / 2, stable_up_to, width, color="none", edgecolor="k", hatch="//")
-            ax.annotate(
-                "",
-                (xi - 0.4 + width / 2, stable_up_to + 0.5),
-                (xi - 0.4 + width / 2, stable_up_to),
-                arrowprops={"arrowstyle": "->"},
-            )
+        for xi in left[np.isnan(meas)]:
+            ax.bar(xi, stable_up_to, width, color="none", edgecolor="k", hatch="//")
+            ax.annotate("", (xi, stable_up_to + 0.5), (xi, stable_up_to), arrowprops={"arrowstyle": "->"})
         ax.axhline(stable_up_to, color="k", lw=0.6, ls=":")
         ax.bar([], [], color="none", edgecolor="k", hatch="//", label=f"stable up to {stable_up_to} m/s (A, B)")
     colours = ["tab:green", "tab:blue", "tab:red", "tab:purple"]
     for k, (label, values) in enumerate(predictions.items()):
         ax.bar(x - 0.4 + width * (k + 1.5), values, width, color=colours[k % 4], label=label)
     ax.set_xticks(x, wheels)
-    ax.set_xlabel("Table 1 wheel (T = 2 in, bare fork c_f = 1.3 N·m/rad, B = 0)")
-    ax.set_ylabel("critical shimmy speed [m/s]")
-    ax.legend(fontsize=7.5, loc="upper right")
+    xlabel = "Table 1 wheel (T = 2 in, bare fork c_f = 1.3 N·m/rad, B = 0)"
+    dress(ax, xlabel, "critical shimmy speed [m/s]", legend=dict(fontsize=7.5, loc="upper right"), grid=False)
     ax.grid(True, axis="y", alpha=0.3)
     return ax
 
@@ -278,18 +245,23 @@ _MARKERS = {10.0: "v", 20.0: "o", 40.0: "^"}
 """Marker of each knock angle θ_i [deg] in the onset study's scatter panels."""
 
 
+def _scatter_cases(ax, x, y, grooved, ang, labelled: bool = False) -> None:
+    """The onset study's cases: blue B = 0, orange grooved, one marker per knock angle (:data:`_MARKERS`);
+    ``labelled``: each group named in the legend."""
+    for g, colour, label in ((False, "tab:blue", "B = 0"), (True, "tab:orange", "B = 9/16 in")):
+        for a, m in _MARKERS.items():
+            sel = (grooved == g) & np.isclose(ang, a)
+            extra = {"label": f"{label}, θ_i = {a:.0f}°"} if labelled else {}
+            ax.scatter(x[sel], y[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4, **extra)
+
+
 def _onset_panel(ax, v7, vs, grooved, ang) -> None:
     """(a) simulated onset against Eq. 7's V_c [m/s], log-log, with the ±10 % band."""
     lim = (0.8 * min(v7.min(), vs.min()), 1.2 * max(v7.max(), vs.max()))
     xx = np.geomspace(*lim, 50)
     ax.fill_between(xx, 0.9 * xx, 1.1 * xx, color="0.9", label="±10 %")
     ax.plot(xx, xx, "k-", lw=1, label="simulated = Eq. 7")
-    for g, colour, label in ((False, "tab:blue", "B = 0"), (True, "tab:orange", "B = 9/16 in")):
-        for a, m in _MARKERS.items():
-            sel = (grooved == g) & np.isclose(ang, a)
-            ax.scatter(
-                v7[sel], vs[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4, label=f"{label}, θ_i = {a:.0f}°"
-            )
+    _scatter_cases(ax, v7, vs, grooved, ang, labelled=True)
     ax.set_xscale("log"), ax.set_yscale("log")
     ax.set_xlim(lim), ax.set_ylim(lim)
     ax.set_xlabel("Eq. 7 critical speed V_c [m/s] (c_f,eff = M_f/θ_i)")
@@ -303,10 +275,7 @@ def _error_panel(ax, implied, err, grooved, ang) -> None:
     lo, hi = min(implied.min(), err.min()) - 2, max(implied.max(), err.max()) + 2
     ax.axhspan(-10, 10, color="0.9")
     ax.plot([lo, hi], [lo, hi], "k-", lw=1, label="error = (θ_a,29B / θ_a,sim)^½ − 1")
-    for g, colour, _label in ((False, "tab:blue", "B = 0"), (True, "tab:orange", "B = 9/16 in")):
-        for a, m in _MARKERS.items():
-            sel = (grooved == g) & np.isclose(ang, a)
-            ax.scatter(implied[sel], err[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4)
+    _scatter_cases(ax, implied, err, grooved, ang)
     ax.set_xlim(lo, hi), ax.set_ylim(lo, hi)
     ax.set_xlabel("error implied by the amplitude of Eq. 29B: (θ_a,29B/θ_a,sim)^½ − 1 [%]")
     ax.set_ylabel("onset error (simulated − Eq. 7)/Eq. 7 [%]")
@@ -318,10 +287,7 @@ def _amplitude_panel(ax, amp_p, amp_s, grooved, ang) -> None:
     """(c) simulated amplitude after the transient against Eq. 4/29B's [rad]."""
     top = 1.1 * max(amp_s.max(), amp_p.max())
     ax.plot([0, top], [0, top], "k-", lw=1)
-    for g, colour in ((False, "tab:blue"), (True, "tab:orange")):
-        for a, m in _MARKERS.items():
-            sel = (grooved == g) & np.isclose(ang, a)
-            ax.scatter(amp_p[sel], amp_s[sel], marker=m, color=colour, s=36, edgecolor="k", lw=0.4)
+    _scatter_cases(ax, amp_p, amp_s, grooved, ang)
     ax.set_xlim(0, top), ax.set_ylim(0, top)
     ax.set_xlabel("Eq. 4 / 29B amplitude θ_i V/(ωT) at onset [rad]")
     ax.set_ylabel("simulated amplitude after the transient [rad]")
@@ -332,19 +298,9 @@ def _trace_panel(ax, traces, onset_c) -> None:
     """(d) θ(t) [deg] of the Appendix C caster at 0.9, 1.0 and 1.1 × its onset speed."""
     for f, colour in ((0.9, "tab:green"), (1.0, "tab:gray"), (1.1, "tab:red")):
         r = traces[f]
-        ax.plot(
-            r.t,
-            np.degrees(r.theta),
-            color=colour,
-            lw=1,
-            label=f"V = {r.speed:.2f} m/s ({f:.1f} × onset): {'grows' if r.grows else 'decays'}",
-        )
+        label = f"V = {r.speed:.2f} m/s ({f:.1f} × onset): {'grows' if r.grows else 'decays'}"
+        ax.plot(r.t, np.degrees(r.theta), color=colour, lw=1, label=label)
     ax.axhline(0, color="k", lw=0.5)
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("caster angle θ [deg]")
-    ax.set_title(
-        f"(d) Appendix C caster (T = 2.5 in, θ_i = 20°): onset {onset_c.speed:.2f} m/s, "
-        f"Eq. 7 {onset_c.critical_speed:.2f} m/s",
-        fontsize=9,
-    )
-    ax.legend(fontsize=8, loc="lower right")
+    title = f"(d) Appendix C caster (T = 2.5 in, θ_i = 20°): onset {onset_c.speed:.2f} m/s, "
+    title += f"Eq. 7 {onset_c.critical_speed:.2f} m/s"
+    dress(ax, "time [s]", "caster angle θ [deg]", title, dict(fontsize=8, loc="lower right"), 9, grid=False)

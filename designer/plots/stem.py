@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from designer.data.paper import INCH
+from designer.plots.fronts import dress
 
 
 def draw_stem_geometry(ax, geometry: dict):
@@ -41,34 +42,16 @@ def draw_stem_geometry(ax, geometry: dict):
     ax.annotate(
         "", xy=(0, -0.35), xytext=(contact[0] * scale, -0.35), arrowprops={"arrowstyle": "<->", "color": "tab:green"}
     )
-    ax.text(
-        contact[0] * scale / 2,
-        -0.75,
-        f"floor trail t_g = {t_g * scale:.3f} in",
-        ha="center",
-        color="tab:green",
-        fontsize=8,
-    )
+    text = f"floor trail t_g = {t_g * scale:.3f} in"
+    ax.text(contact[0] * scale / 2, -0.75, text, ha="center", color="tab:green", fontsize=8)
     proj = g["projection"]  # foot of the perpendicular from the contact to the axis
-    ax.plot(
-        *(np.array([contact, proj]).T * scale),
-        color="tab:purple",
-        lw=2,
-        label=f"effective trail T_eff = e + R sin φ = {t_eff * scale:.3f} in",
-    )
-    ax.text(
-        top[0] * scale - 0.2,
-        top[1] * scale + 0.1,
-        f"φ = {math.degrees(angle):.0f}°",
-        color="tab:blue",
-        fontsize=9,
-        ha="right",
-    )
+    label = f"effective trail T_eff = e + R sin φ = {t_eff * scale:.3f} in"
+    ax.plot(*(np.array([contact, proj]).T * scale), color="tab:purple", lw=2, label=label)
+    text = f"φ = {math.degrees(angle):.0f}°"
+    ax.text(top[0] * scale - 0.2, top[1] * scale + 0.1, text, color="tab:blue", fontsize=9, ha="right")
     ax.plot([0, 0], [0, top[1] * scale], ":", color="0.6", lw=1)
     ax.set_aspect("equal")
-    ax.set_xlabel("x, forward [in]")
-    ax.set_ylabel("z [in]")
-    ax.legend(fontsize=7, loc="upper right")
+    dress(ax, "x, forward [in]", "z [in]", legend=dict(fontsize=7, loc="upper right"), grid=False)
     ax.set_ylim(-1.2, top[1] * scale + 0.6)
     ax.set_xlim(axle[0] * scale - radius * scale - 0.3, 7.5)
     return ax
@@ -80,10 +63,7 @@ def draw_speed_against_angle(ax, angles, speeds, marks=()):
     for a, v, label in marks:
         ax.plot([a], [v], "o", color="tab:red")
         ax.annotate(label, (a, v), textcoords="offset points", xytext=(6, -12), fontsize=8)
-    ax.set_xlabel("stem angle φ [deg] (positive: top leans back)")
-    ax.set_ylabel("critical speed V_c, Eq. 7 [m/s]")
-    ax.grid(alpha=0.3)
-    return ax
+    return dress(ax, "stem angle φ [deg] (positive: top leans back)", "critical speed V_c, Eq. 7 [m/s]")
 
 
 def stem_figure(curves: dict):

@@ -18,6 +18,7 @@ charts of the records' notebook reprs (:func:`svg_curve`, :func:`svg_sparkline`)
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 from html import escape
 from typing import Any
 
@@ -74,20 +75,14 @@ def colour(value, default: str = "#000000") -> str:
     """An SVG colour from a matplotlib colour: hex, a name, ``"tab:…"``, a grey level string ``"0.65"``."""
     if value is None:
         return default
-    if isinstance(value, (tuple, list)):
-        r, g, b = (int(round(255 * float(v))) for v in value[:3])
-        return f"#{r:02x}{g:02x}{b:02x}"
     text = str(value)
-    if text.startswith("#") or text == "none":
-        return text
-    if text in _NAMED:
-        return _NAMED[text]
+    if text.startswith("#") or text == "none" or text in _NAMED:
+        return _NAMED.get(text, text)
     try:
-        level = float(text)
+        rgb = value[:3] if isinstance(value, (tuple, list)) else [float(text)] * 3
     except ValueError:
         return text
-    v = int(round(255 * level))
-    return f"#{v:02x}{v:02x}{v:02x}"
+    return "#" + "".join(f"{int(round(255 * float(v))):02x}" for v in rgb)
 
 
 def _f(x: float) -> str:
@@ -162,18 +157,10 @@ class _Axis:
     set_ylabel = set_label = set_xlabel
 
 
-class _Mappable:
-    """What ``contourf`` returns: its levels and colours, for ``colorbar``."""
-
-    def __init__(self, levels, colours, alpha):
-        self.levels, self.colours, self.alpha = levels, colours, alpha
-
-
-class _Lines:
-    """What ``contour`` returns: (level, [polyline arrays]) pairs, for ``clabel``."""
-
-    def __init__(self, paths, colour, width):
-        self.paths, self.colour, self.width = paths, colour, width
+_Mappable = namedtuple("_Mappable", "levels colours alpha")
+"""What ``contourf`` returns: its levels and colours, for ``colorbar``."""
+_Lines = namedtuple("_Lines", "paths colour width")
+"""What ``contour`` returns: (level, [polyline arrays]) pairs, for ``clabel``."""
 
 
 class _Handle:
@@ -236,38 +223,26 @@ class Axes:
 
     def set_xlim(self, left=None, right=None) -> None:
         """x limits [data units] (shared by the axes of ``subplots(sharex=True)``); None keeps the automatic one."""
-        if isinstance(left, (tuple, list)):
-            left, right = left
-        self._limits().__setitem__(0, left) if left is not None else None
-        self._limits()[1] = right if right is not None else self._limits()[1]
-
-    def _limits(self) -> list:
-        return self.sharex.xlim if self.sharex is not None else self.xlim
+        _set_limits(self.sharex.xlim if self.sharex is not None else self.xlim, left, right)
 
     def set_ylim(self, bottom=None, top=None) -> None:
         """y limits [data units]; None keeps the automatic one (data range ± 5 %)."""
-        if isinstance(bottom, (tuple, list)):
-            bottom, top = bottom
-        if bottom is not None:
-            self.ylim[0] = float(bottom)
-        if top is not None:
-            self.ylim[1] = float(top)
+        _set_limits(self.ylim, bottom, top)
 
     def set_xticks(self, ticks, labels=None, fontsize: float = BASE_FONT * 0.9) -> None:
         """Ticks at ``ticks`` [data units] with ``labels`` (multi-line text allowed), ``fontsize`` [pt]."""
         self.xticks = (list(map(float, ticks)), list(labels) if labels is not None else None, fontsize)
 
-    def secondary_xaxis(self, where: str, functions) -> _Axis:
-        """A second x axis (``"top"``) in other units: ``functions`` = (forward, inverse) from these units."""
-        axis = _Axis("top" if where == "top" else "bottom", functions)
+    def secondary_xaxis(self, where: str, functions, _sides=("top", "bottom")) -> _Axis:
+        """A second x axis (``"top"``) in other units: ``functions`` = (forward, inverse) from these units; also
+        ``secondary_yaxis`` (``"right"``)."""
+        axis = _Axis(where if where == _sides[0] else _sides[1], functions)
         self.secondary.append(axis)
         return axis
 
     def secondary_yaxis(self, where: str, functions) -> _Axis:
-        """A second y axis (``"right"``) in other units: ``functions`` = (forward, inverse) from these units."""
-        axis = _Axis("right" if where == "right" else "left", functions)
-        self.secondary.append(axis)
-        return axis
+        """A second y axis (``"right"``) in other units (:meth:`secondary_xaxis`)."""
+        return self.secondary_xaxis(where, functions, ("right", "left"))
 
     # -- artists -----------------------------------------------------------------------------------
     def _handle(self, label: str | None, kind: str, **style) -> _Handle:
@@ -291,14 +266,12 @@ class Axes:
         label: str | None = None,
         zorder: float = 2,
         drawstyle: str = "default",
-        linewidth: float | None = None,
         **_,
     ):
         """A polyline (with markers); ``fmt`` as matplotlib's short strings ("o", "--", ":")."""
         if fmt:
             marker = fmt if fmt in ("o", ".", "s", "^", "D", "x") else marker
             ls = fmt if fmt in _DASH else ("none" if marker == fmt else ls)
-        lw = linewidth if linewidth is not None else lw
         x = np.asarray(x, float).reshape(-1)
         y = np.asarray(y, float).reshape(-1) if np.ndim(y) else np.full(len(x), float(y))
         col = colour(color, "#1f77b4")
@@ -319,12 +292,9 @@ class Axes:
         facecolor=None,
         edgecolor=None,
         lw: float = 1.0,
-        linewidths=None,
         label: str | None = None,
         zorder: float = 1,
-        alpha=None,
         clip_on: bool = True,
-        cmap=None,
         **_,
     ):
         """Markers of area ``s`` [pt²]; ``c``/``color`` one colour or one per point."""
@@ -344,20 +314,17 @@ class Axes:
         )
         return self._handle(label, "marker", fill=key_fill, edge=edge, lw=lw, marker=marker, ms=size)
 
-    def axhline(self, y: float, color=None, ls: str = "-", lw: float = 1.5, label: str | None = None, zorder=2, **_):
-        """A horizontal line across the axes at ``y`` [data units]; ``lw`` [pt]."""
+    def axhline(self, y: float, color=None, ls: str = "-", lw: float = 1.5, label=None, zorder=2, _kind="h", **_):
+        """A horizontal line across the axes at ``y`` [data units]; ``lw`` [pt] (``axvline``: vertical at x)."""
         col = colour(color, "#1f77b4")
         if np.isfinite(y):
-            self._extent((), [y])
-            self._add("hline", zorder, float(y), col, lw, ls)
+            self._extent(**{"ys" if _kind == "h" else "xs": [y]})
+            self._add("hline", zorder, _kind, float(y), col, lw, ls)
         return self._handle(label, "line", color=col, lw=lw, ls=ls, marker=None, ms=0)
 
-    def axvline(self, x: float, color=None, ls: str = "-", lw: float = 1.5, label: str | None = None, zorder=2, **_):
-        """A vertical line across the axes at ``x`` [data units]; ``lw`` [pt]."""
-        col = colour(color, "#1f77b4")
-        self._extent([x], ())
-        self._add("vline", zorder, float(x), col, lw, ls)
-        return self._handle(label, "line", color=col, lw=lw, ls=ls, marker=None, ms=0)
+    def axvline(self, x: float, color=None, ls: str = "-", lw: float = 1.5, label=None, zorder=2, **_):
+        """A vertical line across the axes at ``x`` [data units] (:meth:`axhline`)."""
+        return self.axhline(x, color, ls, lw, label, zorder, "v")
 
     def axvspan(self, x0: float, x1: float, color=None, alpha: float = 1.0, label: str | None = None, **_):
         """A shaded band from ``x0`` to ``x1`` [data units] across the axes' height."""
@@ -366,23 +333,9 @@ class Axes:
         self._add("vspan", 1, float(x0), float(x1), col, alpha)
         return self._handle(label, "patch", fill=col, alpha=alpha)
 
-    def rectangle(
-        self,
-        x: float,
-        y: float,
-        width: float,
-        height: float,
-        *,
-        edgecolor=None,
-        ls: str = "-",
-        lw: float = 1.0,
-        facecolor="none",
-        label: str | None = None,
-        zorder: float = 1,
-    ):
-        """An unfilled (or filled) rectangle in data coordinates (matplotlib: ``add_patch(Rectangle(...))``)."""
-        self._add("rect", zorder, x, y, width, height, colour(edgecolor), ls, lw, colour(facecolor, "none"))
-        return self._handle(label, "line", color=colour(edgecolor), lw=lw, ls=ls, marker=None, ms=0)
+    def rectangle(self, x: float, y: float, width: float, height: float, *, edgecolor=None, ls="-", lw=1.0) -> None:
+        """An unfilled rectangle in data coordinates (matplotlib: ``add_patch(Rectangle(..., fill=False))``)."""
+        self._add("rect", 1, x, y, width, height, colour(edgecolor), ls, lw)
 
     def bar(self, x, height, width: float = 0.8, color=None, label: str | None = None, **_):
         """Bars centred at ``x`` of ``height`` and ``width`` [data units], from 0."""
@@ -396,9 +349,7 @@ class Axes:
 
     def legend_patch(self, label: str, color) -> _Handle:
         """A legend entry with a filled square key and no artist (matplotlib: an empty Rectangle patch)."""
-        handle = _Handle(label, "patch", fill=colour(color), alpha=1.0)
-        self.handles.append(handle)
-        return handle
+        return self._handle(label, "patch", fill=colour(color), alpha=1.0)
 
     def text(
         self,
@@ -414,13 +365,12 @@ class Axes:
         rotation: float = 0.0,
         bbox=None,
         wrap: bool = False,
-        zorder: float = 3,
         **_,
     ):
         """Text at data coordinates, or axes fractions with ``transform=ax.transAxes``."""
         where = "axes" if transform == "axes" else "data"
         args = (where, float(x), float(y), str(s), ha, va, fontsize, colour(color), weight, rotation, bbox is not None)
-        self._add("text", zorder, *args, wrap)
+        self._add("text", 3, *args, wrap)
 
     def annotate(
         self,
@@ -487,16 +437,8 @@ class Axes:
     ):
         """The legend of the labelled artists (or ``handles``) at ``loc`` ("upper right", "upper left", ...) or
         with its ``loc`` corner at ``bbox_to_anchor`` (axes fractions); ``fontsize`` [pt]."""
-        self.legend_args = dict(
-            handles=handles,
-            loc=loc,
-            fontsize=fontsize,
-            framealpha=framealpha,
-            title=title,
-            title_fontsize=title_fontsize or fontsize,
-            anchor=bbox_to_anchor,
-            ncol=ncol,
-        )
+        self.legend_args = dict(handles=handles, loc=loc, fontsize=fontsize, framealpha=framealpha, ncol=ncol)
+        self.legend_args |= dict(title=title, title_fontsize=title_fontsize or fontsize, anchor=bbox_to_anchor)
 
     # -- drawing -----------------------------------------------------------------------------------
     def _resolved_xlim(self) -> tuple[float, float]:
@@ -535,10 +477,8 @@ class Axes:
         x0, y0, w, h = self.box
         sx, sy, (xl, xh), (yl, yh) = self._scales()
         clip = f"{uid}-clip"
-        out.append(
-            f'<clipPath id="{clip}"><rect x="{_f(x0)}" y="{_f(y0)}" width="{_f(w)}" height="{_f(h)}"/></clipPath>'
-        )
-        out.append(f'<rect x="{_f(x0)}" y="{_f(y0)}" width="{_f(w)}" height="{_f(h)}" fill="#ffffff"/>')
+        out.append(f'<clipPath id="{clip}">{_rect(x0, y0, w, h)}</clipPath>')
+        out.append(_rect(x0, y0, w, h, ' fill="#ffffff"'))
         xt = self.xticks[0] if self.xticks else nice_ticks(min(xl, xh), max(xl, xh), _bins(w))
         yt = nice_ticks(min(yl, yh), max(yl, yh), _bins(h, True))
         if self.show_grid:
@@ -555,33 +495,30 @@ class Axes:
         ):
             getattr(self, f"_draw_{kind}")(out, sx, sy, *args)
         out.append("</g>")
-        out.append(
-            f'<rect x="{_f(x0)}" y="{_f(y0)}" width="{_f(w)}" height="{_f(h)}" fill="none" stroke="#000" stroke-width="0.9"/>'
-        )
+        out.append(_rect(x0, y0, w, h, ' fill="none" stroke="#000" stroke-width="0.9"'))
         self._draw_ticks(out, sx, sy, xt, yt)
         for _z, _i, kind, args in sorted(unclipped + [i for i in self.items if i[2] in ("text", "annotate", "clabel")]):
             getattr(self, f"_draw_{kind}")(out, sx, sy, *args)
         if self.legend_args is not None:
-            self._draw_legend(out, **self.legend_args)
+            handles = self.legend_args["handles"]
+            args = self.legend_args | {"handles": self.handles if handles is None else handles}
+            draw_legend(out, box=tuple(self.box), **args)
         for _z, _i, _kind, args in (i for i in self.items if i[2] == "hover"):
             self._draw_hover(out, sx, sy, *args)
 
     def _draw_ticks(self, out, sx, sy, xt, yt) -> None:
         x0, y0, w, h = self.box
         size = BASE_FONT * PT
-        marks = []
         labels = self.xticks[1] if self.xticks and self.xticks[1] is not None else _tick_labels(xt)
         fs = self.xticks[2] if self.xticks else BASE_FONT
+        marks = ""
         for t, lab in zip(xt, labels):
             px = float(sx(t))
-            marks.append(f"M{_f(px)} {_f(y0 + h)}v{_f(3.5 * PT)}")
+            marks += f"M{_f(px)} {_f(y0 + h)}v{_f(3.5 * PT)}"
             if not self.hide_xticklabels:
-                out.append(_multiline(px, y0 + h + 3.5 * PT + fs * PT * 1.05, lab, fs, "middle"))
-        for t, lab in zip(yt, _tick_labels(yt)):
-            py = float(sy(t))
-            marks.append(f"M{_f(x0)} {_f(py)}h{_f(-3.5 * PT)}")
-            out.append(_text(x0 - 5.5 * PT, py + 0.35 * size, lab, BASE_FONT, "end"))
-        out.append(f'<path d="{"".join(marks)}" stroke="#000" stroke-width="0.8"/>')
+                out.append(_text(px, y0 + h + 3.5 * PT + fs * PT * 1.05, lab, fs, "middle"))
+        ymarks, width = _vticks(out, x0, -1, [float(sy(t)) for t in yt], _tick_labels(yt))
+        out.append(_marks(marks + ymarks))
         tick_h = (
             (fs * PT * 1.2 * (max(str(x).count("\n") for x in labels) + 1))
             if labels and not self.hide_xticklabels
@@ -590,7 +527,6 @@ class Axes:
         if self.xlabel:
             out.append(_text(x0 + w / 2, y0 + h + 3.5 * PT + tick_h + size * 1.15, self.xlabel, BASE_FONT, "middle"))
         if self.ylabel:
-            width = max((text_width(lab, BASE_FONT) for lab in _tick_labels(yt)), default=0)
             px = x0 - 5.5 * PT - width - 0.7 * size  # turned text: glyphs from 0.8 size left to 0.25 right
             out.append(_text(px, y0 + h / 2, self.ylabel, BASE_FONT, "middle", rotate=-90))
         top = y0
@@ -603,54 +539,40 @@ class Axes:
         """Ticks and label of a secondary axis; returns the y [px] above which the title goes."""
         x0, y0, w, h = self.box
         size = BASE_FONT * PT
-        xl, xh = self._resolved_xlim()
-        yl, yh = self._resolved_ylim()
         vertical = axis.where in ("left", "right")
-        lo, hi = (yl, yh) if vertical else (xl, xh)
+        lo, hi = self._resolved_ylim() if vertical else self._resolved_xlim()
         a, b = sorted((float(axis.forward(lo)), float(axis.forward(hi))))
         ticks = nice_ticks(a, b, _bins(h if vertical else w, vertical))
         labels = _tick_labels(ticks)
-        marks = []
         if vertical:
-            side = x0 + w if axis.where == "right" else x0
-            sign = 1 if axis.where == "right" else -1
-            for t, lab in zip(ticks, labels):
-                py = float(sy(float(axis.inverse(t))))
-                marks.append(f"M{_f(side)} {_f(py)}h{_f(sign * 3.5 * PT)}")
-                out.append(
-                    _text(side + sign * 5.5 * PT, py + 0.35 * size, lab, BASE_FONT, "start" if sign > 0 else "end")
-                )
-            width = max((text_width(lab, BASE_FONT) for lab in labels), default=0)
+            side, sign = (x0 + w, 1) if axis.where == "right" else (x0, -1)
+            marks, width = _vticks(out, side, sign, [float(sy(float(axis.inverse(t)))) for t in ticks], labels)
             if axis.label:
                 px = side + sign * (5.5 * PT + width) + (1.15 if sign > 0 else -0.7) * size
                 out.append(_text(px, y0 + h / 2, axis.label, BASE_FONT, "middle", rotate=-90))
             if axis.where == "right":
                 out.append(f'<path d="M{_f(side)} {_f(y0)}v{_f(h)}" stroke="#000" stroke-width="0.9"/>')
         else:
+            marks = ""
             for t, lab in zip(ticks, labels):
                 px = float(sx(float(axis.inverse(t))))
-                marks.append(f"M{_f(px)} {_f(y0)}v{_f(-3.5 * PT)}")
+                marks += f"M{_f(px)} {_f(y0)}v{_f(-3.5 * PT)}"
                 out.append(_text(px, y0 - 5.5 * PT, lab, BASE_FONT, "middle"))
             top = y0 - 5.5 * PT - size * 1.1
             if axis.label:
                 out.append(_text(x0 + w / 2, top, axis.label, BASE_FONT, "middle"))
                 top -= size * 1.2
-        out.append(f'<path d="{"".join(marks)}" stroke="#000" stroke-width="0.8"/>')
+        out.append(_marks(marks))
         return top
 
     def _draw_line(self, out, sx, sy, x, y, col, lw, ls, marker, ms, drawstyle) -> None:
         px, py = sx(x), sy(y)
         if ls not in ("none", "None", "", " ") and len(x) > 1:
-            if drawstyle == "steps-post":
-                pts = [(px[0], py[0])]
-                for k in range(1, len(px)):
-                    pts += [(px[k], py[k - 1]), (px[k], py[k])]
-            else:
-                pts = list(zip(px, py))
+            pts = list(zip(px, py))
+            if drawstyle == "steps-post":  # across at each point's y to the next x, then up or down
+                pts = pts[:1] + [p for k in range(1, len(px)) for p in ((px[k], py[k - 1]), (px[k], py[k]))]
             d = "M" + "L".join(f"{_f(a)} {_f(b)}" for a, b in pts if np.isfinite(a) and np.isfinite(b))
-            out.append(
-                f'<path d="{d}" fill="none" stroke="{col}" stroke-width="{_f(lw * PT)}"{_dash(ls, lw)} stroke-linejoin="round"/>'
-            )
+            out.append(f'<path d="{d}" fill="none"{_stroke(col, lw, ls)} stroke-linejoin="round"/>')
         if marker:
             size = ms if marker != "." else ms * 0.5
             for a, b in zip(px, py):
@@ -660,39 +582,31 @@ class Axes:
         for a, b, fill in zip(sx(x), sy(y), fills):
             out.append(_marker(marker, float(a), float(b), size * PT, fill, edge or fill, lw * PT))
 
-    def _draw_hline(self, out, sx, sy, y, col, lw, ls) -> None:
-        x0, _, w, _ = self.box
-        py = float(sy(y))
-        out.append(
-            f'<path d="M{_f(x0)} {_f(py)}H{_f(x0 + w)}" stroke="{col}" stroke-width="{_f(lw * PT)}"{_dash(ls, lw)}/>'
+    def _draw_hline(self, out, sx, sy, kind, v, col, lw, ls) -> None:
+        """A line across the axes: horizontal at y = ``v`` (``kind`` "h") or vertical at x = ``v`` ("v")."""
+        x0, y0, w, h = self.box
+        d = (
+            f"M{_f(x0)} {_f(float(sy(v)))}H{_f(x0 + w)}"
+            if kind == "h"
+            else f"M{_f(float(sx(v)))} {_f(y0)}V{_f(y0 + h)}"
         )
-
-    def _draw_vline(self, out, sx, sy, x, col, lw, ls) -> None:
-        _, y0, _, h = self.box
-        px = float(sx(x))
-        out.append(
-            f'<path d="M{_f(px)} {_f(y0)}V{_f(y0 + h)}" stroke="{col}" stroke-width="{_f(lw * PT)}"{_dash(ls, lw)}/>'
-        )
+        out.append(f'<path d="{d}"{_stroke(col, lw, ls)}/>')
 
     def _draw_vspan(self, out, sx, sy, a, b, col, alpha) -> None:
         _, y0, _, h = self.box
         pa, pb = sorted((float(sx(a)), float(sx(b))))
-        out.append(
-            f'<rect x="{_f(pa)}" y="{_f(y0)}" width="{_f(pb - pa)}" height="{_f(h)}" fill="{col}" fill-opacity="{alpha:g}"/>'
-        )
+        out.append(_rect(pa, y0, pb - pa, h, f' fill="{col}" fill-opacity="{alpha:g}"'))
 
-    def _draw_rect(self, out, sx, sy, x, y, width, height, edge, ls, lw, face) -> None:
+    def _draw_rect(self, out, sx, sy, x, y, width, height, edge, ls, lw) -> None:
         xa, xb = sorted((float(sx(x)), float(sx(x + width))))
         ya, yb = sorted((float(sy(y)), float(sy(y + height))))
-        out.append(
-            f'<rect x="{_f(xa)}" y="{_f(ya)}" width="{_f(xb - xa)}" height="{_f(yb - ya)}" fill="{face}" stroke="{edge}" stroke-width="{_f(lw * PT)}"{_dash(ls, lw)}/>'
-        )
+        out.append(_rect(xa, ya, xb - xa, yb - ya, f' fill="none"{_stroke(edge, lw, ls)}'))
 
     def _draw_bars(self, out, sx, sy, x, h, width, col) -> None:
         for a, v in zip(x, h):
             xa, xb = sorted((float(sx(a - width / 2)), float(sx(a + width / 2))))
             ya, yb = sorted((float(sy(0.0)), float(sy(v))))
-            out.append(f'<rect x="{_f(xa)}" y="{_f(ya)}" width="{_f(xb - xa)}" height="{_f(yb - ya)}" fill="{col}"/>')
+            out.append(_rect(xa, ya, xb - xa, yb - ya, f' fill="{col}"'))
 
     def _draw_bands(self, out, sx, sy, bands, alpha) -> None:
         for (points, codes), col in bands:
@@ -765,9 +679,11 @@ class Axes:
             width = max(text_width(line, fontsize) for line in lines) + 0.6 * size
             left = {"start": px - 0.3 * size, "middle": px - width / 2, "end": px - width + 0.3 * size}[anchor]
             out.append(
-                f'<rect x="{_f(left)}" y="{_f(first - 0.95 * size)}" width="{_f(width)}" height="{_f(n * 1.2 * size + 0.3 * size)}" fill="#ffffff" fill-opacity="0.8"/>'
+                _rect(
+                    left, first - 0.95 * size, width, n * 1.2 * size + 0.3 * size, ' fill="#ffffff" fill-opacity="0.8"'
+                )
             )
-        out.append(_multiline(px, first, "\n".join(lines), fontsize, anchor, col, weight))
+        out.append(_text(px, first, "\n".join(lines), fontsize, anchor, col, weight))
 
     def _draw_annotate(
         self, out, sx, sy, text, xy, xytext, textcoords, arrowprops, fontsize, col, ha, va, weight
@@ -811,18 +727,10 @@ class Axes:
                 )
         out.append("</g>")
 
-    def _legend_entries(self, handles):
-        return [hd for hd in (handles if handles is not None else self.handles) if hd.get_label()]
 
-    def _draw_legend(self, out, handles, loc, fontsize, framealpha, title, title_fontsize, anchor, ncol) -> None:
-        box = tuple(self.box)
-        draw_legend(
-            out, self._legend_entries(handles), box, loc, fontsize, framealpha, title, title_fontsize, anchor, ncol
-        )
-
-
-def draw_legend(out, entries, box, loc, fontsize, framealpha=0.8, title=None, title_fontsize=None, anchor=None, ncol=1):
-    """A legend box of ``entries`` (handles) placed at ``loc`` of ``box`` (x, y, w, h [px])."""
+def draw_legend(out, handles, box, loc, fontsize, framealpha=0.8, title=None, title_fontsize=None, anchor=None, ncol=1):
+    """A legend box of the labelled ``handles`` placed at ``loc`` of ``box`` (x, y, w, h [px])."""
+    entries = [hd for hd in handles if hd.get_label()]
     if not entries:
         return
     size = fontsize * PT
@@ -854,17 +762,15 @@ def draw_legend(out, entries, box, loc, fontsize, framealpha=0.8, title=None, ti
         ay_ = {"upper": y0 + gap, "lower": y0 + h - gap, "center": y0 + h / 2}[loc.split()[0]]
     left = {"right": ax_ - width, "left": ax_, "center": ax_ - width / 2}[loc.split()[-1]]
     top = {"upper": ay_, "lower": ay_ - height, "center": ay_ - height / 2}[loc.split()[0]]
-    out.append(
-        f'<g class="legend"><rect x="{_f(left)}" y="{_f(top)}" width="{_f(width)}" height="{_f(height)}" rx="3" '
-        f'fill="#ffffff" fill-opacity="{framealpha:g}" stroke="#cccccc" stroke-width="0.8"/>'
-    )
+    frame = f' rx="3" fill="#ffffff" fill-opacity="{framealpha:g}" stroke="#cccccc" stroke-width="0.8"'
+    out.append('<g class="legend">' + _rect(left, top, width, height, frame))
     if title:
         out.append(_text(left + width / 2, top + pad + 0.8 * title_h, title, title_fontsize or fontsize, "middle"))
     x, y = left + pad, top + pad + title_h
     for hd, lines, wd, ht in zip(entries, lines_of, widths, heights):
         cy = y + row / 2
         _legend_key(out, hd, x, cy, key, size)
-        out.append(_multiline(x + key + 0.6 * size, cy + 0.35 * size, "\n".join(lines), fontsize, "start"))
+        out.append(_text(x + key + 0.6 * size, cy + 0.35 * size, "\n".join(lines), fontsize, "start"))
         if ncol > 1:
             x += key + 0.6 * size + wd + 1.2 * size
         else:
@@ -876,9 +782,7 @@ def _legend_key(out, hd: _Handle, x: float, cy: float, key: float, size: float) 
     st = hd.style
     if hd.kind == "line":
         if st.get("ls") not in ("none", "None", "", " "):
-            out.append(
-                f'<path d="M{_f(x)} {_f(cy)}h{_f(key)}" stroke="{st["color"]}" stroke-width="{_f(st["lw"] * PT)}"{_dash(st["ls"], st["lw"])}/>'
-            )
+            out.append(f'<path d="M{_f(x)} {_f(cy)}h{_f(key)}"{_stroke(st["color"], st["lw"], st["ls"])}/>')
         if st.get("marker"):
             ms = st["ms"] if st["marker"] != "." else st["ms"] * 0.5
             out.append(_marker(st["marker"], x + key / 2, cy, ms * PT, st["color"], st["color"], 0.5 * PT))
@@ -888,37 +792,57 @@ def _legend_key(out, hd: _Handle, x: float, cy: float, key: float, size: float) 
             _marker(st["marker"], x + key / 2, cy, ms * PT, st["fill"], st.get("edge") or st["fill"], st["lw"] * PT)
         )
     else:
+        fill = f' fill="{st["fill"]}" fill-opacity="{max(st.get("alpha", 1.0), 0.25):g}"'
+        out.append(_rect(x, cy - 0.35 * size, key, 0.7 * size, fill))
+
+
+def _set_limits(lim: list, low, high) -> None:
+    """Set ``lim`` ([low, high]) to ``low``, ``high`` [data units] (or the pair ``low``); None keeps a limit."""
+    low, high = low if isinstance(low, (tuple, list)) else (low, high)
+    lim[:] = [float(v) if v is not None else old for v, old in zip((low, high), lim)]
+
+
+def _vticks(out, x: float, sign: int, ys, labels) -> tuple[str, float]:
+    """Tick labels along a vertical edge at ``x`` [px] (``sign`` 1: labels right of it, -1: left) at ``ys`` [px];
+    returns the tick marks' path data and the widest label [px]."""
+    for py, lab in zip(ys, labels):
         out.append(
-            f'<rect x="{_f(x)}" y="{_f(cy - 0.35 * size)}" width="{_f(key)}" height="{_f(0.7 * size)}" fill="{st["fill"]}" fill-opacity="{max(st.get("alpha", 1.0), 0.25):g}"/>'
+            _text(x + sign * 5.5 * PT, py + 0.35 * (BASE_FONT * PT), lab, BASE_FONT, "start" if sign > 0 else "end")
         )
+    marks = "".join(f"M{_f(x)} {_f(py)}h{_f(sign * 3.5 * PT)}" for py in ys)
+    return marks, max((text_width(lab, BASE_FONT) for lab in labels), default=0)
 
 
-def _dash(ls: str, lw: float) -> str:
+def _marks(d: str) -> str:
+    """Tick marks of path data ``d``."""
+    return f'<path d="{d}" stroke="#000" stroke-width="0.8"/>'
+
+
+def _rect(x: float, y: float, width: float, height: float, attrs: str = "") -> str:
+    """A ``<rect>`` at (x, y) of ``width`` × ``height`` [px]; ``attrs``: its further attributes."""
+    return f'<rect x="{_f(x)}" y="{_f(y)}" width="{_f(width)}" height="{_f(height)}"{attrs}/>'
+
+
+def _stroke(col: str, lw: float, ls: str) -> str:
+    """The stroke attributes of a line of colour ``col``, width ``lw`` [pt] and style ``ls`` (its dashes)."""
     pattern = _DASH.get(ls)
-    if not pattern:
-        return ""
     scale = max(lw, 1.0) * PT
-    return f' stroke-dasharray="{",".join(_f(p * scale) for p in pattern)}"'
+    dash = f' stroke-dasharray="{",".join(_f(p * scale) for p in pattern)}"' if pattern else ""
+    return f' stroke="{col}" stroke-width="{_f(lw * PT)}"{dash}'
 
 
 def _text(x, y, s, fontsize, anchor="start", col="#000000", weight="normal", rotate: float = 0.0) -> str:
+    """A ``<text>`` element; each line of a multi-line ``s`` a ``<tspan>``, 1.2 font sizes apart."""
+    lines = str(s).split("\n")
     extra = f' transform="rotate({rotate:g} {_f(x)} {_f(y)})"' if rotate else ""
     fill = "" if col in ("#000000", None) else f' fill="{col}"'
     bold = ' font-weight="bold"' if weight == "bold" else ""
-    return f'<text x="{_f(x)}" y="{_f(y)}" font-size="{_f(fontsize * PT)}" text-anchor="{anchor}"{fill}{bold}{extra}>{escape(s)}</text>'
-
-
-def _multiline(x, y, s, fontsize, anchor="start", col="#000000", weight="normal") -> str:
-    lines = str(s).split("\n")
-    if len(lines) == 1:
-        return _text(x, y, lines[0], fontsize, anchor, col, weight)
-    fill = "" if col in ("#000000", None) else f' fill="{col}"'
-    bold = ' font-weight="bold"' if weight == "bold" else ""
-    spans = "".join(
+    body = "".join(
         f'<tspan x="{_f(x)}" dy="{"0" if i == 0 else _f(1.2 * fontsize * PT)}">{escape(line)}</tspan>'
         for i, line in enumerate(lines)
     )
-    return f'<text x="{_f(x)}" y="{_f(y)}" font-size="{_f(fontsize * PT)}" text-anchor="{anchor}"{fill}{bold}>{spans}</text>'
+    body = escape(lines[0]) if len(lines) == 1 else body
+    return f'<text x="{_f(x)}" y="{_f(y)}" font-size="{_f(fontsize * PT)}" text-anchor="{anchor}"{fill}{bold}{extra}>{body}</text>'
 
 
 def _wrap(line: str, fontsize: float, width: float) -> list[str]:
@@ -970,7 +894,7 @@ def _marker(kind: str, x: float, y: float, size: float, fill: str, edge: str, lw
     if kind in ("o", "."):
         return f'<circle cx="{_f(x)}" cy="{_f(y)}" r="{_f(r)}" {stroke}/>'
     if kind == "s":
-        return f'<rect x="{_f(x - r)}" y="{_f(y - r)}" width="{_f(size)}" height="{_f(size)}" {stroke}/>'
+        return _rect(x - r, y - r, size, size, " " + stroke)
     if kind == "_":
         return f'<path d="M{_f(x - r)} {_f(y)}h{_f(size)}" stroke="{fill}" stroke-width="{_f(max(lw, 1.5))}"/>'
     if kind == "x":
@@ -1016,7 +940,12 @@ class Figure:
             if value is not None:
                 self.margins[key] = value
 
-    def _grid(self, nrows: int, ncols: int, width_ratios=None):
+    def add_subplot(self) -> Axes:
+        """One axes filling the figure inside its margins."""
+        return self.subplots()
+
+    def subplots(self, nrows: int = 1, ncols: int = 1, sharex: bool = False, width_ratios=None):
+        """A grid of axes (one Axes, a 1-d array or an nrows × ncols array, as matplotlib's)."""
         m = self.margins
         left, right = m["left"] * self.width, m["right"] * self.width
         top, bottom = (1 - m["top"]) * self.height, (1 - m["bottom"]) * self.height
@@ -1025,24 +954,12 @@ class Figure:
         gap_w = m["wspace"] * cell_w * sum(ratios) / ncols
         cell_h = (bottom - top) / (nrows + m["hspace"] * (nrows - 1))
         gap_h = m["hspace"] * cell_h
-        boxes = []
+        axes = []
         for r in range(nrows):
             x = left
             for c in range(ncols):
-                boxes.append((x, top + r * (cell_h + gap_h), cell_w * ratios[c], cell_h))
+                axes.append(Axes(self, (x, top + r * (cell_h + gap_h), cell_w * ratios[c], cell_h)))
                 x += cell_w * ratios[c] + gap_w
-        return boxes
-
-    def add_subplot(self) -> Axes:
-        """One axes filling the figure inside its margins."""
-        ax = Axes(self, self._grid(1, 1)[0])
-        self.axes.append(ax)
-        return ax
-
-    def subplots(self, nrows: int = 1, ncols: int = 1, sharex: bool = False, width_ratios=None):
-        """A grid of axes (one Axes, a 1-d array or an nrows × ncols array, as matplotlib's)."""
-        boxes = self._grid(nrows, ncols, width_ratios)
-        axes = [Axes(self, b) for b in boxes]
         self.axes.extend(axes)
         if sharex:
             for ax in axes[1:]:
@@ -1061,7 +978,7 @@ class Figure:
 
     def legend(self, handles, loc: str = "lower center", ncol: int = 1, fontsize: float = BASE_FONT, **_) -> None:
         """A figure legend of ``handles`` at ``loc`` (``"lower center"``), in ``ncol`` columns."""
-        self.legend_args = dict(handles=handles, loc=loc, ncol=ncol, fontsize=fontsize)
+        self.legend_args = dict(handles=handles, loc=loc, ncol=ncol, fontsize=fontsize, framealpha=1.0)
 
     def colorbar(self, mappable: _Mappable, ax: Axes, pad: float = 0.05, label: str = "", **_):
         """A vertical colour bar right of ``ax``, which gives up 15 % of its width for it."""
@@ -1078,22 +995,13 @@ class Figure:
         lo, hi = float(lv[0]), float(lv[-1])
         for a, b, col in zip(lv[:-1], lv[1:], mappable.colours):
             ya, yb = y + h * (1 - (b - lo) / (hi - lo)), y + h * (1 - (a - lo) / (hi - lo))
-            out.append(
-                f'<rect x="{_f(x)}" y="{_f(ya)}" width="{_f(w)}" height="{_f(yb - ya + 0.3)}" fill="{col}" fill-opacity="{mappable.alpha:g}"/>'
-            )
-        out.append(
-            f'<rect x="{_f(x)}" y="{_f(y)}" width="{_f(w)}" height="{_f(h)}" fill="none" stroke="#000" stroke-width="0.8"/>'
-        )
+            out.append(_rect(x, ya, w, yb - ya + 0.3, f' fill="{col}" fill-opacity="{mappable.alpha:g}"'))
+        out.append(_rect(x, y, w, h, ' fill="none" stroke="#000" stroke-width="0.8"'))
         ticks = nice_ticks(lo, hi, _bins(h, True))
-        size = BASE_FONT * PT
-        marks = []
-        for t, lab in zip(ticks, _tick_labels(ticks)):
-            py = y + h * (1 - (t - lo) / (hi - lo))
-            marks.append(f"M{_f(x + w)} {_f(py)}h{_f(3.5 * PT)}")
-            out.append(_text(x + w + 5.5 * PT, py + 0.35 * size, lab, BASE_FONT, "start"))
-        out.append(f'<path d="{"".join(marks)}" stroke="#000" stroke-width="0.8"/>')
-        width = max((text_width(lab, BASE_FONT) for lab in _tick_labels(ticks)), default=0)
+        marks, width = _vticks(out, x + w, 1, [y + h * (1 - (t - lo) / (hi - lo)) for t in ticks], _tick_labels(ticks))
+        out.append(_marks(marks))
         if label:
+            size = BASE_FONT * PT
             out.append(_text(x + w + 5.5 * PT + width + 1.15 * size, y + h / 2, label, BASE_FONT, "middle", rotate=-90))
 
     def to_svg(self, uid: str = "fig", title: str | None = None) -> str:
@@ -1110,15 +1018,10 @@ class Figure:
         for mappable, box, bar in self.bars:
             self._draw_colorbar(out, mappable, box, bar.label)
         if self.title:
-            out.append(
-                _text(
-                    self.width / 2, 0.3 * DPI * 0.55 + self.title_size * PT * 0.5, self.title, self.title_size, "middle"
-                )
-            )
+            y = 0.3 * DPI * 0.55 + self.title_size * PT * 0.5
+            out.append(_text(self.width / 2, y, self.title, self.title_size, "middle"))
         if self.legend_args is not None:
-            a = self.legend_args
-            entries = [hd for hd in a["handles"] if hd.get_label()]
-            draw_legend(out, entries, (0, 0, self.width, self.height), a["loc"], a["fontsize"], 1.0, ncol=a["ncol"])
+            draw_legend(out, box=(0, 0, self.width, self.height), **self.legend_args)
         out.append("</svg>")
         return "\n".join(out)
 
@@ -1126,29 +1029,38 @@ class Figure:
 # --------------------------------------------------------------------------- the records' small charts
 
 
-def _corner_labels(
-    x0: float, x1: float, y0: float, y1: float, width: int, height: int, left: int, right: int, top: int, bottom: int
-) -> list[str]:
-    """The four end values of a small SVG plot's axes, at the corners of the plot box."""
-    return [
-        f'<text x="{left}" y="{height - bottom + 12}">{x0:.3g}</text>',
-        f'<text x="{width - right}" y="{height - bottom + 12}" text-anchor="end">{x1:.3g}</text>',
-        f'<text x="{left - 3}" y="{height - bottom}" text-anchor="end">{y0:.3g}</text>',
-        f'<text x="{left - 3}" y="{top + 9}" text-anchor="end">{y1:.3g}</text>',
+def _small_chart(xlabel, ylabel, width, height, box, xlabel_gap, body, ends=None, frame=False) -> str:
+    """A small SVG plot: ``body`` (elements) in the plot ``box`` (left, right, top, bottom margins [px]), the four
+    ``ends`` (x0, x1, y0, y1) of its axes at the box's corners, the x label under it, the y label turned along
+    the left edge; ``frame`` draws the box."""
+    left, right, top, bottom = box
+    out = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
+        f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="10">',
+        f"<title>{escape(ylabel)} against {escape(xlabel)}</title>",
     ]
-
-
-def _small_axis_labels(
-    xlabel: str, ylabel: str, width: int, height: int, left: int, right: int, top: int, bottom: int, xlabel_gap: int
-) -> list[str]:
-    """The x label under the box, the y label turned along the left edge, and the closing tag."""
-    return [
+    if frame:
+        out.append(
+            f'<rect x="{left}" y="{top}" width="{width - left - right}" height="{height - top - bottom}" '
+            f'fill="none" stroke="#999"/>'
+        )
+    out += body
+    if ends is not None:
+        x0, x1, y0, y1 = ends
+        out += [
+            f'<text x="{left}" y="{height - bottom + 12}">{x0:.3g}</text>',
+            f'<text x="{width - right}" y="{height - bottom + 12}" text-anchor="end">{x1:.3g}</text>',
+            f'<text x="{left - 3}" y="{height - bottom}" text-anchor="end">{y0:.3g}</text>',
+            f'<text x="{left - 3}" y="{top + 9}" text-anchor="end">{y1:.3g}</text>',
+        ]
+    out += [
         f'<text x="{(left + width - right) / 2:.0f}" y="{height - xlabel_gap}" text-anchor="middle">'
         f"{escape(xlabel)}</text>",
         f'<text transform="translate(11,{(top + height - bottom) / 2:.0f}) rotate(-90)" '
         f'text-anchor="middle">{escape(ylabel)}</text>',
         "</svg>",
     ]
+    return "".join(out)
 
 
 def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: int = 240, height: int = 170) -> str:
@@ -1157,39 +1069,29 @@ def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: 
     ``marks``: (x, y, label) points drawn as dots (e.g. the knee).  Non-finite points are dropped.
     """
     pts = [(float(a), float(b)) for a, b in zip(x, y) if math.isfinite(a) and math.isfinite(b)]
-    left, right, top, bottom = 42, 8, 8, 32
-    out = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
-        f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="10">',
-        f"<title>{escape(ylabel)} against {escape(xlabel)}</title>",
-        f'<rect x="{left}" y="{top}" width="{width - left - right}" height="{height - top - bottom}" '
-        f'fill="none" stroke="#999"/>',
+    box = left, right, top, bottom = 42, 8, 8, 32
+    if not pts:
+        return _small_chart(xlabel, ylabel, width, height, box, 4, [], frame=True)
+    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    x0, x1 = min(xs), max(xs)
+    y0, y1 = min(ys), max(ys)
+    x0, x1 = (x0 - 0.5, x1 + 0.5) if x1 == x0 else (x0, x1)
+    y0, y1 = (y0 - 0.5, y1 + 0.5) if y1 == y0 else (y0, y1)
+
+    def px(a: float) -> float:
+        return left + 4 + (a - x0) / (x1 - x0) * (width - left - right - 8)
+
+    def py(b: float) -> float:
+        return height - bottom - 4 - (b - y0) / (y1 - y0) * (height - top - bottom - 8)
+
+    line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
+    body = [f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.5"/>']
+    body += [f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="1.6" fill="#1f77b4"/>' for a, b in pts]
+    body += [
+        f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="3.5" fill="#d62728"><title>{escape(label)}</title></circle>'
+        for a, b, label in marks
     ]
-    if pts:
-        xs, ys = [p[0] for p in pts], [p[1] for p in pts]
-        x0, x1 = min(xs), max(xs)
-        y0, y1 = min(ys), max(ys)
-        x0, x1 = (x0 - 0.5, x1 + 0.5) if x1 == x0 else (x0, x1)
-        y0, y1 = (y0 - 0.5, y1 + 0.5) if y1 == y0 else (y0, y1)
-
-        def px(a: float) -> float:
-            return left + 4 + (a - x0) / (x1 - x0) * (width - left - right - 8)
-
-        def py(b: float) -> float:
-            return height - bottom - 4 - (b - y0) / (y1 - y0) * (height - top - bottom - 8)
-
-        line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
-        out.append(f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.5"/>')
-        for a, b in pts:
-            out.append(f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="1.6" fill="#1f77b4"/>')
-        for a, b, label in marks:
-            out.append(
-                f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="3.5" fill="#d62728">'
-                f"<title>{escape(label)}</title></circle>"
-            )
-        out += _corner_labels(x0, x1, y0, y1, width, height, left, right, top, bottom)
-    out += _small_axis_labels(xlabel, ylabel, width, height, left, right, top, bottom, xlabel_gap=4)
-    return "".join(out)
+    return _small_chart(xlabel, ylabel, width, height, box, 4, body, (x0, x1, y0, y1), frame=True)
 
 
 def svg_sparkline(
@@ -1210,37 +1112,31 @@ def svg_sparkline(
     pts = [(float(a), float(b)) for a, b in zip(x, y) if math.isfinite(a) and math.isfinite(b)]
     step = max(1, math.ceil(len(pts) / max_points))
     pts = pts[::step] + (pts[-1:] if pts and (len(pts) - 1) % step else [])
-    left, right, top, bottom = 38, 6, 6, 28
-    out = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
-        f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="10">',
-        f"<title>{escape(ylabel)} against {escape(xlabel)}</title>",
+    box = left, right, top, bottom = 38, 6, 6, 28
+    if not pts:
+        return _small_chart(xlabel, ylabel, width, height, box, 3, [])
+    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    x0, x1 = min(xs), max(xs)
+    banded = band is not None and math.isfinite(band)
+    reach = max([abs(v) for v in ys] + ([abs(band)] if banded else []))
+    y0, y1 = (-reach, reach) if reach > 0 else (-1.0, 1.0)
+    x1 = x1 if x1 > x0 else x0 + 1.0
+
+    def px(a: float) -> float:
+        return left + (a - x0) / (x1 - x0) * (width - left - right)
+
+    def py(b: float) -> float:
+        return height - bottom - (b - y0) / (y1 - y0) * (height - top - bottom)
+
+    body = [f'<line x1="{left}" y1="{py(0):.1f}" x2="{width - right}" y2="{py(0):.1f}" stroke="#999"/>']
+    body += [
+        f'<line x1="{left}" y1="{py(b):.1f}" x2="{width - right}" y2="{py(b):.1f}" '
+        f'stroke="#d62728" stroke-dasharray="4 3"/>'
+        for b in ((band, -band) if banded else ())
     ]
-    if pts:
-        xs, ys = [p[0] for p in pts], [p[1] for p in pts]
-        x0, x1 = min(xs), max(xs)
-        reach = max([abs(v) for v in ys] + ([abs(band)] if band is not None and math.isfinite(band) else []))
-        y0, y1 = (-reach, reach) if reach > 0 else (-1.0, 1.0)
-        x1 = x1 if x1 > x0 else x0 + 1.0
-
-        def px(a: float) -> float:
-            return left + (a - x0) / (x1 - x0) * (width - left - right)
-
-        def py(b: float) -> float:
-            return height - bottom - (b - y0) / (y1 - y0) * (height - top - bottom)
-
-        out.append(f'<line x1="{left}" y1="{py(0):.1f}" x2="{width - right}" y2="{py(0):.1f}" stroke="#999"/>')
-        if band is not None and math.isfinite(band):
-            for b in (band, -band):
-                out.append(
-                    f'<line x1="{left}" y1="{py(b):.1f}" x2="{width - right}" y2="{py(b):.1f}" '
-                    f'stroke="#d62728" stroke-dasharray="4 3"/>'
-                )
-        line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
-        out.append(f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.2"/>')
-        out += _corner_labels(x0, x1, y0, y1, width, height, left, right, top, bottom)
-    out += _small_axis_labels(xlabel, ylabel, width, height, left, right, top, bottom, xlabel_gap=3)
-    return "".join(out)
+    line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
+    body.append(f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.2"/>')
+    return _small_chart(xlabel, ylabel, width, height, box, 3, body, (x0, x1, y0, y1))
 
 
 __all__ = ["Axes", "DPI", "Figure", "colour", "draw_legend", "nice_ticks", "svg_curve", "svg_sparkline", "text_width"]
