@@ -319,6 +319,35 @@ def _edges(problem: Problem, design: Design, caster: LawCaster, offset: float = 
     return out
 
 
+def tolerance_corners(problem: Problem, columns: dict[str, Any]) -> list[dict[str, Any]]:
+    """The two worst corners of ``problem``'s ``[tolerances]`` about candidate arrays ``columns`` {trail, diameter,
+    groove, damping, inertia[, measured]} [SI], as the same columns: trail − ±, groove − ±, M_f − its fraction, the
+    diameter at either edge with the inertia model's I_w there (a measured wheel keeps its own), or a measured
+    wheel at the accepted I_w.  What the stock screens of a fleet and a retrofit evaluate with the bound's V_q (a
+    conservative screen: a caster it keeps holds at its corner by the exact law too)."""
+    tol = problem.tolerances
+    assert tol is not None
+    t_lo = float(PARAMETERS["trail"].range[0])  # type: ignore[index]
+    parts = {
+        "trail": np.maximum(columns["trail"] - (tol.trail or 0.0), t_lo),
+        "groove": np.maximum(columns["groove"] - (tol.groove or 0.0), 0.0),
+        "damping": columns["damping"] * (1 - (tol.friction_moment or 0.0)),
+    }
+    measured = np.broadcast_to(np.asarray(columns.get("measured", True), bool), np.shape(columns["trail"]))
+    model = problem.conditions.inertia
+    out = []
+    for sign in (-1.0, 1.0):
+        d = columns["diameter"] + sign * (tol.diameter or 0.0)
+        with warnings.catch_warnings():  # a wheel's edge just outside Table 1: said for the caster itself
+            warnings.simplefilter("ignore", UserWarning)
+            inertia = np.where(measured, columns["inertia"], np.asarray(model(d), float))
+        flags = measured
+        if tol.wheel is not None:
+            inertia, flags = np.full(np.shape(d), tol.wheel), np.ones(np.shape(d), bool)
+        out.append(parts | {"diameter": d, "inertia": inertia, "measured": flags})
+    return out
+
+
 def _diameter_tolerance(problem: Problem) -> float:
     """The diameter's stated ± [m] (0 when none is stated)."""
     tol = problem.tolerances

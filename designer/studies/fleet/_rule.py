@@ -16,13 +16,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from designer.data.paper import INCH
-from designer.parameters import PARAMETERS
 from designer.errors import ProblemError
 from designer.model import VARIABLES, evaluate, shimmy_probability
 from designer.physics.acceptance import LawCaster, exact_probability
 from designer.physics.turning import MODES, SURFACES
 from designer.problem import Stock
 from designer.studies.recommend import select_rows, stock_candidates
+from designer.studies.spec import tolerance_corners
 
 from designer.studies.fleet._table import Fleet
 from designer.model import weighted
@@ -143,32 +143,19 @@ def _toleranced(table: StockTable, problem) -> None:
     bound's V_q (:func:`designer.physics.uncertainty.shimmy_speed_quantile`, vectorised): a conservative screen —
     a caster it keeps holds at its corner by the exact law too — used to choose, never printed."""
     tol = problem.tolerances
-    t_lo = float(PARAMETERS["trail"].range[0])  # type: ignore[index]
-    trail = np.maximum(table.trail - (tol.trail or 0.0), t_lo)
-    groove = np.maximum(table.groove - (tol.groove or 0.0), 0.0)
-    damping = table.damping * (1 - (tol.friction_moment or 0.0))
-    tol_d = tol.diameter or 0.0
-    model = problem.conditions.inertia
     speeds = [np.asarray(table.confident_speed, float)]
-    for sign in (-1.0, 1.0):
-        d = table.diameter + sign * tol_d
-        measured = np.asarray(table.measured, bool)
-        with warnings.catch_warnings():  # a 4 in wheel's low edge leaves Table 1 by a hair: said elsewhere
-            warnings.simplefilter("ignore", UserWarning)
-            inertia = np.where(measured, table.inertia, np.asarray(model(d), float))
-        if tol.wheel is not None:
-            inertia, measured = np.full_like(inertia, tol.wheel), np.ones_like(measured)
+    for corner in tolerance_corners(problem, {k: getattr(table, k) for k in (*VARIABLES, "inertia", "measured")}):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)
-            corner = evaluate(
-                {"trail": trail, "diameter": d, "groove": groove, "damping": damping},
+            at = evaluate(
+                {k: corner[k] for k in VARIABLES},
                 problem.conditions,
-                inertia=inertia,
-                measured=measured,
+                inertia=corner["inertia"],
+                measured=corner["measured"],
             )
-        speeds.append(np.asarray(corner.confident_speed, float))
+        speeds.append(np.asarray(at.confident_speed, float))
     table.confident_speed = np.minimum.reduce(speeds)
-    table.swept_radius = np.asarray(table.swept_radius, float) + (tol.trail or 0.0) + tol_d / 2
+    table.swept_radius = np.asarray(table.swept_radius, float) + (tol.trail or 0.0) + (tol.diameter or 0.0) / 2
 
 
 def _default_stock(problem):
