@@ -30,10 +30,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from designer.errors import InputError
-from designer.model import scatter_of
 from designer.reprs import Key, Record
 from designer.studies.recommend import recommend
-from designer.studies.spec import MEASURE
+from designer.studies.spec import MEASURE, risk_law
 from designer.physics.acceptance import measured_probabilities
 from designer.textfiles import csv_table, read_input_text
 from designer.units import parse_quantity
@@ -257,7 +256,7 @@ def inspect(problem: Problem, table: Any, rec: Recommendation | None = None) -> 
         rec = recommend(problem)
     theta0 = float(problem.conditions.disturbance_angle)
     rows, bad, source = read_measured(table, theta0)
-    law = problem.risk if problem.risk is not None else scatter_of(problem.conditions)
+    law = risk_law(problem)
     alpha, speed, ks = float(law.probability), problem.required_speed, float(problem.conditions.slip_coefficient)
     spec = rec.spec
     nominal = {

@@ -354,7 +354,7 @@ def _diameter_tolerance(problem: Problem) -> float:
     return 0.0 if tol is None or tol.diameter is None else float(tol.diameter)
 
 
-def _law(problem: Problem, law: Uncertainty | None) -> Uncertainty:
+def risk_law(problem: Problem, law: Uncertainty | None = None) -> Uncertainty:
     """The risk law of the limits: ``law`` when given (a calibrated retrofit's), else the problem's bound, else
     the default scatter."""
     if law is not None:
@@ -378,7 +378,7 @@ def caster_corner(
     offset = stem_offset(design, stem_angle)
     caster = law_caster(problem, design, inertia, measured, offset)
     edges = _edges(problem, design, caster, offset)
-    return worst_corner(caster, edges, problem.required_speed / calibration, _law(problem, law))
+    return worst_corner(caster, edges, problem.required_speed / calibration, risk_law(problem, law))
 
 
 def corner_probabilities(
@@ -405,8 +405,7 @@ def mc_draws(p: float, se: float) -> int:
 
 def exact_shimmy_probability(problem: Problem, design: Design, inertia: float, measured: bool, speed: float) -> float:
     """P(V_c,true < speed) of one caster by the exact law (quadrature) under the problem's risk law [-]."""
-    u = problem.risk if problem.risk is not None else scatter_of(problem.conditions)
-    return exact_probability(law_caster(problem, design, inertia, measured), speed, u)
+    return exact_probability(law_caster(problem, design, inertia, measured), speed, risk_law(problem))
 
 
 def _reason(code: str, part: str, ranges: dict[str, Any], scale: float, unit: str) -> str:
@@ -481,7 +480,7 @@ def caster_specs(
     each = problems if isinstance(problems, list) else [problems] * n
     offsets = [stem_offset(d, stem_angle) for d in designs]
     casters = [law_caster(p, d, i, m, o) for p, d, i, m, o in zip(each, designs, inertia, measured, offsets)]
-    laws = [_law(p, law) for p in each]
+    laws = [risk_law(p, law) for p in each]
     found: list[list[PartLimit]] = [[] for _ in range(n)]
     joints: list[JointLimits | None] = [None] * n
     for u in dict.fromkeys(laws):
@@ -536,7 +535,7 @@ def caster_spec(
     exact P at V_target the caller reports (the evaluator's), so the record and its spec say one number.
     ``found``, ``joint``: the physics' limits and the joint box when the caller searched them in a batch
     (:func:`caster_specs`)."""
-    u = _law(problem, law)
+    u = risk_law(problem, law)
     offset = stem_offset(design, stem_angle)
     caster = law_caster(problem, design, inertia, measured, offset)
     ranges = {name: PARAMETERS[name].range for name in ("trail", "groove", "damping")}
