@@ -37,7 +37,7 @@ from designer.physics.acceptance import (
 from designer.model import Design, scatter_of
 from designer.physics.geometry import effective_trail
 from designer.physics.uncertainty import Uncertainty
-from designer.studies.acceptance import JointLimits, joint_limits, joint_limits_many
+from designer.studies.acceptance import UNITS, JointLimits, joint_limits, joint_limits_many
 from designer.problem import Problem, Tolerances
 from designer.units import limit_shown
 from designer.reprs import Key, Record
@@ -51,9 +51,6 @@ SPEC_PROBABILITY = {
     "at_speed": "target_speed",
 }
 """The keys of a spec's ``shimmy_probability`` record and the attributes they hold."""
-
-UNITS = {"trail": "m", "groove": "m", "diameter": "m", "friction_moment": "N·m", "wheel_inertia": "kg·m²"}
-"""SI unit of each inspectable part (the JSON's ``units`` entry)."""
 
 MEASURE = {
     "trail": "floor distance from the stem axis (extended down) to the tyre's contact point, caster loaded and "

@@ -46,7 +46,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
 
 from designer.boundary import Count, Quantity, checked
 from designer.errors import InputError
-from designer.model import GRAVITY, Design, scatter_of
+from designer.model import GRAVITY, VARIABLES, Design, scatter_of
 from designer.parameters import OUTPUTS, VARIABLE_TABLE
 from designer.reprs import Key, Record, dataframe
 
@@ -133,18 +133,13 @@ docs/fleet.md, "How many part numbers"."""
 _FLEET_UNITS = {
     **{p.name: (p.column, p.unit) for p in VARIABLE_TABLE},
     "extrapolated": ("extrapolated", "-"),
-    "turning_effort": ("turning_effort_N", "N"),
-    "threshold_force": ("threshold_force_N", "N"),
-    "shimmy_probability": ("shimmy_probability", "-"),
-    "shimmy_probability_mc": ("shimmy_probability_mc", "-"),
-    "shimmy_probability_se": ("shimmy_probability_se", "-"),
-    "sku_turning_effort": ("sku_turning_effort_N", "N"),
-    "sku_threshold_force": ("sku_threshold_force_N", "N"),
-    "sku_shimmy_probability": ("sku_shimmy_probability", "-"),
-    "sku_shimmy_probability_mc": ("sku_shimmy_probability_mc", "-"),
-    "sku_shimmy_probability_se": ("sku_shimmy_probability_se", "-"),
-    "knee_regret_N": ("knee_regret_N", "N"),
-    "sku_regret_N": ("sku_regret_N", "N"),
+    **{
+        pre + key: (pre + key + ("_N" if unit == "N" else ""), unit)
+        for pre in ("", "sku_")
+        for key, unit in (("turning_effort", "N"), ("threshold_force", "N"))
+        + tuple((f"shimmy_probability{tail}", "-") for tail in ("", "_mc", "_se"))
+    },
+    **{key: (key, "N") for key in ("knee_regret_N", "sku_regret_N")},
 }
 """fleet.csv column -> (DataFrame column with its SI unit, unit) for :meth:`FleetResult.to_pandas`."""
 
@@ -801,10 +796,7 @@ def _distributions(result: FleetResult) -> dict[str, np.ndarray]:
     ch, ok = result.chairs, result.feasible
     choice = ch["choice"][ok]
     dist = {
-        "trail": result.stock.trail[choice],
-        "diameter": result.stock.diameter[choice],
-        "groove": result.stock.groove[choice],
-        "damping": result.stock.damping[choice],
+        **{name: getattr(result.stock, name)[choice] for name in VARIABLES},
         "turning_effort": ch["turning_effort"][ok],
         "threshold_force": ch["threshold_force"][ok],
     }

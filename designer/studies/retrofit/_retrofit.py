@@ -538,13 +538,11 @@ def _holds_at_corner(cands: dict, s: _Setting) -> np.ndarray:
 
 
 def _changes(current: Design, inertia: float, cands: dict, j: int, wheels: list) -> tuple[Change, ...]:
-    out = []
-    if cands["mask_washer"][j]:
-        out.append(Change(part="washer", variable="damping", before=current.damping, after=float(cands["damping"][j])))
-    if cands["mask_tyre"][j]:
-        out.append(Change(part="tyre", variable="groove", before=current.groove, after=float(cands["groove"][j])))
-    if cands["mask_fork hole"][j]:
-        out.append(Change(part="fork hole", variable="trail", before=current.trail, after=float(cands["trail"][j])))
+    out = [
+        Change(part=part, variable=name, before=getattr(current, name), after=float(cands[name][j]))
+        for part, name in PART_VARIABLE.items()
+        if part != "wheel" and cands[f"mask_{part}"][j]
+    ]
     if cands["mask_wheel"][j]:
         name = wheels[int(cands["wheel"][j])].name
         out.append(
