@@ -21,7 +21,7 @@ from designer.model import VARIABLES, evaluate, shimmy_probability
 from designer.physics.acceptance import LawCaster, exact_probability
 from designer.physics.turning import MODES, SURFACES
 from designer.problem import Stock
-from designer.studies.recommend import select_rows, stock_candidates
+from designer.studies.recommend import CandidateTable, select_rows, stock_candidates
 from designer.studies.spec import tolerance_corners
 
 from designer.studies.fleet._table import Fleet
@@ -32,8 +32,9 @@ from designer.model import weighted
 
 
 @dataclass
-class StockTable:
-    """Every stock caster of the base problem as arrays (one entry per combination), SI.
+class StockTable(CandidateTable):
+    """Every stock caster of the base problem as arrays (one entry per combination), SI: the recommendation's
+    :class:`~designer.studies.recommend.CandidateTable` with every variable discrete, and its speeds.
 
     Attributes
     ----------
@@ -55,25 +56,11 @@ class StockTable:
     groove: np.ndarray
     damping: np.ndarray
     inertia: np.ndarray
-    wheel: np.ndarray
+    measured: np.ndarray = field(default=None)
     critical_speed: np.ndarray = field(default=None)
     confident_speed: np.ndarray = field(default=None)
     swept_radius: np.ndarray = field(default=None)
-    note: str = ""
-    measured: np.ndarray = field(default=None)
     extrapolated: np.ndarray = field(default=None)
-
-    def __len__(self) -> int:
-        return len(self.trail)
-
-    def design(self, j: int) -> dict:
-        """Stock caster ``j`` as {trail, diameter, groove, damping} [SI]."""
-        return {
-            "trail": float(self.trail[j]),
-            "diameter": float(self.diameter[j]),
-            "groove": float(self.groove[j]),
-            "damping": float(self.damping[j]),
-        }
 
 
 DEFAULT_STOCK = {
@@ -110,14 +97,8 @@ def stock_table(problem) -> StockTable:
                 f"[stock] (docs/fleet.md)"
             )
     table = StockTable(
-        trail=cand.trail,
-        diameter=cand.diameter,
-        groove=cand.groove,
-        damping=cand.damping,
-        inertia=np.asarray(cand.inertia, float),
-        wheel=np.asarray(cand.wheel, dtype=object),
-        note=note,
-        measured=np.asarray(cand.measured, bool),
+        **vars(cand)
+        | {"note": note, "inertia": np.asarray(cand.inertia, float), "measured": np.asarray(cand.measured, bool)}
     )
     values = evaluate(
         {name: getattr(table, name) for name in VARIABLES},
@@ -125,9 +106,8 @@ def stock_table(problem) -> StockTable:
         inertia=table.inertia,
         measured=table.measured,
     )
-    table.critical_speed = values.critical_speed
-    table.confident_speed = values.confident_speed
-    table.swept_radius = values.swept_radius
+    for key in ("critical_speed", "confident_speed", "swept_radius"):
+        setattr(table, key, getattr(values, key))
     table.extrapolated = np.asarray(values.extrapolated, bool)
     if getattr(problem, "tolerances", None) is not None:
         _toleranced(table, problem)
@@ -218,7 +198,7 @@ def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     n, s = len(load), len(stock)
     required = (1 + problem.margin) * np.asarray(chairs["target_speed"], float)
     out = {key: np.empty((n, s)) for key in ("turning_effort", "threshold_force")}
-    ok = {key: np.empty((n, s), bool) for key in ("risk_ok", "radius_ok", "sill_ok")}
+    out |= {key: np.empty((n, s), bool) for key in ("risk_ok", "radius_ok", "sill_ok")}
     designs = {name: getattr(stock, name)[None, :] for name in VARIABLES}
     for surface in SURFACES:
         for mode in MODES:
@@ -237,10 +217,7 @@ def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
             )
             for key in out:
                 out[key][rows] = getattr(values, key)
-            for key in ok:
-                ok[key][rows] = getattr(values, key)
-    effort, force = out["turning_effort"], out["threshold_force"]
-    risk_ok, radius_ok, sill_ok = ok["risk_ok"], ok["radius_ok"], ok["sill_ok"]
+    effort, force, risk_ok, radius_ok, sill_ok = out.values()
     if getattr(problem, "tolerances", None) is not None:  # the stock's corner speeds and toleranced swept radius
         risk_ok &= np.asarray(stock.confident_speed, float)[None, :] >= required[:, None]
         r_max = np.asarray(chairs["swept_radius_max"], float)[:, None]
