@@ -325,14 +325,8 @@ def template_text(problem: Problem) -> str:
     """The empty form an inspector fills in: a comment naming the problem and how to measure, then the header in
     the problem's units (lengths in inches or millimetres; M_f in N·m, I_w in kg·m²)."""
     unit = "in" if getattr(problem, "units", "in") == "in" else "mm"
-    header = [
-        "serial",
-        f"trail_{unit}",
-        f"diameter_{unit}",
-        f"groove_{unit}",
-        "friction_moment_N_m",
-        "wheel_inertia_kg_m2",
-    ]
+    header = ["serial", *(f"{part}_{unit}" for part in ("trail", "diameter", "groove"))]
+    header += ["friction_moment_N_m", "wheel_inertia_kg_m2"]
     lines = [
         f"{TEMPLATE_HEAD} for problem {problem.name!r}: one row per caster; lines starting with # are skipped",
         *(f"# {part}: {how}" for part, how in MEASURE.items()),

@@ -199,12 +199,8 @@ class FleetResult(Record):
             design = self.stock.design(j) if j >= 0 else dict.fromkeys(("trail", "diameter", "groove", "damping"))
             row.update(design)
             row["extrapolated"] = bool(self.stock.extrapolated[j]) if j >= 0 else None
-            row["turning_effort"] = float(ch["turning_effort"][i]) if j >= 0 else None
-            row["threshold_force"] = float(ch["threshold_force"][i]) if j >= 0 else None
-            p = ch.get("shimmy_probability")
-            row["shimmy_probability"] = None if p is None or j < 0 else float(p[i])
-            row["shimmy_probability_mc"] = None if p is None or j < 0 else float(ch["shimmy_probability_mc"][i])
-            row["shimmy_probability_se"] = None if p is None or j < 0 else float(ch["shimmy_probability_se"][i])
+            for key in ("turning_effort", "threshold_force", *(f"shimmy_probability{x}" for x in ("", "_mc", "_se"))):
+                row[key] = float(ch[key][i]) if j >= 0 and key in ch else None
             if assignment is not None and cost is not None:
                 a = int(assignment[position[i]]) if j >= 0 else -1
                 col = int(np.searchsorted(cost["columns"], a)) if a >= 0 else -1

@@ -47,7 +47,7 @@ from typing import Any
 import numpy as np
 
 from designer.boundary import SEED, Count, Instance, Quantity, checked
-from designer.model import Casters, Conditions, Design
+from designer.model import VARIABLES, Casters, Conditions, Design
 from designer.physics.uncertainty import Uncertainty
 from designer.problem import MAX_SAMPLES, problem_argument
 from designer.solvers import one_solve_at_a_time
@@ -262,14 +262,7 @@ def _diagnosis(
     samples = int(samples or max(REPORT_SAMPLES, report_u.samples))
     seed = int(report_u.seed if seed is None else seed)
 
-    base = {
-        "trail": current.trail,
-        "diameter": current.diameter,
-        "groove": current.groove,
-        "damping": current.damping,
-        "inertia": inertia,
-        "measured": bool(measured),
-    }
+    base = current.to_dict() | {"inertia": inertia, "measured": bool(measured)}
     arrays = {k: np.array([v]) for k, v in base.items()}
     calibration = None
     factor = 1.0
@@ -331,12 +324,7 @@ def _fix_states(
     picked = {key: value[chosen] for key, value in cands.items()}
     values = _evaluate(picked, s.conditions, s.stem_angle, s.factor, s.bound, s.limits, s.monte_carlo)
     exact = s.exact(picked)
-    designs = [
-        Design(
-            float(cands["trail"][j]), float(cands["diameter"][j]), float(cands["groove"][j]), float(cands["damping"][j])
-        )
-        for j in chosen
-    ]
+    designs = [Design(*(float(cands[name][j]) for name in VARIABLES)) for j in chosen]
     specs = setting.specs(values, designs, [float(cands["inertia"][j]) for j in chosen], exact, wanted)
     fixes = []
     for n, j in enumerate(chosen):
