@@ -382,12 +382,8 @@ def corner_probabilities(
     problem: Problem, designs: list[Design], inertia: list[float], measured: list[bool]
 ) -> list[float]:
     """P(V_c,true < V_req) at the worst corner of each caster [-] (``[tolerances]`` required)."""
-    out = []
-    for design, i_w, flag in zip(designs, inertia, measured):
-        corner = caster_corner(problem, design, i_w, flag)
-        assert corner is not None
-        out.append(corner.probability)
-    return out
+    corners = [caster_corner(problem, design, i_w, flag) for design, i_w, flag in zip(designs, inertia, measured)]
+    return [corner.probability for corner in corners if corner is not None]
 
 
 def mc_draws(p: float, se: float) -> int:
