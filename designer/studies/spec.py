@@ -219,20 +219,9 @@ class Spec(Record):
         tol = self.tolerances
         spread: dict[str, Any] = {}
         if tol is not None:
-            spread = {
-                "trail": tol.trail,
-                "groove": tol.groove,
-                "diameter": tol.diameter,
-                "friction_moment": tol.friction_moment,
-                "wheel_inertia": "catalogue" if tol.wheel is None else tol.wheel,
-            }
-        nominal = {
-            "trail": self.trail,
-            "diameter": self.diameter,
-            "groove": self.groove,
-            "friction_moment": self.friction_moment,
-            "wheel_inertia": self.inertia,
-        }
+            spread = {part: getattr(tol, part) for part in ("trail", "groove", "diameter", "friction_moment")}
+            spread["wheel_inertia"] = "catalogue" if tol.wheel is None else tol.wheel
+        nominal = {part: getattr(self, "inertia" if part == "wheel_inertia" else part) for part in PART_LABELS}
         return [
             {
                 "part": part,

@@ -587,12 +587,8 @@ def _if_measured(problem, rec: Recommendation, samples, seed) -> dict | None:
     r = _record(measured, b, choice, rec.rule, "if measured", samples, seed)
     return {
         "design": r.design.to_dict(),
-        "turning_effort": r.turning_effort,
-        "threshold_force": r.threshold_force,
-        "shimmy_probability": r.shimmy_probability,
-        "shimmy_probability_se": r.shimmy_probability_se,
-        "inertia": r.inertia,
-        "extrapolated": r.extrapolated,
+        **{key: getattr(r, key) for key in ("turning_effort", "threshold_force", "shimmy_probability")},
+        **{key: getattr(r, key) for key in ("shimmy_probability_se", "inertia", "extrapolated")},
         "saves_turning_effort": rec.turning_effort - r.turning_effort,
         "saves_threshold_force": rec.threshold_force - r.threshold_force,
     }
