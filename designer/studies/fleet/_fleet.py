@@ -23,7 +23,7 @@ client keeps reading, validation, the stock table, the K-median program and the 
 Modules: :mod:`designer.studies.fleet._table` reads the fleet (FLEET.csv, example fleets),
 :mod:`designer.studies.fleet._rule` holds the stock table, the vectorised rule and the Monte Carlo,
 :mod:`designer.studies.fleet._kmedian` the K-median program; this module runs them over a fleet
-(:func:`fleet_recommendations`, :func:`choose_skus`, :func:`fleet`) and re-exports their names.
+(:func:`fleet_recommendations`, :func:`choose_skus`, :func:`fleet`).
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
 
 from designer.boundary import Count, Quantity, checked
 from designer.errors import InputError
-from designer.model import GRAVITY, VARIABLES, Design, scatter_of
+from designer.model import VARIABLES, Design, scatter_of
 from designer.parameters import OUTPUTS, VARIABLE_TABLE
 from designer.reprs import Key, Record, dataframe
 
@@ -54,23 +54,9 @@ from designer.studies.fleet._kmedian import ColumnDominance, KMedianSolution, km
 from designer.problem import Problem, example_problem, problem_argument
 from designer.solvers import one_solve_at_a_time
 from designer.studies.spec import Spec, caster_specs, mc_draws
-from designer.studies.fleet._table import (
-    COLUMNS,
-    EXAMPLE_RANGES,
-    MAX_CHAIRS,
-    RANGES,
-    REQUIRED,
-    UNIT_ALIASES,
-    Fleet,
-    example_fleet,
-    fleet_from_text,
-    read_fleet,
-    write_fleet_csv,
-)
+from designer.studies.fleet._table import Fleet, example_fleet, read_fleet
 from designer.model import weighted
 from designer.studies.fleet._rule import (
-    DEFAULT_STOCK,
-    RESULT_FIELDS,
     StockTable,
     _chunk_task,
     _mc_task,
@@ -82,32 +68,18 @@ from designer.studies.fleet._rule import (
 
 __all__ = [
     "CHUNK",
-    "COLUMNS",
     "DEFAULT_MAX_REGRET",
-    "DEFAULT_STOCK",
-    "EXAMPLE_RANGES",
-    "GRAVITY",
-    "MAX_CHAIRS",
-    "RANGES",
-    "REQUIRED",
-    "RESULT_FIELDS",
-    "UNIT_ALIASES",
-    "Fleet",
     "FleetResult",
-    "StockTable",
     "choose_skus",
     "evaluate_chairs",
     "example_fleet",
     "fleet",
     "fleet_data",
-    "fleet_from_text",
     "fleet_recommendations",
     "fleet_run",
     "read_fleet",
-    "recommend_chairs",
     "stock_table",
     "suggest_skus",
-    "write_fleet_csv",
 ]
 
 _LIFETIME = "designer.children"

@@ -165,19 +165,6 @@ def _default_stock(problem):
 # --------------------------------------------------------------------------- vectorised recommendation
 
 
-RESULT_FIELDS = (
-    "choice",
-    "easiest_turn",
-    "easiest_sill",
-    "best_j",
-    "front_size",
-    "turning_effort",
-    "threshold_force",
-    "objective",
-    "reason",
-)
-
-
 def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     """Turning effort, sill force and feasibility of every stock caster for every chair (chairs × casters).
 
