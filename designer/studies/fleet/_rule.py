@@ -1,6 +1,6 @@
 """The stock table and the vectorised rule of a fleet: every chair x every stock caster at once.
 
-Part of :mod:`designer.studies.fleet._fleet` (which re-exports every name): the stock casters as arrays with
+Part of :mod:`designer.studies.fleet._fleet`: the stock casters as arrays with
 V_c and its quantile (:func:`stock_table`), F_turn, P and feasibility of every caster for every chair
 (:func:`evaluate_chairs`), the buildable front and the rule per chair (:func:`recommend_chairs`), and the
 Monte Carlo P(shimmy) of the chosen casters (:func:`_mc_task`).  Every number of a caster comes from the

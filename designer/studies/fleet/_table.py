@@ -1,6 +1,6 @@
 """The fleet table: FLEET.csv -> per-chair arrays (:class:`Fleet`), one-line errors, example fleets.
 
-Part of :mod:`designer.studies.fleet._fleet` (which re-exports every name): the columns and their units, the
+Part of :mod:`designer.studies.fleet._fleet`: the columns and their units, the
 model ranges per column, the reader and the writer of the example fleets.
 """
 

@@ -1,7 +1,7 @@
 """The input of a retrofit: the current caster as text (:func:`parse_current`) and the checks of the
 caster and the observation the model can take (:func:`_check_inputs`, one-line InputErrors).
 
-Part of :mod:`designer.studies.retrofit._retrofit` (which re-exports its public names).
+Part of :mod:`designer.studies.retrofit._retrofit`.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """What a retrofit can change: the candidate values of each part and every combination of changed parts.
 
-Part of :mod:`designer.studies.retrofit._retrofit` (which re-exports its public names): the four parts and the
+Part of :mod:`designer.studies.retrofit._retrofit`: the four parts and the
 variable each sets, the candidate values from ``[stock]`` or a grid over the bounds (:func:`part_options`,
 the one place that decides them), and the vectorised enumeration of one- to four-part changes.
 """

@@ -33,7 +33,7 @@ Modules: :mod:`designer.studies.retrofit._input` reads and checks the current ca
 :mod:`designer.studies.retrofit._diagnosis` computes the numbers of a caster and of every candidate (V_c,
 the quantile, F_turn, P, the Monte Carlo, the calibration); :mod:`designer.studies.retrofit._options`
 decides what each part can become and enumerates the combinations; :mod:`designer.studies.retrofit._records`
-holds the records and the rule; this module ranks (:func:`fix`) and re-exports the public names.
+holds the records and the rule; this module ranks (:func:`fix`).
 """
 
 from __future__ import annotations
@@ -52,9 +52,8 @@ from designer.physics.uncertainty import Uncertainty
 from designer.problem import MAX_SAMPLES, problem_argument
 from designer.solvers import one_solve_at_a_time
 from designer.studies.retrofit._diagnosis import _calibrated, _current_inertia, _evaluate, _risk_of
-from designer.studies.retrofit._input import MAX_STEM_ANGLE, _check_inputs, parse_current
+from designer.studies.retrofit._input import _check_inputs, parse_current
 from designer.studies.retrofit._options import (
-    GRID_STEP,
     PART_VARIABLE,
     PARTS,
     _enumerate,
@@ -68,8 +67,6 @@ from designer.studies.retrofit._records import (
     CasterState,
     Change,
     FixResult,
-    describe_changes,
-    fix_sentence,
 )
 from designer.units import written_size
 from designer.model import weighted
@@ -545,23 +542,4 @@ def _changes(current: Design, inertia: float, cands: dict, j: int, wheels: list)
     return tuple(out)
 
 
-__all__ = [
-    "fix",
-    "describe_changes",
-    "fix_sentence",
-    "stock_offer",
-    "MAX_CANDIDATES",
-    "FixResult",
-    "CasterState",
-    "Change",
-    "Calibration",
-    "parse_current",
-    "part_options",
-    "RULE",
-    "PARTS",
-    "PART_VARIABLE",
-    "GRID_STEP",
-    "ONSET_SCATTER",
-    "REPORT_SAMPLES",
-    "MAX_STEM_ANGLE",
-]
+__all__ = ["fix", "stock_offer", "MAX_CANDIDATES", "ONSET_SCATTER", "REPORT_SAMPLES"]
