@@ -77,7 +77,7 @@ two friction washers.  Values outside the problem's bounds are left out."""
 def stock_table(problem) -> StockTable:
     """All stock combinations of the base problem, with V_c, its quantile and the swept radius.
 
-    The enumeration is :func:`designer.studies.recommend._recommend.stock_candidates` (the single owner): the
+    The enumeration is :func:`designer.studies.recommend.stock_candidates` (the single owner): the
     problem's ``[stock]`` when it declares one, otherwise :data:`DEFAULT_STOCK` within its bounds (the
     table's ``note`` says so).  Every variable must be discrete: a part number is a design tuple.
     """
@@ -259,7 +259,7 @@ def recommend_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     best_j = np.where(ok.any(axis=1), np.argmin(j, axis=1), -1)
     cap_p = getattr(problem, "max_threshold_force", None)
     cap_f = getattr(problem, "max_turning_effort", None)
-    # the buildable front and the rule: designer.studies.recommend._recommend.select_rows (the single owner of the rule)
+    # the buildable front and the rule: designer.studies.recommend.select_rows (the single owner of the rule)
     sel = select_rows(gmin, gp, np.isfinite(gmin), problem.weights, cap_p, cap_f)
 
     def stock_index(k):

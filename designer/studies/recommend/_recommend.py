@@ -23,7 +23,7 @@
 
 Steps 1 and 2 live in :mod:`designer.studies.recommend._stock`, step 4 in
 :mod:`designer.studies.recommend._rule` and the :class:`Recommendation` record in
-:mod:`designer.studies.recommend._record` (all re-exported here); this module holds step 3 (the buildable
+:mod:`designer.studies.recommend._record` (re-exported here); this module holds step 3 (the buildable
 candidates), the messages when nothing is buildable, and :func:`recommend`, which runs the five steps.
 """
 
@@ -56,28 +56,10 @@ from designer.studies.spec import (
     mc_draws,
     risk_law,
 )
-from designer.studies.recommend._rule import RULES, front_roles, rule_text, select_rows, weights_meaning
-from designer.studies.recommend._stock import (
-    CandidateTable,
-    ScreenedTable,
-    candidate_table,
-    stock_candidates,
-)
+from designer.studies.recommend._rule import front_roles, rule_text, select_rows, weights_meaning
+from designer.studies.recommend._stock import ScreenedTable, candidate_table, stock_candidates
 
-__all__ = [
-    "RULES",
-    "CandidateTable",
-    "SPECS",
-    "Recommendation",
-    "ScreenedTable",
-    "candidate_table",
-    "recommend",
-    "rule_text",
-    "select_rows",
-    "stock_candidates",
-    "weights_meaning",
-    "with_spec",
-]
+__all__ = ["SPECS", "Recommendation", "recommend", "with_spec"]
 
 
 @dataclass
