@@ -188,7 +188,7 @@ class JointLimits(Record):
                 tag = self.protects.get(key, "risk")
                 if key in self.notes:  # "no window above nominal", "no lower limit": the sentence says the fix
                     tag += "; " + self.notes[key].split(":")[0]
-                cells.append(f"{side} {limit_shown(value, _UNITS[part], side, units)} [{tag}]")
+                cells.append(f"{side} {limit_shown(value, UNITS[part], side, units)} [{tag}]")
             out[part] = "; ".join(cells) or "—"
         return out
 
@@ -452,7 +452,8 @@ _BOX_PARTS = {
 }
 """Each part's box limits (min key, max key; None: no such side)."""
 
-_UNITS = {"trail": "m", "diameter": "m", "groove": "m", "friction_moment": "N·m", "wheel_inertia": "kg·m²"}
+UNITS = {"trail": "m", "groove": "m", "diameter": "m", "friction_moment": "N·m", "wheel_inertia": "kg·m²"}
+"""SI unit of each inspectable part (a spec's and a box's; the JSON's ``units`` entry)."""
 
 
 def box_short(joint: JointLimits, units: str = "mm") -> str:
@@ -461,7 +462,7 @@ def box_short(joint: JointLimits, units: str = "mm") -> str:
 
     def shown(key: str, side: str) -> str:
         value = getattr(joint, key)
-        return limit_shown(value, _UNITS[key.rsplit("_", 1)[0]], side, units).split(" (")[0]
+        return limit_shown(value, UNITS[key.rsplit("_", 1)[0]], side, units).split(" (")[0]
 
     def mark(key: str) -> str:
         if joint.protects.get(key) != "footrest":

@@ -30,10 +30,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from designer.errors import InputError
-from designer.model import scatter_of
 from designer.reprs import Key, Record
 from designer.studies.recommend import recommend
-from designer.studies.spec import MEASURE
+from designer.studies.spec import MEASURE, risk_law
 from designer.physics.acceptance import measured_probabilities
 from designer.textfiles import csv_table, read_input_text
 from designer.units import parse_quantity
@@ -257,7 +256,7 @@ def inspect(problem: Problem, table: Any, rec: Recommendation | None = None) -> 
         rec = recommend(problem)
     theta0 = float(problem.conditions.disturbance_angle)
     rows, bad, source = read_measured(table, theta0)
-    law = problem.risk if problem.risk is not None else scatter_of(problem.conditions)
+    law = risk_law(problem)
     alpha, speed, ks = float(law.probability), problem.required_speed, float(problem.conditions.slip_coefficient)
     spec = rec.spec
     nominal = {
@@ -326,14 +325,8 @@ def template_text(problem: Problem) -> str:
     """The empty form an inspector fills in: a comment naming the problem and how to measure, then the header in
     the problem's units (lengths in inches or millimetres; M_f in N·m, I_w in kg·m²)."""
     unit = "in" if getattr(problem, "units", "in") == "in" else "mm"
-    header = [
-        "serial",
-        f"trail_{unit}",
-        f"diameter_{unit}",
-        f"groove_{unit}",
-        "friction_moment_N_m",
-        "wheel_inertia_kg_m2",
-    ]
+    header = ["serial", *(f"{part}_{unit}" for part in ("trail", "diameter", "groove"))]
+    header += ["friction_moment_N_m", "wheel_inertia_kg_m2"]
     lines = [
         f"{TEMPLATE_HEAD} for problem {problem.name!r}: one row per caster; lines starting with # are skipped",
         *(f"# {part}: {how}" for part, how in MEASURE.items()),

@@ -37,7 +37,7 @@ from designer.physics.acceptance import (
 from designer.model import Design, scatter_of
 from designer.physics.geometry import effective_trail
 from designer.physics.uncertainty import Uncertainty
-from designer.studies.acceptance import JointLimits, joint_limits, joint_limits_many
+from designer.studies.acceptance import UNITS, JointLimits, joint_limits, joint_limits_many
 from designer.problem import Problem, Tolerances
 from designer.units import limit_shown
 from designer.reprs import Key, Record
@@ -51,9 +51,6 @@ SPEC_PROBABILITY = {
     "at_speed": "target_speed",
 }
 """The keys of a spec's ``shimmy_probability`` record and the attributes they hold."""
-
-UNITS = {"trail": "m", "groove": "m", "diameter": "m", "friction_moment": "N·m", "wheel_inertia": "kg·m²"}
-"""SI unit of each inspectable part (the JSON's ``units`` entry)."""
 
 MEASURE = {
     "trail": "floor distance from the stem axis (extended down) to the tyre's contact point, caster loaded and "
@@ -222,20 +219,9 @@ class Spec(Record):
         tol = self.tolerances
         spread: dict[str, Any] = {}
         if tol is not None:
-            spread = {
-                "trail": tol.trail,
-                "groove": tol.groove,
-                "diameter": tol.diameter,
-                "friction_moment": tol.friction_moment,
-                "wheel_inertia": "catalogue" if tol.wheel is None else tol.wheel,
-            }
-        nominal = {
-            "trail": self.trail,
-            "diameter": self.diameter,
-            "groove": self.groove,
-            "friction_moment": self.friction_moment,
-            "wheel_inertia": self.inertia,
-        }
+            spread = {part: getattr(tol, part) for part in ("trail", "groove", "diameter", "friction_moment")}
+            spread["wheel_inertia"] = "catalogue" if tol.wheel is None else tol.wheel
+        nominal = {part: getattr(self, "inertia" if part == "wheel_inertia" else part) for part in PART_LABELS}
         return [
             {
                 "part": part,
@@ -319,13 +305,42 @@ def _edges(problem: Problem, design: Design, caster: LawCaster, offset: float = 
     return out
 
 
+def tolerance_corners(problem: Problem, columns: dict[str, Any]) -> list[dict[str, Any]]:
+    """The two worst corners of ``problem``'s ``[tolerances]`` about candidate arrays ``columns`` {trail, diameter,
+    groove, damping, inertia[, measured]} [SI], as the same columns: trail − ±, groove − ±, M_f − its fraction, the
+    diameter at either edge with the inertia model's I_w there (a measured wheel keeps its own), or a measured
+    wheel at the accepted I_w.  What the stock screens of a fleet and a retrofit evaluate with the bound's V_q (a
+    conservative screen: a caster it keeps holds at its corner by the exact law too)."""
+    tol = problem.tolerances
+    assert tol is not None
+    t_lo = float(PARAMETERS["trail"].range[0])  # type: ignore[index]
+    parts = {
+        "trail": np.maximum(columns["trail"] - (tol.trail or 0.0), t_lo),
+        "groove": np.maximum(columns["groove"] - (tol.groove or 0.0), 0.0),
+        "damping": columns["damping"] * (1 - (tol.friction_moment or 0.0)),
+    }
+    measured = np.broadcast_to(np.asarray(columns.get("measured", True), bool), np.shape(columns["trail"]))
+    model = problem.conditions.inertia
+    out = []
+    for sign in (-1.0, 1.0):
+        d = columns["diameter"] + sign * (tol.diameter or 0.0)
+        with warnings.catch_warnings():  # a wheel's edge just outside Table 1: said for the caster itself
+            warnings.simplefilter("ignore", UserWarning)
+            inertia = np.where(measured, columns["inertia"], np.asarray(model(d), float))
+        flags = measured
+        if tol.wheel is not None:
+            inertia, flags = np.full(np.shape(d), tol.wheel), np.ones(np.shape(d), bool)
+        out.append(parts | {"diameter": d, "inertia": inertia, "measured": flags})
+    return out
+
+
 def _diameter_tolerance(problem: Problem) -> float:
     """The diameter's stated ± [m] (0 when none is stated)."""
     tol = problem.tolerances
     return 0.0 if tol is None or tol.diameter is None else float(tol.diameter)
 
 
-def _law(problem: Problem, law: Uncertainty | None) -> Uncertainty:
+def risk_law(problem: Problem, law: Uncertainty | None = None) -> Uncertainty:
     """The risk law of the limits: ``law`` when given (a calibrated retrofit's), else the problem's bound, else
     the default scatter."""
     if law is not None:
@@ -349,19 +364,15 @@ def caster_corner(
     offset = stem_offset(design, stem_angle)
     caster = law_caster(problem, design, inertia, measured, offset)
     edges = _edges(problem, design, caster, offset)
-    return worst_corner(caster, edges, problem.required_speed / calibration, _law(problem, law))
+    return worst_corner(caster, edges, problem.required_speed / calibration, risk_law(problem, law))
 
 
 def corner_probabilities(
     problem: Problem, designs: list[Design], inertia: list[float], measured: list[bool]
 ) -> list[float]:
     """P(V_c,true < V_req) at the worst corner of each caster [-] (``[tolerances]`` required)."""
-    out = []
-    for design, i_w, flag in zip(designs, inertia, measured):
-        corner = caster_corner(problem, design, i_w, flag)
-        assert corner is not None
-        out.append(corner.probability)
-    return out
+    corners = [caster_corner(problem, design, i_w, flag) for design, i_w, flag in zip(designs, inertia, measured)]
+    return [corner.probability for corner in corners if corner is not None]
 
 
 def mc_draws(p: float, se: float) -> int:
@@ -376,8 +387,7 @@ def mc_draws(p: float, se: float) -> int:
 
 def exact_shimmy_probability(problem: Problem, design: Design, inertia: float, measured: bool, speed: float) -> float:
     """P(V_c,true < speed) of one caster by the exact law (quadrature) under the problem's risk law [-]."""
-    u = problem.risk if problem.risk is not None else scatter_of(problem.conditions)
-    return exact_probability(law_caster(problem, design, inertia, measured), speed, u)
+    return exact_probability(law_caster(problem, design, inertia, measured), speed, risk_law(problem))
 
 
 def _reason(code: str, part: str, ranges: dict[str, Any], scale: float, unit: str) -> str:
@@ -452,7 +462,7 @@ def caster_specs(
     each = problems if isinstance(problems, list) else [problems] * n
     offsets = [stem_offset(d, stem_angle) for d in designs]
     casters = [law_caster(p, d, i, m, o) for p, d, i, m, o in zip(each, designs, inertia, measured, offsets)]
-    laws = [_law(p, law) for p in each]
+    laws = [risk_law(p, law) for p in each]
     found: list[list[PartLimit]] = [[] for _ in range(n)]
     joints: list[JointLimits | None] = [None] * n
     for u in dict.fromkeys(laws):
@@ -507,7 +517,7 @@ def caster_spec(
     exact P at V_target the caller reports (the evaluator's), so the record and its spec say one number.
     ``found``, ``joint``: the physics' limits and the joint box when the caller searched them in a batch
     (:func:`caster_specs`)."""
-    u = _law(problem, law)
+    u = risk_law(problem, law)
     offset = stem_offset(design, stem_angle)
     caster = law_caster(problem, design, inertia, measured, offset)
     ranges = {name: PARAMETERS[name].range for name in ("trail", "groove", "damping")}

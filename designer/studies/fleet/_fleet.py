@@ -23,7 +23,7 @@ client keeps reading, validation, the stock table, the K-median program and the 
 Modules: :mod:`designer.studies.fleet._table` reads the fleet (FLEET.csv, example fleets),
 :mod:`designer.studies.fleet._rule` holds the stock table, the vectorised rule and the Monte Carlo,
 :mod:`designer.studies.fleet._kmedian` the K-median program; this module runs them over a fleet
-(:func:`fleet_recommendations`, :func:`choose_skus`, :func:`fleet`) and re-exports their names.
+(:func:`fleet_recommendations`, :func:`choose_skus`, :func:`fleet`).
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
 
 from designer.boundary import Count, Quantity, checked
 from designer.errors import InputError
-from designer.model import GRAVITY, Design, scatter_of
+from designer.model import VARIABLES, Design, scatter_of
 from designer.parameters import OUTPUTS, VARIABLE_TABLE
 from designer.reprs import Key, Record, dataframe
 
@@ -54,23 +54,9 @@ from designer.studies.fleet._kmedian import ColumnDominance, KMedianSolution, km
 from designer.problem import Problem, example_problem, problem_argument
 from designer.solvers import one_solve_at_a_time
 from designer.studies.spec import Spec, caster_specs, mc_draws
-from designer.studies.fleet._table import (
-    COLUMNS,
-    EXAMPLE_RANGES,
-    MAX_CHAIRS,
-    RANGES,
-    REQUIRED,
-    UNIT_ALIASES,
-    Fleet,
-    example_fleet,
-    fleet_from_text,
-    read_fleet,
-    write_fleet_csv,
-)
+from designer.studies.fleet._table import Fleet, example_fleet, read_fleet
 from designer.model import weighted
 from designer.studies.fleet._rule import (
-    DEFAULT_STOCK,
-    RESULT_FIELDS,
     StockTable,
     _chunk_task,
     _mc_task,
@@ -82,32 +68,18 @@ from designer.studies.fleet._rule import (
 
 __all__ = [
     "CHUNK",
-    "COLUMNS",
     "DEFAULT_MAX_REGRET",
-    "DEFAULT_STOCK",
-    "EXAMPLE_RANGES",
-    "GRAVITY",
-    "MAX_CHAIRS",
-    "RANGES",
-    "REQUIRED",
-    "RESULT_FIELDS",
-    "UNIT_ALIASES",
-    "Fleet",
     "FleetResult",
-    "StockTable",
     "choose_skus",
     "evaluate_chairs",
     "example_fleet",
     "fleet",
     "fleet_data",
-    "fleet_from_text",
     "fleet_recommendations",
     "fleet_run",
     "read_fleet",
-    "recommend_chairs",
     "stock_table",
     "suggest_skus",
-    "write_fleet_csv",
 ]
 
 _LIFETIME = "designer.children"
@@ -133,18 +105,13 @@ docs/fleet.md, "How many part numbers"."""
 _FLEET_UNITS = {
     **{p.name: (p.column, p.unit) for p in VARIABLE_TABLE},
     "extrapolated": ("extrapolated", "-"),
-    "turning_effort": ("turning_effort_N", "N"),
-    "threshold_force": ("threshold_force_N", "N"),
-    "shimmy_probability": ("shimmy_probability", "-"),
-    "shimmy_probability_mc": ("shimmy_probability_mc", "-"),
-    "shimmy_probability_se": ("shimmy_probability_se", "-"),
-    "sku_turning_effort": ("sku_turning_effort_N", "N"),
-    "sku_threshold_force": ("sku_threshold_force_N", "N"),
-    "sku_shimmy_probability": ("sku_shimmy_probability", "-"),
-    "sku_shimmy_probability_mc": ("sku_shimmy_probability_mc", "-"),
-    "sku_shimmy_probability_se": ("sku_shimmy_probability_se", "-"),
-    "knee_regret_N": ("knee_regret_N", "N"),
-    "sku_regret_N": ("sku_regret_N", "N"),
+    **{
+        pre + key: (pre + key + ("_N" if unit == "N" else ""), unit)
+        for pre in ("", "sku_")
+        for key, unit in (("turning_effort", "N"), ("threshold_force", "N"))
+        + tuple((f"shimmy_probability{tail}", "-") for tail in ("", "_mc", "_se"))
+    },
+    **{key: (key, "N") for key in ("knee_regret_N", "sku_regret_N")},
 }
 """fleet.csv column -> (DataFrame column with its SI unit, unit) for :meth:`FleetResult.to_pandas`."""
 
@@ -204,12 +171,8 @@ class FleetResult(Record):
             design = self.stock.design(j) if j >= 0 else dict.fromkeys(("trail", "diameter", "groove", "damping"))
             row.update(design)
             row["extrapolated"] = bool(self.stock.extrapolated[j]) if j >= 0 else None
-            row["turning_effort"] = float(ch["turning_effort"][i]) if j >= 0 else None
-            row["threshold_force"] = float(ch["threshold_force"][i]) if j >= 0 else None
-            p = ch.get("shimmy_probability")
-            row["shimmy_probability"] = None if p is None or j < 0 else float(p[i])
-            row["shimmy_probability_mc"] = None if p is None or j < 0 else float(ch["shimmy_probability_mc"][i])
-            row["shimmy_probability_se"] = None if p is None or j < 0 else float(ch["shimmy_probability_se"][i])
+            for key in ("turning_effort", "threshold_force", *(f"shimmy_probability{x}" for x in ("", "_mc", "_se"))):
+                row[key] = float(ch[key][i]) if j >= 0 and key in ch else None
             if assignment is not None and cost is not None:
                 a = int(assignment[position[i]]) if j >= 0 else -1
                 col = int(np.searchsorted(cost["columns"], a)) if a >= 0 else -1
@@ -801,10 +764,7 @@ def _distributions(result: FleetResult) -> dict[str, np.ndarray]:
     ch, ok = result.chairs, result.feasible
     choice = ch["choice"][ok]
     dist = {
-        "trail": result.stock.trail[choice],
-        "diameter": result.stock.diameter[choice],
-        "groove": result.stock.groove[choice],
-        "damping": result.stock.damping[choice],
+        **{name: getattr(result.stock, name)[choice] for name in VARIABLES},
         "turning_effort": ch["turning_effort"][ok],
         "threshold_force": ch["threshold_force"][ok],
     }

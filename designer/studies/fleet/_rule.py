@@ -1,6 +1,6 @@
 """The stock table and the vectorised rule of a fleet: every chair x every stock caster at once.
 
-Part of :mod:`designer.studies.fleet._fleet` (which re-exports every name): the stock casters as arrays with
+Part of :mod:`designer.studies.fleet._fleet`: the stock casters as arrays with
 V_c and its quantile (:func:`stock_table`), F_turn, P and feasibility of every caster for every chair
 (:func:`evaluate_chairs`), the buildable front and the rule per chair (:func:`recommend_chairs`), and the
 Monte Carlo P(shimmy) of the chosen casters (:func:`_mc_task`).  Every number of a caster comes from the
@@ -16,13 +16,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from designer.data.paper import INCH
-from designer.parameters import PARAMETERS
 from designer.errors import ProblemError
 from designer.model import VARIABLES, evaluate, shimmy_probability
 from designer.physics.acceptance import LawCaster, exact_probability
 from designer.physics.turning import MODES, SURFACES
 from designer.problem import Stock
-from designer.studies.recommend import select_rows, stock_candidates
+from designer.studies.recommend import CandidateTable, select_rows, stock_candidates
+from designer.studies.spec import tolerance_corners
 
 from designer.studies.fleet._table import Fleet
 from designer.model import weighted
@@ -32,8 +32,9 @@ from designer.model import weighted
 
 
 @dataclass
-class StockTable:
-    """Every stock caster of the base problem as arrays (one entry per combination), SI.
+class StockTable(CandidateTable):
+    """Every stock caster of the base problem as arrays (one entry per combination), SI: the recommendation's
+    :class:`~designer.studies.recommend.CandidateTable` with every variable discrete, and its speeds.
 
     Attributes
     ----------
@@ -55,25 +56,11 @@ class StockTable:
     groove: np.ndarray
     damping: np.ndarray
     inertia: np.ndarray
-    wheel: np.ndarray
+    measured: np.ndarray = field(default=None)
     critical_speed: np.ndarray = field(default=None)
     confident_speed: np.ndarray = field(default=None)
     swept_radius: np.ndarray = field(default=None)
-    note: str = ""
-    measured: np.ndarray = field(default=None)
     extrapolated: np.ndarray = field(default=None)
-
-    def __len__(self) -> int:
-        return len(self.trail)
-
-    def design(self, j: int) -> dict:
-        """Stock caster ``j`` as {trail, diameter, groove, damping} [SI]."""
-        return {
-            "trail": float(self.trail[j]),
-            "diameter": float(self.diameter[j]),
-            "groove": float(self.groove[j]),
-            "damping": float(self.damping[j]),
-        }
 
 
 DEFAULT_STOCK = {
@@ -90,7 +77,7 @@ two friction washers.  Values outside the problem's bounds are left out."""
 def stock_table(problem) -> StockTable:
     """All stock combinations of the base problem, with V_c, its quantile and the swept radius.
 
-    The enumeration is :func:`designer.studies.recommend._recommend.stock_candidates` (the single owner): the
+    The enumeration is :func:`designer.studies.recommend.stock_candidates` (the single owner): the
     problem's ``[stock]`` when it declares one, otherwise :data:`DEFAULT_STOCK` within its bounds (the
     table's ``note`` says so).  Every variable must be discrete: a part number is a design tuple.
     """
@@ -110,14 +97,8 @@ def stock_table(problem) -> StockTable:
                 f"[stock] (docs/fleet.md)"
             )
     table = StockTable(
-        trail=cand.trail,
-        diameter=cand.diameter,
-        groove=cand.groove,
-        damping=cand.damping,
-        inertia=np.asarray(cand.inertia, float),
-        wheel=np.asarray(cand.wheel, dtype=object),
-        note=note,
-        measured=np.asarray(cand.measured, bool),
+        **vars(cand)
+        | {"note": note, "inertia": np.asarray(cand.inertia, float), "measured": np.asarray(cand.measured, bool)}
     )
     values = evaluate(
         {name: getattr(table, name) for name in VARIABLES},
@@ -125,9 +106,8 @@ def stock_table(problem) -> StockTable:
         inertia=table.inertia,
         measured=table.measured,
     )
-    table.critical_speed = values.critical_speed
-    table.confident_speed = values.confident_speed
-    table.swept_radius = values.swept_radius
+    for key in ("critical_speed", "confident_speed", "swept_radius"):
+        setattr(table, key, getattr(values, key))
     table.extrapolated = np.asarray(values.extrapolated, bool)
     if getattr(problem, "tolerances", None) is not None:
         _toleranced(table, problem)
@@ -143,32 +123,19 @@ def _toleranced(table: StockTable, problem) -> None:
     bound's V_q (:func:`designer.physics.uncertainty.shimmy_speed_quantile`, vectorised): a conservative screen —
     a caster it keeps holds at its corner by the exact law too — used to choose, never printed."""
     tol = problem.tolerances
-    t_lo = float(PARAMETERS["trail"].range[0])  # type: ignore[index]
-    trail = np.maximum(table.trail - (tol.trail or 0.0), t_lo)
-    groove = np.maximum(table.groove - (tol.groove or 0.0), 0.0)
-    damping = table.damping * (1 - (tol.friction_moment or 0.0))
-    tol_d = tol.diameter or 0.0
-    model = problem.conditions.inertia
     speeds = [np.asarray(table.confident_speed, float)]
-    for sign in (-1.0, 1.0):
-        d = table.diameter + sign * tol_d
-        measured = np.asarray(table.measured, bool)
-        with warnings.catch_warnings():  # a 4 in wheel's low edge leaves Table 1 by a hair: said elsewhere
-            warnings.simplefilter("ignore", UserWarning)
-            inertia = np.where(measured, table.inertia, np.asarray(model(d), float))
-        if tol.wheel is not None:
-            inertia, measured = np.full_like(inertia, tol.wheel), np.ones_like(measured)
+    for corner in tolerance_corners(problem, {k: getattr(table, k) for k in (*VARIABLES, "inertia", "measured")}):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)
-            corner = evaluate(
-                {"trail": trail, "diameter": d, "groove": groove, "damping": damping},
+            at = evaluate(
+                {k: corner[k] for k in VARIABLES},
                 problem.conditions,
-                inertia=inertia,
-                measured=measured,
+                inertia=corner["inertia"],
+                measured=corner["measured"],
             )
-        speeds.append(np.asarray(corner.confident_speed, float))
+        speeds.append(np.asarray(at.confident_speed, float))
     table.confident_speed = np.minimum.reduce(speeds)
-    table.swept_radius = np.asarray(table.swept_radius, float) + (tol.trail or 0.0) + tol_d / 2
+    table.swept_radius = np.asarray(table.swept_radius, float) + (tol.trail or 0.0) + (tol.diameter or 0.0) / 2
 
 
 def _default_stock(problem):
@@ -198,19 +165,6 @@ def _default_stock(problem):
 # --------------------------------------------------------------------------- vectorised recommendation
 
 
-RESULT_FIELDS = (
-    "choice",
-    "easiest_turn",
-    "easiest_sill",
-    "best_j",
-    "front_size",
-    "turning_effort",
-    "threshold_force",
-    "objective",
-    "reason",
-)
-
-
 def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     """Turning effort, sill force and feasibility of every stock caster for every chair (chairs × casters).
 
@@ -231,7 +185,7 @@ def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     n, s = len(load), len(stock)
     required = (1 + problem.margin) * np.asarray(chairs["target_speed"], float)
     out = {key: np.empty((n, s)) for key in ("turning_effort", "threshold_force")}
-    ok = {key: np.empty((n, s), bool) for key in ("risk_ok", "radius_ok", "sill_ok")}
+    out |= {key: np.empty((n, s), bool) for key in ("risk_ok", "radius_ok", "sill_ok")}
     designs = {name: getattr(stock, name)[None, :] for name in VARIABLES}
     for surface in SURFACES:
         for mode in MODES:
@@ -250,10 +204,7 @@ def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
             )
             for key in out:
                 out[key][rows] = getattr(values, key)
-            for key in ok:
-                ok[key][rows] = getattr(values, key)
-    effort, force = out["turning_effort"], out["threshold_force"]
-    risk_ok, radius_ok, sill_ok = ok["risk_ok"], ok["radius_ok"], ok["sill_ok"]
+    effort, force, risk_ok, radius_ok, sill_ok = out.values()
     if getattr(problem, "tolerances", None) is not None:  # the stock's corner speeds and toleranced swept radius
         risk_ok &= np.asarray(stock.confident_speed, float)[None, :] >= required[:, None]
         r_max = np.asarray(chairs["swept_radius_max"], float)[:, None]
@@ -308,7 +259,7 @@ def recommend_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     best_j = np.where(ok.any(axis=1), np.argmin(j, axis=1), -1)
     cap_p = getattr(problem, "max_threshold_force", None)
     cap_f = getattr(problem, "max_turning_effort", None)
-    # the buildable front and the rule: designer.studies.recommend._recommend.select_rows (the single owner of the rule)
+    # the buildable front and the rule: designer.studies.recommend.select_rows (the single owner of the rule)
     sel = select_rows(gmin, gp, np.isfinite(gmin), problem.weights, cap_p, cap_f)
 
     def stock_index(k):

@@ -1,6 +1,6 @@
 """The fleet table: FLEET.csv -> per-chair arrays (:class:`Fleet`), one-line errors, example fleets.
 
-Part of :mod:`designer.studies.fleet._fleet` (which re-exports every name): the columns and their units, the
+Part of :mod:`designer.studies.fleet._fleet`: the columns and their units, the
 model ranges per column, the reader and the writer of the example fleets.
 """
 
@@ -9,6 +9,7 @@ from __future__ import annotations
 import difflib
 import math
 import re
+import dataclasses
 from dataclasses import dataclass
 import os
 from pathlib import Path
@@ -115,17 +116,12 @@ class Fleet:
         index = np.asarray(index)
         if index.dtype == bool:
             index = np.flatnonzero(index)
-        return Fleet(
+        return dataclasses.replace(
+            self,
             names=[self.names[i] for i in index],
-            load=self.load[index],
-            threshold_height=self.threshold_height[index],
-            target_speed=self.target_speed[index],
-            swept_radius_max=self.swept_radius_max[index],
-            surface=self.surface[index],
-            turning_mode=self.turning_mode[index],
+            **{key: value[index] for key, value in self.arrays().items()},
             count=self.count[index],
             rows=None if self.rows is None else self.rows[index],
-            source=self.source,
         )
 
     def arrays(self) -> dict:
@@ -262,18 +258,7 @@ def fleet_from_text(text: str, source: str = "fleet") -> Fleet:
         t.check(name, v)
     labels = {name: t.labels(name, allowed) for name, allowed in (("surface", SURFACES), ("turning_mode", MODES))}
     count = t.counts() if "count" in columns else np.ones(n)
-    return Fleet(
-        names=names,
-        load=load,
-        threshold_height=values["threshold_height"],
-        target_speed=values["target_speed"],
-        swept_radius_max=values["swept_radius_max"],
-        surface=labels["surface"],
-        turning_mode=labels["turning_mode"],
-        count=count,
-        rows=row_numbers,
-        source=source,
-    )
+    return Fleet(names=names, load=load, **values, **labels, count=count, rows=row_numbers, source=source)
 
 
 def _header_columns(header: list[str], source: str) -> dict[str, tuple[int, float, str | None]]:

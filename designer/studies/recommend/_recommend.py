@@ -23,7 +23,7 @@
 
 Steps 1 and 2 live in :mod:`designer.studies.recommend._stock`, step 4 in
 :mod:`designer.studies.recommend._rule` and the :class:`Recommendation` record in
-:mod:`designer.studies.recommend._record` (all re-exported here); this module holds step 3 (the buildable
+:mod:`designer.studies.recommend._record` (re-exported here); this module holds step 3 (the buildable
 candidates), the messages when nothing is buildable, and :func:`recommend`, which runs the five steps.
 """
 
@@ -54,29 +54,12 @@ from designer.studies.spec import (
     exact_shimmy_probability,
     law_caster,
     mc_draws,
+    risk_law,
 )
-from designer.studies.recommend._rule import RULES, front_roles, rule_text, select_rows, weights_meaning
-from designer.studies.recommend._stock import (
-    CandidateTable,
-    ScreenedTable,
-    candidate_table,
-    stock_candidates,
-)
+from designer.studies.recommend._rule import front_roles, rule_text, select_rows, weights_meaning
+from designer.studies.recommend._stock import ScreenedTable, candidate_table, stock_candidates
 
-__all__ = [
-    "RULES",
-    "CandidateTable",
-    "SPECS",
-    "Recommendation",
-    "ScreenedTable",
-    "candidate_table",
-    "recommend",
-    "rule_text",
-    "select_rows",
-    "stock_candidates",
-    "weights_meaning",
-    "with_spec",
-]
+__all__ = ["SPECS", "Recommendation", "recommend", "with_spec"]
 
 
 @dataclass
@@ -93,6 +76,18 @@ class _Buildable:
         """Candidate ``i`` as a :class:`Design`."""
         v = self.values
         return Design(float(v.trail[i]), float(v.diameter[i]), float(v.groove[i]), float(v.damping[i]))
+
+    def corners(self, problem, rows) -> list[float]:
+        """The worst-corner P of candidates ``rows`` under ``problem``'s ``[tolerances]``
+        (:func:`designer.studies.spec.corner_probabilities`)."""
+        v = self.values
+        rows = [int(i) for i in rows]
+        return corner_probabilities(
+            problem,
+            [self.design(i) for i in rows],
+            [float(v.inertia[i]) for i in rows],
+            [bool(v.measured[i]) for i in rows],
+        )
 
 
 def _discrete_buildable(problem) -> tuple[_Buildable, ScreenedTable]:
@@ -230,10 +225,10 @@ def _record(
     p = exact_shimmy_probability(problem, design, inertia, measured, problem.target_speed)
     spec = None
     if role != "if measured" and wants_spec:
-        spec = _spec(problem, design, inertia, measured, (p_mc, se, n, mc_seed), p)
+        spec = caster_spec(problem, design, inertia, measured, (p_mc, se, n, mc_seed), probability=p)
     extra = _risk(problem, v, i, u, p, (p_mc, se)) if role == "recommended" else {}
     # the speed reached with probability 1 − α: the exact law's quantile (the solvers' V_q is a conservative bound)
-    law = problem.risk if problem.risk is not None else u
+    law = risk_law(problem)
     bound = v.confident_speed[i] if problem.risk is not None else risk.confident_speed[0]  # the solvers' V_q
     q = (
         quantile
@@ -274,12 +269,6 @@ def _quantiles(problem, b: _Buildable, rows: list[int]) -> list[float | None]:
     return [float(x) for x in found]
 
 
-def _spec(problem, design: Design, inertia: float, measured: bool, monte_carlo: tuple, p: float):
-    """The spec of one caster of a recommendation (:func:`designer.studies.spec.caster_spec`) with its exact P
-    ``p`` at V_target (the record's own): the one call of :func:`_record` and :func:`with_spec`."""
-    return caster_spec(problem, design, inertia, measured, monte_carlo, probability=p)
-
-
 def with_spec(rec: Recommendation) -> Recommendation:
     """``rec`` with its spec (acceptance limits, worst corner), as :func:`recommend` gives it with ``specs="all"``
     or ``"recommended"``: for a recommendation computed with ``specs="none"`` (the studio draws the chart first
@@ -290,7 +279,9 @@ def with_spec(rec: Recommendation) -> Recommendation:
     if rec.spec is not None or rec.role == "if measured" or rec.problem is None:
         return rec
     monte_carlo = (rec.shimmy_probability_mc, rec.shimmy_probability_se, rec.mc_samples, rec.mc_seed)
-    spec = _spec(rec.problem, rec.design, rec.inertia, rec.measured, monte_carlo, rec.shimmy_probability)
+    spec = caster_spec(
+        rec.problem, rec.design, rec.inertia, rec.measured, monte_carlo, probability=rec.shimmy_probability
+    )
     return dataclasses.replace(rec, spec=spec)
 
 
@@ -458,12 +449,10 @@ def _enforce(problem, b: _Buildable, free: int) -> dict:
     lazily: the worst-corner P (exact law, :func:`designer.studies.spec.corner_probabilities`) of the current
     front's members only; the failing ones leave and the front is taken again, until every member holds.  A
     caster dominated by one that holds stays dominated, so the result is the front of all holding casters."""
-    alpha = problem.risk.probability if problem.risk is not None else scatter_of(problem.conditions).probability
+    alpha = risk_law(problem).probability
     ok = np.ones(len(b), bool)
     if free >= 0:
-        v = b.values
-        at = corner_probabilities(problem, [b.design(free)], [float(v.inertia[free])], [bool(v.measured[free])])[0]
-        if at <= alpha:
+        if b.corners(problem, [free])[0] <= alpha:
             return _select(problem, b, ok)
     corner = np.full(len(b), np.nan)
     while True:
@@ -472,9 +461,7 @@ def _enforce(problem, b: _Buildable, free: int) -> dict:
         todo = members[np.isnan(corner[members])]
         if not len(todo):
             return sel
-        corner[todo] = corner_probabilities(
-            problem, [b.design(int(j)) for j in todo], list(b.values.inertia[todo]), list(b.values.measured[todo])
-        )
+        corner[todo] = b.corners(problem, todo)
         ok[todo] = corner[todo] <= alpha
 
 
@@ -483,7 +470,7 @@ def _enforced(problem, b: _Buildable, rec: Recommendation, free: int) -> dict:
     cost of the enforced one in turning effort and sill force [N] (zero when the rule's pick already holds)."""
     v = b.values
     d = b.design(free)
-    corner = corner_probabilities(problem, [d], [float(v.inertia[free])], [bool(v.measured[free])])[0]
+    corner = b.corners(problem, [free])[0]
     return {
         "changed": bool(not np.allclose(d.as_array(), rec.design.as_array(), rtol=1e-12, atol=1e-15)),
         "unenforced": {
@@ -511,15 +498,12 @@ def _price(problem, b: _Buildable) -> dict:
     w_turn, w_sill = problem.weights
     j = w_turn * np.asarray(v.turning_effort, float) + w_sill * np.asarray(v.threshold_force, float)
     order = np.argsort(j, kind="stable")
-    alpha = problem.risk.probability if problem.risk is not None else scatter_of(problem.conditions).probability
+    alpha = risk_law(problem).probability
     corner: dict[int, float] = {}
     hold = None
     for start in range(0, len(order), PRICE_CHUNK):
         chunk = [int(k) for k in order[start : start + PRICE_CHUNK]]
-        found = corner_probabilities(
-            problem, [b.design(k) for k in chunk], list(v.inertia[chunk]), list(v.measured[chunk])
-        )
-        corner.update(zip(chunk, found))
+        corner.update(zip(chunk, b.corners(problem, chunk)))
         hold = next((k for k in chunk if corner[k] <= alpha), None)
         if hold is not None:
             break
@@ -546,10 +530,8 @@ def _price(problem, b: _Buildable) -> dict:
 
 def _corner_error(problem, b: _Buildable, sel: dict) -> InfeasibleError:
     """Exit-4 error when no buildable caster holds the bound at the worst corner of ``[tolerances]``."""
-    free = int(sel["choice"][0])
-    v = b.values
-    corner = corner_probabilities(problem, [b.design(free)], [float(v.inertia[free])], [bool(v.measured[free])])[0]
-    alpha = problem.risk.probability if problem.risk is not None else scatter_of(problem.conditions).probability
+    corner = b.corners(problem, [int(sel["choice"][0])])[0]
+    alpha = risk_law(problem).probability
     return InfeasibleError(
         f"{problem.name}: no buildable caster holds P(shimmy) <= {alpha:g} at the worst corner of [tolerances] "
         f"(the rule's pick without it reaches {corner:.2%} there); tighten tolerances, widen the stock or set "
@@ -587,12 +569,8 @@ def _if_measured(problem, rec: Recommendation, samples, seed) -> dict | None:
     r = _record(measured, b, choice, rec.rule, "if measured", samples, seed)
     return {
         "design": r.design.to_dict(),
-        "turning_effort": r.turning_effort,
-        "threshold_force": r.threshold_force,
-        "shimmy_probability": r.shimmy_probability,
-        "shimmy_probability_se": r.shimmy_probability_se,
-        "inertia": r.inertia,
-        "extrapolated": r.extrapolated,
+        **{key: getattr(r, key) for key in ("turning_effort", "threshold_force", "shimmy_probability")},
+        **{key: getattr(r, key) for key in ("shimmy_probability_se", "inertia", "extrapolated")},
         "saves_turning_effort": rec.turning_effort - r.turning_effort,
         "saves_threshold_force": rec.threshold_force - r.threshold_force,
     }

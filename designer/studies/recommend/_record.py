@@ -219,8 +219,7 @@ class Recommendation(Record):
             more = "more" if value > 0 else "less"
             costs.append(f"{abs(value):.2f} N {more} {name}" if abs(value) >= 0.005 else f"the same {name}")
         return (
-            f"[tolerances] enforce = true changed the caster: the rule's pick without it (T {d['trail'] / INCH:.3g} "
-            f"in, d {d['diameter'] / INCH:.3g} in, B {d['groove'] / INCH:.3g} in, c_f {d['damping']:.3g} N·m/rad) "
+            f"[tolerances] enforce = true changed the caster: the rule's pick without it ({_parts(d)}) "
             f"reaches P(shimmy) {free['worst_corner_probability']:.2%} at its worst corner, above {percent(alpha)}; "
             f"this one holds there, with {' and '.join(costs)} "
             f"({free['turning_effort']:.2f} → {self.turning_effort:.2f} N turning, "
@@ -236,11 +235,7 @@ class Recommendation(Record):
         free, hold = price["least_objective_without_tolerances"], price["least_objective_holding"]
 
         def caster(x: dict[str, Any]) -> str:
-            d = x["design"]
-            return (
-                f"T {d['trail'] / INCH:.3g} in, d {d['diameter'] / INCH:.3g} in, B {d['groove'] / INCH:.3g} in, "
-                f"c_f {d['damping']:.3g} N·m/rad, J = {x['objective']:.2f} N"
-            )
+            return f"{_parts(x['design'])}, J = {x['objective']:.2f} N"
 
         if hold is None:
             return " No buildable caster holds at its worst corner: the tolerances cannot be met."
@@ -396,6 +391,14 @@ class Recommendation(Record):
                 label=f"{self.role} caster",
             )
         )
+
+
+def _parts(d: dict[str, float]) -> str:
+    """A design {trail, diameter, groove, damping} [SI] in one phrase: "T 2 in, d 6 in, B 0.75 in, c_f 1.3 N·m/rad"."""
+    return (
+        f"T {d['trail'] / INCH:.3g} in, d {d['diameter'] / INCH:.3g} in, B {d['groove'] / INCH:.3g} in, "
+        f"c_f {d['damping']:.3g} N·m/rad"
+    )
 
 
 def spec_lines(spec: Spec) -> list[str]:

@@ -1,7 +1,7 @@
 """The input of a retrofit: the current caster as text (:func:`parse_current`) and the checks of the
 caster and the observation the model can take (:func:`_check_inputs`, one-line InputErrors).
 
-Part of :mod:`designer.studies.retrofit._retrofit` (which re-exports its public names).
+Part of :mod:`designer.studies.retrofit._retrofit`.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import math
 
 from designer.data.paper import INCH, WALKING_SPEED
 from designer.errors import InputError
-from designer.model import Design, check_design
+from designer.model import VARIABLES, Design, check_design
 from designer.physics.geometry import effective_trail
 from designer.problem import INERTIA_RANGE
 from designer.units import parse_quantity_text
@@ -19,17 +19,8 @@ MAX_STEM_ANGLE = math.radians(30.0)
 """Largest stem tilt accepted [rad]: seat-angle and dump changes tilt the stem by a few degrees."""
 
 
-_KEYS = {
-    "t": "trail",
-    "trail": "trail",
-    "d": "diameter",
-    "diameter": "diameter",
-    "b": "groove",
-    "groove": "groove",
-    "c": "damping",
-    "c_f": "damping",
-    "cf": "damping",
-    "damping": "damping",
+_KEYS = {"t": "trail", "d": "diameter", "b": "groove", "c": "damping", "c_f": "damping", "cf": "damping"} | {
+    name: name for name in VARIABLES
 }
 
 

@@ -1,6 +1,6 @@
 """What a retrofit can change: the candidate values of each part and every combination of changed parts.
 
-Part of :mod:`designer.studies.retrofit._retrofit` (which re-exports its public names): the four parts and the
+Part of :mod:`designer.studies.retrofit._retrofit`: the four parts and the
 variable each sets, the candidate values from ``[stock]`` or a grid over the bounds (:func:`part_options`,
 the one place that decides them), and the vectorised enumeration of one- to four-part changes.
 """
@@ -47,15 +47,8 @@ class _Wheel:
 
 def _stock_of(problem) -> dict:
     """The problem's ``[stock]`` as {key: values} (keys left out, or no [stock] at all: absent = continuous)."""
-    stock = problem.stock
-    if stock is None:
-        return {}
-    out = {}
-    for key in ("diameters", "grooves", "trails", "dampings", "wheels", "trail_step"):
-        value = getattr(stock, key, None)
-        if value is not None:
-            out[key] = value
-    return out
+    keys = ("diameters", "grooves", "trails", "dampings", "wheels", "trail_step")
+    return {key: value for key in keys if (value := getattr(problem.stock, key, None)) is not None}
 
 
 def _grid(low: float, high: float, step: float) -> np.ndarray:
@@ -209,12 +202,8 @@ def _enumerate(options: dict, sources: dict, base: dict, max_parts: int, min_par
                 index = grid.ravel()
                 if part in costs:
                     out["price"] = out["price"] + costs[part][index]
-                if part == "washer":
-                    out["damping"] = options["washer"][index]
-                elif part == "tyre":
-                    out["groove"] = options["tyre"][index]
-                elif part == "fork hole":
-                    out["trail"] = options["fork hole"][index]
+                if part != "wheel":
+                    out[PART_VARIABLE[part]] = options[part][index]
                 else:
                     wheels = options["wheel"]
                     out["wheel"] = index

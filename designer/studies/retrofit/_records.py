@@ -2,7 +2,7 @@
 (:class:`CasterState`), the calibration by an observed onset (:class:`Calibration`), the whole answer
 (:class:`FixResult`), the ranking rule in words (:data:`RULE`) and :func:`describe_changes`.
 
-Part of :mod:`designer.studies.retrofit._retrofit` (which re-exports its public names and builds these records).
+Part of :mod:`designer.studies.retrofit._retrofit` (which builds these records).
 """
 
 from __future__ import annotations

@@ -33,7 +33,7 @@ Modules: :mod:`designer.studies.retrofit._input` reads and checks the current ca
 :mod:`designer.studies.retrofit._diagnosis` computes the numbers of a caster and of every candidate (V_c,
 the quantile, F_turn, P, the Monte Carlo, the calibration); :mod:`designer.studies.retrofit._options`
 decides what each part can become and enumerates the combinations; :mod:`designer.studies.retrofit._records`
-holds the records and the rule; this module ranks (:func:`fix`) and re-exports the public names.
+holds the records and the rule; this module ranks (:func:`fix`).
 """
 
 from __future__ import annotations
@@ -47,30 +47,26 @@ from typing import Any
 import numpy as np
 
 from designer.boundary import SEED, Count, Instance, Quantity, checked
-from designer.parameters import PARAMETERS
-from designer.model import Casters, Conditions, Design
+from designer.model import VARIABLES, Casters, Conditions, Design
 from designer.physics.uncertainty import Uncertainty
 from designer.problem import MAX_SAMPLES, problem_argument
 from designer.solvers import one_solve_at_a_time
 from designer.studies.retrofit._diagnosis import _calibrated, _current_inertia, _evaluate, _risk_of
-from designer.studies.retrofit._input import MAX_STEM_ANGLE, _check_inputs, parse_current
+from designer.studies.retrofit._input import _check_inputs, parse_current
 from designer.studies.retrofit._options import (
-    GRID_STEP,
     PART_VARIABLE,
     PARTS,
     _enumerate,
     combinations,
     part_options,
 )
-from designer.studies.spec import caster_specs, mc_draws
+from designer.studies.spec import caster_specs, mc_draws, tolerance_corners
 from designer.studies.retrofit._records import (
     RULE,
     Calibration,
     CasterState,
     Change,
     FixResult,
-    describe_changes,
-    fix_sentence,
 )
 from designer.units import written_size
 from designer.model import weighted
@@ -263,14 +259,7 @@ def _diagnosis(
     samples = int(samples or max(REPORT_SAMPLES, report_u.samples))
     seed = int(report_u.seed if seed is None else seed)
 
-    base = {
-        "trail": current.trail,
-        "diameter": current.diameter,
-        "groove": current.groove,
-        "damping": current.damping,
-        "inertia": inertia,
-        "measured": bool(measured),
-    }
+    base = current.to_dict() | {"inertia": inertia, "measured": bool(measured)}
     arrays = {k: np.array([v]) for k, v in base.items()}
     calibration = None
     factor = 1.0
@@ -283,22 +272,7 @@ def _diagnosis(
         if bound is not None:
             bound = _calibrated(bound, onset_scatter)
         report_u = _calibrated(report_u, onset_scatter)
-    setting = _Setting(
-        conditions,
-        stem_angle,
-        factor,
-        bound,
-        report_u,
-        samples,
-        seed,
-        problem.required_speed,
-        problem.target_speed,
-        problem.swept_radius_max,
-        problem.weights,
-        problem.max_threshold_increase,
-        problem.max_turning_increase,
-        problem,
-    )
+    setting = _Setting(problem, stem_angle, factor, bound, report_u, samples, seed)
     now = _evaluate(arrays, conditions, stem_angle, factor, bound, setting.limits, setting.monte_carlo)
     return setting, calibration, base, now
 
@@ -313,7 +287,7 @@ def _fix_result(problem, setting: _Setting, calibration, current_state: CasterSt
     return FixResult(
         problem=problem.name,
         target_speed=problem.target_speed,
-        required_speed=setting.v_req,
+        required_speed=problem.required_speed,
         probability=None if bound is None else bound.probability,
         stem_angle=setting.stem_angle,
         calibration=calibration,
@@ -323,8 +297,8 @@ def _fix_result(problem, setting: _Setting, calibration, current_state: CasterSt
         rule=RULE,
         stock=offer,
         scatter=scatter,
-        max_threshold_increase=setting.max_increase,
-        max_turning_increase=setting.max_turning,
+        max_threshold_increase=problem.max_threshold_increase,
+        max_turning_increase=problem.max_turning_increase,
         units=problem.units,
     )
 
@@ -347,12 +321,7 @@ def _fix_states(
     picked = {key: value[chosen] for key, value in cands.items()}
     values = _evaluate(picked, s.conditions, s.stem_angle, s.factor, s.bound, s.limits, s.monte_carlo)
     exact = s.exact(picked)
-    designs = [
-        Design(
-            float(cands["trail"][j]), float(cands["diameter"][j]), float(cands["groove"][j]), float(cands["damping"][j])
-        )
-        for j in chosen
-    ]
+    designs = [Design(*(float(cands[name][j]) for name in VARIABLES)) for j in chosen]
     specs = setting.specs(values, designs, [float(cands["inertia"][j]) for j in chosen], exact, wanted)
     fixes = []
     for n, j in enumerate(chosen):
@@ -375,39 +344,38 @@ def _fix_states(
 
 @dataclass(frozen=True)
 class _Setting:
-    """What every caster of one retrofit is judged with: the conditions, the risk model and the rule's numbers."""
+    """What every caster of one retrofit is judged with: the problem (its conditions, limits and the rule's numbers)
+    and the risk model."""
 
-    conditions: Conditions
+    problem: Any
     stem_angle: float
     factor: float
     bound: Uncertainty | None
     report_u: Uncertainty
     samples: int
     seed: int
-    v_req: float
-    v_target: float
-    r_max: float | None
-    weights: tuple[float, float]
-    max_increase: float = 0.10
-    max_turning: float = 0.10
-    problem: Any = None
+
+    @property
+    def conditions(self) -> Conditions:
+        """The problem's conditions."""
+        return self.problem.conditions
 
     def overshoot(self, turning_effort: Any, threshold_force: Any, current: CasterState) -> Any:
         """How far a caster's rises exceed the limits [-]: max(ΔP/P − the sill limit, ΔF/F − the turning limit),
         each relative to the current caster's force; <= 0 is within both limits (floats or arrays)."""
-        rise_p = (threshold_force - current.threshold_force) / current.threshold_force - self.max_increase
-        rise_f = (turning_effort - current.turning_effort) / current.turning_effort - self.max_turning
-        return np.maximum(rise_p, rise_f)
+        rise_p = (threshold_force - current.threshold_force) / current.threshold_force
+        rise_f = (turning_effort - current.turning_effort) / current.turning_effort
+        return np.maximum(rise_p - self.problem.max_threshold_increase, rise_f - self.problem.max_turning_increase)
 
     @property
     def limits(self) -> tuple[float, float | None]:
         """(V_req [m/s], R_max [m] or None): the limits every caster must meet."""
-        return self.v_req, self.r_max
+        return self.problem.required_speed, self.problem.swept_radius_max
 
     @property
     def monte_carlo(self) -> tuple[float, Uncertainty, int, int]:
         """(V_target [m/s], scatter, samples, seed) of the reported P(shimmy)'s Monte Carlo."""
-        return self.v_target, self.report_u, self.samples, self.seed
+        return self.problem.target_speed, self.report_u, self.samples, self.seed
 
     def exact(self, arrays: dict) -> np.ndarray:
         """The reported P(shimmy at V_target) of candidates (arrays) by the exact law (quadrature) under the
@@ -422,7 +390,7 @@ class _Setting:
         """The specs of the fixes ``wanted`` (None for the others), their acceptance limits searched in one batch
         (:func:`designer.studies.spec.caster_specs`): caster k of ``values`` is ``designs[k]`` with wheel
         inertia ``inertia[k]`` [kg·m²] and exact P(shimmy) ``exact[k]``."""
-        rows = [k for k in range(len(designs)) if wanted[k]] if self.problem is not None else []
+        rows = [k for k in range(len(designs)) if wanted[k]]
         out: list = [None] * len(designs)
         if not rows:
             return out
@@ -461,7 +429,7 @@ class _Setting:
         the cost of its parts; ``current`` the caster as it is, which its changes, rises and limits are taken
         against (None: this is the current caster); ``exact`` its P(shimmy) by the exact law (an array of one).
         ``spec``: the fix's spec when it has one (:meth:`specs`)."""
-        w_turn, w_threshold = self.weights
+        w_turn, w_threshold = self.problem.weights
         f, p = float(values.turning_effort[j]), float(values.threshold_force[j])
         cost_turn = 0.0 if current is None else f - current.turning_effort
         cost_threshold = 0.0 if current is None else p - current.threshold_force
@@ -516,10 +484,10 @@ def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current
             searched = "one- and two-part fixes, then three- and four-part ones (none of the first within the limits)"
     d_turn = values.turning_effort - current_state.turning_effort
     d_force = values.threshold_force - current_state.threshold_force
-    loss = np.round(weighted(d_turn, d_force, s.weights), 9)
+    loss = np.round(weighted(d_turn, d_force, s.problem.weights), 9)
     price = np.round(cands["price"], 9)
     feasible = values.feasible
-    if getattr(s.problem, "tolerances", None) is not None:  # only fixes that hold at the tolerances' worst corner
+    if s.problem.tolerances is not None:  # only fixes that hold at the tolerances' worst corner
         feasible = feasible & _holds_at_corner(cands, s)
     inside = np.flatnonzero(feasible & (over <= 1e-12))
     outside = np.flatnonzero(feasible & (over > 1e-12))
@@ -545,46 +513,21 @@ def _holds_at_corner(cands: dict, s: _Setting) -> np.ndarray:
     wheel at the accepted I_w): the bound's speed V_q at each corner against V_req, vectorised.  V_q is a
     conservative bound of the exact law's quantile, so a candidate kept holds there by the exact law too (its spec's
     worst corner says so); used to rank, never printed."""
-    tol = s.problem.tolerances
-    t_lo = float(PARAMETERS["trail"].range[0])  # type: ignore[index]
-    corner = {
-        "trail": np.maximum(cands["trail"] - (tol.trail or 0.0), t_lo),
-        "groove": np.maximum(cands["groove"] - (tol.groove or 0.0), 0.0),
-        "damping": cands["damping"] * (1 - (tol.friction_moment or 0.0)),
-    }
-    measured = np.broadcast_to(np.asarray(cands.get("measured", True), bool), np.shape(cands["trail"]))
     holds = np.ones(np.shape(cands["trail"]), bool)
-    model = s.problem.conditions.inertia
-    for sign in (-1.0, 1.0):
-        d = cands["diameter"] + sign * (tol.diameter or 0.0)
-        with warnings.catch_warnings():  # a wheel's edge just outside Table 1: said for the caster itself
-            warnings.simplefilter("ignore", UserWarning)
-            inertia = np.where(measured, cands["inertia"], np.asarray(model(d), float))
-        flags = measured
-        if tol.wheel is not None:
-            inertia, flags = np.full(np.shape(d), tol.wheel), np.ones(np.shape(d), bool)
+    for corner in tolerance_corners(s.problem, cands):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)
-            values = _evaluate(
-                corner | {"diameter": d, "inertia": inertia, "measured": flags},
-                s.conditions,
-                s.stem_angle,
-                s.factor,
-                s.bound,
-                s.limits,
-            )
+            values = _evaluate(corner, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
         holds &= np.asarray(values.risk_ok, bool)
     return holds
 
 
 def _changes(current: Design, inertia: float, cands: dict, j: int, wheels: list) -> tuple[Change, ...]:
-    out = []
-    if cands["mask_washer"][j]:
-        out.append(Change(part="washer", variable="damping", before=current.damping, after=float(cands["damping"][j])))
-    if cands["mask_tyre"][j]:
-        out.append(Change(part="tyre", variable="groove", before=current.groove, after=float(cands["groove"][j])))
-    if cands["mask_fork hole"][j]:
-        out.append(Change(part="fork hole", variable="trail", before=current.trail, after=float(cands["trail"][j])))
+    out = [
+        Change(part=part, variable=name, before=getattr(current, name), after=float(cands[name][j]))
+        for part, name in PART_VARIABLE.items()
+        if part != "wheel" and cands[f"mask_{part}"][j]
+    ]
     if cands["mask_wheel"][j]:
         name = wheels[int(cands["wheel"][j])].name
         out.append(
@@ -599,23 +542,4 @@ def _changes(current: Design, inertia: float, cands: dict, j: int, wheels: list)
     return tuple(out)
 
 
-__all__ = [
-    "fix",
-    "describe_changes",
-    "fix_sentence",
-    "stock_offer",
-    "MAX_CANDIDATES",
-    "FixResult",
-    "CasterState",
-    "Change",
-    "Calibration",
-    "parse_current",
-    "part_options",
-    "RULE",
-    "PARTS",
-    "PART_VARIABLE",
-    "GRID_STEP",
-    "ONSET_SCATTER",
-    "REPORT_SAMPLES",
-    "MAX_STEM_ANGLE",
-]
+__all__ = ["fix", "stock_offer", "MAX_CANDIDATES", "ONSET_SCATTER", "REPORT_SAMPLES"]
