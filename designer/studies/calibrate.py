@@ -256,9 +256,9 @@ def read_columns(
     return {c: np.asarray(v, dtype=float) for c, v in data.items()}
 
 
-def _require(path: str | Path, name: str, values: np.ndarray, positive: bool = True, allow_zero: bool = False) -> None:
+def _require(path: str | Path, name: str, values: np.ndarray, allow_zero: bool = False) -> None:
     bad = (values < 0) if allow_zero else (values <= 0)
-    if positive and bad.any():
+    if bad.any():
         row = int(np.argmax(bad)) + 2
         raise InputError(
             f"{path}: row {row}, column {name!r}: {values[row - 2]:g} must be "
@@ -324,18 +324,15 @@ def _check_result(value: float, stderr: float, constant: str, columns: str, sour
 # Fits
 
 
-def _interval(value: float, stderr: float, n: int) -> tuple[float, float]:
-    t = stats.t.ppf(0.975, max(n - 1, 1))
-    return (float(value - t * stderr), float(value + t * stderr))
-
-
 def _result(
     value: float, stderr: float, x: np.ndarray, y: np.ndarray, fitted: np.ndarray, **fields: Any
 ) -> CalibrationResult:
-    """The :class:`CalibrationResult` of a fit: its 95 % interval, row count and RMS residual from the data."""
+    """The :class:`CalibrationResult` of a fit: its 95 % interval (Student t, n − 1 degrees of freedom), row count
+    and RMS residual from the data."""
     n = len(y)
     rms = float(np.sqrt(np.mean((y - fitted) ** 2)))
-    interval = _interval(value, stderr, n)
+    t = stats.t.ppf(0.975, max(n - 1, 1))
+    interval = (float(value - t * stderr), float(value + t * stderr))
     return CalibrationResult(
         value=value, stderr=stderr, interval=interval, n=n, x=x, y=y, fitted=fitted, rms=rms, **fields
     )
@@ -389,10 +386,9 @@ def fit_turning(
     x, y = np.asarray(load, float), np.asarray(moment, float)
     columns = "'moment_Nm' against 'load_N'"
     k, se = _through_origin(x, y, columns, source)
-    if surface == "carpet":
-        _check_result(k, se, "carpet_factor", columns, source, scale=DEFAULT_TURNING.tile_moment_per_load)
-    else:
-        _check_result(k, se, "tile_moment_per_load", columns, source)
+    carpet = surface == "carpet"  # the snippet writes the carpet factor k / k_tile
+    constant = "carpet_factor" if carpet else "tile_moment_per_load"
+    _check_result(k, se, constant, columns, source, scale=DEFAULT_TURNING.tile_moment_per_load if carpet else 1.0)
     return _result(
         k,
         se,
@@ -623,12 +619,8 @@ def write_examples(out_dir: str | Path = EXAMPLES_DIR, seed: int = EXAMPLE_SEED)
     moment = DEFAULT_TURNING.tile_moment_per_load * load + rng.normal(0, 0.03, load.size)
     paths["turning"] = _write(out / "turning_tile.csv", ("load_N", "moment_Nm"), zip(load, moment))
 
-    rows = []
-    for trail in (1.5 * INCH, 2.0 * INCH, 2.5 * INCH):
-        for wheel in TABLE1[2:]:
-            rows.append((trail, wheel.inertia, 0.0))
-    for trail in (1.5 * INCH, 2.0 * INCH, 2.5 * INCH):
-        rows.append((trail, 0.00127, 9 / 16 * INCH))
+    trails = (1.5 * INCH, 2.0 * INCH, 2.5 * INCH)
+    rows = [(t, w.inertia, 0.0) for t in trails for w in TABLE1[2:]] + [(t, 0.00127, 9 / 16 * INCH) for t in trails]
     arr = np.array(rows)
     v = np.asarray(critical_speed(arr[:, 0], arr[:, 1], arr[:, 2], 1.3, SLIP_COEFFICIENT), float)
     v = v * (1 + rng.normal(0, 0.05, v.size))

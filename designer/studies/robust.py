@@ -47,11 +47,10 @@ def robust_comparison(problem, points: int = ROBUST_POINTS) -> dict:
             cond = [v for v in problem.variants() if v.conditions.inertia.wheel.key == point.wheel][0].conditions
         risk = evaluate([d], cond, risk=problem.required_speed)
         p_mc, se = float(risk.shimmy_probability[0]), float(risk.shimmy_probability_se[0])
-        p_nom = (
-            float(evaluate([_nominal_design(nominal, point)], cond, risk=problem.required_speed).shimmy_probability[0])
-            if len(nominal)
-            else float("nan")
-        )
+        p_nom = float("nan")
+        if len(nominal):  # the nominal front's design nearest in threshold force
+            at = nominal.points[int(np.argmin(np.abs(fn[:, 1] - point.threshold_force)))].design
+            p_nom = float(evaluate([at], cond, risk=problem.required_speed).shimmy_probability[0])
         # the nominal front as min F_turn s.t. P <= P_point: beyond its largest P, its least F_turn
         f_nominal = float(np.interp(point.threshold_force, fn[order, 1], fn[order, 0], left=np.nan))
         rows.append(
@@ -68,9 +67,3 @@ def robust_comparison(problem, points: int = ROBUST_POINTS) -> dict:
         )
     cmp = nominal.compare(robust) if len(nominal) and len(robust) else {}
     return {"nominal": nominal, "robust": robust, "rows": rows, "compare": cmp, "uncertainty": u}
-
-
-def _nominal_design(nominal, point):
-    """The nominal front's design at the robust point's threshold force (nearest point)."""
-    f = nominal.objectives()
-    return nominal.points[int(np.argmin(np.abs(f[:, 1] - point.threshold_force)))].design

@@ -21,7 +21,6 @@ from designer.studies.checks._record import (
     FAILS,
     KINDS,
     NOT_APPLICABLE,
-    OUTCOMES,
     REPRODUCED,
     WITHIN_SCATTER,
     Check,
@@ -31,9 +30,6 @@ from designer.studies.checks._record import (
 )
 from designer.studies.checks._paper import (
     CENTRAL_90_Z,
-    EQ8_TOLERANCE,
-    IDENTITY_TOLERANCE,
-    ROUTH_HURWITZ_TOLERANCE,
     TABLE1_MAX_TOLERANCE,
     TABLE1_RMS_TOLERANCE,
     check_carpet,
@@ -48,11 +44,9 @@ from designer.studies.checks._paper import (
     check_trail_halves,
     paper_checks,
 )
-from designer.studies.checks._front import dominated_by_problem, front_checks, highest_critical_speed
+from designer.studies.checks._front import dominated_by_problem, front_checks
 from designer.studies.checks._law import (
-    LOO_FAILS_BELOW,
     LOO_LEVEL,
-    LOO_REPRODUCED_AT,
     check_leave_one_out,
     law_checks,
     leave_one_out_rows,
@@ -62,17 +56,11 @@ from designer.studies.checks._knock import knock_safe_table1_error
 
 __all__ = [
     "CENTRAL_90_Z",
-    "EQ8_TOLERANCE",
     "FAILS",
-    "IDENTITY_TOLERANCE",
     "KINDS",
-    "LOO_FAILS_BELOW",
     "LOO_LEVEL",
-    "LOO_REPRODUCED_AT",
     "NOT_APPLICABLE",
-    "OUTCOMES",
     "REPRODUCED",
-    "ROUTH_HURWITZ_TOLERANCE",
     "TABLE1_MAX_TOLERANCE",
     "TABLE1_RMS_TOLERANCE",
     "WITHIN_SCATTER",
@@ -92,7 +80,6 @@ __all__ = [
     "count_outcomes",
     "dominated_by_problem",
     "front_checks",
-    "highest_critical_speed",
     "knock_safe_table1_error",
     "law_checks",
     "leave_one_out_rows",

@@ -63,7 +63,7 @@ from designer.physics.motion import (
 )
 from designer.physics.shimmy import shimmy_frequency, steady_shimmy_amplitude
 from designer.studies.dynamics._result import OnsetResult, SimulationResult
-from designer.studies.dynamics._work import SPEED_RANGE, bounded, counted, spend
+from designer.studies.dynamics._work import SPEED_RANGE, bisect_speed, bounded, counted, spend
 
 
 def _check(name: str, value: float, allow_zero: bool = False) -> None:
@@ -502,7 +502,7 @@ def onset_speed(  # long: its docstring documents every argument and error; the 
         low, high = (float(b) for b in bracket)
         _check("bracket low", low)
         _check("bracket high", high)
-    low, high = _narrow(run, *_bracket(run, low, high, max_expansions, v7), rtol)
+    low, high = bisect_speed(lambda v: run(v).grows, *_bracket(run, low, high, max_expansions, v7), rtol)
     speed = math.sqrt(low * high)
     at = run(high)
     omega = at.predicted_frequency
@@ -552,15 +552,4 @@ def _bracket(run, low: float, high: float, max_expansions: int, v7: float) -> tu
         )
     if run(low).grows or not run(high).grows:
         raise SolverError(f"shimmy onset not bracketed in {low:.3g}–{high:.3g} m/s (Eq. 7 gives {v7:.3g} m/s)")
-    return low, high
-
-
-def _narrow(run, low: float, high: float, rtol: float) -> tuple[float, float]:
-    """Bisect the bracket (low, high) [m/s] in log V until high/low − 1 <= ``rtol``."""
-    while high / low - 1 > rtol:
-        mid = math.sqrt(low * high)
-        if run(mid).grows:
-            high = mid
-        else:
-            low = mid
     return low, high

@@ -17,6 +17,7 @@ import contextlib
 import contextvars
 import functools
 import inspect
+import math
 from collections.abc import Iterator
 from typing import Any, Callable, TypeVar
 
@@ -127,3 +128,15 @@ def counted(rhs: Callable[..., Any]) -> Callable[..., Any]:
         return rhs(t, y)
 
     return f
+
+
+def bisect_speed(grows: Callable[[float], bool], low: float, high: float, rtol: float) -> tuple[float, float]:
+    """Bisect the bracket (low, high) [m/s], ``grows`` false at low and true at high, in log V until
+    high/low − 1 <= ``rtol`` (the onset searches)."""
+    while high / low - 1 > rtol:
+        mid = math.sqrt(low * high)
+        if grows(mid):
+            high = mid
+        else:
+            low = mid
+    return low, high

@@ -76,26 +76,19 @@ from designer.studies.explore._operators import (
     STREAM_STRIDE,
     Operators,
     SearchSpace,
-    category_label,
-    category_problem,
     search_space,
     stream_seed,
 )
 from designer.studies.explore._result import (
-    CATEGORICAL,
     CSV_COLUMNS,
     ExploreResult,
     FrontComparison,
     compare_fronts,
     versions,
 )
-from designer.studies.explore._runner import ATTR_PREFIX, MAX_TRIALS, MAX_WORKERS, explore
+from designer.studies.explore._runner import MAX_TRIALS, MAX_WORKERS, explore
 from designer.studies.explore._workers import DUPLICATE_ATTR, RETRY_ATTR, SURPLUS_ATTR, WORKER_ATTR, lineage
 from designer.studies.explore._storage import (
-    GRACE_SECONDS,
-    HEARTBEAT_SECONDS,
-    RDB_SCHEMES,
-    StorageSpec,
     redact_url,
     open_storage,
     parse_storage,
@@ -103,28 +96,20 @@ from designer.studies.explore._storage import (
 )
 
 __all__ = [
-    "ATTR_PREFIX",
-    "CATEGORICAL",
     "CSV_COLUMNS",
     "DUPLICATE_ATTR",
     "ExploreResult",
-    "GRACE_SECONDS",
-    "HEARTBEAT_SECONDS",
     "MAX_TRIALS",
     "MAX_WORKERS",
     "Operators",
     "redact_url",
     "removed_if_failed",
-    "RDB_SCHEMES",
     "RETRY_ATTR",
     "STREAM_STRIDE",
     "SURPLUS_ATTR",
     "SearchSpace",
     "StorageError",
-    "StorageSpec",
     "WORKER_ATTR",
-    "category_label",
-    "category_problem",
     "compare_fronts",
     "FrontComparison",
     "explore",

@@ -225,10 +225,8 @@ def _box_reference(problem: Problem) -> tuple[float, float]:
 
 def _exact_front(problem: Problem) -> dict[str, Any] | None:
     """The exact front of :func:`designer.studies.front._pareto.pareto_front`, or a note when it is unavailable."""
-    try:
-        from designer.studies.front import pareto_front
-    except ImportError:
-        return {"note": "designer.studies.front._pareto is not available; no comparison with the exact front"}
+    from designer.studies.front import pareto_front
+
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")

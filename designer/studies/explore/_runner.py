@@ -157,7 +157,7 @@ def explore(
 
     problem = problem_argument(problem)
     spec = parse_storage(storage)
-    _check_arguments(trials, workers, resume, spec)
+    _check_arguments(workers, resume, spec)
     space = search_space(problem)
     if not space.continuous and not space.categorical:
         raise InputError(f"{problem.name}: every variable is fixed; nothing to explore")
@@ -271,12 +271,8 @@ def _incomplete_note(study, complete: int, trials: int) -> str:
     return f"{complete} of {trials} trials complete ({running} still running elsewhere); run again with --resume"
 
 
-def _check_arguments(trials, workers, resume: bool, spec: StorageSpec) -> None:
-    """InputError for a budget or worker count out of range, or workers/resume without a shared storage."""
-    if isinstance(trials, bool) or not isinstance(trials, int) or not 1 <= trials <= MAX_TRIALS:
-        raise InputError(f"--trials {trials!r}: must be a whole number from 1 to {MAX_TRIALS}")
-    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= MAX_WORKERS:
-        raise InputError(f"--workers {workers!r}: must be a whole number from 1 to {MAX_WORKERS}")
+def _check_arguments(workers: int, resume: bool, spec: StorageSpec) -> None:
+    """InputError for workers or resume without a shared storage (the counts' ranges: :func:`explore`'s ``checked``)."""
     if workers > 1 and not spec.shared:
         raise InputError(
             f"--workers {workers}: several processes need a shared storage; add --storage "
@@ -375,10 +371,8 @@ def _collect(problem, space, study, complete, ops, refine, exact, reference) -> 
         front.sort(key=lambda r: r["threshold_force"])
         category_fronts[category_label(cat)] = front
         all_rows += front
-    overall = []
-    if all_rows:
-        objs = np.array([[r["turning_effort"], r["threshold_force"]] for r in all_rows])
-        overall = sorted((all_rows[i] for i in np.flatnonzero(_front_mask(objs))), key=lambda r: r["threshold_force"])
+    objs = np.array([[r["turning_effort"], r["threshold_force"]] for r in all_rows], float).reshape(-1, 2)
+    overall = sorted((all_rows[i] for i in np.flatnonzero(_front_mask(objs))), key=lambda r: r["threshold_force"])
     objs = np.array([[r["turning_effort"], r["threshold_force"]] for r in overall], float).reshape(-1, 2)
     comparison = {}
     if exact is not None and "points" in exact:

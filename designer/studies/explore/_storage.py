@@ -355,16 +355,18 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
 
     if spec.kind == "memory":
         return optuna.storages.InMemoryStorage()
+    path = storage_file(spec)  # a journal or an SQLite file (None: a database server)
+    if path is not None and not path.parent.is_dir():
+        raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
+    check_storage_file(spec)  # a folder, or a file that is not optuna's journal or database: exit 6
+    other = None if path is None else not_a_file(path)  # the readers' rule: a device (/dev/stdout) or a FIFO
+    if other is not None:
+        expected = "a journal file" if spec.kind == "journal" else "an SQLite database file"
+        raise StorageError(f"storage {spec.shown}: is {other}, expected {expected}")
     if spec.kind == "journal":
         from optuna.storages.journal import JournalFileBackend, JournalFileOpenLock, JournalStorage
 
-        path = Path(spec.url)
-        if not path.parent.is_dir():
-            raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
-        check_storage_file(spec)  # a folder, or a file that is not optuna's journal: exit 6
-        other = not_a_file(path)  # the readers' rule: a device (/dev/stdout) or a FIFO is not a journal
-        if other is not None:
-            raise StorageError(f"storage {spec.shown}: is {other}, expected a journal file")
+        assert path is not None
         try:
             if break_lock:
                 with contextlib.suppress(FileNotFoundError):
@@ -376,15 +378,6 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
             raise StorageError(
                 f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {scrub(_one_line(exc), spec.url)})"
             ) from None
-    if spec.url.startswith("sqlite:///"):
-        path = Path(spec.url[len("sqlite:///") :].split("?", 1)[0])
-        if str(path) and not path.parent.is_dir():
-            raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
-    check_storage_file(spec)
-    if spec.url.startswith("sqlite:///"):
-        other = not_a_file(spec.url[len("sqlite:///") :].split("?", 1)[0])  # a device or a FIFO is not a database
-        if other is not None:
-            raise StorageError(f"storage {spec.shown}: is {other}, expected an SQLite database file")
     heartbeat, grace = _heartbeat() if spec.remote else (None, None)  # a bad setting is its own one line
     try:
         return _open_database(spec, heartbeat, grace)

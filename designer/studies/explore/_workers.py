@@ -14,6 +14,7 @@ Exactly once
 
 from __future__ import annotations
 
+import collections
 import contextlib
 import math
 import multiprocessing
@@ -124,13 +125,9 @@ def evaluate_trial(sub: Problem, x: np.ndarray) -> Caster:
     return sub.evaluate(x[None, :]).row(0)
 
 
-def _counts(study) -> dict:
-    from optuna.trial import TrialState
-
-    out = {s: 0 for s in TrialState}
-    for t in study.get_trials(deepcopy=False):
-        out[t.state] += 1
-    return out
+def _counts(study) -> collections.Counter:
+    """The number of the study's trials in each state (0 for a state none is in)."""
+    return collections.Counter(t.state for t in study.get_trials(deepcopy=False))
 
 
 @contextlib.contextmanager

@@ -82,12 +82,9 @@ class TradeoffRow(Record):
 def _restricted(problem: Problem, mechanism: str) -> Problem:
     """The problem with the other mechanism held at its lower bound (bare fork or no groove)."""
     bounds = dict(problem.bounds)
-    if mechanism == "groove alone":
-        low = problem.bounds["damping"].low
-        bounds["damping"] = Bound(low, low)
-    elif mechanism == "damper alone":
-        low = problem.bounds["groove"].low
-        bounds["groove"] = Bound(low, low)
+    held = {"groove alone": "damping", "damper alone": "groove"}.get(mechanism)
+    if held is not None:
+        bounds[held] = Bound(bounds[held].low, bounds[held].low)
     return problem.replace(bounds=bounds)
 
 

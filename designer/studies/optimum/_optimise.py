@@ -256,22 +256,20 @@ class Solution(Record):
         ]
         duals = self.gp_duals()
         ranked = sorted(self.sensitivities.items(), key=lambda kv: -abs(kv[1]))
-        if p.risk is None and duals:
-            lines.append("  sensitivities d log J / d log p (largest first; NLP multipliers, GP duals beside):")
-            for name, value in ranked[:10]:
-                desc = PARAMETER_INFO.get(name, ("", "", "bound"))[2]
-                gp = f"{duals[name]:+8.4f}" if name in duals else "       –"
-                lines.append(f"    {name:24s} {value:+8.4f}  {gp}   {desc}")
-        else:
-            lines.append("  sensitivities d log J / d log p (largest first; NLP multipliers):")
-            if duals:
-                lines.append(  # one line: the terminal wraps it at its width (designer.cli._terminal)
-                    "  (the GP's duals are not shown: they belong to its conservative risk bound, V_req times a "
-                    "quantile factor fixed over the diameter range, not to this optimum's exact bound)"
-                )
-            for name, value in ranked[:10]:
-                desc = PARAMETER_INFO.get(name, ("", "", "bound"))[2]
-                lines.append(f"    {name:24s} {value:+8.4f}   {desc}")
+        beside = bool(p.risk is None and duals)  # the GP's duals beside the NLP's multipliers
+        lines.append(
+            "  sensitivities d log J / d log p (largest first; NLP multipliers"
+            + (", GP duals beside):" if beside else "):")
+        )
+        if duals and not beside:
+            lines.append(  # one line: the terminal wraps it at its width (designer.cli._terminal)
+                "  (the GP's duals are not shown: they belong to its conservative risk bound, V_req times a "
+                "quantile factor fixed over the diameter range, not to this optimum's exact bound)"
+            )
+        for name, value in ranked[:10]:
+            desc = PARAMETER_INFO.get(name, ("", "", "bound"))[2]
+            gp = ("  " + (f"{duals[name]:+8.4f}" if name in duals else "       –")) if beside else ""
+            lines.append(f"    {name:24s} {value:+8.4f}{gp}   {desc}")
         lines += ["", "  solver agreement (J in N):"]
         for name, value in self.cross_check.items():
             shown = "n/a" if value is None or not np.isfinite(value) else f"{value:.6f}"
@@ -430,12 +428,8 @@ def _gp(problem: Problem, weights: Sequence[float]) -> Optimum | None:
     (see ``designer.solvers.gp._solve``); its polished answer is still a cross-check.
     """
     try:
-        gp = solver("cvxpy-gp")
-    except ImportError:
-        return None
-    try:
-        found = gp.optimum(problem, weights)
-    except Exception:  # the GP is a cross-check; its failure is reported, not fatal
+        found = solver("cvxpy-gp").optimum(problem, weights)
+    except Exception:  # the GP is a cross-check (cvxpy missing included); its failure is reported, not fatal
         return None
     return found if found.success else None
 

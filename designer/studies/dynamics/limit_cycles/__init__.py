@@ -58,35 +58,26 @@ from designer.studies.dynamics.limit_cycles._results import (
     Table1Comparison,
     Table1Row,
 )
-from designer.studies.dynamics.limit_cycles._system import CasterDynamics, caster_dynamics, simulate_knock
+from designer.studies.dynamics.limit_cycles._system import caster_dynamics, simulate_knock
 from designer.studies.dynamics.limit_cycles._knock import (
     knock_onset_speed,
     knock_safe_speed,
     knock_safe_speeds,
-    scanned_onset_speed,
 )
 from designer.studies.dynamics.limit_cycles._orbits import (
     Branch,
     PeriodicOrbit,
     continue_orbits,
     periodic_orbit,
-    periodic_orbit_at_speed,
-    speed_sweep,
-    stable_orbit,
 )
 from designer.studies.dynamics.limit_cycles._studies import (
-    MAP_FACTORS,
     appendix_c_caster,
     bifurcation_diagram,
-    friction_sensitivity,
     limit_cycle_study,
-    map_casters,
     stiffness_mass_map,
-    table1_comparison,
 )
 
 __all__ = [
-    "CasterDynamics",
     "KnockResult",
     "OnsetBracket",
     "PeriodicOrbit",
@@ -102,23 +93,15 @@ __all__ = [
     "StiffnessMassMap",
     "Table1Comparison",
     "Table1Row",
-    "MAP_FACTORS",
     "caster_dynamics",
     "simulate_knock",
     "knock_onset_speed",
     "knock_safe_speed",
     "knock_safe_speeds",
-    "scanned_onset_speed",
     "periodic_orbit",
-    "periodic_orbit_at_speed",
-    "stable_orbit",
-    "speed_sweep",
     "continue_orbits",
     "bifurcation_diagram",
-    "table1_comparison",
     "stiffness_mass_map",
-    "map_casters",
-    "friction_sensitivity",
     "appendix_c_caster",
     "limit_cycle_study",
 ]

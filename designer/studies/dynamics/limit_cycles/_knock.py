@@ -11,7 +11,7 @@ from designer.studies.dynamics.limit_cycles._results import KnockSafe, OnsetScan
 from designer.studies.dynamics.limit_cycles._system import CasterDynamics, caster_dynamics, simulate_knock
 from designer.boundary import Instance, Quantity, checked
 from designer.errors import InputError, SolverError
-from designer.studies.dynamics._work import bounded
+from designer.studies.dynamics._work import bisect_speed, bounded
 from designer.model import Conditions, Design
 from designer.physics.inertia import Fixed
 from designer.physics.tyre import TyreParameters
@@ -42,11 +42,8 @@ def knock_onset_speed(
     when high/low − 1 < ``rtol``.  ``exact``: simulate with the closed-form integration of the rolling model
     (:func:`~designer.studies.dynamics.limit_cycles._system.simulate_knock`).
     """
-    if guess is None:  # Eq. 7 with c_f,eff = M_f/θ_i
-        c_eff = sys.friction_moment / angle
-        guess = math.sqrt(
-            4 * c_eff * sys.trail**2 / (math.pi * sys.inertia) + sys.groove_coefficient * sys.trail / sys.inertia
-        )
+    if guess is None:
+        guess = sys.eq7_speed(angle)
     n = 0
     cache: dict[float, bool] = {}
 
@@ -67,12 +64,7 @@ def knock_onset_speed(
             break
     else:
         raise SolverError(f"knock onset not bracketed between {low:.3g} and {high:.3g} m/s")
-    while high / low - 1 > rtol:
-        mid = math.sqrt(low * high)
-        if sustained(mid):
-            high = mid
-        else:
-            low = mid
+    low, high = bisect_speed(sustained, low, high, rtol)
     return OnsetBracket(low=low, high=high, evaluations=n)
 
 
@@ -127,11 +119,7 @@ def knock_safe_speed(
         return float(knock_onset_speed(sys, theta, rtol=rtol).low)
     except SolverError:
         # not bracketed: a knock that is sustained even at a crawl has no safe speed
-        crawl = 0.01 * math.sqrt(
-            4 * sys.friction_moment / theta * sys.trail**2 / (math.pi * sys.inertia)
-            + sys.groove_coefficient * sys.trail / sys.inertia
-        )
-        if simulate_knock(sys.at(crawl), theta, exact=exact).shimmy:
+        if simulate_knock(sys.at(0.01 * sys.eq7_speed(theta)), theta, exact=exact).shimmy:
             return 0.0
         raise
 
@@ -220,12 +208,11 @@ def scanned_onset_speed(sys: CasterDynamics, angle: float, speeds: Iterable[floa
     monotone = all(outcomes[k:])
     if k == 0:
         return OnsetScan(speed=scan[0], monotone=monotone, below_scan=True, evaluations=n)
-    low, high = scan[k - 1], scan[k]
-    while high / low - 1 > rtol:
-        mid = math.sqrt(low * high)
+
+    def sustained(v: float) -> bool:
+        nonlocal n
         n += 1
-        if simulate_knock(sys.at(mid), angle).shimmy:
-            high = mid
-        else:
-            low = mid
+        return simulate_knock(sys.at(v), angle).shimmy
+
+    low, high = bisect_speed(sustained, scan[k - 1], scan[k], rtol)
     return OnsetScan(speed=math.sqrt(low * high), monotone=monotone, below_scan=False, evaluations=n)

@@ -97,13 +97,13 @@ def _half_map(sys: CasterDynamics, z: np.ndarray) -> tuple[np.ndarray | None, fl
 def _full_period(sys: CasterDynamics, z: np.ndarray) -> tuple[np.ndarray | None, float]:
     """Section state after one full period (no symmetry used) and the period [s]."""
     period = 2 * math.pi / sys.frequency
-    first = _integrate(sys, np.append(z, 0.0), 20 * period, stop_at_end_of=-1.0)
-    if first.reason != "section":
-        return None, math.nan
-    second = _integrate(sys, first.state, 20 * period, stop_at_end_of=1.0)
-    if second.reason != "section":
-        return None, math.nan
-    return np.asarray(second.state[:-1]), first.time + second.time
+    state, time = np.append(z, 0.0), 0.0
+    for sign in (-1.0, 1.0):  # to the next minimum, then back to a maximum
+        run = _integrate(sys, state, 20 * period, stop_at_end_of=sign)
+        if run.reason != "section":
+            return None, math.nan
+        state, time = run.state, time + run.time
+    return np.asarray(state[:-1]), time
 
 
 def _describing_function_speed(sys: CasterDynamics, amplitude: float) -> float:
@@ -277,29 +277,25 @@ def continue_orbits(
     prev: list[tuple[float, np.ndarray]] = []
     amplitudes = [float(a) for a in amplitudes]
     for i, A in enumerate(amplitudes):
-        guess = None
+        guesses: list[np.ndarray | None] = [None]
+        if prev:  # the last orbit's unknowns scaled by A (V kept); after two, first a secant step
+            a2, u2 = prev[-1]
+            guesses = [u2 * np.concatenate([np.full(len(u2) - 1, A / a2), [1.0]])]
         if len(prev) >= 2:
-            (a1, u1), (a2, u2) = prev[-2], prev[-1]
+            a1, u1 = prev[-2]
             # unknowns scale roughly with A (X, X') or 1/A (V): extrapolate in log A
             k = math.log(A / a2) / math.log(a2 / a1)
-            guess = u2 * (u2 / u1) ** k if np.all(u1 * u2 > 0) else u2 + (u2 - u1) * k
-        elif prev:
-            a2, u2 = prev[-1]
-            guess = u2 * np.concatenate([np.full(len(u2) - 1, A / a2), [1.0]])
-        try:
-            orb = periodic_orbit(sys if guess is None else sys.at(guess[-1]), A, guess)
-        except SolverError:
-            if guess is not None and len(prev) >= 1:
-                try:
-                    a2, u2 = prev[-1]
-                    g2 = u2 * np.concatenate([np.full(len(u2) - 1, A / a2), [1.0]])
-                    orb = periodic_orbit(sys.at(g2[-1]), A, g2)
-                except SolverError:
-                    failed.append(A)
-                    continue
-            else:
-                failed.append(A)
-                continue
+            guesses.insert(0, u2 * (u2 / u1) ** k if np.all(u1 * u2 > 0) else u2 + (u2 - u1) * k)
+        orb = None
+        for guess in guesses:
+            try:
+                orb = periodic_orbit(sys if guess is None else sys.at(guess[-1]), A, guess)
+                break
+            except SolverError:
+                pass
+        if orb is None:
+            failed.append(A)
+            continue
         orbits.append(orb)
         prev.append((A, np.concatenate([orb.state[:-2], [orb.speed]])))
         if progress is not None:

@@ -8,6 +8,7 @@ results/simulation/bifurcation.json and of ``designer simulate --bifurcation --j
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -18,19 +19,6 @@ from designer.model import Design
 from designer.physics.tyre import TyreParameters
 from designer.reprs import Key, Keyed, Record, dataframe
 from designer.studies.dynamics.limit_cycles._orbits import PeriodicOrbit
-
-
-def _tyre_dict(tyre: TyreParameters | None) -> dict[str, Any] | None:
-    """The brush tyre's parameters as plain data (SI), None for the rolling tyre."""
-    if tyre is None:
-        return None
-    return {
-        "cornering_stiffness": tyre.cornering_stiffness,
-        "friction_coefficient": tyre.friction_coefficient,
-        "load": tyre.load,
-        "wheel_mass": tyre.wheel_mass,
-        "saturation": tyre.saturation,
-    }
 
 
 def _number(value: float | None) -> str:
@@ -78,8 +66,8 @@ class BifurcationDiagram(Record):
     max_closure: float
     failed_amplitudes: list[float]
 
-    _keys = ("*", Key("tyre", lambda b: _tyre_dict(b.tyre)))
-    """Every field; the tyre as its five parameters (None for the rolling tyre)."""
+    _keys = ("*", Key("tyre", lambda b: None if b.tyre is None else dataclasses.asdict(b.tyre)))
+    """Every field; the tyre as its five parameters (SI; None for the rolling tyre)."""
 
     _units = {
         **dict.fromkeys(("eq7_critical_speed", "fold_speed", "reference_speed"), "m/s"),

@@ -309,9 +309,8 @@ def stiffness_mass_map(
 def map_casters() -> dict:
     """The three casters of the (K, N) map: Appendix C (T = 2.5 in) and Table 1 wheels C and G (T = 2 in)."""
 
-    case = APPENDIX_C_CASE
-    i_c = 4 * BARE_FORK_DAMPING * case.trail**2 / (math.pi * case.critical_speed**2)
-    out = {"Appendix C": (Design(case.trail, 0.2, 0.0, BARE_FORK_DAMPING), i_c, 0.444, case.critical_speed)}
+    design, conditions = appendix_c_caster()
+    out = {"Appendix C": (design, conditions.inertia(design.diameter), 0.444, APPENDIX_C_CASE.critical_speed)}
     for key in ("C", "G"):
         w = table1_wheel(key)
         out[f"Table 1 {key}"] = (
@@ -421,7 +420,6 @@ def limit_cycle_study(progress=None, quick: bool = False) -> LimitCycleStudy:
     say("(K, N) map")
     kn = stiffness_mass_map(
         map_casters(),
-        factors=(0.25, 1.0, 4.0) if quick else MAP_FACTORS,
         progress=None if progress is None else (lambda i, n: progress(f"map {i}/{n}")),
     )
     return LimitCycleStudy(

@@ -8,6 +8,7 @@ and says whether it ends in sustained shimmy.
 from __future__ import annotations
 
 import cmath
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -64,15 +65,13 @@ class CasterDynamics:
 
     def at(self, speed: float) -> "CasterDynamics":
         """The same caster at another speed V [m/s]."""
-        return CasterDynamics(
-            self.trail,
-            self.inertia,
-            self.lateral_mass,
-            self.stiffness,
-            self.friction_moment,
-            self.groove_coefficient,
-            float(speed),
-            self.tyre,
+        return dataclasses.replace(self, speed=float(speed))
+
+    def eq7_speed(self, angle: float) -> float:
+        """Eq. 7's V_c with c_f,eff = M_f/θ_i for a knock ``angle`` θ_i [m/s]."""
+        c_eff = self.friction_moment / angle
+        return math.sqrt(
+            4 * c_eff * self.trail**2 / (math.pi * self.inertia) + self.groove_coefficient * self.trail / self.inertia
         )
 
     @property
