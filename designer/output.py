@@ -327,17 +327,6 @@ def _is_write_error(exc: OSError, *places: Path) -> bool:
 # --------------------------------------------------------------------------- checks before computing
 
 
-def _regular(path: Path) -> bool:
-    return stat.S_ISREG(os.stat(path).st_mode)
-
-
-def _nearest_existing(path: Path) -> Path:
-    probe = path
-    while not probe.exists() and probe != probe.parent:
-        probe = probe.parent
-    return probe
-
-
 def _probe(place: Path, path: Path, option: str, hint: str) -> None:
     """Make and remove a temporary folder in ``place`` (permission bits alone do not tell: root, read-only mounts)."""
     try:
@@ -384,18 +373,20 @@ def _path_problem(path: Path, option: str) -> None:
             ) from None
 
 
-def _refuse_files_on_the_way(path: Path, option: str, what: str) -> Path:
+def _refuse_files_on_the_way(path: Path, option: str) -> Path:
     """The nearest existing ancestor of ``path`` (``path`` itself if it exists); OutputError if it is not a folder."""
     _path_problem(path, option)
     if path.is_symlink() and not path.exists():
         raise OutputError(
             f"{option} {path}: is a link to {os.readlink(path)}, which does not exist; choose another {option}"
         )
-    probe = _nearest_existing(path)
+    probe = path
+    while not probe.exists() and probe != probe.parent:
+        probe = probe.parent
     if probe.exists() and not probe.is_dir():
         where = "is" if probe == path else f"lies under {probe}, which is"
         kind = _not_regular(probe) or "a regular file"
-        raise OutputError(f"{option} {path}: {where} {kind}, not a folder; choose another {option}{what}")
+        raise OutputError(f"{option} {path}: {where} {kind}, not a folder; choose another {option}")
     return probe
 
 
@@ -480,7 +471,7 @@ def check_folder(
         The folder with links resolved (where the files will go).
     """
     path = Path(folder)
-    probe = _refuse_files_on_the_way(path, option, "")
+    probe = _refuse_files_on_the_way(path, option)
     real = Path(os.path.realpath(path))
     _refused_place(real, path, option)
     _probe(probe, path, option, f"choose a writable {option} folder")
@@ -561,7 +552,7 @@ def check_file(path, option: str = "--out", example: str = "out.csv", *, kind: F
         place = Path(os.path.realpath(path)).parent
         _refuse_foreign(Path(os.path.realpath(path)), path, option, kind)
     else:
-        place = _refuse_files_on_the_way(path, option, "")
+        place = _refuse_files_on_the_way(path, option)
     _probe(place, path, option, f"choose another {option}")
     return Path(os.path.realpath(path))
 
@@ -724,17 +715,13 @@ def _entry(item) -> bool:
     return ok and all(_plain(n) for n in names)
 
 
-def _stage_of(folder: Path, record: dict) -> Path | None:
-    """The temporary folder ``record`` names, if it exists (a folder, not a link) and no live run holds it;
-    a record without it (copied with a report, planted in a shared folder) is acted on in no way."""
-    stage = folder / record["stage"]
-    if not _real_dir(stage):
-        return None
-    fd = _hold(stage, blocking=False)
-    if fd is None:
-        return None  # a live run's (or one this process cannot open)
-    os.close(fd)
-    return stage
+def _abandoned(stage: Path) -> bool:
+    """True if ``stage`` is a temporary folder (a folder, not a link) that no live run holds: its flock can be
+    taken now (a live run's, or one this process cannot open, is not)."""
+    fd = _hold(stage, blocking=False) if _real_dir(stage) else None
+    if fd is not None:
+        os.close(fd)
+    return fd is not None
 
 
 def _recover_records(folder: Path) -> None:
@@ -745,13 +732,15 @@ def _recover_records(folder: Path) -> None:
         if not entry.startswith((COMMIT_PREFIX, DONE_PREFIX)) or not entry.endswith(".json"):
             continue
         record = _read_record(folder / entry)
-        stage = _stage_of(folder, record) if record is not None else None
-        if record is not None and stage is not None:
+        # a record without its temporary folder (copied with a report, planted in a shared folder) acts on nothing
+        stage = folder / record["stage"] if record is not None else folder
+        acted = record is not None and _abandoned(stage)
+        if acted:
             (_roll_forward if entry.startswith(DONE_PREFIX) else _roll_back)(folder, record)
             _sync(folder)
         os.unlink(folder / entry)
         _sync(folder)
-        if stage is not None:
+        if acted:
             _remove(stage)
 
 
@@ -761,11 +750,8 @@ def _remove_dead_leftovers(folder: Path) -> None:
         if not entry.startswith(TEMP_PREFIX):
             continue
         path = folder / entry
-        if path.is_dir() and not path.is_symlink():
-            fd = _hold(path, blocking=False)
-            if fd is None:
-                continue  # a live run's temporary folder (or one this process cannot open: left alone)
-            os.close(fd)
+        if _real_dir(path) and not _abandoned(path):
+            continue  # a live run's temporary folder (or one this process cannot open: left alone)
         with contextlib.suppress(OSError):  # another user's leftover: left for a run that may remove it
             _remove(path)
 
@@ -1005,7 +991,7 @@ def write_file(path, content: str | bytes, option: str = "--out", example: str =
     path = Path(path)
     real = check_file(path, option, example, kind=kind)
     data = content.encode("utf-8") if isinstance(content, str) else bytes(content)
-    if real.exists() and not _regular(real):  # a device or a pipe: nothing to replace, nothing to leave behind
+    if real.exists() and not real.is_file():  # a device or a pipe: nothing to replace, nothing to leave behind
         _write_in_place(real, path, data, option)
         return path
     tmp = real.with_name(f"{TEMP_PREFIX}{real.name[:100]}-{uuid.uuid4().hex[:8]}")

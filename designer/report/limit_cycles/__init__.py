@@ -81,42 +81,38 @@ def _png(fig, path: Path) -> None:
 
 def _bifurcation_rows(study: Any) -> list[dict]:
     """bifurcation.csv: one row per periodic orbit, brush tyre then rolling tyre."""
-    rows = []
-    for model, diagram in (("brush tyre", study.bifurcation), ("rolling tyre", study.rolling)):
-        for o in diagram.to_dict()["orbits"]:
-            rows.append(
-                {
-                    "model": model,
-                    "kind": "stable" if o["stable"] else "unstable",
-                    "speed": o["speed"],
-                    "amplitude_rad": o["amplitude"],
-                    "amplitude_deg": math.degrees(o["amplitude"]),
-                    "period": o["period"],
-                    "max_abs_multiplier": o["max_abs_multiplier"],
-                    "closure_rad": o["closure"],
-                }
-            )
-    return rows
+    return [
+        {
+            "model": model,
+            "kind": "stable" if o["stable"] else "unstable",
+            "speed": o["speed"],
+            "amplitude_rad": o["amplitude"],
+            "amplitude_deg": math.degrees(o["amplitude"]),
+            "period": o["period"],
+            "max_abs_multiplier": o["max_abs_multiplier"],
+            "closure_rad": o["closure"],
+        }
+        for model, diagram in (("brush tyre", study.bifurcation), ("rolling tyre", study.rolling))
+        for o in diagram.to_dict()["orbits"]
+    ]
 
 
 def _table1_rows(table: Any) -> list[dict]:
     """table1.csv: one row per Table 1 wheel, measured and predicted critical speeds [m/s]."""
-    trows = []
-    for r in table.rows:
-        trows.append(
-            {
-                "wheel": r.wheel,
-                "name": r.name,
-                "inertia_kgm2": r.inertia,
-                "mass_kg": r.mass,
-                "measured": "" if r.measured is None else r.measured,
-                "eq7": r.eq7,
-                "rolling_sim": r.rolling_sim,
-                "tyre_sim": r.tyre_sim,
-                "flagged_below_3.8": " ".join(r.flagged),
-            }
-        )
-    return trows
+    return [
+        {
+            "wheel": r.wheel,
+            "name": r.name,
+            "inertia_kgm2": r.inertia,
+            "mass_kg": r.mass,
+            "measured": "" if r.measured is None else r.measured,
+            "eq7": r.eq7,
+            "rolling_sim": r.rolling_sim,
+            "tyre_sim": r.tyre_sim,
+            "flagged_below_3.8": " ".join(r.flagged),
+        }
+        for r in table.rows
+    ]
 
 
 def write_limit_cycle_report(study: Any, out_dir="results/simulation", option: str = "--report") -> list[str]:
@@ -135,21 +131,9 @@ def limit_cycle_files(study: Any, folder) -> list[str]:
     out = Path(folder)
     data = study.to_dict()
     _csv(out / "bifurcation.csv", _bifurcation_rows(study))
-    (out / "bifurcation.json").write_text(
-        json.dumps(
-            stamped(
-                "bifurcation.json",
-                finite(
-                    {
-                        k: data[k]
-                        for k in ("bifurcation", "rolling", "friction", "knock_safe", "measured", "rolling_limit")
-                        if k in data
-                    }
-                ),
-            ),
-            indent=1,
-        )
-    )
+    keys = ("bifurcation", "rolling", "friction", "knock_safe", "measured", "rolling_limit")
+    bifurcation = stamped("bifurcation.json", finite({k: data[k] for k in keys if k in data}))
+    (out / "bifurcation.json").write_text(json.dumps(bifurcation, indent=1))
     _png(_figures.bifurcation_figure(study), out / "bifurcation.png")
     _csv(out / "table1.csv", _table1_rows(study.table1))
     _png(_figures.table1_figure(study.table1), out / "table1.png")
