@@ -277,14 +277,12 @@ def is_owned(folder: Path, name: str, manifest: dict[str, dict] | None = None, b
 
 def _updated(manifest: dict[str, dict], folder: Path, names: Iterable[str], gone: Iterable[str], by: str) -> dict:
     """``manifest`` with the entries of ``names`` (now in ``folder``) digested anew and those of ``gone`` dropped."""
-    out = dict(manifest)
-    for name in [*names, *gone]:
-        for key in [k for k in out if k == name or k.startswith(name + "/")]:
-            del out[key]
+    names = list(names)
+    dropped = [*names, *gone]
+    out = {k: v for k, v in manifest.items() if not any(k == n or k.startswith(n + "/") for n in dropped)}
     for name in names:
-        for key, digest in tree_digests(folder / name, name).items():
-            if digest is not None:
-                out[key] = {"sha256": digest, "by": by}
+        digests = tree_digests(folder / name, name).items()
+        out.update({key: {"sha256": digest, "by": by} for key, digest in digests if digest is not None})
     return out
 
 

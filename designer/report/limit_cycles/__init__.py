@@ -6,8 +6,8 @@ maxima for the text).
 
 Modules
 -------
-(this one)  write_limit_cycle_report (safely, :mod:`designer.output`) and limit_cycle_files: the data files
-            (CSV, JSON), then the figures, then the text
+(this one)  limit_cycle_files: the data files (CSV, JSON), then the figures, then the text (``designer simulate
+            --report`` writes them safely, :mod:`designer.output`)
 figures     the three figures (bifurcation diagram, Table 1, (K, N) map), drawn by :mod:`designer.plots.simulation`
 text        the report's sections as blocks (headings, paragraphs, lists, tables), every sentence from the study
 blocks      the blocks as Markdown (limit_cycles.md) and as HTML (limit_cycles.html)
@@ -22,7 +22,6 @@ from typing import Any
 
 from designer.textfiles import csv_text, dict_rows
 from designer.jsonsafe import finite, stamped
-from designer.output import output_folder
 from designer.plots.figures import png_bytes
 from designer.report.limit_cycles import blocks as _blocks
 from designer.report.limit_cycles import figures as _figures
@@ -115,16 +114,6 @@ def _table1_rows(table: Any) -> list[dict]:
     ]
 
 
-def write_limit_cycle_report(study: Any, out_dir="results/simulation", option: str = "--report") -> list[str]:
-    """Write the files of :data:`FILES` into ``out_dir`` from a :func:`limit_cycle_study` result.
-
-    Safely (:func:`designer.output.output_folder`): the nine files replace their previous versions at once;
-    nothing else in the folder is touched.  Returns the names written.
-    """
-    with output_folder(out_dir, FILES, option=option, command="designer simulate") as tmp:
-        return limit_cycle_files(study, tmp)
-
-
 def limit_cycle_files(study: Any, folder) -> list[str]:
     """Write the files of :data:`FILES` into ``folder`` as they are (a folder the caller prepared, e.g. the
     temporary folder of :func:`designer.output.output_folder`).  Returns the names written."""
@@ -145,4 +134,4 @@ def limit_cycle_files(study: Any, folder) -> list[str]:
     return list(FILES)
 
 
-__all__ = ["FILES", "limit_cycle_files", "write_limit_cycle_report"]
+__all__ = ["FILES", "limit_cycle_files"]
