@@ -100,17 +100,7 @@ def _panels(data: ReportData) -> list[Panel]:
 
 
 def _check_row(c) -> dict:
-    return {
-        "name": c.name,
-        "claim": c.claim,
-        "expected": fmt(c.expected),
-        "got": fmt(c.got),
-        "passed": bool(c.passed),
-        "detail": c.detail,
-        "kind": c.kind,
-        "outcome": c.outcome,
-        "disagreements": list(c.disagreements),
-    }
+    return {**c.to_dict(), "expected": fmt(c.expected), "got": fmt(c.got)}
 
 
 def _design_cells(design) -> dict:
