@@ -722,6 +722,13 @@ def _abandoned(stage: Path) -> bool:
     return fd is not None
 
 
+def _stage_of(folder: Path, record: dict) -> Path | None:
+    """The temporary folder ``record`` names, if it exists (a folder, not a link) and no live run holds it;
+    a record without it (copied with a report, planted in a shared folder) is acted on in no way."""
+    stage = folder / record["stage"]
+    return stage if _abandoned(stage) else None
+
+
 def _recover_records(folder: Path) -> None:
     """Roll back (``commit-``) or forward (``done-``) each record whose temporary folder is there, then drop the
     record, then the temporary folder; a record that is not one of this release's, or without its temporary
@@ -730,15 +737,13 @@ def _recover_records(folder: Path) -> None:
         if not entry.startswith((COMMIT_PREFIX, DONE_PREFIX)) or not entry.endswith(".json"):
             continue
         record = _read_record(folder / entry)
-        # a record without its temporary folder (copied with a report, planted in a shared folder) acts on nothing
-        stage = folder / record["stage"] if record is not None else folder
-        acted = record is not None and _abandoned(stage)
-        if acted:
+        stage = _stage_of(folder, record) if record is not None else None
+        if record is not None and stage is not None:
             (_roll_forward if entry.startswith(DONE_PREFIX) else _roll_back)(folder, record)
             _sync(folder)
         os.unlink(folder / entry)
         _sync(folder)
-        if acted:
+        if stage is not None:
             _remove(stage)
 
 
