@@ -85,7 +85,7 @@ def _compute(problem, points, out, tracker, force=False, cross_check=False) -> d
         "index_html": str(Path(folder) / "index.html"),
         "points": len(data.front.points),
         "failed_points": len(data.front.failed),
-        "recommendation": {**_rec_dict(rec), **(data.knock_safe[0] if data.knock_safe else {})}
+        "recommendation": {**rec.to_dict(), **(data.knock_safe[0] if data.knock_safe else {})}
         if rec is not None
         else None,
         "optimum": data.solution.to_dict() if data.solution is not None else None,
@@ -97,20 +97,4 @@ def _compute(problem, points, out, tracker, force=False, cross_check=False) -> d
         "seconds": wall,
         "reported_diameters": [p.design.diameter for p in data.front.points]
         + ([data.solution.design.diameter] if data.solution is not None else []),
-    }
-
-
-def _rec_dict(rec) -> dict:
-    """The recommendation as the JSON shape of ``designer run --json`` (SI)."""
-    to_dict = getattr(rec, "to_dict", None)
-    if callable(to_dict):
-        return to_dict()
-    return {
-        "design": rec.design.to_dict(),
-        "turning_effort": rec.turning_effort,
-        "threshold_force": rec.threshold_force,
-        "critical_speed": rec.critical_speed,
-        "shimmy_probability": rec.shimmy_probability,
-        "shimmy_probability_se": rec.shimmy_probability_se,
-        "rule": rec.rule,
     }

@@ -78,9 +78,11 @@ import threading
 import uuid
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
+from os.path import lexists
 from pathlib import Path
 
 from designer.errors import OS_REASONS, WRITE_ERRNOS, OutputError
+from designer.textfiles import not_a_file
 
 TEMP_PREFIX = ".designer-tmp-"
 """Name prefix of every temporary entry (hidden; removed on any failure or signal, or by the next run)."""
@@ -224,7 +226,7 @@ repository like run.json), so neither changes the committed manifest."""
 def _read_one(path: Path) -> dict[str, dict] | None:
     """The entries of one manifest file: empty when there is none, None when a file of that name is not a
     manifest (not a regular file, a link, not JSON of :data:`MANIFEST_SCHEMA`): the user's, proving nothing."""
-    if not os.path.lexists(path):
+    if not lexists(path):
         return {}
     if path.is_symlink() or not path.is_file():
         return None
@@ -262,7 +264,7 @@ def is_owned(folder: Path, name: str, manifest: dict[str, dict] | None = None, b
     is not owned; a link, a device, a FIFO never are."""
     manifest = read_manifest(folder) if manifest is None else manifest
     path = Path(folder) / name
-    if not os.path.lexists(path):
+    if not lexists(path):
         return False
     digests = tree_digests(path, name)
     entries = [manifest.get(k, {}) for k in digests]
@@ -275,14 +277,12 @@ def is_owned(folder: Path, name: str, manifest: dict[str, dict] | None = None, b
 
 def _updated(manifest: dict[str, dict], folder: Path, names: Iterable[str], gone: Iterable[str], by: str) -> dict:
     """``manifest`` with the entries of ``names`` (now in ``folder``) digested anew and those of ``gone`` dropped."""
-    out = dict(manifest)
-    for name in [*names, *gone]:
-        for key in [k for k in out if k == name or k.startswith(name + "/")]:
-            del out[key]
+    names = list(names)
+    dropped = [*names, *gone]
+    out = {k: v for k, v in manifest.items() if not any(k == n or k.startswith(n + "/") for n in dropped)}
     for name in names:
-        for key, digest in tree_digests(folder / name, name).items():
-            if digest is not None:
-                out[key] = {"sha256": digest, "by": by}
+        digests = tree_digests(folder / name, name).items()
+        out.update({key: {"sha256": digest, "by": by} for key, digest in digests if digest is not None})
     return out
 
 
@@ -323,17 +323,6 @@ def _is_write_error(exc: OSError, *places: Path) -> bool:
 
 
 # --------------------------------------------------------------------------- checks before computing
-
-
-def _regular(path: Path) -> bool:
-    return stat.S_ISREG(os.stat(path).st_mode)
-
-
-def _nearest_existing(path: Path) -> Path:
-    probe = path
-    while not probe.exists() and probe != probe.parent:
-        probe = probe.parent
-    return probe
 
 
 def _probe(place: Path, path: Path, option: str, hint: str) -> None:
@@ -382,36 +371,27 @@ def _path_problem(path: Path, option: str) -> None:
             ) from None
 
 
-def _refuse_files_on_the_way(path: Path, option: str, what: str) -> Path:
+def _refuse_files_on_the_way(path: Path, option: str) -> Path:
     """The nearest existing ancestor of ``path`` (``path`` itself if it exists); OutputError if it is not a folder."""
     _path_problem(path, option)
     if path.is_symlink() and not path.exists():
         raise OutputError(
             f"{option} {path}: is a link to {os.readlink(path)}, which does not exist; choose another {option}"
         )
-    probe = _nearest_existing(path)
+    probe = path
+    while not probe.exists() and probe != probe.parent:
+        probe = probe.parent
     if probe.exists() and not probe.is_dir():
         where = "is" if probe == path else f"lies under {probe}, which is"
         kind = _not_regular(probe) or "a regular file"
-        raise OutputError(f"{option} {path}: {where} {kind}, not a folder; choose another {option}{what}")
+        raise OutputError(f"{option} {path}: {where} {kind}, not a folder; choose another {option}")
     return probe
 
 
 def _not_regular(path: Path) -> str | None:
     """What ``path`` is when it is a device, a pipe or a socket ("a character device"), else None."""
-    try:
-        mode = os.stat(path).st_mode
-    except OSError:
-        return None
-    for test, name in (
-        (stat.S_ISCHR, "a character device"),
-        (stat.S_ISBLK, "a block device"),
-        (stat.S_ISFIFO, "a pipe (FIFO)"),
-        (stat.S_ISSOCK, "a socket"),
-    ):
-        if test(mode):
-            return name
-    return None
+    kind = not_a_file(path)
+    return None if kind in ("a folder", "not a regular file") else kind
 
 
 def clashes(folder: Path, names: Iterable[str]) -> list[str]:
@@ -489,7 +469,7 @@ def check_folder(
         The folder with links resolved (where the files will go).
     """
     path = Path(folder)
-    probe = _refuse_files_on_the_way(path, option, "")
+    probe = _refuse_files_on_the_way(path, option)
     real = Path(os.path.realpath(path))
     _refused_place(real, path, option)
     _probe(probe, path, option, f"choose a writable {option} folder")
@@ -552,7 +532,7 @@ def check_file(path, option: str = "--out", example: str = "out.csv", *, kind: F
         The file with links resolved (where the bytes will go).
     """
     path = Path(path)
-    if kind.new_only and _lexists(path):
+    if kind.new_only and lexists(path):
         what = "a link" if path.is_symlink() else _not_regular(path) or ("a folder" if path.is_dir() else "a file")
         raise OutputError(
             f"{option} {path}: already exists ({what}); this command never writes over an existing path; "
@@ -570,7 +550,7 @@ def check_file(path, option: str = "--out", example: str = "out.csv", *, kind: F
         place = Path(os.path.realpath(path)).parent
         _refuse_foreign(Path(os.path.realpath(path)), path, option, kind)
     else:
-        place = _refuse_files_on_the_way(path, option, "")
+        place = _refuse_files_on_the_way(path, option)
     _probe(place, path, option, f"choose another {option}")
     return Path(os.path.realpath(path))
 
@@ -631,10 +611,6 @@ def _locked(folder: Path) -> Iterator[bool]:
 # --------------------------------------------------------------------------- recovery
 
 
-def _lexists(path: Path) -> bool:
-    return os.path.lexists(path)
-
-
 def _remove(path: Path) -> None:
     if path.is_dir() and not path.is_symlink():
         shutil.rmtree(path, ignore_errors=True)
@@ -660,7 +636,7 @@ def _real_dir(path: Path) -> bool:
 def entry_digest(path: Path) -> str | None:
     """One sha256 of the entry at ``path``: a file's bytes, or every file of a folder by its relative name; None
     for an absent entry or one holding a link, a device or a pipe (the tool installs none)."""
-    if not _lexists(path):
+    if not lexists(path):
         return None
     digests = tree_digests(path, ".")
     if any(d is None for d in digests.values()):
@@ -679,9 +655,9 @@ def _put_back(folder: Path, name: str, aside: str | None, installed: bool, diges
             _remove(dst)
         return
     old = folder / aside
-    if not _lexists(old):
+    if not lexists(old):
         return  # not set aside yet, or put back already
-    if _lexists(dst):
+    if lexists(dst):
         if os.path.samestat(os.lstat(old), os.lstat(dst)):
             os.unlink(old)  # a hard link of a file that was never replaced
             return
@@ -699,7 +675,7 @@ def _roll_back(folder: Path, record: dict) -> None:
     for name, aside in reversed(record["remove"]):
         _put_back(folder, name, aside, installed=False, digest=None)
     for name, aside in reversed(record["install"]):
-        _put_back(folder, name, aside, installed=not _lexists(stage / name), digest=digests.get(name))
+        _put_back(folder, name, aside, installed=not lexists(stage / name), digest=digests.get(name))
 
 
 def _roll_forward(folder: Path, record: dict) -> None:
@@ -737,17 +713,20 @@ def _entry(item) -> bool:
     return ok and all(_plain(n) for n in names)
 
 
+def _abandoned(stage: Path) -> bool:
+    """True if ``stage`` is a temporary folder (a folder, not a link) that no live run holds: its flock can be
+    taken now (a live run's, or one this process cannot open, is not)."""
+    fd = _hold(stage, blocking=False) if _real_dir(stage) else None
+    if fd is not None:
+        os.close(fd)
+    return fd is not None
+
+
 def _stage_of(folder: Path, record: dict) -> Path | None:
     """The temporary folder ``record`` names, if it exists (a folder, not a link) and no live run holds it;
     a record without it (copied with a report, planted in a shared folder) is acted on in no way."""
     stage = folder / record["stage"]
-    if not _real_dir(stage):
-        return None
-    fd = _hold(stage, blocking=False)
-    if fd is None:
-        return None  # a live run's (or one this process cannot open)
-    os.close(fd)
-    return stage
+    return stage if _abandoned(stage) else None
 
 
 def _recover_records(folder: Path) -> None:
@@ -774,11 +753,8 @@ def _remove_dead_leftovers(folder: Path) -> None:
         if not entry.startswith(TEMP_PREFIX):
             continue
         path = folder / entry
-        if path.is_dir() and not path.is_symlink():
-            fd = _hold(path, blocking=False)
-            if fd is None:
-                continue  # a live run's temporary folder (or one this process cannot open: left alone)
-            os.close(fd)
+        if _real_dir(path) and not _abandoned(path):
+            continue  # a live run's temporary folder (or one this process cannot open: left alone)
         with contextlib.suppress(OSError):  # another user's leftover: left for a run that may remove it
             _remove(path)
 
@@ -831,16 +807,18 @@ def _aside(dst: Path, aside: Path) -> None:
         os.rename(dst, aside)
 
 
-def _write_record(folder: Path, name: str, record: dict) -> Path:
-    """Write ``record`` as ``folder/name`` whole: a temporary file, synced, renamed, the folder synced."""
-    tmp = folder / f"{TEMP_PREFIX}record-{uuid.uuid4().hex[:8]}"
-    with open(tmp, "w", encoding="utf-8") as fh:
-        json.dump(record, fh)
-        fh.flush()
-        os.fsync(fh.fileno())
-    os.replace(tmp, folder / name)
-    _sync(folder)
-    return folder / name
+def _write_whole(path: Path, text: str) -> None:
+    """Write ``text`` as ``path`` whole: a temporary file beside it, synced, renamed over it (removed on failure)."""
+    tmp = path.parent / f"{TEMP_PREFIX}write-{uuid.uuid4().hex[:8]}"
+    try:
+        with open(tmp, "w", encoding="utf-8") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
 
 
 def _sync_tree(stage: Path) -> None:
@@ -858,7 +836,7 @@ def _apply(real: Path, stage: Path, record: dict) -> None:
         if aside is not None:
             _aside(dst, real / aside)
             _step(f"aside {name}")
-            if src.is_dir() and _lexists(dst):
+            if src.is_dir() and lexists(dst):
                 os.unlink(dst)  # a file or a link where the new folder goes (kept aside)
         os.replace(src, dst)
         _step(f"install {name}")
@@ -881,22 +859,24 @@ def _commit(stage: Path, real: Path, owned: set[str], force: bool, option: str, 
         clash = foreign(real, set(names) | owned, same_as=stage, by=command)
         if clash and not force:  # something of the user's, or edited, or another command's report meanwhile
             _refuse_clash(real, clash, option, command)
-        stale = [n for n in sorted(owned - set(names)) if _lexists(real / n) and is_owned(real, n, manifest, command)]
+        stale = [n for n in sorted(owned - set(names)) if lexists(real / n) and is_owned(real, n, manifest, command)]
         stable, run = _split(_updated(manifest, stage, names, stale, command))
         (stage / MANIFEST).write_text(manifest_text(stable), "utf-8")
         names.append(MANIFEST)  # installed last: the files and their proof change together
-        if run or _lexists(real / RUN_MANIFEST):
+        if run or lexists(real / RUN_MANIFEST):
             (stage / RUN_MANIFEST).write_text(manifest_text(run), "utf-8")
             names.append(RUN_MANIFEST)
         _sync_tree(stage)
         tag = uuid.uuid4().hex[:8]
         record = {
             "stage": stage.name,
-            "install": [[n, f"{OLD_PREFIX}{tag}-{n}" if _lexists(real / n) else None] for n in names],
+            "install": [[n, f"{OLD_PREFIX}{tag}-{n}" if lexists(real / n) else None] for n in names],
             "remove": [[n, f"{OLD_PREFIX}{tag}-{n}"] for n in stale],
             "digests": {n: d for n in names if (d := entry_digest(stage / n)) is not None},
         }
-        journal = _write_record(real, f"{COMMIT_PREFIX}{tag}.json", record)
+        journal = real / f"{COMMIT_PREFIX}{tag}.json"
+        _write_whole(journal, json.dumps(record))
+        _sync(real)
         _step("record")
         try:
             _apply(real, stage, record)
@@ -1014,7 +994,7 @@ def write_file(path, content: str | bytes, option: str = "--out", example: str =
     path = Path(path)
     real = check_file(path, option, example, kind=kind)
     data = content.encode("utf-8") if isinstance(content, str) else bytes(content)
-    if real.exists() and not _regular(real):  # a device or a pipe: nothing to replace, nothing to leave behind
+    if real.exists() and not real.is_file():  # a device or a pipe: nothing to replace, nothing to leave behind
         _write_in_place(real, path, data, option)
         return path
     tmp = real.with_name(f"{TEMP_PREFIX}{real.name[:100]}-{uuid.uuid4().hex[:8]}")
@@ -1078,17 +1058,7 @@ def _record(folder: Path, name: str, by: str) -> None:
     if entries is None:
         return
     stable, run = _split(_updated(entries, folder, [name], [], by))
-    text = manifest_text(run if name in VOLATILE else stable)
-    tmp = folder / f"{TEMP_PREFIX}manifest-{uuid.uuid4().hex[:8]}"
-    try:
-        with open(tmp, "w", encoding="utf-8") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    finally:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
+    _write_whole(path, manifest_text(run if name in VOLATILE else stable))
 
 
 __all__ = [

@@ -12,13 +12,11 @@ from pathlib import Path
 from designer.errors import InputError
 from designer.output import output_folder
 from designer.report.formatting import fmt
-from designer.report.writer import _render
-from designer.plots.figures import save_figure
+from designer.report.writer import _render, _write_json
+from designer.plots.figures import png_bytes, save_figure
 from designer.plots.calibration import fit_figure
-import json
 from designer.jsonsafe import finite, stamped
 from designer.versions import versions
-from designer.plots.figures import png_bytes
 
 OWNED = frozenset({"index.html", "report.md", "calibration.json", "figures"})
 """What a calibration report owns in its folder (anything else there is kept on replace)."""
@@ -86,13 +84,7 @@ def write_calibration_report(result, out_dir, data_file: str = "", option: str =
         }
         out = result.to_dict()
         out["data"] = data_file
-        (tmp / "calibration.json").write_text(
-            json.dumps(
-                stamped("calibration.json", finite(out)), indent=2, ensure_ascii=False, allow_nan=False, default=float
-            )
-            + "\n",
-            encoding="utf-8",
-        )
+        _write_json(tmp / "calibration.json", stamped("calibration.json", finite(out)))
         (tmp / "index.html").write_text(_render("calibration.html.j2", context, autoescape=True), encoding="utf-8")
         (tmp / "report.md").write_text(_render("calibration.md.j2", context, autoescape=False), encoding="utf-8")
     return Path(out_dir)

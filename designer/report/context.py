@@ -100,17 +100,7 @@ def _panels(data: ReportData) -> list[Panel]:
 
 
 def _check_row(c) -> dict:
-    return {
-        "name": c.name,
-        "claim": c.claim,
-        "expected": fmt(c.expected),
-        "got": fmt(c.got),
-        "passed": bool(c.passed),
-        "detail": c.detail,
-        "kind": c.kind,
-        "outcome": c.outcome,
-        "disagreements": list(c.disagreements),
-    }
+    return {**c.to_dict(), "expected": fmt(c.expected), "got": fmt(c.got)}
 
 
 def _design_cells(design) -> dict:
@@ -322,7 +312,8 @@ def _parameter_info(name: str) -> str:
 def _tradeoff_rows(problem, rows) -> list[dict]:
     """Table rows of the groove/damper trade-off; consecutive diameters where the trail alone suffices are merged."""
 
-    out = []
+    out: list[dict] = []
+    firsts: list[tuple[str, str] | None] = []  # each row's first (mm, in) diameter when the trail alone suffices
     for r in rows:
         d_mm, d_in = length(r.diameter)
         row = {"d_mm": d_mm, "d_in": d_in, "wheel": r.wheel or ""}
@@ -331,17 +322,13 @@ def _tradeoff_rows(problem, rows) -> list[dict]:
             row[key] = "cannot reach V_req" if v is None else fmt(v, ".3f", "N")
         mix = r.designs.get("optimum mix")
         bare = mix is not None and is_bare_fork(problem.bounds, mix) and not problem.wheels
-        if bare and out and out[-1].get("_bare") and out[-1]["mix"] == row["mix"]:
-            first = out[-1]["_first"]
-            out[-1].update(d_mm=f"{first[0]} – {d_mm}", d_in=f"{first[1]} – {d_in}")
-            out[-1]["mix"] = row["mix"]
+        if bare and firsts and firsts[-1] and out[-1]["mix"] == row["mix"]:
+            out[-1].update(d_mm=f"{firsts[-1][0]} – {d_mm}", d_in=f"{firsts[-1][1]} – {d_in}")
             continue
-        if bare:
-            row.update(_bare=True, _first=(d_mm, d_in))
         out.append(row)
-    for row in out:
-        if row.pop("_bare", False):
-            row.pop("_first")
+        firsts.append((d_mm, d_in) if bare else None)
+    for row, first in zip(out, firsts):
+        if first:
             row["mix"] += " (trail alone suffices)"
     return out
 
@@ -794,14 +781,8 @@ def build_context(data: ReportData) -> dict:
     """Every table of the report as display strings (SI and inches), shared by the HTML and Markdown templates."""
     problem, front = data.problem, data.front
     knee, best = front.knee(), front.weighted_best()
-    points = []
-    for i, p in enumerate(front.points):
-        marks = ", ".join(m for m, q in (("knee", knee), ("best J on the front", best)) if q is p)
-        points.append(_point_row(i, p, marks))
-    failed = [_point_row(i, p) for i, p in enumerate(front.failed)]
-    indicators = _indicators(front, problem, knee, best)
-    solution = _solution(data.solution)
-    tradeoff = _tradeoff_rows(problem, data.tradeoff)
+    marked = (("knee", knee), ("best J on the front", best))
+    points = [_point_row(i, p, ", ".join(m for m, q in marked if q is p)) for i, p in enumerate(front.points)]
     figures = [
         {
             "name": n,
@@ -821,7 +802,7 @@ def build_context(data: ReportData) -> dict:
         "degenerate": data.degenerate_reason,
         "problem_rows": _problem_rows(problem),
         "model_rows": _model_rows(problem),
-        "solution": solution,
+        "solution": _solution(data.solution),
         "solution_error": data.solution_error,
         "paper_checks": [_check_row(c) for c in data.paper_checks if c.kind != "identity"],
         "identity_checks": [_check_row(c) for c in data.paper_checks if c.kind == "identity"],
@@ -831,10 +812,10 @@ def build_context(data: ReportData) -> dict:
         "checks_total": len(all_checks),
         "points": points,
         "catalog": bool(problem.wheels),
-        "failed": failed,
+        "failed": [_point_row(i, p) for i, p in enumerate(front.failed)],
         "gaps": [{"index": i, "what": what} for i, what in data.gaps],
-        "indicators": indicators,
-        "tradeoff": tradeoff,
+        "indicators": _indicators(front, problem, knee, best),
+        "tradeoff": _tradeoff_rows(problem, data.tradeoff),
         "figures": figures,
         "run": data.run,
         "versions": ", ".join(f"{k} {v}" for k, v in data.run.get("versions", {}).items() if v),

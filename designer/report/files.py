@@ -14,9 +14,6 @@ REPORT_OWNED = frozenset({"index.html", "report.md", "front.csv", "front.json", 
 """Names a Pareto report owns in its folder: anything else there (``designer explore``'s explore.csv and
 explore.json, the user's notes) is left as it is."""
 
-NEIGHBOURS = frozenset({"explore.csv", "explore.json"})
-"""Files another command of this tool writes into a report folder (``designer explore``)."""
-
 
 def check_target(target: Path, force: bool = False, option: str = "--out") -> Path:
     """Check a Pareto report's folder before computing; returns it with links resolved.
@@ -29,4 +26,4 @@ def check_target(target: Path, force: bool = False, option: str = "--out") -> Pa
     return check_folder(target, option, owned=REPORT_OWNED, force=force, command="designer pareto")
 
 
-__all__ = ["NEIGHBOURS", "REPORT_OWNED", "check_target"]
+__all__ = ["REPORT_OWNED", "check_target"]

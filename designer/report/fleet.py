@@ -166,23 +166,14 @@ def _sku_rows(data: dict) -> list[dict]:
     rows = []
     for s in data["skus"]:
         d = s["design"]
-        t_mm, t_in = written_size(d["trail"], "mm"), written_size(d["trail"], "in")  # as the user writes sizes
-        d_mm, d_in = written_size(d["diameter"], "mm"), written_size(d["diameter"], "in")
-        b_mm, b_in = written_size(d["groove"], "mm"), written_size(d["groove"], "in")
+        sizes = {  # as the user writes sizes
+            f"{key}_{units}": written_size(d[name], units)
+            for key, name in (("T", "trail"), ("d", "diameter"), ("B", "groove"))
+            for units in ("in", "mm")
+        }
         rows.append(
-            {
-                "id": s["id"],
-                "wheel": s.get("wheel"),
-                "T_in": t_in,
-                "T_mm": t_mm,
-                "d_in": d_in,
-                "d_mm": d_mm,
-                "B_in": b_in,
-                "B_mm": b_mm,
-                "c_f": fmt(d["damping"], ".2f", "N·m/rad"),
-                "chairs": s["chairs"],
-                "units": f"{s['count']:,}",
-            }
+            {"id": s["id"], "wheel": s.get("wheel"), **sizes, "c_f": fmt(d["damping"], ".2f", "N·m/rad")}
+            | {"chairs": s["chairs"], "units": f"{s['count']:,}"}
             | _sku_spec(s.get("spec"))
         )
     return rows
@@ -336,16 +327,6 @@ def _context(data: dict, figures: list[dict]) -> dict:
     }
 
 
-def markdown(data: dict, figures: list[dict] | None = None) -> str:
-    """report.md of a fleet run (figures as figures/<name>.svg)."""
-    return _render("fleet.md.j2", _context(data, figures if figures is not None else _figures(data)), False)
-
-
-def html(data: dict, figures: list[dict] | None = None) -> str:
-    """index.html of a fleet run: one self-contained page, the figures inline."""
-    return _render("fleet.html.j2", _context(data, figures if figures is not None else _figures(data)), True)
-
-
 def write_fleet_report(data: dict, out_dir, run: dict | None = None, option: str = "--out") -> Path:
     """Write fleet.csv, fleet.json, report.md, figures/*.svg, index.html and (given ``run``, from
     :func:`designer.studies.fleet._fleet.fleet_run`) run.json into ``out_dir`` (atomically).
@@ -360,8 +341,9 @@ def write_fleet_report(data: dict, out_dir, run: dict | None = None, option: str
             (tmp / item["file"]).write_text(item["svg"] + "\n", encoding="utf-8")
         (tmp / "fleet.csv").write_text(csv_text(data), encoding="utf-8")
         (tmp / "fleet.json").write_text(json_text(data) + "\n", encoding="utf-8")
-        (tmp / "report.md").write_text(markdown(data, figures), encoding="utf-8")
-        (tmp / "index.html").write_text(html(data, figures), encoding="utf-8")
+        context = _context(data, figures)  # report.md links figures/<name>.svg, index.html holds them inline
+        (tmp / "report.md").write_text(_render("fleet.md.j2", context, False), encoding="utf-8")
+        (tmp / "index.html").write_text(_render("fleet.html.j2", context, True), encoding="utf-8")
         if run is not None:
             (tmp / "run.json").write_text(json.dumps(run_data(run), indent=1) + "\n", encoding="utf-8")
     return Path(out_dir)

@@ -86,15 +86,10 @@ def plain_rule(problem, rec) -> str:
 
 
 def lead_sentence(data) -> str:
-    """The first screen's first sentence, in plain words: why this caster, the two forces, the risk."""
-    return answer_sentence(data.problem, data.recommendation)
-
-
-def answer_sentence(problem, rec) -> str:
-    """Why this caster, the two forces and the risk in one plain sentence (the report's first sentence and the
-    "Why" of ``designer run``): "The lowest combined force among the parts you can buy (...): it turns with
-    7.9 N of effort and climbs the 1/2 in sill with 107 N; at 2.5 m/s it shimmies with probability 2.98 % (the
-    bound is 5 %)."."""
+    """The first screen's first sentence, in plain words: why this caster, the two forces and the risk: "The
+    lowest combined force among the parts you can buy (...): it turns with 7.9 N of effort and climbs the 1/2 in
+    sill with 107 N; at 2.5 m/s it shimmies with probability 2.98 % (the bound is 5 %)."."""
+    problem, rec = data.problem, data.recommendation
     units = getattr(problem, "units", "in")
     forces = (
         f"it turns with {rec.turning_effort:.1f} N of effort and climbs the "

@@ -138,7 +138,8 @@ def _front_csv(path: Path, data: ReportData) -> None:
 
 
 def _write_json(path: Path, value) -> None:
-    path.write_text(json.dumps(value, indent=2, ensure_ascii=False, allow_nan=False) + "\n", encoding="utf-8")
+    text = json.dumps(value, indent=2, ensure_ascii=False, allow_nan=False, default=float)
+    path.write_text(text + "\n", encoding="utf-8")
 
 
 def _write_all(folder: Path, data: ReportData, t0: float, target: Path | None = None) -> None:

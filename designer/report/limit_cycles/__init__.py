@@ -6,8 +6,8 @@ maxima for the text).
 
 Modules
 -------
-(this one)  write_limit_cycle_report (safely, :mod:`designer.output`) and limit_cycle_files: the data files
-            (CSV, JSON), then the figures, then the text
+(this one)  limit_cycle_files: the data files (CSV, JSON), then the figures, then the text (``designer simulate
+            --report`` writes them safely, :mod:`designer.output`)
 figures     the three figures (bifurcation diagram, Table 1, (K, N) map), drawn by :mod:`designer.plots.simulation`
 text        the report's sections as blocks (headings, paragraphs, lists, tables), every sentence from the study
 blocks      the blocks as Markdown (limit_cycles.md) and as HTML (limit_cycles.html)
@@ -22,7 +22,6 @@ from typing import Any
 
 from designer.textfiles import csv_text, dict_rows
 from designer.jsonsafe import finite, stamped
-from designer.output import output_folder
 from designer.plots.figures import png_bytes
 from designer.report.limit_cycles import blocks as _blocks
 from designer.report.limit_cycles import figures as _figures
@@ -81,52 +80,38 @@ def _png(fig, path: Path) -> None:
 
 def _bifurcation_rows(study: Any) -> list[dict]:
     """bifurcation.csv: one row per periodic orbit, brush tyre then rolling tyre."""
-    rows = []
-    for model, diagram in (("brush tyre", study.bifurcation), ("rolling tyre", study.rolling)):
-        for o in diagram.to_dict()["orbits"]:
-            rows.append(
-                {
-                    "model": model,
-                    "kind": "stable" if o["stable"] else "unstable",
-                    "speed": o["speed"],
-                    "amplitude_rad": o["amplitude"],
-                    "amplitude_deg": math.degrees(o["amplitude"]),
-                    "period": o["period"],
-                    "max_abs_multiplier": o["max_abs_multiplier"],
-                    "closure_rad": o["closure"],
-                }
-            )
-    return rows
+    return [
+        {
+            "model": model,
+            "kind": "stable" if o["stable"] else "unstable",
+            "speed": o["speed"],
+            "amplitude_rad": o["amplitude"],
+            "amplitude_deg": math.degrees(o["amplitude"]),
+            "period": o["period"],
+            "max_abs_multiplier": o["max_abs_multiplier"],
+            "closure_rad": o["closure"],
+        }
+        for model, diagram in (("brush tyre", study.bifurcation), ("rolling tyre", study.rolling))
+        for o in diagram.to_dict()["orbits"]
+    ]
 
 
 def _table1_rows(table: Any) -> list[dict]:
     """table1.csv: one row per Table 1 wheel, measured and predicted critical speeds [m/s]."""
-    trows = []
-    for r in table.rows:
-        trows.append(
-            {
-                "wheel": r.wheel,
-                "name": r.name,
-                "inertia_kgm2": r.inertia,
-                "mass_kg": r.mass,
-                "measured": "" if r.measured is None else r.measured,
-                "eq7": r.eq7,
-                "rolling_sim": r.rolling_sim,
-                "tyre_sim": r.tyre_sim,
-                "flagged_below_3.8": " ".join(r.flagged),
-            }
-        )
-    return trows
-
-
-def write_limit_cycle_report(study: Any, out_dir="results/simulation", option: str = "--report") -> list[str]:
-    """Write the files of :data:`FILES` into ``out_dir`` from a :func:`limit_cycle_study` result.
-
-    Safely (:func:`designer.output.output_folder`): the nine files replace their previous versions at once;
-    nothing else in the folder is touched.  Returns the names written.
-    """
-    with output_folder(out_dir, FILES, option=option, command="designer simulate") as tmp:
-        return limit_cycle_files(study, tmp)
+    return [
+        {
+            "wheel": r.wheel,
+            "name": r.name,
+            "inertia_kgm2": r.inertia,
+            "mass_kg": r.mass,
+            "measured": "" if r.measured is None else r.measured,
+            "eq7": r.eq7,
+            "rolling_sim": r.rolling_sim,
+            "tyre_sim": r.tyre_sim,
+            "flagged_below_3.8": " ".join(r.flagged),
+        }
+        for r in table.rows
+    ]
 
 
 def limit_cycle_files(study: Any, folder) -> list[str]:
@@ -135,21 +120,9 @@ def limit_cycle_files(study: Any, folder) -> list[str]:
     out = Path(folder)
     data = study.to_dict()
     _csv(out / "bifurcation.csv", _bifurcation_rows(study))
-    (out / "bifurcation.json").write_text(
-        json.dumps(
-            stamped(
-                "bifurcation.json",
-                finite(
-                    {
-                        k: data[k]
-                        for k in ("bifurcation", "rolling", "friction", "knock_safe", "measured", "rolling_limit")
-                        if k in data
-                    }
-                ),
-            ),
-            indent=1,
-        )
-    )
+    keys = ("bifurcation", "rolling", "friction", "knock_safe", "measured", "rolling_limit")
+    bifurcation = stamped("bifurcation.json", finite({k: data[k] for k in keys if k in data}))
+    (out / "bifurcation.json").write_text(json.dumps(bifurcation, indent=1))
     _png(_figures.bifurcation_figure(study), out / "bifurcation.png")
     _csv(out / "table1.csv", _table1_rows(study.table1))
     _png(_figures.table1_figure(study.table1), out / "table1.png")
@@ -161,4 +134,4 @@ def limit_cycle_files(study: Any, folder) -> list[str]:
     return list(FILES)
 
 
-__all__ = ["FILES", "limit_cycle_files", "write_limit_cycle_report"]
+__all__ = ["FILES", "limit_cycle_files"]

@@ -61,13 +61,12 @@ def table1_figure(table: Any):
         [r.wheel for r in table.rows],
         [r.measured for r in table.rows],
         {
-            f"Eq. 7 (RMS {100 * st['eq7'].rms:.1f} %, bias {_pct(st['eq7'].bias)})": [r.eq7 for r in table.rows],
-            f"rolling simulation (RMS {100 * st['rolling_sim'].rms:.1f} %, bias {_pct(st['rolling_sim'].bias)})": [
-                r.rolling_sim for r in table.rows
-            ],
-            f"brush-tyre simulation (RMS {100 * st['tyre_sim'].rms:.1f} %, bias {_pct(st['tyre_sim'].bias)})": [
-                r.tyre_sim for r in table.rows
-            ],
+            f"{label} (RMS {100 * st[key].rms:.1f} %, bias {_pct(st[key].bias)})": [getattr(r, key) for r in table.rows]
+            for key, label in (
+                ("eq7", "Eq. 7"),
+                ("rolling_sim", "rolling simulation"),
+                ("tyre_sim", "brush-tyre simulation"),
+            )
         },
         stable_up_to=table.stable_up_to,
         ax=axes[0, 0],
@@ -87,14 +86,7 @@ def map_figure(kn: Any):
     fig, axes = _figure(len(casters), 3, (15, 4.2 * len(casters)))
     for i, name in enumerate(casters):
         measured = next(r.measured for r in kn.rows if r.caster == name)
-        default = {
-            r_key: next(
-                getattr(r, r_key)
-                for r in kn.rows
-                if r.caster == name and r.stiffness_factor == 1.0 and r.mass_factor == 1.0
-            )
-            for r_key in ("rolling_onset", "tyre_onset")
-        }
+        base = next(r for r in kn.rows if r.caster == name and r.stiffness_factor == 1.0 and r.mass_factor == 1.0)
         islands = _map_grid(kn.rows, name, "tyre_onset_monotone", factors) == 0
         for j, (key, label, unit, fmt) in enumerate(
             (
@@ -112,7 +104,7 @@ def map_figure(kn: Any):
                 fmt,
                 ax=axes[i, j],
                 cmap="magma",
-                center=default.get(key),
+                center=getattr(base, key) if key != "stable_amplitude" else None,
                 marks=islands if key == "tyre_onset" else None,
             )
     fig.suptitle(

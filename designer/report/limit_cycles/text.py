@@ -249,19 +249,18 @@ def _table1_section(table: Any) -> list[tuple]:
         ),
         ("img", "table1.png", "Table 1 comparison"),
     ]
-    rows = []
-    for r in table.rows:
-        rows.append(
-            [
-                r.wheel,
-                f"{r.inertia * 1e3:.2f}e-3",
-                "stable to 3.8" if r.measured is None else f"{r.measured:.2f}",
-                f"{r.eq7:.2f}",
-                f"{r.rolling_sim:.2f}",
-                f"{r.tyre_sim:.2f}",
-                ("**predicted below 3.8: " + ", ".join(r.flagged) + "**") if r.flagged else "",
-            ]
-        )
+    rows = [
+        [
+            r.wheel,
+            f"{r.inertia * 1e3:.2f}e-3",
+            "stable to 3.8" if r.measured is None else f"{r.measured:.2f}",
+            f"{r.eq7:.2f}",
+            f"{r.rolling_sim:.2f}",
+            f"{r.tyre_sim:.2f}",
+            ("**predicted below 3.8: " + ", ".join(r.flagged) + "**") if r.flagged else "",
+        ]
+        for r in table.rows
+    ]
     B.append(
         ("table", ["wheel", "I_w [kg·m²]", "measured [m/s]", "Eq. 7", "rolling sim", "brush-tyre sim", "flag"], rows)
     )
