@@ -22,7 +22,7 @@ import numpy as np
 from designer.parameters import OUTPUT_TABLE, OUTPUTS, PARAMETERS, VARIABLE_TABLE, VARIABLES
 from designer.boundary import SEED, Count, Instance, Quantity, Values, checked
 from designer.units import parse_quantity, real_number
-from designer.reprs import Key, Record, dataframe, frozen, shown
+from designer.reprs import Key, Record, dataframe, frozen
 from designer.physics.geometry import effective_trail, swept_radius
 from designer.physics.scatter import inertia_prediction
 from designer.errors import InputError
@@ -233,9 +233,6 @@ class Casters(Record):
             f"F_turn {float(np.min(f)):.4g}–{float(np.max(f)):.4g} N, P {float(np.min(p)):.4g}–{float(np.max(p)):.4g} N)"
         ]
 
-    def _html_title(self) -> str:
-        return "Candidate casters"
-
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """The count and the range of every quantity over the candidates (no Monte Carlo runs)."""
         rows: list[tuple[Any, Any, Any]] = [
@@ -278,25 +275,9 @@ class Caster(Casters):
         """The caster's design (T, d, B, c_f), the same numbers as its fields."""
         return Design(float(self.trail), float(self.diameter), float(self.groove), float(self.damping))
 
-    def _repr_lines(self) -> list[str]:
-        """One line: the caster and its forces."""
-        return [
-            f"Caster(T {self.trail:.4g} m, d {self.diameter:.4g} m, B {self.groove:.4g} m, c_f {self.damping:.4g} "
-            f"N·m/rad; F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, V_c "
-            f"{self.critical_speed:.4g} m/s)"
-        ]
-
-    def _html_title(self) -> str:
-        return "Caster"
-
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        """The design and each listed quantity of :data:`designer.parameters.OUTPUT_TABLE` it holds, labelled and
-        with units from the table (SI)."""
-        rows: list[tuple[Any, Any, Any]] = [(p.label, shown(getattr(self, p.name)), p.unit) for p in VARIABLE_TABLE]
-        for p in OUTPUT_TABLE:
-            if p.listed and p.name in self:
-                rows.append((p.label, shown(self[p.name]), p.unit))
-        return rows
+    # one caster shows its values (the protocol's defaults, labels and units from the table), not their ranges
+    _repr_lines = Record._repr_lines
+    _html_rows = Record._html_rows
 
 
 class OfCaster:

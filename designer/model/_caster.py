@@ -161,9 +161,6 @@ class Design(Record):
             f"B {self.groove / INCH:.3f} in, c_f {self.damping:.4g} N·m/rad",
         ]
 
-    def _html_title(self) -> str:
-        return "Caster design"
-
     def variable_rows(self) -> list[tuple[Any, Any, Any]]:
         """T, d, B in inches and mm and c_f [N·m/rad] as (label, value, unit) rows, names and units from the
         parameter table: the design block of every record's HTML (a recommendation, an optimum, this design)."""

@@ -489,9 +489,6 @@ class Problem(Record):
             f"{'stock' if self.stock is not None else 'continuous'})"
         ]
 
-    def _html_title(self) -> str:
-        return f"Problem {self.name!r}"
-
     def _html_caption(self) -> str:
         return self.title
 

@@ -131,9 +131,6 @@ class Optimum(Record):
         wheel = f", wheel {self.wheel}" if self.wheel else ""
         return [f"{head}{wheel}: J {self.objective:.6g} N at {self.design.describe()})"]
 
-    def _html_title(self) -> str:
-        return f"Optimum by {self.solver} ({self.status})"
-
 
 @dataclass(frozen=True, kw_only=True)
 class Designs(Record):

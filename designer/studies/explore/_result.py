@@ -119,9 +119,6 @@ class ExploreResult(Record):
             f"  hypervolume {self.hypervolume:.4g} N²{versus}, {self.seconds:.3g} s, seed {self.seed}",
         ]
 
-    def _html_title(self) -> str:
-        return f"Explored front {self.problem.name!r} (NSGA-II)"
-
     def _html_caption(self) -> str:
         return str(self.comparison.get("note", ""))
 
@@ -290,12 +287,6 @@ class FrontComparison(Record):
     """explore.json's ``comparison`` keys."""
 
     _units = {"hypervolume_explored": "N²", "hypervolume_exact": "N²"}
-
-    def _repr_lines(self) -> list[str]:
-        return [
-            f"FrontComparison(HV ratio {self.hypervolume_ratio:.4g}, IGD+ {self.igd_plus:.3g} (normalised), "
-            f"{self.exact_points} exact points)"
-        ]
 
 
 def compare_fronts(explored: np.ndarray, exact: np.ndarray, reference: Sequence[float]) -> FrontComparison:

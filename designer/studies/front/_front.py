@@ -96,9 +96,6 @@ class FrontPoint(Record):
             f"V_c {self.critical_speed:.4g} m/s, {self.family or 'no family'}{wheel}{failed}: {self.design.describe()})"
         ]
 
-    def _html_title(self) -> str:
-        return "Front point"
-
     def row(self) -> dict[str, Any]:
         """The point as one flat row of ``front.csv`` and ``front.json`` (SI units; the margins are in
         :meth:`to_dict`, not here)."""
@@ -350,10 +347,6 @@ class Front(Record):
             f"  knee F_turn {k.turning_effort:.3g} N / P {k.threshold_force:.3g} N, "
             f"hypervolume {self.hypervolume():.3f})",
         ]
-
-    def _html_title(self) -> str:
-        name = getattr(self.problem, "name", "?")
-        return f"Pareto front {name!r}" if self.points else f"Front {name!r}"
 
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """A compact table with units (notebooks; < 50 ms: benchmarks/notebook_reprs.py)."""

@@ -136,9 +136,6 @@ class Solution(Record):
             f"V_c {self.critical_speed:.4g} m/s (required {self.problem.required_speed:.4g})",
         ]
 
-    def _html_title(self) -> str:
-        return f"Optimum of {self.problem.name!r} ({self.status})"
-
     def _html_caption(self) -> str:
         return self.problem.title
 
@@ -295,16 +292,6 @@ class ConstraintMargins(Record):
 
     margins: dict[str, float]
     active: list[str]
-
-    def _repr_lines(self) -> list[str]:
-        """One line: the smallest margin and the active names."""
-        if not self.margins:
-            return ["ConstraintMargins(none)"]
-        name = min(self.margins, key=lambda k: self.margins[k])
-        return [
-            f"ConstraintMargins({len(self.margins)}: smallest {name} {self.margins[name]:+.4g} "
-            f"{_margin_unit(name)}; active {', '.join(self.active) or 'none'})"
-        ]
 
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         return [

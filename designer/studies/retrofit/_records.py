@@ -64,20 +64,6 @@ class Change(Record):
     )
     """``part``, ``variable``, ``from``, ``to`` [SI], ``unit`` (and the catalogue wheel's ``name``)."""
 
-    def _repr_lines(self) -> list[str]:
-        return [f"Change({self.describe()})"]
-
-    def _html_title(self) -> str:
-        return f"Change of the {self.part}"
-
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        unit = _UNITS[self.variable]
-        rows = [
-            (f"{self.variable} before", f"{self.before:.6g}", unit),
-            (f"{self.variable} after", f"{self.after:.6g}", unit),
-        ]
-        return rows + ([("catalogue wheel", self.name, "")] if self.name else [])
-
 
 @dataclass(frozen=True, kw_only=True)
 class CasterState(Record):
@@ -179,9 +165,6 @@ class CasterState(Record):
             lines.append(f"  {describe_changes(self.changes)} (loss {self.loss:+.3g} N)")
         return lines
 
-    def _html_title(self) -> str:
-        return "Caster" + (f" with {self.parts_changed} part(s) changed" if self.changes else " as it is")
-
     _keys = (
         "design",
         "extrapolated",
@@ -252,15 +235,6 @@ class Calibration(Record):
         )
 
     _units = {"observed_onset": "m/s", "predicted_onset": "m/s", "shift": "m/s"}
-
-    def _repr_lines(self) -> list[str]:
-        return [
-            f"Calibration(observed onset {self.observed_onset:.4g} m/s, Eq. 7 {self.predicted_onset:.4g} m/s: "
-            f"k = {self.factor:.4f}, σ {self.scatter:.3g})"
-        ]
-
-    def _html_title(self) -> str:
-        return "Calibration by an observed onset"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -400,9 +374,6 @@ class FixResult(Record):
             + (f", {len(self.fixes)} listed)" if len(self.fixes) < self.found else ")"),
             f"  {self.summary()}",
         ]
-
-    def _html_title(self) -> str:
-        return f"Retrofit of {self.problem!r}"
 
     def _html_caption(self) -> str:
         return self.summary()
