@@ -178,6 +178,23 @@ def dataframe(what: str, records: list[dict[str, Any]], columns: list[str], unit
     return df
 
 
+def si_frame(
+    what: str, rows: list[dict[str, Any]], columns: list[str], units: Mapping[str, str] = {}, **attrs: Any
+) -> Any:
+    """A pandas DataFrame of ``rows`` (dicts keyed by ``columns``) whose quantities of the parameter table name
+    their SI unit ("trail_m", "damping_N_m_per_rad", "critical_speed_m_s", "turning_effort_N"; other columns as
+    they are, their units from ``units``): :func:`dataframe` with the units in ``df.attrs["units"]``."""
+    renamed, all_units = {}, dict(units)
+    for name in columns:
+        entry = PARAMETERS.get(name) or OUTPUTS.get(name)
+        suffix = entry.unit.replace("·", "_").replace("/rad", "_per_rad").replace("/", "_") if entry else ""
+        renamed[name] = f"{name}_{suffix}" if suffix else name
+        if suffix:
+            all_units[renamed[name]] = entry.unit
+    records = [{renamed[k]: v for k, v in row.items()} for row in rows]
+    return dataframe(what, records, list(renamed.values()), all_units, **attrs)
+
+
 # --------------------------------------------------------------------------- the result protocol
 
 MAX_REPR_LINES = 3
@@ -484,4 +501,5 @@ __all__ = [
     "plain",
     "require_pandas",
     "shown",
+    "si_frame",
 ]

@@ -16,7 +16,7 @@ from designer.units import percent
 from designer.data.paper import BARE_FORK_DAMPING, INCH
 from designer.model import Caster, OfCaster
 from designer.parameters import DESIGN_UNITS, OUTPUTS, PARAMETERS, VARIABLE_TABLE
-from designer.reprs import Key, Record, dataframe
+from designer.reprs import Key, Record, si_frame
 from designer.units import written_size
 from designer.studies.retrofit._options import _show
 
@@ -339,32 +339,22 @@ class FixResult(Record):
         ``changes`` (in words), the design [SI], F_turn, P, V_c, the speed at 1 − α, P(shimmy) (exact), the
         Monte Carlo's and its SE, the
         loss [N]; units in ``df.attrs["units"]``."""
-        rows = []
-        for rank, state in enumerate([self.current, *self.fixes]):
-            d = state.design
-            rows.append(
-                {
-                    "rank": rank,
-                    "changes": describe_changes(state.changes) if state.changes else "current",
-                    "trail_m": d.trail,
-                    "diameter_m": d.diameter,
-                    "groove_m": d.groove,
-                    "damping_N_m_per_rad": d.damping,
-                    "turning_effort_N": state.turning_effort,
-                    "threshold_force_N": state.threshold_force,
-                    "critical_speed_m_s": state.critical_speed,
-                    "confident_speed_m_s": state.confident_speed,
-                    "shimmy_probability": state.shimmy_probability,
-                    "shimmy_probability_mc": state.shimmy_probability_mc,
-                    "shimmy_probability_se": state.shimmy_probability_se,
-                    "meets_risk_bound": bool(state.meets_risk_bound),
-                    "loss_N": state.loss,
-                }
-            )
-        columns = list(rows[0])
-        units = {c: c.split("_")[-1] for c in columns if c.endswith(("_m", "_N"))}
-        units.update(damping_N_m_per_rad="N·m/rad", critical_speed_m_s="m/s", confident_speed_m_s="m/s")
-        return dataframe("FixResult.to_pandas", rows, columns, units, problem=self.problem, rule=self.rule)
+        numbers = ("turning_effort", "threshold_force", "critical_speed", "confident_speed", "shimmy_probability")
+        numbers += ("shimmy_probability_mc", "shimmy_probability_se")
+        rows = [
+            {
+                "rank": rank,
+                "changes": describe_changes(state.changes) if state.changes else "current",
+                **state.design.to_dict(),
+                **{n: getattr(state, n) for n in numbers},
+                "meets_risk_bound": bool(state.meets_risk_bound),
+                "loss_N": state.loss,
+            }
+            for rank, state in enumerate([self.current, *self.fixes])
+        ]
+        return si_frame(
+            "FixResult.to_pandas", rows, list(rows[0]), {"loss_N": "N"}, problem=self.problem, rule=self.rule
+        )
 
     def _repr_lines(self) -> list[str]:
         """Two lines: the current caster (V_c, P(shimmy)) and the answer in one sentence."""
