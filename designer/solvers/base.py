@@ -123,14 +123,6 @@ class Optimum(Record):
 
     _units = {"objective": "N", "seconds": "s", "build_seconds": "s", "caps.threshold": "N", "caps.turning": "N"}
 
-    def _repr_lines(self) -> list[str]:
-        """One line: the solver, its status, J and the design (inches)."""
-        head = f"Optimum({self.solver}, {self.status}"
-        if self.design is None:
-            return [head + ": no design)"]
-        wheel = f", wheel {self.wheel}" if self.wheel else ""
-        return [f"{head}{wheel}: J {self.objective:.6g} N at {self.design.describe()})"]
-
 
 @dataclass(frozen=True, kw_only=True)
 class Designs(Record):

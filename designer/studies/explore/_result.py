@@ -288,6 +288,12 @@ class FrontComparison(Record):
 
     _units = {"hypervolume_explored": "N²", "hypervolume_exact": "N²"}
 
+    def _repr_lines(self) -> list[str]:
+        return [
+            f"FrontComparison(HV ratio {self.hypervolume_ratio:.4g}, IGD+ {self.igd_plus:.3g} (normalised), "
+            f"{self.exact_points} exact points)"
+        ]
+
 
 def compare_fronts(explored: np.ndarray, exact: np.ndarray, reference: Sequence[float]) -> FrontComparison:
     """Explored vs exact front: hypervolume with the same reference, ratio, IGD+ (normalised).
