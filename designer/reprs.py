@@ -257,9 +257,10 @@ def shown(value: Any) -> str:
 
 
 def _quantity(key: str) -> Any:
-    """The parameter table's entry of a flattened key's last part ("design.trail" -> trail), or None."""
-    name = key.rsplit(".", 1)[-1]
-    return PARAMETERS.get(name) or OUTPUTS.get(name)
+    """The parameter table's entry of a flattened key that names a quantity ("critical_speed", "design.trail"),
+    or None (a key nested elsewhere, a solver's dual or a margin, is not the quantity of its name)."""
+    name = key.removeprefix("design.")
+    return None if "." in name else PARAMETERS.get(name) or OUTPUTS.get(name)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -87,15 +87,6 @@ class FrontPoint(Record):
         "epsilon": OUTPUTS["threshold_force"].unit,
     }
 
-    def _repr_lines(self) -> list[str]:
-        """One line: the objectives, V_c, the family and the design (inches)."""
-        wheel = f", wheel {self.wheel}" if self.wheel else ""
-        failed = "" if self.success else f", failed ({self.status})"
-        return [
-            f"FrontPoint(F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, "
-            f"V_c {self.critical_speed:.4g} m/s, {self.family or 'no family'}{wheel}{failed}: {self.design.describe()})"
-        ]
-
     def row(self) -> dict[str, Any]:
         """The point as one flat row of ``front.csv`` and ``front.json`` (SI units; the margins are in
         :meth:`to_dict`, not here)."""
