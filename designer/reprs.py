@@ -186,11 +186,11 @@ def si_frame(
     they are, their units from ``units``): :func:`dataframe` with the units in ``df.attrs["units"]``."""
     renamed, all_units = {}, dict(units)
     for name in columns:
-        entry = PARAMETERS.get(name) or OUTPUTS.get(name)
-        suffix = entry.unit.replace("·", "_").replace("/rad", "_per_rad").replace("/", "_") if entry else ""
+        unit = getattr(PARAMETERS.get(name) or OUTPUTS.get(name), "unit", "")
+        suffix = unit.replace("·", "_").replace("/rad", "_per_rad").replace("/", "_")
         renamed[name] = f"{name}_{suffix}" if suffix else name
         if suffix:
-            all_units[renamed[name]] = entry.unit
+            all_units[renamed[name]] = unit
     records = [{renamed[k]: v for k, v in row.items()} for row in rows]
     return dataframe(what, records, list(renamed.values()), all_units, **attrs)
 

@@ -274,8 +274,10 @@ class Recommendation(Record):
         """One row per caster, the recommendation then its alternatives: ``role``, ``wheel``, the design [SI],
         F_turn, P [N], V_c, the speed at 1 − α and the swept radius, P(shimmy) and its SE, whether the wheel's
         I_w is measured and whether d lies outside Table 1; units in ``df.attrs["units"]``."""
-        numbers = ("turning_effort", "threshold_force", "critical_speed", "confident_speed", "swept_radius")
-        numbers += ("shimmy_probability", "shimmy_probability_se", "measured", "extrapolated")
+        numbers = (
+            *("turning_effort", "threshold_force", "critical_speed", "confident_speed", "swept_radius"),
+            *("shimmy_probability", "shimmy_probability_se", "measured", "extrapolated"),
+        )
         rows = [
             {"role": rec.role, "wheel": rec.wheel, **rec.design.to_dict(), **{n: getattr(rec, n) for n in numbers}}
             for rec in (self, *self.alternatives)

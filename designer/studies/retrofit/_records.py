@@ -339,8 +339,10 @@ class FixResult(Record):
         ``changes`` (in words), the design [SI], F_turn, P, V_c, the speed at 1 − α, P(shimmy) (exact), the
         Monte Carlo's and its SE, the
         loss [N]; units in ``df.attrs["units"]``."""
-        numbers = ("turning_effort", "threshold_force", "critical_speed", "confident_speed", "shimmy_probability")
-        numbers += ("shimmy_probability_mc", "shimmy_probability_se")
+        numbers = (
+            *("turning_effort", "threshold_force", "critical_speed", "confident_speed", "shimmy_probability"),
+            *("shimmy_probability_mc", "shimmy_probability_se"),
+        )
         rows = [
             {
                 "rank": rank,
