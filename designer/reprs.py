@@ -480,7 +480,9 @@ class Record(Keyed):
         return [(label, v, u) for _, label, v, u in self._shown()]
 
     def _html_caption(self) -> str:
-        return ""
+        """The title of the record's problem (or its own), or ""."""
+        title = getattr(getattr(self, "problem", self), "title", "")
+        return title if isinstance(title, str) else ""
 
     def _html_extra(self) -> str:
         """HTML placed beside the table (e.g. an SVG curve built by :func:`svg_curve`), or ""."""

@@ -136,9 +136,6 @@ class Solution(Record):
             f"V_c {self.critical_speed:.4g} m/s (required {self.problem.required_speed:.4g})",
         ]
 
-    def _html_caption(self) -> str:
-        return self.problem.title
-
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """The optimum as a compact table with units (notebooks; no solver or Monte Carlo runs)."""
         d, o = self.design, self.objectives
