@@ -561,9 +561,9 @@ def _growth_rate(out: Casters, conditions: Conditions, speed: Any) -> np.ndarray
     """μ of the oscillatory mode at ``speed`` [1/s] (Eq. 16B of the Eq. 12B coefficients; c_f as the hydraulic
     damping of Eq. 6 at the amplitude of Eq. 4), per caster."""
     t = np.atleast_1d(out.effective_trail)
-    i_w = np.broadcast_to(out.inertia, t.shape)
-    b, c = np.broadcast_to(out.groove, t.shape), np.broadcast_to(out.damping, t.shape)
-    v = np.broadcast_to(np.asarray(speed, dtype=float), t.shape)
+    i_w, b, c, v = (
+        np.broadcast_to(np.asarray(x, dtype=float), t.shape) for x in (out.inertia, out.groove, out.damping, speed)
+    )
     rates = []
     for k in range(t.size):
         c_d = friction_damping_at_speed(float(c[k]), float(t[k]), float(v[k]))
@@ -603,20 +603,12 @@ def _risk(
             measured=out.measured,
         )
     n = len(out)
-    col = {
-        k: np.broadcast_to(np.asarray(getattr(out, k), dtype=float), (n,))
-        for k in ("effective_trail", "inertia", "groove", "damping", "diameter", "measured")
-    }
+    t, i_w, b, c, d = (
+        out._column(k).astype(float) for k in ("effective_trail", "inertia", "groove", "damping", "diameter")
+    )
+    v, flags = np.broadcast_to(speed, (n,)), out._column("measured").astype(bool)
     p = shimmy_probability_exact_many(
-        col["effective_trail"],
-        col["inertia"],
-        col["groove"],
-        col["damping"],
-        float(conditions.slip_coefficient),
-        np.broadcast_to(speed, (n,)),
-        law,
-        diameter=col["diameter"],
-        measured=col["measured"].astype(bool),
+        t, i_w, b, c, float(conditions.slip_coefficient), v, law, diameter=d, measured=flags
     )
     return p, np.zeros(n)
 

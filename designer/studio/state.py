@@ -24,7 +24,7 @@ from designer import display
 from designer.errors import DesignerError, ProblemError
 from designer.physics.uncertainty import Uncertainty
 from designer.parameters import VARIABLE_TABLE
-from designer.units import DIMENSIONS, parse_quantity
+from designer.units import DIMENSIONS, example, parse_quantity
 from designer.problem import load_problem, problem_path
 from designer.problem import DEFAULT_BOUNDS
 from designer.problem import problem_from_dict
@@ -64,15 +64,11 @@ class Control:
 
 def _bounds_controls() -> list[Control]:
     """A min and a max box per design variable, with its dimension from the parameter table."""
-    out = []
-    for p in VARIABLE_TABLE:
-        for end in ("min", "max"):
-            out.append(
-                Control(
-                    f"{p.name}_{end}", f"{p.name} {end}", ("variables", p.name, end), "quantity", p.dimension, "bounds"
-                )
-            )
-    return out
+    return [
+        Control(f"{p.name}_{end}", f"{p.name} {end}", ("variables", p.name, end), "quantity", p.dimension, "bounds")
+        for p in VARIABLE_TABLE
+        for end in ("min", "max")
+    ]
 
 
 CONTROLS: list[Control] = [
@@ -112,21 +108,18 @@ STOCK_CONTROLS = {
 
 def stock_controls() -> list[Control]:
     """Controls of the [stock] lists."""
-    out = []
-    for key, (label, dim) in STOCK_CONTROLS.items():
-        kind = "list" if key.endswith("s") else "quantity"
-        out.append(
-            Control(
-                f"stock_{key}",
-                label + (" (comma separated)" if kind == "list" else ""),
-                ("stock", key),
-                kind,
-                dim,
-                "stock",
-                optional=True,
-            )
+    return [
+        Control(
+            f"stock_{key}",
+            label + (" (comma separated)" if key.endswith("s") else ""),
+            ("stock", key),
+            "list" if key.endswith("s") else "quantity",
+            dim,
+            "stock",
+            optional=True,
         )
-    return out
+        for key, (label, dim) in STOCK_CONTROLS.items()
+    ]
 
 
 def all_controls() -> list[Control]:
@@ -312,15 +305,11 @@ def apply(data: dict, values: dict) -> dict:
                     _delete(out, c.path)
                     continue
                 raise ControlError(
-                    f"{c.dotted}: empty; give a value with its unit, e.g. {_example(c.dimension)!r}", c.key
+                    f"{c.dotted}: empty; give a value with its unit, e.g. {example(c.dimension)!r}", c.key
                 )
             value = text
         _set(out, c.path, value)
     return out
-
-
-def _example(dimension: str) -> str:
-    return {"length": "2 in", "force": "178 N", "damping": "1.3 N*m/rad", "speed": "2.5 m/s"}.get(dimension, "1")
 
 
 def _number(value, c: Control) -> float:
