@@ -230,17 +230,12 @@ def whole_number(
     None is also taken (the caller passes None on before).
     """
     item = _scalar(value)
-    span = (
-        f"from {low} to {high}"
-        if low is not None and high is not None
-        else f", {low} or more"
-        if low is not None
-        else f", {high} or less"
-        if high is not None
-        else ""
-    )
-    expected = ("None or " if optional else "") + "a whole number" + (f" of {what}" if what else "")
-    expected += span if span.startswith(",") or not span else f" {span}"
+    span = ""
+    if low is not None:
+        span = f" from {low} to {high}" if high is not None else f", {low} or more"
+    elif high is not None:
+        span = f", {high} or less"
+    expected = ("None or " if optional else "") + "a whole number" + (f" of {what}" if what else "") + span
     if _boolean(value) or _boolean(item):
         raise InputError(f"{key} = {value!r}: expected {expected}, got a boolean")
     if not isinstance(item, numbers.Integral):

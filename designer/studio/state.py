@@ -388,12 +388,12 @@ def blame(message: str) -> str | None:
 
 def to_query(values: dict, defaults: dict) -> str:
     """The URL query ("?target=3&trail_min=1.5+in") of the controls that differ from ``defaults``."""
-    changed = [(k, _url_value(v)) for k, v in values.items() if k in defaults and v != defaults[k]]
+    changed = [
+        (k, f"{v:g}" if isinstance(v, float) else str(v))
+        for k, v in values.items()
+        if k in defaults and v != defaults[k]
+    ]
     return "?" + urlencode(changed) if changed else ""
-
-
-def _url_value(value) -> str:
-    return f"{value:g}" if isinstance(value, float) else str(value)
 
 
 def from_query(search: str | None, defaults: dict) -> dict:
