@@ -141,8 +141,7 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
 def _registry():
     import pint
 
-    ureg = pint.UnitRegistry()
-    return ureg
+    return pint.UnitRegistry()
 
 
 def parse_quantity(value, dimension: str, key: str = "value") -> float:

@@ -418,16 +418,10 @@ def from_query(search: str | None, defaults: dict) -> dict:
 
 def to_toml(data: dict) -> str:
     """Problem-file data as TOML text (what "Save problem" writes; :func:`tomllib.loads` gives ``data`` back)."""
-    lines = []
-    for key, value in data.items():
-        if not isinstance(value, dict):
-            lines.append(f"{_bare(key)} = {_toml_value(value)}")
+    lines = [f"{_bare(key)} = {_toml_value(value)}" for key, value in data.items() if not isinstance(value, dict)]
     for key, value in data.items():
         if isinstance(value, dict):
-            lines.append("")
-            lines.append(f"[{_bare(key)}]")
-            for sub, item in value.items():
-                lines.append(f"{_bare(sub)} = {_toml_value(item)}")
+            lines += ["", f"[{_bare(key)}]", *(f"{_bare(sub)} = {_toml_value(item)}" for sub, item in value.items())]
     return "\n".join(lines).lstrip("\n") + "\n"
 
 
