@@ -55,9 +55,7 @@ def csv_column(name: str, dimension: str, units: str = "in") -> tuple[str, float
     return f"{name}_{suffix}", factor
 
 
-_SUFFIXES = sorted(
-    [(s, f) for s, f in LENGTH_UNITS.values()] + [(s, f) for s, f in CSV_UNITS.values()], key=lambda sf: -len(sf[0])
-)
+_SUFFIXES = sorted([*LENGTH_UNITS.values(), *CSV_UNITS.values()], key=lambda sf: -len(sf[0]))
 
 
 def csv_quantity(column: str) -> tuple[str, float]:

@@ -20,7 +20,7 @@ from typing import Any, Self
 import numpy as np
 
 from designer.parameters import OUTPUT_TABLE, OUTPUTS, PARAMETERS, VARIABLE_TABLE, VARIABLES
-from designer.boundary import SEED, Count, Instance, Quantity, Values, checked
+from designer.boundary import SEED, Count, Instance, Quantity, Values, checked, one_line
 from designer.units import parse_quantity, real_number
 from designer.reprs import Key, Record, dataframe, frozen
 from designer.physics.geometry import effective_trail, swept_radius
@@ -425,16 +425,10 @@ def _columns(designs: Any) -> dict[str, np.ndarray]:
         columns = design_columns(designs)
     except (AttributeError, KeyError, TypeError, ValueError) as error:
         raise InputError(
-            f"design = {_one_line(designs)}: expected a designer.Design (e.g. Design(trail='2 in', diameter='6 in', "
+            f"design = {one_line(designs)}: expected a designer.Design (e.g. Design(trail='2 in', diameter='6 in', "
             f"groove=0, damping=1.3)) or a batch with the columns {', '.join(VARIABLES)} ({error})"
         ) from None
     return columns
-
-
-def _one_line(value: Any, width: int = 80) -> str:
-    """``repr(value)`` on one line, at most ``width`` characters (a batch or a record's repr runs to several)."""
-    text = " ".join(repr(value).split())
-    return text if len(text) <= width else text[: width - 1] + "…"
 
 
 def _speed(speed: Any, name: str = "speed") -> Any:
@@ -448,7 +442,7 @@ def _speed(speed: Any, name: str = "speed") -> Any:
     except InputError:
         raise
     except (TypeError, ValueError) as error:
-        raise InputError(f"{name} = {_one_line(speed)}: expected a speed [m/s] or one per caster ({error})") from None
+        raise InputError(f"{name} = {one_line(speed)}: expected a speed [m/s] or one per caster ({error})") from None
     low, high = PARAMETERS["target_speed"].range or (0.0, np.inf)
     bad = ~((values >= low) & (values <= high))
     if np.any(bad):
