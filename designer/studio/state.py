@@ -288,26 +288,19 @@ def apply(data: dict, values: dict) -> dict:
         if c.kind == "list" and str(value).strip() == shown.get(c.key):
             continue  # unchanged: the file's list as it was (items with their own costs, named wheels)
         if c.kind == "slider":
-            value = _number(value, c)
-            value = f"{value:g} m/s"
+            value = f"{_number(value, c):g} m/s"
         elif c.kind == "number":
             value = _number(value, c)
-        elif c.kind == "list":
+        elif c.kind in ("list", "quantity"):
             text = "" if value is None else str(value).strip()
-            if not text:
+            if not text and (c.optional or c.kind == "list"):  # an empty box: the key left out
                 _delete(out, c.path)
                 continue
-            value = _list_items(text, get(data, c.path))
-        elif c.kind == "quantity":
-            text = "" if value is None else str(value).strip()
             if not text:
-                if c.optional:
-                    _delete(out, c.path)
-                    continue
                 raise ControlError(
                     f"{c.dotted}: empty; give a value with its unit, e.g. {example(c.dimension)!r}", c.key
                 )
-            value = text
+            value = _list_items(text, get(data, c.path)) if c.kind == "list" else text
         _set(out, c.path, value)
     return out
 
