@@ -68,10 +68,8 @@ def design_columns(designs: Any) -> dict[str, np.ndarray]:
     parameter table's order.
     """
     if isinstance(designs, Design):
-        return {name: np.array([getattr(designs, name)], dtype=float) for name in VARIABLES}
-    if isinstance(designs, Mapping):
-        return {name: np.asarray(designs[name], dtype=float) for name in VARIABLES}
-    if isinstance(designs, np.ndarray) and designs.dtype.names:
+        designs = [designs]
+    if isinstance(designs, Mapping) or (isinstance(designs, np.ndarray) and designs.dtype.names):
         return {name: np.asarray(designs[name], dtype=float) for name in VARIABLES}
     if isinstance(designs, Sequence) and designs and isinstance(designs[0], Design):
         return {name: np.array([getattr(d, name) for d in designs], dtype=float) for name in VARIABLES}
