@@ -457,13 +457,7 @@ def _check_text(stripped: str, text: str, key: str, dimension: str) -> None:
     for match in _EXPONENT.finditer(stripped):
         operand = match.group(3)
         rest = stripped[match.end() :].lstrip()
-        if (
-            operand == "("
-            or operand[0].isalpha()
-            or operand[0] == "_"
-            or len(operand) > 3
-            or rest.startswith(("**", "^"))
-        ):
+        if operand[0] in "(_" or operand[0].isalpha() or len(operand) > 3 or rest.startswith(("**", "^")):
             raise InputError(f"{key} = {text!r}: exponents must be small plain numbers such as m**2; {hint}")
 
 
