@@ -158,13 +158,13 @@ def _trace(part: str, name: str, mode: str, points: list, customdata: list, unit
     return {
         "customdata": customdata,
         "hovertemplate": hover(units),
+        **style,
         "meta": part,
         "mode": mode,
         "name": name,
         "x": [p["threshold_force"] for p in points],
         "y": [p["turning_effort"] for p in points],
         "type": "scatter",
-        **style,
     }
 
 
@@ -201,18 +201,20 @@ def _mine_trace(mine: dict, units: str) -> dict:
     """My caster: a red cross labelled with its chance of shimmy."""
     n = mine["numbers"]
     risk_text = f"{display.shown(n.get('shimmy_probability'), 'shimmy_probability', units)} shimmy"
-    return _trace(
-        "mine",
-        "my caster",
-        "markers+text",
-        [n],
-        [_custom(n, "mine", 0, "my caster", units)],
-        units,
-        marker={"color": COLOURS["mine"], "size": 14, "symbol": "x"},
-        text=[f"my caster {risk_text}"],
-        textposition="top left",
-        textfont={"size": 13},
-    )
+    return {
+        "customdata": [_custom(n, "mine", 0, "my caster", units)],
+        "hovertemplate": hover(units),
+        "marker": {"color": COLOURS["mine"], "size": 14, "symbol": "x"},
+        "meta": "mine",
+        "mode": "markers+text",
+        "name": "my caster",
+        "text": [f"my caster {risk_text}"],
+        "textposition": "top left",
+        "textfont": {"size": 13},
+        "x": [n["threshold_force"]],
+        "y": [n["turning_effort"]],
+        "type": "scatter",
+    }
 
 
 def sweeps_figure(sweeps: dict, target: float, alpha: float | None, units: str = "in"):
