@@ -115,9 +115,13 @@ class Instance:
     def __call__(self, value: Any, key: str) -> Any:
         if (value is None and self.optional) or isinstance(value, self.kinds):
             return value
-        shown = " ".join(repr(value).split())
-        shown = shown if len(shown) <= 80 else shown[:79] + "…"
-        raise InputError(f"{key} = {shown}: expected {self.expected}")
+        raise InputError(f"{key} = {one_line(value)}: expected {self.expected}")
+
+
+def one_line(value: Any, width: int = 80) -> str:
+    """``repr(value)`` on one line, at most ``width`` characters (a batch or a record's repr runs to several)."""
+    text = " ".join(repr(value).split())
+    return text if len(text) <= width else text[: width - 1] + "…"
 
 
 SEED = Count(0, 2**32 - 1, optional=True)
@@ -169,4 +173,4 @@ def checked(**rules: Rule | Callable[[], Rule]) -> Callable[[_F], _F]:
     return decorate
 
 
-__all__ = ["SEED", "Count", "Instance", "Quantities", "Quantity", "Rule", "Values", "checked"]
+__all__ = ["SEED", "Count", "Instance", "Quantities", "Quantity", "Rule", "Values", "checked", "one_line"]

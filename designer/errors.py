@@ -250,7 +250,6 @@ class sigint_handler:
     SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
     def __enter__(self):
-
         global _INTERRUPTED, _SIGNAL
         _INTERRUPTED, _SIGNAL = False, 0
         self._quiet = (logging.root.manager.disable, sys.unraisablehook, threading.excepthook)
@@ -261,7 +260,6 @@ class sigint_handler:
         return self
 
     def __exit__(self, *exc):
-
         global _INTERRUPTED, _SIGNAL
         for signum, previous in self._previous.items():
             signal.signal(signum, previous)

@@ -106,9 +106,6 @@ class ReportData(Record):
             f"{len(self.checks)} checks, {len(failed)} failed{': ' + ', '.join(failed) if failed else ''})"
         ]
 
-    def _html_title(self) -> str:
-        return f"Report data of {self.problem.name!r}"
-
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """The headline numbers of the report (no solver runs)."""
         rows: list[tuple[Any, Any, Any]] = [
@@ -182,9 +179,6 @@ class RobustData(Record):
             f"RobustData({self.problem.name!r}: nominal front {len(self.nominal.points)} points, risk-bounded "
             f"{len(self.robust.points)} points at α = {self.uncertainty.probability:g}{most})"
         ]
-
-    def _html_title(self) -> str:
-        return f"Price of safety of {self.problem.name!r}"
 
 
 __all__ = ["CROSS_CHECK_COMMAND", "ReportData", "RobustData"]

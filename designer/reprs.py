@@ -14,7 +14,7 @@ keyword with :class:`Record` as a base, so it answers the same four methods, spe
 A record declares its data in :attr:`Keyed._keys` (:class:`Key`: renamed, nested, read along a path, left out
 when empty, given on request) and changes what the reprs show through hooks (:meth:`Record._repr_lines`,
 :meth:`Record._html_rows`, ...); the four methods themselves are defined here only.  A record's small chart is
-drawn by :mod:`designer.plots.svg` (:func:`~designer.plots.svg.svg_curve`, :func:`~designer.plots.svg.svg_sparkline`).  Ground layer: no designer import, no solver, no matplotlib; every
+drawn by :mod:`designer.plots.svg` (:func:`~designer.plots.svg.svg_curve`, :func:`~designer.plots.svg.svg_sparkline`).  Ground layer: no designer import but the parameter table and its display, no solver, no matplotlib; every
 text in the HTML is escaped.
 """
 
@@ -27,6 +27,9 @@ from html import escape
 from typing import Any, ClassVar
 
 import numpy as np
+
+from designer.display import number, unit_text
+from designer.parameters import OUTPUTS, PARAMETERS
 
 STYLE = (
     "border-collapse:collapse;font-size:12px;font-family:sans-serif;margin:2px 0",
@@ -175,6 +178,23 @@ def dataframe(what: str, records: list[dict[str, Any]], columns: list[str], unit
     return df
 
 
+def si_frame(
+    what: str, rows: list[dict[str, Any]], columns: list[str], units: Mapping[str, str] = {}, **attrs: Any
+) -> Any:
+    """A pandas DataFrame of ``rows`` (dicts keyed by ``columns``) whose quantities of the parameter table name
+    their SI unit ("trail_m", "damping_N_m_per_rad", "critical_speed_m_s", "turning_effort_N"; other columns as
+    they are, their units from ``units``): :func:`dataframe` with the units in ``df.attrs["units"]``."""
+    renamed, all_units = {}, dict(units)
+    for name in columns:
+        unit = getattr(PARAMETERS.get(name) or OUTPUTS.get(name), "unit", "")
+        suffix = unit.replace("·", "_").replace("/rad", "_per_rad").replace("/", "_")
+        renamed[name] = f"{name}_{suffix}" if suffix else name
+        if suffix:
+            all_units[renamed[name]] = unit
+    records = [{renamed[k]: v for k, v in row.items()} for row in rows]
+    return dataframe(what, records, list(renamed.values()), all_units, **attrs)
+
+
 # --------------------------------------------------------------------------- the result protocol
 
 MAX_REPR_LINES = 3
@@ -223,14 +243,24 @@ def flatten(data: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
 
 
 def shown(value: Any) -> str:
-    """A value as a short text: numbers to 4 significant digits, long lists by their length."""
+    """A value as a short text: numbers to 4 significant digits, long lists (and lists of records) by their
+    length."""
     if isinstance(value, bool) or value is None:
         return str(value)
     if isinstance(value, float):
         return f"{value:.4g}"
     if isinstance(value, (list, tuple)):
-        return f"[{len(value)} values]" if len(value) > 4 else "[" + ", ".join(shown(v) for v in value) + "]"
+        if len(value) > 4 or any(isinstance(v, (Mapping, list, tuple)) for v in value):
+            return f"[{len(value)} values]"
+        return "[" + ", ".join(shown(v) for v in value) + "]"
     return str(value)
+
+
+def _quantity(key: str) -> Any:
+    """The parameter table's entry of a flattened key that names a quantity ("critical_speed", "design.trail"),
+    or None (a key nested elsewhere, a solver's dual or a margin, is not the quantity of its name)."""
+    name = key.removeprefix("design.")
+    return None if "." in name else PARAMETERS.get(name) or OUTPUTS.get(name)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -367,7 +397,11 @@ class Record(Keyed):
     - :meth:`to_dict` gives every such field as plain data (:func:`plain`);
     - :meth:`to_pandas` one row of the flattened :meth:`to_dict`, units from :attr:`_units`;
     - :meth:`_repr_html_` a table of :meth:`_html_rows` under :meth:`_html_title`;
-    - ``repr`` the :meth:`_repr_lines` (the class name and its short fields), at most :data:`MAX_REPR_LINES`.
+    - ``repr`` the :meth:`_repr_lines` (the class name and its fields), at most :data:`MAX_REPR_LINES`;
+
+    both reprs show each key of :meth:`to_dict` with its unit (:attr:`_units`, else the parameter table's label,
+    precision and unit: :meth:`_shown`), a list by its length, as GPkit's ``SolutionArray.table()`` prints any
+    solution from its variables' own keys.
 
     A record declares the shape of its data in :attr:`_keys` (renamed keys, values read along a path, nested
     keys, keys left out when empty, keys given on request), overrides :meth:`to_pandas` when it has a better
@@ -406,15 +440,26 @@ class Record(Keyed):
     def _repr_html_(self) -> str:
         return html_table(self._html_title(), self._html_rows(), caption=self._html_caption(), extra=self._html_extra())
 
-    def _scalars(self) -> list[tuple[str, Any]]:
-        """The flattened :meth:`to_dict` items that are numbers, strings, booleans or None."""
-        return [
-            (k, v) for k, v in flatten(self.to_dict()).items() if v is None or isinstance(v, (str, int, float, bool))
-        ]
+    def _shown(self) -> list[tuple[str, str, str, str]]:
+        """(key, label, value, unit) of each item of the flattened :meth:`to_dict` but its nested lists of records
+        (a list by its length): a quantity of the parameter table (:mod:`designer.parameters`) under its label,
+        with its precision and SI unit (:mod:`designer.display`), unless :attr:`_units` gives its unit."""
+        out = []
+        for key, value in flatten(self.to_dict()).items():
+            entry = _quantity(key)
+            prefix = key.rsplit(".", 1)[0] + " " if "." in key else ""
+            label = prefix + entry.label if entry is not None else key
+            unit = self._units.get(key, unit_text(entry.name) if entry is not None else "")
+            numeric = isinstance(value, (int, float)) and not isinstance(value, bool)
+            if entry is not None and numeric and key not in self._units:
+                out.append((key, label, number(value, entry.name), unit))
+            else:
+                out.append((key, label, shown(value), unit))
+        return out
 
     def _repr_lines(self) -> list[str]:
-        """The repr's lines: ``Class(field=value, ...)`` of the short fields, wrapped at :data:`REPR_WIDTH`."""
-        parts = [f"{k}={shown(v)}" for k, v in self._scalars()]
+        """The repr's lines: ``Class(field=value unit, ...)`` of the fields, wrapped at :data:`REPR_WIDTH`."""
+        parts = [f"{k}={v if len(v) <= 60 else v[:59] + '…'} {u}".rstrip() for k, _, v, u in self._shown()]
         lines, line = [], f"{type(self).__name__}("
         for i, part in enumerate(parts):
             piece = part + (", " if i < len(parts) - 1 else "")
@@ -426,14 +471,18 @@ class Record(Keyed):
         return lines
 
     def _html_title(self) -> str:
-        return type(self).__name__
+        """The class name, with the name of the record's problem (or its own) when it has one."""
+        name = getattr(getattr(self, "problem", self), "name", None)
+        return type(self).__name__ + (f" {name!r}" if isinstance(name, str) else "")
 
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        """(label, value, unit) rows of the HTML table: the short fields with their units."""
-        return [(k, shown(v), self._units.get(k, "")) for k, v in self._scalars()]
+        """(label, value, unit) rows of the HTML table: every item of :meth:`_shown`."""
+        return [(label, v, u) for _, label, v, u in self._shown()]
 
     def _html_caption(self) -> str:
-        return ""
+        """The title of the record's problem (or its own), or ""."""
+        title = getattr(getattr(self, "problem", self), "title", "")
+        return title if isinstance(title, str) else ""
 
     def _html_extra(self) -> str:
         """HTML placed beside the table (e.g. an SVG curve built by :func:`svg_curve`), or ""."""
@@ -455,4 +504,5 @@ __all__ = [
     "plain",
     "require_pandas",
     "shown",
+    "si_frame",
 ]

@@ -55,9 +55,7 @@ def csv_column(name: str, dimension: str, units: str = "in") -> tuple[str, float
     return f"{name}_{suffix}", factor
 
 
-_SUFFIXES = sorted(
-    [(s, f) for s, f in LENGTH_UNITS.values()] + [(s, f) for s, f in CSV_UNITS.values()], key=lambda sf: -len(sf[0])
-)
+_SUFFIXES = sorted([*LENGTH_UNITS.values(), *CSV_UNITS.values()], key=lambda sf: -len(sf[0]))
 
 
 def csv_quantity(column: str) -> tuple[str, float]:
@@ -141,8 +139,7 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
 def _registry():
     import pint
 
-    ureg = pint.UnitRegistry()
-    return ureg
+    return pint.UnitRegistry()
 
 
 def parse_quantity(value, dimension: str, key: str = "value") -> float:
@@ -175,7 +172,7 @@ def parse_quantity(value, dimension: str, key: str = "value") -> float:
         if not math.isfinite(number):
             raise InputError(f"{key} = {value!r}: must be a finite number")
         return number
-    return real_number(value, key, f"a number (SI, {shown}) or a string with units such as {_example(dimension)!r}")
+    return real_number(value, key, f"a number (SI, {shown}) or a string with units such as {example(dimension)!r}")
 
 
 def _scalar(value: Any) -> Any:
@@ -230,17 +227,12 @@ def whole_number(
     None is also taken (the caller passes None on before).
     """
     item = _scalar(value)
-    span = (
-        f"from {low} to {high}"
-        if low is not None and high is not None
-        else f", {low} or more"
-        if low is not None
-        else f", {high} or less"
-        if high is not None
-        else ""
-    )
-    expected = ("None or " if optional else "") + "a whole number" + (f" of {what}" if what else "")
-    expected += span if span.startswith(",") or not span else f" {span}"
+    span = ""
+    if low is not None:
+        span = f" from {low} to {high}" if high is not None else f", {low} or more"
+    elif high is not None:
+        span = f", {high} or less"
+    expected = ("None or " if optional else "") + "a whole number" + (f" of {what}" if what else "") + span
     if _boolean(value) or _boolean(item):
         raise InputError(f"{key} = {value!r}: expected {expected}, got a boolean")
     if not isinstance(item, numbers.Integral):
@@ -320,7 +312,7 @@ def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) 
     ureg = _registry()
     stripped = text.strip()
     if not stripped:
-        raise InputError(f"{key} = {text!r}: empty string; give a number or e.g. {_example(dimension)!r}")
+        raise InputError(f"{key} = {text!r}: empty string; give a number or e.g. {example(dimension)!r}")
     _check_text(stripped, text, key, dimension)
     try:
         quantity = ureg.Quantity(stripped)
@@ -330,22 +322,19 @@ def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) 
         raise InputError(f"{key} = {text!r}: the number is too large") from None
     except Exception as exc:  # tokenizer errors, bad syntax
         raise InputError(f"{key} = {text!r}: cannot read it as a quantity ({type(exc).__name__})") from None
-    if not isinstance(quantity, ureg.Quantity):
-        try:
-            return float(quantity)
-        except OverflowError:
-            raise InputError(f"{key} = {text!r}: the number is too large") from None
     try:
-        magnitude = quantity.to(target).magnitude if target else quantity.to("dimensionless").magnitude
+        if not isinstance(quantity, ureg.Quantity):
+            return float(quantity)
+        magnitude = quantity.to(target or "dimensionless").magnitude
     except pint.errors.DimensionalityError:
         if not dict(quantity.unit_items()):  # "3" for a speed: the true reason is the missing unit
             raise InputError(
                 f"{key} = {text!r}: a number without its unit; give a number (SI, {shown}) or a string with "
-                f"its unit such as {_example(dimension)!r}"
+                f"its unit such as {example(dimension)!r}"
             ) from None
         hint = _mass_for_force_hint(quantity, stripped, key) if dimension == "force" else ""
         raise InputError(
-            f"{key} = {text!r}: wrong dimension, expected {dimension} ({shown}), e.g. {_example(dimension)!r}{hint}"
+            f"{key} = {text!r}: wrong dimension, expected {dimension} ({shown}), e.g. {example(dimension)!r}{hint}"
         ) from None
     except OverflowError:
         raise InputError(f"{key} = {text!r}: the number is too large") from None
@@ -373,10 +362,10 @@ def _check_kind(quantity, text: str, dimension: str, key: str) -> None:
     if dimension == "damping" and not per_angle:
         raise InputError(
             f"{key} = {text!r}: a moment (or energy), not a damping; a damping is a moment per "
-            f"angle: write it per radian, e.g. {_example('damping')!r}"
+            f"angle: write it per radian, e.g. {example('damping')!r}"
         )
     if dimension == "moment" and per_angle:
-        raise InputError(f"{key} = {text!r}: a damping (moment per angle), not a moment; e.g. {_example('moment')!r}")
+        raise InputError(f"{key} = {text!r}: a damping (moment per angle), not a moment; e.g. {example('moment')!r}")
 
 
 def _mass_for_force_hint(quantity, text: str, key: str) -> str:
@@ -457,7 +446,7 @@ def _check_text(stripped: str, text: str, key: str, dimension: str) -> None:
     ten-billion-digit integer (it never returns) and ``"[1,2] N"`` reads as
     12 N; both are user mistakes, not quantities.
     """
-    hint = f"give a number and a unit, e.g. {_example(dimension)!r}"
+    hint = f"give a number and a unit, e.g. {example(dimension)!r}"
     if len(stripped) > MAX_TEXT:
         raise InputError(f"{key} = {text[:20]!r}...: too long ({len(stripped)} characters); {hint}")
     if not _ALLOWED.match(stripped):
@@ -468,17 +457,12 @@ def _check_text(stripped: str, text: str, key: str, dimension: str) -> None:
     for match in _EXPONENT.finditer(stripped):
         operand = match.group(3)
         rest = stripped[match.end() :].lstrip()
-        if (
-            operand == "("
-            or operand[0].isalpha()
-            or operand[0] == "_"
-            or len(operand) > 3
-            or rest.startswith(("**", "^"))
-        ):
+        if operand[0] in "(_" or operand[0].isalpha() or len(operand) > 3 or rest.startswith(("**", "^")):
             raise InputError(f"{key} = {text!r}: exponents must be small plain numbers such as m**2; {hint}")
 
 
-def _example(dimension: str) -> str:
+def example(dimension: str) -> str:
+    """A quantity of ``dimension`` as a user writes it (``"2 in"``, ``"178 N"``): the example of every message."""
     return {
         "length": "2 in",
         "force": "178 N",

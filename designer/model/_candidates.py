@@ -20,9 +20,9 @@ from typing import Any, Self
 import numpy as np
 
 from designer.parameters import OUTPUT_TABLE, OUTPUTS, PARAMETERS, VARIABLE_TABLE, VARIABLES
-from designer.boundary import SEED, Count, Instance, Quantity, Values, checked
+from designer.boundary import SEED, Count, Instance, Quantity, Values, checked, one_line
 from designer.units import parse_quantity, real_number
-from designer.reprs import Key, Record, dataframe, frozen, shown
+from designer.reprs import Key, Record, dataframe, frozen
 from designer.physics.geometry import effective_trail, swept_radius
 from designer.physics.scatter import inertia_prediction
 from designer.errors import InputError
@@ -68,10 +68,8 @@ def design_columns(designs: Any) -> dict[str, np.ndarray]:
     parameter table's order.
     """
     if isinstance(designs, Design):
-        return {name: np.array([getattr(designs, name)], dtype=float) for name in VARIABLES}
-    if isinstance(designs, Mapping):
-        return {name: np.asarray(designs[name], dtype=float) for name in VARIABLES}
-    if isinstance(designs, np.ndarray) and designs.dtype.names:
+        designs = [designs]
+    if isinstance(designs, Mapping) or (isinstance(designs, np.ndarray) and designs.dtype.names):
         return {name: np.asarray(designs[name], dtype=float) for name in VARIABLES}
     if isinstance(designs, Sequence) and designs and isinstance(designs[0], Design):
         return {name: np.array([getattr(d, name) for d in designs], dtype=float) for name in VARIABLES}
@@ -233,9 +231,6 @@ class Casters(Record):
             f"F_turn {float(np.min(f)):.4g}–{float(np.max(f)):.4g} N, P {float(np.min(p)):.4g}–{float(np.max(p)):.4g} N)"
         ]
 
-    def _html_title(self) -> str:
-        return "Candidate casters"
-
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """The count and the range of every quantity over the candidates (no Monte Carlo runs)."""
         rows: list[tuple[Any, Any, Any]] = [
@@ -278,25 +273,9 @@ class Caster(Casters):
         """The caster's design (T, d, B, c_f), the same numbers as its fields."""
         return Design(float(self.trail), float(self.diameter), float(self.groove), float(self.damping))
 
-    def _repr_lines(self) -> list[str]:
-        """One line: the caster and its forces."""
-        return [
-            f"Caster(T {self.trail:.4g} m, d {self.diameter:.4g} m, B {self.groove:.4g} m, c_f {self.damping:.4g} "
-            f"N·m/rad; F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, V_c "
-            f"{self.critical_speed:.4g} m/s)"
-        ]
-
-    def _html_title(self) -> str:
-        return "Caster"
-
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        """The design and each listed quantity of :data:`designer.parameters.OUTPUT_TABLE` it holds, labelled and
-        with units from the table (SI)."""
-        rows: list[tuple[Any, Any, Any]] = [(p.label, shown(getattr(self, p.name)), p.unit) for p in VARIABLE_TABLE]
-        for p in OUTPUT_TABLE:
-            if p.listed and p.name in self:
-                rows.append((p.label, shown(self[p.name]), p.unit))
-        return rows
+    # one caster shows its values (the protocol's defaults, labels and units from the table), not their ranges
+    _repr_lines = Record._repr_lines
+    _html_rows = Record._html_rows
 
 
 class OfCaster:
@@ -444,16 +423,10 @@ def _columns(designs: Any) -> dict[str, np.ndarray]:
         columns = design_columns(designs)
     except (AttributeError, KeyError, TypeError, ValueError) as error:
         raise InputError(
-            f"design = {_one_line(designs)}: expected a designer.Design (e.g. Design(trail='2 in', diameter='6 in', "
+            f"design = {one_line(designs)}: expected a designer.Design (e.g. Design(trail='2 in', diameter='6 in', "
             f"groove=0, damping=1.3)) or a batch with the columns {', '.join(VARIABLES)} ({error})"
         ) from None
     return columns
-
-
-def _one_line(value: Any, width: int = 80) -> str:
-    """``repr(value)`` on one line, at most ``width`` characters (a batch or a record's repr runs to several)."""
-    text = " ".join(repr(value).split())
-    return text if len(text) <= width else text[: width - 1] + "…"
 
 
 def _speed(speed: Any, name: str = "speed") -> Any:
@@ -467,7 +440,7 @@ def _speed(speed: Any, name: str = "speed") -> Any:
     except InputError:
         raise
     except (TypeError, ValueError) as error:
-        raise InputError(f"{name} = {_one_line(speed)}: expected a speed [m/s] or one per caster ({error})") from None
+        raise InputError(f"{name} = {one_line(speed)}: expected a speed [m/s] or one per caster ({error})") from None
     low, high = PARAMETERS["target_speed"].range or (0.0, np.inf)
     bad = ~((values >= low) & (values <= high))
     if np.any(bad):
@@ -580,9 +553,9 @@ def _growth_rate(out: Casters, conditions: Conditions, speed: Any) -> np.ndarray
     """μ of the oscillatory mode at ``speed`` [1/s] (Eq. 16B of the Eq. 12B coefficients; c_f as the hydraulic
     damping of Eq. 6 at the amplitude of Eq. 4), per caster."""
     t = np.atleast_1d(out.effective_trail)
-    i_w = np.broadcast_to(out.inertia, t.shape)
-    b, c = np.broadcast_to(out.groove, t.shape), np.broadcast_to(out.damping, t.shape)
-    v = np.broadcast_to(np.asarray(speed, dtype=float), t.shape)
+    i_w, b, c, v = (
+        np.broadcast_to(np.asarray(x, dtype=float), t.shape) for x in (out.inertia, out.groove, out.damping, speed)
+    )
     rates = []
     for k in range(t.size):
         c_d = friction_damping_at_speed(float(c[k]), float(t[k]), float(v[k]))
@@ -622,20 +595,12 @@ def _risk(
             measured=out.measured,
         )
     n = len(out)
-    col = {
-        k: np.broadcast_to(np.asarray(getattr(out, k), dtype=float), (n,))
-        for k in ("effective_trail", "inertia", "groove", "damping", "diameter", "measured")
-    }
+    t, i_w, b, c, d = (
+        out._column(k).astype(float) for k in ("effective_trail", "inertia", "groove", "damping", "diameter")
+    )
+    v, flags = np.broadcast_to(speed, (n,)), out._column("measured").astype(bool)
     p = shimmy_probability_exact_many(
-        col["effective_trail"],
-        col["inertia"],
-        col["groove"],
-        col["damping"],
-        float(conditions.slip_coefficient),
-        np.broadcast_to(speed, (n,)),
-        law,
-        diameter=col["diameter"],
-        measured=col["measured"].astype(bool),
+        t, i_w, b, c, float(conditions.slip_coefficient), v, law, diameter=d, measured=flags
     )
     return p, np.zeros(n)
 

@@ -100,16 +100,8 @@ def check_design(
         value = getattr(design, name)
         lo, hi = MODEL_RANGE[name]
         if not math.isfinite(value) or value < lo or (value == 0 and name in ("trail", "diameter")) or value > hi:
-            raise error(
-                outside_range(
-                    f"{prefix}{name}",
-                    (given or {}).get(name, value),
-                    value,
-                    lo,
-                    hi,
-                    parameters.PARAMETERS[name].dimension,
-                )
-            )
+            written, dimension = (given or {}).get(name, value), parameters.PARAMETERS[name].dimension
+            raise error(outside_range(f"{prefix}{name}", written, value, lo, hi, dimension))
 
 
 @dataclass(frozen=True)
@@ -160,9 +152,6 @@ class Design(Record):
             f"  T {self.trail / INCH:.3f} in, d {self.diameter / INCH:.3f} in, "
             f"B {self.groove / INCH:.3f} in, c_f {self.damping:.4g} N·m/rad",
         ]
-
-    def _html_title(self) -> str:
-        return "Caster design"
 
     def variable_rows(self) -> list[tuple[Any, Any, Any]]:
         """T, d, B in inches and mm and c_f [N·m/rad] as (label, value, unit) rows, names and units from the
@@ -397,15 +386,9 @@ def performance(
     if c.uncertainty is None:
         confident_speed = critical_speed
     else:
+        wheel = diameter if wheel_diameter is None else wheel_diameter
         confident_speed = shimmy_speed_quantile(
-            trail,
-            inertia,
-            groove,
-            damping,
-            c.slip_coefficient,
-            c.uncertainty,
-            diameter=diameter if wheel_diameter is None else wheel_diameter,
-            measured=measured,
+            trail, inertia, groove, damping, c.slip_coefficient, c.uncertainty, diameter=wheel, measured=measured
         )
     ratio = threshold_force_ratio(diameter, c.threshold_height)
     moment = turning_moment(groove, damping, c)

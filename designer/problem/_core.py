@@ -493,12 +493,6 @@ class Problem(Record):
             f"{'stock' if self.stock is not None else 'continuous'})"
         ]
 
-    def _html_title(self) -> str:
-        return f"Problem {self.name!r}"
-
-    def _html_caption(self) -> str:
-        return self.title
-
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """The problem as a compact table with units (notebooks); no solver runs."""
         c, u = self.conditions, self.conditions.uncertainty

@@ -38,11 +38,11 @@ from typing import TYPE_CHECKING, Any, Protocol, TypeVar, runtime_checkable
 
 import numpy as np
 
-from designer.model import Design
+from designer.model import VARIABLES, Design
 from designer.parameters import OUTPUTS
 from designer.physics.inertia import Catalog
 from designer.problem import Problem
-from designer.reprs import Record, dataframe
+from designer.reprs import Record, si_frame
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -123,17 +123,6 @@ class Optimum(Record):
 
     _units = {"objective": "N", "seconds": "s", "build_seconds": "s", "caps.threshold": "N", "caps.turning": "N"}
 
-    def _repr_lines(self) -> list[str]:
-        """One line: the solver, its status, J and the design (inches)."""
-        head = f"Optimum({self.solver}, {self.status}"
-        if self.design is None:
-            return [head + ": no design)"]
-        wheel = f", wheel {self.wheel}" if self.wheel else ""
-        return [f"{head}{wheel}: J {self.objective:.6g} N at {self.design.describe()})"]
-
-    def _html_title(self) -> str:
-        return f"Optimum by {self.solver} ({self.status})"
-
 
 @dataclass(frozen=True, kw_only=True)
 class Designs(Record):
@@ -199,22 +188,19 @@ class Designs(Record):
         """One row per ε: ``epsilon_N``, the design (``trail_m``, ``diameter_m``, ``groove_m``,
         ``damping_N_m_per_rad``), ``turning_effort_N``, ``threshold_force_N``, ``critical_speed_m_s``, ``success``
         and ``status``; units in ``df.attrs["units"]``."""
-        names = ["trail_m", "diameter_m", "groove_m", "damping_N_m_per_rad"]
-        values = ["turning_effort_N", "threshold_force_N", "critical_speed_m_s"]
+        values = ("turning_effort", "threshold_force", "critical_speed")
         rows = [
             {
                 "epsilon_N": float(self.epsilon[i]),
-                **dict(zip(names, (float(v) for v in self.designs[i]))),
+                **dict(zip(VARIABLES, (float(v) for v in self.designs[i]))),
                 **dict(zip(values, (float(v) for v in self.objectives[i]))),
                 "success": bool(self.success[i]),
                 "status": self.status[i],
             }
             for i in range(len(self))
         ]
-        columns = ["epsilon_N", *names, *values, "success", "status"]
-        units = {c: c.rsplit("_", 1)[-1] for c in columns[:-2]}
-        units.update(damping_N_m_per_rad="N·m/rad", critical_speed_m_s="m/s")
-        return dataframe("Designs.to_pandas", rows, columns, units, solver=self.solver)
+        columns = ["epsilon_N", *VARIABLES, *values, "success", "status"]
+        return si_frame("Designs.to_pandas", rows, columns, {"epsilon_N": "N"}, solver=self.solver)
 
     def design(self, i: int) -> Design:
         """Row ``i`` as a :class:`~designer.model.Design`."""

@@ -220,13 +220,6 @@ class JointLimits(Record):
             + "".join(f" {k}: {v}." for k, v in self.notes.items() if k == "box")
         )
 
-    def _repr_lines(self) -> list[str]:
-        return [
-            f"JointLimits({self.shape}, scale {self.scale:.3g}; worst of {self.corners} corners P "
-            f"{self.corner_max:.3%} <= α {self.alpha:.3g})",
-            "  " + ", ".join(f"{k} {v:.4g}" for k, v in self.limits.items() if v is not None),
-        ]
-
 
 def _weights(problem: Problem, design: Design, inertia: float, measured: bool, offset: float) -> tuple[str, dict]:
     """The box's shape and each risk part's relative window per unit scale w_p (module text)."""

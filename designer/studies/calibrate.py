@@ -140,28 +140,6 @@ class CalibrationResult(Record):
         units = {"x": x_unit, "y": self.y_unit, "fitted": self.y_unit, "residual": self.y_unit}
         return dataframe("CalibrationResult.to_pandas", rows, ["x", "y", "fitted", "residual"], units, **self.to_dict())
 
-    def _repr_lines(self) -> list[str]:
-        """One line: the constant, its value and 95 % interval, the data count and the RMS residual."""
-        lo, hi = self.interval
-        return [
-            f"CalibrationResult({self.kind}: {self.name} = {self.value:.6g} {self.unit} (95 % CI {lo:.6g} to "
-            f"{hi:.6g}), n = {self.n}, RMS residual {self.rms:.3g} {self.y_unit}, {self.equation})"
-        ]
-
-    def _html_title(self) -> str:
-        return f"Calibration of {self.name} ({self.kind})"
-
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        lo, hi = self.interval
-        return [
-            (self.name, f"{self.value:.6g}", self.unit),
-            ("standard error", f"{self.stderr:.3g}", self.unit),
-            ("95 % interval", f"{lo:.6g} – {hi:.6g}", self.unit),
-            ("data rows", str(self.n), ""),
-            ("RMS residual", f"{self.rms:.3g}", self.y_unit),
-            ("equation", self.equation, ""),
-        ]
-
     def snippet(self) -> str:
         """A TOML snippet a problem file can include (keys of ``[turning]`` / ``[shimmy]``)."""
         lo, hi = self.interval

@@ -171,12 +171,6 @@ class Inspection(Record):
             "bad_rows": len(self.bad_rows),
         }
 
-    def _repr_lines(self) -> list[str]:
-        lot = self.lot()
-        return [
-            f"Inspection({lot['passed']} of {lot['graded']} pass P <= {self.alpha:g}; {len(self.bad_rows)} bad rows)"
-        ]
-
 
 def _header(raw: str, source: str) -> tuple[str, float]:
     """A header cell -> (part, factor to SI); ``serial`` -> ("serial", 1).  InputError for an unknown column."""

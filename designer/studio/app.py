@@ -190,10 +190,7 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
                 values_out,
                 _changed(errors, errors_shown),
                 _changed(general, general_shown),
-                no_update,
-                no_update,
-                no_update,
-                no_update,
+                *[no_update] * 4,  # the chart, what it shows, the recommendation, the status
                 no_update if from_url else state.to_query(current, defaults),
                 no_update,
                 no_update,
@@ -479,31 +476,22 @@ def _card_callback(app) -> None:
 def _mine_callback(app, out_dir: Path) -> None:
     """The "Check my caster" button: its numbers on the chart and its fixes ranked, with the command to run them."""
 
+    boxes = (("trail", "length"), ("diameter", "length"), ("groove", "length"), ("damping", "damping"))
+
     @app.callback(
         Output("mine-store", "data"),
         Output("mine-result", "children"),
         Output("mine-error", "children"),
         Input("mine-go", "n_clicks"),
-        Input("mine-trail", "n_submit"),
-        Input("mine-diameter", "n_submit"),
-        Input("mine-groove", "n_submit"),
-        Input("mine-damping", "n_submit"),
-        State("mine-trail", "value"),
-        State("mine-diameter", "value"),
-        State("mine-groove", "value"),
-        State("mine-damping", "value"),
+        *[Input(f"mine-{key}", "n_submit") for key, _ in boxes],
+        *[State(f"mine-{key}", "value") for key, _ in boxes],
         State("problem-data", "data"),
         prevent_initial_call=True,
     )
-    def check_mine(_n, _a, _b, _c, _d, trail, diameter, groove, damping, merged):
-
+    def check_mine(_n, _a, _b, _c, _d, *texts_and_data):
+        *texts, merged = texts_and_data
         try:
-            design = Design(
-                quantity_option(str(trail), "length", "--trail"),
-                quantity_option(str(diameter), "length", "--diameter"),
-                quantity_option(str(groove), "length", "--groove"),
-                quantity_option(str(damping), "damping", "--damping"),
-            )
+            design = Design(*(quantity_option(str(t), dim, f"--{key}") for t, (key, dim) in zip(texts, boxes)))
             problem = problem_from_dict(merged)
             result = view.my_caster(problem, design)
             result["command"] = "Save problem, then " + view.fix_command(

@@ -54,16 +54,8 @@ def _custom(p: dict, part: str, index: int, name: str, units: str) -> list:
     d = p["design"]
     factor = display.unit("length", units).factor
     vc = p.get("critical_speed")
-    return [
-        part,
-        index,
-        name,
-        vc if vc is not None and math.isfinite(vc) else None,
-        d["trail"] * factor,
-        d["diameter"] * factor,
-        d["groove"] * factor,
-        d["damping"],
-    ]
+    lengths = [d[key] * factor for key in ("trail", "diameter", "groove")]
+    return [part, index, name, vc if vc is not None and math.isfinite(vc) else None, *lengths, d["damping"]]
 
 
 def front_figure(
@@ -160,6 +152,22 @@ FRONT_NAMES = {
 scatter), the continuous front whose casters keep P(shimmy) within α, and the stock's front."""
 
 
+def _trace(part: str, name: str, mode: str, points: list, customdata: list, units: str, **style) -> dict:
+    """A scatter trace of ``points`` (P across, F_turn up) as a plain plotly dict, naming its ``part`` in ``meta``
+    and each point's record in ``customdata`` (:func:`_custom`); ``style``: its marker, line and text."""
+    return {
+        "customdata": customdata,
+        "hovertemplate": hover(units),
+        **style,
+        "meta": part,
+        "mode": mode,
+        "name": name,
+        "x": [p["threshold_force"] for p in points],
+        "y": [p["turning_effort"] for p in points],
+        "type": "scatter",
+    }
+
+
 def _front_traces(continuous: list, risk: list, buildable: list, units: str) -> list:
     """One line (or markers) per non-empty front: continuous, risk-bounded, buildable; each point names its record."""
     traces = []
@@ -171,44 +179,22 @@ def _front_traces(continuous: list, risk: list, buildable: list, units: str) -> 
         if not points:
             continue
         name = FRONT_NAMES[key]
-        traces.append(
-            {
-                "customdata": [
-                    _custom(p, key, i, f"{name} #{i + 1}" + (f" {p['label']}" if p.get("label") else ""), units)
-                    for i, p in enumerate(points)
-                ],
-                "hovertemplate": hover(units),
-                "line": {"color": COLOURS[key], "width": 1.5},
-                "marker": {"color": COLOURS[key], "size": size, "symbol": symbol},
-                "meta": key,
-                "mode": mode,
-                "name": name,
-                "x": [p["threshold_force"] for p in points],
-                "y": [p["turning_effort"] for p in points],
-                "type": "scatter",
-            }
-        )
+        custom = [
+            _custom(p, key, i, f"{name} #{i + 1}" + (f" {p['label']}" if p.get("label") else ""), units)
+            for i, p in enumerate(points)
+        ]
+        line = {"color": COLOURS[key], "width": 1.5}
+        marker = {"color": COLOURS[key], "size": size, "symbol": symbol}
+        traces.append(_trace(key, name, mode, points, custom, units, line=line, marker=marker))
     return traces
 
 
 def _recommendation_trace(recommendation: dict, units: str) -> dict:
     """The caster to build: a green star; a click opens its card (the recommendation's own record)."""
-    return {
-        "customdata": [_custom(recommendation, "recommendation", 0, "the caster to build", units)],
-        "hovertemplate": hover(units),
-        "marker": {
-            "color": COLOURS["recommendation"],
-            "line": {"color": "white", "width": 1},
-            "size": 18,
-            "symbol": "star",
-        },
-        "meta": "recommendation",
-        "mode": "markers",
-        "name": "the caster to build",
-        "x": [recommendation["threshold_force"]],
-        "y": [recommendation["turning_effort"]],
-        "type": "scatter",
-    }
+    name = "the caster to build"
+    marker = {"color": COLOURS["recommendation"], "line": {"color": "white", "width": 1}, "size": 18, "symbol": "star"}
+    custom = [_custom(recommendation, "recommendation", 0, name, units)]
+    return _trace("recommendation", name, "markers", [recommendation], custom, units, marker=marker)
 
 
 def _mine_trace(mine: dict, units: str) -> dict:
@@ -241,29 +227,12 @@ def sweeps_figure(sweeps: dict, target: float, alpha: float | None, units: str =
         s = sweeps[name]
         factor = display.unit("length", units).factor
         x = [v * factor for v in s["x"]]
-        fig.add_trace(
-            go.Scatter(
-                x=x,
-                y=list(s["critical_speed"]),
-                name="V_c (Eq. 7)",
-                showlegend=col == 1,
-                line={"color": COLOURS["continuous"]},
-            ),
-            row=1,
-            col=col,
-        )
+        curves = [("critical_speed", "V_c (Eq. 7)", "continuous")]
         if alpha is not None:
-            fig.add_trace(
-                go.Scatter(
-                    x=x,
-                    y=list(s["confident_speed"]),
-                    name=f"speed reached ({display.percent(1 - alpha)} sure)",
-                    showlegend=col == 1,
-                    line={"color": COLOURS["risk"]},
-                ),
-                row=1,
-                col=col,
-            )
+            curves.append(("confident_speed", f"speed reached ({display.percent(1 - alpha)} sure)", "risk"))
+        for key, label, colour in curves:
+            line = {"color": COLOURS[colour]}
+            fig.add_trace(go.Scatter(x=x, y=list(s[key]), name=label, showlegend=col == 1, line=line), row=1, col=col)
         fig.add_vline(x=s["value"] * factor, line={"dash": "dot", "color": "black"}, row=1, col=col)
         fig.add_hline(y=target, line={"dash": "dash", "color": COLOURS["mine"]}, row=1, col=col)
         fig.update_xaxes(title_text=f"{name} {display.header(name, units)}", row=1, col=col)

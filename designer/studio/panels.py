@@ -205,20 +205,13 @@ def numbers_table(n: dict, problem, prefix: str):
                 f"{display.shown(n['knock_safe_speed_double'], 'critical_speed', units)}",
             )
         )
+    room = problem.swept_radius_max
+    room_text = "" if room is None else f" (room {display.shown(room, 'swept_radius', units)})"
     rows += [
         ("target", "target speed", display.shown(problem.target_speed, "target_speed", units)),
         ("probability", "chance of shimmy at the target", _value(n, "shimmy_probability", units)),
         ("confident", f"speed reached ({_level(alpha)} sure)", _value(n, "confident_speed", units)),
-        (
-            "swept",
-            "swept radius T + d/2",
-            _value(n, "swept_radius", units)
-            + (
-                ""
-                if problem.swept_radius_max is None
-                else f" (room {display.shown(problem.swept_radius_max, 'swept_radius', units)})"
-            ),
-        ),
+        ("swept", "swept radius T + d/2", _value(n, "swept_radius", units) + room_text),
         ("inertia", "wheel inertia I_w" + (" (measured)" if n.get("measured") else ""), _value(n, "inertia", units)),
     ]
     rows += [(key, display.label(key), display.shown(value, key, units)) for key, value in n.get("more", {}).items()]
@@ -248,24 +241,12 @@ def card_panel(problem, record, name: str):
         # at its own size (its text 11 px), in a box that scrolls sideways on a phone rather than shrink it
         parts.append(html.Div(html.Img(src=src, id="card-drawing"), style={"overflowX": "auto", "maxWidth": "100%"}))
     parts.append(numbers_table(n, problem, "card"))
-    risk = problem.risk
-    parts.append(
-        dcc.Graph(
-            id="card-sweeps",
-            figure=figures.sweeps_figure(
-                data["sweeps"], problem.target_speed, None if risk is None else risk.probability, units
-            ),
-            config={"displayModeBar": False},
-        )
-    )
+    alpha = None if problem.risk is None else problem.risk.probability
+    sweeps = figures.sweeps_figure(data["sweeps"], problem.target_speed, alpha, units)
+    parts.append(dcc.Graph(id="card-sweeps", figure=sweeps, config={"displayModeBar": False}))
     if data.get("knock") is not None:
-        parts.append(
-            dcc.Graph(
-                id="card-knock",
-                figure=figures.knock_figure(data["knock"], problem.target_speed),
-                config={"displayModeBar": False},
-            )
-        )
+        knock = figures.knock_figure(data["knock"], problem.target_speed)
+        parts.append(dcc.Graph(id="card-knock", figure=knock, config={"displayModeBar": False}))
     elif data.get("knock_error"):
         parts.append(html.Div(data["knock_error"], style=CSS["error"]))
     return parts

@@ -24,7 +24,7 @@ from designer import display
 from designer.errors import DesignerError, ProblemError
 from designer.physics.uncertainty import Uncertainty
 from designer.parameters import VARIABLE_TABLE
-from designer.units import DIMENSIONS, parse_quantity
+from designer.units import DIMENSIONS, example, parse_quantity
 from designer.problem import load_problem, problem_path
 from designer.problem import DEFAULT_BOUNDS
 from designer.problem import problem_from_dict
@@ -64,15 +64,11 @@ class Control:
 
 def _bounds_controls() -> list[Control]:
     """A min and a max box per design variable, with its dimension from the parameter table."""
-    out = []
-    for p in VARIABLE_TABLE:
-        for end in ("min", "max"):
-            out.append(
-                Control(
-                    f"{p.name}_{end}", f"{p.name} {end}", ("variables", p.name, end), "quantity", p.dimension, "bounds"
-                )
-            )
-    return out
+    return [
+        Control(f"{p.name}_{end}", f"{p.name} {end}", ("variables", p.name, end), "quantity", p.dimension, "bounds")
+        for p in VARIABLE_TABLE
+        for end in ("min", "max")
+    ]
 
 
 CONTROLS: list[Control] = [
@@ -112,21 +108,18 @@ STOCK_CONTROLS = {
 
 def stock_controls() -> list[Control]:
     """Controls of the [stock] lists."""
-    out = []
-    for key, (label, dim) in STOCK_CONTROLS.items():
-        kind = "list" if key.endswith("s") else "quantity"
-        out.append(
-            Control(
-                f"stock_{key}",
-                label + (" (comma separated)" if kind == "list" else ""),
-                ("stock", key),
-                kind,
-                dim,
-                "stock",
-                optional=True,
-            )
+    return [
+        Control(
+            f"stock_{key}",
+            label + (" (comma separated)" if key.endswith("s") else ""),
+            ("stock", key),
+            "list" if key.endswith("s") else "quantity",
+            dim,
+            "stock",
+            optional=True,
         )
-    return out
+        for key, (label, dim) in STOCK_CONTROLS.items()
+    ]
 
 
 def all_controls() -> list[Control]:
@@ -295,32 +288,21 @@ def apply(data: dict, values: dict) -> dict:
         if c.kind == "list" and str(value).strip() == shown.get(c.key):
             continue  # unchanged: the file's list as it was (items with their own costs, named wheels)
         if c.kind == "slider":
-            value = _number(value, c)
-            value = f"{value:g} m/s"
+            value = f"{_number(value, c):g} m/s"
         elif c.kind == "number":
             value = _number(value, c)
-        elif c.kind == "list":
+        elif c.kind in ("list", "quantity"):
             text = "" if value is None else str(value).strip()
-            if not text:
+            if not text and (c.optional or c.kind == "list"):  # an empty box: the key left out
                 _delete(out, c.path)
                 continue
-            value = _list_items(text, get(data, c.path))
-        elif c.kind == "quantity":
-            text = "" if value is None else str(value).strip()
             if not text:
-                if c.optional:
-                    _delete(out, c.path)
-                    continue
                 raise ControlError(
-                    f"{c.dotted}: empty; give a value with its unit, e.g. {_example(c.dimension)!r}", c.key
+                    f"{c.dotted}: empty; give a value with its unit, e.g. {example(c.dimension)!r}", c.key
                 )
-            value = text
+            value = _list_items(text, get(data, c.path)) if c.kind == "list" else text
         _set(out, c.path, value)
     return out
-
-
-def _example(dimension: str) -> str:
-    return {"length": "2 in", "force": "178 N", "damping": "1.3 N*m/rad", "speed": "2.5 m/s"}.get(dimension, "1")
 
 
 def _number(value, c: Control) -> float:
@@ -399,12 +381,12 @@ def blame(message: str) -> str | None:
 
 def to_query(values: dict, defaults: dict) -> str:
     """The URL query ("?target=3&trail_min=1.5+in") of the controls that differ from ``defaults``."""
-    changed = [(k, _url_value(v)) for k, v in values.items() if k in defaults and v != defaults[k]]
+    changed = [
+        (k, f"{v:g}" if isinstance(v, float) else str(v))
+        for k, v in values.items()
+        if k in defaults and v != defaults[k]
+    ]
     return "?" + urlencode(changed) if changed else ""
-
-
-def _url_value(value) -> str:
-    return f"{value:g}" if isinstance(value, float) else str(value)
 
 
 def from_query(search: str | None, defaults: dict) -> dict:
@@ -429,16 +411,10 @@ def from_query(search: str | None, defaults: dict) -> dict:
 
 def to_toml(data: dict) -> str:
     """Problem-file data as TOML text (what "Save problem" writes; :func:`tomllib.loads` gives ``data`` back)."""
-    lines = []
-    for key, value in data.items():
-        if not isinstance(value, dict):
-            lines.append(f"{_bare(key)} = {_toml_value(value)}")
+    lines = [f"{_bare(key)} = {_toml_value(value)}" for key, value in data.items() if not isinstance(value, dict)]
     for key, value in data.items():
         if isinstance(value, dict):
-            lines.append("")
-            lines.append(f"[{_bare(key)}]")
-            for sub, item in value.items():
-                lines.append(f"{_bare(sub)} = {_toml_value(item)}")
+            lines += ["", f"[{_bare(key)}]", *(f"{_bare(sub)} = {_toml_value(item)}" for sub, item in value.items())]
     return "\n".join(lines).lstrip("\n") + "\n"
 
 

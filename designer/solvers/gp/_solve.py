@@ -141,14 +141,6 @@ class GPResult(Record):
 
     _units = {"objective": "N", "gp_objective": "N", "seconds": "s"}
 
-    def _repr_lines(self) -> list[str]:
-        """One line: the family, status, J and the design (inches)."""
-        wheel = f", wheel {self.wheel}" if self.wheel else ""
-        return [
-            f"GPResult({self.family}{wheel}, {self.status}{', exact' if self.exact else ''}: J {self.objective:.6g} N, "
-            f"{self.design.describe()})"
-        ]
-
 
 # --------------------------------------------------------------------------- public API
 

@@ -127,13 +127,6 @@ class NLPResult(Record):
 
     _units = {"objective": "N", "seconds": "s"}
 
-    def _repr_lines(self) -> list[str]:
-        """One line: status, J, iterations and the design (inches)."""
-        return [
-            f"NLPResult({self.status}{'' if self.success else ', failed'}: J {self.objective:.6g} N, "
-            f"{self.iterations} iterations, {self.design.describe()})"
-        ]
-
 
 class CasterNLP:
     """The exact NLP of one continuous problem, built once and solved many times.

@@ -6,7 +6,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import Any, TypeAlias
 
-from designer.reprs import Key, Record, shown
+from designer.reprs import Key, Record
 
 
 REPRODUCED = "reproduced"
@@ -70,25 +70,6 @@ class Check(Record):
         if self.outcome not in OUTCOMES or self.kind not in KINDS:
             raise ValueError(f"check {self.name}: outcome {self.outcome!r} / kind {self.kind!r} unknown")
         object.__setattr__(self, "passed", self.outcome != FAILS)
-
-    def _repr_lines(self) -> list[str]:
-        """One line: the check, its outcome, what the paper says and what the code got."""
-        return [f"Check({self.name}: {self.outcome}; expected {shown(self.expected)}, got {shown(self.got)})"]
-
-    def _html_title(self) -> str:
-        return f"Check {self.name} ({self.kind}): {self.outcome}"
-
-    def _html_caption(self) -> str:
-        return self.detail
-
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        rows = [
-            ("claim", self.claim, ""),
-            ("expected", shown(self.expected), ""),
-            ("got", shown(self.got), ""),
-            ("outcome", self.outcome, ""),
-        ]
-        return rows + [("disagreement", line, "") for line in self.disagreements]
 
 
 def count_outcomes(checks: Iterable[Check]) -> dict[str, dict[str, int]]:

@@ -91,15 +91,6 @@ class Operators(Record):
         pop = population_size or int(min(100, max(20, round(math.sqrt(max(trials, 1))))))
         return cls(population_size=pop)
 
-    def _repr_lines(self) -> list[str]:
-        """One line: the name, the population and the two operators."""
-        cross = f"{self.crossover} crossover" + (f" η={self.crossover_eta:g}" if self.crossover == "sbx" else "")
-        mut = f"{self.mutation} mutation" + (f" η={self.mutation_eta:g}" if self.mutation == "polynomial" else "")
-        return [f"Operators({self.name}: population {self.population_size}, {cross}, {mut})"]
-
-    def _html_title(self) -> str:
-        return "NSGA-II operators"
-
     @classmethod
     def from_dict(cls, data: dict) -> "Operators":
         values = {k: (float("nan") if v is None and k.endswith("_eta") else v) for k, v in data.items()}
@@ -272,20 +263,6 @@ class SearchSpace(Record):
         """Every combination of categorical values, as ((dimension, value), ...) tuples."""
         dims = [[(name, value) for value in choices] for name, choices in self.categorical]
         return [tuple(combo) for combo in itertools.product(*dims)] if dims else [()]
-
-    def _repr_lines(self) -> list[str]:
-        """One line: the continuous variables and the categorical dimensions with their sizes."""
-        cont = ", ".join(n for n, _, _ in self.continuous) or "none"
-        cat = ", ".join(f"{n} ({len(c)})" for n, c in self.categorical) or "none"
-        return [f"SearchSpace(continuous: {cont}; categorical: {cat}; {len(self.categories())} categories)"]
-
-    def _html_title(self) -> str:
-        return "Search space"
-
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        """Each continuous variable with its range [SI], each categorical dimension with its choices."""
-        rows: list[tuple] = [(name, f"{lo:.4g} – {hi:.4g}", "") for name, lo, hi in self.continuous]
-        return rows + [(name, ", ".join(str(c) for c in choices), "") for name, choices in self.categorical]
 
 
 def search_space(problem: Problem) -> SearchSpace:

@@ -119,9 +119,6 @@ class ExploreResult(Record):
             f"  hypervolume {self.hypervolume:.4g} N²{versus}, {self.seconds:.3g} s, seed {self.seed}",
         ]
 
-    def _html_title(self) -> str:
-        return f"Explored front {self.problem.name!r} (NSGA-II)"
-
     def _html_caption(self) -> str:
         return str(self.comparison.get("note", ""))
 

@@ -222,9 +222,6 @@ class FleetResult(Record):
         )
         return [f"FleetResult({getattr(self.problem, 'name', '?')!r}: {head})"] + ([f"  {rest}"] if rest else [])
 
-    def _html_title(self) -> str:
-        return f"Fleet recommendations for {getattr(self.problem, 'name', '?')!r}"
-
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """Chairs, part numbers, ranges of F_turn and P (notebooks)."""
         return list(self._summary())

@@ -92,16 +92,6 @@ class KMedianSolution(Record):
 
     _units = {"regret": "N", "lower_bound": "N", "gap": "N", "seconds": "s"}
 
-    def _repr_lines(self) -> list[str]:
-        """One line: K, the status, the regret and its proof."""
-        return [
-            f"KMedianSolution(K = {self.k}: {self.status}, regret {self.regret:.5g} N (bound {self.lower_bound:.5g}), "
-            f"casters {list(self.chosen)}, {self.candidates} candidates)"
-        ]
-
-    def _html_title(self) -> str:
-        return f"{self.k} part numbers (K-median)"
-
 
 # --------------------------------------------------------------------------- reduction
 

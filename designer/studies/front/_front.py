@@ -26,7 +26,7 @@ from designer.parameters import DESIGN_UNITS, OUTPUTS, PARAMETERS, dimensions
 from designer.units import csv_quantity
 from designer.problem import example_names, example_problem
 from designer.problem import Problem, family_of, load_problem
-from designer.reprs import Key, Record
+from designer.reprs import Key, Record, si_frame
 from designer.plots.svg import svg_curve
 from designer.plots import fronts as front_plots
 
@@ -86,18 +86,6 @@ class FrontPoint(Record):
         **{n: OUTPUTS[n].unit for n in ("turning_effort", "threshold_force", "critical_speed")},
         "epsilon": OUTPUTS["threshold_force"].unit,
     }
-
-    def _repr_lines(self) -> list[str]:
-        """One line: the objectives, V_c, the family and the design (inches)."""
-        wheel = f", wheel {self.wheel}" if self.wheel else ""
-        failed = "" if self.success else f", failed ({self.status})"
-        return [
-            f"FrontPoint(F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, "
-            f"V_c {self.critical_speed:.4g} m/s, {self.family or 'no family'}{wheel}{failed}: {self.design.describe()})"
-        ]
-
-    def _html_title(self) -> str:
-        return "Front point"
 
     def row(self) -> dict[str, Any]:
         """The point as one flat row of ``front.csv`` and ``front.json`` (SI units; the margins are in
@@ -351,10 +339,6 @@ class Front(Record):
             f"hypervolume {self.hypervolume():.3f})",
         ]
 
-    def _html_title(self) -> str:
-        name = getattr(self.problem, "name", "?")
-        return f"Pareto front {name!r}" if self.points else f"Front {name!r}"
-
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """A compact table with units (notebooks; < 50 ms: benchmarks/notebook_reprs.py)."""
         if not self.points:
@@ -454,59 +438,33 @@ class Front(Record):
         (multipliers).  ``failed=True`` adds the failed points with ``failed`` true.  Inverse:
         :meth:`from_pandas`.
         """
-        try:
-            import pandas as pd  # optional dependency: only this method needs it
-        except ImportError:
-            raise ImportError("Front.to_pandas needs pandas: pip install 'caster-designer[notebook]'") from None
         points = [(p, False) for p in self.points] + ([(p, True) for p in self.failed] if failed else [])
         margins = list(dict.fromkeys(m for p, _ in points for m in p.margins))
         lambdas = list(dict.fromkeys(m for p, _ in points for m in p.multipliers))
-        records = []
-        for p, bad in points:
-            r = {_COLUMNS[v]: getattr(p.design, v) for v in VARIABLES}
-            r.update(
-                turning_effort_N=p.turning_effort,
-                threshold_force_N=p.threshold_force,
-                critical_speed_m_s=p.critical_speed,
-                epsilon_N=p.epsilon,
-                family=p.family,
-                status=p.status,
-                success=bool(p.success),
-                wheel=p.wheel,
+        columns = [*VARIABLES, "turning_effort", "threshold_force", "critical_speed", "epsilon_N", "family"]
+        columns += ["status", "success", "wheel", *(f"margin_{m}" for m in margins)]
+        columns += [f"lambda_{m}" for m in lambdas] + (["failed"] if failed else [])
+        records = [
+            dict(
+                zip(
+                    columns,
+                    [
+                        *(getattr(p.design, v) for v in VARIABLES),
+                        *(p.turning_effort, p.threshold_force, p.critical_speed, p.epsilon, p.family, p.status),
+                        bool(p.success),
+                        p.wheel,
+                        *(p.margins.get(m, math.nan) for m in margins),
+                        *(at_tolerance(p.multipliers.get(m, math.nan)) for m in lambdas),
+                        bad,
+                    ],
+                )
             )
-            r.update({f"margin_{m}": p.margins.get(m, math.nan) for m in margins})
-            r.update({f"lambda_{m}": at_tolerance(p.multipliers.get(m, math.nan)) for m in lambdas})
-            if failed:
-                r["failed"] = bad
-            records.append(r)
-        columns = (
-            [_COLUMNS[v] for v in VARIABLES]
-            + [
-                "turning_effort_N",
-                "threshold_force_N",
-                "critical_speed_m_s",
-                "epsilon_N",
-                "family",
-                "status",
-                "success",
-                "wheel",
-            ]
-            + [f"margin_{m}" for m in margins]
-            + [f"lambda_{m}" for m in lambdas]
-            + (["failed"] if failed else [])
-        )
-        df = pd.DataFrame.from_records(records, columns=columns)
-        df.attrs["problem"] = getattr(self.problem, "name", None)
-        df.attrs["units"] = {
-            **{_COLUMNS[v]: PARAMETERS[v].unit for v in VARIABLES},
-            "turning_effort_N": "N",
-            "threshold_force_N": "N",
-            "critical_speed_m_s": "m/s",
-            "epsilon_N": "N",
-            **{f"margin_{m}": "SI of the constraint (m/s shimmy, m lengths, N forces)" for m in margins},
-            **{f"lambda_{m}": "CasADi multiplier" for m in lambdas},
-        }
-        return df
+            for p, bad in points
+        ]
+        units = {"epsilon_N": "N"}
+        units |= {f"margin_{m}": "SI of the constraint (m/s shimmy, m lengths, N forces)" for m in margins}
+        units |= {f"lambda_{m}": "CasADi multiplier" for m in lambdas}
+        return si_frame("Front.to_pandas", records, columns, units, problem=getattr(self.problem, "name", None))
 
     @classmethod
     def from_pandas(cls, df: Any, problem: Problem) -> "Front":

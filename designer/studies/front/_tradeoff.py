@@ -31,7 +31,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from designer.data.paper import INCH
 from designer.model import Design, performance
 from designer.parameters import named
 from designer.problem import Bound, Problem
@@ -68,15 +67,6 @@ class TradeoffRow(Record):
     designs: dict[str, Design | None] = field(default_factory=dict)
 
     _units = {"diameter": "m", **{f"effort.{m}": "N" for m in MECHANISMS}}
-
-    def _repr_lines(self) -> list[str]:
-        """One line: the diameter (inches) and each mechanism's least F_turn."""
-        wheel = f" (wheel {self.wheel})" if self.wheel else ""
-        efforts = ", ".join(f"{m} {'unreachable' if e is None else f'{e:.4g} N'}" for m, e in self.effort.items())
-        return [f"TradeoffRow(d {self.diameter / INCH:.3f} in{wheel}: {efforts})"]
-
-    def _html_title(self) -> str:
-        return "Groove–damper trade-off at one diameter"
 
 
 def _restricted(problem: Problem, mechanism: str) -> Problem:

@@ -23,9 +23,9 @@ from designer.units import percent
 from designer.data.paper import INCH
 from designer.errors import InertiaExtrapolationWarning, InfeasibleError, ModelRangeWarning, SolverError
 from designer.model import VARIABLES, Caster, Design, OfCaster
-from designer.parameters import OUTPUTS
+from designer.parameters import OUTPUTS, PARAMETERS
 from designer.problem import Problem, problem_argument
-from designer.reprs import Key, Record, dataframe
+from designer.reprs import Key, Record, dataframe, si_frame
 from designer.solvers import PRIMARY, Optimum, one_solve_at_a_time, solver
 from designer.solvers.base import wheel_of
 from designer.solvers.nlp import PARAMETER_INFO, max_critical_speed
@@ -136,12 +136,6 @@ class Solution(Record):
             f"V_c {self.critical_speed:.4g} m/s (required {self.problem.required_speed:.4g})",
         ]
 
-    def _html_title(self) -> str:
-        return f"Optimum of {self.problem.name!r} ({self.status})"
-
-    def _html_caption(self) -> str:
-        return self.problem.title
-
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """The optimum as a compact table with units (notebooks; no solver or Monte Carlo runs)."""
         d, o = self.design, self.objectives
@@ -168,10 +162,7 @@ class Solution(Record):
         ``weighted_N``, ``margin_<name>`` and ``sensitivity_<name>``; units in ``df.attrs["units"]``.
         """
         d, o = self.design, self.objectives
-        design = [
-            (f"{v}_{u}", v, float(getattr(d, v)), u.replace("N_m_per_rad", "N·m/rad"))
-            for v, u in (("trail", "m"), ("diameter", "m"), ("groove", "m"), ("damping", "N_m_per_rad"))
-        ]
+        objectives = {k: o[k] for k in ("turning_effort", "threshold_force", "weighted")}
         attrs = {
             "problem": self.problem.name,
             "status": self.status,
@@ -179,22 +170,15 @@ class Solution(Record):
             "wheel": self.wheel,
         }
         if wide:
-            record = {col: value for col, _, value, _ in design}
-            record.update(
-                turning_effort_N=o["turning_effort"],
-                threshold_force_N=o["threshold_force"],
-                weighted_N=o["weighted"],
-                critical_speed_m_s=self.critical_speed,
-            )
-            units = {col: unit for col, _, _, unit in design}
-            units.update(turning_effort_N="N", threshold_force_N="N", weighted_N="N", critical_speed_m_s="m/s")
+            record = {**d.to_dict(), **objectives, "critical_speed": self.critical_speed}
+            units = {}
             for name, value in self.constraints.items():
                 record[f"margin_{name}"], units[f"margin_{name}"] = float(value), _margin_unit(name)
             for name, value in self.sensitivities.items():
                 record[f"sensitivity_{name}"], units[f"sensitivity_{name}"] = float(value), "-"
-            return dataframe("Solution.to_pandas", [record], list(record), units, **attrs)
-        rows = [("design", name, value, unit) for _, name, value, unit in design]
-        rows += [("objective", k, float(o[k]), "N") for k in ("turning_effort", "threshold_force", "weighted")]
+            return si_frame("Solution.to_pandas", [record], list(record), units, **attrs)
+        rows = [("design", v, float(x), PARAMETERS[v].unit) for v, x in d.to_dict().items()]
+        rows += [("objective", k, float(v), "N") for k, v in objectives.items()]
         rows += [
             ("performance", "critical_speed", float(self.critical_speed), "m/s"),
             ("performance", "required_speed", float(self.problem.required_speed), "m/s"),
@@ -293,16 +277,6 @@ class ConstraintMargins(Record):
 
     margins: dict[str, float]
     active: list[str]
-
-    def _repr_lines(self) -> list[str]:
-        """One line: the smallest margin and the active names."""
-        if not self.margins:
-            return ["ConstraintMargins(none)"]
-        name = min(self.margins, key=lambda k: self.margins[k])
-        return [
-            f"ConstraintMargins({len(self.margins)}: smallest {name} {self.margins[name]:+.4g} "
-            f"{_margin_unit(name)}; active {', '.join(self.active) or 'none'})"
-        ]
 
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         return [

@@ -15,7 +15,7 @@ from designer.model import Caster, OfCaster
 from designer.parameters import DESIGN_UNITS, OUTPUTS
 from designer.plots.caster import caster_svg, plot_caster
 from designer.problem import Problem
-from designer.reprs import Key, Record, dataframe
+from designer.reprs import Key, Record, si_frame
 from designer.studies.acceptance import box_short
 from designer.studies.spec import limit_shown
 
@@ -269,32 +269,15 @@ class Recommendation(Record):
         """One row per caster, the recommendation then its alternatives: ``role``, ``wheel``, the design [SI],
         F_turn, P [N], V_c, the speed at 1 − α and the swept radius, P(shimmy) and its SE, whether the wheel's
         I_w is measured and whether d lies outside Table 1; units in ``df.attrs["units"]``."""
-        rows = []
-        for rec in (self, *self.alternatives):
-            d = rec.design
-            rows.append(
-                {
-                    "role": rec.role,
-                    "wheel": rec.wheel,
-                    "trail_m": d.trail,
-                    "diameter_m": d.diameter,
-                    "groove_m": d.groove,
-                    "damping_N_m_per_rad": d.damping,
-                    "turning_effort_N": rec.turning_effort,
-                    "threshold_force_N": rec.threshold_force,
-                    "critical_speed_m_s": rec.critical_speed,
-                    "confident_speed_m_s": rec.confident_speed,
-                    "swept_radius_m": rec.swept_radius,
-                    "shimmy_probability": rec.shimmy_probability,
-                    "shimmy_probability_se": rec.shimmy_probability_se,
-                    "measured": rec.measured,
-                    "extrapolated": rec.extrapolated,
-                }
-            )
-        columns = list(rows[0])
-        units = {c: c.split("_")[-1] for c in columns if c.endswith(("_m", "_N"))}
-        units.update(damping_N_m_per_rad="N·m/rad", critical_speed_m_s="m/s", confident_speed_m_s="m/s")
-        return dataframe("Recommendation.to_pandas", rows, columns, units, rule=self.rule)
+        numbers = (
+            *("turning_effort", "threshold_force", "critical_speed", "confident_speed", "swept_radius"),
+            *("shimmy_probability", "shimmy_probability_se", "measured", "extrapolated"),
+        )
+        rows = [
+            {"role": rec.role, "wheel": rec.wheel, **rec.design.to_dict(), **{n: getattr(rec, n) for n in numbers}}
+            for rec in (self, *self.alternatives)
+        ]
+        return si_frame("Recommendation.to_pandas", rows, list(rows[0]), rule=self.rule)
 
     def _repr_lines(self) -> list[str]:
         """Two lines: the caster (inches) and its numbers; the rule and alternatives: ``print(rec)``."""

@@ -16,7 +16,7 @@ from designer.units import percent
 from designer.data.paper import BARE_FORK_DAMPING, INCH
 from designer.model import Caster, OfCaster
 from designer.parameters import DESIGN_UNITS, OUTPUTS, PARAMETERS, VARIABLE_TABLE
-from designer.reprs import Key, Record, dataframe
+from designer.reprs import Key, Record, si_frame
 from designer.units import written_size
 from designer.studies.retrofit._options import _show
 
@@ -63,20 +63,6 @@ class Change(Record):
         Key("**", lambda c: {"name": c.name} if c.name else {}),
     )
     """``part``, ``variable``, ``from``, ``to`` [SI], ``unit`` (and the catalogue wheel's ``name``)."""
-
-    def _repr_lines(self) -> list[str]:
-        return [f"Change({self.describe()})"]
-
-    def _html_title(self) -> str:
-        return f"Change of the {self.part}"
-
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        unit = _UNITS[self.variable]
-        rows = [
-            (f"{self.variable} before", f"{self.before:.6g}", unit),
-            (f"{self.variable} after", f"{self.after:.6g}", unit),
-        ]
-        return rows + ([("catalogue wheel", self.name, "")] if self.name else [])
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -179,9 +165,6 @@ class CasterState(Record):
             lines.append(f"  {describe_changes(self.changes)} (loss {self.loss:+.3g} N)")
         return lines
 
-    def _html_title(self) -> str:
-        return "Caster" + (f" with {self.parts_changed} part(s) changed" if self.changes else " as it is")
-
     _keys = (
         "design",
         "extrapolated",
@@ -252,15 +235,6 @@ class Calibration(Record):
         )
 
     _units = {"observed_onset": "m/s", "predicted_onset": "m/s", "shift": "m/s"}
-
-    def _repr_lines(self) -> list[str]:
-        return [
-            f"Calibration(observed onset {self.observed_onset:.4g} m/s, Eq. 7 {self.predicted_onset:.4g} m/s: "
-            f"k = {self.factor:.4f}, σ {self.scatter:.3g})"
-        ]
-
-    def _html_title(self) -> str:
-        return "Calibration by an observed onset"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -365,32 +339,24 @@ class FixResult(Record):
         ``changes`` (in words), the design [SI], F_turn, P, V_c, the speed at 1 − α, P(shimmy) (exact), the
         Monte Carlo's and its SE, the
         loss [N]; units in ``df.attrs["units"]``."""
-        rows = []
-        for rank, state in enumerate([self.current, *self.fixes]):
-            d = state.design
-            rows.append(
-                {
-                    "rank": rank,
-                    "changes": describe_changes(state.changes) if state.changes else "current",
-                    "trail_m": d.trail,
-                    "diameter_m": d.diameter,
-                    "groove_m": d.groove,
-                    "damping_N_m_per_rad": d.damping,
-                    "turning_effort_N": state.turning_effort,
-                    "threshold_force_N": state.threshold_force,
-                    "critical_speed_m_s": state.critical_speed,
-                    "confident_speed_m_s": state.confident_speed,
-                    "shimmy_probability": state.shimmy_probability,
-                    "shimmy_probability_mc": state.shimmy_probability_mc,
-                    "shimmy_probability_se": state.shimmy_probability_se,
-                    "meets_risk_bound": bool(state.meets_risk_bound),
-                    "loss_N": state.loss,
-                }
-            )
-        columns = list(rows[0])
-        units = {c: c.split("_")[-1] for c in columns if c.endswith(("_m", "_N"))}
-        units.update(damping_N_m_per_rad="N·m/rad", critical_speed_m_s="m/s", confident_speed_m_s="m/s")
-        return dataframe("FixResult.to_pandas", rows, columns, units, problem=self.problem, rule=self.rule)
+        numbers = (
+            *("turning_effort", "threshold_force", "critical_speed", "confident_speed", "shimmy_probability"),
+            *("shimmy_probability_mc", "shimmy_probability_se"),
+        )
+        rows = [
+            {
+                "rank": rank,
+                "changes": describe_changes(state.changes) if state.changes else "current",
+                **state.design.to_dict(),
+                **{n: getattr(state, n) for n in numbers},
+                "meets_risk_bound": bool(state.meets_risk_bound),
+                "loss_N": state.loss,
+            }
+            for rank, state in enumerate([self.current, *self.fixes])
+        ]
+        return si_frame(
+            "FixResult.to_pandas", rows, list(rows[0]), {"loss_N": "N"}, problem=self.problem, rule=self.rule
+        )
 
     def _repr_lines(self) -> list[str]:
         """Two lines: the current caster (V_c, P(shimmy)) and the answer in one sentence."""
@@ -400,9 +366,6 @@ class FixResult(Record):
             + (f", {len(self.fixes)} listed)" if len(self.fixes) < self.found else ")"),
             f"  {self.summary()}",
         ]
-
-    def _html_title(self) -> str:
-        return f"Retrofit of {self.problem!r}"
 
     def _html_caption(self) -> str:
         return self.summary()

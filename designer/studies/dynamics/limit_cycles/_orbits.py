@@ -67,17 +67,6 @@ class PeriodicOrbit(Record):
         "frequency": "rad/s",
     }
 
-    def _repr_lines(self) -> list[str]:
-        """One line: amplitude, speed, period and stability."""
-        return [
-            f"PeriodicOrbit(A {self.amplitude:.4g} rad ({math.degrees(self.amplitude):.3g}°) at V {self.speed:.4g} m/s, "
-            f"period {self.period:.4g} s, {'stable' if self.stable else 'unstable'} "
-            f"(max |multiplier| {float(np.max(np.abs(self.multipliers))):.4g}), {self.iterations} Newton iterations)"
-        ]
-
-    def _html_title(self) -> str:
-        return "Periodic orbit (shimmy at constant amplitude)"
-
 
 def _weights(sys: CasterDynamics) -> np.ndarray:
     """Section coordinates → rad: X/T, X'/(ωT), θ."""
@@ -248,9 +237,6 @@ class Branch(Record):
             ("speed V", f"{min(v):.4g} – {max(v):.4g}", "m/s"),
             ("failed amplitudes", str(len(self.failed)), ""),
         ]
-
-    def _html_title(self) -> str:
-        return "Branch of periodic orbits"
 
     def pieces(self) -> list[dict[str, Any]]:
         """Consecutive runs of equal stability: [{"kind", "speed", "amplitude"}] (SI, rad)."""

@@ -42,17 +42,6 @@ class KnockResult(Record):
 
     _units = {**dict.fromkeys(("theta", "early_amplitude", "late_amplitude", "angle"), "rad"), "t": "s", "speed": "m/s"}
 
-    def _repr_lines(self) -> list[str]:
-        """One line: the knock, the verdict and the amplitudes."""
-        verdict = "sustained shimmy" if self.shimmy else "no shimmy"
-        return [
-            f"KnockResult(V {self.speed:.4g} m/s, knock {math.degrees(self.angle):.3g}°: {verdict} ({self.reason}); "
-            f"amplitude {self.early_amplitude:.3g} → {self.late_amplitude:.3g} rad, {len(self.extrema)} reversals)"
-        ]
-
-    def _html_title(self) -> str:
-        return "Knock simulation"
-
 
 @dataclass(frozen=True, kw_only=True)
 class OnsetBracket(Record):
@@ -70,11 +59,3 @@ class OnsetBracket(Record):
     def speed(self) -> float:
         """Geometric mean of the bracket [m/s]."""
         return math.sqrt(self.low * self.high)
-
-    def _repr_lines(self) -> list[str]:
-        return [
-            f"OnsetBracket(knock onset {self.speed:.4g} m/s in [{self.low:.4g}, {self.high:.4g}], {self.evaluations} simulations)"
-        ]
-
-    def _html_title(self) -> str:
-        return "Knock onset (bisection)"

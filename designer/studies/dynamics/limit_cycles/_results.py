@@ -84,26 +84,6 @@ class BifurcationDiagram(Record):
             f"{self.max_closure:.1e} rad)"
         ]
 
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        stable = sum(bool(o.stable) for o in self.orbits)
-        ref = self.stable_at_reference
-        return [
-            ("tyre", self.model, ""),
-            ("orbits (stable)", f"{len(self.orbits)} ({stable})", ""),
-            ("fold speed", _number(self.fold_speed), "m/s"),
-            ("Eq. 7 V_c", f"{self.eq7_critical_speed:.4g}", "m/s"),
-            ("frequency ω (Eq. 15B)", f"{self.frequency:.4g}", "rad/s"),
-            (
-                f"stable amplitude at {self.reference_speed:.4g} m/s",
-                "none" if ref is None else f"{ref.amplitude:.4g}",
-                "rad",
-            ),
-            ("max closure", f"{self.max_closure:.1e}", "rad"),
-        ]
-
-    def _html_title(self) -> str:
-        return "Bifurcation diagram (periodic orbits against speed)"
-
 
 @dataclass(frozen=True, kw_only=True)
 class FrictionPoint(Record):
@@ -127,17 +107,6 @@ class FrictionPoint(Record):
     closure: float
 
     _units = {"fold_speed": "m/s", "fold_amplitude": "rad", "stable_amplitude": "rad", "closure": "rad"}
-
-    def _repr_lines(self) -> list[str]:
-        stable = (
-            f"stable amplitude {self.stable_amplitude:.4g} rad"
-            if math.isfinite(self.stable_amplitude)
-            else "no stable orbit"
-        )
-        return [
-            f"FrictionPoint(μ {self.friction_coefficient:g}: fold {_number(self.fold_speed)} m/s at "
-            f"{_number(self.fold_amplitude)} rad, {stable})"
-        ]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -221,17 +190,6 @@ class Table1Comparison(Record):
     )
     _units = {"angle": "rad", "trail": "m", "load": "N", "stable_up_to": "m/s"}
 
-    def _repr_lines(self) -> list[str]:
-        """One line: the wheels and the RMS error of each prediction."""
-        rms = ", ".join(f"{k} {100 * s.rms:.1f} %" for k, s in self.stats.items())
-        return [f"Table1Comparison({len(self.rows)} wheels; RMS error over the measured ones: {rms})"]
-
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        return [(f"{k} RMS / bias", f"{100 * s.rms:.1f} / {100 * s.bias:+.1f}", "%") for k, s in self.stats.items()] + [
-            ("wheels", str(len(self.rows)), ""),
-            ("knock θ_i", f"{self.angle:.4g}", "rad"),
-        ]
-
     def to_pandas(self) -> Any:
         """One row per wheel (the columns of :class:`Table1Row`), speeds in m/s."""
         rows = [r.to_dict() for r in self.rows]
@@ -307,20 +265,6 @@ class StiffnessMassMap(Record):
         """The casters of the map, in order."""
         return list(dict.fromkeys(r.caster for r in self.rows))
 
-    def _repr_lines(self) -> list[str]:
-        return [
-            f"StiffnessMassMap({len(self.casters())} casters × {len(self.factors)}² cells around K0 "
-            f"{self.stiffness:.4g} N/m, N0 {self.lateral_mass:.4g} kg)"
-        ]
-
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        return [
-            ("casters", ", ".join(self.casters()), ""),
-            ("factors", ", ".join(f"{f:g}" for f in self.factors), ""),
-            ("K0", f"{self.stiffness:.4g}", "N/m"),
-            ("N0", f"{self.lateral_mass:.4g}", "kg"),
-        ]
-
     def to_pandas(self) -> Any:
         """One row per cell (the columns of stiffness_mass_map.csv)."""
         rows = [r.to_dict() for r in self.rows]
@@ -348,12 +292,6 @@ class OnsetScan(Record):
 
     _units = {"speed": "m/s"}
 
-    def _repr_lines(self) -> list[str]:
-        return [
-            f"OnsetScan(onset {_number(self.speed)} m/s, {'monotone' if self.monotone else 'islands in speed'}"
-            f"{', below the scan' if self.below_scan else ''}, {self.evaluations} simulations)"
-        ]
-
 
 @dataclass(frozen=True, kw_only=True)
 class KnockSafe(Record):
@@ -379,12 +317,6 @@ class KnockSafe(Record):
         Key("knock_safe_error", omit="none"),
     )
     _units = {"knock_angle": "rad", "knock_safe_speed": "m/s", "knock_safe_speed_double": "m/s"}
-
-    def _repr_lines(self) -> list[str]:
-        return [
-            f"KnockSafe({_number(self.knock_safe_speed)} m/s for a {math.degrees(self.knock_angle):.3g}° knock, "
-            f"{_number(self.knock_safe_speed_double)} m/s for {math.degrees(2 * self.knock_angle):.3g}°)"
-        ]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -465,9 +397,6 @@ class LimitCycleStudy(Record):
         rows += [(f"knock-safe speed {k}", _number(v), "m/s") for k, v in self.knock_safe.items()]
         rows += [(f"Table 1 RMS error {k}", f"{100 * s.rms:.1f}", "%") for k, s in self.table1.stats.items()]
         return rows
-
-    def _html_title(self) -> str:
-        return "Shimmy beyond onset (limit-cycle study)"
 
 
 def max_abs_multiplier(orbit: PeriodicOrbit | None) -> float:
