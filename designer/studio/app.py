@@ -251,20 +251,19 @@ def _request_callbacks(app) -> None:
     the ones the answer on the page is for (``answered``): while they differ the panel is greyed and the line
     above the chart says
     :data:`COMPUTING` (or :data:`LAST_VALID`)."""
-    waiting = json.dumps([COMPUTING, "waiting"])
+    app.clientside_callback(
+        "function (values) { window.studioRequest = (window.studioRequest || 0) + 1;"
+        " return {n: window.studioRequest, values: values}; }",
+        Output("request", "data"),
+        Input({"type": "ctl", "key": ALL}, "value"),
+    )
     app.clientside_callback(
         "function (values, answered) {"
-        " const dc = window.dash_clientside, changed = dc.callback_context.triggered.some("
-        "t => t.prop_id.indexOf('answered') !== 0);"
-        " let request = dc.no_update;"
-        " if (changed) { window.studioRequest = (window.studioRequest || 0) + 1;"
-        " request = {n: window.studioRequest, values: values}; }"
-        " if (!answered || JSON.stringify(values) !== JSON.stringify(answered.values)) {"
-        " return [request, ..." + waiting + "]; }"
-        " return [request, ...(answered.valid ? ['', 'answered'] : ["
-        + json.dumps(LAST_VALID)
-        + ", 'answered invalid'])]; }",
-        Output("request", "data"),
+        " if (!answered) { return [" + json.dumps(COMPUTING) + ", 'waiting']; }"
+        " if (JSON.stringify(values) !== JSON.stringify(answered.values)) { return ["
+        + json.dumps(COMPUTING)
+        + ", 'waiting']; }"
+        " return answered.valid ? ['', 'answered'] : [" + json.dumps(LAST_VALID) + ", 'answered invalid']; }",
         Output("computing", "children"),
         Output("answer-box", "className"),
         Input({"type": "ctl", "key": ALL}, "value"),
