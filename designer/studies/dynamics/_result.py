@@ -96,8 +96,38 @@ class SimulationResult(Record):
     def _end(self) -> float:
         return float(self.t[-1]) if len(self.t) else 0.0
 
+    def _html_title(self) -> str:
+        return "Shimmy after a knock (Coulomb friction, App. B)"
+
     def _html_caption(self) -> str:
         return "θ(t); dashed: ± the Eq. 29B amplitude"
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        """A compact table with units (notebooks; no integration runs): the verdict, the amplitudes beside Eq. 4 /
+        29B's, the frequency beside Eq. 15B's and Eq. 7's V_c at the friction's effective damping."""
+        deg = math.degrees
+        return [
+            ("speed V", f"{self.speed:.4g}", "m/s"),
+            ("knock θ_i (θ'_i)", f"{deg(self.angle):.3g}° ({self.angular_velocity:.3g} rad/s)", ""),
+            (
+                "verdict",
+                ("grows: shimmy" if self.grows else "decays") + (" (|θ| hit the limit)" if self.diverged else ""),
+                "",
+            ),
+            ("amplitude after the transient", f"{self.early_amplitude:.4g} ({deg(self.early_amplitude):.3g}°)", "rad"),
+            ("amplitude at the end", f"{self.late_amplitude:.4g} ({deg(self.late_amplitude):.3g}°)", "rad"),
+            ("Eq. 4 / 29B amplitude θ_i V/(ωT)", f"{self.predicted_amplitude:.4g}", "rad"),
+            (
+                "frequency (Eq. 15B)",
+                (f"{self.frequency:.4g}" if math.isfinite(self.frequency) else "n/a")
+                + f" ({self.predicted_frequency:.4g})",
+                "rad/s",
+            ),
+            ("Eq. 7 V_c (c_f,eff = M_f/θ_i)", f"{self.critical_speed:.4g}", "m/s"),
+            ("friction moment M_f", f"{self.friction_moment:.4g}", "N·m"),
+            ("wheel inertia I_w", f"{self.inertia:.4g}", "kg·m²"),
+            ("trace", f"{len(self.t)} samples, {self._end():.3g}", "s"),
+        ]
 
     def _html_extra(self) -> str:
         """A small SVG of θ(t) [deg] with ± the Eq. 29B amplitude."""
