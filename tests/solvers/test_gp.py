@@ -236,3 +236,17 @@ def test_infeasible_target_raises_and_starts_are_cheap():
     for x in starts:
         v = _quiet_perf(Design.from_array(x), problem.conditions)
         assert float(v["critical_speed"]) >= problem.required_speed * (1 - 1e-9)
+
+
+def test_a_cap_the_gp_cannot_meet_is_infeasible_not_a_crash():
+    """The GP's ε-front down to a cap below its conservative P (indoor-manual, ε = 128, 120, 110, 100 N: the
+    series' margin leaves no GP design under 100 N) gives three optima that meet their caps and one infeasible
+    point.  It raised TypeError: a failed solve leaves the cvxpy variables empty, and the check that the duals
+    belong to the kept solution read them as floats."""
+    problem = load_problem(PROBLEMS[NAMES.index("indoor-manual")])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        found = gp.GP.front_designs(problem, [128.0, 120.0, 110.0, 100.0])
+    assert list(found.success) == [True, True, True, False]
+    assert list(found.status) == ["converged", "converged", "converged", "infeasible"]
+    assert np.all(found.objectives[:3, 1] <= np.array([128.0, 120.0, 110.0]) * (1 + 1e-9))

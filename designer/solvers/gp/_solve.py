@@ -196,8 +196,12 @@ def _solve_continuous(
 
 
 def _last_solution_is(fam: _Family, values: dict[str, float]) -> bool:
-    """True if the cvxpy variables hold ``values`` (so the duals belong to them)."""
-    return all(abs(float(v.value) - values[k]) <= 1e-14 * abs(values[k]) for k, v in fam.variables.items())
+    """True if the cvxpy variables hold ``values`` (so the duals belong to them); False when the last GP solved
+    failed and left them empty (the duals are then of no solution)."""
+    return all(
+        v.value is not None and abs(float(v.value) - values[k]) <= 1e-14 * abs(values[k])
+        for k, v in fam.variables.items()
+    )
 
 
 def solve_gp(
