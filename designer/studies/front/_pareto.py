@@ -64,11 +64,11 @@ def _points(
     caps = found.epsilon if eps is None else np.asarray(eps, float)
     out: list[FrontPoint | None] = [None] * len(found)
     ok = np.flatnonzero(found.success).tolist()
-    values = problem.evaluate(found.designs[ok]) if ok else None
+    rows = dict(zip(ok, problem.evaluate(found.designs[ok]).rows())) if ok else {}
     for i in range(len(found)):
         design = found.design(i)
-        if values is not None and i in ok:
-            row = values.row(ok.index(i))
+        row = rows.get(i)
+        if row is not None:
             f, p, v = row.turning_effort, row.threshold_force, row.critical_speed
             margins = constraint_margins(problem, design, row).margins
         else:
