@@ -63,6 +63,17 @@ def shown_numbers(driver, prefix: str) -> dict:
     return {key: text(driver, f"{prefix}-{key}") for key in SHOWN}
 
 
+def settled_numbers(wait, prefix: str) -> dict:
+    """:func:`shown_numbers` once each of them reads (a span Dash is replacing at the moment of reading reads "",
+    :func:`text`; a wrong number still reads, and fails the comparison that follows)."""
+
+    def read(driver) -> dict | bool:
+        numbers = shown_numbers(driver, prefix)
+        return numbers if all(numbers.values()) else False
+
+    return wait.until(read)
+
+
 def expected(record: dict, units: str) -> dict:
     """What the page must show for ``record`` (a caster of `designer run --json`) at display precision."""
     return {key: display.shown(record[name], name, units) for key, name in SHOWN.items()}
@@ -117,17 +128,17 @@ def test_panel_and_cards_show_designer_runs_numbers(tmp_path, millimetre_problem
         design = text(driver, "rec-design")
         assert design.startswith(f"T {display.shown(rec['design']['trail'], 'trail', units)}")
         assert f" {units}," in design and (" in," not in design if units == "mm" else " mm," not in design)
-        assert shown_numbers(driver, "rec") == expected(rec, units)
+        assert settled_numbers(wait, "rec") == expected(rec, units)
 
         open_card(driver, wait, driver.find_element(By.ID, "rec-card"), "the caster to build")
-        assert shown_numbers(driver, "card") == expected(rec, units)
+        assert settled_numbers(wait, "card") == expected(rec, units)
         if units == "in":
             assert text(driver, "rec-probability") == text(driver, "card-probability") == "2.98 %"
 
         button = driver.find_element(By.CSS_SELECTOR, ".alt-card")  # the first alternative's
         assert button.text.startswith(f"card: {alternative['role']}")
         open_card(driver, wait, button, alternative["role"])
-        assert shown_numbers(driver, "card") == expected(alternative, units)
+        assert settled_numbers(wait, "card") == expected(alternative, units)
         assert display.shown(alternative["design"]["diameter"], "diameter", units) in text(driver, "card-design")
     finally:
         driver.quit()
@@ -162,7 +173,7 @@ def test_quick_keys_end_on_the_answer_to_the_controls_shown(tmp_path):
             load.send_keys(value, Keys.ENTER)
         wait.until(lambda d: "target=3.5" in d.current_url and ready(d))
         assert "waiting" in driver.execute_script("return window.seen")  # said so while it was computing
-        shown = shown_numbers(driver, "rec")
+        shown = settled_numbers(wait, "rec")
 
         driver.find_element(By.ID, "save").click()
         wait.until(lambda d: "saved" in text(d, "save-result"))
