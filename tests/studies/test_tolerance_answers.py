@@ -48,6 +48,20 @@ def test_price_of_tolerances_compares_the_least_j_casters_with_and_without_them(
     assert "rule's choice" in text
 
 
+def _fleet_with_and_without(chairs: int):
+    """(the tolerances example problem, designer.fleet's part numbers of the ``chairs``-chair example fleet of seed 0
+    on it, the same without its [tolerances]): no Monte Carlo."""
+    from designer.studies.fleet import example_fleet, fleet_recommendations
+
+    problem = load_problem(ROOT / "problems" / "indoor-manual-tolerances.toml")
+    fleet = example_fleet(chairs, seed=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        result = fleet_recommendations(fleet, problem, skus="auto", monte_carlo=False)
+        bare = fleet_recommendations(fleet, problem.replace(tolerances=None), skus="auto", monte_carlo=False)
+    return problem, result, bare
+
+
 def test_fleet_part_numbers_hold_at_their_worst_corner_with_windows_at_least_the_tolerances():
     """designer.fleet on the 200-chair example with the shipped tolerances example as base problem (trail ±1.5 mm,
     groove ±0.4 mm, d ±1 mm, friction −30 %): every part number's spec holds P <= α at the worst corner of the
@@ -56,14 +70,7 @@ def test_fleet_part_numbers_hold_at_their_worst_corner_with_windows_at_least_the
     tolerances the same fleet's part numbers fail there (the issue's 4.6–4.9 % part numbers): the check can fail.
     The price of the tolerances in part numbers is the separate run's suggested count against this one's: 9 and 9,
     so they cost no part number on this fleet."""
-    from designer.studies.fleet import example_fleet, fleet_recommendations
-
-    problem = load_problem(ROOT / "problems" / "indoor-manual-tolerances.toml")
-    chairs = example_fleet(200, seed=0)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)
-        result = fleet_recommendations(chairs, problem, skus="auto", monte_carlo=False)
-        bare = fleet_recommendations(chairs, problem.replace(tolerances=None), skus="auto", monte_carlo=False)
+    problem, result, bare = _fleet_with_and_without(200)
     tol = problem.tolerances
     assert bare.tolerance_price is None and bare.suggested["count"] == 9 == result.suggested["count"]
     assert result.tolerance_price == {
@@ -153,14 +160,7 @@ def test_fewer_part_numbers_with_the_tolerances_is_said_so_and_the_docs_quote_th
     """On the 100-chair example (seed 0) the tolerances need one part number fewer (6 against 7: regret counts from
     each chair's best caster that holds), said as such, with the separate run without them giving the 7; the
     sentences docs/inspection.md quotes for this fleet and for the 200-chair example of seed 1 are the program's."""
-    from designer.studies.fleet import example_fleet, fleet_recommendations
-
-    problem = load_problem(ROOT / "problems" / "indoor-manual-tolerances.toml")
-    chairs = example_fleet(100, seed=0)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)
-        result = fleet_recommendations(chairs, problem, skus="auto", monte_carlo=False)
-        bare = fleet_recommendations(chairs, problem.replace(tolerances=None), skus="auto", monte_carlo=False)
+    problem, result, bare = _fleet_with_and_without(100)
     sentence = "The tolerances need 1 part number fewer: 6 with them, 7 without"
     assert bare.suggested["count"] == result.tolerance_price["without_tolerances"] == 7
     assert result.tolerance_price["part_numbers"] == -1 and result.tolerance_price["sentence"].startswith(sentence)
