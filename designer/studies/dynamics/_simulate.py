@@ -20,8 +20,8 @@ Coulomb friction is handled exactly, by events (stick–slip), not smoothed:
   DOP853) until θ' crosses zero (terminal event);
 * at θ' = 0 the moment the spring transmits is τ = T K X; if |τ| > M_f the
   caster reverses and slips with s = sgn τ, otherwise it sticks;
-* stick (θ' = 0, θ constant): X' = −V θ is integrated in closed form until
-  |T K X| reaches M_f, then slip resumes in the direction of τ.
+* stick (θ' = 0, θ constant): X' = −V θ is integrated until |T K X|
+  reaches M_f, then slip resumes in the direction of τ.
 
 Friction moment and initial conditions
 --------------------------------------
@@ -36,8 +36,8 @@ Paper numbers: K, N from :class:`designer.physics.shimmy.DynamicsParameters`
 (N = 0.5 kg, K chosen so that ω = 104.7 rad/s at T = 2.5 in, App. C); K_s =
 1250 N; θ0 = 20° = 0.349 rad.
 
-Layout: :func:`simulate` checks its arguments (:func:`_knock`), runs the stick–slip event loop
-(:class:`_StickSlip`) and measures the amplitudes and the frequency; :func:`onset_speed` brackets and
+Layout: :func:`simulate` checks its arguments (:func:`_knock`), runs the room's one stick–slip event loop
+(:func:`designer.studies.dynamics.limit_cycles._system._integrate`) and measures the amplitudes and the frequency; :func:`onset_speed` brackets and
 bisects the onset.  The records :class:`SimulationResult` and :class:`OnsetResult` live in
 :mod:`designer.studies.dynamics._result` (re-exported here).
 """
@@ -45,7 +45,6 @@ bisects the onset.  The records :class:`SimulationResult` and :class:`OnsetResul
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -53,185 +52,16 @@ from designer.boundary import Count, Instance, Quantity, checked
 from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design, critical_speed
 from designer.units import real_number
-from designer.physics.motion import (
-    held_moment,
-    knock_lateral,
-    rolling_coefficients,
-    rolling_field,
-    stick_release,
-    tread_coefficient,
-)
-from designer.physics.shimmy import shimmy_frequency, steady_shimmy_amplitude
+from designer.physics.shimmy import steady_shimmy_amplitude
 from designer.studies.dynamics._result import OnsetResult, SimulationResult
-from designer.studies.dynamics._work import SPEED_RANGE, bisect_speed, bounded, counted, spend
+from designer.studies.dynamics._work import SPEED_RANGE, bisect_speed, bounded
+from designer.studies.dynamics.limit_cycles._system import _integrate, caster_dynamics
 
 
 def _check(name: str, value: float, allow_zero: bool = False) -> None:
     value = real_number(value, name)  # the boundary's one rule (numpy scalars pass, booleans do not)
     if value < 0 or (value == 0 and not allow_zero):
         raise InputError(f"{name} = {value:g}: must be {'non-negative' if allow_zero else 'positive'}")
-
-
-@dataclass(frozen=True)
-class _Knock:
-    """The constants of one integration (SI), from :func:`_knock`: trail T, spring K, speed V, friction moment
-    M_f, the Eq. 12B coefficients J and visc = D of :func:`designer.physics.motion.rolling_coefficients`, the Eq. 15B period, the time
-    span, the solver settings, the knock θ_i, I_w, the Eq. 15B ω, the aligning transient, B and K_s."""
-
-    T: float
-    K: float
-    V: float
-    M_f: float
-    J: float
-    visc: float
-    period: float
-    duration: float
-    max_step: float
-    angle_limit: float
-    rtol: float
-    theta_i: float
-    inertia: float
-    omega: float
-    transient: float
-    groove: float
-    slip_coefficient: float
-
-    def rhs(self, s):
-        """The equations of motion (:func:`designer.physics.motion.rolling_field`) while slipping with sgn θ' = ``s``."""
-        return rolling_field(s, self.T, self.K, self.V, self.M_f, self.J, self.visc)
-
-
-class _StickSlip:
-    """The event loop of :func:`simulate`: slip segments integrated by ``solve_ivp`` until θ' = 0, stick
-    segments in closed form, until the end of the time span or |θ| reaches the angle limit.
-
-    Collects the trace (``ts``, ``xs``, ``ths``), the zero crossings of θ, the reversals of the motion
-    (``extrema``: (time, θ)), the number of stick/slip switches and whether |θ| reached the limit.
-    """
-
-    max_switches = 200_000
-
-    def __init__(self, k: _Knock, w0: float):
-        self.k = k
-        theta_i = k.theta_i
-        # Initial state, Eq. 24B: theta'' = 0 fixes X(0).
-        s = float(np.sign(w0))
-        x0 = knock_lateral(w0, k.M_f, k.T, k.K, k.visc)
-        self.s = s
-        self.y = np.array([x0, theta_i, w0])
-        self.t = 0.0
-        self.ts, self.xs, self.ths = [self.t], [x0], [theta_i]
-        self.crossings: list[float] = []
-        self.extrema: list[tuple[float, float]] = []  # (time, θ) where the motion reverses
-        self.direction = s  # last direction of θ motion (0: none yet)
-        self.switches = 0
-        self.diverged = False
-        self.graze = False  # last slip segment had zero length (θ' = 0 with |τ| ≈ M_f)
-        angle_limit = k.angle_limit
-
-        def limit_event(_t, y):
-            return abs(y[1]) - angle_limit
-
-        limit_event.terminal = True
-        self.limit_event = limit_event
-
-    def run(self) -> _StickSlip:
-        """Integrate to the end (or the angle limit); returns self."""
-        while self.t < self.k.duration and self.switches < self.max_switches:
-            spend(10)  # a phase costs about ten evaluations more than its integration counts
-            if self._stick() if self.s == 0.0 else self._slip():
-                break
-        return self
-
-    def _stick(self) -> bool:
-        """Stick: θ' = 0, θ constant, X' = −Vθ until |T K X| = M_f.  True when the run ends."""
-        k, y, t = self.k, self.y, self.t
-        T, K, V, M_f = k.T, k.K, k.V, k.M_f
-        th = y[1]
-        tau = held_moment(y[0], T, K)
-        if abs(tau) > M_f and not self.graze:  # cannot stick: slip toward tau
-            self.s = float(np.sign(tau))
-        elif th == 0.0:
-            t_end = k.duration  # aligned and held: rest for ever
-            self.ts.append(t_end), self.xs.append(y[0]), self.ths.append(th)
-            self.t = t_end
-            return True
-        else:
-            x_exit = stick_release(th, M_f, T, K)
-            dt = max((y[0] - x_exit) / (V * th), 0.0)
-            t_end = min(t + dt, k.duration)
-            for tt in np.linspace(t, t_end, max(2, int((t_end - t) / k.max_step) + 1))[1:]:
-                self.ts.append(tt), self.xs.append(y[0] - V * th * (tt - t)), self.ths.append(th)
-            self.y = np.array([y[0] - V * th * (t_end - t), th, 0.0])
-            self.t = t_end
-            if self.t >= k.duration:
-                return True
-            self.s = -math.copysign(1.0, th)
-            self.switches += 1
-        self.graze = False
-        if self.s != self.direction and self.direction != 0.0:
-            self.extrema.append((self.t, self.y[1]))
-        self.direction = self.s
-        return False
-
-    def _slip(self) -> bool:
-        """Slip with sgn θ' = s until θ' crosses zero (terminal event), then reverse or stick.  True when
-        the run ends (end of the time span, or |θ| reached the angle limit)."""
-        k, s, t = self.k, self.s, self.t
-
-        def stop(_t, yy, s=s):
-            return s * yy[2]
-
-        stop.terminal = True
-        stop.direction = -1
-
-        def cross(_t, yy):
-            return yy[1]
-
-        from scipy.integrate import solve_ivp
-
-        sol = solve_ivp(
-            counted(k.rhs(s)),
-            (t, k.duration),
-            self.y,
-            method="DOP853",
-            rtol=k.rtol,
-            atol=[1e-12, 1e-10, 1e-8],
-            max_step=k.max_step,
-            events=[stop, cross, self.limit_event],
-        )
-        if sol.status < 0:
-            raise SolverError(f"shimmy simulation failed at t = {t:.4g} s: {sol.message}")
-        self.ts.extend(sol.t[1:]), self.xs.extend(sol.y[0, 1:]), self.ths.extend(sol.y[1, 1:])
-        self.crossings.extend(float(v) for v in sol.t_events[1])
-        if sol.t_events[2].size:
-            self.diverged = True
-            self.t = float(sol.t_events[2][0])
-            return True
-        if sol.status == 0 or not sol.t_events[0].size:  # reached the end
-            self.t = k.duration
-            return True
-        t_start = t
-        t = self.t = float(sol.t_events[0][0])
-        y = np.array(sol.y_events[0][0], dtype=float)
-        y[2] = 0.0
-        self.y = y
-        self.switches += 1
-        tau = held_moment(y[0], k.T, k.K)
-        new = float(np.sign(tau)) if abs(tau) > k.M_f else 0.0
-        if t - t_start <= 1e-9 * k.period:
-            # Grazing: |τ| exceeds M_f by a rounding error and the slip ends at
-            # once (its excursion is shorter than the first step).  The
-            # physical motion is a stick; treat it so (error ~ rounding).
-            new = 0.0
-            self.graze = True
-        if new == -s:
-            self.extrema.append((t, y[1]))
-            self.direction = new
-        else:
-            self.direction = s  # entering stick; extremum decided on exit
-        self.s = new
-        return False
 
 
 @checked(
@@ -249,7 +79,7 @@ class _StickSlip:
     samples_per_period=Count(1, 100_000, what="steps a period"),
 )
 @bounded("shimmy simulation")
-def simulate(  # long: its docstring documents every argument; the body (30 lines) is _knock, _StickSlip, measure
+def simulate(  # long: its docstring documents every argument; the body (30 lines) is _knock, _integrate, measure
     design: Design,
     conditions: Conditions = Conditions(),
     speed: float = 2.5,
@@ -308,100 +138,75 @@ def simulate(  # long: its docstring documents every argument; the body (30 line
         (exit 5) More than ``_work.MAX_EVALUATIONS`` evaluations of the equations of motion (a stiff
         case); a study that calls it shares its budget.
     """
-    k = _knock(
-        design, conditions, speed, angle, angular_velocity, duration, cycles, angle_limit, rtol, samples_per_period
+    sys, theta_i, period, transient, duration = _knock(
+        design, conditions, speed, angle, angular_velocity, duration, cycles, angle_limit
     )
-    run = _StickSlip(k, float(angular_velocity)).run()
-    ext = np.asarray(run.extrema, dtype=float).reshape(-1, 2)
-    end = run.t if run.diverged else k.duration
-    early, late = _amplitudes(ext, k.transient, k.period, end, run.diverged, angle_limit)
+    w0 = float(angular_velocity)
+    run = _integrate(
+        sys,
+        sys.knock_state(theta_i, w0),
+        duration,
+        angle_limit=angle_limit,
+        record=True,
+        max_step=period / max(int(samples_per_period), 4),
+        rtol=rtol,
+        max_switches=200_000,
+    )
+    # the motion reverses where a slip starts in the other direction than the slip before (after a stick: on exit)
+    ext = [(t, th) for (t, s, th), (_, before, _) in zip(run.slips[1:], run.slips) if s != before]
+    ext = np.asarray(ext, dtype=float).reshape(-1, 2)
+    diverged = run.reason == "limit"
+    early, late = _amplitudes(ext, transient, period, run.time, diverged, angle_limit)
     growth = late / early if early > 0 else (math.inf if late > 0 else 0.0)
-    c_eff = k.M_f / k.theta_i
+    y = np.asarray(run.y, dtype=float).reshape(-1, 3)
+    c_eff = sys.friction_moment / theta_i
     return SimulationResult(
-        t=np.asarray(run.ts),
-        theta=np.asarray(run.ths),
-        lateral=np.asarray(run.xs),
-        speed=k.V,
-        angle=k.theta_i,
-        angular_velocity=float(angular_velocity),
-        friction_moment=k.M_f,
-        inertia=k.inertia,
+        t=np.asarray(run.t),
+        theta=y[:, 1],
+        lateral=y[:, 0],
+        speed=sys.speed,
+        angle=theta_i,
+        angular_velocity=w0,
+        friction_moment=sys.friction_moment,
+        inertia=sys.inertia,
         early_amplitude=early,
         late_amplitude=late,
-        amplitude_ratio=late / k.theta_i,
+        amplitude_ratio=late / theta_i,
         growth_ratio=float(growth),
-        grows=bool(run.diverged or growth > 1.0),
-        diverged=run.diverged,
-        frequency=_frequency(run.crossings, k.transient),
-        predicted_frequency=k.omega,
-        predicted_amplitude=float(steady_shimmy_amplitude(k.V, k.T, k.omega, k.theta_i)),
-        critical_speed=float(critical_speed(k.T, k.inertia, k.groove, c_eff, k.slip_coefficient)),
+        grows=bool(diverged or growth > 1.0),
+        diverged=diverged,
+        frequency=_frequency(run.crossings, transient),
+        predicted_frequency=sys.frequency,
+        predicted_amplitude=float(steady_shimmy_amplitude(sys.speed, sys.trail, sys.frequency, theta_i)),
+        critical_speed=float(critical_speed(sys.trail, sys.inertia, design.groove, c_eff, conditions.slip_coefficient)),
         switches=run.switches,
         extrema=ext,
     )
 
 
-def _knock(
-    design: Design,
-    conditions: Conditions,
-    speed,
-    angle,
-    angular_velocity,
-    duration,
-    cycles,
-    angle_limit,
-    rtol,
-    samples_per_period,
-) -> _Knock:
-    """The arguments of :func:`simulate` checked (InputError naming the value) and turned into the constants
-    of the integration."""
-    T, B, c_f = float(design.trail), float(design.groove), float(design.damping)
-    _check("trail", T)
+def _knock(design: Design, conditions: Conditions, speed, angle, angular_velocity, duration, cycles, angle_limit):
+    """The arguments of :func:`simulate` checked (InputError naming the value) and turned into the caster at its
+    speed (:class:`~designer.studies.dynamics.limit_cycles._system.CasterDynamics`, M_f = c_f θ0_design), the
+    knock θ_i [rad], the Eq. 15B period [s], the aligning transient (3T/V, at least a period) [s] and the time
+    span [s]."""
+    _check("trail", float(design.trail))
     _check("diameter", float(design.diameter))
-    _check("groove", B, allow_zero=True)
-    _check("damping", c_f, allow_zero=True)
+    _check("groove", float(design.groove), allow_zero=True)
+    _check("damping", float(design.damping), allow_zero=True)
     _check("speed", float(speed))
-    theta_design = float(conditions.disturbance_angle)
-    theta_i = theta_design if angle is None else float(angle)
+    theta_i = float(conditions.disturbance_angle) if angle is None else float(angle)
     _check("angle", theta_i)
     if not math.isfinite(float(angular_velocity)):
         raise InputError(f"angular_velocity = {angular_velocity!r}: must be finite")
     _check("angle_limit", float(angle_limit))
-    V = float(speed)
-    inertia = float(conditions.inertia(design.diameter))
-    _check("inertia", inertia)
-    dyn = conditions.dynamics
-    K, N = float(dyn.stiffness), float(dyn.lateral_mass)
-    Ks = float(conditions.slip_coefficient)
-    M_f = c_f * theta_design
-    J, visc = rolling_coefficients(T, inertia, N, V, tread_coefficient(Ks, B))  # a3 and a2 − C_D of Eq. 12B
-    omega = float(shimmy_frequency(T, inertia, dyn))
-    period = 2 * math.pi / omega
-    transient = max(3 * T / V, period)
+    _check("inertia", float(conditions.inertia(design.diameter)))
+    sys = caster_dynamics(design, conditions, float(speed))
+    period = 2 * math.pi / sys.frequency
+    transient = max(3 * sys.trail / sys.speed, period)
     if duration is None:
         duration = transient + float(cycles) * period
     _check("duration", float(duration))
-    duration = float(duration)
-    max_step = period / max(int(samples_per_period), 4)
-    return _Knock(
-        T=T,
-        K=K,
-        V=V,
-        M_f=M_f,
-        J=J,
-        visc=visc,
-        period=period,
-        duration=duration,
-        max_step=max_step,
-        angle_limit=angle_limit,
-        rtol=rtol,
-        theta_i=theta_i,
-        inertia=inertia,
-        omega=omega,
-        transient=transient,
-        groove=B,
-        slip_coefficient=Ks,
-    )
+    return sys, theta_i, period, transient, float(duration)
 
 
 def _amplitudes(ext: np.ndarray, transient: float, period: float, end: float, diverged: bool, angle_limit):

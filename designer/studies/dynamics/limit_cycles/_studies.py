@@ -43,7 +43,6 @@ from designer.model import Conditions, Design, critical_speed
 from designer.physics.inertia import Fixed
 from designer.physics.shimmy import DynamicsParameters
 from designer.physics.tyre import TyreParameters
-from designer.studies.dynamics._simulate import onset_speed as _today_onset  # today's model: the reduction check
 
 
 @checked(
@@ -400,6 +399,8 @@ def limit_cycle_study(progress=None, quick: bool = False) -> LimitCycleStudy:
         for k in (1, 2):
             knock[f"{label}_{k}theta0"] = knock_safe_speed(design, cond, angle=k * theta0, tyre=tyre, exact=False)
     say("rolling limit of the brush tyre")
+    from designer.studies.dynamics._simulate import onset_speed as _today_onset  # today's model (imports this room)
+
     factor = 30.0
     today = _today_onset(design, cond, rtol=0.002)
     limit = knock_onset_speed(

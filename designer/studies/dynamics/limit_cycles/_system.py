@@ -164,6 +164,8 @@ class _Run:
     time: float
     reason: str  # "end", "limit", "section", "rest"
     switches: int
+    slips: list = dataclasses.field(default_factory=list)  # (t, s, θ) at the start of each slip phase
+    crossings: list = dataclasses.field(default_factory=list)  # times of θ = 0 (``record`` only)
 
 
 def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch per event
@@ -177,21 +179,29 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
     rtol: float = _RTOL,
     max_switches: int = 20_000,
 ) -> _Run:
-    """Integrate from y0 until t_end, |θ| = angle_limit, or the end of a slip of sign ``stop_at_end_of``."""
+    """Integrate from y0 until t_end, |θ| = angle_limit, or the end of a slip of sign ``stop_at_end_of``: slips
+    by DOP853 until θ' = 0, sticks until the held moment reaches M_f (the one stick-slip integrator of the room,
+    :func:`designer.studies.dynamics.simulate` too).  ``record`` keeps the trace and the times θ = 0."""
     from scipy.integrate import solve_ivp  # heavy import, only for time integration
 
     n = sys.size
     ith, iw = n - 2, n - 1
     M_f = sys.friction_moment
     scale = max(abs(float(y0[ith])), 1e-6)
+    f = scale * (rtol / _RTOL)  # absolute tolerances in proportion to the knock and to rtol
     if n == 4:
-        atol = [1e-12 * scale * sys.trail, 1e-12 * scale * sys.speed, 1e-12 * scale, 1e-10 * scale]
+        atol = [1e-12 * f * sys.trail, 1e-12 * f * sys.speed, 1e-12 * f, 1e-10 * f]
     else:
-        atol = [1e-12 * scale * sys.trail, 1e-12 * scale, 1e-10 * scale]
+        atol = [1e-12 * f * sys.trail, 1e-12 * f, 1e-10 * f]
     y = np.array(y0, dtype=float)
     t = 0.0
     ts, ys, ends = ([t], [y.copy()], []) if record else ([], [], [])
+    slips: list = []
+    crossings: list = []
     switches = 0
+
+    def done(state, time: float, reason: str) -> _Run:
+        return _Run(ts, ys, ends, state, time, reason, switches, slips, crossings)
 
     def phase(sign: float, event):  # one stick (sign 0) or slip phase from (t, y) until ``event`` or t_end
         return solve_ivp(
@@ -201,8 +211,8 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
             method="DOP853",
             rtol=rtol,
             atol=atol,
-            max_step=max_step,
-            events=[event] if sign == 0.0 else [event, limit],
+            max_step=max_step if sign else math.inf,  # a stick holds θ: its trace needs no fine steps
+            events=[event] if sign == 0.0 else [event, limit, cross] if record else [event, limit],
         )
 
     def decide(state) -> float:
@@ -217,6 +227,9 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
         return abs(yy[ith]) - angle_limit
 
     limit.terminal = True
+
+    def cross(_t, yy):
+        return yy[ith]
 
     while t < t_end and switches < max_switches:
         spend(10)  # a phase costs about ten evaluations more than its integration counts
@@ -235,15 +248,16 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
             if record:
                 ts.extend(sol.t[1:]), ys.extend(sol.y[:, 1:].T)
             if not sol.t_events[0].size:
-                return _Run(ts, ys, ends, sol.y[:, -1], t_end, "rest", switches)
+                return done(sol.y[:, -1], t_end, "rest")
             t = float(sol.t_events[0][0])
             y = np.array(sol.y_events[0][0], dtype=float)
             y[iw] = 0.0
-            s = float(np.sign(sys.hold_moment(y)))
+            s = float(np.sign(sys.hold_moment(y))) or -math.copysign(1.0, y[ith])  # M_f = 0: X' = −Vθ decides
             switches += 1
             continue
 
         y[iw] = y[iw] if y[iw] * s > 0 else s * tiny  # start the slip just off θ' = 0
+        slips.append((t, s, float(y[ith])))
 
         def stop(_t, yy, s=s):
             return s * yy[iw]
@@ -255,17 +269,18 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
             raise SolverError(f"shimmy integration failed at t = {t:.4g} s: {sol.message}")
         if record:
             ts.extend(sol.t[1:]), ys.extend(sol.y[:, 1:].T)
+            crossings.extend(sol.t_events[2])
         if sol.t_events[1].size:
-            return _Run(ts, ys, ends, np.array(sol.y_events[1][0]), float(sol.t_events[1][0]), "limit", switches)
+            return done(np.array(sol.y_events[1][0]), float(sol.t_events[1][0]), "limit")
         if not sol.t_events[0].size:
-            return _Run(ts, ys, ends, sol.y[:, -1], t_end, "end", switches)
+            return done(sol.y[:, -1], t_end, "end")
         t_start, t = t, float(sol.t_events[0][0])
         y = np.array(sol.y_events[0][0], dtype=float)
         y[iw] = 0.0
         switches += 1
         ends.append((t, float(y[ith]), s, y.copy()))
         if stop_at_end_of is not None and s == stop_at_end_of:
-            return _Run(ts, ys, ends, y, t, "section", switches)
+            return done(y, t, "section")
         new = decide(y)
         if new == s and t - t_start < 1e-9 / sys.frequency:
             # grazing: the slip ended at once although |hold| > M_f by a rounding error; stick until the
@@ -275,7 +290,7 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
         s = new
     if switches >= max_switches:
         raise SolverError(f"shimmy integration: more than {max_switches} stick/slip switches before t = {t_end:g} s")
-    return _Run(ts, ys, ends, y, t, "end", switches)
+    return done(y, t, "end")
 
 
 class _LinearSlip:
@@ -377,7 +392,7 @@ def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per even
                 return _Run([], [], ends, y, t_end, "rest", switches)
             t = float(t + dt)
             y = np.array([target, th, 0.0])
-            s = float(np.sign(held_moment(y[0], sys.trail, sys.stiffness)))
+            s = float(np.sign(held_moment(y[0], sys.trail, sys.stiffness))) or -math.copysign(1.0, th)
             switches += 1
             continue
         y[2] = y[2] if y[2] * s > 0 else s * tiny  # start the slip just off θ' = 0
