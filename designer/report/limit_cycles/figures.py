@@ -11,7 +11,8 @@ from typing import Any
 import numpy as np
 
 from designer.plots.simulation import bifurcation_axes, map_axes, table1_axes
-from designer.report.limit_cycles.text import _pct
+from designer.display import shown
+from designer.report.limit_cycles.text import PREDICTIONS, _pct
 
 
 def _figure(nrows=1, ncols=1, figsize=(8, 5)):
@@ -47,7 +48,7 @@ def bifurcation_figure(study: Any):
         ax=axes[0, 0],
         title="Appendix C caster (T = 2.5 in, bare fork, θ0 = 20°): periodic orbits, brush tyre "
         f"(C = {bif.tyre.cornering_stiffness:.0f} N/rad, μ = "
-        f"{bif.tyre.friction_coefficient}, L = {bif.tyre.load:.0f} N)",
+        f"{bif.tyre.friction_coefficient}, L = {shown(bif.tyre.load, 'load')})",
     )
     fig.tight_layout()
     return fig
@@ -61,12 +62,10 @@ def table1_figure(table: Any):
         [r.wheel for r in table.rows],
         [r.measured for r in table.rows],
         {
-            f"{label} (RMS {100 * st[key].rms:.1f} %, bias {_pct(st[key].bias)})": [getattr(r, key) for r in table.rows]
-            for key, label in (
-                ("eq7", "Eq. 7"),
-                ("rolling_sim", "rolling simulation"),
-                ("tyre_sim", "brush-tyre simulation"),
-            )
+            f"{label} (RMS {100 * st[key].rms:.1f} %, bias {_pct(st[key].bias)})": [
+                r.prediction(key) for r in table.rows
+            ]
+            for key, label in PREDICTIONS.items()
         },
         stable_up_to=table.stable_up_to,
         ax=axes[0, 0],
@@ -82,24 +81,23 @@ def table1_figure(table: Any):
 def map_figure(kn: Any):
     """Onsets (both tyres) and the stable amplitude over the (K, N) grid, one row of panels per caster."""
     factors = list(kn.factors)
-    casters = list(dict.fromkeys(r.caster for r in kn.rows))
+    casters = kn.casters()
     fig, axes = _figure(len(casters), 3, (15, 4.2 * len(casters)))
-    for i, name in enumerate(casters):
-        measured = next(r.measured for r in kn.rows if r.caster == name)
-        base = next(r for r in kn.rows if r.caster == name and r.stiffness_factor == 1.0 and r.mass_factor == 1.0)
+    for i, (name, _, base) in enumerate(casters):
+        measured = shown(base.measured, dimension="speed")
         islands = _map_grid(kn.rows, name, "tyre_onset_monotone", factors) == 0
         for j, (key, label, unit, fmt) in enumerate(
             (
                 ("rolling_onset", "onset, rolling tyre", "m/s", "{:.2f}"),
                 ("tyre_onset", "onset, brush tyre (* islands in speed)", "m/s", "{:.2f}"),
-                ("stable_amplitude", f"stable amplitude at {measured:.2f} m/s, brush tyre", "rad", "{:.2f}"),
+                ("stable_amplitude", f"stable amplitude at {measured}, brush tyre", "rad", "{:.2f}"),
             )
         ):
             map_axes(
                 factors,
                 factors,
                 _map_grid(kn.rows, name, key, factors),
-                f"{name} (measured {measured:.2f} m/s): {label}",
+                f"{name} (measured {measured}): {label}",
                 unit,
                 fmt,
                 ax=axes[i, j],
@@ -108,7 +106,9 @@ def map_figure(kn: Any):
                 marks=islands if key == "tyre_onset" else None,
             )
     fig.suptitle(
-        f"Unknowns mapped: K0 = {kn.stiffness:.0f} N/m, N0 = {kn.lateral_mass:.2f} kg (20° knock)", fontsize=11
+        f"Unknowns mapped: K0 = {shown(kn.stiffness, 'frame_stiffness')}, N0 = {shown(kn.lateral_mass, dimension='mass')} "
+        "(20° knock)",
+        fontsize=11,
     )
     fig.tight_layout()
     return fig

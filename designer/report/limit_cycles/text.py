@@ -12,13 +12,27 @@ from typing import Any
 
 import numpy as np
 
+from designer.display import number, shown
+from designer.units import MISSING
+
 
 def _pct(x: float) -> str:
-    return "n/a" if not math.isfinite(x) else f"{100 * x:+.1f} %"
+    """A relative error [-] as a signed percentage ("+1.2 %"), :data:`~designer.units.MISSING` for NaN."""
+    return MISSING if not math.isfinite(x) else f"{100 * x:+.1f} %"
 
 
-def _num(x, spec=".3f") -> str:
-    return "none" if x is None or not math.isfinite(x) else format(x, spec)
+PREDICTIONS = {"eq7": "Eq. 7", "rolling_sim": "rolling simulation", "tyre_sim": "brush-tyre simulation"}
+"""The three predictions of a Table 1 critical speed, by their key in a ``Table1Row``, and their names."""
+
+
+def _speed(x) -> str:
+    """A speed [m/s] with its unit, at the table's precision (:func:`designer.display.shown`)."""
+    return shown(x, dimension="speed")
+
+
+def _angle(x) -> str:
+    """An angle [rad] with its unit, at the table's precision."""
+    return shown(x, dimension="angle")
 
 
 def blocks(study: Any) -> list[tuple]:
@@ -56,7 +70,7 @@ def _model_section(study: Any) -> list[tuple]:
             f"C = {tyre.cornering_stiffness:.0f} N/rad is the paper's K_s (Fig. 3C: the tyre held at "
             "fixed angles to a treadmill belt, i.e. a cornering stiffness); μ = "
             f"{tyre.friction_coefficient} is estimated from the paper's turning data (Fig. 7A: 0.005 m "
-            f"of sliding moment per newton of load); L = {tyre.load:.0f} N (Fig. 3C). K and N are not in "
+            f"of sliding moment per newton of load); L = {shown(tyre.load, 'load')} (Fig. 3C). K and N are not in "
             "the paper (N = 0.5 kg guessed, K fitted to ω = 104.7 rad/s): mapped below.",
         ),
     ]
@@ -66,8 +80,8 @@ def _model_section(study: Any) -> list[tuple]:
             (
                 "p",
                 f"Rolling limit: with the saturation removed and C × {rl.factor:.0f}, the onset of the "
-                f"20° knock on the Appendix C caster is {rl.tyre_limit:.4f} m/s against "
-                f"{rl.today:.4f} m/s for today's `designer.studies.dynamics._simulate` ({_pct(rl.tyre_limit / rl.today - 1)}"
+                f"20° knock on the Appendix C caster is {_speed(rl.tyre_limit)} against {_speed(rl.today)} "
+                f"for today's `designer.studies.dynamics._simulate` ({_pct(rl.tyre_limit / rl.today - 1)}"
                 "; brackets 0.2 %); the test suite checks it to 0.5 %.",
             )
         )
@@ -97,28 +111,28 @@ def _orbits_section(bif: Any, roll: Any, meas: dict) -> list[tuple]:
     lines = [
         "Rolling tyre: only unstable orbits (every multiplier set has one outside the unit circle), "
         "amplitude ∝ 1/V as the describing function says; above it a knock grows without bound.",
-        f"Brush tyre: the unstable branch (knock threshold) folds at V = {_num(bif.fold_speed, '.2f')} m/s "
+        f"Brush tyre: the unstable branch (knock threshold) folds at V = {_speed(bif.fold_speed)} "
         "into a stable branch (sustained shimmy). With Coulomb friction the rest state is always stable, so "
-        f"above {_num(bif.fold_speed, '.2f')} m/s rest and shimmy coexist: the hysteresis region; the knock "
+        f"above {_speed(bif.fold_speed)} rest and shimmy coexist: the hysteresis region; the knock "
         "decides which one the caster takes, and once shimmying it keeps going down to the fold speed.",
     ]
     if unstable_near is not None:
         lines.append(
-            f"Unstable orbit nearest {meas['speed']} m/s: A = {unstable_near.amplitude:.3f} rad at "
-            f"{unstable_near.speed:.2f} m/s, |multipliers| max {float(np.max(np.abs(unstable_near.multipliers))):.3f}, "
+            f"Unstable orbit nearest {_speed(meas['speed'])}: A = {_angle(unstable_near.amplitude)} at "
+            f"{_speed(unstable_near.speed)}, |multipliers| max {number(unstable_near.max_abs_multiplier)}, "
             f"closure {unstable_near.closure:.1e} rad."
         )
     if sref is not None:
         ratio = sref.amplitude / meas["amplitude"]
         lines.append(
-            f"**Stable amplitude at {meas['speed']} m/s: {sref.amplitude:.3f} rad = "
+            f"**Stable amplitude at {_speed(meas['speed'])}: {_angle(sref.amplitude)} = "
             f"{math.degrees(sref.amplitude):.0f}°, against the measured {meas['amplitude']} rad = 8° "
             f"(Fig. 1C): {ratio:.1f} × too large ({_pct(ratio - 1)}).** Floquet multipliers |λ| "
-            f"{', '.join(f'{math.hypot(float(m.real), float(m.imag)):.3f}' for m in sref.multipliers)}, closure "
-            f"{sref.closure:.1e} rad, frequency {sref.frequency:.1f} rad/s (Eq. 15B 104.7)."
+            f"{', '.join(number(abs(m)) for m in sref.multipliers)}, closure "
+            f"{sref.closure:.1e} rad, frequency {shown(sref.frequency, 'shimmy_frequency')} (Eq. 15B 104.7)."
         )
     else:
-        lines.append(f"No stable orbit was reached at {meas['speed']} m/s from knocks of 0.15–2.4 rad.")
+        lines.append(f"No stable orbit was reached at {_speed(meas['speed'])} from knocks of 0.15–2.4 rad.")
     B.append(("ul", lines))
     return B
 
@@ -129,17 +143,17 @@ def _friction_text(fric: list, meas: dict) -> list[tuple]:
             "p",
             "The sustained amplitude is set by the friction limit μL (the saturation slip 3μL/C): the "
             "branch for each μ, its fold (the smallest sustained shimmy and the lowest speed it survives "
-            f"at) and the stable amplitude at {meas['speed']} m/s:",
+            f"at) and the stable amplitude at {_speed(meas['speed'])}:",
         )
     ]
     rows = [
         [
             f"{r.friction_coefficient:g}",
-            _num(r.fold_speed, ".2f"),
-            _num(r.fold_amplitude),
-            _num(r.stable_amplitude),
-            _num(math.degrees(r.stable_amplitude) if math.isfinite(r.stable_amplitude) else math.nan, ".1f"),
-            _num(r.max_abs_multiplier),
+            number(r.fold_speed, dimension="speed"),
+            number(r.fold_amplitude, dimension="angle"),
+            number(r.stable_amplitude, dimension="angle"),
+            number(math.degrees(r.stable_amplitude), dimension="angle", digits=1),  # in degrees
+            number(r.max_abs_multiplier),
         ]
         for r in fric
     ]
@@ -150,7 +164,7 @@ def _friction_text(fric: list, meas: dict) -> list[tuple]:
                 "μ",
                 "fold speed [m/s]",
                 "fold amplitude [rad]",
-                f"stable amplitude at {meas['speed']} m/s [rad]",
+                f"stable amplitude at {_speed(meas['speed'])} [rad]",
                 "[deg]",
                 "max |Floquet multiplier|",
             ],
@@ -171,12 +185,12 @@ def _friction_text(fric: list, meas: dict) -> list[tuple]:
         best = min(found, key=lambda r: r.stable_amplitude)
         none = [r.friction_coefficient for r in fric if not math.isfinite(r.stable_amplitude)]
         text.append(
-            f"The smallest sustained amplitude at {meas['speed']} m/s over these μ is "
-            f"{best.stable_amplitude:.3f} rad = {math.degrees(best.stable_amplitude):.0f}° (μ = "
+            f"The smallest sustained amplitude at {_speed(meas['speed'])} over these μ is "
+            f"{_angle(best.stable_amplitude)} = {math.degrees(best.stable_amplitude):.0f}° (μ = "
             f"{best.friction_coefficient:g}), "
             f"{best.stable_amplitude / meas['amplitude']:.1f} × the measured 8°"
             + (
-                f"; for μ ≤ {max(none):g} no stable cycle exists at {meas['speed']} m/s (the fold lies above it)"
+                f"; for μ ≤ {max(none):g} no stable cycle exists at {_speed(meas['speed'])} (the fold lies above it)"
                 if none
                 else ""
             )
@@ -187,7 +201,7 @@ def _friction_text(fric: list, meas: dict) -> list[tuple]:
         text.append(
             "So tyre saturation does produce a stable limit cycle, but not the measured one: since fold "
             "speed × fold amplitude does not fall below the value above, no μ sustains a shimmy smaller "
-            f"than about {floor:.2f} rad = {math.degrees(floor):.0f}° at {meas['speed']} m/s"
+            f"than about {_angle(floor)} = {math.degrees(floor):.0f}° at {_speed(meas['speed'])}"
             + (
                 f", and with a polyurethane tyre's μ ≈ 0.7 it is {math.degrees(mu07.stable_amplitude):.0f}°"
                 if mu07 is not None and math.isfinite(mu07.stable_amplitude)
@@ -210,7 +224,7 @@ def _knock_section(bif: Any, ks: dict) -> list[tuple]:
             "p",
             "The highest speed at which a knock decays (low end of a 0.5 % bisection bracket of simulated "
             f"knocks; `designer.knock_safe_speed(design, conditions, angle=None)`). Appendix C caster, Eq. 7 "
-            f"V_c = {bif.eq7_critical_speed:.2f} m/s:",
+            f"V_c = {_speed(bif.eq7_critical_speed)}:",
         ),
         (
             "table",
@@ -220,8 +234,8 @@ def _knock_section(bif: Any, ks: dict) -> list[tuple]:
                 f"knock 2θ0 = {math.degrees(2 * theta0):.0f}° [m/s]",
             ],
             [
-                ["rolling (paper)", _num(ks["rolling_1theta0"]), _num(ks["rolling_2theta0"])],
-                ["brush", _num(ks["brush_1theta0"]), _num(ks["brush_2theta0"])],
+                [tyre, *(number(ks[f"{key}_{k}theta0"], dimension="speed") for k in (1, 2))]
+                for tyre, key in (("rolling (paper)", "rolling"), ("brush", "brush"))
             ],
         ),
         (
@@ -245,18 +259,16 @@ def _table1_section(table: Any) -> list[tuple]:
         (
             "p",
             "Test fork, T = 2 in, bare fork c_f = 1.3 N·m/rad, B = 0, each wheel's I_w and mass, "
-            f"L = {table.tyre.load:.0f} N, 20° knock. Errors over wheels C–G (prediction/measured − 1).",
+            f"L = {shown(table.tyre.load, 'load')}, 20° knock. Errors over wheels C–G (prediction/measured − 1).",
         ),
         ("img", "table1.png", "Table 1 comparison"),
     ]
     rows = [
         [
             r.wheel,
-            f"{r.inertia * 1e3:.2f}e-3",
-            "stable to 3.8" if r.measured is None else f"{r.measured:.2f}",
-            f"{r.eq7:.2f}",
-            f"{r.rolling_sim:.2f}",
-            f"{r.tyre_sim:.2f}",
+            number(r.inertia, "inertia"),
+            "stable to 3.8" if r.measured is None else number(r.measured, dimension="speed"),
+            *(number(r.prediction(k), dimension="speed") for k in PREDICTIONS),
             ("**predicted below 3.8: " + ", ".join(r.flagged) + "**") if r.flagged else "",
         ]
         for r in table.rows
@@ -268,15 +280,11 @@ def _table1_section(table: Any) -> list[tuple]:
         (
             "table",
             ["prediction", "RMS", "bias", "max |error|"],
-            [
-                [k, f"{100 * st[k].rms:.1f} %", _pct(st[k].bias), f"{100 * st[k].max_abs:.1f} %"]
-                for k in ("eq7", "rolling_sim", "tyre_sim")
-            ],
+            [[k, f"{100 * st[k].rms:.1f} %", _pct(st[k].bias), f"{100 * st[k].max_abs:.1f} %"] for k in PREDICTIONS],
         )
     )
     flagged = [r for r in table.rows if r.flagged]
     if flagged:
-        names = {"eq7": "Eq. 7", "rolling_sim": "rolling simulation", "tyre_sim": "brush-tyre simulation"}
         B.append(
             (
                 "p",
@@ -285,7 +293,7 @@ def _table1_section(table: Any) -> list[tuple]:
                     f"wheel {r.wheel} was measured stable up to {table.stable_up_to} m/s but is predicted to shimmy "
                     "below it by "
                     + ", ".join(
-                        f"{names[k]} ({r.prediction(k):.2f} m/s, {_pct(r.prediction(k) / table.stable_up_to - 1)})"
+                        f"{PREDICTIONS[k]} ({_speed(r.prediction(k))}, {_pct(r.prediction(k) / table.stable_up_to - 1)})"
                         for k in r.flagged
                     )
                     for r in flagged
@@ -307,7 +315,8 @@ def _map_section(kn: Any) -> list[tuple]:
         (
             "p",
             f"Frame stiffness K and lateral mass N each × {', '.join(f'{f:g}' for f in kn.factors)} "
-            f"around K0 = {kn.stiffness:.0f} N/m and N0 = {kn.lateral_mass:.2f} kg; onset of the 20° knock with both "
+            f"around K0 = {shown(kn.stiffness, 'frame_stiffness')} and N0 = {shown(kn.lateral_mass, dimension='mass')}; "
+            "onset of the 20° knock with both "
             "tyres and the stable amplitude (brush tyre) at the caster's measured critical speed.",
         ),
         ("img", "stiffness_mass_map.png", "K, N map"),
@@ -319,28 +328,21 @@ def _map_section(kn: Any) -> list[tuple]:
 
 def _map_summary(kn) -> list[str]:
     lines = []
-    rows = kn.rows
-    for name in dict.fromkeys(r.caster for r in rows):
-        sel = [r for r in rows if r.caster == name]
-        base = next(r for r in sel if r.stiffness_factor == 1.0 and r.mass_factor == 1.0)
+    for name, sel, base in kn.casters():
         for key, label in (("rolling_onset", "rolling-tyre onset"), ("tyre_onset", "brush-tyre onset")):
             v = np.array([getattr(r, key) for r in sel], float)
             lines.append(
-                f"{name}: {label} {np.nanmin(v):.2f}–{np.nanmax(v):.2f} m/s over the grid "
-                f"(default {getattr(base, key):.2f}; measured {base.measured:.2f}; Eq. 7 {base.eq7:.2f}); "
+                f"{name}: {label} {number(np.nanmin(v), dimension='speed')}–{_speed(np.nanmax(v))} over the grid "
+                f"(default {_speed(getattr(base, key))}; measured {_speed(base.measured)}; Eq. 7 {_speed(base.eq7)}); "
                 f"within ±10 % of the default in {int(np.sum(np.abs(v / getattr(base, key) - 1) <= 0.10))} of "
                 f"{v.size} cells"
             )
         a = np.array([r.stable_amplitude for r in sel], float)
-        none = int(np.sum(~np.isfinite(a)))
+        lo, hi = (np.nanmin(a), np.nanmax(a)) if np.isfinite(a).any() else (math.nan, math.nan)
         lines.append(
-            f"{name}: stable amplitude at {base.measured:.2f} m/s "
-            f"{_num(np.nanmin(a) if np.isfinite(a).any() else math.nan, '.2f')}–"
-            f"{_num(np.nanmax(a) if np.isfinite(a).any() else math.nan, '.2f')} rad "
-            f"(default {_num(base.stable_amplitude, '.2f')}); no stable cycle in {none} of {a.size} "
-            "cells; smallest "
-            f"{_num(math.degrees(np.nanmin(a)) if np.isfinite(a).any() else math.nan, '.0f')}° "
-            "against the measured 8°"
+            f"{name}: stable amplitude at {_speed(base.measured)} {number(lo, dimension='angle')}–{_angle(hi)} "
+            f"(default {_angle(base.stable_amplitude)}); no stable cycle in {int(np.sum(~np.isfinite(a)))} of "
+            f"{a.size} cells; smallest {number(math.degrees(lo), dimension='angle', digits=0)}° against the measured 8°"
         )
     return lines
 
@@ -349,9 +351,7 @@ def _map_conclusions(kn) -> list[tuple]:
     rows = kn.rows
     lines = []
     roll_ok = tyre_ok = total = 0
-    for name in dict.fromkeys(r.caster for r in rows):
-        sel = [r for r in rows if r.caster == name]
-        base = next(r for r in sel if r.stiffness_factor == 1.0 and r.mass_factor == 1.0)
+    for _, sel, base in kn.casters():
         total += len(sel)
         roll_ok += sum(abs(r.rolling_onset / base.rolling_onset - 1) <= 0.10 for r in sel)
         tyre_ok += sum(math.isfinite(r.tyre_onset) and abs(r.tyre_onset / base.tyre_onset - 1) <= 0.10 for r in sel)

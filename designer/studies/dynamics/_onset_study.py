@@ -28,7 +28,8 @@ from designer.jsonsafe import stamped
 from designer.output import PLOT, SOFTWARE, FileKind, write_file
 from designer.physics.inertia import Fixed
 from designer.plots.simulation import figure_onset_comparison
-from designer.data.paper import APPENDIX_C_CASE, BARE_FORK_DAMPING
+from designer.data.paper import APPENDIX_C_CASE
+from designer.studies.dynamics.limit_cycles._studies import appendix_c_caster
 
 __all__ = [
     "REPORT_ANGLES",
@@ -174,9 +175,8 @@ def _appendix_c(conditions: Conditions, rtol: float):
     kick, θ(t) at 0.9, 1.0 and 1.1 × the onset, and its summary record: ``(onset, traces, record)``."""
     # Appendix C reference case (Fig. 1C): T = 2.5 in, I_w from V_c = 2.53 m/s via Eq. 7, θ0 = 20°.
     case = APPENDIX_C_CASE
-    i_c = 4 * BARE_FORK_DAMPING * case.trail**2 / (math.pi * case.critical_speed**2)
-    cond_c = conditions.replace(inertia=Fixed(i_c))
-    design_c = Design(trail=case.trail, diameter=0.2, groove=0.0, damping=BARE_FORK_DAMPING)
+    design_c, fixed = appendix_c_caster()
+    cond_c = conditions.replace(inertia=fixed.inertia)
     onset_c = onset_speed(design_c, cond_c, angle=case.initial_angle, rtol=rtol / 5)
     onset_c_kick = onset_speed(design_c, cond_c, angle=case.initial_angle, angular_velocity=0.7, rtol=rtol / 5)
     traces = {
@@ -184,7 +184,7 @@ def _appendix_c(conditions: Conditions, rtol: float):
         for f in (0.9, 1.0, 1.1)
     }
     record = {
-        "inertia": i_c,
+        "inertia": float(cond_c.inertia(design_c.diameter)),
         "eq7_critical_speed": onset_c.critical_speed,
         "onset_speed": onset_c.speed,
         "relative_error": onset_c.relative_error,

@@ -49,12 +49,12 @@ import math
 import numpy as np
 
 from designer.boundary import Count, Instance, Quantity, checked
-from designer.errors import InputError, SolverError
-from designer.model import Conditions, Design, critical_speed
+from designer.errors import InputError
+from designer.model import Conditions, Design
 from designer.units import real_number
 from designer.physics.shimmy import steady_shimmy_amplitude
 from designer.studies.dynamics._result import OnsetResult, SimulationResult
-from designer.studies.dynamics._work import SPEED_RANGE, bisect_speed, bounded
+from designer.studies.dynamics._work import bisect_speed, bounded, bracket_speed
 from designer.studies.dynamics.limit_cycles._system import _integrate, caster_dynamics
 
 
@@ -159,7 +159,6 @@ def simulate(  # long: its docstring documents every argument; the body (30 line
     early, late = _amplitudes(ext, transient, period, run.time, diverged, angle_limit)
     growth = late / early if early > 0 else (math.inf if late > 0 else 0.0)
     y = np.asarray(run.y, dtype=float).reshape(-1, 3)
-    c_eff = sys.friction_moment / theta_i
     return SimulationResult(
         t=np.asarray(run.t),
         theta=y[:, 1],
@@ -178,7 +177,7 @@ def simulate(  # long: its docstring documents every argument; the body (30 line
         frequency=_frequency(run.crossings, transient),
         predicted_frequency=sys.frequency,
         predicted_amplitude=float(steady_shimmy_amplitude(sys.speed, sys.trail, sys.frequency, theta_i)),
-        critical_speed=float(critical_speed(sys.trail, sys.inertia, design.groove, c_eff, conditions.slip_coefficient)),
+        critical_speed=sys.eq7_speed(theta_i),  # c_f,eff = M_f/θ_i
         switches=run.switches,
         extrema=ext,
     )
@@ -288,28 +287,23 @@ def onset_speed(  # long: its docstring documents every argument and error; the 
     theta_i = float(conditions.disturbance_angle if angle is None else angle)
     _check("angle", theta_i)
     _check("rtol", float(rtol))
-    evaluations = 0
-    cache: dict[float, SimulationResult] = {}
+    cache: dict[float, SimulationResult] = {}  # one simulation a speed: len(cache) counts them
 
-    def run(v: float) -> SimulationResult:
-        nonlocal evaluations
+    def grows(v: float) -> bool:
         if v not in cache:
-            evaluations += 1
             cache[v] = simulate(design, conditions, v, angle=theta_i, angular_velocity=angular_velocity, cycles=cycles)
-        return cache[v]
+        return cache[v].grows
 
-    inertia = float(conditions.inertia(design.diameter))
-    c_eff = float(design.damping) * float(conditions.disturbance_angle) / theta_i  # M_f / θ_i
-    v7 = float(critical_speed(design.trail, inertia, design.groove, c_eff, conditions.slip_coefficient))
+    v7 = caster_dynamics(design, conditions, 1.0).eq7_speed(theta_i)  # Eq. 7 with c_f,eff = M_f/θ_i
     if bracket is None:
         low, high = 0.8 * v7, 1.25 * v7
     else:
         low, high = (float(b) for b in bracket)
         _check("bracket low", low)
         _check("bracket high", high)
-    low, high = bisect_speed(lambda v: run(v).grows, *_bracket(run, low, high, max_expansions, v7), rtol)
+    low, high = bisect_speed(grows, *bracket_speed(grows, low, high, 2.0, max_expansions, v7, "shimmy onset"), rtol)
     speed = math.sqrt(low * high)
-    at = run(high)
+    at = cache[high]  # simulated: every bracket end was
     omega = at.predicted_frequency
     return OnsetResult(
         speed=speed,
@@ -318,43 +312,9 @@ def onset_speed(  # long: its docstring documents every argument and error; the 
         critical_speed=v7,
         relative_error=(speed - v7) / v7,
         angle=theta_i,
-        evaluations=evaluations,
+        evaluations=len(cache),
         amplitude_at_onset=at.early_amplitude,
         predicted_amplitude=float(steady_shimmy_amplitude(speed, design.trail, omega, theta_i)),
         frequency_at_onset=at.frequency,
         predicted_frequency=omega,
     )
-
-
-def _bracket(run, low: float, high: float, max_expansions: int, v7: float) -> tuple[float, float]:
-    """Widen (low, high) [m/s] ×2 outward, inside :data:`SPEED_RANGE`, until the knock decays at ``low`` and
-    grows at ``high`` (``run(v)`` simulates at speed v); SolverError when that takes more than
-    ``max_expansions`` doublings or would leave the model's speeds."""
-    v_min, v_max = SPEED_RANGE
-    low, high = min(max(low, v_min), v_max), min(max(high, v_min), v_max)
-    for _ in range(max_expansions):
-        if run(low).grows:
-            if low <= v_min:
-                raise SolverError(
-                    f"shimmy onset below {v_min:g} m/s, the model's lowest speed: the knock grows there already "
-                    f"(Eq. 7 gives {v7:.3g} m/s)"
-                )
-            high, low = low, max(low / 2, v_min)
-            continue
-        if not run(high).grows:
-            if high >= v_max:
-                raise SolverError(
-                    f"no shimmy onset up to {v_max:g} m/s, the model's highest speed: the knock decays there "
-                    f"(Eq. 7 gives {v7:.3g} m/s); the caster does not shimmy at any speed the model covers"
-                )
-            low, high = high, min(high * 2, v_max)
-            continue
-        break
-    else:
-        raise SolverError(
-            f"shimmy onset not bracketed after {max_expansions} doublings (last bracket {low:.3g}–{high:.3g} m/s, "
-            f"Eq. 7 gives {v7:.3g} m/s)"
-        )
-    if run(low).grows or not run(high).grows:
-        raise SolverError(f"shimmy onset not bracketed in {low:.3g}–{high:.3g} m/s (Eq. 7 gives {v7:.3g} m/s)")
-    return low, high

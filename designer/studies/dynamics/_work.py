@@ -130,6 +130,37 @@ def counted(rhs: Callable[..., Any]) -> Callable[..., Any]:
     return f
 
 
+def bracket_speed(
+    grows: Callable[[float], bool], low: float, high: float, widen: float, tries: int, v7: float, what: str
+) -> tuple[float, float]:
+    """Widen (low, high) [m/s] × ``widen`` outward, inside :data:`SPEED_RANGE`, until ``grows`` is false at low and
+    true at high (the onset searches, before :func:`bisect_speed`); SolverError naming ``what`` (the onset) and
+    Eq. 7's ``v7`` [m/s] when that takes more than ``tries`` widenings or would leave the model's speeds."""
+    v_min, v_max = SPEED_RANGE
+    low, high = min(max(low, v_min), v_max), min(max(high, v_min), v_max)
+    for _ in range(tries):
+        if grows(low):
+            if low <= v_min:
+                raise SolverError(
+                    f"{what} below {v_min:g} m/s, the model's lowest speed: the knock grows there already "
+                    f"(Eq. 7 gives {v7:.3g} m/s)"
+                )
+            high, low = low, max(low / widen, v_min)
+        elif not grows(high):
+            if high >= v_max:
+                raise SolverError(
+                    f"no {what} up to {v_max:g} m/s, the model's highest speed: the knock decays there "
+                    f"(Eq. 7 gives {v7:.3g} m/s); the caster does not shimmy at any speed the model covers"
+                )
+            low, high = high, min(high * widen, v_max)
+        else:
+            return low, high  # decays at low, grows at high
+    raise SolverError(
+        f"{what} not bracketed after {tries} widenings ×{widen:g} (last bracket {low:.3g}–{high:.3g} m/s, "
+        f"Eq. 7 gives {v7:.3g} m/s)"
+    )
+
+
 def bisect_speed(grows: Callable[[float], bool], low: float, high: float, rtol: float) -> tuple[float, float]:
     """Bisect the bracket (low, high) [m/s], ``grows`` false at low and true at high, in log V until
     high/low − 1 <= ``rtol`` (the onset searches)."""

@@ -11,7 +11,7 @@ from designer.studies.dynamics.limit_cycles._results import KnockSafe, OnsetScan
 from designer.studies.dynamics.limit_cycles._system import CasterDynamics, caster_dynamics, simulate_knock
 from designer.boundary import Instance, Quantity, checked
 from designer.errors import InputError, SolverError
-from designer.studies.dynamics._work import bisect_speed, bounded
+from designer.studies.dynamics._work import bisect_speed, bounded, bracket_speed
 from designer.model import Conditions, Design
 from designer.physics.inertia import Fixed
 from designer.physics.tyre import TyreParameters
@@ -38,34 +38,23 @@ def knock_onset_speed(
     """Lowest speed at which a knock θ_i is sustained (bisection in log V) [m/s].
 
     The bracket starts at ``guess`` (default Eq. 7's V_c with c_f,eff = M_f/θ_i) × ``bracket``, widened
-    × ``widen`` (at most ``tries`` times) until it holds a decaying and a sustained speed; bisection stops
+    × ``widen`` (at most ``tries`` times, within the model's speeds: :func:`~designer.studies.dynamics._work.bracket_speed`)
+    until it holds a decaying and a sustained speed; bisection stops
     when high/low − 1 < ``rtol``.  ``exact``: simulate with the closed-form integration of the rolling model
     (:func:`~designer.studies.dynamics.limit_cycles._system.simulate_knock`).
     """
-    if guess is None:
-        guess = sys.eq7_speed(angle)
-    n = 0
-    cache: dict[float, bool] = {}
+    v7 = sys.eq7_speed(angle)
+    guess = v7 if guess is None else guess
+    cache: dict[float, bool] = {}  # one knock simulation a speed: len(cache) counts them
 
     def sustained(v: float) -> bool:
-        nonlocal n
         if v not in cache:
-            n += 1
             cache[v] = simulate_knock(sys.at(v), angle, angular_velocity, cycles, exact=exact).shimmy
         return cache[v]
 
-    low, high = bracket[0] * guess, bracket[1] * guess
-    for _ in range(tries):
-        if sustained(low):
-            high, low = low, low / widen
-        elif not sustained(high):
-            low, high = high, high * widen
-        else:
-            break
-    else:
-        raise SolverError(f"knock onset not bracketed between {low:.3g} and {high:.3g} m/s")
+    low, high = bracket_speed(sustained, bracket[0] * guess, bracket[1] * guess, widen, tries, v7, "knock onset")
     low, high = bisect_speed(sustained, low, high, rtol)
-    return OnsetBracket(low=low, high=high, evaluations=n)
+    return OnsetBracket(low=low, high=high, evaluations=len(cache))
 
 
 @checked(

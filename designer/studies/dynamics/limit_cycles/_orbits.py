@@ -51,7 +51,7 @@ class PeriodicOrbit(Record):
     _keys = (
         *("amplitude", "speed", "period", "frequency", "stable", "closure", "residual", "iterations"),
         Key("multipliers", lambda o: [[float(m.real), float(m.imag)] for m in o.multipliers]),
-        Key("max_abs_multiplier", lambda o: float(np.max(np.abs(o.multipliers)))),
+        "max_abs_multiplier",
     )
     """Plain floats, the complex multipliers as [re, im] pairs (not the section ``state``)."""
 
@@ -59,6 +59,11 @@ class PeriodicOrbit(Record):
     def frequency(self) -> float:
         """2π / period [rad/s]."""
         return 2 * math.pi / self.period
+
+    @property
+    def max_abs_multiplier(self) -> float:
+        """Largest |Floquet multiplier| [-] (below 1: stable)."""
+        return float(np.max(np.abs(self.multipliers)))
 
     _units = {
         **dict.fromkeys(("amplitude", "closure", "residual"), "rad"),
@@ -74,25 +79,23 @@ def _weights(sys: CasterDynamics) -> np.ndarray:
     return np.array([1 / T, 1 / (w * T), 1.0]) if sys.tyre is not None else np.array([1 / T, 1.0])
 
 
-def _half_map(sys: CasterDynamics, z: np.ndarray) -> tuple[np.ndarray | None, float]:
-    """G(z) = −H(z): from a maximum of θ (θ' = 0, section state z) to minus the state at the next minimum."""
-    period = 2 * math.pi / sys.frequency
-    run = _integrate(sys, np.append(z, 0.0), 20 * period, stop_at_end_of=-1.0)
-    if run.reason != "section":
-        return None, math.nan
-    return -np.asarray(run.state[:-1]), run.time
-
-
-def _full_period(sys: CasterDynamics, z: np.ndarray) -> tuple[np.ndarray | None, float]:
-    """Section state after one full period (no symmetry used) and the period [s]."""
+def _full_period(sys: CasterDynamics, z: np.ndarray, signs=(-1.0, 1.0)) -> tuple[np.ndarray | None, float]:
+    """Section state after one full period (no symmetry used) and the period [s]; ``signs`` (-1.0,): after half
+    of it, at the next minimum of θ (None where the motion stops first)."""
     period = 2 * math.pi / sys.frequency
     state, time = np.append(z, 0.0), 0.0
-    for sign in (-1.0, 1.0):  # to the next minimum, then back to a maximum
+    for sign in signs:  # to the next minimum, then back to a maximum
         run = _integrate(sys, state, 20 * period, stop_at_end_of=sign)
         if run.reason != "section":
             return None, math.nan
         state, time = run.state, time + run.time
     return np.asarray(state[:-1]), time
+
+
+def _half_map(sys: CasterDynamics, z: np.ndarray) -> tuple[np.ndarray | None, float]:
+    """G(z) = −H(z): from a maximum of θ (θ' = 0, section state z) to minus the state at the next minimum."""
+    end, time = _full_period(sys, z, signs=(-1.0,))
+    return (None if end is None else -end), time
 
 
 def _describing_function_speed(sys: CasterDynamics, amplitude: float) -> float:

@@ -9,21 +9,15 @@ results/simulation/bifurcation.json and of ``designer simulate --bifurcation --j
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
 
+from designer.display import number, shown
 from designer.model import Design
 from designer.physics.tyre import TyreParameters
 from designer.reprs import Key, Keyed, Record, dataframe
 from designer.studies.dynamics.limit_cycles._orbits import PeriodicOrbit
-
-
-def _number(value: float | None) -> str:
-    """A number to 4 significant digits, "none" for None or NaN (a speed not found, an orbit missing)."""
-    return "none" if value is None or not math.isfinite(value) else f"{value:.4g}"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -80,7 +74,8 @@ class BifurcationDiagram(Record):
         stable = sum(bool(o.stable) for o in self.orbits)
         return [
             f"BifurcationDiagram({self.model}: {len(self.orbits)} orbits ({stable} stable), fold "
-            f"{_number(self.fold_speed)} m/s, Eq. 7 V_c {self.eq7_critical_speed:.4g} m/s, max closure "
+            f"{shown(self.fold_speed, dimension='speed')}, Eq. 7 V_c {shown(self.eq7_critical_speed, 'critical_speed')}, "
+            "max closure "
             f"{self.max_closure:.1e} rad)"
         ]
 
@@ -261,9 +256,13 @@ class StiffnessMassMap(Record):
     _keys = ("rows", Key("K0", "stiffness"), Key("N0", "lateral_mass"), "factors", "angle")
     _units = {"K0": "N/m", "N0": "kg", "angle": "rad"}
 
-    def casters(self) -> list[str]:
-        """The casters of the map, in order."""
-        return list(dict.fromkeys(r.caster for r in self.rows))
+    def casters(self) -> list[tuple[str, list[MapCell], MapCell]]:
+        """The casters of the map, in order: (name, its cells, its cell at the defaults K0, N0)."""
+        out = []
+        for name in dict.fromkeys(r.caster for r in self.rows):
+            cells = [r for r in self.rows if r.caster == name]
+            out.append((name, cells, next(r for r in cells if r.stiffness_factor == 1.0 and r.mass_factor == 1.0)))
+        return out
 
     def to_pandas(self) -> Any:
         """One row per cell (the columns of stiffness_mass_map.csv)."""
@@ -380,7 +379,8 @@ class LimitCycleStudy(Record):
         ref = self.bifurcation.stable_at_reference
         amplitude = "none" if ref is None else f"{ref.amplitude:.3g} rad"
         return [
-            f"LimitCycleStudy({'quick' if self.quick else 'full'}): fold {_number(self.bifurcation.fold_speed)} m/s, "
+            f"LimitCycleStudy({'quick' if self.quick else 'full'}): "
+            f"fold {shown(self.bifurcation.fold_speed, dimension='speed')}, "
             f"stable amplitude at {self.measured_speed:.4g} m/s {amplitude} (measured {self.measured_amplitude:.3g} rad)",
             f"  {len(self.friction)} friction coefficients, {len(self.table1.rows)} Table 1 wheels, "
             f"{len(self.stiffness_mass_map.rows)} map cells, {self.seconds:.0f} s",
@@ -389,16 +389,11 @@ class LimitCycleStudy(Record):
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         ref = self.bifurcation.stable_at_reference
         rows: list[tuple[Any, Any, Any]] = [
-            ("fold speed (brush tyre)", _number(self.bifurcation.fold_speed), "m/s"),
+            ("fold speed (brush tyre)", number(self.bifurcation.fold_speed, dimension="speed"), "m/s"),
             ("stable amplitude at the measured V_c", "none" if ref is None else f"{ref.amplitude:.4g}", "rad"),
             ("measured V_c", f"{self.measured_speed:.4g}", "m/s"),
             ("measured amplitude", f"{self.measured_amplitude:.4g}", "rad"),
         ]
-        rows += [(f"knock-safe speed {k}", _number(v), "m/s") for k, v in self.knock_safe.items()]
+        rows += [(f"knock-safe speed {k}", number(v, dimension="speed"), "m/s") for k, v in self.knock_safe.items()]
         rows += [(f"Table 1 RMS error {k}", f"{100 * s.rms:.1f}", "%") for k, s in self.table1.stats.items()]
         return rows
-
-
-def max_abs_multiplier(orbit: PeriodicOrbit | None) -> float:
-    """Largest |Floquet multiplier| of ``orbit`` [-], NaN for None."""
-    return math.nan if orbit is None else float(np.max(np.abs(orbit.multipliers)))

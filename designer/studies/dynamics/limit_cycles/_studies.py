@@ -27,7 +27,6 @@ from designer.studies.dynamics.limit_cycles._results import (
     StiffnessMassMap,
     Table1Comparison,
     Table1Row,
-    max_abs_multiplier,
 )
 from designer.data.paper import (
     APPENDIX_C_CASE,
@@ -181,16 +180,9 @@ def table1_comparison(
     for i, wheel in enumerate(TABLE1):
         cond = conditions.replace(inertia=Fixed(wheel.inertia))
         design = Design(trail=TABLE1_TRAIL, diameter=wheel.diameter, groove=0.0, damping=1.3)
-        v7 = float(
-            critical_speed(
-                TABLE1_TRAIL,
-                wheel.inertia,
-                0.0,
-                1.3 * conditions.disturbance_angle / theta,
-                conditions.slip_coefficient,
-            )
-        )
-        rolling = knock_onset_speed(caster_dynamics(design, cond, 1.0, None), theta, rtol=rtol)
+        rolling_sys = caster_dynamics(design, cond, 1.0, None)
+        v7 = rolling_sys.eq7_speed(theta)  # Eq. 7 with c_f,eff = M_f/θ_i
+        rolling = knock_onset_speed(rolling_sys, theta, rtol=rtol)
         wheel_tyre = tyre.replace(wheel_mass=wheel.mass)
         slipping = knock_onset_speed(
             caster_dynamics(design, cond, 1.0, wheel_tyre), theta, rtol=rtol, guess=rolling.speed
@@ -296,7 +288,7 @@ def stiffness_mass_map(
                         tyre_onset_monotone=scan.monotone,
                         tyre_onset_below_scan=scan.below_scan,
                         stable_amplitude=math.nan if orb is None else orb.amplitude,
-                        stable_max_multiplier=max_abs_multiplier(orb),
+                        stable_max_multiplier=math.nan if orb is None else orb.max_abs_multiplier,
                     )
                 )
                 done += 1
@@ -347,7 +339,7 @@ def friction_sensitivity(
                 fold_speed=math.nan if fold is None else fold.speed,
                 fold_amplitude=math.nan if fold is None else fold.amplitude,
                 stable_amplitude=math.nan if orb is None else orb.amplitude,
-                max_abs_multiplier=max_abs_multiplier(orb),
+                max_abs_multiplier=math.nan if orb is None else orb.max_abs_multiplier,
                 closure=math.nan if orb is None else orb.closure,
             )
         )

@@ -178,10 +178,15 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
     max_step: float = math.inf,
     rtol: float = _RTOL,
     max_switches: int = 20_000,
+    exact: bool = False,
 ) -> _Run:
     """Integrate from y0 until t_end, |θ| = angle_limit, or the end of a slip of sign ``stop_at_end_of``: slips
     by DOP853 until θ' = 0, sticks until the held moment reaches M_f (the one stick-slip integrator of the room,
-    :func:`designer.studies.dynamics.simulate` too).  ``record`` keeps the trace and the times θ = 0."""
+    :func:`designer.studies.dynamics.simulate` too).  ``record`` keeps the trace and the times θ = 0.
+
+    ``exact`` (rolling model; not with ``record``): each phase in closed form, a slip by :meth:`_LinearSlip.slip`,
+    a stick exactly (X moves at −V θ, T K X reaches the friction moment at a known time); the same events and
+    grazing rule, about ten times less CPU.  Ignored where the slip flow is (nearly) defective or with a tyre."""
     from scipy.integrate import solve_ivp  # heavy import, only for time integration
 
     n = sys.size
@@ -199,6 +204,9 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
     slips: list = []
     crossings: list = []
     switches = 0
+
+    flow = _LinearSlip(sys) if exact and sys.tyre is None and not record else None
+    flow = flow if flow is not None and flow.ok else None
 
     def done(state, time: float, reason: str) -> _Run:
         return _Run(ts, ys, ends, state, time, reason, switches, slips, crossings)
@@ -232,50 +240,67 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
         return yy[ith]
 
     while t < t_end and switches < max_switches:
-        spend(10)  # a phase costs about ten evaluations more than its integration counts
+        if flow is None:
+            spend(10)  # a phase costs about ten evaluations more than its integration counts
         if s == 0.0:
             level = M_f if graze_level is None else graze_level
-
-            def unstick(_t, yy, level=level):
-                return abs(sys.hold_moment(yy)) - level
-
-            unstick.terminal = True
-            unstick.direction = 1
-            sol = phase(0.0, unstick)
             graze_level = None
-            if sol.status < 0:
-                raise SolverError(f"shimmy integration failed in stick at t = {t:.4g} s: {sol.message}")
-            if record:
-                ts.extend(sol.t[1:]), ys.extend(sol.y[:, 1:].T)
-            if not sol.t_events[0].size:
-                return done(sol.y[:, -1], t_end, "rest")
-            t = float(sol.t_events[0][0])
-            y = np.array(sol.y_events[0][0], dtype=float)
-            y[iw] = 0.0
+            if flow is not None:
+                th = y[1]
+                # X' = −V θ: |T K X| (at most the level now) reaches the level on the side −sgn θ at t + dt
+                target = stick_release(th, level, sys.trail, sys.stiffness)
+                dt = max((y[0] - target) / (sys.speed * th), 0.0) if th != 0 else math.inf
+                if t + dt > t_end:
+                    y[0] -= sys.speed * th * (t_end - t)
+                    return done(y, t_end, "rest")
+                t, y = float(t + dt), np.array([target, th, 0.0])
+            else:
+
+                def unstick(_t, yy, level=level):
+                    return abs(sys.hold_moment(yy)) - level
+
+                unstick.terminal = True
+                unstick.direction = 1
+                sol = phase(0.0, unstick)
+                if sol.status < 0:
+                    raise SolverError(f"shimmy integration failed in stick at t = {t:.4g} s: {sol.message}")
+                if record:
+                    ts.extend(sol.t[1:]), ys.extend(sol.y[:, 1:].T)
+                if not sol.t_events[0].size:
+                    return done(sol.y[:, -1], t_end, "rest")
+                t = float(sol.t_events[0][0])
+                y = np.array(sol.y_events[0][0], dtype=float)
+                y[iw] = 0.0
             s = float(np.sign(sys.hold_moment(y))) or -math.copysign(1.0, y[ith])  # M_f = 0: X' = −Vθ decides
             switches += 1
             continue
 
         y[iw] = y[iw] if y[iw] * s > 0 else s * tiny  # start the slip just off θ' = 0
         slips.append((t, s, float(y[ith])))
+        if flow is not None:
+            kind, t_hit, y_hit = flow.slip(s, y, t, t_end, angle_limit)
+            if kind != "stop":
+                return done(y_hit, t_hit, kind)
+            t_start, t, y = t, t_hit, y_hit
+        else:
 
-        def stop(_t, yy, s=s):
-            return s * yy[iw]
+            def stop(_t, yy, s=s):
+                return s * yy[iw]
 
-        stop.terminal = True
-        stop.direction = -1
-        sol = phase(s, stop)
-        if sol.status < 0:
-            raise SolverError(f"shimmy integration failed at t = {t:.4g} s: {sol.message}")
-        if record:
-            ts.extend(sol.t[1:]), ys.extend(sol.y[:, 1:].T)
-            crossings.extend(sol.t_events[2])
-        if sol.t_events[1].size:
-            return done(np.array(sol.y_events[1][0]), float(sol.t_events[1][0]), "limit")
-        if not sol.t_events[0].size:
-            return done(sol.y[:, -1], t_end, "end")
-        t_start, t = t, float(sol.t_events[0][0])
-        y = np.array(sol.y_events[0][0], dtype=float)
+            stop.terminal = True
+            stop.direction = -1
+            sol = phase(s, stop)
+            if sol.status < 0:
+                raise SolverError(f"shimmy integration failed at t = {t:.4g} s: {sol.message}")
+            if record:
+                ts.extend(sol.t[1:]), ys.extend(sol.y[:, 1:].T)
+                crossings.extend(sol.t_events[2])
+            if sol.t_events[1].size:
+                return done(np.array(sol.y_events[1][0]), float(sol.t_events[1][0]), "limit")
+            if not sol.t_events[0].size:
+                return done(sol.y[:, -1], t_end, "end")
+            t_start, t = t, float(sol.t_events[0][0])
+            y = np.array(sol.y_events[0][0], dtype=float)
         y[iw] = 0.0
         switches += 1
         ends.append((t, float(y[ith]), s, y.copy()))
@@ -300,13 +325,16 @@ class _LinearSlip:
     A and the equilibrium y_p of :func:`designer.physics.motion.slip_matrix`.
     """
 
-    def __init__(self, sys: CasterDynamics):
+    def __init__(self, sys: CasterDynamics, grid: int = 64):
         T, K, V = sys.trail, sys.stiffness, sys.speed
         J, D = rolling_coefficients(T, sys.inertia, sys.lateral_mass, V, sys.groove_coefficient)
         self.lam, self.P = np.linalg.eig(slip_matrix(T, K, V, J, D))
         self.ok = bool(np.linalg.cond(self.P) < 1e8)  # not (nearly) defective: else fall back to DOP853
         self.Pinv = np.linalg.inv(self.P) if self.ok else None
         self.sys = sys
+        self.grid = grid
+        self.period = 2 * math.pi / sys.frequency
+        self.taus = np.linspace(0.0, self.period, grid + 1)[1:]
 
     def start(self, s: float, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(y_p, P⁻¹ (y0 − y_p)) of a slip of sign s from y0: what :meth:`states` and :meth:`event` need."""
@@ -316,10 +344,6 @@ class _LinearSlip:
     def states(self, yp: np.ndarray, z0: np.ndarray, tau: np.ndarray) -> np.ndarray:
         """States at times ``tau`` [s] after the start (yp, z0) of :meth:`start` (shape (3, len(tau)))."""
         return yp[:, None] + (self.P @ (z0[:, None] * np.exp(self.lam[:, None] * tau))).real
-
-    def at(self, s: float, y0: np.ndarray, tau: np.ndarray) -> np.ndarray:
-        """States at times ``tau`` [s] after y0 (shape (3, len(tau)))."""
-        return self.states(*self.start(s, y0), tau)
 
     def event(self, s: float, yp: np.ndarray, z0: np.ndarray, row: int, limit: float | None):
         """τ -> s θ'(τ) (end of the slip, ``row`` 2) or limit − |θ(τ)| (``row`` 1) after the start (yp, z0) of
@@ -334,73 +358,16 @@ class _LinearSlip:
             return lambda tau: s * (base + (0 + c0 * exp(l0 * tau) + c1 * exp(l1 * tau) + c2 * exp(l2 * tau)).real)
         return lambda tau: limit - abs(base + (0 + c0 * exp(l0 * tau) + c1 * exp(l1 * tau) + c2 * exp(l2 * tau)).real)
 
-
-def _root(f, a: float, b: float) -> float:
-    """First τ in [a, b] where f (positive before the event) reaches 0, to rounding: a if f(a) <= 0 already
-    (the grid saw f(a) > 0 up to rounding), b if f(b) > 0 still, else the bracketed root to rounding
-    (:func:`designer.physics.bracketed_root`, regula falsi: no scipy.optimize import in the main job)."""
-    fa, fb = f(a), f(b)
-    if fa <= 0:
-        return float(a)
-    if fb > 0:
-        return float(b)
-    return bracketed_root(f, a, b, xtol=1e-16, rtol=4 * _EPS, maxiter=200)
-
-
-# long: the stick/slip event loop of _integrate, with each phase solved in closed form
-def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per event, as _integrate
-    sys: CasterDynamics, y0, t_end: float, angle_limit: float = math.inf, grid: int = 64, max_switches: int = 20_000
-) -> _Run | None:
-    """:func:`_integrate` for the rolling model (no ``record``, no section stop) with each phase in closed
-    form: a slip by :class:`_LinearSlip` (events found on ``grid`` points per period of Eq. 15B, then to
-    rounding by :func:`_root`), a stick exactly (X moves at −V θ, T K X reaches the friction moment at a known time).
-
-    The same events, the same grazing rule and the same run record as :func:`_integrate`; about ten times
-    less CPU.  Returns None when the slip flow is (nearly) defective, where the caller falls back.
-    """
-    if sys.tyre is not None:
-        raise InputError("the closed-form integration is for the rolling model (tyre = None) only")
-    flow = _LinearSlip(sys)
-    if not flow.ok:
-        return None
-    M_f, V = sys.friction_moment, sys.speed
-    period = 2 * math.pi / sys.frequency
-    taus = np.linspace(0.0, period, grid + 1)[1:]
-    y = np.array(y0, dtype=float)
-    t = 0.0
-    ends: list = []
-    switches = 0
-    scale = max(abs(float(y[1])), 1e-6)
-    tiny = 1e-13 * max(scale, 1e-3) * sys.frequency
-
-    def decide(state) -> float:
-        h = held_moment(state[0], sys.trail, sys.stiffness)
-        return float(np.sign(h)) if abs(h) > M_f else 0.0
-
-    s = float(np.sign(y[2])) if y[2] != 0 else decide(y)
-    graze_level = None
-    while t < t_end and switches < max_switches:
-        if s == 0.0:
-            level = M_f if graze_level is None else graze_level
-            graze_level = None
-            th = y[1]
-            # X' = −V θ: |T K X| (at most the level now) reaches the level on the side −sgn θ at t + dt
-            target = stick_release(th, level, sys.trail, sys.stiffness)
-            dt = max((y[0] - target) / (V * th), 0.0) if th != 0 else math.inf
-            if t + dt > t_end:
-                y[0] -= V * th * (t_end - t)
-                return _Run([], [], ends, y, t_end, "rest", switches)
-            t = float(t + dt)
-            y = np.array([target, th, 0.0])
-            s = float(np.sign(held_moment(y[0], sys.trail, sys.stiffness))) or -math.copysign(1.0, th)
-            switches += 1
-            continue
-        y[2] = y[2] if y[2] * s > 0 else s * tiny  # start the slip just off θ' = 0
-        t0, base = t, 0.0
-        yp, z0 = flow.start(s, y)
+    def slip(self, s: float, y: np.ndarray, t0: float, t_end: float, angle_limit: float):
+        """The slip of sign s from state y at time t0 in closed form: ``(kind, t, state)`` at its end, kind
+        "stop" (θ' = 0), "limit" (|θ| = angle_limit) or "end" (t_end).  The events are found on ``grid`` points
+        per period of Eq. 15B, then to rounding by :func:`_root`."""
+        grid, taus, period = self.grid, self.taus, self.period
+        base = 0.0
+        yp, z0 = self.start(s, y)
         while True:  # one period of grid points at a time
             spend(1)
-            pts = flow.states(yp, z0, base + taus)
+            pts = self.states(yp, z0, base + taus)
             stop = np.nonzero(s * pts[2] <= 0)[0]
             over = np.nonzero(np.abs(pts[1]) >= angle_limit)[0]
             k_stop = stop[0] if stop.size else grid
@@ -416,7 +383,7 @@ def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per even
                 hits.append(
                     (
                         _root(
-                            flow.event(s, yp, z0, row, angle_limit if row == 1 else None),
+                            self.event(s, yp, z0, row, angle_limit if row == 1 else None),
                             base + (taus[k - 1] if k > 0 else 0.0),
                             base + taus[k],
                         ),
@@ -424,24 +391,21 @@ def _integrate_exact(  # noqa: C901 - stick/slip event loop: one branch per even
                     )
                 )
         if not hits or t0 + min(hits)[0] > t_end:
-            y = flow.states(yp, z0, np.array([t_end - t0]))[:, 0]
-            return _Run([], [], ends, y, t_end, "end", switches)
+            return "end", t_end, self.states(yp, z0, np.array([t_end - t0]))[:, 0]
         tau, kind = min(hits)
-        y = flow.states(yp, z0, np.array([tau]))[:, 0]
-        t = float(t0 + tau)
-        if kind == "limit":
-            return _Run([], [], ends, y, t, "limit", switches)
-        y[2] = 0.0
-        switches += 1
-        ends.append((t, float(y[1]), s, y.copy()))
-        new = decide(y)
-        if new == s and t - t0 < 1e-9 / sys.frequency:
-            new = 0.0  # grazing, as in _integrate
-            graze_level = abs(held_moment(y[0], sys.trail, sys.stiffness)) * (1 + 1e-9)
-        s = new
-    if switches >= max_switches:
-        raise SolverError(f"shimmy integration: more than {max_switches} stick/slip switches before t = {t_end:g} s")
-    return _Run([], [], ends, y, t, "end", switches)
+        return kind, float(t0 + tau), self.states(yp, z0, np.array([tau]))[:, 0]
+
+
+def _root(f, a: float, b: float) -> float:
+    """First τ in [a, b] where f (positive before the event) reaches 0, to rounding: a if f(a) <= 0 already
+    (the grid saw f(a) > 0 up to rounding), b if f(b) > 0 still, else the bracketed root to rounding
+    (:func:`designer.physics.bracketed_root`, regula falsi: no scipy.optimize import in the main job)."""
+    fa, fb = f(a), f(b)
+    if fa <= 0:
+        return float(a)
+    if fb > 0:
+        return float(b)
+    return bracketed_root(f, a, b, xtol=1e-16, rtol=4 * _EPS, maxiter=200)
 
 
 def _extrema(ends) -> np.ndarray:
@@ -473,7 +437,7 @@ def simulate_knock(
     cycles : periods of Eq. 15B simulated after the aligning transient 3T/V
     angle_limit : stop when |θ| reaches it [rad] (shimmy has grown out of the small-angle model)
     record : keep the trace
-    exact : rolling model only: integrate each stick and slip phase in closed form (:func:`_integrate_exact`,
+    exact : rolling model only: integrate each stick and slip phase in closed form (:func:`_integrate` ``exact``,
         about ten times faster; the verdict agrees with DOP853 at rtol 1e-10 except within about 1e-4 of
         the onset speed) instead of DOP853; ignored with the brush tyre or ``record``
     """
@@ -483,11 +447,8 @@ def simulate_knock(
     transient = max(3 * sys.trail / sys.speed, period)
     duration = transient + cycles * period
     y0 = sys.knock_state(angle, angular_velocity)
-    run = _integrate_exact(sys, y0, duration, angle_limit) if exact and sys.tyre is None and not record else None
-    if run is None:
-        run = _integrate(
-            sys, y0, duration, angle_limit=angle_limit, record=record, max_step=period / 40 if record else math.inf
-        )
+    max_step = period / 40 if record else math.inf
+    run = _integrate(sys, y0, duration, angle_limit=angle_limit, record=record, max_step=max_step, exact=exact)
     ext = _extrema(run.ends)
     half = np.abs(np.diff(ext[:, 1])) / 2 if len(ext) > 1 else np.empty(0)
     times = ext[1:, 0] if len(ext) > 1 else np.empty(0)
