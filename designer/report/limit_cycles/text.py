@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from designer.display import number, shown
+from designer.report.formatting import fmt
 from designer.units import MISSING
 
 
@@ -152,7 +153,7 @@ def _friction_text(fric: list, meas: dict) -> list[tuple]:
             number(r.fold_speed, dimension="speed"),
             number(r.fold_amplitude, dimension="angle"),
             number(r.stable_amplitude, dimension="angle"),
-            number(math.degrees(r.stable_amplitude), dimension="angle", digits=1),  # in degrees
+            fmt(math.degrees(r.stable_amplitude), ".1f"),
             number(r.max_abs_multiplier),
         ]
         for r in fric
@@ -342,7 +343,7 @@ def _map_summary(kn) -> list[str]:
         lines.append(
             f"{name}: stable amplitude at {_speed(base.measured)} {number(lo, dimension='angle')}–{_angle(hi)} "
             f"(default {_angle(base.stable_amplitude)}); no stable cycle in {int(np.sum(~np.isfinite(a)))} of "
-            f"{a.size} cells; smallest {number(math.degrees(lo), dimension='angle', digits=0)}° against the measured 8°"
+            f"{a.size} cells; smallest {fmt(math.degrees(lo), '.0f')}° against the measured 8°"
         )
     return lines
 

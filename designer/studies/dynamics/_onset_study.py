@@ -151,22 +151,19 @@ def write_simulation_report(
             },
         }
     )
-    _write_csv(out / "onset.csv", rows)
     # the run time stays out of the committed files (it is in the returned summary): a rerun writes the same bytes
     kept = {k: v for k, v in summary.items() if k != "seconds"}
-    write_file(
-        out / "onset.json",
-        json.dumps(stamped("onset.json", {"summary": kept, "rows": rows}), indent=2),
-        "--report",
-        "onset.json",
-        kind=ONSET_KINDS["onset.json"],
-    )
     png = io.BytesIO()
     figure_onset_comparison(rows, traces, onset_c).savefig(png, format="png", dpi=110, metadata={"Software": SOFTWARE})
-    write_file(out / "onset.png", png.getvalue(), "--report", "onset.png", kind=ONSET_KINDS["onset.png"])
-    write_file(
-        out / "report.md", _report_markdown(rows, summary), "--report", "report.md", kind=ONSET_KINDS["report.md"]
-    )
+    files = {
+        # onset.csv: one line per case, floats to 6 significant digits, each quantity's unit in its column
+        "onset.csv": csv_text(dict_rows(rows, list(rows[0]), "{:.6g}", quantities=ONSET_CSV_QUANTITIES)),
+        "onset.json": json.dumps(stamped("onset.json", {"summary": kept, "rows": rows}), indent=2),
+        "onset.png": png.getvalue(),
+        "report.md": _report_markdown(rows, summary),
+    }
+    for name, content in files.items():
+        write_file(out / name, content, "--report", name, kind=ONSET_KINDS[name])
     return OnsetStudy(rows=rows, summary=summary)
 
 
@@ -220,12 +217,6 @@ ONSET_CSV_QUANTITIES = {
 }
 """The quantities of onset.csv that do not name their unit in the row's key, and their dimensions: each column names
 its unit (the one rule, :func:`designer.textfiles.dict_rows`: ``onset_speed_m_per_s``, ``omega_eq15b_rad_per_s``)."""
-
-
-def _write_csv(path: Path, rows: list[dict]) -> None:
-    """``onset.csv``: one line per case, floats to 6 significant digits, each quantity's unit in its column."""
-    table = dict_rows(rows, list(rows[0]), "{:.6g}", quantities=ONSET_CSV_QUANTITIES)
-    write_file(path, csv_text(table), "--report", "onset.csv", kind=ONSET_KINDS["onset.csv"])
 
 
 def _summarise(rows) -> dict:

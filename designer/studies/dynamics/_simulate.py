@@ -212,8 +212,7 @@ def _amplitudes(ext: np.ndarray, transient: float, period: float, end: float, di
     """(early, late) amplitude [rad]: the mean half peak-to-peak of the swings (between the reversals
     ``ext``) over two periods after the aligning transient and over the last two periods (``angle_limit``
     if |θ| reached it)."""
-    half = np.abs(np.diff(ext[:, 1])) / 2 if ext.shape[0] >= 2 else np.empty(0)
-    half_times = ext[1:, 0] if ext.shape[0] >= 2 else np.empty(0)
+    half, half_times = np.abs(np.diff(ext[:, 1])) / 2, ext[1:, 0]  # the swings and when they end (none: empty)
 
     def window_amplitude(lo, hi, first_after=False):
         """Mean half peak-to-peak of the swings ending in [lo, hi] [rad]."""

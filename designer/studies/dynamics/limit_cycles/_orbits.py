@@ -79,7 +79,9 @@ def _weights(sys: CasterDynamics) -> np.ndarray:
     return np.array([1 / T, 1 / (w * T), 1.0]) if sys.tyre is not None else np.array([1 / T, 1.0])
 
 
-def _full_period(sys: CasterDynamics, z: np.ndarray, signs=(-1.0, 1.0)) -> tuple[np.ndarray | None, float]:
+def _full_period(
+    sys: CasterDynamics, z: np.ndarray, signs: tuple[float, ...] = (-1.0, 1.0)
+) -> tuple[np.ndarray | None, float]:
     """Section state after one full period (no symmetry used) and the period [s]; ``signs`` (-1.0,): after half
     of it, at the next minimum of θ (None where the motion stops first)."""
     period = 2 * math.pi / sys.frequency
@@ -360,22 +362,26 @@ def periodic_orbit_at_speed(
 
 
 def stable_orbit(
-    sys: CasterDynamics, angle: float = 0.6, cycles: float = 80.0, angle_limit: float = 6.0
+    sys: CasterDynamics, angles: Iterable[float] = (0.6, 1.2, 0.3, 2.4), cycles: float = 40.0, angle_limit: float = 6.0
 ) -> PeriodicOrbit | None:
-    """Sustained shimmy at the speed of ``sys``: simulate a knock θ_i = ``angle`` [rad] for ``cycles`` periods,
-    then polish the last maximum into a periodic orbit (:func:`periodic_orbit_at_speed`).
+    """Sustained shimmy at the speed of ``sys``: simulate a knock θ_i [rad] of each of ``angles`` in turn for
+    ``cycles`` periods, then polish the last maximum into a periodic orbit (:func:`periodic_orbit_at_speed`);
+    the first stable orbit so found.
 
-    Returns None if the knock decays (no stable cycle reached from it) or |θ| passes ``angle_limit``.
+    Returns None if every knock decays (no stable cycle reached from it), |θ| passes ``angle_limit`` or the
+    integration or the polish fails.
     """
     period = 2 * math.pi / sys.frequency
-    run = _integrate(sys, sys.knock_state(angle), cycles * period, angle_limit=angle_limit)
-    if run.reason != "end":
-        return None
-    maxima = [e for e in run.ends if e[2] > 0]
-    if not maxima:
-        return None
-    orb = periodic_orbit_at_speed(sys, maxima[-1][3])
-    return orb if orb.stable else None
+    for angle in angles:
+        try:
+            run = _integrate(sys, sys.knock_state(angle), cycles * period, angle_limit=angle_limit)
+            maxima = [e for e in run.ends if e[2] > 0] if run.reason == "end" else []
+            orb = periodic_orbit_at_speed(sys, maxima[-1][3]) if maxima else None
+        except SolverError:
+            orb = None
+        if orb is not None and orb.stable:
+            return orb
+    return None
 
 
 def speed_sweep(sys: CasterDynamics, speeds: Iterable[float], start: PeriodicOrbit) -> Branch:
@@ -392,14 +398,3 @@ def speed_sweep(sys: CasterDynamics, speeds: Iterable[float], start: PeriodicOrb
         orbits.append(orb)
         z = orb.state
     return Branch(orbits=orbits, failed=failed)
-
-
-def _find_stable(sys: CasterDynamics, angles: Iterable[float] = (0.6, 1.2, 0.3, 2.4)) -> PeriodicOrbit | None:
-    for a in angles:
-        try:
-            orb = stable_orbit(sys, angle=a, cycles=40.0)
-        except SolverError:
-            orb = None
-        if orb is not None:
-            return orb
-    return None

@@ -13,9 +13,9 @@ from designer.studies.dynamics.limit_cycles._knock import knock_onset_speed, kno
 from designer.studies.dynamics.limit_cycles._orbits import (
     Branch,
     PeriodicOrbit,
-    _find_stable,
     continue_orbits,
     speed_sweep,
+    stable_orbit,
 )
 from designer.studies.dynamics.limit_cycles._results import (
     BifurcationDiagram,
@@ -138,7 +138,7 @@ def _stable_branch(sys, tyre, ref: float, lo: float, hi: float, points: int):
     stable_ref = None
     stable_orbits: list[PeriodicOrbit] = []
     if tyre is not None:
-        stable_ref = _find_stable(sys.at(ref))
+        stable_ref = stable_orbit(sys.at(ref))
         if stable_ref is not None:
             down = speed_sweep(sys, np.geomspace(ref, lo, max(5, 2 * points // 3))[1:], stable_ref)
             up = speed_sweep(sys, np.geomspace(ref, hi, max(4, points // 3))[1:], stable_ref)
@@ -272,7 +272,7 @@ def stiffness_mass_map(
                 t = tyre.replace(wheel_mass=mass)
                 sys_t = caster_dynamics(design, cond, 1.0, t)
                 scan = scanned_onset_speed(sys_t, theta, np.geomspace(0.2, 4.0, 13) * measured, rtol=rtol)
-                orb = _find_stable(sys_t.at(measured))
+                orb = stable_orbit(sys_t.at(measured))
                 rows.append(
                     MapCell(
                         caster=name,
@@ -332,7 +332,7 @@ def friction_sensitivity(
         branch = continue_orbits(sys, np.geomspace(0.03, 3.0, 26))
         stable = [o for o in branch.orbits if o.stable]
         fold = min(branch.orbits, key=lambda o: o.speed) if stable else None
-        orb = _find_stable(sys, angles=(0.6, 1.2, 0.3, 2.4, 0.15))
+        orb = stable_orbit(sys, angles=(0.6, 1.2, 0.3, 2.4, 0.15))
         rows.append(
             FrictionPoint(
                 friction_coefficient=float(mu),

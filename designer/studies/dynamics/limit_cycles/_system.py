@@ -410,10 +410,7 @@ def _root(f, a: float, b: float) -> float:
 
 def _extrema(ends) -> np.ndarray:
     """(t, θ) where θ reverses: the end of a slip phase followed by a slip of the other sign."""
-    out = []
-    for k, (t, th, s, _y) in enumerate(ends):
-        if k + 1 == len(ends) or ends[k + 1][2] != s:
-            out.append((t, th))
+    out = [(t, th) for k, (t, th, s, _) in enumerate(ends) if k + 1 == len(ends) or ends[k + 1][2] != s]
     return np.asarray(out, dtype=float).reshape(-1, 2)
 
 
@@ -450,8 +447,7 @@ def simulate_knock(
     max_step = period / 40 if record else math.inf
     run = _integrate(sys, y0, duration, angle_limit=angle_limit, record=record, max_step=max_step, exact=exact)
     ext = _extrema(run.ends)
-    half = np.abs(np.diff(ext[:, 1])) / 2 if len(ext) > 1 else np.empty(0)
-    times = ext[1:, 0] if len(ext) > 1 else np.empty(0)
+    half, times = np.abs(np.diff(ext[:, 1])) / 2, ext[1:, 0]  # the swings and when they end (none: empty)
     early_sel = (times >= transient) & (times < transient + 2 * period)
     early = float(half[early_sel].mean()) if early_sel.any() else (float(half[0]) if half.size else 0.0)
     end = run.time
