@@ -12,7 +12,6 @@ from typing import Any
 
 import numpy as np
 
-from designer.display import number, shown
 from designer.plots.simulation import plot_knock
 from designer.reprs import Key, Record, dataframe
 from designer.plots.svg import svg_sparkline
@@ -85,13 +84,13 @@ class SimulationResult(Record):
     def _repr_lines(self) -> list[str]:
         """Two lines: speed, knock, verdict and amplitudes; frequency, Eq. 7 V_c and the trace length."""
         verdict = "GROWS (shimmy)" if self.grows else "decays"
-        freq = number(self.frequency, "shimmy_frequency")
+        freq = f"{self.frequency:.4g}" if math.isfinite(self.frequency) else "n/a"
         return [
             f"SimulationResult(V {self.speed:.3g} m/s, knock {math.degrees(self.angle):.3g}°: {verdict}; "
             f"amplitude {self.early_amplitude:.3g} → {self.late_amplitude:.3g} rad, Eq. 29B "
             f"{self.predicted_amplitude:.3g} rad)",
-            f"  ω {freq} rad/s (Eq. 15B {number(self.predicted_frequency, 'shimmy_frequency')}), "
-            f"Eq. 7 V_c {shown(self.critical_speed, 'critical_speed')}, {len(self.t)} samples over {self._end():.3g} s",
+            f"  ω {freq} rad/s (Eq. 15B {self.predicted_frequency:.4g}), "
+            f"Eq. 7 V_c {self.critical_speed:.4g} m/s, {len(self.t)} samples over {self._end():.3g} s",
         ]
 
     def _end(self) -> float:
@@ -106,9 +105,9 @@ class SimulationResult(Record):
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """A compact table with units (notebooks; no integration runs): the verdict, the amplitudes beside Eq. 4 /
         29B's, the frequency beside Eq. 15B's and Eq. 7's V_c at the friction's effective damping."""
-        deg, freq = math.degrees, number(self.frequency, "shimmy_frequency")
+        deg = math.degrees
         return [
-            ("speed V", number(self.speed, dimension="speed"), "m/s"),
+            ("speed V", f"{self.speed:.4g}", "m/s"),
             ("knock θ_i (θ'_i)", f"{deg(self.angle):.3g}° ({self.angular_velocity:.3g} rad/s)", ""),
             (
                 "verdict",
@@ -117,11 +116,16 @@ class SimulationResult(Record):
             ),
             ("amplitude after the transient", f"{self.early_amplitude:.4g} ({deg(self.early_amplitude):.3g}°)", "rad"),
             ("amplitude at the end", f"{self.late_amplitude:.4g} ({deg(self.late_amplitude):.3g}°)", "rad"),
-            ("Eq. 4 / 29B amplitude θ_i V/(ωT)", number(self.predicted_amplitude, dimension="angle"), "rad"),
-            ("frequency (Eq. 15B)", f"{freq} ({number(self.predicted_frequency, 'shimmy_frequency')})", "rad/s"),
-            ("Eq. 7 V_c (c_f,eff = M_f/θ_i)", number(self.critical_speed, "critical_speed"), "m/s"),
-            ("friction moment M_f", number(self.friction_moment, dimension="moment"), "N·m"),
-            ("wheel inertia I_w", number(self.inertia, "inertia"), "kg·m²"),
+            ("Eq. 4 / 29B amplitude θ_i V/(ωT)", f"{self.predicted_amplitude:.4g}", "rad"),
+            (
+                "frequency (Eq. 15B)",
+                (f"{self.frequency:.4g}" if math.isfinite(self.frequency) else "n/a")
+                + f" ({self.predicted_frequency:.4g})",
+                "rad/s",
+            ),
+            ("Eq. 7 V_c (c_f,eff = M_f/θ_i)", f"{self.critical_speed:.4g}", "m/s"),
+            ("friction moment M_f", f"{self.friction_moment:.4g}", "N·m"),
+            ("wheel inertia I_w", f"{self.inertia:.4g}", "kg·m²"),
             ("trace", f"{len(self.t)} samples, {self._end():.3g}", "s"),
         ]
 
