@@ -219,7 +219,7 @@ def _friction_text(fric: list, meas: dict) -> list[tuple]:
 def _knock_section(bif: Any, ks: dict) -> list[tuple]:
     """Knock-safe speeds of the Appendix C caster for knocks of θ0 and 2θ0, both tyres."""
     theta0 = bif.disturbance_angle
-    B: list[tuple] = [
+    return [
         ("h2", "Knock-safe speed"),
         (
             "p",
@@ -249,7 +249,6 @@ def _knock_section(bif: Any, ks: dict) -> list[tuple]:
             "request.",
         ),
     ]
-    return B
 
 
 def _table1_section(table: Any) -> list[tuple]:
@@ -311,7 +310,7 @@ def _table1_section(table: Any) -> list[tuple]:
 
 def _map_section(kn: Any) -> list[tuple]:
     """The unknowns K and N mapped: what moves over the grid and what does not."""
-    B: list[tuple] = [
+    return [
         ("h2", "The unknowns K and N mapped"),
         (
             "p",
@@ -322,9 +321,8 @@ def _map_section(kn: Any) -> list[tuple]:
         ),
         ("img", "stiffness_mass_map.png", "K, N map"),
         ("ul", _map_summary(kn)),
+        *_map_conclusions(kn),
     ]
-    B.extend(_map_conclusions(kn))
-    return B
 
 
 def _map_summary(kn) -> list[str]:

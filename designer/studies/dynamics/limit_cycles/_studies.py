@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 import time
 
@@ -255,45 +256,40 @@ def stiffness_mass_map(
     theta = float(conditions.disturbance_angle if angle is None else angle)
     rows = []
     total = len(casters) * len(factors) ** 2
-    done = 0
     for name, (design, inertia, mass, measured) in casters.items():
         k_s = conditions.slip_coefficient
         v7 = float(critical_speed(design.trail, inertia, design.groove, design.damping, k_s))
-        for fk in factors:
-            for fn in factors:
-                dyn = DynamicsParameters(
-                    frame_stiffness=K0 * fk, fork_mass=0.6 * N0 * fn, bearing_block_mass=0.4 * N0 * fn
+        for fk, fn in itertools.product(factors, factors):
+            dyn = DynamicsParameters(frame_stiffness=K0 * fk, fork_mass=0.6 * N0 * fn, bearing_block_mass=0.4 * N0 * fn)
+            cond = conditions.replace(inertia=Fixed(inertia), dynamics=dyn)
+            try:
+                rolling = knock_onset_speed(caster_dynamics(design, cond, 1.0, None), theta, rtol=rtol).speed
+            except SolverError:
+                rolling = math.nan
+            t = tyre.replace(wheel_mass=mass)
+            sys_t = caster_dynamics(design, cond, 1.0, t)
+            scan = scanned_onset_speed(sys_t, theta, np.geomspace(0.2, 4.0, 13) * measured, rtol=rtol)
+            orb = stable_orbit(sys_t.at(measured))
+            rows.append(
+                MapCell(
+                    caster=name,
+                    stiffness=K0 * fk,
+                    lateral_mass=N0 * fn,
+                    stiffness_factor=fk,
+                    mass_factor=fn,
+                    frequency=sys_t.frequency,
+                    eq7=v7,
+                    measured=measured,
+                    rolling_onset=rolling,
+                    tyre_onset=scan.speed,
+                    tyre_onset_monotone=scan.monotone,
+                    tyre_onset_below_scan=scan.below_scan,
+                    stable_amplitude=math.nan if orb is None else orb.amplitude,
+                    stable_max_multiplier=math.nan if orb is None else orb.max_abs_multiplier,
                 )
-                cond = conditions.replace(inertia=Fixed(inertia), dynamics=dyn)
-                try:
-                    rolling = knock_onset_speed(caster_dynamics(design, cond, 1.0, None), theta, rtol=rtol).speed
-                except SolverError:
-                    rolling = math.nan
-                t = tyre.replace(wheel_mass=mass)
-                sys_t = caster_dynamics(design, cond, 1.0, t)
-                scan = scanned_onset_speed(sys_t, theta, np.geomspace(0.2, 4.0, 13) * measured, rtol=rtol)
-                orb = stable_orbit(sys_t.at(measured))
-                rows.append(
-                    MapCell(
-                        caster=name,
-                        stiffness=K0 * fk,
-                        lateral_mass=N0 * fn,
-                        stiffness_factor=fk,
-                        mass_factor=fn,
-                        frequency=sys_t.frequency,
-                        eq7=v7,
-                        measured=measured,
-                        rolling_onset=rolling,
-                        tyre_onset=scan.speed,
-                        tyre_onset_monotone=scan.monotone,
-                        tyre_onset_below_scan=scan.below_scan,
-                        stable_amplitude=math.nan if orb is None else orb.amplitude,
-                        stable_max_multiplier=math.nan if orb is None else orb.max_abs_multiplier,
-                    )
-                )
-                done += 1
-                if progress is not None:
-                    progress(done, total)
+            )
+            if progress is not None:
+                progress(len(rows), total)
     return StiffnessMassMap(rows=rows, stiffness=K0, lateral_mass=N0, factors=list(factors), angle=theta)
 
 
@@ -363,10 +359,7 @@ def limit_cycle_study(progress=None, quick: bool = False) -> LimitCycleStudy:
     :class:`LimitCycleStudy` (``to_dict()``: the dict this function returned before).
     """
 
-    def say(text):
-        if progress is not None:
-            progress(text)
-
+    say = progress or (lambda text: None)
     t0 = time.perf_counter()
     design, cond = appendix_c_caster()
     say("bifurcation diagram (brush tyre)")

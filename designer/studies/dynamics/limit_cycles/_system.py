@@ -194,10 +194,7 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
     M_f = sys.friction_moment
     scale = max(abs(float(y0[ith])), 1e-6)
     f = scale * (rtol / _RTOL)  # absolute tolerances in proportion to the knock and to rtol
-    if n == 4:
-        atol = [1e-12 * f * sys.trail, 1e-12 * f * sys.speed, 1e-12 * f, 1e-10 * f]
-    else:
-        atol = [1e-12 * f * sys.trail, 1e-12 * f, 1e-10 * f]
+    atol = [1e-12 * f * sys.trail, *([1e-12 * f * sys.speed] if n == 4 else []), 1e-12 * f, 1e-10 * f]
     y = np.array(y0, dtype=float)
     t = 0.0
     ts, ys, ends = ([t], [y.copy()], []) if record else ([], [], [])
