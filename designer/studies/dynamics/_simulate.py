@@ -121,7 +121,7 @@ def simulate(  # long: its docstring documents every argument; the body (30 line
     rtol : float
         Relative tolerance of ``solve_ivp``.
     samples_per_period : int
-        Maximum step as a fraction of the Eq. 15B period (trace resolution).
+        Maximum step as a fraction of the Eq. 15B period (trace resolution; a stick, θ held, is kept at its ends).
 
     Returns
     -------
