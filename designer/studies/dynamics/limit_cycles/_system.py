@@ -208,8 +208,8 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
     def done(state, time: float, reason: str) -> _Run:
         return _Run(ts, ys, ends, state, time, reason, switches, slips, crossings)
 
-    def phase(sign: float, event):  # one stick (sign 0) or slip phase from (t, y) until ``event`` or t_end
-        return solve_ivp(
+    def phase(sign: float, event):  # one stick (sign 0) or slip phase from (t, y) until ``event`` or t_end, recorded
+        sol = solve_ivp(
             counted(sys.rhs(sign)),
             (t, t_end),
             y,
@@ -219,6 +219,12 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
             max_step=max_step if sign else math.inf,  # a stick holds θ: its trace needs no fine steps
             events=[event] if sign == 0.0 else [event, limit, cross] if record else [event, limit],
         )
+        if sol.status < 0:
+            raise SolverError(f"shimmy integration failed{'' if sign else ' in stick'} at t = {t:.4g} s: {sol.message}")
+        if record:
+            ts.extend(sol.t[1:]), ys.extend(sol.y[:, 1:].T)
+            crossings.extend(sol.t_events[2] if sign else [])
+        return sol
 
     def decide(state) -> float:
         h = sys.hold_moment(state)
@@ -259,10 +265,6 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
                 unstick.terminal = True
                 unstick.direction = 1
                 sol = phase(0.0, unstick)
-                if sol.status < 0:
-                    raise SolverError(f"shimmy integration failed in stick at t = {t:.4g} s: {sol.message}")
-                if record:
-                    ts.extend(sol.t[1:]), ys.extend(sol.y[:, 1:].T)
                 if not sol.t_events[0].size:
                     return done(sol.y[:, -1], t_end, "rest")
                 t = float(sol.t_events[0][0])
@@ -287,11 +289,6 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
             stop.terminal = True
             stop.direction = -1
             sol = phase(s, stop)
-            if sol.status < 0:
-                raise SolverError(f"shimmy integration failed at t = {t:.4g} s: {sol.message}")
-            if record:
-                ts.extend(sol.t[1:]), ys.extend(sol.y[:, 1:].T)
-                crossings.extend(sol.t_events[2])
             if sol.t_events[1].size:
                 return done(np.array(sol.y_events[1][0]), float(sol.t_events[1][0]), "limit")
             if not sol.t_events[0].size:
