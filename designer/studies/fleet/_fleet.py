@@ -53,8 +53,9 @@ from designer.reprs import Key, Record, dataframe
 from designer.studies.fleet._kmedian import ColumnDominance, KMedianSolution, kmedian_curve
 from designer.problem import Problem, example_problem, problem_argument
 from designer.solvers import one_solve_at_a_time
+from designer.studies.recommend import rule_text, weights_meaning
 from designer.studies.spec import Spec, caster_specs, mc_draws
-from designer.studies.fleet._table import Fleet, example_fleet, read_fleet
+from designer.studies.fleet._table import Fleet, read_fleet
 from designer.model import weighted
 from designer.studies.fleet._rule import (
     StockTable,
@@ -65,22 +66,6 @@ from designer.studies.fleet._rule import (
     recommend_chairs,
     stock_table,
 )
-
-__all__ = [
-    "CHUNK",
-    "DEFAULT_MAX_REGRET",
-    "FleetResult",
-    "choose_skus",
-    "evaluate_chairs",
-    "example_fleet",
-    "fleet",
-    "fleet_data",
-    "fleet_recommendations",
-    "fleet_run",
-    "read_fleet",
-    "stock_table",
-    "suggest_skus",
-]
 
 _LIFETIME = "designer.children"
 """Dask preload module of the local cluster's workers: each ends with its parent process."""
@@ -433,33 +418,25 @@ def sku_specs(result: FleetResult) -> list[Spec]:
     if sku is None or sku.assignment is None:
         return []
     problem, stock, fleet = result.problem, result.stock, result.fleet
-    u = scatter_of(problem.conditions)
+    u, slip = scatter_of(problem.conditions), problem.conditions.slip_coefficient
     feasible = np.flatnonzero(result.feasible)
-    problems, designs, inertias, flags, monte_carlo = [], [], [], [], []
+    problems = []
     for j in sku.chosen:
         mine = feasible[sku.assignment == j]
         radius = fleet.swept_radius_max[mine]
         radius = radius[np.isfinite(radius)]
-        demanding = problem.replace(
-            target_speed=float(np.max(fleet.target_speed[mine])),
-            swept_radius_max=float(np.min(radius)) if radius.size else None,
+        problems.append(
+            problem.replace(
+                target_speed=float(np.max(fleet.target_speed[mine])),
+                swept_radius_max=float(np.min(radius)) if radius.size else None,
+            )
         )
-        design = Design(**stock.design(j))
-        inertia, measured = float(stock.inertia[j]), bool(np.asarray(stock.measured, bool)[j])
-        row = np.array([[design.trail, design.diameter, design.groove, design.damping]])
-        _, p_mc, se = _mc_task(
-            row,
-            np.array([inertia]),
-            np.array([demanding.target_speed]),
-            problem.conditions.slip_coefficient,
-            u,
-            np.array([measured]),
-        )[0]
-        problems.append(demanding)
-        designs.append(design)
-        inertias.append(inertia)
-        flags.append(measured)
-        monte_carlo.append((float(p_mc), float(se), mc_draws(p_mc, se), u.seed))
+    chosen = np.asarray(sku.chosen, int)
+    designs = [Design(**stock.design(j)) for j in chosen]
+    inertias, flags = [float(x) for x in stock.inertia[chosen]], [bool(x) for x in stock.measured[chosen]]
+    speeds = np.array([p.target_speed for p in problems])
+    risk = _mc_task(np.array([d.as_array() for d in designs]), np.array(inertias), speeds, slip, u, np.array(flags))
+    monte_carlo = [(float(p_mc), float(se), mc_draws(p_mc, se), u.seed) for _, p_mc, se in risk]
     # every part number's acceptance limits searched together
     return caster_specs(problems, designs, inertias, flags, monte_carlo)
 
@@ -472,11 +449,9 @@ def _monte_carlo(
     u = scatter_of(problem.conditions)
     slip = problem.conditions.slip_coefficient
     rows = np.flatnonzero(choice >= 0)
-    p = np.full(len(choice), np.nan)
-    mc = np.full(len(choice), np.nan)
-    se = np.full(len(choice), np.nan)
+    out = np.full((3, len(choice)), np.nan)
     if not len(rows):
-        return p, mc, se
+        return out[0], out[1], out[2]
     # The estimate is a deterministic function of (caster, speed) (its own fixed seed), so chairs that share
     # both share one estimate: each distinct pair is sampled once.
     pairs, inverse = np.unique(
@@ -497,9 +472,8 @@ def _monte_carlo(
             client.submit(_mc_task, designs[s], inertia[s], sp[s], slip, u, measured[s], pure=False) for s in pieces
         ]
         outs = client.gather(futures)
-    both = np.concatenate(outs)[np.ravel(inverse)]
-    p[rows], mc[rows], se[rows] = both[:, 0], both[:, 1], both[:, 2]
-    return p, mc, se
+    out[:, rows] = np.concatenate(outs)[np.ravel(inverse)].T
+    return out[0], out[1], out[2]
 
 
 def choose_skus(
@@ -712,8 +686,7 @@ def fleet_data(result: FleetResult) -> dict[str, Any]:
         "served_units": int(result.fleet.count[ok].sum()),
         "problem": problem.name,
         "weights": list(w),
-        "objective": f"J = {w[0]:g} F_turn + {w[1]:g} P [N]: 1 N of sill force is worth "
-        f"{(w[1] / w[0]) if w[0] else math.inf:g} N of turning effort",
+        "objective": weights_meaning(w),
         "regret_definition": "regret of a chair = J with its assigned part number − the chair's least J, the "
         "least J over the stock casters allowed for that chair (never negative); the part numbers minimise "
         "the sum over the units sold",
@@ -721,7 +694,7 @@ def fleet_data(result: FleetResult) -> dict[str, Any]:
         "own_recommendation": _own_recommendation(result),
         "risk": None if risk is None else {"probability": risk.probability, "margin": problem.margin},
         "monte_carlo": {"samples": u.samples, "seed": u.seed},
-        "rule": _rule_name(problem),
+        "rule": rule_text(problem),
         "stock": {
             "casters": len(result.stock),
             "note": result.stock.note,
@@ -786,16 +759,6 @@ def _curve_data(result: FleetResult, units: float) -> list[dict[str, Any]]:
         }
         for k, s in sorted(result.curve.items())
     ]
-
-
-def _rule_name(problem: Problem) -> str:
-    """The base problem's rule in words (a cap on one objective, else the knee, or the least-J end of a front
-    that has none: :func:`designer.studies.recommend.select_rows`)."""
-    if problem.max_threshold_force is not None:
-        return "cap on sill force"
-    if problem.max_turning_effort is not None:
-        return "cap on turning effort"
-    return "knee of the buildable front (its least-J end where it has no knee)"
 
 
 def _worst_regret(result: FleetResult, solution: KMedianSolution | None) -> float | None:

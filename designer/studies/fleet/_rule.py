@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from designer.data.paper import INCH
+from designer.display import shown
 from designer.errors import ProblemError
 from designer.model import VARIABLES, evaluate, shimmy_probability
 from designer.physics.acceptance import LawCaster, exact_probability
@@ -288,18 +289,22 @@ def recommend_chairs(chairs: dict, stock: StockTable, problem) -> dict:
 def _reason(i, ev, stock, over_cap, cap_p, cap_f) -> str:
     """Why chair ``i`` gets no caster, in one phrase."""
     if over_cap:
-        cap = f"sill force <= {cap_p:.1f} N" if cap_p is not None else f"turning effort <= {cap_f:.2f} N"
+        cap = (
+            f"sill force <= {shown(cap_p, 'threshold_force')}"
+            if cap_p is not None
+            else f"turning effort <= {shown(cap_f, 'turning_effort')}"
+        )
         return f"infeasible: no buildable caster within the cap {cap}"
     missing = []
     if not ev["any_risk"][i]:
         missing.append(
-            f"risk bound (best confident speed {stock.confident_speed.max():.2f} m/s < required "
-            f"{ev['required'][i]:.2f} m/s)"
+            f"risk bound (best confident speed {shown(stock.confident_speed.max(), 'confident_speed')} < required "
+            f"{shown(ev['required'][i], 'confident_speed')})"
         )
     if not ev["any_radius"][i]:
-        missing.append(f"swept radius (smallest {stock.swept_radius.min() / INCH:.2f} in)")
+        missing.append(f"swept radius (smallest {shown(stock.swept_radius.min(), 'swept_radius', 'in')})")
     if not ev["any_sill"][i]:
-        missing.append(f"sill (largest wheel {stock.diameter.max() / INCH:.2f} in <= twice the sill)")
+        missing.append(f"sill (largest wheel {shown(stock.diameter.max(), 'diameter', 'in')} <= twice the sill)")
     if missing:
         return "infeasible: no stock caster meets the " + "; ".join(missing)
     return "infeasible: no stock caster meets the risk bound, the swept radius and the sill at once"

@@ -12,7 +12,7 @@ import dataclasses
 import warnings
 
 
-from designer.data.paper import INCH
+from designer.display import shown
 from designer.errors import InputError
 from designer.model import VARIABLES, Casters, Conditions, Design, evaluate, scatter_of
 from designer.physics.inertia import Catalog
@@ -88,7 +88,7 @@ def _current_inertia(problem, current: Design) -> tuple[float, bool]:
             return float(same[0].inertia), True
         if same:
             raise InputError(
-                f"inertia: the problem has {len(same)} wheels of d = {current.diameter / INCH:.4g} in "
+                f"inertia: the problem has {len(same)} wheels of d = {shown(current.diameter, 'diameter', 'in')} "
                 f"({', '.join(w.key for w in same)}) with different I_w; give the current wheel's "
                 f"measured I_w with --inertia"
             )
@@ -99,7 +99,7 @@ def _current_inertia(problem, current: Design) -> tuple[float, bool]:
         ):
             return float(model(current.diameter)), True
         raise InputError(
-            f"inertia: the current wheel (d = {current.diameter / INCH:.4g} in) is not one of the "
+            f"inertia: the current wheel (d = {shown(current.diameter, 'diameter', 'in')}) is not one of the "
             f"problem's wheels ({model.describe()}); give its measured I_w with --inertia"
         )
     with warnings.catch_warnings():

@@ -15,9 +15,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.data.paper import INCH
+from designer.display import shown
 from designer.model import Design
 from designer.physics.inertia import Catalog, InertiaModel
 from designer.problem import DEFAULT_PART_COSTS, PART_KINDS, Stock
+from designer.units import written_size
 
 
 PARTS = PART_KINDS
@@ -112,9 +114,8 @@ def _listed(stock: dict, bounds: dict, sources: dict, key: str, variable: str) -
         sources[variable] = "[stock]"
         values = np.array(sorted({float(v) for v in values}))
         return values[(values >= b.low * (1 - 1e-12)) & (values <= b.high * (1 + 1e-12))]  # within the bounds
-    sources[variable] = (
-        f"continuous (no [stock] {key}): grid over the bounds every {_show(variable, GRID_STEP[variable])}"
-    )
+    step = written_size(GRID_STEP[variable], "in") if variable in _LENGTHS else shown(GRID_STEP[variable], variable)
+    sources[variable] = f"continuous (no [stock] {key}): grid over the bounds every {step}"
     return _grid(b.low, b.high, GRID_STEP[variable]) if b.high > b.low else np.array([b.low])
 
 
@@ -242,13 +243,3 @@ def combinations(options: dict, max_parts: int = 4) -> int:
         for k in range(1, max_parts + 1)
         for c in itertools.combinations(range(4), k)
     )
-
-
-def _show(variable: str, value: float) -> str:
-    if variable in _LENGTHS:
-        return f"{value / INCH:.4g} in"
-    if variable == "damping":
-        return f"{value:.3g} N·m/rad"
-    if variable == "inertia":
-        return f"{value:.3g} kg·m²"
-    return f"{value:g}"

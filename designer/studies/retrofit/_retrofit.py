@@ -429,7 +429,6 @@ class _Setting:
         the cost of its parts; ``current`` the caster as it is, which its changes, rises and limits are taken
         against (None: this is the current caster); ``exact`` its P(shimmy) by the exact law (an array of one).
         ``spec``: the fix's spec when it has one (:meth:`specs`)."""
-        w_turn, w_threshold = self.problem.weights
         f, p = float(values.turning_effort[j]), float(values.threshold_force[j])
         cost_turn = 0.0 if current is None else f - current.turning_effort
         cost_threshold = 0.0 if current is None else p - current.threshold_force
@@ -451,7 +450,7 @@ class _Setting:
             changes=tuple(changes),
             cost_turning_effort=cost_turn,
             cost_threshold_force=cost_threshold,
-            loss=float(w_turn * cost_turn + w_threshold * cost_threshold),
+            loss=float(weighted(cost_turn, cost_threshold, self.problem.weights)),
             parts_cost=float(price),
             threshold_increase=increase,
             turning_increase=turning,

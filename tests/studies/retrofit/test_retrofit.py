@@ -471,7 +471,7 @@ def test_catalog_problem_takes_the_current_wheels_inertia(capsys):
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "give its measured I_w with --inertia" in err
     assert main(["fix", str(catalog), "--current", "T=1.5in,d=8in,B=0in,c=1.3"]) == 2
-    assert "4 wheels of d = 8 in (D, E, F, G)" in capsys.readouterr().err
+    assert "4 wheels of d = 8.000 in (D, E, F, G)" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize(
