@@ -137,11 +137,8 @@ class JointLimits(Record):
     @property
     def limits(self) -> dict[str, float | None]:
         """{key: value [SI]} of the box (the diameter's only when it is in the box)."""
-        out = {k: getattr(self, k) for k in BOX_KEYS}
-        for key in ("diameter_min", "diameter_max"):
-            if getattr(self, key) is not None:
-                out[key] = getattr(self, key)
-        return out
+        keys = (*BOX_KEYS, "diameter_min", "diameter_max")
+        return {k: getattr(self, k) for k in keys if k in BOX_KEYS or getattr(self, k) is not None}
 
     def window(self, part: str) -> float:
         """The box's relative window of a risk part below (trail, groove, friction moment) or above (wheel
@@ -228,8 +225,8 @@ def _weights(problem: Problem, design: Design, inertia: float, measured: bool, o
     if tol.wheel is not None and tol.wheel > inertia:
         stated["wheel_inertia"] = tol.wheel / inertia - 1
     elif tol.wheel is None and tol.diameter is not None and not measured:
-        with warnings.catch_warnings():  # the fit's range warning is the caster's own, said elsewhere
-            warnings.simplefilter("ignore", UserWarning)
+        # the fit's range warning is the caster's own, said elsewhere
+        with warnings.catch_warnings(action="ignore", category=UserWarning):
             model = problem.conditions.inertia
             stated["wheel_inertia"] = float(model(design.diameter + tol.diameter)) / float(model(design.diameter)) - 1
     stated = {k: v for k, v in stated.items() if v > 0 and k in parts}

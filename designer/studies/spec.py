@@ -295,8 +295,8 @@ def _edges(problem: Problem, design: Design, caster: LawCaster, offset: float = 
             out["diameter"] = ((lo_d, {}), (hi_d, {}))
         else:
             model = problem.conditions.inertia
-            with warnings.catch_warnings():  # a 4 in wheel's low edge leaves Table 1 by a hair: the caster's own
-                warnings.simplefilter("ignore", UserWarning)  # warning, if any, is said once elsewhere
+            # a 4 in wheel's low edge leaves Table 1 by a hair: the caster's own warning, if any, is said once elsewhere
+            with warnings.catch_warnings(action="ignore", category=UserWarning):
                 at = {x: float(model(x)) for x in (lo_d, hi_d)}
             out["diameter"] = (
                 (lo_d, {"diameter": lo_d, "inertia": at[lo_d]}),
@@ -327,8 +327,8 @@ def tolerance_corners(problem: Problem, columns: dict[str, Any]) -> list[dict[st
     out = []
     for sign in (-1.0, 1.0):
         d = columns["diameter"] + sign * (tol.diameter or 0.0)
-        with warnings.catch_warnings():  # a wheel's edge just outside Table 1: said for the caster itself
-            warnings.simplefilter("ignore", UserWarning)
+        # a wheel's edge just outside Table 1: said for the caster itself
+        with warnings.catch_warnings(action="ignore", category=UserWarning):
             inertia = np.where(measured, columns["inertia"], np.asarray(model(d), float))
         flags = measured
         if tol.wheel is not None:

@@ -56,10 +56,8 @@ from designer.solvers import one_solve_at_a_time
 from designer.studies.recommend import rule_text, weights_meaning
 from designer.studies.spec import Spec, caster_specs, mc_draws
 from designer.studies.fleet._table import Fleet, read_fleet
-from designer.model import weighted
 from designer.studies.fleet._rule import (
     StockTable,
-    _chunk_task,
     _mc_task,
     _split,
     evaluate_chairs,
@@ -183,15 +181,11 @@ class FleetResult(Record):
         if ok.any():
             rows += [
                 (
-                    OUTPUTS["turning_effort"].label + ": min – max (median)",
-                    f"{f.min():.4g} – {f.max():.4g} ({float(np.median(f)):.4g})",
-                    OUTPUTS["turning_effort"].unit,
-                ),
-                (
-                    OUTPUTS["threshold_force"].label + ": min – max (median)",
-                    f"{p.min():.4g} – {p.max():.4g} ({float(np.median(p)):.4g})",
-                    OUTPUTS["threshold_force"].unit,
-                ),
+                    OUTPUTS[n].label + ": min – max (median)",
+                    f"{x.min():.4g} – {x.max():.4g} ({np.median(x):.4g})",
+                    OUTPUTS[n].unit,
+                )
+                for n, x in (("turning_effort", f), ("threshold_force", p))
             ]
         shimmy = self.chairs.get("shimmy_probability")
         if shimmy is not None and ok.any():
@@ -348,7 +342,10 @@ def fleet_recommendations(  # long: its docstring documents every argument; the 
             result = dataclasses.replace(result, timings=timings)
     finally:
         if own:
-            _close(client)
+            cluster = getattr(client, "cluster", None)  # a local cluster ends with its client
+            client.close()
+            if cluster is not None:
+                cluster.close()
     return result
 
 
@@ -386,7 +383,7 @@ def _recommend_all(client: Any, fleet: Fleet, stock: StockTable, problem: Proble
     else:
         stock_f = client.scatter(stock, broadcast=True, hash=False)
         problem_f = client.scatter(problem, broadcast=True, hash=False)
-        futures = [client.submit(_chunk_task, arrays, stock_f, problem_f, pure=False) for _, arrays in parts]
+        futures = [client.submit(recommend_chairs, arrays, stock_f, problem_f, pure=False) for _, arrays in parts]
         results = client.gather(futures)
     return {k: np.concatenate([r[k] for r in results]) for k in results[0]}
 
@@ -582,13 +579,11 @@ def _regret_matrix(result: FleetResult, rows: np.ndarray) -> dict[str, np.ndarra
     """
     fleet, stock, problem = result.fleet, result.stock, result.problem
     arrays = fleet.arrays()
-    w = np.asarray(problem.weights, float)
     parts = [rows[a : a + CHUNK] for a in range(0, len(rows), CHUNK)]
 
     def evaluate(part: np.ndarray, table: StockTable) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         ev = evaluate_chairs({key: v[part] for key, v in arrays.items()}, table, problem)
-        f, p = ev["turning_effort"], ev["threshold_force"]
-        return np.where(ev["feasible"], weighted(f, p, w), np.inf), f, p
+        return np.where(ev["feasible"], ev["objective"], np.inf), ev["turning_effort"], ev["threshold_force"]
 
     dominance = ColumnDominance(len(stock))
     for part in parts:
@@ -654,13 +649,6 @@ def _check_scheduler(scheduler: Any) -> None:
         raise InputError(f"--scheduler {scheduler!r}: not an address ({exc}); {usage}") from None
     if not parts.hostname or port is None or port == 0 or parts.path not in ("", "/") or parts.query or parts.fragment:
         raise InputError(f"--scheduler {scheduler!r}: {usage} (a host and a port, nothing after them)")
-
-
-def _close(client: Any) -> None:
-    cluster = getattr(client, "cluster", None)
-    client.close()
-    if cluster is not None:
-        cluster.close()
 
 
 def fleet_data(result: FleetResult) -> dict[str, Any]:

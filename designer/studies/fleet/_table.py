@@ -277,21 +277,19 @@ def _header_columns(header: list[str], source: str) -> dict[str, tuple[int, floa
     return columns
 
 
+@dataclass
 class _Table:
     """The rows of a fleet file under its header: each reader checks one column, with one-line errors."""
 
-    def __init__(
-        self,
-        source: str,
-        columns: dict[str, tuple[int, float, str | None]],
-        body: list[list[str]],
-        row_numbers: np.ndarray,
-    ) -> None:
-        self.source = source
-        self.columns = columns
-        self.body = body
-        self.row_numbers = row_numbers
-        self.n = len(body)
+    source: str
+    columns: dict[str, tuple[int, float, str | None]]
+    body: list[list[str]]
+    row_numbers: np.ndarray
+
+    @property
+    def n(self) -> int:
+        """The number of rows (chairs)."""
+        return len(self.body)
 
     def column(self, name: str) -> list[str]:
         pos = self.columns[name][0]

@@ -75,6 +75,17 @@ class _Buildable:
         v = self.values
         return Design(float(v.trail[i]), float(v.diameter[i]), float(v.groove[i]), float(v.damping[i]))
 
+    def brief(self, i: int, corner: float) -> dict:
+        """Candidate ``i`` as plain data: its design [SI], wheel, F_turn and P [N], and its worst-corner P."""
+        v = self.values
+        return {
+            "design": self.design(i).to_dict(),
+            "wheel": str(self.wheel[i]) or None,
+            "turning_effort": float(v.turning_effort[i]),
+            "threshold_force": float(v.threshold_force[i]),
+            "worst_corner_probability": corner,
+        }
+
     def corners(self, problem, rows) -> list[float]:
         """The worst-corner P of candidates ``rows`` under ``problem``'s ``[tolerances]``
         (:func:`designer.studies.spec.corner_probabilities`)."""
@@ -119,8 +130,7 @@ def _continuous_buildable(problem) -> _Buildable:
         sub = _sub_problem(problem, row, inertia, cand.measured is not None and bool(cand.measured[j]))
         points = 2 if row["diameter"] is not None else min(21, problem.pareto_points)
         try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", UserWarning)
+            with warnings.catch_warnings(action="ignore", category=UserWarning):
                 front = pareto_front(sub, points=points)
         except InfeasibleError:
             continue
@@ -313,25 +323,22 @@ def _buildable_front(problem, b: _Buildable, member: np.ndarray):
 
     idx = np.flatnonzero(member)
     idx = idx[np.argsort(-b.values.threshold_force[idx], kind="stable")]
-    points = []
-    for i in idx:
-        d = b.design(i)
-        points.append(
-            FrontPoint(
-                design=d,
-                turning_effort=float(b.values.turning_effort[i]),
-                threshold_force=float(b.values.threshold_force[i]),
-                critical_speed=float(b.values.critical_speed[i]),
-                margins={"shimmy": float(b.values.confident_speed[i] - problem.required_speed)},
-                epsilon=float(b.values.threshold_force[i]),
-                status="stock",
-                success=True,
-                multipliers={},
-                family=family_of(problem, d),
-                wheel=str(b.wheel[i]) or None,
-                caster=b.values.row(i),
-            )
+    points = [
+        FrontPoint(
+            design=c.design,
+            turning_effort=c.turning_effort,
+            threshold_force=c.threshold_force,
+            critical_speed=c.critical_speed,
+            margins={"shimmy": c.confident_speed - problem.required_speed},
+            epsilon=c.threshold_force,
+            status="stock",
+            success=True,
+            family=family_of(problem, c.design),
+            wheel=str(b.wheel[i]) or None,
+            caster=c,
         )
+        for i, c in zip(idx, (b.values.row(i) for i in idx))
+    ]
     return Front(
         problem=problem,
         points=points,
@@ -459,13 +466,7 @@ def _enforced(problem, b: _Buildable, rec: Recommendation, free: int) -> dict:
     corner = b.corners(problem, [free])[0]
     return {
         "changed": bool(not np.allclose(d.as_array(), rec.design.as_array(), rtol=1e-12, atol=1e-15)),
-        "unenforced": {
-            "design": d.to_dict(),
-            "turning_effort": float(v.turning_effort[free]),
-            "threshold_force": float(v.threshold_force[free]),
-            "worst_corner_probability": corner,
-            "wheel": str(b.wheel[free]) or None,
-        },
+        "unenforced": b.brief(free, corner),
         "costs_turning_effort": rec.turning_effort - float(v.turning_effort[free]),
         "costs_threshold_force": rec.threshold_force - float(v.threshold_force[free]),
         "price": _price(problem, b),
@@ -494,16 +495,7 @@ def _price(problem, b: _Buildable) -> dict:
             break
 
     def brief(i: int | None) -> dict | None:
-        if i is None:
-            return None
-        return {
-            "design": b.design(i).to_dict(),
-            "wheel": str(b.wheel[i]) or None,
-            "objective": float(j[i]),
-            "turning_effort": float(v.turning_effort[i]),
-            "threshold_force": float(v.threshold_force[i]),
-            "worst_corner_probability": corner[i],
-        }
+        return None if i is None else b.brief(i, corner[i]) | {"objective": float(j[i])}
 
     free = int(order[0])
     return {

@@ -13,7 +13,7 @@ from designer.units import percent
 from designer.display import quantity, shown
 from designer.units import INCH, written_size
 from designer.model import VARIABLES, Caster, OfCaster
-from designer.parameters import DESIGN_UNITS, OUTPUTS
+from designer.parameters import OUTPUTS
 from designer.plots.caster import caster_svg, plot_caster
 from designer.problem import Problem
 from designer.reprs import Key, Record, si_frame
@@ -107,13 +107,6 @@ class Recommendation(Record):
     inertia = OfCaster()
     measured = OfCaster()
     extrapolated = OfCaster()
-
-    _units = {
-        **DESIGN_UNITS,
-        **{n: OUTPUTS[n].unit for n in ("turning_effort", "threshold_force", "critical_speed", "confident_speed")},
-        "swept_radius": OUTPUTS["swept_radius"].unit,
-        "swept_radius_max": OUTPUTS["swept_radius"].unit,
-    }
 
     _keys = (
         *("design", "turning_effort", "threshold_force", "critical_speed", "confident_speed", "shimmy_probability"),
@@ -330,11 +323,11 @@ class Recommendation(Record):
         """The caster as a compact table with units (notebooks; no solver runs)."""
         d = self.design
         rows: list[tuple[Any, Any, Any]] = [("wheel", self.wheel, "")] if self.wheel else []
+        outputs = ("turning_effort", "threshold_force", "critical_speed", "confident_speed")
         rows += d.variable_rows() + [
-            OUTPUTS["turning_effort"].row(f"{self.turning_effort:.4g}"),
-            OUTPUTS["threshold_force"].row(f"{self.threshold_force:.4g}"),
-            OUTPUTS["critical_speed"].row(f"{self.critical_speed:.4g}", "Eq. 7"),
-            OUTPUTS["confident_speed"].row(f"{self.confident_speed:.4g}"),
+            OUTPUTS[n].row(f"{getattr(self, n):.4g}", "Eq. 7" * (n == "critical_speed")) for n in outputs
+        ]
+        rows += [
             ("required speed", f"{self.required_speed:.4g}", "m/s"),
             ("P(shimmy) (exact law)", f"{self.shimmy_probability:.3%}", ""),
             (

@@ -284,8 +284,6 @@ class FixResult(Record):
     units: str = "in"
     if_measured: dict[str, Any] | None = None
 
-    _units = {"target_speed": "m/s", "required_speed": "m/s", "stem_angle": "rad"}
-
     @property
     def single_part_fix_exists(self) -> bool:
         """True if some fix changes one part only."""

@@ -47,11 +47,11 @@ from typing import Any
 import numpy as np
 
 from designer.boundary import SEED, Count, Instance, Quantity, checked
-from designer.model import VARIABLES, Casters, Conditions, Design
+from designer.model import VARIABLES, Casters, Conditions, Design, scatter_of
 from designer.physics.uncertainty import Uncertainty
 from designer.problem import MAX_SAMPLES, problem_argument
 from designer.solvers import one_solve_at_a_time
-from designer.studies.retrofit._diagnosis import _calibrated, _current_inertia, _evaluate, _risk_of
+from designer.studies.retrofit._diagnosis import _calibrated, _current_inertia, _evaluate
 from designer.studies.retrofit._input import _check_inputs, parse_current
 from designer.studies.retrofit._options import (
     PART_VARIABLE,
@@ -255,7 +255,7 @@ def _diagnosis(
     (``base``, with its I_w) and its evaluated values (``now``, arrays of one).
     """
     conditions = problem.conditions
-    bound, report_u = _risk_of(problem)
+    bound, report_u = problem.risk, scatter_of(problem.conditions)  # the bound's law (None: nominal), the report's
     samples = int(samples or max(REPORT_SAMPLES, report_u.samples))
     seed = int(report_u.seed if seed is None else seed)
 
@@ -394,10 +394,8 @@ class _Setting:
         out: list = [None] * len(designs)
         if not rows:
             return out
-        mc = []
-        for k in rows:
-            p_mc, se = float(values.shimmy_probability[k]), float(values.shimmy_probability_se[k])
-            mc.append((p_mc, se, mc_draws(p_mc, se), self.seed))
+        p_mc, se = (np.asarray(values[key], float) for key in ("shimmy_probability", "shimmy_probability_se"))
+        mc = [(float(p_mc[k]), float(se[k]), mc_draws(float(p_mc[k]), float(se[k])), self.seed) for k in rows]
         found = caster_specs(
             self.problem,
             [designs[k] for k in rows],
@@ -514,8 +512,7 @@ def _holds_at_corner(cands: dict, s: _Setting) -> np.ndarray:
     worst corner says so); used to rank, never printed."""
     holds = np.ones(np.shape(cands["trail"]), bool)
     for corner in tolerance_corners(s.problem, cands):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", UserWarning)
+        with warnings.catch_warnings(action="ignore", category=UserWarning):
             values = _evaluate(corner, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
         holds &= np.asarray(values.risk_ok, bool)
     return holds
