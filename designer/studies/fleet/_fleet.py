@@ -171,10 +171,11 @@ class FleetResult(Record):
             out.append(row)
         return out
 
-    def _summary(self) -> list[tuple[str, str, str]]:
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        """Chairs, part numbers, ranges of F_turn and P, the largest P(shimmy) (notebooks; the repr's too)."""
         ok = self.feasible
         f, p = self.chairs["turning_effort"][ok], self.chairs["threshold_force"][ok]
-        rows = [
+        rows: list[tuple[Any, Any, Any]] = [
             ("chairs (with a caster)", f"{len(self.fleet)} ({int(ok.sum())})", ""),
             ("part numbers (SKUs)", f"{len(self.sku_records())}" if self.skus is not None else "not asked", ""),
         ]
@@ -194,16 +195,14 @@ class FleetResult(Record):
 
     def _repr_lines(self) -> list[str]:
         """Two lines: chairs, part numbers and the ranges of F_turn and P [N] (``print(fleet_data(...))``: all)."""
-        head = ", ".join(f"{label.split(':')[0]} {value} {unit}".rstrip() for label, value, unit in self._summary()[:2])
+        head = ", ".join(
+            f"{label.split(':')[0]} {value} {unit}".rstrip() for label, value, unit in self._html_rows()[:2]
+        )
         rest = "; ".join(
             f"{label.split(':')[0]} {value.split(' (')[0]} {unit}".rstrip()
-            for label, value, unit in self._summary()[2:]
+            for label, value, unit in self._html_rows()[2:]
         )
         return [f"FleetResult({getattr(self.problem, 'name', '?')!r}: {head})"] + ([f"  {rest}"] if rest else [])
-
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        """Chairs, part numbers, ranges of F_turn and P (notebooks)."""
-        return list(self._summary())
 
     _keys = (Key("**", lambda r: fleet_data(r)),)
     """The plain data of ``fleet.json`` (:func:`fleet_data`): settings, part numbers, regret curve, per-chair
@@ -394,9 +393,7 @@ def _sku_monte_carlo(client: Any, result: FleetResult, chunk: int) -> FleetResul
     start = time.perf_counter()
     fleet = result.fleet
     assigned = np.full(len(fleet), -1)
-    if result.skus is None or result.skus.assignment is None:
-        raise ValueError("no part numbers assigned: nothing to sample")
-    assigned[result.feasible] = result.skus.assignment
+    assigned[result.feasible] = result.skus.assignment  # type: ignore[union-attr]  # the caller's: assigned
     ch = dict(result.chairs)
     ch["sku_shimmy_probability"], ch["sku_shimmy_probability_mc"], ch["sku_shimmy_probability_se"] = _monte_carlo(
         client, result.stock, result.problem, assigned, fleet.target_speed, chunk=max(50, chunk // 20)

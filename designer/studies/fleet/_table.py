@@ -233,8 +233,6 @@ def fleet_from_text(text: str, source: str = "fleet") -> Fleet:
             f"of at most {MAX_CHAIRS:,} chairs (docs/fleet.md)"
         )
     header, body, lines_of_rows = csv_table(text, source, error=ProblemError)  # the readers' shared rules
-    if len(body) > MAX_CHAIRS:
-        raise ProblemError(f"{source}: {len(body):,} rows; a fleet has at most {MAX_CHAIRS:,} chairs")
     columns = _header_columns(header, source)
     if not body:
         raise ProblemError(f"{source}: no chairs (only a header)")

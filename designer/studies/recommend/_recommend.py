@@ -99,12 +99,6 @@ class _Buildable:
         )
 
 
-def _discrete_buildable(problem) -> tuple[_Buildable, ScreenedTable]:
-    t = candidate_table(problem)
-    k = t.values.feasible
-    return _Buildable(t.values.take(k), t.candidates.wheel[k]), t
-
-
 def _sub_problem(problem, row: dict, inertia, measured):
     """The problem with one stock combination's parts fixed (the rest continuous); a measured wheel's I_w fixed."""
 
@@ -244,16 +238,11 @@ def _record(
         shimmy_probability=p,
         shimmy_probability_mc=p_mc,
         shimmy_probability_se=se,
-        swept_radius_max=problem.swept_radius_max,
         rule=rule,
         wheel=str(b.wheel[i]) or None,
         role=role,
-        target_speed=problem.target_speed,
-        required_speed=problem.required_speed,
-        alpha=None if problem.risk is None else problem.risk.probability,
         mc_samples=n,
         mc_seed=mc_seed,
-        weights=tuple(problem.weights),
         problem=problem,
         **extra,
     )
@@ -556,7 +545,8 @@ def _buildable(problem) -> _Buildable:
     InfeasibleError (the box's own diagnosis, else the closest stock combination) when there is none."""
     table = None
     if stock_candidates(problem).discrete:
-        b, table = _discrete_buildable(problem)
+        table = candidate_table(problem)
+        b = _Buildable(table.values.take(table.values.feasible), table.candidates.wheel[table.values.feasible])
     else:
         b = _continuous_buildable(problem)
     if not len(b):

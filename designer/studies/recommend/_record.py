@@ -78,19 +78,14 @@ class Recommendation(Record):
     confident_speed: float
     shimmy_probability: float
     shimmy_probability_se: float
-    swept_radius_max: float | None
     rule: str
     alternatives: list[Recommendation] = field(default_factory=list)
     buildable: Front | None = field(default=None, repr=False)
     wheel: str | None = None
     role: str = "recommended"
     note: str = ""
-    target_speed: float = math.nan
-    required_speed: float = math.nan
-    alpha: float | None = None
     mc_samples: int = 0
     mc_seed: int = 0
-    weights: tuple[float, float] = (1.0, 1.0)
     problem: Problem | None = field(default=None, repr=False)
     front: Front | None = field(default=None, repr=False)
     shimmy_probability_mc: float = math.nan
@@ -107,6 +102,12 @@ class Recommendation(Record):
     inertia = OfCaster()
     measured = OfCaster()
     extrapolated = OfCaster()
+    # the problem's numbers, read from it (never copied)
+    swept_radius_max = property(lambda self: self.problem.swept_radius_max)
+    target_speed = property(lambda self: self.problem.target_speed)
+    required_speed = property(lambda self: self.problem.required_speed)
+    alpha = property(lambda self: None if self.problem.risk is None else self.problem.risk.probability)
+    weights = property(lambda self: tuple(self.problem.weights))
 
     _keys = (
         *("design", "turning_effort", "threshold_force", "critical_speed", "confident_speed", "shimmy_probability"),

@@ -48,11 +48,8 @@ class Change(Record):
     name: str | None = None  # a catalogue wheel's name
 
     def describe(self) -> str:
-        """``fork hole: trail 1.500 in -> 2.000 in``."""
-        return (
-            f"{self.part}: {self.variable} {shown(self.before, self.variable, 'in')} -> "
-            f"{shown(self.after, self.variable, 'in')}" + (f" ({self.name})" if self.name else "")
-        )
+        """``fork hole: T 1.500 -> 2.000 in`` (:func:`describe_changes` of this change alone)."""
+        return describe_changes([self])
 
     _keys = (
         "part",

@@ -428,10 +428,8 @@ class _Setting:
         against (None: this is the current caster); ``exact`` its P(shimmy) by the exact law (an array of one).
         ``spec``: the fix's spec when it has one (:meth:`specs`)."""
         f, p = float(values.turning_effort[j]), float(values.threshold_force[j])
-        cost_turn = 0.0 if current is None else f - current.turning_effort
-        cost_threshold = 0.0 if current is None else p - current.threshold_force
-        increase = 0.0 if current is None else cost_threshold / current.threshold_force
-        turning = 0.0 if current is None else cost_turn / current.turning_effort
+        base_f, base_p = (f, p) if current is None else (current.turning_effort, current.threshold_force)
+        cost_turn, cost_threshold = f - base_f, p - base_p  # 0 for the current caster itself
         within = current is None or bool(self.overshoot(f, p, current) <= 1e-12)
         p_mc, se = float(values.shimmy_probability[j]), float(values.shimmy_probability_se[j])
         draws = mc_draws(p_mc, se)
@@ -450,8 +448,8 @@ class _Setting:
             cost_threshold_force=cost_threshold,
             loss=float(weighted(cost_turn, cost_threshold, self.problem.weights)),
             parts_cost=float(price),
-            threshold_increase=increase,
-            turning_increase=turning,
+            threshold_increase=cost_threshold / base_p,
+            turning_increase=cost_turn / base_f,
             within_limit=within,
         )
 
