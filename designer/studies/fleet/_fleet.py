@@ -320,7 +320,7 @@ def fleet_recommendations(  # long: its docstring documents every argument; the 
             problem=problem,
             chairs=chairs,
             timings=timings,
-            scheduler=None if client is None else _address(client),
+            scheduler=None if client is None else str(getattr(client, "scheduler_info", dict)().get("address", "")),
         )
         if skus is not None:
             start = time.perf_counter()
@@ -332,8 +332,14 @@ def fleet_recommendations(  # long: its docstring documents every argument; the 
                 result = dataclasses.replace(result, tolerance_price=price)
                 timings["without_tolerances"] = time.perf_counter() - start
             if monte_carlo and result.skus is not None and result.skus.assignment is not None:
-                result = _sku_monte_carlo(client, result, chunk)
-                timings.update(result.timings)
+                # P(shimmy) of each chair with the part number the K-median assigned it (NaN for a chair without)
+                start = time.perf_counter()
+                assigned = np.full(len(fleet), -1)
+                assigned[result.feasible] = result.skus.assignment
+                risk = _monte_carlo(client, stock, problem, assigned, fleet.target_speed, chunk=max(50, chunk // 20))
+                keys = ("sku_shimmy_probability", "sku_shimmy_probability_mc", "sku_shimmy_probability_se")
+                result = dataclasses.replace(result, chairs={**result.chairs, **dict(zip(keys, risk))})
+                timings["sku_monte_carlo"] = time.perf_counter() - start
             if result.skus is not None and result.skus.assignment is not None:
                 start = time.perf_counter()
                 result = dataclasses.replace(result, specs=sku_specs(result))
@@ -367,12 +373,6 @@ def _tolerance_price(
     return {"part_numbers": n, "with_tolerances": held, "without_tolerances": without, "sentence": text}
 
 
-def _address(client: Any) -> str:
-    """The Dask scheduler's address, for run.json ("" when the client does not say)."""
-    info: Any = getattr(client, "scheduler_info", lambda: {})()
-    return str(info.get("address", ""))
-
-
 def _recommend_all(client: Any, fleet: Fleet, stock: StockTable, problem: Problem, chunk: int) -> dict[str, np.ndarray]:
     """Every chair's recommendation (:func:`recommend_chairs`) in chunks of ``chunk`` chairs, in this process
     (``client`` None) or as Dask tasks; the per-chair arrays joined in fleet order."""
@@ -385,21 +385,6 @@ def _recommend_all(client: Any, fleet: Fleet, stock: StockTable, problem: Proble
         futures = [client.submit(recommend_chairs, arrays, stock_f, problem_f, pure=False) for _, arrays in parts]
         results = client.gather(futures)
     return {k: np.concatenate([r[k] for r in results]) for k in results[0]}
-
-
-def _sku_monte_carlo(client: Any, result: FleetResult, chunk: int) -> FleetResult:
-    """``result`` with the P(shimmy) of each chair with the part number the K-median program assigned it
-    (``chairs["sku_shimmy_probability"]``, NaN for a chair without one), timed as ``sku_monte_carlo``."""
-    start = time.perf_counter()
-    fleet = result.fleet
-    assigned = np.full(len(fleet), -1)
-    assigned[result.feasible] = result.skus.assignment  # type: ignore[union-attr]  # the caller's: assigned
-    ch = dict(result.chairs)
-    ch["sku_shimmy_probability"], ch["sku_shimmy_probability_mc"], ch["sku_shimmy_probability_se"] = _monte_carlo(
-        client, result.stock, result.problem, assigned, fleet.target_speed, chunk=max(50, chunk // 20)
-    )
-    timings = {**result.timings, "sku_monte_carlo": time.perf_counter() - start}
-    return dataclasses.replace(result, chairs=ch, timings=timings)
 
 
 def sku_specs(result: FleetResult) -> list[Spec]:
@@ -553,19 +538,6 @@ def suggest_skus(
     }
 
 
-def _stock_subset(stock: StockTable, columns: np.ndarray) -> StockTable:
-    """The stock table restricted to ``columns`` (every per-caster array indexed)."""
-    n = len(stock)
-    return dataclasses.replace(
-        stock,
-        **{
-            f.name: getattr(stock, f.name)[columns]
-            for f in dataclasses.fields(stock)
-            if isinstance(getattr(stock, f.name), np.ndarray) and len(getattr(stock, f.name)) == n
-        },
-    )
-
-
 def _regret_matrix(result: FleetResult, rows: np.ndarray) -> dict[str, np.ndarray]:
     """Regret, F_turn and P of the chairs ``rows`` (feasible) with the casters that can matter for a K-median.
 
@@ -586,7 +558,10 @@ def _regret_matrix(result: FleetResult, rows: np.ndarray) -> dict[str, np.ndarra
     for part in parts:
         dominance.add(evaluate(part, stock)[0])
     columns = dominance.undominated()
-    table = _stock_subset(stock, columns)
+    per_caster = {f.name: getattr(stock, f.name) for f in dataclasses.fields(stock)}  # every per-caster array
+    table = dataclasses.replace(
+        stock, **{k: v[columns] for k, v in per_caster.items() if isinstance(v, np.ndarray) and len(v) == len(stock)}
+    )
     j, f, p = (np.concatenate(x) for x in zip(*(evaluate(part, table) for part in parts)))
     least = j.min(axis=1)
     j -= least[:, None]

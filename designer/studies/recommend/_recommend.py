@@ -99,19 +99,6 @@ class _Buildable:
         )
 
 
-def _sub_problem(problem, row: dict, inertia, measured):
-    """The problem with one stock combination's parts fixed (the rest continuous); a measured wheel's I_w fixed."""
-
-    bounds = dict(problem.bounds)
-    for name, value in row.items():
-        if value is not None:
-            bounds[name] = Bound(value, value)
-    conditions = problem.conditions
-    if row["diameter"] is not None and inertia is not None and measured:
-        conditions = conditions.replace(inertia=Fixed(float(inertia)))
-    return dataclasses.replace(problem, bounds=bounds, conditions=conditions, wheels=(), stock=None, source=None)
-
-
 def _continuous_buildable(problem) -> _Buildable:
     """Each stock combination's continuous rest solved exactly (NLP), then pooled and evaluated by the model."""
     from designer.studies.front import pareto_front
@@ -120,8 +107,12 @@ def _continuous_buildable(problem) -> _Buildable:
     rows = []
     for j in range(len(cand)):
         row = cand.design(j)
-        inertia = None if cand.inertia is None else float(cand.inertia[j])
-        sub = _sub_problem(problem, row, inertia, cand.measured is not None and bool(cand.measured[j]))
+        # the problem with this combination's parts fixed (the rest continuous), a measured wheel's I_w fixed
+        bounds = dict(problem.bounds) | {name: Bound(value, value) for name, value in row.items() if value is not None}
+        conditions = problem.conditions
+        if row["diameter"] is not None and cand.inertia is not None and cand.measured is not None and cand.measured[j]:
+            conditions = conditions.replace(inertia=Fixed(float(cand.inertia[j])))
+        sub = dataclasses.replace(problem, bounds=bounds, conditions=conditions, wheels=(), stock=None, source=None)
         points = 2 if row["diameter"] is not None else min(21, problem.pareto_points)
         try:
             with warnings.catch_warnings(action="ignore", category=UserWarning):

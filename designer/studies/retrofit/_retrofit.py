@@ -62,7 +62,6 @@ from designer.studies.retrofit._options import (
 )
 from designer.studies.spec import caster_specs, mc_draws, tolerance_corners
 from designer.studies.retrofit._records import (
-    RULE,
     Calibration,
     CasterState,
     Change,
@@ -150,12 +149,46 @@ def fix(  # long: its docstring documents every argument and the ranking rule
     if inertia is None:
         inertia, measured = _current_inertia(problem, current)
     inertia = float(inertia)
-    setting, calibration, base, now = _diagnosis(
-        problem, current, inertia, shimmied_at, stem_angle, onset_scatter, samples, seed, measured
+    # steps 1 and 2: the risk model every caster is judged with (the bound's law, None: nominal; the report's),
+    # calibrated by an observed onset V_obs (factor k = V_obs / V_c,Eq.7), and the current caster's numbers under it
+    bound, report_u = problem.risk, scatter_of(problem.conditions)
+    base = current.to_dict() | {"inertia": inertia, "measured": bool(measured)}
+    arrays = {k: np.array([v]) for k, v in base.items()}
+    calibration, factor = None, 1.0
+    if shimmied_at is not None:
+        predicted = float(_evaluate(arrays, problem.conditions, stem_angle, 1.0, bound).critical_speed[0])
+        factor = float(shimmied_at) / predicted
+        calibration = Calibration(
+            observed_onset=float(shimmied_at), predicted_onset=predicted, factor=factor, scatter=float(onset_scatter)
+        )
+        bound = None if bound is None else _calibrated(bound, onset_scatter)
+        report_u = _calibrated(report_u, onset_scatter)
+    draws = int(samples or max(REPORT_SAMPLES, report_u.samples))
+    setting = _Setting(
+        problem, stem_angle, factor, bound, report_u, draws, int(report_u.seed if seed is None else seed)
     )
+    now = _evaluate(arrays, problem.conditions, stem_angle, factor, bound, setting.limits, setting.monte_carlo)
     current_state = setting.state(now, 0, current, inertia, exact=setting.exact(base))
     options, sources = part_options(problem, current)
-    result = _fix_result(problem, setting, calibration, current_state, stock_offer(problem, options, sources))
+    result = FixResult(  # the diagnosis, its fixes still empty: assumptions, scatter, what is on offer
+        problem=problem.name,
+        target_speed=problem.target_speed,
+        required_speed=problem.required_speed,
+        probability=None if bound is None else bound.probability,
+        stem_angle=stem_angle,
+        calibration=calibration,
+        current=current_state,
+        fixes=[],
+        found=0,
+        stock=stock_offer(problem, options, sources),
+        scatter={
+            "bound": None if bound is None else dataclasses.asdict(bound),
+            "reported": dataclasses.asdict(report_u) | {"samples": setting.samples, "seed": setting.seed},
+        },
+        max_threshold_increase=problem.max_threshold_increase,
+        max_turning_increase=problem.max_turning_increase,
+        units=problem.units,
+    )
     if not measured:  # what measuring the current wheel (accepted at its power-law value) would change
         result = dataclasses.replace(
             result,
@@ -167,9 +200,28 @@ def fix(  # long: its docstring documents every argument and the ranking rule
     keep = slice(None) if limit is None else slice(limit)
     n_within, n_beyond = len(within[keep]), len(beyond[keep])
     wanted = np.concatenate([np.arange(n_within), np.arange(n_beyond)]) < (np.inf if specs is None else specs)
-    states = _fix_states(
-        setting, current, inertia, current_state, cands, np.concatenate([within[keep], beyond[keep]]), options, wanted
-    )
+    # step 3: the kept fixes as records in rank order: their changes, their cost against the current caster,
+    # P(shimmy) (the evaluator's batched Monte Carlo beside the exact law) and, where wanted, their spec
+    chosen = np.concatenate([within[keep], beyond[keep]]).astype(int)
+    picked = {key: value[chosen] for key, value in cands.items()}
+    values = _evaluate(picked, problem.conditions, stem_angle, factor, bound, setting.limits, setting.monte_carlo)
+    exact = setting.exact(picked)
+    designs = [Design(*(float(cands[name][j]) for name in VARIABLES)) for j in chosen]
+    found = setting.specs(values, designs, [float(cands["inertia"][j]) for j in chosen], exact, wanted)
+    states = [
+        setting.state(
+            values,
+            n,
+            designs[n],
+            float(cands["inertia"][j]),
+            _changes(current, inertia, cands, j, options["wheel"]),
+            price=float(cands["price"][j]),
+            current=current_state,
+            exact=exact[n : n + 1],
+            spec=found[n],
+        )
+        for n, j in enumerate(chosen)
+    ]
     return dataclasses.replace(  # records do not change: the ranked fixes make a new one
         result,
         searched=searched,
@@ -235,111 +287,6 @@ def stock_offer(problem, options: dict, sources: dict) -> dict[str, str]:
         price = f"{costs[0]:g} each" if np.all(costs == costs[0]) else "costs " + ", ".join(f"{c:g}" for c in costs)
         out[part] = f"{text} ({where + '; ' if where else ''}{price})"
     return out
-
-
-def _diagnosis(
-    problem,
-    current: Design,
-    inertia: float,
-    shimmied_at,
-    stem_angle: float,
-    onset_scatter,
-    samples,
-    seed,
-    measured=True,
-):
-    """Steps 1 and 2 of :func:`fix`: the risk model every caster is judged with (calibrated by an observed onset
-    V_obs, factor k = V_obs / V_c,Eq.7) and the current caster's numbers under it.
-
-    Returns ``(setting, calibration or None, base, now)``: the :class:`_Setting`, the current caster's variables
-    (``base``, with its I_w) and its evaluated values (``now``, arrays of one).
-    """
-    conditions = problem.conditions
-    bound, report_u = problem.risk, scatter_of(problem.conditions)  # the bound's law (None: nominal), the report's
-    samples = int(samples or max(REPORT_SAMPLES, report_u.samples))
-    seed = int(report_u.seed if seed is None else seed)
-
-    base = current.to_dict() | {"inertia": inertia, "measured": bool(measured)}
-    arrays = {k: np.array([v]) for k, v in base.items()}
-    calibration = None
-    factor = 1.0
-    if shimmied_at is not None:
-        predicted = float(_evaluate(arrays, conditions, stem_angle, 1.0, bound).critical_speed[0])
-        factor = float(shimmied_at) / predicted
-        calibration = Calibration(
-            observed_onset=float(shimmied_at), predicted_onset=predicted, factor=factor, scatter=float(onset_scatter)
-        )
-        if bound is not None:
-            bound = _calibrated(bound, onset_scatter)
-        report_u = _calibrated(report_u, onset_scatter)
-    setting = _Setting(problem, stem_angle, factor, bound, report_u, samples, seed)
-    now = _evaluate(arrays, conditions, stem_angle, factor, bound, setting.limits, setting.monte_carlo)
-    return setting, calibration, base, now
-
-
-def _fix_result(problem, setting: _Setting, calibration, current_state: CasterState, offer: dict) -> FixResult:
-    """The :class:`FixResult` of the diagnosis, its fixes still empty: assumptions, scatter, what is on offer."""
-    bound = setting.bound
-    scatter = {
-        "bound": None if bound is None else dataclasses.asdict(bound),
-        "reported": dataclasses.asdict(setting.report_u) | {"samples": setting.samples, "seed": setting.seed},
-    }
-    return FixResult(
-        problem=problem.name,
-        target_speed=problem.target_speed,
-        required_speed=problem.required_speed,
-        probability=None if bound is None else bound.probability,
-        stem_angle=setting.stem_angle,
-        calibration=calibration,
-        current=current_state,
-        fixes=[],
-        found=0,
-        rule=RULE,
-        stock=offer,
-        scatter=scatter,
-        max_threshold_increase=problem.max_threshold_increase,
-        max_turning_increase=problem.max_turning_increase,
-        units=problem.units,
-    )
-
-
-def _fix_states(
-    setting: _Setting,
-    current: Design,
-    inertia: float,
-    current_state: CasterState,
-    cands: dict,
-    chosen: np.ndarray,
-    options: dict,
-    wanted: np.ndarray,
-) -> list[CasterState]:
-    """Step 3 of :func:`fix`: the chosen candidates as :class:`CasterState` records, in rank order, with their
-    changes, their cost against the current caster, P(shimmy) (the evaluator's batched Monte Carlo) and, where
-    ``wanted``, their spec."""
-    s = setting
-    chosen = np.asarray(chosen, dtype=int)
-    picked = {key: value[chosen] for key, value in cands.items()}
-    values = _evaluate(picked, s.conditions, s.stem_angle, s.factor, s.bound, s.limits, s.monte_carlo)
-    exact = s.exact(picked)
-    designs = [Design(*(float(cands[name][j]) for name in VARIABLES)) for j in chosen]
-    specs = setting.specs(values, designs, [float(cands["inertia"][j]) for j in chosen], exact, wanted)
-    fixes = []
-    for n, j in enumerate(chosen):
-        changes = _changes(current, inertia, cands, j, options["wheel"])
-        fixes.append(
-            setting.state(
-                values,
-                n,
-                designs[n],
-                float(cands["inertia"][j]),
-                changes,
-                price=float(cands["price"][j]),
-                current=current_state,
-                exact=exact[n : n + 1],
-                spec=specs[n],
-            )
-        )
-    return fixes
 
 
 @dataclass(frozen=True)
