@@ -320,7 +320,7 @@ def fleet_recommendations(  # long: its docstring documents every argument; the 
             problem=problem,
             chairs=chairs,
             timings=timings,
-            scheduler=None if client is None else str(getattr(client, "scheduler_info", dict)().get("address", "")),
+            scheduler=None if client is None else str(client.scheduler_info().get("address", "")),
         )
         if skus is not None:
             start = time.perf_counter()

@@ -47,7 +47,7 @@ from typing import Any
 import numpy as np
 
 from designer.boundary import SEED, Count, Instance, Quantity, checked
-from designer.model import VARIABLES, Casters, Conditions, Design, scatter_of
+from designer.model import VARIABLES, Casters, Design, scatter_of
 from designer.physics.uncertainty import Uncertainty
 from designer.problem import MAX_SAMPLES, problem_argument
 from designer.solvers import one_solve_at_a_time
@@ -302,11 +302,6 @@ class _Setting:
     samples: int
     seed: int
 
-    @property
-    def conditions(self) -> Conditions:
-        """The problem's conditions."""
-        return self.problem.conditions
-
     def overshoot(self, turning_effort: Any, threshold_force: Any, current: CasterState) -> Any:
         """How far a caster's rises exceed the limits [-]: max(ΔP/P − the sill limit, ΔF/F − the turning limit),
         each relative to the current caster's force; <= 0 is within both limits (floats or arrays)."""
@@ -329,7 +324,7 @@ class _Setting:
         scatter of the report, on the effective trail, calibrated: the evaluator's ``exact=True``."""
         arrays = {k: np.atleast_1d(np.asarray(v)) for k, v in arrays.items()}
         values = _evaluate(
-            arrays, self.conditions, self.stem_angle, self.factor, self.bound, None, self.monte_carlo, True
+            arrays, self.problem.conditions, self.stem_angle, self.factor, self.bound, None, self.monte_carlo, True
         )
         return np.asarray(values.shimmy_probability, dtype=float)
 
@@ -414,14 +409,14 @@ def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current
             f"one- and two-part fixes ({combinations(options):,} combinations of all four parts exceed "
             f"{MAX_CANDIDATES:,}: a continuous part's grid)"
         )
-    values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
+    values = _evaluate(cands, s.problem.conditions, s.stem_angle, s.factor, s.bound, s.limits)
     over = s.overshoot(values.turning_effort, values.threshold_force, current_state)
     if searched.startswith("one-") and not np.any(values.feasible & (over <= 1e-12)):
         more = _enumerate(options, sources, base, max_parts=4, min_parts=3)
         if len(more["trail"]) <= MAX_CANDIDATES:
             more["order"] = more["order"] + len(cands["order"])
             cands = {key: np.concatenate([cands[key], more[key]]) for key in cands}
-            values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
+            values = _evaluate(cands, s.problem.conditions, s.stem_angle, s.factor, s.bound, s.limits)
             over = s.overshoot(values.turning_effort, values.threshold_force, current_state)
             searched = "one- and two-part fixes, then three- and four-part ones (none of the first within the limits)"
     d_turn = values.turning_effort - current_state.turning_effort
@@ -458,7 +453,7 @@ def _holds_at_corner(cands: dict, s: _Setting) -> np.ndarray:
     holds = np.ones(np.shape(cands["trail"]), bool)
     for corner in tolerance_corners(s.problem, cands):
         with warnings.catch_warnings(action="ignore", category=UserWarning):
-            values = _evaluate(corner, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
+            values = _evaluate(corner, s.problem.conditions, s.stem_angle, s.factor, s.bound, s.limits)
         holds &= np.asarray(values.risk_ok, bool)
     return holds
 
