@@ -20,7 +20,7 @@ then does not enter the risk (Eq. 7 has no d).  P(V_c,true < V_req) is monotone 
 wheel's linear part (model error and σ_I) does not depend on the caster (log V_c's slope in log I_w is −1/2
 whatever B), and at every quadrature node of (ξ_c, ξ_K) Eq. 7's V_c² = 4 c_f T²/(π I_w) + K_s B² T/(2 I_w) rises
 with T, B and c_f and falls with I_w.  So P falls as T, B or M_f grows and rises with I_w, and the worst corner is
-(trail_min, groove_min, friction_moment_min, wheel_inertia_max).  :func:`joint_limits` still evaluates all 2^k
+(trail_min, groove_min, friction_moment_min, wheel_inertia_max).  :func:`joint_limits_many` still evaluates all 2^k
 corners (k the parts with a window: each risk part's limit and its mirror about nominal, the trail's footrest
 maximum) in one array call of the exact law and records whether the worst of them is that corner.
 
@@ -137,11 +137,8 @@ class JointLimits(Record):
     @property
     def limits(self) -> dict[str, float | None]:
         """{key: value [SI]} of the box (the diameter's only when it is in the box)."""
-        out = {k: getattr(self, k) for k in BOX_KEYS}
-        for key in ("diameter_min", "diameter_max"):
-            if getattr(self, key) is not None:
-                out[key] = getattr(self, key)
-        return out
+        keys = (*BOX_KEYS, "diameter_min", "diameter_max")
+        return {k: getattr(self, k) for k in keys if k in BOX_KEYS or getattr(self, k) is not None}
 
     def window(self, part: str) -> float:
         """The box's relative window of a risk part below (trail, groove, friction moment) or above (wheel
@@ -152,23 +149,14 @@ class JointLimits(Record):
         """Whether a measured caster {trail, groove, friction_moment, wheel_inertia[, diameter]} [SI] lies inside
         (to 1e-9 relative: a diameter written in mm and the box's in inches agree)."""
         lim, eps = self.limits, 1e-9
-
-        def above(value: float, bound: float | None) -> bool:
-            return bound is None or value >= bound * (1 - eps)
-
-        def below(value: float, bound: float | None) -> bool:
-            return bound is None or value <= bound * (1 + eps)
-
-        inside = (
-            above(parts["trail"], lim["trail_min"])
-            and below(parts["trail"], lim["trail_max"])
-            and above(parts["groove"], lim["groove_min"])
-            and above(parts["friction_moment"], lim["friction_moment_min"])
-            and below(parts["wheel_inertia"], lim["wheel_inertia_max"])
-        )
-        if inside and "diameter" in parts:
-            inside = above(parts["diameter"], self.diameter_min) and below(parts["diameter"], self.diameter_max)
-        return bool(inside)
+        for part, (low, high) in _BOX_PARTS.items():
+            if part == "diameter" and part not in parts:
+                continue
+            if low is not None and lim.get(low) is not None and not parts[part] >= lim[low] * (1 - eps):
+                return False
+            if high is not None and lim.get(high) is not None and not parts[part] <= lim[high] * (1 + eps):
+                return False
+        return True
 
     def cells(self, units: str = "mm") -> dict[str, str]:
         """{part: the box's interval as an inspector reads it, lengths in the problem's ``units`` first} ("min
@@ -237,8 +225,8 @@ def _weights(problem: Problem, design: Design, inertia: float, measured: bool, o
     if tol.wheel is not None and tol.wheel > inertia:
         stated["wheel_inertia"] = tol.wheel / inertia - 1
     elif tol.wheel is None and tol.diameter is not None and not measured:
-        with warnings.catch_warnings():  # the fit's range warning is the caster's own, said elsewhere
-            warnings.simplefilter("ignore", UserWarning)
+        # the fit's range warning is the caster's own, said elsewhere
+        with warnings.catch_warnings(action="ignore", category=UserWarning):
             model = problem.conditions.inertia
             stated["wheel_inertia"] = float(model(design.diameter + tol.diameter)) / float(model(design.diameter)) - 1
     stated = {k: v for k, v in stated.items() if v > 0 and k in parts}
@@ -418,22 +406,6 @@ def joint_limits_many(
             )
         )
     return found
-
-
-def joint_limits(
-    problem: Problem,
-    design: Design,
-    inertia: float,
-    measured: bool,
-    uncertainty: Uncertainty,
-    *,
-    offset: float = 0.0,
-    calibration: float = 1.0,
-) -> JointLimits:
-    """The joint acceptance box of one caster: :func:`joint_limits_many` of one (its arguments, one value each)."""
-    return joint_limits_many(
-        [problem], [design], [inertia], [measured], uncertainty, offsets=[offset], calibration=calibration
-    )[0]
 
 
 _BOX_PARTS = {

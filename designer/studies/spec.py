@@ -3,12 +3,12 @@ tolerance box, and P(shimmy) as an exact number (docs/problem-file.md#tolerances
 
 For one caster of a problem (the recommendation, an alternative, a fleet part number, a retrofit fix):
 
-- :func:`caster_spec` builds a :class:`Spec`: the nominal parts, the acceptance limit of each inspectable
+- :func:`caster_specs` builds the :class:`Spec` of each caster: the nominal parts, the acceptance limit of each inspectable
   part with the others at nominal (:func:`designer.physics.acceptance.acceptance_limits`: trail min and max,
   groove min, bearing friction moment M_f = c_f θ0 min, measured wheel inertia max), how to measure each,
-  P(shimmy) from the exact law with the Monte Carlo beside it, and, with ``[tolerances]``, the worst corner;
-- :func:`caster_specs` builds the specs of many casters (a retrofit's fixes, a fleet's part numbers, a
-  recommendation and its alternatives), their limits searched in one batch;
+  P(shimmy) from the exact law with the Monte Carlo beside it, and, with ``[tolerances]``, the worst corner
+  (a retrofit's fixes, a fleet's part numbers, a recommendation and its alternatives: their limits searched in
+  one batch);
 - :func:`corner_probabilities` gives the worst-corner P of many casters (``enforce = true`` screens with it).
 
 Limits and corners are at the bound's speed V_req = (1 + margin) V_target and the problem's risk law (the
@@ -37,7 +37,7 @@ from designer.physics.acceptance import (
 from designer.model import Design, scatter_of
 from designer.physics.geometry import effective_trail
 from designer.physics.uncertainty import Uncertainty
-from designer.studies.acceptance import UNITS, JointLimits, joint_limits, joint_limits_many
+from designer.studies.acceptance import UNITS, JointLimits, joint_limits_many
 from designer.problem import Problem, Tolerances
 from designer.units import limit_shown
 from designer.reprs import Key, Record
@@ -63,6 +63,9 @@ MEASURE = {
     "plane; I = m g a τ²/(4π²) − m a² (a: axis to hub, τ: period)",
 }
 """How goods-in measures each part (the inspection sheet's last column)."""
+
+CORNER_KEYS = ("edges", "probability", "nominal_probability", "holds")
+"""The keys of a spec's worst corner (the :class:`~designer.physics.acceptance.Corner` fields it keeps)."""
 
 
 PART_LABELS = {
@@ -292,8 +295,8 @@ def _edges(problem: Problem, design: Design, caster: LawCaster, offset: float = 
             out["diameter"] = ((lo_d, {}), (hi_d, {}))
         else:
             model = problem.conditions.inertia
-            with warnings.catch_warnings():  # a 4 in wheel's low edge leaves Table 1 by a hair: the caster's own
-                warnings.simplefilter("ignore", UserWarning)  # warning, if any, is said once elsewhere
+            # a 4 in wheel's low edge leaves Table 1 by a hair: the caster's own warning, if any, is said once elsewhere
+            with warnings.catch_warnings(action="ignore", category=UserWarning):
                 at = {x: float(model(x)) for x in (lo_d, hi_d)}
             out["diameter"] = (
                 (lo_d, {"diameter": lo_d, "inertia": at[lo_d]}),
@@ -324,20 +327,14 @@ def tolerance_corners(problem: Problem, columns: dict[str, Any]) -> list[dict[st
     out = []
     for sign in (-1.0, 1.0):
         d = columns["diameter"] + sign * (tol.diameter or 0.0)
-        with warnings.catch_warnings():  # a wheel's edge just outside Table 1: said for the caster itself
-            warnings.simplefilter("ignore", UserWarning)
+        # a wheel's edge just outside Table 1: said for the caster itself
+        with warnings.catch_warnings(action="ignore", category=UserWarning):
             inertia = np.where(measured, columns["inertia"], np.asarray(model(d), float))
         flags = measured
         if tol.wheel is not None:
             inertia, flags = np.full(np.shape(d), tol.wheel), np.ones(np.shape(d), bool)
         out.append(parts | {"diameter": d, "inertia": inertia, "measured": flags})
     return out
-
-
-def _diameter_tolerance(problem: Problem) -> float:
-    """The diameter's stated ± [m] (0 when none is stated)."""
-    tol = problem.tolerances
-    return 0.0 if tol is None or tol.diameter is None else float(tol.diameter)
 
 
 def risk_law(problem: Problem, law: Uncertainty | None = None) -> Uncertainty:
@@ -439,7 +436,7 @@ def _search_limits(
         law,
         ranges,
         [p.swept_radius_max for p in problems],
-        np.array([d.diameter + _diameter_tolerance(p) for d, p in zip(designs, problems)]),  # footrest: d's top edge
+        np.array([d.diameter + ((p.tolerances and p.tolerances.diameter) or 0.0) for d, p in zip(designs, problems)]),
     )
 
 
@@ -455,16 +452,23 @@ def caster_specs(
     calibration: float = 1.0,
     probability: list[float] | None = None,
 ) -> list[Spec]:
-    """:func:`caster_spec` of many casters, their acceptance limits searched in one batch (the casters under one
-    risk law together): ``problems`` one for all or one per caster (a fleet's part number is specified for the
-    most demanding of its chairs), the other lists one entry per caster, as :func:`caster_spec` takes them."""
+    """The :class:`Spec` of each caster: limits (others at nominal), exact P at V_target beside the Monte Carlo
+    ``(p, se, samples, seed)`` the caller has, and the worst corner when the problem has ``[tolerances]``; the
+    acceptance limits of all of them searched in one batch (the casters under one risk law together).
+    ``problems``: one for all or one per caster (a fleet's part number is specified for the most demanding of its
+    chairs); the other lists one entry per caster.
+
+    A retrofit gives its own risk law ``law`` (calibrated by an observed onset), the stem's tilt φ (the trail is
+    then the fork offset e, the law sees e + (d/2) sin φ) and the calibration factor k (V_c,true is k times
+    Eq. 7's: P(k V_c < V) = P(V_c < V/k)); the limits are stated on the parts as built.  ``probability``: the
+    exact P at V_target the caller reports (the evaluator's), so the record and its spec say one number."""
     n = len(designs)
     each = problems if isinstance(problems, list) else [problems] * n
     offsets = [stem_offset(d, stem_angle) for d in designs]
     casters = [law_caster(p, d, i, m, o) for p, d, i, m, o in zip(each, designs, inertia, measured, offsets)]
     laws = [risk_law(p, law) for p in each]
     found: list[list[PartLimit]] = [[] for _ in range(n)]
-    joints: list[JointLimits | None] = [None] * n
+    joints: list[JointLimits] = [None] * n  # type: ignore[list-item]
     for u in dict.fromkeys(laws):
         rows = [i for i in range(n) if laws[i] == u]
         pick = [[seq[i] for i in rows] for seq in (each, designs, casters, offsets)]
@@ -476,90 +480,41 @@ def caster_specs(
             boxes = joint_limits_many(*picked, u, offsets=[offsets[i] for i in same], calibration=calibration)  # type: ignore[arg-type]
             for i, box in zip(same, boxes):
                 joints[i] = box
-    return [
-        caster_spec(
-            each[i],
-            designs[i],
-            inertia[i],
-            measured[i],
-            monte_carlo[i],
-            law=law,
-            stem_angle=stem_angle,
-            calibration=calibration,
-            probability=None if probability is None else probability[i],
-            found=found[i],
-            joint=joints[i],
-        )
-        for i in range(n)
-    ]
-
-
-def caster_spec(
-    problem: Problem,
-    design: Design,
-    inertia: float,
-    measured: bool,
-    monte_carlo: tuple[float, float, int, int],
-    *,
-    law: Uncertainty | None = None,
-    stem_angle: float = 0.0,
-    calibration: float = 1.0,
-    probability: float | None = None,
-    found: list[PartLimit] | None = None,
-    joint: JointLimits | None = None,
-) -> Spec:
-    """The :class:`Spec` of one caster: limits (others at nominal), exact P at V_target beside the Monte Carlo
-    ``(p, se, samples, seed)`` the caller has, and the worst corner when the problem has ``[tolerances]``.
-
-    A retrofit gives its own risk law ``law`` (calibrated by an observed onset), the stem's tilt φ (the trail is
-    then the fork offset e, the law sees e + (d/2) sin φ) and the calibration factor k (V_c,true is k times
-    Eq. 7's: P(k V_c < V) = P(V_c < V/k)); the limits are stated on the parts as built.  ``probability``: the
-    exact P at V_target the caller reports (the evaluator's), so the record and its spec say one number.
-    ``found``, ``joint``: the physics' limits and the joint box when the caller searched them in a batch
-    (:func:`caster_specs`)."""
-    u = risk_law(problem, law)
-    offset = stem_offset(design, stem_angle)
-    caster = law_caster(problem, design, inertia, measured, offset)
     ranges = {name: PARAMETERS[name].range for name in ("trail", "groove", "damping")}
-    if found is None:
-        found = _search_limits([problem], [design], [caster], [offset], u, calibration)[0]
-    theta0 = float(problem.conditions.disturbance_angle)
-    nominal = {"trail": design.trail, "groove": design.groove, "damping": design.damping, "inertia": inertia}
-    limits = [_limit(lim, nominal, theta0, offset, ranges) for lim in found]
-    corner = caster_corner(problem, design, inertia, measured, law=law, stem_angle=stem_angle, calibration=calibration)
-    p_mc, se, samples, seed = monte_carlo
-    return Spec(
-        trail=design.trail,
-        diameter=design.diameter,
-        groove=design.groove,
-        damping=design.damping,
-        friction_moment=friction_moment(design.damping, theta0),
-        disturbance_angle=theta0,
-        inertia=inertia,
-        measured=measured,
-        limits=limits,
-        probability=exact_probability(caster, problem.target_speed / calibration, u)
-        if probability is None
-        else float(probability),
-        mc_probability=p_mc,
-        mc_se=se,
-        mc_samples=samples,
-        mc_seed=seed,
-        target_speed=problem.target_speed,
-        required_speed=problem.required_speed,
-        alpha=float(u.probability),
-        tolerances=problem.tolerances,
-        corner=None
-        if corner is None
-        else {
-            "edges": corner.edges,
-            "probability": corner.probability,
-            "nominal_probability": corner.nominal_probability,
-            "holds": corner.holds,
-        },
-        stem_angle=float(stem_angle),
-        calibration=float(calibration),
-        joint=joint_limits(problem, design, inertia, measured, u, offset=offset, calibration=calibration)
-        if joint is None
-        else joint,
-    )
+    out = []
+    for i, (problem, design, caster) in enumerate(zip(each, designs, casters)):
+        theta0 = float(problem.conditions.disturbance_angle)
+        nominal = {"trail": design.trail, "groove": design.groove, "damping": design.damping, "inertia": inertia[i]}
+        corner = caster_corner(
+            problem, design, inertia[i], measured[i], law=law, stem_angle=stem_angle, calibration=calibration
+        )
+        p_mc, se, samples, seed = monte_carlo[i]
+        out.append(
+            Spec(
+                trail=design.trail,
+                diameter=design.diameter,
+                groove=design.groove,
+                damping=design.damping,
+                friction_moment=friction_moment(design.damping, theta0),
+                disturbance_angle=theta0,
+                inertia=inertia[i],
+                measured=measured[i],
+                limits=[_limit(lim, nominal, theta0, offsets[i], ranges) for lim in found[i]],
+                probability=exact_probability(caster, problem.target_speed / calibration, laws[i])
+                if probability is None
+                else float(probability[i]),
+                mc_probability=p_mc,
+                mc_se=se,
+                mc_samples=samples,
+                mc_seed=seed,
+                target_speed=problem.target_speed,
+                required_speed=problem.required_speed,
+                alpha=float(laws[i].probability),
+                tolerances=problem.tolerances,
+                corner=None if corner is None else {k: getattr(corner, k) for k in CORNER_KEYS},
+                stem_angle=float(stem_angle),
+                calibration=float(calibration),
+                joint=joints[i],
+            )
+        )
+    return out

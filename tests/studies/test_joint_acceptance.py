@@ -252,7 +252,7 @@ def test_joint_boxes_searched_together_equal_each_searched_alone():
     gets alone, to the scale's root tolerance (SCALE_RTOL), with the same corner count and the same notes; and
     measured_probabilities with one speed per caster equals a call per speed."""
     from designer.model import Design
-    from designer.studies.acceptance import SCALE_RTOL, joint_limits, joint_limits_many
+    from designer.studies.acceptance import SCALE_RTOL, joint_limits_many
 
     problems = [load_problem(ROOT / "problems" / f"{n}.toml") for n in ("indoor-manual", "indoor-manual-tolerances")]
     problems[1] = problems[1].replace(target_speed=2.8)
@@ -273,7 +273,7 @@ def test_joint_boxes_searched_together_equal_each_searched_alone():
     together = joint_limits_many(each, designs, inertia, measured, problems[0].risk)
     assert len({j.required_speed for j in together}) == 2
     for p, d, i, box in zip(each, designs, inertia, together):
-        alone = joint_limits(p, d, i, False, problems[0].risk)
+        (alone,) = joint_limits_many([p], [d], [i], [False], problems[0].risk)
         assert box.corners == alone.corners and box.notes == alone.notes and box.shape == alone.shape
         assert box.scale == pytest.approx(alone.scale, rel=4 * SCALE_RTOL, abs=1e-12)
         if box.scale > 0:  # the worst corner at α, from inside

@@ -53,34 +53,17 @@ from designer.reprs import Key, Record, dataframe
 from designer.studies.fleet._kmedian import ColumnDominance, KMedianSolution, kmedian_curve
 from designer.problem import Problem, example_problem, problem_argument
 from designer.solvers import one_solve_at_a_time
+from designer.studies.recommend import rule_text, weights_meaning
 from designer.studies.spec import Spec, caster_specs, mc_draws
-from designer.studies.fleet._table import Fleet, example_fleet, read_fleet
-from designer.model import weighted
+from designer.studies.fleet._table import Fleet, read_fleet
 from designer.studies.fleet._rule import (
     StockTable,
-    _chunk_task,
     _mc_task,
     _split,
     evaluate_chairs,
     recommend_chairs,
     stock_table,
 )
-
-__all__ = [
-    "CHUNK",
-    "DEFAULT_MAX_REGRET",
-    "FleetResult",
-    "choose_skus",
-    "evaluate_chairs",
-    "example_fleet",
-    "fleet",
-    "fleet_data",
-    "fleet_recommendations",
-    "fleet_run",
-    "read_fleet",
-    "stock_table",
-    "suggest_skus",
-]
 
 _LIFETIME = "designer.children"
 """Dask preload module of the local cluster's workers: each ends with its parent process."""
@@ -188,25 +171,22 @@ class FleetResult(Record):
             out.append(row)
         return out
 
-    def _summary(self) -> list[tuple[str, str, str]]:
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        """Chairs, part numbers, ranges of F_turn and P, the largest P(shimmy) (notebooks; the repr's too)."""
         ok = self.feasible
         f, p = self.chairs["turning_effort"][ok], self.chairs["threshold_force"][ok]
-        rows = [
+        rows: list[tuple[Any, Any, Any]] = [
             ("chairs (with a caster)", f"{len(self.fleet)} ({int(ok.sum())})", ""),
             ("part numbers (SKUs)", f"{len(self.sku_records())}" if self.skus is not None else "not asked", ""),
         ]
         if ok.any():
             rows += [
                 (
-                    OUTPUTS["turning_effort"].label + ": min – max (median)",
-                    f"{f.min():.4g} – {f.max():.4g} ({float(np.median(f)):.4g})",
-                    OUTPUTS["turning_effort"].unit,
-                ),
-                (
-                    OUTPUTS["threshold_force"].label + ": min – max (median)",
-                    f"{p.min():.4g} – {p.max():.4g} ({float(np.median(p)):.4g})",
-                    OUTPUTS["threshold_force"].unit,
-                ),
+                    OUTPUTS[n].label + ": min – max (median)",
+                    f"{x.min():.4g} – {x.max():.4g} ({np.median(x):.4g})",
+                    OUTPUTS[n].unit,
+                )
+                for n, x in (("turning_effort", f), ("threshold_force", p))
             ]
         shimmy = self.chairs.get("shimmy_probability")
         if shimmy is not None and ok.any():
@@ -215,16 +195,14 @@ class FleetResult(Record):
 
     def _repr_lines(self) -> list[str]:
         """Two lines: chairs, part numbers and the ranges of F_turn and P [N] (``print(fleet_data(...))``: all)."""
-        head = ", ".join(f"{label.split(':')[0]} {value} {unit}".rstrip() for label, value, unit in self._summary()[:2])
+        head = ", ".join(
+            f"{label.split(':')[0]} {value} {unit}".rstrip() for label, value, unit in self._html_rows()[:2]
+        )
         rest = "; ".join(
             f"{label.split(':')[0]} {value.split(' (')[0]} {unit}".rstrip()
-            for label, value, unit in self._summary()[2:]
+            for label, value, unit in self._html_rows()[2:]
         )
         return [f"FleetResult({getattr(self.problem, 'name', '?')!r}: {head})"] + ([f"  {rest}"] if rest else [])
-
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        """Chairs, part numbers, ranges of F_turn and P (notebooks)."""
-        return list(self._summary())
 
     _keys = (Key("**", lambda r: fleet_data(r)),)
     """The plain data of ``fleet.json`` (:func:`fleet_data`): settings, part numbers, regret curve, per-chair
@@ -342,7 +320,7 @@ def fleet_recommendations(  # long: its docstring documents every argument; the 
             problem=problem,
             chairs=chairs,
             timings=timings,
-            scheduler=None if client is None else _address(client),
+            scheduler=None if client is None else str(client.scheduler_info().get("address", "")),
         )
         if skus is not None:
             start = time.perf_counter()
@@ -354,8 +332,14 @@ def fleet_recommendations(  # long: its docstring documents every argument; the 
                 result = dataclasses.replace(result, tolerance_price=price)
                 timings["without_tolerances"] = time.perf_counter() - start
             if monte_carlo and result.skus is not None and result.skus.assignment is not None:
-                result = _sku_monte_carlo(client, result, chunk)
-                timings.update(result.timings)
+                # P(shimmy) of each chair with the part number the K-median assigned it (NaN for a chair without)
+                start = time.perf_counter()
+                assigned = np.full(len(fleet), -1)
+                assigned[result.feasible] = result.skus.assignment
+                risk = _monte_carlo(client, stock, problem, assigned, fleet.target_speed, chunk=max(50, chunk // 20))
+                keys = ("sku_shimmy_probability", "sku_shimmy_probability_mc", "sku_shimmy_probability_se")
+                result = dataclasses.replace(result, chairs={**result.chairs, **dict(zip(keys, risk))})
+                timings["sku_monte_carlo"] = time.perf_counter() - start
             if result.skus is not None and result.skus.assignment is not None:
                 start = time.perf_counter()
                 result = dataclasses.replace(result, specs=sku_specs(result))
@@ -363,7 +347,10 @@ def fleet_recommendations(  # long: its docstring documents every argument; the 
             result = dataclasses.replace(result, timings=timings)
     finally:
         if own:
-            _close(client)
+            cluster = getattr(client, "cluster", None)  # a local cluster ends with its client
+            client.close()
+            if cluster is not None:
+                cluster.close()
     return result
 
 
@@ -386,12 +373,6 @@ def _tolerance_price(
     return {"part_numbers": n, "with_tolerances": held, "without_tolerances": without, "sentence": text}
 
 
-def _address(client: Any) -> str:
-    """The Dask scheduler's address, for run.json ("" when the client does not say)."""
-    info: Any = getattr(client, "scheduler_info", lambda: {})()
-    return str(info.get("address", ""))
-
-
 def _recommend_all(client: Any, fleet: Fleet, stock: StockTable, problem: Problem, chunk: int) -> dict[str, np.ndarray]:
     """Every chair's recommendation (:func:`recommend_chairs`) in chunks of ``chunk`` chairs, in this process
     (``client`` None) or as Dask tasks; the per-chair arrays joined in fleet order."""
@@ -401,26 +382,9 @@ def _recommend_all(client: Any, fleet: Fleet, stock: StockTable, problem: Proble
     else:
         stock_f = client.scatter(stock, broadcast=True, hash=False)
         problem_f = client.scatter(problem, broadcast=True, hash=False)
-        futures = [client.submit(_chunk_task, arrays, stock_f, problem_f, pure=False) for _, arrays in parts]
+        futures = [client.submit(recommend_chairs, arrays, stock_f, problem_f, pure=False) for _, arrays in parts]
         results = client.gather(futures)
     return {k: np.concatenate([r[k] for r in results]) for k in results[0]}
-
-
-def _sku_monte_carlo(client: Any, result: FleetResult, chunk: int) -> FleetResult:
-    """``result`` with the P(shimmy) of each chair with the part number the K-median program assigned it
-    (``chairs["sku_shimmy_probability"]``, NaN for a chair without one), timed as ``sku_monte_carlo``."""
-    start = time.perf_counter()
-    fleet = result.fleet
-    assigned = np.full(len(fleet), -1)
-    if result.skus is None or result.skus.assignment is None:
-        raise ValueError("no part numbers assigned: nothing to sample")
-    assigned[result.feasible] = result.skus.assignment
-    ch = dict(result.chairs)
-    ch["sku_shimmy_probability"], ch["sku_shimmy_probability_mc"], ch["sku_shimmy_probability_se"] = _monte_carlo(
-        client, result.stock, result.problem, assigned, fleet.target_speed, chunk=max(50, chunk // 20)
-    )
-    timings = {**result.timings, "sku_monte_carlo": time.perf_counter() - start}
-    return dataclasses.replace(result, chairs=ch, timings=timings)
 
 
 def sku_specs(result: FleetResult) -> list[Spec]:
@@ -433,33 +397,25 @@ def sku_specs(result: FleetResult) -> list[Spec]:
     if sku is None or sku.assignment is None:
         return []
     problem, stock, fleet = result.problem, result.stock, result.fleet
-    u = scatter_of(problem.conditions)
+    u, slip = scatter_of(problem.conditions), problem.conditions.slip_coefficient
     feasible = np.flatnonzero(result.feasible)
-    problems, designs, inertias, flags, monte_carlo = [], [], [], [], []
+    problems = []
     for j in sku.chosen:
         mine = feasible[sku.assignment == j]
         radius = fleet.swept_radius_max[mine]
         radius = radius[np.isfinite(radius)]
-        demanding = problem.replace(
-            target_speed=float(np.max(fleet.target_speed[mine])),
-            swept_radius_max=float(np.min(radius)) if radius.size else None,
+        problems.append(
+            problem.replace(
+                target_speed=float(np.max(fleet.target_speed[mine])),
+                swept_radius_max=float(np.min(radius)) if radius.size else None,
+            )
         )
-        design = Design(**stock.design(j))
-        inertia, measured = float(stock.inertia[j]), bool(np.asarray(stock.measured, bool)[j])
-        row = np.array([[design.trail, design.diameter, design.groove, design.damping]])
-        _, p_mc, se = _mc_task(
-            row,
-            np.array([inertia]),
-            np.array([demanding.target_speed]),
-            problem.conditions.slip_coefficient,
-            u,
-            np.array([measured]),
-        )[0]
-        problems.append(demanding)
-        designs.append(design)
-        inertias.append(inertia)
-        flags.append(measured)
-        monte_carlo.append((float(p_mc), float(se), mc_draws(p_mc, se), u.seed))
+    chosen = np.asarray(sku.chosen, int)
+    designs = [Design(**stock.design(j)) for j in chosen]
+    inertias, flags = [float(x) for x in stock.inertia[chosen]], [bool(x) for x in stock.measured[chosen]]
+    speeds = np.array([p.target_speed for p in problems])
+    risk = _mc_task(np.array([d.as_array() for d in designs]), np.array(inertias), speeds, slip, u, np.array(flags))
+    monte_carlo = [(float(p_mc), float(se), mc_draws(p_mc, se), u.seed) for _, p_mc, se in risk]
     # every part number's acceptance limits searched together
     return caster_specs(problems, designs, inertias, flags, monte_carlo)
 
@@ -472,11 +428,9 @@ def _monte_carlo(
     u = scatter_of(problem.conditions)
     slip = problem.conditions.slip_coefficient
     rows = np.flatnonzero(choice >= 0)
-    p = np.full(len(choice), np.nan)
-    mc = np.full(len(choice), np.nan)
-    se = np.full(len(choice), np.nan)
+    out = np.full((3, len(choice)), np.nan)
     if not len(rows):
-        return p, mc, se
+        return out[0], out[1], out[2]
     # The estimate is a deterministic function of (caster, speed) (its own fixed seed), so chairs that share
     # both share one estimate: each distinct pair is sampled once.
     pairs, inverse = np.unique(
@@ -497,9 +451,8 @@ def _monte_carlo(
             client.submit(_mc_task, designs[s], inertia[s], sp[s], slip, u, measured[s], pure=False) for s in pieces
         ]
         outs = client.gather(futures)
-    both = np.concatenate(outs)[np.ravel(inverse)]
-    p[rows], mc[rows], se[rows] = both[:, 0], both[:, 1], both[:, 2]
-    return p, mc, se
+    out[:, rows] = np.concatenate(outs)[np.ravel(inverse)].T
+    return out[0], out[1], out[2]
 
 
 def choose_skus(
@@ -585,19 +538,6 @@ def suggest_skus(
     }
 
 
-def _stock_subset(stock: StockTable, columns: np.ndarray) -> StockTable:
-    """The stock table restricted to ``columns`` (every per-caster array indexed)."""
-    n = len(stock)
-    return dataclasses.replace(
-        stock,
-        **{
-            f.name: getattr(stock, f.name)[columns]
-            for f in dataclasses.fields(stock)
-            if isinstance(getattr(stock, f.name), np.ndarray) and len(getattr(stock, f.name)) == n
-        },
-    )
-
-
 def _regret_matrix(result: FleetResult, rows: np.ndarray) -> dict[str, np.ndarray]:
     """Regret, F_turn and P of the chairs ``rows`` (feasible) with the casters that can matter for a K-median.
 
@@ -608,19 +548,20 @@ def _regret_matrix(result: FleetResult, rows: np.ndarray) -> dict[str, np.ndarra
     """
     fleet, stock, problem = result.fleet, result.stock, result.problem
     arrays = fleet.arrays()
-    w = np.asarray(problem.weights, float)
     parts = [rows[a : a + CHUNK] for a in range(0, len(rows), CHUNK)]
 
     def evaluate(part: np.ndarray, table: StockTable) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         ev = evaluate_chairs({key: v[part] for key, v in arrays.items()}, table, problem)
-        f, p = ev["turning_effort"], ev["threshold_force"]
-        return np.where(ev["feasible"], weighted(f, p, w), np.inf), f, p
+        return np.where(ev["feasible"], ev["objective"], np.inf), ev["turning_effort"], ev["threshold_force"]
 
     dominance = ColumnDominance(len(stock))
     for part in parts:
         dominance.add(evaluate(part, stock)[0])
     columns = dominance.undominated()
-    table = _stock_subset(stock, columns)
+    per_caster = {f.name: getattr(stock, f.name) for f in dataclasses.fields(stock)}  # every per-caster array
+    table = dataclasses.replace(
+        stock, **{k: v[columns] for k, v in per_caster.items() if isinstance(v, np.ndarray) and len(v) == len(stock)}
+    )
     j, f, p = (np.concatenate(x) for x in zip(*(evaluate(part, table) for part in parts)))
     least = j.min(axis=1)
     j -= least[:, None]
@@ -682,13 +623,6 @@ def _check_scheduler(scheduler: Any) -> None:
         raise InputError(f"--scheduler {scheduler!r}: {usage} (a host and a port, nothing after them)")
 
 
-def _close(client: Any) -> None:
-    cluster = getattr(client, "cluster", None)
-    client.close()
-    if cluster is not None:
-        cluster.close()
-
-
 def fleet_data(result: FleetResult) -> dict[str, Any]:
     """Plain data of a fleet run (fleet.json; what the report renders): settings, part numbers, regret curve,
     per-chair rows, distributions.  SI units; J uses the base problem's weights.  The date and times are in
@@ -712,8 +646,7 @@ def fleet_data(result: FleetResult) -> dict[str, Any]:
         "served_units": int(result.fleet.count[ok].sum()),
         "problem": problem.name,
         "weights": list(w),
-        "objective": f"J = {w[0]:g} F_turn + {w[1]:g} P [N]: 1 N of sill force is worth "
-        f"{(w[1] / w[0]) if w[0] else math.inf:g} N of turning effort",
+        "objective": weights_meaning(w),
         "regret_definition": "regret of a chair = J with its assigned part number − the chair's least J, the "
         "least J over the stock casters allowed for that chair (never negative); the part numbers minimise "
         "the sum over the units sold",
@@ -721,7 +654,7 @@ def fleet_data(result: FleetResult) -> dict[str, Any]:
         "own_recommendation": _own_recommendation(result),
         "risk": None if risk is None else {"probability": risk.probability, "margin": problem.margin},
         "monte_carlo": {"samples": u.samples, "seed": u.seed},
-        "rule": _rule_name(problem),
+        "rule": rule_text(problem),
         "stock": {
             "casters": len(result.stock),
             "note": result.stock.note,
@@ -786,16 +719,6 @@ def _curve_data(result: FleetResult, units: float) -> list[dict[str, Any]]:
         }
         for k, s in sorted(result.curve.items())
     ]
-
-
-def _rule_name(problem: Problem) -> str:
-    """The base problem's rule in words (a cap on one objective, else the knee, or the least-J end of a front
-    that has none: :func:`designer.studies.recommend.select_rows`)."""
-    if problem.max_threshold_force is not None:
-        return "cap on sill force"
-    if problem.max_turning_effort is not None:
-        return "cap on turning effort"
-    return "knee of the buildable front (its least-J end where it has no knee)"
 
 
 def _worst_regret(result: FleetResult, solution: KMedianSolution | None) -> float | None:

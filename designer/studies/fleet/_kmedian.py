@@ -291,16 +291,6 @@ def _local_search(inst: _Instance, chosen: Iterable[int], max_sweeps: int = 100)
 # --------------------------------------------------------------------------- bound and proof
 
 
-def lagrangian_bound(cost: np.ndarray, weights: np.ndarray, k: int, lam: np.ndarray) -> float:
-    """L(λ) = Σ_i λ_i + (sum of the k smallest ρ_j), ρ_j = Σ_i min(0, w_i c_ij − λ_i): a lower bound on
-    the K-median optimum for every λ (the module docstring); infinite costs never enter ρ."""
-    cost = np.asarray(cost, float)
-    wc = np.where(np.isfinite(cost), np.asarray(weights, float)[:, None] * cost, np.inf)
-    with np.errstate(invalid="ignore"):
-        rho = np.minimum(0.0, wc - np.asarray(lam, float)[:, None]).sum(axis=0)
-    return float(np.sum(lam) + np.sort(rho)[:k].sum())
-
-
 def _subgradient(
     inst: _Instance, k: int, upper: float, chosen: list[int], lam: np.ndarray, iterations: int
 ) -> tuple[float, np.ndarray, float, list[int]]:

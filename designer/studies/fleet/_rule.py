@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from designer.data.paper import INCH
+from designer.display import shown
 from designer.errors import ProblemError
 from designer.model import VARIABLES, evaluate, shimmy_probability
 from designer.physics.acceptance import LawCaster, exact_probability
@@ -25,7 +26,6 @@ from designer.studies.recommend import CandidateTable, select_rows, stock_candid
 from designer.studies.spec import tolerance_corners
 
 from designer.studies.fleet._table import Fleet
-from designer.model import weighted
 
 
 # --------------------------------------------------------------------------- the stock
@@ -125,8 +125,7 @@ def _toleranced(table: StockTable, problem) -> None:
     tol = problem.tolerances
     speeds = [np.asarray(table.confident_speed, float)]
     for corner in tolerance_corners(problem, {k: getattr(table, k) for k in (*VARIABLES, "inertia", "measured")}):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", UserWarning)
+        with warnings.catch_warnings(action="ignore", category=UserWarning):
             at = evaluate(
                 {k: corner[k] for k in VARIABLES},
                 problem.conditions,
@@ -178,13 +177,13 @@ def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     Returns
     -------
     dict of (chairs, casters) arrays: ``turning_effort`` F_turn [N] (Eq. 9 with the turning model),
-    ``threshold_force`` P [N] (Eq. 4A; +inf where d/h <= 2), ``feasible`` (risk bound, swept radius,
+    ``threshold_force`` P [N] (Eq. 4A; +inf where d/h <= 2), ``objective`` J (:meth:`Casters.J`), ``feasible`` (risk bound, swept radius,
     sill), and per-chair boolean (chairs,) ``any_risk``, ``any_radius``, ``any_sill`` for the reasons.
     """
     load = np.asarray(chairs["load"], float)
     n, s = len(load), len(stock)
     required = (1 + problem.margin) * np.asarray(chairs["target_speed"], float)
-    out = {key: np.empty((n, s)) for key in ("turning_effort", "threshold_force")}
+    out = {key: np.empty((n, s)) for key in ("turning_effort", "threshold_force", "objective")}
     out |= {key: np.empty((n, s), bool) for key in ("risk_ok", "radius_ok", "sill_ok")}
     designs = {name: getattr(stock, name)[None, :] for name in VARIABLES}
     for surface in SURFACES:
@@ -203,8 +202,8 @@ def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
                 swept_radius_max=np.asarray(chairs["swept_radius_max"], float)[rows, None],
             )
             for key in out:
-                out[key][rows] = getattr(values, key)
-    effort, force, risk_ok, radius_ok, sill_ok = out.values()
+                out[key][rows] = values.J(problem.weights) if key == "objective" else getattr(values, key)
+    effort, force, objective, risk_ok, radius_ok, sill_ok = out.values()
     if getattr(problem, "tolerances", None) is not None:  # the stock's corner speeds and toleranced swept radius
         risk_ok &= np.asarray(stock.confident_speed, float)[None, :] >= required[:, None]
         r_max = np.asarray(chairs["swept_radius_max"], float)[:, None]
@@ -212,6 +211,7 @@ def evaluate_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     return {
         "turning_effort": effort,
         "threshold_force": force,
+        "objective": objective,
         "feasible": risk_ok & radius_ok & sill_ok,
         "any_risk": risk_ok.any(axis=1),
         "any_radius": radius_ok.any(axis=1),
@@ -254,8 +254,7 @@ def recommend_chairs(chairs: dict, stock: StockTable, problem) -> dict:
     position = np.where(fperm == np.repeat(gmin, counts, axis=1), np.arange(s), s)
     gstock = perm[np.minimum(np.minimum.reduceat(position, starts, axis=1), s - 1)]
     gp = np.where(np.isfinite(gmin), np.take_along_axis(p, gstock, axis=1), np.inf)
-    w = np.asarray(problem.weights, float)
-    j = np.where(ok, weighted(f, p, w), np.inf)
+    j = np.where(ok, ev["objective"], np.inf)
     best_j = np.where(ok.any(axis=1), np.argmin(j, axis=1), -1)
     cap_p = getattr(problem, "max_threshold_force", None)
     cap_f = getattr(problem, "max_turning_effort", None)
@@ -288,26 +287,25 @@ def recommend_chairs(chairs: dict, stock: StockTable, problem) -> dict:
 def _reason(i, ev, stock, over_cap, cap_p, cap_f) -> str:
     """Why chair ``i`` gets no caster, in one phrase."""
     if over_cap:
-        cap = f"sill force <= {cap_p:.1f} N" if cap_p is not None else f"turning effort <= {cap_f:.2f} N"
+        cap = (
+            f"sill force <= {shown(cap_p, 'threshold_force')}"
+            if cap_p is not None
+            else f"turning effort <= {shown(cap_f, 'turning_effort')}"
+        )
         return f"infeasible: no buildable caster within the cap {cap}"
     missing = []
     if not ev["any_risk"][i]:
         missing.append(
-            f"risk bound (best confident speed {stock.confident_speed.max():.2f} m/s < required "
-            f"{ev['required'][i]:.2f} m/s)"
+            f"risk bound (best confident speed {shown(stock.confident_speed.max(), 'confident_speed')} < required "
+            f"{shown(ev['required'][i], 'confident_speed')})"
         )
     if not ev["any_radius"][i]:
-        missing.append(f"swept radius (smallest {stock.swept_radius.min() / INCH:.2f} in)")
+        missing.append(f"swept radius (smallest {shown(stock.swept_radius.min(), 'swept_radius', 'in')})")
     if not ev["any_sill"][i]:
-        missing.append(f"sill (largest wheel {stock.diameter.max() / INCH:.2f} in <= twice the sill)")
+        missing.append(f"sill (largest wheel {shown(stock.diameter.max(), 'diameter', 'in')} <= twice the sill)")
     if missing:
         return "infeasible: no stock caster meets the " + "; ".join(missing)
     return "infeasible: no stock caster meets the risk bound, the swept radius and the sill at once"
-
-
-def _chunk_task(chairs: dict, stock: StockTable, problem) -> dict:
-    """One chunk of chairs on a worker: plain arrays in, plain arrays out (nothing else crosses the wire)."""
-    return recommend_chairs(chairs, stock, problem)
 
 
 def _split(fleet: Fleet, chunk: int) -> list[tuple[int, dict]]:

@@ -12,13 +12,14 @@ from __future__ import annotations
 
 from designer.studies.recommend._record import Recommendation
 from designer.studies.recommend._recommend import recommend, with_spec
-from designer.studies.recommend._rule import select_rows, weights_meaning
+from designer.studies.recommend._rule import rule_text, select_rows, weights_meaning
 from designer.studies.recommend._stock import CandidateTable, stock_candidates
 
 __all__ = [
     "CandidateTable",
     "Recommendation",
     "recommend",
+    "rule_text",
     "select_rows",
     "stock_candidates",
     "weights_meaning",

@@ -35,20 +35,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from designer.model import weighted
 from designer.boundary import SEED, Count, checked
 from designer.units import percent
-from designer.data.paper import INCH
+from designer.display import quantity, shown
 from designer.errors import InfeasibleError, InputError
 from designer.model import VARIABLES, Casters, Design, evaluate, scatter_of
 from designer.physics.inertia import Fixed, PowerLaw
 from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sources
 from designer.problem import MAX_SAMPLES, Bound, problem_argument
 from designer.solvers import one_solve_at_a_time
-from designer.studies.recommend._record import Recommendation
+from designer.studies.recommend._record import Recommendation, _parts
 from designer.physics.acceptance import exact_speed_quantile, exact_speed_quantiles
 from designer.studies.spec import (
-    caster_spec,
     caster_specs,
     corner_probabilities,
     exact_shimmy_probability,
@@ -77,6 +75,17 @@ class _Buildable:
         v = self.values
         return Design(float(v.trail[i]), float(v.diameter[i]), float(v.groove[i]), float(v.damping[i]))
 
+    def brief(self, i: int, corner: float) -> dict:
+        """Candidate ``i`` as plain data: its design [SI], wheel, F_turn and P [N], and its worst-corner P."""
+        v = self.values
+        return {
+            "design": self.design(i).to_dict(),
+            "wheel": str(self.wheel[i]) or None,
+            "turning_effort": float(v.turning_effort[i]),
+            "threshold_force": float(v.threshold_force[i]),
+            "worst_corner_probability": corner,
+        }
+
     def corners(self, problem, rows) -> list[float]:
         """The worst-corner P of candidates ``rows`` under ``problem``'s ``[tolerances]``
         (:func:`designer.studies.spec.corner_probabilities`)."""
@@ -90,25 +99,6 @@ class _Buildable:
         )
 
 
-def _discrete_buildable(problem) -> tuple[_Buildable, ScreenedTable]:
-    t = candidate_table(problem)
-    k = t.values.feasible
-    return _Buildable(t.values.take(k), t.candidates.wheel[k]), t
-
-
-def _sub_problem(problem, row: dict, inertia, measured):
-    """The problem with one stock combination's parts fixed (the rest continuous); a measured wheel's I_w fixed."""
-
-    bounds = dict(problem.bounds)
-    for name, value in row.items():
-        if value is not None:
-            bounds[name] = Bound(value, value)
-    conditions = problem.conditions
-    if row["diameter"] is not None and inertia is not None and measured:
-        conditions = conditions.replace(inertia=Fixed(float(inertia)))
-    return dataclasses.replace(problem, bounds=bounds, conditions=conditions, wheels=(), stock=None, source=None)
-
-
 def _continuous_buildable(problem) -> _Buildable:
     """Each stock combination's continuous rest solved exactly (NLP), then pooled and evaluated by the model."""
     from designer.studies.front import pareto_front
@@ -117,12 +107,15 @@ def _continuous_buildable(problem) -> _Buildable:
     rows = []
     for j in range(len(cand)):
         row = cand.design(j)
-        inertia = None if cand.inertia is None else float(cand.inertia[j])
-        sub = _sub_problem(problem, row, inertia, cand.measured is not None and bool(cand.measured[j]))
+        # the problem with this combination's parts fixed (the rest continuous), a measured wheel's I_w fixed
+        bounds = dict(problem.bounds) | {name: Bound(value, value) for name, value in row.items() if value is not None}
+        conditions = problem.conditions
+        if row["diameter"] is not None and cand.inertia is not None and cand.measured is not None and cand.measured[j]:
+            conditions = conditions.replace(inertia=Fixed(float(cand.inertia[j])))
+        sub = dataclasses.replace(problem, bounds=bounds, conditions=conditions, wheels=(), stock=None, source=None)
         points = 2 if row["diameter"] is not None else min(21, problem.pareto_points)
         try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", UserWarning)
+            with warnings.catch_warnings(action="ignore", category=UserWarning):
                 front = pareto_front(sub, points=points)
         except InfeasibleError:
             continue
@@ -158,8 +151,9 @@ def _infeasible_message(problem, table: ScreenedTable | None) -> str:
     if not len(pool):
         j = int(np.argmin(table.values.swept_radius))
         return (
-            f"{problem.name}: no stock combination fits the swept radius {problem.swept_radius_max / INCH:.3f} in; "
-            f"the smallest is {table.values.swept_radius[j] / INCH:.3f} in (T + d/2); relax "
+            f"{problem.name}: no stock combination fits the swept radius "
+            f"{shown(problem.swept_radius_max, 'swept_radius', 'in')}; the smallest is "
+            f"{shown(table.values.swept_radius[j], 'swept_radius', 'in')} (T + d/2); relax "
             f"constraints.swept_radius_max or stock smaller wheels or shorter fork holes"
         )
     j = int(pool[np.argmax(ratio[pool])])
@@ -183,8 +177,7 @@ def _infeasible_message(problem, table: ScreenedTable | None) -> str:
     wheel = f" (wheel {cand.wheel[j]})" if cand.wheel[j] else ""
     return (
         f"{problem.name}: no stock combination meets the risk bound {bound}; the closest is "
-        f"T = {d['trail'] / INCH:.3f} in, d = {d['diameter'] / INCH:.3f} in{wheel}, B = {d['groove'] / INCH:.3f} in, "
-        f"c_f = {d['damping']:.3g} N·m/rad, reaching {table.values.confident_speed[j]:.3f} m/s with probability "
+        f"{_parts(d)}{wheel}, reaching {shown(table.values.confident_speed[j], 'confident_speed')} with probability "
         f"{percent(1 - (risk.probability if risk is not None else 0))} (needs {problem.required_speed:.3f}); relax: "
         + ", ".join(relax)
     )
@@ -198,13 +191,11 @@ def _record(
     role: str,
     samples=None,
     seed=None,
-    wants_spec: bool = True,
     quantile: float | None = None,
 ) -> Recommendation:
     """Candidate ``i`` as a :class:`Recommendation`, with its reported risk: P(shimmy at V_target) by the exact
     law (quadrature) under the problem's risk law (the default scatter when the bound is off, whose V_q it then
-    reports too), the Monte Carlo beside it as an independent check; its spec (limits, worst corner) when
-    ``wants_spec`` and it is not the "if measured" variant (:func:`with_spec` adds it later, the same).
+    reports too), the Monte Carlo beside it as an independent check; no spec (:func:`_with_specs` adds it).
     ``quantile``: its speed reached w.p. 1 − α when the caller found it in a batch (:func:`_quantiles`)."""
     u = scatter_of(problem.conditions)
     v = b.values
@@ -223,9 +214,6 @@ def _record(
     mc_seed = int(u.seed if seed is None else seed)
     inertia, measured = float(v.inertia[i]), bool(v.measured[i])
     p = exact_shimmy_probability(problem, design, inertia, measured, problem.target_speed)
-    spec = None
-    if role != "if measured" and wants_spec:
-        spec = caster_spec(problem, design, inertia, measured, (p_mc, se, n, mc_seed), probability=p)
     extra = _risk(problem, v, i, u, p, (p_mc, se)) if role == "recommended" else {}
     # the speed reached with probability 1 − α: the exact law's quantile (the solvers' V_q is a conservative bound)
     law = risk_law(problem)
@@ -241,18 +229,12 @@ def _record(
         shimmy_probability=p,
         shimmy_probability_mc=p_mc,
         shimmy_probability_se=se,
-        swept_radius_max=problem.swept_radius_max,
         rule=rule,
         wheel=str(b.wheel[i]) or None,
         role=role,
-        target_speed=problem.target_speed,
-        required_speed=problem.required_speed,
-        alpha=None if problem.risk is None else problem.risk.probability,
         mc_samples=n,
         mc_seed=mc_seed,
-        weights=tuple(problem.weights),
         problem=problem,
-        spec=spec,
         **extra,
     )
 
@@ -276,13 +258,7 @@ def with_spec(rec: Recommendation) -> Recommendation:
     already or is the "if measured" variant (which has none)."""
     if not isinstance(rec, Recommendation):
         raise InputError(f"rec = {rec!r:.80}: expected a designer.Recommendation (from designer.recommend)")
-    if rec.spec is not None or rec.role == "if measured" or rec.problem is None:
-        return rec
-    monte_carlo = (rec.shimmy_probability_mc, rec.shimmy_probability_se, rec.mc_samples, rec.mc_seed)
-    spec = caster_spec(
-        rec.problem, rec.design, rec.inertia, rec.measured, monte_carlo, probability=rec.shimmy_probability
-    )
-    return dataclasses.replace(rec, spec=spec)
+    return _with_specs([rec], [True])[0]
 
 
 def _with_specs(records: list[Recommendation], wanted: list[bool]) -> list[Recommendation]:
@@ -327,25 +303,22 @@ def _buildable_front(problem, b: _Buildable, member: np.ndarray):
 
     idx = np.flatnonzero(member)
     idx = idx[np.argsort(-b.values.threshold_force[idx], kind="stable")]
-    points = []
-    for i in idx:
-        d = b.design(i)
-        points.append(
-            FrontPoint(
-                design=d,
-                turning_effort=float(b.values.turning_effort[i]),
-                threshold_force=float(b.values.threshold_force[i]),
-                critical_speed=float(b.values.critical_speed[i]),
-                margins={"shimmy": float(b.values.confident_speed[i] - problem.required_speed)},
-                epsilon=float(b.values.threshold_force[i]),
-                status="stock",
-                success=True,
-                multipliers={},
-                family=family_of(problem, d),
-                wheel=str(b.wheel[i]) or None,
-                caster=b.values.row(i),
-            )
+    points = [
+        FrontPoint(
+            design=c.design,
+            turning_effort=c.turning_effort,
+            threshold_force=c.threshold_force,
+            critical_speed=c.critical_speed,
+            margins={"shimmy": c.confident_speed - problem.required_speed},
+            epsilon=c.threshold_force,
+            status="stock",
+            success=True,
+            family=family_of(problem, c.design),
+            wheel=str(b.wheel[i]) or None,
+            caster=c,
         )
+        for i, c in zip(idx, (b.values.row(i) for i in idx))
+    ]
     return Front(
         problem=problem,
         points=points,
@@ -417,7 +390,7 @@ def recommend(
     rule = rule_text(problem, size, bool(sel["knee"][0]))
     items = [(choice, "recommended")] + [(i, r) for i, r in front_roles(b.values.turning_effort, sel) if i != choice]
     q = _quantiles(problem, b, [i for i, _ in items])
-    rec, *alts = [_record(problem, b, i, rule, r, samples, seed, False, q) for (i, r), q in zip(items, q)]
+    rec, *alts = [_record(problem, b, i, rule, r, samples, seed, q) for (i, r), q in zip(items, q)]
     rec, *alts = _with_specs([rec, *alts], [specs != "none"] + [specs == "all"] * len(alts))
     return dataclasses.replace(
         rec,
@@ -473,13 +446,7 @@ def _enforced(problem, b: _Buildable, rec: Recommendation, free: int) -> dict:
     corner = b.corners(problem, [free])[0]
     return {
         "changed": bool(not np.allclose(d.as_array(), rec.design.as_array(), rtol=1e-12, atol=1e-15)),
-        "unenforced": {
-            "design": d.to_dict(),
-            "turning_effort": float(v.turning_effort[free]),
-            "threshold_force": float(v.threshold_force[free]),
-            "worst_corner_probability": corner,
-            "wheel": str(b.wheel[free]) or None,
-        },
+        "unenforced": b.brief(free, corner),
         "costs_turning_effort": rec.turning_effort - float(v.turning_effort[free]),
         "costs_threshold_force": rec.threshold_force - float(v.threshold_force[free]),
         "price": _price(problem, b),
@@ -495,8 +462,7 @@ def _price(problem, b: _Buildable) -> dict:
     the least-J one that holds the bound at its worst corner (J = w_turn F_turn + w_threshold P [N]); the casters
     are taken in order of J and their worst corners computed a few at a time until one holds."""
     v = b.values
-    w_turn, w_sill = problem.weights
-    j = w_turn * np.asarray(v.turning_effort, float) + w_sill * np.asarray(v.threshold_force, float)
+    j = v.J(problem.weights)
     order = np.argsort(j, kind="stable")
     alpha = risk_law(problem).probability
     corner: dict[int, float] = {}
@@ -509,16 +475,7 @@ def _price(problem, b: _Buildable) -> dict:
             break
 
     def brief(i: int | None) -> dict | None:
-        if i is None:
-            return None
-        return {
-            "design": b.design(i).to_dict(),
-            "wheel": str(b.wheel[i]) or None,
-            "objective": float(j[i]),
-            "turning_effort": float(v.turning_effort[i]),
-            "threshold_force": float(v.threshold_force[i]),
-            "worst_corner_probability": corner[i],
-        }
+        return None if i is None else b.brief(i, corner[i]) | {"objective": float(j[i])}
 
     free = int(order[0])
     return {
@@ -555,13 +512,11 @@ def _if_measured(problem, rec: Recommendation, samples, seed) -> dict | None:
     sel = _select(measured, b, np.ones(len(b), bool))
     if measured.tolerances is not None and measured.tolerances.enforce:  # the worst corner decides here too
         sel = _enforce(measured, b, int(sel["choice"][0]))
-    w = np.asarray(problem.weights, float)
-    cost = weighted(b.values.turning_effort, b.values.threshold_force, w)
-    j_rec = weighted(rec.turning_effort, rec.threshold_force, w)
+    cost = b.values.J(problem.weights)
+    j_rec = float(rec.caster.J(problem.weights))
     choice = int(sel["choice"][0])
-    same = np.flatnonzero(
-        np.all(np.isclose(_designs(b), rec.design.as_array()[None, :], rtol=1e-12, atol=1e-15), axis=1)
-    )
+    designs = np.column_stack([getattr(b.values, name) for name in VARIABLES])
+    same = np.flatnonzero(np.all(np.isclose(designs, rec.design.as_array()[None, :], rtol=1e-12, atol=1e-15), axis=1))
     if (choice < 0 or cost[choice] > j_rec * (1 + 1e-12)) and len(same):
         choice = int(same[0])  # the rule's pick would cost more than the recommendation: keep the recommendation
     if choice < 0:
@@ -576,17 +531,13 @@ def _if_measured(problem, rec: Recommendation, samples, seed) -> dict | None:
     }
 
 
-def _designs(b: _Buildable) -> np.ndarray:
-    """The buildable candidates' designs as an (N, 4) array in VARIABLES order."""
-    return np.column_stack([getattr(b.values, name) for name in VARIABLES])
-
-
 def _buildable(problem) -> _Buildable:
     """Step 3: the buildable candidates (exact for all-discrete stock, NLP for a continuous rest); raises
     InfeasibleError (the box's own diagnosis, else the closest stock combination) when there is none."""
     table = None
     if stock_candidates(problem).discrete:
-        b, table = _discrete_buildable(problem)
+        table = candidate_table(problem)
+        b = _Buildable(table.values.take(table.values.feasible), table.candidates.wheel[table.values.feasible])
     else:
         b = _continuous_buildable(problem)
     if not len(b):
@@ -601,17 +552,10 @@ def _buildable(problem) -> _Buildable:
 
 def _over_cap_error(problem, b: _Buildable, sel: dict) -> InfeasibleError:
     """Exit-4 error when a buildable front exists but no point is within the cap of ``[objective]``."""
-    cap = (
-        f"objective.max_threshold_force = {problem.max_threshold_force:.1f} N"
-        if problem.max_threshold_force is not None
-        else f"objective.max_turning_effort = {problem.max_turning_effort:.2f} N"
-    )
-    lo = int(sel["easiest_sill"][0]) if problem.max_threshold_force is not None else int(sel["easiest_turn"][0])
-    best = (
-        f"the least sill force buildable is {b.values.threshold_force[lo]:.2f} N"
-        if problem.max_threshold_force is not None
-        else f"the least turning effort buildable is {b.values.turning_effort[lo]:.3f} N"
-    )
+    capped = "threshold_force" if problem.max_threshold_force is not None else "turning_effort"
+    lo = int(sel["easiest_sill" if capped == "threshold_force" else "easiest_turn"][0])
+    cap = f"objective.max_{capped} = {shown(getattr(problem, 'max_' + capped), capped)}"
+    best = f"the least {quantity(capped).description} buildable is {shown(b.values[capped][lo], capped)}"
     return InfeasibleError(
         f"{problem.name}: no buildable caster within the risk bound meets {cap}; {best}; "
         f"raise the cap or widen the stock"

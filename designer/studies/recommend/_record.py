@@ -10,9 +10,10 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from designer.units import percent
-from designer.data.paper import INCH
-from designer.model import Caster, OfCaster
-from designer.parameters import DESIGN_UNITS, OUTPUTS
+from designer.display import quantity, shown
+from designer.units import INCH, written_size
+from designer.model import VARIABLES, Caster, OfCaster
+from designer.parameters import OUTPUTS
 from designer.plots.caster import caster_svg, plot_caster
 from designer.problem import Problem
 from designer.reprs import Key, Record, si_frame
@@ -77,19 +78,14 @@ class Recommendation(Record):
     confident_speed: float
     shimmy_probability: float
     shimmy_probability_se: float
-    swept_radius_max: float | None
     rule: str
     alternatives: list[Recommendation] = field(default_factory=list)
     buildable: Front | None = field(default=None, repr=False)
     wheel: str | None = None
     role: str = "recommended"
     note: str = ""
-    target_speed: float = math.nan
-    required_speed: float = math.nan
-    alpha: float | None = None
     mc_samples: int = 0
     mc_seed: int = 0
-    weights: tuple[float, float] = (1.0, 1.0)
     problem: Problem | None = field(default=None, repr=False)
     front: Front | None = field(default=None, repr=False)
     shimmy_probability_mc: float = math.nan
@@ -106,13 +102,12 @@ class Recommendation(Record):
     inertia = OfCaster()
     measured = OfCaster()
     extrapolated = OfCaster()
-
-    _units = {
-        **DESIGN_UNITS,
-        **{n: OUTPUTS[n].unit for n in ("turning_effort", "threshold_force", "critical_speed", "confident_speed")},
-        "swept_radius": OUTPUTS["swept_radius"].unit,
-        "swept_radius_max": OUTPUTS["swept_radius"].unit,
-    }
+    # the problem's numbers, read from it (never copied)
+    swept_radius_max = property(lambda self: self.problem.swept_radius_max)
+    target_speed = property(lambda self: self.problem.target_speed)
+    required_speed = property(lambda self: self.problem.required_speed)
+    alpha = property(lambda self: None if self.problem.risk is None else self.problem.risk.probability)
+    weights = property(lambda self: tuple(self.problem.weights))
 
     _keys = (
         *("design", "turning_effort", "threshold_force", "critical_speed", "confident_speed", "shimmy_probability"),
@@ -132,16 +127,17 @@ class Recommendation(Record):
             f"{self.shimmy_probability_mc:.2%} ± {self.shimmy_probability_se:.2%}, {self.mc_samples} draws, "
             f"seed {self.mc_seed})"
         )
-        radius = (
-            f"{self.swept_radius / INCH:.3f} in (limit {self.swept_radius_max / INCH:.3f} in)"
-            if self.swept_radius_max is not None
-            else f"{self.swept_radius / INCH:.3f} in (no limit)"
+        limit = (
+            "no limit"
+            if self.swept_radius_max is None
+            else f"limit {shown(self.swept_radius_max, 'swept_radius', 'in')}"
         )
+        radius = f"{shown(self.swept_radius, 'swept_radius', 'in')} ({limit})"
         level = f"{percent(1 - self.alpha)}" if self.alpha is not None else "95% (default scatter; no risk bound)"
         extra = []
         if self.extrapolated:
             extra.append(
-                f"  warning: d = {d.diameter / INCH:.3g} in lies outside Table 1's 4–8 in: the inertia fit and Eq. 7's "
+                f"  warning: d = {shown(d.diameter, 'diameter', 'in')} lies outside Table 1's 4–8 in: the inertia fit and Eq. 7's "
                 "check are extrapolated (the risk law's prediction interval widens with it)"
             )
         if self.risk is not None:
@@ -165,8 +161,8 @@ class Recommendation(Record):
     def headline(self, length: Callable[[float], str] | None = None) -> str:
         """One sentence: what to build for any wheel of its size, and what measuring the wheel allows.
 
-        ``length`` writes a length [m] (default: inches to 3 significant digits, ``"7 in"``)."""
-        size = length if length is not None else (lambda x: f"{x / INCH:.3g} in")
+        ``length`` writes a length [m] (default: as written in inches, ``"7 in"``, ``"2 1/2 in"``)."""
+        size = length if length is not None else (lambda x: written_size(x, "in"))
         d = self.design
         kind = "The measured wheel" if self.measured else f"Any {size(d.diameter)} wheel"
         text = (
@@ -283,8 +279,7 @@ class Recommendation(Record):
         """Two lines: the caster (inches) and its numbers; the rule and alternatives: ``print(rec)``."""
         d = self.design
         return [
-            f"Recommendation({self.role}): T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in, "
-            f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad",
+            f"Recommendation({self.role}): {_parts(d.to_dict())}",
             f"  F_turn {self.turning_effort:.4g} N, P {self.threshold_force:.4g} N, V_c {self.critical_speed:.4g} m/s, "
             f"P(shimmy) {self.shimmy_probability:.2%} ± {self.shimmy_probability_se:.2%}",
         ]
@@ -309,7 +304,7 @@ class Recommendation(Record):
             d.groove,
             h,
             self.swept_radius_max,
-            title=f"{self.role} caster{name}: T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in",
+            title=f"{self.role} caster{name}: T {shown(d.trail, 'trail', 'in')}, d {shown(d.diameter, 'diameter', 'in')}",
             ax=ax,
         )
 
@@ -329,11 +324,11 @@ class Recommendation(Record):
         """The caster as a compact table with units (notebooks; no solver runs)."""
         d = self.design
         rows: list[tuple[Any, Any, Any]] = [("wheel", self.wheel, "")] if self.wheel else []
+        outputs = ("turning_effort", "threshold_force", "critical_speed", "confident_speed")
         rows += d.variable_rows() + [
-            OUTPUTS["turning_effort"].row(f"{self.turning_effort:.4g}"),
-            OUTPUTS["threshold_force"].row(f"{self.threshold_force:.4g}"),
-            OUTPUTS["critical_speed"].row(f"{self.critical_speed:.4g}", "Eq. 7"),
-            OUTPUTS["confident_speed"].row(f"{self.confident_speed:.4g}"),
+            OUTPUTS[n].row(f"{getattr(self, n):.4g}", "Eq. 7" * (n == "critical_speed")) for n in outputs
+        ]
+        rows += [
             ("required speed", f"{self.required_speed:.4g}", "m/s"),
             ("P(shimmy) (exact law)", f"{self.shimmy_probability:.3%}", ""),
             (
@@ -377,11 +372,9 @@ class Recommendation(Record):
 
 
 def _parts(d: dict[str, float]) -> str:
-    """A design {trail, diameter, groove, damping} [SI] in one phrase: "T 2 in, d 6 in, B 0.75 in, c_f 1.3 N·m/rad"."""
-    return (
-        f"T {d['trail'] / INCH:.3g} in, d {d['diameter'] / INCH:.3g} in, B {d['groove'] / INCH:.3g} in, "
-        f"c_f {d['damping']:.3g} N·m/rad"
-    )
+    """A design {trail, diameter, groove, damping} [SI] in one phrase: "T 2.000 in, d 6.000 in, B 0.750 in, c_f 1.30
+    N·m/rad" (the parameter table's symbols and precisions)."""
+    return ", ".join(f"{quantity(k).symbol} {shown(d[k], k, 'in')}" for k in VARIABLES)
 
 
 def spec_lines(spec: Spec) -> list[str]:

@@ -16,6 +16,7 @@ import numpy as np
 from designer.model import weighted
 
 RULES = {
+    "any": "knee of the buildable risk-bounded front (its least-J end where it has no knee)",
     "knee": "knee of the buildable risk-bounded front",
     "cap_threshold": "least turning effort with sill force <= {cap:.1f} N",
     "cap_turning": "least sill force with turning effort <= {cap:.2f} N",
@@ -142,12 +143,15 @@ def front_roles(turning_effort: np.ndarray, sel: dict) -> list[tuple[int, str]]:
     ]
 
 
-def rule_text(problem, front_size: int, knee: bool = True) -> str:
-    """The rule in words (what ``Recommendation.rule`` says); ``knee``: :func:`select_rows`'s flag."""
+def rule_text(problem, front_size: int | None = None, knee: bool = True) -> str:
+    """The rule in words (what ``Recommendation.rule`` says); ``knee``: :func:`select_rows`'s flag; without
+    ``front_size`` the rule of every front (a fleet's ``rule``: one front a chair)."""
     if problem.max_threshold_force is not None:
         return RULES["cap_threshold"].format(cap=problem.max_threshold_force)
     if problem.max_turning_effort is not None:
         return RULES["cap_turning"].format(cap=problem.max_turning_effort)
+    if front_size is None:
+        return RULES["any"]
     if front_size < 3:
         return RULES["end"].format(w0=problem.weights[0], w1=problem.weights[1])
     return RULES["knee"] if knee else RULES["concave"].format(w0=problem.weights[0], w1=problem.weights[1])

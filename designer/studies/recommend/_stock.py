@@ -79,19 +79,15 @@ def _wheel_rows(problem, stock):
     else:
         return None
     if getattr(c.inertia, "measured", False):  # measured wheels: a fixed I_w, or the power law's value at d
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", InertiaExtrapolationWarning)
+        with warnings.catch_warnings(action="ignore", category=InertiaExtrapolationWarning):
             return [(d, float(c.inertia(d)), None, "") for d in values]
     return [(d, None, None, "") for d in values]  # I_w from the inertia model (stock_candidates fills it in)
 
 
-def _values(problem, stock, name: str, listed):
+def _values(problem, name: str, listed):
+    """A variable's stock values: those listed, else the fixed value, else None (continuous)."""
     b = problem.bounds[name]
-    if listed is not None:
-        return tuple(listed)
-    if b.fixed:
-        return (b.low,)
-    return None
+    return tuple(listed) if listed is not None else (b.low,) if b.fixed else None
 
 
 def stock_candidates(problem, stock=None) -> CandidateTable:
@@ -108,9 +104,9 @@ def stock_candidates(problem, stock=None) -> CandidateTable:
     """
     stock = problem.stock if stock is None else stock
     wheels = _wheel_rows(problem, stock)
-    trails = _values(problem, stock, "trail", None if stock is None else stock.trails)
-    grooves = _values(problem, stock, "groove", None if stock is None else stock.grooves)
-    dampings = _values(problem, stock, "damping", None if stock is None else stock.dampings)
+    trails = _values(problem, "trail", None if stock is None else stock.trails)
+    grooves = _values(problem, "groove", None if stock is None else stock.grooves)
+    dampings = _values(problem, "damping", None if stock is None else stock.dampings)
     wheel_axis = wheels if wheels is not None else [(None, None, None, "")]
     rows = []
     for (d, inertia, g_w, name), t, g, c in itertools.product(
@@ -132,8 +128,7 @@ def stock_candidates(problem, stock=None) -> CandidateTable:
         missing = np.isnan(inertia)
         measured = ~missing | bool(getattr(problem.conditions.inertia, "measured", False))
         if missing.any():
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", InertiaExtrapolationWarning)
+            with warnings.catch_warnings(action="ignore", category=InertiaExtrapolationWarning):
                 d = np.array([r[1] for r in rows], float)
                 inertia[missing] = np.asarray(problem.conditions.inertia(d[missing]), float) + 0 * d[missing]
     note = (

@@ -1,7 +1,7 @@
 """The numbers of a caster as it is and of every candidate: the diagnosis side of a retrofit.
 
 Part of :mod:`designer.studies.retrofit._retrofit`: the risk model every caster of a retrofit is judged with
-(:func:`_risk_of`, and :func:`_calibrated` by an observed onset), the numbers of candidate arrays and their
+(the problem's, and :func:`_calibrated` by an observed onset), the numbers of candidate arrays and their
 Monte Carlo P(shimmy) from the model's evaluator (:func:`_evaluate`: V_c on the effective trail, the speed
 reached with probability 1 − α, turning effort, sill force, the limits met), and the current wheel's I_w.
 """
@@ -12,16 +12,11 @@ import dataclasses
 import warnings
 
 
-from designer.data.paper import INCH
+from designer.display import shown
 from designer.errors import InputError
-from designer.model import VARIABLES, Casters, Conditions, Design, evaluate, scatter_of
+from designer.model import VARIABLES, Casters, Conditions, Design, evaluate
 from designer.physics.inertia import Catalog
 from designer.physics.uncertainty import Uncertainty
-
-
-def _risk_of(problem) -> tuple[Uncertainty | None, Uncertainty]:
-    """(the bound's uncertainty or None for the nominal bound, the scatter for reporting P(shimmy))."""
-    return problem.risk, scatter_of(problem.conditions)
 
 
 def _calibrated(u: Uncertainty, scatter: float) -> Uncertainty:
@@ -88,7 +83,7 @@ def _current_inertia(problem, current: Design) -> tuple[float, bool]:
             return float(same[0].inertia), True
         if same:
             raise InputError(
-                f"inertia: the problem has {len(same)} wheels of d = {current.diameter / INCH:.4g} in "
+                f"inertia: the problem has {len(same)} wheels of d = {shown(current.diameter, 'diameter', 'in')} "
                 f"({', '.join(w.key for w in same)}) with different I_w; give the current wheel's "
                 f"measured I_w with --inertia"
             )
@@ -99,9 +94,8 @@ def _current_inertia(problem, current: Design) -> tuple[float, bool]:
         ):
             return float(model(current.diameter)), True
         raise InputError(
-            f"inertia: the current wheel (d = {current.diameter / INCH:.4g} in) is not one of the "
+            f"inertia: the current wheel (d = {shown(current.diameter, 'diameter', 'in')}) is not one of the "
             f"problem's wheels ({model.describe()}); give its measured I_w with --inertia"
         )
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # extrapolation of the inertia fit: docs/retrofit.md
+    with warnings.catch_warnings(action="ignore"):  # extrapolation of the inertia fit: docs/retrofit.md
         return float(model(current.diameter)), bool(getattr(model, "measured", False))

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import math
 
-from designer.data.paper import INCH, WALKING_SPEED
+from designer.data.paper import WALKING_SPEED
+from designer.display import shown
 from designer.errors import InputError
 from designer.model import VARIABLES, Design, check_design
 from designer.physics.geometry import effective_trail
@@ -61,13 +62,14 @@ def parse_current(text: str, option: str = "--current") -> Design:
 
 
 def _check_inputs(problem, current: Design, inertia, shimmied_at, stem_angle, onset_scatter) -> None:
-    """InputError (one line naming the value) for a caster or observation the model cannot take."""
+    """InputError (one line naming the value) for a caster or observation the model cannot take (:func:`fix`'s
+    boundary has made each a finite number already)."""
     check_design(current, "current ", error=InputError)
     h = problem.conditions.threshold_height
     if current.diameter <= 2 * h:
         raise InputError(
-            f"current diameter = {current.diameter / INCH:.3g} in: must exceed twice the sill height "
-            f"({2 * h / INCH:.3g} in); d/h <= 2 cannot climb the sill (Eq. 4A)"
+            f"current diameter = {shown(current.diameter, 'diameter', 'in')}: must exceed twice the sill height "
+            f"({shown(2 * h, 'diameter', 'in')}); d/h <= 2 cannot climb the sill (Eq. 4A)"
         )
     c0 = problem.conditions.turning.bare_fork_damping
     if current.damping < c0 - 1e-12:
@@ -75,30 +77,23 @@ def _check_inputs(problem, current: Design, inertia, shimmied_at, stem_angle, on
             f"current damping = {current.damping:g} N·m/rad: below the bare ball-bearing fork's "
             f"{c0:g} N·m/rad (Eq. 11C), the least spindle damping a caster has"
         )
-    if inertia is not None:
-        if not (
-            isinstance(inertia, (int, float))
-            and math.isfinite(inertia)
-            and INERTIA_RANGE[0] <= inertia <= INERTIA_RANGE[1]
-        ):
-            raise InputError(
-                f"inertia = {inertia!r} kg·m²: must be between {INERTIA_RANGE[0]:g} and "
-                f"{INERTIA_RANGE[1]:g} kg·m² (Table 1: 0.00026 to 0.0046)"
-            )
-    if not (isinstance(stem_angle, (int, float)) and math.isfinite(stem_angle) and abs(stem_angle) <= MAX_STEM_ANGLE):
+    if inertia is not None and not INERTIA_RANGE[0] <= inertia <= INERTIA_RANGE[1]:
         raise InputError(
-            f"stem angle = {format(math.degrees(stem_angle), '.4g') if isinstance(stem_angle, (int, float)) else repr(stem_angle)}"
-            f" deg: must be within ±{math.degrees(MAX_STEM_ANGLE):.0f} deg of vertical"
+            f"inertia = {inertia!r} kg·m²: must be between {INERTIA_RANGE[0]:g} and "
+            f"{INERTIA_RANGE[1]:g} kg·m² (Table 1: 0.00026 to 0.0046)"
+        )
+    if abs(stem_angle) > MAX_STEM_ANGLE:
+        raise InputError(
+            f"stem angle = {math.degrees(stem_angle):.4g} deg: must be within ±{math.degrees(MAX_STEM_ANGLE):.0f} deg "
+            "of vertical"
         )
     t_eff = effective_trail(current.trail, current.diameter / 2, stem_angle)
     if t_eff <= 0:
         raise InputError(
             f"stem angle = {math.degrees(stem_angle):.3g} deg: the effective trail "
-            f"{t_eff / INCH:.3g} in is not positive (the wheel would lead the stem)"
+            f"{shown(t_eff, 'trail', 'in')} is not positive (the wheel would lead the stem)"
         )
     if shimmied_at is not None:
-        if not (isinstance(shimmied_at, (int, float)) and math.isfinite(shimmied_at)):
-            raise InputError(f"shimmied at = {shimmied_at!r}: expected a speed in m/s")
         if shimmied_at < WALKING_SPEED:
             raise InputError(
                 f"shimmied at = {shimmied_at:g} m/s: below walking speed ({WALKING_SPEED:g} m/s); "
@@ -110,5 +105,5 @@ def _check_inputs(problem, current: Design, inertia, shimmied_at, stem_angle, on
                 f"shimmied at = {shimmied_at:g} m/s: above 10 m/s, no wheelchair goes that fast; "
                 f"was it given in km/h or mph?"
             )
-    if not (math.isfinite(onset_scatter) and 0 < onset_scatter <= 1):
+    if not 0 < onset_scatter <= 1:
         raise InputError(f"onset scatter = {onset_scatter!r}: σ of the log onset must be in (0, 1]")

@@ -15,9 +15,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.data.paper import INCH
+from designer.display import shown
 from designer.model import Design
 from designer.physics.inertia import Catalog, InertiaModel
 from designer.problem import DEFAULT_PART_COSTS, PART_KINDS, Stock
+from designer.units import written_size
 
 
 PARTS = PART_KINDS
@@ -112,9 +114,8 @@ def _listed(stock: dict, bounds: dict, sources: dict, key: str, variable: str) -
         sources[variable] = "[stock]"
         values = np.array(sorted({float(v) for v in values}))
         return values[(values >= b.low * (1 - 1e-12)) & (values <= b.high * (1 + 1e-12))]  # within the bounds
-    sources[variable] = (
-        f"continuous (no [stock] {key}): grid over the bounds every {_show(variable, GRID_STEP[variable])}"
-    )
+    step = written_size(GRID_STEP[variable], "in") if variable in _LENGTHS else shown(GRID_STEP[variable], variable)
+    sources[variable] = f"continuous (no [stock] {key}): grid over the bounds every {step}"
     return _grid(b.low, b.high, GRID_STEP[variable]) if b.high > b.low else np.array([b.low])
 
 
@@ -141,8 +142,7 @@ def _wheel_options(problem, stock: dict, current: Design, sources: dict) -> tupl
             if entry.inertia is not None:
                 i = float(entry.inertia)
             else:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")  # extrapolation of the inertia fit: docs/retrofit.md
+                with warnings.catch_warnings(action="ignore"):  # extrapolation of the inertia fit: docs/retrofit.md
                     i = float(model(d))
             groove = math.nan if entry.groove is None else float(entry.groove)
             cost = problem.stock.cost("wheel") if entry.cost is None else float(entry.cost)
@@ -161,8 +161,7 @@ def _wheel_options(problem, stock: dict, current: Design, sources: dict) -> tupl
     else:
         diameters = _listed(stock, bounds, sources, "diameters", "diameter")
 
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # extrapolation of the inertia fit is stated in docs/retrofit.md
+        with warnings.catch_warnings(action="ignore"):  # extrapolation of the inertia fit is stated in docs/retrofit.md
             inertias = np.asarray(model(diameters), dtype=float) * np.ones_like(diameters)
         measured = bool(getattr(model, "measured", False))
         priced = problem.stock if problem.stock is not None else Stock()
@@ -191,12 +190,8 @@ def _enumerate(options: dict, sources: dict, base: dict, max_parts: int, min_par
                 continue
             grids = np.meshgrid(*[np.arange(s) for s in sizes], indexing="ij")
             n = int(np.prod(sizes))
-            out = {key: np.full(n, float(base[key])) for key in ("trail", "diameter", "groove", "damping", "inertia")}
-            out["measured"] = np.full(n, bool(base.get("measured", True)))
-            out["wheel"] = np.full(n, -1)
-            out["price"] = np.zeros(n)
-            for part in PARTS:
-                out[f"mask_{part}"] = np.full(n, part in parts)
+            out = _unchanged(n, base, parts)
+            out["order"] = counter + np.arange(n)
             valid = np.ones(n, dtype=bool)
             for part, grid in zip(parts, grids):
                 index = grid.ravel()
@@ -218,20 +213,25 @@ def _enumerate(options: dict, sources: dict, base: dict, max_parts: int, min_par
                         out["groove"] = np.where(has_own, own, out["groove"])
                         if not sources["_groove_on_offer"]:
                             valid &= has_own  # a stock wheel needs a stock tyre: the current profile is not on offer
-            out["parts"] = np.full(n, k)
-            out["order"] = counter + np.arange(n)
             counter += n
             chunks.append({key: value[valid] for key, value in out.items()})
     if not chunks:
-        empty = {key: np.array([]) for key in ("trail", "diameter", "groove", "damping", "inertia")}
-        return (
-            empty
-            | {"measured": np.array([], dtype=bool)}
-            | {"wheel": np.array([], dtype=int), "parts": np.array([], dtype=int), "order": np.array([], dtype=int)}
-            | {"price": np.array([])}
-            | {f"mask_{p}": np.array([], dtype=bool) for p in PARTS}
-        )
+        return _unchanged(0, base, ())
     return {key: np.concatenate([c[key] for c in chunks]) for key in chunks[0]}
+
+
+def _unchanged(n: int, base: dict, parts: tuple) -> dict:
+    """The columns of ``n`` candidates that change ``parts``, each still the current caster ``base`` (its
+    variables, I_w, no wheel, no price, order 0 …): what :func:`_enumerate` fills in."""
+    out = {key: np.full(n, float(base[key])) for key in ("trail", "diameter", "groove", "damping", "inertia")}
+    return out | {
+        "measured": np.full(n, bool(base.get("measured", True))),
+        "wheel": np.full(n, -1),
+        "price": np.zeros(n),
+        "parts": np.full(n, len(parts)),
+        "order": np.arange(n),
+        **{f"mask_{part}": np.full(n, part in parts) for part in PARTS},
+    }
 
 
 def combinations(options: dict, max_parts: int = 4) -> int:
@@ -242,13 +242,3 @@ def combinations(options: dict, max_parts: int = 4) -> int:
         for k in range(1, max_parts + 1)
         for c in itertools.combinations(range(4), k)
     )
-
-
-def _show(variable: str, value: float) -> str:
-    if variable in _LENGTHS:
-        return f"{value / INCH:.4g} in"
-    if variable == "damping":
-        return f"{value:.3g} N·m/rad"
-    if variable == "inertia":
-        return f"{value:.3g} kg·m²"
-    return f"{value:g}"

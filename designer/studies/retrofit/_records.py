@@ -13,12 +13,12 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from designer.units import percent
-from designer.data.paper import BARE_FORK_DAMPING, INCH
+from designer.data.paper import BARE_FORK_DAMPING
+from designer.display import number, quantity, shown
 from designer.model import Caster, OfCaster
 from designer.parameters import DESIGN_UNITS, OUTPUTS, PARAMETERS, VARIABLE_TABLE
 from designer.reprs import Key, Record, si_frame
 from designer.units import written_size
-from designer.studies.retrofit._options import _show
 
 if TYPE_CHECKING:
     from designer.studies.spec import Spec
@@ -48,11 +48,8 @@ class Change(Record):
     name: str | None = None  # a catalogue wheel's name
 
     def describe(self) -> str:
-        """``fork hole: trail 1.500 in -> 2.000 in``."""
-        return (
-            f"{self.part}: {self.variable} {_show(self.variable, self.before)} -> {_show(self.variable, self.after)}"
-            + (f" ({self.name})" if self.name else "")
-        )
+        """``fork hole: T 1.500 -> 2.000 in`` (:func:`describe_changes` of this change alone)."""
+        return describe_changes([self])
 
     _keys = (
         "part",
@@ -284,8 +281,6 @@ class FixResult(Record):
     units: str = "in"
     if_measured: dict[str, Any] | None = None
 
-    _units = {"target_speed": "m/s", "required_speed": "m/s", "stem_angle": "rad"}
-
     @property
     def single_part_fix_exists(self) -> bool:
         """True if some fix changes one part only."""
@@ -393,17 +388,8 @@ class FixResult(Record):
         return rows
 
 
-_SYMBOL = {
-    "damping": ("c_f", 1.0, "N·m/rad"),
-    "groove": ("B", INCH, "in"),
-    "trail": ("T", INCH, "in"),
-    "diameter": ("d", INCH, "in"),
-    "inertia": ("I_w", 1.0, "kg·m²"),
-}
-
-
 def describe_changes(changes: Iterable[Change], sep: str = "; ", inertia: bool = True, units: str | None = None) -> str:
-    """``fork hole: T 1.5 -> 2 in; wheel: d 7.75 -> 6 in, I_w 0.00127 -> 0.000685 kg·m²`` (parts joined by ``sep``);
+    """``fork hole: T 1.500 -> 2.000 in; wheel: d 7.750 -> 6.000 in, I_w 0.00127 -> 0.000685 kg·m²`` (parts joined by ``sep``);
     with ``units`` ("in" or "mm") the lengths as the user writes them: ``fork hole: T 1 1/2 -> 2 in``."""
     by_part: dict[str, list[str]] = {}
     names = {}
@@ -412,13 +398,13 @@ def describe_changes(changes: Iterable[Change], sep: str = "; ", inertia: bool =
             names[c.part] = c.name
         if c.variable == "inertia" and not inertia:
             continue
-        symbol, scale, unit = _SYMBOL[c.variable]
-        if units is not None and unit == "in":
+        symbol = quantity(c.variable).symbol
+        if units is not None and quantity(c.variable).dimension == "length":
             before, after = written_size(c.before, units), written_size(c.after, units)
             after_number, unit = after.rsplit(" ", 1)
             text = f"{symbol} {before.rsplit(' ', 1)[0]} -> {after_number} {unit}"
         else:
-            text = f"{symbol} {c.before / scale:.4g} -> {c.after / scale:.4g} {unit}"
+            text = f"{symbol} {number(c.before, c.variable, 'in')} -> {shown(c.after, c.variable, 'in')}"
         by_part.setdefault(c.part, []).append(text)
     return sep.join(
         f"{part}{' (' + names[part] + ')' if part in names else ''}: {', '.join(items)}"

@@ -47,11 +47,11 @@ from typing import Any
 import numpy as np
 
 from designer.boundary import SEED, Count, Instance, Quantity, checked
-from designer.model import VARIABLES, Casters, Conditions, Design
+from designer.model import VARIABLES, Casters, Design, scatter_of
 from designer.physics.uncertainty import Uncertainty
 from designer.problem import MAX_SAMPLES, problem_argument
 from designer.solvers import one_solve_at_a_time
-from designer.studies.retrofit._diagnosis import _calibrated, _current_inertia, _evaluate, _risk_of
+from designer.studies.retrofit._diagnosis import _calibrated, _current_inertia, _evaluate
 from designer.studies.retrofit._input import _check_inputs, parse_current
 from designer.studies.retrofit._options import (
     PART_VARIABLE,
@@ -62,7 +62,6 @@ from designer.studies.retrofit._options import (
 )
 from designer.studies.spec import caster_specs, mc_draws, tolerance_corners
 from designer.studies.retrofit._records import (
-    RULE,
     Calibration,
     CasterState,
     Change,
@@ -150,12 +149,46 @@ def fix(  # long: its docstring documents every argument and the ranking rule
     if inertia is None:
         inertia, measured = _current_inertia(problem, current)
     inertia = float(inertia)
-    setting, calibration, base, now = _diagnosis(
-        problem, current, inertia, shimmied_at, stem_angle, onset_scatter, samples, seed, measured
+    # steps 1 and 2: the risk model every caster is judged with (the bound's law, None: nominal; the report's),
+    # calibrated by an observed onset V_obs (factor k = V_obs / V_c,Eq.7), and the current caster's numbers under it
+    bound, report_u = problem.risk, scatter_of(problem.conditions)
+    base = current.to_dict() | {"inertia": inertia, "measured": bool(measured)}
+    arrays = {k: np.array([v]) for k, v in base.items()}
+    calibration, factor = None, 1.0
+    if shimmied_at is not None:
+        predicted = float(_evaluate(arrays, problem.conditions, stem_angle, 1.0, bound).critical_speed[0])
+        factor = float(shimmied_at) / predicted
+        calibration = Calibration(
+            observed_onset=float(shimmied_at), predicted_onset=predicted, factor=factor, scatter=float(onset_scatter)
+        )
+        bound = None if bound is None else _calibrated(bound, onset_scatter)
+        report_u = _calibrated(report_u, onset_scatter)
+    draws = int(samples or max(REPORT_SAMPLES, report_u.samples))
+    setting = _Setting(
+        problem, stem_angle, factor, bound, report_u, draws, int(report_u.seed if seed is None else seed)
     )
+    now = _evaluate(arrays, problem.conditions, stem_angle, factor, bound, setting.limits, setting.monte_carlo)
     current_state = setting.state(now, 0, current, inertia, exact=setting.exact(base))
     options, sources = part_options(problem, current)
-    result = _fix_result(problem, setting, calibration, current_state, stock_offer(problem, options, sources))
+    result = FixResult(  # the diagnosis, its fixes still empty: assumptions, scatter, what is on offer
+        problem=problem.name,
+        target_speed=problem.target_speed,
+        required_speed=problem.required_speed,
+        probability=None if bound is None else bound.probability,
+        stem_angle=stem_angle,
+        calibration=calibration,
+        current=current_state,
+        fixes=[],
+        found=0,
+        stock=stock_offer(problem, options, sources),
+        scatter={
+            "bound": None if bound is None else dataclasses.asdict(bound),
+            "reported": dataclasses.asdict(report_u) | {"samples": setting.samples, "seed": setting.seed},
+        },
+        max_threshold_increase=problem.max_threshold_increase,
+        max_turning_increase=problem.max_turning_increase,
+        units=problem.units,
+    )
     if not measured:  # what measuring the current wheel (accepted at its power-law value) would change
         result = dataclasses.replace(
             result,
@@ -167,9 +200,28 @@ def fix(  # long: its docstring documents every argument and the ranking rule
     keep = slice(None) if limit is None else slice(limit)
     n_within, n_beyond = len(within[keep]), len(beyond[keep])
     wanted = np.concatenate([np.arange(n_within), np.arange(n_beyond)]) < (np.inf if specs is None else specs)
-    states = _fix_states(
-        setting, current, inertia, current_state, cands, np.concatenate([within[keep], beyond[keep]]), options, wanted
-    )
+    # step 3: the kept fixes as records in rank order: their changes, their cost against the current caster,
+    # P(shimmy) (the evaluator's batched Monte Carlo beside the exact law) and, where wanted, their spec
+    chosen = np.concatenate([within[keep], beyond[keep]]).astype(int)
+    picked = {key: value[chosen] for key, value in cands.items()}
+    values = _evaluate(picked, problem.conditions, stem_angle, factor, bound, setting.limits, setting.monte_carlo)
+    exact = setting.exact(picked)
+    designs = [Design(*(float(cands[name][j]) for name in VARIABLES)) for j in chosen]
+    found = setting.specs(values, designs, [float(cands["inertia"][j]) for j in chosen], exact, wanted)
+    states = [
+        setting.state(
+            values,
+            n,
+            designs[n],
+            float(cands["inertia"][j]),
+            _changes(current, inertia, cands, j, options["wheel"]),
+            price=float(cands["price"][j]),
+            current=current_state,
+            exact=exact[n : n + 1],
+            spec=found[n],
+        )
+        for n, j in enumerate(chosen)
+    ]
     return dataclasses.replace(  # records do not change: the ranked fixes make a new one
         result,
         searched=searched,
@@ -237,111 +289,6 @@ def stock_offer(problem, options: dict, sources: dict) -> dict[str, str]:
     return out
 
 
-def _diagnosis(
-    problem,
-    current: Design,
-    inertia: float,
-    shimmied_at,
-    stem_angle: float,
-    onset_scatter,
-    samples,
-    seed,
-    measured=True,
-):
-    """Steps 1 and 2 of :func:`fix`: the risk model every caster is judged with (calibrated by an observed onset
-    V_obs, factor k = V_obs / V_c,Eq.7) and the current caster's numbers under it.
-
-    Returns ``(setting, calibration or None, base, now)``: the :class:`_Setting`, the current caster's variables
-    (``base``, with its I_w) and its evaluated values (``now``, arrays of one).
-    """
-    conditions = problem.conditions
-    bound, report_u = _risk_of(problem)
-    samples = int(samples or max(REPORT_SAMPLES, report_u.samples))
-    seed = int(report_u.seed if seed is None else seed)
-
-    base = current.to_dict() | {"inertia": inertia, "measured": bool(measured)}
-    arrays = {k: np.array([v]) for k, v in base.items()}
-    calibration = None
-    factor = 1.0
-    if shimmied_at is not None:
-        predicted = float(_evaluate(arrays, conditions, stem_angle, 1.0, bound).critical_speed[0])
-        factor = float(shimmied_at) / predicted
-        calibration = Calibration(
-            observed_onset=float(shimmied_at), predicted_onset=predicted, factor=factor, scatter=float(onset_scatter)
-        )
-        if bound is not None:
-            bound = _calibrated(bound, onset_scatter)
-        report_u = _calibrated(report_u, onset_scatter)
-    setting = _Setting(problem, stem_angle, factor, bound, report_u, samples, seed)
-    now = _evaluate(arrays, conditions, stem_angle, factor, bound, setting.limits, setting.monte_carlo)
-    return setting, calibration, base, now
-
-
-def _fix_result(problem, setting: _Setting, calibration, current_state: CasterState, offer: dict) -> FixResult:
-    """The :class:`FixResult` of the diagnosis, its fixes still empty: assumptions, scatter, what is on offer."""
-    bound = setting.bound
-    scatter = {
-        "bound": None if bound is None else dataclasses.asdict(bound),
-        "reported": dataclasses.asdict(setting.report_u) | {"samples": setting.samples, "seed": setting.seed},
-    }
-    return FixResult(
-        problem=problem.name,
-        target_speed=problem.target_speed,
-        required_speed=problem.required_speed,
-        probability=None if bound is None else bound.probability,
-        stem_angle=setting.stem_angle,
-        calibration=calibration,
-        current=current_state,
-        fixes=[],
-        found=0,
-        rule=RULE,
-        stock=offer,
-        scatter=scatter,
-        max_threshold_increase=problem.max_threshold_increase,
-        max_turning_increase=problem.max_turning_increase,
-        units=problem.units,
-    )
-
-
-def _fix_states(
-    setting: _Setting,
-    current: Design,
-    inertia: float,
-    current_state: CasterState,
-    cands: dict,
-    chosen: np.ndarray,
-    options: dict,
-    wanted: np.ndarray,
-) -> list[CasterState]:
-    """Step 3 of :func:`fix`: the chosen candidates as :class:`CasterState` records, in rank order, with their
-    changes, their cost against the current caster, P(shimmy) (the evaluator's batched Monte Carlo) and, where
-    ``wanted``, their spec."""
-    s = setting
-    chosen = np.asarray(chosen, dtype=int)
-    picked = {key: value[chosen] for key, value in cands.items()}
-    values = _evaluate(picked, s.conditions, s.stem_angle, s.factor, s.bound, s.limits, s.monte_carlo)
-    exact = s.exact(picked)
-    designs = [Design(*(float(cands[name][j]) for name in VARIABLES)) for j in chosen]
-    specs = setting.specs(values, designs, [float(cands["inertia"][j]) for j in chosen], exact, wanted)
-    fixes = []
-    for n, j in enumerate(chosen):
-        changes = _changes(current, inertia, cands, j, options["wheel"])
-        fixes.append(
-            setting.state(
-                values,
-                n,
-                designs[n],
-                float(cands["inertia"][j]),
-                changes,
-                price=float(cands["price"][j]),
-                current=current_state,
-                exact=exact[n : n + 1],
-                spec=specs[n],
-            )
-        )
-    return fixes
-
-
 @dataclass(frozen=True)
 class _Setting:
     """What every caster of one retrofit is judged with: the problem (its conditions, limits and the rule's numbers)
@@ -354,11 +301,6 @@ class _Setting:
     report_u: Uncertainty
     samples: int
     seed: int
-
-    @property
-    def conditions(self) -> Conditions:
-        """The problem's conditions."""
-        return self.problem.conditions
 
     def overshoot(self, turning_effort: Any, threshold_force: Any, current: CasterState) -> Any:
         """How far a caster's rises exceed the limits [-]: max(ΔP/P − the sill limit, ΔF/F − the turning limit),
@@ -382,7 +324,7 @@ class _Setting:
         scatter of the report, on the effective trail, calibrated: the evaluator's ``exact=True``."""
         arrays = {k: np.atleast_1d(np.asarray(v)) for k, v in arrays.items()}
         values = _evaluate(
-            arrays, self.conditions, self.stem_angle, self.factor, self.bound, None, self.monte_carlo, True
+            arrays, self.problem.conditions, self.stem_angle, self.factor, self.bound, None, self.monte_carlo, True
         )
         return np.asarray(values.shimmy_probability, dtype=float)
 
@@ -394,10 +336,8 @@ class _Setting:
         out: list = [None] * len(designs)
         if not rows:
             return out
-        mc = []
-        for k in rows:
-            p_mc, se = float(values.shimmy_probability[k]), float(values.shimmy_probability_se[k])
-            mc.append((p_mc, se, mc_draws(p_mc, se), self.seed))
+        p_mc, se = (np.asarray(values[key], float) for key in ("shimmy_probability", "shimmy_probability_se"))
+        mc = [(float(p_mc[k]), float(se[k]), mc_draws(float(p_mc[k]), float(se[k])), self.seed) for k in rows]
         found = caster_specs(
             self.problem,
             [designs[k] for k in rows],
@@ -429,12 +369,9 @@ class _Setting:
         the cost of its parts; ``current`` the caster as it is, which its changes, rises and limits are taken
         against (None: this is the current caster); ``exact`` its P(shimmy) by the exact law (an array of one).
         ``spec``: the fix's spec when it has one (:meth:`specs`)."""
-        w_turn, w_threshold = self.problem.weights
         f, p = float(values.turning_effort[j]), float(values.threshold_force[j])
-        cost_turn = 0.0 if current is None else f - current.turning_effort
-        cost_threshold = 0.0 if current is None else p - current.threshold_force
-        increase = 0.0 if current is None else cost_threshold / current.threshold_force
-        turning = 0.0 if current is None else cost_turn / current.turning_effort
+        base_f, base_p = (f, p) if current is None else (current.turning_effort, current.threshold_force)
+        cost_turn, cost_threshold = f - base_f, p - base_p  # 0 for the current caster itself
         within = current is None or bool(self.overshoot(f, p, current) <= 1e-12)
         p_mc, se = float(values.shimmy_probability[j]), float(values.shimmy_probability_se[j])
         draws = mc_draws(p_mc, se)
@@ -451,10 +388,10 @@ class _Setting:
             changes=tuple(changes),
             cost_turning_effort=cost_turn,
             cost_threshold_force=cost_threshold,
-            loss=float(w_turn * cost_turn + w_threshold * cost_threshold),
+            loss=float(weighted(cost_turn, cost_threshold, self.problem.weights)),
             parts_cost=float(price),
-            threshold_increase=increase,
-            turning_increase=turning,
+            threshold_increase=cost_threshold / base_p,
+            turning_increase=cost_turn / base_f,
             within_limit=within,
         )
 
@@ -472,14 +409,14 @@ def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current
             f"one- and two-part fixes ({combinations(options):,} combinations of all four parts exceed "
             f"{MAX_CANDIDATES:,}: a continuous part's grid)"
         )
-    values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
+    values = _evaluate(cands, s.problem.conditions, s.stem_angle, s.factor, s.bound, s.limits)
     over = s.overshoot(values.turning_effort, values.threshold_force, current_state)
     if searched.startswith("one-") and not np.any(values.feasible & (over <= 1e-12)):
         more = _enumerate(options, sources, base, max_parts=4, min_parts=3)
         if len(more["trail"]) <= MAX_CANDIDATES:
             more["order"] = more["order"] + len(cands["order"])
             cands = {key: np.concatenate([cands[key], more[key]]) for key in cands}
-            values = _evaluate(cands, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
+            values = _evaluate(cands, s.problem.conditions, s.stem_angle, s.factor, s.bound, s.limits)
             over = s.overshoot(values.turning_effort, values.threshold_force, current_state)
             searched = "one- and two-part fixes, then three- and four-part ones (none of the first within the limits)"
     d_turn = values.turning_effort - current_state.turning_effort
@@ -515,9 +452,8 @@ def _holds_at_corner(cands: dict, s: _Setting) -> np.ndarray:
     worst corner says so); used to rank, never printed."""
     holds = np.ones(np.shape(cands["trail"]), bool)
     for corner in tolerance_corners(s.problem, cands):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", UserWarning)
-            values = _evaluate(corner, s.conditions, s.stem_angle, s.factor, s.bound, s.limits)
+        with warnings.catch_warnings(action="ignore", category=UserWarning):
+            values = _evaluate(corner, s.problem.conditions, s.stem_angle, s.factor, s.bound, s.limits)
         holds &= np.asarray(values.risk_ok, bool)
     return holds
 

@@ -390,14 +390,15 @@ def test_lagrangian_bound_never_exceeds_the_optimum():
     checked = 0
     for trial in range(60):
         cost, weights = _random_instance(rng, trial % 4)
+        inst = _kmedian._Instance(cost, weights)  # the bound the solver computes: over the reduced problem
         for k in range(1, cost.shape[1] + 1):
             best, _ = brute_force_kmedian(cost, weights, k)
             if math.isinf(best):
                 continue
             for scale in (0.0, 1.0, 5.0):
-                lam = rng.uniform(0, scale * (1 + np.nanmax(np.where(np.isfinite(cost), cost, 0))), len(cost))
-                lam = lam * weights
-                assert _kmedian.lagrangian_bound(cost, weights, k, lam) <= best * (1 + 1e-12) + 1e-9
+                lam = rng.uniform(0, scale * (1 + np.nanmax(np.where(np.isfinite(cost), cost, 0))), inst.m)
+                lam = lam * inst.w
+                assert inst.relaxation(lam, min(k, inst.n))[0] <= best * (1 + 1e-12) + 1e-9
                 checked += 1
     assert checked > 300
 

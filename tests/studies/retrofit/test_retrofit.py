@@ -20,7 +20,7 @@ from designer.studies.retrofit import _diagnosis, _retrofit
 from designer.studies.retrofit import fix, parse_current
 from designer.cli import main
 from designer.data.paper import INCH
-from designer.model import Design, evaluate
+from designer.model import Design, evaluate, scatter_of
 from designer.physics.geometry import effective_trail, ground_trail
 from designer.physics.inertia import Fixed
 from designer.physics.uncertainty import Uncertainty, shimmy_speed_quantile
@@ -243,7 +243,7 @@ def test_eq8_fixes_match_brute_force(problem, eq8):
     """Every stock change of one to four parts that meets the risk bound and the swept radius is listed, none is
     missed, none is extra; those within the sill-force limit (+10 %) in the order of the rule (cost, loss, ΔP,
     ΔF_turn), the others apart (the smallest increase first), each with its parts' cost."""
-    bound = _diagnosis._risk_of(problem)[0]
+    bound = problem.risk
     within, beyond = brute_force(problem, parse_current(EQ8), EQ8_INERTIA, bound)
     assert len(within) > 0 and len(beyond) > 0
     assert (len(eq8.fixes), len(eq8.beyond)) == (len(within), len(beyond)) == (eq8.found, eq8.found_beyond)
@@ -271,7 +271,7 @@ def test_fixes_are_ranked_and_safe(problem, eq8):
     assert overs == sorted(overs) and min(overs) > 0
     assert max(f.threshold_increase for f in eq8.fixes) <= problem.max_threshold_increase + 1e-12
     assert max(f.turning_increase for f in eq8.fixes) <= problem.max_turning_increase + 1e-12
-    bound = _diagnosis._risk_of(problem)[0]
+    bound = problem.risk
     c = problem.conditions
     for f in eq8.fixes[:15] + eq8.beyond[:15]:
         assert f.confident_speed >= problem.required_speed and f.swept_radius <= problem.swept_radius_max + 1e-12
@@ -294,7 +294,7 @@ def test_fixes_are_ranked_and_safe(problem, eq8):
 def test_reported_probability_is_the_uncertainty_modules_estimate(problem, eq8):
     """The fixes' Monte Carlo P(shimmy) (beside the exact one) is computed for all fixes at once (vectorised), yet
     equals the model's Monte Carlo of each caster alone with the same draws (seed and sample count), bit for bit."""
-    u = _diagnosis._risk_of(problem)[1]
+    u = scatter_of(problem.conditions)
     for f in eq8.fixes[:5]:
         p, se = _mc(
             f.effective_trail,
@@ -322,7 +322,7 @@ def test_no_fix_within_the_limit_says_so(problem):
         "No fix keeps the sill force within +5% and the turning effort within +10%; the least bad: a 7 in wheel"
     )
     current = parse_current(MUST_SHOW)
-    within, beyond = brute_force(strict, current, r.current.inertia, _diagnosis._risk_of(strict)[0], measured=False)
+    within, beyond = brute_force(strict, current, r.current.inertia, strict.risk, measured=False)
     assert within == []
     assert np.allclose(r.beyond[0].design.as_array(), beyond[0][2].as_array(), atol=1e-12)
 
@@ -341,7 +341,7 @@ def test_costs_decide_the_ranking(problem):
     r = fix(cheap, EQ8, inertia=EQ8_INERTIA, limit=3)
     washer = [c for c in r.fixes[0].changes if c.part == "washer"]
     assert washer and washer[0].after == 3.0 and r.fixes[0].parts_cost == 0.5 + 2.0
-    within, _ = brute_force(problem, parse_current(EQ8), EQ8_INERTIA, _diagnosis._risk_of(problem)[0])
+    within, _ = brute_force(problem, parse_current(EQ8), EQ8_INERTIA, problem.risk)
     assert within[0][3] == 3.0 and {"washer", "tyre"} == within[0][1]
 
 
@@ -359,7 +359,7 @@ def test_calibrated_fixes_are_safe_and_uncalibrated_ones_are_not(problem, eq8):
     assert cal.calibration.shift == pytest.approx(1.8 - eq8.current.critical_speed, abs=1e-12)
     assert cal.current.calibrated_critical_speed == pytest.approx(1.8, abs=1e-12)
     assert cal.fixes or cal.beyond
-    bound = _diagnosis._calibrated(_diagnosis._risk_of(problem)[0], _retrofit.ONSET_SCATTER)
+    bound = _diagnosis._calibrated(problem.risk, _retrofit.ONSET_SCATTER)
     c = problem.conditions
 
     def calibrated(f):
@@ -471,7 +471,7 @@ def test_catalog_problem_takes_the_current_wheels_inertia(capsys):
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "give its measured I_w with --inertia" in err
     assert main(["fix", str(catalog), "--current", "T=1.5in,d=8in,B=0in,c=1.3"]) == 2
-    assert "4 wheels of d = 8 in (D, E, F, G)" in capsys.readouterr().err
+    assert "4 wheels of d = 8.000 in (D, E, F, G)" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize(
