@@ -33,7 +33,7 @@ from designer.model import (
 )
 from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
 from designer.physics.turning import MODES, SURFACES, TurningConstants
-from designer.units import InputError, outside_range, parse_quantity, real_number
+from designer.units import InputError, example, outside_range, parse_quantity, real_number
 from designer.physics.uncertainty import Uncertainty
 
 from designer.problem._stock import read_stock
@@ -243,7 +243,7 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
     description = r.text_value("", "description", "")
 
     # turning constants and dynamics first: conditions need them
-    constants = {**_turning(r), **_dynamics(r)}
+    constants = {**_positive_constants(r, "turning"), **_positive_constants(r, "dynamics")}
     inertia, wheels = _inertia(r.section("inertia"), r.quantity, r.fail)
 
     uncertainty = _uncertainty(r.section("robust"), r.fail)  # on by default: no [robust] gives the default scatter
@@ -439,27 +439,16 @@ def _load_from_mass(r: _Reader) -> float | None:
     return load
 
 
-def _turning(r: _Reader) -> dict[str, Any]:
-    """[turning]: the constants of the turning model (docs/model.md#turning-effort), each positive (the groove
-    coefficient non-negative)."""
-    values = _constants(r, "turning")
-    for key, p in parameters.by_key("turning").items():
-        value = values[p.name]
-        if p.range is not None and p.range[0] == 0:
-            if value < 0:
-                r.fail(f"turning.{key} = {value:g} {p.unit}: must be non-negative")
-        elif value <= 0:
-            r.fail(f"turning.{key} = {value:g}: must be positive")
-    return values
-
-
-def _dynamics(r: _Reader) -> dict[str, Any]:
-    """[dynamics]: frame stiffness and fork masses of the third-order model, each positive when given."""
-    values = _constants(r, "dynamics")
-    for key, p in parameters.by_key("dynamics").items():
-        stated = values[p.name]
-        if stated is not None and stated <= 0:
-            r.fail(f"dynamics.{key} = {stated:g}: must be positive")
+def _positive_constants(r: _Reader, section: str) -> dict[str, Any]:
+    """[turning] or [dynamics]: the constants of the turning model (docs/model.md#turning-effort) or the frame
+    stiffness and fork masses of the third-order model, each positive when given (one whose table range starts
+    at 0, the groove coefficient, non-negative)."""
+    values = _constants(r, section)
+    for key, p in parameters.by_key(section).items():
+        value, zero = values[p.name], p.range is not None and p.range[0] == 0
+        if value is not None and (value < 0 if zero else value <= 0):
+            reason = "non-negative" if zero else "positive"
+            r.fail(f"{section}.{key} = {value:g} {p.unit}".rstrip() + f": must be {reason}")
     return values
 
 
@@ -619,52 +608,45 @@ def _uncertainty(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> Unce
     return Uncertainty(**values)
 
 
+_INERTIA_KEYS = {
+    "table1-power-law": (PowerLaw, ("inertia_coefficient", "inertia_exponent")),
+    "disc": (Disc, ("tyre_width", "density")),
+    "fixed": (Fixed, ("wheel_inertia",)),
+}
+"""Each ``[inertia] model`` but the catalog: its class and the parameter-table entries it takes, in order (each
+positive and within its table range; all required but the power law's, whose defaults are Table 1's fit)."""
+
+
 def _inertia(
     table: dict[str, Any], quantity: Callable[[str, str, str, None], float | None], fail: Callable[[str], NoReturn]
 ) -> tuple[InertiaModel, tuple[str, ...]]:
+    """``[inertia]``: the I_w(d) model and, for the catalog, its wheels; each key checked against the table."""
     model = table.get("model", "table1-power-law")
     if model not in INERTIA_MODELS:
         fail(f"inertia.model = {model!r}: expected one of {', '.join(INERTIA_MODELS)}")
-    allowed = {
-        "table1-power-law": {"model", "coefficient", "exponent"},
-        "disc": {"model", "tyre_width", "density"},
-        "catalog": {"model", "wheel", "wheels"},
-        "fixed": {"model", "inertia"},
-    }[model]
+    kind, names = _INERTIA_KEYS.get(model, (None, ()))
+    entries = {parameters.PARAMETERS[n].key.split(".", 1)[1]: parameters.PARAMETERS[n] for n in names}  # type: ignore[union-attr]
+    allowed = {"model", *entries} if kind is not None else {"model", "wheel", "wheels"}
     extra = set(table) - allowed
     if extra:
         fail(
             f"inertia.{show_key(sorted(extra)[0])}: not used by inertia model {model!r} (it takes {', '.join(sorted(allowed - {'model'})) or 'nothing else'})"
         )
-    if model == "table1-power-law":
-        coefficient = quantity("inertia", "coefficient", "dimensionless", None)
-        exponent = quantity("inertia", "exponent", "dimensionless", None)
-        if coefficient is not None and coefficient <= 0:
-            fail(f"inertia.coefficient = {coefficient:g}: must be positive")
-        if exponent is not None and not 0 < exponent < 10:
-            fail(f"inertia.exponent = {exponent:g}: must be between 0 and 10")
-        return PowerLaw(coefficient, exponent), ()
-    if model == "disc":
-        for key in ("tyre_width", "density"):
-            if key not in table:
-                fail(f"inertia.{key}: missing; the disc model needs tyre_width and density")
-        width = quantity("inertia", "tyre_width", "length", None)
-        density = quantity("inertia", "density", "density", None)
-        assert width is not None and density is not None  # both keys are present (checked above)
-        if width <= 0 or width > 0.2:
-            fail(f"inertia.tyre_width = {width:g} m: must be between 0 and 0.2 m")
-        if density <= 0 or density > 20000:
-            fail(f"inertia.density = {density:g} kg/m³: must be between 0 and 20000")
-        return Disc(width, density), ()
-    if model == "fixed":
-        if "inertia" not in table:
-            fail("inertia.inertia: missing; the fixed model needs the measured I_w, e.g. 0.00127 (kg·m²)")
-        value = quantity("inertia", "inertia", "inertia", None)
-        assert value is not None  # the key is present (checked above)
-        if not 0 < value < 0.1:
-            fail(f"inertia.inertia = {value:g} kg·m²: must be between 0 and 0.1 kg·m²")
-        return Fixed(value), ()
-    return _catalog(table, fail)
+    if kind is None:
+        return _catalog(table, fail)
+    values = []
+    for key, p in entries.items():
+        if key not in table and kind is not PowerLaw:
+            fail(
+                f"inertia.{key}: missing; the {model} model needs {' and '.join(entries)}, e.g. {key} = {example(p.dimension)!r}"
+            )
+        value = quantity("inertia", key, p.dimension, None)
+        low, high = p.range or (0.0, math.inf)
+        if value is not None and not low < value <= high:
+            within = f"between {low:g} and {high:g} {p.unit}".rstrip() if p.range else "positive"
+            fail(f"inertia.{key} = {value:g} {p.unit}".rstrip() + f": must be {within}")
+        values.append(value)
+    return kind(*values), ()
 
 
 def _catalog(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> tuple[InertiaModel, tuple[str, ...]]:
