@@ -21,14 +21,15 @@ from designer.data.paper import INCH, TABLE1
 from designer import parameters
 from designer.errors import ProblemError
 from designer.reprs import Key, Keyed, Record, frozen
-from designer.units import parse_quantity, real_number, whole_number
+from designer import display
+from designer.display import number, percent, unit_text
+from designer.units import outside_range, parse_quantity, real_number, whole_number
 from designer.errors import InputError
 from designer.model import (
     CONDITION_CHOICES,
     CONDITION_NUMBERS,
     FAMILIES,
     MODEL_RANGE,
-    VARIABLE_UNITS,
     VARIABLES,
     Conditions,
     Design,
@@ -459,29 +460,23 @@ class Problem(Record):
         ``front``: the diameters are a front's points, and the warning says so (the recommended caster
         may well lie inside the data while the front's end does not).
         """
-        out = []
-        model = self.conditions.inertia
-        data = model.data_range()
-        if data is not None and not self.wheels and diameters is not None:
-            outside = [float(d) for d in diameters if not data[0] * 0.999 <= float(d) <= data[1] * 1.001]
-            if outside:
-                span = f"{min(outside) / INCH:.3g}" + (
-                    f"–{max(outside) / INCH:.3g}" if max(outside) > min(outside) else ""
-                )
-                fit = f"outside the Table 1 inertia fit ({data[0] / INCH:.0f}–{data[1] / INCH:.0f} in)"
-                out.append(
-                    f"{self.name}: points of the front use d = {span} in, {fit}: their I_w is extrapolated"
-                    if front
-                    else f"{self.name}: a reported design uses d = {span} in, {fit}: its I_w is extrapolated"
-                )
-        elif data is not None and not self.wheels:
+        data = self.conditions.inertia.data_range()
+        if data is None or self.wheels:
+            return []
+        fit = f"the Table 1 inertia fit ({data[0] / INCH:.0f}–{data[1] / INCH:.0f} in)"
+        if diameters is None:
             b = self.bounds["diameter"]
             if b.low < data[0] * 0.999 or b.high > data[1] * 1.001:
-                out.append(
-                    f"{self.name}: the Table 1 inertia fit ({data[0] / INCH:.0f}–{data[1] / INCH:.0f} in) is "
-                    f"extrapolated for diameters in {b.low / INCH:.3g}–{b.high / INCH:.3g} in"
-                )
-        return out
+                return [
+                    f"{self.name}: {fit} is extrapolated for diameters in {b.low / INCH:.3g}–{b.high / INCH:.3g} in"
+                ]
+            return []
+        outside = [float(d) for d in diameters if not data[0] * 0.999 <= float(d) <= data[1] * 1.001]
+        if not outside:
+            return []
+        span = f"{min(outside) / INCH:.3g}" + (f"–{max(outside) / INCH:.3g}" if max(outside) > min(outside) else "")
+        uses, its = ("points of the front use", "their") if front else ("a reported design uses", "its")
+        return [f"{self.name}: {uses} d = {span} in, outside {fit}: {its} I_w is extrapolated"]
 
     def _repr_lines(self) -> list[str]:
         """One line: name, required speed, load, sill, risk bound (the full record: :meth:`to_dict`)."""
@@ -495,25 +490,22 @@ class Problem(Record):
 
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """The problem as a compact table with units (notebooks); no solver runs."""
-        c, u = self.conditions, self.conditions.uncertainty
+        c, u, units = self.conditions, self.conditions.uncertainty, self.units
+        given = {"target_speed": self.target_speed, "load": c.load, "threshold_height": c.threshold_height}
+        given["swept_radius_max"] = self.swept_radius_max
         rows: list[tuple[Any, Any, Any]] = [
-            ("target speed V_target", f"{self.target_speed:.4g}", "m/s"),
-            ("required speed (1 + margin) V_target", f"{self.required_speed:.4g}", "m/s"),
-            ("load", f"{c.load:.4g}", "N"),
-            ("sill height", f"{c.threshold_height * 1000:.4g}", "mm"),
-            ("surface / turning", f"{c.surface} / {c.turning_mode}", ""),
-            ("risk bound α", f"{u.probability:.3g}" if u is not None else "off (nominal Eq. 7)", ""),
+            (display.label(n), number(v, n, units), unit_text(n, units)) for n, v in given.items() if v is not None
         ]
-        for v in VARIABLES:
-            b, unit = self.bounds[v], VARIABLE_UNITS.get(v, "")
-            if unit == "m":
-                rows.append((f"{v} bounds", f"{b.low * 1000:.4g} – {b.high * 1000:.4g}", "mm"))
-            else:
-                rows.append((f"{v} bounds", f"{b.low:.4g} – {b.high:.4g}", unit))
-        if self.swept_radius_max is not None:
-            rows.append(("swept radius max", f"{self.swept_radius_max * 1000:.4g}", "mm"))
-        rows.append(("weights (w_turn, w_threshold)", f"{self.weights[0]:g}, {self.weights[1]:g}", ""))
-        return rows
+        rows += [
+            (f"{v} bounds", f"{number(b.low, v, units)} – {number(b.high, v, units)}", unit_text(v, units))
+            for v, b in ((v, self.bounds[v]) for v in VARIABLES)
+        ]
+        return rows + [
+            ("required speed (1 + margin) V_target", number(self.required_speed, "target_speed"), "m/s"),
+            ("surface / turning", f"{c.surface} / {c.turning_mode}", ""),
+            ("risk bound α", percent(u.probability) if u is not None else "off (nominal Eq. 7)", ""),
+            ("weights (w_turn, w_threshold)", f"{self.weights[0]:g}, {self.weights[1]:g}", ""),
+        ]
 
     def digest(self) -> str:
         """SHA-256 of the problem's canonical content (for report metadata)."""
@@ -660,16 +652,8 @@ def _validate_bound(problem: Problem, name: str, fail: Callable[[str], NoReturn]
             fail(f"{key}.{label} = {value}: must be finite")
         if value < 0 or (value == 0 and name in ("trail", "diameter", "damping")):
             fail(f"{key}.{label} = {value:g}: must be positive")
-        if value < lo:
-            fail(
-                f"{key}.{label} = {value:g} {VARIABLE_UNITS[name]}: outside the model's range "
-                f"(at least {lo:g}); below it the caster has no {name} to speak of"
-            )
-        if value > hi:
-            fail(
-                f"{key}.{label} = {value:g} {VARIABLE_UNITS[name]}: outside the model's range "
-                f"(at most {hi:g}); were inches written as metres? write e.g. '2 in'"
-            )
+        if not lo <= value <= hi:  # as the loader says it (in the user's unit there)
+            fail(outside_range(f"{key}.{label}", value, value, lo, hi, VARIABLE_DIMENSIONS[name]))
     if b.low > b.high:
         shown = f" ({b.low / INCH:.4g} in > {b.high / INCH:.4g} in)" if VARIABLE_DIMENSIONS[name] == "length" else ""
         fail(f"{key} = [{b.low:g}, {b.high:g}]: min is greater than max{shown}")
@@ -703,8 +687,6 @@ def _validate_sill_and_fork(problem: Problem, fail: Callable[[str], NoReturn]) -
 
 def _validate_swept_radius(problem: Problem, r: float, prefix: str, fail: Callable[[str], NoReturn]) -> None:
     """``constraints.swept_radius_max``: positive, in range, and above the smallest T + d/2 of the bounds."""
-    if not r > 0:
-        fail(f"constraints.swept_radius_max = {r:g} m: must be positive")
     check_range("constraints.swept_radius_max", r, prefix)
     smallest = problem.bounds["trail"].low + problem.bounds["diameter"].low / 2
     if problem.wheels:
