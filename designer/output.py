@@ -183,17 +183,11 @@ def file_sha256(path: Path) -> str | None:
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0))
     except OSError:
         return None
-    try:
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
+    with os.fdopen(fd, "rb") as fh:
+        try:
+            return hashlib.file_digest(fh, "sha256").hexdigest() if stat.S_ISREG(os.fstat(fd).st_mode) else None
+        except OSError:
             return None
-        sha = hashlib.sha256()
-        while chunk := os.read(fd, 1 << 20):
-            sha.update(chunk)
-        return sha.hexdigest()
-    except OSError:
-        return None
-    finally:
-        os.close(fd)
 
 
 def tree_digests(path: Path, prefix: str = "") -> dict[str, str | None]:
@@ -394,11 +388,6 @@ def _not_regular(path: Path) -> str | None:
     return None if kind in ("a folder", "not a regular file") else kind
 
 
-def clashes(folder: Path, names: Iterable[str]) -> list[str]:
-    """The names of ``names`` that exist in ``folder`` (files, folders or links)."""
-    return sorted(n for n in set(names) if (folder / n).exists() or (folder / n).is_symlink())
-
-
 def foreign(folder: Path, names: Iterable[str], same_as: Path | None = None, by: str | None = None) -> list[str]:
     """The names of ``names`` in ``folder`` that are not the tool's (:func:`is_owned`, by the manifest), and the
     manifest itself when a file of that name is not one (the user's): what a command must not replace.  With
@@ -408,8 +397,10 @@ def foreign(folder: Path, names: Iterable[str], same_as: Path | None = None, by:
     manifest = read_manifest(folder)
     out = [
         n
-        for n in clashes(folder, names)
-        if not is_owned(folder, n, manifest, by) and not (same_as is not None and _same_file(same_as / n, folder / n))
+        for n in sorted(set(names))
+        if lexists(folder / n)
+        and not is_owned(folder, n, manifest, by)
+        and not (same_as is not None and _same_file(same_as / n, folder / n))
     ]
     out += [m for m in (MANIFEST, RUN_MANIFEST) if _read_one(folder / m) is None]
     return out
@@ -787,9 +778,8 @@ def _tidy(folder: Path) -> None:
 def _same_file(new: Path, old: Path) -> bool:
     """True if ``new`` and ``old`` are regular files with the same bytes (replacing one by the other loses nothing)."""
     try:
-        if not (new.is_file() and old.is_file() and not old.is_symlink()) or new.stat().st_size != old.stat().st_size:
-            return False
-        return new.read_bytes() == old.read_bytes()
+        same = new.is_file() and old.is_file() and not old.is_symlink() and new.stat().st_size == old.stat().st_size
+        return same and new.read_bytes() == old.read_bytes()
     except OSError:
         return False
 
@@ -1070,7 +1060,6 @@ __all__ = [
     "FileKind",
     "check_file",
     "check_folder",
-    "clashes",
     "entry_digest",
     "file_sha256",
     "foreign",

@@ -123,9 +123,7 @@ def freeze_fields(record: Any) -> None:
 
 def frozen(data: Any) -> FrozenMapping:
     """``data`` (a mapping) as a :class:`FrozenMapping`, nested mappings too (a stock's item costs)."""
-    if isinstance(data, FrozenMapping):
-        return data
-    return FrozenMapping({k: frozen(v) if isinstance(v, Mapping) else v for k, v in dict(data).items()})
+    return data if isinstance(data, FrozenMapping) else deep_frozen(dict(data))
 
 
 def html_table(title: str, rows: Iterable[tuple[Any, Any, Any]], caption: str = "", extra: str = "") -> str:

@@ -138,17 +138,7 @@ SCHEMA: dict[str, dict[str, str]] = {
     },
     "pareto": {"points": "int"},
     "choices": {"surface": "list", "turning_mode": "list", "wheel": "list"},
-    "robust": {
-        "enabled": "bool",
-        "probability": "float",
-        "model_error": "float",
-        "model_error_dof": "int",
-        "damping": "float",
-        "slip_coefficient": "float",
-        "inertia": "float",
-        "samples": "int",
-        "seed": "int",
-    },
+    "robust": {"enabled": "bool", **{f.name: str(f.type) for f in dataclasses.fields(Uncertainty)}},
     "stock": {
         "diameters": "list",
         "grooves": "list",
