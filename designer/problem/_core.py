@@ -22,7 +22,7 @@ from designer import parameters
 from designer.errors import ProblemError
 from designer.reprs import Key, Keyed, Record, frozen
 from designer import display
-from designer.display import number, percent, unit_text
+from designer.display import number, percent, shown, unit_text
 from designer.units import outside_range, parse_quantity, real_number, whole_number
 from designer.errors import InputError
 from designer.model import (
@@ -81,6 +81,11 @@ def parsed(value: Any, dimension: str, key: str, fail: Callable[[str], NoReturn]
         return parse_quantity(value, dimension, key)
     except InputError as exc:
         fail(str(exc))
+
+
+def inches(value: float) -> str:
+    """A length [m] in inches, as the problem file's messages say it ("2.500 in": :func:`designer.display.shown`)."""
+    return shown(value, dimension="length", units="in")
 
 
 def check_range(key: str, value: float, prefix: str = "") -> None:
@@ -645,8 +650,8 @@ def _validate_bound(problem: Problem, name: str, fail: Callable[[str], NoReturn]
         if not lo <= value <= hi:  # as the loader says it (in the user's unit there)
             fail(outside_range(f"{key}.{label}", value, value, lo, hi, VARIABLE_DIMENSIONS[name]))
     if b.low > b.high:
-        shown = f" ({b.low / INCH:.4g} in > {b.high / INCH:.4g} in)" if VARIABLE_DIMENSIONS[name] == "length" else ""
-        fail(f"{key} = [{b.low:g}, {b.high:g}]: min is greater than max{shown}")
+        both = f" ({inches(b.low)} > {inches(b.high)})" if VARIABLE_DIMENSIONS[name] == "length" else ""
+        fail(f"{key} = [{b.low:g}, {b.high:g}]: min is greater than max{both}")
 
 
 def _validate_sill_and_fork(problem: Problem, fail: Callable[[str], NoReturn]) -> None:
@@ -655,8 +660,8 @@ def _validate_sill_and_fork(problem: Problem, fail: Callable[[str], NoReturn]) -
     h = c.threshold_height
     if not problem.wheels and problem.bounds["diameter"].low <= 2 * h:
         fail(
-            f"variables.diameter.min = {problem.bounds['diameter'].low / INCH:.3g} in: must exceed twice the "
-            f"threshold height ({2 * h / INCH:.3g} in); a wheel with d <= 2h cannot climb the sill (Eq. 4A)"
+            f"variables.diameter.min = {inches(problem.bounds['diameter'].low)}: must exceed twice the "
+            f"threshold height ({inches(2 * h)}); a wheel with d <= 2h cannot climb the sill (Eq. 4A)"
         )
     for key in problem.wheels:
         wheel = next((w for w in TABLE1 if w.key == key), None)
@@ -664,8 +669,8 @@ def _validate_sill_and_fork(problem: Problem, fail: Callable[[str], NoReturn]) -
             fail(f"inertia.wheels: unknown Table 1 wheel {key!r}; valid wheels are {', '.join(w.key for w in TABLE1)}")
         if wheel.diameter <= 2 * h:
             fail(
-                f"inertia.wheels: wheel {key} (d = {wheel.diameter / INCH:.0f} in) cannot climb a "
-                f"{h / INCH:.3g} in sill (d/h <= 2, Eq. 4A)"
+                f"inertia.wheels: wheel {key} (d = {inches(wheel.diameter)}) cannot climb a "
+                f"{inches(h)} sill (d/h <= 2, Eq. 4A)"
             )
     c0 = c.turning.bare_fork_damping
     if problem.bounds["damping"].low < c0 - 1e-12:
@@ -683,8 +688,8 @@ def _validate_swept_radius(problem: Problem, r: float, prefix: str, fail: Callab
         smallest = problem.bounds["trail"].low + min(Catalog.from_key(k).fixed_diameter for k in problem.wheels) / 2
     if r < smallest:
         fail(
-            f"constraints.swept_radius_max = {r / INCH:.3g} in: smaller than the smallest possible "
-            f"T + d/2 = {smallest / INCH:.3g} in; raise it or lower the trail/diameter minimum"
+            f"constraints.swept_radius_max = {inches(r)}: smaller than the smallest possible "
+            f"T + d/2 = {inches(smallest)}; raise it or lower the trail/diameter minimum"
         )
 
 

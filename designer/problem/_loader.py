@@ -17,7 +17,7 @@ from importlib.resources.abc import Traversable
 from pathlib import Path
 from typing import Any, Callable, NoReturn, TypeVar
 
-from designer.data.paper import INCH, TABLE1
+from designer.data.paper import TABLE1
 from designer import parameters
 from designer.errors import ProblemError
 from designer.textfiles import read_input_text
@@ -38,6 +38,7 @@ from designer.physics.uncertainty import Uncertainty
 
 from designer.problem._stock import read_stock
 from designer.problem._core import (
+    inches,
     parsed,
     show_key,
     DEFAULT_BOUNDS,
@@ -496,9 +497,7 @@ def _catalog_within(r: _Reader, bounds: dict[str, Bound], wheels: tuple[str, ...
     if "diameter" in r.section("variables"):
         kept = tuple(k for k in wheels if d_lo - 1e-9 <= Catalog.from_key(k).fixed_diameter <= d_hi + 1e-9)
         if not kept:
-            r.fail(
-                f"variables.diameter = [{d_lo / INCH:.3g}, {d_hi / INCH:.3g}] in: no catalog wheel in {list(wheels)} fits"
-            )
+            r.fail(f"variables.diameter = [{inches(d_lo)}, {inches(d_hi)}]: no catalog wheel in {list(wheels)} fits")
         wheels = kept
     diameters = [Catalog.from_key(k).fixed_diameter for k in wheels]
     bounds["diameter"] = Bound(min(diameters), max(diameters))
