@@ -599,7 +599,7 @@ def _validate(problem: Problem, prefix: str = "") -> None:
                 f"(0.1 or '10 %': a fix may raise the {force} by 10 % of the current caster's)"
             )
     if problem.units not in REPORT_UNITS:
-        fail(f"report.units = {problem.units!r}: expected one of {', '.join(REPORT_UNITS)}")
+        fail(f"report.units = {problem.units!r}: expected one of {', '.join(repr(u) for u in REPORT_UNITS)}")
     if problem.target_speed <= 0:
         fail(f"shimmy.target_speed = {problem.target_speed:g} m/s: must be positive")
     if problem.margin < 0 or problem.margin > 10:

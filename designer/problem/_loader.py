@@ -47,7 +47,6 @@ from designer.problem._core import (
     INERTIA_MODELS,
     MAX_SAMPLES,
     PROBABILITY_RANGE,
-    REPORT_UNITS,
     SCHEMA,
     VARIABLE_DIMENSIONS,
     TOLERANCE_MAX_LENGTH,
@@ -530,10 +529,7 @@ def _report_units(r: _Reader) -> str:
     given as "13 mm" is shown as 13 mm); "in" when no length has a unit."""
     table = r.section("report")
     if "units" in table:
-        units = table["units"]
-        if units not in REPORT_UNITS:
-            r.fail(f"report.units = {units!r}: expected one of {', '.join(repr(u) for u in REPORT_UNITS)}")
-        return str(units)
+        return str(table["units"])  # one of REPORT_UNITS: Problem's check
     written = [m.group(1) for m in map(_WRITTEN_LENGTH.match, _strings(r.data)) if m]
     metric = [u for u in written if u in ("mm", "cm", "m")]
     if metric and len(metric) < len(written):  # mixed: the sill's unit, if it has one
@@ -546,11 +542,8 @@ def _strings(value: Any) -> list[str]:
     """Every string value of a problem-file table, nested tables and lists included."""
     if isinstance(value, str):
         return [value]
-    if isinstance(value, dict):
-        return [s for v in value.values() for s in _strings(v)]
-    if isinstance(value, list):
-        return [s for v in value for s in _strings(v)]
-    return []
+    values = value.values() if isinstance(value, dict) else value if isinstance(value, list) else []
+    return [s for v in values for s in _strings(v)]
 
 
 def _choices(r: _Reader) -> dict[str, tuple[str, ...]]:
@@ -587,15 +580,14 @@ def _uncertainty(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> Unce
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not abs(value) <= 1e300:  # NaN, inf
             fail(f"robust.{key} = {value!r}: expected a finite number")
         values[key] = float(value)
+        if key != "probability" and not 0 <= value <= 2:
+            fail(f"robust.{key} = {value:g}: the standard deviation of the log must be between 0 and 2")
     low, high = PROBABILITY_RANGE
     if not low <= values["probability"] < high:
         fail(
             f"robust.probability = {values['probability']:g}: must be from {low:g} to below {high:g} (e.g. 0.05 "
             f"for 5 %; below {low:g} the risk bound is not computed to its accuracy)"
         )
-    for key in ("model_error", "damping", "slip_coefficient", "inertia"):
-        if not 0 <= values[key] <= 2:
-            fail(f"robust.{key} = {values[key]:g}: the standard deviation of the log must be between 0 and 2")
     for key, low, high in (("samples", 100, MAX_SAMPLES), ("seed", 0, 2**32 - 1), ("model_error_dof", 0, 1000)):
         value = table.get(key, getattr(defaults, key))
         if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
