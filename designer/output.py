@@ -677,31 +677,26 @@ def _roll_forward(folder: Path, record: dict) -> None:
 
 
 def _read_record(path: Path) -> dict | None:
-    """A commit record, or None when it is not one this release writes (every entry a plain name, the
-    temporary folder a name of the tool's, the digest of every entry it installs)."""
+    """A commit record, or None when it is not one this release writes (every entry ``[name, aside or None]``, plain
+    names of this folder with no separator and no '..', the temporary folder a name of the tool's, the digest of
+    every entry it installs)."""
     try:
         record = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError):
+        entries = record["install"] + record["remove"]  # two lists (or a TypeError)
+        valid = isinstance(record["install"], list) and _plain(record["stage"])
+        valid = valid and record["stage"].startswith(TEMP_PREFIX)
+        valid = valid and all(isinstance(v, str) for v in record["digests"].values())
+        for e in entries:
+            valid = valid and isinstance(e, list) and len(e) == 2 and _plain(e[0])
+            valid = valid and (e[1] is None or _plain(e[1]) and e[1].startswith(OLD_PREFIX))
+    except (OSError, UnicodeDecodeError, ValueError, TypeError, KeyError, AttributeError):
         return None
-    stage = record.get("stage") if isinstance(record, dict) else None
-    valid = isinstance(stage, str) and stage.startswith(TEMP_PREFIX) and _plain(stage)
-    for key in ("install", "remove"):
-        valid = valid and isinstance(record.get(key), list) and all(_entry(e) for e in record[key])
-    digests = record.get("digests") if valid else None
-    valid = valid and isinstance(digests, dict) and all(isinstance(v, str) for v in digests.values())
     return record if valid else None
 
 
-def _plain(name: str) -> bool:
-    return bool(name) and "/" not in name and os.sep not in name and name not in (".", "..")
-
-
-def _entry(item) -> bool:
-    """A record's entry: [name, aside or None], plain names of this folder (no separators, no '..')."""
-    ok = isinstance(item, list) and len(item) == 2 and isinstance(item[0], str)
-    names = [n for n in item if isinstance(n, str)] if ok else []
-    ok = ok and (item[1] is None or isinstance(item[1], str) and item[1].startswith(OLD_PREFIX))
-    return ok and all(_plain(n) for n in names)
+def _plain(name: object) -> bool:
+    """A plain name of this folder: a non-empty string without a separator, not '.' or '..'."""
+    return isinstance(name, str) and bool(name) and "/" not in name and os.sep not in name and name not in (".", "..")
 
 
 def _abandoned(stage: Path) -> bool:

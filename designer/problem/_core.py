@@ -437,11 +437,8 @@ class Problem(Record):
         if not self.wheels:
             return [self]
         out = []
-        for key in self.wheels:
-            model = Catalog.from_key(key)
-            d = model.fixed_diameter
-            bounds = dict(self.bounds)
-            bounds["diameter"] = Bound(d, d)
+        for model in map(Catalog.from_key, self.wheels):
+            bounds = {**self.bounds, "diameter": Bound(model.fixed_diameter, model.fixed_diameter)}
             out.append(
                 dataclasses.replace(self, conditions=self.conditions.replace(inertia=model), bounds=bounds, wheels=())
             )
