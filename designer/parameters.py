@@ -332,12 +332,9 @@ SOLVER_PARAMETERS: tuple[Parameter, ...] = tuple(p for p in CONSTANT_TABLE if p.
 
 
 def _pairs(attribute: str) -> dict[str, tuple[float, float]]:
-    out: dict[str, tuple[float, float]] = {}
-    for p in VARIABLE_TABLE:
-        pair = getattr(p, attribute)
-        assert pair is not None, p.name
-        out[p.name] = pair
-    return out
+    pairs: dict[str, tuple[float, float]] = {p.name: getattr(p, attribute) for p in VARIABLE_TABLE}
+    assert None not in pairs.values(), attribute
+    return pairs
 
 
 MODEL_RANGE: dict[str, tuple[float, float]] = _pairs("range")

@@ -449,10 +449,8 @@ class Record(Keyed):
             label = prefix + entry.label if entry is not None else key
             unit = self._units.get(key, unit_text(entry.name) if entry is not None else "")
             numeric = isinstance(value, (int, float)) and not isinstance(value, bool)
-            if entry is not None and numeric and key not in self._units:
-                out.append((key, label, number(value, entry.name), unit))
-            else:
-                out.append((key, label, shown(value), unit))
+            own = entry is None or not numeric or key in self._units  # else the table's precision
+            out.append((key, label, shown(value) if own else number(value, entry.name), unit))
         return out
 
     def _repr_lines(self) -> list[str]:

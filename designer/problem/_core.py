@@ -483,8 +483,8 @@ class Problem(Record):
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """The problem as a compact table with units (notebooks); no solver runs."""
         c, u, units = self.conditions, self.conditions.uncertainty, self.units
-        given = {"target_speed": self.target_speed, "load": c.load, "threshold_height": c.threshold_height}
-        given["swept_radius_max"] = self.swept_radius_max
+        given: dict[str, float | None] = {"target_speed": self.target_speed, "load": c.load}
+        given |= {"threshold_height": c.threshold_height, "swept_radius_max": self.swept_radius_max}
         rows: list[tuple[Any, Any, Any]] = [
             (display.label(n), number(v, n, units), unit_text(n, units)) for n, v in given.items() if v is not None
         ]
@@ -502,9 +502,6 @@ class Problem(Record):
     def digest(self) -> str:
         """SHA-256 of the problem's canonical content (for report metadata)."""
         return hashlib.sha256(json.dumps(self.to_dict(), sort_keys=True, default=str).encode()).hexdigest()[:16]
-
-
-_FIELD_INDEX = {f.name: k for k, f in enumerate(dataclasses.fields(Problem))}
 
 
 def family_of(problem: Problem, design: Design, tol: float = 1e-6) -> str:
@@ -544,7 +541,7 @@ def _normalise(problem: Problem, prefix: str) -> None:
 
     for name, (key, dimension) in _NUMBER_FIELDS.items():
         value = getattr(problem, name)
-        if value is None and dataclasses.fields(problem)[_FIELD_INDEX[name]].default is None:
+        if value is None and Problem.__dataclass_fields__[name].default is None:
             continue
         put(name, parsed(value, dimension, key, fail))
     if not isinstance(problem.bounds, Mapping):

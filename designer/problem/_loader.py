@@ -392,12 +392,8 @@ def _constants(r: _Reader, section: str) -> dict[str, Any]:
     """The model constants of ``[section]`` kept on the conditions, by table name: each key of the parameter
     table read with its dimension and default (the problem-level ones, such as the target speed, are read
     by :func:`problem_from_dict` itself)."""
-    out = {}
-    for p in parameters.by_key(section).values():
-        where = parameters.location(p)
-        if where is not None and where.startswith("conditions."):
-            out[p.name] = _value(r, p.name)
-    return out
+    entries = parameters.by_key(section).values()
+    return {p.name: _value(r, p.name) for p in entries if (parameters.location(p) or "").startswith("conditions.")}
 
 
 def _load_from_mass(r: _Reader) -> float | None:

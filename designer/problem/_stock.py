@@ -186,10 +186,8 @@ def _stock_wheels(
         fail(f"stock.wheels = {raw!r}: expected a list of {{name, diameter, groove, inertia}} tables")
     if not raw:
         fail("stock.wheels = []: empty; list at least one wheel, or leave the key out")
-    out: list[StockWheel] = []
-    names: set[str] = set()
-    for i, w in enumerate(raw):
-        out.append(_stock_wheel(i, w, names, bounds, fail))
+    names: set[str] = set()  # filled by each wheel read
+    out = [_stock_wheel(i, w, names, bounds, fail) for i, w in enumerate(raw)]
     given = [w.groove is not None for w in out]
     if any(given) and not all(given):
         fail("stock.wheels: give a groove for every wheel or for none (then [stock].grooves or continuous)")
