@@ -265,11 +265,8 @@ class Stock(Keyed):
         listed with its own cost."""
         variable = {"washer": "damping", "tyre": "groove", "fork hole": "trail", "wheel": "diameter"}[kind]
         own = self.item_costs.get(variable, {})
-        if value is not None:
-            for listed, cost in own.items():
-                if abs(listed - value) <= 1e-9 * max(1.0, abs(value)):
-                    return cost
-        return self.costs.get(kind, DEFAULT_PART_COSTS[kind])
+        listed = [c for v, c in own.items() if value is not None and abs(v - value) <= 1e-9 * max(1.0, abs(value))]
+        return listed[0] if listed else self.costs.get(kind, DEFAULT_PART_COSTS[kind])
 
     _keys = (
         "*",

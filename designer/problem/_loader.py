@@ -7,6 +7,7 @@ and the reason.  :mod:`designer.problem._core` holds the :class:`Problem` record
 
 from __future__ import annotations
 
+import contextlib
 import difflib
 import math
 import os
@@ -183,20 +184,20 @@ class _Reader:
         raise ProblemError(self.prefix + msg)
 
     def section(self, name: str) -> dict[str, Any]:
-        value = self.data.get(name, {})
+        """The table ``[name]`` (empty when absent; the top level for "")."""
+        value = self.data.get(name, {}) if name else self.data
         if not isinstance(value, dict):
             self.fail(f"[{name}] must be a table, got {type(value).__name__}")
         return value
 
     def quantity(self, sec: str, key: str, dimension: str, default: _D) -> float | _D:
-        table = self.data if sec == "" else self.section(sec)
+        table = self.section(sec)
         if key not in table:
             return default
         return parsed(table[key], dimension, f"{sec}.{key}" if sec else key, self.fail)
 
     def text_value(self, sec: str, key: str, default: str) -> str:
-        table = self.data if sec == "" else self.section(sec)
-        value = table.get(key, default)
+        value = self.section(sec).get(key, default)
         if not isinstance(value, str):
             self.fail(f"{(sec + '.') if sec else ''}{key} = {value!r}: expected a string")
         return value
@@ -341,12 +342,10 @@ def _tolerances(r: _Reader) -> Tolerances:
             'below 1 (write "20 %" or 0.2); 100 % or more would leave no friction'
         )
     wheel = table.get("wheel", "catalogue")
-    limit = None
+    limit: float | None = None
     if not (isinstance(wheel, str) and wheel.strip().lower() in ("catalogue", "catalog")):
-        try:
+        with contextlib.suppress(InputError):  # said below, with what is expected
             limit = parse_quantity(wheel, "inertia", "tolerances.wheel")
-        except InputError:
-            limit = None
         if limit is None or not 0 < limit < 0.1:
             r.fail(
                 f'tolerances.wheel = {wheel!r}: expected "catalogue" or the largest measured wheel inertia '
