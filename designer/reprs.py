@@ -64,9 +64,6 @@ class FrozenMapping(Mapping[Any, Any]):
     def __len__(self) -> int:
         return len(self._data)
 
-    def __contains__(self, key: object) -> bool:
-        return key in self._data
-
     def __repr__(self) -> str:
         return repr(self._data)
 
