@@ -296,9 +296,8 @@ class Key:
 
     def omitted(self, value: Any) -> bool:
         """Whether ``value`` (plain) is left out: by :attr:`omit`, when it is None (or empty)."""
-        if not self.omit:
-            return False
-        return value is None or (self.omit == "empty" and isinstance(value, (list, tuple, Mapping)) and not value)
+        empty = self.omit == "empty" and isinstance(value, (list, tuple, Mapping)) and not value
+        return bool(self.omit) and (value is None or empty)
 
 
 def _nest(out: dict[str, Any], name: str, value: Any) -> None:
