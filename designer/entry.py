@@ -7,6 +7,7 @@ would print a Python traceback.  Nothing is written during the imports, so there
 itself loads nothing heavy, so only the interpreter's own start-up comes before this.)
 """
 
+import contextlib
 import os
 import signal
 import sys
@@ -53,19 +54,14 @@ def _end_quietly(code: int) -> None:  # pragma: no cover - ends the process
     multiprocessing = sys.modules.get("multiprocessing")
     if multiprocessing is not None:
         for child in multiprocessing.active_children():
-            try:
+            with contextlib.suppress(OSError, ValueError, AttributeError):  # gone already
                 child.kill()
-            except (OSError, ValueError, AttributeError):  # gone already
-                pass
-        try:  # multiprocessing's own exit: children joined, its semaphores unlinked (no "leaked semaphore" warning)
+        # multiprocessing's own exit: children joined, its semaphores unlinked (no "leaked semaphore" warning)
+        with contextlib.suppress(Exception):  # the process ends in any case
             multiprocessing.util._exit_function()
-        except Exception:  # noqa: BLE001 - the process ends in any case
-            pass
     for stream in (sys.stdout, sys.stderr):
-        try:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
             stream.flush()
-        except (OSError, ValueError, AttributeError):
-            pass
     os._exit(code)
 
 

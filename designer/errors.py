@@ -128,9 +128,7 @@ be an input's too (every output is checked for it before any work, :mod:`designe
 
 def os_reason(exc: OSError) -> str:
     """One short line: why ``exc`` happened, by its errno (:data:`OS_REASONS`), else the system's own words."""
-    if exc.errno in OS_REASONS:
-        return OS_REASONS[exc.errno]
-    return exc.strerror or type(exc).__name__
+    return OS_REASONS.get(exc.errno or 0) or exc.strerror or type(exc).__name__
 
 
 def system_error(exc: BaseException) -> DesignerError | None:

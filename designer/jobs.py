@@ -41,11 +41,7 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
         if progress is None:
             return None
         task = progress.add_task(label, total=None)
-
-        def update(done, total):
-            progress.update(task, completed=done, total=total)
-
-        return update
+        return lambda done, total: progress.update(task, completed=done, total=total)
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -183,17 +183,11 @@ def file_sha256(path: Path) -> str | None:
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0))
     except OSError:
         return None
-    try:
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
+    with os.fdopen(fd, "rb") as fh:
+        try:
+            return hashlib.file_digest(fh, "sha256").hexdigest() if stat.S_ISREG(os.fstat(fd).st_mode) else None
+        except OSError:
             return None
-        sha = hashlib.sha256()
-        while chunk := os.read(fd, 1 << 20):
-            sha.update(chunk)
-        return sha.hexdigest()
-    except OSError:
-        return None
-    finally:
-        os.close(fd)
 
 
 def tree_digests(path: Path, prefix: str = "") -> dict[str, str | None]:
@@ -394,11 +388,6 @@ def _not_regular(path: Path) -> str | None:
     return None if kind in ("a folder", "not a regular file") else kind
 
 
-def clashes(folder: Path, names: Iterable[str]) -> list[str]:
-    """The names of ``names`` that exist in ``folder`` (files, folders or links)."""
-    return sorted(n for n in set(names) if (folder / n).exists() or (folder / n).is_symlink())
-
-
 def foreign(folder: Path, names: Iterable[str], same_as: Path | None = None, by: str | None = None) -> list[str]:
     """The names of ``names`` in ``folder`` that are not the tool's (:func:`is_owned`, by the manifest), and the
     manifest itself when a file of that name is not one (the user's): what a command must not replace.  With
@@ -408,8 +397,10 @@ def foreign(folder: Path, names: Iterable[str], same_as: Path | None = None, by:
     manifest = read_manifest(folder)
     out = [
         n
-        for n in clashes(folder, names)
-        if not is_owned(folder, n, manifest, by) and not (same_as is not None and _same_file(same_as / n, folder / n))
+        for n in sorted(set(names))
+        if lexists(folder / n)
+        and not is_owned(folder, n, manifest, by)
+        and not (same_as is not None and _same_file(same_as / n, folder / n))
     ]
     out += [m for m in (MANIFEST, RUN_MANIFEST) if _read_one(folder / m) is None]
     return out
@@ -686,31 +677,26 @@ def _roll_forward(folder: Path, record: dict) -> None:
 
 
 def _read_record(path: Path) -> dict | None:
-    """A commit record, or None when it is not one this release writes (every entry a plain name, the
-    temporary folder a name of the tool's, the digest of every entry it installs)."""
+    """A commit record, or None when it is not one this release writes (every entry ``[name, aside or None]``, plain
+    names of this folder with no separator and no '..', the temporary folder a name of the tool's, the digest of
+    every entry it installs)."""
     try:
         record = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError):
+        entries = record["install"] + record["remove"]  # two lists (or a TypeError)
+        valid = isinstance(record["install"], list) and _plain(record["stage"])
+        valid = valid and record["stage"].startswith(TEMP_PREFIX)
+        valid = valid and all(isinstance(v, str) for v in record["digests"].values())
+        for e in entries:
+            valid = valid and isinstance(e, list) and len(e) == 2 and _plain(e[0])
+            valid = valid and (e[1] is None or _plain(e[1]) and e[1].startswith(OLD_PREFIX))
+    except (OSError, UnicodeDecodeError, ValueError, TypeError, KeyError, AttributeError):
         return None
-    stage = record.get("stage") if isinstance(record, dict) else None
-    valid = isinstance(stage, str) and stage.startswith(TEMP_PREFIX) and _plain(stage)
-    for key in ("install", "remove"):
-        valid = valid and isinstance(record.get(key), list) and all(_entry(e) for e in record[key])
-    digests = record.get("digests") if valid else None
-    valid = valid and isinstance(digests, dict) and all(isinstance(v, str) for v in digests.values())
     return record if valid else None
 
 
-def _plain(name: str) -> bool:
-    return bool(name) and "/" not in name and os.sep not in name and name not in (".", "..")
-
-
-def _entry(item) -> bool:
-    """A record's entry: [name, aside or None], plain names of this folder (no separators, no '..')."""
-    ok = isinstance(item, list) and len(item) == 2 and isinstance(item[0], str)
-    names = [n for n in item if isinstance(n, str)] if ok else []
-    ok = ok and (item[1] is None or isinstance(item[1], str) and item[1].startswith(OLD_PREFIX))
-    return ok and all(_plain(n) for n in names)
+def _plain(name: object) -> bool:
+    """A plain name of this folder: a non-empty string without a separator, not '.' or '..'."""
+    return isinstance(name, str) and bool(name) and "/" not in name and os.sep not in name and name not in (".", "..")
 
 
 def _abandoned(stage: Path) -> bool:
@@ -787,9 +773,8 @@ def _tidy(folder: Path) -> None:
 def _same_file(new: Path, old: Path) -> bool:
     """True if ``new`` and ``old`` are regular files with the same bytes (replacing one by the other loses nothing)."""
     try:
-        if not (new.is_file() and old.is_file() and not old.is_symlink()) or new.stat().st_size != old.stat().st_size:
-            return False
-        return new.read_bytes() == old.read_bytes()
+        same = new.is_file() and old.is_file() and not old.is_symlink() and new.stat().st_size == old.stat().st_size
+        return same and new.read_bytes() == old.read_bytes()
     except OSError:
         return False
 
@@ -1070,7 +1055,6 @@ __all__ = [
     "FileKind",
     "check_file",
     "check_folder",
-    "clashes",
     "entry_digest",
     "file_sha256",
     "foreign",

@@ -332,12 +332,9 @@ SOLVER_PARAMETERS: tuple[Parameter, ...] = tuple(p for p in CONSTANT_TABLE if p.
 
 
 def _pairs(attribute: str) -> dict[str, tuple[float, float]]:
-    out: dict[str, tuple[float, float]] = {}
-    for p in VARIABLE_TABLE:
-        pair = getattr(p, attribute)
-        assert pair is not None, p.name
-        out[p.name] = pair
-    return out
+    pairs: dict[str, tuple[float, float]] = {p.name: getattr(p, attribute) for p in VARIABLE_TABLE}
+    assert None not in pairs.values(), attribute
+    return pairs
 
 
 MODEL_RANGE: dict[str, tuple[float, float]] = _pairs("range")
@@ -374,9 +371,7 @@ _INDEX = re.compile(r'^(?P<attr>\w+)\[(?P<quote>"?)(?P<key>\w+)(?P=quote)\]$')
 def location(p: Parameter) -> str | None:
     """Where the value of entry ``p`` lives on a Problem: ``store``, else ``path``, else (an entry of the
     problem file with no typed field) ``conditions.constants["<name>"]``; None for a key not in a file."""
-    if p.store or p.path:
-        return p.store or p.path
-    return f'conditions.constants["{p.name}"]' if p.key else None
+    return p.store or p.path or (f'conditions.constants["{p.name}"]' if p.key else None)
 
 
 def _dict_key(match: re.Match[str], conditions: Any) -> Any:

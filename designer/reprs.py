@@ -64,9 +64,6 @@ class FrozenMapping(Mapping[Any, Any]):
     def __len__(self) -> int:
         return len(self._data)
 
-    def __contains__(self, key: object) -> bool:
-        return key in self._data
-
     def __repr__(self) -> str:
         return repr(self._data)
 
@@ -123,9 +120,7 @@ def freeze_fields(record: Any) -> None:
 
 def frozen(data: Any) -> FrozenMapping:
     """``data`` (a mapping) as a :class:`FrozenMapping`, nested mappings too (a stock's item costs)."""
-    if isinstance(data, FrozenMapping):
-        return data
-    return FrozenMapping({k: frozen(v) if isinstance(v, Mapping) else v for k, v in dict(data).items()})
+    return data if isinstance(data, FrozenMapping) else deep_frozen(dict(data))
 
 
 def html_table(title: str, rows: Iterable[tuple[Any, Any, Any]], caption: str = "", extra: str = "") -> str:
@@ -301,9 +296,8 @@ class Key:
 
     def omitted(self, value: Any) -> bool:
         """Whether ``value`` (plain) is left out: by :attr:`omit`, when it is None (or empty)."""
-        if not self.omit:
-            return False
-        return value is None or (self.omit == "empty" and isinstance(value, (list, tuple, Mapping)) and not value)
+        empty = self.omit == "empty" and isinstance(value, (list, tuple, Mapping)) and not value
+        return bool(self.omit) and (value is None or empty)
 
 
 def _nest(out: dict[str, Any], name: str, value: Any) -> None:
@@ -451,10 +445,8 @@ class Record(Keyed):
             label = prefix + entry.label if entry is not None else key
             unit = self._units.get(key, unit_text(entry.name) if entry is not None else "")
             numeric = isinstance(value, (int, float)) and not isinstance(value, bool)
-            if entry is not None and numeric and key not in self._units:
-                out.append((key, label, number(value, entry.name), unit))
-            else:
-                out.append((key, label, shown(value), unit))
+            own = entry is None or not numeric or key in self._units  # else the table's precision
+            out.append((key, label, shown(value) if own else number(value, entry.name), unit))
         return out
 
     def _repr_lines(self) -> list[str]:

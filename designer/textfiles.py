@@ -248,8 +248,7 @@ def csv_text(rows: Iterable[Sequence[Any]], comments: Sequence[str] = ()) -> str
     ``comments`` are written first as ``# ...`` lines (the readers skip them).  Floats are written by ``str``
     (``repr``: exact) unless the caller formatted them; NaN and infinities as empty cells."""
     out = [f"# {line}\n" for line in comments]
-    for row in rows:
-        out.append(",".join(_quoted(_finite(safe_cell(v))) for v in row) + "\n")
+    out += [",".join(_quoted(_finite(safe_cell(v))) for v in row) + "\n" for row in rows]
     return "".join(out)
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 import numbers
 import re
+from fractions import Fraction
 from functools import lru_cache
 from typing import Any
 
@@ -94,12 +95,8 @@ def written_size(value: float | None, units: str = "in") -> str:
     sixteenths = round(value / INCH * 16)
     approx = abs(value / INCH * 16 - sixteenths) > 1 / 8  # more than 1/128 in from a sixteenth
     whole, rest = divmod(abs(sixteenths), 16)
-    if rest:
-        g = math.gcd(rest, 16)
-        frac = f"{rest // g}/{16 // g}"
-        text = f"{whole} {frac}" if whole else frac
-    else:
-        text = str(whole)
+    frac = str(Fraction(rest, 16)) if rest else ""  # in lowest terms
+    text = f"{whole} {frac}" if whole and rest else frac or str(whole)
     sign = "-" if sixteenths < 0 else ""
     return f"{'≈ ' if approx else ''}{sign}{text} in"
 
@@ -326,6 +323,10 @@ def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) 
         if not isinstance(quantity, ureg.Quantity):
             return float(quantity)
         magnitude = quantity.to(target or "dimensionless").magnitude
+        _check_kind(quantity, text, dimension, key)
+        return float(magnitude)
+    except InputError:  # _check_kind's reason
+        raise
     except pint.errors.DimensionalityError:
         if not dict(quantity.unit_items()):  # "3" for a speed: the true reason is the missing unit
             raise InputError(
@@ -336,11 +337,6 @@ def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) 
         raise InputError(
             f"{key} = {text!r}: wrong dimension, expected {dimension} ({shown}), e.g. {example(dimension)!r}{hint}"
         ) from None
-    except OverflowError:
-        raise InputError(f"{key} = {text!r}: the number is too large") from None
-    _check_kind(quantity, text, dimension, key)
-    try:
-        return float(magnitude)
     except OverflowError:
         raise InputError(f"{key} = {text!r}: the number is too large") from None
     except (TypeError, ValueError):

@@ -3,6 +3,7 @@ so nothing heavy is imported to learn them)."""
 
 from __future__ import annotations
 
+import contextlib
 import platform
 from importlib.metadata import PackageNotFoundError, version
 
@@ -12,11 +13,8 @@ PACKAGES = ("caster-designer", "numpy", "scipy", "casadi", "cvxpy", "optuna", "m
 
 def versions() -> dict[str, str | None]:
     """Installed versions of :data:`PACKAGES` (None for one not installed) and of Python."""
-    out: dict[str, str | None] = {}
+    out: dict[str, str | None] = dict.fromkeys(PACKAGES)
     for name in PACKAGES:
-        try:
+        with contextlib.suppress(PackageNotFoundError):
             out[name] = version(name)
-        except PackageNotFoundError:
-            out[name] = None
-    out["python"] = platform.python_version()
-    return out
+    return out | {"python": platform.python_version()}

@@ -21,14 +21,15 @@ from designer.data.paper import INCH, TABLE1
 from designer import parameters
 from designer.errors import ProblemError
 from designer.reprs import Key, Keyed, Record, frozen
-from designer.units import parse_quantity, real_number, whole_number
+from designer import display
+from designer.display import number, percent, shown, unit_text
+from designer.units import outside_range, parse_quantity, real_number, whole_number
 from designer.errors import InputError
 from designer.model import (
     CONDITION_CHOICES,
     CONDITION_NUMBERS,
     FAMILIES,
     MODEL_RANGE,
-    VARIABLE_UNITS,
     VARIABLES,
     Conditions,
     Design,
@@ -80,6 +81,11 @@ def parsed(value: Any, dimension: str, key: str, fail: Callable[[str], NoReturn]
         return parse_quantity(value, dimension, key)
     except InputError as exc:
         fail(str(exc))
+
+
+def inches(value: float) -> str:
+    """A length [m] in inches, as the problem file's messages say it ("2.500 in": :func:`designer.display.shown`)."""
+    return shown(value, dimension="length", units="in")
 
 
 def check_range(key: str, value: float, prefix: str = "") -> None:
@@ -137,31 +143,16 @@ SCHEMA: dict[str, dict[str, str]] = {
     },
     "pareto": {"points": "int"},
     "choices": {"surface": "list", "turning_mode": "list", "wheel": "list"},
-    "robust": {
-        "enabled": "bool",
-        "probability": "float",
-        "model_error": "float",
-        "model_error_dof": "int",
-        "damping": "float",
-        "slip_coefficient": "float",
-        "inertia": "float",
-        "samples": "int",
-        "seed": "int",
-    },
+    "robust": {"enabled": "bool", **{f.name: str(f.type) for f in dataclasses.fields(Uncertainty)}},
     "stock": {
-        "diameters": "list",
-        "grooves": "list",
+        **dict.fromkeys(("diameters", "grooves", "dampings", "wheels"), "list"),
         "trail_step": "length",
-        "dampings": "list",
-        "wheels": "list",
         "costs": "table",
     },
     "report": {"units": "str"},
     "retrofit": {"max_threshold_increase": "dimensionless", "max_turning_increase": "dimensionless"},
     "tolerances": {
-        "trail": "length",
-        "groove": "length",
-        "diameter": "length",
+        **dict.fromkeys(("trail", "groove", "diameter"), "length"),
         "friction_moment": "dimensionless",
         "stem_angle": "angle",
         "wheel": "str",
@@ -269,11 +260,8 @@ class Stock(Keyed):
         listed with its own cost."""
         variable = {"washer": "damping", "tyre": "groove", "fork hole": "trail", "wheel": "diameter"}[kind]
         own = self.item_costs.get(variable, {})
-        if value is not None:
-            for listed, cost in own.items():
-                if abs(listed - value) <= 1e-9 * max(1.0, abs(value)):
-                    return cost
-        return self.costs.get(kind, DEFAULT_PART_COSTS[kind])
+        listed = [c for v, c in own.items() if value is not None and abs(v - value) <= 1e-9 * max(1.0, abs(value))]
+        return listed[0] if listed else self.costs.get(kind, DEFAULT_PART_COSTS[kind])
 
     _keys = (
         "*",
@@ -441,11 +429,8 @@ class Problem(Record):
         if not self.wheels:
             return [self]
         out = []
-        for key in self.wheels:
-            model = Catalog.from_key(key)
-            d = model.fixed_diameter
-            bounds = dict(self.bounds)
-            bounds["diameter"] = Bound(d, d)
+        for model in map(Catalog.from_key, self.wheels):
+            bounds = {**self.bounds, "diameter": Bound(model.fixed_diameter, model.fixed_diameter)}
             out.append(
                 dataclasses.replace(self, conditions=self.conditions.replace(inertia=model), bounds=bounds, wheels=())
             )
@@ -459,29 +444,23 @@ class Problem(Record):
         ``front``: the diameters are a front's points, and the warning says so (the recommended caster
         may well lie inside the data while the front's end does not).
         """
-        out = []
-        model = self.conditions.inertia
-        data = model.data_range()
-        if data is not None and not self.wheels and diameters is not None:
-            outside = [float(d) for d in diameters if not data[0] * 0.999 <= float(d) <= data[1] * 1.001]
-            if outside:
-                span = f"{min(outside) / INCH:.3g}" + (
-                    f"–{max(outside) / INCH:.3g}" if max(outside) > min(outside) else ""
-                )
-                fit = f"outside the Table 1 inertia fit ({data[0] / INCH:.0f}–{data[1] / INCH:.0f} in)"
-                out.append(
-                    f"{self.name}: points of the front use d = {span} in, {fit}: their I_w is extrapolated"
-                    if front
-                    else f"{self.name}: a reported design uses d = {span} in, {fit}: its I_w is extrapolated"
-                )
-        elif data is not None and not self.wheels:
+        data = self.conditions.inertia.data_range()
+        if data is None or self.wheels:
+            return []
+        fit = f"the Table 1 inertia fit ({data[0] / INCH:.0f}–{data[1] / INCH:.0f} in)"
+        if diameters is None:
             b = self.bounds["diameter"]
             if b.low < data[0] * 0.999 or b.high > data[1] * 1.001:
-                out.append(
-                    f"{self.name}: the Table 1 inertia fit ({data[0] / INCH:.0f}–{data[1] / INCH:.0f} in) is "
-                    f"extrapolated for diameters in {b.low / INCH:.3g}–{b.high / INCH:.3g} in"
-                )
-        return out
+                return [
+                    f"{self.name}: {fit} is extrapolated for diameters in {b.low / INCH:.3g}–{b.high / INCH:.3g} in"
+                ]
+            return []
+        outside = [float(d) for d in diameters if not data[0] * 0.999 <= float(d) <= data[1] * 1.001]
+        if not outside:
+            return []
+        span = f"{min(outside) / INCH:.3g}" + (f"–{max(outside) / INCH:.3g}" if max(outside) > min(outside) else "")
+        uses, its = ("points of the front use", "their") if front else ("a reported design uses", "its")
+        return [f"{self.name}: {uses} d = {span} in, outside {fit}: {its} I_w is extrapolated"]
 
     def _repr_lines(self) -> list[str]:
         """One line: name, required speed, load, sill, risk bound (the full record: :meth:`to_dict`)."""
@@ -495,32 +474,26 @@ class Problem(Record):
 
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """The problem as a compact table with units (notebooks); no solver runs."""
-        c, u = self.conditions, self.conditions.uncertainty
+        c, u, units = self.conditions, self.conditions.uncertainty, self.units
+        given: dict[str, float | None] = {"target_speed": self.target_speed, "load": c.load}
+        given |= {"threshold_height": c.threshold_height, "swept_radius_max": self.swept_radius_max}
         rows: list[tuple[Any, Any, Any]] = [
-            ("target speed V_target", f"{self.target_speed:.4g}", "m/s"),
-            ("required speed (1 + margin) V_target", f"{self.required_speed:.4g}", "m/s"),
-            ("load", f"{c.load:.4g}", "N"),
-            ("sill height", f"{c.threshold_height * 1000:.4g}", "mm"),
-            ("surface / turning", f"{c.surface} / {c.turning_mode}", ""),
-            ("risk bound α", f"{u.probability:.3g}" if u is not None else "off (nominal Eq. 7)", ""),
+            (display.label(n), number(v, n, units), unit_text(n, units)) for n, v in given.items() if v is not None
         ]
-        for v in VARIABLES:
-            b, unit = self.bounds[v], VARIABLE_UNITS.get(v, "")
-            if unit == "m":
-                rows.append((f"{v} bounds", f"{b.low * 1000:.4g} – {b.high * 1000:.4g}", "mm"))
-            else:
-                rows.append((f"{v} bounds", f"{b.low:.4g} – {b.high:.4g}", unit))
-        if self.swept_radius_max is not None:
-            rows.append(("swept radius max", f"{self.swept_radius_max * 1000:.4g}", "mm"))
-        rows.append(("weights (w_turn, w_threshold)", f"{self.weights[0]:g}, {self.weights[1]:g}", ""))
-        return rows
+        rows += [
+            (f"{v} bounds", f"{number(b.low, v, units)} – {number(b.high, v, units)}", unit_text(v, units))
+            for v, b in ((v, self.bounds[v]) for v in VARIABLES)
+        ]
+        return rows + [
+            ("required speed (1 + margin) V_target", number(self.required_speed, "target_speed"), "m/s"),
+            ("surface / turning", f"{c.surface} / {c.turning_mode}", ""),
+            ("risk bound α", percent(u.probability) if u is not None else "off (nominal Eq. 7)", ""),
+            ("weights (w_turn, w_threshold)", f"{self.weights[0]:g}, {self.weights[1]:g}", ""),
+        ]
 
     def digest(self) -> str:
         """SHA-256 of the problem's canonical content (for report metadata)."""
         return hashlib.sha256(json.dumps(self.to_dict(), sort_keys=True, default=str).encode()).hexdigest()[:16]
-
-
-_FIELD_INDEX = {f.name: k for k, f in enumerate(dataclasses.fields(Problem))}
 
 
 def family_of(problem: Problem, design: Design, tol: float = 1e-6) -> str:
@@ -560,7 +533,7 @@ def _normalise(problem: Problem, prefix: str) -> None:
 
     for name, (key, dimension) in _NUMBER_FIELDS.items():
         value = getattr(problem, name)
-        if value is None and dataclasses.fields(problem)[_FIELD_INDEX[name]].default is None:
+        if value is None and Problem.__dataclass_fields__[name].default is None:
             continue
         put(name, parsed(value, dimension, key, fail))
     if not isinstance(problem.bounds, Mapping):
@@ -612,7 +585,7 @@ def _validate(problem: Problem, prefix: str = "") -> None:
                 f"(0.1 or '10 %': a fix may raise the {force} by 10 % of the current caster's)"
             )
     if problem.units not in REPORT_UNITS:
-        fail(f"report.units = {problem.units!r}: expected one of {', '.join(REPORT_UNITS)}")
+        fail(f"report.units = {problem.units!r}: expected one of {', '.join(repr(u) for u in REPORT_UNITS)}")
     if problem.target_speed <= 0:
         fail(f"shimmy.target_speed = {problem.target_speed:g} m/s: must be positive")
     if problem.margin < 0 or problem.margin > 10:
@@ -660,19 +633,11 @@ def _validate_bound(problem: Problem, name: str, fail: Callable[[str], NoReturn]
             fail(f"{key}.{label} = {value}: must be finite")
         if value < 0 or (value == 0 and name in ("trail", "diameter", "damping")):
             fail(f"{key}.{label} = {value:g}: must be positive")
-        if value < lo:
-            fail(
-                f"{key}.{label} = {value:g} {VARIABLE_UNITS[name]}: outside the model's range "
-                f"(at least {lo:g}); below it the caster has no {name} to speak of"
-            )
-        if value > hi:
-            fail(
-                f"{key}.{label} = {value:g} {VARIABLE_UNITS[name]}: outside the model's range "
-                f"(at most {hi:g}); were inches written as metres? write e.g. '2 in'"
-            )
+        if not lo <= value <= hi:  # as the loader says it (in the user's unit there)
+            fail(outside_range(f"{key}.{label}", value, value, lo, hi, VARIABLE_DIMENSIONS[name]))
     if b.low > b.high:
-        shown = f" ({b.low / INCH:.4g} in > {b.high / INCH:.4g} in)" if VARIABLE_DIMENSIONS[name] == "length" else ""
-        fail(f"{key} = [{b.low:g}, {b.high:g}]: min is greater than max{shown}")
+        both = f" ({inches(b.low)} > {inches(b.high)})" if VARIABLE_DIMENSIONS[name] == "length" else ""
+        fail(f"{key} = [{b.low:g}, {b.high:g}]: min is greater than max{both}")
 
 
 def _validate_sill_and_fork(problem: Problem, fail: Callable[[str], NoReturn]) -> None:
@@ -681,8 +646,8 @@ def _validate_sill_and_fork(problem: Problem, fail: Callable[[str], NoReturn]) -
     h = c.threshold_height
     if not problem.wheels and problem.bounds["diameter"].low <= 2 * h:
         fail(
-            f"variables.diameter.min = {problem.bounds['diameter'].low / INCH:.3g} in: must exceed twice the "
-            f"threshold height ({2 * h / INCH:.3g} in); a wheel with d <= 2h cannot climb the sill (Eq. 4A)"
+            f"variables.diameter.min = {inches(problem.bounds['diameter'].low)}: must exceed twice the "
+            f"threshold height ({inches(2 * h)}); a wheel with d <= 2h cannot climb the sill (Eq. 4A)"
         )
     for key in problem.wheels:
         wheel = next((w for w in TABLE1 if w.key == key), None)
@@ -690,8 +655,8 @@ def _validate_sill_and_fork(problem: Problem, fail: Callable[[str], NoReturn]) -
             fail(f"inertia.wheels: unknown Table 1 wheel {key!r}; valid wheels are {', '.join(w.key for w in TABLE1)}")
         if wheel.diameter <= 2 * h:
             fail(
-                f"inertia.wheels: wheel {key} (d = {wheel.diameter / INCH:.0f} in) cannot climb a "
-                f"{h / INCH:.3g} in sill (d/h <= 2, Eq. 4A)"
+                f"inertia.wheels: wheel {key} (d = {inches(wheel.diameter)}) cannot climb a "
+                f"{inches(h)} sill (d/h <= 2, Eq. 4A)"
             )
     c0 = c.turning.bare_fork_damping
     if problem.bounds["damping"].low < c0 - 1e-12:
@@ -703,16 +668,14 @@ def _validate_sill_and_fork(problem: Problem, fail: Callable[[str], NoReturn]) -
 
 def _validate_swept_radius(problem: Problem, r: float, prefix: str, fail: Callable[[str], NoReturn]) -> None:
     """``constraints.swept_radius_max``: positive, in range, and above the smallest T + d/2 of the bounds."""
-    if not r > 0:
-        fail(f"constraints.swept_radius_max = {r:g} m: must be positive")
     check_range("constraints.swept_radius_max", r, prefix)
     smallest = problem.bounds["trail"].low + problem.bounds["diameter"].low / 2
     if problem.wheels:
         smallest = problem.bounds["trail"].low + min(Catalog.from_key(k).fixed_diameter for k in problem.wheels) / 2
     if r < smallest:
         fail(
-            f"constraints.swept_radius_max = {r / INCH:.3g} in: smaller than the smallest possible "
-            f"T + d/2 = {smallest / INCH:.3g} in; raise it or lower the trail/diameter minimum"
+            f"constraints.swept_radius_max = {inches(r)}: smaller than the smallest possible "
+            f"T + d/2 = {inches(smallest)}; raise it or lower the trail/diameter minimum"
         )
 
 

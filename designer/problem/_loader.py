@@ -7,6 +7,7 @@ and the reason.  :mod:`designer.problem._core` holds the :class:`Problem` record
 
 from __future__ import annotations
 
+import contextlib
 import difflib
 import math
 import os
@@ -17,7 +18,7 @@ from importlib.resources.abc import Traversable
 from pathlib import Path
 from typing import Any, Callable, NoReturn, TypeVar
 
-from designer.data.paper import INCH, TABLE1
+from designer.data.paper import TABLE1
 from designer import parameters
 from designer.errors import ProblemError
 from designer.textfiles import read_input_text
@@ -33,11 +34,12 @@ from designer.model import (
 )
 from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
 from designer.physics.turning import MODES, SURFACES, TurningConstants
-from designer.units import InputError, outside_range, parse_quantity, real_number
+from designer.units import InputError, example, outside_range, parse_quantity, real_number
 from designer.physics.uncertainty import Uncertainty
 
 from designer.problem._stock import read_stock
 from designer.problem._core import (
+    inches,
     parsed,
     show_key,
     DEFAULT_BOUNDS,
@@ -46,7 +48,6 @@ from designer.problem._core import (
     INERTIA_MODELS,
     MAX_SAMPLES,
     PROBABILITY_RANGE,
-    REPORT_UNITS,
     SCHEMA,
     VARIABLE_DIMENSIONS,
     TOLERANCE_MAX_LENGTH,
@@ -183,20 +184,20 @@ class _Reader:
         raise ProblemError(self.prefix + msg)
 
     def section(self, name: str) -> dict[str, Any]:
-        value = self.data.get(name, {})
+        """The table ``[name]`` (empty when absent; the top level for "")."""
+        value = self.data.get(name, {}) if name else self.data
         if not isinstance(value, dict):
             self.fail(f"[{name}] must be a table, got {type(value).__name__}")
         return value
 
     def quantity(self, sec: str, key: str, dimension: str, default: _D) -> float | _D:
-        table = self.data if sec == "" else self.section(sec)
+        table = self.section(sec)
         if key not in table:
             return default
         return parsed(table[key], dimension, f"{sec}.{key}" if sec else key, self.fail)
 
     def text_value(self, sec: str, key: str, default: str) -> str:
-        table = self.data if sec == "" else self.section(sec)
-        value = table.get(key, default)
+        value = self.section(sec).get(key, default)
         if not isinstance(value, str):
             self.fail(f"{(sec + '.') if sec else ''}{key} = {value!r}: expected a string")
         return value
@@ -243,7 +244,7 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
     description = r.text_value("", "description", "")
 
     # turning constants and dynamics first: conditions need them
-    constants = {**_turning(r), **_dynamics(r)}
+    constants = {**_positive_constants(r, "turning"), **_positive_constants(r, "dynamics")}
     inertia, wheels = _inertia(r.section("inertia"), r.quantity, r.fail)
 
     uncertainty = _uncertainty(r.section("robust"), r.fail)  # on by default: no [robust] gives the default scatter
@@ -341,12 +342,10 @@ def _tolerances(r: _Reader) -> Tolerances:
             'below 1 (write "20 %" or 0.2); 100 % or more would leave no friction'
         )
     wheel = table.get("wheel", "catalogue")
-    limit = None
+    limit: float | None = None
     if not (isinstance(wheel, str) and wheel.strip().lower() in ("catalogue", "catalog")):
-        try:
+        with contextlib.suppress(InputError):  # said below, with what is expected
             limit = parse_quantity(wheel, "inertia", "tolerances.wheel")
-        except InputError:
-            limit = None
         if limit is None or not 0 < limit < 0.1:
             r.fail(
                 f'tolerances.wheel = {wheel!r}: expected "catalogue" or the largest measured wheel inertia '
@@ -392,12 +391,8 @@ def _constants(r: _Reader, section: str) -> dict[str, Any]:
     """The model constants of ``[section]`` kept on the conditions, by table name: each key of the parameter
     table read with its dimension and default (the problem-level ones, such as the target speed, are read
     by :func:`problem_from_dict` itself)."""
-    out = {}
-    for p in parameters.by_key(section).values():
-        where = parameters.location(p)
-        if where is not None and where.startswith("conditions."):
-            out[p.name] = _value(r, p.name)
-    return out
+    entries = parameters.by_key(section).values()
+    return {p.name: _value(r, p.name) for p in entries if (parameters.location(p) or "").startswith("conditions.")}
 
 
 def _load_from_mass(r: _Reader) -> float | None:
@@ -439,27 +434,16 @@ def _load_from_mass(r: _Reader) -> float | None:
     return load
 
 
-def _turning(r: _Reader) -> dict[str, Any]:
-    """[turning]: the constants of the turning model (docs/model.md#turning-effort), each positive (the groove
-    coefficient non-negative)."""
-    values = _constants(r, "turning")
-    for key, p in parameters.by_key("turning").items():
-        value = values[p.name]
-        if p.range is not None and p.range[0] == 0:
-            if value < 0:
-                r.fail(f"turning.{key} = {value:g} {p.unit}: must be non-negative")
-        elif value <= 0:
-            r.fail(f"turning.{key} = {value:g}: must be positive")
-    return values
-
-
-def _dynamics(r: _Reader) -> dict[str, Any]:
-    """[dynamics]: frame stiffness and fork masses of the third-order model, each positive when given."""
-    values = _constants(r, "dynamics")
-    for key, p in parameters.by_key("dynamics").items():
-        stated = values[p.name]
-        if stated is not None and stated <= 0:
-            r.fail(f"dynamics.{key} = {stated:g}: must be positive")
+def _positive_constants(r: _Reader, section: str) -> dict[str, Any]:
+    """[turning] or [dynamics]: the constants of the turning model (docs/model.md#turning-effort) or the frame
+    stiffness and fork masses of the third-order model, each positive when given (one whose table range starts
+    at 0, the groove coefficient, non-negative)."""
+    values = _constants(r, section)
+    for key, p in parameters.by_key(section).items():
+        value, zero = values[p.name], p.range is not None and p.range[0] == 0
+        if value is not None and (value < 0 if zero else value <= 0):
+            reason = "non-negative" if zero else "positive"
+            r.fail(f"{section}.{key} = {value:g} {p.unit}".rstrip() + f": must be {reason}")
     return values
 
 
@@ -507,9 +491,7 @@ def _catalog_within(r: _Reader, bounds: dict[str, Bound], wheels: tuple[str, ...
     if "diameter" in r.section("variables"):
         kept = tuple(k for k in wheels if d_lo - 1e-9 <= Catalog.from_key(k).fixed_diameter <= d_hi + 1e-9)
         if not kept:
-            r.fail(
-                f"variables.diameter = [{d_lo / INCH:.3g}, {d_hi / INCH:.3g}] in: no catalog wheel in {list(wheels)} fits"
-            )
+            r.fail(f"variables.diameter = [{inches(d_lo)}, {inches(d_hi)}]: no catalog wheel in {list(wheels)} fits")
         wheels = kept
     diameters = [Catalog.from_key(k).fixed_diameter for k in wheels]
     bounds["diameter"] = Bound(min(diameters), max(diameters))
@@ -542,10 +524,7 @@ def _report_units(r: _Reader) -> str:
     given as "13 mm" is shown as 13 mm); "in" when no length has a unit."""
     table = r.section("report")
     if "units" in table:
-        units = table["units"]
-        if units not in REPORT_UNITS:
-            r.fail(f"report.units = {units!r}: expected one of {', '.join(repr(u) for u in REPORT_UNITS)}")
-        return str(units)
+        return str(table["units"])  # one of REPORT_UNITS: Problem's check
     written = [m.group(1) for m in map(_WRITTEN_LENGTH.match, _strings(r.data)) if m]
     metric = [u for u in written if u in ("mm", "cm", "m")]
     if metric and len(metric) < len(written):  # mixed: the sill's unit, if it has one
@@ -558,11 +537,8 @@ def _strings(value: Any) -> list[str]:
     """Every string value of a problem-file table, nested tables and lists included."""
     if isinstance(value, str):
         return [value]
-    if isinstance(value, dict):
-        return [s for v in value.values() for s in _strings(v)]
-    if isinstance(value, list):
-        return [s for v in value for s in _strings(v)]
-    return []
+    values = value.values() if isinstance(value, dict) else value if isinstance(value, list) else []
+    return [s for v in values for s in _strings(v)]
 
 
 def _choices(r: _Reader) -> dict[str, tuple[str, ...]]:
@@ -599,15 +575,14 @@ def _uncertainty(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> Unce
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not abs(value) <= 1e300:  # NaN, inf
             fail(f"robust.{key} = {value!r}: expected a finite number")
         values[key] = float(value)
+        if key != "probability" and not 0 <= value <= 2:
+            fail(f"robust.{key} = {value:g}: the standard deviation of the log must be between 0 and 2")
     low, high = PROBABILITY_RANGE
     if not low <= values["probability"] < high:
         fail(
             f"robust.probability = {values['probability']:g}: must be from {low:g} to below {high:g} (e.g. 0.05 "
             f"for 5 %; below {low:g} the risk bound is not computed to its accuracy)"
         )
-    for key in ("model_error", "damping", "slip_coefficient", "inertia"):
-        if not 0 <= values[key] <= 2:
-            fail(f"robust.{key} = {values[key]:g}: the standard deviation of the log must be between 0 and 2")
     for key, low, high in (("samples", 100, MAX_SAMPLES), ("seed", 0, 2**32 - 1), ("model_error_dof", 0, 1000)):
         value = table.get(key, getattr(defaults, key))
         if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
@@ -619,52 +594,45 @@ def _uncertainty(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> Unce
     return Uncertainty(**values)
 
 
+_INERTIA_KEYS = {
+    "table1-power-law": (PowerLaw, ("inertia_coefficient", "inertia_exponent")),
+    "disc": (Disc, ("tyre_width", "density")),
+    "fixed": (Fixed, ("wheel_inertia",)),
+}
+"""Each ``[inertia] model`` but the catalog: its class and the parameter-table entries it takes, in order (each
+positive and within its table range; all required but the power law's, whose defaults are Table 1's fit)."""
+
+
 def _inertia(
     table: dict[str, Any], quantity: Callable[[str, str, str, None], float | None], fail: Callable[[str], NoReturn]
 ) -> tuple[InertiaModel, tuple[str, ...]]:
+    """``[inertia]``: the I_w(d) model and, for the catalog, its wheels; each key checked against the table."""
     model = table.get("model", "table1-power-law")
     if model not in INERTIA_MODELS:
         fail(f"inertia.model = {model!r}: expected one of {', '.join(INERTIA_MODELS)}")
-    allowed = {
-        "table1-power-law": {"model", "coefficient", "exponent"},
-        "disc": {"model", "tyre_width", "density"},
-        "catalog": {"model", "wheel", "wheels"},
-        "fixed": {"model", "inertia"},
-    }[model]
+    kind, names = _INERTIA_KEYS.get(model, (None, ()))
+    entries = {parameters.PARAMETERS[n].key.split(".", 1)[1]: parameters.PARAMETERS[n] for n in names}  # type: ignore[union-attr]
+    allowed = {"model", *entries} if kind is not None else {"model", "wheel", "wheels"}
     extra = set(table) - allowed
     if extra:
         fail(
             f"inertia.{show_key(sorted(extra)[0])}: not used by inertia model {model!r} (it takes {', '.join(sorted(allowed - {'model'})) or 'nothing else'})"
         )
-    if model == "table1-power-law":
-        coefficient = quantity("inertia", "coefficient", "dimensionless", None)
-        exponent = quantity("inertia", "exponent", "dimensionless", None)
-        if coefficient is not None and coefficient <= 0:
-            fail(f"inertia.coefficient = {coefficient:g}: must be positive")
-        if exponent is not None and not 0 < exponent < 10:
-            fail(f"inertia.exponent = {exponent:g}: must be between 0 and 10")
-        return PowerLaw(coefficient, exponent), ()
-    if model == "disc":
-        for key in ("tyre_width", "density"):
-            if key not in table:
-                fail(f"inertia.{key}: missing; the disc model needs tyre_width and density")
-        width = quantity("inertia", "tyre_width", "length", None)
-        density = quantity("inertia", "density", "density", None)
-        assert width is not None and density is not None  # both keys are present (checked above)
-        if width <= 0 or width > 0.2:
-            fail(f"inertia.tyre_width = {width:g} m: must be between 0 and 0.2 m")
-        if density <= 0 or density > 20000:
-            fail(f"inertia.density = {density:g} kg/m³: must be between 0 and 20000")
-        return Disc(width, density), ()
-    if model == "fixed":
-        if "inertia" not in table:
-            fail("inertia.inertia: missing; the fixed model needs the measured I_w, e.g. 0.00127 (kg·m²)")
-        value = quantity("inertia", "inertia", "inertia", None)
-        assert value is not None  # the key is present (checked above)
-        if not 0 < value < 0.1:
-            fail(f"inertia.inertia = {value:g} kg·m²: must be between 0 and 0.1 kg·m²")
-        return Fixed(value), ()
-    return _catalog(table, fail)
+    if kind is None:
+        return _catalog(table, fail)
+    values = []
+    for key, p in entries.items():
+        if key not in table and kind is not PowerLaw:
+            fail(
+                f"inertia.{key}: missing; the {model} model needs {' and '.join(entries)}, e.g. {key} = {example(p.dimension)!r}"
+            )
+        value = quantity("inertia", key, p.dimension, None)
+        low, high = p.range or (0.0, math.inf)
+        if value is not None and not low < value <= high:
+            within = f"between {low:g} and {high:g} {p.unit}".rstrip() if p.range else "positive"
+            fail(f"inertia.{key} = {value:g} {p.unit}".rstrip() + f": must be {within}")
+        values.append(value)
+    return kind(*values), ()
 
 
 def _catalog(table: dict[str, Any], fail: Callable[[str], NoReturn]) -> tuple[InertiaModel, tuple[str, ...]]:

@@ -11,7 +11,7 @@ import math
 from typing import Any, Callable, NoReturn
 
 from designer.data.paper import INCH
-from designer.model import VARIABLE_UNITS
+from designer.display import number, shown, unit_text
 from designer.physics.inertia import Fixed, InertiaModel
 from designer.problem._core import (
     DEFAULT_PART_COSTS,
@@ -20,6 +20,7 @@ from designer.problem._core import (
     Bound,
     Stock,
     StockWheel,
+    inches,
     parsed,
     show_key,
 )
@@ -72,13 +73,9 @@ def _stock_values(
     for i, raw in enumerate(values):
         v = parsed(raw, dimension, f"stock.{key}[{i}]", fail)
         if not b.low * (1 - 1e-9) - 1e-12 <= v <= b.high * (1 + 1e-9) + 1e-12:
-            unit = VARIABLE_UNITS[variable]
-            shown = (
-                f"{v / INCH:.4g} in outside variables.{variable} = [{b.low / INCH:.4g}, {b.high / INCH:.4g}] in"
-                if dimension == "length"
-                else f"{v:g} {unit} outside variables.{variable} = [{b.low:g}, {b.high:g}] {unit}"
-            )
-            fail(f"stock.{key}[{i}] = {raw!r}: {shown}; widen the bounds or drop the part")
+            span = f"[{number(b.low, variable, 'in')}, {number(b.high, variable, 'in')}] {unit_text(variable, 'in')}"
+            where = f"{shown(v, variable, 'in')} outside variables.{variable} = {span}"
+            fail(f"stock.{key}[{i}] = {raw!r}: {where}; widen the bounds or drop the part")
         out.append(min(max(v, b.low), b.high))
         if i in costs and item_costs is not None:
             item_costs.setdefault(variable, {})[out[-1]] = costs[i]
@@ -164,18 +161,18 @@ def _stock_trails(table: dict[str, Any], b: Bound, fail: Callable[[str], NoRetur
         fail(f'stock.trail_step = {table["trail_step"]!r}: must be a positive length, e.g. "0.25 in"')
     if b.low <= b.high and span <= 0:  # inverted trail bounds: validate() names variables.trail (min > max)
         fail(
-            f"stock.trail_step = {table['trail_step']!r}: variables.trail is fixed at {b.low / INCH:.4g} in; "
+            f"stock.trail_step = {table['trail_step']!r}: variables.trail is fixed at {inches(b.low)}; "
             f"leave trail_step out"
         )
     if b.low <= b.high and step > span * (1 + 1e-9):
         fail(
-            f"stock.trail_step = {step / INCH:.4g} in: larger than the trail range "
-            f"{b.low / INCH:.4g} to {b.high / INCH:.4g} in ({span / INCH:.4g} in); use a smaller step"
+            f"stock.trail_step = {inches(step)}: larger than the trail range "
+            f"{inches(b.low)} to {inches(b.high)} ({inches(span)}); use a smaller step"
         )
     count = int(math.floor(span / step + 1e-9)) + 1
     if count > 10_000:
         fail(
-            f"stock.trail_step = {step / INCH:.4g} in: {count} fork holes; use a step of at least "
+            f"stock.trail_step = {inches(step)}: {count} fork holes; use a step of at least "
             f"{span / 10_000 / INCH:.3g} in"
         )
     return step, tuple(min(b.low + k * step, b.high) for k in range(count))
@@ -189,10 +186,8 @@ def _stock_wheels(
         fail(f"stock.wheels = {raw!r}: expected a list of {{name, diameter, groove, inertia}} tables")
     if not raw:
         fail("stock.wheels = []: empty; list at least one wheel, or leave the key out")
-    out: list[StockWheel] = []
-    names: set[str] = set()
-    for i, w in enumerate(raw):
-        out.append(_stock_wheel(i, w, names, bounds, fail))
+    names: set[str] = set()  # filled by each wheel read
+    out = [_stock_wheel(i, w, names, bounds, fail) for i, w in enumerate(raw)]
     given = [w.groove is not None for w in out]
     if any(given) and not all(given):
         fail("stock.wheels: give a groove for every wheel or for none (then [stock].grooves or continuous)")

@@ -78,9 +78,9 @@ dampings = ["1.3 N*m/rad"]
 
 BAD = [
     ("[stock]\ndiameters = []\n", "stock.diameters = []: empty"),
-    ('[stock]\ngrooves = ["1 in"]\n', "stock.grooves[0] = '1 in': 1 in outside variables.groove"),
+    ('[stock]\ngrooves = ["1 in"]\n', "stock.grooves[0] = '1 in': 1.000 in outside variables.groove"),
     ('[stock]\ndiameters = ["9 in"]\n', "outside variables.diameter"),
-    ('[stock]\ntrail_step = "2 in"\n', "stock.trail_step = 2 in: larger than the trail range"),
+    ('[stock]\ntrail_step = "2 in"\n', "stock.trail_step = 2.000 in: larger than the trail range"),
     ('[stock]\ndiameters = ["5 kg"]\n', "stock.diameters[0]"),
     ('[stock]\ndampings = ["2 in"]\n', "stock.dampings[0]"),
     ('[stock]\ntrail_step = "0 in"\n', "stock.trail_step"),
