@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import sys
@@ -32,6 +33,18 @@ def choice_option(value: str, allowed: tuple[str, ...], option: str) -> str:
     if value not in allowed:
         raise InputError(f"{option} {value!r}: expected one of {', '.join(allowed)}")
     return value
+
+
+@contextlib.contextmanager
+def api_named(names: dict[str, str]):
+    """An InputError of the API inside the block named by the option its value came from: a message starting
+    with a key of ``names`` (the API's name of an argument, "load ") starts with its value ("--load ") instead."""
+    try:
+        yield
+    except InputError as exc:
+        text = str(exc)
+        prefix = next((p for p in names if text.startswith(p)), "")
+        raise InputError(names.get(prefix, "") + text[len(prefix) :]) from None
 
 
 def print_json(data, kind: str | None = None) -> None:

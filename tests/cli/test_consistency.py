@@ -113,8 +113,8 @@ def test_evaluate_shows_the_load_and_sill_it_used(capsys, monkeypatch):
     base = ["evaluate", "--trail", "2in", "--diameter", "7in", "--groove", "0", "--damping", "1.3"]
     assert main(base + ["--threshold-height", "13 mm"]) == 0
     text = capsys.readouterr().out
-    assert "178.0 N (40.0 lbf)  default" in text
-    assert "13.0 mm (0.512 in)" in text and "--threshold-height" in text
+    assert "178.0 N  default" in text
+    assert "0.512 in  --threshold-height" in text
     assert main(base + ["--threshold-height", "13 mm", "--verbose"]) == 0
     assert "default: the paper's test load" in capsys.readouterr().out
     assert main(base + ["--load", "215.7 N", "--json"]) == 0
