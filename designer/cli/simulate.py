@@ -6,8 +6,10 @@ import math
 import warnings
 
 from designer import Conditions, Design, TyreParameters, bifurcation_diagram, knock_safe_speed, simulate
-from designer.cli._common import check_output_file, end_progress_line, eprint, inertia_option, print_json
-from designer.cli._common import progress_line, quantity_option, ranged_option
+from designer.cli._common import api_named, check_output_file, end_progress_line, eprint, inertia_option
+from designer.cli._common import print_json, progress_line, quantity_option, ranged_option
+from designer.display import number, percent, shown
+from designer.parameters import VARIABLE_TABLE
 from designer.errors import InputError
 from designer.output import PLOT, output_folder
 from designer.studies.dynamics.limit_cycles import limit_cycle_study
@@ -103,21 +105,17 @@ def _bounded(option: str, value: float, text: str) -> float:
 
 
 def _tyre(args):
+    """The brush tyre of ``--friction-coefficient``, ``--cornering-stiffness``, ``--wheel-mass`` and ``--load``."""
+    given = (("--friction-coefficient", "dimensionless"), ("--cornering-stiffness", "force"), ("--wheel-mass", "mass"))
     values = {}
-    for option, text in (
-        ("--friction-coefficient", args.friction_coefficient),
-        ("--cornering-stiffness", args.cornering_stiffness),
-    ):
-        try:
-            values[option] = float(text)
-        except ValueError:
-            raise InputError(f"{option} {text!r}: expected a number") from None
-        _bounded(option, values[option], text)
+    for option, dimension in given:
+        text = getattr(args, option[2:].replace("-", "_"))
+        values[option] = _bounded(option, quantity_option(text, dimension, option), text)
     return TyreParameters(
         cornering_stiffness=values["--cornering-stiffness"],
         friction_coefficient=values["--friction-coefficient"],
         load=ranged_option(args.load, "load", "--load"),
-        wheel_mass=_bounded("--wheel-mass", quantity_option(args.wheel_mass, "mass", "--wheel-mass"), args.wheel_mass),
+        wheel_mass=values["--wheel-mass"],
     )
 
 
@@ -213,40 +211,38 @@ def _print_limit_cycles(args, design, angle: float, tyre, out: dict) -> None:
     if args.knock_safe:
         double = out["knock_safe_speed_double"]
         print(
-            f"knock-safe speed ({out['knock_safe_model']}): {out['knock_safe_speed']:.3f} m/s for a "
-            f"{math.degrees(angle):.0f}° knock"
-            + (f", {double:.3f} m/s for {math.degrees(2 * angle):.0f}°" if double is not None else "")
+            f"knock-safe speed ({out['knock_safe_model']}): {shown(out['knock_safe_speed'], 'critical_speed')} for a "
+            f"{shown(angle, 'disturbance_angle')} knock"
+            + (
+                f", {shown(double, 'critical_speed')} for {shown(2 * angle, 'disturbance_angle')}"
+                if double is not None
+                else ""
+            )
         )
     if args.bifurcation:
         print(
-            f"Eq. 7 V_c = {out['eq7_critical_speed']:.3f} m/s; brush tyre (μ = {tyre.friction_coefficient:g}, "
-            f"C = {tyre.cornering_stiffness:g} N/rad, L = {tyre.load:g} N):"
+            f"Eq. 7 V_c = {shown(out['eq7_critical_speed'], 'critical_speed')}; brush tyre (μ = {number(tyre.friction_coefficient)}, "
+            f"C = {number(tyre.cornering_stiffness)} N/rad, L = {shown(tyre.load, 'load')}):"
         )
         for b in out["branches"]:
             print(
-                f"  {b['kind']:8s} branch: V {min(b['speed']):.2f}–{max(b['speed']):.2f} m/s, amplitude "
-                f"{min(b['amplitude']):.3f}–{max(b['amplitude']):.3f} rad ({len(b['speed'])} orbits)"
+                f"  {b['kind']:8s} branch: V {number(min(b['speed']), 'critical_speed')}–{shown(max(b['speed']), 'critical_speed')}, amplitude "
+                f"{number(min(b['amplitude']), 'shimmy_amplitude')}–{shown(max(b['amplitude']), 'shimmy_amplitude')} ({len(b['speed'])} orbits)"
             )
         fold = out["fold_speed"]
         print(
-            "  fold (lowest speed of sustained shimmy): " + (f"{fold:.2f} m/s" if math.isfinite(fold) else "none found")
+            "  fold (lowest speed of sustained shimmy): "
+            + (shown(fold, "critical_speed") if math.isfinite(fold) else "none found")
         )
         s = out["stable_at_reference"]
         if s is not None:
             print(
-                f"  stable amplitude at {out['eq7_critical_speed']:.2f} m/s: {s['amplitude']:.3f} rad "
-                f"({math.degrees(s['amplitude']):.1f}°), max |Floquet multiplier| {s['max_abs_multiplier']:.3f}"
+                f"  stable amplitude at {shown(out['eq7_critical_speed'], 'critical_speed')}: {shown(s['amplitude'], 'shimmy_amplitude')} "
+                f"max |Floquet multiplier| {number(s['max_abs_multiplier'])}"
             )
-        print(f"  largest orbit closure error {out['max_closure']:.1e} rad")
+        print(f"  largest orbit closure error {shown(out['max_closure'], dimension='angle', digits=1)}")
         if args.plot:
             print(f"  plot: {args.plot}")
-
-
-def _positive(option, text, dimension, allow_zero=False):
-    value = quantity_option(text, dimension, option)
-    if value < 0 or (value == 0 and not allow_zero):
-        raise InputError(f"{option} {text}: must be {'non-negative' if allow_zero else 'positive'}")
-    return value
 
 
 def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
@@ -254,20 +250,13 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
     for option, value in (("--trail", args.trail), ("--speed", args.speed)):
         if value is None:
             raise InputError(f"{option}: missing; required unless --report is given")
-    design = Design(  # the model's ranges of the parameter table, as a problem file's bounds
-        trail=ranged_option(args.trail, "trail", "--trail", positive=True),
-        diameter=ranged_option(args.diameter, "diameter", "--diameter", positive=True),
-        groove=ranged_option(args.groove, "groove", "--groove"),
-        damping=ranged_option(args.damping, "damping", "--damping"),
-    )
+    # the model's ranges of the parameter table, as a problem file's bounds
+    design = Design(**{p.name: ranged_option(getattr(args, p.name), p.name, f"--{p.name}") for p in VARIABLE_TABLE})
     ranged_option(args.load, "load", "--load")
     speed = ranged_option(args.speed, "target_speed", "--speed")
-    angle = _positive("--angle", args.angle, "angle")
-    if angle >= math.pi / 2:
-        raise InputError(f"--angle {args.angle}: must be below 90 deg (small-angle model)")
-    theta0 = _positive("--disturbance-angle", args.disturbance_angle, "angle")
-    if theta0 >= math.pi / 2:
-        raise InputError(f"--disturbance-angle {args.disturbance_angle}: must be below 90 deg")
+    angle = quantity_option(args.angle, "angle", "--angle")
+    if not 0 < angle < math.pi / 2:
+        raise InputError(f"--angle {args.angle}: must be between 0 and 90 deg (small-angle model)")
     try:
         omega0 = float(args.angular_velocity)
     except ValueError:
@@ -277,8 +266,10 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
             f"--angular-velocity {args.angular_velocity}: must be between -{MAX_ANGULAR_VELOCITY:g} and "
             f"{MAX_ANGULAR_VELOCITY:g} rad/s (a knock's θ'_i; App. C estimates 0.7 rad/s)"
         )
-    inertia = inertia_option(args.inertia)
-    slip = ranged_option(args.slip_coefficient, "slip_coefficient", "--slip-coefficient")
+    theta0 = quantity_option(args.disturbance_angle, "angle", "--disturbance-angle")
+    slip = quantity_option(args.slip_coefficient, "force", "--slip-coefficient")
+    with api_named({"disturbance_angle ": "--disturbance-angle ", "slip_coefficient ": "--slip-coefficient "}):
+        conditions = Conditions(disturbance_angle=theta0, slip_coefficient=slip, inertia=inertia_option(args.inertia))
     duration = None
     if args.duration is not None:
         try:
@@ -287,7 +278,6 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
             raise InputError(f"--duration {args.duration!r}: expected a number of seconds") from None
         if not math.isfinite(duration) or duration <= 0 or duration > 60:
             raise InputError(f"--duration {args.duration}: must be between 0 and 60 s")
-    conditions = Conditions(disturbance_angle=theta0, slip_coefficient=slip, inertia=inertia)
     return design, conditions, speed, angle, omega0, duration
 
 
@@ -324,20 +314,26 @@ def run(args) -> int:
         print_json(out)
         return 0
     verdict = "GROWS (shimmy)" if result.grows else "decays"
-    print(f"Caster: {design.describe()}, I_w = {result.inertia:.4g} kg·m², M_f = {result.friction_moment:.3f} N·m")
-    print(f"knock θ_i = {math.degrees(angle):.1f}°, θ'_i = {omega0:g} rad/s, V = {speed:.3f} m/s: {verdict}")
     print(
-        f"  amplitude after transient {result.early_amplitude:.4f} rad (Eq. 4/29B: {result.predicted_amplitude:.4f}),"
-        f" late {result.late_amplitude:.4f} rad; late/θ_i = {result.amplitude_ratio:.3f}, "
-        f"late/early = {result.growth_ratio:.3f}{' (|θ| reached 1 rad)' if result.diverged else ''}"
+        f"Caster: {design.describe()}, I_w = {shown(result.inertia, 'inertia')}, M_f = {shown(result.friction_moment, 'turning_moment')}"
     )
-    freq = "n/a (motion stopped)" if not math.isfinite(result.frequency) else f"{result.frequency:.1f} rad/s"
-    print(f"  frequency {freq} (Eq. 15B: {result.predicted_frequency:.1f} rad/s)")
-    print(f"  Eq. 7 critical speed (c_f,eff = M_f/θ_i): {result.critical_speed:.3f} m/s")
+    print(
+        f"knock θ_i = {shown(angle, 'disturbance_angle')}, θ'_i = {shown(omega0, dimension='angular_speed')}, V = {shown(speed, 'critical_speed')}: {verdict}"
+    )
+    print(
+        f"  amplitude after transient {shown(result.early_amplitude, 'shimmy_amplitude')} (Eq. 4/29B: {shown(result.predicted_amplitude, 'shimmy_amplitude')}),"
+        f" late {shown(result.late_amplitude, 'shimmy_amplitude')}; late/θ_i = {number(result.amplitude_ratio)}, "
+        f"late/early = {number(result.growth_ratio)}{' (|θ| reached 1 rad)' if result.diverged else ''}"
+    )
+    freq = (
+        "n/a (motion stopped)" if not math.isfinite(result.frequency) else shown(result.frequency, "shimmy_frequency")
+    )
+    print(f"  frequency {freq} (Eq. 15B: {shown(result.predicted_frequency, 'shimmy_frequency')})")
+    print(f"  Eq. 7 critical speed (c_f,eff = M_f/θ_i): {shown(result.critical_speed, 'critical_speed')}")
     if onset is not None:
         print(
-            f"  simulated onset {onset.speed:.3f} m/s (bracket {onset.low:.3f}–{onset.high:.3f}), "
-            f"{100 * onset.relative_error:+.1f} % vs Eq. 7"
+            f"  simulated onset {shown(onset.speed, 'critical_speed')} (bracket {number(onset.low, 'critical_speed')}–{shown(onset.high, 'critical_speed')}), "
+            f"{percent(onset.relative_error)} vs Eq. 7"
         )
     if args.plot:
         print(f"  plot: {args.plot}")
@@ -374,7 +370,7 @@ def _report(args, write_simulation_report) -> int:
         a = summary["all"]
         print(
             f"wrote {args.report}/report.md, onset.csv, onset.json, onset.png: {summary['cases']} cases, "
-            f"simulated onset vs Eq. 7 from {100 * a['min_error']:+.1f} % to {100 * a['max_error']:+.1f} %"
+            f"simulated onset vs Eq. 7 from {percent(a['min_error'])} to {percent(a['max_error'])}"
         )
         print(f"wrote {args.report}/{', '.join(written)} (shimmy beyond onset)")
     return 0
