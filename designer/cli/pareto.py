@@ -24,7 +24,8 @@ from designer import load_problem
 from designer.problem import POINTS_RANGE, problem_files
 from types import SimpleNamespace
 
-from designer.display import quantity, shown
+from designer.cli.run import caster_line, symbol_shown
+from designer.display import shown
 from designer.report.text import plain_rule
 
 
@@ -86,11 +87,9 @@ def _progress():
     return Progress(*columns, console=console, transient=True)
 
 
-def _sizes(design: dict, units: str) -> str:
-    """The four parts by their symbols, in the problem's units: "T 63.50 mm, d 177.80 mm, ..."."""
-    return ", ".join(
-        f"{quantity(n).symbol} {shown(design[n], n, units)}" for n in ("trail", "diameter", "groove", "damping")
-    )
+def _forces(values: dict, units: str) -> str:
+    """The two forces of a caster by their symbols: "F_turn 7.012 N, P 98.48 N"."""
+    return ", ".join(symbol_shown(values[n], n, units) for n in ("turning_effort", "threshold_force"))
 
 
 def _print_summary(s: dict, problem) -> None:
@@ -98,21 +97,20 @@ def _print_summary(s: dict, problem) -> None:
         f"{s['problem']}: {s['points']} front points ({s['failed_points']} failed), "
         f"checks {s['checks_passed']}/{s['checks_total']} pass"
         + (f", FAILING: {', '.join(s['failing_checks'])}" if s["failing_checks"] else "")
-        + f" [{s['seconds']:.1f} s]"
+        + f" [{shown(s['seconds'], dimension='time')}]"
     )
     rec = s.get("recommendation")
     if rec is not None:
         why = plain_rule(problem, SimpleNamespace(rule=rec["rule"]))
         print(
-            f"  the caster to build: {_sizes(rec['design'], problem.units)}; "
-            f"F_turn {rec['turning_effort']:.3f} N, P {rec['threshold_force']:.2f} N ({why})"
+            f"  the caster to build: {caster_line(rec['design'], problem.units)}; {_forces(rec, problem.units)} ({why})"
         )
     opt = s["optimum"]
     if opt is not None:
         wheel = f"wheel {opt['wheel']}, " if opt.get("wheel") else ""
         print(
-            f"  with any sizes: {wheel}{_sizes(opt['design'], problem.units)}; "
-            f"F_turn {opt['objectives']['turning_effort']:.3f} N, P {opt['objectives']['threshold_force']:.2f} N"
+            f"  with any sizes: {wheel}{caster_line(opt['design'], problem.units)}; "
+            f"{_forces(opt['objectives'], problem.units)}"
         )
     for line in s.get("moved", {}).values():  # files of the existing report whose values moved (the rest kept)
         print(f"  rewritten: {line}")
