@@ -11,7 +11,6 @@ from designer import Fixed, PowerLaw
 from designer.cli._terminal import fit
 from designer.jsonsafe import finite, resolved_numbers, stamped
 from designer.errors import InputError
-from designer.output import check_file, check_folder
 from designer.parameters import PARAMETERS
 from designer.problem import INERTIA_RANGE
 from designer.units import outside_range, parse_quantity_text
@@ -111,20 +110,6 @@ def say(path):
     """``print`` for the notes of a command that wrote ``path``, or :func:`eprint` when ``path`` is standard
     output (:func:`is_stdout`)."""
     return eprint if is_stdout(path) else print
-
-
-check_output_folder = check_folder
-"""Raise OutputError (exit 7) unless ``folder`` can be created and written; called before any computing.
-
-:func:`designer.output.check_folder`: a regular file or a path under one, a link to nothing, a read-only
-or forbidden place are refused; a link to a folder is followed.  Keyword arguments (``owned``, ``marker``,
-``command``) also refuse a folder holding files of the user's that the command would replace.
-"""
-
-check_output_file = check_file
-"""Raise OutputError (exit 7) unless the file ``path`` can be written (not a folder, not under a regular
-file, in a writable folder, new or empty or of ``kind`` and written by the tool); called before any
-computing (:func:`designer.output.check_file`)."""
 
 
 def ranged_option(value: str | None, entry: str, option: str, default=None, positive: bool = False):

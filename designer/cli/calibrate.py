@@ -6,15 +6,13 @@ from pathlib import Path
 
 from designer.cli._common import (
     SEED_MAX,
-    check_output_file,
-    check_output_folder,
     choice_option,
     count_option,
     print_json,
     ranged_option,
 )
 from designer.errors import InputError
-from designer.output import PLOT, output_folder, signed, signed_kind, write_file
+from designer.output import check_file, check_folder, output_folder, PLOT, signed, signed_kind, write_file
 
 KINDS = {
     "turning": "moment per unit load k_surface [m] from drill-press data (Fig. 7); CSV columns load_N, moment_Nm",
@@ -119,11 +117,11 @@ def _check_outputs(args) -> None:
 
     if args.plot:
         check_plot_name(args.plot)
-        check_output_file(args.plot, "--plot", example="fit.png", kind=PLOT)
+        check_file(args.plot, "--plot", example="fit.png", kind=PLOT)
     if args.report:
-        check_output_folder(args.report, "--report", owned=OWNED, command="designer calibrate")
+        check_folder(args.report, "--report", owned=OWNED, command="designer calibrate")
     if args.snippet:
-        check_output_file(args.snippet, "--snippet", example="calibration.toml", kind=SNIPPET)
+        check_file(args.snippet, "--snippet", example="calibration.toml", kind=SNIPPET)
 
 
 def run_examples(args) -> int:

@@ -7,7 +7,8 @@ from pathlib import Path
 
 import designer
 from designer.cli._terminal import console as terminal_console
-from designer.cli._common import PROBLEM_HELP, SEED_MAX, check_output_folder, count_option, eprint, print_json
+from designer.output import check_folder
+from designer.cli._common import PROBLEM_HELP, SEED_MAX, count_option, eprint, print_json
 from designer.errors import QuietAfterInterrupt
 from designer.parameters import OUTPUTS, VARIABLE_TABLE
 from designer.units import INCH
@@ -70,7 +71,7 @@ def run(args) -> int:
     problem = designer.load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / problem.name
     # before the study, not after it
-    check_output_folder(out, owned=EXPLORE_FILES, command="designer explore")
+    check_folder(out, owned=EXPLORE_FILES, command="designer explore")
     # after Ctrl-C, optuna's "Trial N failed ... KeyboardInterrupt" tracebacks are dropped: one line says it
     logging.getLogger("optuna.study._optimize").addFilter(_QUIET)
     with removed_if_failed(spec):  # a storage file made by this run and left empty by a failure is removed

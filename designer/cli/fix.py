@@ -169,24 +169,13 @@ def _print_current(console, result, problem, conf: str) -> None:
     cur = result.current
     d = cur.design
     units = problem.units
-    alpha = result.probability
-    bound = (
-        f"P(shimmy at {shown(result.required_speed, 'critical_speed')}) <= {percent(alpha)}"
-        if alpha is not None
-        else f"V_c >= {shown(result.required_speed, 'critical_speed')} (nominal: [robust] enabled = false)"
-    )
     console.print(
         escape(
-            f"{problem.title} ({problem.name}): risk bound {bound}; swept radius "
+            f"{problem.title} ({problem.name}): risk bound {_bound(result)}; swept radius "
             + (f"<= {written_size(problem.swept_radius_max, units)}" if problem.swept_radius_max else "not limited")
         )
     )
-    console.print(
-        escape(
-            f"Current caster: T = {written_size(d.trail, units)}, d = {written_size(d.diameter, units)}, "
-            f"B = {written_size(d.groove, units)}, c_f = {shown(d.damping, 'damping')}, I_w = {shown(cur.inertia, 'inertia')}"
-        )
-    )
+    console.print(escape(f"Current caster: {_parts(d, units)}, I_w = {shown(cur.inertia, 'inertia')}"))
     if result.stem_angle:
         console.print(
             f"  stem tilted {_plus(result.stem_angle, shown(result.stem_angle, 'disturbance_angle'))}: effective trail "
@@ -272,6 +261,23 @@ def _print_table(console, result, fixes, title: str, wide: bool, conf: str) -> N
     console.print(table(title, columns, rows, box=box.SIMPLE_HEAD, pad_edge=False))
 
 
+def _bound(result) -> str:
+    """The risk bound of the problem: "P(shimmy at 2.500 m/s) <= 5 %", or the nominal "V_c >= ..."."""
+    speed = shown(result.required_speed, "critical_speed")
+    if result.probability is None:
+        return f"V_c >= {speed} (nominal: [robust] enabled = false)"
+    return f"P(shimmy at {speed}) <= {percent(result.probability)}"
+
+
+def _parts(design, units: str) -> str:
+    """A caster's four parts as the problem writes them: "T = 1 1/4 in, d = 8 in, B = 0 in, c_f = 1.30 N·m/rad"."""
+    sizes = [
+        f"{s} = {written_size(getattr(design, n), units)}"
+        for s, n in (("T", "trail"), ("d", "diameter"), ("B", "groove"))
+    ]
+    return ", ".join(sizes + [f"c_f = {shown(design.damping, 'damping')}"])
+
+
 def _plus(value: float, text: str) -> str:
     """A change ``value`` shown as ``text`` (:mod:`designer.display`) with its sign: "+0.722", "-6.073"."""
     return ("+" if value > 0 else "") + text
@@ -310,24 +316,16 @@ def _no_fix_text(result, problem) -> str:
 def _screen_paragraphs(result, problem) -> list[tuple[str, str]]:
     """(heading, text) of the one-screen answer after its first line: Why, Cost, Inspect, Next (words generated
     from the result's numbers)."""
-    cur, units = result.current, problem.units
-    d = cur.design
-    size = lambda v: written_size(v, units)  # noqa: E731 - one short local formatter
-    bound = (
-        f"the bound {percent(result.probability)}"
-        if result.probability is not None
-        else f"V_c >= {shown(result.required_speed, 'critical_speed')} (nominal)"
-    )
+    cur = result.current
     why = (
-        f"the caster as it is (T = {size(d.trail)}, d = {size(d.diameter)}, B = {size(d.groove)}, "
-        f"c_f = {shown(d.damping, 'damping')}) has P(shimmy at {shown(result.target_speed, 'critical_speed')}) = "
-        f"{percent(cur.shimmy_probability)} (exact; Monte Carlo {percent(cur.shimmy_probability_mc)} ± "
-        f"{percent(cur.shimmy_probability_se)}) against {bound}; V_c (Eq. 7) "
-        f"{shown(cur.critical_speed, 'critical_speed')}"
+        f"the caster as it is ({_parts(cur.design, problem.units)}) has P(shimmy at "
+        f"{shown(result.target_speed, 'critical_speed')}) = {percent(cur.shimmy_probability)} (exact; Monte Carlo "
+        f"{percent(cur.shimmy_probability_mc)} ± {percent(cur.shimmy_probability_se)}) against the risk bound "
+        f"{_bound(result)}; V_c (Eq. 7) {shown(cur.critical_speed, 'critical_speed')}"
     )
-    out = [("Why", why + ("" if result.needs_fix else "; it needs no fix"))]
+    out = [("Why", why)]
     best = result.best
-    if result.needs_fix and best is not None:
+    if best is not None:
         out.append(("Cost", _cost_text(best, result)))
         out.append(("Inspect", _inspect_text(best, result, problem)))
     out.append(("Next", _next_text(result)))

@@ -7,11 +7,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from designer.output import check_file, check_folder
 from designer.cli._common import (
     SEED_MAX,
-    check_output_file,
     say,
-    check_output_folder,
     count_option,
     eprint,
     print_json,
@@ -104,7 +103,7 @@ def run(args) -> int:
             raise InputError(f"--example {args.example}: writes a fleet; do not also give FLEET.csv ({args.fleet})")
         target = args.out or f"fleet-example-{args.example}.csv"
         # before the fleet is made
-        check_output_file(target, "--out", example=f"fleet-example-{args.example}.csv", kind=EXAMPLE_KIND)
+        check_file(target, "--out", example=f"fleet-example-{args.example}.csv", kind=EXAMPLE_KIND)
         fleet = example_fleet(args.example, seed=args.seed)
         path = write_fleet_csv(fleet, target)
         if args.json:
@@ -137,7 +136,7 @@ def run(args) -> int:
     out = Path(args.out) if args.out else Path("results") / "fleet" / Path(args.fleet).stem
     from designer.report.fleet import OWNED, json_text, write_fleet_report
 
-    check_output_folder(out, owned=OWNED, command="designer fleet")  # before the work
+    check_folder(out, owned=OWNED, command="designer fleet")  # before the work
     result = fleet_recommendations(
         fleet,
         problem,

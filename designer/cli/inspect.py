@@ -10,9 +10,9 @@ import warnings
 from pathlib import Path
 
 from designer import load_problem, recommend
-from designer.cli._common import PROBLEM_HELP, check_output_file, print_json
+from designer.cli._common import PROBLEM_HELP, print_json
 from designer.errors import InputError, OutputError
-from designer.output import FileKind, write_file
+from designer.output import check_file, FileKind, write_file
 from designer.studies.inspect import inspect, read_measured, template_text
 
 EXIT_BAD_ROWS = 2
@@ -45,7 +45,7 @@ def _template(problem_arg: str, out: str) -> int:
     if os.path.lexists(path):
         raise OutputError(f"--template {path}: already exists; it is left as it is; choose a new file name")
     kind = FileKind("an inspection form written by designer inspect", new_only=True)  # never over anything
-    check_output_file(path, "--template", "measured.csv", kind=kind)
+    check_file(path, "--template", "measured.csv", kind=kind)
     problem = load_problem(problem_arg)
     write_file(path, template_text(problem), "--template", "measured.csv", kind=kind)
     print(f"inspection form: {path.resolve()} (fill one row per caster, then: designer inspect {problem_arg} {path})")

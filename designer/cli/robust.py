@@ -7,7 +7,8 @@ from pathlib import Path
 from designer import load_problem
 from designer.errors import InputError
 from designer.pipeline import ROBUST_POINTS, robust_data
-from designer.cli._common import PROBLEM_HELP, check_output_folder
+from designer.output import check_folder
+from designer.cli._common import PROBLEM_HELP
 
 
 def register(sub) -> None:
@@ -38,7 +39,7 @@ def run(args) -> int:
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / "robust" / problem.name
 
-    check_output_folder(out, owned=OWNED, command="designer robust")  # before the fronts
+    check_folder(out, owned=OWNED, command="designer robust")  # before the fronts
     data = robust_data(problem, args.points)
     write_robust_report(data, out)
     extra = [r["extra_effort"] for r in data.rows if r["extra_effort"] == r["extra_effort"]]

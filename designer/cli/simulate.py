@@ -6,12 +6,12 @@ import math
 import warnings
 
 from designer import Conditions, Design, TyreParameters, bifurcation_diagram, knock_safe_speed, simulate
-from designer.cli._common import api_named, check_output_file, end_progress_line, eprint, inertia_option
+from designer.cli._common import api_named, end_progress_line, eprint, inertia_option
 from designer.cli._common import print_json, progress_line, quantity_option, ranged_option
 from designer.display import number, percent, shown
 from designer.parameters import VARIABLE_TABLE
 from designer.errors import InputError
-from designer.output import PLOT, output_folder
+from designer.output import check_file, output_folder, PLOT
 from designer.studies.dynamics.limit_cycles import limit_cycle_study
 from designer.plots.simulation import bifurcation_axes
 from designer.studies.dynamics import onset_speed, scaled_budget, work_limit
@@ -285,7 +285,7 @@ def run(args) -> int:
     if args.plot and args.report is None:  # the plot's place, checked before the simulation
         if not str(args.plot).lower().endswith((".png", ".svg", ".pdf")):
             raise InputError(f"--plot {args.plot}: expected a .png, .svg or .pdf file name")
-        check_output_file(args.plot, "--plot", example="plot.png", kind=PLOT)
+        check_file(args.plot, "--plot", example="plot.png", kind=PLOT)
     if (args.bifurcation or args.knock_safe) and args.report is None:
         # one budget for all the command's studies, grown with the orbits asked for (--points, default 24)
         budget = scaled_budget(_points(args), DEFAULT_POINTS) if args.bifurcation else None

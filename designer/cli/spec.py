@@ -5,9 +5,9 @@ from __future__ import annotations
 import warnings
 from pathlib import Path
 
-from designer.output import FileKind, write_file
+from designer.output import check_file, FileKind, write_file
 from designer import load_problem, recommend
-from designer.cli._common import PROBLEM_HELP, check_output_file, say
+from designer.cli._common import PROBLEM_HELP, say
 
 
 def register(sub) -> None:
@@ -30,7 +30,7 @@ def run(args) -> int:
     kind = FileKind("an inspection sheet written by designer spec")
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / problem.name / "spec.html"
-    check_output_file(out, "--out", "spec.html", kind=kind)  # before computing: never over a file of the user's
+    check_file(out, "--out", "spec.html", kind=kind)  # before computing: never over a file of the user's
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)  # the sheet states the caster's own numbers
         rec = recommend(problem)
