@@ -152,7 +152,7 @@ def test_run_fits_the_terminal(monkeypatch, capsys):
     assert max(len(ln) for ln in lines) <= 80 and len(lines) <= 24
     assert "  T 2.500 in, d 7.000 in, B 0.750 in, c_f 1.30 N·m/rad" in lines
     text = " ".join(" ".join(lines).split())
-    assert "Most of the risk (70 %) comes from the wheel's inertia" in text
+    assert "Most of the risk (69.6 %) comes from the wheel's inertia" in text
     assert main(["run", "indoor-manual", "--no-cross-check", "--verbose"]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert max(len(ln) for ln in lines) <= 80
