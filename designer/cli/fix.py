@@ -9,7 +9,7 @@ from designer import fix, load_problem
 from designer.studies.retrofit import ONSET_SCATTER, parse_current
 from designer.display import header, number, percent, shown
 from designer.errors import InputError
-from designer.studies.spec import PART_LABELS, limit_shown
+from designer.studies.spec import PART_LABELS
 from designer.units import written_size
 
 
@@ -412,12 +412,8 @@ def _limits_short(spec, units: str) -> str:
     """The acceptance limits in one phrase, sizes in the problem's units, each rounded toward the safe side:
     ``T 1.727–2.125 in, B >= 0.652 in, M_f >= 0.197 N·m, I_w <= 0.00153 kg·m²`` (a part without a limit left out)."""
 
-    def short(lim) -> str:
-        text = limit_shown(lim.value, lim.unit, lim.side)
-        if lim.unit == "m":
-            mm, inch = text.split(" (")
-            return inch.rstrip(")") if units == "in" else mm
-        return text
+    def short(lim) -> str:  # a length in the problem's units only
+        return lim.shown_in(units).split(" (")[0]
 
     out = []
     for part, symbol in _SYMBOLS.items():

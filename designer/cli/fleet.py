@@ -126,8 +126,7 @@ def run(args) -> int:
         raise InputError(f"--skus {args.skus}: expected 1 or more part numbers")
     if args.skus is not None and args.no_skus:
         raise InputError(f"--skus {args.skus}: not with --no-skus (which skips the part numbers)")
-    if args.k_max is not None and not 1 <= args.k_max <= 50:
-        raise InputError(f"--k-max {args.k_max}: expected 1 to 50")
+    count_option(args.k_max, "--k-max", 1, 50)
     max_regret = quantity_option(args.max_regret, "force", "--max-regret", DEFAULT_MAX_REGRET)
     problem = example_problem("indoor-manual") if args.problem is None else load_problem(args.problem)
     if args.tolerances is not None:

@@ -17,7 +17,7 @@ import sys
 
 from pathlib import Path
 
-from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
+from designer.cli._common import PROBLEM_HELP, count_option, eprint, print_json, ranged_option
 
 from designer.errors import InputError
 from designer import load_problem
@@ -118,11 +118,7 @@ def _print_summary(s: dict, problem) -> None:
 
 
 def run(args) -> int:
-    if args.points is not None and not POINTS_RANGE[0] <= args.points <= POINTS_RANGE[1]:
-        raise InputError(
-            f"--points {args.points}: must be a whole number from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}, "
-            f"as [pareto] points in a problem file"
-        )
+    count_option(args.points, "--points", *POINTS_RANGE, ", as [pareto] points in a problem file")
     speed = ranged_option(args.target_speed, "target_speed", "--target-speed")
     if args.all:
         files = problem_files(args.problem or "problems")

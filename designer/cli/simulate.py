@@ -6,7 +6,7 @@ import math
 import warnings
 
 from designer import Conditions, Design, TyreParameters, bifurcation_diagram, knock_safe_speed, simulate
-from designer.cli._common import api_named, end_progress_line, eprint, inertia_option
+from designer.cli._common import api_named, count_option, end_progress_line, eprint, inertia_option
 from designer.cli._common import print_json, progress_line, quantity_option, ranged_option
 from designer.display import number, percent, shown
 from designer.parameters import VARIABLE_TABLE
@@ -80,7 +80,7 @@ def _register_limit_cycles(p) -> None:
     g.add_argument("--wheel-mass", default="0.444 kg", help="wheel mass M_W for the brush tyre (default 0.444 kg)")
     g.add_argument("--max-speed", default="4 m/s", help="upper speed of --bifurcation (default 4 m/s)")
     g.add_argument(
-        "--points", default=str(DEFAULT_POINTS), help="orbits on the unstable branch of --bifurcation (default 24)"
+        "--points", type=int, default=DEFAULT_POINTS, help="orbits on the unstable branch of --bifurcation (default 24)"
     )
 
 
@@ -151,7 +151,7 @@ def _knock_safe(design, conditions, angle: float, tyre) -> dict:
 
 def _bifurcation(args, design, conditions, angle: float, tyre) -> dict:
     """Periodic orbits against speed, brush tyre and rolling tyre (``--points``, ``--max-speed``); ``--plot`` draws them."""
-    points = _points(args)
+    points = args.points
     top = ranged_option(args.max_speed, "target_speed", "--max-speed")
     span = (min(0.3, top / 4), top)
     bif = bifurcation_diagram(design, conditions, tyre, speed_range=span, points=points)
@@ -174,17 +174,6 @@ BIFURCATION_KEYS = (
 
 DEFAULT_POINTS = 24
 """Orbits on the unstable branch of --bifurcation by default (its work budget grows with --points over this)."""
-
-
-def _points(args) -> int:
-    """--points of --bifurcation: a whole number from 3 to 200."""
-    try:
-        points = int(args.points)
-    except ValueError:
-        raise InputError(f"--points {args.points!r}: expected an integer") from None
-    if not 3 <= points <= 200:
-        raise InputError(f"--points {points}: must be between 3 and 200")
-    return points
 
 
 def _plot_bifurcation(path, design, angle: float, bif, roll, top: float) -> None:
@@ -257,10 +246,7 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
     angle = quantity_option(args.angle, "angle", "--angle")
     if not 0 < angle < math.pi / 2:
         raise InputError(f"--angle {args.angle}: must be between 0 and 90 deg (small-angle model)")
-    try:
-        omega0 = float(args.angular_velocity)
-    except ValueError:
-        raise InputError(f"--angular-velocity {args.angular_velocity!r}: expected a number in rad/s") from None
+    omega0 = quantity_option(args.angular_velocity, "angular_speed", "--angular-velocity")
     if not (math.isfinite(omega0) and abs(omega0) <= MAX_ANGULAR_VELOCITY):
         raise InputError(
             f"--angular-velocity {args.angular_velocity}: must be between -{MAX_ANGULAR_VELOCITY:g} and "
@@ -270,14 +256,9 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
     slip = quantity_option(args.slip_coefficient, "force", "--slip-coefficient")
     with api_named({"disturbance_angle ": "--disturbance-angle ", "slip_coefficient ": "--slip-coefficient "}):
         conditions = Conditions(disturbance_angle=theta0, slip_coefficient=slip, inertia=inertia_option(args.inertia))
-    duration = None
-    if args.duration is not None:
-        try:
-            duration = float(args.duration)
-        except ValueError:
-            raise InputError(f"--duration {args.duration!r}: expected a number of seconds") from None
-        if not math.isfinite(duration) or duration <= 0 or duration > 60:
-            raise InputError(f"--duration {args.duration}: must be between 0 and 60 s")
+    duration = quantity_option(args.duration, "time", "--duration")
+    if duration is not None and not 0 < duration <= 60:
+        raise InputError(f"--duration {args.duration}: must be between 0 and 60 s")
     return design, conditions, speed, angle, omega0, duration
 
 
@@ -288,7 +269,8 @@ def run(args) -> int:
         check_file(args.plot, "--plot", example="plot.png", kind=PLOT)
     if (args.bifurcation or args.knock_safe) and args.report is None:
         # one budget for all the command's studies, grown with the orbits asked for (--points, default 24)
-        budget = scaled_budget(_points(args), DEFAULT_POINTS) if args.bifurcation else None
+        count_option(args.points, "--points", 3, 200)  # orbits of --bifurcation
+        budget = scaled_budget(args.points, DEFAULT_POINTS) if args.bifurcation else None
         with work_limit("designer simulate", budget):
             return _run_limit_cycles(args)
 

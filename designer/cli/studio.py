@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from designer.output import check_folder
-from designer.cli._common import PROBLEM_HELP
+from designer.cli._common import PROBLEM_HELP, count_option
 from designer.errors import InputError
 
 
@@ -27,8 +27,7 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    if not 0 <= args.port <= 65535:
-        raise InputError(f"--port {args.port}: expected 0 to 65535")
+    count_option(args.port, "--port", 0, 65535)
     check_folder(args.out)  # "Save problem" and "Write report" write here: exit 7 now, not a failure later
     try:
         import dash  # noqa: F401 - the web framework is optional: only the studio needs it
