@@ -11,6 +11,7 @@ from designer.cli._common import (
     print_json,
     ranged_option,
 )
+from designer.display import number
 from designer.errors import InputError
 from designer.output import check_file, check_folder, output_folder, PLOT, signed, signed_kind, write_file
 
@@ -94,9 +95,9 @@ def run(args) -> int:
         return 0
     lo, hi = result.interval
     print(
-        f"{result.kind}: {result.name} = {result.value:.5g} {result.unit}  "
-        f"(95 % CI {lo:.5g} to {hi:.5g}, standard error {result.stderr:.3g}, n = {result.n}, "
-        f"rms residual {result.rms:.3g} {result.y_unit}; {result.equation})"
+        f"{result.kind}: {result.name} = {number(result.value, digits=5)} {result.unit}  "
+        f"(95 % CI {number(lo, digits=5)} to {number(hi, digits=5)}, standard error {number(result.stderr, digits=3)}, "
+        f"n = {result.n}, rms residual {number(result.rms, digits=3)} {result.y_unit}; {result.equation})"
     )
     for key, value in result.notes.items():
         print(f"  {key} = {value}")

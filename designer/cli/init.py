@@ -16,6 +16,7 @@ from pathlib import Path
 
 from designer import load_problem, problem_from_toml
 from designer.cli._common import quantity_option
+from designer.display import shown
 from designer.errors import DesignerError, InputError, OutputError
 from designer.output import FileKind, check_file, write_file
 from designer.parameters import MASS_RANGE, PARAMETERS, SURFACES
@@ -102,10 +103,10 @@ def run(args) -> int:
     load = _check(text, path).conditions.load  # L = m g f / 2 of the loader when given the mass
     write_file(path, text, "PATH", example="my-chair.toml", kind=NEW_FILE)
     if answers.load is not None:
-        print(f"wrote {path}: {answers.load:.1f} N per front caster")
+        print(f"wrote {path}: {shown(answers.load, 'load')} per front caster")
     else:
         f = answers.front_fraction
-        print(f"wrote {path}: {load:.1f} N per front caster = m g f / 2")
+        print(f"wrote {path}: {shown(load, 'load')} per front caster = m g f / 2")
         print(f"  with m = {answers.mass:g} kg (user plus chair), front fraction f = {f:g}")
         if not interactive and args.front_fraction is None:
             low, high = FRONT_FRACTION_TYPICAL

@@ -11,6 +11,8 @@ from pathlib import Path
 
 from designer import load_problem, recommend
 from designer.cli._common import PROBLEM_HELP, print_json
+from designer.cli._terminal import console as terminal_console, table
+from designer.display import percent, shown
 from designer.errors import InputError, OutputError
 from designer.output import check_file, FileKind, write_file
 from designer.studies.inspect import inspect, read_measured, template_text
@@ -75,26 +77,33 @@ def run(args) -> int:
 
 
 def _print(result, rec) -> None:
+    """Each caster's verdict in a table, then the lot's."""
+    from rich import box
+
     lot = result.lot()
     print(
-        f"{result.source}: P(shimmy at {result.speed:.3g} m/s) of each caster by the exact law, wheel I_w as "
-        f"measured; bound α = {result.alpha:.3g}"
+        f"{result.source}: P(shimmy at {shown(result.speed, 'target_speed')}) of each caster by the exact law, "
+        f"wheel I_w as measured; bound α = {percent(result.alpha)}"
     )
-    print(f"  {'serial':<12} {'P(shimmy)':>9}  verdict  {'driver':<13} joint box  one at a time")
-    for c in result.casters:
-        foot = "" if c.fits_footrest in (None, True) else "  (hits the footrest: T + d/2 > R_max)"
-        print(
-            f"  {c.serial[:12]:<12} {c.shimmy_probability:>9.2%}  {'pass' if c.passed else 'FAIL':<7}  "
-            f"{_DRIVER[c.driver]:<13} {'inside' if c.in_joint_box else 'outside':<10} "
-            f"{'inside' if c.in_one_at_a_time else 'outside'}{foot}"
+    where = {True: "inside", False: "outside"}
+    rows = [
+        (c.serial, percent(c.shimmy_probability), "pass" if c.passed else "FAIL", _DRIVER[c.driver])
+        + (
+            where[c.in_joint_box],
+            where[c.in_one_at_a_time],
+            "" if c.fits_footrest in (None, True) else "hits it: T + d/2 > R_max",
         )
+        for c in result.casters
+    ]
+    columns = ("serial", ("P(shimmy)", {"justify": "right"}), "verdict", "driver", "joint box", "one at a time")
+    terminal_console().print(table("", (*columns, "footrest"), rows, box=box.SIMPLE_HEAD))
     if lot["graded"]:
         worst = lot["worst"]
         print(
             f"Lot: {lot['passed']} of {lot['graded']} pass; worst {worst['serial']} at "
-            f"{worst['shimmy_probability']:.2%} (driver: {_DRIVER[worst['driver']]}); fraction above α "
-            f"{lot['fraction_above_alpha']:.1%} ± {lot['fraction_above_alpha_se']:.1%} (binomial SE); mean "
-            f"P(shimmy) {lot['mean_shimmy_probability']:.2%}"
+            f"{percent(worst['shimmy_probability'])} (driver: {_DRIVER[worst['driver']]}); fraction above α "
+            f"{percent(lot['fraction_above_alpha'])} ± {percent(lot['fraction_above_alpha_se'])} (binomial SE); mean "
+            f"P(shimmy) {percent(lot['mean_shimmy_probability'])}"
         )
     print(
         "Driver: the part that, put back to the nominal of the recommended caster, lowers P the most. A caster "

@@ -8,6 +8,7 @@ from pathlib import Path
 from designer.output import check_file, FileKind, write_file
 from designer import load_problem, recommend
 from designer.cli._common import PROBLEM_HELP, say
+from designer.display import percent
 
 
 def register(sub) -> None:
@@ -39,9 +40,9 @@ def run(args) -> int:
     corner = (
         ""
         if spec.corner is None
-        else f"; worst corner {spec.corner['probability']:.2%} ({'holds' if spec.corner['holds'] else 'does NOT hold'})"
+        else f"; worst corner {percent(spec.corner['probability'])} ({'holds' if spec.corner['holds'] else 'does NOT hold'})"
     )
     note = say(out)  # onto stderr when the sheet went to stdout
-    note(f"P(shimmy) {spec.probability:.2%} at nominal (exact law){corner}; bound {spec.alpha:.0%}")
+    note(f"P(shimmy) {percent(spec.probability)} at nominal (exact law){corner}; bound {percent(spec.alpha)}")
     note(f"inspection sheet: {out if note is not print else out.resolve()}")
     return 0
