@@ -71,7 +71,8 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
     height = conditions.threshold_height
     if design.diameter <= 2 * height:
         raise InputError(
-            f"--diameter {args.diameter}: must exceed twice the threshold height ({shown(2 * height, 'diameter', 'in')}); "
+            f"--diameter {args.diameter}: must exceed twice the threshold height "
+            f"({shown(2 * height, 'diameter', 'in')}); "
             f"d/h = {number(design.diameter / height)} <= 2 cannot climb the sill (Eq. 4A)"
         )
     speed = ranged_option(args.target_speed, "target_speed", "--target-speed", positive=True)

@@ -111,7 +111,8 @@ def _print(result, csv_path, json_path) -> None:
     console.print(
         f"[bold]{result.problem.name}[/]: study {result.study_name!r} on {result.storage}, "
         f"{result.trials} complete trials ({result.distinct} distinct, {result.feasible} feasible), "
-        f"{number(result.trials_run / max(result.seconds, 1e-9), dimension='rate')} trials/s, {result.workers} worker(s), "
+        f"{number(result.trials_run / max(result.seconds, 1e-9), dimension='rate')} trials/s, "
+        f"{result.workers} worker(s), "
         f"seed {result.seed}"
     )
     console.print(

@@ -140,7 +140,10 @@ def _print(result, problem, wide: bool = False, top: int = 10) -> None:
     for part, text in result.stock.items():
         console.print(f"  {part:<10} {escape(text)}")
     console.print(escape(f"Rule: {result.rule}."))
-    limit = f"+{percent(result.max_threshold_increase)} sill force and +{percent(result.max_turning_increase)} turning effort"
+    limit = (
+        f"+{percent(result.max_threshold_increase)} sill force and +{percent(result.max_turning_increase)} "
+        "turning effort"
+    )
     listed = list(result.fixes)
     if result.fixes:
         title = f"Fixes within {limit} ({result.found} found, {len(result.fixes)} shown)"
@@ -187,10 +190,12 @@ def _print_current(console, result, problem, conf: str) -> None:
         text += f"; calibrated: {shown(cur.calibrated_critical_speed, 'critical_speed')}"
     console.print(
         text + f"; speed reached with {conf}: {shown(cur.confident_speed, 'critical_speed')}; P(shimmy at "
-        f"{shown(result.target_speed, 'target_speed')}) = {percent(cur.shimmy_probability)} (exact law; {_mc_text(cur)})"
+        f"{shown(result.target_speed, 'target_speed')}) = {percent(cur.shimmy_probability)} "
+        f"(exact law; {_mc_text(cur)})"
     )
     console.print(
-        f"  turning effort {shown(cur.turning_effort, 'turning_effort')}, sill force {shown(cur.threshold_force, 'threshold_force')}, swept radius "
+        f"  turning effort {shown(cur.turning_effort, 'turning_effort')}, sill force "
+        f"{shown(cur.threshold_force, 'threshold_force')}, swept radius "
         f"{escape(written_size(cur.swept_radius, units))}: "
         + ("[green]meets the risk bound[/green]" if cur.meets_risk_bound else "[red]does not meet the risk bound[/red]")
     )
@@ -365,7 +370,8 @@ def _inspect_text(best, result, problem) -> str:
 
 def _next_text(result) -> str:
     """What to do next: fit and ride; calibrate with the speed it shimmied at; where the other fixes are."""
-    text = f"fit the parts and ride at {shown(result.target_speed, 'critical_speed')}; if it shimmies, rerun with --shimmied-at SPEED"
+    text = f"fit the parts and ride at {shown(result.target_speed, 'critical_speed')}; if it shimmies, rerun with "
+    text += "--shimmied-at SPEED"
     text += " (the onset calibrates Eq. 7 for this chair)" if result.calibration is None else ""
     more = max(result.found - 1, 0)
     return text + (
@@ -433,9 +439,11 @@ def _spec_lines(best, result) -> list[str]:
     spec = best.spec
     out = [
         f"Inspect the parts of the best fix (acceptance limits, each with the other parts at nominal; at a risk limit the "
-        f"exact law gives P(shimmy at {shown(spec.required_speed, 'critical_speed')}) = {percent(spec.alpha)}): P(shimmy at "
+        f"exact law gives P(shimmy at {shown(spec.required_speed, 'critical_speed')}) = {percent(spec.alpha)}): "
+        "P(shimmy at "
         f"{shown(result.target_speed, 'critical_speed')}) {percent(best.shimmy_probability)} exact ({_mc_text(best)}); "
-        f"M_f = c_f θ0 = {shown(spec.friction_moment, 'turning_moment')} (θ0 = {shown(spec.disturbance_angle, 'disturbance_angle')})"
+        f"M_f = c_f θ0 = {shown(spec.friction_moment, 'turning_moment')} "
+        f"(θ0 = {shown(spec.disturbance_angle, 'disturbance_angle')})"
     ]
     for part in PART_LABELS:
         for lim in (x for x in spec.limits if x.part == part):

@@ -175,22 +175,22 @@ def _print_screen(data: dict, run_info: dict, stock: int, out: Path, units: str)
         k = data["k"]
         steps = sorted({1, (k + 1) // 2} - {k})
         fewer = "".join(
-            f"{shown(curve[j - 1], dimension='force')} with {j} part number{'s' if j > 1 else ''}, "
+            f"{_force(curve[j - 1])} with {j} part number{'s' if j > 1 else ''}, "
             for j in steps
             if j <= len(curve) and curve[j - 1] is not None
         )
         asked = "" if k == data["suggested_skus"]["count"] else f" Shown: {k} part numbers as asked (--skus)."
         print(
             "Why: a part number per chair would give each its own best caster (least turning effort plus sill "
-            f"force); sharing adds force, on average {fewer}{shown(data['mean_regret_N'], dimension='force')} with {k}.{asked}"
+            f"force); sharing adds force, on average {fewer}{_force(data['mean_regret_N'])} with {k}.{asked}"
         )
         for sku in data["skus"][:SHOWN_SKUS]:
             print(_part_line(sku, units))
         if len(data["skus"]) > SHOWN_SKUS:
             print(f"  and {len(data['skus']) - SHOWN_SKUS} more part numbers (the report, --verbose)")
         print(
-            f"Cost: {shown(data['mean_regret_N'], dimension='force')} more force per unit sold than each chair's own best caster, "
-            f"{shown(data['worst_regret_N'], dimension='force')} for the worst-served chair."
+            f"Cost: {_force(data['mean_regret_N'])} more force per unit sold than each chair's own best caster, "
+            f"{_force(data['worst_regret_N'])} for the worst-served chair."
             + (" " + data["tolerance_price"]["sentence"] if data.get("tolerance_price") else "")
         )
     if data["k"] is None:
@@ -202,6 +202,11 @@ def _print_screen(data: dict, run_info: dict, stock: int, out: Path, units: str)
         )
 
 
+def _force(value) -> str:
+    """A force [N] of the fleet's answer (a regret): :func:`designer.display.shown`."""
+    return shown(value, dimension="force")
+
+
 def _part_line(sku: dict, units: str) -> str:
     """One part number: its four parts in the problem's units, the chairs it serves and the units sold."""
     d, chairs = sku["design"], sku["chairs"]
@@ -209,8 +214,8 @@ def _part_line(sku: dict, units: str) -> str:
         f"{symbol} {written_size(d[n], units)}" for symbol, n in (("T", "trail"), ("d", "diameter"), ("B", "groove"))
     )
     return (
-        f"  part {sku['id']}: {sizes}, c_f {shown(d['damping'], 'damping')}: {chairs} chair{'s' if chairs != 1 else ''}, "
-        f"{sku['count']} units"
+        f"  part {sku['id']}: {sizes}, c_f {shown(d['damping'], 'damping')}: "
+        f"{chairs} chair{'s' if chairs != 1 else ''}, {sku['count']} units"
     )
 
 
@@ -234,8 +239,8 @@ def _print(data: dict, run_info: dict, stock: int, out: Path, units: str) -> Non
             print(f"K = {k}{asked}: no {k} stock casters serve every chair that has a caster")
         else:
             print(
-                f"K = {k}{asked}: mean regret {shown(data['mean_regret_N'], dimension='force')} per unit sold, worst chair "
-                f"{shown(data['worst_regret_N'], dimension='force')}, total {shown(data['total_regret_N'], dimension='force')} over {data['served_units']} "
+                f"K = {k}{asked}: mean regret {_force(data['mean_regret_N'])} per unit sold, worst chair "
+                f"{_force(data['worst_regret_N'])}, total {_force(data['total_regret_N'])} over {data['served_units']} "
                 f"units ({data['sku_status']})"
             )
             for sku in data["skus"]:

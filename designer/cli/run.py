@@ -56,7 +56,8 @@ def conditions_line(problem) -> str:
     and ``front_fraction``: L = m g f / 2), the sill, the floor and the turning mode."""
     c = problem.conditions
     return (
-        f"For {shown(c.load, 'load', problem.units)} per front caster, a {written_size(c.threshold_height, problem.units)} sill, "
+        f"For {shown(c.load, 'load', problem.units)} per front caster, a "
+        f"{written_size(c.threshold_height, problem.units)} sill, "
         f"{c.surface} floor, {c.turning_mode} turning:"
     )
 

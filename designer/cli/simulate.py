@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from functools import partial
 
 from designer import Conditions, Design, TyreParameters, bifurcation_diagram, knock_safe_speed, simulate
 from designer.cli._common import api_named, count_option, end_progress_line, eprint, inertia_option
@@ -200,38 +201,42 @@ def _print_limit_cycles(args, design, angle: float, tyre, out: dict) -> None:
     if args.knock_safe:
         double = out["knock_safe_speed_double"]
         print(
-            f"knock-safe speed ({out['knock_safe_model']}): {shown(out['knock_safe_speed'], 'critical_speed')} for a "
+            f"knock-safe speed ({out['knock_safe_model']}): {_speed(out['knock_safe_speed'])} for a "
             f"{shown(angle, 'disturbance_angle')} knock"
-            + (
-                f", {shown(double, 'critical_speed')} for {shown(2 * angle, 'disturbance_angle')}"
-                if double is not None
-                else ""
-            )
+            + (f", {_speed(double)} for {shown(2 * angle, 'disturbance_angle')}" if double is not None else "")
         )
     if args.bifurcation:
         print(
-            f"Eq. 7 V_c = {shown(out['eq7_critical_speed'], 'critical_speed')}; brush tyre (μ = {number(tyre.friction_coefficient)}, "
+            f"Eq. 7 V_c = {_speed(out['eq7_critical_speed'])}; brush tyre (μ = {number(tyre.friction_coefficient)}, "
             f"C = {number(tyre.cornering_stiffness)} N/rad, L = {shown(tyre.load, 'load')}):"
         )
         for b in out["branches"]:
             print(
-                f"  {b['kind']:8s} branch: V {number(min(b['speed']), 'critical_speed')}–{shown(max(b['speed']), 'critical_speed')}, amplitude "
-                f"{number(min(b['amplitude']), 'shimmy_amplitude')}–{shown(max(b['amplitude']), 'shimmy_amplitude')} ({len(b['speed'])} orbits)"
+                f"  {b['kind']:8s} branch: V {_span(b['speed'], 'critical_speed')}, amplitude "
+                f"{_span(b['amplitude'], 'shimmy_amplitude')} ({len(b['speed'])} orbits)"
             )
         fold = out["fold_speed"]
-        print(
-            "  fold (lowest speed of sustained shimmy): "
-            + (shown(fold, "critical_speed") if math.isfinite(fold) else "none found")
-        )
+        print("  fold (lowest speed of sustained shimmy): " + (_speed(fold) if math.isfinite(fold) else "none found"))
         s = out["stable_at_reference"]
         if s is not None:
             print(
-                f"  stable amplitude at {shown(out['eq7_critical_speed'], 'critical_speed')}: {shown(s['amplitude'], 'shimmy_amplitude')} "
+                f"  stable amplitude at {_speed(out['eq7_critical_speed'])}: "
+                f"{shown(s['amplitude'], 'shimmy_amplitude')}, "
                 f"max |Floquet multiplier| {number(s['max_abs_multiplier'])}"
             )
         print(f"  largest orbit closure error {shown(out['max_closure'], dimension='angle', digits=1)}")
         if args.plot:
             print(f"  plot: {args.plot}")
+
+
+def _speed(value: float) -> str:
+    """A speed [m/s] as every speed of the output: :func:`designer.display.shown` of V_c."""
+    return shown(value, "critical_speed")
+
+
+def _span(values, name: str) -> str:
+    """The least and the largest of ``values`` [SI], as the parameter table shows ``name``: "0.30–2.60 m/s"."""
+    return f"{number(min(values), name)}–{shown(max(values), name)}"
 
 
 def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
@@ -296,25 +301,25 @@ def run(args) -> int:
         print_json(out)
         return 0
     verdict = "GROWS (shimmy)" if result.grows else "decays"
+    amplitude = partial(shown, name="shimmy_amplitude")
+    moment = shown(result.friction_moment, "turning_moment")
+    print(f"Caster: {design.describe()}, I_w = {shown(result.inertia, 'inertia')}, M_f = {moment}")
+    knock = f"θ_i = {shown(angle, 'disturbance_angle')}, θ'_i = {shown(omega0, dimension='angular_speed')}"
+    print(f"knock {knock}, V = {_speed(speed)}: {verdict}")
     print(
-        f"Caster: {design.describe()}, I_w = {shown(result.inertia, 'inertia')}, M_f = {shown(result.friction_moment, 'turning_moment')}"
-    )
-    print(
-        f"knock θ_i = {shown(angle, 'disturbance_angle')}, θ'_i = {shown(omega0, dimension='angular_speed')}, V = {shown(speed, 'critical_speed')}: {verdict}"
-    )
-    print(
-        f"  amplitude after transient {shown(result.early_amplitude, 'shimmy_amplitude')} (Eq. 4/29B: {shown(result.predicted_amplitude, 'shimmy_amplitude')}),"
-        f" late {shown(result.late_amplitude, 'shimmy_amplitude')}; late/θ_i = {number(result.amplitude_ratio)}, "
+        f"  amplitude after transient {amplitude(result.early_amplitude)} (Eq. 4/29B: "
+        f"{amplitude(result.predicted_amplitude)}), late {amplitude(result.late_amplitude)}; late/θ_i = "
+        f"{number(result.amplitude_ratio)}, "
         f"late/early = {number(result.growth_ratio)}{' (|θ| reached 1 rad)' if result.diverged else ''}"
     )
     freq = (
         "n/a (motion stopped)" if not math.isfinite(result.frequency) else shown(result.frequency, "shimmy_frequency")
     )
     print(f"  frequency {freq} (Eq. 15B: {shown(result.predicted_frequency, 'shimmy_frequency')})")
-    print(f"  Eq. 7 critical speed (c_f,eff = M_f/θ_i): {shown(result.critical_speed, 'critical_speed')}")
+    print(f"  Eq. 7 critical speed (c_f,eff = M_f/θ_i): {_speed(result.critical_speed)}")
     if onset is not None:
         print(
-            f"  simulated onset {shown(onset.speed, 'critical_speed')} (bracket {number(onset.low, 'critical_speed')}–{shown(onset.high, 'critical_speed')}), "
+            f"  simulated onset {_speed(onset.speed)} (bracket {_span((onset.low, onset.high), 'critical_speed')}), "
             f"{percent(onset.relative_error)} vs Eq. 7"
         )
     if args.plot:

@@ -40,7 +40,8 @@ def run(args) -> int:
     corner = (
         ""
         if spec.corner is None
-        else f"; worst corner {percent(spec.corner['probability'])} ({'holds' if spec.corner['holds'] else 'does NOT hold'})"
+        else f"; worst corner {percent(spec.corner['probability'])} "
+        f"({'holds' if spec.corner['holds'] else 'does NOT hold'})"
     )
     note = say(out)  # onto stderr when the sheet went to stdout
     note(f"P(shimmy) {percent(spec.probability)} at nominal (exact law){corner}; bound {percent(spec.alpha)}")
