@@ -259,7 +259,7 @@ def test_pareto_points_bounded_like_problem_file(points, tmp_path, capsys):
         )
         == 2
     )
-    assert f"--points {points}: must be a whole number from 3 to 2001" in capsys.readouterr().err
+    assert f"--points {points}: expected a whole number from 3 to 2001" in capsys.readouterr().err
 
 
 def test_pareto_front_api_rejects_huge_point_count():
