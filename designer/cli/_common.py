@@ -112,23 +112,16 @@ def say(path):
     return eprint if is_stdout(path) else print
 
 
-def ranged_option(value: str | None, entry: str, option: str, default=None, positive: bool = False):
+def ranged_option(value: str | None, entry: str, option: str):
     """Parse a quantity option and check it against the parameter table's range of ``entry``
     (:mod:`designer.parameters`), as a problem file's value is checked: InputError (exit 2) naming the option.
-
-    ``positive``: the low end is exclusive (a trail or a diameter of 0).  ``None`` gives ``default``.
-    """
-    number = quantity_option(value, PARAMETERS[entry].dimension, option, default)
-    if value is None:
-        return number
+    ``None`` (not given) gives None."""
     p = PARAMETERS[entry]
+    number = quantity_option(value, p.dimension, option)
     assert p.range is not None, entry
-    low, high = p.range
-    if positive and number <= low:
-        raise InputError(f"{option} {value}: must be " + ("positive" if low == 0 else f"above {low:g} {p.unit}"))
-    if not low <= number <= high:
+    if value is not None and not p.range[0] <= number <= p.range[1]:
         raise InputError(
-            outside_range(option, value, number, low, high, p.dimension) + (f" ({p.hint})" if p.hint else "")
+            outside_range(option, value, number, *p.range, p.dimension) + (f" ({p.hint})" if p.hint else "")
         )
     return number
 

@@ -75,7 +75,7 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
             f"({shown(2 * height, 'diameter', 'in')}); "
             f"d/h = {number(design.diameter / height)} <= 2 cannot climb the sill (Eq. 4A)"
         )
-    speed = ranged_option(args.target_speed, "target_speed", "--target-speed", positive=True)
+    speed = ranged_option(args.target_speed, "target_speed", "--target-speed")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         caster = designer.evaluate(design, conditions, speed, risk=speed)
