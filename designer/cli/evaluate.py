@@ -5,9 +5,10 @@ from __future__ import annotations
 import warnings
 
 import designer
-from designer import Conditions, Design, knock_safe_speed
+from designer import Conditions, Design
 from designer.cli._common import api_named, inertia_option, print_json, quantity_option, ranged_option
 from designer.cli._terminal import console as terminal_console, table
+from designer.cli.simulate import knock_safe_speeds
 from designer.errors import InputError
 from designer.display import label, number, percent, shown
 from designer.parameters import MODES, OUTPUT_TABLE, PARAMETERS, SURFACES, VARIABLE_TABLE
@@ -196,10 +197,8 @@ def _results(design, conditions, values: dict, speed: float | None, knock_safe: 
         theta0 = conditions.disturbance_angle
         with warnings.catch_warnings():  # the same extrapolation as the evaluation's, said once
             warnings.simplefilter("ignore", UserWarning)
-            out["knock_safe_speed"] = knock_safe_speed(design, conditions)
-            out["knock_safe_speed_double"] = (
-                knock_safe_speed(design, conditions, angle=2 * theta0) if 2 * theta0 < 1.5708 else None
-            )
+            speeds = knock_safe_speeds(design, conditions, theta0, None)
+        out |= {key: speeds[key] for key in ("knock_safe_speed", "knock_safe_speed_double")}
         band = knock_safe_table1_error(theta0)
         out["knock_safe_table1"] = {"log_rms": band["log_rms"], "bias": band["bias"], "angle": band["angle"]}
     out["warnings"] = values["warnings"]

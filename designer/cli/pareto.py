@@ -70,16 +70,13 @@ def register(sub) -> None:
 
 
 def _progress():
-    """A transient rich progress bar on stderr, or None without rich or without a terminal to show it on (a
+    """A transient rich progress bar on stderr, or None without a terminal to show it on (a
     transient bar never shows elsewhere: rich need not be imported, 0.03 s of CPU)."""
     if not sys.stderr.isatty():
         return None
-    try:
-        from rich.console import Console
+    from rich.console import Console
+    from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
 
-        from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
-    except ImportError:  # pragma: no cover - rich is a dependency
-        return None
     console = Console(stderr=True)
     if not console.is_terminal:  # a log file or a pipe: no bar (an interruption leaves one line there)
         return None

@@ -129,7 +129,7 @@ def _run_limit_cycles(args) -> int:
     tyre = _tyre(args)
     out: dict = {"design": design.to_dict(), "angle": angle}
     if args.knock_safe:
-        out.update(_knock_safe(design, conditions, angle, tyre if args.tyre else None))
+        out.update(knock_safe_speeds(design, conditions, angle, tyre if args.tyre else None))
     if args.bifurcation:
         out.update(_bifurcation(args, design, conditions, angle, tyre))
     if args.json:
@@ -139,7 +139,7 @@ def _run_limit_cycles(args) -> int:
     return 0
 
 
-def _knock_safe(design, conditions, angle: float, tyre) -> dict:
+def knock_safe_speeds(design, conditions, angle: float, tyre) -> dict:
     """Knock-safe speeds [m/s] for knocks of ``angle`` and twice it (None at or beyond 90°); ``tyre`` None: rolling."""
     return {
         "knock_safe_speed": knock_safe_speed(design, conditions, angle=angle, tyre=tyre),
