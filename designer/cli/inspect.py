@@ -11,7 +11,6 @@ from pathlib import Path
 
 from designer import load_problem, recommend
 from designer.cli._common import PROBLEM_HELP, print_json
-from designer.cli._terminal import console as terminal_console, table
 from designer.display import percent, shown
 from designer.errors import InputError, OutputError
 from designer.output import check_file, FileKind, write_file
@@ -77,26 +76,19 @@ def run(args) -> int:
 
 
 def _print(result, rec) -> None:
-    """Each caster's verdict in a table, then the lot's."""
-    from rich import box
-
     lot = result.lot()
     print(
         f"{result.source}: P(shimmy at {shown(result.speed, 'target_speed')}) of each caster by the exact law, "
         f"wheel I_w as measured; bound α = {percent(result.alpha)}"
     )
-    where = {True: "inside", False: "outside"}
-    rows = [
-        (c.serial, percent(c.shimmy_probability), "pass" if c.passed else "FAIL", _DRIVER[c.driver])
-        + (
-            where[c.in_joint_box],
-            where[c.in_one_at_a_time],
-            "" if c.fits_footrest in (None, True) else "hits it: T + d/2 > R_max",
+    print(f"  {'serial':<12} {'P(shimmy)':>9}  verdict  {'driver':<13} joint box  one at a time")
+    for c in result.casters:
+        foot = "" if c.fits_footrest in (None, True) else "  (hits the footrest: T + d/2 > R_max)"
+        print(
+            f"  {c.serial[:12]:<12} {percent(c.shimmy_probability):>9}  {'pass' if c.passed else 'FAIL':<7}  "
+            f"{_DRIVER[c.driver]:<13} {'inside' if c.in_joint_box else 'outside':<10} "
+            f"{'inside' if c.in_one_at_a_time else 'outside'}{foot}"
         )
-        for c in result.casters
-    ]
-    columns = ("serial", ("P(shimmy)", {"justify": "right"}), "verdict", "driver", "joint box", "one at a time")
-    terminal_console().print(table("", (*columns, "footrest"), rows, box=box.SIMPLE_HEAD))
     if lot["graded"]:
         worst = lot["worst"]
         print(
