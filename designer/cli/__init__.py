@@ -53,13 +53,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=_version(), help="print the version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     for name in COMMANDS:
-        try:
-            module = importlib.import_module(f"designer.cli.{name}")
-        except ModuleNotFoundError as exc:
-            if exc.name == f"designer.cli.{name}":
-                continue
-            raise
-        module.register(sub)
+        importlib.import_module(f"designer.cli.{name}").register(sub)
     return parser
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import sys
@@ -10,7 +11,6 @@ from designer import Fixed, PowerLaw
 from designer.cli._terminal import fit
 from designer.jsonsafe import finite, resolved_numbers, stamped
 from designer.errors import InputError
-from designer.output import check_file, check_folder
 from designer.parameters import PARAMETERS
 from designer.problem import INERTIA_RANGE
 from designer.units import outside_range, parse_quantity_text
@@ -32,6 +32,18 @@ def choice_option(value: str, allowed: tuple[str, ...], option: str) -> str:
     if value not in allowed:
         raise InputError(f"{option} {value!r}: expected one of {', '.join(allowed)}")
     return value
+
+
+@contextlib.contextmanager
+def api_named(names: dict[str, str]):
+    """An InputError of the API inside the block named by the option its value came from: a message starting
+    with a key of ``names`` (the API's name of an argument, "load ") starts with its value ("--load ") instead."""
+    try:
+        yield
+    except InputError as exc:
+        text = str(exc)
+        prefix = next((p for p in names if text.startswith(p)), "")
+        raise InputError(names.get(prefix, "") + text[len(prefix) :]) from None
 
 
 def print_json(data, kind: str | None = None) -> None:
@@ -100,37 +112,16 @@ def say(path):
     return eprint if is_stdout(path) else print
 
 
-check_output_folder = check_folder
-"""Raise OutputError (exit 7) unless ``folder`` can be created and written; called before any computing.
-
-:func:`designer.output.check_folder`: a regular file or a path under one, a link to nothing, a read-only
-or forbidden place are refused; a link to a folder is followed.  Keyword arguments (``owned``, ``marker``,
-``command``) also refuse a folder holding files of the user's that the command would replace.
-"""
-
-check_output_file = check_file
-"""Raise OutputError (exit 7) unless the file ``path`` can be written (not a folder, not under a regular
-file, in a writable folder, new or empty or of ``kind`` and written by the tool); called before any
-computing (:func:`designer.output.check_file`)."""
-
-
-def ranged_option(value: str | None, entry: str, option: str, default=None, positive: bool = False):
+def ranged_option(value: str | None, entry: str, option: str):
     """Parse a quantity option and check it against the parameter table's range of ``entry``
     (:mod:`designer.parameters`), as a problem file's value is checked: InputError (exit 2) naming the option.
-
-    ``positive``: the low end is exclusive (a trail or a diameter of 0).  ``None`` gives ``default``.
-    """
-    number = quantity_option(value, PARAMETERS[entry].dimension, option, default)
-    if value is None:
-        return number
+    ``None`` (not given) gives None."""
     p = PARAMETERS[entry]
+    number = quantity_option(value, p.dimension, option)
     assert p.range is not None, entry
-    low, high = p.range
-    if positive and number <= low:
-        raise InputError(f"{option} {value}: must be " + ("positive" if low == 0 else f"above {low:g} {p.unit}"))
-    if not low <= number <= high:
+    if value is not None and not p.range[0] <= number <= p.range[1]:
         raise InputError(
-            outside_range(option, value, number, low, high, p.dimension) + (f" ({p.hint})" if p.hint else "")
+            outside_range(option, value, number, *p.range, p.dimension) + (f" ({p.hint})" if p.hint else "")
         )
     return number
 

@@ -133,4 +133,19 @@ def console(wide: bool = False):
     return _Console(width=width(wide), highlight=False, file=_Stdout())
 
 
-__all__ = ["NARROWEST", "WIDE", "Fitted", "console", "fit", "fit_line", "width"]
+def table(title: str, columns, rows=(), **options):
+    """A rich table titled ``title`` (left): each column a name or (name, its options: ``justify``, ...), each
+    row its cells; every text escaped (rich would read "[in]" as markup and drop it)."""
+    from rich.markup import escape
+    from rich.table import Table
+
+    out = Table(title=escape(title), title_justify="left", **options)
+    for column in columns:
+        name, kwargs = (column, {}) if isinstance(column, str) else column
+        out.add_column(escape(name), **kwargs)
+    for row in rows:
+        out.add_row(*(escape(str(cell)) for cell in row))
+    return out
+
+
+__all__ = ["NARROWEST", "WIDE", "Fitted", "console", "fit", "fit_line", "table", "width"]

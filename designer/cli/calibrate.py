@@ -6,15 +6,14 @@ from pathlib import Path
 
 from designer.cli._common import (
     SEED_MAX,
-    check_output_file,
-    check_output_folder,
     choice_option,
     count_option,
     print_json,
     ranged_option,
 )
+from designer.display import number
 from designer.errors import InputError
-from designer.output import PLOT, output_folder, signed, signed_kind, write_file
+from designer.output import check_file, check_folder, output_folder, PLOT, signed, signed_kind, write_file
 
 KINDS = {
     "turning": "moment per unit load k_surface [m] from drill-press data (Fig. 7); CSV columns load_N, moment_Nm",
@@ -96,9 +95,9 @@ def run(args) -> int:
         return 0
     lo, hi = result.interval
     print(
-        f"{result.kind}: {result.name} = {result.value:.5g} {result.unit}  "
-        f"(95 % CI {lo:.5g} to {hi:.5g}, standard error {result.stderr:.3g}, n = {result.n}, "
-        f"rms residual {result.rms:.3g} {result.y_unit}; {result.equation})"
+        f"{result.kind}: {result.name} = {number(result.value, digits=5)} {result.unit}  "
+        f"(95 % CI {number(lo, digits=5)} to {number(hi, digits=5)}, standard error {number(result.stderr, digits=3)}, "
+        f"n = {result.n}, rms residual {number(result.rms, digits=3)} {result.y_unit}; {result.equation})"
     )
     for key, value in result.notes.items():
         print(f"  {key} = {value}")
@@ -119,11 +118,11 @@ def _check_outputs(args) -> None:
 
     if args.plot:
         check_plot_name(args.plot)
-        check_output_file(args.plot, "--plot", example="fit.png", kind=PLOT)
+        check_file(args.plot, "--plot", example="fit.png", kind=PLOT)
     if args.report:
-        check_output_folder(args.report, "--report", owned=OWNED, command="designer calibrate")
+        check_folder(args.report, "--report", owned=OWNED, command="designer calibrate")
     if args.snippet:
-        check_output_file(args.snippet, "--snippet", example="calibration.toml", kind=SNIPPET)
+        check_file(args.snippet, "--snippet", example="calibration.toml", kind=SNIPPET)
 
 
 def run_examples(args) -> int:

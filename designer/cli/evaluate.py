@@ -2,23 +2,18 @@
 
 from __future__ import annotations
 
-import math
 import warnings
 
 import designer
-from designer import Conditions, Design, knock_safe_speed
-from designer.cli._common import choice_option, inertia_option, print_json, quantity_option, ranged_option
-from designer.cli._terminal import console as terminal_console
+from designer import Conditions, Design
+from designer.cli._common import api_named, inertia_option, print_json, quantity_option, ranged_option
+from designer.cli._terminal import console as terminal_console, table
+from designer.cli.simulate import knock_safe_speeds
 from designer.errors import InputError
-from designer.display import MISSING, percent, shown
-from designer.parameters import MODES, OUTPUT_TABLE, PARAMETERS, SURFACES, VARIABLE_TABLE, Parameter
-from designer.units import COMMON_UNITS, INCH, written_size
-from designer.problem import PHYSICAL_RANGE
+from designer.display import label, number, percent, shown
+from designer.parameters import MODES, OUTPUT_TABLE, PARAMETERS, SURFACES, VARIABLE_TABLE
+from designer.units import written_size
 from designer.studies.checks import knock_safe_table1_error
-
-
-LBF, MPH = COMMON_UNITS["lbf"][1], COMMON_UNITS["mph"][1]
-"""The pound-force [N] and the mile per hour [m/s] of the table's US units."""
 
 
 def register(sub) -> None:
@@ -56,59 +51,32 @@ def register(sub) -> None:
 
 def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
     """Parse the options and evaluate; InputError names the option on bad input."""
-    # trail, diameter, groove, damping: each parsed first (a unit error before a sign error)
-    values = {p.name: quantity_option(getattr(args, p.name), p.dimension, f"--{p.name}") for p in VARIABLE_TABLE}
-    for name, value in values.items():
-        allow_zero = name in ("groove", "damping")
-        if value < 0 or (value == 0 and not allow_zero):
-            given = getattr(args, name)
-            raise InputError(
-                f"--{name} {given!r} ({value:g} {'N·m/rad' if name == 'damping' else 'm'}): must be "
-                f"{'non-negative' if allow_zero else 'positive'}"
-            )
-    design = Design(**{name: ranged_option(getattr(args, name), name, f"--{name}") for name in values})
+    # trail, diameter, groove, damping: each parsed, then within the parameter table's range (a problem file's)
+    design = Design(**{p.name: ranged_option(getattr(args, p.name), p.name, f"--{p.name}") for p in VARIABLE_TABLE})
     c0 = PARAMETERS["bare_fork_damping"].default
     if design.damping < c0:
         raise InputError(
-            f"--damping {design.damping:g} N·m/rad: below the bare ball-bearing fork's {c0:g} N·m/rad "
-            f"(Eq. 11C), the least spindle damping a caster has; the added damper moment would be negative"
+            f"--damping {shown(design.damping, 'damping')}: below the bare ball-bearing fork's "
+            f"{shown(c0, 'damping')} (Eq. 11C), the least spindle damping a caster has; the added damper moment "
+            "would be negative"
         )
-    load = quantity_option(args.load or "178 N", "force", "--load")
-    height = quantity_option(args.threshold_height or "0.5 in", "length", "--threshold-height")
-    if load <= 0:
-        raise InputError(f"--load {args.load}: must be positive")
-    if height <= 0:
-        raise InputError(f"--threshold-height {args.threshold_height}: must be positive")
-    _in_range("--load", "conditions.load", load)
-    _in_range("--threshold-height", "conditions.threshold_height", height)
+    numbers = {  # each checked by Conditions as a problem file's [conditions], its message naming the option
+        name: quantity_option(getattr(args, name), PARAMETERS[name].dimension, option, PARAMETERS[name].default)
+        for name, option in CONDITION_OPTIONS.items()
+        if name in PARAMETERS
+    }
+    with api_named({f"{name} ": f"{option} " for name, option in CONDITION_OPTIONS.items()}):
+        conditions = Conditions(
+            **numbers, surface=args.surface, turning_mode=args.turning_mode, inertia=inertia_option(args.inertia)
+        )
+    height = conditions.threshold_height
     if design.diameter <= 2 * height:
         raise InputError(
-            f"--diameter {args.diameter}: must exceed twice the threshold height ({2 * height / INCH:.3g} in); "
-            f"d/h = {design.diameter / height:.3g} <= 2 cannot climb the sill (Eq. 4A)"
+            f"--diameter {args.diameter}: must exceed twice the threshold height "
+            f"({shown(2 * height, 'diameter', 'in')}); "
+            f"d/h = {number(design.diameter / height)} <= 2 cannot climb the sill (Eq. 4A)"
         )
-    inertia_model = inertia_option(args.inertia)
-    angle = quantity_option(args.disturbance_angle, "angle", "--disturbance-angle")
-    if not 0 < angle < 1.5708:
-        raise InputError(f"--disturbance-angle {args.disturbance_angle}: must be between 0 and 90 deg")
-    slip = quantity_option(args.slip_coefficient, "force", "--slip-coefficient")
-    if slip <= 0:
-        raise InputError(f"--slip-coefficient {args.slip_coefficient}: must be positive")
-    _in_range("--slip-coefficient", "shimmy.slip_coefficient", slip)
-    conditions = Conditions(
-        load=load,
-        threshold_height=height,
-        surface=choice_option(args.surface, SURFACES, "--surface"),
-        turning_mode=choice_option(args.turning_mode, MODES, "--turning-mode"),
-        disturbance_angle=angle,
-        slip_coefficient=slip,
-        inertia=inertia_model,
-    )
-    speed = quantity_option(args.target_speed, "speed", "--target-speed")
-    if speed is not None and speed <= 0:
-        raise InputError(f"--target-speed {args.target_speed}: must be positive")
-    if speed is not None:
-        _in_range("--target-speed", "shimmy.target_speed", speed)
-
+    speed = ranged_option(args.target_speed, "target_speed", "--target-speed")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         caster = designer.evaluate(design, conditions, speed, risk=speed)
@@ -121,11 +89,15 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
     return design, conditions, values, speed
 
 
-def _in_range(option: str, key: str, value: float) -> None:
-    """InputError naming ``option`` if ``value`` is outside the problem file's range for ``key``."""
-    low, high, unit, hint = PHYSICAL_RANGE[key]
-    if not low <= value <= high:
-        raise InputError(f"{option} {value:g} {unit}: outside the model's range {low:g} to {high:g} {unit} ({hint})")
+CONDITION_OPTIONS = {
+    "load": "--load",
+    "threshold_height": "--threshold-height",
+    "surface": "--surface",
+    "turning_mode": "--turning-mode",
+    "disturbance_angle": "--disturbance-angle",
+    "slip_coefficient": "--slip-coefficient",
+}
+"""The conditions the options set, each by its name in :class:`designer.Conditions` (whose checks name it)."""
 
 
 def run(args) -> int:
@@ -136,25 +108,22 @@ def run(args) -> int:
         print_json(out)
         return 0
     if args.verbose:
-        _print_table(design, conditions, values, speed, out, args.knock_safe)
+        _print_table(design, conditions, values, speed, out)
     else:
-        _print_screen(design, conditions, values, speed, out, args.knock_safe)
+        _print_screen(design, conditions, values, speed, out)
     return 0
 
 
-def _print_screen(design, conditions, values: dict, speed: float | None, out: dict, knock_safe: bool) -> None:
+def _print_screen(design, conditions, values: dict, speed: float | None, out: dict) -> None:
     """The caster's numbers in one screen: one line a quantity (its name, value and the paper's equation), the
     verdict at the target speed, what to do next; each source in full behind ``--verbose``."""
     lines = [f"Caster: {design.describe()}"]
-    rows = _rows(conditions, values, "measured" if values["measured"] else "Table 1's power law")
-    if knock_safe:
-        rows.insert(4, ("knock-safe speed, θ0 / 2 θ0 knock", _knock_safe_value(out), "simulated"))
+    rows = _rows(conditions, values, "measured" if values["measured"] else "Table 1's power law", out)
     name_width = max(len(r[0]) for r in rows)
     value_width = max(len(r[1]) for r in rows)
     for name, value, source in rows:
         short = source if len(source) <= 20 and source.startswith(("Eq.", "Table", "measured", "--")) else ""
-        if source.startswith("default"):
-            short = "default"
+        short = next((word for word in ("default", "simulated") if source.startswith(word)), short)
         lines.append(f"  {name:<{name_width}}  {value:>{value_width}}  {short}".rstrip())
     if speed is not None:
         risk = out["risk"]
@@ -174,22 +143,31 @@ def _print_screen(design, conditions, values: dict, speed: float | None, out: di
     _print_warnings(design, values, out)
 
 
-def _rows(conditions, values: dict, inertia_source: str) -> list[tuple[str, str, str]]:
+def _rows(conditions, values: dict, inertia_source: str, out: dict) -> list[tuple[str, str, str]]:
     """(name, value, source) of the load and the sill, each with where it came from (the option or the paper's
-    default), then of each listed output in the parameter table's order (I_w first, ``inertia_source`` beside it)."""
+    default), then of each listed output in the parameter table's order (I_w first, ``inertia_source`` beside it,
+    the knock-safe speeds after V_c when simulated); each value through :func:`designer.display.shown`, lengths
+    in inches (the paper's)."""
     given, sources = values["sources"], {"inertia": inertia_source}
-    rows = [(PARAMETERS[n].label, shown_quantity(getattr(conditions, n), PARAMETERS[n]), given[n]) for n in given]
-    return rows + [
-        (p.label, shown_quantity(values[p.name], p), sources.get(p.name, p.source))
+    rows = [(label(n), shown(getattr(conditions, n), n, "in"), given[n]) for n in given]
+    rows += [
+        (p.label, shown(values[p.name], p.name, "in"), sources.get(p.name, p.source))
         for p in OUTPUT_TABLE
         if p.listed and p.name in values
     ]
+    if "knock_safe_table1" in out:
+        band = out["knock_safe_table1"]
+        source = (
+            f"simulated (App. B); against Table 1 C–G: log RMS {number(band['log_rms'])}, bias "
+            f"{number(band['bias'])} (a second opinion: the criterion is the Eq. 7 risk bound)"
+        )
+        rows.insert(4, ("knock-safe speed, θ0 / 2 θ0 knock", _knock_safe_value(out), source))
+    return rows
 
 
 def _knock_safe_value(out: dict) -> str:
     """The knock-safe speeds for a θ0 and a 2 θ0 knock [m/s] (the second missing at or beyond 90°)."""
-    double = out["knock_safe_speed_double"]
-    return f"{out['knock_safe_speed']:.3f} / " + (MISSING if double is None else f"{double:.3f}") + " m/s"
+    return " / ".join(shown(out[key], "critical_speed") for key in ("knock_safe_speed", "knock_safe_speed_double"))
 
 
 def _print_warnings(design, values: dict, out: dict) -> None:
@@ -219,82 +197,48 @@ def _results(design, conditions, values: dict, speed: float | None, knock_safe: 
         theta0 = conditions.disturbance_angle
         with warnings.catch_warnings():  # the same extrapolation as the evaluation's, said once
             warnings.simplefilter("ignore", UserWarning)
-            out["knock_safe_speed"] = knock_safe_speed(design, conditions)
-            out["knock_safe_speed_double"] = (
-                knock_safe_speed(design, conditions, angle=2 * theta0) if 2 * theta0 < 1.5708 else None
-            )
+            speeds = knock_safe_speeds(design, conditions, theta0, None)
+        out |= {key: speeds[key] for key in ("knock_safe_speed", "knock_safe_speed_double")}
         band = knock_safe_table1_error(theta0)
         out["knock_safe_table1"] = {"log_rms": band["log_rms"], "bias": band["bias"], "angle": band["angle"]}
     out["warnings"] = values["warnings"]
     return out
 
 
-def _print_table(design, conditions, values: dict, speed: float | None, out: dict, knock_safe: bool) -> None:
-    """The rich table of the text output: each quantity with its value (SI and US units) and its paper source."""
-    from rich.table import Table
-
-    table = Table(title=f"Caster: {design.describe()}", title_justify="left")
+def _print_table(design, conditions, values: dict, speed: float | None, out: dict) -> None:
+    """The rich table of the text output: each quantity with its value and its paper source."""
     words = [w for p in OUTPUT_TABLE if p.listed for w in p.source.split()]
-    table.add_column("quantity", max_width=20)
-    table.add_column("value", justify="right", max_width=20)
-    table.add_column("source", min_width=max(map(len, words)))  # wrapped at words: a link is never split
-    rows = _rows(conditions, values, conditions.inertia.describe())  # which inertia model: beside I_w
-    if knock_safe:  # beside V_c
-        theta0, band = math.degrees(conditions.disturbance_angle), out["knock_safe_table1"]
-        source = (
-            f"simulated (App. B); against Table 1 C–G: log RMS {band['log_rms']:.3f}, bias {band['bias']:+.3f} "
-            "(a second opinion: the criterion is the Eq. 7 risk bound)"
-        )
-        rows.insert(2, (f"knock-safe speed, {theta0:.0f}° / {2 * theta0:.0f}° knock", _knock_safe_value(out), source))
+    columns = [("quantity", {"max_width": 20}), ("value", {"justify": "right", "max_width": 20})]
+    columns += [("source", {"min_width": max(map(len, words))})]  # wrapped at words: a link is never split
+    rows = _rows(conditions, values, conditions.inertia.describe(), out)  # which inertia model: beside I_w
     if speed is not None:
         rows += _speed_rows(values, speed, out["risk"])
-    for row in rows:
-        table.add_row(*row)
     console = terminal_console()
-    console.print(table)
+    console.print(table(f"Caster: {design.describe()}", columns, rows))
     if speed is not None:
-        _print_sources(console, out["risk"])
+        risk = out["risk"]
+        columns = ("source", "distribution of its log", "scale", "kind", "share of var log V_c")
+        rows = [
+            (src["name"], src["distribution"] + (f", ν = {src['dof']}" if src["dof"] else ""), number(src["scale"]))
+            + (src["kind"], percent(src["share"]))
+            for src in risk["sources"]
+        ]
+        console.print(table("Where the risk comes from", columns, rows))
+        console.print(risk["dominant"])
     _print_warnings(design, values, out)
-
-
-def shown_quantity(value: float, p: Parameter) -> str:
-    """``value`` [SI] of entry ``p`` of the parameter table as the table shows it: lengths in mm and inches,
-    forces in N and lbf (to the entry's ``digits``), speeds in m/s and mph, angles in rad and degrees, the rest in its SI unit."""
-    if p.dimension == "length":
-        return f"{value * 1000:.1f} mm ({value / INCH:.3f} in)"
-    if p.dimension == "force":
-        return f"{value:.{p.digits or 2}f} N ({value / LBF:.{p.digits or 2}f} lbf)"
-    if p.dimension == "speed":
-        return f"{value:.3f} m/s ({value / MPH:.2f} mph)"
-    if p.dimension == "angle":
-        return f"{value:.4g} rad ({math.degrees(value):.3g}°)"
-    return f"{value:.4g} {p.unit}".rstrip()
 
 
 def _speed_rows(values: dict, speed: float, risk: dict) -> list[tuple[str, str, str]]:
     """The rows at the target speed: Eq. 7's verdict alone, the growth rate (Eq. 12B), P(shimmy) ± SE."""
     verdict = "stable" if values["critical_speed"] >= speed else "SHIMMIES"
-    gap = f"{verdict}, V_c − speed {values['critical_speed'] - speed:+.3f} m/s (the risk is below)"
+    gap = f"{verdict}, V_c − speed {shown(values['critical_speed'] - speed, 'critical_speed')} (the risk is below)"
+    at = shown(speed, "target_speed")
     return [
-        (f"at {speed:.2f} m/s, Eq. 7 alone", gap, "Eq. 7"),
-        ("growth rate μ at that speed", f"{values['growth_rate']:+.3g} 1/s", "Eq. 12B"),
+        (f"at {at}, Eq. 7 alone", gap, "Eq. 7"),
+        ("growth rate μ at that speed", shown(values["growth_rate"], "growth_rate"), "Eq. 12B"),
         (
-            f"P(shimmy at {speed:.2f} m/s)",
-            f"{100 * risk['probability']:.2f} % ± {100 * risk['se']:.2f} %",
+            f"P(shimmy at {at})",
+            f"{percent(risk['probability'])} ± {percent(risk['se'])}",
             "Monte Carlo of the risk law (docs/model.md, Shimmy risk)",
         ),
     ]
-
-
-def _print_sources(console, risk: dict) -> None:
-    """Where the risk comes from: each source of the law with its share of the variance of log V_c."""
-    from rich.table import Table
-
-    table = Table(title="Where the risk comes from", title_justify="left")
-    for col in ("source", "distribution of its log", "scale", "kind", "share of var log V_c"):
-        table.add_column(col)
-    for src in risk["sources"]:
-        dist = src["distribution"] + (f", ν = {src['dof']}" if src["dof"] else "")
-        table.add_row(src["name"], dist, f"{src['scale']:.4g}", src["kind"], f"{100 * src['share']:.1f} %")
-    console.print(table)
-    console.print(risk["dominant"])

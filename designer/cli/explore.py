@@ -6,11 +6,12 @@ import logging
 from pathlib import Path
 
 import designer
-from designer.cli._terminal import console as terminal_console
-from designer.cli._common import PROBLEM_HELP, SEED_MAX, check_output_folder, count_option, eprint, print_json
+from designer.cli._terminal import console as terminal_console, table
+from designer.output import check_folder
+from designer.cli._common import PROBLEM_HELP, SEED_MAX, count_option, eprint, print_json
 from designer.errors import QuietAfterInterrupt
-from designer.parameters import OUTPUTS, VARIABLE_TABLE
-from designer.units import INCH
+from designer.display import header, number, shown
+from designer.parameters import VARIABLE_TABLE
 
 EXPLORE_FILES = ("explore.csv", "explore.json")
 """What ``designer explore`` writes into --out (explore.json marks a folder it wrote before); nothing else."""
@@ -70,7 +71,7 @@ def run(args) -> int:
     problem = designer.load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / problem.name
     # before the study, not after it
-    check_output_folder(out, owned=EXPLORE_FILES, command="designer explore")
+    check_folder(out, owned=EXPLORE_FILES, command="designer explore")
     # after Ctrl-C, optuna's "Trial N failed ... KeyboardInterrupt" tracebacks are dropped: one line says it
     logging.getLogger("optuna.study._optimize").addFilter(_QUIET)
     with removed_if_failed(spec):  # a storage file made by this run and left empty by a failure is removed
@@ -100,18 +101,18 @@ def run(args) -> int:
 
 _QUIET = QuietAfterInterrupt()
 
+OBJECTIVES = ("turning_effort", "threshold_force")
+"""The two forces of the front."""
+
 
 def _print(result, csv_path, json_path) -> None:
-    from rich.markup import escape
-
-    from rich.table import Table
-
     console = terminal_console()
     ops = result.operators
     console.print(
         f"[bold]{result.problem.name}[/]: study {result.study_name!r} on {result.storage}, "
         f"{result.trials} complete trials ({result.distinct} distinct, {result.feasible} feasible), "
-        f"{result.trials_run / max(result.seconds, 1e-9):.0f} trials/s, {result.workers} worker(s), "
+        f"{number(result.trials_run / max(result.seconds, 1e-9), dimension='rate')} trials/s, "
+        f"{result.workers} worker(s), "
         f"seed {result.seed}"
     )
     console.print(
@@ -122,53 +123,40 @@ def _print(result, csv_path, json_path) -> None:
     )
     cats = [c for c in ("wheel", "surface", "turning_mode") if any(c in r for r in result.front)]
     if len(result.category_fronts) > 1:
-        table = Table(title="Front per category", title_justify="left")
-        for col in ("category", "points", "F_turn range [N]", "P range [N]"):
-            table.add_column(escape(col), justify="left" if col == "category" else "right")
-        for label, rows in result.category_fronts.items():
-            if rows:
-                f = [r["turning_effort"] for r in rows]
-                p = [r["threshold_force"] for r in rows]
-                table.add_row(label, str(len(rows)), f"{min(f):.3f} – {max(f):.3f}", f"{min(p):.2f} – {max(p):.2f}")
-            else:
-                table.add_row(label, "0", "no feasible trial", "")
-        console.print(table)
-    table = Table(title=f"Overall front ({len(result.front)} points)", title_justify="left")
-    design = [p.header_in("in") if p.dimension == "length" else p.header for p in VARIABLE_TABLE]
-    outputs = [OUTPUTS[name].header for name in ("turning_effort", "threshold_force", "critical_speed")]
-    for col in cats + design + outputs + ["trial"]:
-        # escaped: rich reads "[in]" and "[m/s]" as markup tags and drops them (the units)
-        table.add_column(escape(col), justify="right")
-    for r in result.front:
-        table.add_row(
-            *[str(r[c]) for c in cats],
-            *(f"{r[name] / INCH:.3f}" for name in ("trail", "diameter", "groove")),
-            f"{r['damping']:.3f}",
-            f"{r['turning_effort']:.3f}",
-            f"{r['threshold_force']:.2f}",
-            f"{r['critical_speed']:.3f}",
-            f"{r['trial']}{'*' if r['refined'] else ''}",
-        )
-    console.print(table)
+        rows = []
+        for name, front in result.category_fronts.items():
+            ranges = [" – ".join(number(f(r[n] for r in front), n) for f in (min, max)) for n in OBJECTIVES]
+            rows.append((name, str(len(front)), *ranges) if front else (name, "0", "no feasible trial", ""))
+        heads = [f"{header(n)} range" for n in OBJECTIVES]
+        columns = [("category", {}), *((col, {"justify": "right"}) for col in ("points", *heads))]
+        console.print(table("Front per category", columns, rows))
+    names = [p.name for p in VARIABLE_TABLE] + [*OBJECTIVES, "critical_speed"]
+    columns = [(col, {"justify": "right"}) for col in cats + [header(n, "in") for n in names] + ["trial"]]
+    rows = [
+        [str(r[c]) for c in cats]
+        + [number(r[n], n, "in") for n in names]
+        + [f"{r['trial']}{'*' if r['refined'] else ''}"]
+        for r in result.front
+    ]
+    console.print(table(f"Overall front ({len(result.front)} points)", columns, rows))
     if result.refined:
         console.print("* refined by the NLP (ε-constraint at the candidate's P)")
     ref = result.reference_point
+    point = f"({shown(ref[0], 'turning_effort')}, {shown(ref[1], 'threshold_force')})"
     c = result.comparison
     if "hypervolume_ratio" in c and c.get("exact_points", 0) < 2:
         best = "reaches" if c["igd_plus"] < 1e-6 else "does not reach"
         console.print(
             f"The exact front is a single point (one design dominates every other): the explored front "
-            f"{best} it (IGD+ {c['igd_plus']:.4g}, normalised); a hypervolume ratio says nothing here."
+            f"{best} it (IGD+ {number(c['igd_plus'])}, normalised); a hypervolume ratio says nothing here."
         )
     elif "hypervolume_ratio" in c:
         console.print(
-            f"Against the exact front ({c['exact_points']} points): HV {c['hypervolume_explored']:.4g} vs "
-            f"{c['hypervolume_exact']:.4g} N² (ratio {c['hypervolume_ratio']:.3f}; reference "
-            f"({ref[0]:.3f} N, {ref[1]:.2f} N) = exact nadir + 10 % of its extent); IGD+ "
-            f"{c['igd_plus']:.4f} (normalised by the exact front's ideal and nadir)"
+            f"Against the exact front ({c['exact_points']} points): HV {number(c['hypervolume_explored'])} vs "
+            f"{number(c['hypervolume_exact'])} N² (ratio {number(c['hypervolume_ratio'])}; reference "
+            f"{point} = exact nadir + 10 % of its extent); IGD+ "
+            f"{number(c['igd_plus'])} (normalised by the exact front's ideal and nadir)"
         )
     else:
-        console.print(
-            f"HV {result.hypervolume:.4g} N² (reference ({ref[0]:.3f} N, {ref[1]:.2f} N)). {c.get('note', '')}"
-        )
+        console.print(f"HV {number(result.hypervolume)} N² (reference {point}). {c.get('note', '')}")
     console.print(f"wrote {csv_path} and {json_path}")

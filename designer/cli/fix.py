@@ -2,16 +2,14 @@
 
 from __future__ import annotations
 
-import math
 
-from designer.cli._terminal import console as terminal_console
-from designer.cli._common import PROBLEM_HELP, print_json, quantity_option, ranged_option
+from designer.cli._terminal import console as terminal_console, table
+from designer.cli._common import PROBLEM_HELP, api_named, print_json, quantity_option, ranged_option
 from designer import fix, load_problem
 from designer.studies.retrofit import ONSET_SCATTER, parse_current
-from designer.display import percent, shown
+from designer.display import header, number, percent, shown
 from designer.errors import InputError
-from designer.parameters import OUTPUTS
-from designer.studies.spec import PART_LABELS, limit_shown
+from designer.studies.spec import PART_LABELS
 from designer.units import written_size
 
 
@@ -89,7 +87,7 @@ def run(args) -> int:
     inertia = quantity_option(args.inertia, "inertia", "--inertia")
     shimmied = quantity_option(args.shimmied_at, "speed", "--shimmied-at")
     angle = quantity_option(args.stem_angle, "angle", "--stem-angle")
-    try:
+    with api_named(API_NAMES):  # name the option the value came from
         result = fix(
             problem,
             current,
@@ -100,10 +98,6 @@ def run(args) -> int:
             limit=args.top or None,
             specs=None if args.json else 1,  # --json: each listed fix's limits; the text: the best fix's
         )
-    except InputError as exc:  # name the option the value came from
-        text = str(exc)
-        prefix = next((p for p in API_NAMES if text.startswith(p)), "")
-        raise InputError(API_NAMES.get(prefix, "") + text[len(prefix) :]) from None
     if args.json:
         print_json(result.to_dict())
         return 0
@@ -137,7 +131,7 @@ def _print(result, problem, wide: bool = False, top: int = 10) -> None:
 
     console = terminal_console(wide)
     alpha = result.probability
-    conf = f"{1 - alpha:.0%}" if alpha is not None else "nominal"
+    conf = f"{percent(1 - alpha)}" if alpha is not None else "nominal"
     console.print(f"[bold]{escape(result.summary())}[/bold]")
     _print_current(console, result, problem, conf)
     if not result.needs_fix:
@@ -146,8 +140,11 @@ def _print(result, problem, wide: bool = False, top: int = 10) -> None:
     for part, text in result.stock.items():
         console.print(f"  {part:<10} {escape(text)}")
     console.print(escape(f"Rule: {result.rule}."))
-    limit = f"+{result.max_threshold_increase:.0%} sill force and +{result.max_turning_increase:.0%} turning effort"
-    shown = list(result.fixes)
+    limit = (
+        f"+{percent(result.max_threshold_increase)} sill force and +{percent(result.max_turning_increase)} "
+        "turning effort"
+    )
+    listed = list(result.fixes)
     if result.fixes:
         title = f"Fixes within {limit} ({result.found} found, {len(result.fixes)} shown)"
         _print_table(console, result, result.fixes, title, wide, conf)
@@ -155,12 +152,12 @@ def _print(result, problem, wide: bool = False, top: int = 10) -> None:
         console.print(f"No fix keeps within {limit} of the current caster's.")
     if result.beyond:
         apart = result.beyond if not result.fixes or wide else result.beyond[: min(3, top or 3)]
-        shown += apart
+        listed += apart
         found = f"{result.found_beyond} found, {len(apart)} shown"
         _print_table(
             console, result, apart, f"Beyond the limits, listed apart ({found}; --json --top 0 lists all)", wide, conf
         )
-    if any(f.extrapolated for f in shown):
+    if any(f.extrapolated for f in listed):
         console.print("* a wheel outside Table 1's 4–8 in: its I_w and Eq. 7 are extrapolated (docs/retrofit.md).")
     best = result.best
     if best is not None and best.spec is not None:
@@ -175,39 +172,30 @@ def _print_current(console, result, problem, conf: str) -> None:
     cur = result.current
     d = cur.design
     units = problem.units
-    alpha = result.probability
-    bound = (
-        f"P(shimmy at {result.required_speed:.2f} m/s) <= {alpha:.0%}"
-        if alpha is not None
-        else f"V_c >= {result.required_speed:.2f} m/s (nominal: [robust] enabled = false)"
-    )
     console.print(
         escape(
-            f"{problem.title} ({problem.name}): risk bound {bound}; swept radius "
+            f"{problem.title} ({problem.name}): risk bound {_bound(result)}; swept radius "
             + (f"<= {written_size(problem.swept_radius_max, units)}" if problem.swept_radius_max else "not limited")
         )
     )
-    console.print(
-        escape(
-            f"Current caster: T = {written_size(d.trail, units)}, d = {written_size(d.diameter, units)}, "
-            f"B = {written_size(d.groove, units)}, c_f = {d.damping:.3g} N·m/rad, I_w = {cur.inertia:.4g} kg·m²"
-        )
-    )
+    console.print(escape(f"Current caster: {_parts(d, units)}, I_w = {shown(cur.inertia, 'inertia')}"))
     if result.stem_angle:
         console.print(
-            f"  stem tilted {math.degrees(result.stem_angle):+.2f} deg: effective trail "
+            f"  stem tilted {_plus(result.stem_angle, shown(result.stem_angle, 'disturbance_angle'))}: effective trail "
             f"{escape(written_size(cur.effective_trail, units))} (fork {escape(written_size(d.trail, units))} + (d/2) "
             "sin φ, docs/retrofit.md)"
         )
-    text = f"  V_c (Eq. 7) = {cur.critical_speed:.3f} m/s"
+    text = f"  V_c (Eq. 7) = {shown(cur.critical_speed, 'critical_speed')}"
     if result.calibration is not None:
-        text += f"; calibrated: {cur.calibrated_critical_speed:.3f} m/s"
+        text += f"; calibrated: {shown(cur.calibrated_critical_speed, 'critical_speed')}"
     console.print(
-        text + f"; speed reached with {conf}: {cur.confident_speed:.3f} m/s; P(shimmy at {result.target_speed:.2f} "
-        f"m/s) = {cur.shimmy_probability:.2%} (exact law; {_mc_text(cur)})"
+        text + f"; speed reached with {conf}: {shown(cur.confident_speed, 'critical_speed')}; P(shimmy at "
+        f"{shown(result.target_speed, 'target_speed')}) = {percent(cur.shimmy_probability)} "
+        f"(exact law; {_mc_text(cur)})"
     )
     console.print(
-        f"  turning effort {cur.turning_effort:.2f} N, sill force {cur.threshold_force:.2f} N, swept radius "
+        f"  turning effort {shown(cur.turning_effort, 'turning_effort')}, sill force "
+        f"{shown(cur.threshold_force, 'threshold_force')}, swept radius "
         f"{escape(written_size(cur.swept_radius, units))}: "
         + ("[green]meets the risk bound[/green]" if cur.meets_risk_bound else "[red]does not meet the risk bound[/red]")
     )
@@ -249,38 +237,55 @@ def _print_table(console, result, fixes, title: str, wide: bool, conf: str) -> N
     F_turn and P against the current caster, P(shimmy); ``wide`` adds I_w, the loss, V_c, V_q and the swept
     radius."""
     from rich import box
-    from rich.markup import escape
-    from rich.table import Table
 
-    table = Table(title=escape(title), title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
-    columns = [("#", "right"), ("change: from -> to", "left"), ("cost", "right")]
-    columns += [(OUTPUTS["turning_effort"].header, "right"), (OUTPUTS["threshold_force"].header, "right")]
-    columns += [("P(shimmy)" + (" (MC ± SE)" if wide else ""), "right")]
+    names = ["#", "change: from -> to", "cost", header("turning_effort"), header("threshold_force")]
+    names += ["P(shimmy)" + (" (MC ± SE)" if wide else "")]
     if wide:
         calibrated = " / ×k" if result.calibration else ""
-        columns += [(OUTPUTS["inertia"].header, "right"), ("loss [N]", "right"), (f"V_c Eq. 7{calibrated}", "right")]
-        columns += [(f"V at {conf}", "right"), ("swept", "right")]
-    for col, just in columns:  # the changes never wrap inside a size ("2 1/2 in"): the numbers give way
-        table.add_column(escape(col), justify=just, overflow="fold", no_wrap=col.startswith("change"))
+        names += [header("inertia"), "loss [N]", f"V_c Eq. 7{calibrated}", f"V at {conf}", "swept"]
+    # the changes never wrap inside a size ("2 1/2 in"): the numbers give way
+    columns = [
+        (n, {"justify": "left" if i == 1 else "right", "overflow": "fold", "no_wrap": i == 1})
+        for i, n in enumerate(names)
+    ]
+    rows = []
     for rank, f in enumerate(fixes, 1):
-        change = _changes(f, result.units)
-        risk = f"{f.shimmy_probability:.2%}" + (
-            f" ({f.shimmy_probability_mc:.2%} ± {f.shimmy_probability_se:.2%})" if wide else ""
+        risk = percent(f.shimmy_probability) + (
+            f" ({percent(f.shimmy_probability_mc)} ± {percent(f.shimmy_probability_se)})" if wide else ""
         )
-        cells = [
-            str(rank),
-            escape(change),
-            f"{f.parts_cost:g}",
-            f"{f.turning_effort:.1f} ({f.cost_turning_effort:+.1f})",
-            f"{f.threshold_force:.1f} ({f.threshold_increase:+.1%})",
-            risk,
-        ]
+        turning, increase = number(f.cost_turning_effort, "turning_effort"), percent(f.threshold_increase)
+        cells = [str(rank), _changes(f, result.units), f"{f.parts_cost:g}"]
+        cells += [f"{number(f.turning_effort, 'turning_effort')} ({_plus(f.cost_turning_effort, turning)})"]
+        cells += [f"{number(f.threshold_force, 'threshold_force')} ({_plus(f.threshold_increase, increase)})", risk]
         if wide:
-            v_c = f"{f.critical_speed:.3f}" + (f" / {f.calibrated_critical_speed:.3f}" if result.calibration else "")
-            cells += [f"{f.inertia:.3g}", f"{f.loss:+.2f}", v_c, f"{f.confident_speed:.3f}"]
-            cells += [escape(written_size(f.swept_radius, result.units))]
-        table.add_row(*cells)
-    console.print(table)
+            v_c = number(f.critical_speed, "critical_speed")
+            v_c += f" / {number(f.calibrated_critical_speed, 'critical_speed')}" if result.calibration else ""
+            cells += [number(f.inertia, "inertia"), _plus(f.loss, number(f.loss, "weighted")), v_c]
+            cells += [number(f.confident_speed, "confident_speed"), written_size(f.swept_radius, result.units)]
+        rows.append(cells)
+    console.print(table(title, columns, rows, box=box.SIMPLE_HEAD, pad_edge=False))
+
+
+def _bound(result) -> str:
+    """The risk bound of the problem: "P(shimmy at 2.500 m/s) <= 5 %", or the nominal "V_c >= ..."."""
+    speed = shown(result.required_speed, "critical_speed")
+    if result.probability is None:
+        return f"V_c >= {speed} (nominal: [robust] enabled = false)"
+    return f"P(shimmy at {speed}) <= {percent(result.probability)}"
+
+
+def _parts(design, units: str) -> str:
+    """A caster's four parts as the problem writes them: "T = 1 1/4 in, d = 8 in, B = 0 in, c_f = 1.30 N·m/rad"."""
+    sizes = [
+        f"{s} = {written_size(getattr(design, n), units)}"
+        for s, n in (("T", "trail"), ("d", "diameter"), ("B", "groove"))
+    ]
+    return ", ".join(sizes + [f"c_f = {shown(design.damping, 'damping')}"])
+
+
+def _plus(value: float, text: str) -> str:
+    """A change ``value`` shown as ``text`` (:mod:`designer.display`) with its sign: "+0.722", "-6.073"."""
+    return ("+" if value > 0 else "") + text
 
 
 def _print_screen(result, problem) -> None:
@@ -316,24 +321,16 @@ def _no_fix_text(result, problem) -> str:
 def _screen_paragraphs(result, problem) -> list[tuple[str, str]]:
     """(heading, text) of the one-screen answer after its first line: Why, Cost, Inspect, Next (words generated
     from the result's numbers)."""
-    cur, units = result.current, problem.units
-    d = cur.design
-    size = lambda v: written_size(v, units)  # noqa: E731 - one short local formatter
-    bound = (
-        f"the bound {result.probability:.0%}"
-        if result.probability is not None
-        else f"V_c >= {result.required_speed:.2f} m/s (nominal)"
-    )
+    cur = result.current
     why = (
-        f"the caster as it is (T = {size(d.trail)}, d = {size(d.diameter)}, B = {size(d.groove)}, "
-        f"c_f = {d.damping:.3g} N·m/rad) has P(shimmy at {result.target_speed:.2f} m/s) = "
-        f"{cur.shimmy_probability:.2%} (exact; Monte Carlo {cur.shimmy_probability_mc:.2%} ± "
-        f"{cur.shimmy_probability_se:.2%}) against {bound}; V_c (Eq. 7) "
-        f"{cur.critical_speed:.2f} m/s"
+        f"the caster as it is ({_parts(cur.design, problem.units)}) has P(shimmy at "
+        f"{shown(result.target_speed, 'critical_speed')}) = {percent(cur.shimmy_probability)} (exact; Monte Carlo "
+        f"{percent(cur.shimmy_probability_mc)} ± {percent(cur.shimmy_probability_se)}) against the risk bound "
+        f"{_bound(result)}; V_c (Eq. 7) {shown(cur.critical_speed, 'critical_speed')}"
     )
-    out = [("Why", why + ("" if result.needs_fix else "; it needs no fix"))]
+    out = [("Why", why)]
     best = result.best
-    if result.needs_fix and best is not None:
+    if best is not None:
         out.append(("Cost", _cost_text(best, result)))
         out.append(("Inspect", _inspect_text(best, result, problem)))
     out.append(("Next", _next_text(result)))
@@ -359,7 +356,7 @@ def _inspect_text(best, result, problem) -> str:
         f" (limit {written_size(limit, units)}): check it clears the footrests" if limit else ""
     )
     if any(c.part == "wheel" for c in best.changes):
-        text += f"; the new wheel's I_w {best.inertia:.3g} kg·m² is " + (
+        text += f"; the new wheel's I_w {shown(best.inertia, 'inertia')} is " + (
             "measured" if best.measured else "the power law's: weigh and swing it if you can"
         )
     if best.extrapolated:
@@ -373,7 +370,8 @@ def _inspect_text(best, result, problem) -> str:
 
 def _next_text(result) -> str:
     """What to do next: fit and ride; calibrate with the speed it shimmied at; where the other fixes are."""
-    text = f"fit the parts and ride at {result.target_speed:.2f} m/s; if it shimmies, rerun with --shimmied-at SPEED"
+    text = f"fit the parts and ride at {shown(result.target_speed, 'critical_speed')}; if it shimmies, rerun with "
+    text += "--shimmied-at SPEED"
     text += " (the onset calibrates Eq. 7 for this chair)" if result.calibration is None else ""
     more = max(result.found - 1, 0)
     return text + (
@@ -395,7 +393,7 @@ def _if_measured_text(result) -> str:
     )
     return (
         f"Measuring the current wheel (--inertia) takes Table 1's scatter out of its risk: at the power law's "
-        f"{m['inertia']:.4g} kg·m², P(shimmy) {now:.2%} → {p:.2%} as it is ({effect}); "
+        f"{shown(m['inertia'], 'inertia')}, P(shimmy) {percent(now)} → {percent(p)} as it is ({effect}); "
         + (
             "the same best fix"
             if m["summary"] == result.summary()
@@ -407,7 +405,7 @@ def _if_measured_text(result) -> str:
 def _mc_text(state) -> str:
     """The Monte Carlo beside the exact P: ``Monte Carlo 61.88% ± 0.10%, 250000 draws, seed 20111``."""
     return (
-        f"Monte Carlo {state.shimmy_probability_mc:.2%} ± {state.shimmy_probability_se:.2%}, "
+        f"Monte Carlo {percent(state.shimmy_probability_mc)} ± {percent(state.shimmy_probability_se)}, "
         f"{state.mc_samples} draws, seed {state.mc_seed}"
     )
 
@@ -420,12 +418,8 @@ def _limits_short(spec, units: str) -> str:
     """The acceptance limits in one phrase, sizes in the problem's units, each rounded toward the safe side:
     ``T 1.727–2.125 in, B >= 0.652 in, M_f >= 0.197 N·m, I_w <= 0.00153 kg·m²`` (a part without a limit left out)."""
 
-    def short(lim) -> str:
-        text = limit_shown(lim.value, lim.unit, lim.side)
-        if lim.unit == "m":
-            mm, inch = text.split(" (")
-            return inch.rstrip(")") if units == "in" else mm
-        return text
+    def short(lim) -> str:  # a length in the problem's units only
+        return lim.shown_in(units).split(" (")[0]
 
     out = []
     for part, symbol in _SYMBOLS.items():
@@ -445,22 +439,24 @@ def _spec_lines(best, result) -> list[str]:
     spec = best.spec
     out = [
         f"Inspect the parts of the best fix (acceptance limits, each with the other parts at nominal; at a risk limit the "
-        f"exact law gives P(shimmy at {spec.required_speed:.2f} m/s) = {spec.alpha:.0%}): P(shimmy at "
-        f"{result.target_speed:.2f} m/s) {best.shimmy_probability:.2%} exact ({_mc_text(best)}); "
-        f"M_f = c_f θ0 = {spec.friction_moment:.3f} N·m (θ0 = {math.degrees(spec.disturbance_angle):.0f}°)"
+        f"exact law gives P(shimmy at {shown(spec.required_speed, 'critical_speed')}) = {percent(spec.alpha)}): "
+        "P(shimmy at "
+        f"{shown(result.target_speed, 'critical_speed')}) {percent(best.shimmy_probability)} exact ({_mc_text(best)}); "
+        f"M_f = c_f θ0 = {shown(spec.friction_moment, 'turning_moment')} "
+        f"(θ0 = {shown(spec.disturbance_angle, 'disturbance_angle')})"
     ]
     for part in PART_LABELS:
         for lim in (x for x in spec.limits if x.part == part):
-            shown = lim.shown_in(result.units)
+            text = lim.shown_in(result.units)
             why = "" if lim.reason == "risk" else f" ({lim.reason})"
-            out.append(f"  {lim.side} {PART_LABELS[part]}: {shown}{why}")
+            out.append(f"  {lim.side} {PART_LABELS[part]}: {text}{why}")
     if spec.stem_angle:
         out.append("  the trail is the fork offset e (the tyre sees e + (d/2) sin φ)")
     out.append("  how to measure: docs/problem-file.md#tolerances; --json: listed fixes' limits")
     if spec.corner is not None:
         c = spec.corner
         out.append(
-            f"  worst corner of the tolerances: P {c['probability']:.2%} (bound {spec.alpha:.0%}): "
+            f"  worst corner of the tolerances: P {percent(c['probability'])} (bound {percent(spec.alpha)}): "
             + ("holds" if c["holds"] else "does NOT hold")
         )
     return out

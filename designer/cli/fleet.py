@@ -5,20 +5,17 @@
 
 from __future__ import annotations
 
-import textwrap
 from pathlib import Path
 
+from designer.output import check_file, check_folder
 from designer.cli._common import (
     SEED_MAX,
-    check_output_file,
     say,
-    check_output_folder,
     count_option,
     eprint,
     print_json,
     quantity_option,
 )
-from designer.cli._terminal import width
 from designer.studies.fleet import (
     DEFAULT_MAX_REGRET,
     EXAMPLE_KIND,
@@ -34,7 +31,7 @@ from designer.studies.fleet import (
 from designer.errors import InputError
 from designer import example_problem, load_problem
 from designer.problem import tolerances_option
-from designer.display import shown
+from designer.display import number, shown
 from designer.units import written_size
 
 
@@ -106,7 +103,7 @@ def run(args) -> int:
             raise InputError(f"--example {args.example}: writes a fleet; do not also give FLEET.csv ({args.fleet})")
         target = args.out or f"fleet-example-{args.example}.csv"
         # before the fleet is made
-        check_output_file(target, "--out", example=f"fleet-example-{args.example}.csv", kind=EXAMPLE_KIND)
+        check_file(target, "--out", example=f"fleet-example-{args.example}.csv", kind=EXAMPLE_KIND)
         fleet = example_fleet(args.example, seed=args.seed)
         path = write_fleet_csv(fleet, target)
         if args.json:
@@ -129,8 +126,7 @@ def run(args) -> int:
         raise InputError(f"--skus {args.skus}: expected 1 or more part numbers")
     if args.skus is not None and args.no_skus:
         raise InputError(f"--skus {args.skus}: not with --no-skus (which skips the part numbers)")
-    if args.k_max is not None and not 1 <= args.k_max <= 50:
-        raise InputError(f"--k-max {args.k_max}: expected 1 to 50")
+    count_option(args.k_max, "--k-max", 1, 50)
     max_regret = quantity_option(args.max_regret, "force", "--max-regret", DEFAULT_MAX_REGRET)
     problem = example_problem("indoor-manual") if args.problem is None else load_problem(args.problem)
     if args.tolerances is not None:
@@ -139,7 +135,7 @@ def run(args) -> int:
     out = Path(args.out) if args.out else Path("results") / "fleet" / Path(args.fleet).stem
     from designer.report.fleet import OWNED, json_text, write_fleet_report
 
-    check_output_folder(out, owned=OWNED, command="designer fleet")  # before the work
+    check_folder(out, owned=OWNED, command="designer fleet")  # before the work
     result = fleet_recommendations(
         fleet,
         problem,
@@ -163,10 +159,6 @@ def run(args) -> int:
     return 0
 
 
-KEEP = "\u00a0"
-"""A no-break space: joins the words of a size while a line is wrapped (then written as a plain space)."""
-
-
 SHOWN_SKUS = 12
 """Part numbers listed on the first screen (the rest: ``--verbose``, the report)."""
 
@@ -174,77 +166,69 @@ SHOWN_SKUS = 12
 def _print_screen(data: dict, run_info: dict, stock: int, out: Path, units: str) -> None:
     """The answer in one screen (at most 24 lines at 80 columns): how many part numbers, why that many, each part
     number, what it costs the chairs, what next; the rule, the regret per K and the timings behind ``--verbose``."""
-    say = _sayer()
     if data["answer"]:
         print(data["answer"])
     else:
-        say(f"{data['feasible_chairs']} of {data['chairs']} chairs have a caster ({stock} stock casters)")
+        print(f"{data['feasible_chairs']} of {data['chairs']} chairs have a caster ({stock} stock casters)")
     curve = [c["mean_regret_N"] for c in data["regret_curve"]]
     if data["k"] is not None and data["mean_regret_N"] is not None:
         k = data["k"]
         steps = sorted({1, (k + 1) // 2} - {k})
         fewer = "".join(
-            f"{curve[j - 1]:.1f} N with {j} part number{'s' if j > 1 else ''}, "
+            f"{_force(curve[j - 1])} with {j} part number{'s' if j > 1 else ''}, "
             for j in steps
             if j <= len(curve) and curve[j - 1] is not None
         )
         asked = "" if k == data["suggested_skus"]["count"] else f" Shown: {k} part numbers as asked (--skus)."
-        say(
+        print(
             "Why: a part number per chair would give each its own best caster (least turning effort plus sill "
-            f"force); sharing adds force, on average {fewer}{data['mean_regret_N']:.2f} N with {k}.{asked}"
+            f"force); sharing adds force, on average {fewer}{_force(data['mean_regret_N'])} with {k}.{asked}"
         )
         for sku in data["skus"][:SHOWN_SKUS]:
-            d = sku["design"]
-            say(
-                f"  part {sku['id']}: T {_size(d['trail'], units)}, d {_size(d['diameter'], units)}, "
-                f"B {_size(d['groove'], units)}, c_f {shown(d['damping'], 'damping')}: {sku['chairs']} chair{'s' if sku['chairs'] != 1 else ''}, "
-                f"{sku['count']} units"
-            )
+            print(_part_line(sku, units))
         if len(data["skus"]) > SHOWN_SKUS:
-            say(f"  and {len(data['skus']) - SHOWN_SKUS} more part numbers (the report, --verbose)")
-        say(
-            f"Cost: {data['mean_regret_N']:.2f} N more force per unit sold than each chair's own best caster, "
-            f"{data['worst_regret_N']:.1f} N for the worst-served chair."
+            print(f"  and {len(data['skus']) - SHOWN_SKUS} more part numbers (the report, --verbose)")
+        print(
+            f"Cost: {_force(data['mean_regret_N'])} more force per unit sold than each chair's own best caster, "
+            f"{_force(data['worst_regret_N'])} for the worst-served chair."
             + (" " + data["tolerance_price"]["sentence"] if data.get("tolerance_price") else "")
         )
     if data["k"] is None:
-        say(f"Next: open {out / 'index.html'} (each chair's caster); without --no-skus: the part numbers.")
+        print(f"Next: open {out / 'index.html'} (each chair's caster); without --no-skus: the part numbers.")
     else:
-        say(
+        print(
             f"Next: open {out / 'index.html'} (each part number's acceptance limits for goods-in); "
             "--skus K to choose another count; --verbose for the rule and the timings."
         )
 
 
-def _size(value: float, units: str) -> str:
-    """A size as the user writes it, its words joined (:data:`KEEP`) so that a wrap never parts them."""
-    return written_size(value, units).replace(" ", KEEP)
+def _force(value) -> str:
+    """A force [N] of the fleet's answer (a regret): :func:`designer.display.shown`."""
+    return shown(value, dimension="force")
 
 
-def _sayer():
-    """A printer of one paragraph wrapped to the terminal's width, continued two columns in."""
-    columns = width()
-
-    def say(text: str) -> None:
-        indent = " " * (len(text) - len(text.lstrip()) + 2)
-        lines = textwrap.fill(text, columns, subsequent_indent=indent, break_on_hyphens=False, break_long_words=False)
-        print(lines.replace(KEEP, " "))  # a size ("2 1/2 in") is never broken across lines
-
-    return say
+def _part_line(sku: dict, units: str) -> str:
+    """One part number: its four parts in the problem's units, the chairs it serves and the units sold."""
+    d, chairs = sku["design"], sku["chairs"]
+    sizes = ", ".join(
+        f"{symbol} {written_size(d[n], units)}" for symbol, n in (("T", "trail"), ("d", "diameter"), ("B", "groove"))
+    )
+    return (
+        f"  part {sku['id']}: {sizes}, c_f {shown(d['damping'], 'damping')}: "
+        f"{chairs} chair{'s' if chairs != 1 else ''}, {sku['count']} units"
+    )
 
 
 def _print(data: dict, run_info: dict, stock: int, out: Path, units: str) -> None:
     """The answer first (how many part numbers), then the part numbers, the chairs and the timings; lines
     wrapped to the terminal's width (``COLUMNS``; 80 when not a terminal)."""
-    say = _sayer()
-    size = lambda value: _size(value, units)  # noqa: E731 - one short local formatter
     if data["answer"]:
         print(data["answer"])
-        say(f"  {data['answer_detail']}")
-        say(f"  rule: {data['suggested_skus']['rule']}")
+        print(f"  {data['answer_detail']}")
+        print(f"  rule: {data['suggested_skus']['rule']}")
         if data.get("tolerance_price"):
-            say(f"  {data['tolerance_price']['sentence']}")
-    say(
+            print(f"  {data['tolerance_price']['sentence']}")
+    print(
         f"{data['feasible_chairs']} of {data['chairs']} chairs have a caster ({stock} stock casters; own "
         f"recommendation: {data['rule']})"
     )
@@ -252,28 +236,25 @@ def _print(data: dict, run_info: dict, stock: int, out: Path, units: str) -> Non
         k = data["k"]
         asked = "" if k == data["suggested_skus"]["count"] else " (asked with --skus)"
         if data["mean_regret_N"] is None:
-            say(f"K = {k}{asked}: no {k} stock casters serve every chair that has a caster")
+            print(f"K = {k}{asked}: no {k} stock casters serve every chair that has a caster")
         else:
-            say(
-                f"K = {k}{asked}: mean regret {data['mean_regret_N']:.2f} N per unit sold, worst chair "
-                f"{data['worst_regret_N']:.2f} N, total {data['total_regret_N']:.4g} N over {data['served_units']} "
+            print(
+                f"K = {k}{asked}: mean regret {_force(data['mean_regret_N'])} per unit sold, worst chair "
+                f"{_force(data['worst_regret_N'])}, total {_force(data['total_regret_N'])} over {data['served_units']} "
                 f"units ({data['sku_status']})"
             )
-            for s in data["skus"]:
-                d = s["design"]
-                say(
-                    f"  SKU {s['id']}: T {size(d['trail'])}, d {size(d['diameter'])}, B {size(d['groove'])}, c_f {d['damping']:.2f} N·m/rad: {s['chairs']} chairs, "
-                    f"{s['count']} units"
-                )
+            for sku in data["skus"]:
+                print(_part_line(sku, units))
             if data["skus"] and "spec" in data["skus"][0]:
-                say(
+                print(
                     "  what goods-in accepts for each (acceptance limits from the exact law at the most demanding "
                     "chair it serves) and its P(shimmy): the report, fleet.json skus[].spec"
                 )
-        curve = ", ".join(
-            f"{c['mean_regret_N']:.2f}" if c["mean_regret_N"] is not None else "–" for c in data["regret_curve"]
-        )
+        curve = ", ".join(number(c["mean_regret_N"], dimension="force") for c in data["regret_curve"])
         statuses = " or ".join(sorted({c["status"] for c in data["regret_curve"]}))
-        say(f"  mean regret [N] for K = 1…{len(data['regret_curve'])}: {curve} (each {statuses})")
-    say("  time [s]: " + ", ".join(f"{name} {seconds:.2f}" for name, seconds in run_info["timings"].items()))
-    say(f"report: {out / 'index.html'}")
+        print(f"  mean regret [N] for K = 1…{len(data['regret_curve'])}: {curve} (each {statuses})")
+    print(
+        "  time [s]: "
+        + ", ".join(f"{name} {number(seconds, dimension='time')}" for name, seconds in run_info["timings"].items())
+    )
+    print(f"report: {out / 'index.html'}")

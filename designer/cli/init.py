@@ -15,10 +15,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from designer import load_problem, problem_from_toml
-from designer.cli._common import choice_option, quantity_option, ranged_option
+from designer.cli._common import quantity_option
+from designer.display import shown
 from designer.errors import DesignerError, InputError, OutputError
 from designer.output import FileKind, check_file, write_file
-from designer.parameters import MASS_RANGE, SURFACES
+from designer.parameters import MASS_RANGE, PARAMETERS, SURFACES
 from designer.problem import REPORT_UNITS
 from designer.units import INCH
 
@@ -102,10 +103,10 @@ def run(args) -> int:
     load = _check(text, path).conditions.load  # L = m g f / 2 of the loader when given the mass
     write_file(path, text, "PATH", example="my-chair.toml", kind=NEW_FILE)
     if answers.load is not None:
-        print(f"wrote {path}: {answers.load:.1f} N per front caster")
+        print(f"wrote {path}: {shown(answers.load, 'load')} per front caster")
     else:
         f = answers.front_fraction
-        print(f"wrote {path}: {load:.1f} N per front caster = m g f / 2")
+        print(f"wrote {path}: {shown(load, 'load')} per front caster = m g f / 2")
         print(f"  with m = {answers.mass:g} kg (user plus chair), front fraction f = {f:g}")
         if not interactive and args.front_fraction is None:
             low, high = FRONT_FRACTION_TYPICAL
@@ -134,12 +135,12 @@ its default fits 80 columns and names no option."""
 _KINDS = {
     "mass": ("mass", "kg", 1.0, MASS_RANGE, "e.g. 90 kg"),
     "front_fraction": ("dimensionless", "", 1.0, (0.0, 1.0), "e.g. 0.3"),
-    "load": ("force", "N", 1.0, (1.0, 1e5), "e.g. 178 N"),
+    "load": ("force", "N", 1.0, PARAMETERS["load"].range, "e.g. 178 N"),
     "sill": ("length", "in", INCH, SILL_RANGE, "e.g. 1/2 in or 13 mm"),
-    "target_speed": ("speed", "m/s", 1.0, (0.01, 100.0), "e.g. 2.5 m/s"),
+    "target_speed": ("speed", "m/s", 1.0, PARAMETERS["target_speed"].range, "e.g. 2.5 m/s"),
 }
-"""Each numeric question: its dimension, the unit its range is said in (and that unit in SI), its range [SI] and
-an example answer."""
+"""Each numeric question: its dimension, the unit its range is said in (and that unit in SI), its range [SI] (the
+parameter table's where it has one) and an example answer."""
 
 _CHOICES = {"floor": (SURFACES, "a floor this tool knows"), "units": (REPORT_UNITS, "a unit system it writes")}
 """Each question with a fixed set of answers, and what a wrong answer is not."""
@@ -207,44 +208,23 @@ def _defaults() -> dict[str, str]:
 
 
 def _answers(given: dict) -> Answers:
-    """The answers from the options (or replies) in ``given``, each checked as its option; the rest defaults."""
-    defaults = _defaults()
+    """The answers from the options (or replies) in ``given``, each checked as its reply (:func:`reply_reason`)
+    and named by its option; the rest defaults."""
     mass, fraction = given.get("mass"), given.get("front_fraction")
     if given.get("load") is not None and (mass is not None or fraction is not None):
         raise InputError("--load and --mass: give the load per caster, or the mass and --front-fraction, not both")
     if fraction is not None and mass is None:
         raise InputError(f"--front-fraction {fraction}: needs --mass (load = mass g front_fraction / 2)")
-    m = f = load = None
-    if mass is not None:
-        m = quantity_option(mass, "mass", "--mass")
-        if not MASS_RANGE[0] <= m <= MASS_RANGE[1]:
-            raise InputError(f"--mass {mass}: must be {MASS_RANGE[0]:g} to {MASS_RANGE[1]:g} kg (user plus chair)")
-        f = quantity_option(fraction or f"{FRONT_FRACTION:g}", "dimensionless", "--front-fraction")
-        if not 0 < f <= 1:
-            raise InputError(f"--front-fraction {fraction}: must be above 0 and at most 1 ({FRONT_FRACTION_NOTE})")
-    else:
-        load = ranged_option(given.get("load") or defaults["load"], "load", "--load", positive=True)
-    units = choice_option(given.get("units") or defaults["units"], REPORT_UNITS, "--units")
-    return Answers(
-        load=load,
-        mass=m,
-        front_fraction=f,
-        sill=_sill(given.get("sill") or defaults["sill"], units),
-        floor=choice_option(given.get("floor") or defaults["floor"], SURFACES, "--floor"),
-        target_speed=ranged_option(
-            given.get("target_speed") or defaults["target_speed"], "target_speed", "--target-speed", positive=True
-        ),
-        units=units,
-    )
-
-
-def _sill(text: str, units: str) -> float:
-    """The sill height [m] of ``--sill`` (or its reply), within :data:`SILL_RANGE`: InputError naming the option
-    and the true reason ("out of range 0.1–2 in") otherwise."""
-    reason = reply_reason("sill", text, units)
-    if reason is not None:
-        raise InputError(f"--sill {text}: {reason}")
-    return float(ranged_option(text, "threshold_height", "--sill", positive=True))
+    replies = {key: given.get(key) or _defaults().get(key) for key, _ in _QUESTIONS}
+    replies |= {"mass": mass, "front_fraction": fraction or f"{FRONT_FRACTION:g}"} if mass is not None else {}
+    replies |= {"load": None} if mass is not None else {"mass": None, "front_fraction": None}
+    units, values = replies["units"], {}
+    for key, reply in sorted(replies.items(), key=lambda item: item[0] != "units"):  # the units first
+        reason = None if reply is None else reply_reason(key, reply, units)
+        if reason is not None:
+            raise InputError(f"--{key.replace('_', '-')} {reply}: {reason}")
+        values[key] = reply if reply is None or key in _CHOICES else quantity_option(reply, _KINDS[key][0], "answer")
+    return Answers(**values)
 
 
 def _length(value: float, units: str) -> str:

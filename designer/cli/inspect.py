@@ -10,9 +10,10 @@ import warnings
 from pathlib import Path
 
 from designer import load_problem, recommend
-from designer.cli._common import PROBLEM_HELP, check_output_file, print_json
+from designer.cli._common import PROBLEM_HELP, print_json
+from designer.display import percent, shown
 from designer.errors import InputError, OutputError
-from designer.output import FileKind, write_file
+from designer.output import check_file, FileKind, write_file
 from designer.studies.inspect import inspect, read_measured, template_text
 
 EXIT_BAD_ROWS = 2
@@ -45,7 +46,7 @@ def _template(problem_arg: str, out: str) -> int:
     if os.path.lexists(path):
         raise OutputError(f"--template {path}: already exists; it is left as it is; choose a new file name")
     kind = FileKind("an inspection form written by designer inspect", new_only=True)  # never over anything
-    check_output_file(path, "--template", "measured.csv", kind=kind)
+    check_file(path, "--template", "measured.csv", kind=kind)
     problem = load_problem(problem_arg)
     write_file(path, template_text(problem), "--template", "measured.csv", kind=kind)
     print(f"inspection form: {path.resolve()} (fill one row per caster, then: designer inspect {problem_arg} {path})")
@@ -77,14 +78,14 @@ def run(args) -> int:
 def _print(result, rec) -> None:
     lot = result.lot()
     print(
-        f"{result.source}: P(shimmy at {result.speed:.3g} m/s) of each caster by the exact law, wheel I_w as "
-        f"measured; bound α = {result.alpha:.3g}"
+        f"{result.source}: P(shimmy at {shown(result.speed, 'target_speed')}) of each caster by the exact law, "
+        f"wheel I_w as measured; bound α = {percent(result.alpha)}"
     )
     print(f"  {'serial':<12} {'P(shimmy)':>9}  verdict  {'driver':<13} joint box  one at a time")
     for c in result.casters:
         foot = "" if c.fits_footrest in (None, True) else "  (hits the footrest: T + d/2 > R_max)"
         print(
-            f"  {c.serial[:12]:<12} {c.shimmy_probability:>9.2%}  {'pass' if c.passed else 'FAIL':<7}  "
+            f"  {c.serial[:12]:<12} {percent(c.shimmy_probability):>9}  {'pass' if c.passed else 'FAIL':<7}  "
             f"{_DRIVER[c.driver]:<13} {'inside' if c.in_joint_box else 'outside':<10} "
             f"{'inside' if c.in_one_at_a_time else 'outside'}{foot}"
         )
@@ -92,9 +93,9 @@ def _print(result, rec) -> None:
         worst = lot["worst"]
         print(
             f"Lot: {lot['passed']} of {lot['graded']} pass; worst {worst['serial']} at "
-            f"{worst['shimmy_probability']:.2%} (driver: {_DRIVER[worst['driver']]}); fraction above α "
-            f"{lot['fraction_above_alpha']:.1%} ± {lot['fraction_above_alpha_se']:.1%} (binomial SE); mean "
-            f"P(shimmy) {lot['mean_shimmy_probability']:.2%}"
+            f"{percent(worst['shimmy_probability'])} (driver: {_DRIVER[worst['driver']]}); fraction above α "
+            f"{percent(lot['fraction_above_alpha'])} ± {percent(lot['fraction_above_alpha_se'])} (binomial SE); mean "
+            f"P(shimmy) {percent(lot['mean_shimmy_probability'])}"
         )
     print(
         "Driver: the part that, put back to the nominal of the recommended caster, lowers P the most. A caster "

@@ -17,14 +17,15 @@ import sys
 
 from pathlib import Path
 
-from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
+from designer.cli._common import PROBLEM_HELP, count_option, eprint, print_json, ranged_option
 
 from designer.errors import InputError
 from designer import load_problem
 from designer.problem import POINTS_RANGE, problem_files
 from types import SimpleNamespace
 
-from designer.display import quantity, shown
+from designer.cli.run import caster_line, symbol_shown
+from designer.display import shown
 from designer.report.text import plain_rule
 
 
@@ -69,16 +70,13 @@ def register(sub) -> None:
 
 
 def _progress():
-    """A transient rich progress bar on stderr, or None without rich or without a terminal to show it on (a
+    """A transient rich progress bar on stderr, or None without a terminal to show it on (a
     transient bar never shows elsewhere: rich need not be imported, 0.03 s of CPU)."""
     if not sys.stderr.isatty():
         return None
-    try:
-        from rich.console import Console
+    from rich.console import Console
+    from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
 
-        from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
-    except ImportError:  # pragma: no cover - rich is a dependency
-        return None
     console = Console(stderr=True)
     if not console.is_terminal:  # a log file or a pipe: no bar (an interruption leaves one line there)
         return None
@@ -86,11 +84,9 @@ def _progress():
     return Progress(*columns, console=console, transient=True)
 
 
-def _sizes(design: dict, units: str) -> str:
-    """The four parts by their symbols, in the problem's units: "T 63.50 mm, d 177.80 mm, ..."."""
-    return ", ".join(
-        f"{quantity(n).symbol} {shown(design[n], n, units)}" for n in ("trail", "diameter", "groove", "damping")
-    )
+def _forces(values: dict, units: str) -> str:
+    """The two forces of a caster by their symbols: "F_turn 7.012 N, P 98.48 N"."""
+    return ", ".join(symbol_shown(values[n], n, units) for n in ("turning_effort", "threshold_force"))
 
 
 def _print_summary(s: dict, problem) -> None:
@@ -98,21 +94,20 @@ def _print_summary(s: dict, problem) -> None:
         f"{s['problem']}: {s['points']} front points ({s['failed_points']} failed), "
         f"checks {s['checks_passed']}/{s['checks_total']} pass"
         + (f", FAILING: {', '.join(s['failing_checks'])}" if s["failing_checks"] else "")
-        + f" [{s['seconds']:.1f} s]"
+        + f" [{shown(s['seconds'], dimension='time')}]"
     )
     rec = s.get("recommendation")
     if rec is not None:
         why = plain_rule(problem, SimpleNamespace(rule=rec["rule"]))
         print(
-            f"  the caster to build: {_sizes(rec['design'], problem.units)}; "
-            f"F_turn {rec['turning_effort']:.3f} N, P {rec['threshold_force']:.2f} N ({why})"
+            f"  the caster to build: {caster_line(rec['design'], problem.units)}; {_forces(rec, problem.units)} ({why})"
         )
     opt = s["optimum"]
     if opt is not None:
         wheel = f"wheel {opt['wheel']}, " if opt.get("wheel") else ""
         print(
-            f"  with any sizes: {wheel}{_sizes(opt['design'], problem.units)}; "
-            f"F_turn {opt['objectives']['turning_effort']:.3f} N, P {opt['objectives']['threshold_force']:.2f} N"
+            f"  with any sizes: {wheel}{caster_line(opt['design'], problem.units)}; "
+            f"{_forces(opt['objectives'], problem.units)}"
         )
     for line in s.get("moved", {}).values():  # files of the existing report whose values moved (the rest kept)
         print(f"  rewritten: {line}")
@@ -120,11 +115,7 @@ def _print_summary(s: dict, problem) -> None:
 
 
 def run(args) -> int:
-    if args.points is not None and not POINTS_RANGE[0] <= args.points <= POINTS_RANGE[1]:
-        raise InputError(
-            f"--points {args.points}: must be a whole number from {POINTS_RANGE[0]} to {POINTS_RANGE[1]}, "
-            f"as [pareto] points in a problem file"
-        )
+    count_option(args.points, "--points", *POINTS_RANGE, ", as [pareto] points in a problem file")
     speed = ranged_option(args.target_speed, "target_speed", "--target-speed")
     if args.all:
         files = problem_files(args.problem or "problems")

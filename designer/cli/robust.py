@@ -5,9 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from designer import load_problem
-from designer.errors import InputError
 from designer.pipeline import ROBUST_POINTS, robust_data
-from designer.cli._common import PROBLEM_HELP, check_output_folder
+from designer.output import check_folder
+from designer.cli._common import PROBLEM_HELP, count_option
+from designer.display import percent, shown
 
 
 def register(sub) -> None:
@@ -33,12 +34,11 @@ def register(sub) -> None:
 def run(args) -> int:
     from designer.report.robust import OWNED, write_robust_report
 
-    if args.points < 2 or args.points > 501:
-        raise InputError(f"--points {args.points}: must be between 2 and 501")
+    count_option(args.points, "--points", 2, 501)
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / "robust" / problem.name
 
-    check_output_folder(out, owned=OWNED, command="designer robust")  # before the fronts
+    check_folder(out, owned=OWNED, command="designer robust")  # before the fronts
     data = robust_data(problem, args.points)
     write_robust_report(data, out)
     extra = [r["extra_effort"] for r in data.rows if r["extra_effort"] == r["extra_effort"]]
@@ -46,11 +46,12 @@ def run(args) -> int:
     print(f"risk-bounded front: {len(data.robust)} points; nominal: {len(data.nominal)} points")
     if extra:
         lo, hi = (0.0 if abs(v) < 5e-4 else v for v in (min(extra), max(extra)))  # no "-0.000"
-        print(f"price of safety: {lo:+.3f} to {hi:+.3f} N turning effort at equal threshold force")
+        lo, hi = (("+" if v > 0 else "") + shown(v, "turning_effort") for v in (lo, hi))
+        print(f"price of safety: {lo} to {hi} turning effort at equal threshold force")
     if probs:
         print(
-            f"Monte Carlo P(shimmy) on the risk-bounded front: {min(probs):.2%}–{max(probs):.2%} "
-            f"(target {data.uncertainty.probability:.1%})"
+            f"Monte Carlo P(shimmy) on the risk-bounded front: {percent(min(probs))}–{percent(max(probs))} "
+            f"(target {percent(data.uncertainty.probability)})"
         )
     for line in data.run.get("moved", {}).values():  # files of the existing report whose values moved
         print(f"rewritten: {line}")

@@ -3,8 +3,6 @@ problem as posed with margins, sensitivities and solver agreement."""
 
 from __future__ import annotations
 
-import math
-
 import designer
 from designer.cli._terminal import fit
 from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
@@ -41,23 +39,16 @@ def register(sub) -> None:
 
 
 def parse_weights(text: str | None):
-    """Parse "a,b" into two non-negative floats, not both zero."""
+    """Parse "a,b" into two non-negative floats, not both zero (:func:`designer.problem.check_weights`)."""
     if text is None:
         return None
-    parts = text.split(",")
     try:
-        values = tuple(float(x) for x in parts)
+        values = tuple(float(x) for x in text.split(","))
     except ValueError:
         raise InputError(f"--weights {text!r}: expected two numbers 'w_turn,w_threshold', e.g. 1,1") from None
     if len(values) != 2:
         raise InputError(f"--weights {text}: expected two numbers 'w_turn,w_threshold', e.g. 1,1; got {len(values)}")
-    for name, v in zip(("w_turn", "w_threshold"), values):
-        if not math.isfinite(v) or v < 0:
-            raise InputError(f"--weights {text}: {name} = {v:g} must be a finite non-negative number")
-    if sum(values) <= 0:
-        raise InputError(f"--weights {text}: the weights must not both be zero")
-
-    return check_weights(values, "--weights", error=InputError)
+    return check_weights(values, "--weights", error=InputError)  # finite, non-negative, not both zero
 
 
 def conditions_line(problem) -> str:
@@ -65,7 +56,8 @@ def conditions_line(problem) -> str:
     and ``front_fraction``: L = m g f / 2), the sill, the floor and the turning mode."""
     c = problem.conditions
     return (
-        f"For {c.load:.1f} N per front caster, a {written_size(c.threshold_height, problem.units)} sill, "
+        f"For {shown(c.load, 'load', problem.units)} per front caster, a "
+        f"{written_size(c.threshold_height, problem.units)} sill, "
         f"{c.surface} floor, {c.turning_mode} turning:"
     )
 
@@ -87,10 +79,11 @@ SOURCES = {
 """Where the risk comes from, in plain words (``Recommendation.risk["sources"]`` names)."""
 
 
-def caster_line(rec, units: str) -> str:
-    """The four parts in one line, by their symbols, in the problem's units: "T 2.500 in, d 7.000 in, ..."."""
-    d = rec.design
-    return "  " + ", ".join(symbol_shown(getattr(d, n), n, units) for n in ("trail", "diameter", "groove", "damping"))
+def caster_line(design, units: str) -> str:
+    """The four parts by their symbols, in the problem's units: "T 2.500 in, d 7.000 in, ..." (``design``: a
+    Design, or its dict)."""
+    values = design if isinstance(design, dict) else design.to_dict()
+    return ", ".join(symbol_shown(values[n], n, units) for n in ("trail", "diameter", "groove", "damping"))
 
 
 def cost_sentence(problem, rec) -> str:
@@ -119,7 +112,7 @@ def risk_sentence(problem, rec) -> str:
     out = ""
     if rec.risk is not None and rec.risk.get("sources"):
         top = max(rec.risk["sources"], key=lambda src: src["share"])
-        out = f"Most of the risk ({100 * top['share']:.0f} %) comes from {SOURCES.get(top['name'], top['name'])}."
+        out = f"Most of the risk ({percent(top['share'])}) comes from {SOURCES.get(top['name'], top['name'])}."
     m = rec.if_measured
     if m is not None:
         md, d = m["design"], rec.design
@@ -185,7 +178,7 @@ def answer(problem, rec) -> str:
     out = [
         conditions_line(problem),
         f"The caster to build: {caster_sentence(rec, units)}.",
-        caster_line(rec, units),
+        "  " + caster_line(rec.design, units),
         f"Why: {plain_rule(problem, rec)}.",
         cost_sentence(problem, rec),
     ]
@@ -259,7 +252,8 @@ def run(args) -> int:
     if args.verbose:
         t = solution.timings
         eprint(
-            f"timing: NLP build {t['build'] * 1000:.1f} ms, multi-start solve {t['solve'] * 1000:.1f} ms "
-            f"({solution.starts} starts), cross-checks {t['cross_check'] * 1000:.1f} ms"
+            f"timing: NLP build {shown(t['build'], dimension='time')}, multi-start solve "
+            f"{shown(t['solve'], dimension='time')} ({solution.starts} starts), cross-checks "
+            f"{shown(t['cross_check'], dimension='time')}"
         )
     return 0

@@ -4,12 +4,15 @@ from __future__ import annotations
 
 import math
 import warnings
+from functools import partial
 
 from designer import Conditions, Design, TyreParameters, bifurcation_diagram, knock_safe_speed, simulate
-from designer.cli._common import check_output_file, end_progress_line, eprint, inertia_option, print_json
-from designer.cli._common import progress_line, quantity_option, ranged_option
+from designer.cli._common import api_named, count_option, end_progress_line, eprint, inertia_option
+from designer.cli._common import print_json, progress_line, quantity_option, ranged_option
+from designer.display import number, percent, shown
+from designer.parameters import VARIABLE_TABLE
 from designer.errors import InputError
-from designer.output import PLOT, output_folder
+from designer.output import check_file, output_folder, PLOT
 from designer.studies.dynamics.limit_cycles import limit_cycle_study
 from designer.plots.simulation import bifurcation_axes
 from designer.studies.dynamics import onset_speed, scaled_budget, work_limit
@@ -78,7 +81,7 @@ def _register_limit_cycles(p) -> None:
     g.add_argument("--wheel-mass", default="0.444 kg", help="wheel mass M_W for the brush tyre (default 0.444 kg)")
     g.add_argument("--max-speed", default="4 m/s", help="upper speed of --bifurcation (default 4 m/s)")
     g.add_argument(
-        "--points", default=str(DEFAULT_POINTS), help="orbits on the unstable branch of --bifurcation (default 24)"
+        "--points", type=int, default=DEFAULT_POINTS, help="orbits on the unstable branch of --bifurcation (default 24)"
     )
 
 
@@ -103,21 +106,17 @@ def _bounded(option: str, value: float, text: str) -> float:
 
 
 def _tyre(args):
+    """The brush tyre of ``--friction-coefficient``, ``--cornering-stiffness``, ``--wheel-mass`` and ``--load``."""
+    given = (("--friction-coefficient", "dimensionless"), ("--cornering-stiffness", "force"), ("--wheel-mass", "mass"))
     values = {}
-    for option, text in (
-        ("--friction-coefficient", args.friction_coefficient),
-        ("--cornering-stiffness", args.cornering_stiffness),
-    ):
-        try:
-            values[option] = float(text)
-        except ValueError:
-            raise InputError(f"{option} {text!r}: expected a number") from None
-        _bounded(option, values[option], text)
+    for option, dimension in given:
+        text = getattr(args, option[2:].replace("-", "_"))
+        values[option] = _bounded(option, quantity_option(text, dimension, option), text)
     return TyreParameters(
         cornering_stiffness=values["--cornering-stiffness"],
         friction_coefficient=values["--friction-coefficient"],
         load=ranged_option(args.load, "load", "--load"),
-        wheel_mass=_bounded("--wheel-mass", quantity_option(args.wheel_mass, "mass", "--wheel-mass"), args.wheel_mass),
+        wheel_mass=values["--wheel-mass"],
     )
 
 
@@ -130,7 +129,7 @@ def _run_limit_cycles(args) -> int:
     tyre = _tyre(args)
     out: dict = {"design": design.to_dict(), "angle": angle}
     if args.knock_safe:
-        out.update(_knock_safe(design, conditions, angle, tyre if args.tyre else None))
+        out.update(knock_safe_speeds(design, conditions, angle, tyre if args.tyre else None))
     if args.bifurcation:
         out.update(_bifurcation(args, design, conditions, angle, tyre))
     if args.json:
@@ -140,7 +139,7 @@ def _run_limit_cycles(args) -> int:
     return 0
 
 
-def _knock_safe(design, conditions, angle: float, tyre) -> dict:
+def knock_safe_speeds(design, conditions, angle: float, tyre) -> dict:
     """Knock-safe speeds [m/s] for knocks of ``angle`` and twice it (None at or beyond 90°); ``tyre`` None: rolling."""
     return {
         "knock_safe_speed": knock_safe_speed(design, conditions, angle=angle, tyre=tyre),
@@ -153,7 +152,7 @@ def _knock_safe(design, conditions, angle: float, tyre) -> dict:
 
 def _bifurcation(args, design, conditions, angle: float, tyre) -> dict:
     """Periodic orbits against speed, brush tyre and rolling tyre (``--points``, ``--max-speed``); ``--plot`` draws them."""
-    points = _points(args)
+    points = args.points
     top = ranged_option(args.max_speed, "target_speed", "--max-speed")
     span = (min(0.3, top / 4), top)
     bif = bifurcation_diagram(design, conditions, tyre, speed_range=span, points=points)
@@ -176,17 +175,6 @@ BIFURCATION_KEYS = (
 
 DEFAULT_POINTS = 24
 """Orbits on the unstable branch of --bifurcation by default (its work budget grows with --points over this)."""
-
-
-def _points(args) -> int:
-    """--points of --bifurcation: a whole number from 3 to 200."""
-    try:
-        points = int(args.points)
-    except ValueError:
-        raise InputError(f"--points {args.points!r}: expected an integer") from None
-    if not 3 <= points <= 200:
-        raise InputError(f"--points {points}: must be between 3 and 200")
-    return points
 
 
 def _plot_bifurcation(path, design, angle: float, bif, roll, top: float) -> None:
@@ -213,40 +201,42 @@ def _print_limit_cycles(args, design, angle: float, tyre, out: dict) -> None:
     if args.knock_safe:
         double = out["knock_safe_speed_double"]
         print(
-            f"knock-safe speed ({out['knock_safe_model']}): {out['knock_safe_speed']:.3f} m/s for a "
-            f"{math.degrees(angle):.0f}° knock"
-            + (f", {double:.3f} m/s for {math.degrees(2 * angle):.0f}°" if double is not None else "")
+            f"knock-safe speed ({out['knock_safe_model']}): {_speed(out['knock_safe_speed'])} for a "
+            f"{shown(angle, 'disturbance_angle')} knock"
+            + (f", {_speed(double)} for {shown(2 * angle, 'disturbance_angle')}" if double is not None else "")
         )
     if args.bifurcation:
         print(
-            f"Eq. 7 V_c = {out['eq7_critical_speed']:.3f} m/s; brush tyre (μ = {tyre.friction_coefficient:g}, "
-            f"C = {tyre.cornering_stiffness:g} N/rad, L = {tyre.load:g} N):"
+            f"Eq. 7 V_c = {_speed(out['eq7_critical_speed'])}; brush tyre (μ = {number(tyre.friction_coefficient)}, "
+            f"C = {number(tyre.cornering_stiffness)} N/rad, L = {shown(tyre.load, 'load')}):"
         )
         for b in out["branches"]:
             print(
-                f"  {b['kind']:8s} branch: V {min(b['speed']):.2f}–{max(b['speed']):.2f} m/s, amplitude "
-                f"{min(b['amplitude']):.3f}–{max(b['amplitude']):.3f} rad ({len(b['speed'])} orbits)"
+                f"  {b['kind']:8s} branch: V {_span(b['speed'], 'critical_speed')}, amplitude "
+                f"{_span(b['amplitude'], 'shimmy_amplitude')} ({len(b['speed'])} orbits)"
             )
         fold = out["fold_speed"]
-        print(
-            "  fold (lowest speed of sustained shimmy): " + (f"{fold:.2f} m/s" if math.isfinite(fold) else "none found")
-        )
+        print("  fold (lowest speed of sustained shimmy): " + (_speed(fold) if math.isfinite(fold) else "none found"))
         s = out["stable_at_reference"]
         if s is not None:
             print(
-                f"  stable amplitude at {out['eq7_critical_speed']:.2f} m/s: {s['amplitude']:.3f} rad "
-                f"({math.degrees(s['amplitude']):.1f}°), max |Floquet multiplier| {s['max_abs_multiplier']:.3f}"
+                f"  stable amplitude at {_speed(out['eq7_critical_speed'])}: "
+                f"{shown(s['amplitude'], 'shimmy_amplitude')}, "
+                f"max |Floquet multiplier| {number(s['max_abs_multiplier'])}"
             )
-        print(f"  largest orbit closure error {out['max_closure']:.1e} rad")
+        print(f"  largest orbit closure error {shown(out['max_closure'], dimension='angle', digits=1)}")
         if args.plot:
             print(f"  plot: {args.plot}")
 
 
-def _positive(option, text, dimension, allow_zero=False):
-    value = quantity_option(text, dimension, option)
-    if value < 0 or (value == 0 and not allow_zero):
-        raise InputError(f"{option} {text}: must be {'non-negative' if allow_zero else 'positive'}")
-    return value
+def _speed(value: float) -> str:
+    """A speed [m/s] as every speed of the output: :func:`designer.display.shown` of V_c."""
+    return shown(value, "critical_speed")
+
+
+def _span(values, name: str) -> str:
+    """The least and the largest of ``values`` [SI], as the parameter table shows ``name``: "0.30–2.60 m/s"."""
+    return f"{number(min(values), name)}–{shown(max(values), name)}"
 
 
 def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
@@ -254,40 +244,26 @@ def parse(args) -> tuple[Design, Conditions, float, float, float, float | None]:
     for option, value in (("--trail", args.trail), ("--speed", args.speed)):
         if value is None:
             raise InputError(f"{option}: missing; required unless --report is given")
-    design = Design(  # the model's ranges of the parameter table, as a problem file's bounds
-        trail=ranged_option(args.trail, "trail", "--trail", positive=True),
-        diameter=ranged_option(args.diameter, "diameter", "--diameter", positive=True),
-        groove=ranged_option(args.groove, "groove", "--groove"),
-        damping=ranged_option(args.damping, "damping", "--damping"),
-    )
+    # the model's ranges of the parameter table, as a problem file's bounds
+    design = Design(**{p.name: ranged_option(getattr(args, p.name), p.name, f"--{p.name}") for p in VARIABLE_TABLE})
     ranged_option(args.load, "load", "--load")
     speed = ranged_option(args.speed, "target_speed", "--speed")
-    angle = _positive("--angle", args.angle, "angle")
-    if angle >= math.pi / 2:
-        raise InputError(f"--angle {args.angle}: must be below 90 deg (small-angle model)")
-    theta0 = _positive("--disturbance-angle", args.disturbance_angle, "angle")
-    if theta0 >= math.pi / 2:
-        raise InputError(f"--disturbance-angle {args.disturbance_angle}: must be below 90 deg")
-    try:
-        omega0 = float(args.angular_velocity)
-    except ValueError:
-        raise InputError(f"--angular-velocity {args.angular_velocity!r}: expected a number in rad/s") from None
+    angle = quantity_option(args.angle, "angle", "--angle")
+    if not 0 < angle < math.pi / 2:
+        raise InputError(f"--angle {args.angle}: must be between 0 and 90 deg (small-angle model)")
+    omega0 = quantity_option(args.angular_velocity, "angular_speed", "--angular-velocity")
     if not (math.isfinite(omega0) and abs(omega0) <= MAX_ANGULAR_VELOCITY):
         raise InputError(
             f"--angular-velocity {args.angular_velocity}: must be between -{MAX_ANGULAR_VELOCITY:g} and "
             f"{MAX_ANGULAR_VELOCITY:g} rad/s (a knock's θ'_i; App. C estimates 0.7 rad/s)"
         )
-    inertia = inertia_option(args.inertia)
-    slip = ranged_option(args.slip_coefficient, "slip_coefficient", "--slip-coefficient")
-    duration = None
-    if args.duration is not None:
-        try:
-            duration = float(args.duration)
-        except ValueError:
-            raise InputError(f"--duration {args.duration!r}: expected a number of seconds") from None
-        if not math.isfinite(duration) or duration <= 0 or duration > 60:
-            raise InputError(f"--duration {args.duration}: must be between 0 and 60 s")
-    conditions = Conditions(disturbance_angle=theta0, slip_coefficient=slip, inertia=inertia)
+    theta0 = quantity_option(args.disturbance_angle, "angle", "--disturbance-angle")
+    slip = quantity_option(args.slip_coefficient, "force", "--slip-coefficient")
+    with api_named({"disturbance_angle ": "--disturbance-angle ", "slip_coefficient ": "--slip-coefficient "}):
+        conditions = Conditions(disturbance_angle=theta0, slip_coefficient=slip, inertia=inertia_option(args.inertia))
+    duration = quantity_option(args.duration, "time", "--duration")
+    if duration is not None and not 0 < duration <= 60:
+        raise InputError(f"--duration {args.duration}: must be between 0 and 60 s")
     return design, conditions, speed, angle, omega0, duration
 
 
@@ -295,10 +271,11 @@ def run(args) -> int:
     if args.plot and args.report is None:  # the plot's place, checked before the simulation
         if not str(args.plot).lower().endswith((".png", ".svg", ".pdf")):
             raise InputError(f"--plot {args.plot}: expected a .png, .svg or .pdf file name")
-        check_output_file(args.plot, "--plot", example="plot.png", kind=PLOT)
+        check_file(args.plot, "--plot", example="plot.png", kind=PLOT)
     if (args.bifurcation or args.knock_safe) and args.report is None:
         # one budget for all the command's studies, grown with the orbits asked for (--points, default 24)
-        budget = scaled_budget(_points(args), DEFAULT_POINTS) if args.bifurcation else None
+        count_option(args.points, "--points", 3, 200)  # orbits of --bifurcation
+        budget = scaled_budget(args.points, DEFAULT_POINTS) if args.bifurcation else None
         with work_limit("designer simulate", budget):
             return _run_limit_cycles(args)
 
@@ -324,20 +301,26 @@ def run(args) -> int:
         print_json(out)
         return 0
     verdict = "GROWS (shimmy)" if result.grows else "decays"
-    print(f"Caster: {design.describe()}, I_w = {result.inertia:.4g} kg·m², M_f = {result.friction_moment:.3f} N·m")
-    print(f"knock θ_i = {math.degrees(angle):.1f}°, θ'_i = {omega0:g} rad/s, V = {speed:.3f} m/s: {verdict}")
+    amplitude = partial(shown, name="shimmy_amplitude")
+    moment = shown(result.friction_moment, "turning_moment")
+    print(f"Caster: {design.describe()}, I_w = {shown(result.inertia, 'inertia')}, M_f = {moment}")
+    knock = f"θ_i = {shown(angle, 'disturbance_angle')}, θ'_i = {shown(omega0, dimension='angular_speed')}"
+    print(f"knock {knock}, V = {_speed(speed)}: {verdict}")
     print(
-        f"  amplitude after transient {result.early_amplitude:.4f} rad (Eq. 4/29B: {result.predicted_amplitude:.4f}),"
-        f" late {result.late_amplitude:.4f} rad; late/θ_i = {result.amplitude_ratio:.3f}, "
-        f"late/early = {result.growth_ratio:.3f}{' (|θ| reached 1 rad)' if result.diverged else ''}"
+        f"  amplitude after transient {amplitude(result.early_amplitude)} (Eq. 4/29B: "
+        f"{amplitude(result.predicted_amplitude)}), late {amplitude(result.late_amplitude)}; late/θ_i = "
+        f"{number(result.amplitude_ratio)}, "
+        f"late/early = {number(result.growth_ratio)}{' (|θ| reached 1 rad)' if result.diverged else ''}"
     )
-    freq = "n/a (motion stopped)" if not math.isfinite(result.frequency) else f"{result.frequency:.1f} rad/s"
-    print(f"  frequency {freq} (Eq. 15B: {result.predicted_frequency:.1f} rad/s)")
-    print(f"  Eq. 7 critical speed (c_f,eff = M_f/θ_i): {result.critical_speed:.3f} m/s")
+    freq = (
+        "n/a (motion stopped)" if not math.isfinite(result.frequency) else shown(result.frequency, "shimmy_frequency")
+    )
+    print(f"  frequency {freq} (Eq. 15B: {shown(result.predicted_frequency, 'shimmy_frequency')})")
+    print(f"  Eq. 7 critical speed (c_f,eff = M_f/θ_i): {_speed(result.critical_speed)}")
     if onset is not None:
         print(
-            f"  simulated onset {onset.speed:.3f} m/s (bracket {onset.low:.3f}–{onset.high:.3f}), "
-            f"{100 * onset.relative_error:+.1f} % vs Eq. 7"
+            f"  simulated onset {_speed(onset.speed)} (bracket {_span((onset.low, onset.high), 'critical_speed')}), "
+            f"{percent(onset.relative_error)} vs Eq. 7"
         )
     if args.plot:
         print(f"  plot: {args.plot}")
@@ -374,7 +357,7 @@ def _report(args, write_simulation_report) -> int:
         a = summary["all"]
         print(
             f"wrote {args.report}/report.md, onset.csv, onset.json, onset.png: {summary['cases']} cases, "
-            f"simulated onset vs Eq. 7 from {100 * a['min_error']:+.1f} % to {100 * a['max_error']:+.1f} %"
+            f"simulated onset vs Eq. 7 from {percent(a['min_error'])} to {percent(a['max_error'])}"
         )
         print(f"wrote {args.report}/{', '.join(written)} (shimmy beyond onset)")
     return 0

@@ -5,9 +5,10 @@ from __future__ import annotations
 import warnings
 from pathlib import Path
 
-from designer.output import FileKind, write_file
+from designer.output import check_file, FileKind, write_file
 from designer import load_problem, recommend
-from designer.cli._common import PROBLEM_HELP, check_output_file, say
+from designer.cli._common import PROBLEM_HELP, say
+from designer.display import percent
 
 
 def register(sub) -> None:
@@ -30,7 +31,7 @@ def run(args) -> int:
     kind = FileKind("an inspection sheet written by designer spec")
     problem = load_problem(args.problem)
     out = Path(args.out) if args.out else Path("results") / problem.name / "spec.html"
-    check_output_file(out, "--out", "spec.html", kind=kind)  # before computing: never over a file of the user's
+    check_file(out, "--out", "spec.html", kind=kind)  # before computing: never over a file of the user's
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)  # the sheet states the caster's own numbers
         rec = recommend(problem)
@@ -39,9 +40,10 @@ def run(args) -> int:
     corner = (
         ""
         if spec.corner is None
-        else f"; worst corner {spec.corner['probability']:.2%} ({'holds' if spec.corner['holds'] else 'does NOT hold'})"
+        else f"; worst corner {percent(spec.corner['probability'])} "
+        f"({'holds' if spec.corner['holds'] else 'does NOT hold'})"
     )
     note = say(out)  # onto stderr when the sheet went to stdout
-    note(f"P(shimmy) {spec.probability:.2%} at nominal (exact law){corner}; bound {spec.alpha:.0%}")
+    note(f"P(shimmy) {percent(spec.probability)} at nominal (exact law){corner}; bound {percent(spec.alpha)}")
     note(f"inspection sheet: {out if note is not print else out.resolve()}")
     return 0

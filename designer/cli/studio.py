@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from designer.cli._common import PROBLEM_HELP, check_output_folder
+from designer.output import check_folder
+from designer.cli._common import PROBLEM_HELP, count_option
 from designer.errors import InputError
 
 
@@ -26,9 +27,8 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    if not 0 <= args.port <= 65535:
-        raise InputError(f"--port {args.port}: expected 0 to 65535")
-    check_output_folder(args.out)  # "Save problem" and "Write report" write here: exit 7 now, not a failure later
+    count_option(args.port, "--port", 0, 65535)
+    check_folder(args.out)  # "Save problem" and "Write report" write here: exit 7 now, not a failure later
     try:
         import dash  # noqa: F401 - the web framework is optional: only the studio needs it
     except ImportError:

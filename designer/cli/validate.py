@@ -15,8 +15,8 @@ from designer.studies.checks import (
 )
 from designer.cli._terminal import fit
 from designer.cli._common import print_json
-from designer.cli._terminal import console as terminal_console
-from designer.units import INCH
+from designer.cli._terminal import console as terminal_console, table
+from designer.display import number, shown
 
 
 def register(sub) -> None:
@@ -96,27 +96,12 @@ def run(args) -> int:
         return 1 if failed else 0
     from rich.markup import escape
 
-    from rich.table import Table
-
     console = terminal_console()
-    for kind, title in (
-        ("paper", "Paper checks (against the paper's measurements and stated results)"),
-        ("identity", "Implementation identities (the paper's numbers built into the model)"),
-        ("law", "Risk-law checks (the law against the Table 1 wheels it was refitted without)"),
-    ):
-        table = Table(title=title, title_justify="left", show_lines=True)
-        for col in ("check", "paper's claim", "expected", "ours", "result"):
-            table.add_column(col)
-        for c in checks:
-            if c.kind == kind:
-                table.add_row(
-                    escape(c.name),
-                    escape(c.claim),
-                    escape(str(c.expected)),
-                    escape(str(c.got)),
-                    RESULT.get(c.outcome, c.outcome),
-                )
-        console.print(table)
+    for kind, title in KINDS:
+        rows = [
+            (c.name, c.claim, c.expected, c.got, RESULT.get(c.outcome, c.outcome)) for c in checks if c.kind == kind
+        ]
+        console.print(table(title, ("check", "paper's claim", "expected", "ours", "result"), rows, show_lines=True))
     for c in checks:
         if c.rows:
             console.print(_pit_table(c))
@@ -131,27 +116,22 @@ def run(args) -> int:
     return 1 if failed else 0
 
 
-PIT_COLUMNS = ("wheel", "d (in)", "V measured (m/s)", "I_w scale (ν)", "model error (ν)", "PIT from d", "PIT from I_w")
+PIT_COLUMNS = ("wheel", "d", "V measured", "I_w scale (ν)", "model error (ν)", "PIT from d", "PIT from I_w")
 """The columns of check 11's table."""
 
 
 def _pit_table(check):
     """Check 11's table: each Table 1 wheel left out, the law refitted without it, the PIT of its onset."""
-    from rich.table import Table
-
-    table = Table(
-        title=f"{check.name}: the risk law refitted without each wheel (coarse: five wheels)", title_justify="left"
-    )
-    for col in PIT_COLUMNS:
-        table.add_column(col)
-    for r in check.rows:
-        table.add_row(
+    rows = [
+        (
             r["wheel"],
-            f"{r['diameter'] / INCH:.0f}",
-            f"{r['measured_speed']:.2f}",
-            f"{r['inertia_scale']:.3f} ({r['inertia_dof']})",
-            f"{r['model_error_scale']:.4f} ({r['model_error_dof']})",
-            f"{r['pit_from_diameter']:.3f}" + ("" if r["inside_from_diameter"] else " outside"),
-            f"{r['pit_from_inertia']:.3f}" + ("" if r["inside_from_inertia"] else " outside"),
+            shown(r["diameter"], "diameter", "in"),
+            shown(r["measured_speed"], "critical_speed"),
+            f"{number(r['inertia_scale'])} ({r['inertia_dof']})",
+            f"{number(r['model_error_scale'])} ({r['model_error_dof']})",
+            number(r["pit_from_diameter"]) + ("" if r["inside_from_diameter"] else " outside"),
+            number(r["pit_from_inertia"]) + ("" if r["inside_from_inertia"] else " outside"),
         )
-    return table
+        for r in check.rows
+    ]
+    return table(f"{check.name}: the risk law refitted without each wheel (coarse: five wheels)", PIT_COLUMNS, rows)

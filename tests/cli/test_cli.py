@@ -43,7 +43,7 @@ def test_evaluate_table(capsys):
     assert main(EVAL + ["--target-speed", "3 m/s"]) == 0
     text = " ".join(capsys.readouterr().out.split())
     assert "critical shimmy speed V_c" in text and "At 3.000 m/s: Eq. 7 alone says it shimmies" in text
-    assert "in)" in text
+    assert "door-sill height h 0.500 in" in text
     assert main(EVAL + ["--target-speed", "3 m/s", "--verbose"]) == 0
     text = capsys.readouterr().out
     assert "critical shimmy" in text and "SHIMMIES" in text and "docs/model.md#turning-effort," in text
@@ -52,13 +52,13 @@ def test_evaluate_table(capsys):
 @pytest.mark.parametrize(
     "args, fragment",
     [
-        (["--trail", "=-2in"], "--trail '-2in' (-0.0508 m): must be positive"),
-        (["--trail", "0"], "--trail '0' (0 m): must be positive"),
+        (["--trail", "=-2in"], "--trail = '-2in' (-0.0508 m): outside the model's range"),
+        (["--trail", "0"], "--trail = 0 m: outside the model's range 0.001 to 0.25 m"),
         (["--diameter", "0.9in"], "--diameter 0.9in: must exceed twice the threshold height"),
-        (["--surface", "grass"], "--surface 'grass': expected one of tile, carpet"),
+        (["--surface", "grass"], "--surface = 'grass': expected one of tile, carpet"),
         (["--trail", "2kg"], "--trail = '2 kg': wrong dimension"),
         (["--damping", "abc"], "--damping"),
-        (["--turning-mode", "drift"], "--turning-mode 'drift'"),
+        (["--turning-mode", "drift"], "--turning-mode = 'drift'"),
     ],
 )
 def test_evaluate_bad_input(args, fragment, capsys):
@@ -259,7 +259,7 @@ def test_pareto_points_bounded_like_problem_file(points, tmp_path, capsys):
         )
         == 2
     )
-    assert f"--points {points}: must be a whole number from 3 to 2001" in capsys.readouterr().err
+    assert f"--points {points}: expected a whole number from 3 to 2001" in capsys.readouterr().err
 
 
 def test_pareto_front_api_rejects_huge_point_count():

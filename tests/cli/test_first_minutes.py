@@ -160,9 +160,9 @@ def test_init_interactive(tmp_path, monkeypatch, capsys):
     "extra, code, fragment",
     [
         (["--front-fraction", "0.3"], 2, "--front-fraction 0.3: needs --mass"),
-        (["--mass", "95kg", "--front-fraction", "1.5"], 2, "--front-fraction 1.5: must be above 0 and at most 1"),
+        (["--mass", "95kg", "--front-fraction", "1.5"], 2, "--front-fraction 1.5: out of range 0–1 (above 0)"),
         (["--mass", "95kg", "--load", "200N"], 2, "--load and --mass"),
-        (["--floor", "grass"], 2, "--floor 'grass': expected one of tile, carpet"),
+        (["--floor", "grass"], 2, "--floor grass: not a floor this tool knows: tile or carpet"),
         (["--sill", "5in"], 2, "--sill 5in: out of range 0.1–2 in"),
         (["--sill", "20in"], 2, "--sill 20in: out of range 0.1–2 in"),
         (["--sill", "60mm", "--units", "mm"], 2, "--sill 60mm: out of range 2.54–50.8 mm"),
