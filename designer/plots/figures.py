@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from designer.display import axis, rescale, shown
+from designer.display import axis, number, rescale, shown, unit
 from designer.data.paper import INCH, TABLE1_STABLE_UP_TO, TABLE1_TRAIL, WALKING_SPEED
 from designer.output import PLOT, SOFTWARE, write_file
 from designer.plots.fronts import COLOR_BY, dress, draw_fronts, plot_front, plot_variables
@@ -42,7 +42,8 @@ MECHANISM_STYLE = {
     "damper alone": ("#d62728", "--", "s"),
     "optimum mix": ("#2ca02c", ":", "D"),
 }
-MM = 1000.0
+MM = unit("length", "mm").factor
+"""Lengths are plotted in millimetres."""
 BOXED = dict(bbox=dict(facecolor="white", alpha=0.8, lw=0))
 """A note's white box."""
 WHEEL_COLOURS = ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d")
@@ -314,14 +315,20 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, curves: d
     ax = fig.add_subplot()
     d = np.asarray(curves["diameter"], float)
     d_lo, d_hi = d[0], d[-1]
-    ax.plot(d * MM, curves["exact"], color="#1f77b4", lw=1.8, label=f"exact, Eq. 4A (h = {h / INCH:.3g} in)")
+    ax.plot(
+        d * MM,
+        curves["exact"],
+        color="#1f77b4",
+        lw=1.8,
+        label=f"exact, Eq. 4A (h = {shown(h, 'threshold_height', 'in')})",
+    )
     ax.plot(d * MM, curves["approximate"], color="#1f77b4", lw=1.2, ls="--", label="approximate, Eq. 5A: 2 sqrt(h/d)")
     if curves["paper_diameter"] is not None:
         paper = np.asarray(curves["paper_diameter"], float) * MM
         ax.plot(paper, curves["paper_exact"], color="0.5", lw=1.2, label="exact, paper's h = 0.5 in (Fig. 2A)")
     b = diameter_bounds
     if b.fixed:
-        ax.axvline(b.low * MM, color="#ff7f0e", lw=1.2, label=f"fixed diameter {b.low / INCH:.3g} in")
+        ax.axvline(b.low * MM, color="#ff7f0e", lw=1.2, label=f"fixed diameter {shown(b.low, 'diameter', 'in')}")
     else:
         ax.axvspan(b.low * MM, b.high * MM, color="#ff7f0e", alpha=0.12, label="diameter bounds of the problem")
     if len(curves["front_diameters"]):
@@ -398,8 +405,9 @@ def _tradeoff_lines(left, bounds, rows) -> str:
         y = np.array([r.effort.get(mechanism) if r.effort.get(mechanism) is not None else np.nan for r in rows])
         ok = np.isfinite(y)
         left.plot(xs[ok], y[ok], color=colour, ls=ls, marker=marker, ms=4, lw=1.5, label=mechanism)
-        says = "{}: d = {:.3f} in ({:.1f} mm), least F_turn {:.3f} N"
-        left.hover(xs[ok], y[ok], [says.format(mechanism, x / (INCH * MM), x, v) for x, v in zip(xs[ok], y[ok])])
+        left.hover(
+            xs[ok], y[ok], [_says(mechanism, r.diameter, r.effort[mechanism]) for r, good in zip(rows, ok) if good]
+        )
         if np.any(~ok):
             left.scatter(xs[~ok], np.zeros((~ok).sum()), color=colour, marker="x", s=40, clip_on=False, zorder=4)
     bare = [
@@ -415,6 +423,12 @@ def _tradeoff_lines(left, bounds, rows) -> str:
     _inch_x(left, "wheel diameter d [in]")
     left.set_ylim(bottom=0)
     return "wheel diameter d [mm]"
+
+
+def _says(mechanism: str, diameter: float, effort: float) -> str:
+    """What a point of the groove/damper trade-off says on hover: its diameter (inches, mm) and least F_turn."""
+    sizes = f"{shown(diameter, 'diameter', 'in')} ({shown(diameter, 'diameter', 'mm')})"
+    return f"{mechanism}: d = {sizes}, least F_turn {shown(effort, 'turning_effort')}"
 
 
 def _tradeoff_bars(left, catalog, rows) -> str:
@@ -433,9 +447,13 @@ def _tradeoff_bars(left, catalog, rows) -> str:
             if v is None:
                 left.text(p, 0.02 * top, "×", ha="center", va="bottom", color=colour, fontsize=13, weight="bold")
             else:
-                left.text(p, v + 0.01 * top, f"{v:.1f}", ha="center", va="bottom", fontsize=6.5, rotation=90)
+                left.text(
+                    p, v + 0.01 * top, number(v, "turning_effort"), ha="center", va="bottom", fontsize=6.5, rotation=90
+                )
     labels = [
-        (f"{r.wheel}\n" if r.wheel else "") + f"{r.diameter / INCH:.3g} in\n{r.diameter * MM:.0f} mm" for r in rows
+        (f"{r.wheel}\n" if r.wheel else "")
+        + f"{shown(r.diameter, 'diameter', 'in')}\n{shown(r.diameter, 'diameter', 'mm')}"
+        for r in rows
     ]
     left.set_xticks(x, labels, fontsize=8)
     left.set_ylim(0, top * 1.35)

@@ -8,7 +8,7 @@ nominal front under the risk-bounded one, the price of safety) and marks single 
 from __future__ import annotations
 
 import numpy as np
-from designer.display import axis, rescale
+from designer.display import axis, header, rescale
 
 CURVE_STYLE = {
     "continuous": dict(color="#1f77b4", lw=1.6, ls="-", marker=None, ms=0, zorder=2),
@@ -177,10 +177,6 @@ def _colour_values(color_by, designs, critical_speed, n):
     return np.asarray(designs, float).reshape(n, 4)[:, column] * scale, what
 
 
-INCH_LABELS = {"trail": "T [in]", "diameter": "d [in]", "groove": "B [in]"}
-"""The inch axis of each length's panel of :func:`plot_variables` (one panel per :data:`COLOR_BY` variable)."""
-
-
 # long: four panels, their bounds, family switches and the shared legend in one figure
 def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=None):
     """The design variables along a front against its threshold force P [N]; returns the 2 × 2 array of Axes.
@@ -226,9 +222,9 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
         span = (high - low) * scale
         pad = 0.08 * (span if span > 0 else max(abs(low * scale), 1e-3))
         ax.set_ylim(low * scale - pad, high * scale + pad)
-        if name in INCH_LABELS:
+        if scale != 1.0:  # a length: millimetres, inches on the right
             inches = ax.secondary_yaxis("right", functions=(rescale("mm", "in"), rescale("in", "mm")))
-            inches.set_ylabel(INCH_LABELS[name])
+            inches.set_ylabel(header(name, "in"))
     for ax in axes[-1]:
         ax.set_xlabel(axis("threshold_force"))
     handles = [

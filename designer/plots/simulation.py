@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 
+from designer.display import axis, shown
 from designer.plots.fronts import dress
 
 
@@ -52,9 +53,10 @@ def plot_knock(
     ax.axhline(amp, color="tab:red", ls="--", lw=0.8, label=f"Eq. 29B amplitude ±{amp:.1f}°")
     ax.axhline(-amp, color="tab:red", ls="--", lw=0.8)
     ax.axhline(0, color="k", lw=0.5)
-    title = f"V = {speed:.2f} m/s: {'grows' if grows else 'decays'}; Eq. 7 V_c = {critical_speed:.2f} m/s"
+    title = f"V = {shown(speed, 'critical_speed')}: {'grows' if grows else 'decays'}; Eq. 7 V_c = "
+    title += shown(critical_speed, "critical_speed")
     if onset_speed is not None:
-        title += f", simulated onset {onset_speed:.2f} m/s"
+        title += f", simulated onset {shown(onset_speed, 'critical_speed')}"
     dress(ax, "time [s]", "caster angle θ [deg]", title, dict(fontsize=8), grid=False)
     return ax
 
@@ -86,19 +88,19 @@ def bifurcation_axes(
     _branches(ax, branches, rolling_branches)
     lo, hi = speed_range if speed_range is not None else ax.get_xlim()
     if fold_speed is not None and math.isfinite(fold_speed):
-        label = f"hysteresis: rest and shimmy both stable (V > {fold_speed:.2f} m/s)"
+        label = f"hysteresis: rest and shimmy both stable (V > {shown(fold_speed, 'critical_speed')})"
         ax.axvspan(fold_speed, hi, color="tab:orange", alpha=0.08, label=label)
     v = np.linspace(lo, hi, 50)
     ax.plot(v, eq29b_slope * v, ":", color="k", lw=1.2, label="Eq. 29B/6C amplitude θ0 V/(ωT)")
-    ax.axvline(eq7_speed, color="tab:green", lw=1.2, label=f"Eq. 7 V_c = {eq7_speed:.2f} m/s")
+    ax.axvline(eq7_speed, color="tab:green", lw=1.2, label=f"Eq. 7 V_c = {shown(eq7_speed, 'critical_speed')}")
     if measured is not None:
-        label = f"measured (Fig. 1C): {math.degrees(measured[1]):.0f}° at {measured[0]:.2f} m/s"
+        label = f"measured (Fig. 1C): {math.degrees(measured[1]):.0f}° at {shown(measured[0], 'critical_speed')}"
         ax.plot(*measured, "k*", ms=13, label=label)
     ax.set_xlim(lo, hi)
     ax.set_yscale("log")
     ax.secondary_yaxis("right", functions=(np.degrees, np.radians)).set_ylabel("[deg]")
     legend = dict(fontsize=7.5, loc="lower left")
-    dress(ax, "wheelchair speed V [m/s]", "shimmy amplitude θ_a [rad]", title or None, legend, grid=False)
+    dress(ax, "wheelchair speed V [m/s]", axis("shimmy_amplitude"), title or None, legend, grid=False)
     ax.grid(True, which="both", alpha=0.25)
     return ax
 
@@ -149,7 +151,7 @@ def table1_axes(wheels, measured, predictions: dict, stable_up_to: float | None 
         ax.bar(x - 0.4 + width * (k + 1.5), values, width, color=colours[k % 4], label=label)
     ax.set_xticks(x, wheels)
     xlabel = "Table 1 wheel (T = 2 in, bare fork c_f = 1.3 N·m/rad, B = 0)"
-    dress(ax, xlabel, "critical shimmy speed [m/s]", legend=dict(fontsize=7.5, loc="upper right"), grid=False)
+    dress(ax, xlabel, axis("critical_speed"), legend=dict(fontsize=7.5, loc="upper right"), grid=False)
     ax.grid(True, axis="y", alpha=0.3)
     return ax
 
@@ -298,9 +300,9 @@ def _trace_panel(ax, traces, onset_c) -> None:
     """(d) θ(t) [deg] of the Appendix C caster at 0.9, 1.0 and 1.1 × its onset speed."""
     for f, colour in ((0.9, "tab:green"), (1.0, "tab:gray"), (1.1, "tab:red")):
         r = traces[f]
-        label = f"V = {r.speed:.2f} m/s ({f:.1f} × onset): {'grows' if r.grows else 'decays'}"
+        label = f"V = {shown(r.speed, 'critical_speed')} ({f:.1f} × onset): {'grows' if r.grows else 'decays'}"
         ax.plot(r.t, np.degrees(r.theta), color=colour, lw=1, label=label)
     ax.axhline(0, color="k", lw=0.5)
-    title = f"(d) Appendix C caster (T = 2.5 in, θ_i = 20°): onset {onset_c.speed:.2f} m/s, "
-    title += f"Eq. 7 {onset_c.critical_speed:.2f} m/s"
+    title = f"(d) Appendix C caster (T = 2.5 in, θ_i = 20°): onset {shown(onset_c.speed, 'critical_speed')}, "
+    title += f"Eq. 7 {shown(onset_c.critical_speed, 'critical_speed')}"
     dress(ax, "time [s]", "caster angle θ [deg]", title, dict(fontsize=8, loc="lower right"), 9, grid=False)
