@@ -8,7 +8,8 @@ nominal front under the risk-bounded one, the price of safety) and marks single 
 from __future__ import annotations
 
 import numpy as np
-from designer.display import axis, header, rescale
+from designer.display import axis, header, quantity, rescale, unit
+from designer.parameters import VARIABLES
 
 CURVE_STYLE = {
     "continuous": dict(color="#1f77b4", lw=1.6, ls="-", marker=None, ms=0, zorder=2),
@@ -41,10 +42,8 @@ FAMILY_STYLE = {
 }
 """Colour and marker per design family (the mechanism that stops shimmy)."""
 COLOR_BY = {
-    "trail": ("trail T [mm]", 0, 1000.0),
-    "diameter": ("wheel diameter d [mm]", 1, 1000.0),
-    "groove": ("groove width B [mm]", 2, 1000.0),
-    "damping": ("spindle damping c_f [N·m/rad]", 3, 1.0),
+    name: (f"{name} {header(name, 'mm')}", k, unit(quantity(name).dimension, "mm").factor)
+    for k, name in enumerate(VARIABLES)
 }
 """``color_by`` choices of :func:`plot_front` besides "family", "critical_speed" and None: (label, design column,
 scale to the plotted unit)."""

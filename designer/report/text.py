@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from designer.display import percent, shown
+from designer.display import label, number, percent, quantity, shown
 from designer.data.paper import BARE_FORK_DAMPING
 from designer.report.formatting import size
 from designer.model import weighted_terms
@@ -18,6 +18,8 @@ DOMINANCE = 5.0
 """A weighted term this many times the other one dominates J (the report then says so)."""
 AT_END = 0.01
 """A weighted optimum within this fraction of the front's P (or F_turn) range from an end is "at" that end."""
+OBJECTIVES = ("turning_effort", "threshold_force")
+"""The two objectives, in the order of ``Front.objectives()``'s columns and of the weights."""
 ACTIVE_REL = 1e-6
 """A design with V_c within this relative distance of V_req sits on the shimmy constraint."""
 
@@ -232,24 +234,23 @@ def weights_line(problem, solution, front) -> str:
     )
     f_part, p_part = weighted_terms(f_opt, p_opt, w)
     if min(f_part, p_part) > 0 and max(f_part, p_part) > DOMINANCE * min(f_part, p_part):
-        big, small, k = (
-            ("threshold-force", "turning-effort", 1) if p_part > f_part else ("turning-effort", "threshold-force", 0)
-        )
+        k = int(p_part > f_part)  # the objective J mostly follows: 0 turning effort, 1 sill force
+        big, small = OBJECTIVES[k], OBJECTIVES[1 - k]
+        name = quantity(big).symbol
         line += (
-            f" Here the {big} term is {max(f_part, p_part) / min(f_part, p_part):.0f}× the {small} term, so J "
-            f"mostly follows {'P' if k else 'F_turn'}"
+            f" Here the {quantity(big).description} term is {max(f_part, p_part) / min(f_part, p_part):.0f}× the "
+            f"{quantity(small).description} term, so J mostly follows {name}"
         )
         if len(front.points) >= 2:
             values = front.objectives()[:, k]
             lo, hi = float(values.min()), float(values.max())
-            frac = ((p_opt if k else f_opt) - lo) / (hi - lo) if hi > lo else 0.0
-            name = "P" if k else "F_turn"
+            frac = ((f_opt, p_opt)[k] - lo) / (hi - lo) if hi > lo else 0.0
             if frac <= AT_END:
-                line += f": the optimum is the least-{name} end of the front ({name} = {lo:.2f} N)"
+                line += f": the optimum is the least-{name} end of the front ({name} = {shown(lo, big)})"
             else:
                 line += (
                     f", yet the optimum is not the least-{name} end: its {name} is {frac:.0%} of the front's "
-                    f"{name} range above the least ({lo:.2f} N)"
+                    f"{name} range above the least ({shown(lo, big)})"
                 )
         line += ". It is not the recommendation; scale the weights or cap one objective ([objective]) to change it."
     return line
@@ -277,14 +278,16 @@ def summary_lines(data) -> list[str]:
     problem, front = data.problem, data.front
     out = []
     if front.points:
-        f = front.objectives()
         d = np.array([p.design.diameter for p in front.points])
         kind = "within the risk bound" if problem.conditions.uncertainty is not None else "without a risk bound"
+        ranges = ", ".join(
+            f"{label(name)} {number(v.min(), name)}–{shown(v.max(), name)}"
+            for name, v in zip(("turning_effort", "threshold_force"), front.objectives().T)
+        )
         out.append(
-            f"With any sizes, not only the parts (the continuous front, {kind}): {len(front)} valid point{'s' if len(front) != 1 else ''} (of "
-            f"{front.meta.get('points_requested', len(front))} requested, {len(front.failed)} failed): turning "
-            f"effort {f[:, 0].min():.2f}–{f[:, 0].max():.2f} N, threshold force {f[:, 1].min():.1f}–"
-            f"{f[:, 1].max():.1f} N, wheel diameter {size(d.min(), problem.units)}–{size(d.max(), problem.units)}."
+            f"With any sizes, not only the parts (the continuous front, {kind}): {_count(len(front), 'valid point')} "
+            f"(of {front.meta.get('points_requested', len(front))} requested, {len(front.failed)} failed): {ranges}, "
+            f"wheel diameter {size(d.min(), problem.units)}–{size(d.max(), problem.units)}."
         )
     if data.recommendation is not None:
         out.append(stock_sentence(data.price_of_stock, getattr(problem, "stock", None) is not None))
