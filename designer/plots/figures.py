@@ -31,7 +31,7 @@ import numpy as np
 from designer.display import axis, number, rescale, shown, unit
 from designer.data.paper import INCH, TABLE1_STABLE_UP_TO, TABLE1_TRAIL, WALKING_SPEED
 from designer.output import PLOT, SOFTWARE, write_file
-from designer.plots.fronts import COLOR_BY, dress, draw_fronts, plot_front, plot_variables
+from designer.plots.fronts import COLOR_BY, dress, draw_fronts, plot_front, plot_variables, variable_axis
 from designer.plots.svg import Figure
 
 FIGURES = ("front", "variables", "trail", "inertia", "threshold", "groove_damper")
@@ -49,9 +49,10 @@ BOXED = dict(bbox=dict(facecolor="white", alpha=0.8, lw=0))
 WHEEL_COLOURS = ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d")
 
 
-def _inch_x(ax, label: str):
+def _inch_x(ax, name: str):
+    """The inch axis on top of a design variable ``name`` plotted in millimetres."""
     sec = ax.secondary_xaxis("top", functions=(rescale("mm", "in"), rescale("in", "mm")))
-    sec.set_xlabel(label)
+    sec.set_xlabel(variable_axis(name, "in"))
     return sec
 
 
@@ -258,10 +259,10 @@ def figure_trail(required_speed: float, curves: dict) -> Figure:
     ax.text(trail[-1] * MM - 1, req + 0.08, f"this problem's V_req = {req:.2f} m/s", fontsize=8, ha="right", **BOXED)
     ax.set_xlim(trail[0] * MM, trail[-1] * MM)
     ax.set_ylim(0, 7)
-    _inch_x(ax, "trail T [in]")
+    _inch_x(ax, "trail")
     title = "V_c vs trail, Table 1 wheels, Eq. 7 (B = 0, c_f = 1.3 N·m/rad) (cf. paper Fig. 14)"
     legend = dict(fontsize=7.5, loc="upper left", title="Table 1 wheel, I_w [kg·m²]", title_fontsize=8)
-    dress(ax, "trail T [mm]", axis("critical_speed"), title, legend)
+    dress(ax, variable_axis("trail"), axis("critical_speed"), title, legend)
     return fig
 
 
@@ -338,11 +339,11 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, curves: d
         ax.hover(dd * MM, ratio, [f"{d}: P/L = {r:.4f}, P = {r * load:.2f} N" for d, r in zip(sizes, ratio)])
     ax.set_xlim(d_lo * MM, d_hi * MM)
     ax.set_ylim(0, min(3.0, float(curves["exact"][0]) * 1.05))
-    _inch_x(ax, "wheel diameter d [in]")
+    _inch_x(ax, "diameter")
     sec = ax.secondary_yaxis("right", functions=(lambda r: r * load, lambda p: p / load))
     sec.set_ylabel(f"{axis('threshold_force')} at L = {load:.0f} N")
     title = "Force per unit load to climb a sill vs diameter (cf. paper Fig. 2A)"
-    dress(ax, "wheel diameter d [mm]", "force per unit load P/L [-]", title, dict(fontsize=8, loc="upper right"))
+    dress(ax, variable_axis("diameter"), axis("threshold_force_ratio"), title, dict(fontsize=8, loc="upper right"))
     return fig
 
 
@@ -420,9 +421,9 @@ def _tradeoff_lines(left, bounds, rows) -> str:
         left.axvspan(min(bare) - step, max(bare) + step, color="0.85", alpha=0.5, lw=0)
         note = "trail alone suffices:\nno groove, no damper"
         left.text(0.5 * (min(bare) + max(bare)), 0.5, note, ha="center", fontsize=8, color="0.3")
-    _inch_x(left, "wheel diameter d [in]")
+    _inch_x(left, "diameter")
     left.set_ylim(bottom=0)
-    return "wheel diameter d [mm]"
+    return variable_axis("diameter")
 
 
 def _says(mechanism: str, diameter: float, effort: float) -> str:
@@ -493,13 +494,13 @@ def _groove_damper_plane(ax, bounds, req, design, plane, robust: bool) -> None:
     ax.hover(*at, [f"weighted optimum: B = {shown(design.groove, 'groove', 'in')}, c_f = {design.damping:.3f} N·m/rad"])
     ax.set_xlim(0, g_hi * MM)
     ax.set_ylim(c_lo, c_hi)
-    _inch_x(ax, "groove width B [in]")
+    _inch_x(ax, "groove")
     legend = dict(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.14), framealpha=0.9)
     title = f"At the optimum's T = {shown(design.trail, 'trail', 'in', digits=2)}, d = {shown(design.diameter, 'diameter', 'in', digits=2)}"
     if cb.fixed or gb.fixed:
         title += " (beyond the problem's fixed values, for context)"
     size = 10 if not (cb.fixed or gb.fixed) else 9
-    dress(ax, "groove width B [mm]", "spindle friction damping c_f [N·m/rad]", title, legend, size, grid=False)
+    dress(ax, variable_axis("groove"), variable_axis("damping"), title, legend, size, grid=False)
 
 
 def is_bare_fork(bounds, design) -> bool:

@@ -16,7 +16,7 @@ import numpy as np
 from designer.display import axis, percent, quantity, unit
 from designer.parameters import VARIABLES
 from designer.plots.figures import _new
-from designer.plots.fronts import dress
+from designer.plots.fronts import dress, variable_axis
 from designer.plots.svg import Figure
 
 BLUE, RED, GREEN, GREY = "#1f77b4", "#d62728", "#2e7d32", "#7f7f7f"
@@ -75,7 +75,12 @@ def figure_distributions(values: dict, alpha: float | None = None) -> Figure:
     alpha : the risk bound's α, drawn on the P(shimmy) panel
     """
     panels = [  # the design variables (bars of their values; lengths in inches), then histograms
-        (key, axis(key, "in"), unit(quantity(key).dimension, "in").factor, key in VARIABLES)
+        (
+            key,
+            variable_axis(key, "in") if key in VARIABLES else axis(key),
+            unit(quantity(key).dimension, "in").factor,
+            key in VARIABLES,
+        )
         for key in (*VARIABLES, "turning_effort", "threshold_force", "shimmy_probability")
         if key in values and np.isfinite(np.asarray(values[key], float)).any()
     ]

@@ -41,9 +41,16 @@ FAMILY_STYLE = {
     "groove+damper": ("#9467bd", "D"),
 }
 """Colour and marker per design family (the mechanism that stops shimmy)."""
+
+
+def variable_axis(name: str, units: str = "mm") -> str:
+    """A design variable's short axis label: its name, symbol and unit in ``units`` ("trail T [mm]", "damping
+    c_f [N·m/rad]"; the table's descriptions are too long for a panel)."""
+    return f"{name} {header(name, units)}"
+
+
 COLOR_BY = {
-    name: (f"{name} {header(name, 'mm')}", k, unit(quantity(name).dimension, "mm").factor)
-    for k, name in enumerate(VARIABLES)
+    name: (variable_axis(name), k, unit(quantity(name).dimension, "mm").factor) for k, name in enumerate(VARIABLES)
 }
 """``color_by`` choices of :func:`plot_front` besides "family", "critical_speed" and None: (label, design column,
 scale to the plotted unit)."""
@@ -248,4 +255,5 @@ __all__ = [
     "new_axes",
     "plot_front",
     "plot_variables",
+    "variable_axis",
 ]

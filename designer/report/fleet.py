@@ -75,7 +75,7 @@ def sku_label(sku: dict, units: str = "in") -> str:
     wheel = f" ({sku['wheel']})" if sku.get("wheel") else ""
     return (
         f"{sku['id']}: T {written_size(d['trail'], units)}, d {written_size(d['diameter'], units)}{wheel}, "
-        f"B {written_size(d['groove'], units)}, c_f {shown(d['damping'], 'damping')}"
+        f"B {written_size(d['groove'], units)}, c_f {d['damping']:.3g} N·m/rad"
     )
 
 
@@ -187,16 +187,16 @@ def _sku_spec(spec: dict | None) -> dict:
         return {}
     lim, units = spec["limits"], spec["units"]
 
-    def shown(key: str) -> str:
+    def limit(key: str) -> str:
         return limit_shown(lim.get(key), units.get(key, ""), key.rsplit("_", 1)[1])
 
     def bound(sign: str, key: str) -> str:
         """``≥ 16.76 mm (0.660 in)``, or ``none`` (no limit inside the part's range: nothing to compare with)."""
-        text = shown(key)
+        text = limit(key)
         return text if text == "none" else f"{sign} {text}"
 
     p = spec["shimmy_probability"]
-    low, high = shown("trail_min"), shown("trail_max")
+    low, high = limit("trail_min"), limit("trail_max")
     trail = (
         "none"
         if low == high == "none"
