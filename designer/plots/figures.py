@@ -316,13 +316,8 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, curves: d
     ax = fig.add_subplot()
     d = np.asarray(curves["diameter"], float)
     d_lo, d_hi = d[0], d[-1]
-    ax.plot(
-        d * MM,
-        curves["exact"],
-        color="#1f77b4",
-        lw=1.8,
-        label=f"exact, Eq. 4A (h = {shown(h, 'threshold_height', 'in')})",
-    )
+    exact = f"exact, Eq. 4A (h = {shown(h, 'threshold_height', 'in')})"
+    ax.plot(d * MM, curves["exact"], color="#1f77b4", lw=1.8, label=exact)
     ax.plot(d * MM, curves["approximate"], color="#1f77b4", lw=1.2, ls="--", label="approximate, Eq. 5A: 2 sqrt(h/d)")
     if curves["paper_diameter"] is not None:
         paper = np.asarray(curves["paper_diameter"], float) * MM

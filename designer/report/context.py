@@ -434,11 +434,8 @@ def spec_rows(spec, units: str) -> list[list[str]]:
     def shown(value: Any, part: str) -> str:
         if value is None or isinstance(value, str):
             return value or "none"
-        return (
-            size(value, units)
-            if PART_DIMENSIONS[part] == "length"
-            else display.shown(value, dimension=PART_DIMENSIONS[part])
-        )
+        dimension = PART_DIMENSIONS[part]
+        return size(value, units) if dimension == "length" else display.shown(value, dimension=dimension)
 
     box = {} if spec.joint is None else spec.joint.cells(units)
     rows = []
@@ -689,13 +686,8 @@ def _knock_band(data: ReportData) -> str:
     )
 
 
-def _pair(point) -> str:
-    """An (F_turn, P) point of the objectives [N] as one cell."""
-    return _objectives(*point)
-
-
 def _objectives(turning_effort: float, threshold_force: float) -> str:
-    """The two objectives [N] as "F_turn 7.942 N, P 106.96 N" (symbols and precisions from the table)."""
+    """The two objectives [N] as one cell, "F_turn 7.942 N, P 106.96 N" (symbols and precisions from the table)."""
     return ", ".join(
         f"{display.quantity(name).symbol} {display.shown(value, name)}"
         for name, value in (("turning_effort", turning_effort), ("threshold_force", threshold_force))
@@ -724,11 +716,11 @@ def _indicators(front, problem, knee, best) -> list[dict]:
         ),
         (
             "hypervolume reference point",
-            _pair(ref),
+            _objectives(*ref),
             "nadir + 10 % of the front's extent (1 N where the extent is zero)",
         ),
-        ("ideal point", _pair(ideal), "best value of each objective on the front"),
-        ("nadir point", _pair(nadir), "worst value of each objective on the front"),
+        ("ideal point", _objectives(*ideal), "best value of each objective on the front"),
+        ("nadir point", _objectives(*nadir), "worst value of each objective on the front"),
         (
             "knee",
             ("solved on the continuous front" if knee not in front.points else f"point {front.points.index(knee)}")
