@@ -98,13 +98,14 @@ def draw_fronts(ax, curves, marks=(), legend: bool = True):
     return dress(ax, axis("threshold_force"), axis("turning_effort"), legend=LEGEND if legend else None)
 
 
-def new_axes(ax=None, figsize=(7.5, 5.0)):
-    """``ax``, or the Axes of a new figure of ``figsize`` [in] (pyplot, so a notebook shows it)."""
+def new_axes(ax=None, figsize=(7.5, 5.0), layout: str | None = "constrained"):
+    """``ax``, or the Axes of a new figure of ``figsize`` [in] with matplotlib's ``layout`` (pyplot, so a notebook
+    shows it; no backend is forced: matplotlib picks Agg without a display)."""
     if ax is not None:
         return ax
     import matplotlib.pyplot as plt
 
-    _, ax = plt.subplots(figsize=figsize, layout="constrained")
+    _, ax = plt.subplots(figsize=figsize, layout=layout)
     return ax
 
 

@@ -10,16 +10,7 @@ import math
 import numpy as np
 
 from designer.display import axis, shown
-from designer.plots.fronts import dress
-
-
-def _axes(ax, figsize=(7, 4.5), **layout):
-    if ax is None:
-        # pyplot, so a notebook shows the figure; no backend is forced (matplotlib picks Agg without a display)
-        import matplotlib.pyplot as plt
-
-        _, ax = plt.subplots(figsize=figsize, **layout)
-    return ax
+from designer.plots.fronts import dress, new_axes
 
 
 def plot_knock(
@@ -47,7 +38,7 @@ def plot_knock(
     onset_speed : simulated onset speed [m/s] or None
     ax : matplotlib Axes, or None for a new figure
     """
-    ax = _axes(ax, (8, 3.5), layout="constrained")
+    ax = new_axes(ax, (8, 3.5))
     ax.plot(t, np.degrees(theta), lw=1)
     amp = math.degrees(predicted_amplitude)
     ax.axhline(amp, color="tab:red", ls="--", lw=0.8, label=f"Eq. 29B amplitude ±{amp:.1f}°")
@@ -84,7 +75,7 @@ def bifurcation_axes(
     measured : optional (V [m/s], θ_a [rad]) of the paper's measurement (Fig. 1C)
     speed_range : (low, high) x limits [m/s]
     """
-    ax = _axes(ax)
+    ax = new_axes(ax, (7, 4.5), None)
     _branches(ax, branches, rolling_branches)
     lo, hi = speed_range if speed_range is not None else ax.get_xlim()
     if fold_speed is not None and math.isfinite(fold_speed):
@@ -100,7 +91,7 @@ def bifurcation_axes(
     ax.set_yscale("log")
     ax.secondary_yaxis("right", functions=(np.degrees, np.radians)).set_ylabel("[deg]")
     legend = dict(fontsize=7.5, loc="lower left")
-    dress(ax, "wheelchair speed V [m/s]", axis("shimmy_amplitude"), title or None, legend, grid=False)
+    dress(ax, "wheelchair speed V [m/s]", "shimmy amplitude θ_a [rad]", title or None, legend, grid=False)
     ax.grid(True, which="both", alpha=0.25)
     return ax
 
@@ -134,7 +125,7 @@ def table1_axes(wheels, measured, predictions: dict, stable_up_to: float | None 
     predictions : {label: [V [m/s] per wheel]}
     stable_up_to : treadmill limit [m/s] for wheels measured stable (drawn as an arrow from it)
     """
-    ax = _axes(ax, (8, 4.5))
+    ax = new_axes(ax, (8, 4.5), None)
     x = np.arange(len(wheels))
     width = 0.8 / (len(predictions) + 1)
     meas = np.array([np.nan if m is None else m for m in measured], float)
@@ -173,7 +164,7 @@ def map_axes(
     Colour: log scale; with ``center`` the ratio value/center on a diverging scale clipped to [1/2, 2].
     NaN cells are drawn grey and marked "none"; cells where ``marks`` is True get a "*".
     """
-    ax = _axes(ax, (4.5, 4))
+    ax = new_axes(ax, (4.5, 4), None)
     vals = np.asarray(values, float)
     masked = np.ma.masked_invalid(vals)
     import matplotlib.pyplot as plt  # heavy, only for figures
