@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from designer.data.paper import INCH
+from designer.display import shown
 from designer.errors import DesignerError, InertiaExtrapolationWarning, ModelRangeWarning
 from designer.problem import Problem
 from designer.reportdata import ReportData, RobustData
@@ -66,18 +66,19 @@ def degenerate_reason(problem: Problem, front: Front) -> tuple[str, str]:
         return (
             f"Catalog problem: each of the {n} Table 1 wheels offered ({', '.join(problem.wheels)}) gives its "
             f"own front, and the wheels' fronts are merged keeping only non-dominated designs. Wheel {p.wheel} "
-            f"(d = {p.design.diameter / INCH:.3f} in) has the lowest threshold force of the catalog and also "
-            f"reaches V_req = {problem.required_speed:.2f} m/s with the least turning effort "
-            f"({p.turning_effort:.2f} N), so no other wheel is better in either objective (wheels that tie "
-            f"are kept once): the front is this single design.",
+            f"(d = {shown(p.design.diameter, 'diameter', problem.units)}) has the lowest threshold force of the "
+            f"catalog and also reaches V_req = {shown(problem.required_speed, 'critical_speed')} with the least "
+            f"turning effort ({shown(p.turning_effort, 'turning_effort')}), so no other wheel is better in either "
+            "objective (wheels that tie are kept once): the front is this single design.",
             f"wheel {p.wheel} is best in both objectives",
         )
     if problem.bounds["diameter"].fixed:
         return (
-            f"The wheel diameter is fixed at {problem.bounds['diameter'].low / INCH:.3f} in, so the threshold "
-            f"force P = L·P/L(d/h) (Eq. 4A) is the same, {p.threshold_force:.2f} N, for every design: the two "
-            f"objectives do not conflict and the front is the single design of least turning effort.",
-            f"fixed diameter, P = {p.threshold_force:.1f} N for every design",
+            f"The wheel diameter is fixed at {shown(problem.bounds['diameter'].low, 'diameter', problem.units)}, so the "
+            f"threshold force P = L·P/L(d/h) (Eq. 4A) is the same, {shown(p.threshold_force, 'threshold_force')}, for "
+            "every design: the two objectives do not conflict and the front is the single design of least turning "
+            "effort.",
+            f"fixed diameter, P = {shown(p.threshold_force, 'threshold_force')} for every design",
         )
     return (
         "One design is best in both objectives, so the front collapses to a single point.",
@@ -226,7 +227,9 @@ def report_data(
                     tighter = pareto_front(
                         tighter_problem,
                         n_tight,
-                        progress=track(f"{problem.name}: front at {tighter_problem.target_speed:.3g} m/s"),
+                        progress=track(
+                            f"{problem.name}: front at {shown(tighter_problem.target_speed, 'target_speed')}"
+                        ),
                         knee=False,  # check 8c reads its points, never its knee
                     )
                 except DesignerError as exc:  # an unreachable tighter target only removes check 8c

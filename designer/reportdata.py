@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from designer.display import shown
+from designer.display import number, shown
 from designer.physics.uncertainty import Uncertainty
 from designer.problem import Problem
 from designer.reprs import Key, Record, dataframe
@@ -115,12 +115,16 @@ class ReportData(Record):
         if rec is not None:
             rows += [
                 ("recommendation", rec.design.describe(), ""),
-                ("its F_turn / P", f"{rec.turning_effort:.4g} / {rec.threshold_force:.4g}", "N"),
+                (
+                    "its F_turn / P",
+                    f"{number(rec.turning_effort, 'turning_effort')} / {number(rec.threshold_force, 'threshold_force')}",
+                    "N",
+                ),
             ]
         else:
             rows.append(("recommendation", self.recommendation_error or "none", ""))
         if self.solution is not None:
-            rows.append(("weighted optimum J", f"{self.solution.objectives['weighted']:.4g}", "N"))
+            rows.append(("weighted optimum J", number(self.solution.objectives["weighted"], "weighted"), "N"))
         failed = [c.name for c in self.checks if not c.passed]
         rows.append(("checks (failed)", f"{len(self.checks)} ({', '.join(failed) or 'none'})", ""))
         return rows
@@ -174,7 +178,7 @@ class RobustData(Record):
     def _repr_lines(self) -> list[str]:
         """One line: the two fronts and the largest extra turning effort the risk bound costs."""
         extra = [r["extra_effort"] for r in self.rows if np.isfinite(r["extra_effort"])]
-        most = f", extra F_turn up to {max(extra):.3g} N" if extra else ""
+        most = f", extra F_turn up to {shown(max(extra), 'turning_effort')}" if extra else ""
         return [
             f"RobustData({self.problem.name!r}: nominal front {len(self.nominal.points)} points, risk-bounded "
             f"{len(self.robust.points)} points at α = {self.uncertainty.probability:g}{most})"

@@ -28,10 +28,10 @@ from pathlib import Path
 
 import numpy as np
 
-from designer.display import axis, rescale, shown
+from designer.display import axis, number, rescale, shown, unit
 from designer.data.paper import INCH, TABLE1_STABLE_UP_TO, TABLE1_TRAIL, WALKING_SPEED
 from designer.output import PLOT, SOFTWARE, write_file
-from designer.plots.fronts import COLOR_BY, dress, draw_fronts, plot_front, plot_variables
+from designer.plots.fronts import COLOR_BY, dress, draw_fronts, plot_front, plot_variables, variable_axis
 from designer.plots.svg import Figure
 
 FIGURES = ("front", "variables", "trail", "inertia", "threshold", "groove_damper")
@@ -42,15 +42,17 @@ MECHANISM_STYLE = {
     "damper alone": ("#d62728", "--", "s"),
     "optimum mix": ("#2ca02c", ":", "D"),
 }
-MM = 1000.0
+MM = unit("length", "mm").factor
+"""Lengths are plotted in millimetres."""
 BOXED = dict(bbox=dict(facecolor="white", alpha=0.8, lw=0))
 """A note's white box."""
 WHEEL_COLOURS = ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d")
 
 
-def _inch_x(ax, label: str):
+def _inch_x(ax, name: str):
+    """The inch axis on top of a design variable ``name`` plotted in millimetres."""
     sec = ax.secondary_xaxis("top", functions=(rescale("mm", "in"), rescale("in", "mm")))
-    sec.set_xlabel(label)
+    sec.set_xlabel(variable_axis(name, "in"))
     return sec
 
 
@@ -257,10 +259,10 @@ def figure_trail(required_speed: float, curves: dict) -> Figure:
     ax.text(trail[-1] * MM - 1, req + 0.08, f"this problem's V_req = {req:.2f} m/s", fontsize=8, ha="right", **BOXED)
     ax.set_xlim(trail[0] * MM, trail[-1] * MM)
     ax.set_ylim(0, 7)
-    _inch_x(ax, "trail T [in]")
+    _inch_x(ax, "trail")
     title = "V_c vs trail, Table 1 wheels, Eq. 7 (B = 0, c_f = 1.3 N·m/rad) (cf. paper Fig. 14)"
     legend = dict(fontsize=7.5, loc="upper left", title="Table 1 wheel, I_w [kg·m²]", title_fontsize=8)
-    dress(ax, "trail T [mm]", axis("critical_speed"), title, legend)
+    dress(ax, variable_axis("trail"), axis("critical_speed"), title, legend)
     return fig
 
 
@@ -314,14 +316,15 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, curves: d
     ax = fig.add_subplot()
     d = np.asarray(curves["diameter"], float)
     d_lo, d_hi = d[0], d[-1]
-    ax.plot(d * MM, curves["exact"], color="#1f77b4", lw=1.8, label=f"exact, Eq. 4A (h = {h / INCH:.3g} in)")
+    exact = f"exact, Eq. 4A (h = {shown(h, 'threshold_height', 'in')})"
+    ax.plot(d * MM, curves["exact"], color="#1f77b4", lw=1.8, label=exact)
     ax.plot(d * MM, curves["approximate"], color="#1f77b4", lw=1.2, ls="--", label="approximate, Eq. 5A: 2 sqrt(h/d)")
     if curves["paper_diameter"] is not None:
         paper = np.asarray(curves["paper_diameter"], float) * MM
         ax.plot(paper, curves["paper_exact"], color="0.5", lw=1.2, label="exact, paper's h = 0.5 in (Fig. 2A)")
     b = diameter_bounds
     if b.fixed:
-        ax.axvline(b.low * MM, color="#ff7f0e", lw=1.2, label=f"fixed diameter {b.low / INCH:.3g} in")
+        ax.axvline(b.low * MM, color="#ff7f0e", lw=1.2, label=f"fixed diameter {shown(b.low, 'diameter', 'in')}")
     else:
         ax.axvspan(b.low * MM, b.high * MM, color="#ff7f0e", alpha=0.12, label="diameter bounds of the problem")
     if len(curves["front_diameters"]):
@@ -331,11 +334,11 @@ def figure_threshold(sill_height: float, load: float, diameter_bounds, curves: d
         ax.hover(dd * MM, ratio, [f"{d}: P/L = {r:.4f}, P = {r * load:.2f} N" for d, r in zip(sizes, ratio)])
     ax.set_xlim(d_lo * MM, d_hi * MM)
     ax.set_ylim(0, min(3.0, float(curves["exact"][0]) * 1.05))
-    _inch_x(ax, "wheel diameter d [in]")
+    _inch_x(ax, "diameter")
     sec = ax.secondary_yaxis("right", functions=(lambda r: r * load, lambda p: p / load))
     sec.set_ylabel(f"{axis('threshold_force')} at L = {load:.0f} N")
     title = "Force per unit load to climb a sill vs diameter (cf. paper Fig. 2A)"
-    dress(ax, "wheel diameter d [mm]", "force per unit load P/L [-]", title, dict(fontsize=8, loc="upper right"))
+    dress(ax, variable_axis("diameter"), axis("threshold_force_ratio"), title, dict(fontsize=8, loc="upper right"))
     return fig
 
 
@@ -398,8 +401,9 @@ def _tradeoff_lines(left, bounds, rows) -> str:
         y = np.array([r.effort.get(mechanism) if r.effort.get(mechanism) is not None else np.nan for r in rows])
         ok = np.isfinite(y)
         left.plot(xs[ok], y[ok], color=colour, ls=ls, marker=marker, ms=4, lw=1.5, label=mechanism)
-        says = "{}: d = {:.3f} in ({:.1f} mm), least F_turn {:.3f} N"
-        left.hover(xs[ok], y[ok], [says.format(mechanism, x / (INCH * MM), x, v) for x, v in zip(xs[ok], y[ok])])
+        left.hover(
+            xs[ok], y[ok], [_says(mechanism, r.diameter, r.effort[mechanism]) for r, good in zip(rows, ok) if good]
+        )
         if np.any(~ok):
             left.scatter(xs[~ok], np.zeros((~ok).sum()), color=colour, marker="x", s=40, clip_on=False, zorder=4)
     bare = [
@@ -412,9 +416,15 @@ def _tradeoff_lines(left, bounds, rows) -> str:
         left.axvspan(min(bare) - step, max(bare) + step, color="0.85", alpha=0.5, lw=0)
         note = "trail alone suffices:\nno groove, no damper"
         left.text(0.5 * (min(bare) + max(bare)), 0.5, note, ha="center", fontsize=8, color="0.3")
-    _inch_x(left, "wheel diameter d [in]")
+    _inch_x(left, "diameter")
     left.set_ylim(bottom=0)
-    return "wheel diameter d [mm]"
+    return variable_axis("diameter")
+
+
+def _says(mechanism: str, diameter: float, effort: float) -> str:
+    """What a point of the groove/damper trade-off says on hover: its diameter (inches, mm) and least F_turn."""
+    sizes = f"{shown(diameter, 'diameter', 'in')} ({shown(diameter, 'diameter', 'mm')})"
+    return f"{mechanism}: d = {sizes}, least F_turn {shown(effort, 'turning_effort')}"
 
 
 def _tradeoff_bars(left, catalog, rows) -> str:
@@ -433,9 +443,13 @@ def _tradeoff_bars(left, catalog, rows) -> str:
             if v is None:
                 left.text(p, 0.02 * top, "×", ha="center", va="bottom", color=colour, fontsize=13, weight="bold")
             else:
-                left.text(p, v + 0.01 * top, f"{v:.1f}", ha="center", va="bottom", fontsize=6.5, rotation=90)
+                left.text(
+                    p, v + 0.01 * top, number(v, "turning_effort"), ha="center", va="bottom", fontsize=6.5, rotation=90
+                )
     labels = [
-        (f"{r.wheel}\n" if r.wheel else "") + f"{r.diameter / INCH:.3g} in\n{r.diameter * MM:.0f} mm" for r in rows
+        (f"{r.wheel}\n" if r.wheel else "")
+        + f"{shown(r.diameter, 'diameter', 'in')}\n{shown(r.diameter, 'diameter', 'mm')}"
+        for r in rows
     ]
     left.set_xticks(x, labels, fontsize=8)
     left.set_ylim(0, top * 1.35)
@@ -475,13 +489,13 @@ def _groove_damper_plane(ax, bounds, req, design, plane, robust: bool) -> None:
     ax.hover(*at, [f"weighted optimum: B = {shown(design.groove, 'groove', 'in')}, c_f = {design.damping:.3f} N·m/rad"])
     ax.set_xlim(0, g_hi * MM)
     ax.set_ylim(c_lo, c_hi)
-    _inch_x(ax, "groove width B [in]")
+    _inch_x(ax, "groove")
     legend = dict(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.14), framealpha=0.9)
     title = f"At the optimum's T = {shown(design.trail, 'trail', 'in', digits=2)}, d = {shown(design.diameter, 'diameter', 'in', digits=2)}"
     if cb.fixed or gb.fixed:
         title += " (beyond the problem's fixed values, for context)"
     size = 10 if not (cb.fixed or gb.fixed) else 9
-    dress(ax, "groove width B [mm]", "spindle friction damping c_f [N·m/rad]", title, legend, size, grid=False)
+    dress(ax, variable_axis("groove"), variable_axis("damping"), title, legend, size, grid=False)
 
 
 def is_bare_fork(bounds, design) -> bool:

@@ -13,12 +13,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from designer.display import axis
-from designer.units import percent
+from designer.display import axis, percent, quantity, unit
+from designer.parameters import VARIABLES
 from designer.plots.figures import _new
-from designer.plots.fronts import dress
+from designer.plots.fronts import dress, variable_axis
 from designer.plots.svg import Figure
-from designer.units import INCH
 
 BLUE, RED, GREEN, GREY = "#1f77b4", "#d62728", "#2e7d32", "#7f7f7f"
 
@@ -75,16 +74,16 @@ def figure_distributions(values: dict, alpha: float | None = None) -> Figure:
         "threshold_force" [N], "shimmy_probability" [-]}: arrays over the feasible chairs (NaN ignored)
     alpha : the risk bound's α, drawn on the P(shimmy) panel
     """
-    panels = [
-        ("trail", "trail T [in]", 1 / INCH, True),
-        ("diameter", "wheel diameter d [in]", 1 / INCH, True),
-        ("groove", "groove B [in]", 1 / INCH, True),
-        ("damping", "damping c_f [N·m/rad]", 1.0, True),
-        ("turning_effort", axis("turning_effort"), 1.0, False),
-        ("threshold_force", axis("threshold_force"), 1.0, False),
-        ("shimmy_probability", "P(shimmy at V_target) [%]", 100.0, False),
+    panels = [  # the design variables (bars of their values; lengths in inches), then histograms
+        (
+            key,
+            variable_axis(key, "in") if key in VARIABLES else axis(key),
+            unit(quantity(key).dimension, "in").factor,
+            key in VARIABLES,
+        )
+        for key in (*VARIABLES, "turning_effort", "threshold_force", "shimmy_probability")
+        if key in values and np.isfinite(np.asarray(values[key], float)).any()
     ]
-    panels = [p for p in panels if p[0] in values and np.isfinite(np.asarray(values[p[0]], float)).any()]
     cols = 4
     rows = max(1, (len(panels) + cols - 1) // cols)
     fig = _new(11.0, 2.9 * rows + 0.3, left=0.6, right=0.15, bottom=0.75, top=0.55, wspace=0.45, hspace=0.75)

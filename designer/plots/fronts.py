@@ -8,7 +8,8 @@ nominal front under the risk-bounded one, the price of safety) and marks single 
 from __future__ import annotations
 
 import numpy as np
-from designer.display import axis, rescale
+from designer.display import axis, header, quantity, rescale, unit
+from designer.parameters import VARIABLES
 
 CURVE_STYLE = {
     "continuous": dict(color="#1f77b4", lw=1.6, ls="-", marker=None, ms=0, zorder=2),
@@ -40,11 +41,16 @@ FAMILY_STYLE = {
     "groove+damper": ("#9467bd", "D"),
 }
 """Colour and marker per design family (the mechanism that stops shimmy)."""
+
+
+def variable_axis(name: str, units: str = "mm") -> str:
+    """A design variable's short axis label: its name, symbol and unit in ``units`` ("trail T [mm]", "damping
+    c_f [N·m/rad]"; the table's descriptions are too long for a panel)."""
+    return f"{name} {header(name, units)}"
+
+
 COLOR_BY = {
-    "trail": ("trail T [mm]", 0, 1000.0),
-    "diameter": ("wheel diameter d [mm]", 1, 1000.0),
-    "groove": ("groove width B [mm]", 2, 1000.0),
-    "damping": ("spindle damping c_f [N·m/rad]", 3, 1.0),
+    name: (variable_axis(name), k, unit(quantity(name).dimension, "mm").factor) for k, name in enumerate(VARIABLES)
 }
 """``color_by`` choices of :func:`plot_front` besides "family", "critical_speed" and None: (label, design column,
 scale to the plotted unit)."""
@@ -92,13 +98,14 @@ def draw_fronts(ax, curves, marks=(), legend: bool = True):
     return dress(ax, axis("threshold_force"), axis("turning_effort"), legend=LEGEND if legend else None)
 
 
-def new_axes(ax=None, figsize=(7.5, 5.0)):
-    """``ax``, or the Axes of a new figure of ``figsize`` [in] (pyplot, so a notebook shows it)."""
+def new_axes(ax=None, figsize=(7.5, 5.0), layout: str | None = "constrained"):
+    """``ax``, or the Axes of a new figure of ``figsize`` [in] with matplotlib's ``layout`` (pyplot, so a notebook
+    shows it; no backend is forced: matplotlib picks Agg without a display)."""
     if ax is not None:
         return ax
     import matplotlib.pyplot as plt
 
-    _, ax = plt.subplots(figsize=figsize, layout="constrained")
+    _, ax = plt.subplots(figsize=figsize, layout=layout)
     return ax
 
 
@@ -177,10 +184,6 @@ def _colour_values(color_by, designs, critical_speed, n):
     return np.asarray(designs, float).reshape(n, 4)[:, column] * scale, what
 
 
-INCH_LABELS = {"trail": "T [in]", "diameter": "d [in]", "groove": "B [in]"}
-"""The inch axis of each length's panel of :func:`plot_variables` (one panel per :data:`COLOR_BY` variable)."""
-
-
 # long: four panels, their bounds, family switches and the shared legend in one figure
 def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=None):
     """The design variables along a front against its threshold force P [N]; returns the 2 × 2 array of Axes.
@@ -226,9 +229,9 @@ def plot_variables(threshold_force, designs, families, bounds, gaps=(), axes=Non
         span = (high - low) * scale
         pad = 0.08 * (span if span > 0 else max(abs(low * scale), 1e-3))
         ax.set_ylim(low * scale - pad, high * scale + pad)
-        if name in INCH_LABELS:
+        if scale != 1.0:  # a length: millimetres, inches on the right
             inches = ax.secondary_yaxis("right", functions=(rescale("mm", "in"), rescale("in", "mm")))
-            inches.set_ylabel(INCH_LABELS[name])
+            inches.set_ylabel(header(name, "in"))
     for ax in axes[-1]:
         ax.set_xlabel(axis("threshold_force"))
     handles = [
@@ -253,4 +256,5 @@ __all__ = [
     "new_axes",
     "plot_front",
     "plot_variables",
+    "variable_axis",
 ]

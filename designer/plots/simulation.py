@@ -9,16 +9,8 @@ import math
 
 import numpy as np
 
-from designer.plots.fronts import dress
-
-
-def _axes(ax, figsize=(7, 4.5), **layout):
-    if ax is None:
-        # pyplot, so a notebook shows the figure; no backend is forced (matplotlib picks Agg without a display)
-        import matplotlib.pyplot as plt
-
-        _, ax = plt.subplots(figsize=figsize, **layout)
-    return ax
+from designer.display import axis, shown
+from designer.plots.fronts import dress, new_axes
 
 
 def plot_knock(
@@ -46,15 +38,16 @@ def plot_knock(
     onset_speed : simulated onset speed [m/s] or None
     ax : matplotlib Axes, or None for a new figure
     """
-    ax = _axes(ax, (8, 3.5), layout="constrained")
+    ax = new_axes(ax, (8, 3.5))
     ax.plot(t, np.degrees(theta), lw=1)
     amp = math.degrees(predicted_amplitude)
     ax.axhline(amp, color="tab:red", ls="--", lw=0.8, label=f"Eq. 29B amplitude ±{amp:.1f}°")
     ax.axhline(-amp, color="tab:red", ls="--", lw=0.8)
     ax.axhline(0, color="k", lw=0.5)
-    title = f"V = {speed:.2f} m/s: {'grows' if grows else 'decays'}; Eq. 7 V_c = {critical_speed:.2f} m/s"
+    title = f"V = {shown(speed, 'critical_speed')}: {'grows' if grows else 'decays'}; Eq. 7 V_c = "
+    title += shown(critical_speed, "critical_speed")
     if onset_speed is not None:
-        title += f", simulated onset {onset_speed:.2f} m/s"
+        title += f", simulated onset {shown(onset_speed, 'critical_speed')}"
     dress(ax, "time [s]", "caster angle θ [deg]", title, dict(fontsize=8), grid=False)
     return ax
 
@@ -82,17 +75,17 @@ def bifurcation_axes(
     measured : optional (V [m/s], θ_a [rad]) of the paper's measurement (Fig. 1C)
     speed_range : (low, high) x limits [m/s]
     """
-    ax = _axes(ax)
+    ax = new_axes(ax, (7, 4.5), None)
     _branches(ax, branches, rolling_branches)
     lo, hi = speed_range if speed_range is not None else ax.get_xlim()
     if fold_speed is not None and math.isfinite(fold_speed):
-        label = f"hysteresis: rest and shimmy both stable (V > {fold_speed:.2f} m/s)"
+        label = f"hysteresis: rest and shimmy both stable (V > {shown(fold_speed, 'critical_speed')})"
         ax.axvspan(fold_speed, hi, color="tab:orange", alpha=0.08, label=label)
     v = np.linspace(lo, hi, 50)
     ax.plot(v, eq29b_slope * v, ":", color="k", lw=1.2, label="Eq. 29B/6C amplitude θ0 V/(ωT)")
-    ax.axvline(eq7_speed, color="tab:green", lw=1.2, label=f"Eq. 7 V_c = {eq7_speed:.2f} m/s")
+    ax.axvline(eq7_speed, color="tab:green", lw=1.2, label=f"Eq. 7 V_c = {shown(eq7_speed, 'critical_speed')}")
     if measured is not None:
-        label = f"measured (Fig. 1C): {math.degrees(measured[1]):.0f}° at {measured[0]:.2f} m/s"
+        label = f"measured (Fig. 1C): {math.degrees(measured[1]):.0f}° at {shown(measured[0], 'critical_speed')}"
         ax.plot(*measured, "k*", ms=13, label=label)
     ax.set_xlim(lo, hi)
     ax.set_yscale("log")
@@ -132,7 +125,7 @@ def table1_axes(wheels, measured, predictions: dict, stable_up_to: float | None 
     predictions : {label: [V [m/s] per wheel]}
     stable_up_to : treadmill limit [m/s] for wheels measured stable (drawn as an arrow from it)
     """
-    ax = _axes(ax, (8, 4.5))
+    ax = new_axes(ax, (8, 4.5), None)
     x = np.arange(len(wheels))
     width = 0.8 / (len(predictions) + 1)
     meas = np.array([np.nan if m is None else m for m in measured], float)
@@ -149,7 +142,7 @@ def table1_axes(wheels, measured, predictions: dict, stable_up_to: float | None 
         ax.bar(x - 0.4 + width * (k + 1.5), values, width, color=colours[k % 4], label=label)
     ax.set_xticks(x, wheels)
     xlabel = "Table 1 wheel (T = 2 in, bare fork c_f = 1.3 N·m/rad, B = 0)"
-    dress(ax, xlabel, "critical shimmy speed [m/s]", legend=dict(fontsize=7.5, loc="upper right"), grid=False)
+    dress(ax, xlabel, axis("critical_speed"), legend=dict(fontsize=7.5, loc="upper right"), grid=False)
     ax.grid(True, axis="y", alpha=0.3)
     return ax
 
@@ -171,7 +164,7 @@ def map_axes(
     Colour: log scale; with ``center`` the ratio value/center on a diverging scale clipped to [1/2, 2].
     NaN cells are drawn grey and marked "none"; cells where ``marks`` is True get a "*".
     """
-    ax = _axes(ax, (4.5, 4))
+    ax = new_axes(ax, (4.5, 4), None)
     vals = np.asarray(values, float)
     masked = np.ma.masked_invalid(vals)
     import matplotlib.pyplot as plt  # heavy, only for figures
@@ -298,9 +291,9 @@ def _trace_panel(ax, traces, onset_c) -> None:
     """(d) θ(t) [deg] of the Appendix C caster at 0.9, 1.0 and 1.1 × its onset speed."""
     for f, colour in ((0.9, "tab:green"), (1.0, "tab:gray"), (1.1, "tab:red")):
         r = traces[f]
-        label = f"V = {r.speed:.2f} m/s ({f:.1f} × onset): {'grows' if r.grows else 'decays'}"
+        label = f"V = {shown(r.speed, 'critical_speed')} ({f:.1f} × onset): {'grows' if r.grows else 'decays'}"
         ax.plot(r.t, np.degrees(r.theta), color=colour, lw=1, label=label)
     ax.axhline(0, color="k", lw=0.5)
-    title = f"(d) Appendix C caster (T = 2.5 in, θ_i = 20°): onset {onset_c.speed:.2f} m/s, "
-    title += f"Eq. 7 {onset_c.critical_speed:.2f} m/s"
+    title = f"(d) Appendix C caster (T = 2.5 in, θ_i = 20°): onset {shown(onset_c.speed, 'critical_speed')}, "
+    title += f"Eq. 7 {shown(onset_c.critical_speed, 'critical_speed')}"
     dress(ax, "time [s]", "caster angle θ [deg]", title, dict(fontsize=8, loc="lower right"), 9, grid=False)

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from designer.data.paper import INCH
+from designer.display import axis, shown, unit
 from designer.plots.fronts import dress
 
 
@@ -29,12 +29,15 @@ def draw_stem_geometry(ax, geometry: dict):
     g = geometry
     offset, radius, angle = g["offset"], g["radius"], g["angle"]
     axle, contact, foot, top = g["axle"], g["contact"], g["foot"], g["top"]
-    scale = 1 / INCH
+    scale = unit("length", "in").factor  # drawn in inches
     ax.axhline(0, color="0.3", lw=1)
     ax.add_patch(Circle(axle * scale, radius * scale, fill=False, lw=2, color="0.2"))
     ax.plot(*(np.array([[0, 0], top]).T * scale), "--", color="tab:blue", lw=1.2, label="stem axis")
     ax.plot(
-        *(np.array([foot, axle]).T * scale), color="tab:orange", lw=3, label=f"fork offset e = {offset * scale:.2f} in"
+        *(np.array([foot, axle]).T * scale),
+        color="tab:orange",
+        lw=3,
+        label=f"fork offset e = {shown(offset, dimension='length', units='in')}",
     )
     ax.plot(*axle * scale, "o", color="0.2", ms=4)
     ax.plot(*contact * scale, "o", color="tab:red", ms=5)
@@ -42,10 +45,10 @@ def draw_stem_geometry(ax, geometry: dict):
     ax.annotate(
         "", xy=(0, -0.35), xytext=(contact[0] * scale, -0.35), arrowprops={"arrowstyle": "<->", "color": "tab:green"}
     )
-    text = f"floor trail t_g = {t_g * scale:.3f} in"
+    text = f"floor trail t_g = {shown(t_g, dimension='length', units='in')}"
     ax.text(contact[0] * scale / 2, -0.75, text, ha="center", color="tab:green", fontsize=8)
     proj = g["projection"]  # foot of the perpendicular from the contact to the axis
-    label = f"effective trail T_eff = e + R sin φ = {t_eff * scale:.3f} in"
+    label = f"effective trail T_eff = e + R sin φ = {shown(t_eff, 'effective_trail', 'in')}"
     ax.plot(*(np.array([contact, proj]).T * scale), color="tab:purple", lw=2, label=label)
     text = f"φ = {math.degrees(angle):.0f}°"
     ax.text(top[0] * scale - 0.2, top[1] * scale + 0.1, text, color="tab:blue", fontsize=9, ha="right")
@@ -63,7 +66,7 @@ def draw_speed_against_angle(ax, angles, speeds, marks=()):
     for a, v, label in marks:
         ax.plot([a], [v], "o", color="tab:red")
         ax.annotate(label, (a, v), textcoords="offset points", xytext=(6, -12), fontsize=8)
-    return dress(ax, "stem angle φ [deg] (positive: top leans back)", "critical speed V_c, Eq. 7 [m/s]")
+    return dress(ax, "stem angle φ [deg] (positive: top leans back)", f"{axis('critical_speed')}, Eq. 7")
 
 
 def stem_figure(curves: dict):
@@ -76,7 +79,7 @@ def stem_figure(curves: dict):
     from matplotlib.figure import Figure
 
     g = curves["geometry"]
-    marks = [(a, v, f"{a:+.0f}°: {v:.3f} m/s") for a, v in curves["marks"]]
+    marks = [(a, v, f"{a:+.0f}°: {shown(v, 'critical_speed')}") for a, v in curves["marks"]]
     fig = Figure(figsize=(11, 4.6))
     left, right = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.1, 1]})
     draw_stem_geometry(left, g)

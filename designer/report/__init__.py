@@ -9,7 +9,7 @@ Modules
 -------
 writer      render a :class:`designer.reportdata.ReportData` (templates, figures, data files) and write it safely
 context     the Pareto page's tables as display strings (``build_context``), shared by both templates
-formatting  numbers as table cells (SI and inches, "n/a"), for every report kind
+formatting  numbers as table cells (through designer.display), for every report kind
 files       safe report folders: refuse a foreign folder, replace atomically, keep files not owned
 text        the sentences of the report, each generated from the data it states
 figures     which plots/ function draws each figure of the Pareto report (as SVG), with which data and hover text

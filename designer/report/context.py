@@ -15,14 +15,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from designer.units import percent
+from designer.units import COMMON_UNITS, INCH
 from designer import display, parameters
-from designer.data.paper import INCH
+from designer.display import percent
+from designer.parameters import VARIABLES
 from designer.reportdata import ReportData
 import designer.report.figures as _figures
 from designer.plots.caster import caster_svg
 from designer.plots.fronts import MARK_WORDS
-from designer.report.formatting import LBF, MPH, fmt, length, size
+from designer.report.formatting import fmt, length, size
 from designer.report.text import build_lines, caster_sentence, front_count_sentence, lead_sentence, summary_lines
 from designer.plots.figures import is_bare_fork
 from designer.physics.uncertainty import TABLE1_LOG_RMS_ERROR
@@ -104,115 +105,84 @@ def _check_row(c) -> dict:
 
 
 def _design_cells(design) -> dict:
-    cells = {"c_f": fmt(design.damping, ".3f", "N·m/rad")}
+    cells = {"c_f": display.shown(design.damping, "damping")}
     for key, variable in (("T", "trail"), ("d", "diameter"), ("B", "groove")):
         cells[f"{key}_mm"], cells[f"{key}_in"] = length(getattr(design, variable))
     return cells
 
 
+OTHER_UNITS = {"force": "lbf", "speed": "mph", "angle": "deg"}
+"""The problem table's other column for a dimension the unit systems show in SI only (display only)."""
+
+
+def _entry(name: str, value, label: str | None = None, symbol: str | None = None) -> tuple:
+    """(quantity, symbol, SI, other) of the parameter table's entry ``name``: its description and symbol (or
+    ``label``, ``symbol``), the value through :mod:`designer.display` (lengths in mm), and in inches (a length)
+    or in lbf, mph or degrees (:data:`OTHER_UNITS`)."""
+    entry = display.quantity(name)
+    other = ""
+    if entry.dimension == "length":
+        other = display.shown(value, name, "in")
+    elif entry.dimension in OTHER_UNITS:
+        unit = OTHER_UNITS[entry.dimension]
+        other = f"{display.number(value / COMMON_UNITS[unit][1], name)} {unit}"
+    return (
+        label or entry.description,
+        entry.symbol if symbol is None else symbol,
+        display.shown(value, name, "mm"),
+        other,
+    )
+
+
 def _problem_rows(problem) -> list[dict]:
-    """The problem table: its use (load, sill, speeds), its bounds, then the turning model's constants."""
-    rows = _use_rows(problem) + _bound_rows(problem) + _constant_rows(problem)
-    return [{"quantity": q, "symbol": s, "si": si, "other": other} for q, s, si, other in rows]
-
-
-def _speed(value: float) -> tuple[str, str]:
-    """(m/s, mph) strings of a speed [m/s]."""
-    return fmt(value, ".3f", "m/s"), fmt(value / MPH, ".2f", "mph")
-
-
-def _use_rows(problem) -> list[tuple]:
-    """(quantity, symbol, SI, other) of the chair's use: load, sill, surface, speeds, θ0, K_s, I_w, risk."""
-    c = problem.conditions
+    """The problem table: its use (load, sill, speeds, θ0, K_s, I_w, risk), its bounds (the swept-radius limit,
+    the catalog wheels), then the weights, the turning model's constants and the problem's source."""
+    c, t = problem.conditions, problem.conditions.turning
     rows = [
         ("name", "", problem.name, ""),
         ("title", "", problem.title, ""),
-        ("caster load", "L", fmt(c.load, ".1f", "N"), fmt(c.load / LBF, ".1f", "lbf")),
-        ("threshold (sill) height", "h", *length(c.threshold_height)),
+        _entry("load", c.load),
+        _entry("threshold_height", c.threshold_height),
         ("surface", "", c.surface, ""),
         ("turning mode", "", c.turning_mode, f"m_mode = {c.turning.mode_factor(c.turning_mode):g}"),
-        ("target speed", "V_target", *_speed(problem.target_speed)),
-        ("safety margin", "", fmt(problem.margin * 100, ".1f", "%"), ""),
-        ("required critical speed", "V_req = (1 + margin) V_target", *_speed(problem.required_speed)),
-        (
-            "design disturbance angle",
-            "θ0",
-            fmt(c.disturbance_angle, ".4f", "rad"),
-            fmt(math.degrees(c.disturbance_angle), ".1f", "deg"),
-        ),
-        ("slip coefficient", "K_s", fmt(c.slip_coefficient, ".0f", "N"), ""),
+        _entry("target_speed", problem.target_speed),
+        _entry("margin", problem.margin)[:2] + (display.percent(problem.margin), ""),
+        _entry("target_speed", problem.required_speed, "required critical speed", "V_req = (1 + m_V) V_target"),
+        _entry("disturbance_angle", c.disturbance_angle),
+        _entry("slip_coefficient", c.slip_coefficient),
         ("inertia model", "I_w(d)", c.inertia.describe(), ""),
     ]
     u = getattr(c, "uncertainty", None)
     if u is not None:
+        sigmas = f"model {u.model_error:g}, c_f {u.damping:g}, K_s {u.slip_coefficient:g}, I_w {u.inertia:g}"
         rows.append(
-            (
-                "robust design: allowed shimmy probability",
-                "α = P(V_c,true < V_req)",
-                fmt(u.probability * 100, ".3g", "%"),
-                f"σ of log: model {u.model_error:g}, c_f {u.damping:g}, K_s {u.slip_coefficient:g}, I_w {u.inertia:g}",
-            )
+            ("robust design: allowed shimmy probability", "α = P(V_c,true < V_req)", display.percent(u.probability))
+            + (f"σ of log: {sigmas}",)
         )
-    return rows
-
-
-def _bound_rows(problem) -> list[tuple]:
-    """(quantity, symbol, SI, inches) of the design bounds, the swept-radius limit and the catalog wheels."""
-    rows = []
-    for var, sym in (("trail", "T"), ("diameter", "d"), ("groove", "B")):
+    for var in VARIABLES:
         b = problem.bounds[var]
-        lo_mm, lo_in = length(b.low)
-        hi_mm, hi_in = length(b.high)
-        if b.fixed:
-            rows.append((f"{var} (fixed)", sym, lo_mm, lo_in))
-        else:
-            rows.append((f"{var} bounds", sym, f"{lo_mm} – {hi_mm}", f"{lo_in} – {hi_in}"))
-    b = problem.bounds["damping"]
-    rows.append(
-        (
-            "damping (fixed)" if b.fixed else "damping bounds",
-            "c_f",
-            fmt(b.low, ".3g", "N·m/rad") if b.fixed else f"{fmt(b.low, '.3g')} – {fmt(b.high, '.3g', 'N·m/rad')}",
-            "",
-        )
-    )
+        low, high = _entry(var, b.low), _entry(var, b.high)
+        cells = low[2:] if b.fixed else (f"{low[2]} – {high[2]}", f"{low[3]} – {high[3]}" if low[3] else "")
+        rows.append((f"{var} (fixed)" if b.fixed else f"{var} bounds", low[1], *cells))
     if problem.swept_radius_max is not None:
-        rows.append(("swept radius limit", "R_s = T + d/2 <= R_max", *length(problem.swept_radius_max)))
+        rows.append(_entry("swept_radius_max", problem.swept_radius_max, symbol="R_s = T + d/2 <= R_max"))
     else:
-        rows.append(("swept radius limit", "R_max", "none", ""))
+        rows.append(("swept-radius limit", "R_max", "none", ""))
     if problem.wheels:
         rows.append(("catalog wheels (Table 1)", "", ", ".join(problem.wheels), ""))
-    return rows
-
-
-def _constant_rows(problem) -> list[tuple]:
-    """(quantity, symbol, SI, other) of the weights, the turning model's constants and the problem's source."""
-    t = problem.conditions.turning
-    return [
-        (
-            "objective weights",
-            "J = w_turn F_turn + w_threshold P",
-            f"{problem.weights[0]:g}, {problem.weights[1]:g}",
-            "",
-        ),
+    w = problem.weights
+    rows += [
+        ("objective weights", "J = w_turn F_turn + w_threshold P", f"{w[0]:g}, {w[1]:g}", ""),
         ("front points requested", "", str(problem.pareto_points), ""),
-        (
-            "tile turning moment per load",
-            "k_tile",
-            fmt(t.tile_moment_per_load * 1000, ".2f", "mm"),
-            fmt(t.tile_moment_per_load / INCH, ".4f", "in"),
-        ),
-        ("carpet factor", "k_carpet / k_tile", fmt(t.carpet_factor, ".3g"), ""),
-        (
-            "groove coefficient",
-            "κ",
-            fmt(t.groove_coefficient, ".4g", "1/m"),
-            f"{t.groove_coefficient * 9 / 16 * INCH:.0%} per 9/16 in",
-        ),
-        ("bare-fork damping", "c_0", fmt(t.bare_fork_damping, ".3g", "N·m/rad"), "Eq. 11C"),
+        _entry("tile_moment_per_load", t.tile_moment_per_load),
+        _entry("carpet_factor", t.carpet_factor),
+        _entry("groove_coefficient", t.groove_coefficient)[:3]
+        + (f"{t.groove_coefficient * 9 / 16 * INCH:.0%} per 9/16 in",),
+        _entry("bare_fork_damping", t.bare_fork_damping)[:3] + ("Eq. 11C",),
         ("problem digest", "", problem.digest(), ""),
         ("source file", "", str(problem.source or "(built in Python)"), ""),
     ]
+    return [{"quantity": q, "symbol": s, "si": si, "other": other} for q, s, si, other in rows]
 
 
 def _model_rows(problem) -> list[dict]:
@@ -222,8 +192,9 @@ def _model_rows(problem) -> list[dict]:
     b = problem.bounds["diameter"]
     if rng is not None and (b.low < rng[0] * 0.999 or b.high > rng[1] * 1.001):
         note = (
-            f" The fit rests on Table 1's {rng[0] / INCH:.0f}–{rng[1] / INCH:.0f} in wheels; this problem's "
-            f"diameters {b.low / INCH:.3g}–{b.high / INCH:.3g} in extrapolate it."
+            f" The fit rests on Table 1's {display.number(rng[0], 'diameter', 'in', digits=0)}–"
+            f"{display.shown(rng[1], 'diameter', 'in', digits=0)} wheels; this problem's diameters "
+            f"{display.number(b.low, 'diameter', 'in')}–{display.shown(b.high, 'diameter', 'in')} extrapolate it."
         )
     rows = [
         ("critical shimmy speed", "V_c = sqrt( 4 c_f T² / (π I_w) + K_s B² T / (2 I_w) )", "Eq. 7 (= Eq. 10C)"),
@@ -259,7 +230,7 @@ def _model_rows(problem) -> list[dict]:
             "assumption: friction damping",
             "Coulomb spindle friction M_f replaced by an equivalent viscous damper at "
             "the amplitude of Eq. 4/29B after a design knock θ0 = "
-            f"{problem.conditions.disturbance_angle * 180 / 3.141592653589793:.0f}°: V_c depends on θ0 and the time-domain "
+            f"{math.degrees(problem.conditions.disturbance_angle):.0f}°: V_c depends on θ0 and the time-domain "
             "simulation (results/simulation) puts the onset −18 % to +13 % from Eq. 7 for single-tread casters",
             "Eq. 6, Eq. 29B, Appendix C",
         ),
@@ -283,11 +254,11 @@ def _model_rows(problem) -> list[dict]:
 def _point_row(i, p, marks="") -> dict:
     row = {
         "index": i,
-        "P": fmt(p.threshold_force, ".3f"),
-        "P_lbf": fmt(p.threshold_force / LBF, ".3f"),
-        "F": fmt(p.turning_effort, ".4f"),
-        "F_lbf": fmt(p.turning_effort / LBF, ".4f"),
-        "V_c": fmt(p.critical_speed, ".3f"),
+        "P": display.number(p.threshold_force, "threshold_force"),
+        "P_lbf": display.number(p.threshold_force / COMMON_UNITS["lbf"][1], "threshold_force"),
+        "F": display.number(p.turning_effort, "turning_effort"),
+        "F_lbf": display.number(p.turning_effort / COMMON_UNITS["lbf"][1], "turning_effort"),
+        "V_c": display.number(p.critical_speed, "critical_speed"),
         "family": p.family,
         "wheel": p.wheel or "",
         "marks": marks,
@@ -295,7 +266,7 @@ def _point_row(i, p, marks="") -> dict:
         "status": p.status,
     }
     row.update(_design_cells(p.design))
-    row["c_f"] = fmt(p.design.damping, ".3f")
+    row["c_f"] = display.number(p.design.damping, "damping")
     return row
 
 
@@ -319,7 +290,7 @@ def _tradeoff_rows(problem, rows) -> list[dict]:
         row = {"d_mm": d_mm, "d_in": d_in, "wheel": r.wheel or ""}
         for key, mech in (("groove", "groove alone"), ("damper", "damper alone"), ("mix", "optimum mix")):
             v = r.effort.get(mech)
-            row[key] = "cannot reach V_req" if v is None else fmt(v, ".3f", "N")
+            row[key] = "cannot reach V_req" if v is None else display.shown(v, "turning_effort")
         mix = r.designs.get("optimum mix")
         bare = mix is not None and is_bare_fork(problem.bounds, mix) and not problem.wheels
         if bare and firsts and firsts[-1] and out[-1]["mix"] == row["mix"]:
@@ -335,7 +306,7 @@ def _tradeoff_rows(problem, rows) -> list[dict]:
 
 def _knock_cell(knock: dict | None, key: str) -> str:
     """One knock-safe speed of one caster [m/s] (:data:`designer.display.MISSING` where not computed)."""
-    return fmt((knock or {}).get(key), ".2f", "m/s")
+    return display.shown((knock or {}).get(key), "critical_speed")
 
 
 CARD_HEADER = [
@@ -361,11 +332,12 @@ def _caster_cells(rec, units: str) -> list[str]:
         size(d.trail, units),
         size(d.diameter, units) + (f" ({rec.wheel})" if rec.wheel else ""),
         size(d.groove, units),
-        fmt(d.damping, ".3g", "N·m/rad"),
-        fmt(rec.turning_effort, ".2f", "N"),
-        fmt(rec.threshold_force, ".1f", "N"),
-        fmt(rec.confident_speed, ".2f", "m/s"),
-        f"{rec.shimmy_probability:.2%} ({rec.shimmy_probability_mc:.2%} ± {rec.shimmy_probability_se:.2%})",
+        display.shown(d.damping, "damping"),
+        display.shown(rec.turning_effort, "turning_effort"),
+        display.shown(rec.threshold_force, "threshold_force"),
+        display.shown(rec.confident_speed, "confident_speed"),
+        f"{display.percent(rec.shimmy_probability)} ({display.percent(rec.shimmy_probability_mc)} ± "
+        f"{display.percent(rec.shimmy_probability_se)})",
         size(rec.swept_radius, units) + limit,
     ]
 
@@ -423,8 +395,9 @@ def _law_panels(data: ReportData, units: str) -> list[Panel]:
             Panel(
                 id="risk",
                 title="Where the risk comes from",
-                text=f"P(shimmy at {rec.target_speed:.3g} m/s) = {risk['probability']:.2%} (the law below, by "
-                f"quadrature; its Monte Carlo: {risk['monte_carlo']:.2%} ± {risk['se']:.2%}). {risk['dominant']}",
+                text=f"P(shimmy at {display.shown(rec.target_speed, 'target_speed')}) = {percent(risk['probability'])} "
+                f"(the law below, by quadrature; its Monte Carlo: {percent(risk['monte_carlo'])} ± "
+                f"{percent(risk['se'])}). {risk['dominant']}",
                 table=PanelTable(
                     header=["source", "distribution of its log", "scale", "kind", "share of var log V_c"],
                     rows=[
@@ -433,7 +406,7 @@ def _law_panels(data: ReportData, units: str) -> list[Panel]:
                             src["distribution"] + (f", ν = {src['dof']}" if src["dof"] else ""),
                             f"{src['scale']:.4g}",
                             src["kind"],
-                            f"{100 * src['share']:.1f} %",
+                            percent(src["share"]),
                         ]
                         for src in risk["sources"]
                     ],
@@ -458,28 +431,27 @@ def spec_rows(spec, units: str) -> list[list[str]]:
     """The spec's table: each inspectable part's nominal, tolerance (± from ``[tolerances]``), acceptance limit
     (others at nominal) and how to measure it (display strings of ``spec.parts()``; sizes in ``units``)."""
 
-    def shown(value: Any, unit: str) -> str:
-        if value is None:
-            return "none"
-        if isinstance(value, str):
-            return value
-        return size(value, units) if unit == "m" else (f"{value:.3f} N·m" if unit == "N·m" else f"{value:.3g} {unit}")
+    def shown(value: Any, part: str) -> str:
+        if value is None or isinstance(value, str):
+            return value or "none"
+        dimension = PART_DIMENSIONS[part]
+        return size(value, units) if dimension == "length" else display.shown(value, dimension=dimension)
 
     box = {} if spec.joint is None else spec.joint.cells(units)
     rows = []
     for row in spec.parts():
-        tol, unit = row["tolerance"], row["unit"]
+        tol = row["tolerance"]
         if tol is None:
             spread = "—"
         elif row["part"] == "friction_moment":
-            spread = f"± {tol:.0%}"
+            spread = f"± {percent(tol)}"
         elif row["part"] == "wheel_inertia":
-            spread = tol if isinstance(tol, str) else f"≤ {tol:.3g} kg·m² measured"
+            spread = tol if isinstance(tol, str) else f"≤ {display.shown(tol, dimension='inertia')} measured"
         else:  # a spread is finer than the sizes' 1/16 in: always to 0.01 mm
             spread = "± " + " (".join(length(tol)[:: -1 if units == "in" else 1]) + ")"
         limit = "; ".join(_limit_cell(lim, units) for lim in row["limits"]) or "—"
         joint = box.get(row["part"], "—")
-        rows.append([row["label"], shown(row["nominal"], unit), spread, joint, limit, row["measure"]])
+        rows.append([row["label"], shown(row["nominal"], row["part"]), spread, joint, limit, row["measure"]])
     return rows
 
 
@@ -509,24 +481,44 @@ def limit_notes(spec, units: str = "mm") -> list[str]:
     return out
 
 
+PART_DIMENSIONS = {
+    "trail": "length",
+    "diameter": "length",
+    "groove": "length",
+    "friction_moment": "moment",
+    "wheel_inertia": "inertia",
+}
+"""The dimension of each inspectable part of a spec (its worst corner's edges and its table's nominal values)."""
+
+
 def corner_sentence(spec) -> str:
     """P(shimmy) at the worst corner of the tolerance box, whether the caster holds there (or: no tolerances)."""
     c = spec.corner
     if c is None:
         return "No [tolerances] in the problem: the worst corner is not computed."
     edges = ", ".join(
-        f"{k.replace('_', ' ')} "
-        + (f"{v * 1000:.2f} mm" if k in ("trail", "groove", "diameter") else f"{v:.4g}")
-        + (" N·m" if k == "friction_moment" else " kg·m²" if k == "wheel_inertia" else "")
+        f"{k.replace('_', ' ')} {display.shown(v, dimension=PART_DIMENSIONS[k], units='mm')}"
         for k, v in c["edges"].items()
     )
     return (
         f"At the worst corner of the tolerances (every part at its own worst edge at once: {edges}; the law's "
-        f"scatter on top), P(shimmy at {spec.required_speed:.3g} m/s) = {c['probability']:.2%} against "
-        f"{c['nominal_probability']:.2%} at nominal: the caster "
+        f"scatter on top), P(shimmy at {display.shown(spec.required_speed, 'critical_speed')}) = "
+        f"{c['probability']:.2%} against {c['nominal_probability']:.2%} at nominal: the caster "
         + ("holds" if c["holds"] else "does NOT hold")
         + f" the bound α = {percent(spec.alpha)}."
     )
+
+
+SPEC_COLUMNS = (
+    "part",
+    "nominal",
+    "tolerance",
+    "joint box: accept when every part is inside",
+    "one part at a time (others at nominal)",
+    "how to measure",
+)
+"""The headings of the spec's table, in the report's panel and on the inspection sheet (on a phone each cell of
+the sheet is one line under its part, named by its heading)."""
 
 
 def spec_panel(rec, units: str) -> Panel:
@@ -541,14 +533,7 @@ def spec_panel(rec, units: str) -> Panel:
         + corner_sentence(spec)
         + (f" {rec.enforced_sentence()}" if rec.enforced is not None else ""),
         table=PanelTable(
-            header=[
-                "part",
-                "nominal",
-                "tolerance",
-                "joint box (accept: every part inside)",
-                "one part at a time (others at nominal)",
-                "how to measure",
-            ],
+            header=list(SPEC_COLUMNS),
             rows=spec_rows(spec, units),
             numeric=[False, True, True, True, True, False],
         ),
@@ -623,7 +608,7 @@ def _after_panels(data: ReportData, units: str, level: str) -> list[Panel]:
                     rows=[
                         [
                             c.role,
-                            fmt(c.critical_speed, ".2f", "m/s"),
+                            display.shown(c.critical_speed, "critical_speed"),
                             _knock_cell(k, "knock_safe_speed"),
                             _knock_cell(k, "knock_safe_speed_double"),
                         ]
@@ -651,7 +636,7 @@ def _build_context(data: ReportData) -> dict:
         return {"available": False, "error": data.recommendation_error or "no recommendation"}
     d = rec.design
     units = data.problem.units
-    level = f"{percent(1 - rec.alpha)}" if rec.alpha is not None else "95% (default scatter)"
+    level = f"{percent(1 - rec.alpha)}" if rec.alpha is not None else f"{percent(0.95)} (default scatter)"
     return {
         "available": True,
         "lead": lead_sentence(data),
@@ -701,9 +686,12 @@ def _knock_band(data: ReportData) -> str:
     )
 
 
-def _pair(point) -> str:
-    """An (F_turn, P) point of the objectives [N] as one cell."""
-    return f"F_turn {fmt(point[0], '.4f', 'N')}, P {fmt(point[1], '.3f', 'N')}"
+def _objectives(turning_effort: float, threshold_force: float) -> str:
+    """The two objectives [N] as one cell, "F_turn 7.942 N, P 106.96 N" (symbols and precisions from the table)."""
+    return ", ".join(
+        f"{display.quantity(name).symbol} {display.shown(value, name)}"
+        for name, value in (("turning_effort", turning_effort), ("threshold_force", threshold_force))
+    )
 
 
 def _indicators(front, problem, knee, best) -> list[dict]:
@@ -728,28 +716,29 @@ def _indicators(front, problem, knee, best) -> list[dict]:
         ),
         (
             "hypervolume reference point",
-            _pair(ref),
+            _objectives(*ref),
             "nadir + 10 % of the front's extent (1 N where the extent is zero)",
         ),
-        ("ideal point", _pair(ideal), "best value of each objective on the front"),
-        ("nadir point", _pair(nadir), "worst value of each objective on the front"),
+        ("ideal point", _objectives(*ideal), "best value of each objective on the front"),
+        ("nadir point", _objectives(*nadir), "worst value of each objective on the front"),
         (
             "knee",
             ("solved on the continuous front" if knee not in front.points else f"point {front.points.index(knee)}")
-            + f": F_turn {fmt(knee.turning_effort, '.3f', 'N')}, "
-            f"P {fmt(knee.threshold_force, '.2f', 'N')}; {knee.design.describe()}",
+            + f": {_objectives(knee.turning_effort, knee.threshold_force)}; {knee.design.describe()}",
             "farthest from the chord between the two ends, in normalised objectives",
         ),
         (
             "best J on the front",
-            f"point {front.points.index(best)}: F_turn {fmt(best.turning_effort, '.3f', 'N')}, "
-            f"P {fmt(best.threshold_force, '.2f', 'N')}, J = "
-            f"{fmt(float(w @ [best.turning_effort, best.threshold_force]), '.3f', 'N')}; "
-            f"{best.design.describe()}",
+            f"point {front.points.index(best)}: {_objectives(best.turning_effort, best.threshold_force)}, J = "
+            f"{display.shown(best.caster.J(w) if best.caster else None, 'weighted')}; {best.design.describe()}",
             f"front point minimising J = {w[0]:g} F_turn + {w[1]:g} P (the exact optimum is in the solver section)",
         ),
     ]
     return [{"name": n, "value": v, "note": note} for n, v, note in rows]
+
+
+_SOLUTION_OBJECTIVES = {"F": "turning_effort", "P": "threshold_force", "J": "weighted"}
+"""The solver section's objective cells and their quantities."""
 
 
 def _solution(s) -> dict | None:
@@ -762,10 +751,8 @@ def _solution(s) -> dict | None:
         "design": _design_cells(s.design),
         "describe": s.design.describe(),
         "wheel": s.wheel,
-        "F": fmt(s.objectives["turning_effort"], ".4f", "N"),
-        "P": fmt(s.objectives["threshold_force"], ".3f", "N"),
-        "J": fmt(s.objectives["weighted"], ".4f", "N"),
-        "V_c": fmt(s.critical_speed, ".4f", "m/s"),
+        **{key: display.shown(s.objectives[name], name) for key, name in _SOLUTION_OBJECTIVES.items()},
+        "V_c": display.shown(s.critical_speed, "critical_speed"),
         "active": ", ".join(s.active) or "none",
         "cross_check": cross,
         "missing": ", ".join(missing),

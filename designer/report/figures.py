@@ -13,23 +13,33 @@ from __future__ import annotations
 
 import numpy as np
 
-from designer.units import percent
+from designer.display import percent
 from designer.plots import figures as _figures
 from designer.plots.figures import FIGURES
-from designer.display import shown
+from designer.display import quantity, shown
 from designer.parameters import VARIABLES
 
 __all__ = ["FIGURES", "arguments", "draw", "point_text", "svg"]
 
 
+def _values(record, names, units: str = "si") -> str:
+    """``record``'s quantities ``names`` as "P 106.96 N, F_turn 7.942 N" (symbols, units and precisions from the
+    parameter table, lengths in ``units``)."""
+    return ", ".join(f"{quantity(name).symbol} {shown(getattr(record, name), name, units)}" for name in names)
+
+
 def point_text(p, units: str = "in") -> str:
     """What a front point says on hover: its objectives, V_c and design (lengths in the problem's ``units``)."""
-    d = p.design
-    sizes = ", ".join(f"{name} {shown(getattr(d, key), key, units)}" for name, key in zip("TdB", VARIABLES))
+    wheel = f", wheel {p.wheel}" if getattr(p, "wheel", None) else ""
     return (
-        f"P {p.threshold_force:.2f} N, F_turn {p.turning_effort:.3f} N, V_c {p.critical_speed:.3f} m/s; "
-        f"{sizes}, c_f {d.damping:.3f} N·m/rad ({p.family}{', wheel ' + p.wheel if getattr(p, 'wheel', None) else ''})"
+        f"{_values(p, ('threshold_force', 'turning_effort', 'critical_speed'))}; "
+        f"{_values(p.design, VARIABLES, units)} ({p.family}{wheel})"
     )
+
+
+def _at(record) -> str:
+    """A marked design's place on the front figure: "P 106.96 N, F_turn 7.942 N"."""
+    return _values(record, ("threshold_force", "turning_effort"))
 
 
 def mark(kind: str, label: str, threshold_force, turning_effort) -> dict:
@@ -54,13 +64,11 @@ def _front_marks(data) -> tuple[list, list]:
             curve("buildable", f"buildable front (stock parts): {len(b)} point{'s' if len(b) != 1 else ''}", b)
         )
     if rec is not None:
-        at = f"P {rec.threshold_force:.1f} N, F {rec.turning_effort:.2f} N"
-        marks.append(mark("recommended", f"build this: {at}", rec.threshold_force, rec.turning_effort))
+        marks.append(mark("recommended", f"build this: {_at(rec)}", rec.threshold_force, rec.turning_effort))
         for alt in rec.alternatives:
-            at = f"P {alt.threshold_force:.1f} N, F {alt.turning_effort:.2f} N"
-            marks.append(mark("alternative", f"{alt.role}: {at}", alt.threshold_force, alt.turning_effort))
+            marks.append(mark("alternative", f"{alt.role}: {_at(alt)}", alt.threshold_force, alt.turning_effort))
     knee = front.knee() if len(front) >= 3 else None
-    at_knee = f"P {knee.threshold_force:.1f} N, F {knee.turning_effort:.2f} N" if knee is not None else ""
+    at_knee = _at(knee) if knee is not None else ""
     if knee is not None:
         marks.append(
             mark("knee", f"knee of the continuous front: {at_knee}", knee.threshold_force, knee.turning_effort)
@@ -102,16 +110,14 @@ def _front(data) -> dict:
         tighter = {
             "threshold_force": t[:, 1],
             "turning_effort": t[:, 0],
-            "label": f"front for V_req = {data.tighter.problem.required_speed:.2f} m/s (V_target × 1.1, check 8c)",
+            "label": f"front for V_req = {shown(data.tighter.problem.required_speed, 'critical_speed')} (V_target × 1.1, "
+            "check 8c)",
         }
     curves, marks = _front_marks(data) if len(f) else ([], [])
     ends = [front.points[0], front.points[-1]] if len(f) > 1 else front.points[:1]
     risk = problem.conditions.uncertainty
-    bound = (
-        f"P(V_c < {problem.required_speed:.2f} m/s) <= {percent(risk.probability)}"
-        if risk is not None
-        else f"V_c >= {problem.required_speed:.2f} m/s"
-    )
+    speed = shown(problem.required_speed, "critical_speed")
+    bound = f"P(V_c < {speed}) <= {percent(risk.probability)}" if risk is not None else f"V_c >= {speed}"
     return {
         "front": {"turning_effort": f[:, 0], "threshold_force": f[:, 1], "family": [p.family for p in front.points]},
         "title": f"Pareto front: {problem.name} ({bound})",
@@ -119,13 +125,7 @@ def _front(data) -> dict:
         "curves": curves,
         "marks": marks,
         "ends": [
-            {
-                "threshold_force": p.threshold_force,
-                "turning_effort": p.turning_effort,
-                "trail": p.design.trail,
-                "diameter": p.design.diameter,
-                "groove": p.design.groove,
-            }
+            {"threshold_force": p.threshold_force, "turning_effort": p.turning_effort, **p.design.to_dict()}
             for p in ends
         ],
         "note": data.degenerate_reason_short if len(f) == 1 else None,

@@ -17,7 +17,7 @@ import json
 import math
 from pathlib import Path
 
-from designer.units import percent
+from designer.display import MISSING, percent, shown
 from designer.parameters import VARIABLES, dimensions
 from designer.textfiles import csv_text as write_csv_text, dict_rows
 from designer.jsonsafe import finite, stamped
@@ -172,7 +172,7 @@ def _sku_rows(data: dict) -> list[dict]:
             for units in ("in", "mm")
         }
         rows.append(
-            {"id": s["id"], "wheel": s.get("wheel"), **sizes, "c_f": fmt(d["damping"], ".2f", "N·m/rad")}
+            {"id": s["id"], "wheel": s.get("wheel"), **sizes, "c_f": shown(d["damping"], "damping")}
             | {"chairs": s["chairs"], "units": f"{s['count']:,}"}
             | _sku_spec(s.get("spec"))
         )
@@ -187,16 +187,16 @@ def _sku_spec(spec: dict | None) -> dict:
         return {}
     lim, units = spec["limits"], spec["units"]
 
-    def shown(key: str) -> str:
+    def limit(key: str) -> str:
         return limit_shown(lim.get(key), units.get(key, ""), key.rsplit("_", 1)[1])
 
     def bound(sign: str, key: str) -> str:
         """``≥ 16.76 mm (0.660 in)``, or ``none`` (no limit inside the part's range: nothing to compare with)."""
-        text = shown(key)
+        text = limit(key)
         return text if text == "none" else f"{sign} {text}"
 
     p = spec["shimmy_probability"]
-    low, high = shown("trail_min"), shown("trail_max")
+    low, high = limit("trail_min"), limit("trail_max")
     trail = (
         "none"
         if low == high == "none"
@@ -206,9 +206,9 @@ def _sku_spec(spec: dict | None) -> dict:
         (low_mm, low_in), (high_mm, high_in) = (x.removesuffix(" in)").split(" mm (") for x in (low, high))
         trail = f"{low_mm}–{high_mm} mm ({low_in}–{high_in} in)"
     return {
-        "at": fmt(p["at_speed"], ".3g", "m/s"),
-        "p": f"{p['exact']:.2%}",
-        "mc": f"{p['monte_carlo']:.2%} ± {p['monte_carlo_se']:.2%}",
+        "at": shown(p["at_speed"], "target_speed"),
+        "p": percent(p["exact"]),
+        "mc": f"{percent(p['monte_carlo'])} ± {percent(p['monte_carlo_se'])}",
         "draws": f"{p['monte_carlo_samples']:,} draws, seed {p['monte_carlo_seed']}",
         "T_lim": trail,
         "B_lim": bound("≥", "groove_min"),
@@ -290,7 +290,7 @@ def _summary(data: dict) -> list[str]:
         f"Own recommendation per chair: the {data['rule']} of the chair's own problem (the base problem "
         f"{data['problem']} with the chair's load, sill, target speed, clearance, surface and turning mode).",
         f"Stock: {data['stock']['casters']} casters ({data['stock']['note']}); "
-        f"{data['stock'].get('useful_for_skus') or 'n/a'} can matter for part numbers (the others are "
+        f"{data['stock'].get('useful_for_skus') or MISSING} can matter for part numbers (the others are "
         f"dominated on regret).",
         f"Objective: {data['objective']}.",
     ]

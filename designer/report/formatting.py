@@ -1,7 +1,5 @@
 """Display strings of numbers, shared by every report kind: table cells in a format spec, through
 :mod:`designer.display` (its one missing-value mark, its lengths in each unit system).
-
-Display only: the units here (lbf, mph) never enter a computation.
 """
 
 from __future__ import annotations
@@ -10,11 +8,6 @@ import numpy as np
 
 from designer.display import MISSING, number, shown
 from designer.units import written_size
-
-LBF = 4.4482216152605
-"""One pound-force [N] (display only)."""
-MPH = 0.44704
-"""One mile per hour [m/s] (display only)."""
 
 
 def fmt(value, spec: str = ".4g", unit: str = "") -> str:

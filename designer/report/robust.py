@@ -8,12 +8,13 @@ the Pareto report (shared stylesheet), with one title used by the page and by it
 from __future__ import annotations
 
 import base64
+import dataclasses
 import json
 from pathlib import Path
 
 import numpy as np
 
-from designer.units import percent
+from designer.display import number, percent, shown
 from designer.jsonsafe import finite, stamped
 from designer.reportdata import RobustData
 from designer.report.agreement import compare_json, keep_agreeing
@@ -43,7 +44,7 @@ def figure(data: RobustData):
     fn, fr = data.nominal.objectives(), data.robust.objectives()
     fig = Figure(figsize=(7.5, 4.8), layout="constrained")
     ax = fig.add_subplot()
-    v = f"{problem.required_speed:.2f} m/s"
+    v = shown(problem.required_speed, "critical_speed")
     nominal = curve("nominal", f"nominal: V_c >= {v} (Eq. 7)", fn)
     bounded = curve("risk-bounded", f"risk-bounded: P(V_c < {v}) <= {percent(u.probability)}", fr)
     draw_fronts(ax, [c for c, f in ((nominal, fn), (bounded, fr)) if len(f)])
@@ -79,12 +80,12 @@ def sentences(data: RobustData) -> list[str]:
         worst = int(np.argmax(probs - 2 * ses))
         ok = bool(np.all(probs <= u.probability + 2 * ses))
         out.append(
-            f"Monte Carlo P(shimmy below {data.problem.required_speed:.3g} m/s) on the risk-bounded front: "
-            f"{probs.min():.2%} to {probs.max():.2%} (bound α = {u.probability:.1%}; "
+            f"Monte Carlo P(shimmy below {shown(data.problem.required_speed, 'critical_speed')}) on the risk-bounded "
+            f"front: {percent(probs.min())} to {percent(probs.max())} (bound α = {percent(u.probability)}; "
             + (
                 "every point within α + 2 SE"
                 if ok
-                else f"point {worst} is ABOVE α + 2 SE: {probs[worst]:.2%} ± {ses[worst]:.2%}"
+                else f"point {worst} is ABOVE α + 2 SE: {percent(probs[worst])} ± {percent(ses[worst])}"
             )
             + ")."
         )
@@ -92,8 +93,8 @@ def sentences(data: RobustData) -> list[str]:
     nom = nom[np.isfinite(nom)]
     if len(nom):
         out.append(
-            f"The nominal designs at the same sill force shimmy with probability {nom.min():.1%} to "
-            f"{nom.max():.1%} (Monte Carlo of the same law): they sit on V_c = V_req of Eq. 7, and the "
+            f"The nominal designs at the same sill force shimmy with probability {percent(nom.min())} to "
+            f"{percent(nom.max())} (Monte Carlo of the same law): they sit on V_c = V_req of Eq. 7, and the "
             f"risk-bounded designs buy V_c above the target with more groove or damper (more turning effort) "
             f"or a smaller wheel (more sill force)."
         )
@@ -106,7 +107,8 @@ def bound_sentence(data: RobustData) -> str:
     dof = getattr(u, "model_error_dof", None)
     law = f"Student-t, {dof} degrees of freedom" if dof else "normal"
     return (
-        f"P(V_c,true < {data.problem.required_speed:.3g} m/s) <= {u.probability:.1%}. Model error of Eq. 7: "
+        f"P(V_c,true < {shown(data.problem.required_speed, 'critical_speed')}) <= {percent(u.probability)}. Model "
+        "error of Eq. 7: "
         f"{law}, scale {u.model_error:g}; lognormal M_f/θ0 (σ of the log {u.damping:g}), K_s "
         f"({u.slip_coefficient:g}), I_w ({u.inertia:g}). Each probability is a Monte Carlo of the same law on the "
         f"exact Eq. 7 (at least {u.samples:,} samples, seed {u.seed})"
@@ -117,36 +119,25 @@ def _rows(data: RobustData) -> list[dict]:
     """The table's cells, from the rows as resolved (robust.json's numbers: no "-0.000" of a 1e-12 difference)."""
     return [
         {
-            "P": fmt(r["threshold_force"], ".2f"),
-            "F_nominal": fmt(r["turning_effort_nominal"], ".3f"),
-            "F_robust": fmt(r["turning_effort_robust"], ".3f"),
+            "P": number(r["threshold_force"], "threshold_force"),
+            "F_nominal": number(r["turning_effort_nominal"], "turning_effort"),
+            "F_robust": number(r["turning_effort_robust"], "turning_effort"),
             "extra": fmt(r["extra_effort"], "+.3f"),
-            "V_c": fmt(r["critical_speed"], ".3f"),
-            "p": f"{r['probability_mc']:.2%} ± {r['probability_mc_se']:.2%}",
-            "p_nominal": fmt(r["nominal_probability_mc"] * 100, ".1f", "%"),
+            "V_c": number(r["critical_speed"], "critical_speed"),
+            "p": f"{percent(r['probability_mc'])} ± {percent(r['probability_mc_se'])}",
+            "p_nominal": percent(r["nominal_probability_mc"]),
         }
         for r in resolved(data.rows)
     ]
 
 
 def _json(data: RobustData, page_title: str) -> dict:
-    u = data.uncertainty
-    fields = (
-        "probability",
-        "model_error",
-        "model_error_dof",
-        "damping",
-        "slip_coefficient",
-        "inertia",
-        "samples",
-        "seed",
-    )
     out = finite(
         {
             "problem": data.problem.name,
             "title": page_title,
             "figure_title": page_title,
-            "uncertainty": {k: getattr(u, k) for k in fields if hasattr(u, k)},
+            "uncertainty": dataclasses.asdict(data.uncertainty),
             "rows": data.rows,
             "compare": data.compare,
             "nominal_front": data.nominal.rows(),

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from designer.units import percent
+from designer.display import label, number, percent, quantity, shown
 from designer.data.paper import BARE_FORK_DAMPING
 from designer.report.formatting import size
 from designer.model import weighted_terms
@@ -18,6 +18,8 @@ DOMINANCE = 5.0
 """A weighted term this many times the other one dominates J (the report then says so)."""
 AT_END = 0.01
 """A weighted optimum within this fraction of the front's P (or F_turn) range from an end is "at" that end."""
+OBJECTIVES = ("turning_effort", "threshold_force")
+"""The two objectives, in the order of ``Front.objectives()``'s columns and of the weights."""
 ACTIVE_REL = 1e-6
 """A design with V_c within this relative distance of V_req sits on the shimmy constraint."""
 
@@ -25,7 +27,7 @@ ACTIVE_REL = 1e-6
 def _damping_phrase(damping: float) -> str:
     if damping <= BARE_FORK_DAMPING * (1 + 1e-6):
         return "on the bare fork's bearing (no friction washer)"
-    return f"with a friction washer giving c_f = {damping:.3g} N·m/rad"
+    return f"with a friction washer giving c_f = {shown(damping, 'damping')}"
 
 
 def _groove_phrase(groove: float, units: str) -> str:
@@ -50,8 +52,8 @@ def caster_sentence(rec, units: str = "in") -> str:
 
 PLAIN_RULES = {
     "knee": "the best balance between turning and the sill among {what}",
-    "cap_threshold": "the easiest to turn among {what} that climb the sill with at most {cap:.0f} N",
-    "cap_turning": "the easiest over the sill among {what} that turn with at most {cap:.1f} N",
+    "cap_threshold": "the easiest to turn among {what} that climb the sill with at most {cap}",
+    "cap_turning": "the easiest over the sill among {what} that turn with at most {cap}",
     "end": "the best of the few casters {what} allow ({j})",
     "concave": "the lowest combined force among {what} ({j})",
 }
@@ -72,9 +74,9 @@ def plain_rule(problem, rec) -> str:
     parts you can buy" for the knee of the buildable front (``[stock]``; "the sizes allowed" without one)."""
     what = "the parts you can buy" if getattr(problem, "stock", None) is not None else "the sizes allowed"
     if problem.max_threshold_force is not None:
-        return PLAIN_RULES["cap_threshold"].format(what=what, cap=problem.max_threshold_force)
+        return PLAIN_RULES["cap_threshold"].format(what=what, cap=shown(problem.max_threshold_force, "threshold_force"))
     if problem.max_turning_effort is not None:
-        return PLAIN_RULES["cap_turning"].format(what=what, cap=problem.max_turning_effort)
+        return PLAIN_RULES["cap_turning"].format(what=what, cap=shown(problem.max_turning_effort, "turning_effort"))
     if rec.rule.startswith("knee"):
         return PLAIN_RULES["knee"].format(what=what)
     j = combined_force(problem.weights)
@@ -92,15 +94,15 @@ def lead_sentence(data) -> str:
     problem, rec = data.problem, data.recommendation
     units = getattr(problem, "units", "in")
     forces = (
-        f"it turns with {rec.turning_effort:.1f} N of effort and climbs the "
-        f"{size(problem.conditions.threshold_height, units)} sill with {rec.threshold_force:.0f} N"
+        f"it turns with {shown(rec.turning_effort, 'turning_effort')} of effort and climbs the "
+        f"{size(problem.conditions.threshold_height, units)} sill with {shown(rec.threshold_force, 'threshold_force')}"
     )
     if rec.alpha is None:
-        risk = f"no risk bound is set (Eq. 7 alone: stable to {rec.critical_speed:.2f} m/s)"
+        risk = f"no risk bound is set (Eq. 7 alone: stable to {shown(rec.critical_speed, 'critical_speed')})"
     else:
         risk = (
-            f"at {rec.target_speed:.3g} m/s it shimmies with probability {rec.shimmy_probability:.1%} "
-            f"(the bound is {percent(rec.alpha)})"
+            f"at {shown(rec.target_speed, 'target_speed')} it shimmies with probability "
+            f"{percent(rec.shimmy_probability)} (the bound is {percent(rec.alpha)})"
         )
     text = plain_rule(problem, rec)
     return f"{text[0].upper()}{text[1:]}: {forces}; {risk}."
@@ -128,19 +130,21 @@ def front_count_sentence(rec) -> str:
 def risk_sentence(rec) -> str:
     """The shimmy risk of ``rec``: the bound it meets (or that it has none) and the Monte Carlo estimate."""
     mc = (
-        f"P(shimmy at {rec.target_speed:.3g} m/s) = {rec.shimmy_probability:.2%} by the exact law (its Monte Carlo: "
-        f"{rec.shimmy_probability_mc:.2%} ± {rec.shimmy_probability_se:.2%}, {rec.mc_samples:,} draws, seed "
-        f"{rec.mc_seed})"
+        f"P(shimmy at {shown(rec.target_speed, 'target_speed')}) = {percent(rec.shimmy_probability)} by the exact law "
+        f"(its Monte Carlo: {percent(rec.shimmy_probability_mc)} ± {percent(rec.shimmy_probability_se)}, "
+        f"{rec.mc_samples:,} draws, seed {rec.mc_seed})"
     )
+    v_c = shown(rec.critical_speed, "critical_speed")
     if rec.alpha is None:
         return (
-            f"No risk bound ([robust] enabled = false): by Eq. 7 it is stable to V_c = {rec.critical_speed:.3f} m/s, "
+            f"No risk bound ([robust] enabled = false): by Eq. 7 it is stable to V_c = {v_c}, "
             f"but under the default scatter of the model it has {mc}."
         )
     within = rec.shimmy_probability <= rec.alpha
     return (
-        f"With probability {percent(1 - rec.alpha)} it stays free of shimmy up to {rec.confident_speed:.3f} m/s "
-        f"(needed: {rec.required_speed:.3f} m/s; Eq. 7 alone gives V_c = {rec.critical_speed:.3f} m/s); {mc}, "
+        f"With probability {percent(1 - rec.alpha)} it stays free of shimmy up to "
+        f"{shown(rec.confident_speed, 'confident_speed')} (needed: {shown(rec.required_speed, 'critical_speed')}; "
+        f"Eq. 7 alone gives V_c = {v_c}); {mc}, "
         + ("within" if within else "ABOVE")
         + f" the bound α = {percent(rec.alpha)}."
     )
@@ -178,13 +182,15 @@ def stock_sentence(price: dict | None, has_stock: bool) -> str:
     if abs(price["extra"]) >= 5e-4:
         parts.append(
             f"{price['extra']:+.3f} N ({price['relative']:+.1%}) of turning effort at its sill force "
-            f"{price['threshold_force']:.1f} N (continuous front: {price['turning_effort_continuous']:.3f} N)"
+            f"{shown(price['threshold_force'], 'threshold_force')} (continuous front: "
+            f"{shown(price['turning_effort_continuous'], 'turning_effort')})"
         )
     extra_p = price.get("extra_threshold")
     if extra_p is not None and abs(extra_p) >= 5e-3:
         parts.append(
-            f"{extra_p:+.2f} N of sill force at its turning effort {price['turning_effort_buildable']:.3f} N "
-            f"(continuous front: {price['threshold_force_continuous']:.2f} N)"
+            f"{extra_p:+.2f} N of sill force at its turning effort "
+            f"{shown(price['turning_effort_buildable'], 'turning_effort')} (continuous front: "
+            f"{shown(price['threshold_force_continuous'], 'threshold_force')})"
         )
     if not parts:
         return "Buying parts costs nothing here: this stock caster lies on the continuous front."
@@ -200,8 +206,8 @@ def build_lines(data) -> list[str]:
     problem = data.problem
     units = getattr(problem, "units", "in")
     out = [
-        f"Turning effort F_turn = {rec.turning_effort:.3f} N; sill force over the "
-        f"{size(problem.conditions.threshold_height, units)} sill P = {rec.threshold_force:.2f} N.",
+        f"Turning effort F_turn = {shown(rec.turning_effort, 'turning_effort')}; sill force over the "
+        f"{size(problem.conditions.threshold_height, units)} sill P = {shown(rec.threshold_force, 'threshold_force')}.",
         risk_sentence(rec),
         radius_sentence(rec, units),
     ]
@@ -223,29 +229,28 @@ def weights_line(problem, solution, front) -> str:
     )
     wheel = f" (Table 1 wheel {s.wheel})" if s.wheel else ""
     line = (
-        f"Weighted optimum{wheel} of {meaning}: {s.design.describe()}; F_turn {f_opt:.3f} N, P {p_opt:.2f} N, "
-        f"V_c {s.critical_speed:.3f} m/s."
+        f"Weighted optimum{wheel} of {meaning}: {s.design.describe()}; F_turn {shown(f_opt, 'turning_effort')}, "
+        f"P {shown(p_opt, 'threshold_force')}, V_c {shown(s.critical_speed, 'critical_speed')}."
     )
     f_part, p_part = weighted_terms(f_opt, p_opt, w)
     if min(f_part, p_part) > 0 and max(f_part, p_part) > DOMINANCE * min(f_part, p_part):
-        big, small, k = (
-            ("threshold-force", "turning-effort", 1) if p_part > f_part else ("turning-effort", "threshold-force", 0)
-        )
+        k = int(p_part > f_part)  # the objective J mostly follows: 0 turning effort, 1 sill force
+        big, small = OBJECTIVES[k], OBJECTIVES[1 - k]
+        name = quantity(big).symbol
         line += (
-            f" Here the {big} term is {max(f_part, p_part) / min(f_part, p_part):.0f}× the {small} term, so J "
-            f"mostly follows {'P' if k else 'F_turn'}"
+            f" Here the {quantity(big).description} term is {max(f_part, p_part) / min(f_part, p_part):.0f}× the "
+            f"{quantity(small).description} term, so J mostly follows {name}"
         )
         if len(front.points) >= 2:
             values = front.objectives()[:, k]
             lo, hi = float(values.min()), float(values.max())
-            frac = ((p_opt if k else f_opt) - lo) / (hi - lo) if hi > lo else 0.0
-            name = "P" if k else "F_turn"
+            frac = ((f_opt, p_opt)[k] - lo) / (hi - lo) if hi > lo else 0.0
             if frac <= AT_END:
-                line += f": the optimum is the least-{name} end of the front ({name} = {lo:.2f} N)"
+                line += f": the optimum is the least-{name} end of the front ({name} = {shown(lo, big)})"
             else:
                 line += (
                     f", yet the optimum is not the least-{name} end: its {name} is {frac:.0%} of the front's "
-                    f"{name} range above the least ({lo:.2f} N)"
+                    f"{name} range above the least ({shown(lo, big)})"
                 )
         line += ". It is not the recommendation; scale the weights or cap one objective ([objective]) to change it."
     return line
@@ -259,9 +264,10 @@ def margin_line(problem, front) -> str:
     on = int(np.sum(np.abs(v / problem.required_speed - 1) <= ACTIVE_REL))
     n = len(v)
     where = "every front design sits" if on == n else f"{on} of {n} front designs sit" if on else "no front design sits"
-    tail = "" if on == n else f" (the others are stable beyond it: V_c up to {v.max():.3f} m/s)"
+    tail = "" if on == n else f" (the others are stable beyond it: V_c up to {shown(v.max(), 'critical_speed')})"
     return (
-        f"No risk bound and no safety margin: {where} exactly at V_c = V_req = {problem.required_speed:.2f} m/s "
+        f"No risk bound and no safety margin: {where} exactly at V_c = V_req = "
+        f"{shown(problem.required_speed, 'critical_speed')} "
         f"of Eq. 7{tail}. Eq. 7 matched Table 1's measured critical speeds only to RMS 10.3 % (worst −16 %); "
         f"set [robust] (the default) or shimmy.margin before building a caster."
     )
@@ -272,14 +278,16 @@ def summary_lines(data) -> list[str]:
     problem, front = data.problem, data.front
     out = []
     if front.points:
-        f = front.objectives()
         d = np.array([p.design.diameter for p in front.points])
         kind = "within the risk bound" if problem.conditions.uncertainty is not None else "without a risk bound"
+        ranges = ", ".join(
+            f"{label(name)} {number(v.min(), name)}–{shown(v.max(), name)}"
+            for name, v in zip(("turning_effort", "threshold_force"), front.objectives().T)
+        )
         out.append(
-            f"With any sizes, not only the parts (the continuous front, {kind}): {len(front)} valid point{'s' if len(front) != 1 else ''} (of "
-            f"{front.meta.get('points_requested', len(front))} requested, {len(front.failed)} failed): turning "
-            f"effort {f[:, 0].min():.2f}–{f[:, 0].max():.2f} N, threshold force {f[:, 1].min():.1f}–"
-            f"{f[:, 1].max():.1f} N, wheel diameter {size(d.min(), problem.units)}–{size(d.max(), problem.units)}."
+            f"With any sizes, not only the parts (the continuous front, {kind}): {_count(len(front), 'valid point')} "
+            f"(of {front.meta.get('points_requested', len(front))} requested, {len(front.failed)} failed): {ranges}, "
+            f"wheel diameter {size(d.min(), problem.units)}–{size(d.max(), problem.units)}."
         )
     if data.recommendation is not None:
         out.append(stock_sentence(data.price_of_stock, getattr(problem, "stock", None) is not None))

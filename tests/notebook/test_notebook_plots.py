@@ -87,9 +87,9 @@ def test_front_plot_variables_panels(front):
         np.testing.assert_allclose(ax.lines[0].get_ydata(), front.designs()[:, k] * scale)
     assert [ax.get_ylabel() for ax in axes.ravel()] == [
         "trail T [mm]",
-        "wheel diameter d [mm]",
-        "groove width B [mm]",
-        "spindle damping c_f [N·m/rad]",
+        "diameter d [mm]",
+        "groove B [mm]",
+        "damping c_f [N·m/rad]",
     ]
 
 

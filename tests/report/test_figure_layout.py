@@ -115,15 +115,15 @@ def _marks(knee, optimum):
 
 
 def test_knee_and_optimum_on_one_spot_share_a_legend_entry():
-    """The default problem's knee (P 105.0 N, F 8.32 N) and weighted optimum (P 105.06 N, F 8.28 N): one legend
+    """The default problem's knee (P 105.0 N, F_turn 8.32 N) and weighted optimum (P 105.06 N, F_turn 8.28 N): one legend
     entry naming both, the cross still drawn; 5 N apart in P on a 32 N wide front, two entries."""
     marks = _marks((8.32, 105.0), (8.28, 105.06))
     labels = [m["label"] for m in marks]
-    assert labels == ["knee of the continuous front = weighted optimum (w = 1, 1): P 105.0 N, F 8.32 N", ""]
+    assert labels == ["knee of the continuous front = weighted optimum (w = 1, 1): P 105.00 N, F_turn 8.320 N", ""]
     assert [m["kind"] for m in marks] == ["knee", "weighted"]
     apart = [m["label"] for m in _marks((8.32, 105.0), (8.0, 110.0))]
     assert apart == [
-        "knee of the continuous front: P 105.0 N, F 8.32 N",
+        "knee of the continuous front: P 105.00 N, F_turn 8.320 N",
         "weighted optimum (w = 1, 1; not the recommendation)",
     ]
 
@@ -132,5 +132,5 @@ def test_default_report_front_names_knee_and_optimum_once():
     """The committed default report's Figure 1 has one legend line for the knee and the weighted optimum (the knee
     found on the continuous front, not its nearest sample: both at P 105.06 N, F 8.28 N)."""
     svg = (ROOT / "results" / "indoor-manual" / "figures" / "front.svg").read_text(encoding="utf-8")
-    assert "knee of the continuous front = weighted optimum (w = 1, 1): P 105.1 N, F 8.28 N" in svg
+    assert "knee of the continuous front = weighted optimum (w = 1, 1): P 105.06 N, F_turn 8.280 N" in svg
     assert "not the recommendation" not in svg

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from designer import load_problem
+from designer.display import percent, shown
 from designer.studies.front import pareto_front
 from designer.data.paper import INCH
 from designer.model import Design
@@ -179,7 +180,8 @@ def test_build_card_shows_the_knock_safe_speeds(stub, tmp_path):
     for page in (html, md):
         assert "Knock-safe speed: a second opinion" in page and "20° knock" in page and "40° knock" in page
         for row in knock:
-            assert f"{row['knock_safe_speed']:.2f} m/s" in page and f"{row['knock_safe_speed_double']:.2f} m/s" in page
+            assert shown(row["knock_safe_speed"], "critical_speed") in page
+            assert shown(row["knock_safe_speed_double"], "critical_speed") in page
     front = json.loads((folder / "front.json").read_text())
     assert front["recommendation"]["knock_safe_speed"] == pytest.approx(knock[0]["knock_safe_speed"])
     assert [a["knock_safe_speed_double"] for a in front["alternatives"]] == pytest.approx(
@@ -214,14 +216,15 @@ def test_build_sentences_state_the_data(stub):
     rec = stub.recommendation
     lead = text.lead_sentence(stub)
     assert lead.startswith("The best balance between turning and the sill among the parts you can buy: ")
-    assert f"{rec.turning_effort:.1f} N of effort" in lead and f"with {rec.threshold_force:.0f} N" in lead
-    assert f"probability {rec.shimmy_probability:.1%} (the bound is 5%)" in lead
+    force, effort = shown(rec.threshold_force, "threshold_force"), shown(rec.turning_effort, "turning_effort")
+    assert f"{effort} of effort" in lead and f"with {force}" in lead
+    assert f"probability {percent(rec.shimmy_probability)} (the bound is 5 %)" in lead
     lines = text.build_lines(stub)
     joined = " ".join(lines)
-    assert f"F_turn = {rec.turning_effort:.3f} N" in joined and f"P = {rec.threshold_force:.2f} N" in joined
-    assert f"{rec.shimmy_probability:.2%} by the exact law" in joined
-    assert f"{rec.shimmy_probability_mc:.2%} ± {rec.shimmy_probability_se:.2%}" in joined
-    assert f"up to {rec.confident_speed:.3f} m/s" in joined and "within the bound α = 5%" in joined
+    assert f"F_turn = {effort}" in joined and f"P = {force}" in joined
+    assert f"{percent(rec.shimmy_probability)} by the exact law" in joined
+    assert f"{percent(rec.shimmy_probability_mc)} ± {percent(rec.shimmy_probability_se)}" in joined
+    assert f"up to {shown(rec.confident_speed, 'confident_speed')}" in joined and "within the bound α = 5 %" in joined
     spare = problem.swept_radius_max - rec.swept_radius
     assert ("to spare" in joined) == (spare > 1e-9)
     assert text.stock_sentence(stub.price_of_stock, problem.stock is not None) in text.summary_lines(stub)
@@ -237,7 +240,7 @@ def test_risk_sentence_flags_an_estimate_above_the_bound(stub):
     assert "within" in text.risk_sentence(rec)
     nominal = SimpleNamespace(**{**vars(rec), "alpha": None, "shimmy_probability": 0.49})
     sentence = text.risk_sentence(nominal)
-    assert "No risk bound" in sentence and "49.00%" in sentence
+    assert "No risk bound" in sentence and "= 49 % by the exact law" in sentence
 
 
 def test_price_of_stock_reads_the_continuous_front(indoor_data):
