@@ -8,16 +8,13 @@ P(V_c,true < V_req) = α:
 - trail T: the least (P falls as T grows, Eq. 7: V_c² = 4 c_f T²/(π I_w) + K_s B² T/(2 I_w));
 - groove B: the least;
 - bearing friction moment M_f = c_f θ0 [N·m]: the least (c_f = M_f/θ0, Eq. 7 with Eq. 11C's θ0);
-- wheel inertia I_w: the largest measured one
-  (:func:`designer.physics.uncertainty.max_measured_inertia`).
+- wheel inertia I_w: the largest measured one.
 
-Each is a root of P(part) − α found by :func:`designer.physics.roots.bracketed_root` on the part's
-range (the parameter table's model range), P by :func:`~designer.physics.uncertainty.shimmy_probability_exact`
-(Gauss–Hermite quadrature of the exact law).  When P stays at or below α over the whole side of the range
-the part has no limit there (None, with the reason).  :func:`acceptance_limits_many` finds every limit of
-many casters in one batch, what the specs use: the same roots by the same steps, row by row
-(:func:`designer.physics.roots.bracketed_roots`), P by the batched law
-(:func:`~designer.physics.uncertainty.shimmy_probability_exact_many`).
+Each is a root of P(part) − α on the part's range (the parameter table's model range; the inertia in log I_w),
+P by the exact law's Gauss–Hermite quadrature (:func:`~designer.physics.uncertainty.shimmy_probability_exact_many`).
+When P stays at or below α over the whole side of the range the part has no limit there (None, with the reason).
+:func:`acceptance_limits_many` finds every limit of many casters in one batch, row by row
+(:func:`designer.physics.roots.bracketed_roots`); :func:`acceptance_limits` is the batch of one caster.
 
 The worst corner (:func:`worst_corner`): each toleranced part at the edge of its tolerance where P is the
 larger (others nominal), then all of them at once, the law's scatter on top: worst-case (arithmetic)
@@ -43,17 +40,15 @@ from designer.physics.uncertainty import (
     Uncertainty,
     _hermite_nodes,
     _linear_part,
-    max_measured_inertia,
-    shimmy_probability_exact,
     shimmy_probability_exact_many,
 )
 
 RISK_PARTS = ("trail", "groove", "damping")
-"""The parts whose least acceptable value is a root of P = α (the inertia's largest is its own solver)."""
+"""The parts whose least acceptable value is a root of P = α (the inertia's largest is searched in log I_w)."""
 
 EXACT_NODES = 16
-"""Gauss–Hermite nodes per axis of the limits' and corners' quadrature: P agrees with 32 nodes to 1e-15 on the
-recommended casters of the shipped problems (tests/studies/test_spec.py), at a sixth of the work."""
+"""Gauss–Hermite nodes per axis of :func:`measured_probabilities`' quadrature: P agrees with 32 nodes to 1e-15 on
+the recommended casters of the shipped problems (tests/studies/test_spec.py), at a sixth of the work."""
 
 LAW_NODES = 24
 """Gauss–Hermite nodes of the batched law's one quadrature axis (:func:`exact_probabilities`): P agrees with the
@@ -100,28 +95,12 @@ class LawCaster:
 def exact_probability(
     caster: LawCaster, speed: float, uncertainty: Uncertainty, prediction: InertiaPrediction | None = None
 ) -> float:
-    """P(V_c,true < speed) of ``caster`` under the exact law, by quadrature [-] (:data:`EXACT_NODES` a side).
+    """P(V_c,true < speed) of ``caster`` under the exact law, by quadrature [-]: :func:`exact_probabilities` of one.
 
-    :func:`designer.physics.uncertainty.shimmy_probability_exact`: the model error and the inertia's scatter
-    by characteristic-function inversion, c_f and K_s through Eq. 7 itself.  1 when Eq. 7's V_c is zero (no
-    trail, or neither friction nor groove).
+    The model error and the inertia's scatter by characteristic-function inversion, c_f and K_s through Eq. 7
+    itself.  1 when Eq. 7's V_c is zero (no trail, or neither friction nor groove).
     """
-    c = caster
-    if c.trail <= 0 or (c.damping <= 0 and c.groove <= 0):
-        return 1.0  # V_c = 0 (Eq. 7): no speed is free of shimmy
-    value = shimmy_probability_exact(
-        c.trail,
-        c.inertia,
-        c.groove,
-        c.damping,
-        c.slip_coefficient,
-        speed,
-        uncertainty,
-        c.diameter,
-        prediction,
-        EXACT_NODES,
-    )
-    return float(value)
+    return float(exact_probabilities(_columns([caster]), speed, uncertainty, prediction)[0])
 
 
 @dataclass(frozen=True)
@@ -201,22 +180,14 @@ def acceptance_limits(
     wheel_diameter: float,
     prediction: InertiaPrediction | None = None,
 ) -> list[PartLimit]:
-    """Every inspectable part's acceptance limit, each with the others at nominal [SI].
+    """Every inspectable part's acceptance limit, each with the others at nominal [SI]: trail min, trail max,
+    groove min, c_f min, I_w max (:func:`acceptance_limits_many` of one caster).
 
-    Trail min, groove min and c_f min by :func:`least_part` (``ranges``: each part's model range);
-    trail max = R_max − d/2 (the swept-radius limit T + d/2 <= R_max; none without it); I_w max by
-    :func:`~designer.physics.uncertainty.max_measured_inertia` (a measured wheel, measurement scatter about it).
+    Trail min, groove min and c_f min are the least values at which P = α (:func:`least_part`; ``ranges``: each
+    part's model range); trail max = R_max − d/2 (the swept-radius limit T + d/2 <= R_max; none without it); I_w
+    max the largest measured wheel inertia that holds (a measured wheel, measurement scatter about it).
     """
-    out = [least_part(caster, part, speed, uncertainty, *ranges[part], prediction) for part in RISK_PARTS]
-    if swept_radius_max is None:
-        out.insert(1, PartLimit("trail", "max", None, None, "the problem has no swept-radius limit"))
-    else:
-        out.insert(1, PartLimit("trail", "max", swept_radius_max - wheel_diameter / 2, None, "swept radius"))
-    c = caster
-    top = max_measured_inertia(c.trail, c.groove, c.damping, c.slip_coefficient, speed, uncertainty)
-    at_top = exact_probability(c.with_fields({"inertia": top, "diameter": None}), speed, uncertainty)
-    out.append(PartLimit("inertia", "max", top, at_top, "risk"))
-    return out
+    return acceptance_limits_many([caster], speed, uncertainty, ranges, swept_radius_max, wheel_diameter, prediction)[0]
 
 
 def _columns(casters: Sequence[LawCaster]) -> dict[str, Array]:
@@ -268,8 +239,8 @@ def _limit_search(
     prediction: InertiaPrediction | None = None,
 ) -> tuple[Array, Array, Array, Array]:
     """Every risk limit of many casters in one root search: the least T [m], B [m] and c_f [N·m/rad] at which
-    P(V_c,true < speed) = α, the others nominal (:func:`least_part`), and the largest measured I_w
-    (:func:`~designer.physics.uncertainty.max_measured_inertia`), as one block of rows each.
+    P(V_c,true < speed) = α, the others nominal (:func:`least_part`), and the largest measured I_w, as one block
+    of rows each.
 
     Each row is a root of Φ⁻¹(P) − Φ⁻¹(α) by :func:`bracketed_roots` (the scalar searches' Illinois steps, row
     by row) and every step's quadratures of all rows are one call of :func:`exact_probabilities`: T, B, c_f in

@@ -56,10 +56,9 @@ screening use the same function.  (The simpler root-sum-square of the t and
 normal quantiles is up to 0.7 % too small in Q for s ≈ 0.7; one t of scale
 √(σ_m² + σ_I²) for the two t's is up to 2.1 % too small: neither is conservative.)
 
-:func:`shimmy_probability_exact` integrates the exact law (the linear part by
-inversion, c_f and K_s through Eq. 7 itself by Gauss–Hermite), :func:`shimmy_probability_exact_many` the same
-law for many casters at once (one quadrature axis shared by all of them, the other normal folded into the
-linear part);
+:func:`shimmy_probability_exact_many` integrates the exact law for many casters at once (the linear part by
+inversion, c_f and K_s through Eq. 7 itself by Gauss–Hermite on one axis shared by all of them, the other normal
+folded into the linear part), :func:`shimmy_probability_exact` for one;
 :func:`shimmy_probability_mc_many` samples it for many casters and speeds with its
 own seed (the sampler behind the model's reported Monte Carlo, :func:`designer.model.shimmy_probability`);
 :func:`risk_record` says where a caster's risk comes from.
@@ -77,7 +76,6 @@ import operator
 import threading
 from collections.abc import Iterator
 from dataclasses import dataclass
-from statistics import NormalDist
 from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
@@ -328,18 +326,28 @@ def _fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], f
     return coef, stored[1]
 
 
-def _numeric(*values: Any) -> bool:
-    """True when every value is a float or a NumPy array (not a CasADi expression): NumPy's own Chebyshev
-    evaluation then does the sum (in C; the recurrence below is for CasADi symbols)."""
-    return all(isinstance(v, (float, int, np.floating, np.ndarray)) for v in values)
+def _clenshaw(coef: Array, x: Scalar, y: Scalar | None = None) -> Scalar:
+    """Σ_j c_j T_j(x), or Σ_jk c_jk T_j(x) T_k(y) for 2-D coefficients (floats, arrays, CasADi symbols).
+
+    Clenshaw's recurrence (a few µs for Python floats, where NumPy's chebval2d spends ~90 µs on call overhead: the
+    closed-form front asks ~800 quantiles one by one), but 2-D on NumPy arrays by Chebyshev–Vandermonde products
+    (in C: half the time of chebval2d at 260 points, the same numbers to 1e-15)."""
+    if y is not None and any(isinstance(v, np.ndarray) and v.ndim for v in (x, y)):
+        value: Scalar = ((C.chebvander(x, coef.shape[0] - 1) @ coef) * C.chebvander(y, coef.shape[1] - 1)).sum(-1)
+        return value
+    rows = np.asarray(coef, dtype=float).tolist()
+    if y is not None:
+        rows = [_recurrence(row, y) for row in rows]
+    return _recurrence(rows, x)
 
 
-def _clenshaw(coef: npt.NDArray[np.floating[Any]], x: Scalar) -> Scalar:
-    """Σ c_k T_k(x) by Clenshaw's recurrence (floats, arrays, CasADi symbols)."""
-    if _numeric(x):
-        one: Scalar = np.asarray(C.chebval(x, coef), dtype=float)
-        return one if np.ndim(one) else float(one)
-    return _clenshaw_values([float(c) for c in coef], x)
+def _recurrence(values: list[Any], x: Scalar) -> Scalar:
+    """Σ v_k T_k(x) by Clenshaw's recurrence, with coefficients that may be expressions."""
+    b1 = b2 = 0 * x
+    x2 = 2 * x
+    for c in values[:0:-1]:
+        b1, b2 = x2 * b1 - b2 + c, b1
+    return x * b1 - b2 + values[0]
 
 
 def log_speed_quantile(sigma_model: float, sigma_rest: Scalar, uncertainty: Uncertainty) -> Scalar:
@@ -423,7 +431,7 @@ def law_quantile(
     pair = sm**2 + sigma_inertia**2
     total = pair + sigma_rest**2
     coef, _ = _fit2(float(u.probability), int(u.model_error_dof), nu_i)
-    return np.sqrt(total) * _clenshaw2(coef, 2 * sigma_inertia**2 / pair - 1, 2 * sigma_rest**2 / total - 1)
+    return np.sqrt(total) * _clenshaw(coef, 2 * sigma_inertia**2 / pair - 1, 2 * sigma_rest**2 / total - 1)
 
 
 def _one_t_quantile(t_scale: Scalar, dof: int, normal: Scalar, probability: float) -> Scalar:
@@ -524,40 +532,6 @@ def _fit2(probability: float, dof_model: int, dof_inertia: int) -> tuple[Array, 
     return coef, shift
 
 
-def _clenshaw_values(values: list[Scalar], x: Scalar) -> Scalar:
-    """Σ v_k T_k(x) by Clenshaw's recurrence with coefficients that may be expressions."""
-    b1 = 0 * x
-    b2 = 0 * x
-    for c in values[:0:-1]:
-        b1, b2 = 2 * x * b1 - b2 + c, b1
-    return x * b1 - b2 + values[0]
-
-
-def _clenshaw_float(rows: list[list[float]], x: float, y: float) -> float:
-    """Σ_jk c_jk T_j(x) T_k(y) for two Python floats, by Clenshaw's recurrence in plain Python: a few µs where
-    NumPy's chebval2d spends ~90 µs on call overhead (the closed-form front asks ~800 quantiles one by one)."""
-    inner = []
-    for row in rows:
-        b1 = b2 = 0.0
-        for c in row[:0:-1]:
-            b1, b2 = 2.0 * y * b1 - b2 + c, b1
-        inner.append(y * b1 - b2 + row[0])
-    b1 = b2 = 0.0
-    for c in inner[:0:-1]:
-        b1, b2 = 2.0 * x * b1 - b2 + c, b1
-    return x * b1 - b2 + inner[0]
-
-
-def _clenshaw2(coef: Array, x: Scalar, y: Scalar) -> Scalar:
-    """Σ_jk c_jk T_j(x) T_k(y) (floats, arrays, CasADi symbols)."""
-    if isinstance(x, (float, np.floating)) and isinstance(y, (float, np.floating)):
-        return _clenshaw_float(np.asarray(coef, dtype=float).tolist(), float(x), float(y))
-    if _numeric(x, y):
-        value: Scalar = np.asarray(C.chebval2d(x, y, coef), dtype=float)
-        return value if np.ndim(value) else float(value)
-    return _clenshaw_values([_clenshaw(row, y) for row in coef], x)
-
-
 # --------------------------------------------------------------------------- the data law: exact probability
 
 
@@ -606,33 +580,6 @@ def _hermite_nodes(nodes: int) -> tuple[Array, Array]:
     return zn, weights
 
 
-def _exact_law(
-    trail: float,
-    inertia: float,
-    groove: float,
-    damping: float,
-    slip_coefficient: float,
-    uncertainty: Uncertainty,
-    diameter: float | None,
-    prediction: InertiaPrediction | None,
-    nodes: int,
-) -> tuple[SumDistribution, Array, Array]:
-    """The exact law's pieces: the linear part's distribution, the Gauss–Hermite weights over (ξc, ξK) and
-    log V_c (Eq. 7) at those nodes [log m/s]: P(V_c,true < v) = Σ w F(log v − log V_c)."""
-    u = uncertainty
-    dist = _linear_part(trail, inertia, groove, damping, slip_coefficient, u, diameter, prediction)
-    zn, zw = _hermite_nodes(nodes)
-    if groove == 0 or u.slip_coefficient == 0:
-        zc, zk, w = zn, np.zeros_like(zn), zw
-    else:
-        a, b = np.meshgrid(zn, zn, indexing="ij")
-        zc, zk, w = a.ravel(), b.ravel(), np.outer(zw, zw).ravel()
-    v = critical_shimmy_speed(
-        trail, inertia, groove, damping * np.exp(u.damping * zc), slip_coefficient * np.exp(u.slip_coefficient * zk)
-    )
-    return dist, w, np.log(v)
-
-
 def shimmy_probability_exact(
     trail: float,
     inertia: float,
@@ -651,14 +598,11 @@ def shimmy_probability_exact(
     inertia's ι (Student-t prediction for a wheel known by its ``diameter``, else lognormal σ
     ``uncertainty.inertia`` about a measured ``inertia``) enter linearly, so their sum's CDF is exact
     (:class:`~designer.physics._sums.SumDistribution`); ξc, ξK ~ N(0, σ²) are integrated through Eq. 7 itself
-    by Gauss–Hermite with ``nodes`` points each (one axis when B = 0 or σ_K = 0).
+    by Gauss–Hermite with ``nodes`` points: :func:`shimmy_probability_exact_many` of one caster.
     """
-    dist, w, log_v = _exact_law(
-        trail, inertia, groove, damping, slip_coefficient, uncertainty, diameter, prediction, nodes
+    p = shimmy_probability_exact_many(
+        trail, inertia, groove, damping, slip_coefficient, speed, uncertainty, diameter, None, prediction, nodes
     )
-    speeds = np.asarray(speed, dtype=float)
-    gap = np.log(speeds)[..., None] - log_v
-    p = np.sum(w * dist.cdf(gap.reshape(1, -1)).reshape(gap.shape), axis=-1)
     return float(p) if p.ndim == 0 else p
 
 
@@ -741,7 +685,7 @@ def shimmy_probability_exact_many(
 ) -> Array:
     """P(V_c,true < speed) under the exact law for many casters at once, by quadrature [-].
 
-    The batched :func:`shimmy_probability_exact` (the same law, the same numbers to about 1e-12): every argument
+    Every argument
     broadcasts with the others (SI: trail T [m], inertia I_w [kg·m²], groove B [m], damping c_f [N·m/rad],
     slip_coefficient K_s [N], speed V [m/s]).  ``diameter`` d [m] of a wheel known by its diameter only (I_w is
     then the power law's value at d and the inertia scatters by Table 1's Student-t prediction,
@@ -791,58 +735,6 @@ def _inertia_scales(
     with np.errstate(invalid="ignore"):
         scale = np.asarray(inertia_log_scale(t, i_w, b, c, k, np.where(flags, 1.0, d), prediction), dtype=float)
     return np.where(flags, np.nan, np.broadcast_to(scale, t.shape))
-
-
-def max_measured_inertia(
-    trail: float,
-    groove: float,
-    damping: float,
-    slip_coefficient: float,
-    speed: float,
-    uncertainty: Uncertainty,
-    nodes: int = 16,
-) -> float:
-    """The largest measured wheel inertia I* [kg·m²] at which the caster still meets the risk bound.
-
-    The I* whose exact law, with the measurement's lognormal scatter (σ ``uncertainty.inertia``) about I*, gives
-    P(V_c,true < speed) = α (:func:`shimmy_probability_exact`, quadrature; P rises with I*): the purchasing spec's
-    acceptance limit for a wheel measured before it is fitted.  Solved in log I
-    between the I_w at which Eq. 7's V_c equals the speed (P about 1/2 there) and e^−12 of it (P ≈ 0), by a
-    safeguarded Newton iteration (the law's density gives P's slope); ``nodes`` Gauss–Hermite nodes per axis.
-    """
-    alpha = float(uncertainty.probability)
-    v_unit = float(critical_shimmy_speed(trail, 1.0, groove, damping, slip_coefficient))  # V_c at I_w = 1 kg·m²
-    top = 2 * math.log(v_unit / speed)  # log of the I_w whose V_c is the speed (V_c ∝ I_w^−1/2, Eq. 7)
-    # the law at I_w = 1 kg·m²; at I* every node's log V_c is lower by log(I*)/2 and the linear part's shape is
-    # the same (its inertia slope is 1/2 whatever I*): the law is built once, each step is one CDF
-    # 16 Gauss–Hermite nodes per axis: P at the 32-node I* is α to 7e-13 (24 nodes: to rounding) over grooved
-    # and damped casters of the shipped problems, a quarter of the 32 × 32 grid's work
-    dist, w, log_v = _exact_law(trail, 1.0, groove, damping, slip_coefficient, uncertainty, None, None, nodes)
-    gap = (math.log(speed) - log_v)[None, :]
-
-    def excess(log_i: float) -> float:
-        return float(np.sum(w * dist.cdf(gap + 0.5 * log_i)[0])) - alpha
-
-    # Newton from a normal approximation of the law (P' = Σ w f / 2, f the linear part's density), kept inside
-    # a bracket that shrinks with each sign; a step that leaves it bisects.  Typically 3-5 steps to 1e-10.
-    spread = float(np.sum(dist.total_scale**2) + np.sum(w * (log_v - np.sum(w * log_v)) ** 2))
-    start = 2 * (float(np.sum(w * log_v)) - math.log(speed) - NormalDist().inv_cdf(1 - alpha) * math.sqrt(spread))
-    lo, hi = top - 12.0, top
-    x = min(max(start, lo), hi)
-    for _ in range(60):
-        f = excess(x)
-        if f < 0:
-            lo = x
-        else:
-            hi = x
-        slope = 0.5 * float(np.sum(w * dist.pdf(gap + 0.5 * x)[0]))
-        new = x - f / slope if slope > 0 else 0.5 * (lo + hi)
-        if not lo < new < hi:
-            new = 0.5 * (lo + hi)
-        if abs(new - x) <= 1e-10 or hi - lo <= 1e-10:
-            return math.exp(new)
-        x = new
-    raise RuntimeError(f"max_measured_inertia: no convergence in [{math.exp(lo):.6g}, {math.exp(hi):.6g}] kg·m²")
 
 
 # --------------------------------------------------------------------------- the data law: Monte Carlo

@@ -332,7 +332,7 @@ def _mc(*args, **kwargs) -> tuple[float, float]:
 
 def test_quantile_fit_evaluation_is_the_same_for_floats_arrays_and_casadi():
     """The 2-D fit of the risk bound's quantile is one polynomial, evaluated three ways: plain-Python Clenshaw
-    for two floats, NumPy's chebval2d for arrays, the symbolic recurrence for CasADi; all agree to rounding
+    for two floats, Chebyshev–Vandermonde products for arrays, the symbolic recurrence for CasADi; all agree to rounding
     (1e-14) at 200 random points of [-1, 1]²."""
     import casadi as ca
     from numpy.polynomial import chebyshev as cheb
@@ -343,10 +343,10 @@ def test_quantile_fit_evaluation_is_the_same_for_floats_arrays_and_casadi():
     rng = np.random.default_rng(7)
     x, y = rng.uniform(-1, 1, (2, 200))
     reference = cheb.chebval2d(x, y, coef)
-    floats = np.array([U._clenshaw2(coef, float(a), float(b)) for a, b in zip(x, y)])
-    arrays = U._clenshaw2(coef, x, y)
+    floats = np.array([U._clenshaw(coef, float(a), float(b)) for a, b in zip(x, y)])
+    arrays = U._clenshaw(coef, x, y)
     sx, sy = ca.SX.sym("x"), ca.SX.sym("y")
-    symbolic = ca.Function("q", [sx, sy], [U._clenshaw2(coef, sx, sy)])
+    symbolic = ca.Function("q", [sx, sy], [U._clenshaw(coef, sx, sy)])
     casadi = np.array([float(symbolic(a, b)) for a, b in zip(x, y)])
     for got in (floats, arrays, casadi):
         assert np.max(np.abs(got - reference)) <= 1e-14 * np.max(np.abs(reference))
