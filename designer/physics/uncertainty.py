@@ -87,6 +87,7 @@ from designer.units import parse_quantity, whole_number
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
 
+from designer.physics.roots import bracketed_root
 from designer.physics.types import Array, Numeric, Scalar
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities, critical_speed_terms
 from designer.physics.scatter import (
@@ -104,7 +105,7 @@ from designer.physics.scatter import (
     slip_coefficient_source,
 )
 from designer.physics._sums import SumDistribution, tabled_cdf
-from designer.physics._quantile_fits import STORED_PAIR_FITS
+from designer.physics._quantile_fits import STORED_PAIR_FITS, STORED_SUM_FITS
 from numpy.polynomial.hermite_e import hermegauss
 from numpy.polynomial.legendre import leggauss
 from numpy.polynomial import chebyshev as C
@@ -272,32 +273,6 @@ def exact_sum_quantile(share: Numeric, probability: float, dof: int) -> Array:
 
 _DEGREE = 14
 
-_STORED_FITS: dict[tuple[float, int, int, int], tuple[tuple[float, ...], float]] = {
-    # (α, ν, _NODES, _DEGREE): the Chebyshev coefficients and the shift _compute_fit returns, written out with
-    # repr (exact round trip) so the main job needn't redo the quadrature (about 0.1-0.3 s of CPU, mostly
-    # the threaded eigensolver of leggauss(256)); tests/physics/test_uncertainty.py recomputes them
-    (0.05, 5, 64, 14): (
-        (
-            1.8398610952279133,
-            -0.18098169715082657,
-            -0.009025512044237132,
-            -0.003897747202272107,
-            -0.0007983692780797318,
-            -0.0001956947453690319,
-            -7.673162625049496e-05,
-            -2.440348703130868e-05,
-            -7.955245488684818e-06,
-            -2.37014651708665e-06,
-            -2.7185077619810214e-08,
-            7.931278508456347e-07,
-            9.74699486609848e-07,
-            8.165543077358258e-07,
-            4.564530635257894e-07,
-        ),
-        5.740555803074836e-06,
-    ),
-}
-
 
 def _compute_fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], float]:
     """Chebyshev coefficients (on s ∈ [0, 1]) of the quantile, shifted up by its fit error; and the shift."""
@@ -317,8 +292,8 @@ def _compute_fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[
 
 @functools.lru_cache(maxsize=32)
 def _fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], float]:
-    """:func:`_compute_fit`, read from :data:`_STORED_FITS` for the default α and ν (the same numbers)."""
-    stored = _STORED_FITS.get((probability, dof, _NODES, _DEGREE))
+    """:func:`_compute_fit`, read from the stored fits for the default α and ν (the same numbers)."""
+    stored = STORED_SUM_FITS.get((probability, dof, _NODES, _DEGREE))
     if stored is None:
         return _compute_fit(probability, dof)
     coef = np.array(stored[0], dtype=float)
@@ -735,6 +710,33 @@ def _inertia_scales(
     with np.errstate(invalid="ignore"):
         scale = np.asarray(inertia_log_scale(t, i_w, b, c, k, np.where(flags, 1.0, d), prediction), dtype=float)
     return np.where(flags, np.nan, np.broadcast_to(scale, t.shape))
+
+
+def max_measured_inertia(
+    trail: float,
+    groove: float,
+    damping: float,
+    slip_coefficient: float,
+    speed: float,
+    uncertainty: Uncertainty,
+    nodes: int = 24,
+) -> float:
+    """The largest measured wheel inertia I* [kg·m²] at which the caster still meets the risk bound.
+
+    The I* whose exact law, with the measurement's lognormal scatter (σ ``uncertainty.inertia``) about I*, gives
+    P(V_c,true < speed) = α (:func:`shimmy_probability_exact`, ``nodes`` Gauss–Hermite nodes; P rises with I*): the
+    purchasing spec's acceptance limit for a wheel measured before it is fitted, one caster at a time (the specs
+    find it for many casters in one batch, :func:`designer.physics.acceptance.acceptance_limits_many`).  A root
+    in log I (to 1e-11) between the I_w at which Eq. 7's V_c equals the speed (P about 1/2 there, V_c ∝ I_w^−1/2)
+    and e^−12 of it (P ≈ 0), by :func:`designer.physics.roots.bracketed_root`.
+    """
+    top = 2 * math.log(float(critical_shimmy_speed(trail, 1.0, groove, damping, slip_coefficient)) / speed)
+
+    def excess(log_i: float) -> float:
+        args = (trail, math.exp(log_i), groove, damping, slip_coefficient, speed, uncertainty)
+        return float(shimmy_probability_exact(*args, nodes=nodes)) - float(uncertainty.probability)
+
+    return math.exp(bracketed_root(excess, top - 12.0, top, xtol=1e-11, rtol=0.0))
 
 
 # --------------------------------------------------------------------------- the data law: Monte Carlo

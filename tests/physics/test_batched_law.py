@@ -4,6 +4,8 @@ functions they replace in the hot paths."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -100,8 +102,8 @@ def test_batched_law_broadcasts_and_says_one_without_critical_speed():
 def test_batched_limits_equal_one_at_a_time_on_50_random_casters():
     """Every acceptance limit of 50 random casters found together equals the one-caster search to the root's
     tolerance: trail, groove and c_f mins (the scalar search, least_part) within 2 × 2 (xtol + LIMIT_RTOL |x|)
-    (two searches, each within 2 (xtol + rtol |x|) of the root), the measured I_w max (the caster's batch of one,
-    acceptance_limits) within 1e-10 in log I plus the batch's 1e-11; the same parts without a limit, for the
+    (two searches, each within 2 (xtol + rtol |x|) of the root), the measured I_w max (the scalar search,
+    max_measured_inertia) within 1e-10 in log I plus the batch's 1e-11; the same parts without a limit, for the
     same reason."""
     c = random_casters(3)
     law = U.data_law()
@@ -124,6 +126,8 @@ def test_batched_limits_equal_one_at_a_time_on_50_random_casters():
         one = [
             A.least_part(caster, x.part, float(speed[i]), law, *RANGES[x.part]) if x.side == "min" else x for x in one
         ]
+        top = U.max_measured_inertia(caster.trail, caster.groove, caster.damping, SLIP, float(speed[i]), law)
+        one[-1] = dataclasses.replace(one[-1], value=top)
         for ours, theirs in zip(many[i], one):
             assert (ours.part, ours.side, ours.reason) == (theirs.part, theirs.side, theirs.reason)
             if theirs.value is None:

@@ -78,7 +78,7 @@ def test_stored_fit_is_the_computed_fit():
     are computed (and differ from it)."""
     stored, shift = U._fit(0.05, 5)
     computed, computed_shift = U._compute_fit(0.05, 5)
-    assert (0.05, 5, U._NODES, U._DEGREE) in U._STORED_FITS
+    assert (0.05, 5, U._NODES, U._DEGREE) in U.STORED_SUM_FITS
     np.testing.assert_allclose(stored, computed, rtol=0, atol=1e-13)
     assert shift == pytest.approx(computed_shift, abs=1e-13)
     other, _ = U._fit(0.1, 5)
