@@ -586,30 +586,13 @@ def _risk(
 ) -> tuple[np.ndarray, np.ndarray]:
     """P(V_c,true < speed) and its SE per caster: Monte Carlo, or the exact law by quadrature (SE 0)."""
     speed = np.asarray(speed, dtype=float) / calibration
-    if not exact:
-        return shimmy_probability(
-            out.effective_trail,
-            out.inertia,
-            out.groove,
-            out.damping,
-            float(conditions.slip_coefficient),
-            speed,
-            law,
-            samples=samples,
-            seed=seed,
-            target_se=target_se,
-            diameter=out.diameter,
-            measured=out.measured,
-        )
-    n = len(out)
-    t, i_w, b, c, d = (
-        out._column(k).astype(float) for k in ("effective_trail", "inertia", "groove", "damping", "diameter")
+    args = (out.effective_trail, out.inertia, out.groove, out.damping, float(conditions.slip_coefficient), speed, law)
+    if exact:
+        p = shimmy_probability_exact_many(*args, diameter=out.diameter, measured=out.measured)
+        return p, np.zeros_like(p)
+    return shimmy_probability(
+        *args, samples=samples, seed=seed, target_se=target_se, diameter=out.diameter, measured=out.measured
     )
-    v, flags = np.broadcast_to(speed, (n,)), out._column("measured").astype(bool)
-    p = shimmy_probability_exact_many(
-        t, i_w, b, c, float(conditions.slip_coefficient), v, law, diameter=d, measured=flags
-    )
-    return p, np.zeros(n)
 
 
 def _constraints(confident: np.ndarray, radius: np.ndarray, required: Any, r_max: Any) -> tuple[np.ndarray, np.ndarray]:

@@ -19,7 +19,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
     import numpy.typing as npt
 
 from designer import parameters
-from designer.data.paper import INCH
+from designer.display import label, number, quantity, shown, unit_text
 from designer.errors import InputError
 from designer.reprs import Record, frozen
 from designer.physics.types import Scalar
@@ -146,52 +146,47 @@ class Design(Record):
 
     def _repr_lines(self) -> list[str]:
         """Two lines: the SI constructor call and the sizes in inches (the industry's unit)."""
-        return [
-            f"Design(trail={self.trail:.6g}, diameter={self.diameter:.6g}, groove={self.groove:.6g}, "
-            f"damping={self.damping:.6g})",
-            f"  T {self.trail / INCH:.3f} in, d {self.diameter / INCH:.3f} in, "
-            f"B {self.groove / INCH:.3f} in, c_f {self.damping:.4g} N·m/rad",
-        ]
+        si = ", ".join(f"{p.name}={getattr(self, p.name):.6g}" for p in parameters.VARIABLE_TABLE)
+        return [f"Design({si})", f"  {self.describe()}"]
 
     def variable_rows(self) -> list[tuple[Any, Any, Any]]:
-        """T, d, B in inches and mm and c_f [N·m/rad] as (label, value, unit) rows, names and units from the
-        parameter table: the design block of every record's HTML (a recommendation, an optimum, this design)."""
-        rows: list[tuple[Any, Any, Any]] = []
-        for p in parameters.VARIABLE_TABLE:
-            value = getattr(self, p.name)
-            if p.dimension == "length":
-                rows.append((f"{p.name} {p.symbol}", f"{value / INCH:.3f} ({value * 1000:.2f} mm)", "in"))
-            else:
-                rows.append((f"{p.name} {p.symbol}", f"{value:.4g}", p.unit))
-        return rows
+        """T, d, B in inches and mm and c_f [N·m/rad] as (label, value, unit) rows, names, units and precisions from
+        the parameter table: the design block of every record's HTML (a recommendation, an optimum, this design)."""
+        return [
+            (f"{p.name} {p.symbol}", _inches(getattr(self, p.name), p.name), unit_text(p.name, "in"))
+            for p in parameters.VARIABLE_TABLE
+        ]
 
     def variable_lines(self, width: int) -> list[str]:
         """T, d, B in inches and mm and c_f as text lines, the label column ``width`` characters wide (two spaces
-        of indent included), names and units from the parameter table: the design block of
+        of indent included), names, units and precisions from the parameter table: the design block of
         ``print(recommendation)`` and ``print(solution)``."""
         lines = []
         for p in parameters.VARIABLE_TABLE:
             value = getattr(self, p.name)
-            label = f"  {p.name} {p.symbol}".ljust(width)
-            if p.dimension == "length":
-                lines.append(f"{label}{value / INCH:8.3f} in   {value * 1000:8.2f} mm")
-            else:
-                lines.append(f"{label}{value:8.3f} {p.unit}")
+            mm = f"   {number(value, p.name, 'mm'):>8} mm" if p.dimension == "length" else ""
+            lines.append(
+                f"{f'  {p.name} {p.symbol}':<{width}}{number(value, p.name, 'in'):>8} {unit_text(p.name, 'in')}{mm}"
+            )
         return lines
 
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """T, d, B in inches and mm, c_f [N·m/rad] and the swept radius (notebooks); names and units from the table."""
-        rows = self.variable_rows()
         rs = float(swept_radius(self.trail, self.diameter))
-        rows.append(("swept radius T + d/2", f"{rs / INCH:.3f} ({rs * 1000:.2f} mm)", "in"))
-        return rows
+        return [*self.variable_rows(), (label("swept_radius"), _inches(rs, "swept_radius"), "in")]
 
     def describe(self) -> str:
-        """One line in inches (the industry's unit) and SI."""
-        return (
-            f"T = {self.trail / INCH:.3f} in, d = {self.diameter / INCH:.3f} in, "
-            f"B = {self.groove / INCH:.3f} in, c_f = {self.damping:.3f} N·m/rad"
+        """One line in inches (the industry's unit) and SI: "T = 2.500 in, ..., c_f = 1.30 N·m/rad"."""
+        return ", ".join(
+            f"{p.symbol} = {shown(getattr(self, p.name), p.name, 'in')}" for p in parameters.VARIABLE_TABLE
         )
+
+
+def _inches(value: float, name: str) -> str:
+    """A quantity [SI] of the parameter table in the inch system, a length with millimetres beside it:
+    "2.500 (63.50 mm)", "1.30"."""
+    mm = f" ({shown(value, name, 'mm')})" if quantity(name).dimension == "length" else ""
+    return number(value, name, "in") + mm
 
 
 CONDITION_NUMBERS = ("load", "threshold_height", "disturbance_angle", "slip_coefficient")

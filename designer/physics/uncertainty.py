@@ -304,12 +304,15 @@ def _fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], f
 def _clenshaw(coef: Array, x: Scalar, y: Scalar | None = None) -> Scalar:
     """Σ_j c_j T_j(x), or Σ_jk c_jk T_j(x) T_k(y) for 2-D coefficients (floats, arrays, CasADi symbols).
 
-    Clenshaw's recurrence (a few µs for Python floats, where NumPy's chebval2d spends ~90 µs on call overhead: the
-    closed-form front asks ~800 quantiles one by one), but 2-D on NumPy arrays by Chebyshev–Vandermonde products
-    (in C: half the time of chebval2d at 260 points, the same numbers to 1e-15)."""
+    NumPy's Chebyshev evaluation for numbers in one variable and for arrays in two (in C), Clenshaw's recurrence
+    for symbols and for two Python floats (a few µs, where NumPy's chebval2d spends ~90 µs on call overhead: the
+    closed-form front asks ~800 quantiles one by one)."""
+    if y is None and isinstance(x, (float, int, np.floating, np.ndarray)):
+        one: Scalar = C.chebval(x, coef)
+        return one
     if y is not None and any(isinstance(v, np.ndarray) and v.ndim for v in (x, y)):
-        value: Scalar = ((C.chebvander(x, coef.shape[0] - 1) @ coef) * C.chebvander(y, coef.shape[1] - 1)).sum(-1)
-        return value
+        two: Scalar = C.chebval2d(x, y, coef)
+        return two
     rows = np.asarray(coef, dtype=float).tolist()
     if y is not None:
         rows = [_recurrence(row, y) for row in rows]

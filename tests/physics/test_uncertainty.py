@@ -332,7 +332,7 @@ def _mc(*args, **kwargs) -> tuple[float, float]:
 
 def test_quantile_fit_evaluation_is_the_same_for_floats_arrays_and_casadi():
     """The 2-D fit of the risk bound's quantile is one polynomial, evaluated three ways: plain-Python Clenshaw
-    for two floats, Chebyshev–Vandermonde products for arrays, the symbolic recurrence for CasADi; all agree to rounding
+    for two floats, NumPy's chebval2d for arrays, the symbolic recurrence for CasADi; all agree to rounding
     (1e-14) at 200 random points of [-1, 1]²."""
     import casadi as ca
     from numpy.polynomial import chebyshev as cheb
