@@ -23,6 +23,7 @@ import numpy as np
 from designer.data.paper import TABLE1, Wheel, table1_wheel
 from designer.errors import InertiaExtrapolationWarning, InputError
 from designer.physics._checks import is_symbolic, require_positive
+from designer.physics.scatter import inertia_prediction
 from designer.physics.types import Scalar
 from designer.units import INCH
 
@@ -40,10 +41,8 @@ def fit_table1_power_law() -> tuple[float, float]:
         Coefficient C [kg·m^(2-n)] and exponent n [-]; n ≈ 3.50 and
         C·(0.2032 m)^n ≈ 1.87e-3 kg·m².
     """
-    d = np.array([w.diameter for w in TABLE1])
-    inertia = np.array([w.inertia for w in TABLE1])
-    n, log_c = np.polyfit(np.log(d), np.log(inertia), 1)
-    return float(math.exp(log_c)), float(n)
+    p = inertia_prediction()  # the one least-squares fit, with its prediction interval (the risk law's)
+    return math.exp(p.log_coefficient), p.exponent
 
 
 def power_law_inertia(diameter: Scalar, coefficient: float | None = None, exponent: float | None = None) -> Scalar:
@@ -140,21 +139,18 @@ class PowerLaw(InertiaModel):
 
     def __call__(self, diameter: Scalar) -> Scalar:
         c, n = self.constants()
-        if not is_symbolic(diameter):
-            low, high = self.data_range()
+        if not is_symbolic(diameter) and np.any(inertia_prediction().extrapolated(diameter)):
             arr = np.asarray(diameter, dtype=float)
-            if np.any(arr < low * 0.999) or np.any(arr > high * 1.001):
-                warnings.warn(
-                    f"inertia power law used at d = {np.min(arr) / INCH:.2f}–{np.max(arr) / INCH:.2f} in, "
-                    f"outside Table 1's 4–8 in: an extrapolation",
-                    InertiaExtrapolationWarning,
-                    stacklevel=2,
-                )
+            warnings.warn(
+                f"inertia power law used at d = {np.min(arr) / INCH:.2f}–{np.max(arr) / INCH:.2f} in, "
+                f"outside Table 1's 4–8 in: an extrapolation",
+                InertiaExtrapolationWarning,
+                stacklevel=2,
+            )
         return power_law_inertia(diameter, c, n)
 
     def data_range(self) -> tuple[float, float]:
-        diameters = [w.diameter for w in TABLE1]
-        return (min(diameters), max(diameters))
+        return inertia_prediction().low, inertia_prediction().high
 
     def parameters(self) -> dict[str, float]:
         c, n = self.constants()
