@@ -647,29 +647,14 @@ def shimmy_probability(
     -------
     (p, se): arrays in the broadcast shape of the inputs.
     """
-    columns = [trail, inertia, groove, damping, speed] + ([] if diameter is None else [diameter])
-    if measured is not None:
-        columns.append(measured)
-    arrays = np.broadcast_arrays(*(np.asarray(x) for x in columns))
+    given = {k: v for k, v in (("diameter", diameter), ("measured", measured)) if v is not None}
+    arrays = np.broadcast_arrays(*(np.asarray(x) for x in (trail, inertia, groove, damping, speed, *given.values())))
     shape = arrays[0].shape
-    flat = [a.ravel() for a in arrays]
-    t, i_w, b, c, v_req = (np.asarray(a, dtype=float) for a in flat[:5])
-    d = None if diameter is None else np.asarray(flat[5], dtype=float)
-    flags = None if measured is None else np.asarray(flat[-1], dtype=bool)
-    if not t.size:
+    if not arrays[0].size:
         return np.zeros(shape), np.zeros(shape)
+    t, i_w, b, c, v_req, *rest = (a.ravel() for a in arrays)
+    law = {"samples": samples, "seed": seed, "target_se": target_se}
     p, se = shimmy_probability_mc_many(
-        t,
-        i_w,
-        b,
-        c,
-        slip_coefficient,
-        v_req,
-        uncertainty,
-        diameter=d,
-        measured=flags,
-        samples=samples,
-        seed=seed,
-        target_se=target_se,
+        t, i_w, b, c, slip_coefficient, v_req, uncertainty, **law, **dict(zip(given, rest))
     )
     return p.reshape(shape), se.reshape(shape)

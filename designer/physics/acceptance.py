@@ -450,16 +450,13 @@ def exact_speed_quantiles(
     hi = np.where(given, np.log(np.where(given, guess, 1.0)) + 0.01, np.log(v_c))
     step = np.where(given, 0.05, 1.0)
     f_lo, f_hi = excess(lo, every), excess(hi, every)
-    for _ in range(60):  # P rises with V: lower lo until P < α (the step doubling), then raise hi until P > α
-        if not (bad := np.flatnonzero(f_lo >= 0)).size:
-            break
-        lo[bad], step[bad] = lo[bad] - step[bad], 2 * step[bad]
-        f_lo[bad] = excess(lo[bad], bad)
-    for _ in range(60):
-        if not (bad := np.flatnonzero(f_hi <= 0)).size:
-            break
-        hi[bad], step[bad] = hi[bad] + step[bad], 2 * step[bad]
-        f_hi[bad] = excess(hi[bad], bad)
+    # P rises with V: lower lo until P < α (the step doubling), then raise hi until P > α
+    for end, f_end, sign in ((lo, f_lo, -1.0), (hi, f_hi, 1.0)):
+        for _ in range(60):
+            if not (bad := np.flatnonzero(sign * f_end <= 0)).size:
+                break
+            end[bad], step[bad] = end[bad] + sign * step[bad], 2 * step[bad]
+            f_end[bad] = excess(end[bad], bad)
     out[live] = np.exp(bracketed_roots(excess, lo, hi, xtol=1e-10, rtol=0.0, fa=f_lo, fb=f_hi))
     return out
 
