@@ -213,22 +213,22 @@ class Casters(Record):
         values.update({name: self._column(name)[i].item() for name in self.keys()})
         return Caster.of(**values)
 
+    def _records(self) -> list[dict[str, Any]]:
+        """One {quantity: value} per candidate (Python scalars), each column read once."""
+        columns = self.keys()
+        return [dict(zip(columns, values)) for values in zip(*(self._column(c).tolist() for c in columns))]
+
     def rows(self) -> list["Caster"]:
         """Every caster, as :meth:`row` gives it, each column read once (a front's points: a tenth of the time of
         one :meth:`row` a point)."""
         empty: dict[str, Any] = {f.name: None for f in fields(self) if f.name != "quantities"}
-        columns = {name: self._column(name).tolist() for name in self.keys()}
-        return [Caster.of(**{**empty, **{n: c[i] for n, c in columns.items()}}) for i in range(len(self))]
+        return [Caster.of(**{**empty, **record}) for record in self._records()]
 
     def to_pandas(self) -> Any:
         """One row per candidate, one column per quantity (the Monte Carlo ones only when computed); units in
         ``df.attrs["units"]``."""
-        columns = self.keys()
-        arrays = {c: self._column(c) for c in columns}
-        rows = [{c: arrays[c][i].item() for c in columns} for i in range(len(self))]
-        return dataframe(
-            f"{type(self).__name__}.to_pandas", rows, columns, {c: u for c, u in self._units.items() if c in columns}
-        )
+        units = {c: u for c, u in self._units.items() if c in self.keys()}
+        return dataframe(f"{type(self).__name__}.to_pandas", self._records(), self.keys(), units)
 
     def _repr_lines(self) -> list[str]:
         """One line: how many candidates, how many feasible, and the ranges of F_turn and P."""
@@ -563,14 +563,9 @@ def _growth_rate(out: Casters, conditions: Conditions, speed: Any) -> np.ndarray
     i_w, b, c, v = (
         np.broadcast_to(np.asarray(x, dtype=float), t.shape) for x in (out.inertia, out.groove, out.damping, speed)
     )
-    rates = []
-    for k in range(t.size):
-        c_d = friction_damping_at_speed(float(c[k]), float(t[k]), float(v[k]))
-        coeffs = third_order_coefficients(
-            float(t[k]), float(i_w[k]), float(b[k]), c_d, float(v[k]), conditions.slip_coefficient, conditions.dynamics
-        )
-        rates.append(float(growth_rate(coeffs)))
-    return np.array(rates)
+    c_d = friction_damping_at_speed(c, t, v)
+    k_s = conditions.slip_coefficient
+    return np.atleast_1d(growth_rate(third_order_coefficients(t, i_w, b, c_d, v, k_s, conditions.dynamics)))
 
 
 def _risk(
