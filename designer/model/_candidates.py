@@ -642,14 +642,12 @@ def shimmy_probability(
     -------
     (p, se): arrays in the broadcast shape of the inputs.
     """
-    given = {k: v for k, v in (("diameter", diameter), ("measured", measured)) if v is not None}
+    given: dict[str, Any] = {k: v for k, v in (("diameter", diameter), ("measured", measured)) if v is not None}
     arrays = np.broadcast_arrays(*(np.asarray(x) for x in (trail, inertia, groove, damping, speed, *given.values())))
     shape = arrays[0].shape
     if not arrays[0].size:
         return np.zeros(shape), np.zeros(shape)
     t, i_w, b, c, v_req, *rest = (a.ravel() for a in arrays)
-    law = {"samples": samples, "seed": seed, "target_se": target_se}
-    p, se = shimmy_probability_mc_many(
-        t, i_w, b, c, slip_coefficient, v_req, uncertainty, **law, **dict(zip(given, rest))
-    )
+    law: dict[str, Any] = {"samples": samples, "seed": seed, "target_se": target_se, **dict(zip(given, rest))}
+    p, se = shimmy_probability_mc_many(t, i_w, b, c, slip_coefficient, v_req, uncertainty, **law)
     return p.reshape(shape), se.reshape(shape)

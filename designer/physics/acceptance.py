@@ -175,7 +175,7 @@ def acceptance_limits(
     caster: LawCaster,
     speed: float,
     uncertainty: Uncertainty,
-    ranges: dict[str, tuple[float, float]],
+    ranges: dict[str, tuple[Numeric, Numeric]],
     swept_radius_max: float | None,
     wheel_diameter: float,
     prediction: InertiaPrediction | None = None,

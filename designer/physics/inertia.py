@@ -139,8 +139,8 @@ class PowerLaw(InertiaModel):
 
     def __call__(self, diameter: Scalar) -> Scalar:
         c, n = self.constants()
-        if not is_symbolic(diameter) and np.any(inertia_prediction().extrapolated(diameter)):
-            arr = np.asarray(diameter, dtype=float)
+        arr = None if is_symbolic(diameter) else np.asarray(diameter, dtype=float)
+        if arr is not None and np.any(inertia_prediction().extrapolated(arr)):
             warnings.warn(
                 f"inertia power law used at d = {np.min(arr) / INCH:.2f}–{np.max(arr) / INCH:.2f} in, "
                 f"outside Table 1's 4–8 in: an extrapolation",

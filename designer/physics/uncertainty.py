@@ -301,25 +301,23 @@ def _fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], f
     return coef, stored[1]
 
 
-def _clenshaw(coef: Array, x: Scalar, y: Scalar | None = None) -> Scalar:
+def _clenshaw(coef: Any, x: Scalar, y: Scalar | None = None) -> Any:
     """Σ_j c_j T_j(x), or Σ_jk c_jk T_j(x) T_k(y) for 2-D coefficients (floats, arrays, CasADi symbols).
 
     NumPy's Chebyshev evaluation for numbers in one variable and for arrays in two (in C), Clenshaw's recurrence
     for symbols and for two Python floats (a few µs, where NumPy's chebval2d spends ~90 µs on call overhead: the
     closed-form front asks ~800 quantiles one by one)."""
     if y is None and isinstance(x, (float, int, np.floating, np.ndarray)):
-        one: Scalar = C.chebval(x, coef)
-        return one
+        return C.chebval(x, coef)
     if y is not None and any(isinstance(v, np.ndarray) and v.ndim for v in (x, y)):
-        two: Scalar = C.chebval2d(x, y, coef)
-        return two
+        return C.chebval2d(x, y, coef)
     rows = np.asarray(coef, dtype=float).tolist()
     if y is not None:
         rows = [_recurrence(row, y) for row in rows]
     return _recurrence(rows, x)
 
 
-def _recurrence(values: list[Any], x: Scalar) -> Scalar:
+def _recurrence(values: list[Any], x: Any) -> Any:
     """Σ v_k T_k(x) by Clenshaw's recurrence, with coefficients that may be expressions."""
     b1 = b2 = 0 * x
     x2 = 2 * x
@@ -409,7 +407,8 @@ def law_quantile(
     pair = sm**2 + sigma_inertia**2
     total = pair + sigma_rest**2
     coef, _ = _fit2(float(u.probability), int(u.model_error_dof), nu_i)
-    return np.sqrt(total) * _clenshaw(coef, 2 * sigma_inertia**2 / pair - 1, 2 * sigma_rest**2 / total - 1)
+    quantile: Scalar = np.sqrt(total) * _clenshaw(coef, 2 * sigma_inertia**2 / pair - 1, 2 * sigma_rest**2 / total - 1)
+    return quantile
 
 
 def _one_t_quantile(t_scale: Scalar, dof: int, normal: Scalar, probability: float) -> Scalar:
@@ -417,7 +416,8 @@ def _one_t_quantile(t_scale: Scalar, dof: int, normal: Scalar, probability: floa
     with ν > 0 and a scale a that is never zero, a number or an expression)."""
     total = t_scale**2 + normal**2
     coef, _ = _fit(float(probability), int(dof))
-    return np.sqrt(total) * _clenshaw(coef, 2 * normal**2 / total - 1)
+    quantile: Scalar = np.sqrt(total) * _clenshaw(coef, 2 * normal**2 / total - 1)
+    return quantile
 
 
 def shimmy_speed_quantile(
