@@ -73,10 +73,8 @@ import dataclasses
 import functools
 import math
 import operator
-import threading
 from collections.abc import Iterator
 from dataclasses import dataclass
-from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -104,42 +102,11 @@ from designer.physics.scatter import (
     predicted_inertia_source,
     slip_coefficient_source,
 )
-from designer.physics._sums import SumDistribution, tabled_cdf
+from designer.physics._sums import SumDistribution, _special, tabled_cdf
 from designer.physics._quantile_fits import STORED_PAIR_FITS, STORED_SUM_FITS
 from numpy.polynomial.hermite_e import hermegauss
 from numpy.polynomial.legendre import leggauss
 from numpy.polynomial import chebyshev as C
-
-
-def _special() -> ModuleType:
-    import scipy.special
-
-    module: ModuleType = scipy.special
-    return module
-
-
-def ndtr(x: Numeric) -> Numeric:
-    """Standard normal CDF (scipy.special.ndtr, loaded on first use)."""
-    value: Numeric = _special().ndtr(x)
-    return value
-
-
-def ndtri(p: Numeric) -> Numeric:
-    """Standard normal quantile (scipy.special.ndtri, loaded on first use)."""
-    value: Numeric = _special().ndtri(p)
-    return value
-
-
-def stdtr(dof: int, t: Numeric) -> Numeric:
-    """Student-t CDF (scipy.special.stdtr, loaded on first use)."""
-    value: Numeric = _special().stdtr(dof, t)
-    return value
-
-
-def stdtrit(dof: int, p: Numeric) -> Numeric:
-    """Student-t quantile (scipy.special.stdtrit, loaded on first use)."""
-    value: Numeric = _special().stdtrit(dof, p)
-    return value
 
 
 TABLE1_LOG_RMS_ERROR = model_error().scale
@@ -209,12 +176,16 @@ class Uncertainty:
     @property
     def z(self) -> float:
         """Standard normal quantile z_{1−α} [-]."""
-        return float(ndtri(1 - self.probability))
+        return float(_special().ndtri(1 - self.probability))
 
     @property
     def t(self) -> float:
         """Quantile t_{ν,1−α} of the model error's Student-t (z_{1−α} when ν = 0) [-]."""
-        return self.z if not self.model_error_dof else float(stdtrit(self.model_error_dof, 1 - self.probability))
+        return (
+            self.z
+            if not self.model_error_dof
+            else float(_special().stdtrit(self.model_error_dof, 1 - self.probability))
+        )
 
     def describe(self) -> str:
         """One line: α and the scatter (for reports and messages)."""
@@ -234,7 +205,7 @@ _NODES = 64
 @functools.lru_cache(maxsize=8)
 def _quadrature(dof: int) -> tuple[Array, Array, Numeric, Array]:
     un, uw = leggauss(4 * _NODES)
-    return *_hermite_nodes(_NODES), stdtrit(dof, (un + 1) / 2), uw / 2
+    return *_hermite_nodes(_NODES), _special().stdtrit(dof, (un + 1) / 2), uw / 2
 
 
 def _sum_cdf(x: Numeric, share: Numeric, dof: int) -> Array:
@@ -247,10 +218,10 @@ def _sum_cdf(x: Numeric, share: Numeric, dof: int) -> Array:
     x, a, b, s = np.broadcast_arrays(x, a, b, s)
     lo = s <= 0.5
     if lo.any():  # integrate over Z: the t CDF is smooth in it
-        out[lo] = (zw * stdtr(dof, (x[lo, None] - b[lo, None] * zn) / a[lo, None])).sum(-1)
+        out[lo] = (zw * _special().stdtr(dof, (x[lo, None] - b[lo, None] * zn) / a[lo, None])).sum(-1)
     hi = ~lo
     if hi.any():  # integrate over t (in probability space): the normal CDF is smooth in it
-        out[hi] = (tw * ndtr((x[hi, None] - a[hi, None] * tn) / b[hi, None])).sum(-1)
+        out[hi] = (tw * _special().ndtr((x[hi, None] - a[hi, None] * tn) / b[hi, None])).sum(-1)
     return out
 
 
@@ -261,8 +232,8 @@ def exact_sum_quantile(share: Numeric, probability: float, dof: int) -> Array:
     """
     s = np.atleast_1d(np.asarray(share, float))
     level = 1 - probability
-    lo = np.full(s.shape, float(ndtri(level)) * 0.5)
-    hi = np.full(s.shape, float(stdtrit(dof, level)) + float(ndtri(level)))
+    lo = np.full(s.shape, float(_special().ndtri(level)) * 0.5)
+    hi = np.full(s.shape, float(_special().stdtrit(dof, level)) + float(_special().ndtri(level)))
     for _ in range(48):
         mid = (lo + hi) / 2
         below = _sum_cdf(mid, s, dof) < level
@@ -281,7 +252,7 @@ def _compute_fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[
     check = np.linspace(0, 1, 4 * _DEGREE + 1)
     s = np.concatenate([nodes, check])
     q = exact_sum_quantile(s, probability, dof)
-    q[s == 1.0] = float(ndtri(1 - probability))
+    q[s == 1.0] = float(_special().ndtri(1 - probability))
     coef = C.chebfit(2 * nodes - 1, q[: len(nodes)], _DEGREE)
     error = q - C.chebval(2 * s - 1, coef)
     shift = max(0.0, float(error.max())) + 1e-9
@@ -340,7 +311,7 @@ def log_speed_quantile(sigma_model: float, sigma_rest: Scalar, uncertainty: Unce
     """
     sm, dof, alpha = float(sigma_model), int(uncertainty.model_error_dof), float(uncertainty.probability)
     if not dof or sm == 0:
-        return float(ndtri(1 - alpha)) * np.sqrt(sm**2 + sigma_rest**2)
+        return float(_special().ndtri(1 - alpha)) * np.sqrt(sm**2 + sigma_rest**2)
     return _one_t_quantile(sm, dof, sigma_rest, alpha)
 
 
@@ -773,7 +744,7 @@ def law_draws(uncertainty: Uncertainty, rng: np.random.Generator, inertia_dof: i
 
 _KEPT_BLOCKS = 8
 """Blocks of draws kept per seeded stream (:func:`_draw_stream`; 0.4 MB each): the 10 000 to 80 000 draws of
-a typical estimate are drawn once per process and reused by every later estimate of the same stream."""
+a typical estimate are drawn once per process, on first use, and reused by every later estimate of the stream."""
 
 
 class _DrawStream:
@@ -786,26 +757,22 @@ class _DrawStream:
     def __init__(self, seed: int, model_error_dof: Any, inertia_dof: Any):
         self._law = Uncertainty(model_error_dof=model_error_dof)  # law_draws reads its model_error_dof only
         self._dof = inertia_dof
-        self._rng = np.random.default_rng(seed)
-        self._kept: list[dict[str, Array]] = []
-        self._lock = threading.Lock()
+        self._seed = seed
+
+    @functools.cached_property
+    def _kept(self) -> tuple[list[dict[str, Array]], np.random.Generator]:
+        """The kept blocks and the generator after them, drawn on first use: an interrupt half-way through
+        (Ctrl-C in a notebook) keeps nothing, and the next reading draws them again from the seed."""
+        rng = np.random.default_rng(self._seed)
+        blocks = [law_draws(self._law, rng, self._dof) for _ in range(_KEPT_BLOCKS)]
+        for values in (v for block in blocks for v in block.values()):
+            values.setflags(write=False)
+        return blocks, rng
 
     def __iter__(self) -> Iterator[dict[str, Array]]:
-        for i in range(_KEPT_BLOCKS):
-            with self._lock:
-                if i == len(self._kept):
-                    # drawn from a copy, which becomes the stream's generator only once the block is whole: an
-                    # interrupt (Ctrl-C in a notebook) half-way through leaves the stream where it was
-                    rng = copy.deepcopy(self._rng)
-                    block = law_draws(self._law, rng, self._dof)
-                    for values in block.values():
-                        values.setflags(write=False)
-                    self._kept.append(block)
-                    self._rng = rng
-                kept = self._kept[i]
-            yield dict(kept)  # a caller's own dict of the shared read-only arrays
-        with self._lock:  # every kept block is drawn: the generator stands after the last one
-            rng = copy.deepcopy(self._rng)
+        blocks, rng = self._kept
+        yield from (dict(kept) for kept in blocks)  # a caller's own dict of the shared read-only arrays
+        rng = copy.deepcopy(rng)
         while True:
             yield law_draws(self._law, rng, self._dof)
 
