@@ -261,17 +261,6 @@ def _compute_fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[
     return coef, shift
 
 
-@functools.lru_cache(maxsize=32)
-def _fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], float]:
-    """:func:`_compute_fit`, read from the stored fits for the default α and ν (the same numbers)."""
-    stored = STORED_SUM_FITS.get((probability, dof, _NODES, _DEGREE))
-    if stored is None:
-        return _compute_fit(probability, dof)
-    coef = np.array(stored[0], dtype=float)
-    coef.setflags(write=False)
-    return coef, stored[1]
-
-
 def _clenshaw(coef: Any, x: Scalar, y: Scalar | None = None) -> Any:
     """Σ_j c_j T_j(x), or Σ_jk c_jk T_j(x) T_k(y) for 2-D coefficients (floats, arrays, CasADi symbols).
 
@@ -365,7 +354,7 @@ def law_quantile(
     ``sigma_inertia`` None: a measured wheel (its scatter is inside σ_r), :func:`log_speed_quantile`.
     Otherwise the two Student-t terms (model error, inertia predicted from the diameter with
     ``inertia_dof`` = ν_I, default Table 1's 5) and the normal rest, by the 2-D fit of
-    :func:`_fit2` in the shares u = σ_I²/(σ_m² + σ_I²) and r = σ_r²/(σ_m² + σ_I² + σ_r²), shifted up by
+    :func:`_fit` in the shares u = σ_I²/(σ_m² + σ_I²) and r = σ_r²/(σ_m² + σ_I² + σ_r²), shifted up by
     its largest error so that it never lies below the exact quantile.  Floats, arrays, CasADi symbols.
     """
     u = uncertainty
@@ -377,7 +366,7 @@ def law_quantile(
         return _one_t_quantile(sigma_inertia, nu_i, np.sqrt(sm**2 + sigma_rest**2), float(u.probability))
     pair = sm**2 + sigma_inertia**2
     total = pair + sigma_rest**2
-    coef, _ = _fit2(float(u.probability), int(u.model_error_dof), nu_i)
+    coef, _ = _fit(float(u.probability), int(u.model_error_dof), nu_i)
     quantile: Scalar = np.sqrt(total) * _clenshaw(coef, 2 * sigma_inertia**2 / pair - 1, 2 * sigma_rest**2 / total - 1)
     return quantile
 
@@ -470,13 +459,18 @@ def _compute_fit2(probability: float, dof_model: int, dof_inertia: int) -> tuple
 
 
 @functools.lru_cache(maxsize=32)
-def _fit2(probability: float, dof_model: int, dof_inertia: int) -> tuple[Array, float]:
-    """:func:`_compute_fit2`, read from the stored fits for the default α and ν (the same numbers)."""
-    stored = STORED_PAIR_FITS.get((probability, dof_model, dof_inertia, _DEGREE2))
-    if stored is None:
-        coef, shift = _compute_fit2(probability, dof_model, dof_inertia)
+def _fit(probability: float, *dofs: int) -> tuple[Array, float]:
+    """The quantile's Chebyshev fit and its shift: of one Student-t and a normal for ``dofs`` = (ν,)
+    (:func:`_compute_fit`), of two and a normal for (ν_m, ν_I) (:func:`_compute_fit2`); read from the stored fits
+    for the default α and ν (the same numbers)."""
+    if len(dofs) == 1:
+        stored, shape = STORED_SUM_FITS.get((probability, *dofs, _NODES, _DEGREE)), (_DEGREE + 1,)
     else:
-        coef, shift = np.array(stored[0], dtype=float).reshape(_DEGREE2[0] + 1, _DEGREE2[1] + 1), stored[1]
+        stored, shape = STORED_PAIR_FITS.get((probability, *dofs, _DEGREE2)), (_DEGREE2[0] + 1, _DEGREE2[1] + 1)
+    if stored is None:
+        coef, shift = (_compute_fit if len(dofs) == 1 else _compute_fit2)(probability, *dofs)
+    else:
+        coef, shift = np.array(stored[0], dtype=float).reshape(shape), stored[1]
     coef.setflags(write=False)
     return coef, shift
 
