@@ -190,10 +190,13 @@ def acceptance_limits(
     return acceptance_limits_many([caster], speed, uncertainty, ranges, swept_radius_max, wheel_diameter, prediction)[0]
 
 
+_LAW_FIELDS = ("trail", "inertia", "groove", "damping", "slip_coefficient")
+"""The fields of :class:`LawCaster` that are numbers of every caster, in the law's order."""
+
+
 def _columns(casters: Sequence[LawCaster]) -> dict[str, Array]:
     """The casters' fields as arrays [SI], in the order of :class:`LawCaster` (a measured wheel's diameter nan)."""
-    fields = ("trail", "inertia", "groove", "damping", "slip_coefficient")
-    columns = {name: np.array([getattr(c, name) for c in casters], dtype=float) for name in fields}
+    columns = {name: np.array([getattr(c, name) for c in casters], dtype=float) for name in _LAW_FIELDS}
     columns["diameter"] = np.array([np.nan if c.diameter is None else c.diameter for c in casters], dtype=float)
     return columns
 
@@ -207,19 +210,9 @@ def exact_probabilities(
     :func:`designer.physics.uncertainty.shimmy_probability_exact_many` with :data:`LAW_NODES` nodes on its one
     quadrature axis.
     """
-    c = columns
-    return shimmy_probability_exact_many(
-        c["trail"],
-        c["inertia"],
-        c["groove"],
-        c["damping"],
-        c["slip_coefficient"],
-        speed,
-        uncertainty,
-        diameter=c["diameter"],
-        prediction=prediction,
-        nodes=LAW_NODES,
-    )
+    cols = (columns[name] for name in _LAW_FIELDS)
+    diameter = columns["diameter"]
+    return shimmy_probability_exact_many(*cols, speed, uncertainty, diameter, None, prediction, LAW_NODES)
 
 
 def probits(probability: Array) -> Array:
@@ -333,11 +326,10 @@ def acceptance_limits_many(
                 least.append(PartLimit(part, "min", None, None, reason))
             else:
                 least.append(PartLimit(part, "min", float(values[k, i]), float(p[k, i]), "risk"))
-        r_max = radius[i]
-        if r_max is None:
+        if radius[i] is None:
             trail_max = PartLimit("trail", "max", None, None, "the problem has no swept-radius limit")
         else:
-            trail_max = PartLimit("trail", "max", r_max - float(d[i]) / 2, None, "swept radius")
+            trail_max = PartLimit("trail", "max", radius[i] - float(d[i]) / 2, None, "swept radius")
         inertia = PartLimit("inertia", "max", float(values[-1, i]), float(p[-1, i]), "risk")
         out.append([least[0], trail_max, least[1], least[2], inertia])
     return out

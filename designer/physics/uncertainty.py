@@ -903,14 +903,14 @@ def law_sources(
     """
     u = uncertainty
     e = critical_speed_log_sensitivities(trail, inertia, groove, damping, slip_coefficient)
-    rows: list[tuple[Source, float]] = [(model_error_source(u.model_error, u.model_error_dof), 1.0)]
-    if diameter is None:
-        rows.append((measured_inertia_source(u.inertia), float(e["inertia"])))
-    else:
-        rows.append((predicted_inertia_source(float(diameter), prediction), float(e["inertia"])))
-    rows.append((damping_source(u.damping), float(e["damping"])))
-    rows.append((slip_coefficient_source(u.slip_coefficient), float(e["slip_coefficient"])))
-    parts = [src.variance * sens**2 if sens else 0.0 for src, sens in rows]
+    wheel = measured_inertia_source(u.inertia) if diameter is None else predicted_inertia_source(diameter, prediction)
+    rows: list[tuple[Source, Any]] = [
+        (model_error_source(u.model_error, u.model_error_dof), 1.0),
+        (wheel, e["inertia"]),
+        (damping_source(u.damping), e["damping"]),
+        (slip_coefficient_source(u.slip_coefficient), e["slip_coefficient"]),
+    ]
+    parts = [src.variance * float(sens) ** 2 if sens else 0.0 for src, sens in rows]
     if any(math.isinf(x) for x in parts):
         shares = [float(math.isinf(x)) / sum(math.isinf(y) for y in parts) for x in parts]
     else:
