@@ -517,9 +517,7 @@ def _evaluate(
     sill_ok = d > 2 * h
     climbing = np.where(sill_ok, d, 3 * h)  # a wheel that cannot climb gets P = inf below, not Eq. 4A's error
     values = performance(t_eff, climbing, b, c, cond, inertia=i_w, measured=flags, wheel_diameter=d)
-    confident = np.asarray(values["confident_speed"], dtype=float)
-    if calibration != 1.0:
-        confident = calibration * confident
+    confident = calibration * np.asarray(values["confident_speed"], dtype=float)  # k V_q (x 1.0 is exact)
     force = np.where(sill_ok, np.asarray(values["threshold_force"], dtype=float), np.inf)
     ratio = np.where(sill_ok, np.asarray(values["threshold_force_ratio"], dtype=float), np.inf)
     radius = np.asarray(swept_radius(t, d), dtype=float)

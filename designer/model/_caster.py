@@ -265,31 +265,25 @@ class Conditions:
 
     def __post_init__(self) -> None:
         # the API's boundary: a user's Conditions(load=-5) is refused as the problem file's conditions.load = -5
-        for name in CONDITION_NUMBERS:
+        for name in (*CONDITION_NUMBERS, *CONDITION_CHOICES):
             value = getattr(self, name)
             if _symbolic(value):
                 continue
-            p = parameters.PARAMETERS[name]
-            value = parse_quantity(value, p.dimension, name)  # a number [SI] or a string with units
+            if name in CONDITION_NUMBERS:  # a number [SI] or a string with units
+                value = parse_quantity(value, parameters.PARAMETERS[name].dimension, name)
             reason = condition_refusal(name, value)
             if reason is not None:
                 raise InputError(reason)
             object.__setattr__(self, name, value)
-        for name in CONDITION_CHOICES:
-            reason = condition_refusal(name, getattr(self, name))
-            if reason is not None:
-                raise InputError(reason)
-        for name, kind, example in (
-            ("inertia", InertiaModel, "PowerLaw()"),
-            ("turning", TurningConstants, "TurningConstants()"),
-            ("dynamics", DynamicsParameters, "DynamicsParameters()"),
+        for name, kinds, expected in (
+            ("inertia", InertiaModel, "a InertiaModel, e.g. PowerLaw()"),
+            ("turning", TurningConstants, "a TurningConstants, e.g. TurningConstants()"),
+            ("dynamics", DynamicsParameters, "a DynamicsParameters, e.g. DynamicsParameters()"),
+            ("uncertainty", (Uncertainty, type(None)), "None or an Uncertainty"),
+            ("constants", Mapping, "a mapping of constant names to values"),
         ):
-            if not isinstance(getattr(self, name), kind):
-                raise InputError(f"{name} = {getattr(self, name)!r}: expected a {kind.__name__}, e.g. {example}")
-        if self.uncertainty is not None and not isinstance(self.uncertainty, Uncertainty):
-            raise InputError(f"uncertainty = {self.uncertainty!r}: expected None or an Uncertainty")
-        if not isinstance(self.constants, Mapping):
-            raise InputError(f"constants = {self.constants!r}: expected a mapping of constant names to values")
+            if not isinstance(getattr(self, name), kinds):
+                raise InputError(f"{name} = {getattr(self, name)!r}: expected {expected}")
         object.__setattr__(self, "constants", frozen(self.constants))
 
     def replace(self, **changes: Any) -> "Conditions":

@@ -818,15 +818,10 @@ def shimmy_probability_mc_many(
     several = speeds.ndim > len(shape)
     v_req = (speeds if several else np.broadcast_to(speeds, shape)[..., None]).reshape(n, -1)
     p_law = inertia_prediction() if prediction is None else prediction
-    if diameter is None:
-        is_measured = np.ones(n, dtype=bool)
-        scale_i = np.full(n, float(u.inertia))
-    else:
-        d = np.broadcast_to(np.asarray(diameter, dtype=float), shape).reshape(-1)
-        is_measured = np.broadcast_to(np.asarray(False if measured is None else measured, dtype=bool), shape).reshape(
-            -1
-        )
-        scale_i = np.where(is_measured, float(u.inertia), np.asarray(p_law.scale(d), dtype=float))
+    flags = True if diameter is None else (False if measured is None else measured)  # every wheel measured
+    is_measured = np.broadcast_to(np.asarray(flags, dtype=bool), shape).reshape(-1)
+    d = np.broadcast_to(np.asarray(np.nan if diameter is None else diameter, dtype=float), shape).reshape(-1)
+    scale_i = np.where(is_measured, float(u.inertia), np.asarray(p_law.scale(d), dtype=float))
     blocks = iter(_draw_stream(operator.index(u.seed if seed is None else seed), u.model_error_dof, p_law.dof))
     want = np.full(v_req.shape, _blocks(int(u.samples if samples is None else samples)))  # per caster and speed
     hits = np.zeros(v_req.shape)
