@@ -22,7 +22,7 @@ from designer import parameters
 from designer.display import label, number, quantity, shown, unit_text
 from designer.errors import InputError
 from designer.reprs import Record, frozen
-from designer.physics.types import Scalar
+from designer.physics.types import Scalar, batch_or_symbol
 from designer.physics.geometry import swept_radius
 from designer.physics.inertia import InertiaModel, PowerLaw
 from designer.physics.shimmy import (
@@ -224,12 +224,6 @@ def condition_refusal(name: str, value: Any, label: str | None = None) -> str | 
     return None
 
 
-def _symbolic(value: Any) -> bool:
-    """A NumPy array of values (one per design) or a CasADi expression: the solvers' and the vectorised model's own
-    conditions, not a user's number (checked where it was read).  A 0-d array is one number: the boundary's."""
-    return (isinstance(value, np.ndarray) and value.ndim > 0) or type(value).__module__.startswith("casadi")
-
-
 @dataclass(frozen=True)
 class Conditions:
     """Fixed operating conditions and model constants of a caster.
@@ -267,7 +261,7 @@ class Conditions:
         # the API's boundary: a user's Conditions(load=-5) is refused as the problem file's conditions.load = -5
         for name in (*CONDITION_NUMBERS, *CONDITION_CHOICES):
             value = getattr(self, name)
-            if _symbolic(value):
+            if batch_or_symbol(value):
                 continue
             if name in CONDITION_NUMBERS:  # a number [SI] or a string with units
                 value = parse_quantity(value, parameters.PARAMETERS[name].dimension, name)

@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from designer.physics.roots import bracketed_root, bracketed_roots
+from designer.physics.roots import bracketed_roots
 from designer.physics.scatter import InertiaPrediction
 from designer.physics.shimmy import critical_shimmy_speed
 from designer.physics.types import Array, Numeric
@@ -140,26 +140,13 @@ def least_part(
     V_c rises with T, B and c_f).
 
     None (with the reason) when P <= α already at ``low`` (no lower limit in the range) or P > α still at
-    ``high`` (no value in the range holds).
+    ``high`` (no value in the range holds).  :func:`acceptance_limits` with the other parts' ranges shut at their
+    nominal values.
     """
-    alpha = float(uncertainty.probability)
-    seen: dict[float, float] = {}
-
-    def excess(value: float) -> float:
-        """P − α in probit units, Φ⁻¹(P) − Φ⁻¹(α): the same root, but nearly straight in the part, where P itself
-        runs from 1 to 0 in a narrow step (the root finder then needs 6–8 quadratures instead of about 18)."""
-        seen[value] = exact_probability(caster.with_part(part, value), speed, uncertainty, prediction)
-        return probit(seen[value]) - probit(alpha)
-
-    at_low, at_high = excess(low), excess(high)
-    if at_low <= 0:
-        return PartLimit(part, "min", None, None, "holds at the low end")
-    if at_high > 0:
-        return PartLimit(part, "min", None, None, "fails at the high end")
-    value = bracketed_root(excess, low, high, xtol=1e-15 * max(abs(high), 1e-12), rtol=LIMIT_RTOL)
-    if value not in seen:
-        excess(value)
-    return PartLimit(part, "min", value, seen[value], "risk")
+    value = {name: getattr(caster, name) for name in RISK_PARTS}
+    ranges = {name: (low, high) if name == part else (value[name], value[name]) for name in RISK_PARTS}
+    limits = acceptance_limits(caster, speed, uncertainty, ranges, None, 0.0, prediction)
+    return next(limit for limit in limits if (limit.part, limit.side) == (part, "min"))
 
 
 _UNIT_NORMAL = NormalDist()

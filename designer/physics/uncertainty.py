@@ -86,7 +86,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
     import numpy.typing as npt
 
 from designer.physics.roots import bracketed_root
-from designer.physics.types import Array, Numeric, Scalar
+from designer.physics.types import Array, Numeric, Scalar, batch_or_symbol
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities, critical_speed_terms
 from designer.physics.scatter import (
     ASSUMED_DAMPING_SCATTER,
@@ -162,7 +162,7 @@ class Uncertainty:
         # number, True is not; the problem file's [robust] ranges are checked where it is read
         for name in ("probability", "model_error", "damping", "slip_coefficient", "inertia"):
             value = getattr(self, name)
-            if (isinstance(value, np.ndarray) and value.ndim > 0) or type(value).__module__.startswith("casadi"):
+            if batch_or_symbol(value):
                 continue  # a solver's or a vectorised study's own values
             value = parse_quantity(value, "dimensionless", name)  # a number, or "5 %"
             if name == "probability" and not 0 < value < 1:

@@ -101,7 +101,7 @@ def test_batched_law_broadcasts_and_says_one_without_critical_speed():
 
 def test_batched_limits_equal_one_at_a_time_on_50_random_casters():
     """Every acceptance limit of 50 random casters found together equals the one-caster search to the root's
-    tolerance: trail, groove and c_f mins (the scalar search, least_part) within 2 × 2 (xtol + LIMIT_RTOL |x|)
+    tolerance: trail, groove and c_f mins (each part alone, least_part) within 2 × 2 (xtol + LIMIT_RTOL |x|)
     (two searches, each within 2 (xtol + rtol |x|) of the root), the measured I_w max (the scalar search,
     max_measured_inertia) within 1e-10 in log I plus the batch's 1e-11; the same parts without a limit, for the
     same reason."""
