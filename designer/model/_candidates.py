@@ -209,9 +209,7 @@ class Casters(Record):
 
     def row(self, i: int) -> "Caster":
         """Caster ``i`` (the quantities as Python scalars)."""
-        values: dict[str, Any] = {f.name: None for f in fields(self) if f.name != "quantities"}
-        values.update({name: self._column(name)[i].item() for name in self.keys()})
-        return Caster.of(**values)
+        return self.take([i]).rows()[0]
 
     def _records(self) -> list[dict[str, Any]]:
         """One {quantity: value} per candidate (Python scalars), each column read once."""

@@ -401,21 +401,23 @@ def shimmy_speed_quantile(
     flag per caster (numeric) saying which wheels were measured after all.  Works on floats, NumPy arrays and
     CasADi symbols.
     """
+    args = (trail, inertia, groove, damping, slip_coefficient)
     if measured is not None and diameter is not None:  # True, False or one flag per caster
         mask = np.asarray(measured, dtype=bool)
         if mask.all():
             diameter = None
         elif mask.any():
-            args = (trail, inertia, groove, damping, slip_coefficient, uncertainty)
-            both = shimmy_speed_quantile(*args), shimmy_speed_quantile(*args, diameter, prediction)
+            both = (
+                shimmy_speed_quantile(*args, uncertainty),
+                shimmy_speed_quantile(*args, uncertainty, diameter, prediction),
+            )
             return np.where(mask, *both)
-    v = critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient)
-    rest = rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty, measured=diameter is None)
-    if diameter is None:
-        return v * np.exp(-log_speed_quantile(uncertainty.model_error, rest, uncertainty))
     p = inertia_prediction() if prediction is None else prediction
-    sigma_i = inertia_log_scale(trail, inertia, groove, damping, slip_coefficient, diameter, p)
-    return v * np.exp(-law_quantile(uncertainty.model_error, sigma_i, rest, uncertainty, p.dof))
+    rest = rest_log_std(*args, uncertainty, measured=diameter is None)
+    sigma_i = None if diameter is None else inertia_log_scale(*args, diameter, p)  # None: a measured wheel
+    return critical_shimmy_speed(*args) * np.exp(
+        -law_quantile(uncertainty.model_error, sigma_i, rest, uncertainty, p.dof)
+    )
 
 
 # --------------------------------------------------------------------------- two Student-t terms and a normal
@@ -944,18 +946,8 @@ def risk_record(
     share of the variance of log V_c); ``dominant``: :func:`dominant_sentence`.  ``diameter`` None: the
     wheel's ``inertia`` was measured; else it is the power law's value at that diameter [m].
     """
-    p, se = shimmy_probability_mc_many(
-        trail,
-        inertia,
-        groove,
-        damping,
-        slip_coefficient,
-        speed,
-        uncertainty,
-        diameter=diameter,
-        prediction=prediction,
-        samples=samples,
-        seed=seed,
-    )
-    sources = law_sources(trail, inertia, groove, damping, slip_coefficient, uncertainty, diameter, prediction)
+    caster = (trail, inertia, groove, damping, slip_coefficient)
+    law: dict[str, Any] = {"diameter": diameter, "prediction": prediction}
+    p, se = shimmy_probability_mc_many(*caster, speed, uncertainty, samples=samples, seed=seed, **law)
+    sources = law_sources(*caster, uncertainty, **law)
     return {"probability": float(p), "se": float(se), "sources": sources, "dominant": dominant_sentence(sources)}
