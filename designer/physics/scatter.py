@@ -256,9 +256,7 @@ def inertia_model_error_correlation(wheels: tuple[Wheel, ...] = TABLE1) -> float
     p = inertia_prediction(wheels)
     r = model_error_residuals(wheels)
     by_key = {w.key: w for w in wheels}
-    inertia_residual = [
-        math.log(by_key[k].inertia) - p.log_coefficient - p.exponent * math.log(by_key[k].diameter) for k in r
-    ]
+    inertia_residual = [math.log(by_key[k].inertia / p.median(by_key[k].diameter)) for k in r]
     return float(np.corrcoef(inertia_residual, list(r.values()))[0, 1])
 
 

@@ -649,36 +649,20 @@ def shimmy_probability_exact_many(
     )
     shape = cols[0].shape
     t, i_w, b, c, k, v = (np.ascontiguousarray(x).reshape(-1) for x in cols)
-    scale = _inertia_scales(t, i_w, b, c, k, shape, diameter, measured, prediction)
+    # the scale of each caster's Student-t inertia term (inertia_log_scale), nan for a measured wheel
+    d = np.broadcast_to(np.asarray(np.nan if diameter is None else diameter, dtype=float), shape).reshape(-1)
+    flags = (
+        np.isnan(d) | np.broadcast_to(np.asarray(False if measured is None else measured, dtype=bool), shape).ravel()
+    )
+    with np.errstate(invalid="ignore"):
+        scale = np.asarray(inertia_log_scale(t, i_w, b, c, k, np.where(flags, 1.0, d), prediction), dtype=float)
+    scale = np.where(flags, np.nan, np.broadcast_to(scale, t.shape))
     p_law = inertia_prediction() if prediction is None else prediction
     alive, dist, log_v, weights, order = _exact_law_many(t, i_w, b, c, k, uncertainty, scale, p_law.dof, nodes)
     out = np.ones(t.size)
     if dist is not None:  # casters that share a linear law (a wheel size and kind) share its tabulated CDF
         out[order] = np.sum(weights * tabled_cdf(dist, np.log(v[order])[:, None] - log_v), axis=-1)
     return out.reshape(shape)
-
-
-def _inertia_scales(
-    t: Array,
-    i_w: Array,
-    b: Array,
-    c: Array,
-    k: Array,
-    shape: tuple[int, ...],
-    diameter: Numeric | None,
-    measured: Numeric | None,
-    prediction: InertiaPrediction | None,
-) -> Array:
-    """Scale of each caster's Student-t inertia term (:func:`inertia_log_scale`), nan for a measured wheel."""
-    if diameter is None:
-        return np.full(t.size, np.nan)
-    d = np.broadcast_to(np.asarray(diameter, dtype=float), shape).reshape(-1)
-    flags = np.isnan(d)
-    if measured is not None:
-        flags = flags | np.broadcast_to(np.asarray(measured, dtype=bool), shape).reshape(-1)
-    with np.errstate(invalid="ignore"):
-        scale = np.asarray(inertia_log_scale(t, i_w, b, c, k, np.where(flags, 1.0, d), prediction), dtype=float)
-    return np.where(flags, np.nan, np.broadcast_to(scale, t.shape))
 
 
 def max_measured_inertia(
