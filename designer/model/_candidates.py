@@ -376,10 +376,7 @@ def evaluate(  # long: the docstring documents every argument
     single = isinstance(designs, Design)
     if single:
         check_design(designs, error=InputError)  # an 8 m wheel is inches written as metres, not a caster
-    if speed is not None:
-        speed = _speed(speed)
-    if risk is not None:
-        risk = _speed(risk, "risk")
+    speed, risk = _speed(speed), _speed(risk, "risk")
     if weights is not None:
         weights = _weights(weights)
     if not isinstance(exact, (bool, np.bool_)):
@@ -436,12 +433,13 @@ def _columns(designs: Any) -> dict[str, np.ndarray]:
 
 def _speed(speed: Any, name: str = "speed") -> Any:
     """A speed argument [m/s] (``speed`` of the growth rate, ``risk`` of P(shimmy)): a number or a quantity with
-    units (one, or one per caster), finite and within the target speed's range of the parameter table."""
+    units (one, or one per caster), finite and within the target speed's range of the parameter table; None
+    stays None."""
+    if speed is None:
+        return None
     try:
-        if isinstance(speed, (np.ndarray, list, tuple)):
-            values = np.asarray(speed, dtype=float)
-        else:
-            values = np.asarray(parse_quantity(speed, "speed", name), dtype=float)
+        many = isinstance(speed, (np.ndarray, list, tuple))
+        values = np.asarray(speed if many else parse_quantity(speed, "speed", name), dtype=float)
     except InputError:
         raise
     except (TypeError, ValueError) as error:

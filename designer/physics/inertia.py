@@ -15,7 +15,6 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import Any, Mapping
 
 import numpy as np
@@ -28,7 +27,6 @@ from designer.physics.types import Scalar
 from designer.units import INCH
 
 
-@lru_cache(maxsize=1)
 def fit_table1_power_law() -> tuple[float, float]:
     """Least-squares fit of I_w = C d^n to the seven wheels of Table 1.
 
@@ -138,7 +136,6 @@ class PowerLaw(InertiaModel):
         return (c if self.coefficient is None else self.coefficient, n if self.exponent is None else self.exponent)
 
     def __call__(self, diameter: Scalar) -> Scalar:
-        c, n = self.constants()
         arr = None if is_symbolic(diameter) else np.asarray(diameter, dtype=float)
         if arr is not None and np.any(inertia_prediction().extrapolated(arr)):
             warnings.warn(
@@ -147,7 +144,7 @@ class PowerLaw(InertiaModel):
                 InertiaExtrapolationWarning,
                 stacklevel=2,
             )
-        return power_law_inertia(diameter, c, n)
+        return power_law_inertia(diameter, self.coefficient, self.exponent)
 
     def data_range(self) -> tuple[float, float]:
         return inertia_prediction().low, inertia_prediction().high
