@@ -359,12 +359,10 @@ def performance(
     a measured one by the measurement's scatter.
     """
     c = conditions
+    if measured is None:  # the inertia model's own (catalogue, fixed: measured); a given I_w is measured
+        measured = bool(getattr(c.inertia, "measured", False)) if inertia is None else True
     if inertia is None:
         inertia = c.inertia(diameter)
-        if measured is None:
-            measured = bool(getattr(c.inertia, "measured", False))
-    elif measured is None:
-        measured = True
     critical_speed = critical_shimmy_speed(trail, inertia, groove, damping, c.slip_coefficient)
     if c.uncertainty is None:
         confident_speed = critical_speed

@@ -278,11 +278,6 @@ class CdfTable:
         self.first = np.concatenate([first[:0:-1], first])
         self.second = np.concatenate([-second[:0:-1], second])
 
-    def inside(self, x: Array) -> Any:
-        """Which points the table covers (|x| <= :data:`TABLE_REACH` λ)."""
-        out = np.abs(x) <= TABLE_REACH * self.scale
-        return out
-
     def __call__(self, x: Array) -> Array:
         """F at points ``x`` the table covers [-] (quintic Hermite in θ)."""
         t = (np.arctan(x / self.scale) + self.top) / self.step
@@ -340,7 +335,7 @@ def tabled_cdf(dist: SumDistribution, x: Array, min_points: int = TABLE_MIN_POIN
             direct[members] = True
             continue
         mine = x[members]
-        covered = table.inside(mine)
+        covered = np.abs(mine) <= TABLE_REACH * table.scale  # the points the table covers
         out[members] = np.where(covered, table(np.where(covered, mine, 0.0)), 0.0)
         direct[members] = ~covered
     i, j = np.nonzero(direct)

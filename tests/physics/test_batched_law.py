@@ -183,7 +183,7 @@ def test_cdf_table_is_the_inversion_to_1e15(terms, normal):
     lam = float(dist.total_scale)
     rng = np.random.default_rng(6)
     x = np.concatenate([rng.standard_t(3, 4000) * lam, rng.uniform(-TABLE_REACH, TABLE_REACH, 2000) * lam])
-    x = x[table.inside(x)]
+    x = x[np.abs(x) <= TABLE_REACH * table.scale]
     assert np.max(np.abs(table(x) - dist.cdf(x[:, None]).ravel())) <= 1e-15
     assert np.max(np.abs(table(-x) - (1 - table(x)))) <= 1e-15
 
