@@ -242,11 +242,9 @@ class Casters(Record):
             ("candidates (feasible)", f"{len(self)} ({int(np.count_nonzero(self.feasible))})", "")
         ]
         for name in self.keys():
-            value = np.asarray(getattr(self, name))
-            if value.dtype == bool:
-                continue
-            a = np.asarray(value, float)
-            rows.append((name, f"{float(np.min(a)):.4g} – {float(np.max(a)):.4g}", self._units.get(name, "")))
+            a = np.asarray(getattr(self, name))
+            if a.dtype != bool:
+                rows.append((name, f"{float(np.min(a)):.4g} – {float(np.max(a)):.4g}", self._units.get(name, "")))
         return rows
 
     def take(self, index: Any) -> "Casters":

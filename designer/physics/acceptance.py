@@ -407,23 +407,20 @@ def exact_speed_quantiles(
     reached with probability 1 − α".  0 where Eq. 7's V_c is zero.
     """
     n = len(casters)
-    t, i, b, c, k, d = _columns(casters).values()
-    live = np.flatnonzero((t > 0) & ((c > 0) | (b > 0)))
+    columns = _columns(casters)
+    live = np.flatnonzero((columns["trail"] > 0) & ((columns["damping"] > 0) | (columns["groove"] > 0)))
     out = np.zeros(n)
     if not live.size:
         return out
     target = probit(float(uncertainty.probability))
 
     def excess(log_v: Array, rows: Any) -> Array:
-        r = live[rows]
-        p = shimmy_probability_exact_many(
-            t[r], i[r], b[r], c[r], k[r], np.exp(log_v), uncertainty, diameter=d[r], prediction=prediction
-        )
-        return probits(p) - target
+        sub = {key: value[live[rows]] for key, value in columns.items()}
+        return probits(exact_probabilities(sub, np.exp(log_v), uncertainty, prediction)) - target
 
     every = np.arange(live.size)
     guess = np.array([np.nan if g is None or not g > 0 else g for g in (guesses or [None] * n)], dtype=float)[live]
-    v_c = np.asarray(critical_shimmy_speed(t[live], i[live], b[live], c[live], k[live]), dtype=float)
+    v_c = np.asarray(critical_shimmy_speed(*(columns[key][live] for key in _LAW_FIELDS)), dtype=float)
     given = np.isfinite(guess)
     lo = np.where(given, np.log(np.where(given, guess, 1.0)) - 0.002, np.log(v_c) - 1.0)
     hi = np.where(given, np.log(np.where(given, guess, 1.0)) + 0.01, np.log(v_c))
