@@ -255,7 +255,6 @@ def _compute_fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[
     coef = C.chebfit(2 * nodes - 1, q[: len(nodes)], _DEGREE)
     error = q - C.chebval(2 * s - 1, coef)
     shift = max(0.0, float(error.max())) + 1e-9
-    coef = coef.copy()
     coef[0] += shift
     return coef, shift
 
