@@ -147,7 +147,10 @@ class Design(Record):
     def _repr_lines(self) -> list[str]:
         """Two lines: the SI constructor call and the sizes in inches (the industry's unit)."""
         si = ", ".join(f"{p.name}={getattr(self, p.name):.6g}" for p in parameters.VARIABLE_TABLE)
-        return [f"Design({si})", f"  {self.describe()}"]
+        sizes = ", ".join(
+            f"{p.symbol} {shown(getattr(self, p.name), p.name, 'in')}" for p in parameters.VARIABLE_TABLE[:3]
+        )
+        return [f"Design({si})", f"  {sizes}, c_f {self.damping:.4g} N·m/rad"]
 
     def variable_rows(self) -> list[tuple[Any, Any, Any]]:
         """T, d, B in inches and mm and c_f [N·m/rad] as (label, value, unit) rows, names, units and precisions from

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any, Mapping
 
 import numpy as np
@@ -27,6 +28,7 @@ from designer.physics.types import Scalar
 from designer.units import INCH
 
 
+@lru_cache(maxsize=1)
 def fit_table1_power_law() -> tuple[float, float]:
     """Least-squares fit of I_w = C d^n to the seven wheels of Table 1.
 
@@ -39,8 +41,10 @@ def fit_table1_power_law() -> tuple[float, float]:
         Coefficient C [kg·m^(2-n)] and exponent n [-]; n ≈ 3.50 and
         C·(0.2032 m)^n ≈ 1.87e-3 kg·m².
     """
-    p = inertia_prediction()  # the one least-squares fit, with its prediction interval (the risk law's)
-    return math.exp(p.log_coefficient), p.exponent
+    d = np.array([w.diameter for w in TABLE1])
+    inertia = np.array([w.inertia for w in TABLE1])
+    n, log_c = np.polyfit(np.log(d), np.log(inertia), 1)
+    return float(math.exp(log_c)), float(n)
 
 
 def power_law_inertia(diameter: Scalar, coefficient: float | None = None, exponent: float | None = None) -> Scalar:
