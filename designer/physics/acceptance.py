@@ -207,10 +207,6 @@ def probits(probability: Array) -> Array:
     return np.array([probit(float(p)) for p in np.ravel(probability)]).reshape(np.shape(probability))
 
 
-_SEARCHED = (*RISK_PARTS, "inertia")
-"""The parts searched by :func:`_limit_search`, in its blocks of rows (the inertia in log I_w)."""
-
-
 def _limit_search(
     columns: dict[str, Array],
     speed: Array,
@@ -233,7 +229,7 @@ def _limit_search(
     else it fails at the high end).
     """
     n = columns["trail"].size
-    m = len(_SEARCHED)
+    m = len(RISK_PARTS) + 1  # a block of rows per risk part, then the inertia's (in log I_w)
     kind = np.repeat(np.arange(m), n)
     cols = {key: np.tile(value, m) for key, value in columns.items()}
     is_inertia = kind == m - 1

@@ -180,11 +180,9 @@ class Uncertainty:
     @property
     def t(self) -> float:
         """Quantile t_{ν,1−α} of the model error's Student-t (z_{1−α} when ν = 0) [-]."""
-        return (
-            self.z
-            if not self.model_error_dof
-            else float(_special().stdtrit(self.model_error_dof, 1 - self.probability))
-        )
+        if not self.model_error_dof:
+            return self.z
+        return float(_special().stdtrit(self.model_error_dof, 1 - self.probability))
 
     def describe(self) -> str:
         """One line: α and the scatter (for reports and messages)."""
