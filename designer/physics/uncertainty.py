@@ -85,6 +85,7 @@ from designer.units import parse_quantity, whole_number
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
 
+from designer.physics.roots import bracketed_root
 from designer.physics.types import Array, Numeric, Scalar, batch_or_symbol
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities, critical_speed_terms
 from designer.physics.scatter import (
@@ -668,15 +669,19 @@ def max_measured_inertia(
     """The largest measured wheel inertia I* [kg·m²] at which the caster still meets the risk bound.
 
     The I* whose exact law, with the measurement's lognormal scatter (σ ``uncertainty.inertia``) about I*, gives
-    P(V_c,true < speed) = α (P rises with I*): the purchasing spec's acceptance limit for a wheel measured before it
-    is fitted, the I_w max of :func:`designer.physics.acceptance.acceptance_limits` (a root in log I, to 1e-11).
+    P(V_c,true < speed) = α (:func:`shimmy_probability_exact`; P rises with I*): the purchasing spec's acceptance
+    limit for a wheel measured before it is fitted, one caster at a time (the specs find it for many casters in one
+    batch, :func:`designer.physics.acceptance.acceptance_limits_many`).  A root in log I (to 1e-11) between the I_w
+    at which Eq. 7's V_c equals the speed (P about 1/2 there, V_c ∝ I_w^−1/2) and e^−12 of it (P ≈ 0), by
+    :func:`designer.physics.roots.bracketed_root`.
     """
-    from designer.physics.acceptance import RISK_PARTS, LawCaster, acceptance_limits  # built on this module's law
+    top = 2 * math.log(float(critical_shimmy_speed(trail, 1.0, groove, damping, slip_coefficient)) / speed)
 
-    caster = LawCaster(trail, 1.0, groove, damping, slip_coefficient)
-    shut = {part: (getattr(caster, part), getattr(caster, part)) for part in RISK_PARTS}  # no other part searched
-    value = acceptance_limits(caster, speed, uncertainty, shut, None, 0.0)[-1].value
-    return math.nan if value is None else value
+    def excess(log_i: float) -> float:
+        args = (trail, math.exp(log_i), groove, damping, slip_coefficient, speed, uncertainty)
+        return float(shimmy_probability_exact(*args, nodes=24)) - float(uncertainty.probability)
+
+    return math.exp(bracketed_root(excess, top - 12.0, top, xtol=1e-11, rtol=0.0))
 
 
 # --------------------------------------------------------------------------- the data law: Monte Carlo
