@@ -379,17 +379,9 @@ def evaluate(  # long: the docstring documents every argument
         weights = _weights(weights)
     if not isinstance(exact, (bool, np.bool_)):
         raise InputError(f"exact = {exact!r}: expected True (the exact law by quadrature) or False (Monte Carlo)")
+    cond = out_conditions(conditions, load, threshold_height)
     out = _evaluate(
-        _columns(designs),
-        conditions,
-        inertia=inertia,
-        measured=measured,
-        load=load,
-        threshold_height=threshold_height,
-        required_speed=required_speed,
-        swept_radius_max=swept_radius_max,
-        stem_angle=stem_angle,
-        calibration=calibration,
+        _columns(designs), cond, inertia, measured, required_speed, swept_radius_max, stem_angle, calibration
     )
     extra: dict[str, Any] = {}
     if weights is not None:
@@ -397,7 +389,7 @@ def evaluate(  # long: the docstring documents every argument
     if speed is not None:
         extra["growth_rate"] = _growth_rate(out, conditions, speed)
     if risk is not None:
-        law = scatter_of(out_conditions(conditions, load, threshold_height)) if scatter is None else scatter
+        law = scatter_of(cond) if scatter is None else scatter
         p, se = _risk(out, conditions, risk, law, exact, calibration, samples, seed, target_se)
         known = np.isfinite(np.asarray(out.critical_speed, dtype=float))  # a NaN caster has no risk, not P = 0
         known = known.reshape(known.shape + (1,) * (np.ndim(p) - known.ndim))
@@ -488,20 +480,17 @@ def out_conditions(conditions: Conditions, load: Any, threshold_height: Any) -> 
 
 def _evaluate(
     columns: dict[str, np.ndarray],
-    conditions: Conditions,
-    *,
+    cond: Conditions,
     inertia: Any,
     measured: Any,
-    load: Any,
-    threshold_height: Any,
     required_speed: Any,
     swept_radius_max: Any,
     stem_angle: float,
     calibration: float,
 ) -> Casters:
-    """The deterministic columns of :func:`evaluate` (performance, limits, feasibility)."""
+    """The deterministic columns of :func:`evaluate` (performance, limits, feasibility) under ``cond``, the conditions
+    with any per-caster load and sill height (:func:`out_conditions`)."""
     t, d, b, c = (columns[name] for name in VARIABLES)
-    cond = out_conditions(conditions, load, threshold_height)
     i_w = np.asarray(cond.inertia(d) if inertia is None else inertia, dtype=float) + 0 * d
     if measured is None:
         measured = bool(getattr(cond.inertia, "measured", False)) if inertia is None else True
