@@ -197,9 +197,19 @@ def exact_probabilities(
     :func:`designer.physics.uncertainty.shimmy_probability_exact_many` with :data:`LAW_NODES` nodes on its one
     quadrature axis.
     """
-    cols = (columns[name] for name in _LAW_FIELDS)
-    diameter = columns["diameter"]
-    return shimmy_probability_exact_many(*cols, speed, uncertainty, diameter, None, prediction, LAW_NODES)
+    c = columns
+    return shimmy_probability_exact_many(
+        c["trail"],
+        c["inertia"],
+        c["groove"],
+        c["damping"],
+        c["slip_coefficient"],
+        speed,
+        uncertainty,
+        diameter=c["diameter"],
+        prediction=prediction,
+        nodes=LAW_NODES,
+    )
 
 
 def probits(probability: Array) -> Array:
@@ -309,10 +319,11 @@ def acceptance_limits_many(
                 least.append(PartLimit(part, "min", None, None, reason))
             else:
                 least.append(PartLimit(part, "min", float(values[k, i]), float(p[k, i]), "risk"))
-        if radius[i] is None:
+        r_max = radius[i]
+        if r_max is None:
             trail_max = PartLimit("trail", "max", None, None, "the problem has no swept-radius limit")
         else:
-            trail_max = PartLimit("trail", "max", radius[i] - float(d[i]) / 2, None, "swept radius")
+            trail_max = PartLimit("trail", "max", r_max - float(d[i]) / 2, None, "swept radius")
         inertia = PartLimit("inertia", "max", float(values[-1, i]), float(p[-1, i]), "risk")
         out.append([least[0], trail_max, least[1], least[2], inertia])
     return out

@@ -462,14 +462,17 @@ def _fit(probability: float, *dofs: int) -> tuple[Array, float]:
     """The quantile's Chebyshev fit and its shift: of one Student-t and a normal for ``dofs`` = (ν,)
     (:func:`_compute_fit`), of two and a normal for (ν_m, ν_I) (:func:`_compute_fit2`); read from the stored fits
     for the default α and ν (the same numbers)."""
-    if len(dofs) == 1:
-        stored, shape = STORED_SUM_FITS.get((probability, *dofs, _NODES, _DEGREE)), (_DEGREE + 1,)
-    else:
-        stored, shape = STORED_PAIR_FITS.get((probability, *dofs, _DEGREE2)), (_DEGREE2[0] + 1, _DEGREE2[1] + 1)
+    one = len(dofs) == 1
+    table: dict[Any, Any] = STORED_SUM_FITS if one else STORED_PAIR_FITS
+    stored = table.get((probability, *dofs, _NODES, _DEGREE) if one else (probability, *dofs, _DEGREE2))
+    compute: Any = _compute_fit if one else _compute_fit2
     if stored is None:
-        coef, shift = (_compute_fit if len(dofs) == 1 else _compute_fit2)(probability, *dofs)
+        coef, shift = compute(probability, *dofs)
     else:
-        coef, shift = np.array(stored[0], dtype=float).reshape(shape), stored[1]
+        coef, shift = (
+            np.array(stored[0], dtype=float).reshape((_DEGREE + 1,) if one else np.add(_DEGREE2, 1)),
+            stored[1],
+        )
     coef.setflags(write=False)
     return coef, shift
 
@@ -548,70 +551,7 @@ def shimmy_probability_exact(
     return float(p) if p.ndim == 0 else p
 
 
-def _exact_law_many(
-    trail: Array,
-    inertia: Array,
-    groove: Array,
-    damping: Array,
-    slip_coefficient: Array,
-    uncertainty: Uncertainty,
-    inertia_scale: Array,
-    inertia_dof: int,
-    nodes: int,
-) -> tuple[Any, SumDistribution | None, Array, Array, Any]:
-    """The exact law of many casters (1-D arrays of one length) reduced to one quadrature axis.
-
-    Eq. 7 with the scattered constants, V_c² = a e^{ξc} + b e^{ξK} (a = 4 c_f T²/(π I_w), b = K_s B² T/(2 I_w)),
-    depends on (ξc, ξK) through D = ξc − ξK and E = ξK − βD, β = −σ_K²/(σ_c² + σ_K²), two independent normals
-    (var D = σ_c² + σ_K², var E = σ_c² σ_K²/(σ_c² + σ_K²)):
-
-        log V_c = ½ E + ½ β D + ½ log(a e^D + b),
-
-    so ½ E joins the exactly linear part (model error, inertia) and only D is integrated, by Gauss–Hermite with
-    ``nodes`` points.  A caster with b = 0 (no groove) or a = 0 is linear in ξc or ξK alone: its law is the
-    linear part's with ½ ξc (or ½ ξK) in the normal term, no quadrature.  ``inertia_scale``: the scale of the
-    inertia's Student-t term of a wheel known by its diameter (nan: a measured wheel, whose normal σ_I/2 joins
-    the normal term); V_c ∝ I_w^−1/2, so the inertia enters with slope −1/2 whatever B.
-
-    Returns: the casters' flags, V_c > 0 (else P = 1 at any speed), and of the casters with one, in their order
-    within the batch with quadrature first: the linear part's distribution (one row per caster), log V_c
-    [log m/s] at the nodes (casters × nodes; one column for a caster without quadrature), the weights (the
-    same shape, each row summing to 1) and the casters' indices.
-    """
-    u = uncertainty
-    sc, sk = float(u.damping), float(u.slip_coefficient)
-    a, b = critical_speed_terms(trail, inertia, groove, damping, slip_coefficient)
-    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    with np.errstate(invalid="ignore"):
-        alive = (trail > 0) & (a + b > 0)
-    var_d = sc**2 + sk**2
-    beta = -(sk**2) / var_d if var_d > 0 else 0.0
-    var_e = sc**2 * sk**2 / var_d if var_d > 0 else 0.0
-    both = alive & (a > 0) & (b > 0) & (var_d > 0)
-    line = alive & ~both
-    order = np.concatenate([np.flatnonzero(both), np.flatnonzero(line)])
-    # the normal part beside the integrated term: E's half, or ξc's (b = 0) or ξK's (a = 0) half
-    normal2 = np.where(both, var_e, np.where(b > 0, sk**2, sc**2)) / 4
-    measured = np.isnan(inertia_scale)
-    normal2 = (normal2 + np.where(measured, (0.5 * float(u.inertia)) ** 2, 0.0))[order]
-    terms: list[tuple[Numeric, int]] = [(float(u.model_error), int(u.model_error_dof))]
-    if not measured[order].all():
-        terms.append((np.where(measured, 0.0, inertia_scale)[order], inertia_dof))
-    dist = SumDistribution(terms, np.sqrt(normal2)) if order.size else None
-    zn, zw = _hermite_nodes(nodes)
-    d = math.sqrt(var_d) * zn
-    k = int(both.sum())
-    log_v = np.zeros((order.size, nodes if k else 1))
-    weights = np.zeros_like(log_v)
-    if k:
-        ab, bb = a[both][:, None], b[both][:, None]
-        log_v[:k] = 0.5 * (beta * d + np.log(ab * np.exp(d) + bb))
-        weights[:k] = zw
-    log_v[k:, 0] = 0.5 * np.log(a[line] + b[line])
-    weights[k:, 0] = 1.0
-    return alive, dist, log_v, weights, order
-
-
+# long: the batch's law in one pass (each caster's linear part, the one quadrature axis shared by all)
 def shimmy_probability_exact_many(
     trail: Numeric,
     inertia: Numeric,
@@ -635,12 +575,18 @@ def shimmy_probability_exact_many(
     σ ``uncertainty.inertia`` about I_w).
 
     The law: log V_c,true = log V_c,Eq.7(T, I_w e^ι, B, c_f e^{ξc}, K_s e^{ξK}) + σ_m t_νm, Eq. 7
-    V_c² = 4 c_f T²/(π I_w) + K_s B² T/(2 I_w).  The model error and ι enter linearly, as does one normal
-    combination of ξc and ξK (:func:`_exact_law_many`); their sum's CDF F is exact (characteristic-function
-    inversion, :class:`~designer.physics._sums.SumDistribution`), and the remaining normal D = ξc − ξK is
-    integrated by Gauss–Hermite with ``nodes`` points shared by every caster:
-    P = Σ_j w_j F(log V − log V_c(D_j)).  1 where Eq. 7's V_c is 0 (no trail, or neither friction nor groove).
-    Returns an array of the broadcast shape.
+    V_c² = 4 c_f T²/(π I_w) + K_s B² T/(2 I_w) = a e^{ξc} + b e^{ξK} with the scattered constants.  The model
+    error and ι enter linearly (V_c ∝ I_w^−1/2: slope −1/2 whatever B), as does one normal combination of ξc and
+    ξK: with D = ξc − ξK and E = ξK − βD, β = −σ_K²/(σ_c² + σ_K²), two independent normals (var D = σ_c² + σ_K²,
+    var E = σ_c² σ_K²/(σ_c² + σ_K²)),
+
+        log V_c = ½ E + ½ β D + ½ log(a e^D + b),
+
+    so ½ E joins the linear part.  Its CDF F is exact (characteristic-function inversion,
+    :class:`~designer.physics._sums.SumDistribution`), and the remaining normal D is integrated by Gauss–Hermite
+    with ``nodes`` points shared by every caster: P = Σ_j w_j F(log V − log V_c(D_j)).  A caster with b = 0 (no
+    groove) or a = 0 is linear in ξc or ξK alone: ½ ξc (or ½ ξK) joins the normal term, no quadrature.  1 where
+    Eq. 7's V_c is 0 (no trail, or neither friction nor groove).  Returns an array of the broadcast shape.
     """
     cols = np.broadcast_arrays(
         *(np.asarray(v, dtype=float) for v in (trail, inertia, groove, damping, slip_coefficient, speed))
@@ -656,10 +602,39 @@ def shimmy_probability_exact_many(
         scale = np.asarray(inertia_log_scale(t, i_w, b, c, k, np.where(flags, 1.0, d), prediction), dtype=float)
     scale = np.where(flags, np.nan, np.broadcast_to(scale, t.shape))
     p_law = inertia_prediction() if prediction is None else prediction
-    alive, dist, log_v, weights, order = _exact_law_many(t, i_w, b, c, k, uncertainty, scale, p_law.dof, nodes)
+    u = uncertainty
+    sc, sk = float(u.damping), float(u.slip_coefficient)
+    friction, tread = (np.asarray(x, dtype=float) for x in critical_speed_terms(t, i_w, b, c, k))  # a and b
+    with np.errstate(invalid="ignore"):
+        alive = (t > 0) & (friction + tread > 0)
+    var_d = sc**2 + sk**2
+    beta = -(sk**2) / var_d if var_d > 0 else 0.0
+    var_e = sc**2 * sk**2 / var_d if var_d > 0 else 0.0
+    both = alive & (friction > 0) & (tread > 0) & (var_d > 0)
+    line = alive & ~both
+    order = np.concatenate([np.flatnonzero(both), np.flatnonzero(line)])  # the casters with V_c > 0, D's first
     out = np.ones(t.size)
-    if dist is not None:  # casters that share a linear law (a wheel size and kind) share its tabulated CDF
-        out[order] = np.sum(weights * tabled_cdf(dist, np.log(v[order])[:, None] - log_v), axis=-1)
+    if not order.size:
+        return out.reshape(shape)
+    # the normal part beside the integrated term: E's half, or ξc's (b = 0) or ξK's (a = 0) half
+    normal2 = np.where(both, var_e, np.where(tread > 0, sk**2, sc**2)) / 4
+    flags = np.isnan(scale)  # measured wheels: σ_I/2 joins the normal term
+    normal2 = (normal2 + np.where(flags, (0.5 * float(u.inertia)) ** 2, 0.0))[order]
+    terms: list[tuple[Numeric, int]] = [(float(u.model_error), int(u.model_error_dof))]
+    if not flags[order].all():
+        terms.append((np.where(flags, 0.0, scale)[order], p_law.dof))
+    zn, zw = _hermite_nodes(nodes)
+    dn = math.sqrt(var_d) * zn
+    n_d = int(both.sum())
+    log_v = np.zeros((order.size, nodes if n_d else 1))  # log V_c [log m/s] at the nodes of D
+    weights = np.zeros_like(log_v)
+    if n_d:
+        log_v[:n_d] = 0.5 * (beta * dn + np.log(friction[both][:, None] * np.exp(dn) + tread[both][:, None]))
+        weights[:n_d] = zw
+    log_v[n_d:, 0] = 0.5 * np.log(friction[line] + tread[line])
+    weights[n_d:, 0] = 1.0
+    dist = SumDistribution(terms, np.sqrt(normal2))  # casters that share a linear law share its tabulated CDF
+    out[order] = np.sum(weights * tabled_cdf(dist, np.log(v[order])[:, None] - log_v), axis=-1)
     return out.reshape(shape)
 
 
