@@ -176,9 +176,7 @@ class Casters(Record):
 
     def g(self) -> np.ndarray:
         """The constraint values (N, 2): g_risk, g_radius; g <= :data:`FEASIBILITY_TOLERANCE` is feasible."""
-        return np.column_stack(
-            [np.broadcast_to(self.g_risk, (len(self),)), np.broadcast_to(self.g_radius, (len(self),))]
-        )
+        return np.column_stack([self._column("g_risk"), self._column("g_radius")])
 
     def violation(self) -> np.ndarray:
         """Total constraint violation [-]: the sum of the positive g (0 for a caster that meets both limits)."""
@@ -375,8 +373,7 @@ def evaluate(  # long: the docstring documents every argument
     if single:
         check_design(designs, error=InputError)  # an 8 m wheel is inches written as metres, not a caster
     speed, risk = _speed(speed), _speed(risk, "risk")
-    if weights is not None:
-        weights = _weights(weights)
+    weights = None if weights is None else _weights(weights)
     if not isinstance(exact, (bool, np.bool_)):
         raise InputError(f"exact = {exact!r}: expected True (the exact law by quadrature) or False (Monte Carlo)")
     cond = out_conditions(conditions, load, threshold_height)
@@ -573,12 +570,8 @@ def _risk(
 
 def _constraints(confident: np.ndarray, radius: np.ndarray, required: Any, r_max: Any) -> tuple[np.ndarray, np.ndarray]:
     """g_risk = 1 − V_q/V_req and g_radius = R_s/R_max − 1 [-] (g <= 0 feasible); −inf for a limit not given."""
-    g_risk = np.full(confident.shape, -np.inf)
-    if required is not None:
-        g_risk = 1 - confident / np.asarray(required, dtype=float)
-    g_radius = np.full(radius.shape, -np.inf)
-    if r_max is not None:
-        g_radius = radius / np.asarray(r_max, dtype=float) - 1
+    g_risk = np.full(confident.shape, -np.inf) if required is None else 1 - confident / np.asarray(required, float)
+    g_radius = np.full(radius.shape, -np.inf) if r_max is None else radius / np.asarray(r_max, dtype=float) - 1
     return np.asarray(g_risk, dtype=float), np.asarray(g_radius, dtype=float)
 
 
