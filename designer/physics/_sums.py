@@ -135,8 +135,7 @@ def _range(terms: list[tuple[Array, int]], c: Array) -> Array:
     """Upper end L of the inversion integral per row: where the fastest-decaying factor is negligible."""
     with np.errstate(divide="ignore"):
         ends = [np.where(c > 0, _TAIL_NORMAL / c, np.inf)]
-        for a, dof in terms:
-            ends.append(np.where(a > 0, max(_TAIL / math.sqrt(dof), _TAIL_NORMAL) / a, np.inf))
+        ends += [np.where(a > 0, max(_TAIL / math.sqrt(dof), _TAIL_NORMAL) / a, np.inf) for a, dof in terms]
     end: Array = np.min(np.stack(ends), axis=0)
     return end
 
