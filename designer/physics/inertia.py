@@ -57,11 +57,8 @@ def power_law_inertia(diameter: Scalar, coefficient: float | None = None, expone
     coefficient, exponent : float, optional
         C and n; default: the Table 1 fit of :func:`fit_table1_power_law`.
     """
-    if coefficient is None or exponent is None:
-        fitted_c, fitted_n = fit_table1_power_law()
-        coefficient = fitted_c if coefficient is None else coefficient
-        exponent = fitted_n if exponent is None else exponent
-    return coefficient * diameter**exponent
+    c, n = fit_table1_power_law()
+    return (c if coefficient is None else coefficient) * diameter ** (n if exponent is None else exponent)
 
 
 def disc_mass(diameter: Scalar, tyre_width: Scalar, density: Scalar) -> Scalar:
