@@ -176,9 +176,7 @@ class Casters(Record):
 
     def g(self) -> np.ndarray:
         """The constraint values (N, 2): g_risk, g_radius; g <= :data:`FEASIBILITY_TOLERANCE` is feasible."""
-        return np.column_stack(
-            [np.broadcast_to(self.g_risk, (len(self),)), np.broadcast_to(self.g_radius, (len(self),))]
-        )
+        return np.column_stack([self._column("g_risk"), self._column("g_radius")])
 
     def violation(self) -> np.ndarray:
         """Total constraint violation [-]: the sum of the positive g (0 for a caster that meets both limits)."""
@@ -209,26 +207,24 @@ class Casters(Record):
 
     def row(self, i: int) -> "Caster":
         """Caster ``i`` (the quantities as Python scalars)."""
-        values: dict[str, Any] = {f.name: None for f in fields(self) if f.name != "quantities"}
-        values.update({name: self._column(name)[i].item() for name in self.keys()})
-        return Caster.of(**values)
+        return self.take([i]).rows()[0]
+
+    def _records(self) -> list[dict[str, Any]]:
+        """One {quantity: value} per candidate (Python scalars), each column read once."""
+        columns = self.keys()
+        return [dict(zip(columns, values)) for values in zip(*(self._column(c).tolist() for c in columns))]
 
     def rows(self) -> list["Caster"]:
         """Every caster, as :meth:`row` gives it, each column read once (a front's points: a tenth of the time of
         one :meth:`row` a point)."""
         empty: dict[str, Any] = {f.name: None for f in fields(self) if f.name != "quantities"}
-        columns = {name: self._column(name).tolist() for name in self.keys()}
-        return [Caster.of(**{**empty, **{n: c[i] for n, c in columns.items()}}) for i in range(len(self))]
+        return [Caster.of(**{**empty, **record}) for record in self._records()]
 
     def to_pandas(self) -> Any:
         """One row per candidate, one column per quantity (the Monte Carlo ones only when computed); units in
         ``df.attrs["units"]``."""
-        columns = self.keys()
-        arrays = {c: self._column(c) for c in columns}
-        rows = [{c: arrays[c][i].item() for c in columns} for i in range(len(self))]
-        return dataframe(
-            f"{type(self).__name__}.to_pandas", rows, columns, {c: u for c, u in self._units.items() if c in columns}
-        )
+        units = {c: u for c, u in self._units.items() if c in self.keys()}
+        return dataframe(f"{type(self).__name__}.to_pandas", self._records(), self.keys(), units)
 
     def _repr_lines(self) -> list[str]:
         """One line: how many candidates, how many feasible, and the ranges of F_turn and P."""
@@ -244,11 +240,9 @@ class Casters(Record):
             ("candidates (feasible)", f"{len(self)} ({int(np.count_nonzero(self.feasible))})", "")
         ]
         for name in self.keys():
-            value = np.asarray(getattr(self, name))
-            if value.dtype == bool:
-                continue
-            a = np.asarray(value, float)
-            rows.append((name, f"{float(np.min(a)):.4g} – {float(np.max(a)):.4g}", self._units.get(name, "")))
+            a = np.asarray(getattr(self, name))
+            if a.dtype != bool:
+                rows.append((name, f"{float(np.min(a)):.4g} – {float(np.max(a)):.4g}", self._units.get(name, "")))
         return rows
 
     def take(self, index: Any) -> "Casters":
@@ -378,25 +372,13 @@ def evaluate(  # long: the docstring documents every argument
     single = isinstance(designs, Design)
     if single:
         check_design(designs, error=InputError)  # an 8 m wheel is inches written as metres, not a caster
-    if speed is not None:
-        speed = _speed(speed)
-    if risk is not None:
-        risk = _speed(risk, "risk")
-    if weights is not None:
-        weights = _weights(weights)
+    speed, risk = _speed(speed), _speed(risk, "risk")
+    weights = None if weights is None else _weights(weights)
     if not isinstance(exact, (bool, np.bool_)):
         raise InputError(f"exact = {exact!r}: expected True (the exact law by quadrature) or False (Monte Carlo)")
+    cond = out_conditions(conditions, load, threshold_height)
     out = _evaluate(
-        _columns(designs),
-        conditions,
-        inertia=inertia,
-        measured=measured,
-        load=load,
-        threshold_height=threshold_height,
-        required_speed=required_speed,
-        swept_radius_max=swept_radius_max,
-        stem_angle=stem_angle,
-        calibration=calibration,
+        _columns(designs), cond, inertia, measured, required_speed, swept_radius_max, stem_angle, calibration
     )
     extra: dict[str, Any] = {}
     if weights is not None:
@@ -404,7 +386,7 @@ def evaluate(  # long: the docstring documents every argument
     if speed is not None:
         extra["growth_rate"] = _growth_rate(out, conditions, speed)
     if risk is not None:
-        law = scatter_of(out_conditions(conditions, load, threshold_height)) if scatter is None else scatter
+        law = scatter_of(cond) if scatter is None else scatter
         p, se = _risk(out, conditions, risk, law, exact, calibration, samples, seed, target_se)
         known = np.isfinite(np.asarray(out.critical_speed, dtype=float))  # a NaN caster has no risk, not P = 0
         known = known.reshape(known.shape + (1,) * (np.ndim(p) - known.ndim))
@@ -438,12 +420,13 @@ def _columns(designs: Any) -> dict[str, np.ndarray]:
 
 def _speed(speed: Any, name: str = "speed") -> Any:
     """A speed argument [m/s] (``speed`` of the growth rate, ``risk`` of P(shimmy)): a number or a quantity with
-    units (one, or one per caster), finite and within the target speed's range of the parameter table."""
+    units (one, or one per caster), finite and within the target speed's range of the parameter table; None
+    stays None."""
+    if speed is None:
+        return None
     try:
-        if isinstance(speed, (np.ndarray, list, tuple)):
-            values = np.asarray(speed, dtype=float)
-        else:
-            values = np.asarray(parse_quantity(speed, "speed", name), dtype=float)
+        many = isinstance(speed, (np.ndarray, list, tuple))
+        values = np.asarray(speed if many else parse_quantity(speed, "speed", name), dtype=float)
     except InputError:
         raise
     except (TypeError, ValueError) as error:
@@ -494,20 +477,17 @@ def out_conditions(conditions: Conditions, load: Any, threshold_height: Any) -> 
 
 def _evaluate(
     columns: dict[str, np.ndarray],
-    conditions: Conditions,
-    *,
+    cond: Conditions,
     inertia: Any,
     measured: Any,
-    load: Any,
-    threshold_height: Any,
     required_speed: Any,
     swept_radius_max: Any,
     stem_angle: float,
     calibration: float,
 ) -> Casters:
-    """The deterministic columns of :func:`evaluate` (performance, limits, feasibility)."""
+    """The deterministic columns of :func:`evaluate` (performance, limits, feasibility) under ``cond``, the conditions
+    with any per-caster load and sill height (:func:`out_conditions`)."""
     t, d, b, c = (columns[name] for name in VARIABLES)
-    cond = out_conditions(conditions, load, threshold_height)
     i_w = np.asarray(cond.inertia(d) if inertia is None else inertia, dtype=float) + 0 * d
     if measured is None:
         measured = bool(getattr(cond.inertia, "measured", False)) if inertia is None else True
@@ -517,9 +497,7 @@ def _evaluate(
     sill_ok = d > 2 * h
     climbing = np.where(sill_ok, d, 3 * h)  # a wheel that cannot climb gets P = inf below, not Eq. 4A's error
     values = performance(t_eff, climbing, b, c, cond, inertia=i_w, measured=flags, wheel_diameter=d)
-    confident = np.asarray(values["confident_speed"], dtype=float)
-    if calibration != 1.0:
-        confident = calibration * confident
+    confident = calibration * np.asarray(values["confident_speed"], dtype=float)  # k V_q (x 1.0 is exact)
     force = np.where(sill_ok, np.asarray(values["threshold_force"], dtype=float), np.inf)
     ratio = np.where(sill_ok, np.asarray(values["threshold_force_ratio"], dtype=float), np.inf)
     radius = np.asarray(swept_radius(t, d), dtype=float)
@@ -563,14 +541,9 @@ def _growth_rate(out: Casters, conditions: Conditions, speed: Any) -> np.ndarray
     i_w, b, c, v = (
         np.broadcast_to(np.asarray(x, dtype=float), t.shape) for x in (out.inertia, out.groove, out.damping, speed)
     )
-    rates = []
-    for k in range(t.size):
-        c_d = friction_damping_at_speed(float(c[k]), float(t[k]), float(v[k]))
-        coeffs = third_order_coefficients(
-            float(t[k]), float(i_w[k]), float(b[k]), c_d, float(v[k]), conditions.slip_coefficient, conditions.dynamics
-        )
-        rates.append(float(growth_rate(coeffs)))
-    return np.array(rates)
+    c_d = friction_damping_at_speed(c, t, v)
+    k_s = conditions.slip_coefficient
+    return np.atleast_1d(growth_rate(third_order_coefficients(t, i_w, b, c_d, v, k_s, conditions.dynamics)))
 
 
 def _risk(
@@ -586,40 +559,19 @@ def _risk(
 ) -> tuple[np.ndarray, np.ndarray]:
     """P(V_c,true < speed) and its SE per caster: Monte Carlo, or the exact law by quadrature (SE 0)."""
     speed = np.asarray(speed, dtype=float) / calibration
-    if not exact:
-        return shimmy_probability(
-            out.effective_trail,
-            out.inertia,
-            out.groove,
-            out.damping,
-            float(conditions.slip_coefficient),
-            speed,
-            law,
-            samples=samples,
-            seed=seed,
-            target_se=target_se,
-            diameter=out.diameter,
-            measured=out.measured,
-        )
-    n = len(out)
-    t, i_w, b, c, d = (
-        out._column(k).astype(float) for k in ("effective_trail", "inertia", "groove", "damping", "diameter")
+    args = (out.effective_trail, out.inertia, out.groove, out.damping, float(conditions.slip_coefficient), speed, law)
+    if exact:
+        p = shimmy_probability_exact_many(*args, diameter=out.diameter, measured=out.measured)
+        return p, np.zeros_like(p)
+    return shimmy_probability(
+        *args, samples=samples, seed=seed, target_se=target_se, diameter=out.diameter, measured=out.measured
     )
-    v, flags = np.broadcast_to(speed, (n,)), out._column("measured").astype(bool)
-    p = shimmy_probability_exact_many(
-        t, i_w, b, c, float(conditions.slip_coefficient), v, law, diameter=d, measured=flags
-    )
-    return p, np.zeros(n)
 
 
 def _constraints(confident: np.ndarray, radius: np.ndarray, required: Any, r_max: Any) -> tuple[np.ndarray, np.ndarray]:
     """g_risk = 1 − V_q/V_req and g_radius = R_s/R_max − 1 [-] (g <= 0 feasible); −inf for a limit not given."""
-    g_risk = np.full(confident.shape, -np.inf)
-    if required is not None:
-        g_risk = 1 - confident / np.asarray(required, dtype=float)
-    g_radius = np.full(radius.shape, -np.inf)
-    if r_max is not None:
-        g_radius = radius / np.asarray(r_max, dtype=float) - 1
+    g_risk = np.full(confident.shape, -np.inf) if required is None else 1 - confident / np.asarray(required, float)
+    g_radius = np.full(radius.shape, -np.inf) if r_max is None else radius / np.asarray(r_max, dtype=float) - 1
     return np.asarray(g_risk, dtype=float), np.asarray(g_radius, dtype=float)
 
 
@@ -664,29 +616,12 @@ def shimmy_probability(
     -------
     (p, se): arrays in the broadcast shape of the inputs.
     """
-    columns = [trail, inertia, groove, damping, speed] + ([] if diameter is None else [diameter])
-    if measured is not None:
-        columns.append(measured)
-    arrays = np.broadcast_arrays(*(np.asarray(x) for x in columns))
+    given: dict[str, Any] = {k: v for k, v in (("diameter", diameter), ("measured", measured)) if v is not None}
+    arrays = np.broadcast_arrays(*(np.asarray(x) for x in (trail, inertia, groove, damping, speed, *given.values())))
     shape = arrays[0].shape
-    flat = [a.ravel() for a in arrays]
-    t, i_w, b, c, v_req = (np.asarray(a, dtype=float) for a in flat[:5])
-    d = None if diameter is None else np.asarray(flat[5], dtype=float)
-    flags = None if measured is None else np.asarray(flat[-1], dtype=bool)
-    if not t.size:
+    if not arrays[0].size:
         return np.zeros(shape), np.zeros(shape)
-    p, se = shimmy_probability_mc_many(
-        t,
-        i_w,
-        b,
-        c,
-        slip_coefficient,
-        v_req,
-        uncertainty,
-        diameter=d,
-        measured=flags,
-        samples=samples,
-        seed=seed,
-        target_se=target_se,
-    )
+    t, i_w, b, c, v_req, *rest = (a.ravel() for a in arrays)
+    law: dict[str, Any] = {"samples": samples, "seed": seed, "target_se": target_se, **dict(zip(given, rest))}
+    p, se = shimmy_probability_mc_many(t, i_w, b, c, slip_coefficient, v_req, uncertainty, **law)
     return p.reshape(shape), se.reshape(shape)

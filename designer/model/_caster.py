@@ -19,10 +19,10 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
     import numpy.typing as npt
 
 from designer import parameters
-from designer.data.paper import INCH
+from designer.display import label, number, quantity, shown, unit_text
 from designer.errors import InputError
 from designer.reprs import Record, frozen
-from designer.physics.types import Scalar
+from designer.physics.types import Scalar, batch_or_symbol
 from designer.physics.geometry import swept_radius
 from designer.physics.inertia import InertiaModel, PowerLaw
 from designer.physics.shimmy import (
@@ -146,52 +146,50 @@ class Design(Record):
 
     def _repr_lines(self) -> list[str]:
         """Two lines: the SI constructor call and the sizes in inches (the industry's unit)."""
-        return [
-            f"Design(trail={self.trail:.6g}, diameter={self.diameter:.6g}, groove={self.groove:.6g}, "
-            f"damping={self.damping:.6g})",
-            f"  T {self.trail / INCH:.3f} in, d {self.diameter / INCH:.3f} in, "
-            f"B {self.groove / INCH:.3f} in, c_f {self.damping:.4g} N·m/rad",
-        ]
+        si = ", ".join(f"{p.name}={getattr(self, p.name):.6g}" for p in parameters.VARIABLE_TABLE)
+        sizes = ", ".join(
+            f"{p.symbol} {shown(getattr(self, p.name), p.name, 'in')}" for p in parameters.VARIABLE_TABLE[:3]
+        )
+        return [f"Design({si})", f"  {sizes}, c_f {self.damping:.4g} N·m/rad"]
 
     def variable_rows(self) -> list[tuple[Any, Any, Any]]:
-        """T, d, B in inches and mm and c_f [N·m/rad] as (label, value, unit) rows, names and units from the
-        parameter table: the design block of every record's HTML (a recommendation, an optimum, this design)."""
-        rows: list[tuple[Any, Any, Any]] = []
-        for p in parameters.VARIABLE_TABLE:
-            value = getattr(self, p.name)
-            if p.dimension == "length":
-                rows.append((f"{p.name} {p.symbol}", f"{value / INCH:.3f} ({value * 1000:.2f} mm)", "in"))
-            else:
-                rows.append((f"{p.name} {p.symbol}", f"{value:.4g}", p.unit))
-        return rows
+        """T, d, B in inches and mm and c_f [N·m/rad] as (label, value, unit) rows, names, units and precisions from
+        the parameter table: the design block of every record's HTML (a recommendation, an optimum, this design)."""
+        return [
+            (f"{p.name} {p.symbol}", _inches(getattr(self, p.name), p.name), unit_text(p.name, "in"))
+            for p in parameters.VARIABLE_TABLE
+        ]
 
     def variable_lines(self, width: int) -> list[str]:
         """T, d, B in inches and mm and c_f as text lines, the label column ``width`` characters wide (two spaces
-        of indent included), names and units from the parameter table: the design block of
+        of indent included), names, units and precisions from the parameter table: the design block of
         ``print(recommendation)`` and ``print(solution)``."""
         lines = []
         for p in parameters.VARIABLE_TABLE:
             value = getattr(self, p.name)
-            label = f"  {p.name} {p.symbol}".ljust(width)
-            if p.dimension == "length":
-                lines.append(f"{label}{value / INCH:8.3f} in   {value * 1000:8.2f} mm")
-            else:
-                lines.append(f"{label}{value:8.3f} {p.unit}")
+            mm = f"   {number(value, p.name, 'mm'):>8} mm" if p.dimension == "length" else ""
+            lines.append(
+                f"{f'  {p.name} {p.symbol}':<{width}}{number(value, p.name, 'in'):>8} {unit_text(p.name, 'in')}{mm}"
+            )
         return lines
 
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """T, d, B in inches and mm, c_f [N·m/rad] and the swept radius (notebooks); names and units from the table."""
-        rows = self.variable_rows()
         rs = float(swept_radius(self.trail, self.diameter))
-        rows.append(("swept radius T + d/2", f"{rs / INCH:.3f} ({rs * 1000:.2f} mm)", "in"))
-        return rows
+        return [*self.variable_rows(), (label("swept_radius"), _inches(rs, "swept_radius"), "in")]
 
     def describe(self) -> str:
-        """One line in inches (the industry's unit) and SI."""
-        return (
-            f"T = {self.trail / INCH:.3f} in, d = {self.diameter / INCH:.3f} in, "
-            f"B = {self.groove / INCH:.3f} in, c_f = {self.damping:.3f} N·m/rad"
+        """One line in inches (the industry's unit) and SI: "T = 2.500 in, ..., c_f = 1.30 N·m/rad"."""
+        return ", ".join(
+            f"{p.symbol} = {shown(getattr(self, p.name), p.name, 'in')}" for p in parameters.VARIABLE_TABLE
         )
+
+
+def _inches(value: float, name: str) -> str:
+    """A quantity [SI] of the parameter table in the inch system, a length with millimetres beside it:
+    "2.500 (63.50 mm)", "1.30"."""
+    mm = f" ({shown(value, name, 'mm')})" if quantity(name).dimension == "length" else ""
+    return number(value, name, "in") + mm
 
 
 CONDITION_NUMBERS = ("load", "threshold_height", "disturbance_angle", "slip_coefficient")
@@ -229,12 +227,6 @@ def condition_refusal(name: str, value: Any, label: str | None = None) -> str | 
     return None
 
 
-def _symbolic(value: Any) -> bool:
-    """A NumPy array of values (one per design) or a CasADi expression: the solvers' and the vectorised model's own
-    conditions, not a user's number (checked where it was read).  A 0-d array is one number: the boundary's."""
-    return (isinstance(value, np.ndarray) and value.ndim > 0) or type(value).__module__.startswith("casadi")
-
-
 @dataclass(frozen=True)
 class Conditions:
     """Fixed operating conditions and model constants of a caster.
@@ -270,31 +262,25 @@ class Conditions:
 
     def __post_init__(self) -> None:
         # the API's boundary: a user's Conditions(load=-5) is refused as the problem file's conditions.load = -5
-        for name in CONDITION_NUMBERS:
+        for name in (*CONDITION_NUMBERS, *CONDITION_CHOICES):
             value = getattr(self, name)
-            if _symbolic(value):
+            if batch_or_symbol(value):
                 continue
-            p = parameters.PARAMETERS[name]
-            value = parse_quantity(value, p.dimension, name)  # a number [SI] or a string with units
+            if name in CONDITION_NUMBERS:  # a number [SI] or a string with units
+                value = parse_quantity(value, parameters.PARAMETERS[name].dimension, name)
             reason = condition_refusal(name, value)
             if reason is not None:
                 raise InputError(reason)
             object.__setattr__(self, name, value)
-        for name in CONDITION_CHOICES:
-            reason = condition_refusal(name, getattr(self, name))
-            if reason is not None:
-                raise InputError(reason)
-        for name, kind, example in (
-            ("inertia", InertiaModel, "PowerLaw()"),
-            ("turning", TurningConstants, "TurningConstants()"),
-            ("dynamics", DynamicsParameters, "DynamicsParameters()"),
+        for name, kinds, expected in (
+            ("inertia", InertiaModel, "a InertiaModel, e.g. PowerLaw()"),
+            ("turning", TurningConstants, "a TurningConstants, e.g. TurningConstants()"),
+            ("dynamics", DynamicsParameters, "a DynamicsParameters, e.g. DynamicsParameters()"),
+            ("uncertainty", (Uncertainty, type(None)), "None or an Uncertainty"),
+            ("constants", Mapping, "a mapping of constant names to values"),
         ):
-            if not isinstance(getattr(self, name), kind):
-                raise InputError(f"{name} = {getattr(self, name)!r}: expected a {kind.__name__}, e.g. {example}")
-        if self.uncertainty is not None and not isinstance(self.uncertainty, Uncertainty):
-            raise InputError(f"uncertainty = {self.uncertainty!r}: expected None or an Uncertainty")
-        if not isinstance(self.constants, Mapping):
-            raise InputError(f"constants = {self.constants!r}: expected a mapping of constant names to values")
+            if not isinstance(getattr(self, name), kinds):
+                raise InputError(f"{name} = {getattr(self, name)!r}: expected {expected}")
         object.__setattr__(self, "constants", frozen(self.constants))
 
     def replace(self, **changes: Any) -> "Conditions":
@@ -376,12 +362,10 @@ def performance(
     a measured one by the measurement's scatter.
     """
     c = conditions
+    if measured is None:  # the inertia model's own (catalogue, fixed: measured); a given I_w is measured
+        measured = bool(getattr(c.inertia, "measured", False)) if inertia is None else True
     if inertia is None:
         inertia = c.inertia(diameter)
-        if measured is None:
-            measured = bool(getattr(c.inertia, "measured", False))
-    elif measured is None:
-        measured = True
     critical_speed = critical_shimmy_speed(trail, inertia, groove, damping, c.slip_coefficient)
     if c.uncertainty is None:
         confident_speed = critical_speed

@@ -135,8 +135,7 @@ def _range(terms: list[tuple[Array, int]], c: Array) -> Array:
     """Upper end L of the inversion integral per row: where the fastest-decaying factor is negligible."""
     with np.errstate(divide="ignore"):
         ends = [np.where(c > 0, _TAIL_NORMAL / c, np.inf)]
-        for a, dof in terms:
-            ends.append(np.where(a > 0, max(_TAIL / math.sqrt(dof), _TAIL_NORMAL) / a, np.inf))
+        ends += [np.where(a > 0, max(_TAIL / math.sqrt(dof), _TAIL_NORMAL) / a, np.inf) for a, dof in terms]
     end: Array = np.min(np.stack(ends), axis=0)
     return end
 
@@ -208,31 +207,19 @@ class SumDistribution:
         """x with P(X <= x) = probability per row, Newton in a bisection bracket (±inf at probability 1 or 0, which
         a probability within 1e-16 of either end rounds to; nan for one outside [0, 1])."""
         p = np.broadcast_to(np.asarray(probability, dtype=float), self.shape)
-        ends = (p <= 0) | (p >= 1) | ~np.isfinite(p)
-        if np.any(ends):
-            edge: Array = np.where(p >= 1, np.inf, -np.inf)
-            edge = np.where((p < 0) | (p > 1) | ~np.isfinite(p), np.nan, edge)
-            inner = ~ends
-            if np.any(inner):
-                sub = SumDistribution.__new__(SumDistribution)
-                sub.terms = [(np.broadcast_to(a, self.shape)[inner], dof) for a, dof in self.terms]
-                sub.normal = np.broadcast_to(self.normal, self.shape)[inner]
-                sub.shape = sub.normal.shape
-                sub.degenerate = self.degenerate[inner]
-                sub.s, sub.w, sub.phi = self.s[inner], self.w[inner], self.phi[inner]
-                edge[inner] = sub.quantile(p[inner], tol)
-            return edge
+        inner = (p > 0) & (p < 1)
+        q = np.where(inner, p, 0.5)  # the ends' rows are searched at the median, then replaced
         sp = _special()
         k = len(self.terms) + 1
         # P(X > x) <= Σ P(term_k > x_k) with Σ x_k = x: each term at its 1 − (1 − p)/k quantile
-        tail = np.minimum(p, 1 - p)
+        tail = np.minimum(q, 1 - q)
         hi = self.normal * sp.ndtri(1 - tail / k)
         for a, dof in self.terms:
             hi = hi + a * sp.stdtrit(dof, 1 - tail / k)
         lo = -hi
         x = np.zeros(self.shape)
         for _ in range(100):
-            f = self.cdf(x) - p
+            f = self.cdf(x) - q
             lo, hi = np.where(f < 0, x, lo), np.where(f < 0, hi, x)
             step = f / np.maximum(self.pdf(x), 1e-300)
             new = x - step
@@ -240,10 +227,11 @@ class SumDistribution:
             new = np.where(outside, (lo + hi) / 2, new)
             done = (np.abs(new - x) <= tol * np.maximum(1.0, np.abs(x))) | (hi - lo <= tol)
             x = new
-            if np.all(done | self.degenerate):
+            if np.all(done | self.degenerate | ~inner):
                 break
         out: Array = np.where(self.degenerate, 0.0, x)
-        return out
+        edge = np.where((p < 0) | (p > 1) | ~np.isfinite(p), np.nan, np.where(p >= 1, np.inf, -np.inf))
+        return np.where(inner, out, edge)
 
 
 TABLE_NODES = 1024
@@ -288,11 +276,6 @@ class CdfTable:
         self.values = np.concatenate([1.0 - values[:0:-1], values])
         self.first = np.concatenate([first[:0:-1], first])
         self.second = np.concatenate([-second[:0:-1], second])
-
-    def inside(self, x: Array) -> Any:
-        """Which points the table covers (|x| <= :data:`TABLE_REACH` λ)."""
-        out = np.abs(x) <= TABLE_REACH * self.scale
-        return out
 
     def __call__(self, x: Array) -> Array:
         """F at points ``x`` the table covers [-] (quintic Hermite in θ)."""
@@ -351,7 +334,7 @@ def tabled_cdf(dist: SumDistribution, x: Array, min_points: int = TABLE_MIN_POIN
             direct[members] = True
             continue
         mine = x[members]
-        covered = table.inside(mine)
+        covered = np.abs(mine) <= TABLE_REACH * table.scale  # the points the table covers
         out[members] = np.where(covered, table(np.where(covered, mine, 0.0)), 0.0)
         direct[members] = ~covered
     i, j = np.nonzero(direct)

@@ -8,16 +8,13 @@ P(V_c,true < V_req) = α:
 - trail T: the least (P falls as T grows, Eq. 7: V_c² = 4 c_f T²/(π I_w) + K_s B² T/(2 I_w));
 - groove B: the least;
 - bearing friction moment M_f = c_f θ0 [N·m]: the least (c_f = M_f/θ0, Eq. 7 with Eq. 11C's θ0);
-- wheel inertia I_w: the largest measured one
-  (:func:`designer.physics.uncertainty.max_measured_inertia`).
+- wheel inertia I_w: the largest measured one.
 
-Each is a root of P(part) − α found by :func:`designer.physics.roots.bracketed_root` on the part's
-range (the parameter table's model range), P by :func:`~designer.physics.uncertainty.shimmy_probability_exact`
-(Gauss–Hermite quadrature of the exact law).  When P stays at or below α over the whole side of the range
-the part has no limit there (None, with the reason).  :func:`acceptance_limits_many` finds every limit of
-many casters in one batch, what the specs use: the same roots by the same steps, row by row
-(:func:`designer.physics.roots.bracketed_roots`), P by the batched law
-(:func:`~designer.physics.uncertainty.shimmy_probability_exact_many`).
+Each is a root of P(part) − α on the part's range (the parameter table's model range; the inertia in log I_w),
+P by the exact law's Gauss–Hermite quadrature (:func:`~designer.physics.uncertainty.shimmy_probability_exact_many`).
+When P stays at or below α over the whole side of the range the part has no limit there (None, with the reason).
+:func:`acceptance_limits_many` finds every limit of many casters in one batch, row by row
+(:func:`designer.physics.roots.bracketed_roots`); :func:`acceptance_limits` is the batch of one caster.
 
 The worst corner (:func:`worst_corner`): each toleranced part at the edge of its tolerance where P is the
 larger (others nominal), then all of them at once, the law's scatter on top: worst-case (arithmetic)
@@ -35,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from designer.physics.roots import bracketed_root, bracketed_roots
+from designer.physics.roots import bracketed_roots
 from designer.physics.scatter import InertiaPrediction
 from designer.physics.shimmy import critical_shimmy_speed
 from designer.physics.types import Array, Numeric
@@ -43,17 +40,15 @@ from designer.physics.uncertainty import (
     Uncertainty,
     _hermite_nodes,
     _linear_part,
-    max_measured_inertia,
-    shimmy_probability_exact,
     shimmy_probability_exact_many,
 )
 
 RISK_PARTS = ("trail", "groove", "damping")
-"""The parts whose least acceptable value is a root of P = α (the inertia's largest is its own solver)."""
+"""The parts whose least acceptable value is a root of P = α (the inertia's largest is searched in log I_w)."""
 
 EXACT_NODES = 16
-"""Gauss–Hermite nodes per axis of the limits' and corners' quadrature: P agrees with 32 nodes to 1e-15 on the
-recommended casters of the shipped problems (tests/studies/test_spec.py), at a sixth of the work."""
+"""Gauss–Hermite nodes per axis of :func:`measured_probabilities`' quadrature: P agrees with 32 nodes to 1e-15 on
+the recommended casters of the shipped problems (tests/studies/test_spec.py), at a sixth of the work."""
 
 LAW_NODES = 24
 """Gauss–Hermite nodes of the batched law's one quadrature axis (:func:`exact_probabilities`): P agrees with the
@@ -100,28 +95,12 @@ class LawCaster:
 def exact_probability(
     caster: LawCaster, speed: float, uncertainty: Uncertainty, prediction: InertiaPrediction | None = None
 ) -> float:
-    """P(V_c,true < speed) of ``caster`` under the exact law, by quadrature [-] (:data:`EXACT_NODES` a side).
+    """P(V_c,true < speed) of ``caster`` under the exact law, by quadrature [-]: :func:`exact_probabilities` of one.
 
-    :func:`designer.physics.uncertainty.shimmy_probability_exact`: the model error and the inertia's scatter
-    by characteristic-function inversion, c_f and K_s through Eq. 7 itself.  1 when Eq. 7's V_c is zero (no
-    trail, or neither friction nor groove).
+    The model error and the inertia's scatter by characteristic-function inversion, c_f and K_s through Eq. 7
+    itself.  1 when Eq. 7's V_c is zero (no trail, or neither friction nor groove).
     """
-    c = caster
-    if c.trail <= 0 or (c.damping <= 0 and c.groove <= 0):
-        return 1.0  # V_c = 0 (Eq. 7): no speed is free of shimmy
-    value = shimmy_probability_exact(
-        c.trail,
-        c.inertia,
-        c.groove,
-        c.damping,
-        c.slip_coefficient,
-        speed,
-        uncertainty,
-        c.diameter,
-        prediction,
-        EXACT_NODES,
-    )
-    return float(value)
+    return float(exact_probabilities(_columns([caster]), speed, uncertainty, prediction)[0])
 
 
 @dataclass(frozen=True)
@@ -161,26 +140,13 @@ def least_part(
     V_c rises with T, B and c_f).
 
     None (with the reason) when P <= α already at ``low`` (no lower limit in the range) or P > α still at
-    ``high`` (no value in the range holds).
+    ``high`` (no value in the range holds).  :func:`acceptance_limits` with the other parts' ranges shut at their
+    nominal values.
     """
-    alpha = float(uncertainty.probability)
-    seen: dict[float, float] = {}
-
-    def excess(value: float) -> float:
-        """P − α in probit units, Φ⁻¹(P) − Φ⁻¹(α): the same root, but nearly straight in the part, where P itself
-        runs from 1 to 0 in a narrow step (the root finder then needs 6–8 quadratures instead of about 18)."""
-        seen[value] = exact_probability(caster.with_part(part, value), speed, uncertainty, prediction)
-        return probit(seen[value]) - probit(alpha)
-
-    at_low, at_high = excess(low), excess(high)
-    if at_low <= 0:
-        return PartLimit(part, "min", None, None, "holds at the low end")
-    if at_high > 0:
-        return PartLimit(part, "min", None, None, "fails at the high end")
-    value = bracketed_root(excess, low, high, xtol=1e-15 * max(abs(high), 1e-12), rtol=LIMIT_RTOL)
-    if value not in seen:
-        excess(value)
-    return PartLimit(part, "min", value, seen[value], "risk")
+    value = {name: getattr(caster, name) for name in RISK_PARTS}
+    ranges = {name: (low, high) if name == part else (value[name], value[name]) for name in RISK_PARTS}
+    limits = acceptance_limits(caster, speed, uncertainty, ranges, None, 0.0, prediction)
+    return next(limit for limit in limits if (limit.part, limit.side) == (part, "min"))
 
 
 _UNIT_NORMAL = NormalDist()
@@ -196,33 +162,28 @@ def acceptance_limits(
     caster: LawCaster,
     speed: float,
     uncertainty: Uncertainty,
-    ranges: dict[str, tuple[float, float]],
+    ranges: dict[str, tuple[Numeric, Numeric]],
     swept_radius_max: float | None,
     wheel_diameter: float,
     prediction: InertiaPrediction | None = None,
 ) -> list[PartLimit]:
-    """Every inspectable part's acceptance limit, each with the others at nominal [SI].
+    """Every inspectable part's acceptance limit, each with the others at nominal [SI]: trail min, trail max,
+    groove min, c_f min, I_w max (:func:`acceptance_limits_many` of one caster).
 
-    Trail min, groove min and c_f min by :func:`least_part` (``ranges``: each part's model range);
-    trail max = R_max − d/2 (the swept-radius limit T + d/2 <= R_max; none without it); I_w max by
-    :func:`~designer.physics.uncertainty.max_measured_inertia` (a measured wheel, measurement scatter about it).
+    Trail min, groove min and c_f min are the least values at which P = α (:func:`least_part`; ``ranges``: each
+    part's model range); trail max = R_max − d/2 (the swept-radius limit T + d/2 <= R_max; none without it); I_w
+    max the largest measured wheel inertia that holds (a measured wheel, measurement scatter about it).
     """
-    out = [least_part(caster, part, speed, uncertainty, *ranges[part], prediction) for part in RISK_PARTS]
-    if swept_radius_max is None:
-        out.insert(1, PartLimit("trail", "max", None, None, "the problem has no swept-radius limit"))
-    else:
-        out.insert(1, PartLimit("trail", "max", swept_radius_max - wheel_diameter / 2, None, "swept radius"))
-    c = caster
-    top = max_measured_inertia(c.trail, c.groove, c.damping, c.slip_coefficient, speed, uncertainty)
-    at_top = exact_probability(c.with_fields({"inertia": top, "diameter": None}), speed, uncertainty)
-    out.append(PartLimit("inertia", "max", top, at_top, "risk"))
-    return out
+    return acceptance_limits_many([caster], speed, uncertainty, ranges, swept_radius_max, wheel_diameter, prediction)[0]
+
+
+_LAW_FIELDS = ("trail", "inertia", "groove", "damping", "slip_coefficient")
+"""The fields of :class:`LawCaster` that are numbers of every caster, in the law's order."""
 
 
 def _columns(casters: Sequence[LawCaster]) -> dict[str, Array]:
     """The casters' fields as arrays [SI], in the order of :class:`LawCaster` (a measured wheel's diameter nan)."""
-    fields = ("trail", "inertia", "groove", "damping", "slip_coefficient")
-    columns = {name: np.array([getattr(c, name) for c in casters], dtype=float) for name in fields}
+    columns = {name: np.array([getattr(c, name) for c in casters], dtype=float) for name in _LAW_FIELDS}
     columns["diameter"] = np.array([np.nan if c.diameter is None else c.diameter for c in casters], dtype=float)
     return columns
 
@@ -256,10 +217,6 @@ def probits(probability: Array) -> Array:
     return np.array([probit(float(p)) for p in np.ravel(probability)]).reshape(np.shape(probability))
 
 
-_SEARCHED = (*RISK_PARTS, "inertia")
-"""The parts searched by :func:`_limit_search`, in its blocks of rows (the inertia in log I_w)."""
-
-
 def _limit_search(
     columns: dict[str, Array],
     speed: Array,
@@ -268,8 +225,8 @@ def _limit_search(
     prediction: InertiaPrediction | None = None,
 ) -> tuple[Array, Array, Array, Array]:
     """Every risk limit of many casters in one root search: the least T [m], B [m] and c_f [N·m/rad] at which
-    P(V_c,true < speed) = α, the others nominal (:func:`least_part`), and the largest measured I_w
-    (:func:`~designer.physics.uncertainty.max_measured_inertia`), as one block of rows each.
+    P(V_c,true < speed) = α, the others nominal (:func:`least_part`), and the largest measured I_w, as one block
+    of rows each.
 
     Each row is a root of Φ⁻¹(P) − Φ⁻¹(α) by :func:`bracketed_roots` (the scalar searches' Illinois steps, row
     by row) and every step's quadratures of all rows are one call of :func:`exact_probabilities`: T, B, c_f in
@@ -282,7 +239,7 @@ def _limit_search(
     else it fails at the high end).
     """
     n = columns["trail"].size
-    m = len(_SEARCHED)
+    m = len(RISK_PARTS) + 1  # a block of rows per risk part, then the inertia's (in log I_w)
     kind = np.repeat(np.arange(m), n)
     cols = {key: np.tile(value, m) for key, value in columns.items()}
     is_inertia = kind == m - 1
@@ -457,38 +414,32 @@ def exact_speed_quantiles(
     reached with probability 1 − α".  0 where Eq. 7's V_c is zero.
     """
     n = len(casters)
-    t, i, b, c, k, d = _columns(casters).values()
-    live = np.flatnonzero((t > 0) & ((c > 0) | (b > 0)))
+    columns = _columns(casters)
+    live = np.flatnonzero((columns["trail"] > 0) & ((columns["damping"] > 0) | (columns["groove"] > 0)))
     out = np.zeros(n)
     if not live.size:
         return out
     target = probit(float(uncertainty.probability))
 
     def excess(log_v: Array, rows: Any) -> Array:
-        r = live[rows]
-        p = shimmy_probability_exact_many(
-            t[r], i[r], b[r], c[r], k[r], np.exp(log_v), uncertainty, diameter=d[r], prediction=prediction
-        )
-        return probits(p) - target
+        sub = {key: value[live[rows]] for key, value in columns.items()}
+        return probits(exact_probabilities(sub, np.exp(log_v), uncertainty, prediction)) - target
 
     every = np.arange(live.size)
     guess = np.array([np.nan if g is None or not g > 0 else g for g in (guesses or [None] * n)], dtype=float)[live]
-    v_c = np.asarray(critical_shimmy_speed(t[live], i[live], b[live], c[live], k[live]), dtype=float)
+    v_c = np.asarray(critical_shimmy_speed(*(columns[key][live] for key in _LAW_FIELDS)), dtype=float)
     given = np.isfinite(guess)
     lo = np.where(given, np.log(np.where(given, guess, 1.0)) - 0.002, np.log(v_c) - 1.0)
     hi = np.where(given, np.log(np.where(given, guess, 1.0)) + 0.01, np.log(v_c))
     step = np.where(given, 0.05, 1.0)
     f_lo, f_hi = excess(lo, every), excess(hi, every)
-    for _ in range(60):  # P rises with V: lower lo until P < α (the step doubling), then raise hi until P > α
-        if not (bad := np.flatnonzero(f_lo >= 0)).size:
-            break
-        lo[bad], step[bad] = lo[bad] - step[bad], 2 * step[bad]
-        f_lo[bad] = excess(lo[bad], bad)
-    for _ in range(60):
-        if not (bad := np.flatnonzero(f_hi <= 0)).size:
-            break
-        hi[bad], step[bad] = hi[bad] + step[bad], 2 * step[bad]
-        f_hi[bad] = excess(hi[bad], bad)
+    # P rises with V: lower lo until P < α (the step doubling), then raise hi until P > α
+    for end, f_end, sign in ((lo, f_lo, -1.0), (hi, f_hi, 1.0)):
+        for _ in range(60):
+            if not (bad := np.flatnonzero(sign * f_end <= 0)).size:
+                break
+            end[bad], step[bad] = end[bad] + sign * step[bad], 2 * step[bad]
+            f_end[bad] = excess(end[bad], bad)
     out[live] = np.exp(bracketed_roots(excess, lo, hi, xtol=1e-10, rtol=0.0, fa=f_lo, fb=f_hi))
     return out
 

@@ -23,6 +23,7 @@ import numpy as np
 from designer.data.paper import TABLE1, Wheel, table1_wheel
 from designer.errors import InertiaExtrapolationWarning, InputError
 from designer.physics._checks import is_symbolic, require_positive
+from designer.physics.scatter import inertia_prediction
 from designer.physics.types import Scalar
 from designer.units import INCH
 
@@ -56,11 +57,8 @@ def power_law_inertia(diameter: Scalar, coefficient: float | None = None, expone
     coefficient, exponent : float, optional
         C and n; default: the Table 1 fit of :func:`fit_table1_power_law`.
     """
-    if coefficient is None or exponent is None:
-        fitted_c, fitted_n = fit_table1_power_law()
-        coefficient = fitted_c if coefficient is None else coefficient
-        exponent = fitted_n if exponent is None else exponent
-    return coefficient * diameter**exponent
+    c, n = fit_table1_power_law()
+    return (c if coefficient is None else coefficient) * diameter ** (n if exponent is None else exponent)
 
 
 def disc_mass(diameter: Scalar, tyre_width: Scalar, density: Scalar) -> Scalar:
@@ -139,22 +137,18 @@ class PowerLaw(InertiaModel):
         return (c if self.coefficient is None else self.coefficient, n if self.exponent is None else self.exponent)
 
     def __call__(self, diameter: Scalar) -> Scalar:
-        c, n = self.constants()
-        if not is_symbolic(diameter):
-            low, high = self.data_range()
-            arr = np.asarray(diameter, dtype=float)
-            if np.any(arr < low * 0.999) or np.any(arr > high * 1.001):
-                warnings.warn(
-                    f"inertia power law used at d = {np.min(arr) / INCH:.2f}–{np.max(arr) / INCH:.2f} in, "
-                    f"outside Table 1's 4–8 in: an extrapolation",
-                    InertiaExtrapolationWarning,
-                    stacklevel=2,
-                )
-        return power_law_inertia(diameter, c, n)
+        arr = None if is_symbolic(diameter) else np.asarray(diameter, dtype=float)
+        if arr is not None and np.any(inertia_prediction().extrapolated(arr)):
+            warnings.warn(
+                f"inertia power law used at d = {np.min(arr) / INCH:.2f}–{np.max(arr) / INCH:.2f} in, "
+                f"outside Table 1's 4–8 in: an extrapolation",
+                InertiaExtrapolationWarning,
+                stacklevel=2,
+            )
+        return power_law_inertia(diameter, self.coefficient, self.exponent)
 
     def data_range(self) -> tuple[float, float]:
-        diameters = [w.diameter for w in TABLE1]
-        return (min(diameters), max(diameters))
+        return inertia_prediction().low, inertia_prediction().high
 
     def parameters(self) -> dict[str, float]:
         c, n = self.constants()

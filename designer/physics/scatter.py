@@ -140,13 +140,9 @@ def model_error_residuals(wheels: tuple[Wheel, ...] = TABLE1) -> dict[str, float
     Eq. 7 at Table 1's conditions: T = 2 in, the wheel's measured I_w, B = 0, c_f = 1.3 N·m/rad
     (Eq. 11C), K_s = 1250 N (irrelevant at B = 0).
     """
-    out = {}
-    for w in wheels:
-        if w.critical_speed is None:
-            continue
-        v = float(critical_shimmy_speed(TABLE1_TRAIL, w.inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT))
-        out[w.key] = math.log(w.critical_speed / v)
-    return out
+    speeds = {w.key: (w.critical_speed, w.inertia) for w in wheels if w.critical_speed is not None}
+    law = (0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT)  # B = 0, c_f, K_s
+    return {key: math.log(v / float(critical_shimmy_speed(TABLE1_TRAIL, i, *law))) for key, (v, i) in speeds.items()}
 
 
 @lru_cache(maxsize=32)
@@ -256,9 +252,7 @@ def inertia_model_error_correlation(wheels: tuple[Wheel, ...] = TABLE1) -> float
     p = inertia_prediction(wheels)
     r = model_error_residuals(wheels)
     by_key = {w.key: w for w in wheels}
-    inertia_residual = [
-        math.log(by_key[k].inertia) - p.log_coefficient - p.exponent * math.log(by_key[k].diameter) for k in r
-    ]
+    inertia_residual = [math.log(by_key[k].inertia / p.median(by_key[k].diameter)) for k in r]
     return float(np.corrcoef(inertia_residual, list(r.values()))[0, 1])
 
 

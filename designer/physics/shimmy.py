@@ -224,11 +224,9 @@ def characteristic_roots(coefficients: Coefficients) -> npt.NDArray[np.complex12
     Numeric only (floats or 1-D arrays of coefficients); returns an array of
     shape (..., 3) of complex roots.
     """
-    a3, a2, a1, a0 = (np.asarray(c, dtype=float) for c in coefficients)
-    shape = np.broadcast(a3, a2, a1, a0).shape
-    stacked = np.stack(np.broadcast_arrays(a3, a2, a1, a0), axis=-1).reshape(-1, 4)
-    roots = np.array([np.roots(row) for row in stacked])
-    return roots.reshape(shape + (3,))
+    stacked = np.stack(np.broadcast_arrays(*(np.asarray(c, dtype=float) for c in coefficients)), axis=-1)
+    roots = np.array([np.roots(row) for row in stacked.reshape(-1, 4)])
+    return roots.reshape(stacked.shape[:-1] + (3,))
 
 
 def growth_rate(coefficients: Coefficients) -> Array | float:
@@ -270,5 +268,4 @@ def routh_hurwitz_critical_speed(
         coeffs = third_order_coefficients(trail, inertia, groove, c_d, speed, slip_coefficient, dynamics)
         return float(routh_hurwitz_margin(coeffs))
 
-    low, high = speed_range
-    return bracketed_root(margin, low, high, xtol=1e-12, rtol=1e-12, maxiter=500)
+    return bracketed_root(margin, *speed_range, xtol=1e-12, rtol=1e-12, maxiter=500)

@@ -68,17 +68,6 @@ class TurningConstants:
         except KeyError:
             raise InputError(f"turning_mode = {mode!r}: expected one of {', '.join(MODES)}") from None
 
-    def __hash__(self) -> int:
-        return hash(
-            (
-                self.tile_moment_per_load,
-                self.carpet_factor,
-                self.groove_coefficient,
-                tuple(sorted(self.mode_factors.items())),
-                self.bare_fork_damping,
-            )
-        )
-
 
 DEFAULT_TURNING = TurningConstants()
 

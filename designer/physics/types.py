@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, TypeAlias, Union
+from typing import TYPE_CHECKING, Any, TypeAlias, Union
 
 import numpy as np
 
@@ -18,3 +18,9 @@ Scalar: TypeAlias = Union[float, Array, "casadi.SX"]
 
 Numeric: TypeAlias = Union[float, Array]
 """A float or an array of floats: for the functions that are numeric only (no CasADi symbols)."""
+
+
+def batch_or_symbol(value: Any) -> bool:
+    """A NumPy array of values (one per design) or a CasADi expression: the solvers' and the vectorised model's own
+    values, not a user's number (checked where it was read).  A 0-d array is one number: the boundary's."""
+    return (isinstance(value, np.ndarray) and value.ndim > 0) or type(value).__module__.startswith("casadi")

@@ -56,10 +56,9 @@ screening use the same function.  (The simpler root-sum-square of the t and
 normal quantiles is up to 0.7 % too small in Q for s ≈ 0.7; one t of scale
 √(σ_m² + σ_I²) for the two t's is up to 2.1 % too small: neither is conservative.)
 
-:func:`shimmy_probability_exact` integrates the exact law (the linear part by
-inversion, c_f and K_s through Eq. 7 itself by Gauss–Hermite), :func:`shimmy_probability_exact_many` the same
-law for many casters at once (one quadrature axis shared by all of them, the other normal folded into the
-linear part);
+:func:`shimmy_probability_exact_many` integrates the exact law for many casters at once (the linear part by
+inversion, c_f and K_s through Eq. 7 itself by Gauss–Hermite on one axis shared by all of them, the other normal
+folded into the linear part), :func:`shimmy_probability_exact` for one;
 :func:`shimmy_probability_mc_many` samples it for many casters and speeds with its
 own seed (the sampler behind the model's reported Monte Carlo, :func:`designer.model.shimmy_probability`);
 :func:`risk_record` says where a caster's risk comes from.
@@ -74,11 +73,8 @@ import dataclasses
 import functools
 import math
 import operator
-import threading
 from collections.abc import Iterator
 from dataclasses import dataclass
-from statistics import NormalDist
-from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -89,7 +85,8 @@ from designer.units import parse_quantity, whole_number
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
 
-from designer.physics.types import Array, Numeric, Scalar
+from designer.physics.roots import bracketed_root
+from designer.physics.types import Array, Numeric, Scalar, batch_or_symbol
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_log_sensitivities, critical_speed_terms
 from designer.physics.scatter import (
     ASSUMED_DAMPING_SCATTER,
@@ -105,42 +102,11 @@ from designer.physics.scatter import (
     predicted_inertia_source,
     slip_coefficient_source,
 )
-from designer.physics._sums import SumDistribution, tabled_cdf
-from designer.physics._quantile_fits import STORED_PAIR_FITS
+from designer.physics._sums import SumDistribution, _special, tabled_cdf
+from designer.physics._quantile_fits import STORED_PAIR_FITS, STORED_SUM_FITS
 from numpy.polynomial.hermite_e import hermegauss
 from numpy.polynomial.legendre import leggauss
 from numpy.polynomial import chebyshev as C
-
-
-def _special() -> ModuleType:
-    import scipy.special
-
-    module: ModuleType = scipy.special
-    return module
-
-
-def ndtr(x: Numeric) -> Numeric:
-    """Standard normal CDF (scipy.special.ndtr, loaded on first use)."""
-    value: Numeric = _special().ndtr(x)
-    return value
-
-
-def ndtri(p: Numeric) -> Numeric:
-    """Standard normal quantile (scipy.special.ndtri, loaded on first use)."""
-    value: Numeric = _special().ndtri(p)
-    return value
-
-
-def stdtr(dof: int, t: Numeric) -> Numeric:
-    """Student-t CDF (scipy.special.stdtr, loaded on first use)."""
-    value: Numeric = _special().stdtr(dof, t)
-    return value
-
-
-def stdtrit(dof: int, p: Numeric) -> Numeric:
-    """Student-t quantile (scipy.special.stdtrit, loaded on first use)."""
-    value: Numeric = _special().stdtrit(dof, p)
-    return value
 
 
 TABLE1_LOG_RMS_ERROR = model_error().scale
@@ -196,7 +162,7 @@ class Uncertainty:
         # number, True is not; the problem file's [robust] ranges are checked where it is read
         for name in ("probability", "model_error", "damping", "slip_coefficient", "inertia"):
             value = getattr(self, name)
-            if (isinstance(value, np.ndarray) and value.ndim > 0) or type(value).__module__.startswith("casadi"):
+            if batch_or_symbol(value):
                 continue  # a solver's or a vectorised study's own values
             value = parse_quantity(value, "dimensionless", name)  # a number, or "5 %"
             if name == "probability" and not 0 < value < 1:
@@ -210,12 +176,14 @@ class Uncertainty:
     @property
     def z(self) -> float:
         """Standard normal quantile z_{1−α} [-]."""
-        return float(ndtri(1 - self.probability))
+        return float(_special().ndtri(1 - self.probability))
 
     @property
     def t(self) -> float:
         """Quantile t_{ν,1−α} of the model error's Student-t (z_{1−α} when ν = 0) [-]."""
-        return self.z if not self.model_error_dof else float(stdtrit(self.model_error_dof, 1 - self.probability))
+        if not self.model_error_dof:
+            return self.z
+        return float(_special().stdtrit(self.model_error_dof, 1 - self.probability))
 
     def describe(self) -> str:
         """One line: α and the scatter (for reports and messages)."""
@@ -235,7 +203,7 @@ _NODES = 64
 @functools.lru_cache(maxsize=8)
 def _quadrature(dof: int) -> tuple[Array, Array, Numeric, Array]:
     un, uw = leggauss(4 * _NODES)
-    return *_hermite_nodes(_NODES), stdtrit(dof, (un + 1) / 2), uw / 2
+    return *_hermite_nodes(_NODES), _special().stdtrit(dof, (un + 1) / 2), uw / 2
 
 
 def _sum_cdf(x: Numeric, share: Numeric, dof: int) -> Array:
@@ -248,10 +216,10 @@ def _sum_cdf(x: Numeric, share: Numeric, dof: int) -> Array:
     x, a, b, s = np.broadcast_arrays(x, a, b, s)
     lo = s <= 0.5
     if lo.any():  # integrate over Z: the t CDF is smooth in it
-        out[lo] = (zw * stdtr(dof, (x[lo, None] - b[lo, None] * zn) / a[lo, None])).sum(-1)
+        out[lo] = (zw * _special().stdtr(dof, (x[lo, None] - b[lo, None] * zn) / a[lo, None])).sum(-1)
     hi = ~lo
     if hi.any():  # integrate over t (in probability space): the normal CDF is smooth in it
-        out[hi] = (tw * ndtr((x[hi, None] - a[hi, None] * tn) / b[hi, None])).sum(-1)
+        out[hi] = (tw * _special().ndtr((x[hi, None] - a[hi, None] * tn) / b[hi, None])).sum(-1)
     return out
 
 
@@ -262,8 +230,8 @@ def exact_sum_quantile(share: Numeric, probability: float, dof: int) -> Array:
     """
     s = np.atleast_1d(np.asarray(share, float))
     level = 1 - probability
-    lo = np.full(s.shape, float(ndtri(level)) * 0.5)
-    hi = np.full(s.shape, float(stdtrit(dof, level)) + float(ndtri(level)))
+    lo = np.full(s.shape, float(_special().ndtri(level)) * 0.5)
+    hi = np.full(s.shape, float(_special().stdtrit(dof, level)) + float(_special().ndtri(level)))
     for _ in range(48):
         mid = (lo + hi) / 2
         below = _sum_cdf(mid, s, dof) < level
@@ -274,32 +242,6 @@ def exact_sum_quantile(share: Numeric, probability: float, dof: int) -> Array:
 
 _DEGREE = 14
 
-_STORED_FITS: dict[tuple[float, int, int, int], tuple[tuple[float, ...], float]] = {
-    # (α, ν, _NODES, _DEGREE): the Chebyshev coefficients and the shift _compute_fit returns, written out with
-    # repr (exact round trip) so the main job needn't redo the quadrature (about 0.1-0.3 s of CPU, mostly
-    # the threaded eigensolver of leggauss(256)); tests/physics/test_uncertainty.py recomputes them
-    (0.05, 5, 64, 14): (
-        (
-            1.8398610952279133,
-            -0.18098169715082657,
-            -0.009025512044237132,
-            -0.003897747202272107,
-            -0.0007983692780797318,
-            -0.0001956947453690319,
-            -7.673162625049496e-05,
-            -2.440348703130868e-05,
-            -7.955245488684818e-06,
-            -2.37014651708665e-06,
-            -2.7185077619810214e-08,
-            7.931278508456347e-07,
-            9.74699486609848e-07,
-            8.165543077358258e-07,
-            4.564530635257894e-07,
-        ),
-        5.740555803074836e-06,
-    ),
-}
-
 
 def _compute_fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], float]:
     """Chebyshev coefficients (on s ∈ [0, 1]) of the quantile, shifted up by its fit error; and the shift."""
@@ -308,38 +250,37 @@ def _compute_fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[
     check = np.linspace(0, 1, 4 * _DEGREE + 1)
     s = np.concatenate([nodes, check])
     q = exact_sum_quantile(s, probability, dof)
-    q[s == 1.0] = float(ndtri(1 - probability))
+    q[s == 1.0] = float(_special().ndtri(1 - probability))
     coef = C.chebfit(2 * nodes - 1, q[: len(nodes)], _DEGREE)
     error = q - C.chebval(2 * s - 1, coef)
     shift = max(0.0, float(error.max())) + 1e-9
-    coef = coef.copy()
     coef[0] += shift
     return coef, shift
 
 
-@functools.lru_cache(maxsize=32)
-def _fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], float]:
-    """:func:`_compute_fit`, read from :data:`_STORED_FITS` for the default α and ν (the same numbers)."""
-    stored = _STORED_FITS.get((probability, dof, _NODES, _DEGREE))
-    if stored is None:
-        return _compute_fit(probability, dof)
-    coef = np.array(stored[0], dtype=float)
-    coef.setflags(write=False)
-    return coef, stored[1]
+def _clenshaw(coef: Any, x: Scalar, y: Scalar | None = None) -> Any:
+    """Σ_j c_j T_j(x), or Σ_jk c_jk T_j(x) T_k(y) for 2-D coefficients (floats, arrays, CasADi symbols).
+
+    NumPy's Chebyshev evaluation for numbers in one variable and for arrays in two (in C), Clenshaw's recurrence
+    for symbols and for two Python floats (a few µs, where NumPy's chebval2d spends ~90 µs on call overhead: the
+    closed-form front asks ~800 quantiles one by one)."""
+    if y is None and isinstance(x, (float, int, np.floating, np.ndarray)):
+        return C.chebval(x, coef)
+    if y is not None and any(isinstance(v, np.ndarray) and v.ndim for v in (x, y)):
+        return C.chebval2d(x, y, coef)
+    rows = np.asarray(coef, dtype=float).tolist()
+    if y is not None:
+        rows = [_recurrence(row, y) for row in rows]
+    return _recurrence(rows, x)
 
 
-def _numeric(*values: Any) -> bool:
-    """True when every value is a float or a NumPy array (not a CasADi expression): NumPy's own Chebyshev
-    evaluation then does the sum (in C; the recurrence below is for CasADi symbols)."""
-    return all(isinstance(v, (float, int, np.floating, np.ndarray)) for v in values)
-
-
-def _clenshaw(coef: npt.NDArray[np.floating[Any]], x: Scalar) -> Scalar:
-    """Σ c_k T_k(x) by Clenshaw's recurrence (floats, arrays, CasADi symbols)."""
-    if _numeric(x):
-        one: Scalar = np.asarray(C.chebval(x, coef), dtype=float)
-        return one if np.ndim(one) else float(one)
-    return _clenshaw_values([float(c) for c in coef], x)
+def _recurrence(values: list[Any], x: Any) -> Any:
+    """Σ v_k T_k(x) by Clenshaw's recurrence, with coefficients that may be expressions."""
+    b1 = b2 = 0 * x
+    x2 = 2 * x
+    for c in values[:0:-1]:
+        b1, b2 = x2 * b1 - b2 + c, b1
+    return x * b1 - b2 + values[0]
 
 
 def log_speed_quantile(sigma_model: float, sigma_rest: Scalar, uncertainty: Uncertainty) -> Scalar:
@@ -356,7 +297,7 @@ def log_speed_quantile(sigma_model: float, sigma_rest: Scalar, uncertainty: Unce
     """
     sm, dof, alpha = float(sigma_model), int(uncertainty.model_error_dof), float(uncertainty.probability)
     if not dof or sm == 0:
-        return float(ndtri(1 - alpha)) * np.sqrt(sm**2 + sigma_rest**2)
+        return float(_special().ndtri(1 - alpha)) * np.sqrt(sm**2 + sigma_rest**2)
     return _one_t_quantile(sm, dof, sigma_rest, alpha)
 
 
@@ -410,7 +351,7 @@ def law_quantile(
     ``sigma_inertia`` None: a measured wheel (its scatter is inside σ_r), :func:`log_speed_quantile`.
     Otherwise the two Student-t terms (model error, inertia predicted from the diameter with
     ``inertia_dof`` = ν_I, default Table 1's 5) and the normal rest, by the 2-D fit of
-    :func:`_fit2` in the shares u = σ_I²/(σ_m² + σ_I²) and r = σ_r²/(σ_m² + σ_I² + σ_r²), shifted up by
+    :func:`_fit` in the shares u = σ_I²/(σ_m² + σ_I²) and r = σ_r²/(σ_m² + σ_I² + σ_r²), shifted up by
     its largest error so that it never lies below the exact quantile.  Floats, arrays, CasADi symbols.
     """
     u = uncertainty
@@ -422,8 +363,9 @@ def law_quantile(
         return _one_t_quantile(sigma_inertia, nu_i, np.sqrt(sm**2 + sigma_rest**2), float(u.probability))
     pair = sm**2 + sigma_inertia**2
     total = pair + sigma_rest**2
-    coef, _ = _fit2(float(u.probability), int(u.model_error_dof), nu_i)
-    return np.sqrt(total) * _clenshaw2(coef, 2 * sigma_inertia**2 / pair - 1, 2 * sigma_rest**2 / total - 1)
+    coef, _ = _fit(float(u.probability), int(u.model_error_dof), nu_i)
+    quantile: Scalar = np.sqrt(total) * _clenshaw(coef, 2 * sigma_inertia**2 / pair - 1, 2 * sigma_rest**2 / total - 1)
+    return quantile
 
 
 def _one_t_quantile(t_scale: Scalar, dof: int, normal: Scalar, probability: float) -> Scalar:
@@ -431,7 +373,8 @@ def _one_t_quantile(t_scale: Scalar, dof: int, normal: Scalar, probability: floa
     with ν > 0 and a scale a that is never zero, a number or an expression)."""
     total = t_scale**2 + normal**2
     coef, _ = _fit(float(probability), int(dof))
-    return np.sqrt(total) * _clenshaw(coef, 2 * normal**2 / total - 1)
+    quantile: Scalar = np.sqrt(total) * _clenshaw(coef, 2 * normal**2 / total - 1)
+    return quantile
 
 
 def shimmy_speed_quantile(
@@ -455,21 +398,23 @@ def shimmy_speed_quantile(
     flag per caster (numeric) saying which wheels were measured after all.  Works on floats, NumPy arrays and
     CasADi symbols.
     """
+    args = (trail, inertia, groove, damping, slip_coefficient)
     if measured is not None and diameter is not None:  # True, False or one flag per caster
         mask = np.asarray(measured, dtype=bool)
         if mask.all():
             diameter = None
         elif mask.any():
-            args = (trail, inertia, groove, damping, slip_coefficient, uncertainty)
-            both = shimmy_speed_quantile(*args), shimmy_speed_quantile(*args, diameter, prediction)
+            both = (
+                shimmy_speed_quantile(*args, uncertainty),
+                shimmy_speed_quantile(*args, uncertainty, diameter, prediction),
+            )
             return np.where(mask, *both)
-    v = critical_shimmy_speed(trail, inertia, groove, damping, slip_coefficient)
-    rest = rest_log_std(trail, inertia, groove, damping, slip_coefficient, uncertainty, measured=diameter is None)
-    if diameter is None:
-        return v * np.exp(-log_speed_quantile(uncertainty.model_error, rest, uncertainty))
     p = inertia_prediction() if prediction is None else prediction
-    sigma_i = inertia_log_scale(trail, inertia, groove, damping, slip_coefficient, diameter, p)
-    return v * np.exp(-law_quantile(uncertainty.model_error, sigma_i, rest, uncertainty, p.dof))
+    rest = rest_log_std(*args, uncertainty, measured=diameter is None)
+    sigma_i = None if diameter is None else inertia_log_scale(*args, diameter, p)  # None: a measured wheel
+    return critical_shimmy_speed(*args) * np.exp(
+        -law_quantile(uncertainty.model_error, sigma_i, rest, uncertainty, p.dof)
+    )
 
 
 # --------------------------------------------------------------------------- two Student-t terms and a normal
@@ -513,49 +458,23 @@ def _compute_fit2(probability: float, dof_model: int, dof_inertia: int) -> tuple
 
 
 @functools.lru_cache(maxsize=32)
-def _fit2(probability: float, dof_model: int, dof_inertia: int) -> tuple[Array, float]:
-    """:func:`_compute_fit2`, read from the stored fits for the default α and ν (the same numbers)."""
-    stored = STORED_PAIR_FITS.get((probability, dof_model, dof_inertia, _DEGREE2))
+def _fit(probability: float, *dofs: int) -> tuple[Array, float]:
+    """The quantile's Chebyshev fit and its shift: of one Student-t and a normal for ``dofs`` = (ν,)
+    (:func:`_compute_fit`), of two and a normal for (ν_m, ν_I) (:func:`_compute_fit2`); read from the stored fits
+    for the default α and ν (the same numbers)."""
+    one = len(dofs) == 1
+    table: dict[Any, Any] = STORED_SUM_FITS if one else STORED_PAIR_FITS
+    stored = table.get((probability, *dofs, _NODES, _DEGREE) if one else (probability, *dofs, _DEGREE2))
+    compute: Any = _compute_fit if one else _compute_fit2
     if stored is None:
-        coef, shift = _compute_fit2(probability, dof_model, dof_inertia)
+        coef, shift = compute(probability, *dofs)
     else:
-        coef, shift = np.array(stored[0], dtype=float).reshape(_DEGREE2[0] + 1, _DEGREE2[1] + 1), stored[1]
+        coef, shift = (
+            np.array(stored[0], dtype=float).reshape((_DEGREE + 1,) if one else np.add(_DEGREE2, 1)),
+            stored[1],
+        )
     coef.setflags(write=False)
     return coef, shift
-
-
-def _clenshaw_values(values: list[Scalar], x: Scalar) -> Scalar:
-    """Σ v_k T_k(x) by Clenshaw's recurrence with coefficients that may be expressions."""
-    b1 = 0 * x
-    b2 = 0 * x
-    for c in values[:0:-1]:
-        b1, b2 = 2 * x * b1 - b2 + c, b1
-    return x * b1 - b2 + values[0]
-
-
-def _clenshaw_float(rows: list[list[float]], x: float, y: float) -> float:
-    """Σ_jk c_jk T_j(x) T_k(y) for two Python floats, by Clenshaw's recurrence in plain Python: a few µs where
-    NumPy's chebval2d spends ~90 µs on call overhead (the closed-form front asks ~800 quantiles one by one)."""
-    inner = []
-    for row in rows:
-        b1 = b2 = 0.0
-        for c in row[:0:-1]:
-            b1, b2 = 2.0 * y * b1 - b2 + c, b1
-        inner.append(y * b1 - b2 + row[0])
-    b1 = b2 = 0.0
-    for c in inner[:0:-1]:
-        b1, b2 = 2.0 * x * b1 - b2 + c, b1
-    return x * b1 - b2 + inner[0]
-
-
-def _clenshaw2(coef: Array, x: Scalar, y: Scalar) -> Scalar:
-    """Σ_jk c_jk T_j(x) T_k(y) (floats, arrays, CasADi symbols)."""
-    if isinstance(x, (float, np.floating)) and isinstance(y, (float, np.floating)):
-        return _clenshaw_float(np.asarray(coef, dtype=float).tolist(), float(x), float(y))
-    if _numeric(x, y):
-        value: Scalar = np.asarray(C.chebval2d(x, y, coef), dtype=float)
-        return value if np.ndim(value) else float(value)
-    return _clenshaw_values([_clenshaw(row, y) for row in coef], x)
 
 
 # --------------------------------------------------------------------------- the data law: exact probability
@@ -606,33 +525,6 @@ def _hermite_nodes(nodes: int) -> tuple[Array, Array]:
     return zn, weights
 
 
-def _exact_law(
-    trail: float,
-    inertia: float,
-    groove: float,
-    damping: float,
-    slip_coefficient: float,
-    uncertainty: Uncertainty,
-    diameter: float | None,
-    prediction: InertiaPrediction | None,
-    nodes: int,
-) -> tuple[SumDistribution, Array, Array]:
-    """The exact law's pieces: the linear part's distribution, the Gauss–Hermite weights over (ξc, ξK) and
-    log V_c (Eq. 7) at those nodes [log m/s]: P(V_c,true < v) = Σ w F(log v − log V_c)."""
-    u = uncertainty
-    dist = _linear_part(trail, inertia, groove, damping, slip_coefficient, u, diameter, prediction)
-    zn, zw = _hermite_nodes(nodes)
-    if groove == 0 or u.slip_coefficient == 0:
-        zc, zk, w = zn, np.zeros_like(zn), zw
-    else:
-        a, b = np.meshgrid(zn, zn, indexing="ij")
-        zc, zk, w = a.ravel(), b.ravel(), np.outer(zw, zw).ravel()
-    v = critical_shimmy_speed(
-        trail, inertia, groove, damping * np.exp(u.damping * zc), slip_coefficient * np.exp(u.slip_coefficient * zk)
-    )
-    return dist, w, np.log(v)
-
-
 def shimmy_probability_exact(
     trail: float,
     inertia: float,
@@ -651,81 +543,15 @@ def shimmy_probability_exact(
     inertia's ι (Student-t prediction for a wheel known by its ``diameter``, else lognormal σ
     ``uncertainty.inertia`` about a measured ``inertia``) enter linearly, so their sum's CDF is exact
     (:class:`~designer.physics._sums.SumDistribution`); ξc, ξK ~ N(0, σ²) are integrated through Eq. 7 itself
-    by Gauss–Hermite with ``nodes`` points each (one axis when B = 0 or σ_K = 0).
+    by Gauss–Hermite with ``nodes`` points: :func:`shimmy_probability_exact_many` of one caster.
     """
-    dist, w, log_v = _exact_law(
-        trail, inertia, groove, damping, slip_coefficient, uncertainty, diameter, prediction, nodes
+    p = shimmy_probability_exact_many(
+        trail, inertia, groove, damping, slip_coefficient, speed, uncertainty, diameter, None, prediction, nodes
     )
-    speeds = np.asarray(speed, dtype=float)
-    gap = np.log(speeds)[..., None] - log_v
-    p = np.sum(w * dist.cdf(gap.reshape(1, -1)).reshape(gap.shape), axis=-1)
     return float(p) if p.ndim == 0 else p
 
 
-def _exact_law_many(
-    trail: Array,
-    inertia: Array,
-    groove: Array,
-    damping: Array,
-    slip_coefficient: Array,
-    uncertainty: Uncertainty,
-    inertia_scale: Array,
-    inertia_dof: int,
-    nodes: int,
-) -> tuple[Any, SumDistribution | None, Array, Array, Any]:
-    """The exact law of many casters (1-D arrays of one length) reduced to one quadrature axis.
-
-    Eq. 7 with the scattered constants, V_c² = a e^{ξc} + b e^{ξK} (a = 4 c_f T²/(π I_w), b = K_s B² T/(2 I_w)),
-    depends on (ξc, ξK) through D = ξc − ξK and E = ξK − βD, β = −σ_K²/(σ_c² + σ_K²), two independent normals
-    (var D = σ_c² + σ_K², var E = σ_c² σ_K²/(σ_c² + σ_K²)):
-
-        log V_c = ½ E + ½ β D + ½ log(a e^D + b),
-
-    so ½ E joins the exactly linear part (model error, inertia) and only D is integrated, by Gauss–Hermite with
-    ``nodes`` points.  A caster with b = 0 (no groove) or a = 0 is linear in ξc or ξK alone: its law is the
-    linear part's with ½ ξc (or ½ ξK) in the normal term, no quadrature.  ``inertia_scale``: the scale of the
-    inertia's Student-t term of a wheel known by its diameter (nan: a measured wheel, whose normal σ_I/2 joins
-    the normal term); V_c ∝ I_w^−1/2, so the inertia enters with slope −1/2 whatever B.
-
-    Returns: the casters' flags, V_c > 0 (else P = 1 at any speed), and of the casters with one, in their order
-    within the batch with quadrature first: the linear part's distribution (one row per caster), log V_c
-    [log m/s] at the nodes (casters × nodes; one column for a caster without quadrature), the weights (the
-    same shape, each row summing to 1) and the casters' indices.
-    """
-    u = uncertainty
-    sc, sk = float(u.damping), float(u.slip_coefficient)
-    a, b = critical_speed_terms(trail, inertia, groove, damping, slip_coefficient)
-    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    with np.errstate(invalid="ignore"):
-        alive = (trail > 0) & (a + b > 0)
-    var_d = sc**2 + sk**2
-    beta = -(sk**2) / var_d if var_d > 0 else 0.0
-    var_e = sc**2 * sk**2 / var_d if var_d > 0 else 0.0
-    both = alive & (a > 0) & (b > 0) & (var_d > 0)
-    line = alive & ~both
-    order = np.concatenate([np.flatnonzero(both), np.flatnonzero(line)])
-    # the normal part beside the integrated term: E's half, or ξc's (b = 0) or ξK's (a = 0) half
-    normal2 = np.where(both, var_e, np.where(b > 0, sk**2, sc**2)) / 4
-    measured = np.isnan(inertia_scale)
-    normal2 = (normal2 + np.where(measured, (0.5 * float(u.inertia)) ** 2, 0.0))[order]
-    terms: list[tuple[Numeric, int]] = [(float(u.model_error), int(u.model_error_dof))]
-    if not measured[order].all():
-        terms.append((np.where(measured, 0.0, inertia_scale)[order], inertia_dof))
-    dist = SumDistribution(terms, np.sqrt(normal2)) if order.size else None
-    zn, zw = _hermite_nodes(nodes)
-    d = math.sqrt(var_d) * zn
-    k = int(both.sum())
-    log_v = np.zeros((order.size, nodes if k else 1))
-    weights = np.zeros_like(log_v)
-    if k:
-        ab, bb = a[both][:, None], b[both][:, None]
-        log_v[:k] = 0.5 * (beta * d + np.log(ab * np.exp(d) + bb))
-        weights[:k] = zw
-    log_v[k:, 0] = 0.5 * np.log(a[line] + b[line])
-    weights[k:, 0] = 1.0
-    return alive, dist, log_v, weights, order
-
-
+# long: the batch's law in one pass (each caster's linear part, the one quadrature axis shared by all)
 def shimmy_probability_exact_many(
     trail: Numeric,
     inertia: Numeric,
@@ -741,7 +567,7 @@ def shimmy_probability_exact_many(
 ) -> Array:
     """P(V_c,true < speed) under the exact law for many casters at once, by quadrature [-].
 
-    The batched :func:`shimmy_probability_exact` (the same law, the same numbers to about 1e-12): every argument
+    Every argument
     broadcasts with the others (SI: trail T [m], inertia I_w [kg·m²], groove B [m], damping c_f [N·m/rad],
     slip_coefficient K_s [N], speed V [m/s]).  ``diameter`` d [m] of a wheel known by its diameter only (I_w is
     then the power law's value at d and the inertia scatters by Table 1's Student-t prediction,
@@ -749,100 +575,88 @@ def shimmy_probability_exact_many(
     σ ``uncertainty.inertia`` about I_w).
 
     The law: log V_c,true = log V_c,Eq.7(T, I_w e^ι, B, c_f e^{ξc}, K_s e^{ξK}) + σ_m t_νm, Eq. 7
-    V_c² = 4 c_f T²/(π I_w) + K_s B² T/(2 I_w).  The model error and ι enter linearly, as does one normal
-    combination of ξc and ξK (:func:`_exact_law_many`); their sum's CDF F is exact (characteristic-function
-    inversion, :class:`~designer.physics._sums.SumDistribution`), and the remaining normal D = ξc − ξK is
-    integrated by Gauss–Hermite with ``nodes`` points shared by every caster:
-    P = Σ_j w_j F(log V − log V_c(D_j)).  1 where Eq. 7's V_c is 0 (no trail, or neither friction nor groove).
-    Returns an array of the broadcast shape.
+    V_c² = 4 c_f T²/(π I_w) + K_s B² T/(2 I_w) = a e^{ξc} + b e^{ξK} with the scattered constants.  The model
+    error and ι enter linearly (V_c ∝ I_w^−1/2: slope −1/2 whatever B), as does one normal combination of ξc and
+    ξK: with D = ξc − ξK and E = ξK − βD, β = −σ_K²/(σ_c² + σ_K²), two independent normals (var D = σ_c² + σ_K²,
+    var E = σ_c² σ_K²/(σ_c² + σ_K²)),
+
+        log V_c = ½ E + ½ β D + ½ log(a e^D + b),
+
+    so ½ E joins the linear part.  Its CDF F is exact (characteristic-function inversion,
+    :class:`~designer.physics._sums.SumDistribution`), and the remaining normal D is integrated by Gauss–Hermite
+    with ``nodes`` points shared by every caster: P = Σ_j w_j F(log V − log V_c(D_j)).  A caster with b = 0 (no
+    groove) or a = 0 is linear in ξc or ξK alone: ½ ξc (or ½ ξK) joins the normal term, no quadrature.  1 where
+    Eq. 7's V_c is 0 (no trail, or neither friction nor groove).  Returns an array of the broadcast shape.
     """
     cols = np.broadcast_arrays(
         *(np.asarray(v, dtype=float) for v in (trail, inertia, groove, damping, slip_coefficient, speed))
     )
     shape = cols[0].shape
     t, i_w, b, c, k, v = (np.ascontiguousarray(x).reshape(-1) for x in cols)
-    scale = _inertia_scales(t, i_w, b, c, k, shape, diameter, measured, prediction)
+    # the scale of each caster's Student-t inertia term (inertia_log_scale), nan for a measured wheel
+    d = np.broadcast_to(np.asarray(np.nan if diameter is None else diameter, dtype=float), shape).reshape(-1)
+    flags = (
+        np.isnan(d) | np.broadcast_to(np.asarray(False if measured is None else measured, dtype=bool), shape).ravel()
+    )
+    with np.errstate(invalid="ignore"):
+        scale = np.asarray(inertia_log_scale(t, i_w, b, c, k, np.where(flags, 1.0, d), prediction), dtype=float)
+    scale = np.where(flags, np.nan, np.broadcast_to(scale, t.shape))
     p_law = inertia_prediction() if prediction is None else prediction
-    alive, dist, log_v, weights, order = _exact_law_many(t, i_w, b, c, k, uncertainty, scale, p_law.dof, nodes)
+    u = uncertainty
+    sc, sk = float(u.damping), float(u.slip_coefficient)
+    friction, tread = (np.asarray(x, dtype=float) for x in critical_speed_terms(t, i_w, b, c, k))  # a and b
+    with np.errstate(invalid="ignore"):
+        alive = (t > 0) & (friction + tread > 0)
+    var_d = sc**2 + sk**2
+    beta = -(sk**2) / var_d if var_d > 0 else 0.0
+    var_e = sc**2 * sk**2 / var_d if var_d > 0 else 0.0
+    both = alive & (friction > 0) & (tread > 0) & (var_d > 0)
+    line = alive & ~both
+    order = np.concatenate([np.flatnonzero(both), np.flatnonzero(line)])  # the casters with V_c > 0, D's first
     out = np.ones(t.size)
-    if dist is not None:  # casters that share a linear law (a wheel size and kind) share its tabulated CDF
-        out[order] = np.sum(weights * tabled_cdf(dist, np.log(v[order])[:, None] - log_v), axis=-1)
+    if not order.size:
+        return out.reshape(shape)
+    # the normal part beside the integrated term: E's half, or ξc's (b = 0) or ξK's (a = 0) half
+    normal2 = np.where(both, var_e, np.where(tread > 0, sk**2, sc**2)) / 4
+    flags = np.isnan(scale)  # measured wheels: σ_I/2 joins the normal term
+    normal2 = (normal2 + np.where(flags, (0.5 * float(u.inertia)) ** 2, 0.0))[order]
+    terms: list[tuple[Numeric, int]] = [(float(u.model_error), int(u.model_error_dof))]
+    if not flags[order].all():
+        terms.append((np.where(flags, 0.0, scale)[order], p_law.dof))
+    zn, zw = _hermite_nodes(nodes)
+    dn = math.sqrt(var_d) * zn
+    n_d = int(both.sum())
+    log_v = np.zeros((order.size, nodes if n_d else 1))  # log V_c [log m/s] at the nodes of D
+    weights = np.zeros_like(log_v)
+    if n_d:
+        log_v[:n_d] = 0.5 * (beta * dn + np.log(friction[both][:, None] * np.exp(dn) + tread[both][:, None]))
+        weights[:n_d] = zw
+    log_v[n_d:, 0] = 0.5 * np.log(friction[line] + tread[line])
+    weights[n_d:, 0] = 1.0
+    dist = SumDistribution(terms, np.sqrt(normal2))  # casters that share a linear law share its tabulated CDF
+    out[order] = np.sum(weights * tabled_cdf(dist, np.log(v[order])[:, None] - log_v), axis=-1)
     return out.reshape(shape)
 
 
-def _inertia_scales(
-    t: Array,
-    i_w: Array,
-    b: Array,
-    c: Array,
-    k: Array,
-    shape: tuple[int, ...],
-    diameter: Numeric | None,
-    measured: Numeric | None,
-    prediction: InertiaPrediction | None,
-) -> Array:
-    """Scale of each caster's Student-t inertia term (:func:`inertia_log_scale`), nan for a measured wheel."""
-    if diameter is None:
-        return np.full(t.size, np.nan)
-    d = np.broadcast_to(np.asarray(diameter, dtype=float), shape).reshape(-1)
-    flags = np.isnan(d)
-    if measured is not None:
-        flags = flags | np.broadcast_to(np.asarray(measured, dtype=bool), shape).reshape(-1)
-    with np.errstate(invalid="ignore"):
-        scale = np.asarray(inertia_log_scale(t, i_w, b, c, k, np.where(flags, 1.0, d), prediction), dtype=float)
-    return np.where(flags, np.nan, np.broadcast_to(scale, t.shape))
-
-
 def max_measured_inertia(
-    trail: float,
-    groove: float,
-    damping: float,
-    slip_coefficient: float,
-    speed: float,
-    uncertainty: Uncertainty,
-    nodes: int = 16,
+    trail: float, groove: float, damping: float, slip_coefficient: float, speed: float, uncertainty: Uncertainty
 ) -> float:
     """The largest measured wheel inertia I* [kg·m²] at which the caster still meets the risk bound.
 
     The I* whose exact law, with the measurement's lognormal scatter (σ ``uncertainty.inertia``) about I*, gives
-    P(V_c,true < speed) = α (:func:`shimmy_probability_exact`, quadrature; P rises with I*): the purchasing spec's
-    acceptance limit for a wheel measured before it is fitted.  Solved in log I
-    between the I_w at which Eq. 7's V_c equals the speed (P about 1/2 there) and e^−12 of it (P ≈ 0), by a
-    safeguarded Newton iteration (the law's density gives P's slope); ``nodes`` Gauss–Hermite nodes per axis.
+    P(V_c,true < speed) = α (:func:`shimmy_probability_exact`; P rises with I*): the purchasing spec's acceptance
+    limit for a wheel measured before it is fitted, one caster at a time (the specs find it for many casters in one
+    batch, :func:`designer.physics.acceptance.acceptance_limits_many`).  A root in log I (to 1e-11) between the I_w
+    at which Eq. 7's V_c equals the speed (P about 1/2 there, V_c ∝ I_w^−1/2) and e^−12 of it (P ≈ 0), by
+    :func:`designer.physics.roots.bracketed_root`.
     """
-    alpha = float(uncertainty.probability)
-    v_unit = float(critical_shimmy_speed(trail, 1.0, groove, damping, slip_coefficient))  # V_c at I_w = 1 kg·m²
-    top = 2 * math.log(v_unit / speed)  # log of the I_w whose V_c is the speed (V_c ∝ I_w^−1/2, Eq. 7)
-    # the law at I_w = 1 kg·m²; at I* every node's log V_c is lower by log(I*)/2 and the linear part's shape is
-    # the same (its inertia slope is 1/2 whatever I*): the law is built once, each step is one CDF
-    # 16 Gauss–Hermite nodes per axis: P at the 32-node I* is α to 7e-13 (24 nodes: to rounding) over grooved
-    # and damped casters of the shipped problems, a quarter of the 32 × 32 grid's work
-    dist, w, log_v = _exact_law(trail, 1.0, groove, damping, slip_coefficient, uncertainty, None, None, nodes)
-    gap = (math.log(speed) - log_v)[None, :]
+    top = 2 * math.log(float(critical_shimmy_speed(trail, 1.0, groove, damping, slip_coefficient)) / speed)
 
     def excess(log_i: float) -> float:
-        return float(np.sum(w * dist.cdf(gap + 0.5 * log_i)[0])) - alpha
+        args = (trail, math.exp(log_i), groove, damping, slip_coefficient, speed, uncertainty)
+        return float(shimmy_probability_exact(*args, nodes=24)) - float(uncertainty.probability)
 
-    # Newton from a normal approximation of the law (P' = Σ w f / 2, f the linear part's density), kept inside
-    # a bracket that shrinks with each sign; a step that leaves it bisects.  Typically 3-5 steps to 1e-10.
-    spread = float(np.sum(dist.total_scale**2) + np.sum(w * (log_v - np.sum(w * log_v)) ** 2))
-    start = 2 * (float(np.sum(w * log_v)) - math.log(speed) - NormalDist().inv_cdf(1 - alpha) * math.sqrt(spread))
-    lo, hi = top - 12.0, top
-    x = min(max(start, lo), hi)
-    for _ in range(60):
-        f = excess(x)
-        if f < 0:
-            lo = x
-        else:
-            hi = x
-        slope = 0.5 * float(np.sum(w * dist.pdf(gap + 0.5 * x)[0]))
-        new = x - f / slope if slope > 0 else 0.5 * (lo + hi)
-        if not lo < new < hi:
-            new = 0.5 * (lo + hi)
-        if abs(new - x) <= 1e-10 or hi - lo <= 1e-10:
-            return math.exp(new)
-        x = new
-    raise RuntimeError(f"max_measured_inertia: no convergence in [{math.exp(lo):.6g}, {math.exp(hi):.6g}] kg·m²")
+    return math.exp(bracketed_root(excess, top - 12.0, top, xtol=1e-11, rtol=0.0))
 
 
 # --------------------------------------------------------------------------- the data law: Monte Carlo
@@ -876,7 +690,7 @@ def law_draws(uncertainty: Uncertainty, rng: np.random.Generator, inertia_dof: i
 
 _KEPT_BLOCKS = 8
 """Blocks of draws kept per seeded stream (:func:`_draw_stream`; 0.4 MB each): the 10 000 to 80 000 draws of
-a typical estimate are drawn once per process and reused by every later estimate of the same stream."""
+a typical estimate are drawn once per process, on first use, and reused by every later estimate of the stream."""
 
 
 class _DrawStream:
@@ -889,26 +703,22 @@ class _DrawStream:
     def __init__(self, seed: int, model_error_dof: Any, inertia_dof: Any):
         self._law = Uncertainty(model_error_dof=model_error_dof)  # law_draws reads its model_error_dof only
         self._dof = inertia_dof
-        self._rng = np.random.default_rng(seed)
-        self._kept: list[dict[str, Array]] = []
-        self._lock = threading.Lock()
+        self._seed = seed
+
+    @functools.cached_property
+    def _kept(self) -> tuple[list[dict[str, Array]], np.random.Generator]:
+        """The kept blocks and the generator after them, drawn on first use: an interrupt half-way through
+        (Ctrl-C in a notebook) keeps nothing, and the next reading draws them again from the seed."""
+        rng = np.random.default_rng(self._seed)
+        blocks = [law_draws(self._law, rng, self._dof) for _ in range(_KEPT_BLOCKS)]
+        for values in (v for block in blocks for v in block.values()):
+            values.setflags(write=False)
+        return blocks, rng
 
     def __iter__(self) -> Iterator[dict[str, Array]]:
-        for i in range(_KEPT_BLOCKS):
-            with self._lock:
-                if i == len(self._kept):
-                    # drawn from a copy, which becomes the stream's generator only once the block is whole: an
-                    # interrupt (Ctrl-C in a notebook) half-way through leaves the stream where it was
-                    rng = copy.deepcopy(self._rng)
-                    block = law_draws(self._law, rng, self._dof)
-                    for values in block.values():
-                        values.setflags(write=False)
-                    self._kept.append(block)
-                    self._rng = rng
-                kept = self._kept[i]
-            yield dict(kept)  # a caller's own dict of the shared read-only arrays
-        with self._lock:  # every kept block is drawn: the generator stands after the last one
-            rng = copy.deepcopy(self._rng)
+        blocks, rng = self._kept
+        yield from (dict(kept) for kept in blocks)  # a caller's own dict of the shared read-only arrays
+        rng = copy.deepcopy(rng)
         while True:
             yield law_draws(self._law, rng, self._dof)
 
@@ -960,15 +770,10 @@ def shimmy_probability_mc_many(
     several = speeds.ndim > len(shape)
     v_req = (speeds if several else np.broadcast_to(speeds, shape)[..., None]).reshape(n, -1)
     p_law = inertia_prediction() if prediction is None else prediction
-    if diameter is None:
-        is_measured = np.ones(n, dtype=bool)
-        scale_i = np.full(n, float(u.inertia))
-    else:
-        d = np.broadcast_to(np.asarray(diameter, dtype=float), shape).reshape(-1)
-        is_measured = np.broadcast_to(np.asarray(False if measured is None else measured, dtype=bool), shape).reshape(
-            -1
-        )
-        scale_i = np.where(is_measured, float(u.inertia), np.asarray(p_law.scale(d), dtype=float))
+    flags = True if diameter is None else (False if measured is None else measured)  # every wheel measured
+    is_measured = np.broadcast_to(np.asarray(flags, dtype=bool), shape).reshape(-1)
+    d = np.broadcast_to(np.asarray(np.nan if diameter is None else diameter, dtype=float), shape).reshape(-1)
+    scale_i = np.where(is_measured, float(u.inertia), np.asarray(p_law.scale(d), dtype=float))
     blocks = iter(_draw_stream(operator.index(u.seed if seed is None else seed), u.model_error_dof, p_law.dof))
     want = np.full(v_req.shape, _blocks(int(u.samples if samples is None else samples)))  # per caster and speed
     hits = np.zeros(v_req.shape)
@@ -1045,14 +850,14 @@ def law_sources(
     """
     u = uncertainty
     e = critical_speed_log_sensitivities(trail, inertia, groove, damping, slip_coefficient)
-    rows: list[tuple[Source, float]] = [(model_error_source(u.model_error, u.model_error_dof), 1.0)]
-    if diameter is None:
-        rows.append((measured_inertia_source(u.inertia), float(e["inertia"])))
-    else:
-        rows.append((predicted_inertia_source(float(diameter), prediction), float(e["inertia"])))
-    rows.append((damping_source(u.damping), float(e["damping"])))
-    rows.append((slip_coefficient_source(u.slip_coefficient), float(e["slip_coefficient"])))
-    parts = [src.variance * sens**2 if sens else 0.0 for src, sens in rows]
+    wheel = measured_inertia_source(u.inertia) if diameter is None else predicted_inertia_source(diameter, prediction)
+    rows: list[tuple[Source, Any]] = [
+        (model_error_source(u.model_error, u.model_error_dof), 1.0),
+        (wheel, e["inertia"]),
+        (damping_source(u.damping), e["damping"]),
+        (slip_coefficient_source(u.slip_coefficient), e["slip_coefficient"]),
+    ]
+    parts = [src.variance * float(sens) ** 2 if sens else 0.0 for src, sens in rows]
     if any(math.isinf(x) for x in parts):
         shares = [float(math.isinf(x)) / sum(math.isinf(y) for y in parts) for x in parts]
     else:
@@ -1091,18 +896,8 @@ def risk_record(
     share of the variance of log V_c); ``dominant``: :func:`dominant_sentence`.  ``diameter`` None: the
     wheel's ``inertia`` was measured; else it is the power law's value at that diameter [m].
     """
-    p, se = shimmy_probability_mc_many(
-        trail,
-        inertia,
-        groove,
-        damping,
-        slip_coefficient,
-        speed,
-        uncertainty,
-        diameter=diameter,
-        prediction=prediction,
-        samples=samples,
-        seed=seed,
-    )
-    sources = law_sources(trail, inertia, groove, damping, slip_coefficient, uncertainty, diameter, prediction)
+    caster = (trail, inertia, groove, damping, slip_coefficient)
+    law: dict[str, Any] = {"diameter": diameter, "prediction": prediction}
+    p, se = shimmy_probability_mc_many(*caster, speed, uncertainty, samples=samples, seed=seed, **law)
+    sources = law_sources(*caster, uncertainty, **law)
     return {"probability": float(p), "se": float(se), "sources": sources, "dominant": dominant_sentence(sources)}

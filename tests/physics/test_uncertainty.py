@@ -78,7 +78,7 @@ def test_stored_fit_is_the_computed_fit():
     are computed (and differ from it)."""
     stored, shift = U._fit(0.05, 5)
     computed, computed_shift = U._compute_fit(0.05, 5)
-    assert (0.05, 5, U._NODES, U._DEGREE) in U._STORED_FITS
+    assert (0.05, 5, U._NODES, U._DEGREE) in U.STORED_SUM_FITS
     np.testing.assert_allclose(stored, computed, rtol=0, atol=1e-13)
     assert shift == pytest.approx(computed_shift, abs=1e-13)
     other, _ = U._fit(0.1, 5)
@@ -149,7 +149,7 @@ def test_pair_quantile_fit_never_below_exact():
 def test_stored_pair_fit_is_the_computed_fit():
     """The stored 2-D fit of α = 0.05, ν = (5, 5) is what _compute_fit2 computes (1e-12), so reading it changes no
     number; its shift (the largest fit error) is below 3e-5."""
-    stored, shift = U._fit2(0.05, 5, 5)
+    stored, shift = U._fit(0.05, 5, 5)
     computed, computed_shift = U._compute_fit2(0.05, 5, 5)
     np.testing.assert_allclose(stored, computed, rtol=0, atol=1e-12)
     assert shift == pytest.approx(computed_shift, abs=1e-12) and 0 < shift < 3e-5
@@ -339,14 +339,14 @@ def test_quantile_fit_evaluation_is_the_same_for_floats_arrays_and_casadi():
 
     from designer.physics import uncertainty as U
 
-    coef, _ = U._fit2(0.05, 5, 5)
+    coef, _ = U._fit(0.05, 5, 5)
     rng = np.random.default_rng(7)
     x, y = rng.uniform(-1, 1, (2, 200))
     reference = cheb.chebval2d(x, y, coef)
-    floats = np.array([U._clenshaw2(coef, float(a), float(b)) for a, b in zip(x, y)])
-    arrays = U._clenshaw2(coef, x, y)
+    floats = np.array([U._clenshaw(coef, float(a), float(b)) for a, b in zip(x, y)])
+    arrays = U._clenshaw(coef, x, y)
     sx, sy = ca.SX.sym("x"), ca.SX.sym("y")
-    symbolic = ca.Function("q", [sx, sy], [U._clenshaw2(coef, sx, sy)])
+    symbolic = ca.Function("q", [sx, sy], [U._clenshaw(coef, sx, sy)])
     casadi = np.array([float(symbolic(a, b)) for a, b in zip(x, y)])
     for got in (floats, arrays, casadi):
         assert np.max(np.abs(got - reference)) <= 1e-14 * np.max(np.abs(reference))
