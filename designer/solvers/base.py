@@ -257,6 +257,30 @@ def no_optimum(solver: str, problem: Problem, weights: tuple[float, float], caps
     )
 
 
+def found_optimum(
+    solver: str,
+    problem: Problem,
+    weights: tuple[float, float],
+    caps: Caps,
+    design: Design,
+    objective: float,
+    **fields: Any,
+) -> Optimum:
+    """The :class:`Optimum` of a solver that found the feasible ``design`` with J = ``objective`` [N] (``fields``:
+    the rest by keyword; ``status`` "optimal" unless given)."""
+    fields.setdefault("status", "optimal")
+    return Optimum(
+        solver=solver,
+        problem=problem,
+        weights=weights,
+        caps=caps,
+        design=design,
+        objective=objective,
+        success=True,
+        **fields,
+    )
+
+
 def best_variant(problem: Problem, solve: Callable[[Problem], Optimum]) -> Optimum:
     """``solve`` on every continuous variant of ``problem`` (one per catalog wheel); the best successful one.
 
@@ -317,6 +341,7 @@ __all__ = [
     "Solver",
     "best_variant",
     "objectives_of",
+    "found_optimum",
     "no_optimum",
     "optima_designs",
     "weights_of",

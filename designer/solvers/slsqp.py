@@ -20,7 +20,17 @@ from designer.errors import check_interrupt
 from designer.model import Design, performance
 from designer.parameters import named
 from designer.problem import Problem
-from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, no_optimum, optima_designs, weights_of
+from designer.solvers.base import (
+    NO_CAPS,
+    Caps,
+    Designs,
+    Optimum,
+    best_variant,
+    found_optimum,
+    no_optimum,
+    optima_designs,
+    weights_of,
+)
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -130,18 +140,8 @@ class SLSQPSolver:
             design, j = slsqp(variant, w, starts, self.random_starts, self.seed, caps.threshold, caps.turning)
             if design is None:
                 return no_optimum(self.name, variant, w, caps, "infeasible")
-            return Optimum(
-                solver=self.name,
-                problem=variant,
-                weights=w,
-                caps=caps,
-                design=design,
-                objective=j,
-                success=True,
-                status="optimal",
-                solves=len(starts) + self.random_starts,
-                seconds=time.perf_counter() - t0,
-            )
+            solves, seconds = len(starts) + self.random_starts, time.perf_counter() - t0
+            return found_optimum(self.name, variant, w, caps, design, j, solves=solves, seconds=seconds)
 
         return best_variant(problem, one)
 

@@ -254,8 +254,7 @@ class CasterNLP:
     # ----------------------------------------------------------------- solving
     def to_z(self, design: Design | npt.ArrayLike) -> np.ndarray:
         """Scaled variables of a design (clipped into the box)."""
-        arr = design.as_array() if isinstance(design, Design) else np.asarray(design, float)
-        z: np.ndarray = np.clip(arr / self.scale, self.lbz, self.ubz)
+        z: np.ndarray = np.clip(design_rows([design])[0] / self.scale, self.lbz, self.ubz)
         return z
 
     def solve(
@@ -420,9 +419,7 @@ class CasterNLP:
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """K designs (SI, or Designs) as a (K, 4) array with their (K, 2) weights, (K, 2) ε caps and (K, n) full
         parameter vectors (:meth:`solve_many`, :meth:`multipliers_many`)."""
-        x = np.array([d.as_array() if isinstance(d, Design) else np.asarray(d, float) for d in designs], float).reshape(
-            -1, 4
-        )
+        x = design_rows(designs)
         k = len(x)
         w = np.broadcast_to(np.asarray(weights, float), (k, 2))
         caps = np.column_stack(
@@ -462,7 +459,7 @@ class CasterNLP:
                 design=Design.from_array(zs[j] * self.scale),
                 success=viol[j] <= 1e-6 and bool(np.all(np.isfinite(zs[j]))),
                 status=status,
-                objective=float(w[j, 0] * values[0, j] + w[j, 1] * values[1, j]),
+                objective=float(weighted(values[0, j], values[1, j], w[j])),
                 lam_g=lg[j].copy(),
                 lam_x=lx[j].copy(),
                 iterations=iterations,
@@ -517,9 +514,7 @@ class CasterNLP:
 
         Row i equals :meth:`objectives` of design i (the same CasADi function, evaluated column by column).
         """
-        x = np.array([d.as_array() if isinstance(d, Design) else np.asarray(d, float) for d in designs], float).reshape(
-            -1, 4
-        )
+        x = design_rows(designs)
         if not len(x):
             return np.zeros((0, 4))
         out = self._perf_function((x / self.scale).T, self.param_values)
@@ -528,8 +523,7 @@ class CasterNLP:
     def weighted(self, design: Design, weights: npt.ArrayLike) -> float:
         """J = w_turn F_turn + w_threshold P [N]."""
         f, p, _, _ = self.objectives(design)
-        w = np.asarray(weights, float)
-        return float(weighted(f, p, w))
+        return float(weighted(f, p, weights))
 
     def sensitivities(
         self,
@@ -567,6 +561,11 @@ class CasterNLP:
 
 
 # --------------------------------------------------------------------------- multi-start
+
+
+def design_rows(designs: Sequence[Design | npt.ArrayLike] | np.ndarray) -> np.ndarray:
+    """Designs (:class:`~designer.model.Design` or SI sequences) as an (N, 4) SI array, VARIABLES order."""
+    return np.array([np.asarray(d.as_array() if isinstance(d, Design) else d, float) for d in designs]).reshape(-1, 4)
 
 
 SOBOL_FILE = Path(__file__).resolve().parents[2] / "data" / "sobol_d4_seed0.npy"
@@ -643,15 +642,7 @@ def solve_best(
     """Solve from every start; return the best successful result and all results."""
     results = [nlp.solve(s, weights, threshold_cap, turning_cap) for s in starts]
     good = [r for r in results if r.success]
-    if not good:
-        return None, results
-    w = np.asarray(weights, float)
-    if w[0] == 0 or w[1] == 0:
-        # ε-type solve: objective is one of the two; rank by it
-        best = min(good, key=lambda r: nlp.weighted(r.design, w))
-    else:
-        best = min(good, key=lambda r: r.objective)
-    return best, results
+    return (min(good, key=lambda r: r.objective) if good else None), results
 
 
 def max_critical_speed(problem: Problem) -> tuple[float, Design, list[str]]:

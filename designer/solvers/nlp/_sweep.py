@@ -39,7 +39,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
     import numpy.typing as npt
 
 CACHE_SIZE = 32
-"""How many problems' samples are kept (the compiled NLPs: :data:`designer.solvers.nlp.SHARED_SIZE`)."""
+"""How many problems' samples are kept (the compiled NLPs: :data:`designer.solvers.nlp._cache.SHARED_SIZE`)."""
 
 
 @dataclass
