@@ -70,8 +70,9 @@ def inertia_curve() -> dict[str, Any]:
 
 
 def sill_ratio(diameter, height: float) -> np.ndarray:
-    """P/L of Eq. 4A [-] for wheels of ``diameter`` [m] at a sill of ``height`` [m], by the model's evaluator."""
-    d = np.atleast_1d(np.asarray(diameter, float))
+    """P/L of Eq. 4A [-] for wheels of ``diameter`` [m] (a number or an array, the shape kept) at a sill of
+    ``height`` [m], by the model's evaluator: what the tool uses (check 7 verifies it)."""
+    d = np.asarray(diameter, float)
     design = {"trail": np.full(d.shape, 0.05), "diameter": d, "groove": np.zeros(d.shape), "damping": np.ones(d.shape)}
     ratio: np.ndarray = evaluate(
         design, Conditions(load=1.0, threshold_height=height), inertia=1e-3

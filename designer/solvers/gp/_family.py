@@ -213,23 +213,16 @@ class _Family:
 
     def start_points(self) -> list[dict[str, float]]:
         """SGP starts: the corner that maximises the shimmy right side, and the geometric centre."""
-        starts: list[dict[str, float]] = []
         corner: dict[str, float] = {}
-        for k in self.variables:
-            lo, hi = self.box[k]
-            lo = lo if lo > 0 else self.floor[k]
-            corner[k] = lo if k == "diameter" else hi
-        if "trail" in corner and self.constants.swept_radius_max is not None:
-            d = self.full(corner)["diameter"]
-            corner["trail"] = float(np.clip(self.constants.swept_radius_max - d / 2, *self.box["trail"]))
-        starts.append(corner)
         centre: dict[str, float] = {}
         for k in self.variables:
             lo, hi = self.box[k]
-            lo = lo if lo > 0 else self.floor[k] * 1e3
-            centre[k] = math.sqrt(lo * hi)
-        starts.append(centre)
-        return starts
+            corner[k] = hi if k != "diameter" else lo if lo > 0 else self.floor[k]
+            centre[k] = math.sqrt((lo if lo > 0 else self.floor[k] * 1e3) * hi)
+        if "trail" in corner and self.constants.swept_radius_max is not None:
+            d = self.full(corner)["diameter"]
+            corner["trail"] = float(np.clip(self.constants.swept_radius_max - d / 2, *self.box["trail"]))
+        return [corner, centre]
 
     def run(
         self,

@@ -16,7 +16,6 @@ from designer.solvers.base import wheel_of
 from designer.studies.checks._record import NOT_APPLICABLE, Check
 
 if TYPE_CHECKING:  # record and solver types for the checker only: designer.studies.front loads casadi
-    from designer.solvers.nlp import CasterNLP
     from designer.studies.front import Front, FrontPoint
 
 
@@ -130,53 +129,35 @@ def highest_critical_speed(problem: Problem) -> float:
 def dominated_by_problem(problem: Problem, other_front: Front, rel_tol: float = 1e-7) -> tuple[int, int]:
     """Count points of ``other_front`` NOT weakly dominated by ``problem``'s exact front.
 
-    For each point q, solves the ε-constraint NLP of ``problem`` at ε = P(q)
-    from q's design; q is dominated if the optimum's F_turn <= F_turn(q).
-    Returns (number not dominated, number of points).
+    For each point q, solves the ε-constraint NLP of ``problem`` (of q's wheel, for a catalog problem) at
+    ε = P(q) from q's design: first all points in one warm batch per variant (``solve_many`` from q's
+    multipliers as an optimum), then the points not yet seen dominated in one cold batch; q is dominated if a
+    successful optimum has F_turn <= F_turn(q)(1 + ``rel_tol``).  Returns (number not dominated, number of points).
     """
     from designer.solvers.nlp import shared_nlp
 
-    not_dominated = 0
-    cache: dict[object, CasterNLP] = {}
-    screened = _dominated_in_batch(problem, other_front.points, rel_tol)
-    for k, q in enumerate(other_front.points):
-        if k in screened:
-            continue
-        variants = problem.variants()
-        if problem.wheels:
-            variants = [v for v in variants if wheel_of(v) == q.wheel]
-        best = np.inf
-        for variant in variants:
-            key = id(variant) if not problem.wheels else q.wheel
-            # the front's compiled NLP (same scaling: the same solves as a new build)
-            nlp = cache.get(key) or cache.setdefault(key, shared_nlp(variant, same_scaling=True))
-            r = nlp.solve(q.design, (1.0, 0.0), q.threshold_force * (1 + 1e-12))
-            if r.success:
-                best = min(best, nlp.objectives(r.design)[0])
-        if not best <= q.turning_effort * (1 + rel_tol):
-            not_dominated += 1
-    return not_dominated, len(other_front.points)
-
-
-def _dominated_in_batch(problem: Problem, points: Sequence[FrontPoint], rel_tol: float) -> set[int]:
-    """Indices of ``points`` that ``problem`` is seen to dominate: the NLPs of :func:`dominated_by_problem` in one
-    warm batch per variant (``solve_many`` from q's multipliers as an optimum); a successful block with F_turn <=
-    F_turn(q)(1 + ``rel_tol``) is a feasible design dominating q.  The others get the single solves."""
-    from designer.solvers.nlp import shared_nlp
-
+    points = other_front.points
     found: set[int] = set()
     for variant in problem.variants():
         wheel = wheel_of(variant) if problem.wheels else None
         idx = [k for k, q in enumerate(points) if wheel is None or q.wheel == wheel]
         if not idx:
             continue
+        # the front's compiled NLP (same scaling: the same solves as a new build)
         nlp = shared_nlp(variant, same_scaling=True)
         x = np.array([points[k].design.as_array() for k in idx])
         caps = np.array([points[k].threshold_force * (1 + 1e-12) for k in idx])
         lam_g, lam_x = nlp.multipliers_many(x, (1.0, 0.0), caps)
-        results = nlp.solve_many(x, (1.0, 0.0), caps, lam_g0=lam_g, lam_x0=lam_x)
-        f = nlp.objectives_many([r.design for r in results])[:, 0]
-        found.update(
-            k for k, r, fk in zip(idx, results, f) if r.success and fk <= points[k].turning_effort * (1 + rel_tol)
-        )
-    return found
+        for warm in (True, False):
+            rest = [j for j, k in enumerate(idx) if k not in found]
+            if not rest:
+                break
+            starts = {"lam_g0": lam_g[rest], "lam_x0": lam_x[rest]} if warm else {}
+            results = nlp.solve_many(x[rest], (1.0, 0.0), caps[rest], **starts)
+            f = nlp.objectives_many([r.design for r in results])[:, 0]
+            found.update(
+                idx[j]
+                for j, r, fj in zip(rest, results, f)
+                if r.success and fj <= points[idx[j]].turning_effort * (1 + rel_tol)
+            )
+    return len(points) - len(found), len(points)

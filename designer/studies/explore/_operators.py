@@ -104,14 +104,10 @@ class Operators(Record):
 
         crossover = SBXCrossover(eta=self.crossover_eta) if self.crossover == "sbx" else UniformCrossover()
         mutation = PolynomialMutation(eta=self.mutation_eta) if self.mutation == "polynomial" else None
-        kwargs = dict(
-            population_size=self.population_size,
-            crossover=crossover,
-            crossover_prob=self.crossover_prob,
-            mutation=mutation,
-            mutation_prob=self.mutation_prob,
-            seed=seed,
+        operators = dict(
+            crossover=crossover, crossover_prob=self.crossover_prob, mutation=mutation, mutation_prob=self.mutation_prob
         )
+        kwargs = dict(population_size=self.population_size, seed=seed, **operators)
         if not self.deduplicate:
             return optuna.samplers.NSGAIISampler(**kwargs)
         from optuna.samplers._lazy_random_state import LazyRandomState
@@ -119,15 +115,7 @@ class Operators(Record):
         from optuna.samplers.nsgaii._child_generation_strategy import NSGAIIChildGenerationStrategy
 
         rng = LazyRandomState(seed)
-        inner = NSGAIIChildGenerationStrategy(
-            crossover_prob=self.crossover_prob,
-            mutation=mutation,
-            mutation_prob=self.mutation_prob,
-            swapping_prob=0.5,
-            crossover=crossover,
-            constraints_func=None,
-            rng=rng,
-        )
+        inner = NSGAIIChildGenerationStrategy(**operators, swapping_prob=0.5, constraints_func=None, rng=rng)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             sampler = optuna.samplers.NSGAIISampler(**kwargs, child_generation_strategy=_Deduplicated(inner))
@@ -158,32 +146,23 @@ def stream_seed(seed: int | None, first_trial: int) -> int | None:
 
 
 class _PerProcessSampler:
-    """An NSGA-II sampler built when the process asks its first trial, seeded by that trial's number."""
+    """An NSGA-II sampler built when the process asks its first trial, seeded by that trial's number: optuna's
+    ``ask`` calls ``before_trial`` first, and every other call of a sampler goes to the built one."""
 
     def __init__(self, operators: Operators, seed: int | None):
         self.operators = operators
         self.seed = seed
         self.inner = None
 
-    def _for(self, trial):
+    def before_trial(self, study, trial) -> None:
         if self.inner is None:
             self.inner = self.operators.sampler(stream_seed(self.seed, trial.number))
-        return self.inner
+        self.inner.before_trial(study, trial)
 
-    def before_trial(self, study, trial) -> None:
-        self._for(trial).before_trial(study, trial)
-
-    def infer_relative_search_space(self, study, trial):
-        return self._for(trial).infer_relative_search_space(study, trial)
-
-    def sample_relative(self, study, trial, search_space):
-        return self._for(trial).sample_relative(study, trial, search_space)
-
-    def sample_independent(self, study, trial, param_name, param_distribution):
-        return self._for(trial).sample_independent(study, trial, param_name, param_distribution)
-
-    def after_trial(self, study, trial, state, values) -> None:
-        self._for(trial).after_trial(study, trial, state, values)
+    def __getattr__(self, name: str):
+        if name == "inner":  # not set yet (a copy being built)
+            raise AttributeError(name)
+        return getattr(self.inner, name)
 
     def reseed_rng(self) -> None:
         if self.inner is not None:
@@ -322,15 +301,9 @@ def _front_mask(objs: np.ndarray) -> np.ndarray:
 
 
 def _row(cat: tuple, number: int, x: np.ndarray, values: dict, refined: bool) -> dict:
-    row = {name: float(x[i]) for i, name in enumerate(VARIABLES)}
-    row.update(
-        turning_effort=float(values["turning_effort"]),
-        threshold_force=float(values["threshold_force"]),
-        critical_speed=float(values["critical_speed"]),
-    )
-    row.update(dict(cat))
-    row.update(trial=int(number), refined=refined)
-    return row
+    """A front point: the design (T, d, B, c_f [SI]), F_turn, P [N], V_c [m/s], the category, trial and flag."""
+    outputs = {k: float(values[k]) for k in ("turning_effort", "threshold_force", "critical_speed")}
+    return {**dict(zip(VARIABLES, map(float, x))), **outputs, **dict(cat), "trial": int(number), "refined": refined}
 
 
 def _refine(sub: Problem, cat: tuple, front: list, nlps: dict) -> list:
