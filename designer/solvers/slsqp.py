@@ -15,9 +15,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from scipy.optimize import minimize
 
-from designer.model import weighted
 from designer.errors import check_interrupt
-from designer.model import Design, performance
+from designer.model import Design, performance, weighted
 from designer.parameters import named
 from designer.problem import Problem
 from designer.solvers.base import (
@@ -27,7 +26,6 @@ from designer.solvers.base import (
     Optimum,
     best_variant,
     found_optimum,
-    no_optimum,
     optima_designs,
     weights_of,
 )
@@ -139,9 +137,9 @@ class SLSQPSolver:
             t0 = time.perf_counter()
             design, j = slsqp(variant, w, starts, self.random_starts, self.seed, caps.threshold, caps.turning)
             if design is None:
-                return no_optimum(self.name, variant, w, caps, "infeasible")
+                return found_optimum(self.name, variant, w, caps, None, status="infeasible")
             solves, seconds = len(starts) + self.random_starts, time.perf_counter() - t0
-            return found_optimum(self.name, variant, w, caps, design, j, solves=solves, seconds=seconds)
+            return found_optimum(self.name, variant, w, caps, design, objective=j, solves=solves, seconds=seconds)
 
         return best_variant(problem, one)
 

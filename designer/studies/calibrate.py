@@ -529,10 +529,8 @@ def calibrate_file(
         return fit_turning(d["load_N"], d["moment_Nm"], surface=surface, source=str(path))
     if kind == "damping":
         d = read_columns(path, ("trail_m", "inertia_kgm2", "critical_speed_mps"), optional=("groove_m",))
-        for col in ("trail_m", "inertia_kgm2", "critical_speed_mps"):
-            _require(path, col, d[col])
-        if "groove_m" in d:
-            _require(path, "groove_m", d["groove_m"], allow_zero=True)
+        for col in d:  # the required columns, then the groove when given
+            _require(path, col, d[col], allow_zero=col == "groove_m")
         for col in d:
             _in_model_range(path, col, d[col])
         low, high = PARAMETERS["slip_coefficient"].range or (0.0, math.inf)

@@ -78,17 +78,7 @@ from designer.physics.threshold import threshold_force_ratio, threshold_series_r
 from designer.problem import Problem
 from designer.errors import InfeasibleError
 from designer.reprs import Record
-from designer.solvers.base import (
-    NO_CAPS,
-    Caps,
-    Designs,
-    Optimum,
-    found_optimum,
-    no_optimum,
-    optima_designs,
-    weights_of,
-    wheel_of,
-)
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, found_optimum, optima_designs, weights_of, wheel_of
 from designer.solvers.nlp import BIG, CasterNLP
 from designer.solvers.gp._family import MAX_ITERATIONS, _Family
 from designer.solvers.gp._terms import series_order
@@ -361,14 +351,14 @@ class GPSolver:
         try:
             r = solve_gp(problem, w, caps.threshold, turning_cap=caps.turning)
         except InfeasibleError:
-            return no_optimum(self.name, problem, w, caps, "infeasible")
+            return found_optimum(self.name, problem, w, caps, None, status="infeasible")
         return found_optimum(
             self.name,
             r.problem if r.problem is not None else problem,
             w,
             caps,
             r.design,
-            r.objective,
+            objective=r.objective,
             status=r.status,
             wheel=r.wheel,
             sensitivities=dict(r.duals),

@@ -29,13 +29,13 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
-from designer.model import weighted
 from designer import parameters
 from designer.errors import check_interrupt
-from designer.model import VARIABLES, Design, performance
+from designer.model import VARIABLES, Design, performance, weighted
 from designer.physics import enable_casadi
 from designer.problem import Problem
 from designer.reprs import Record
+from designer.solvers.base import design_rows
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -563,11 +563,6 @@ class CasterNLP:
 # --------------------------------------------------------------------------- multi-start
 
 
-def design_rows(designs: Sequence[Design | npt.ArrayLike] | np.ndarray) -> np.ndarray:
-    """Designs (:class:`~designer.model.Design` or SI sequences) as an (N, 4) SI array, VARIABLES order."""
-    return np.array([np.asarray(d.as_array() if isinstance(d, Design) else d, float) for d in designs]).reshape(-1, 4)
-
-
 SOBOL_FILE = Path(__file__).resolve().parents[2] / "data" / "sobol_d4_seed0.npy"
 """``scipy.stats.qmc.Sobol(d=4, scramble=True, seed=0).random(1024)``, stored exactly as float64 in NumPy's ``.npy``
 format (tests/solvers/test_closed_form.py checks that it is a Sobol net): the default sample, read without importing
@@ -676,15 +671,15 @@ def max_critical_speed(problem: Problem) -> tuple[float, Design, list[str]]:
             best = (v, Design.from_array(np.asarray(sol["x"]).ravel() * scale))
     assert best is not None  # 16 starts: at least one result
     v, design = best
-    active = []
-    arr = design.as_array()
-    for i, var in enumerate(VARIABLES):
-        if lo[i] == hi[i]:
-            continue
-        if abs(arr[i] - hi[i]) <= 1e-6 * max(1.0, abs(hi[i])):
-            active.append(f"variables.{var}.max")
-        elif abs(arr[i] - lo[i]) <= 1e-6 * max(1.0, abs(lo[i])):
-            active.append(f"variables.{var}.min")
+    arr, free = design.as_array(), lo != hi
+    at_max = free & (np.abs(arr - hi) <= 1e-6 * np.maximum(1.0, np.abs(hi)))
+    at_min = free & ~at_max & (np.abs(arr - lo) <= 1e-6 * np.maximum(1.0, np.abs(lo)))
+    active = [
+        f"variables.{v}.{side}"
+        for v, a, b in zip(VARIABLES, at_max, at_min)
+        for side, on in (("max", a), ("min", b))
+        if on
+    ]
     if problem.swept_radius_max is not None and design.trail + design.diameter / 2 >= problem.swept_radius_max * (
         1 - 1e-6
     ):

@@ -20,11 +20,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from designer.problem import Problem
-from designer.solvers.closed_form import CLOSED_FORM
-from designer.solvers.closed_form import applicable as closed_form_applicable
-from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, found_optimum, no_optimum, weights_of
+from designer.solvers.closed_form import CLOSED_FORM, applicable as closed_form_applicable
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, design_rows, found_optimum, weights_of
 from designer.solvers.nlp._cache import shared_nlp
-from designer.solvers.nlp._casadi import BIG, CasterNLP, NLPResult, best_starts, design_rows, solve_best
+from designer.solvers.nlp._casadi import BIG, CasterNLP, NLPResult, best_starts, solve_best
 from designer.solvers.nlp._sweep import Ends, NLPSweep, StructuredSweep
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
@@ -98,14 +97,16 @@ class NLPSolver:
         best, results = solve_best(nlp, all_starts, w, cap_p, cap_f)
         seconds = time.perf_counter() - t0
         if best is None:
-            return no_optimum(self.name, problem, w, caps, ", ".join(sorted({r.status for r in results})) or "unknown")
+            return found_optimum(
+                self.name, problem, w, caps, None, status=", ".join(sorted({r.status for r in results})) or "unknown"
+            )
         return found_optimum(
             self.name,
             problem,
             w,
             caps,
             best.design,
-            float(best.objective),
+            objective=float(best.objective),
             sensitivities=nlp.sensitivities(best, w, cap_p, cap_f),
             solves=len(all_starts),
             seconds=seconds,

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from designer.data.paper import INCH
+from designer.display import number, shown
 from designer.problem import Problem
 from designer.solvers.base import wheel_of
 from designer.studies.checks._record import NOT_APPLICABLE, Check
@@ -59,7 +59,8 @@ def _tradeoff_check(pts: Sequence[FrontPoint], tol: float) -> Check:
         expected="d and F_turn non-decreasing as P falls",
         got=f"{bad_d} diameter and {bad_f} effort reversals in {len(pts)} points",
         passed=bad_d == 0 and bad_f == 0,
-        detail=f"d {d.min() / INCH:.2f}–{d.max() / INCH:.2f} in, F_turn {f.min():.3f}–{f.max():.3f} N",
+        detail=f"d {number(d.min(), 'diameter', 'in')}–{shown(d.max(), 'diameter', 'in')}, "
+        f"F_turn {number(f.min(), 'turning_effort')}–{shown(f.max(), 'turning_effort')}",
     )
 
 
@@ -129,35 +130,39 @@ def highest_critical_speed(problem: Problem) -> float:
 def dominated_by_problem(problem: Problem, other_front: Front, rel_tol: float = 1e-7) -> tuple[int, int]:
     """Count points of ``other_front`` NOT weakly dominated by ``problem``'s exact front.
 
-    For each point q, solves the ε-constraint NLP of ``problem`` (of q's wheel, for a catalog problem) at
-    ε = P(q) from q's design: first all points in one warm batch per variant (``solve_many`` from q's
-    multipliers as an optimum), then the points not yet seen dominated in one cold batch; q is dominated if a
-    successful optimum has F_turn <= F_turn(q)(1 + ``rel_tol``).  Returns (number not dominated, number of points).
+    For each point q, solves the ε-constraint NLP of ``problem`` at ε = P(q) from q's design
+    (:func:`_dominated_in_batch`: warm from q's multipliers first, then cold for the points not yet seen
+    dominated); q is dominated if the optimum's F_turn <= F_turn(q).
+    Returns (number not dominated, number of points).
     """
+    points = other_front.points
+    found = _dominated_in_batch(problem, points, rel_tol)
+    found |= _dominated_in_batch(problem, points, rel_tol, warm=False, skip=found)
+    return len(points) - len(found), len(points)
+
+
+def _dominated_in_batch(
+    problem: Problem, points: Sequence[FrontPoint], rel_tol: float, warm: bool = True, skip: set[int] | None = None
+) -> set[int]:
+    """Indices of ``points`` (but ``skip``) that ``problem`` is seen to dominate: the NLPs of
+    :func:`dominated_by_problem` in one batch per variant (of q's wheel, for a catalog problem), warm
+    (``solve_many`` from q's multipliers as an optimum) or cold from q's design; a successful block with
+    F_turn <= F_turn(q)(1 + ``rel_tol``) is a feasible design dominating q."""
     from designer.solvers.nlp import shared_nlp
 
-    points = other_front.points
     found: set[int] = set()
     for variant in problem.variants():
         wheel = wheel_of(variant) if problem.wheels else None
-        idx = [k for k, q in enumerate(points) if wheel is None or q.wheel == wheel]
+        idx = [k for k, q in enumerate(points) if k not in (skip or ()) and (wheel is None or q.wheel == wheel)]
         if not idx:
             continue
-        # the front's compiled NLP (same scaling: the same solves as a new build)
-        nlp = shared_nlp(variant, same_scaling=True)
+        nlp = shared_nlp(variant, same_scaling=True)  # the front's compiled NLP: the same solves as a new build
         x = np.array([points[k].design.as_array() for k in idx])
         caps = np.array([points[k].threshold_force * (1 + 1e-12) for k in idx])
-        lam_g, lam_x = nlp.multipliers_many(x, (1.0, 0.0), caps)
-        for warm in (True, False):
-            rest = [j for j, k in enumerate(idx) if k not in found]
-            if not rest:
-                break
-            starts = {"lam_g0": lam_g[rest], "lam_x0": lam_x[rest]} if warm else {}
-            results = nlp.solve_many(x[rest], (1.0, 0.0), caps[rest], **starts)
-            f = nlp.objectives_many([r.design for r in results])[:, 0]
-            found.update(
-                idx[j]
-                for j, r, fj in zip(rest, results, f)
-                if r.success and fj <= points[idx[j]].turning_effort * (1 + rel_tol)
-            )
-    return len(points) - len(found), len(points)
+        starts = dict(zip(("lam_g0", "lam_x0"), nlp.multipliers_many(x, (1.0, 0.0), caps))) if warm else {}
+        results = nlp.solve_many(x, (1.0, 0.0), caps, **starts)
+        f = nlp.objectives_many([r.design for r in results])[:, 0]
+        found.update(
+            k for k, r, fk in zip(idx, results, f) if r.success and fk <= points[k].turning_effort * (1 + rel_tol)
+        )
+    return found
