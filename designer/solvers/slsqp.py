@@ -155,3 +155,5 @@ class SLSQPSolver:
 
 SLSQP = SLSQPSolver()
 """SLSQP's :class:`~designer.solvers.base.Solver`."""
+
+__all__ = ["SLSQP", "SLSQPSolver", "slsqp"]

@@ -116,12 +116,7 @@ def groove_damper_plane(design, conditions: Conditions, bounds) -> dict[str, Any
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InertiaExtrapolationWarning)
         values = performance(design.trail, design.diameter, G, C, conditions)
-    return {
-        "groove": G,
-        "damping": C,
-        "turning_effort": values["turning_effort"],
-        "critical_speed": values["critical_speed"],
-    }
+    return {"groove": G, "damping": C, **{k: values[k] for k in ("turning_effort", "critical_speed")}}
 
 
 def report_curves(problem, front, design=None, conditions=None) -> dict[str, Any]:

@@ -277,7 +277,6 @@ def inspect(problem: Problem, table: Any, rec: Recommendation | None = None) -> 
         r_max = problem.swept_radius_max
         for i, r in enumerate(rows):
             p = float(prob[0, i])
-            drop = [p - float(prob[1 + k, i]) for k in range(len(PARTS))]
             parts = {k: r[k] for k in (*PARTS, "diameter") if k in r}
             fits = (
                 None
@@ -293,7 +292,7 @@ def inspect(problem: Problem, table: Any, rec: Recommendation | None = None) -> 
                     parts=parts,
                     shimmy_probability=p,
                     passed=p <= alpha,
-                    driver=PARTS[int(np.argmax(drop))],
+                    driver=PARTS[int(np.argmax(p - prob[1:, i]))],  # the part whose nominal lowers P most
                     fits_footrest=fits,
                     in_joint_box=bool(box),
                     in_one_at_a_time=bool(one),

@@ -188,23 +188,19 @@ class _Family:
 
     def solve_once(self) -> tuple[str, dict[str, float] | None, float]:
         self.solves += 1
-        try:
-            return self._solve_once()
-        finally:
-            check_interrupt()  # Clarabel runs in Rust: the SIGINT flag
-
-    def _solve_once(self) -> tuple[str, dict[str, float] | None, float]:
         with warnings.catch_warnings():
             # "may be inaccurate": Clarabel stopped short of the tight tolerances above;
             # such a point is still checked against the exact model by the caller
             warnings.simplefilter("ignore", UserWarning)
             try:
-                self.cp_problem.solve(gp=True, solver=cp.CLARABEL, **SOLVER_OPTIONS)
-            except cp.error.SolverError:
                 try:
-                    self.cp_problem.solve(gp=True, solver=cp.CLARABEL)
+                    self.cp_problem.solve(gp=True, solver=cp.CLARABEL, **SOLVER_OPTIONS)
                 except cp.error.SolverError:
-                    return "solver_error", None, math.nan
+                    self.cp_problem.solve(gp=True, solver=cp.CLARABEL)
+            except cp.error.SolverError:
+                return "solver_error", None, math.nan
+            finally:
+                check_interrupt()  # Clarabel runs in Rust: the SIGINT flag
         status = str(self.cp_problem.status)
         if status not in _OK:
             return status, None, math.nan

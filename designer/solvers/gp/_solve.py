@@ -371,10 +371,8 @@ class GPSolver:
         """min F_turn s.t. P <= ε by :func:`solve_gp` at each ε of a continuous problem."""
         e = np.asarray(eps, float).ravel()
         found = [self.optimum(problem, (1.0, 0.0), Caps(threshold=float(cap))) for cap in e]
-        multipliers = tuple(o.sensitivities for o in found)
-        return optima_designs(
-            self.name, problem, e, found, multipliers=multipliers, solves=sum(o.solves for o in found)
-        )
+        multipliers, solves = tuple(o.sensitivities for o in found), sum(o.solves for o in found)
+        return optima_designs(self.name, problem, e, found, multipliers=multipliers, solves=solves)
 
 
 GP = GPSolver()

@@ -162,8 +162,7 @@ class CasterNLP:
             [perf["turning_effort"], perf["threshold_force"], perf["critical_speed"], perf["swept_radius"]],
         )
         # references for scaling, at the centre of the box
-        f_ref, p_ref = self.references()
-        self.f_ref, self.p_ref = f_ref, p_ref
+        self.f_ref, self.p_ref = f_ref, p_ref = self.references()
         v_req = (1 + problem.margin) * psym[self.param_names.index("target_speed")]
         # J = w_turn F + w_thr P, divided by its value at the box centre so IPOPT sees O(1)
         objective = weighted(perf["turning_effort"], perf["threshold_force"], w) / weighted(f_ref, p_ref, w)

@@ -256,20 +256,13 @@ def search_space(problem: Problem) -> SearchSpace:
             )
     elif chosen:
         wheels = tuple(chosen)
-    categorical = []
-    if wheels:
-        categorical.append(("wheel", wheels))
-    for key in ("surface", "turning_mode"):
-        if problem.choices.get(key):
-            categorical.append((key, tuple(problem.choices[key])))
-    continuous = []
-    for name in VARIABLES:
-        if name == "diameter" and wheels:
-            continue
-        bound = problem.bounds[name]
-        if not bound.fixed:
-            continuous.append((name, float(bound.low), float(bound.high)))
-    return SearchSpace(continuous=tuple(continuous), categorical=tuple(categorical))
+    choices = {"wheel": wheels, **{key: tuple(problem.choices.get(key) or ()) for key in ("surface", "turning_mode")}}
+    b = problem.bounds  # a catalog wheel fixes the diameter
+    free = [name for name in VARIABLES if not b[name].fixed and not (name == "diameter" and wheels)]
+    return SearchSpace(
+        continuous=tuple((name, float(b[name].low), float(b[name].high)) for name in free),
+        categorical=tuple((key, values) for key, values in choices.items() if values),
+    )
 
 
 def category_label(category: tuple) -> str:
