@@ -101,8 +101,7 @@ def _tighter_check(front: Front, tighter: Front) -> Check:
         speed = highest_critical_speed(tighter.problem)
         return check(
             got=f"not applicable: the tighter target is out of reach (highest {'V_c' if problem.risk is None else 'V_q'} "
-            f"{speed:.3f} m/s "
-            f"< {tighter.problem.required_speed:.3f} m/s required)",
+            f"{shown(speed, 'critical_speed')} < {shown(tighter.problem.required_speed, 'critical_speed')} required)",
             passed=True,
             detail=f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} "
             f"m/s: no design inside the bounds reaches it, so there is no tighter front to compare",

@@ -83,7 +83,6 @@ class Operators(Record):
                 crossover_prob=0.9,
                 mutation="random",
                 mutation_eta=float("nan"),
-                mutation_prob=None,
                 deduplicate=False,
             )
         if name != "tuned":
