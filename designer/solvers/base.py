@@ -191,18 +191,17 @@ class Designs(Record):
         """One row per ε: ``epsilon_N``, the design (``trail_m``, ``diameter_m``, ``groove_m``,
         ``damping_N_m_per_rad``), ``turning_effort_N``, ``threshold_force_N``, ``critical_speed_m_s``, ``success``
         and ``status``; units in ``df.attrs["units"]``."""
-        values = OBJECTIVES
         rows = [
             {
                 "epsilon_N": float(self.epsilon[i]),
                 **dict(zip(VARIABLES, (float(v) for v in self.designs[i]))),
-                **dict(zip(values, (float(v) for v in self.objectives[i]))),
+                **dict(zip(OBJECTIVES, (float(v) for v in self.objectives[i]))),
                 "success": bool(self.success[i]),
                 "status": self.status[i],
             }
             for i in range(len(self))
         ]
-        columns = ["epsilon_N", *VARIABLES, *values, "success", "status"]
+        columns = ["epsilon_N", *VARIABLES, *OBJECTIVES, "success", "status"]
         return si_frame("Designs.to_pandas", rows, columns, {"epsilon_N": "N"}, solver=self.solver)
 
     def design(self, i: int) -> Design:
