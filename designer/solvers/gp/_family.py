@@ -273,12 +273,10 @@ class _Family:
         out = {}
         step = 1e-5
         for pname, pvalue in self.params.items():
-            logs = []
-            for direction in (+1, -1):
-                params = dict(self.params)
-                params[pname] = pvalue * math.exp(direction * step)
-                logs.append(self._log_parts(x, _constants(self.problem, params, self.speed_factor)))
-            (j_p, g_p), (j_m, g_m) = logs
+            shifted = ({**self.params, pname: pvalue * math.exp(sign * step)} for sign in (+1, -1))
+            (j_p, g_p), (j_m, g_m) = (
+                self._log_parts(x, _constants(self.problem, q, self.speed_factor)) for q in shifted
+            )
             d = (j_p - j_m) / (2 * step)
             for name, value in g_p.items():
                 d += lam.get(name, 0.0) * (value - g_m[name]) / (2 * step)

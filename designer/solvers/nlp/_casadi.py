@@ -284,8 +284,7 @@ class CasterNLP:
         g = np.asarray(sol["g"]).ravel()
         viol = max(float(np.max(self.lbg - g)), float(np.max(g - self.ubg)), 0.0)
         success = bool(stats.get("success", False)) and viol <= 1e-6 and bool(np.all(np.isfinite(z)))
-        w = np.asarray(weights, float)
-        objective = self.weighted(design, w)
+        objective = self.weighted(design, weights)
         return NLPResult(
             design=design,
             success=success,
@@ -540,13 +539,10 @@ class CasterNLP:
         p = self.parameter_vector(weights, threshold_cap, turning_cap)
         z = result.z if result.z is not None else self.to_z(result.design)
         grad = np.asarray(self._dlag_dp(z, p, result.lam_g)).ravel()
-        w = np.asarray(weights, float)
-        f_scaled = self.weighted(result.design, w) / weighted(self.f_ref, self.p_ref, w)
-        out: dict[str, float] = {}
+        f_scaled = self.weighted(result.design, weights) / weighted(self.f_ref, self.p_ref, weights)
         if f_scaled <= 0:
-            return out
-        for i, name in enumerate(self.param_names):
-            out[name] = float(grad[i] * self.param_values[i] / f_scaled)
+            return {}
+        out = {name: float(g * v / f_scaled) for name, g, v in zip(self.param_names, grad, self.param_values)}
         for i, var in enumerate(VARIABLES):
             lam = result.lam_x[i]
             if abs(lam) < 1e-9 or self.lbz[i] == self.ubz[i]:
