@@ -364,15 +364,14 @@ class _Sweep:
             self._try(*extra)
         if families:
             switch = self._switches()
-            idx: list[int] = []
-            fam_starts: list[np.ndarray] = []
-            for i in sorted(set(range(0, self.k, self.stride)) | {self.k - 1} | switch):
-                point = self.best[i]
-                if point is not None:
-                    for s in _family_starts(self.problem, point.design):
-                        idx.append(i)
-                        fam_starts.append(s)
-            improved = self._try(idx, fam_starts)
+            coarse = sorted(set(range(0, self.k, self.stride)) | {self.k - 1} | switch)
+            restarts = [
+                (i, s)
+                for i in coarse
+                if (point := self.best[i]) is not None
+                for s in _family_starts(self.problem, point.design)
+            ]
+            improved = self._try([i for i, _ in restarts], [s for _, s in restarts])
             self._propagate(improved, self.stride)
         for _ in range(self.k):
             pairs = [(i, j) for i in self._switches() for j in (i - 1, i + 1) if 0 <= j < self.k]
@@ -401,21 +400,17 @@ class _Sweep:
 
     def _propagate_pairs(self, pairs: list[tuple[int, int]]) -> set[int]:
         """Re-solve point j warm from point i's optimum for each new (i, j) pair; the improved points."""
-        idx: list[int] = []
-        starts: list[np.ndarray] = []
-        lg: list[np.ndarray] = []
-        lx: list[np.ndarray] = []
+        chosen: list[tuple[int, NLPResult]] = []
         for i, j in pairs:
             source = self.best[i]
             key = (j, id(source))
             if source is None or key in self._tried or source is self.best[j]:
                 continue
             self._tried.add(key)
-            idx.append(j)
-            starts.append(source.design.as_array())
-            lg.append(source.lam_g)
-            lx.append(source.lam_x)
-        return self._try(idx, starts, np.array(lg), np.array(lx)) if idx else set()
+            chosen.append((j, source))
+        starts = np.array([r.design.as_array() for _, r in chosen])
+        lam_g, lam_x = np.array([r.lam_g for _, r in chosen]), np.array([r.lam_x for _, r in chosen])
+        return self._try([j for j, _ in chosen], starts, lam_g, lam_x) if chosen else set()
 
     def _try(
         self, idx: list[int], starts: npt.ArrayLike, lam_g: np.ndarray | None = None, lam_x: np.ndarray | None = None
