@@ -32,6 +32,7 @@ import numpy as np
 
 from designer.model import Design
 from designer.problem import Problem, family_of
+from designer.solvers.base import design_rows
 from designer.solvers.closed_form import CLOSED_FORM, structured_ends
 from designer.solvers.nlp._casadi import BIG, CasterNLP, NLPResult, best_starts, sample_designs
 
@@ -115,6 +116,12 @@ def _sample_starts(sample: Sample, eps_values: np.ndarray) -> np.ndarray:
     fallback = np.argmin(viol[None, :] + np.maximum(0.0, p[None, :] / eps - 1), axis=1)
     starts: np.ndarray = x[np.where(np.isfinite(score[np.arange(len(eps)), best]), best, fallback)]
     return starts
+
+
+def _warm(results: Sequence[NLPResult]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The warm starts NLP results give: their designs (N, 4) [SI] and multipliers (lam_g, lam_x)."""
+    lam_g, lam_x = np.array([r.lam_g for r in results]), np.array([r.lam_x for r in results])
+    return design_rows([r.design for r in results]), lam_g, lam_x
 
 
 def _rank(nlp: CasterNLP, result: NLPResult | None) -> float:
@@ -225,19 +232,7 @@ class NLPSweep:
             src.append(a)
             other.append(b if family(a) != family(b) else None)
         pairs = [(i, r) for i, r in enumerate(other) if r is not None]
-        extra = (
-            [i for i, _ in pairs],
-            np.array([r.design.as_array() for _, r in pairs]).reshape(-1, 4),
-            np.array([r.lam_g for _, r in pairs]),
-            np.array([r.lam_x for _, r in pairs]),
-        )
-        sweep.run(
-            np.array([r.design.as_array() for r in src]),
-            np.array([r.lam_g for r in src]),
-            np.array([r.lam_x for r in src]),
-            families=False,
-            extra=extra,
-        )
+        sweep.run(*_warm(src), families=False, extra=([i for i, _ in pairs], *_warm([r for _, r in pairs])))
 
     def sweep_from_sample(self, eps: np.ndarray) -> tuple[list[NLPResult], int]:
         """Best results at ``eps`` (all interior) from the sample starts, with family restarts and rescue."""
@@ -408,9 +403,7 @@ class _Sweep:
                 continue
             self._tried.add(key)
             chosen.append((j, source))
-        starts = np.array([r.design.as_array() for _, r in chosen])
-        lam_g, lam_x = np.array([r.lam_g for _, r in chosen]), np.array([r.lam_x for _, r in chosen])
-        return self._try([j for j, _ in chosen], starts, lam_g, lam_x) if chosen else set()
+        return self._try([j for j, _ in chosen], *_warm([r for _, r in chosen])) if chosen else set()
 
     def _try(
         self, idx: list[int], starts: npt.ArrayLike, lam_g: np.ndarray | None = None, lam_x: np.ndarray | None = None
