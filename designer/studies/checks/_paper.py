@@ -217,8 +217,8 @@ def check_monotonic(critical_speed: Model = critical_speed) -> Check:
     d = rng.uniform(4, 8, n) * INCH
     b = rng.uniform(0, 0.75, n) * INCH
     c = rng.uniform(1.3, 6, n)
-    law = PowerLaw()
-    i = law.constants()[0] * d ** law.constants()[1]
+    k, power = PowerLaw().constants()
+    i = k * d**power
     base = critical_speed(t, i, b, c)
     h = 1e-6
     results = {
@@ -226,7 +226,7 @@ def check_monotonic(critical_speed: Model = critical_speed) -> Check:
         "damping": np.all(critical_speed(t, i, b, c * (1 + h)) > base),
         "groove": np.all(critical_speed(t, i, b + h * INCH, c) > base),
         "inertia": np.all(critical_speed(t, i * (1 + h), b, c) < base),
-        "diameter": np.all(critical_speed(t, law.constants()[0] * (d * (1 + h)) ** law.constants()[1], b, c) < base),
+        "diameter": np.all(critical_speed(t, k * (d * (1 + h)) ** power, b, c) < base),
     }
     got = ", ".join(f"{k} {'ok' if v else 'FAILS'}" for k, v in results.items())
     return Check(

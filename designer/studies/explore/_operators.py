@@ -303,9 +303,7 @@ def _refine(sub: Problem, cat: tuple, front: list, nlps: dict) -> list:
 
     from designer.solvers.nlp import BIG, CasterNLP  # CasADi: the polish only, never a trial
 
-    if cat not in nlps:
-        nlps[cat] = CasterNLP(sub)
-    nlp = nlps[cat]
+    nlp = nlps.get(cat) or nlps.setdefault(cat, CasterNLP(sub))
     out = []
     for row in front:
         start = Design(*(row[v] for v in VARIABLES))
@@ -319,9 +317,8 @@ def _refine(sub: Problem, cat: tuple, front: list, nlps: dict) -> list:
             continue
         x = res.design.as_array()
         values = sub.evaluate(x[None, :]).row(0)
-        feasible = values.feasible
         better = values["turning_effort"] <= row["turning_effort"] * (1 + 1e-9)
-        if feasible and better and values["threshold_force"] <= row["threshold_force"] * (1 + 1e-9):
+        if values.feasible and better and values["threshold_force"] <= row["threshold_force"] * (1 + 1e-9):
             out.append(_row(cat, row["trial"], x, values, True))
         else:
             out.append(row)
