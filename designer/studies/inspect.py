@@ -201,8 +201,7 @@ def read_measured(path: Any, theta0: float) -> tuple[list[dict[str, Any]], list[
         raise InputError(f"{source}: empty file; expected a header row (designer inspect PROBLEM --template FILE)")
     columns = [_header(h, source) for h in header]
     names = [c[0] for c in columns]
-    need = ["trail", "groove", "wheel_inertia"]
-    missing = [n for n in need if n not in names]
+    missing = [n for n in ("trail", "groove", "wheel_inertia") if n not in names]
     if "friction_moment" not in names and "damping" not in names:
         missing.append("friction_moment")
     if missing:

@@ -73,7 +73,6 @@ def _shimmy_active_check(problem: Problem, pts: Sequence[FrontPoint], tol: float
         for x in pts
         if x.margins.get("shimmy", x.critical_speed - problem.required_speed) > tol * problem.required_speed
     ]
-    inactive = len(loose)
     offending = sum(
         not (x.design.groove <= lo.groove + 1e-9 and x.design.damping <= lo.damping * (1 + 1e-9)) for x in loose
     )
@@ -81,7 +80,7 @@ def _shimmy_active_check(problem: Problem, pts: Sequence[FrontPoint], tol: float
         name="8b shimmy active",
         claim="the shimmy constraint is active wherever it can be",
         expected="inactive only on bare-fork designs (no groove, no damper)",
-        got=f"{inactive} of {len(pts)} points inactive, {offending} of them with groove or damper",
+        got=f"{len(loose)} of {len(pts)} points inactive, {offending} of them with groove or damper",
         passed=offending == 0,
         detail="a groove or damper that is not needed for V_c only adds turning effort",
     )

@@ -367,7 +367,6 @@ def _optimise(problem: Problem, weights: Sequence[float] | None, cross_check: bo
     # the optimum by the model's evaluator; its risk (Monte Carlo at V_req) when the problem has a bound
     values = variant.evaluate(design, weights=w, risk=None if problem.risk is None else problem.required_speed)
     held = constraint_margins(variant, design, values)
-    margins, active = held.margins, held.active
     checks = {PRIMARY: values.weighted}
     t0 = time.perf_counter()
     if cross_check:
@@ -379,8 +378,8 @@ def _optimise(problem: Problem, weights: Sequence[float] | None, cross_check: bo
     return Solution(
         problem=variant if problem.wheels else problem,
         caster=values,
-        constraints=margins,
-        active=active,
+        constraints=held.margins,
+        active=held.active,
         sensitivities=dict(found.sensitivities),
         cross_check=checks,
         gp=None if gp is None else gp.result,
