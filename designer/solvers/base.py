@@ -124,6 +124,15 @@ class Optimum(Record):
     _units = {"objective": "N", "seconds": "s", "build_seconds": "s", "caps.threshold": "N", "caps.turning": "N"}
 
 
+OBJECTIVES = ("turning_effort", "threshold_force", "critical_speed")
+"""The columns of :attr:`Designs.objectives`: F_turn [N], P [N], V_c [m/s]."""
+
+
+def _span(values: np.ndarray) -> str:
+    """The range of ``values`` as text, "min – max" to 4 significant digits."""
+    return f"{float(np.min(values)):.4g} – {float(np.max(values)):.4g}"
+
+
 @dataclass(frozen=True, kw_only=True)
 class Designs(Record):
     """The ε-constraint optima of one continuous problem (built by keyword): one row per ε.
@@ -160,11 +169,9 @@ class Designs(Record):
 
     def _repr_lines(self) -> list[str]:
         """One line: the solver, how many ε-optima of how many rows were found, the ε range and the solves."""
-        eps = f", ε {float(np.min(self.epsilon)):.4g}–{float(np.max(self.epsilon)):.4g} N" if len(self) else ""
-        return [
-            f"Designs({self.solver}: {int(np.count_nonzero(self.success))} of {len(self)} ε-optima found{eps}, "
-            f"{self.solves} solves)"
-        ]
+        eps = f", ε {_span(self.epsilon)} N" if len(self) else ""
+        found = int(np.count_nonzero(self.success))
+        return [f"Designs({self.solver}: {found} of {len(self)} ε-optima found{eps}, {self.solves} solves)"]
 
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """The solver, how many ε-optima were found, the ε range and the ranges of F_turn and P found."""
@@ -175,31 +182,26 @@ class Designs(Record):
             ("solves", str(self.solves), ""),
         ]
         if len(self):
-            rows.append(("ε", f"{float(np.min(self.epsilon)):.4g} – {float(np.max(self.epsilon)):.4g}", "N"))
+            rows.append(("ε", _span(self.epsilon), "N"))
         if ok.any():
-            f, p = self.objectives[ok, 0], self.objectives[ok, 1]
-            rows += [
-                OUTPUTS["turning_effort"].row(f"{float(f.min()):.4g} – {float(f.max()):.4g}"),
-                OUTPUTS["threshold_force"].row(f"{float(p.min()):.4g} – {float(p.max()):.4g}"),
-            ]
+            rows += [OUTPUTS[k].row(_span(self.objectives[ok, i])) for i, k in enumerate(OBJECTIVES[:2])]
         return rows
 
     def to_pandas(self) -> Any:
         """One row per ε: ``epsilon_N``, the design (``trail_m``, ``diameter_m``, ``groove_m``,
         ``damping_N_m_per_rad``), ``turning_effort_N``, ``threshold_force_N``, ``critical_speed_m_s``, ``success``
         and ``status``; units in ``df.attrs["units"]``."""
-        values = ("turning_effort", "threshold_force", "critical_speed")
         rows = [
             {
                 "epsilon_N": float(self.epsilon[i]),
                 **dict(zip(VARIABLES, (float(v) for v in self.designs[i]))),
-                **dict(zip(values, (float(v) for v in self.objectives[i]))),
+                **dict(zip(OBJECTIVES, (float(v) for v in self.objectives[i]))),
                 "success": bool(self.success[i]),
                 "status": self.status[i],
             }
             for i in range(len(self))
         ]
-        columns = ["epsilon_N", *VARIABLES, *values, "success", "status"]
+        columns = ["epsilon_N", *VARIABLES, *OBJECTIVES, "success", "status"]
         return si_frame("Designs.to_pandas", rows, columns, {"epsilon_N": "N"}, solver=self.solver)
 
     def design(self, i: int) -> Design:
@@ -245,15 +247,18 @@ def weights_of(problem: Problem, weights: Sequence[float] | None) -> tuple[float
 
 def no_optimum(solver: str, problem: Problem, weights: tuple[float, float], caps: Caps, status: str) -> Optimum:
     """The :class:`Optimum` of a solver that found no feasible design."""
+    return found_optimum(solver, problem, weights, caps, None, status=status)
+
+
+def found_optimum(
+    solver: str, problem: Problem, weights: tuple[float, float], caps: Caps, design: Design | None, **fields: Any
+) -> Optimum:
+    """The :class:`Optimum` a solver found: ``design`` (None: no feasible design), its ``objective`` J [N] (nan
+    without a design) and the rest by keyword (``status`` "optimal" unless given)."""
+    fields.setdefault("objective", math.nan)
+    fields.setdefault("status", "optimal")
     return Optimum(
-        solver=solver,
-        problem=problem,
-        weights=weights,
-        caps=caps,
-        design=None,
-        objective=math.nan,
-        success=False,
-        status=status,
+        solver=solver, problem=problem, weights=weights, caps=caps, design=design, success=design is not None, **fields
     )
 
 
@@ -274,9 +279,7 @@ def best_variant(problem: Problem, solve: Callable[[Problem], Optimum]) -> Optim
 def optima_designs(solver: str, problem: Problem, eps: np.ndarray, found: Sequence[Optimum], **fields: Any) -> Designs:
     """The :class:`Designs` of one :class:`Optimum` per ε (``fields``: the rest, by keyword): a row without a design
     holds the box's upper corner; the objectives by :func:`objectives_of`."""
-    x = np.array(
-        [o.design.as_array() if o.design is not None else problem.upper().as_array() for o in found], float
-    ).reshape(-1, 4)
+    x = design_rows([problem.upper() if o.design is None else o.design for o in found])
     return Designs(
         solver=solver,
         epsilon=eps,
@@ -286,6 +289,11 @@ def optima_designs(solver: str, problem: Problem, eps: np.ndarray, found: Sequen
         status=tuple(o.status for o in found),
         **fields,
     )
+
+
+def design_rows(designs: Sequence[Design | npt.ArrayLike] | np.ndarray) -> np.ndarray:
+    """Designs (:class:`~designer.model.Design` or SI sequences) as an (N, 4) SI array, VARIABLES order."""
+    return np.array([np.asarray(d.as_array() if isinstance(d, Design) else d, float) for d in designs]).reshape(-1, 4)
 
 
 def wheel_of(problem: Problem) -> str | None:
@@ -299,12 +307,7 @@ def objectives_of(problem: Problem, x: np.ndarray) -> np.ndarray:
     non-finite where the model fails): the solvers' numeric check of their own optima."""
     c = problem.evaluate(np.asarray(x, float).reshape(-1, 4))
     n = len(c)
-    return np.column_stack(
-        [
-            np.broadcast_to(np.asarray(getattr(c, k), float), (n,))
-            for k in ("turning_effort", "threshold_force", "critical_speed")
-        ]
-    )
+    return np.column_stack([np.broadcast_to(np.asarray(getattr(c, k), float), (n,)) for k in OBJECTIVES])
 
 
 __all__ = [
@@ -316,7 +319,9 @@ __all__ = [
     "Optimum",
     "Solver",
     "best_variant",
+    "design_rows",
     "objectives_of",
+    "found_optimum",
     "no_optimum",
     "optima_designs",
     "weights_of",

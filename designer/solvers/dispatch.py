@@ -13,12 +13,13 @@ studies:
 
 from __future__ import annotations
 
+import importlib
 from typing import TYPE_CHECKING, Any
 
 from designer.errors import InputError
 from designer.problem import Problem
 from designer.solvers.base import Solver
-from designer.solvers.closed_form import CLOSED_FORM, applicable
+from designer.solvers.closed_form import applicable
 
 if TYPE_CHECKING:  # the NLP's class for the checker only: designer.solvers.nlp loads casadi
     from designer.solvers.nlp import NLPSolver
@@ -32,6 +33,14 @@ PRIMARY = "casadi-ipopt"
 CROSS_CHECKS = ("scipy-slsqp", "cvxpy-gp")
 """The solvers an optimum is cross-checked with (``optimise(cross_check=True)``), in the order reported."""
 
+_HOMES = {
+    "closed-form": ("designer.solvers.closed_form", "CLOSED_FORM"),
+    "casadi-ipopt": ("designer.solvers.nlp", "NLP"),
+    "cvxpy-gp": ("designer.solvers.gp", "GP"),
+    "scipy-slsqp": ("designer.solvers.slsqp", "SLSQP"),
+}
+"""Each solver's module and default instance (imported only when that solver is asked for)."""
+
 FRONT_STRATEGIES = ("auto", "nlp")
 """``pareto_front(strategy=...)``: "auto" (the NLP confirming the closed form where it applies) or "nlp"."""
 
@@ -42,23 +51,10 @@ def solver(name: str, **options: Any) -> Solver:
     With ``options`` a new instance of that solver with them (``samples`` for the NLP's sample of starts,
     ``random_starts`` and ``seed`` for SLSQP), else the shared default one.
     """
-    found: Solver
-    if name == "closed-form":
-        found = CLOSED_FORM
-    elif name == "casadi-ipopt":
-        from designer.solvers.nlp import NLP
-
-        found = NLP
-    elif name == "cvxpy-gp":
-        from designer.solvers.gp import GP
-
-        found = GP
-    elif name == "scipy-slsqp":
-        from designer.solvers.slsqp import SLSQP
-
-        found = SLSQP
-    else:
+    if name not in _HOMES:
         raise InputError(f"solver = {name!r}: expected one of {', '.join(SOLVERS)}")
+    module, instance = _HOMES[name]
+    found: Solver = getattr(importlib.import_module(module), instance)
     return type(found)(**options) if options else found
 
 

@@ -15,12 +15,20 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from scipy.optimize import minimize
 
-from designer.model import weighted
 from designer.errors import check_interrupt
-from designer.model import Design, performance
+from designer.model import Design, performance, weighted
 from designer.parameters import named
 from designer.problem import Problem
-from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, no_optimum, optima_designs, weights_of
+from designer.solvers.base import (
+    NO_CAPS,
+    Caps,
+    Designs,
+    Optimum,
+    best_variant,
+    found_optimum,
+    optima_designs,
+    weights_of,
+)
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -129,19 +137,9 @@ class SLSQPSolver:
             t0 = time.perf_counter()
             design, j = slsqp(variant, w, starts, self.random_starts, self.seed, caps.threshold, caps.turning)
             if design is None:
-                return no_optimum(self.name, variant, w, caps, "infeasible")
-            return Optimum(
-                solver=self.name,
-                problem=variant,
-                weights=w,
-                caps=caps,
-                design=design,
-                objective=j,
-                success=True,
-                status="optimal",
-                solves=len(starts) + self.random_starts,
-                seconds=time.perf_counter() - t0,
-            )
+                return found_optimum(self.name, variant, w, caps, None, status="infeasible")
+            solves, seconds = len(starts) + self.random_starts, time.perf_counter() - t0
+            return found_optimum(self.name, variant, w, caps, design, objective=j, solves=solves, seconds=seconds)
 
         return best_variant(problem, one)
 
@@ -157,3 +155,5 @@ class SLSQPSolver:
 
 SLSQP = SLSQPSolver()
 """SLSQP's :class:`~designer.solvers.base.Solver`."""
+
+__all__ = ["SLSQP", "SLSQPSolver", "slsqp"]

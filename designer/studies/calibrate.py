@@ -120,8 +120,7 @@ class CalibrationResult(Record):
     @property
     def y_unit(self) -> str:
         """Unit of the ordinate (and of ``rms``), from ``y_label``'s brackets, e.g. "N·m" or "m/s"."""
-        label = self.y_label
-        return label[label.rindex("[") + 1 : label.rindex("]")] if "[" in label and "]" in label else ""
+        return _bracketed(self.y_label)
 
     @property
     def residuals(self) -> np.ndarray:
@@ -136,8 +135,7 @@ class CalibrationResult(Record):
             {"x": float(a), "y": float(b), "fitted": float(c), "residual": float(b - c)}
             for a, b, c in zip(self.x, self.y, self.fitted)
         ]
-        x_unit = self.x_label[self.x_label.rindex("[") + 1 : self.x_label.rindex("]")] if "[" in self.x_label else ""
-        units = {"x": x_unit, "y": self.y_unit, "fitted": self.y_unit, "residual": self.y_unit}
+        units = {"x": _bracketed(self.x_label), "y": self.y_unit, "fitted": self.y_unit, "residual": self.y_unit}
         return dataframe("CalibrationResult.to_pandas", rows, ["x", "y", "fitted", "residual"], units, **self.to_dict())
 
     def snippet(self) -> str:
@@ -167,6 +165,11 @@ class CalibrationResult(Record):
                 f'[turning]\nbare_fork_damping = "{self.value:.6g} N*m/rad"\n'
             )
         raise ValueError(self.kind)
+
+
+def _bracketed(label: str) -> str:
+    """The unit in an axis label's last brackets ("caster load L [N]" -> "N"; "" without brackets)."""
+    return label[label.rindex("[") + 1 : label.rindex("]")] if "[" in label and "]" in label else ""
 
 
 # ---------------------------------------------------------------------------
@@ -234,14 +237,17 @@ def read_columns(
     return {c: np.asarray(v, dtype=float) for c, v in data.items()}
 
 
-def _require(path: str | Path, name: str, values: np.ndarray, allow_zero: bool = False) -> None:
-    bad = (values < 0) if allow_zero else (values <= 0)
+def _refuse_rows(path: str | Path, name: str, values: np.ndarray, bad: np.ndarray, reason: str) -> None:
+    """InputError naming the row and column of the first ``bad`` value: "<value> <reason>"."""
     if bad.any():
-        row = int(np.argmax(bad)) + 2
-        raise InputError(
-            f"{path}: row {row}, column {name!r}: {values[row - 2]:g} must be "
-            f"{'non-negative' if allow_zero else 'positive'}"
-        )
+        row = int(np.argmax(bad))
+        raise InputError(f"{path}: row {row + 2}, column {name!r}: {values[row]:g} {reason}")
+
+
+def _require(path: str | Path, name: str, values: np.ndarray, allow_zero: bool = False) -> None:
+    """InputError at the first value of column ``name`` that is not positive (negative, with ``allow_zero``)."""
+    bad = (values < 0) if allow_zero else (values <= 0)
+    _refuse_rows(path, name, values, bad, f"must be {'non-negative' if allow_zero else 'positive'}")
 
 
 COLUMN_RANGES: dict[str, tuple[str, bool]] = {
@@ -264,12 +270,8 @@ def _in_model_range(path: str | Path, name: str, values: np.ndarray) -> None:
     assert p.range is not None
     low, high = p.range
     bad = ((values <= low) if exclusive else (values < low)) | (values > high)
-    if bad.any():
-        row = int(np.argmax(bad))
-        raise InputError(
-            f"{path}: row {row + 2}, column {name!r}: {values[row]:g} {p.unit} is outside the model's range "
-            f"{low:g}{' (exclusive)' if exclusive else ''} to {high:g} {p.unit} ({p.description}; wrong unit?)"
-        )
+    reason = f"{low:g}{' (exclusive)' if exclusive else ''} to {high:g} {p.unit} ({p.description}; wrong unit?)"
+    _refuse_rows(path, name, values, bad, f"{p.unit} is outside the model's range {reason}")
 
 
 def _check_result(value: float, stderr: float, constant: str, columns: str, source: str, scale: float = 1.0) -> None:
@@ -316,27 +318,33 @@ def _result(
     )
 
 
-def _through_origin(x: np.ndarray, y: np.ndarray, columns: str, source: str) -> tuple[float, float]:
-    """Slope k of y = k x by least squares (scipy ``curve_fit``) and its standard error (inf when the
-    covariance cannot be estimated); InputError naming the abscissa column when every value of it is 0.
+def _through_origin(
+    x_data: npt.ArrayLike, y_data: npt.ArrayLike, columns: str, source: str, constant: str, scale: float, **fields: Any
+) -> CalibrationResult:
+    """The fit of y = k x: slope k by least squares (scipy ``curve_fit``) and its standard error (inf when the
+    covariance cannot be estimated), checked against the parameter table's range of ``constant`` (``scale``
+    times it, :func:`_check_result`); InputError naming the abscissa column when every value of it is 0.
 
     Fitted on x and y divided by their largest magnitudes, so that values near the ends of the floating-point
     range neither overflow nor underflow when squared."""
+    x, y = np.asarray(x_data, float), np.asarray(y_data, float)
     x_scale, y_scale = float(np.max(np.abs(x))), float(np.max(np.abs(y)))
     if x_scale == 0:
         raise InputError(
             f"{source + ': ' if source else ''}column {columns.split(' against ')[-1]}: every value is 0; "
             "a slope through the origin needs non-zero values"
         )
-    if y_scale == 0:
-        return 0.0, 0.0
-    xs, ys = x / x_scale, y / y_scale
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")  # a degenerate covariance shows as a non-finite standard error
-        popt, pcov = curve_fit(lambda xx, k: k * xx, xs, ys, p0=[float(np.sum(xs * ys) / np.sum(xs * xs))])
-    variance = float(pcov[0, 0])
-    factor = y_scale / x_scale  # inf beyond the float range: refused by the range check
-    return float(popt[0]) * factor, (math.sqrt(variance) * factor if variance >= 0 else math.inf)
+    k = se = 0.0
+    if y_scale > 0:
+        xs, ys = x / x_scale, y / y_scale
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")  # a degenerate covariance shows as a non-finite standard error
+            popt, pcov = curve_fit(lambda xx, k: k * xx, xs, ys, p0=[float(np.sum(xs * ys) / np.sum(xs * xs))])
+        variance = float(pcov[0, 0])
+        factor = y_scale / x_scale  # inf beyond the float range: refused by the range check
+        k, se = float(popt[0]) * factor, (math.sqrt(variance) * factor if variance >= 0 else math.inf)
+    _check_result(k, se, constant, columns, source, scale)
+    return _result(k, se, x, y, k * x, **fields)
 
 
 def fit_turning(
@@ -361,18 +369,14 @@ def fit_turning(
         The slope is not finite, not determined, or outside the parameter table's range of the key the
         snippet writes (``tile_moment_per_load``, or ``carpet_factor`` for carpet).
     """
-    x, y = np.asarray(load, float), np.asarray(moment, float)
-    columns = "'moment_Nm' against 'load_N'"
-    k, se = _through_origin(x, y, columns, source)
     carpet = surface == "carpet"  # the snippet writes the carpet factor k / k_tile
-    constant = "carpet_factor" if carpet else "tile_moment_per_load"
-    _check_result(k, se, constant, columns, source, scale=DEFAULT_TURNING.tile_moment_per_load if carpet else 1.0)
-    return _result(
-        k,
-        se,
-        x,
-        y,
-        k * x,
+    return _through_origin(
+        load,
+        moment,
+        "'moment_Nm' against 'load_N'",
+        source,
+        "carpet_factor" if carpet else "tile_moment_per_load",
+        DEFAULT_TURNING.tile_moment_per_load if carpet else 1.0,
         kind="turning",
         name="tile_moment_per_load" if surface == "tile" else "carpet_moment_per_load",
         unit="m",
@@ -492,16 +496,13 @@ def fit_slip(slip_ratio: npt.ArrayLike, force: npt.ArrayLike, source: str = "") 
         Every slip ratio 0, or K_s not finite, not determined or outside the parameter table's range
         (1 N to 1 MN).
     """
-    x, y = np.asarray(slip_ratio, float), np.asarray(force, float)
-    columns = "'force_N' against 'slip_ratio'"
-    k, se = _through_origin(x, y, columns, source)
-    _check_result(k, se, "slip_coefficient", columns, source)
-    return _result(
-        k,
-        se,
-        x,
-        y,
-        k * x,
+    return _through_origin(
+        slip_ratio,
+        force,
+        "'force_N' against 'slip_ratio'",
+        source,
+        "slip_coefficient",
+        1.0,
         kind="slip",
         name="slip_coefficient",
         unit="N",
@@ -528,10 +529,8 @@ def calibrate_file(
         return fit_turning(d["load_N"], d["moment_Nm"], surface=surface, source=str(path))
     if kind == "damping":
         d = read_columns(path, ("trail_m", "inertia_kgm2", "critical_speed_mps"), optional=("groove_m",))
-        for col in ("trail_m", "inertia_kgm2", "critical_speed_mps"):
-            _require(path, col, d[col])
-        if "groove_m" in d:
-            _require(path, "groove_m", d["groove_m"], allow_zero=True)
+        for col in d:  # the required columns, then the groove when given
+            _require(path, col, d[col], allow_zero=col == "groove_m")
         for col in d:
             _in_model_range(path, col, d[col])
         low, high = PARAMETERS["slip_coefficient"].range or (0.0, math.inf)
@@ -549,13 +548,9 @@ def calibrate_file(
         )
     if kind == "slip":
         d = read_columns(path, ("slip_ratio", "force_N"))
-        ratio = d["slip_ratio"]
-        if (np.abs(ratio) > SLIP_RATIO_MAX).any():
-            row = int(np.argmax(np.abs(ratio) > SLIP_RATIO_MAX))
-            raise InputError(
-                f"{path}: row {row + 2}, column 'slip_ratio': {ratio[row]:g} is not a ratio ΔV/V between "
-                f"-{SLIP_RATIO_MAX:g} and {SLIP_RATIO_MAX:g} (was it given in percent?)"
-            )
+        ratio, limit = d["slip_ratio"], SLIP_RATIO_MAX
+        reason = f"is not a ratio ΔV/V between -{limit:g} and {limit:g} (was it given in percent?)"
+        _refuse_rows(path, "slip_ratio", ratio, np.abs(ratio) > limit, reason)
         return fit_slip(ratio, d["force_N"], source=str(path))
     raise InputError(f"calibration {kind!r}: expected turning, damping or slip")
 

@@ -36,6 +36,13 @@ def _bare_fork_speed(trail, inertia) -> Any:
     return critical_speed(trail, inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT)
 
 
+def _wheel(w: Any) -> dict[str, Any]:
+    """A Table 1 wheel of the figures: ``key``, ``name``, ``inertia`` [kg·m²], ``measured`` (its V_c at 2 in
+    [m/s], None: stable to the treadmill's limit) and ``eq7`` (Eq. 7's V_c at 2 in [m/s])."""
+    eq7 = float(_bare_fork_speed(TABLE1_TRAIL, w.inertia))
+    return {"key": w.key, "name": w.name, "inertia": w.inertia, "measured": w.critical_speed, "eq7": eq7}
+
+
 def trail_curves() -> dict[str, Any]:
     """Fig. 14: V_c [m/s] against trail T [m] (0.5–3 in) for each Table 1 wheel, B = 0, bare fork.
 
@@ -43,35 +50,24 @@ def trail_curves() -> dict[str, Any]:
     None: stable to the treadmill's limit), "speeds" [m/s] along ``trail``, "eq7" (Eq. 7 at 2 in [m/s])}]}``.
     """
     trail = np.linspace(0.5, 3.0, 200) * INCH
-    wheels = [
-        {
-            "key": w.key,
-            "name": w.name,
-            "inertia": w.inertia,
-            "measured": w.critical_speed,
-            "speeds": _bare_fork_speed(trail, w.inertia),
-            "eq7": float(_bare_fork_speed(TABLE1_TRAIL, w.inertia)),
-        }
-        for w in TABLE1
-    ]
-    return {"trail": trail, "wheels": wheels}
+    return {"trail": trail, "wheels": [_wheel(w) | {"speeds": _bare_fork_speed(trail, w.inertia)} for w in TABLE1]}
 
 
 def inertia_curve() -> dict[str, Any]:
     """Fig. 15: V_c [m/s] against wheel inertia I_w [kg·m²] (0.1e-3 to 3.8e-3) at 2 in trail, B = 0, bare fork,
     with the Table 1 wheels (as in :func:`trail_curves`, without the curves of each)."""
     inertia = np.linspace(0.1e-3, 3.8e-3, 300)
-    wheels = [
-        {"key": w.key, "name": w.name, "inertia": w.inertia, "measured": w.critical_speed}
-        | {"eq7": float(_bare_fork_speed(TABLE1_TRAIL, w.inertia))}
-        for w in TABLE1
-    ]
-    return {"inertia": inertia, "speeds": _bare_fork_speed(TABLE1_TRAIL, inertia), "wheels": wheels}
+    return {
+        "inertia": inertia,
+        "speeds": _bare_fork_speed(TABLE1_TRAIL, inertia),
+        "wheels": [_wheel(w) for w in TABLE1],
+    }
 
 
 def sill_ratio(diameter, height: float) -> np.ndarray:
-    """P/L of Eq. 4A [-] for wheels of ``diameter`` [m] at a sill of ``height`` [m], by the model's evaluator."""
-    d = np.atleast_1d(np.asarray(diameter, float))
+    """P/L of Eq. 4A [-] for wheels of ``diameter`` [m] (a number or an array, the shape kept) at a sill of
+    ``height`` [m], by the model's evaluator: what the tool uses (check 7 verifies it)."""
+    d = np.asarray(diameter, float)
     design = {"trail": np.full(d.shape, 0.05), "diameter": d, "groove": np.zeros(d.shape), "damping": np.ones(d.shape)}
     ratio: np.ndarray = evaluate(
         design, Conditions(load=1.0, threshold_height=height), inertia=1e-3
@@ -120,12 +116,7 @@ def groove_damper_plane(design, conditions: Conditions, bounds) -> dict[str, Any
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InertiaExtrapolationWarning)
         values = performance(design.trail, design.diameter, G, C, conditions)
-    return {
-        "groove": G,
-        "damping": C,
-        "turning_effort": values["turning_effort"],
-        "critical_speed": values["critical_speed"],
-    }
+    return {"groove": G, "damping": C, **{k: values[k] for k in ("turning_effort", "critical_speed")}}
 
 
 def report_curves(problem, front, design=None, conditions=None) -> dict[str, Any]:

@@ -201,8 +201,7 @@ def read_measured(path: Any, theta0: float) -> tuple[list[dict[str, Any]], list[
         raise InputError(f"{source}: empty file; expected a header row (designer inspect PROBLEM --template FILE)")
     columns = [_header(h, source) for h in header]
     names = [c[0] for c in columns]
-    need = ["trail", "groove", "wheel_inertia"]
-    missing = [n for n in need if n not in names]
+    missing = [n for n in ("trail", "groove", "wheel_inertia") if n not in names]
     if "friction_moment" not in names and "damping" not in names:
         missing.append("friction_moment")
     if missing:
@@ -277,7 +276,6 @@ def inspect(problem: Problem, table: Any, rec: Recommendation | None = None) -> 
         r_max = problem.swept_radius_max
         for i, r in enumerate(rows):
             p = float(prob[0, i])
-            drop = [p - float(prob[1 + k, i]) for k in range(len(PARTS))]
             parts = {k: r[k] for k in (*PARTS, "diameter") if k in r}
             fits = (
                 None
@@ -293,7 +291,7 @@ def inspect(problem: Problem, table: Any, rec: Recommendation | None = None) -> 
                     parts=parts,
                     shimmy_probability=p,
                     passed=p <= alpha,
-                    driver=PARTS[int(np.argmax(drop))],
+                    driver=PARTS[int(np.argmax(p - prob[1:, i]))],  # the part whose nominal lowers P most
                     fits_footrest=fits,
                     in_joint_box=bool(box),
                     in_one_at_a_time=bool(one),

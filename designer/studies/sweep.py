@@ -50,12 +50,8 @@ def speed_sweeps(problem, design: Design, inertia: float | None = None, measured
             inertia=np.full(x.shape, float(inertia)) if own else None,
             measured=np.full(x.shape, bool(measured)) if own else None,
         )
-        out[name] = {
-            "x": x,
-            "critical_speed": np.asarray(values.critical_speed, float),
-            "confident_speed": np.asarray(values.confident_speed, float),
-            "value": value,
-        }
+        speeds = {k: np.asarray(values[k], float) for k in ("critical_speed", "confident_speed")}
+        out[name] = {"x": x, **speeds, "value": value}
     return out
 
 

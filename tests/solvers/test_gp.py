@@ -223,15 +223,16 @@ def test_threshold_cap_is_conservative_and_active():
 
 
 def test_infeasible_target_raises_and_starts_are_cheap():
-    """An unreachable target speed raises InfeasibleError (one line naming the speed) and gp_starts gives [];
-    gp_starts(max_iterations=1) returns one feasible start per family of a reachable problem."""
+    """An unreachable target speed raises InfeasibleError (one line naming the speed) and the GP solver's optimum
+    is a failure with no design (no NLP starts); solve_gp(max_iterations=1) gives one feasible design per family
+    of a reachable problem (the NLP starts ``optimise`` takes from ``result.designs``)."""
     from designer.errors import InfeasibleError
 
     problem = _problem("sports-court")
     with pytest.raises(InfeasibleError, match="target speed"):
         gp.solve_gp(problem.replace(target_speed=40.0))
-    assert gp.gp_starts(problem.replace(target_speed=40.0)) == []
-    starts = gp.gp_starts(problem, max_iterations=1)
+    assert gp.GP.optimum(problem.replace(target_speed=40.0)).design is None
+    starts = [d.as_array() for d in gp.solve_gp(problem, max_iterations=1).designs.values()]
     assert len(starts) == 4
     for x in starts:
         v = _quiet_perf(Design.from_array(x), problem.conditions)

@@ -83,8 +83,8 @@ def test_optimum_with_the_fronts_build_equals_a_fresh_build(problem, monkeypatch
 
 def test_check_8c_batch_screen_agrees_with_single_solves(problem, monkeypatch):
     """Check 8c's warm batched screen (checks._front._dominated_in_batch) finds every point of the tighter front
-    dominated, as the single cold solves do; a point at half its F_turn (below the optimum) is not screened and is
-    counted as not dominated by the single solves."""
+    dominated, as the cold solves do; a point at half its F_turn (below the optimum) is not screened and is
+    counted as not dominated by the cold solves."""
     import dataclasses
     from types import SimpleNamespace
 
@@ -101,7 +101,9 @@ def test_check_8c_batch_screen_agrees_with_single_solves(problem, monkeypatch):
     mixed = SimpleNamespace(points=points[:3] + [cheaper])
     assert checks_front._dominated_in_batch(problem, mixed.points, 1e-7) == {0, 1, 2}
     assert checks.dominated_by_problem(problem, mixed) == (1, 4)
-    monkeypatch.setattr(checks_front, "_dominated_in_batch", lambda *args: set())  # the single solves alone
+    batch = checks_front._dominated_in_batch
+    cold = lambda *args, warm=True, skip=None: batch(*args, warm=False, skip=skip) if not warm else set()  # noqa: E731
+    monkeypatch.setattr(checks_front, "_dominated_in_batch", cold)  # the cold solves alone
     assert checks.dominated_by_problem(problem, tighter) == (0, 7)
     assert checks.dominated_by_problem(problem, mixed) == (1, 4)
 

@@ -460,7 +460,7 @@ def test_8a_records_pinned(indoor):
         "expected": "d and F_turn non-decreasing as P falls",
         "got": "0 diameter and 0 effort reversals in 3 points",
         "passed": True,
-        "detail": "d 5.00–7.00 in, F_turn 9.000–11.000 N",
+        "detail": "d 5.000–7.000 in, F_turn 9.000–11.000 N",
         "kind": "front",
         "outcome": ck.REPRODUCED,
         "disagreements": [],

@@ -7,7 +7,7 @@ load this package only when a GP runs.
 
 Modules
 -------
-_solve   :func:`solve_gp`, :func:`polish`, :func:`gp_starts`, :class:`GPResult`; :class:`GPSolver`, the GP as a solver
+_solve   :func:`solve_gp`, :func:`polish`, :class:`GPResult`; :class:`GPSolver`, the GP as a solver
          of the protocol (:mod:`designer.solvers.base`)
 _family  one design family (groove, damper, both, neither) as a GP
 _terms   the posynomial terms of the objectives and constraints
@@ -15,6 +15,6 @@ _terms   the posynomial terms of the objectives and constraints
 
 from __future__ import annotations
 
-from designer.solvers.gp._solve import GP, GPResult, GPSolver, exact_objective, gp_starts, polish, solve_gp
+from designer.solvers.gp._solve import GP, GPResult, GPSolver, polish, solve_gp
 
-__all__ = ["GP", "GPResult", "GPSolver", "exact_objective", "gp_starts", "polish", "solve_gp"]
+__all__ = ["GP", "GPResult", "GPSolver", "polish", "solve_gp"]

@@ -188,23 +188,19 @@ class _Family:
 
     def solve_once(self) -> tuple[str, dict[str, float] | None, float]:
         self.solves += 1
-        try:
-            return self._solve_once()
-        finally:
-            check_interrupt()  # Clarabel runs in Rust: the SIGINT flag
-
-    def _solve_once(self) -> tuple[str, dict[str, float] | None, float]:
         with warnings.catch_warnings():
             # "may be inaccurate": Clarabel stopped short of the tight tolerances above;
             # such a point is still checked against the exact model by the caller
             warnings.simplefilter("ignore", UserWarning)
             try:
-                self.cp_problem.solve(gp=True, solver=cp.CLARABEL, **SOLVER_OPTIONS)
-            except cp.error.SolverError:
                 try:
-                    self.cp_problem.solve(gp=True, solver=cp.CLARABEL)
+                    self.cp_problem.solve(gp=True, solver=cp.CLARABEL, **SOLVER_OPTIONS)
                 except cp.error.SolverError:
-                    return "solver_error", None, math.nan
+                    self.cp_problem.solve(gp=True, solver=cp.CLARABEL)
+            except cp.error.SolverError:
+                return "solver_error", None, math.nan
+            finally:
+                check_interrupt()  # Clarabel runs in Rust: the SIGINT flag
         status = str(self.cp_problem.status)
         if status not in _OK:
             return status, None, math.nan
@@ -213,23 +209,16 @@ class _Family:
 
     def start_points(self) -> list[dict[str, float]]:
         """SGP starts: the corner that maximises the shimmy right side, and the geometric centre."""
-        starts: list[dict[str, float]] = []
         corner: dict[str, float] = {}
-        for k in self.variables:
-            lo, hi = self.box[k]
-            lo = lo if lo > 0 else self.floor[k]
-            corner[k] = lo if k == "diameter" else hi
-        if "trail" in corner and self.constants.swept_radius_max is not None:
-            d = self.full(corner)["diameter"]
-            corner["trail"] = float(np.clip(self.constants.swept_radius_max - d / 2, *self.box["trail"]))
-        starts.append(corner)
         centre: dict[str, float] = {}
         for k in self.variables:
             lo, hi = self.box[k]
-            lo = lo if lo > 0 else self.floor[k] * 1e3
-            centre[k] = math.sqrt(lo * hi)
-        starts.append(centre)
-        return starts
+            corner[k] = hi if k != "diameter" else lo if lo > 0 else self.floor[k]
+            centre[k] = math.sqrt((lo if lo > 0 else self.floor[k] * 1e3) * hi)
+        if "trail" in corner and self.constants.swept_radius_max is not None:
+            d = self.full(corner)["diameter"]
+            corner["trail"] = float(np.clip(self.constants.swept_radius_max - d / 2, *self.box["trail"]))
+        return [corner, centre]
 
     def run(
         self,
@@ -284,12 +273,10 @@ class _Family:
         out = {}
         step = 1e-5
         for pname, pvalue in self.params.items():
-            logs = []
-            for direction in (+1, -1):
-                params = dict(self.params)
-                params[pname] = pvalue * math.exp(direction * step)
-                logs.append(self._log_parts(x, _constants(self.problem, params, self.speed_factor)))
-            (j_p, g_p), (j_m, g_m) = logs
+            shifted = ({**self.params, pname: pvalue * math.exp(sign * step)} for sign in (+1, -1))
+            (j_p, g_p), (j_m, g_m) = (
+                self._log_parts(x, _constants(self.problem, q, self.speed_factor)) for q in shifted
+            )
             d = (j_p - j_m) / (2 * step)
             for name, value in g_p.items():
                 d += lam.get(name, 0.0) * (value - g_m[name]) / (2 * step)

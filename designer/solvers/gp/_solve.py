@@ -58,28 +58,27 @@ the GP holds c_d = c_f − c_0 (its variable) when c_0 changes, so its
 ``bare_fork_damping`` sensitivity equals the NLP's ``bare_fork_damping`` plus
 ``damping.min`` when the damping bound sits at c_0.
 
-Public API: :func:`solve_gp`, :class:`GPResult`, :func:`polish`,
-:func:`gp_starts` (cheap NLP starts).  The terms are in :mod:`designer.solvers.gp._terms`, one family's
-sequential GP and duals in :mod:`designer.solvers.gp._family`.
+Public API: :func:`solve_gp`, :class:`GPResult` (its ``designs``: NLP starts), :func:`polish`.
+The terms are in :mod:`designer.solvers.gp._terms`, one family's sequential GP and duals in
+:mod:`designer.solvers.gp._family`.
 """
 
 from __future__ import annotations
 
 import math
 import time
-import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from designer.model import Design, performance, weighted
+from designer.model import Design
 from designer.physics.threshold import threshold_force_ratio, threshold_series_remainder_bound
 from designer.problem import Problem
 from designer.errors import InfeasibleError
 from designer.reprs import Record
-from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, no_optimum, optima_designs, weights_of, wheel_of
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, found_optimum, optima_designs, weights_of, wheel_of
 from designer.solvers.nlp import BIG, CasterNLP
 from designer.solvers.gp._family import MAX_ITERATIONS, _Family
 from designer.solvers.gp._terms import series_order
@@ -87,7 +86,7 @@ from designer.solvers.gp._terms import series_order
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
 
-__all__ = ["GP", "GPResult", "GPSolver", "exact_objective", "gp_starts", "polish", "solve_gp"]
+__all__ = ["GP", "GPResult", "GPSolver", "polish", "solve_gp"]
 
 # --------------------------------------------------------------------------- result
 
@@ -155,14 +154,6 @@ def _families(problem: Problem) -> list[tuple[bool, bool]]:
     return [(g, c) for c in damper_options for g in groove_options]
 
 
-def exact_objective(problem: Problem, design: Design, weights: Sequence[float]) -> float:
-    """J = w_turn F_turn + w_threshold P [N] with the exact model (:func:`designer.model._caster.performance`)."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)
-        v = performance(design.trail, design.diameter, design.groove, design.damping, problem.conditions)
-    return float(weighted(v["turning_effort"], v["threshold_force"], weights))
-
-
 def _solve_continuous(
     problem: Problem,
     weights: tuple[float, float],
@@ -190,7 +181,7 @@ def _solve_continuous(
         if best is not None:
             row["status"], values, j, row["iterations"], duals = best
             row["design"] = design = fam.design(values)
-            row.update(gp_objective=j, objective=exact_objective(problem, design, weights), duals=duals or {})
+            row.update(gp_objective=j, objective=float(problem.evaluate(design).J(weights)), duals=duals or {})
         rows.append(row)
     return rows
 
@@ -292,27 +283,6 @@ def _infeasible(problem: Problem, threshold_cap: float | None, turning_cap: floa
     )
 
 
-def gp_starts(
-    problem: Problem,
-    weights: Sequence[float] | None = None,
-    threshold_cap: float | None = None,
-    max_iterations: int = MAX_ITERATIONS,
-) -> list[np.ndarray]:
-    """Each feasible family's GP design as an NLP start (SI arrays, VARIABLES order).
-
-    Pass a continuous problem (one catalog variant) to get starts for its NLP.
-    ``max_iterations=1`` is the cheapest (one GP per family and start, already
-    feasible for the exact model); the default runs the SGP to convergence.
-    Returns an empty list if no family is feasible.
-    """
-
-    try:
-        result = solve_gp(problem, weights, threshold_cap, max_iterations=max_iterations)
-    except InfeasibleError:
-        return []
-    return [d.as_array() for d in result.designs.values()]
-
-
 def polish(
     problem: Problem, gp_result: GPResult, weights: Sequence[float] | None = None, threshold_cap: float | None = None
 ) -> tuple[Design, float]:
@@ -342,9 +312,9 @@ def polish(
         )
     nlp = CasterNLP(variant)
     result = nlp.solve(gp_result.design, w, BIG if threshold_cap is None else threshold_cap)
-    best = (gp_result.design, exact_objective(variant, gp_result.design, w))
+    best = (gp_result.design, float(variant.evaluate(gp_result.design).J(w)))
     if result.success:
-        j = exact_objective(variant, result.design, w)
+        j = float(variant.evaluate(result.design).J(w))
         if j <= best[1]:
             best = (result.design, j)
     return best
@@ -381,15 +351,14 @@ class GPSolver:
         try:
             r = solve_gp(problem, w, caps.threshold, turning_cap=caps.turning)
         except InfeasibleError:
-            return no_optimum(self.name, problem, w, caps, "infeasible")
-        return Optimum(
-            solver=self.name,
-            problem=r.problem if r.problem is not None else problem,
-            weights=w,
-            caps=caps,
-            design=r.design,
+            return found_optimum(self.name, problem, w, caps, None, status="infeasible")
+        return found_optimum(
+            self.name,
+            r.problem if r.problem is not None else problem,
+            w,
+            caps,
+            r.design,
             objective=r.objective,
-            success=True,
             status=r.status,
             wheel=r.wheel,
             sensitivities=dict(r.duals),
@@ -402,10 +371,8 @@ class GPSolver:
         """min F_turn s.t. P <= ε by :func:`solve_gp` at each ε of a continuous problem."""
         e = np.asarray(eps, float).ravel()
         found = [self.optimum(problem, (1.0, 0.0), Caps(threshold=float(cap))) for cap in e]
-        multipliers = tuple(o.sensitivities for o in found)
-        return optima_designs(
-            self.name, problem, e, found, multipliers=multipliers, solves=sum(o.solves for o in found)
-        )
+        multipliers, solves = tuple(o.sensitivities for o in found), sum(o.solves for o in found)
+        return optima_designs(self.name, problem, e, found, multipliers=multipliers, solves=solves)
 
 
 GP = GPSolver()

@@ -13,7 +13,7 @@ _solver  :class:`NLPSolver`, the NLP as a solver of the protocol (:mod:`designer
 
 from __future__ import annotations
 
-from designer.solvers.nlp._cache import SHARED, SHARED_SIZE, shared_nlp, structure_key
+from designer.solvers.nlp._cache import SHARED, shared_nlp, structure_key
 from designer.solvers.nlp._casadi import (
     BIG,
     PARAMETER_INFO,
@@ -26,8 +26,8 @@ from designer.solvers.nlp._casadi import (
     sample_designs,
     solve_best,
 )
-from designer.solvers.nlp._solver import NLP, NLPSolver, nlp_designs
-from designer.solvers.nlp._sweep import Ends, NLPSweep, StructuredSweep, box_sample, lexicographic_ends
+from designer.solvers.nlp._solver import NLP, NLPSolver
+from designer.solvers.nlp._sweep import Ends, box_sample, lexicographic_ends
 
 __all__ = [
     "BIG",
@@ -35,19 +35,15 @@ __all__ = [
     "PARAMETER_INFO",
     "QUIET",
     "SHARED",
-    "SHARED_SIZE",
     "SOBOL_FILE",
     "CasterNLP",
     "Ends",
     "NLPResult",
     "NLPSolver",
-    "NLPSweep",
-    "StructuredSweep",
     "best_starts",
     "box_sample",
     "lexicographic_ends",
     "max_critical_speed",
-    "nlp_designs",
     "sample_designs",
     "shared_nlp",
     "solve_best",

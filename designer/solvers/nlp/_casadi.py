@@ -29,13 +29,13 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
-from designer.model import weighted
 from designer import parameters
 from designer.errors import check_interrupt
-from designer.model import VARIABLES, Design, performance
+from designer.model import VARIABLES, Design, performance, weighted
 from designer.physics import enable_casadi
 from designer.problem import Problem
 from designer.reprs import Record
+from designer.solvers.base import design_rows
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
@@ -162,8 +162,7 @@ class CasterNLP:
             [perf["turning_effort"], perf["threshold_force"], perf["critical_speed"], perf["swept_radius"]],
         )
         # references for scaling, at the centre of the box
-        f_ref, p_ref = self.references()
-        self.f_ref, self.p_ref = f_ref, p_ref
+        self.f_ref, self.p_ref = f_ref, p_ref = self.references()
         v_req = (1 + problem.margin) * psym[self.param_names.index("target_speed")]
         # J = w_turn F + w_thr P, divided by its value at the box centre so IPOPT sees O(1)
         objective = weighted(perf["turning_effort"], perf["threshold_force"], w) / weighted(f_ref, p_ref, w)
@@ -254,8 +253,7 @@ class CasterNLP:
     # ----------------------------------------------------------------- solving
     def to_z(self, design: Design | npt.ArrayLike) -> np.ndarray:
         """Scaled variables of a design (clipped into the box)."""
-        arr = design.as_array() if isinstance(design, Design) else np.asarray(design, float)
-        z: np.ndarray = np.clip(arr / self.scale, self.lbz, self.ubz)
+        z: np.ndarray = np.clip(design_rows([design])[0] / self.scale, self.lbz, self.ubz)
         return z
 
     def solve(
@@ -286,8 +284,7 @@ class CasterNLP:
         g = np.asarray(sol["g"]).ravel()
         viol = max(float(np.max(self.lbg - g)), float(np.max(g - self.ubg)), 0.0)
         success = bool(stats.get("success", False)) and viol <= 1e-6 and bool(np.all(np.isfinite(z)))
-        w = np.asarray(weights, float)
-        objective = self.weighted(design, w)
+        objective = self.weighted(design, weights)
         return NLPResult(
             design=design,
             success=success,
@@ -420,9 +417,7 @@ class CasterNLP:
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """K designs (SI, or Designs) as a (K, 4) array with their (K, 2) weights, (K, 2) ε caps and (K, n) full
         parameter vectors (:meth:`solve_many`, :meth:`multipliers_many`)."""
-        x = np.array([d.as_array() if isinstance(d, Design) else np.asarray(d, float) for d in designs], float).reshape(
-            -1, 4
-        )
+        x = design_rows(designs)
         k = len(x)
         w = np.broadcast_to(np.asarray(weights, float), (k, 2))
         caps = np.column_stack(
@@ -462,7 +457,7 @@ class CasterNLP:
                 design=Design.from_array(zs[j] * self.scale),
                 success=viol[j] <= 1e-6 and bool(np.all(np.isfinite(zs[j]))),
                 status=status,
-                objective=float(w[j, 0] * values[0, j] + w[j, 1] * values[1, j]),
+                objective=float(weighted(values[0, j], values[1, j], w[j])),
                 lam_g=lg[j].copy(),
                 lam_x=lx[j].copy(),
                 iterations=iterations,
@@ -517,9 +512,7 @@ class CasterNLP:
 
         Row i equals :meth:`objectives` of design i (the same CasADi function, evaluated column by column).
         """
-        x = np.array([d.as_array() if isinstance(d, Design) else np.asarray(d, float) for d in designs], float).reshape(
-            -1, 4
-        )
+        x = design_rows(designs)
         if not len(x):
             return np.zeros((0, 4))
         out = self._perf_function((x / self.scale).T, self.param_values)
@@ -528,8 +521,7 @@ class CasterNLP:
     def weighted(self, design: Design, weights: npt.ArrayLike) -> float:
         """J = w_turn F_turn + w_threshold P [N]."""
         f, p, _, _ = self.objectives(design)
-        w = np.asarray(weights, float)
-        return float(weighted(f, p, w))
+        return float(weighted(f, p, weights))
 
     def sensitivities(
         self,
@@ -547,13 +539,10 @@ class CasterNLP:
         p = self.parameter_vector(weights, threshold_cap, turning_cap)
         z = result.z if result.z is not None else self.to_z(result.design)
         grad = np.asarray(self._dlag_dp(z, p, result.lam_g)).ravel()
-        w = np.asarray(weights, float)
-        f_scaled = self.weighted(result.design, w) / weighted(self.f_ref, self.p_ref, w)
-        out: dict[str, float] = {}
+        f_scaled = self.weighted(result.design, weights) / weighted(self.f_ref, self.p_ref, weights)
         if f_scaled <= 0:
-            return out
-        for i, name in enumerate(self.param_names):
-            out[name] = float(grad[i] * self.param_values[i] / f_scaled)
+            return {}
+        out = {name: float(g * v / f_scaled) for name, g, v in zip(self.param_names, grad, self.param_values)}
         for i, var in enumerate(VARIABLES):
             lam = result.lam_x[i]
             if abs(lam) < 1e-9 or self.lbz[i] == self.ubz[i]:
@@ -643,15 +632,7 @@ def solve_best(
     """Solve from every start; return the best successful result and all results."""
     results = [nlp.solve(s, weights, threshold_cap, turning_cap) for s in starts]
     good = [r for r in results if r.success]
-    if not good:
-        return None, results
-    w = np.asarray(weights, float)
-    if w[0] == 0 or w[1] == 0:
-        # ε-type solve: objective is one of the two; rank by it
-        best = min(good, key=lambda r: nlp.weighted(r.design, w))
-    else:
-        best = min(good, key=lambda r: r.objective)
-    return best, results
+    return (min(good, key=lambda r: r.objective) if good else None), results
 
 
 def max_critical_speed(problem: Problem) -> tuple[float, Design, list[str]]:
@@ -685,15 +666,15 @@ def max_critical_speed(problem: Problem) -> tuple[float, Design, list[str]]:
             best = (v, Design.from_array(np.asarray(sol["x"]).ravel() * scale))
     assert best is not None  # 16 starts: at least one result
     v, design = best
-    active = []
-    arr = design.as_array()
-    for i, var in enumerate(VARIABLES):
-        if lo[i] == hi[i]:
-            continue
-        if abs(arr[i] - hi[i]) <= 1e-6 * max(1.0, abs(hi[i])):
-            active.append(f"variables.{var}.max")
-        elif abs(arr[i] - lo[i]) <= 1e-6 * max(1.0, abs(lo[i])):
-            active.append(f"variables.{var}.min")
+    arr, free = design.as_array(), lo != hi
+    at_max = free & (np.abs(arr - hi) <= 1e-6 * np.maximum(1.0, np.abs(hi)))
+    at_min = free & ~at_max & (np.abs(arr - lo) <= 1e-6 * np.maximum(1.0, np.abs(lo)))
+    active = [
+        f"variables.{v}.{side}"
+        for v, a, b in zip(VARIABLES, at_max, at_min)
+        for side, on in (("max", a), ("min", b))
+        if on
+    ]
     if problem.swept_radius_max is not None and design.trail + design.diameter / 2 >= problem.swept_radius_max * (
         1 - 1e-6
     ):

@@ -20,20 +20,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from designer.problem import Problem
-from designer.solvers.closed_form import CLOSED_FORM
-from designer.solvers.closed_form import applicable as closed_form_applicable
-from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, no_optimum, weights_of
+from designer.solvers.closed_form import CLOSED_FORM, applicable as closed_form_applicable
+from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, design_rows, found_optimum, weights_of
 from designer.solvers.nlp._cache import shared_nlp
 from designer.solvers.nlp._casadi import BIG, CasterNLP, NLPResult, best_starts, solve_best
 from designer.solvers.nlp._sweep import Ends, NLPSweep, StructuredSweep
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
     import numpy.typing as npt
-
-
-def _start(s: Any) -> np.ndarray:
-    """A start as an SI array (a Design or a sequence)."""
-    return np.asarray(s.as_array() if hasattr(s, "as_array") else s, float)
 
 
 def nlp_designs(nlp: CasterNLP, solver: str, eps: npt.ArrayLike, results: Sequence[NLPResult], solves: int) -> Designs:
@@ -98,21 +92,21 @@ class NLPSolver:
         nlp = shared_nlp(problem, same_scaling=True)  # the front's compiled NLP: the same solves as a new build
         cap_p = BIG if caps.threshold is None else float(caps.threshold)
         cap_f = BIG if caps.turning is None else float(caps.turning)
-        all_starts = best_starts(problem, w, n=self.samples, threshold_cap=cap_p) + [_start(s) for s in starts]
+        all_starts = best_starts(problem, w, n=self.samples, threshold_cap=cap_p) + list(design_rows(starts))
         t0 = time.perf_counter()
         best, results = solve_best(nlp, all_starts, w, cap_p, cap_f)
         seconds = time.perf_counter() - t0
         if best is None:
-            return no_optimum(self.name, problem, w, caps, ", ".join(sorted({r.status for r in results})) or "unknown")
-        return Optimum(
-            solver=self.name,
-            problem=problem,
-            weights=w,
-            caps=caps,
-            design=best.design,
+            return found_optimum(
+                self.name, problem, w, caps, None, status=", ".join(sorted({r.status for r in results})) or "unknown"
+            )
+        return found_optimum(
+            self.name,
+            problem,
+            w,
+            caps,
+            best.design,
             objective=float(best.objective),
-            success=True,
-            status="optimal",
             sensitivities=nlp.sensitivities(best, w, cap_p, cap_f),
             solves=len(all_starts),
             seconds=seconds,

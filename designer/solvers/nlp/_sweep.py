@@ -32,6 +32,7 @@ import numpy as np
 
 from designer.model import Design
 from designer.problem import Problem, family_of
+from designer.solvers.base import design_rows
 from designer.solvers.closed_form import CLOSED_FORM, structured_ends
 from designer.solvers.nlp._casadi import BIG, CasterNLP, NLPResult, best_starts, sample_designs
 
@@ -39,7 +40,7 @@ if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays
     import numpy.typing as npt
 
 CACHE_SIZE = 32
-"""How many problems' samples are kept (the compiled NLPs: :data:`designer.solvers.nlp.SHARED_SIZE`)."""
+"""How many problems' samples are kept (the compiled NLPs: :data:`designer.solvers.nlp._cache.SHARED_SIZE`)."""
 
 
 @dataclass
@@ -115,6 +116,12 @@ def _sample_starts(sample: Sample, eps_values: np.ndarray) -> np.ndarray:
     fallback = np.argmin(viol[None, :] + np.maximum(0.0, p[None, :] / eps - 1), axis=1)
     starts: np.ndarray = x[np.where(np.isfinite(score[np.arange(len(eps)), best]), best, fallback)]
     return starts
+
+
+def _warm(results: Sequence[NLPResult]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The warm starts NLP results give: their designs (N, 4) [SI] and multipliers (lam_g, lam_x)."""
+    lam_g, lam_x = np.array([r.lam_g for r in results]), np.array([r.lam_x for r in results])
+    return design_rows([r.design for r in results]), lam_g, lam_x
 
 
 def _rank(nlp: CasterNLP, result: NLPResult | None) -> float:
@@ -225,19 +232,7 @@ class NLPSweep:
             src.append(a)
             other.append(b if family(a) != family(b) else None)
         pairs = [(i, r) for i, r in enumerate(other) if r is not None]
-        extra = (
-            [i for i, _ in pairs],
-            np.array([r.design.as_array() for _, r in pairs]).reshape(-1, 4),
-            np.array([r.lam_g for _, r in pairs]),
-            np.array([r.lam_x for _, r in pairs]),
-        )
-        sweep.run(
-            np.array([r.design.as_array() for r in src]),
-            np.array([r.lam_g for r in src]),
-            np.array([r.lam_x for r in src]),
-            families=False,
-            extra=extra,
-        )
+        sweep.run(*_warm(src), families=False, extra=([i for i, _ in pairs], *_warm([r for _, r in pairs])))
 
     def sweep_from_sample(self, eps: np.ndarray) -> tuple[list[NLPResult], int]:
         """Best results at ``eps`` (all interior) from the sample starts, with family restarts and rescue."""
@@ -364,15 +359,14 @@ class _Sweep:
             self._try(*extra)
         if families:
             switch = self._switches()
-            idx: list[int] = []
-            fam_starts: list[np.ndarray] = []
-            for i in sorted(set(range(0, self.k, self.stride)) | {self.k - 1} | switch):
-                point = self.best[i]
-                if point is not None:
-                    for s in _family_starts(self.problem, point.design):
-                        idx.append(i)
-                        fam_starts.append(s)
-            improved = self._try(idx, fam_starts)
+            coarse = sorted(set(range(0, self.k, self.stride)) | {self.k - 1} | switch)
+            restarts = [
+                (i, s)
+                for i in coarse
+                if (point := self.best[i]) is not None
+                for s in _family_starts(self.problem, point.design)
+            ]
+            improved = self._try([i for i, _ in restarts], [s for _, s in restarts])
             self._propagate(improved, self.stride)
         for _ in range(self.k):
             pairs = [(i, j) for i in self._switches() for j in (i - 1, i + 1) if 0 <= j < self.k]
@@ -401,21 +395,15 @@ class _Sweep:
 
     def _propagate_pairs(self, pairs: list[tuple[int, int]]) -> set[int]:
         """Re-solve point j warm from point i's optimum for each new (i, j) pair; the improved points."""
-        idx: list[int] = []
-        starts: list[np.ndarray] = []
-        lg: list[np.ndarray] = []
-        lx: list[np.ndarray] = []
+        chosen: list[tuple[int, NLPResult]] = []
         for i, j in pairs:
             source = self.best[i]
             key = (j, id(source))
             if source is None or key in self._tried or source is self.best[j]:
                 continue
             self._tried.add(key)
-            idx.append(j)
-            starts.append(source.design.as_array())
-            lg.append(source.lam_g)
-            lx.append(source.lam_x)
-        return self._try(idx, starts, np.array(lg), np.array(lx)) if idx else set()
+            chosen.append((j, source))
+        return self._try([j for j, _ in chosen], *_warm([r for _, r in chosen])) if chosen else set()
 
     def _try(
         self, idx: list[int], starts: npt.ArrayLike, lam_g: np.ndarray | None = None, lam_x: np.ndarray | None = None

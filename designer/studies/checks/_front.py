@@ -10,13 +10,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from designer.data.paper import INCH
+from designer.display import number, shown
 from designer.problem import Problem
 from designer.solvers.base import wheel_of
 from designer.studies.checks._record import NOT_APPLICABLE, Check
 
 if TYPE_CHECKING:  # record and solver types for the checker only: designer.studies.front loads casadi
-    from designer.solvers.nlp import CasterNLP
     from designer.studies.front import Front, FrontPoint
 
 
@@ -60,7 +59,8 @@ def _tradeoff_check(pts: Sequence[FrontPoint], tol: float) -> Check:
         expected="d and F_turn non-decreasing as P falls",
         got=f"{bad_d} diameter and {bad_f} effort reversals in {len(pts)} points",
         passed=bad_d == 0 and bad_f == 0,
-        detail=f"d {d.min() / INCH:.2f}–{d.max() / INCH:.2f} in, F_turn {f.min():.3f}–{f.max():.3f} N",
+        detail=f"d {number(d.min(), 'diameter', 'in')}–{shown(d.max(), 'diameter', 'in')}, "
+        f"F_turn {number(f.min(), 'turning_effort')}–{shown(f.max(), 'turning_effort')}",
     )
 
 
@@ -73,7 +73,6 @@ def _shimmy_active_check(problem: Problem, pts: Sequence[FrontPoint], tol: float
         for x in pts
         if x.margins.get("shimmy", x.critical_speed - problem.required_speed) > tol * problem.required_speed
     ]
-    inactive = len(loose)
     offending = sum(
         not (x.design.groove <= lo.groove + 1e-9 and x.design.damping <= lo.damping * (1 + 1e-9)) for x in loose
     )
@@ -81,7 +80,7 @@ def _shimmy_active_check(problem: Problem, pts: Sequence[FrontPoint], tol: float
         name="8b shimmy active",
         claim="the shimmy constraint is active wherever it can be",
         expected="inactive only on bare-fork designs (no groove, no damper)",
-        got=f"{inactive} of {len(pts)} points inactive, {offending} of them with groove or damper",
+        got=f"{len(loose)} of {len(pts)} points inactive, {offending} of them with groove or damper",
         passed=offending == 0,
         detail="a groove or damper that is not needed for V_c only adds turning effort",
     )
@@ -101,8 +100,7 @@ def _tighter_check(front: Front, tighter: Front) -> Check:
         speed = highest_critical_speed(tighter.problem)
         return check(
             got=f"not applicable: the tighter target is out of reach (highest {'V_c' if problem.risk is None else 'V_q'} "
-            f"{speed:.3f} m/s "
-            f"< {tighter.problem.required_speed:.3f} m/s required)",
+            f"{shown(speed, 'critical_speed')} < {shown(tighter.problem.required_speed, 'critical_speed')} required)",
             passed=True,
             detail=f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} "
             f"m/s: no design inside the bounds reaches it, so there is no tighter front to compare",
@@ -130,51 +128,37 @@ def highest_critical_speed(problem: Problem) -> float:
 def dominated_by_problem(problem: Problem, other_front: Front, rel_tol: float = 1e-7) -> tuple[int, int]:
     """Count points of ``other_front`` NOT weakly dominated by ``problem``'s exact front.
 
-    For each point q, solves the ε-constraint NLP of ``problem`` at ε = P(q)
-    from q's design; q is dominated if the optimum's F_turn <= F_turn(q).
+    For each point q, solves the ε-constraint NLP of ``problem`` at ε = P(q) from q's design
+    (:func:`_dominated_in_batch`: warm from q's multipliers first, then cold for the points not yet seen
+    dominated); q is dominated if the optimum's F_turn <= F_turn(q).
     Returns (number not dominated, number of points).
     """
-    from designer.solvers.nlp import shared_nlp
-
-    not_dominated = 0
-    cache: dict[object, CasterNLP] = {}
-    screened = _dominated_in_batch(problem, other_front.points, rel_tol)
-    for k, q in enumerate(other_front.points):
-        if k in screened:
-            continue
-        variants = problem.variants()
-        if problem.wheels:
-            variants = [v for v in variants if wheel_of(v) == q.wheel]
-        best = np.inf
-        for variant in variants:
-            key = id(variant) if not problem.wheels else q.wheel
-            # the front's compiled NLP (same scaling: the same solves as a new build)
-            nlp = cache.get(key) or cache.setdefault(key, shared_nlp(variant, same_scaling=True))
-            r = nlp.solve(q.design, (1.0, 0.0), q.threshold_force * (1 + 1e-12))
-            if r.success:
-                best = min(best, nlp.objectives(r.design)[0])
-        if not best <= q.turning_effort * (1 + rel_tol):
-            not_dominated += 1
-    return not_dominated, len(other_front.points)
+    points = other_front.points
+    found = _dominated_in_batch(problem, points, rel_tol)
+    found |= _dominated_in_batch(problem, points, rel_tol, warm=False, skip=found)
+    return len(points) - len(found), len(points)
 
 
-def _dominated_in_batch(problem: Problem, points: Sequence[FrontPoint], rel_tol: float) -> set[int]:
-    """Indices of ``points`` that ``problem`` is seen to dominate: the NLPs of :func:`dominated_by_problem` in one
-    warm batch per variant (``solve_many`` from q's multipliers as an optimum); a successful block with F_turn <=
-    F_turn(q)(1 + ``rel_tol``) is a feasible design dominating q.  The others get the single solves."""
+def _dominated_in_batch(
+    problem: Problem, points: Sequence[FrontPoint], rel_tol: float, warm: bool = True, skip: set[int] | None = None
+) -> set[int]:
+    """Indices of ``points`` (but ``skip``) that ``problem`` is seen to dominate: the NLPs of
+    :func:`dominated_by_problem` in one batch per variant (of q's wheel, for a catalog problem), warm
+    (``solve_many`` from q's multipliers as an optimum) or cold from q's design; a successful block with
+    F_turn <= F_turn(q)(1 + ``rel_tol``) is a feasible design dominating q."""
     from designer.solvers.nlp import shared_nlp
 
     found: set[int] = set()
     for variant in problem.variants():
         wheel = wheel_of(variant) if problem.wheels else None
-        idx = [k for k, q in enumerate(points) if wheel is None or q.wheel == wheel]
+        idx = [k for k, q in enumerate(points) if k not in (skip or ()) and (wheel is None or q.wheel == wheel)]
         if not idx:
             continue
-        nlp = shared_nlp(variant, same_scaling=True)
+        nlp = shared_nlp(variant, same_scaling=True)  # the front's compiled NLP: the same solves as a new build
         x = np.array([points[k].design.as_array() for k in idx])
         caps = np.array([points[k].threshold_force * (1 + 1e-12) for k in idx])
-        lam_g, lam_x = nlp.multipliers_many(x, (1.0, 0.0), caps)
-        results = nlp.solve_many(x, (1.0, 0.0), caps, lam_g0=lam_g, lam_x0=lam_x)
+        starts = dict(zip(("lam_g0", "lam_x0"), nlp.multipliers_many(x, (1.0, 0.0), caps))) if warm else {}
+        results = nlp.solve_many(x, (1.0, 0.0), caps, **starts)
         f = nlp.objectives_many([r.design for r in results])[:, 0]
         found.update(
             k for k, r, fk in zip(idx, results, f) if r.success and fk <= points[k].turning_effort * (1 + rel_tol)

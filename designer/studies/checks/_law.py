@@ -38,25 +38,12 @@ def _pit_rows(assumed: bool) -> list[dict[str, Any]]:
         changes = {} if assumed else {"damping": 0.0, "inertia": 0.0}
         law = data_law(model_error=error.scale, model_error_dof=error.dof, **changes)
         predicted = float(prediction.median(wheel.diameter))
+        fork = (0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT, wheel.critical_speed, law)  # B, c_f, K_s, V, the law
         pit = {
             "diameter": float(
-                shimmy_probability_exact(
-                    TABLE1_TRAIL,
-                    predicted,
-                    0.0,
-                    BARE_FORK_DAMPING,
-                    SLIP_COEFFICIENT,
-                    wheel.critical_speed,
-                    law,
-                    diameter=wheel.diameter,
-                    prediction=prediction,
-                )
+                shimmy_probability_exact(TABLE1_TRAIL, predicted, *fork, diameter=wheel.diameter, prediction=prediction)
             ),
-            "inertia": float(
-                shimmy_probability_exact(
-                    TABLE1_TRAIL, wheel.inertia, 0.0, BARE_FORK_DAMPING, SLIP_COEFFICIENT, wheel.critical_speed, law
-                )
-            ),
+            "inertia": float(shimmy_probability_exact(TABLE1_TRAIL, wheel.inertia, *fork)),
         }
         rows.append(
             {

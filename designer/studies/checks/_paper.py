@@ -21,6 +21,7 @@ from designer.model import Conditions, critical_speed, evaluate
 from designer.physics.inertia import PowerLaw, fit_table1_power_law
 from designer.physics.shimmy import routh_hurwitz_critical_speed, critical_speed_hydraulic
 from designer.physics.turning import sliding_turning_moment
+from designer.studies.curves import sill_ratio
 from designer.studies.checks._record import FAILS, REPRODUCED, WITHIN_SCATTER, Check, Model
 
 
@@ -152,13 +153,6 @@ def _model_turning_effort(trail: Any, groove: Any, damping: Any, load: Any) -> n
     return out
 
 
-def _model_threshold_force_ratio(diameter: Any, height: Any) -> np.ndarray:
-    """P/L [-] as the model computes it (Eq. 4A) for a wheel of ``diameter`` [m] at a sill of ``height`` [m]."""
-    design = {"trail": 2 * INCH, "diameter": diameter, "groove": 0.0, "damping": BARE_FORK_DAMPING}
-    out: np.ndarray = evaluate(design, Conditions(load=1.0, threshold_height=height)).threshold_force
-    return out
-
-
 def check_groove_turning(moment: Model = sliding_turning_moment, effort: Model = _model_turning_effort) -> Check:
     """Check 3 (implementation identity): a ½ in groove (B = 9/16 in) costs 10 % more turning moment, both modes."""
     b = 9 / 16 * INCH
@@ -223,8 +217,8 @@ def check_monotonic(critical_speed: Model = critical_speed) -> Check:
     d = rng.uniform(4, 8, n) * INCH
     b = rng.uniform(0, 0.75, n) * INCH
     c = rng.uniform(1.3, 6, n)
-    law = PowerLaw()
-    i = law.constants()[0] * d ** law.constants()[1]
+    k, power = PowerLaw().constants()
+    i = k * d**power
     base = critical_speed(t, i, b, c)
     h = 1e-6
     results = {
@@ -232,7 +226,7 @@ def check_monotonic(critical_speed: Model = critical_speed) -> Check:
         "damping": np.all(critical_speed(t, i, b, c * (1 + h)) > base),
         "groove": np.all(critical_speed(t, i, b + h * INCH, c) > base),
         "inertia": np.all(critical_speed(t, i * (1 + h), b, c) < base),
-        "diameter": np.all(critical_speed(t, law.constants()[0] * (d * (1 + h)) ** law.constants()[1], b, c) < base),
+        "diameter": np.all(critical_speed(t, k * (d * (1 + h)) ** power, b, c) < base),
     }
     got = ", ".join(f"{k} {'ok' if v else 'FAILS'}" for k, v in results.items())
     return Check(
@@ -246,7 +240,7 @@ def check_monotonic(critical_speed: Model = critical_speed) -> Check:
     )
 
 
-def check_threshold_curve(ratio: Model = _model_threshold_force_ratio) -> Check:
+def check_threshold_curve(ratio: Model = sill_ratio) -> Check:
     """Check 7: P/L at h = ½ in rises steeply below 6 in diameter and flattens toward 8 in.
 
     The paper's claim is qualitative (Fig. 2A).  Quantified as: P/L decreasing
@@ -264,9 +258,8 @@ def check_threshold_curve(ratio: Model = _model_threshold_force_ratio) -> Check:
         e = 1e-4
         return float(ratio((x + e) * INCH, h) - ratio((x - e) * INCH, h)) / (2 * e)
 
-    def ratio_of(
-        a: float, b: float
-    ) -> float:  # a flat curve (a perturbed model) must fail the check, not divide by zero
+    def ratio_of(a: float, b: float) -> float:
+        """a / b; a flat curve (a perturbed model) must fail the check, not divide by zero."""
         return a / b if b != 0 else (math.inf if a != 0 else 0.0)
 
     s4, s8 = slope(4), slope(8)

@@ -83,7 +83,6 @@ class Operators(Record):
                 crossover_prob=0.9,
                 mutation="random",
                 mutation_eta=float("nan"),
-                mutation_prob=None,
                 deduplicate=False,
             )
         if name != "tuned":
@@ -104,14 +103,10 @@ class Operators(Record):
 
         crossover = SBXCrossover(eta=self.crossover_eta) if self.crossover == "sbx" else UniformCrossover()
         mutation = PolynomialMutation(eta=self.mutation_eta) if self.mutation == "polynomial" else None
-        kwargs = dict(
-            population_size=self.population_size,
-            crossover=crossover,
-            crossover_prob=self.crossover_prob,
-            mutation=mutation,
-            mutation_prob=self.mutation_prob,
-            seed=seed,
+        operators = dict(
+            crossover=crossover, crossover_prob=self.crossover_prob, mutation=mutation, mutation_prob=self.mutation_prob
         )
+        kwargs = dict(population_size=self.population_size, seed=seed, **operators)
         if not self.deduplicate:
             return optuna.samplers.NSGAIISampler(**kwargs)
         from optuna.samplers._lazy_random_state import LazyRandomState
@@ -119,15 +114,7 @@ class Operators(Record):
         from optuna.samplers.nsgaii._child_generation_strategy import NSGAIIChildGenerationStrategy
 
         rng = LazyRandomState(seed)
-        inner = NSGAIIChildGenerationStrategy(
-            crossover_prob=self.crossover_prob,
-            mutation=mutation,
-            mutation_prob=self.mutation_prob,
-            swapping_prob=0.5,
-            crossover=crossover,
-            constraints_func=None,
-            rng=rng,
-        )
+        inner = NSGAIIChildGenerationStrategy(**operators, swapping_prob=0.5, constraints_func=None, rng=rng)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             sampler = optuna.samplers.NSGAIISampler(**kwargs, child_generation_strategy=_Deduplicated(inner))
@@ -158,32 +145,23 @@ def stream_seed(seed: int | None, first_trial: int) -> int | None:
 
 
 class _PerProcessSampler:
-    """An NSGA-II sampler built when the process asks its first trial, seeded by that trial's number."""
+    """An NSGA-II sampler built when the process asks its first trial, seeded by that trial's number: optuna's
+    ``ask`` calls ``before_trial`` first, and every other call of a sampler goes to the built one."""
 
     def __init__(self, operators: Operators, seed: int | None):
         self.operators = operators
         self.seed = seed
         self.inner = None
 
-    def _for(self, trial):
+    def before_trial(self, study, trial) -> None:
         if self.inner is None:
             self.inner = self.operators.sampler(stream_seed(self.seed, trial.number))
-        return self.inner
+        self.inner.before_trial(study, trial)
 
-    def before_trial(self, study, trial) -> None:
-        self._for(trial).before_trial(study, trial)
-
-    def infer_relative_search_space(self, study, trial):
-        return self._for(trial).infer_relative_search_space(study, trial)
-
-    def sample_relative(self, study, trial, search_space):
-        return self._for(trial).sample_relative(study, trial, search_space)
-
-    def sample_independent(self, study, trial, param_name, param_distribution):
-        return self._for(trial).sample_independent(study, trial, param_name, param_distribution)
-
-    def after_trial(self, study, trial, state, values) -> None:
-        self._for(trial).after_trial(study, trial, state, values)
+    def __getattr__(self, name: str):
+        if name == "inner":  # not set yet (a copy being built)
+            raise AttributeError(name)
+        return getattr(self.inner, name)
 
     def reseed_rng(self) -> None:
         if self.inner is not None:
@@ -277,20 +255,13 @@ def search_space(problem: Problem) -> SearchSpace:
             )
     elif chosen:
         wheels = tuple(chosen)
-    categorical = []
-    if wheels:
-        categorical.append(("wheel", wheels))
-    for key in ("surface", "turning_mode"):
-        if problem.choices.get(key):
-            categorical.append((key, tuple(problem.choices[key])))
-    continuous = []
-    for name in VARIABLES:
-        if name == "diameter" and wheels:
-            continue
-        bound = problem.bounds[name]
-        if not bound.fixed:
-            continuous.append((name, float(bound.low), float(bound.high)))
-    return SearchSpace(continuous=tuple(continuous), categorical=tuple(categorical))
+    choices = {"wheel": wheels, **{key: tuple(problem.choices.get(key) or ()) for key in ("surface", "turning_mode")}}
+    b = problem.bounds  # a catalog wheel fixes the diameter
+    free = [name for name in VARIABLES if not b[name].fixed and not (name == "diameter" and wheels)]
+    return SearchSpace(
+        continuous=tuple((name, float(b[name].low), float(b[name].high)) for name in free),
+        categorical=tuple((key, values) for key, values in choices.items() if values),
+    )
 
 
 def category_label(category: tuple) -> str:
@@ -322,15 +293,9 @@ def _front_mask(objs: np.ndarray) -> np.ndarray:
 
 
 def _row(cat: tuple, number: int, x: np.ndarray, values: dict, refined: bool) -> dict:
-    row = {name: float(x[i]) for i, name in enumerate(VARIABLES)}
-    row.update(
-        turning_effort=float(values["turning_effort"]),
-        threshold_force=float(values["threshold_force"]),
-        critical_speed=float(values["critical_speed"]),
-    )
-    row.update(dict(cat))
-    row.update(trial=int(number), refined=refined)
-    return row
+    """A front point: the design (T, d, B, c_f [SI]), F_turn, P [N], V_c [m/s], the category, trial and flag."""
+    outputs = {k: float(values[k]) for k in ("turning_effort", "threshold_force", "critical_speed")}
+    return {**dict(zip(VARIABLES, map(float, x))), **outputs, **dict(cat), "trial": int(number), "refined": refined}
 
 
 def _refine(sub: Problem, cat: tuple, front: list, nlps: dict) -> list:
@@ -338,9 +303,7 @@ def _refine(sub: Problem, cat: tuple, front: list, nlps: dict) -> list:
 
     from designer.solvers.nlp import BIG, CasterNLP  # CasADi: the polish only, never a trial
 
-    if cat not in nlps:
-        nlps[cat] = CasterNLP(sub)
-    nlp = nlps[cat]
+    nlp = nlps.get(cat) or nlps.setdefault(cat, CasterNLP(sub))
     out = []
     for row in front:
         start = Design(*(row[v] for v in VARIABLES))
@@ -354,9 +317,8 @@ def _refine(sub: Problem, cat: tuple, front: list, nlps: dict) -> list:
             continue
         x = res.design.as_array()
         values = sub.evaluate(x[None, :]).row(0)
-        feasible = values.feasible
         better = values["turning_effort"] <= row["turning_effort"] * (1 + 1e-9)
-        if feasible and better and values["threshold_force"] <= row["threshold_force"] * (1 + 1e-9):
+        if values.feasible and better and values["threshold_force"] <= row["threshold_force"] * (1 + 1e-9):
             out.append(_row(cat, row["trial"], x, values, True))
         else:
             out.append(row)

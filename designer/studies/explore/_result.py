@@ -210,14 +210,13 @@ class ExploreResult(Record):
 def _box_reference(problem: Problem) -> tuple[float, float]:
     """Fallback HV reference (F_turn, P) [N]: the worst corner of the box (min T, min d, max B, max c_f) of
     every category, +10 %; used only when the exact front (and its stated reference) is unavailable."""
-    f, p = [], []
+    worst = []
     for cat in search_space(problem).categories():
         sub = category_problem(problem, cat)
         lo, hi = sub.lower(), sub.upper()
         values = sub.evaluate(np.array([[lo.trail, lo.diameter, hi.groove, hi.damping]])).row(0)
-        f.append(values.turning_effort)
-        p.append(values.threshold_force)
-    return (1.1 * max(f), 1.1 * max(p))
+        worst.append((values.turning_effort, values.threshold_force))
+    return (1.1 * max(w[0] for w in worst), 1.1 * max(w[1] for w in worst))
 
 
 def _exact_front(problem: Problem) -> dict[str, Any] | None:

@@ -363,33 +363,26 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
     if other is not None:
         expected = "a journal file" if spec.kind == "journal" else "an SQLite database file"
         raise StorageError(f"storage {spec.shown}: is {other}, expected {expected}")
-    if spec.kind == "journal":
+    heartbeat, grace = _heartbeat() if spec.remote else (None, None)  # a bad setting is its own one line
+    try:
+        if spec.kind != "journal":
+            return _open_database(spec, heartbeat, grace)
         from optuna.storages.journal import JournalFileBackend, JournalFileOpenLock, JournalStorage
 
         assert path is not None
-        try:
-            if break_lock:
-                with contextlib.suppress(FileNotFoundError):
-                    os.unlink(f"{path}.lock")
-            _repair_journal(path)
-            backend = JournalFileBackend(str(path), lock_obj=JournalFileOpenLock(str(path), grace_period=10))
-            return JournalStorage(backend)
-        except Exception as exc:  # noqa: BLE001 - every failure becomes one line
+        if break_lock:
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(f"{path}.lock")
+        _repair_journal(path)
+        return JournalStorage(JournalFileBackend(str(path), lock_obj=JournalFileOpenLock(str(path), grace_period=10)))
+    except Exception as exc:  # noqa: BLE001 - every failure becomes one line
+        line = scrub(_one_line(exc), spec.url)
+        if isinstance(exc, ImportError) and spec.kind != "journal":
             raise StorageError(
-                f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {scrub(_one_line(exc), spec.url)})"
+                f"storage {spec.shown}: the database driver is not installed ({line}); "
+                f"PostgreSQL: pip install psycopg2-binary, MySQL: pip install pymysql"
             ) from None
-    heartbeat, grace = _heartbeat() if spec.remote else (None, None)  # a bad setting is its own one line
-    try:
-        return _open_database(spec, heartbeat, grace)
-    except ImportError as exc:
-        raise StorageError(
-            f"storage {spec.shown}: the database driver is not installed ({scrub(_one_line(exc), spec.url)}); "
-            f"PostgreSQL: pip install psycopg2-binary, MySQL: pip install pymysql"
-        ) from None
-    except Exception as exc:  # noqa: BLE001
-        raise StorageError(
-            f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {scrub(_one_line(exc), spec.url)})"
-        ) from None
+        raise StorageError(f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {line})") from None
 
 
 def _repair_journal(path: Path) -> None:

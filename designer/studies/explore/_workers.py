@@ -1,15 +1,9 @@
 """The processes that run trials: the optuna objective and its budget (:class:`_Evaluator`), one worker
 (:func:`_run_worker`, an ask-and-tell loop, :func:`_work`), the pool of worker processes (:func:`_run_pool`),
 and :func:`_run_study`, which runs the study in this process or on the pool.
-:func:`designer.studies.explore._runner.explore` calls it.
-
-Exactly once
-    Every process draws its candidates from its own random stream (:meth:`Operators.process_sampler`).
-    A worker tells a trial only while it is still RUNNING: a trial that another process failed meanwhile
-    (its heartbeat was late because this process was starved of CPU or paused, or a file-storage resume
-    failed it) keeps its FAIL, the late result is discarded and a note says so; its candidate counts
-    through its retry.  A retry runs only if no earlier trial of the same candidate (:func:`lineage`) is
-    waiting, running or complete, so a candidate retried twice in a race is still evaluated once.
+:func:`designer.studies.explore._runner.explore` calls it.  How every candidate counts exactly once (own random
+streams, telling only a RUNNING trial, a retry only of a candidate no live trial holds): the package's text,
+"Budget and exactness" (:mod:`designer.studies.explore`).
 """
 
 from __future__ import annotations

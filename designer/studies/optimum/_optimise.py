@@ -19,12 +19,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from designer.display import unit_text
 from designer.units import percent
-from designer.data.paper import INCH
-from designer.errors import InertiaExtrapolationWarning, InfeasibleError, ModelRangeWarning, SolverError
+from designer.errors import InertiaExtrapolationWarning, InfeasibleError, InputError, ModelRangeWarning, SolverError
 from designer.model import VARIABLES, Caster, Design, OfCaster
 from designer.parameters import OUTPUTS, PARAMETERS
-from designer.problem import Problem, problem_argument
+from designer.problem import Problem, check_weights, problem_argument
 from designer.reprs import Key, Record, dataframe, si_frame
 from designer.solvers import PRIMARY, Optimum, one_solve_at_a_time, solver
 from designer.solvers.base import wheel_of
@@ -33,8 +33,6 @@ import warnings
 from typing import TYPE_CHECKING, Any
 
 from designer.boundary import Count, checked
-from designer.errors import InputError
-from designer.problem import check_weights
 
 if TYPE_CHECKING:  # the GP's record for the checker only: designer.solvers.gp loads cvxpy
     from designer.solvers.gp import GPResult
@@ -130,8 +128,7 @@ class Solution(Record):
         """Two lines: the design (inches) and the objectives and V_c (the full account: ``print(solution)``)."""
         d, o = self.design, self.objectives
         return [
-            f"Solution({self.problem.name!r}, {self.status}): T {d.trail / INCH:.3f} in, d {d.diameter / INCH:.3f} in, "
-            f"B {d.groove / INCH:.3f} in, c_f {d.damping:.3g} N·m/rad",
+            f"Solution({self.problem.name!r}, {self.status}): {d.describe()}",
             f"  F_turn {o['turning_effort']:.4g} N, P {o['threshold_force']:.4g} N, J {o['weighted']:.4g} N, "
             f"V_c {self.critical_speed:.4g} m/s (required {self.problem.required_speed:.4g})",
         ]
@@ -370,7 +367,6 @@ def _optimise(problem: Problem, weights: Sequence[float] | None, cross_check: bo
     # the optimum by the model's evaluator; its risk (Monte Carlo at V_req) when the problem has a bound
     values = variant.evaluate(design, weights=w, risk=None if problem.risk is None else problem.required_speed)
     held = constraint_margins(variant, design, values)
-    margins, active = held.margins, held.active
     checks = {PRIMARY: values.weighted}
     t0 = time.perf_counter()
     if cross_check:
@@ -382,8 +378,8 @@ def _optimise(problem: Problem, weights: Sequence[float] | None, cross_check: bo
     return Solution(
         problem=variant if problem.wheels else problem,
         caster=values,
-        constraints=margins,
-        active=active,
+        constraints=held.margins,
+        active=held.active,
         sensitivities=dict(found.sensitivities),
         cross_check=checks,
         gp=None if gp is None else gp.result,
@@ -445,11 +441,6 @@ def diagnose_infeasible(problem: Problem) -> Exception:
 
 
 def _margin_unit(name: str) -> str:
-    """SI unit of a constraint margin of :func:`constraint_margins` (shimmy m/s, lengths m, damping N·m/rad)."""
-    if name == "shimmy":
-        return "m/s"
-    if name.startswith("damping"):
-        return "N·m/rad"
-    if name.startswith("threshold"):
-        return "N"
-    return "m"
+    """SI unit of a constraint margin of :func:`constraint_margins`: the shimmy margin a speed (m/s), the others
+    their quantity's from the table (the swept radius and the length bounds m, the damping bounds N·m/rad)."""
+    return unit_text("critical_speed" if name == "shimmy" else name.split(".")[0])
