@@ -90,13 +90,13 @@ def unit(dimension: str, units: str | None = "si") -> Unit:
     return _SI[dimension]
 
 
-def _unit_of(name: str | None, dimension: str | None, units: str | None) -> tuple[Unit, Parameter | None]:
+def _unit_of(name: str | None, dimension: str | None, units: str | None) -> Unit:
     entry = quantity(name) if name is not None else None
     dim = dimension or (entry.dimension if entry is not None else "dimensionless")
     shown_unit = unit(dim, units)
     if entry is not None and entry.digits is not None and dim != "length":
         shown_unit = Unit(shown_unit.text, shown_unit.factor, entry.digits, shown_unit.significant)
-    return shown_unit, entry
+    return shown_unit
 
 
 def _missing(value) -> bool:
@@ -116,7 +116,7 @@ def number(
     dimension's default); ``digits`` overrides it where a surface needs a coarser number (a chart's tick)."""
     if _missing(value):
         return MISSING
-    shown_unit, _ = _unit_of(name, dimension, units)
+    shown_unit = _unit_of(name, dimension, units)
     places = shown_unit.digits if digits is None else digits
     x = float(value) * shown_unit.factor
     if shown_unit.significant:
@@ -130,16 +130,14 @@ def shown(
     """``value`` [SI] with its unit in the unit system ``units``: "63.50 mm", "2.500 in", "2.705 m/s", "2.98 %"
     (a number and its unit joined by one space, a percentage too); :data:`MISSING` alone for no value."""
     text = number(value, name, units, dimension=dimension, digits=digits)
-    if text == MISSING:
-        return text
-    shown_unit, _ = _unit_of(name, dimension, units)
-    return f"{text} {shown_unit.text}" if shown_unit.text else text
+    suffix = unit_text(name, units, dimension=dimension)
+    return f"{text} {suffix}" if suffix and text != MISSING else text
 
 
 def unit_text(name: str | None = None, units: str | None = "si", *, dimension: str | None = None) -> str:
     """The unit ``name`` is shown in, in the unit system ``units`` ("mm", "in", "N", "%"; "" for a plain
     number)."""
-    return _unit_of(name, dimension, units)[0].text
+    return _unit_of(name, dimension, units).text
 
 
 def label(name: str) -> str:

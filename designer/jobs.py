@@ -45,7 +45,9 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        summary = _compute(problem, points, out, tracker, force, cross_check)
+        run_meta = {"command": "designer pareto", "points_option": points, "wall_seconds": None}
+        data = report_data(problem, points, cross_check=cross_check, progress=tracker, run_meta=run_meta)
+        folder = write_report(data, out, force=force)
     seen = set()
     for w in caught:
         text = str(w.message)
@@ -54,26 +56,12 @@ def compute_and_write(problem, points=None, out=None, progress=None, force=False
         seen.add(text)
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     # once for the problem, and only if a design the report shows (front point, optimum) is extrapolated
-    for message in problem.model_warnings(summary.pop("reported_diameters"), front=True):
+    reported = [p.design.diameter for p in data.front.points]
+    reported += [data.solution.design.diameter] if data.solution is not None else []
+    for message in problem.model_warnings(reported, front=True):
         warnings.warn(message + " (the report says so in its model section)", ModelRangeWarning, stacklevel=2)
-    summary["seconds"] = time.perf_counter() - t0
-    return summary
-
-
-def _compute(problem, points, out, tracker, force=False, cross_check=False) -> dict:
-    t0 = time.perf_counter()
-    data = report_data(
-        problem,
-        points,
-        cross_check=cross_check,
-        progress=tracker,
-        run_meta={"command": "designer pareto", "points_option": points, "wall_seconds": None},
-    )
-    folder = write_report(data, out, force=force)
-    wall = time.perf_counter() - t0
     checks = data.checks
     failing = [c.name for c in checks if not c.passed]
-    failing_front = [c.name for c in checks if not c.passed and c.name.startswith("8")]
     rec = data.recommendation
     return {
         "problem": problem.name,
@@ -88,9 +76,7 @@ def _compute(problem, points, out, tracker, force=False, cross_check=False) -> d
         "checks_passed": len(checks) - len(failing),
         "checks_total": len(checks),
         "failing_checks": failing,
-        "failing_front_checks": failing_front,
+        "failing_front_checks": [name for name in failing if name.startswith("8")],
         "moved": dict(data.run.get("moved") or {}),
-        "seconds": wall,
-        "reported_diameters": [p.design.diameter for p in data.front.points]
-        + ([data.solution.design.diameter] if data.solution is not None else []),
+        "seconds": time.perf_counter() - t0,
     }

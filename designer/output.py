@@ -308,12 +308,8 @@ def _is_write_error(exc: OSError, *places: Path) -> bool:
     """True if ``exc`` came from writing: a writing-only errno, or an error on a path inside ``places``."""
     if exc.errno in WRITE_ERRNOS:  # errors that can only come from writing, wherever they arose
         return True
-    for name in (exc.filename, exc.filename2):
-        if isinstance(name, str | os.PathLike):
-            full = os.path.abspath(name)
-            if any(full == str(p) or full.startswith(str(p) + os.sep) for p in places):
-                return True
-    return False
+    names = [os.path.abspath(n) for n in (exc.filename, exc.filename2) if isinstance(n, str | os.PathLike)]
+    return any(full == str(p) or full.startswith(str(p) + os.sep) for full in names for p in places)
 
 
 # --------------------------------------------------------------------------- checks before computing
@@ -669,13 +665,6 @@ def _roll_back(folder: Path, record: dict) -> None:
         _put_back(folder, name, aside, installed=not lexists(stage / name), digest=digests.get(name))
 
 
-def _roll_forward(folder: Path, record: dict) -> None:
-    """Finish a commit that passed its commit point: the previous entries kept aside are removed."""
-    for _, aside in record["install"] + record["remove"]:
-        if aside is not None:
-            _remove(folder / aside)
-
-
 def _read_record(path: Path) -> dict | None:
     """A commit record, or None when it is not one this release writes (every entry ``[name, aside or None]``, plain
     names of this folder with no separator and no '..', the temporary folder a name of the tool's, the digest of
@@ -725,7 +714,12 @@ def _recover_records(folder: Path) -> None:
         record = _read_record(folder / entry)
         stage = _stage_of(folder, record) if record is not None else None
         if record is not None and stage is not None:
-            (_roll_forward if entry.startswith(DONE_PREFIX) else _roll_back)(folder, record)
+            if entry.startswith(DONE_PREFIX):  # past the commit point: the previous entries kept aside removed
+                for _, aside in record["install"] + record["remove"]:
+                    if aside is not None:
+                        _remove(folder / aside)
+            else:
+                _roll_back(folder, record)
             _sync(folder)
         os.unlink(folder / entry)
         _sync(folder)
@@ -806,14 +800,6 @@ def _write_whole(path: Path, text: str) -> None:
             os.unlink(tmp)
 
 
-def _sync_tree(stage: Path) -> None:
-    """fsync every file of the temporary folder (a crash of the machine after the commit keeps the bytes)."""
-    for root, _, files in os.walk(stage):
-        for name in files:
-            _sync(Path(root) / name)
-        _sync(Path(root))
-
-
 def _apply(real: Path, stage: Path, record: dict) -> None:
     """Steps 2 of the commit: every previous entry aside, every new one in place, the stale ones aside."""
     for name, aside in record["install"]:
@@ -851,7 +837,9 @@ def _commit(stage: Path, real: Path, owned: set[str], force: bool, option: str, 
         if run or lexists(real / RUN_MANIFEST):
             (stage / RUN_MANIFEST).write_text(manifest_text(run), "utf-8")
             names.append(RUN_MANIFEST)
-        _sync_tree(stage)
+        for root, _, files in os.walk(stage):  # every file synced: a crash of the machine after the commit keeps them
+            for name in [*files, "."]:
+                _sync(Path(root) / name)
         tag = uuid.uuid4().hex[:8]
         record = {
             "stage": stage.name,
@@ -893,14 +881,6 @@ def _make_folders(path: Path) -> list[Path]:
     return made
 
 
-def _make_stage(real: Path) -> tuple[Path, int | None]:
-    """A temporary folder in ``real`` holding its own flock while this run lives (made under the folder's lock,
-    so another run's clean-up never sees it unlocked); returns it and the descriptor of the flock."""
-    with _locked(real):
-        stage = Path(tempfile.mkdtemp(prefix=TEMP_PREFIX, dir=real))
-        return stage, _hold(stage)
-
-
 @contextlib.contextmanager
 def output_folder(
     folder,
@@ -933,7 +913,11 @@ def output_folder(
     try:
         try:
             made = _make_folders(real)
-            stage, held = _make_stage(real)
+            # the temporary folder holds its own flock while this run lives, made under the folder's lock (so
+            # another run's clean-up never sees it unlocked)
+            with _locked(real):
+                stage = Path(tempfile.mkdtemp(prefix=TEMP_PREFIX, dir=real))
+                held = _hold(stage)
         except OSError as exc:
             raise write_error(folder, exc, option) from None
         _step("staged")

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Mapping
 from html import escape
 from typing import Any, ClassVar
 
@@ -123,50 +123,16 @@ def frozen(data: Any) -> FrozenMapping:
     return data if isinstance(data, FrozenMapping) else deep_frozen(dict(data))
 
 
-def html_table(title: str, rows: Iterable[tuple[Any, Any, Any]], caption: str = "", extra: str = "") -> str:
-    """A compact HTML table: a bold title, rows of (label, value, unit), an optional caption and extra HTML.
-
-    ``value`` is shown as given (format numbers before); ``extra`` (e.g. an SVG) is placed beside the table
-    unescaped, so pass only strings built by this package.
-    """
-    table, th, td, unit = STYLE
-    body = "".join(
-        f'<tr><th style="{th}">{escape(str(label))}</th><td style="{td}">{escape(str(value))}</td>'
-        f'<td style="{unit}">{escape(str(u))}</td></tr>'
-        for label, value, u in rows
-    )
-    cap = (
-        f'<div style="font-size:11px;color:#555;font-family:sans-serif;max-width:420px">{escape(caption)}</div>'
-        if caption
-        else ""
-    )
-    inner = (
-        f'<div><div style="font-weight:bold;font-family:sans-serif;font-size:13px">{escape(title)}</div>'
-        f'<table style="{table}">{body}</table>{cap}</div>'
-    )
-    if extra:
-        return (
-            f'<div style="display:flex;gap:16px;align-items:flex-start">'
-            f'<div style="flex:none">{inner}</div><div style="flex:none">{extra}</div></div>'
-        )
-    return f"<div>{inner}</div>"
-
-
-def require_pandas(what: str) -> Any:
-    """The pandas module, or an ImportError naming ``what`` needs it and how to install it (optional extra)."""
-    try:
-        import pandas  # optional dependency: only the to_pandas methods need it
-    except ImportError:
-        raise ImportError(f"{what} needs pandas: pip install 'caster-designer[notebook]'") from None
-    return pandas
-
-
 def dataframe(what: str, records: list[dict[str, Any]], columns: list[str], units: dict[str, str], **attrs: Any) -> Any:
     """A pandas DataFrame of ``records`` in ``columns`` order; ``df.attrs["units"]`` = ``units`` plus ``attrs``.
 
-    ``what`` names the caller in the message when pandas is missing (:func:`require_pandas`).
+    ``what`` names the caller in the ImportError when pandas (an optional dependency: the ``notebook`` extra) is
+    missing, with how to install it.
     """
-    pd = require_pandas(what)
+    try:
+        import pandas as pd  # optional dependency: only the to_pandas methods need it
+    except ImportError:
+        raise ImportError(f"{what} needs pandas: pip install 'caster-designer[notebook]'") from None
     df = pd.DataFrame.from_records(records, columns=columns)
     df.attrs.update(attrs)
     df.attrs["units"] = dict(units)
@@ -432,7 +398,34 @@ class Record(Keyed):
         return "\n".join(lines)
 
     def _repr_html_(self) -> str:
-        return html_table(self._html_title(), self._html_rows(), caption=self._html_caption(), extra=self._html_extra())
+        """A compact HTML table: a bold title (:meth:`_html_title`), rows of (label, value, unit)
+        (:meth:`_html_rows`), an optional caption (:meth:`_html_caption`) and extra HTML (:meth:`_html_extra`).
+
+        A value is shown as given (the hooks format numbers); the extra (e.g. an SVG) is placed beside the table
+        unescaped, so a hook returns only strings built by this package.
+        """
+        table, th, td, unit = STYLE
+        body = "".join(
+            f'<tr><th style="{th}">{escape(str(label))}</th><td style="{td}">{escape(str(value))}</td>'
+            f'<td style="{unit}">{escape(str(u))}</td></tr>'
+            for label, value, u in self._html_rows()
+        )
+        caption, extra = self._html_caption(), self._html_extra()
+        cap = (
+            f'<div style="font-size:11px;color:#555;font-family:sans-serif;max-width:420px">{escape(caption)}</div>'
+            if caption
+            else ""
+        )
+        inner = (
+            f'<div><div style="font-weight:bold;font-family:sans-serif;font-size:13px">{escape(self._html_title())}'
+            f'</div><table style="{table}">{body}</table>{cap}</div>'
+        )
+        if extra:
+            return (
+                f'<div style="display:flex;gap:16px;align-items:flex-start">'
+                f'<div style="flex:none">{inner}</div><div style="flex:none">{extra}</div></div>'
+            )
+        return f"<div>{inner}</div>"
 
     def _shown(self) -> list[tuple[str, str, str, str]]:
         """(key, label, value, unit) of each item of the flattened :meth:`to_dict` but its nested lists of records
@@ -492,9 +485,7 @@ __all__ = [
     "Record",
     "dataframe",
     "flatten",
-    "html_table",
     "plain",
-    "require_pandas",
     "shown",
     "si_frame",
 ]

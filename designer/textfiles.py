@@ -118,8 +118,9 @@ def read_input_text(
         raise error(f"{source}: cannot read it ({os_reason(exc)})") from None
     if limit is not None and len(data) > limit:
         size = f"{st.st_size:,} bytes" if stat.S_ISREG(st.st_mode) else f"more than {limit:,} bytes from a pipe"
+        most = f"{limit // 2**20} MB" if limit % 2**20 == 0 else f"{limit:,} bytes"
         raise error(
-            f"{source}: larger than the {_bytes(limit)} a {kind} may have ({size}); a {kind} is a "
+            f"{source}: larger than the {most} a {kind} may have ({size}); a {kind} is a "
             f"few kB of text: is this the right file?"
         )
     for mark, name in _WIDE_MARKS:
@@ -153,10 +154,6 @@ def _read_pipe(path, source: str, limit: int, error: type[InputError]) -> bytes:
         return b"".join(chunks)
     finally:
         os.close(fd)
-
-
-def _bytes(n: int) -> str:
-    return f"{n // 2**20} MB" if n % 2**20 == 0 else f"{n:,} bytes"
 
 
 _FIELD_LIMIT = threading.Lock()
@@ -248,14 +245,14 @@ def csv_text(rows: Iterable[Sequence[Any]], comments: Sequence[str] = ()) -> str
     ``comments`` are written first as ``# ...`` lines (the readers skip them).  Floats are written by ``str``
     (``repr``: exact) unless the caller formatted them; NaN and infinities as empty cells."""
     out = [f"# {line}\n" for line in comments]
-    out += [",".join(_quoted(_finite(safe_cell(v))) for v in row) + "\n" for row in rows]
+    out += [",".join(_quoted(safe_cell(v)) for v in row) + "\n" for row in rows]
     return "".join(out)
 
 
 def _quoted(value: Any) -> str:
     """One cell as RFC 4180 writes it: quoted (quotes doubled) when it holds a comma, a quote, a line feed or a
-    carriage return (the csv module leaves a lone CR unquoted when lines end in LF)."""
-    text = str(value)
+    carriage return (the csv module leaves a lone CR unquoted when lines end in LF); NaN and infinities empty."""
+    text = "" if isinstance(value, (float, np.floating)) and not math.isfinite(value) else str(value)
     if any(ch in text for ch in ',"\n\r'):
         return '"' + text.replace('"', '""') + '"'
     return text
@@ -282,22 +279,15 @@ def dict_rows(
         cells: list[Any] = []
         for c in columns:
             value = r.get(c)
+            whole = isinstance(value, (int, np.integer)) and not isinstance(value, bool)
             if value is None:
                 cells.append("")
-            elif isinstance(value, float):
-                cells.append(float_format.format(value * named[c][1] if named[c][1] != 1.0 else value))
-            elif named[c][1] != 1.0 and isinstance(value, (int, np.integer)) and not isinstance(value, bool):
-                cells.append(float_format.format(float(value) * named[c][1]))  # a quantity in its column's unit
+            elif isinstance(value, float) or (named[c][1] != 1.0 and whole):  # a quantity in its column's unit
+                cells.append(float_format.format(float(value) * named[c][1]))
             else:
                 cells.append(value)
         out.append(cells)
     return out
-
-
-def _finite(value: Any) -> Any:
-    if isinstance(value, (float, np.floating)) and not math.isfinite(value):
-        return ""
-    return value
 
 
 __all__ = [

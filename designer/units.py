@@ -185,6 +185,17 @@ def _boolean(value: Any) -> bool:
     return isinstance(value, bool) or type(value).__name__ in ("bool_", "bool") and type(value).__module__ == "numpy"
 
 
+def _item(value: Any, key: str, expected: str, kind: type) -> Any:
+    """``value`` (a NumPy 0-d array as its one value) when it is a ``kind`` (:class:`numbers.Real` or
+    :class:`numbers.Integral`) and no boolean; else one InputError line saying ``expected``."""
+    item = _scalar(value)
+    if _boolean(value) or _boolean(item):
+        raise InputError(f"{key} = {value!r}: expected {expected}, got a boolean")
+    if not isinstance(item, kind):
+        raise InputError(f"{key} = {value!r}: expected {expected}")
+    return item
+
+
 def real_number(value: Any, key: str, expected: str = "a number") -> float:
     """The one rule for a number at the package's boundary: ``value`` as a finite float, or one InputError line
     naming ``key``, the value and the reason.
@@ -196,11 +207,7 @@ def real_number(value: Any, key: str, expected: str = "a number") -> float:
     :func:`parse_quantity`, which calls this for everything else: the problem file, the command line and every
     public function and record of the API use these two.
     """
-    item = _scalar(value)
-    if _boolean(value) or _boolean(item):
-        raise InputError(f"{key} = {value!r}: expected {expected}, got a boolean")
-    if not isinstance(item, numbers.Real):
-        raise InputError(f"{key} = {value!r}: expected {expected}")
+    item = _item(value, key, expected, numbers.Real)
     try:
         number = float(item)
     except OverflowError:
@@ -223,18 +230,13 @@ def whole_number(
     ``what`` names the thing counted in the message ("Monte Carlo draws"); ``optional``: the message says that
     None is also taken (the caller passes None on before).
     """
-    item = _scalar(value)
     span = ""
     if low is not None:
         span = f" from {low} to {high}" if high is not None else f", {low} or more"
     elif high is not None:
         span = f", {high} or less"
     expected = ("None or " if optional else "") + "a whole number" + (f" of {what}" if what else "") + span
-    if _boolean(value) or _boolean(item):
-        raise InputError(f"{key} = {value!r}: expected {expected}, got a boolean")
-    if not isinstance(item, numbers.Integral):
-        raise InputError(f"{key} = {value!r}: expected {expected}")
-    number = int(item)
+    number = int(_item(value, key, expected, numbers.Integral))
     if (low is not None and number < low) or (high is not None and number > high):
         raise InputError(f"{key} = {number}: expected {expected}")
     return number

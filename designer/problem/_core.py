@@ -18,13 +18,11 @@ from typing import Any, Callable, Iterable, NoReturn
 
 
 from designer.data.paper import INCH, TABLE1
-from designer import parameters
-from designer.errors import ProblemError
+from designer import display, parameters
+from designer.errors import InputError, ProblemError
 from designer.reprs import Key, Keyed, Record, frozen
-from designer import display
 from designer.display import number, percent, shown, unit_text
 from designer.units import outside_range, parse_quantity, real_number, whole_number
-from designer.errors import InputError
 from designer.model import (
     CONDITION_CHOICES,
     CONDITION_NUMBERS,
@@ -577,11 +575,11 @@ def _validate(problem: Problem, prefix: str = "") -> None:
             f"name = {problem.name!r}: must be 1–64 letters, digits, '-', '_' or '.', starting with a letter "
             f"or digit (it names the results folder)"
         )
-    for key, force in (("max_threshold_increase", "sill force"), ("max_turning_increase", "turning effort")):
-        value = getattr(problem, key)
+    for name, force in (("max_threshold_increase", "sill force"), ("max_turning_increase", "turning effort")):
+        value = getattr(problem, name)
         if not (math.isfinite(value) and 0 <= value <= 10):
             fail(
-                f"retrofit.{key} = {value:g}: must be from 0 to 10 "
+                f"retrofit.{name} = {value:g}: must be from 0 to 10 "
                 f"(0.1 or '10 %': a fix may raise the {force} by 10 % of the current caster's)"
             )
     if problem.units not in REPORT_UNITS:
@@ -590,19 +588,7 @@ def _validate(problem: Problem, prefix: str = "") -> None:
         fail(f"shimmy.target_speed = {problem.target_speed:g} m/s: must be positive")
     if problem.margin < 0 or problem.margin > 10:
         fail(f"shimmy.margin = {problem.margin:g}: must be between 0 and 10 (a fraction, 0.2 = 20 %)")
-    _validate_conditions(problem, prefix, fail)
-    for name in VARIABLES:
-        _validate_bound(problem, name, fail)
-    _validate_sill_and_fork(problem, fail)
-    if problem.swept_radius_max is not None:
-        _validate_swept_radius(problem, problem.swept_radius_max, prefix, fail)
-    check_weights(problem.weights, prefix + "objective")
-    if not problem.wheels:
-        _validate_inertia(problem, fail)
-
-
-def _validate_conditions(problem: Problem, prefix: str, fail: Callable[[str], NoReturn]) -> None:
-    """Load, sill, the constants of the model (in their ranges), the disturbance angle, surface and mode."""
+    # the conditions: load, sill, the constants of the model (in their ranges), the disturbance angle, surface, mode
     c = problem.conditions
     if not isinstance(c, Conditions):
         fail(f"conditions = {c!r}: expected a designer.Conditions, e.g. Conditions(load=178)")
@@ -619,6 +605,9 @@ def _validate_conditions(problem: Problem, prefix: str, fail: Callable[[str], No
         value = parameters.read_path(problem, where)
         if value is not None and (value > 0 or key == "turning.groove_coefficient"):
             check_range(key, value, prefix)
+    for name in VARIABLES:
+        _validate_bound(problem, name, fail)
+    _validate_sizes(problem, prefix, fail)
 
 
 def _validate_bound(problem: Problem, name: str, fail: Callable[[str], NoReturn]) -> None:
@@ -640,8 +629,10 @@ def _validate_bound(problem: Problem, name: str, fail: Callable[[str], NoReturn]
         fail(f"{key} = [{b.low:g}, {b.high:g}]: min is greater than max{both}")
 
 
-def _validate_sill_and_fork(problem: Problem, fail: Callable[[str], NoReturn]) -> None:
-    """Every wheel can climb the sill (d > 2h, Eq. 4A); the damping bound is not below the bare fork's."""
+def _validate_sizes(problem: Problem, prefix: str, fail: Callable[[str], NoReturn]) -> None:
+    """The sizes the bounds allow: every wheel climbs the sill (d > 2h, Eq. 4A); the damping bound is not below
+    the bare fork's; the swept radius limit is positive, in range and above the smallest T + d/2 of the bounds;
+    I_w of the inertia model at both diameter bounds lies in :data:`INERTIA_RANGE`."""
     c = problem.conditions
     h = c.threshold_height
     if not problem.wheels and problem.bounds["diameter"].low <= 2 * h:
@@ -664,25 +655,20 @@ def _validate_sill_and_fork(problem: Problem, fail: Callable[[str], NoReturn]) -
             f"variables.damping.min = {problem.bounds['damping'].low:g} N·m/rad: below the bare fork's "
             f"{c0:g} N·m/rad (Eq. 11C); set [turning] bare_fork_damping if your fork differs"
         )
-
-
-def _validate_swept_radius(problem: Problem, r: float, prefix: str, fail: Callable[[str], NoReturn]) -> None:
-    """``constraints.swept_radius_max``: positive, in range, and above the smallest T + d/2 of the bounds."""
-    check_range("constraints.swept_radius_max", r, prefix)
-    smallest = problem.bounds["trail"].low + problem.bounds["diameter"].low / 2
-    if problem.wheels:
-        smallest = problem.bounds["trail"].low + min(Catalog.from_key(k).fixed_diameter for k in problem.wheels) / 2
-    if r < smallest:
-        fail(
-            f"constraints.swept_radius_max = {inches(r)}: smaller than the smallest possible "
-            f"T + d/2 = {inches(smallest)}; raise it or lower the trail/diameter minimum"
-        )
-
-
-def _validate_inertia(problem: Problem, fail: Callable[[str], NoReturn]) -> None:
-    """I_w of the inertia model at both diameter bounds lies in :data:`INERTIA_RANGE`."""
-    c = problem.conditions
+    if (r := problem.swept_radius_max) is not None:
+        check_range("constraints.swept_radius_max", r, prefix)
+        smallest = problem.bounds["trail"].low + problem.bounds["diameter"].low / 2
+        if problem.wheels:
+            smallest = problem.bounds["trail"].low + min(Catalog.from_key(k).fixed_diameter for k in problem.wheels) / 2
+        if r < smallest:
+            fail(
+                f"constraints.swept_radius_max = {inches(r)}: smaller than the smallest possible "
+                f"T + d/2 = {inches(smallest)}; raise it or lower the trail/diameter minimum"
+            )
+    check_weights(problem.weights, prefix + "objective")
     for label, d in (("min", problem.bounds["diameter"].low), ("max", problem.bounds["diameter"].high)):
+        if problem.wheels:
+            break  # catalogue wheels: their measured I_w
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # extrapolation is reported where the model is used

@@ -9,14 +9,9 @@ from __future__ import annotations
 
 from designer.errors import ProblemError
 from designer.problem._core import Problem
-from designer.problem._loader import problem_from_toml, shipped_folder, shipped_names
+from designer.problem._loader import problem_from_toml, shipped_folder, example_names
 
 __all__ = ["example_names", "example_problem", "example_text"]
-
-
-def example_names() -> list[str]:
-    """The names of the shipped example problems, sorted (``"indoor-manual"``, ``"paper-invacare"``, ...)."""
-    return shipped_names()
 
 
 def example_text(name: str) -> str:
@@ -32,8 +27,7 @@ def example_text(name: str) -> str:
         raise ProblemError(
             f"example_problem: name = {name!r}: no such example problem; the shipped ones are {', '.join(names)}"
         )
-    text: str = (shipped_folder() / f"{name}.toml").read_text(encoding="utf-8")
-    return text
+    return str((shipped_folder() / f"{name}.toml").read_text(encoding="utf-8"))
 
 
 def example_problem(name: str = "indoor-manual") -> Problem:

@@ -83,7 +83,7 @@ def shipped_folder() -> Traversable:
     return resources.files("designer.data") / "problems"
 
 
-def shipped_names() -> list[str]:
+def example_names() -> list[str]:
     """The names of the shipped example problems, sorted (``"indoor-manual"``, ``"paper-invacare"``, ...)."""
     return sorted(e.name[: -len(".toml")] for e in shipped_folder().iterdir() if e.name.endswith(".toml"))
 
@@ -99,7 +99,7 @@ def problem_path(spec: str | Path) -> Path:
     if os.path.lexists(path) or path.parent != Path("."):
         return path
     name = path.name.removesuffix(".toml")
-    if name in shipped_names():
+    if name in example_names():
         return Path(str(shipped_folder() / f"{name}.toml"))
     return path
 
@@ -145,7 +145,7 @@ def load_problem(path: str | os.PathLike[str]) -> Problem:
     path = problem_path(given)
     if given.parent == Path(".") and _missing(path):  # a link loop, a name too long: read_input_text says so
         raise ProblemError(
-            f"{given}: no such problem file, nor a shipped problem of that name ({', '.join(shipped_names())})"
+            f"{given}: no such problem file, nor a shipped problem of that name ({', '.join(example_names())})"
         )
     text = read_input_text(path, "problem file", ".toml", limit=MAX_PROBLEM_BYTES)
     shipped = path != given  # a shipped problem by its name: the name is what the user wrote, and reads it again
@@ -203,8 +203,7 @@ class _Reader:
         return value
 
     def number(self, sec: str, key: str, default: float) -> float:
-        table = self.section(sec)
-        value = table.get(key, default)
+        value = self.section(sec).get(key, default)
         try:  # the package's one rule for a number (designer.units.real_number), as the API's
             return real_number(value, f"{sec}.{key}")
         except InputError as exc:
