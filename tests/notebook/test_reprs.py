@@ -4,7 +4,9 @@ Front <-> pandas and front.csv round trips)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import re
 from html.parser import HTMLParser
 
 import numpy as np
@@ -102,13 +104,18 @@ def test_problem_repr_is_short_with_headline_numbers(problem):
 
 
 def test_problem_html_is_valid_with_units(problem):
-    """Problem's HTML parses (tags balanced) and shows the target speed in m/s, the load in N, bounds in mm."""
+    """Problem's HTML parses (tags balanced) and shows the target speed in m/s, the load in N, and the bounds in
+    the problem's own unit system: inches for the inch problem, millimetres (and no inch) for the same problem in mm."""
     text, tags = parse(problem._repr_html_())
     assert "table" in tags
     assert f"{problem.target_speed:.4g}" in text and "m/s" in text
     assert f"{problem.conditions.load:.4g}" in text and " N " in f" {text} "
     b = problem.bounds["trail"]
-    assert f"{b.low * 1000:.4g} – {b.high * 1000:.4g}" in text and "mm" in text
+    assert problem.units == "in"
+    assert f"{b.low / INCH:.3f} – {b.high / INCH:.3f} in" in text
+    metric, _ = parse(dataclasses.replace(problem, units="mm")._repr_html_())
+    assert f"{b.low * 1000:.2f} – {b.high * 1000:.2f} mm" in metric
+    assert not re.search(r"\d in\b", metric), metric
 
 
 def test_front_repr_is_short_with_headline_numbers(front):
@@ -149,8 +156,8 @@ def test_solution_repr_is_short_with_headline_numbers(solution):
     _short(text)
     d, o = solution.design, solution.objectives
     for part in (
-        f"T {d.trail / INCH:.3f} in",
-        f"d {d.diameter / INCH:.3f} in",
+        f"T = {d.trail / INCH:.3f} in",
+        f"d = {d.diameter / INCH:.3f} in",
         f"F_turn {o['turning_effort']:.4g} N",
         f"P {o['threshold_force']:.4g} N",
         f"J {o['weighted']:.4g} N",
