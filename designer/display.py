@@ -9,7 +9,8 @@ precision of its own.  The quantity is named by the table (:data:`designer.param
 
 Unit systems (a problem's ``units``): ``"in"`` (lengths in inches, the paper's), ``"mm"`` (lengths in
 millimetres) and ``"si"`` (metres).  Every other dimension is shown in its SI unit in every system (forces in N,
-speeds in m/s): the paper's and the clinic's.  Display only: nothing here enters a computation.
+speeds in m/s): the paper's and the clinic's; angles alone in degrees, the unit a fork's tilt, a disturbance and
+a shimmy amplitude are measured in.  Display only: nothing here enters a computation.
 """
 
 from __future__ import annotations
@@ -41,7 +42,7 @@ _SI = {
     "length": Unit("m", 1.0, 4, significant=True),
     "force": Unit("N", 1.0, 2),
     "speed": Unit("m/s", 1.0, 3),
-    "angle": Unit("rad", 1.0, 3),
+    "angle": Unit("deg", 180.0 / math.pi, 2),
     "damping": Unit("N·m/rad", 1.0, 2),
     "inertia": Unit("kg·m²", 1.0, 3, significant=True),
     "mass": Unit("kg", 1.0, 3, significant=True),
