@@ -21,7 +21,7 @@ import numpy as np
 
 from designer.parameters import OUTPUT_TABLE, OUTPUTS, PARAMETERS, VARIABLE_TABLE, VARIABLES
 from designer.boundary import SEED, Count, Instance, Quantity, Values, checked, one_line
-from designer.units import parse_quantity, real_number
+from designer.units import real_number
 from designer.reprs import Key, Record, dataframe, frozen
 from designer.physics.geometry import effective_trail, swept_radius
 from designer.physics.scatter import inertia_prediction
@@ -301,6 +301,8 @@ class OfCaster:
 
 @checked(
     conditions=Instance((Conditions,), "a designer.Conditions, e.g. Conditions(load=178)"),
+    speed=Values("speed"),
+    risk=Values("speed"),
     inertia=Values("inertia"),
     load=Values("force"),
     threshold_height=Values("length"),
@@ -419,18 +421,12 @@ def _columns(designs: Any) -> dict[str, np.ndarray]:
 
 
 def _speed(speed: Any, name: str = "speed") -> Any:
-    """A speed argument [m/s] (``speed`` of the growth rate, ``risk`` of P(shimmy)): a number or a quantity with
-    units (one, or one per caster), finite and within the target speed's range of the parameter table; None
-    stays None."""
+    """A speed argument [m/s] (``speed`` of the growth rate, ``risk`` of P(shimmy)) as the boundary gave it (one, or
+    one per caster: :class:`designer.boundary.Values`), finite and within the target speed's range of the parameter
+    table; None stays None."""
     if speed is None:
         return None
-    try:
-        many = isinstance(speed, (np.ndarray, list, tuple))
-        values = np.asarray(speed if many else parse_quantity(speed, "speed", name), dtype=float)
-    except InputError:
-        raise
-    except (TypeError, ValueError) as error:
-        raise InputError(f"{name} = {one_line(speed)}: expected a speed [m/s] or one per caster ({error})") from None
+    values = np.asarray(speed, dtype=float)
     low, high = PARAMETERS["target_speed"].range or (0.0, np.inf)
     bad = ~((values >= low) & (values <= high))
     if np.any(bad):
