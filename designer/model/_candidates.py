@@ -378,7 +378,9 @@ def evaluate(  # long: the docstring documents every argument
     weights = None if weights is None else _weights(weights)
     if not isinstance(exact, (bool, np.bool_)):
         raise InputError(f"exact = {exact!r}: expected True (the exact law by quadrature) or False (Monte Carlo)")
-    cond = out_conditions(conditions, load, threshold_height)
+    given = {"load": load, "threshold_height": threshold_height}  # per caster [N], [m]: instead of the conditions'
+    per_caster = {name: np.asarray(value, dtype=float) for name, value in given.items() if value is not None}
+    cond = conditions.replace(**per_caster) if per_caster else conditions
     out = _evaluate(
         _columns(designs), cond, inertia, measured, required_speed, swept_radius_max, stem_angle, calibration
     )
@@ -462,15 +464,6 @@ def critical_speed(
     return float(v) if v.ndim == 0 else v
 
 
-def out_conditions(conditions: Conditions, load: Any, threshold_height: Any) -> Conditions:
-    """``conditions`` with a per-caster load [N] and sill height [m] when given."""
-    if load is not None:
-        conditions = conditions.replace(load=np.asarray(load, dtype=float))
-    if threshold_height is not None:
-        conditions = conditions.replace(threshold_height=np.asarray(threshold_height, dtype=float))
-    return conditions
-
-
 def _evaluate(
     columns: dict[str, np.ndarray],
     cond: Conditions,
@@ -482,7 +475,7 @@ def _evaluate(
     calibration: float,
 ) -> Casters:
     """The deterministic columns of :func:`evaluate` (performance, limits, feasibility) under ``cond``, the conditions
-    with any per-caster load and sill height (:func:`out_conditions`)."""
+    with any per-caster load and sill height."""
     t, d, b, c = (columns[name] for name in VARIABLES)
     i_w = np.asarray(cond.inertia(d) if inertia is None else inertia, dtype=float) + 0 * d
     if measured is None:
