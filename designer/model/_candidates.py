@@ -65,17 +65,23 @@ def design_columns(designs: Any) -> dict[str, np.ndarray]:
 
     Accepts a mapping with those keys (arrays that broadcast together), a :class:`Design`, a sequence of
     Designs, a NumPy record array with those fields, or an (N, 4) array whose columns are in the
-    parameter table's order.
+    parameter table's order; anything else (a string, a dict without the four names, an (N, 3) array) is an
+    InputError in one line naming it.
     """
-    if isinstance(designs, Design):
-        designs = [designs]
-    if isinstance(designs, Mapping) or (isinstance(designs, np.ndarray) and designs.dtype.names):
-        return {name: np.asarray(designs[name], dtype=float) for name in VARIABLES}
-    if isinstance(designs, Sequence) and designs and isinstance(designs[0], Design):
-        return {name: np.array([getattr(d, name) for d in designs], dtype=float) for name in VARIABLES}
-    array = np.asarray(designs, dtype=float)
-    if array.ndim == 0 or array.shape[-1] != len(VARIABLES):  # an (N, 3) array is not N casters of 4 numbers
-        raise ValueError(f"an array of shape {array.shape}: expected (N, {len(VARIABLES)}), columns {VARIABLES}")
+    batch = [designs] if isinstance(designs, Design) else designs
+    try:
+        if isinstance(batch, Mapping) or (isinstance(batch, np.ndarray) and batch.dtype.names):
+            return {name: np.asarray(batch[name], dtype=float) for name in VARIABLES}
+        if isinstance(batch, Sequence) and batch and isinstance(batch[0], Design):
+            return {name: np.array([getattr(d, name) for d in batch], dtype=float) for name in VARIABLES}
+        array = np.asarray(batch, dtype=float)
+        if array.ndim == 0 or array.shape[-1] != len(VARIABLES):  # an (N, 3) array is not N casters of 4 numbers
+            raise ValueError(f"an array of shape {array.shape}: expected (N, {len(VARIABLES)}), columns {VARIABLES}")
+    except (AttributeError, KeyError, TypeError, ValueError) as error:
+        raise InputError(
+            f"design = {one_line(designs)}: expected a designer.Design (e.g. Design(trail='2 in', diameter='6 in', "
+            f"groove=0, damping=1.3)) or a batch with the columns {', '.join(VARIABLES)} ({error})"
+        ) from None
     array = array.reshape(-1, len(VARIABLES))
     return {name: array[:, k] for k, name in enumerate(VARIABLES)}
 
@@ -382,7 +388,7 @@ def evaluate(  # long: the docstring documents every argument
     per_caster = {name: np.asarray(value, dtype=float) for name, value in given.items() if value is not None}
     cond = conditions.replace(**per_caster) if per_caster else conditions
     out = _evaluate(
-        _columns(designs), cond, inertia, measured, required_speed, swept_radius_max, stem_angle, calibration
+        design_columns(designs), cond, inertia, measured, required_speed, swept_radius_max, stem_angle, calibration
     )
     extra: dict[str, Any] = {}
     if weights is not None:
@@ -407,19 +413,6 @@ def evaluate(  # long: the docstring documents every argument
     t, i_w, b, c = (float(one[name]) for name in ("effective_trail", "inertia", "groove", "damping"))
     sources = law_sources(t, i_w, b, c, conditions.slip_coefficient, law, wheel)
     return replace(one, risk_law={"sources": sources, "dominant": dominant_sentence(sources)})
-
-
-def _columns(designs: Any) -> dict[str, np.ndarray]:
-    """:func:`design_columns`, with a user's wrong argument (a string, a dict without the four names) refused in
-    one line naming it."""
-    try:
-        columns = design_columns(designs)
-    except (AttributeError, KeyError, TypeError, ValueError) as error:
-        raise InputError(
-            f"design = {one_line(designs)}: expected a designer.Design (e.g. Design(trail='2 in', diameter='6 in', "
-            f"groove=0, damping=1.3)) or a batch with the columns {', '.join(VARIABLES)} ({error})"
-        ) from None
-    return columns
 
 
 def _speed(speed: Any, name: str = "speed") -> Any:
