@@ -170,18 +170,6 @@ class Uncertainty:
         for name, low, high in (("model_error_dof", 0, 1000), ("samples", 1, None), ("seed", 0, 2**32 - 1)):
             object.__setattr__(self, name, whole_number(getattr(self, name), name, low, high))
 
-    @property
-    def z(self) -> float:
-        """Standard normal quantile z_{1−α} [-]."""
-        return float(_special().ndtri(1 - self.probability))
-
-    @property
-    def t(self) -> float:
-        """Quantile t_{ν,1−α} of the model error's Student-t (z_{1−α} when ν = 0) [-]."""
-        if not self.model_error_dof:
-            return self.z
-        return float(_special().stdtrit(self.model_error_dof, 1 - self.probability))
-
     def describe(self) -> str:
         """One line: α and the scatter (for reports and messages)."""
         dist = f"Student-t ν = {self.model_error_dof}" if self.model_error_dof else "normal"
