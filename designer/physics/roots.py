@@ -10,6 +10,7 @@ scipy's ``brentq`` (tests/physics/test_roots.py).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import Any
 
@@ -34,8 +35,7 @@ def bracketed_root(
     Regula falsi with the Illinois rule (the value kept at the end that stays is halved when the same end
     is kept twice, so both ends move and convergence is superlinear), and a bisection step when two steps
     did not halve the bracket.  Stops when the bracket is narrower than ``2 (xtol + rtol |x|)`` and returns
-    the end with the smaller |f| (or an exact zero as soon as one is evaluated): :func:`bracketed_roots` of
-    one bracket.
+    the end with the smaller |f| (or an exact zero as soon as one is evaluated).
 
     Parameters
     ----------
@@ -56,8 +56,47 @@ def bracketed_root(
     RuntimeError
         When ``maxiter`` evaluations do not reach the tolerance.
     """
-    one = bracketed_roots(lambda x, rows: np.array([f(float(x[0]))]), np.array([a]), np.array([b]), xtol, rtol, maxiter)
-    return float(one[0])
+    a, b = float(a), float(b)
+    if not (math.isfinite(a) and math.isfinite(b) and xtol >= 0 and rtol >= 0):
+        raise ValueError(f"bracket [{a!r}, {b!r}], xtol {xtol!r}, rtol {rtol!r}: must be finite, tolerances >= 0")
+    fa, fb = float(f(a)), float(f(b))
+    if fa == 0.0:
+        return a
+    if fb == 0.0:
+        return b
+    if (fa > 0) == (fb > 0):
+        raise ValueError(f"f({a!r}) = {fa!r} and f({b!r}) = {fb!r}: the bracket must hold a sign change")
+    ga, gb = fa, fb  # f at the ends (fa, fb are the chord's weights, halved by the Illinois rule)
+    kept = 0  # which end the last step kept: +1 a, -1 b
+    width = abs(b - a)
+    for step in range(maxiter):
+        tol = xtol + rtol * min(abs(a), abs(b))
+        if abs(b - a) <= 2 * tol:
+            break
+        x = b - fb * (b - a) / (fb - fa)  # where the chord between the ends crosses zero
+        low, high = min(a, b) + tol, max(a, b) - tol
+        if step % 2 == 1:  # every second step: bisect if the last two steps did not halve the bracket
+            if abs(b - a) > 0.5 * width:
+                x = 0.5 * (a + b)
+            width = abs(b - a)
+        if not low <= x <= high:  # keep at least tol inside the bracket
+            x = min(max(x, low), high)
+        fx = float(f(x))
+        if fx == 0.0:
+            return x
+        if (fx > 0) == (fb > 0):  # the root is between a and x: x replaces b
+            b, fb, gb = x, fx, fx
+            if kept == 1:
+                fa *= 0.5  # Illinois: a kept twice
+            kept = 1
+        else:  # the root is between x and b: x replaces a
+            a, fa, ga = x, fx, fx
+            if kept == -1:
+                fb *= 0.5
+            kept = -1
+    else:
+        raise RuntimeError(f"no root within tolerance after {maxiter} steps; bracket [{a!r}, {b!r}]")
+    return a if abs(ga) < abs(gb) else b
 
 
 def bracketed_roots(
@@ -88,12 +127,8 @@ def bracketed_roots(
     a, b = np.array(a, dtype=float), np.array(b, dtype=float)
     xtol = np.broadcast_to(np.asarray(xtol, dtype=float), a.shape)
     rtol = np.broadcast_to(np.asarray(rtol, dtype=float), a.shape)
-    bad = ~(np.isfinite(a) & np.isfinite(b) & (xtol >= 0) & (rtol >= 0))
-    if bad.any():
-        i = int(np.flatnonzero(bad)[0])
-        raise ValueError(
-            f"bracket [{a[i]!r}, {b[i]!r}], xtol {xtol[i]!r}, rtol {rtol[i]!r}: must be finite, tolerances >= 0"
-        )
+    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b)) and np.all(xtol >= 0) and np.all(rtol >= 0)):
+        raise ValueError("brackets and tolerances must be finite, tolerances >= 0")
     every = np.arange(a.size)
     fa = np.array(f(a, every) if fa is None else fa, dtype=np.float64)
     fb = np.array(f(b, every) if fb is None else fb, dtype=np.float64)
