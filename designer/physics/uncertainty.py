@@ -418,13 +418,13 @@ def _compute_fit(probability: float, *dofs: int) -> tuple[Array, float]:
     [0, 1]² (:func:`exact_pair_quantile`)."""
     degrees = (_DEGREE,) if len(dofs) == 1 else _DEGREE2
 
-    def exact(*shares: Array) -> Array:
+    def exact(*shares: Any) -> Array:
         if len(dofs) == 1:
-            return exact_sum_quantile(*shares, probability, *dofs)
-        return exact_pair_quantile(*shares, probability, *dofs)
+            return exact_sum_quantile(shares[0], probability, dofs[0])
+        return exact_pair_quantile(shares[0], shares[1], probability, dofs[0], dofs[1])
 
     nodes = [_chebyshev_nodes(d) for d in degrees]
-    coef = exact(*np.meshgrid(*nodes, indexing="ij"))
+    coef: Any = exact(*np.meshgrid(*nodes, indexing="ij"))
     for axis in reversed(range(len(degrees))):  # solve along each axis: the interpolant through the nodes
         vander = C.chebvander(2 * nodes[axis] - 1, degrees[axis])
         coef = np.moveaxis(np.linalg.solve(vander, np.moveaxis(coef, axis, 0)), 0, axis)
