@@ -21,7 +21,7 @@ import numpy as np
 
 from designer.parameters import OUTPUT_TABLE, OUTPUTS, PARAMETERS, VARIABLE_TABLE, VARIABLES
 from designer.boundary import SEED, Count, Instance, Quantity, Values, checked, one_line
-from designer.units import parse_quantity, real_number
+from designer.units import real_number
 from designer.reprs import Key, Record, dataframe, frozen
 from designer.physics.geometry import effective_trail, swept_radius
 from designer.physics.scatter import inertia_prediction
@@ -65,17 +65,23 @@ def design_columns(designs: Any) -> dict[str, np.ndarray]:
 
     Accepts a mapping with those keys (arrays that broadcast together), a :class:`Design`, a sequence of
     Designs, a NumPy record array with those fields, or an (N, 4) array whose columns are in the
-    parameter table's order.
+    parameter table's order; anything else (a string, a dict without the four names, an (N, 3) array) is an
+    InputError in one line naming it.
     """
-    if isinstance(designs, Design):
-        designs = [designs]
-    if isinstance(designs, Mapping) or (isinstance(designs, np.ndarray) and designs.dtype.names):
-        return {name: np.asarray(designs[name], dtype=float) for name in VARIABLES}
-    if isinstance(designs, Sequence) and designs and isinstance(designs[0], Design):
-        return {name: np.array([getattr(d, name) for d in designs], dtype=float) for name in VARIABLES}
-    array = np.asarray(designs, dtype=float)
-    if array.ndim == 0 or array.shape[-1] != len(VARIABLES):  # an (N, 3) array is not N casters of 4 numbers
-        raise ValueError(f"an array of shape {array.shape}: expected (N, {len(VARIABLES)}), columns {VARIABLES}")
+    batch = [designs] if isinstance(designs, Design) else designs
+    try:
+        if isinstance(batch, Mapping) or (isinstance(batch, np.ndarray) and batch.dtype.names):
+            return {name: np.asarray(batch[name], dtype=float) for name in VARIABLES}
+        if isinstance(batch, Sequence) and batch and isinstance(batch[0], Design):
+            return {name: np.array([getattr(d, name) for d in batch], dtype=float) for name in VARIABLES}
+        array = np.asarray(batch, dtype=float)
+        if array.ndim == 0 or array.shape[-1] != len(VARIABLES):  # an (N, 3) array is not N casters of 4 numbers
+            raise ValueError(f"an array of shape {array.shape}: expected (N, {len(VARIABLES)}), columns {VARIABLES}")
+    except (AttributeError, KeyError, TypeError, ValueError) as error:
+        raise InputError(
+            f"design = {one_line(designs)}: expected a designer.Design (e.g. Design(trail='2 in', diameter='6 in', "
+            f"groove=0, damping=1.3)) or a batch with the columns {', '.join(VARIABLES)} ({error})"
+        ) from None
     array = array.reshape(-1, len(VARIABLES))
     return {name: array[:, k] for k, name in enumerate(VARIABLES)}
 
@@ -301,6 +307,8 @@ class OfCaster:
 
 @checked(
     conditions=Instance((Conditions,), "a designer.Conditions, e.g. Conditions(load=178)"),
+    speed=Values("speed"),
+    risk=Values("speed"),
     inertia=Values("inertia"),
     load=Values("force"),
     threshold_height=Values("length"),
@@ -376,9 +384,11 @@ def evaluate(  # long: the docstring documents every argument
     weights = None if weights is None else _weights(weights)
     if not isinstance(exact, (bool, np.bool_)):
         raise InputError(f"exact = {exact!r}: expected True (the exact law by quadrature) or False (Monte Carlo)")
-    cond = out_conditions(conditions, load, threshold_height)
+    given = {"load": load, "threshold_height": threshold_height}  # per caster [N], [m]: instead of the conditions'
+    per_caster = {name: np.asarray(value, dtype=float) for name, value in given.items() if value is not None}
+    cond = conditions.replace(**per_caster) if per_caster else conditions
     out = _evaluate(
-        _columns(designs), cond, inertia, measured, required_speed, swept_radius_max, stem_angle, calibration
+        design_columns(designs), cond, inertia, measured, required_speed, swept_radius_max, stem_angle, calibration
     )
     extra: dict[str, Any] = {}
     if weights is not None:
@@ -405,32 +415,13 @@ def evaluate(  # long: the docstring documents every argument
     return replace(one, risk_law={"sources": sources, "dominant": dominant_sentence(sources)})
 
 
-def _columns(designs: Any) -> dict[str, np.ndarray]:
-    """:func:`design_columns`, with a user's wrong argument (a string, a dict without the four names) refused in
-    one line naming it."""
-    try:
-        columns = design_columns(designs)
-    except (AttributeError, KeyError, TypeError, ValueError) as error:
-        raise InputError(
-            f"design = {one_line(designs)}: expected a designer.Design (e.g. Design(trail='2 in', diameter='6 in', "
-            f"groove=0, damping=1.3)) or a batch with the columns {', '.join(VARIABLES)} ({error})"
-        ) from None
-    return columns
-
-
 def _speed(speed: Any, name: str = "speed") -> Any:
-    """A speed argument [m/s] (``speed`` of the growth rate, ``risk`` of P(shimmy)): a number or a quantity with
-    units (one, or one per caster), finite and within the target speed's range of the parameter table; None
-    stays None."""
+    """A speed argument [m/s] (``speed`` of the growth rate, ``risk`` of P(shimmy)) as the boundary gave it (one, or
+    one per caster: :class:`designer.boundary.Values`), finite and within the target speed's range of the parameter
+    table; None stays None."""
     if speed is None:
         return None
-    try:
-        many = isinstance(speed, (np.ndarray, list, tuple))
-        values = np.asarray(speed if many else parse_quantity(speed, "speed", name), dtype=float)
-    except InputError:
-        raise
-    except (TypeError, ValueError) as error:
-        raise InputError(f"{name} = {one_line(speed)}: expected a speed [m/s] or one per caster ({error})") from None
+    values = np.asarray(speed, dtype=float)
     low, high = PARAMETERS["target_speed"].range or (0.0, np.inf)
     bad = ~((values >= low) & (values <= high))
     if np.any(bad):
@@ -466,15 +457,6 @@ def critical_speed(
     return float(v) if v.ndim == 0 else v
 
 
-def out_conditions(conditions: Conditions, load: Any, threshold_height: Any) -> Conditions:
-    """``conditions`` with a per-caster load [N] and sill height [m] when given."""
-    if load is not None:
-        conditions = conditions.replace(load=np.asarray(load, dtype=float))
-    if threshold_height is not None:
-        conditions = conditions.replace(threshold_height=np.asarray(threshold_height, dtype=float))
-    return conditions
-
-
 def _evaluate(
     columns: dict[str, np.ndarray],
     cond: Conditions,
@@ -486,7 +468,7 @@ def _evaluate(
     calibration: float,
 ) -> Casters:
     """The deterministic columns of :func:`evaluate` (performance, limits, feasibility) under ``cond``, the conditions
-    with any per-caster load and sill height (:func:`out_conditions`)."""
+    with any per-caster load and sill height."""
     t, d, b, c = (columns[name] for name in VARIABLES)
     i_w = np.asarray(cond.inertia(d) if inertia is None else inertia, dtype=float) + 0 * d
     if measured is None:

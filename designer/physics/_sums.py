@@ -77,12 +77,8 @@ def _legendre(nodes: int) -> tuple[Array, Array]:
 
 
 def t_characteristic(y: Numeric, dof: int) -> Array:
-    """Characteristic function of the standard Student-t_ν at y >= 0 (ν = 0: the standard normal) [-]."""
-    y = np.abs(np.asarray(y, dtype=float))
-    if dof == 0:
-        out: Array = np.exp(-0.5 * y**2)
-        return out
-    z = math.sqrt(dof) * y
+    """Characteristic function of the standard Student-t_ν (ν >= 1) at y >= 0 [-] (a normal term is the sum's c)."""
+    z = math.sqrt(dof) * np.abs(np.asarray(y, dtype=float))
     if dof % 2 == 1 and dof <= ODD_CLOSED_FORM:
         return _odd_t_characteristic(np.asarray(z, dtype=float), dof)
     sp = _special()

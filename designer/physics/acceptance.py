@@ -149,13 +149,10 @@ def least_part(
     return next(limit for limit in limits if (limit.part, limit.side) == (part, "min"))
 
 
-_UNIT_NORMAL = NormalDist()
-
-
 def probit(probability: float) -> float:
     """Φ⁻¹(P) [-] of a probability, P held inside (1e-300, 1 − 1e-16) so that 0 and 1 keep their sign: the scale on
     which the limits' roots are sought (nearly straight in a part where P runs from 1 to 0 in a narrow step)."""
-    return _UNIT_NORMAL.inv_cdf(min(max(probability, 1e-300), 1.0 - 1e-16))
+    return NormalDist().inv_cdf(min(max(probability, 1e-300), 1.0 - 1e-16))
 
 
 def acceptance_limits(

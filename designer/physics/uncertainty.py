@@ -75,15 +75,12 @@ import math
 import operator
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from designer.errors import InputError
 from designer.units import parse_quantity, whole_number
-
-if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
-    import numpy.typing as npt
 
 from designer.physics.roots import bracketed_root
 from designer.physics.types import Array, Numeric, Scalar, batch_or_symbol
@@ -173,18 +170,6 @@ class Uncertainty:
         for name, low, high in (("model_error_dof", 0, 1000), ("samples", 1, None), ("seed", 0, 2**32 - 1)):
             object.__setattr__(self, name, whole_number(getattr(self, name), name, low, high))
 
-    @property
-    def z(self) -> float:
-        """Standard normal quantile z_{1−α} [-]."""
-        return float(_special().ndtri(1 - self.probability))
-
-    @property
-    def t(self) -> float:
-        """Quantile t_{ν,1−α} of the model error's Student-t (z_{1−α} when ν = 0) [-]."""
-        if not self.model_error_dof:
-            return self.z
-        return float(_special().stdtrit(self.model_error_dof, 1 - self.probability))
-
     def describe(self) -> str:
         """One line: α and the scatter (for reports and messages)."""
         dist = f"Student-t ν = {self.model_error_dof}" if self.model_error_dof else "normal"
@@ -241,21 +226,6 @@ def exact_sum_quantile(share: Numeric, probability: float, dof: int) -> Array:
 
 
 _DEGREE = 14
-
-
-def _compute_fit(probability: float, dof: int) -> tuple[npt.NDArray[np.floating[Any]], float]:
-    """Chebyshev coefficients (on s ∈ [0, 1]) of the quantile, shifted up by its fit error; and the shift."""
-
-    nodes = _chebyshev_nodes(_DEGREE)
-    check = np.linspace(0, 1, 4 * _DEGREE + 1)
-    s = np.concatenate([nodes, check])
-    q = exact_sum_quantile(s, probability, dof)
-    q[s == 1.0] = float(_special().ndtri(1 - probability))
-    coef = C.chebfit(2 * nodes - 1, q[: len(nodes)], _DEGREE)
-    error = q - C.chebval(2 * s - 1, coef)
-    shift = max(0.0, float(error.max())) + 1e-9
-    coef[0] += shift
-    return coef, shift
 
 
 def _clenshaw(coef: Any, x: Scalar, y: Scalar | None = None) -> Any:
@@ -441,33 +411,40 @@ def exact_pair_quantile(u: Numeric, r: Numeric, probability: float, dof_model: i
     return quantile
 
 
-def _compute_fit2(probability: float, dof_model: int, dof_inertia: int) -> tuple[Array, float]:
-    """Chebyshev coefficients (on u, r ∈ [0, 1]²) of the quantile, shifted up by the largest fit error on a
-    grid four times as fine (ends included); and the shift."""
-    du, dr = _DEGREE2
-    nu, nr = _chebyshev_nodes(du), _chebyshev_nodes(dr)
-    grid_u, grid_r = np.meshgrid(nu, nr, indexing="ij")
-    q = exact_pair_quantile(grid_u, grid_r, probability, dof_model, dof_inertia)
-    vu, vr = C.chebvander(2 * nu - 1, du), C.chebvander(2 * nr - 1, dr)
-    coef = np.linalg.solve(vu, np.linalg.solve(vr, q.T).T)
-    cu, cr = np.meshgrid(np.linspace(0, 1, 4 * du + 1), np.linspace(0, 1, 4 * dr + 1), indexing="ij")
-    error = exact_pair_quantile(cu, cr, probability, dof_model, dof_inertia) - C.chebval2d(2 * cu - 1, 2 * cr - 1, coef)
+def _compute_fit(probability: float, *dofs: int) -> tuple[Array, float]:
+    """Chebyshev coefficients of the quantile, interpolated at Chebyshev nodes and shifted up by the largest fit
+    error on a grid four times as fine (ends included); and the shift.  One Student-t and a normal for ``dofs`` =
+    (ν,): a fit on s ∈ [0, 1] (:func:`exact_sum_quantile`); two and a normal for (ν_m, ν_I): a 2-D fit on u, r ∈
+    [0, 1]² (:func:`exact_pair_quantile`)."""
+    degrees = (_DEGREE,) if len(dofs) == 1 else _DEGREE2
+
+    def exact(*shares: Any) -> Array:
+        if len(dofs) == 1:
+            return exact_sum_quantile(shares[0], probability, dofs[0])
+        return exact_pair_quantile(shares[0], shares[1], probability, dofs[0], dofs[1])
+
+    nodes = [_chebyshev_nodes(d) for d in degrees]
+    coef: Any = exact(*np.meshgrid(*nodes, indexing="ij"))
+    for axis in reversed(range(len(degrees))):  # solve along each axis: the interpolant through the nodes
+        vander = C.chebvander(2 * nodes[axis] - 1, degrees[axis])
+        coef = np.moveaxis(np.linalg.solve(vander, np.moveaxis(coef, axis, 0)), 0, axis)
+    check = np.meshgrid(*(np.linspace(0, 1, 4 * d + 1) for d in degrees), indexing="ij")
+    error = exact(*check) - _clenshaw(coef, *(2 * x - 1 for x in check))
     shift = max(0.0, float(error.max())) + 1e-9
-    coef[0, 0] += shift
+    coef[(0,) * len(degrees)] += shift
     return coef, shift
 
 
 @functools.lru_cache(maxsize=32)
 def _fit(probability: float, *dofs: int) -> tuple[Array, float]:
     """The quantile's Chebyshev fit and its shift: of one Student-t and a normal for ``dofs`` = (ν,)
-    (:func:`_compute_fit`), of two and a normal for (ν_m, ν_I) (:func:`_compute_fit2`); read from the stored fits
+    (:func:`_compute_fit`), of two and a normal for (ν_m, ν_I); read from the stored fits
     for the default α and ν (the same numbers)."""
     one = len(dofs) == 1
     table: dict[Any, Any] = STORED_SUM_FITS if one else STORED_PAIR_FITS
     stored = table.get((probability, *dofs, _NODES, _DEGREE) if one else (probability, *dofs, _DEGREE2))
-    compute: Any = _compute_fit if one else _compute_fit2
     if stored is None:
-        coef, shift = compute(probability, *dofs)
+        coef, shift = _compute_fit(probability, *dofs)
     else:
         coef, shift = (
             np.array(stored[0], dtype=float).reshape((_DEGREE + 1,) if one else np.add(_DEGREE2, 1)),

@@ -147,10 +147,10 @@ def test_pair_quantile_fit_never_below_exact():
 
 
 def test_stored_pair_fit_is_the_computed_fit():
-    """The stored 2-D fit of α = 0.05, ν = (5, 5) is what _compute_fit2 computes (1e-12), so reading it changes no
+    """The stored 2-D fit of α = 0.05, ν = (5, 5) is what _compute_fit computes (1e-12), so reading it changes no
     number; its shift (the largest fit error) is below 3e-5."""
     stored, shift = U._fit(0.05, 5, 5)
-    computed, computed_shift = U._compute_fit2(0.05, 5, 5)
+    computed, computed_shift = U._compute_fit(0.05, 5, 5)
     np.testing.assert_allclose(stored, computed, rtol=0, atol=1e-12)
     assert shift == pytest.approx(computed_shift, abs=1e-12) and 0 < shift < 3e-5
 
