@@ -220,11 +220,8 @@ its unit (the one rule, :func:`designer.textfiles.dict_rows`: ``onset_speed_m_pe
 
 
 def _summarise(rows) -> dict:
-    err = np.array([r["relative_error"] for r in rows])
-    wtv = np.array([r["omega_T_over_V"] for r in rows])
-    share = np.array([r["groove_share"] for r in rows])
-    amp = np.array([r["amplitude_error"] for r in rows])
-    freq = np.array([r["frequency_error"] for r in rows])
+    keys = ("relative_error", "omega_T_over_V", "groove_share", "amplitude_error", "frequency_error", "trail_in")
+    err, wtv, share, amp, freq, trail, inertia = (np.array([r[k] for r in rows]) for k in (*keys, "inertia_kgm2"))
     grooved = share > 0
 
     def stats(mask):
@@ -239,8 +236,6 @@ def _summarise(rows) -> dict:
             "max_error": float(e.max()),
         }
 
-    trail = np.array([r["trail_in"] for r in rows])
-    inertia = np.array([r["inertia_kgm2"] for r in rows])
     implied = (1 + amp) ** -0.5 - 1
     single = {
         f"T={t:.0f}in,I_w={i:.3g}": stats(~grooved & np.isclose(trail, t) & np.isclose(inertia, i))

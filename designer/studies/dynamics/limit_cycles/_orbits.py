@@ -94,6 +94,12 @@ def _full_period(
     return np.asarray(state[:-1]), time
 
 
+def _scales(sys: CasterDynamics, z: np.ndarray) -> np.ndarray:
+    """Scales of the section state z (X, [X',] θ = A): T A, [V A,] A (difference steps)."""
+    A = abs(z[-1])
+    return np.concatenate([[sys.trail * A], [sys.speed * A] if sys.size == 4 else [], [A]])
+
+
 def _half_map(sys: CasterDynamics, z: np.ndarray) -> tuple[np.ndarray | None, float]:
     """G(z) = −H(z): from a maximum of θ (θ' = 0, section state z) to minus the state at the next minimum."""
     end, time = _full_period(sys, z, signs=(-1.0,))
@@ -111,7 +117,6 @@ def _describing_function_speed(sys: CasterDynamics, amplitude: float) -> float:
 def _damped_newton(
     residual: Residual,
     u: np.ndarray,
-    r: np.ndarray,
     scales: Callable[[np.ndarray], np.ndarray],
     tol: float,
     max_iter: int,
@@ -121,12 +126,15 @@ def _damped_newton(
     """Newton's method with a forward-difference Jacobian and step halving, for the shooting maps below.
 
     ``residual(u)`` is the weighted return-map residual [rad] or None where the map is undefined (the motion
-    stops); ``r`` is its value at ``u``; ``scales(u)`` gives the difference step of each unknown (times 1e-7).
+    stops; at ``u`` too: SolverError); ``scales(u)`` gives the difference step of each unknown (times 1e-7).
     With ``flip_step`` an undefined forward difference is retried backwards.  Returns the unknowns with
     max |residual| <= ``tol``, that residual and the iteration count; raises SolverError naming ``what`` otherwise.
     """
     n = u.size
     iterations = 0
+    r = residual(u)
+    if r is None:
+        raise SolverError(f"{what}: the motion stops from the guess")
     while np.max(np.abs(r)) > tol:
         if iterations >= max_iter:
             raise SolverError(
@@ -203,11 +211,8 @@ def periodic_orbit(
         return None if g is None else (g - section(u)) * w
 
     scales = np.concatenate([[sys.trail * A], [u[-1] * A] if n == 3 else [], [1.0]])
-    r = residual(u)
-    if r is None:
-        raise SolverError(f"periodic orbit of amplitude {A:.4g} rad: the motion stops from the first guess")
     what = f"periodic orbit of amplitude {A:.4g} rad"
-    u, r, iterations = _damped_newton(residual, u, r, lambda u: scales, tol, max_iter, what, flip_step=True)
+    u, r, iterations = _damped_newton(residual, u, lambda u: scales, tol, max_iter, what, flip_step=True)
     return _orbit(sys.at(float(u[-1])), section(u), r, iterations)
 
 
@@ -299,8 +304,7 @@ def _orbit(at: CasterDynamics, z: np.ndarray, r: np.ndarray, iterations: int) ->
     r: its Floquet multipliers (squared eigenvalues of DG), full-period closure [rad] and period [s]."""
     n = at.size - 1
     w = _weights(at)
-    A = abs(z[-1])
-    zs = np.concatenate([[at.trail * A], [at.speed * A] if n == 3 else [], [A]])
+    zs = _scales(at, z)
     DG = np.empty((n, n))
     for j in range(n):
         h = 1e-6 * zs[j]
@@ -346,16 +350,8 @@ def periodic_orbit_at_speed(
         g, _ = _half_map(sys, z)
         return None if g is None else (g - z) * w
 
-    r = residual(z)
-    if r is None:
-        raise SolverError(f"periodic orbit at {sys.speed:.4g} m/s: the motion stops from the guess")
-
-    def scales(z: np.ndarray) -> np.ndarray:
-        A = abs(z[-1])
-        return np.concatenate([[sys.trail * A], [sys.speed * A] if n == 3 else [], [A]])
-
     what = f"periodic orbit at {sys.speed:.4g} m/s"
-    z, r, iterations = _damped_newton(residual, z, r, scales, tol, max_iter, what, flip_step=False)
+    z, r, iterations = _damped_newton(residual, z, lambda z: _scales(sys, z), tol, max_iter, what, flip_step=False)
     if z[-1] < 0:
         z = -z
     return _orbit(sys, z, r, iterations)
