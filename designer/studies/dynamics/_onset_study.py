@@ -135,22 +135,19 @@ def write_simulation_report(
     elapsed = time.perf_counter() - start
 
     onset_c, traces, appendix_c = _appendix_c(conditions, rtol)
-    summary = _summarise(rows)
-    summary.update(
-        {
-            "cases": len(rows),
-            "seconds": elapsed,
-            "appendix_c": appendix_c,
-            "conditions": {
-                "damping": damping,
-                "design_angle": conditions.disturbance_angle,
-                "slip_coefficient": conditions.slip_coefficient,
-                "frame_stiffness": conditions.dynamics.stiffness,
-                "lateral_mass": conditions.dynamics.lateral_mass,
-                "bracket_rtol": rtol,
-            },
-        }
-    )
+    summary = _summarise(rows) | {
+        "cases": len(rows),
+        "seconds": elapsed,
+        "appendix_c": appendix_c,
+        "conditions": {
+            "damping": damping,
+            "design_angle": conditions.disturbance_angle,
+            "slip_coefficient": conditions.slip_coefficient,
+            "frame_stiffness": conditions.dynamics.stiffness,
+            "lateral_mass": conditions.dynamics.lateral_mass,
+            "bracket_rtol": rtol,
+        },
+    }
     # the run time stays out of the committed files (it is in the returned summary): a rerun writes the same bytes
     kept = {k: v for k, v in summary.items() if k != "seconds"}
     png = io.BytesIO()

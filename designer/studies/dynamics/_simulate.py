@@ -188,8 +188,6 @@ def _knock(design: Design, conditions: Conditions, speed, angle, angular_velocit
     _check("speed", float(speed))
     theta_i = float(conditions.disturbance_angle) if angle is None else float(angle)
     _check("angle", theta_i)
-    if not math.isfinite(float(angular_velocity)):
-        raise InputError(f"angular_velocity = {angular_velocity!r}: must be finite")
     _check("angle_limit", float(angle_limit))
     _check("inertia", float(conditions.inertia(design.diameter)))
     sys = caster_dynamics(design, conditions, float(speed))

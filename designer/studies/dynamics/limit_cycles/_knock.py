@@ -6,8 +6,7 @@ import functools
 import math
 from collections.abc import Iterable
 
-from designer.studies.dynamics.limit_cycles._records import OnsetBracket
-from designer.studies.dynamics.limit_cycles._results import KnockSafe, OnsetScan
+from designer.studies.dynamics.limit_cycles._results import KnockSafe, OnsetBracket, OnsetScan
 from designer.studies.dynamics.limit_cycles._system import CasterDynamics, caster_dynamics, simulate_knock
 from designer.boundary import Quantity, checked
 from designer.errors import InputError, SolverError

@@ -7,70 +7,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
-from typing import Any, TypeAlias
+from typing import TypeAlias
 
 import numpy as np
 
 from designer.studies.dynamics.limit_cycles._system import CasterDynamics, _integrate
 from designer.errors import SolverError
-from designer.reprs import Key, Record
+from designer.studies.dynamics.limit_cycles._results import Branch, PeriodicOrbit
 
 Residual: TypeAlias = Callable[[np.ndarray], "np.ndarray | None"]
 """A shooting residual: the weighted return-map residual of the unknowns [rad], None where the map is undefined."""
-
-
-@dataclass(frozen=True, kw_only=True)
-class PeriodicOrbit(Record):
-    """A symmetric periodic orbit (shimmy at constant amplitude) and its stability.
-
-    Attributes
-    ----------
-    amplitude : θ_max = A [rad]
-    speed : V [m/s]
-    state : state at the maximum of θ (θ' = 0) [SI]
-    period : full period [s]
-    multipliers : nontrivial Floquet multipliers of the full period (complex) [-]
-    stable : all |multiplier| < 1
-    closure : largest change of the section state over one full period, in rad
-        (X/T, X'/(ωT), θ) [rad]
-    residual : half-period fixed-point residual at convergence [rad]
-    iterations : Newton iterations
-    """
-
-    amplitude: float
-    speed: float
-    state: np.ndarray
-    period: float
-    multipliers: np.ndarray
-    stable: bool
-    closure: float
-    residual: float
-    iterations: int
-
-    _keys = (
-        *("amplitude", "speed", "period", "frequency", "stable", "closure", "residual", "iterations"),
-        Key("multipliers", lambda o: [[float(m.real), float(m.imag)] for m in o.multipliers]),
-        "max_abs_multiplier",
-    )
-    """Plain floats, the complex multipliers as [re, im] pairs (not the section ``state``)."""
-
-    @property
-    def frequency(self) -> float:
-        """2π / period [rad/s]."""
-        return 2 * math.pi / self.period
-
-    @property
-    def max_abs_multiplier(self) -> float:
-        """Largest |Floquet multiplier| [-] (below 1: stable)."""
-        return float(np.max(np.abs(self.multipliers)))
-
-    _units = {
-        **dict.fromkeys(("amplitude", "closure", "residual"), "rad"),
-        "speed": "m/s",
-        "period": "s",
-        "frequency": "rad/s",
-    }
 
 
 def _weights(sys: CasterDynamics) -> np.ndarray:
@@ -216,50 +162,6 @@ def periodic_orbit(
     return _orbit(sys.at(float(u[-1])), section(u), r, iterations)
 
 
-@dataclass(frozen=True)
-class Branch(Record):
-    """Periodic orbits along amplitude, split into stable and unstable pieces for the diagram."""
-
-    orbits: list[PeriodicOrbit] = field(default_factory=list)
-    failed: list[float] = field(default_factory=list)  # amplitudes where no orbit was found [rad]
-
-    _units = {"failed": "rad"}
-
-    def _repr_lines(self) -> list[str]:
-        """One line: how many orbits (stable, unstable) over which amplitudes, and the failures."""
-        if not self.orbits:
-            return [f"Branch(no orbit, {len(self.failed)} failed)"]
-        a = [o.amplitude for o in self.orbits]
-        stable = sum(bool(o.stable) for o in self.orbits)
-        return [
-            f"Branch({len(self.orbits)} orbits ({stable} stable, {len(self.orbits) - stable} unstable), "
-            f"A {min(a):.4g}–{max(a):.4g} rad, {len(self.failed)} failed)"
-        ]
-
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        if not self.orbits:
-            return [("orbits", "0", ""), ("failed amplitudes", str(len(self.failed)), "")]
-        a = [o.amplitude for o in self.orbits]
-        v = [o.speed for o in self.orbits]
-        return [
-            ("orbits (stable)", f"{len(self.orbits)} ({sum(bool(o.stable) for o in self.orbits)})", ""),
-            ("amplitude A", f"{min(a):.4g} – {max(a):.4g}", "rad"),
-            ("speed V", f"{min(v):.4g} – {max(v):.4g}", "m/s"),
-            ("failed amplitudes", str(len(self.failed)), ""),
-        ]
-
-    def pieces(self) -> list[dict[str, Any]]:
-        """Consecutive runs of equal stability: [{"kind", "speed", "amplitude"}] (SI, rad)."""
-        out: list[dict[str, Any]] = []
-        for orb in self.orbits:
-            kind = "stable" if orb.stable else "unstable"
-            if not out or out[-1]["kind"] != kind:
-                out.append({"kind": kind, "speed": [], "amplitude": []})
-            out[-1]["speed"].append(float(orb.speed))
-            out[-1]["amplitude"].append(float(orb.amplitude))
-        return out
-
-
 def continue_orbits(
     sys: CasterDynamics, amplitudes: Iterable[float], progress: Callable[[int, int], object] | None = None
 ) -> Branch:
@@ -308,15 +210,9 @@ def _orbit(at: CasterDynamics, z: np.ndarray, r: np.ndarray, iterations: int) ->
     DG = np.empty((n, n))
     for j in range(n):
         h = 1e-6 * zs[j]
-        zp, zm = z.copy(), z.copy()
-        zp[j] += h
-        zm[j] -= h
-        gp, _ = _half_map(at, zp)
-        gm, _ = _half_map(at, zm)
-        if gp is None or gm is None:
-            DG[:, j] = np.nan
-        else:
-            DG[:, j] = (gp - gm) / (2 * h)
+        step = np.where(np.arange(n) == j, h, 0.0)
+        (gp, _), (gm, _) = _half_map(at, z + step), _half_map(at, z - step)
+        DG[:, j] = np.nan if gp is None or gm is None else (gp - gm) / (2 * h)
     mu = np.linalg.eigvals(DG) if np.all(np.isfinite(DG)) else np.full(n, np.nan + 0j)
     full, period = _full_period(at, z)
     closure = float(np.max(np.abs((full - z) * w))) if full is not None else math.nan

@@ -11,19 +11,15 @@ import numpy as np
 from designer.studies.dynamics.limit_cycles._system import caster_dynamics
 from designer.studies.dynamics._work import ARGUMENTS, bounded
 from designer.studies.dynamics.limit_cycles._knock import knock_onset_speed, knock_safe_speed, scanned_onset_speed
-from designer.studies.dynamics.limit_cycles._orbits import (
-    Branch,
-    PeriodicOrbit,
-    continue_orbits,
-    speed_sweep,
-    stable_orbit,
-)
+from designer.studies.dynamics.limit_cycles._orbits import continue_orbits, speed_sweep, stable_orbit
 from designer.studies.dynamics.limit_cycles._results import (
     BifurcationDiagram,
+    Branch,
     ErrorStats,
     FrictionPoint,
     LimitCycleStudy,
     MapCell,
+    PeriodicOrbit,
     RollingLimitCheck,
     StiffnessMassMap,
     Table1Comparison,
@@ -253,8 +249,7 @@ def stiffness_mass_map(
     rows = []
     total = len(casters) * len(factors) ** 2
     for name, (design, inertia, mass, measured) in casters.items():
-        k_s = conditions.slip_coefficient
-        v7 = float(critical_speed(design.trail, inertia, design.groove, design.damping, k_s))
+        v7 = float(critical_speed(design.trail, inertia, design.groove, design.damping, conditions.slip_coefficient))
         for fk, fn in itertools.product(factors, factors):
             dyn = DynamicsParameters(frame_stiffness=K0 * fk, fork_mass=0.6 * N0 * fn, bearing_block_mass=0.4 * N0 * fn)
             cond = conditions.replace(inertia=Fixed(inertia), dynamics=dyn)

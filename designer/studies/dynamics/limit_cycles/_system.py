@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.errors import InputError, SolverError
-from designer.studies.dynamics.limit_cycles._records import KnockResult
+from designer.studies.dynamics.limit_cycles._results import KnockResult
 from designer.model import Conditions, Design, critical_speed
 from designer.physics import bracketed_root
 from designer.physics.motion import (
@@ -443,8 +443,7 @@ def simulate_knock(
     half, times = np.abs(np.diff(ext[:, 1])) / 2, ext[1:, 0]  # the swings and when they end (none: empty)
     early_sel = (times >= transient) & (times < transient + 2 * period)
     early = float(half[early_sel].mean()) if early_sel.any() else (float(half[0]) if half.size else 0.0)
-    end = run.time
-    late_sel = times >= end - 2 * period
+    late_sel = times >= run.time - 2 * period
     late = float(half[late_sel].mean()) if (late_sel.any() and run.reason != "rest") else 0.0
     # sustained = still oscillating at the end (>= 3 reversals in the last two periods: a slow creep of a
     # sliding tyre at a crawl is not shimmy) with an amplitude at least half the early one
