@@ -203,14 +203,9 @@ unedited (:func:`designer.output.write_file`)."""
 
 
 ONSET_CSV_QUANTITIES = {
-    "eq7_critical_speed": "speed",
-    "onset_speed": "speed",
-    "onset_low": "speed",
-    "onset_high": "speed",
-    "omega_eq15b": "angular_speed",
-    "amplitude_sim": "angle",
-    "amplitude_eq29b": "angle",
-    "frequency_sim": "angular_speed",
+    **dict.fromkeys(("eq7_critical_speed", "onset_speed", "onset_low", "onset_high"), "speed"),
+    **dict.fromkeys(("omega_eq15b", "frequency_sim"), "angular_speed"),
+    **dict.fromkeys(("amplitude_sim", "amplitude_eq29b"), "angle"),
 }
 """The quantities of onset.csv that do not name their unit in the row's key, and their dimensions: each column names
 its unit (the one rule, :func:`designer.textfiles.dict_rows`: ``onset_speed_m_per_s``, ``omega_eq15b_rad_per_s``)."""

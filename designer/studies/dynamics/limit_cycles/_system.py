@@ -369,13 +369,10 @@ class _LinearSlip:
         while True:  # one period of grid points at a time
             spend(1)
             pts = self.states(yp, z0, base + taus)
-            stop = np.nonzero(s * pts[2] <= 0)[0]
-            over = np.nonzero(np.abs(pts[1]) >= angle_limit)[0]
-            k_stop = stop[0] if stop.size else grid
-            k_over = over[0] if over.size else grid
-            if k_stop < grid or k_over < grid:
-                break
-            if t0 + base + period >= t_end:
+            # the first grid point where θ' stopped and where |θ| passed the limit (grid: none)
+            found = (s * pts[2] <= 0, np.abs(pts[1]) >= angle_limit)
+            k_stop, k_over = (int(np.argmax(np.append(hit, True))) for hit in found)
+            if k_stop < grid or k_over < grid or t0 + base + period >= t_end:
                 break
             base += period
         hits = [
