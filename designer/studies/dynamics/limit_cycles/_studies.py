@@ -317,8 +317,7 @@ def friction_sensitivity(
     for mu in coefficients:
         sys = caster_dynamics(design, conditions, speed, tyre.replace(friction_coefficient=float(mu)))
         branch = continue_orbits(sys, np.geomspace(0.03, 3.0, 26))
-        stable = [o for o in branch.orbits if o.stable]
-        fold = min(branch.orbits, key=lambda o: o.speed) if stable else None
+        fold = min(branch.orbits, key=lambda o: o.speed) if any(o.stable for o in branch.orbits) else None
         orb = stable_orbit(sys, angles=(0.6, 1.2, 0.3, 2.4, 0.15))
         rows.append(
             FrictionPoint(
