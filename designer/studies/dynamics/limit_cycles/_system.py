@@ -140,9 +140,8 @@ def caster_dynamics(
     speed : V [m/s]
     tyre : None for the paper's rolling tyre (Eq. 6B), else the brush tyre
     """
-    for name, value in (("speed", speed), ("trail", design.trail)):
-        if not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
-            raise InputError(f"{name} = {value!r}: must be a positive finite number")
+    if not isinstance(speed, (int, float)) or not math.isfinite(speed) or speed <= 0:  # the trail: Design checks it
+        raise InputError(f"speed = {speed!r}: must be a positive finite number")
     inertia = float(conditions.inertia(design.diameter))
     dyn = conditions.dynamics
     return CasterDynamics(
