@@ -41,22 +41,13 @@ FILES = (
 
 
 CSV_QUANTITIES = {
-    "speed": "speed",
+    **dict.fromkeys(("speed", "measured", "eq7", "rolling_sim", "tyre_sim", "rolling_onset", "tyre_onset"), "speed"),
+    **dict.fromkeys(("amplitude_rad", "closure_rad", "stable_amplitude"), "angle"),
+    **dict.fromkeys(("mass_kg", "N"), "mass"),
     "period": "time",
-    "amplitude_rad": "angle",
-    "closure_rad": "angle",
     "inertia_kgm2": "inertia",
-    "mass_kg": "mass",
-    "measured": "speed",
-    "eq7": "speed",
-    "rolling_sim": "speed",
-    "tyre_sim": "speed",
     "K": "stiffness",
-    "N": "mass",
     "frequency": "angular_speed",
-    "rolling_onset": "speed",
-    "tyre_onset": "speed",
-    "stable_amplitude": "angle",
 }
 """The quantities of the study's CSV files and their dimensions: each column names its unit (the one rule,
 :func:`designer.textfiles.dict_rows`: ``speed_m_per_s``, ``period_s``, ``K_N_per_m``, ``frequency_rad_per_s``);
@@ -64,8 +55,7 @@ labels, flags, factors and counts keep their names."""
 
 
 def _csv(path: Path, rows: list[dict]) -> None:
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        fh.write(csv_text(dict_rows(rows, list(rows[0]), "{:.6g}", quantities=CSV_QUANTITIES)))
+    path.write_text(csv_text(dict_rows(rows, list(rows[0]), "{:.6g}", quantities=CSV_QUANTITIES)), "utf-8", newline="")
 
 
 def _png(fig, path: Path) -> None:

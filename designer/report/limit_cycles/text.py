@@ -50,8 +50,8 @@ def blocks(study: Any) -> list[tuple]:
 
 def _model_section(study: Any) -> list[tuple]:
     """Title, provenance, the model (tyres, constants) and the rolling-limit check."""
-    tyre = study.bifurcation.tyre
-    B: list[tuple] = [
+    tyre, rl = study.bifurcation.tyre, study.rolling_limit
+    return [
         ("h1", "Shimmy beyond onset: tyre saturation, limit cycles, Table 1, the unknowns K and N"),
         (
             "p",
@@ -74,37 +74,18 @@ def _model_section(study: Any) -> list[tuple]:
             f"of sliding moment per newton of load); L = {shown(tyre.load, 'load')} (Fig. 3C). K and N are not in "
             "the paper (N = 0.5 kg guessed, K fitted to ω = 104.7 rad/s): mapped below.",
         ),
+        (
+            "p",
+            f"Rolling limit: with the saturation removed and C × {rl.factor:.0f}, the onset of the "
+            f"20° knock on the Appendix C caster is {_speed(rl.tyre_limit)} against {_speed(rl.today)} "
+            f"for today's `designer.studies.dynamics._simulate` ({_pct(rl.tyre_limit / rl.today - 1)}"
+            "; brackets 0.2 %); the test suite checks it to 0.5 %.",
+        ),
     ]
-    rl = study.rolling_limit
-    if rl is not None:
-        B.append(
-            (
-                "p",
-                f"Rolling limit: with the saturation removed and C × {rl.factor:.0f}, the onset of the "
-                f"20° knock on the Appendix C caster is {_speed(rl.tyre_limit)} against {_speed(rl.today)} "
-                f"for today's `designer.studies.dynamics._simulate` ({_pct(rl.tyre_limit / rl.today - 1)}"
-                "; brackets 0.2 %); the test suite checks it to 0.5 %.",
-            )
-        )
-    return B
 
 
 def _orbits_section(bif: Any, roll: Any, meas: dict) -> list[tuple]:
     """Periodic orbits, the bifurcation diagram and the stable amplitude against the measured one."""
-    B: list[tuple] = [
-        ("h2", "Periodic orbits and the bifurcation diagram (Appendix C caster)"),
-        (
-            "p",
-            "Symmetric periodic orbits are found by shooting on the section θ' = 0 at a maximum of θ "
-            "(Newton on the half-period map G = −H with the amplitude as parameter and the speed as "
-            "unknown, so the branch is followed round its fold; the stable branch is then swept in "
-            "speed). Every orbit is integrated over one full period without the symmetry: the largest "
-            f"closure error is {bif.max_closure:.1e} rad (brush tyre) and {roll.max_closure:.1e} rad "
-            "(rolling tyre). Stability from the Floquet multipliers (squared eigenvalues of DG by central "
-            "differences); the tests confirm them by perturbed simulations.",
-        ),
-        ("img", "bifurcation.png", "bifurcation diagram"),
-    ]
     sref = bif.stable_at_reference
     unstable_near = min(
         (o for o in bif.orbits if not o.stable), key=lambda o: abs(o.speed - meas["speed"]), default=None
@@ -134,19 +115,24 @@ def _orbits_section(bif: Any, roll: Any, meas: dict) -> list[tuple]:
         )
     else:
         lines.append(f"No stable orbit was reached at {_speed(meas['speed'])} from knocks of 0.15–2.4 rad.")
-    B.append(("ul", lines))
-    return B
+    return [
+        ("h2", "Periodic orbits and the bifurcation diagram (Appendix C caster)"),
+        (
+            "p",
+            "Symmetric periodic orbits are found by shooting on the section θ' = 0 at a maximum of θ "
+            "(Newton on the half-period map G = −H with the amplitude as parameter and the speed as "
+            "unknown, so the branch is followed round its fold; the stable branch is then swept in "
+            "speed). Every orbit is integrated over one full period without the symmetry: the largest "
+            f"closure error is {bif.max_closure:.1e} rad (brush tyre) and {roll.max_closure:.1e} rad "
+            "(rolling tyre). Stability from the Floquet multipliers (squared eigenvalues of DG by central "
+            "differences); the tests confirm them by perturbed simulations.",
+        ),
+        ("img", "bifurcation.png", "bifurcation diagram"),
+        ("ul", lines),
+    ]
 
 
 def _friction_text(fric: list, meas: dict) -> list[tuple]:
-    out = [
-        (
-            "p",
-            "The sustained amplitude is set by the friction limit μL (the saturation slip 3μL/C): the "
-            "branch for each μ, its fold (the smallest sustained shimmy and the lowest speed it survives "
-            f"at) and the stable amplitude at {_speed(meas['speed'])}:",
-        )
-    ]
     rows = [
         [
             f"{r.friction_coefficient:g}",
@@ -158,20 +144,6 @@ def _friction_text(fric: list, meas: dict) -> list[tuple]:
         ]
         for r in fric
     ]
-    out.append(
-        (
-            "table",
-            [
-                "μ",
-                "fold speed [m/s]",
-                "fold amplitude [rad]",
-                f"stable amplitude at {_speed(meas['speed'])} [rad]",
-                "[deg]",
-                "max |Floquet multiplier|",
-            ],
-            rows,
-        )
-    )
     found = [r for r in fric if math.isfinite(r.stable_amplitude)]
     folds = [r for r in fric if math.isfinite(r.fold_speed)]
     text = []
@@ -212,8 +184,27 @@ def _friction_text(fric: list, meas: dict) -> list[tuple]:
             "nonlinearity, bearing free play, large-angle geometry, the treadmill belt's compliance) are "
             "not in the model."
         )
-    out.append(("ul", text))
-    return out
+    return [
+        (
+            "p",
+            "The sustained amplitude is set by the friction limit μL (the saturation slip 3μL/C): the "
+            "branch for each μ, its fold (the smallest sustained shimmy and the lowest speed it survives "
+            f"at) and the stable amplitude at {_speed(meas['speed'])}:",
+        ),
+        (
+            "table",
+            [
+                "μ",
+                "fold speed [m/s]",
+                "fold amplitude [rad]",
+                f"stable amplitude at {_speed(meas['speed'])} [rad]",
+                "[deg]",
+                "max |Floquet multiplier|",
+            ],
+            rows,
+        ),
+        ("ul", text),
+    ]
 
 
 def _knock_section(bif: Any, ks: dict) -> list[tuple]:
@@ -254,15 +245,6 @@ def _knock_section(bif: Any, ks: dict) -> list[tuple]:
 def _table1_section(table: Any) -> list[tuple]:
     """Table 1: measured critical speeds against Eq. 7 and both simulations, errors, the flagged wheels."""
     st = table.stats
-    B: list[tuple] = [
-        ("h2", "Table 1"),
-        (
-            "p",
-            "Test fork, T = 2 in, bare fork c_f = 1.3 N·m/rad, B = 0, each wheel's I_w and mass, "
-            f"L = {shown(table.tyre.load, 'load')}, 20° knock. Errors over wheels C–G (prediction/measured − 1).",
-        ),
-        ("img", "table1.png", "Table 1 comparison"),
-    ]
     rows = [
         [
             r.wheel,
@@ -273,39 +255,38 @@ def _table1_section(table: Any) -> list[tuple]:
         ]
         for r in table.rows
     ]
-    B.append(
-        ("table", ["wheel", "I_w [kg·m²]", "measured [m/s]", "Eq. 7", "rolling sim", "brush-tyre sim", "flag"], rows)
+    flagged = [r for r in table.rows if r.flagged]
+    flag = (
+        "**Flag:** "
+        + "; ".join(
+            f"wheel {r.wheel} was measured stable up to {table.stable_up_to} m/s but is predicted to shimmy "
+            "below it by "
+            + ", ".join(
+                f"{PREDICTIONS[k]} ({_speed(r.prediction(k))}, {_pct(r.prediction(k) / table.stable_up_to - 1)})"
+                for k in r.flagged
+            )
+            for r in flagged
+        )
+        + ". The measurement contradicts these predictions; the shortfall is inside the "
+        f"models' scatter on C–G (RMS {100 * min(v.rms for v in st.values()):.0f}–"
+        f"{100 * max(v.rms for v in st.values()):.0f} %)."
     )
-    B.append(
+    return [
+        ("h2", "Table 1"),
+        (
+            "p",
+            "Test fork, T = 2 in, bare fork c_f = 1.3 N·m/rad, B = 0, each wheel's I_w and mass, "
+            f"L = {shown(table.tyre.load, 'load')}, 20° knock. Errors over wheels C–G (prediction/measured − 1).",
+        ),
+        ("img", "table1.png", "Table 1 comparison"),
+        ("table", ["wheel", "I_w [kg·m²]", "measured [m/s]", "Eq. 7", "rolling sim", "brush-tyre sim", "flag"], rows),
         (
             "table",
             ["prediction", "RMS", "bias", "max |error|"],
             [[k, f"{100 * st[k].rms:.1f} %", _pct(st[k].bias), f"{100 * st[k].max_abs:.1f} %"] for k in PREDICTIONS],
-        )
-    )
-    flagged = [r for r in table.rows if r.flagged]
-    if flagged:
-        B.append(
-            (
-                "p",
-                "**Flag:** "
-                + "; ".join(
-                    f"wheel {r.wheel} was measured stable up to {table.stable_up_to} m/s but is predicted to shimmy "
-                    "below it by "
-                    + ", ".join(
-                        f"{PREDICTIONS[k]} ({_speed(r.prediction(k))}, {_pct(r.prediction(k) / table.stable_up_to - 1)})"
-                        for k in r.flagged
-                    )
-                    for r in flagged
-                )
-                + ". The measurement contradicts these predictions; the shortfall is inside the "
-                f"models' scatter on C–G (RMS {100 * min(v.rms for v in st.values()):.0f}–"
-                f"{100 * max(v.rms for v in st.values()):.0f} %).",
-            )
-        )
-    else:
-        B.append(("p", "No wheel measured stable to 3.8 m/s is predicted to shimmy below it."))
-    return B
+        ),
+        ("p", flag if flagged else "No wheel measured stable to 3.8 m/s is predicted to shimmy below it."),
+    ]
 
 
 def _map_section(kn: Any) -> list[tuple]:
@@ -348,19 +329,17 @@ def _map_summary(kn) -> list[str]:
 
 def _map_conclusions(kn) -> list[tuple]:
     rows = kn.rows
-    lines = []
-    roll_ok = tyre_ok = total = 0
-    for _, sel, base in kn.casters():
-        total += len(sel)
-        roll_ok += sum(abs(r.rolling_onset / base.rolling_onset - 1) <= 0.10 for r in sel)
-        tyre_ok += sum(math.isfinite(r.tyre_onset) and abs(r.tyre_onset / base.tyre_onset - 1) <= 0.10 for r in sel)
+    total = len(rows)
+    cells = [(r, base) for _, sel, base in kn.casters() for r in sel]
+    roll_ok = sum(abs(r.rolling_onset / base.rolling_onset - 1) <= 0.10 for r, base in cells)
+    tyre_ok = sum(math.isfinite(r.tyre_onset) and abs(r.tyre_onset / base.tyre_onset - 1) <= 0.10 for r, base in cells)
     islands = [r for r in rows if not r.tyre_onset_monotone]
     amps = np.array([r.stable_amplitude for r in rows], float)
-    lines.append(
+    lines = [
         f"Robust to the guesses: the rolling-tyre (paper's) onset stays within ±10 % of its default in "
         f"{roll_ok} of {total} cells; the conclusions drawn from Eq. 7 and from `designer simulate` do "
         "not hinge on K and N."
-    )
+    ]
     quiet = [r for r in rows if not math.isfinite(r.tyre_onset)]
     lines.append(
         f"Dependent on the guesses: the brush-tyre onset is within ±10 % of its default in {tyre_ok} of "

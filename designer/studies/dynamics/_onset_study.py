@@ -135,22 +135,19 @@ def write_simulation_report(
     elapsed = time.perf_counter() - start
 
     onset_c, traces, appendix_c = _appendix_c(conditions, rtol)
-    summary = _summarise(rows)
-    summary.update(
-        {
-            "cases": len(rows),
-            "seconds": elapsed,
-            "appendix_c": appendix_c,
-            "conditions": {
-                "damping": damping,
-                "design_angle": conditions.disturbance_angle,
-                "slip_coefficient": conditions.slip_coefficient,
-                "frame_stiffness": conditions.dynamics.stiffness,
-                "lateral_mass": conditions.dynamics.lateral_mass,
-                "bracket_rtol": rtol,
-            },
-        }
-    )
+    summary = _summarise(rows) | {
+        "cases": len(rows),
+        "seconds": elapsed,
+        "appendix_c": appendix_c,
+        "conditions": {
+            "damping": damping,
+            "design_angle": conditions.disturbance_angle,
+            "slip_coefficient": conditions.slip_coefficient,
+            "frame_stiffness": conditions.dynamics.stiffness,
+            "lateral_mass": conditions.dynamics.lateral_mass,
+            "bracket_rtol": rtol,
+        },
+    }
     # the run time stays out of the committed files (it is in the returned summary): a rerun writes the same bytes
     kept = {k: v for k, v in summary.items() if k != "seconds"}
     png = io.BytesIO()
@@ -206,25 +203,17 @@ unedited (:func:`designer.output.write_file`)."""
 
 
 ONSET_CSV_QUANTITIES = {
-    "eq7_critical_speed": "speed",
-    "onset_speed": "speed",
-    "onset_low": "speed",
-    "onset_high": "speed",
-    "omega_eq15b": "angular_speed",
-    "amplitude_sim": "angle",
-    "amplitude_eq29b": "angle",
-    "frequency_sim": "angular_speed",
+    **dict.fromkeys(("eq7_critical_speed", "onset_speed", "onset_low", "onset_high"), "speed"),
+    **dict.fromkeys(("omega_eq15b", "frequency_sim"), "angular_speed"),
+    **dict.fromkeys(("amplitude_sim", "amplitude_eq29b"), "angle"),
 }
 """The quantities of onset.csv that do not name their unit in the row's key, and their dimensions: each column names
 its unit (the one rule, :func:`designer.textfiles.dict_rows`: ``onset_speed_m_per_s``, ``omega_eq15b_rad_per_s``)."""
 
 
 def _summarise(rows) -> dict:
-    err = np.array([r["relative_error"] for r in rows])
-    wtv = np.array([r["omega_T_over_V"] for r in rows])
-    share = np.array([r["groove_share"] for r in rows])
-    amp = np.array([r["amplitude_error"] for r in rows])
-    freq = np.array([r["frequency_error"] for r in rows])
+    keys = ("relative_error", "omega_T_over_V", "groove_share", "amplitude_error", "frequency_error", "trail_in")
+    err, wtv, share, amp, freq, trail, inertia = (np.array([r[k] for r in rows]) for k in (*keys, "inertia_kgm2"))
     grooved = share > 0
 
     def stats(mask):
@@ -239,8 +228,6 @@ def _summarise(rows) -> dict:
             "max_error": float(e.max()),
         }
 
-    trail = np.array([r["trail_in"] for r in rows])
-    inertia = np.array([r["inertia_kgm2"] for r in rows])
     implied = (1 + amp) ** -0.5 - 1
     single = {
         f"T={t:.0f}in,I_w={i:.3g}": stats(~grooved & np.isclose(trail, t) & np.isclose(inertia, i))

@@ -143,13 +143,8 @@ class SimulationResult(Record):
             {"t_s": float(t), "theta_rad": float(th), "theta_deg": math.degrees(th), "lateral_m": float(x)}
             for t, th, x in zip(self.t, self.theta, self.lateral)
         ]
-        return dataframe(
-            "SimulationResult.to_pandas",
-            records,
-            ["t_s", "theta_rad", "theta_deg", "lateral_m"],
-            {"t_s": "s", "theta_rad": "rad", "theta_deg": "deg", "lateral_m": "m"},
-            **self.to_dict(),
-        )
+        units = {"t_s": "s", "theta_rad": "rad", "theta_deg": "deg", "lateral_m": "m"}
+        return dataframe("SimulationResult.to_pandas", records, list(units), units, **self.to_dict())
 
     def plot(self, ax: Any = None, onset_speed: float | None = None) -> Any:
         """θ(t) in degrees against time [s], with ± the Eq. 29B amplitude; returns the matplotlib Axes.

@@ -48,13 +48,13 @@ import math
 
 import numpy as np
 
-from designer.boundary import Count, Instance, Quantity, checked
+from designer.boundary import Count, Quantity, checked
 from designer.errors import InputError
 from designer.model import Conditions, Design
 from designer.units import real_number
 from designer.physics.shimmy import steady_shimmy_amplitude
 from designer.studies.dynamics._result import OnsetResult, SimulationResult
-from designer.studies.dynamics._work import bisect_speed, bounded, bracket_speed
+from designer.studies.dynamics._work import ARGUMENTS, bisect_speed, bounded, bracket_speed
 from designer.studies.dynamics.limit_cycles._system import _integrate, caster_dynamics
 
 
@@ -65,10 +65,7 @@ def _check(name: str, value: float, allow_zero: bool = False) -> None:
 
 
 @checked(
-    design=Instance(
-        (Design,), "a designer.Design, e.g. Design(trail='1.5 in', diameter='6 in', groove=0, damping=1.3)"
-    ),
-    conditions=Instance((Conditions,), "a designer.Conditions, e.g. Conditions(load=178)"),
+    **{k: ARGUMENTS[k] for k in ("design", "conditions")},
     speed=Quantity("speed"),
     angle=Quantity("angle", optional=True),
     angular_velocity=Quantity("angular_speed"),
@@ -188,15 +185,9 @@ def _knock(design: Design, conditions: Conditions, speed, angle, angular_velocit
     speed (:class:`~designer.studies.dynamics.limit_cycles._system.CasterDynamics`, M_f = c_f θ0_design), the
     knock θ_i [rad], the Eq. 15B period [s], the aligning transient (3T/V, at least a period) [s] and the time
     span [s]."""
-    _check("trail", float(design.trail))
-    _check("diameter", float(design.diameter))
-    _check("groove", float(design.groove), allow_zero=True)
-    _check("damping", float(design.damping), allow_zero=True)
     _check("speed", float(speed))
     theta_i = float(conditions.disturbance_angle) if angle is None else float(angle)
     _check("angle", theta_i)
-    if not math.isfinite(float(angular_velocity)):
-        raise InputError(f"angular_velocity = {angular_velocity!r}: must be finite")
     _check("angle_limit", float(angle_limit))
     _check("inertia", float(conditions.inertia(design.diameter)))
     sys = caster_dynamics(design, conditions, float(speed))

@@ -21,8 +21,11 @@ import math
 from collections.abc import Iterator
 from typing import Any, Callable, TypeVar
 
+from designer.boundary import Instance
 from designer.errors import DesignerError, SolverError
+from designer.model import Conditions, Design
 from designer.parameters import PARAMETERS
+from designer.physics.tyre import TyreParameters
 
 MAX_EVALUATIONS = 2_000_000
 """Evaluations of the equations of motion one study may spend (about 20 s of CPU here at 9-10 µs each).
@@ -37,6 +40,16 @@ SPEED_RANGE: tuple[float, float] = PARAMETERS["target_speed"].range or (0.01, 10
 """The model's speeds [m/s] (the problem file's range of ``shimmy.target_speed``)."""
 
 _F = TypeVar("_F", bound=Callable[..., Any])
+
+ARGUMENTS = {
+    "design": Instance(
+        (Design,), "a designer.Design, e.g. Design(trail='1.5 in', diameter='6 in', groove=0, damping=1.3)"
+    ),
+    "conditions": Instance((Conditions,), "a designer.Conditions, e.g. Conditions(load=178)"),
+    "tyre": Instance((TyreParameters,), "None (the rolling tyre) or a designer.TyreParameters", optional=True),
+}
+"""The checks (:func:`designer.boundary.checked`) of the studies' common arguments: the caster, its conditions
+and the tyre."""
 
 
 class WorkLimitError(DesignerError):

@@ -26,9 +26,8 @@ Stick (θ' = 0): the moment the spindle must hold is T K X (rolling) or
 T (N F + M_W K X)/(N + M_W) (tyre); the caster sticks while it is at most M_f.
 
 Docs: docs/limit-cycles.md.  Modules: :mod:`~designer.studies.dynamics.limit_cycles._system` (equations,
-integration, knocks), :mod:`~designer.studies.dynamics.limit_cycles._records` (the knocks' records),
-:mod:`~designer.studies.dynamics.limit_cycles._knock` (onset, knock-safe speed),
-:mod:`~designer.studies.dynamics.limit_cycles._results` (the records the studies return),
+integration, knocks), :mod:`~designer.studies.dynamics.limit_cycles._knock` (onset, knock-safe speed),
+:mod:`~designer.studies.dynamics.limit_cycles._results` (the room's records: knocks, orbits, studies),
 :mod:`~designer.studies.dynamics.limit_cycles._orbits` (periodic orbits), :mod:`~designer.studies.dynamics.limit_cycles._studies`
 (bifurcation diagram, Table 1, (K, N) map).
 
@@ -44,15 +43,18 @@ period from it (closure) and by perturbed simulations.
 
 from __future__ import annotations
 
-from designer.studies.dynamics.limit_cycles._records import KnockResult, OnsetBracket
 from designer.studies.dynamics.limit_cycles._results import (
     BifurcationDiagram,
+    Branch,
     ErrorStats,
     FrictionPoint,
+    KnockResult,
     KnockSafe,
     LimitCycleStudy,
     MapCell,
+    OnsetBracket,
     OnsetScan,
+    PeriodicOrbit,
     RollingLimitCheck,
     StiffnessMassMap,
     Table1Comparison,
@@ -64,12 +66,7 @@ from designer.studies.dynamics.limit_cycles._knock import (
     knock_safe_speed,
     knock_safe_speeds,
 )
-from designer.studies.dynamics.limit_cycles._orbits import (
-    Branch,
-    PeriodicOrbit,
-    continue_orbits,
-    periodic_orbit,
-)
+from designer.studies.dynamics.limit_cycles._orbits import continue_orbits, periodic_orbit
 from designer.studies.dynamics.limit_cycles._studies import (
     appendix_c_caster,
     bifurcation_diagram,

@@ -6,12 +6,11 @@ import functools
 import math
 from collections.abc import Iterable
 
-from designer.studies.dynamics.limit_cycles._records import OnsetBracket
-from designer.studies.dynamics.limit_cycles._results import KnockSafe, OnsetScan
+from designer.studies.dynamics.limit_cycles._results import KnockSafe, OnsetBracket, OnsetScan
 from designer.studies.dynamics.limit_cycles._system import CasterDynamics, caster_dynamics, simulate_knock
-from designer.boundary import Instance, Quantity, checked
+from designer.boundary import Quantity, checked
 from designer.errors import InputError, SolverError
-from designer.studies.dynamics._work import bisect_speed, bounded, bracket_speed
+from designer.studies.dynamics._work import ARGUMENTS, bisect_speed, bounded, bracket_speed
 from designer.model import Conditions, Design
 from designer.physics.inertia import Fixed
 from designer.physics.tyre import TyreParameters
@@ -58,12 +57,8 @@ def knock_onset_speed(
 
 
 @checked(
-    design=Instance(
-        (Design,), "a designer.Design, e.g. Design(trail='1.5 in', diameter='6 in', groove=0, damping=1.3)"
-    ),
-    conditions=Instance((Conditions,), "a designer.Conditions, e.g. Conditions(load=178)"),
+    **ARGUMENTS,
     angle=Quantity("angle", optional=True),
-    tyre=Instance((TyreParameters,), "None (the rolling tyre) or a designer.TyreParameters", optional=True),
     rtol=Quantity("dimensionless"),
 )
 @bounded("knock-safe speed")

@@ -7,70 +7,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
-from typing import Any, TypeAlias
+from typing import TypeAlias
 
 import numpy as np
 
 from designer.studies.dynamics.limit_cycles._system import CasterDynamics, _integrate
 from designer.errors import SolverError
-from designer.reprs import Key, Record
+from designer.studies.dynamics.limit_cycles._results import Branch, PeriodicOrbit
 
 Residual: TypeAlias = Callable[[np.ndarray], "np.ndarray | None"]
 """A shooting residual: the weighted return-map residual of the unknowns [rad], None where the map is undefined."""
-
-
-@dataclass(frozen=True, kw_only=True)
-class PeriodicOrbit(Record):
-    """A symmetric periodic orbit (shimmy at constant amplitude) and its stability.
-
-    Attributes
-    ----------
-    amplitude : θ_max = A [rad]
-    speed : V [m/s]
-    state : state at the maximum of θ (θ' = 0) [SI]
-    period : full period [s]
-    multipliers : nontrivial Floquet multipliers of the full period (complex) [-]
-    stable : all |multiplier| < 1
-    closure : largest change of the section state over one full period, in rad
-        (X/T, X'/(ωT), θ) [rad]
-    residual : half-period fixed-point residual at convergence [rad]
-    iterations : Newton iterations
-    """
-
-    amplitude: float
-    speed: float
-    state: np.ndarray
-    period: float
-    multipliers: np.ndarray
-    stable: bool
-    closure: float
-    residual: float
-    iterations: int
-
-    _keys = (
-        *("amplitude", "speed", "period", "frequency", "stable", "closure", "residual", "iterations"),
-        Key("multipliers", lambda o: [[float(m.real), float(m.imag)] for m in o.multipliers]),
-        "max_abs_multiplier",
-    )
-    """Plain floats, the complex multipliers as [re, im] pairs (not the section ``state``)."""
-
-    @property
-    def frequency(self) -> float:
-        """2π / period [rad/s]."""
-        return 2 * math.pi / self.period
-
-    @property
-    def max_abs_multiplier(self) -> float:
-        """Largest |Floquet multiplier| [-] (below 1: stable)."""
-        return float(np.max(np.abs(self.multipliers)))
-
-    _units = {
-        **dict.fromkeys(("amplitude", "closure", "residual"), "rad"),
-        "speed": "m/s",
-        "period": "s",
-        "frequency": "rad/s",
-    }
 
 
 def _weights(sys: CasterDynamics) -> np.ndarray:
@@ -94,6 +40,12 @@ def _full_period(
     return np.asarray(state[:-1]), time
 
 
+def _scales(sys: CasterDynamics, z: np.ndarray) -> np.ndarray:
+    """Scales of the section state z (X, [X',] θ = A): T A, [V A,] A (difference steps)."""
+    A = abs(z[-1])
+    return np.concatenate([[sys.trail * A], [sys.speed * A] if sys.size == 4 else [], [A]])
+
+
 def _half_map(sys: CasterDynamics, z: np.ndarray) -> tuple[np.ndarray | None, float]:
     """G(z) = −H(z): from a maximum of θ (θ' = 0, section state z) to minus the state at the next minimum."""
     end, time = _full_period(sys, z, signs=(-1.0,))
@@ -111,7 +63,6 @@ def _describing_function_speed(sys: CasterDynamics, amplitude: float) -> float:
 def _damped_newton(
     residual: Residual,
     u: np.ndarray,
-    r: np.ndarray,
     scales: Callable[[np.ndarray], np.ndarray],
     tol: float,
     max_iter: int,
@@ -121,12 +72,15 @@ def _damped_newton(
     """Newton's method with a forward-difference Jacobian and step halving, for the shooting maps below.
 
     ``residual(u)`` is the weighted return-map residual [rad] or None where the map is undefined (the motion
-    stops); ``r`` is its value at ``u``; ``scales(u)`` gives the difference step of each unknown (times 1e-7).
+    stops; at ``u`` too: SolverError); ``scales(u)`` gives the difference step of each unknown (times 1e-7).
     With ``flip_step`` an undefined forward difference is retried backwards.  Returns the unknowns with
     max |residual| <= ``tol``, that residual and the iteration count; raises SolverError naming ``what`` otherwise.
     """
     n = u.size
     iterations = 0
+    r = residual(u)
+    if r is None:
+        raise SolverError(f"{what}: the motion stops from the guess")
     while np.max(np.abs(r)) > tol:
         if iterations >= max_iter:
             raise SolverError(
@@ -203,56 +157,9 @@ def periodic_orbit(
         return None if g is None else (g - section(u)) * w
 
     scales = np.concatenate([[sys.trail * A], [u[-1] * A] if n == 3 else [], [1.0]])
-    r = residual(u)
-    if r is None:
-        raise SolverError(f"periodic orbit of amplitude {A:.4g} rad: the motion stops from the first guess")
     what = f"periodic orbit of amplitude {A:.4g} rad"
-    u, r, iterations = _damped_newton(residual, u, r, lambda u: scales, tol, max_iter, what, flip_step=True)
+    u, r, iterations = _damped_newton(residual, u, lambda u: scales, tol, max_iter, what, flip_step=True)
     return _orbit(sys.at(float(u[-1])), section(u), r, iterations)
-
-
-@dataclass(frozen=True)
-class Branch(Record):
-    """Periodic orbits along amplitude, split into stable and unstable pieces for the diagram."""
-
-    orbits: list[PeriodicOrbit] = field(default_factory=list)
-    failed: list[float] = field(default_factory=list)  # amplitudes where no orbit was found [rad]
-
-    _units = {"failed": "rad"}
-
-    def _repr_lines(self) -> list[str]:
-        """One line: how many orbits (stable, unstable) over which amplitudes, and the failures."""
-        if not self.orbits:
-            return [f"Branch(no orbit, {len(self.failed)} failed)"]
-        a = [o.amplitude for o in self.orbits]
-        stable = sum(bool(o.stable) for o in self.orbits)
-        return [
-            f"Branch({len(self.orbits)} orbits ({stable} stable, {len(self.orbits) - stable} unstable), "
-            f"A {min(a):.4g}–{max(a):.4g} rad, {len(self.failed)} failed)"
-        ]
-
-    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
-        if not self.orbits:
-            return [("orbits", "0", ""), ("failed amplitudes", str(len(self.failed)), "")]
-        a = [o.amplitude for o in self.orbits]
-        v = [o.speed for o in self.orbits]
-        return [
-            ("orbits (stable)", f"{len(self.orbits)} ({sum(bool(o.stable) for o in self.orbits)})", ""),
-            ("amplitude A", f"{min(a):.4g} – {max(a):.4g}", "rad"),
-            ("speed V", f"{min(v):.4g} – {max(v):.4g}", "m/s"),
-            ("failed amplitudes", str(len(self.failed)), ""),
-        ]
-
-    def pieces(self) -> list[dict[str, Any]]:
-        """Consecutive runs of equal stability: [{"kind", "speed", "amplitude"}] (SI, rad)."""
-        out: list[dict[str, Any]] = []
-        for orb in self.orbits:
-            kind = "stable" if orb.stable else "unstable"
-            if not out or out[-1]["kind"] != kind:
-                out.append({"kind": kind, "speed": [], "amplitude": []})
-            out[-1]["speed"].append(float(orb.speed))
-            out[-1]["amplitude"].append(float(orb.amplitude))
-        return out
 
 
 def continue_orbits(
@@ -299,20 +206,13 @@ def _orbit(at: CasterDynamics, z: np.ndarray, r: np.ndarray, iterations: int) ->
     r: its Floquet multipliers (squared eigenvalues of DG), full-period closure [rad] and period [s]."""
     n = at.size - 1
     w = _weights(at)
-    A = abs(z[-1])
-    zs = np.concatenate([[at.trail * A], [at.speed * A] if n == 3 else [], [A]])
+    zs = _scales(at, z)
     DG = np.empty((n, n))
     for j in range(n):
         h = 1e-6 * zs[j]
-        zp, zm = z.copy(), z.copy()
-        zp[j] += h
-        zm[j] -= h
-        gp, _ = _half_map(at, zp)
-        gm, _ = _half_map(at, zm)
-        if gp is None or gm is None:
-            DG[:, j] = np.nan
-        else:
-            DG[:, j] = (gp - gm) / (2 * h)
+        step = np.where(np.arange(n) == j, h, 0.0)
+        (gp, _), (gm, _) = _half_map(at, z + step), _half_map(at, z - step)
+        DG[:, j] = np.nan if gp is None or gm is None else (gp - gm) / (2 * h)
     mu = np.linalg.eigvals(DG) if np.all(np.isfinite(DG)) else np.full(n, np.nan + 0j)
     full, period = _full_period(at, z)
     closure = float(np.max(np.abs((full - z) * w))) if full is not None else math.nan
@@ -346,16 +246,8 @@ def periodic_orbit_at_speed(
         g, _ = _half_map(sys, z)
         return None if g is None else (g - z) * w
 
-    r = residual(z)
-    if r is None:
-        raise SolverError(f"periodic orbit at {sys.speed:.4g} m/s: the motion stops from the guess")
-
-    def scales(z: np.ndarray) -> np.ndarray:
-        A = abs(z[-1])
-        return np.concatenate([[sys.trail * A], [sys.speed * A] if n == 3 else [], [A]])
-
     what = f"periodic orbit at {sys.speed:.4g} m/s"
-    z, r, iterations = _damped_newton(residual, z, r, scales, tol, max_iter, what, flip_step=False)
+    z, r, iterations = _damped_newton(residual, z, lambda z: _scales(sys, z), tol, max_iter, what, flip_step=False)
     if z[-1] < 0:
         z = -z
     return _orbit(sys, z, r, iterations)

@@ -1,23 +1,167 @@
-"""The records the limit-cycle studies return: a bifurcation diagram, a μ sensitivity point, the Table 1
-comparison, the (K, N) map, a scanned onset, a design's knock-safe speeds and the whole results/simulation
-limit-cycle study.  Built by :mod:`~designer.studies.dynamics.limit_cycles._studies` and
-:mod:`~designer.studies.dynamics.limit_cycles._knock`; rendered by :mod:`designer.report.limit_cycles`, which
-reads their attributes.  Their ``to_dict()`` is the dict the functions returned before (the keys of
+"""The records of the limit-cycle room: what one knock does and a knock's onset bracket, a periodic orbit and a
+branch of them, a bifurcation diagram, a μ sensitivity point, the Table 1 comparison, the (K, N) map, a scanned
+onset, a design's knock-safe speeds and the whole results/simulation limit-cycle study.  Built by
+:mod:`~designer.studies.dynamics.limit_cycles._system`, :mod:`~designer.studies.dynamics.limit_cycles._orbits`,
+:mod:`~designer.studies.dynamics.limit_cycles._studies` and :mod:`~designer.studies.dynamics.limit_cycles._knock`;
+rendered by :mod:`designer.report.limit_cycles`, which reads their attributes.  Their ``to_dict()`` is the dict the functions returned before (the keys of
 results/simulation/bifurcation.json and of ``designer simulate --bifurcation --json``).
 """
 
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
 
 from designer.display import number, shown
 from designer.model import Design
 from designer.physics.tyre import TyreParameters
 from designer.reprs import Key, Keyed, Record, dataframe
-from designer.studies.dynamics.limit_cycles._orbits import PeriodicOrbit
+
+
+@dataclass(frozen=True, kw_only=True)
+class KnockResult(Record):
+    """What a knock does: the trace, the amplitudes and the verdict.
+
+    Attributes
+    ----------
+    t, theta : time [s] and caster angle θ [rad] (empty unless ``record``)
+    extrema : (t [s], θ [rad]) at the reversals
+    early_amplitude : mean half peak-to-peak over two periods after the aligning transient [rad]
+    late_amplitude : the same over the last two periods (0 if the motion stopped) [rad]
+    shimmy : True if the knock ends in sustained shimmy: |θ| reached the limit, or the caster still
+        reverses at least 3 times in the last two periods with late ≥ 0.5 early (a decaying
+        Coulomb-damped motion stops in finite time; a slow creep of a sliding tyre is not shimmy)
+    reason : "end", "limit" (|θ| reached ``angle_limit``) or "rest" (the caster stopped)
+    """
+
+    t: np.ndarray
+    theta: np.ndarray
+    extrema: np.ndarray
+    early_amplitude: float
+    late_amplitude: float
+    shimmy: bool
+    reason: str
+    speed: float = 0.0
+    angle: float = 0.0
+
+    _units = {**dict.fromkeys(("theta", "early_amplitude", "late_amplitude", "angle"), "rad"), "t": "s", "speed": "m/s"}
+
+
+@dataclass(frozen=True, kw_only=True)
+class OnsetBracket(Record):
+    """Knock onset by bisection: the knock decays at ``low`` and is sustained at ``high`` [m/s]."""
+
+    low: float
+    high: float
+    evaluations: int
+
+    _units = {"low": "m/s", "high": "m/s", "speed": "m/s"}
+    _keys = ("low", "high", "speed", "evaluations")
+    """The bracket, its geometric mean and the number of knock simulations."""
+
+    @property
+    def speed(self) -> float:
+        """Geometric mean of the bracket [m/s]."""
+        return math.sqrt(self.low * self.high)
+
+
+@dataclass(frozen=True, kw_only=True)
+class PeriodicOrbit(Record):
+    """A symmetric periodic orbit (shimmy at constant amplitude) and its stability.
+
+    Attributes
+    ----------
+    amplitude : θ_max = A [rad]
+    speed : V [m/s]
+    state : state at the maximum of θ (θ' = 0) [SI]
+    period : full period [s]
+    multipliers : nontrivial Floquet multipliers of the full period (complex) [-]
+    stable : all |multiplier| < 1
+    closure : largest change of the section state over one full period, in rad
+        (X/T, X'/(ωT), θ) [rad]
+    residual : half-period fixed-point residual at convergence [rad]
+    iterations : Newton iterations
+    """
+
+    amplitude: float
+    speed: float
+    state: np.ndarray
+    period: float
+    multipliers: np.ndarray
+    stable: bool
+    closure: float
+    residual: float
+    iterations: int
+
+    _keys = (
+        *("amplitude", "speed", "period", "frequency", "stable", "closure", "residual", "iterations"),
+        Key("multipliers", lambda o: [[float(m.real), float(m.imag)] for m in o.multipliers]),
+        "max_abs_multiplier",
+    )
+    """Plain floats, the complex multipliers as [re, im] pairs (not the section ``state``)."""
+
+    @property
+    def frequency(self) -> float:
+        """2π / period [rad/s]."""
+        return 2 * math.pi / self.period
+
+    @property
+    def max_abs_multiplier(self) -> float:
+        """Largest |Floquet multiplier| [-] (below 1: stable)."""
+        return float(np.max(np.abs(self.multipliers)))
+
+    _units = {
+        **dict.fromkeys(("amplitude", "closure", "residual"), "rad"),
+        "speed": "m/s",
+        "period": "s",
+        "frequency": "rad/s",
+    }
+
+
+@dataclass(frozen=True)
+class Branch(Record):
+    """Periodic orbits along amplitude, split into stable and unstable pieces for the diagram."""
+
+    orbits: list[PeriodicOrbit] = field(default_factory=list)
+    failed: list[float] = field(default_factory=list)  # amplitudes where no orbit was found [rad]
+
+    _units = {"failed": "rad"}
+
+    def _repr_lines(self) -> list[str]:
+        """One line: the HTML rows (how many orbits and stable ones, over which amplitudes and speeds, failures)."""
+        return [f"Branch({', '.join(f'{label} {value} {unit}'.rstrip() for label, value, unit in self._html_rows())})"]
+
+    def _html_rows(self) -> list[tuple[Any, Any, Any]]:
+        """The orbits (stable ones), their ranges of amplitude and speed (the table's precision; none: missing), the
+        failed amplitudes."""
+        a, v = ([getattr(o, k) for o in self.orbits] or [math.nan] for k in ("amplitude", "speed"))
+        return [
+            ("orbits (stable)", f"{len(self.orbits)} ({sum(bool(o.stable) for o in self.orbits)})", ""),
+            ("amplitude A", f"{number(min(a), dimension='angle')} – {number(max(a), dimension='angle')}", "rad"),
+            ("speed V", f"{number(min(v), dimension='speed')} – {number(max(v), dimension='speed')}", "m/s"),
+            ("failed amplitudes", str(len(self.failed)), ""),
+        ]
+
+    def pieces(self) -> list[dict[str, Any]]:
+        """Consecutive runs of equal stability: [{"kind", "speed", "amplitude"}] (SI, rad)."""
+        out: list[dict[str, Any]] = []
+        for orb in self.orbits:
+            kind = "stable" if orb.stable else "unstable"
+            if not out or out[-1]["kind"] != kind:
+                out.append({"kind": kind, "speed": [], "amplitude": []})
+            out[-1]["speed"].append(float(orb.speed))
+            out[-1]["amplitude"].append(float(orb.amplitude))
+        return out
+
+
+def _rows_frame(record: Any, units: dict[str, str]) -> Any:
+    """A study's ``rows`` as a pandas DataFrame, one row each (their ``to_dict()``), with ``units`` and the knock angle."""
+    rows = [r.to_dict() for r in record.rows]
+    return dataframe(f"{type(record).__name__}.to_pandas", rows, list(rows[0]), units, angle=record.angle)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -187,9 +331,8 @@ class Table1Comparison(Record):
 
     def to_pandas(self) -> Any:
         """One row per wheel (the columns of :class:`Table1Row`), speeds in m/s."""
-        rows = [r.to_dict() for r in self.rows]
         units = {"inertia": "kg·m²", "mass": "kg"} | {k: "m/s" for k in ("measured", "eq7", "rolling_sim", "tyre_sim")}
-        return dataframe("Table1Comparison.to_pandas", rows, list(rows[0]), units, angle=self.angle)
+        return _rows_frame(self, units)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -266,10 +409,8 @@ class StiffnessMassMap(Record):
 
     def to_pandas(self) -> Any:
         """One row per cell (the columns of stiffness_mass_map.csv)."""
-        rows = [r.to_dict() for r in self.rows]
         units = {"K": "N/m", "N": "kg", "frequency": "rad/s", "stable_amplitude": "rad"}
-        units |= {k: "m/s" for k in ("eq7", "measured", "rolling_onset", "tyre_onset")}
-        return dataframe("StiffnessMassMap.to_pandas", rows, list(rows[0]), units, angle=self.angle)
+        return _rows_frame(self, units | {k: "m/s" for k in ("eq7", "measured", "rolling_onset", "tyre_onset")})
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -9,21 +9,17 @@ import time
 import numpy as np
 
 from designer.studies.dynamics.limit_cycles._system import caster_dynamics
-from designer.studies.dynamics._work import bounded
+from designer.studies.dynamics._work import ARGUMENTS, bounded
 from designer.studies.dynamics.limit_cycles._knock import knock_onset_speed, knock_safe_speed, scanned_onset_speed
-from designer.studies.dynamics.limit_cycles._orbits import (
-    Branch,
-    PeriodicOrbit,
-    continue_orbits,
-    speed_sweep,
-    stable_orbit,
-)
+from designer.studies.dynamics.limit_cycles._orbits import continue_orbits, speed_sweep, stable_orbit
 from designer.studies.dynamics.limit_cycles._results import (
     BifurcationDiagram,
+    Branch,
     ErrorStats,
     FrictionPoint,
     LimitCycleStudy,
     MapCell,
+    PeriodicOrbit,
     RollingLimitCheck,
     StiffnessMassMap,
     Table1Comparison,
@@ -37,7 +33,7 @@ from designer.data.paper import (
     TABLE1_TRAIL,
     table1_wheel,
 )
-from designer.boundary import Count, Instance, Quantities, Quantity, checked
+from designer.boundary import Count, Quantities, Quantity, checked
 from designer.errors import InputError, SolverError
 from designer.model import Conditions, Design, critical_speed
 from designer.physics.inertia import Fixed
@@ -46,11 +42,7 @@ from designer.physics.tyre import TyreParameters
 
 
 @checked(
-    design=Instance(
-        (Design,), "a designer.Design, e.g. Design(trail='1.5 in', diameter='6 in', groove=0, damping=1.3)"
-    ),
-    conditions=Instance((Conditions,), "a designer.Conditions, e.g. Conditions(load=178)"),
-    tyre=Instance((TyreParameters,), "None (the rolling tyre) or a designer.TyreParameters", optional=True),
+    **ARGUMENTS,
     speed_range=Quantities("speed", 2),
     reference_speed=Quantity("speed", optional=True),
     points=Count(2, 10_000, what="amplitudes"),
@@ -182,13 +174,13 @@ def table1_comparison(
         cond = conditions.replace(inertia=Fixed(wheel.inertia))
         design = Design(trail=TABLE1_TRAIL, diameter=wheel.diameter, groove=0.0, damping=1.3)
         rolling_sys = caster_dynamics(design, cond, 1.0, None)
-        v7 = rolling_sys.eq7_speed(theta)  # Eq. 7 with c_f,eff = M_f/θ_i
         rolling = knock_onset_speed(rolling_sys, theta, rtol=rtol)
         wheel_tyre = tyre.replace(wheel_mass=wheel.mass)
         slipping = knock_onset_speed(
             caster_dynamics(design, cond, 1.0, wheel_tyre), theta, rtol=rtol, guess=rolling.speed
         )
-        predicted = {"eq7": v7, "rolling_sim": rolling.speed, "tyre_sim": slipping.speed}
+        # Eq. 7 with c_f,eff = M_f/θ_i and the two simulated onsets
+        predicted = {"eq7": rolling_sys.eq7_speed(theta), "rolling_sim": rolling.speed, "tyre_sim": slipping.speed}
         flagged = [k for k, v in predicted.items() if wheel.critical_speed is None and v < TABLE1_STABLE_UP_TO]
         rows.append(
             Table1Row(
@@ -197,7 +189,7 @@ def table1_comparison(
                 inertia=wheel.inertia,
                 mass=wheel.mass,
                 measured=wheel.critical_speed,
-                eq7=v7,
+                eq7=predicted["eq7"],
                 rolling_sim=rolling.speed,
                 tyre_sim=slipping.speed,
                 rolling_sim_bracket=[rolling.low, rolling.high],
@@ -257,8 +249,7 @@ def stiffness_mass_map(
     rows = []
     total = len(casters) * len(factors) ** 2
     for name, (design, inertia, mass, measured) in casters.items():
-        k_s = conditions.slip_coefficient
-        v7 = float(critical_speed(design.trail, inertia, design.groove, design.damping, k_s))
+        v7 = float(critical_speed(design.trail, inertia, design.groove, design.damping, conditions.slip_coefficient))
         for fk, fn in itertools.product(factors, factors):
             dyn = DynamicsParameters(frame_stiffness=K0 * fk, fork_mass=0.6 * N0 * fn, bearing_block_mass=0.4 * N0 * fn)
             cond = conditions.replace(inertia=Fixed(inertia), dynamics=dyn)
@@ -326,8 +317,7 @@ def friction_sensitivity(
     for mu in coefficients:
         sys = caster_dynamics(design, conditions, speed, tyre.replace(friction_coefficient=float(mu)))
         branch = continue_orbits(sys, np.geomspace(0.03, 3.0, 26))
-        stable = [o for o in branch.orbits if o.stable]
-        fold = min(branch.orbits, key=lambda o: o.speed) if stable else None
+        fold = min(branch.orbits, key=lambda o: o.speed) if any(o.stable for o in branch.orbits) else None
         orb = stable_orbit(sys, angles=(0.6, 1.2, 0.3, 2.4, 0.15))
         rows.append(
             FrictionPoint(

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.errors import InputError, SolverError
-from designer.studies.dynamics.limit_cycles._records import KnockResult
-from designer.model import Conditions, Design
+from designer.studies.dynamics.limit_cycles._results import KnockResult
+from designer.model import Conditions, Design, critical_speed
 from designer.physics import bracketed_root
 from designer.physics.motion import (
     brush_field,
@@ -49,7 +49,7 @@ class CasterDynamics:
     lateral_mass : N = M_F + M_1 [kg] (Eq. 14B)
     stiffness : frame lateral stiffness K [N/m]
     friction_moment : M_f = c_f θ0 [N·m]
-    groove_coefficient : K_s B²/2 [N·m²]; the tread moment is this × θ'/V (Eq. 2B)
+    groove : B [m]; slip_coefficient : K_s [N]
     speed : V [m/s]
     tyre : None (rolling without slip, Eq. 6B) or the brush tyre
     """
@@ -59,7 +59,8 @@ class CasterDynamics:
     lateral_mass: float
     stiffness: float
     friction_moment: float
-    groove_coefficient: float
+    groove: float
+    slip_coefficient: float
     speed: float
     tyre: TyreParameters | None = None
 
@@ -68,11 +69,16 @@ class CasterDynamics:
         return dataclasses.replace(self, speed=float(speed))
 
     def eq7_speed(self, angle: float) -> float:
-        """Eq. 7's V_c with c_f,eff = M_f/θ_i for a knock ``angle`` θ_i [m/s]."""
-        c_eff = self.friction_moment / angle
-        return math.sqrt(
-            4 * c_eff * self.trail**2 / (math.pi * self.inertia) + self.groove_coefficient * self.trail / self.inertia
+        """Eq. 7's V_c (the model's, :func:`designer.model.critical_speed`) with c_f,eff = M_f/θ_i for a knock
+        ``angle`` θ_i [m/s]."""
+        return critical_speed(
+            self.trail, self.inertia, self.groove, self.friction_moment / angle, self.slip_coefficient
         )
+
+    @property
+    def groove_coefficient(self) -> float:
+        """K_s B²/2 [N·m²]; the tread moment is this × θ'/V (Eq. 2B)."""
+        return tread_coefficient(self.slip_coefficient, self.groove)
 
     @property
     def frequency(self) -> float:
@@ -134,9 +140,8 @@ def caster_dynamics(
     speed : V [m/s]
     tyre : None for the paper's rolling tyre (Eq. 6B), else the brush tyre
     """
-    for name, value in (("speed", speed), ("trail", design.trail)):
-        if not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
-            raise InputError(f"{name} = {value!r}: must be a positive finite number")
+    if not isinstance(speed, (int, float)) or not math.isfinite(speed) or speed <= 0:  # the trail: Design checks it
+        raise InputError(f"speed = {speed!r}: must be a positive finite number")
     inertia = float(conditions.inertia(design.diameter))
     dyn = conditions.dynamics
     return CasterDynamics(
@@ -145,7 +150,8 @@ def caster_dynamics(
         lateral_mass=float(dyn.lateral_mass),
         stiffness=float(dyn.stiffness),
         friction_moment=float(design.damping) * float(conditions.disturbance_angle),
-        groove_coefficient=tread_coefficient(float(conditions.slip_coefficient), float(design.groove)),
+        groove=float(design.groove),
+        slip_coefficient=float(conditions.slip_coefficient),
         speed=float(speed),
         tyre=tyre,
     )
@@ -362,28 +368,17 @@ class _LinearSlip:
         while True:  # one period of grid points at a time
             spend(1)
             pts = self.states(yp, z0, base + taus)
-            stop = np.nonzero(s * pts[2] <= 0)[0]
-            over = np.nonzero(np.abs(pts[1]) >= angle_limit)[0]
-            k_stop = stop[0] if stop.size else grid
-            k_over = over[0] if over.size else grid
-            if k_stop < grid or k_over < grid:
-                break
-            if t0 + base + period >= t_end:
+            # the first grid point where θ' stopped and where |θ| passed the limit (grid: none)
+            found = (s * pts[2] <= 0, np.abs(pts[1]) >= angle_limit)
+            k_stop, k_over = (int(np.argmax(np.append(hit, True))) for hit in found)
+            if k_stop < grid or k_over < grid or t0 + base + period >= t_end:
                 break
             base += period
-        hits = []
-        for k, row, kind in ((k_stop, 2, "stop"), (k_over, 1, "limit")):
-            if k < grid:
-                hits.append(
-                    (
-                        _root(
-                            self.event(s, yp, z0, row, angle_limit if row == 1 else None),
-                            base + (taus[k - 1] if k > 0 else 0.0),
-                            base + taus[k],
-                        ),
-                        kind,
-                    )
-                )
+        hits = [
+            (_root(self.event(s, yp, z0, row, limit), base + (taus[k - 1] if k > 0 else 0.0), base + taus[k]), kind)
+            for k, row, kind, limit in ((k_stop, 2, "stop", None), (k_over, 1, "limit", angle_limit))
+            if k < grid
+        ]
         if not hits or t0 + min(hits)[0] > t_end:
             return "end", t_end, self.states(yp, z0, np.array([t_end - t0]))[:, 0]
         tau, kind = min(hits)
@@ -444,8 +439,7 @@ def simulate_knock(
     half, times = np.abs(np.diff(ext[:, 1])) / 2, ext[1:, 0]  # the swings and when they end (none: empty)
     early_sel = (times >= transient) & (times < transient + 2 * period)
     early = float(half[early_sel].mean()) if early_sel.any() else (float(half[0]) if half.size else 0.0)
-    end = run.time
-    late_sel = times >= end - 2 * period
+    late_sel = times >= run.time - 2 * period
     late = float(half[late_sel].mean()) if (late_sel.any() and run.reason != "rest") else 0.0
     # sustained = still oscillating at the end (>= 3 reversals in the last two periods: a slow creep of a
     # sliding tyre at a crawl is not shimmy) with an amplitude at least half the early one
