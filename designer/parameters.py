@@ -101,15 +101,6 @@ class Parameter:
         return f"{self.description} {self.symbol}" if self.symbol else self.description
 
     @property
-    def header(self) -> str:
-        """The symbol with the SI unit in brackets, for a column of a text table ("F_turn [N]", "I_w [kg·m²]")."""
-        return f"{self.symbol} [{self.unit}]" if self.unit else self.symbol
-
-    def header_in(self, unit: str) -> str:
-        """The symbol with ``unit`` in brackets for a column shown in another unit than SI ("T [in]")."""
-        return f"{self.symbol} [{unit}]"
-
-    @property
     def axis_label(self) -> str:
         """The label with the unit in brackets, for a plot's axis ("threshold force P [N]")."""
         return f"{self.label} [{self.unit}]" if self.unit else self.label
