@@ -107,11 +107,6 @@ class Limit(Record):
     reason: str
     measure: str
 
-    @property
-    def shown(self) -> str:
-        """The limit for an inspector, rounded toward the safe side (:func:`limit_shown`), mm first."""
-        return self.shown_in("mm")
-
     def shown_in(self, units: str) -> str:
         """The limit for an inspector with lengths in the problem's ``units`` first ("in": "2.209 in (56.11 mm)"),
         rounded toward the safe side (:func:`limit_shown`)."""

@@ -428,18 +428,8 @@ def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current
         feasible = feasible & _holds_at_corner(cands, s)
     inside = np.flatnonzero(feasible & (over <= 1e-12))
     outside = np.flatnonzero(feasible & (over > 1e-12))
-    ranked = inside[
-        np.lexsort(
-            (
-                cands["order"][inside],
-                -values.confident_speed[inside],
-                np.round(d_turn[inside], 9),
-                np.round(d_force[inside], 9),
-                loss[inside],
-                price[inside],
-            )
-        )
-    ]
+    keys = (cands["order"], -values.confident_speed, np.round(d_turn, 9), np.round(d_force, 9), loss, price)
+    ranked = inside[np.lexsort([key[inside] for key in keys])]
     apart = outside[np.lexsort((cands["order"][outside], loss[outside], price[outside], np.round(over[outside], 9)))]
     return cands, ranked, apart, searched
 
