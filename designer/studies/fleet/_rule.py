@@ -90,7 +90,7 @@ def stock_table(problem) -> StockTable:
         note = "the base problem has no [stock]; default stock within its bounds (docs/fleet.md)"
     stock_key = {"trail": "trail_step", "diameter": "diameters", "groove": "grooves", "damping": "dampings"}
     for key in ("trail", "diameter", "groove", "damping"):
-        if cand.get(key) is None:
+        if getattr(cand, key) is None:
             raise ProblemError(
                 f"{problem.source or problem.name}: stock.{stock_key[key]}: missing, so {key} stays "
                 f"continuous; a fleet's part numbers are stock casters, so list every variable in "

@@ -67,6 +67,7 @@ from designer.studies.retrofit._records import (
     Change,
     FixResult,
 )
+from designer.display import quantity
 from designer.units import written_size
 from designer.model import weighted
 
@@ -274,15 +275,11 @@ def stock_offer(problem, options: dict, sources: dict) -> dict[str, str]:
             continue
         if part == "wheel" and any(w.name for w in values):
             text = ", ".join(f"{w.name} ({written_size(w.diameter, units)})" for w in values)
-        elif part == "wheel":
-            sizes = [written_size(w.diameter, units) for w in values]
-            text = "d " + ", ".join(x.rsplit(" ", 1)[0] for x in sizes) + " " + sizes[0].rsplit(" ", 1)[1]
         elif part == "washer":
             text = "c_f " + ", ".join(f"{v:g}" for v in values) + " N·m/rad"
         else:
-            sizes = [written_size(float(v), units) for v in values]
-            unit = sizes[0].rsplit(" ", 1)[1]
-            text = ("B " if part == "tyre" else "T ") + ", ".join(x.rsplit(" ", 1)[0] for x in sizes) + f" {unit}"
+            sizes = [written_size(float(getattr(v, "diameter", v)), units).rsplit(" ", 1) for v in values]
+            text = f"{quantity(PART_VARIABLE[part]).symbol} " + ", ".join(x[0] for x in sizes) + f" {sizes[0][1]}"
         where = sources[part] if sources[part].startswith("continuous") else ""
         price = f"{costs[0]:g} each" if np.all(costs == costs[0]) else "costs " + ", ".join(f"{c:g}" for c in costs)
         out[part] = f"{text} ({where + '; ' if where else ''}{price})"
