@@ -324,17 +324,9 @@ def _mc_task(
     the fleet's risk (in this process or on a Dask worker), the Monte Carlo by the model's
     :func:`designer.model.shimmy_probability` (each row the number of a single caster's seeded stream; a wheel
     not ``measured`` is known by its diameter)."""
-    columns = {name: designs[:, k] for k, name in enumerate(VARIABLES)}
+    trail, diameter, groove, damping = designs.T  # the columns in VARIABLES' order
     p, se = shimmy_probability(
-        columns["trail"],
-        inertia,
-        columns["groove"],
-        columns["damping"],
-        slip,
-        speeds,
-        uncertainty,
-        diameter=columns["diameter"],
-        measured=measured,
+        trail, inertia, groove, damping, slip, speeds, uncertainty, diameter=diameter, measured=measured
     )
     exact = [
         exact_probability(LawCaster(t, float(i_w), b, c, float(slip), None if m else d), float(v), uncertainty)
