@@ -388,9 +388,7 @@ def describe_changes(changes: Iterable[Change], sep: str = "; ", inertia: bool =
             continue
         symbol = quantity(c.variable).symbol
         if units is not None and quantity(c.variable).dimension == "length":
-            before, after = written_size(c.before, units), written_size(c.after, units)
-            after_number, unit = after.rsplit(" ", 1)
-            text = f"{symbol} {before.rsplit(' ', 1)[0]} -> {after_number} {unit}"
+            text = f"{symbol} {written_size(c.before, units).rsplit(' ', 1)[0]} -> {written_size(c.after, units)}"
         else:
             text = f"{symbol} {number(c.before, c.variable, 'in')} -> {shown(c.after, c.variable, 'in')}"
         by_part.setdefault(c.part, []).append(text)

@@ -331,8 +331,6 @@ class _Setting:
         inertia ``inertia[k]`` [kg·m²] and exact P(shimmy) ``exact[k]``."""
         rows = [k for k in range(len(designs)) if wanted[k]]
         out: list = [None] * len(designs)
-        if not rows:
-            return out
         p_mc, se = (np.asarray(values[key], float) for key in ("shimmy_probability", "shimmy_probability_se"))
         mc = [(float(p_mc[k]), float(se[k]), mc_draws(float(p_mc[k]), float(se[k])), self.seed) for k in rows]
         found = caster_specs(
