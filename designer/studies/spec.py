@@ -460,17 +460,16 @@ def caster_specs(
     laws = [risk_law(p, law) for p in each]
     found: list[list[PartLimit]] = [[] for _ in range(n)]
     joints: list[JointLimits] = [None] * n  # type: ignore[list-item]
-    for u in dict.fromkeys(laws):
-        rows = [i for i in range(n) if laws[i] == u]
+    batches = [(u, float(p.conditions.slip_coefficient)) for u, p in zip(laws, each)]  # one law and K_s a batch
+    for batch in dict.fromkeys(batches):
+        rows = [i for i in range(n) if batches[i] == batch]
         pick = [[seq[i] for i in rows] for seq in (each, designs, casters, offsets)]
-        for i, limits in zip(rows, _search_limits(*pick, u, calibration)):  # type: ignore[arg-type]
+        for i, limits in zip(rows, _search_limits(*pick, batch[0], calibration)):  # type: ignore[arg-type]
             found[i] = limits
-        for ks in dict.fromkeys(float(each[i].conditions.slip_coefficient) for i in rows):  # one K_s a batch
-            same = [i for i in rows if float(each[i].conditions.slip_coefficient) == ks]
-            picked = [[seq[i] for i in same] for seq in (each, designs, inertia, measured)]
-            boxes = joint_limits_many(*picked, u, offsets=[offsets[i] for i in same], calibration=calibration)  # type: ignore[arg-type]
-            for i, box in zip(same, boxes):
-                joints[i] = box
+        picked = [[seq[i] for i in rows] for seq in (each, designs, inertia, measured)]
+        boxes = joint_limits_many(*picked, batch[0], offsets=[offsets[i] for i in rows], calibration=calibration)  # type: ignore[arg-type]
+        for i, box in zip(rows, boxes):
+            joints[i] = box
     ranges = {name: PARAMETERS[name].range for name in ("trail", "groove", "damping")}
     out = []
     for i, (problem, design, caster) in enumerate(zip(each, designs, casters)):
