@@ -8,7 +8,7 @@ Part of :mod:`designer.studies.retrofit._retrofit` (which builds these records).
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -69,6 +69,11 @@ _CHANGED = (
     *((key, key) for key in ("parts_cost", "threshold_increase", "turning_increase", "within_limit")),
 )
 """A fix's JSON keys against the current caster and the attributes they hold (none for the current caster)."""
+
+
+def _if_changed(name: str) -> Callable[[Any], Any]:
+    """A caster's attribute ``name``, None for the current caster (which changes nothing: the key is left out)."""
+    return lambda state: getattr(state, name) if state.changes else None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -183,7 +188,7 @@ class CasterState(Record):
         *("confident_speed", "meets_risk_bound", "shimmy_probability", "shimmy_probability_mc"),
         *("shimmy_probability_se", "mc_samples", "mc_seed"),
         Key("spec", omit="none"),
-        *(Key(key, lambda c, n=name: getattr(c, n) if c.changes else None, omit="none") for key, name in _CHANGED),
+        *(Key(key, _if_changed(name), omit="none") for key, name in _CHANGED),
     )
     """JSON-ready record, SI units: P(shimmy) exact with the Monte Carlo beside it; a fix's ``spec`` (its
     acceptance ``limits`` by part and side, ``units`` beside them: :class:`designer.studies.spec.Spec`) and its
