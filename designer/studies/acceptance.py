@@ -250,26 +250,20 @@ def _footrest(
     # the diameter's least protects nothing of the risk (a measured wheel's law has no d) nor the footrest: it is
     # the stated tolerance's, or none
     d_min = design.diameter - tol_d if tol is not None and tol.diameter is not None else None
-    protects = {k: "risk" for k in RISK_KEYS}
-    if r_max is not None:
-        trail_max: float | None = r_max - (design.diameter + tol_d) / 2
-        protects["trail_max"] = "footrest"
-        assert trail_max is not None
-        if trail_max <= design.trail + 1e-12:
-            edge = f" with the diameter at its +{tol_d * 1000:.2f} mm edge" if tol_d else ""
-            notes["trail_max"] = (
-                "no window above nominal: the footrest limit T + d/2 ≤ R_max"
-                + edge
-                + (" is below the nominal trail" if trail_max < design.trail - 1e-12 else " equals the nominal trail")
-                + "; fix: a shorter trail step or a smaller wheel"
-            )
-        protects["diameter_max"] = "footrest"
-    else:
-        trail_max = None
-        if d_max is not None:
-            protects["diameter_max"] = "tolerance"
+    trail_max = None if r_max is None else r_max - (design.diameter + tol_d) / 2
+    protects = {k: "risk" for k in RISK_KEYS} | ({} if r_max is None else {"trail_max": "footrest"})
+    if d_max is not None:
+        protects["diameter_max"] = "tolerance" if r_max is None else "footrest"
     if d_min is not None:
         protects["diameter_min"] = "tolerance"
+    if trail_max is not None and trail_max <= design.trail + 1e-12:
+        edge = f" with the diameter at its +{tol_d * 1000:.2f} mm edge" if tol_d else ""
+        notes["trail_max"] = (
+            "no window above nominal: the footrest limit T + d/2 ≤ R_max"
+            + edge
+            + (" is below the nominal trail" if trail_max < design.trail - 1e-12 else " equals the nominal trail")
+            + "; fix: a shorter trail step or a smaller wheel"
+        )
     return trail_max, d_min, d_max, protects
 
 

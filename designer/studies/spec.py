@@ -18,6 +18,7 @@ default scatter when the bound is off); the reported P(shimmy) is at V_target, l
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -106,11 +107,6 @@ class Limit(Record):
     probability: float | None
     reason: str
     measure: str
-
-    @property
-    def shown(self) -> str:
-        """The limit for an inspector, rounded toward the safe side (:func:`limit_shown`), mm first."""
-        return self.shown_in("mm")
 
     def shown_in(self, units: str) -> str:
         """The limit for an inspector with lengths in the problem's ``units`` first ("in": "2.209 in (56.11 mm)"),
@@ -274,34 +270,29 @@ def _edges(problem: Problem, design: Design, caster: LawCaster, offset: float = 
     tol = problem.tolerances
     assert tol is not None
     out: dict[str, tuple[Edge, Edge]] = {}
-    t, b, c = design.trail, design.groove, design.damping
-    theta0 = float(problem.conditions.disturbance_angle)
+    t, b, c, d = design.trail, design.groove, design.damping, design.diameter
+    theta0, model = float(problem.conditions.disturbance_angle), problem.conditions.inertia
+
+    def edges(edge: Callable[[float], Edge], low: float, high: float) -> tuple[Edge, Edge]:
+        return edge(low), edge(high)
+
     if tol.trail is not None:
-        lo_t = max(t - tol.trail, PARAMETERS["trail"].range[0])  # type: ignore[index]
-        out["trail"] = ((lo_t, {"trail": lo_t + offset}), (t + tol.trail, {"trail": t + tol.trail + offset}))
+        t_lo = PARAMETERS["trail"].range[0]  # type: ignore[index]
+        out["trail"] = edges(lambda x: (x, {"trail": x + offset}), max(t - tol.trail, t_lo), t + tol.trail)
     if tol.groove is not None:
-        lo_b = max(b - tol.groove, 0.0)
-        out["groove"] = ((lo_b, {"groove": lo_b}), (b + tol.groove, {"groove": b + tol.groove}))
+        out["groove"] = edges(lambda x: (x, {"groove": x}), max(b - tol.groove, 0.0), b + tol.groove)
     if tol.friction_moment is not None:
         f = tol.friction_moment
-        out["friction_moment"] = (
-            (friction_moment(c * (1 - f), theta0), {"damping": c * (1 - f)}),
-            (friction_moment(c * (1 + f), theta0), {"damping": c * (1 + f)}),
-        )
+        out["friction_moment"] = edges(lambda x: (friction_moment(x, theta0), {"damping": x}), c * (1 - f), c * (1 + f))
     if tol.diameter is not None:
-        d = design.diameter
-        lo_d, hi_d = d - tol.diameter, d + tol.diameter
         if caster.diameter is None:  # a measured wheel: its I_w does not follow its diameter
-            out["diameter"] = ((lo_d, {}), (hi_d, {}))
+            out["diameter"] = edges(lambda x: (x, {}), d - tol.diameter, d + tol.diameter)
         else:
-            model = problem.conditions.inertia
             # a 4 in wheel's low edge leaves Table 1 by a hair: the caster's own warning, if any, is said once elsewhere
             with warnings.catch_warnings(action="ignore", category=UserWarning):
-                at = {x: float(model(x)) for x in (lo_d, hi_d)}
-            out["diameter"] = (
-                (lo_d, {"diameter": lo_d, "inertia": at[lo_d]}),
-                (hi_d, {"diameter": hi_d, "inertia": at[hi_d]}),
-            )
+                out["diameter"] = edges(
+                    lambda x: (x, {"diameter": x, "inertia": float(model(x))}), d - tol.diameter, d + tol.diameter
+                )
     if tol.wheel is not None:  # goods-in accepts wheels measured up to this I_w: the worst is at the limit
         edge: Edge = (tol.wheel, {"inertia": tol.wheel, "diameter": None})
         out["wheel_inertia"] = (edge, edge)
@@ -469,17 +460,16 @@ def caster_specs(
     laws = [risk_law(p, law) for p in each]
     found: list[list[PartLimit]] = [[] for _ in range(n)]
     joints: list[JointLimits] = [None] * n  # type: ignore[list-item]
-    for u in dict.fromkeys(laws):
-        rows = [i for i in range(n) if laws[i] == u]
+    batches = [(u, float(p.conditions.slip_coefficient)) for u, p in zip(laws, each)]  # one law and K_s a batch
+    for batch in dict.fromkeys(batches):
+        rows = [i for i in range(n) if batches[i] == batch]
         pick = [[seq[i] for i in rows] for seq in (each, designs, casters, offsets)]
-        for i, limits in zip(rows, _search_limits(*pick, u, calibration)):  # type: ignore[arg-type]
+        for i, limits in zip(rows, _search_limits(*pick, batch[0], calibration)):  # type: ignore[arg-type]
             found[i] = limits
-        for ks in dict.fromkeys(float(each[i].conditions.slip_coefficient) for i in rows):  # one K_s a batch
-            same = [i for i in rows if float(each[i].conditions.slip_coefficient) == ks]
-            picked = [[seq[i] for i in same] for seq in (each, designs, inertia, measured)]
-            boxes = joint_limits_many(*picked, u, offsets=[offsets[i] for i in same], calibration=calibration)  # type: ignore[arg-type]
-            for i, box in zip(same, boxes):
-                joints[i] = box
+        picked = [[seq[i] for i in rows] for seq in (each, designs, inertia, measured)]
+        boxes = joint_limits_many(*picked, batch[0], offsets=[offsets[i] for i in rows], calibration=calibration)  # type: ignore[arg-type]
+        for i, box in zip(rows, boxes):
+            joints[i] = box
     ranges = {name: PARAMETERS[name].range for name in ("trail", "groove", "damping")}
     out = []
     for i, (problem, design, caster) in enumerate(zip(each, designs, casters)):

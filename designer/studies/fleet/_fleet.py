@@ -142,33 +142,31 @@ class FleetResult(Record):
 
     def rows(self) -> list[dict[str, Any]]:
         """One dict per chair: the columns of fleet.csv (SI)."""
-        ch = self.chairs
-        out = []
+        ch, cost, out = self.chairs, self.regret_cost, []
         assignment = None if self.skus is None else self.skus.assignment
-        cost = self.regret_cost
         sku_index = {} if self.skus is None else {j: i + 1 for i, j in enumerate(self.skus.chosen)}
         position = np.cumsum(self.feasible) - 1
-        for i in range(len(self.fleet)):
+        risks = tuple(f"shimmy_probability{x}" for x in ("", "_mc", "_se"))
+        for i, k in enumerate(position):
             j = int(ch["choice"][i])
-            row: dict[str, Any] = {"name": self.fleet.names[i]}
-            design = self.stock.design(j) if j >= 0 else dict.fromkeys(("trail", "diameter", "groove", "damping"))
-            row.update(design)
+            row: dict[str, Any] = {
+                "name": self.fleet.names[i],
+                **(self.stock.design(j) if j >= 0 else dict.fromkeys(VARIABLES)),
+            }
             row["extrapolated"] = bool(self.stock.extrapolated[j]) if j >= 0 else None
-            for key in ("turning_effort", "threshold_force", *(f"shimmy_probability{x}" for x in ("", "_mc", "_se"))):
+            for key in ("turning_effort", "threshold_force", *risks):
                 row[key] = float(ch[key][i]) if j >= 0 and key in ch else None
             if assignment is not None and cost is not None:
-                a = int(assignment[position[i]]) if j >= 0 else -1
-                col = int(np.searchsorted(cost["columns"], a)) if a >= 0 else -1
+                a = int(assignment[k]) if j >= 0 else -1
+                col = int(np.searchsorted(cost["columns"], a))
                 row["sku"] = sku_index.get(a) if a >= 0 else None
-                row["sku_turning_effort"] = float(cost["turning_effort"][position[i], col]) if a >= 0 else None
-                row["sku_threshold_force"] = float(cost["threshold_force"][position[i], col]) if a >= 0 else None
-                for key in ("sku_shimmy_probability", "sku_shimmy_probability_mc", "sku_shimmy_probability_se"):
-                    sp = ch.get(key)
-                    row[key] = None if sp is None or a < 0 else float(sp[i])
-                row["knee_regret_N"] = float(cost["knee_regret"][position[i]]) if j >= 0 else None
-                row["sku_regret_N"] = float(cost["regret"][position[i], col]) if a >= 0 else None
-            row["status"] = "ok" if j >= 0 else str(ch["reason"][i])
-            out.append(row)
+                for key in ("turning_effort", "threshold_force"):
+                    row[f"sku_{key}"] = float(cost[key][k, col]) if a >= 0 else None
+                for key in risks:
+                    row[f"sku_{key}"] = None if f"sku_{key}" not in ch or a < 0 else float(ch[f"sku_{key}"][i])
+                row["knee_regret_N"] = float(cost["knee_regret"][k]) if j >= 0 else None
+                row["sku_regret_N"] = float(cost["regret"][k, col]) if a >= 0 else None
+            out.append(row | {"status": "ok" if j >= 0 else str(ch["reason"][i])})
         return out
 
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:

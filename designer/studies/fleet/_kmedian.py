@@ -402,10 +402,10 @@ def _solve(
     t0 = time.perf_counter()
     out = KMedianSolution(k=k, candidates=inst.n)
     if not inst.served:
-        return _done(replace(out, message="some chair has no allowed caster"), t0), lam
+        return replace(out, message="some chair has no allowed caster", seconds=time.perf_counter() - t0), lam
     if k < len(inst.cover):
         message = f"no {k} casters serve every chair: the fewest that do are {len(inst.cover)} (set cover, HiGHS)"
-        return _done(replace(out, message=message, method="set cover (HiGHS)"), t0), lam
+        return replace(out, message=message, method="set cover (HiGHS)", seconds=time.perf_counter() - t0), lam
     if k >= inst.n:  # every useful caster stocked: each chair gets its own best (regret 0)
         return _finish(inst, out, list(range(inst.n)), None, "optimal", "all useful casters", t0), lam
     chosen = _greedy(inst, k, start)
@@ -449,7 +449,7 @@ def _finish(
     lower = regret if bound is None else min(float(bound), regret)
     if regret - lower <= len(inst.full) * np.finfo(float).eps * max(1.0, abs(regret)):
         lower = regret  # a bound equal to the value up to the rounding of a sum of one regret a chair: no gap
-    out = replace(
+    return replace(
         out,
         chosen=[int(inst.cols[j]) for j in columns],
         assignment=inst.cols[pick],
@@ -458,13 +458,8 @@ def _finish(
         gap=regret - lower,
         status=status,
         method=method,
+        seconds=time.perf_counter() - t0,
     )
-    return _done(out, t0)
-
-
-def _done(out: KMedianSolution, t0: float) -> KMedianSolution:
-    """``out`` with the seconds since ``t0`` (a new record: records do not change)."""
-    return replace(out, seconds=time.perf_counter() - t0)
 
 
 def kmedian_curve(

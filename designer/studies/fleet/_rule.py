@@ -90,7 +90,7 @@ def stock_table(problem) -> StockTable:
         note = "the base problem has no [stock]; default stock within its bounds (docs/fleet.md)"
     stock_key = {"trail": "trail_step", "diameter": "diameters", "groove": "grooves", "damping": "dampings"}
     for key in ("trail", "diameter", "groove", "damping"):
-        if cand.get(key) is None:
+        if getattr(cand, key) is None:
             raise ProblemError(
                 f"{problem.source or problem.name}: stock.{stock_key[key]}: missing, so {key} stays "
                 f"continuous; a fleet's part numbers are stock casters, so list every variable in "
@@ -324,17 +324,9 @@ def _mc_task(
     the fleet's risk (in this process or on a Dask worker), the Monte Carlo by the model's
     :func:`designer.model.shimmy_probability` (each row the number of a single caster's seeded stream; a wheel
     not ``measured`` is known by its diameter)."""
-    columns = {name: designs[:, k] for k, name in enumerate(VARIABLES)}
+    trail, diameter, groove, damping = designs.T  # the columns in VARIABLES' order
     p, se = shimmy_probability(
-        columns["trail"],
-        inertia,
-        columns["groove"],
-        columns["damping"],
-        slip,
-        speeds,
-        uncertainty,
-        diameter=columns["diameter"],
-        measured=measured,
+        trail, inertia, groove, damping, slip, speeds, uncertainty, diameter=diameter, measured=measured
     )
     exact = [
         exact_probability(LawCaster(t, float(i_w), b, c, float(slip), None if m else d), float(v), uncertainty)

@@ -424,9 +424,8 @@ def _enforce(problem, b: _Buildable, free: int) -> dict:
     caster dominated by one that holds stays dominated, so the result is the front of all holding casters."""
     alpha = risk_law(problem).probability
     ok = np.ones(len(b), bool)
-    if free >= 0:
-        if b.corners(problem, [free])[0] <= alpha:
-            return _select(problem, b, ok)
+    if free >= 0 and b.corners(problem, [free])[0] <= alpha:
+        return _select(problem, b, ok)
     corner = np.full(len(b), np.nan)
     while True:
         sel = _select(problem, b, ok)

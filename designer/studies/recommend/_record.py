@@ -298,15 +298,13 @@ class Recommendation(Record):
             else (self.problem.conditions.threshold_height if self.problem is not None else 0.5 * INCH)
         )
         name = f" for {self.problem.name!r}" if self.problem is not None else ""
-        return plot_caster(
-            d.trail,
-            d.diameter,
-            d.groove,
-            h,
-            self.swept_radius_max,
-            title=f"{self.role} caster{name}: T {shown(d.trail, 'trail', 'in')}, d {shown(d.diameter, 'diameter', 'in')}",
-            ax=ax,
-        )
+        title = f"{self.role} caster{name}: T {shown(d.trail, 'trail', 'in')}, d {shown(d.diameter, 'diameter', 'in')}"
+        return plot_caster(*self._geometry(h), title=title, ax=ax)
+
+    def _geometry(self, sill_height: float) -> tuple[float, float, float, float, float | None]:
+        """What the drawings take: T, d, B, the sill's height h [m] and the swept-radius limit R_max [m] or None."""
+        d = self.design
+        return d.trail, d.diameter, d.groove, sill_height, self.swept_radius_max
 
     def _html_title(self) -> str:
         title = f"Build this caster for {self.problem.name!r}" if self.problem is not None else "Build this caster"
@@ -357,18 +355,8 @@ class Recommendation(Record):
         """The caster drawn to scale beside the table (needs the problem's sill)."""
         if self.problem is None:
             return ""
-        d = self.design
-        return str(
-            caster_svg(
-                d.trail,
-                d.diameter,
-                d.groove,
-                self.problem.conditions.threshold_height,
-                self.swept_radius_max,
-                scale=17.0,
-                label=f"{self.role} caster",
-            )
-        )
+        geometry = self._geometry(self.problem.conditions.threshold_height)
+        return str(caster_svg(*geometry, scale=17.0, label=f"{self.role} caster"))
 
 
 def _parts(d: dict[str, float]) -> str:

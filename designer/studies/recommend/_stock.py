@@ -46,10 +46,6 @@ class CandidateTable:
     def __len__(self) -> int:
         return len(self.wheel)
 
-    def get(self, key, default=None):
-        """Dict-style access (``table.get("trail")``)."""
-        return getattr(self, key, default)
-
     @property
     def discrete(self) -> bool:
         """Every variable is a part (nothing left to solve continuously)."""
@@ -117,9 +113,7 @@ def stock_candidates(problem, stock=None) -> CandidateTable:
     rows = list(dict.fromkeys(rows))  # a wheel's own groove repeats once per listed groove
 
     def column(i, continuous):
-        if continuous:
-            return None
-        return np.array([r[i] for r in rows], float)
+        return None if continuous else np.array([r[i] for r in rows], float)
 
     grooves_continuous = grooves is None and (wheels is None or any(w[2] is None for w in wheel_axis))
     inertia = measured = None

@@ -21,11 +21,7 @@ from designer.physics.uncertainty import Uncertainty
 
 def _calibrated(u: Uncertainty, scatter: float) -> Uncertainty:
     """The risk model of one calibrated caster: the model error becomes the onset's scatter (normal)."""
-    changes: dict = {"model_error": scatter}
-    names = {f.name for f in dataclasses.fields(u)}
-    if "model_error_dof" in names:
-        changes["model_error_dof"] = 0  # a stated σ, not one estimated from a few wheels: normal
-    return dataclasses.replace(u, **changes)
+    return dataclasses.replace(u, model_error=scatter, model_error_dof=0)  # a stated σ, not one from a few wheels
 
 
 def _evaluate(

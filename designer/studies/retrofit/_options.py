@@ -139,11 +139,8 @@ def _wheel_options(problem, stock: dict, current: Design, sources: dict) -> tupl
         for entry in catalogue:
             d = float(entry.diameter)
             measured = entry.inertia is not None or bool(getattr(model, "measured", False))
-            if entry.inertia is not None:
-                i = float(entry.inertia)
-            else:
-                with warnings.catch_warnings(action="ignore"):  # extrapolation of the inertia fit: docs/retrofit.md
-                    i = float(model(d))
+            with warnings.catch_warnings(action="ignore"):  # extrapolation of the inertia fit: docs/retrofit.md
+                i = float(model(d) if entry.inertia is None else entry.inertia)
             groove = math.nan if entry.groove is None else float(entry.groove)
             cost = problem.stock.cost("wheel") if entry.cost is None else float(entry.cost)
             wheels.append(_Wheel(d, groove, i, entry.name, measured, cost))

@@ -8,7 +8,7 @@ Part of :mod:`designer.studies.retrofit._retrofit` (which builds these records).
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -60,6 +60,20 @@ class Change(Record):
         Key("**", lambda c: {"name": c.name} if c.name else {}),
     )
     """``part``, ``variable``, ``from``, ``to`` [SI], ``unit`` (and the catalogue wheel's ``name``)."""
+
+
+_CHANGED = (
+    *((key, key) for key in ("parts_changed", "changes")),
+    *((f"cost.{key}", f"cost_{key}") for key in ("turning_effort", "threshold_force")),
+    ("cost.loss", "loss"),
+    *((key, key) for key in ("parts_cost", "threshold_increase", "turning_increase", "within_limit")),
+)
+"""A fix's JSON keys against the current caster and the attributes they hold (none for the current caster)."""
+
+
+def _if_changed(name: str) -> Callable[[Any], Any]:
+    """A caster's attribute ``name``, None for the current caster (which changes nothing: the key is left out)."""
+    return lambda state: getattr(state, name) if state.changes else None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -174,28 +188,11 @@ class CasterState(Record):
         *("confident_speed", "meets_risk_bound", "shimmy_probability", "shimmy_probability_mc"),
         *("shimmy_probability_se", "mc_samples", "mc_seed"),
         Key("spec", omit="none"),
-        Key("**", lambda c: c._changed() if c.changes else {}),
+        *(Key(key, _if_changed(name), omit="none") for key, name in _CHANGED),
     )
     """JSON-ready record, SI units: P(shimmy) exact with the Monte Carlo beside it; a fix's ``spec`` (its
     acceptance ``limits`` by part and side, ``units`` beside them: :class:`designer.studies.spec.Spec`) and its
     changes, costs and rises against the current caster."""
-
-    def _changed(self) -> dict[str, Any]:
-        """A fix's keys against the current caster: ``parts_changed``, ``changes``, ``cost`` [N], ``parts_cost``,
-        the rises and ``within_limit``."""
-        return {
-            "parts_changed": self.parts_changed,
-            "changes": [c.to_dict() for c in self.changes],
-            "cost": {
-                "turning_effort": self.cost_turning_effort,
-                "threshold_force": self.cost_threshold_force,
-                "loss": self.loss,
-            },
-            "parts_cost": self.parts_cost,
-            "threshold_increase": self.threshold_increase,
-            "turning_increase": self.turning_increase,
-            "within_limit": bool(self.within_limit),
-        }
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -368,21 +365,17 @@ class FixResult(Record):
     def _html_rows(self) -> list[tuple[Any, Any, Any]]:
         """The current caster, then each fix (first five) with its changes, F_turn, P and P(shimmy)."""
         rows: list[tuple[Any, Any, Any]] = [
-            (
-                "current",
-                f"{self.current.design.describe()}; P(shimmy) {self.current.shimmy_probability:.2%}",
-                "",
-            )
-        ]
-        for rank, f in enumerate(self.fixes[:5], start=1):
-            rows.append(
+            ("current", f"{self.current.design.describe()}; P(shimmy) {self.current.shimmy_probability:.2%}", ""),
+            *(
                 (
                     f"fix {rank}",
                     f"{describe_changes(f.changes)}; F_turn {f.turning_effort:.4g} N, P {f.threshold_force:.4g} N, "
                     f"P(shimmy) {f.shimmy_probability:.2%}",
                     "",
                 )
-            )
+                for rank, f in enumerate(self.fixes[:5], start=1)
+            ),
+        ]
         if self.found > 5:
             rows.append(("more fixes", str(self.found - 5), ""))
         return rows
@@ -400,9 +393,7 @@ def describe_changes(changes: Iterable[Change], sep: str = "; ", inertia: bool =
             continue
         symbol = quantity(c.variable).symbol
         if units is not None and quantity(c.variable).dimension == "length":
-            before, after = written_size(c.before, units), written_size(c.after, units)
-            after_number, unit = after.rsplit(" ", 1)
-            text = f"{symbol} {before.rsplit(' ', 1)[0]} -> {after_number} {unit}"
+            text = f"{symbol} {written_size(c.before, units).rsplit(' ', 1)[0]} -> {written_size(c.after, units)}"
         else:
             text = f"{symbol} {number(c.before, c.variable, 'in')} -> {shown(c.after, c.variable, 'in')}"
         by_part.setdefault(c.part, []).append(text)

@@ -67,6 +67,7 @@ from designer.studies.retrofit._records import (
     Change,
     FixResult,
 )
+from designer.display import quantity
 from designer.units import written_size
 from designer.model import weighted
 
@@ -274,15 +275,11 @@ def stock_offer(problem, options: dict, sources: dict) -> dict[str, str]:
             continue
         if part == "wheel" and any(w.name for w in values):
             text = ", ".join(f"{w.name} ({written_size(w.diameter, units)})" for w in values)
-        elif part == "wheel":
-            sizes = [written_size(w.diameter, units) for w in values]
-            text = "d " + ", ".join(x.rsplit(" ", 1)[0] for x in sizes) + " " + sizes[0].rsplit(" ", 1)[1]
         elif part == "washer":
             text = "c_f " + ", ".join(f"{v:g}" for v in values) + " N·m/rad"
         else:
-            sizes = [written_size(float(v), units) for v in values]
-            unit = sizes[0].rsplit(" ", 1)[1]
-            text = ("B " if part == "tyre" else "T ") + ", ".join(x.rsplit(" ", 1)[0] for x in sizes) + f" {unit}"
+            sizes = [written_size(float(getattr(v, "diameter", v)), units).rsplit(" ", 1) for v in values]
+            text = f"{quantity(PART_VARIABLE[part]).symbol} " + ", ".join(x[0] for x in sizes) + f" {sizes[0][1]}"
         where = sources[part] if sources[part].startswith("continuous") else ""
         price = f"{costs[0]:g} each" if np.all(costs == costs[0]) else "costs " + ", ".join(f"{c:g}" for c in costs)
         out[part] = f"{text} ({where + '; ' if where else ''}{price})"
@@ -334,8 +331,6 @@ class _Setting:
         inertia ``inertia[k]`` [kg·m²] and exact P(shimmy) ``exact[k]``."""
         rows = [k for k in range(len(designs)) if wanted[k]]
         out: list = [None] * len(designs)
-        if not rows:
-            return out
         p_mc, se = (np.asarray(values[key], float) for key in ("shimmy_probability", "shimmy_probability_se"))
         mc = [(float(p_mc[k]), float(se[k]), mc_draws(float(p_mc[k]), float(se[k])), self.seed) for k in rows]
         found = caster_specs(
@@ -428,18 +423,8 @@ def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current
         feasible = feasible & _holds_at_corner(cands, s)
     inside = np.flatnonzero(feasible & (over <= 1e-12))
     outside = np.flatnonzero(feasible & (over > 1e-12))
-    ranked = inside[
-        np.lexsort(
-            (
-                cands["order"][inside],
-                -values.confident_speed[inside],
-                np.round(d_turn[inside], 9),
-                np.round(d_force[inside], 9),
-                loss[inside],
-                price[inside],
-            )
-        )
-    ]
+    keys = (cands["order"], -values.confident_speed, np.round(d_turn, 9), np.round(d_force, 9), loss, price)
+    ranked = inside[np.lexsort([key[inside] for key in keys])]
     apart = outside[np.lexsort((cands["order"][outside], loss[outside], price[outside], np.round(over[outside], 9)))]
     return cands, ranked, apart, searched
 
