@@ -27,13 +27,6 @@ quantity_option = parse_quantity_text
 :func:`designer.units.parse_quantity_text`."""
 
 
-def choice_option(value: str, allowed: tuple[str, ...], option: str) -> str:
-    """Check a categorical option; InputError naming option, value and the choices."""
-    if value not in allowed:
-        raise InputError(f"{option} {value!r}: expected one of {', '.join(allowed)}")
-    return value
-
-
 @contextlib.contextmanager
 def api_named(names: dict[str, str]):
     """An InputError of the API inside the block named by the option its value came from: a message starting

@@ -90,12 +90,8 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
 
 
 CONDITION_OPTIONS = {
-    "load": "--load",
-    "threshold_height": "--threshold-height",
-    "surface": "--surface",
-    "turning_mode": "--turning-mode",
-    "disturbance_angle": "--disturbance-angle",
-    "slip_coefficient": "--slip-coefficient",
+    name: "--" + name.replace("_", "-")
+    for name in ("load", "threshold_height", "surface", "turning_mode", "disturbance_angle", "slip_coefficient")
 }
 """The conditions the options set, each by its name in :class:`designer.Conditions` (whose checks name it)."""
 

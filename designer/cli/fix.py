@@ -41,21 +41,16 @@ def register(sub) -> None:
         help='the caster as it is, e.g. "T=1.5in,d=7.75in,B=0.5625in,c=1.3" (T = fork trail with the '
         "stem vertical, d = wheel diameter, B = groove, c = spindle damping in N*m/rad)",
     )
-    p.add_argument(
-        "--inertia",
-        default=None,
-        help="measured I_w of the current wheel [kg·m²], e.g. 0.00127 (default: the problem's inertia model)",
-    )
-    p.add_argument(
-        "--shimmied-at",
-        default=None,
-        help="observed shimmy onset of this caster, e.g. 2.1m/s: calibrates the model error for it",
-    )
-    p.add_argument(
-        "--stem-angle",
-        default="0 deg",
-        help="stem tilt from vertical, e.g. 4deg (positive: top leans back, more trail)",
-    )
+    for option, default, text in (
+        (
+            "--inertia",
+            None,
+            "measured I_w of the current wheel [kg·m²], e.g. 0.00127 (default: the problem's inertia model)",
+        ),
+        ("--shimmied-at", None, "observed shimmy onset of this caster, e.g. 2.1m/s: calibrates the model error for it"),
+        ("--stem-angle", "0 deg", "stem tilt from vertical, e.g. 4deg (positive: top leans back, more trail)"),
+    ):
+        p.add_argument(option, default=default, help=text)
     p.add_argument(
         "--onset-scatter", type=float, default=None, help="σ of the log of the observed onset (default 0.05)"
     )

@@ -64,25 +64,22 @@ def register(sub) -> None:
     )
     p.add_argument("--k-max", type=int, metavar="N", help="regret curve up to K = N (default max(K, 8))")
     p.add_argument("--no-skus", action="store_true", help="per-chair recommendations only (no part numbers)")
-    p.add_argument(
-        "--problem",
-        default=None,
-        help="base problem: bounds, stock, risk, weights (default the shipped indoor-manual problem)",
-    )
-    p.add_argument(
-        "--tolerances",
-        default=None,
-        metavar="SPEC",
-        help="manufacturing tolerances every part number must hold at its worst corner, replacing the base "
-        "problem's [tolerances], e.g. 'trail=1.5mm,groove=0.4mm,diameter=1mm,friction_moment=30%%'",
-    )
-    p.add_argument("--out", default=None, help="output folder (with --example: the CSV file to write)")
-    p.add_argument(
-        "--scheduler",
-        default=None,
-        metavar="ADDRESS",
-        help="run the per-chair work on a Dask cluster (tcp://host:8786, or 'local' for 2 local workers)",
-    )
+    for option, metavar, text in (
+        ("--problem", None, "base problem: bounds, stock, risk, weights (default the shipped indoor-manual problem)"),
+        (
+            "--tolerances",
+            "SPEC",
+            "manufacturing tolerances every part number must hold at its worst corner, replacing the base "
+            "problem's [tolerances], e.g. 'trail=1.5mm,groove=0.4mm,diameter=1mm,friction_moment=30%%'",
+        ),
+        ("--out", None, "output folder (with --example: the CSV file to write)"),
+        (
+            "--scheduler",
+            "ADDRESS",
+            "run the per-chair work on a Dask cluster (tcp://host:8786, or 'local' for 2 local workers)",
+        ),
+    ):
+        p.add_argument(option, default=None, metavar=metavar, help=text)
     p.add_argument(
         "--no-monte-carlo",
         action="store_true",
