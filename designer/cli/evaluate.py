@@ -102,8 +102,7 @@ def run(args) -> int:
     out = _results(design, conditions, values, speed, args.knock_safe)
     if args.json:
         print_json(out)
-        return 0
-    if args.verbose:
+    elif args.verbose:
         _print_table(design, conditions, values, speed, out)
     else:
         _print_screen(design, conditions, values, speed, out)

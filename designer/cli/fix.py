@@ -95,8 +95,7 @@ def run(args) -> int:
         )
     if args.json:
         print_json(result.to_dict())
-        return 0
-    if args.verbose or args.wide:
+    elif args.verbose or args.wide:
         _print(result, problem, args.wide, args.top)
     else:
         _print_screen(result, problem)
@@ -284,16 +283,26 @@ def _plus(value: float, text: str) -> str:
 
 
 def _print_screen(result, problem) -> None:
-    """The answer in one screen (at most 24 lines at 80 columns): the answer, why, what it costs, what to inspect,
-    what to do next; the tables, the parts on offer and the rule are behind ``--verbose``."""
+    """The answer in one screen (at most 24 lines at 80 columns): the answer, then Why, Cost, Inspect and Next (words
+    generated from the result's numbers); the tables, the parts on offer and the rule are behind ``--verbose``."""
     from rich.markup import escape
 
     console = terminal_console()
+    cur, best = result.current, result.best
     if not result.needs_fix:
         console.print(f"[bold]No fix needed:[/bold] {escape(_no_fix_text(result, problem))}")
         return
     console.print(f"[bold]{escape(result.summary())}[/bold]")
-    for head, text in _screen_paragraphs(result, problem):
+    why = (
+        f"the caster as it is ({_parts(cur.design, problem.units)}) has P(shimmy at "
+        f"{shown(result.target_speed, 'critical_speed')}) = {percent(cur.shimmy_probability)} (exact; Monte Carlo "
+        f"{percent(cur.shimmy_probability_mc)} ± {percent(cur.shimmy_probability_se)}) against the risk bound "
+        f"{_bound(result)}; V_c (Eq. 7) {shown(cur.critical_speed, 'critical_speed')}"
+    )
+    paragraphs = [("Why", why)]
+    if best is not None:
+        paragraphs += [("Cost", _cost_text(best)), ("Inspect", _inspect_text(best, result, problem))]
+    for head, text in paragraphs + [("Next", _next_text(result))]:
         console.print(f"[bold]{head}:[/bold] {escape(text)}")
 
 
@@ -313,26 +322,7 @@ def _no_fix_text(result, problem) -> str:
     return f"the caster as it is meets the limits: {risk}{room}."
 
 
-def _screen_paragraphs(result, problem) -> list[tuple[str, str]]:
-    """(heading, text) of the one-screen answer after its first line: Why, Cost, Inspect, Next (words generated
-    from the result's numbers)."""
-    cur = result.current
-    why = (
-        f"the caster as it is ({_parts(cur.design, problem.units)}) has P(shimmy at "
-        f"{shown(result.target_speed, 'critical_speed')}) = {percent(cur.shimmy_probability)} (exact; Monte Carlo "
-        f"{percent(cur.shimmy_probability_mc)} ± {percent(cur.shimmy_probability_se)}) against the risk bound "
-        f"{_bound(result)}; V_c (Eq. 7) {shown(cur.critical_speed, 'critical_speed')}"
-    )
-    out = [("Why", why)]
-    best = result.best
-    if best is not None:
-        out.append(("Cost", _cost_text(best, result)))
-        out.append(("Inspect", _inspect_text(best, result, problem)))
-    out.append(("Next", _next_text(result)))
-    return out
-
-
-def _cost_text(best, result) -> str:
+def _cost_text(best) -> str:
     """What the best fix costs: the sum of the [stock] costs of its parts, in the unit they are written in."""
     parts = sorted({c.part for c in best.changes if c.variable != "inertia"})
     return (

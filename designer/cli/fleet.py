@@ -103,19 +103,14 @@ def run(args) -> int:
         check_file(target, "--out", example=f"fleet-example-{args.example}.csv", kind=EXAMPLE_KIND)
         fleet = example_fleet(args.example, seed=args.seed)
         path = write_fleet_csv(fleet, target)
+        ranges = {key: {"range": span, "source": source} for key, (span, source) in EXAMPLE_RANGES.items()}
         if args.json:
-            print_json(
-                {
-                    "fleet": str(path),
-                    "chairs": len(fleet),
-                    "ranges": {k: {"range": r, "source": s} for k, (r, s) in EXAMPLE_RANGES.items()},
-                }
-            )
+            print_json({"fleet": str(path), "chairs": len(fleet), "ranges": ranges})
         else:
             note = say(path)  # onto stderr when the fleet went to stdout
             note(f"wrote {path} ({len(fleet)} chairs)")
-            for key, (span, source) in EXAMPLE_RANGES.items():
-                note(f"  {key}: {span} ({source})")
+            for key, r in ranges.items():
+                note(f"  {key}: {r['range']} ({r['source']})")
         return 0
     if args.fleet is None:
         raise InputError("designer fleet: give FLEET.csv, or --example N to write one")

@@ -147,9 +147,7 @@ def others_lines(problem, rec, most: int = 3) -> list[str]:
     alts = [a for a in rec.alternatives if a.role in ROLES]
     if not alts:
         return []
-    ends = [a for a in alts if a.role != "between the ends"]
-    middle = [a for a in alts if a.role == "between the ends"]
-    shown_alts = (ends + middle)[:most]
+    shown_alts = sorted(alts, key=lambda a: a.role == "between the ends")[:most]  # the ends first (a stable sort)
     shown_alts.sort(key=lambda a: a.turning_effort)
     units = problem.units
     out = ["Other casters on the trade-off:"]

@@ -90,28 +90,22 @@ MAX_ANGULAR_VELOCITY = 1000.0
 frequencies (Eq. 15B, 80-105 rad/s) a swing of 1 rad has |θ'| of about 100 rad/s; ten times that is no knock."""
 
 TYRE_RANGES = {
-    "--friction-coefficient": (0.0, 10.0, "", "tyre-floor μ: about 0.7 for rubber on tile"),
-    "--cornering-stiffness": (1.0, 1e6, "N/rad", "as K_s (1250 N, App. C): 1 to 1e6"),
-    "--wheel-mass": (0.0, 100.0, "kg", "a caster wheel of 0.444 kg (the default)"),
+    "--friction-coefficient": ("dimensionless", 0.0, 10.0, "", "tyre-floor μ: about 0.7 for rubber on tile"),
+    "--cornering-stiffness": ("force", 1.0, 1e6, "N/rad", "as K_s (1250 N, App. C): 1 to 1e6"),
+    "--wheel-mass": ("mass", 0.0, 100.0, "kg", "a caster wheel of 0.444 kg (the default)"),
 }
-"""The brush tyre's options: (low (exclusive for 0), high, unit, what a value usually is)."""
-
-
-def _bounded(option: str, value: float, text: str) -> float:
-    """InputError naming ``option`` unless ``value`` lies in :data:`TYRE_RANGES` (low exclusive when 0)."""
-    low, high, unit, hint = TYRE_RANGES[option]
-    if not (math.isfinite(value) and (low < value if low == 0 else low <= value) and value <= high):
-        raise InputError(f"{option} {text}: outside {low:g} to {high:g} {unit}".rstrip() + f" ({hint})")
-    return value
+"""The brush tyre's options: (dimension, low (exclusive for 0), high, unit, what a value usually is)."""
 
 
 def _tyre(args):
-    """The brush tyre of ``--friction-coefficient``, ``--cornering-stiffness``, ``--wheel-mass`` and ``--load``."""
-    given = (("--friction-coefficient", "dimensionless"), ("--cornering-stiffness", "force"), ("--wheel-mass", "mass"))
+    """The brush tyre of ``--friction-coefficient``, ``--cornering-stiffness``, ``--wheel-mass`` and ``--load``;
+    InputError naming the option of a value outside :data:`TYRE_RANGES` (low exclusive when 0)."""
     values = {}
-    for option, dimension in given:
+    for option, (dimension, low, high, unit, hint) in TYRE_RANGES.items():
         text = getattr(args, option[2:].replace("-", "_"))
-        values[option] = _bounded(option, quantity_option(text, dimension, option), text)
+        value = values[option] = quantity_option(text, dimension, option)
+        if not (math.isfinite(value) and (low < value if low == 0 else low <= value) and value <= high):
+            raise InputError(f"{option} {text}: outside {low:g} to {high:g} {unit}".rstrip() + f" ({hint})")
     return TyreParameters(
         cornering_stiffness=values["--cornering-stiffness"],
         friction_coefficient=values["--friction-coefficient"],
