@@ -156,8 +156,20 @@ def _bifurcation(args, design, conditions, angle: float, tyre) -> dict:
     data = bif.to_dict()
     out = {k: data[k] for k in BIFURCATION_KEYS}
     out["rolling_branches"] = roll.to_dict()["branches"]
-    if args.plot:
-        _plot_bifurcation(args.plot, design, angle, bif, roll, top)
+    if args.plot:  # its suffix checked by run before the work
+        from designer.plots.figures import save_figure
+
+        ax = bifurcation_axes(
+            bif.branches,
+            bif.eq7_critical_speed,
+            angle / (bif.frequency * design.trail),
+            roll.branches,
+            bif.fold_speed,
+            speed_range=span,
+            title=design.describe(),
+        )
+        ax.figure.tight_layout()
+        save_figure(ax.figure, args.plot)
         out["plot"] = args.plot
     return out
 
@@ -169,24 +181,6 @@ BIFURCATION_KEYS = (
 
 DEFAULT_POINTS = 24
 """Orbits on the unstable branch of --bifurcation by default (its work budget grows with --points over this)."""
-
-
-def _plot_bifurcation(path, design, angle: float, bif, roll, top: float) -> None:
-    """Draw the bifurcation diagram of ``bif`` (brush tyre) and ``roll`` (rolling tyre) into an image file (its
-    suffix checked by :func:`run` before the work)."""
-    from designer.plots.figures import save_figure
-
-    ax = bifurcation_axes(
-        bif.branches,
-        bif.eq7_critical_speed,
-        angle / (bif.frequency * design.trail),
-        roll.branches,
-        bif.fold_speed,
-        speed_range=(min(0.3, top / 4), top),
-        title=design.describe(),
-    )
-    ax.figure.tight_layout()
-    save_figure(ax.figure, path)
 
 
 def _print_limit_cycles(args, design, angle: float, tyre, out: dict) -> None:
@@ -288,8 +282,10 @@ def run(args) -> int:
         out["onset_bracket"] = [onset.low, onset.high]
         out["onset_relative_error"] = onset.relative_error
     out["warnings"] = [str(w.message) for w in caught]
-    if args.plot:
-        _plot(result, args.plot, onset)
+    if args.plot:  # θ(t), its suffix checked before the work
+        from designer.plots.figures import save_figure
+
+        save_figure(result.plot(onset_speed=None if onset is None else onset.speed).figure, args.plot, dpi=110)
         out["plot"] = args.plot
     if args.json:
         print_json(out)
@@ -355,11 +351,3 @@ def _report(args, write_simulation_report) -> int:
         )
         print(f"wrote {args.report}/{', '.join(written)} (shimmy beyond onset)")
     return 0
-
-
-def _plot(result, path, onset=None) -> None:
-    """Draw θ(t) of ``result`` into the image file ``path`` (its suffix checked by :func:`run` before the work)."""
-    ax = result.plot(onset_speed=onset.speed if onset is not None else None)
-    from designer.plots.figures import save_figure
-
-    save_figure(ax.figure, path, dpi=110)
