@@ -13,7 +13,8 @@ from designer.jsonsafe import finite, resolved_numbers, stamped
 from designer.errors import InputError
 from designer.parameters import PARAMETERS
 from designer.problem import INERTIA_RANGE
-from designer.units import outside_range, parse_quantity_text
+from designer.display import quantity, shown
+from designer.units import outside_range, parse_quantity_text, written_size
 
 
 PROBLEM_HELP = (
@@ -103,6 +104,18 @@ def say(path):
     """``print`` for the notes of a command that wrote ``path``, or :func:`eprint` when ``path`` is standard
     output (:func:`is_stdout`)."""
     return eprint if is_stdout(path) else print
+
+
+def part_text(value: float, name: str, units: str) -> str:
+    """One part of a caster by its symbol, a size as the problem writes it: "T 1 1/4 in", "c_f 1.30 N·m/rad"."""
+    return f"{quantity(name).symbol} {shown(value, name) if name == 'damping' else written_size(value, units)}"
+
+
+def parts_text(design, units: str) -> str:
+    """A caster's four parts by :func:`part_text`: "T 1 1/4 in, d 8 in, B 0 in, c_f 1.30 N·m/rad" (``design``: a
+    Design, or its dict)."""
+    values = design if isinstance(design, dict) else design.to_dict()
+    return ", ".join(part_text(values[n], n, units) for n in ("trail", "diameter", "groove", "damping"))
 
 
 def ranged_option(value: str | None, entry: str, option: str):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 
 from designer.cli._terminal import console as terminal_console, table
-from designer.cli._common import PROBLEM_HELP, api_named, print_json, quantity_option, ranged_option
+from designer.cli._common import PROBLEM_HELP, api_named, parts_text, print_json, quantity_option, ranged_option
 from designer import fix, load_problem
 from designer.studies.retrofit import ONSET_SCATTER, parse_current
 from designer.display import header, number, percent, shown
@@ -172,7 +172,7 @@ def _print_current(console, result, problem, conf: str) -> None:
             + (f"<= {written_size(problem.swept_radius_max, units)}" if problem.swept_radius_max else "not limited")
         )
     )
-    console.print(escape(f"Current caster: {_parts(d, units)}, I_w = {shown(cur.inertia, 'inertia')}"))
+    console.print(escape(f"Current caster: {parts_text(d, units)}, I_w = {shown(cur.inertia, 'inertia')}"))
     if result.stem_angle:
         console.print(
             f"  stem tilted {_plus(result.stem_angle, shown(result.stem_angle, 'disturbance_angle'))}: effective trail "
@@ -268,15 +268,6 @@ def _bound(result) -> str:
     return f"P(shimmy at {speed}) <= {percent(result.probability)}"
 
 
-def _parts(design, units: str) -> str:
-    """A caster's four parts as the problem writes them: "T = 1 1/4 in, d = 8 in, B = 0 in, c_f = 1.30 N·m/rad"."""
-    sizes = [
-        f"{s} = {written_size(getattr(design, n), units)}"
-        for s, n in (("T", "trail"), ("d", "diameter"), ("B", "groove"))
-    ]
-    return ", ".join(sizes + [f"c_f = {shown(design.damping, 'damping')}"])
-
-
 def _plus(value: float, text: str) -> str:
     """A change ``value`` shown as ``text`` (:mod:`designer.display`) with its sign: "+0.722", "-6.073"."""
     return ("+" if value > 0 else "") + text
@@ -294,7 +285,7 @@ def _print_screen(result, problem) -> None:
         return
     console.print(f"[bold]{escape(result.summary())}[/bold]")
     why = (
-        f"the caster as it is ({_parts(cur.design, problem.units)}) has P(shimmy at "
+        f"the caster as it is ({parts_text(cur.design, problem.units)}) has P(shimmy at "
         f"{shown(result.target_speed, 'critical_speed')}) = {percent(cur.shimmy_probability)} (exact; Monte Carlo "
         f"{percent(cur.shimmy_probability_mc)} ± {percent(cur.shimmy_probability_se)}) against the risk bound "
         f"{_bound(result)}; V_c (Eq. 7) {shown(cur.critical_speed, 'critical_speed')}"

@@ -10,6 +10,7 @@ from pathlib import Path
 from designer.output import check_file, check_folder
 from designer.cli._common import (
     SEED_MAX,
+    parts_text,
     say,
     count_option,
     eprint,
@@ -32,7 +33,6 @@ from designer.errors import InputError
 from designer import example_problem, load_problem
 from designer.problem import tolerances_option
 from designer.display import number, shown
-from designer.units import written_size
 
 
 def register(sub) -> None:
@@ -201,14 +201,9 @@ def _force(value) -> str:
 
 def _part_line(sku: dict, units: str) -> str:
     """One part number: its four parts in the problem's units, the chairs it serves and the units sold."""
-    d, chairs = sku["design"], sku["chairs"]
-    sizes = ", ".join(
-        f"{symbol} {written_size(d[n], units)}" for symbol, n in (("T", "trail"), ("d", "diameter"), ("B", "groove"))
-    )
-    return (
-        f"  part {sku['id']}: {sizes}, c_f {shown(d['damping'], 'damping')}: "
-        f"{chairs} chair{'s' if chairs != 1 else ''}, {sku['count']} units"
-    )
+    chairs = sku["chairs"]
+    parts = parts_text(sku["design"], units)
+    return f"  part {sku['id']}: {parts}: {chairs} chair{'s' if chairs != 1 else ''}, {sku['count']} units"
 
 
 def _print(data: dict, run_info: dict, stock: int, out: Path, units: str) -> None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import designer
 from designer.cli._terminal import fit
-from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
+from designer.cli._common import PROBLEM_HELP, eprint, part_text, print_json, ranged_option
 from designer.errors import InputError
 from designer import load_problem, recommend
 from designer.problem import check_weights
@@ -117,7 +117,7 @@ def risk_sentence(problem, rec) -> str:
     if m is not None:
         md, d = m["design"], rec.design
         changes = [
-            f"{quantity(n).symbol} {written_size(md[n], units) if n != 'damping' else shown(md[n], n, units)}"
+            part_text(md[n], n, units)
             for n in ("diameter", "trail", "groove", "damping")
             if abs(md[n] - getattr(d, n)) > 1e-12
         ]
