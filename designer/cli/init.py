@@ -99,11 +99,10 @@ def run(args) -> int:
     text = problem_text(answers, path.stem)
     load = _check(text, path).conditions.load  # L = m g f / 2 of the loader when given the mass
     write_file(path, text, "PATH", example="my-chair.toml", kind=NEW_FILE)
-    if answers.load is not None:
-        print(f"wrote {path}: {shown(answers.load, 'load')} per front caster")
-    else:
+    by_mass = answers.mass is not None
+    print(f"wrote {path}: {shown(load, 'load')} per front caster" + (" = m g f / 2" if by_mass else ""))
+    if by_mass:
         f = answers.front_fraction
-        print(f"wrote {path}: {shown(load, 'load')} per front caster = m g f / 2")
         print(f"  with m = {answers.mass:g} kg (user plus chair), front fraction f = {f:g}")
         if not interactive and args.front_fraction is None:
             low, high = FRONT_FRACTION_TYPICAL
