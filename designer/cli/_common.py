@@ -42,19 +42,14 @@ def api_named(names: dict[str, str]):
 
 def print_json(data, kind: str | None = None) -> None:
     """Print ``data`` as JSON; NaN and infinities become null; a dict gets its ``schema`` first
-    (:func:`designer.jsonsafe.stamped`; ``kind``: default the command, ``designer <command> --json``)."""
+    (:func:`designer.jsonsafe.stamped`; ``kind``: default the running command's, ``"run --json"``)."""
     if isinstance(data, dict):
-        data = stamped(kind or _command(), data)
+        data = stamped(kind or f"{RUNNING['command'] or 'designer'} --json", data)
     print(json.dumps(resolved_numbers(finite(data)), indent=2, sort_keys=False))  # 0.1524, not 0.15239999999999998
 
 
 RUNNING = {"command": ""}
 """The command :func:`designer.cli.main` is running (``run`` for ``designer run ...``): the kind of its --json."""
-
-
-def _command() -> str:
-    """The schema kind of the running command's --json output: ``"run --json"``."""
-    return f"{RUNNING['command'] or 'designer'} --json"
 
 
 def eprint(*args) -> None:
@@ -90,20 +85,15 @@ def end_progress_line() -> None:
             pass
 
 
-def is_stdout(path) -> bool:
-    """True if ``path`` is this process's standard output (``/dev/stdout``, ``/dev/fd/1``, or the very file
-    stdout is redirected to): a command writing its file there says its notes on stderr, so the stream holds
+def say(path):
+    """``print`` for the notes of a command that wrote ``path``, or :func:`eprint` when ``path`` is this process's
+    standard output (``/dev/stdout``, ``/dev/fd/1``, or the very file stdout is redirected to), so the stream holds
     the file alone (``designer fleet --example 5 --out /dev/stdout | cat``)."""
     try:
-        return os.path.samestat(os.stat(path), os.fstat(sys.stdout.fileno()))
+        to_stdout = os.path.samestat(os.stat(path), os.fstat(sys.stdout.fileno()))
     except (OSError, ValueError, AttributeError):  # no such path, or stdout is not a real file (captured)
-        return str(path) in ("/dev/stdout", "/dev/fd/1", "/proc/self/fd/1")
-
-
-def say(path):
-    """``print`` for the notes of a command that wrote ``path``, or :func:`eprint` when ``path`` is standard
-    output (:func:`is_stdout`)."""
-    return eprint if is_stdout(path) else print
+        to_stdout = str(path) in ("/dev/stdout", "/dev/fd/1", "/proc/self/fd/1")
+    return eprint if to_stdout else print
 
 
 def part_text(value: float, name: str, units: str) -> str:
