@@ -291,9 +291,22 @@ def _print_screen(result, problem) -> None:
         f"{_bound(result)}; V_c (Eq. 7) {shown(cur.critical_speed, 'critical_speed')}"
     )
     paragraphs = [("Why", why)]
-    if best is not None:
-        paragraphs += [("Cost", _cost_text(best)), ("Inspect", _inspect_text(best, result, problem))]
-    for head, text in paragraphs + [("Next", _next_text(result))]:
+    if best is not None:  # the sum of the [stock] costs of its parts, in the unit they are written in
+        parts = sorted({c.part for c in best.changes if c.variable != "inertia"})
+        cost = (
+            f"{best.parts_cost:g} in the unit the problem's [stock] costs are written in (relative units: "
+            f"docs/problem-file.md), the sum for the {len(parts)} part{'s' if len(parts) != 1 else ''} changed: "
+            + ", ".join(parts)
+        )
+        paragraphs += [("Cost", cost), ("Inspect", _inspect_text(best, result, problem))]
+    calibrates = " (the onset calibrates Eq. 7 for this chair)" if result.calibration is None else ""
+    next_steps = (  # fit and ride; calibrate with the speed it shimmied at; where the other fixes are
+        f"fit the parts and ride at {shown(result.target_speed, 'critical_speed')}; if it shimmies, rerun with "
+        f"--shimmied-at SPEED{calibrates}. Other fixes: {max(result.found - 1, 0)} more within the limits, "
+        f"{result.found_beyond} beyond them; --verbose shows the tables, the parts on offer and the ranking rule; "
+        "--json --top 0 lists all"
+    )
+    for head, text in paragraphs + [("Next", next_steps)]:
         console.print(f"[bold]{head}:[/bold] {escape(text)}")
 
 
@@ -311,16 +324,6 @@ def _no_fix_text(result, problem) -> str:
         risk = f"it is stable to {shown(cur.critical_speed, 'critical_speed')} (needed {speed})"
     room = " and it fits the footrests" if problem.swept_radius_max is not None else ""
     return f"the caster as it is meets the limits: {risk}{room}."
-
-
-def _cost_text(best) -> str:
-    """What the best fix costs: the sum of the [stock] costs of its parts, in the unit they are written in."""
-    parts = sorted({c.part for c in best.changes if c.variable != "inertia"})
-    return (
-        f"{best.parts_cost:g} in the unit the problem's [stock] costs are written in (relative units: "
-        f"docs/problem-file.md), the sum for the {len(parts)} part{'s' if len(parts) != 1 else ''} changed: "
-        + ", ".join(parts)
-    )
 
 
 def _inspect_text(best, result, problem) -> str:
@@ -342,18 +345,6 @@ def _inspect_text(best, result, problem) -> str:
     if result.if_measured is not None:
         text += ". " + _if_measured_text(result)
     return text
-
-
-def _next_text(result) -> str:
-    """What to do next: fit and ride; calibrate with the speed it shimmied at; where the other fixes are."""
-    text = f"fit the parts and ride at {shown(result.target_speed, 'critical_speed')}; if it shimmies, rerun with "
-    text += "--shimmied-at SPEED"
-    text += " (the onset calibrates Eq. 7 for this chair)" if result.calibration is None else ""
-    more = max(result.found - 1, 0)
-    return text + (
-        f". Other fixes: {more} more within the limits, {result.found_beyond} beyond them; --verbose shows the "
-        "tables, the parts on offer and the ranking rule; --json --top 0 lists all"
-    )
 
 
 def _if_measured_text(result) -> str:
