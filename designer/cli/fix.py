@@ -280,8 +280,16 @@ def _print_screen(result, problem) -> None:
 
     console = terminal_console()
     cur, best = result.current, result.best
-    if not result.needs_fix:
-        console.print(f"[bold]No fix needed:[/bold] {escape(_no_fix_text(result, problem))}")
+    if not result.needs_fix:  # why, in one sentence: its risk against the bound (or V_c against the speed), the room
+        speed = shown(result.target_speed, "target_speed", digits=1)
+        risk = f"it is stable to {shown(cur.critical_speed, 'critical_speed')} (needed {speed})"
+        if result.probability is not None:
+            risk = (
+                f"at {speed} it shimmies with probability {percent(cur.shimmy_probability)} "
+                f"(allowed {percent(result.probability)})"
+            )
+        room = " and it fits the footrests" if problem.swept_radius_max is not None else ""
+        console.print(f"[bold]No fix needed:[/bold] {escape(f'the caster as it is meets the limits: {risk}{room}.')}")
         return
     console.print(f"[bold]{escape(result.summary())}[/bold]")
     why = (
@@ -308,22 +316,6 @@ def _print_screen(result, problem) -> None:
     )
     for head, text in paragraphs + [("Next", next_steps)]:
         console.print(f"[bold]{head}:[/bold] {escape(text)}")
-
-
-def _no_fix_text(result, problem) -> str:
-    """Why a caster needs nothing, in one sentence: its risk against the bound (or V_c against the speed) and the
-    footrests."""
-    cur = result.current
-    speed = shown(result.target_speed, "target_speed", digits=1)
-    if result.probability is not None:
-        risk = (
-            f"at {speed} it shimmies with probability {percent(cur.shimmy_probability)} "
-            f"(allowed {percent(result.probability)})"
-        )
-    else:
-        risk = f"it is stable to {shown(cur.critical_speed, 'critical_speed')} (needed {speed})"
-    room = " and it fits the footrests" if problem.swept_radius_max is not None else ""
-    return f"the caster as it is meets the limits: {risk}{room}."
 
 
 def _inspect_text(best, result, problem) -> str:
