@@ -127,42 +127,7 @@ def _print(result, problem, wide: bool = False, top: int = 10) -> None:
     alpha = result.probability
     conf = f"{percent(1 - alpha)}" if alpha is not None else "nominal"
     console.print(f"[bold]{escape(result.summary())}[/bold]")
-    _print_current(console, result, problem, conf)
-    if not result.needs_fix:
-        return
-    console.print("Parts on offer (what each part can become; cost):")
-    for part, text in result.stock.items():
-        console.print(f"  {part:<10} {escape(text)}")
-    console.print(escape(f"Rule: {result.rule}."))
-    limit = (
-        f"+{percent(result.max_threshold_increase)} sill force and +{percent(result.max_turning_increase)} "
-        "turning effort"
-    )
-    listed = list(result.fixes)
-    if result.fixes:
-        title = f"Fixes within {limit} ({result.found} found, {len(result.fixes)} shown)"
-        _print_table(console, result, result.fixes, title, wide, conf)
-    else:
-        console.print(f"No fix keeps within {limit} of the current caster's.")
-    if result.beyond:
-        apart = result.beyond if not result.fixes or wide else result.beyond[: min(3, top or 3)]
-        listed += apart
-        found = f"{result.found_beyond} found, {len(apart)} shown"
-        _print_table(
-            console, result, apart, f"Beyond the limits, listed apart ({found}; --json --top 0 lists all)", wide, conf
-        )
-    if any(f.extrapolated for f in listed):
-        console.print("* a wheel outside Table 1's 4–8 in: its I_w and Eq. 7 are extrapolated (docs/retrofit.md).")
-    best = result.best
-    if best is not None and best.spec is not None:
-        for line in _spec_lines(best, result):
-            console.print(escape(line))
-
-
-def _print_current(console, result, problem, conf: str) -> None:
-    """The problem's risk bound and the current caster: V_c, the speed reached with ``conf``, P(shimmy), costs."""
-    from rich.markup import escape
-
+    # the problem's risk bound and the current caster: V_c, the speed reached with ``conf``, P(shimmy), costs
     cur = result.current
     d = cur.design
     units = problem.units
@@ -204,6 +169,35 @@ def _print_current(console, result, problem, conf: str) -> None:
         )
     if result.if_measured is not None:
         console.print(escape(_if_measured_text(result)))
+    if not result.needs_fix:
+        return
+    console.print("Parts on offer (what each part can become; cost):")
+    for part, text in result.stock.items():
+        console.print(f"  {part:<10} {escape(text)}")
+    console.print(escape(f"Rule: {result.rule}."))
+    limit = (
+        f"+{percent(result.max_threshold_increase)} sill force and +{percent(result.max_turning_increase)} "
+        "turning effort"
+    )
+    listed = list(result.fixes)
+    if result.fixes:
+        title = f"Fixes within {limit} ({result.found} found, {len(result.fixes)} shown)"
+        _print_table(console, result, result.fixes, title, wide, conf)
+    else:
+        console.print(f"No fix keeps within {limit} of the current caster's.")
+    if result.beyond:
+        apart = result.beyond if not result.fixes or wide else result.beyond[: min(3, top or 3)]
+        listed += apart
+        found = f"{result.found_beyond} found, {len(apart)} shown"
+        _print_table(
+            console, result, apart, f"Beyond the limits, listed apart ({found}; --json --top 0 lists all)", wide, conf
+        )
+    if any(f.extrapolated for f in listed):
+        console.print("* a wheel outside Table 1's 4–8 in: its I_w and Eq. 7 are extrapolated (docs/retrofit.md).")
+    best = result.best
+    if best is not None and best.spec is not None:
+        for line in _spec_lines(best, result):
+            console.print(escape(line))
 
 
 def _changes(fix, units: str) -> str:
