@@ -18,7 +18,6 @@ import errno
 import importlib
 import os
 import platform
-import re
 import sys
 import warnings
 from collections.abc import Iterator
@@ -81,7 +80,7 @@ def main(argv: list[str] | None = None) -> int:
 
 def _main(argv: list[str] | None) -> int:
     parser = build_parser()  # imports the sub-commands
-    args = parser.parse_args(_join_negative_values(parser, sys.argv[1:] if argv is None else list(argv)))
+    args = parser.parse_args(sys.argv[1:] if argv is None else list(argv))
     if not getattr(args, "command", None):
         parser.print_help()
         return 2
@@ -163,28 +162,6 @@ def _silence_stdout() -> None:
         os.close(devnull)
     except (OSError, ValueError):
         pass
-
-
-_NEGATIVE = re.compile(r"^-[0-9.]")
-
-
-def _join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> list[str]:
-    """``--weights -1,1`` -> ``--weights=-1,1``: argparse would read ``-1,1`` as an option and complain
-    that ``--weights`` lacks its value; joined, the option's own check names the value."""
-    takes_value = set()
-    for action in parser._actions:
-        if isinstance(action, argparse._SubParsersAction):
-            for sub in action.choices.values():
-                takes_value |= {s for a in sub._actions if a.nargs != 0 for s in a.option_strings}
-    out, i = [], 0
-    while i < len(argv):
-        if argv[i] in takes_value and i + 1 < len(argv) and _NEGATIVE.match(argv[i + 1]):
-            out.append(f"{argv[i]}={argv[i + 1]}")
-            i += 2
-        else:
-            out.append(argv[i])
-            i += 1
-    return out
 
 
 def _error(exc: Exception, debug: bool) -> int:

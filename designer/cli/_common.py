@@ -13,7 +13,8 @@ from designer.jsonsafe import finite, resolved_numbers, stamped
 from designer.errors import InputError
 from designer.parameters import PARAMETERS
 from designer.problem import INERTIA_RANGE
-from designer.units import outside_range, parse_quantity_text
+from designer.display import quantity, shown
+from designer.units import outside_range, parse_quantity_text, written_size
 
 
 PROBLEM_HELP = (
@@ -25,13 +26,6 @@ PROBLEM_HELP = (
 quantity_option = parse_quantity_text
 """Parse a command-line quantity ("2in", "2 in", "50.8 mm", plain SI number):
 :func:`designer.units.parse_quantity_text`."""
-
-
-def choice_option(value: str, allowed: tuple[str, ...], option: str) -> str:
-    """Check a categorical option; InputError naming option, value and the choices."""
-    if value not in allowed:
-        raise InputError(f"{option} {value!r}: expected one of {', '.join(allowed)}")
-    return value
 
 
 @contextlib.contextmanager
@@ -48,19 +42,14 @@ def api_named(names: dict[str, str]):
 
 def print_json(data, kind: str | None = None) -> None:
     """Print ``data`` as JSON; NaN and infinities become null; a dict gets its ``schema`` first
-    (:func:`designer.jsonsafe.stamped`; ``kind``: default the command, ``designer <command> --json``)."""
+    (:func:`designer.jsonsafe.stamped`; ``kind``: default the running command's, ``"run --json"``)."""
     if isinstance(data, dict):
-        data = stamped(kind or _command(), data)
+        data = stamped(kind or f"{RUNNING['command'] or 'designer'} --json", data)
     print(json.dumps(resolved_numbers(finite(data)), indent=2, sort_keys=False))  # 0.1524, not 0.15239999999999998
 
 
 RUNNING = {"command": ""}
 """The command :func:`designer.cli.main` is running (``run`` for ``designer run ...``): the kind of its --json."""
-
-
-def _command() -> str:
-    """The schema kind of the running command's --json output: ``"run --json"``."""
-    return f"{RUNNING['command'] or 'designer'} --json"
 
 
 def eprint(*args) -> None:
@@ -96,20 +85,27 @@ def end_progress_line() -> None:
             pass
 
 
-def is_stdout(path) -> bool:
-    """True if ``path`` is this process's standard output (``/dev/stdout``, ``/dev/fd/1``, or the very file
-    stdout is redirected to): a command writing its file there says its notes on stderr, so the stream holds
+def say(path):
+    """``print`` for the notes of a command that wrote ``path``, or :func:`eprint` when ``path`` is this process's
+    standard output (``/dev/stdout``, ``/dev/fd/1``, or the very file stdout is redirected to), so the stream holds
     the file alone (``designer fleet --example 5 --out /dev/stdout | cat``)."""
     try:
-        return os.path.samestat(os.stat(path), os.fstat(sys.stdout.fileno()))
+        to_stdout = os.path.samestat(os.stat(path), os.fstat(sys.stdout.fileno()))
     except (OSError, ValueError, AttributeError):  # no such path, or stdout is not a real file (captured)
-        return str(path) in ("/dev/stdout", "/dev/fd/1", "/proc/self/fd/1")
+        to_stdout = str(path) in ("/dev/stdout", "/dev/fd/1", "/proc/self/fd/1")
+    return eprint if to_stdout else print
 
 
-def say(path):
-    """``print`` for the notes of a command that wrote ``path``, or :func:`eprint` when ``path`` is standard
-    output (:func:`is_stdout`)."""
-    return eprint if is_stdout(path) else print
+def part_text(value: float, name: str, units: str) -> str:
+    """One part of a caster by its symbol, a size as the problem writes it: "T 1 1/4 in", "c_f 1.30 N·m/rad"."""
+    return f"{quantity(name).symbol} {shown(value, name) if name == 'damping' else written_size(value, units)}"
+
+
+def parts_text(design, units: str) -> str:
+    """A caster's four parts by :func:`part_text`: "T 1 1/4 in, d 8 in, B 0 in, c_f 1.30 N·m/rad" (``design``: a
+    Design, or its dict)."""
+    values = design if isinstance(design, dict) else design.to_dict()
+    return ", ".join(part_text(values[n], n, units) for n in ("trail", "diameter", "groove", "damping"))
 
 
 def ranged_option(value: str | None, entry: str, option: str):

@@ -44,6 +44,9 @@ class Parser(argparse.ArgumentParser):
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("formatter_class", Formatter)
         super().__init__(*args, **kwargs)
+        # a minus and a digit start a value (--weights -1,1, --trail -1in), which the option's own check names;
+        # argparse's own rule takes only plain negative numbers, and would say that --weights lacks its value
+        self._negative_number_matcher = re.compile(r"^-[0-9.]")  # noqa: V101 - argparse reads it
 
     def error(self, message):  # one line, exit 2, like every input error
         self.exit(2, f"designer: error: {message}\n")

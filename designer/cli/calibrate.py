@@ -4,15 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from designer.cli._common import (
-    SEED_MAX,
-    choice_option,
-    count_option,
-    print_json,
-    ranged_option,
-)
+from designer.cli._common import SEED_MAX, count_option, print_json, ranged_option
 from designer.display import number
 from designer.errors import InputError
+from designer.parameters import SURFACES
 from designer.output import check_file, check_folder, output_folder, PLOT, signed, signed_kind, write_file
 
 KINDS = {
@@ -55,8 +50,12 @@ def register(sub) -> None:
             k.add_argument("--slip-coefficient", default="1250 N", help="K_s held fixed (default 1250 N)")
         if kind == "turning":
             k.add_argument(
-                "--surface", default="tile", help="surface tested: tile (default) | carpet"
-            ).completion_choices = ("tile", "carpet")
+                "--surface",
+                default="tile",
+                choices=SURFACES,
+                metavar="SURFACE",
+                help="surface tested: tile (default) | carpet",
+            )
         k.set_defaults(func=run)
     e = kinds.add_parser("examples", help="write the example CSVs (model + stated noise, seed 7)")
     e.add_argument("out", nargs="?", default=None, help="directory (default: the package's data/examples)")
@@ -78,7 +77,7 @@ def run(args) -> int:
     slip = 1250.0
     if args.kind == "damping":
         slip = ranged_option(args.slip_coefficient, "slip_coefficient", "--slip-coefficient")
-    surface = choice_option(args.surface, ("tile", "carpet"), "--surface") if args.kind == "turning" else "tile"
+    surface = args.surface if args.kind == "turning" else "tile"  # one of SURFACES (argparse's choices)
     result = calibrate_file(args.kind, args.data, slip_coefficient=slip, surface=surface)
     if args.plot:
         plot_fit(result, args.plot)

@@ -90,12 +90,8 @@ def analyse(args) -> tuple[Design, Conditions, dict, float | None]:
 
 
 CONDITION_OPTIONS = {
-    "load": "--load",
-    "threshold_height": "--threshold-height",
-    "surface": "--surface",
-    "turning_mode": "--turning-mode",
-    "disturbance_angle": "--disturbance-angle",
-    "slip_coefficient": "--slip-coefficient",
+    name: "--" + name.replace("_", "-")
+    for name in ("load", "threshold_height", "surface", "turning_mode", "disturbance_angle", "slip_coefficient")
 }
 """The conditions the options set, each by its name in :class:`designer.Conditions` (whose checks name it)."""
 
@@ -106,8 +102,7 @@ def run(args) -> int:
     out = _results(design, conditions, values, speed, args.knock_safe)
     if args.json:
         print_json(out)
-        return 0
-    if args.verbose:
+    elif args.verbose:
         _print_table(design, conditions, values, speed, out)
     else:
         _print_screen(design, conditions, values, speed, out)
@@ -161,13 +156,11 @@ def _rows(conditions, values: dict, inertia_source: str, out: dict) -> list[tupl
             f"simulated (App. B); against Table 1 C–G: log RMS {number(band['log_rms'])}, bias "
             f"{number(band['bias'])} (a second opinion: the criterion is the Eq. 7 risk bound)"
         )
-        rows.insert(4, ("knock-safe speed, θ0 / 2 θ0 knock", _knock_safe_value(out), source))
+        speeds = " / ".join(
+            shown(out[key], "critical_speed") for key in ("knock_safe_speed", "knock_safe_speed_double")
+        )
+        rows.insert(4, ("knock-safe speed, θ0 / 2 θ0 knock", speeds, source))  # the second missing at or beyond 90°
     return rows
-
-
-def _knock_safe_value(out: dict) -> str:
-    """The knock-safe speeds for a θ0 and a 2 θ0 knock [m/s] (the second missing at or beyond 90°)."""
-    return " / ".join(shown(out[key], "critical_speed") for key in ("knock_safe_speed", "knock_safe_speed_double"))
 
 
 def _print_warnings(design, values: dict, out: dict) -> None:

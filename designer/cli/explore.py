@@ -75,16 +75,11 @@ def run(args) -> int:
     # after Ctrl-C, optuna's "Trial N failed ... KeyboardInterrupt" tracebacks are dropped: one line says it
     logging.getLogger("optuna.study._optimize").addFilter(_QUIET)
     with removed_if_failed(spec):  # a storage file made by this run and left empty by a failure is removed
+        same = ("trials", "seed", "storage", "workers", "resume", "refine", "operators")  # options named as the API's
         result = designer.explore(
             problem,
-            trials=args.trials,
-            seed=args.seed,
-            storage=args.storage,
+            **{key: getattr(args, key) for key in same},
             study_name=args.study,
-            workers=args.workers,
-            resume=args.resume,
-            refine=args.refine,
-            operators=args.operators,
             population_size=args.population,
             compare=not args.no_compare,
             progress=not args.json,

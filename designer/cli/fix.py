@@ -4,7 +4,7 @@ from __future__ import annotations
 
 
 from designer.cli._terminal import console as terminal_console, table
-from designer.cli._common import PROBLEM_HELP, api_named, print_json, quantity_option, ranged_option
+from designer.cli._common import PROBLEM_HELP, api_named, parts_text, print_json, quantity_option, ranged_option
 from designer import fix, load_problem
 from designer.studies.retrofit import ONSET_SCATTER, parse_current
 from designer.display import header, number, percent, shown
@@ -41,21 +41,16 @@ def register(sub) -> None:
         help='the caster as it is, e.g. "T=1.5in,d=7.75in,B=0.5625in,c=1.3" (T = fork trail with the '
         "stem vertical, d = wheel diameter, B = groove, c = spindle damping in N*m/rad)",
     )
-    p.add_argument(
-        "--inertia",
-        default=None,
-        help="measured I_w of the current wheel [kg·m²], e.g. 0.00127 (default: the problem's inertia model)",
-    )
-    p.add_argument(
-        "--shimmied-at",
-        default=None,
-        help="observed shimmy onset of this caster, e.g. 2.1m/s: calibrates the model error for it",
-    )
-    p.add_argument(
-        "--stem-angle",
-        default="0 deg",
-        help="stem tilt from vertical, e.g. 4deg (positive: top leans back, more trail)",
-    )
+    for option, default, text in (
+        (
+            "--inertia",
+            None,
+            "measured I_w of the current wheel [kg·m²], e.g. 0.00127 (default: the problem's inertia model)",
+        ),
+        ("--shimmied-at", None, "observed shimmy onset of this caster, e.g. 2.1m/s: calibrates the model error for it"),
+        ("--stem-angle", "0 deg", "stem tilt from vertical, e.g. 4deg (positive: top leans back, more trail)"),
+    ):
+        p.add_argument(option, default=default, help=text)
     p.add_argument(
         "--onset-scatter", type=float, default=None, help="σ of the log of the observed onset (default 0.05)"
     )
@@ -100,8 +95,7 @@ def run(args) -> int:
         )
     if args.json:
         print_json(result.to_dict())
-        return 0
-    if args.verbose or args.wide:
+    elif args.verbose or args.wide:
         _print(result, problem, args.wide, args.top)
     else:
         _print_screen(result, problem)
@@ -133,42 +127,7 @@ def _print(result, problem, wide: bool = False, top: int = 10) -> None:
     alpha = result.probability
     conf = f"{percent(1 - alpha)}" if alpha is not None else "nominal"
     console.print(f"[bold]{escape(result.summary())}[/bold]")
-    _print_current(console, result, problem, conf)
-    if not result.needs_fix:
-        return
-    console.print("Parts on offer (what each part can become; cost):")
-    for part, text in result.stock.items():
-        console.print(f"  {part:<10} {escape(text)}")
-    console.print(escape(f"Rule: {result.rule}."))
-    limit = (
-        f"+{percent(result.max_threshold_increase)} sill force and +{percent(result.max_turning_increase)} "
-        "turning effort"
-    )
-    listed = list(result.fixes)
-    if result.fixes:
-        title = f"Fixes within {limit} ({result.found} found, {len(result.fixes)} shown)"
-        _print_table(console, result, result.fixes, title, wide, conf)
-    else:
-        console.print(f"No fix keeps within {limit} of the current caster's.")
-    if result.beyond:
-        apart = result.beyond if not result.fixes or wide else result.beyond[: min(3, top or 3)]
-        listed += apart
-        found = f"{result.found_beyond} found, {len(apart)} shown"
-        _print_table(
-            console, result, apart, f"Beyond the limits, listed apart ({found}; --json --top 0 lists all)", wide, conf
-        )
-    if any(f.extrapolated for f in listed):
-        console.print("* a wheel outside Table 1's 4–8 in: its I_w and Eq. 7 are extrapolated (docs/retrofit.md).")
-    best = result.best
-    if best is not None and best.spec is not None:
-        for line in _spec_lines(best, result):
-            console.print(escape(line))
-
-
-def _print_current(console, result, problem, conf: str) -> None:
-    """The problem's risk bound and the current caster: V_c, the speed reached with ``conf``, P(shimmy), costs."""
-    from rich.markup import escape
-
+    # the problem's risk bound and the current caster: V_c, the speed reached with ``conf``, P(shimmy), costs
     cur = result.current
     d = cur.design
     units = problem.units
@@ -178,7 +137,7 @@ def _print_current(console, result, problem, conf: str) -> None:
             + (f"<= {written_size(problem.swept_radius_max, units)}" if problem.swept_radius_max else "not limited")
         )
     )
-    console.print(escape(f"Current caster: {_parts(d, units)}, I_w = {shown(cur.inertia, 'inertia')}"))
+    console.print(escape(f"Current caster: {parts_text(d, units)}, I_w = {shown(cur.inertia, 'inertia')}"))
     if result.stem_angle:
         console.print(
             f"  stem tilted {_plus(result.stem_angle, shown(result.stem_angle, 'disturbance_angle'))}: effective trail "
@@ -210,6 +169,35 @@ def _print_current(console, result, problem, conf: str) -> None:
         )
     if result.if_measured is not None:
         console.print(escape(_if_measured_text(result)))
+    if not result.needs_fix:
+        return
+    console.print("Parts on offer (what each part can become; cost):")
+    for part, text in result.stock.items():
+        console.print(f"  {part:<10} {escape(text)}")
+    console.print(escape(f"Rule: {result.rule}."))
+    limit = (
+        f"+{percent(result.max_threshold_increase)} sill force and +{percent(result.max_turning_increase)} "
+        "turning effort"
+    )
+    listed = list(result.fixes)
+    if result.fixes:
+        title = f"Fixes within {limit} ({result.found} found, {len(result.fixes)} shown)"
+        _print_table(console, result, result.fixes, title, wide, conf)
+    else:
+        console.print(f"No fix keeps within {limit} of the current caster's.")
+    if result.beyond:
+        apart = result.beyond if not result.fixes or wide else result.beyond[: min(3, top or 3)]
+        listed += apart
+        found = f"{result.found_beyond} found, {len(apart)} shown"
+        _print_table(
+            console, result, apart, f"Beyond the limits, listed apart ({found}; --json --top 0 lists all)", wide, conf
+        )
+    if any(f.extrapolated for f in listed):
+        console.print("* a wheel outside Table 1's 4–8 in: its I_w and Eq. 7 are extrapolated (docs/retrofit.md).")
+    best = result.best
+    if best is not None and best.spec is not None:
+        for line in _spec_lines(best, result):
+            console.print(escape(line))
 
 
 def _changes(fix, units: str) -> str:
@@ -274,77 +262,54 @@ def _bound(result) -> str:
     return f"P(shimmy at {speed}) <= {percent(result.probability)}"
 
 
-def _parts(design, units: str) -> str:
-    """A caster's four parts as the problem writes them: "T = 1 1/4 in, d = 8 in, B = 0 in, c_f = 1.30 N·m/rad"."""
-    sizes = [
-        f"{s} = {written_size(getattr(design, n), units)}"
-        for s, n in (("T", "trail"), ("d", "diameter"), ("B", "groove"))
-    ]
-    return ", ".join(sizes + [f"c_f = {shown(design.damping, 'damping')}"])
-
-
 def _plus(value: float, text: str) -> str:
     """A change ``value`` shown as ``text`` (:mod:`designer.display`) with its sign: "+0.722", "-6.073"."""
     return ("+" if value > 0 else "") + text
 
 
 def _print_screen(result, problem) -> None:
-    """The answer in one screen (at most 24 lines at 80 columns): the answer, why, what it costs, what to inspect,
-    what to do next; the tables, the parts on offer and the rule are behind ``--verbose``."""
+    """The answer in one screen (at most 24 lines at 80 columns): the answer, then Why, Cost, Inspect and Next (words
+    generated from the result's numbers); the tables, the parts on offer and the rule are behind ``--verbose``."""
     from rich.markup import escape
 
     console = terminal_console()
-    if not result.needs_fix:
-        console.print(f"[bold]No fix needed:[/bold] {escape(_no_fix_text(result, problem))}")
+    cur, best = result.current, result.best
+    if not result.needs_fix:  # why, in one sentence: its risk against the bound (or V_c against the speed), the room
+        speed = shown(result.target_speed, "target_speed", digits=1)
+        risk = f"it is stable to {shown(cur.critical_speed, 'critical_speed')} (needed {speed})"
+        if result.probability is not None:
+            risk = (
+                f"at {speed} it shimmies with probability {percent(cur.shimmy_probability)} "
+                f"(allowed {percent(result.probability)})"
+            )
+        room = " and it fits the footrests" if problem.swept_radius_max is not None else ""
+        console.print(f"[bold]No fix needed:[/bold] {escape(f'the caster as it is meets the limits: {risk}{room}.')}")
         return
     console.print(f"[bold]{escape(result.summary())}[/bold]")
-    for head, text in _screen_paragraphs(result, problem):
-        console.print(f"[bold]{head}:[/bold] {escape(text)}")
-
-
-def _no_fix_text(result, problem) -> str:
-    """Why a caster needs nothing, in one sentence: its risk against the bound (or V_c against the speed) and the
-    footrests."""
-    cur = result.current
-    speed = shown(result.target_speed, "target_speed", digits=1)
-    if result.probability is not None:
-        risk = (
-            f"at {speed} it shimmies with probability {percent(cur.shimmy_probability)} "
-            f"(allowed {percent(result.probability)})"
-        )
-    else:
-        risk = f"it is stable to {shown(cur.critical_speed, 'critical_speed')} (needed {speed})"
-    room = " and it fits the footrests" if problem.swept_radius_max is not None else ""
-    return f"the caster as it is meets the limits: {risk}{room}."
-
-
-def _screen_paragraphs(result, problem) -> list[tuple[str, str]]:
-    """(heading, text) of the one-screen answer after its first line: Why, Cost, Inspect, Next (words generated
-    from the result's numbers)."""
-    cur = result.current
     why = (
-        f"the caster as it is ({_parts(cur.design, problem.units)}) has P(shimmy at "
+        f"the caster as it is ({parts_text(cur.design, problem.units)}) has P(shimmy at "
         f"{shown(result.target_speed, 'critical_speed')}) = {percent(cur.shimmy_probability)} (exact; Monte Carlo "
         f"{percent(cur.shimmy_probability_mc)} ± {percent(cur.shimmy_probability_se)}) against the risk bound "
         f"{_bound(result)}; V_c (Eq. 7) {shown(cur.critical_speed, 'critical_speed')}"
     )
-    out = [("Why", why)]
-    best = result.best
-    if best is not None:
-        out.append(("Cost", _cost_text(best, result)))
-        out.append(("Inspect", _inspect_text(best, result, problem)))
-    out.append(("Next", _next_text(result)))
-    return out
-
-
-def _cost_text(best, result) -> str:
-    """What the best fix costs: the sum of the [stock] costs of its parts, in the unit they are written in."""
-    parts = sorted({c.part for c in best.changes if c.variable != "inertia"})
-    return (
-        f"{best.parts_cost:g} in the unit the problem's [stock] costs are written in (relative units: "
-        f"docs/problem-file.md), the sum for the {len(parts)} part{'s' if len(parts) != 1 else ''} changed: "
-        + ", ".join(parts)
+    paragraphs = [("Why", why)]
+    if best is not None:  # the sum of the [stock] costs of its parts, in the unit they are written in
+        parts = sorted({c.part for c in best.changes if c.variable != "inertia"})
+        cost = (
+            f"{best.parts_cost:g} in the unit the problem's [stock] costs are written in (relative units: "
+            f"docs/problem-file.md), the sum for the {len(parts)} part{'s' if len(parts) != 1 else ''} changed: "
+            + ", ".join(parts)
+        )
+        paragraphs += [("Cost", cost), ("Inspect", _inspect_text(best, result, problem))]
+    calibrates = " (the onset calibrates Eq. 7 for this chair)" if result.calibration is None else ""
+    next_steps = (  # fit and ride; calibrate with the speed it shimmied at; where the other fixes are
+        f"fit the parts and ride at {shown(result.target_speed, 'critical_speed')}; if it shimmies, rerun with "
+        f"--shimmied-at SPEED{calibrates}. Other fixes: {max(result.found - 1, 0)} more within the limits, "
+        f"{result.found_beyond} beyond them; --verbose shows the tables, the parts on offer and the ranking rule; "
+        "--json --top 0 lists all"
     )
+    for head, text in paragraphs + [("Next", next_steps)]:
+        console.print(f"[bold]{head}:[/bold] {escape(text)}")
 
 
 def _inspect_text(best, result, problem) -> str:
@@ -366,18 +331,6 @@ def _inspect_text(best, result, problem) -> str:
     if result.if_measured is not None:
         text += ". " + _if_measured_text(result)
     return text
-
-
-def _next_text(result) -> str:
-    """What to do next: fit and ride; calibrate with the speed it shimmied at; where the other fixes are."""
-    text = f"fit the parts and ride at {shown(result.target_speed, 'critical_speed')}; if it shimmies, rerun with "
-    text += "--shimmied-at SPEED"
-    text += " (the onset calibrates Eq. 7 for this chair)" if result.calibration is None else ""
-    more = max(result.found - 1, 0)
-    return text + (
-        f". Other fixes: {more} more within the limits, {result.found_beyond} beyond them; --verbose shows the "
-        "tables, the parts on offer and the ranking rule; --json --top 0 lists all"
-    )
 
 
 def _if_measured_text(result) -> str:

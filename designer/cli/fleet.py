@@ -10,6 +10,7 @@ from pathlib import Path
 from designer.output import check_file, check_folder
 from designer.cli._common import (
     SEED_MAX,
+    parts_text,
     say,
     count_option,
     eprint,
@@ -32,7 +33,6 @@ from designer.errors import InputError
 from designer import example_problem, load_problem
 from designer.problem import tolerances_option
 from designer.display import number, shown
-from designer.units import written_size
 
 
 def register(sub) -> None:
@@ -64,25 +64,22 @@ def register(sub) -> None:
     )
     p.add_argument("--k-max", type=int, metavar="N", help="regret curve up to K = N (default max(K, 8))")
     p.add_argument("--no-skus", action="store_true", help="per-chair recommendations only (no part numbers)")
-    p.add_argument(
-        "--problem",
-        default=None,
-        help="base problem: bounds, stock, risk, weights (default the shipped indoor-manual problem)",
-    )
-    p.add_argument(
-        "--tolerances",
-        default=None,
-        metavar="SPEC",
-        help="manufacturing tolerances every part number must hold at its worst corner, replacing the base "
-        "problem's [tolerances], e.g. 'trail=1.5mm,groove=0.4mm,diameter=1mm,friction_moment=30%%'",
-    )
-    p.add_argument("--out", default=None, help="output folder (with --example: the CSV file to write)")
-    p.add_argument(
-        "--scheduler",
-        default=None,
-        metavar="ADDRESS",
-        help="run the per-chair work on a Dask cluster (tcp://host:8786, or 'local' for 2 local workers)",
-    )
+    for option, metavar, text in (
+        ("--problem", None, "base problem: bounds, stock, risk, weights (default the shipped indoor-manual problem)"),
+        (
+            "--tolerances",
+            "SPEC",
+            "manufacturing tolerances every part number must hold at its worst corner, replacing the base "
+            "problem's [tolerances], e.g. 'trail=1.5mm,groove=0.4mm,diameter=1mm,friction_moment=30%%'",
+        ),
+        ("--out", None, "output folder (with --example: the CSV file to write)"),
+        (
+            "--scheduler",
+            "ADDRESS",
+            "run the per-chair work on a Dask cluster (tcp://host:8786, or 'local' for 2 local workers)",
+        ),
+    ):
+        p.add_argument(option, default=None, metavar=metavar, help=text)
     p.add_argument(
         "--no-monte-carlo",
         action="store_true",
@@ -106,19 +103,14 @@ def run(args) -> int:
         check_file(target, "--out", example=f"fleet-example-{args.example}.csv", kind=EXAMPLE_KIND)
         fleet = example_fleet(args.example, seed=args.seed)
         path = write_fleet_csv(fleet, target)
+        ranges = {key: {"range": span, "source": source} for key, (span, source) in EXAMPLE_RANGES.items()}
         if args.json:
-            print_json(
-                {
-                    "fleet": str(path),
-                    "chairs": len(fleet),
-                    "ranges": {k: {"range": r, "source": s} for k, (r, s) in EXAMPLE_RANGES.items()},
-                }
-            )
+            print_json({"fleet": str(path), "chairs": len(fleet), "ranges": ranges})
         else:
             note = say(path)  # onto stderr when the fleet went to stdout
             note(f"wrote {path} ({len(fleet)} chairs)")
-            for key, (span, source) in EXAMPLE_RANGES.items():
-                note(f"  {key}: {span} ({source})")
+            for key, r in ranges.items():
+                note(f"  {key}: {r['range']} ({r['source']})")
         return 0
     if args.fleet is None:
         raise InputError("designer fleet: give FLEET.csv, or --example N to write one")
@@ -209,14 +201,9 @@ def _force(value) -> str:
 
 def _part_line(sku: dict, units: str) -> str:
     """One part number: its four parts in the problem's units, the chairs it serves and the units sold."""
-    d, chairs = sku["design"], sku["chairs"]
-    sizes = ", ".join(
-        f"{symbol} {written_size(d[n], units)}" for symbol, n in (("T", "trail"), ("d", "diameter"), ("B", "groove"))
-    )
-    return (
-        f"  part {sku['id']}: {sizes}, c_f {shown(d['damping'], 'damping')}: "
-        f"{chairs} chair{'s' if chairs != 1 else ''}, {sku['count']} units"
-    )
+    chairs = sku["chairs"]
+    parts = parts_text(sku["design"], units)
+    return f"  part {sku['id']}: {parts}: {chairs} chair{'s' if chairs != 1 else ''}, {sku['count']} units"
 
 
 def _print(data: dict, run_info: dict, stock: int, out: Path, units: str) -> None:

@@ -9,7 +9,6 @@ before it is written, and an existing file is never replaced.
 
 from __future__ import annotations
 
-import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -17,7 +16,7 @@ from pathlib import Path
 from designer import load_problem, problem_from_toml
 from designer.cli._common import quantity_option
 from designer.display import shown
-from designer.errors import DesignerError, InputError, OutputError
+from designer.errors import DesignerError, InputError
 from designer.output import FileKind, check_file, write_file
 from designer.parameters import MASS_RANGE, PARAMETERS, SURFACES
 from designer.problem import REPORT_UNITS
@@ -94,19 +93,16 @@ class Answers:
 def run(args) -> int:
     """Write the problem file ``args.path`` from the answers; exit 0, or 7 if it exists or cannot be written."""
     path = Path(args.path)
-    if os.path.lexists(path):
-        raise OutputError(f"PATH {path}: exists; designer init never replaces a file (choose another name)")
-    check_file(path, "PATH", example="my-chair.toml", kind=NEW_FILE)  # before any question
+    check_file(path, "PATH", example="my-chair.toml", kind=NEW_FILE)  # before any question; never over anything
     interactive = sys.stdin is not None and sys.stdin.isatty() and not args.defaults
     answers = _ask(args) if interactive else _answers(vars(args))
     text = problem_text(answers, path.stem)
     load = _check(text, path).conditions.load  # L = m g f / 2 of the loader when given the mass
     write_file(path, text, "PATH", example="my-chair.toml", kind=NEW_FILE)
-    if answers.load is not None:
-        print(f"wrote {path}: {shown(answers.load, 'load')} per front caster")
-    else:
+    by_mass = answers.mass is not None
+    print(f"wrote {path}: {shown(load, 'load')} per front caster" + (" = m g f / 2" if by_mass else ""))
+    if by_mass:
         f = answers.front_fraction
-        print(f"wrote {path}: {shown(load, 'load')} per front caster = m g f / 2")
         print(f"  with m = {answers.mass:g} kg (user plus chair), front fraction f = {f:g}")
         if not interactive and args.front_fraction is None:
             low, high = FRONT_FRACTION_TYPICAL

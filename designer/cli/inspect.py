@@ -4,7 +4,6 @@ the lot; or the empty form an inspector fills in (docs/inspection.md)."""
 
 from __future__ import annotations
 
-import os
 import sys
 import warnings
 from pathlib import Path
@@ -12,7 +11,7 @@ from pathlib import Path
 from designer import load_problem, recommend
 from designer.cli._common import PROBLEM_HELP, print_json
 from designer.display import percent, shown
-from designer.errors import InputError, OutputError
+from designer.errors import InputError
 from designer.output import check_file, FileKind, write_file
 from designer.studies.inspect import inspect, read_measured, template_text
 
@@ -43,8 +42,6 @@ def register(sub) -> None:
 
 def _template(problem_arg: str, out: str) -> int:
     path = Path(out)
-    if os.path.lexists(path):
-        raise OutputError(f"--template {path}: already exists; it is left as it is; choose a new file name")
     kind = FileKind("an inspection form written by designer inspect", new_only=True)  # never over anything
     check_file(path, "--template", "measured.csv", kind=kind)
     problem = load_problem(problem_arg)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import designer
 from designer.cli._terminal import fit
-from designer.cli._common import PROBLEM_HELP, eprint, print_json, ranged_option
+from designer.cli._common import PROBLEM_HELP, eprint, part_text, print_json, ranged_option
 from designer.errors import InputError
 from designer import load_problem, recommend
 from designer.problem import check_weights
@@ -117,7 +117,7 @@ def risk_sentence(problem, rec) -> str:
     if m is not None:
         md, d = m["design"], rec.design
         changes = [
-            f"{quantity(n).symbol} {written_size(md[n], units) if n != 'damping' else shown(md[n], n, units)}"
+            part_text(md[n], n, units)
             for n in ("diameter", "trail", "groove", "damping")
             if abs(md[n] - getattr(d, n)) > 1e-12
         ]
@@ -147,9 +147,7 @@ def others_lines(problem, rec, most: int = 3) -> list[str]:
     alts = [a for a in rec.alternatives if a.role in ROLES]
     if not alts:
         return []
-    ends = [a for a in alts if a.role != "between the ends"]
-    middle = [a for a in alts if a.role == "between the ends"]
-    shown_alts = (ends + middle)[:most]
+    shown_alts = sorted(alts, key=lambda a: a.role == "between the ends")[:most]  # the ends first (a stable sort)
     shown_alts.sort(key=lambda a: a.turning_effort)
     units = problem.units
     out = ["Other casters on the trade-off:"]

@@ -90,28 +90,22 @@ MAX_ANGULAR_VELOCITY = 1000.0
 frequencies (Eq. 15B, 80-105 rad/s) a swing of 1 rad has |θ'| of about 100 rad/s; ten times that is no knock."""
 
 TYRE_RANGES = {
-    "--friction-coefficient": (0.0, 10.0, "", "tyre-floor μ: about 0.7 for rubber on tile"),
-    "--cornering-stiffness": (1.0, 1e6, "N/rad", "as K_s (1250 N, App. C): 1 to 1e6"),
-    "--wheel-mass": (0.0, 100.0, "kg", "a caster wheel of 0.444 kg (the default)"),
+    "--friction-coefficient": ("dimensionless", 0.0, 10.0, "", "tyre-floor μ: about 0.7 for rubber on tile"),
+    "--cornering-stiffness": ("force", 1.0, 1e6, "N/rad", "as K_s (1250 N, App. C): 1 to 1e6"),
+    "--wheel-mass": ("mass", 0.0, 100.0, "kg", "a caster wheel of 0.444 kg (the default)"),
 }
-"""The brush tyre's options: (low (exclusive for 0), high, unit, what a value usually is)."""
-
-
-def _bounded(option: str, value: float, text: str) -> float:
-    """InputError naming ``option`` unless ``value`` lies in :data:`TYRE_RANGES` (low exclusive when 0)."""
-    low, high, unit, hint = TYRE_RANGES[option]
-    if not (math.isfinite(value) and (low < value if low == 0 else low <= value) and value <= high):
-        raise InputError(f"{option} {text}: outside {low:g} to {high:g} {unit}".rstrip() + f" ({hint})")
-    return value
+"""The brush tyre's options: (dimension, low (exclusive for 0), high, unit, what a value usually is)."""
 
 
 def _tyre(args):
-    """The brush tyre of ``--friction-coefficient``, ``--cornering-stiffness``, ``--wheel-mass`` and ``--load``."""
-    given = (("--friction-coefficient", "dimensionless"), ("--cornering-stiffness", "force"), ("--wheel-mass", "mass"))
+    """The brush tyre of ``--friction-coefficient``, ``--cornering-stiffness``, ``--wheel-mass`` and ``--load``;
+    InputError naming the option of a value outside :data:`TYRE_RANGES` (low exclusive when 0)."""
     values = {}
-    for option, dimension in given:
+    for option, (dimension, low, high, unit, hint) in TYRE_RANGES.items():
         text = getattr(args, option[2:].replace("-", "_"))
-        values[option] = _bounded(option, quantity_option(text, dimension, option), text)
+        value = values[option] = quantity_option(text, dimension, option)
+        if not (math.isfinite(value) and (low < value if low == 0 else low <= value) and value <= high):
+            raise InputError(f"{option} {text}: outside {low:g} to {high:g} {unit}".rstrip() + f" ({hint})")
     return TyreParameters(
         cornering_stiffness=values["--cornering-stiffness"],
         friction_coefficient=values["--friction-coefficient"],
@@ -162,8 +156,20 @@ def _bifurcation(args, design, conditions, angle: float, tyre) -> dict:
     data = bif.to_dict()
     out = {k: data[k] for k in BIFURCATION_KEYS}
     out["rolling_branches"] = roll.to_dict()["branches"]
-    if args.plot:
-        _plot_bifurcation(args.plot, design, angle, bif, roll, top)
+    if args.plot:  # its suffix checked by run before the work
+        from designer.plots.figures import save_figure
+
+        ax = bifurcation_axes(
+            bif.branches,
+            bif.eq7_critical_speed,
+            angle / (bif.frequency * design.trail),
+            roll.branches,
+            bif.fold_speed,
+            speed_range=span,
+            title=design.describe(),
+        )
+        ax.figure.tight_layout()
+        save_figure(ax.figure, args.plot)
         out["plot"] = args.plot
     return out
 
@@ -175,24 +181,6 @@ BIFURCATION_KEYS = (
 
 DEFAULT_POINTS = 24
 """Orbits on the unstable branch of --bifurcation by default (its work budget grows with --points over this)."""
-
-
-def _plot_bifurcation(path, design, angle: float, bif, roll, top: float) -> None:
-    """Draw the bifurcation diagram of ``bif`` (brush tyre) and ``roll`` (rolling tyre) into an image file (its
-    suffix checked by :func:`run` before the work)."""
-    from designer.plots.figures import save_figure
-
-    ax = bifurcation_axes(
-        bif.branches,
-        bif.eq7_critical_speed,
-        angle / (bif.frequency * design.trail),
-        roll.branches,
-        bif.fold_speed,
-        speed_range=(min(0.3, top / 4), top),
-        title=design.describe(),
-    )
-    ax.figure.tight_layout()
-    save_figure(ax.figure, path)
 
 
 def _print_limit_cycles(args, design, angle: float, tyre, out: dict) -> None:
@@ -294,8 +282,10 @@ def run(args) -> int:
         out["onset_bracket"] = [onset.low, onset.high]
         out["onset_relative_error"] = onset.relative_error
     out["warnings"] = [str(w.message) for w in caught]
-    if args.plot:
-        _plot(result, args.plot, onset)
+    if args.plot:  # θ(t), its suffix checked before the work
+        from designer.plots.figures import save_figure
+
+        save_figure(result.plot(onset_speed=None if onset is None else onset.speed).figure, args.plot, dpi=110)
         out["plot"] = args.plot
     if args.json:
         print_json(out)
@@ -361,11 +351,3 @@ def _report(args, write_simulation_report) -> int:
         )
         print(f"wrote {args.report}/{', '.join(written)} (shimmy beyond onset)")
     return 0
-
-
-def _plot(result, path, onset=None) -> None:
-    """Draw θ(t) of ``result`` into the image file ``path`` (its suffix checked by :func:`run` before the work)."""
-    ax = result.plot(onset_speed=onset.speed if onset is not None else None)
-    from designer.plots.figures import save_figure
-
-    save_figure(ax.figure, path, dpi=110)

@@ -183,8 +183,8 @@ def test_a_single_file_out_onto_a_stream_is_written_in_place(tmp_path):
 STREAMS = {
     # row: (argv, exit code, the reason in the one line)
     "pareto --out /dev/null": (["pareto", INVACARE, "--out", "/dev/null"], 7, "is a character device, not a folder"),
-    "init over /dev/null": (["init", "/dev/null", "--defaults"], 7, "exists; designer init never replaces"),
-    "init over an empty file": (["init", "EMPTY", "--defaults"], 7, "exists; designer init never replaces"),
+    "init over /dev/null": (["init", "/dev/null", "--defaults"], 7, "already exists"),
+    "init over an empty file": (["init", "EMPTY", "--defaults"], 7, "already exists"),
     "a FIFO nothing reads": (["fleet", "--example", "2", "--out", "FIFO"], 7, "a pipe (FIFO) that nothing reads"),
     "robust --out a loop of links": (
         ["robust", INVACARE, "--out", "L1"],
