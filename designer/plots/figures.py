@@ -69,31 +69,21 @@ def _walking(ax, x: float, dy: float) -> None:
     ax.text(x, WALKING_SPEED + dy, "walking speed 1 m/s", fontsize=8, color="0.3")
 
 
-def _new(
-    width: float = 7.5,
-    height: float = 4.8,
-    *,
-    left: float = 0.65,
-    right: float = 0.15,
-    bottom: float = 0.5,
-    top: float = 0.35,
-    wspace: float = 0.2,
-    hspace: float = 0.2,
-) -> Figure:
-    """A figure of ``width`` x ``height`` inches with fixed margins [in] around the axes.
+MARGINS = dict(left=0.65, right=0.15, bottom=0.5, top=0.35)
+"""A figure's default margins [in] around its axes (:func:`_new`)."""
+
+
+def _new(width: float = 7.5, height: float = 4.8, wspace: float = 0.2, hspace: float = 0.2, **margins) -> Figure:
+    """A figure of ``width`` x ``height`` inches with fixed ``margins`` [in] around the axes (``left``, ``right``,
+    ``bottom``, ``top``; the others as :data:`MARGINS`).
 
     Fixed margins (the SVG canvas measures no text): each figure gives the margins its labels need (a
     title, an inch axis on top, a right-hand axis or colour bar).
     """
+    m = MARGINS | margins
     fig = Figure(figsize=(width, height))
-    fig.subplots_adjust(
-        left=left / width,
-        right=1 - right / width,
-        bottom=bottom / height,
-        top=1 - top / height,
-        wspace=wspace,
-        hspace=hspace,
-    )
+    fig.subplots_adjust(m["left"] / width, 1 - m["right"] / width, m["bottom"] / height, 1 - m["top"] / height)
+    fig.subplots_adjust(wspace=wspace, hspace=hspace)
     return fig
 
 
