@@ -1063,6 +1063,11 @@ def _small_chart(xlabel, ylabel, width, height, box, xlabel_gap, body, ends=None
     return "".join(out)
 
 
+def _linear(lo: float, hi: float, start: float, end: float):
+    """The linear map of [lo, hi] (data) onto [start, end] [px]."""
+    return lambda v: start + (v - lo) / (hi - lo) * (end - start)
+
+
 def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: int = 240, height: int = 170) -> str:
     """A small line plot as an SVG string: the points (x, y) joined in order, axis labels with units.
 
@@ -1078,12 +1083,7 @@ def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: 
     x0, x1 = (x0 - 0.5, x1 + 0.5) if x1 == x0 else (x0, x1)
     y0, y1 = (y0 - 0.5, y1 + 0.5) if y1 == y0 else (y0, y1)
 
-    def px(a: float) -> float:
-        return left + 4 + (a - x0) / (x1 - x0) * (width - left - right - 8)
-
-    def py(b: float) -> float:
-        return height - bottom - 4 - (b - y0) / (y1 - y0) * (height - top - bottom - 8)
-
+    px, py = _linear(x0, x1, left + 4, width - right - 4), _linear(y0, y1, height - bottom - 4, top + 4)
     line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
     body = [f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.5"/>']
     body += [f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="1.6" fill="#1f77b4"/>' for a, b in pts]
@@ -1122,12 +1122,7 @@ def svg_sparkline(
     y0, y1 = (-reach, reach) if reach > 0 else (-1.0, 1.0)
     x1 = x1 if x1 > x0 else x0 + 1.0
 
-    def px(a: float) -> float:
-        return left + (a - x0) / (x1 - x0) * (width - left - right)
-
-    def py(b: float) -> float:
-        return height - bottom - (b - y0) / (y1 - y0) * (height - top - bottom)
-
+    px, py = _linear(x0, x1, left, width - right), _linear(y0, y1, height - bottom, top)
     body = [f'<line x1="{left}" y1="{py(0):.1f}" x2="{width - right}" y2="{py(0):.1f}" stroke="#999"/>']
     body += [
         f'<line x1="{left}" y1="{py(b):.1f}" x2="{width - right}" y2="{py(b):.1f}" '

@@ -197,12 +197,8 @@ def _sku_spec(spec: dict | None) -> dict:
 
     p = spec["shimmy_probability"]
     low, high = limit("trail_min"), limit("trail_max")
-    trail = (
-        "none"
-        if low == high == "none"
-        else "; ".join(x for x in (bound("≥", "trail_min"), bound("≤", "trail_max")) if x != "none")
-    )
-    if low != "none" and high != "none":  # "48.37 mm (1.905 in)" and "51.30 mm (2.020 in)" as one range
+    trail = "; ".join(x for x in (bound("≥", "trail_min"), bound("≤", "trail_max")) if x != "none") or "none"
+    if "none" not in (low, high):  # "48.37 mm (1.905 in)" and "51.30 mm (2.020 in)" as one range
         (low_mm, low_in), (high_mm, high_in) = (x.removesuffix(" in)").split(" mm (") for x in (low, high))
         trail = f"{low_mm}–{high_mm} mm ({low_in}–{high_in} in)"
     return {
