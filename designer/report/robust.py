@@ -182,9 +182,8 @@ def write_robust_report(data: RobustData, out_dir, option: str = "--out") -> Pat
         (tmp / "index.html").write_text(_render("robust.html.j2", context, autoescape=True), encoding="utf-8")
         (tmp / "robust.md").write_text(_render("robust.md.j2", context, autoescape=False), encoding="utf-8")
         data.run["moved"] = keep_agreeing(tmp, Path(out_dir))  # a file that agrees keeps its bytes
-        _write_json(
-            tmp / RUN_FILE, stamped(RUN_FILE, finite(data.run))
-        )  # date, seconds, versions: beside, never committed
+        # date, seconds, versions: beside, never committed
+        _write_json(tmp / RUN_FILE, stamped(RUN_FILE, finite(data.run)))
     return Path(out_dir)
 
 
