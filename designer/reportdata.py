@@ -113,14 +113,8 @@ class ReportData(Record):
         ]
         rec = self.recommendation
         if rec is not None:
-            rows += [
-                ("recommendation", rec.design.describe(), ""),
-                (
-                    "its F_turn / P",
-                    f"{number(rec.turning_effort, 'turning_effort')} / {number(rec.threshold_force, 'threshold_force')}",
-                    "N",
-                ),
-            ]
+            forces = number(rec.turning_effort, "turning_effort"), number(rec.threshold_force, "threshold_force")
+            rows += [("recommendation", rec.design.describe(), ""), ("its F_turn / P", " / ".join(forces), "N")]
         else:
             rows.append(("recommendation", self.recommendation_error or "none", ""))
         if self.solution is not None:
