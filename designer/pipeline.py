@@ -229,15 +229,9 @@ def report_data(
             if tighter is None and with_tighter and checks is None:
                 tighter_problem = problem.replace(target_speed=problem.target_speed * TIGHTER_FACTOR)
                 n_tight = max(5, (points or problem.pareto_points) // 2)
-                try:
-                    tighter = pareto_front(
-                        tighter_problem,
-                        n_tight,
-                        progress=track(
-                            f"{problem.name}: front at {shown(tighter_problem.target_speed, 'target_speed')}"
-                        ),
-                        knee=False,  # check 8c reads its points, never its knee
-                    )
+                bar = track(f"{problem.name}: front at {shown(tighter_problem.target_speed, 'target_speed')}")
+                try:  # check 8c reads its points, never its knee
+                    tighter = pareto_front(tighter_problem, n_tight, progress=bar, knee=False)
                 except DesignerError as exc:  # an unreachable tighter target only removes check 8c
                     tighter, tighter_error = None, str(exc)
         with clock("recommendation"):

@@ -634,8 +634,8 @@ def _build_context(data: ReportData) -> dict:
     rec = data.recommendation
     if rec is None:
         return {"available": False, "error": data.recommendation_error or "no recommendation"}
-    d = rec.design
-    units = data.problem.units
+    d, units = rec.design, data.problem.units
+    sizes = d.trail, d.diameter, d.groove, data.problem.conditions.threshold_height, rec.swept_radius_max
     level = f"{percent(1 - rec.alpha)}" if rec.alpha is not None else f"{percent(0.95)} (default scatter)"
     return {
         "available": True,
@@ -645,15 +645,7 @@ def _build_context(data: ReportData) -> dict:
         "header": [h.format(level=level) for h in CARD_HEADER],
         "row": _caster_cells(rec, units),
         "level": level,
-        "svg": caster_svg(
-            d.trail,
-            d.diameter,
-            d.groove,
-            data.problem.conditions.threshold_height,
-            rec.swept_radius_max,
-            label=f"{data.problem.name}: the recommended caster to scale",
-            units=units,
-        ),
+        "svg": caster_svg(*sizes, label=f"{data.problem.name}: the recommended caster to scale", units=units),
         "rule": rec.rule,
         "panels": _panels(data),
         "after": _after_panels(data, units, level),
