@@ -116,23 +116,15 @@ def _figures(data: dict) -> list[dict]:
     if curve:
         suggested = (data.get("suggested_skus") or {}).get("count")
         hover = [
-            f"K = {c['k']}: "
-            + (
-                f"mean regret {c['mean_regret_N']:.3f} N, worst chair {c['worst_regret_N']:.2f} N; {c['status']} "
-                f"({c['method']})"
-                if c["mean_regret_N"] is not None
-                else f"{c['status']}"
-            )
+            f"K = {c['k']}: {c['status']}"
+            if c["mean_regret_N"] is None
+            else f"K = {c['k']}: mean regret {c['mean_regret_N']:.3f} N, worst chair {c['worst_regret_N']:.2f} N; "
+            f"{c['status']} ({c['method']})"
             for c in curve
         ]
-        fig = figure_regret(
-            [c["k"] for c in curve],
-            [c["mean_regret_N"] if c["mean_regret_N"] is not None else math.nan for c in curve],
-            asked=data.get("k"),
-            suggested=suggested,
-            max_regret=(data.get("suggested_skus") or {}).get("max_regret_N"),
-            hover=hover,
-        )
+        mean = [c["mean_regret_N"] if c["mean_regret_N"] is not None else math.nan for c in curve]
+        limit = (data.get("suggested_skus") or {}).get("max_regret_N")
+        fig = figure_regret([c["k"] for c in curve], mean, data.get("k"), suggested, limit, hover)
         out.append(
             {
                 "name": "regret",
