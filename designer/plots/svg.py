@@ -519,11 +519,9 @@ class Axes:
                 out.append(_text(px, y0 + h + 3.5 * PT + fs * PT * 1.05, lab, fs, "middle"))
         ymarks, width = _vticks(out, x0, -1, [float(sy(t)) for t in yt], _tick_labels(yt))
         out.append(_marks(marks + ymarks))
-        tick_h = (
-            (fs * PT * 1.2 * (max(str(x).count("\n") for x in labels) + 1))
-            if labels and not self.hide_xticklabels
-            else 0
-        )
+        tick_h = 0.0
+        if labels and not self.hide_xticklabels:
+            tick_h = fs * PT * 1.2 * (max(str(x).count("\n") for x in labels) + 1)
         if self.xlabel:
             out.append(_text(x0 + w / 2, y0 + h + 3.5 * PT + tick_h + size * 1.15, self.xlabel, BASE_FONT, "middle"))
         if self.ylabel:
@@ -614,13 +612,10 @@ class Axes:
             for pts, cds in zip(points, codes):
                 px, py = sx(pts[:, 0]), sy(pts[:, 1])
                 for a, b, code in zip(px, py, cds):
-                    d.append(
-                        ("M" if code == 1 else "Z" if code == 79 else "L") + ("" if code == 79 else f"{_f(a)} {_f(b)}")
-                    )
+                    d.append("Z" if code == 79 else ("M" if code == 1 else "L") + f"{_f(a)} {_f(b)}")
             if d:
-                out.append(
-                    f'<path d="{"".join(d)}" fill="{col}" fill-opacity="{alpha:g}" stroke="{col}" stroke-opacity="{alpha:g}" stroke-width="0.3" fill-rule="evenodd"/>'
-                )
+                paint = f'fill="{col}" fill-opacity="{alpha:g}" stroke="{col}" stroke-opacity="{alpha:g}"'
+                out.append(f'<path d="{"".join(d)}" {paint} stroke-width="0.3" fill-rule="evenodd"/>')
 
     def _draw_contour(self, out, sx, sy, lines: _Lines) -> None:
         for _level, pieces in lines.paths:
@@ -678,11 +673,8 @@ class Axes:
         if boxed:
             width = max(text_width(line, fontsize) for line in lines) + 0.6 * size
             left = {"start": px - 0.3 * size, "middle": px - width / 2, "end": px - width + 0.3 * size}[anchor]
-            out.append(
-                _rect(
-                    left, first - 0.95 * size, width, n * 1.2 * size + 0.3 * size, ' fill="#ffffff" fill-opacity="0.8"'
-                )
-            )
+            box = left, first - 0.95 * size, width, n * 1.2 * size + 0.3 * size
+            out.append(_rect(*box, ' fill="#ffffff" fill-opacity="0.8"'))
         out.append(_text(px, first, "\n".join(lines), fontsize, anchor, col, weight))
 
     def _draw_annotate(
