@@ -511,22 +511,13 @@ def spec_panel(rec, units: str) -> Panel:
     """The spec a factory inspects against: nominal, tolerance, acceptance limit and how to measure each part."""
     spec = rec.spec
     no_limit = [f"{lim.part} {lim.side}: {lim.reason}" for lim in spec.limits if lim.value is None]
-    return Panel(
-        id="spec",
-        title="The spec to inspect against",
-        text=acceptance_text(spec)
-        + " "
-        + corner_sentence(spec)
-        + (f" {rec.enforced_sentence()}" if rec.enforced is not None else ""),
-        table=PanelTable(
-            header=list(SPEC_COLUMNS),
-            rows=spec_rows(spec, units),
-            numeric=[False, True, True, True, True, False],
-        ),
-        caption=f"M_f = c_f θ0 with θ0 = {math.degrees(spec.disturbance_angle):.0f}° (Eq. 7). "
-        + ("No limit inside the model's range: " + "; ".join(no_limit) + ". " if no_limit else "")
-        + " ".join(limit_notes(spec, units)),
-    )
+    text = f"{acceptance_text(spec)} {corner_sentence(spec)}"
+    text += f" {rec.enforced_sentence()}" if rec.enforced is not None else ""
+    caption = f"M_f = c_f θ0 with θ0 = {math.degrees(spec.disturbance_angle):.0f}° (Eq. 7). "
+    caption += "No limit inside the model's range: " + "; ".join(no_limit) + ". " if no_limit else ""
+    table = PanelTable(list(SPEC_COLUMNS), spec_rows(spec, units), [False, True, True, True, True, False])
+    caption += " ".join(limit_notes(spec, units))
+    return Panel("spec", "The spec to inspect against", text, table, caption=caption)
 
 
 def acceptance_text(spec) -> str:
