@@ -125,30 +125,25 @@ def _figures(data: dict) -> list[dict]:
         mean = [c["mean_regret_N"] if c["mean_regret_N"] is not None else math.nan for c in curve]
         limit = (data.get("suggested_skus") or {}).get("max_regret_N")
         fig = figure_regret([c["k"] for c in curve], mean, data.get("k"), suggested, limit, hover)
-        out.append(
-            {
-                "name": "regret",
-                "title": "The regret curve",
-                "caption": "Least mean regret per unit sold against the number of part numbers K, every point "
-                "proved optimal (hover a point for its numbers and proof). The dashed line is --max-regret; "
-                "the suggested count is the first K on or below it.",
-                "svg": fig.to_svg("fleet-regret", "The regret curve"),
-            }
+        caption = (
+            "Least mean regret per unit sold against the number of part numbers K, every point proved optimal (hover "
+            "a point for its numbers and proof). The dashed line is --max-regret; the suggested count is the first K "
+            "on or below it."
         )
-    fig = figure_distributions(data["distributions"], data.get("alpha"))
-    out.append(
-        {
-            "name": "distributions",
-            "title": "What each chair's own recommendation is",
-            "caption": "Each chair's own recommendation (the rule of the base problem on its buildable front): "
-            "how many chairs get each trail, wheel, groove and damper, and the spread of their turning effort, "
-            "sill force and reported P(shimmy) (hover a bar for its count).",
-            "svg": fig.to_svg("fleet-distributions", "What each chair's own recommendation is"),
-        }
+        out.append(_figure("regret", "The regret curve", caption, fig))
+    caption = (
+        "Each chair's own recommendation (the rule of the base problem on its buildable front): how many chairs get "
+        "each trail, wheel, groove and damper, and the spread of their turning effort, sill force and reported "
+        "P(shimmy) (hover a bar for its count)."
     )
-    for item in out:
-        item["file"] = f"figures/{item['name']}.svg"
-    return out
+    fig = figure_distributions(data["distributions"], data.get("alpha"))
+    return [*out, _figure("distributions", "What each chair's own recommendation is", caption, fig)]
+
+
+def _figure(name: str, title: str, caption: str, fig) -> dict:
+    """One figure of the report: its name, title, caption, SVG text (ids ``fleet-<name>``) and file."""
+    svg = fig.to_svg(f"fleet-{name}", title)
+    return {"name": name, "title": title, "caption": caption, "svg": svg, "file": f"figures/{name}.svg"}
 
 
 # --------------------------------------------------------------------------- context
