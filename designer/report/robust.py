@@ -132,20 +132,18 @@ def _rows(data: RobustData) -> list[dict]:
 
 
 def _json(data: RobustData, page_title: str) -> dict:
-    out = finite(
-        {
-            "problem": data.problem.name,
-            "title": page_title,
-            "figure_title": page_title,
-            "uncertainty": dataclasses.asdict(data.uncertainty),
-            "rows": data.rows,
-            "compare": data.compare,
-            "nominal_front": data.nominal.rows(),
-            "robust_front": data.robust.rows(),
-            "run": split_run(data.run)[0],
-        }
-    )
-    return resolved(out, data.problem.bounds)
+    out = {
+        "problem": data.problem.name,
+        "title": page_title,
+        "figure_title": page_title,
+        "uncertainty": dataclasses.asdict(data.uncertainty),
+        "rows": data.rows,
+        "compare": data.compare,
+        "nominal_front": data.nominal.rows(),
+        "robust_front": data.robust.rows(),
+        "run": split_run(data.run)[0],
+    }
+    return resolved(finite(out), data.problem.bounds)
 
 
 def write_robust_report(data: RobustData, out_dir, option: str = "--out") -> Path:
