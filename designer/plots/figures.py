@@ -427,9 +427,8 @@ def _tradeoff_bars(left, catalog, rows) -> str:
             if v is None:
                 left.text(p, 0.02 * top, "×", ha="center", va="bottom", color=colour, fontsize=13, weight="bold")
             else:
-                left.text(
-                    p, v + 0.01 * top, number(v, "turning_effort"), ha="center", va="bottom", fontsize=6.5, rotation=90
-                )
+                value = number(v, "turning_effort")
+                left.text(p, v + 0.01 * top, value, ha="center", va="bottom", fontsize=6.5, rotation=90)
     labels = [
         (f"{r.wheel}\n" if r.wheel else "")
         + f"{shown(r.diameter, 'diameter', 'in')}\n{shown(r.diameter, 'diameter', 'mm')}"
