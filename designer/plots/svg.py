@@ -301,17 +301,14 @@ class Axes:
         x = np.asarray(x, float).reshape(-1)
         y = np.asarray(y, float).reshape(-1)
         fill = facecolor if facecolor is not None else (c if c is not None else color)
-        fills = (
-            [colour(v) for v in fill] if isinstance(fill, (list, np.ndarray)) else [colour(fill, "#1f77b4")] * len(x)
-        )
+        many = isinstance(fill, (list, np.ndarray))  # one colour per point
+        fills = [colour(v) for v in fill] if many else [colour(fill, "#1f77b4")] * len(x)
         edge = colour(edgecolor) if edgecolor is not None else None
         size = math.sqrt(float(s))
         if len(x):
             self._extent(x, y)
             self._add("markers", zorder, x, y, fills, edge, lw, marker, size, clip_on)
-        key_fill = (
-            fills[0] if fills else colour(fill, "#1f77b4") if not isinstance(fill, (list, np.ndarray)) else "#888"
-        )
+        key_fill = fills[0] if fills else "#888" if many else colour(fill, "#1f77b4")
         return self._handle(label, "marker", fill=key_fill, edge=edge, lw=lw, marker=marker, ms=size)
 
     def axhline(self, y: float, color=None, ls: str = "-", lw: float = 1.5, label=None, zorder=2, _kind="h", **_):
