@@ -641,24 +641,18 @@ def _indicators(front, problem, knee, best) -> list[dict]:
     if not front.points:
         return []
     ideal, nadir = front.ideal_nadir()
-    ref = front.reference_point()
-    hv = front.hypervolume()
     w = np.asarray(problem.weights, float)
+    normalised = (
+        "objectives normalised by (f − ideal)/(nadir − ideal) with this front's ideal and nadir; reference point "
+        "(1.1, 1.1) in normalised units"
+    )
+    if len(front) == 1:
+        normalised += "; a single point in its own normalisation always gives 1.1² = 1.21: no information"
     rows = [
-        (
-            "hypervolume (normalised)",
-            fmt(hv, ".5f"),
-            "objectives normalised by (f − ideal)/(nadir − ideal) with this front's ideal and nadir; reference "
-            "point (1.1, 1.1) in normalised units"
-            + (
-                "; a single point in its own normalisation always gives 1.1² = 1.21: no information"
-                if len(front) == 1
-                else ""
-            ),
-        ),
+        ("hypervolume (normalised)", fmt(front.hypervolume(), ".5f"), normalised),
         (
             "hypervolume reference point",
-            _objectives(*ref),
+            _objectives(*front.reference_point()),
             "nadir + 10 % of the front's extent (1 N where the extent is zero)",
         ),
         ("ideal point", _objectives(*ideal), "best value of each objective on the front"),
