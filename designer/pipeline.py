@@ -158,6 +158,12 @@ def _recommend(problem: Problem, front: Front) -> tuple[Recommendation | None, s
         return None, str(exc)
 
 
+def _stamp(problem: Problem) -> dict[str, Any]:
+    """The run metadata every computed report starts with: the date, the library versions, the problem's digest."""
+    date = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    return {"date": date, "versions": versions(), "problem_digest": problem.digest()}
+
+
 # long: the pipeline's steps in order (front, optimum, recommendation, checks, trade-off)
 def report_data(
     problem: Problem,
@@ -223,15 +229,9 @@ def report_data(
             if tighter is None and with_tighter and checks is None:
                 tighter_problem = problem.replace(target_speed=problem.target_speed * TIGHTER_FACTOR)
                 n_tight = max(5, (points or problem.pareto_points) // 2)
-                try:
-                    tighter = pareto_front(
-                        tighter_problem,
-                        n_tight,
-                        progress=track(
-                            f"{problem.name}: front at {shown(tighter_problem.target_speed, 'target_speed')}"
-                        ),
-                        knee=False,  # check 8c reads its points, never its knee
-                    )
+                bar = track(f"{problem.name}: front at {shown(tighter_problem.target_speed, 'target_speed')}")
+                try:  # check 8c reads its points, never its knee
+                    tighter = pareto_front(tighter_problem, n_tight, progress=bar, knee=False)
                 except DesignerError as exc:  # an unreachable tighter target only removes check 8c
                     tighter, tighter_error = None, str(exc)
         with clock("recommendation"):
@@ -271,9 +271,7 @@ def report_data(
     front_checks = [c for c in checks if c.name.startswith("8")]
     reason, reason_short = degenerate_reason(problem, front)
     run = {
-        "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-        "versions": versions(),
-        "problem_digest": problem.digest(),
+        **_stamp(problem),
         "front_solver": {
             k: front.meta.get(k)
             for k in ("method", "solver", "points_requested", "points_valid", "points_failed", "nlp_solves")
@@ -330,13 +328,7 @@ def robust_data(problem: Problem, points: int = ROBUST_POINTS) -> RobustData:
         warnings.simplefilter("ignore", InertiaExtrapolationWarning)
         warnings.simplefilter("ignore", ModelRangeWarning)
         result = robust_comparison(problem, points)
-    run = {
-        "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-        "versions": versions(),
-        "problem_digest": problem.digest(),
-        "points": points,
-        "compute_cpu_seconds": time.process_time() - c0,
-    }
+    run = {**_stamp(problem), "points": points, "compute_cpu_seconds": time.process_time() - c0}
     parts = {k: result[k] for k in ("nominal", "robust", "rows", "compare", "uncertainty")}
     return RobustData(problem=problem, **parts, run=run)
 

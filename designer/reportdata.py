@@ -113,14 +113,8 @@ class ReportData(Record):
         ]
         rec = self.recommendation
         if rec is not None:
-            rows += [
-                ("recommendation", rec.design.describe(), ""),
-                (
-                    "its F_turn / P",
-                    f"{number(rec.turning_effort, 'turning_effort')} / {number(rec.threshold_force, 'threshold_force')}",
-                    "N",
-                ),
-            ]
+            forces = number(rec.turning_effort, "turning_effort"), number(rec.threshold_force, "threshold_force")
+            rows += [("recommendation", rec.design.describe(), ""), ("its F_turn / P", " / ".join(forces), "N")]
         else:
             rows.append(("recommendation", self.recommendation_error or "none", ""))
         if self.solution is not None:
@@ -171,9 +165,8 @@ class RobustData(Record):
         columns = list(self.rows[0]) if self.rows else ["threshold_force"]
         units = {c: "N" for c in columns if c.startswith(("threshold", "turning", "extra"))}
         units["critical_speed"] = "m/s"
-        return dataframe(
-            "RobustData.to_pandas", [dict(r) for r in self.rows], columns, units, problem=self.problem.name
-        )
+        rows = [dict(r) for r in self.rows]
+        return dataframe("RobustData.to_pandas", rows, columns, units, problem=self.problem.name)
 
     def _repr_lines(self) -> list[str]:
         """One line: the two fronts and the largest extra turning effort the risk bound costs."""

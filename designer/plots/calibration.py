@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from designer.plots.fronts import dress
+
 
 def draw_fit(ax, ax_residuals, x, y, fitted, x_label: str, y_label: str, title: str | None = None):
     """Draw measured ``y`` and ``fitted`` against ``x`` on ``ax`` and ``y − fitted`` on ``ax_residuals``.
@@ -23,20 +25,12 @@ def draw_fit(ax, ax_residuals, x, y, fitted, x_label: str, y_label: str, title: 
     order = np.argsort(x)
     ax.plot(x, y, "o", label="data")
     ax.plot(x[order], fitted[order], "-", label="fit")
-    ax.set_ylabel(y_label)
-    ax.grid(True, alpha=0.3)
-    ax.legend()
-    if title:
-        ax.set_title(title, fontsize=9)
+    dress(ax, x_label if ax_residuals is None else "", y_label, title or None, {}, 9)
     if ax_residuals is not None:
         ax_residuals.axhline(0, color="k", lw=0.8)
         ax_residuals.plot(x, y - fitted, "o")
-        ax_residuals.set_xlabel(x_label)
         unit = y_label[y_label.rfind("[") :] if "[" in y_label else ""
-        ax_residuals.set_ylabel(f"residual {unit}".strip())
-        ax_residuals.grid(True, alpha=0.3)
-    else:
-        ax.set_xlabel(x_label)
+        dress(ax_residuals, x_label, f"residual {unit}".strip())
     return ax, ax_residuals
 
 

@@ -113,14 +113,11 @@ def draw_caster(
         s.text(ax * k / 2, -0.35, f"trail T = {shown(g.trail, 'trail', 'in')}", ha="center", va="top", fontsize=8)
         d_text = f"d = {shown(g.diameter, 'diameter', 'in')}"
         s.text(ax * k, 0.27 * g.diameter * k, d_text, ha="center", va="top", fontsize=8)
-        sill_x, sill = (
-            (g.sill_x + 0.7 * g.diameter) * k - 0.05,
-            f"sill h = {shown(g.sill_height, 'threshold_height', 'in')}",
-        )
-        s.text(sill_x, g.sill_height * k + 0.05, sill, fontsize=8, va="bottom", ha="right")
+        right, sill = (g.sill_x + 0.7 * g.diameter) * k, f"sill h = {shown(g.sill_height, 'threshold_height', 'in')}"
+        s.text(right - 0.05, g.sill_height * k + 0.05, sill, fontsize=8, va="bottom", ha="right")
         s.text(0.1, g.stem_top * k, "swivel axis", color="#c0392b", fontsize=8, va="top")
         s.set_aspect("equal")
-        s.set_xlim((ax - g.diameter * 0.65) * k, (g.sill_x + 0.7 * g.diameter) * k)
+        s.set_xlim((ax - g.diameter * 0.65) * k, right)
         s.set_ylim(-0.8, g.stem_top * k + 0.4)
         s.set_xlabel("side view [in] (rolls towards the right)")
         if title:

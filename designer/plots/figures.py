@@ -69,31 +69,21 @@ def _walking(ax, x: float, dy: float) -> None:
     ax.text(x, WALKING_SPEED + dy, "walking speed 1 m/s", fontsize=8, color="0.3")
 
 
-def _new(
-    width: float = 7.5,
-    height: float = 4.8,
-    *,
-    left: float = 0.65,
-    right: float = 0.15,
-    bottom: float = 0.5,
-    top: float = 0.35,
-    wspace: float = 0.2,
-    hspace: float = 0.2,
-) -> Figure:
-    """A figure of ``width`` x ``height`` inches with fixed margins [in] around the axes.
+MARGINS = dict(left=0.65, right=0.15, bottom=0.5, top=0.35)
+"""A figure's default margins [in] around its axes (:func:`_new`)."""
+
+
+def _new(width: float = 7.5, height: float = 4.8, wspace: float = 0.2, hspace: float = 0.2, **margins) -> Figure:
+    """A figure of ``width`` x ``height`` inches with fixed ``margins`` [in] around the axes (``left``, ``right``,
+    ``bottom``, ``top``; the others as :data:`MARGINS`).
 
     Fixed margins (the SVG canvas measures no text): each figure gives the margins its labels need (a
     title, an inch axis on top, a right-hand axis or colour bar).
     """
+    m = MARGINS | margins
     fig = Figure(figsize=(width, height))
-    fig.subplots_adjust(
-        left=left / width,
-        right=1 - right / width,
-        bottom=bottom / height,
-        top=1 - top / height,
-        wspace=wspace,
-        hspace=hspace,
-    )
+    fig.subplots_adjust(m["left"] / width, 1 - m["right"] / width, m["bottom"] / height, 1 - m["top"] / height)
+    fig.subplots_adjust(wspace=wspace, hspace=hspace)
     return fig
 
 
@@ -242,11 +232,8 @@ def figure_trail(required_speed: float, curves: dict) -> Figure:
         ax.plot(trail * MM, w["speeds"], color=colour, lw=1.4, label=f"{key} {name}, I_w {w['inertia'] * 1e3:.2f}e-3")
         if measured is not None:
             ax.scatter([TABLE1_TRAIL * MM], [measured], color=colour, edgecolor="black", s=40, zorder=4)
-            ax.hover(
-                [TABLE1_TRAIL * MM],
-                [measured],
-                [f"wheel {key} {name}: measured V_c {measured:.2f} m/s at T = 2 in; Eq. 7 {w['eq7']:.2f} m/s"],
-            )
+            says = f"wheel {key} {name}: measured V_c {measured:.2f} m/s at T = 2 in; Eq. 7 {w['eq7']:.2f} m/s"
+            ax.hover([TABLE1_TRAIL * MM], [measured], [says])
         else:
             _stable(ax, TABLE1_TRAIL * MM + next(stable_offset), TABLE1_STABLE_UP_TO, colour, 0.5, 1.8, 60, zorder=4)
     ax.scatter([], [], color="white", edgecolor="black", s=40, label="measured at 2 in (Table 1)")
@@ -277,23 +264,20 @@ def figure_inertia(curves: dict) -> Figure:
     measured = [w for w in wheels if w["measured"] is not None]
     mx, my = [w["inertia"] * 1e3 for w in measured], [w["measured"] for w in measured]
     ax.scatter(mx, my, color="#d62728", edgecolor="black", s=45, zorder=4, label="measured critical speed (Table 1)")
-    for w in wheels:
-        x, y = w["inertia"] * 1e3, TABLE1_STABLE_UP_TO if w["measured"] is None else w["measured"]
+    at = [(w["inertia"] * 1e3, TABLE1_STABLE_UP_TO if w["measured"] is None else w["measured"]) for w in wheels]
+    for w, (x, y) in zip(wheels, at):
         if w["measured"] is None:
             _stable(ax, x, y, "#d62728", 0.6, 1.5, 120)
         ax.annotate(w["key"], (x, y), textcoords="offset points", xytext=(6, 4), fontsize=9, weight="bold")
     stable = "A, B: no shimmy up to 3.8 m/s (treadmill limit)"
     ax.plot([], [], color="#d62728", marker="uarrow", ls="none", ms=10, label=stable)
-    ax.hover(
-        [w["inertia"] * 1e3 for w in wheels],
-        [w["measured"] if w["measured"] is not None else TABLE1_STABLE_UP_TO for w in wheels],
-        [
-            f"wheel {w['key']} {w['name']}: I_w {w['inertia'] * 1e3:.2f}e-3 kg·m², "
-            + (f"measured V_c {w['measured']:.2f} m/s" if w["measured"] is not None else "no shimmy up to 3.8 m/s")
-            + f"; Eq. 7 {w['eq7']:.2f} m/s"
-            for w in wheels
-        ],
-    )
+    says = [
+        f"wheel {w['key']} {w['name']}: I_w {w['inertia'] * 1e3:.2f}e-3 kg·m², "
+        + (f"measured V_c {w['measured']:.2f} m/s" if w["measured"] is not None else "no shimmy up to 3.8 m/s")
+        + f"; Eq. 7 {w['eq7']:.2f} m/s"
+        for w in wheels
+    ]
+    ax.hover(*zip(*at), says)
     _walking(ax, 2.2, -0.22)
     ax.set_xlim(0, 3.8)
     ax.set_ylim(0, 7)
@@ -443,9 +427,8 @@ def _tradeoff_bars(left, catalog, rows) -> str:
             if v is None:
                 left.text(p, 0.02 * top, "×", ha="center", va="bottom", color=colour, fontsize=13, weight="bold")
             else:
-                left.text(
-                    p, v + 0.01 * top, number(v, "turning_effort"), ha="center", va="bottom", fontsize=6.5, rotation=90
-                )
+                value = number(v, "turning_effort")
+                left.text(p, v + 0.01 * top, value, ha="center", va="bottom", fontsize=6.5, rotation=90)
     labels = [
         (f"{r.wheel}\n" if r.wheel else "")
         + f"{shown(r.diameter, 'diameter', 'in')}\n{shown(r.diameter, 'diameter', 'mm')}"

@@ -74,24 +74,18 @@ def figure_distributions(values: dict, alpha: float | None = None) -> Figure:
         "threshold_force" [N], "shimmy_probability" [-]}: arrays over the feasible chairs (NaN ignored)
     alpha : the risk bound's α, drawn on the P(shimmy) panel
     """
-    panels = [  # the design variables (bars of their values; lengths in inches), then histograms
-        (
-            key,
-            variable_axis(key, "in") if key in VARIABLES else axis(key),
-            unit(quantity(key).dimension, "in").factor,
-            key in VARIABLES,
-        )
-        for key in (*VARIABLES, "turning_effort", "threshold_force", "shimmy_probability")
-        if key in values and np.isfinite(np.asarray(values[key], float)).any()
-    ]
+    keys = (*VARIABLES, "turning_effort", "threshold_force", "shimmy_probability")
+    panels = [key for key in keys if key in values and np.isfinite(np.asarray(values[key], float)).any()]
     cols = 4
     rows = max(1, (len(panels) + cols - 1) // cols)
     fig = _new(11.0, 2.9 * rows + 0.3, left=0.6, right=0.15, bottom=0.75, top=0.55, wspace=0.45, hspace=0.75)
     grid = fig.subplots(rows, cols)
     axes = list(np.ravel(grid))
-    for ax, (key, label, scale, discrete) in zip(axes, panels):
+    for ax, key in zip(axes, panels):
+        discrete = key in VARIABLES  # the design variables: bars of their values (lengths in inches); then histograms
+        label = variable_axis(key, "in") if discrete else axis(key)
         v = np.asarray(values[key], float)
-        v = v[np.isfinite(v)] * scale
+        v = v[np.isfinite(v)] * unit(quantity(key).dimension, "in").factor
         if discrete:
             levels, counts = np.unique(np.round(v, 6), return_counts=True)
             pos = np.arange(len(levels), dtype=float)

@@ -190,9 +190,7 @@ def map_axes(
             ax.text(i, j, text, ha="center", va="center", fontsize=7, color="w" if dark else "k")
     ax.set_xticks(range(len(k_factors)), [f"{f:g}" for f in k_factors])
     ax.set_yticks(range(len(n_factors)), [f"{f:g}" for f in n_factors])
-    ax.set_xlabel("frame stiffness K / K0")
-    ax.set_ylabel("lateral mass N / N0")
-    ax.set_title(title, fontsize=9)
+    dress(ax, "frame stiffness K / K0", "lateral mass N / N0", title, title_size=9, grid=False)
     ax.figure.colorbar(im, ax=ax, label=unit, shrink=0.8)
     return ax
 

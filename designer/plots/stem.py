@@ -33,18 +33,13 @@ def draw_stem_geometry(ax, geometry: dict):
     ax.axhline(0, color="0.3", lw=1)
     ax.add_patch(Circle(axle * scale, radius * scale, fill=False, lw=2, color="0.2"))
     ax.plot(*(np.array([[0, 0], top]).T * scale), "--", color="tab:blue", lw=1.2, label="stem axis")
-    ax.plot(
-        *(np.array([foot, axle]).T * scale),
-        color="tab:orange",
-        lw=3,
-        label=f"fork offset e = {shown(offset, dimension='length', units='in')}",
-    )
+    label = f"fork offset e = {shown(offset, dimension='length', units='in')}"
+    ax.plot(*(np.array([foot, axle]).T * scale), color="tab:orange", lw=3, label=label)
     ax.plot(*axle * scale, "o", color="0.2", ms=4)
     ax.plot(*contact * scale, "o", color="tab:red", ms=5)
     t_g, t_eff = g["ground_trail"], g["effective_trail"]
-    ax.annotate(
-        "", xy=(0, -0.35), xytext=(contact[0] * scale, -0.35), arrowprops={"arrowstyle": "<->", "color": "tab:green"}
-    )
+    arrow = {"arrowstyle": "<->", "color": "tab:green"}
+    ax.annotate("", xy=(0, -0.35), xytext=(contact[0] * scale, -0.35), arrowprops=arrow)
     text = f"floor trail t_g = {shown(t_g, dimension='length', units='in')}"
     ax.text(contact[0] * scale / 2, -0.75, text, ha="center", color="tab:green", fontsize=8)
     proj = g["projection"]  # foot of the perpendicular from the contact to the axis

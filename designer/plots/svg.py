@@ -301,17 +301,14 @@ class Axes:
         x = np.asarray(x, float).reshape(-1)
         y = np.asarray(y, float).reshape(-1)
         fill = facecolor if facecolor is not None else (c if c is not None else color)
-        fills = (
-            [colour(v) for v in fill] if isinstance(fill, (list, np.ndarray)) else [colour(fill, "#1f77b4")] * len(x)
-        )
+        many = isinstance(fill, (list, np.ndarray))  # one colour per point
+        fills = [colour(v) for v in fill] if many else [colour(fill, "#1f77b4")] * len(x)
         edge = colour(edgecolor) if edgecolor is not None else None
         size = math.sqrt(float(s))
         if len(x):
             self._extent(x, y)
             self._add("markers", zorder, x, y, fills, edge, lw, marker, size, clip_on)
-        key_fill = (
-            fills[0] if fills else colour(fill, "#1f77b4") if not isinstance(fill, (list, np.ndarray)) else "#888"
-        )
+        key_fill = fills[0] if fills else "#888" if many else colour(fill, "#1f77b4")
         return self._handle(label, "marker", fill=key_fill, edge=edge, lw=lw, marker=marker, ms=size)
 
     def axhline(self, y: float, color=None, ls: str = "-", lw: float = 1.5, label=None, zorder=2, _kind="h", **_):
@@ -519,11 +516,9 @@ class Axes:
                 out.append(_text(px, y0 + h + 3.5 * PT + fs * PT * 1.05, lab, fs, "middle"))
         ymarks, width = _vticks(out, x0, -1, [float(sy(t)) for t in yt], _tick_labels(yt))
         out.append(_marks(marks + ymarks))
-        tick_h = (
-            (fs * PT * 1.2 * (max(str(x).count("\n") for x in labels) + 1))
-            if labels and not self.hide_xticklabels
-            else 0
-        )
+        tick_h = 0.0
+        if labels and not self.hide_xticklabels:
+            tick_h = fs * PT * 1.2 * (max(str(x).count("\n") for x in labels) + 1)
         if self.xlabel:
             out.append(_text(x0 + w / 2, y0 + h + 3.5 * PT + tick_h + size * 1.15, self.xlabel, BASE_FONT, "middle"))
         if self.ylabel:
@@ -614,13 +609,10 @@ class Axes:
             for pts, cds in zip(points, codes):
                 px, py = sx(pts[:, 0]), sy(pts[:, 1])
                 for a, b, code in zip(px, py, cds):
-                    d.append(
-                        ("M" if code == 1 else "Z" if code == 79 else "L") + ("" if code == 79 else f"{_f(a)} {_f(b)}")
-                    )
+                    d.append("Z" if code == 79 else ("M" if code == 1 else "L") + f"{_f(a)} {_f(b)}")
             if d:
-                out.append(
-                    f'<path d="{"".join(d)}" fill="{col}" fill-opacity="{alpha:g}" stroke="{col}" stroke-opacity="{alpha:g}" stroke-width="0.3" fill-rule="evenodd"/>'
-                )
+                paint = f'fill="{col}" fill-opacity="{alpha:g}" stroke="{col}" stroke-opacity="{alpha:g}"'
+                out.append(f'<path d="{"".join(d)}" {paint} stroke-width="0.3" fill-rule="evenodd"/>')
 
     def _draw_contour(self, out, sx, sy, lines: _Lines) -> None:
         for _level, pieces in lines.paths:
@@ -678,11 +670,8 @@ class Axes:
         if boxed:
             width = max(text_width(line, fontsize) for line in lines) + 0.6 * size
             left = {"start": px - 0.3 * size, "middle": px - width / 2, "end": px - width + 0.3 * size}[anchor]
-            out.append(
-                _rect(
-                    left, first - 0.95 * size, width, n * 1.2 * size + 0.3 * size, ' fill="#ffffff" fill-opacity="0.8"'
-                )
-            )
+            box = left, first - 0.95 * size, width, n * 1.2 * size + 0.3 * size
+            out.append(_rect(*box, ' fill="#ffffff" fill-opacity="0.8"'))
         out.append(_text(px, first, "\n".join(lines), fontsize, anchor, col, weight))
 
     def _draw_annotate(
@@ -1063,6 +1052,11 @@ def _small_chart(xlabel, ylabel, width, height, box, xlabel_gap, body, ends=None
     return "".join(out)
 
 
+def _linear(lo: float, hi: float, start: float, end: float):
+    """The linear map of [lo, hi] (data) onto [start, end] [px]."""
+    return lambda v: start + (v - lo) / (hi - lo) * (end - start)
+
+
 def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: int = 240, height: int = 170) -> str:
     """A small line plot as an SVG string: the points (x, y) joined in order, axis labels with units.
 
@@ -1078,12 +1072,7 @@ def svg_curve(x: Any, y: Any, xlabel: str, ylabel: str, marks: Any = (), width: 
     x0, x1 = (x0 - 0.5, x1 + 0.5) if x1 == x0 else (x0, x1)
     y0, y1 = (y0 - 0.5, y1 + 0.5) if y1 == y0 else (y0, y1)
 
-    def px(a: float) -> float:
-        return left + 4 + (a - x0) / (x1 - x0) * (width - left - right - 8)
-
-    def py(b: float) -> float:
-        return height - bottom - 4 - (b - y0) / (y1 - y0) * (height - top - bottom - 8)
-
+    px, py = _linear(x0, x1, left + 4, width - right - 4), _linear(y0, y1, height - bottom - 4, top + 4)
     line = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in pts)
     body = [f'<polyline points="{line}" fill="none" stroke="#1f77b4" stroke-width="1.5"/>']
     body += [f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="1.6" fill="#1f77b4"/>' for a, b in pts]
@@ -1122,12 +1111,7 @@ def svg_sparkline(
     y0, y1 = (-reach, reach) if reach > 0 else (-1.0, 1.0)
     x1 = x1 if x1 > x0 else x0 + 1.0
 
-    def px(a: float) -> float:
-        return left + (a - x0) / (x1 - x0) * (width - left - right)
-
-    def py(b: float) -> float:
-        return height - bottom - (b - y0) / (y1 - y0) * (height - top - bottom)
-
+    px, py = _linear(x0, x1, left, width - right), _linear(y0, y1, height - bottom, top)
     body = [f'<line x1="{left}" y1="{py(0):.1f}" x2="{width - right}" y2="{py(0):.1f}" stroke="#999"/>']
     body += [
         f'<line x1="{left}" y1="{py(b):.1f}" x2="{width - right}" y2="{py(b):.1f}" '

@@ -236,14 +236,9 @@ def _walk(old, new, where, key, parent, siblings, out) -> None:  # noqa: C901 - 
 
 def _estimate_of(key, siblings):
     """The Monte Carlo estimate whose standard error is stored under ``key`` (``X`` for ``X_se``), or None."""
-    if not (siblings and isinstance(key, str)):
+    if not (siblings and isinstance(key, str) and (key == "se" or key.endswith("_se"))):
         return None
-    if key == "se":
-        name = "probability"
-    elif key.endswith("_se"):
-        name = key[:-3]
-    else:
-        return None
+    name = "probability" if key == "se" else key[:-3]
     value = siblings[0].get(EXACT_BESIDE_MONTE_CARLO.get(name, name), siblings[0].get(name))
     return value if _is_number(value) else None
 

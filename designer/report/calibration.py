@@ -71,7 +71,6 @@ def write_calibration_report(result, out_dir, data_file: str = "", option: str =
             {"x": fmt(x, ".5g"), "y": fmt(y, ".5g"), "fitted": fmt(f, ".5g"), "residual": fmt(y - f, "+.3g")}
             for x, y, f in zip(result.x, result.y, result.fitted)
         ]
-        info = versions()
         context = {
             "title": title(result),
             "sentences": sentences(result, data_file or "the data"),
@@ -80,10 +79,9 @@ def write_calibration_report(result, out_dir, data_file: str = "", option: str =
             "figure": FIGURE,
             "snippet": result.snippet(),
             "figure_uri": "data:image/png;base64," + base64.b64encode(png).decode("ascii"),
-            "versions": ", ".join(f"{k} {v}" for k, v in info.items() if v),
+            "versions": ", ".join(f"{k} {v}" for k, v in versions().items() if v),
         }
-        out = result.to_dict()
-        out["data"] = data_file
+        out = {**result.to_dict(), "data": data_file}
         _write_json(tmp / "calibration.json", stamped("calibration.json", finite(out)))
         (tmp / "index.html").write_text(_render("calibration.html.j2", context, autoescape=True), encoding="utf-8")
         (tmp / "report.md").write_text(_render("calibration.md.j2", context, autoescape=False), encoding="utf-8")

@@ -380,50 +380,36 @@ def _law_panels(data: ReportData, units: str) -> list[Panel]:
     out = []
     outside = [r for r in (rec, *rec.alternatives) if r.extrapolated]
     if outside:
-        out.append(
-            Panel(
-                id="extrapolated",
-                title="Outside Table 1",
-                text="; ".join(f"the {r.role} caster's d = {size(r.design.diameter, units)}" for r in outside)
-                + " lies outside Table 1's 4–8 in: the inertia fit and Eq. 7's check are extrapolated (the risk "
-                "law's prediction interval of I_w widens with it).",
-            )
+        text = "; ".join(f"the {r.role} caster's d = {size(r.design.diameter, units)}" for r in outside)
+        text += (
+            " lies outside Table 1's 4–8 in: the inertia fit and Eq. 7's check are extrapolated (the risk "
+            "law's prediction interval of I_w widens with it)."
         )
+        out.append(Panel("extrapolated", "Outside Table 1", text))
     risk = rec.risk
     if risk is not None:
-        out.append(
-            Panel(
-                id="risk",
-                title="Where the risk comes from",
-                text=f"P(shimmy at {display.shown(rec.target_speed, 'target_speed')}) = {percent(risk['probability'])} "
-                f"(the law below, by quadrature; its Monte Carlo: {percent(risk['monte_carlo'])} ± "
-                f"{percent(risk['se'])}). {risk['dominant']}",
-                table=PanelTable(
-                    header=["source", "distribution of its log", "scale", "kind", "share of var log V_c"],
-                    rows=[
-                        [
-                            src["name"],
-                            src["distribution"] + (f", ν = {src['dof']}" if src["dof"] else ""),
-                            f"{src['scale']:.4g}",
-                            src["kind"],
-                            percent(src["share"]),
-                        ]
-                        for src in risk["sources"]
-                    ],
-                    numeric=[False, False, True, False, True],
-                ),
-                caption="Model error and the inertia of a wheel known by its diameter come from Table 1 (data); "
-                "M_f/θ0 and K_s scatters are assumptions; a measured wheel's is the measurement's. Caveats: "
-                + "; ".join(f"{src['name']}: {'; '.join(src.get('caveats', []))}" for src in risk["sources"])
-                + ".",
-            )
+        text = (
+            f"P(shimmy at {display.shown(rec.target_speed, 'target_speed')}) = {percent(risk['probability'])} "
+            f"(the law below, by quadrature; its Monte Carlo: {percent(risk['monte_carlo'])} ± "
+            f"{percent(risk['se'])}). {risk['dominant']}"
         )
+        law = [src["distribution"] + (f", ν = {src['dof']}" if src["dof"] else "") for src in risk["sources"]]
+        rows = [
+            [s["name"], d, f"{s['scale']:.4g}", s["kind"], percent(s["share"])] for s, d in zip(risk["sources"], law)
+        ]
+        header = ["source", "distribution of its log", "scale", "kind", "share of var log V_c"]
+        caption = (
+            "Model error and the inertia of a wheel known by its diameter come from Table 1 (data); "
+            "M_f/θ0 and K_s scatters are assumptions; a measured wheel's is the measurement's. Caveats: "
+            + "; ".join(f"{src['name']}: {'; '.join(src.get('caveats', []))}" for src in risk["sources"])
+            + "."
+        )
+        table = PanelTable(header, rows, [False, False, True, False, True])
+        out.append(Panel("risk", "Where the risk comes from", text, table, caption=caption))
     if rec.spec is not None:
         out.append(spec_panel(rec, units))
     if rec.if_measured is not None:
-        out.append(
-            Panel(id="if_measured", title="If you measure the wheel", text=rec.headline(lambda x: size(x, units)))
-        )
+        out.append(Panel("if_measured", "If you measure the wheel", rec.headline(lambda x: size(x, units))))
     return out
 
 
@@ -525,22 +511,13 @@ def spec_panel(rec, units: str) -> Panel:
     """The spec a factory inspects against: nominal, tolerance, acceptance limit and how to measure each part."""
     spec = rec.spec
     no_limit = [f"{lim.part} {lim.side}: {lim.reason}" for lim in spec.limits if lim.value is None]
-    return Panel(
-        id="spec",
-        title="The spec to inspect against",
-        text=acceptance_text(spec)
-        + " "
-        + corner_sentence(spec)
-        + (f" {rec.enforced_sentence()}" if rec.enforced is not None else ""),
-        table=PanelTable(
-            header=list(SPEC_COLUMNS),
-            rows=spec_rows(spec, units),
-            numeric=[False, True, True, True, True, False],
-        ),
-        caption=f"M_f = c_f θ0 with θ0 = {math.degrees(spec.disturbance_angle):.0f}° (Eq. 7). "
-        + ("No limit inside the model's range: " + "; ".join(no_limit) + ". " if no_limit else "")
-        + " ".join(limit_notes(spec, units)),
-    )
+    text = f"{acceptance_text(spec)} {corner_sentence(spec)}"
+    text += f" {rec.enforced_sentence()}" if rec.enforced is not None else ""
+    caption = f"M_f = c_f θ0 with θ0 = {math.degrees(spec.disturbance_angle):.0f}° (Eq. 7). "
+    caption += "No limit inside the model's range: " + "; ".join(no_limit) + ". " if no_limit else ""
+    table = PanelTable(list(SPEC_COLUMNS), spec_rows(spec, units), [False, True, True, True, True, False])
+    caption += " ".join(limit_notes(spec, units))
+    return Panel("spec", "The spec to inspect against", text, table, caption=caption)
 
 
 def acceptance_text(spec) -> str:
@@ -564,11 +541,8 @@ def caster_panel(caster, units: str) -> Panel:
         for p in parameters.OUTPUT_TABLE
         if p.listed and p.name in caster and caster[p.name] is not None
     ]
-    return Panel(
-        id="numbers",
-        title="The numbers of the caster to build",
-        table=PanelTable(header=["quantity", "value"], rows=rows, numeric=[False, True]),
-    )
+    table = PanelTable(["quantity", "value"], rows, [False, True])
+    return Panel("numbers", "The numbers of the caster to build", table=table)
 
 
 def _after_panels(data: ReportData, units: str, level: str) -> list[Panel]:
@@ -576,56 +550,32 @@ def _after_panels(data: ReportData, units: str, level: str) -> list[Panel]:
     opinion, the terms."""
     rec = data.recommendation
     out = [caster_panel(rec.caster, units), *_law_panels(data, units)]
+    casters = [rec, *rec.alternatives]
     if rec.alternatives:
-        out.append(
-            Panel(
-                id="alternatives",
-                title="Other casters from the same parts",
-                text=front_count_sentence(rec),
-                table=PanelTable(
-                    header=["caster", *(h.format(level=level) for h in CARD_HEADER)],
-                    rows=[[c.role, *_caster_cells(c, units)] for c in [rec, *rec.alternatives]],
-                    numeric=[False] + [True] * len(CARD_HEADER),
-                    first_row_marked=True,
-                ),
-            )
-        )
+        header = ["caster", *(h.format(level=level) for h in CARD_HEADER)]
+        rows = [[c.role, *_caster_cells(c, units)] for c in casters]
+        table = PanelTable(header, rows, [False] + [True] * len(CARD_HEADER), first_row_marked=True)
+        out.append(Panel("alternatives", "Other casters from the same parts", front_count_sentence(rec), table))
     if data.knock_safe:
         theta0 = math.degrees(float(data.problem.conditions.disturbance_angle))
         knocks = list(data.knock_safe) + [None] * (1 + len(rec.alternatives))
-        out.append(
-            Panel(
-                id="knock-safe",
-                title="Knock-safe speed: a second opinion",
-                text="The design criterion is the risk bound on Eq. 7 above. The knock-safe speed is the highest "
-                "speed at which a knock of that size dies out instead of growing into shimmy, simulated with the "
-                "paper's time-domain model (Appendix B: rolling tyre, Coulomb friction; as designer evaluate "
-                f"--knock-safe), to {100 * float((data.knock_safe[0] or {}).get('knock_safe_rtol', 0.005)):.1f} %; "
-                "V_c (Eq. 7) is the threshold for the design knock θ0, and a bigger knock starts shimmy at a lower "
-                "speed. " + _knock_band(data),
-                table=PanelTable(
-                    header=["caster", "V_c (Eq. 7)", f"{theta0:.0f}° knock", f"{2 * theta0:.0f}° knock"],
-                    rows=[
-                        [
-                            c.role,
-                            display.shown(c.critical_speed, "critical_speed"),
-                            _knock_cell(k, "knock_safe_speed"),
-                            _knock_cell(k, "knock_safe_speed_double"),
-                        ]
-                        for c, k in zip([rec, *rec.alternatives], knocks)
-                    ],
-                    numeric=[False, True, True, True],
-                    first_row_marked=True,
-                ),
-            )
+        text = (
+            "The design criterion is the risk bound on Eq. 7 above. The knock-safe speed is the highest "
+            "speed at which a knock of that size dies out instead of growing into shimmy, simulated with the "
+            "paper's time-domain model (Appendix B: rolling tyre, Coulomb friction; as designer evaluate "
+            f"--knock-safe), to {100 * float((data.knock_safe[0] or {}).get('knock_safe_rtol', 0.005)):.1f} %; "
+            "V_c (Eq. 7) is the threshold for the design knock θ0, and a bigger knock starts shimmy at a lower "
+            "speed. " + _knock_band(data)
         )
-    out.append(
-        Panel(
-            id="terms",
-            title="Terms",
-            table=PanelTable(header=["term", "meaning"], rows=[list(row) for row in GLOSSARY]),
-        )
-    )
+        header = ["caster", "V_c (Eq. 7)", f"{theta0:.0f}° knock", f"{2 * theta0:.0f}° knock"]
+        keys = ("knock_safe_speed", "knock_safe_speed_double")
+        rows = [
+            [c.role, display.shown(c.critical_speed, "critical_speed"), *(_knock_cell(k, key) for key in keys)]
+            for c, k in zip(casters, knocks)
+        ]
+        table = PanelTable(header, rows, [False, True, True, True], first_row_marked=True)
+        out.append(Panel("knock-safe", "Knock-safe speed: a second opinion", text, table))
+    out.append(Panel("terms", "Terms", table=PanelTable(["term", "meaning"], [list(row) for row in GLOSSARY])))
     return out
 
 
@@ -634,8 +584,8 @@ def _build_context(data: ReportData) -> dict:
     rec = data.recommendation
     if rec is None:
         return {"available": False, "error": data.recommendation_error or "no recommendation"}
-    d = rec.design
-    units = data.problem.units
+    d, units = rec.design, data.problem.units
+    sizes = d.trail, d.diameter, d.groove, data.problem.conditions.threshold_height, rec.swept_radius_max
     level = f"{percent(1 - rec.alpha)}" if rec.alpha is not None else f"{percent(0.95)} (default scatter)"
     return {
         "available": True,
@@ -645,15 +595,7 @@ def _build_context(data: ReportData) -> dict:
         "header": [h.format(level=level) for h in CARD_HEADER],
         "row": _caster_cells(rec, units),
         "level": level,
-        "svg": caster_svg(
-            d.trail,
-            d.diameter,
-            d.groove,
-            data.problem.conditions.threshold_height,
-            rec.swept_radius_max,
-            label=f"{data.problem.name}: the recommended caster to scale",
-            units=units,
-        ),
+        "svg": caster_svg(*sizes, label=f"{data.problem.name}: the recommended caster to scale", units=units),
         "rule": rec.rule,
         "panels": _panels(data),
         "after": _after_panels(data, units, level),
@@ -699,24 +641,18 @@ def _indicators(front, problem, knee, best) -> list[dict]:
     if not front.points:
         return []
     ideal, nadir = front.ideal_nadir()
-    ref = front.reference_point()
-    hv = front.hypervolume()
     w = np.asarray(problem.weights, float)
+    normalised = (
+        "objectives normalised by (f − ideal)/(nadir − ideal) with this front's ideal and nadir; reference point "
+        "(1.1, 1.1) in normalised units"
+    )
+    if len(front) == 1:
+        normalised += "; a single point in its own normalisation always gives 1.1² = 1.21: no information"
     rows = [
-        (
-            "hypervolume (normalised)",
-            fmt(hv, ".5f"),
-            "objectives normalised by (f − ideal)/(nadir − ideal) with this front's ideal and nadir; reference "
-            "point (1.1, 1.1) in normalised units"
-            + (
-                "; a single point in its own normalisation always gives 1.1² = 1.21: no information"
-                if len(front) == 1
-                else ""
-            ),
-        ),
+        ("hypervolume (normalised)", fmt(front.hypervolume(), ".5f"), normalised),
         (
             "hypervolume reference point",
-            _objectives(*ref),
+            _objectives(*front.reference_point()),
             "nadir + 10 % of the front's extent (1 N where the extent is zero)",
         ),
         ("ideal point", _objectives(*ideal), "best value of each objective on the front"),

@@ -106,13 +106,8 @@ def _front(data) -> dict:
     f = front.objectives()
     tighter = None
     if data.tighter is not None and len(data.tighter.points):
-        t = data.tighter.objectives()
-        tighter = {
-            "threshold_force": t[:, 1],
-            "turning_effort": t[:, 0],
-            "label": f"front for V_req = {shown(data.tighter.problem.required_speed, 'critical_speed')} (V_target × 1.1, "
-            "check 8c)",
-        }
+        speed = shown(data.tighter.problem.required_speed, "critical_speed")
+        tighter = curve("reference", f"front for V_req = {speed} (V_target × 1.1, check 8c)", data.tighter.objectives())
     curves, marks = _front_marks(data) if len(f) else ([], [])
     ends = [front.points[0], front.points[-1]] if len(f) > 1 else front.points[:1]
     risk = problem.conditions.uncertainty

@@ -116,47 +116,34 @@ def _figures(data: dict) -> list[dict]:
     if curve:
         suggested = (data.get("suggested_skus") or {}).get("count")
         hover = [
-            f"K = {c['k']}: "
-            + (
-                f"mean regret {c['mean_regret_N']:.3f} N, worst chair {c['worst_regret_N']:.2f} N; {c['status']} "
-                f"({c['method']})"
-                if c["mean_regret_N"] is not None
-                else f"{c['status']}"
-            )
+            f"K = {c['k']}: {c['status']}"
+            if c["mean_regret_N"] is None
+            else f"K = {c['k']}: mean regret {c['mean_regret_N']:.3f} N, worst chair {c['worst_regret_N']:.2f} N; "
+            f"{c['status']} ({c['method']})"
             for c in curve
         ]
-        fig = figure_regret(
-            [c["k"] for c in curve],
-            [c["mean_regret_N"] if c["mean_regret_N"] is not None else math.nan for c in curve],
-            asked=data.get("k"),
-            suggested=suggested,
-            max_regret=(data.get("suggested_skus") or {}).get("max_regret_N"),
-            hover=hover,
+        mean = [c["mean_regret_N"] if c["mean_regret_N"] is not None else math.nan for c in curve]
+        limit = (data.get("suggested_skus") or {}).get("max_regret_N")
+        fig = figure_regret([c["k"] for c in curve], mean, data.get("k"), suggested, limit, hover)
+        caption = (
+            "Least mean regret per unit sold against the number of part numbers K, every point proved optimal (hover "
+            "a point for its numbers and proof). The dashed line is --max-regret; the suggested count is the first K "
+            "on or below it."
         )
-        out.append(
-            {
-                "name": "regret",
-                "title": "The regret curve",
-                "caption": "Least mean regret per unit sold against the number of part numbers K, every point "
-                "proved optimal (hover a point for its numbers and proof). The dashed line is --max-regret; "
-                "the suggested count is the first K on or below it.",
-                "svg": fig.to_svg("fleet-regret", "The regret curve"),
-            }
-        )
-    fig = figure_distributions(data["distributions"], data.get("alpha"))
-    out.append(
-        {
-            "name": "distributions",
-            "title": "What each chair's own recommendation is",
-            "caption": "Each chair's own recommendation (the rule of the base problem on its buildable front): "
-            "how many chairs get each trail, wheel, groove and damper, and the spread of their turning effort, "
-            "sill force and reported P(shimmy) (hover a bar for its count).",
-            "svg": fig.to_svg("fleet-distributions", "What each chair's own recommendation is"),
-        }
+        out.append(_figure("regret", "The regret curve", caption, fig))
+    caption = (
+        "Each chair's own recommendation (the rule of the base problem on its buildable front): how many chairs get "
+        "each trail, wheel, groove and damper, and the spread of their turning effort, sill force and reported "
+        "P(shimmy) (hover a bar for its count)."
     )
-    for item in out:
-        item["file"] = f"figures/{item['name']}.svg"
-    return out
+    fig = figure_distributions(data["distributions"], data.get("alpha"))
+    return [*out, _figure("distributions", "What each chair's own recommendation is", caption, fig)]
+
+
+def _figure(name: str, title: str, caption: str, fig) -> dict:
+    """One figure of the report: its name, title, caption, SVG text (ids ``fleet-<name>``) and file."""
+    svg = fig.to_svg(f"fleet-{name}", title)
+    return {"name": name, "title": title, "caption": caption, "svg": svg, "file": f"figures/{name}.svg"}
 
 
 # --------------------------------------------------------------------------- context
@@ -197,12 +184,8 @@ def _sku_spec(spec: dict | None) -> dict:
 
     p = spec["shimmy_probability"]
     low, high = limit("trail_min"), limit("trail_max")
-    trail = (
-        "none"
-        if low == high == "none"
-        else "; ".join(x for x in (bound("≥", "trail_min"), bound("≤", "trail_max")) if x != "none")
-    )
-    if low != "none" and high != "none":  # "48.37 mm (1.905 in)" and "51.30 mm (2.020 in)" as one range
+    trail = "; ".join(x for x in (bound("≥", "trail_min"), bound("≤", "trail_max")) if x != "none") or "none"
+    if "none" not in (low, high):  # "48.37 mm (1.905 in)" and "51.30 mm (2.020 in)" as one range
         (low_mm, low_in), (high_mm, high_in) = (x.removesuffix(" in)").split(" mm (") for x in (low, high))
         trail = f"{low_mm}–{high_mm} mm ({low_in}–{high_in} in)"
     return {

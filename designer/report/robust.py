@@ -132,20 +132,18 @@ def _rows(data: RobustData) -> list[dict]:
 
 
 def _json(data: RobustData, page_title: str) -> dict:
-    out = finite(
-        {
-            "problem": data.problem.name,
-            "title": page_title,
-            "figure_title": page_title,
-            "uncertainty": dataclasses.asdict(data.uncertainty),
-            "rows": data.rows,
-            "compare": data.compare,
-            "nominal_front": data.nominal.rows(),
-            "robust_front": data.robust.rows(),
-            "run": split_run(data.run)[0],
-        }
-    )
-    return resolved(out, data.problem.bounds)
+    out = {
+        "problem": data.problem.name,
+        "title": page_title,
+        "figure_title": page_title,
+        "uncertainty": dataclasses.asdict(data.uncertainty),
+        "rows": data.rows,
+        "compare": data.compare,
+        "nominal_front": data.nominal.rows(),
+        "robust_front": data.robust.rows(),
+        "run": split_run(data.run)[0],
+    }
+    return resolved(finite(out), data.problem.bounds)
 
 
 def write_robust_report(data: RobustData, out_dir, option: str = "--out") -> Path:
@@ -182,9 +180,8 @@ def write_robust_report(data: RobustData, out_dir, option: str = "--out") -> Pat
         (tmp / "index.html").write_text(_render("robust.html.j2", context, autoescape=True), encoding="utf-8")
         (tmp / "robust.md").write_text(_render("robust.md.j2", context, autoescape=False), encoding="utf-8")
         data.run["moved"] = keep_agreeing(tmp, Path(out_dir))  # a file that agrees keeps its bytes
-        _write_json(
-            tmp / RUN_FILE, stamped(RUN_FILE, finite(data.run))
-        )  # date, seconds, versions: beside, never committed
+        # date, seconds, versions: beside, never committed
+        _write_json(tmp / RUN_FILE, stamped(RUN_FILE, finite(data.run)))
     return Path(out_dir)
 
 

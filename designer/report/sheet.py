@@ -51,16 +51,8 @@ def sheet_html(rec: Any) -> str:
     """The one-page inspection sheet of the recommended caster ``rec`` (needs its spec and problem) as HTML."""
     problem, spec, d = rec.problem, rec.spec, rec.design
     units = getattr(problem, "units", "in")
-    drawing = caster_svg(
-        d.trail,
-        d.diameter,
-        d.groove,
-        problem.conditions.threshold_height,
-        problem.swept_radius_max,
-        scale=SHEET_SCALE,
-        label=f"caster for {problem.name}, drawn 1:5",
-        units=units,
-    )
+    sizes = d.trail, d.diameter, d.groove, problem.conditions.threshold_height, problem.swept_radius_max
+    drawing = caster_svg(*sizes, scale=SHEET_SCALE, label=f"caster for {problem.name}, drawn 1:5", units=units)
     wheel = f" (wheel {rec.wheel})" if rec.wheel else ""
     kind = "measured" if spec.measured else "known by its diameter (Table 1's power law and its scatter)"
     context = {

@@ -143,8 +143,7 @@ def _write_json(path: Path, value) -> None:
 
 
 def _write_all(folder: Path, data: ReportData, t0: float, target: Path | None = None) -> None:
-    fig_dir = folder / "figures"
-    fig_dir.mkdir()
+    (folder / "figures").mkdir()
     context = build_context(data)
     c0 = time.process_time()
     with warnings.catch_warnings():
@@ -159,10 +158,8 @@ def _write_all(folder: Path, data: ReportData, t0: float, target: Path | None = 
         for panel in context["build"]["panels"]:
             if panel.svg:
                 (folder / "figures" / f"{panel.id}.svg").write_text(panel.svg + "\n", encoding="utf-8")
-    _write_json(
-        folder / "checks.json",
-        _resolved(data, [stamped("checks.json", finite(c.to_dict())) for c in data.paper_checks + data.front_checks]),
-    )
+    checks = [stamped("checks.json", finite(c.to_dict())) for c in data.checks]
+    _write_json(folder / "checks.json", _resolved(data, checks))
     data.run["report_seconds"] = time.perf_counter() - t0
     if data.run.get("wall_seconds") is None:  # called from Python: the sum of the parts we know of
         data.run["wall_seconds"] = data.run.get("compute_wall_seconds", 0.0) + data.run["report_seconds"]
