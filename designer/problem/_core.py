@@ -118,8 +118,10 @@ def check_weights(
         raise error(f"{key} = {weights!r}: expected two numbers (w_turn, w_threshold); {exc}") from None
     except TypeError:
         raise error(f"{key} = {weights!r}: expected two numbers (w_turn, w_threshold)") from None
-    if len(w) != 2 or any((not math.isfinite(x)) or x < 0 for x in w) or sum(w) <= 0:
-        raise error(f"{key} = {list(weights)}: weights must be finite, non-negative and not all zero")
+    bad = [(n, x) for n, x in zip(("w_turn", "w_threshold"), w) if not (math.isfinite(x) and x >= 0)]
+    if len(w) != 2 or bad or sum(w) <= 0:
+        reason = f"{bad[0][0]} = {bad[0][1]:g} must be a finite non-negative number" if bad else ""
+        raise error(f"{key} = {list(weights)}: {reason or 'expected two weights, not all zero'}")
     if not WEIGHT_RANGE[0] <= max(w) <= WEIGHT_RANGE[1]:
         raise error(
             f"{key} = {list(w)}: the larger weight must be between {WEIGHT_RANGE[0]:g} and "

@@ -453,9 +453,9 @@ def test_run_weights_printed_and_recorded(capsys):
 @pytest.mark.parametrize(
     "argv, fragment",
     [
-        (["--weights", "-1,1"], "--weights -1,1: w_turn = -1 must be a finite non-negative number"),
-        (["--weights=-1,1"], "--weights -1,1: w_turn = -1 must be a finite non-negative number"),
-        (["--weights", "1,-2"], "--weights 1,-2: w_threshold = -2 must be a finite non-negative number"),
+        (["--weights", "-1,1"], "--weights = [-1.0, 1.0]: w_turn = -1 must be a finite non-negative number"),
+        (["--weights=-1,1"], "--weights = [-1.0, 1.0]: w_turn = -1 must be a finite non-negative number"),
+        (["--weights", "1,-2"], "--weights = [1.0, -2.0]: w_threshold = -2 must be a finite non-negative number"),
     ],
 )
 def test_negative_weights_named(argv, fragment, capsys):
