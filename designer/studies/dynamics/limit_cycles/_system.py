@@ -193,8 +193,6 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
     ``exact`` (rolling model; not with ``record``): each phase in closed form, a slip by :meth:`_LinearSlip.slip`,
     a stick exactly (X moves at −V θ, T K X reaches the friction moment at a known time); the same events and
     grazing rule, about ten times less CPU.  Ignored where the slip flow is (nearly) defective or with a tyre."""
-    from scipy.integrate import solve_ivp  # heavy import, only for time integration
-
     n = sys.size
     ith, iw = n - 2, n - 1
     M_f = sys.friction_moment
@@ -215,6 +213,8 @@ def _integrate(  # noqa: C901 - event-driven stick-slip integration: one branch 
         return _Run(ts, ys, ends, state, time, reason, switches, slips, crossings)
 
     def phase(sign: float, event):  # one stick (sign 0) or slip phase from (t, y) until ``event`` or t_end, recorded
+        from scipy.integrate import solve_ivp  # heavy (loads scipy.optimize): not for the ``exact`` phases
+
         sol = solve_ivp(
             counted(sys.rhs(sign)),
             (t, t_end),
