@@ -173,8 +173,13 @@ def _solve_continuous(
             status, values, j, iterations = fam.run(start, max_iterations, record)
             if values is None:
                 continue
-            # the multipliers belong to the last GP solved: read them now
-            duals = fam.duals(values) if _last_solution_is(fam, values) else {}
+            # the multipliers belong to the last GP solved: read them now if its variables hold ``values`` (a
+            # failed last solve leaves them empty: its duals are of no solution)
+            held = all(
+                v.value is not None and abs(float(v.value) - values[k]) <= 1e-14 * abs(values[k])
+                for k, v in fam.variables.items()
+            )
+            duals = fam.duals(values) if held else {}
             if best is None or j < best[2] - 1e-12 * abs(j):
                 best = (status, values, j, iterations, duals)
         row = dict(family=fam.name, exact=fam.exact, status="infeasible", solves=fam.solves)
@@ -184,15 +189,6 @@ def _solve_continuous(
             row.update(gp_objective=j, objective=float(problem.evaluate(design).J(weights)), duals=duals or {})
         rows.append(row)
     return rows
-
-
-def _last_solution_is(fam: _Family, values: dict[str, float]) -> bool:
-    """True if the cvxpy variables hold ``values`` (so the duals belong to them); False when the last GP solved
-    failed and left them empty (the duals are then of no solution)."""
-    return all(
-        v.value is not None and abs(float(v.value) - values[k]) <= 1e-14 * abs(values[k])
-        for k, v in fam.variables.items()
-    )
 
 
 def solve_gp(
@@ -250,7 +246,13 @@ def solve_gp(
             if "design" in row:
                 candidates.append((row["objective"], label, wheel, variant, row))
     if not candidates:
-        raise _infeasible(problem, threshold_cap, turning_cap)
+        raise InfeasibleError(  # the target speed and the caps asked for
+            f"{problem.name}: no geometric-programming family is feasible (target speed "
+            f"{problem.required_speed:.3g} m/s"
+            + (f", P <= {threshold_cap:.4g} N" if threshold_cap else "")
+            + (f", F_turn <= {turning_cap:.4g} N" if turning_cap else "")
+            + ")"
+        )
     _, _, wheel, variant, row = min(candidates, key=lambda c: c[0])
     design = row["design"]
     h = variant.conditions.threshold_height
@@ -269,17 +271,6 @@ def solve_gp(
         order=order,
         seconds=time.perf_counter() - t0,
         solves=solves,
-    )
-
-
-def _infeasible(problem: Problem, threshold_cap: float | None, turning_cap: float | None) -> InfeasibleError:
-    """The one-line error of a problem no GP family can solve: the target speed and the caps it asked for."""
-    return InfeasibleError(
-        f"{problem.name}: no geometric-programming family is feasible (target speed "
-        f"{problem.required_speed:.3g} m/s"
-        + (f", P <= {threshold_cap:.4g} N" if threshold_cap else "")
-        + (f", F_turn <= {turning_cap:.4g} N" if turning_cap else "")
-        + ")"
     )
 
 

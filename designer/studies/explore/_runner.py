@@ -87,7 +87,7 @@ def _prepare_resume(study, spec: StorageSpec, search_space_names, trials: int) -
     return notes
 
 
-# long only by its docstring, which documents every option; the body is about 55 lines
+# long only by its docstring, which documents every option; the body is about 65 lines
 @checked(
     trials=Count(1, MAX_TRIALS, what="trials"),
     seed=SEED,
@@ -157,7 +157,13 @@ def explore(
 
     problem = problem_argument(problem)
     spec = parse_storage(storage)
-    _check_arguments(workers, resume, spec)
+    if workers > 1 and not spec.shared:  # the counts' ranges: ``checked`` above
+        raise InputError(
+            f"--workers {workers}: several processes need a shared storage; add --storage "
+            f"journal:///path/study.log (one machine) or sqlite:///study.db / postgresql://…"
+        )
+    if resume and not spec.shared:
+        raise InputError("--resume: an in-memory study cannot be resumed; use --storage journal:///path/study.log")
     space = search_space(problem)
     if not space.continuous and not space.categorical:
         raise InputError(f"{problem.name}: every variable is fixed; nothing to explore")
@@ -195,7 +201,10 @@ def explore(
     seconds = time.perf_counter() - t0
     complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
     if len(complete) < trials:
-        notes.append(_incomplete_note(study, len(complete), trials))
+        running = len(study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)))
+        notes.append(
+            f"{len(complete)} of {trials} trials complete ({running} still running elsewhere); run again with --resume"
+        )
     result = _collect(problem, space, study, complete, ops, refine, exact, reference)
     result.update(
         study_name=study_name,
@@ -261,25 +270,6 @@ def _open_study(
         else:
             study = _create(problem, study_name, spec, storage_obj, trials, seed, ops, space)
     return study, ops, notes
-
-
-def _incomplete_note(study, complete: int, trials: int) -> str:
-    """The warning when the study holds fewer than ``trials`` COMPLETE trials (others still running)."""
-    from optuna.trial import TrialState
-
-    running = len(study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)))
-    return f"{complete} of {trials} trials complete ({running} still running elsewhere); run again with --resume"
-
-
-def _check_arguments(workers: int, resume: bool, spec: StorageSpec) -> None:
-    """InputError for workers or resume without a shared storage (the counts' ranges: :func:`explore`'s ``checked``)."""
-    if workers > 1 and not spec.shared:
-        raise InputError(
-            f"--workers {workers}: several processes need a shared storage; add --storage "
-            f"journal:///path/study.log (one machine) or sqlite:///study.db / postgresql://…"
-        )
-    if resume and not spec.shared:
-        raise InputError("--resume: an in-memory study cannot be resumed; use --storage journal:///path/study.log")
 
 
 def _load_for_resume(problem: Problem, study_name: str, spec: StorageSpec, storage_obj, ops: Operators):

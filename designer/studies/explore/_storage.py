@@ -80,9 +80,13 @@ def parse_storage(storage: str | None) -> StorageSpec:
                 f"postgresql://user:password@host/db or journal:///path/file.log"
             )
         url = "postgresql" + text[len(match.group(1).split("+")[0]) :] if scheme == "postgres" else text
+        find = importlib.util.find_spec  # SQLAlchemy 2.1 reads postgresql:// as psycopg (3), but the README (and
+        # the `test` extra) install psycopg2-binary: the installed driver; an explicit postgresql+driver:// is kept
         if scheme == "postgres" or match.group(1).lower() == "postgresql":
-            url = _postgres_driver(url)
-        if in_memory_sqlite(url):
+            if find("psycopg") is None and find("psycopg2") is not None:
+                url = "postgresql+psycopg2://" + url[len("postgresql://") :]
+        path = url.split("://", 1)[1]  # an SQLite URL without a file: sqlite://, sqlite:///, :memory:, mode=memory
+        if scheme == "sqlite" and (path.split("?", 1)[0] in ("", "/") or ":memory:" in path or "mode=memory" in path):
             raise StorageError(
                 f"storage {redact_url(text)!r}: an in-memory SQLite database keeps nothing once the run ends and "
                 f"lives inside one process (--workers cannot share it); use a file (sqlite:///study.db, "
@@ -98,24 +102,6 @@ def parse_storage(storage: str | None) -> StorageSpec:
         f"storage {redact_url(text)!r}: not a storage URL; use sqlite:///file.db, postgresql://user:password@host/db, "
         f"journal:///path/file.log (or a path ending .db or .log)"
     )
-
-
-def in_memory_sqlite(url: str) -> bool:
-    """True for an SQLite URL without a file: ``sqlite://``, ``sqlite:///``, ``sqlite:///:memory:``,
-    ``...mode=memory...``."""
-    if not url.lower().startswith("sqlite"):
-        return False
-    path = url.split("://", 1)[1] if "://" in url else ""
-    return path.split("?", 1)[0] in ("", "/") or ":memory:" in path or "mode=memory" in path
-
-
-def _postgres_driver(url: str) -> str:
-    """``postgresql://`` with the driver that is installed: SQLAlchemy 2.1 reads it as psycopg (3), but the
-    README (and the `test` extra) install psycopg2-binary; an explicit ``postgresql+driver://`` is kept."""
-
-    if importlib.util.find_spec("psycopg") is None and importlib.util.find_spec("psycopg2") is not None:
-        return "postgresql+psycopg2://" + url[len("postgresql://") :]
-    return url
 
 
 SECRET_QUERY_KEYS = SECRET_KEYS
