@@ -291,20 +291,6 @@ SQLITE = FileKind("an SQLite database of optuna's schema", _optuna_sqlite)
 """What ``--storage FILE.db`` may write into: a new or empty file, or an optuna SQLite database."""
 
 
-def check_storage_file(spec: StorageSpec) -> None:
-    """StorageError (exit 6, the code of every storage problem, docs/commands.md) unless the file of a journal or
-    SQLite storage can be written and is new, empty or optuna's own (:func:`designer.output.check_file`'s rule
-    and words): a user's notes.log or database is never written into, a read-only folder, a loop of links or
-    a name too long is named as such."""
-    try:
-        if spec.kind == "journal":
-            check_file(spec.url, "--storage", example="study.log", kind=JOURNAL)
-        elif storage_file(spec) is not None:
-            check_file(storage_file(spec), "--storage", example="study.db", kind=SQLITE)
-    except OutputError as exc:
-        raise StorageError(str(exc)) from None
-
-
 def storage_file(spec: StorageSpec) -> Path | None:
     """The file of a journal or SQLite storage (None for memory and a database server)."""
     if spec.kind == "journal":
@@ -344,7 +330,15 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
     path = storage_file(spec)  # a journal or an SQLite file (None: a database server)
     if path is not None and not path.parent.is_dir():
         raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
-    check_storage_file(spec)  # a folder, or a file that is not optuna's journal or database: exit 6
+    # StorageError (exit 6, every storage problem's code) unless the file can be written and is new, empty or
+    # optuna's own (designer.output.check_file's rule and words): a user's notes.log or database is never
+    # written into, a read-only folder, a loop of links or a name too long is named as such
+    try:
+        if path is not None:
+            kind, example = (JOURNAL, "study.log") if spec.kind == "journal" else (SQLITE, "study.db")
+            check_file(path, "--storage", example=example, kind=kind)
+    except OutputError as exc:
+        raise StorageError(str(exc)) from None
     other = None if path is None else not_a_file(path)  # the readers' rule: a device (/dev/stdout) or a FIFO
     if other is not None:
         expected = "a journal file" if spec.kind == "journal" else "an SQLite database file"
