@@ -353,7 +353,12 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
         if break_lock:
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(f"{path}.lock")
-        _repair_journal(path)
+        if path.exists() and path.stat().st_size:  # drop a partial last line left by a process killed in
+            with open(path, "rb+") as f:  # mid-write (it would corrupt the next append)
+                f.seek(-1, os.SEEK_END)
+                if f.read(1) != b"\n":
+                    data = f.seek(0) or f.read()
+                    f.truncate(data.rfind(b"\n") + 1)
         return JournalStorage(JournalFileBackend(str(path), lock_obj=JournalFileOpenLock(str(path), grace_period=10)))
     except Exception as exc:  # noqa: BLE001 - every failure becomes one line
         line = scrub(_one_line(exc), spec.url)
@@ -363,18 +368,6 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
                 f"PostgreSQL: pip install psycopg2-binary, MySQL: pip install pymysql"
             ) from None
         raise StorageError(f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {line})") from None
-
-
-def _repair_journal(path: Path) -> None:
-    """Drop a partial last line left by a process killed in mid-write (it would corrupt the next append)."""
-    if not path.exists() or path.stat().st_size == 0:
-        return
-    with open(path, "rb+") as f:
-        f.seek(-1, os.SEEK_END)
-        if f.read(1) == b"\n":
-            return
-        data = f.seek(0) or f.read()
-        f.truncate(data.rfind(b"\n") + 1)
 
 
 # --------------------------------------------------------------------------- atomic writes
