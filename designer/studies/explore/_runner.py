@@ -87,7 +87,7 @@ def _prepare_resume(study, spec: StorageSpec, search_space_names, trials: int) -
     return notes
 
 
-# long only by its docstring, which documents every option; the body is about 65 lines
+# long only by its docstring, which documents every option; the body is about 75 lines
 @checked(
     trials=Count(1, MAX_TRIALS, what="trials"),
     seed=SEED,
@@ -168,14 +168,24 @@ def explore(
     if not space.continuous and not space.categorical:
         raise InputError(f"{problem.name}: every variable is fixed; nothing to explore")
     study_name = study_name or f"{problem.name}-explore"
-    ops = _operators(trials, operators, population_size)
+    if isinstance(operators, str):  # a named set sized to the budget, or the given ones (population overridden)
+        ops = Operators.for_budget(trials, operators, population_size)
+    else:
+        ops = dataclasses.replace(operators, population_size=population_size or operators.population_size)
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     exact = _exact_front(problem) if compare else None
     reference = exact["reference_point"] if exact and "reference_point" in exact else _box_reference(problem)
 
     storage_obj = open_storage(spec, break_lock=resume)
-    study, ops, notes = _open_study(problem, study_name, spec, storage_obj, resume, trials, seed, ops, space)
+    notes: list[str] = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if resume:  # its stored operators, stale trials failed and retried, the notes saying so
+            study, ops = _load_for_resume(problem, study_name, spec, storage_obj, ops)
+            notes += _prepare_resume(study, spec, space.names, trials)
+        else:
+            study = _create(problem, study_name, spec, storage_obj, trials, seed, ops, space)
 
     complete_before = _counts(study)[TrialState.COMPLETE]
     tracker = _FrontTracker(reference)
@@ -239,37 +249,6 @@ def _storage_failure(exc: Exception, spec: StorageSpec) -> Exception:
                 line = f"no space left on device ({line})"
             return StorageError(f"storage {spec.shown}: {type(cause).__name__}: {line}")
     return exc
-
-
-def _operators(trials: int, operators: str | Operators, population_size: int | None) -> Operators:
-    """The NSGA-II operators: a named set sized to the budget, or the given ones (population overridden)."""
-    if isinstance(operators, str):
-        return Operators.for_budget(trials, operators, population_size)
-    return dataclasses.replace(operators, population_size=population_size or operators.population_size)
-
-
-def _open_study(
-    problem: Problem,
-    study_name: str,
-    spec: StorageSpec,
-    storage_obj,
-    resume: bool,
-    trials: int,
-    seed: int | None,
-    ops: Operators,
-    space: SearchSpace,
-):
-    """The study to run: ``(study, operators, notes)``: resumed (its stored operators, stale trials failed and
-    retried, the notes saying so) or created."""
-    notes: list[str] = []
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        if resume:
-            study, ops = _load_for_resume(problem, study_name, spec, storage_obj, ops)
-            notes += _prepare_resume(study, spec, space.names, trials)
-        else:
-            study = _create(problem, study_name, spec, storage_obj, trials, seed, ops, space)
-    return study, ops, notes
 
 
 def _load_for_resume(problem: Problem, study_name: str, spec: StorageSpec, storage_obj, ops: Operators):
