@@ -147,14 +147,6 @@ def _heartbeat(storage, trial_id: int, interval: float | None):
         thread.join()
 
 
-def _late_note(number: int) -> str:
-    return (
-        f"trial {number} was failed by another process while this one still evaluated it (its heartbeat "
-        f"was late: this process was starved of CPU or paused); its result was discarded, so its candidate "
-        f"counts at most once, through a retry"
-    )
-
-
 def _tell(study, trial, values, state):
     """Tell ``trial`` only while it is still RUNNING: the told FrozenTrial, or None when another process has
     failed it meanwhile (then it keeps its FAIL and ``values`` count nowhere)."""
@@ -169,31 +161,6 @@ def _tell(study, trial, values, state):
     return told if told.state == (TrialState.COMPLETE if state is None else state) else None
 
 
-def _run_trial(study, trial, evaluator: _Evaluator, storage, heartbeat: float | None):
-    """Evaluate and tell one asked trial: ``(told FrozenTrial, None)``, or ``(None, note)`` when another
-    process failed the trial before its result was told."""
-    import optuna
-
-    from optuna.exceptions import UpdateFinishedTrialError
-
-    from optuna.trial import TrialState
-
-    values, state = None, None
-    try:
-        with _heartbeat(storage, trial._trial_id, heartbeat):
-            try:
-                values = evaluator(trial)
-            except optuna.TrialPruned:
-                state = TrialState.PRUNED
-    except UpdateFinishedTrialError:  # a write to the trial (an attribute, a parameter) was refused
-        return None, _late_note(trial.number)
-    except BaseException:  # Ctrl-C or a bug: the trial fails (a resume retries it) and the error goes on
-        _tell(study, trial, None, TrialState.FAIL)
-        raise
-    told = _tell(study, trial, values, state)
-    return told, (_late_note(trial.number) if told is None else None)
-
-
 def _work(study, evaluator: _Evaluator, budget: int, storage, on_trial=None) -> list[str]:
     """Ask, evaluate and tell trials until the study holds ``budget`` COMPLETE trials; returns notes.
 
@@ -205,6 +172,8 @@ def _work(study, evaluator: _Evaluator, budget: int, storage, on_trial=None) -> 
     (``--resume`` finishes such a study).
     """
     import optuna
+
+    from optuna.exceptions import UpdateFinishedTrialError
 
     from optuna.trial import TrialState
 
@@ -224,10 +193,27 @@ def _work(study, evaluator: _Evaluator, budget: int, storage, on_trial=None) -> 
             time.sleep(min(interval, 1.0))
             continue
         waited_on.clear()
-        told, note = _run_trial(study, study.ask(), evaluator, storage, interval)
-        if note is not None:
-            notes.append(note)
-        if on_trial is not None and told is not None:
+        trial, values, state = study.ask(), None, None
+        try:
+            with _heartbeat(storage, trial._trial_id, interval):
+                try:
+                    values = evaluator(trial)
+                except optuna.TrialPruned:
+                    state = TrialState.PRUNED
+        except UpdateFinishedTrialError:  # a write to the trial (an attribute, a parameter) was refused
+            told = None
+        except BaseException:  # Ctrl-C or a bug: the trial fails (a resume retries it) and the error goes on
+            _tell(study, trial, None, TrialState.FAIL)
+            raise
+        else:
+            told = _tell(study, trial, values, state)  # None: another process failed the trial before
+        if told is None:
+            notes.append(
+                f"trial {trial.number} was failed by another process while this one still evaluated it (its "
+                f"heartbeat was late: this process was starved of CPU or paused); its result was discarded, so "
+                f"its candidate counts at most once, through a retry"
+            )
+        elif on_trial is not None:
             on_trial(study, told, _counts(study))
 
 
