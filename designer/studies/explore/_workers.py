@@ -267,46 +267,23 @@ def _run_worker(
         return _work(study, evaluator, budget, storage_obj, on_trial)
 
 
-def _stop_workers(procs) -> None:
-    """Stop the pool after an interruption: workers that did not get the signal themselves (``kill`` of this
-    process only) get SIGINT and end their trial as after Ctrl-C; one that still runs after 10 s is terminated.
-    Without this, the interpreter's exit would wait for them to finish the whole study."""
-    for p in procs:
-        p.join(timeout=2)  # after Ctrl-C at a terminal they stop by themselves
-    for p in procs:
-        if p.is_alive() and p.pid is not None:
-            with contextlib.suppress(OSError):
-                os.kill(p.pid, signal.SIGINT)
-    for p in procs:
-        p.join(timeout=10)
-        if p.is_alive():
-            p.terminate()
-            p.join(timeout=5)
-
-
 _signalled: list[int] = []
 """The signals a pool worker received (its parent sends SIGINT to stop it): an error after one is the stop's."""
-
-
-def _note_signals() -> None:
-    """In a pool worker: SIGINT and SIGTERM still raise KeyboardInterrupt, and are remembered (:data:`_signalled`),
-    so an error they cause inside a library (a storage's commit cut short) ends the worker quietly."""
-
-    def note(signum, frame):
-        _signalled.append(signum)
-        quiet_after_signal()  # a KeyboardInterrupt inside a weakref callback is not printed as "Exception ignored"
-        raise KeyboardInterrupt
-
-    with contextlib.suppress(ValueError):  # not the main thread
-        signal.signal(signal.SIGINT, note)
-        signal.signal(signal.SIGTERM, note)
 
 
 def _worker_entry(args, notes=None, parent: int | None = None) -> None:  # top level: picklable for multiprocessing
     """One pool worker: run the study, put its notes on the ``notes`` queue (if given).  It ends with its
     parent ``parent`` (a pid), however the parent ends (:func:`designer.children.bind_to_parent`)."""
     bind_to_parent(parent)
-    _note_signals()
+
+    def note(signum, frame):  # SIGINT and SIGTERM still raise KeyboardInterrupt, and are remembered (_signalled),
+        _signalled.append(signum)  # so an error they cause inside a library (a commit cut short) ends it quietly
+        quiet_after_signal()  # a KeyboardInterrupt inside a weakref callback is not printed as "Exception ignored"
+        raise KeyboardInterrupt
+
+    with contextlib.suppress(ValueError):  # not the main thread
+        signal.signal(signal.SIGINT, note)
+        signal.signal(signal.SIGTERM, note)
     try:
         found = _run_worker(*args)
         if notes is not None:
@@ -395,7 +372,19 @@ def _run_pool(problem, spec, study_name, trials, seed, ops, workers, storage_obj
             seen = len(done)
             bar.update(len(done), tracker)
     except KeyboardInterrupt:  # Ctrl-C reaches the whole process group; SIGTERM (`kill PID`) only this process
-        _stop_workers(procs)
+        # stop the pool: workers that did not get the signal themselves get SIGINT and end their trial as after
+        # Ctrl-C; one still running after 10 s is terminated (else the exit would wait for the whole study)
+        for p in procs:
+            p.join(timeout=2)  # after Ctrl-C at a terminal they stop by themselves
+        for p in procs:
+            if p.is_alive() and p.pid is not None:
+                with contextlib.suppress(OSError):
+                    os.kill(p.pid, signal.SIGINT)
+        for p in procs:
+            p.join(timeout=10)
+            if p.is_alive():
+                p.terminate()
+                p.join(timeout=5)
         raise
     for p in procs:
         p.join()
