@@ -144,16 +144,6 @@ class GPResult(Record):
 # --------------------------------------------------------------------------- public API
 
 
-def _families(problem: Problem) -> list[tuple[bool, bool]]:
-    """(groove_free, damper_free) of the families the bounds allow."""
-    b = problem.bounds
-    c0 = problem.conditions.turning.bare_fork_damping
-    groove_options = [False] if b["groove"].high <= 0 else ([True] if b["groove"].low > 0 else [False, True])
-    cd_lo, cd_hi = b["damping"].low - c0, b["damping"].high - c0
-    damper_options = [False] if cd_hi <= 1e-12 else ([True] if cd_lo > 1e-12 else [False, True])
-    return [(g, c) for c in damper_options for g in groove_options]
-
-
 def _solve_continuous(
     problem: Problem,
     weights: tuple[float, float],
@@ -165,7 +155,12 @@ def _solve_continuous(
     turning_cap: float | None = None,
 ) -> list[dict[str, Any]]:
     rows: list[dict[str, Any]] = []
-    for groove_free, damper_free in _families(problem):
+    b = problem.bounds  # the families the bounds allow: (groove_free, damper_free)
+    c0 = problem.conditions.turning.bare_fork_damping
+    groove_options = [False] if b["groove"].high <= 0 else ([True] if b["groove"].low > 0 else [False, True])
+    cd_lo, cd_hi = b["damping"].low - c0, b["damping"].high - c0
+    damper_options = [False] if cd_hi <= 1e-12 else ([True] if cd_lo > 1e-12 else [False, True])
+    for groove_free, damper_free in [(g, c) for c in damper_options for g in groove_options]:
         fam = _Family(problem, groove_free, damper_free, weights, threshold_cap, order, s_max, turning_cap)
         best: tuple[str, dict[str, float], float, int, dict[str, float]] | None = None
         starts: list[dict[str, float] | None] = [None] if fam.single else list(fam.start_points())
