@@ -387,26 +387,6 @@ def fit_turning(
     )
 
 
-def _log_fit(
-    per_damping: np.ndarray, groove_term: np.ndarray, v: np.ndarray, low: float, high: float
-) -> tuple[float, float]:
-    """c_f [N·m/rad] in [low, high] and its standard error (inf if not estimable) for V_c² = a c_f + b
-    (Eq. 7's two terms, ``per_damping`` a and ``groove_term`` b) fitted to the speeds ``v`` in log V_c."""
-
-    def log_model(_x: Any, c_f: float) -> Any:
-        return 0.5 * np.log(per_damping * c_f + groove_term)
-
-    # Residuals in log V_c: measured speeds scatter by a roughly constant
-    # fraction (Fig. 2C spans 1-4 m/s), so relative errors are the noise model.
-    # Start from the single-tread estimate c_f = π I V²/(4 T²) (mean), inside the range.
-    guess = float(np.clip(np.mean(v**2 / per_damping), low * 1.01, high * 0.99))
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")  # a degenerate covariance shows as a non-finite standard error
-        popt, pcov = curve_fit(log_model, np.arange(len(v)), np.log(v), p0=[guess], bounds=(low, high))
-    variance = float(pcov[0, 0])
-    return float(popt[0]), math.sqrt(variance) if variance >= 0 else math.inf
-
-
 def fit_damping(
     trail: npt.ArrayLike,
     inertia: npt.ArrayLike,
@@ -453,7 +433,21 @@ def fit_damping(
             "in the wrong unit?)"
         )
 
-    c_f, se = _log_fit(per_damping, groove_term, v, low, high)
+    # V_c² = a c_f + b (Eq. 7's two terms) fitted with residuals in log V_c: measured speeds scatter by a roughly
+    # constant fraction (Fig. 2C spans 1-4 m/s), so relative errors are the noise model.  Start from the
+    # single-tread estimate c_f = π I V²/(4 T²) (mean), inside the range.
+    guess = float(np.clip(np.mean(v**2 / per_damping), low * 1.01, high * 0.99))
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")  # a degenerate covariance shows as a non-finite standard error
+        popt, pcov = curve_fit(
+            lambda _x, c: 0.5 * np.log(per_damping * c + groove_term),
+            np.arange(len(v)),
+            np.log(v),
+            p0=[guess],
+            bounds=(low, high),
+        )
+    c_f, variance = float(popt[0]), float(pcov[0, 0])
+    se = math.sqrt(variance) if variance >= 0 else math.inf
     if c_f <= low * (1 + 1e-6) or c_f >= high * (1 - 1e-6):
         end = "below" if c_f <= low * (1 + 1e-6) else "above"
         raise InputError(

@@ -52,7 +52,7 @@ def test_table1_wheel_b_disagreement_on_its_own_line():
     c = ck.check_table1()
     (line,) = [x for x in c.disagreements if x.startswith("B:")]
     assert "3.60 m/s, below the 3.80 m/s up to which it was measured stable" in line
-    assert "disagrees by at least 5.3 %, within ±24.7 %, the central 90 % of the paper's ±15 % scatter" in line
+    assert "disagrees by at least 5.32 %, within ±24.7 %, the central 90 % of the paper's ±15 % scatter" in line
     assert len(c.disagreements) == 6  # B and the five measured wheels C–G (each off by more than 1 %)
 
 
@@ -357,15 +357,15 @@ def test_disagreement_bands_and_direction():
     """The band of a disagreement: |e| <= the one-wheel band is within it (the band exactly is within), beyond
     it outside; the direction is 'lower' for e < 0 and 'higher' for e >= 0."""
     assert _disagreement("X", 1.25, 1.0, 0.15, 0.25).endswith(
-        "disagrees by 25.0 % (predicted higher), within ±25.0 %, the central 90 % of the paper's ±15 % scatter "
+        "disagrees by 25 % (predicted higher), within ±25.0 %, the central 90 % of the paper's ±15 % scatter "
         "for one wheel"
     )
     assert _disagreement("X", 0.7, 1.0, 0.15, 0.25) == (
-        "X: predicted 0.70 m/s against 1.00 m/s measured: disagrees by 30.0 % (predicted lower), outside "
+        "X: predicted 0.70 m/s against 1.00 m/s measured: disagrees by 30 % (predicted lower), outside "
         "±25.0 %, the central 90 % of the paper's ±15 % scatter for one wheel"
     )
     assert _disagreement("X", 1.0, 1.0, 0.15, 0.25).startswith(
-        "X: predicted 1.00 m/s against 1.00 m/s measured: disagrees by 0.0 % (predicted higher), within"
+        "X: predicted 1.00 m/s against 1.00 m/s measured: disagrees by 0 % (predicted higher), within"
     )
     assert "outside ±16.4 %, the central 90 % of the paper's ±10 % scatter" in _disagreement("X", 1.2, 1.0, 0.1, 0.1645)
 
@@ -847,12 +847,12 @@ def test_table1_disagreement_lines_pinned():
     band = "within ±24.7 %, the central 90 % of the paper's ±15 % scatter for one wheel"
     assert list(ck.check_table1().disagreements) == [
         "B: predicted to shimmy at 3.60 m/s, below the 3.80 m/s up to which it was measured stable: disagrees "
-        "by at least 5.3 %, " + band,
+        "by at least 5.32 %, " + band,
         "C: predicted 2.00 m/s against 2.39 m/s measured: disagrees by 16.4 % (predicted lower), " + band,
-        "D: predicted 1.85 m/s against 1.77 m/s measured: disagrees by 4.4 % (predicted higher), " + band,
+        "D: predicted 1.85 m/s against 1.77 m/s measured: disagrees by 4.44 % (predicted higher), " + band,
         "E: predicted 1.63 m/s against 1.46 m/s measured: disagrees by 11.9 % (predicted higher), " + band,
         "F: predicted 1.46 m/s against 1.58 m/s measured: disagrees by 7.5 % (predicted lower), " + band,
-        "G: predicted 1.12 m/s against 1.20 m/s measured: disagrees by 6.9 % (predicted lower), " + band,
+        "G: predicted 1.12 m/s against 1.20 m/s measured: disagrees by 6.87 % (predicted lower), " + band,
     ]
     assert _disagreement("X", 1.0, 2.0, 0.15, 0.25).endswith(
         "outside ±25.0 %, the central 90 % of the paper's ±15 % scatter for one wheel"

@@ -68,7 +68,12 @@ class _Family:
         self._shimmy_constraint(terms, constraints)
         self._limit_constraints(terms, threshold_cap, constraints)
         self.constraints = constraints
-        self.cp_problem: Any = cp.Problem(cp.Minimize(self._minimised(terms, weights)), list(constraints.values()))
+        objective: Any = _objective(terms, weights)  # J = w_turn F_turn + w_threshold P in GP form
+        if _constant(objective) and "trail" in self.variables:
+            # nothing in J depends on a variable (e.g. w_turn = 0 with d fixed): any feasible point is optimal;
+            # a negligible T⁻¹ term makes the answer definite (the longest feasible trail)
+            objective = objective + 1e-12 * _value(objective) * self.box["trail"][1] * self.variables["trail"] ** -1
+        self.cp_problem: Any = cp.Problem(cp.Minimize(objective), list(constraints.values()))
         self.solves = 0
 
     def _build_variables(self, groove_free: bool, damper_free: bool) -> None:
@@ -76,11 +81,8 @@ class _Family:
         lacks, a float for a fixed one, else a positive cvxpy Variable (floored when its lower bound is 0)."""
         c0 = self.problem.conditions.turning.bare_fork_damping
         b = self.problem.bounds
-        # box of each variable in GP form (c_d = c_f - c_0)
         self.box: dict[str, tuple[float, float]] = {
-            "trail": (b["trail"].low, b["trail"].high),
-            "diameter": (b["diameter"].low, b["diameter"].high),
-            "groove": (b["groove"].low, b["groove"].high),
+            **{k: (b[k].low, b[k].high) for k in ("trail", "diameter", "groove")},
             "added_damping": (max(b["damping"].low - c0, 0.0), max(b["damping"].high - c0, 0.0)),
         }
         free = {"trail": True, "diameter": True, "groove": groove_free, "added_damping": damper_free}
@@ -143,15 +145,6 @@ class _Family:
                 self.infeasible_constant |= _value(limited) > limit * slack
             else:
                 constraints[name] = limited <= limit
-
-    def _minimised(self, terms: dict[str, Any], weights: tuple[float, float]) -> Any:
-        """The objective J = w_turn F_turn + w_threshold P in GP form."""
-        objective: Any = _objective(terms, weights)
-        if _constant(objective) and "trail" in self.variables:
-            # nothing in J depends on a variable (e.g. w_turn = 0 with d fixed): any feasible point is optimal;
-            # a negligible T⁻¹ term makes the answer definite (the longest feasible trail)
-            objective = objective + 1e-12 * _value(objective) * self.box["trail"][1] * self.variables["trail"] ** -1
-        return objective
 
     # ----------------------------------------------------------------- helpers
     def full(self, values: dict[str, float]) -> dict[str, float]:

@@ -144,16 +144,6 @@ class GPResult(Record):
 # --------------------------------------------------------------------------- public API
 
 
-def _families(problem: Problem) -> list[tuple[bool, bool]]:
-    """(groove_free, damper_free) of the families the bounds allow."""
-    b = problem.bounds
-    c0 = problem.conditions.turning.bare_fork_damping
-    groove_options = [False] if b["groove"].high <= 0 else ([True] if b["groove"].low > 0 else [False, True])
-    cd_lo, cd_hi = b["damping"].low - c0, b["damping"].high - c0
-    damper_options = [False] if cd_hi <= 1e-12 else ([True] if cd_lo > 1e-12 else [False, True])
-    return [(g, c) for c in damper_options for g in groove_options]
-
-
 def _solve_continuous(
     problem: Problem,
     weights: tuple[float, float],
@@ -165,7 +155,12 @@ def _solve_continuous(
     turning_cap: float | None = None,
 ) -> list[dict[str, Any]]:
     rows: list[dict[str, Any]] = []
-    for groove_free, damper_free in _families(problem):
+    b = problem.bounds  # the families the bounds allow: (groove_free, damper_free)
+    c0 = problem.conditions.turning.bare_fork_damping
+    groove_options = [False] if b["groove"].high <= 0 else ([True] if b["groove"].low > 0 else [False, True])
+    cd_lo, cd_hi = b["damping"].low - c0, b["damping"].high - c0
+    damper_options = [False] if cd_hi <= 1e-12 else ([True] if cd_lo > 1e-12 else [False, True])
+    for groove_free, damper_free in [(g, c) for c in damper_options for g in groove_options]:
         fam = _Family(problem, groove_free, damper_free, weights, threshold_cap, order, s_max, turning_cap)
         best: tuple[str, dict[str, float], float, int, dict[str, float]] | None = None
         starts: list[dict[str, float] | None] = [None] if fam.single else list(fam.start_points())
@@ -173,8 +168,13 @@ def _solve_continuous(
             status, values, j, iterations = fam.run(start, max_iterations, record)
             if values is None:
                 continue
-            # the multipliers belong to the last GP solved: read them now
-            duals = fam.duals(values) if _last_solution_is(fam, values) else {}
+            # the multipliers belong to the last GP solved: read them now if its variables hold ``values`` (a
+            # failed last solve leaves them empty: its duals are of no solution)
+            held = all(
+                v.value is not None and abs(float(v.value) - values[k]) <= 1e-14 * abs(values[k])
+                for k, v in fam.variables.items()
+            )
+            duals = fam.duals(values) if held else {}
             if best is None or j < best[2] - 1e-12 * abs(j):
                 best = (status, values, j, iterations, duals)
         row = dict(family=fam.name, exact=fam.exact, status="infeasible", solves=fam.solves)
@@ -184,15 +184,6 @@ def _solve_continuous(
             row.update(gp_objective=j, objective=float(problem.evaluate(design).J(weights)), duals=duals or {})
         rows.append(row)
     return rows
-
-
-def _last_solution_is(fam: _Family, values: dict[str, float]) -> bool:
-    """True if the cvxpy variables hold ``values`` (so the duals belong to them); False when the last GP solved
-    failed and left them empty (the duals are then of no solution)."""
-    return all(
-        v.value is not None and abs(float(v.value) - values[k]) <= 1e-14 * abs(values[k])
-        for k, v in fam.variables.items()
-    )
 
 
 def solve_gp(
@@ -250,7 +241,13 @@ def solve_gp(
             if "design" in row:
                 candidates.append((row["objective"], label, wheel, variant, row))
     if not candidates:
-        raise _infeasible(problem, threshold_cap, turning_cap)
+        raise InfeasibleError(  # the target speed and the caps asked for
+            f"{problem.name}: no geometric-programming family is feasible (target speed "
+            f"{problem.required_speed:.3g} m/s"
+            + (f", P <= {threshold_cap:.4g} N" if threshold_cap else "")
+            + (f", F_turn <= {turning_cap:.4g} N" if turning_cap else "")
+            + ")"
+        )
     _, _, wheel, variant, row = min(candidates, key=lambda c: c[0])
     design = row["design"]
     h = variant.conditions.threshold_height
@@ -269,17 +266,6 @@ def solve_gp(
         order=order,
         seconds=time.perf_counter() - t0,
         solves=solves,
-    )
-
-
-def _infeasible(problem: Problem, threshold_cap: float | None, turning_cap: float | None) -> InfeasibleError:
-    """The one-line error of a problem no GP family can solve: the target speed and the caps it asked for."""
-    return InfeasibleError(
-        f"{problem.name}: no geometric-programming family is feasible (target speed "
-        f"{problem.required_speed:.3g} m/s"
-        + (f", P <= {threshold_cap:.4g} N" if threshold_cap else "")
-        + (f", F_turn <= {turning_cap:.4g} N" if turning_cap else "")
-        + ")"
     )
 
 

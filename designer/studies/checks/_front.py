@@ -97,7 +97,10 @@ def _tighter_check(front: Front, tighter: Front) -> Check:
         expected="every point of the tighter front weakly dominated by the looser front",
     )
     if not tighter.points:
-        speed = highest_critical_speed(tighter.problem)
+        from designer.solvers.nlp import max_critical_speed
+
+        # the highest V_q (risk bound) or V_c inside the bounds, over the catalog wheels, by IPOPT
+        speed = max(max_critical_speed(v)[0] for v in tighter.problem.variants())
         return check(
             got=f"not applicable: the tighter target is out of reach (highest {'V_c' if problem.risk is None else 'V_q'} "
             f"{shown(speed, 'critical_speed')} < {shown(tighter.problem.required_speed, 'critical_speed')} required)",
@@ -115,14 +118,6 @@ def _tighter_check(front: Front, tighter: Front) -> Check:
         detail=f"tighter target {tighter.problem.target_speed:.3g} m/s vs {problem.target_speed:.3g} m/s; "
         f"exact test: the looser problem's min F_turn at each tighter point's P",
     )
-
-
-def highest_critical_speed(problem: Problem) -> float:
-    """Highest speed the shimmy constraint reaches inside the bounds of ``problem`` [m/s] (over its catalog
-    wheels), by IPOPT: V_q of the risk bound, or Eq. 7's V_c for a nominal problem."""
-    from designer.solvers.nlp import max_critical_speed
-
-    return max(max_critical_speed(v)[0] for v in problem.variants())
 
 
 def dominated_by_problem(problem: Problem, other_front: Front, rel_tol: float = 1e-7) -> tuple[int, int]:

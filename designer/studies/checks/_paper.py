@@ -17,6 +17,7 @@ from designer.data.paper import (
     TABLE1_TRAIL,
     WALKING_SPEED,
 )
+from designer.display import percent
 from designer.model import Conditions, critical_speed, evaluate
 from designer.physics.inertia import PowerLaw, fit_table1_power_law
 from designer.physics.shimmy import routh_hurwitz_critical_speed, critical_speed_hydraulic
@@ -50,10 +51,6 @@ IDENTITY_TOLERANCE = 0.005
 """Checks 3 and 4: the built-in factors (+10 %, ×2) to ±0.5 %; check 5 is exact to 1e-9."""
 
 
-def _pct(x: float) -> str:
-    return f"{100 * x:.1f} %"
-
-
 def _disagreement(
     name: str, predicted: float, measured: float, scatter: float, single: float, stable_bound: bool = False
 ) -> str:
@@ -65,12 +62,12 @@ def _disagreement(
     if stable_bound:
         return (
             f"{name}: predicted to shimmy at {predicted:.2f} m/s, below the {measured:.2f} m/s up to which it "
-            f"was measured stable: disagrees by at least {_pct(abs(e))}, {where}"
+            f"was measured stable: disagrees by at least {percent(abs(e))}, {where}"
         )
     direction = "lower" if e < 0 else "higher"
     return (
         f"{name}: predicted {predicted:.2f} m/s against {measured:.2f} m/s measured: disagrees by "
-        f"{_pct(abs(e))} (predicted {direction}), {where}"
+        f"{percent(abs(e))} (predicted {direction}), {where}"
     )
 
 

@@ -87,7 +87,7 @@ def _prepare_resume(study, spec: StorageSpec, search_space_names, trials: int) -
     return notes
 
 
-# long only by its docstring, which documents every option; the body is about 55 lines
+# long only by its docstring, which documents every option; the body is about 75 lines
 @checked(
     trials=Count(1, MAX_TRIALS, what="trials"),
     seed=SEED,
@@ -157,19 +157,35 @@ def explore(
 
     problem = problem_argument(problem)
     spec = parse_storage(storage)
-    _check_arguments(workers, resume, spec)
+    if workers > 1 and not spec.shared:  # the counts' ranges: ``checked`` above
+        raise InputError(
+            f"--workers {workers}: several processes need a shared storage; add --storage "
+            f"journal:///path/study.log (one machine) or sqlite:///study.db / postgresql://…"
+        )
+    if resume and not spec.shared:
+        raise InputError("--resume: an in-memory study cannot be resumed; use --storage journal:///path/study.log")
     space = search_space(problem)
     if not space.continuous and not space.categorical:
         raise InputError(f"{problem.name}: every variable is fixed; nothing to explore")
     study_name = study_name or f"{problem.name}-explore"
-    ops = _operators(trials, operators, population_size)
+    if isinstance(operators, str):  # a named set sized to the budget, or the given ones (population overridden)
+        ops = Operators.for_budget(trials, operators, population_size)
+    else:
+        ops = dataclasses.replace(operators, population_size=population_size or operators.population_size)
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     exact = _exact_front(problem) if compare else None
     reference = exact["reference_point"] if exact and "reference_point" in exact else _box_reference(problem)
 
     storage_obj = open_storage(spec, break_lock=resume)
-    study, ops, notes = _open_study(problem, study_name, spec, storage_obj, resume, trials, seed, ops, space)
+    notes: list[str] = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if resume:  # its stored operators, stale trials failed and retried, the notes saying so
+            study, ops = _load_for_resume(problem, study_name, spec, storage_obj, ops)
+            notes += _prepare_resume(study, spec, space.names, trials)
+        else:
+            study = _create(problem, study_name, spec, storage_obj, trials, seed, ops, space)
 
     complete_before = _counts(study)[TrialState.COMPLETE]
     tracker = _FrontTracker(reference)
@@ -195,7 +211,10 @@ def explore(
     seconds = time.perf_counter() - t0
     complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
     if len(complete) < trials:
-        notes.append(_incomplete_note(study, len(complete), trials))
+        running = len(study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)))
+        notes.append(
+            f"{len(complete)} of {trials} trials complete ({running} still running elsewhere); run again with --resume"
+        )
     result = _collect(problem, space, study, complete, ops, refine, exact, reference)
     result.update(
         study_name=study_name,
@@ -230,56 +249,6 @@ def _storage_failure(exc: Exception, spec: StorageSpec) -> Exception:
                 line = f"no space left on device ({line})"
             return StorageError(f"storage {spec.shown}: {type(cause).__name__}: {line}")
     return exc
-
-
-def _operators(trials: int, operators: str | Operators, population_size: int | None) -> Operators:
-    """The NSGA-II operators: a named set sized to the budget, or the given ones (population overridden)."""
-    if isinstance(operators, str):
-        return Operators.for_budget(trials, operators, population_size)
-    return dataclasses.replace(operators, population_size=population_size or operators.population_size)
-
-
-def _open_study(
-    problem: Problem,
-    study_name: str,
-    spec: StorageSpec,
-    storage_obj,
-    resume: bool,
-    trials: int,
-    seed: int | None,
-    ops: Operators,
-    space: SearchSpace,
-):
-    """The study to run: ``(study, operators, notes)``: resumed (its stored operators, stale trials failed and
-    retried, the notes saying so) or created."""
-    notes: list[str] = []
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        if resume:
-            study, ops = _load_for_resume(problem, study_name, spec, storage_obj, ops)
-            notes += _prepare_resume(study, spec, space.names, trials)
-        else:
-            study = _create(problem, study_name, spec, storage_obj, trials, seed, ops, space)
-    return study, ops, notes
-
-
-def _incomplete_note(study, complete: int, trials: int) -> str:
-    """The warning when the study holds fewer than ``trials`` COMPLETE trials (others still running)."""
-    from optuna.trial import TrialState
-
-    running = len(study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)))
-    return f"{complete} of {trials} trials complete ({running} still running elsewhere); run again with --resume"
-
-
-def _check_arguments(workers: int, resume: bool, spec: StorageSpec) -> None:
-    """InputError for workers or resume without a shared storage (the counts' ranges: :func:`explore`'s ``checked``)."""
-    if workers > 1 and not spec.shared:
-        raise InputError(
-            f"--workers {workers}: several processes need a shared storage; add --storage "
-            f"journal:///path/study.log (one machine) or sqlite:///study.db / postgresql://…"
-        )
-    if resume and not spec.shared:
-        raise InputError("--resume: an in-memory study cannot be resumed; use --storage journal:///path/study.log")
 
 
 def _load_for_resume(problem: Problem, study_name: str, spec: StorageSpec, storage_obj, ops: Operators):

@@ -80,9 +80,13 @@ def parse_storage(storage: str | None) -> StorageSpec:
                 f"postgresql://user:password@host/db or journal:///path/file.log"
             )
         url = "postgresql" + text[len(match.group(1).split("+")[0]) :] if scheme == "postgres" else text
+        find = importlib.util.find_spec  # SQLAlchemy 2.1 reads postgresql:// as psycopg (3), but the README (and
+        # the `test` extra) install psycopg2-binary: the installed driver; an explicit postgresql+driver:// is kept
         if scheme == "postgres" or match.group(1).lower() == "postgresql":
-            url = _postgres_driver(url)
-        if in_memory_sqlite(url):
+            if find("psycopg") is None and find("psycopg2") is not None:
+                url = "postgresql+psycopg2://" + url[len("postgresql://") :]
+        path = url.split("://", 1)[1]  # an SQLite URL without a file: sqlite://, sqlite:///, :memory:, mode=memory
+        if scheme == "sqlite" and (path.split("?", 1)[0] in ("", "/") or ":memory:" in path or "mode=memory" in path):
             raise StorageError(
                 f"storage {redact_url(text)!r}: an in-memory SQLite database keeps nothing once the run ends and "
                 f"lives inside one process (--workers cannot share it); use a file (sqlite:///study.db, "
@@ -98,24 +102,6 @@ def parse_storage(storage: str | None) -> StorageSpec:
         f"storage {redact_url(text)!r}: not a storage URL; use sqlite:///file.db, postgresql://user:password@host/db, "
         f"journal:///path/file.log (or a path ending .db or .log)"
     )
-
-
-def in_memory_sqlite(url: str) -> bool:
-    """True for an SQLite URL without a file: ``sqlite://``, ``sqlite:///``, ``sqlite:///:memory:``,
-    ``...mode=memory...``."""
-    if not url.lower().startswith("sqlite"):
-        return False
-    path = url.split("://", 1)[1] if "://" in url else ""
-    return path.split("?", 1)[0] in ("", "/") or ":memory:" in path or "mode=memory" in path
-
-
-def _postgres_driver(url: str) -> str:
-    """``postgresql://`` with the driver that is installed: SQLAlchemy 2.1 reads it as psycopg (3), but the
-    README (and the `test` extra) install psycopg2-binary; an explicit ``postgresql+driver://`` is kept."""
-
-    if importlib.util.find_spec("psycopg") is None and importlib.util.find_spec("psycopg2") is not None:
-        return "postgresql+psycopg2://" + url[len("postgresql://") :]
-    return url
 
 
 SECRET_QUERY_KEYS = SECRET_KEYS
@@ -305,20 +291,6 @@ SQLITE = FileKind("an SQLite database of optuna's schema", _optuna_sqlite)
 """What ``--storage FILE.db`` may write into: a new or empty file, or an optuna SQLite database."""
 
 
-def check_storage_file(spec: StorageSpec) -> None:
-    """StorageError (exit 6, the code of every storage problem, docs/commands.md) unless the file of a journal or
-    SQLite storage can be written and is new, empty or optuna's own (:func:`designer.output.check_file`'s rule
-    and words): a user's notes.log or database is never written into, a read-only folder, a loop of links or
-    a name too long is named as such."""
-    try:
-        if spec.kind == "journal":
-            check_file(spec.url, "--storage", example="study.log", kind=JOURNAL)
-        elif storage_file(spec) is not None:
-            check_file(storage_file(spec), "--storage", example="study.db", kind=SQLITE)
-    except OutputError as exc:
-        raise StorageError(str(exc)) from None
-
-
 def storage_file(spec: StorageSpec) -> Path | None:
     """The file of a journal or SQLite storage (None for memory and a database server)."""
     if spec.kind == "journal":
@@ -358,7 +330,15 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
     path = storage_file(spec)  # a journal or an SQLite file (None: a database server)
     if path is not None and not path.parent.is_dir():
         raise StorageError(f"storage {spec.shown}: folder {path.parent} does not exist")
-    check_storage_file(spec)  # a folder, or a file that is not optuna's journal or database: exit 6
+    # StorageError (exit 6, every storage problem's code) unless the file can be written and is new, empty or
+    # optuna's own (designer.output.check_file's rule and words): a user's notes.log or database is never
+    # written into, a read-only folder, a loop of links or a name too long is named as such
+    try:
+        if path is not None:
+            kind, example = (JOURNAL, "study.log") if spec.kind == "journal" else (SQLITE, "study.db")
+            check_file(path, "--storage", example=example, kind=kind)
+    except OutputError as exc:
+        raise StorageError(str(exc)) from None
     other = None if path is None else not_a_file(path)  # the readers' rule: a device (/dev/stdout) or a FIFO
     if other is not None:
         expected = "a journal file" if spec.kind == "journal" else "an SQLite database file"
@@ -373,7 +353,12 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
         if break_lock:
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(f"{path}.lock")
-        _repair_journal(path)
+        if path.exists() and path.stat().st_size:  # drop a partial last line left by a process killed in
+            with open(path, "rb+") as f:  # mid-write (it would corrupt the next append)
+                f.seek(-1, os.SEEK_END)
+                if f.read(1) != b"\n":
+                    data = f.seek(0) or f.read()
+                    f.truncate(data.rfind(b"\n") + 1)
         return JournalStorage(JournalFileBackend(str(path), lock_obj=JournalFileOpenLock(str(path), grace_period=10)))
     except Exception as exc:  # noqa: BLE001 - every failure becomes one line
         line = scrub(_one_line(exc), spec.url)
@@ -383,18 +368,6 @@ def open_storage(spec: StorageSpec, break_lock: bool = False):
                 f"PostgreSQL: pip install psycopg2-binary, MySQL: pip install pymysql"
             ) from None
         raise StorageError(f"storage {spec.shown}: cannot open it ({type(exc).__name__}: {line})") from None
-
-
-def _repair_journal(path: Path) -> None:
-    """Drop a partial last line left by a process killed in mid-write (it would corrupt the next append)."""
-    if not path.exists() or path.stat().st_size == 0:
-        return
-    with open(path, "rb+") as f:
-        f.seek(-1, os.SEEK_END)
-        if f.read(1) == b"\n":
-            return
-        data = f.seek(0) or f.read()
-        f.truncate(data.rfind(b"\n") + 1)
 
 
 # --------------------------------------------------------------------------- atomic writes

@@ -147,14 +147,6 @@ def _heartbeat(storage, trial_id: int, interval: float | None):
         thread.join()
 
 
-def _late_note(number: int) -> str:
-    return (
-        f"trial {number} was failed by another process while this one still evaluated it (its heartbeat "
-        f"was late: this process was starved of CPU or paused); its result was discarded, so its candidate "
-        f"counts at most once, through a retry"
-    )
-
-
 def _tell(study, trial, values, state):
     """Tell ``trial`` only while it is still RUNNING: the told FrozenTrial, or None when another process has
     failed it meanwhile (then it keeps its FAIL and ``values`` count nowhere)."""
@@ -169,31 +161,6 @@ def _tell(study, trial, values, state):
     return told if told.state == (TrialState.COMPLETE if state is None else state) else None
 
 
-def _run_trial(study, trial, evaluator: _Evaluator, storage, heartbeat: float | None):
-    """Evaluate and tell one asked trial: ``(told FrozenTrial, None)``, or ``(None, note)`` when another
-    process failed the trial before its result was told."""
-    import optuna
-
-    from optuna.exceptions import UpdateFinishedTrialError
-
-    from optuna.trial import TrialState
-
-    values, state = None, None
-    try:
-        with _heartbeat(storage, trial._trial_id, heartbeat):
-            try:
-                values = evaluator(trial)
-            except optuna.TrialPruned:
-                state = TrialState.PRUNED
-    except UpdateFinishedTrialError:  # a write to the trial (an attribute, a parameter) was refused
-        return None, _late_note(trial.number)
-    except BaseException:  # Ctrl-C or a bug: the trial fails (a resume retries it) and the error goes on
-        _tell(study, trial, None, TrialState.FAIL)
-        raise
-    told = _tell(study, trial, values, state)
-    return told, (_late_note(trial.number) if told is None else None)
-
-
 def _work(study, evaluator: _Evaluator, budget: int, storage, on_trial=None) -> list[str]:
     """Ask, evaluate and tell trials until the study holds ``budget`` COMPLETE trials; returns notes.
 
@@ -205,6 +172,8 @@ def _work(study, evaluator: _Evaluator, budget: int, storage, on_trial=None) -> 
     (``--resume`` finishes such a study).
     """
     import optuna
+
+    from optuna.exceptions import UpdateFinishedTrialError
 
     from optuna.trial import TrialState
 
@@ -224,10 +193,27 @@ def _work(study, evaluator: _Evaluator, budget: int, storage, on_trial=None) -> 
             time.sleep(min(interval, 1.0))
             continue
         waited_on.clear()
-        told, note = _run_trial(study, study.ask(), evaluator, storage, interval)
-        if note is not None:
-            notes.append(note)
-        if on_trial is not None and told is not None:
+        trial, values, state = study.ask(), None, None
+        try:
+            with _heartbeat(storage, trial._trial_id, interval):
+                try:
+                    values = evaluator(trial)
+                except optuna.TrialPruned:
+                    state = TrialState.PRUNED
+        except UpdateFinishedTrialError:  # a write to the trial (an attribute, a parameter) was refused
+            told = None
+        except BaseException:  # Ctrl-C or a bug: the trial fails (a resume retries it) and the error goes on
+            _tell(study, trial, None, TrialState.FAIL)
+            raise
+        else:
+            told = _tell(study, trial, values, state)  # None: another process failed the trial before
+        if told is None:
+            notes.append(
+                f"trial {trial.number} was failed by another process while this one still evaluated it (its "
+                f"heartbeat was late: this process was starved of CPU or paused); its result was discarded, so "
+                f"its candidate counts at most once, through a retry"
+            )
+        elif on_trial is not None:
             on_trial(study, told, _counts(study))
 
 
@@ -281,46 +267,23 @@ def _run_worker(
         return _work(study, evaluator, budget, storage_obj, on_trial)
 
 
-def _stop_workers(procs) -> None:
-    """Stop the pool after an interruption: workers that did not get the signal themselves (``kill`` of this
-    process only) get SIGINT and end their trial as after Ctrl-C; one that still runs after 10 s is terminated.
-    Without this, the interpreter's exit would wait for them to finish the whole study."""
-    for p in procs:
-        p.join(timeout=2)  # after Ctrl-C at a terminal they stop by themselves
-    for p in procs:
-        if p.is_alive() and p.pid is not None:
-            with contextlib.suppress(OSError):
-                os.kill(p.pid, signal.SIGINT)
-    for p in procs:
-        p.join(timeout=10)
-        if p.is_alive():
-            p.terminate()
-            p.join(timeout=5)
-
-
 _signalled: list[int] = []
 """The signals a pool worker received (its parent sends SIGINT to stop it): an error after one is the stop's."""
-
-
-def _note_signals() -> None:
-    """In a pool worker: SIGINT and SIGTERM still raise KeyboardInterrupt, and are remembered (:data:`_signalled`),
-    so an error they cause inside a library (a storage's commit cut short) ends the worker quietly."""
-
-    def note(signum, frame):
-        _signalled.append(signum)
-        quiet_after_signal()  # a KeyboardInterrupt inside a weakref callback is not printed as "Exception ignored"
-        raise KeyboardInterrupt
-
-    with contextlib.suppress(ValueError):  # not the main thread
-        signal.signal(signal.SIGINT, note)
-        signal.signal(signal.SIGTERM, note)
 
 
 def _worker_entry(args, notes=None, parent: int | None = None) -> None:  # top level: picklable for multiprocessing
     """One pool worker: run the study, put its notes on the ``notes`` queue (if given).  It ends with its
     parent ``parent`` (a pid), however the parent ends (:func:`designer.children.bind_to_parent`)."""
     bind_to_parent(parent)
-    _note_signals()
+
+    def note(signum, frame):  # SIGINT and SIGTERM still raise KeyboardInterrupt, and are remembered (_signalled),
+        _signalled.append(signum)  # so an error they cause inside a library (a commit cut short) ends it quietly
+        quiet_after_signal()  # a KeyboardInterrupt inside a weakref callback is not printed as "Exception ignored"
+        raise KeyboardInterrupt
+
+    with contextlib.suppress(ValueError):  # not the main thread
+        signal.signal(signal.SIGINT, note)
+        signal.signal(signal.SIGTERM, note)
     try:
         found = _run_worker(*args)
         if notes is not None:
@@ -409,7 +372,19 @@ def _run_pool(problem, spec, study_name, trials, seed, ops, workers, storage_obj
             seen = len(done)
             bar.update(len(done), tracker)
     except KeyboardInterrupt:  # Ctrl-C reaches the whole process group; SIGTERM (`kill PID`) only this process
-        _stop_workers(procs)
+        # stop the pool: workers that did not get the signal themselves get SIGINT and end their trial as after
+        # Ctrl-C; one still running after 10 s is terminated (else the exit would wait for the whole study)
+        for p in procs:
+            p.join(timeout=2)  # after Ctrl-C at a terminal they stop by themselves
+        for p in procs:
+            if p.is_alive() and p.pid is not None:
+                with contextlib.suppress(OSError):
+                    os.kill(p.pid, signal.SIGINT)
+        for p in procs:
+            p.join(timeout=10)
+            if p.is_alive():
+                p.terminate()
+                p.join(timeout=5)
         raise
     for p in procs:
         p.join()

@@ -373,7 +373,12 @@ def _optimise(problem: Problem, weights: Sequence[float] | None, cross_check: bo
         # SLSQP on the chosen variant, from the NLP optimum and random starts
         checks["scipy-slsqp"] = solver("scipy-slsqp").optimum(variant, w, starts=[design]).objective
         if gp is not None:
-            checks["cvxpy-gp"] = _gp_polished(variant, gp.result, w)
+            from designer.solvers import gp as gp_module
+
+            try:
+                checks["cvxpy-gp"] = float(gp_module.polish(variant, gp.result, w)[1])
+            except Exception:
+                checks["cvxpy-gp"] = float("nan")
     wheel = wheel_of(variant) if problem.wheels else None
     return Solution(
         problem=variant if problem.wheels else problem,
@@ -402,16 +407,6 @@ def _gp(problem: Problem, weights: Sequence[float]) -> Optimum | None:
     except Exception:  # the GP is a cross-check (cvxpy missing included); its failure is reported, not fatal
         return None
     return found if found.success else None
-
-
-def _gp_polished(problem: Problem, gp: GPResult, weights: Sequence[float]) -> float:
-    from designer.solvers import gp as gp_module
-
-    try:
-        _, j = gp_module.polish(problem, gp, weights)
-        return float(j)
-    except Exception:
-        return float("nan")
 
 
 def diagnose_infeasible(problem: Problem) -> Exception:
