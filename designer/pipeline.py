@@ -266,7 +266,10 @@ def report_data(
             if tradeoff is None:
                 tradeoff = groove_damper_tradeoff(problem)
         with clock("curves"):
-            curves = report_curves(problem, front, *_plane_design(problem, front, solution))
+            # the groove–damper plane's design: the weighted optimum's, else the front's weighted best point's
+            best = solution if solution is not None else front.weighted_best()
+            conditions = solution.problem.conditions if solution is not None else problem.conditions
+            curves = report_curves(problem, front, *((best.design, conditions) if best is not None else (None, None)))
     paper_checks = [c for c in checks if not c.name.startswith("8")]
     front_checks = [c for c in checks if c.name.startswith("8")]
     reason, reason_short = degenerate_reason(problem, front)
@@ -309,15 +312,6 @@ def report_data(
         degenerate_reason_short=reason_short,
         run=run,
     )
-
-
-def _plane_design(problem: Problem, front: Front, solution: Solution | None) -> tuple[Any, Any]:
-    """The design of the groove–damper plane and its conditions: the weighted optimum's, else the front's
-    weighted best point's under the problem's conditions; (None, None) without either."""
-    if solution is not None:
-        return solution.design, solution.problem.conditions
-    best = front.weighted_best()
-    return (best.design, problem.conditions) if best is not None else (None, None)
 
 
 def robust_data(problem: Problem, points: int = ROBUST_POINTS) -> RobustData:

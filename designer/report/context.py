@@ -304,11 +304,6 @@ def _tradeoff_rows(problem, rows) -> list[dict]:
     return out
 
 
-def _knock_cell(knock: dict | None, key: str) -> str:
-    """One knock-safe speed of one caster [m/s] (:data:`designer.display.MISSING` where not computed)."""
-    return display.shown((knock or {}).get(key), "critical_speed")
-
-
 CARD_HEADER = [
     "trail T",
     "diameter d",
@@ -435,18 +430,16 @@ def spec_rows(spec, units: str) -> list[list[str]]:
             spread = tol if isinstance(tol, str) else f"≤ {display.shown(tol, dimension='inertia')} measured"
         else:  # a spread is finer than the sizes' 1/16 in: always to 0.01 mm
             spread = "± " + " (".join(length(tol)[:: -1 if units == "in" else 1]) + ")"
-        limit = "; ".join(_limit_cell(lim, units) for lim in row["limits"]) or "—"
+        limit = "; ".join(  # in the problem's unit first, with what it protects ("min 56.11 mm (2.209 in) [risk]")
+            f"{lim.side} none"
+            if lim.value is None
+            else f"{lim.side} {lim.shown_in(units)} [{lim.protects}" + ("; no window" if lim.no_window else "") + "]"
+            for lim in row["limits"]
+        )
+        limit = limit or "—"
         joint = box.get(row["part"], "—")
         rows.append([row["label"], shown(row["nominal"], row["part"]), spread, joint, limit, row["measure"]])
     return rows
-
-
-def _limit_cell(lim, units: str = "mm") -> str:
-    """A one-at-a-time limit in the problem's unit first, with what it protects ("min 56.11 mm (2.209 in) [risk]";
-    "max ... [footrest; no window above nominal]")."""
-    if lim.value is None:
-        return f"{lim.side} none"
-    return f"{lim.side} {lim.shown_in(units)} [{lim.protects}" + ("; no window" if lim.no_window else "") + "]"
 
 
 def limit_notes(spec, units: str = "mm") -> list[str]:
@@ -569,8 +562,11 @@ def _after_panels(data: ReportData, units: str, level: str) -> list[Panel]:
         )
         header = ["caster", "V_c (Eq. 7)", f"{theta0:.0f}° knock", f"{2 * theta0:.0f}° knock"]
         keys = ("knock_safe_speed", "knock_safe_speed_double")
-        rows = [
-            [c.role, display.shown(c.critical_speed, "critical_speed"), *(_knock_cell(k, key) for key in keys)]
+        rows = [  # knock-safe speeds shown as V_c is, MISSING where not computed
+            [
+                c.role,
+                *(display.shown(v, "critical_speed") for v in (c.critical_speed, *((k or {}).get(x) for x in keys))),
+            ]
             for c, k in zip(casters, knocks)
         ]
         table = PanelTable(header, rows, [False, True, True, True], first_row_marked=True)

@@ -78,7 +78,8 @@ def _front_marks(data) -> tuple[list, list]:
         label = f"weighted optimum (w = {w[0]:g}, {w[1]:g}; not the recommendation)"
         objectives = data.solution.objectives
         weighted = mark("weighted", label, objectives["threshold_force"], objectives["turning_effort"])
-        if knee is not None and _coincide(marks[-1], weighted, front.objectives()):
+        span, keys = COINCIDENT * np.ptp(front.objectives(), axis=0), ("turning_effort", "threshold_force")
+        if knee is not None and all(abs(marks[-1][k] - weighted[k]) <= s for k, s in zip(keys, span)):
             # one spot, one legend entry: the cross is drawn inside the knee's circle
             marks[-1]["label"] = f"knee of the continuous front = weighted optimum (w = {w[0]:g}, {w[1]:g}): {at_knee}"
             weighted["label"] = ""
@@ -90,15 +91,6 @@ COINCIDENT = 0.02
 """Two marked designs closer than this fraction of the front's range in both P and F_turn are drawn on one
 spot (the knee's circle, 170 pt², has a radius of about 2 % of the front figure's axes): they share one legend
 entry."""
-
-
-def _coincide(a: dict, b: dict, objectives) -> bool:
-    """``a`` and ``b`` (marks) fall on one spot of the front figure (:data:`COINCIDENT`)."""
-    span = np.ptp(np.asarray(objectives, float), axis=0)  # (F_turn, P) ranges of the front [N]
-    return bool(
-        abs(a["turning_effort"] - b["turning_effort"]) <= COINCIDENT * span[0]
-        and abs(a["threshold_force"] - b["threshold_force"]) <= COINCIDENT * span[1]
-    )
 
 
 def _front(data) -> dict:
@@ -128,41 +120,20 @@ def _front(data) -> dict:
     }
 
 
-def _variables(data) -> dict:
-    front = data.front
-    return {
-        "threshold_force": [p.threshold_force for p in front.points],
-        "designs": front.designs(),
-        "families": [p.family for p in front.points],
-        "bounds": [data.problem.bounds[k] for k in ("trail", "diameter", "groove", "damping")],
-        "gaps": data.gaps,
-        "hover": [point_text(p, data.problem.units) for p in front.points],
-    }
-
-
-def _groove_damper(data) -> dict:
-    problem = data.problem
-    best = data.front.weighted_best()
-    design = data.solution.design if data.solution is not None else best.design if best is not None else None
-    return {
-        "name": problem.name,
-        "required_speed": problem.required_speed,
-        "bounds": problem.bounds,
-        "tradeoff": data.tradeoff,
-        "design": design,
-        "plane": data.curves.get("plane"),
-        "robust": (data.solution.problem if data.solution is not None else problem).conditions.uncertainty is not None,
-        "catalog": bool(problem.wheels),
-    }
-
-
 def arguments(name: str, data) -> dict:
     """The keyword arguments of ``figure_<name>`` (:mod:`designer.plots.figures`) for the report ``data``."""
     problem = data.problem
     if name == "front":
         return _front(data)
     if name == "variables":
-        return _variables(data)
+        return {
+            "threshold_force": [p.threshold_force for p in data.front.points],
+            "designs": data.front.designs(),
+            "families": [p.family for p in data.front.points],
+            "bounds": [problem.bounds[k] for k in ("trail", "diameter", "groove", "damping")],
+            "gaps": data.gaps,
+            "hover": [point_text(p, problem.units) for p in data.front.points],
+        }
     if name == "trail":
         return {"required_speed": problem.required_speed, "curves": data.curves["trail"]}
     if name == "inertia":
@@ -175,7 +146,19 @@ def arguments(name: str, data) -> dict:
             "curves": data.curves["threshold"],
         }
     if name == "groove_damper":
-        return _groove_damper(data)
+        best = data.front.weighted_best()
+        design = data.solution.design if data.solution is not None else best.design if best is not None else None
+        solved = data.solution.problem if data.solution is not None else problem
+        return {
+            "name": problem.name,
+            "required_speed": problem.required_speed,
+            "bounds": problem.bounds,
+            "tradeoff": data.tradeoff,
+            "design": design,
+            "plane": data.curves.get("plane"),
+            "robust": solved.conditions.uncertainty is not None,
+            "catalog": bool(problem.wheels),
+        }
     raise ValueError(f"figure {name!r}: expected one of {', '.join(FIGURES)}")
 
 

@@ -143,23 +143,25 @@ def _resolve(value, key, bounds, scales, siblings=None):  # noqa: C901 - one bra
             if k == "problem_definition":
                 out[k] = v
             elif k in MULTIPLIER_GROUPS and isinstance(v, dict):
-                out[k] = {name: multiplier(x) if _is_float(x) else x for name, x in v.items()}
+                out[k] = {name: multiplier(x) if isinstance(x, float) else x for name, x in v.items()}
             elif k in ROOT_GROUPS and isinstance(v, dict):
-                out[k] = {name: on_scale(x, digits=ROOT_SIGNIFICANT) if _is_float(x) else x for name, x in v.items()}
+                out[k] = {
+                    name: on_scale(x, digits=ROOT_SIGNIFICANT) if isinstance(x, float) else x for name, x in v.items()
+                }
             elif k == "constraints" and isinstance(v, dict):
-                out[k] = {name: _margin(name, x, value, scales) if _is_float(x) else x for name, x in v.items()}
+                out[k] = {name: _margin(name, x, value, scales) if isinstance(x, float) else x for name, x in v.items()}
             else:
                 out[k] = _resolve(v, k, bounds, scales, value)
         return out
     if isinstance(value, list):
         return [_resolve(v, key, bounds, scales, siblings) for v in value]
-    if not _is_float(value):
+    if not isinstance(value, float):
         return value
     if key in VARIABLES:
         return design_value(key, value, bounds)
     if isinstance(key, str) and key.startswith("lambda_"):
         return multiplier(value)
-    if key in DIFFERENCE_SCALE and siblings is not None and _is_float(siblings.get(DIFFERENCE_SCALE[key])):
+    if key in DIFFERENCE_SCALE and siblings is not None and isinstance(siblings.get(DIFFERENCE_SCALE[key]), float):
         return on_scale(value, abs(siblings[DIFFERENCE_SCALE[key]]))
     return on_scale(value)
 
@@ -170,13 +172,9 @@ def _margin(name: str, value: float, solution: dict, scales: dict) -> float:
     if variable in VARIABLE_SCALES and "." in name:
         return on_scale(value, VARIABLE_SCALES[variable])
     scale = scales.get(name)
-    if scale is None and _is_float(solution.get(_MARGIN_SCALE.get(name, ""))):
+    if scale is None and isinstance(solution.get(_MARGIN_SCALE.get(name, "")), float):
         scale = solution[_MARGIN_SCALE[name]]
     return on_scale(value, abs(scale) if scale else None)
-
-
-def _is_float(value) -> bool:
-    return isinstance(value, float)
 
 
 def split_run(run: dict) -> tuple[dict, dict]:

@@ -8,6 +8,7 @@ the Pareto report (shared stylesheet), with one title used by the page and by it
 from __future__ import annotations
 
 import base64
+import contextlib
 import dataclasses
 import json
 from pathlib import Path
@@ -163,7 +164,11 @@ def write_robust_report(data: RobustData, out_dir, option: str = "--out") -> Pat
         page_title = title(data)
         (tmp / "figures").mkdir()
         numbers = stamped("robust.json", _json(data, page_title))
-        png = _kept_figure(Path(out_dir), numbers) or png_bytes(figure(data))
+        old_json, old_png, png = Path(out_dir) / "robust.json", Path(out_dir) / FIGURE, None
+        with contextlib.suppress(OSError, ValueError):  # an agreeing robust.json keeps the PNG's bytes
+            if old_png.is_file() and not compare_json(json.loads(old_json.read_text(encoding="utf-8")), numbers):
+                png = old_png.read_bytes()
+        png = png or png_bytes(figure(data))
         (tmp / FIGURE).write_bytes(png)
         context = {
             "title": page_title,
@@ -183,18 +188,6 @@ def write_robust_report(data: RobustData, out_dir, option: str = "--out") -> Pat
         # date, seconds, versions: beside, never committed
         _write_json(tmp / RUN_FILE, stamped(RUN_FILE, finite(data.run)))
     return Path(out_dir)
-
-
-def _kept_figure(folder: Path, numbers: dict) -> bytes | None:
-    """The PNG of the report in ``folder`` when its robust.json agrees with ``numbers`` (the figure is drawn from
-    them: :func:`figure`), so a rerun keeps its bytes (a PNG cannot be compared by number); None otherwise."""
-    old_json, old_png = folder / "robust.json", folder / FIGURE
-    try:
-        if old_png.is_file() and not compare_json(json.loads(old_json.read_text(encoding="utf-8")), numbers):
-            return old_png.read_bytes()
-    except (OSError, ValueError):
-        return None
-    return None
 
 
 __all__ = ["OWNED", "bound_sentence", "figure", "sentences", "title", "write_robust_report"]

@@ -24,18 +24,6 @@ ACTIVE_REL = 1e-6
 """A design with V_c within this relative distance of V_req sits on the shimmy constraint."""
 
 
-def _damping_phrase(damping: float) -> str:
-    if damping <= BARE_FORK_DAMPING * (1 + 1e-6):
-        return "on the bare fork's bearing (no friction washer)"
-    return f"with a friction washer giving c_f = {shown(damping, 'damping')}"
-
-
-def _groove_phrase(groove: float, units: str) -> str:
-    if groove <= 1e-9:
-        return "a plain tyre (no groove)"
-    return f"a {size(groove, units)} groove"
-
-
 def caster_sentence(rec, units: str = "in") -> str:
     """What to build, in words, sizes as the user writes them (``units``: "in" to 1/16, "mm" to 0.1):
     "a 7 in wheel with a 1/2 in groove in a fork of 2 1/2 in trail, on the bare fork's bearing (no friction
@@ -44,10 +32,11 @@ def caster_sentence(rec, units: str = "in") -> str:
     wheel = f" ({rec.wheel})" if getattr(rec, "wheel", None) else ""
     wheel_size = size(d.diameter, units)
     article = "an" if wheel_size.startswith(("8", "11", "18", "≈ 8", "≈ 11", "≈ 18")) else "a"
-    return (
-        f"{article} {wheel_size} wheel{wheel} with {_groove_phrase(d.groove, units)} in a fork of "
-        f"{size(d.trail, units)} trail, {_damping_phrase(d.damping)}"
-    )
+    groove = "a plain tyre (no groove)" if d.groove <= 1e-9 else f"a {size(d.groove, units)} groove"
+    damping = "on the bare fork's bearing (no friction washer)"
+    if d.damping > BARE_FORK_DAMPING * (1 + 1e-6):
+        damping = f"with a friction washer giving c_f = {shown(d.damping, 'damping')}"
+    return f"{article} {wheel_size} wheel{wheel} with {groove} in a fork of {size(d.trail, units)} trail, {damping}"
 
 
 PLAIN_RULES = {

@@ -127,16 +127,6 @@ def _resolved_front(front, bounds):
     return dataclasses.replace(front, points=[point(p) for p in front.points], failed=[point(p) for p in front.failed])
 
 
-def _front_csv(path: Path, data: ReportData) -> None:
-    """front.csv: the front the problem asks for; with [stock], the buildable front as extra rows
-    (column ``buildable`` true for them, false for the others: :meth:`Front.to_csv`); numbers as resolved."""
-    rec = data.recommendation
-    stocked = getattr(data.problem, "stock", None) is not None and rec is not None
-    bounds = data.problem.bounds
-    buildable = _resolved_front(rec.buildable, bounds) if stocked else None
-    _resolved_front(data.front, bounds).to_csv(path, buildable=buildable)
-
-
 def _write_json(path: Path, value) -> None:
     text = json.dumps(value, indent=2, ensure_ascii=False, allow_nan=False, default=float)
     path.write_text(text + "\n", encoding="utf-8")
@@ -152,7 +142,9 @@ def _write_all(folder: Path, data: ReportData, t0: float, target: Path | None = 
             item["svg"] = _figures.svg(item["name"], data, item["title"])
             (folder / item["file"]).write_text(item["svg"] + "\n", encoding="utf-8")
     c1 = time.process_time()
-    _front_csv(folder / "front.csv", data)
+    rec, bounds = data.recommendation, data.problem.bounds  # front.csv: with [stock], buildable rows as well
+    buildable = _resolved_front(rec.buildable, bounds) if data.problem.stock is not None and rec is not None else None
+    _resolved_front(data.front, bounds).to_csv(folder / "front.csv", buildable=buildable)
     if context["build"]["available"]:
         (folder / "figures" / "caster.svg").write_text(context["build"]["svg"] + "\n", encoding="utf-8")
         for panel in context["build"]["panels"]:

@@ -68,9 +68,12 @@ def _png(fig, path: Path) -> None:
         plt.close(fig)
 
 
-def _bifurcation_rows(study: Any) -> list[dict]:
-    """bifurcation.csv: one row per periodic orbit, brush tyre then rolling tyre."""
-    return [
+def limit_cycle_files(study: Any, folder) -> list[str]:
+    """Write the files of :data:`FILES` into ``folder`` as they are (a folder the caller prepared, e.g. the
+    temporary folder of :func:`designer.output.output_folder`).  Returns the names written."""
+    out = Path(folder)
+    data = study.to_dict()
+    rows = [  # bifurcation.csv: one row per periodic orbit, brush tyre then rolling tyre
         {
             "model": model,
             "kind": "stable" if o["stable"] else "unstable",
@@ -84,11 +87,12 @@ def _bifurcation_rows(study: Any) -> list[dict]:
         for model, diagram in (("brush tyre", study.bifurcation), ("rolling tyre", study.rolling))
         for o in diagram.to_dict()["orbits"]
     ]
-
-
-def _table1_rows(table: Any) -> list[dict]:
-    """table1.csv: one row per Table 1 wheel, measured and predicted critical speeds [m/s]."""
-    return [
+    _csv(out / "bifurcation.csv", rows)
+    keys = ("bifurcation", "rolling", "friction", "knock_safe", "measured", "rolling_limit")
+    bifurcation = stamped("bifurcation.json", finite({k: data[k] for k in keys if k in data}))
+    (out / "bifurcation.json").write_text(json.dumps(bifurcation, indent=1))
+    _png(_figures.bifurcation_figure(study), out / "bifurcation.png")
+    rows = [  # table1.csv: one row per Table 1 wheel, measured and predicted critical speeds [m/s]
         {
             "wheel": r.wheel,
             "name": r.name,
@@ -100,21 +104,9 @@ def _table1_rows(table: Any) -> list[dict]:
             "tyre_sim": r.tyre_sim,
             "flagged_below_3.8": " ".join(r.flagged),
         }
-        for r in table.rows
+        for r in study.table1.rows
     ]
-
-
-def limit_cycle_files(study: Any, folder) -> list[str]:
-    """Write the files of :data:`FILES` into ``folder`` as they are (a folder the caller prepared, e.g. the
-    temporary folder of :func:`designer.output.output_folder`).  Returns the names written."""
-    out = Path(folder)
-    data = study.to_dict()
-    _csv(out / "bifurcation.csv", _bifurcation_rows(study))
-    keys = ("bifurcation", "rolling", "friction", "knock_safe", "measured", "rolling_limit")
-    bifurcation = stamped("bifurcation.json", finite({k: data[k] for k in keys if k in data}))
-    (out / "bifurcation.json").write_text(json.dumps(bifurcation, indent=1))
-    _png(_figures.bifurcation_figure(study), out / "bifurcation.png")
-    _csv(out / "table1.csv", _table1_rows(study.table1))
+    _csv(out / "table1.csv", rows)
     _png(_figures.table1_figure(study.table1), out / "table1.png")
     _csv(out / "stiffness_mass_map.csv", data["map"]["rows"])
     _png(_figures.map_figure(study.stiffness_mass_map), out / "stiffness_mass_map.png")
