@@ -18,7 +18,6 @@ from designer.problem import Problem, problem_argument
 from designer.solvers import one_solve_at_a_time
 from designer.studies.explore._operators import (
     Operators,
-    SearchSpace,
     _front_mask,
     _params_key,
     _refine,
@@ -184,8 +183,29 @@ def explore(
         if resume:  # its stored operators, stale trials failed and retried, the notes saying so
             study, ops = _load_for_resume(problem, study_name, spec, storage_obj, ops)
             notes += _prepare_resume(study, spec, space.names, trials)
-        else:
-            study = _create(problem, study_name, spec, storage_obj, trials, seed, ops, space)
+        else:  # a new two-objective study, labelled with the problem, budget, seed, operators and space
+            try:
+                study = optuna.create_study(
+                    study_name=study_name, storage=storage_obj, directions=["minimize", "minimize"]
+                )
+            except optuna.exceptions.DuplicatedStudyError:
+                raise InputError(
+                    f"--study {study_name}: a study of that name already exists in {spec.shown}; "
+                    f"add --resume to continue it or choose another --study"
+                ) from None
+            except Exception as exc:  # noqa: BLE001
+                raise StorageError(
+                    f"storage {spec.shown}: {type(exc).__name__}: {scrub(_one_line(exc), spec.url)}"
+                ) from None
+            for key, value in (
+                ("problem_name", problem.name),
+                ("problem_digest", problem.digest()),
+                ("trials", trials),
+                ("seed", seed),
+                ("operators", ops.to_dict()),
+                ("space", space.to_dict()),
+            ):
+                study.set_user_attr(ATTR_PREFIX + key, value)
 
     complete_before = _counts(study)[TrialState.COMPLETE]
     tracker = _FrontTracker(reference)
@@ -270,42 +290,6 @@ def _load_for_resume(problem: Problem, study_name: str, spec: StorageSpec, stora
     if ATTR_PREFIX + "operators" in attrs:
         ops = Operators.from_dict(attrs[ATTR_PREFIX + "operators"])
     return study, ops
-
-
-def _create(
-    problem: Problem,
-    study_name: str,
-    spec: StorageSpec,
-    storage_obj,
-    trials: int,
-    seed: int | None,
-    ops: Operators,
-    space: SearchSpace,
-):
-    """A new two-objective study, labelled with the problem, budget, seed, operators and space."""
-    import optuna
-
-    try:
-        study = optuna.create_study(
-            study_name=study_name, storage=storage_obj, directions=["minimize", "minimize"], load_if_exists=False
-        )
-    except optuna.exceptions.DuplicatedStudyError:
-        raise InputError(
-            f"--study {study_name}: a study of that name already exists in {spec.shown}; "
-            f"add --resume to continue it or choose another --study"
-        ) from None
-    except Exception as exc:  # noqa: BLE001
-        raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {scrub(_one_line(exc), spec.url)}") from None
-    for key, value in (
-        ("problem_name", problem.name),
-        ("problem_digest", problem.digest()),
-        ("trials", trials),
-        ("seed", seed),
-        ("operators", ops.to_dict()),
-        ("space", space.to_dict()),
-    ):
-        study.set_user_attr(ATTR_PREFIX + key, value)
-    return study
 
 
 def _collect(problem, space, study, complete, ops, refine, exact, reference) -> dict:
