@@ -97,8 +97,8 @@ def _main(argv: list[str] | None) -> int:
         except Exception as exc:
             if interrupted():  # a solver turned the KeyboardInterrupt into its own error (CasADi: RuntimeError)
                 raise KeyboardInterrupt from None
-            if isinstance(exc, OSError) and _stdout_failed(exc):
-                exc = OutputError(f"standard output{_stdout_reason(exc)}; the output is incomplete")
+            if isinstance(exc, OSError) and (full := _stdout_full(exc)) is not None:
+                exc = full
                 _silence_stdout()
             # the one place a system error becomes a line and an exit code (OSError by errno, RecursionError, ...)
             return _error(exc if args.debug else (system_error(exc) or exc), args.debug)
@@ -135,20 +135,18 @@ def _interrupted(exc: KeyboardInterrupt) -> int:
 _FULL_ERRNOS = {errno.ENOSPC: "no space left on device", errno.EDQUOT: "no space left (disk quota exceeded)"}
 
 
-def _stdout_failed(exc: OSError) -> bool:
-    """True if ``exc`` is a full standard output: a full disk without a file name (every file the tool writes
-    goes through :mod:`designer.output`, whose errors name their file), e.g. ``designer validate --json > /dev/full``.
-    """
-    return exc.errno in _FULL_ERRNOS and exc.filename is None
-
-
-def _stdout_reason(exc: OSError) -> str:
+def _stdout_full(exc: OSError) -> OutputError | None:
+    """The OutputError if ``exc`` is a full standard output: a full disk without a file name (every file the tool
+    writes goes through :mod:`designer.output`, whose errors name their file), e.g. ``designer validate --json >
+    /dev/full``; None otherwise."""
+    if exc.errno not in _FULL_ERRNOS or exc.filename is not None:
+        return None
     where = ""
     try:  # what stdout is, where the system says (Linux): "/dev/full", "/tmp/out.json"
         where = f" ({os.readlink(f'/proc/self/fd/{sys.__stdout__.fileno()}')})"
     except (OSError, ValueError, AttributeError):
         pass
-    return f"{where}: {_FULL_ERRNOS[exc.errno or errno.ENOSPC]}"
+    return OutputError(f"standard output{where}: {_FULL_ERRNOS[exc.errno or errno.ENOSPC]}; the output is incomplete")
 
 
 def _silence_stdout() -> None:

@@ -71,9 +71,16 @@ def _missing_kind() -> int:
 def run(args) -> int:
     from designer.studies.calibrate import calibrate_file
 
-    from designer.report.calibration import plot_fit, write_calibration_report
+    from designer.report.calibration import OWNED, check_plot_name, plot_fit, write_calibration_report
 
-    _check_outputs(args)
+    # every place the fit will be written to, checked before the fit (exit 2 for a bad name, 7 for a bad place)
+    if args.plot:
+        check_plot_name(args.plot)
+        check_file(args.plot, "--plot", example="fit.png", kind=PLOT)
+    if args.report:
+        check_folder(args.report, "--report", owned=OWNED, command="designer calibrate")
+    if args.snippet:
+        check_file(args.snippet, "--snippet", example="calibration.toml", kind=SNIPPET)
     slip = 1250.0
     if args.kind == "damping":
         slip = ranged_option(args.slip_coefficient, "slip_coefficient", "--slip-coefficient")
@@ -109,19 +116,6 @@ def run(args) -> int:
     else:
         print(result.snippet(), end="")
     return 0
-
-
-def _check_outputs(args) -> None:
-    """Every place the fit will be written to, checked before the fit (exit 2 for a bad name, 7 for a bad place)."""
-    from designer.report.calibration import OWNED, check_plot_name
-
-    if args.plot:
-        check_plot_name(args.plot)
-        check_file(args.plot, "--plot", example="fit.png", kind=PLOT)
-    if args.report:
-        check_folder(args.report, "--report", owned=OWNED, command="designer calibrate")
-    if args.snippet:
-        check_file(args.snippet, "--snippet", example="calibration.toml", kind=SNIPPET)
 
 
 def run_examples(args) -> int:

@@ -204,8 +204,19 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
     columns = [("quantity", {"max_width": 20}), ("value", {"justify": "right", "max_width": 20})]
     columns += [("source", {"min_width": max(map(len, words))})]  # wrapped at words: a link is never split
     rows = _rows(conditions, values, conditions.inertia.describe(), out)  # which inertia model: beside I_w
-    if speed is not None:
-        rows += _speed_rows(values, speed, out["risk"])
+    if speed is not None:  # at the target speed: Eq. 7's verdict alone, the growth rate (Eq. 12B), P(shimmy) ± SE
+        verdict = "stable" if values["critical_speed"] >= speed else "SHIMMIES"
+        gap = f"{verdict}, V_c − speed {shown(values['critical_speed'] - speed, 'critical_speed')} (the risk is below)"
+        at = shown(speed, "target_speed")
+        rows += [
+            (f"at {at}, Eq. 7 alone", gap, "Eq. 7"),
+            ("growth rate μ at that speed", shown(values["growth_rate"], "growth_rate"), "Eq. 12B"),
+            (
+                f"P(shimmy at {at})",
+                f"{percent(out['risk']['probability'])} ± {percent(out['risk']['se'])}",
+                "Monte Carlo of the risk law (docs/model.md, Shimmy risk)",
+            ),
+        ]
     console = terminal_console()
     console.print(table(f"Caster: {design.describe()}", columns, rows))
     if speed is not None:
@@ -219,19 +230,3 @@ def _print_table(design, conditions, values: dict, speed: float | None, out: dic
         console.print(table("Where the risk comes from", columns, rows))
         console.print(risk["dominant"])
     _print_warnings(design, values, out)
-
-
-def _speed_rows(values: dict, speed: float, risk: dict) -> list[tuple[str, str, str]]:
-    """The rows at the target speed: Eq. 7's verdict alone, the growth rate (Eq. 12B), P(shimmy) ± SE."""
-    verdict = "stable" if values["critical_speed"] >= speed else "SHIMMIES"
-    gap = f"{verdict}, V_c − speed {shown(values['critical_speed'] - speed, 'critical_speed')} (the risk is below)"
-    at = shown(speed, "target_speed")
-    return [
-        (f"at {at}, Eq. 7 alone", gap, "Eq. 7"),
-        ("growth rate μ at that speed", shown(values["growth_rate"], "growth_rate"), "Eq. 12B"),
-        (
-            f"P(shimmy at {at})",
-            f"{percent(risk['probability'])} ± {percent(risk['se'])}",
-            "Monte Carlo of the risk law (docs/model.md, Shimmy risk)",
-        ),
-    ]

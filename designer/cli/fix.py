@@ -326,8 +326,21 @@ def _inspect_text(best, result, problem) -> str:
         )
     if best.extrapolated:
         text += f"; {written_size(best.design.diameter, units)} lies outside Table 1's 4–8 in (extrapolated)"
-    if best.spec is not None:
-        text += "; accept parts within " + _limits_short(best.spec, units) + " (--verbose: how to measure)"
+    if best.spec is not None:  # the acceptance limits in one phrase, sizes in the problem's units, each rounded
+        # toward the safe side: T 1.727–2.125 in, B >= 0.652 in, M_f >= 0.197 N·m (a part without a limit left out)
+        limits = []
+        for part, symbol in _SYMBOLS.items():
+            lims = {
+                lim.side: lim.shown_in(units).split(" (")[0]
+                for lim in best.spec.limits
+                if lim.part == part and lim.value is not None
+            }
+            if "min" in lims and "max" in lims:
+                limits.append(f"{symbol} {lims['min'].rsplit(' ', 1)[0]}–{lims['max']}")
+            elif lims:
+                side, lim = next(iter(lims.items()))
+                limits.append(f"{symbol} {'>=' if side == 'min' else '<='} {lim}")
+        text += "; accept parts within " + ", ".join(limits) + " (--verbose: how to measure)"
     if result.if_measured is not None:
         text += ". " + _if_measured_text(result)
     return text
@@ -365,25 +378,6 @@ def _mc_text(state) -> str:
 
 _SYMBOLS = {"trail": "T", "groove": "B", "friction_moment": "M_f", "wheel_inertia": "I_w"}
 """The short name of each inspectable part on the one-screen answer."""
-
-
-def _limits_short(spec, units: str) -> str:
-    """The acceptance limits in one phrase, sizes in the problem's units, each rounded toward the safe side:
-    ``T 1.727–2.125 in, B >= 0.652 in, M_f >= 0.197 N·m, I_w <= 0.00153 kg·m²`` (a part without a limit left out)."""
-
-    def short(lim) -> str:  # a length in the problem's units only
-        return lim.shown_in(units).split(" (")[0]
-
-    out = []
-    for part, symbol in _SYMBOLS.items():
-        lims = {lim.side: lim for lim in spec.limits if lim.part == part and lim.value is not None}
-        if "min" in lims and "max" in lims:
-            low, high = short(lims["min"]), short(lims["max"])
-            out.append(f"{symbol} {low.rsplit(' ', 1)[0]}–{high}")
-        elif lims:
-            side, lim = next(iter(lims.items()))
-            out.append(f"{symbol} {'>=' if side == 'min' else '<='} {short(lim)}")
-    return ", ".join(out)
 
 
 def _spec_lines(best, result) -> list[str]:

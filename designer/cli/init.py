@@ -223,16 +223,12 @@ def _answers(given: dict) -> Answers:
     return Answers(**values)
 
 
-def _length(value: float, units: str) -> str:
-    """A length [m] as the file writes it: ``"0.75 in"`` or ``"19.05 mm"`` (to 1e-6 of the unit)."""
-    return f'"{round(value / INCH, 6):g} in"' if units == "in" else f'"{round(value * 1000, 6):g} mm"'
-
-
 def problem_text(a: Answers, name: str) -> str:
     """The problem file's TOML for the answers ``a``: a comment line above every key it writes (what the key
     means, its unit, where its value came from); the design ranges and the swept radius from the default problem."""
     base = load_problem(DEFAULT_PROBLEM)
-    L = lambda v: _length(v, a.units)  # noqa: E731 - one short local formatter
+    # a length [m] as the file writes it: "0.75 in" or "19.05 mm" (to 1e-6 of the unit)
+    L = lambda v: f'"{round(v / INCH, 6):g} in"' if a.units == "in" else f'"{round(v * 1000, 6):g} mm"'  # noqa: E731
     if a.load is not None:
         load = [
             "# load: the weight on one front caster (the paper tested at 178 N, Appendix C)",

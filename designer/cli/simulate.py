@@ -97,30 +97,24 @@ TYRE_RANGES = {
 """The brush tyre's options: (dimension, low (exclusive for 0), high, unit, what a value usually is)."""
 
 
-def _tyre(args):
-    """The brush tyre of ``--friction-coefficient``, ``--cornering-stiffness``, ``--wheel-mass`` and ``--load``;
-    InputError naming the option of a value outside :data:`TYRE_RANGES` (low exclusive when 0)."""
-    values = {}
-    for option, (dimension, low, high, unit, hint) in TYRE_RANGES.items():
-        text = getattr(args, option[2:].replace("-", "_"))
-        value = values[option] = quantity_option(text, dimension, option)
-        if not (math.isfinite(value) and (low < value if low == 0 else low <= value) and value <= high):
-            raise InputError(f"{option} {text}: outside {low:g} to {high:g} {unit}".rstrip() + f" ({hint})")
-    return TyreParameters(
-        cornering_stiffness=values["--cornering-stiffness"],
-        friction_coefficient=values["--friction-coefficient"],
-        load=ranged_option(args.load, "load", "--load"),
-        wheel_mass=values["--wheel-mass"],
-    )
-
-
 def _run_limit_cycles(args) -> int:
     """--bifurcation / --knock-safe."""
 
     if args.speed is None:
         args.speed = "1 m/s"  # not used by these analyses
     design, conditions, _speed, angle, _omega0, _duration = parse(args)
-    tyre = _tyre(args)
+    values = {}  # the brush tyre: InputError naming the option of a value outside TYRE_RANGES (low exclusive when 0)
+    for option, (dimension, low, high, unit, hint) in TYRE_RANGES.items():
+        text = getattr(args, option[2:].replace("-", "_"))
+        value = values[option] = quantity_option(text, dimension, option)
+        if not (math.isfinite(value) and (low < value if low == 0 else low <= value) and value <= high):
+            raise InputError(f"{option} {text}: outside {low:g} to {high:g} {unit}".rstrip() + f" ({hint})")
+    tyre = TyreParameters(
+        cornering_stiffness=values["--cornering-stiffness"],
+        friction_coefficient=values["--friction-coefficient"],
+        load=ranged_option(args.load, "load", "--load"),
+        wheel_mass=values["--wheel-mass"],
+    )
     out: dict = {"design": design.to_dict(), "angle": angle}
     if args.knock_safe:
         out.update(knock_safe_speeds(design, conditions, angle, tyre if args.tyre else None))

@@ -65,24 +65,6 @@ def _name(check) -> str:
     return rest if head.isdigit() and rest else check.name
 
 
-def _print_list(checks) -> None:
-    """The checks as a numbered list in one screen (about 40 lines at 80 columns): each check's result, what
-    the paper expects and what the model gives; the claims and details behind ``--verbose``."""
-    out = [f"The paper's checks (docs/checks.md): {count_line(checks)}."]
-    number = 0
-    for kind, title in KINDS:
-        group = [c for c in checks if c.kind == kind]
-        if not group:
-            continue
-        out.append(f"{title}:")
-        for c in group:
-            number += 1
-            out.append(f"{number:2d}. {_name(c)}: {RESULT.get(c.outcome, c.outcome)}")
-            out.append(f"    expected {c.expected}; ours {c.got}")
-    out.append("--verbose: each claim in the paper's words and the details.")
-    print(fit("\n".join(out)))
-
-
 def run(args) -> int:
     with warnings.catch_warnings():  # the checks' own wheels (3 in, Table 1's range): not the user's doing
         warnings.simplefilter("ignore", UserWarning)
@@ -91,8 +73,20 @@ def run(args) -> int:
     if args.json:
         print_json([c.to_dict() for c in checks])
         return 1 if failed else 0
-    if not args.verbose:
-        _print_list(checks)
+    if not args.verbose:  # a numbered list in one screen (about 40 lines at 80 columns); claims and details: --verbose
+        out, n = [f"The paper's checks (docs/checks.md): {count_line(checks)}."], 0
+        for kind, title in KINDS:
+            group = [c for c in checks if c.kind == kind]
+            if group:
+                out.append(f"{title}:")
+            for c in group:
+                n += 1
+                out += [
+                    f"{n:2d}. {_name(c)}: {RESULT.get(c.outcome, c.outcome)}",
+                    f"    expected {c.expected}; ours {c.got}",
+                ]
+        out.append("--verbose: each claim in the paper's words and the details.")
+        print(fit("\n".join(out)))
         return 1 if failed else 0
     from rich.markup import escape
 

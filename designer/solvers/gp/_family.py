@@ -65,8 +65,46 @@ class _Family:
         self.terms = terms = self._terms(self.x)
         constraints: dict[str, Any] = {}
         self.infeasible_constant = False
-        self._shimmy_constraint(terms, constraints)
-        self._limit_constraints(terms, threshold_cap, constraints)
+        # the shimmy constraint (Eq. 7, V_req² side <= the damping side): a GP constraint when the right side is one
+        # monomial (``single``), else its condensation k·Π x^g with parameters updated at every SGP step; when both
+        # sides are constant it only sets ``infeasible_constant``
+        rhs_terms = terms["shimmy_rhs"]
+        self.rhs_variables = [k for k in ("trail", "groove", "added_damping") if k in self.variables]
+        lhs = terms["shimmy_lhs"] * (1 + BACKOFF)
+        variable_terms = [u for u in rhs_terms if not _constant(u)]
+        self.single = len(rhs_terms) == 1 or not variable_terms  # a GP constraint: no condensation
+        self.exact = self.single and self.speed_exact
+        if self.single:
+            rhs = rhs_terms[0] if len(rhs_terms) == 1 else float(sum(_value(u) for u in rhs_terms))
+        else:
+            self.k_param = cp.Parameter(pos=True, value=1.0)
+            self.g_param = {k: cp.Parameter(value=1.0) for k in self.rhs_variables}
+            rhs = self.k_param
+            for k in self.rhs_variables:
+                rhs = rhs * self.variables[k] ** self.g_param[k]
+        if _constant(lhs) and _constant(rhs):
+            self.infeasible_constant |= _value(lhs) > _value(rhs)
+        else:
+            constraints["shimmy"] = lhs <= rhs
+        # the box of each variable, the swept-radius limit and the caps on the threshold force P and the turning
+        # effort F_turn (a constant that breaks a limit sets ``infeasible_constant``)
+        for name, var in self.variables.items():
+            lo, hi = self.box[name]
+            constraints[f"{name}.max"] = var <= hi
+            constraints[f"{name}.min"] = var >= (lo if lo > 0 else self.floor[name])
+        self.threshold_cap = threshold_cap
+        for name, limit, slack in (
+            ("swept_radius", self.constants.swept_radius_max, 1 + 1e-12),
+            ("threshold_cap", threshold_cap, 1),
+            ("turning_cap", self.turning_cap, 1),
+        ):
+            if limit is None:
+                continue
+            limited = _limited(terms, name)
+            if _constant(limited):
+                self.infeasible_constant |= _value(limited) > limit * slack
+            else:
+                constraints[name] = limited <= limit
         self.constraints = constraints
         objective: Any = _objective(terms, weights)  # J = w_turn F_turn + w_threshold P in GP form
         if _constant(objective) and "trail" in self.variables:
@@ -99,52 +137,6 @@ class _Family:
                 if lo <= 0:
                     self.floor[name] = FLOOR * hi
         self.variables: dict[str, Any] = {k: v for k, v in self.x.items() if isinstance(v, cp.Variable)}
-
-    def _shimmy_constraint(self, terms: dict[str, Any], constraints: dict[str, Any]) -> None:
-        """The shimmy constraint (Eq. 7, V_req² side <= the damping side): a GP constraint when the right side
-        is one monomial (``single``), else its condensation k·Π x^g with parameters updated at every SGP
-        step; when both sides are constant it only sets ``infeasible_constant``."""
-        rhs_terms = terms["shimmy_rhs"]
-        self.rhs_variables = [k for k in ("trail", "groove", "added_damping") if k in self.variables]
-        lhs = terms["shimmy_lhs"] * (1 + BACKOFF)
-        variable_terms = [u for u in rhs_terms if not _constant(u)]
-        self.single = len(rhs_terms) == 1 or not variable_terms  # a GP constraint: no condensation
-        self.exact = self.single and self.speed_exact
-        if self.single:
-            rhs = rhs_terms[0] if len(rhs_terms) == 1 else float(sum(_value(u) for u in rhs_terms))
-        else:
-            self.k_param = cp.Parameter(pos=True, value=1.0)
-            self.g_param = {k: cp.Parameter(value=1.0) for k in self.rhs_variables}
-            rhs = self.k_param
-            for k in self.rhs_variables:
-                rhs = rhs * self.variables[k] ** self.g_param[k]
-        if _constant(lhs) and _constant(rhs):
-            self.infeasible_constant |= _value(lhs) > _value(rhs)
-        else:
-            constraints["shimmy"] = lhs <= rhs
-
-    def _limit_constraints(
-        self, terms: dict[str, Any], threshold_cap: float | None, constraints: dict[str, Any]
-    ) -> None:
-        """The box of each variable, the swept-radius limit and the caps on the threshold force P and the turning
-        effort F_turn (a constant that breaks a limit sets ``infeasible_constant``)."""
-        for name, var in self.variables.items():
-            lo, hi = self.box[name]
-            constraints[f"{name}.max"] = var <= hi
-            constraints[f"{name}.min"] = var >= (lo if lo > 0 else self.floor[name])
-        self.threshold_cap = threshold_cap
-        for name, limit, slack in (
-            ("swept_radius", self.constants.swept_radius_max, 1 + 1e-12),
-            ("threshold_cap", threshold_cap, 1),
-            ("turning_cap", self.turning_cap, 1),
-        ):
-            if limit is None:
-                continue
-            limited = _limited(terms, name)
-            if _constant(limited):
-                self.infeasible_constant |= _value(limited) > limit * slack
-            else:
-                constraints[name] = limited <= limit
 
     # ----------------------------------------------------------------- helpers
     def full(self, values: dict[str, float]) -> dict[str, float]:

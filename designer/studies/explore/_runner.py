@@ -18,7 +18,6 @@ from designer.problem import Problem, problem_argument
 from designer.solvers import one_solve_at_a_time
 from designer.studies.explore._operators import (
     Operators,
-    SearchSpace,
     _front_mask,
     _params_key,
     _refine,
@@ -182,10 +181,46 @@ def explore(
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         if resume:  # its stored operators, stale trials failed and retried, the notes saying so
-            study, ops = _load_for_resume(problem, study_name, spec, storage_obj, ops)
+            try:  # the study to resume and its operators (as first run); InputError if missing or of another problem
+                study = optuna.load_study(study_name=study_name, storage=storage_obj)
+            except KeyError:
+                raise InputError(f"--resume: no study {study_name!r} in {spec.shown}") from None
+            except Exception as exc:  # noqa: BLE001
+                raise StorageError(
+                    f"storage {spec.shown}: {type(exc).__name__}: {scrub(_one_line(exc), spec.url)}"
+                ) from None
+            attrs = study.user_attrs
+            if attrs.get(ATTR_PREFIX + "problem_digest") not in (None, problem.digest()):
+                raise InputError(
+                    f"--resume: study {study_name!r} was run on a different problem "
+                    f"({attrs.get(ATTR_PREFIX + 'problem_name')!r}); use another --study"
+                )
+            if ATTR_PREFIX + "operators" in attrs:
+                ops = Operators.from_dict(attrs[ATTR_PREFIX + "operators"])
             notes += _prepare_resume(study, spec, space.names, trials)
-        else:
-            study = _create(problem, study_name, spec, storage_obj, trials, seed, ops, space)
+        else:  # a new two-objective study, labelled with the problem, budget, seed, operators and space
+            try:
+                study = optuna.create_study(
+                    study_name=study_name, storage=storage_obj, directions=["minimize", "minimize"]
+                )
+            except optuna.exceptions.DuplicatedStudyError:
+                raise InputError(
+                    f"--study {study_name}: a study of that name already exists in {spec.shown}; "
+                    f"add --resume to continue it or choose another --study"
+                ) from None
+            except Exception as exc:  # noqa: BLE001
+                raise StorageError(
+                    f"storage {spec.shown}: {type(exc).__name__}: {scrub(_one_line(exc), spec.url)}"
+                ) from None
+            for key, value in (
+                ("problem_name", problem.name),
+                ("problem_digest", problem.digest()),
+                ("trials", trials),
+                ("seed", seed),
+                ("operators", ops.to_dict()),
+                ("space", space.to_dict()),
+            ):
+                study.set_user_attr(ATTR_PREFIX + key, value)
 
     complete_before = _counts(study)[TrialState.COMPLETE]
     tracker = _FrontTracker(reference)
@@ -249,63 +284,6 @@ def _storage_failure(exc: Exception, spec: StorageSpec) -> Exception:
                 line = f"no space left on device ({line})"
             return StorageError(f"storage {spec.shown}: {type(cause).__name__}: {line}")
     return exc
-
-
-def _load_for_resume(problem: Problem, study_name: str, spec: StorageSpec, storage_obj, ops: Operators):
-    """The study to resume and its operators (as first run); InputError if it is missing or of another problem."""
-    import optuna
-
-    try:
-        study = optuna.load_study(study_name=study_name, storage=storage_obj)
-    except KeyError:
-        raise InputError(f"--resume: no study {study_name!r} in {spec.shown}") from None
-    except Exception as exc:  # noqa: BLE001
-        raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {scrub(_one_line(exc), spec.url)}") from None
-    attrs = study.user_attrs
-    if attrs.get(ATTR_PREFIX + "problem_digest") not in (None, problem.digest()):
-        raise InputError(
-            f"--resume: study {study_name!r} was run on a different problem "
-            f"({attrs.get(ATTR_PREFIX + 'problem_name')!r}); use another --study"
-        )
-    if ATTR_PREFIX + "operators" in attrs:
-        ops = Operators.from_dict(attrs[ATTR_PREFIX + "operators"])
-    return study, ops
-
-
-def _create(
-    problem: Problem,
-    study_name: str,
-    spec: StorageSpec,
-    storage_obj,
-    trials: int,
-    seed: int | None,
-    ops: Operators,
-    space: SearchSpace,
-):
-    """A new two-objective study, labelled with the problem, budget, seed, operators and space."""
-    import optuna
-
-    try:
-        study = optuna.create_study(
-            study_name=study_name, storage=storage_obj, directions=["minimize", "minimize"], load_if_exists=False
-        )
-    except optuna.exceptions.DuplicatedStudyError:
-        raise InputError(
-            f"--study {study_name}: a study of that name already exists in {spec.shown}; "
-            f"add --resume to continue it or choose another --study"
-        ) from None
-    except Exception as exc:  # noqa: BLE001
-        raise StorageError(f"storage {spec.shown}: {type(exc).__name__}: {scrub(_one_line(exc), spec.url)}") from None
-    for key, value in (
-        ("problem_name", problem.name),
-        ("problem_digest", problem.digest()),
-        ("trials", trials),
-        ("seed", seed),
-        ("operators", ops.to_dict()),
-        ("space", space.to_dict()),
-    ):
-        study.set_user_attr(ATTR_PREFIX + key, value)
-    return study
 
 
 def _collect(problem, space, study, complete, ops, refine, exact, reference) -> dict:

@@ -196,20 +196,6 @@ class Solution(Record):
             **attrs,
         )
 
-    def _robust_lines(self) -> list[str]:
-        u = self.problem.conditions.uncertainty
-        if u is None:
-            return []
-        p, se = self.shimmy_probability, self.shimmy_probability_se
-        if p is None or se is None:
-            return []
-        return [
-            f"  risk bound: P(V_c < {self.problem.required_speed:.3g} m/s) <= {u.probability:.1%} (exact quantile "
-            f"of the first-order law, t_{u.model_error_dof} model error); Monte Carlo {p:.2%} ± {se:.2%} "
-            f"(seed {u.seed}, at least {u.samples} samples, SE <= 0.1 pp)",
-            "",
-        ]
-
     def __str__(self) -> str:
         d = self.design
         p = self.problem
@@ -231,10 +217,16 @@ class Solution(Record):
                 f"(required {p.required_speed:.3f}, margin {self.constraints['shimmy']:+.2e} m/s)"
             ),
             "",
-            *self._robust_lines(),
-            "  active constraints:   " + (", ".join(self.active) if self.active else "none"),
-            "",
         ]
+        u, prob, se = p.conditions.uncertainty, self.shimmy_probability, self.shimmy_probability_se
+        if u is not None and prob is not None and se is not None:
+            lines += [
+                f"  risk bound: P(V_c < {p.required_speed:.3g} m/s) <= {u.probability:.1%} (exact quantile "
+                f"of the first-order law, t_{u.model_error_dof} model error); Monte Carlo {prob:.2%} ± {se:.2%} "
+                f"(seed {u.seed}, at least {u.samples} samples, SE <= 0.1 pp)",
+                "",
+            ]
+        lines += ["  active constraints:   " + (", ".join(self.active) if self.active else "none"), ""]
         duals = self.gp_duals()
         ranked = sorted(self.sensitivities.items(), key=lambda kv: -abs(kv[1]))
         beside = bool(p.risk is None and duals)  # the GP's duals beside the NLP's multipliers
