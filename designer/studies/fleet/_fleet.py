@@ -633,7 +633,7 @@ def fleet_data(result: FleetResult) -> dict[str, Any]:
     served_units = float(result.fleet.count[ok].sum()) or 1.0
     ch, choice = result.chairs, result.chairs["choice"][ok]
     # per-chair arrays of the own recommendations (chairs with a caster) for the report's figure
-    dist = {
+    dist: dict[str, Any] = {
         **{name: getattr(result.stock, name)[choice] for name in VARIABLES},
         **{key: ch[key][ok] for key in ("turning_effort", "threshold_force", "shimmy_probability") if key in ch},
     }
