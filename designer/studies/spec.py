@@ -264,41 +264,6 @@ def stem_offset(design: Design, stem_angle: float) -> float:
     return float(effective_trail(design.trail, design.diameter / 2, stem_angle)) - design.trail
 
 
-def _edges(problem: Problem, design: Design, caster: LawCaster, offset: float = 0.0) -> dict[str, tuple[Edge, Edge]]:
-    """Each toleranced part's two edges: its value [SI] and the caster fields it sets (a trail's edge at the
-    fork offset, the caster's trail ``offset`` beyond it)."""
-    tol = problem.tolerances
-    assert tol is not None
-    out: dict[str, tuple[Edge, Edge]] = {}
-    t, b, c, d = design.trail, design.groove, design.damping, design.diameter
-    theta0, model = float(problem.conditions.disturbance_angle), problem.conditions.inertia
-
-    def edges(edge: Callable[[float], Edge], low: float, high: float) -> tuple[Edge, Edge]:
-        return edge(low), edge(high)
-
-    if tol.trail is not None:
-        t_lo = PARAMETERS["trail"].range[0]  # type: ignore[index]
-        out["trail"] = edges(lambda x: (x, {"trail": x + offset}), max(t - tol.trail, t_lo), t + tol.trail)
-    if tol.groove is not None:
-        out["groove"] = edges(lambda x: (x, {"groove": x}), max(b - tol.groove, 0.0), b + tol.groove)
-    if tol.friction_moment is not None:
-        f = tol.friction_moment
-        out["friction_moment"] = edges(lambda x: (friction_moment(x, theta0), {"damping": x}), c * (1 - f), c * (1 + f))
-    if tol.diameter is not None:
-        if caster.diameter is None:  # a measured wheel: its I_w does not follow its diameter
-            out["diameter"] = edges(lambda x: (x, {}), d - tol.diameter, d + tol.diameter)
-        else:
-            # a 4 in wheel's low edge leaves Table 1 by a hair: the caster's own warning, if any, is said once elsewhere
-            with warnings.catch_warnings(action="ignore", category=UserWarning):
-                out["diameter"] = edges(
-                    lambda x: (x, {"diameter": x, "inertia": float(model(x))}), d - tol.diameter, d + tol.diameter
-                )
-    if tol.wheel is not None:  # goods-in accepts wheels measured up to this I_w: the worst is at the limit
-        edge: Edge = (tol.wheel, {"inertia": tol.wheel, "diameter": None})
-        out["wheel_inertia"] = (edge, edge)
-    return out
-
-
 def tolerance_corners(problem: Problem, columns: dict[str, Any]) -> list[dict[str, Any]]:
     """The two worst corners of ``problem``'s ``[tolerances]`` about candidate arrays ``columns`` {trail, diameter,
     groove, damping, inertia[, measured]} [SI], as the same columns: trail − ±, groove − ±, M_f − its fraction, the
@@ -347,12 +312,41 @@ def caster_corner(
     calibration: float = 1.0,
 ) -> Corner | None:
     """The worst corner of ``problem``'s tolerance box about one caster (None without ``[tolerances]``)."""
-    if problem.tolerances is None:
+    tol = problem.tolerances
+    if tol is None:
         return None
     offset = stem_offset(design, stem_angle)
     caster = law_caster(problem, design, inertia, measured, offset)
-    edges = _edges(problem, design, caster, offset)
-    return worst_corner(caster, edges, problem.required_speed / calibration, risk_law(problem, law))
+    # each toleranced part's two edges: its value [SI] and the caster fields it sets (a trail's edge at the fork
+    # offset, the caster's trail ``offset`` beyond it)
+    out: dict[str, tuple[Edge, Edge]] = {}
+    t, b, c, d = design.trail, design.groove, design.damping, design.diameter
+    theta0, model = float(problem.conditions.disturbance_angle), problem.conditions.inertia
+
+    def pair(edge: Callable[[float], Edge], low: float, high: float) -> tuple[Edge, Edge]:
+        return edge(low), edge(high)
+
+    if tol.trail is not None:
+        t_lo = PARAMETERS["trail"].range[0]  # type: ignore[index]
+        out["trail"] = pair(lambda x: (x, {"trail": x + offset}), max(t - tol.trail, t_lo), t + tol.trail)
+    if tol.groove is not None:
+        out["groove"] = pair(lambda x: (x, {"groove": x}), max(b - tol.groove, 0.0), b + tol.groove)
+    if tol.friction_moment is not None:
+        f = tol.friction_moment
+        out["friction_moment"] = pair(lambda x: (friction_moment(x, theta0), {"damping": x}), c * (1 - f), c * (1 + f))
+    if tol.diameter is not None:
+        if caster.diameter is None:  # a measured wheel: its I_w does not follow its diameter
+            out["diameter"] = pair(lambda x: (x, {}), d - tol.diameter, d + tol.diameter)
+        else:
+            # a 4 in wheel's low edge leaves Table 1 by a hair: the caster's own warning, if any, is said once elsewhere
+            with warnings.catch_warnings(action="ignore", category=UserWarning):
+                out["diameter"] = pair(
+                    lambda x: (x, {"diameter": x, "inertia": float(model(x))}), d - tol.diameter, d + tol.diameter
+                )
+    if tol.wheel is not None:  # goods-in accepts wheels measured up to this I_w: the worst is at the limit
+        edge: Edge = (tol.wheel, {"inertia": tol.wheel, "diameter": None})
+        out["wheel_inertia"] = (edge, edge)
+    return worst_corner(caster, out, problem.required_speed / calibration, risk_law(problem, law))
 
 
 def corner_probabilities(

@@ -76,7 +76,7 @@ def _check(name: str, value: float, allow_zero: bool = False) -> None:
     samples_per_period=Count(1, 100_000, what="steps a period"),
 )
 @bounded("shimmy simulation")
-def simulate(  # long: its docstring documents every argument; the body (30 lines) is _knock, _integrate, measure
+def simulate(  # long: its docstring documents every argument; the body (45 lines) is _knock, _integrate, measure
     design: Design,
     conditions: Conditions = Conditions(),
     speed: float = 2.5,
@@ -153,7 +153,25 @@ def simulate(  # long: its docstring documents every argument; the body (30 line
     ext = [(t, th) for (t, s, th), (_, before, _) in zip(run.slips[1:], run.slips) if s != before]
     ext = np.asarray(ext, dtype=float).reshape(-1, 2)
     diverged = run.reason == "limit"
-    early, late = _amplitudes(ext, transient, period, run.time, diverged, angle_limit)
+    # the mean half peak-to-peak of the swings (between the reversals ``ext``) over two periods after the aligning
+    # transient (early) and over the last two periods (late; ``angle_limit`` if |θ| reached it) [rad]
+    half, half_times = np.abs(np.diff(ext[:, 1])) / 2, ext[1:, 0]  # the swings and when they end (none: empty)
+
+    def window_amplitude(lo, hi, first_after=False):
+        """Mean half peak-to-peak of the swings ending in [lo, hi] [rad]."""
+        mask = (half_times >= lo) & (half_times <= hi)
+        if mask.any():
+            return float(half[mask].mean())
+        if first_after and (half_times >= lo).any():
+            return float(half[np.argmax(half_times >= lo)])
+        return 0.0
+
+    early = window_amplitude(transient, transient + 2 * period, first_after=True)
+    late = float(angle_limit) if diverged else window_amplitude(run.time - 2 * period, run.time)
+    # the shimmy frequency [rad/s] from the zero crossings of θ after the transient (NaN if fewer than three)
+    cr = np.asarray(run.crossings)
+    cr = cr[cr >= transient]
+    frequency = float(math.pi / np.median(np.diff(cr)[(cr.size - 1) // 2 :])) if cr.size >= 3 else math.nan
     growth = late / early if early > 0 else (math.inf if late > 0 else 0.0)
     y = np.asarray(run.y, dtype=float).reshape(-1, 3)
     return SimulationResult(
@@ -171,7 +189,7 @@ def simulate(  # long: its docstring documents every argument; the body (30 line
         growth_ratio=float(growth),
         grows=bool(diverged or growth > 1.0),
         diverged=diverged,
-        frequency=_frequency(run.crossings, transient),
+        frequency=frequency,
         predicted_frequency=sys.frequency,
         predicted_amplitude=float(steady_shimmy_amplitude(sys.speed, sys.trail, sys.frequency, theta_i)),
         critical_speed=sys.eq7_speed(theta_i),  # c_f,eff = M_f/θ_i
@@ -197,40 +215,6 @@ def _knock(design: Design, conditions: Conditions, speed, angle, angular_velocit
         duration = transient + float(cycles) * period
     _check("duration", float(duration))
     return sys, theta_i, period, transient, float(duration)
-
-
-def _amplitudes(ext: np.ndarray, transient: float, period: float, end: float, diverged: bool, angle_limit):
-    """(early, late) amplitude [rad]: the mean half peak-to-peak of the swings (between the reversals
-    ``ext``) over two periods after the aligning transient and over the last two periods (``angle_limit``
-    if |θ| reached it)."""
-    half, half_times = np.abs(np.diff(ext[:, 1])) / 2, ext[1:, 0]  # the swings and when they end (none: empty)
-
-    def window_amplitude(lo, hi, first_after=False):
-        """Mean half peak-to-peak of the swings ending in [lo, hi] [rad]."""
-        mask = (half_times >= lo) & (half_times <= hi)
-        if mask.any():
-            return float(half[mask].mean())
-        if first_after and (half_times >= lo).any():
-            return float(half[np.argmax(half_times >= lo)])
-        return 0.0
-
-    early = window_amplitude(transient, transient + 2 * period, first_after=True)
-    if diverged:
-        late = float(angle_limit)
-    else:
-        late = window_amplitude(end - 2 * period, end)
-    return early, late
-
-
-def _frequency(crossings: list[float], transient: float) -> float:
-    """Measured shimmy frequency [rad/s] from the zero crossings of θ after the transient (NaN if fewer
-    than three)."""
-    cr = np.asarray(crossings)
-    cr = cr[cr >= transient]
-    if cr.size >= 3:
-        half_periods = np.diff(cr)
-        return float(math.pi / np.median(half_periods[len(half_periods) // 2 :]))
-    return math.nan
 
 
 @bounded("onset search")

@@ -631,7 +631,12 @@ def fleet_data(result: FleetResult) -> dict[str, Any]:
     ok = result.feasible
     rows = result.rows()
     served_units = float(result.fleet.count[ok].sum()) or 1.0
-    curve = _curve_data(result, served_units)
+    ch, choice = result.chairs, result.chairs["choice"][ok]
+    # per-chair arrays of the own recommendations (chairs with a caster) for the report's figure
+    dist: dict[str, Any] = {
+        **{name: getattr(result.stock, name)[choice] for name in VARIABLES},
+        **{key: ch[key][ok] for key in ("turning_effort", "threshold_force", "shimmy_probability") if key in ch},
+    }
     sku = result.skus
     solved = sku is not None and sku.status != "infeasible"
     w = tuple(float(x) for x in problem.weights)
@@ -669,9 +674,22 @@ def fleet_data(result: FleetResult) -> dict[str, Any]:
         "tolerance_price": result.tolerance_price,
         "answer": _answer(result)[0],
         "answer_detail": _answer(result)[1],
-        "regret_curve": curve,
+        "regret_curve": [  # per K the total, mean (over the served units) and worst regret [N], proof
+            {
+                "k": k,
+                "total_regret_N": s.regret if s.status != "infeasible" else None,
+                "mean_regret_N": s.regret / served_units if s.status != "infeasible" else None,
+                "worst_regret_N": _worst_regret(result, s),
+                "status": s.status,
+                "lower_bound_N": s.lower_bound,
+                "gap_N": s.gap,
+                "method": s.method,
+                "chosen": s.chosen,
+            }
+            for k, s in sorted(result.curve.items())
+        ],
         "rows": rows,
-        "distributions": _distributions(result),
+        "distributions": {k: np.asarray(v, float) for k, v in dist.items()},
         "alpha": None if risk is None else risk.probability,
     }
 
@@ -685,38 +703,6 @@ def fleet_run(result: FleetResult) -> dict[str, Any]:
         "curve_seconds": {str(k): s.seconds for k, s in sorted(result.curve.items())},
         "scheduler": result.scheduler,
     }
-
-
-def _distributions(result: FleetResult) -> dict[str, np.ndarray]:
-    """Per-chair arrays of the own recommendations (chairs with a caster) for the report's figure."""
-    ch, ok = result.chairs, result.feasible
-    choice = ch["choice"][ok]
-    dist = {
-        **{name: getattr(result.stock, name)[choice] for name in VARIABLES},
-        "turning_effort": ch["turning_effort"][ok],
-        "threshold_force": ch["threshold_force"][ok],
-    }
-    if "shimmy_probability" in ch:
-        dist["shimmy_probability"] = ch["shimmy_probability"][ok]
-    return {k: np.asarray(v, float) for k, v in dist.items()}
-
-
-def _curve_data(result: FleetResult, units: float) -> list[dict[str, Any]]:
-    """The regret curve as plain data: per K the total, mean (over ``units``) and worst regret [N], proof."""
-    return [
-        {
-            "k": k,
-            "total_regret_N": s.regret if s.status != "infeasible" else None,
-            "mean_regret_N": s.regret / units if s.status != "infeasible" else None,
-            "worst_regret_N": _worst_regret(result, s),
-            "status": s.status,
-            "lower_bound_N": s.lower_bound,
-            "gap_N": s.gap,
-            "method": s.method,
-            "chosen": s.chosen,
-        }
-        for k, s in sorted(result.curve.items())
-    ]
 
 
 def _worst_regret(result: FleetResult, solution: KMedianSolution | None) -> float | None:

@@ -109,32 +109,25 @@ def stock_table(problem) -> StockTable:
     for key in ("critical_speed", "confident_speed", "swept_radius"):
         setattr(table, key, getattr(values, key))
     table.extrapolated = np.asarray(values.extrapolated, bool)
-    if getattr(problem, "tolerances", None) is not None:
-        _toleranced(table, problem)
+    tol = getattr(problem, "tolerances", None)
+    if tol is not None:
+        # a stock caster serves a chair only if it holds at the worst corner of the stated tolerances (trail − ±,
+        # groove − ±, M_f − its fraction, the diameter at either edge, a measured wheel at the accepted I_w): its
+        # confident_speed becomes the least over its nominal and its corners (the risk bound's V_q, a conservative
+        # screen used to choose, never printed) and its swept radius T + d/2 grows by ± trail + ± d/2
+        speeds = [np.asarray(table.confident_speed, float)]
+        for corner in tolerance_corners(problem, {k: getattr(table, k) for k in (*VARIABLES, "inertia", "measured")}):
+            with warnings.catch_warnings(action="ignore", category=UserWarning):
+                at = evaluate(
+                    {k: corner[k] for k in VARIABLES},
+                    problem.conditions,
+                    inertia=corner["inertia"],
+                    measured=corner["measured"],
+                )
+            speeds.append(np.asarray(at.confident_speed, float))
+        table.confident_speed = np.minimum.reduce(speeds)
+        table.swept_radius = np.asarray(table.swept_radius, float) + (tol.trail or 0.0) + (tol.diameter or 0.0) / 2
     return table
-
-
-def _toleranced(table: StockTable, problem) -> None:
-    """With ``[tolerances]``, a stock caster serves a chair only if it holds at the worst corner of the stated
-    tolerances: its ``confident_speed`` becomes the least over its nominal and its corners (trail − ±, groove − ±,
-    M_f − its fraction, the diameter at either edge with the inertia model's I_w there, or a measured wheel at the
-    accepted I_w), and its ``swept_radius`` T + d/2 grows by ± trail + ± d/2 (the footrest with both at their
-    upper edges, so the box's trail window upward is at least the trail's tolerance).  The speeds are the risk
-    bound's V_q (:func:`designer.physics.uncertainty.shimmy_speed_quantile`, vectorised): a conservative screen —
-    a caster it keeps holds at its corner by the exact law too — used to choose, never printed."""
-    tol = problem.tolerances
-    speeds = [np.asarray(table.confident_speed, float)]
-    for corner in tolerance_corners(problem, {k: getattr(table, k) for k in (*VARIABLES, "inertia", "measured")}):
-        with warnings.catch_warnings(action="ignore", category=UserWarning):
-            at = evaluate(
-                {k: corner[k] for k in VARIABLES},
-                problem.conditions,
-                inertia=corner["inertia"],
-                measured=corner["measured"],
-            )
-        speeds.append(np.asarray(at.confident_speed, float))
-    table.confident_speed = np.minimum.reduce(speeds)
-    table.swept_radius = np.asarray(table.swept_radius, float) + (tol.trail or 0.0) + (tol.diameter or 0.0) / 2
 
 
 def _default_stock(problem):

@@ -178,20 +178,6 @@ def _suggest(word: str, options) -> str:
     return ""
 
 
-def _header_factor(name: str, unit: str | None, source: str) -> float:
-    """SI value of one header unit (1.0 when the header has none)."""
-    dimension = COLUMNS[name]
-    if unit is None:
-        return 1.0
-    if dimension in ("text", "surface", "mode", "count"):
-        raise ProblemError(f"{source}: column {name}_{unit}: {name} takes no unit")
-    unit = UNIT_ALIASES.get(unit, unit)
-    try:
-        return parse_quantity(f"1 {unit}", dimension, f"{source}: column {name} (unit {unit!r} in the header)")
-    except InputError as exc:
-        raise ProblemError(str(exc)) from None
-
-
 def read_fleet(path, base=None) -> Fleet:
     """Read and validate FLEET.csv.
 
@@ -262,7 +248,18 @@ def _header_columns(header: list[str], source: str) -> dict[str, tuple[int, floa
         name, unit = _split_header(raw, source)
         if name in columns:
             raise ProblemError(f"{source}: column {raw!r}: {name} appears twice in the header")
-        columns[name] = (pos, _header_factor(name, unit, source), unit)
+        factor = 1.0  # the SI value of the header's unit
+        if unit is not None:
+            if COLUMNS[name] in ("text", "surface", "mode", "count"):
+                raise ProblemError(f"{source}: column {name}_{unit}: {name} takes no unit")
+            si = UNIT_ALIASES.get(unit, unit)
+            try:
+                factor = parse_quantity(
+                    f"1 {si}", COLUMNS[name], f"{source}: column {name} (unit {si!r} in the header)"
+                )
+            except InputError as exc:
+                raise ProblemError(str(exc)) from None
+        columns[name] = (pos, factor, unit)
     # a header that is no column's was refused above with its "did you mean": a missing column has no near miss
     for name in REQUIRED:
         if name not in columns:

@@ -384,9 +384,22 @@ def recommend(
     size = int(sel["front_size"][0])
     choice = int(sel["choice"][0])
     if choice < 0:
-        if enforced is None or int(enforced[0]["choice"][0]) < 0:
-            raise _over_cap_error(problem, b, sel)
-        raise _corner_error(problem, b, enforced[0])
+        if enforced is not None and int(enforced[0]["choice"][0]) >= 0:  # none holds at the worst corner
+            corner = b.corners(problem, [int(enforced[0]["choice"][0])])[0]
+            raise InfeasibleError(
+                f"{problem.name}: no buildable caster holds P(shimmy) <= {risk_law(problem).probability:g} at the "
+                f"worst corner of [tolerances] (the rule's pick without it reaches {corner:.2%} there); tighten "
+                "tolerances, widen the stock or set tolerances.enforce = false"
+            )
+        # a buildable front exists but no point is within the cap of [objective]
+        capped = "threshold_force" if problem.max_threshold_force is not None else "turning_effort"
+        lo = int(sel["easiest_sill" if capped == "threshold_force" else "easiest_turn"][0])
+        cap = f"objective.max_{capped} = {shown(getattr(problem, 'max_' + capped), capped)}"
+        best = f"the least {quantity(capped).description} buildable is {shown(b.values[capped][lo], capped)}"
+        raise InfeasibleError(
+            f"{problem.name}: no buildable caster within the risk bound meets {cap}; {best}; "
+            f"raise the cap or widen the stock"
+        )
     rule = rule_text(problem, size, bool(sel["knee"][0]))
     items = [(choice, "recommended")] + [(i, r) for i, r in front_roles(b.values.turning_effort, sel) if i != choice]
     q = _quantiles(problem, b, [i for i, _ in items])
@@ -484,17 +497,6 @@ def _price(problem, b: _Buildable) -> dict:
     }
 
 
-def _corner_error(problem, b: _Buildable, sel: dict) -> InfeasibleError:
-    """Exit-4 error when no buildable caster holds the bound at the worst corner of ``[tolerances]``."""
-    corner = b.corners(problem, [int(sel["choice"][0])])[0]
-    alpha = risk_law(problem).probability
-    return InfeasibleError(
-        f"{problem.name}: no buildable caster holds P(shimmy) <= {alpha:g} at the worst corner of [tolerances] "
-        f"(the rule's pick without it reaches {corner:.2%} there); tighten tolerances, widen the stock or set "
-        "tolerances.enforce = false"
-    )
-
-
 def _if_measured(problem, rec: Recommendation, samples, seed) -> dict | None:
     """The recommendation for wheels that will be measured and accepted only up to their power-law value: every
     candidate evaluated as a measured wheel at exactly that value (the worst wheel accepted, with the
@@ -547,18 +549,6 @@ def _buildable(problem) -> _Buildable:
             raise error
         raise InfeasibleError(_infeasible_message(problem, table))
     return b
-
-
-def _over_cap_error(problem, b: _Buildable, sel: dict) -> InfeasibleError:
-    """Exit-4 error when a buildable front exists but no point is within the cap of ``[objective]``."""
-    capped = "threshold_force" if problem.max_threshold_force is not None else "turning_effort"
-    lo = int(sel["easiest_sill" if capped == "threshold_force" else "easiest_turn"][0])
-    cap = f"objective.max_{capped} = {shown(getattr(problem, 'max_' + capped), capped)}"
-    best = f"the least {quantity(capped).description} buildable is {shown(b.values[capped][lo], capped)}"
-    return InfeasibleError(
-        f"{problem.name}: no buildable caster within the risk bound meets {cap}; {best}; "
-        f"raise the cap or widen the stock"
-    )
 
 
 def _note(problem, rec: Recommendation, size: int) -> str:

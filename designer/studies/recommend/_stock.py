@@ -67,12 +67,8 @@ def _wheel_rows(problem, stock):
         ]
     if stock is not None and stock.wheels is not None:
         return [(w.diameter, w.inertia, w.groove, w.name) for w in stock.wheels]
-    b = problem.bounds["diameter"]
-    if stock is not None and stock.diameters is not None:
-        values = stock.diameters
-    elif b.fixed:
-        values = (b.low,)
-    else:
+    values = _values(problem, "diameter", None if stock is None else stock.diameters)
+    if values is None:
         return None
     if getattr(c.inertia, "measured", False):  # measured wheels: a fixed I_w, or the power law's value at d
         with warnings.catch_warnings(action="ignore", category=InertiaExtrapolationWarning):

@@ -47,20 +47,6 @@ class _Wheel:
     cost: float = DEFAULT_PART_COSTS["wheel"]
 
 
-def _stock_of(problem) -> dict:
-    """The problem's ``[stock]`` as {key: values} (keys left out, or no [stock] at all: absent = continuous)."""
-    keys = ("diameters", "grooves", "trails", "dampings", "wheels", "trail_step")
-    return {key: value for key in keys if (value := getattr(problem.stock, key, None)) is not None}
-
-
-def _grid(low: float, high: float, step: float) -> np.ndarray:
-    n = int(math.floor((high - low) / step + 1e-9))
-    values = low + step * np.arange(n + 1)
-    if high - values[-1] > 1e-12:
-        values = np.append(values, high)
-    return values
-
-
 def part_options(problem, current: Design) -> tuple[dict, dict]:
     """What each part can be changed to: the one place that decides the candidate values.
 
@@ -83,7 +69,8 @@ def part_options(problem, current: Design) -> tuple[dict, dict]:
     only with wheels.  With ``[inertia] model = "catalog"`` the wheels are the
     problem's Table 1 wheels; a fixed inertia or diameter fixes the wheel.
     """
-    stock = _stock_of(problem)
+    keys = ("diameters", "grooves", "trails", "dampings", "wheels", "trail_step")  # a key left out: continuous
+    stock = {key: value for key in keys if (value := getattr(problem.stock, key, None)) is not None}
     sources: dict[str, str] = {}
     dampings = _drop_current(_listed(stock, problem.bounds, sources, "dampings", "damping"), current.damping)
     if "trails" in stock:
@@ -116,7 +103,10 @@ def _listed(stock: dict, bounds: dict, sources: dict, key: str, variable: str) -
         return values[(values >= b.low * (1 - 1e-12)) & (values <= b.high * (1 + 1e-12))]  # within the bounds
     step = written_size(GRID_STEP[variable], "in") if variable in _LENGTHS else shown(GRID_STEP[variable], variable)
     sources[variable] = f"continuous (no [stock] {key}): grid over the bounds every {step}"
-    return _grid(b.low, b.high, GRID_STEP[variable]) if b.high > b.low else np.array([b.low])
+    if b.high <= b.low:
+        return np.array([b.low])
+    values = b.low + GRID_STEP[variable] * np.arange(int(math.floor((b.high - b.low) / GRID_STEP[variable] + 1e-9)) + 1)
+    return np.append(values, b.high) if b.high - values[-1] > 1e-12 else values
 
 
 def _drop_current(values: np.ndarray, value: float) -> np.ndarray:

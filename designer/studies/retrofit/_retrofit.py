@@ -420,27 +420,18 @@ def _ranked(options: dict, sources: dict, base: dict, setting: _Setting, current
     price = np.round(cands["price"], 9)
     feasible = values.feasible
     if s.problem.tolerances is not None:  # only fixes that hold at the tolerances' worst corner
-        feasible = feasible & _holds_at_corner(cands, s)
+        # the bound's V_q at each corner against V_req, vectorised: a conservative bound of the exact law's
+        # quantile, so a fix kept holds there by the exact law too; used to rank, never printed
+        for corner in tolerance_corners(s.problem, cands):
+            with warnings.catch_warnings(action="ignore", category=UserWarning):
+                at = _evaluate(corner, s.problem.conditions, s.stem_angle, s.factor, s.bound, s.limits)
+            feasible = feasible & np.asarray(at.risk_ok, bool)
     inside = np.flatnonzero(feasible & (over <= 1e-12))
     outside = np.flatnonzero(feasible & (over > 1e-12))
     keys = (cands["order"], -values.confident_speed, np.round(d_turn, 9), np.round(d_force, 9), loss, price)
     ranked = inside[np.lexsort([key[inside] for key in keys])]
     apart = outside[np.lexsort((cands["order"][outside], loss[outside], price[outside], np.round(over[outside], 9)))]
     return cands, ranked, apart, searched
-
-
-def _holds_at_corner(cands: dict, s: _Setting) -> np.ndarray:
-    """Which candidates meet the risk bound at the worst corner of the problem's ``[tolerances]`` (trail − ±,
-    groove − ±, M_f − its fraction, the diameter at either edge with the inertia model's I_w there, or a measured
-    wheel at the accepted I_w): the bound's speed V_q at each corner against V_req, vectorised.  V_q is a
-    conservative bound of the exact law's quantile, so a candidate kept holds there by the exact law too (its spec's
-    worst corner says so); used to rank, never printed."""
-    holds = np.ones(np.shape(cands["trail"]), bool)
-    for corner in tolerance_corners(s.problem, cands):
-        with warnings.catch_warnings(action="ignore", category=UserWarning):
-            values = _evaluate(corner, s.problem.conditions, s.stem_angle, s.factor, s.bound, s.limits)
-        holds &= np.asarray(values.risk_ok, bool)
-    return holds
 
 
 def _changes(current: Design, inertia: float, cands: dict, j: int, wheels: list) -> tuple[Change, ...]:

@@ -52,13 +52,6 @@ def _half_map(sys: CasterDynamics, z: np.ndarray) -> tuple[np.ndarray | None, fl
     return (None if end is None else -end), time
 
 
-def _describing_function_speed(sys: CasterDynamics, amplitude: float) -> float:
-    """Speed of the unstable cycle of amplitude A by Eq. 6 + Eq. 20B (C_D = 4 M_f/(π ω A)) [m/s]."""
-    c_d = 4 * sys.friction_moment / (math.pi * sys.frequency * amplitude)
-    a = sys.inertia / sys.trail
-    return (c_d + math.sqrt(c_d**2 + 4 * a * sys.groove_coefficient)) / (2 * a)
-
-
 # long: Newton on the half-period map, its step control, Floquet multipliers and the closure check
 def _damped_newton(
     residual: Residual,
@@ -143,7 +136,10 @@ def periodic_orbit(
     w = _weights(sys)
     n = sys.size - 1  # section dimension
     if guess is None:
-        V = _describing_function_speed(sys, A)
+        # the unstable cycle's speed by Eq. 6 + Eq. 20B (C_D = 4 M_f/(π ω A)) [m/s]
+        c_d = 4 * sys.friction_moment / (math.pi * sys.frequency * A)
+        a = sys.inertia / sys.trail
+        V = (c_d + math.sqrt(c_d**2 + 4 * a * sys.groove_coefficient)) / (2 * a)
         guess = np.array([-sys.trail * A, V]) if n == 2 else np.array([-sys.trail * A, -V * A, V])
     u = np.array(guess, dtype=float)
 

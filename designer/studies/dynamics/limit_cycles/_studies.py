@@ -97,7 +97,16 @@ def bifurcation_diagram(
     amplitudes = np.geomspace(a_lo, max_amplitude, int(points))
     unstable = continue_orbits(sys, amplitudes, progress=progress)
     orbits = [o for o in unstable.orbits if lo * 0.5 <= o.speed <= hi * 1.5]
-    stable_ref, stable_orbits = _stable_branch(sys, tyre, ref, lo, hi, points)
+    # the stable branch (sustained shimmy): simulated large knocks at ref, followed in speed down to lo and up to
+    # hi (none with the rolling tyre, tyre None)
+    stable_ref = None
+    stable_orbits: list[PeriodicOrbit] = []
+    if tyre is not None:
+        stable_ref = stable_orbit(sys.at(ref))
+        if stable_ref is not None:
+            down = speed_sweep(sys, np.geomspace(ref, lo, max(5, 2 * points // 3))[1:], stable_ref)
+            up = speed_sweep(sys, np.geomspace(ref, hi, max(4, points // 3))[1:], stable_ref)
+            stable_orbits = [*down.orbits[::-1], stable_ref, *up.orbits]
     # merge: amplitude branch (unstable part and the stable part near the fold) + the speed sweep
     unstable_part = [o for o in orbits if not o.stable]
     fold_part = [o for o in orbits if o.stable and (not stable_orbits or o.amplitude < stable_orbits[0].amplitude)]
@@ -122,21 +131,6 @@ def bifurcation_diagram(
         max_closure=float(max((o.closure for o in every), default=math.nan)),
         failed_amplitudes=[float(a) for a in unstable.failed],
     )
-
-
-def _stable_branch(sys, tyre, ref: float, lo: float, hi: float, points: int):
-    """The stable branch (sustained shimmy) of the diagram: ``(orbit at ref or None, orbits by speed)``,
-    found by simulating large knocks at ``ref`` [m/s] and followed in speed down to ``lo`` and up to ``hi``
-    (none with the rolling tyre, ``tyre`` None)."""
-    stable_ref = None
-    stable_orbits: list[PeriodicOrbit] = []
-    if tyre is not None:
-        stable_ref = stable_orbit(sys.at(ref))
-        if stable_ref is not None:
-            down = speed_sweep(sys, np.geomspace(ref, lo, max(5, 2 * points // 3))[1:], stable_ref)
-            up = speed_sweep(sys, np.geomspace(ref, hi, max(4, points // 3))[1:], stable_ref)
-            stable_orbits = [*down.orbits[::-1], stable_ref, *up.orbits]
-    return stable_ref, stable_orbits
 
 
 def _stats(pred, meas) -> ErrorStats:
