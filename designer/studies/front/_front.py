@@ -27,6 +27,7 @@ from designer.units import csv_quantity
 from designer.problem import example_names, example_problem
 from designer.problem import Problem, family_of, load_problem
 from designer.reprs import Key, Record, si_frame
+from designer.solvers.base import OBJECTIVES
 from designer.plots.svg import svg_curve
 from designer.plots import fronts as front_plots
 
@@ -91,14 +92,7 @@ class FrontPoint(Record):
         """The point as one flat row of ``front.csv`` and ``front.json`` (SI units; the margins are in
         :meth:`to_dict`, not here)."""
         out: dict[str, Any] = self.design.to_dict()
-        out.update(
-            turning_effort=self.turning_effort,
-            threshold_force=self.threshold_force,
-            critical_speed=self.critical_speed,
-            epsilon=self.epsilon,
-            family=self.family,
-            status=self.status,
-        )
+        out.update({n: getattr(self, n) for n in (*OBJECTIVES, "epsilon", "family", "status")})
         if self.wheel:
             out["wheel"] = self.wheel
         for name, value in self.multipliers.items():
@@ -120,7 +114,7 @@ _COLUMNS = {v: PARAMETERS[v].column for v in VARIABLES}
 """DataFrame column of each design variable, its SI unit in the name (``trail_m``, ``damping_N_m_per_rad``)."""
 
 CSV_QUANTITIES = {
-    **dimensions([*VARIABLES, "turning_effort", "threshold_force", "critical_speed"]),
+    **dimensions([*VARIABLES, *OBJECTIVES]),
     "epsilon": "force",  # the cap on P
 }
 """The quantities of front.csv and their dimensions: each column carries its unit in its name
@@ -136,11 +130,8 @@ def _csv_point(r: dict[str, str], where: str) -> "FrontPoint":
     try:
         point = FrontPoint(
             design=Design(*(_csv_value(r, v) for v in VARIABLES)),
-            turning_effort=_csv_value(r, "turning_effort"),
-            threshold_force=_csv_value(r, "threshold_force"),
-            critical_speed=_csv_value(r, "critical_speed"),
+            **{n: _csv_value(r, n) for n in (*OBJECTIVES, "epsilon")},
             margins={},
-            epsilon=_csv_value(r, "epsilon"),
             status=r["status"],
             success=True,
             family=r["family"],
@@ -441,24 +432,19 @@ class Front(Record):
         points = [(p, False) for p in self.points] + ([(p, True) for p in self.failed] if failed else [])
         margins = list(dict.fromkeys(m for p, _ in points for m in p.margins))
         lambdas = list(dict.fromkeys(m for p, _ in points for m in p.multipliers))
-        columns = [*VARIABLES, "turning_effort", "threshold_force", "critical_speed", "epsilon_N", "family"]
+        columns = [*VARIABLES, *OBJECTIVES, "epsilon_N", "family"]
         columns += ["status", "success", "wheel", *(f"margin_{m}" for m in margins)]
         columns += [f"lambda_{m}" for m in lambdas] + (["failed"] if failed else [])
         records = [
-            dict(
-                zip(
-                    columns,
-                    [
-                        *(getattr(p.design, v) for v in VARIABLES),
-                        *(p.turning_effort, p.threshold_force, p.critical_speed, p.epsilon, p.family, p.status),
-                        bool(p.success),
-                        p.wheel,
-                        *(p.margins.get(m, math.nan) for m in margins),
-                        *(at_tolerance(p.multipliers.get(m, math.nan)) for m in lambdas),
-                        bad,
-                    ],
-                )
-            )
+            {
+                **p.design.to_dict(),
+                **{n: getattr(p, n) for n in OBJECTIVES},
+                **{"epsilon_N": p.epsilon, "family": p.family, "status": p.status, "success": bool(p.success)},
+                "wheel": p.wheel,
+                **{f"margin_{m}": p.margins.get(m, math.nan) for m in margins},
+                **{f"lambda_{m}": at_tolerance(p.multipliers.get(m, math.nan)) for m in lambdas},
+                **({"failed": bad} if failed else {}),
+            }
             for p, bad in points
         ]
         units = {"epsilon_N": "N"}

@@ -39,7 +39,7 @@ from designer.errors import InertiaExtrapolationWarning, InputError, ModelRangeW
 from designer.model import Design
 from designer.problem import POINTS_RANGE, Problem, family_of, problem_argument
 from designer.solvers import FRONT_STRATEGIES, Designs, front_solver, one_solve_at_a_time
-from designer.solvers.base import wheel_of
+from designer.solvers.base import OBJECTIVES, wheel_of
 from designer.solvers.closed_form import CLOSED_FORM
 from designer.solvers.nlp import BIG, Ends, NLPSolver
 
@@ -62,24 +62,16 @@ def _points(
     """FrontPoints of a solver's ε-optima (``eps`` overrides their ε): the successful ones evaluated by the model
     in one vectorised call, a failed one with the solver's own numbers and no margins."""
     caps = found.epsilon if eps is None else np.asarray(eps, float)
-    out: list[FrontPoint | None] = [None] * len(found)
+    out: list[FrontPoint] = []
     ok = np.flatnonzero(found.success).tolist()
     rows = dict(zip(ok, problem.evaluate(found.designs[ok]).rows())) if ok else {}
     for i in range(len(found)):
-        design = found.design(i)
-        row = rows.get(i)
-        if row is not None:
-            f, p, v = row.turning_effort, row.threshold_force, row.critical_speed
-            margins = constraint_margins(problem, design, row).margins
-        else:
-            f, p, v = (float(a) for a in found.objectives[i])
-            margins, row = {}, None
-        out[i] = FrontPoint(
+        design, row = found.design(i), rows.get(i)
+        numbers = found.objectives[i] if row is None else [getattr(row, n) for n in OBJECTIVES]
+        point = FrontPoint(
             design=design,
-            turning_effort=f,
-            threshold_force=p,
-            critical_speed=v,
-            margins=margins,
+            **{n: float(x) for n, x in zip(OBJECTIVES, numbers)},
+            margins={} if row is None else constraint_margins(problem, design, row).margins,
             epsilon=float(caps[i]),
             status=found.status[i],
             success=bool(found.success[i]),
@@ -88,7 +80,8 @@ def _points(
             wheel=wheel,
             caster=row,
         )
-    return [p for p in out if p is not None]
+        out.append(point)
+    return out
 
 
 @checked(points=Count(2, POINTS_RANGE[1], optional=True, what="front points"))
