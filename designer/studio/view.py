@@ -161,9 +161,7 @@ def _front(problem, computed=None):
     key = front_key(problem)
     front = _FRONTS.pop(key, None)
     if front is None:
-        front = computed
-    if front is None:
-        front = _quiet(pareto_front, problem, knee=helper.KNEE)
+        front = computed if computed is not None else _quiet(pareto_front, problem, knee=helper.KNEE)
     _FRONTS[key] = front
     while len(_FRONTS) > _CACHE_SIZE:
         _FRONTS.popitem(last=False)

@@ -127,6 +127,7 @@ def pareto_front(
 # long: the per-variant steps (ends, two passes, points) and the run metadata in one readable loop
 def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy: str, knee: bool = True) -> Front:
     t0 = time.perf_counter()
+    report = progress or (lambda done, total: None)
     all_points: list[FrontPoint] = []
     failed: list[FrontPoint] = []
     build = 0.0
@@ -150,15 +151,13 @@ def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy:
         if variant.bounds["diameter"].fixed:  # P is the same for every design: the front is end B
             all_points += _points(variant, solver.ends_designs(variant, ends, eps=[BIG, BIG]), wheel)[1:]
             build += solver.build_seconds(variant)
-            if progress:
-                progress(k + 1, len(variants))
+            report(k + 1, len(variants))
             continue
         p_a, p_b = (float(v) for v in solver.ends_designs(variant, ends).epsilon)
         eps = np.linspace(p_a, p_b, n)  # pass 1: uniform in ε (closed-form points are not confirmed here)
         first = solver.first_pass(variant, eps, ends=ends)
         solves += first.solves
-        if progress:
-            progress(n, 2 * n)
+        report(n, 2 * n)
         good = first.success
         if np.count_nonzero(good) >= 3:  # pass 2: uniform in arc length of pass 1, every point solved
             eps2 = _respace_objectives(first.objectives[good, :2], n)
@@ -171,8 +170,7 @@ def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy:
             solves += second.solves
         pts = _points(variant, second, wheel)
         sweep = (variant, solver, ends, second, wheel)
-        if progress:
-            progress(2 * n, 2 * n)
+        report(2 * n, 2 * n)
         all_points += [p for p in pts if p.success]
         failed += [p for p in pts if not p.success]
         build += solver.build_seconds(variant)
