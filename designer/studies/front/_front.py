@@ -255,17 +255,12 @@ class Front(Record):
             return self.continuous_knee
         if len(self.points) < 3:
             return self.points[0] if self.points else None
-        ideal, nadir = self.ideal_nadir()
-        f = normalise(self.objectives(), ideal, nadir)
-        a, b = f[0], f[-1]
-        chord = b - a
-        norm = np.hypot(*chord)
-        if norm == 0:
+        f = normalise(self.objectives(), *self.ideal_nadir())
+        a, chord = f[0], f[-1] - f[0]
+        if not np.any(chord):
             return self.points[0]
-        distance = np.abs(chord[0] * (f[:, 1] - a[1]) - chord[1] * (f[:, 0] - a[0])) / norm
-        below = (f[:, 0] - a[0]) * chord[1] - (f[:, 1] - a[1]) * chord[0]
-        distance = np.where(below >= 0, distance, -distance)  # the knee bulges toward the ideal
-        return self.points[int(np.argmax(distance))]
+        # the distance from the chord times its length, signed: the knee bulges toward the ideal (> 0)
+        return self.points[int(np.argmax((f[:, 0] - a[0]) * chord[1] - (f[:, 1] - a[1]) * chord[0]))]
 
     def weighted_best(self, weights: Sequence[float] | None = None) -> FrontPoint | None:
         """The front point minimising J = w_turn F_turn + w_threshold P (default weights: the problem's)."""
