@@ -380,19 +380,9 @@ class Front(Record):
         )
         knee = self.knee()
         if knee is not None and len(self) >= 3:
-            front_plots.draw_fronts(
-                ax,
-                [],
-                [
-                    {
-                        "threshold_force": knee.threshold_force,
-                        "turning_effort": knee.turning_effort,
-                        "kind": "knee",
-                        "label": f"knee: P {knee.threshold_force:.1f} N, F {knee.turning_effort:.2f} N",
-                    }
-                ],
-                legend=False,
-            )
+            label = f"knee: P {knee.threshold_force:.1f} N, F {knee.turning_effort:.2f} N"
+            mark = {n: getattr(knee, n) for n in OBJECTIVES[:2]} | {"kind": "knee", "label": label}
+            front_plots.draw_fronts(ax, [], [mark], legend=False)
         if len(self):
             ax.legend(fontsize=7.5, loc="upper right", framealpha=0.92)
         ax.set_title(f"Pareto front: {getattr(self.problem, 'name', '?')}", fontsize=10)
