@@ -277,8 +277,7 @@ class Front(Record):
         out: list[tuple[int, str]] = []
         if len(self.points) < 3:
             return out
-        ideal, nadir = self.ideal_nadir()
-        f = normalise(self.objectives(), ideal, nadir)
+        f = normalise(self.objectives(), *self.ideal_nadir())
         steps = np.hypot(*np.diff(f, axis=0).T)
         median = np.median(steps) if np.any(steps > 0) else 0
         for i in range(1, len(self.points)):

@@ -288,8 +288,7 @@ def _continuous_knee(
 
 def _respace_objectives(f: np.ndarray, n: int) -> np.ndarray:
     """ε values evenly spaced by arc length along the normalised front with objectives ``f`` (F, P)."""
-    ideal, nadir = f.min(axis=0), f.max(axis=0)
-    g = normalise(f, ideal, nadir)
+    g = normalise(f, f.min(axis=0), f.max(axis=0))
     s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(g, axis=0).T))])
     if s[-1] <= 0:
         return f[:, 1].copy()
