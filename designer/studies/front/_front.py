@@ -128,9 +128,10 @@ def _csv_point(r: dict[str, str], where: str) -> "FrontPoint":
     outside the model's range (an old bare-SI file holding inches: a 2 m trail) is an InputError naming ``where``
     (the file and line) and the column."""
     try:
+        numbers: dict[str, Any] = {n: _csv_value(r, n) for n in (*OBJECTIVES, "epsilon")}
         point = FrontPoint(
             design=Design(*(_csv_value(r, v) for v in VARIABLES)),
-            **{n: _csv_value(r, n) for n in (*OBJECTIVES, "epsilon")},
+            **numbers,
             margins={},
             status=r["status"],
             success=True,
