@@ -192,11 +192,9 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
                 _changed(general, general_shown),
                 *[no_update] * 4,  # the chart, what it shows, the recommendation, the status
                 no_update if from_url else state.to_query(current, defaults),
-                no_update,
-                no_update,
+                *[no_update] * 2,  # the problem data, the card's pending limits
                 {**answered, "valid": False},
-                [no_update] * MAX_CARD_BUTTONS,
-                [no_update] * MAX_CARD_BUTTONS,
+                *[[no_update] * MAX_CARD_BUTTONS] * 2,  # the card buttons' labels and hidden flags
             )
         figure, shown_now = _chart(fronts, mine, shown)
         query = state.to_query(current, defaults)

@@ -201,20 +201,10 @@ def _mine_trace(mine: dict, units: str) -> dict:
     """My caster: a red cross labelled with its chance of shimmy."""
     n = mine["numbers"]
     risk_text = f"{display.shown(n.get('shimmy_probability'), 'shimmy_probability', units)} shimmy"
-    return {
-        "customdata": [_custom(n, "mine", 0, "my caster", units)],
-        "hovertemplate": hover(units),
-        "marker": {"color": COLOURS["mine"], "size": 14, "symbol": "x"},
-        "meta": "mine",
-        "mode": "markers+text",
-        "name": "my caster",
-        "text": [f"my caster {risk_text}"],
-        "textposition": "top left",
-        "textfont": {"size": 13},
-        "x": [n["threshold_force"]],
-        "y": [n["turning_effort"]],
-        "type": "scatter",
-    }
+    custom = [_custom(n, "mine", 0, "my caster", units)]
+    marker = {"color": COLOURS["mine"], "size": 14, "symbol": "x"}
+    text = {"text": [f"my caster {risk_text}"], "textposition": "top left", "textfont": {"size": 13}}
+    return _trace("mine", "my caster", "markers+text", [n], custom, units, marker=marker, **text)
 
 
 def sweeps_figure(sweeps: dict, target: float, alpha: float | None, units: str = "in"):

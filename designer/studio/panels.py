@@ -42,9 +42,9 @@ def _value(n: dict, name: str, units: str, element_id: str | None = None):
     return html.Span(text, id=element_id, style=CSS["num"]) if element_id else text
 
 
-def _level(alpha: float | None) -> str:
-    """ "95 %" for α 0.05 (the probability the speed is reached with)."""
-    return display.percent(1 - (0.05 if alpha is None else alpha))
+def _level(problem) -> str:
+    """ "95 %" for ``problem``'s α 0.05 (the probability the speed is reached with; α 0.05 without a risk bound)."""
+    return display.percent(1 - (0.05 if problem.risk is None else problem.risk.probability))
 
 
 def caster_sentences(n: dict, problem, prefix: str) -> list:
@@ -74,7 +74,7 @@ def caster_sentences(n: dict, problem, prefix: str) -> list:
         ),
         html.Div(
             [
-                f"Speed reached without shimmy ({_level(alpha)} sure): ",
+                f"Speed reached without shimmy ({_level(problem)} sure): ",
                 _value(n, "confident_speed", units, f"{prefix}-confident"),
                 "; shimmy speed V_c (Eq. 7) ",
                 _value(n, "critical_speed", units, f"{prefix}-vc"),
@@ -189,7 +189,6 @@ def numbers_table(n: dict, problem, prefix: str):
     """A caster's numbers as a table, each in ``problem``'s units; the values' ids ``<prefix>-<key>`` (the table's
     other listed quantities, ``n["more"]``, by their own names: label and precision from the parameter table)."""
     units = problem.units
-    alpha = None if problem.risk is None else problem.risk.probability
     rows = [
         ("turning", "turning effort F_turn", _value(n, "turning_effort", units)),
         ("threshold", "sill force P", _value(n, "threshold_force", units)),
@@ -210,7 +209,7 @@ def numbers_table(n: dict, problem, prefix: str):
     rows += [
         ("target", "target speed", display.shown(problem.target_speed, "target_speed", units)),
         ("probability", "chance of shimmy at the target", _value(n, "shimmy_probability", units)),
-        ("confident", f"speed reached ({_level(alpha)} sure)", _value(n, "confident_speed", units)),
+        ("confident", f"speed reached ({_level(problem)} sure)", _value(n, "confident_speed", units)),
         ("swept", "swept radius T + d/2", _value(n, "swept_radius", units) + room_text),
         ("inertia", "wheel inertia I_w" + (" (measured)" if n.get("measured") else ""), _value(n, "inertia", units)),
     ]
@@ -277,7 +276,7 @@ def fixes_panel(result: dict, problem):
     for row in result["fixes"]:
         extra = [
             f"chance of shimmy {display.shown(row['shimmy_probability'], 'shimmy_probability', units)}",
-            f"reaches {display.shown(row['confident_speed'], 'confident_speed', units)} ({_level(problem.risk and problem.risk.probability)} sure)",
+            f"reaches {display.shown(row['confident_speed'], 'confident_speed', units)} ({_level(problem)} sure)",
             f"turning {display.shown(row['turning_effort'], 'turning_effort', units)}",
             f"sill {display.shown(row['threshold_force'], 'threshold_force', units)}",
         ]
@@ -292,9 +291,9 @@ def fixes_panel(result: dict, problem):
             )
         )
     found = result.get("found") or len(items)
-    parts = [head, summary]
+    which = f"the top {len(items)} of {found} found" if found > len(items) else f"all {found} found, best first"
+    parts = [head, summary, html.H5(f"Ranked fixes: {which}", style={"margin": "4px 0"})]
     if found > len(items):
-        parts.append(html.H5(f"Ranked fixes: the top {len(items)} of {found} found", style={"margin": "4px 0"}))
         parts.append(
             html.Div(
                 ["the full list: ", html.Code(result.get("command") or "designer fix")],
@@ -302,7 +301,5 @@ def fixes_panel(result: dict, problem):
                 style={"fontSize": "13px"},
             )
         )
-    else:
-        parts.append(html.H5(f"Ranked fixes: all {found} found, best first", style={"margin": "4px 0"}))
     parts.append(html.Ol(items, id="fixes", style={"maxHeight": "320px", "overflowY": "auto", "margin": "2px 0"}))
     return parts

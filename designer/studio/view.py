@@ -25,6 +25,7 @@ import designer.studio.helper as helper
 from designer.model import Design
 from designer.parameters import OUTPUT_TABLE
 from designer.plots.caster import caster_svg
+from designer.solvers.base import OBJECTIVES
 from designer.studies.dynamics import simulate
 from designer.studies.dynamics.limit_cycles import knock_safe_speeds
 from designer.studies.recommend import recommend, with_spec
@@ -161,9 +162,7 @@ def _front(problem, computed=None):
     key = front_key(problem)
     front = _FRONTS.pop(key, None)
     if front is None:
-        front = computed
-    if front is None:
-        front = _quiet(pareto_front, problem, knee=helper.KNEE)
+        front = computed if computed is not None else _quiet(pareto_front, problem, knee=helper.KNEE)
     _FRONTS[key] = front
     while len(_FRONTS) > _CACHE_SIZE:
         _FRONTS.popitem(last=False)
@@ -216,9 +215,7 @@ def front_points(front) -> list[dict]:
     return [
         {
             "design": p.design.to_dict(),
-            "turning_effort": float(p.turning_effort),
-            "threshold_force": float(p.threshold_force),
-            "critical_speed": float(p.critical_speed),
+            **{n: float(getattr(p, n)) for n in OBJECTIVES},
             "label": getattr(p, "wheel", None) or "",
         }
         for p in _points(front)
@@ -241,15 +238,7 @@ def recommendation_record(rec) -> dict | None:
     return out
 
 
-NUMBERS = (
-    "turning_effort",
-    "threshold_force",
-    "critical_speed",
-    "confident_speed",
-    "shimmy_probability",
-    "swept_radius",
-    "inertia",
-)
+NUMBERS = (*OBJECTIVES, "confident_speed", "shimmy_probability", "swept_radius", "inertia")
 """The numbers of a caster the studio shows: F_turn, P, V_c, the speed reached w.p. 1 − α, P(shimmy) at the
 target speed (the exact law), the swept radius and I_w."""
 

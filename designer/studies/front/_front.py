@@ -27,6 +27,7 @@ from designer.units import csv_quantity
 from designer.problem import example_names, example_problem
 from designer.problem import Problem, family_of, load_problem
 from designer.reprs import Key, Record, si_frame
+from designer.solvers.base import OBJECTIVES
 from designer.plots.svg import svg_curve
 from designer.plots import fronts as front_plots
 
@@ -91,14 +92,7 @@ class FrontPoint(Record):
         """The point as one flat row of ``front.csv`` and ``front.json`` (SI units; the margins are in
         :meth:`to_dict`, not here)."""
         out: dict[str, Any] = self.design.to_dict()
-        out.update(
-            turning_effort=self.turning_effort,
-            threshold_force=self.threshold_force,
-            critical_speed=self.critical_speed,
-            epsilon=self.epsilon,
-            family=self.family,
-            status=self.status,
-        )
+        out.update({n: getattr(self, n) for n in (*OBJECTIVES, "epsilon", "family", "status")})
         if self.wheel:
             out["wheel"] = self.wheel
         for name, value in self.multipliers.items():
@@ -120,7 +114,7 @@ _COLUMNS = {v: PARAMETERS[v].column for v in VARIABLES}
 """DataFrame column of each design variable, its SI unit in the name (``trail_m``, ``damping_N_m_per_rad``)."""
 
 CSV_QUANTITIES = {
-    **dimensions([*VARIABLES, "turning_effort", "threshold_force", "critical_speed"]),
+    **dimensions([*VARIABLES, *OBJECTIVES]),
     "epsilon": "force",  # the cap on P
 }
 """The quantities of front.csv and their dimensions: each column carries its unit in its name
@@ -134,13 +128,11 @@ def _csv_point(r: dict[str, str], where: str) -> "FrontPoint":
     outside the model's range (an old bare-SI file holding inches: a 2 m trail) is an InputError naming ``where``
     (the file and line) and the column."""
     try:
+        numbers: dict[str, Any] = {n: _csv_value(r, n) for n in (*OBJECTIVES, "epsilon")}
         point = FrontPoint(
             design=Design(*(_csv_value(r, v) for v in VARIABLES)),
-            turning_effort=_csv_value(r, "turning_effort"),
-            threshold_force=_csv_value(r, "threshold_force"),
-            critical_speed=_csv_value(r, "critical_speed"),
+            **numbers,
             margins={},
-            epsilon=_csv_value(r, "epsilon"),
             status=r["status"],
             success=True,
             family=r["family"],
@@ -264,17 +256,12 @@ class Front(Record):
             return self.continuous_knee
         if len(self.points) < 3:
             return self.points[0] if self.points else None
-        ideal, nadir = self.ideal_nadir()
-        f = normalise(self.objectives(), ideal, nadir)
-        a, b = f[0], f[-1]
-        chord = b - a
-        norm = np.hypot(*chord)
-        if norm == 0:
+        f = normalise(self.objectives(), *self.ideal_nadir())
+        a, chord = f[0], f[-1] - f[0]
+        if not np.any(chord):
             return self.points[0]
-        distance = np.abs(chord[0] * (f[:, 1] - a[1]) - chord[1] * (f[:, 0] - a[0])) / norm
-        below = (f[:, 0] - a[0]) * chord[1] - (f[:, 1] - a[1]) * chord[0]
-        distance = np.where(below >= 0, distance, -distance)  # the knee bulges toward the ideal
-        return self.points[int(np.argmax(distance))]
+        # the distance from the chord times its length, signed: the knee bulges toward the ideal (> 0)
+        return self.points[int(np.argmax((f[:, 0] - a[0]) * chord[1] - (f[:, 1] - a[1]) * chord[0]))]
 
     def weighted_best(self, weights: Sequence[float] | None = None) -> FrontPoint | None:
         """The front point minimising J = w_turn F_turn + w_threshold P (default weights: the problem's)."""
@@ -291,8 +278,7 @@ class Front(Record):
         out: list[tuple[int, str]] = []
         if len(self.points) < 3:
             return out
-        ideal, nadir = self.ideal_nadir()
-        f = normalise(self.objectives(), ideal, nadir)
+        f = normalise(self.objectives(), *self.ideal_nadir())
         steps = np.hypot(*np.diff(f, axis=0).T)
         median = np.median(steps) if np.any(steps > 0) else 0
         for i in range(1, len(self.points)):
@@ -394,19 +380,9 @@ class Front(Record):
         )
         knee = self.knee()
         if knee is not None and len(self) >= 3:
-            front_plots.draw_fronts(
-                ax,
-                [],
-                [
-                    {
-                        "threshold_force": knee.threshold_force,
-                        "turning_effort": knee.turning_effort,
-                        "kind": "knee",
-                        "label": f"knee: P {knee.threshold_force:.1f} N, F {knee.turning_effort:.2f} N",
-                    }
-                ],
-                legend=False,
-            )
+            label = f"knee: P {knee.threshold_force:.1f} N, F {knee.turning_effort:.2f} N"
+            mark = {n: getattr(knee, n) for n in OBJECTIVES[:2]} | {"kind": "knee", "label": label}
+            front_plots.draw_fronts(ax, [], [mark], legend=False)
         if len(self):
             ax.legend(fontsize=7.5, loc="upper right", framealpha=0.92)
         ax.set_title(f"Pareto front: {getattr(self.problem, 'name', '?')}", fontsize=10)
@@ -441,24 +417,19 @@ class Front(Record):
         points = [(p, False) for p in self.points] + ([(p, True) for p in self.failed] if failed else [])
         margins = list(dict.fromkeys(m for p, _ in points for m in p.margins))
         lambdas = list(dict.fromkeys(m for p, _ in points for m in p.multipliers))
-        columns = [*VARIABLES, "turning_effort", "threshold_force", "critical_speed", "epsilon_N", "family"]
+        columns = [*VARIABLES, *OBJECTIVES, "epsilon_N", "family"]
         columns += ["status", "success", "wheel", *(f"margin_{m}" for m in margins)]
         columns += [f"lambda_{m}" for m in lambdas] + (["failed"] if failed else [])
         records = [
-            dict(
-                zip(
-                    columns,
-                    [
-                        *(getattr(p.design, v) for v in VARIABLES),
-                        *(p.turning_effort, p.threshold_force, p.critical_speed, p.epsilon, p.family, p.status),
-                        bool(p.success),
-                        p.wheel,
-                        *(p.margins.get(m, math.nan) for m in margins),
-                        *(at_tolerance(p.multipliers.get(m, math.nan)) for m in lambdas),
-                        bad,
-                    ],
-                )
-            )
+            {
+                **p.design.to_dict(),
+                **{n: getattr(p, n) for n in OBJECTIVES},
+                **{"epsilon_N": p.epsilon, "family": p.family, "status": p.status, "success": bool(p.success)},
+                "wheel": p.wheel,
+                **{f"margin_{m}": p.margins.get(m, math.nan) for m in margins},
+                **{f"lambda_{m}": at_tolerance(p.multipliers.get(m, math.nan)) for m in lambdas},
+                **({"failed": bad} if failed else {}),
+            }
             for p, bad in points
         ]
         units = {"epsilon_N": "N"}

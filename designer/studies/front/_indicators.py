@@ -21,15 +21,10 @@ def nondominated(points: np.ndarray) -> np.ndarray:
     in one.  Duplicates keep their first occurrence.
     """
     pts = np.asarray(points, float)
-    n = len(pts)
-    keep = np.ones(n, bool)
     order = np.lexsort((pts[:, 1], pts[:, 0]))
-    best_second = np.inf
-    for i in order:
-        if pts[i, 1] < best_second:
-            best_second = pts[i, 1]
-        else:
-            keep[i] = False
+    second = pts[order, 1]  # by increasing first objective: kept where better than every point before it
+    keep = np.empty(len(pts), bool)
+    keep[order] = second < np.minimum.accumulate(np.concatenate([[np.inf], second[:-1]]))
     return keep
 
 
@@ -57,12 +52,8 @@ def hypervolume_2d(points: np.ndarray, reference: npt.ArrayLike) -> float:
         return 0.0
     pts = pts[nondominated(pts)]
     pts = pts[np.argsort(pts[:, 0])]
-    area = 0.0
-    previous_y = ref[1]
-    for x, y in pts:
-        area += (ref[0] - x) * (previous_y - y)
-        previous_y = y
-    return float(area)
+    previous_y = np.concatenate([[ref[1]], pts[:-1, 1]])
+    return float(np.sum((ref[0] - pts[:, 0]) * (previous_y - pts[:, 1])))
 
 
 def igd_plus(points: np.ndarray, reference_front: np.ndarray) -> float:

@@ -39,7 +39,7 @@ from designer.errors import InertiaExtrapolationWarning, InputError, ModelRangeW
 from designer.model import Design
 from designer.problem import POINTS_RANGE, Problem, family_of, problem_argument
 from designer.solvers import FRONT_STRATEGIES, Designs, front_solver, one_solve_at_a_time
-from designer.solvers.base import wheel_of
+from designer.solvers.base import OBJECTIVES, wheel_of
 from designer.solvers.closed_form import CLOSED_FORM
 from designer.solvers.nlp import BIG, Ends, NLPSolver
 
@@ -62,24 +62,16 @@ def _points(
     """FrontPoints of a solver's ε-optima (``eps`` overrides their ε): the successful ones evaluated by the model
     in one vectorised call, a failed one with the solver's own numbers and no margins."""
     caps = found.epsilon if eps is None else np.asarray(eps, float)
-    out: list[FrontPoint | None] = [None] * len(found)
+    out: list[FrontPoint] = []
     ok = np.flatnonzero(found.success).tolist()
     rows = dict(zip(ok, problem.evaluate(found.designs[ok]).rows())) if ok else {}
     for i in range(len(found)):
-        design = found.design(i)
-        row = rows.get(i)
-        if row is not None:
-            f, p, v = row.turning_effort, row.threshold_force, row.critical_speed
-            margins = constraint_margins(problem, design, row).margins
-        else:
-            f, p, v = (float(a) for a in found.objectives[i])
-            margins, row = {}, None
-        out[i] = FrontPoint(
+        design, row = found.design(i), rows.get(i)
+        numbers = found.objectives[i] if row is None else [getattr(row, n) for n in OBJECTIVES]
+        point = FrontPoint(
             design=design,
-            turning_effort=f,
-            threshold_force=p,
-            critical_speed=v,
-            margins=margins,
+            **{n: float(x) for n, x in zip(OBJECTIVES, numbers)},
+            margins={} if row is None else constraint_margins(problem, design, row).margins,
             epsilon=float(caps[i]),
             status=found.status[i],
             success=bool(found.success[i]),
@@ -88,7 +80,8 @@ def _points(
             wheel=wheel,
             caster=row,
         )
-    return [p for p in out if p is not None]
+        out.append(point)
+    return out
 
 
 @checked(points=Count(2, POINTS_RANGE[1], optional=True, what="front points"))
@@ -134,6 +127,7 @@ def pareto_front(
 # long: the per-variant steps (ends, two passes, points) and the run metadata in one readable loop
 def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy: str, knee: bool = True) -> Front:
     t0 = time.perf_counter()
+    report = progress or (lambda done, total: None)
     all_points: list[FrontPoint] = []
     failed: list[FrontPoint] = []
     build = 0.0
@@ -157,15 +151,13 @@ def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy:
         if variant.bounds["diameter"].fixed:  # P is the same for every design: the front is end B
             all_points += _points(variant, solver.ends_designs(variant, ends, eps=[BIG, BIG]), wheel)[1:]
             build += solver.build_seconds(variant)
-            if progress:
-                progress(k + 1, len(variants))
+            report(k + 1, len(variants))
             continue
         p_a, p_b = (float(v) for v in solver.ends_designs(variant, ends).epsilon)
         eps = np.linspace(p_a, p_b, n)  # pass 1: uniform in ε (closed-form points are not confirmed here)
         first = solver.first_pass(variant, eps, ends=ends)
         solves += first.solves
-        if progress:
-            progress(n, 2 * n)
+        report(n, 2 * n)
         good = first.success
         if np.count_nonzero(good) >= 3:  # pass 2: uniform in arc length of pass 1, every point solved
             eps2 = _respace_objectives(first.objectives[good, :2], n)
@@ -178,8 +170,7 @@ def _pareto_front(problem: Problem, n: int, progress: Progress | None, strategy:
             solves += second.solves
         pts = _points(variant, second, wheel)
         sweep = (variant, solver, ends, second, wheel)
-        if progress:
-            progress(2 * n, 2 * n)
+        report(2 * n, 2 * n)
         all_points += [p for p in pts if p.success]
         failed += [p for p in pts if not p.success]
         build += solver.build_seconds(variant)
@@ -297,8 +288,7 @@ def _continuous_knee(
 
 def _respace_objectives(f: np.ndarray, n: int) -> np.ndarray:
     """ε values evenly spaced by arc length along the normalised front with objectives ``f`` (F, P)."""
-    ideal, nadir = f.min(axis=0), f.max(axis=0)
-    g = normalise(f, ideal, nadir)
+    g = normalise(f, f.min(axis=0), f.max(axis=0))
     s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(g, axis=0).T))])
     if s[-1] <= 0:
         return f[:, 1].copy()

@@ -153,18 +153,13 @@ def designs_at_diameters(problem: Problem, d: npt.ArrayLike) -> tuple[np.ndarray
         for c in (lo.damping, hi.damping)
     ]
     cand_b = np.concatenate([bb.reshape(n, m), np.column_stack([b_at_c[0], b_at_c[1]])], axis=1)
-    cand_c = np.concatenate(
-        [c_at_b.reshape(n, m), np.column_stack([np.full(n, lo.damping), np.full(n, hi.damping)])], axis=1
-    )
+    ends = np.column_stack([np.full(n, lo.damping), np.full(n, hi.damping)])
+    cand_c = np.concatenate([c_at_b.reshape(n, m), ends], axis=1)
     k = cand_b.shape[1]
     ok = np.isfinite(cand_b) & np.isfinite(cand_c)
     safe_b, safe_c = np.where(ok, cand_b, lo.groove), np.where(ok, cand_c, lo.damping)
-    cost = np.asarray(
-        _values(problem, np.repeat(t, k).reshape(n, k), np.repeat(d, k).reshape(n, k), safe_b, safe_c)[
-            "turning_effort"
-        ],
-        float,
-    )
+    tk, dk = np.repeat(t, k).reshape(n, k), np.repeat(d, k).reshape(n, k)
+    cost = np.asarray(_values(problem, tk, dk, safe_b, safe_c)["turning_effort"], float)
     cost = np.where(ok, cost, np.inf)
     best = np.argmin(cost, axis=1)
     rows = np.arange(n)
