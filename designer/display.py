@@ -162,10 +162,17 @@ def axis(name: str, units: str | None = "si") -> str:
     return f"{label(name)} [{text}]" if text else label(name)
 
 
-def percent(probability) -> str:
-    """A probability [-] as a percentage to 3 significant digits ("2.98 %", "0.1 %", "97.5 %"); the risk bound
-    α ranges from 0.001 to 0.5, so a whole-percent format would print 0.1 % as 0 %."""
-    return shown(probability, dimension="probability")
+def percent(probability, digits: int | None = None) -> str:
+    """A probability [-] as a percentage to 3 significant digits ("2.98 %", "0.1 %", "97.5 %"; ``digits``
+    significant digits instead: 2 for a standard error, "0.075 %"); the risk bound α ranges from 0.001 to 0.5, so
+    a whole-percent format would print 0.1 % as 0 %.  A probability below 1 never reads "100 %": it gets the
+    decimals that tell it from certainty ("99.99 %")."""
+    text = shown(probability, dimension="probability", digits=digits)
+    places = 0
+    while text.startswith("100") and not _missing(probability) and float(probability) < 1 and places < 12:
+        places += 1
+        text = f"{100 * float(probability):.{places}f} %"
+    return text
 
 
 def rescale(from_units: str, to_units: str, dimension: str = "length"):

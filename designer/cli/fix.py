@@ -239,9 +239,10 @@ def _print_table(console, result, fixes, title: str, wide: bool, conf: str) -> N
     rows = []
     for rank, f in enumerate(fixes, 1):
         risk = percent(f.shimmy_probability) + (
-            f" ({percent(f.shimmy_probability_mc)} ± {percent(f.shimmy_probability_se)})" if wide else ""
+            f" ({percent(f.shimmy_probability_mc)} ± {percent(f.shimmy_probability_se, digits=2)})" if wide else ""
         )
-        turning, increase = number(f.cost_turning_effort, "turning_effort"), percent(f.threshold_increase)
+        turning = number(f.cost_turning_effort, "turning_effort", digits=1)  # a change: to 0.1 N
+        increase = percent(f.threshold_increase, digits=2)
         cells = [str(rank), _changes(f, result.units), f"{f.parts_cost:g}"]
         cells += [f"{number(f.turning_effort, 'turning_effort')} ({_plus(f.cost_turning_effort, turning)})"]
         cells += [f"{number(f.threshold_force, 'threshold_force')} ({_plus(f.threshold_increase, increase)})", risk]
@@ -289,7 +290,7 @@ def _print_screen(result, problem) -> None:
     why = (
         f"the caster as it is ({parts_text(cur.design, problem.units)}) has P(shimmy at "
         f"{shown(result.target_speed, 'critical_speed')}) = {percent(cur.shimmy_probability)} (exact; Monte Carlo "
-        f"{percent(cur.shimmy_probability_mc)} ± {percent(cur.shimmy_probability_se)}) against the risk bound "
+        f"{percent(cur.shimmy_probability_mc)} ± {percent(cur.shimmy_probability_se, digits=2)}) against the risk bound "
         f"{_bound(result)}; V_c (Eq. 7) {shown(cur.critical_speed, 'critical_speed')}"
     )
     paragraphs = [("Why", why)]
@@ -371,7 +372,7 @@ def _if_measured_text(result) -> str:
 def _mc_text(state) -> str:
     """The Monte Carlo beside the exact P: ``Monte Carlo 61.88% ± 0.10%, 250000 draws, seed 20111``."""
     return (
-        f"Monte Carlo {percent(state.shimmy_probability_mc)} ± {percent(state.shimmy_probability_se)}, "
+        f"Monte Carlo {percent(state.shimmy_probability_mc)} ± {percent(state.shimmy_probability_se, digits=2)}, "
         f"{state.mc_samples} draws, seed {state.mc_seed}"
     )
 

@@ -208,7 +208,7 @@ def test_studio_in_chromium(studio):
         )
     )
     message = driver.find_element(By.CSS_SELECTOR, '[data-key="trail_min"] .control-error').text
-    assert message.startswith("variables.trail") and "3 in > 2.5 in" in message
+    assert message.startswith("variables.trail") and "3.000 in > 2.500 in" in message
     assert traces(driver)["risk"] == shown_front
     assert not math.isnan(float(text(driver, "rec-turning").split()[0]))
 

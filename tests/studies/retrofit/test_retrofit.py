@@ -575,7 +575,7 @@ def test_text_answer_first_and_fits_the_terminal(capsys, monkeypatch, columns):
     assert max(len(line) for line in lines) <= columns
     assert "  tyre       B 1/4, 1/2, 9/16, 3/4 in (2 each)" in text and "washer: [stock]" not in text
     assert "  wheel      d 3, 4, 5, 6, 7 in (4 each)" in text
-    assert "Fixes within +10% sill force and +10% turning effort (" in text
+    assert "Fixes within +10 % sill force and +10 % turning effort (" in text
     assert "Beyond the limits, listed apart (" in text
     assert not any(line.strip() == "in" for line in lines)  # a size is never broken: the numbers give way
     assert main(["fix", str(DEFAULT), "--current", MUST_SHOW, "--wide", "--top", "2"]) == 0
@@ -603,7 +603,7 @@ def test_the_answer_fits_one_screen(capsys, monkeypatch, inertia):
     assert ("Measuring the current wheel (--inertia) takes Table 1's scatter out of its risk" in said) == (not inertia)
     if not inertia:
         assert (
-            "P(shimmy) 99.74% → 99.99% as it is (a caster whose V_c lies below the speed shimmies more surely" in said
+            "P(shimmy) 99.7 % → 99.99 % as it is (a caster whose V_c lies below the speed shimmies more surely" in said
         )
     assert re.search(r"accept parts within T [\d.]+–[\d.]+ in, B >= [\d.]+ in, M_f >= [\d.]+ N·m, I_w <= ", said)
 
