@@ -127,15 +127,6 @@ def _as_terms(t_terms: Sequence[tuple[Numeric, int]], normal: Numeric) -> tuple[
     return terms, np.sqrt(c2)
 
 
-def _range(terms: list[tuple[Array, int]], c: Array) -> Array:
-    """Upper end L of the inversion integral per row: where the fastest-decaying factor is negligible."""
-    with np.errstate(divide="ignore"):
-        ends = [np.where(c > 0, _TAIL_NORMAL / c, np.inf)]
-        ends += [np.where(a > 0, max(_TAIL / math.sqrt(dof), _TAIL_NORMAL) / a, np.inf) for a, dof in terms]
-    end: Array = np.min(np.stack(ends), axis=0)
-    return end
-
-
 def _characteristic(s: Array, terms: list[tuple[Array, int]], c: Array) -> Array:
     """φ(s) of the sum on the nodes s (rows × nodes)."""
     phi = np.exp(-0.5 * (c[..., None] * s) ** 2)
@@ -158,7 +149,10 @@ class SumDistribution:
         self.terms, self.normal = _as_terms(t_terms, normal)
         self.shape = self.normal.shape
         self.degenerate = np.broadcast_to(self.total_scale == 0, self.shape)
-        end = np.where(self.degenerate, 1.0, _range(self.terms, self.normal))
+        with np.errstate(divide="ignore"):  # upper end L of the integral: the fastest-decaying factor negligible
+            ends = [np.where(self.normal > 0, _TAIL_NORMAL / self.normal, np.inf)]
+            ends += [np.where(a > 0, max(_TAIL / math.sqrt(v), _TAIL_NORMAL) / a, np.inf) for a, v in self.terms]
+        end = np.where(self.degenerate, 1.0, np.min(np.stack(ends), axis=0))
         u, w = _legendre(nodes)
         self.s = end[..., None] * u  # rows × nodes
         self.w = end[..., None] * w
