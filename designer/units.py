@@ -291,18 +291,10 @@ _MIXED = re.compile(r"^\s*([+-]?)(\d+)\s+(\d+)\s*/\s*(\d+)(?=\s*[^\d\s./*]|\s*$)
 """A mixed number, "2 1/2 in" (whole, numerator, denominator, then the unit): the tool writes sizes so."""
 
 
-def _mixed(text: str) -> str:
-    """``text`` with a leading mixed number ("2 1/2 in", "-1 3/4in") written as one decimal ("2.5 in"); pint
-    alone reads "2 1/2" as 2 × 1/2 = 1."""
-    m = _MIXED.match(text)
-    if not m or int(m[4]) == 0:
-        return text
-    value = int(m[2]) + int(m[3]) / int(m[4])
-    return f"{m[1]}{value!r} {m[5].strip()}".strip()
-
-
 def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) -> float:
-    text = _mixed(text)
+    m = _MIXED.match(text)
+    if m and int(m[4]) != 0:  # as one decimal ("2.5 in"): pint alone reads "2 1/2" as 2 × 1/2 = 1
+        text = f"{m[1]}{int(m[2]) + int(m[3]) / int(m[4])!r} {m[5].strip()}".strip()
     fast = _common(text.strip(), dimension)
     if fast is not None:
         return fast

@@ -112,21 +112,6 @@ def _odd_t_characteristic(z: Array, dof: int) -> Array:
     return out
 
 
-def _as_terms(t_terms: Sequence[tuple[Numeric, int]], normal: Numeric) -> tuple[list[tuple[Array, int]], Array]:
-    """Normals among the t terms (ν = 0) merged into c; arrays broadcast to one shape."""
-    arrays = [np.asarray(a, dtype=float) for a, _ in t_terms] + [np.asarray(normal, dtype=float)]
-    shape = np.broadcast_shapes(*(a.shape for a in arrays))
-    c2 = np.broadcast_to(arrays[-1], shape) ** 2
-    terms = []
-    for (_, dof), a in zip(t_terms, arrays[:-1]):
-        a = np.broadcast_to(a, shape)
-        if dof == 0:
-            c2 = c2 + a**2
-        else:
-            terms.append((a, int(dof)))
-    return terms, np.sqrt(c2)
-
-
 def _characteristic(s: Array, terms: list[tuple[Array, int]], c: Array) -> Array:
     """φ(s) of the sum on the nodes s (rows × nodes)."""
     phi = np.exp(-0.5 * (c[..., None] * s) ** 2)
@@ -146,7 +131,12 @@ class SumDistribution:
     """
 
     def __init__(self, t_terms: Sequence[tuple[Numeric, int]], normal: Numeric = 0.0, nodes: int = NODES):
-        self.terms, self.normal = _as_terms(t_terms, normal)
+        arrays = [np.asarray(a, dtype=float) for a, _ in t_terms] + [np.asarray(normal, dtype=float)]
+        shape = np.broadcast_shapes(*(a.shape for a in arrays))
+        c2 = np.broadcast_to(arrays[-1], shape) ** 2  # normals among the t terms (ν = 0) merged into c
+        c2 = sum((np.broadcast_to(a, shape) ** 2 for (_, v), a in zip(t_terms, arrays) if v == 0), c2)
+        self.terms = [(np.broadcast_to(a, shape), int(v)) for (_, v), a in zip(t_terms, arrays) if v != 0]
+        self.normal = np.sqrt(c2)
         self.shape = self.normal.shape
         self.degenerate = np.broadcast_to(self.total_scale == 0, self.shape)
         with np.errstate(divide="ignore"):  # upper end L of the integral: the fastest-decaying factor negligible
