@@ -112,14 +112,6 @@ def _odd_t_characteristic(z: Array, dof: int) -> Array:
     return out
 
 
-def _characteristic(s: Array, terms: list[tuple[Array, int]], c: Array) -> Array:
-    """φ(s) of the sum on the nodes s (rows × nodes)."""
-    phi = np.exp(-0.5 * (c[..., None] * s) ** 2)
-    for a, dof in terms:
-        phi = phi * t_characteristic(a[..., None] * s, dof)
-    return phi
-
-
 class SumDistribution:
     """X = Σ a_k T_{ν_k} + c Z for a batch of rows (the a_k and c arrays broadcast together).
 
@@ -146,7 +138,9 @@ class SumDistribution:
         u, w = _legendre(nodes)
         self.s = end[..., None] * u  # rows × nodes
         self.w = end[..., None] * w
-        self.phi = _characteristic(self.s, self.terms, self.normal)
+        self.phi = np.exp(-0.5 * (self.normal[..., None] * self.s) ** 2)  # φ(s) of the sum on the nodes
+        for a, dof in self.terms:
+            self.phi = self.phi * t_characteristic(a[..., None] * self.s, dof)
 
     @property
     def total_scale(self) -> Array:
