@@ -308,7 +308,8 @@ class Keyed:
         for entry in self._keys:
             key = Key(entry) if isinstance(entry, str) else entry
             if key.name == "*":
-                shown = [f.name for f in dataclasses.fields(self) if f.repr] if dataclasses.is_dataclass(self) else []  # type: ignore[arg-type]
+                fields: tuple[Any, ...] = dataclasses.fields(self) if dataclasses.is_dataclass(self) else ()  # type: ignore[arg-type]
+                shown = [f.name for f in fields if f.repr]
                 keys.update({name: Key(name, omit=key.omit) for name in shown})
             elif key.name == "**":
                 keys[f"**{len(keys)}"] = key
