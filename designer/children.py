@@ -37,17 +37,6 @@ EXIT_ORPHANED = 137
 """Exit status of a child whose parent is gone (as if killed by SIGKILL: 128 + 9)."""
 
 
-def _pdeathsig(signum: int) -> bool:
-    """Ask the Linux kernel to send ``signum`` to this process when its parent ends; False where unsupported."""
-    if not sys.platform.startswith("linux"):
-        return False
-    try:
-        libc = ctypes.CDLL(None, use_errno=True)
-        return libc.prctl(PR_SET_PDEATHSIG, signum, 0, 0, 0) == 0
-    except (OSError, AttributeError):  # no libc symbol (musl without prctl, a sandbox)
-        return False
-
-
 def _watch(parent: int) -> None:
     while os.getppid() == parent:
         time.sleep(POLL_SECONDS)
@@ -63,7 +52,9 @@ def bind_to_parent(parent: int | None = None) -> None:
     :data:`EXIT_ORPHANED`.
     """
     expected = os.getppid() if parent is None else parent
-    _pdeathsig(signal.SIGKILL)
+    if sys.platform.startswith("linux"):  # the kernel sends SIGKILL to this process when its parent ends
+        with contextlib.suppress(OSError, AttributeError):  # no libc symbol (musl without prctl, a sandbox)
+            ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
     if os.getppid() != expected:  # the parent died before the kernel was told: nobody would kill us
         os._exit(EXIT_ORPHANED)
     with contextlib.suppress(RuntimeError):  # at interpreter shutdown no thread can start: the prctl holds

@@ -266,14 +266,6 @@ class Key:
         return bool(self.omit) and (value is None or empty)
 
 
-def _nest(out: dict[str, Any], name: str, value: Any) -> None:
-    """Put ``value`` at the dotted key ``name`` of ``out`` (nested dicts made as needed)."""
-    *parents, last = name.split(".")
-    for part in parents:
-        out = out.setdefault(part, {})
-    out[last] = value
-
-
 class Keyed:
     """Plain data declared once: :meth:`to_dict` built from the class's :attr:`_keys` (by default every field shown
     in the dataclass repr).  :class:`Record` derives from it; so do the small dataclasses that are parts of a
@@ -310,17 +302,15 @@ class Keyed:
     record whose data has another shape declares it here instead of writing its own ``to_dict``."""
 
     # ----------------------------------------------------------------- data
-    def _fields(self) -> list[str]:
-        """The fields of the record's data: the dataclass fields shown in its repr."""
-        return [f.name for f in dataclasses.fields(self) if f.repr] if dataclasses.is_dataclass(self) else []  # type: ignore[arg-type]
-
     def _layout(self) -> list[Key]:
         """The keys of :meth:`to_dict` in order: :attr:`_keys` with ``"*"`` expanded to the repr fields."""
         keys: dict[str, Key] = {}
         for entry in self._keys:
             key = Key(entry) if isinstance(entry, str) else entry
             if key.name == "*":
-                keys.update({name: Key(name, omit=key.omit) for name in self._fields()})
+                fields: tuple[Any, ...] = dataclasses.fields(self) if dataclasses.is_dataclass(self) else ()  # type: ignore[arg-type]
+                shown = [f.name for f in fields if f.repr]
+                keys.update({name: Key(name, omit=key.omit) for name in shown})
             elif key.name == "**":
                 keys[f"**{len(keys)}"] = key
             else:
@@ -343,8 +333,12 @@ class Keyed:
                 continue
             if key.name == "**":
                 out.update(value)
-            else:
-                _nest(out, key.name, value)
+            else:  # at the dotted key (nested dicts made as needed)
+                *parents, last = key.name.split(".")
+                place = out
+                for part in parents:
+                    place = place.setdefault(part, {})
+                place[last] = value
         return out
 
 

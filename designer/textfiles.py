@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import csv
 import io
+import itertools
 import math
 import os
 import re
@@ -186,7 +187,9 @@ def csv_table(
                 raise error(f"{source}: line {line}: not CSV ({exc})") from None
         finally:
             csv.field_size_limit(previous)
-    lines = [n for n, _ in numbered][: len(rows)] if len(rows) == len(numbered) else _row_lines(numbered, rows)
+    # the first line of each row (a quoted cell may span lines)
+    starts = itertools.accumulate((1 + sum(cell.count("\n") for cell in row) for row in rows), initial=0)
+    lines = [numbered[min(k, len(numbered) - 1)][0] for k, _ in zip(starts, rows)]
     header = [restore_cell(h) for h in rows[0]]
     for r, row in enumerate(rows):
         for c, cell in enumerate(row):
@@ -203,15 +206,6 @@ def csv_table(
         seen.add(h.strip())
     body = [[restore_cell(cell) for cell in row] for row in rows[1:]]
     return header, body, lines[1:]
-
-
-def _row_lines(numbered: list[tuple[int, str]], rows: list[list[str]]) -> list[int]:
-    """The first line of each row when a quoted cell spans lines (the rows are fewer than the lines)."""
-    out, k = [], 0
-    for row in rows:
-        out.append(numbered[min(k, len(numbered) - 1)][0])
-        k += max(1, sum(cell.count("\n") for cell in row) + 1)
-    return out
 
 
 # --------------------------------------------------------------------------- writing

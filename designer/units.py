@@ -172,14 +172,6 @@ def parse_quantity(value, dimension: str, key: str = "value") -> float:
     return real_number(value, key, f"a number (SI, {shown}) or a string with units such as {example(dimension)!r}")
 
 
-def _scalar(value: Any) -> Any:
-    """A NumPy 0-d array as its one value (``np.array(900.0)`` -> ``900.0``); anything else as it is.
-    Read by its attributes: this module does not import NumPy."""
-    if type(value).__module__ == "numpy" and getattr(value, "shape", None) == () and hasattr(value, "item"):
-        return value.item()
-    return value
-
-
 def _boolean(value: Any) -> bool:
     """A boolean: Python's ``True``/``False`` or NumPy's ``np.bool_`` (a 0-d boolean array too)."""
     return isinstance(value, bool) or type(value).__name__ in ("bool_", "bool") and type(value).__module__ == "numpy"
@@ -188,7 +180,9 @@ def _boolean(value: Any) -> bool:
 def _item(value: Any, key: str, expected: str, kind: type) -> Any:
     """``value`` (a NumPy 0-d array as its one value) when it is a ``kind`` (:class:`numbers.Real` or
     :class:`numbers.Integral`) and no boolean; else one InputError line saying ``expected``."""
-    item = _scalar(value)
+    item = value  # a NumPy 0-d array read by its attributes: this module does not import NumPy
+    if type(value).__module__ == "numpy" and getattr(value, "shape", None) == () and hasattr(value, "item"):
+        item = value.item()
     if _boolean(value) or _boolean(item):
         raise InputError(f"{key} = {value!r}: expected {expected}, got a boolean")
     if not isinstance(item, kind):
@@ -291,18 +285,10 @@ _MIXED = re.compile(r"^\s*([+-]?)(\d+)\s+(\d+)\s*/\s*(\d+)(?=\s*[^\d\s./*]|\s*$)
 """A mixed number, "2 1/2 in" (whole, numerator, denominator, then the unit): the tool writes sizes so."""
 
 
-def _mixed(text: str) -> str:
-    """``text`` with a leading mixed number ("2 1/2 in", "-1 3/4in") written as one decimal ("2.5 in"); pint
-    alone reads "2 1/2" as 2 × 1/2 = 1."""
-    m = _MIXED.match(text)
-    if not m or int(m[4]) == 0:
-        return text
-    value = int(m[2]) + int(m[3]) / int(m[4])
-    return f"{m[1]}{value!r} {m[5].strip()}".strip()
-
-
 def _parse_string(text: str, target: str, shown: str, dimension: str, key: str) -> float:
-    text = _mixed(text)
+    m = _MIXED.match(text)
+    if m and int(m[4]) != 0:  # as one decimal ("2.5 in"): pint alone reads "2 1/2" as 2 × 1/2 = 1
+        text = f"{m[1]}{int(m[2]) + int(m[3]) / int(m[4])!r} {m[5].strip()}".strip()
     fast = _common(text.strip(), dimension)
     if fast is not None:
         return fast

@@ -112,38 +112,6 @@ def _odd_t_characteristic(z: Array, dof: int) -> Array:
     return out
 
 
-def _as_terms(t_terms: Sequence[tuple[Numeric, int]], normal: Numeric) -> tuple[list[tuple[Array, int]], Array]:
-    """Normals among the t terms (ν = 0) merged into c; arrays broadcast to one shape."""
-    arrays = [np.asarray(a, dtype=float) for a, _ in t_terms] + [np.asarray(normal, dtype=float)]
-    shape = np.broadcast_shapes(*(a.shape for a in arrays))
-    c2 = np.broadcast_to(arrays[-1], shape) ** 2
-    terms = []
-    for (_, dof), a in zip(t_terms, arrays[:-1]):
-        a = np.broadcast_to(a, shape)
-        if dof == 0:
-            c2 = c2 + a**2
-        else:
-            terms.append((a, int(dof)))
-    return terms, np.sqrt(c2)
-
-
-def _range(terms: list[tuple[Array, int]], c: Array) -> Array:
-    """Upper end L of the inversion integral per row: where the fastest-decaying factor is negligible."""
-    with np.errstate(divide="ignore"):
-        ends = [np.where(c > 0, _TAIL_NORMAL / c, np.inf)]
-        ends += [np.where(a > 0, max(_TAIL / math.sqrt(dof), _TAIL_NORMAL) / a, np.inf) for a, dof in terms]
-    end: Array = np.min(np.stack(ends), axis=0)
-    return end
-
-
-def _characteristic(s: Array, terms: list[tuple[Array, int]], c: Array) -> Array:
-    """φ(s) of the sum on the nodes s (rows × nodes)."""
-    phi = np.exp(-0.5 * (c[..., None] * s) ** 2)
-    for a, dof in terms:
-        phi = phi * t_characteristic(a[..., None] * s, dof)
-    return phi
-
-
 class SumDistribution:
     """X = Σ a_k T_{ν_k} + c Z for a batch of rows (the a_k and c arrays broadcast together).
 
@@ -155,14 +123,24 @@ class SumDistribution:
     """
 
     def __init__(self, t_terms: Sequence[tuple[Numeric, int]], normal: Numeric = 0.0, nodes: int = NODES):
-        self.terms, self.normal = _as_terms(t_terms, normal)
+        arrays = [np.asarray(a, dtype=float) for a, _ in t_terms] + [np.asarray(normal, dtype=float)]
+        shape = np.broadcast_shapes(*(a.shape for a in arrays))
+        c2 = np.broadcast_to(arrays[-1], shape) ** 2  # normals among the t terms (ν = 0) merged into c
+        c2 = sum((np.broadcast_to(a, shape) ** 2 for (_, v), a in zip(t_terms, arrays) if v == 0), c2)
+        self.terms = [(np.broadcast_to(a, shape), int(v)) for (_, v), a in zip(t_terms, arrays) if v != 0]
+        self.normal = np.sqrt(c2)
         self.shape = self.normal.shape
         self.degenerate = np.broadcast_to(self.total_scale == 0, self.shape)
-        end = np.where(self.degenerate, 1.0, _range(self.terms, self.normal))
+        with np.errstate(divide="ignore"):  # upper end L of the integral: the fastest-decaying factor negligible
+            ends = [np.where(self.normal > 0, _TAIL_NORMAL / self.normal, np.inf)]
+            ends += [np.where(a > 0, max(_TAIL / math.sqrt(v), _TAIL_NORMAL) / a, np.inf) for a, v in self.terms]
+        end = np.where(self.degenerate, 1.0, np.min(np.stack(ends), axis=0))
         u, w = _legendre(nodes)
         self.s = end[..., None] * u  # rows × nodes
         self.w = end[..., None] * w
-        self.phi = _characteristic(self.s, self.terms, self.normal)
+        self.phi = np.exp(-0.5 * (self.normal[..., None] * self.s) ** 2)  # φ(s) of the sum on the nodes
+        for a, dof in self.terms:
+            self.phi = self.phi * t_characteristic(a[..., None] * self.s, dof)
 
     @property
     def total_scale(self) -> Array:

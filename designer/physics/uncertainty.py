@@ -393,12 +393,6 @@ _DEGREE2 = (12, 16)
 """Chebyshev degrees of the 2-D quantile fit in (u, r)."""
 
 
-def _chebyshev_nodes(degree: int) -> Array:
-    k = np.arange(degree + 1)
-    nodes: Array = (np.cos(np.pi * (k + 0.5) / (degree + 1))[::-1] + 1) / 2
-    return nodes
-
-
 def exact_pair_quantile(u: Numeric, r: Numeric, probability: float, dof_model: int, dof_inertia: int) -> Array:
     """(1 − α)-quantile of √((1−r)(1−u)) t_νm + √((1−r)u) t_νI + √r Z by characteristic-function inversion [-].
 
@@ -423,7 +417,7 @@ def _compute_fit(probability: float, *dofs: int) -> tuple[Array, float]:
             return exact_sum_quantile(shares[0], probability, dofs[0])
         return exact_pair_quantile(shares[0], shares[1], probability, dofs[0], dofs[1])
 
-    nodes = [_chebyshev_nodes(d) for d in degrees]
+    nodes = [(np.cos(np.pi * (np.arange(d + 1) + 0.5) / (d + 1))[::-1] + 1) / 2 for d in degrees]  # Chebyshev
     coef: Any = exact(*np.meshgrid(*nodes, indexing="ij"))
     for axis in reversed(range(len(degrees))):  # solve along each axis: the interpolant through the nodes
         vander = C.chebvander(2 * nodes[axis] - 1, degrees[axis])

@@ -33,7 +33,7 @@ from designer.model import (
     condition_refusal,
 )
 from designer.physics.inertia import Catalog, Disc, Fixed, InertiaModel, PowerLaw
-from designer.physics.turning import MODES, SURFACES, TurningConstants
+from designer.physics.turning import MODES, SURFACES
 from designer.units import InputError, example, outside_range, parse_quantity, real_number
 from designer.physics.uncertainty import Uncertainty
 
@@ -258,7 +258,11 @@ def problem_from_dict(data: dict[str, Any], source: str | None = None, default_n
     if "target_speed" not in r.section("shimmy"):
         r.fail("shimmy.target_speed: missing; give the speed the caster must not shimmy below, e.g. '2.5 m/s'")
 
-    bounds = _bounds(r, conditions.turning)
+    variables = r.section("variables")  # {min, max} or one value (fixed) per design variable; else the defaults
+    bounds = {v: _bound(r, v, variables[v]) if v in variables else Bound(*DEFAULT_BOUNDS[v]) for v in VARIABLES}
+    if "damping" not in variables:  # from the bare fork's damping
+        bare = conditions.turning.bare_fork_damping
+        bounds["damping"] = Bound(bare, max(DEFAULT_BOUNDS["damping"][1], bare))
     if wheels:
         wheels = _catalog_within(r, bounds, wheels)
 
@@ -444,22 +448,6 @@ def _positive_constants(r: _Reader, section: str) -> dict[str, Any]:
             reason = "non-negative" if zero else "positive"
             r.fail(f"{section}.{key} = {value:g} {p.unit}".rstrip() + f": must be {reason}")
     return values
-
-
-def _bounds(r: _Reader, turning: TurningConstants) -> dict[str, Bound]:
-    """[variables]: {min, max} or one value (fixed) per design variable; the defaults for the others."""
-    bounds = {}
-    variables = r.section("variables")
-    for var in VARIABLES:
-        if var not in variables:
-            lo, hi = DEFAULT_BOUNDS[var]
-            if var == "damping":
-                lo = turning.bare_fork_damping
-                hi = max(hi, lo)
-            bounds[var] = Bound(lo, hi)
-            continue
-        bounds[var] = _bound(r, var, variables[var])
-    return bounds
 
 
 def _bound(r: _Reader, var: str, spec: object) -> Bound:
