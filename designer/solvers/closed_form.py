@@ -480,21 +480,32 @@ def structured_ends(problem: Problem, rel: float = 1e-9, rounds: int = 9) -> tup
         return None
     f_min = float(_turning_effort(problem, x_lo[0]))
 
-    def flat(dd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def flat_and_feasible(dd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         x, ok = designs_at_diameter(problem, dd)
         excess = _turning_effort(problem, x) - f_min * (1 + rel)  # F*(d) − F*(d_lo)(1 + rel) [N]
-        return ok & (excess <= 0), np.where(ok, excess, np.nan)
+        return ok & (excess <= 0), np.where(ok, excess, np.nan), ok
 
-    def feasible(dd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        ok = designs_at_diameter(problem, dd, search=False)[1]
+    def flat(dd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return flat_and_feasible(dd)[:2]
+
+    def short(dd: np.ndarray) -> np.ndarray:
         # feasible while the box's best corner (largest T, B, c_f) reaches V_req: V_q rises with T, B and c_f
         t = largest_trail(problem, dd)[0]
         x = np.column_stack([t, dd, np.full(len(dd), hi.groove), np.full(len(dd), hi.damping)])
         speed = "confident_speed" if problem.conditions.uncertainty is not None else "critical_speed"
-        short = problem.required_speed - np.asarray(_values(problem, x)[speed], float)  # [m/s]
-        return ok, short
+        missing: np.ndarray = problem.required_speed - np.asarray(_values(problem, x)[speed], float)  # [m/s]
+        return missing
 
-    d_a, d_b = (_largest(test, lo.diameter, hi.diameter, rounds) for test in (flat, feasible))
+    def feasible(dd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return designs_at_diameter(problem, dd, search=False)[1], short(dd)
+
+    # the first round of both searches is one grid: the feasibility mask is the same with or without the search
+    grid = np.linspace(lo.diameter, hi.diameter, 65)
+    is_flat, excess, ok = flat_and_feasible(grid)
+    d_a = _largest(flat, lo.diameter, hi.diameter, rounds, first=(is_flat, excess))
+    d_b = (
+        float(hi.diameter) if ok[-1] else _largest(feasible, lo.diameter, hi.diameter, rounds, first=(ok, short(grid)))
+    )
     xa, _ = designs_at_diameter(problem, [d_a])
     xb, _ = designs_at_diameter(problem, [d_b])
     p_min = float(_values(problem, xb[0])["threshold_force"])
@@ -633,7 +644,13 @@ def _crossing(x: np.ndarray, h: np.ndarray, k: int) -> tuple[float, float]:
     return math.nan, math.nan
 
 
-def _largest(test: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], a: float, b: float, rounds: int = 9) -> float:
+def _largest(
+    test: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]],
+    a: float,
+    b: float,
+    rounds: int = 9,
+    first: tuple[np.ndarray, np.ndarray] | None = None,
+) -> float:
     """:func:`_least` with ``largest`` (the largest x in [a, b] where the monotone predicate holds, to 1e-15
     relative), fewer rounds: ``test(x)`` gives the predicate and a value h(x) smooth where it is finite that
     crosses 0 near where the predicate turns false (F*(d) − F*(d_lo)(1 + rel), V_req − V_q).
@@ -642,9 +659,10 @@ def _largest(test: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], a: flo
     (:func:`_crossing`) and tests a window of :data:`ZOOM_POINTS` around it, as wide as four times the
     prediction's error estimate; the predicate alone decides: a window in which it does not turn false is dropped
     for a uniform round on what remains of the cell.  The answer is the largest point found true whose neighbour
-    found false is within 1e-15 relative, as :func:`_least`'s."""
+    found false is within 1e-15 relative, as :func:`_least`'s.  ``first``: ``test`` of the first round's grid
+    (``numpy.linspace(a, b, 65)``), when the caller has it."""
     grid = np.linspace(a, b, 65)
-    ok, h = test(grid)
+    ok, h = test(grid) if first is None else first
     if ok[-1]:
         return float(b)
     for _ in range(4 * rounds):
