@@ -58,7 +58,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from designer.model import Design, performance, turning_effort, weighted
+from designer.model import VARIABLES, Design, performance, turning_effort, weighted
 from designer.physics.geometry import swept_radius
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_terms
 from designer.physics.uncertainty import Uncertainty, shimmy_speed_quantile
@@ -83,18 +83,49 @@ def _predicted(problem: Problem) -> bool:
     return c.uncertainty is not None and not bool(getattr(c.inertia, "measured", False))
 
 
+@functools.lru_cache(maxsize=64)
+def _bounds_box(bounds: Any) -> tuple[Design, Design]:
+    """(lower, upper) of a problem's ``bounds`` (:meth:`Problem.lower`, :meth:`Problem.upper`; each builds and
+    checks a :class:`Design`, about 0.1 ms, and a front reads them a few hundred times)."""
+    return Design(*(bounds[v].low for v in VARIABLES)), Design(*(bounds[v].high for v in VARIABLES))
+
+
+def _box(problem: Problem) -> tuple[Design, Design]:
+    """The box of ``problem``: (lower, upper) bounds as designs, kept by the bounds (:func:`_bounds_box`)."""
+    try:
+        return _bounds_box(problem.bounds)
+    except TypeError:  # bounds that cannot be a key (a mapping patched in by hand): built each time
+        return problem.lower(), problem.upper()
+
+
 def applicable(problem: Problem) -> bool:
     """Whether the closed form holds for ``problem`` (continuous, monotone cost; a risk bound whose G contracts,
-    and, for a wheel known by its diameter, V_q falling with d)."""
+    and, for a wheel known by its diameter, V_q falling with d).
+
+    None of it reads the target speed: the answer is kept by what it reads (the conditions and the bounds), so
+    a front, its recommendation and the next target's front check it once (:func:`_applicable_to`)."""
     if problem.wheels:
         return False
-    c = problem.conditions
-    lo, hi = problem.lower(), problem.upper()
+    try:
+        return _applicable_to(problem.conditions, problem.bounds)
+    except TypeError:  # conditions or bounds that cannot be a key (patched in by hand): checked each time
+        return _applicable(problem.conditions, *_box(problem))
+
+
+@functools.lru_cache(maxsize=64)
+def _applicable_to(c: Any, bounds: Any) -> bool:
+    """:func:`applicable` of a continuous problem with conditions ``c`` and ``bounds``, kept by them."""
+    return _applicable(c, *_bounds_box(bounds))
+
+
+def _applicable(c: Any, lo: Design, hi: Design) -> bool:
+    """:func:`applicable` of a continuous problem with conditions ``c`` and the box ``lo``, ``hi``."""
+    predicted = c.uncertainty is not None and not bool(getattr(c.inertia, "measured", False))  # as _predicted
     if c.uncertainty is not None:
-        diameters = tuple(np.linspace(lo.diameter, hi.diameter, 9)) if _predicted(problem) else (None,)
+        diameters = tuple(np.linspace(lo.diameter, hi.diameter, 9)) if predicted else (None,)
         if not all(_contracts(c.uncertainty, d) for d in diameters):
             return False
-        if _predicted(problem) and not _speed_falls_with_diameter(problem, lo, hi):
+        if predicted and not _speed_falls_with_diameter(c, lo, hi):
             return False
     if c.turning.groove_coefficient < 0 or c.disturbance_angle <= 0 or c.slip_coefficient <= 0:
         return False
@@ -151,7 +182,7 @@ def largest_trail(problem: Problem, d: npt.ArrayLike) -> tuple[np.ndarray, np.nd
     False) and T is clipped up to the lower bound.
     """
     d = np.asarray(d, float).ravel()
-    lo, hi = problem.lower(), problem.upper()
+    lo, hi = _box(problem)
     t = np.full(len(d), hi.trail)
     if problem.swept_radius_max is not None:
         # R_s = T + d/2 is linear in T: T_max = R_max − R_s(0, d), from the geometry alone (the whole
@@ -172,7 +203,7 @@ def designs_at_diameter(
     """
     d = np.asarray(d, float).ravel()
     n = len(d)
-    lo, hi = problem.lower(), problem.upper()
+    lo, hi = _box(problem)
     t, ok = largest_trail(problem, d)
     with warnings.catch_warnings():  # an extrapolated I_w is reported once, by the front (pareto_front)
         warnings.simplefilter("ignore", UserWarning)
@@ -246,14 +277,18 @@ def _contracts(uncertainty: Uncertainty, diameter: float | None = None) -> bool:
     return bool(np.all(np.isfinite(slope)) and np.max(np.abs(slope) * np.maximum(s, 1 - s)) <= CONTRACTION)
 
 
-def _speed_falls_with_diameter(problem: Problem, lo: Design, hi: Design) -> bool:
+def _speed_falls_with_diameter(conditions: Any, lo: Design, hi: Design) -> bool:
     """A wheel known by its diameter: V_q falls with d at the largest trail and each (B, c_f) corner of the box
-    (I_w grows as d^3.5 while the prediction scale narrows towards Table 1's middle; 65-point grid)."""
+    (I_w grows as d^3.5 while the prediction scale narrows towards Table 1's middle; 65-point grid), under
+    ``conditions``."""
     d = np.linspace(lo.diameter, hi.diameter, 65)
     for groove in (lo.groove, hi.groove):
         for damping in (lo.damping, hi.damping):
             x = np.stack(np.broadcast_arrays(hi.trail, d, groove, damping), axis=-1)
-            v = np.asarray(_values(problem, x)["confident_speed"], float) + 0 * d
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", UserWarning)
+                values = performance(x[..., 0], x[..., 1], x[..., 2], x[..., 3], conditions)
+            v = np.asarray(values["confident_speed"], float) + 0 * d
             if np.any(np.diff(v) > 1e-12 * v[1:]):
                 return False
     return True
@@ -355,7 +390,7 @@ def _on_curve(
     problem: Problem, t: np.ndarray, d: np.ndarray, a: np.ndarray, b: np.ndarray, s: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """Designs on the risk-bounded curve at shares ``s`` (clipped into the box) and their F_turn [N]."""
-    lo, hi = problem.lower(), problem.upper()
+    lo, hi = _box(problem)
     wheel = np.broadcast_to(d, np.shape(s)) if _predicted(problem) else None
     big = problem.required_speed**2 * np.exp(log_gain(_law(problem), s, wheel))
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -375,7 +410,7 @@ def _risk_designs(
     its best point on a grid of :data:`SHARE_GRID` shares, refined by golden section when it is inside.
     """
     n = len(d)
-    lo, hi = problem.lower(), problem.upper()
+    lo, hi = _box(problem)
     u = _law(problem)
     corner = np.column_stack([t, d, np.full(n, lo.groove), np.full(n, lo.damping)])
     corner_ok = np.asarray(_values(problem, corner)["confident_speed"], float) >= problem.required_speed
@@ -421,7 +456,7 @@ def structured_front_designs(problem: Problem, eps_array: npt.ArrayLike) -> tupl
     """
     _require(problem, "ε-optima")
     eps = np.asarray(eps_array, float).ravel()
-    lo, hi = problem.lower(), problem.upper()
+    lo, hi = _box(problem)
     with np.errstate(invalid="ignore"):
         d = np.maximum(lo.diameter, diameter_at(problem, eps))
     reach = np.isfinite(d) & (d <= hi.diameter * (1 + 1e-12))
@@ -439,21 +474,38 @@ def structured_ends(problem: Problem, rel: float = 1e-9, rounds: int = 9) -> tup
     tolerance of the NLP's second lexicographic stage (:func:`designer.solvers.nlp.lexicographic_ends`).
     """
     _require(problem, "ends")
-    lo, hi = problem.lower(), problem.upper()
+    lo, hi = _box(problem)
     x_lo, ok_lo = designs_at_diameter(problem, [lo.diameter])
     if not ok_lo[0]:
         return None
     f_min = float(_turning_effort(problem, x_lo[0]))
 
-    def flat(dd: np.ndarray) -> np.ndarray:
+    def flat_and_feasible(dd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         x, ok = designs_at_diameter(problem, dd)
-        flat_at: np.ndarray = ok & (_turning_effort(problem, x) <= f_min * (1 + rel))
-        return flat_at
+        excess = _turning_effort(problem, x) - f_min * (1 + rel)  # F*(d) − F*(d_lo)(1 + rel) [N]
+        return ok & (excess <= 0), np.where(ok, excess, np.nan), ok
 
-    def feasible(dd: np.ndarray) -> np.ndarray:
-        return designs_at_diameter(problem, dd, search=False)[1]
+    def flat(dd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return flat_and_feasible(dd)[:2]
 
-    d_a, d_b = (_least(pred, lo.diameter, hi.diameter, rounds, largest=True) for pred in (flat, feasible))
+    def short(dd: np.ndarray) -> np.ndarray:
+        # feasible while the box's best corner (largest T, B, c_f) reaches V_req: V_q rises with T, B and c_f
+        t = largest_trail(problem, dd)[0]
+        x = np.column_stack([t, dd, np.full(len(dd), hi.groove), np.full(len(dd), hi.damping)])
+        speed = "confident_speed" if problem.conditions.uncertainty is not None else "critical_speed"
+        missing: np.ndarray = problem.required_speed - np.asarray(_values(problem, x)[speed], float)  # [m/s]
+        return missing
+
+    def feasible(dd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return designs_at_diameter(problem, dd, search=False)[1], short(dd)
+
+    # the first round of both searches is one grid: the feasibility mask is the same with or without the search
+    grid = np.linspace(lo.diameter, hi.diameter, 65)
+    is_flat, excess, ok = flat_and_feasible(grid)
+    d_a = _largest(flat, lo.diameter, hi.diameter, rounds, first=(is_flat, excess))
+    d_b = (
+        float(hi.diameter) if ok[-1] else _largest(feasible, lo.diameter, hi.diameter, rounds, first=(ok, short(grid)))
+    )
     xa, _ = designs_at_diameter(problem, [d_a])
     xb, _ = designs_at_diameter(problem, [d_b])
     p_min = float(_values(problem, xb[0])["threshold_force"])
@@ -564,6 +616,75 @@ class ClosedFormSolver:
             solves=WEIGHTED_GRID + 2 * GOLDEN_STEPS + 1,
             seconds=time.perf_counter() - t0,
         )
+
+
+ZOOM_POINTS = 17
+"""Points of a zoomed round of :func:`_largest` (a window around the predicted boundary)."""
+
+
+def _crossing(x: np.ndarray, h: np.ndarray, k: int) -> tuple[float, float]:
+    """Where h crosses 0 between x[k] and x[k + 1], predicted from three values beside that cell (those after it,
+    else those before it; h smooth there): (inverse quadratic interpolation, its distance from the secant's
+    prediction: the error estimate); (nan, nan) without three distinct finite values."""
+    for idx in ((k + 1, k + 2, k + 3), (k - 2, k - 1, k)):
+        if min(idx) < 0 or max(idx) >= len(x):
+            continue
+        (x0, x1, x2), (h0, h1, h2) = x[list(idx)], h[list(idx)]
+        if not np.all(np.isfinite([h0, h1, h2])) or h0 == h1 or h1 == h2 or h0 == h2:
+            continue
+        near = (x0, h0, x1, h1) if idx[0] > k else (x1, h1, x2, h2)
+        secant = near[0] - near[1] * (near[2] - near[0]) / (near[3] - near[1])
+        quadratic = (
+            x0 * h1 * h2 / ((h0 - h1) * (h0 - h2))
+            + x1 * h0 * h2 / ((h1 - h0) * (h1 - h2))
+            + x2 * h0 * h1 / ((h2 - h0) * (h2 - h1))
+        )
+        if np.isfinite(secant) and np.isfinite(quadratic):
+            return float(quadratic), float(abs(quadratic - secant))
+    return math.nan, math.nan
+
+
+def _largest(
+    test: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]],
+    a: float,
+    b: float,
+    rounds: int = 9,
+    first: tuple[np.ndarray, np.ndarray] | None = None,
+) -> float:
+    """:func:`_least` with ``largest`` (the largest x in [a, b] where the monotone predicate holds, to 1e-15
+    relative), fewer rounds: ``test(x)`` gives the predicate and a value h(x) smooth where it is finite that
+    crosses 0 near where the predicate turns false (F*(d) − F*(d_lo)(1 + rel), V_req − V_q).
+
+    Each round after the first (a uniform 65-point grid, as :func:`_least`'s) predicts the boundary from h
+    (:func:`_crossing`) and tests a window of :data:`ZOOM_POINTS` around it, as wide as four times the
+    prediction's error estimate; the predicate alone decides: a window in which it does not turn false is dropped
+    for a uniform round on what remains of the cell.  The answer is the largest point found true whose neighbour
+    found false is within 1e-15 relative, as :func:`_least`'s.  ``first``: ``test`` of the first round's grid
+    (``numpy.linspace(a, b, 65)``), when the caller has it."""
+    grid = np.linspace(a, b, 65)
+    ok, h = test(grid) if first is None else first
+    if ok[-1]:
+        return float(b)
+    for _ in range(4 * rounds):
+        k = int(np.flatnonzero(ok).max()) if ok.any() else 0
+        lo_x, hi_x = float(grid[k]), float(grid[min(k + 1, len(grid) - 1)])
+        if hi_x - lo_x <= 1e-15 * hi_x:
+            break
+        cell = hi_x - lo_x
+        guess, error = _crossing(grid, h, k)
+        half = max(4 * error, 4e-15 * hi_x)
+        if lo_x <= guess <= hi_x and half <= cell / 8:
+            window = np.linspace(max(lo_x, guess - half), min(hi_x, guess + half), ZOOM_POINTS)
+            w_ok, w_h = test(window)
+            if w_ok[0] and not w_ok[-1]:
+                grid, ok, h = window, w_ok, w_h
+                continue
+            # missed: the boundary is before the window (false at its start) or after it (true at its end)
+            lo_x, hi_x = (lo_x, float(window[0])) if not w_ok[0] else (float(window[-1]), hi_x)
+        grid = np.linspace(lo_x, hi_x, 65)
+        ok, h = test(grid)
+    k = int(np.flatnonzero(ok).max()) if ok.any() else 0
+    return float(grid[k])
 
 
 def _least(

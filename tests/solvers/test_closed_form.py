@@ -787,3 +787,38 @@ def test_secant_fixed_points_are_those_of_the_plain_iteration():
 
     out = structured._secant_fixed_point(with_nan, np.full(3, 0.5))
     assert np.isnan(out[1]) and out[[0, 2]] == pytest.approx([0.5, 0.5], abs=1e-14) and len(calls) < 20
+
+
+@pytest.mark.parametrize("edge", [0.1234567890123, 0.2, 0.3000000001, 0.9999999])
+def test_largest_finds_the_boundary_of_least_with_fewer_rounds_and_survives_a_misleading_value(edge):
+    """The ends' boundary search (:func:`_largest`, guided by a value that crosses 0 near the boundary) returns
+    the boundary :func:`_least` finds to 1e-15 relative, on a kinked value as the flat end's (F*(d) flat, then
+    rising 1e-9 before the boundary), with a value that points the wrong way (its windows miss: the predicate
+    alone decides), and with fewer predicate calls than :func:`_least` where the value is right."""
+    calls = {"least": 0, "largest": 0, "wrong": 0}
+
+    def pred(x):
+        calls["least"] += 1
+        return np.asarray(x) <= edge
+
+    def kinked(x):
+        calls["largest"] += 1
+        x = np.asarray(x, float)
+        return x <= edge, np.maximum(x - edge * (1 - 1e-9), 0.0) * 3.0 - 3e-9 * edge
+
+    def wrong(x):
+        calls["wrong"] += 1
+        x = np.asarray(x, float)
+        return x <= edge, np.sin(40 * x) + 0.3  # smooth but crossing nowhere near the edge
+
+    old = structured._least(pred, 0.0, 1.0, largest=True)
+    new = structured._largest(kinked, 0.0, 1.0)
+    missed = structured._largest(wrong, 0.0, 1.0)
+    for found in (old, new, missed):
+        assert found <= edge and abs(found - edge) <= 1e-15 * edge
+    assert calls["largest"] < calls["least"]
+
+
+def test_largest_is_the_upper_end_when_the_predicate_holds_there():
+    """The largest x of a predicate true on all of [a, b] is b (one call, as :func:`_least`)."""
+    assert structured._largest(lambda x: (np.ones(len(x), bool), np.zeros(len(x))), 0.5, 2.0) == 2.0

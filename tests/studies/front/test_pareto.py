@@ -52,7 +52,11 @@ def _brute_min_effort(problem, diameter, n=40):
 
     The polish starts from the best grid point overall and from the best on each family's face (no groove:
     B = B_min; no added damper: c_f = c_min), because the two families are separate local optima and a
-    grid step in c_f can be coarser than a small damper needs."""
+    grid step in c_f can be coarser than a small damper needs; and from the best on the widest groove and the
+    most damping (B = B_max, c_f = c_max), where the optimum also sits: from the best grid point alone SLSQP
+    can stop with "Inequality constraints incompatible" (powered-chair at d = 0.19721346567099862 m: the
+    reference fell back to the grid's 26.63 N while the optimum, which SLSQP finds from d 3e-15 m away,
+    is 26.036 N)."""
     lo, hi = problem.lower().as_array(), problem.upper().as_array()
     t, b, c = np.meshgrid(np.linspace(lo[0], hi[0], n), np.linspace(lo[2], hi[2], n), np.linspace(lo[3], hi[3], n))
     t, b, c = t.ravel(), b.ravel(), c.ravel()
@@ -65,7 +69,7 @@ def _brute_min_effort(problem, diameter, n=40):
     sc = np.array([hi[0], max(hi[2], 1e-3), hi[3]])
     masked = np.where(ok, v["turning_effort"], np.inf)
     starts = [np.argmin(masked)]
-    for face in (b <= lo[2], c <= lo[3]):
+    for face in (b <= lo[2], c <= lo[3], b >= hi[2], c >= hi[3]):
         if np.any(ok & face):
             starts.append(np.argmin(np.where(face, masked, np.inf)))
     # each start also with the trail pushed to its limit (the grid's T step can miss the swept-radius bound)
