@@ -612,8 +612,8 @@ def test_infeasible_chair_is_reported_not_dropped(base):
 
 
 def test_dask_local_cluster_gives_the_in_process_result(base):
-    """The same code path on a 2-worker LocalCluster (separate processes) gives identical choices and
-    Monte Carlo numbers as in-process; what is shipped to workers holds no CasADi object."""
+    """The same code path on a 2-worker LocalCluster (separate processes) gives identical choices and the same
+    P(shimmy) as in-process (to 1e-12 relative); what is shipped to workers holds no CasADi object."""
     import distributed  # in the `test` extra: this test never skips
 
     f = _table.example_fleet(300, seed=4)
@@ -628,7 +628,9 @@ def test_dask_local_cluster_gives_the_in_process_result(base):
         remote = _fleet.fleet_recommendations(f, base, scheduler=client, monte_carlo=True, chunk=100)
         assert len(client.scheduler_info()["workers"]) == 2
     np.testing.assert_array_equal(remote.chairs["choice"], local.chairs["choice"])
-    np.testing.assert_array_equal(remote.chairs["shimmy_probability"], local.chairs["shimmy_probability"])
+    # to the last bits: after the other tests of this file the in-process exact P differs from the fresh workers'
+    # by up to 1e-14 relative (seen since one caster's law became the batched law of one; 1e-16 absolute)
+    np.testing.assert_allclose(remote.chairs["shimmy_probability"], local.chairs["shimmy_probability"], rtol=1e-12)
     assert remote.scheduler and remote.scheduler.startswith("tcp://")
 
 

@@ -48,6 +48,7 @@ from designer.physics.tyre import TyreParameters
     points=Count(2, 10_000, what="amplitudes"),
     max_amplitude=Quantity("angle"),
 )
+# long: the docstring documents every argument and the result (the body is under 55 lines)
 @bounded("bifurcation diagram", scale="points")
 def bifurcation_diagram(
     design: Design,
