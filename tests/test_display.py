@@ -37,6 +37,20 @@ def test_a_probability_is_a_percentage_to_three_significant_digits():
     assert display.percent(0.001) == "0.1 %"
 
 
+@pytest.mark.parametrize(
+    "p, text", [(0.9974, "99.7 %"), (0.9999, "99.99 %"), (0.99996, "99.996 %"), (1.0, "100 %"), (0.99949, "99.9 %")]
+)
+def test_a_probability_below_one_never_reads_certain(p, text):
+    """Three significant digits round 0.9999 to "100 %", which reads as certain shimmy: a probability below 1
+    gets the decimals that tell it from 1 (the fix screen's "99.7 % -> 99.99 %"); exactly 1 is "100 %"."""
+    assert display.percent(p) == text
+
+
+def test_a_standard_error_has_two_significant_digits():
+    """percent(..., digits=2) for a Monte Carlo standard error: 0.000751 -> "0.075 %"."""
+    assert display.percent(0.000751, digits=2) == "0.075 %"
+
+
 @pytest.mark.parametrize("value", [None, math.nan, math.inf, -math.inf, np.float64("nan")])
 def test_a_missing_value_has_one_mark(value):
     """None, NaN and infinities print the one mark, never "nan" or "–"."""
