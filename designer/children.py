@@ -67,15 +67,30 @@ interrupted, "Async instruction ... ended with CancelledError") are not the user
 reports what matters itself, and a task's error reaches the command as its exception."""
 
 
+class SchedulerGone(logging.Filter):
+    """A logging filter for the workers of the command's local cluster: it drops a record that carries an
+    :class:`OSError` (Dask's ``CommClosedError`` is one), e.g. "Failed to communicate with scheduler during
+    heartbeat" and its traceback.  The scheduler of a local cluster lives in the command's process, so a worker
+    that loses its connection to it is one whose command is ending (an interruption closes the scheduler while a
+    heartbeat is under way); the command says how it ended in its own one line."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        info = record.exc_info
+        return not (info and isinstance(info[1], OSError))
+
+
 def dask_setup(worker: object) -> None:
     """Dask's preload hook (``preload=["designer.children"]``): a Dask worker process binds itself to the
     process that started it (:func:`bind_to_parent`), leaves Ctrl-C to it (SIGINT reaches the whole process group
-    at a terminal; the command stops its workers itself and prints one line) and logs only errors
-    (:data:`WORKER_LOG_LEVEL`)."""
+    at a terminal; the command stops its workers itself and prints one line), logs only errors
+    (:data:`WORKER_LOG_LEVEL`) and none about the command's scheduler going away (:class:`SchedulerGone`)."""
     bind_to_parent()
-    logging.getLogger("distributed").setLevel(WORKER_LOG_LEVEL)
+    dask_log = logging.getLogger("distributed")
+    dask_log.setLevel(WORKER_LOG_LEVEL)
+    for handler in dask_log.handlers or logging.getLogger().handlers:  # distributed's own stderr handler
+        handler.addFilter(SchedulerGone())
     with contextlib.suppress(ValueError):  # not the main thread of the worker process: the parent ends it anyway
         signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-__all__ = ["EXIT_ORPHANED", "POLL_SECONDS", "WORKER_LOG_LEVEL", "bind_to_parent", "dask_setup"]
+__all__ = ["EXIT_ORPHANED", "POLL_SECONDS", "WORKER_LOG_LEVEL", "SchedulerGone", "bind_to_parent", "dask_setup"]
