@@ -20,6 +20,7 @@ import pytest
 pytest.importorskip("dash")
 pytest.importorskip("selenium.webdriver")
 
+from selenium.common.exceptions import TimeoutException  # noqa: E402
 from selenium.webdriver.common.by import By  # noqa: E402
 from selenium.webdriver.common.keys import Keys  # noqa: E402
 from selenium.webdriver.support.ui import WebDriverWait  # noqa: E402
@@ -171,7 +172,14 @@ def test_quick_keys_end_on_the_answer_to_the_controls_shown(tmp_path):
         for value in ("250 N", "178 N"):
             load.send_keys(Keys.CONTROL, "a")
             load.send_keys(value, Keys.ENTER)
-        wait.until(lambda d: "target=3.5" in d.current_url and ready(d))
+        try:
+            wait.until(lambda d: "target=3.5" in d.current_url and ready(d))
+        except TimeoutException:  # what the page shows then: the URL, the answer box, the status and its history
+            box = driver.find_element(By.ID, "answer-box").get_attribute("class")
+            seen = driver.execute_script("return window.seen")
+            pytest.fail(
+                f"never settled: {driver.current_url} box={box!r} status={text(driver, 'status')!r} seen={seen}"
+            )
         assert "waiting" in driver.execute_script("return window.seen")  # said so while it was computing
         shown = settled_numbers(wait, "rec")
 
