@@ -502,14 +502,17 @@ def structured_ends(problem: Problem, rel: float = 1e-9, rounds: int = 9) -> tup
         missing: np.ndarray = problem.required_speed - np.asarray(_values(problem, x)[speed], float)  # [m/s]
         return missing
 
-    def feasible(dd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return designs_at_diameter(problem, dd, search=False)[1], short(dd)
+    def feasible(dd: np.ndarray, found: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        missing = short(dd)
+        if problem.conditions.uncertainty is None:  # the candidates' own mask (cheap without a risk law)
+            return designs_at_diameter(problem, dd, search=False)[1] if found is None else found, missing
+        # V_q rises with T, B and c_f: the curve meets the box where its best corner is feasible (shares not needed)
+        return largest_trail(problem, dd)[1] & (missing <= 0), missing
 
     is_flat, excess, ok = flat_and_feasible(grid, (x_grid, ok))
     d_a = _largest(flat, lo.diameter, hi.diameter, rounds, first=(is_flat, excess))
-    d_b = (
-        float(hi.diameter) if ok[-1] else _largest(feasible, lo.diameter, hi.diameter, rounds, first=(ok, short(grid)))
-    )
+    ok, missing = feasible(grid, ok)
+    d_b = float(hi.diameter) if ok[-1] else _largest(feasible, lo.diameter, hi.diameter, rounds, first=(ok, missing))
     xa = next(x[dd == d_a][0] for dd, x in reversed(tested) if np.any(dd == d_a))
     p_min = float(threshold_force(d_b, problem.conditions.threshold_height, problem.conditions.load))  # Eq. 4A: d only
     xb, ok = structured_front_designs(problem, [p_min * (1 + rel)])
