@@ -485,7 +485,7 @@ def structured_ends(problem: Problem, rel: float = 1e-9, rounds: int = 9) -> tup
     f_min = float(_turning_effort(problem, x_grid[0]))
     tested: list[tuple[np.ndarray, np.ndarray]] = []  # every design found: end A is one of them
 
-    def flat_and_feasible(dd: np.ndarray, found: tuple[np.ndarray, np.ndarray] | None = None) -> Any:
+    def flat_and_feasible(dd: np.ndarray, found: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         x, ok = designs_at_diameter(problem, dd) if found is None else found
         tested.append((dd, x))
         excess = _turning_effort(problem, x) - f_min * (1 + rel)  # F*(d) − F*(d_lo)(1 + rel) [N]

@@ -296,7 +296,9 @@ class StructuredSweep(NLPSweep):
                 solved = nlp.solve_many(x[idx], (1.0, 0.0), inner[idx], lam_g0=lam_g, lam_x0=lam_x)
                 solves += len(idx)
                 y = design_rows([r.design for r in solved])  # F_turn (Eq. 9) of both, as the model's evaluator
-                f_cf, f_nlp = (turning_effort(z[:, 0], z[:, 2], z[:, 3], problem.conditions) for z in (x[idx], y))
+                f_cf, f_nlp = (
+                    np.asarray(turning_effort(z[:, 0], z[:, 2], z[:, 3], problem.conditions)) for z in (x[idx], y)
+                )
                 for j, r, a, b in zip(idx, solved, f_nlp, f_cf):
                     if r.success and a <= b * (1 + 1e-9):
                         results[j + 1] = r
