@@ -513,7 +513,8 @@ def structured_ends(problem: Problem, rel: float = 1e-9, rounds: int = 9) -> tup
     d_a = _largest(flat, lo.diameter, hi.diameter, rounds, first=(is_flat, excess))
     ok, missing = feasible(grid, ok)
     d_b = float(hi.diameter) if ok[-1] else _largest(feasible, lo.diameter, hi.diameter, rounds, first=(ok, missing))
-    xa = next(x[dd == d_a][0] for dd, x in reversed(tested) if np.any(dd == d_a))
+    xa = next((x[dd == d_a][0] for dd, x in reversed(tested) if np.any(dd == d_a)), None)
+    xa = designs_at_diameter(problem, [d_a])[0][0] if xa is None else xa  # (a d the search did not test: none)
     p_min = float(threshold_force(d_b, problem.conditions.threshold_height, problem.conditions.load))  # Eq. 4A: d only
     xb, ok = structured_front_designs(problem, [p_min * (1 + rel)])
     return xa, xb[0]
