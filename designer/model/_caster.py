@@ -128,7 +128,9 @@ class Design(Record):
 
         for entry in parameters.VARIABLE_TABLE:
             name = entry.name
-            value = parse_quantity(getattr(self, name), entry.dimension, name)  # the one rule: units.real_number
+            value = getattr(self, name)
+            if type(value) is not float or not math.isfinite(value):  # a finite float is SI as it is (solvers' rows)
+                value = parse_quantity(value, entry.dimension, name)  # the one rule: units.real_number
             positive = name in ("trail", "diameter")
             # a solver may return −1e-12 on a zero bound: tolerate round-off, not real negatives
             if value < -1e-9 or (positive and value <= 0):

@@ -231,17 +231,33 @@ _DEGREE = 14
 def _clenshaw(coef: Any, x: Scalar, y: Scalar | None = None) -> Any:
     """Σ_j c_j T_j(x), or Σ_jk c_jk T_j(x) T_k(y) for 2-D coefficients (floats, arrays, CasADi symbols).
 
-    NumPy's Chebyshev evaluation for numbers in one variable and for arrays in two (in C), Clenshaw's recurrence
-    for symbols and for two Python floats (a few µs, where NumPy's chebval2d spends ~90 µs on call overhead: the
-    closed-form front asks ~800 quantiles one by one)."""
-    if y is None and isinstance(x, (float, int, np.floating, np.ndarray)):
+    NumPy's Chebyshev evaluation for numbers in one variable, Clenshaw's recurrence for symbols.  Numbers and arrays
+    in two variables: T_j(x), T_k(y) by their recurrence, the terms summed smallest first in C (half NumPy's
+    chebval2d time, 1.8e-16 relative where it errs by 2.6e-16; one number as an array of one, so a batch gives
+    each design's value bit for bit).  Symbols in two variables: each column's series in x on T_j(x), smallest
+    terms first, then Clenshaw's in y over the columns (as accurate; the NLP's Hessian takes 4.8k operations a
+    block where nesting Clenshaw's recurrences took 12.7k)."""
+    numeric = (float, int, np.floating, np.ndarray)
+    if y is None and isinstance(x, numeric):
         return C.chebval(x, coef)
-    if y is not None and any(isinstance(v, np.ndarray) and v.ndim for v in (x, y)):
-        return C.chebval2d(x, y, coef)
-    rows = np.asarray(coef, dtype=float).tolist()
-    if y is not None:
-        rows = [_recurrence(row, y) for row in rows]
-    return _recurrence(rows, x)
+    c = np.asarray(coef, dtype=float)
+    if isinstance(x, numeric) and isinstance(y, numeric):
+        shape = np.broadcast(x, y).shape
+        xy = np.stack(np.broadcast_arrays(np.atleast_1d(x).astype(float), np.atleast_1d(y).astype(float)))
+        t, twice = np.empty((max(2, *c.shape), *xy.shape)), 2 * xy
+        t[0], t[1] = 1.0, xy
+        for k in range(2, len(t)):
+            np.multiply(twice, t[k - 1], out=t[k])
+            t[k] -= t[k - 2]
+        columns = np.einsum("jk,j...->k...", c[::-1, ::-1], t[c.shape[0] - 1 :: -1, 0])
+        return np.einsum("k...,k...->...", columns, t[c.shape[1] - 1 :: -1, 1]).reshape(shape)[()]
+    rows = c.tolist()
+    if y is None:
+        return _recurrence(rows, x)
+    tx: list[Any] = [1, x]
+    while len(tx) < len(rows):
+        tx.append(2 * x * tx[-1] - tx[-2])
+    return _recurrence([sum(a * tj for a, tj in zip(col[:0:-1], tx[:0:-1])) + col[0] for col in zip(*rows)], y)
 
 
 def _recurrence(values: list[Any], x: Any) -> Any:

@@ -61,6 +61,7 @@ import numpy as np
 from designer.model import VARIABLES, Design, performance, turning_effort, weighted
 from designer.physics.geometry import swept_radius
 from designer.physics.shimmy import critical_shimmy_speed, critical_speed_terms
+from designer.physics.threshold import threshold_force
 from designer.physics.uncertainty import Uncertainty, shimmy_speed_quantile
 from designer.problem import Problem
 from designer.solvers.base import NO_CAPS, Caps, Designs, Optimum, best_variant, objectives_of, no_optimum, weights_of
@@ -475,13 +476,18 @@ def structured_ends(problem: Problem, rel: float = 1e-9, rounds: int = 9) -> tup
     """
     _require(problem, "ends")
     lo, hi = _box(problem)
-    x_lo, ok_lo = designs_at_diameter(problem, [lo.diameter])
-    if not ok_lo[0]:
+    # the first round of both searches is one grid, whose first point is d_lo: the feasibility mask is the same
+    # with or without the search
+    grid = np.linspace(lo.diameter, hi.diameter, 65)
+    x_grid, ok = designs_at_diameter(problem, grid)
+    if not ok[0]:
         return None
-    f_min = float(_turning_effort(problem, x_lo[0]))
+    f_min = float(_turning_effort(problem, x_grid[0]))
+    tested: list[tuple[np.ndarray, np.ndarray]] = []  # every design found: end A is one of them
 
-    def flat_and_feasible(dd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        x, ok = designs_at_diameter(problem, dd)
+    def flat_and_feasible(dd: np.ndarray, found: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        x, ok = designs_at_diameter(problem, dd) if found is None else found
+        tested.append((dd, x))
         excess = _turning_effort(problem, x) - f_min * (1 + rel)  # F*(d) − F*(d_lo)(1 + rel) [N]
         return ok & (excess <= 0), np.where(ok, excess, np.nan), ok
 
@@ -496,21 +502,22 @@ def structured_ends(problem: Problem, rel: float = 1e-9, rounds: int = 9) -> tup
         missing: np.ndarray = problem.required_speed - np.asarray(_values(problem, x)[speed], float)  # [m/s]
         return missing
 
-    def feasible(dd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return designs_at_diameter(problem, dd, search=False)[1], short(dd)
+    def feasible(dd: np.ndarray, found: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        missing = short(dd)
+        if problem.conditions.uncertainty is None:  # the candidates' own mask (cheap without a risk law)
+            return designs_at_diameter(problem, dd, search=False)[1] if found is None else found, missing
+        # V_q rises with T, B and c_f: the curve meets the box where its best corner is feasible (shares not needed)
+        return largest_trail(problem, dd)[1] & (missing <= 0), missing
 
-    # the first round of both searches is one grid: the feasibility mask is the same with or without the search
-    grid = np.linspace(lo.diameter, hi.diameter, 65)
-    is_flat, excess, ok = flat_and_feasible(grid)
+    is_flat, excess, ok = flat_and_feasible(grid, (x_grid, ok))
     d_a = _largest(flat, lo.diameter, hi.diameter, rounds, first=(is_flat, excess))
-    d_b = (
-        float(hi.diameter) if ok[-1] else _largest(feasible, lo.diameter, hi.diameter, rounds, first=(ok, short(grid)))
-    )
-    xa, _ = designs_at_diameter(problem, [d_a])
-    xb, _ = designs_at_diameter(problem, [d_b])
-    p_min = float(_values(problem, xb[0])["threshold_force"])
+    ok, missing = feasible(grid, ok)
+    d_b = float(hi.diameter) if ok[-1] else _largest(feasible, lo.diameter, hi.diameter, rounds, first=(ok, missing))
+    xa = next((x[dd == d_a][0] for dd, x in reversed(tested) if np.any(dd == d_a)), None)
+    xa = designs_at_diameter(problem, [d_a])[0][0] if xa is None else xa  # (a d the search did not test: none)
+    p_min = float(threshold_force(d_b, problem.conditions.threshold_height, problem.conditions.load))  # Eq. 4A: d only
     xb, ok = structured_front_designs(problem, [p_min * (1 + rel)])
-    return xa[0], xb[0]
+    return xa, xb[0]
 
 
 # --------------------------------------------------------------------------- the solver protocol

@@ -155,6 +155,23 @@ def test_ends(fronts, name):
     assert np.allclose([v["threshold_force"][0], v["turning_effort"][1]], [f[0, 1], f[-1, 0]], rtol=1e-7)
 
 
+@pytest.mark.parametrize(("risk", "target"), [(False, 5.0), (True, 3.5)])
+def test_ends_are_the_closed_form_optima_at_their_diameters(risk, target):
+    """structured_ends keeps end A from the designs its search found and reads P_min by Eq. 4A at end B's d (a
+    risk-bounded end B is searched on the best corner's V_q): each end is designs_at_diameter's optimum at its own
+    diameter (1e-14), and end B's P is the least feasible P (1 + 1e-9): feasible just below, not just above."""
+    problem = load_problem("problems/indoor-manual.toml").replace(target_speed=target)
+    problem = problem if risk else problem.nominal()
+    a, b = structured.structured_ends(problem)
+    for end in (a, b):
+        assert np.allclose(structured.designs_at_diameter(problem, [end[1]])[0][0], end, rtol=1e-14, atol=1e-15)
+    p = problem.evaluate(np.array([a, b])).threshold_force
+    d_b = structured.diameter_at(problem, p[1] / (1 + 1e-9))
+    assert p[0] > p[1] and d_b < problem.upper().diameter
+    assert structured.designs_at_diameter(problem, [d_b * (1 - 1e-6)])[1][0]
+    assert not structured.designs_at_diameter(problem, [d_b * (1 + 1e-6)])[1][0]
+
+
 # --------------------------------------------------------------------------- the risk-bounded closed form
 
 

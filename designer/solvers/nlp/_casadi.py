@@ -488,16 +488,18 @@ class CasterNLP:
         grad = np.asarray(grad).T.reshape(k, 4)
         jac = np.asarray(jac).reshape(ng, k, 4).transpose(1, 0, 2) if ng else np.zeros((k, 0, 4))
         g = np.asarray(g).T.reshape(k, ng)
-        lam_g, lam_x = np.zeros((k, ng)), np.zeros((k, 4))
-        active_g = (np.abs(g - self.lbg) <= tol) | (np.abs(g - self.ubg) <= tol)
-        active_x = (np.abs(z - self.lbz) <= tol) | (np.abs(z - self.ubz) <= tol)
-        for i in range(k):
-            ag, ax = np.flatnonzero(active_g[i]), np.flatnonzero(active_x[i])
-            a = np.hstack([jac[i][ag].T, np.eye(4)[:, ax]])
-            if a.shape[1]:
-                sol = np.linalg.lstsq(a, -grad[i], rcond=None)[0]
-                lam_g[i, ag], lam_x[i, ax] = sol[: len(ag)], sol[len(ag) :]
-        return lam_g, lam_x
+        active = np.hstack(
+            [
+                (np.abs(g - self.lbg) <= tol) | (np.abs(g - self.ubg) <= tol),
+                (np.abs(z - self.lbz) <= tol) | (np.abs(z - self.ubz) <= tol),
+            ]
+        )
+        normals = np.concatenate([jac, np.broadcast_to(np.eye(4), (k, 4, 4))], axis=1)  # of constraints, bounds
+        lam = np.zeros((k, ng + 4))
+        for i, cols in enumerate(np.flatnonzero(row) for row in active):
+            if len(cols):
+                lam[i, cols] = np.linalg.lstsq(normals[i, cols].T, -grad[i], rcond=None)[0]
+        return lam[:, :ng], lam[:, ng:]
 
     def objectives(
         self, design: Design, overrides: dict[str, float] | None = None

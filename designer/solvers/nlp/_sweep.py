@@ -30,10 +30,10 @@ from typing import TYPE_CHECKING, TypeAlias
 
 import numpy as np
 
-from designer.model import Design
+from designer.model import Design, turning_effort
 from designer.problem import Problem, family_of
 from designer.solvers.base import design_rows
-from designer.solvers.closed_form import CLOSED_FORM, structured_ends
+from designer.solvers.closed_form import structured_ends, structured_front_designs
 from designer.solvers.nlp._casadi import BIG, CasterNLP, NLPResult, best_starts, sample_designs
 
 if TYPE_CHECKING:  # numpy.typing is for the checker only (import designer stays light)
@@ -289,15 +289,16 @@ class StructuredSweep(NLPSweep):
         results: list[NLPResult | None] = [end_a] + [None] * len(inner) + [end_b]
         solves = 0
         if len(inner):
-            found = CLOSED_FORM.front_designs(problem, inner)
-            x, ok = found.designs, found.success
+            x, ok = structured_front_designs(problem, inner)
             idx = np.flatnonzero(ok)
             if len(idx):
                 lam_g, lam_x = nlp.multipliers_many(x[idx], (1.0, 0.0), inner[idx])
                 solved = nlp.solve_many(x[idx], (1.0, 0.0), inner[idx], lam_g0=lam_g, lam_x0=lam_x)
                 solves += len(idx)
-                f_cf = problem.evaluate(x[idx]).turning_effort
-                f_nlp = problem.evaluate(np.array([r.design.as_array() for r in solved])).turning_effort
+                y = design_rows([r.design for r in solved])  # F_turn (Eq. 9) of both, as the model's evaluator
+                f_cf, f_nlp = (
+                    np.asarray(turning_effort(z[:, 0], z[:, 2], z[:, 3], problem.conditions)) for z in (x[idx], y)
+                )
                 for j, r, a, b in zip(idx, solved, f_nlp, f_cf):
                     if r.success and a <= b * (1 + 1e-9):
                         results[j + 1] = r
