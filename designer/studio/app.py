@@ -91,12 +91,19 @@ disc in a transparent 44 px ring); a
 control's message shown over the page below it (beside it in the folded groups of a wide page, where the
 controls stand in one column), so it never moves another control."""
 
+NATIVE = "[parseInt, parseFloat, ...['trim', 'trimStart', 'trimEnd', 'trimLeft', 'trimRight'].map(k => ''[k])]"
+"""The browser's own functions that Dash's Babel polyfill (core-js 2) replaces, taking them for broken (a whitespace
+rule of ES5): the page puts them back after Dash's scripts, since plotly.js's colour parsing calls parseInt and
+trim for every point it styles (about a tenth of the browser's work per answer, through the polyfill's)."""
+
 INDEX = (
     "<!DOCTYPE html><html><head>{%metas%}<title>{%title%}</title>{%favicon%}{%css%}"
-    f"<style>{STYLE}</style></head><body>{{%app_entry%}}<footer>{{%config%}}{{%scripts%}}{{%renderer%}}</footer>"
-    "</body></html>"
+    f"<style>{STYLE}</style></head><body>{{%app_entry%}}<footer>{{%config%}}<script>window.studioNative = {NATIVE};"
+    "</script>{%scripts%}<script>(n => { window.parseInt = Number.parseInt = n[0]; window.parseFloat = "
+    "Number.parseFloat = n[1]; ['trim', 'trimStart', 'trimEnd', 'trimLeft', 'trimRight'].forEach((k, i) => "
+    "{ String.prototype[k] = n[i + 2]; }); })(window.studioNative);</script>{%renderer%}</footer></body></html>"
 )
-"""Dash's page with :data:`STYLE` in its head."""
+"""Dash's page with :data:`STYLE` in its head and the :data:`NATIVE` functions put back after its scripts."""
 
 
 def create_app(data: dict, name: str, out_dir: Path, debug: bool = False):
