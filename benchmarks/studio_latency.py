@@ -55,6 +55,7 @@ default 2.5 m/s that the studio computes while it starts."""
 
 HOOK = """
 const gd = document.querySelector('#front .js-plotly-plot');
+if (!gd) return false;  // the chart's code still loading
 if (!window.__hooked) {
     window.__keys = []; window.__redraws = []; window.__requests = [];
     document.addEventListener('keydown', e => window.__keys.push(e.timeStamp), true);

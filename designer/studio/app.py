@@ -32,7 +32,7 @@ import designer.studio.figures as figures
 import designer.studio.state as state
 import designer.studio.view as view
 from designer.problem import problem_from_dict
-from designer.studio.layout import CSS, MAX_CARD_BUTTONS, build_layout
+from designer.studio.layout import CSS, build_layout
 from designer.studio.panels import (
     LIMITS_FAILED,
     alternative_buttons,
@@ -91,12 +91,19 @@ disc in a transparent 44 px ring); a
 control's message shown over the page below it (beside it in the folded groups of a wide page, where the
 controls stand in one column), so it never moves another control."""
 
+NATIVE = "[parseInt, parseFloat, ...['trim', 'trimStart', 'trimEnd', 'trimLeft', 'trimRight'].map(k => ''[k])]"
+"""The browser's own functions that Dash's Babel polyfill (core-js 2) replaces, taking them for broken (a whitespace
+rule of ES5): the page puts them back after Dash's scripts, since plotly.js's colour parsing calls parseInt and
+trim for every point it styles (about a tenth of the browser's work per answer, through the polyfill's)."""
+
 INDEX = (
     "<!DOCTYPE html><html><head>{%metas%}<title>{%title%}</title>{%favicon%}{%css%}"
-    f"<style>{STYLE}</style></head><body>{{%app_entry%}}<footer>{{%config%}}{{%scripts%}}{{%renderer%}}</footer>"
-    "</body></html>"
+    f"<style>{STYLE}</style></head><body>{{%app_entry%}}<footer>{{%config%}}<script>window.studioNative = {NATIVE};"
+    "</script>{%scripts%}<script>(n => { window.parseInt = Number.parseInt = n[0]; window.parseFloat = "
+    "Number.parseFloat = n[1]; ['trim', 'trimStart', 'trimEnd', 'trimLeft', 'trimRight'].forEach((k, i) => "
+    "{ String.prototype[k] = n[i + 2]; }); })(window.studioNative);</script>{%renderer%}</footer></body></html>"
 )
-"""Dash's page with :data:`STYLE` in its head."""
+"""Dash's page with :data:`STYLE` in its head and the :data:`NATIVE` functions put back after its scripts."""
 
 
 def create_app(data: dict, name: str, out_dir: Path, debug: bool = False):
@@ -112,6 +119,7 @@ def create_app(data: dict, name: str, out_dir: Path, debug: bool = False):
     pending: OrderedDict = OrderedDict()
     _trade_off_callback(app, data, defaults, pending)
     _request_callbacks(app)
+    _fan_out_callbacks(app)
     _limits_callback(app, pending, debug)
     _card_callback(app)
     _mine_callback(app, out_dir)
@@ -125,7 +133,9 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
 
     Only what changed goes to the browser: the chart's traces that differ from the ones it shows (a Dash
     ``Patch``, :func:`_chart`; the layout is sent with the first chart only, then its axes), and the messages,
-    URL and problem data where they differ from the page's.  ``rec-pending`` is the number of the change whose
+    card buttons, URL and problem data where they differ from the page's.  The messages and the buttons' labels
+    go as one store each (``messages``, ``alt-labels``), which the browser fans out to the page
+    (:func:`_fan_out_callbacks`): each output of this callback costs Dash's renderer work on every change.  ``rec-pending`` is the number of the change whose
     card waits for its limits (computed later: ``pending`` maps it to its problem and key,
     :func:`_limits_callback`), None when the card has them.
 
@@ -138,8 +148,7 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
 
     @app.callback(
         Output({"type": "ctl", "key": ALL}, "value"),
-        Output({"type": "err", "key": ALL}, "children"),
-        Output("general-error", "children"),
+        Output("messages", "data"),
         Output("front", "figure"),
         Output("front-shown", "data"),
         Output("recommendation", "children"),
@@ -148,18 +157,16 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
         Output("problem-data", "data"),
         Output("rec-pending", "data"),
         Output("answered", "data"),
-        Output({"type": "alt-card", "index": ALL}, "children"),
-        Output({"type": "alt-card", "index": ALL}, "hidden"),
+        Output("alt-labels", "data"),
         Input("url", "search"),
         Input("request", "data"),
         Input("mine-store", "data"),
         State("problem-data", "data"),
         State("front-shown", "data"),
-        State({"type": "err", "key": ALL}, "children"),
-        State("general-error", "children"),
-        State({"type": "alt-card", "index": ALL}, "children"),
+        State("messages", "data"),
+        State("alt-labels", "data"),
     )
-    def update(search, request, mine, last, shown, errors_shown, general_shown, buttons_shown):
+    def update(search, request, mine, last, shown, messages_shown, labels_shown):
         n = _request_number(request)
         from_url = ctx.triggered_id in (None, "url") or not isinstance(request, dict)
         if from_url:
@@ -188,13 +195,12 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
             # the last valid chart stays; only the messages change (and the page says it shows the last valid answer)
             return (
                 values_out,
-                _changed(errors, errors_shown),
-                _changed(general, general_shown),
+                _changed({"errors": errors, "general": general}, messages_shown),
                 *[no_update] * 4,  # the chart, what it shows, the recommendation, the status
                 no_update if from_url else state.to_query(current, defaults),
                 *[no_update] * 2,  # the problem data, the card's pending limits
                 {**answered, "valid": False},
-                *[[no_update] * MAX_CARD_BUTTONS] * 2,  # the card buttons' labels and hidden flags
+                no_update,  # the card buttons' labels
             )
         figure, shown_now = _chart(fronts, mine, shown)
         query = state.to_query(current, defaults)
@@ -205,8 +211,7 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
                 pending.popitem(last=False)
         return (
             values_out,
-            _changed([""] * len(keys), errors_shown),
-            _changed("", general_shown),
+            _changed({"errors": [""] * len(keys), "general": ""}, messages_shown),
             figure,
             shown_now,
             recommendation_panel(fronts),
@@ -215,20 +220,8 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
             no_update if merged == last else merged,
             generation if waiting else None,
             answered,
-            *_buttons(fronts, buttons_shown),
+            _changed(alternative_buttons(fronts)[0], labels_shown),
         )
-
-
-def _buttons(fronts, shown) -> tuple[list, list]:
-    """The alternatives' card buttons' labels and hidden flags, each ``no_update`` where the page shows it
-    already (a label unchanged is not sent)."""
-    labels, hidden = alternative_buttons(fronts)
-    shown = shown if isinstance(shown, list) and len(shown) == len(labels) else [None] * len(labels)
-    same = [label == (old or "") for label, old in zip(labels, shown)]
-    return (
-        [no_update if s else label for s, label in zip(same, labels)],
-        [no_update if s else flag for s, flag in zip(same, hidden)],
-    )
 
 
 def _request_number(request) -> int:
@@ -318,11 +311,28 @@ def _limits_callback(app, pending: OrderedDict, debug: bool = False) -> None:
 
 
 def _changed(new, shown):
-    """``new`` where it differs from what the page ``shown``, else ``no_update`` (item by item for a list)."""
-    if isinstance(new, list):
-        shown = shown if isinstance(shown, list) and len(shown) == len(new) else [None] * len(new)
-        return [no_update if n == (s or "") else n for n, s in zip(new, shown)]
-    return no_update if new == (shown or "") else new
+    """``new`` where it differs from what the page ``shown``, else ``no_update``."""
+    return no_update if new == shown else new
+
+
+def _fan_out_callbacks(app) -> None:
+    """In the browser: the trade-off's ``messages`` (``{"errors": one per control, "general"}``) into the
+    message beside each control and above the chart, and its ``alt-labels`` into the card buttons of the
+    alternatives (a button without a label hidden).  They run only when the server sent a change."""
+    app.clientside_callback(
+        "function (m) { return [m.errors, m.general]; }",
+        Output({"type": "err", "key": ALL}, "children"),
+        Output("general-error", "children"),
+        Input("messages", "data"),
+        prevent_initial_call=True,
+    )
+    app.clientside_callback(
+        "function (labels) { return [labels, labels.map(label => !label)]; }",
+        Output({"type": "alt-card", "index": ALL}, "children"),
+        Output({"type": "alt-card", "index": ALL}, "hidden"),
+        Input("alt-labels", "data"),
+        prevent_initial_call=True,
+    )
 
 
 def _chart(fronts, mine, shown) -> tuple:

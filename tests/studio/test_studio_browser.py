@@ -135,6 +135,16 @@ def test_studio_in_chromium(studio):
     wait = WebDriverWait(driver, WAIT, poll_frequency=0.1)
     driver.get(url)
     wait.until(lambda d: "computed" in text(d, "status") and "risk" in traces(d))
+    # the browser's own parseInt, parseFloat and trims, not Dash's polyfill's (app.NATIVE): a fresh frame's
+    # Function.prototype.toString shows a replacement's source
+    assert (
+        driver.execute_script(
+            "const f = document.body.appendChild(document.createElement('iframe')), show = f.contentWindow.Function"
+            ".prototype.toString, own = [parseInt, parseFloat, ''.trim, ''.trimStart, ''.trimEnd, Number.parseInt];"
+            "const native = own.map(g => /\\[native code\\]/.test(show.call(g))); f.remove(); return native;"
+        )
+        == [True] * 6
+    )
     before = traces(driver)["risk"]
     rec_before = (text(driver, "rec-turning"), text(driver, "rec-threshold"))
 

@@ -27,27 +27,36 @@ PROBLEM = state.default_problem_path()
 _NUMBER = [0]
 
 
-def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last=None, search="", n=None) -> dict:
+def _post(
+    client,
+    keys: list,
+    values: dict,
+    changed: str,
+    shown,
+    mine=None,
+    last=None,
+    search="",
+    n=None,
+    messages=None,
+    labels=None,
+) -> dict:
     """POST the trade-off callback as the page does (controls ``values`` as the browser's change number ``n``,
-    default the next one, the URL query ``search``, the chart showing ``shown``)."""
+    default the next one, the URL query ``search``, the chart showing ``shown``, the page's ``messages`` and
+    card-button ``labels`` stores)."""
     if changed.startswith('{"key"'):
         changed = "request.data"  # a control's change reaches the server as the browser's numbered request
     if n is None:
         _NUMBER[0] += 1
         n = _NUMBER[0]
     ids = [{"type": "ctl", "key": k} for k in keys]
-    errs = [{"type": "err", "key": k} for k in keys]
-    buttons = [{"type": "alt-card", "index": i} for i in range(MAX_CARD_BUTTONS)]
     outputs = [{"id": i, "property": "value"} for i in ids]
     body = {
-        "output": '..{"key":["ALL"],"type":"ctl"}.value...{"key":["ALL"],"type":"err"}.children...general-error.children'
+        "output": '..{"key":["ALL"],"type":"ctl"}.value...messages.data'
         "...front.figure...front-shown.data...recommendation.children...status.children...url.search...problem-data.data"
-        "...rec-pending.data...answered.data"
-        '...{"index":["ALL"],"type":"alt-card"}.children...{"index":["ALL"],"type":"alt-card"}.hidden..',
+        "...rec-pending.data...answered.data...alt-labels.data..",
         "outputs": [
             outputs,
-            [{"id": i, "property": "children"} for i in errs],
-            {"id": "general-error", "property": "children"},
+            {"id": "messages", "property": "data"},
             {"id": "front", "property": "figure"},
             {"id": "front-shown", "property": "data"},
             {"id": "recommendation", "property": "children"},
@@ -56,8 +65,7 @@ def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last
             {"id": "problem-data", "property": "data"},
             {"id": "rec-pending", "property": "data"},
             {"id": "answered", "property": "data"},
-            [{"id": i, "property": "children"} for i in buttons],
-            [{"id": i, "property": "hidden"} for i in buttons],
+            {"id": "alt-labels", "property": "data"},
         ],
         "inputs": [
             {"id": "url", "property": "search", "value": search},
@@ -68,9 +76,8 @@ def _post(client, keys: list, values: dict, changed: str, shown, mine=None, last
         "state": [
             {"id": "problem-data", "property": "data", "value": last},
             {"id": "front-shown", "property": "data", "value": shown},
-            [{"id": i, "property": "children", "value": None} for i in errs],
-            {"id": "general-error", "property": "children", "value": None},
-            [{"id": i, "property": "children", "value": ""} for i in buttons],
+            {"id": "messages", "property": "data", "value": messages},
+            {"id": "alt-labels", "property": "data", "value": labels},
         ],
     }
     response = client.post("/_dash-update-component", json=body)
@@ -112,7 +119,8 @@ def studio(tmp_path_factory):
 
 
 def test_chart_is_sent_as_the_traces_that_changed(studio):
-    """First chart: the whole figure (layout included). The same state again: no figure at all. A new target:
+    """First chart: the whole figure (layout included), no message, the card buttons' labels. The same state again:
+    no figure, messages or labels at all (a load without a number: its message beside the load, nothing else). A new target:
     a Patch of the four traces that changed, the axes' ranges and the layout's datarevision, which applied to the first
     chart gives exactly the chart a fresh page draws for that target. My caster added: the data alone. α changed: the nominal front's
     trace is not sent (it does not depend on α), the risk-bounded one is."""
@@ -120,13 +128,29 @@ def test_chart_is_sent_as_the_traces_that_changed(studio):
     first = _post(client, keys, defaults, "url.search", None)
     figure, shown = first["front"]["figure"], first["front-shown"]["data"]
     assert set(figure) == {"data", "layout"} and "template" in figure["layout"] and figure["layout"]["datarevision"]
+    assert "transition" not in figure["layout"]  # with one, plotly.js redraws each answer twice
     assert [m for m, _ in shown] == ["continuous", "risk", "buildable", "recommendation"]
     assert [t["meta"] for t in figure["data"]] == [m for m, _ in shown]
 
+    messages, labels = first["messages"]["data"], first["alt-labels"]["data"]
+    assert messages == {"errors": [""] * len(keys), "general": ""}
+    assert len(labels) == MAX_CARD_BUTTONS and labels[0].startswith("card: ")
     again = _post(
-        client, keys, defaults, '{"key":"target","type":"ctl"}.value', shown, last=first["problem-data"]["data"]
+        client,
+        keys,
+        defaults,
+        '{"key":"target","type":"ctl"}.value',
+        shown,
+        last=first["problem-data"]["data"],
+        messages=messages,
+        labels=labels,
     )
     assert "front" not in again and "front-shown" not in again and "problem-data" not in again
+    assert "messages" not in again and "alt-labels" not in again  # the page shows them already
+    wrong = _post(client, keys, dict(defaults, load="abc"), '{"key":"load","type":"ctl"}.value', shown, labels=labels)
+    errors = wrong["messages"]["data"]["errors"]
+    assert "a unit without a number" in errors[keys.index("load")] and sum(map(bool, errors)) == 1
+    assert wrong["answered"]["data"]["valid"] is False and "front" not in wrong and "alt-labels" not in wrong
 
     moved = dict(defaults, target=3.0)
     patch = _post(client, keys, moved, '{"key":"target","type":"ctl"}.value', shown)
