@@ -133,10 +133,11 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
 
     Only what changed goes to the browser: the chart's traces that differ from the ones it shows (a Dash
     ``Patch``, :func:`_chart`; the layout is sent with the first chart only, then its axes), and the messages,
-    card buttons, URL and problem data where they differ from the page's.  The messages and the buttons' labels
-    go as one store each (``messages``, ``alt-labels``), which the browser fans out to the page
-    (:func:`_fan_out_callbacks`): each output of this callback costs Dash's renderer work on every change.  ``rec-pending`` is the number of the change whose
-    card waits for its limits (computed later: ``pending`` maps it to its problem and key,
+    card buttons, URL and problem data where they differ from the page's.  The messages, the buttons' labels and
+    the controls' values read from the URL go as one store each (``messages``, ``alt-labels``, ``url-values``),
+    which the browser fans out to the page (:func:`_fan_out_callbacks`): each output of this callback costs Dash's
+    renderer work on every change (its loading state at the request and the answer).  ``rec-pending`` is the
+    number of the change whose card waits for its limits (computed later: ``pending`` maps it to its problem and key,
     :func:`_limits_callback`), None when the card has them.
 
     Never a stale answer: the browser numbers each change of the controls (``request``: ``{"n", "values"}``,
@@ -144,10 +145,11 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
     dropped it already), and every answer names the controls it answers (``answered``), so the page says
     "computing…" while the controls shown differ from the answer's."""
     keys = [c.key for c in state.all_controls()]
-    newest = {"n": 0, "generation": 0}  # the newest change the browser numbered; the server's count of answers
+    # the newest change the browser numbered; the server's count of answers; of the URL's values sent
+    newest = {"n": 0, "generation": 0, "url": 0}
 
     @app.callback(
-        Output({"type": "ctl", "key": ALL}, "value"),
+        Output("url-values", "data"),
         Output("messages", "data"),
         Output("front", "figure"),
         Output("front-shown", "data"),
@@ -169,17 +171,17 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
     def update(search, request, mine, last, shown, messages_shown, labels_shown):
         n = _request_number(request)
         from_url = ctx.triggered_id in (None, "url") or not isinstance(request, dict)
-        if from_url:
-            current = state.from_query(search, defaults)
-            values_out = [current[k] for k in keys]
-        else:
+        if not from_url:
             values = request.get("values")
             if not isinstance(values, list) or len(values) != len(keys):
                 raise PreventUpdate
             current = dict(zip(keys, values))
-            values_out = [no_update] * len(keys)
+        else:
+            current = state.from_query(search, defaults)
         with view.LOCK:
             newest["n"] = max(newest["n"], n)
+            newest["url"] += from_url  # numbered: going back to a URL sets its values again
+            values_out = {"n": newest["url"], "values": [current[k] for k in keys]} if from_url else no_update
         answered = {"values": [current[k] for k in keys], "valid": True}
         try:
             problem, merged = state.build_problem(data, current)
@@ -317,8 +319,16 @@ def _changed(new, shown):
 
 def _fan_out_callbacks(app) -> None:
     """In the browser: the trade-off's ``messages`` (``{"errors": one per control, "general"}``) into the
-    message beside each control and above the chart, and its ``alt-labels`` into the card buttons of the
-    alternatives (a button without a label hidden).  They run only when the server sent a change."""
+    message beside each control and above the chart, its ``alt-labels`` into the card buttons of the
+    alternatives (a button without a label hidden), and its ``url-values`` (``{"n", "values"}``: the controls a
+    URL sets, on the page's load and on Back or Forward) into the controls.  They run only when the server sent a
+    change, so none is on the path of a key press."""
+    app.clientside_callback(
+        "function (v) { return v.values; }",
+        Output({"type": "ctl", "key": ALL}, "value"),
+        Input("url-values", "data"),
+        prevent_initial_call=True,
+    )
     app.clientside_callback(
         "function (m) { return [m.errors, m.general]; }",
         Output({"type": "err", "key": ALL}, "children"),

@@ -94,9 +94,10 @@ def build_layout(name: str, defaults: dict, units: str = "in"):
             # each change of the controls, numbered by the browser, and the controls the answer shown is for
             dcc.Store(id="request"),
             dcc.Store(id="answered"),
-            # the trade-off's messages and card-button labels, which the browser fans out (app._fan_out_callbacks)
+            # the trade-off's messages, card-button labels and URL values, which the browser fans out (app._fan_out_callbacks)
             dcc.Store(id="messages"),
             dcc.Store(id="alt-labels"),
+            dcc.Store(id="url-values"),
             html.H2(f"caster-designer studio: {name}", style={"margin": "4px 0", "fontSize": "1.3em"}),
             _first_controls(defaults),
             html.Div([_chart_column(), _card_column()], style=CSS["row"]),

@@ -48,14 +48,12 @@ def _post(
     if n is None:
         _NUMBER[0] += 1
         n = _NUMBER[0]
-    ids = [{"type": "ctl", "key": k} for k in keys]
-    outputs = [{"id": i, "property": "value"} for i in ids]
     body = {
-        "output": '..{"key":["ALL"],"type":"ctl"}.value...messages.data'
+        "output": "..url-values.data...messages.data"
         "...front.figure...front-shown.data...recommendation.children...status.children...url.search...problem-data.data"
         "...rec-pending.data...answered.data...alt-labels.data..",
         "outputs": [
-            outputs,
+            {"id": "url-values", "property": "data"},
             {"id": "messages", "property": "data"},
             {"id": "front", "property": "figure"},
             {"id": "front-shown", "property": "data"},
@@ -119,7 +117,8 @@ def studio(tmp_path_factory):
 
 
 def test_chart_is_sent_as_the_traces_that_changed(studio):
-    """First chart: the whole figure (layout included), no message, the card buttons' labels. The same state again:
+    """First chart: the whole figure (layout included), no message, the card buttons' labels, the URL's control
+    values (numbered; a change of a control sends none: the page has them). The same state again:
     no figure, messages or labels at all (a load without a number: its message beside the load, nothing else). A new target:
     a Patch of the four traces that changed, the axes' ranges and the layout's datarevision, which applied to the first
     chart gives exactly the chart a fresh page draws for that target. My caster added: the data alone. α changed: the nominal front's
@@ -147,6 +146,7 @@ def test_chart_is_sent_as_the_traces_that_changed(studio):
     )
     assert "front" not in again and "front-shown" not in again and "problem-data" not in again
     assert "messages" not in again and "alt-labels" not in again  # the page shows them already
+    assert first["url-values"]["data"]["values"] == [defaults[k] for k in keys] and "url-values" not in again
     wrong = _post(client, keys, dict(defaults, load="abc"), '{"key":"load","type":"ctl"}.value', shown, labels=labels)
     errors = wrong["messages"]["data"]["errors"]
     assert "a unit without a number" in errors[keys.index("load")] and sum(map(bool, errors)) == 1
@@ -156,8 +156,11 @@ def test_chart_is_sent_as_the_traces_that_changed(studio):
     patch = _post(client, keys, moved, '{"key":"target","type":"ctl"}.value', shown)
     axes = [["layout", axis, key] for axis in ("xaxis", "yaxis") for key in ("range", "autorange")]
     assert _locations(patch["front"]["figure"]) == [["data", i] for i in range(4)] + axes + [["layout", "datarevision"]]
-    fresh = _post(client, keys, moved, "url.search", None, search=state.to_query(moved, defaults))["front"]["figure"]
-    assert _apply(figure, patch["front"]["figure"]) == fresh
+    from_url = _post(client, keys, moved, "url.search", None, search=state.to_query(moved, defaults))
+    fresh, values = from_url["front"]["figure"], from_url["url-values"]["data"]
+    assert _apply(figure, patch["front"]["figure"]) == fresh and "url-values" not in patch
+    # the controls a URL sets go to the page numbered, so a second visit of one URL sets them again
+    assert values["values"][keys.index("target")] == 3.0 and values["n"] > first["url-values"]["data"]["n"]
     figure, shown = fresh, patch["front-shown"]["data"]
 
     problem, _ = state.build_problem(state.read_problem_data(PROBLEM)[0], moved)
