@@ -203,3 +203,43 @@ def test_quick_keys_end_on_the_answer_to_the_controls_shown(tmp_path):
         driver.quit()
         proc.kill()
         proc.wait(30)
+
+
+def test_back_and_forward_set_the_controls_and_their_answer(tmp_path):
+    """The browser's Back and Forward after a change of the target speed (2.6 -> 2.7 m/s): the slider shows the
+    URL's target again, and the page settles on the answer to it (the panel's P(shimmy) of each target is the one
+    that target showed first). The URL's values reach the controls through the numbered ``url-values`` store."""
+    cwd = tmp_path / "run"
+    cwd.mkdir()
+    proc, url = start_studio(cwd)
+    driver = chrome()
+    try:
+        wait = WebDriverWait(driver, WAIT, poll_frequency=0.1)
+
+        def slider() -> str:
+            return driver.find_element(By.CSS_SELECTOR, '[data-key="target"] [role="slider"]').get_attribute(
+                "aria-valuenow"
+            )
+
+        def settled(target: str):
+            return lambda d: f"target={target}" in d.current_url and slider() == target and ready(d)
+
+        driver.get(url + "?target=2.6")
+        wait.until(settled("2.6"))
+        first = settled_numbers(wait, "rec")
+        handle = driver.find_element(By.CSS_SELECTOR, '[data-key="target"] [role="slider"]')
+        handle.click()
+        handle.send_keys(Keys.ARROW_RIGHT)
+        wait.until(settled("2.7"))
+        second = settled_numbers(wait, "rec")
+        assert first != second  # P(shimmy) at the target moves with it
+        driver.back()
+        wait.until(settled("2.6"))
+        assert settled_numbers(wait, "rec") == first
+        driver.forward()
+        wait.until(settled("2.7"))
+        assert settled_numbers(wait, "rec") == second
+    finally:
+        driver.quit()
+        proc.kill()
+        proc.wait(30)
