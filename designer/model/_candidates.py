@@ -208,8 +208,9 @@ class Casters(Record):
         return self[key] if key in self else default
 
     def _column(self, name: str) -> np.ndarray:
-        """Quantity ``name`` broadcast to one value per candidate."""
-        return np.broadcast_to(np.asarray(getattr(self, name)), (len(self),))
+        """Quantity ``name`` broadcast to one value per candidate (a column of that shape as it is, unbroadcast)."""
+        a = np.asarray(getattr(self, name))
+        return a if a.shape == (len(self),) else np.broadcast_to(a, (len(self),))
 
     def row(self, i: int) -> "Caster":
         """Caster ``i`` (the quantities as Python scalars)."""
