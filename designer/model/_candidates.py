@@ -13,6 +13,7 @@ nowhere else in the studies.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
 from typing import Any, Self
@@ -192,7 +193,7 @@ class Casters(Record):
     def keys(self) -> list[str]:
         """The names of the quantities that hold a value (the optional ones only when computed): the columns, read
         by key as by attribute (``casters["threshold_force"]``)."""
-        own = [f.name for f in fields(self) if f.repr and getattr(self, f.name) is not None]
+        own = [name for name in _shown(type(self)) if getattr(self, name) is not None]
         return own + list(self.quantities)
 
     def __getitem__(self, key: str) -> Any:
@@ -259,6 +260,12 @@ class Casters(Record):
             for name in [f.name for f in fields(self) if f.repr] + list(self.quantities)
         }
         return Casters.of(**taken)
+
+
+@functools.cache
+def _shown(cls: type) -> tuple[str, ...]:
+    """The names of the fields of ``cls`` shown in its repr (its columns, as :meth:`Casters.keys` lists them)."""
+    return tuple(f.name for f in fields(cls) if f.repr)
 
 
 @dataclass(frozen=True, kw_only=True)
