@@ -88,9 +88,7 @@ class FrozenMapping(Mapping[Any, Any]):
         self.__setitem__(key, None)
 
 
-_AS_THEY_ARE = frozenset(
-    {type(None), str, bytes, int, float, bool, frozenset, FrozenMapping, np.ndarray, np.float64, np.bool_}
-)
+_AS_THEY_ARE = frozenset({type(None), str, int, float, bool, FrozenMapping, np.ndarray, np.float64, np.bool_})
 """Types :func:`deep_frozen` keeps as they are (as its tests below would), told by one set look-up first."""
 
 
@@ -117,7 +115,7 @@ def freeze_fields(record: Any) -> None:
     its class says why it stays open (:attr:`Keyed._open`)."""
     if getattr(type(record), "_open", ""):
         return
-    for name in _field_names(type(record)):
+    for name in field_names(type(record)):
         value = getattr(record, name)
         kept = deep_frozen(value)
         if kept is not value:
@@ -125,9 +123,9 @@ def freeze_fields(record: Any) -> None:
 
 
 @functools.cache
-def _field_names(cls: type) -> tuple[str, ...]:
-    """The names of the dataclass fields of ``cls`` (:func:`dataclasses.fields`, read once a class)."""
-    return tuple(f.name for f in dataclasses.fields(cls))
+def field_names(cls: type, shown: bool = False) -> tuple[str, ...]:
+    """The names of the dataclass fields of ``cls`` (only those in its repr if ``shown``), read once a class."""
+    return tuple(f.name for f in dataclasses.fields(cls) if f.repr or not shown)
 
 
 def frozen(data: Any) -> FrozenMapping:

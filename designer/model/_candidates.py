@@ -13,7 +13,6 @@ nowhere else in the studies.
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
 from typing import Any, Self
@@ -23,7 +22,7 @@ import numpy as np
 from designer.parameters import OUTPUT_TABLE, OUTPUTS, PARAMETERS, VARIABLE_TABLE, VARIABLES
 from designer.boundary import SEED, Count, Instance, Quantity, Values, checked, one_line
 from designer.units import real_number
-from designer.reprs import Key, Record, dataframe, frozen
+from designer.reprs import Key, Record, dataframe, field_names, frozen
 from designer.physics.geometry import effective_trail, swept_radius
 from designer.physics.scatter import inertia_prediction
 from designer.errors import InputError
@@ -193,7 +192,7 @@ class Casters(Record):
     def keys(self) -> list[str]:
         """The names of the quantities that hold a value (the optional ones only when computed): the columns, read
         by key as by attribute (``casters["threshold_force"]``)."""
-        own = [name for name in _shown(type(self)) if getattr(self, name) is not None]
+        own = [name for name in field_names(type(self), shown=True) if getattr(self, name) is not None]
         return own + list(self.quantities)
 
     def __getitem__(self, key: str) -> Any:
@@ -260,12 +259,6 @@ class Casters(Record):
             for name in [f.name for f in fields(self) if f.repr] + list(self.quantities)
         }
         return Casters.of(**taken)
-
-
-@functools.cache
-def _shown(cls: type) -> tuple[str, ...]:
-    """The names of the fields of ``cls`` shown in its repr (its columns, as :meth:`Casters.keys` lists them)."""
-    return tuple(f.name for f in fields(cls) if f.repr)
 
 
 @dataclass(frozen=True, kw_only=True)
