@@ -122,10 +122,14 @@ def freeze_fields(record: Any) -> None:
             object.__setattr__(record, name, kept)
 
 
-@functools.cache
+_FIELD_NAMES: dict[tuple[type, bool], tuple[str, ...]] = {}
+
+
 def field_names(cls: type, shown: bool = False) -> tuple[str, ...]:
     """The names of the dataclass fields of ``cls`` (only those in its repr if ``shown``), read once a class."""
-    return tuple(f.name for f in dataclasses.fields(cls) if f.repr or not shown)
+    if (cls, shown) not in _FIELD_NAMES:
+        _FIELD_NAMES[cls, shown] = tuple(f.name for f in dataclasses.fields(cls) if f.repr or not shown)
+    return _FIELD_NAMES[cls, shown]
 
 
 def frozen(data: Any) -> FrozenMapping:
