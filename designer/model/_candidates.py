@@ -159,7 +159,7 @@ class Casters(Record):
     def of(cls, **columns: Any) -> Self:
         """The record of ``columns`` by name: the fields, and the other quantities of
         :data:`designer.parameters.OUTPUT_TABLE` in :attr:`quantities` (TypeError for a name in neither)."""
-        names = {f.name for f in fields(cls)}
+        names = field_names(cls)
         unknown = [k for k in columns if k not in names and k not in OUTPUTS]
         if unknown:
             raise TypeError(f"{cls.__name__}.of: {unknown[0]!r} is neither a field nor in parameters.OUTPUT_TABLE")
