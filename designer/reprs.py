@@ -88,13 +88,17 @@ class FrozenMapping(Mapping[Any, Any]):
         self.__setitem__(key, None)
 
 
+_AS_THEY_ARE = frozenset({type(None), str, int, float, bool, FrozenMapping, np.ndarray, np.float64, np.bool_})
+"""Types :func:`deep_frozen` keeps as they are (as its tests below would), told by one set look-up first."""
+
+
 def deep_frozen(value: Any) -> Any:
     """``value`` with its containers made read-only, all the way down: a list or a tuple as a tuple, a mapping as a
     :class:`FrozenMapping`, a set as a frozenset; records, strings, numbers, arrays and other objects as they are.
     What a record's fields are turned into when it is built (:meth:`Keyed.__post_init__`): a user's
     ``rec.alternatives.clear()`` or ``front.meta["x"] = 1`` raises instead of changing a result in place.  A list
     a user indexes still indexes (``rec.alternatives[0]``); ``to_dict`` and JSON give lists as before."""
-    if value is None or isinstance(value, (str, bytes, int, float, Keyed, FrozenMapping, frozenset)):
+    if type(value) in _AS_THEY_ARE or isinstance(value, (str, bytes, int, float, Keyed, FrozenMapping, frozenset)):
         return value
     if isinstance(value, Mapping):
         return FrozenMapping({k: deep_frozen(v) for k, v in value.items()})
@@ -111,11 +115,21 @@ def freeze_fields(record: Any) -> None:
     its class says why it stays open (:attr:`Keyed._open`)."""
     if getattr(type(record), "_open", ""):
         return
-    for f in dataclasses.fields(record):
-        value = getattr(record, f.name)
-        kept = deep_frozen(value)
+    for name in field_names(type(record)):
+        value = getattr(record, name)
+        kept = value if type(value) in _AS_THEY_ARE else deep_frozen(value)
         if kept is not value:
-            object.__setattr__(record, f.name, kept)
+            object.__setattr__(record, name, kept)
+
+
+_FIELD_NAMES: dict[tuple[type, bool], tuple[str, ...]] = {}
+
+
+def field_names(cls: type, shown: bool = False) -> tuple[str, ...]:
+    """The names of the dataclass fields of ``cls`` (only those in its repr if ``shown``), read once a class."""
+    if (cls, shown) not in _FIELD_NAMES:
+        _FIELD_NAMES[cls, shown] = tuple(f.name for f in dataclasses.fields(cls) if f.repr or not shown)
+    return _FIELD_NAMES[cls, shown]
 
 
 def frozen(data: Any) -> FrozenMapping:

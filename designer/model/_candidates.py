@@ -22,7 +22,7 @@ import numpy as np
 from designer.parameters import OUTPUT_TABLE, OUTPUTS, PARAMETERS, VARIABLE_TABLE, VARIABLES
 from designer.boundary import SEED, Count, Instance, Quantity, Values, checked, one_line
 from designer.units import real_number
-from designer.reprs import Key, Record, dataframe, frozen
+from designer.reprs import Key, Record, dataframe, field_names, frozen
 from designer.physics.geometry import effective_trail, swept_radius
 from designer.physics.scatter import inertia_prediction
 from designer.errors import InputError
@@ -159,7 +159,7 @@ class Casters(Record):
     def of(cls, **columns: Any) -> Self:
         """The record of ``columns`` by name: the fields, and the other quantities of
         :data:`designer.parameters.OUTPUT_TABLE` in :attr:`quantities` (TypeError for a name in neither)."""
-        names = {f.name for f in fields(cls)}
+        names = field_names(cls)
         unknown = [k for k in columns if k not in names and k not in OUTPUTS]
         if unknown:
             raise TypeError(f"{cls.__name__}.of: {unknown[0]!r} is neither a field nor in parameters.OUTPUT_TABLE")
@@ -192,7 +192,7 @@ class Casters(Record):
     def keys(self) -> list[str]:
         """The names of the quantities that hold a value (the optional ones only when computed): the columns, read
         by key as by attribute (``casters["threshold_force"]``)."""
-        own = [f.name for f in fields(self) if f.repr and getattr(self, f.name) is not None]
+        own = [name for name in field_names(type(self), shown=True) if getattr(self, name) is not None]
         return own + list(self.quantities)
 
     def __getitem__(self, key: str) -> Any:
@@ -208,8 +208,9 @@ class Casters(Record):
         return self[key] if key in self else default
 
     def _column(self, name: str) -> np.ndarray:
-        """Quantity ``name`` broadcast to one value per candidate."""
-        return np.broadcast_to(np.asarray(getattr(self, name)), (len(self),))
+        """Quantity ``name`` broadcast to one value per candidate (a column of that shape as it is, unbroadcast)."""
+        a = np.asarray(getattr(self, name))
+        return a if a.shape == (len(self),) else np.broadcast_to(a, (len(self),))
 
     def row(self, i: int) -> "Caster":
         """Caster ``i`` (the quantities as Python scalars)."""

@@ -100,7 +100,7 @@ def exact_probability(
     The model error and the inertia's scatter by characteristic-function inversion, c_f and K_s through Eq. 7
     itself.  1 when Eq. 7's V_c is zero (no trail, or neither friction nor groove).
     """
-    return float(exact_probabilities(_columns([caster]), speed, uncertainty, prediction)[0])
+    return float(exact_probabilities(law_columns([caster]), speed, uncertainty, prediction)[0])
 
 
 @dataclass(frozen=True)
@@ -178,7 +178,7 @@ _LAW_FIELDS = ("trail", "inertia", "groove", "damping", "slip_coefficient")
 """The fields of :class:`LawCaster` that are numbers of every caster, in the law's order."""
 
 
-def _columns(casters: Sequence[LawCaster]) -> dict[str, Array]:
+def law_columns(casters: Sequence[LawCaster]) -> dict[str, Array]:
     """The casters' fields as arrays [SI], in the order of :class:`LawCaster` (a measured wheel's diameter nan)."""
     columns = {name: np.array([getattr(c, name) for c in casters], dtype=float) for name in _LAW_FIELDS}
     columns["diameter"] = np.array([np.nan if c.diameter is None else c.diameter for c in casters], dtype=float)
@@ -302,7 +302,7 @@ def acceptance_limits_many(
     n = len(casters)
     if not n:
         return []
-    columns = _columns(casters)
+    columns = law_columns(casters)
     v = np.broadcast_to(np.asarray(speed, dtype=float), (n,)).copy()
     d = np.broadcast_to(np.asarray(wheel_diameter, dtype=float), (n,))
     values, p, at_low, _ = _limit_search(columns, v, uncertainty, ranges, prediction)
@@ -411,7 +411,7 @@ def exact_speed_quantiles(
     reached with probability 1 − α".  0 where Eq. 7's V_c is zero.
     """
     n = len(casters)
-    columns = _columns(casters)
+    columns = law_columns(casters)
     live = np.flatnonzero((columns["trail"] > 0) & ((columns["damping"] > 0) | (columns["groove"] > 0)))
     out = np.zeros(n)
     if not live.size:

@@ -33,7 +33,7 @@ import numpy as np
 
 from designer.studies.front._front import REFERENCE_OFFSET, Front, FrontPoint, clean
 from designer.studies.front._indicators import normalise
-from designer.studies.optimum import diagnose_infeasible, constraint_margins
+from designer.studies.optimum import diagnose_infeasible, margins_many
 from designer.boundary import Count, checked
 from designer.errors import InertiaExtrapolationWarning, InputError, ModelRangeWarning, SolverError
 from designer.model import Design
@@ -60,18 +60,20 @@ def _points(
     problem: Problem, found: Designs, wheel: str | None = None, eps: npt.ArrayLike | None = None
 ) -> list[FrontPoint]:
     """FrontPoints of a solver's ε-optima (``eps`` overrides their ε): the successful ones evaluated by the model
-    in one vectorised call, a failed one with the solver's own numbers and no margins."""
+    in one vectorised call (their margins too), a failed one with the solver's own numbers and no margins."""
     caps = found.epsilon if eps is None else np.asarray(eps, float)
     out: list[FrontPoint] = []
     ok = np.flatnonzero(found.success).tolist()
-    rows = dict(zip(ok, problem.evaluate(found.designs[ok]).rows())) if ok else {}
+    values = problem.evaluate(found.designs[ok]) if ok else None
+    rows = dict(zip(ok, values.rows())) if values is not None else {}
+    margins = dict(zip(ok, margins_many(problem, found.designs[ok], values))) if values is not None else {}
     for i in range(len(found)):
         design, row = found.design(i), rows.get(i)
         numbers = found.objectives[i] if row is None else [getattr(row, n) for n in OBJECTIVES]
         point = FrontPoint(
             design=design,
             **{n: float(x) for n, x in zip(OBJECTIVES, numbers)},
-            margins={} if row is None else constraint_margins(problem, design, row).margins,
+            margins=margins.get(i, {}),
             epsilon=float(caps[i]),
             status=found.status[i],
             success=bool(found.success[i]),

@@ -12,7 +12,8 @@ from designer.studies.optimum._optimise import (
     Solution,
     constraint_margins,
     diagnose_infeasible,
+    margins_many,
     optimise,
 )
 
-__all__ = ["ConstraintMargins", "Solution", "constraint_margins", "diagnose_infeasible", "optimise"]
+__all__ = ["ConstraintMargins", "Solution", "constraint_margins", "diagnose_infeasible", "margins_many", "optimise"]

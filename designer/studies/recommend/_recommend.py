@@ -45,11 +45,10 @@ from designer.physics.uncertainty import Uncertainty, dominant_sentence, law_sou
 from designer.problem import MAX_SAMPLES, Bound, problem_argument
 from designer.solvers import one_solve_at_a_time
 from designer.studies.recommend._record import Recommendation, _parts
-from designer.physics.acceptance import exact_speed_quantile, exact_speed_quantiles
+from designer.physics.acceptance import exact_probabilities, exact_speed_quantile, exact_speed_quantiles, law_columns
 from designer.studies.spec import (
     caster_specs,
     corner_probabilities,
-    exact_shimmy_probability,
     law_caster,
     mc_draws,
     risk_law,
@@ -183,66 +182,61 @@ def _infeasible_message(problem, table: ScreenedTable | None) -> str:
     )
 
 
-def _record(
-    problem,
-    b: _Buildable,
-    i: int,
-    rule: str,
-    role: str,
-    samples=None,
-    seed=None,
-    quantile: float | None = None,
-) -> Recommendation:
-    """Candidate ``i`` as a :class:`Recommendation`, with its reported risk: P(shimmy at V_target) by the exact
-    law (quadrature) under the problem's risk law (the default scatter when the bound is off, whose V_q it then
-    reports too), the Monte Carlo beside it as an independent check; no spec (:func:`_with_specs` adds it).
-    ``quantile``: its speed reached w.p. 1 − α when the caller found it in a batch (:func:`_quantiles`)."""
+def _records(
+    problem, b: _Buildable, items: list[tuple[int, str]], rule: str, samples=None, seed=None, quantiles=None
+) -> list[Recommendation]:
+    """Candidates ``items`` ((row, role) each) as :class:`Recommendation` records, with their reported risk:
+    P(shimmy at V_target) by the exact law (quadrature) under the problem's risk law (the default scatter when
+    the bound is off, whose V_q it then reports too), the Monte Carlo beside it as an independent check (each
+    estimate the caster's own alone: :func:`designer.physics.uncertainty.shimmy_probability_mc_many`), both
+    for all rows in one batch; no spec (:func:`_with_specs` adds it).  ``quantiles``: each one's speed reached
+    w.p. 1 − α when the caller found them in a batch (:func:`_quantiles`; None: found here, row by row)."""
     u = scatter_of(problem.conditions)
     v = b.values
-    design = b.design(i)
+    rows = [i for i, _ in items]
+    designs = [b.design(i) for i in rows]
     risk = evaluate(
-        [design],
+        designs,
         problem.conditions.replace(uncertainty=u),
-        inertia=v.inertia[i : i + 1],
-        measured=v.measured[i : i + 1],
+        inertia=v.inertia[rows],
+        measured=v.measured[rows],
         risk=problem.target_speed,
         samples=samples,
         seed=seed,
     )
-    p_mc, se = float(risk.shimmy_probability[0]), float(risk.shimmy_probability_se[0])
-    n = mc_draws(p_mc, se)  # the draws behind the estimate, as fixes and fleet rows state theirs
-    mc_seed = int(u.seed if seed is None else seed)
-    inertia, measured = float(v.inertia[i]), bool(v.measured[i])
-    p = exact_shimmy_probability(problem, design, inertia, measured, problem.target_speed)
-    extra = _risk(problem, v, i, u, p, (p_mc, se)) if role == "recommended" else {}
-    # the speed reached with probability 1 − α: the exact law's quantile (the solvers' V_q is a conservative bound)
     law = risk_law(problem)
-    bound = v.confident_speed[i] if problem.risk is not None else risk.confident_speed[0]  # the solvers' V_q
-    q = (
-        quantile
-        if quantile is not None
-        else exact_speed_quantile(law_caster(problem, design, inertia, measured), law, guess=float(bound))
-    )
-    return Recommendation(
-        caster=v.row(i),
-        confident_speed=float(q),
-        shimmy_probability=p,
-        shimmy_probability_mc=p_mc,
-        shimmy_probability_se=se,
-        rule=rule,
-        wheel=str(b.wheel[i]) or None,
-        role=role,
-        mc_samples=n,
-        mc_seed=mc_seed,
-        problem=problem,
-        **extra,
-    )
+    casters = [law_caster(problem, d, float(v.inertia[i]), bool(v.measured[i])) for d, i in zip(designs, rows)]
+    exact = exact_probabilities(law_columns(casters), problem.target_speed, law)
+    out = []
+    for k, ((i, role), q) in enumerate(zip(items, quantiles or [None] * len(items))):
+        p, p_mc, se = float(exact[k]), float(risk.shimmy_probability[k]), float(risk.shimmy_probability_se[k])
+        extra = _risk(problem, v, i, u, p, (p_mc, se)) if role == "recommended" else {}
+        # the speed reached with probability 1 − α: the exact law's quantile (the solvers' V_q is a conservative
+        # bound, v.confident_speed under the problem's bound, risk.confident_speed under the default scatter)
+        bound = float(v.confident_speed[i] if problem.risk is not None else risk.confident_speed[k])
+        out.append(
+            Recommendation(
+                caster=v.row(i),
+                confident_speed=float(q if q is not None else exact_speed_quantile(casters[k], law, guess=bound)),
+                shimmy_probability=p,
+                shimmy_probability_mc=p_mc,
+                shimmy_probability_se=se,
+                rule=rule,
+                wheel=str(b.wheel[i]) or None,
+                role=role,
+                mc_samples=mc_draws(p_mc, se),  # the draws behind the estimate, as fixes and fleet rows state theirs
+                mc_seed=int(u.seed if seed is None else seed),
+                problem=problem,
+                **extra,
+            )
+        )
+    return out
 
 
 def _quantiles(problem, b: _Buildable, rows: list[int]) -> list[float | None]:
     """The speed reached w.p. 1 − α of candidates ``rows`` under the problem's risk bound, all found together
     (:func:`designer.physics.acceptance.exact_speed_quantiles`, each from the solvers' V_q); None each when the
-    problem has no bound (:func:`_record` then finds it under the default scatter, from that law's V_q)."""
+    problem has no bound (:func:`_records` then finds it under the default scatter, from that law's V_q)."""
     if problem.risk is None:
         return [None] * len(rows)
     v = b.values
@@ -403,8 +397,7 @@ def recommend(
         )
     rule = rule_text(problem, size, bool(sel["knee"][0]))
     items = [(choice, "recommended")] + [(i, r) for i, r in front_roles(b.values.turning_effort, sel) if i != choice]
-    q = _quantiles(problem, b, [i for i, _ in items])
-    rec, *alts = [_record(problem, b, i, rule, r, samples, seed, q) for (i, r), q in zip(items, q)]
+    rec, *alts = _records(problem, b, items, rule, samples, seed, _quantiles(problem, b, [i for i, _ in items]))
     rec, *alts = _with_specs([rec, *alts], [specs != "none"] + [specs == "all"] * len(alts))
     return dataclasses.replace(
         rec,
@@ -523,7 +516,7 @@ def _if_measured(problem, rec: Recommendation, samples, seed) -> dict | None:
         choice = int(same[0])  # the rule's pick would cost more than the recommendation: keep the recommendation
     if choice < 0:
         return None
-    r = _record(measured, b, choice, rec.rule, "if measured", samples, seed)
+    (r,) = _records(measured, b, [(choice, "if measured")], rec.rule, samples, seed)
     return {
         "design": r.design.to_dict(),
         **{key: getattr(r, key) for key in ("turning_effort", "threshold_force", "shimmy_probability")},

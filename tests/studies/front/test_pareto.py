@@ -307,3 +307,19 @@ def test_golden_section_finds_a_minimum_within_its_tolerance():
     assert golden_section(lambda x: (x - 0.3) ** 2, 0.0, 1.0, 1e-8) == pytest.approx(0.3, abs=1e-8)
     assert golden_section(lambda x: abs(x - 0.9), 0.0, 1.0, 1e-8) == pytest.approx(0.9, abs=1e-8)
     assert golden_section(lambda x: x, 2.0, 3.0, 1e-6) == pytest.approx(2.0, abs=1e-6)
+
+
+@pytest.mark.parametrize("name", ["indoor-manual", "catalog-retrofit"])
+def test_point_margins_are_each_points_own(fronts, name):
+    """A front's points' margins, found for all of them at once (margins_many), are those constraint_margins
+    gives each point alone under its own (sub-)problem (a catalogue wheel's: diameter fixed, no diameter margins):
+    the same names in the same order, the same numbers."""
+    from designer.solvers.base import wheel_of
+    from designer.studies.optimum import constraint_margins
+
+    points = [p for p in fronts[name].points if p.success]
+    assert len(points) >= 2
+    for p in points:
+        (problem,) = [v for v in fronts[name].problem.variants() if p.wheel is None or wheel_of(v) == p.wheel]
+        alone = constraint_margins(problem, p.design, p.caster).margins
+        assert list(p.margins.items()) == list(alone.items()) and "shimmy" in alone

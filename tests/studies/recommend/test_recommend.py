@@ -489,3 +489,22 @@ def test_without_if_measured_only_that_variant_is_left_out(recs, name):
         k: v for k, v in same.to_dict().items() if k != "if_measured"
     }
     assert dataclasses.replace(bare, if_measured=same.if_measured).to_dict() == same.to_dict()
+
+
+def test_each_records_risk_is_its_casters_alone(recs):
+    """The records' exact P(shimmy) and Monte Carlo P ± SE, found for all of them in one batch, are each caster's
+    own: the exact law of that caster alone (to 1e-12) and the Monte Carlo of evaluate() of that caster alone
+    (the same number)."""
+    from designer.model import evaluate, scatter_of
+    from designer.studies.spec import exact_shimmy_probability
+
+    problem, full = recs["indoor-manual"]
+    conditions = problem.conditions.replace(uncertainty=scatter_of(problem.conditions))
+    for r in [full, *full.alternatives]:
+        alone = evaluate([r.design], conditions, inertia=[r.inertia], measured=[r.measured], risk=problem.target_speed)
+        assert (r.shimmy_probability_mc, r.shimmy_probability_se) == (
+            float(alone.shimmy_probability[0]),
+            float(alone.shimmy_probability_se[0]),
+        )
+        p = exact_shimmy_probability(problem, r.design, r.inertia, r.measured, problem.target_speed)
+        assert r.shimmy_probability == pytest.approx(p, rel=1e-12, abs=0) and 0 < p < 1
