@@ -208,9 +208,14 @@ class Casters(Record):
         return self[key] if key in self else default
 
     def _column(self, name: str) -> np.ndarray:
-        """Quantity ``name`` broadcast to one value per candidate (a column of that shape as it is, unbroadcast)."""
+        """Quantity ``name`` broadcast to one value per candidate (a column of that shape as a read-only view: a slice
+        of :meth:`take` cannot write into the record)."""
         a = np.asarray(getattr(self, name))
-        return a if a.shape == (len(self),) else np.broadcast_to(a, (len(self),))
+        if a.shape != (len(self),):
+            return np.broadcast_to(a, (len(self),))
+        view = a.view()
+        view.flags.writeable = False
+        return view
 
     def row(self, i: int) -> "Caster":
         """Caster ``i`` (the quantities as Python scalars)."""

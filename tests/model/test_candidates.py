@@ -194,11 +194,16 @@ def test_batched_monte_carlo_equals_each_casters_own_stream(samples, target_se):
 
 
 def test_candidate_values_take_and_monte_carlo_on_request():
-    """Without ``probability_at`` there is no Monte Carlo; ``take`` keeps the chosen candidates of every field."""
+    """Without ``probability_at`` there is no Monte Carlo; ``take`` keeps the chosen candidates of every field, and
+    a slice's columns cannot be written into."""
     v = evaluate_candidates(DESIGNS, RISK, required_speed=2.5)
     assert v.shimmy_probability is None and len(v) == 4
     sub = v.take(v.feasible)
     assert len(sub) == int(v.feasible.sum()) and np.all(sub.confident_speed >= 2.5 * (1 - FEASIBILITY_TOLERANCE))
+    head = v.take(slice(0, 2))  # a slice's columns are views of the record's: read-only, as the record is
+    assert len(head) == 2 and not head.threshold_force.flags.writeable
+    with pytest.raises(ValueError, match="read-only"):
+        head.threshold_force[0] = 0.0
     mc = evaluate_candidates(DESIGNS[:1], RISK, probability_at=2.5, samples=10_000, seed=1, target_se=None)
     assert 0 < mc.shimmy_probability[0] < 1 and mc.shimmy_probability_se[0] > 0
 
