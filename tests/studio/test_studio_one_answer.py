@@ -108,6 +108,22 @@ def millimetre_problem(tmp_path) -> Path:
     return path
 
 
+@pytest.fixture
+def page(tmp_path):
+    """(the studio's URL, a headless Chromium, its wait, the studio's working folder): a studio of the default
+    problem started in ``tmp_path / "run"``, both ended after the test."""
+    cwd = tmp_path / "run"
+    cwd.mkdir()
+    proc, url = start_studio(cwd)
+    driver = chrome()
+    try:
+        yield url, driver, WebDriverWait(driver, WAIT, poll_frequency=0.1), cwd
+    finally:
+        driver.quit()
+        proc.kill()
+        proc.wait(30)
+
+
 @pytest.mark.parametrize("units", ["in", "mm"])
 def test_panel_and_cards_show_designer_runs_numbers(tmp_path, millimetre_problem, units):
     """On the default problem (inches) and on one written in millimetres: every P(shimmy), V_c and "speed
@@ -147,99 +163,79 @@ def test_panel_and_cards_show_designer_runs_numbers(tmp_path, millimetre_problem
         proc.wait(30)
 
 
-def test_quick_keys_end_on_the_answer_to_the_controls_shown(tmp_path):
+def test_quick_keys_end_on_the_answer_to_the_controls_shown(page):
     """Issue 42: ten quick presses of the target-speed slider's arrow key and a load change and back (178 ->
     250 -> 178 N, Enter each), faster than the server answers; once the page says it shows the answer to its
     controls, the panel's numbers equal `designer run --json` of the problem those controls make (the file
     "Save problem" writes of them), and the chart's axes hold every point drawn."""
-    cwd = tmp_path / "run"
-    cwd.mkdir()
-    proc, url = start_studio(cwd)
-    driver = chrome()
+    url, driver, wait, cwd = page
+    driver.get(url)
+    wait.until(ready)
+    driver.execute_script(  # every class the answer's box takes from here on
+        "window.seen = []; new MutationObserver(() => window.seen.push(document.getElementById('answer-box')"
+        ".className)).observe(document.getElementById('answer-box'), {attributes: true});"
+    )
+    handle = driver.find_element(By.CSS_SELECTOR, '[data-key="target"] [role="slider"]')
+    handle.click()
+    for _ in range(10):
+        handle.send_keys(Keys.ARROW_RIGHT)
+    load = driver.find_element(By.CSS_SELECTOR, '[data-key="load"] input')
+    for value in ("250 N", "178 N"):
+        load.send_keys(Keys.CONTROL, "a")
+        load.send_keys(value, Keys.ENTER)
     try:
-        wait = WebDriverWait(driver, WAIT, poll_frequency=0.1)
-        driver.get(url)
-        wait.until(ready)
-        driver.execute_script(  # every class the answer's box takes from here on
-            "window.seen = []; new MutationObserver(() => window.seen.push(document.getElementById('answer-box')"
-            ".className)).observe(document.getElementById('answer-box'), {attributes: true});"
-        )
-        handle = driver.find_element(By.CSS_SELECTOR, '[data-key="target"] [role="slider"]')
-        handle.click()
-        for _ in range(10):
-            handle.send_keys(Keys.ARROW_RIGHT)
-        load = driver.find_element(By.CSS_SELECTOR, '[data-key="load"] input')
-        for value in ("250 N", "178 N"):
-            load.send_keys(Keys.CONTROL, "a")
-            load.send_keys(value, Keys.ENTER)
-        try:
-            wait.until(lambda d: "target=3.5" in d.current_url and ready(d))
-        except TimeoutException:  # what the page shows then: the URL, the answer box, the status and its history
-            box = driver.find_element(By.ID, "answer-box").get_attribute("class")
-            seen = driver.execute_script("return window.seen")
-            pytest.fail(
-                f"never settled: {driver.current_url} box={box!r} status={text(driver, 'status')!r} seen={seen}"
-            )
-        assert "waiting" in driver.execute_script("return window.seen")  # said so while it was computing
-        shown = settled_numbers(wait, "rec")
+        wait.until(lambda d: "target=3.5" in d.current_url and ready(d))
+    except TimeoutException:  # what the page shows then: the URL, the answer box, the status and its history
+        box = driver.find_element(By.ID, "answer-box").get_attribute("class")
+        seen = driver.execute_script("return window.seen")
+        pytest.fail(f"never settled: {driver.current_url} box={box!r} status={text(driver, 'status')!r} seen={seen}")
+    assert "waiting" in driver.execute_script("return window.seen")  # said so while it was computing
+    shown = settled_numbers(wait, "rec")
 
-        driver.find_element(By.ID, "save").click()
-        wait.until(lambda d: "saved" in text(d, "save-result"))
-        saved = cwd / "out" / "indoor-manual.toml"
-        reference = run_json(saved, cwd)
-        assert reference["required_speed"] == pytest.approx(3.5)
-        assert shown == expected(reference["recommendation"], "in")
+    driver.find_element(By.ID, "save").click()
+    wait.until(lambda d: "saved" in text(d, "save-result"))
+    saved = cwd / "out" / "indoor-manual.toml"
+    reference = run_json(saved, cwd)
+    assert reference["required_speed"] == pytest.approx(3.5)
+    assert shown == expected(reference["recommendation"], "in")
 
-        ranges = driver.execute_script(
-            "const g = document.querySelector('#front .js-plotly-plot');"
-            "return [g._fullLayout.xaxis.range, g._fullLayout.yaxis.range];"
-        )
-        points = traces(driver)
-        assert points and {"continuous", "risk", "buildable", "recommendation"} <= set(points)
-        for key, (x, y) in points.items():
-            assert all(ranges[0][0] <= v <= ranges[0][1] for v in x), (key, ranges[0], min(x), max(x))
-            assert all(ranges[1][0] <= v <= ranges[1][1] for v in y), (key, ranges[1], min(y), max(y))
-    finally:
-        driver.quit()
-        proc.kill()
-        proc.wait(30)
+    ranges = driver.execute_script(
+        "const g = document.querySelector('#front .js-plotly-plot');"
+        "return [g._fullLayout.xaxis.range, g._fullLayout.yaxis.range];"
+    )
+    points = traces(driver)
+    assert points and {"continuous", "risk", "buildable", "recommendation"} <= set(points)
+    for key, (x, y) in points.items():
+        assert all(ranges[0][0] <= v <= ranges[0][1] for v in x), (key, ranges[0], min(x), max(x))
+        assert all(ranges[1][0] <= v <= ranges[1][1] for v in y), (key, ranges[1], min(y), max(y))
 
 
-def test_back_and_forward_set_the_controls_and_their_answer(tmp_path):
+def test_back_and_forward_set_the_controls_and_their_answer(page):
     """The browser's Back and Forward after a change of the target speed (2.6 -> 2.7 m/s): the slider shows the
     URL's target again, and the page settles on the answer to it (the panel's P(shimmy) of each target is the one
     that target showed first). The URL's values reach the controls through the numbered ``url-values`` store."""
-    cwd = tmp_path / "run"
-    cwd.mkdir()
-    proc, url = start_studio(cwd)
-    driver = chrome()
-    try:
-        wait = WebDriverWait(driver, WAIT, poll_frequency=0.1)
+    url, driver, wait, _ = page
 
-        def slider() -> str:
-            return driver.find_element(By.CSS_SELECTOR, '[data-key="target"] [role="slider"]').get_attribute(
-                "aria-valuenow"
-            )
+    def slider() -> str:
+        return driver.find_element(By.CSS_SELECTOR, '[data-key="target"] [role="slider"]').get_attribute(
+            "aria-valuenow"
+        )
 
-        def settled(target: str):
-            return lambda d: f"target={target}" in d.current_url and slider() == target and ready(d)
+    def settled(target: str):
+        return lambda d: f"target={target}" in d.current_url and slider() == target and ready(d)
 
-        driver.get(url + "?target=2.6")
-        wait.until(settled("2.6"))
-        first = settled_numbers(wait, "rec")
-        handle = driver.find_element(By.CSS_SELECTOR, '[data-key="target"] [role="slider"]')
-        handle.click()
-        handle.send_keys(Keys.ARROW_RIGHT)
-        wait.until(settled("2.7"))
-        second = settled_numbers(wait, "rec")
-        assert first != second  # P(shimmy) at the target moves with it
-        driver.back()
-        wait.until(settled("2.6"))
-        assert settled_numbers(wait, "rec") == first
-        driver.forward()
-        wait.until(settled("2.7"))
-        assert settled_numbers(wait, "rec") == second
-    finally:
-        driver.quit()
-        proc.kill()
-        proc.wait(30)
+    driver.get(url + "?target=2.6")
+    wait.until(settled("2.6"))
+    first = settled_numbers(wait, "rec")
+    handle = driver.find_element(By.CSS_SELECTOR, '[data-key="target"] [role="slider"]')
+    handle.click()
+    handle.send_keys(Keys.ARROW_RIGHT)
+    wait.until(settled("2.7"))
+    second = settled_numbers(wait, "rec")
+    assert first != second  # P(shimmy) at the target moves with it
+    driver.back()
+    wait.until(settled("2.6"))
+    assert settled_numbers(wait, "rec") == first
+    driver.forward()
+    wait.until(settled("2.7"))
+    assert settled_numbers(wait, "rec") == second
