@@ -85,3 +85,4 @@ hypervolume_exact_normalised
 reference_normalised
 _.single_part_fix_exists  # FixResult's key in designer fix --json (designer/studies/retrofit/_records.py)
 doubled  # tests/test_records.py: a method a Key reads by its path ("part.doubled()")
+_.renderer  # dash.Dash's renderer script (designer/studio/app.py: RENDERER numbers the page's requests)

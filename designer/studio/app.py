@@ -22,6 +22,7 @@ from collections import OrderedDict
 from pathlib import Path
 
 import dash
+import flask
 from dash import ALL, Input, Output, Patch, State, ctx, html, no_update
 from dash.exceptions import PreventUpdate
 
@@ -106,12 +107,28 @@ INDEX = (
 """Dash's page with :data:`STYLE` in its head and the :data:`NATIVE` functions put back after its scripts."""
 
 
+RENDERER = (
+    "var renderer = new DashRenderer({request_pre: p => { window.studioPage = window.studioPage ||"
+    " Math.random().toString(36).slice(2); p.studio = [window.studioPage, window.studioSeq = (window.studioSeq || 0) + 1]; }});"
+)
+"""Dash's renderer, which numbers each request of the page as it sends it (``studio``: [the page, the number]):
+the order the server must answer in, whatever order the requests arrive in."""
+
+
+def _sequence() -> tuple[str, int]:
+    """(page, number) of the callback request being answered (:data:`RENDERER`); ("", 0) for one without them."""
+    tag = (flask.request.get_json(silent=True) or {}).get("studio")
+    ok = isinstance(tag, list) and len(tag) == 2 and isinstance(tag[0], str) and type(tag[1]) is int
+    return (tag[0], tag[1]) if ok else ("", 0)
+
+
 def create_app(data: dict, name: str, out_dir: Path, debug: bool = False):
     """The Dash app for problem-file ``data`` (dict) named ``name``; saves and reports go to ``out_dir``;
     ``debug``: a failure a callback logs itself carries its traceback (``designer --debug studio``)."""
     defaults = state.control_values(data)
     app = dash.Dash(__name__, title=f"studio · {name}", update_title=None, serve_locally=True, assets_ignore=".*")
     app.index_string = INDEX
+    app.renderer = RENDERER
     app.layout = build_layout(name, defaults, problem_from_dict(data).units)
     # the card's limits (rec-limits) are in the recommendation panel, which the trade-off's callback returns
     app.validation_layout = html.Div([app.layout, html.Div(id="rec-limits")])
@@ -140,13 +157,15 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
     number of the change whose card waits for its limits (computed later: ``pending`` maps it to its problem and key,
     :func:`_limits_callback`), None when the card has them.
 
-    Never a stale answer: the browser numbers each change of the controls (``request``: ``{"n", "values"}``,
-    :func:`_request_callbacks`); a change that a newer one has overtaken is not computed (the browser has
-    dropped it already), and every answer names the controls it answers (``answered``), so the page says
-    "computing…" while the controls shown differ from the answer's."""
+    Never a stale answer: the controls' values are the callback's input (no step between a key press and the
+    request); the page numbers its requests (:data:`RENDERER`), and one that a newer request of the same page has
+    overtaken is not computed (the renderer drops the answer of a callback it has called again), and every answer names the
+    controls it answers (``answered``, :func:`_request_callbacks`), so the page says "computing…" while the
+    controls shown differ from the answer's."""
     keys = [c.key for c in state.all_controls()]
-    # the newest change the browser numbered; the server's count of answers; of the URL's values sent
-    newest = {"n": 0, "generation": 0, "url": 0}
+    # the server's count of answers; of the URL's values sent; the newest request of each page
+    newest = {"generation": 0, "url": 0}
+    pages: dict[str, int] = {}
 
     @app.callback(
         Output("url-values", "data"),
@@ -161,25 +180,24 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
         Output("answered", "data"),
         Output("alt-labels", "data"),
         Input("url", "search"),
-        Input("request", "data"),
+        Input({"type": "ctl", "key": ALL}, "value"),
         Input("mine-store", "data"),
         State("problem-data", "data"),
         State("front-shown", "data"),
         State("messages", "data"),
         State("alt-labels", "data"),
     )
-    def update(search, request, mine, last, shown, messages_shown, labels_shown):
-        n = _request_number(request)
-        from_url = ctx.triggered_id in (None, "url") or not isinstance(request, dict)
+    def update(search, values, mine, last, shown, messages_shown, labels_shown):
+        page, n = _sequence()
+        pages[page] = max(pages.get(page, 0), n)  # on arrival: an older request waiting for the lock sees it
+        from_url = ctx.triggered_id in (None, "url")
         if not from_url:
-            values = request.get("values")
             if not isinstance(values, list) or len(values) != len(keys):
                 raise PreventUpdate
             current = dict(zip(keys, values))
         else:
             current = state.from_query(search, defaults)
         with view.LOCK:
-            newest["n"] = max(newest["n"], n)
             newest["url"] += from_url  # numbered: going back to a URL sets its values again
             values_out = {"n": newest["url"], "values": [current[k] for k in keys]} if from_url else no_update
         answered = {"values": [current[k] for k in keys], "valid": True}
@@ -187,7 +205,7 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
             problem, merged = state.build_problem(data, current)
             canonical = json.dumps(merged, sort_keys=True)
             with view.LOCK:
-                if n < newest["n"] and view.cached(canonical) is None:
+                if n < pages[page] and view.cached(canonical) is None:
                     raise PreventUpdate  # overtaken by a newer change, which the browser waits for instead
                 fronts = view.compute_fronts(problem, key=canonical)
                 newest["generation"] += 1
@@ -226,12 +244,6 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
         )
 
 
-def _request_number(request) -> int:
-    """The number the browser gave a change of the controls (0 for none, or one that is not a whole number)."""
-    n = request.get("n") if isinstance(request, dict) else None
-    return n if isinstance(n, int) and not isinstance(n, bool) else 0
-
-
 COMPUTING = "computing…"
 """What the page says while the answer shown is not the answer to the controls shown."""
 
@@ -240,27 +252,32 @@ LAST_VALID = "shown: the answer to the last valid values"
 
 
 def _request_callbacks(app) -> None:
-    """In the browser: number each change of the controls (``request``), and compare the controls shown with
-    the ones the answer on the page is for (``answered``): while they differ the panel is greyed and the line
-    above the chart says
-    :data:`COMPUTING` (or :data:`LAST_VALID`)."""
-    app.clientside_callback(
-        "function (values) { window.studioRequest = (window.studioRequest || 0) + 1;"
-        " return {n: window.studioRequest, values: values}; }",
-        Output("request", "data"),
-        Input({"type": "ctl", "key": ALL}, "value"),
-    )
-    app.clientside_callback(
+    """In the browser: compare the controls shown with the ones the answer on the page is for (``answered``):
+    while they differ the panel is greyed and the line above the chart says :data:`COMPUTING` (or
+    :data:`LAST_VALID`).  Once as the controls change, once as an answer comes: a callback with the answer as
+    input would wait for the trade-off's request to end."""
+    compare = (
         "function (values, answered) {"
-        " if (!answered) { return [" + json.dumps(COMPUTING) + ", 'waiting']; }"
-        " if (JSON.stringify(values) !== JSON.stringify(answered.values)) { return ["
+        " if (!answered || JSON.stringify(values) !== JSON.stringify(answered.values)) { return ["
         + json.dumps(COMPUTING)
         + ", 'waiting']; }"
-        " return answered.valid ? ['', 'answered'] : [" + json.dumps(LAST_VALID) + ", 'answered invalid']; }",
+        " return answered.valid ? ['', 'answered'] : [" + json.dumps(LAST_VALID) + ", 'answered invalid']; }"
+    )
+    controls = {"type": "ctl", "key": ALL}
+    app.clientside_callback(
+        compare,
         Output("computing", "children"),
         Output("answer-box", "className"),
-        Input({"type": "ctl", "key": ALL}, "value"),
+        Input(controls, "value"),
+        State("answered", "data"),
+    )
+    app.clientside_callback(
+        compare.replace("function (values, answered)", "function (answered, values)"),
+        Output("computing", "children", allow_duplicate=True),
+        Output("answer-box", "className", allow_duplicate=True),
         Input("answered", "data"),
+        State(controls, "value"),
+        prevent_initial_call=True,
     )
 
 
@@ -321,11 +338,13 @@ def _fan_out_callbacks(app) -> None:
     """In the browser: the trade-off's ``messages`` (``{"errors": one per control, "general"}``) into the
     message beside each control and above the chart, its ``alt-labels`` into the card buttons of the
     alternatives (a button without a label hidden), and its ``url-values`` (``{"n", "values"}``: the controls a
-    URL sets, on the page's load and on Back or Forward) into the controls.  They run only when the server sent a
-    change, so none is on the path of a key press."""
+    URL sets, on the page's load and on Back or Forward) into the controls (by ``set_props``: were the controls an
+    output, Dash would hold every callback they feed until the trade-off answers).  They run only when the server
+    sent a change, so none is on the path of a key press."""
+    keys = json.dumps([c.key for c in state.all_controls()])
     app.clientside_callback(
-        "function (v) { return v.values; }",
-        Output({"type": "ctl", "key": ALL}, "value"),
+        f"function (v) {{ {keys}.forEach((key, i) => window.dash_clientside.set_props("
+        "{type: 'ctl', key: key}, {value: v.values[i]})); }",
         Input("url-values", "data"),
         prevent_initial_call=True,
     )

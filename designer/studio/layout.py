@@ -91,8 +91,7 @@ def build_layout(name: str, defaults: dict, units: str = "in"):
             dcc.Store(id="rec-pending"),
             dcc.Store(id="rec-go"),
             dcc.Store(id="rec-answer"),
-            # each change of the controls, numbered by the browser, and the controls the answer shown is for
-            dcc.Store(id="request"),
+            # the controls the answer shown is for
             dcc.Store(id="answered"),
             # the trade-off's messages, card-button labels and URL values, which the browser fans out (app._fan_out_callbacks)
             dcc.Store(id="messages"),

@@ -24,9 +24,6 @@ from designer.studio.layout import MAX_CARD_BUTTONS  # noqa: E402
 PROBLEM = state.default_problem_path()
 
 
-_NUMBER = [0]
-
-
 def _post(
     client,
     keys: list,
@@ -36,18 +33,12 @@ def _post(
     mine=None,
     last=None,
     search="",
-    n=None,
     messages=None,
     labels=None,
+    studio=None,
 ) -> dict:
-    """POST the trade-off callback as the page does (controls ``values`` as the browser's change number ``n``,
-    default the next one, the URL query ``search``, the chart showing ``shown``, the page's ``messages`` and
-    card-button ``labels`` stores)."""
-    if changed.startswith('{"key"'):
-        changed = "request.data"  # a control's change reaches the server as the browser's numbered request
-    if n is None:
-        _NUMBER[0] += 1
-        n = _NUMBER[0]
+    """POST the trade-off callback as the page does (the controls' ``values``, the URL query ``search``, the chart
+    showing ``shown``, the page's ``messages`` and card-button ``labels`` stores, its [page, number] ``studio``)."""
     body = {
         "output": "..url-values.data...messages.data"
         "...front.figure...front-shown.data...recommendation.children...status.children...url.search...problem-data.data"
@@ -67,7 +58,7 @@ def _post(
         ],
         "inputs": [
             {"id": "url", "property": "search", "value": search},
-            {"id": "request", "property": "data", "value": {"n": n, "values": [values[k] for k in keys]}},
+            [{"id": {"type": "ctl", "key": k}, "property": "value", "value": values[k]} for k in keys],
             {"id": "mine-store", "property": "data", "value": mine},
         ],
         "changedPropIds": [changed],
@@ -77,6 +68,7 @@ def _post(
             {"id": "messages", "property": "data", "value": messages},
             {"id": "alt-labels", "property": "data", "value": labels},
         ],
+        **({} if studio is None else {"studio": studio}),
     }
     response = client.post("/_dash-update-component", json=body)
     if response.status_code == 204:  # PreventUpdate: nothing sent
@@ -178,6 +170,57 @@ def test_chart_is_sent_as_the_traces_that_changed(studio):
     fresh = _post(client, keys, alpha, "url.search", None, mine=mine, search=state.to_query(alpha, defaults))
     fresh = fresh["front"]["figure"]
     assert _apply(figure, risk_only["front"]["figure"]) == fresh
+
+
+def test_a_request_overtaken_by_a_newer_one_is_not_computed(tmp_path, monkeypatch):
+    """Changes reach the server while it computes (its lock held), each numbered by its page: the defaults
+    (computed before), then two new targets, then another page's first change. The older target is not computed
+    (204: the browser has dropped its answer, having called the callback again); the newer is answered, with the
+    controls it was sent with; the defaults, though overtaken, from the cache; the other page's (a second tab, a
+    reload), though its number is lower."""
+    import threading
+
+    data, name = state.read_problem_data(PROBLEM)
+    client = create_app(data, name, tmp_path).server.test_client()
+    keys, defaults = [c.key for c in state.all_controls()], state.control_values(data)
+    _post(client, keys, defaults, "url.search", None)  # the defaults computed (and cached)
+
+    class Lock:  # view.LOCK, counting the requests that wait for it
+        def __init__(self):
+            self.inner, self.waiting = threading.RLock(), 0
+
+        def __enter__(self):
+            self.waiting += 1
+            return self.inner.__enter__()
+
+        def __exit__(self, *exc):
+            return self.inner.__exit__(*exc)
+
+    lock = Lock()
+    monkeypatch.setattr(view, "LOCK", lock)
+    answers: dict = {}
+    sent = {
+        "cached": (defaults, ["page", 1]),
+        "older": (dict(defaults, target=3.1), ["page", 2]),
+        "newer": (dict(defaults, target=3.2), ["page", 3]),
+        "other page": (dict(defaults, target=3.3), ["other", 1]),
+    }
+
+    def change(label):
+        values, studio = sent[label]
+        answers[label] = _post(client, keys, values, '{"key":"target","type":"ctl"}.value', None, studio=studio)
+
+    threads = [threading.Thread(target=change, args=(label,), daemon=True) for label in sent]
+    with lock.inner:
+        for i, t in enumerate(threads):
+            t.start()
+            while lock.waiting < i + 1:  # each has arrived before the next is sent
+                threading.Event().wait(0.005)
+    for t in threads:
+        t.join(60)
+    assert answers["older"] == {}
+    for label in ("cached", "newer", "other page"):
+        assert answers[label]["answered"]["data"]["values"] == [sent[label][0][k] for k in keys], label
 
 
 def test_chart_traces_are_what_plotly_would_build(studio):
