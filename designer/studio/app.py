@@ -108,8 +108,8 @@ INDEX = (
 
 
 RENDERER = (
-    "var renderer = new DashRenderer({request_pre: p => { window.studioPage = window.studioPage ||"
-    " Math.random().toString(36).slice(2); p.studio = [window.studioPage, window.studioSeq = (window.studioSeq || 0) + 1]; }});"
+    "var renderer = new DashRenderer({request_pre: p => { p.studio = [window.studioPage ||= Math.random() + '',"
+    " window.studioSeq = (window.studioSeq || 0) + 1]; }});"
 )
 """Dash's renderer, which numbers each request of the page as it sends it (``studio``: [the page, the number]):
 the order the server must answer in, whatever order the requests arrive in."""
@@ -157,11 +157,9 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
     number of the change whose card waits for its limits (computed later: ``pending`` maps it to its problem and key,
     :func:`_limits_callback`), None when the card has them.
 
-    Never a stale answer: the controls' values are the callback's input (no step between a key press and the
-    request); the page numbers its requests (:data:`RENDERER`), and one that a newer request of the same page has
-    overtaken is not computed (the renderer drops the answer of a callback it has called again), and every answer names the
-    controls it answers (``answered``, :func:`_request_callbacks`), so the page says "computing…" while the
-    controls shown differ from the answer's."""
+    Never a stale answer: the page numbers its requests (:data:`RENDERER`); one that a newer request of the page
+    has overtaken is not computed (the renderer drops its answer), and every answer names the controls it answers
+    (``answered``), so the page says "computing…" while the controls shown differ (:func:`_request_callbacks`)."""
     keys = [c.key for c in state.all_controls()]
     # the server's count of answers; of the URL's values sent; the newest request of each page
     newest = {"generation": 0, "url": 0}

@@ -40,6 +40,14 @@ def _begin(parent: int) -> None:
     (:func:`designer.children.bind_to_parent`)."""
     bind_to_parent(parent)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    expand_batches()
+
+
+def expand_batches() -> None:
+    """Batches expanded in this process (:attr:`designer.solvers.nlp.CasterNLP.EXPAND`): less CPU a change."""
+    from designer.solvers.nlp import CasterNLP  # casadi: loaded with the solver's warm-up
+
+    CasterNLP.EXPAND = True
 
 
 def front_job(problem):
@@ -105,4 +113,4 @@ def stop() -> None:
         pool.shutdown(wait=True, cancel_futures=True)
 
 
-__all__ = ["front_job", "pid", "result", "start", "stop", "submit"]
+__all__ = ["expand_batches", "front_job", "pid", "result", "start", "stop", "submit"]

@@ -212,6 +212,7 @@ def make_server(
     app = create_app(data, name, Path(out_dir), debug=debug)
     problem, merged = state.build_problem(data, state.control_values(data))
 
+    helper.expand_batches()
     try:  # warm the solver and the cache: the first page then draws at once
         view.compute_fronts(problem, key=json.dumps(merged, sort_keys=True))
     except Exception:  # noqa: BLE001 - an infeasible start is shown on the page, beside the control

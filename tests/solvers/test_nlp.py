@@ -141,6 +141,28 @@ def test_batched_blocks_equal_single_solves():
     assert (4, False) in nlp._batch and (16, False) not in nlp._batch  # chunks of 4: 4 + 2 (padded)
 
 
+def test_expanded_batches_give_the_same_front(monkeypatch):
+    """CasterNLP.EXPAND (the studio's build): the batches are SX functions, not MX maps, and the risk-bounded
+    front of the indoor problem is the map's to 1e-9 relative in F_turn, P and every design variable (1e-12 m
+    absolute for a groove at its bound of 0): both reach the optimum to IPOPT's tolerance (1e-10)."""
+    problem = load_problem(INDOOR)
+    fronts, kinds = [], []
+    for expand in (False, True):
+        S.SHARED.clear()
+        monkeypatch.setattr(CasterNLP, "EXPAND", expand)
+        fronts.append(pareto.pareto_front(problem, knee=False))
+        batches = S.shared_nlp(problem)._batch
+        kinds.append({built[0].oracle().class_name() for key, built in batches.items() if isinstance(key[0], int)})
+    S.SHARED.clear()
+    assert kinds == [{"MXFunction"}, {"SXFunction"}]
+    mapped, expanded = fronts
+    assert len(mapped.points) == len(expanded.points) >= 10
+    for a, b in zip(mapped.points, expanded.points):
+        assert b.turning_effort == pytest.approx(a.turning_effort, rel=1e-9)
+        assert b.threshold_force == pytest.approx(a.threshold_force, rel=1e-9)
+        np.testing.assert_allclose(b.design.as_array(), a.design.as_array(), rtol=1e-9, atol=1e-12)
+
+
 def test_solver_output_never_reaches_the_terminal(capfd):
     """Issue 24.4: a model that evaluates to NaN (a risk bound with α = 1e-300, which the loader now refuses,
     built here directly) made CasADi print 115 "NaN detected" lines on the terminal. Every IPOPT solver is

@@ -492,13 +492,15 @@ def test_every_answer_carries_the_security_headers(tmp_path):
         assert "frame-ancestors 'none'" in answer.headers["Content-Security-Policy"]
 
 
-def test_make_server_applies_the_guard(tmp_path):
+def test_make_server_applies_the_guard(tmp_path, monkeypatch):
     """The served app (make_server on a free port) answers a foreign Host with 403 and its own address with 200."""
     import http.client
     import threading
 
+    from designer.solvers.nlp import SHARED, CasterNLP
     from designer.studio.server import make_server
 
+    monkeypatch.setattr(CasterNLP, "EXPAND", CasterNLP.EXPAND)  # make_server expands this process's batches
     server, url = make_server(PROBLEM, 0, "127.0.0.1", tmp_path)
     threading.Thread(target=server.serve_forever, daemon=True).start()
     try:
@@ -511,6 +513,7 @@ def test_make_server_applies_the_guard(tmp_path):
     finally:
         server.shutdown()
         server.server_close()
+        SHARED.clear()  # its expanded solvers: the tests after it build their own
     assert statuses == [403, 200]
 
 

@@ -277,6 +277,7 @@ def same(a, b):
     return bool(np.array_equal(a.objectives(), b.objectives()) and np.array_equal(a.designs(), b.designs()))
 
 if __name__ == "__main__":
+    helper.expand_batches()  # as designer studio's process does: the helper's solvers are built the same way
     data, _ = state.read_problem_data()
     defaults = state.control_values(data)
     problem, _ = state.build_problem(data, dict(defaults, target=2.2))
@@ -320,7 +321,7 @@ def _running(pid: int) -> bool:
 
 def test_helper_process_computes_the_same_front_and_ends_with_the_studio(tmp_path):
     """designer studio's helper process (helper.start) computes the risk-bounded front to the bit as pareto_front
-    does here; when it dies the change is computed in the server's process and the helper dropped; when the server
+    does here (both with the studio's expanded batches); when it dies the change is computed in the server's process and the helper dropped; when the server
     is killed (SIGKILL: no clean-up of its own), its helper ends within seconds."""
     import os
     import signal
