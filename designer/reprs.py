@@ -117,7 +117,7 @@ def freeze_fields(record: Any) -> None:
         return
     for name in field_names(type(record)):
         value = getattr(record, name)
-        kept = value if type(value) in _AS_THEY_ARE else deep_frozen(value)
+        kept = deep_frozen(value)
         if kept is not value:
             object.__setattr__(record, name, kept)
 

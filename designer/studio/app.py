@@ -119,7 +119,7 @@ the order the server must answer in, whatever order the requests arrive in."""
 def _sequence() -> tuple[str, int]:
     """(page, number) of the callback request being answered (:data:`RENDERER`); ("", 0) for one without them."""
     tag = (flask.request.get_json(silent=True) or {}).get("studio")
-    ok = isinstance(tag, list) and len(tag) == 2 and isinstance(tag[0], str) and type(tag[1]) is int
+    ok = isinstance(tag, list) and len(tag) == 2 and isinstance(tag[0], str) and tag[0] != "" and type(tag[1]) is int
     return (tag[0], tag[1]) if ok else ("", 0)
 
 
@@ -239,7 +239,7 @@ def _trade_off_callback(app, data: dict, defaults: dict, pending: OrderedDict) -
             no_update if merged == last else merged,
             generation if waiting else None,
             answered,
-            _changed(alternative_buttons(fronts)[0], labels_shown),
+            _changed(alternative_buttons(fronts), labels_shown),
         )
 
 

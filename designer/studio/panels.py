@@ -84,10 +84,10 @@ def caster_sentences(n: dict, problem, prefix: str) -> list:
     ]
 
 
-def alternative_buttons(fronts: view.Fronts | None) -> tuple[list[str], list[bool]]:
-    """(label, hidden) of each of the :data:`~designer.studio.layout.MAX_CARD_BUTTONS` card buttons of the other
-    casters (the page's own, filled in by each answer; a longer list's casters are on the chart): "card: easiest
-    to turn (d 5.000 in)" for alternative i, hidden where there is none."""
+def alternative_buttons(fronts: view.Fronts | None) -> list[str]:
+    """The label of each of the :data:`~designer.studio.layout.MAX_CARD_BUTTONS` card buttons of the other casters
+    (the page's own, filled in by each answer; a longer list's casters are on the chart): "card: easiest to turn
+    (d 5.000 in)" for alternative i, "" where there is none (the page hides that button)."""
     rec = None if fronts is None else view.recommendation_record(fronts.recommendation)
     alternatives = [] if rec is None else rec["alternatives"][:MAX_CARD_BUTTONS]
     units = "in" if fronts is None else fronts.problem.units
@@ -95,8 +95,7 @@ def alternative_buttons(fronts: view.Fronts | None) -> tuple[list[str], list[boo
         f"card: {role_name(alt['role'])} (d {display.shown(alt['design']['diameter'], 'diameter', units)})"
         for alt in alternatives
     ]
-    pad = MAX_CARD_BUTTONS - len(labels)
-    return labels + [""] * pad, [False] * len(labels) + [True] * pad
+    return labels + [""] * (MAX_CARD_BUTTONS - len(labels))
 
 
 def recommendation_panel(fronts: view.Fronts):

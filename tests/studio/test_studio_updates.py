@@ -223,6 +223,20 @@ def test_a_request_overtaken_by_a_newer_one_is_not_computed(tmp_path, monkeypatc
         assert answers[label]["answered"]["data"]["values"] == [sent[label][0][k] for k in keys], label
 
 
+def test_a_request_without_a_well_formed_number_is_answered_unnumbered(studio):
+    """A request whose ``studio`` tag is not [a page, a whole number] (a bool, a string, three items, no page, a
+    fraction) is answered as a request without a number, each at a target not computed before: a page that has
+    sent 50 requests, or a tag of the empty page, does not make it count as overtaken."""
+    client, keys, defaults = studio
+    change = '{"key":"target","type":"ctl"}.value'
+    assert _post(client, keys, dict(defaults, target=2.55), change, None, studio=["page", 50])["answered"]
+    tags = (["page", True], ["page", "51"], ["page", 1, 2], ["", 99], [None, 3], ["page", 2.5], "page", None)
+    for i, tag in enumerate(tags):
+        values = dict(defaults, target=round(2.65 + 0.1 * i, 2))
+        answer = _post(client, keys, values, change, None, studio=tag)
+        assert answer["answered"]["data"]["values"] == [values[k] for k in keys], tag
+
+
 def test_chart_traces_are_what_plotly_would_build(studio):
     """The chart's plain-dict traces and layout are valid plotly (go.Figure accepts them) and unchanged by
     plotly's validation: the same JSON as the graph objects built from them."""
